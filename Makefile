@@ -1,0 +1,149 @@
+# rfe — road-friction estimator (SCKF, 3-DOF vehicle model, Dugoff tyre), C99.
+#
+#   make            library (float32 and double builds) and build/mu_replay
+#   make demo       run the estimator on the bundled scenarios, print accuracy, draw plots
+#   make test       all tests (C unit + golden + host + Python) and the coverage gate
+#   make coverage   gcovr HTML / Cobertura XML / text summary for src/, with thresholds
+#   make goldens    regenerate scenarios/*.csv and scenarios/golden/ from the Python tools
+#
+# `make demo` and `make test` install what they need when it is missing: cmocka via apt,
+# and a Python venv (.venv) from the pinned scripts/requirements.txt.
+
+CC      ?= gcc
+ifeq ($(origin CC),default)
+CC      := gcc
+endif
+BUILD   := build
+VENV    := .venv
+PY      := $(VENV)/bin/python
+PYSTAMP := $(VENV)/.installed
+
+# Strict flags for library code (the rules of the project: C99, every warning an error).
+WARN := -std=c99 -pedantic -Wall -Wextra -Wconversion -Wsign-conversion -Wshadow \
+        -Wdouble-promotion -Wcast-qual -Wstrict-prototypes -Wundef -Werror
+OPT  ?= -O2 -g
+CPPFLAGS_LIB  := -Iinclude
+CPPFLAGS_HOST := -Iinclude -Isrc/host -D_POSIX_C_SOURCE=200809L
+# Tests: same strictness except the conversions cmocka's macros trip over.
+TEST_WARN := -std=c99 -Wall -Wextra -Wshadow -Werror -Wno-unused-parameter
+LDLIBS_TEST := -lcmocka -lm
+
+# ---- sources -------------------------------------------------------------------------
+LIB_SRC       := $(wildcard src/*.c)
+HOST_SRC      := $(filter-out src/host/mu_replay.c src/host/replay_real.c,$(wildcard src/host/*.c))
+UNIT_TESTS    := $(basename $(notdir $(wildcard test/test_*.c)))
+HOST_TESTS    := $(basename $(notdir $(wildcard test/host/test_*.c)))
+TEST_SUPPORT  := $(wildcard test/support/*.c)
+
+# One build tree per flavour: f32 (float), f64 (double); cov-* are the instrumented twins.
+define FLAVOUR_RULES
+# $(1) = tree name, $(2) = real-type defines, $(3) = extra compile flags
+$(BUILD)/$(1)/lib/%.o: src/%.c $(wildcard include/rfe/*.h src/*.h) | $(BUILD)/$(1)/lib
+	$$(CC) $$(WARN) $(3) $(2) $$(CPPFLAGS_LIB) -c $$< -o $$@
+$(BUILD)/$(1)/librfe.a: $(patsubst src/%.c,$(BUILD)/$(1)/lib/%.o,$(LIB_SRC))
+	rm -f $$@ && ar rcs $$@ $$^
+$(BUILD)/$(1)/host/replay_real.o: src/host/replay_real.c $(wildcard src/host/*.h include/rfe/*.h) | $(BUILD)/$(1)/host
+	$$(CC) $$(WARN) $(3) $(2) $$(CPPFLAGS_HOST) -c $$< -o $$@
+$(BUILD)/$(1)/support/%.o: test/support/%.c $(wildcard test/support/*.h src/host/*.h include/rfe/*.h) | $(BUILD)/$(1)/support
+	$$(CC) $$(TEST_WARN) $(3) $(2) $$(CPPFLAGS_HOST) -Itest/support -c $$< -o $$@
+$(BUILD)/$(1)/test/%: test/%.c $(BUILD)/$(1)/librfe.a $(patsubst test/support/%.c,$(BUILD)/$(1)/support/%.o,$(TEST_SUPPORT)) $(BUILD)/$(1)/hostlib.a
+	@mkdir -p $$(@D)
+	$$(CC) $$(TEST_WARN) $(3) $(2) $$(CPPFLAGS_HOST) -Itest/support -Isrc $$< \
+	  $(patsubst test/support/%.c,$(BUILD)/$(1)/support/%.o,$(TEST_SUPPORT)) \
+	  $(BUILD)/$(1)/hostlib.a $(BUILD)/$(1)/librfe.a $$(LDLIBS_TEST) -o $$@
+$(BUILD)/$(1)/hostlib.a: $(patsubst src/host/%.c,$(BUILD)/$(1)/host/%.o,$(HOST_SRC))
+	rm -f $$@ && ar rcs $$@ $$^
+$(BUILD)/$(1)/host/%.o: src/host/%.c $(wildcard src/host/*.h include/rfe/*.h) | $(BUILD)/$(1)/host
+	$$(CC) $$(WARN) $(3) $$(CPPFLAGS_HOST) -c $$< -o $$@
+$(BUILD)/$(1)/lib $(BUILD)/$(1)/host $(BUILD)/$(1)/test $(BUILD)/$(1)/support:
+	mkdir -p $$@
+endef
+
+COVFLAGS := -O0 -g --coverage
+$(eval $(call FLAVOUR_RULES,f32,,$(OPT)))
+$(eval $(call FLAVOUR_RULES,f64,-DRFE_REAL_DOUBLE,$(OPT)))
+$(eval $(call FLAVOUR_RULES,cov-f32,,$(COVFLAGS)))
+$(eval $(call FLAVOUR_RULES,cov-f64,-DRFE_REAL_DOUBLE,$(COVFLAGS)))
+
+# mu_replay: precision-independent host code once, the replay core twice (float, double).
+define REPLAY_RULE
+# $(1) = output, $(2) = f32 tree, $(3) = f64 tree, $(4) = flags
+$(1): src/host/mu_replay.c $(BUILD)/$(2)/host/replay_real.o $(BUILD)/$(3)/host/replay_real.o \
+      $(BUILD)/$(3)/hostlib.a $(BUILD)/$(2)/librfe.a $(BUILD)/$(3)/librfe.a
+	$$(CC) $$(WARN) $(4) $$(CPPFLAGS_HOST) $$^ -lm -o $$@
+endef
+$(eval $(call REPLAY_RULE,$(BUILD)/mu_replay,f32,f64,$(OPT)))
+$(eval $(call REPLAY_RULE,$(BUILD)/cov-mu_replay,cov-f32,cov-f64,$(COVFLAGS)))
+
+.PHONY: all lib deps deps-c venv test test-c test-py coverage demo goldens scenarios clean \
+        check-goldens help
+all: lib $(BUILD)/mu_replay
+lib: $(BUILD)/f32/librfe.a $(BUILD)/f64/librfe.a
+
+help:
+	@sed -n '1,12p' Makefile
+
+# ---- dependencies (installed when missing) --------------------------------------------
+SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
+deps-c:
+	@if [ ! -f /usr/include/cmocka.h ]; then \
+	  echo "[deps] installing libcmocka-dev via apt"; \
+	  $(SUDO) apt-get update -qq && $(SUDO) apt-get install -y -qq libcmocka-dev; fi
+
+$(PYSTAMP): scripts/requirements.txt
+	@echo "[deps] creating Python venv $(VENV) from scripts/requirements.txt"
+	python3 -m venv $(VENV)
+	$(VENV)/bin/pip install -q --upgrade pip
+	$(VENV)/bin/pip install -q -r scripts/requirements.txt
+	touch $@
+venv: $(PYSTAMP)
+deps: deps-c venv
+
+# ---- tests -----------------------------------------------------------------------------
+# Unit and golden tests run in both precisions; host tests once.
+run_tests = set -e; for t in $(UNIT_TESTS); do echo "== $(1)/$$t"; $(BUILD)/$(1)/test/$$t; done
+
+test-c: deps-c $(foreach f,f32 f64,$(addprefix $(BUILD)/$(f)/test/,$(UNIT_TESTS))) \
+        $(addprefix $(BUILD)/f64/test/host/,$(HOST_TESTS)) $(BUILD)/mu_replay
+	@$(call run_tests,f32)
+	@$(call run_tests,f64)
+	@set -e; for t in $(HOST_TESTS); do echo "== host/$$t"; $(BUILD)/f64/test/host/$$t; done
+	@if [ -f test/host/test_cli.sh ]; then echo "== cli"; bash test/host/test_cli.sh $(BUILD)/mu_replay; fi
+
+test-py: venv
+	$(PY) -m pytest -q scripts
+
+COV_MIN_LINES    := 95
+COV_MIN_BRANCHES := 85
+coverage: deps $(foreach f,cov-f32 cov-f64,$(addprefix $(BUILD)/$(f)/test/,$(UNIT_TESTS))) \
+          $(addprefix $(BUILD)/cov-f64/test/host/,$(HOST_TESTS)) $(BUILD)/cov-mu_replay
+	@find $(BUILD) -name '*.gcda' -delete
+	@$(call run_tests,cov-f32) >/dev/null
+	@$(call run_tests,cov-f64) >/dev/null
+	@set -e; for t in $(HOST_TESTS); do $(BUILD)/cov-f64/test/host/$$t >/dev/null; done
+	@if [ -f test/host/test_cli.sh ]; then bash test/host/test_cli.sh $(BUILD)/cov-mu_replay >/dev/null; fi
+	@mkdir -p $(BUILD)/coverage
+	$(VENV)/bin/gcovr --root . --filter 'src/' --exclude-unreachable-branches \
+	  --html-details $(BUILD)/coverage/index.html --cobertura $(BUILD)/coverage/coverage.xml \
+	  --txt $(BUILD)/coverage/summary.txt --print-summary \
+	  --fail-under-line $(COV_MIN_LINES) --fail-under-branch $(COV_MIN_BRANCHES) \
+	  $(BUILD)/cov-f32 $(BUILD)/cov-f64 $(BUILD)
+	@cat $(BUILD)/coverage/summary.txt
+	@echo "coverage report: $(BUILD)/coverage/index.html (per-file detail), coverage.xml (Cobertura)"
+
+test: deps lib test-c test-py coverage
+	@echo "make test: all tests passed, coverage gate met"
+
+# $(BUILD)/f64/test/host/test_x comes from test/host/test_x.c through the pattern rule.
+
+# ---- demo, goldens ---------------------------------------------------------------------
+demo: deps $(BUILD)/mu_replay
+	$(PY) scripts/demo.py --replay $(BUILD)/mu_replay --out $(BUILD)/demo
+
+scenarios: venv
+	$(PY) scripts/make_scenarios.py --out scenarios
+goldens: scenarios
+	$(PY) scripts/make_goldens.py --scenarios scenarios --out scenarios/golden
+
+clean:
+	rm -rf $(BUILD)

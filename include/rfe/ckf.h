@@ -1,0 +1,45 @@
+/**
+ * @file ckf.h
+ * @brief Full-covariance cubature Kalman filter: the paper's baseline (MODEL.md §6).
+ *
+ * Same API shape as the SCKF, but carries P and takes a Cholesky factor of it at every
+ * step, P = P- - K Pzz K^T. Algebraically identical to the SCKF; it differs in finite
+ * precision, where P can lose positive definiteness (the step then fails with
+ * RFE_ERR_NOT_POSITIVE_DEFINITE and leaves the state as it was).
+ */
+#ifndef RFE_CKF_H
+#define RFE_CKF_H
+
+#include "rfe/sckf.h"
+
+/** CKF state (caller-owned). */
+typedef struct {
+    uint32_t magic;
+    size_t n;
+    size_t m;
+    rfe_real_t x[RFE_N_MAX];              /**< posterior mean */
+    rfe_real_t P[RFE_N_MAX * RFE_N_MAX];  /**< posterior covariance, ld RFE_N_MAX */
+    rfe_real_t Q[RFE_N_MAX * RFE_N_MAX];  /**< process-noise covariance */
+    rfe_real_t R[RFE_M_MAX * RFE_M_MAX];  /**< measurement-noise covariance */
+    rfe_real_t L[RFE_N_MAX * RFE_N_MAX];  /**< scratch: Cholesky factor */
+    rfe_real_t Pn[RFE_N_MAX * RFE_N_MAX]; /**< scratch: candidate covariance */
+    rfe_cub_scratch_t w;                  /**< scratch */
+} rfe_ckf_t;
+
+/** Initialises from x0 (n), P0 (n x n), Q (n x n), R (m x m), all full symmetric matrices. */
+RFE_NODISCARD rfe_status_t RFE_FN(rfe_ckf_init)(rfe_ckf_t *f, size_t n, size_t m,
+                                               const rfe_real_t *x0, const rfe_real_t *P0,
+                                               const rfe_real_t *Q, const rfe_real_t *R);
+/** Time update: points from chol(P), P- = sum w X* X*^T - x- x-^T + Q. */
+RFE_NODISCARD rfe_status_t RFE_FN(rfe_ckf_predict)(rfe_ckf_t *f, rfe_process_fn_t process,
+                                                  void *ctx);
+/** Measurement update: Pzz = sum w Z Z^T - z z^T + R, Pxz = sum w X Z^T - x- z^T, K = Pxz Pzz^-1. */
+RFE_NODISCARD rfe_status_t RFE_FN(rfe_ckf_update)(rfe_ckf_t *f, rfe_measure_fn_t measure,
+                                                 void *ctx, const rfe_real_t *y);
+/** Mean and sqrt(diag(P)); either may be NULL. */
+RFE_NODISCARD rfe_status_t RFE_FN(rfe_ckf_get)(const rfe_ckf_t *f, rfe_real_t *x, rfe_real_t *sd);
+/** Projects the mean onto [lo, hi] (P untouched). */
+RFE_NODISCARD rfe_status_t RFE_FN(rfe_ckf_clamp)(rfe_ckf_t *f, rfe_real_t lo, rfe_real_t hi,
+                                                int *clamped);
+
+#endif /* RFE_CKF_H */

@@ -1,0 +1,46 @@
+/**
+ * @file config.h
+ * @brief Compile-time maxima and input limits. Each may be overridden with -D.
+ */
+#ifndef RFE_CONFIG_H
+#define RFE_CONFIG_H
+
+/** Largest state dimension the generic filters (SCKF, CKF) support. */
+#ifndef RFE_N_MAX
+#define RFE_N_MAX 8
+#endif
+/** Largest measurement dimension the generic filters support. */
+#ifndef RFE_M_MAX
+#define RFE_M_MAX 4
+#endif
+/** Widest matrix Tria() is asked to triangularise: [n x 2n | n x max(n, m)]. */
+#define RFE_TRIA_COLS_MAX (2 * RFE_N_MAX + ((RFE_N_MAX > RFE_M_MAX) ? RFE_N_MAX : RFE_M_MAX))
+/** Number of cubature points at the largest state dimension. */
+#define RFE_CUB_MAX (2 * RFE_N_MAX)
+
+/* Input limits of rfe_estimator_step (absolute values, SI). A sample outside them is
+ * rejected with RFE_ERR_RANGE and leaves the estimator untouched. They are physical
+ * plausibility bounds for a passenger car, not tuning. */
+#ifndef RFE_LIMIT_DELTA
+#define RFE_LIMIT_DELTA 1.0      /**< |delta| [rad]: road-wheel angle at the stops */
+#endif
+#ifndef RFE_LIMIT_VX
+#define RFE_LIMIT_VX 100.0       /**< |vx| [m/s] (360 km/h) */
+#endif
+#ifndef RFE_LIMIT_VY
+#define RFE_LIMIT_VY 50.0        /**< |vy| [m/s] */
+#endif
+#ifndef RFE_LIMIT_YAW_RATE
+#define RFE_LIMIT_YAW_RATE 10.0  /**< |r| [rad/s] */
+#endif
+#ifndef RFE_LIMIT_YAW_ACC
+#define RFE_LIMIT_YAW_ACC 100.0  /**< |r-dot| [rad/s^2] */
+#endif
+#ifndef RFE_LIMIT_ACC
+#define RFE_LIMIT_ACC 50.0       /**< |ax|, |ay| [m/s^2] (about 5 g) */
+#endif
+#ifndef RFE_LIMIT_OMEGA
+#define RFE_LIMIT_OMEGA 500.0    /**< |omega| [rad/s] (about 160 m/s at R = 0.325 m) */
+#endif
+
+#endif /* RFE_CONFIG_H */

@@ -1,0 +1,36 @@
+/**
+ * @file qr.h
+ * @brief Householder triangularisation Tria() and triangular solves (MODEL.md §6).
+ *
+ * Matrices are row-major with an explicit leading dimension (elements between rows).
+ * Sizes are bounded by RFE_N_MAX rows and RFE_TRIA_COLS_MAX columns; no memory is
+ * allocated and nothing large sits on the stack (the input is reduced in place).
+ */
+#ifndef RFE_QR_H
+#define RFE_QR_H
+
+#include "rfe/config.h"
+#include "rfe/types.h"
+
+/**
+ * Tria(A), in place: A (rows x cols, cols >= rows) is reduced by Householder reflections
+ * applied from the right (a QR of A^T) to [S 0], with S lower-triangular,
+ * S S^T = A A^T and diag(S) >= 0. Rank-deficient input gives zero diagonal entries.
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_SIZE if rows > RFE_N_MAX, cols > RFE_TRIA_COLS_MAX,
+ *         cols < rows or lda < cols; RFE_ERR_NONFINITE if A holds NaN/Inf (A then untouched).
+ */
+RFE_NODISCARD rfe_status_t RFE_FN(rfe_qr_tria)(rfe_real_t *A, size_t rows, size_t cols, size_t lda);
+
+/**
+ * Forward substitution L X = B for X (L n x n lower-triangular, B n x ncols), X over B.
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_SIZE; RFE_ERR_NOT_POSITIVE_DEFINITE if a diagonal
+ *         entry of L is not > 0 (B then untouched).
+ */
+RFE_NODISCARD rfe_status_t RFE_FN(rfe_qr_solve_lower)(const rfe_real_t *L, size_t n, size_t ldl,
+                                                     rfe_real_t *B, size_t ncols, size_t ldb);
+
+/** Back substitution L^T X = B for X, same conventions as rfe_qr_solve_lower. */
+RFE_NODISCARD rfe_status_t RFE_FN(rfe_qr_solve_lower_t)(const rfe_real_t *L, size_t n, size_t ldl,
+                                                       rfe_real_t *B, size_t ncols, size_t ldb);
+
+#endif /* RFE_QR_H */

@@ -1,0 +1,83 @@
+/**
+ * @file sckf.h
+ * @brief Generic square-root cubature Kalman filter (MODEL.md §6).
+ *
+ * The filter knows nothing about tyres: the process model f and measurement model h are
+ * callbacks with a context pointer. State, square-root factors and scratch live in the
+ * caller-owned rfe_sckf_t; sizes are bounded by RFE_N_MAX / RFE_M_MAX.
+ * Matrices passed in or out are row-major, n x n (or m x m), leading dimension = columns.
+ * On any error the filter state is left exactly as it was.
+ */
+#ifndef RFE_SCKF_H
+#define RFE_SCKF_H
+
+#include "rfe/config.h"
+#include "rfe/types.h"
+
+/** Process model x_next = f(x) for one cubature point (n values). */
+typedef rfe_status_t (*rfe_process_fn_t)(void *ctx, const rfe_real_t *x, rfe_real_t *x_next,
+                                         size_t n);
+/** Measurement model z = h(x) for one cubature point (n values in, m out). */
+typedef rfe_status_t (*rfe_measure_fn_t)(void *ctx, const rfe_real_t *x, rfe_real_t *z,
+                                         size_t n, size_t m);
+
+/** Scratch shared by the cubature filters (contents meaningless between calls). */
+typedef struct {
+    rfe_real_t pts[RFE_CUB_MAX * RFE_N_MAX];     /**< cubature points, one per row */
+    rfe_real_t zpts[RFE_CUB_MAX * RFE_M_MAX];    /**< their measurements, one per row */
+    rfe_real_t A[RFE_N_MAX * RFE_TRIA_COLS_MAX]; /**< Tria() input / output */
+    rfe_real_t B[RFE_N_MAX * RFE_TRIA_COLS_MAX]; /**< second work matrix */
+    rfe_real_t Kt[RFE_M_MAX * RFE_N_MAX];        /**< gain, transposed (m x n, ld RFE_N_MAX) */
+    rfe_real_t Szz[RFE_M_MAX * RFE_M_MAX];       /**< innovation sqrt-covariance (CKF: Pzz) */
+    rfe_real_t Lz[RFE_M_MAX * RFE_M_MAX];        /**< CKF: Cholesky factor of Pzz */
+    rfe_real_t xn[RFE_N_MAX];                    /**< candidate mean */
+    rfe_real_t zhat[RFE_M_MAX];                  /**< predicted measurement */
+} rfe_cub_scratch_t;
+
+/** SCKF state (caller-owned). Fields are read-only for the caller. */
+typedef struct {
+    uint32_t magic;                          /**< set by init; guards use before init */
+    size_t n;                                /**< state dimension, 1..RFE_N_MAX */
+    size_t m;                                /**< measurement dimension, 1..RFE_M_MAX */
+    rfe_real_t x[RFE_N_MAX];                 /**< posterior mean */
+    rfe_real_t S[RFE_N_MAX * RFE_N_MAX];     /**< lower-triangular sqrt of P, ld RFE_N_MAX */
+    rfe_real_t SQ[RFE_N_MAX * RFE_N_MAX];    /**< sqrt of Q, ld RFE_N_MAX */
+    rfe_real_t SR[RFE_M_MAX * RFE_M_MAX];    /**< sqrt of R, ld RFE_M_MAX */
+    rfe_cub_scratch_t w;                     /**< scratch */
+} rfe_sckf_t;
+
+/**
+ * Initialises the filter: x0 (n), S0 (n x n lower-triangular sqrt of P0), SQ (n x n),
+ * SR (m x m). Only the lower triangles of S0, SQ, SR are read.
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_SIZE; RFE_ERR_NONFINITE.
+ */
+RFE_NODISCARD rfe_status_t RFE_FN(rfe_sckf_init)(rfe_sckf_t *f, size_t n, size_t m,
+                                                const rfe_real_t *x0, const rfe_real_t *S0,
+                                                const rfe_real_t *SQ, const rfe_real_t *SR);
+
+/**
+ * Time update: X_j = S xi_j + x, X*_j = f(X_j), x- = mean X*_j,
+ * S- = Tria([(X*_j - x-)/sqrt(2n), SQ]). @p process NULL means f(x) = x (random walk).
+ * @return RFE_OK, or the callback's / Tria's error (state untouched).
+ */
+RFE_NODISCARD rfe_status_t RFE_FN(rfe_sckf_predict)(rfe_sckf_t *f, rfe_process_fn_t process,
+                                                   void *ctx);
+
+/**
+ * Measurement update with measurement y (m values): cubature points from S-, Z_j = h(X_j),
+ * S_zz = Tria([Zc, SR]), P_xz = Xc Zc^T, K = (P_xz / S_zz^T) / S_zz, x = x- + K (y - z),
+ * S = Tria([Xc - K Zc, K SR]).
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_NONFINITE (y or a callback output);
+ *         RFE_ERR_NOT_POSITIVE_DEFINITE (S_zz singular); the callback's error.
+ */
+RFE_NODISCARD rfe_status_t RFE_FN(rfe_sckf_update)(rfe_sckf_t *f, rfe_measure_fn_t measure,
+                                                  void *ctx, const rfe_real_t *y);
+
+/** Copies the mean (n) and the standard deviations sqrt(diag(S S^T)) (n); either may be NULL. */
+RFE_NODISCARD rfe_status_t RFE_FN(rfe_sckf_get)(const rfe_sckf_t *f, rfe_real_t *x, rfe_real_t *sd);
+
+/** Projects the mean onto [lo, hi] element-wise (S untouched); *clamped = 1 if any moved. */
+RFE_NODISCARD rfe_status_t RFE_FN(rfe_sckf_clamp)(rfe_sckf_t *f, rfe_real_t lo, rfe_real_t hi,
+                                                 int *clamped);
+
+#endif /* RFE_SCKF_H */

@@ -1,0 +1,66 @@
+/**
+ * @file tyre.h
+ * @brief Wheel kinematics, vertical loads, slips (MODEL.md §3) and the Dugoff tyre (§4).
+ *
+ * Pure functions: no state. All inputs in SI units, wheel order fl, fr, rl, rr.
+ * Singularity-free at zero slip (S -> 0), locked wheel (|kappa| -> 1) and standstill.
+ */
+#ifndef RFE_TYRE_H
+#define RFE_TYRE_H
+
+#include "rfe/params.h"
+
+/** Per-wheel quantities derived from one sample: the inputs u of the tyre model. */
+typedef struct {
+    rfe_real_t kappa[RFE_WHEELS]; /**< longitudinal slip, clipped to [-1, 1] */
+    rfe_real_t alpha[RFE_WHEELS]; /**< slip angle [rad], bounded to |alpha| <= alpha_max */
+    rfe_real_t fz[RFE_WHEELS];    /**< vertical load [N], >= 0 */
+    rfe_real_t vwx[RFE_WHEELS];   /**< wheel-centre speed along the wheel x axis [m/s] */
+} rfe_wheel_kin_t;
+
+/**
+ * MODEL.md §3: wheel-centre velocities, slip angles, longitudinal slips and quasi-static
+ * loads from one sample. Uses delta, vx, vy, yaw_rate, ax, ay, omega of @p u.
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_NONFINITE if a used input is NaN/Inf.
+ */
+RFE_NODISCARD rfe_status_t RFE_FN(rfe_tyre_kinematics)(const rfe_vehicle_t *veh,
+                                                      const rfe_tyre_params_t *tp,
+                                                      const rfe_sample_t *u,
+                                                      rfe_wheel_kin_t *kin);
+
+/**
+ * MODEL.md §4, paper mode, one wheel: normalised forces in wheel axes, F = mu * F0.
+ *   S = sqrt((Cx_n k)^2 + (Cy_n tan a)^2),  L = (1-|k|) E / (2S),  f(L) = L(2-L) or 1,
+ *   F0x = Fz Cx_n k f(L)/(1-|k|),  F0y = Fz Cy_n tan(a) f(L)/(1-|k|),
+ *   E = max(0, 1 - eps |vwx| sqrt(k^2 + tan^2 a)).
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_NONFINITE; RFE_ERR_RANGE if fz < 0.
+ */
+RFE_NODISCARD rfe_status_t RFE_FN(rfe_tyre_dugoff_norm)(const rfe_tyre_params_t *tp,
+                                                       rfe_real_t kappa, rfe_real_t alpha,
+                                                       rfe_real_t fz, rfe_real_t vwx,
+                                                       rfe_real_t *f0x, rfe_real_t *f0y);
+
+/**
+ * MODEL.md §4, absolute (load-scaled) mode, one wheel: forces in wheel axes at friction mu,
+ * Cx = cx Fz, Cy = cy Fz, L = mu (1-|k|) E / (2 sqrt(cx^2 k^2 + cy^2 tan^2 a)).
+ * Nonlinear in mu; mu < 0 is evaluated as mu = 0 (a cubature point may fall there).
+ */
+RFE_NODISCARD rfe_status_t RFE_FN(rfe_tyre_dugoff_abs)(const rfe_tyre_params_t *tp,
+                                                      rfe_real_t kappa, rfe_real_t alpha,
+                                                      rfe_real_t fz, rfe_real_t vwx, rfe_real_t mu,
+                                                      rfe_real_t *fx, rfe_real_t *fy);
+
+/** Four-wheel paper-mode forces F0x, F0y (wheel axes) from the kinematics. */
+RFE_NODISCARD rfe_status_t RFE_FN(rfe_tyre_forces_norm)(const rfe_tyre_params_t *tp,
+                                                       const rfe_wheel_kin_t *kin,
+                                                       rfe_real_t f0x[RFE_WHEELS],
+                                                       rfe_real_t f0y[RFE_WHEELS]);
+
+/** Four-wheel absolute-mode forces Fx, Fy (wheel axes) at per-wheel friction mu. */
+RFE_NODISCARD rfe_status_t RFE_FN(rfe_tyre_forces_abs)(const rfe_tyre_params_t *tp,
+                                                      const rfe_wheel_kin_t *kin,
+                                                      const rfe_real_t mu[RFE_WHEELS],
+                                                      rfe_real_t fx[RFE_WHEELS],
+                                                      rfe_real_t fy[RFE_WHEELS]);
+
+#endif /* RFE_TYRE_H */

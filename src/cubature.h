@@ -1,0 +1,30 @@
+/**
+ * @file cubature.h
+ * @brief Private cubature-rule helpers shared by the SCKF and the CKF (MODEL.md §6).
+ *
+ * Points are stored one per row (2n rows, ld RFE_N_MAX); measurements likewise (ld RFE_M_MAX).
+ */
+#ifndef RFE_CUBATURE_H
+#define RFE_CUBATURE_H
+
+#include "rfe/sckf.h"
+
+/** X_j = x + sqrt(n) F e_j and X_{n+j} = x - sqrt(n) F e_j (F: lower factor, ld RFE_N_MAX). */
+void RFE_FN(rfe_cub_points)(const rfe_real_t *x, const rfe_real_t *F, size_t n, rfe_real_t *pts);
+
+/** X*_j = f(X_j) in place for all 2n points; NULL f is the identity. Checks finiteness. */
+rfe_status_t RFE_FN(rfe_cub_propagate)(rfe_real_t *pts, size_t n, rfe_process_fn_t process,
+                                       void *ctx, rfe_real_t *tmp);
+
+/** Z_j = h(X_j) for all 2n points into zpts. Checks finiteness. */
+rfe_status_t RFE_FN(rfe_cub_measure)(const rfe_real_t *pts, size_t n, size_t m,
+                                     rfe_measure_fn_t measure, void *ctx, rfe_real_t *zpts);
+
+/** Mean of the 2n rows (cols values each, row stride ld). */
+void RFE_FN(rfe_cub_mean)(const rfe_real_t *rows, size_t n, size_t cols, size_t ld,
+                          rfe_real_t *mean);
+
+/** True when the filter dimensions are within 1..RFE_N_MAX and 1..RFE_M_MAX. */
+int RFE_FN(rfe_cub_dims_ok)(size_t n, size_t m);
+
+#endif /* RFE_CUBATURE_H */

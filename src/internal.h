@@ -1,0 +1,91 @@
+/**
+ * @file internal.h
+ * @brief Private helpers shared by the floating-point library sources (not installed).
+ *
+ * Literals and libm calls go through these macros so that the float32 build never
+ * promotes to double (-Wdouble-promotion) and the double build never truncates.
+ */
+#ifndef RFE_INTERNAL_H
+#define RFE_INTERNAL_H
+
+#include <math.h>
+
+#include "rfe/params.h"
+#include "rfe/types.h"
+
+/** A literal in the build's real type. */
+#define RFE_R(x) ((rfe_real_t)(x))
+
+#if defined(RFE_REAL_DOUBLE)
+#define RFE_SQRT(x) sqrt(x)
+#define RFE_FABS(x) fabs(x)
+#define RFE_ATAN2(y, x) atan2((y), (x))
+#define RFE_SIN(x) sin(x)
+#define RFE_COS(x) cos(x)
+#define RFE_TAN(x) tan(x)
+#else
+#define RFE_SQRT(x) sqrtf(x)
+#define RFE_FABS(x) fabsf(x)
+#define RFE_ATAN2(y, x) atan2f((y), (x))
+#define RFE_SIN(x) sinf(x)
+#define RFE_COS(x) cosf(x)
+#define RFE_TAN(x) tanf(x)
+#endif
+
+/** Magic words marking an initialised state struct (guards use before init). */
+#define RFE_MAGIC_SCKF 0x53434B46u /* "SCKF" */
+#define RFE_MAGIC_CKF 0x434B4620u  /* "CKF " */
+#define RFE_MAGIC_EST 0x45535431u  /* "EST1" */
+
+/** True when x is neither NaN nor infinite. */
+static inline int rfe_is_finite(rfe_real_t x) { return isfinite(x) ? 1 : 0; }
+
+/** True when all k values are finite. */
+static inline int rfe_all_finite(const rfe_real_t *v, size_t k)
+{
+    size_t i;
+    for (i = 0u; i < k; ++i) {
+        if (!isfinite(v[i])) {
+            return 0;
+        }
+    }
+    return 1;
+}
+
+static inline rfe_real_t rfe_max(rfe_real_t a, rfe_real_t b) { return (a > b) ? a : b; }
+static inline rfe_real_t rfe_min(rfe_real_t a, rfe_real_t b) { return (a < b) ? a : b; }
+static inline rfe_real_t rfe_clamp(rfe_real_t x, rfe_real_t lo, rfe_real_t hi)
+{
+    return rfe_min(rfe_max(x, lo), hi);
+}
+
+/* Projects v[0..k) onto [lo, hi]; returns 1 if any element moved. */
+static inline int rfe_clamp_vec(rfe_real_t *v, size_t k, rfe_real_t lo, rfe_real_t hi)
+{
+    size_t i;
+    int moved = 0;
+    for (i = 0u; i < k; ++i) {
+        if ((v[i] < lo) || (v[i] > hi)) {
+            v[i] = rfe_clamp(v[i], lo, hi);
+            moved = 1;
+        }
+    }
+    return moved;
+}
+
+/* Wheel positions relative to the CoG (MODEL.md §1): front x = +Lf, rear x = -Lr,
+ * left y = +B/2, right y = -B/2. */
+static inline void rfe_wheel_positions(const rfe_vehicle_t *veh, rfe_real_t px[RFE_WHEELS],
+                                       rfe_real_t py[RFE_WHEELS])
+{
+    px[RFE_FL] = veh->Lf;
+    px[RFE_FR] = veh->Lf;
+    px[RFE_RL] = -veh->Lr;
+    px[RFE_RR] = -veh->Lr;
+    py[RFE_FL] = RFE_R(0.5) * veh->Bf;
+    py[RFE_FR] = RFE_R(-0.5) * veh->Bf;
+    py[RFE_RL] = RFE_R(0.5) * veh->Br;
+    py[RFE_RR] = RFE_R(-0.5) * veh->Br;
+}
+
+#endif /* RFE_INTERNAL_H */
