@@ -24,8 +24,9 @@ WARN := -std=c99 -pedantic -Wall -Wextra -Wconversion -Wsign-conversion -Wshadow
 OPT  ?= -O2 -g
 CPPFLAGS_LIB  := -Iinclude
 CPPFLAGS_HOST := -Iinclude -Isrc/host -D_POSIX_C_SOURCE=200809L
-# Tests: same strictness except the conversions cmocka's macros trip over.
-TEST_WARN := -std=c99 -Wall -Wextra -Wshadow -Werror -Wno-unused-parameter
+# Tests: strict, except the conversions cmocka's macros trip over and truncation of
+# diagnostic messages (harmless in a test).
+TEST_WARN := -std=c99 -Wall -Wextra -Wshadow -Werror -Wno-unused-parameter -Wno-format-truncation
 LDLIBS_TEST := -lcmocka -lm
 
 # ---- sources -------------------------------------------------------------------------
@@ -46,11 +47,11 @@ $(BUILD)/$(1)/host/replay_real.o: src/host/replay_real.c $(wildcard src/host/*.h
 	$$(CC) $$(WARN) $(3) $(2) $$(CPPFLAGS_HOST) -c $$< -o $$@
 $(BUILD)/$(1)/support/%.o: test/support/%.c $(wildcard test/support/*.h src/host/*.h include/rfe/*.h) | $(BUILD)/$(1)/support
 	$$(CC) $$(TEST_WARN) $(3) $(2) $$(CPPFLAGS_HOST) -Itest/support -c $$< -o $$@
-$(BUILD)/$(1)/test/%: test/%.c $(BUILD)/$(1)/librfe.a $(patsubst test/support/%.c,$(BUILD)/$(1)/support/%.o,$(TEST_SUPPORT)) $(BUILD)/$(1)/hostlib.a
+$(BUILD)/$(1)/test/%: test/%.c $(BUILD)/$(1)/librfe.a $(patsubst test/support/%.c,$(BUILD)/$(1)/support/%.o,$(TEST_SUPPORT)) $(BUILD)/$(1)/hostlib.a $(BUILD)/$(1)/host/replay_real.o
 	@mkdir -p $$(@D)
 	$$(CC) $$(TEST_WARN) $(3) $(2) $$(CPPFLAGS_HOST) -Itest/support -Isrc $$< \
 	  $(patsubst test/support/%.c,$(BUILD)/$(1)/support/%.o,$(TEST_SUPPORT)) \
-	  $(BUILD)/$(1)/hostlib.a $(BUILD)/$(1)/librfe.a $$(LDLIBS_TEST) -o $$@
+	  $(BUILD)/$(1)/host/replay_real.o $(BUILD)/$(1)/hostlib.a $(BUILD)/$(1)/librfe.a $$(LDLIBS_TEST) -o $$@
 $(BUILD)/$(1)/hostlib.a: $(patsubst src/host/%.c,$(BUILD)/$(1)/host/%.o,$(HOST_SRC))
 	rm -f $$@ && ar rcs $$@ $$^
 $(BUILD)/$(1)/host/%.o: src/host/%.c $(wildcard src/host/*.h include/rfe/*.h) | $(BUILD)/$(1)/host
@@ -75,7 +76,7 @@ endef
 $(eval $(call REPLAY_RULE,$(BUILD)/mu_replay,f32,f64,$(OPT)))
 $(eval $(call REPLAY_RULE,$(BUILD)/cov-mu_replay,cov-f32,cov-f64,$(COVFLAGS)))
 
-.PHONY: all lib deps deps-c venv test test-c test-py coverage demo goldens scenarios clean \
+.PHONY: all lib deps deps-c venv test test-c test-py coverage demo goldens scenarios clean vectors \
         check-goldens help
 all: lib $(BUILD)/mu_replay
 lib: $(BUILD)/f32/librfe.a $(BUILD)/f64/librfe.a
@@ -144,6 +145,12 @@ scenarios: venv
 	$(PY) scripts/make_scenarios.py --out scenarios
 goldens: scenarios
 	$(PY) scripts/make_goldens.py --scenarios scenarios --out scenarios/golden
+
+# The MODEL.md test vectors of the independent implementation live in ../shared/vectors;
+# a copy sits in test/vectors so a clone is self-contained. This refreshes the copy.
+SHARED_VECTORS ?= ../shared/vectors
+vectors:
+	cp $(SHARED_VECTORS)/model_vectors.csv $(SHARED_VECTORS)/sckf_step_vectors.csv test/vectors/
 
 clean:
 	rm -rf $(BUILD)

@@ -1,0 +1,162 @@
+"""Scenario definitions (MODEL.md section 8).
+
+A scenario is its initial speed, duration and input functions:
+    steer(t)     road-wheel angle delta [rad] (front wheels)
+    pressure(t)  wheel-cylinder pressures (fl, fr, rl, rr) [MPa]
+    drive(t)     drive torques (fl, fr, rl, rr) [N m]
+    mu(x, left)  road friction at road position x [m] (CoG path distance at t = 0 is 0; a
+                 wheel sits at s + x_i) on the left (True) / right (False) side.
+The description string records the inputs and is written to the log metadata.
+All scenarios keep vx > 4 m/s to the end and no wheel locks or spins up.
+"""
+
+from dataclasses import dataclass
+from math import pi, sin
+from typing import Callable
+
+__all__ = ["Scenario", "SCENARIOS", "BY_NAME", "KMH"]
+
+KMH = 1.0 / 3.6
+ZERO4 = (0.0, 0.0, 0.0, 0.0)
+
+
+@dataclass(frozen=True)
+class Scenario:
+    name: str
+    index: int               # 0-based; noise seed = index + 1
+    description: str
+    v0: float                # m/s
+    duration: float          # s
+    steer: Callable
+    pressure: Callable
+    drive: Callable
+    mu: Callable
+
+    @property
+    def seed(self):
+        return self.index + 1
+
+    def inputs(self, t):
+        return self.steer(t), self.pressure(t), self.drive(t)
+
+
+def ramp(t, t0, t_ramp, value):
+    """0 before t0, linear to value over t_ramp, then value."""
+    if t <= t0:
+        return 0.0
+    if t >= t0 + t_ramp:
+        return value
+    return value * (t - t0) / t_ramp
+
+
+def pulse(t, t_on, t_off, t_ramp, value):
+    """ramp up at t_on, ramp down (same ramp time) at t_off."""
+    return ramp(t, t_on, t_ramp, value) - ramp(t, t_off, t_ramp, value)
+
+
+def const(value):
+    return lambda t: value
+
+
+def uniform_mu(mu):
+    return lambda x, left: mu
+
+
+def _fmt(x):
+    return f"{x:g}"
+
+
+# ---- chosen inputs (see the report / README of scripts/sim) -------------------------------
+P_PAPER = 0.45                    # MPa, all wheels from t = 0 (the paper)
+V_PAPER = 80.0 * KMH
+MU_STEP_X = 100.0                 # m
+SPLIT_P, SPLIT_T0, SPLIT_TR, SPLIT_V0 = 1.3, 1.0, 0.2, 100.0 * KMH
+SINE_F = 0.5                      # Hz
+SINE_A_HIGH = 0.042               # rad -> peak ay ~ 5 m/s^2 on mu 0.85
+SINE_A_LOW = 0.040                # rad -> peak ay ~ 2.75 m/s^2 on mu 0.4
+ACC_T, ACC_T0, ACC_TR, ACC_V0 = 330.0, 0.5, 1.0, 30.0 * KMH
+BIT_DELTA, BIT_STEER_TR = 0.025, 0.5
+BIT_P, BIT_T_ON, BIT_T_OFF, BIT_TR = 1.6, 2.0, 6.0, 0.2
+
+
+def _paper(name, index, mu_fn, mu_text):
+    return Scenario(
+        name, index,
+        f"paper braking: v0 = 80 km/h, {mu_text}, p = {_fmt(P_PAPER)} MPa all wheels from "
+        f"t = 0, no drive torque, delta = 0",
+        V_PAPER, 10.0, const(0.0), const((P_PAPER,) * 4), const(ZERO4), mu_fn)
+
+
+def _mu_step(x, left):
+    return 0.85 if x < MU_STEP_X else 0.20
+
+
+def _split(x, left):
+    return 0.85 if left else 0.30
+
+
+def _split_pressure(t):
+    v = ramp(t, SPLIT_T0, SPLIT_TR, SPLIT_P)
+    return (v, v, v, v)
+
+
+def _sine(a):
+    return lambda t: a * sin(2.0 * pi * SINE_F * t)
+
+
+def _acc_drive(t):
+    v = ramp(t, ACC_T0, ACC_TR, ACC_T)
+    return (v, v, 0.0, 0.0)
+
+
+def _bit_steer(t):
+    return ramp(t, 0.0, BIT_STEER_TR, BIT_DELTA)
+
+
+def _bit_pressure(t):
+    v = pulse(t, BIT_T_ON, BIT_T_OFF, BIT_TR, BIT_P)
+    return (v, v, v, v)
+
+
+SCENARIOS = [
+    _paper("paper_low_mu_brake", 0, uniform_mu(0.4), "mu = 0.4 everywhere"),
+    _paper("paper_high_mu_brake", 1, uniform_mu(0.85), "mu = 0.85 everywhere"),
+    _paper("paper_mu_step", 2, _mu_step,
+           f"mu = 0.85 for road x < {_fmt(MU_STEP_X)} m then 0.20 (each wheel at its own x)"),
+    Scenario(
+        "split_mu_brake", 3,
+        f"split-mu straight braking: v0 = 100 km/h, mu left 0.85 / right 0.30, "
+        f"p = {_fmt(SPLIT_P)} MPa all wheels ramped in over {_fmt(SPLIT_TR)} s from "
+        f"t = {_fmt(SPLIT_T0)} s, no drive torque, delta = 0 (open loop)",
+        SPLIT_V0, 10.0, const(0.0), _split_pressure, const(ZERO4), _split),
+    Scenario(
+        "sine_steer_high_mu", 4,
+        f"sine steer: v0 = 80 km/h, mu = 0.85, delta = {_fmt(SINE_A_HIGH)}*sin(2*pi*"
+        f"{_fmt(SINE_F)}*t) rad, no brake, no drive torque",
+        V_PAPER, 10.0, _sine(SINE_A_HIGH), const(ZERO4), const(ZERO4), uniform_mu(0.85)),
+    Scenario(
+        "sine_steer_low_mu", 5,
+        f"sine steer: v0 = 80 km/h, mu = 0.4, delta = {_fmt(SINE_A_LOW)}*sin(2*pi*"
+        f"{_fmt(SINE_F)}*t) rad, no brake, no drive torque",
+        V_PAPER, 10.0, _sine(SINE_A_LOW), const(ZERO4), const(ZERO4), uniform_mu(0.4)),
+    Scenario(
+        "accel_low_mu", 6,
+        f"front-wheel-drive acceleration: v0 = 30 km/h, mu = 0.3, drive torque "
+        f"{_fmt(ACC_T)} N m on each front wheel ramped in over {_fmt(ACC_TR)} s from "
+        f"t = {_fmt(ACC_T0)} s then held, no brake, delta = 0",
+        ACC_V0, 10.0, const(0.0), const(ZERO4), _acc_drive, uniform_mu(0.3)),
+    Scenario(
+        "brake_in_turn", 7,
+        f"braking in a turn: v0 = 80 km/h, mu = 0.85, delta ramped 0 -> {_fmt(BIT_DELTA)} "
+        f"rad over {_fmt(BIT_STEER_TR)} s from t = 0 then held, p = {_fmt(BIT_P)} MPa all "
+        f"wheels from t = {_fmt(BIT_T_ON)} s to {_fmt(BIT_T_OFF)} s ({_fmt(BIT_TR)} s "
+        f"ramps), no drive torque",
+        V_PAPER, 10.0, _bit_steer, _bit_pressure, const(ZERO4), uniform_mu(0.85)),
+    Scenario(
+        "cruise", 8,
+        "cruise: v0 = 80 km/h, mu = 0.85, no inputs (delta = 0, no brake, no drive "
+        "torque): tyre forces stay zero, friction not observable",
+        V_PAPER, 10.0, const(0.0), const(ZERO4), const(ZERO4), uniform_mu(0.85)),
+]
+
+BY_NAME = {s.name: s for s in SCENARIOS}
