@@ -112,7 +112,7 @@ test-c: deps-c $(foreach f,f32 f64,$(addprefix $(BUILD)/$(f)/test/,$(UNIT_TESTS)
 	@if [ -f test/host/test_cli.sh ]; then echo "== cli"; bash test/host/test_cli.sh $(BUILD)/mu_replay; fi
 
 test-py: venv
-	$(PY) -m pytest -q scripts
+	$(PY) -m pytest -q -p no:cacheprovider scripts
 
 COV_MIN_LINES    := 95
 COV_MIN_BRANCHES := 85

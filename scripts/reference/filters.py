@@ -1,0 +1,129 @@
+"""MODEL.md section 6: square-root cubature Kalman filter (SCKF) and the paper's CKF baseline.
+
+Both filters are generic in the measurement function: ``h(X)`` maps the cubature points X,
+shape (n, 2n), one point per column, to Z, shape (m, 2n).  The process is the random walk
+f(x) = x of MODEL.md section 5, still propagated through the cubature points as section 6
+writes it (so the float64 rounding follows the specified algorithm).
+
+Cubature points: xi_j = sqrt(n) e_j, j = 1..n, then -sqrt(n) e_j, weights w = 1/(2n).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.linalg import solve_triangular
+
+
+def cubature_unit_points(n: int) -> np.ndarray:
+    """[sqrt(n) e_1 .. sqrt(n) e_n, -sqrt(n) e_1 .. -sqrt(n) e_n], shape (n, 2n) (MODEL.md 6)."""
+    eye = np.eye(n)
+    return np.sqrt(n) * np.hstack([eye, -eye])
+
+
+def tria(a: np.ndarray) -> np.ndarray:
+    """Tria(A): lower-triangular S with S S^T = A A^T (MODEL.md section 6).
+
+    Householder QR of A^T (numpy.linalg.qr, LAPACK dgeqrf): A^T = Q R, S = R^T; the columns
+    of S are then sign-flipped so the diagonal is non-negative (S S^T is unchanged).
+    """
+    r = np.linalg.qr(a.T, mode="r")
+    s = r.T
+    signs = np.where(np.diag(s) < 0.0, -1.0, 1.0)
+    return s * signs[None, :]
+
+
+def project(x: np.ndarray, lo: float, hi: float):
+    """Projection of the mean onto [mu_min, mu_max] (MODEL.md section 6). Returns (x, clamped)."""
+    xp = np.minimum(np.maximum(x, lo), hi)
+    return xp, bool(np.any(xp != x))
+
+
+class SCKF:
+    """Square-root CKF state (x, S) with S lower triangular, P = S S^T."""
+
+    def __init__(self, x0, s0, s_q, s_r):
+        self.x = np.array(x0, dtype=float)
+        self.S = np.array(s0, dtype=float)
+        self.s_q = np.array(s_q, dtype=float)
+        self.s_r = np.array(s_r, dtype=float)
+        self.n = self.x.size
+        self.xi = cubature_unit_points(self.n)
+        self.sqrt_2n = np.sqrt(2.0 * self.n)
+
+    def points(self):
+        """X_j = S xi_j + x, shape (n, 2n)."""
+        return self.S @ self.xi + self.x[:, None]
+
+    def time_update(self):
+        """X_j = S xi_j + x; X*_j = f(X_j) = X_j; x- = mean X*_j;
+        S- = Tria([(X*_1 - x-, ..., X*_2n - x-)/sqrt(2n), S_Q])   (MODEL.md section 6)."""
+        x_star = self.points()
+        x_pred = x_star.mean(axis=1)
+        centred = (x_star - x_pred[:, None]) / self.sqrt_2n
+        self.x = x_pred
+        self.S = tria(np.hstack([centred, self.s_q]))
+
+    def measurement_update(self, y, h):
+        """MODEL.md section 6 measurement update:
+        X_j = S- xi_j + x-; Z_j = h(X_j); z = mean Z_j; Xc = (X_j - x-)/sqrt(2n);
+        Zc = (Z_j - z)/sqrt(2n); S_zz = Tria([Zc, S_R]); P_xz = Xc Zc^T;
+        K = (P_xz / S_zz^T) / S_zz; x = x- + K (y - z); S = Tria([Xc - K Zc, K S_R]).
+        """
+        pts = self.points()
+        z_pts = np.asarray(h(pts), dtype=float)
+        z_hat = z_pts.mean(axis=1)
+        xc = (pts - self.x[:, None]) / self.sqrt_2n
+        zc = (z_pts - z_hat[:, None]) / self.sqrt_2n
+        s_zz = tria(np.hstack([zc, self.s_r]))
+        p_xz = xc @ zc.T
+        # K S_zz S_zz^T = P_xz: first W = P_xz S_zz^-T  (S_zz W^T = P_xz^T),
+        # then K = W S_zz^-1  (S_zz^T K^T = W^T).  Two triangular solves, no inverse.
+        w_t = solve_triangular(s_zz, p_xz.T, lower=True, check_finite=False)
+        k_gain = solve_triangular(s_zz, w_t, lower=True, trans="T", check_finite=False).T
+        self.x = self.x + k_gain @ (np.asarray(y, dtype=float) - z_hat)
+        self.S = tria(np.hstack([xc - k_gain @ zc, k_gain @ self.s_r]))
+        return k_gain
+
+    def sd(self):
+        """sqrt(diag(S S^T)) = row norms of S."""
+        return np.sqrt(np.einsum("ij,ij->i", self.S, self.S))
+
+
+class CKF:
+    """The paper's cubature Kalman filter with the full covariance P (MODEL.md section 6)."""
+
+    def __init__(self, x0, p0, q, r):
+        self.x = np.array(x0, dtype=float)
+        self.P = np.array(p0, dtype=float)
+        self.q = np.array(q, dtype=float)
+        self.r = np.array(r, dtype=float)
+        self.n = self.x.size
+        self.xi = cubature_unit_points(self.n)
+        self.w = 1.0 / (2.0 * self.n)
+
+    def points(self):
+        """X_j = chol(P) xi_j + x (lower Cholesky factor), shape (n, 2n)."""
+        return np.linalg.cholesky(self.P) @ self.xi + self.x[:, None]
+
+    def time_update(self):
+        """X*_j = X_j; x- = mean; P- = sum_j w X*_j X*_j^T - x- x-^T + Q."""
+        x_star = self.points()
+        x_pred = x_star.mean(axis=1)
+        self.P = self.w * (x_star @ x_star.T) - np.outer(x_pred, x_pred) + self.q
+        self.x = x_pred
+
+    def measurement_update(self, y, h):
+        """Z_j = h(X_j); z = mean; P_zz = sum w Z Z^T - z z^T + R; P_xz = sum w X Z^T - x- z^T;
+        K = P_xz P_zz^-1 (linear solve); x = x- + K (y - z); P = P- - K P_zz K^T."""
+        pts = self.points()
+        z_pts = np.asarray(h(pts), dtype=float)
+        z_hat = z_pts.mean(axis=1)
+        p_zz = self.w * (z_pts @ z_pts.T) - np.outer(z_hat, z_hat) + self.r
+        p_xz = self.w * (pts @ z_pts.T) - np.outer(self.x, z_hat)
+        k_gain = np.linalg.solve(p_zz, p_xz.T).T     # P_zz symmetric: K^T = P_zz^-1 P_xz^T
+        self.x = self.x + k_gain @ (np.asarray(y, dtype=float) - z_hat)
+        self.P = self.P - k_gain @ p_zz @ k_gain.T
+        return k_gain
+
+    def sd(self):
+        return np.sqrt(np.diag(self.P))

@@ -1,0 +1,104 @@
+"""Parameters of the reference estimator (DATA.md "Parameter file", MODEL.md section 2).
+
+Precedence: DEFAULTS < the sensor log's ``# key = value`` metadata lines (only known keys;
+every other metadata key such as ``scenario``, ``dt``, ``seed``, ``kb_f``, ``Iw`` is
+information and ignored) < an explicit parameter file (where an unknown key is an error
+reported as ``file:line``).
+"""
+
+from __future__ import annotations
+
+# Keys and defaults.  Order here is the order they are written into estimate-log metadata.
+DEFAULTS: dict[str, float] = {
+    # vehicle (MODEL.md section 2)
+    "m": 1830.0,          # mass, kg
+    "Lf": 1.40,           # CoG to front axle, m
+    "Lr": 1.65,           # CoG to rear axle, m
+    "Bf": 1.60,           # front track, m
+    "Br": 1.60,           # rear track, m
+    "R": 0.325,           # effective rolling radius, m
+    "J": 3234.0,          # yaw moment of inertia, kg m^2
+    "hg": 0.54,           # CoG height, m
+    "g": 9.81,            # gravity, m/s^2
+    # tyre (MODEL.md section 4)
+    "Cx_n": 20.0,         # normalised longitudinal stiffness, paper mode, 1/rad
+    "Cy_n": 15.0,         # normalised cornering stiffness, paper mode, 1/rad
+    "cx": 20.0,           # longitudinal stiffness per unit Fz, absolute mode
+    "cy": 15.0,           # cornering stiffness per unit Fz, absolute mode
+    "eps": 0.015,         # Dugoff velocity-reduction factor, s/m
+    "v_min": 0.5,         # slip denominator guard, m/s (MODEL.md section 3)
+    "alpha_max": 1.4,     # slip-angle bound, rad (MODEL.md section 4)
+    # filter (MODEL.md section 6)
+    "mu0": 0.5,           # initial estimate on every wheel
+    "sd0": 0.3,           # initial standard deviation, S0 = sd0 I
+    "q_mu": 0.003,        # process noise sd per step, S_Q = q_mu I
+    "r_ax": 0.05,         # measurement noise sd of ax, m/s^2
+    "r_ay": 0.05,         # measurement noise sd of ay, m/s^2
+    "r_yaw_acc": 0.05,    # measurement noise sd of yaw acceleration, rad/s^2
+    "mu_min": 0.05,       # projection bounds of the mean
+    "mu_max": 1.2,
+    "v_est_min": 3.0,     # below this logged vx: time update only (status 2), m/s
+}
+
+
+class ParamError(ValueError):
+    """A malformed or unknown entry in a parameter file."""
+
+
+def _parse_line(line: str):
+    """Split ``key = value`` (comments after '#' removed). Returns None for blank lines."""
+    body = line.split("#", 1)[0].strip()
+    if not body:
+        return None
+    if "=" not in body:
+        raise ValueError("expected 'key = value'")
+    key, value = body.split("=", 1)
+    key, value = key.strip(), value.strip()
+    if not key:
+        raise ValueError("empty key")
+    return key, value
+
+
+def read_param_file(path: str) -> dict[str, float]:
+    """Read an explicit parameter file; unknown keys and bad values raise ParamError(file:line)."""
+    out: dict[str, float] = {}
+    with open(path, encoding="utf-8") as fh:
+        for lineno, line in enumerate(fh, 1):
+            where = f"{path}:{lineno}"
+            try:
+                kv = _parse_line(line)
+            except ValueError as exc:
+                raise ParamError(f"{where}: {exc}: {line.rstrip()!r}") from None
+            if kv is None:
+                continue
+            key, value = kv
+            if key not in DEFAULTS:
+                raise ParamError(f"{where}: unknown parameter key {key!r}")
+            try:
+                out[key] = float(value)
+            except ValueError:
+                raise ParamError(f"{where}: value of {key!r} is not a number: {value!r}") from None
+    return out
+
+
+def from_metadata(meta: dict[str, str], source: str = "log") -> dict[str, float]:
+    """Known parameter keys from a sensor log's ``# key = value`` metadata; others ignored."""
+    out: dict[str, float] = {}
+    for key, value in meta.items():
+        if key in DEFAULTS:
+            try:
+                out[key] = float(value)
+            except ValueError:
+                raise ParamError(f"{source}: metadata {key!r} is not a number: {value!r}") from None
+    return out
+
+
+def resolve(meta: dict[str, str] | None = None, param_file: str | None = None,
+            source: str = "log") -> dict[str, float]:
+    """Defaults < log metadata < parameter file."""
+    p = dict(DEFAULTS)
+    if meta:
+        p.update(from_metadata(meta, source))
+    if param_file:
+        p.update(read_param_file(param_file))
+    return p

@@ -1,0 +1,426 @@
+"""Tests of the reference estimator (run: .venv/bin/python -m pytest scripts/reference -q).
+
+1. model.py reproduces shared/vectors/model_vectors.csv (MODEL.md sections 3-5);
+2. filters.py reproduces shared/vectors/sckf_step_vectors.csv (one SCKF step, section 6);
+3. SCKF and CKF agree on a whole log (same filter algebraically), both tyre modes;
+4. SCKF on a linear-Gaussian toy problem equals a textbook Kalman filter;
+5. parameters, log I/O, the CLI (module and script form) and make_goldens (naming, determinism);
+6. when scenarios/*.csv exist: SCKF == CKF on them, and scenarios/golden/ is up to date.
+Synthetic sensor logs are generated here from model.py with a known friction.
+"""
+
+from __future__ import annotations
+
+import csv
+import glob
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from . import estimate, filters, logs, model, params
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+REPO = os.path.dirname(os.path.dirname(HERE))
+# The in-repo copy of shared/vectors (refreshed by `make vectors`).
+VECTORS = os.environ.get("RFE_VECTORS", os.path.join(REPO, "test", "vectors"))
+W = model.WHEELS
+P = params.resolve()
+
+
+def _read_vectors(name):
+    path = os.path.join(VECTORS, name)
+    if not os.path.exists(path):
+        pytest.skip(f"{path} not found")
+    with open(path, encoding="utf-8") as fh:
+        return list(csv.DictReader(line for line in fh if not line.startswith("#")))
+
+
+def _wheels(row, prefix):
+    return np.array([float(row[prefix + w]) for w in W])
+
+
+def _tyre_inputs_of(row):
+    one = lambda k: np.array([float(row[k])])  # noqa: E731
+    omega = _wheels(row, "omega_")[None, :]
+    return model.tyre_inputs(P, one("delta"), one("vx"), one("vy"), one("yaw_rate"),
+                             one("ax"), one("ay"), omega)
+
+
+def _max_rel(a, b):
+    """Max error relative to max(|b|, 1) (absolute for values below 1)."""
+    return float(np.max(np.abs(np.asarray(a) - b) / np.maximum(np.abs(b), 1.0)))
+
+
+# ---------------------------------------------------------------------------------------------
+# 1-2: shared test vectors
+# ---------------------------------------------------------------------------------------------
+
+def test_model_vectors():
+    rows = _read_vectors("model_vectors.csv")
+    assert len(rows) >= 71
+    worst = {}
+    for row in rows:
+        ti = _tyre_inputs_of(row)
+        got = {
+            "kappa_": ti.kappa[0], "alpha_": ti.alpha[0], "fz_": ti.fz[0],
+        }
+        f0x, f0y = model.dugoff_normalised(P, ti.fz, ti.kappa, ti.alpha, ti.v_wx)
+        got["f0x_"], got["f0y_"] = f0x[0], f0y[0]
+        for mu, tag in ((0.3, "03"), (0.8, "08")):
+            fx, fy = model.dugoff_absolute(P, mu, ti.fz, ti.kappa, ti.alpha, ti.v_wx)
+            got[f"fx_abs_mu{tag}_"], got[f"fy_abs_mu{tag}_"] = fx[0], fy[0]
+        for prefix, value in got.items():
+            err = _max_rel(value, _wheels(row, prefix))
+            assert err < 1e-9, (row["case"], prefix, value, _wheels(row, prefix))
+            worst[prefix] = max(worst.get(prefix, 0.0), err)
+        h_ref = np.array([float(row[f"H{i}{j}"]) for i in range(1, 4) for j in range(1, 5)])
+        h_got = model.observation_matrix(P, ti)[0].reshape(-1)
+        err = _max_rel(h_got, h_ref)
+        assert err < 1e-9, (row["case"], "H", h_got, h_ref)
+        worst["H"] = max(worst.get("H", 0.0), err)
+    print("model vectors, max error rel. to max(|ref|,1):", worst)
+
+
+def test_absolute_h_matches_forces():
+    """h_absolute at equal mu on every wheel == column sums of body_effects of the forces."""
+    rows = _read_vectors("model_vectors.csv")
+    for row in rows:
+        ti = _tyre_inputs_of(row)
+        pts = np.array([[0.3, 0.8, -0.1, 0.0]] * 4)       # one point per column
+        z = model.h_absolute(P, ti, 0, pts)
+        for j, mu in enumerate((0.3, 0.8, 0.0, 0.0)):
+            fx = _wheels(row, f"fx_abs_mu{'03' if mu == 0.3 else '08'}_") if mu else np.zeros(4)
+            fy = _wheels(row, f"fy_abs_mu{'03' if mu == 0.3 else '08'}_") if mu else np.zeros(4)
+            ref = model.body_effects(P, fx, fy, ti.delta_i[0]).sum(axis=-1)
+            np.testing.assert_allclose(z[:, j], ref, rtol=1e-9, atol=1e-9)
+
+
+def test_sckf_step_vectors():
+    rows = _read_vectors("sckf_step_vectors.csv")
+    assert len(rows) >= 12
+    worst_x = worst_s = 0.0
+    for row in rows:
+        ti = _tyre_inputs_of(row)
+        H = model.observation_matrix(P, ti)[0]
+        x0 = _wheels(row, "x0_")
+        s0 = np.array([[float(row[f"S0_{i}{j}"]) for j in range(1, 5)] for i in range(1, 5)])
+        x1 = _wheels(row, "x1_")
+        s1 = np.array([[float(row[f"S1_{i}{j}"]) for j in range(1, 5)] for i in range(1, 5)])
+        y = [float(row["y_ax"]), float(row["y_ay"]), float(row["y_yaw_acc"])]
+        f = filters.SCKF(x0, s0, P["q_mu"] * np.eye(4),
+                         np.diag([P["r_ax"], P["r_ay"], P["r_yaw_acc"]]))
+        f.time_update()
+        f.measurement_update(y, H.__matmul__)
+        x, clamped = filters.project(f.x, P["mu_min"], P["mu_max"])
+        assert clamped == bool(int(row["projected"])), row["case"]
+        np.testing.assert_allclose(x, x1, rtol=1e-9, atol=1e-12, err_msg=row["case"])
+        np.testing.assert_allclose(f.S, s1, rtol=1e-9, atol=1e-12, err_msg=row["case"])
+        assert np.all(np.triu(f.S, 1) == 0) and np.all(np.diag(f.S) >= 0)
+        worst_x = max(worst_x, _max_rel(x, x1))
+        worst_s = max(worst_s, float(np.max(np.abs(f.S - s1))))
+    print(f"sckf step vectors: max |x1 err| {worst_x:.3g}, max |S1 err| {worst_s:.3g}")
+
+
+# ---------------------------------------------------------------------------------------------
+# Synthetic sensor logs built from model.py with a known friction
+# ---------------------------------------------------------------------------------------------
+
+def synthetic_columns(n=1001, dt=0.01, tyre="paper", mu_true=(0.8, 0.8, 0.6, 0.6),
+                      noise=0.0, seed=1, p=P):
+    """A braking-and-steering manoeuvre; y = [ax, ay, yaw_acc] from the model at mu_true.
+
+    Speed falls from 22 m/s to below v_est_min at the end (exercises status 2); slips and
+    steer vary with time.  ax, ay feed back into the loads: a few fixed-point iterations make
+    the log self-consistent.  Optional white measurement noise (seeded).
+    """
+    t = np.arange(n) * dt
+    tau = t / t[-1]
+    vx = 22.0 * (1.0 - tau) + 0.5 * tau                       # ends at 0.5 m/s
+    delta = 0.06 * np.sin(2 * np.pi * 0.4 * t)
+    vy = 0.2 * np.sin(2 * np.pi * 0.4 * t + 0.3)
+    yaw_rate = vx * delta / (p["Lf"] + p["Lr"])
+    kappa_cmd = np.stack([-0.02 - 0.06 * tau, -0.03 - 0.05 * tau,
+                          -0.01 - 0.04 * tau, -0.015 - 0.03 * tau], axis=-1)
+    kappa_cmd += 0.01 * np.sin(2 * np.pi * 0.7 * t)[:, None]
+    v_wx, _, _ = model.wheel_velocities(p, delta, vx, vy, yaw_rate)
+    omega = v_wx * (1.0 + kappa_cmd) / p["R"]
+    mu = np.broadcast_to(np.asarray(mu_true, dtype=float), (n, 4)).copy()
+    ax = np.zeros(n)
+    ay = np.zeros(n)
+    for _ in range(6):
+        ti = model.tyre_inputs(p, delta, vx, vy, yaw_rate, ax, ay, omega)
+        if tyre == "paper":
+            y = np.einsum("kij,kj->ki", model.observation_matrix(p, ti), mu)
+        else:
+            y = np.stack([model.h_absolute(p, ti, k, mu[k][:, None])[:, 0] for k in range(n)])
+        ax, ay = y[:, 0], y[:, 1]
+    yaw_acc = y[:, 2]
+    if noise:
+        rng = np.random.default_rng(seed)
+        ax = ax + noise * rng.standard_normal(n)
+        ay = ay + noise * rng.standard_normal(n)
+        yaw_acc = yaw_acc + noise * rng.standard_normal(n)
+    cols = {"t": t, "delta": delta, "vx": vx, "vy": vy, "yaw_rate": yaw_rate,
+            "yaw_acc": yaw_acc, "ax": ax, "ay": ay}
+    for i, w in enumerate(W):
+        cols["omega_" + w] = omega[:, i]
+    for i, w in enumerate(W):
+        cols["mu_" + w] = mu[:, i]
+    return cols
+
+
+def write_sensor_log(path, cols, meta=(("scenario", "synthetic"), ("dt", "0.01"))):
+    """Sensor log in DATA.md format; columns deliberately not in the canonical order."""
+    names = list(cols)[::-1] + ["extra"]
+    with open(path, "w", encoding="utf-8") as fh:
+        for k, v in meta:
+            fh.write(f"# {k} = {v}\n")
+        fh.write(",".join(names) + "\n")
+        for k in range(len(cols["t"])):
+            fh.write(",".join(repr(float(cols[c][k])) if c != "extra" else "7" for c in names) + "\n")
+
+
+@pytest.fixture(scope="module")
+def synth_log(tmp_path_factory):
+    path = str(tmp_path_factory.mktemp("synth") / "synth.csv")
+    write_sensor_log(path, synthetic_columns(noise=0.05))
+    return logs.read_csv_log(path)
+
+
+@pytest.fixture(scope="module")
+def synth_log_abs(tmp_path_factory):
+    path = str(tmp_path_factory.mktemp("synth") / "synth_abs.csv")
+    write_sensor_log(path, synthetic_columns(tyre="absolute", noise=0.05, seed=2))
+    return logs.read_csv_log(path)
+
+
+# ---------------------------------------------------------------------------------------------
+# 3-4: filter properties
+# ---------------------------------------------------------------------------------------------
+
+def _assert_same_run(a, b, tol=1e-9):
+    np.testing.assert_array_equal(a["status"], b["status"])
+    np.testing.assert_array_equal(a["valid"], b["valid"])
+    dmu = float(np.max(np.abs(a["mu"] - b["mu"])))
+    dsd = float(np.max(np.abs(a["sd"] - b["sd"])))
+    assert dmu < tol and dsd < tol, (dmu, dsd)
+    return dmu, dsd
+
+
+@pytest.mark.parametrize("tyre", ["paper", "absolute"])
+def test_sckf_equals_ckf(tyre, synth_log, synth_log_abs):
+    log = synth_log if tyre == "paper" else synth_log_abs
+    a = estimate.run(log, P, "sckf", tyre)
+    b = estimate.run(log, P, "ckf", tyre)
+    dmu, dsd = _assert_same_run(a, b)
+    assert np.any(a["status"] == 2) and np.any(a["status"] == 0)
+    print(f"{tyre}: SCKF vs CKF max |dmu| {dmu:.3g}, max |dsd| {dsd:.3g}")
+
+
+def test_low_speed_rows(synth_log):
+    res = estimate.run(synth_log, P, "sckf", "paper")
+    low = synth_log.col("vx") < P["v_est_min"]
+    assert np.all(res["status"][low] == 2) and np.all(res["valid"][low] == 0)
+    assert np.all(res["status"][~low] <= 1) and np.all(res["valid"][~low] == 1)
+    # time update only: the mean does not move, the sd grows by the random walk
+    k = np.flatnonzero(low)
+    assert np.allclose(res["mu"][k[1:]], res["mu"][k[:-1]], rtol=0, atol=1e-15)
+    np.testing.assert_allclose(res["sd"][k[1:]] ** 2, res["sd"][k[:-1]] ** 2 + P["q_mu"] ** 2,
+                               rtol=1e-12)
+
+
+def test_noise_free_model_matched_fits_measurement(tmp_path):
+    """On noise-free paper-mode data the posterior explains y: H(u) x ~ y at the end."""
+    path = str(tmp_path / "nf.csv")
+    write_sensor_log(path, synthetic_columns(noise=0.0))
+    log = logs.read_csv_log(path)
+    res = estimate.run(log, P, "sckf", "paper")
+    ti = model.tyre_inputs(P, log.col("delta"), log.col("vx"), log.col("vy"), log.col("yaw_rate"),
+                           log.col("ax"), log.col("ay"), log.omega())
+    H = model.observation_matrix(P, ti)
+    y = np.stack([log.col("ax"), log.col("ay"), log.col("yaw_acc")], axis=-1)
+    ok = np.flatnonzero(res["status"] == 0)
+    k = ok[len(ok) // 2:]
+    resid = np.einsum("kij,kj->ki", H[k], res["mu"][k]) - y[k]
+    assert np.max(np.abs(resid)) < 0.05
+    assert np.all(res["mu"] >= P["mu_min"]) and np.all(res["mu"] <= P["mu_max"])
+
+
+def test_sckf_equals_textbook_kf():
+    """Linear-Gaussian toy problem: random walk + y = H_k x + v; no projection."""
+    rng = np.random.default_rng(7)
+    n, m = 4, 3
+    sq = 0.01 * np.eye(n)
+    sr = np.diag([0.1, 0.2, 0.05])
+    x0 = rng.standard_normal(n)
+    s0 = np.tril(rng.standard_normal((n, n))) + 2 * np.eye(n)
+    f = filters.SCKF(x0, s0, sq, sr)
+    x, Pk = x0.copy(), s0 @ s0.T
+    Q, R = sq @ sq.T, sr @ sr.T
+    for _ in range(200):
+        H = rng.standard_normal((m, n))
+        y = rng.standard_normal(m)
+        f.time_update()
+        f.measurement_update(y, H.__matmul__)
+        Pk = Pk + Q                                     # textbook predict
+        Sk = H @ Pk @ H.T + R                           # textbook update
+        K = Pk @ H.T @ np.linalg.inv(Sk)
+        x = x + K @ (y - H @ x)
+        Pk = (np.eye(n) - K @ H) @ Pk
+        Pk = 0.5 * (Pk + Pk.T)
+        np.testing.assert_allclose(f.x, x, rtol=1e-10, atol=1e-12)
+        np.testing.assert_allclose(f.S @ f.S.T, Pk, rtol=1e-9, atol=1e-12)
+    # the CKF follows the same path
+    g = filters.CKF(x0, s0 @ s0.T, Q, R)
+    rng = np.random.default_rng(7)
+    rng.standard_normal(n), rng.standard_normal((n, n))
+    for _ in range(200):
+        H = rng.standard_normal((m, n))
+        y = rng.standard_normal(m)
+        g.time_update()
+        g.measurement_update(y, H.__matmul__)
+    np.testing.assert_allclose(g.x, x, rtol=1e-9, atol=1e-12)
+
+
+def test_tria():
+    rng = np.random.default_rng(3)
+    for shape in ((4, 12), (3, 11), (4, 4)):
+        a = rng.standard_normal(shape)
+        s = filters.tria(a)
+        assert s.shape == (shape[0], shape[0])
+        assert np.all(np.triu(s, 1) == 0) and np.all(np.diag(s) >= 0)
+        np.testing.assert_allclose(s @ s.T, a @ a.T, rtol=1e-12, atol=1e-12)
+
+
+def test_projection():
+    x, c = filters.project(np.array([0.0, 0.5, 1.3, 1.2]), 0.05, 1.2)
+    assert c and list(x) == [0.05, 0.5, 1.2, 1.2]
+    x, c = filters.project(np.array([0.05, 1.2, 0.7, 0.3]), 0.05, 1.2)
+    assert not c
+
+
+# ---------------------------------------------------------------------------------------------
+# 5: parameters, I/O, CLI, make_goldens
+# ---------------------------------------------------------------------------------------------
+
+def test_param_precedence(tmp_path):
+    meta = {"m": "1500", "scenario": "x", "kb_f": "300", "q_mu": "0.01", "seed": "3"}
+    pf = tmp_path / "p.txt"
+    pf.write_text("# comment\n\nq_mu = 0.002   # trailing comment\nsd0=0.2\n")
+    p = params.resolve(meta, str(pf))
+    assert p["m"] == 1500.0 and p["q_mu"] == 0.002 and p["sd0"] == 0.2 and p["J"] == 3234.0
+    assert "kb_f" not in p and "scenario" not in p
+
+
+@pytest.mark.parametrize("text,needle", [
+    ("m = 1500\nmass = 3\n", ":2: unknown parameter key 'mass'"),
+    ("m = heavy\n", ":1: value of 'm' is not a number"),
+    ("\n\nm 1500\n", ":3:"),
+])
+def test_param_file_errors(tmp_path, text, needle):
+    pf = tmp_path / "bad.txt"
+    pf.write_text(text)
+    with pytest.raises(params.ParamError) as exc:
+        params.read_param_file(str(pf))
+    assert str(pf) + needle in str(exc.value)
+
+
+def test_log_metadata_overrides_defaults(tmp_path):
+    path = str(tmp_path / "meta.csv")
+    cols = synthetic_columns(n=300)
+    write_sensor_log(path, cols, meta=(("scenario", "s"), ("r_ax", "0.2"), ("Iw", "1.2")))
+    out = str(tmp_path / "est.csv")
+    estimate.estimate_file(path, out)
+    est = logs.read_csv_log(out, required=logs.ESTIMATE_COLUMNS)
+    assert est.meta["r_ax"] == "0.2" and est.meta["input"] == "meta.csv"
+    assert est.meta["generator"] == "scripts/reference" and est.meta["filter"] == "sckf"
+    p = params.resolve({"r_ax": "0.2"})
+    ref = estimate.run(logs.read_csv_log(path), p, "sckf", "paper")
+    np.testing.assert_array_equal(est.col("mu_fl"), ref["mu"][:, 0])
+    np.testing.assert_array_equal(est.col("t"), cols["t"])
+
+
+def test_cli_module_and_script(tmp_path, synth_log):
+    src = synth_log.path
+    outs = []
+    for form in (["-m", "scripts.reference.estimate"], [os.path.join(HERE, "estimate.py")]):
+        for kind, tyre in (("sckf", "paper"), ("ckf", "paper"), ("sckf", "absolute")):
+            out = str(tmp_path / f"{len(outs)}.csv")
+            subprocess.run([sys.executable, *form, "--in", src, "--out", out, "--filter", kind,
+                            "--tyre", tyre], cwd=REPO, check=True)
+            outs.append(out)
+    for a, b in zip(outs[:3], outs[3:]):
+        with open(a, "rb") as fa, open(b, "rb") as fb:
+            assert fa.read() == fb.read()
+    est = logs.read_csv_log(outs[0], required=logs.ESTIMATE_COLUMNS)
+    with open(outs[0], encoding="utf-8") as fh:
+        header = [line for line in fh if not line.startswith("#")][0].strip().split(",")
+    assert header == list(logs.ESTIMATE_COLUMNS)
+    ref = estimate.run(synth_log, P, "sckf", "paper")
+    np.testing.assert_array_equal(est.col("mu_rr"), ref["mu"][:, 3])
+    np.testing.assert_array_equal(est.col("sd_fl"), ref["sd"][:, 0])
+    np.testing.assert_array_equal(est.col("status"), ref["status"])
+    # bad parameter file -> exit 1 with file:line
+    pf = tmp_path / "bad.txt"
+    pf.write_text("nope = 1\n")
+    r = subprocess.run([sys.executable, "-m", "scripts.reference.estimate", "--in", src,
+                        "--out", str(tmp_path / "x.csv"), "--params", str(pf)],
+                       cwd=REPO, capture_output=True, text=True)
+    assert r.returncode == 1 and f"{pf}:1" in r.stderr
+
+
+def test_make_goldens_naming_and_determinism(tmp_path):
+    sc = tmp_path / "scen"
+    sc.mkdir()
+    cols = synthetic_columns(n=400)
+    for name in ("a.csv", "a.nf.csv", "a.mf.csv", "a.mf.nf.csv", "notes.txt"):
+        if name.endswith(".csv"):
+            write_sensor_log(str(sc / name), cols)
+        else:
+            (sc / name).write_text("x")
+    script = os.path.join(REPO, "scripts", "make_goldens.py")
+    digests = []
+    for run in range(2):
+        out = tmp_path / f"gold{run}"
+        subprocess.run([sys.executable, script, "--scenarios", str(sc), "--out", str(out)],
+                       check=True, capture_output=True)
+        files = sorted(os.listdir(out))
+        assert files == ["a.absolute.sckf.csv", "a.nf.paper.ckf.csv", "a.nf.paper.sckf.csv",
+                         "a.paper.ckf.csv", "a.paper.sckf.csv"]
+        digests.append({f: (out / f).read_bytes() for f in files})
+    assert digests[0] == digests[1]
+
+
+# ---------------------------------------------------------------------------------------------
+# 6: on the simulator's scenarios, when they exist
+# ---------------------------------------------------------------------------------------------
+
+SCENARIOS = sorted(f for f in glob.glob(os.path.join(REPO, "scenarios", "*.csv"))
+                   if ".mf" not in os.path.basename(f))
+
+
+@pytest.mark.skipif(not SCENARIOS, reason="no scenarios/*.csv yet")
+@pytest.mark.parametrize("path", SCENARIOS, ids=os.path.basename)
+def test_scenario_sckf_equals_ckf(path):
+    log = logs.read_csv_log(path)
+    p = params.resolve(log.meta, source=path)
+    _assert_same_run(estimate.run(log, p, "sckf", "paper"), estimate.run(log, p, "ckf", "paper"))
+
+
+GOLDENS = sorted(glob.glob(os.path.join(REPO, "scenarios", "golden", "*.csv")))
+
+
+@pytest.mark.skipif(not GOLDENS, reason="no scenarios/golden/*.csv yet")
+@pytest.mark.parametrize("golden", GOLDENS, ids=os.path.basename)
+def test_goldens_up_to_date(golden, tmp_path):
+    """Each golden file is byte-identical to what the reference writes now from its input."""
+    stem, tyre, kind, _ = os.path.basename(golden).rsplit(".", 3)
+    src = os.path.join(REPO, "scenarios", stem + ".csv")
+    assert os.path.exists(src), f"golden without its sensor log: {src}"
+    out = str(tmp_path / "now.csv")
+    estimate.estimate_file(src, out, None, kind, tyre)
+    with open(golden, "rb") as fa, open(out, "rb") as fb:
+        assert fa.read() == fb.read()
