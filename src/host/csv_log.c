@@ -1,0 +1,482 @@
+/**
+ * @file csv_log.c
+ * @brief Sensor-log reader and estimate-log writer (DATA.md), host only.
+ *
+ * The reader is line-oriented: metadata and blank lines until the header, then data rows.
+ * Columns are found by name through one table (k_cols), so a new input column is one line.
+ */
+#include "csv_log.h"
+
+#include <errno.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+/** Column roles: required input, or optional truth (all four or none). */
+typedef enum { COL_INPUT = 0, COL_TRUTH = 1 } col_kind_t;
+
+/** A sensor-log column: its DATA.md name and where its value goes in a row. */
+typedef struct {
+    const char *name;
+    size_t offset;
+    col_kind_t kind;
+} col_spec_t;
+
+#define ROW_OFF(member) offsetof(rfe_sensor_row_t, member)
+
+static const col_spec_t k_cols[] = {
+    {"t", ROW_OFF(t), COL_INPUT},
+    {"delta", ROW_OFF(delta), COL_INPUT},
+    {"vx", ROW_OFF(vx), COL_INPUT},
+    {"vy", ROW_OFF(vy), COL_INPUT},
+    {"yaw_rate", ROW_OFF(yaw_rate), COL_INPUT},
+    {"yaw_acc", ROW_OFF(yaw_acc), COL_INPUT},
+    {"ax", ROW_OFF(ax), COL_INPUT},
+    {"ay", ROW_OFF(ay), COL_INPUT},
+    {"omega_fl", ROW_OFF(omega[RFE_FL]), COL_INPUT},
+    {"omega_fr", ROW_OFF(omega[RFE_FR]), COL_INPUT},
+    {"omega_rl", ROW_OFF(omega[RFE_RL]), COL_INPUT},
+    {"omega_rr", ROW_OFF(omega[RFE_RR]), COL_INPUT},
+    {"mu_fl", ROW_OFF(mu_true[RFE_FL]), COL_TRUTH},
+    {"mu_fr", ROW_OFF(mu_true[RFE_FR]), COL_TRUTH},
+    {"mu_rl", ROW_OFF(mu_true[RFE_RL]), COL_TRUTH},
+    {"mu_rr", ROW_OFF(mu_true[RFE_RR]), COL_TRUTH},
+};
+#define N_COLS (sizeof k_cols / sizeof k_cols[0])
+
+/** "No column" marker in the field -> column map. */
+#define NO_COL SIZE_MAX
+
+/** Longest piece of file text quoted in a message. */
+#define QUOTE_MAX 40u
+
+/** Reading state: the stream, the current line and the header's layout. */
+typedef struct {
+    FILE *f;
+    const char *name;
+    rfe_io_error_t *err;
+    char *buf;
+    size_t cap;
+    size_t len;
+    size_t line;          /**< number of the line in buf */
+    size_t header_line;
+    size_t n_fields;      /**< fields per row (header width) */
+    size_t t_field;       /**< field index of column t */
+    size_t *field_col;    /**< per field: index into k_cols, or NO_COL (ignored column) */
+    char **fields;        /**< n_fields pointers into buf, reused per row */
+    size_t rows_cap;
+    size_t meta_cap;
+} reader_t;
+
+static int next_line(reader_t *r);
+static int read_preamble(reader_t *r, rfe_sensor_log_t *log);
+static void add_meta(reader_t *r, rfe_sensor_log_t *log);
+static size_t split_fields(char *line, char **fields, size_t max);
+static int parse_header(reader_t *r, rfe_sensor_log_t *log);
+static int map_header_fields(reader_t *r, size_t n);
+static int check_columns(reader_t *r, rfe_sensor_log_t *log);
+static int read_rows(reader_t *r, rfe_sensor_log_t *log);
+static int parse_row(reader_t *r, rfe_sensor_log_t *log);
+static void *grow(void *arr, size_t *cap, size_t elem, size_t need);
+static void write_sanitised(FILE *f, const char *s);
+
+/* ---------------------------------------------------------------- reading */
+
+int rfe_sensor_log_read(const char *path, rfe_sensor_log_t *log, rfe_io_error_t *err)
+{
+    FILE *f;
+    int rc;
+    memset(log, 0, sizeof *log);
+    f = fopen(path, "r");
+    if (f == NULL) {
+        rfe_io_error_set(err, path, 0u, 0u, "cannot open: %s", strerror(errno));
+        return -1;
+    }
+    rc = rfe_sensor_log_read_stream(f, path, log, err);
+    (void)fclose(f); /* read-only: nothing to lose on close */
+    return rc;
+}
+
+int rfe_sensor_log_read_stream(FILE *f, const char *name, rfe_sensor_log_t *log,
+                               rfe_io_error_t *err)
+{
+    reader_t r;
+    int rc;
+    memset(&r, 0, sizeof r);
+    memset(log, 0, sizeof *log);
+    r.f = f;
+    r.name = name;
+    r.err = err;
+    rc = read_preamble(&r, log);
+    if (rc == 0) {
+        rc = parse_header(&r, log);
+    }
+    if (rc == 0) {
+        rc = read_rows(&r, log);
+    }
+    free(r.buf);
+    free(r.field_col);
+    free(r.fields);
+    if (rc != 0) {
+        rfe_sensor_log_free(log);
+    }
+    return rc;
+}
+
+void rfe_sensor_log_free(rfe_sensor_log_t *log)
+{
+    size_t i;
+    for (i = 0u; i < log->n_meta; ++i) {
+        free(log->meta[i].key);
+        free(log->meta[i].value);
+    }
+    free(log->meta);
+    free(log->rows);
+    memset(log, 0, sizeof *log);
+}
+
+const char *rfe_sensor_log_meta(const rfe_sensor_log_t *log, const char *key)
+{
+    const char *v = NULL;
+    size_t i;
+    for (i = 0u; i < log->n_meta; ++i) {
+        if (strcmp(log->meta[i].key, key) == 0) {
+            v = log->meta[i].value;
+        }
+    }
+    return v;
+}
+
+/* Reads the next line into r->buf. 1 = line, 0 = end of file, -1 = error (reported). */
+static int next_line(reader_t *r)
+{
+    int rc = rfe_text_read_line(r->f, &r->buf, &r->cap, &r->len);
+    if (rc == 1) {
+        ++r->line;
+        /* A UTF-8 byte-order mark (spreadsheet export) is not part of the first name. */
+        if ((r->line == 1u) && (strncmp(r->buf, "\xEF\xBB\xBF", 3u) == 0)) {
+            memmove(r->buf, r->buf + 3, r->len - 2u);
+            r->len -= 3u;
+        }
+        return 1;
+    }
+    if (rc == 0) {
+        return 0;
+    }
+    if (rc == -2) {
+        rfe_io_error_set(r->err, r->name, r->line + 1u, 0u,
+                         "line contains a NUL byte (not a text CSV file?)");
+    } else {
+        rfe_io_error_set(r->err, r->name, r->line + 1u, 0u, "read error: %s", strerror(errno));
+    }
+    return -1;
+}
+
+/* Metadata and blank lines up to the header; leaves the header line in r->buf. */
+static int read_preamble(reader_t *r, rfe_sensor_log_t *log)
+{
+    for (;;) {
+        int rc = next_line(r);
+        const char *s;
+        if (rc <= 0) {
+            if (rc == 0) {
+                rfe_io_error_set(r->err, r->name, 0u, 0u,
+                                 (r->line == 0u) ? "empty file (no header row)" : "no header row");
+            }
+            return -1;
+        }
+        s = r->buf + strspn(r->buf, " \t");
+        if (*s == '\0') {
+            continue;
+        }
+        if (*s != '#') {
+            r->header_line = r->line;
+            return 0;
+        }
+        add_meta(r, log);
+    }
+}
+
+/* Stores a `# key = value` line; a '#' line without '=' is a plain comment. */
+static void add_meta(reader_t *r, rfe_sensor_log_t *log)
+{
+    char *body = strchr(r->buf, '#') + 1;
+    char *eq = strchr(body, '=');
+    char *key;
+    rfe_meta_entry_t *e;
+    if (eq == NULL) {
+        return;
+    }
+    *eq = '\0';
+    key = rfe_text_trim(body);
+    if (*key == '\0') {
+        return; /* "# = x" names nothing */
+    }
+    log->meta = grow(log->meta, &r->meta_cap, sizeof *log->meta, log->n_meta + 1u);
+    e = &log->meta[log->n_meta++];
+    e->key = rfe_xstrdup(key);
+    e->value = rfe_xstrdup(rfe_text_trim(eq + 1));
+    e->line = r->line;
+}
+
+/* Splits at commas in place; returns the number of fields (may exceed max, then only the
+ * first max are stored). */
+static size_t split_fields(char *line, char **fields, size_t max)
+{
+    size_t n = 0u;
+    char *p = line;
+    for (;;) {
+        char *comma = strchr(p, ',');
+        if (comma != NULL) {
+            *comma = '\0';
+        }
+        if (n < max) {
+            fields[n] = rfe_text_trim(p);
+        }
+        ++n;
+        if (comma == NULL) {
+            return n;
+        }
+        p = comma + 1;
+    }
+}
+
+static int parse_header(reader_t *r, rfe_sensor_log_t *log)
+{
+    size_t n = 1u;
+    const char *p;
+    for (p = r->buf; *p != '\0'; ++p) {
+        n += (*p == ',') ? 1u : 0u;
+    }
+    r->n_fields = n;
+    r->field_col = rfe_xrealloc(NULL, n, sizeof *r->field_col);
+    r->fields = rfe_xrealloc(NULL, n, sizeof *r->fields);
+    (void)split_fields(r->buf, r->fields, n);
+    if (map_header_fields(r, n) != 0) {
+        return -1;
+    }
+    return check_columns(r, log);
+}
+
+/* Names -> k_cols indices; rejects empty and duplicate names. */
+static int map_header_fields(reader_t *r, size_t n)
+{
+    char q[QUOTE_MAX + 4u];
+    size_t j;
+    size_t k;
+    for (j = 0u; j < n; ++j) {
+        r->field_col[j] = NO_COL;
+        if (r->fields[j][0] == '\0') {
+            rfe_io_error_set(r->err, r->name, r->line, j + 1u, "empty column name in header");
+            return -1;
+        }
+        for (k = 0u; k < j; ++k) {
+            if (strcmp(r->fields[k], r->fields[j]) == 0) {
+                rfe_text_quote(q, sizeof q, r->fields[j], QUOTE_MAX);
+                rfe_io_error_set(r->err, r->name, r->line, j + 1u,
+                                 "duplicate column '%s' (also column %zu)", q, k + 1u);
+                return -1;
+            }
+        }
+        for (k = 0u; k < N_COLS; ++k) {
+            if (strcmp(k_cols[k].name, r->fields[j]) == 0) {
+                r->field_col[j] = k;
+                r->t_field = (k == 0u) ? j : r->t_field; /* k_cols[0] is t */
+            }
+        }
+    }
+    return 0;
+}
+
+/* Every input column present; truth columns all or none. */
+static int check_columns(reader_t *r, rfe_sensor_log_t *log)
+{
+    size_t present[N_COLS] = {0u};
+    size_t n_truth = 0u;
+    const char *missing_truth = NULL;
+    size_t j;
+    size_t k;
+    for (j = 0u; j < r->n_fields; ++j) {
+        if (r->field_col[j] != NO_COL) {
+            present[r->field_col[j]] = 1u;
+        }
+    }
+    for (k = 0u; k < N_COLS; ++k) {
+        if ((k_cols[k].kind == COL_INPUT) && (present[k] == 0u)) {
+            rfe_io_error_set(r->err, r->name, r->line, 0u, "missing column '%s'", k_cols[k].name);
+            return -1;
+        }
+        if (k_cols[k].kind == COL_TRUTH) {
+            n_truth += present[k];
+            if ((present[k] == 0u) && (missing_truth == NULL)) {
+                missing_truth = k_cols[k].name;
+            }
+        }
+    }
+    if ((n_truth != 0u) && (missing_truth != NULL)) {
+        rfe_io_error_set(r->err, r->name, r->line, 0u,
+                         "truth column '%s' missing (give all of mu_fl, mu_fr, mu_rl, mu_rr or none)",
+                         missing_truth);
+        return -1;
+    }
+    log->has_truth = (n_truth != 0u) ? 1 : 0;
+    return 0;
+}
+
+/* Data rows to the end. A blank line is tolerated only at the end of the file. */
+static int read_rows(reader_t *r, rfe_sensor_log_t *log)
+{
+    size_t blank_line = 0u;
+    int rc;
+    while ((rc = next_line(r)) == 1) {
+        const char *s = r->buf + strspn(r->buf, " \t");
+        if (*s == '\0') {
+            blank_line = (blank_line == 0u) ? r->line : blank_line;
+            continue;
+        }
+        if (blank_line != 0u) {
+            rfe_io_error_set(r->err, r->name, blank_line, 0u, "empty line between data rows");
+            return -1;
+        }
+        if (*s == '#') {
+            rfe_io_error_set(r->err, r->name, r->line, 0u,
+                             "'#' line after the header (metadata must come before it)");
+            return -1;
+        }
+        if (parse_row(r, log) != 0) {
+            return -1;
+        }
+    }
+    if (rc < 0) {
+        return -1;
+    }
+    if (log->n_rows == 0u) {
+        rfe_io_error_set(r->err, r->name, r->header_line, 0u, "no data rows after the header");
+        return -1;
+    }
+    return 0;
+}
+
+/* One data row: field count, every needed field a finite number, time increasing. */
+static int parse_row(reader_t *r, rfe_sensor_log_t *log)
+{
+    char q[QUOTE_MAX + 4u];
+    rfe_sensor_row_t row;
+    size_t n = split_fields(r->buf, r->fields, r->n_fields);
+    size_t j;
+    memset(&row, 0, sizeof row);
+    if (n != r->n_fields) {
+        /* COL = the first field that is missing or extra. */
+        rfe_io_error_set(r->err, r->name, r->line, ((n < r->n_fields) ? n : r->n_fields) + 1u,
+                         "wrong column count: %zu fields, header has %zu", n, r->n_fields);
+        return -1;
+    }
+    for (j = 0u; j < n; ++j) {
+        const col_spec_t *c;
+        double v = 0.0;
+        rfe_num_status_t st;
+        if (r->field_col[j] == NO_COL) {
+            continue; /* extra columns are ignored, not parsed */
+        }
+        c = &k_cols[r->field_col[j]];
+        st = rfe_text_parse_double(r->fields[j], &v);
+        if (st != RFE_NUM_OK) {
+            rfe_text_quote(q, sizeof q, r->fields[j], QUOTE_MAX);
+            rfe_io_error_set(r->err, r->name, r->line, j + 1u, "column '%s': %s: '%s'", c->name,
+                             rfe_num_status_str(st), q);
+            return -1;
+        }
+        memcpy((char *)&row + c->offset, &v, sizeof v);
+    }
+    if ((log->n_rows > 0u) && !(row.t > log->rows[log->n_rows - 1u].t)) {
+        rfe_io_error_set(r->err, r->name, r->line, r->t_field + 1u,
+                         "column 't': time not increasing (%.17g after %.17g)", row.t,
+                         log->rows[log->n_rows - 1u].t);
+        return -1;
+    }
+    log->rows = grow(log->rows, &r->rows_cap, sizeof row, log->n_rows + 1u);
+    log->rows[log->n_rows++] = row;
+    return 0;
+}
+
+/* Room for @p need elements, doubling the capacity (amortised O(1) appends). */
+static void *grow(void *arr, size_t *cap, size_t elem, size_t need)
+{
+    if (need <= *cap) {
+        return arr;
+    }
+    /* need is at most *cap + 1; 2 * *cap cannot wrap: *cap * elem bytes already exist. */
+    *cap = (*cap < 16u) ? 16u : 2u * *cap;
+    return rfe_xrealloc(arr, *cap, elem);
+}
+
+/* ---------------------------------------------------------------- writing */
+
+static const char *const k_est_header =
+    "t,mu_fl,mu_fr,mu_rl,mu_rr,sd_fl,sd_fr,sd_rl,sd_rr,valid_fl,valid_fr,valid_rl,valid_rr,status";
+
+/* Metadata value on one line: control characters (a newline in a file name) become '?'. */
+static void write_sanitised(FILE *f, const char *s)
+{
+    for (; *s != '\0'; ++s) {
+        fputc(((unsigned char)*s < 0x20u) ? '?' : *s, f);
+    }
+}
+
+int rfe_estimate_log_write_stream(FILE *f, const rfe_kv_t *meta, size_t n_meta,
+                                  const rfe_est_row_t *rows, size_t n_rows, rfe_numfmt_t fmt)
+{
+    void (*format)(char *, double) =
+        (fmt == RFE_NUMFMT_FLOAT) ? rfe_text_format_float : rfe_text_format_double;
+    char num[RFE_NUM_BUF];
+    size_t i;
+    size_t w;
+    for (i = 0u; i < n_meta; ++i) {
+        fputs("# ", f);
+        write_sanitised(f, meta[i].key);
+        fputs(" = ", f);
+        write_sanitised(f, meta[i].value);
+        fputc('\n', f);
+    }
+    fprintf(f, "%s\n", k_est_header);
+    for (i = 0u; i < n_rows; ++i) {
+        const rfe_est_row_t *e = &rows[i];
+        /* t is the input time, copied exactly whatever the run precision. */
+        rfe_text_format_double(num, e->t);
+        fputs(num, f);
+        for (w = 0u; w < RFE_WHEELS; ++w) {
+            format(num, e->mu[w]);
+            fprintf(f, ",%s", num);
+        }
+        for (w = 0u; w < RFE_WHEELS; ++w) {
+            format(num, e->sd[w]);
+            fprintf(f, ",%s", num);
+        }
+        for (w = 0u; w < RFE_WHEELS; ++w) {
+            fprintf(f, ",%u", (unsigned)e->valid[w]);
+        }
+        fprintf(f, ",%d\n", e->status);
+    }
+    return ferror(f) ? -1 : 0;
+}
+
+int rfe_estimate_log_write(const char *path, const rfe_kv_t *meta, size_t n_meta,
+                           const rfe_est_row_t *rows, size_t n_rows, rfe_numfmt_t fmt,
+                           rfe_io_error_t *err)
+{
+    FILE *f = fopen(path, "w");
+    int rc;
+    if (f == NULL) {
+        rfe_io_error_set(err, path, 0u, 0u, "cannot open for writing: %s", strerror(errno));
+        return -1;
+    }
+    rc = rfe_estimate_log_write_stream(f, meta, n_meta, rows, n_rows, fmt);
+    errno = 0;
+    /* fclose flushes: a full disk shows up here, not in fprintf. */
+    if ((fclose(f) != 0) || (rc != 0)) {
+        rfe_io_error_set(err, path, 0u, 0u, "write failed: %s",
+                         (errno != 0) ? strerror(errno) : "I/O error");
+        return -1;
+    }
+    return 0;
+}

@@ -1,0 +1,96 @@
+/**
+ * @file csv_log.h
+ * @brief Sensor-log reader and estimate-log writer (docs DATA.md), host only.
+ *
+ * Format: `# key = value` metadata lines, then one header row of column names, then one row
+ * per sample. Columns are looked up by name (any order; extra columns are ignored and not
+ * parsed). Fields may be padded with blanks. Every needed field must be a finite decimal
+ * number; anything else is an error that names file, line and column (field index and name).
+ */
+#ifndef RFE_HOST_CSV_LOG_H
+#define RFE_HOST_CSV_LOG_H
+
+#include <stddef.h>
+#include <stdio.h>
+
+#include "rfe/types.h"
+#include "text_io.h"
+
+/** One `# key = value` metadata line of a sensor log (strings owned by the log). */
+typedef struct {
+    char *key;
+    char *value;
+    size_t line;  /**< 1-based line in the file, for messages */
+} rfe_meta_entry_t;
+
+/** One sensor sample as read (DATA.md sensor log), doubles whatever the build precision. */
+typedef struct {
+    double t, delta, vx, vy, yaw_rate, yaw_acc, ax, ay;
+    double omega[RFE_WHEELS];    /**< omega_fl .. omega_rr */
+    double mu_true[RFE_WHEELS];  /**< mu_fl .. mu_rr; only meaningful when has_truth */
+} rfe_sensor_row_t;
+
+/** A whole sensor log in memory. Zero-initialise, read, then rfe_sensor_log_free. */
+typedef struct {
+    rfe_meta_entry_t *meta;
+    size_t n_meta;
+    rfe_sensor_row_t *rows;
+    size_t n_rows;
+    int has_truth;  /**< 1 when all four mu_* truth columns are present */
+} rfe_sensor_log_t;
+
+/**
+ * Reads @p path into @p log. Rejected: no header, a missing required column, only some of
+ * the four truth columns, duplicate column names, a wrong field count, a field that is not
+ * a finite decimal number, time not strictly increasing, no data rows.
+ * @return 0, or -1 with @p err filled (log then empty; err->file points to @p path).
+ */
+RFE_NODISCARD int rfe_sensor_log_read(const char *path, rfe_sensor_log_t *log,
+                                      rfe_io_error_t *err);
+
+/** As rfe_sensor_log_read, from an open stream; @p name is used in messages. */
+RFE_NODISCARD int rfe_sensor_log_read_stream(FILE *f, const char *name, rfe_sensor_log_t *log,
+                                             rfe_io_error_t *err);
+
+/** Frees everything the log owns and zeroes it (safe on a zeroed or freed log). */
+void rfe_sensor_log_free(rfe_sensor_log_t *log);
+
+/** Value of metadata @p key, or NULL (the last one when repeated). */
+const char *rfe_sensor_log_meta(const rfe_sensor_log_t *log, const char *key);
+
+/** One row of the DATA.md estimate log, as doubles. */
+typedef struct {
+    double t;
+    double mu[RFE_WHEELS];
+    double sd[RFE_WHEELS];
+    unsigned char valid[RFE_WHEELS];
+    int status;  /**< rfe_status_t of that step */
+} rfe_est_row_t;
+
+/** A metadata pair to write (strings not owned). */
+typedef struct {
+    const char *key;
+    const char *value;
+} rfe_kv_t;
+
+/** Number format of estimate-log values. */
+typedef enum {
+    RFE_NUMFMT_DOUBLE = 0,  /**< shortest text that reads back as the same double */
+    RFE_NUMFMT_FLOAT = 1    /**< %.9g: reads back as the same float (float32 runs) */
+} rfe_numfmt_t;
+
+/**
+ * Writes the estimate log: `# key = value` lines (control characters in values become
+ * '?', so each stays one line), the header, one row per estimate.
+ * @return 0, or -1 with @p err filled (open, write or close failed).
+ */
+RFE_NODISCARD int rfe_estimate_log_write(const char *path, const rfe_kv_t *meta, size_t n_meta,
+                                         const rfe_est_row_t *rows, size_t n_rows,
+                                         rfe_numfmt_t fmt, rfe_io_error_t *err);
+
+/** As rfe_estimate_log_write, to an open stream (not closed); returns -1 on a write error. */
+RFE_NODISCARD int rfe_estimate_log_write_stream(FILE *f, const rfe_kv_t *meta, size_t n_meta,
+                                                const rfe_est_row_t *rows, size_t n_rows,
+                                                rfe_numfmt_t fmt);
+
+#endif /* RFE_HOST_CSV_LOG_H */

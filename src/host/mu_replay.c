@@ -1,0 +1,422 @@
+/**
+ * @file mu_replay.c
+ * @brief mu_replay: run the friction estimator over a sensor log (docs DATA.md), write the
+ *        estimate log, and score it against the truth columns when the log has them.
+ *
+ * Exit status: 0 success, 1 malformed input or failed run (one line
+ * `mu_replay: FILE:LINE:COL: message` on stderr), 2 bad usage.
+ * Parameter precedence: defaults < log metadata < --params file < --filter/--tyre flags.
+ */
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "csv_log.h"
+#include "metrics.h"
+#include "param_file.h"
+#include "replay_real.h"
+#include "text_io.h"
+
+#define PROG "mu_replay"
+
+/** Exit statuses. */
+enum { EXIT_OK = 0, EXIT_INPUT = 1, EXIT_USAGE = 2 };
+
+static const char k_usage[] =
+    "usage: " PROG " --in SENSOR.csv --out ESTIMATE.csv [--params FILE]\n"
+    "                 [--filter sckf|ckf] [--tyre paper|absolute] [--real float|double]\n"
+    "                 [--metrics FILE.json] [--quiet] [--help]\n"
+    "\n"
+    "Runs the road-friction estimator over a sensor log (docs DATA.md) and writes the\n"
+    "estimate log. Parameters: defaults < the log's '# key = value' metadata < --params\n"
+    "file < --filter/--tyre. When the log has truth columns mu_fl..mu_rr, prints an\n"
+    "accuracy table (and writes it as JSON with --metrics).\n"
+    "\n"
+    "  --in FILE        sensor log to read\n"
+    "  --out FILE       estimate log to write\n"
+    "  --params FILE    parameter file ('key = value' lines; unknown keys are errors)\n"
+    "  --filter KIND    sckf (default) or ckf\n"
+    "  --tyre MODE      paper (default) or absolute\n"
+    "  --real TYPE      float (default) or double arithmetic\n"
+    "  --metrics FILE   write run summary and accuracy as JSON\n"
+    "  --quiet, -q      print nothing on success\n"
+    "  --help, -h       print this help and exit\n"
+    "\n"
+    "Exit status: 0 success, 1 malformed input or failed run, 2 bad usage.\n";
+
+/** Command-line options; NULL = not given. */
+typedef struct {
+    const char *in;
+    const char *out;
+    const char *params;
+    const char *metrics;
+    const char *filter;
+    const char *tyre;
+    const char *real;
+    int quiet;
+    int help;
+} options_t;
+
+/** Everything one run produces. */
+typedef struct {
+    rfe_sensor_log_t log;
+    rfe_param_set_t ps;
+    rfe_est_row_t *rows;
+    rfe_replay_stats_t stats;
+    int is_double;
+    int has_metrics;
+    rfe_metrics_t metrics;
+} run_t;
+
+typedef rfe_status_t (*replay_fn_t)(const rfe_param_set_t *, const rfe_sensor_log_t *,
+                                    rfe_est_row_t *, rfe_replay_stats_t *, size_t *);
+
+static int usage_error(const char *fmt, const char *arg);
+static const char **option_slot(options_t *o, const char *name);
+static int parse_args(int argc, char **argv, options_t *o);
+static int check_option_words(const options_t *o);
+static int same_file(const char *a, const char *b);
+static int load_params(const options_t *o, run_t *r);
+static int run_estimator(const options_t *o, run_t *r);
+static int write_estimates(const options_t *o, const run_t *r);
+static void compute_metrics(run_t *r);
+static int write_metrics_json(const options_t *o, const run_t *r);
+static void print_status_counts(const run_t *r);
+static const char *base_name(const char *path);
+static int fail(const rfe_io_error_t *err);
+
+int main(int argc, char **argv)
+{
+    options_t o;
+    run_t r;
+    int rc;
+    memset(&r, 0, sizeof r);
+    rc = parse_args(argc, argv, &o);
+    if ((rc != 0) || o.help) {
+        fputs(k_usage, (rc != 0) ? stderr : stdout);
+        return (rc != 0) ? EXIT_USAGE : EXIT_OK;
+    }
+    rc = load_params(&o, &r);
+    if (rc == 0) {
+        rc = run_estimator(&o, &r);
+    }
+    if (rc == 0) {
+        rc = write_estimates(&o, &r);
+    }
+    if ((rc == 0) && r.log.has_truth) {
+        compute_metrics(&r);
+    }
+    if ((rc == 0) && (o.metrics != NULL)) {
+        rc = write_metrics_json(&o, &r);
+    }
+    if ((rc == 0) && !o.quiet) {
+        if (r.has_metrics) {
+            rfe_metrics_print_table(stdout, &r.metrics);
+        }
+        print_status_counts(&r);
+        /* A table lost to a full disk or closed pipe must not look like success. */
+        if ((fflush(stdout) != 0) || ferror(stdout)) {
+            fprintf(stderr, "%s: stdout: write failed\n", PROG);
+            rc = -1;
+        }
+    }
+    free(r.rows);
+    rfe_sensor_log_free(&r.log);
+    return (rc == 0) ? EXIT_OK : EXIT_INPUT;
+}
+
+/* ------------------------------------------------------------ command line */
+
+/* One-line reason on stderr; the caller then prints the usage. */
+static int usage_error(const char *fmt, const char *arg)
+{
+    fprintf(stderr, "%s: ", PROG);
+    fprintf(stderr, fmt, arg);
+    fputc('\n', stderr);
+    return -1;
+}
+
+/* Where the value of a value-taking option goes, or NULL for an unknown name. */
+static const char **option_slot(options_t *o, const char *name)
+{
+    static const char *const names[] = {"in", "out", "params", "metrics", "filter", "tyre", "real"};
+    const char **slots[7];
+    size_t i;
+    slots[0] = &o->in;
+    slots[1] = &o->out;
+    slots[2] = &o->params;
+    slots[3] = &o->metrics;
+    slots[4] = &o->filter;
+    slots[5] = &o->tyre;
+    slots[6] = &o->real;
+    for (i = 0u; i < sizeof names / sizeof names[0]; ++i) {
+        if (strcmp(names[i], name) == 0) {
+            return slots[i];
+        }
+    }
+    return NULL;
+}
+
+/* Accepts `--opt VALUE` and `--opt=VALUE`. Returns 0, or -1 after a one-line message. */
+static int parse_args(int argc, char **argv, options_t *o)
+{
+    int i;
+    memset(o, 0, sizeof *o);
+    for (i = 1; i < argc; ++i) {
+        char name[16];
+        const char *arg = argv[i];
+        const char *eq = strchr(arg, '=');
+        size_t n = (eq != NULL) ? (size_t)(eq - arg) : strlen(arg);
+        const char **slot;
+        if ((strcmp(arg, "-h") == 0) || (strcmp(arg, "-q") == 0)) {
+            *((arg[1] == 'h') ? &o->help : &o->quiet) = 1; /* the usual short forms */
+            continue;
+        }
+        if ((strncmp(arg, "--", 2u) != 0) || (n < 3u) || (n - 2u >= sizeof name)) {
+            return usage_error("unexpected argument '%s'", arg);
+        }
+        memcpy(name, arg + 2, n - 2u);
+        name[n - 2u] = '\0';
+        if ((strcmp(name, "help") == 0) || (strcmp(name, "quiet") == 0)) {
+            if (eq != NULL) {
+                return usage_error("option '%s' takes no value", arg);
+            }
+            *((name[0] == 'h') ? &o->help : &o->quiet) = 1;
+            continue;
+        }
+        slot = option_slot(o, name);
+        if (slot == NULL) {
+            return usage_error("unknown option '%s'", arg);
+        }
+        if (*slot != NULL) {
+            return usage_error("option '--%s' given twice", name);
+        }
+        *slot = (eq != NULL) ? eq + 1 : ((i + 1 < argc) ? argv[++i] : NULL);
+        if ((*slot == NULL) || (**slot == '\0') || (strncmp(*slot, "--", 2u) == 0)) {
+            return usage_error("option '--%s' needs a value", name);
+        }
+    }
+    return o->help ? 0 : check_option_words(o);
+}
+
+/* Required options present, word values known, output not clobbering an input. */
+static int check_option_words(const options_t *o)
+{
+    rfe_filter_kind_t fk;
+    rfe_tyre_mode_t tm;
+    if ((o->in == NULL) || (o->out == NULL)) {
+        return usage_error("%s", "--in and --out are required");
+    }
+    if ((o->filter != NULL) && (rfe_filter_kind_parse(o->filter, &fk) != 0)) {
+        return usage_error("--filter must be sckf or ckf, not '%s'", o->filter);
+    }
+    if ((o->tyre != NULL) && (rfe_tyre_mode_parse(o->tyre, &tm) != 0)) {
+        return usage_error("--tyre must be paper or absolute, not '%s'", o->tyre);
+    }
+    if ((o->real != NULL) && (strcmp(o->real, "float") != 0) && (strcmp(o->real, "double") != 0)) {
+        return usage_error("--real must be float or double, not '%s'", o->real);
+    }
+    if (same_file(o->out, o->in) || ((o->params != NULL) && same_file(o->out, o->params)) ||
+        ((o->metrics != NULL) && (same_file(o->metrics, o->in) || same_file(o->metrics, o->out)))) {
+        return usage_error("%s", "an output file (--out, --metrics) is also an input or the other output");
+    }
+    return 0;
+}
+
+/* Same path string, or the same existing file under another name. */
+static int same_file(const char *a, const char *b)
+{
+    struct stat sa;
+    struct stat sb;
+    if (strcmp(a, b) == 0) {
+        return 1;
+    }
+    if ((stat(a, &sa) != 0) || (stat(b, &sb) != 0)) {
+        return 0;
+    }
+    return (sa.st_dev == sb.st_dev) && (sa.st_ino == sb.st_ino);
+}
+
+/* ------------------------------------------------------------ the run */
+
+static int fail(const rfe_io_error_t *err)
+{
+    rfe_io_error_print(stderr, PROG, err);
+    return -1;
+}
+
+/* Reads the log, then parameters: defaults < metadata < --params < flags. */
+static int load_params(const options_t *o, run_t *r)
+{
+    rfe_io_error_t err;
+    if (rfe_sensor_log_read(o->in, &r->log, &err) != 0) {
+        return fail(&err);
+    }
+    rfe_param_set_default(&r->ps);
+    if (rfe_param_set_apply_meta(&r->ps, &r->log, o->in, &err) != 0) {
+        return fail(&err);
+    }
+    if ((o->params != NULL) && (rfe_param_set_apply_file(&r->ps, o->params, &err) != 0)) {
+        return fail(&err);
+    }
+    /* Words were checked in parse_args; the flags win over every file. */
+    if ((o->filter != NULL) && (rfe_filter_kind_parse(o->filter, &r->ps.filter) == 0)) {
+        r->ps.origin[RFE_PK_FILTER].file = "command line";
+        r->ps.origin[RFE_PK_FILTER].line = 0u;
+    }
+    if ((o->tyre != NULL) && (rfe_tyre_mode_parse(o->tyre, &r->ps.tyre) == 0)) {
+        r->ps.origin[RFE_PK_TYRE].file = "command line";
+        r->ps.origin[RFE_PK_TYRE].line = 0u;
+    }
+    r->is_double = (o->real != NULL) && (strcmp(o->real, "double") == 0);
+    return 0;
+}
+
+/* Steps the estimator; an invalid parameter set is reported where its value came from. */
+static int run_estimator(const options_t *o, run_t *r)
+{
+    replay_fn_t run = r->is_double ? rfe_replay_run_f64 : rfe_replay_run_f32;
+    rfe_io_error_t err;
+    size_t bad = RFE_PK_NONE;
+    rfe_status_t st;
+    char val[RFE_NUM_BUF];
+    r->rows = rfe_xrealloc(NULL, r->log.n_rows, sizeof *r->rows);
+    st = run(&r->ps, &r->log, r->rows, &r->stats, &bad);
+    if (st == RFE_OK) {
+        return 0;
+    }
+    if (bad != RFE_PK_NONE) {
+        const rfe_param_origin_t *src = &r->ps.origin[bad];
+        rfe_param_format(&r->ps, bad, val);
+        rfe_io_error_set(&err, (src->file != NULL) ? src->file : "defaults", src->line, 0u,
+                         "invalid parameter %s = %s (rejected by rfe_params_validate, %s run)",
+                         rfe_param_info(bad)->key, val, r->is_double ? "double" : "float");
+    } else {
+        rfe_io_error_set(&err, o->in, 0u, 0u,
+                         "estimator init failed: %s (check the parameter combination: "
+                         "mu_min < mu_max, mu0 within them)",
+                         rfe_status_str(st));
+    }
+    return fail(&err);
+}
+
+static const char *base_name(const char *path)
+{
+    const char *slash = strrchr(path, '/');
+    return (slash != NULL) ? slash + 1 : path;
+}
+
+/* Metadata: generator, filter, tyre, real, input, [param_file], then every numeric key. */
+static int write_estimates(const options_t *o, const run_t *r)
+{
+    rfe_kv_t meta[6u + RFE_PK_NUMERIC];
+    char vals[RFE_PK_NUMERIC][RFE_NUM_BUF];
+    size_t n = 0u;
+    size_t k;
+    rfe_io_error_t err;
+    meta[n].key = "generator";
+    meta[n++].value = PROG;
+    meta[n].key = "filter";
+    meta[n++].value = rfe_filter_kind_str(r->ps.filter);
+    meta[n].key = "tyre";
+    meta[n++].value = rfe_tyre_mode_str(r->ps.tyre);
+    meta[n].key = "real";
+    meta[n++].value = r->is_double ? "double" : "float";
+    meta[n].key = "input";
+    meta[n++].value = base_name(o->in);
+    if (o->params != NULL) {
+        meta[n].key = "param_file";
+        meta[n++].value = base_name(o->params);
+    }
+    for (k = 0u; k < RFE_PK_NUMERIC; ++k) {
+        rfe_param_format(&r->ps, k, vals[k]);
+        meta[n].key = rfe_param_info(k)->key;
+        meta[n++].value = vals[k];
+    }
+    if (rfe_estimate_log_write(o->out, meta, n, r->rows, r->log.n_rows,
+                               r->is_double ? RFE_NUMFMT_DOUBLE : RFE_NUMFMT_FLOAT, &err) != 0) {
+        return fail(&err);
+    }
+    return 0;
+}
+
+/* Columns out of the row structs, then the metrics with their default definition. */
+static void compute_metrics(run_t *r)
+{
+    const size_t n = r->log.n_rows;
+    double *buf = rfe_xrealloc(NULL, n, (1u + 2u * RFE_WHEELS) * sizeof *buf);
+    const double *truth[RFE_WHEELS];
+    const double *est[RFE_WHEELS];
+    rfe_metrics_config_t cfg = rfe_metrics_config_default();
+    size_t i;
+    size_t w;
+    for (i = 0u; i < n; ++i) {
+        buf[i] = r->rows[i].t;
+        for (w = 0u; w < RFE_WHEELS; ++w) {
+            buf[(1u + w) * n + i] = r->log.rows[i].mu_true[w];
+            buf[(1u + RFE_WHEELS + w) * n + i] = r->rows[i].mu[w];
+        }
+    }
+    for (w = 0u; w < RFE_WHEELS; ++w) {
+        truth[w] = &buf[(1u + w) * n];
+        est[w] = &buf[(1u + RFE_WHEELS + w) * n];
+    }
+    /* Fails only for n == 0, which the reader rules out. */
+    r->has_metrics = (rfe_metrics_compute(buf, truth, est, n, &cfg, &r->metrics) == 0);
+    free(buf);
+}
+
+/* {"generator", "input", "filter", "tyre", "real", "steps", "status_counts", "metrics"} */
+static int write_metrics_json(const options_t *o, const run_t *r)
+{
+    rfe_io_error_t err;
+    FILE *f = fopen(o->metrics, "w");
+    size_t s;
+    const char *sep = "";
+    int bad;
+    if (f == NULL) {
+        rfe_io_error_set(&err, o->metrics, 0u, 0u, "cannot open for writing: %s", strerror(errno));
+        return fail(&err);
+    }
+    fputs("{\n  \"generator\": \"" PROG "\",\n  \"input\": ", f);
+    rfe_json_write_string(f, base_name(o->in));
+    fprintf(f, ",\n  \"filter\": \"%s\",\n  \"tyre\": \"%s\",\n  \"real\": \"%s\",\n",
+            rfe_filter_kind_str(r->ps.filter), rfe_tyre_mode_str(r->ps.tyre),
+            r->is_double ? "double" : "float");
+    fprintf(f, "  \"steps\": %zu,\n  \"status_counts\": {", r->stats.n_steps);
+    for (s = 0u; s < RFE_REPLAY_STATUS_SLOTS; ++s) {
+        if (r->stats.status_count[s] != 0u) {
+            fprintf(f, "%s\"%zu\": %zu", sep, s, r->stats.status_count[s]);
+            sep = ", ";
+        }
+    }
+    fputs("},\n  \"metrics\": ", f);
+    if (r->has_metrics) {
+        rfe_metrics_write_json(f, &r->metrics, 2);
+    } else {
+        fputs("null", f);
+    }
+    fputs("\n}\n", f);
+    bad = ferror(f);
+    if ((fclose(f) != 0) || (bad != 0)) {
+        rfe_io_error_set(&err, o->metrics, 0u, 0u, "write failed");
+        return fail(&err);
+    }
+    return 0;
+}
+
+static void print_status_counts(const run_t *r)
+{
+    size_t s;
+    printf("steps: %zu\n", r->stats.n_steps);
+    for (s = 0u; s < RFE_REPLAY_STATUS_SLOTS; ++s) {
+        if (r->stats.status_count[s] != 0u) {
+            const char *name = (s + 1u < RFE_REPLAY_STATUS_SLOTS)
+                                   ? rfe_status_str((rfe_status_t)s)
+                                   : "other status values";
+            printf("  status %2zu %-40s %zu\n", s, name, r->stats.status_count[s]);
+        }
+    }
+}

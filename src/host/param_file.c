@@ -1,0 +1,283 @@
+/**
+ * @file param_file.c
+ * @brief Parameter set as doubles: defaults, parameter files, sensor-log metadata.
+ *
+ * Everything is driven by the RFE_PARAM_KEYS table in param_file.h, plus the two word keys
+ * (tyre, filter) appended here.
+ */
+#include "param_file.h"
+
+#include <errno.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+
+/** Longest piece of file text quoted in a message. */
+#define QUOTE_MAX 40u
+
+static const rfe_param_info_t k_info[RFE_PK_COUNT] = {
+#define RFE_PK_INFO_(key, member, def, unit, doc) {#key, def, unit, doc},
+    RFE_PARAM_KEYS(RFE_PK_INFO_)
+#undef RFE_PK_INFO_
+    {"tyre", 0.0, "-", "tyre model: paper (normalised Dugoff) or absolute (load-scaled)"},
+    {"filter", 0.0, "-", "filter: sckf (square-root cubature) or ckf (full covariance)"},
+};
+
+static const char *const k_tyre_words[] = {"paper", "absolute"};     /* rfe_tyre_mode_t order */
+static const char *const k_filter_words[] = {"sckf", "ckf"};         /* rfe_filter_kind_t order */
+
+static int word_index(const char *s, const char *const *words, size_t n);
+static int apply_line(rfe_param_set_t *ps, char *line, const char *name, size_t line_no,
+                      size_t first_seen[RFE_PK_COUNT], rfe_io_error_t *err);
+static int report_unknown_key(const char *key, const char *name, size_t line_no, size_t col,
+                              rfe_io_error_t *err);
+
+void rfe_param_set_default(rfe_param_set_t *ps)
+{
+    size_t k;
+    memset(ps, 0, sizeof *ps);
+    for (k = 0u; k < RFE_PK_NUMERIC; ++k) {
+        ps->value[k] = k_info[k].def;
+    }
+    ps->tyre = RFE_TYRE_PAPER;
+    ps->filter = RFE_FILTER_SCKF;
+}
+
+const rfe_param_info_t *rfe_param_info(size_t k)
+{
+    return (k < (size_t)RFE_PK_COUNT) ? &k_info[k] : NULL;
+}
+
+size_t rfe_param_find(const char *name)
+{
+    size_t k;
+    for (k = 0u; k < (size_t)RFE_PK_COUNT; ++k) {
+        if (strcmp(k_info[k].key, name) == 0) {
+            return k;
+        }
+    }
+    return RFE_PK_NONE;
+}
+
+void rfe_param_format(const rfe_param_set_t *ps, size_t k, char buf[RFE_NUM_BUF])
+{
+    if (k < RFE_PK_NUMERIC) {
+        rfe_text_format_double(buf, ps->value[k]);
+    } else {
+        const char *w = (k == (size_t)RFE_PK_TYRE) ? rfe_tyre_mode_str(ps->tyre)
+                                                   : rfe_filter_kind_str(ps->filter);
+        (void)snprintf(buf, RFE_NUM_BUF, "%s", w);
+    }
+}
+
+rfe_num_status_t rfe_param_set_text(rfe_param_set_t *ps, size_t k, const char *value)
+{
+    double v = 0.0;
+    rfe_num_status_t st;
+    if (k == (size_t)RFE_PK_TYRE) {
+        return (rfe_tyre_mode_parse(value, &ps->tyre) == 0) ? RFE_NUM_OK : RFE_NUM_SYNTAX;
+    }
+    if (k == (size_t)RFE_PK_FILTER) {
+        return (rfe_filter_kind_parse(value, &ps->filter) == 0) ? RFE_NUM_OK : RFE_NUM_SYNTAX;
+    }
+    if (k >= RFE_PK_NUMERIC) {
+        return RFE_NUM_SYNTAX;
+    }
+    st = rfe_text_parse_double(value, &v);
+    if (st == RFE_NUM_OK) {
+        ps->value[k] = v;
+    }
+    return st;
+}
+
+/* ------------------------------------------------------------ parameter files */
+
+int rfe_param_set_apply_file(rfe_param_set_t *ps, const char *path, rfe_io_error_t *err)
+{
+    FILE *f = fopen(path, "r");
+    int rc;
+    if (f == NULL) {
+        rfe_io_error_set(err, path, 0u, 0u, "cannot open: %s", strerror(errno));
+        return -1;
+    }
+    rc = rfe_param_set_apply_stream(ps, f, path, err);
+    (void)fclose(f); /* read-only */
+    return rc;
+}
+
+int rfe_param_set_apply_stream(rfe_param_set_t *ps, FILE *f, const char *name,
+                               rfe_io_error_t *err)
+{
+    size_t first_seen[RFE_PK_COUNT] = {0u}; /* line where each key was set, to catch repeats */
+    char *buf = NULL;
+    size_t cap = 0u;
+    size_t len = 0u;
+    size_t line_no = 0u;
+    int rc;
+    while ((rc = rfe_text_read_line(f, &buf, &cap, &len)) == 1) {
+        ++line_no;
+        if (apply_line(ps, buf, name, line_no, first_seen, err) != 0) {
+            free(buf);
+            return -1;
+        }
+    }
+    free(buf);
+    if (rc == -2) {
+        rfe_io_error_set(err, name, line_no + 1u, 0u, "line contains a NUL byte");
+        return -1;
+    }
+    if (rc < 0) {
+        rfe_io_error_set(err, name, line_no + 1u, 0u, "read error: %s", strerror(errno));
+        return -1;
+    }
+    return 0;
+}
+
+/* One `key = value` line (comments already possible anywhere after '#'). */
+static int apply_line(rfe_param_set_t *ps, char *line, const char *name, size_t line_no,
+                      size_t first_seen[RFE_PK_COUNT], rfe_io_error_t *err)
+{
+    char q[QUOTE_MAX + 4u];
+    char *hash = strchr(line, '#');
+    char *body;
+    char *eq;
+    char *key;
+    char *value;
+    size_t k;
+    rfe_num_status_t st;
+    if (hash != NULL) {
+        *hash = '\0';
+    }
+    body = rfe_text_trim(line);
+    if (*body == '\0') {
+        return 0;
+    }
+    eq = strchr(body, '=');
+    if (eq == NULL) {
+        rfe_text_quote(q, sizeof q, body, QUOTE_MAX);
+        rfe_io_error_set(err, name, line_no, (size_t)(body - line) + 1u,
+                         "expected 'key = value', got '%s'", q);
+        return -1;
+    }
+    *eq = '\0';
+    key = rfe_text_trim(body);
+    value = rfe_text_trim(eq + 1);
+    if (*key == '\0') {
+        rfe_io_error_set(err, name, line_no, (size_t)(eq - line) + 1u, "missing key before '='");
+        return -1;
+    }
+    k = rfe_param_find(key);
+    if (k == RFE_PK_NONE) {
+        return report_unknown_key(key, name, line_no, (size_t)(key - line) + 1u, err);
+    }
+    if (first_seen[k] != 0u) {
+        rfe_io_error_set(err, name, line_no, (size_t)(key - line) + 1u,
+                         "parameter '%s' given twice (first at line %zu)", k_info[k].key,
+                         first_seen[k]);
+        return -1;
+    }
+    st = rfe_param_set_text(ps, k, value);
+    if (st != RFE_NUM_OK) {
+        rfe_text_quote(q, sizeof q, value, QUOTE_MAX);
+        rfe_io_error_set(err, name, line_no, (size_t)(value - line) + 1u, "value of '%s': %s: '%s'",
+                         k_info[k].key,
+                         (k >= RFE_PK_NUMERIC) ? "not one of the allowed words"
+                                               : rfe_num_status_str(st),
+                         q);
+        return -1;
+    }
+    first_seen[k] = line_no;
+    ps->origin[k].file = name;
+    ps->origin[k].line = line_no;
+    return 0;
+}
+
+/* Unknown keys are errors in a parameter file; a case-only typo gets a hint. */
+static int report_unknown_key(const char *key, const char *name, size_t line_no, size_t col,
+                              rfe_io_error_t *err)
+{
+    char q[QUOTE_MAX + 4u];
+    size_t k;
+    rfe_text_quote(q, sizeof q, key, QUOTE_MAX);
+    for (k = 0u; k < (size_t)RFE_PK_COUNT; ++k) {
+        if (strcasecmp(k_info[k].key, key) == 0) {
+            rfe_io_error_set(err, name, line_no, col, "unknown parameter key '%s' (did you mean '%s'?)",
+                             q, k_info[k].key);
+            return -1;
+        }
+    }
+    rfe_io_error_set(err, name, line_no, col, "unknown parameter key '%s'", q);
+    return -1;
+}
+
+/* ------------------------------------------------------------ log metadata */
+
+int rfe_param_set_apply_meta(rfe_param_set_t *ps, const rfe_sensor_log_t *log,
+                             const char *log_name, rfe_io_error_t *err)
+{
+    char q[QUOTE_MAX + 4u];
+    size_t i;
+    for (i = 0u; i < log->n_meta; ++i) {
+        const rfe_meta_entry_t *e = &log->meta[i];
+        size_t k = rfe_param_find(e->key);
+        rfe_num_status_t st;
+        if (k == RFE_PK_NONE) {
+            continue; /* scenario, dt, seed, noise_*: information, not parameters */
+        }
+        st = rfe_param_set_text(ps, k, e->value);
+        if (st != RFE_NUM_OK) {
+            rfe_text_quote(q, sizeof q, e->value, QUOTE_MAX);
+            rfe_io_error_set(err, log_name, e->line, 0u, "metadata '%s': %s: '%s'", e->key,
+                             (k >= RFE_PK_NUMERIC) ? "not one of the allowed words"
+                                                   : rfe_num_status_str(st),
+                             q);
+            return -1;
+        }
+        ps->origin[k].file = log_name;
+        ps->origin[k].line = e->line;
+    }
+    return 0;
+}
+
+/* ------------------------------------------------------------ word keys */
+
+static int word_index(const char *s, const char *const *words, size_t n)
+{
+    size_t i;
+    for (i = 0u; i < n; ++i) {
+        if (strcmp(s, words[i]) == 0) {
+            return (int)i;
+        }
+    }
+    return -1;
+}
+
+const char *rfe_tyre_mode_str(rfe_tyre_mode_t m)
+{
+    return ((unsigned)m < 2u) ? k_tyre_words[m] : "?";
+}
+
+const char *rfe_filter_kind_str(rfe_filter_kind_t k)
+{
+    return ((unsigned)k < 2u) ? k_filter_words[k] : "?";
+}
+
+int rfe_tyre_mode_parse(const char *s, rfe_tyre_mode_t *out)
+{
+    int i = word_index(s, k_tyre_words, 2u);
+    if (i < 0) {
+        return -1;
+    }
+    *out = (i == 0) ? RFE_TYRE_PAPER : RFE_TYRE_ABSOLUTE;
+    return 0;
+}
+
+int rfe_filter_kind_parse(const char *s, rfe_filter_kind_t *out)
+{
+    int i = word_index(s, k_filter_words, 2u);
+    if (i < 0) {
+        return -1;
+    }
+    *out = (i == 0) ? RFE_FILTER_SCKF : RFE_FILTER_CKF;
+    return 0;
+}

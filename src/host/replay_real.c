@@ -1,0 +1,168 @@
+/**
+ * @file replay_real.c
+ * @brief The precision-specific part of mu_replay: double parameter set -> rfe_params_t,
+ *        sensor rows -> rfe_sample_t, estimator steps -> double estimate rows.
+ *
+ * Compiled twice (float by default, double with -DRFE_REAL_DOUBLE); public names go through
+ * RFE_FN() so both objects link into one program. Keep everything else out of this file.
+ */
+#include "replay_real.h"
+
+#include <math.h>
+#include <string.h>
+
+#include "rfe/estimator.h"
+#include "rfe/params.h"
+
+static void set_key(rfe_params_t *p, const rfe_param_set_t *ps, size_t k);
+static rfe_status_t to_lib_params(const rfe_param_set_t *ps, rfe_params_t *p);
+static size_t diagnose_params(const rfe_param_set_t *ps);
+static void to_sample(const rfe_sensor_row_t *row, rfe_sample_t *s);
+static void step_row(rfe_estimator_t *est, const rfe_sensor_row_t *row, rfe_est_row_t *out);
+
+/* Where each numeric key lives in rfe_params_t of this precision (the RFE_PARAM_KEYS
+ * table): one table instead of a switch, so a new key needs no code here. */
+static const size_t k_member_offset[RFE_PK_NUMERIC] = {
+#define RFE_OFFSET_(key, member, def, unit, doc) offsetof(rfe_params_t, member),
+    RFE_PARAM_KEYS(RFE_OFFSET_)
+#undef RFE_OFFSET_
+};
+
+/* Compile-time check (C99 has no static_assert): every keyed member is an rfe_real_t, as
+ * set_key's memcpy assumes. A non-real key would make this array size negative. */
+#define RFE_IS_REAL_(key, member, def, unit, doc)                                               \
+    typedef char rfe_key_is_real_##key[(sizeof(((rfe_params_t *)0)->member) == sizeof(rfe_real_t)) ? 1 : -1];
+RFE_PARAM_KEYS(RFE_IS_REAL_)
+#undef RFE_IS_REAL_
+
+/* Key k of the set into rfe_params_t, rounded to the build's real type. */
+static void set_key(rfe_params_t *p, const rfe_param_set_t *ps, size_t k)
+{
+    if (k < RFE_PK_NUMERIC) {
+        const rfe_real_t v = (rfe_real_t)ps->value[k];
+        memcpy((char *)p + k_member_offset[k], &v, sizeof v);
+    } else if (k == (size_t)RFE_PK_TYRE) {
+        p->tyre.mode = ps->tyre;
+    } else {
+        p->filter.kind = ps->filter;
+    }
+}
+
+/* Library defaults first, so a library field without a key keeps its documented value. */
+static rfe_status_t to_lib_params(const rfe_param_set_t *ps, rfe_params_t *p)
+{
+    size_t k;
+    rfe_status_t st = RFE_FN(rfe_params_default)(p); /* fails only for p == NULL */
+    for (k = 0u; k < (size_t)RFE_PK_COUNT; ++k) {
+        set_key(p, ps, k);
+    }
+    return st;
+}
+
+/* Which key alone makes validation fail, starting from the (valid) library defaults. */
+static size_t diagnose_params(const rfe_param_set_t *ps)
+{
+    size_t k;
+    for (k = 0u; k < (size_t)RFE_PK_COUNT; ++k) {
+        rfe_params_t p;
+        const rfe_status_t st = RFE_FN(rfe_params_default)(&p); /* fails only for NULL */
+        set_key(&p, ps, k);
+        if ((st != RFE_OK) || (RFE_FN(rfe_params_validate)(&p) != RFE_OK)) {
+            return k;
+        }
+    }
+    return RFE_PK_NONE;
+}
+
+static void to_sample(const rfe_sensor_row_t *row, rfe_sample_t *s)
+{
+    size_t w;
+    s->delta = (rfe_real_t)row->delta;
+    s->vx = (rfe_real_t)row->vx;
+    s->vy = (rfe_real_t)row->vy;
+    s->yaw_rate = (rfe_real_t)row->yaw_rate;
+    s->yaw_acc = (rfe_real_t)row->yaw_acc;
+    s->ax = (rfe_real_t)row->ax;
+    s->ay = (rfe_real_t)row->ay;
+    for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
+        s->omega[w] = (rfe_real_t)row->omega[w];
+    }
+}
+
+/* One step. On a rejected sample the estimator is unchanged: log its current estimate,
+ * not valid, with the error status, and carry on. */
+static void step_row(rfe_estimator_t *est, const rfe_sensor_row_t *row, rfe_est_row_t *out)
+{
+    rfe_sample_t s;
+    rfe_estimate_t e;
+    rfe_status_t st;
+    size_t w;
+    to_sample(row, &s);
+    memset(&e, 0, sizeof e);
+    /* estimator.h: on a rejected sample e holds the previous estimate, valid = 0. */
+    st = RFE_FN(rfe_estimator_step)(est, &s, &e);
+    out->t = row->t;
+    for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
+        out->mu[w] = (double)e.mu[w];
+        out->sd[w] = (double)e.sd[w];
+        out->valid[w] = rfe_status_is_error(st) ? 0u : e.valid[w];
+    }
+    out->status = (int)st;
+}
+
+rfe_status_t RFE_FN(rfe_replay_run)(const rfe_param_set_t *ps, const rfe_sensor_log_t *log,
+                                    rfe_est_row_t *out, rfe_replay_stats_t *stats,
+                                    size_t *bad_key)
+{
+    rfe_params_t p;
+    rfe_estimator_t est;
+    rfe_status_t st;
+    size_t i;
+    if ((ps == NULL) || (log == NULL) || (out == NULL) || (stats == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    memset(stats, 0, sizeof *stats);
+    if (bad_key != NULL) {
+        *bad_key = RFE_PK_NONE;
+    }
+    st = to_lib_params(ps, &p);
+    if (st == RFE_OK) {
+        st = RFE_FN(rfe_estimator_init)(&est, &p);
+    }
+    if (st != RFE_OK) {
+        if ((st == RFE_ERR_PARAM) && (bad_key != NULL)) {
+            *bad_key = diagnose_params(ps);
+        }
+        return st;
+    }
+    for (i = 0u; i < log->n_rows; ++i) {
+        step_row(&est, &log->rows[i], &out[i]);
+        ++stats->status_count[rfe_replay_status_slot(out[i].status)];
+    }
+    stats->n_steps = log->n_rows;
+    return RFE_OK;
+}
+
+#if defined(RFE_REAL_DOUBLE)
+/* Double only: the table holds doubles, so this is the exact comparison. */
+size_t rfe_replay_check_defaults_f64(void)
+{
+    rfe_param_set_t ps;
+    rfe_params_t p;
+    rfe_real_t lib;
+    size_t k;
+    rfe_status_t st;
+    rfe_param_set_default(&ps);
+    st = RFE_FN(rfe_params_default)(&p); /* fails only for NULL */
+    for (k = 0u; (st == RFE_OK) && (k < RFE_PK_NUMERIC); ++k) {
+        memcpy(&lib, (const char *)&p + k_member_offset[k], sizeof lib);
+        if (ps.value[k] != lib) {
+            return k;
+        }
+    }
+    if ((st != RFE_OK) || (p.tyre.mode != ps.tyre) || (p.filter.kind != ps.filter)) {
+        return (size_t)RFE_PK_TYRE;
+    }
+    return RFE_PK_NONE;
+}
+#endif

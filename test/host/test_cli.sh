@@ -1,0 +1,130 @@
+#!/usr/bin/env bash
+# Command-line tests of mu_replay: exit codes, the one-line error format
+# `mu_replay: FILE:LINE:COL: message`, --help, usage errors, outputs of a good run.
+#
+# usage: bash test/host/test_cli.sh path/to/mu_replay
+# Prints one line per check and closes with "cli: N passed, N failed"; exits 1 on a failure.
+set -u
+
+BIN=${1:?usage: test_cli.sh path/to/mu_replay}
+DATA="$(cd "$(dirname "$0")" && pwd)/data"
+TMP=$(mktemp -d)
+trap 'rm -rf "$TMP"' EXIT
+PASS=0
+FAIL=0
+
+ok()  { PASS=$((PASS + 1)); echo "ok   $1"; }
+bad() { FAIL=$((FAIL + 1)); echo "FAIL $1"; }
+
+# run NAME EXPECTED_EXIT ARGS... : runs the binary, keeps stdout/stderr, checks the exit code.
+run() {
+    local name=$1 want=$2
+    shift 2
+    "$BIN" "$@" >"$TMP/out" 2>"$TMP/err"
+    local got=$?
+    if [ "$got" -eq "$want" ]; then ok "$name: exit $want"; else bad "$name: exit $got, want $want"; fi
+}
+
+# one_line NAME REGEX : stderr is exactly one line and matches REGEX.
+one_line() {
+    local name=$1 re=$2 n
+    n=$(wc -l <"$TMP/err")
+    if [ "$n" -eq 1 ] && grep -Eq "$re" "$TMP/err"; then
+        ok "$name: message '$(cat "$TMP/err")'"
+    else
+        bad "$name: want one line matching '$re', got $n line(s): $(head -c 300 "$TMP/err")"
+    fi
+}
+
+# input_error NAME FILE REGEX: malformed input exits 1 with one matching line, writes nothing.
+input_error() {
+    local name=$1 file=$2 re=$3
+    run "$name" 1 --in "$file" --out "$TMP/est.csv"
+    one_line "$name" "$re"
+    if [ -e "$TMP/est.csv" ]; then bad "$name: estimate log written despite the error"; rm -f "$TMP/est.csv"; fi
+}
+
+# ---- help and usage errors (exit 2)
+run help 0 --help
+if grep -q '^usage: mu_replay' "$TMP/out"; then ok "help: usage on stdout"; else bad "help: no usage on stdout"; fi
+run help_short 0 -h
+run no_args 2
+if grep -q 'usage:' "$TMP/err"; then ok "no_args: usage on stderr"; else bad "no_args: no usage on stderr"; fi
+run unknown_option 2 --in "$DATA/good_small.csv" --out "$TMP/e.csv" --frobnicate
+grep -q "unknown option '--frobnicate'" "$TMP/err" && ok "unknown_option: named" || bad "unknown_option: not named"
+run missing_out 2 --in "$DATA/good_small.csv"
+run missing_value 2 --in "$DATA/good_small.csv" --out
+run bad_filter 2 --in "$DATA/good_small.csv" --out "$TMP/e.csv" --filter ekf
+run bad_tyre 2 --in "$DATA/good_small.csv" --out "$TMP/e.csv" --tyre=pacejka
+run bad_real 2 --in "$DATA/good_small.csv" --out "$TMP/e.csv" --real half
+run twice 2 --in "$DATA/good_small.csv" --in "$DATA/good_small.csv" --out "$TMP/e.csv"
+run positional 2 "$DATA/good_small.csv"
+run flag_with_value 2 --in "$DATA/good_small.csv" --out "$TMP/e.csv" --quiet=1
+cp "$DATA/good_small.csv" "$TMP/in.csv"
+ln -s "$TMP/in.csv" "$TMP/link.csv"
+run out_is_in_via_link 2 --in "$TMP/in.csv" --out "$TMP/link.csv"
+run out_is_in 2 --in "$TMP/in.csv" --out "$TMP/in.csv"
+cmp -s "$DATA/good_small.csv" "$TMP/in.csv" && ok "out_is_in: input untouched" || bad "out_is_in: input clobbered"
+
+# ---- malformed input (exit 1, one line naming FILE:LINE:COL)
+input_error bad_number "$DATA/bad_number.csv" "^mu_replay: .*bad_number\.csv:4:3: column 'vx': "
+input_error wrong_count "$DATA/wrong_count.csv" "^mu_replay: .*wrong_count\.csv:3:12: wrong column count"
+input_error nan_text "$DATA/nan_value.csv" "^mu_replay: .*nan_value\.csv:3:7: column 'ax': nan"
+input_error missing_column "$DATA/missing_column.csv" "^mu_replay: .*missing_column\.csv:2: missing column 'vy'$"
+input_error empty_file "$DATA/empty.csv" "^mu_replay: .*empty\.csv: empty file"
+input_error time_backwards "$DATA/time_backwards.csv" "^mu_replay: .*time_backwards\.csv:4:1: "
+input_error bad_metadata "$DATA/bad_meta.csv" "^mu_replay: .*bad_meta\.csv:2: metadata 'm'"
+input_error no_such_file "$TMP/nope.csv" "^mu_replay: .*nope\.csv: cannot open"
+
+run unknown_param_key 1 --in "$DATA/good_small.csv" --out "$TMP/e.csv" --params "$DATA/params_unknown_key.par"
+one_line unknown_param_key "^mu_replay: .*params_unknown_key\.par:3:1: unknown parameter key 'mass'"
+run bad_param_number 1 --in "$DATA/good_small.csv" --out "$TMP/e.csv" --params "$DATA/params_bad_number.par"
+one_line bad_param_number "^mu_replay: .*params_bad_number\.par:3:7: value of 'Lr'"
+run invalid_param_value 1 --in "$DATA/good_small.csv" --out "$TMP/e.csv" --params "$DATA/params_invalid_value.par"
+one_line invalid_param_value "^mu_replay: .*params_invalid_value\.par:1: invalid parameter mu0 = 2 "
+printf 'mu_min = 0.45\nmu0 = 0.4\n' >"$TMP/combo.par"
+run invalid_param_combination 1 --in "$DATA/good_small.csv" --out "$TMP/e.csv" --params "$TMP/combo.par"
+one_line invalid_param_combination "^mu_replay: .*good_small\.csv: estimator init failed: invalid parameter"
+run unwritable_metrics 1 --in "$DATA/good_small.csv" --out "$TMP/e.csv" --metrics "$TMP/no_dir/m.json"
+one_line unwritable_metrics "^mu_replay: .*no_dir/m\.json: cannot open for writing"
+if [ -w /dev/full ]; then
+    run metrics_disk_full 1 --in "$DATA/good_small.csv" --out "$TMP/e.csv" --metrics /dev/full
+    one_line metrics_disk_full "^mu_replay: /dev/full: write failed"
+fi
+run unwritable_out 1 --in "$DATA/good_small.csv" --out "$TMP/no_dir/e.csv"
+one_line unwritable_out "^mu_replay: .*no_dir/e\.csv: cannot open for writing"
+
+# ---- good runs
+run good_float 0 --in "$DATA/good_small.csv" --out "$TMP/f.csv" --metrics "$TMP/f.json"
+grep -q '^wheel ' "$TMP/out" && ok "good_float: accuracy table" || bad "good_float: no accuracy table"
+grep -q '^steps: 3$' "$TMP/out" && ok "good_float: step count" || bad "good_float: no step count"
+[ "$(grep -vc '^#' "$TMP/f.csv")" -eq 4 ] && ok "good_float: header + 3 rows" || bad "good_float: row count"
+grep -q '^# real = float$' "$TMP/f.csv" && ok "good_float: real metadata" || bad "good_float: real metadata"
+# The log's metadata says mu0 = 0.6 and tyre = absolute: both used.
+grep -q '^# mu0 = 0.6$' "$TMP/f.csv" && ok "good_float: metadata parameter used" || bad "good_float: mu0 from metadata"
+grep -q '^# tyre = absolute$' "$TMP/f.csv" && ok "good_float: metadata tyre used" || bad "good_float: tyre from metadata"
+grep -q '"metrics": {' "$TMP/f.json" && ok "good_float: metrics JSON" || bad "good_float: metrics JSON"
+
+# Precedence: --params beats metadata, flags beat both.
+run precedence 0 --in "$DATA/good_small.csv" --out "$TMP/p.csv" --params "$DATA/params_good.par" \
+    --tyre paper --real double --quiet
+[ ! -s "$TMP/out" ] && ok "precedence: --quiet prints nothing" || bad "precedence: output despite --quiet"
+grep -q '^# mu0 = 0.7$' "$TMP/p.csv" && ok "precedence: file beats metadata" || bad "precedence: mu0"
+grep -q '^# tyre = paper$' "$TMP/p.csv" && ok "precedence: flag beats file" || bad "precedence: tyre"
+grep -q '^# filter = ckf$' "$TMP/p.csv" && ok "precedence: filter from file" || bad "precedence: filter"
+run filter_flag 0 --in "$DATA/good_small.csv" --out "$TMP/q.csv" --params "$DATA/params_good.par" --filter sckf -q
+grep -q '^# filter = sckf$' "$TMP/q.csv" && ok "filter_flag: flag beats file" || bad "filter_flag: filter"
+grep -q '^# real = float$' "$TMP/q.csv" && ok "filter_flag: float by default" || bad "filter_flag: real"
+grep -q '^# param_file = params_good.par$' "$TMP/p.csv" && ok "precedence: param_file named" || bad "precedence: param_file"
+
+if [ -w /dev/full ]; then
+    "$BIN" --in "$DATA/good_small.csv" --out "$TMP/s.csv" >/dev/full 2>"$TMP/err"
+    [ $? -eq 1 ] && ok "stdout_full: exit 1" || bad "stdout_full: exit not 1"
+    one_line stdout_full "^mu_replay: stdout: write failed$"
+fi
+run no_truth 0 --in "$DATA/good_notruth.csv" --out "$TMP/n.csv" --metrics="$TMP/n.json"
+grep -q '^wheel ' "$TMP/out" && bad "no_truth: accuracy table without truth" || ok "no_truth: no accuracy table"
+grep -q '"metrics": null' "$TMP/n.json" && ok "no_truth: metrics null" || bad "no_truth: metrics not null"
+
+echo "cli: $PASS passed, $FAIL failed"
+[ "$FAIL" -eq 0 ]

@@ -1,0 +1,704 @@
+/**
+ * @file test_csv_log.c
+ * @brief Tests of the sensor-log reader, the estimate-log writer and the text helpers.
+ *
+ * Run from the repository root (fixtures under test/host/data/). Error positions are
+ * checked exactly: LINE and COL are 1-based, COL of a CSV error is the field index.
+ */
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "csv_log.h"
+#include "text_io.h"
+
+#define DATA "test/host/data/"
+
+/* Reads @p text through a temporary file (exercises the same stream code as a real file). */
+static int read_text(const char *text, rfe_sensor_log_t *log, rfe_io_error_t *err)
+{
+    FILE *f = tmpfile();
+    int rc;
+    assert_non_null(f);
+    assert_int_equal(fwrite(text, 1u, strlen(text), f), strlen(text));
+    rewind(f);
+    rc = rfe_sensor_log_read_stream(f, "mem.csv", log, err);
+    fclose(f);
+    return rc;
+}
+
+#define HDR "t,delta,vx,vy,yaw_rate,yaw_acc,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr\n"
+#define ROW0 "0,0,20,0,0,0,-2,0,60,60,60,60\n"
+#define ROW1 "0.01,0,19.98,0,0,0,-2,0,59.9,59.9,59.9,59.9\n"
+
+/* ------------------------------------------------------------ reading: valid input */
+
+static void test_rfe_sensor_log_read_shuffled_columns_with_extra(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    (void)state;
+    assert_int_equal(rfe_sensor_log_read(DATA "good_small.csv", &log, &err), 0);
+    assert_int_equal(log.n_rows, 3);
+    assert_int_equal(log.has_truth, 1);
+    /* Row 2 has blanks around fields; row 3 an exponent and an empty extra field. */
+    assert_true(log.rows[1].t == 0.01);
+    assert_true(log.rows[1].ay == 0.2);
+    assert_true(log.rows[2].vx == 19.95);
+    assert_true(log.rows[2].ay == -0.3);
+    assert_true(log.rows[0].delta == 0.001);
+    assert_true(log.rows[0].yaw_rate == 0.02);
+    assert_true(log.rows[0].yaw_acc == 0.03);
+    assert_true(log.rows[0].ax == -2.5);
+    assert_true(log.rows[0].vy == 0.01);
+    assert_true(log.rows[0].omega[RFE_FL] == 61.5);
+    assert_true(log.rows[0].omega[RFE_RR] == 61.8);
+    assert_true(log.rows[0].mu_true[RFE_FL] == 0.8);
+    assert_true(log.rows[0].mu_true[RFE_RL] == 0.82);
+    assert_true(log.rows[0].mu_true[RFE_RR] == 0.85);
+    rfe_sensor_log_free(&log);
+}
+
+static void test_rfe_sensor_log_read_metadata_collected(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    (void)state;
+    assert_int_equal(rfe_sensor_log_read(DATA "good_small.csv", &log, &err), 0);
+    /* The '#' line without '=' is a comment, not metadata. */
+    assert_int_equal(log.n_meta, 4);
+    assert_string_equal(rfe_sensor_log_meta(&log, "scenario"), "unit_test");
+    assert_string_equal(rfe_sensor_log_meta(&log, "mu0"), "0.6");
+    assert_string_equal(rfe_sensor_log_meta(&log, "tyre"), "absolute");
+    assert_null(rfe_sensor_log_meta(&log, "dt"));
+    assert_int_equal(log.meta[2].line, 5);
+    rfe_sensor_log_free(&log);
+}
+
+static void test_rfe_sensor_log_read_without_truth(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    (void)state;
+    assert_int_equal(rfe_sensor_log_read(DATA "good_notruth.csv", &log, &err), 0);
+    assert_int_equal(log.has_truth, 0);
+    assert_int_equal(log.n_rows, 3);
+    assert_int_equal(log.n_meta, 0);
+    rfe_sensor_log_free(&log);
+}
+
+static void test_rfe_sensor_log_read_crlf_bom_and_trailing_blank_lines(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    (void)state;
+    assert_int_equal(read_text("\xEF\xBB\xBFt,delta,vx,vy,yaw_rate,yaw_acc,ax,ay,omega_fl,"
+                               "omega_fr,omega_rl,omega_rr\r\n0,0,20,0,0,0,-2,0,60,60,60,60.5\r\n\r\n\n",
+                               &log, &err),
+                     0);
+    assert_int_equal(log.n_rows, 1);
+    assert_true(log.rows[0].omega[RFE_RR] == 60.5);
+    rfe_sensor_log_free(&log);
+}
+
+static void test_rfe_sensor_log_read_very_long_number_not_truncated(void **state)
+{
+    /* 200000 leading zeros then "1.5": a fixed-size line buffer would cut it. */
+    const size_t zeros = 200000u;
+    size_t n = strlen(HDR) + zeros + 64u;
+    char *text = malloc(n);
+    char *p;
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    (void)state;
+    assert_non_null(text);
+    p = text + sprintf(text, "%s0,0,", HDR);
+    memset(p, '0', zeros);
+    p += zeros;
+    strcpy(p, "1.5,0,0,0,-2,0,60,60,60,60\n");
+    assert_int_equal(read_text(text, &log, &err), 0);
+    assert_true(log.rows[0].vx == 1.5);
+    rfe_sensor_log_free(&log);
+    free(text);
+}
+
+/* ------------------------------------------------------------ reading: errors */
+
+static void test_rfe_sensor_log_read_missing_column(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    (void)state;
+    assert_int_equal(rfe_sensor_log_read(DATA "missing_column.csv", &log, &err), -1);
+    assert_string_equal(err.file, DATA "missing_column.csv");
+    assert_int_equal(err.line, 2);
+    assert_int_equal(err.col, 0);
+    assert_non_null(strstr(err.msg, "missing column 'vy'"));
+    assert_null(log.rows);
+}
+
+static void test_rfe_sensor_log_read_bad_number_position(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    (void)state;
+    assert_int_equal(rfe_sensor_log_read(DATA "bad_number.csv", &log, &err), -1);
+    assert_int_equal(err.line, 4);
+    assert_int_equal(err.col, 3);
+    assert_non_null(strstr(err.msg, "column 'vx'"));
+    assert_non_null(strstr(err.msg, "'19.9x'"));
+    assert_int_equal(log.n_rows, 0);
+}
+
+static void test_rfe_sensor_log_read_wrong_column_count(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    (void)state;
+    assert_int_equal(rfe_sensor_log_read(DATA "wrong_count.csv", &log, &err), -1);
+    assert_int_equal(err.line, 3);
+    assert_int_equal(err.col, 12); /* first missing field */
+    assert_non_null(strstr(err.msg, "11 fields, header has 12"));
+}
+
+static void test_rfe_sensor_log_read_too_many_fields(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    (void)state;
+    assert_int_equal(read_text(HDR ROW0 "0.01,0,19.98,0,0,0,-2,0,59.9,59.9,59.9,59.9,7\n", &log,
+                               &err),
+                     -1);
+    assert_int_equal(err.line, 3);
+    assert_int_equal(err.col, 13); /* first extra field */
+}
+
+static void test_rfe_sensor_log_read_empty_file(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    (void)state;
+    assert_int_equal(rfe_sensor_log_read(DATA "empty.csv", &log, &err), -1);
+    assert_int_equal(err.line, 0);
+    assert_non_null(strstr(err.msg, "empty file"));
+}
+
+static void test_rfe_sensor_log_read_only_metadata_no_header(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    (void)state;
+    assert_int_equal(read_text("# dt = 0.01\n\n", &log, &err), -1);
+    assert_non_null(strstr(err.msg, "no header row"));
+    assert_int_equal(log.n_meta, 0); /* freed on error */
+}
+
+static void test_rfe_sensor_log_read_nan_text_rejected(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    (void)state;
+    assert_int_equal(rfe_sensor_log_read(DATA "nan_value.csv", &log, &err), -1);
+    assert_int_equal(err.line, 3);
+    assert_int_equal(err.col, 7);
+    assert_non_null(strstr(err.msg, "column 'ax'"));
+    assert_non_null(strstr(err.msg, "nan"));
+}
+
+static void test_rfe_sensor_log_read_inf_text_rejected(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    (void)state;
+    assert_int_equal(read_text(HDR "0,0,20,0,0,0,-2,0,60,60,60,-Infinity\n", &log, &err), -1);
+    assert_int_equal(err.line, 2);
+    assert_int_equal(err.col, 12);
+    assert_non_null(strstr(err.msg, "finite"));
+}
+
+static void test_rfe_sensor_log_read_empty_field_rejected(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    (void)state;
+    assert_int_equal(read_text(HDR "0,0,20,0,,0,-2,0,60,60,60,60\n", &log, &err), -1);
+    assert_int_equal(err.col, 5);
+    assert_non_null(strstr(err.msg, "column 'yaw_rate': empty field"));
+}
+
+static void test_rfe_sensor_log_read_overflow_rejected(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    (void)state;
+    assert_int_equal(read_text(HDR "0,0,1e999,0,0,0,-2,0,60,60,60,60\n", &log, &err), -1);
+    assert_int_equal(err.col, 3);
+    assert_non_null(strstr(err.msg, "out of range"));
+}
+
+static void test_rfe_sensor_log_read_partial_truth(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    (void)state;
+    assert_int_equal(rfe_sensor_log_read(DATA "partial_truth.csv", &log, &err), -1);
+    assert_int_equal(err.line, 1);
+    assert_non_null(strstr(err.msg, "'mu_rr' missing"));
+}
+
+static void test_rfe_sensor_log_read_time_not_increasing(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    (void)state;
+    assert_int_equal(rfe_sensor_log_read(DATA "time_backwards.csv", &log, &err), -1);
+    assert_int_equal(err.line, 4);
+    assert_int_equal(err.col, 1);
+    assert_non_null(strstr(err.msg, "time not increasing"));
+}
+
+static void test_rfe_sensor_log_read_header_only(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    (void)state;
+    assert_int_equal(rfe_sensor_log_read(DATA "header_only.csv", &log, &err), -1);
+    assert_int_equal(err.line, 2);
+    assert_non_null(strstr(err.msg, "no data rows"));
+}
+
+static void test_rfe_sensor_log_read_duplicate_column(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    (void)state;
+    assert_int_equal(read_text("t,delta,vx,vy,yaw_rate,yaw_acc,ax,ay,omega_fl,omega_fr,omega_rl,"
+                               "omega_rr,vx\n",
+                               &log, &err),
+                     -1);
+    assert_int_equal(err.line, 1);
+    assert_int_equal(err.col, 13);
+    assert_non_null(strstr(err.msg, "duplicate column 'vx' (also column 3)"));
+}
+
+static void test_rfe_sensor_log_read_empty_column_name(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    (void)state;
+    assert_int_equal(read_text("t,,delta\n", &log, &err), -1);
+    assert_int_equal(err.col, 2);
+    assert_non_null(strstr(err.msg, "empty column name"));
+}
+
+static void test_rfe_sensor_log_read_blank_line_between_rows(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    (void)state;
+    assert_int_equal(read_text(HDR ROW0 "\n" ROW1, &log, &err), -1);
+    assert_int_equal(err.line, 3);
+    assert_non_null(strstr(err.msg, "empty line"));
+}
+
+static void test_rfe_sensor_log_read_comment_after_header(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    (void)state;
+    assert_int_equal(read_text(HDR ROW0 "# late = 1\n" ROW1, &log, &err), -1);
+    assert_int_equal(err.line, 3);
+    assert_non_null(strstr(err.msg, "after the header"));
+}
+
+static void test_rfe_sensor_log_read_nul_byte(void **state)
+{
+    static const char text[] = HDR "0,0,20\0,0,0,0,-2,0,60,60,60,60\n";
+    FILE *f = tmpfile();
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    (void)state;
+    assert_non_null(f);
+    assert_int_equal(fwrite(text, 1u, sizeof text - 1u, f), sizeof text - 1u);
+    rewind(f);
+    assert_int_equal(rfe_sensor_log_read_stream(f, "nul.csv", &log, &err), -1);
+    fclose(f);
+    assert_int_equal(err.line, 2);
+    assert_non_null(strstr(err.msg, "NUL"));
+}
+
+static void test_rfe_sensor_log_read_nonexistent_file(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    (void)state;
+    assert_int_equal(rfe_sensor_log_read(DATA "does_not_exist.csv", &log, &err), -1);
+    assert_int_equal(err.line, 0);
+    assert_non_null(strstr(err.msg, "cannot open"));
+}
+
+static void test_rfe_sensor_log_read_long_bad_field_quoted_short(void **state)
+{
+    /* The message quotes at most 40 characters of a huge bad field: still one short line. */
+    const size_t big = 100000u;
+    char *text = malloc(strlen(HDR) + big + 64u);
+    char *p;
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    (void)state;
+    assert_non_null(text);
+    p = text + sprintf(text, "%s0,0,", HDR);
+    memset(p, 'x', big);
+    strcpy(p + big, ",0,0,0,-2,0,60,60,60,60\n");
+    assert_int_equal(read_text(text, &log, &err), -1);
+    assert_int_equal(err.col, 3);
+    assert_non_null(strstr(err.msg, "...'"));
+    assert_true(strlen(err.msg) < 120u);
+    free(text);
+}
+
+
+static void test_rfe_sensor_log_read_directory_is_read_error(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    (void)state;
+    /* fopen() of a directory succeeds on Linux; the first read fails (EISDIR). */
+    assert_int_equal(rfe_sensor_log_read(DATA, &log, &err), -1);
+    assert_int_equal(err.line, 1);
+    assert_non_null(strstr(err.msg, "read error"));
+}
+
+static void test_rfe_sensor_log_read_metadata_without_key_ignored(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    (void)state;
+    assert_int_equal(read_text("#  = orphan value\n# k = v = w\n" HDR ROW0, &log, &err), 0);
+    assert_int_equal(log.n_meta, 1);
+    assert_string_equal(log.meta[0].key, "k");
+    assert_string_equal(log.meta[0].value, "v = w"); /* split at the first '=' only */
+    rfe_sensor_log_free(&log);
+}
+
+static void test_rfe_sensor_log_read_many_rows_grow(void **state)
+{
+    /* 1000 rows: the row array grows several times; every value lands in its row. */
+    const size_t n = 1000u;
+    char *text = malloc(strlen(HDR) + n * 64u);
+    char *p;
+    size_t i;
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    (void)state;
+    assert_non_null(text);
+    p = text + sprintf(text, "%s", HDR);
+    for (i = 0u; i < n; ++i) {
+        p += sprintf(p, "%zu,0,%zu,0,0,0,-2,0,60,60,60,60\n", i, 2u * i);
+    }
+    assert_int_equal(read_text(text, &log, &err), 0);
+    assert_int_equal(log.n_rows, n);
+    assert_true(log.rows[999].t == 999.0);
+    assert_true(log.rows[999].vx == 1998.0);
+    assert_true(log.rows[17].vx == 34.0);
+    rfe_sensor_log_free(&log);
+    free(text);
+}
+
+static void test_rfe_estimate_log_write_full_disk(void **state)
+{
+    rfe_est_row_t row;
+    rfe_io_error_t err;
+    FILE *probe = fopen("/dev/full", "w");
+    (void)state;
+    if (probe == NULL) {
+        skip(); /* not Linux */
+    }
+    fclose(probe);
+    memset(&row, 0, sizeof row);
+    /* /dev/full accepts open and buffered writes; the flush at fclose fails (ENOSPC). */
+    assert_int_equal(rfe_estimate_log_write("/dev/full", NULL, 0u, &row, 1u, RFE_NUMFMT_DOUBLE,
+                                            &err),
+                     -1);
+    assert_non_null(strstr(err.msg, "write failed"));
+}
+
+/* ------------------------------------------------------------ writing */
+
+static void test_rfe_estimate_log_write_round_trips_doubles(void **state)
+{
+    rfe_est_row_t rows[2];
+    rfe_kv_t meta[2] = {{"generator", "test"}, {"input", "a\nb.csv"}};
+    char *buf = NULL;
+    size_t len = 0u;
+    FILE *f = open_memstream(&buf, &len);
+    double v[5];
+    char *line;
+    (void)state;
+    memset(rows, 0, sizeof rows);
+    rows[0].t = 0.1;
+    rows[0].mu[0] = 0.1 + 0.2; /* needs 17 digits */
+    rows[0].mu[3] = 1.0 / 3.0;
+    rows[0].sd[1] = 0.003;
+    rows[0].valid[2] = 1u;
+    rows[1].t = 0.2;
+    rows[1].status = 18;
+    assert_non_null(f);
+    assert_int_equal(rfe_estimate_log_write_stream(f, meta, 2u, rows, 2u, RFE_NUMFMT_DOUBLE), 0);
+    fclose(f);
+    /* The newline in the metadata value became '?': one line per key. */
+    assert_non_null(strstr(buf, "# generator = test\n# input = a?b.csv\n"));
+    assert_non_null(strstr(buf, "\nt,mu_fl,mu_fr,mu_rl,mu_rr,sd_fl,sd_fr,sd_rl,sd_rr,valid_fl,"
+                                "valid_fr,valid_rl,valid_rr,status\n"));
+    line = strstr(buf, "status\n") + 7;
+    assert_int_equal(sscanf(line, "%lf,%lf,%*f,%*f,%lf,%*f,%lf", &v[0], &v[1], &v[2], &v[3]), 4);
+    assert_true(v[0] == 0.1);
+    assert_true(v[1] == 0.1 + 0.2);
+    assert_true(v[2] == 1.0 / 3.0);
+    assert_true(v[3] == 0.003); /* sd_fr, written as "0.003" */
+    assert_non_null(strstr(line, ",0.003,"));
+    assert_non_null(strstr(line, ",0,0,1,0,0\n0.2,"));
+    assert_non_null(strstr(line, ",0,0,0,0,18\n"));
+    free(buf);
+}
+
+static void test_rfe_estimate_log_write_float_format_round_trips_floats(void **state)
+{
+    rfe_est_row_t row;
+    char *buf = NULL;
+    size_t len = 0u;
+    FILE *f = open_memstream(&buf, &len);
+    const float x = 0.1f;
+    float back;
+    char *line;
+    (void)state;
+    memset(&row, 0, sizeof row);
+    row.mu[0] = (double)x;
+    assert_non_null(f);
+    assert_int_equal(rfe_estimate_log_write_stream(f, NULL, 0u, &row, 1u, RFE_NUMFMT_FLOAT), 0);
+    fclose(f);
+    line = strchr(buf, '\n') + 1;
+    assert_int_equal(sscanf(line, "%*f,%f", &back), 1);
+    assert_true(back == x);
+    assert_non_null(strstr(line, "0.100000001")); /* 9 digits, not 17 */
+    free(buf);
+}
+
+static void test_rfe_estimate_log_write_unwritable_path(void **state)
+{
+    rfe_est_row_t row;
+    rfe_io_error_t err;
+    (void)state;
+    memset(&row, 0, sizeof row);
+    assert_int_equal(rfe_estimate_log_write("/nonexistent_dir/x.csv", NULL, 0u, &row, 1u,
+                                            RFE_NUMFMT_DOUBLE, &err),
+                     -1);
+    assert_non_null(strstr(err.msg, "cannot open for writing"));
+}
+
+static void test_rfe_estimate_log_write_file_then_read_text(void **state)
+{
+    char path[] = "/tmp/rfe_test_estimate_XXXXXX";
+    int fd = mkstemp(path);
+    rfe_est_row_t row;
+    rfe_io_error_t err;
+    char text[512];
+    FILE *f;
+    size_t n;
+    (void)state;
+    assert_true(fd >= 0);
+    close(fd);
+    memset(&row, 0, sizeof row);
+    row.t = 1.5;
+    row.mu[0] = 0.25;
+    assert_int_equal(rfe_estimate_log_write(path, NULL, 0u, &row, 1u, RFE_NUMFMT_DOUBLE, &err), 0);
+    f = fopen(path, "r");
+    assert_non_null(f);
+    n = fread(text, 1u, sizeof text - 1u, f);
+    text[n] = '\0';
+    fclose(f);
+    remove(path);
+    assert_non_null(strstr(text, "\n1.5,0.25,0,0,0,0,0,0,0,0,0,0,0,0\n"));
+}
+
+/* ------------------------------------------------------------ text helpers */
+
+static void test_rfe_text_parse_double_accepts_decimal_forms(void **state)
+{
+    static const struct {
+        const char *text;
+        double value;
+    } ok[] = {{"1", 1.0},       {"-1.5e-3", -1.5e-3}, {".5", 0.5},   {"5.", 5.0},
+              {" 2 ", 2.0},     {"+3E2", 300.0},      {"1e-400", 0.0}, {"0001.25", 1.25}};
+    size_t i;
+    (void)state;
+    for (i = 0u; i < sizeof ok / sizeof ok[0]; ++i) {
+        double v = -99.0;
+        assert_int_equal(rfe_text_parse_double(ok[i].text, &v), RFE_NUM_OK);
+        assert_true(v == ok[i].value);
+    }
+}
+
+static void test_rfe_text_parse_double_rejects_non_decimal(void **state)
+{
+    static const struct {
+        const char *text;
+        rfe_num_status_t why;
+    } bad[] = {{"", RFE_NUM_EMPTY},        {"  ", RFE_NUM_EMPTY},      {"1e", RFE_NUM_SYNTAX},
+               {"0x10", RFE_NUM_SYNTAX},   {"1.0x", RFE_NUM_SYNTAX},   {"nan", RFE_NUM_NONFINITE},
+               {"-inf", RFE_NUM_NONFINITE}, {"NaN", RFE_NUM_NONFINITE}, {"1e999", RFE_NUM_OVERFLOW},
+               {"1 2", RFE_NUM_SYNTAX},    {"++1", RFE_NUM_SYNTAX},    {".", RFE_NUM_SYNTAX},
+               {"-", RFE_NUM_SYNTAX},      {"1e+", RFE_NUM_SYNTAX}};
+    size_t i;
+    (void)state;
+    for (i = 0u; i < sizeof bad / sizeof bad[0]; ++i) {
+        double v = -99.0;
+        assert_int_equal(rfe_text_parse_double(bad[i].text, &v), bad[i].why);
+        assert_true(v == -99.0); /* untouched on error */
+    }
+}
+
+static void test_rfe_text_format_double_shortest_round_trip(void **state)
+{
+    char buf[RFE_NUM_BUF];
+    (void)state;
+    rfe_text_format_double(buf, 0.003);
+    assert_string_equal(buf, "0.003");
+    rfe_text_format_double(buf, 0.1 + 0.2);
+    assert_string_equal(buf, "0.30000000000000004");
+    rfe_text_format_double(buf, 1830.0);
+    assert_string_equal(buf, "1830");
+    rfe_text_format_double(buf, -1e-300);
+    assert_true(strtod(buf, NULL) == -1e-300);
+    rfe_text_format_double(buf, (double)NAN);
+    assert_string_equal(buf, "nan");
+}
+
+static void test_rfe_io_error_print_one_line(void **state)
+{
+    rfe_io_error_t err;
+    char *buf = NULL;
+    size_t len = 0u;
+    FILE *f = open_memstream(&buf, &len);
+    (void)state;
+    assert_non_null(f);
+    rfe_io_error_set(&err, "a.csv", 4u, 3u, "column '%s': bad", "vx");
+    rfe_io_error_print(f, "mu_replay", &err);
+    rfe_io_error_set(&err, "b.csv", 7u, 0u, "no col");
+    rfe_io_error_print(f, "mu_replay", &err);
+    rfe_io_error_set(&err, "new\nline.csv", 0u, 5u, "whole file\tmsg");
+    rfe_io_error_print(f, "mu_replay", &err);
+    fclose(f);
+    assert_string_equal(buf, "mu_replay: a.csv:4:3: column 'vx': bad\n"
+                             "mu_replay: b.csv:7: no col\n"
+                             "mu_replay: new?line.csv: whole file?msg\n");
+    free(buf);
+}
+
+static void test_rfe_text_quote_marks_cut(void **state)
+{
+    char q[8];
+    (void)state;
+    rfe_text_quote(q, sizeof q, "abcdefgh", 4u);
+    assert_string_equal(q, "abcd...");
+    rfe_text_quote(q, sizeof q, "a\tb", 4u);
+    assert_string_equal(q, "a?b");
+    /* max too big for the buffer: cut to fit, never overrun. */
+    rfe_text_quote(q, sizeof q, "abcdefgh", 100u);
+    assert_string_equal(q, "abcd...");
+}
+
+static void test_rfe_num_status_str_every_value(void **state)
+{
+    (void)state;
+    assert_string_equal(rfe_num_status_str(RFE_NUM_OK), "ok");
+    assert_string_equal(rfe_num_status_str(RFE_NUM_EMPTY), "empty field");
+    assert_non_null(strstr(rfe_num_status_str(RFE_NUM_OVERFLOW), "range"));
+    assert_string_equal(rfe_num_status_str((rfe_num_status_t)99), "invalid number");
+}
+
+static void test_rfe_json_write_string_escapes(void **state)
+{
+    char *buf = NULL;
+    size_t len = 0u;
+    FILE *f = open_memstream(&buf, &len);
+    (void)state;
+    assert_non_null(f);
+    rfe_json_write_string(f, "a\"b\\c\nd");
+    fputc(' ', f);
+    rfe_json_write_number(f, 0.25);
+    fputc(' ', f);
+    rfe_json_write_number(f, (double)INFINITY);
+    fclose(f);
+    assert_string_equal(buf, "\"a\\\"b\\\\c\\u000ad\" 0.25 null");
+    free(buf);
+}
+
+static void test_rfe_xrealloc_zero_size_not_null(void **state)
+{
+    void *p;
+    char *s;
+    (void)state;
+    p = rfe_xrealloc(NULL, 0u, 8u);
+    assert_non_null(p);
+    free(p);
+    s = rfe_xstrdup("abc");
+    assert_string_equal(s, "abc");
+    free(s);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_rfe_sensor_log_read_shuffled_columns_with_extra),
+        cmocka_unit_test(test_rfe_sensor_log_read_metadata_collected),
+        cmocka_unit_test(test_rfe_sensor_log_read_without_truth),
+        cmocka_unit_test(test_rfe_sensor_log_read_crlf_bom_and_trailing_blank_lines),
+        cmocka_unit_test(test_rfe_sensor_log_read_very_long_number_not_truncated),
+        cmocka_unit_test(test_rfe_sensor_log_read_missing_column),
+        cmocka_unit_test(test_rfe_sensor_log_read_bad_number_position),
+        cmocka_unit_test(test_rfe_sensor_log_read_wrong_column_count),
+        cmocka_unit_test(test_rfe_sensor_log_read_too_many_fields),
+        cmocka_unit_test(test_rfe_sensor_log_read_empty_file),
+        cmocka_unit_test(test_rfe_sensor_log_read_only_metadata_no_header),
+        cmocka_unit_test(test_rfe_sensor_log_read_nan_text_rejected),
+        cmocka_unit_test(test_rfe_sensor_log_read_inf_text_rejected),
+        cmocka_unit_test(test_rfe_sensor_log_read_empty_field_rejected),
+        cmocka_unit_test(test_rfe_sensor_log_read_overflow_rejected),
+        cmocka_unit_test(test_rfe_sensor_log_read_partial_truth),
+        cmocka_unit_test(test_rfe_sensor_log_read_time_not_increasing),
+        cmocka_unit_test(test_rfe_sensor_log_read_header_only),
+        cmocka_unit_test(test_rfe_sensor_log_read_duplicate_column),
+        cmocka_unit_test(test_rfe_sensor_log_read_empty_column_name),
+        cmocka_unit_test(test_rfe_sensor_log_read_blank_line_between_rows),
+        cmocka_unit_test(test_rfe_sensor_log_read_comment_after_header),
+        cmocka_unit_test(test_rfe_sensor_log_read_nul_byte),
+        cmocka_unit_test(test_rfe_sensor_log_read_nonexistent_file),
+        cmocka_unit_test(test_rfe_sensor_log_read_long_bad_field_quoted_short),
+        cmocka_unit_test(test_rfe_sensor_log_read_directory_is_read_error),
+        cmocka_unit_test(test_rfe_sensor_log_read_metadata_without_key_ignored),
+        cmocka_unit_test(test_rfe_sensor_log_read_many_rows_grow),
+        cmocka_unit_test(test_rfe_estimate_log_write_full_disk),
+        cmocka_unit_test(test_rfe_estimate_log_write_round_trips_doubles),
+        cmocka_unit_test(test_rfe_estimate_log_write_float_format_round_trips_floats),
+        cmocka_unit_test(test_rfe_estimate_log_write_unwritable_path),
+        cmocka_unit_test(test_rfe_estimate_log_write_file_then_read_text),
+        cmocka_unit_test(test_rfe_text_parse_double_accepts_decimal_forms),
+        cmocka_unit_test(test_rfe_text_parse_double_rejects_non_decimal),
+        cmocka_unit_test(test_rfe_text_format_double_shortest_round_trip),
+        cmocka_unit_test(test_rfe_io_error_print_one_line),
+        cmocka_unit_test(test_rfe_text_quote_marks_cut),
+        cmocka_unit_test(test_rfe_num_status_str_every_value),
+        cmocka_unit_test(test_rfe_json_write_string_escapes),
+        cmocka_unit_test(test_rfe_xrealloc_zero_size_not_null),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

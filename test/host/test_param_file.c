@@ -1,0 +1,356 @@
+/**
+ * @file test_param_file.c
+ * @brief Tests of the parameter set: defaults, parameter files, log metadata, precedence.
+ *
+ * Run from the repository root (fixtures under test/host/data/). In a parameter file the
+ * COL of an error is the character position of the offending key or value.
+ */
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <stdio.h>
+#include <string.h>
+
+#include "csv_log.h"
+#include "param_file.h"
+
+#define DATA "test/host/data/"
+
+/* Applies @p text as a parameter file through a temporary stream. */
+static int apply_text(rfe_param_set_t *ps, const char *text, rfe_io_error_t *err)
+{
+    FILE *f = tmpfile();
+    int rc;
+    assert_non_null(f);
+    assert_int_equal(fwrite(text, 1u, strlen(text), f), strlen(text));
+    rewind(f);
+    rc = rfe_param_set_apply_stream(ps, f, "mem.par", err);
+    fclose(f);
+    return rc;
+}
+
+static void test_rfe_param_set_default_values(void **state)
+{
+    rfe_param_set_t ps;
+    (void)state;
+    rfe_param_set_default(&ps);
+    /* DATA.md / params.h defaults, spot-checked in every group. */
+    assert_true(ps.value[RFE_PK_m] == 1830.0);
+    assert_true(ps.value[RFE_PK_Lr] == 1.65);
+    assert_true(ps.value[RFE_PK_hg] == 0.54);
+    assert_true(ps.value[RFE_PK_Cy_n] == 15.0);
+    assert_true(ps.value[RFE_PK_eps] == 0.015);
+    assert_true(ps.value[RFE_PK_alpha_max] == 1.4);
+    assert_true(ps.value[RFE_PK_q_mu] == 0.003);
+    assert_true(ps.value[RFE_PK_mu_max] == 1.2);
+    assert_true(ps.value[RFE_PK_v_est_min] == 3.0);
+    assert_int_equal(ps.tyre, RFE_TYRE_PAPER);
+    assert_int_equal(ps.filter, RFE_FILTER_SCKF);
+    assert_null(ps.origin[RFE_PK_m].file);
+}
+
+static void test_rfe_param_find_every_table_key(void **state)
+{
+    size_t k;
+    (void)state;
+    for (k = 0u; k < (size_t)RFE_PK_COUNT; ++k) {
+        const rfe_param_info_t *info = rfe_param_info(k);
+        assert_non_null(info);
+        assert_int_equal(rfe_param_find(info->key), k);
+        assert_true(strlen(info->unit) > 0u);
+        assert_true(strlen(info->doc) > 0u);
+    }
+    assert_int_equal(rfe_param_find("tyre"), RFE_PK_TYRE);
+    assert_int_equal(rfe_param_find("filter"), RFE_PK_FILTER);
+    assert_int_equal(rfe_param_find("mass"), RFE_PK_NONE);
+    assert_null(rfe_param_info(RFE_PK_NONE));
+}
+
+static void test_rfe_param_set_apply_file_valid(void **state)
+{
+    rfe_param_set_t ps;
+    rfe_io_error_t err;
+    (void)state;
+    rfe_param_set_default(&ps);
+    assert_int_equal(rfe_param_set_apply_file(&ps, DATA "params_good.par", &err), 0);
+    assert_true(ps.value[RFE_PK_m] == 1500.0); /* inline comment stripped */
+    assert_true(ps.value[RFE_PK_Lf] == 1.2);   /* no blanks around '=' */
+    assert_true(ps.value[RFE_PK_mu0] == 0.7);
+    assert_true(ps.value[RFE_PK_Lr] == 1.65);  /* untouched */
+    assert_int_equal(ps.tyre, RFE_TYRE_ABSOLUTE);
+    assert_int_equal(ps.filter, RFE_FILTER_CKF);
+    assert_string_equal(ps.origin[RFE_PK_m].file, DATA "params_good.par");
+    assert_int_equal(ps.origin[RFE_PK_m].line, 2);
+    assert_int_equal(ps.origin[RFE_PK_TYRE].line, 5);
+    assert_null(ps.origin[RFE_PK_Lr].file);
+}
+
+static void test_rfe_param_set_apply_file_unknown_key(void **state)
+{
+    rfe_param_set_t ps;
+    rfe_io_error_t err;
+    (void)state;
+    rfe_param_set_default(&ps);
+    assert_int_equal(rfe_param_set_apply_file(&ps, DATA "params_unknown_key.par", &err), -1);
+    assert_string_equal(err.file, DATA "params_unknown_key.par");
+    assert_int_equal(err.line, 3);
+    assert_int_equal(err.col, 1);
+    assert_non_null(strstr(err.msg, "unknown parameter key 'mass'"));
+}
+
+static void test_rfe_param_set_apply_file_case_typo_hint(void **state)
+{
+    rfe_param_set_t ps;
+    rfe_io_error_t err;
+    (void)state;
+    rfe_param_set_default(&ps);
+    assert_int_equal(apply_text(&ps, "\n   lf = 1.3\n", &err), -1);
+    assert_int_equal(err.line, 2);
+    assert_int_equal(err.col, 4);
+    assert_non_null(strstr(err.msg, "did you mean 'Lf'?"));
+}
+
+static void test_rfe_param_set_apply_file_bad_number_position(void **state)
+{
+    rfe_param_set_t ps;
+    rfe_io_error_t err;
+    (void)state;
+    rfe_param_set_default(&ps);
+    assert_int_equal(rfe_param_set_apply_file(&ps, DATA "params_bad_number.par", &err), -1);
+    assert_int_equal(err.line, 3);
+    assert_int_equal(err.col, 7); /* "Lr =  1,65": the value starts at character 7 */
+    assert_non_null(strstr(err.msg, "value of 'Lr'"));
+    assert_non_null(strstr(err.msg, "'1,65'"));
+}
+
+static void test_rfe_param_set_apply_file_missing_equals(void **state)
+{
+    rfe_param_set_t ps;
+    rfe_io_error_t err;
+    (void)state;
+    rfe_param_set_default(&ps);
+    assert_int_equal(rfe_param_set_apply_file(&ps, DATA "params_no_equals.par", &err), -1);
+    assert_int_equal(err.line, 2);
+    assert_int_equal(err.col, 1);
+    assert_non_null(strstr(err.msg, "expected 'key = value'"));
+}
+
+static void test_rfe_param_set_apply_file_missing_key(void **state)
+{
+    rfe_param_set_t ps;
+    rfe_io_error_t err;
+    (void)state;
+    rfe_param_set_default(&ps);
+    assert_int_equal(apply_text(&ps, "  = 3\n", &err), -1);
+    assert_int_equal(err.line, 1);
+    assert_int_equal(err.col, 3);
+    assert_non_null(strstr(err.msg, "missing key"));
+}
+
+static void test_rfe_param_set_apply_file_duplicate_key(void **state)
+{
+    rfe_param_set_t ps;
+    rfe_io_error_t err;
+    (void)state;
+    rfe_param_set_default(&ps);
+    assert_int_equal(rfe_param_set_apply_file(&ps, DATA "params_duplicate.par", &err), -1);
+    assert_int_equal(err.line, 3);
+    assert_non_null(strstr(err.msg, "'m' given twice (first at line 1)"));
+}
+
+static void test_rfe_param_set_apply_file_nan_value(void **state)
+{
+    rfe_param_set_t ps;
+    rfe_io_error_t err;
+    (void)state;
+    rfe_param_set_default(&ps);
+    assert_int_equal(rfe_param_set_apply_file(&ps, DATA "params_nan.par", &err), -1);
+    assert_int_equal(err.line, 1);
+    assert_int_equal(err.col, 8);
+    assert_non_null(strstr(err.msg, "finite"));
+    assert_true(ps.value[RFE_PK_q_mu] == 0.003); /* unchanged */
+}
+
+static void test_rfe_param_set_apply_file_empty_value(void **state)
+{
+    rfe_param_set_t ps;
+    rfe_io_error_t err;
+    (void)state;
+    rfe_param_set_default(&ps);
+    assert_int_equal(apply_text(&ps, "m =   # nothing\n", &err), -1);
+    assert_int_equal(err.col, 4);
+    assert_non_null(strstr(err.msg, "empty field"));
+}
+
+static void test_rfe_param_set_apply_file_bad_word(void **state)
+{
+    rfe_param_set_t ps;
+    rfe_io_error_t err;
+    (void)state;
+    rfe_param_set_default(&ps);
+    assert_int_equal(rfe_param_set_apply_file(&ps, DATA "params_bad_word.par", &err), -1);
+    assert_int_equal(err.line, 1);
+    assert_int_equal(err.col, 8);
+    assert_non_null(strstr(err.msg, "'pacejka'"));
+    assert_int_equal(ps.tyre, RFE_TYRE_PAPER);
+}
+
+static void test_rfe_param_set_apply_file_nonexistent(void **state)
+{
+    rfe_param_set_t ps;
+    rfe_io_error_t err;
+    (void)state;
+    rfe_param_set_default(&ps);
+    assert_int_equal(rfe_param_set_apply_file(&ps, DATA "nope.par", &err), -1);
+    assert_int_equal(err.line, 0);
+    assert_non_null(strstr(err.msg, "cannot open"));
+}
+
+static void test_rfe_param_set_apply_file_directory_is_read_error(void **state)
+{
+    rfe_param_set_t ps;
+    rfe_io_error_t err;
+    (void)state;
+    rfe_param_set_default(&ps);
+    assert_int_equal(rfe_param_set_apply_file(&ps, DATA, &err), -1);
+    assert_int_equal(err.line, 1);
+    assert_non_null(strstr(err.msg, "read error"));
+}
+
+static void test_rfe_param_set_apply_stream_nul_byte(void **state)
+{
+    static const char text[] = "m = 1\nLf = 1\0.2\n";
+    rfe_param_set_t ps;
+    rfe_io_error_t err;
+    FILE *f = tmpfile();
+    (void)state;
+    assert_non_null(f);
+    assert_int_equal(fwrite(text, 1u, sizeof text - 1u, f), sizeof text - 1u);
+    rewind(f);
+    rfe_param_set_default(&ps);
+    assert_int_equal(rfe_param_set_apply_stream(&ps, f, "nul.par", &err), -1);
+    fclose(f);
+    assert_int_equal(err.line, 2);
+    assert_non_null(strstr(err.msg, "NUL"));
+}
+
+static void test_rfe_param_set_apply_meta_known_keys_only(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_param_set_t ps;
+    rfe_io_error_t err;
+    (void)state;
+    assert_int_equal(rfe_sensor_log_read(DATA "good_small.csv", &log, &err), 0);
+    rfe_param_set_default(&ps);
+    /* scenario and description are information: ignored, no error. */
+    assert_int_equal(rfe_param_set_apply_meta(&ps, &log, "good_small.csv", &err), 0);
+    assert_true(ps.value[RFE_PK_mu0] == 0.6);
+    assert_int_equal(ps.tyre, RFE_TYRE_ABSOLUTE);
+    assert_string_equal(ps.origin[RFE_PK_mu0].file, "good_small.csv");
+    assert_int_equal(ps.origin[RFE_PK_mu0].line, 5);
+    rfe_sensor_log_free(&log);
+}
+
+static void test_rfe_param_set_apply_meta_malformed_known_key(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_param_set_t ps;
+    rfe_io_error_t err;
+    (void)state;
+    assert_int_equal(rfe_sensor_log_read(DATA "bad_meta.csv", &log, &err), 0);
+    rfe_param_set_default(&ps);
+    assert_int_equal(rfe_param_set_apply_meta(&ps, &log, "bad_meta.csv", &err), -1);
+    assert_string_equal(err.file, "bad_meta.csv");
+    assert_int_equal(err.line, 2);
+    assert_non_null(strstr(err.msg, "metadata 'm'"));
+    assert_non_null(strstr(err.msg, "'heavy'"));
+    rfe_sensor_log_free(&log);
+}
+
+static void test_rfe_param_set_precedence_file_over_metadata(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_param_set_t ps;
+    rfe_io_error_t err;
+    (void)state;
+    assert_int_equal(rfe_sensor_log_read(DATA "good_small.csv", &log, &err), 0);
+    rfe_param_set_default(&ps);
+    assert_int_equal(rfe_param_set_apply_meta(&ps, &log, "good_small.csv", &err), 0);
+    assert_int_equal(apply_text(&ps, "mu0 = 0.55\n", &err), 0);
+    assert_true(ps.value[RFE_PK_mu0] == 0.55);        /* file beats metadata */
+    assert_int_equal(ps.tyre, RFE_TYRE_ABSOLUTE);      /* metadata beats default */
+    assert_true(ps.value[RFE_PK_m] == 1830.0);         /* default where nobody spoke */
+    assert_string_equal(ps.origin[RFE_PK_mu0].file, "mem.par");
+    rfe_sensor_log_free(&log);
+}
+
+static void test_rfe_param_format_numbers_and_words(void **state)
+{
+    rfe_param_set_t ps;
+    char buf[RFE_NUM_BUF];
+    (void)state;
+    rfe_param_set_default(&ps);
+    rfe_param_format(&ps, RFE_PK_q_mu, buf);
+    assert_string_equal(buf, "0.003");
+    ps.filter = RFE_FILTER_CKF;
+    rfe_param_format(&ps, RFE_PK_FILTER, buf);
+    assert_string_equal(buf, "ckf");
+    rfe_param_format(&ps, RFE_PK_TYRE, buf);
+    assert_string_equal(buf, "paper");
+}
+
+static void test_rfe_param_set_text_rejects_out_of_range_key(void **state)
+{
+    rfe_param_set_t ps;
+    (void)state;
+    rfe_param_set_default(&ps);
+    assert_int_equal(rfe_param_set_text(&ps, RFE_PK_NONE, "1"), RFE_NUM_SYNTAX);
+    assert_int_equal(rfe_param_set_text(&ps, RFE_PK_FILTER, "ekf"), RFE_NUM_SYNTAX);
+    assert_int_equal(rfe_param_set_text(&ps, RFE_PK_FILTER, "ckf"), RFE_NUM_OK);
+    assert_int_equal(ps.filter, RFE_FILTER_CKF);
+}
+
+static void test_rfe_enum_words_round_trip(void **state)
+{
+    rfe_tyre_mode_t t = RFE_TYRE_PAPER;
+    rfe_filter_kind_t f = RFE_FILTER_SCKF;
+    (void)state;
+    assert_int_equal(rfe_tyre_mode_parse("absolute", &t), 0);
+    assert_string_equal(rfe_tyre_mode_str(t), "absolute");
+    assert_int_equal(rfe_tyre_mode_parse("Paper", &t), -1); /* words are case-sensitive */
+    assert_int_equal(rfe_filter_kind_parse("ckf", &f), 0);
+    assert_string_equal(rfe_filter_kind_str(f), "ckf");
+    assert_string_equal(rfe_filter_kind_str((rfe_filter_kind_t)7), "?");
+    assert_string_equal(rfe_tyre_mode_str((rfe_tyre_mode_t)7), "?");
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_rfe_param_set_default_values),
+        cmocka_unit_test(test_rfe_param_find_every_table_key),
+        cmocka_unit_test(test_rfe_param_set_apply_file_valid),
+        cmocka_unit_test(test_rfe_param_set_apply_file_unknown_key),
+        cmocka_unit_test(test_rfe_param_set_apply_file_case_typo_hint),
+        cmocka_unit_test(test_rfe_param_set_apply_file_bad_number_position),
+        cmocka_unit_test(test_rfe_param_set_apply_file_missing_equals),
+        cmocka_unit_test(test_rfe_param_set_apply_file_missing_key),
+        cmocka_unit_test(test_rfe_param_set_apply_file_duplicate_key),
+        cmocka_unit_test(test_rfe_param_set_apply_file_nan_value),
+        cmocka_unit_test(test_rfe_param_set_apply_file_empty_value),
+        cmocka_unit_test(test_rfe_param_set_apply_file_bad_word),
+        cmocka_unit_test(test_rfe_param_set_apply_file_nonexistent),
+        cmocka_unit_test(test_rfe_param_set_apply_file_directory_is_read_error),
+        cmocka_unit_test(test_rfe_param_set_apply_stream_nul_byte),
+        cmocka_unit_test(test_rfe_param_set_apply_meta_known_keys_only),
+        cmocka_unit_test(test_rfe_param_set_apply_meta_malformed_known_key),
+        cmocka_unit_test(test_rfe_param_set_precedence_file_over_metadata),
+        cmocka_unit_test(test_rfe_param_format_numbers_and_words),
+        cmocka_unit_test(test_rfe_param_set_text_rejects_out_of_range_key),
+        cmocka_unit_test(test_rfe_enum_words_round_trip),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
