@@ -104,11 +104,17 @@ rfe_status_t RFE_FN(rfe_ckf_predict)(rfe_ckf_t *f, rfe_process_fn_t process, voi
     /* P- = sum_j w X*_j X*_j^T - x- x-^T + Q. */
     cross_moment(w->pts, NM, w->xn, n, w->pts, NM, w->xn, n, n, f->Pn, NM);
     for (i = 0u; i < n; ++i) {
-        f->x[i] = w->xn[i];
         for (j = 0u; j < n; ++j) {
-            f->P[(i * NM) + j] = f->Pn[(i * NM) + j] + f->Q[(i * NM) + j];
+            f->Pn[(i * NM) + j] += f->Q[(i * NM) + j];
         }
     }
+    if (!rfe_all_finite(w->xn, n) || !rfe_lower_finite(f->Pn, n, NM)) {
+        return RFE_ERR_NONFINITE; /* overflow in the propagated points: commit nothing */
+    }
+    for (i = 0u; i < n; ++i) {
+        f->x[i] = w->xn[i];
+    }
+    copy_square(f->Pn, NM, n, f->P, NM);
     return RFE_OK;
 }
 

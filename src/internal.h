@@ -23,6 +23,8 @@
 #define RFE_SIN(x) sin(x)
 #define RFE_COS(x) cos(x)
 #define RFE_TAN(x) tan(x)
+#define RFE_FREXP(x, e) frexp((x), (e))
+#define RFE_LDEXP(x, e) ldexp((x), (e))
 #else
 #define RFE_SQRT(x) sqrtf(x)
 #define RFE_FABS(x) fabsf(x)
@@ -30,6 +32,8 @@
 #define RFE_SIN(x) sinf(x)
 #define RFE_COS(x) cosf(x)
 #define RFE_TAN(x) tanf(x)
+#define RFE_FREXP(x, e) frexpf((x), (e))
+#define RFE_LDEXP(x, e) ldexpf((x), (e))
 #endif
 
 /** Magic words marking an initialised state struct (guards use before init). */
@@ -46,6 +50,18 @@ static inline int rfe_all_finite(const rfe_real_t *v, size_t k)
     size_t i;
     for (i = 0u; i < k; ++i) {
         if (!isfinite(v[i])) {
+            return 0;
+        }
+    }
+    return 1;
+}
+
+/** True when the lower triangle of the k x k matrix M (row stride ld) is finite. */
+static inline int rfe_lower_finite(const rfe_real_t *M, size_t k, size_t ld)
+{
+    size_t i;
+    for (i = 0u; i < k; ++i) {
+        if (!rfe_all_finite(&M[i * ld], i + 1u)) {
             return 0;
         }
     }

@@ -8,6 +8,33 @@
 
 #define AT(M, ld, i, j) ((M)[((i) * (ld)) + (j)])
 
+/* Binary exponent e of the largest |element| of a row (max in [2^(e-1), 2^e)); 0 for a
+ * zero row. */
+static int row_exponent(const rfe_real_t *row, size_t cols)
+{
+    rfe_real_t big = RFE_R(0.0);
+    int e = 0;
+    size_t j;
+    for (j = 0u; j < cols; ++j) {
+        big = rfe_max(big, RFE_FABS(row[j]));
+    }
+    if (big > RFE_R(0.0)) {
+        (void)RFE_FREXP(big, &e);
+    }
+    return e;
+}
+
+/* row[0..cols) *= 2^e (exact barring overflow/underflow of the result). */
+static void scale_row(rfe_real_t *row, size_t cols, int e)
+{
+    size_t j;
+    if (e != 0) {
+        for (j = 0u; j < cols; ++j) {
+            row[j] = RFE_LDEXP(row[j], e);
+        }
+    }
+}
+
 /* Euclidean norm of row k of A from column k on. */
 static rfe_real_t row_tail_norm(const rfe_real_t *A, size_t lda, size_t k, size_t cols)
 {
@@ -53,6 +80,7 @@ static void reflect_row(rfe_real_t *A, size_t rows, size_t cols, size_t lda, siz
 
 rfe_status_t RFE_FN(rfe_qr_tria)(rfe_real_t *A, size_t rows, size_t cols, size_t lda)
 {
+    int exps[RFE_N_MAX];
     size_t i;
     size_t k;
 
@@ -67,6 +95,13 @@ rfe_status_t RFE_FN(rfe_qr_tria)(rfe_real_t *A, size_t rows, size_t cols, size_t
         if (!rfe_all_finite(&AT(A, lda, i, 0u), cols)) {
             return RFE_ERR_NONFINITE;
         }
+    }
+    /* Rows are scaled by powers of two so the sums of squares neither overflow nor
+     * underflow: with A = D A', S = D S'. Power-of-two scaling is exact, so in the normal
+     * range the result is bit-identical to the unscaled reduction. */
+    for (i = 0u; i < rows; ++i) {
+        exps[i] = row_exponent(&AT(A, lda, i, 0u), cols);
+        scale_row(&AT(A, lda, i, 0u), cols, -exps[i]);
     }
     /* A^T = Q R  <=>  A Q = R^T = [S 0]: zero each row's tail right of the diagonal. */
     for (k = 0u; k < rows; ++k) {
@@ -83,6 +118,9 @@ rfe_status_t RFE_FN(rfe_qr_tria)(rfe_real_t *A, size_t rows, size_t cols, size_t
                 AT(A, lda, i, k) = -AT(A, lda, i, k);
             }
         }
+    }
+    for (i = 0u; i < rows; ++i) {
+        scale_row(&AT(A, lda, i, 0u), i + 1u, exps[i]); /* S = D S' */
     }
     return RFE_OK;
 }

@@ -40,8 +40,8 @@ rfe_status_t RFE_FN(rfe_sckf_init)(rfe_sckf_t *f, size_t n, size_t m, const rfe_
     if (RFE_FN(rfe_cub_dims_ok)(n, m) == 0) {
         return RFE_ERR_SIZE;
     }
-    if (!rfe_all_finite(x0, n) || !rfe_all_finite(S0, n * n) || !rfe_all_finite(SQ, n * n) ||
-        !rfe_all_finite(SR, m * m)) {
+    if (!rfe_all_finite(x0, n) || !rfe_lower_finite(S0, n, n) || !rfe_lower_finite(SQ, n, n) ||
+        !rfe_lower_finite(SR, m, m)) {
         return RFE_ERR_NONFINITE;
     }
     f->n = n;
@@ -204,6 +204,9 @@ rfe_status_t RFE_FN(rfe_sckf_update)(rfe_sckf_t *f, rfe_measure_fn_t measure, vo
             acc += w->Kt[(r * NM) + i] * (y[r] - w->zhat[r]);
         }
         w->xn[i] = acc;
+    }
+    if (!rfe_all_finite(w->xn, n)) {
+        return RFE_ERR_NONFINITE; /* a huge innovation overflowed: commit nothing */
     }
     /* S = Tria([Xc - K Zc, K S_R]). */
     for (i = 0u; i < n; ++i) {
