@@ -5,6 +5,7 @@
 #   make test       all tests (C unit + golden + host + Python) and the coverage gate
 #   make coverage   gcovr HTML / Cobertura XML / text summary for src/, with thresholds
 #   make goldens    regenerate scenarios/*.csv and scenarios/golden/ from the Python tools
+#   make readme-table  regenerate the accuracy table in README.md
 #
 # `make demo` and `make test` install what they need when it is missing: cmocka via apt,
 # and a Python venv (.venv) from the pinned scripts/requirements.txt.
@@ -76,7 +77,7 @@ endef
 $(eval $(call REPLAY_RULE,$(BUILD)/mu_replay,f32,f64,$(OPT)))
 $(eval $(call REPLAY_RULE,$(BUILD)/cov-mu_replay,cov-f32,cov-f64,$(COVFLAGS)))
 
-.PHONY: all lib deps deps-c venv test test-c test-py coverage demo goldens scenarios clean vectors \
+.PHONY: all lib deps deps-c venv test test-c test-py coverage demo goldens scenarios clean vectors readme-table \
         check-goldens help
 all: lib $(BUILD)/mu_replay
 lib: $(BUILD)/f32/librfe.a $(BUILD)/f64/librfe.a
@@ -140,6 +141,10 @@ test: deps lib test-c test-py coverage
 # ---- demo, goldens ---------------------------------------------------------------------
 demo: deps $(BUILD)/mu_replay
 	$(PY) scripts/demo.py --replay $(BUILD)/mu_replay --out $(BUILD)/demo
+
+# Regenerates the accuracy table in README.md (never typed by hand).
+readme-table: deps $(BUILD)/mu_replay
+	$(PY) scripts/demo.py --replay $(BUILD)/mu_replay --out $(BUILD)/demo --no-plots --readme README.md
 
 scenarios: venv
 	$(PY) scripts/make_scenarios.py --out scenarios
