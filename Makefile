@@ -77,6 +77,9 @@ endef
 $(eval $(call REPLAY_RULE,$(BUILD)/mu_replay,f32,f64,$(OPT)))
 $(eval $(call REPLAY_RULE,$(BUILD)/cov-mu_replay,cov-f32,cov-f64,$(COVFLAGS)))
 
+# Keep intermediate objects (test support) so a second make does not rebuild them.
+.SECONDARY:
+
 .PHONY: all lib deps deps-c venv test test-c test-py coverage demo goldens scenarios clean vectors readme-table \
         check-goldens help
 all: lib $(BUILD)/mu_replay

@@ -15,7 +15,6 @@ this script only adds the mean standard deviation over the same time span (t >= 
 from __future__ import annotations
 
 import argparse
-import csv
 import json
 import subprocess
 import sys
@@ -24,20 +23,10 @@ from pathlib import Path
 
 WHEELS = ("fl", "fr", "rl", "rr")
 ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT / "scripts"))
+from plot_estimates import plot, read_csv  # noqa: E402  (one plotting/reading code path)
 SETTLE_START_S = 1.0  # same as mu_replay's default settle start
 BEGIN, END = "<!-- accuracy:begin -->", "<!-- accuracy:end -->"
-
-
-def read_csv(path: Path) -> dict[str, list[float]]:
-    """Columns of a DATA.md CSV (metadata lines skipped) as float lists."""
-    with path.open() as f:
-        rows = [line for line in f if not line.startswith("#")]
-    reader = csv.DictReader(rows)
-    cols: dict[str, list[float]] = {name: [] for name in reader.fieldnames or []}
-    for row in reader:
-        for k, v in row.items():
-            cols[k].append(float(v))
-    return cols
 
 
 def scenario_logs(scen_dir: Path) -> list[Path]:
@@ -97,39 +86,6 @@ def table_rows(results: list[tuple[str, str, dict, dict]]) -> list[str]:
     return lines
 
 
-def plot(scen: str, log: Path, runs: dict[str, Path], png: Path) -> None:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    truth = read_csv(log)
-    fig, axes = plt.subplots(2, 2, figsize=(11, 6.5), sharex=True, sharey=True)
-    styles = {"sckf": ("tab:blue", "-"), "ckf": ("tab:orange", "--")}
-    for ax, w in zip(axes.flat, WHEELS):
-        if f"mu_{w}" in truth:
-            ax.plot(truth["t"], truth[f"mu_{w}"], color="black", lw=1.5, label="true μ")
-        for filt, est_path in runs.items():
-            est = read_csv(est_path)
-            color, ls = styles[filt]
-            ax.plot(est["t"], est[f"mu_{w}"], color=color, ls=ls, lw=1.2, label=f"{filt.upper()} μ̂")
-            if filt == "sckf":
-                lo = [m - 2 * s for m, s in zip(est[f"mu_{w}"], est[f"sd_{w}"])]
-                hi = [m + 2 * s for m, s in zip(est[f"mu_{w}"], est[f"sd_{w}"])]
-                ax.fill_between(est["t"], lo, hi, color=color, alpha=0.15, lw=0, label="SCKF ±2 sd")
-        ax.set_title(w)
-        ax.set_ylim(0.0, 1.3)
-        ax.grid(alpha=0.3)
-    for ax in axes[1]:
-        ax.set_xlabel("t [s]")
-    for ax in axes[:, 0]:
-        ax.set_ylabel("μ")
-    axes[0, 0].legend(loc="lower left", fontsize=8)
-    fig.suptitle(f"{scen}: estimated vs true friction (paper configuration, float32)")
-    fig.tight_layout()
-    fig.savefig(png, dpi=90)
-    plt.close(fig)
-
-
 def update_readme(readme: Path, lines: list[str]) -> None:
     text = readme.read_text()
     if BEGIN not in text or END not in text:
@@ -168,8 +124,9 @@ def main() -> int:
             runs[filt] = info["estimate_file"]
         results.append((scen, noise, infos["sckf"], infos["ckf"]))
         if not args.no_plots:
-            plot(f"{scen} ({'noise-free' if noise == 'none' else 'default noise'})", log, runs,
-                 args.out / f"{stem}.png")
+            plot(log, [runs["sckf"], runs["ckf"]], ["SCKF", "CKF"], args.out / f"{stem}.png",
+                 f"{scen} ({'noise-free' if noise == 'none' else 'default noise'}), "
+                 f"paper configuration, {args.real}")
         print(f"[{k}/{len(logs)}] {stem}: done ({time.time() - t0:.1f} s)", flush=True)
 
     results.sort(key=lambda r: (r[0], r[1] != "none"))

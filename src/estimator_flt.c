@@ -11,6 +11,10 @@
 #define NM ((size_t)RFE_N_MAX)
 #define MM ((size_t)RFE_M_MAX)
 
+/* C99 static assertion: the filters' compile-time maxima must hold the estimator's
+ * four states and three measurements (a -DRFE_N_MAX=4 -DRFE_M_MAX=3 build is the smallest). */
+typedef char rfe_assert_maxima_hold_estimator[((RFE_N_MAX >= RFE_WHEELS) && (RFE_M_MAX >= RFE_MEAS)) ? 1 : -1];
+
 /* Paper mode: h(x, u) = H(u) x, with H built once per sample. */
 static rfe_status_t measure_paper(void *ctx, const rfe_real_t *x, rfe_real_t *z, size_t n,
                                   size_t m)
