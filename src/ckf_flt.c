@@ -173,12 +173,9 @@ rfe_status_t RFE_FN(rfe_ckf_update)(rfe_ckf_t *f, rfe_measure_fn_t measure, void
         return st;
     }
     /* x = x- + K (y - z). */
-    for (i = 0u; i < n; ++i) {
-        rfe_real_t acc = f->x[i];
-        for (r = 0u; r < m; ++r) {
-            acc += w->Kt[(r * NM) + i] * (y[r] - w->zhat[r]);
-        }
-        w->xn[i] = acc;
+    st = RFE_FN(rfe_cub_correct)(f->x, w->Kt, y, w->zhat, n, m, w->xn);
+    if (st != RFE_OK) {
+        return st;
     }
     /* P = P- - K Pzz K^T. */
     for (i = 0u; i < n; ++i) {
@@ -191,9 +188,6 @@ rfe_status_t RFE_FN(rfe_ckf_update)(rfe_ckf_t *f, rfe_measure_fn_t measure, void
             }
             f->Pn[(i * NM) + j] = f->P[(i * NM) + j] - acc;
         }
-    }
-    if (!rfe_all_finite(w->xn, n)) {
-        return RFE_ERR_NONFINITE;
     }
     for (i = 0u; i < n; ++i) {
         f->x[i] = w->xn[i];

@@ -24,6 +24,14 @@ rfe_status_t RFE_FN(rfe_cub_measure)(const rfe_real_t *pts, size_t n, size_t m,
 void RFE_FN(rfe_cub_mean)(const rfe_real_t *rows, size_t n, size_t cols, size_t ld,
                           rfe_real_t *mean);
 
+/**
+ * x_new = x + K (y - z), with the gain given transposed (Kt: m x n, row stride RFE_N_MAX).
+ * @return RFE_OK, or RFE_ERR_NONFINITE when a huge innovation overflowed (x_new unusable).
+ */
+rfe_status_t RFE_FN(rfe_cub_correct)(const rfe_real_t *x, const rfe_real_t *Kt,
+                                     const rfe_real_t *y, const rfe_real_t *zhat, size_t n,
+                                     size_t m, rfe_real_t *x_new);
+
 /** True when the filter dimensions are within 1..RFE_N_MAX and 1..RFE_M_MAX. */
 int RFE_FN(rfe_cub_dims_ok)(size_t n, size_t m);
 

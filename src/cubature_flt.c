@@ -77,6 +77,22 @@ void RFE_FN(rfe_cub_mean)(const rfe_real_t *rows, size_t n, size_t cols, size_t 
     }
 }
 
+rfe_status_t RFE_FN(rfe_cub_correct)(const rfe_real_t *x, const rfe_real_t *Kt,
+                                     const rfe_real_t *y, const rfe_real_t *zhat, size_t n,
+                                     size_t m, rfe_real_t *x_new)
+{
+    size_t i;
+    size_t r;
+    for (i = 0u; i < n; ++i) {
+        rfe_real_t acc = x[i];
+        for (r = 0u; r < m; ++r) {
+            acc += Kt[(r * (size_t)RFE_N_MAX) + i] * (y[r] - zhat[r]);
+        }
+        x_new[i] = acc;
+    }
+    return rfe_all_finite(x_new, n) ? RFE_OK : RFE_ERR_NONFINITE;
+}
+
 int RFE_FN(rfe_cub_dims_ok)(size_t n, size_t m)
 {
     return (n >= 1u) && (n <= (size_t)RFE_N_MAX) && (m >= 1u) && (m <= (size_t)RFE_M_MAX);

@@ -29,6 +29,16 @@ static void copy_lower(const rfe_real_t *src, size_t lds, size_t k, rfe_real_t *
     }
 }
 
+/* Accepts a step: the candidate mean (w.xn) and factor (Tria output in w.A) become the state. */
+static void commit(rfe_sckf_t *f)
+{
+    size_t i;
+    for (i = 0u; i < f->n; ++i) {
+        f->x[i] = f->w.xn[i];
+    }
+    copy_lower(f->w.A, TC, f->n, f->S, NM);
+}
+
 rfe_status_t RFE_FN(rfe_sckf_init)(rfe_sckf_t *f, size_t n, size_t m, const rfe_real_t *x0,
                                    const rfe_real_t *S0, const rfe_real_t *SQ,
                                    const rfe_real_t *SR)
@@ -94,10 +104,7 @@ rfe_status_t RFE_FN(rfe_sckf_predict)(rfe_sckf_t *f, rfe_process_fn_t process, v
     if (st != RFE_OK) {
         return st;
     }
-    for (i = 0u; i < n; ++i) {
-        f->x[i] = w->xn[i];
-    }
-    copy_lower(w->A, TC, n, f->S, NM);
+    commit(f);
     return RFE_OK;
 }
 
@@ -197,16 +204,10 @@ rfe_status_t RFE_FN(rfe_sckf_update)(rfe_sckf_t *f, rfe_measure_fn_t measure, vo
     if (st != RFE_OK) {
         return st;
     }
-    /* x = x- + K (y - z). */
-    for (i = 0u; i < n; ++i) {
-        rfe_real_t acc = f->x[i];
-        for (r = 0u; r < m; ++r) {
-            acc += w->Kt[(r * NM) + i] * (y[r] - w->zhat[r]);
-        }
-        w->xn[i] = acc;
-    }
-    if (!rfe_all_finite(w->xn, n)) {
-        return RFE_ERR_NONFINITE; /* a huge innovation overflowed: commit nothing */
+    /* x = x- + K (y - z); a huge innovation that overflows commits nothing. */
+    st = RFE_FN(rfe_cub_correct)(f->x, w->Kt, y, w->zhat, n, m, w->xn);
+    if (st != RFE_OK) {
+        return st;
     }
     /* S = Tria([Xc - K Zc, K S_R]). */
     for (i = 0u; i < n; ++i) {
@@ -229,10 +230,7 @@ rfe_status_t RFE_FN(rfe_sckf_update)(rfe_sckf_t *f, rfe_measure_fn_t measure, vo
     if (st != RFE_OK) {
         return st;
     }
-    for (i = 0u; i < n; ++i) {
-        f->x[i] = w->xn[i];
-    }
-    copy_lower(w->A, TC, n, f->S, NM);
+    commit(f);
     return RFE_OK;
 }
 
