@@ -8,6 +8,11 @@
 
 rfe_status_t RFE_FN(rfe_params_default)(rfe_params_t *p)
 {
+    return RFE_FN(rfe_params_paper)(p);
+}
+
+rfe_status_t RFE_FN(rfe_params_paper)(rfe_params_t *p)
+{
     if (p == NULL) {
         return RFE_ERR_NULL;
     }

@@ -68,8 +68,14 @@ typedef struct {
     rfe_filter_params_t filter;
 } rfe_params_t;
 
-/** Fills @p p with the MODEL.md §2 / DATA.md defaults (the paper configuration). */
+/** Fills @p p with the library's default configuration (today: the paper configuration). */
 RFE_NODISCARD rfe_status_t RFE_FN(rfe_params_default)(rfe_params_t *p);
+
+/**
+ * Fills @p p with the paper configuration (MODEL.md §2, §6): four independent mu, normalised
+ * tyre, x0 = 0.5, S0 = 0.3 I, S_Q = 0.003 I, S_R = 0.05 I. Kept as the reference baseline.
+ */
+RFE_NODISCARD rfe_status_t RFE_FN(rfe_params_paper)(rfe_params_t *p);
 
 /**
  * Checks every field: finite, positive where physical (m, L, B, R, J, g, stiffnesses,
