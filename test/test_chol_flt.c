@@ -3,22 +3,17 @@
  * @brief Unit tests of the Cholesky factorisation rfe_chol_factor (CKF baseline, MODEL.md §6).
  *        Built twice: float32 and double.
  *
- * Random SPD matrices come from the fixed-seed xorshift generator below (deterministic).
+ * Random SPD matrices come from the fixed-seed xorshift generator (test_rng.h, deterministic).
  * Residuals are evaluated in double from the exact rfe_real_t inputs.
  */
-#include <setjmp.h>
-#include <stdarg.h>
-#include <stddef.h>
-#include <stdint.h>
+#include "test_common.h"
 
-#include <cmocka.h>
-
-#include <math.h>
-#include <stdio.h>
 #include <string.h>
 
 #include "rfe/chol.h"
 #include "rfe/qr.h"
+#include "test_guard.h"
+#include "test_rng.h"
 
 /* ---- tolerances ------------------------------------------------------------------------
  * Cholesky is backward stable: |L L^T - P|_ij <= ~(n+1) eps sqrt(P_ii P_jj); the residual
@@ -36,50 +31,10 @@
 #define TOL_VS_TRIA 2e-6
 #endif
 
+/* ---- buffers (guard words and padding: test_guard.h) ------------------------------------ */
 #define NM ((size_t)RFE_N_MAX)
 #define LD_MAX (NM + 3u)
-#define GUARD_N 8u
 #define BUF_N (((NM + 1u) * LD_MAX) + GUARD_N)
-#define GUARD_VAL ((rfe_real_t)-7777.25) /* exactly representable in both precisions */
-#define PAD_VAL ((rfe_real_t)4321.5)     /* padding between n and the leading dimension */
-
-#define AT(M, ld, i, j) ((M)[((i) * (ld)) + (j)])
-
-/* Fails with a readable message when !(value <= tol). Build with -DTOL_MEASURE to print
- * every measured value relative to its tolerance instead (re-deriving the "seen" figures). */
-#if defined(TOL_MEASURE)
-#define ASSERT_LE(value, tol, what)                                                       \
-    do {                                                                                   \
-        const double t_ = (double)(tol);                                                   \
-        fprintf(stderr, "%s|%.3e\n", (what), (double)(value) / ((t_ > 0.0) ? t_ : 1.0));   \
-    } while (0)
-#else
-#define ASSERT_LE(value, tol, what)                                                       \
-    do {                                                                                   \
-        const double v_ = (double)(value);                                                 \
-        const double t_ = (double)(tol);                                                   \
-        if (!(v_ <= t_)) {                                                                 \
-            print_error("%s: %.6e > tolerance %.6e\n", (what), v_, t_);                    \
-            fail();                                                                        \
-        }                                                                                  \
-    } while (0)
-#endif
-
-/* ---- deterministic random numbers ------------------------------------------------------- */
-static uint64_t rng_state = 0x243F6A8885A308D3ull;
-
-static void rng_seed(uint64_t s) { rng_state = (s != 0u) ? s : 0x9E3779B97F4A7C15ull; }
-
-/* Uniform in [-1, 1) (xorshift64*). */
-static double rng_uniform(void)
-{
-    uint64_t x = rng_state;
-    x ^= x >> 12;
-    x ^= x << 25;
-    x ^= x >> 27;
-    rng_state = x;
-    return ((double)((x * 0x2545F4914F6CDD1Dull) >> 11) * (2.0 / 9007199254740992.0)) - 1.0;
-}
 
 /* ---- helpers ---------------------------------------------------------------------------- */
 
@@ -91,9 +46,7 @@ static void make_spd(rfe_real_t *buf, size_t n, size_t ldp, rfe_real_t *G, size_
     size_t i;
     size_t j;
     size_t k;
-    for (i = 0u; i < BUF_N; ++i) {
-        buf[i] = GUARD_VAL;
-    }
+    guard_fill(buf, BUF_N);
     for (i = 0u; i < (n * cols); ++i) {
         g[i] = (rfe_real_t)rng_uniform();
     }
@@ -112,14 +65,6 @@ static void make_spd(rfe_real_t *buf, size_t n, size_t ldp, rfe_real_t *G, size_
     }
     if (G != NULL) {
         memcpy(G, g, n * cols * sizeof g[0]);
-    }
-}
-
-static void fill_guard(rfe_real_t *buf)
-{
-    size_t i;
-    for (i = 0u; i < BUF_N; ++i) {
-        buf[i] = GUARD_VAL;
     }
 }
 
@@ -169,7 +114,7 @@ static void prefill_l(rfe_real_t *L, size_t n, size_t ldl)
 {
     size_t i;
     size_t j;
-    fill_guard(L);
+    guard_fill(L, BUF_N);
     for (i = 0u; i < n; ++i) {
         for (j = 0u; j < ldl; ++j) {
             AT(L, ldl, i, j) = (j < n) ? (rfe_real_t)99.0 : PAD_VAL;

@@ -3,23 +3,18 @@
  * @brief Unit tests of Tria() (rfe_qr_tria) and the triangular solves (rfe_qr_solve_lower,
  *        rfe_qr_solve_lower_t), MODEL.md §6. Built twice: float32 and double.
  *
- * Every random input comes from the fixed-seed xorshift generator below, so a run is
- * deterministic. Products and residuals are evaluated in double from the exact
+ * Every random input comes from the fixed-seed xorshift generator (test_rng.h), so a run
+ * is deterministic. Products and residuals are evaluated in double from the exact
  * rfe_real_t inputs, so the only error measured is the library's.
  */
-#include <setjmp.h>
-#include <stdarg.h>
-#include <stddef.h>
+#include "test_common.h"
+
 #include <stdint.h>
-
-#include <cmocka.h>
-
-#include <float.h>
-#include <math.h>
-#include <stdio.h>
 #include <string.h>
 
 #include "rfe/qr.h"
+#include "test_guard.h"
+#include "test_rng.h"
 
 /* ---- tolerances ------------------------------------------------------------------------
  * Residuals are row-scaled: |(S S^T - A A^T)_ij| / (|a_i| |a_j|), because Householder
@@ -48,54 +43,13 @@
 #define TOL_RANKDEF 1e-6
 #endif
 
-/* ---- buffers, guard words -------------------------------------------------------------- */
+/* ---- buffers (guard words and padding: test_guard.h) ------------------------------------ */
 #define NM ((size_t)RFE_N_MAX)
 #define TC ((size_t)RFE_TRIA_COLS_MAX)
 #define LD_MAX (TC + 5u)                   /* widest leading dimension used */
-#define GUARD_N 8u                         /* guard words after every output buffer */
 #define BUF_N (((NM + 1u) * LD_MAX) + GUARD_N)
-#define GUARD_VAL ((rfe_real_t)-7777.25)   /* exactly representable in both precisions */
-#define PAD_VAL ((rfe_real_t)4321.5)       /* padding columns between cols and ld */
-
-/* ---- deterministic random numbers ------------------------------------------------------- */
-static uint64_t rng_state = 0x243F6A8885A308D3ull;
-
-static void rng_seed(uint64_t s) { rng_state = (s != 0u) ? s : 0x9E3779B97F4A7C15ull; }
-
-/* Uniform in [-1, 1) (xorshift64*). */
-static double rng_uniform(void)
-{
-    uint64_t x = rng_state;
-    x ^= x >> 12;
-    x ^= x << 25;
-    x ^= x >> 27;
-    rng_state = x;
-    return ((double)((x * 0x2545F4914F6CDD1Dull) >> 11) * (2.0 / 9007199254740992.0)) - 1.0;
-}
 
 /* ---- helpers ---------------------------------------------------------------------------- */
-#define AT(M, ld, i, j) ((M)[((i) * (ld)) + (j)])
-
-/* Fails with a readable message when !(value <= tol). Build with -DTOL_MEASURE to print
- * every measured value relative to its tolerance instead (to re-derive the "seen" figures:
- * pipe through `sort -t'|' -k1,1 -k2,2g` and take the maximum per label). */
-#if defined(TOL_MEASURE)
-#define ASSERT_LE(value, tol, what)                                                       \
-    do {                                                                                   \
-        const double t_ = (double)(tol);                                                   \
-        fprintf(stderr, "%s|%.3e\n", (what), (double)(value) / ((t_ > 0.0) ? t_ : 1.0));   \
-    } while (0)
-#else
-#define ASSERT_LE(value, tol, what)                                                       \
-    do {                                                                                   \
-        const double v_ = (double)(value);                                                 \
-        const double t_ = (double)(tol);                                                   \
-        if (!(v_ <= t_)) {                                                                 \
-            print_error("%s: %.6e > tolerance %.6e\n", (what), v_, t_);                    \
-            fail();                                                                        \
-        }                                                                                  \
-    } while (0)
-#endif
 
 /* Sets every element of buf[0..BUF_N) to the guard value, then A (rows x cols, ld lda)
  * to random values scaled per row; the columns cols..lda-1 are padding (PAD_VAL). */
@@ -103,9 +57,7 @@ static void fill_matrix(rfe_real_t *buf, size_t rows, size_t cols, size_t lda)
 {
     size_t i;
     size_t j;
-    for (i = 0u; i < BUF_N; ++i) {
-        buf[i] = GUARD_VAL;
-    }
+    guard_fill(buf, BUF_N);
     for (i = 0u; i < rows; ++i) {
         for (j = 0u; j < lda; ++j) {
             AT(buf, lda, i, j) = (j < cols) ? (rfe_real_t)rng_uniform() : PAD_VAL;
@@ -741,9 +693,7 @@ static void solve_round_trip(solve_fn_t solve, int transposed, uint64_t seed)
             for (ldl = n; ldl <= (n + 2u); ldl += 2u) {
                 for (ldb = ncols; ldb <= (ncols + 3u); ldb += 3u) {
                     make_lower(L, n, ldl);
-                    for (i = 0u; i < BUF_N; ++i) {
-                        B[i] = GUARD_VAL;
-                    }
+                    guard_fill(B, BUF_N);
                     for (i = 0u; i < n; ++i) {
                         for (j = 0u; j < ncols; ++j) {
                             X[(i * ncols) + j] = rng_uniform();

@@ -4,26 +4,23 @@
  *        MODEL.md §6). Built twice: float32 and double.
  *
  * (a) On a linear-Gaussian model the SCKF is exact: its mean and S S^T must equal a
- *     textbook Kalman filter written here in double with explicit matrices.
+ *     textbook Kalman filter in double with explicit matrices (kalman_ref.h).
  * (b) cmocka mocks of the model callbacks check the 2n cubature points (values, order,
  *     context pointer, dimensions) and that a callback error or NaN leaves the state alone.
  * (c) Argument, size, initialisation and range errors.
  * (d) After every step S is lower-triangular with a non-negative diagonal.
- * Random inputs come from the fixed-seed xorshift generator below (deterministic).
+ * Random inputs come from the fixed-seed xorshift generator (test_rng.h, deterministic).
  */
-#include <setjmp.h>
-#include <stdarg.h>
-#include <stddef.h>
-#include <stdint.h>
-
-#include <cmocka.h>
+#include "test_common.h"
 
 #include <float.h>
-#include <math.h>
-#include <stdio.h>
+#include <stdint.h>
 #include <string.h>
 
+#include "filter_fixtures.h"
+#include "kalman_ref.h"
 #include "rfe/sckf.h"
+#include "test_rng.h"
 
 /* ---- tolerances ------------------------------------------------------------------------
  * Errors are relative: mean error / max(1, |x_ref|_inf), covariance error / max|P_ref|. */
@@ -46,42 +43,6 @@
 #define NM ((size_t)RFE_N_MAX)
 #define MM ((size_t)RFE_M_MAX)
 #define STEPS 6
-
-/* Fails with a readable message when !(value <= tol). Build with -DTOL_MEASURE to print
- * every measured value relative to its tolerance instead (re-deriving the "seen" figures). */
-#if defined(TOL_MEASURE)
-#define ASSERT_LE(value, tol, what)                                                       \
-    do {                                                                                   \
-        const double t_ = (double)(tol);                                                   \
-        fprintf(stderr, "%s|%.3e\n", (what), (double)(value) / ((t_ > 0.0) ? t_ : 1.0));   \
-    } while (0)
-#else
-#define ASSERT_LE(value, tol, what)                                                       \
-    do {                                                                                   \
-        const double v_ = (double)(value);                                                 \
-        const double t_ = (double)(tol);                                                   \
-        if (!(v_ <= t_)) {                                                                 \
-            print_error("%s: %.6e > tolerance %.6e\n", (what), v_, t_);                    \
-            fail();                                                                        \
-        }                                                                                  \
-    } while (0)
-#endif
-
-/* ---- deterministic random numbers ------------------------------------------------------- */
-static uint64_t rng_state = 0x243F6A8885A308D3ull;
-
-static void rng_seed(uint64_t s) { rng_state = (s != 0u) ? s : 0x9E3779B97F4A7C15ull; }
-
-/* Uniform in [-1, 1) (xorshift64*). */
-static double rng_uniform(void)
-{
-    uint64_t x = rng_state;
-    x ^= x >> 12;
-    x ^= x << 25;
-    x ^= x >> 27;
-    rng_state = x;
-    return ((double)((x * 0x2545F4914F6CDD1Dull) >> 11) * (2.0 / 9007199254740992.0)) - 1.0;
-}
 
 /* ---- the linear-Gaussian test problem --------------------------------------------------- */
 
@@ -135,25 +96,6 @@ typedef struct {
     rfe_real_t SR[MM * MM];
 } problem_t;
 
-/* Random lower-triangular k x k (ld k): diagonal in [d0, d0 + dspan], off-diagonal
- * uniform * off. */
-static void rand_lower(rfe_real_t *M, size_t k, double d0, double dspan, double off)
-{
-    size_t i;
-    size_t j;
-    for (i = 0u; i < k; ++i) {
-        for (j = 0u; j < k; ++j) {
-            double v = 0.0;
-            if (j < i) {
-                v = off * rng_uniform();
-            } else if (j == i) {
-                v = d0 + (0.5 * dspan * (rng_uniform() + 1.0));
-            }
-            M[(i * k) + j] = (rfe_real_t)v;
-        }
-    }
-}
-
 static void make_problem(problem_t *p, size_t n, size_t m, uint64_t seed)
 {
     size_t i;
@@ -182,16 +124,7 @@ static void make_problem(problem_t *p, size_t n, size_t m, uint64_t seed)
     rand_lower(p->SR, m, 0.2, 0.2, 0.05);
 }
 
-/* ---- textbook Kalman filter in double (the reference) ----------------------------------- */
-
-typedef struct {
-    size_t n;
-    size_t m;
-    double x[NM];
-    double P[NM][NM];
-    double Q[NM][NM];
-    double R[MM][MM];
-} ref_kf_t;
+/* ---- the reference: textbook Kalman filter in double (kalman_ref.h) --------------------- */
 
 /* M M^T of a k x k lower factor stored with ld k. */
 static void outer_lower(const rfe_real_t *M, size_t k, double out[][NM])
@@ -210,7 +143,7 @@ static void outer_lower(const rfe_real_t *M, size_t k, double out[][NM])
     }
 }
 
-static void ref_init(ref_kf_t *r, const problem_t *p)
+static void ref_init(kf_ref_t *r, const problem_t *p)
 {
     double tmp[NM][NM];
     size_t i;
@@ -231,173 +164,41 @@ static void ref_init(ref_kf_t *r, const problem_t *p)
     }
 }
 
-/* x- = F x,  P- = F P F^T + Q  (F NULL: identity). */
-static void ref_predict(ref_kf_t *r, const lin_model_t *mdl)
+/* x- = F x,  P- = F P F^T + Q  (mdl NULL: F = identity). */
+static void ref_predict(kf_ref_t *r, const lin_model_t *mdl)
 {
-    const size_t n = r->n;
     double F[NM][NM];
-    double FP[NM][NM];
-    double xn[NM];
     size_t i;
     size_t j;
-    size_t k;
-    for (i = 0u; i < n; ++i) {
-        for (j = 0u; j < n; ++j) {
-            F[i][j] = (mdl != NULL) ? (double)mdl->F[(i * NM) + j] : ((i == j) ? 1.0 : 0.0);
+    if (mdl == NULL) {
+        kf_ref_predict(r, NULL);
+        return;
+    }
+    for (i = 0u; i < r->n; ++i) {
+        for (j = 0u; j < r->n; ++j) {
+            F[i][j] = (double)mdl->F[(i * NM) + j];
         }
     }
-    for (i = 0u; i < n; ++i) {
-        xn[i] = 0.0;
-        for (k = 0u; k < n; ++k) {
-            xn[i] += F[i][k] * r->x[k];
-        }
-        for (j = 0u; j < n; ++j) {
-            FP[i][j] = 0.0;
-            for (k = 0u; k < n; ++k) {
-                FP[i][j] += F[i][k] * r->P[k][j];
-            }
-        }
-    }
-    for (i = 0u; i < n; ++i) {
-        r->x[i] = xn[i];
-        for (j = 0u; j < n; ++j) {
-            double acc = r->Q[i][j];
-            for (k = 0u; k < n; ++k) {
-                acc += FP[i][k] * F[j][k];
-            }
-            r->P[i][j] = acc;
-        }
-    }
+    kf_ref_predict(r, F);
 }
 
-/* In-place Cholesky of a small SPD matrix (double); returns 0 on success. */
-static int ref_chol(double A[][MM], size_t k)
+/* Kalman update with the model's H (see kf_ref_update). */
+static void ref_update(kf_ref_t *r, const lin_model_t *mdl, const rfe_real_t *y)
 {
-    size_t i;
-    size_t j;
-    size_t c;
-    for (j = 0u; j < k; ++j) {
-        double d = A[j][j];
-        for (c = 0u; c < j; ++c) {
-            d -= A[j][c] * A[j][c];
-        }
-        if (!(d > 0.0)) {
-            return -1;
-        }
-        A[j][j] = sqrt(d);
-        for (i = j + 1u; i < k; ++i) {
-            double s = A[i][j];
-            for (c = 0u; c < j; ++c) {
-                s -= A[i][c] * A[j][c];
-            }
-            A[i][j] = s / A[j][j];
-        }
-    }
-    return 0;
-}
-
-/* Sz = H P- H^T + R,  K = P- H^T Sz^-1 (Cholesky solve),  x = x- + K (y - H x-),
- * P = (I - K H) P- (I - K H)^T + K R K^T  (Joseph form). */
-static void ref_update(ref_kf_t *r, const lin_model_t *mdl, const rfe_real_t *y)
-{
-    const size_t n = r->n;
-    const size_t m = r->m;
     double H[MM][NM];
-    double PHt[NM][MM];
-    double Sz[MM][MM];
-    double K[NM][MM];
-    double A[NM][NM];
-    double AP[NM][NM];
-    double Pn[NM][NM];
-    double innov[MM];
     size_t i;
     size_t j;
-    size_t k;
-    for (i = 0u; i < m; ++i) {
-        for (j = 0u; j < n; ++j) {
+    for (i = 0u; i < r->m; ++i) {
+        for (j = 0u; j < r->n; ++j) {
             H[i][j] = (double)mdl->H[(i * NM) + j];
         }
     }
-    for (i = 0u; i < n; ++i) {
-        for (j = 0u; j < m; ++j) {
-            PHt[i][j] = 0.0;
-            for (k = 0u; k < n; ++k) {
-                PHt[i][j] += r->P[i][k] * H[j][k];
-            }
-        }
-    }
-    for (i = 0u; i < m; ++i) {
-        double hx = 0.0;
-        for (k = 0u; k < n; ++k) {
-            hx += H[i][k] * r->x[k];
-        }
-        innov[i] = (double)y[i] - hx;
-        for (j = 0u; j < m; ++j) {
-            Sz[i][j] = r->R[i][j];
-            for (k = 0u; k < n; ++k) {
-                Sz[i][j] += H[i][k] * PHt[k][j];
-            }
-        }
-    }
-    assert_int_equal(ref_chol(Sz, m), 0);
-    /* K^T = Sz^-1 (P H^T)^T: forward then back substitution, one row of K at a time. */
-    for (i = 0u; i < n; ++i) {
-        double v[MM];
-        for (j = 0u; j < m; ++j) {
-            double s = PHt[i][j];
-            for (k = 0u; k < j; ++k) {
-                s -= Sz[j][k] * v[k];
-            }
-            v[j] = s / Sz[j][j];
-        }
-        for (j = m; j-- > 0u;) {
-            double s = v[j];
-            for (k = j + 1u; k < m; ++k) {
-                s -= Sz[k][j] * K[i][k];
-            }
-            K[i][j] = s / Sz[j][j];
-        }
-    }
-    for (i = 0u; i < n; ++i) {
-        for (k = 0u; k < m; ++k) {
-            r->x[i] += K[i][k] * innov[k];
-        }
-        for (j = 0u; j < n; ++j) {
-            A[i][j] = (i == j) ? 1.0 : 0.0;
-            for (k = 0u; k < m; ++k) {
-                A[i][j] -= K[i][k] * H[k][j];
-            }
-        }
-    }
-    for (i = 0u; i < n; ++i) {
-        for (j = 0u; j < n; ++j) {
-            AP[i][j] = 0.0;
-            for (k = 0u; k < n; ++k) {
-                AP[i][j] += A[i][k] * r->P[k][j];
-            }
-        }
-    }
-    for (i = 0u; i < n; ++i) {
-        for (j = 0u; j < n; ++j) {
-            size_t s;
-            double acc = 0.0;
-            for (k = 0u; k < n; ++k) {
-                acc += AP[i][k] * A[j][k];
-            }
-            for (k = 0u; k < m; ++k) {
-                for (s = 0u; s < m; ++s) {
-                    acc += K[i][k] * r->R[k][s] * K[j][s];
-                }
-            }
-            Pn[i][j] = acc;
-        }
-    }
-    memcpy(r->P, Pn, sizeof Pn);
+    kf_ref_update(r, H, y);
 }
 
 /* ---- comparisons and invariants --------------------------------------------------------- */
 
-static void assert_matches_ref(const rfe_sckf_t *f, const ref_kf_t *r, const char *when)
+static void assert_matches_ref(const rfe_sckf_t *f, const kf_ref_t *r, const char *when)
 {
     const size_t n = r->n;
     double xs = 1.0;
@@ -459,7 +260,7 @@ static void run_linear(size_t n, size_t m, int random_walk, uint64_t seed)
 {
     static problem_t p;
     static rfe_sckf_t f;
-    static ref_kf_t r;
+    static kf_ref_t r;
     rfe_real_t y[MM];
     int step;
     size_t i;
@@ -533,30 +334,6 @@ static void test_rfe_sckf_linear_matches_kalman_small_n(void **state)
 enum { MOCK_OK = 0, MOCK_FAIL = 1, MOCK_NAN = 2 };
 #define MOCK_ERR_STATUS RFE_ERR_PARAM /* a status the filter never produces itself here */
 
-typedef struct {
-    size_t n;
-    double v[NM];     /* expected point */
-    double scale[NM]; /* |x_i| + sqrt(n) |S_ij|: size of the terms that were rounded */
-} exp_point_t;
-
-static exp_point_t expected_pts[2u * NM];
-
-/* cmocka parameter check: the point the filter passed equals the expected cubature point. */
-static int check_point(const LargestIntegralType value, const LargestIntegralType check_data)
-{
-    const rfe_real_t *x = (const rfe_real_t *)(uintptr_t)value;
-    const exp_point_t *e = (const exp_point_t *)(uintptr_t)check_data;
-    size_t i;
-    for (i = 0u; i < e->n; ++i) {
-        if (!(fabs((double)x[i] - e->v[i]) <= (TOL_POINT * e->scale[i]))) {
-            print_error("cubature point %ld, element %zu: got %.17g, expected %.17g\n",
-                        (long)(e - expected_pts), i, (double)x[i], e->v[i]);
-            return 0;
-        }
-    }
-    return 1;
-}
-
 static rfe_status_t mock_measure(void *ctx, const rfe_real_t *x, rfe_real_t *z, size_t n, size_t m)
 {
     int mode;
@@ -588,32 +365,13 @@ static rfe_status_t mock_process(void *ctx, const rfe_real_t *x, rfe_real_t *x_n
     return (mode == MOCK_FAIL) ? MOCK_ERR_STATUS : RFE_OK;
 }
 
-/* Expected points X_j = x + sqrt(n) S e_j (j = 1..n), then X_{n+j} = x - sqrt(n) S e_j. */
-static void fill_expected_points(const rfe_sckf_t *f)
-{
-    const size_t n = f->n;
-    const double r = sqrt((double)n);
-    size_t k;
-    size_t i;
-    for (k = 0u; k < (2u * n); ++k) {
-        const size_t j = k % n;
-        const double sgn = (k < n) ? 1.0 : -1.0;
-        expected_pts[k].n = n;
-        for (i = 0u; i < n; ++i) {
-            const double d = r * (double)f->S[(i * NM) + j];
-            expected_pts[k].v[i] = (double)f->x[i] + (sgn * d);
-            expected_pts[k].scale[i] = fabs((double)f->x[i]) + fabs(d) + DBL_MIN;
-        }
-    }
-}
-
 /* Queues the expectations of one update: exactly 2n calls, in order, the last one
  * behaving as last_mode. */
 static void expect_measure_calls(const rfe_sckf_t *f, void *ctx, int last_mode)
 {
     const size_t n = f->n;
     size_t k;
-    fill_expected_points(f);
+    fill_expected_points(f->x, f->S, f->n, TOL_POINT);
     expect_function_calls(mock_measure, (int)(2u * n));
     for (k = 0u; k < (2u * n); ++k) {
         expect_value(mock_measure, ctx, (uintptr_t)ctx);
@@ -628,7 +386,7 @@ static void expect_process_calls(const rfe_sckf_t *f, void *ctx, int last_mode)
 {
     const size_t n = f->n;
     size_t k;
-    fill_expected_points(f);
+    fill_expected_points(f->x, f->S, f->n, TOL_POINT);
     expect_function_calls(mock_process, (int)(2u * n));
     for (k = 0u; k < (2u * n); ++k) {
         expect_value(mock_process, ctx, (uintptr_t)ctx);
@@ -642,7 +400,7 @@ static void test_rfe_sckf_update_evaluates_cubature_points(void **state)
 {
     static problem_t p;
     static rfe_sckf_t f;
-    static ref_kf_t r;
+    static kf_ref_t r;
     rfe_real_t y[MM];
     size_t n;
     size_t i;
@@ -669,7 +427,7 @@ static void test_rfe_sckf_predict_evaluates_cubature_points(void **state)
 {
     static problem_t p;
     static rfe_sckf_t f;
-    static ref_kf_t r;
+    static kf_ref_t r;
     size_t n;
     (void)state;
     for (n = 2u; n <= NM; n += 3u) { /* n = 2, 5, 8 */
@@ -786,37 +544,9 @@ static void test_rfe_sckf_update_singular_innovation_untouched(void **state)
     assert_memory_equal(before, &f, STATE_BYTES);
 }
 
-/* Finite but huge model outputs (0.9 of the largest rfe_real_t at every point): their mean
- * overflows, so Tria sees Inf. The step must fail and leave the state alone. */
-#if defined(RFE_REAL_DOUBLE)
-#define REAL_BIG ((rfe_real_t)DBL_MAX)
-#else
-#define REAL_BIG ((rfe_real_t)FLT_MAX)
-#endif
-
-static rfe_status_t huge_process(void *ctx, const rfe_real_t *x, rfe_real_t *x_next, size_t n)
-{
-    size_t i;
-    (void)ctx;
-    (void)x;
-    for (i = 0u; i < n; ++i) {
-        x_next[i] = (rfe_real_t)0.9 * REAL_BIG;
-    }
-    return RFE_OK;
-}
-
-static rfe_status_t huge_measure(void *ctx, const rfe_real_t *x, rfe_real_t *z, size_t n, size_t m)
-{
-    size_t i;
-    (void)ctx;
-    (void)x;
-    (void)n;
-    for (i = 0u; i < m; ++i) {
-        z[i] = (rfe_real_t)0.9 * REAL_BIG;
-    }
-    return RFE_OK;
-}
-
+/* Finite but huge model outputs (huge_process, huge_measure: filter_fixtures.h, 0.9 of the
+ * largest rfe_real_t at every point): their mean overflows, so Tria sees Inf. The step must
+ * fail and leave the state alone. */
 static void test_rfe_sckf_predict_overflow_untouched(void **state)
 {
     static problem_t p;

@@ -30,4 +30,26 @@
         }                                                                                      \
     } while (0)
 
+/* Fails with a readable message when !(value <= tol). Build with -DTOL_MEASURE to print
+ * every measured value relative to its tolerance instead (to re-derive the "seen" figures
+ * quoted next to the tolerances: pipe through `sort -t'|' -k1,1 -k2,2g` and take the
+ * maximum per label). */
+#if defined(TOL_MEASURE)
+#define ASSERT_LE(value, tol, what)                                                       \
+    do {                                                                                   \
+        const double t_ = (double)(tol);                                                   \
+        fprintf(stderr, "%s|%.3e\n", (what), (double)(value) / ((t_ > 0.0) ? t_ : 1.0));   \
+    } while (0)
+#else
+#define ASSERT_LE(value, tol, what)                                                       \
+    do {                                                                                   \
+        const double v_ = (double)(value);                                                 \
+        const double t_ = (double)(tol);                                                   \
+        if (!(v_ <= t_)) {                                                                 \
+            print_error("%s: %.6e > tolerance %.6e\n", (what), v_, t_);                    \
+            fail();                                                                        \
+        }                                                                                  \
+    } while (0)
+#endif
+
 #endif /* RFE_TEST_COMMON_H */
