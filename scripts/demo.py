@@ -39,7 +39,7 @@ def run_replay(replay: Path, log: Path, out_dir: Path, filt: str, real: str) -> 
     stem = log.name[: -len(".csv")]
     est = out_dir / f"{stem}.paper.{filt}.{real}.csv"
     met = out_dir / f"{stem}.paper.{filt}.{real}.json"
-    cmd = [str(replay), "--in", str(log), "--out", str(est), "--filter", filt,
+    cmd = [str(replay), "--in", str(log), "--out", str(est), "--preset", "paper", "--filter", filt,
            "--tyre", "paper", "--real", real, "--metrics", str(met), "--quiet"]
     res = subprocess.run(cmd, capture_output=True, text=True)
     if res.returncode != 0:

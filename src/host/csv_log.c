@@ -12,8 +12,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-/** Column roles: required input, or optional truth (all four or none). */
-typedef enum { COL_INPUT = 0, COL_TRUTH = 1 } col_kind_t;
+/** Column roles: required input, or one of the optional truth groups (each all four or
+ *  none): true friction, true friction utilisation. */
+typedef enum { COL_INPUT = 0, COL_MU = 1, COL_UTIL = 2, COL_KINDS = 3 } col_kind_t;
 
 /** A sensor-log column: its DATA.md name and where its value goes in a row. */
 typedef struct {
@@ -37,10 +38,14 @@ static const col_spec_t k_cols[] = {
     {"omega_fr", ROW_OFF(omega[RFE_FR]), COL_INPUT},
     {"omega_rl", ROW_OFF(omega[RFE_RL]), COL_INPUT},
     {"omega_rr", ROW_OFF(omega[RFE_RR]), COL_INPUT},
-    {"mu_fl", ROW_OFF(mu_true[RFE_FL]), COL_TRUTH},
-    {"mu_fr", ROW_OFF(mu_true[RFE_FR]), COL_TRUTH},
-    {"mu_rl", ROW_OFF(mu_true[RFE_RL]), COL_TRUTH},
-    {"mu_rr", ROW_OFF(mu_true[RFE_RR]), COL_TRUTH},
+    {"mu_fl", ROW_OFF(mu_true[RFE_FL]), COL_MU},
+    {"mu_fr", ROW_OFF(mu_true[RFE_FR]), COL_MU},
+    {"mu_rl", ROW_OFF(mu_true[RFE_RL]), COL_MU},
+    {"mu_rr", ROW_OFF(mu_true[RFE_RR]), COL_MU},
+    {"util_fl", ROW_OFF(util_true[RFE_FL]), COL_UTIL},
+    {"util_fr", ROW_OFF(util_true[RFE_FR]), COL_UTIL},
+    {"util_rl", ROW_OFF(util_true[RFE_RL]), COL_UTIL},
+    {"util_rr", ROW_OFF(util_true[RFE_RR]), COL_UTIL},
 };
 #define N_COLS (sizeof k_cols / sizeof k_cols[0])
 
@@ -288,12 +293,14 @@ static int map_header_fields(reader_t *r, size_t n)
     return 0;
 }
 
-/* Every input column present; truth columns all or none. */
+/* Every input column present; each truth group all or none. */
 static int check_columns(reader_t *r, rfe_sensor_log_t *log)
 {
+    static const char *const group_list[COL_KINDS] = {
+        "", "mu_fl, mu_fr, mu_rl, mu_rr", "util_fl, util_fr, util_rl, util_rr"};
     size_t present[N_COLS] = {0u};
-    size_t n_truth = 0u;
-    const char *missing_truth = NULL;
+    size_t n_present[COL_KINDS] = {0u};
+    const char *missing[COL_KINDS] = {NULL, NULL, NULL};
     size_t j;
     size_t k;
     for (j = 0u; j < r->n_fields; ++j) {
@@ -302,24 +309,26 @@ static int check_columns(reader_t *r, rfe_sensor_log_t *log)
         }
     }
     for (k = 0u; k < N_COLS; ++k) {
-        if ((k_cols[k].kind == COL_INPUT) && (present[k] == 0u)) {
+        const col_kind_t g = k_cols[k].kind;
+        if ((g == COL_INPUT) && (present[k] == 0u)) {
             rfe_io_error_set(r->err, r->name, r->line, 0u, "missing column '%s'", k_cols[k].name);
             return -1;
         }
-        if (k_cols[k].kind == COL_TRUTH) {
-            n_truth += present[k];
-            if ((present[k] == 0u) && (missing_truth == NULL)) {
-                missing_truth = k_cols[k].name;
-            }
+        n_present[g] += present[k];
+        if ((present[k] == 0u) && (missing[g] == NULL)) {
+            missing[g] = k_cols[k].name;
         }
     }
-    if ((n_truth != 0u) && (missing_truth != NULL)) {
-        rfe_io_error_set(r->err, r->name, r->line, 0u,
-                         "truth column '%s' missing (give all of mu_fl, mu_fr, mu_rl, mu_rr or none)",
-                         missing_truth);
-        return -1;
+    for (k = (size_t)COL_MU; k < (size_t)COL_KINDS; ++k) {
+        if ((n_present[k] != 0u) && (missing[k] != NULL)) {
+            rfe_io_error_set(r->err, r->name, r->line, 0u,
+                             "truth column '%s' missing (give all of %s or none)", missing[k],
+                             group_list[k]);
+            return -1;
+        }
     }
-    log->has_truth = (n_truth != 0u) ? 1 : 0;
+    log->has_truth = (n_present[COL_MU] != 0u) ? 1 : 0;
+    log->has_util = (n_present[COL_UTIL] != 0u) ? 1 : 0;
     return 0;
 }
 

@@ -28,6 +28,8 @@ typedef struct {
     double t, delta, vx, vy, yaw_rate, yaw_acc, ax, ay;
     double omega[RFE_WHEELS];    /**< omega_fl .. omega_rr */
     double mu_true[RFE_WHEELS];  /**< mu_fl .. mu_rr; only meaningful when has_truth */
+    double util_true[RFE_WHEELS]; /**< util_fl .. util_rr (true friction utilisation
+                                       sqrt(Fx^2 + Fy^2) / (mu Fz)); only when has_util */
 } rfe_sensor_row_t;
 
 /** A whole sensor log in memory. Zero-initialise, read, then rfe_sensor_log_free. */
@@ -37,11 +39,13 @@ typedef struct {
     rfe_sensor_row_t *rows;
     size_t n_rows;
     int has_truth;  /**< 1 when all four mu_* truth columns are present */
+    int has_util;   /**< 1 when all four util_* truth columns are present */
 } rfe_sensor_log_t;
 
 /**
  * Reads @p path into @p log. Rejected: no header, a missing required column, only some of
- * the four truth columns, duplicate column names, a wrong field count, a field that is not
+ * the four columns of a truth group (mu_fl..mu_rr, util_fl..util_rr: each all or none),
+ * duplicate column names, a wrong field count, a field that is not
  * a finite decimal number, time not strictly increasing, no data rows.
  * @return 0, or -1 with @p err filled (log then empty; err->file points to @p path).
  */

@@ -5,7 +5,8 @@
  *
  * Exit status: 0 success, 1 malformed input or failed run (one line
  * `mu_replay: FILE:LINE:COL: message` on stderr), 2 bad usage.
- * Parameter precedence: defaults < log metadata < --params file < --filter/--tyre flags.
+ * Parameter precedence: --preset (the library's default or paper set) < log metadata <
+ * --params file < --filter/--tyre flags.
  */
 #include <errno.h>
 #include <stdio.h>
@@ -25,17 +26,19 @@
 enum { EXIT_OK = 0, EXIT_INPUT = 1, EXIT_USAGE = 2 };
 
 static const char k_usage[] =
-    "usage: " PROG " --in SENSOR.csv --out ESTIMATE.csv [--params FILE]\n"
-    "                 [--filter sckf|ckf] [--tyre paper|absolute] [--real float|double]\n"
-    "                 [--metrics FILE.json] [--quiet] [--help]\n"
+    "usage: " PROG " --in SENSOR.csv --out ESTIMATE.csv [--preset default|paper]\n"
+    "                 [--params FILE] [--filter sckf|ckf] [--tyre paper|absolute]\n"
+    "                 [--real float|double] [--metrics FILE.json] [--quiet] [--help]\n"
     "\n"
     "Runs the road-friction estimator over a sensor log (docs DATA.md) and writes the\n"
-    "estimate log. Parameters: defaults < the log's '# key = value' metadata < --params\n"
-    "file < --filter/--tyre. When the log has truth columns mu_fl..mu_rr, prints an\n"
-    "accuracy table (and writes it as JSON with --metrics).\n"
+    "estimate log. Parameters: the --preset set < the log's '# key = value' metadata <\n"
+    "--params file < --filter/--tyre. When the log has truth columns mu_fl..mu_rr, prints\n"
+    "an accuracy table (and writes it as JSON with --metrics); with util_fl..util_rr too,\n"
+    "the valid share where the tyres are excited.\n"
     "\n"
     "  --in FILE        sensor log to read\n"
     "  --out FILE       estimate log to write\n"
+    "  --preset NAME    base parameter set of the library: default (default) or paper\n"
     "  --params FILE    parameter file ('key = value' lines; unknown keys are errors)\n"
     "  --filter KIND    sckf (default) or ckf\n"
     "  --tyre MODE      paper (default) or absolute\n"
@@ -50,6 +53,8 @@ static const char k_usage[] =
 typedef struct {
     const char *in;
     const char *out;
+    const char *preset;
+    rfe_preset_t preset_id;  /**< --preset parsed (RFE_PRESET_DEFAULT when not given) */
     const char *params;
     const char *metrics;
     const char *filter;
@@ -76,7 +81,7 @@ typedef rfe_status_t (*replay_fn_t)(const rfe_param_set_t *, const rfe_sensor_lo
 static int usage_error(const char *fmt, const char *arg);
 static const char **option_slot(options_t *o, const char *name);
 static int parse_args(int argc, char **argv, options_t *o);
-static int check_option_words(const options_t *o);
+static int check_option_words(options_t *o);
 static int same_file(const char *a, const char *b);
 static int load_params(const options_t *o, run_t *r);
 static int run_estimator(const options_t *o, run_t *r);
@@ -141,8 +146,9 @@ static int usage_error(const char *fmt, const char *arg)
 /* Where the value of a value-taking option goes, or NULL for an unknown name. */
 static const char **option_slot(options_t *o, const char *name)
 {
-    static const char *const names[] = {"in", "out", "params", "metrics", "filter", "tyre", "real"};
-    const char **slots[7];
+    static const char *const names[] = {"in",     "out",  "params", "metrics",
+                                        "filter", "tyre", "real",   "preset"};
+    const char **slots[sizeof names / sizeof names[0]];
     size_t i;
     slots[0] = &o->in;
     slots[1] = &o->out;
@@ -151,6 +157,7 @@ static const char **option_slot(options_t *o, const char *name)
     slots[4] = &o->filter;
     slots[5] = &o->tyre;
     slots[6] = &o->real;
+    slots[7] = &o->preset;
     for (i = 0u; i < sizeof names / sizeof names[0]; ++i) {
         if (strcmp(names[i], name) == 0) {
             return slots[i];
@@ -201,13 +208,18 @@ static int parse_args(int argc, char **argv, options_t *o)
     return o->help ? 0 : check_option_words(o);
 }
 
-/* Required options present, word values known, output not clobbering an input. */
-static int check_option_words(const options_t *o)
+/* Required options present, word values known (the preset kept parsed), output not
+ * clobbering an input. */
+static int check_option_words(options_t *o)
 {
     rfe_filter_kind_t fk;
     rfe_tyre_mode_t tm;
     if ((o->in == NULL) || (o->out == NULL)) {
         return usage_error("%s", "--in and --out are required");
+    }
+    o->preset_id = RFE_PRESET_DEFAULT;
+    if ((o->preset != NULL) && (rfe_preset_parse(o->preset, &o->preset_id) != 0)) {
+        return usage_error("--preset must be default or paper, not '%s'", o->preset);
     }
     if ((o->filter != NULL) && (rfe_filter_kind_parse(o->filter, &fk) != 0)) {
         return usage_error("--filter must be sckf or ckf, not '%s'", o->filter);
@@ -247,14 +259,15 @@ static int fail(const rfe_io_error_t *err)
     return -1;
 }
 
-/* Reads the log, then parameters: defaults < metadata < --params < flags. */
+/* Reads the log, then parameters: preset < metadata < --params < flags. The preset values
+ * come from the double library (exact decimals; a float run rounds them as any value). */
 static int load_params(const options_t *o, run_t *r)
 {
     rfe_io_error_t err;
     if (rfe_sensor_log_read(o->in, &r->log, &err) != 0) {
         return fail(&err);
     }
-    rfe_param_set_default(&r->ps);
+    (void)rfe_param_set_preset_f64(&r->ps, o->preset_id); /* cannot fail: parsed preset */
     if (rfe_param_set_apply_meta(&r->ps, &r->log, o->in, &err) != 0) {
         return fail(&err);
     }
@@ -290,7 +303,7 @@ static int run_estimator(const options_t *o, run_t *r)
     if (bad != RFE_PK_NONE) {
         const rfe_param_origin_t *src = &r->ps.origin[bad];
         rfe_param_format(&r->ps, bad, val);
-        rfe_io_error_set(&err, (src->file != NULL) ? src->file : "defaults", src->line, 0u,
+        rfe_io_error_set(&err, (src->file != NULL) ? src->file : "preset", src->line, 0u,
                          "invalid parameter %s = %s (rejected by rfe_params_validate, %s run)",
                          rfe_param_info(bad)->key, val, r->is_double ? "double" : "float");
     } else {
@@ -308,16 +321,19 @@ static const char *base_name(const char *path)
     return (slash != NULL) ? slash + 1 : path;
 }
 
-/* Metadata: generator, filter, tyre, real, input, [param_file], then every numeric key. */
+/* Metadata: generator, preset, filter, tyre, real, input, [param_file], then every numeric
+ * key. */
 static int write_estimates(const options_t *o, const run_t *r)
 {
-    rfe_kv_t meta[6u + RFE_PK_NUMERIC];
+    rfe_kv_t meta[7u + RFE_PK_NUMERIC];
     char vals[RFE_PK_NUMERIC][RFE_NUM_BUF];
     size_t n = 0u;
     size_t k;
     rfe_io_error_t err;
     meta[n].key = "generator";
     meta[n++].value = PROG;
+    meta[n].key = "preset";
+    meta[n++].value = rfe_preset_str(r->ps.preset);
     meta[n].key = "filter";
     meta[n++].value = rfe_filter_kind_str(r->ps.filter);
     meta[n].key = "tyre";
@@ -346,29 +362,48 @@ static int write_estimates(const options_t *o, const run_t *r)
 static void compute_metrics(run_t *r)
 {
     const size_t n = r->log.n_rows;
-    double *buf = rfe_xrealloc(NULL, n, (1u + 2u * RFE_WHEELS) * sizeof *buf);
-    const double *truth[RFE_WHEELS];
-    const double *est[RFE_WHEELS];
+    /* Columns: t, then per wheel truth, est, sd [, util]. */
+    const size_t n_cols = 1u + (r->log.has_util ? 4u : 3u) * RFE_WHEELS;
+    double *buf = rfe_xrealloc(NULL, n, n_cols * sizeof *buf);
+    unsigned char *valid = rfe_xrealloc(NULL, n, RFE_WHEELS * sizeof *valid);
+    rfe_metrics_input_t in;
     rfe_metrics_config_t cfg = rfe_metrics_config_default();
     size_t i;
     size_t w;
+    memset(&in, 0, sizeof in);
+    in.t = buf;
+    in.n = n;
+    for (w = 0u; w < RFE_WHEELS; ++w) {
+        double *truth = &buf[(1u + w) * n];
+        double *est = &buf[(1u + RFE_WHEELS + w) * n];
+        double *sd = &buf[(1u + 2u * RFE_WHEELS + w) * n];
+        double *util = r->log.has_util ? &buf[(1u + 3u * RFE_WHEELS + w) * n] : NULL;
+        for (i = 0u; i < n; ++i) {
+            truth[i] = r->log.rows[i].mu_true[w];
+            est[i] = r->rows[i].mu[w];
+            sd[i] = r->rows[i].sd[w];
+            valid[w * n + i] = r->rows[i].valid[w];
+            if (util != NULL) {
+                util[i] = r->log.rows[i].util_true[w];
+            }
+        }
+        in.truth[w] = truth;
+        in.est[w] = est;
+        in.sd[w] = sd;
+        in.valid[w] = &valid[w * n];
+        in.util[w] = util;
+    }
     for (i = 0u; i < n; ++i) {
         buf[i] = r->rows[i].t;
-        for (w = 0u; w < RFE_WHEELS; ++w) {
-            buf[(1u + w) * n + i] = r->log.rows[i].mu_true[w];
-            buf[(1u + RFE_WHEELS + w) * n + i] = r->rows[i].mu[w];
-        }
-    }
-    for (w = 0u; w < RFE_WHEELS; ++w) {
-        truth[w] = &buf[(1u + w) * n];
-        est[w] = &buf[(1u + RFE_WHEELS + w) * n];
     }
     /* Fails only for n == 0, which the reader rules out. */
-    r->has_metrics = (rfe_metrics_compute(buf, truth, est, n, &cfg, &r->metrics) == 0);
+    r->has_metrics = (rfe_metrics_compute(&in, &cfg, &r->metrics) == 0);
+    free(valid);
     free(buf);
 }
 
-/* {"generator", "input", "filter", "tyre", "real", "steps", "status_counts", "metrics"} */
+/* {"generator", "input", "preset", "filter", "tyre", "real", "steps", "status_counts",
+ *  "metrics"} */
 static int write_metrics_json(const options_t *o, const run_t *r)
 {
     rfe_io_error_t err;
@@ -382,8 +417,9 @@ static int write_metrics_json(const options_t *o, const run_t *r)
     }
     fputs("{\n  \"generator\": \"" PROG "\",\n  \"input\": ", f);
     rfe_json_write_string(f, base_name(o->in));
-    fprintf(f, ",\n  \"filter\": \"%s\",\n  \"tyre\": \"%s\",\n  \"real\": \"%s\",\n",
-            rfe_filter_kind_str(r->ps.filter), rfe_tyre_mode_str(r->ps.tyre),
+    fprintf(f, ",\n  \"preset\": \"%s\",\n  \"filter\": \"%s\",\n  \"tyre\": \"%s\",\n"
+               "  \"real\": \"%s\",\n",
+            rfe_preset_str(r->ps.preset), rfe_filter_kind_str(r->ps.filter), rfe_tyre_mode_str(r->ps.tyre),
             r->is_double ? "double" : "float");
     fprintf(f, "  \"steps\": %zu,\n  \"status_counts\": {", r->stats.n_steps);
     for (s = 0u; s < RFE_REPLAY_STATUS_SLOTS; ++s) {

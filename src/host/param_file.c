@@ -1,6 +1,7 @@
 /**
  * @file param_file.c
- * @brief Parameter set as doubles: defaults, parameter files, sensor-log metadata.
+ * @brief Parameter set as doubles: key table, parameter files, sensor-log metadata (the
+ *        preset values come from the library, see replay_real.c).
  *
  * Everything is driven by the RFE_PARAM_KEYS table in param_file.h, plus the two word keys
  * (tyre, filter) appended here.
@@ -16,32 +17,22 @@
 #define QUOTE_MAX 40u
 
 static const rfe_param_info_t k_info[RFE_PK_COUNT] = {
-#define RFE_PK_INFO_(key, member, def, unit, doc) {#key, def, unit, doc},
+#define RFE_PK_INFO_(key, member, unit, doc) {#key, unit, doc},
     RFE_PARAM_KEYS(RFE_PK_INFO_)
 #undef RFE_PK_INFO_
-    {"tyre", 0.0, "-", "tyre model: paper (normalised Dugoff) or absolute (load-scaled)"},
-    {"filter", 0.0, "-", "filter: sckf (square-root cubature) or ckf (full covariance)"},
+    {"tyre", "-", "tyre model: paper (normalised Dugoff) or absolute (load-scaled)"},
+    {"filter", "-", "filter: sckf (square-root cubature) or ckf (full covariance)"},
 };
 
 static const char *const k_tyre_words[] = {"paper", "absolute"};     /* rfe_tyre_mode_t order */
 static const char *const k_filter_words[] = {"sckf", "ckf"};         /* rfe_filter_kind_t order */
+static const char *const k_preset_words[] = {"default", "paper"};    /* rfe_preset_t order */
 
 static int word_index(const char *s, const char *const *words, size_t n);
 static int apply_line(rfe_param_set_t *ps, char *line, const char *name, size_t line_no,
                       size_t first_seen[RFE_PK_COUNT], rfe_io_error_t *err);
 static int report_unknown_key(const char *key, const char *name, size_t line_no, size_t col,
                               rfe_io_error_t *err);
-
-void rfe_param_set_default(rfe_param_set_t *ps)
-{
-    size_t k;
-    memset(ps, 0, sizeof *ps);
-    for (k = 0u; k < RFE_PK_NUMERIC; ++k) {
-        ps->value[k] = k_info[k].def;
-    }
-    ps->tyre = RFE_TYRE_PAPER;
-    ps->filter = RFE_FILTER_SCKF;
-}
 
 const rfe_param_info_t *rfe_param_info(size_t k)
 {
@@ -279,5 +270,20 @@ int rfe_filter_kind_parse(const char *s, rfe_filter_kind_t *out)
         return -1;
     }
     *out = (i == 0) ? RFE_FILTER_SCKF : RFE_FILTER_CKF;
+    return 0;
+}
+
+const char *rfe_preset_str(rfe_preset_t p)
+{
+    return ((unsigned)p < 2u) ? k_preset_words[p] : "?";
+}
+
+int rfe_preset_parse(const char *s, rfe_preset_t *out)
+{
+    int i = word_index(s, k_preset_words, 2u);
+    if (i < 0) {
+        return -1;
+    }
+    *out = (i == 0) ? RFE_PRESET_DEFAULT : RFE_PRESET_PAPER;
     return 0;
 }

@@ -1,9 +1,12 @@
 /**
  * @file param_file.h
  * @brief Precision-independent parameter set (DATA.md keys, as doubles) with its sources:
- *        defaults < a sensor log's `# key = value` metadata < an explicit parameter file.
+ *        a preset of the library < a sensor log's `# key = value` metadata < an explicit
+ *        parameter file.
  *
- * Host only. The replay code converts the set to rfe_params_t of either precision.
+ * Host only. The replay code (replay_real.h) fills a set from a library preset
+ * (rfe_param_set_preset_f64, rfe_param_set_default) and converts it to rfe_params_t of
+ * either precision.
  */
 #ifndef RFE_HOST_PARAM_FILE_H
 #define RFE_HOST_PARAM_FILE_H
@@ -15,41 +18,42 @@
 #include "text_io.h"
 
 /**
- * THE key table: X(key, rfe_params_t member, default, unit, doc), one line per numeric
- * DATA.md key, in the order they are written to estimate-log metadata. Defaults are those of
- * include/rfe/params.h (test_replay checks them against rfe_params_default). Adding a
- * numeric key to the library is one line here.
+ * THE key table: X(key, rfe_params_t member, unit, doc), one line per numeric DATA.md key,
+ * in the order they are written to estimate-log metadata. It holds no values: every key
+ * starts from a preset of the library (rfe_params_default / rfe_params_paper, copied by
+ * rfe_param_set_preset_f64 in replay_real.h), so the library is the one source of preset
+ * values. Adding a numeric key to the library is one line here.
  */
 #define RFE_PARAM_KEYS(X)                                                                      \
-    X(m, vehicle.m, 1830.0, "kg", "vehicle mass")                                              \
-    X(Lf, vehicle.Lf, 1.40, "m", "CoG to front axle")                                          \
-    X(Lr, vehicle.Lr, 1.65, "m", "CoG to rear axle")                                           \
-    X(Bf, vehicle.Bf, 1.60, "m", "front track")                                                \
-    X(Br, vehicle.Br, 1.60, "m", "rear track")                                                 \
-    X(R, vehicle.R, 0.325, "m", "effective rolling radius")                                    \
-    X(J, vehicle.J, 3234.0, "kg m^2", "yaw moment of inertia")                                 \
-    X(hg, vehicle.hg, 0.54, "m", "CoG height")                                                 \
-    X(g, vehicle.g, 9.81, "m/s^2", "gravity")                                                  \
-    X(Cx_n, tyre.Cx_n, 20.0, "1", "normalised longitudinal stiffness (paper mode)")            \
-    X(Cy_n, tyre.Cy_n, 15.0, "1/rad", "normalised cornering stiffness (paper mode)")           \
-    X(cx, tyre.cx, 20.0, "1", "longitudinal stiffness per unit Fz (absolute mode)")            \
-    X(cy, tyre.cy, 15.0, "1/rad", "cornering stiffness per unit Fz (absolute mode)")           \
-    X(eps, tyre.eps, 0.015, "s/m", "Dugoff velocity-reduction factor")                         \
-    X(v_min, tyre.v_min, 0.5, "m/s", "slip denominator guard")                                 \
-    X(alpha_max, tyre.alpha_max, 1.4, "rad", "slip-angle bound (< pi/2)")                      \
-    X(mu0, filter.mu0, 0.5, "1", "initial estimate on every wheel")                            \
-    X(sd0, filter.sd0, 0.3, "1", "initial standard deviation, S0 = sd0 I")                     \
-    X(q_mu, filter.q_mu, 0.003, "1", "process-noise sd per step, S_Q = q_mu I")                \
-    X(r_ax, filter.r_ax, 0.05, "m/s^2", "ax measurement-noise sd")                             \
-    X(r_ay, filter.r_ay, 0.05, "m/s^2", "ay measurement-noise sd")                             \
-    X(r_yaw_acc, filter.r_yaw_acc, 0.05, "rad/s^2", "yaw-acceleration measurement-noise sd")   \
-    X(mu_min, filter.mu_min, 0.05, "1", "lower projection bound")                              \
-    X(mu_max, filter.mu_max, 1.2, "1", "upper projection bound")                               \
-    X(v_est_min, filter.v_est_min, 3.0, "m/s", "no measurement update below this vx")
+    X(m, vehicle.m, "kg", "vehicle mass")                                                      \
+    X(Lf, vehicle.Lf, "m", "CoG to front axle")                                                \
+    X(Lr, vehicle.Lr, "m", "CoG to rear axle")                                                 \
+    X(Bf, vehicle.Bf, "m", "front track")                                                      \
+    X(Br, vehicle.Br, "m", "rear track")                                                       \
+    X(R, vehicle.R, "m", "effective rolling radius")                                           \
+    X(J, vehicle.J, "kg m^2", "yaw moment of inertia")                                         \
+    X(hg, vehicle.hg, "m", "CoG height")                                                       \
+    X(g, vehicle.g, "m/s^2", "gravity")                                                        \
+    X(Cx_n, tyre.Cx_n, "1", "normalised longitudinal stiffness (paper mode)")                  \
+    X(Cy_n, tyre.Cy_n, "1/rad", "normalised cornering stiffness (paper mode)")                 \
+    X(cx, tyre.cx, "1", "longitudinal stiffness per unit Fz (absolute mode)")                  \
+    X(cy, tyre.cy, "1/rad", "cornering stiffness per unit Fz (absolute mode)")                 \
+    X(eps, tyre.eps, "s/m", "Dugoff velocity-reduction factor")                                \
+    X(v_min, tyre.v_min, "m/s", "slip denominator guard")                                      \
+    X(alpha_max, tyre.alpha_max, "rad", "slip-angle bound (< pi/2)")                           \
+    X(mu0, filter.mu0, "1", "initial estimate on every wheel")                                 \
+    X(sd0, filter.sd0, "1", "initial standard deviation, S0 = sd0 I")                          \
+    X(q_mu, filter.q_mu, "1", "process-noise sd per step, S_Q = q_mu I")                       \
+    X(r_ax, filter.r_ax, "m/s^2", "ax measurement-noise sd")                                   \
+    X(r_ay, filter.r_ay, "m/s^2", "ay measurement-noise sd")                                   \
+    X(r_yaw_acc, filter.r_yaw_acc, "rad/s^2", "yaw-acceleration measurement-noise sd")         \
+    X(mu_min, filter.mu_min, "1", "lower projection bound")                                    \
+    X(mu_max, filter.mu_max, "1", "upper projection bound")                                    \
+    X(v_est_min, filter.v_est_min, "m/s", "no measurement update below this vx")
 
 /** Index of each numeric key: RFE_PK_m, RFE_PK_Lf, ...; then the two word-valued keys. */
 typedef enum {
-#define RFE_PK_ENUM_(key, member, def, unit, doc) RFE_PK_##key,
+#define RFE_PK_ENUM_(key, member, unit, doc) RFE_PK_##key,
     RFE_PARAM_KEYS(RFE_PK_ENUM_)
 #undef RFE_PK_ENUM_
     RFE_PK_TYRE,        /**< key tyre = paper|absolute */
@@ -66,27 +70,32 @@ typedef enum {
 /** Description of one key (from the table above). */
 typedef struct {
     const char *key;
-    double def;         /**< default (numeric keys; 0 for word keys) */
     const char *unit;
     const char *doc;
 } rfe_param_info_t;
 
+/** The base parameter sets of the library (include/rfe/params.h). */
+typedef enum {
+    RFE_PRESET_DEFAULT = 0, /**< rfe_params_default: the library's current best configuration */
+    RFE_PRESET_PAPER = 1    /**< rfe_params_paper: the paper's configuration (reference baseline) */
+} rfe_preset_t;
+
 /** Where a key's value came from, for messages and metadata. */
 typedef struct {
-    const char *file;   /**< NULL = default; "command line"; else a file name (not owned) */
+    const char *file;   /**< NULL = the preset; "command line"; else a file name (not owned) */
     size_t line;        /**< 1-based line in that file, 0 if none */
 } rfe_param_origin_t;
 
-/** The parameter set: every key's value as a double, plus the two word keys. */
+/** The parameter set: every key's value as a double, plus the two word keys, and the
+ *  preset it started from (the replay starts rfe_params_t from the same preset, so a
+ *  library field without a key follows the preset too). */
 typedef struct {
+    rfe_preset_t preset;
     double value[RFE_PK_NUMERIC];
     rfe_tyre_mode_t tyre;
     rfe_filter_kind_t filter;
     rfe_param_origin_t origin[RFE_PK_COUNT];
 } rfe_param_set_t;
-
-/** Sets every key to its default (tyre paper, filter sckf), origin "default". */
-void rfe_param_set_default(rfe_param_set_t *ps);
 
 /** Info for key index @p k (< RFE_PK_COUNT), or NULL. */
 const rfe_param_info_t *rfe_param_info(size_t k);
@@ -124,12 +133,16 @@ RFE_NODISCARD int rfe_param_set_apply_stream(rfe_param_set_t *ps, FILE *f, const
 RFE_NODISCARD int rfe_param_set_apply_meta(rfe_param_set_t *ps, const rfe_sensor_log_t *log,
                                            const char *log_name, rfe_io_error_t *err);
 
-/** Word of a tyre mode / filter kind ("paper", "sckf", ...; "?" when out of range). */
+/** Word of a tyre mode / filter kind / preset ("paper", "sckf", "default", ...; "?" when
+ *  out of range). */
 const char *rfe_tyre_mode_str(rfe_tyre_mode_t m);
 const char *rfe_filter_kind_str(rfe_filter_kind_t k);
+const char *rfe_preset_str(rfe_preset_t p);
 
-/** Parses "paper"/"absolute" and "sckf"/"ckf"; 0 on success, -1 otherwise. */
+/** Parses "paper"/"absolute", "sckf"/"ckf" and "default"/"paper" (case-sensitive);
+ *  0 on success, -1 otherwise (@p out then untouched). */
 RFE_NODISCARD int rfe_tyre_mode_parse(const char *s, rfe_tyre_mode_t *out);
 RFE_NODISCARD int rfe_filter_kind_parse(const char *s, rfe_filter_kind_t *out);
+RFE_NODISCARD int rfe_preset_parse(const char *s, rfe_preset_t *out);
 
 #endif /* RFE_HOST_PARAM_FILE_H */

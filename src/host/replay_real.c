@@ -14,6 +14,7 @@
 #include "rfe/estimator.h"
 #include "rfe/params.h"
 
+static rfe_status_t preset_params(rfe_preset_t preset, rfe_params_t *p);
 static void set_key(rfe_params_t *p, const rfe_param_set_t *ps, size_t k);
 static rfe_status_t to_lib_params(const rfe_param_set_t *ps, rfe_params_t *p);
 static size_t diagnose_params(const rfe_param_set_t *ps);
@@ -23,17 +24,55 @@ static void step_row(rfe_estimator_t *est, const rfe_sensor_row_t *row, rfe_est_
 /* Where each numeric key lives in rfe_params_t of this precision (the RFE_PARAM_KEYS
  * table): one table instead of a switch, so a new key needs no code here. */
 static const size_t k_member_offset[RFE_PK_NUMERIC] = {
-#define RFE_OFFSET_(key, member, def, unit, doc) offsetof(rfe_params_t, member),
+#define RFE_OFFSET_(key, member, unit, doc) offsetof(rfe_params_t, member),
     RFE_PARAM_KEYS(RFE_OFFSET_)
 #undef RFE_OFFSET_
 };
 
 /* Compile-time check (C99 has no static_assert): every keyed member is an rfe_real_t, as
  * set_key's memcpy assumes. A non-real key would make this array size negative. */
-#define RFE_IS_REAL_(key, member, def, unit, doc)                                               \
+#define RFE_IS_REAL_(key, member, unit, doc)                                               \
     typedef char rfe_key_is_real_##key[(sizeof(((rfe_params_t *)0)->member) == sizeof(rfe_real_t)) ? 1 : -1];
 RFE_PARAM_KEYS(RFE_IS_REAL_)
 #undef RFE_IS_REAL_
+
+rfe_replay_preset_fn_t RFE_FN(rfe_replay_preset_fn)(rfe_preset_t preset)
+{
+    switch (preset) {
+    case RFE_PRESET_DEFAULT:
+        return RFE_FN(rfe_params_default);
+    case RFE_PRESET_PAPER:
+        return RFE_FN(rfe_params_paper);
+    default:
+        return NULL;
+    }
+}
+
+/* The library's parameters of @p preset; RFE_ERR_PARAM for an unknown preset. */
+static rfe_status_t preset_params(rfe_preset_t preset, rfe_params_t *p)
+{
+    const rfe_replay_preset_fn_t fill = RFE_FN(rfe_replay_preset_fn)(preset);
+    return (fill != NULL) ? fill(p) : RFE_ERR_PARAM;
+}
+
+int RFE_FN(rfe_param_set_preset)(rfe_param_set_t *ps, rfe_preset_t preset)
+{
+    rfe_params_t p;
+    size_t k;
+    if ((ps == NULL) || (preset_params(preset, &p) != RFE_OK)) {
+        return -1;
+    }
+    memset(ps, 0, sizeof *ps);
+    ps->preset = preset;
+    for (k = 0u; k < RFE_PK_NUMERIC; ++k) {
+        rfe_real_t v;
+        memcpy(&v, (const char *)&p + k_member_offset[k], sizeof v);
+        ps->value[k] = (double)v;
+    }
+    ps->tyre = p.tyre.mode;
+    ps->filter = p.filter.kind;
+    return 0;
+}
 
 /* Key k of the set into rfe_params_t, rounded to the build's real type. */
 static void set_key(rfe_params_t *p, const rfe_param_set_t *ps, size_t k)
@@ -48,26 +87,28 @@ static void set_key(rfe_params_t *p, const rfe_param_set_t *ps, size_t k)
     }
 }
 
-/* Library defaults first, so a library field without a key keeps its documented value. */
+/* The preset first, so a library field without a key keeps the preset's value. */
 static rfe_status_t to_lib_params(const rfe_param_set_t *ps, rfe_params_t *p)
 {
     size_t k;
-    rfe_status_t st = RFE_FN(rfe_params_default)(p); /* fails only for p == NULL */
-    for (k = 0u; k < (size_t)RFE_PK_COUNT; ++k) {
+    const rfe_status_t st = preset_params(ps->preset, p); /* fails only for a bad preset */
+    for (k = 0u; (st == RFE_OK) && (k < (size_t)RFE_PK_COUNT); ++k) {
         set_key(p, ps, k);
     }
     return st;
 }
 
-/* Which key alone makes validation fail, starting from the (valid) library defaults. */
+/* Which key alone makes validation fail, starting from the (valid) library preset. */
 static size_t diagnose_params(const rfe_param_set_t *ps)
 {
     size_t k;
     for (k = 0u; k < (size_t)RFE_PK_COUNT; ++k) {
         rfe_params_t p;
-        const rfe_status_t st = RFE_FN(rfe_params_default)(&p); /* fails only for NULL */
+        if (preset_params(ps->preset, &p) != RFE_OK) {
+            return RFE_PK_NONE; /* the preset itself is unknown: no key to blame */
+        }
         set_key(&p, ps, k);
-        if ((st != RFE_OK) || (RFE_FN(rfe_params_validate)(&p) != RFE_OK)) {
+        if (RFE_FN(rfe_params_validate)(&p) != RFE_OK) {
             return k;
         }
     }
@@ -142,27 +183,3 @@ rfe_status_t RFE_FN(rfe_replay_run)(const rfe_param_set_t *ps, const rfe_sensor_
     stats->n_steps = log->n_rows;
     return RFE_OK;
 }
-
-#if defined(RFE_REAL_DOUBLE)
-/* Double only: the table holds doubles, so this is the exact comparison. */
-size_t rfe_replay_check_defaults_f64(void)
-{
-    rfe_param_set_t ps;
-    rfe_params_t p;
-    rfe_real_t lib;
-    size_t k;
-    rfe_status_t st;
-    rfe_param_set_default(&ps);
-    st = RFE_FN(rfe_params_default)(&p); /* fails only for NULL */
-    for (k = 0u; (st == RFE_OK) && (k < RFE_PK_NUMERIC); ++k) {
-        memcpy(&lib, (const char *)&p + k_member_offset[k], sizeof lib);
-        if (ps.value[k] != lib) {
-            return k;
-        }
-    }
-    if ((st != RFE_OK) || (p.tyre.mode != ps.tyre) || (p.filter.kind != ps.filter)) {
-        return (size_t)RFE_PK_TYRE;
-    }
-    return RFE_PK_NONE;
-}
-#endif

@@ -13,6 +13,7 @@
 
 #include "csv_log.h"
 #include "param_file.h"
+#include "rfe/params.h"
 #include "rfe/types.h"
 
 /** Status codes counted individually (0 .. RFE_REPLAY_STATUS_SLOTS-2); the last slot is
@@ -38,10 +39,13 @@ static inline size_t rfe_replay_status_slot(int status)
  * @p log, writing one estimate row per input row into @p out (log->n_rows entries). A row
  * the library rejects gets the unchanged previous estimate, valid = 0 and its error status,
  * and the run goes on.
+ * The library parameters start from ps->preset (so a library field without a key follows
+ * the preset), then every key of the set is applied.
  * @param bad_key on RFE_ERR_PARAM: the first key that alone makes the library's
- *        rfe_params_validate fail (starting from the library defaults), or RFE_PK_NONE
+ *        rfe_params_validate fail (starting from the library preset), or RFE_PK_NONE
  *        when only a combination does (e.g. mu_min >= mu_max); may be NULL.
- * @return RFE_OK, or the rfe_estimator_init error (nothing written then).
+ * @return RFE_OK, or RFE_ERR_PARAM for an unknown ps->preset, or the rfe_estimator_init
+ *         error (nothing written then).
  */
 RFE_NODISCARD rfe_status_t rfe_replay_run_f32(const rfe_param_set_t *ps,
                                               const rfe_sensor_log_t *log, rfe_est_row_t *out,
@@ -52,11 +56,39 @@ RFE_NODISCARD rfe_status_t rfe_replay_run_f64(const rfe_param_set_t *ps,
                                               rfe_replay_stats_t *stats, size_t *bad_key);
 
 /**
- * Checks that the defaults of the key table (param_file.h) equal the library's double
- * rfe_params_default exactly (the table is double, so double is the exact comparison).
- * @return RFE_PK_NONE when all agree, else the index of the first key that differs
- *         (RFE_PK_TYRE when tyre or filter differ). Defined in the double object only.
+ * Fills @p ps from the library's preset @p preset (every key of the table, tyre, filter;
+ * origins NULL = "the preset"; ps->preset recorded). The values are the library's, so the
+ * library stays the one source of preset values:
+ *  - _f64 copies rfe_params_default_f64 / rfe_params_paper_f64: exactly the library's
+ *    decimal values. mu_replay always uses this one (both libraries are linked into it).
+ *  - _f32 copies the float library's values widened to double (0.325f, not 0.325): exact
+ *    for a float run (they convert back to the same floats), for programs that link only
+ *    the float library.
+ * @return 0, or -1 (ps untouched) when ps is NULL or preset is not an rfe_preset_t value.
  */
-size_t rfe_replay_check_defaults_f64(void);
+int rfe_param_set_preset_f32(rfe_param_set_t *ps, rfe_preset_t preset);
+/** Double-precision twin of rfe_param_set_preset_f32 (see there). */
+int rfe_param_set_preset_f64(rfe_param_set_t *ps, rfe_preset_t preset);
+
+/**
+ * The default preset, from the library of the including translation unit's precision
+ * (RFE_FN: _f64 where RFE_REAL_DOUBLE is defined, else _f32). Inline because that choice
+ * is the caller's: a test linked against one library gets that library's values.
+ * Precision-independent host code (mu_replay.c) calls rfe_param_set_preset_f64 instead.
+ */
+static inline void rfe_param_set_default(rfe_param_set_t *ps)
+{
+    (void)RFE_FN(rfe_param_set_preset)(ps, RFE_PRESET_DEFAULT); /* cannot fail: valid preset */
+}
+
+/** A library preset function of the including TU's precision (rfe_params_default_fXX, ...). */
+typedef rfe_status_t (*rfe_replay_preset_fn_t)(rfe_params_t *p);
+
+/**
+ * The library function behind @p preset (the one mapping from rfe_preset_t to the library,
+ * used by rfe_param_set_preset and by the replay's conversion), or NULL for a value that is
+ * not an rfe_preset_t. Declared through RFE_FN: the twin of the including TU's precision.
+ */
+rfe_replay_preset_fn_t RFE_FN(rfe_replay_preset_fn)(rfe_preset_t preset);
 
 #endif /* RFE_HOST_REPLAY_REAL_H */

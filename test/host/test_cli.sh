@@ -57,6 +57,12 @@ run missing_value 2 --in "$DATA/good_small.csv" --out
 run bad_filter 2 --in "$DATA/good_small.csv" --out "$TMP/e.csv" --filter ekf
 run bad_tyre 2 --in "$DATA/good_small.csv" --out "$TMP/e.csv" --tyre=pacejka
 run bad_real 2 --in "$DATA/good_small.csv" --out "$TMP/e.csv" --real half
+run bad_preset 2 --in "$DATA/good_small.csv" --out "$TMP/e.csv" --preset fast
+grep -q "^mu_replay: --preset must be default or paper, not 'fast'$" "$TMP/err" && ok "bad_preset: named" || bad "bad_preset: not named"
+[ ! -e "$TMP/e.csv" ] && ok "bad_preset: nothing written" || bad "bad_preset: estimate log written"
+run bad_preset_case 2 --in "$DATA/good_small.csv" --out "$TMP/e.csv" --preset=Paper
+run preset_twice 2 --in "$DATA/good_small.csv" --out "$TMP/e.csv" --preset paper --preset default
+run preset_no_value 2 --in "$DATA/good_small.csv" --out "$TMP/e.csv" --preset
 run twice 2 --in "$DATA/good_small.csv" --in "$DATA/good_small.csv" --out "$TMP/e.csv"
 run positional 2 "$DATA/good_small.csv"
 run flag_with_value 2 --in "$DATA/good_small.csv" --out "$TMP/e.csv" --quiet=1
@@ -75,6 +81,7 @@ input_error empty_file "$DATA/empty.csv" "^mu_replay: .*empty\.csv: empty file"
 input_error time_backwards "$DATA/time_backwards.csv" "^mu_replay: .*time_backwards\.csv:4:1: "
 input_error bad_metadata "$DATA/bad_meta.csv" "^mu_replay: .*bad_meta\.csv:2: metadata 'm'"
 input_error no_such_file "$TMP/nope.csv" "^mu_replay: .*nope\.csv: cannot open"
+input_error partial_util "$DATA/partial_util.csv" "^mu_replay: .*partial_util\.csv:1: truth column 'util_rl' missing"
 
 run unknown_param_key 1 --in "$DATA/good_small.csv" --out "$TMP/e.csv" --params "$DATA/params_unknown_key.par"
 one_line unknown_param_key "^mu_replay: .*params_unknown_key\.par:3:1: unknown parameter key 'mass'"
@@ -104,6 +111,34 @@ grep -q '^# real = float$' "$TMP/f.csv" && ok "good_float: real metadata" || bad
 grep -q '^# mu0 = 0.6$' "$TMP/f.csv" && ok "good_float: metadata parameter used" || bad "good_float: mu0 from metadata"
 grep -q '^# tyre = absolute$' "$TMP/f.csv" && ok "good_float: metadata tyre used" || bad "good_float: tyre from metadata"
 grep -q '"metrics": {' "$TMP/f.json" && ok "good_float: metrics JSON" || bad "good_float: metrics JSON"
+grep -q '^# preset = default$' "$TMP/f.csv" && ok "good_float: preset default by default" || bad "good_float: preset metadata"
+grep -q '"preset": "default",' "$TMP/f.json" && ok "good_float: preset in JSON" || bad "good_float: preset in JSON"
+# The new figures: every key in every series, the config knobs, null excitation without util.
+for key in n_settled rmse max_abs_err max_rel_err t_converge_s n_valid rmse_valid frac_valid \
+           consistency n_changes n_reconverged reconverge_s n_excited frac_valid_excited \
+           rmse_excited_valid; do
+    n=$(grep -o "\"$key\": " "$TMP/f.json" | wc -l)
+    [ "$n" -eq 5 ] && ok "good_float: JSON key $key in all 5 series" || bad "good_float: JSON key $key $n times, want 5"
+done
+grep -q '"consistency_k": 2, "excite_util": 0.5}' "$TMP/f.json" && ok "good_float: JSON config knobs" || bad "good_float: JSON config knobs"
+[ "$(grep -o '"n_excited": null' "$TMP/f.json" | wc -l)" -eq 5 ] && ok "good_float: no util, n_excited null" || bad "good_float: n_excited not null"
+grep -Eq '^wheel +rmse +max_err +rmse_v +valid% +cons% +t_conv +reconv +settled$' "$TMP/out" \
+    && ok "good_float: table columns" || bad "good_float: table columns: $(grep '^wheel' "$TMP/out")"
+
+# --preset: the base set, exact library decimals, beaten by metadata, recorded.
+run preset_paper 0 --in "$DATA/good_small.csv" --out "$TMP/pp.csv" --metrics "$TMP/pp.json" --preset paper -q
+grep -q '^# preset = paper$' "$TMP/pp.csv" && ok "preset_paper: metadata line" || bad "preset_paper: metadata line"
+grep -q '"preset": "paper",' "$TMP/pp.json" && ok "preset_paper: JSON" || bad "preset_paper: JSON"
+grep -q '^# R = 0.325$' "$TMP/pp.csv" && grep -q '^# q_mu = 0.003$' "$TMP/pp.csv" \
+    && ok "preset_paper: exact library values (double library)" || bad "preset_paper: values"
+grep -q '^# mu0 = 0.6$' "$TMP/pp.csv" && ok "preset_paper: metadata beats preset" || bad "preset_paper: mu0"
+run preset_default 0 --in "$DATA/good_small.csv" --out "$TMP/pd.csv" --preset=default -q
+grep -q '^# preset = default$' "$TMP/pd.csv" && ok "preset_default: metadata line" || bad "preset_default: metadata line"
+
+# util columns: excitation figures are numbers, the table gets the exc_val column.
+run good_util 0 --in "$DATA/good_util.csv" --out "$TMP/u.csv" --metrics "$TMP/u.json"
+[ "$(grep -o '"n_excited": 0,' "$TMP/u.json" | wc -l)" -eq 5 ] && ok "good_util: n_excited a number" || bad "good_util: n_excited"
+grep -Eq '^wheel .* exc_val +n_exc +settled$' "$TMP/out" && ok "good_util: exc_val column" || bad "good_util: no exc_val column"
 
 # Precedence: --params beats metadata, flags beat both.
 run precedence 0 --in "$DATA/good_small.csv" --out "$TMP/p.csv" --params "$DATA/params_good.par" \

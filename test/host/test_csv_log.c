@@ -254,6 +254,90 @@ static void test_rfe_sensor_log_read_partial_truth(void **state)
     assert_non_null(strstr(err.msg, "'mu_rr' missing"));
 }
 
+/* util_fl..util_rr: a second optional truth group, parsed like mu_* (any column order). */
+static void test_rfe_sensor_log_read_util_columns_parsed(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    (void)state;
+    assert_int_equal(rfe_sensor_log_read(DATA "good_util.csv", &log, &err), 0);
+    assert_int_equal(log.n_rows, 3);
+    assert_int_equal(log.has_truth, 1);
+    assert_int_equal(log.has_util, 1);
+    assert_true(log.rows[0].util_true[RFE_FL] == 0.25);
+    assert_true(log.rows[0].util_true[RFE_FR] == 0.5);
+    assert_true(log.rows[0].util_true[RFE_RL] == 0.125);
+    assert_true(log.rows[0].util_true[RFE_RR] == 0.05);
+    assert_true(log.rows[1].util_true[RFE_FL] == 0.75);
+    assert_true(log.rows[1].util_true[RFE_FR] == 0.1); /* "1e-1" */
+    assert_true(log.rows[2].util_true[RFE_RR] == 0.07);
+    assert_true(log.rows[2].mu_true[RFE_RR] == 0.8);
+    rfe_sensor_log_free(&log);
+}
+
+/* Without util columns: has_util 0 (good_small has mu_* only). */
+static void test_rfe_sensor_log_read_no_util_columns(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    (void)state;
+    assert_int_equal(rfe_sensor_log_read(DATA "good_small.csv", &log, &err), 0);
+    assert_int_equal(log.has_truth, 1);
+    assert_int_equal(log.has_util, 0);
+    rfe_sensor_log_free(&log);
+}
+
+/* The two truth groups are independent: util without mu is accepted. */
+static void test_rfe_sensor_log_read_util_without_mu(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    (void)state;
+    assert_int_equal(read_text("t,delta,vx,vy,yaw_rate,yaw_acc,ax,ay,omega_fl,omega_fr,omega_rl,"
+                               "omega_rr,util_fl,util_fr,util_rl,util_rr\n"
+                               "0,0,20,0,0,0,-2,0,60,60,60,60,0.1,0.2,0.3,0.4\n",
+                               &log, &err),
+                     0);
+    assert_int_equal(log.has_truth, 0);
+    assert_int_equal(log.has_util, 1);
+    assert_true(log.rows[0].util_true[RFE_RR] == 0.4);
+    rfe_sensor_log_free(&log);
+}
+
+/* Only some util columns: all or none, the first missing one named, header line. */
+static void test_rfe_sensor_log_read_partial_util(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    (void)state;
+    assert_int_equal(read_text("# dt = 0.01\n"
+                               "t,delta,vx,vy,yaw_rate,yaw_acc,ax,ay,omega_fl,omega_fr,omega_rl,"
+                               "omega_rr,util_fl,util_rl,util_rr\n"
+                               "0,0,20,0,0,0,-2,0,60,60,60,60,0.1,0.3,0.4\n",
+                               &log, &err),
+                     -1);
+    assert_int_equal(err.line, 2);
+    assert_non_null(strstr(err.msg, "'util_fr' missing"));
+    assert_non_null(strstr(err.msg, "util_fl, util_fr, util_rl, util_rr"));
+    assert_int_equal(log.n_rows, 0);
+}
+
+/* A util field is a needed field: a non-number is an error at its position. */
+static void test_rfe_sensor_log_read_bad_util_value(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    (void)state;
+    assert_int_equal(read_text("t,delta,vx,vy,yaw_rate,yaw_acc,ax,ay,omega_fl,omega_fr,omega_rl,"
+                               "omega_rr,util_fl,util_fr,util_rl,util_rr\n"
+                               "0,0,20,0,0,0,-2,0,60,60,60,60,0.1,high,0.3,0.4\n",
+                               &log, &err),
+                     -1);
+    assert_int_equal(err.line, 2);
+    assert_int_equal(err.col, 14);
+    assert_non_null(strstr(err.msg, "column 'util_fr'"));
+}
+
 static void test_rfe_sensor_log_read_time_not_increasing(void **state)
 {
     rfe_sensor_log_t log;
@@ -674,6 +758,11 @@ int main(void)
         cmocka_unit_test(test_rfe_sensor_log_read_empty_field_rejected),
         cmocka_unit_test(test_rfe_sensor_log_read_overflow_rejected),
         cmocka_unit_test(test_rfe_sensor_log_read_partial_truth),
+        cmocka_unit_test(test_rfe_sensor_log_read_util_columns_parsed),
+        cmocka_unit_test(test_rfe_sensor_log_read_no_util_columns),
+        cmocka_unit_test(test_rfe_sensor_log_read_util_without_mu),
+        cmocka_unit_test(test_rfe_sensor_log_read_partial_util),
+        cmocka_unit_test(test_rfe_sensor_log_read_bad_util_value),
         cmocka_unit_test(test_rfe_sensor_log_read_time_not_increasing),
         cmocka_unit_test(test_rfe_sensor_log_read_header_only),
         cmocka_unit_test(test_rfe_sensor_log_read_duplicate_column),

@@ -1,9 +1,11 @@
 /**
  * @file test_param_file.c
- * @brief Tests of the parameter set: defaults, parameter files, log metadata, precedence.
+ * @brief Tests of the parameter set: presets, parameter files, log metadata, precedence.
  *
  * Run from the repository root (fixtures under test/host/data/). In a parameter file the
- * COL of an error is the character position of the offending key or value.
+ * COL of an error is the character position of the offending key or value. The sets start
+ * from the paper preset, whose values are fixed (the default preset may change between
+ * library versions; test_replay checks both against the library).
  */
 #include <stdarg.h>
 #include <stddef.h>
@@ -16,6 +18,7 @@
 
 #include "csv_log.h"
 #include "param_file.h"
+#include "replay_real.h"
 
 #define DATA "test/host/data/"
 
@@ -32,12 +35,19 @@ static int apply_text(rfe_param_set_t *ps, const char *text, rfe_io_error_t *err
     return rc;
 }
 
-static void test_rfe_param_set_default_values(void **state)
+/* The parameter set of the paper preset (double library). */
+static void paper_set(rfe_param_set_t *ps)
+{
+    assert_int_equal(rfe_param_set_preset_f64(ps, RFE_PRESET_PAPER), 0);
+}
+
+static void test_rfe_param_set_paper_values(void **state)
 {
     rfe_param_set_t ps;
     (void)state;
-    rfe_param_set_default(&ps);
-    /* DATA.md / params.h defaults, spot-checked in every group. */
+    paper_set(&ps);
+    assert_int_equal(ps.preset, RFE_PRESET_PAPER);
+    /* MODEL.md §2 / DATA.md paper values, spot-checked in every group. */
     assert_true(ps.value[RFE_PK_m] == 1830.0);
     assert_true(ps.value[RFE_PK_Lr] == 1.65);
     assert_true(ps.value[RFE_PK_hg] == 0.54);
@@ -74,7 +84,7 @@ static void test_rfe_param_set_apply_file_valid(void **state)
     rfe_param_set_t ps;
     rfe_io_error_t err;
     (void)state;
-    rfe_param_set_default(&ps);
+    paper_set(&ps);
     assert_int_equal(rfe_param_set_apply_file(&ps, DATA "params_good.par", &err), 0);
     assert_true(ps.value[RFE_PK_m] == 1500.0); /* inline comment stripped */
     assert_true(ps.value[RFE_PK_Lf] == 1.2);   /* no blanks around '=' */
@@ -93,7 +103,7 @@ static void test_rfe_param_set_apply_file_unknown_key(void **state)
     rfe_param_set_t ps;
     rfe_io_error_t err;
     (void)state;
-    rfe_param_set_default(&ps);
+    paper_set(&ps);
     assert_int_equal(rfe_param_set_apply_file(&ps, DATA "params_unknown_key.par", &err), -1);
     assert_string_equal(err.file, DATA "params_unknown_key.par");
     assert_int_equal(err.line, 3);
@@ -106,7 +116,7 @@ static void test_rfe_param_set_apply_file_case_typo_hint(void **state)
     rfe_param_set_t ps;
     rfe_io_error_t err;
     (void)state;
-    rfe_param_set_default(&ps);
+    paper_set(&ps);
     assert_int_equal(apply_text(&ps, "\n   lf = 1.3\n", &err), -1);
     assert_int_equal(err.line, 2);
     assert_int_equal(err.col, 4);
@@ -118,7 +128,7 @@ static void test_rfe_param_set_apply_file_bad_number_position(void **state)
     rfe_param_set_t ps;
     rfe_io_error_t err;
     (void)state;
-    rfe_param_set_default(&ps);
+    paper_set(&ps);
     assert_int_equal(rfe_param_set_apply_file(&ps, DATA "params_bad_number.par", &err), -1);
     assert_int_equal(err.line, 3);
     assert_int_equal(err.col, 7); /* "Lr =  1,65": the value starts at character 7 */
@@ -131,7 +141,7 @@ static void test_rfe_param_set_apply_file_missing_equals(void **state)
     rfe_param_set_t ps;
     rfe_io_error_t err;
     (void)state;
-    rfe_param_set_default(&ps);
+    paper_set(&ps);
     assert_int_equal(rfe_param_set_apply_file(&ps, DATA "params_no_equals.par", &err), -1);
     assert_int_equal(err.line, 2);
     assert_int_equal(err.col, 1);
@@ -143,7 +153,7 @@ static void test_rfe_param_set_apply_file_missing_key(void **state)
     rfe_param_set_t ps;
     rfe_io_error_t err;
     (void)state;
-    rfe_param_set_default(&ps);
+    paper_set(&ps);
     assert_int_equal(apply_text(&ps, "  = 3\n", &err), -1);
     assert_int_equal(err.line, 1);
     assert_int_equal(err.col, 3);
@@ -155,7 +165,7 @@ static void test_rfe_param_set_apply_file_duplicate_key(void **state)
     rfe_param_set_t ps;
     rfe_io_error_t err;
     (void)state;
-    rfe_param_set_default(&ps);
+    paper_set(&ps);
     assert_int_equal(rfe_param_set_apply_file(&ps, DATA "params_duplicate.par", &err), -1);
     assert_int_equal(err.line, 3);
     assert_non_null(strstr(err.msg, "'m' given twice (first at line 1)"));
@@ -166,7 +176,7 @@ static void test_rfe_param_set_apply_file_nan_value(void **state)
     rfe_param_set_t ps;
     rfe_io_error_t err;
     (void)state;
-    rfe_param_set_default(&ps);
+    paper_set(&ps);
     assert_int_equal(rfe_param_set_apply_file(&ps, DATA "params_nan.par", &err), -1);
     assert_int_equal(err.line, 1);
     assert_int_equal(err.col, 8);
@@ -179,7 +189,7 @@ static void test_rfe_param_set_apply_file_empty_value(void **state)
     rfe_param_set_t ps;
     rfe_io_error_t err;
     (void)state;
-    rfe_param_set_default(&ps);
+    paper_set(&ps);
     assert_int_equal(apply_text(&ps, "m =   # nothing\n", &err), -1);
     assert_int_equal(err.col, 4);
     assert_non_null(strstr(err.msg, "empty field"));
@@ -190,7 +200,7 @@ static void test_rfe_param_set_apply_file_bad_word(void **state)
     rfe_param_set_t ps;
     rfe_io_error_t err;
     (void)state;
-    rfe_param_set_default(&ps);
+    paper_set(&ps);
     assert_int_equal(rfe_param_set_apply_file(&ps, DATA "params_bad_word.par", &err), -1);
     assert_int_equal(err.line, 1);
     assert_int_equal(err.col, 8);
@@ -203,7 +213,7 @@ static void test_rfe_param_set_apply_file_nonexistent(void **state)
     rfe_param_set_t ps;
     rfe_io_error_t err;
     (void)state;
-    rfe_param_set_default(&ps);
+    paper_set(&ps);
     assert_int_equal(rfe_param_set_apply_file(&ps, DATA "nope.par", &err), -1);
     assert_int_equal(err.line, 0);
     assert_non_null(strstr(err.msg, "cannot open"));
@@ -214,7 +224,7 @@ static void test_rfe_param_set_apply_file_directory_is_read_error(void **state)
     rfe_param_set_t ps;
     rfe_io_error_t err;
     (void)state;
-    rfe_param_set_default(&ps);
+    paper_set(&ps);
     assert_int_equal(rfe_param_set_apply_file(&ps, DATA, &err), -1);
     assert_int_equal(err.line, 1);
     assert_non_null(strstr(err.msg, "read error"));
@@ -230,7 +240,7 @@ static void test_rfe_param_set_apply_stream_nul_byte(void **state)
     assert_non_null(f);
     assert_int_equal(fwrite(text, 1u, sizeof text - 1u, f), sizeof text - 1u);
     rewind(f);
-    rfe_param_set_default(&ps);
+    paper_set(&ps);
     assert_int_equal(rfe_param_set_apply_stream(&ps, f, "nul.par", &err), -1);
     fclose(f);
     assert_int_equal(err.line, 2);
@@ -244,7 +254,7 @@ static void test_rfe_param_set_apply_meta_known_keys_only(void **state)
     rfe_io_error_t err;
     (void)state;
     assert_int_equal(rfe_sensor_log_read(DATA "good_small.csv", &log, &err), 0);
-    rfe_param_set_default(&ps);
+    paper_set(&ps);
     /* scenario and description are information: ignored, no error. */
     assert_int_equal(rfe_param_set_apply_meta(&ps, &log, "good_small.csv", &err), 0);
     assert_true(ps.value[RFE_PK_mu0] == 0.6);
@@ -261,7 +271,7 @@ static void test_rfe_param_set_apply_meta_malformed_known_key(void **state)
     rfe_io_error_t err;
     (void)state;
     assert_int_equal(rfe_sensor_log_read(DATA "bad_meta.csv", &log, &err), 0);
-    rfe_param_set_default(&ps);
+    paper_set(&ps);
     assert_int_equal(rfe_param_set_apply_meta(&ps, &log, "bad_meta.csv", &err), -1);
     assert_string_equal(err.file, "bad_meta.csv");
     assert_int_equal(err.line, 2);
@@ -277,7 +287,7 @@ static void test_rfe_param_set_precedence_file_over_metadata(void **state)
     rfe_io_error_t err;
     (void)state;
     assert_int_equal(rfe_sensor_log_read(DATA "good_small.csv", &log, &err), 0);
-    rfe_param_set_default(&ps);
+    paper_set(&ps);
     assert_int_equal(rfe_param_set_apply_meta(&ps, &log, "good_small.csv", &err), 0);
     assert_int_equal(apply_text(&ps, "mu0 = 0.55\n", &err), 0);
     assert_true(ps.value[RFE_PK_mu0] == 0.55);        /* file beats metadata */
@@ -292,7 +302,7 @@ static void test_rfe_param_format_numbers_and_words(void **state)
     rfe_param_set_t ps;
     char buf[RFE_NUM_BUF];
     (void)state;
-    rfe_param_set_default(&ps);
+    paper_set(&ps);
     rfe_param_format(&ps, RFE_PK_q_mu, buf);
     assert_string_equal(buf, "0.003");
     ps.filter = RFE_FILTER_CKF;
@@ -306,7 +316,7 @@ static void test_rfe_param_set_text_rejects_out_of_range_key(void **state)
 {
     rfe_param_set_t ps;
     (void)state;
-    rfe_param_set_default(&ps);
+    paper_set(&ps);
     assert_int_equal(rfe_param_set_text(&ps, RFE_PK_NONE, "1"), RFE_NUM_SYNTAX);
     assert_int_equal(rfe_param_set_text(&ps, RFE_PK_FILTER, "ekf"), RFE_NUM_SYNTAX);
     assert_int_equal(rfe_param_set_text(&ps, RFE_PK_FILTER, "ckf"), RFE_NUM_OK);
@@ -327,10 +337,38 @@ static void test_rfe_enum_words_round_trip(void **state)
     assert_string_equal(rfe_tyre_mode_str((rfe_tyre_mode_t)7), "?");
 }
 
+static void test_rfe_preset_words_round_trip(void **state)
+{
+    rfe_preset_t p = RFE_PRESET_DEFAULT;
+    (void)state;
+    assert_int_equal(rfe_preset_parse("paper", &p), 0);
+    assert_int_equal(p, RFE_PRESET_PAPER);
+    assert_string_equal(rfe_preset_str(p), "paper");
+    assert_int_equal(rfe_preset_parse("default", &p), 0);
+    assert_int_equal(p, RFE_PRESET_DEFAULT);
+    assert_string_equal(rfe_preset_str(p), "default");
+    assert_int_equal(rfe_preset_parse("Paper", &p), -1); /* case-sensitive */
+    assert_int_equal(rfe_preset_parse("", &p), -1);
+    assert_int_equal(p, RFE_PRESET_DEFAULT);             /* untouched on failure */
+    assert_string_equal(rfe_preset_str((rfe_preset_t)7), "?");
+}
+
+/* "preset" is a command-line choice, not a parameter key: unknown in a parameter file. */
+static void test_rfe_param_set_apply_file_preset_is_not_a_key(void **state)
+{
+    rfe_param_set_t ps;
+    rfe_io_error_t err;
+    (void)state;
+    paper_set(&ps);
+    assert_int_equal(rfe_param_find("preset"), RFE_PK_NONE);
+    assert_int_equal(apply_text(&ps, "preset = paper\n", &err), -1);
+    assert_non_null(strstr(err.msg, "unknown parameter key 'preset'"));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_rfe_param_set_default_values),
+        cmocka_unit_test(test_rfe_param_set_paper_values),
         cmocka_unit_test(test_rfe_param_find_every_table_key),
         cmocka_unit_test(test_rfe_param_set_apply_file_valid),
         cmocka_unit_test(test_rfe_param_set_apply_file_unknown_key),
@@ -351,6 +389,8 @@ int main(void)
         cmocka_unit_test(test_rfe_param_format_numbers_and_words),
         cmocka_unit_test(test_rfe_param_set_text_rejects_out_of_range_key),
         cmocka_unit_test(test_rfe_enum_words_round_trip),
+        cmocka_unit_test(test_rfe_preset_words_round_trip),
+        cmocka_unit_test(test_rfe_param_set_apply_file_preset_is_not_a_key),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,9 +1,10 @@
 /**
  * @file test_replay.c
- * @brief Tests of the replay core (double build, as linked into the host tests): parameter
- *        conversion, default agreement with the library, rejected rows, parameter diagnosis.
+ * @brief Tests of the replay core (double build, as linked into the host tests): presets
+ *        taken from the library, parameter conversion, rejected rows, parameter diagnosis.
  *
- * The float twin runs through mu_replay in test_cli.sh.
+ * The float twin runs through mu_replay in test_cli.sh. Tests of the replay mechanics start
+ * from the paper preset, whose values are fixed (the default preset may change).
  */
 #include <stdarg.h>
 #include <stddef.h>
@@ -17,6 +18,8 @@
 #include "param_file.h"
 #include "replay_real.h"
 #include "rfe/config.h"
+#include "rfe/estimator.h"
+#include "rfe/params.h"
 
 #define DATA "test/host/data/"
 #define N_ROWS 4u
@@ -50,10 +53,134 @@ static size_t count_sum(const rfe_replay_stats_t *s)
     return n;
 }
 
-static void test_rfe_replay_check_defaults_match_library(void **state)
+/* Each preset name maps to its library function (a swap would show here even while the
+ * two presets have equal values). */
+static void test_rfe_replay_preset_fn_maps_to_library(void **state)
 {
     (void)state;
-    assert_int_equal(rfe_replay_check_defaults_f64(), RFE_PK_NONE);
+    assert_true(rfe_replay_preset_fn_f64(RFE_PRESET_DEFAULT) == rfe_params_default_f64);
+    assert_true(rfe_replay_preset_fn_f64(RFE_PRESET_PAPER) == rfe_params_paper_f64);
+    assert_null(rfe_replay_preset_fn_f64((rfe_preset_t)7));
+}
+
+/* Every key of the table equals the library's field exactly (read through the table's
+ * member column, independently of the replay's offset table), for both presets. */
+static void check_set_equals_library(rfe_preset_t preset, rfe_status_t (*lib)(rfe_params_t *))
+{
+    rfe_param_set_t ps;
+    rfe_params_t p;
+    size_t k;
+    memset(&ps, 0xA5, sizeof ps);
+    assert_int_equal(rfe_param_set_preset_f64(&ps, preset), 0);
+    assert_int_equal(lib(&p), RFE_OK);
+    assert_int_equal(ps.preset, preset);
+#define CHECK_KEY_(key, member, unit, doc)                                                   \
+    if (!(ps.value[RFE_PK_##key] == p.member)) {                                             \
+        fail_msg("preset %s, key %s: set %.17g, library %.17g", rfe_preset_str(preset), #key, \
+                 ps.value[RFE_PK_##key], p.member);                                          \
+    }
+    RFE_PARAM_KEYS(CHECK_KEY_)
+#undef CHECK_KEY_
+    assert_int_equal(ps.tyre, p.tyre.mode);
+    assert_int_equal(ps.filter, p.filter.kind);
+    for (k = 0u; k < (size_t)RFE_PK_COUNT; ++k) {
+        assert_null(ps.origin[k].file); /* "the preset" */
+        assert_int_equal(ps.origin[k].line, 0);
+    }
+}
+
+static void test_rfe_param_set_preset_values_are_the_library_s(void **state)
+{
+    (void)state;
+    check_set_equals_library(RFE_PRESET_DEFAULT, rfe_params_default_f64);
+    check_set_equals_library(RFE_PRESET_PAPER, rfe_params_paper_f64);
+}
+
+/* rfe_param_set_default (inline; double here) is the default preset. */
+static void test_rfe_param_set_default_is_default_preset(void **state)
+{
+    rfe_param_set_t a;
+    rfe_param_set_t b;
+    (void)state;
+    memset(&a, 0, sizeof a);
+    memset(&b, 0xFF, sizeof b);
+    rfe_param_set_default(&b);
+    assert_int_equal(rfe_param_set_preset_f64(&a, RFE_PRESET_DEFAULT), 0);
+    assert_int_equal(b.preset, RFE_PRESET_DEFAULT);
+    assert_memory_equal(&a, &b, sizeof a);
+}
+
+static void test_rfe_param_set_preset_rejects_null_and_unknown(void **state)
+{
+    rfe_param_set_t ps;
+    rfe_param_set_t before;
+    (void)state;
+    assert_int_equal(rfe_param_set_preset_f64(NULL, RFE_PRESET_PAPER), -1);
+    memset(&ps, 0x5A, sizeof ps);
+    before = ps;
+    assert_int_equal(rfe_param_set_preset_f64(&ps, (rfe_preset_t)7), -1);
+    assert_memory_equal(&ps, &before, sizeof ps); /* untouched */
+}
+
+/* The replay of a preset's set gives exactly what the estimator initialised by the library
+ * function of that preset gives (the conversion loses nothing in double). */
+static void check_replay_equals_library(rfe_preset_t preset, rfe_status_t (*lib)(rfe_params_t *),
+                                        const rfe_sensor_log_t *log)
+{
+    rfe_param_set_t ps;
+    rfe_params_t p;
+    rfe_estimator_t est;
+    rfe_estimate_t e;
+    rfe_est_row_t out[N_ROWS];
+    rfe_replay_stats_t st;
+    size_t i;
+    size_t w;
+    assert_int_equal(rfe_param_set_preset_f64(&ps, preset), 0);
+    assert_int_equal(rfe_replay_run_f64(&ps, log, out, &st, NULL), RFE_OK);
+    assert_int_equal(lib(&p), RFE_OK);
+    assert_int_equal(rfe_estimator_init_f64(&est, &p), RFE_OK);
+    for (i = 0u; i < log->n_rows; ++i) {
+        rfe_sample_t s;
+        memset(&s, 0, sizeof s);
+        s.vx = log->rows[i].vx;
+        s.ax = log->rows[i].ax;
+        for (w = 0u; w < RFE_WHEELS; ++w) {
+            s.omega[w] = log->rows[i].omega[w];
+        }
+        assert_int_equal(rfe_estimator_step_f64(&est, &s, &e), out[i].status);
+        for (w = 0u; w < RFE_WHEELS; ++w) {
+            assert_true(out[i].mu[w] == e.mu[w]);
+            assert_true(out[i].sd[w] == e.sd[w]);
+        }
+    }
+}
+
+static void test_rfe_replay_run_presets_as_library(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_sensor_row_t rows[N_ROWS];
+    (void)state;
+    make_log(&log, rows);
+    check_replay_equals_library(RFE_PRESET_DEFAULT, rfe_params_default_f64, &log);
+    check_replay_equals_library(RFE_PRESET_PAPER, rfe_params_paper_f64, &log);
+}
+
+/* A set whose preset is not an rfe_preset_t: init refused, no key blamed. */
+static void test_rfe_replay_run_unknown_preset(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_sensor_row_t rows[N_ROWS];
+    rfe_param_set_t ps;
+    rfe_est_row_t out[N_ROWS];
+    rfe_replay_stats_t st;
+    size_t bad = 0u;
+    (void)state;
+    make_log(&log, rows);
+    rfe_param_set_default(&ps);
+    ps.preset = (rfe_preset_t)7;
+    assert_int_equal(rfe_replay_run_f64(&ps, &log, out, &st, &bad), RFE_ERR_PARAM);
+    assert_int_equal(bad, RFE_PK_NONE);
+    assert_int_equal(st.n_steps, 0);
 }
 
 static void test_rfe_replay_run_file_every_row(void **state)
@@ -66,7 +193,7 @@ static void test_rfe_replay_run_file_every_row(void **state)
     size_t i;
     (void)state;
     assert_int_equal(rfe_sensor_log_read(DATA "good_notruth.csv", &log, &err), 0);
-    rfe_param_set_default(&ps);
+    assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_PAPER), 0);
     assert_int_equal(rfe_replay_run_f64(&ps, &log, out, &st, NULL), RFE_OK);
     assert_int_equal(st.n_steps, 3);
     assert_int_equal(count_sum(&st), 3);
@@ -90,7 +217,7 @@ static void test_rfe_replay_run_rejected_row_logged_and_run_continues(void **sta
     (void)state;
     make_log(&log, rows);
     rows[2].vx = 2.0 * RFE_LIMIT_VX; /* implausible: the library rejects it */
-    rfe_param_set_default(&ps);
+    assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_PAPER), 0);
     assert_int_equal(rfe_replay_run_f64(&ps, &log, out, &st, NULL), RFE_OK);
     assert_int_equal(out[2].status, RFE_ERR_RANGE);
     for (w = 0u; w < RFE_WHEELS; ++w) {
@@ -111,7 +238,7 @@ static void test_rfe_replay_run_both_filters_and_tyres(void **state)
     rfe_replay_stats_t st;
     (void)state;
     make_log(&log, rows);
-    rfe_param_set_default(&ps);
+    assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_PAPER), 0);
     ps.filter = RFE_FILTER_CKF;
     ps.tyre = RFE_TYRE_ABSOLUTE;
     assert_int_equal(rfe_replay_run_f64(&ps, &log, out, &st, NULL), RFE_OK);
@@ -129,7 +256,7 @@ static void test_rfe_replay_run_invalid_key_diagnosed(void **state)
     size_t bad = 0u;
     (void)state;
     make_log(&log, rows);
-    rfe_param_set_default(&ps);
+    assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_PAPER), 0);
     ps.value[RFE_PK_mu0] = 2.0; /* above mu_max = 1.2 */
     assert_int_equal(rfe_replay_run_f64(&ps, &log, out, &st, &bad), RFE_ERR_PARAM);
     assert_int_equal(bad, RFE_PK_mu0);
@@ -146,7 +273,7 @@ static void test_rfe_replay_run_invalid_combination_not_blamed_on_one_key(void *
     size_t bad = 0u;
     (void)state;
     make_log(&log, rows);
-    rfe_param_set_default(&ps);
+    assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_PAPER), 0);
     /* Each alone is valid against the defaults; together mu0 < mu_min. */
     ps.value[RFE_PK_mu_min] = 0.45;
     ps.value[RFE_PK_mu0] = 0.4;
@@ -163,7 +290,7 @@ static void test_rfe_replay_run_null_arguments(void **state)
     rfe_replay_stats_t st;
     (void)state;
     make_log(&log, rows);
-    rfe_param_set_default(&ps);
+    assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_PAPER), 0);
     assert_int_equal(rfe_replay_run_f64(NULL, &log, out, &st, NULL), RFE_ERR_NULL);
     assert_int_equal(rfe_replay_run_f64(&ps, &log, NULL, &st, NULL), RFE_ERR_NULL);
 }
@@ -180,7 +307,12 @@ static void test_rfe_replay_status_slot_bounds(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_rfe_replay_check_defaults_match_library),
+        cmocka_unit_test(test_rfe_replay_preset_fn_maps_to_library),
+        cmocka_unit_test(test_rfe_param_set_preset_values_are_the_library_s),
+        cmocka_unit_test(test_rfe_param_set_default_is_default_preset),
+        cmocka_unit_test(test_rfe_param_set_preset_rejects_null_and_unknown),
+        cmocka_unit_test(test_rfe_replay_run_presets_as_library),
+        cmocka_unit_test(test_rfe_replay_run_unknown_preset),
         cmocka_unit_test(test_rfe_replay_run_file_every_row),
         cmocka_unit_test(test_rfe_replay_run_rejected_row_logged_and_run_continues),
         cmocka_unit_test(test_rfe_replay_run_both_filters_and_tyres),
