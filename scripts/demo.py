@@ -27,6 +27,20 @@ sys.path.insert(0, str(ROOT / "scripts"))
 from plot_estimates import plot, read_csv  # noqa: E402  (one plotting/reading code path)
 SETTLE_START_S = 1.0  # same as mu_replay's default settle start
 BEGIN, END = "<!-- accuracy:begin -->", "<!-- accuracy:end -->"
+TRUST_BEGIN, TRUST_END = "<!-- trust:begin -->", "<!-- trust:end -->"
+
+# Scenario classes of the trustworthiness targets (README): excited = the tyres work near
+# their limit; steering = cornering; never = friction is not observable (mild braking,
+# cruising, the moderate split-mu braking whose high side stays linear).
+CLASSES = {
+    "hard_brake_high_mu": "excited", "hard_brake_low_mu": "excited",
+    "mu_step_hard_brake": "excited", "split_mu_hard_brake": "excited",
+    "accel_low_mu": "excited",
+    "sine_steer_high_mu": "steering", "sine_steer_low_mu": "steering",
+    "brake_in_turn": "steering",
+    "paper_low_mu_brake": "never", "paper_high_mu_brake": "never", "paper_mu_step": "never",
+    "cruise": "never", "split_mu_brake": "never",
+}
 
 
 def scenario_logs(scen_dir: Path) -> list[Path]:
@@ -35,12 +49,13 @@ def scenario_logs(scen_dir: Path) -> list[Path]:
     return logs
 
 
-def run_replay(replay: Path, log: Path, out_dir: Path, filt: str, real: str) -> dict:
+def run_replay(replay: Path, log: Path, out_dir: Path, filt: str, real: str,
+               preset: str = "paper") -> dict:
     stem = log.name[: -len(".csv")]
-    est = out_dir / f"{stem}.paper.{filt}.{real}.csv"
-    met = out_dir / f"{stem}.paper.{filt}.{real}.json"
-    cmd = [str(replay), "--in", str(log), "--out", str(est), "--preset", "paper", "--filter", filt,
-           "--tyre", "paper", "--real", real, "--metrics", str(met), "--quiet"]
+    est = out_dir / f"{stem}.{preset}.{filt}.{real}.csv"
+    met = out_dir / f"{stem}.{preset}.{filt}.{real}.json"
+    cmd = [str(replay), "--in", str(log), "--out", str(est), "--preset", preset, "--filter", filt,
+           "--real", real, "--metrics", str(met), "--quiet"]
     res = subprocess.run(cmd, capture_output=True, text=True)
     if res.returncode != 0:
         sys.exit(f"demo: {' '.join(cmd)} failed: {res.stderr.strip()}")
@@ -86,13 +101,68 @@ def table_rows(results: list[tuple[str, str, dict, dict]]) -> list[str]:
     return lines
 
 
-def update_readme(readme: Path, lines: list[str]) -> None:
+def update_readme(readme: Path, lines: list[str], begin: str = BEGIN, end: str = END) -> None:
     text = readme.read_text()
-    if BEGIN not in text or END not in text:
-        sys.exit(f"demo: {readme} has no {BEGIN} ... {END} section")
-    head, rest = text.split(BEGIN, 1)
-    _, tail = rest.split(END, 1)
-    readme.write_text(head + BEGIN + "\n" + "\n".join(lines) + "\n" + END + tail)
+    if begin not in text or end not in text:
+        sys.exit(f"demo: {readme} has no {begin} ... {end} section")
+    head, rest = text.split(begin, 1)
+    _, tail = rest.split(end, 1)
+    readme.write_text(head + begin + "\n" + "\n".join(lines) + "\n" + end + tail)
+
+
+def pooled(m: dict, key: str, weight: str, square: bool = False):
+    """A per-wheel figure pooled over the four wheels, weighted by each wheel's sample count
+    (RMS figures pooled as RMS). None when no wheel has samples."""
+    num = den = 0.0
+    for w in WHEELS:
+        x, n = m[w].get(key), m[w].get(weight) or 0
+        if x is None or n == 0:
+            continue
+        num += n * (x * x if square else x)
+        den += n
+    if den == 0:
+        return None
+    return (num / den) ** 0.5 if square else num / den
+
+
+def trust_rows(runs: list[tuple[str, str, str, dict]]) -> list[str]:
+    """The trustworthiness table: one row per (scenario, truth tyre, preset)."""
+    head = ("| scenario | class | truth | preset | RMSE fl/fr/rl/rr | max err fl/fr/rl/rr | "
+            "mean-μ RMSE | RMSE valid | valid | excited valid | consistency | re-conv [s] |")
+    lines = [head, "|" + "|".join(["---"] * 12) + "|"]
+    for scen, truth, preset, info in runs:
+        m = info["metrics"]
+        rm = "/".join(fmt(m[w]["rmse"], ".2f") for w in WHEELS)
+        mx = "/".join(fmt(m[w]["max_abs_err"], ".2f") for w in WHEELS)
+        n_valid = [m[w]["n_valid"] or 0 for w in WHEELS]
+        rv = pooled(m, "rmse_valid", "n_valid", square=True)
+        fv = pooled(m, "frac_valid", "n_settled")
+        ex = pooled(m, "frac_valid_excited", "n_excited")
+        co = pooled(m, "consistency", "n_settled")
+        rc = [m[w]["reconverge_s"] for w in WHEELS if m[w]["n_changes"]]
+        rcs = "–" if not rc else ("never" if any(x is None for x in rc) else f"{max(rc):.2f}")
+        pct = lambda x: "–" if x is None else f"{100 * x:.0f} %"  # noqa: E731
+        lines.append(f"| {scen} | {CLASSES.get(scen, '?')} | {truth} | {preset} | {rm} | {mx} | "
+                     f"{fmt(m['mean']['rmse'], '.3f')} | {fmt(rv, '.3f') if sum(n_valid) else '–'} | "
+                     f"{pct(fv)} | {pct(ex)} | {pct(co)} | {rcs} |")
+    return lines
+
+
+def trust_table(replay: Path, scen_dir: Path, out_dir: Path, real: str) -> list[str]:
+    """Default preset next to the paper baseline, on every noisy log of both truth tyres."""
+    runs = []
+    logs = sorted(p for p in scen_dir.glob("*.csv") if not p.name.endswith(".nf.csv"))
+    for k, log in enumerate(logs, 1):
+        stem = log.name[: -len(".csv")]
+        truth = "MF" if stem.endswith(".mf") else "Dugoff"
+        scen = stem[: -len(".mf")] if stem.endswith(".mf") else stem
+        for preset in ("paper", "default"):
+            runs.append((scen, truth, preset, run_replay(replay, log, out_dir, "sckf", real, preset)))
+        print(f"[trust {k}/{len(logs)}] {stem}", flush=True)
+    order = {"excited": 0, "steering": 1, "never": 2}
+    runs.sort(key=lambda r: (r[1] != "MF", order.get(CLASSES.get(r[0], ""), 3), r[0],
+                             r[2] != "default"))
+    return trust_rows(runs)
 
 
 def main() -> int:
@@ -103,6 +173,8 @@ def main() -> int:
     ap.add_argument("--real", choices=("float", "double"), default="float")
     ap.add_argument("--readme", type=Path, help="rewrite the accuracy table in this README")
     ap.add_argument("--no-plots", action="store_true")
+    ap.add_argument("--trust", action="store_true",
+                    help="also the default-vs-paper trustworthiness table (both truth tyres)")
     args = ap.parse_args()
 
     args.out.mkdir(parents=True, exist_ok=True)
@@ -135,9 +207,15 @@ def main() -> int:
     print("\n".join(lines))
     (args.out / "accuracy.md").write_text("\n".join(lines) + "\n")
     print(f"\nestimate logs, metrics and plots: {args.out}/ (accuracy.md, <scenario>.png)")
+    if args.trust:
+        tl = trust_table(args.replay, args.scenarios, args.out, args.real)
+        print("\n".join(tl))
+        (args.out / "trust.md").write_text("\n".join(tl) + "\n")
     if args.readme:
         update_readme(args.readme, lines)
-        print(f"updated the accuracy table in {args.readme}")
+        if args.trust:
+            update_readme(args.readme, tl, TRUST_BEGIN, TRUST_END)
+        print(f"updated the tables in {args.readme}")
     return 0
 
 

@@ -8,7 +8,8 @@ For every sensor log <scenarios>/<name>.csv and <name>.nf.csv (files containing 
 skipped, as are files in sub-directories) it writes, with stem = file name without ".csv":
     <out>/<stem>.paper.sckf.csv and <out>/<stem>.paper.ckf.csv
 and for the noisy <name>.csv (not *.nf.csv) also
-    <out>/<stem>.absolute.sckf.csv
+    <out>/<stem>.absolute.sckf.csv  (paper preset, absolute tyre)
+    <out>/<stem>.default.sckf.csv   (default preset, docs/ESTIMATOR.md)
 Parameters: defaults < the log's metadata (scripts/reference/params.py).  Deterministic:
 running it twice writes identical bytes.
 """
@@ -30,13 +31,16 @@ from reference import estimate  # noqa: E402
 
 
 def jobs_for(name: str):
-    """(tyre, filter) pairs for one sensor-log file name, or [] if it is skipped."""
+    """(preset, tyre, filter, file tag) per sensor-log file name, or [] if it is skipped.
+    The paper preset with its own tyre and with the absolute tyre; the default preset
+    (docs/ESTIMATOR.md) on the noisy logs."""
     if not name.endswith(".csv") or ".mf" in name:
         return []
-    pairs = [("paper", "sckf"), ("paper", "ckf")]
+    jobs = [("paper", "paper", "sckf", "paper.sckf"), ("paper", "paper", "ckf", "paper.ckf")]
     if not name.endswith(".nf.csv"):
-        pairs.append(("absolute", "sckf"))
-    return pairs
+        jobs.append(("paper", "absolute", "sckf", "absolute.sckf"))
+        jobs.append(("default", None, "sckf", "default.sckf"))
+    return jobs
 
 
 def main(argv=None) -> int:
@@ -57,9 +61,9 @@ def main(argv=None) -> int:
         src = os.path.join(a.scenarios, name)
         t0 = time.perf_counter()
         outs = []
-        for tyre, kind in jobs_for(name):
-            out = os.path.join(a.out, f"{stem}.{tyre}.{kind}.csv")
-            estimate.estimate_file(src, out, None, kind, tyre)
+        for preset, tyre, kind, tag in jobs_for(name):
+            out = os.path.join(a.out, f"{stem}.{tag}.csv")
+            estimate.estimate_file(src, out, None, kind, tyre, preset)
             outs.append(os.path.basename(out))
         print(f"{name}: {', '.join(outs)} ({time.perf_counter() - t0:.2f} s)", flush=True)
     print(f"make_goldens: {len(names)} logs in {time.perf_counter() - t_all:.1f} s", flush=True)

@@ -3,7 +3,10 @@
 Usage, from the repository root (both forms work):
 
     .venv/bin/python -m scripts.reference.estimate --in SENSOR.csv --out EST.csv \
-        [--params FILE] [--filter sckf|ckf] [--tyre paper|absolute]
+        [--preset paper|default] [--params FILE] [--filter sckf|ckf] [--tyre paper|absolute]
+
+--preset default (the default) runs docs/ESTIMATOR.md (trusted.py); --preset paper runs the
+paper's filter of MODEL.md section 6, as below.
     .venv/bin/python scripts/reference/estimate.py --in SENSOR.csv --out EST.csv ...
 
 Per sample k (row k of the output is the posterior after sample k):
@@ -28,7 +31,7 @@ if __package__ in (None, ""):           # run as a script: make the package impo
 
 import numpy as np  # noqa: E402
 
-from . import filters, logs, model, params  # noqa: E402
+from . import filters, logs, model, params, trusted  # noqa: E402
 
 FILTERS = ("sckf", "ckf")
 TYRES = ("paper", "absolute")
@@ -81,9 +84,12 @@ def run(log: logs.CsvLog, p: dict, kind: str = "sckf", tyre: str = "paper"):
     return {"t": log.col("t"), "mu": mu, "sd": sd, "valid": valid, "status": status}
 
 
-def metadata(kind: str, tyre: str, input_path: str, p: dict, param_file: str | None = None):
-    """Metadata lines of an estimate log: generator, filter, tyre, input, then every parameter."""
-    meta = [("generator", "scripts/reference"), ("filter", kind), ("tyre", tyre),
+def metadata(kind: str, tyre: str, input_path: str, p: dict, param_file: str | None = None,
+             preset: str = "paper"):
+    """Metadata lines of an estimate log: generator, preset, filter, tyre, structure, input,
+    then every parameter."""
+    meta = [("generator", "scripts/reference"), ("preset", preset), ("filter", kind),
+            ("tyre", tyre), ("structure", p.get("structure", "wheels")),
             ("input", os.path.basename(input_path))]
     if param_file:
         meta.append(("param_file", os.path.basename(param_file)))
@@ -92,12 +98,20 @@ def metadata(kind: str, tyre: str, input_path: str, p: dict, param_file: str | N
 
 
 def estimate_file(in_path: str, out_path: str, param_file: str | None = None,
-                  kind: str = "sckf", tyre: str = "paper"):
-    """Read a sensor log, resolve parameters, run, write the estimate log. Returns run()'s dict."""
+                  kind: str = "sckf", tyre: str | None = None, preset: str = "paper"):
+    """Read a sensor log, resolve parameters, run, write the estimate log. Returns run()'s dict.
+    tyre None: the preset's tyre."""
     log = logs.read_csv_log(in_path)
-    p = params.resolve(log.meta, param_file, source=in_path)
-    res = run(log, p, kind, tyre)
-    logs.write_estimate_log(out_path, metadata(kind, tyre, in_path, p, param_file),
+    p = params.resolve(log.meta, param_file, source=in_path, preset=preset)
+    if tyre is not None:
+        p["tyre"] = tyre
+    if preset == "paper":
+        res = run(log, p, kind, p["tyre"])
+    else:
+        if kind != "sckf":
+            raise params.ParamError("the CKF baseline needs --preset paper")
+        res = trusted.run(log, p)
+    logs.write_estimate_log(out_path, metadata(kind, p["tyre"], in_path, p, param_file, preset),
                             res["t"], res["mu"], res["sd"], res["valid"], res["status"])
     return res
 
@@ -108,10 +122,11 @@ def main(argv=None) -> int:
     ap.add_argument("--out", required=True, help="estimate log to write")
     ap.add_argument("--params", default=None, help="parameter file (key = value)")
     ap.add_argument("--filter", default="sckf", choices=FILTERS)
-    ap.add_argument("--tyre", default="paper", choices=TYRES)
+    ap.add_argument("--tyre", default=None, choices=TYRES, help="default: the preset's")
+    ap.add_argument("--preset", default="default", choices=tuple(params.PRESETS))
     a = ap.parse_args(argv)
     try:
-        estimate_file(a.inp, a.out, a.params, a.filter, a.tyre)
+        estimate_file(a.inp, a.out, a.params, a.filter, a.tyre, a.preset)
     except (params.ParamError, logs.LogError, OSError) as exc:
         print(f"estimate: error: {exc}", file=sys.stderr)
         return 1

@@ -38,6 +38,34 @@ DEFAULTS: dict[str, float] = {
     "mu_min": 0.05,       # projection bounds of the mean
     "mu_max": 1.2,
     "v_est_min": 3.0,     # below this logged vx: time update only (status 2), m/s
+    # observability-aware additions (docs/ESTIMATOR.md); these values switch them all off,
+    # which is the paper preset
+    "sd0_common": 0.0,    # prior sd, common-mode part
+    "q_common": 0.0,      # process-noise sd per step, common-mode part
+    "dt": 0.01,           # sample period, s
+    "tau_v": 0.0,         # complementary-filter time constant for vx, vy, s (0: off)
+    "sd_in_delta": 0.0,   # input noise sd of delta, rad (errors in variables)
+    "sd_in_vx": 0.0,      # input noise sd of the filtered vx, m/s
+    "sd_in_vy": 0.0,      # input noise sd of the filtered vy, m/s
+    "sd_in_yaw_rate": 0.0,  # input noise sd of r, rad/s
+    "sd_in_omega": 0.0,   # input noise sd of each wheel speed, rad/s
+    "r_model_rel": 0.0,   # tyre-model error relative to each predicted acceleration
+    "info_min": 0.0,      # Fisher-information gate, 1/mu^2 (0: off)
+    "sd_max": 0.0,        # bound on every sd (0: off)
+    "sd_floor_rel": 0.0,  # floor on sd as a fraction of mu (0: off)
+    "sd_valid": 0.0,      # valid when sd <= sd_valid (0: valid when updated)
+}
+
+# The two presets (docs/ESTIMATOR.md): numeric values and the word-valued choices.
+PRESETS: dict[str, dict] = {
+    "paper": {"structure": "wheels", "tyre": "paper"},
+    "default": {
+        "structure": "sides", "tyre": "absolute",
+        "sd0": 0.1, "sd0_common": 0.3, "q_mu": 0.002, "q_common": 0.006,
+        "tau_v": 0.3, "sd_in_delta": 0.001, "sd_in_vx": 0.01, "sd_in_vy": 0.01,
+        "sd_in_yaw_rate": 0.005, "sd_in_omega": 0.05, "r_model_rel": 0.05,
+        "info_min": 100.0, "sd_max": 0.32, "sd_floor_rel": 0.15, "sd_valid": 0.15,
+    },
 }
 
 
@@ -94,9 +122,12 @@ def from_metadata(meta: dict[str, str], source: str = "log") -> dict[str, float]
 
 
 def resolve(meta: dict[str, str] | None = None, param_file: str | None = None,
-            source: str = "log") -> dict[str, float]:
-    """Defaults < log metadata < parameter file."""
-    p = dict(DEFAULTS)
+            source: str = "log", preset: str = "paper") -> dict:
+    """Preset < log metadata < parameter file. Numeric keys, plus 'structure' and 'tyre'."""
+    if preset not in PRESETS:
+        raise ParamError(f"unknown preset {preset!r}")
+    p: dict = dict(DEFAULTS)
+    p.update(PRESETS[preset])
     if meta:
         p.update(from_metadata(meta, source))
     if param_file:

@@ -20,7 +20,7 @@ import sys
 import numpy as np
 import pytest
 
-from . import estimate, filters, logs, model, params
+from . import estimate, filters, logs, model, params, trusted
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(os.path.dirname(HERE))
@@ -350,7 +350,7 @@ def test_cli_module_and_script(tmp_path, synth_log):
         for kind, tyre in (("sckf", "paper"), ("ckf", "paper"), ("sckf", "absolute")):
             out = str(tmp_path / f"{len(outs)}.csv")
             subprocess.run([sys.executable, *form, "--in", src, "--out", out, "--filter", kind,
-                            "--tyre", tyre], cwd=REPO, check=True)
+                            "--tyre", tyre, "--preset", "paper"], cwd=REPO, check=True)
             outs.append(out)
     for a, b in zip(outs[:3], outs[3:]):
         with open(a, "rb") as fa, open(b, "rb") as fb:
@@ -388,8 +388,8 @@ def test_make_goldens_naming_and_determinism(tmp_path):
         subprocess.run([sys.executable, script, "--scenarios", str(sc), "--out", str(out)],
                        check=True, capture_output=True)
         files = sorted(os.listdir(out))
-        assert files == ["a.absolute.sckf.csv", "a.nf.paper.ckf.csv", "a.nf.paper.sckf.csv",
-                         "a.paper.ckf.csv", "a.paper.sckf.csv"]
+        assert files == ["a.absolute.sckf.csv", "a.default.sckf.csv", "a.nf.paper.ckf.csv",
+                         "a.nf.paper.sckf.csv", "a.paper.ckf.csv", "a.paper.sckf.csv"]
         digests.append({f: (out / f).read_bytes() for f in files})
     assert digests[0] == digests[1]
 
@@ -417,10 +417,57 @@ GOLDENS = sorted(glob.glob(os.path.join(REPO, "scenarios", "golden", "*.csv")))
 @pytest.mark.parametrize("golden", GOLDENS, ids=os.path.basename)
 def test_goldens_up_to_date(golden, tmp_path):
     """Each golden file is byte-identical to what the reference writes now from its input."""
-    stem, tyre, kind, _ = os.path.basename(golden).rsplit(".", 3)
+    stem, tag, kind, _ = os.path.basename(golden).rsplit(".", 3)
+    preset, tyre = ("default", None) if tag == "default" else ("paper", tag)
     src = os.path.join(REPO, "scenarios", stem + ".csv")
     assert os.path.exists(src), f"golden without its sensor log: {src}"
     out = str(tmp_path / "now.csv")
-    estimate.estimate_file(src, out, None, kind, tyre)
+    estimate.estimate_file(src, out, None, kind, tyre, preset)
     with open(golden, "rb") as fa, open(out, "rb") as fb:
         assert fa.read() == fb.read()
+
+
+# ---------------------------------------------------------------------------------------------
+# 7: the observability-aware estimator (docs/ESTIMATOR.md, trusted.py)
+# ---------------------------------------------------------------------------------------------
+
+def test_trusted_with_additions_off_is_the_paper_filter(synth_log):
+    """docs/ESTIMATOR.md: with every addition off (paper preset values) the steps reduce to
+    MODEL.md section 6; trusted.run must then reproduce estimate.run (1e-12: same algebra,
+    summation order aside)."""
+    p = params.resolve(None, None, preset="paper")
+    a = estimate.run(synth_log, p, "sckf", "paper")
+    b = trusted.run(synth_log, p)
+    np.testing.assert_allclose(b["mu"], a["mu"], atol=1e-12, rtol=0)
+    np.testing.assert_allclose(b["sd"], a["sd"], atol=1e-12, rtol=0)
+    np.testing.assert_array_equal(b["valid"], a["valid"])
+    np.testing.assert_array_equal(b["status"], a["status"])
+
+
+def test_conditioner_hand_example():
+    """tau = 0.09, dt = 0.01: b = 0.1. First sample initialises to the measurement; second:
+    px = 20 + 0.01 (-2 + 0.1 * 0.5) = 19.9805, py = 0.5 + 0.01 (0.3 - 0.1 * 20) = 0.483;
+    vx = 0.9 * 19.9805 + 0.1 * 19.0 = 19.88245, vy = 0.9 * 0.483 + 0.1 * 0.4 = 0.4747."""
+    c = trusted.Conditioner(0.09, 0.01)
+    assert c.step(20.0, 0.5, -2.0, 0.3, 0.1) == (20.0, 0.5)
+    vx, vy = c.step(19.0, 0.4, -2.0, 0.3, 0.1)
+    assert abs(vx - 19.88245) < 1e-12 and abs(vy - 0.4747) < 1e-12
+
+
+def test_trusted_holds_when_nothing_is_observable(tmp_path):
+    """Steady cruising: no tyre works, so every step is held (status 3), the mean stays at
+    mu0, the sd sits at the sd_max bound and nothing is reported valid."""
+    n = 300
+    cols = {"t": np.arange(n) * 0.01, "delta": np.zeros(n), "vx": np.full(n, 22.0),
+            "vy": np.zeros(n), "yaw_rate": np.zeros(n), "yaw_acc": np.zeros(n),
+            "ax": np.zeros(n), "ay": np.zeros(n)}
+    for w in model.WHEELS:
+        cols[f"omega_{w}"] = np.full(n, 22.0 / 0.325)
+    path = str(tmp_path / "cruise.csv")
+    write_sensor_log(path, cols)
+    p = params.resolve(None, None, preset="default")
+    res = trusted.run(logs.read_csv_log(path), p)
+    assert np.all(res["status"] == 3) and not res["valid"].any()
+    np.testing.assert_allclose(res["mu"], p["mu0"], atol=1e-12)
+    assert np.all(res["sd"] <= p["sd_max"] + 1e-12) and res["sd"][-1, 0] > 0.3
+    np.testing.assert_array_equal(res["mu"][:, 0], res["mu"][:, 2])   # sides: fl == rl

@@ -1,0 +1,157 @@
+"""Reference implementation of docs/ESTIMATOR.md: the observability-aware estimator.
+
+float64, numpy; it shares no code with the C library (it is the yardstick for the C
+library's default preset). Steps, as numbered in docs/ESTIMATOR.md:
+  1. complementary filters for vx, vy;  2. time update;  3. low-speed skip;
+  4. step measurement noise S_R: model error and errors in variables (central differences);
+  5. statistical linearisation over the cubature points -> Fisher information, gate;
+  6. measurement update with S_R;  7. sd bounds by one factor for the whole S;
+  8. projection;  9. output, validity.
+Structure "sides": x = [mu_left, mu_right] (fl, rl left; fr, rr right); "wheels": four mu.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from scipy.linalg import solve_triangular
+
+from . import filters, model
+
+WHEELS_OF_SIDES = np.array([[1.0, 0.0], [0.0, 1.0], [1.0, 0.0], [0.0, 1.0]])  # fl fr rl rr
+
+def sqrt_prior(n: int, sd: float, sd_common: float) -> np.ndarray:
+    """Lower-triangular factor of sd_common^2 11^T + sd^2 I (exactly sd I when sd_common = 0)."""
+    if sd_common == 0.0:
+        return sd * np.eye(n)
+    return np.linalg.cholesky(sd_common ** 2 * np.ones((n, n)) + sd ** 2 * np.eye(n))
+
+
+class Conditioner:
+    """Complementary filters for vx, vy (accelerometers integrated, speeds as the slow truth)."""
+
+    def __init__(self, tau: float, dt: float):
+        self.b = dt / (tau + dt) if tau > 0 else 1.0
+        self.dt = dt
+        self.vx = self.vy = None
+
+    def step(self, vx, vy, ax, ay, r):
+        if self.vx is None:
+            self.vx, self.vy = vx, vy
+            return vx, vy
+        px = self.vx + self.dt * (ax + r * self.vy)   # vx_dot = ax + r vy
+        py = self.vy + self.dt * (ay - r * self.vx)   # vy_dot = ay - r vx
+        self.vx = (1.0 - self.b) * px + self.b * vx
+        self.vy = (1.0 - self.b) * py + self.b * vy
+        return self.vx, self.vy
+
+
+def h_point(p, u, mu4):
+    """h(mu, u) for one input vector u = (delta, vx, vy, r, ax, ay, w1..w4) and mu per wheel
+    (absolute tyre: load-scaled Dugoff at mu; paper tyre: H(u) mu)."""
+    delta, vx, vy, r, ax, ay = u[:6]
+    omega = np.asarray(u[6:10])[None, :]
+    ti = model.tyre_inputs(p, np.array([delta]), np.array([vx]), np.array([vy]), np.array([r]),
+                           np.array([ax]), np.array([ay]), omega)
+    mu4 = np.asarray(mu4, dtype=float)
+    if p["tyre"] == "paper":
+        return model.observation_matrix(p, ti)[0] @ mu4
+    return model.h_absolute(p, ti, 0, mu4[:, None])[:, 0]
+
+
+def run(log, p: dict):
+    """Run over a sensor log; returns dict t, mu (N,4), sd (N,4), valid (N,4), status, info."""
+    T = WHEELS_OF_SIDES if p["structure"] == "sides" else np.eye(4)
+    n = T.shape[1]
+    f = filters.SCKF(np.full(n, p["mu0"]), sqrt_prior(n, p["sd0"], p["sd0_common"]),
+                     sqrt_prior(n, p["q_mu"], p["q_common"]),
+                     np.diag([p["r_ax"], p["r_ay"], p["r_yaw_acc"]]))
+    cond = Conditioner(p["tau_v"], p["dt"])
+    # input order of the errors-in-variables columns: delta, vx, vy, r, (ax, ay: none), omega
+    sd_u = np.array([p["sd_in_delta"], p["sd_in_vx"], p["sd_in_vy"], p["sd_in_yaw_rate"],
+                     0.0, 0.0] + [p["sd_in_omega"]] * 4)
+    cols = [log.col(c) for c in ("delta", "vx", "vy", "yaw_rate", "ax", "ay")]
+    omega = log.omega()
+    ys = np.stack([log.col("ax"), log.col("ay"), log.col("yaw_acc")], axis=-1)
+    N = len(log)
+    out = {k: np.zeros((N, 4)) for k in ("mu", "sd")}
+    out["valid"] = np.zeros((N, 4), dtype=int)
+    out["status"] = np.zeros(N, dtype=int)
+    out["info"] = np.zeros((N, n))
+    for k in range(N):
+        delta, vx_m, vy_m, r, ax, ay = (c[k] for c in cols)
+        vx, vy = cond.step(vx_m, vy_m, ax, ay, r)                       # 1
+        u = np.array([delta, vx, vy, r, ax, ay, *omega[k]])
+        f.time_update()                                                 # 2
+        status = 2                                                      # 3
+        if vx >= p["v_est_min"]:
+            s_r = _step_noise(p, f, T, u, sd_u)                         # 4
+            hfun = lambda pts: np.stack(  # noqa: E731
+                [h_point(p, u, T @ pts[:, j]) for j in range(pts.shape[1])], 1)
+            update = True
+            if p["info_min"] > 0:                                       # 5
+                out["info"][k] = _information(f, hfun, s_r)
+                update = bool(out["info"][k].max() >= p["info_min"])
+            status = 3
+            if update:                                                  # 6
+                saved, f.s_r = f.s_r, s_r
+                f.measurement_update(ys[k], hfun)
+                f.s_r = saved
+                status = 0
+        _bound_sd(p, f)                                                 # 7
+        f.x, clamped = filters.project(f.x, p["mu_min"], p["mu_max"])  # 8
+        if clamped and status == 0:
+            status = 1
+        sd = f.sd()                                                     # 9
+        out["mu"][k] = T @ f.x
+        out["sd"][k] = T @ sd
+        if p["sd_valid"] > 0:
+            out["valid"][k] = (T @ (sd <= p["sd_valid"]).astype(float)).astype(int)
+        else:
+            out["valid"][k] = 1 if status in (0, 1) else 0
+        out["status"][k] = status
+    out["t"] = log.col("t")
+    return out
+
+
+def _step_noise(p, f, T, u, sd_u):
+    """Step 4: S_R0 = diag(sqrt(r^2 + (r_model_rel |h(T x-)|)^2)), then Tria([S_R0, g_j]) with
+    g_j = (h(u + sd_j e_j) - h(u - sd_j e_j)) / 2. Untouched when both additions are off."""
+    if p["r_model_rel"] <= 0 and not np.any(sd_u > 0):
+        return f.s_r
+    xw = T @ f.x
+    r_sd = np.diag(f.s_r)
+    s_r = np.diag(np.sqrt(r_sd ** 2 + (p["r_model_rel"] * np.abs(h_point(p, u, xw))) ** 2))
+    cols = []
+    for j, sj in enumerate(sd_u):
+        if sj > 0:
+            du = np.zeros(u.size)
+            du[j] = sj
+            cols.append((h_point(p, u + du, xw) - h_point(p, u - du, xw)) / 2.0)
+    return filters.tria(np.hstack([s_r, np.stack(cols, 1)])) if cols else s_r
+
+
+def _information(f, hfun, s_r):
+    """Step 5: J = P_zx (S S^T)^-1 by two triangular solves, W = S_R \\ J, I_k = sum_r W_rk^2."""
+    pts = f.points()
+    z_pts = hfun(pts)
+    xc = (pts - f.x[:, None]) / f.sqrt_2n
+    zc = (z_pts - z_pts.mean(axis=1)[:, None]) / f.sqrt_2n
+    p_zx = zc @ xc.T                                                     # (m, n)
+    y = solve_triangular(f.S, p_zx.T, lower=True)                        # S Y = P_zx^T
+    j_t = solve_triangular(f.S, y, lower=True, trans="T")                # S^T J^T = Y
+    w = solve_triangular(s_r, j_t.T, lower=True)                         # S_R W = J
+    return np.einsum("ij,ij->j", w, w)
+
+
+def _bound_sd(p, f):
+    """Step 7: one factor c for the whole S: cap at sd_max, else floor at sd_floor_rel mu."""
+    sd = f.sd()
+    c = 1.0
+    if p["sd_max"] > 0 and np.any(sd > p["sd_max"]):
+        c = float(np.min(p["sd_max"] / sd))
+    elif p["sd_floor_rel"] > 0:
+        floor = p["sd_floor_rel"] * np.maximum(f.x, 0.0)
+        if np.any(sd < floor):
+            c = float(np.max(floor / sd))
+    if c != 1.0:
+        f.S = f.S * c
