@@ -6,13 +6,19 @@ A scenario is its initial speed, duration and input functions:
     drive(t)     drive torques (fl, fr, rl, rr) [N m]
     mu(x, left)  road friction at road position x [m] (CoG path distance at t = 0 is 0; a
                  wheel sits at s + x_i) on the left (True) / right (False) side.
-The description string records the inputs and is written to the log metadata.
-All scenarios keep vx > 4 m/s to the end and no wheel locks or spins up.
+    abs, yaw     optional closed-loop controllers (control.py): per-wheel ABS acting on
+                 the driver's pressure, driver yaw-rate controller acting on delta.
+The description string records the inputs (and says when ABS / the steering controller
+are active) and is written to the log metadata.
+All scenarios keep vx > 4 m/s to the end (with both truth tyres) and no wheel locks or
+spins up; the hard_brake scenarios use the ABS of control.py to brake at the limit.
 """
 
 from dataclasses import dataclass
 from math import pi, sin
-from typing import Callable
+from typing import Callable, Optional
+
+from .control import AbsConfig, ClosedLoopInputs, YawConfig
 
 __all__ = ["Scenario", "SCENARIOS", "BY_NAME", "KMH"]
 
@@ -31,13 +37,27 @@ class Scenario:
     pressure: Callable
     drive: Callable
     mu: Callable
+    abs: Optional[AbsConfig] = None   # per-wheel ABS on the driver's pressure (control.py)
+    yaw: Optional[YawConfig] = None   # driver yaw-rate controller on delta (control.py)
 
     @property
     def seed(self):
         return self.index + 1
 
+    @property
+    def closed_loop(self):
+        return self.abs is not None or self.yaw is not None
+
     def inputs(self, t):
+        """Open-loop driver inputs (delta, pressures, drive torques) at time t."""
         return self.steer(t), self.pressure(t), self.drive(t)
+
+    def make_inputs(self, p):
+        """What the simulator integrates: the open-loop inputs, or a fresh closed-loop
+        controller (ABS / driver steering) for vehicle parameters p."""
+        if not self.closed_loop:
+            return self.inputs
+        return ClosedLoopInputs(p, self.steer, self.pressure, self.drive, self.abs, self.yaw)
 
 
 def ramp(t, t0, t_ramp, value):
@@ -77,6 +97,13 @@ SINE_A_LOW = 0.040                # rad -> peak ay ~ 2.75 m/s^2 on mu 0.4
 ACC_T, ACC_T0, ACC_TR, ACC_V0 = 330.0, 0.5, 1.0, 30.0 * KMH
 BIT_DELTA, BIT_STEER_TR = 0.025, 0.5
 BIT_P, BIT_T_ON, BIT_T_OFF, BIT_TR = 1.6, 2.0, 6.0, 0.2
+# Near-limit braking with ABS (control.py): the driver's pressure P_HARD is far above what
+# any wheel can take (~1.5 MPa on mu 0.3, ~5 MPa on mu 0.85), so every wheel is ABS-controlled.
+P_HARD, HARD_TR = 8.0, 0.2        # MPa, s (ramp-in and release)
+HB_HIGH_V0, HB_HIGH_T = 120.0 * KMH, (1.0, 4.0)
+HB_LOW_V0, HB_LOW_T = 100.0 * KMH, (1.0, 8.0)
+MSB_V0, MSB_T, MSB_X, MSB_MU = 120.0 * KMH, (1.0, 7.0), 90.0, (0.8, 0.3)
+SMB_V0, SMB_T, SMB_MU = 100.0 * KMH, (1.0, 5.0), (0.85, 0.3)
 
 
 def _paper(name, index, mu_fn, mu_text):
@@ -118,6 +145,34 @@ def _bit_pressure(t):
     return (v, v, v, v)
 
 
+def _hard_pressure(t_on, t_off):
+    def pressure(t):
+        v = pulse(t, t_on, t_off, HARD_TR, P_HARD)
+        return (v, v, v, v)
+    return pressure
+
+
+def _msb_mu(x, left):
+    return MSB_MU[0] if x < MSB_X else MSB_MU[1]
+
+
+def _smb_mu(x, left):
+    return SMB_MU[0] if left else SMB_MU[1]
+
+
+ABS = AbsConfig()
+DRIVER_YAW = YawConfig()
+
+
+def _hard(name, index, v0, window, mu_fn, mu_text, yaw=None, steer_text="delta = 0"):
+    return Scenario(
+        name, index,
+        f"hard braking with ABS: v0 = {_fmt(v0 / KMH)} km/h, {mu_text}, driver pressure "
+        f"{_fmt(P_HARD)} MPa all wheels from t = {_fmt(window[0])} s to {_fmt(window[1])} s "
+        f"({_fmt(HARD_TR)} s ramps), {ABS.text()}, no drive torque, {steer_text}",
+        v0, 10.0, const(0.0), _hard_pressure(*window), const(ZERO4), mu_fn, ABS, yaw)
+
+
 SCENARIOS = [
     _paper("paper_low_mu_brake", 0, uniform_mu(0.4), "mu = 0.4 everywhere"),
     _paper("paper_high_mu_brake", 1, uniform_mu(0.85), "mu = 0.85 everywhere"),
@@ -157,6 +212,16 @@ SCENARIOS = [
         "cruise: v0 = 80 km/h, mu = 0.85, no inputs (delta = 0, no brake, no drive "
         "torque): tyre forces stay zero, friction not observable",
         V_PAPER, 10.0, const(0.0), const(ZERO4), const(ZERO4), uniform_mu(0.85)),
+    _hard("hard_brake_high_mu", 9, HB_HIGH_V0, HB_HIGH_T, uniform_mu(0.85),
+          "mu = 0.85 everywhere"),
+    _hard("hard_brake_low_mu", 10, HB_LOW_V0, HB_LOW_T, uniform_mu(0.3),
+          "mu = 0.3 everywhere"),
+    _hard("mu_step_hard_brake", 11, MSB_V0, MSB_T, _msb_mu,
+          f"mu = {_fmt(MSB_MU[0])} for road x < {_fmt(MSB_X)} m then {_fmt(MSB_MU[1])} "
+          f"(each wheel at its own x; front wheels cross at t ~ 3.1 s)"),
+    _hard("split_mu_hard_brake", 12, SMB_V0, SMB_T, _smb_mu,
+          f"split mu: left {_fmt(SMB_MU[0])} / right {_fmt(SMB_MU[1])}", DRIVER_YAW,
+          DRIVER_YAW.text()),
 ]
 
 BY_NAME = {s.name: s for s in SCENARIOS}

@@ -1,4 +1,4 @@
-"""Tests of the reference vehicle simulator (pytest, about 15 s).
+"""Tests of the reference vehicle simulator (pytest, about 25 s).
 
     .venv/bin/python -m pytest scripts/sim -q
 
@@ -21,7 +21,7 @@ import numpy as np
 import pytest
 
 from . import sensors, tyres
-from .scenarios import BY_NAME, SCENARIOS
+from .scenarios import BY_NAME, MSB_T, MSB_MU, P_HARD, SCENARIOS
 from .vehicle import Params, load_coefficients, loads, wheel_slips
 
 MODEL_RTOL = 1e-9
@@ -220,7 +220,12 @@ def test_committed_logs(path):
     p = Params(**{k: float(meta[k]) for k in ("m", "Lf", "Lr", "Bf", "Br", "R", "J", "hg",
                                                "g", "Cx_n", "Cy_n", "eps", "v_min",
                                                "alpha_max")})
-    check_model_match(cols, p)
+    res = check_model_match(cols, p)
+    # util = |mu F0| / (mu Fz) = |F0| / Fz for the Dugoff truth (every row)
+    util = np.stack([cols[f"util_{w}"] for w in WHEELS], axis=1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        expect = np.where(res["fz"] > 0, np.hypot(res["f0x"], res["f0y"]) / res["fz"], 0.0)
+    assert np.allclose(util, expect, rtol=1e-9, atol=1e-12)
     assert cols["vx"].min() > 4.0
     assert len(cols["t"]) == round(float(meta["duration"]) / 0.01) + 1
     assert np.array_equal(cols["t"], np.arange(len(cols["t"])) / 100.0)
@@ -278,10 +283,14 @@ def test_integration_converged():
 def test_scenario_definitions():
     assert [s.name for s in SCENARIOS] == [
         "paper_low_mu_brake", "paper_high_mu_brake", "paper_mu_step", "split_mu_brake",
-        "sine_steer_high_mu", "sine_steer_low_mu", "accel_low_mu", "brake_in_turn", "cruise"]
+        "sine_steer_high_mu", "sine_steer_low_mu", "accel_low_mu", "brake_in_turn", "cruise",
+        "hard_brake_high_mu", "hard_brake_low_mu", "mu_step_hard_brake",
+        "split_mu_hard_brake"]
     assert len({s.seed for s in SCENARIOS}) == len(SCENARIOS)
     for s in SCENARIOS:
         assert "\n" not in s.description and s.duration == 10.0
+        assert ("ABS active" in s.description) == (s.abs is not None)
+        assert s.closed_loop == ("hard_brake" in s.name)
 
 
 # ---------------------------------------------------------------------------------------
@@ -397,3 +406,146 @@ def test_tyres_per_unit_load_and_loads_fixed_point(name):
     assert abs(fx) <= 0.6 and abs(fy) <= 0.6
     Fz0, Gx, Gy = load_coefficients(P)
     assert abs(sum(Fz0) - P.m * P.g) < 1e-9 and abs(sum(Gx)) < 1e-12 and abs(sum(Gy)) < 1e-12
+
+
+# ---------------------------------------------------------------------------------------
+# Near-limit braking: ABS, utilisation, closed-loop integration
+# ---------------------------------------------------------------------------------------
+KAPPA_TARGET = BY_NAME["hard_brake_high_mu"].abs.kappa_target
+# Short runs that cover what each test needs (the committed logs cover the full 10 s).
+ABS_RUNS = {("hard_brake_high_mu", "dugoff"): 4.5, ("hard_brake_low_mu", "dugoff"): 3.0,
+            ("hard_brake_low_mu", "mf"): 3.0, ("mu_step_hard_brake", "dugoff"): 5.5}
+
+
+@pytest.fixture(scope="module", params=sorted(ABS_RUNS), ids=lambda k: f"{k[0]}-{k[1]}")
+def abs_run(request):
+    name, tyre = request.param
+    sc = BY_NAME[name]
+    return sc, tyre, sensors.run(sc, tyre=tyre, duration=ABS_RUNS[request.param])
+
+
+def _driver_pressure(sc, t):
+    return np.array([sc.pressure(float(tk)) for tk in t])
+
+
+def test_abs_no_lock_bounded_slip(abs_run):
+    """No wheel locks or slows to a crawl, slip stays bounded, ABS never adds pressure."""
+    sc, tyre, sim = abs_run
+    k = sim["kappa"]
+    assert k.min() > -0.4, k.min(axis=0)       # worst case: mf front wheels onto the mu step
+    wheel_speed = sim["omega"] * P.R
+    assert np.all(wheel_speed > 0.5 * sim["vwx"]), "a wheel is locking"
+    pd = _driver_pressure(sc, sim["t"])
+    assert np.all(sim["pressure"] <= pd + 1e-12)
+    braking = pd[:, 0] == P_HARD
+    # with the driver at 8 MPa every wheel is pressure-limited by the ABS
+    assert np.all(sim["pressure"][braking] < 0.8 * P_HARD)
+
+
+def test_abs_holds_target_slip_without_limit_cycle(abs_run):
+    """0.7 s after braking starts and away from mu changes, every wheel sits at the target
+    slip: no lock, no controller or integrator limit cycle (slip and pressure steady)."""
+    sc, tyre, sim = abs_run
+    t = sim["t"]
+    t_on, t_off = 1.0, ABS_RUNS[(sc.name, tyre)] - 0.3
+    if sc.name == "mu_step_hard_brake":
+        t_off = 2.9                                # front wheels reach the step at ~3.07 s
+    steady = (t >= t_on + 0.7) & (t <= min(t_off, 4.0))
+    assert steady.sum() >= 50
+    k = sim["kappa"][steady]
+    assert np.max(np.abs(k - KAPPA_TARGET)) < 0.003, np.max(np.abs(k - KAPPA_TARGET), axis=0)
+    dp = np.diff(sim["pressure"][steady], axis=0)
+    assert np.max(np.abs(dp)) < 0.02             # MPa per 10 ms: a slow drift, no chatter
+
+
+def test_hard_braking_reaches_the_limit(abs_run):
+    sc, tyre, sim = abs_run
+    util = sensors.utilisation(sim)
+    assert util[:, :2].max() >= 0.8, util.max(axis=0)   # front wheels near the limit
+    t = sim["t"]
+    steady = (t >= 1.7) & (t <= 2.9)
+    assert util[steady].min() >= 0.8 if tyre == "dugoff" else util[steady].min() >= 0.75
+
+
+def test_mu_step_happens_while_braking(abs_run):
+    sc, tyre, sim = abs_run
+    if sc.name != "mu_step_hard_brake":
+        pytest.skip("mu step only")
+    mu = sim["mu"]
+    i_front = int(np.argmax(mu[:, 0] == MSB_MU[1]))
+    i_rear = int(np.argmax(mu[:, 2] == MSB_MU[1]))
+    assert 0 < i_front < i_rear
+    t_step = sim["t"][i_front]
+    assert MSB_T[0] + 1.0 < t_step and MSB_T[1] - t_step >= 2.0  # established, then >= 2 s
+    util = sensors.utilisation(sim)
+    before = (sim["t"] >= t_step - 0.5) & (sim["t"] < t_step)
+    after = sim["t"] >= t_step + 0.5
+    assert np.all(util[before, :2] >= 0.8) and np.all(util[after, :2] >= 0.8)
+    assert np.max(np.abs(sim["kappa"][after] - KAPPA_TARGET)) < 0.01
+
+
+def test_utilisation_column_matches_truth_tyre(abs_run):
+    """util_* of the sensor table against the truth tyre re-evaluated at the logged slips."""
+    sc, tyre, sim = abs_run
+    table = sensors.sensor_table(sim)
+    rows = np.arange(0, len(sim["t"]), 37)
+    fx, fy = tyres.vectorised(tyres.TRUTH_TYRES[tyre], sim["kappa"][rows], sim["alpha"][rows],
+                              np.abs(sim["vwx"][rows]), sim["mu"][rows], P)
+    expect = np.hypot(fx, fy) / sim["mu"][rows]
+    util = np.stack([table[f"util_{w}"][rows] for w in WHEELS], axis=1)
+    assert np.allclose(util, expect, rtol=1e-12, atol=1e-15)
+
+
+def test_closed_loop_integration_converged():
+    """ABS + driver steering at 4 kHz against 8 kHz: the controller ticks (1 kHz) do not
+    move, so the closed loop converges like the open loop."""
+    sc = BY_NAME["split_mu_hard_brake"]
+    a = sensors.run(sc, duration=2.0)
+    b = sensors.run(sc, rate=2 * sensors.DEFAULT_RATE, duration=2.0)
+    for key in ("vx", "vy", "yaw_rate", "ax", "ay", "yaw_acc", "omega", "delta", "pressure"):
+        assert np.max(np.abs(a[key] - b[key])) < 1e-6, key
+    with pytest.raises(ValueError):
+        sensors.run(sc, rate=1500, duration=0.1)
+
+
+SPLIT_NF = SCEN_DIR / "split_mu_hard_brake.nf.csv"
+
+
+@pytest.mark.skipif(not SPLIT_NF.is_file(), reason="scenarios not generated yet")
+def test_split_mu_hard_brake_stays_sane():
+    _, cols = read_log_text(SPLIT_NF.read_text())
+    assert np.max(np.abs(cols["yaw_rate"])) < 0.15
+    assert np.max(np.abs(cols["delta"])) <= BY_NAME["split_mu_hard_brake"].yaw.delta_max
+    util = np.stack([cols[f"util_{w}"] for w in WHEELS], axis=1)
+    braking = (cols["t"] > 1.7) & (cols["t"] < 4.9)
+    assert np.all(util[braking] >= 0.8)           # both sides at their (different) limits
+
+
+COMMITTED_MF = sorted(SCEN_DIR.glob("*.mf.csv")) if SCEN_DIR.is_dir() else []
+
+
+def test_every_scenario_has_committed_mf_log():
+    if not COMMITTED_NF:
+        pytest.skip("no scenarios generated yet")
+    assert sorted(f.name for f in COMMITTED_MF) == sorted(f"{s.name}.mf.csv" for s in SCENARIOS)
+
+
+@pytest.mark.parametrize("path", COMMITTED_MF, ids=lambda f: f.name)
+def test_committed_mf_logs(path):
+    meta, cols = read_log_text(path.read_text())
+    assert meta["truth_tyre"] == "mf" and meta["noise"] == "default"
+    assert list(cols) == sensors.COLUMNS
+    assert cols["vx"].min() > 4.0
+    util = np.stack([cols[f"util_{w}"] for w in WHEELS], axis=1)
+    assert util.min() >= 0.0 and util.max() <= 1.0 + 1e-12
+
+
+def test_make_scenarios_plan():
+    import importlib.util
+    spec = importlib.util.spec_from_file_location("make_scenarios",
+                                                  REPO / "scripts" / "make_scenarios.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    assert mod.plan() == {"dugoff": ("default", "none"), "mf": ("default",)}
+    assert mod.plan("mf") == {"mf": ("default", "none")}
+    assert mod.plan(None, "none") == {"dugoff": ("none",)}

@@ -28,7 +28,9 @@ Integration: classical RK4 with a fixed sub-step (Params-independent setting `ra
 default 4 kHz = 40 sub-steps per 0.01 s log step).  The wheel-spin mode has an
 eigenvalue of about -R^2*Cx*Fz/(Iw*v) (~ -1900 1/s at 4 m/s on mu 0.85), which RK4 at
 4 kHz integrates stably (h*lambda ~ 0.5) and accurately.  Deterministic: pure Python
-floats, no threads, no randomness.
+floats, no threads, no randomness.  Closed-loop inputs (ABS, driver steering; control.py)
+are discrete controllers updated at sub-step boundaries and held in between, so RK4 only
+ever integrates smooth right-hand sides.
 """
 
 from dataclasses import dataclass, fields
@@ -237,7 +239,12 @@ def simulate(inputs, mu_map, v0, duration, p=None, tyre="dugoff", dt_log=0.01, r
     """Integrate from straight running at v0 (free-rolling wheels, kappa = 0) and return a
     dict of numpy arrays sampled every dt_log: scalars of LOG_SCALARS (shape (N,)) and
     per-wheel arrays of LOG_WHEEL (shape (N, 4)), all instantaneous values of the same
-    derivative evaluation at each logged instant."""
+    derivative evaluation at each logged instant.
+
+    inputs is a function of time, or a closed-loop controller (control.ClosedLoopInputs:
+    anything with an ``update(t, y)`` method and a ``rate`` in Hz); a controller is updated
+    at every multiple of 1/rate (before that instant's derivative evaluation, so also
+    before each logged evaluation) and holds its outputs in between."""
     import numpy as np
     p = Params() if p is None else p
     veh = Vehicle(p, tyre, inputs, mu_map)
@@ -246,6 +253,11 @@ def simulate(inputs, mu_map, v0, duration, p=None, tyre="dugoff", dt_log=0.01, r
     if nsub < 1 or abs(nsub - rate * dt_log) > 1e-9:
         raise ValueError("rate must be a multiple of 1/dt_log")
     h = dt_log / nsub
+    ctrl = inputs if hasattr(inputs, "update") else None
+    if ctrl is not None:
+        every = int(round(rate / ctrl.rate))
+        if every < 1 or abs(every * ctrl.rate - rate) > 1e-9:
+            raise ValueError("rate must be a multiple of the controller rate")
     log_rate = round(1.0 / dt_log)
     exact_rate = abs(log_rate * dt_log - 1.0) < 1e-12  # t_k = k/100 prints as 0.03, not
     delta0 = inputs(0.0)[0]
@@ -256,6 +268,8 @@ def simulate(inputs, mu_map, v0, duration, p=None, tyre="dugoff", dt_log=0.01, r
     n = len(y)
     for k in range(n_log):
         t0 = k / log_rate if exact_rate else k * dt_log  # 0.030000000000000002
+        if ctrl is not None and (k * nsub) % every == 0:
+            ctrl.update(t0, y)
         k1, info = veh(t0, y, aux=True)
         out["t"][k] = t0
         out["vx"][k], out["vy"][k], out["yaw_rate"][k] = y[0], y[1], y[2]
@@ -270,6 +284,8 @@ def simulate(inputs, mu_map, v0, duration, p=None, tyre="dugoff", dt_log=0.01, r
         for j in range(nsub):
             t = t0 + j * h
             if j > 0:
+                if ctrl is not None and (k * nsub + j) % every == 0:
+                    ctrl.update(t, y)
                 k1 = veh(t, y)
             y2 = [y[i] + 0.5 * h * k1[i] for i in range(n)]
             k2 = veh(t + 0.5 * h, y2)
