@@ -1,64 +1,121 @@
 /**
  * @file estimator_flt.c
- * @brief The friction estimator: sample -> tyre -> H -> SCKF/CKF -> estimate (MODEL.md §5-6).
+ * @brief The friction estimator: one step of docs/ESTIMATOR.md (MODEL.md §5-6 when every
+ *        addition is off): conditioner -> SCKF/CKF time update -> meas, eiv -> SCKF gated
+ *        update -> sd bounds -> projection -> per-wheel estimate.
  */
 #include "rfe/estimator.h"
 
-#include "rfe/obsmat.h"
+#include "rfe/chol.h"
+#include "rfe/eiv.h"
 
 #include "internal.h"
 
 #define NM ((size_t)RFE_N_MAX)
-#define MM ((size_t)RFE_M_MAX)
 
 /* C99 static assertion: the filters' compile-time maxima must hold the estimator's
  * four states and three measurements (a -DRFE_N_MAX=4 -DRFE_M_MAX=3 build is the smallest). */
 typedef char rfe_assert_maxima_hold_estimator[((RFE_N_MAX >= RFE_WHEELS) && (RFE_M_MAX >= RFE_MEAS)) ? 1 : -1];
 
-/* Paper mode: h(x, u) = H(u) x, with H built once per sample. */
-static rfe_status_t measure_paper(void *ctx, const rfe_real_t *x, rfe_real_t *z, size_t n,
-                                  size_t m)
+/* State index of wheel w: the map T (docs/ESTIMATOR.md). wheels: T = I; sides: fl, rl on
+ * the left state 0, fr, rr on the right state 1. */
+static size_t state_of(const rfe_estimator_t *est, size_t w)
 {
-    const rfe_estimator_t *est = (const rfe_estimator_t *)ctx;
-    (void)n;
-    (void)m;
-    return RFE_FN(rfe_obsmat_apply)(est->H, x, z);
+    if (est->params.filter.structure == RFE_STRUCT_SIDES) {
+        return ((w == (size_t)RFE_FL) || (w == (size_t)RFE_RL)) ? 0u : 1u;
+    }
+    return w;
 }
 
-/* Absolute mode: forces at this cubature point's mu (nonlinear in mu), then the same
- * geometry as H's columns: z_r = sum_i H_r,i(F(mu_i)) (MODEL.md §4-5). */
-static rfe_status_t measure_absolute(void *ctx, const rfe_real_t *x, rfe_real_t *z, size_t n,
-                                     size_t m)
+/* mu per wheel = T x. */
+static void to_wheels(const rfe_estimator_t *est, const rfe_real_t *x, rfe_real_t mu[RFE_WHEELS])
 {
-    static const rfe_real_t ones[RFE_WHEELS] = {RFE_R(1.0), RFE_R(1.0), RFE_R(1.0), RFE_R(1.0)};
+    size_t w;
+    for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
+        mu[w] = x[state_of(est, w)];
+    }
+}
+
+/* h(T x, u) for one cubature point; a point with mu < 0 is evaluated at mu = 0 by the
+ * absolute tyre (MODEL.md §4). */
+static rfe_status_t measure(void *ctx, const rfe_real_t *x, rfe_real_t *z, size_t n, size_t m)
+{
     const rfe_estimator_t *est = (const rfe_estimator_t *)ctx;
-    rfe_real_t fx[RFE_WHEELS];
-    rfe_real_t fy[RFE_WHEELS];
-    rfe_real_t Hf[RFE_MEAS * RFE_WHEELS];
-    rfe_status_t st;
+    rfe_real_t mu[RFE_WHEELS];
     (void)n;
     (void)m;
-    st = RFE_FN(rfe_tyre_forces_abs)(&est->params.tyre, &est->kin, x, fx, fy);
+    to_wheels(est, x, mu);
+    return RFE_FN(rfe_meas_eval)(&est->meas, &est->params.vehicle, &est->params.tyre, mu, z);
+}
+
+/* sqrt_prior(d, c) (n x n, ld n): the lower Cholesky factor of c^2 11^T + d^2 I; exactly
+ * d I when c = 0 (no Cholesky, so the paper preset's factors are bit-exact). */
+static rfe_status_t sqrt_prior(rfe_real_t d, rfe_real_t c, size_t n, rfe_real_t *F)
+{
+    rfe_real_t P[RFE_WHEELS * RFE_WHEELS];
+    size_t i;
+    size_t j;
+    for (i = 0u; i < n; ++i) {
+        for (j = 0u; j < n; ++j) {
+            F[(i * n) + j] = (i == j) ? d : RFE_R(0.0);
+            P[(i * n) + j] = (c * c) + ((i == j) ? (d * d) : RFE_R(0.0));
+        }
+    }
+    return (c == RFE_R(0.0)) ? RFE_OK : RFE_FN(rfe_chol_factor)(P, n, n, F, n);
+}
+
+static rfe_status_t init_sckf(rfe_estimator_t *est, const rfe_filter_params_t *fp, size_t n)
+{
+    rfe_real_t x0[RFE_WHEELS];
+    rfe_real_t S0[RFE_WHEELS * RFE_WHEELS];
+    rfe_real_t SQ[RFE_WHEELS * RFE_WHEELS];
+    rfe_real_t SR[RFE_MEAS * RFE_MEAS] = {RFE_R(0.0)};
+    size_t i;
+    rfe_status_t st;
+    for (i = 0u; i < n; ++i) {
+        x0[i] = fp->mu0;
+    }
+    SR[0] = fp->r_ax;
+    SR[RFE_MEAS + 1] = fp->r_ay;
+    SR[(2 * RFE_MEAS) + 2] = fp->r_yaw_acc;
+    st = sqrt_prior(fp->sd0, fp->sd0_common, n, S0);
     if (st == RFE_OK) {
-        st = RFE_FN(rfe_obsmat_build)(&est->params.vehicle, est->delta, fx, fy, Hf);
+        st = sqrt_prior(fp->q_mu, fp->q_common, n, SQ);
     }
     if (st == RFE_OK) {
-        st = RFE_FN(rfe_obsmat_apply)(Hf, ones, z);
+        st = RFE_FN(rfe_sckf_init)(&est->filter.sckf, n, RFE_MEAS, x0, S0, SQ, SR);
     }
     return st;
 }
 
-rfe_status_t RFE_FN(rfe_estimator_init)(rfe_estimator_t *est, const rfe_params_t *params)
+/* The CKF runs only the paper subset (rfe_params_validate): P0 = sd0^2 I, Q = q_mu^2 I. */
+static rfe_status_t init_ckf(rfe_estimator_t *est, const rfe_filter_params_t *fp)
 {
     rfe_real_t x0[RFE_WHEELS];
     rfe_real_t P0[RFE_WHEELS * RFE_WHEELS];
     rfe_real_t Q[RFE_WHEELS * RFE_WHEELS];
-    rfe_real_t R[RFE_MEAS * RFE_MEAS];
-    const rfe_filter_params_t *fp;
-    rfe_status_t st;
+    rfe_real_t R[RFE_MEAS * RFE_MEAS] = {RFE_R(0.0)};
     size_t i;
     size_t j;
-    const int ckf = (params != NULL) && (params->filter.kind == RFE_FILTER_CKF);
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        x0[i] = fp->mu0;
+        for (j = 0u; j < (size_t)RFE_WHEELS; ++j) {
+            const rfe_real_t on = (i == j) ? RFE_R(1.0) : RFE_R(0.0);
+            P0[(i * RFE_WHEELS) + j] = on * (fp->sd0 * fp->sd0);
+            Q[(i * RFE_WHEELS) + j] = on * (fp->q_mu * fp->q_mu);
+        }
+    }
+    R[0] = fp->r_ax * fp->r_ax;
+    R[RFE_MEAS + 1] = fp->r_ay * fp->r_ay;
+    R[(2 * RFE_MEAS) + 2] = fp->r_yaw_acc * fp->r_yaw_acc;
+    return RFE_FN(rfe_ckf_init)(&est->filter.ckf, RFE_WHEELS, RFE_MEAS, x0, P0, Q, R);
+}
+
+rfe_status_t RFE_FN(rfe_estimator_init)(rfe_estimator_t *est, const rfe_params_t *params)
+{
+    const rfe_filter_params_t *fp;
+    size_t n;
+    rfe_status_t st;
 
     if ((est == NULL) || (params == NULL)) {
         return RFE_ERR_NULL;
@@ -68,32 +125,19 @@ rfe_status_t RFE_FN(rfe_estimator_init)(rfe_estimator_t *est, const rfe_params_t
         return st;
     }
     fp = &params->filter;
-    /* x0 = mu0 on every wheel; S0 = sd0 I, S_Q = q_mu I, S_R = diag(r) (squared for the CKF). */
-    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
-        x0[i] = fp->mu0;
-        for (j = 0u; j < (size_t)RFE_WHEELS; ++j) {
-            const rfe_real_t on = (i == j) ? RFE_R(1.0) : RFE_R(0.0);
-            P0[(i * RFE_WHEELS) + j] = on * (ckf ? (fp->sd0 * fp->sd0) : fp->sd0);
-            Q[(i * RFE_WHEELS) + j] = on * (ckf ? (fp->q_mu * fp->q_mu) : fp->q_mu);
-        }
-    }
-    for (i = 0u; i < (size_t)(RFE_MEAS * RFE_MEAS); ++i) {
-        R[i] = RFE_R(0.0);
-    }
-    R[0] = ckf ? (fp->r_ax * fp->r_ax) : fp->r_ax;
-    R[RFE_MEAS + 1] = ckf ? (fp->r_ay * fp->r_ay) : fp->r_ay;
-    R[(2 * RFE_MEAS) + 2] = ckf ? (fp->r_yaw_acc * fp->r_yaw_acc) : fp->r_yaw_acc;
-
-    if (ckf) {
-        st = RFE_FN(rfe_ckf_init)(&est->filter.ckf, RFE_WHEELS, RFE_MEAS, x0, P0, Q, R);
-    } else {
-        st = RFE_FN(rfe_sckf_init)(&est->filter.sckf, RFE_WHEELS, RFE_MEAS, x0, P0, Q, R);
+    n = (fp->structure == RFE_STRUCT_SIDES) ? 2u : (size_t)RFE_WHEELS;
+    /* Nothing below fails for validated parameters (positive sd0, q_mu: the prior is
+     * positive definite); a failure would leave the estimator not initialised. */
+    st = (fp->kind == RFE_FILTER_CKF) ? init_ckf(est, fp) : init_sckf(est, fp, n);
+    if (st == RFE_OK) {
+        st = RFE_FN(rfe_conditioner_init)(&est->cond);
     }
     if (st != RFE_OK) {
         return st;
     }
     est->params = *params;
-    est->delta = RFE_R(0.0);
+    est->n = n;
+    est->backup_cond = est->cond;
     est->magic = RFE_MAGIC_EST;
     return RFE_OK;
 }
@@ -123,7 +167,8 @@ static rfe_status_t check_sample(const rfe_sample_t *u)
     return RFE_OK;
 }
 
-/* Saves / restores the filter's mean and factor so a failing step changes nothing. */
+/* Saves / restores what a step changes (filter mean and factor, input filter) so a failing
+ * step changes nothing. */
 static void backup(rfe_estimator_t *est, int restore)
 {
     const int ckf = (est->params.filter.kind == RFE_FILTER_CKF);
@@ -144,42 +189,143 @@ static void backup(rfe_estimator_t *est, int restore)
             est->backup_S[i] = F[i];
         }
     }
+    if (restore != 0) {
+        est->cond = est->backup_cond;
+    } else {
+        est->backup_cond = est->cond;
+    }
 }
 
-/* Time update, measurement update with y = [ax, ay, r-dot], projection. */
-static rfe_status_t filter_step(rfe_estimator_t *est, const rfe_sample_t *u, int do_update)
+/* Step 4 runs when any part of it is switched on. */
+static int eiv_active(const rfe_filter_params_t *fp)
 {
-    const int ckf = (est->params.filter.kind == RFE_FILTER_CKF);
-    const rfe_measure_fn_t h =
-        (est->params.tyre.mode == RFE_TYRE_ABSOLUTE) ? measure_absolute : measure_paper;
-    const rfe_real_t y[RFE_MEAS] = {u->ax, u->ay, u->yaw_acc};
-    const rfe_real_t lo = est->params.filter.mu_min;
-    const rfe_real_t hi = est->params.filter.mu_max;
-    int clamped = 0;
-    rfe_status_t st;
+    const rfe_real_t zero = RFE_R(0.0);
+    return (fp->r_model_rel > zero) || (fp->sd_in_delta > zero) || (fp->sd_in_vx > zero) ||
+           (fp->sd_in_vy > zero) || (fp->sd_in_yaw_rate > zero) || (fp->sd_in_omega > zero);
+}
 
-    /* Random walk x_k = x_{k-1} + w: process callback NULL (identity). */
-    st = ckf ? RFE_FN(rfe_ckf_predict)(&est->filter.ckf, NULL, NULL)
-             : RFE_FN(rfe_sckf_predict)(&est->filter.sckf, NULL, NULL);
-    if ((st != RFE_OK) || (do_update == 0)) {
-        return (st != RFE_OK) ? st : RFE_NO_UPDATE_LOW_SPEED;
+/* Steps 4-6 (SCKF): this step's S_R at the predicted mean, then the gated update.
+ * *updated = 0 when the gate held the step. */
+static rfe_status_t sckf_measurement(rfe_estimator_t *est, const rfe_sample_t *u,
+                                     const rfe_real_t y[RFE_MEAS], int *updated)
+{
+    const rfe_filter_params_t *fp = &est->params.filter;
+    rfe_sckf_t *f = &est->filter.sckf;
+    rfe_real_t SR[RFE_MEAS * RFE_MEAS];
+    const rfe_real_t *sr = NULL; /* the filter's diagonal S_R */
+    rfe_status_t st = RFE_OK;
+    if (eiv_active(fp)) {
+        rfe_real_t mu[RFE_WHEELS];
+        to_wheels(est, f->x, mu); /* T x- */
+        st = RFE_FN(rfe_eiv_sqrt_noise)(&est->params, u, mu, SR);
+        sr = SR;
     }
-    st = ckf ? RFE_FN(rfe_ckf_update)(&est->filter.ckf, h, est, y)
-             : RFE_FN(rfe_sckf_update)(&est->filter.sckf, h, est, y);
     if (st == RFE_OK) {
-        /* Friction is physically bounded: project the mean, leave the factor. */
-        st = ckf ? RFE_FN(rfe_ckf_clamp)(&est->filter.ckf, lo, hi, &clamped)
-                 : RFE_FN(rfe_sckf_clamp)(&est->filter.sckf, lo, hi, &clamped);
-    }
-    if ((st == RFE_OK) && (clamped != 0)) {
-        st = RFE_PROJECTED;
+        st = RFE_FN(rfe_sckf_update_ex)(f, measure, est, y, sr, fp->info_min, NULL, updated);
     }
     return st;
 }
 
+/* Step 7: one factor c for the whole S (correlations kept). Cap: c = min_k sd_max / sd_k
+ * over sd_k > sd_max; else floor: c = max_k f_k / sd_k over sd_k < f_k,
+ * f_k = sd_floor_rel max(x_k, 0). */
+static rfe_status_t bound_sd(rfe_estimator_t *est)
+{
+    const rfe_filter_params_t *fp = &est->params.filter;
+    rfe_real_t x[RFE_N_MAX];
+    rfe_real_t sd[RFE_N_MAX];
+    rfe_real_t c = RFE_R(1.0);
+    int scale = 0;
+    size_t k;
+    rfe_status_t st;
+    if (!(fp->sd_max > RFE_R(0.0)) && !(fp->sd_floor_rel > RFE_R(0.0))) {
+        return RFE_OK;
+    }
+    st = RFE_FN(rfe_sckf_get)(&est->filter.sckf, x, sd);
+    if ((st == RFE_OK) && !rfe_all_finite(sd, est->n)) {
+        st = RFE_ERR_NONFINITE; /* S so large its row norms overflow */
+    }
+    if (st != RFE_OK) {
+        return st;
+    }
+    if (fp->sd_max > RFE_R(0.0)) {
+        for (k = 0u; k < est->n; ++k) {
+            if (sd[k] > fp->sd_max) {
+                c = rfe_min(c, fp->sd_max / sd[k]);
+                scale = 1;
+            }
+        }
+    }
+    if ((scale == 0) && (fp->sd_floor_rel > RFE_R(0.0))) {
+        for (k = 0u; k < est->n; ++k) {
+            const rfe_real_t floor_k = fp->sd_floor_rel * rfe_max(x[k], RFE_R(0.0));
+            if (sd[k] < floor_k) {
+                c = rfe_max(c, floor_k / sd[k]);
+                scale = 1;
+            }
+        }
+    }
+    return (scale != 0) ? RFE_FN(rfe_sckf_scale)(&est->filter.sckf, c) : RFE_OK;
+}
+
+/* Steps 1-8 after the input check. Returns the step's status or an error (the caller
+ * rolls back). */
+static rfe_status_t filter_step(rfe_estimator_t *est, const rfe_sample_t *sample)
+{
+    const int ckf = (est->params.filter.kind == RFE_FILTER_CKF);
+    const rfe_filter_params_t *fp = &est->params.filter;
+    rfe_sample_t u;
+    rfe_real_t y[RFE_MEAS];
+    rfe_status_t st;
+    rfe_status_t status = RFE_NO_UPDATE_LOW_SPEED;
+    int updated = 0;
+    int clamped = 0;
+
+    /* 1. Input conditioning (a copy of the sample when tau_v = 0). */
+    st = RFE_FN(rfe_conditioner_step)(&est->cond, fp->dt, fp->tau_v, sample, &u);
+    /* 2. Time update of the random walk: process callback NULL (identity). */
+    if (st == RFE_OK) {
+        st = ckf ? RFE_FN(rfe_ckf_predict)(&est->filter.ckf, NULL, NULL)
+                 : RFE_FN(rfe_sckf_predict)(&est->filter.sckf, NULL, NULL);
+    }
+    /* 3. Below v_est_min (standstill, creeping, reversing) tyre forces carry no usable
+     * friction information: time update only. 4-6 otherwise. */
+    if ((st == RFE_OK) && (u.vx >= fp->v_est_min)) {
+        y[0] = u.ax;
+        y[1] = u.ay;
+        y[2] = u.yaw_acc;
+        st = RFE_FN(rfe_meas_setup)(&est->meas, &est->params.vehicle, &est->params.tyre, &u);
+        if (st == RFE_OK) {
+            if (ckf) {
+                st = RFE_FN(rfe_ckf_update)(&est->filter.ckf, measure, est, y);
+                updated = 1;
+            } else {
+                st = sckf_measurement(est, &u, y, &updated);
+            }
+        }
+        status = (updated != 0) ? RFE_OK : RFE_HELD_NOT_OBSERVABLE;
+    }
+    /* 7. Bounds on the sd (SCKF; the CKF runs without them). */
+    if ((st == RFE_OK) && !ckf) {
+        st = bound_sd(est);
+    }
+    /* 8. Friction is physically bounded: after an update, project the mean (not S). */
+    if ((st == RFE_OK) && (updated != 0)) {
+        st = ckf ? RFE_FN(rfe_ckf_clamp)(&est->filter.ckf, fp->mu_min, fp->mu_max, &clamped)
+                 : RFE_FN(rfe_sckf_clamp)(&est->filter.sckf, fp->mu_min, fp->mu_max, &clamped);
+        if (clamped != 0) {
+            status = RFE_PROJECTED;
+        }
+    }
+    return (st != RFE_OK) ? st : status;
+}
+
 rfe_status_t RFE_FN(rfe_estimator_get)(const rfe_estimator_t *est, rfe_estimate_t *out)
 {
-    size_t i;
+    rfe_real_t x[RFE_N_MAX];
+    rfe_real_t sd[RFE_N_MAX];
+    const rfe_real_t sd_valid = (est != NULL) ? est->params.filter.sd_valid : RFE_R(0.0);
+    size_t w;
     rfe_status_t st;
     if ((est == NULL) || (out == NULL)) {
         return RFE_ERR_NULL;
@@ -188,10 +334,14 @@ rfe_status_t RFE_FN(rfe_estimator_get)(const rfe_estimator_t *est, rfe_estimate_
         return RFE_ERR_NOT_INITIALISED;
     }
     st = (est->params.filter.kind == RFE_FILTER_CKF)
-             ? RFE_FN(rfe_ckf_get)(&est->filter.ckf, out->mu, out->sd)
-             : RFE_FN(rfe_sckf_get)(&est->filter.sckf, out->mu, out->sd);
-    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
-        out->valid[i] = 0u;
+             ? RFE_FN(rfe_ckf_get)(&est->filter.ckf, x, sd)
+             : RFE_FN(rfe_sckf_get)(&est->filter.sckf, x, sd);
+    /* 9. mu = T x, sd = T (row norms of S); validity by sd when sd_valid > 0. */
+    for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
+        const size_t k = state_of(est, w);
+        out->mu[w] = x[k];
+        out->sd[w] = sd[k];
+        out->valid[w] = ((sd_valid > RFE_R(0.0)) && (sd[k] <= sd_valid)) ? 1u : 0u;
     }
     out->status = st;
     return st;
@@ -202,7 +352,6 @@ rfe_status_t RFE_FN(rfe_estimator_step)(rfe_estimator_t *est, const rfe_sample_t
 {
     rfe_status_t st;
     rfe_status_t got;
-    int do_update;
     size_t i;
 
     if ((est == NULL) || (sample == NULL) || (out == NULL)) {
@@ -211,28 +360,11 @@ rfe_status_t RFE_FN(rfe_estimator_step)(rfe_estimator_t *est, const rfe_sample_t
     if (est->magic != RFE_MAGIC_EST) {
         return RFE_ERR_NOT_INITIALISED;
     }
+    /* 0. Input check: a rejected sample changes nothing. */
     st = check_sample(sample);
-    /* Below v_est_min (standstill, creeping, reversing) tyre forces carry no usable
-     * friction information: time update only. */
-    do_update = (sample->vx >= est->params.filter.v_est_min) ? 1 : 0;
-    if ((st == RFE_OK) && (do_update != 0)) {
-        /* Everything the measurement model needs for this sample, before the filter moves. */
-        rfe_real_t f0x[RFE_WHEELS];
-        rfe_real_t f0y[RFE_WHEELS];
-        st = RFE_FN(rfe_tyre_kinematics)(&est->params.vehicle, &est->params.tyre, sample,
-                                         &est->kin);
-        if ((st == RFE_OK) && (est->params.tyre.mode == RFE_TYRE_PAPER)) {
-            st = RFE_FN(rfe_tyre_forces_norm)(&est->params.tyre, &est->kin, f0x, f0y);
-            if (st == RFE_OK) {
-                st = RFE_FN(rfe_obsmat_build)(&est->params.vehicle, sample->delta, f0x, f0y,
-                                              est->H);
-            }
-        }
-        est->delta = sample->delta;
-    }
     if (st == RFE_OK) {
         backup(est, 0);
-        st = filter_step(est, sample, do_update);
+        st = filter_step(est, sample);
         if (rfe_status_is_error(st)) {
             backup(est, 1);
         }
@@ -242,7 +374,14 @@ rfe_status_t RFE_FN(rfe_estimator_step)(rfe_estimator_t *est, const rfe_sample_t
         return got;
     }
     for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
-        out->valid[i] = ((st == RFE_OK) || (st == RFE_PROJECTED)) ? 1u : 0u;
+        if (rfe_status_is_error(st)) {
+            out->valid[i] = 0u;
+        } else if (!(est->params.filter.sd_valid > RFE_R(0.0))) {
+            /* The paper rule: valid when this step updated the estimate from data. */
+            out->valid[i] = ((st == RFE_OK) || (st == RFE_PROJECTED)) ? 1u : 0u;
+        } else {
+            /* sd rule, set by get */
+        }
     }
     out->status = st;
     return st;

@@ -1,6 +1,6 @@
 /**
  * @file params_flt.c
- * @brief Default parameters (MODEL.md §2, DATA.md) and their validation.
+ * @brief The two parameter presets (MODEL.md §2, docs/ESTIMATOR.md) and their validation.
  */
 #include "rfe/params.h"
 
@@ -8,7 +8,30 @@
 
 rfe_status_t RFE_FN(rfe_params_default)(rfe_params_t *p)
 {
-    return RFE_FN(rfe_params_paper)(p);
+    /* docs/ESTIMATOR.md, "default preset" column: the paper's vehicle, tyre constants and
+     * measurement noise, plus every addition switched on. */
+    const rfe_status_t st = RFE_FN(rfe_params_paper)(p);
+    if (st != RFE_OK) {
+        return st;
+    }
+    p->tyre.mode = RFE_TYRE_ABSOLUTE;
+    p->filter.structure = RFE_STRUCT_SIDES;
+    p->filter.sd0 = RFE_R(0.1);
+    p->filter.sd0_common = RFE_R(0.3);
+    p->filter.q_mu = RFE_R(0.002);
+    p->filter.q_common = RFE_R(0.006);
+    p->filter.tau_v = RFE_R(0.3);
+    p->filter.sd_in_delta = RFE_R(0.001);
+    p->filter.sd_in_vx = RFE_R(0.01);
+    p->filter.sd_in_vy = RFE_R(0.01);
+    p->filter.sd_in_yaw_rate = RFE_R(0.005);
+    p->filter.sd_in_omega = RFE_R(0.05);
+    p->filter.r_model_rel = RFE_R(0.05);
+    p->filter.info_min = RFE_R(100.0);
+    p->filter.sd_max = RFE_R(0.32);
+    p->filter.sd_floor_rel = RFE_R(0.15);
+    p->filter.sd_valid = RFE_R(0.15);
+    return RFE_OK;
 }
 
 rfe_status_t RFE_FN(rfe_params_paper)(rfe_params_t *p)
@@ -47,6 +70,23 @@ rfe_status_t RFE_FN(rfe_params_paper)(rfe_params_t *p)
     p->filter.mu_min = RFE_R(0.05);
     p->filter.mu_max = RFE_R(1.2);
     p->filter.v_est_min = RFE_R(3.0);
+
+    /* Every docs/ESTIMATOR.md addition off: the filter is then exactly MODEL.md §6. */
+    p->filter.structure = RFE_STRUCT_WHEELS;
+    p->filter.sd0_common = RFE_R(0.0);
+    p->filter.q_common = RFE_R(0.0);
+    p->filter.dt = RFE_R(0.01);
+    p->filter.tau_v = RFE_R(0.0);
+    p->filter.sd_in_delta = RFE_R(0.0);
+    p->filter.sd_in_vx = RFE_R(0.0);
+    p->filter.sd_in_vy = RFE_R(0.0);
+    p->filter.sd_in_yaw_rate = RFE_R(0.0);
+    p->filter.sd_in_omega = RFE_R(0.0);
+    p->filter.r_model_rel = RFE_R(0.0);
+    p->filter.info_min = RFE_R(0.0);
+    p->filter.sd_max = RFE_R(0.0);
+    p->filter.sd_floor_rel = RFE_R(0.0);
+    p->filter.sd_valid = RFE_R(0.0);
     return RFE_OK;
 }
 
@@ -71,11 +111,37 @@ static int tyre_ok(const rfe_tyre_params_t *t)
 
 static int filter_ok(const rfe_filter_params_t *f)
 {
-    return ((f->kind == RFE_FILTER_SCKF) || (f->kind == RFE_FILTER_CKF)) && is_pos(f->sd0) &&
-           is_pos(f->q_mu) && is_pos(f->r_ax) && is_pos(f->r_ay) && is_pos(f->r_yaw_acc) &&
-           is_nonneg(f->mu_min) && is_pos(f->mu_max) && (f->mu_min < f->mu_max) &&
-           rfe_is_finite(f->mu0) && (f->mu0 >= f->mu_min) && (f->mu0 <= f->mu_max) &&
-           is_nonneg(f->v_est_min);
+    return ((f->kind == RFE_FILTER_SCKF) || (f->kind == RFE_FILTER_CKF)) &&
+           ((f->structure == RFE_STRUCT_WHEELS) || (f->structure == RFE_STRUCT_SIDES)) &&
+           is_pos(f->sd0) && is_pos(f->q_mu) && is_pos(f->r_ax) && is_pos(f->r_ay) &&
+           is_pos(f->r_yaw_acc) && is_nonneg(f->mu_min) && is_pos(f->mu_max) &&
+           (f->mu_min < f->mu_max) && rfe_is_finite(f->mu0) && (f->mu0 >= f->mu_min) &&
+           (f->mu0 <= f->mu_max) && is_nonneg(f->v_est_min);
+}
+
+/* The docs/ESTIMATOR.md additions: each finite and >= 0 (0 = off), dt > 0. sd_max is
+ * "0 = off, else a positive bound", which is the same test. */
+static int additions_ok(const rfe_filter_params_t *f)
+{
+    return is_nonneg(f->sd0_common) && is_nonneg(f->q_common) && is_pos(f->dt) &&
+           is_nonneg(f->tau_v) && is_nonneg(f->sd_in_delta) && is_nonneg(f->sd_in_vx) &&
+           is_nonneg(f->sd_in_vy) && is_nonneg(f->sd_in_yaw_rate) && is_nonneg(f->sd_in_omega) &&
+           is_nonneg(f->r_model_rel) && is_nonneg(f->info_min) && is_nonneg(f->sd_max) &&
+           is_nonneg(f->sd_floor_rel) && is_nonneg(f->sd_valid);
+}
+
+/* The CKF is the paper's baseline: it runs only what MODEL.md §6 has (four independent mu,
+ * diagonal prior and noise, no input filter, no errors in variables, no gate, no bounds).
+ * Any tyre, any dt (unused), any sd_valid (an output rule). */
+static int ckf_subset_ok(const rfe_filter_params_t *f)
+{
+    const rfe_real_t zero = RFE_R(0.0);
+    return (f->kind != RFE_FILTER_CKF) ||
+           ((f->structure == RFE_STRUCT_WHEELS) && (f->sd0_common == zero) &&
+            (f->q_common == zero) && (f->tau_v == zero) && (f->sd_in_delta == zero) &&
+            (f->sd_in_vx == zero) && (f->sd_in_vy == zero) && (f->sd_in_yaw_rate == zero) &&
+            (f->sd_in_omega == zero) && (f->r_model_rel == zero) && (f->info_min == zero) &&
+            (f->sd_max == zero) && (f->sd_floor_rel == zero));
 }
 
 rfe_status_t RFE_FN(rfe_params_validate)(const rfe_params_t *p)
@@ -83,7 +149,8 @@ rfe_status_t RFE_FN(rfe_params_validate)(const rfe_params_t *p)
     if (p == NULL) {
         return RFE_ERR_NULL;
     }
-    if (!vehicle_ok(&p->vehicle) || !tyre_ok(&p->tyre) || !filter_ok(&p->filter)) {
+    if (!vehicle_ok(&p->vehicle) || !tyre_ok(&p->tyre) || !filter_ok(&p->filter) ||
+        !additions_ok(&p->filter) || !ckf_subset_ok(&p->filter)) {
         return RFE_ERR_PARAM;
     }
     return RFE_OK;

@@ -127,8 +127,9 @@ static void centre_points(rfe_sckf_t *f)
     }
 }
 
-/* S_zz = Tria([Zc, S_R]) into w->Szz; then K^T = S_zz^-T (S_zz^-1 P_xz^T), P_xz = Xc Zc^T. */
-static rfe_status_t gain(rfe_sckf_t *f)
+/* S_zz = Tria([Zc, S_R]) into w->Szz; then K^T = S_zz^-T (S_zz^-1 P_xz^T), P_xz = Xc Zc^T.
+ * SR: this step's lower-triangular S_R, ld RFE_M_MAX. */
+static rfe_status_t gain(rfe_sckf_t *f, const rfe_real_t *SR)
 {
     rfe_cub_scratch_t *w = &f->w;
     const size_t n = f->n;
@@ -143,7 +144,7 @@ static rfe_status_t gain(rfe_sckf_t *f)
             w->A[(r * TC) + j] = w->zpts[(j * MM) + r];
         }
         for (j = 0u; j < m; ++j) {
-            w->A[(r * TC) + (2u * n) + j] = f->SR[(r * MM) + j];
+            w->A[(r * TC) + (2u * n) + j] = SR[(r * MM) + j];
         }
     }
     st = RFE_FN(rfe_qr_tria)(w->A, m, (2u * n) + m, TC);
@@ -169,29 +170,83 @@ static rfe_status_t gain(rfe_sckf_t *f)
     return st;
 }
 
-rfe_status_t RFE_FN(rfe_sckf_update)(rfe_sckf_t *f, rfe_measure_fn_t measure, void *ctx,
-                                     const rfe_real_t *y)
+/* P_xz (n x m) = Xc Zc^T into w->A (ld TC): the same sums, in the same order, as the gain's
+ * P_xz^T. */
+static void cross_covariance(rfe_sckf_t *f)
 {
-    rfe_cub_scratch_t *w;
-    size_t n;
-    size_t m;
+    rfe_cub_scratch_t *w = &f->w;
+    const size_t n = f->n;
+    const size_t m = f->m;
+    size_t i;
+    size_t j;
+    size_t r;
+    for (r = 0u; r < m; ++r) {
+        for (i = 0u; i < n; ++i) {
+            rfe_real_t acc = RFE_R(0.0);
+            for (j = 0u; j < (2u * n); ++j) {
+                acc += w->zpts[(j * MM) + r] * w->B[(i * TC) + j];
+            }
+            w->A[(i * TC) + r] = acc;
+        }
+    }
+}
+
+/* docs/ESTIMATOR.md step 5: I_k = sum_r W_rk^2, W = S_R \ J, J^T = S-^T \ (S- \ P_zx^T).
+ * Needs the centred points (w->B, w->zpts); uses w->A and w->Kt as scratch. */
+static rfe_status_t information(rfe_sckf_t *f, const rfe_real_t *SR, rfe_real_t *info)
+{
+    rfe_cub_scratch_t *w = &f->w;
+    const size_t n = f->n;
+    const size_t m = f->m;
+    size_t i;
+    size_t r;
+    rfe_status_t st;
+
+    cross_covariance(f);
+    /* J^T (n x m) = S-^T \ (S- \ P_xz): statistical linearisation, no inverse of S- S-^T. */
+    st = RFE_FN(rfe_qr_solve_lower)(f->S, n, NM, w->A, m, TC);
+    if (st == RFE_OK) {
+        st = RFE_FN(rfe_qr_solve_lower_t)(f->S, n, NM, w->A, m, TC);
+    }
+    if (st != RFE_OK) {
+        return st;
+    }
+    /* W (m x n) = S_R \ J, J transposed into w->Kt. */
+    for (r = 0u; r < m; ++r) {
+        for (i = 0u; i < n; ++i) {
+            w->Kt[(r * NM) + i] = w->A[(i * TC) + r];
+        }
+    }
+    st = RFE_FN(rfe_qr_solve_lower)(SR, m, MM, w->Kt, n, NM);
+    if (st != RFE_OK) {
+        return st;
+    }
+    for (i = 0u; i < n; ++i) {
+        rfe_real_t acc = RFE_R(0.0);
+        for (r = 0u; r < m; ++r) {
+            acc += w->Kt[(r * NM) + i] * w->Kt[(r * NM) + i];
+        }
+        info[i] = acc;
+    }
+    /* An overflow (absurd prior or model) must not pass as "no information". */
+    return rfe_all_finite(info, n) ? RFE_OK : RFE_ERR_NONFINITE;
+}
+
+/* The measurement update of MODEL.md §6 with S_R = SR (ld RFE_M_MAX), gated on the
+ * information when info_min > 0 (docs/ESTIMATOR.md steps 5-6). Writes info (n) when
+ * want_info; *updated = 0 when held. Commits x and S only when everything succeeded. */
+static rfe_status_t update_core(rfe_sckf_t *f, rfe_measure_fn_t measure, void *ctx,
+                                const rfe_real_t *y, const rfe_real_t *SR, rfe_real_t info_min,
+                                int want_info, rfe_real_t *info, int *updated)
+{
+    rfe_cub_scratch_t *w = &f->w;
+    const size_t n = f->n;
+    const size_t m = f->m;
     size_t i;
     size_t j;
     size_t r;
     rfe_status_t st;
 
-    if ((f == NULL) || (measure == NULL) || (y == NULL)) {
-        return RFE_ERR_NULL;
-    }
-    if (f->magic != RFE_MAGIC_SCKF) {
-        return RFE_ERR_NOT_INITIALISED;
-    }
-    w = &f->w;
-    n = f->n;
-    m = f->m;
-    if (!rfe_all_finite(y, m)) {
-        return RFE_ERR_NONFINITE;
-    }
     /* X_j = S- xi_j + x-;  Z_j = h(X_j, u);  z = mean_j Z_j. */
     RFE_FN(rfe_cub_points)(f->x, f->S, n, w->pts);
     st = RFE_FN(rfe_cub_measure)(w->pts, n, m, measure, ctx, w->zpts);
@@ -200,7 +255,21 @@ rfe_status_t RFE_FN(rfe_sckf_update)(rfe_sckf_t *f, rfe_measure_fn_t measure, vo
     }
     RFE_FN(rfe_cub_mean)(w->zpts, n, m, MM, w->zhat);
     centre_points(f);
-    st = gain(f);
+    if ((want_info != 0) || (info_min > RFE_R(0.0))) {
+        rfe_real_t most = RFE_R(0.0);
+        st = information(f, SR, info);
+        if (st != RFE_OK) {
+            return st;
+        }
+        for (i = 0u; i < n; ++i) {
+            most = rfe_max(most, info[i]);
+        }
+        if ((info_min > RFE_R(0.0)) && (most < info_min)) {
+            *updated = 0; /* held: not observable; x-, S- stay */
+            return RFE_OK;
+        }
+    }
+    st = gain(f, SR);
     if (st != RFE_OK) {
         return st;
     }
@@ -221,7 +290,7 @@ rfe_status_t RFE_FN(rfe_sckf_update)(rfe_sckf_t *f, rfe_measure_fn_t measure, vo
         for (j = 0u; j < m; ++j) {
             rfe_real_t acc = RFE_R(0.0);
             for (r = j; r < m; ++r) { /* S_R is lower-triangular */
-                acc += w->Kt[(r * NM) + i] * f->SR[(r * MM) + j];
+                acc += w->Kt[(r * NM) + i] * SR[(r * MM) + j];
             }
             w->A[(i * TC) + (2u * n) + j] = acc;
         }
@@ -231,6 +300,105 @@ rfe_status_t RFE_FN(rfe_sckf_update)(rfe_sckf_t *f, rfe_measure_fn_t measure, vo
         return st;
     }
     commit(f);
+    *updated = 1;
+    return RFE_OK;
+}
+
+/* Common argument checks of the measurement updates. */
+static rfe_status_t check_update(const rfe_sckf_t *f, rfe_measure_fn_t measure,
+                                 const rfe_real_t *y)
+{
+    if ((f == NULL) || (measure == NULL) || (y == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    if (f->magic != RFE_MAGIC_SCKF) {
+        return RFE_ERR_NOT_INITIALISED;
+    }
+    return rfe_all_finite(y, f->m) ? RFE_OK : RFE_ERR_NONFINITE;
+}
+
+rfe_status_t RFE_FN(rfe_sckf_update)(rfe_sckf_t *f, rfe_measure_fn_t measure, void *ctx,
+                                     const rfe_real_t *y)
+{
+    rfe_real_t info[RFE_N_MAX];
+    int updated = 0;
+    const rfe_status_t st = check_update(f, measure, y);
+    if (st != RFE_OK) {
+        return st;
+    }
+    return update_core(f, measure, ctx, y, f->SR, RFE_R(0.0), 0, info, &updated);
+}
+
+rfe_status_t RFE_FN(rfe_sckf_update_ex)(rfe_sckf_t *f, rfe_measure_fn_t measure, void *ctx,
+                                        const rfe_real_t *y, const rfe_real_t *SR,
+                                        rfe_real_t info_min, rfe_real_t *info_out, int *updated)
+{
+    rfe_real_t SRl[RFE_M_MAX * RFE_M_MAX];
+    rfe_real_t info[RFE_N_MAX];
+    const rfe_real_t *sr;
+    int upd = 0;
+    size_t i;
+    rfe_status_t st = check_update(f, measure, y);
+
+    if ((st == RFE_OK) && (updated == NULL)) {
+        st = RFE_ERR_NULL;
+    }
+    if (st != RFE_OK) {
+        return st;
+    }
+    if (!rfe_is_finite(info_min)) {
+        return RFE_ERR_NONFINITE;
+    }
+    sr = f->SR;
+    if (SR != NULL) {
+        if (!rfe_lower_finite(SR, f->m, f->m)) {
+            return RFE_ERR_NONFINITE;
+        }
+        copy_lower(SR, f->m, f->m, SRl, MM);
+        sr = SRl;
+    }
+    st = update_core(f, measure, ctx, y, sr, info_min, (info_out != NULL) ? 1 : 0, info, &upd);
+    if (st != RFE_OK) {
+        return st;
+    }
+    if (info_out != NULL) {
+        for (i = 0u; i < f->n; ++i) {
+            info_out[i] = info[i];
+        }
+    }
+    *updated = upd;
+    return RFE_OK;
+}
+
+rfe_status_t RFE_FN(rfe_sckf_scale)(rfe_sckf_t *f, rfe_real_t c)
+{
+    rfe_real_t *cand;
+    size_t i;
+    size_t j;
+    if (f == NULL) {
+        return RFE_ERR_NULL;
+    }
+    if (f->magic != RFE_MAGIC_SCKF) {
+        return RFE_ERR_NOT_INITIALISED;
+    }
+    if (!rfe_is_finite(c) || !(c > RFE_R(0.0))) {
+        return RFE_ERR_RANGE;
+    }
+    /* Candidate c S in the Tria scratch (lower triangle, ld TC), committed when finite. */
+    cand = f->w.A;
+    for (i = 0u; i < f->n; ++i) {
+        for (j = 0u; j <= i; ++j) {
+            cand[(i * TC) + j] = c * f->S[(i * NM) + j];
+        }
+        if (!rfe_all_finite(&cand[i * TC], i + 1u)) {
+            return RFE_ERR_NONFINITE;
+        }
+    }
+    for (i = 0u; i < f->n; ++i) {
+        for (j = 0u; j <= i; ++j) {
+            f->S[(i * NM) + j] = cand[(i * TC) + j];
+        }
+    }
     return RFE_OK;
 }
 

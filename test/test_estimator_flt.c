@@ -32,7 +32,9 @@ static rfe_params_t params;
 static int setup(void **state)
 {
     (void)state;
-    return RFE_FN(rfe_params_default)(&params) == RFE_OK ? 0 : -1;
+    /* The paper preset: these tests pin MODEL.md §6 (the default preset is tested in
+     * test_estimator_default_flt.c). */
+    return RFE_FN(rfe_params_paper)(&params) == RFE_OK ? 0 : -1;
 }
 
 /* A plausible braking sample at 20 m/s. */

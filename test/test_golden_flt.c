@@ -17,7 +17,21 @@
  *   double separate transiently (measured: up to 0.10 for ~0.1 s, where the filter's own sd is
  *   0.06; 1.7 % and 0.05 % of estimates beyond 2e-3) and merge again (median 1e-6). For those
  *   two, at least 97 % of estimates must be within 2e-3. Everywhere else the measured worst
- *   case is 6.2e-4.
+ *   case is 6.2e-4, except hard_brake_low_mu (ABS braking at mu 0.3): one estimate of 4004
+ *   at 3.2e-3 (median 3e-6), so it gets the 97 % rule too.
+ * - Float32, CKF, mu_step_hard_brake (.nf too): the full-covariance filter in float32 (the
+ *   paper's point) separates for ~0.5 s after the mu step while braking: up to 0.011 (0.017
+ *   noise-free) where the filter's own sd is 0.04-0.05, 2.2 % (1.0 %) of estimates beyond
+ *   2e-3, median 3e-5; the SCKF stays within 2e-3 there. The 97 % rule applies.
+ * - Default preset (docs/ESTIMATOR.md; goldens <stem>.default.sckf.csv, noisy logs): double
+ *   1e-9 on mu and sd, exact statuses and valid flags (measured: <= 2e-14, no mismatch, on
+ *   all 13 bundled scenarios). Float32: the information gate and the sd cap/floor are
+ *   thresholds, so a rounding-size difference can flip a step between updated and held and
+ *   the trajectories separate for a while. Measured with the current goldens: no status
+ *   flips; max |dmu| 7.8e-3 on split_mu_brake (0.7 % of estimates beyond 2e-3, mild
+ *   split-mu braking where mu is barely observable), 1.2e-3 on sine_steer_low_mu, <= 4e-4
+ *   elsewhere. Bound (provisional, for the lead to confirm): at least 97 % of estimates
+ *   within 2e-3 per log, as for the ill-conditioned absolute logs; statuses not compared.
  * - SCKF vs CKF in double: algebraically the same filter, so 1e-9 (the issue asks ~1e-9).
  * The status column must match exactly in double; in float a projection at the bound may
  * flip by rounding, so only mu/sd are compared there.
@@ -36,16 +50,22 @@
 #define GOLDEN_DIR "scenarios/golden"
 #define SCENARIO_DIR "scenarios"
 #define SUFFIX ".paper.sckf.csv"
-#define MIN_SCENARIOS 9 /* the 9 bundled scenarios; fewer means files went missing */
+#define MIN_SCENARIOS 13 /* the 13 bundled scenarios; fewer means files went missing */
+
+/* Golden files actually compared by the last for_each_scenario() pass (optional goldens
+ * exist for the noisy logs only, so the count is checked rather than each file). */
+static int n_compared;
 
 #if defined(RFE_REAL_DOUBLE)
 #define TOL_MU 1e-9
 #define MAX_FRACTION_OUT_ILL_CONDITIONED 0.0
+#define MAX_FRACTION_OUT_DEFAULT 0.0
 #define TOL_SD 1e-9
 #define CHECK_STATUS 1
 #else
 #define TOL_MU 2e-3
 #define MAX_FRACTION_OUT_ILL_CONDITIONED 0.03
+#define MAX_FRACTION_OUT_DEFAULT 0.03
 #define TOL_SD 2e-3
 #define CHECK_STATUS 0
 #endif
@@ -53,9 +73,10 @@
 
 static const char *const WHEEL[4] = {"fl", "fr", "rl", "rr"};
 
-/* Runs the estimator (the same path as mu_replay) on a sensor log. Returns rows (malloc). */
-static rfe_est_row_t *run(const char *sensor_path, rfe_tyre_mode_t tyre, rfe_filter_kind_t kind,
-                          size_t *n_rows)
+/* Runs the estimator (the same path as mu_replay) on a sensor log, from a library preset
+ * with tyre and filter overridden. Returns rows (malloc). */
+static rfe_est_row_t *run(const char *sensor_path, rfe_preset_t preset, rfe_tyre_mode_t tyre,
+                          rfe_filter_kind_t kind, size_t *n_rows)
 {
     rfe_sensor_log_t log;
     rfe_param_set_t ps;
@@ -66,7 +87,7 @@ static rfe_est_row_t *run(const char *sensor_path, rfe_tyre_mode_t tyre, rfe_fil
     if (rfe_sensor_log_read(sensor_path, &log, &err) != 0) {
         fail_msg("%s:%zu:%zu: %s", err.file, err.line, err.col, err.msg);
     }
-    rfe_param_set_default(&ps);
+    assert_int_equal(RFE_FN(rfe_param_set_preset)(&ps, preset), 0);
     if (rfe_param_set_apply_meta(&ps, &log, sensor_path, &err) != 0) {
         fail_msg("%s: %s", sensor_path, err.msg);
     }
@@ -101,9 +122,12 @@ static int is_ok_or_projected(double status) { return status == 0.0 || status ==
 
 /* Compares a C run with a golden estimate log; returns the largest |mu| difference.
  * With max_fraction_out > 0, up to that share of (row, wheel) pairs may exceed the mu/sd
- * tolerance (see the float32 absolute-mode note above); otherwise none may. */
+ * tolerance (see the float32 notes above); otherwise none may. With check_status and
+ * sd_valid > 0 (the sd rule of the default preset) the valid flags must match too, except
+ * where the sd ties with sd_valid. */
 static double compare_with_golden(const char *golden_path, const rfe_est_row_t *rows,
-                                  size_t n_rows, int check_status, double max_fraction_out)
+                                  size_t n_rows, int check_status, double max_fraction_out,
+                                  double sd_valid)
 {
     test_table_t g;
     size_t r, i, n_out = 0;
@@ -124,6 +148,13 @@ static double compare_with_golden(const char *golden_path, const rfe_est_row_t *
                 if (max_fraction_out <= 0.0) {
                     fail_msg("%s row %zu wheel %s: |dmu| %.3g, |dsd| %.3g > %.3g", golden_path, r,
                              WHEEL[i], dmu, dsd, TOL_MU);
+                }
+            }
+            if (check_status && sd_valid > 0.0 && fabs(rows[r].sd[i] - sd_valid) > 1e-9) {
+                snprintf(name, sizeof(name), "valid_%s", WHEEL[i]);
+                if ((double)rows[r].valid[i] != test_table_get(&g, r, name)) {
+                    fail_msg("%s row %zu wheel %s: valid %u, golden %g", golden_path, r, WHEEL[i],
+                             (unsigned)rows[r].valid[i], test_table_get(&g, r, name));
                 }
             }
         }
@@ -150,6 +181,7 @@ static int for_each_scenario(void (*fn)(const char *stem))
     DIR *d = opendir(GOLDEN_DIR);
     struct dirent *e;
     int count = 0;
+    n_compared = 0;
     assert_non_null(d);
     while ((e = readdir(d)) != NULL) {
         const size_t len = strlen(e->d_name), sl = strlen(SUFFIX);
@@ -166,14 +198,21 @@ static int for_each_scenario(void (*fn)(const char *stem))
     return count;
 }
 
-/* Logs where absolute mode cannot observe mu (see the tolerance note at the top). */
-static int ill_conditioned_absolute(const char *stem)
+/* Logs where float32 separates transiently from the reference (see the tolerance notes at
+ * the top): absolute mode where it cannot observe mu, or on the edge of ABS braking; the CKF
+ * across a mu step while braking. */
+static int float_transient(const char *stem, rfe_tyre_mode_t tyre, rfe_filter_kind_t kind)
 {
-    return strncmp(stem, "paper_high_mu_brake", 19) == 0 || strncmp(stem, "paper_mu_step", 13) == 0;
+    if (kind == RFE_FILTER_CKF) {
+        return strncmp(stem, "mu_step_hard_brake", 18) == 0;
+    }
+    return (tyre == RFE_TYRE_ABSOLUTE) &&
+           (strncmp(stem, "paper_high_mu_brake", 19) == 0 || strncmp(stem, "paper_mu_step", 13) == 0 ||
+            strncmp(stem, "hard_brake_low_mu", 17) == 0);
 }
 
-static void check_one(const char *stem, rfe_tyre_mode_t tyre, rfe_filter_kind_t kind,
-                      const char *tag, int required)
+static void check_one(const char *stem, rfe_preset_t preset, rfe_tyre_mode_t tyre,
+                      rfe_filter_kind_t kind, const char *tag, int required)
 {
     char sensor[512], golden[512];
     size_t n = 0;
@@ -190,18 +229,31 @@ static void check_one(const char *stem, rfe_tyre_mode_t tyre, rfe_filter_kind_t 
         return;
     }
     fclose(probe);
-    rows = run(sensor, tyre, kind, &n);
-    worst = compare_with_golden(golden, rows, n, CHECK_STATUS,
-                                (tyre == RFE_TYRE_ABSOLUTE && ill_conditioned_absolute(stem))
-                                    ? MAX_FRACTION_OUT_ILL_CONDITIONED
-                                    : 0.0);
+    ++n_compared;
+    rows = run(sensor, preset, tyre, kind, &n);
+    if (preset == RFE_PRESET_DEFAULT) {
+        rfe_params_t lib;
+        assert_int_equal(RFE_FN(rfe_params_default)(&lib), RFE_OK);
+        worst = compare_with_golden(golden, rows, n, CHECK_STATUS, MAX_FRACTION_OUT_DEFAULT,
+                                    (double)lib.filter.sd_valid);
+    } else {
+        worst = compare_with_golden(golden, rows, n, CHECK_STATUS,
+                                    float_transient(stem, tyre, kind)
+                                        ? MAX_FRACTION_OUT_ILL_CONDITIONED
+                                        : 0.0,
+                                    -1.0);
+    }
     printf("  %-40s %-16s max |dmu| = %.3g\n", stem, tag, worst);
     free(rows);
 }
 
-static void sckf_paper(const char *stem) { check_one(stem, RFE_TYRE_PAPER, RFE_FILTER_SCKF, "paper.sckf", 1); }
-static void ckf_paper(const char *stem) { check_one(stem, RFE_TYRE_PAPER, RFE_FILTER_CKF, "paper.ckf", 1); }
-static void sckf_absolute(const char *stem) { check_one(stem, RFE_TYRE_ABSOLUTE, RFE_FILTER_SCKF, "absolute.sckf", 0); }
+static void sckf_paper(const char *stem) { check_one(stem, RFE_PRESET_PAPER, RFE_TYRE_PAPER, RFE_FILTER_SCKF, "paper.sckf", 1); }
+static void ckf_paper(const char *stem) { check_one(stem, RFE_PRESET_PAPER, RFE_TYRE_PAPER, RFE_FILTER_CKF, "paper.ckf", 1); }
+static void sckf_absolute(const char *stem) { check_one(stem, RFE_PRESET_PAPER, RFE_TYRE_ABSOLUTE, RFE_FILTER_SCKF, "absolute.sckf", 0); }
+/* The default preset (docs/ESTIMATOR.md: sides, absolute tyre, input filter, errors in
+ * variables, information gate, sd bounds). Its goldens are optional: a scenario without
+ * <stem>.default.sckf.csv is skipped. */
+static void sckf_default(const char *stem) { check_one(stem, RFE_PRESET_DEFAULT, RFE_TYRE_ABSOLUTE, RFE_FILTER_SCKF, "default.sckf", 0); }
 
 /* REQ: the SCKF (paper configuration) reproduces the reference on every scenario. */
 static void test_rfe_estimator_sckf_matches_goldens(void **state)
@@ -222,6 +274,16 @@ static void test_rfe_estimator_absolute_matches_goldens(void **state)
 {
     (void)state;
     assert_true(for_each_scenario(sckf_absolute) >= MIN_SCENARIOS);
+    assert_true(n_compared >= MIN_SCENARIOS); /* one absolute golden per noisy log */
+}
+
+/* REQ: the default preset (docs/ESTIMATOR.md) reproduces the reference where its golden
+ * exists. */
+static void test_rfe_estimator_default_matches_goldens(void **state)
+{
+    (void)state;
+    assert_true(for_each_scenario(sckf_default) >= MIN_SCENARIOS);
+    assert_true(n_compared >= MIN_SCENARIOS); /* one default golden per noisy log */
 }
 
 #if defined(RFE_REAL_DOUBLE)
@@ -231,8 +293,8 @@ static void sckf_vs_ckf(const char *stem)
     size_t n1 = 0, n2 = 0, r, i;
     rfe_est_row_t *a, *b;
     snprintf(sensor, sizeof(sensor), SCENARIO_DIR "/%s.csv", stem);
-    a = run(sensor, RFE_TYRE_PAPER, RFE_FILTER_SCKF, &n1);
-    b = run(sensor, RFE_TYRE_PAPER, RFE_FILTER_CKF, &n2);
+    a = run(sensor, RFE_PRESET_PAPER, RFE_TYRE_PAPER, RFE_FILTER_SCKF, &n1);
+    b = run(sensor, RFE_PRESET_PAPER, RFE_TYRE_PAPER, RFE_FILTER_CKF, &n2);
     assert_int_equal(n1, n2);
     for (r = 0; r < n1; ++r) {
         for (i = 0; i < 4; ++i) {
@@ -258,6 +320,7 @@ int main(void)
         cmocka_unit_test(test_rfe_estimator_sckf_matches_goldens),
         cmocka_unit_test(test_rfe_estimator_ckf_matches_goldens),
         cmocka_unit_test(test_rfe_estimator_absolute_matches_goldens),
+        cmocka_unit_test(test_rfe_estimator_default_matches_goldens),
 #if defined(RFE_REAL_DOUBLE)
         cmocka_unit_test(test_rfe_estimator_sckf_equals_ckf_in_double),
 #endif

@@ -2,24 +2,29 @@
  * @file estimator.h
  * @brief The friction estimator: one sensor sample in, four mu estimates out.
  *
- * Composition of the modules, one hop each: sample -> kinematics, loads, slips (tyre) ->
- * normalised forces (tyre) -> H (obsmat) -> SCKF or CKF (sckf/ckf, qr) -> estimate.
+ * Composition of the modules, one hop each (docs/ESTIMATOR.md "one step"): sample ->
+ * input conditioning (conditioner) -> time update (sckf/ckf) -> kinematics, loads, slips,
+ * forces (meas: tyre, obsmat) -> step noise S_R (eiv) -> cubature points, information gate,
+ * measurement update (sckf) -> sd bounds, projection -> estimate per wheel (T map).
  * The caller owns the rfe_estimator_t (no heap); init it once, then step at the sample
- * rate. A rejected sample returns an error status and leaves the estimator untouched.
+ * rate. A rejected sample or a failing step returns an error status and leaves the
+ * estimator (filter, input filter) as it was.
  */
 #ifndef RFE_ESTIMATOR_H
 #define RFE_ESTIMATOR_H
 
 #include "rfe/ckf.h"
+#include "rfe/conditioner.h"
+#include "rfe/meas.h"
 #include "rfe/params.h"
 #include "rfe/sckf.h"
-#include "rfe/tyre.h"
 
 /** Output of one step (one row of the DATA.md estimate log). */
 typedef struct {
-    rfe_real_t mu[RFE_WHEELS];    /**< estimated friction per wheel */
-    rfe_real_t sd[RFE_WHEELS];    /**< its standard deviation */
-    uint8_t valid[RFE_WHEELS];    /**< 1 when this step updated the wheel's estimate from data */
+    rfe_real_t mu[RFE_WHEELS];    /**< estimated friction per wheel (T x) */
+    rfe_real_t sd[RFE_WHEELS];    /**< its standard deviation (T times the state sds) */
+    uint8_t valid[RFE_WHEELS];    /**< sd_valid > 0: sd <= sd_valid; sd_valid = 0 (paper
+                                       rule): 1 when this step updated (status 0 or 1) */
     rfe_status_t status;          /**< status of the step (same as the return value) */
 } rfe_estimate_t;
 
@@ -27,9 +32,10 @@ typedef struct {
 typedef struct {
     uint32_t magic;
     rfe_params_t params;
-    rfe_wheel_kin_t kin;              /**< kinematics of the sample being processed */
-    rfe_real_t H[RFE_MEAS * RFE_WHEELS]; /**< paper mode: H(u) of that sample */
-    rfe_real_t delta;                 /**< steer angle of that sample */
+    size_t n;                         /**< state dimension: 4 (wheels) or 2 (sides) */
+    rfe_meas_t meas;                  /**< measurement model of the sample being processed */
+    rfe_conditioner_t cond;           /**< input filter (docs/ESTIMATOR.md step 1) */
+    rfe_conditioner_t backup_cond;    /**< its state before the step (restored on error) */
     rfe_real_t backup_x[RFE_N_MAX];   /**< filter mean before the step (restored on error) */
     rfe_real_t backup_S[RFE_N_MAX * RFE_N_MAX]; /**< its S (SCKF) or P (CKF) */
     union {
@@ -39,27 +45,33 @@ typedef struct {
 } rfe_estimator_t;
 
 /**
- * Validates @p params (rfe_params_validate) and initialises: x0 = mu0 on every wheel,
- * S0 = sd0 I, S_Q = q_mu I, S_R = diag(r_ax, r_ay, r_yaw_acc).
- * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_PARAM (estimator then untouched).
+ * Validates @p params (rfe_params_validate) and initialises: x0 = mu0 on every state,
+ * S0 = sqrt_prior(sd0, sd0_common), S_Q = sqrt_prior(q_mu, q_common),
+ * S_R = diag(r_ax, r_ay, r_yaw_acc), the input filter reset. sqrt_prior(d, c) is the lower
+ * Cholesky factor of c^2 11^T + d^2 I, exactly d I when c = 0.
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_PARAM; RFE_ERR_NONFINITE when a prior or process
+ *         noise with a common-mode part is so large that its covariance overflows (the
+ *         estimator is untouched on every error).
  */
 RFE_NODISCARD rfe_status_t RFE_FN(rfe_estimator_init)(rfe_estimator_t *est,
                                                      const rfe_params_t *params);
 
 /**
- * One step: time update, then (if vx >= v_est_min) the measurement update with
- * y = [ax, ay, yaw_acc], then projection onto [mu_min, mu_max].
+ * One step (docs/ESTIMATOR.md): input check; input conditioning (tau_v > 0); time update;
+ * if vx >= v_est_min the measurement update with y = [ax, ay, yaw_acc], this step's S_R and
+ * the information gate; the sd bounds; projection onto [mu_min, mu_max] after an update.
  * @p out receives the posterior (or, on error, the unchanged previous estimate with
  * valid = 0 and the error status).
- * @return RFE_OK, RFE_PROJECTED, RFE_NO_UPDATE_LOW_SPEED; errors: RFE_ERR_NULL,
- *         RFE_ERR_NOT_INITIALISED, RFE_ERR_NONFINITE, RFE_ERR_RANGE (see config.h limits),
- *         RFE_ERR_NOT_POSITIVE_DEFINITE (CKF only).
+ * @return RFE_OK, RFE_PROJECTED, RFE_NO_UPDATE_LOW_SPEED, RFE_HELD_NOT_OBSERVABLE; errors:
+ *         RFE_ERR_NULL, RFE_ERR_NOT_INITIALISED, RFE_ERR_NONFINITE, RFE_ERR_RANGE (see
+ *         config.h limits), RFE_ERR_NOT_POSITIVE_DEFINITE (CKF; an overflowing prior).
  */
 RFE_NODISCARD rfe_status_t RFE_FN(rfe_estimator_step)(rfe_estimator_t *est,
                                                      const rfe_sample_t *sample,
                                                      rfe_estimate_t *out);
 
-/** Current estimate without stepping (status RFE_OK, valid = 0). */
+/** Current estimate without stepping (status RFE_OK). valid: with sd_valid > 0 the sd rule;
+ *  under the paper rule 0 (no step made it). */
 RFE_NODISCARD rfe_status_t RFE_FN(rfe_estimator_get)(const rfe_estimator_t *est,
                                                     rfe_estimate_t *out);
 

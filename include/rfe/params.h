@@ -2,8 +2,8 @@
  * @file params.h
  * @brief Run-time parameters: vehicle, tyre, filter (MODEL.md §2, DATA.md parameter keys).
  *
- * Nothing in the algorithms is a literal: every number comes from these structs. Defaults
- * are the MODEL.md §2 values; each field names its DATA.md key.
+ * Nothing in the algorithms is a literal: every number comes from these structs. Vehicle and
+ * tyre values are the MODEL.md §2 values in both presets; each field names its DATA.md key.
  */
 #ifndef RFE_PARAMS_H
 #define RFE_PARAMS_H
@@ -31,7 +31,7 @@ typedef enum {
 
 /** Dugoff tyre and slip-computation parameters (MODEL.md §3-4). */
 typedef struct {
-    rfe_tyre_mode_t mode; /**< key tyre (paper|absolute), default paper */
+    rfe_tyre_mode_t mode; /**< key tyre (paper|absolute): paper / absolute (preset paper / default) */
     rfe_real_t Cx_n;      /**< key Cx_n: normalised longitudinal stiffness [1], default 20 */
     rfe_real_t Cy_n;      /**< key Cy_n: normalised cornering stiffness [1/rad], default 15 */
     rfe_real_t cx;        /**< key cx: longitudinal stiffness per unit Fz, absolute mode, default 20 */
@@ -47,18 +47,46 @@ typedef enum {
     RFE_FILTER_CKF = 1    /**< full-covariance cubature Kalman filter (the paper's baseline) */
 } rfe_filter_kind_t;
 
-/** Filter tuning (MODEL.md §6, DATA.md). */
+/** The estimator's state (docs/ESTIMATOR.md): the map T from states to wheels. */
+typedef enum {
+    RFE_STRUCT_WHEELS = 0, /**< n = 4: one mu per wheel, T = I */
+    RFE_STRUCT_SIDES = 1   /**< n = 2: [mu_left, mu_right]; fl, rl on the left, fr, rr on the right */
+} rfe_structure_t;
+
+/**
+ * Filter tuning (MODEL.md §6, docs/ESTIMATOR.md). Each field names its DATA.md key and its
+ * value in the two presets as "paper / default" (rfe_params_paper / rfe_params_default);
+ * one value means both. A 0 in the paper column switches the addition off.
+ */
 typedef struct {
-    rfe_filter_kind_t kind; /**< key filter (sckf|ckf), default sckf */
-    rfe_real_t mu0;       /**< key mu0: initial estimate on every wheel, default 0.5 */
-    rfe_real_t sd0;       /**< key sd0: initial standard deviation, S0 = sd0*I, default 0.3 */
-    rfe_real_t q_mu;      /**< key q_mu: process-noise sd per step, S_Q = q_mu*I, default 0.003 */
-    rfe_real_t r_ax;      /**< key r_ax: ax measurement-noise sd [m/s^2], default 0.05 */
-    rfe_real_t r_ay;      /**< key r_ay: ay measurement-noise sd [m/s^2], default 0.05 */
-    rfe_real_t r_yaw_acc; /**< key r_yaw_acc: yaw-acceleration noise sd [rad/s^2], default 0.05 */
-    rfe_real_t mu_min;    /**< key mu_min: lower projection bound, default 0.05 */
-    rfe_real_t mu_max;    /**< key mu_max: upper projection bound, default 1.2 */
-    rfe_real_t v_est_min; /**< key v_est_min: below this vx no measurement update [m/s], default 3.0 */
+    rfe_filter_kind_t kind; /**< key filter (sckf|ckf): sckf */
+    rfe_structure_t structure; /**< key structure (wheels|sides): wheels / sides */
+    rfe_real_t mu0;       /**< key mu0: initial estimate on every state: 0.5 */
+    rfe_real_t sd0;       /**< key sd0: prior sd, differential (per-state) part: 0.3 / 0.1 */
+    rfe_real_t q_mu;      /**< key q_mu: process-noise sd per step, differential part: 0.003 / 0.002 */
+    rfe_real_t r_ax;      /**< key r_ax: ax measurement-noise sd [m/s^2]: 0.05 */
+    rfe_real_t r_ay;      /**< key r_ay: ay measurement-noise sd [m/s^2]: 0.05 */
+    rfe_real_t r_yaw_acc; /**< key r_yaw_acc: yaw-acceleration noise sd [rad/s^2]: 0.05 */
+    rfe_real_t mu_min;    /**< key mu_min: lower projection bound: 0.05 */
+    rfe_real_t mu_max;    /**< key mu_max: upper projection bound: 1.2 */
+    rfe_real_t v_est_min; /**< key v_est_min: below this vx no measurement update [m/s]: 3.0 */
+    /* docs/ESTIMATOR.md additions (0 = off). The prior is S0 = sqrt_prior(sd0, sd0_common),
+     * the process noise S_Q = sqrt_prior(q_mu, q_common): the lower Cholesky factor of
+     * common^2 11^T + diff^2 I, exactly diff I when common = 0. */
+    rfe_real_t sd0_common;   /**< key sd0_common: prior sd, common-mode part: 0 / 0.3 */
+    rfe_real_t q_common;     /**< key q_common: process-noise sd per step, common-mode part: 0 / 0.006 */
+    rfe_real_t dt;           /**< key dt: sample period of the input filter [s]: 0.01 */
+    rfe_real_t tau_v;        /**< key tau_v: complementary-filter time constant for vx, vy [s], 0 = off: 0 / 0.3 */
+    rfe_real_t sd_in_delta;  /**< key sd_in_delta: input noise sd of delta [rad]: 0 / 0.001 */
+    rfe_real_t sd_in_vx;     /**< key sd_in_vx: input noise sd of the (filtered) vx [m/s]: 0 / 0.01 */
+    rfe_real_t sd_in_vy;     /**< key sd_in_vy: input noise sd of the (filtered) vy [m/s]: 0 / 0.01 */
+    rfe_real_t sd_in_yaw_rate; /**< key sd_in_yaw_rate: input noise sd of r [rad/s]: 0 / 0.005 */
+    rfe_real_t sd_in_omega;  /**< key sd_in_omega: input noise sd of each wheel speed [rad/s]: 0 / 0.05 */
+    rfe_real_t r_model_rel;  /**< key r_model_rel: tyre-model error relative to each predicted acceleration: 0 / 0.05 */
+    rfe_real_t info_min;     /**< key info_min: a step updates only with at least this Fisher information [1/mu^2], 0 = off: 0 / 100 */
+    rfe_real_t sd_max;       /**< key sd_max: bound on every sd, 0 = off: 0 / 0.32 */
+    rfe_real_t sd_floor_rel; /**< key sd_floor_rel: floor on sd_k as a fraction of mu_k, 0 = off: 0 / 0.15 */
+    rfe_real_t sd_valid;     /**< key sd_valid: valid when sd <= sd_valid; 0 = the paper rule (valid when updated): 0 / 0.15 */
 } rfe_filter_params_t;
 
 /** Everything the friction estimator needs. */
@@ -68,19 +96,31 @@ typedef struct {
     rfe_filter_params_t filter;
 } rfe_params_t;
 
-/** Fills @p p with the library's default configuration (today: the paper configuration). */
+/**
+ * Fills @p p with the library's default configuration: the observability-aware estimator of
+ * docs/ESTIMATOR.md ("default preset" column: sides, absolute tyre, common-mode prior and
+ * process noise, input filter, errors in variables, information gate, sd bounds, validity
+ * by sd).
+ */
 RFE_NODISCARD rfe_status_t RFE_FN(rfe_params_default)(rfe_params_t *p);
 
 /**
- * Fills @p p with the paper configuration (MODEL.md §2, §6): four independent mu, normalised
- * tyre, x0 = 0.5, S0 = 0.3 I, S_Q = 0.003 I, S_R = 0.05 I. Kept as the reference baseline.
+ * Fills @p p with the paper configuration (MODEL.md §2, §6; docs/ESTIMATOR.md "paper
+ * preset" column): four independent mu, normalised tyre, x0 = 0.5, S0 = 0.3 I,
+ * S_Q = 0.003 I, S_R = 0.05 I, every addition off. Kept as the reference baseline.
  */
 RFE_NODISCARD rfe_status_t RFE_FN(rfe_params_paper)(rfe_params_t *p);
 
 /**
- * Checks every field: finite, positive where physical (m, L, B, R, J, g, stiffnesses,
- * noise sds), hg >= 0, eps >= 0, 0 < alpha_max < 1.5, 0 <= mu_min < mu_max, mu0 within
- * [mu_min, mu_max], v_est_min >= 0, enums in range. Returns RFE_OK or RFE_ERR_PARAM.
+ * Checks every field: finite; positive where physical (m, L, B, R, J, g, stiffnesses,
+ * sd0, q_mu, r_*, dt); hg >= 0, eps >= 0, 0 < alpha_max < 1.5, 0 <= mu_min < mu_max, mu0
+ * within [mu_min, mu_max], v_est_min >= 0; sd0_common, q_common, tau_v, sd_in_*,
+ * r_model_rel, info_min, sd_max, sd_floor_rel, sd_valid >= 0 (sd_max: 0 = off, else any
+ * positive bound); enums in range.
+ * The CKF (the paper's baseline) runs only the paper-compatible subset: with filter = ckf,
+ * structure must be wheels and sd0_common, q_common, tau_v, every sd_in_*, r_model_rel,
+ * info_min, sd_max and sd_floor_rel must be 0 (any tyre, any sd_valid, any dt).
+ * Returns RFE_OK, RFE_ERR_NULL or RFE_ERR_PARAM.
  */
 RFE_NODISCARD rfe_status_t RFE_FN(rfe_params_validate)(const rfe_params_t *p);
 

@@ -73,6 +73,43 @@ RFE_NODISCARD rfe_status_t RFE_FN(rfe_sckf_predict)(rfe_sckf_t *f, rfe_process_f
 RFE_NODISCARD rfe_status_t RFE_FN(rfe_sckf_update)(rfe_sckf_t *f, rfe_measure_fn_t measure,
                                                   void *ctx, const rfe_real_t *y);
 
+/**
+ * Measurement update with a step-specific noise factor and an information gate
+ * (docs/ESTIMATOR.md steps 5-6). From the predicted x-, S- (call after rfe_sckf_predict):
+ *  1. cubature points X_j = S- xi_j + x-, Z_j = h(X_j), z, centred Xc (n x 2n), Zc (m x 2n);
+ *  2. when @p info_min > 0 or @p info_out is not NULL, the Fisher information per state by
+ *     statistical linearisation: P_zx = Zc Xc^T, J^T = S-^T \ (S- \ P_zx^T) (two
+ *     triangular solves), W = SR \ J (forward solve), I_k = sum_r W_rk^2 (the diagonal of
+ *     J^T R^-1 J); with info_min > 0 and max_k I_k < info_min the step is held: x, S stay
+ *     the predicted ones, *updated = 0;
+ *  3. otherwise the update of rfe_sckf_update with SR in place of the filter's S_R,
+ *     reusing the points and Z_j of 1; *updated = 1.
+ * With SR = NULL (the filter's S_R), info_min <= 0 and info_out = NULL this is
+ * rfe_sckf_update, bit for bit.
+ * @param SR        m x m lower-triangular sqrt of this step's R (only the lower triangle is
+ *                  read, leading dimension m), or NULL for the filter's own S_R. The
+ *                  information needs diag(SR) > 0.
+ * @param info_min  gate threshold; <= 0: no gate. Must be finite.
+ * @param info_out  n values I_k (written on success, also when held), or NULL.
+ * @param updated   required: 1 when the state was updated, 0 when held.
+ * @return RFE_OK (updated or held); RFE_ERR_NULL; RFE_ERR_NOT_INITIALISED;
+ *         RFE_ERR_NONFINITE (y, SR, info_min, a callback output, or an overflowing
+ *         information); RFE_ERR_NOT_POSITIVE_DEFINITE (S- or SR with a zero diagonal when the
+ *         information is computed, S_zz singular); the callback's error. On error nothing
+ *         is written.
+ */
+RFE_NODISCARD rfe_status_t RFE_FN(rfe_sckf_update_ex)(rfe_sckf_t *f, rfe_measure_fn_t measure,
+                                                     void *ctx, const rfe_real_t *y,
+                                                     const rfe_real_t *SR, rfe_real_t info_min,
+                                                     rfe_real_t *info_out, int *updated);
+
+/**
+ * Scales the square-root factor, S <- c S (P <- c^2 P: every standard deviation by c,
+ * correlations kept). @p c must be finite and > 0 (else RFE_ERR_RANGE); a product that
+ * overflows gives RFE_ERR_NONFINITE. On error S is untouched.
+ */
+RFE_NODISCARD rfe_status_t RFE_FN(rfe_sckf_scale)(rfe_sckf_t *f, rfe_real_t c);
+
 /** Copies the mean (n) and the standard deviations sqrt(diag(S S^T)) (n); either may be NULL. */
 RFE_NODISCARD rfe_status_t RFE_FN(rfe_sckf_get)(const rfe_sckf_t *f, rfe_real_t *x, rfe_real_t *sd);
 

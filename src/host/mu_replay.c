@@ -39,9 +39,10 @@ static const char k_usage[] =
     "  --in FILE        sensor log to read\n"
     "  --out FILE       estimate log to write\n"
     "  --preset NAME    base parameter set of the library: default (default) or paper\n"
-    "  --params FILE    parameter file ('key = value' lines; unknown keys are errors)\n"
-    "  --filter KIND    sckf (default) or ckf\n"
-    "  --tyre MODE      paper (default) or absolute\n"
+    "  --params FILE    parameter file ('key = value' lines; unknown keys are errors;\n"
+    "                   the keys are those of docs DATA.md and docs/ESTIMATOR.md)\n"
+    "  --filter KIND    sckf (default) or ckf (the paper's baseline: --preset paper)\n"
+    "  --tyre MODE      paper or absolute (default: the preset's)\n"
     "  --real TYPE      float (default) or double arithmetic\n"
     "  --metrics FILE   write run summary and accuracy as JSON\n"
     "  --quiet, -q      print nothing on success\n"
@@ -300,7 +301,12 @@ static int run_estimator(const options_t *o, run_t *r)
     if (st == RFE_OK) {
         return 0;
     }
-    if (bad != RFE_PK_NONE) {
+    if ((bad == (size_t)RFE_PK_FILTER) && (r->ps.filter == RFE_FILTER_CKF)) {
+        const rfe_param_origin_t *src = &r->ps.origin[bad];
+        rfe_io_error_set(&err, (src->file != NULL) ? src->file : "preset", src->line, 0u,
+                         "filter = ckf: the CKF baseline needs --preset paper (it runs only "
+                         "the paper subset of the parameters)");
+    } else if (bad != RFE_PK_NONE) {
         const rfe_param_origin_t *src = &r->ps.origin[bad];
         rfe_param_format(&r->ps, bad, val);
         rfe_io_error_set(&err, (src->file != NULL) ? src->file : "preset", src->line, 0u,
@@ -321,11 +327,11 @@ static const char *base_name(const char *path)
     return (slash != NULL) ? slash + 1 : path;
 }
 
-/* Metadata: generator, preset, filter, tyre, real, input, [param_file], then every numeric
- * key. */
+/* Metadata: generator, preset, filter, tyre, structure, real, input, [param_file], then
+ * every numeric key. */
 static int write_estimates(const options_t *o, const run_t *r)
 {
-    rfe_kv_t meta[7u + RFE_PK_NUMERIC];
+    rfe_kv_t meta[8u + RFE_PK_NUMERIC];
     char vals[RFE_PK_NUMERIC][RFE_NUM_BUF];
     size_t n = 0u;
     size_t k;
@@ -338,6 +344,8 @@ static int write_estimates(const options_t *o, const run_t *r)
     meta[n++].value = rfe_filter_kind_str(r->ps.filter);
     meta[n].key = "tyre";
     meta[n++].value = rfe_tyre_mode_str(r->ps.tyre);
+    meta[n].key = "structure";
+    meta[n++].value = rfe_structure_str(r->ps.structure);
     meta[n].key = "real";
     meta[n++].value = r->is_double ? "double" : "float";
     meta[n].key = "input";

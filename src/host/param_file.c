@@ -3,8 +3,8 @@
  * @brief Parameter set as doubles: key table, parameter files, sensor-log metadata (the
  *        preset values come from the library, see replay_real.c).
  *
- * Everything is driven by the RFE_PARAM_KEYS table in param_file.h, plus the two word keys
- * (tyre, filter) appended here.
+ * Everything is driven by the RFE_PARAM_KEYS table in param_file.h, plus the three word keys
+ * (tyre, filter, structure) appended here.
  */
 #include "param_file.h"
 
@@ -22,10 +22,12 @@ static const rfe_param_info_t k_info[RFE_PK_COUNT] = {
 #undef RFE_PK_INFO_
     {"tyre", "-", "tyre model: paper (normalised Dugoff) or absolute (load-scaled)"},
     {"filter", "-", "filter: sckf (square-root cubature) or ckf (full covariance)"},
+    {"structure", "-", "state: wheels (four independent mu) or sides (mu_left, mu_right)"},
 };
 
 static const char *const k_tyre_words[] = {"paper", "absolute"};     /* rfe_tyre_mode_t order */
 static const char *const k_filter_words[] = {"sckf", "ckf"};         /* rfe_filter_kind_t order */
+static const char *const k_structure_words[] = {"wheels", "sides"};  /* rfe_structure_t order */
 static const char *const k_preset_words[] = {"default", "paper"};    /* rfe_preset_t order */
 
 static int word_index(const char *s, const char *const *words, size_t n);
@@ -55,8 +57,9 @@ void rfe_param_format(const rfe_param_set_t *ps, size_t k, char buf[RFE_NUM_BUF]
     if (k < RFE_PK_NUMERIC) {
         rfe_text_format_double(buf, ps->value[k]);
     } else {
-        const char *w = (k == (size_t)RFE_PK_TYRE) ? rfe_tyre_mode_str(ps->tyre)
-                                                   : rfe_filter_kind_str(ps->filter);
+        const char *w = (k == (size_t)RFE_PK_TYRE)     ? rfe_tyre_mode_str(ps->tyre)
+                        : (k == (size_t)RFE_PK_FILTER) ? rfe_filter_kind_str(ps->filter)
+                                                       : rfe_structure_str(ps->structure);
         (void)snprintf(buf, RFE_NUM_BUF, "%s", w);
     }
 }
@@ -70,6 +73,9 @@ rfe_num_status_t rfe_param_set_text(rfe_param_set_t *ps, size_t k, const char *v
     }
     if (k == (size_t)RFE_PK_FILTER) {
         return (rfe_filter_kind_parse(value, &ps->filter) == 0) ? RFE_NUM_OK : RFE_NUM_SYNTAX;
+    }
+    if (k == (size_t)RFE_PK_STRUCTURE) {
+        return (rfe_structure_parse(value, &ps->structure) == 0) ? RFE_NUM_OK : RFE_NUM_SYNTAX;
     }
     if (k >= RFE_PK_NUMERIC) {
         return RFE_NUM_SYNTAX;
@@ -213,7 +219,7 @@ int rfe_param_set_apply_meta(rfe_param_set_t *ps, const rfe_sensor_log_t *log,
         size_t k = rfe_param_find(e->key);
         rfe_num_status_t st;
         if (k == RFE_PK_NONE) {
-            continue; /* scenario, dt, seed, noise_*: information, not parameters */
+            continue; /* scenario, seed, noise_*: information, not parameters */
         }
         st = rfe_param_set_text(ps, k, e->value);
         if (st != RFE_NUM_OK) {
@@ -270,6 +276,21 @@ int rfe_filter_kind_parse(const char *s, rfe_filter_kind_t *out)
         return -1;
     }
     *out = (i == 0) ? RFE_FILTER_SCKF : RFE_FILTER_CKF;
+    return 0;
+}
+
+const char *rfe_structure_str(rfe_structure_t s)
+{
+    return ((unsigned)s < 2u) ? k_structure_words[s] : "?";
+}
+
+int rfe_structure_parse(const char *s, rfe_structure_t *out)
+{
+    int i = word_index(s, k_structure_words, 2u);
+    if (i < 0) {
+        return -1;
+    }
+    *out = (i == 0) ? RFE_STRUCT_WHEELS : RFE_STRUCT_SIDES;
     return 0;
 }
 

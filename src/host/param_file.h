@@ -49,15 +49,30 @@
     X(r_yaw_acc, filter.r_yaw_acc, "rad/s^2", "yaw-acceleration measurement-noise sd")         \
     X(mu_min, filter.mu_min, "1", "lower projection bound")                                    \
     X(mu_max, filter.mu_max, "1", "upper projection bound")                                    \
-    X(v_est_min, filter.v_est_min, "m/s", "no measurement update below this vx")
+    X(v_est_min, filter.v_est_min, "m/s", "no measurement update below this vx")              \
+    X(sd0_common, filter.sd0_common, "1", "prior sd, common-mode part")                         \
+    X(q_common, filter.q_common, "1", "process-noise sd per step, common-mode part")           \
+    X(dt, filter.dt, "s", "sample period (input filter)")                                      \
+    X(tau_v, filter.tau_v, "s", "complementary-filter time constant for vx, vy (0 = off)")      \
+    X(sd_in_delta, filter.sd_in_delta, "rad", "input noise sd of delta")                       \
+    X(sd_in_vx, filter.sd_in_vx, "m/s", "input noise sd of the (filtered) vx")                 \
+    X(sd_in_vy, filter.sd_in_vy, "m/s", "input noise sd of the (filtered) vy")                 \
+    X(sd_in_yaw_rate, filter.sd_in_yaw_rate, "rad/s", "input noise sd of the yaw rate")        \
+    X(sd_in_omega, filter.sd_in_omega, "rad/s", "input noise sd of each wheel speed")          \
+    X(r_model_rel, filter.r_model_rel, "1", "tyre-model error relative to each acceleration")  \
+    X(info_min, filter.info_min, "1/mu^2", "update only with this Fisher information (0 = off)") \
+    X(sd_max, filter.sd_max, "1", "bound on every sd (0 = off)")                               \
+    X(sd_floor_rel, filter.sd_floor_rel, "1", "floor on sd as a fraction of mu (0 = off)")      \
+    X(sd_valid, filter.sd_valid, "1", "valid when sd <= sd_valid (0 = valid when updated)")
 
-/** Index of each numeric key: RFE_PK_m, RFE_PK_Lf, ...; then the two word-valued keys. */
+/** Index of each numeric key: RFE_PK_m, RFE_PK_Lf, ...; then the three word-valued keys. */
 typedef enum {
 #define RFE_PK_ENUM_(key, member, unit, doc) RFE_PK_##key,
     RFE_PARAM_KEYS(RFE_PK_ENUM_)
 #undef RFE_PK_ENUM_
     RFE_PK_TYRE,        /**< key tyre = paper|absolute */
     RFE_PK_FILTER,      /**< key filter = sckf|ckf */
+    RFE_PK_STRUCTURE,   /**< key structure = wheels|sides */
     RFE_PK_COUNT        /**< number of keys, numeric and word */
 } rfe_param_key_t;
 
@@ -86,7 +101,7 @@ typedef struct {
     size_t line;        /**< 1-based line in that file, 0 if none */
 } rfe_param_origin_t;
 
-/** The parameter set: every key's value as a double, plus the two word keys, and the
+/** The parameter set: every key's value as a double, plus the three word keys, and the
  *  preset it started from (the replay starts rfe_params_t from the same preset, so a
  *  library field without a key follows the preset too). */
 typedef struct {
@@ -94,6 +109,7 @@ typedef struct {
     double value[RFE_PK_NUMERIC];
     rfe_tyre_mode_t tyre;
     rfe_filter_kind_t filter;
+    rfe_structure_t structure;
     rfe_param_origin_t origin[RFE_PK_COUNT];
 } rfe_param_set_t;
 
@@ -103,11 +119,12 @@ const rfe_param_info_t *rfe_param_info(size_t k);
 /** Index of the key named @p name, or RFE_PK_NONE. */
 size_t rfe_param_find(const char *name);
 
-/** Value of a key as text (numbers round-trip; tyre/filter as their words). */
+/** Value of a key as text (numbers round-trip; tyre/filter/structure as their words). */
 void rfe_param_format(const rfe_param_set_t *ps, size_t k, char buf[RFE_NUM_BUF]);
 
 /**
- * Sets key @p k from text @p value (a finite decimal number, or a word for tyre/filter).
+ * Sets key @p k from text @p value (a finite decimal number, or a word for
+ * tyre/filter/structure).
  * @return RFE_NUM_OK, else the reason (RFE_NUM_SYNTAX for an unknown word).
  */
 RFE_NODISCARD rfe_num_status_t rfe_param_set_text(rfe_param_set_t *ps, size_t k,
@@ -133,16 +150,18 @@ RFE_NODISCARD int rfe_param_set_apply_stream(rfe_param_set_t *ps, FILE *f, const
 RFE_NODISCARD int rfe_param_set_apply_meta(rfe_param_set_t *ps, const rfe_sensor_log_t *log,
                                            const char *log_name, rfe_io_error_t *err);
 
-/** Word of a tyre mode / filter kind / preset ("paper", "sckf", "default", ...; "?" when
- *  out of range). */
+/** Word of a tyre mode / filter kind / structure / preset ("paper", "sckf", "sides",
+ *  "default", ...; "?" when out of range). */
 const char *rfe_tyre_mode_str(rfe_tyre_mode_t m);
 const char *rfe_filter_kind_str(rfe_filter_kind_t k);
+const char *rfe_structure_str(rfe_structure_t s);
 const char *rfe_preset_str(rfe_preset_t p);
 
-/** Parses "paper"/"absolute", "sckf"/"ckf" and "default"/"paper" (case-sensitive);
- *  0 on success, -1 otherwise (@p out then untouched). */
+/** Parses "paper"/"absolute", "sckf"/"ckf", "wheels"/"sides" and "default"/"paper"
+ *  (case-sensitive); 0 on success, -1 otherwise (@p out then untouched). */
 RFE_NODISCARD int rfe_tyre_mode_parse(const char *s, rfe_tyre_mode_t *out);
 RFE_NODISCARD int rfe_filter_kind_parse(const char *s, rfe_filter_kind_t *out);
+RFE_NODISCARD int rfe_structure_parse(const char *s, rfe_structure_t *out);
 RFE_NODISCARD int rfe_preset_parse(const char *s, rfe_preset_t *out);
 
 #endif /* RFE_HOST_PARAM_FILE_H */

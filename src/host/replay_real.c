@@ -71,6 +71,7 @@ int RFE_FN(rfe_param_set_preset)(rfe_param_set_t *ps, rfe_preset_t preset)
     }
     ps->tyre = p.tyre.mode;
     ps->filter = p.filter.kind;
+    ps->structure = p.filter.structure;
     return 0;
 }
 
@@ -82,8 +83,10 @@ static void set_key(rfe_params_t *p, const rfe_param_set_t *ps, size_t k)
         memcpy((char *)p + k_member_offset[k], &v, sizeof v);
     } else if (k == (size_t)RFE_PK_TYRE) {
         p->tyre.mode = ps->tyre;
-    } else {
+    } else if (k == (size_t)RFE_PK_FILTER) {
         p->filter.kind = ps->filter;
+    } else {
+        p->filter.structure = ps->structure;
     }
 }
 
@@ -98,10 +101,19 @@ static rfe_status_t to_lib_params(const rfe_param_set_t *ps, rfe_params_t *p)
     return st;
 }
 
-/* Which key alone makes validation fail, starting from the (valid) library preset. */
+/* Which key alone makes validation fail, starting from the (valid) library preset. The
+ * filter key is also blamed when the set is valid except for filter = ckf (the CKF baseline
+ * runs only the paper subset, rfe_params_validate). */
 static size_t diagnose_params(const rfe_param_set_t *ps)
 {
     size_t k;
+    rfe_params_t all;
+    if ((ps->filter == RFE_FILTER_CKF) && (to_lib_params(ps, &all) == RFE_OK)) {
+        all.filter.kind = RFE_FILTER_SCKF;
+        if (RFE_FN(rfe_params_validate)(&all) == RFE_OK) {
+            return (size_t)RFE_PK_FILTER;
+        }
+    }
     for (k = 0u; k < (size_t)RFE_PK_COUNT; ++k) {
         rfe_params_t p;
         if (preset_params(ps->preset, &p) != RFE_OK) {

@@ -41,9 +41,11 @@ static inline size_t rfe_replay_status_slot(int status)
  * and the run goes on.
  * The library parameters start from ps->preset (so a library field without a key follows
  * the preset), then every key of the set is applied.
- * @param bad_key on RFE_ERR_PARAM: the first key that alone makes the library's
- *        rfe_params_validate fail (starting from the library preset), or RFE_PK_NONE
- *        when only a combination does (e.g. mu_min >= mu_max); may be NULL.
+ * @param bad_key on RFE_ERR_PARAM: RFE_PK_FILTER when the set is valid except that the CKF
+ *        runs only the paper subset (filter = ckf with an addition of docs/ESTIMATOR.md on);
+ *        else the first key that alone makes the library's rfe_params_validate fail
+ *        (starting from the library preset), or RFE_PK_NONE when only a combination does
+ *        (e.g. mu_min >= mu_max); may be NULL.
  * @return RFE_OK, or RFE_ERR_PARAM for an unknown ps->preset, or the rfe_estimator_init
  *         error (nothing written then).
  */

@@ -140,9 +140,10 @@ run good_util 0 --in "$DATA/good_util.csv" --out "$TMP/u.csv" --metrics "$TMP/u.
 [ "$(grep -o '"n_excited": 0,' "$TMP/u.json" | wc -l)" -eq 5 ] && ok "good_util: n_excited a number" || bad "good_util: n_excited"
 grep -Eq '^wheel .* exc_val +n_exc +settled$' "$TMP/out" && ok "good_util: exc_val column" || bad "good_util: no exc_val column"
 
-# Precedence: --params beats metadata, flags beat both.
+# Precedence: --params beats metadata, flags beat both. (params_good.par asks for the CKF,
+# which runs only the paper subset: --preset paper.)
 run precedence 0 --in "$DATA/good_small.csv" --out "$TMP/p.csv" --params "$DATA/params_good.par" \
-    --tyre paper --real double --quiet
+    --tyre paper --real double --quiet --preset paper
 [ ! -s "$TMP/out" ] && ok "precedence: --quiet prints nothing" || bad "precedence: output despite --quiet"
 grep -q '^# mu0 = 0.7$' "$TMP/p.csv" && ok "precedence: file beats metadata" || bad "precedence: mu0"
 grep -q '^# tyre = paper$' "$TMP/p.csv" && ok "precedence: flag beats file" || bad "precedence: tyre"
@@ -151,6 +152,36 @@ run filter_flag 0 --in "$DATA/good_small.csv" --out "$TMP/q.csv" --params "$DATA
 grep -q '^# filter = sckf$' "$TMP/q.csv" && ok "filter_flag: flag beats file" || bad "filter_flag: filter"
 grep -q '^# real = float$' "$TMP/q.csv" && ok "filter_flag: float by default" || bad "filter_flag: real"
 grep -q '^# param_file = params_good.par$' "$TMP/p.csv" && ok "precedence: param_file named" || bad "precedence: param_file"
+
+# The CKF baseline runs only the paper subset (docs/ESTIMATOR.md): with the default preset
+# it is refused in one line that says what to do.
+run ckf_default_preset 1 --in "$DATA/good_small.csv" --out "$TMP/c.csv" --filter ckf
+one_line ckf_default_preset "^mu_replay: command line: filter = ckf: the CKF baseline needs --preset paper"
+[ ! -e "$TMP/c.csv" ] && ok "ckf_default_preset: nothing written" || bad "ckf_default_preset: estimate log written"
+run ckf_default_preset_file 1 --in "$DATA/good_small.csv" --out "$TMP/c.csv" --params "$DATA/params_good.par"
+one_line ckf_default_preset_file "^mu_replay: .*params_good\.par:6: filter = ckf: the CKF baseline needs --preset paper"
+printf 'tau_v = 0.3\n' >"$TMP/ckf_tau.par"
+run ckf_paper_plus_addition 1 --in "$DATA/good_small.csv" --out "$TMP/c.csv" --preset paper --filter ckf \
+    --params "$TMP/ckf_tau.par"
+one_line ckf_paper_plus_addition "^mu_replay: command line: filter = ckf: the CKF baseline needs --preset paper"
+
+# docs/ESTIMATOR.md keys: the word key structure and the numeric keys, in files and metadata.
+grep -q '^# structure = sides$' "$TMP/pd.csv" && ok "default: structure metadata" || bad "default: structure metadata"
+grep -q '^# info_min = 100$' "$TMP/pd.csv" && grep -q '^# sd_valid = 0.15$' "$TMP/pd.csv" \
+    && ok "default: new keys in metadata" || bad "default: new keys in metadata"
+grep -q '^# structure = wheels$' "$TMP/pp.csv" && grep -q '^# info_min = 0$' "$TMP/pp.csv" \
+    && ok "paper: additions off in metadata" || bad "paper: additions off in metadata"
+printf 'structure = wheels\ninfo_min = 50\nsd_in_omega = 0\n' >"$TMP/struct.par"
+run structure_key 0 --in "$DATA/good_small.csv" --out "$TMP/s.csv" --params "$TMP/struct.par" -q
+grep -q '^# structure = wheels$' "$TMP/s.csv" && grep -q '^# info_min = 50$' "$TMP/s.csv" \
+    && grep -q '^# sd_in_omega = 0$' "$TMP/s.csv" && ok "structure_key: file values used" || bad "structure_key: values"
+printf 'structure = axles\n' >"$TMP/struct_bad.par"
+run structure_bad_word 1 --in "$DATA/good_small.csv" --out "$TMP/s2.csv" --params "$TMP/struct_bad.par"
+one_line structure_bad_word "^mu_replay: .*struct_bad\.par:1:13: value of 'structure': not one of the allowed words"
+printf 'sd_max = -1\n' >"$TMP/sdmax.par"
+run invalid_new_key 1 --in "$DATA/good_small.csv" --out "$TMP/s3.csv" --params "$TMP/sdmax.par"
+one_line invalid_new_key "^mu_replay: .*sdmax\.par:1: invalid parameter sd_max = -1 "
+grep -q 'docs/ESTIMATOR.md' <("$BIN" --help) && ok "help: names docs/ESTIMATOR.md" || bad "help: no docs/ESTIMATOR.md"
 
 if [ -w /dev/full ]; then
     "$BIN" --in "$DATA/good_small.csv" --out "$TMP/s.csv" >/dev/full 2>"$TMP/err"

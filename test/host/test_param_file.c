@@ -59,6 +59,12 @@ static void test_rfe_param_set_paper_values(void **state)
     assert_true(ps.value[RFE_PK_v_est_min] == 3.0);
     assert_int_equal(ps.tyre, RFE_TYRE_PAPER);
     assert_int_equal(ps.filter, RFE_FILTER_SCKF);
+    assert_int_equal(ps.structure, RFE_STRUCT_WHEELS);
+    /* docs/ESTIMATOR.md: every addition off in the paper preset. */
+    assert_true(ps.value[RFE_PK_sd0_common] == 0.0 && ps.value[RFE_PK_q_common] == 0.0);
+    assert_true(ps.value[RFE_PK_tau_v] == 0.0 && ps.value[RFE_PK_info_min] == 0.0);
+    assert_true(ps.value[RFE_PK_sd_max] == 0.0 && ps.value[RFE_PK_sd_valid] == 0.0);
+    assert_true(ps.value[RFE_PK_dt] == 0.01);
     assert_null(ps.origin[RFE_PK_m].file);
 }
 
@@ -75,6 +81,8 @@ static void test_rfe_param_find_every_table_key(void **state)
     }
     assert_int_equal(rfe_param_find("tyre"), RFE_PK_TYRE);
     assert_int_equal(rfe_param_find("filter"), RFE_PK_FILTER);
+    assert_int_equal(rfe_param_find("structure"), RFE_PK_STRUCTURE);
+    assert_int_equal(rfe_param_find("sd_floor_rel"), RFE_PK_sd_floor_rel);
     assert_int_equal(rfe_param_find("mass"), RFE_PK_NONE);
     assert_null(rfe_param_info(RFE_PK_NONE));
 }
@@ -310,6 +318,8 @@ static void test_rfe_param_format_numbers_and_words(void **state)
     assert_string_equal(buf, "ckf");
     rfe_param_format(&ps, RFE_PK_TYRE, buf);
     assert_string_equal(buf, "paper");
+    rfe_param_format(&ps, RFE_PK_STRUCTURE, buf);
+    assert_string_equal(buf, "wheels");
 }
 
 static void test_rfe_param_set_text_rejects_out_of_range_key(void **state)
@@ -321,6 +331,9 @@ static void test_rfe_param_set_text_rejects_out_of_range_key(void **state)
     assert_int_equal(rfe_param_set_text(&ps, RFE_PK_FILTER, "ekf"), RFE_NUM_SYNTAX);
     assert_int_equal(rfe_param_set_text(&ps, RFE_PK_FILTER, "ckf"), RFE_NUM_OK);
     assert_int_equal(ps.filter, RFE_FILTER_CKF);
+    assert_int_equal(rfe_param_set_text(&ps, RFE_PK_STRUCTURE, "axles"), RFE_NUM_SYNTAX);
+    assert_int_equal(rfe_param_set_text(&ps, RFE_PK_STRUCTURE, "sides"), RFE_NUM_OK);
+    assert_int_equal(ps.structure, RFE_STRUCT_SIDES);
 }
 
 static void test_rfe_enum_words_round_trip(void **state)
@@ -335,6 +348,21 @@ static void test_rfe_enum_words_round_trip(void **state)
     assert_string_equal(rfe_filter_kind_str(f), "ckf");
     assert_string_equal(rfe_filter_kind_str((rfe_filter_kind_t)7), "?");
     assert_string_equal(rfe_tyre_mode_str((rfe_tyre_mode_t)7), "?");
+}
+
+static void test_rfe_structure_words_round_trip(void **state)
+{
+    rfe_structure_t s = RFE_STRUCT_WHEELS;
+    (void)state;
+    assert_int_equal(rfe_structure_parse("sides", &s), 0);
+    assert_int_equal(s, RFE_STRUCT_SIDES);
+    assert_string_equal(rfe_structure_str(s), "sides");
+    assert_int_equal(rfe_structure_parse("wheels", &s), 0);
+    assert_int_equal(s, RFE_STRUCT_WHEELS);
+    assert_string_equal(rfe_structure_str(s), "wheels");
+    assert_int_equal(rfe_structure_parse("Sides", &s), -1); /* case-sensitive */
+    assert_int_equal(s, RFE_STRUCT_WHEELS);                 /* untouched on failure */
+    assert_string_equal(rfe_structure_str((rfe_structure_t)7), "?");
 }
 
 static void test_rfe_preset_words_round_trip(void **state)
@@ -389,6 +417,7 @@ int main(void)
         cmocka_unit_test(test_rfe_param_format_numbers_and_words),
         cmocka_unit_test(test_rfe_param_set_text_rejects_out_of_range_key),
         cmocka_unit_test(test_rfe_enum_words_round_trip),
+        cmocka_unit_test(test_rfe_structure_words_round_trip),
         cmocka_unit_test(test_rfe_preset_words_round_trip),
         cmocka_unit_test(test_rfe_param_set_apply_file_preset_is_not_a_key),
     };

@@ -83,6 +83,7 @@ static void check_set_equals_library(rfe_preset_t preset, rfe_status_t (*lib)(rf
 #undef CHECK_KEY_
     assert_int_equal(ps.tyre, p.tyre.mode);
     assert_int_equal(ps.filter, p.filter.kind);
+    assert_int_equal(ps.structure, p.filter.structure);
     for (k = 0u; k < (size_t)RFE_PK_COUNT; ++k) {
         assert_null(ps.origin[k].file); /* "the preset" */
         assert_int_equal(ps.origin[k].line, 0);
@@ -281,6 +282,42 @@ static void test_rfe_replay_run_invalid_combination_not_blamed_on_one_key(void *
     assert_int_equal(bad, RFE_PK_NONE);
 }
 
+/* The CKF runs only the paper subset: asking for it on the default preset (or adding one of
+ * docs/ESTIMATOR.md's additions to the paper preset) is blamed on the filter key. */
+static void test_rfe_replay_run_ckf_outside_paper_subset_blames_filter(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_sensor_row_t rows[N_ROWS];
+    rfe_param_set_t ps;
+    rfe_est_row_t out[N_ROWS];
+    rfe_replay_stats_t st;
+    size_t bad = 0u;
+    (void)state;
+    make_log(&log, rows);
+    assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_DEFAULT), 0);
+    ps.filter = RFE_FILTER_CKF;
+    assert_int_equal(rfe_replay_run_f64(&ps, &log, out, &st, &bad), RFE_ERR_PARAM);
+    assert_int_equal(bad, RFE_PK_FILTER);
+    assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_PAPER), 0);
+    ps.filter = RFE_FILTER_CKF;
+    ps.structure = RFE_STRUCT_SIDES;
+    bad = 0u;
+    assert_int_equal(rfe_replay_run_f64(&ps, &log, out, &st, &bad), RFE_ERR_PARAM);
+    assert_int_equal(bad, RFE_PK_FILTER);
+    /* A key invalid on its own is still blamed, CKF or not. */
+    ps.structure = RFE_STRUCT_WHEELS;
+    ps.value[RFE_PK_sd_max] = -1.0;
+    assert_int_equal(rfe_replay_run_f64(&ps, &log, out, &st, &bad), RFE_ERR_PARAM);
+    assert_int_equal(bad, RFE_PK_sd_max);
+    /* The structure word key reaches the library. */
+    assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_DEFAULT), 0);
+    ps.structure = RFE_STRUCT_WHEELS;
+    assert_int_equal(rfe_replay_run_f64(&ps, &log, out, &st, NULL), RFE_OK);
+    ps.structure = (rfe_structure_t)7;
+    assert_int_equal(rfe_replay_run_f64(&ps, &log, out, &st, &bad), RFE_ERR_PARAM);
+    assert_int_equal(bad, RFE_PK_STRUCTURE);
+}
+
 static void test_rfe_replay_run_null_arguments(void **state)
 {
     rfe_sensor_log_t log;
@@ -318,6 +355,7 @@ int main(void)
         cmocka_unit_test(test_rfe_replay_run_both_filters_and_tyres),
         cmocka_unit_test(test_rfe_replay_run_invalid_key_diagnosed),
         cmocka_unit_test(test_rfe_replay_run_invalid_combination_not_blamed_on_one_key),
+        cmocka_unit_test(test_rfe_replay_run_ckf_outside_paper_subset_blames_filter),
         cmocka_unit_test(test_rfe_replay_run_null_arguments),
         cmocka_unit_test(test_rfe_replay_status_slot_bounds),
     };

@@ -1,0 +1,45 @@
+/**
+ * @file meas.h
+ * @brief The measurement model h(mu, u) of one sample (MODEL.md §3-5): predicted
+ *        y = [ax, ay, r-dot] from a friction value per wheel.
+ *
+ * rfe_meas_setup does the per-sample work once (kinematics, slips, loads; in paper tyre mode
+ * also H(u)); rfe_meas_eval is then cheap enough for every cubature point:
+ *  - paper tyre:    h = H(u) mu (linear in mu);
+ *  - absolute tyre: the load-scaled Dugoff forces at each wheel's mu (mu < 0 evaluated as 0),
+ *                   through the same geometry as H's columns: h_r = sum_i H_r,i(F(mu_i)).
+ * The model keeps no pointer to the parameters: pass the same ones to setup and eval.
+ */
+#ifndef RFE_MEAS_H
+#define RFE_MEAS_H
+
+#include "rfe/tyre.h"
+
+/** One sample's measurement model (caller-owned; fields read-only for the caller). */
+typedef struct {
+    rfe_tyre_mode_t mode;                /**< tyre mode it was set up for */
+    rfe_real_t delta;                    /**< steer angle of the sample */
+    rfe_wheel_kin_t kin;                 /**< kinematics, slips, loads of the sample */
+    rfe_real_t H[RFE_MEAS * RFE_WHEELS]; /**< paper mode: H(u) */
+} rfe_meas_t;
+
+/**
+ * Sets the model up for sample @p u (uses delta, vx, vy, yaw_rate, ax, ay, omega) and the
+ * tyre mode tp->mode.
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_NONFINITE; the tyre's errors (@p h then untouched).
+ */
+RFE_NODISCARD rfe_status_t RFE_FN(rfe_meas_setup)(rfe_meas_t *h, const rfe_vehicle_t *veh,
+                                                 const rfe_tyre_params_t *tp,
+                                                 const rfe_sample_t *u);
+
+/**
+ * z = h(mu, u) for the sample of the last rfe_meas_setup.
+ * @param mu friction per wheel (fl, fr, rl, rr)
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_NONFINITE; the tyre's / obsmat's errors.
+ */
+RFE_NODISCARD rfe_status_t RFE_FN(rfe_meas_eval)(const rfe_meas_t *h, const rfe_vehicle_t *veh,
+                                                const rfe_tyre_params_t *tp,
+                                                const rfe_real_t mu[RFE_WHEELS],
+                                                rfe_real_t z[RFE_MEAS]);
+
+#endif /* RFE_MEAS_H */

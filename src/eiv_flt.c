@@ -1,0 +1,134 @@
+/**
+ * @file eiv_flt.c
+ * @brief Step-noise S_R: sensor noise, relative tyre-model error, input noise propagated by
+ *        central differences (docs/ESTIMATOR.md step 4).
+ */
+#include "rfe/eiv.h"
+
+#include "rfe/meas.h"
+#include "rfe/qr.h"
+
+#include "internal.h"
+
+#define CW ((size_t)(RFE_MEAS + RFE_EIV_INPUTS)) /* widest [S_R0, g_1 .. g_8] */
+
+/* The Tria of [S_R0, g_1 .. g_8] is 3 x 11: it must fit the smallest build's maxima. */
+typedef char rfe_assert_eiv_tria_fits[((RFE_MEAS + RFE_EIV_INPUTS) <= RFE_TRIA_COLS_MAX) &&
+                                              (RFE_MEAS <= RFE_N_MAX)
+                                          ? 1
+                                          : -1];
+
+/* Input j of the sample (0 delta, 1 vx, 2 vy, 3 r, 4.. omega_fl..rr) and its noise sd. */
+static rfe_real_t *input_slot(rfe_sample_t *u, size_t j)
+{
+    rfe_real_t *slot;
+    switch (j) {
+    case 0u:
+        slot = &u->delta;
+        break;
+    case 1u:
+        slot = &u->vx;
+        break;
+    case 2u:
+        slot = &u->vy;
+        break;
+    case 3u:
+        slot = &u->yaw_rate;
+        break;
+    default:
+        slot = &u->omega[j - 4u];
+        break;
+    }
+    return slot;
+}
+
+static rfe_real_t input_sd(const rfe_filter_params_t *fp, size_t j)
+{
+    const rfe_real_t sd[RFE_EIV_INPUTS] = {fp->sd_in_delta,    fp->sd_in_vx,    fp->sd_in_vy,
+                                           fp->sd_in_yaw_rate, fp->sd_in_omega, fp->sd_in_omega,
+                                           fp->sd_in_omega,    fp->sd_in_omega};
+    return sd[j];
+}
+
+/* z = h(mu, u) for sample u (its own kinematics). */
+static rfe_status_t h_at(const rfe_params_t *p, const rfe_sample_t *u, const rfe_real_t *mu,
+                         rfe_real_t z[RFE_MEAS])
+{
+    rfe_meas_t h;
+    rfe_status_t st = RFE_FN(rfe_meas_setup)(&h, &p->vehicle, &p->tyre, u);
+    if (st == RFE_OK) {
+        st = RFE_FN(rfe_meas_eval)(&h, &p->vehicle, &p->tyre, mu, z);
+    }
+    return st;
+}
+
+rfe_status_t RFE_FN(rfe_eiv_sqrt_noise)(const rfe_params_t *p, const rfe_sample_t *u,
+                                        const rfe_real_t mu[RFE_WHEELS],
+                                        rfe_real_t SR[RFE_MEAS * RFE_MEAS])
+{
+    rfe_real_t A[RFE_MEAS * CW];
+    rfe_real_t h0[RFE_MEAS];
+    rfe_real_t r[RFE_MEAS];
+    size_t cols = (size_t)RFE_MEAS;
+    size_t i;
+    size_t j;
+    rfe_status_t st;
+
+    if ((p == NULL) || (u == NULL) || (mu == NULL) || (SR == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    if (RFE_FN(rfe_params_validate)(p) != RFE_OK) {
+        return RFE_ERR_PARAM;
+    }
+    if (!rfe_all_finite(mu, RFE_WHEELS)) {
+        return RFE_ERR_NONFINITE;
+    }
+    st = h_at(p, u, mu, h0);
+    if (st != RFE_OK) {
+        return st;
+    }
+    /* S_R0: sensor noise and the model error relative to each predicted acceleration. */
+    r[0] = p->filter.r_ax;
+    r[1] = p->filter.r_ay;
+    r[2] = p->filter.r_yaw_acc;
+    for (i = 0u; i < (size_t)RFE_MEAS; ++i) {
+        const rfe_real_t e = p->filter.r_model_rel * RFE_FABS(h0[i]);
+        for (j = 0u; j < (size_t)RFE_MEAS; ++j) {
+            A[(i * CW) + j] = (i == j) ? RFE_SQRT(r[i] * r[i] + e * e) : RFE_R(0.0);
+        }
+    }
+    /* g_j = (h(u + sd_j e_j) - h(u - sd_j e_j)) / 2 for each noisy input, in order. */
+    for (j = 0u; j < (size_t)RFE_EIV_INPUTS; ++j) {
+        const rfe_real_t sd = input_sd(&p->filter, j);
+        rfe_sample_t up = *u;
+        rfe_sample_t um = *u;
+        rfe_real_t zp[RFE_MEAS];
+        rfe_real_t zm[RFE_MEAS];
+        if (!(sd > RFE_R(0.0))) {
+            continue;
+        }
+        *input_slot(&up, j) += sd;
+        *input_slot(&um, j) -= sd;
+        st = h_at(p, &up, mu, zp);
+        if (st == RFE_OK) {
+            st = h_at(p, &um, mu, zm);
+        }
+        if (st != RFE_OK) {
+            return st;
+        }
+        for (i = 0u; i < (size_t)RFE_MEAS; ++i) {
+            A[(i * CW) + cols] = (zp[i] - zm[i]) / RFE_R(2.0);
+        }
+        ++cols;
+    }
+    st = RFE_FN(rfe_qr_tria)(A, RFE_MEAS, cols, CW);
+    if (st != RFE_OK) {
+        return st;
+    }
+    for (i = 0u; i < (size_t)RFE_MEAS; ++i) {
+        for (j = 0u; j < (size_t)RFE_MEAS; ++j) {
+            SR[(i * RFE_MEAS) + j] = (j <= i) ? A[(i * CW) + j] : RFE_R(0.0);
+        }
+    }
+    return RFE_OK;
+}
