@@ -147,7 +147,7 @@ demo: deps $(BUILD)/mu_replay
 
 # Regenerates the accuracy table in README.md (never typed by hand).
 readme-table: deps $(BUILD)/mu_replay
-	$(PY) scripts/demo.py --replay $(BUILD)/mu_replay --out $(BUILD)/demo --no-plots --readme README.md
+	$(PY) scripts/demo.py --replay $(BUILD)/mu_replay --out $(BUILD)/demo --no-plots --trust --readme README.md
 
 scenarios: venv
 	$(PY) scripts/make_scenarios.py --out scenarios
