@@ -127,6 +127,18 @@ static void centre_points(rfe_sckf_t *f)
     }
 }
 
+/* P_xz[i][r] = sum_j Xc[i][j] Zc[r][j] (centred points in w->B and w->zpts). One definition
+ * for the gain and the information, so both use the same sums in the same order. */
+static rfe_real_t pxz_element(const rfe_cub_scratch_t *w, size_t r, size_t i, size_t n)
+{
+    rfe_real_t acc = RFE_R(0.0);
+    size_t j;
+    for (j = 0u; j < (2u * n); ++j) {
+        acc += w->zpts[(j * MM) + r] * w->B[(i * TC) + j];
+    }
+    return acc;
+}
+
 /* S_zz = Tria([Zc, S_R]) into w->Szz; then K^T = S_zz^-T (S_zz^-1 P_xz^T), P_xz = Xc Zc^T.
  * SR: this step's lower-triangular S_R, ld RFE_M_MAX. */
 static rfe_status_t gain(rfe_sckf_t *f, const rfe_real_t *SR)
@@ -152,14 +164,10 @@ static rfe_status_t gain(rfe_sckf_t *f, const rfe_real_t *SR)
         return st;
     }
     copy_lower(w->A, TC, m, w->Szz, MM);
-    /* P_xz^T (m x n): row r, column i = sum_j Zc[r][j] Xc[i][j]. */
+    /* P_xz^T (m x n). */
     for (r = 0u; r < m; ++r) {
         for (i = 0u; i < n; ++i) {
-            rfe_real_t acc = RFE_R(0.0);
-            for (j = 0u; j < (2u * n); ++j) {
-                acc += w->zpts[(j * MM) + r] * w->B[(i * TC) + j];
-            }
-            w->Kt[(r * NM) + i] = acc;
+            w->Kt[(r * NM) + i] = pxz_element(w, r, i, n);
         }
     }
     /* K = (P_xz / S_zz^T) / S_zz: two triangular solves, never an inverse. */
@@ -178,15 +186,10 @@ static void cross_covariance(rfe_sckf_t *f)
     const size_t n = f->n;
     const size_t m = f->m;
     size_t i;
-    size_t j;
     size_t r;
     for (r = 0u; r < m; ++r) {
         for (i = 0u; i < n; ++i) {
-            rfe_real_t acc = RFE_R(0.0);
-            for (j = 0u; j < (2u * n); ++j) {
-                acc += w->zpts[(j * MM) + r] * w->B[(i * TC) + j];
-            }
-            w->A[(i * TC) + r] = acc;
+            w->A[(i * TC) + r] = pxz_element(w, r, i, n);
         }
     }
 }
