@@ -196,9 +196,10 @@ def main() -> int:
             runs[filt] = info["estimate_file"]
         results.append((scen, noise, infos["sckf"], infos["ckf"]))
         if not args.no_plots:
-            plot(log, [runs["sckf"], runs["ckf"]], ["SCKF", "CKF"], args.out / f"{stem}.png",
-                 f"{scen} ({'noise-free' if noise == 'none' else 'default noise'}), "
-                 f"paper configuration, {args.real}")
+            default = run_replay(args.replay, log, args.out, "sckf", args.real, "default")
+            plot(log, [default["estimate_file"], runs["sckf"], runs["ckf"]],
+                 ["default", "paper SCKF", "paper CKF"], args.out / f"{stem}.png",
+                 f"{scen} ({'noise-free' if noise == 'none' else 'default noise'}), {args.real}")
         print(f"[{k}/{len(logs)}] {stem}: done ({time.time() - t0:.1f} s)", flush=True)
 
     results.sort(key=lambda r: (r[0], r[1] != "none"))
