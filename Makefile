@@ -80,7 +80,7 @@ $(eval $(call REPLAY_RULE,$(BUILD)/cov-mu_replay,cov-f32,cov-f64,$(COVFLAGS)))
 # Keep intermediate objects (test support) so a second make does not rebuild them.
 .SECONDARY:
 
-.PHONY: all lib deps deps-c venv test test-c test-py coverage demo goldens scenarios clean vectors readme-table \
+.PHONY: all lib deps deps-c venv test test-c test-py coverage demo goldens scenarios clean vectors shared-sync check-shared readme-table \
         check-goldens help
 all: lib $(BUILD)/mu_replay
 lib: $(BUILD)/f32/librfe.a $(BUILD)/f64/librfe.a
@@ -136,7 +136,7 @@ coverage: deps $(foreach f,cov-f32 cov-f64,$(addprefix $(BUILD)/$(f)/test/,$(UNI
 	@cat $(BUILD)/coverage/summary.txt
 	@echo "coverage report: $(BUILD)/coverage/index.html (per-file detail), coverage.xml (Cobertura)"
 
-test: deps lib test-c test-py coverage
+test: deps lib check-shared test-c test-py coverage
 	@echo "make test: all tests passed, coverage gate met"
 
 # $(BUILD)/f64/test/host/test_x comes from test/host/test_x.c through the pattern rule.
@@ -154,11 +154,22 @@ scenarios: venv
 goldens: scenarios
 	$(PY) scripts/make_goldens.py --scenarios scenarios --out scenarios/golden
 
-# The MODEL.md test vectors of the independent implementation live in ../shared/vectors;
-# a copy sits in test/vectors so a clone is self-contained. This refreshes the copy.
-SHARED_VECTORS ?= ../shared/vectors
-vectors:
-	cp $(SHARED_VECTORS)/model_vectors.csv $(SHARED_VECTORS)/sckf_step_vectors.csv test/vectors/
+# The specification (MODEL.md, DATA.md) and the test vectors of the independent
+# implementation live in the project's shared folder (../shared); copies sit in docs/spec
+# and test/vectors so a clone is self-contained. This refreshes the copies.
+SHARED ?= ../shared
+shared-sync:
+	cp $(SHARED)/docs/MODEL.md $(SHARED)/docs/DATA.md docs/spec/
+	cp $(SHARED)/vectors/model_vectors.csv $(SHARED)/vectors/sckf_step_vectors.csv test/vectors/
+vectors: shared-sync
+# Fails when the copies differ from ../shared (where it exists): run `make shared-sync`.
+check-shared:
+	@if [ -d $(SHARED) ]; then \
+	  for f in docs/MODEL.md docs/DATA.md vectors/model_vectors.csv vectors/sckf_step_vectors.csv; do \
+	    copy=$$(case $$f in docs/*) echo docs/spec/$${f#docs/};; *) echo test/$$f;; esac); \
+	    cmp -s $(SHARED)/$$f $$copy || { echo "$$copy differs from $(SHARED)/$$f: run make shared-sync"; exit 1; }; \
+	  done; echo "shared copies: up to date"; \
+	else echo "shared copies: $(SHARED) not present, not checked"; fi
 
 clean:
 	rm -rf $(BUILD)
