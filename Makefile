@@ -4,6 +4,8 @@
 #   make demo       run the estimator on the bundled scenarios, print accuracy, draw plots
 #   make test       all tests (C unit + golden + host + Python) and the coverage gate
 #   make coverage   gcovr HTML / Cobertura XML / text summary for src/, with thresholds
+#   make sanitize   the C tests built with ASan + UBSan (build/asan-*) and run
+#   make valgrind   the optimised C tests and the CLI script run under valgrind memcheck
 #   make goldens    regenerate scenarios/*.csv and scenarios/golden/ from the Python tools
 #   make readme-table  regenerate the accuracy table in README.md
 #
@@ -66,6 +68,10 @@ $(eval $(call FLAVOUR_RULES,f32,,$(OPT)))
 $(eval $(call FLAVOUR_RULES,f64,-DRFE_REAL_DOUBLE,$(OPT)))
 $(eval $(call FLAVOUR_RULES,cov-f32,,$(COVFLAGS)))
 $(eval $(call FLAVOUR_RULES,cov-f64,-DRFE_REAL_DOUBLE,$(COVFLAGS)))
+# asan-*: AddressSanitizer + UndefinedBehaviorSanitizer twins; any report aborts the test.
+SANFLAGS := -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all -O1 -g
+$(eval $(call FLAVOUR_RULES,asan-f32,,$(SANFLAGS)))
+$(eval $(call FLAVOUR_RULES,asan-f64,-DRFE_REAL_DOUBLE,$(SANFLAGS)))
 
 # mu_replay: precision-independent host code once, the replay core twice (float, double).
 define REPLAY_RULE
@@ -76,17 +82,18 @@ $(1): src/host/mu_replay.c $(BUILD)/$(2)/host/replay_real.o $(BUILD)/$(3)/host/r
 endef
 $(eval $(call REPLAY_RULE,$(BUILD)/mu_replay,f32,f64,$(OPT)))
 $(eval $(call REPLAY_RULE,$(BUILD)/cov-mu_replay,cov-f32,cov-f64,$(COVFLAGS)))
+$(eval $(call REPLAY_RULE,$(BUILD)/asan-mu_replay,asan-f32,asan-f64,$(SANFLAGS)))
 
 # Keep intermediate objects (test support) so a second make does not rebuild them.
 .SECONDARY:
 
-.PHONY: all lib deps deps-c venv test test-c test-py coverage demo goldens scenarios clean vectors shared-sync check-shared readme-table \
+.PHONY: all lib deps deps-c deps-valgrind venv test test-c test-py sanitize valgrind coverage demo goldens scenarios clean vectors shared-sync check-shared readme-table \
         check-goldens help
 all: lib $(BUILD)/mu_replay
 lib: $(BUILD)/f32/librfe.a $(BUILD)/f64/librfe.a
 
 help:
-	@sed -n '1,12p' Makefile
+	@sed -n '1,14p' Makefile
 
 # ---- dependencies (installed when missing) --------------------------------------------
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
@@ -94,6 +101,10 @@ deps-c:
 	@if [ ! -f /usr/include/cmocka.h ]; then \
 	  echo "[deps] installing libcmocka-dev via apt"; \
 	  $(SUDO) apt-get update -qq && $(SUDO) apt-get install -y -qq libcmocka-dev; fi
+deps-valgrind:
+	@if ! command -v valgrind >/dev/null 2>&1; then \
+	  echo "[deps] installing valgrind via apt"; \
+	  $(SUDO) apt-get update -qq && $(SUDO) apt-get install -y -qq valgrind; fi
 
 $(PYSTAMP): scripts/requirements.txt
 	@echo "[deps] creating Python venv $(VENV) from scripts/requirements.txt"
@@ -114,6 +125,34 @@ test-c: deps-c $(foreach f,f32 f64,$(addprefix $(BUILD)/$(f)/test/,$(UNIT_TESTS)
 	@$(call run_tests,f64)
 	@set -e; for t in $(HOST_TESTS); do echo "== host/$$t"; $(BUILD)/f64/test/host/$$t; done
 	@if [ -f test/host/test_cli.sh ]; then echo "== cli"; bash test/host/test_cli.sh $(BUILD)/mu_replay; fi
+
+# The same tests built with ASan + UBSan (build/asan-*); any report fails the run. ASan
+# aborts (exit 134); for the CLI script UBSan exits 98, so a report can never pass for one of
+# the CLI's own exit codes (0, 1, 2) that test_cli.sh expects.
+SAN_ENV := ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+sanitize: deps-c $(foreach f,asan-f32 asan-f64,$(addprefix $(BUILD)/$(f)/test/,$(UNIT_TESTS))) \
+          $(addprefix $(BUILD)/asan-f64/test/host/,$(HOST_TESTS)) $(BUILD)/asan-mu_replay
+	@export $(SAN_ENV); $(call run_tests,asan-f32)
+	@export $(SAN_ENV); $(call run_tests,asan-f64)
+	@export $(SAN_ENV); set -e; for t in $(HOST_TESTS); do echo "== asan host/$$t"; $(BUILD)/asan-f64/test/host/$$t; done
+	@if [ -f test/host/test_cli.sh ]; then echo "== asan cli"; export $(SAN_ENV); \
+	  export UBSAN_OPTIONS=$$UBSAN_OPTIONS:exitcode=98; bash test/host/test_cli.sh $(BUILD)/asan-mu_replay; fi
+	@echo "sanitize: all tests clean under ASan + UBSan"
+
+# The optimised test binaries under valgrind memcheck. Exit code 99 = a valgrind error (the
+# CLI itself uses 1 and 2); test/support/valgrind_wrap.sh runs mu_replay for test_cli.sh and
+# records every such run in $(BUILD)/valgrind-cli.log, which must stay empty.
+VALGRIND := valgrind --error-exitcode=99 --leak-check=full --errors-for-leak-kinds=definite,indirect -q
+valgrind: deps-c deps-valgrind $(foreach f,f32 f64,$(addprefix $(BUILD)/$(f)/test/,$(UNIT_TESTS))) \
+          $(addprefix $(BUILD)/f64/test/host/,$(HOST_TESTS)) $(BUILD)/mu_replay
+	@set -e; for f in f32 f64; do for t in $(UNIT_TESTS); do echo "== valgrind $$f/$$t"; \
+	  $(VALGRIND) $(BUILD)/$$f/test/$$t; done; done
+	@set -e; for t in $(HOST_TESTS); do echo "== valgrind host/$$t"; $(VALGRIND) $(BUILD)/f64/test/host/$$t; done
+	@if [ -f test/host/test_cli.sh ]; then echo "== valgrind cli"; rm -f $(BUILD)/valgrind-cli.log; \
+	  VALGRIND_WRAP_BIN=$(abspath $(BUILD)/mu_replay) VALGRIND_WRAP_LOG=$(abspath $(BUILD)/valgrind-cli.log) \
+	  bash test/host/test_cli.sh test/support/valgrind_wrap.sh; \
+	  if [ -s $(BUILD)/valgrind-cli.log ]; then cat $(BUILD)/valgrind-cli.log; exit 1; fi; fi
+	@echo "valgrind: all tests clean under memcheck"
 
 test-py: venv
 	$(PY) -m pytest -q -p no:cacheprovider scripts
@@ -136,7 +175,7 @@ coverage: deps $(foreach f,cov-f32 cov-f64,$(addprefix $(BUILD)/$(f)/test/,$(UNI
 	@cat $(BUILD)/coverage/summary.txt
 	@echo "coverage report: $(BUILD)/coverage/index.html (per-file detail), coverage.xml (Cobertura)"
 
-test: deps lib check-shared test-c test-py coverage
+test: deps lib check-shared test-c sanitize valgrind test-py coverage
 	@echo "make test: all tests passed, coverage gate met"
 
 # $(BUILD)/f64/test/host/test_x comes from test/host/test_x.c through the pattern rule.
