@@ -6,11 +6,12 @@
 #   make coverage   gcovr HTML / Cobertura XML / text summary for src/, with thresholds
 #   make sanitize   the C tests built with ASan + UBSan (build/asan-*) and run
 #   make valgrind   the optimised C tests and the CLI script run under valgrind memcheck
+#   make check-nofloat  src/*_q31.c built for Cortex-M0+: no float/double, soft-float or libm
 #   make goldens    regenerate scenarios/*.csv and scenarios/golden/ from the Python tools
 #   make readme-table  regenerate the accuracy table in README.md
 #
-# `make demo` and `make test` install what they need when it is missing: cmocka via apt,
-# and a Python venv (.venv) from the pinned scripts/requirements.txt.
+# `make demo` and `make test` install what they need when it is missing: cmocka and
+# gcc-arm-none-eabi via apt, and a Python venv (.venv) from the pinned scripts/requirements.txt.
 
 CC      ?= gcc
 ifeq ($(origin CC),default)
@@ -33,9 +34,14 @@ TEST_WARN := -std=c99 -Wall -Wextra -Wshadow -Werror -Wno-unused-parameter -Wno-
 LDLIBS_TEST := -lcmocka -lm
 
 # ---- sources -------------------------------------------------------------------------
-LIB_SRC       := $(wildcard src/*.c)
+# The fixed-point twins (src/*_q31.c, integer only) are built into their own library,
+# librfe_q31.a, never into the float/double ones; their tests (test/test_*_q31.c) are built
+# once (Q31_RULES below), not per precision like UNIT_TESTS.
+Q31_SRC       := $(wildcard src/*_q31.c)
+LIB_SRC       := $(filter-out $(Q31_SRC),$(wildcard src/*.c))
 HOST_SRC      := $(filter-out src/host/mu_replay.c src/host/replay_real.c,$(wildcard src/host/*.c))
-UNIT_TESTS    := $(basename $(notdir $(wildcard test/test_*.c)))
+Q31_TESTS     := $(basename $(notdir $(wildcard test/test_*_q31.c)))
+UNIT_TESTS    := $(filter-out $(Q31_TESTS),$(basename $(notdir $(wildcard test/test_*.c))))
 HOST_TESTS    := $(basename $(notdir $(wildcard test/host/test_*.c)))
 TEST_SUPPORT  := $(wildcard test/support/*.c)
 
@@ -73,6 +79,29 @@ SANFLAGS := -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-r
 $(eval $(call FLAVOUR_RULES,asan-f32,,$(SANFLAGS)))
 $(eval $(call FLAVOUR_RULES,asan-f64,-DRFE_REAL_DOUBLE,$(SANFLAGS)))
 
+# Fixed-point trees: q31 (optimised), cov-q31 (instrumented), asan-q31 (ASan + UBSan). The
+# library gets the same strict flags and no real-type define. The tests are compiled for
+# double and also link the double tree of the same kind ($(2): f64, cov-f64, asan-f64) with
+# its test support, so a back-to-back test can compare a _q31 function with its _f64 twin.
+define Q31_RULES
+# $(1) = tree name, $(2) = double tree, $(3) = extra compile flags
+$(BUILD)/$(1)/lib/%.o: src/%.c $(wildcard include/rfe/*.h src/*.h) | $(BUILD)/$(1)/lib
+	$$(CC) $$(WARN) $(3) $$(CPPFLAGS_LIB) -c $$< -o $$@
+$(BUILD)/$(1)/librfe_q31.a: $(patsubst src/%.c,$(BUILD)/$(1)/lib/%.o,$(Q31_SRC))
+	rm -f $$@ && ar rcs $$@ $$^
+$(BUILD)/$(1)/test/%: test/%.c $(BUILD)/$(1)/librfe_q31.a $(BUILD)/$(2)/librfe.a $(patsubst test/support/%.c,$(BUILD)/$(2)/support/%.o,$(TEST_SUPPORT)) $(BUILD)/$(2)/hostlib.a $(BUILD)/$(2)/host/replay_real.o
+	@mkdir -p $$(@D)
+	$$(CC) $$(TEST_WARN) $(3) -DRFE_REAL_DOUBLE $$(CPPFLAGS_HOST) -Itest/support -Isrc $$< \
+	  $(patsubst test/support/%.c,$(BUILD)/$(2)/support/%.o,$(TEST_SUPPORT)) \
+	  $(BUILD)/$(2)/host/replay_real.o $(BUILD)/$(2)/hostlib.a $(BUILD)/$(1)/librfe_q31.a \
+	  $(BUILD)/$(2)/librfe.a $$(LDLIBS_TEST) -o $$@
+$(BUILD)/$(1)/lib:
+	mkdir -p $$@
+endef
+$(eval $(call Q31_RULES,q31,f64,$(OPT)))
+$(eval $(call Q31_RULES,cov-q31,cov-f64,$(COVFLAGS)))
+$(eval $(call Q31_RULES,asan-q31,asan-f64,$(SANFLAGS)))
+
 # mu_replay: precision-independent host code once, the replay core twice (float, double).
 define REPLAY_RULE
 # $(1) = output, $(2) = f32 tree, $(3) = f64 tree, $(4) = flags
@@ -87,10 +116,10 @@ $(eval $(call REPLAY_RULE,$(BUILD)/asan-mu_replay,asan-f32,asan-f64,$(SANFLAGS))
 # Keep intermediate objects (test support) so a second make does not rebuild them.
 .SECONDARY:
 
-.PHONY: all lib deps deps-c deps-valgrind venv test test-c test-py sanitize valgrind coverage demo goldens scenarios clean vectors shared-sync check-shared readme-table \
-        check-goldens help
+.PHONY: all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind coverage demo goldens scenarios clean vectors shared-sync check-shared readme-table \
+        check-goldens check-nofloat help deps-analysis misra tidy complexity structural analysis
 all: lib $(BUILD)/mu_replay
-lib: $(BUILD)/f32/librfe.a $(BUILD)/f64/librfe.a
+lib: $(BUILD)/f32/librfe.a $(BUILD)/f64/librfe.a $(BUILD)/q31/librfe_q31.a
 
 help:
 	@sed -n '1,14p' Makefile
@@ -105,6 +134,12 @@ deps-valgrind:
 	@if ! command -v valgrind >/dev/null 2>&1; then \
 	  echo "[deps] installing valgrind via apt"; \
 	  $(SUDO) apt-get update -qq && $(SUDO) apt-get install -y -qq valgrind; fi
+# Cortex-M0+ cross compiler for check-nofloat (the link uses libgcc only, so newlib, which
+# apt would add as a recommendation, is not installed).
+deps-arm:
+	@if ! command -v arm-none-eabi-gcc >/dev/null 2>&1; then \
+	  echo "[deps] installing gcc-arm-none-eabi via apt"; \
+	  $(SUDO) apt-get update -qq && $(SUDO) apt-get install -y -qq --no-install-recommends gcc-arm-none-eabi; fi
 
 $(PYSTAMP): scripts/requirements.txt
 	@echo "[deps] creating Python venv $(VENV) from scripts/requirements.txt"
@@ -113,16 +148,20 @@ $(PYSTAMP): scripts/requirements.txt
 	$(VENV)/bin/pip install -q -r scripts/requirements.txt
 	touch $@
 venv: $(PYSTAMP)
-deps: deps-c venv
+deps: deps-c deps-arm venv
 
 # ---- tests -----------------------------------------------------------------------------
 # Unit and golden tests run in both precisions; host tests once.
 run_tests = set -e; for t in $(UNIT_TESTS); do echo "== $(1)/$$t"; $(BUILD)/$(1)/test/$$t; done
+# Fixed-point tests, once per tree (q31, asan-q31, cov-q31).
+run_q31_tests = set -e; for t in $(Q31_TESTS); do echo "== $(1)/$$t"; $(BUILD)/$(1)/test/$$t; done
 
 test-c: deps-c $(foreach f,f32 f64,$(addprefix $(BUILD)/$(f)/test/,$(UNIT_TESTS))) \
+        $(addprefix $(BUILD)/q31/test/,$(Q31_TESTS)) \
         $(addprefix $(BUILD)/f64/test/host/,$(HOST_TESTS)) $(BUILD)/mu_replay
 	@$(call run_tests,f32)
 	@$(call run_tests,f64)
+	@$(call run_q31_tests,q31)
 	@set -e; for t in $(HOST_TESTS); do echo "== host/$$t"; $(BUILD)/f64/test/host/$$t; done
 	@if [ -f test/host/test_cli.sh ]; then echo "== cli"; bash test/host/test_cli.sh $(BUILD)/mu_replay; fi
 
@@ -131,9 +170,11 @@ test-c: deps-c $(foreach f,f32 f64,$(addprefix $(BUILD)/$(f)/test/,$(UNIT_TESTS)
 # the CLI's own exit codes (0, 1, 2) that test_cli.sh expects.
 SAN_ENV := ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 sanitize: deps-c $(foreach f,asan-f32 asan-f64,$(addprefix $(BUILD)/$(f)/test/,$(UNIT_TESTS))) \
+          $(addprefix $(BUILD)/asan-q31/test/,$(Q31_TESTS)) \
           $(addprefix $(BUILD)/asan-f64/test/host/,$(HOST_TESTS)) $(BUILD)/asan-mu_replay
 	@export $(SAN_ENV); $(call run_tests,asan-f32)
 	@export $(SAN_ENV); $(call run_tests,asan-f64)
+	@export $(SAN_ENV); $(call run_q31_tests,asan-q31)
 	@export $(SAN_ENV); set -e; for t in $(HOST_TESTS); do echo "== asan host/$$t"; $(BUILD)/asan-f64/test/host/$$t; done
 	@if [ -f test/host/test_cli.sh ]; then echo "== asan cli"; export $(SAN_ENV); \
 	  export UBSAN_OPTIONS=$$UBSAN_OPTIONS:exitcode=98; bash test/host/test_cli.sh $(BUILD)/asan-mu_replay; fi
@@ -144,9 +185,11 @@ sanitize: deps-c $(foreach f,asan-f32 asan-f64,$(addprefix $(BUILD)/$(f)/test/,$
 # records every such run in $(BUILD)/valgrind-cli.log, which must stay empty.
 VALGRIND := valgrind --error-exitcode=99 --leak-check=full --errors-for-leak-kinds=definite,indirect -q
 valgrind: deps-c deps-valgrind $(foreach f,f32 f64,$(addprefix $(BUILD)/$(f)/test/,$(UNIT_TESTS))) \
+          $(addprefix $(BUILD)/q31/test/,$(Q31_TESTS)) \
           $(addprefix $(BUILD)/f64/test/host/,$(HOST_TESTS)) $(BUILD)/mu_replay
 	@set -e; for f in f32 f64; do for t in $(UNIT_TESTS); do echo "== valgrind $$f/$$t"; \
 	  $(VALGRIND) $(BUILD)/$$f/test/$$t; done; done
+	@set -e; for t in $(Q31_TESTS); do echo "== valgrind q31/$$t"; $(VALGRIND) $(BUILD)/q31/test/$$t; done
 	@set -e; for t in $(HOST_TESTS); do echo "== valgrind host/$$t"; $(VALGRIND) $(BUILD)/f64/test/host/$$t; done
 	@if [ -f test/host/test_cli.sh ]; then echo "== valgrind cli"; rm -f $(BUILD)/valgrind-cli.log; \
 	  VALGRIND_WRAP_BIN=$(abspath $(BUILD)/mu_replay) VALGRIND_WRAP_LOG=$(abspath $(BUILD)/valgrind-cli.log) \
@@ -160,10 +203,12 @@ test-py: venv
 COV_MIN_LINES    := 95
 COV_MIN_BRANCHES := 85
 coverage: deps $(foreach f,cov-f32 cov-f64,$(addprefix $(BUILD)/$(f)/test/,$(UNIT_TESTS))) \
+          $(addprefix $(BUILD)/cov-q31/test/,$(Q31_TESTS)) \
           $(addprefix $(BUILD)/cov-f64/test/host/,$(HOST_TESTS)) $(BUILD)/cov-mu_replay
 	@find $(BUILD) -name '*.gcda' -delete
 	@$(call run_tests,cov-f32) >/dev/null
 	@$(call run_tests,cov-f64) >/dev/null
+	@$(call run_q31_tests,cov-q31) >/dev/null
 	@set -e; for t in $(HOST_TESTS); do $(BUILD)/cov-f64/test/host/$$t >/dev/null; done
 	@if [ -f test/host/test_cli.sh ]; then bash test/host/test_cli.sh $(BUILD)/cov-mu_replay >/dev/null; fi
 	@mkdir -p $(BUILD)/coverage
@@ -171,14 +216,68 @@ coverage: deps $(foreach f,cov-f32 cov-f64,$(addprefix $(BUILD)/$(f)/test/,$(UNI
 	  --html-details $(BUILD)/coverage/index.html --cobertura $(BUILD)/coverage/coverage.xml \
 	  --txt $(BUILD)/coverage/summary.txt --print-summary \
 	  --fail-under-line $(COV_MIN_LINES) --fail-under-branch $(COV_MIN_BRANCHES) \
-	  $(BUILD)/cov-f32 $(BUILD)/cov-f64 $(BUILD)
+	  $(BUILD)/cov-f32 $(BUILD)/cov-f64 $(BUILD)/cov-q31 $(BUILD)
 	@cat $(BUILD)/coverage/summary.txt
 	@echo "coverage report: $(BUILD)/coverage/index.html (per-file detail), coverage.xml (Cobertura)"
 
-test: deps lib check-shared test-c sanitize valgrind test-py coverage
+test: deps lib check-shared check-nofloat misra tidy complexity structural test-c sanitize valgrind test-py coverage
 	@echo "make test: all tests passed, coverage gate met"
 
 # $(BUILD)/f64/test/host/test_x comes from test/host/test_x.c through the pattern rule.
+
+# ---- static analysis (docs/MISRA.md) --------------------------------------------------
+# make misra       cppcheck + MISRA C:2012 addon, float and double configurations, zero findings
+#                  outside the deviations recorded in docs/MISRA.md (reports in build/misra/)
+# make tidy        clang-tidy (.clang-tidy: bugprone-*, cert-*, readability-* less a justified
+#                  few) over the library, every finding an error
+# make complexity  lizard: cyclomatic complexity of every library function <= CCN_MAX
+# make structural  no dynamic memory, no recursion, no VLA: nm, the GCC call graph and stack
+#                  usage (scripts/check_structural.py), after its self-test on test/structural/
+# The library is src/*.c (float/double sources and the src/*_q31.c twins) with include/rfe/
+# and src/*.h; src/host/ is host code and not part of it.
+CLANG_TIDY := clang-tidy-19
+CCN_MAX    := 15
+ANALYSIS_SRC := $(wildcard src/*.c)
+# No variable-length arrays in any build (checked again by make structural).
+WARN += -Werror=vla
+
+deps-analysis:
+	@if ! command -v cppcheck >/dev/null 2>&1 || ! command -v $(CLANG_TIDY) >/dev/null 2>&1; then \
+	  echo "[deps] installing cppcheck and $(CLANG_TIDY) via apt"; \
+	  $(SUDO) apt-get update -qq && $(SUDO) apt-get install -y -qq cppcheck $(CLANG_TIDY); fi
+
+misra: deps-analysis
+	@MISRA_SRC="$(ANALYSIS_SRC)" bash scripts/check_misra.sh
+
+# (clang-tidy's stderr mostly counts the diagnostics it suppressed in system headers: kept in
+# build/tidy.log, shown without those counts when the run fails; findings go to stdout.)
+TIDY_RUN = $(CLANG_TIDY) --quiet -warnings-as-errors='*' $(1) -- $(WARN) $(2) $(CPPFLAGS_LIB) \
+           2>$(BUILD)/tidy.log || { grep -vE '^\[[0-9]+/[0-9]+\] Processing|^[0-9]+ warnings? generated' \
+           $(BUILD)/tidy.log; echo "tidy: findings above (.clang-tidy)"; exit 1; }
+tidy: deps-analysis
+	@mkdir -p $(BUILD)
+	@echo "tidy: $$($(CLANG_TIDY) --version | grep -m1 -o 'LLVM version [0-9.]*'), .clang-tidy"
+	@$(call TIDY_RUN,$(LIB_SRC),)
+	@$(call TIDY_RUN,$(LIB_SRC),-DRFE_REAL_DOUBLE)
+	@$(if $(Q31_SRC),$(call TIDY_RUN,$(Q31_SRC),))
+	@echo "tidy: clean ($(words $(ANALYSIS_SRC)) library sources and the headers they include)"
+
+complexity: venv
+	@$(VENV)/bin/lizard -l c -C $(CCN_MAX) -w $(ANALYSIS_SRC) $(wildcard src/*.h include/rfe/*.h) \
+	  || { echo "complexity: a function exceeds cyclomatic complexity $(CCN_MAX) (above)"; exit 1; }
+	@echo "complexity: every library function has cyclomatic complexity <= $(CCN_MAX); the highest:"
+	@$(VENV)/bin/lizard -l c --csv $(ANALYSIS_SRC) $(wildcard src/*.h include/rfe/*.h) | \
+	  sort -t, -k2 -n -r | head -3 | awk -F, '{ printf "  %3d  %s\n", $$2, $$6 }'
+
+structural: lib
+	@python3 scripts/check_structural.py --self-test --cflags "$(WARN)" --out $(BUILD)/structural
+	@python3 scripts/check_structural.py --cflags "$(WARN) $(CPPFLAGS_LIB)" --out $(BUILD)/structural/f32 \
+	  --label "float + q31" --archive $(BUILD)/f32/librfe.a \
+	  $(if $(Q31_SRC),--archive $(BUILD)/q31/librfe_q31.a) $(ANALYSIS_SRC)
+	@python3 scripts/check_structural.py --cflags "$(WARN) -DRFE_REAL_DOUBLE $(CPPFLAGS_LIB)" \
+	  --label double --out $(BUILD)/structural/f64 --archive $(BUILD)/f64/librfe.a $(LIB_SRC)
+
+analysis: misra tidy complexity structural
 
 # ---- demo, goldens ---------------------------------------------------------------------
 demo: deps $(BUILD)/mu_replay
@@ -209,6 +308,14 @@ check-shared:
 	    cmp -s $(SHARED)/$$f $$copy || { echo "$$copy differs from $(SHARED)/$$f: run make shared-sync"; exit 1; }; \
 	  done; echo "shared copies: up to date"; \
 	else echo "shared copies: $(SHARED) not present, not checked"; fi
+
+# The fixed-point translation units (src/*_q31.c) hold no floating point: built for Cortex-M0+
+# with -mfloat-abi=soft and linked against libgcc only, they may not use float/double, any
+# soft-float helper (__aeabi_f*, __aeabi_d*, __addsf3, …) or libm. The self-test first proves
+# that the checker rejects such code (fixtures in test/nofloat/).
+check-nofloat: deps-arm
+	bash scripts/check_nofloat.sh --self-test
+	bash scripts/check_nofloat.sh
 
 clean:
 	rm -rf $(BUILD)

@@ -118,6 +118,42 @@ rfe_status_t RFE_FN(rfe_ckf_predict)(rfe_ckf_t *f, rfe_process_fn_t process, voi
     return RFE_OK;
 }
 
+/* dst (k x k, stride ld) += src (k x k, stride ld). */
+static void add_square(const rfe_real_t *src, size_t k, size_t ld, rfe_real_t *dst)
+{
+    size_t r;
+    size_t s;
+    for (r = 0u; r < k; ++r) {
+        for (s = 0u; s < k; ++s) {
+            dst[(r * ld) + s] += src[(r * ld) + s];
+        }
+    }
+}
+
+/* The candidate covariance P = P- - K Pzz K^T into f->Pn (gain transposed in w.Kt, Pzz in
+ * w.Szz). */
+static void posterior_covariance(rfe_ckf_t *f)
+{
+    const rfe_cub_scratch_t *w = &f->w;
+    const size_t n = f->n;
+    const size_t m = f->m;
+    size_t i;
+    size_t j;
+    size_t r;
+    size_t s;
+    for (i = 0u; i < n; ++i) {
+        for (j = 0u; j < n; ++j) {
+            rfe_real_t acc = RFE_R(0.0);
+            for (r = 0u; r < m; ++r) {
+                for (s = 0u; s < m; ++s) {
+                    acc += w->Kt[(r * NM) + i] * w->Szz[(r * MM) + s] * w->Kt[(s * NM) + j];
+                }
+            }
+            f->Pn[(i * NM) + j] = f->P[(i * NM) + j] - acc;
+        }
+    }
+}
+
 rfe_status_t RFE_FN(rfe_ckf_update)(rfe_ckf_t *f, rfe_measure_fn_t measure, void *ctx,
                                     const rfe_real_t *y)
 {
@@ -125,9 +161,6 @@ rfe_status_t RFE_FN(rfe_ckf_update)(rfe_ckf_t *f, rfe_measure_fn_t measure, void
     size_t n;
     size_t m;
     size_t i;
-    size_t j;
-    size_t r;
-    size_t s;
     rfe_status_t st;
 
     if ((f == NULL) || (measure == NULL) || (y == NULL)) {
@@ -155,11 +188,7 @@ rfe_status_t RFE_FN(rfe_ckf_update)(rfe_ckf_t *f, rfe_measure_fn_t measure, void
     RFE_FN(rfe_cub_mean)(w->zpts, n, m, MM, w->zhat);
     /* Pzz = sum w Z Z^T - z z^T + R;  Pxz^T = sum w Z X^T - z x-^T (m x n). */
     cross_moment(w->zpts, MM, w->zhat, m, w->zpts, MM, w->zhat, m, n, w->Szz, MM);
-    for (r = 0u; r < m; ++r) {
-        for (s = 0u; s < m; ++s) {
-            w->Szz[(r * MM) + s] += f->R[(r * MM) + s];
-        }
-    }
+    add_square(f->R, m, MM, w->Szz);
     cross_moment(w->zpts, MM, w->zhat, m, w->pts, NM, f->x, n, n, w->Kt, NM);
     /* K = Pxz Pzz^-1 via Pzz = Lz Lz^T: K^T = Lz^-T (Lz^-1 Pxz^T). */
     st = RFE_FN(rfe_chol_factor)(w->Szz, m, MM, w->Lz, MM);
@@ -178,17 +207,7 @@ rfe_status_t RFE_FN(rfe_ckf_update)(rfe_ckf_t *f, rfe_measure_fn_t measure, void
         return st;
     }
     /* P = P- - K Pzz K^T. */
-    for (i = 0u; i < n; ++i) {
-        for (j = 0u; j < n; ++j) {
-            rfe_real_t acc = RFE_R(0.0);
-            for (r = 0u; r < m; ++r) {
-                for (s = 0u; s < m; ++s) {
-                    acc += w->Kt[(r * NM) + i] * w->Szz[(r * MM) + s] * w->Kt[(s * NM) + j];
-                }
-            }
-            f->Pn[(i * NM) + j] = f->P[(i * NM) + j] - acc;
-        }
-    }
+    posterior_covariance(f);
     for (i = 0u; i < n; ++i) {
         f->x[i] = w->xn[i];
     }

@@ -10,9 +10,10 @@
 
 #include "internal.h"
 
-#define CW ((size_t)(RFE_MEAS + RFE_EIV_INPUTS)) /* widest [S_R0, g_1 .. g_8] */
+#define CW ((size_t)RFE_MEAS + (size_t)RFE_EIV_INPUTS) /* widest [S_R0, g_1 .. g_8] */
 
 /* The Tria of [S_R0, g_1 .. g_8] is 3 x 11: it must fit the smallest build's maxima. */
+/* cppcheck-suppress misra-c2012-2.3 ; MISRA-DEV-04: static assertion, never used by design */
 typedef char rfe_assert_eiv_tria_fits[((RFE_MEAS + RFE_EIV_INPUTS) <= RFE_TRIA_COLS_MAX) &&
                                               (RFE_MEAS <= RFE_N_MAX)
                                           ? 1
@@ -62,13 +63,65 @@ static rfe_status_t h_at(const rfe_params_t *p, const rfe_sample_t *u, const rfe
     return st;
 }
 
+/* S_R0 into the first RFE_MEAS columns of A (row stride CW): sensor noise and the model
+ * error relative to each predicted acceleration h0. */
+static void sensor_block(const rfe_filter_params_t *fp, const rfe_real_t h0[RFE_MEAS],
+                         rfe_real_t *A)
+{
+    rfe_real_t r[RFE_MEAS];
+    size_t i;
+    size_t j;
+    r[0] = fp->r_ax;
+    r[1] = fp->r_ay;
+    r[2] = fp->r_yaw_acc;
+    for (i = 0u; i < (size_t)RFE_MEAS; ++i) {
+        const rfe_real_t e = fp->r_model_rel * RFE_FABS(h0[i]);
+        for (j = 0u; j < (size_t)RFE_MEAS; ++j) {
+            A[(i * CW) + j] = (i == j) ? RFE_SQRT((r[i] * r[i]) + (e * e)) : RFE_R(0.0);
+        }
+    }
+}
+
+/* g_j = (h(u + sd_j e_j) - h(u - sd_j e_j)) / 2 for each noisy input, in order, as columns
+ * *cols, *cols + 1, ... of A (row stride CW); *cols ends one past the last. */
+static rfe_status_t input_columns(const rfe_params_t *p, const rfe_sample_t *u,
+                                  const rfe_real_t *mu, rfe_real_t *A, size_t *cols)
+{
+    size_t i;
+    size_t j;
+    for (j = 0u; j < (size_t)RFE_EIV_INPUTS; ++j) {
+        const rfe_real_t sd = input_sd(&p->filter, j);
+        rfe_sample_t up = *u;
+        rfe_sample_t um = *u;
+        rfe_real_t zp[RFE_MEAS];
+        rfe_real_t zm[RFE_MEAS];
+        rfe_status_t st;
+        if (!(sd > RFE_R(0.0))) {
+            continue;
+        }
+        *input_slot(&up, j) += sd;
+        *input_slot(&um, j) -= sd;
+        st = h_at(p, &up, mu, zp);
+        if (st == RFE_OK) {
+            st = h_at(p, &um, mu, zm);
+        }
+        if (st != RFE_OK) {
+            return st;
+        }
+        for (i = 0u; i < (size_t)RFE_MEAS; ++i) {
+            A[(i * CW) + *cols] = (zp[i] - zm[i]) / RFE_R(2.0);
+        }
+        ++(*cols);
+    }
+    return RFE_OK;
+}
+
 rfe_status_t RFE_FN(rfe_eiv_sqrt_noise)(const rfe_params_t *p, const rfe_sample_t *u,
                                         const rfe_real_t mu[RFE_WHEELS],
                                         rfe_real_t SR[RFE_MEAS * RFE_MEAS])
 {
-    rfe_real_t A[RFE_MEAS * CW];
+    rfe_real_t A[(size_t)RFE_MEAS * CW];
     rfe_real_t h0[RFE_MEAS];
-    rfe_real_t r[RFE_MEAS];
     size_t cols = (size_t)RFE_MEAS;
     size_t i;
     size_t j;
@@ -87,47 +140,18 @@ rfe_status_t RFE_FN(rfe_eiv_sqrt_noise)(const rfe_params_t *p, const rfe_sample_
     if (st != RFE_OK) {
         return st;
     }
-    /* S_R0: sensor noise and the model error relative to each predicted acceleration. */
-    r[0] = p->filter.r_ax;
-    r[1] = p->filter.r_ay;
-    r[2] = p->filter.r_yaw_acc;
-    for (i = 0u; i < (size_t)RFE_MEAS; ++i) {
-        const rfe_real_t e = p->filter.r_model_rel * RFE_FABS(h0[i]);
-        for (j = 0u; j < (size_t)RFE_MEAS; ++j) {
-            A[(i * CW) + j] = (i == j) ? RFE_SQRT(r[i] * r[i] + e * e) : RFE_R(0.0);
-        }
+    sensor_block(&p->filter, h0, A);
+    st = input_columns(p, u, mu, A, &cols);
+    if (st != RFE_OK) {
+        return st;
     }
-    /* g_j = (h(u + sd_j e_j) - h(u - sd_j e_j)) / 2 for each noisy input, in order. */
-    for (j = 0u; j < (size_t)RFE_EIV_INPUTS; ++j) {
-        const rfe_real_t sd = input_sd(&p->filter, j);
-        rfe_sample_t up = *u;
-        rfe_sample_t um = *u;
-        rfe_real_t zp[RFE_MEAS];
-        rfe_real_t zm[RFE_MEAS];
-        if (!(sd > RFE_R(0.0))) {
-            continue;
-        }
-        *input_slot(&up, j) += sd;
-        *input_slot(&um, j) -= sd;
-        st = h_at(p, &up, mu, zp);
-        if (st == RFE_OK) {
-            st = h_at(p, &um, mu, zm);
-        }
-        if (st != RFE_OK) {
-            return st;
-        }
-        for (i = 0u; i < (size_t)RFE_MEAS; ++i) {
-            A[(i * CW) + cols] = (zp[i] - zm[i]) / RFE_R(2.0);
-        }
-        ++cols;
-    }
-    st = RFE_FN(rfe_qr_tria)(A, RFE_MEAS, cols, CW);
+    st = RFE_FN(rfe_qr_tria)(A, (size_t)RFE_MEAS, cols, CW);
     if (st != RFE_OK) {
         return st;
     }
     for (i = 0u; i < (size_t)RFE_MEAS; ++i) {
         for (j = 0u; j < (size_t)RFE_MEAS; ++j) {
-            SR[(i * RFE_MEAS) + j] = (j <= i) ? A[(i * CW) + j] : RFE_R(0.0);
+            SR[(i * (size_t)RFE_MEAS) + j] = (j <= i) ? A[(i * CW) + j] : RFE_R(0.0);
         }
     }
     return RFE_OK;

@@ -15,6 +15,7 @@
 
 /* C99 static assertion: the filters' compile-time maxima must hold the estimator's
  * four states and three measurements (a -DRFE_N_MAX=4 -DRFE_M_MAX=3 build is the smallest). */
+/* cppcheck-suppress misra-c2012-2.3 ; MISRA-DEV-04: static assertion, never used by design */
 typedef char rfe_assert_maxima_hold_estimator[((RFE_N_MAX >= RFE_WHEELS) && (RFE_M_MAX >= RFE_MEAS)) ? 1 : -1];
 
 /* State index of wheel w: the map T (docs/ESTIMATOR.md). wheels: T = I; sides: fl, rl on
@@ -40,6 +41,7 @@ static void to_wheels(const rfe_estimator_t *est, const rfe_real_t *x, rfe_real_
  * absolute tyre (MODEL.md §4). */
 static rfe_status_t measure(void *ctx, const rfe_real_t *x, rfe_real_t *z, size_t n, size_t m)
 {
+    /* cppcheck-suppress misra-c2012-11.5 ; MISRA-DEV-05: ctx is the est this file passes */
     const rfe_estimator_t *est = (const rfe_estimator_t *)ctx;
     rfe_real_t mu[RFE_WHEELS];
     (void)n;
@@ -53,12 +55,14 @@ static rfe_status_t measure(void *ctx, const rfe_real_t *x, rfe_real_t *z, size_
 static rfe_status_t sqrt_prior(rfe_real_t d, rfe_real_t c, size_t n, rfe_real_t *F)
 {
     rfe_real_t P[RFE_WHEELS * RFE_WHEELS];
+    const rfe_real_t d2 = d * d;
     size_t i;
     size_t j;
     for (i = 0u; i < n; ++i) {
         for (j = 0u; j < n; ++j) {
+            const rfe_real_t diag = (i == j) ? d2 : RFE_R(0.0);
             F[(i * n) + j] = (i == j) ? d : RFE_R(0.0);
-            P[(i * n) + j] = (c * c) + ((i == j) ? (d * d) : RFE_R(0.0));
+            P[(i * n) + j] = (c * c) + diag;
         }
     }
     return (c == RFE_R(0.0)) ? RFE_OK : RFE_FN(rfe_chol_factor)(P, n, n, F, n);
@@ -69,7 +73,7 @@ static rfe_status_t init_sckf(rfe_estimator_t *est, const rfe_filter_params_t *f
     rfe_real_t x0[RFE_WHEELS];
     rfe_real_t S0[RFE_WHEELS * RFE_WHEELS];
     rfe_real_t SQ[RFE_WHEELS * RFE_WHEELS];
-    rfe_real_t SR[RFE_MEAS * RFE_MEAS] = {RFE_R(0.0)};
+    rfe_real_t SR[RFE_MEAS * RFE_MEAS] = {0};
     size_t i;
     rfe_status_t st;
     for (i = 0u; i < n; ++i) {
@@ -94,7 +98,7 @@ static rfe_status_t init_ckf(rfe_estimator_t *est, const rfe_filter_params_t *fp
     rfe_real_t x0[RFE_WHEELS];
     rfe_real_t P0[RFE_WHEELS * RFE_WHEELS];
     rfe_real_t Q[RFE_WHEELS * RFE_WHEELS];
-    rfe_real_t R[RFE_MEAS * RFE_MEAS] = {RFE_R(0.0)};
+    rfe_real_t R[RFE_MEAS * RFE_MEAS] = {0};
     size_t i;
     size_t j;
     for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
@@ -142,16 +146,10 @@ rfe_status_t RFE_FN(rfe_estimator_init)(rfe_estimator_t *est, const rfe_params_t
     return RFE_OK;
 }
 
-/* Rejects non-finite samples (RFE_ERR_NONFINITE) and physically implausible ones
- * (RFE_ERR_RANGE, limits in config.h). */
-static rfe_status_t check_sample(const rfe_sample_t *u)
+/* RFE_ERR_RANGE for a physically implausible (finite) sample: limits in config.h. */
+static rfe_status_t sample_in_range(const rfe_sample_t *u)
 {
     size_t i;
-    if (!rfe_is_finite(u->delta) || !rfe_is_finite(u->vx) || !rfe_is_finite(u->vy) ||
-        !rfe_is_finite(u->yaw_rate) || !rfe_is_finite(u->yaw_acc) || !rfe_is_finite(u->ax) ||
-        !rfe_is_finite(u->ay) || !rfe_all_finite(u->omega, RFE_WHEELS)) {
-        return RFE_ERR_NONFINITE;
-    }
     if ((RFE_FABS(u->delta) > RFE_R(RFE_LIMIT_DELTA)) || (RFE_FABS(u->vx) > RFE_R(RFE_LIMIT_VX)) ||
         (RFE_FABS(u->vy) > RFE_R(RFE_LIMIT_VY)) ||
         (RFE_FABS(u->yaw_rate) > RFE_R(RFE_LIMIT_YAW_RATE)) ||
@@ -167,13 +165,25 @@ static rfe_status_t check_sample(const rfe_sample_t *u)
     return RFE_OK;
 }
 
+/* Rejects non-finite samples (RFE_ERR_NONFINITE) and physically implausible ones
+ * (RFE_ERR_RANGE, limits in config.h). */
+static rfe_status_t check_sample(const rfe_sample_t *u)
+{
+    if (!rfe_is_finite(u->delta) || !rfe_is_finite(u->vx) || !rfe_is_finite(u->vy) ||
+        !rfe_is_finite(u->yaw_rate) || !rfe_is_finite(u->yaw_acc) || !rfe_is_finite(u->ax) ||
+        !rfe_is_finite(u->ay) || !rfe_all_finite(u->omega, RFE_WHEELS)) {
+        return RFE_ERR_NONFINITE;
+    }
+    return sample_in_range(u);
+}
+
 /* Saves / restores what a step changes (filter mean and factor, input filter) so a failing
  * step changes nothing. */
 static void backup(rfe_estimator_t *est, int restore)
 {
-    const int ckf = (est->params.filter.kind == RFE_FILTER_CKF);
-    rfe_real_t *x = ckf ? est->filter.ckf.x : est->filter.sckf.x;
-    rfe_real_t *F = ckf ? est->filter.ckf.P : est->filter.sckf.S;
+    const rfe_filter_kind_t kind = est->params.filter.kind;
+    rfe_real_t *x = (kind == RFE_FILTER_CKF) ? est->filter.ckf.x : est->filter.sckf.x;
+    rfe_real_t *F = (kind == RFE_FILTER_CKF) ? est->filter.ckf.P : est->filter.sckf.S;
     size_t i;
     for (i = 0u; i < NM; ++i) {
         if (restore != 0) {
@@ -214,7 +224,7 @@ static rfe_status_t sckf_measurement(rfe_estimator_t *est, const rfe_sample_t *u
     rfe_real_t SR[RFE_MEAS * RFE_MEAS];
     const rfe_real_t *sr = NULL; /* the filter's diagonal S_R */
     rfe_status_t st = RFE_OK;
-    if (eiv_active(fp)) {
+    if (eiv_active(fp) != 0) {
         rfe_real_t mu[RFE_WHEELS];
         to_wheels(est, f->x, mu); /* T x- */
         st = RFE_FN(rfe_eiv_sqrt_noise)(&est->params, u, mu, SR);
@@ -272,10 +282,9 @@ static rfe_status_t bound_sd(rfe_estimator_t *est)
  * rolls back). */
 static rfe_status_t filter_step(rfe_estimator_t *est, const rfe_sample_t *sample)
 {
-    const int ckf = (est->params.filter.kind == RFE_FILTER_CKF);
+    const rfe_filter_kind_t kind = est->params.filter.kind;
     const rfe_filter_params_t *fp = &est->params.filter;
     rfe_sample_t u;
-    rfe_real_t y[RFE_MEAS];
     rfe_status_t st;
     rfe_status_t status = RFE_NO_UPDATE_LOW_SPEED;
     int updated = 0;
@@ -285,18 +294,19 @@ static rfe_status_t filter_step(rfe_estimator_t *est, const rfe_sample_t *sample
     st = RFE_FN(rfe_conditioner_step)(&est->cond, fp->dt, fp->tau_v, sample, &u);
     /* 2. Time update of the random walk: process callback NULL (identity). */
     if (st == RFE_OK) {
-        st = ckf ? RFE_FN(rfe_ckf_predict)(&est->filter.ckf, NULL, NULL)
-                 : RFE_FN(rfe_sckf_predict)(&est->filter.sckf, NULL, NULL);
+        st = (kind == RFE_FILTER_CKF) ? RFE_FN(rfe_ckf_predict)(&est->filter.ckf, NULL, NULL)
+                        : RFE_FN(rfe_sckf_predict)(&est->filter.sckf, NULL, NULL);
     }
     /* 3. Below v_est_min (standstill, creeping, reversing) tyre forces carry no usable
      * friction information: time update only. 4-6 otherwise. */
     if ((st == RFE_OK) && (u.vx >= fp->v_est_min)) {
+        rfe_real_t y[RFE_MEAS];
         y[0] = u.ax;
         y[1] = u.ay;
         y[2] = u.yaw_acc;
         st = RFE_FN(rfe_meas_setup)(&est->meas, &est->params.vehicle, &est->params.tyre, &u);
         if (st == RFE_OK) {
-            if (ckf) {
+            if (kind == RFE_FILTER_CKF) {
                 st = RFE_FN(rfe_ckf_update)(&est->filter.ckf, measure, est, y);
                 updated = 1;
             } else {
@@ -306,12 +316,13 @@ static rfe_status_t filter_step(rfe_estimator_t *est, const rfe_sample_t *sample
         status = (updated != 0) ? RFE_OK : RFE_HELD_NOT_OBSERVABLE;
     }
     /* 7. Bounds on the sd (SCKF; the CKF runs without them). */
-    if ((st == RFE_OK) && !ckf) {
+    if ((st == RFE_OK) && (kind != RFE_FILTER_CKF)) {
         st = bound_sd(est);
     }
     /* 8. Friction is physically bounded: after an update, project the mean (not S). */
     if ((st == RFE_OK) && (updated != 0)) {
-        st = ckf ? RFE_FN(rfe_ckf_clamp)(&est->filter.ckf, fp->mu_min, fp->mu_max, &clamped)
+        st = (kind == RFE_FILTER_CKF)
+                 ? RFE_FN(rfe_ckf_clamp)(&est->filter.ckf, fp->mu_min, fp->mu_max, &clamped)
                  : RFE_FN(rfe_sckf_clamp)(&est->filter.sckf, fp->mu_min, fp->mu_max, &clamped);
         if (clamped != 0) {
             status = RFE_PROJECTED;
@@ -320,6 +331,7 @@ static rfe_status_t filter_step(rfe_estimator_t *est, const rfe_sample_t *sample
     return (st != RFE_OK) ? st : status;
 }
 
+/* cppcheck-suppress misra-c2012-8.7 ; MISRA-DEV-06: public API, called by the application */
 rfe_status_t RFE_FN(rfe_estimator_get)(const rfe_estimator_t *est, rfe_estimate_t *out)
 {
     rfe_real_t x[RFE_N_MAX];
@@ -365,7 +377,7 @@ rfe_status_t RFE_FN(rfe_estimator_step)(rfe_estimator_t *est, const rfe_sample_t
     if (st == RFE_OK) {
         backup(est, 0);
         st = filter_step(est, sample);
-        if (rfe_status_is_error(st)) {
+        if (rfe_status_is_error(st) != 0) {
             backup(est, 1);
         }
     }
@@ -374,7 +386,7 @@ rfe_status_t RFE_FN(rfe_estimator_step)(rfe_estimator_t *est, const rfe_sample_t
         return got;
     }
     for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
-        if (rfe_status_is_error(st)) {
+        if (rfe_status_is_error(st) != 0) {
             out->valid[i] = 0u;
         } else if (!(est->params.filter.sd_valid > RFE_R(0.0))) {
             /* The paper rule: valid when this step updated the estimate from data. */

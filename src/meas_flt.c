@@ -12,7 +12,7 @@ rfe_status_t RFE_FN(rfe_meas_setup)(rfe_meas_t *h, const rfe_vehicle_t *veh,
                                     const rfe_tyre_params_t *tp, const rfe_sample_t *u)
 {
     rfe_wheel_kin_t kin;
-    rfe_real_t H[RFE_MEAS * RFE_WHEELS] = {RFE_R(0.0)};
+    rfe_real_t H[RFE_H_SIZE] = {0};
     rfe_status_t st;
     size_t i;
 
@@ -34,7 +34,7 @@ rfe_status_t RFE_FN(rfe_meas_setup)(rfe_meas_t *h, const rfe_vehicle_t *veh,
     h->mode = tp->mode;
     h->delta = u->delta;
     h->kin = kin;
-    for (i = 0u; i < (size_t)(RFE_MEAS * RFE_WHEELS); ++i) {
+    for (i = 0u; i < RFE_H_SIZE; ++i) {
         h->H[i] = H[i];
     }
     return RFE_OK;
@@ -47,7 +47,7 @@ rfe_status_t RFE_FN(rfe_meas_eval)(const rfe_meas_t *h, const rfe_vehicle_t *veh
     static const rfe_real_t ones[RFE_WHEELS] = {RFE_R(1.0), RFE_R(1.0), RFE_R(1.0), RFE_R(1.0)};
     rfe_real_t fx[RFE_WHEELS];
     rfe_real_t fy[RFE_WHEELS];
-    rfe_real_t Hf[RFE_MEAS * RFE_WHEELS];
+    rfe_real_t Hf[RFE_H_SIZE];
     rfe_status_t st;
 
     if ((h == NULL) || (veh == NULL) || (tp == NULL) || (mu == NULL) || (z == NULL)) {

@@ -34,6 +34,7 @@ rfe_status_t RFE_FN(rfe_params_default)(rfe_params_t *p)
     return RFE_OK;
 }
 
+/* cppcheck-suppress misra-c2012-8.7 ; MISRA-DEV-06: public API, called by the application */
 rfe_status_t RFE_FN(rfe_params_paper)(rfe_params_t *p)
 {
     if (p == NULL) {
@@ -109,14 +110,26 @@ static int tyre_ok(const rfe_tyre_params_t *t)
            is_pos(t->v_min) && is_pos(t->alpha_max) && (t->alpha_max < RFE_R(1.5));
 }
 
-static int filter_ok(const rfe_filter_params_t *f)
+/* Enums in range; sd0, q_mu and the measurement noise positive. */
+static int filter_kind_noise_ok(const rfe_filter_params_t *f)
 {
     return ((f->kind == RFE_FILTER_SCKF) || (f->kind == RFE_FILTER_CKF)) &&
            ((f->structure == RFE_STRUCT_WHEELS) || (f->structure == RFE_STRUCT_SIDES)) &&
            is_pos(f->sd0) && is_pos(f->q_mu) && is_pos(f->r_ax) && is_pos(f->r_ay) &&
-           is_pos(f->r_yaw_acc) && is_nonneg(f->mu_min) && is_pos(f->mu_max) &&
-           (f->mu_min < f->mu_max) && rfe_is_finite(f->mu0) && (f->mu0 >= f->mu_min) &&
-           (f->mu0 <= f->mu_max) && is_nonneg(f->v_est_min);
+           is_pos(f->r_yaw_acc);
+}
+
+/* 0 <= mu_min < mu_max, mu0 within them, v_est_min >= 0. */
+static int filter_bounds_ok(const rfe_filter_params_t *f)
+{
+    return is_nonneg(f->mu_min) && is_pos(f->mu_max) && (f->mu_min < f->mu_max) &&
+           rfe_is_finite(f->mu0) && (f->mu0 >= f->mu_min) && (f->mu0 <= f->mu_max) &&
+           is_nonneg(f->v_est_min);
+}
+
+static int filter_ok(const rfe_filter_params_t *f)
+{
+    return filter_kind_noise_ok(f) && filter_bounds_ok(f);
 }
 
 /* The docs/ESTIMATOR.md additions: each finite and >= 0 (0 = off), dt > 0. sd_max is

@@ -27,8 +27,8 @@ static int row_exponent(const rfe_real_t *row, size_t cols)
 /* row[0..cols) *= 2^e (exact barring overflow/underflow of the result). */
 static void scale_row(rfe_real_t *row, size_t cols, int e)
 {
-    size_t j;
     if (e != 0) {
+        size_t j;
         for (j = 0u; j < cols; ++j) {
             row[j] = RFE_LDEXP(row[j], e);
         }
@@ -59,7 +59,7 @@ static void reflect_row(rfe_real_t *A, size_t rows, size_t cols, size_t lda, siz
     size_t i;
     size_t j;
 
-    AT(A, lda, k, k) = x0 + sgn * norm; /* row k's tail now holds v */
+    AT(A, lda, k, k) = x0 + (sgn * norm); /* row k's tail now holds v */
     for (i = k + 1u; i < rows; ++i) {
         rfe_real_t dot = RFE_R(0.0);
         rfe_real_t scale;
@@ -78,6 +78,21 @@ static void reflect_row(rfe_real_t *A, size_t rows, size_t cols, size_t lda, siz
     }
 }
 
+/* Non-negative diagonal of the lower-triangular rows x rows S in A: flipping a column's sign
+ * leaves S S^T unchanged. */
+static void make_diagonal_nonnegative(rfe_real_t *A, size_t rows, size_t lda)
+{
+    size_t i;
+    size_t k;
+    for (k = 0u; k < rows; ++k) {
+        if (AT(A, lda, k, k) < RFE_R(0.0)) {
+            for (i = k; i < rows; ++i) {
+                AT(A, lda, i, k) = -AT(A, lda, i, k);
+            }
+        }
+    }
+}
+
 rfe_status_t RFE_FN(rfe_qr_tria)(rfe_real_t *A, size_t rows, size_t cols, size_t lda)
 {
     int exps[RFE_N_MAX];
@@ -88,7 +103,7 @@ rfe_status_t RFE_FN(rfe_qr_tria)(rfe_real_t *A, size_t rows, size_t cols, size_t
         return RFE_ERR_NULL;
     }
     if ((rows == 0u) || (rows > (size_t)RFE_N_MAX) || (cols < rows) ||
-        (cols > (size_t)RFE_TRIA_COLS_MAX) || (lda < cols)) {
+        (cols > RFE_TRIA_COLS_SZ) || (lda < cols)) {
         return RFE_ERR_SIZE;
     }
     for (i = 0u; i < rows; ++i) {
@@ -111,14 +126,7 @@ rfe_status_t RFE_FN(rfe_qr_tria)(rfe_real_t *A, size_t rows, size_t cols, size_t
         }
         /* norm == 0: the tail is already zero (rank-deficient input); S(k,k) = 0. */
     }
-    /* Non-negative diagonal: flipping a column's sign leaves S S^T unchanged. */
-    for (k = 0u; k < rows; ++k) {
-        if (AT(A, lda, k, k) < RFE_R(0.0)) {
-            for (i = k; i < rows; ++i) {
-                AT(A, lda, i, k) = -AT(A, lda, i, k);
-            }
-        }
-    }
+    make_diagonal_nonnegative(A, rows, lda);
     for (i = 0u; i < rows; ++i) {
         scale_row(&AT(A, lda, i, 0u), i + 1u, exps[i]); /* S = D S' */
     }
@@ -172,7 +180,6 @@ rfe_status_t RFE_FN(rfe_qr_solve_lower_t)(const rfe_real_t *L, size_t n, size_t 
                                           rfe_real_t *B, size_t ncols, size_t ldb)
 {
     size_t c;
-    size_t i;
     size_t j;
     const rfe_status_t st = check_solve(L, n, ldl, B, ncols, ldb);
 
@@ -181,7 +188,9 @@ rfe_status_t RFE_FN(rfe_qr_solve_lower_t)(const rfe_real_t *L, size_t n, size_t 
     }
     /* x_i = (b_i - sum_{j>i} L_ji x_j) / L_ii, from the last row up. */
     for (c = 0u; c < ncols; ++c) {
-        for (i = n; i-- > 0u;) {
+        size_t up;
+        for (up = 0u; up < n; ++up) {
+            const size_t i = n - 1u - up; /* rows n-1 .. 0 */
             rfe_real_t acc = AT(B, ldb, i, c);
             for (j = i + 1u; j < n; ++j) {
                 acc -= AT(L, ldl, j, i) * AT(B, ldb, j, c);

@@ -14,7 +14,7 @@
 
 #define NM ((size_t)RFE_N_MAX)
 #define MM ((size_t)RFE_M_MAX)
-#define TC ((size_t)RFE_TRIA_COLS_MAX)
+#define TC RFE_TRIA_COLS_SZ
 
 /* Copies the lower triangle of a k x k matrix (src stride lds) into dst (stride ldd),
  * zeroing dst's upper triangle. */
@@ -235,12 +235,29 @@ static rfe_status_t information(rfe_sckf_t *f, const rfe_real_t *SR, rfe_real_t 
     return rfe_all_finite(info, n) ? RFE_OK : RFE_ERR_NONFINITE;
 }
 
-/* The measurement update of MODEL.md §6 with S_R = SR (ld RFE_M_MAX), gated on the
- * information when info_min > 0 (docs/ESTIMATOR.md steps 5-6). Writes info (n) when
- * want_info; *updated = 0 when held. Commits x and S only when everything succeeded. */
-static rfe_status_t update_core(rfe_sckf_t *f, rfe_measure_fn_t measure, void *ctx,
-                                const rfe_real_t *y, const rfe_real_t *SR, rfe_real_t info_min,
-                                int want_info, rfe_real_t *info, int *updated)
+/* docs/ESTIMATOR.md steps 5-6: the step's information into info (n) and the gate: *held = 1
+ * when info_min > 0 and no state reaches it. Needs the centred points. */
+static rfe_status_t gate(rfe_sckf_t *f, const rfe_real_t *SR, rfe_real_t info_min,
+                         rfe_real_t *info, int *held)
+{
+    const rfe_status_t st = information(f, SR, info);
+    *held = 0;
+    if (st == RFE_OK) {
+        rfe_real_t most = RFE_R(0.0);
+        size_t i;
+        for (i = 0u; i < f->n; ++i) {
+            most = rfe_max(most, info[i]);
+        }
+        if ((info_min > RFE_R(0.0)) && (most < info_min)) {
+            *held = 1;
+        }
+    }
+    return st;
+}
+
+/* [Xc - K Zc, K S_R] (n x (2n + m)) into w->A: the Tria input of the posterior factor.
+ * Needs the centred points (w->B, w->zpts) and the gain (w->Kt). */
+static void posterior_tria_input(rfe_sckf_t *f, const rfe_real_t *SR)
 {
     rfe_cub_scratch_t *w = &f->w;
     const size_t n = f->n;
@@ -248,40 +265,6 @@ static rfe_status_t update_core(rfe_sckf_t *f, rfe_measure_fn_t measure, void *c
     size_t i;
     size_t j;
     size_t r;
-    rfe_status_t st;
-
-    /* X_j = S- xi_j + x-;  Z_j = h(X_j, u);  z = mean_j Z_j. */
-    RFE_FN(rfe_cub_points)(f->x, f->S, n, w->pts);
-    st = RFE_FN(rfe_cub_measure)(w->pts, n, m, measure, ctx, w->zpts);
-    if (st != RFE_OK) {
-        return st;
-    }
-    RFE_FN(rfe_cub_mean)(w->zpts, n, m, MM, w->zhat);
-    centre_points(f);
-    if ((want_info != 0) || (info_min > RFE_R(0.0))) {
-        rfe_real_t most = RFE_R(0.0);
-        st = information(f, SR, info);
-        if (st != RFE_OK) {
-            return st;
-        }
-        for (i = 0u; i < n; ++i) {
-            most = rfe_max(most, info[i]);
-        }
-        if ((info_min > RFE_R(0.0)) && (most < info_min)) {
-            *updated = 0; /* held: not observable; x-, S- stay */
-            return RFE_OK;
-        }
-    }
-    st = gain(f, SR);
-    if (st != RFE_OK) {
-        return st;
-    }
-    /* x = x- + K (y - z); a huge innovation that overflows commits nothing. */
-    st = RFE_FN(rfe_cub_correct)(f->x, w->Kt, y, w->zhat, n, m, w->xn);
-    if (st != RFE_OK) {
-        return st;
-    }
-    /* S = Tria([Xc - K Zc, K S_R]). */
     for (i = 0u; i < n; ++i) {
         for (j = 0u; j < (2u * n); ++j) {
             rfe_real_t acc = w->B[(i * TC) + j];
@@ -298,6 +281,50 @@ static rfe_status_t update_core(rfe_sckf_t *f, rfe_measure_fn_t measure, void *c
             w->A[(i * TC) + (2u * n) + j] = acc;
         }
     }
+}
+
+/* The measurement update of MODEL.md §6 with S_R = SR (ld RFE_M_MAX), gated on the
+ * information when info_min > 0 (docs/ESTIMATOR.md steps 5-6). Writes info (n) when
+ * want_info; *updated = 0 when held. Commits x and S only when everything succeeded. */
+static rfe_status_t update_core(rfe_sckf_t *f, rfe_measure_fn_t measure, void *ctx,
+                                const rfe_real_t *y, const rfe_real_t *SR, rfe_real_t info_min,
+                                int want_info, rfe_real_t *info, int *updated)
+{
+    rfe_cub_scratch_t *w = &f->w;
+    const size_t n = f->n;
+    const size_t m = f->m;
+    rfe_status_t st;
+
+    /* X_j = S- xi_j + x-;  Z_j = h(X_j, u);  z = mean_j Z_j. */
+    RFE_FN(rfe_cub_points)(f->x, f->S, n, w->pts);
+    st = RFE_FN(rfe_cub_measure)(w->pts, n, m, measure, ctx, w->zpts);
+    if (st != RFE_OK) {
+        return st;
+    }
+    RFE_FN(rfe_cub_mean)(w->zpts, n, m, MM, w->zhat);
+    centre_points(f);
+    if ((want_info != 0) || (info_min > RFE_R(0.0))) {
+        int held = 0;
+        st = gate(f, SR, info_min, info, &held);
+        if (st != RFE_OK) {
+            return st;
+        }
+        if (held != 0) {
+            *updated = 0; /* held: not observable; x-, S- stay */
+            return RFE_OK;
+        }
+    }
+    st = gain(f, SR);
+    if (st != RFE_OK) {
+        return st;
+    }
+    /* x = x- + K (y - z); a huge innovation that overflows commits nothing. */
+    st = RFE_FN(rfe_cub_correct)(f->x, w->Kt, y, w->zhat, n, m, w->xn);
+    if (st != RFE_OK) {
+        return st;
+    }
+    /* S = Tria([Xc - K Zc, K S_R]). */
+    posterior_tria_input(f, SR);
     st = RFE_FN(rfe_qr_tria)(w->A, n, (2u * n) + m, TC);
     if (st != RFE_OK) {
         return st;
@@ -340,7 +367,6 @@ rfe_status_t RFE_FN(rfe_sckf_update_ex)(rfe_sckf_t *f, rfe_measure_fn_t measure,
     rfe_real_t info[RFE_N_MAX];
     const rfe_real_t *sr;
     int upd = 0;
-    size_t i;
     rfe_status_t st = check_update(f, measure, y);
 
     if ((st == RFE_OK) && (updated == NULL)) {
@@ -365,6 +391,7 @@ rfe_status_t RFE_FN(rfe_sckf_update_ex)(rfe_sckf_t *f, rfe_measure_fn_t measure,
         return st;
     }
     if (info_out != NULL) {
+        size_t i;
         for (i = 0u; i < f->n; ++i) {
             info_out[i] = info[i];
         }

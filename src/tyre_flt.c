@@ -49,10 +49,10 @@ rfe_status_t RFE_FN(rfe_tyre_kinematics)(const rfe_vehicle_t *veh, const rfe_tyr
         const rfe_real_t ci = (i < (size_t)RFE_RL) ? c : RFE_R(1.0);
         const rfe_real_t si = (i < (size_t)RFE_RL) ? s : RFE_R(0.0);
         /* v_i = (vx - r y_i, vy + r x_i), rotated into wheel axes. */
-        const rfe_real_t vbx = u->vx - u->yaw_rate * py[i];
-        const rfe_real_t vby = u->vy + u->yaw_rate * px[i];
-        const rfe_real_t vwx = vbx * ci + vby * si;
-        const rfe_real_t vwy = -vbx * si + vby * ci;
+        const rfe_real_t vbx = u->vx - (u->yaw_rate * py[i]);
+        const rfe_real_t vby = u->vy + (u->yaw_rate * px[i]);
+        const rfe_real_t vwx = (vbx * ci) + (vby * si);
+        const rfe_real_t vwy = (-vbx * si) + (vby * ci);
         /* alpha = -atan2(v_wy, |v_wx|), bounded so tan(alpha) stays finite. */
         const rfe_real_t alpha = -RFE_ATAN2(vwy, RFE_FABS(vwx));
         /* kappa = (omega R - v_wx) / max(|omega R|, |v_wx|, v_min), clipped to [-1, 1]. */
@@ -77,10 +77,11 @@ static rfe_real_t dugoff_factor(rfe_real_t kappa, rfe_real_t tan_a, rfe_real_t C
                                 rfe_real_t eps, rfe_real_t vwx, rfe_real_t mu_scale)
 {
     const rfe_real_t ak = RFE_FABS(kappa);
-    const rfe_real_t S = RFE_SQRT((Cx * kappa) * (Cx * kappa) + (Cy * tan_a) * (Cy * tan_a));
-    const rfe_real_t slip = RFE_SQRT(kappa * kappa + tan_a * tan_a);
+    const rfe_real_t S =
+        RFE_SQRT(((Cx * kappa) * (Cx * kappa)) + ((Cy * tan_a) * (Cy * tan_a)));
+    const rfe_real_t slip = RFE_SQRT((kappa * kappa) + (tan_a * tan_a));
     /* E = 1 - eps |v_wx| sqrt(k^2 + tan^2 a), clamped at >= 0 (negative above ~67 m/s). */
-    const rfe_real_t E = rfe_max(RFE_R(1.0) - eps * RFE_FABS(vwx) * slip, RFE_R(0.0));
+    const rfe_real_t E = rfe_max(RFE_R(1.0) - ((eps * RFE_FABS(vwx)) * slip), RFE_R(0.0));
     rfe_real_t g;
 
     if (S <= RFE_R(0.0)) {
@@ -114,6 +115,7 @@ static rfe_status_t check_wheel(const rfe_tyre_params_t *tp, rfe_real_t kappa, r
     return RFE_OK;
 }
 
+/* cppcheck-suppress misra-c2012-8.7 ; MISRA-DEV-06: public API, called by the application */
 rfe_status_t RFE_FN(rfe_tyre_dugoff_norm)(const rfe_tyre_params_t *tp, rfe_real_t kappa,
                                           rfe_real_t alpha, rfe_real_t fz, rfe_real_t vwx,
                                           rfe_real_t *f0x, rfe_real_t *f0y)
@@ -135,6 +137,7 @@ rfe_status_t RFE_FN(rfe_tyre_dugoff_norm)(const rfe_tyre_params_t *tp, rfe_real_
     return RFE_OK;
 }
 
+/* cppcheck-suppress misra-c2012-8.7 ; MISRA-DEV-06: public API, called by the application */
 rfe_status_t RFE_FN(rfe_tyre_dugoff_abs)(const rfe_tyre_params_t *tp, rfe_real_t kappa,
                                          rfe_real_t alpha, rfe_real_t fz, rfe_real_t vwx,
                                          rfe_real_t mu, rfe_real_t *fx, rfe_real_t *fy)

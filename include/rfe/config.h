@@ -14,7 +14,7 @@
 #define RFE_M_MAX 4
 #endif
 /** Widest matrix Tria() is asked to triangularise: [n x 2n | n x max(n, m)]. */
-#define RFE_TRIA_COLS_MAX (2 * RFE_N_MAX + ((RFE_N_MAX > RFE_M_MAX) ? RFE_N_MAX : RFE_M_MAX))
+#define RFE_TRIA_COLS_MAX ((2 * RFE_N_MAX) + ((RFE_N_MAX > RFE_M_MAX) ? RFE_N_MAX : RFE_M_MAX))
 /** Number of cubature points at the largest state dimension. */
 #define RFE_CUB_MAX (2 * RFE_N_MAX)
 

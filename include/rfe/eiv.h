@@ -17,6 +17,7 @@
 #include "rfe/params.h"
 
 /** Number of perturbed inputs: delta, vx, vy, r and the four wheel speeds. */
+/* cppcheck-suppress misra-c2012-2.4 ; MISRA-FP-01: an anonymous enum has no tag */
 enum { RFE_EIV_INPUTS = 8 };
 
 /**

@@ -38,9 +38,11 @@ typedef struct {
     rfe_conditioner_t backup_cond;    /**< its state before the step (restored on error) */
     rfe_real_t backup_x[RFE_N_MAX];   /**< filter mean before the step (restored on error) */
     rfe_real_t backup_S[RFE_N_MAX * RFE_N_MAX]; /**< its S (SCKF) or P (CKF) */
+    /* cppcheck-suppress misra-c2012-19.2 ; MISRA-DEV-03: one live filter, selected by kind */
     union {
         rfe_sckf_t sckf;
         rfe_ckf_t ckf;
+        /* cppcheck-suppress misra-c2012-19.2 ; MISRA-DEV-03: (the closing line of the union) */
     } filter;                          /**< params.filter.kind says which is live */
 } rfe_estimator_t;
 

@@ -13,6 +13,7 @@
 #ifndef RFE_MEAS_H
 #define RFE_MEAS_H
 
+#include "rfe/obsmat.h"
 #include "rfe/tyre.h"
 
 /** One sample's measurement model (caller-owned; fields read-only for the caller). */
@@ -20,7 +21,7 @@ typedef struct {
     rfe_tyre_mode_t mode;                /**< tyre mode it was set up for */
     rfe_real_t delta;                    /**< steer angle of the sample */
     rfe_wheel_kin_t kin;                 /**< kinematics, slips, loads of the sample */
-    rfe_real_t H[RFE_MEAS * RFE_WHEELS]; /**< paper mode: H(u) */
+    rfe_real_t H[RFE_H_SIZE];            /**< paper mode: H(u) */
 } rfe_meas_t;
 
 /**

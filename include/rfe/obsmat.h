@@ -11,7 +11,9 @@
 #include "rfe/params.h"
 
 /** Element (row, wheel) of a row-major 3x4 H. */
-#define RFE_H_AT(row, wheel) ((size_t)(row) * (size_t)RFE_WHEELS + (size_t)(wheel))
+#define RFE_H_AT(row, wheel) (((size_t)(row) * (size_t)RFE_WHEELS) + (size_t)(wheel))
+/** Number of elements of H (RFE_MEAS x RFE_WHEELS). */
+#define RFE_H_SIZE ((size_t)RFE_MEAS * (size_t)RFE_WHEELS)
 
 /**
  * Builds H (3x4, row-major) from the wheel-axis forces per unit mu (paper mode: F0x, F0y),
@@ -22,10 +24,10 @@
 RFE_NODISCARD rfe_status_t RFE_FN(rfe_obsmat_build)(const rfe_vehicle_t *veh, rfe_real_t delta,
                                                    const rfe_real_t fx[RFE_WHEELS],
                                                    const rfe_real_t fy[RFE_WHEELS],
-                                                   rfe_real_t H[RFE_MEAS * RFE_WHEELS]);
+                                                   rfe_real_t H[RFE_H_SIZE]);
 
 /** h(x, u) = H x: predicted [ax, ay, r-dot] for the friction vector @p x. */
-RFE_NODISCARD rfe_status_t RFE_FN(rfe_obsmat_apply)(const rfe_real_t H[RFE_MEAS * RFE_WHEELS],
+RFE_NODISCARD rfe_status_t RFE_FN(rfe_obsmat_apply)(const rfe_real_t H[RFE_H_SIZE],
                                                    const rfe_real_t x[RFE_WHEELS],
                                                    rfe_real_t y[RFE_MEAS]);
 

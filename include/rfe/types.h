@@ -17,16 +17,17 @@
 #if defined(RFE_REAL_DOUBLE)
 typedef double rfe_real_t;
 /** Appends the precision suffix to a public function name. */
+/* cppcheck-suppress misra-c2012-20.10 ; MISRA-DEV-01: ## builds the precision suffix */
 #define RFE_FN(name) name##_f64
-#define RFE_REAL_NAME "double"
 #else
 typedef float rfe_real_t;
+/* cppcheck-suppress misra-c2012-20.10 ; MISRA-DEV-01: ## builds the precision suffix */
 #define RFE_FN(name) name##_f32
-#define RFE_REAL_NAME "float"
 #endif
 
 /** Results that must be checked. */
 #if defined(__GNUC__)
+/* MISRA-DEV-02: a GNU attribute (Rule 1.2, language extension), only under __GNUC__ */
 #define RFE_NODISCARD __attribute__((warn_unused_result))
 #else
 #define RFE_NODISCARD
@@ -54,9 +55,11 @@ typedef enum {
 } rfe_status_t;
 
 /** Wheel order everywhere (MODEL.md §1). */
+/* cppcheck-suppress misra-c2012-2.4 ; MISRA-FP-01: an anonymous enum has no tag */
 enum { RFE_FL = 0, RFE_FR = 1, RFE_RL = 2, RFE_RR = 3, RFE_WHEELS = 4 };
 
 /** Number of measurements of the friction estimator: ax, ay, yaw acceleration. */
+/* cppcheck-suppress misra-c2012-2.4 ; MISRA-FP-01: an anonymous enum has no tag */
 enum { RFE_MEAS = 3 };
 
 /** One sensor sample (DATA.md sensor log), SI units, ISO 8855 body axes. */

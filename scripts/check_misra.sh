@@ -1,0 +1,99 @@
+#!/usr/bin/env bash
+# make misra: cppcheck with its MISRA C:2012 addon over the library (include/rfe/*.h through
+# their inclusion, src/*.c -- src/host/ is not library code), once per real type:
+#   float  : -URFE_REAL_DOUBLE (cppcheck then also checks the __GNUC__ configuration)
+#   double : -DRFE_REAL_DOUBLE
+# plus cppcheck's own warning/style/portability/performance checks, which implement the
+# MISRA rules the addon leaves to the core (5.3, 8.13, 9.1, 14.3, 18.1, ... -- docs/MISRA.md).
+# Reports: build/misra/{float,double}.xml (cppcheck XML) and .txt (one finding per line).
+# Gate: zero findings. The only suppressions are the inline ones that cite a deviation
+# (MISRA-DEV-nn) or a tool false positive (MISRA-FP-nn) recorded in docs/MISRA.md, and the
+# disapplied advisory rule 15.5 (MISRA-GRP-01); a suppression that no longer matches
+# anything is itself a finding (unmatchedSuppression). Finally the deviation IDs in the
+# code and in docs/MISRA.md must match both ways.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+OUT=${MISRA_OUT:-build/misra}
+SRC=${MISRA_SRC:-$(ls src/*.c)}
+DOC=docs/MISRA.md
+mkdir -p "$OUT"
+
+command -v cppcheck >/dev/null || { echo "misra: cppcheck not installed (make deps-analysis)"; exit 2; }
+echo "misra: $(cppcheck --version), addon misra, $(echo "$SRC" | wc -w) library sources"
+
+run_variant() { # $1 = name, $2 = define
+    local name=$1 def=$2
+    mkdir -p "$OUT/cache-$name"
+    # MISRA-GRP-01: Rule 15.5 (advisory) is disapplied project-wide (docs/MISRA.md).
+    local rc=0
+    cppcheck --addon=misra --std=c99 --language=c --error-exitcode=1 -Iinclude "$def" \
+        --enable=warning,style,portability,performance,information \
+        --inline-suppr --suppress=misra-c2012-15.5 --suppress=missingIncludeSystem \
+        --cppcheck-build-dir="$OUT/cache-$name" --xml --output-file="$OUT/$name.xml" -q \
+        $SRC || rc=$?
+    echo "$rc" >"$OUT/$name.rc"
+    python3 - "$OUT/$name.xml" "$OUT/$name.txt" <<'EOF'
+import sys, xml.etree.ElementTree as ET
+root = ET.parse(sys.argv[1]).getroot()
+lines = []
+for e in root.iter('error'):
+    loc = e.find('location')
+    where = (f"{loc.get('file')}:{loc.get('line')}:{loc.get('column')}" if loc is not None
+             else "nofile:0:0")
+    lines.append(f"{where}: {e.get('severity')}: {e.get('id')}: {e.get('msg')}")
+open(sys.argv[2], 'w').write(''.join(l + '\n' for l in sorted(set(lines))))
+EOF
+}
+
+run_variant float -URFE_REAL_DOUBLE &
+pf=$!
+run_variant double -DRFE_REAL_DOUBLE &
+pd=$!
+wait $pf
+wait $pd
+
+status=0
+for name in float double; do
+    n=$(wc -l <"$OUT/$name.txt")
+    rc=$(cat "$OUT/$name.rc")
+    if [ "$rc" -ne 0 ] && [ "$n" -eq 0 ]; then
+        echo "misra: $name build: cppcheck failed (exit $rc) without a finding in $OUT/$name.xml"
+        status=1
+    elif [ "$n" -ne 0 ]; then
+        echo "misra: $name build: $n finding(s) (rule numbers only: MISRA's rule texts are licensed)"
+        sed 's/^/  /' "$OUT/$name.txt"
+        status=1
+    else
+        echo "misra: $name build: 0 findings"
+    fi
+done
+
+# cppcheck checks a header only through an #include: say which public headers no library
+# file includes (host-only headers such as fixed_conv.h), so nobody reads them as checked.
+for h in include/rfe/*.h; do
+    if ! grep -qs "#include \"rfe/$(basename "$h")\"" src/*.c src/*.h include/rfe/*.h; then
+        echo "misra: note: $h is included by no library file: not checked (host-only header?)"
+    fi
+done
+
+# Deviation records: each inline suppression cites an ID recorded in docs/MISRA.md, and each
+# ID recorded there is cited in the code.
+code_ids=$(grep -rhoE 'MISRA-(DEV|FP)-[0-9]+' include/rfe src/*.c src/*.h | sort -u)
+doc_ids=$(grep -oE '^\| *MISRA-(DEV|FP)-[0-9]+' "$DOC" | grep -oE 'MISRA-(DEV|FP)-[0-9]+' | sort -u)
+while IFS= read -r line; do
+    if ! grep -qE 'MISRA-(DEV|FP)-[0-9]+' <<<"$line"; then
+        echo "misra: suppression without a MISRA-DEV/FP id: $line"; status=1
+    fi
+done < <(grep -rnE 'cppcheck-suppress' include/rfe src/*.c src/*.h || true)
+for id in $code_ids; do
+    grep -qx "$id" <<<"$doc_ids" || { echo "misra: $id is cited in the code but not recorded in $DOC"; status=1; }
+done
+for id in $doc_ids; do
+    grep -qx "$id" <<<"$code_ids" || { echo "misra: $id is recorded in $DOC but cited nowhere in the code"; status=1; }
+done
+
+if [ "$status" -eq 0 ]; then
+    echo "misra: clean ($(echo "$code_ids" | wc -w) deviation/false-positive IDs, all recorded in $DOC); reports in $OUT/"
+fi
+exit "$status"
