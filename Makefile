@@ -119,7 +119,7 @@ $(eval $(call REPLAY_RULE,$(BUILD)/asan-mu_replay,asan-f32,asan-f64,$(SANFLAGS))
 .PHONY: all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind coverage demo goldens scenarios clean vectors shared-sync check-shared readme-table \
         check-goldens check-nofloat help deps-analysis misra tidy complexity structural analysis
 all: lib $(BUILD)/mu_replay
-lib: $(BUILD)/f32/librfe.a $(BUILD)/f64/librfe.a $(BUILD)/q31/librfe_q31.a
+lib: $(BUILD)/f32/librfe.a $(BUILD)/f64/librfe.a $(if $(Q31_SRC),$(BUILD)/q31/librfe_q31.a)
 
 help:
 	@sed -n '1,14p' Makefile
@@ -216,7 +216,7 @@ coverage: deps $(foreach f,cov-f32 cov-f64,$(addprefix $(BUILD)/$(f)/test/,$(UNI
 	  --html-details $(BUILD)/coverage/index.html --cobertura $(BUILD)/coverage/coverage.xml \
 	  --txt $(BUILD)/coverage/summary.txt --print-summary \
 	  --fail-under-line $(COV_MIN_LINES) --fail-under-branch $(COV_MIN_BRANCHES) \
-	  $(BUILD)/cov-f32 $(BUILD)/cov-f64 $(BUILD)/cov-q31 $(BUILD)
+	  $(BUILD)/cov-f32 $(BUILD)/cov-f64 $(if $(Q31_SRC),$(BUILD)/cov-q31) $(BUILD)
 	@cat $(BUILD)/coverage/summary.txt
 	@echo "coverage report: $(BUILD)/coverage/index.html (per-file detail), coverage.xml (Cobertura)"
 
