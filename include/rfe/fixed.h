@@ -1,0 +1,214 @@
+/**
+ * @file fixed.h
+ * @brief Fixed-point conventions of the `_q31` variant and its saturating integer
+ *        primitives (docs/FIXED_POINT.md).
+ *
+ * Storage. Every fixed-point quantity is an `rfe_fix_t`: an int32 whose Q format (the number
+ * n of fractional bits, "Qn": the stored integer v means v / 2^n) is stated where it is used
+ * (a struct member's comment, a parameter's documentation, a `RFE_FIX_Q_*` constant).
+ * Intermediates are int64; products of two int32 need at most 62 bits plus sign.
+ *
+ * Rounding. Right shifts that drop bits round half up (toward +infinity): floor(v / 2^s + 1/2).
+ * Functions evaluated on magnitudes (division, square roots, norms, trigonometry; fxmath.h)
+ * round their magnitude to nearest with ties away from zero, so they are exactly odd- or
+ * even-symmetric.
+ *
+ * Saturation. Results that do not fit an int32 saturate symmetrically to
+ * [RFE_FIX_MIN, RFE_FIX_MAX] = [-INT32_MAX, INT32_MAX] (INT32_MIN is never produced, so a
+ * result can always be negated) and increment the caller's saturation counter `*sat`
+ * (itself saturating at UINT32_MAX). The helpers below require a non-NULL `sat`; they
+ * never return an error. INT32_MIN is accepted as an input everywhere.
+ *
+ * Defined behaviour only. No signed overflow (int64 intermediates, explicit range checks),
+ * no left shift of a negative value (left shifts are multiplications by 2^s in int64 after a
+ * range check), and no right shift of a negative value (implementation-defined in C99): an
+ * arithmetic right shift is computed in offset binary,
+ *   floor(a / 2^s) = ((uint64)a + 2^63) >> s  -  2^63 >> s,
+ * where the unsigned conversion and shift are fully defined and, for s >= 1, the shifted
+ * value is below 2^63 so the conversion back to int64 is exact. Integer operations only:
+ * the results are bit-identical on every platform.
+ *
+ * This header uses only <stdint.h>; host-side conversions to and from real numbers are in
+ * rfe/fixed_conv.h, which library sources must never include.
+ */
+#ifndef RFE_FIXED_H
+#define RFE_FIXED_H
+
+#include <stdint.h>
+
+/** A fixed-point value: int32 with the Q format stated where it is used. */
+typedef int32_t rfe_fix_t;
+
+/** Largest and smallest saturated results (symmetric range). */
+#define RFE_FIX_MAX INT32_MAX
+#define RFE_FIX_MIN (-INT32_MAX)
+
+/** 1.0 in Qn as an int32 (0 <= n <= 30). */
+#define RFE_FIX_ONE(n) ((rfe_fix_t)((uint32_t)1u << (n)))
+
+/* Q formats of the integer math functions (fxmath.h). */
+#define RFE_FIX_Q_ANGLE 29u /**< angles [rad]: Q29, range +-4 rad, LSB 1.86e-9 rad */
+#define RFE_FIX_Q_TRIG 30u  /**< sin, cos: Q30, range +-2, LSB 9.31e-10 */
+#define RFE_FIX_Q_TAN 26u   /**< tan: Q26, range +-32, LSB 1.49e-8 */
+
+/* Angle constants in Q29 (rounded to nearest). */
+#define RFE_FIX_PI_Q29 ((rfe_fix_t)1686629713)        /**< pi (exact value ...713.065) */
+#define RFE_FIX_HALF_PI_Q29 ((rfe_fix_t)843314857)    /**< pi / 2 */
+#define RFE_FIX_QUARTER_PI_Q29 ((rfe_fix_t)421657428) /**< pi / 4 */
+
+/** Counts one saturation event (the counter itself stops at UINT32_MAX). */
+static inline void rfe_fix_count_sat(uint32_t *sat)
+{
+    if (*sat < UINT32_MAX) {
+        ++*sat;
+    }
+}
+
+/** int64 -> int32, saturating to [RFE_FIX_MIN, RFE_FIX_MAX]; counts a clamp in *sat. */
+static inline rfe_fix_t rfe_fix_sat32(int64_t v, uint32_t *sat)
+{
+    rfe_fix_t r;
+    if (v > (int64_t)RFE_FIX_MAX) {
+        rfe_fix_count_sat(sat);
+        r = RFE_FIX_MAX;
+    } else if (v < (int64_t)RFE_FIX_MIN) {
+        rfe_fix_count_sat(sat);
+        r = RFE_FIX_MIN;
+    } else {
+        r = (rfe_fix_t)v;
+    }
+    return r;
+}
+
+/** Saturating a + b (any common Q format). */
+static inline rfe_fix_t rfe_fix_add(rfe_fix_t a, rfe_fix_t b, uint32_t *sat)
+{
+    return rfe_fix_sat32((int64_t)a + (int64_t)b, sat);
+}
+
+/** Saturating a - b (any common Q format). */
+static inline rfe_fix_t rfe_fix_sub(rfe_fix_t a, rfe_fix_t b, uint32_t *sat)
+{
+    return rfe_fix_sat32((int64_t)a - (int64_t)b, sat);
+}
+
+/** Saturating -a (only INT32_MIN saturates, to INT32_MAX). */
+static inline rfe_fix_t rfe_fix_neg(rfe_fix_t a, uint32_t *sat)
+{
+    return rfe_fix_sat32(-(int64_t)a, sat);
+}
+
+/** Saturating |a| (only INT32_MIN saturates, to INT32_MAX). */
+static inline rfe_fix_t rfe_fix_abs(rfe_fix_t a, uint32_t *sat)
+{
+    return (a < 0) ? rfe_fix_neg(a, sat) : a;
+}
+
+/** Smaller / larger of a and b; a clamped to [lo, hi] (lo <= hi; same Q format). */
+static inline rfe_fix_t rfe_fix_min(rfe_fix_t a, rfe_fix_t b) { return (a < b) ? a : b; }
+static inline rfe_fix_t rfe_fix_max(rfe_fix_t a, rfe_fix_t b) { return (a > b) ? a : b; }
+static inline rfe_fix_t rfe_fix_clamp(rfe_fix_t a, rfe_fix_t lo, rfe_fix_t hi)
+{
+    return rfe_fix_min(rfe_fix_max(a, lo), hi);
+}
+
+/** floor(a / 2^s): the arithmetic right shift, for every a and every s (s >= 64 gives
+ *  -1 for a < 0, else 0). Offset-binary evaluation: no implementation-defined shift. */
+static inline int64_t rfe_fix_shr64_floor(int64_t a, unsigned int s)
+{
+    int64_t r;
+    if (s == 0u) {
+        r = a;
+    } else if (s >= 64u) {
+        r = (a < 0) ? INT64_C(-1) : INT64_C(0);
+    } else {
+        const uint64_t off = (uint64_t)1 << 63;
+        const uint64_t u = ((uint64_t)a + off) >> s; /* < 2^63: converts exactly */
+        const uint64_t o = off >> s;
+        r = (int64_t)u - (int64_t)o;
+    }
+    return r;
+}
+
+/** floor(a / 2^s + 1/2): right shift rounding half up, for every a and s (never overflows:
+ *  it is floor(a / 2^s) plus bit s-1 of a's two's-complement pattern). */
+static inline int64_t rfe_fix_shr64_round(int64_t a, unsigned int s)
+{
+    int64_t r;
+    if (s == 0u) {
+        r = a;
+    } else if (s >= 64u) {
+        r = 0; /* |a| / 2^s <= 1/2, and -1/2 rounds up to 0 */
+    } else {
+        const unsigned int s1 = s - 1u;
+        const uint64_t half_bit = ((uint64_t)a >> s1) & 1u;
+        r = rfe_fix_shr64_floor(a, s) + (int64_t)half_bit;
+    }
+    return r;
+}
+
+/** int32 right shift rounding half up (never saturates). */
+static inline rfe_fix_t rfe_fix_shr_round(rfe_fix_t a, unsigned int s)
+{
+    return (rfe_fix_t)rfe_fix_shr64_round((int64_t)a, s);
+}
+
+/** Saturating a * 2^s (s >= 0): a multiplication in int64, never a shift of a negative. */
+static inline rfe_fix_t rfe_fix_shl(rfe_fix_t a, unsigned int s, uint32_t *sat)
+{
+    rfe_fix_t r;
+    if (a == 0) {
+        r = 0;
+    } else if (s > 31u) {
+        rfe_fix_count_sat(sat);
+        r = (a < 0) ? RFE_FIX_MIN : RFE_FIX_MAX;
+    } else {
+        const uint64_t p2 = (uint64_t)1 << s; /* <= 2^31: |a| 2^s <= 2^62 */
+        r = rfe_fix_sat32((int64_t)a * (int64_t)p2, sat);
+    }
+    return r;
+}
+
+/** Converts a from Q(q_from) to Q(q_to) (0 <= q <= 63): a left shift saturates, a right
+ *  shift rounds half up. */
+static inline rfe_fix_t rfe_fix_rescale(rfe_fix_t a, unsigned int q_from, unsigned int q_to,
+                                        uint32_t *sat)
+{
+    return (q_to >= q_from) ? rfe_fix_shl(a, q_to - q_from, sat)
+                            : rfe_fix_shr_round(a, q_from - q_to);
+}
+
+/** Rounds an int64 accumulator down by s bits (half up) and saturates it to int32. */
+static inline rfe_fix_t rfe_fix_narrow(int64_t v, unsigned int s, uint32_t *sat)
+{
+    return rfe_fix_sat32(rfe_fix_shr64_round(v, s), sat);
+}
+
+/** Saturating product round(a * b / 2^s): a in Qa, b in Qb gives Q(a + b - s). The exact
+ *  product (|a b| <= 2^62) is formed in int64 and rounded half up. */
+static inline rfe_fix_t rfe_fix_mul(rfe_fix_t a, rfe_fix_t b, unsigned int s, uint32_t *sat)
+{
+    return rfe_fix_narrow((int64_t)a * (int64_t)b, s, sat);
+}
+
+/** Saturating int64 a + b, to [-INT64_MAX, INT64_MAX] (for long accumulations). */
+static inline int64_t rfe_fix_add64(int64_t a, int64_t b, uint32_t *sat)
+{
+    int64_t r;
+    if ((b > 0) && (a > (INT64_MAX - b))) {
+        rfe_fix_count_sat(sat);
+        r = INT64_MAX;
+    } else if ((b < 0) && (a < (-INT64_MAX - b))) {
+        rfe_fix_count_sat(sat);
+        r = -INT64_MAX;
+    } else {
+        r = a + b;
+        if (r < -INT64_MAX) { /* INT64_MIN: keep the range symmetric */
+            rfe_fix_count_sat(sat);
+            r = -INT64_MAX;
+        }
+    }
+    return r;
+}
+
+#endif /* RFE_FIXED_H */

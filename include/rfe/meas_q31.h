@@ -1,0 +1,55 @@
+/**
+ * @file meas_q31.h
+ * @brief Fixed-point twin of rfe/meas.h: the measurement model h(mu, u) of one sample
+ *        (MODEL.md §3-5), predicted y = [ax, ay, r-dot] (Q24) from a friction value per wheel
+ *        (Q29).
+ *
+ * rfe_meas_setup_q31 does the per-sample work once (kinematics, slips, loads; in paper tyre
+ * mode also H(u)); rfe_meas_eval_q31 is then cheap enough for every cubature point:
+ *  - paper tyre:    h = H(u) mu (linear in mu);
+ *  - absolute tyre: the load-scaled Dugoff forces at each wheel's mu (mu < 0 evaluated as 0),
+ *                   through the same geometry as H's columns: h_r = sum_i H_r,i(F(mu_i)).
+ * The model keeps no pointer to the parameters: pass the same ones to setup and eval.
+ * Saturation: `*sat` gets one count per clamped value anywhere in the chain (kinematics
+ * outputs, forces, H entries, z); on an error nothing is written.
+ */
+#ifndef RFE_MEAS_Q31_H
+#define RFE_MEAS_Q31_H
+
+#include <stdint.h>
+
+#include "rfe/fixed.h"
+#include "rfe/obsmat_q31.h"
+#include "rfe/params_q31.h"
+#include "rfe/tyre_q31.h"
+
+/** One sample's measurement model (caller-owned; fields read-only for the caller). */
+typedef struct {
+    rfe_tyre_mode_t mode;          /**< tyre mode it was set up for */
+    rfe_fix_t delta;               /**< steer angle of the sample [rad], Q29 */
+    rfe_wheel_kin_q31_t kin;       /**< kinematics, slips, loads of the sample */
+    rfe_fix_t H[RFE_H_Q31_SIZE];   /**< paper mode: H(u), Q24 (absolute mode: zeros) */
+} rfe_meas_q31_t;
+
+/**
+ * Sets the model up for sample @p u (uses delta, vx, vy, yaw_rate, ax, ay, omega) and the tyre
+ * mode tp->mode.
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_PARAM (tyre parameters, or an unknown mode); the
+ *         tyre's errors (@p h then untouched).
+ */
+RFE_NODISCARD rfe_status_t rfe_meas_setup_q31(rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh,
+                                              const rfe_tyre_params_q31_t *tp,
+                                              const rfe_sample_q31_t *u, uint32_t *sat);
+
+/**
+ * z = h(mu, u) (Q24) for the sample of the last rfe_meas_setup_q31.
+ * @param mu friction per wheel (fl, fr, rl, rr), Q29
+ * @return RFE_OK; RFE_ERR_NULL; the tyre's / obsmat's errors.
+ */
+RFE_NODISCARD rfe_status_t rfe_meas_eval_q31(const rfe_meas_q31_t *h,
+                                             const rfe_vehicle_q31_t *veh,
+                                             const rfe_tyre_params_q31_t *tp,
+                                             const rfe_fix_t mu[RFE_WHEELS],
+                                             rfe_fix_t z[RFE_MEAS], uint32_t *sat);
+
+#endif /* RFE_MEAS_Q31_H */

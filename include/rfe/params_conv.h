@@ -1,0 +1,28 @@
+/**
+ * @file params_conv.h
+ * @brief Real-valued parameters (rfe_params_t) to the fixed-point ones (rfe_params_q31_t):
+ *        part of the float and double libraries (host tools, calibration, tests), never of
+ *        the fixed-point library.
+ */
+#ifndef RFE_PARAMS_CONV_H
+#define RFE_PARAMS_CONV_H
+
+#include "rfe/params.h"
+#include "rfe/params_q31.h"
+
+/**
+ * Converts @p p to Q formats (params_q31.h), each value rounded to nearest (ties away from
+ * zero), and computes the derived constants from the real values (in double precision in
+ * both builds, then rounded once).
+ * @return RFE_OK;
+ *         RFE_ERR_NULL if a pointer is NULL;
+ *         RFE_ERR_PARAM if rfe_params_validate(p) fails;
+ *         RFE_ERR_RANGE if a value (base or derived) does not fit its format: it rounds beyond
+ *         +-INT32_MAX, a nonzero value rounds to 0 (an "off" switch must not be created by
+ *         rounding), or a value that rfe_params_validate_q31 requires to carry 16 significant
+ *         bits has fewer (see there), or alpha_max rounds to 1.5 rad or more.
+ *         On error @p q is untouched.
+ */
+RFE_NODISCARD rfe_status_t RFE_FN(rfe_params_to_q31)(const rfe_params_t *p, rfe_params_q31_t *q);
+
+#endif /* RFE_PARAMS_CONV_H */

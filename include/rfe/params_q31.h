@@ -1,0 +1,154 @@
+/**
+ * @file params_q31.h
+ * @brief Run-time parameters of the fixed-point variant: the fields of rfe_params_t
+ *        (params.h) as int32 Q values, plus the derived constants the integer code needs
+ *        precomputed (docs/FIXED_POINT.md, "Tyre, kinematics and observation matrix").
+ *
+ * Every field states its unit, its Q format (the number of fractional bits: the stored
+ * integer v means v / 2^Q) and the range that format gives. The algorithms never use a
+ * literal: the vehicle and tyre constants and the derived constants below are all they use.
+ *
+ * The derived constants (1/m, x_i/J, y_i/J, half tracks, static loads, load-transfer
+ * coefficients, the input-filter gain) are redundant: they must agree with the base fields.
+ * rfe_params_to_q31_f32/_f64 (rfe/params_conv.h, host or float build) computes them from
+ * the real-valued parameters; rfe_params_validate_q31 recomputes each from the Q base fields
+ * and rejects a struct whose derived constant is off by more than 2^-13 relative (a stale
+ * constant after a base field was changed by more than ~0.01 %).
+ *
+ * The enums (tyre mode, filter kind, structure) are the ones of params.h, which includes only
+ * rfe/types.h (no floating-point header), so the fixed-point build may include it.
+ */
+#ifndef RFE_PARAMS_Q31_H
+#define RFE_PARAMS_Q31_H
+
+#include <stdint.h>
+
+#include "rfe/fixed.h"
+#include "rfe/params.h"
+#include "rfe/types.h"
+
+/* ---- Q formats of the measurement model (docs/FIXED_POINT.md) -------------------------- */
+#define RFE_FIX_Q_MU 29      /**< friction mu, mu0, mu_min, mu_max: Q29, +-4 */
+#define RFE_FIX_Q_SD 30      /**< sd of mu (S, sd0, q_mu, ...), dimensionless ratios: Q30, +-2 */
+#define RFE_FIX_Q_SPEED 23   /**< speeds [m/s]: Q23, +-256 */
+#define RFE_FIX_Q_OMEGA 22   /**< wheel spin speeds [rad/s]: Q22, +-512 */
+#define RFE_FIX_Q_YAWRATE 27 /**< yaw rate [rad/s]: Q27, +-16 */
+#define RFE_FIX_Q_KAPPA 30   /**< longitudinal slip: Q30, +-2 */
+#define RFE_FIX_Q_FORCE 15   /**< loads and tyre forces [N]: Q15, +-65536 */
+#define RFE_FIX_Q_ACC 24     /**< accelerations, h, H entries [m/s^2, rad/s^2]: Q24, +-128 */
+#define RFE_FIX_Q_LEN 29     /**< lengths Lf, Lr, Bf, Br, R, hg and half tracks [m]: Q29, +-4 */
+#define RFE_FIX_Q_MASS 16    /**< mass m [kg]: Q16, +-32768 */
+#define RFE_FIX_Q_INERTIA 12 /**< yaw inertia J [kg m^2]: Q12, +-524288 */
+#define RFE_FIX_Q_STIFF 24   /**< stiffnesses Cx_n, Cy_n, cx, cy [1, 1/rad]: Q24, +-128 */
+#define RFE_FIX_Q_EPS 32     /**< Dugoff eps [s/m]: Q32, +-0.5 */
+#define RFE_FIX_Q_INV 38     /**< 1/m [1/kg], x/J, y/J [1/(kg m)]: Q38, +-2^-7 */
+#define RFE_FIX_Q_KLOAD 20   /**< load-transfer coefficients [kg]: Q20, +-2048 */
+#define RFE_FIX_Q_DT 30      /**< sample period dt [s]: Q30, +-2 */
+#define RFE_FIX_Q_TAU 26     /**< time constant tau_v [s]: Q26, +-32 */
+/** Fisher information info_min [1/mu^2]: Q10, +-2.1e6 (the SCKF's RFE_Q31_QI, sckf_q31.h) */
+#define RFE_FIX_Q_INFO 10
+
+/** Vehicle geometry and mass (MODEL.md §2) with the derived constants of the loads (§3) and
+ *  of H (§5). Field names and meaning as rfe_vehicle_t. */
+typedef struct {
+    rfe_fix_t m;   /**< mass [kg], Q16 */
+    rfe_fix_t Lf;  /**< CoG to front axle [m], Q29 */
+    rfe_fix_t Lr;  /**< CoG to rear axle [m], Q29 */
+    rfe_fix_t Bf;  /**< front track [m], Q29 */
+    rfe_fix_t Br;  /**< rear track [m], Q29 */
+    rfe_fix_t R;   /**< effective rolling radius [m], Q29 */
+    rfe_fix_t J;   /**< yaw moment of inertia [kg m^2], Q12 */
+    rfe_fix_t hg;  /**< CoG height [m], Q29 */
+    rfe_fix_t g;   /**< gravity [m/s^2], Q24 */
+    /* Derived (rfe_params_to_q31 computes them; rfe_params_validate_q31 checks them). */
+    rfe_fix_t yf;          /**< Bf / 2, left-wheel y of the front axle [m], Q29 */
+    rfe_fix_t yr;          /**< Br / 2 [m], Q29 */
+    rfe_fix_t inv_m;       /**< 1 / m [1/kg], Q38 (m >= 128 kg) */
+    rfe_fix_t lf_J;        /**< Lf / J [1/(kg m)], Q38 */
+    rfe_fix_t lr_J;        /**< Lr / J [1/(kg m)], Q38 */
+    rfe_fix_t yf_J;        /**< Bf / (2 J) [1/(kg m)], Q38 */
+    rfe_fix_t yr_J;        /**< Br / (2 J) [1/(kg m)], Q38 */
+    rfe_fix_t fz_static_f; /**< m g Lr / (2 La): static load of a front wheel [N], Q15 */
+    rfe_fix_t fz_static_r; /**< m g Lf / (2 La): static load of a rear wheel [N], Q15 */
+    rfe_fix_t k_pitch;     /**< m hg / (2 La): load per unit ax on each wheel [kg], Q20 */
+    rfe_fix_t k_roll_f;    /**< m hg Lr / (La Bf): load per unit ay, front wheel [kg], Q20 */
+    rfe_fix_t k_roll_r;    /**< m hg Lf / (La Br): load per unit ay, rear wheel [kg], Q20 */
+} rfe_vehicle_q31_t;
+
+/** Dugoff tyre and slip parameters (MODEL.md §3-4); fields as rfe_tyre_params_t. */
+typedef struct {
+    rfe_tyre_mode_t mode; /**< paper (normalised) or absolute (load-scaled) Dugoff */
+    rfe_fix_t Cx_n;       /**< normalised longitudinal stiffness [1], Q24 */
+    rfe_fix_t Cy_n;       /**< normalised cornering stiffness [1/rad], Q24 */
+    rfe_fix_t cx;         /**< longitudinal stiffness per unit Fz [1], Q24 */
+    rfe_fix_t cy;         /**< cornering stiffness per unit Fz [1/rad], Q24 */
+    rfe_fix_t eps;        /**< Dugoff velocity-reduction factor [s/m], Q32 */
+    rfe_fix_t v_min;      /**< slip denominator guard [m/s], Q23 */
+    rfe_fix_t alpha_max;  /**< slip-angle bound [rad], Q29, < 1.5 rad */
+} rfe_tyre_params_q31_t;
+
+/** Filter tuning (MODEL.md §6, docs/ESTIMATOR.md); fields as rfe_filter_params_t. The
+ *  input noise sds use the format of their signal. */
+typedef struct {
+    rfe_filter_kind_t kind;     /**< sckf | ckf */
+    rfe_structure_t structure;  /**< wheels | sides */
+    rfe_fix_t mu0;            /**< initial estimate, Q29 */
+    rfe_fix_t sd0;            /**< prior sd, differential part, Q30 */
+    rfe_fix_t q_mu;           /**< process-noise sd per step, differential part, Q30 */
+    rfe_fix_t r_ax;           /**< ax measurement-noise sd [m/s^2], Q24 */
+    rfe_fix_t r_ay;           /**< ay measurement-noise sd [m/s^2], Q24 */
+    rfe_fix_t r_yaw_acc;      /**< yaw-acceleration noise sd [rad/s^2], Q24 */
+    rfe_fix_t mu_min;         /**< lower projection bound, Q29 */
+    rfe_fix_t mu_max;         /**< upper projection bound, Q29 */
+    rfe_fix_t v_est_min;      /**< no measurement update below this vx [m/s], Q23 */
+    rfe_fix_t sd0_common;     /**< prior sd, common-mode part, Q30 */
+    rfe_fix_t q_common;       /**< process-noise sd per step, common-mode part, Q30 */
+    rfe_fix_t dt;             /**< sample period of the input filter [s], Q30 (< 2 s) */
+    rfe_fix_t tau_v;          /**< complementary-filter time constant [s], Q26 (< 32 s), 0 = off */
+    rfe_fix_t sd_in_delta;    /**< input noise sd of delta [rad], Q29 */
+    rfe_fix_t sd_in_vx;       /**< input noise sd of vx [m/s], Q23 */
+    rfe_fix_t sd_in_vy;       /**< input noise sd of vy [m/s], Q23 */
+    rfe_fix_t sd_in_yaw_rate; /**< input noise sd of r [rad/s], Q27 */
+    rfe_fix_t sd_in_omega;    /**< input noise sd of each wheel speed [rad/s], Q22 */
+    rfe_fix_t r_model_rel;    /**< tyre-model error relative to each acceleration, Q30 */
+    rfe_fix_t info_min;       /**< minimum Fisher information [1/mu^2], Q10, 0 = off */
+    rfe_fix_t sd_max;         /**< bound on every sd, Q30, 0 = off */
+    rfe_fix_t sd_floor_rel;   /**< floor on sd as a fraction of mu, Q30, 0 = off */
+    rfe_fix_t sd_valid;       /**< valid when sd <= sd_valid, Q30, 0 = paper rule */
+    /* Derived. */
+    rfe_fix_t b_v;            /**< dt / (tau_v + dt): complementary-filter gain, Q30, in (0, 1] */
+} rfe_filter_params_q31_t;
+
+/** Everything the fixed-point friction estimator needs. */
+typedef struct {
+    rfe_vehicle_q31_t vehicle;
+    rfe_tyre_params_q31_t tyre;
+    rfe_filter_params_q31_t filter;
+} rfe_params_q31_t;
+
+/**
+ * The default preset (rfe_params_default) in Q formats: an integer table, equal bit for bit to
+ * rfe_params_to_q31_f64(rfe_params_default_f64).
+ * @return RFE_OK; RFE_ERR_NULL.
+ */
+RFE_NODISCARD rfe_status_t rfe_params_default_q31(rfe_params_q31_t *p);
+
+/** The paper preset (rfe_params_paper) in Q formats, likewise. @return RFE_OK; RFE_ERR_NULL. */
+RFE_NODISCARD rfe_status_t rfe_params_paper_q31(rfe_params_q31_t *p);
+
+/**
+ * The checks of rfe_params_validate on the Q values (positive where physical, hg, eps >= 0,
+ * 0 < alpha_max < 1.5 rad, 0 <= mu_min < mu_max, mu0 within them, the additions >= 0, the
+ * CKF subset, enums in range), and:
+ *  - every derived constant positive (k_pitch, k_roll_* >= 0: zero when hg = 0), b_v <= 1;
+ *  - every derived constant within 2^-13 relative (+ 2 LSB) of its recomputation from the base
+ *    fields (integer arithmetic, error below 2^-26 relative);
+ *  - each nonzero base field that a derived constant uses (m, Lf, Lr, Bf, Br, J, hg, g, dt,
+ *    tau_v) and each nonzero derived constant at least 2^16 LSB (16 significant bits), so that
+ *    the rounding of the converter (<= 5 * 2^-17 relative: at most five base fields per
+ *    constant) always passes the 2^-13 check.
+ * Returns RFE_OK, RFE_ERR_NULL or RFE_ERR_PARAM.
+ */
+RFE_NODISCARD rfe_status_t rfe_params_validate_q31(const rfe_params_q31_t *p);
+
+#endif /* RFE_PARAMS_Q31_H */

@@ -1,0 +1,392 @@
+/**
+ * @file fxmath_q31.c
+ * @brief Integer math of the fixed-point variant (rfe/fxmath.h): square roots, norm,
+ *        division, CORDIC atan2 / sincos / tan. Integer operations only.
+ */
+#include "rfe/fxmath.h"
+
+/* ---- shared helpers ------------------------------------------------------------------- */
+
+/* |v| of an int32 as uint64 (2^31 for INT32_MIN, no overflow). */
+static uint64_t mag32(rfe_fix_t v)
+{
+    return (v < 0) ? (uint64_t)(-(int64_t)v) : (uint64_t)v;
+}
+
+/* floor(sqrt(x)) and the remainder x - root^2 (<= 2 root), digit by digit: two bits of x per
+ * step, 32 steps at most, additions and shifts only. At the step with b = 4^k, r holds the
+ * root's bits above bit k, floor(sqrt(x)) >> (k + 1), times 4^(k+1); that is below 2^63
+ * (k <= 30; r = 0 at k = 31), so r + b < 2^63 + 2^60 never overflows. */
+static uint64_t isqrt_rem(uint64_t x, uint64_t *rem)
+{
+    uint64_t r = 0u;
+    uint64_t rm = x;
+    uint64_t b = (uint64_t)1 << 62;
+
+    while (b > x) {
+        b >>= 2;
+    }
+    while (b != 0u) {
+        if (rm >= (r + b)) {
+            rm -= r + b;
+            r = (r >> 1) + b;
+        } else {
+            r >>= 1;
+        }
+        b >>= 2;
+    }
+    *rem = rm;
+    return r;
+}
+
+/* Rounded root of the integer n: round(sqrt(n)) = r + 1 exactly when n - r^2 > r (sqrt(n)
+ * is never a half-integer). Result <= 2^32. */
+static uint64_t sqrt_round(uint64_t n)
+{
+    uint64_t rem;
+    uint64_t r = isqrt_rem(n, &rem);
+    if (rem > r) {
+        r += 1u;
+    }
+    return r;
+}
+
+/* round(n * 2^e / d) for d in [1, 2^63], to nearest with ties up (on the magnitude, i.e.
+ * away from zero). Long division gives q2 = floor(n * 2^(e+1) / d): the integer part, then
+ * e + 1 quotient bits, the remainder staying below d so that 2 * rem < 2^64; the result is
+ * (q2 + 1) >> 1 = floor(n * 2^e / d + 1/2). It exceeds INT32_MAX exactly when
+ * q2 >= 2^32 - 1; a partial quotient only grows, so the division stops (returning 1, *q
+ * unset) as soon as one reaches that, which also keeps every partial quotient below 2^33. */
+static int div_round_mag(uint64_t n, uint64_t d, unsigned int e, uint64_t *q)
+{
+    const uint64_t lim2 = ((uint64_t)1 << 32) - 1u;
+    uint64_t quo = n / d;
+    uint64_t rem = n % d;
+    unsigned int i = 0u;
+
+    while ((quo < lim2) && (i <= e)) {
+        quo <<= 1;
+        rem <<= 1;
+        if (rem >= d) {
+            rem -= d;
+            quo += 1u;
+        }
+        ++i;
+    }
+    if (quo >= lim2) {
+        return 1;
+    }
+    *q = (quo + 1u) >> 1;
+    return 0;
+}
+
+/* Applies the sign to a magnitude that fits int32 (m <= INT32_MAX). */
+static rfe_fix_t signed32(uint64_t m, int neg)
+{
+    const rfe_fix_t v = (rfe_fix_t)m;
+    return (neg != 0) ? -v : v;
+}
+
+/* ---- square roots and norm -------------------------------------------------------------- */
+
+rfe_status_t rfe_fix_isqrt64(uint64_t x, uint32_t *root)
+{
+    uint64_t rem;
+
+    if (root == NULL) {
+        return RFE_ERR_NULL;
+    }
+    *root = (uint32_t)isqrt_rem(x, &rem);
+    return RFE_OK;
+}
+
+/* round(sqrt(N)) > INT32_MAX exactly when N > (2^31 - 1/2)^2 - 1/4 = 2^62 - 2^31. */
+#define SQRT_SAT_ABOVE (((uint64_t)1 << 62) - ((uint64_t)1 << 31))
+
+rfe_status_t rfe_fix_sqrt(rfe_fix_t x, unsigned int q_in, unsigned int q_out, rfe_fix_t *root,
+                          uint32_t *sat)
+{
+    const uint64_t ux = mag32(x); /* used only when x >= 0 */
+    uint64_t r;
+    int e;
+
+    if ((root == NULL) || (sat == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    if ((x < 0) || (q_in > 31u) || (q_out > 31u)) {
+        return RFE_ERR_RANGE;
+    }
+    /* root = sqrt(x * 2^e) with e = 2 q_out - q_in in [-31, 62]. */
+    e = (2 * (int)q_out) - (int)q_in;
+    if (e >= 0) {
+        /* x * 2^e > T  <=>  x > floor(T / 2^e): decided before the product could overflow. */
+        if (ux > (SQRT_SAT_ABOVE >> (unsigned int)e)) {
+            rfe_fix_count_sat(sat);
+            *root = RFE_FIX_MAX;
+            return RFE_OK;
+        }
+        r = sqrt_round(ux << (unsigned int)e);
+    } else {
+        /* sqrt(x / 2^k) = sqrt(x * 2^m) / 2^h with m = k mod 2, h = (k + m) / 2 >= 1, and
+         * round(y / 2^h) = (floor(y) + 2^(h-1)) >> h exactly for real y >= 0. */
+        const unsigned int k = (unsigned int)(-e);
+        const unsigned int m = k & 1u;
+        const unsigned int h = (k + m) / 2u;
+        const unsigned int h1 = h - 1u;
+        const uint64_t half = (uint64_t)1 << h1;
+        uint64_t rem;
+        r = isqrt_rem(ux << m, &rem) + half;
+        r >>= h;
+    }
+    *root = (rfe_fix_t)r;
+    return RFE_OK;
+}
+
+rfe_status_t rfe_fix_norm(const rfe_fix_t *v, size_t n, rfe_fix_t *norm, uint32_t *sat)
+{
+    uint64_t ss = 0u;
+    size_t i;
+
+    if ((v == NULL) || (norm == NULL) || (sat == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    /* Exact sum of squares: each term <= 2^62 and the sum stays <= SQRT_SAT_ABOVE < 2^62
+     * before every addition (or we stop), so it never exceeds 2^63. */
+    for (i = 0u; i < n; ++i) {
+        const uint64_t m = mag32(v[i]);
+        ss += m * m;
+        if (ss > SQRT_SAT_ABOVE) {
+            rfe_fix_count_sat(sat);
+            *norm = RFE_FIX_MAX;
+            return RFE_OK;
+        }
+    }
+    *norm = (rfe_fix_t)sqrt_round(ss);
+    return RFE_OK;
+}
+
+/* ---- division --------------------------------------------------------------------------- */
+
+rfe_status_t rfe_fix_div(rfe_fix_t a, rfe_fix_t b, int shift, rfe_fix_t *q, uint32_t *sat)
+{
+    uint64_t m = 0u;
+    int over = 0;
+    int neg = 0;
+
+    if ((q == NULL) || (sat == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    if ((b == 0) || (shift < -62) || (shift > 62)) {
+        return RFE_ERR_RANGE;
+    }
+    if ((a < 0) != (b < 0)) {
+        neg = 1;
+    }
+    if (shift >= 0) {
+        over = div_round_mag(mag32(a), mag32(b), (unsigned int)shift, &m);
+    } else if (shift >= -32) {
+        /* divisor |b| 2^-shift <= 2^63 */
+        over = div_round_mag(mag32(a), mag32(b) << (unsigned int)(-shift), 0u, &m);
+    } else {
+        m = 0u; /* |a / b| 2^shift <= 2^31 2^-33 = 1/4 rounds to 0 */
+    }
+    if (over != 0) {
+        rfe_fix_count_sat(sat);
+        *q = (neg != 0) ? RFE_FIX_MIN : RFE_FIX_MAX;
+    } else {
+        *q = signed32(m, neg);
+    }
+    return RFE_OK;
+}
+
+/* ---- CORDIC ------------------------------------------------------------------------------ */
+
+/* Iterations of both CORDIC modes; the residual angle after them is <= atan(2^-39) = 1.8e-12
+ * rad, 0.001 LSB of Q29. */
+#define CORDIC_N 40u
+
+/* atan(2^-i) in Q61, rounded to nearest (computed with 60 significant digits). */
+static const int64_t cordic_atan_q61[CORDIC_N] = {
+    INT64_C(1811004864519280711), INT64_C(1069098597953152948), INT64_C(564882337777596249),
+    INT64_C(286743094836456889),  INT64_C(143927976672616092),  INT64_C(72034151524184357),
+    INT64_C(36025865417378411),   INT64_C(18014032019027246),   INT64_C(9007153442175927),
+    INT64_C(4503593900760542),    INT64_C(2251799097857775),    INT64_C(1125899817364151),
+    INT64_C(562949942236502),     INT64_C(281474975312555),     INT64_C(140737488180565),
+    INT64_C(70368744155819),      INT64_C(35184372086101),      INT64_C(17592186044075),
+    INT64_C(8796093022165),       INT64_C(4398046511099),       INT64_C(2199023255551),
+    INT64_C(1099511627776),       INT64_C(549755813888),        INT64_C(274877906944),
+    INT64_C(137438953472),        INT64_C(68719476736),         INT64_C(34359738368),
+    INT64_C(17179869184),         INT64_C(8589934592),          INT64_C(4294967296),
+    INT64_C(2147483648),          INT64_C(1073741824),          INT64_C(536870912),
+    INT64_C(268435456),           INT64_C(134217728),           INT64_C(67108864),
+    INT64_C(33554432),            INT64_C(16777216),            INT64_C(8388608),
+    INT64_C(4194304)};
+
+/* 1 / K in Q61, K = prod_{i<40} sqrt(1 + 2^-2i) = 1.64676025812106564836... */
+#define CORDIC_INV_K_Q61 INT64_C(1400229935014726477)
+/* pi and pi/2 in Q61, rounded to nearest. */
+#define PI_Q61 UINT64_C(7244019458077122842)
+#define HALF_PI_Q61 UINT64_C(3622009729038561421)
+
+/* Vectoring mode: the angle atan(y / x) in Q61 of a first-quadrant vector x >= 0, y >= 0,
+ * max(x, y) in [2^59, 2^60). |(x, y)| grows by K < 1.65 at most, so |x|, |y| < 2^62.
+ * x stays positive; y changes sign and is shifted with the defined floor shift. */
+static uint64_t cordic_vector(int64_t x0, int64_t y0)
+{
+    int64_t x = x0;
+    int64_t y = y0;
+    int64_t z = 0;
+    unsigned int i;
+
+    for (i = 0u; (i < CORDIC_N) && (y != 0); ++i) {
+        const int64_t xs = rfe_fix_shr64_floor(x, i);
+        const int64_t ys = rfe_fix_shr64_floor(y, i);
+        if (y > 0) {
+            x += ys;
+            y -= xs;
+            z += cordic_atan_q61[i];
+        } else {
+            x -= ys;
+            y += xs;
+            z -= cordic_atan_q61[i];
+        }
+    }
+    /* From a first-quadrant start z stays within [-2^-39, pi/2 + 2^-39] rad. */
+    return (z > 0) ? (uint64_t)z : 0u;
+}
+
+/* Rotation mode: (cos z, sin z) in Q61 for |z| <= pi/2 (z in Q61), starting from
+ * (1/K, 0); every intermediate vector has length <= 1 (plus rounding), so |x|, |y| < 2^62. */
+static void cordic_rotate(int64_t z0, int64_t *c, int64_t *s)
+{
+    int64_t x = CORDIC_INV_K_Q61;
+    int64_t y = 0;
+    int64_t z = z0;
+    unsigned int i;
+
+    for (i = 0u; i < CORDIC_N; ++i) {
+        const int64_t xs = rfe_fix_shr64_floor(x, i);
+        const int64_t ys = rfe_fix_shr64_floor(y, i);
+        if (z >= 0) {
+            x -= ys;
+            y += xs;
+            z -= cordic_atan_q61[i];
+        } else {
+            x += ys;
+            y -= xs;
+            z += cordic_atan_q61[i];
+        }
+    }
+    *c = x;
+    *s = y;
+}
+
+/* Q61 magnitude -> Q(61 - s), rounded half up, for a non-negative value below 2^63 - 2^s. */
+static uint64_t round_down_mag(uint64_t m, unsigned int s)
+{
+    const unsigned int s1 = s - 1u;
+    const uint64_t half = (uint64_t)1 << s1;
+    return (m + half) >> s;
+}
+
+/* v rounded from Q61 to Q30 on its magnitude (v is a CORDIC output, |v| < 2^62). */
+static rfe_fix_t q61_to_trig(int64_t v)
+{
+    const uint64_t m = (v < 0) ? (uint64_t)(-v) : (uint64_t)v;
+    return signed32(round_down_mag(m, 61u - RFE_FIX_Q_TRIG), (v < 0) ? 1 : 0);
+}
+
+rfe_status_t rfe_fix_atan2(rfe_fix_t y, rfe_fix_t x, rfe_fix_t *angle)
+{
+    uint64_t ax;
+    uint64_t ay;
+    uint64_t big;
+    uint64_t th;
+    uint64_t xn;
+    uint64_t yn;
+    unsigned int len = 0u;
+    unsigned int sh;
+
+    if (angle == NULL) {
+        return RFE_ERR_NULL;
+    }
+    ax = mag32(x);
+    ay = mag32(y);
+    if ((ax == 0u) && (ay == 0u)) {
+        *angle = 0;
+        return RFE_OK;
+    }
+    /* Exact normalisation: scale both by 2^sh so that max(|x|, |y|) lies in [2^59, 2^60). */
+    big = (ax > ay) ? ax : ay;
+    while ((big >> len) != 0u) {
+        ++len;
+    }
+    sh = 60u - len; /* len <= 32 */
+    xn = ax << sh;
+    yn = ay << sh;
+    th = cordic_vector((int64_t)xn, (int64_t)yn);
+    /* Quadrant: x < 0 mirrors to pi - theta (>= pi/2 - 2^-39 rad, so no wrap). */
+    if (x < 0) {
+        th = PI_Q61 - th;
+    }
+    *angle = signed32(round_down_mag(th, 61u - RFE_FIX_Q_ANGLE), (y < 0) ? 1 : 0);
+    return RFE_OK;
+}
+
+/* The unrounded Q61 cosine and sine of a Q29 angle reduced to |z| <= pi/2, computed on |a|
+ * and mirrored (sin odd, cos even, so the results are exactly symmetric). */
+static void sincos_q61(rfe_fix_t a, int64_t *c, int64_t *s)
+{
+    const uint64_t am = mag32(a) << (61u - RFE_FIX_Q_ANGLE); /* |a| in Q61, <= 2^63 */
+    int64_t cz;
+    int64_t sz;
+    int flip = 0;
+    int64_t z;
+
+    if (am > HALF_PI_Q61) {
+        /* |a| in (pi/2, 4]: sin a = sin(pi - a), cos a = -cos(pi - a), |pi - a| <= pi/2. */
+        flip = 1;
+        z = (am <= PI_Q61) ? (int64_t)(PI_Q61 - am) : -(int64_t)(am - PI_Q61);
+    } else {
+        z = (int64_t)am;
+    }
+    cordic_rotate(z, &cz, &sz);
+    *c = (flip != 0) ? -cz : cz;
+    *s = (a < 0) ? -sz : sz;
+}
+
+rfe_status_t rfe_fix_sincos(rfe_fix_t angle, rfe_fix_t *s, rfe_fix_t *c)
+{
+    int64_t c61;
+    int64_t s61;
+
+    if ((s == NULL) || (c == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    sincos_q61(angle, &c61, &s61);
+    *s = q61_to_trig(s61);
+    *c = q61_to_trig(c61);
+    return RFE_OK;
+}
+
+rfe_status_t rfe_fix_tan(rfe_fix_t angle, rfe_fix_t *t)
+{
+    int64_t c61;
+    int64_t s61;
+    uint64_t m = 0u;
+
+    if (t == NULL) {
+        return RFE_ERR_NULL;
+    }
+    if ((angle > RFE_FIX_TAN_LIMIT_Q29) || (angle < -RFE_FIX_TAN_LIMIT_Q29)) {
+        return RFE_ERR_RANGE;
+    }
+    /* |angle| <= 1.5 rad: cos >= 0.0707, so c61 >= 1.6e17 > 0 and s / c <= 14.2 (Q26 fits). */
+    /* (sin can come out as -1e-12 instead of 0 at angle 0; its magnitude then rounds to 0.)
+     * The quotient is <= 14.2 * 2^26, so the division cannot report an overflow. */
+    sincos_q61((angle < 0) ? -angle : angle, &c61, &s61);
+    (void)div_round_mag((s61 < 0) ? (uint64_t)(-s61) : (uint64_t)s61, (uint64_t)c61,
+                        RFE_FIX_Q_TAN, &m);
+    *t = signed32(m, (angle < 0) ? 1 : 0);
+    return RFE_OK;
+}

@@ -1,0 +1,84 @@
+/**
+ * @file internal_q31.h
+ * @brief Private helpers shared by the fixed-point library sources (src/<module>_q31.c;
+ *        not installed). Integer operations only; includes no libc header beyond <stdint.h>, so
+ *        the Cortex-M0+ build (make check-nofloat) can compile it.
+ *
+ * Each module's helpers sit in their own named section below.
+ */
+#ifndef RFE_INTERNAL_Q31_H
+#define RFE_INTERNAL_Q31_H
+
+#include <stdint.h>
+
+#include "rfe/fixed.h"
+
+/* ==== Section: measurement model (tyre_q31.c, obsmat_q31.c, meas_q31.c) ==================== */
+
+/**
+ * round(v * c / 2^s) (half up) of an int64 and a 32-bit factor, exactly, although the product
+ * needs up to 93 bits. Preconditions (the callers prove them): |v| < 2^62, |c| <= 2^31,
+ * 1 <= s <= 62, and the result below 2^62 in magnitude.
+ *
+ * With v = vh 2^32 + vl (vh = floor(v / 2^32), |vh| <= 2^30; 0 <= vl < 2^32):
+ *   a = vh c, |a| <= 2^61;   b = vl c, |b| <= (2^32 - 1) 2^31 < 2^63;
+ *   b = bh 2^32 + bl (0 <= bl < 2^32), so v c = t 2^32 + bl with t = a + bh, |t| < 2^62.
+ * Then, for integer t and 0 <= bl / 2^32 < 1,
+ *   s >= 33: floor((t 2^32 + bl + 2^(s-1)) / 2^s) = floor((t + 2^(s-33)) / 2^(s-32))
+ *            = rfe_fix_shr64_round(t, s - 32);
+ *   s <= 32: t 2^(32-s) + floor((bl + 2^(s-1)) / 2^s)   (bl + 2^(s-1) < 2^33: no overflow).
+ */
+static inline int64_t rfe_q31_mul64x32(int64_t v, int64_t c, unsigned int s)
+{
+    const int64_t vh = rfe_fix_shr64_floor(v, 32u);
+    const int64_t vl = (int64_t)((uint64_t)v & UINT64_C(0xFFFFFFFF));
+    const int64_t a = vh * c;
+    const int64_t b = vl * c;
+    const int64_t bh = rfe_fix_shr64_floor(b, 32u);
+    const uint64_t bl = (uint64_t)b & UINT64_C(0xFFFFFFFF);
+    const int64_t t = a + bh;
+    int64_t r;
+
+    if (s >= 33u) {
+        r = rfe_fix_shr64_round(t, s - 32u);
+    } else {
+        r = (t * ((int64_t)1 << (32u - s))) +
+            (int64_t)((bl + ((uint64_t)1 << (s - 1u))) >> s);
+    }
+    return r;
+}
+
+/** |v| as uint64 (exact for every int64 above INT64_MIN; the callers' values are < 2^63). */
+static inline uint64_t rfe_q31_mag64(int64_t v)
+{
+    return (v < 0) ? (uint64_t)(-v) : (uint64_t)v;
+}
+
+/**
+ * The smallest right shift s that brings a magnitude m below 2^bits: m < 2^(bits + s). A value
+ * with magnitude <= m rounded by that shift (half up) then has magnitude <= 2^bits, and keeps
+ * at least bits significant bits when s > 0 (relative rounding error <= 2^-bits).
+ */
+static inline unsigned int rfe_q31_norm_shift(uint64_t m, unsigned int bits)
+{
+    unsigned int len = 0u;
+    while ((m >> len) != 0u) {
+        ++len;
+    }
+    return (len > bits) ? (len - bits) : 0u;
+}
+
+/** v (|v| < 2^63) rounded down by s bits (half up) to an int32: the caller guarantees it fits
+ *  (|v| < 2^(30 + s) after rfe_q31_norm_shift(., 30)). */
+static inline int32_t rfe_q31_shr_to32(int64_t v, unsigned int s)
+{
+    return (int32_t)rfe_fix_shr64_round(v, s);
+}
+
+/** Adds a function's saturation count to the caller's counter, which stops at UINT32_MAX. */
+static inline void rfe_q31_sat_add(uint32_t *sat, uint32_t count)
+{
+    *sat = (*sat > (UINT32_MAX - count)) ? UINT32_MAX : (*sat + count);
+}
+
+#endif /* RFE_INTERNAL_Q31_H */

@@ -1,0 +1,434 @@
+/**
+ * @file tyre_q31.c
+ * @brief Fixed-point twin of tyre_flt.c: wheel kinematics, loads, slips (MODEL.md §3) and the
+ *        Dugoff tyre (§4). Integer operations only (rfe/tyre_q31.h).
+ *
+ * Internal formats (docs/FIXED_POINT.md, "Tyre, kinematics and observation matrix"):
+ *  - body and wheel-centre velocities: int64 Q51 (range 2^12 m/s). vx 2^28 is exact,
+ *    r y_i (Q27 x Q29 = Q56) is rounded once to Q51 (2^-52 m/s), omega R (Q22 x Q29) is exactly
+ *    Q51, and the rotation by delta rounds each product once (rfe_q31_mul64x32);
+ *  - loads: int64 Q43 sums of the static load (Q15 2^28) and k a (Q20 x Q24 = Q44, one
+ *    rounding), so one rounding to Q15 at the end;
+ *  - Dugoff: mantissa/exponent pairs with 30 significant bits (block floating point in
+ *    integers) for S, sqrt(k^2 + tan^2 a), eps |vwx| and mu (1 - |k|) E, because their ranges
+ *    span many decades (S from 0 to 1800); E, L and the direction cosines C k / S, C tan a / S
+ *    in Q30; the force magnitude w in Q29; the forces Fz w u rounded once to Q15.
+ */
+#include "rfe/tyre_q31.h"
+
+#include "rfe/fxmath.h"
+
+#include "internal_q31.h"
+
+/* Internal velocity format: Q51. */
+#define QV 51u
+/* 1.0 in Q30 (kappa, E, L, direction cosines). */
+#define ONE_Q30 ((int32_t)1 << 30)
+
+/* ---- fxmath calls whose arguments are valid by construction -------------------------------
+ * Each fxmath function fails only for a NULL pointer or an argument outside its domain; the
+ * wrappers below are called with local outputs and with arguments proven inside the domain at
+ * each call site, so the status is always RFE_OK and is not propagated. */
+
+/* round(a 2^shift / b): b != 0 and shift in [-62, 62] at every call. */
+static int32_t div_q(int32_t a, int32_t b, int shift, uint32_t *sat)
+{
+    int32_t q = 0;
+    const rfe_status_t st = rfe_fix_div(a, b, shift, &q, sat);
+    (void)st;
+    return q;
+}
+
+/* |(x, y)|, exactly rounded. */
+static int32_t norm2(int32_t x, int32_t y, uint32_t *sat)
+{
+    int32_t v[2];
+    int32_t r = 0;
+    rfe_status_t st;
+    v[0] = x;
+    v[1] = y;
+    st = rfe_fix_norm(v, 2u, &r, sat);
+    (void)st;
+    return r;
+}
+
+/* atan2(y, x), Q29: every pair is in the domain. */
+static int32_t atan2_q(int32_t y, int32_t x)
+{
+    int32_t a = 0;
+    const rfe_status_t st = rfe_fix_atan2(y, x, &a);
+    (void)st;
+    return a;
+}
+
+/* tan(angle), Q26: |angle| <= alpha_max < 1.5 rad at the only call. */
+static int32_t tan_q(int32_t angle)
+{
+    int32_t t = 0;
+    const rfe_status_t st = rfe_fix_tan(angle, &t);
+    (void)st;
+    return t;
+}
+
+/* ---- parameter checks ------------------------------------------------------------------- */
+
+static int alpha_max_ok(const rfe_tyre_params_q31_t *tp)
+{
+    return (tp->alpha_max > 0) && (tp->alpha_max < RFE_FIX_TAN_LIMIT_Q29);
+}
+
+/* ---- kinematics (MODEL.md §3) ----------------------------------------------------------- */
+
+/* alpha = -atan2(v_wy, |v_wx|) of the Q51 wheel-centre velocity, clamped to +-alpha_max.
+ * Both components are scaled by one common power of two to <= 2^30 (rounding: relative error
+ * <= 2^-31 on the larger one), so the angle keeps its accuracy at any speed. */
+static int32_t slip_angle(int64_t vwx, int64_t vwy, int32_t alpha_max)
+{
+    const uint64_t mx = rfe_q31_mag64(vwx);
+    const uint64_t my = rfe_q31_mag64(vwy);
+    const unsigned int sh = rfe_q31_norm_shift((mx > my) ? mx : my, 30u);
+    const int32_t xm = rfe_q31_shr_to32((int64_t)mx, sh);
+    const int32_t ym = rfe_q31_shr_to32(vwy, sh);
+    const int32_t a = atan2_q(ym, xm);
+
+    /* |a| <= pi/2 in Q29 (x >= 0), so the negation cannot overflow. */
+    return rfe_fix_clamp(-a, -alpha_max, alpha_max);
+}
+
+/* kappa = (omega R - v_wx) / max(|omega R|, |v_wx|, v_min), clipped to [-1, 1], Q30.
+ * Q51 operands: |omega R| <= 2^62 (Q22 x Q29), |v_wx| < 2^61, so num fits int64; den >= v_min
+ * > 0. Inside the clip |num| < den: both are scaled by one shift to den <= 2^30, and the
+ * exactly rounded quotient is <= 2^30 (no saturation). */
+static int32_t long_slip(int32_t omega, int32_t R, int64_t vwx, int32_t v_min)
+{
+    const int64_t vr = (int64_t)omega * (int64_t)R;
+    const int64_t num = vr - vwx;
+    const uint64_t mvr = rfe_q31_mag64(vr);
+    const uint64_t mvx = rfe_q31_mag64(vwx);
+    const uint64_t mv = (uint64_t)v_min << (QV - RFE_FIX_Q_SPEED);
+    uint64_t den = (mvr > mvx) ? mvr : mvx;
+    int32_t k;
+
+    den = (den > mv) ? den : mv;
+    if (num >= (int64_t)den) {
+        k = ONE_Q30;
+    } else if (num <= -(int64_t)den) {
+        k = -ONE_Q30;
+    } else {
+        const unsigned int sh = rfe_q31_norm_shift(den, 30u);
+        const int32_t nm = rfe_q31_shr_to32(num, sh);
+        const int32_t dm = rfe_q31_shr_to32((int64_t)den, sh);
+        uint32_t scratch = 0u;
+        k = div_q(nm, dm, 30, &scratch); /* dm >= 2^27 > 0; |nm| <= dm: no saturation */
+    }
+    return k;
+}
+
+/* Quasi-static loads (MODEL.md §3), clamped at >= 0, in int64 Q43:
+ *   static: fz_static (Q15) 2^28, |.| < 2^59;
+ *   pitch = k_pitch ax, roll = k_roll ay: Q20 x Q24 = Q44 (< 2^62), rounded to Q43 (< 2^61);
+ * so every sum is below 2^59 + 2^62 < 2^63. One rounding to Q15, saturating (counted). */
+static void vertical_loads(const rfe_vehicle_q31_t *veh, int32_t ax, int32_t ay,
+                           int32_t fz[RFE_WHEELS], uint32_t *sat)
+{
+    const int64_t fs_f = (int64_t)veh->fz_static_f * ((int64_t)1 << 28);
+    const int64_t fs_r = (int64_t)veh->fz_static_r * ((int64_t)1 << 28);
+    const int64_t pitch = rfe_fix_shr64_round((int64_t)veh->k_pitch * (int64_t)ax, 1u);
+    const int64_t roll_f = rfe_fix_shr64_round((int64_t)veh->k_roll_f * (int64_t)ay, 1u);
+    const int64_t roll_r = rfe_fix_shr64_round((int64_t)veh->k_roll_r * (int64_t)ay, 1u);
+    int64_t v[RFE_WHEELS];
+    size_t i;
+
+    /* ay > 0 unloads the left wheels; ax > 0 loads the rear. */
+    v[RFE_FL] = fs_f - pitch - roll_f;
+    v[RFE_FR] = fs_f - pitch + roll_f;
+    v[RFE_RL] = fs_r + pitch - roll_r;
+    v[RFE_RR] = fs_r + pitch + roll_r;
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        fz[i] = rfe_fix_narrow((v[i] > 0) ? v[i] : 0, 28u, sat);
+    }
+}
+
+rfe_status_t rfe_tyre_kinematics_q31(const rfe_vehicle_q31_t *veh, const rfe_tyre_params_q31_t *tp,
+                                     const rfe_sample_q31_t *u, rfe_wheel_kin_q31_t *kin,
+                                     uint32_t *sat)
+{
+    rfe_wheel_kin_q31_t out;
+    uint32_t count = 0u;
+    int64_t px[RFE_WHEELS];
+    int64_t py[RFE_WHEELS];
+    int32_t c = 0;
+    int32_t s = 0;
+    size_t i;
+
+    if ((veh == NULL) || (tp == NULL) || (u == NULL) || (kin == NULL) || (sat == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    if ((tp->v_min <= 0) || !alpha_max_ok(tp)) {
+        return RFE_ERR_PARAM;
+    }
+    /* Wheel positions (MODEL.md §1), Q29: front x = Lf, rear x = -Lr, left y = +B/2. */
+    px[RFE_FL] = veh->Lf;
+    px[RFE_FR] = veh->Lf;
+    px[RFE_RL] = -(int64_t)veh->Lr;
+    px[RFE_RR] = -(int64_t)veh->Lr;
+    py[RFE_FL] = veh->yf;
+    py[RFE_FR] = -(int64_t)veh->yf;
+    py[RFE_RL] = veh->yr;
+    py[RFE_RR] = -(int64_t)veh->yr;
+    {
+        const rfe_status_t st = rfe_fix_sincos(u->delta, &s, &c); /* every angle: no error */
+        (void)st;
+    }
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        /* Only the front wheels steer. */
+        const int32_t ci = (i < (size_t)RFE_RL) ? c : ONE_Q30;
+        const int32_t si = (i < (size_t)RFE_RL) ? s : 0;
+        /* v_i = (vx - r y_i, vy + r x_i) in Q51: |vx 2^28| <= 2^59, |r y| (Q56) <= 2^62
+         * becomes <= 2^57 in Q51, so |vb| < 2^59.4. */
+        const int64_t vbx = ((int64_t)u->vx * ((int64_t)1 << (QV - RFE_FIX_Q_SPEED))) -
+                            rfe_fix_shr64_round((int64_t)u->yaw_rate * py[i], 5u);
+        const int64_t vby = ((int64_t)u->vy * ((int64_t)1 << (QV - RFE_FIX_Q_SPEED))) +
+                            rfe_fix_shr64_round((int64_t)u->yaw_rate * px[i], 5u);
+        /* Rotated into wheel axes: |vb c|, |vb s| < 2^59.4 each (|c|, |s| <= 1), sums < 2^60.4. */
+        const int64_t vwx = rfe_q31_mul64x32(vbx, ci, 30u) + rfe_q31_mul64x32(vby, si, 30u);
+        const int64_t vwy = rfe_q31_mul64x32(vby, ci, 30u) - rfe_q31_mul64x32(vbx, si, 30u);
+
+        out.vwx[i] = rfe_fix_narrow(vwx, QV - RFE_FIX_Q_SPEED, &count);
+        out.alpha[i] = slip_angle(vwx, vwy, tp->alpha_max);
+        out.kappa[i] = long_slip(u->omega[i], veh->R, vwx, tp->v_min);
+    }
+    vertical_loads(veh, u->ax, u->ay, out.fz, &count);
+    *kin = out;
+    rfe_q31_sat_add(sat, count);
+    return RFE_OK;
+}
+
+/* ---- Dugoff tyre (MODEL.md §4) ---------------------------------------------------------- */
+
+/* A positive quantity as mant 2^-q with |mant| <= 2^30 (block floating point). */
+typedef struct {
+    int32_t mant;
+    unsigned int q;
+} bfp_t;
+
+/* v (0 <= v < 2^63) in Q(q) to 30 bits: relative rounding error <= 2^-30. The callers keep
+ * q - shift >= 0 (commented at each call). */
+static bfp_t bfp_make(int64_t v, unsigned int q)
+{
+    const unsigned int sh = rfe_q31_norm_shift((uint64_t)v, 30u);
+    bfp_t r;
+    r.mant = rfe_q31_shr_to32(v, sh);
+    r.q = q - sh;
+    return r;
+}
+
+/* E = max(0, 1 - eps |vwx| sqrt(k^2 + tan^2 a)) in Q30 (eps >= 0, so E <= 1).
+ * slip = |(k, tan a)|: k Q30 and tan a Q26 brought to Q30 (|.| < 2^34) are scaled by one
+ * shift (<= 4) to <= 2^30 and normed exactly: slip in Q(30 - sh) >= Q26, <= 2^30.5.
+ * ev = eps |vwx|: Q32 x Q23 = Q55, < 2^62, to 30 bits: Q(55 - sh) >= Q23.
+ * P = ev slip < 2^61 in Q(q_ev + q_slip) >= Q49; rounded to Q30 (shift in [19, 55]). */
+static int32_t dugoff_e(int32_t k, int32_t t, int32_t eps, int32_t vwx)
+{
+    const int64_t t30 = (int64_t)t * 16;
+    const uint64_t mk = rfe_q31_mag64(k);
+    const uint64_t mt = rfe_q31_mag64(t30);
+    const unsigned int sh = rfe_q31_norm_shift((mk > mt) ? mk : mt, 30u);
+    uint32_t scratch = 0u;
+    /* both <= 2^30, so the norm <= 2^30.5 never saturates */
+    const int32_t slip =
+        norm2(rfe_q31_shr_to32(k, sh), rfe_q31_shr_to32(t30, sh), &scratch);
+    bfp_t ev;
+    int64_t p30;
+
+    ev = bfp_make((int64_t)eps * (int64_t)rfe_q31_mag64(vwx), 55u);
+    p30 = rfe_fix_shr64_round((int64_t)ev.mant * (int64_t)slip, (ev.q + (30u - sh)) - 30u);
+    return (p30 >= (int64_t)ONE_Q30) ? 0 : (ONE_Q30 - (int32_t)p30);
+}
+
+/*
+ * Dugoff forces of one wheel, singularity-free (MODEL.md §4; the float code's g = f(L)/(1-|k|)):
+ * with S = |(C1 k, C2 tan a)|, the direction cosines ux = C1 k / S, uy = C2 tan a / S and
+ *   L < 1:  F = Fz u mu E (1 - L/2)        (= Fz C k g with g = mu E (2 - L) / (2 S))
+ *   L >= 1: F = Fz u S / (1 - |k|)         (= Fz C k g with g = 1 / (1 - |k|))
+ *   S = 0:  F = 0                          (the float code's g = 1 with C k = C tan a = 0)
+ * where L = mu (1 - |k|) E / (2 S), mu = 1 in paper mode. The magnitude w (the brackets) is
+ * <= mu < 4 (L < 1) or <= mu E / 2 (L >= 1, since then S <= mu (1 - |k|) E / 2): Q29. The
+ * forces are the only values that can exceed their range (counted in *sat).
+ * Inputs: k Q30 in [-1, 1], t = tan a Q26, C1, C2 Q24, eps Q32 >= 0, vwx Q23, mu Q29 >= 0,
+ * fz Q15 >= 0.
+ */
+static void dugoff_core(int32_t k, int32_t t, int32_t c1, int32_t c2, int32_t eps, int32_t vwx,
+                        int32_t mu, int32_t fz, int32_t *fx, int32_t *fy, uint32_t *sat)
+{
+    /* S: C1 k is Q54 (|.| <= 2^61), rounded to Q50; C2 tan a is Q50 (< 2^61). One common
+     * shift brings both to <= 2^30 (S in Q(50 - sh), sh <= 31); the norm is exact. */
+    const int64_t a50 = rfe_fix_shr64_round((int64_t)c1 * (int64_t)k, 4u);
+    const int64_t b50 = (int64_t)c2 * (int64_t)t;
+    const uint64_t ma = rfe_q31_mag64(a50);
+    const uint64_t mb = rfe_q31_mag64(b50);
+    const unsigned int sh = rfe_q31_norm_shift((ma > mb) ? ma : mb, 30u);
+    const unsigned int qs = 50u - sh;
+    const int32_t ca = rfe_q31_shr_to32(a50, sh);
+    const int32_t cb = rfe_q31_shr_to32(b50, sh);
+    uint32_t scratch = 0u;
+    const int32_t S = norm2(ca, cb, &scratch); /* <= 2^30.5: never saturates */
+    int32_t ux;
+    int32_t uy;
+    int32_t e30;
+    int32_t omk;
+    int32_t l30 = 0;
+    int64_t w;
+    bfp_t n1;
+    bfp_t n;
+
+    if (S == 0) {
+        *fx = 0; /* k = 0 and tan a = 0 (C1, C2 != 0) or no stiffness: no force */
+        *fy = 0;
+        return;
+    }
+    /* |comp| <= S: the quotients are <= 2^30 in Q30 (no saturation). */
+    ux = div_q(ca, S, 30, &scratch);
+    uy = div_q(cb, S, 30, &scratch);
+
+    e30 = dugoff_e(k, t, eps, vwx);
+    omk = ONE_Q30 - ((k < 0) ? -k : k); /* 1 - |k| in [0, 1], Q30 */
+    /* N = mu (1 - |k|) E: Q29 x Q30 = Q59 (< 2^61) to 30 bits (Q >= 28), times E (Q30) to 30
+     * bits again: Q(qn) in [28, 89]. */
+    n1 = bfp_make((int64_t)mu * (int64_t)omk, 59u);
+    n = bfp_make((int64_t)n1.mant * (int64_t)e30, n1.q + 30u);
+    if (n.mant > 0) {
+        /* L = N / (2 S) in Q30: shift = 30 - qn + qs - 1 in [-41, 51]. A quotient beyond the
+         * int32 range (L >= 2) saturates in the scratch counter: only L >= 1 is used then. */
+        l30 = div_q(n.mant, S, (29 - (int)n.q) + (int)qs, &scratch);
+    }
+    if (l30 >= ONE_Q30) {
+        /* L >= 1: w = S / (1 - |k|) in Q29, shift 59 - qs in [9, 40]; here N > 0, so
+         * 1 - |k| > 0, and w <= mu E / 2 (1 + 2^-28) < 2: no saturation. */
+        w = div_q(S, omk, 59 - (int)qs, &scratch);
+    } else {
+        /* L < 1: w = mu E (1 - L/2) = (mu E, Q59 < 2^61) (2^31 - L30, Q31 <= 2^31) / 2^61,
+         * <= mu (E <= 1): Q29. */
+        w = rfe_q31_mul64x32((int64_t)mu * (int64_t)e30, (int64_t)RFE_FIX_MAX + 1 - l30, 61u);
+    }
+    /* F = Fz w u: (Fz w, Q44, < 2^62) u (Q30) / 2^59 -> Q15, one rounding; |F| < 2^33. */
+    *fx = rfe_fix_sat32(rfe_q31_mul64x32((int64_t)fz * w, ux, 59u), sat);
+    *fy = rfe_fix_sat32(rfe_q31_mul64x32((int64_t)fz * w, uy, 59u), sat);
+}
+
+/* Common checks of the single-wheel functions (the float check_wheel, plus the parameters). */
+static rfe_status_t check_wheel(const rfe_tyre_params_q31_t *tp, int32_t fz, const int32_t *o1,
+                                const int32_t *o2, const uint32_t *sat)
+{
+    if ((tp == NULL) || (o1 == NULL) || (o2 == NULL) || (sat == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    if (!alpha_max_ok(tp) || (tp->eps < 0)) {
+        return RFE_ERR_PARAM;
+    }
+    if (fz < 0) {
+        return RFE_ERR_RANGE;
+    }
+    return RFE_OK;
+}
+
+/* Clip kappa to [-1, 1] and tan of alpha clamped to +-alpha_max (Q26). */
+static void slip_inputs(const rfe_tyre_params_q31_t *tp, int32_t kappa, int32_t alpha,
+                        int32_t *k, int32_t *t)
+{
+    *k = rfe_fix_clamp(kappa, -ONE_Q30, ONE_Q30);
+    /* |alpha| <= alpha_max < 1.5 rad: inside tan's domain. */
+    *t = tan_q(rfe_fix_clamp(alpha, -tp->alpha_max, tp->alpha_max));
+}
+
+rfe_status_t rfe_tyre_dugoff_norm_q31(const rfe_tyre_params_q31_t *tp, rfe_fix_t kappa,
+                                      rfe_fix_t alpha, rfe_fix_t fz, rfe_fix_t vwx, rfe_fix_t *f0x,
+                                      rfe_fix_t *f0y, uint32_t *sat)
+{
+    int32_t k;
+    int32_t t;
+    const rfe_status_t st = check_wheel(tp, fz, f0x, f0y, sat);
+
+    if (st != RFE_OK) {
+        return st;
+    }
+    slip_inputs(tp, kappa, alpha, &k, &t);
+    dugoff_core(k, t, tp->Cx_n, tp->Cy_n, tp->eps, vwx, RFE_FIX_ONE(RFE_FIX_Q_MU), fz, f0x, f0y,
+                sat);
+    return RFE_OK;
+}
+
+rfe_status_t rfe_tyre_dugoff_abs_q31(const rfe_tyre_params_q31_t *tp, rfe_fix_t kappa,
+                                     rfe_fix_t alpha, rfe_fix_t fz, rfe_fix_t vwx, rfe_fix_t mu,
+                                     rfe_fix_t *fx, rfe_fix_t *fy, uint32_t *sat)
+{
+    int32_t k;
+    int32_t t;
+    const rfe_status_t st = check_wheel(tp, fz, fx, fy, sat);
+
+    if (st != RFE_OK) {
+        return st;
+    }
+    slip_inputs(tp, kappa, alpha, &k, &t);
+    /* A cubature point may put mu below 0: evaluate it at mu = 0 (MODEL.md §4). */
+    dugoff_core(k, t, tp->cx, tp->cy, tp->eps, vwx, (mu > 0) ? mu : 0, fz, fx, fy, sat);
+    return RFE_OK;
+}
+
+rfe_status_t rfe_tyre_forces_norm_q31(const rfe_tyre_params_q31_t *tp,
+                                      const rfe_wheel_kin_q31_t *kin, rfe_fix_t f0x[RFE_WHEELS],
+                                      rfe_fix_t f0y[RFE_WHEELS], uint32_t *sat)
+{
+    rfe_fix_t fx[RFE_WHEELS];
+    rfe_fix_t fy[RFE_WHEELS];
+    uint32_t count = 0u;
+    size_t i;
+
+    if ((kin == NULL) || (f0x == NULL) || (f0y == NULL) || (sat == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    /* Compute all four first so an error leaves the outputs untouched. */
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        const rfe_status_t st = rfe_tyre_dugoff_norm_q31(tp, kin->kappa[i], kin->alpha[i],
+                                                         kin->fz[i], kin->vwx[i], &fx[i],
+                                                         &fy[i], &count);
+        if (st != RFE_OK) {
+            return st;
+        }
+    }
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        f0x[i] = fx[i];
+        f0y[i] = fy[i];
+    }
+    rfe_q31_sat_add(sat, count);
+    return RFE_OK;
+}
+
+rfe_status_t rfe_tyre_forces_abs_q31(const rfe_tyre_params_q31_t *tp,
+                                     const rfe_wheel_kin_q31_t *kin,
+                                     const rfe_fix_t mu[RFE_WHEELS], rfe_fix_t fx[RFE_WHEELS],
+                                     rfe_fix_t fy[RFE_WHEELS], uint32_t *sat)
+{
+    rfe_fix_t tx[RFE_WHEELS];
+    rfe_fix_t ty[RFE_WHEELS];
+    uint32_t count = 0u;
+    size_t i;
+
+    if ((kin == NULL) || (mu == NULL) || (fx == NULL) || (fy == NULL) || (sat == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        const rfe_status_t st = rfe_tyre_dugoff_abs_q31(tp, kin->kappa[i], kin->alpha[i],
+                                                        kin->fz[i], kin->vwx[i], mu[i], &tx[i],
+                                                        &ty[i], &count);
+        if (st != RFE_OK) {
+            return st;
+        }
+    }
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        fx[i] = tx[i];
+        fy[i] = ty[i];
+    }
+    rfe_q31_sat_add(sat, count);
+    return RFE_OK;
+}

@@ -1,0 +1,955 @@
+/**
+ * @file test_fxmath_q31.c
+ * @brief The fixed-point primitives (rfe/fixed.h), the host conversions (rfe/fixed_conv.h)
+ *        and the integer math (rfe/fxmath.h) against exact integer references and libm.
+ *
+ * Tolerances: each is the worst-case error the algorithm guarantees (fxmath.h), plus the
+ * error of the double reference where it matters:
+ *  - exact integer results (saturating helpers, shifts, products, isqrt64, sqrt, norm, div)
+ *    are compared bit for bit with integer references (exact rounding: error <= 0.5 LSB);
+ *  - atan2, Q29: 0.5 LSB (1/2^30 rad) for the final rounding + atan(2^-39) = 1.82e-12 rad
+ *    CORDIC residual + < 1e-15 rad int64 truncation in 40 steps at |(x, y)| >= 2^59 +
+ *    ~4e-16 rad for libm atan2: TOL_ATAN2 = 9.4e-10 rad;
+ *  - sin, cos, Q30: 0.5 LSB (1/2^31) + 1.82e-12 (the residual angle moves the result by at
+ *    most that) + < 1e-15: TOL_SINCOS = 4.7e-10;
+ *  - tan, Q26: 0.5 LSB (1/2^27) + 1.82e-12 * (1 + tan^2) (<= 3.7e-10 at |angle| = 1.5,
+ *    tan^2 = 199) + < 1e-14: TOL_TAN = 7.9e-9.
+ * The measured worst cases are printed (docs/FIXED_POINT.md quotes them).
+ */
+#include "test_common.h"
+
+#include <stdint.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "rfe/fixed.h"
+#include "rfe/fixed_conv.h"
+#include "rfe/fxmath.h"
+#include "test_rng.h"
+
+#define TOL_ATAN2 9.4e-10
+#define TOL_SINCOS 4.7e-10
+#define TOL_TAN 7.9e-9
+
+#define TEST_PI 3.14159265358979323846
+
+#define LSB29 (1.0 / 536870912.0)
+#define LSB30 (1.0 / 1073741824.0)
+#define LSB26 (1.0 / 67108864.0)
+
+/* Sentinel an output must keep after an error. */
+#define UNTOUCHED32 ((int32_t)0x5A5A5A5A)
+#define UNTOUCHED_SAT 77u
+
+/* ---- deterministic integers from the shared fixed-seed generator -------------------------- */
+
+/* Uniform-ish over all of int32 (53 random bits scaled to [-2^31, 2^31)). */
+static int32_t rand_i32(void) { return (int32_t)floor(ldexp(rng_uniform(), 31)); }
+
+static uint64_t rand_u64(void)
+{
+    const uint64_t hi = (uint64_t)(uint32_t)rand_i32();
+    const uint64_t lo = (uint64_t)(uint32_t)rand_i32();
+    return (hi << 32) | lo;
+}
+
+/* Random integer in [0, k). */
+static unsigned rand_below(unsigned k) { return (unsigned)(rand_u64() % k); }
+
+/* Random int32 with a random bit length (log-uniform magnitude) and sign: exercises small
+ * and large values alike. */
+static int32_t rand_i32_log(void)
+{
+    const unsigned bits = rand_below(33u); /* 0 .. 32 */
+    int64_t m = (bits == 0u) ? 0 : (int64_t)(rand_u64() >> (64u - bits));
+    if (rand_u64() & 1u) {
+        m = -m;
+    }
+    if (m > INT32_MAX) {
+        m = INT32_MAX;
+    }
+    if (m < INT32_MIN) {
+        m = INT32_MIN;
+    }
+    return (int32_t)m;
+}
+
+/* ---- independent integer references --------------------------------------------------- */
+
+/* floor(a / 2^s) without shifting a negative value. */
+static int64_t ref_floor_shift(int64_t a, unsigned s)
+{
+    if (s >= 64u) {
+        return (a < 0) ? -1 : 0;
+    }
+    if (s == 63u) {
+        return (a < 0) ? -1 : 0;
+    }
+    if (a >= 0) {
+        return a / ((int64_t)1 << s);
+    }
+    /* floor(a / 2^s) = -ceil(-a / 2^s) = -((-a - 1) / 2^s) - 1, with -a - 1 = -(a + 1). */
+    return -((-(a + 1)) / ((int64_t)1 << s)) - 1;
+}
+
+/* floor(a / 2^s + 1/2) from the floor and the remainder a - floor * 2^s. */
+static int64_t ref_round_shift(int64_t a, unsigned s)
+{
+    int64_t f;
+    int64_t rem;
+    if (s == 0u) {
+        return a;
+    }
+    if (s >= 64u) {
+        return 0;
+    }
+    f = ref_floor_shift(a, s);
+    if (s == 63u) {
+        /* a in [-2^63, 2^63): a / 2^63 in [-1, 1); rounds to -1 below -1/2, to 1 at or
+         * above 1/2, else 0. */
+        if (a < -((int64_t)1 << 62)) {
+            return -1;
+        }
+        return (a >= ((int64_t)1 << 62)) ? 1 : 0;
+    }
+    rem = a - f * ((int64_t)1 << s); /* in [0, 2^s) */
+    return f + ((rem >= ((int64_t)1 << (s - 1u))) ? 1 : 0);
+}
+
+/* Symmetric int32 saturation, with the expected count. */
+static int32_t ref_sat(int64_t v, uint32_t *count)
+{
+    if (v > INT32_MAX) {
+        ++*count;
+        return INT32_MAX;
+    }
+    if (v < -INT32_MAX) {
+        ++*count;
+        return -INT32_MAX;
+    }
+    return (int32_t)v;
+}
+
+/* The int64 with the two's-complement pattern u (no implementation-defined conversion). */
+static int64_t u2s(uint64_t u)
+{
+    return (u <= (uint64_t)INT64_MAX) ? (int64_t)u : -(int64_t)(UINT64_MAX - u) - 1;
+}
+
+static uint64_t umag(int32_t v) { return (v < 0) ? (uint64_t)(-(int64_t)v) : (uint64_t)v; }
+
+/* ---- saturating helpers and shifts ---------------------------------------------------- */
+
+static void test_sat32_and_counter(void **state)
+{
+    uint32_t sat = 0u;
+    (void)state;
+    assert_int_equal(rfe_fix_sat32(0, &sat), 0);
+    assert_int_equal(rfe_fix_sat32(INT32_MAX, &sat), INT32_MAX);
+    assert_int_equal(rfe_fix_sat32(-INT32_MAX, &sat), -INT32_MAX);
+    assert_int_equal(sat, 0u);
+    assert_int_equal(rfe_fix_sat32((int64_t)INT32_MAX + 1, &sat), INT32_MAX);
+    assert_int_equal(rfe_fix_sat32(INT32_MIN, &sat), -INT32_MAX); /* symmetric range */
+    assert_int_equal(rfe_fix_sat32(INT64_MAX, &sat), INT32_MAX);
+    assert_int_equal(rfe_fix_sat32(INT64_MIN, &sat), -INT32_MAX);
+    assert_int_equal(sat, 4u);
+    /* The counter itself saturates. */
+    sat = UINT32_MAX - 1u;
+    (void)rfe_fix_sat32(INT64_MAX, &sat);
+    assert_true(sat == UINT32_MAX);
+    (void)rfe_fix_sat32(INT64_MAX, &sat);
+    assert_true(sat == UINT32_MAX);
+    rfe_fix_count_sat(&sat);
+    assert_true(sat == UINT32_MAX);
+    assert_int_equal(RFE_FIX_ONE(30), 1073741824);
+    assert_int_equal(RFE_FIX_ONE(0), 1);
+}
+
+static void test_add_sub_neg_abs(void **state)
+{
+    static const int32_t edge[] = {0, 1, -1, 2, -2, INT32_MAX, INT32_MIN, INT32_MAX - 1,
+                                   INT32_MIN + 1, 1 << 30, -(1 << 30)};
+    const size_t ne = sizeof(edge) / sizeof(edge[0]);
+    uint32_t sat = 0u;
+    uint32_t want = 0u;
+    size_t i;
+    size_t j;
+    long k;
+    (void)state;
+    rng_seed(101u);
+    for (k = 0; k < 200000; ++k) {
+        const int32_t a = (k < 121) ? edge[(size_t)k % ne] : rand_i32();
+        const int32_t b =
+            (k < 121) ? edge[(size_t)k / ne] : ((k & 1) ? rand_i32() : rand_i32_log());
+        assert_int_equal(rfe_fix_add(a, b, &sat), ref_sat((int64_t)a + b, &want));
+        assert_int_equal(rfe_fix_sub(a, b, &sat), ref_sat((int64_t)a - b, &want));
+        assert_int_equal(rfe_fix_neg(a, &sat), ref_sat(-(int64_t)a, &want));
+        assert_int_equal(rfe_fix_abs(a, &sat), ref_sat((a < 0) ? -(int64_t)a : a, &want));
+        assert_int_equal(sat, want);
+    }
+    assert_true(want > 0u);
+    for (i = 0; i < ne; ++i) {
+        for (j = 0; j < ne; ++j) {
+            const int32_t a = edge[i];
+            const int32_t b = edge[j];
+            assert_int_equal(rfe_fix_min(a, b), (a < b) ? a : b);
+            assert_int_equal(rfe_fix_max(a, b), (a > b) ? a : b);
+            if (a <= b) {
+                assert_int_equal(rfe_fix_clamp(0, a, b), (0 < a) ? a : ((0 > b) ? b : 0));
+            }
+        }
+    }
+    assert_int_equal(rfe_fix_clamp(5, -3, 3), 3);
+    assert_int_equal(rfe_fix_clamp(-5, -3, 3), -3);
+    assert_int_equal(rfe_fix_clamp(2, -3, 3), 2);
+}
+
+static void test_shifts(void **state)
+{
+    static const int64_t edge[] = {0, 1, -1, 2, -2, 3, -3, 5, -5, 6, -6, INT64_MAX, INT64_MIN,
+                                   INT64_MAX - 1, INT64_MIN + 1, INT32_MIN, INT32_MAX};
+    const size_t ne = sizeof(edge) / sizeof(edge[0]);
+    size_t i;
+    unsigned s;
+    long k;
+    (void)state;
+    /* Floor semantics on negative values (the implementation-defined >> is never used). */
+    assert_true(rfe_fix_shr64_floor(-1, 1u) == -1);
+    assert_true(rfe_fix_shr64_floor(-2, 1u) == -1);
+    assert_true(rfe_fix_shr64_floor(-3, 1u) == -2);
+    assert_true(rfe_fix_shr64_floor(-5, 2u) == -2);
+    assert_true(rfe_fix_shr64_floor(5, 2u) == 1);
+    assert_true(rfe_fix_shr64_floor(INT64_MIN, 63u) == -1);
+    assert_true(rfe_fix_shr64_floor(INT64_MIN, 64u) == -1);
+    assert_true(rfe_fix_shr64_floor(INT64_MAX, 63u) == 0);
+    assert_true(rfe_fix_shr64_floor(INT64_MAX, 200u) == 0);
+    assert_true(rfe_fix_shr64_floor(INT64_MIN, 1u) == INT64_MIN / 2);
+    /* Round half up: -0.5 -> 0, -1.5 -> -1, -0.75 -> -1, 0.5 -> 1, 1.5 -> 2. */
+    assert_true(rfe_fix_shr64_round(-1, 1u) == 0);
+    assert_true(rfe_fix_shr64_round(-3, 1u) == -1);
+    assert_true(rfe_fix_shr64_round(-3, 2u) == -1);
+    assert_true(rfe_fix_shr64_round(1, 1u) == 1);
+    assert_true(rfe_fix_shr64_round(3, 1u) == 2);
+    assert_true(rfe_fix_shr64_round(INT64_MAX, 1u) == ((int64_t)1 << 62));
+    assert_true(rfe_fix_shr64_round(INT64_MIN, 64u) == 0);
+    assert_true(rfe_fix_shr64_round(INT64_MIN, 63u) == -1);
+    assert_int_equal(rfe_fix_shr_round(-7, 2u), -2);
+    assert_int_equal(rfe_fix_shr_round(INT32_MIN, 31u), -1);
+    assert_int_equal(rfe_fix_shr_round(INT32_MIN, 32u), 0); /* -1/2 rounds up to 0 */
+    for (i = 0; i < ne; ++i) {
+        for (s = 0u; s <= 70u; ++s) {
+            assert_true(rfe_fix_shr64_floor(edge[i], s) == ref_floor_shift(edge[i], s));
+            assert_true(rfe_fix_shr64_round(edge[i], s) == ref_round_shift(edge[i], s));
+        }
+    }
+    rng_seed(202u);
+    for (k = 0; k < 300000; ++k) {
+        const int64_t a = u2s(rand_u64());
+        const int64_t b = (int64_t)(rand_u64() >> (1u + rand_below(63u))) * ((k & 1) ? -1 : 1);
+        s = rand_below(66u);
+        assert_true(rfe_fix_shr64_floor(a, s) == ref_floor_shift(a, s));
+        assert_true(rfe_fix_shr64_round(a, s) == ref_round_shift(a, s));
+        assert_true(rfe_fix_shr64_floor(b, s) == ref_floor_shift(b, s));
+        assert_true(rfe_fix_shr64_round(b, s) == ref_round_shift(b, s));
+    }
+}
+
+static void test_shl_rescale_mul_narrow(void **state)
+{
+    uint32_t sat = 0u;
+    uint32_t want = 0u;
+    long k;
+    (void)state;
+    assert_int_equal(rfe_fix_shl(0, 100u, &sat), 0);
+    assert_int_equal(rfe_fix_shl(1, 30u, &sat), 1 << 30);
+    assert_int_equal(rfe_fix_shl(-1, 31u, &sat), -INT32_MAX); /* -2^31 saturates (symmetric) */
+    assert_int_equal(rfe_fix_shl(1, 31u, &sat), INT32_MAX);
+    assert_int_equal(rfe_fix_shl(-1, 32u, &sat), -INT32_MAX);
+    assert_int_equal(rfe_fix_shl(1, 200u, &sat), INT32_MAX);
+    assert_int_equal(sat, 4u);
+    sat = 0u;
+    assert_int_equal(rfe_fix_rescale(3, 4u, 6u, &sat), 12);  /* Q4 -> Q6 */
+    assert_int_equal(rfe_fix_rescale(-3, 4u, 3u, &sat), -1); /* -1.5 rounds up to -1 */
+    assert_int_equal(rfe_fix_rescale(-5, 4u, 3u, &sat), -2); /* -2.5 -> -2 */
+    assert_int_equal(rfe_fix_rescale(1 << 20, 0u, 12u, &sat), INT32_MAX);
+    assert_int_equal(sat, 1u);
+    assert_int_equal(rfe_fix_narrow((int64_t)3 << 40, 40u, &sat), 3);
+    assert_int_equal(rfe_fix_narrow(INT64_MAX, 1u, &sat), INT32_MAX);
+    assert_int_equal(sat, 2u);
+    /* mul: exact product, rounded half up, saturated: against the integer reference. */
+    sat = 0u;
+    assert_int_equal(rfe_fix_mul(INT32_MIN, INT32_MIN, 31u, &sat), INT32_MAX); /* 2^31 */
+    assert_int_equal(rfe_fix_mul(INT32_MIN, INT32_MIN, 32u, &sat), 1 << 30);
+    assert_int_equal(rfe_fix_mul(INT32_MIN, INT32_MAX, 31u, &sat), -INT32_MAX);
+    assert_int_equal(rfe_fix_mul(-3, 1, 1u, &sat), -1);
+    assert_int_equal(rfe_fix_mul(1 << 30, 1 << 30, 30u, &sat), 1 << 30); /* 1.0 * 1.0 in Q30 */
+    assert_int_equal(sat, 1u);
+    rng_seed(303u);
+    sat = 0u;
+    for (k = 0; k < 300000; ++k) {
+        const int32_t a = (k & 1) ? rand_i32() : rand_i32_log();
+        const int32_t b = (k & 2) ? rand_i32() : rand_i32_log();
+        const unsigned s = rand_below(64u);
+        const unsigned t = rand_below(40u);
+        const int64_t p = (int64_t)a * b;
+        assert_int_equal(rfe_fix_mul(a, b, s, &sat), ref_sat(ref_round_shift(p, s), &want));
+        assert_int_equal(rfe_fix_shl(a, t, &sat),
+                         ref_sat((t > 31u) ? ((a == 0) ? 0 : ((a < 0) ? INT64_MIN : INT64_MAX))
+                                           : a * ((int64_t)1 << t), &want));
+        assert_int_equal(sat, want);
+    }
+}
+
+static void test_add64(void **state)
+{
+    uint32_t sat = 0u;
+    (void)state;
+    assert_true(rfe_fix_add64(1, 2, &sat) == 3);
+    assert_true(rfe_fix_add64(INT64_MAX - 1, 1, &sat) == INT64_MAX);
+    assert_true(rfe_fix_add64(-INT64_MAX + 1, -1, &sat) == -INT64_MAX);
+    assert_int_equal(sat, 0u);
+    assert_true(rfe_fix_add64(INT64_MAX, 1, &sat) == INT64_MAX);
+    assert_true(rfe_fix_add64(-INT64_MAX, -1, &sat) == -INT64_MAX);
+    assert_true(rfe_fix_add64(INT64_MIN, 0, &sat) == -INT64_MAX);
+    assert_true(rfe_fix_add64(INT64_MIN, INT64_MIN, &sat) == -INT64_MAX);
+    assert_true(rfe_fix_add64(INT64_MAX, INT64_MAX, &sat) == INT64_MAX);
+    assert_int_equal(sat, 5u);
+    assert_true(rfe_fix_add64(INT64_MAX, INT64_MIN, &sat) == -1);
+    assert_int_equal(sat, 5u);
+}
+
+/* ---- host conversions ------------------------------------------------------------------- */
+
+static void test_conv(void **state)
+{
+    uint32_t sat = 0u;
+    (void)state;
+    assert_int_equal(rfe_fix_from_double(0.0, 30u, &sat), 0);
+    assert_int_equal(rfe_fix_from_double(1.0, 30u, &sat), 1 << 30);
+    assert_int_equal(rfe_fix_from_double(0.5, 0u, &sat), 1);   /* ties up */
+    assert_int_equal(rfe_fix_from_double(-0.5, 0u, &sat), 0);
+    assert_int_equal(rfe_fix_from_double(-1.5, 0u, &sat), -1);
+    assert_int_equal(rfe_fix_from_double(0.49999999999999994, 0u, &sat), 0);
+    assert_int_equal(rfe_fix_from_double(2147483646.5, 0u, &sat), INT32_MAX);
+    assert_int_equal(rfe_fix_from_double(-2147483647.5, 0u, &sat), -INT32_MAX);
+    assert_int_equal(sat, 0u);
+    assert_int_equal(rfe_fix_from_double(2147483647.5, 0u, &sat), INT32_MAX);
+    assert_int_equal(rfe_fix_from_double(-2147483647.75, 0u, &sat), -INT32_MAX);
+    assert_int_equal(rfe_fix_from_double(4.0, 30u, &sat), INT32_MAX);
+    assert_int_equal(rfe_fix_from_double(-HUGE_VAL, 3u, &sat), -INT32_MAX);
+    assert_int_equal(rfe_fix_from_double(NAN, 3u, &sat), 0);
+    assert_int_equal(sat, 5u);
+    assert_true(rfe_fix_to_double(RFE_FIX_PI_Q29, 29u) == 1686629713.0 / 536870912.0);
+    assert_true(rfe_fix_to_double(INT32_MIN, 31u) == -1.0);
+    assert_true(rfe_fix64_to_double((int64_t)1 << 40, 41u) == 0.5);
+    /* The Q29 angle constants are pi, pi/2, pi/4 rounded to nearest. */
+    assert_int_equal(RFE_FIX_PI_Q29, rfe_fix_from_double(TEST_PI, 29u, &sat));
+    assert_int_equal(RFE_FIX_HALF_PI_Q29, rfe_fix_from_double(TEST_PI / 2.0, 29u, &sat));
+    assert_int_equal(RFE_FIX_QUARTER_PI_Q29, rfe_fix_from_double(TEST_PI / 4.0, 29u, &sat));
+    assert_int_equal(RFE_FIX_TAN_LIMIT_Q29, rfe_fix_from_double(1.5, 29u, &sat));
+}
+
+/* ---- square roots and norm -------------------------------------------------------------- */
+
+/* floor(sqrt(x)) == r exactly: r^2 <= x < (r + 1)^2, overflow-free. */
+static void check_isqrt(uint64_t x)
+{
+    uint32_t r = 0u;
+    uint64_t rr;
+    assert_int_equal(rfe_fix_isqrt64(x, &r), RFE_OK);
+    rr = (uint64_t)r * r;
+    assert_true(rr <= x);
+    if (r != UINT32_MAX) {
+        assert_true(x - rr < 2u * (uint64_t)r + 1u); /* x < r^2 + 2r + 1 */
+    }
+}
+
+static void test_isqrt64(void **state)
+{
+    uint32_t r = 123u;
+    uint64_t k;
+    long i;
+    (void)state;
+    assert_int_equal(rfe_fix_isqrt64(5u, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_fix_isqrt64(0u, &r), RFE_OK);
+    assert_int_equal(r, 0u);
+    assert_int_equal(rfe_fix_isqrt64(UINT64_MAX, &r), RFE_OK);
+    assert_true(r == UINT32_MAX);
+    for (k = 0u; k < 5000u; ++k) {
+        check_isqrt(k);
+    }
+    for (k = 1u; k < 5000u; ++k) { /* around perfect squares, small and near 2^64 */
+        const uint64_t big = (uint64_t)UINT32_MAX - k;
+        check_isqrt(k * k - 1u);
+        check_isqrt(k * k);
+        check_isqrt(k * k + 1u);
+        check_isqrt(big * big - 1u);
+        check_isqrt(big * big);
+        check_isqrt(big * big + 1u);
+        check_isqrt(big * big + 2u * big); /* (big + 1)^2 - 1 */
+    }
+    rng_seed(404u);
+    for (i = 0; i < 300000; ++i) {
+        check_isqrt(rand_u64() >> rand_below(64u));
+    }
+    printf("[fxmath] isqrt64: exact (floor) over %d cases\n", 300000 + 5000 + 7 * 4999);
+}
+
+/* round(sqrt(x 2^e)) == r exactly (ties up), and |r - sqrt| in LSB for the record. */
+static double check_sqrt(int32_t x, unsigned qi, unsigned qo)
+{
+    int32_t r = UNTOUCHED32;
+    uint32_t sat = 0u;
+    const int e = 2 * (int)qo - (int)qi;
+    const double exact = sqrt(ldexp((double)x, e));
+    assert_int_equal(rfe_fix_sqrt(x, qi, qo, &r, &sat), RFE_OK);
+    if (e >= 0 && (double)x * ldexp(1.0, e) > 4611686016279904256.0) { /* > 2^62 - 2^31 */
+        assert_int_equal(r, INT32_MAX);
+        assert_int_equal(sat, 1u);
+        return 0.0;
+    }
+    assert_int_equal(sat, 0u);
+    assert_true(r >= 0);
+    if (e >= 0) {
+        /* N = x 2^e < 2^62 exact; round(sqrt N) = r  <=>  r^2 - r < N <= r^2 + r. */
+        const uint64_t n = (uint64_t)x << e;
+        const uint64_t r2 = (uint64_t)r * (uint64_t)r;
+        assert_true(n <= r2 + (uint64_t)r);
+        assert_true((r == 0) || (n > r2 - (uint64_t)r));
+    } else {
+        /* (2r - 1)^2 2^k <= 4x < (2r + 1)^2 2^k, all exact in double (<= 2^34 * 2^k). */
+        const double lo = (2.0 * r - 1.0) * (2.0 * r - 1.0);
+        const double hi = (2.0 * r + 1.0) * (2.0 * r + 1.0);
+        const double x4 = ldexp(4.0 * x, e);
+        assert_true((r == 0) || (lo <= x4));
+        assert_true(x4 < hi);
+    }
+    return fabs((double)r - exact);
+}
+
+static void test_sqrt(void **state)
+{
+    static const int32_t edge[] = {0, 1, 2, 3, 4, 9, 1 << 30, INT32_MAX, INT32_MAX - 1, 46340,
+                                   46341, 0x3FFFFFFF};
+    int32_t r = UNTOUCHED32;
+    uint32_t sat = UNTOUCHED_SAT;
+    double worst = 0.0;
+    unsigned qi;
+    unsigned qo;
+    size_t i;
+    long count = 0;
+    (void)state;
+    /* Errors: outputs and counter untouched. */
+    assert_int_equal(rfe_fix_sqrt(4, 0u, 0u, NULL, &sat), RFE_ERR_NULL);
+    assert_int_equal(rfe_fix_sqrt(4, 0u, 0u, &r, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_fix_sqrt(-1, 0u, 0u, &r, &sat), RFE_ERR_RANGE);
+    assert_int_equal(rfe_fix_sqrt(INT32_MIN, 0u, 0u, &r, &sat), RFE_ERR_RANGE);
+    assert_int_equal(rfe_fix_sqrt(4, 32u, 0u, &r, &sat), RFE_ERR_RANGE);
+    assert_int_equal(rfe_fix_sqrt(4, 0u, 32u, &r, &sat), RFE_ERR_RANGE);
+    assert_int_equal(r, UNTOUCHED32);
+    assert_int_equal(sat, UNTOUCHED_SAT);
+    /* Known values: sqrt(2) in Q30 from 2 in Q30; sqrt(0.25) Q31 -> 0.5 Q31; ties. */
+    assert_int_equal(rfe_fix_sqrt(2 << 29, 29u, 30u, &r, &sat), RFE_OK);
+    assert_int_equal(r, 1518500250); /* round(sqrt(2) 2^30) = 1518500249.99 -> ...250 */
+    assert_int_equal(rfe_fix_sqrt(1 << 29, 31u, 31u, &r, &sat), RFE_OK);
+    assert_int_equal(r, 1 << 30);
+    assert_int_equal(rfe_fix_sqrt(9, 2u, 0u, &r, &sat), RFE_OK); /* sqrt(9/4) = 1.5 -> 2 */
+    assert_int_equal(r, 2);
+    assert_int_equal(rfe_fix_sqrt(INT32_MAX, 31u, 31u, &r, &sat), RFE_OK); /* never saturates */
+    assert_int_equal(r, INT32_MAX);
+    assert_int_equal(rfe_fix_sqrt(1, 0u, 31u, &r, &sat), RFE_OK); /* 1.0 -> Q31 saturates */
+    assert_int_equal(r, INT32_MAX);
+    assert_int_equal(sat, UNTOUCHED_SAT + 1u);
+    for (qi = 0u; qi <= 31u; ++qi) {
+        for (qo = 0u; qo <= 31u; ++qo) {
+            for (i = 0; i < sizeof(edge) / sizeof(edge[0]); ++i) {
+                const double d = check_sqrt(edge[i], qi, qo);
+                worst = (d > worst) ? d : worst;
+                ++count;
+            }
+        }
+    }
+    rng_seed(505u);
+    for (i = 0; i < 200000; ++i) {
+        int32_t x = rand_i32_log();
+        const double d =
+            check_sqrt((x < 0) ? ((x == INT32_MIN) ? INT32_MAX : -x) : x, rand_below(32u),
+                       rand_below(32u));
+        worst = (d > worst) ? d : worst;
+        ++count;
+    }
+    printf("[fxmath] sqrt: exactly rounded, max |err| = %.6f LSB over %ld cases\n", worst, count);
+    assert_true(worst <= 0.5 + 1e-6);
+}
+
+/* 128-bit sum of squares in (hi, lo) for the reference. */
+static void add128(uint64_t *hi, uint64_t *lo, uint64_t v)
+{
+    *lo += v;
+    if (*lo < v) {
+        ++*hi;
+    }
+}
+
+static double check_norm(const int32_t *v, size_t n)
+{
+    uint64_t hi = 0u;
+    uint64_t lo = 0u;
+    double ssd = 0.0;
+    int32_t r = UNTOUCHED32;
+    uint32_t sat = 0u;
+    size_t i;
+    for (i = 0; i < n; ++i) {
+        const uint64_t m = umag(v[i]);
+        add128(&hi, &lo, m * m);
+        ssd += (double)v[i] * (double)v[i];
+    }
+    assert_int_equal(rfe_fix_norm(v, n, &r, &sat), RFE_OK);
+    if ((hi != 0u) || (lo > 4611686016279904256u)) { /* S > 2^62 - 2^31: rounds above MAX */
+        assert_int_equal(r, INT32_MAX);
+        assert_int_equal(sat, 1u);
+        return 0.0;
+    }
+    assert_int_equal(sat, 0u);
+    {
+        const uint64_t r2 = (uint64_t)r * (uint64_t)r;
+        assert_true(lo <= r2 + (uint64_t)r);
+        assert_true((r == 0) || (lo > r2 - (uint64_t)r));
+    }
+    return fabs((double)r - sqrt(ssd));
+}
+
+static void test_norm(void **state)
+{
+    static int32_t big[100000];
+    int32_t v[16];
+    int32_t r = UNTOUCHED32;
+    uint32_t sat = UNTOUCHED_SAT;
+    double worst = 0.0;
+    size_t i;
+    size_t j;
+    long count = 0;
+    (void)state;
+    v[0] = 3;
+    v[1] = -4;
+    assert_int_equal(rfe_fix_norm(NULL, 2u, &r, &sat), RFE_ERR_NULL);
+    assert_int_equal(rfe_fix_norm(v, 2u, NULL, &sat), RFE_ERR_NULL);
+    assert_int_equal(rfe_fix_norm(v, 2u, &r, NULL), RFE_ERR_NULL);
+    assert_int_equal(r, UNTOUCHED32);
+    assert_int_equal(sat, UNTOUCHED_SAT);
+    assert_int_equal(rfe_fix_norm(v, 2u, &r, &sat), RFE_OK);
+    assert_int_equal(r, 5);
+    assert_int_equal(rfe_fix_norm(v, 0u, &r, &sat), RFE_OK);
+    assert_int_equal(r, 0);
+    v[0] = INT32_MIN; /* |v| = 2^31 > INT32_MAX */
+    assert_int_equal(rfe_fix_norm(v, 1u, &r, &sat), RFE_OK);
+    assert_int_equal(r, INT32_MAX);
+    assert_int_equal(sat, UNTOUCHED_SAT + 1u);
+    v[0] = INT32_MAX; /* (2^31 - 1)^2 + 1 stays below the threshold */
+    v[1] = 1;
+    assert_int_equal(rfe_fix_norm(v, 2u, &r, &sat), RFE_OK);
+    assert_int_equal(r, INT32_MAX);
+    assert_int_equal(sat, UNTOUCHED_SAT + 1u);
+    for (i = 0; i < 16u; ++i) { /* many large terms: stops at the second, no wrap-around */
+        v[i] = (i & 1u) ? INT32_MIN : INT32_MAX;
+    }
+    assert_int_equal(rfe_fix_norm(v, 16u, &r, &sat), RFE_OK);
+    assert_int_equal(r, INT32_MAX);
+    assert_int_equal(sat, UNTOUCHED_SAT + 2u);
+    v[0] = 1 << 30; /* S = 3 * 2^60 */
+    v[1] = 1 << 30;
+    v[2] = -(1 << 30);
+    v[3] = 0;
+    worst = check_norm(v, 4u);
+    /* A long vector of small values (QR column of a large filter). */
+    for (i = 0; i < 100000u; ++i) {
+        big[i] = (int32_t)((i % 7u) + 1u) * ((i & 1u) ? -1 : 1);
+    }
+    {
+        const double d = check_norm(big, 100000u);
+        worst = (d > worst) ? d : worst;
+    }
+    rng_seed(606u);
+    for (i = 0; i < 200000u; ++i) {
+        const size_t n = rand_below(13u);
+        const unsigned mode = rand_below(4u);
+        for (j = 0; j < n; ++j) {
+            v[j] = (mode == 0u) ? rand_i32() : (mode == 1u) ? (rand_i32() >> 3) : rand_i32_log();
+        }
+        {
+            const double d = check_norm(v, n);
+            worst = (d > worst) ? d : worst;
+        }
+        ++count;
+    }
+    printf("[fxmath] norm: exactly rounded, max |err| = %.6f LSB over %ld vectors\n", worst,
+           count);
+    assert_true(worst <= 0.5 + 1e-6);
+}
+
+/* Threshold case separately: S = (2^31 - 1) * 2^31 = 2^62 - 2^31 is the largest unsaturated. */
+static void test_norm_threshold(void **state)
+{
+    int32_t v[2];
+    int32_t r = 0;
+    uint32_t sat = 0u;
+    (void)state;
+    /* rfe_fix_sqrt at the same threshold: x = 2^31 - 1 from Q31 to Q31 is N = 2^62 - 2^31. */
+    assert_int_equal(rfe_fix_sqrt(INT32_MAX, 31u, 31u, &r, &sat), RFE_OK);
+    assert_int_equal(r, INT32_MAX);
+    assert_int_equal(sat, 0u);
+    /* The norm: (2^31 - 1)^2 = 2^62 - 2^32 + 1 leaves room for w^2 <= 2^31 - 1, w <= 46340. */
+    v[0] = INT32_MAX;
+    v[1] = 46340; /* S = 2^62 - 2^31 - 88047: rounds to 2^31 - 1 */
+    assert_int_equal(rfe_fix_norm(v, 2u, &r, &sat), RFE_OK);
+    assert_int_equal(r, INT32_MAX);
+    assert_int_equal(sat, 0u);
+    v[1] = 46341; /* S = 2^62 - 2^31 + 4634 > (2^31 - 1/2)^2: rounds to 2^31, saturates */
+    assert_int_equal(rfe_fix_norm(v, 2u, &r, &sat), RFE_OK);
+    assert_int_equal(r, INT32_MAX);
+    assert_int_equal(sat, 1u);
+}
+
+/* ---- division --------------------------------------------------------------------------- */
+
+/* Checks q = round(a 2^s / b) (ties away from zero, symmetric saturation). Exact integer
+ * reference for |s| <= 31, a double bound (0.5 LSB + the reference's 2^-20) elsewhere.
+ * Returns |q - a 2^s / b| in LSB when unsaturated. */
+static double check_div(int32_t a, int32_t b, int s)
+{
+    int32_t q = UNTOUCHED32;
+    uint32_t sat = 0u;
+    const int neg = (a < 0) != (b < 0);
+    const double exact = ldexp((double)a / (double)b, s);
+    assert_int_equal(rfe_fix_div(a, b, s, &q, &sat), RFE_OK);
+    if ((s >= -31) && (s <= 31)) {
+        uint64_t n = umag(a);
+        uint64_t d = umag(b);
+        uint64_t m;
+        if (s >= 0) {
+            n <<= s;
+        } else {
+            d <<= -s;
+        }
+        m = n / d + ((2u * (n % d) >= d) ? 1u : 0u);
+        if (m > (uint64_t)INT32_MAX) {
+            assert_int_equal(q, neg ? -INT32_MAX : INT32_MAX);
+            assert_int_equal(sat, 1u);
+            return 0.0;
+        }
+        assert_int_equal(sat, 0u);
+        assert_true(q == (neg ? -(int64_t)m : (int64_t)m));
+        return fabs((double)q - exact);
+    }
+    if (fabs(exact) >= 2147483647.5 + 1e-3) {
+        assert_int_equal(q, neg ? -INT32_MAX : INT32_MAX);
+        assert_int_equal(sat, 1u);
+        return 0.0;
+    }
+    if (fabs(exact) < 2147483647.5 - 1e-3) {
+        assert_int_equal(sat, 0u);
+        assert_true(fabs((double)q - exact) <= 0.5 + ldexp(1.0, -20));
+        return fabs((double)q - exact);
+    }
+    return 0.0; /* within 1e-3 of the saturation boundary: no double verdict */
+}
+
+static void test_div(void **state)
+{
+    static const int32_t edge[] = {0, 1, -1, 2, -2, 3, -3, 7, INT32_MAX, INT32_MIN,
+                                   INT32_MAX - 1, INT32_MIN + 1, 1 << 30, 46341};
+    const size_t ne = sizeof(edge) / sizeof(edge[0]);
+    int32_t q = UNTOUCHED32;
+    uint32_t sat = UNTOUCHED_SAT;
+    double worst = 0.0;
+    size_t i;
+    size_t j;
+    int s;
+    long k;
+    long count = 0;
+    (void)state;
+    assert_int_equal(rfe_fix_div(1, 2, 0, NULL, &sat), RFE_ERR_NULL);
+    assert_int_equal(rfe_fix_div(1, 2, 0, &q, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_fix_div(1, 0, 0, &q, &sat), RFE_ERR_RANGE);
+    assert_int_equal(rfe_fix_div(0, 0, 5, &q, &sat), RFE_ERR_RANGE);
+    assert_int_equal(rfe_fix_div(1, 2, 63, &q, &sat), RFE_ERR_RANGE);
+    assert_int_equal(rfe_fix_div(1, 2, -63, &q, &sat), RFE_ERR_RANGE);
+    assert_int_equal(q, UNTOUCHED32);
+    assert_int_equal(sat, UNTOUCHED_SAT);
+    /* Ties away from zero; saturation of -2^31; reciprocal; format change. */
+    sat = 0u;
+    assert_int_equal(rfe_fix_div(1, 2, 0, &q, &sat), RFE_OK);
+    assert_int_equal(q, 1);
+    assert_int_equal(rfe_fix_div(-1, 2, 0, &q, &sat), RFE_OK);
+    assert_int_equal(q, -1);
+    assert_int_equal(rfe_fix_div(5, -2, 0, &q, &sat), RFE_OK);
+    assert_int_equal(q, -3);
+    assert_int_equal(rfe_fix_div(INT32_MIN, -1, 0, &q, &sat), RFE_OK);
+    assert_int_equal(q, INT32_MAX);
+    assert_int_equal(rfe_fix_div(INT32_MIN, 1, 0, &q, &sat), RFE_OK);
+    assert_int_equal(q, -INT32_MAX);
+    assert_int_equal(sat, 2u);
+    assert_int_equal(rfe_fix_div(1, 4 << 20, 30 + 20, &q, &sat), RFE_OK); /* 1/4 Q20 -> Q30 */
+    assert_int_equal(q, 1 << 28);
+    assert_int_equal(rfe_fix_div(1, 1 << 20, 30 + 20, &q, &sat), RFE_OK); /* 1/1.0 -> Q30 */
+    assert_int_equal(q, 1 << 30);
+    assert_int_equal(rfe_fix_div(1, INT32_MIN, 61, &q, &sat), RFE_OK);
+    assert_int_equal(q, -(1 << 30));
+    assert_int_equal(rfe_fix_div(1, INT32_MIN, 62, &q, &sat), RFE_OK); /* -2^31 */
+    assert_int_equal(q, -INT32_MAX);
+    assert_int_equal(rfe_fix_div(0, INT32_MIN, 62, &q, &sat), RFE_OK);
+    assert_int_equal(q, 0);
+    assert_int_equal(rfe_fix_div(INT32_MIN, 1, -32, &q, &sat), RFE_OK); /* -1/2 -> -1 */
+    assert_int_equal(q, -1);
+    assert_int_equal(rfe_fix_div(INT32_MIN, 1, -33, &q, &sat), RFE_OK); /* -1/4 -> 0 */
+    assert_int_equal(q, 0);
+    assert_int_equal(rfe_fix_div(INT32_MAX, 1, -62, &q, &sat), RFE_OK);
+    assert_int_equal(q, 0);
+    assert_int_equal(sat, 3u);
+    for (i = 0; i < ne; ++i) {
+        for (j = 0; j < ne; ++j) {
+            if (edge[j] == 0) {
+                continue;
+            }
+            for (s = -62; s <= 62; ++s) {
+                const double d = check_div(edge[i], edge[j], s);
+                worst = (d > worst) ? d : worst;
+                ++count;
+            }
+        }
+    }
+    rng_seed(707u);
+    for (k = 0; k < 400000; ++k) {
+        const int32_t a = (k & 1) ? rand_i32() : rand_i32_log();
+        int32_t b = (k & 2) ? rand_i32() : rand_i32_log();
+        /* Mostly shifts that keep the quotient in range, some anywhere in [-62, 62]. */
+        const int sh = (k & 4) ? (int)rand_below(125u) - 62 : (int)rand_below(63u) - 31;
+        b = (b == 0) ? 3 : b;
+        {
+            const double d = check_div(a, b, sh);
+            worst = (d > worst) ? d : worst;
+        }
+        ++count;
+    }
+    printf("[fxmath] div: exactly rounded, max |err| = %.6f LSB over %ld cases\n", worst, count);
+    assert_true(worst <= 0.5 + ldexp(1.0, -20));
+}
+
+/* ---- atan2 ------------------------------------------------------------------------------- */
+
+static double atan2_worst = 0.0;
+static long atan2_count = 0;
+
+static int32_t check_atan2(int32_t y, int32_t x)
+{
+    int32_t a = UNTOUCHED32;
+    double want;
+    double err;
+    assert_int_equal(rfe_fix_atan2(y, x, &a), RFE_OK);
+    want = atan2((double)y, (double)x);
+    err = fabs((double)a * LSB29 - want);
+    if (err > atan2_worst) {
+        atan2_worst = err;
+    }
+    ++atan2_count;
+    ASSERT_LE(err, TOL_ATAN2, "atan2");
+    assert_true((a >= -RFE_FIX_PI_Q29) && (a <= RFE_FIX_PI_Q29));
+    if (y != INT32_MIN) { /* exactly odd in y */
+        int32_t b = 0;
+        assert_int_equal(rfe_fix_atan2(-y, x, &b), RFE_OK);
+        assert_int_equal(b, (y == 0) ? a : -a);
+    }
+    return a;
+}
+
+static void test_atan2(void **state)
+{
+    static const int32_t edge[] = {0, 1, -1, 2, -2, INT32_MAX, INT32_MIN, INT32_MAX - 1,
+                                   INT32_MIN + 1, 1 << 30, -(1 << 30), 46341, 12345678};
+    const size_t ne = sizeof(edge) / sizeof(edge[0]);
+    size_t i;
+    size_t j;
+    long k;
+    int x;
+    int y;
+    (void)state;
+    assert_int_equal(rfe_fix_atan2(1, 1, NULL), RFE_ERR_NULL);
+    /* Axes and the origin: exact values. */
+    assert_int_equal(check_atan2(0, 0), 0);
+    assert_int_equal(check_atan2(0, 5), 0);
+    assert_int_equal(check_atan2(0, -5), RFE_FIX_PI_Q29);
+    assert_int_equal(check_atan2(0, INT32_MIN), RFE_FIX_PI_Q29);
+    assert_int_equal(check_atan2(7, 0), RFE_FIX_HALF_PI_Q29);
+    assert_int_equal(check_atan2(-7, 0), -RFE_FIX_HALF_PI_Q29);
+    assert_int_equal(check_atan2(INT32_MIN, 0), -RFE_FIX_HALF_PI_Q29);
+    assert_int_equal(check_atan2(INT32_MAX, INT32_MAX), RFE_FIX_QUARTER_PI_Q29);
+    assert_int_equal(check_atan2(INT32_MIN, INT32_MIN), -(RFE_FIX_PI_Q29 - RFE_FIX_QUARTER_PI_Q29));
+    assert_int_equal(check_atan2(1, INT32_MAX), 0); /* 4.7e-10 rad = 0.25 LSB */
+    assert_int_equal(check_atan2(-1, INT32_MIN), -RFE_FIX_PI_Q29);
+    for (i = 0; i < ne; ++i) {
+        for (j = 0; j < ne; ++j) {
+            (void)check_atan2(edge[i], edge[j]);
+        }
+    }
+    for (y = -64; y <= 64; ++y) {
+        for (x = -64; x <= 64; ++x) {
+            (void)check_atan2((int32_t)y, (int32_t)x);
+        }
+    }
+    /* Dense angle grid at random radii (1 .. 2^31), every quadrant. */
+    rng_seed(808u);
+    for (k = 0; k < 262144; ++k) {
+        const double th = -TEST_PI + (2.0 * TEST_PI * (double)k) / 262144.0;
+        const double rad = ldexp(1.0, (int)rand_below(31u)) * (1.0 + 0.999 * fabs(rng_uniform()));
+        const double xd = rad * cos(th);
+        const double yd = rad * sin(th);
+        (void)check_atan2((int32_t)fmax(fmin(yd, 2147483647.0), -2147483648.0),
+                          (int32_t)fmax(fmin(xd, 2147483647.0), -2147483648.0));
+    }
+    for (k = 0; k < 400000; ++k) {
+        (void)check_atan2((k & 1) ? rand_i32() : rand_i32_log(),
+                          (k & 2) ? rand_i32() : rand_i32_log());
+    }
+    printf("[fxmath] atan2: max |err| = %.3e rad (%.4f LSB Q29) over %ld points, bound %.1e\n",
+           atan2_worst, atan2_worst / LSB29, atan2_count, TOL_ATAN2);
+}
+
+/* ---- sin, cos, tan ----------------------------------------------------------------------- */
+
+static double sincos_worst = 0.0;
+static long sincos_count = 0;
+
+static void check_sincos(int32_t ang)
+{
+    int32_t s = UNTOUCHED32;
+    int32_t c = UNTOUCHED32;
+    const double a = (double)ang * LSB29;
+    double es;
+    double ec;
+    assert_int_equal(rfe_fix_sincos(ang, &s, &c), RFE_OK);
+    es = fabs((double)s * LSB30 - sin(a));
+    ec = fabs((double)c * LSB30 - cos(a));
+    sincos_worst = fmax(sincos_worst, fmax(es, ec));
+    ++sincos_count;
+    ASSERT_LE(es, TOL_SINCOS, "sin");
+    ASSERT_LE(ec, TOL_SINCOS, "cos");
+    assert_true((s >= -(1 << 30)) && (s <= (1 << 30)) && (c >= -(1 << 30)) && (c <= (1 << 30)));
+    if (ang != INT32_MIN) { /* sin odd, cos even, exactly */
+        int32_t s2 = 0;
+        int32_t c2 = 0;
+        assert_int_equal(rfe_fix_sincos(-ang, &s2, &c2), RFE_OK);
+        assert_int_equal(s2, -s);
+        assert_int_equal(c2, c);
+    }
+}
+
+static void test_sincos(void **state)
+{
+    static const int32_t edge[] = {0, 1, -1, RFE_FIX_PI_Q29, -RFE_FIX_PI_Q29, RFE_FIX_PI_Q29 + 1,
+                                   RFE_FIX_HALF_PI_Q29, -RFE_FIX_HALF_PI_Q29,
+                                   RFE_FIX_HALF_PI_Q29 + 1, RFE_FIX_HALF_PI_Q29 - 1,
+                                   RFE_FIX_QUARTER_PI_Q29, INT32_MAX, INT32_MIN, INT32_MIN + 1};
+    int32_t s = UNTOUCHED32;
+    int32_t c = UNTOUCHED32;
+    size_t i;
+    long k;
+    (void)state;
+    assert_int_equal(rfe_fix_sincos(0, NULL, &c), RFE_ERR_NULL);
+    assert_int_equal(rfe_fix_sincos(0, &s, NULL), RFE_ERR_NULL);
+    assert_int_equal(s, UNTOUCHED32);
+    assert_int_equal(c, UNTOUCHED32);
+    assert_int_equal(rfe_fix_sincos(0, &s, &c), RFE_OK);
+    assert_int_equal(s, 0);
+    assert_int_equal(c, 1 << 30);
+    assert_int_equal(rfe_fix_sincos(RFE_FIX_HALF_PI_Q29, &s, &c), RFE_OK);
+    assert_int_equal(s, 1 << 30);
+    for (i = 0; i < sizeof(edge) / sizeof(edge[0]); ++i) {
+        check_sincos(edge[i]);
+    }
+    /* Every 2^12-th angle over the whole int32 range (+-4 rad), then random angles. */
+    for (k = 0; k < (1L << 20); ++k) {
+        check_sincos((int32_t)(INT32_MIN + k * 4096L + 1234L));
+    }
+    rng_seed(909u);
+    for (k = 0; k < 200000; ++k) {
+        check_sincos((k & 1) ? rand_i32() : rand_i32_log());
+    }
+    printf("[fxmath] sincos: max |err| = %.3e (%.4f LSB Q30) over %ld angles, bound %.1e\n",
+           sincos_worst, sincos_worst / LSB30, sincos_count, TOL_SINCOS);
+}
+
+static double tan_worst = 0.0;
+static double tan_worst_rel = 0.0;
+static long tan_count = 0;
+
+static void check_tan(int32_t ang)
+{
+    int32_t t = UNTOUCHED32;
+    int32_t t2 = 0;
+    const double want = tan((double)ang * LSB29);
+    double err;
+    assert_int_equal(rfe_fix_tan(ang, &t), RFE_OK);
+    err = fabs((double)t * LSB26 - want);
+    tan_worst = fmax(tan_worst, err);
+    if (fabs(want) >= 0.1) {
+        tan_worst_rel = fmax(tan_worst_rel, err / fabs(want));
+    }
+    ++tan_count;
+    ASSERT_LE(err, TOL_TAN, "tan");
+    assert_int_equal(rfe_fix_tan(-ang, &t2), RFE_OK);
+    assert_int_equal(t2, -t);
+}
+
+static void test_tan(void **state)
+{
+    const int32_t lim = RFE_FIX_TAN_LIMIT_Q29;
+    int32_t t = UNTOUCHED32;
+    long k;
+    (void)state;
+    assert_int_equal(rfe_fix_tan(0, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_fix_tan(lim + 1, &t), RFE_ERR_RANGE);
+    assert_int_equal(rfe_fix_tan(-lim - 1, &t), RFE_ERR_RANGE);
+    assert_int_equal(rfe_fix_tan(INT32_MIN, &t), RFE_ERR_RANGE);
+    assert_int_equal(rfe_fix_tan(INT32_MAX, &t), RFE_ERR_RANGE);
+    assert_int_equal(t, UNTOUCHED32);
+    assert_int_equal(rfe_fix_tan(0, &t), RFE_OK);
+    assert_int_equal(t, 0);
+    assert_int_equal(rfe_fix_tan(RFE_FIX_QUARTER_PI_Q29, &t), RFE_OK);
+    assert_int_equal(t, 1 << 26);
+    check_tan(lim);
+    check_tan(lim - 1);
+    check_tan(1);
+    check_tan(0);
+    for (k = 0; k <= 786432; ++k) { /* every 2^11-th angle over [-1.5, 1.5] rad */
+        check_tan((int32_t)(-lim + k * 2048L));
+    }
+    rng_seed(1010u);
+    for (k = 0; k < 200000; ++k) {
+        const int32_t a = (int32_t)((k & 1) ? rand_i32() % (lim + 1) : rand_i32_log() % (lim + 1));
+        check_tan(a);
+    }
+    printf("[fxmath] tan: max |err| = %.3e (%.4f LSB Q26), max rel err %.2e (|tan| >= 0.1) "
+           "over %ld angles, bound %.1e\n",
+           tan_worst, tan_worst / LSB26, tan_worst_rel, tan_count, TOL_TAN);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_sat32_and_counter),
+        cmocka_unit_test(test_add_sub_neg_abs),
+        cmocka_unit_test(test_shifts),
+        cmocka_unit_test(test_shl_rescale_mul_narrow),
+        cmocka_unit_test(test_add64),
+        cmocka_unit_test(test_conv),
+        cmocka_unit_test(test_isqrt64),
+        cmocka_unit_test(test_sqrt),
+        cmocka_unit_test(test_norm),
+        cmocka_unit_test(test_norm_threshold),
+        cmocka_unit_test(test_div),
+        cmocka_unit_test(test_atan2),
+        cmocka_unit_test(test_sincos),
+        cmocka_unit_test(test_tan),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,641 @@
+/**
+ * @file test_meas_q31.c
+ * @brief The fixed-point measurement model (rfe/meas_q31.h) back to back against the double
+ *        twin (rfe/meas.h, _f64): paper mode h = H(u) mu and absolute mode per friction value,
+ *        on every sample of every bundled log (at the log's true mu, and in absolute mode on a
+ *        mu grid 0, 0.1, ..., 1.2) and on 1e5 random samples over the input limits; determinism,
+ *        saturation counting, argument checks.
+ *
+ * Setup: q31 with the converted presets (paper preset for paper mode, default preset for
+ * absolute mode), double with the original ones; the same inputs (Q values converted exactly).
+ *
+ * Bound (composed from the derived bounds of the parts, test_tyre_q31.c and
+ * test_obsmat_q31.c, whose derivations are not repeated here). Per wheel i, evaluated at the
+ * double kinematics (kappa, alpha, Fz, vwx) with the double force F:
+ *  - force error dF_i <= B_dugoff + L_k dkappa + L_a dalpha + mu_e dFz + L_v dvwx, with the
+ *    kinematics bounds dkappa, dalpha, dFz, dvwx and the Lipschitz constants of the Dugoff
+ *    force (G = 2 + mu_e / C1, t = tan alpha, v = |vwx|; derivation as for the tan bound of
+ *    test_tyre_q31.c, with d/dkappa of g = mu E / S - mu^2 (1-|k|) E^2 / (4 S^2)):
+ *      L_k = Fz (2 C1 G + 0.75 mu_e G + mu_e eps v),  L_a = Fz (2 C2 G + mu_e eps v)(1 + t^2),
+ *      L_v = Fz mu_e eps sqrt(k^2 + t^2),  d|F|/dFz <= mu_e;
+ *  - its effect on H's column: (dFx_i + dFy_i) / m (rows 1-2), (|x_i| + |y_i|) / J (row 3);
+ *  - plus H's own bound (obsmat) for the double forces.
+ * Paper mode: |dz_r| <= 0.5 LSB24 + sum_i |mu_i| dH_ri. Absolute mode (z_r = row sum of the H
+ * of the absolute forces): |dz_r| <= 0.5 LSB24 + sum_i dH_ri. The first-order terms are
+ * evaluated at the double values; the factor 1.001 covers the change of the constants over
+ * the error interval (t and Fz move by < 1e-6 relative).
+ * The measured worst cases are printed (docs/FIXED_POINT.md quotes them).
+ */
+#include "test_common.h"
+
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "csv_log.h"
+#include "rfe/config.h"
+#include "rfe/fixed_conv.h"
+#include "rfe/meas.h"
+#include "rfe/meas_q31.h"
+#include "rfe/params_conv.h"
+#include "test_rng.h"
+
+#define TRIG 4.7e-10
+#define ATAN2 9.4e-10
+#define TAN 7.9e-9
+#define LSB(q) ldexp(1.0, -(q))
+#define N_RANDOM 100000
+
+static const char *const SCENARIO[13] = {
+    "accel_low_mu",       "brake_in_turn",      "cruise",          "hard_brake_high_mu",
+    "hard_brake_low_mu",  "mu_step_hard_brake", "paper_high_mu_brake", "paper_low_mu_brake",
+    "paper_mu_step",      "sine_steer_high_mu", "sine_steer_low_mu", "split_mu_brake",
+    "split_mu_hard_brake"};
+static const char *const VARIANT[3] = {"", ".mf", ".nf"};
+
+static rfe_params_t pd, pd_pap;
+static rfe_params_q31_t pq, pq_pap;
+
+/* ---- worst cases -------------------------------------------------------------------------- */
+
+typedef struct {
+    const char *name;
+    double max_abs, max_rel, max_ratio;
+    long n;
+} worst_t;
+
+static worst_t w_paper = {"z paper", 0, 0, 0, 0};
+static worst_t w_abs = {"z absolute", 0, 0, 0, 0};
+
+static void reset(worst_t *w) { w->max_abs = w->max_rel = w->max_ratio = 0.0, w->n = 0; }
+
+static void track(worst_t *w, double got, double want, double bound, const char *ctx)
+{
+    const double err = fabs(got - want);
+    w->max_abs = fmax(w->max_abs, err);
+    if (fabs(want) >= 0.1) {
+        w->max_rel = fmax(w->max_rel, err / fabs(want));
+    }
+    w->max_ratio = fmax(w->max_ratio, err / bound);
+    ++w->n;
+    if (!(err <= bound)) {
+        fail_msg("%s %s: q31 %.17g double %.17g |diff| %.3e > bound %.3e", w->name, ctx, got,
+                 want, err, bound);
+    }
+}
+
+static void report(const worst_t *w)
+{
+    printf("  %-10s n=%-8ld max |err| %.3e (%.3f LSB24)  max rel %.3e (|ref| >= 0.1)  max "
+           "err/bound %.3f\n",
+           w->name, w->n, w->max_abs, w->max_abs / LSB(24), w->max_rel, w->max_ratio);
+}
+
+static int32_t toq(double x, int q)
+{
+    uint32_t s = 0u;
+    return rfe_fix_from_double(x, (unsigned)q, &s);
+}
+static double fromq(int32_t v, int q) { return rfe_fix_to_double(v, (unsigned)q); }
+
+static void make_sample(double delta, double vx, double vy, double r, double ax, double ay,
+                        const double om[4], rfe_sample_q31_t *uq, rfe_sample_t *ud)
+{
+    size_t i;
+    memset(uq, 0, sizeof(*uq));
+    memset(ud, 0, sizeof(*ud));
+    uq->delta = toq(delta, 29);
+    uq->vx = toq(vx, 23);
+    uq->vy = toq(vy, 23);
+    uq->yaw_rate = toq(r, 27);
+    uq->ax = toq(ax, 24);
+    uq->ay = toq(ay, 24);
+    ud->delta = fromq(uq->delta, 29);
+    ud->vx = fromq(uq->vx, 23);
+    ud->vy = fromq(uq->vy, 23);
+    ud->yaw_rate = fromq(uq->yaw_rate, 27);
+    ud->ax = fromq(uq->ax, 24);
+    ud->ay = fromq(uq->ay, 24);
+    for (i = 0; i < 4; ++i) {
+        uq->omega[i] = toq(om[i], 22);
+        ud->omega[i] = fromq(uq->omega[i], 22);
+    }
+}
+
+static int setup(void **state)
+{
+    (void)state;
+    return (rfe_params_default_f64(&pd) == RFE_OK && rfe_params_paper_f64(&pd_pap) == RFE_OK &&
+            rfe_params_to_q31_f64(&pd, &pq) == RFE_OK &&
+            rfe_params_to_q31_f64(&pd_pap, &pq_pap) == RFE_OK)
+               ? 0
+               : -1;
+}
+
+/* ---- the parts' bounds (as derived in test_tyre_q31.c and test_obsmat_q31.c) ------------- */
+
+typedef struct {
+    double vwx, alpha, kappa, fz;
+} kin_bound_t;
+
+static kin_bound_t kin_bounds(const rfe_sample_t *u, size_t i, double kappa_d)
+{
+    const rfe_vehicle_t *v = &pd.vehicle;
+    const double px[4] = {v->Lf, v->Lf, -v->Lr, -v->Lr};
+    const double py[4] = {v->Bf / 2, -v->Bf / 2, v->Br / 2, -v->Br / 2};
+    const double qx[4] = {fromq(pq.vehicle.Lf, 29), fromq(pq.vehicle.Lf, 29),
+                          -fromq(pq.vehicle.Lr, 29), -fromq(pq.vehicle.Lr, 29)};
+    const double qy[4] = {fromq(pq.vehicle.yf, 29), -fromq(pq.vehicle.yf, 29),
+                          fromq(pq.vehicle.yr, 29), -fromq(pq.vehicle.yr, 29)};
+    const double d = (i < 2) ? u->delta : 0.0;
+    const double vbx = u->vx - u->yaw_rate * py[i];
+    const double vby = u->vy + u->yaw_rate * px[i];
+    const double vwx = vbx * cos(d) + vby * sin(d);
+    const double vwy = -vbx * sin(d) + vby * cos(d);
+    const double vr = u->omega[i] * v->R;
+    const double den = fmax(fmax(fabs(vr), fabs(vwx)), pd.tyre.v_min);
+    const double dpos =
+        fabs(u->yaw_rate) * (fabs(qx[i] - px[i]) + fabs(qy[i] - py[i])) + ldexp(1.0, -50);
+    const double dtrig = (i < 2) ? TRIG * (fabs(vbx) + fabs(vby)) : 0.0;
+    const double vw = hypot(vwx, vwy);
+    const double La = v->Lf + v->Lr;
+    const double mg = v->m * v->g, mh = v->m * v->hg;
+    const double dfs = (i < 2) ? fabs(fromq(pq.vehicle.fz_static_f, 15) - mg * v->Lr / (2 * La))
+                               : fabs(fromq(pq.vehicle.fz_static_r, 15) - mg * v->Lf / (2 * La));
+    const double dkp = fabs(fromq(pq.vehicle.k_pitch, 20) - mh / (2 * La));
+    const double dkr = (i < 2) ? fabs(fromq(pq.vehicle.k_roll_f, 20) - mh * v->Lr / (La * v->Bf))
+                               : fabs(fromq(pq.vehicle.k_roll_r, 20) - mh * v->Lf / (La * v->Br));
+    const double dR = fabs(fromq(pq.vehicle.R, 29) - v->R);
+    const double dvmin = fabs(fromq(pq.tyre.v_min, 23) - pd.tyre.v_min);
+    const double damax = fabs(fromq(pq.tyre.alpha_max, 29) - pd.tyre.alpha_max);
+    kin_bound_t b;
+    b.vwx = 0.5 * LSB(23) + dtrig + dpos + 1e-15 * (fabs(vbx) + fabs(vby));
+    b.alpha = ATAN2 + 0.71 * LSB(29) + ((i < 2) ? sqrt(2.0) * TRIG : 0.0) + damax +
+              ((vw > 0.0) ? dpos / vw : 0.0) + 1e-15;
+    b.kappa = (1.0 + fabs(kappa_d)) * (fabs(u->omega[i]) * dR + dtrig + dpos + dvmin) / den +
+              3.0 * LSB(30);
+    b.fz = 0.5 * LSB(15) + ldexp(1.0, -43) + dfs + fabs(u->ax) * dkp + fabs(u->ay) * dkr +
+           1e-12 * 1e4;
+    return b;
+}
+
+/* Dugoff force bound for the same inputs (both modes share the tyre parameters' values). */
+static double dugoff_bound(int paper, double kappa, double alpha, double fz, double vwx,
+                           double mu, double F)
+{
+    const rfe_tyre_params_t *t = &pd.tyre;
+    const double C1 = paper ? t->Cx_n : t->cx;
+    const double C2 = paper ? t->Cy_n : t->cy;
+    const double dC1 = fabs(fromq(paper ? pq.tyre.Cx_n : pq.tyre.cx, 24) - C1);
+    const double dC2 = fabs(fromq(paper ? pq.tyre.Cy_n : pq.tyre.cy, 24) - C2);
+    const double deps = fabs(fromq(pq.tyre.eps, 32) - t->eps);
+    const double damax = fabs(fromq(pq.tyre.alpha_max, 29) - t->alpha_max);
+    const double mue = paper ? 1.0 : fmax(mu, 0.0);
+    const double amax = fmin(t->alpha_max, fromq(pq.tyre.alpha_max, 29));
+    const double ac = fmin(fmax(alpha, -t->alpha_max), t->alpha_max);
+    const double k = fmin(fmax(kappa, -1.0), 1.0);
+    const double tn = tan(ac);
+    const double slip = hypot(k, tn);
+    const double v = fabs(vwx);
+    const double P = t->eps * v * slip;
+    const double dE = (P < 2.0) ? deps * v * slip : 0.0;
+    const double G = 2.0 + mue / C1;
+    double dt = TAN;
+    if (fabs(alpha) >= amax - LSB(29)) {
+        dt += (1.0 + tn * tn) * damax;
+    }
+    return 0.5 * LSB(15) + (2.0 * (dC1 / C1 + dC2 / C2) + 1e-12) * fabs(F) +
+           fz * ((12.5 * mue + 1.0) * ldexp(1.0, -30) + 1.5 * mue * dE +
+                 (2.0 * C2 * G + mue * t->eps * v) * dt);
+}
+
+/* Bound of each force component of wheel i through the kinematics (see the file comment). */
+static double force_bound(int paper, const rfe_sample_t *u, const rfe_wheel_kin_t *kd, size_t i,
+                          double mu, double F)
+{
+    const rfe_tyre_params_t *t = &pd.tyre;
+    const kin_bound_t kb = kin_bounds(u, i, kd->kappa[i]);
+    const double C1 = paper ? t->Cx_n : t->cx;
+    const double C2 = paper ? t->Cy_n : t->cy;
+    const double mue = paper ? 1.0 : fmax(mu, 0.0);
+    const double G = 2.0 + mue / C1;
+    const double fz = kd->fz[i] + kb.fz;
+    const double v = fabs(kd->vwx[i]) + kb.vwx;
+    const double k = fmin(fmax(kd->kappa[i], -1.0), 1.0);
+    const double tn = tan(fmin(fabs(kd->alpha[i]) + kb.alpha, t->alpha_max));
+    const double Lk = fz * (2.0 * C1 * G + 0.75 * mue * G + mue * t->eps * v);
+    const double La = fz * (2.0 * C2 * G + mue * t->eps * v) * (1.0 + tn * tn);
+    const double Lv = fz * mue * t->eps * hypot(k, tn);
+    return dugoff_bound(paper, kd->kappa[i], kd->alpha[i], fz, kd->vwx[i], mu, F) +
+           1.001 * (Lk * kb.kappa + La * kb.alpha + mue * kb.fz + Lv * kb.vwx);
+}
+
+/* Bounds of H's entries from the double forces fx, fy and their error bounds dfx, dfy. */
+static void h_bounds(double delta, const double fx[4], const double fy[4], const double dfx[4],
+                     const double dfy[4], double b[12])
+{
+    const rfe_vehicle_t *v = &pd.vehicle;
+    const double px[4] = {v->Lf, v->Lf, -v->Lr, -v->Lr};
+    const double py[4] = {v->Bf / 2, -v->Bf / 2, v->Br / 2, -v->Br / 2};
+    const double pxJ[4] = {fromq(pq.vehicle.lf_J, 38), fromq(pq.vehicle.lf_J, 38),
+                           -fromq(pq.vehicle.lr_J, 38), -fromq(pq.vehicle.lr_J, 38)};
+    const double pyJ[4] = {fromq(pq.vehicle.yf_J, 38), -fromq(pq.vehicle.yf_J, 38),
+                           fromq(pq.vehicle.yr_J, 38), -fromq(pq.vehicle.yr_J, 38)};
+    const double dinv = fabs(fromq(pq.vehicle.inv_m, 38) - 1.0 / v->m);
+    size_t i;
+    for (i = 0; i < 4; ++i) {
+        const double d = (i < 2) ? delta : 0.0;
+        const double ax = fabs(fx[i]) + dfx[i], ay = fabs(fy[i]) + dfy[i];
+        const double fbx = fabs(fx[i] * cos(d) - fy[i] * sin(d)) + dfx[i] + dfy[i];
+        const double fby = fabs(fx[i] * sin(d) + fy[i] * cos(d)) + dfx[i] + dfy[i];
+        const double dfb = ((i < 2) ? TRIG * (ax + ay) : 0.0) + dfx[i] + dfy[i];
+        const double rel = 1e-15 * (ax + ay);
+        b[i] = 0.5 * LSB(24) + dfb / v->m + fbx * dinv + rel;
+        b[4 + i] = 0.5 * LSB(24) + dfb / v->m + fby * dinv + rel;
+        b[8 + i] = 0.5 * LSB(24) + LSB(30) + (fabs(px[i]) + fabs(py[i])) * dfb / v->J +
+                   fby * fabs(pxJ[i] - px[i] / v->J) + fbx * fabs(pyJ[i] - py[i] / v->J) + rel;
+    }
+}
+
+/* ---- the back-to-back check of one sample ------------------------------------------------- */
+
+/* Paper mode at mu and absolute mode at mu and at every mu_grid value (all wheels). */
+static void check_sample(const rfe_sample_q31_t *uq, const rfe_sample_t *ud, const double mu[4],
+                         int grid, const char *ctx)
+{
+    rfe_meas_q31_t hq;
+    rfe_meas_t hd;
+    rfe_wheel_kin_t kd;
+    uint32_t sat = 0u;
+    double f0x[4], f0y[4], df0x[4], df0y[4], b[12], zd[3];
+    rfe_fix_t zq[3], muq[4];
+    double mud[4];
+    char what[300];
+    size_t i, r;
+    int g;
+
+    for (i = 0; i < 4; ++i) {
+        muq[i] = toq(mu[i], 29);
+        mud[i] = fromq(muq[i], 29);
+    }
+    /* paper mode */
+    assert_int_equal(rfe_meas_setup_q31(&hq, &pq_pap.vehicle, &pq_pap.tyre, uq, &sat), RFE_OK);
+    assert_int_equal(rfe_meas_setup_f64(&hd, &pd_pap.vehicle, &pd_pap.tyre, ud), RFE_OK);
+    assert_int_equal(rfe_meas_eval_q31(&hq, &pq_pap.vehicle, &pq_pap.tyre, muq, zq, &sat), RFE_OK);
+    assert_int_equal(rfe_meas_eval_f64(&hd, &pd_pap.vehicle, &pd_pap.tyre, mud, zd), RFE_OK);
+    assert_int_equal(sat, 0u);
+    kd = hd.kin;
+    assert_int_equal(rfe_tyre_forces_norm_f64(&pd_pap.tyre, &kd, f0x, f0y), RFE_OK);
+    for (i = 0; i < 4; ++i) {
+        df0x[i] = force_bound(1, ud, &kd, i, 1.0, f0x[i]);
+        df0y[i] = force_bound(1, ud, &kd, i, 1.0, f0y[i]);
+    }
+    h_bounds(ud->delta, f0x, f0y, df0x, df0y, b);
+    for (r = 0; r < 3; ++r) {
+        double bound = 0.5 * LSB(24) + 1e-15 * fabs(zd[r]);
+        for (i = 0; i < 4; ++i) {
+            bound += fabs(mud[i]) * b[4 * r + i];
+        }
+        snprintf(what, sizeof(what), "%s paper row %zu", ctx, r);
+        track(&w_paper, fromq(zq[r], 24), zd[r], bound, what);
+    }
+    /* absolute mode */
+    assert_int_equal(rfe_meas_setup_q31(&hq, &pq.vehicle, &pq.tyre, uq, &sat), RFE_OK);
+    assert_int_equal(rfe_meas_setup_f64(&hd, &pd.vehicle, &pd.tyre, ud), RFE_OK);
+    for (g = -1; g < (grid ? 13 : 0); ++g) {
+        double m[4], fx[4], fy[4], dfx[4], dfy[4];
+        rfe_fix_t mq[4];
+        for (i = 0; i < 4; ++i) {
+            mq[i] = (g < 0) ? muq[i] : toq(0.1 * g, 29);
+            m[i] = fromq(mq[i], 29);
+        }
+        assert_int_equal(rfe_meas_eval_q31(&hq, &pq.vehicle, &pq.tyre, mq, zq, &sat), RFE_OK);
+        assert_int_equal(rfe_meas_eval_f64(&hd, &pd.vehicle, &pd.tyre, m, zd), RFE_OK);
+        assert_int_equal(sat, 0u);
+        assert_int_equal(rfe_tyre_forces_abs_f64(&pd.tyre, &kd, m, fx, fy), RFE_OK);
+        for (i = 0; i < 4; ++i) {
+            dfx[i] = force_bound(0, ud, &kd, i, m[i], fx[i]);
+            dfy[i] = force_bound(0, ud, &kd, i, m[i], fy[i]);
+        }
+        h_bounds(ud->delta, fx, fy, dfx, dfy, b);
+        for (r = 0; r < 3; ++r) {
+            double bound = 0.5 * LSB(24) + 1e-15 * fabs(zd[r]);
+            for (i = 0; i < 4; ++i) {
+                bound += b[4 * r + i];
+            }
+            snprintf(what, sizeof(what), "%s absolute mu %s row %zu", ctx,
+                     (g < 0) ? "truth" : "grid", r);
+            track(&w_abs, fromq(zq[r], 24), zd[r], bound, what);
+        }
+    }
+}
+
+/* REQ: every sample of every bundled log (13 scenarios x 3 truth variants): paper mode at the
+ * true mu, absolute mode at the true mu and on the grid mu = 0, 0.1, ..., 1.2, within the
+ * composed bounds. */
+static void test_meas_q31_scenarios(void **state)
+{
+    size_t s, v, r, n = 0;
+    (void)state;
+    reset(&w_paper);
+    reset(&w_abs);
+    for (s = 0; s < 13; ++s) {
+        for (v = 0; v < 3; ++v) {
+            char path[256], ctx[300];
+            rfe_sensor_log_t log;
+            rfe_io_error_t err;
+            memset(&log, 0, sizeof(log));
+            snprintf(path, sizeof(path), "scenarios/%s%s.csv", SCENARIO[s], VARIANT[v]);
+            if (rfe_sensor_log_read(path, &log, &err) != 0) {
+                fail_msg("%s:%zu: %s", path, err.line, err.msg);
+            }
+            assert_true(log.has_truth);
+            for (r = 0; r < log.n_rows; ++r) {
+                const rfe_sensor_row_t *row = &log.rows[r];
+                rfe_sample_q31_t uq;
+                rfe_sample_t ud;
+                make_sample(row->delta, row->vx, row->vy, row->yaw_rate, row->ax, row->ay,
+                            row->omega, &uq, &ud);
+                snprintf(ctx, sizeof(ctx), "%s row %zu", path, r);
+                check_sample(&uq, &ud, row->mu_true, 1, ctx);
+                ++n;
+            }
+            rfe_sensor_log_free(&log);
+        }
+    }
+    printf("scenario samples: %zu (39 logs; absolute mode at the true mu and 13 grid values)\n",
+           n);
+    report(&w_paper);
+    report(&w_abs);
+}
+
+static double uni(double a, double b) { return a + (b - a) * 0.5 * (rng_uniform() + 1.0); }
+
+/* REQ: 1e5 random samples over the input limits (config.h; uniform and near-rolling), random
+ * mu in [-0.5, 1.5] per wheel: within the composed bounds. */
+static void test_meas_q31_random(void **state)
+{
+    int n;
+    char ctx[64];
+    (void)state;
+    reset(&w_paper);
+    reset(&w_abs);
+    rng_seed(0x3EA5ull);
+    for (n = 0; n < N_RANDOM; ++n) {
+        double om[4], mu[4];
+        rfe_sample_q31_t uq;
+        rfe_sample_t ud;
+        size_t i;
+        if (n % 2) {
+            const double vx = uni(0, 60);
+            for (i = 0; i < 4; ++i) {
+                om[i] = vx * (1.0 + uni(-0.3, 0.1)) / pd.vehicle.R;
+            }
+            make_sample(uni(-0.3, 0.3), vx, uni(-2, 2), uni(-1, 1), uni(-10, 10), uni(-10, 10),
+                        om, &uq, &ud);
+        } else {
+            for (i = 0; i < 4; ++i) {
+                om[i] = uni(-RFE_LIMIT_OMEGA, RFE_LIMIT_OMEGA);
+            }
+            make_sample(uni(-RFE_LIMIT_DELTA, RFE_LIMIT_DELTA), uni(-RFE_LIMIT_VX, RFE_LIMIT_VX),
+                        uni(-RFE_LIMIT_VY, RFE_LIMIT_VY),
+                        uni(-RFE_LIMIT_YAW_RATE, RFE_LIMIT_YAW_RATE),
+                        uni(-RFE_LIMIT_ACC, RFE_LIMIT_ACC), uni(-RFE_LIMIT_ACC, RFE_LIMIT_ACC), om,
+                        &uq, &ud);
+        }
+        for (i = 0; i < 4; ++i) {
+            mu[i] = uni(-0.5, 1.5);
+        }
+        snprintf(ctx, sizeof(ctx), "random %d", n);
+        check_sample(&uq, &ud, mu, 0, ctx);
+    }
+    printf("random samples: %d\n", N_RANDOM);
+    report(&w_paper);
+    report(&w_abs);
+}
+
+/* REQ: identical inputs give identical outputs (model and predictions). */
+static void test_meas_q31_deterministic(void **state)
+{
+    int n;
+    (void)state;
+    rng_seed(11u);
+    for (n = 0; n < 1000; ++n) {
+        double om[4];
+        rfe_sample_q31_t uq;
+        rfe_sample_t ud;
+        rfe_meas_q31_t h1, h2;
+        rfe_fix_t mu[4], z1[3], z2[3];
+        uint32_t s1 = 0u, s2 = 0u;
+        size_t i;
+        for (i = 0; i < 4; ++i) {
+            om[i] = uni(-RFE_LIMIT_OMEGA, RFE_LIMIT_OMEGA);
+            mu[i] = toq(uni(-1, 3.9), 29);
+        }
+        make_sample(uni(-1, 1), uni(-100, 100), uni(-50, 50), uni(-10, 10), uni(-50, 50),
+                    uni(-50, 50), om, &uq, &ud);
+        memset(&h1, 0x11, sizeof(h1));
+        memset(&h2, 0x22, sizeof(h2));
+        assert_int_equal(rfe_meas_setup_q31(&h1, &pq.vehicle, (n % 2) ? &pq.tyre : &pq_pap.tyre,
+                                            &uq, &s1),
+                         RFE_OK);
+        assert_int_equal(rfe_meas_setup_q31(&h2, &pq.vehicle, (n % 2) ? &pq.tyre : &pq_pap.tyre,
+                                            &uq, &s2),
+                         RFE_OK);
+        assert_memory_equal(&h1, &h2, sizeof(h1));
+        assert_int_equal(rfe_meas_eval_q31(&h1, &pq.vehicle, &pq.tyre, mu, z1, &s1), RFE_OK);
+        assert_int_equal(rfe_meas_eval_q31(&h2, &pq.vehicle, &pq.tyre, mu, z2, &s2), RFE_OK);
+        assert_memory_equal(z1, z2, sizeof(z1));
+        assert_int_equal(s1, s2);
+    }
+}
+
+/* The chain of rfe_meas_eval_q31 (absolute mode) step by step: its total count. */
+static uint32_t chain_abs(const rfe_meas_q31_t *h, const rfe_params_q31_t *p, const rfe_fix_t mu[4],
+                          rfe_fix_t z[3], uint32_t part[3])
+{
+    static const rfe_fix_t ones[4] = {1 << 29, 1 << 29, 1 << 29, 1 << 29};
+    rfe_fix_t fx[4], fy[4], Hf[12];
+    part[0] = part[1] = part[2] = 0u;
+    assert_int_equal(rfe_tyre_forces_abs_q31(&p->tyre, &h->kin, mu, fx, fy, &part[0]), RFE_OK);
+    assert_int_equal(rfe_obsmat_build_q31(&p->vehicle, h->delta, fx, fy, Hf, &part[1]), RFE_OK);
+    assert_int_equal(rfe_obsmat_apply_q31(Hf, ones, z, &part[2]), RFE_OK);
+    return part[0] + part[1] + part[2];
+}
+
+/* REQ: saturation anywhere in the chain is counted, exactly once per clamped value: a light,
+ * tall vehicle (m = 200 kg, J = 300 kg m^2, hg = 2.5 m) braking with locked wheels at
+ * 1 m/s with ax = -80, ay = 80 m/s^2 at the input puts 20.6 kN on the front-right wheel; at
+ * mu = 1 its force (20.3 kN, 101 m/s^2) fits everywhere, at mu = 3.9 it (~79 kN) clamps,
+ * then H's entries (> 128 m/s^2) and z. The counts of
+ * setup and eval equal the sums of their steps' counts, every step's count equals its number
+ * of clamped outputs; at mu = 1 nothing clamps; the counter stops at UINT32_MAX. */
+static void test_meas_q31_saturation(void **state)
+{
+    rfe_params_t lp = pd;
+    rfe_params_q31_t lq, lq_pap;
+    rfe_meas_q31_t h;
+    rfe_sample_q31_t uq;
+    rfe_sample_t ud;
+    rfe_fix_t mu[4], z[3], zc[3];
+    const double om[4] = {0, 0, 0, 0};
+    uint32_t sat = 0u, part[3];
+    size_t i;
+    (void)state;
+    lp.vehicle.m = 200.0;
+    lp.vehicle.J = 300.0;
+    lp.vehicle.hg = 2.5;
+    assert_int_equal(rfe_params_to_q31_f64(&lp, &lq), RFE_OK);
+    lp.tyre.mode = RFE_TYRE_PAPER;
+    assert_int_equal(rfe_params_to_q31_f64(&lp, &lq_pap), RFE_OK);
+    make_sample(0, 1.0, 0, 0, -80.0, 80.0, om, &uq, &ud);
+    assert_int_equal(rfe_meas_setup_q31(&h, &lq.vehicle, &lq.tyre, &uq, &sat), RFE_OK);
+    assert_int_equal(sat, 0u); /* the loads fit (fz_fr = 20.6 kN) */
+    for (i = 0; i < 4; ++i) {
+        mu[i] = toq(1.0, 29);
+    }
+    assert_int_equal(rfe_meas_eval_q31(&h, &lq.vehicle, &lq.tyre, mu, z, &sat), RFE_OK);
+    assert_int_equal(sat, 0u);
+    assert_int_equal(chain_abs(&h, &lq, mu, zc, part), 0u);
+    for (i = 0; i < 4; ++i) {
+        mu[i] = toq(3.9, 29);
+    }
+    assert_int_equal(rfe_meas_eval_q31(&h, &lq.vehicle, &lq.tyre, mu, z, &sat), RFE_OK);
+    assert_int_equal(sat, chain_abs(&h, &lq, mu, zc, part));
+    assert_memory_equal(z, zc, sizeof(z));
+    printf("absolute mode, light tall vehicle, mu 3.9: counts forces %u, H %u, z %u; z = [%g, "
+           "%g, %g]\n",
+           part[0], part[1], part[2], fromq(z[0], 24), fromq(z[1], 24), fromq(z[2], 24));
+    assert_true(part[0] >= 1u && part[1] >= 1u && part[2] >= 1u);
+    assert_int_equal(z[0], RFE_FIX_MIN); /* the deceleration clamps at -128 m/s^2 */
+    {
+        /* each step's count is its number of clamped outputs */
+        rfe_fix_t fx[4], fy[4], Hf[12];
+        uint32_t c = 0u, railed = 0u;
+        assert_int_equal(rfe_tyre_forces_abs_q31(&lq.tyre, &h.kin, mu, fx, fy, &c), RFE_OK);
+        for (i = 0; i < 4; ++i) {
+            railed += (abs(fx[i]) == INT32_MAX) + (abs(fy[i]) == INT32_MAX);
+        }
+        assert_int_equal(c, railed);
+        c = 0u;
+        railed = 0u;
+        assert_int_equal(rfe_obsmat_build_q31(&lq.vehicle, h.delta, fx, fy, Hf, &c), RFE_OK);
+        for (i = 0; i < 12; ++i) {
+            railed += (abs(Hf[i]) == INT32_MAX);
+        }
+        assert_int_equal(c, railed);
+        railed = 0u;
+        for (i = 0; i < 3; ++i) {
+            railed += (abs(z[i]) == INT32_MAX);
+        }
+        assert_int_equal(part[2], railed);
+    }
+    /* paper mode: at ax = -127, ay = 127 the front-right load is 32.4 kN and F0x ~ -Fz, so
+     * H(1, fr) ~ -160 m/s^2 clamps; setup counts the clamped H entries */
+    make_sample(0, 1.0, 0, 0, -127.0, 127.0, om, &uq, &ud);
+    {
+        rfe_wheel_kin_q31_t kin;
+        rfe_fix_t f0x[4], f0y[4], H[12];
+        uint32_t c = 0u, railed = 0u;
+        sat = 0u;
+        assert_int_equal(rfe_meas_setup_q31(&h, &lq_pap.vehicle, &lq_pap.tyre, &uq, &sat), RFE_OK);
+        assert_int_equal(rfe_tyre_kinematics_q31(&lq_pap.vehicle, &lq_pap.tyre, &uq, &kin, &c),
+                         RFE_OK);
+        assert_int_equal(rfe_tyre_forces_norm_q31(&lq_pap.tyre, &kin, f0x, f0y, &c), RFE_OK);
+        assert_int_equal(rfe_obsmat_build_q31(&lq_pap.vehicle, uq.delta, f0x, f0y, H, &c), RFE_OK);
+        assert_int_equal(sat, c);
+        assert_memory_equal(h.H, H, sizeof(H));
+        for (i = 0; i < 12; ++i) {
+            railed += (abs(H[i]) == INT32_MAX);
+        }
+        assert_int_equal(sat, railed);
+        assert_true(sat >= 1u);
+        printf("paper mode, light tall vehicle: %u clamped H entries\n", sat);
+        /* z = H mu clamps per row */
+        sat = 0u;
+        assert_int_equal(rfe_meas_eval_q31(&h, &lq_pap.vehicle, &lq_pap.tyre, mu, z, &sat), RFE_OK);
+        railed = 0u;
+        for (i = 0; i < 3; ++i) {
+            railed += (abs(z[i]) == INT32_MAX);
+        }
+        assert_int_equal(sat, railed);
+        assert_true(sat >= 1u);
+    }
+    /* The counter stops at UINT32_MAX, in both modes. */
+    sat = UINT32_MAX - 1u;
+    assert_int_equal(rfe_meas_eval_q31(&h, &lq_pap.vehicle, &lq_pap.tyre, mu, z, &sat), RFE_OK);
+    assert_int_equal(sat, UINT32_MAX);
+    assert_int_equal(rfe_meas_setup_q31(&h, &lq.vehicle, &lq.tyre, &uq, &sat), RFE_OK);
+    assert_int_equal(rfe_meas_eval_q31(&h, &lq.vehicle, &lq.tyre, mu, z, &sat), RFE_OK);
+    assert_int_equal(sat, UINT32_MAX);
+    sat = UINT32_MAX - 1u;
+    assert_int_equal(rfe_meas_setup_q31(&h, &lq_pap.vehicle, &lq_pap.tyre, &uq, &sat), RFE_OK);
+    assert_int_equal(sat, UINT32_MAX);
+}
+
+#define SENT ((int32_t)0x5A5A5A5A)
+
+/* REQ: NULL -> RFE_ERR_NULL, invalid tyre parameters or mode -> RFE_ERR_PARAM, the tyre's
+ * errors passed on; the model, z and the counter untouched on every error. */
+static void test_meas_q31_argument_checks(void **state)
+{
+    rfe_meas_q31_t h, h0;
+    rfe_sample_q31_t u;
+    rfe_tyre_params_q31_t bad;
+    rfe_fix_t mu[4] = {0, 0, 0, 0}, z[3] = {SENT, SENT, SENT};
+    uint32_t sat = 7u;
+    (void)state;
+    memset(&u, 0, sizeof(u));
+    u.vx = toq(20, 23);
+    memset(&h, 0x5A, sizeof(h));
+    h0 = h;
+    assert_int_equal(rfe_meas_setup_q31(NULL, &pq.vehicle, &pq.tyre, &u, &sat), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_setup_q31(&h, NULL, &pq.tyre, &u, &sat), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_setup_q31(&h, &pq.vehicle, NULL, &u, &sat), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_setup_q31(&h, &pq.vehicle, &pq.tyre, NULL, &sat), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_setup_q31(&h, &pq.vehicle, &pq.tyre, &u, NULL), RFE_ERR_NULL);
+    bad = pq.tyre;
+    bad.mode = (rfe_tyre_mode_t)7;
+    assert_int_equal(rfe_meas_setup_q31(&h, &pq.vehicle, &bad, &u, &sat), RFE_ERR_PARAM);
+    bad = pq.tyre;
+    bad.v_min = -1;
+    assert_int_equal(rfe_meas_setup_q31(&h, &pq.vehicle, &bad, &u, &sat), RFE_ERR_PARAM);
+    bad = pq_pap.tyre;
+    bad.eps = -1; /* the kinematics accept it, the paper-mode forces do not */
+    assert_int_equal(rfe_meas_setup_q31(&h, &pq.vehicle, &bad, &u, &sat), RFE_ERR_PARAM);
+    assert_memory_equal(&h, &h0, sizeof(h));
+    assert_int_equal(sat, 7u);
+
+    assert_int_equal(rfe_meas_setup_q31(&h, &pq.vehicle, &pq.tyre, &u, &sat), RFE_OK);
+    assert_int_equal(rfe_meas_eval_q31(NULL, &pq.vehicle, &pq.tyre, mu, z, &sat), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_eval_q31(&h, NULL, &pq.tyre, mu, z, &sat), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_eval_q31(&h, &pq.vehicle, NULL, mu, z, &sat), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_eval_q31(&h, &pq.vehicle, &pq.tyre, NULL, z, &sat), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_eval_q31(&h, &pq.vehicle, &pq.tyre, mu, NULL, &sat), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_eval_q31(&h, &pq.vehicle, &pq.tyre, mu, z, NULL), RFE_ERR_NULL);
+    /* absolute mode: the tyre's errors (a negative load in the model, invalid parameters) */
+    h0 = h;
+    h.kin.fz[2] = -5;
+    assert_int_equal(rfe_meas_eval_q31(&h, &pq.vehicle, &pq.tyre, mu, z, &sat), RFE_ERR_RANGE);
+    h = h0;
+    bad = pq.tyre;
+    bad.eps = -1;
+    assert_int_equal(rfe_meas_eval_q31(&h, &pq.vehicle, &bad, mu, z, &sat), RFE_ERR_PARAM);
+    assert_int_equal(z[0], SENT);
+    assert_int_equal(z[2], SENT);
+    assert_int_equal(sat, 7u);
+    assert_int_equal(rfe_meas_eval_q31(&h, &pq.vehicle, &pq.tyre, mu, z, &sat), RFE_OK);
+    assert_int_equal(z[0], 0); /* mu = 0 everywhere: no force */
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_meas_q31_scenarios),
+        cmocka_unit_test(test_meas_q31_random),
+        cmocka_unit_test(test_meas_q31_deterministic),
+        cmocka_unit_test(test_meas_q31_saturation),
+        cmocka_unit_test(test_meas_q31_argument_checks),
+    };
+    return cmocka_run_group_tests(tests, setup, NULL);
+}
