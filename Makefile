@@ -8,6 +8,7 @@
 #   make valgrind   the optimised C tests and the CLI script run under valgrind memcheck
 #   make check-nofloat  src/*_q31.c built for Cortex-M0+: no float/double, soft-float or libm
 #   make goldens    regenerate scenarios/*.csv and scenarios/golden/ from the Python tools
+#                   (and the fixed-point goldens: make goldens-q31)
 #   make readme-table  regenerate the accuracy table in README.md
 #
 # `make demo` and `make test` install what they need when it is missing: cmocka and
@@ -39,7 +40,9 @@ LDLIBS_TEST := -lcmocka -lm
 # once (Q31_RULES below), not per precision like UNIT_TESTS.
 Q31_SRC       := $(wildcard src/*_q31.c)
 LIB_SRC       := $(filter-out $(Q31_SRC),$(wildcard src/*.c))
-HOST_SRC      := $(filter-out src/host/mu_replay.c src/host/replay_real.c,$(wildcard src/host/*.c))
+# replay_q31.c (the `--real q31` replay) needs the q31 library: linked only into mu_replay and
+# the q31 tests, never into hostlib.a (whose objects the fuzz harnesses link one by one).
+HOST_SRC      := $(filter-out src/host/mu_replay.c src/host/replay_real.c src/host/replay_q31.c,$(wildcard src/host/*.c))
 Q31_TESTS     := $(basename $(notdir $(wildcard test/test_*_q31.c)))
 UNIT_TESTS    := $(filter-out $(Q31_TESTS),$(basename $(notdir $(wildcard test/test_*.c))))
 HOST_TESTS    := $(basename $(notdir $(wildcard test/host/test_*.c)))
@@ -89,11 +92,11 @@ $(BUILD)/$(1)/lib/%.o: src/%.c $(wildcard include/rfe/*.h src/*.h) | $(BUILD)/$(
 	$$(CC) $$(WARN) $(3) $$(CPPFLAGS_LIB) -c $$< -o $$@
 $(BUILD)/$(1)/librfe_q31.a: $(patsubst src/%.c,$(BUILD)/$(1)/lib/%.o,$(Q31_SRC))
 	rm -f $$@ && ar rcs $$@ $$^
-$(BUILD)/$(1)/test/%: test/%.c $(BUILD)/$(1)/librfe_q31.a $(BUILD)/$(2)/librfe.a $(patsubst test/support/%.c,$(BUILD)/$(2)/support/%.o,$(TEST_SUPPORT)) $(BUILD)/$(2)/hostlib.a $(BUILD)/$(2)/host/replay_real.o
+$(BUILD)/$(1)/test/%: test/%.c $(BUILD)/$(1)/librfe_q31.a $(BUILD)/$(2)/librfe.a $(patsubst test/support/%.c,$(BUILD)/$(2)/support/%.o,$(TEST_SUPPORT)) $(BUILD)/$(2)/hostlib.a $(BUILD)/$(2)/host/replay_real.o $(BUILD)/$(2)/host/replay_q31.o
 	@mkdir -p $$(@D)
 	$$(CC) $$(TEST_WARN) $(3) -DRFE_REAL_DOUBLE $$(CPPFLAGS_HOST) -Itest/support -Isrc $$< \
 	  $(patsubst test/support/%.c,$(BUILD)/$(2)/support/%.o,$(TEST_SUPPORT)) \
-	  $(BUILD)/$(2)/host/replay_real.o $(BUILD)/$(2)/hostlib.a $(BUILD)/$(1)/librfe_q31.a \
+	  $(BUILD)/$(2)/host/replay_q31.o $(BUILD)/$(2)/host/replay_real.o $(BUILD)/$(2)/hostlib.a $(BUILD)/$(1)/librfe_q31.a \
 	  $(BUILD)/$(2)/librfe.a $$(LDLIBS_TEST) -o $$@
 $(BUILD)/$(1)/lib:
 	mkdir -p $$@
@@ -102,27 +105,29 @@ $(eval $(call Q31_RULES,q31,f64,$(OPT)))
 $(eval $(call Q31_RULES,cov-q31,cov-f64,$(COVFLAGS)))
 $(eval $(call Q31_RULES,asan-q31,asan-f64,$(SANFLAGS)))
 
-# mu_replay: precision-independent host code once, the replay core twice (float, double).
+# mu_replay: precision-independent host code once, the replay core twice (float, double),
+# and the fixed-point replay (replay_q31.o, a double unit) with the q31 library.
 define REPLAY_RULE
-# $(1) = output, $(2) = f32 tree, $(3) = f64 tree, $(4) = flags
+# $(1) = output, $(2) = f32 tree, $(3) = f64 tree, $(4) = flags, $(5) = q31 tree
 $(1): src/host/mu_replay.c $(BUILD)/$(2)/host/replay_real.o $(BUILD)/$(3)/host/replay_real.o \
-      $(BUILD)/$(3)/hostlib.a $(BUILD)/$(2)/librfe.a $(BUILD)/$(3)/librfe.a
+      $(BUILD)/$(3)/host/replay_q31.o $(BUILD)/$(3)/hostlib.a $(BUILD)/$(5)/librfe_q31.a \
+      $(BUILD)/$(2)/librfe.a $(BUILD)/$(3)/librfe.a
 	$$(CC) $$(WARN) $(4) $$(CPPFLAGS_HOST) $$^ -lm -o $$@
 endef
-$(eval $(call REPLAY_RULE,$(BUILD)/mu_replay,f32,f64,$(OPT)))
-$(eval $(call REPLAY_RULE,$(BUILD)/cov-mu_replay,cov-f32,cov-f64,$(COVFLAGS)))
-$(eval $(call REPLAY_RULE,$(BUILD)/asan-mu_replay,asan-f32,asan-f64,$(SANFLAGS)))
+$(eval $(call REPLAY_RULE,$(BUILD)/mu_replay,f32,f64,$(OPT),q31))
+$(eval $(call REPLAY_RULE,$(BUILD)/cov-mu_replay,cov-f32,cov-f64,$(COVFLAGS),cov-q31))
+$(eval $(call REPLAY_RULE,$(BUILD)/asan-mu_replay,asan-f32,asan-f64,$(SANFLAGS),asan-q31))
 
 # Keep intermediate objects (test support) so a second make does not rebuild them.
 .SECONDARY:
 
-.PHONY: all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind coverage demo goldens scenarios clean vectors shared-sync check-shared readme-table \
+.PHONY: all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind coverage demo goldens goldens-q31 scenarios clean vectors shared-sync check-shared readme-table \
         check-goldens check-nofloat help deps-analysis misra tidy complexity structural analysis
 all: lib $(BUILD)/mu_replay
 lib: $(BUILD)/f32/librfe.a $(BUILD)/f64/librfe.a $(if $(Q31_SRC),$(BUILD)/q31/librfe_q31.a)
 
 help:
-	@sed -n '1,14p' Makefile
+	@sed -n '1,15p' Makefile
 
 # ---- dependencies (installed when missing) --------------------------------------------
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
@@ -184,12 +189,19 @@ sanitize: deps-c $(foreach f,asan-f32 asan-f64,$(addprefix $(BUILD)/$(f)/test/,$
 # CLI itself uses 1 and 2); test/support/valgrind_wrap.sh runs mu_replay for test_cli.sh and
 # records every such run in $(BUILD)/valgrind-cli.log, which must stay empty.
 VALGRIND := valgrind --error-exitcode=99 --leak-check=full --errors-for-leak-kinds=definite,indirect -q
+# The unit tests run under valgrind side by side, one per core (each is single-threaded and
+# valgrind is ~50x slower than native; the q31 back-to-back tests are the long ones, so they
+# start first). A failing test's log is printed and stops the run (xargs: exit 255).
+VALGRIND_JOBS ?= $(shell nproc 2>/dev/null || echo 1)
 valgrind: deps-c deps-valgrind $(foreach f,f32 f64,$(addprefix $(BUILD)/$(f)/test/,$(UNIT_TESTS))) \
           $(addprefix $(BUILD)/q31/test/,$(Q31_TESTS)) \
           $(addprefix $(BUILD)/f64/test/host/,$(HOST_TESTS)) $(BUILD)/mu_replay
-	@set -e; for f in f32 f64; do for t in $(UNIT_TESTS); do echo "== valgrind $$f/$$t"; \
-	  $(VALGRIND) $(BUILD)/$$f/test/$$t; done; done
-	@set -e; for t in $(Q31_TESTS); do echo "== valgrind q31/$$t"; $(VALGRIND) $(BUILD)/q31/test/$$t; done
+	@mkdir -p $(BUILD)/valgrind; \
+	{ for t in $(Q31_TESTS); do echo $(BUILD)/q31/test/$$t; done; \
+	  for f in f32 f64; do for t in $(UNIT_TESTS); do echo $(BUILD)/$$f/test/$$t; done; done; } | \
+	xargs -P $(VALGRIND_JOBS) -I{} sh -c 'log=$(BUILD)/valgrind/$$(echo {} | tr / _).log; \
+	  if $(VALGRIND) {} > $$log 2>&1; then echo "== valgrind {}: clean"; \
+	  else cat $$log; echo "== valgrind {}: FAILED (log $$log)"; exit 255; fi'
 	@set -e; for t in $(HOST_TESTS); do echo "== valgrind host/$$t"; $(VALGRIND) $(BUILD)/f64/test/host/$$t; done
 	@if [ -f test/host/test_cli.sh ]; then echo "== valgrind cli"; rm -f $(BUILD)/valgrind-cli.log; \
 	  VALGRIND_WRAP_BIN=$(abspath $(BUILD)/mu_replay) VALGRIND_WRAP_LOG=$(abspath $(BUILD)/valgrind-cli.log) \
@@ -291,6 +303,20 @@ scenarios: venv
 	$(PY) scripts/make_scenarios.py --out scenarios
 goldens: scenarios
 	$(PY) scripts/make_goldens.py --scenarios scenarios --out scenarios/golden
+	$(MAKE) goldens-q31
+
+# Fixed-point goldens (docs/FIXED_POINT.md "Estimator"): the estimate logs of `mu_replay --real
+# q31` on the noisy scenario logs in the four configurations of the float goldens, written to
+# scenarios/golden/<stem>.<config>.q31.csv; test/test_golden_q31.c requires every value bit
+# for bit (the Q values converted exactly to double, written in the shortest exact form).
+Q31_GOLDEN_LOGS = $(filter-out %.nf.csv %.mf.csv,$(wildcard scenarios/*.csv))
+goldens-q31: $(BUILD)/mu_replay
+	@set -e; for f in $(Q31_GOLDEN_LOGS); do s=$$(basename $$f .csv); \
+	  for c in "paper.sckf --preset paper --filter sckf" "paper.ckf --preset paper --filter ckf" \
+	           "absolute.sckf --preset paper --tyre absolute" "default.sckf --preset default"; do \
+	    set -- $$c; tag=$$1; shift; \
+	    $(BUILD)/mu_replay --in $$f --out scenarios/golden/$$s.$$tag.q31.csv "$$@" --real q31 --quiet; \
+	  done; echo "goldens-q31: scenarios/golden/$$s.{paper.sckf,paper.ckf,absolute.sckf,default.sckf}.q31.csv"; done
 
 # The specification (MODEL.md, DATA.md) and the test vectors of the independent
 # implementation live in the project's shared folder (../shared); copies sit in docs/spec

@@ -5,12 +5,18 @@ For each sensor log in scenarios/ (with default sensor noise, and noise-free `*.
 runs build/mu_replay with the SCKF and the CKF (paper configuration), collects the accuracy
 the CLI computes (--metrics JSON), prints a table, and draws estimate-vs-truth plots per
 wheel (the paper's Fig. 4-6 style, SCKF vs CKF, with the SCKF's +-2 sd band).
+The fixed-point estimator (`--real q31`) runs beside it: its deviation from the float64
+reference in the accuracy table, from the double run in the trust table, and a table of
+|mu_q31 - mu_double| per scenario and configuration (all 39 logs; settled samples as
+mu_replay defines them), with the valid-flag agreement and the saturation counts.
 
     .venv/bin/python scripts/demo.py --replay build/mu_replay --out build/demo
-    .venv/bin/python scripts/demo.py ... --readme README.md   # also rewrite the README table
+    .venv/bin/python scripts/demo.py ... --readme README.md   # also rewrite the README tables
+    .venv/bin/python scripts/demo.py ... --plot-q31           # plots with the q31 estimate too
 
 The accuracy numbers come from mu_replay itself (one definition of "settled", RMSE, ...);
-this script only adds the mean standard deviation over the same time span (t >= 1 s).
+this script only adds the mean standard deviation over the same time span (t >= 1 s) and
+the run-to-run deviations (over the same settled samples).
 """
 from __future__ import annotations
 
@@ -26,8 +32,12 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "scripts"))
 from plot_estimates import plot, read_csv  # noqa: E402  (one plotting/reading code path)
 SETTLE_START_S = 1.0  # same as mu_replay's default settle start
+SETTLE_AFTER_CHANGE_S = 0.5  # mu_replay's default: settled again 0.5 s after a truth change
+CHANGE_MIN = 1e-9  # mu_replay's smallest truth step that counts as a change
 BEGIN, END = "<!-- accuracy:begin -->", "<!-- accuracy:end -->"
 TRUST_BEGIN, TRUST_END = "<!-- trust:begin -->", "<!-- trust:end -->"
+Q31_BEGIN, Q31_END = "<!-- q31:begin -->", "<!-- q31:end -->"
+Q31_TOL = 0.005  # the requirement on |mu_q31 - mu_double| at settled samples (issue)
 
 # Scenario classes of the trustworthiness targets (README): excited = the tyres work near
 # their limit; steering = cornering; never = friction is not observable (mild braking,
@@ -76,16 +86,45 @@ def max_dev_from_golden(est_file: Path, golden: Path) -> float | None:
     return max(abs(x - y) for w in WHEELS for x, y in zip(a[f"mu_{w}"], b[f"mu_{w}"]))
 
 
+def settled_mask(sensor: dict, w: str) -> list[bool]:
+    """mu_replay's settled samples of wheel w (src/host/metrics.c): t >= t0 + 1 s and not
+    within 0.5 s after the last change of that wheel's true mu."""
+    t, truth = sensor["t"], sensor[f"mu_{w}"]
+    t_change, mask = None, []
+    for k, tk in enumerate(t):
+        if k > 0 and abs(truth[k] - truth[k - 1]) > CHANGE_MIN:
+            t_change = tk
+        mask.append(not (tk < t[0] + SETTLE_START_S
+                         or (t_change is not None and tk < t_change + SETTLE_AFTER_CHANGE_S)))
+    return mask
+
+
+def run_deviation(a_file: Path, b_file: Path, sensor: dict) -> tuple[float, float]:
+    """(max |mu_a - mu_b| over settled samples of every wheel, share of (sample, wheel) pairs
+    whose valid flags agree) of two estimate logs of the same sensor log."""
+    a, b = read_csv(a_file), read_csv(b_file)
+    worst, agree, n = 0.0, 0, 0
+    for w in WHEELS:
+        for ok, x, y in zip(settled_mask(sensor, w), a[f"mu_{w}"], b[f"mu_{w}"]):
+            if ok:
+                worst = max(worst, abs(x - y))
+        agree += sum(va == vb for va, vb in zip(a[f"valid_{w}"], b[f"valid_{w}"]))
+        n += len(a[f"valid_{w}"])
+    return worst, agree / max(n, 1)
+
+
 def fmt(x, spec=".3f"):
     return "–" if x is None else format(x, spec)
 
 
 def table_rows(results: list[tuple[str, str, dict, dict]]) -> list[str]:
     """One row per (scenario, noise): SCKF accuracy, and the float32 deviation of the SCKF
-    and the CKF from the float64 reference (the paper's SCKF-vs-CKF precision question)."""
+    and the CKF from the float64 reference (the paper's SCKF-vs-CKF precision question), and
+    the same for the fixed-point (q31) SCKF and CKF."""
     head = ("| scenario | noise | RMSE fl | RMSE fr | RMSE rl | RMSE rr | max err | max rel | "
-            "mean-μ RMSE | t_conv [s] | mean sd | Δref SCKF | Δref CKF |")
-    lines = [head, "|" + "|".join(["---"] * 13) + "|"]
+            "mean-μ RMSE | t_conv [s] | mean sd | Δref SCKF | Δref CKF | Δref q31 SCKF | "
+            "Δref q31 CKF |")
+    lines = [head, "|" + "|".join(["---"] * 15) + "|"]
     for scen, noise, sckf, ckf in results:
         m = sckf["metrics"]
         rm = [m[w]["rmse"] for w in WHEELS]
@@ -94,10 +133,10 @@ def table_rows(results: list[tuple[str, str, dict, dict]]) -> list[str]:
         tc = [m[w]["t_converge_s"] for w in WHEELS]
         tconv = "never" if any(x is None for x in tc) else f"{max(tc):.2f}"
         sd = sum(sckf["mean_sd"].values()) / 4.0
-        dev = [fmt(r["golden_dev"], ".1e") for r in (sckf, ckf)]
+        dev = [fmt(r[k], ".1e") for k in ("golden_dev", "golden_dev_q31") for r in (sckf, ckf)]
         lines.append(f"| {scen} | {noise} | " + " | ".join(fmt(x) for x in rm)
                      + f" | {mx:.3f} | {100 * mr:.0f} % | {fmt(m['mean']['rmse'])} | {tconv} | {sd:.3f}"
-                     + f" | {dev[0]} | {dev[1]} |")
+                     + " | " + " | ".join(dev) + " |")
     return lines
 
 
@@ -126,10 +165,12 @@ def pooled(m: dict, key: str, weight: str, square: bool = False):
 
 
 def trust_rows(runs: list[tuple[str, str, str, dict]]) -> list[str]:
-    """The trustworthiness table: one row per (scenario, truth tyre, preset)."""
+    """The trustworthiness table: one row per (scenario, truth tyre, preset); the last column
+    the largest |mu_q31 - mu_double| of that configuration over the settled samples."""
     head = ("| scenario | class | truth | preset | RMSE fl/fr/rl/rr | max err fl/fr/rl/rr | "
-            "mean-μ RMSE | RMSE valid | valid | excited valid | consistency | re-conv [s] |")
-    lines = [head, "|" + "|".join(["---"] * 12) + "|"]
+            "mean-μ RMSE | RMSE valid | valid | excited valid | consistency | re-conv [s] | "
+            "Δμ q31 |")
+    lines = [head, "|" + "|".join(["---"] * 13) + "|"]
     for scen, truth, preset, info in runs:
         m = info["metrics"]
         rm = "/".join(fmt(m[w]["rmse"], ".2f") for w in WHEELS)
@@ -144,7 +185,8 @@ def trust_rows(runs: list[tuple[str, str, str, dict]]) -> list[str]:
         pct = lambda x: "–" if x is None else f"{100 * x:.0f} %"  # noqa: E731
         lines.append(f"| {scen} | {CLASSES.get(scen, '?')} | {truth} | {preset} | {rm} | {mx} | "
                      f"{fmt(m['mean']['rmse'], '.3f')} | {fmt(rv, '.3f') if sum(n_valid) else '–'} | "
-                     f"{pct(fv)} | {pct(ex)} | {pct(co)} | {rcs} |")
+                     f"{pct(fv)} | {pct(ex)} | {pct(co)} | {rcs} | "
+                     f"{fmt(info.get('q31_dev'), '.1e')} |")
     return lines
 
 
@@ -156,13 +198,67 @@ def trust_table(replay: Path, scen_dir: Path, out_dir: Path, real: str) -> list[
         stem = log.name[: -len(".csv")]
         truth = "MF" if stem.endswith(".mf") else "Dugoff"
         scen = stem[: -len(".mf")] if stem.endswith(".mf") else stem
+        sensor = read_csv(log)
         for preset in ("paper", "default"):
-            runs.append((scen, truth, preset, run_replay(replay, log, out_dir, "sckf", real, preset)))
+            info = run_replay(replay, log, out_dir, "sckf", real, preset)
+            q31 = run_replay(replay, log, out_dir, "sckf", "q31", preset)
+            dbl = run_replay(replay, log, out_dir, "sckf", "double", preset)
+            info["q31_dev"] = run_deviation(q31["estimate_file"], dbl["estimate_file"], sensor)[0]
+            runs.append((scen, truth, preset, info))
         print(f"[trust {k}/{len(logs)}] {stem}", flush=True)
     order = {"excited": 0, "steering": 1, "never": 2}
     runs.sort(key=lambda r: (r[1] != "MF", order.get(CLASSES.get(r[0], ""), 3), r[0],
                              r[2] != "default"))
     return trust_rows(runs)
+
+
+Q31_CONFIGS = (("paper", "sckf", "paper SCKF"), ("paper", "ckf", "paper CKF"),
+               ("default", "sckf", "default"))
+NOISE_ORDER = (("nf", "none"), ("", "default"), ("mf", "MF"))
+
+
+def q31_table(replay: Path, scen_dir: Path, out_dir: Path) -> list[str]:
+    """|mu_q31 - mu_double| over settled samples, per scenario (noise-free / default noise /
+    Magic Formula truth) and configuration, with the valid-flag agreement and the estimator's
+    saturation count; a closing summary line."""
+    rows: dict[str, dict] = {}
+    worst = {label: 0.0 for _, _, label in Q31_CONFIGS}
+    min_agree, total_sat, n_logs = 1.0, 0, 0
+    logs = sorted(scen_dir.glob("*.csv"))
+    for k, log in enumerate(logs, 1):
+        stem = log.name[: -len(".csv")]
+        variant = stem.rsplit(".", 1)[1] if "." in stem else ""
+        scen = stem.rsplit(".", 1)[0] if variant else stem
+        sensor = read_csv(log)
+        row = rows.setdefault(scen, {"agree": 1.0, "sat": 0})
+        for preset, filt, label in Q31_CONFIGS:
+            q31 = run_replay(replay, log, out_dir, filt, "q31", preset)
+            dbl = run_replay(replay, log, out_dir, filt, "double", preset)
+            dev, agree = run_deviation(q31["estimate_file"], dbl["estimate_file"], sensor)
+            sat = q31["saturation"]["estimator_total"] + q31["saturation"]["input_values"]
+            row[(label, variant)] = dev
+            row["agree"] = min(row["agree"], agree)
+            row["sat"] += sat
+            worst[label] = max(worst[label], dev)
+            min_agree = min(min_agree, agree)
+            total_sat += sat
+        n_logs += 1
+        print(f"[q31 {k}/{len(logs)}] {stem}", flush=True)
+    head = ("| scenario | " + " | ".join(f"{label} none/default/MF" for _, _, label in Q31_CONFIGS)
+            + " | valid agree | saturations |")
+    lines = [head, "|" + "|".join(["---"] * (len(Q31_CONFIGS) + 3)) + "|"]
+    for scen in sorted(rows):
+        row = rows[scen]
+        cells = ["/".join(fmt(row.get((label, v)), ".1e") for v, _ in NOISE_ORDER)
+                 for _, _, label in Q31_CONFIGS]
+        lines.append(f"| {scen} | " + " | ".join(cells)
+                     + f" | {100 * row['agree']:.1f} % | {row['sat']} |")
+    lines.append("")
+    lines.append(f"Largest |μ_q31 − μ_double| over the settled samples of all {n_logs} logs: "
+                 + ", ".join(f"{label} {worst[label]:.1e}" for _, _, label in Q31_CONFIGS)
+                 + f" (required: ≤ {Q31_TOL}); valid flags agree on ≥ {100 * min_agree:.1f} % of "
+                 f"the samples of every log; {total_sat} saturations.")
+    return lines
 
 
 def main() -> int:
@@ -175,6 +271,8 @@ def main() -> int:
     ap.add_argument("--no-plots", action="store_true")
     ap.add_argument("--trust", action="store_true",
                     help="also the default-vs-paper trustworthiness table (both truth tyres)")
+    ap.add_argument("--plot-q31", action="store_true",
+                    help="add the fixed-point (q31) default-preset estimate to the plots")
     args = ap.parse_args()
 
     args.out.mkdir(parents=True, exist_ok=True)
@@ -189,16 +287,23 @@ def main() -> int:
         noise = "none" if stem.endswith(".nf") else "default"
         runs, infos = {}, {}
         for filt in ("sckf", "ckf"):
+            golden = args.scenarios / "golden" / f"{stem}.paper.{filt}.csv"
             info = run_replay(args.replay, log, args.out, filt, args.real)
-            info["golden_dev"] = max_dev_from_golden(
-                info["estimate_file"], args.scenarios / "golden" / f"{stem}.paper.{filt}.csv")
+            info["golden_dev"] = max_dev_from_golden(info["estimate_file"], golden)
+            q31 = run_replay(args.replay, log, args.out, filt, "q31")
+            info["golden_dev_q31"] = max_dev_from_golden(q31["estimate_file"], golden)
             infos[filt] = info
             runs[filt] = info["estimate_file"]
         results.append((scen, noise, infos["sckf"], infos["ckf"]))
         if not args.no_plots:
             default = run_replay(args.replay, log, args.out, "sckf", args.real, "default")
-            plot(log, [default["estimate_file"], runs["sckf"], runs["ckf"]],
-                 ["default", "paper SCKF", "paper CKF"], args.out / f"{stem}.png",
+            files = [default["estimate_file"], runs["sckf"], runs["ckf"]]
+            labels = ["default", "paper SCKF", "paper CKF"]
+            if args.plot_q31:
+                files.append(run_replay(args.replay, log, args.out, "sckf", "q31",
+                                        "default")["estimate_file"])
+                labels.append("default q31")
+            plot(log, files, labels, args.out / f"{stem}.png",
                  f"{scen} ({'noise-free' if noise == 'none' else 'default noise'}), {args.real}")
         print(f"[{k}/{len(logs)}] {stem}: done ({time.time() - t0:.1f} s)", flush=True)
 
@@ -212,10 +317,14 @@ def main() -> int:
         tl = trust_table(args.replay, args.scenarios, args.out, args.real)
         print("\n".join(tl))
         (args.out / "trust.md").write_text("\n".join(tl) + "\n")
+    ql = q31_table(args.replay, args.scenarios, args.out)
+    print("\n".join(ql))
+    (args.out / "q31.md").write_text("\n".join(ql) + "\n")
     if args.readme:
         update_readme(args.readme, lines)
         if args.trust:
             update_readme(args.readme, tl, TRUST_BEGIN, TRUST_END)
+        update_readme(args.readme, ql, Q31_BEGIN, Q31_END)
         print(f"updated the tables in {args.readme}")
     return 0
 

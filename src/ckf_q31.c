@@ -30,7 +30,7 @@
 #define QPXZ 30u /* P_xz, Lz \ P_xz^T and K Pzz [mu m/s^2], +-2 */
 #define QK 26u   /* the gain K [mu per m/s^2], +-32 */
 
-static void copy_square(const rfe_fix_t *src, size_t lds, size_t k, rfe_fix_t *dst, size_t ldd)
+static void copy_square_q31(const rfe_fix_t *src, size_t lds, size_t k, rfe_fix_t *dst, size_t ldd)
 {
     size_t i;
     size_t j;
@@ -56,9 +56,9 @@ rfe_status_t rfe_ckf_init_q31(rfe_ckf_q31_t *f, size_t n, size_t m, const rfe_fi
     for (i = 0u; i < n; ++i) {
         f->x[i] = x0[i];
     }
-    copy_square(P0, n, n, f->P, NM);
-    copy_square(Q, n, n, f->Q, NM);
-    copy_square(R, m, m, f->R, MM);
+    copy_square_q31(P0, n, n, f->P, NM);
+    copy_square_q31(Q, n, n, f->Q, NM);
+    copy_square_q31(R, m, m, f->R, MM);
     f->sat = 0u;
     f->magic = RFE_MAGIC_CKF_Q31;
     return RFE_OK;
@@ -68,7 +68,7 @@ rfe_status_t rfe_ckf_init_q31(rfe_ckf_q31_t *f, size_t n, size_t m, const rfe_fi
 static int64_t div_round64(int64_t num, size_t den)
 {
     const uint64_t d = (uint64_t)den;
-    const uint64_t mag = rfe_q31_mag64(num);
+    const uint64_t mag = rfe_q31_mag64_any(num);
     uint64_t q = mag / d;
     int64_t r;
     if ((2u * (mag % d)) >= d) {
@@ -87,10 +87,10 @@ static int64_t div_round64(int64_t num, size_t den)
  * 2n rows each; out in Q(qa + qb - shift), shift >= MOMENT_GUARD. The products are formed
  * exactly and rounded to Q(qa + qb - 4) (2^-(qa + qb - 3) each, far below the output LSB),
  * summed exactly, divided by 2n with one rounding; one final rounding. */
-static void cross_moment(const rfe_fix_t *a, size_t lda, const rfe_fix_t *abar, size_t na,
-                         const rfe_fix_t *b, size_t ldb, const rfe_fix_t *bbar, size_t nb,
-                         size_t n, rfe_fix_t *out, size_t ldo, unsigned int shift,
-                         uint32_t *count)
+static void cross_moment_q31(const rfe_fix_t *a, size_t lda, const rfe_fix_t *abar, size_t na,
+                             const rfe_fix_t *b, size_t ldb, const rfe_fix_t *bbar, size_t nb,
+                             size_t n, rfe_fix_t *out, size_t ldo, unsigned int shift,
+                             uint32_t *count)
 {
     size_t i;
     size_t k;
@@ -143,8 +143,8 @@ rfe_status_t rfe_ckf_predict_q31(rfe_ckf_q31_t *f, rfe_process_fn_q31_t process,
     }
     rfe_cub_mean_q31(w->pts, n, n, NM, w->xn);
     /* P- = sum_j w X*_j X*_j^T - x- x-^T + Q: Q29 Q29 = Q58 -> Q31. */
-    cross_moment(w->pts, NM, w->xn, n, w->pts, NM, w->xn, n, n, f->Pn, NM,
-                 (2u * RFE_Q31_QX) - RFE_Q31_QP, &count);
+    cross_moment_q31(w->pts, NM, w->xn, n, w->pts, NM, w->xn, n, n, f->Pn, NM,
+                     (2u * RFE_Q31_QX) - RFE_Q31_QP, &count);
     for (i = 0u; i < n; ++i) {
         for (j = 0u; j < n; ++j) {
             f->Pn[(i * NM) + j] = rfe_fix_add(f->Pn[(i * NM) + j], f->Q[(i * NM) + j], &count);
@@ -153,14 +153,14 @@ rfe_status_t rfe_ckf_predict_q31(rfe_ckf_q31_t *f, rfe_process_fn_q31_t process,
     for (i = 0u; i < n; ++i) {
         f->x[i] = w->xn[i];
     }
-    copy_square(f->Pn, NM, n, f->P, NM);
+    copy_square_q31(f->Pn, NM, n, f->P, NM);
     rfe_q31_add_count(&f->sat, count);
     return RFE_OK;
 }
 
 /* The candidate covariance P = P- - K Pzz K^T into f->Pn (gain transposed in w.Kt, Q26; Pzz
  * in w.Szz, Q24): T = K Pzz (n x m, Q30, in w.A), then P- - T K^T in Q(30 + 26) -> Q31. */
-static void posterior_covariance(rfe_ckf_q31_t *f, uint32_t *count)
+static void posterior_covariance_q31(rfe_ckf_q31_t *f, uint32_t *count)
 {
     rfe_cub_scratch_q31_t *w = &f->w;
     const size_t n = f->n;
@@ -246,15 +246,15 @@ rfe_status_t rfe_ckf_update_q31(rfe_ckf_q31_t *f, rfe_measure_fn_q31_t measure, 
     rfe_cub_mean_q31(w->zpts, n, m, MM, w->zhat);
     /* Pzz = sum w Z Z^T - z z^T + R (Q24 Q24 = Q48 -> Q24);
      * Pxz^T = sum w Z X^T - z x-^T (m x n, Q24 Q29 = Q53 -> Q30). */
-    cross_moment(w->zpts, MM, w->zhat, m, w->zpts, MM, w->zhat, m, n, w->Szz, MM,
-                 (2u * RFE_Q31_QZ) - RFE_Q31_QR, &count);
+    cross_moment_q31(w->zpts, MM, w->zhat, m, w->zpts, MM, w->zhat, m, n, w->Szz, MM,
+                     (2u * RFE_Q31_QZ) - RFE_Q31_QR, &count);
     for (r = 0u; r < m; ++r) {
         for (i = 0u; i < m; ++i) {
             w->Szz[(r * MM) + i] = rfe_fix_add(w->Szz[(r * MM) + i], f->R[(r * MM) + i], &count);
         }
     }
-    cross_moment(w->zpts, MM, w->zhat, m, w->pts, NM, f->x, n, n, w->Kt, NM,
-                 (RFE_Q31_QZ + RFE_Q31_QX) - QPXZ, &count);
+    cross_moment_q31(w->zpts, MM, w->zhat, m, w->pts, NM, f->x, n, n, w->Kt, NM,
+                     (RFE_Q31_QZ + RFE_Q31_QX) - QPXZ, &count);
     /* K = Pxz Pzz^-1 via Pzz = Lz Lz^T: K^T = Lz^-T (Lz^-1 Pxz^T). */
     st = ckf_gain(f, &count);
     if (st != RFE_OK) {
@@ -272,11 +272,11 @@ rfe_status_t rfe_ckf_update_q31(rfe_ckf_q31_t *f, rfe_measure_fn_q31_t measure, 
         w->xn[i] = rfe_fix_narrow(acc, (QK + RFE_Q31_QZ) - RFE_Q31_QX, &count);
     }
     /* P = P- - K Pzz K^T. */
-    posterior_covariance(f, &count);
+    posterior_covariance_q31(f, &count);
     for (i = 0u; i < n; ++i) {
         f->x[i] = w->xn[i];
     }
-    copy_square(f->Pn, NM, n, f->P, NM);
+    copy_square_q31(f->Pn, NM, n, f->P, NM);
     rfe_q31_add_count(&f->sat, count);
     return RFE_OK;
 }

@@ -5,7 +5,8 @@
  *        and the exactly rounded integer division and square root they share.
  *
  * Points are stored one per row (2n rows, ld RFE_N_MAX, Q29); measurements likewise
- * (ld RFE_M_MAX, Q24). Integer operations only; no <math.h> (not internal.h).
+ * (ld RFE_M_MAX, Q24). Integer operations only; no <math.h> (not internal.h). The helpers
+ * shared with every module (rfe_q31_pow2) are internal_q31.h's.
  */
 #ifndef RFE_CUBATURE_Q31_H
 #define RFE_CUBATURE_Q31_H
@@ -16,6 +17,8 @@
 #include "rfe/fixed.h"
 #include "rfe/fxmath.h"
 #include "rfe/sckf_q31.h"
+
+#include "internal_q31.h" /* rfe_q31_pow2 */
 
 /** RFE_TRIA_COLS_MAX as a size_t, built from casts of the single constants (as
  *  RFE_TRIA_COLS_SZ of the float sources' internal.h, which q31 sources cannot include). */
@@ -28,17 +31,11 @@
 #define RFE_MAGIC_SCKF_Q31 0x53513331u /* "SQ31" */
 #define RFE_MAGIC_CKF_Q31 0x43513331u  /* "CQ31" */
 
-/** |v| as uint64 for every int64 (2^63 for INT64_MIN). */
-static inline uint64_t rfe_q31_mag64(int64_t v)
+/** |v| as uint64 for every int64 (2^63 for INT64_MIN; internal_q31.h's rfe_q31_mag64 needs
+ *  v > INT64_MIN). */
+static inline uint64_t rfe_q31_mag64_any(int64_t v)
 {
     return (v < 0) ? ((uint64_t)(-(v + 1)) + 1u) : (uint64_t)v;
-}
-
-/** 2^s as an int64 multiplier (0 <= s <= 62): a left shift is a multiplication by it. */
-static inline int64_t rfe_q31_pow2(unsigned int s)
-{
-    const uint64_t p = (uint64_t)1 << s;
-    return (int64_t)p;
 }
 
 /** Adds count saturation events to *sat (saturating at UINT32_MAX, like rfe_fix_count_sat). */
@@ -52,7 +49,7 @@ static inline void rfe_q31_add_count(uint32_t *sat, uint32_t count)
 static inline rfe_fix_t rfe_q31_div_round(int64_t num, rfe_fix_t den, uint32_t *sat)
 {
     const uint64_t d = (uint64_t)den;
-    const uint64_t mag = rfe_q31_mag64(num);
+    const uint64_t mag = rfe_q31_mag64_any(num);
     uint64_t q = mag / d;
     int64_t r;
     if ((2u * (mag % d)) >= d) { /* mag % d < 2^31: no overflow */

@@ -13,6 +13,16 @@
 
 #include "rfe/fixed.h"
 
+/* ==== Section: every module (also included by cubature_q31.h) ============================ */
+
+/** 2^s as an int64 multiplier (0 <= s <= 62): a left shift is a multiplication by it (no
+ *  shift of a signed value). */
+static inline int64_t rfe_q31_pow2(unsigned int s)
+{
+    const uint64_t p = (uint64_t)1 << s;
+    return (int64_t)p;
+}
+
 /* ==== Section: measurement model (tyre_q31.c, obsmat_q31.c, meas_q31.c) ==================== */
 
 /**
@@ -30,25 +40,30 @@
  */
 static inline int64_t rfe_q31_mul64x32(int64_t v, int64_t c, unsigned int s)
 {
+    const uint64_t low32 = (uint64_t)0xFFFFFFFFu;
     const int64_t vh = rfe_fix_shr64_floor(v, 32u);
-    const int64_t vl = (int64_t)((uint64_t)v & UINT64_C(0xFFFFFFFF));
+    const uint64_t vl_u = (uint64_t)v & low32;
+    const int64_t vl = (int64_t)vl_u;
     const int64_t a = vh * c;
     const int64_t b = vl * c;
     const int64_t bh = rfe_fix_shr64_floor(b, 32u);
-    const uint64_t bl = (uint64_t)b & UINT64_C(0xFFFFFFFF);
+    const uint64_t bl = (uint64_t)b & low32;
     const int64_t t = a + bh;
     int64_t r;
 
     if (s >= 33u) {
         r = rfe_fix_shr64_round(t, s - 32u);
     } else {
-        r = (t * ((int64_t)1 << (32u - s))) +
-            (int64_t)((bl + ((uint64_t)1 << (s - 1u))) >> s);
+        const unsigned int s1 = s - 1u;
+        const uint64_t half = (uint64_t)1 << s1;
+        const uint64_t lo = (bl + half) >> s;
+        r = (t * rfe_q31_pow2(32u - s)) + (int64_t)lo;
     }
     return r;
 }
 
-/** |v| as uint64 (exact for every int64 above INT64_MIN; the callers' values are < 2^63). */
+/** |v| as uint64 (exact for every int64 above INT64_MIN; the callers' values are < 2^63).
+ *  For the full int64 range see rfe_q31_mag64_any (cubature_q31.h). */
 static inline uint64_t rfe_q31_mag64(int64_t v)
 {
     return (v < 0) ? (uint64_t)(-v) : (uint64_t)v;
@@ -62,10 +77,14 @@ static inline uint64_t rfe_q31_mag64(int64_t v)
 static inline unsigned int rfe_q31_norm_shift(uint64_t m, unsigned int bits)
 {
     unsigned int len = 0u;
+    unsigned int s = 0u;
     while ((m >> len) != 0u) {
         ++len;
     }
-    return (len > bits) ? (len - bits) : 0u;
+    if (len > bits) {
+        s = len - bits;
+    }
+    return s;
 }
 
 /** v (|v| < 2^63) rounded down by s bits (half up) to an int32: the caller guarantees it fits

@@ -13,8 +13,8 @@
 
 #include "internal_q31.h"
 
-/* 1.0 in Q30 (cos of an unsteered wheel). */
-#define ONE_Q30 ((int32_t)1 << 30)
+/* 1.0 in Q30, 2^30 (cos of an unsteered wheel). */
+#define ONE_Q30 ((int32_t)0x40000000)
 
 rfe_status_t rfe_obsmat_build_q31(const rfe_vehicle_q31_t *veh, rfe_fix_t delta,
                                   const rfe_fix_t fx[RFE_WHEELS], const rfe_fix_t fy[RFE_WHEELS],
@@ -46,8 +46,8 @@ rfe_status_t rfe_obsmat_build_q31(const rfe_vehicle_q31_t *veh, rfe_fix_t delta,
     py_J[RFE_RR] = -(int64_t)veh->yr_J;
     for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
         /* Front wheels are rotated by delta into body axes, rear wheels are not. */
-        const int64_t ci = (i < (size_t)RFE_RL) ? c : ONE_Q30;
-        const int64_t si = (i < (size_t)RFE_RL) ? s : 0;
+        const int64_t ci = (i < (size_t)RFE_RL) ? (int64_t)c : (int64_t)ONE_Q30;
+        const int64_t si = (i < (size_t)RFE_RL) ? (int64_t)s : 0;
         /* Exact Q45: |fx c - fy s| <= |(fx, fy)| |(c, s)| <= 2^31.5 2^30 (1 + 2^-30) < 2^62. */
         const int64_t fbx = ((int64_t)fx[i] * ci) - ((int64_t)fy[i] * si);
         const int64_t fby = ((int64_t)fx[i] * si) + ((int64_t)fy[i] * ci);
@@ -89,7 +89,7 @@ rfe_status_t rfe_obsmat_apply_q31(const rfe_fix_t H[RFE_H_Q31_SIZE],
             const int64_t p = (int64_t)H[RFE_H_Q31_AT(r, i)] * (int64_t)x[i];
             const int64_t ph = rfe_fix_shr64_floor(p, 29u);
             hi += ph;
-            lo += p - (ph * ((int64_t)1 << 29));
+            lo += p - (ph * rfe_q31_pow2(29u));
         }
         out[r] = rfe_fix_sat32(hi + rfe_fix_shr64_round(lo, 29u), &count);
     }

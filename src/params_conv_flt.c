@@ -30,9 +30,8 @@ static rfe_fix_t to_q(conv_t *c, double x, int q, int need16)
     const double r = floor(fabs(y) + 0.5);
     rfe_fix_t v = 0;
 
-    if (!(r <= (double)RFE_FIX_MAX)) { /* also NaN */
-        c->bad = 1;
-    } else if ((x != 0.0) && ((r == 0.0) || ((need16 != 0) && (r < MIN_SIGNIFICANT)))) {
+    if (!(r <= (double)RFE_FIX_MAX) || /* also NaN */
+        ((x != 0.0) && ((r == 0.0) || ((need16 != 0) && (r < MIN_SIGNIFICANT))))) {
         c->bad = 1;
     } else {
         v = (rfe_fix_t)((y < 0.0) ? -r : r);

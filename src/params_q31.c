@@ -7,11 +7,12 @@
 
 #include "rfe/fxmath.h"
 
+#include "internal_q31.h"
+
 /* ---- presets ------------------------------------------------------------------------------
  * The tables are rfe_params_to_q31_f64() of rfe_params_paper_f64() / rfe_params_default_f64()
  * (test/test_params_q31.c checks that bit for bit); the real value is in each comment. */
 
-/* cppcheck-suppress misra-c2012-8.9 ; read by two functions */
 static const rfe_params_q31_t paper_q31 = {
     {
         119930880,  /* m = 1830 kg, Q16 */
@@ -122,11 +123,12 @@ typedef struct {
 } pf_t;
 
 /* Number of significant bits of v > 0. */
-static int bit_length(uint64_t v)
+static int pf_bit_length(uint64_t v)
 {
+    uint64_t r = v;
     int n = 0;
-    while (v != 0u) {
-        v >>= 1;
+    while (r != 0u) {
+        r >>= 1;
         ++n;
     }
     return n;
@@ -137,12 +139,12 @@ static pf_t pf_make(int64_t v, int q)
 {
     pf_t r = {0, 0};
     if (v > 0) {
-        const int len = bit_length((uint64_t)v);
+        const int len = pf_bit_length((uint64_t)v);
         if (len > 30) {
-            r.mant = rfe_fix_shr64_round(v, (unsigned int)(len - 30));
+            r.mant = rfe_fix_shr64_round(v, (unsigned int)len - 30u);
             r.q = q - (len - 30);
         } else {
-            r.mant = v * ((int64_t)1 << (unsigned int)(30 - len));
+            r.mant = v * rfe_q31_pow2(30u - (unsigned int)len);
             r.q = q + (30 - len);
         }
     }
@@ -171,7 +173,7 @@ static int64_t pf_to_q(pf_t a, int qt)
     if (a.mant == 0) {
         v = 0;
     } else if (sh >= 0) {
-        v = (sh > 2) ? -1 : (a.mant * ((int64_t)1 << (unsigned int)sh));
+        v = (sh > 2) ? -1 : (a.mant * rfe_q31_pow2((unsigned int)sh));
     } else {
         v = rfe_fix_shr64_round(a.mant, (unsigned int)(-sh));
     }
@@ -183,33 +185,56 @@ static int agrees(rfe_fix_t stored, pf_t ref, int qt)
 {
     const int64_t r = pf_to_q(ref, qt);
     const int64_t d = (int64_t)stored - r;
-    return (r >= 0) && (((d < 0) ? -d : d) <= ((r >> 13) + 2));
+    return (r >= 0) && (((d < 0) ? -d : d) <= ((r / rfe_q31_pow2(13u)) + 2));
 }
 
 /* ---- validation ------------------------------------------------------------------------- */
 
-static int is_pos(rfe_fix_t x) { return x > 0; }
-static int is_nonneg(rfe_fix_t x) { return x >= 0; }
+static int is_pos_q31(rfe_fix_t x) { return x > 0; }
+static int is_nonneg_q31(rfe_fix_t x) { return x >= 0; }
 /* 0, or at least 16 significant bits (2^16 LSB); used on fields already checked >= 0. */
 static int sig16(rfe_fix_t x) { return (x == 0) || (x >= 65536); }
 
+/* The base fields: signs, then 16 significant bits (split from vehicle_base_ok to bound its
+ * cyclomatic complexity; same checks, same order). */
+static int vehicle_base_sign_ok(const rfe_vehicle_q31_t *v)
+{
+    return is_pos_q31(v->m) && is_pos_q31(v->Lf) && is_pos_q31(v->Lr) && is_pos_q31(v->Bf) &&
+           is_pos_q31(v->Br) && is_pos_q31(v->R) && is_pos_q31(v->J) && is_nonneg_q31(v->hg) &&
+           is_pos_q31(v->g);
+}
+
+static int vehicle_base_sig16_ok(const rfe_vehicle_q31_t *v)
+{
+    return sig16(v->m) && sig16(v->Lf) && sig16(v->Lr) && sig16(v->Bf) && sig16(v->Br) &&
+           sig16(v->J) && sig16(v->hg) && sig16(v->g);
+}
+
 static int vehicle_base_ok(const rfe_vehicle_q31_t *v)
 {
-    return is_pos(v->m) && is_pos(v->Lf) && is_pos(v->Lr) && is_pos(v->Bf) && is_pos(v->Br) &&
-           is_pos(v->R) && is_pos(v->J) && is_nonneg(v->hg) && is_pos(v->g) && sig16(v->m) &&
-           sig16(v->Lf) && sig16(v->Lr) && sig16(v->Bf) && sig16(v->Br) && sig16(v->J) &&
-           sig16(v->hg) && sig16(v->g);
+    return vehicle_base_sign_ok(v) && vehicle_base_sig16_ok(v);
+}
+
+/* The derived constants: signs, then 16 significant bits (split from vehicle_derived_sign_ok
+ * to bound its cyclomatic complexity; same checks, same order). */
+static int derived_signs_ok(const rfe_vehicle_q31_t *v)
+{
+    return is_pos_q31(v->yf) && is_pos_q31(v->yr) && is_pos_q31(v->inv_m) && is_pos_q31(v->lf_J) &&
+           is_pos_q31(v->lr_J) && is_pos_q31(v->yf_J) && is_pos_q31(v->yr_J) &&
+           is_pos_q31(v->fz_static_f) && is_pos_q31(v->fz_static_r) && is_nonneg_q31(v->k_pitch) &&
+           is_nonneg_q31(v->k_roll_f) && is_nonneg_q31(v->k_roll_r);
+}
+
+static int derived_sig16_ok(const rfe_vehicle_q31_t *v)
+{
+    return sig16(v->yf) && sig16(v->yr) && sig16(v->inv_m) && sig16(v->lf_J) && sig16(v->lr_J) &&
+           sig16(v->yf_J) && sig16(v->yr_J) && sig16(v->fz_static_f) && sig16(v->fz_static_r) &&
+           sig16(v->k_pitch) && sig16(v->k_roll_f) && sig16(v->k_roll_r);
 }
 
 static int vehicle_derived_sign_ok(const rfe_vehicle_q31_t *v)
 {
-    return is_pos(v->yf) && is_pos(v->yr) && is_pos(v->inv_m) && is_pos(v->lf_J) &&
-           is_pos(v->lr_J) && is_pos(v->yf_J) && is_pos(v->yr_J) && is_pos(v->fz_static_f) &&
-           is_pos(v->fz_static_r) && is_nonneg(v->k_pitch) && is_nonneg(v->k_roll_f) &&
-           is_nonneg(v->k_roll_r) && sig16(v->yf) && sig16(v->yr) && sig16(v->inv_m) &&
-           sig16(v->lf_J) && sig16(v->lr_J) && sig16(v->yf_J) && sig16(v->yr_J) &&
-           sig16(v->fz_static_f) && sig16(v->fz_static_r) && sig16(v->k_pitch) &&
-           sig16(v->k_roll_f) && sig16(v->k_roll_r);
+    return derived_signs_ok(v) && derived_sig16_ok(v);
 }
 
 /* Each derived constant against its recomputation from the (positive) base fields. */
@@ -244,35 +269,43 @@ static int vehicle_derived_agree(const rfe_vehicle_q31_t *v)
            agrees(v->k_roll_r, pf_div(pf_mul(mh, lf), pf_mul(la, br)), RFE_FIX_Q_KLOAD);
 }
 
-static int tyre_ok(const rfe_tyre_params_q31_t *t)
+static int tyre_ok_q31(const rfe_tyre_params_q31_t *t)
 {
     /* alpha_max < 1.5 rad keeps tan(alpha) bounded and inside rfe_fix_tan's domain. */
-    return ((t->mode == RFE_TYRE_PAPER) || (t->mode == RFE_TYRE_ABSOLUTE)) && is_pos(t->Cx_n) &&
-           is_pos(t->Cy_n) && is_pos(t->cx) && is_pos(t->cy) && is_nonneg(t->eps) &&
-           is_pos(t->v_min) && is_pos(t->alpha_max) && (t->alpha_max < RFE_FIX_TAN_LIMIT_Q29);
+    return ((t->mode == RFE_TYRE_PAPER) || (t->mode == RFE_TYRE_ABSOLUTE)) && is_pos_q31(t->Cx_n) &&
+           is_pos_q31(t->Cy_n) && is_pos_q31(t->cx) && is_pos_q31(t->cy) && is_nonneg_q31(t->eps) &&
+           is_pos_q31(t->v_min) && is_pos_q31(t->alpha_max) &&
+           (t->alpha_max < RFE_FIX_TAN_LIMIT_Q29);
 }
 
 /* Enums in range; sd0, q_mu and the measurement noise positive; the mu bounds. */
-static int filter_ok(const rfe_filter_params_q31_t *f)
+static int filter_ok_q31(const rfe_filter_params_q31_t *f)
 {
     return ((f->kind == RFE_FILTER_SCKF) || (f->kind == RFE_FILTER_CKF)) &&
            ((f->structure == RFE_STRUCT_WHEELS) || (f->structure == RFE_STRUCT_SIDES)) &&
-           is_pos(f->sd0) && is_pos(f->q_mu) && is_pos(f->r_ax) && is_pos(f->r_ay) &&
-           is_pos(f->r_yaw_acc) && is_nonneg(f->mu_min) && is_pos(f->mu_max) &&
-           (f->mu_min < f->mu_max) && (f->mu0 >= f->mu_min) && (f->mu0 <= f->mu_max) &&
-           is_nonneg(f->v_est_min);
+           is_pos_q31(f->sd0) && is_pos_q31(f->q_mu) && is_pos_q31(f->r_ax) &&
+           is_pos_q31(f->r_ay) && is_pos_q31(f->r_yaw_acc) && is_nonneg_q31(f->mu_min) &&
+           is_pos_q31(f->mu_max) && (f->mu_min < f->mu_max) && (f->mu0 >= f->mu_min) &&
+           (f->mu0 <= f->mu_max) && is_nonneg_q31(f->v_est_min);
 }
 
-/* The docs/ESTIMATOR.md additions: each >= 0 (0 = off), dt > 0; the gain b_v. */
-static int additions_ok(const rfe_filter_params_q31_t *f)
+/* The docs/ESTIMATOR.md additions: each >= 0 (0 = off), dt > 0. */
+static int additions_nonneg_ok(const rfe_filter_params_q31_t *f)
 {
-    return is_nonneg(f->sd0_common) && is_nonneg(f->q_common) && is_pos(f->dt) &&
-           is_nonneg(f->tau_v) && is_nonneg(f->sd_in_delta) && is_nonneg(f->sd_in_vx) &&
-           is_nonneg(f->sd_in_vy) && is_nonneg(f->sd_in_yaw_rate) && is_nonneg(f->sd_in_omega) &&
-           is_nonneg(f->r_model_rel) && is_nonneg(f->info_min) && is_nonneg(f->sd_max) &&
-           is_nonneg(f->sd_floor_rel) && is_nonneg(f->sd_valid) && sig16(f->dt) &&
-           sig16(f->tau_v) && is_pos(f->b_v) && (f->b_v <= RFE_FIX_ONE(RFE_FIX_Q_DT)) &&
-           sig16(f->b_v);
+    return is_nonneg_q31(f->sd0_common) && is_nonneg_q31(f->q_common) && is_pos_q31(f->dt) &&
+           is_nonneg_q31(f->tau_v) && is_nonneg_q31(f->sd_in_delta) && is_nonneg_q31(f->sd_in_vx) &&
+           is_nonneg_q31(f->sd_in_vy) && is_nonneg_q31(f->sd_in_yaw_rate) &&
+           is_nonneg_q31(f->sd_in_omega) && is_nonneg_q31(f->r_model_rel) &&
+           is_nonneg_q31(f->info_min) && is_nonneg_q31(f->sd_max) &&
+           is_nonneg_q31(f->sd_floor_rel) && is_nonneg_q31(f->sd_valid);
+}
+
+/* The additions, then dt and tau_v with 16 significant bits and the gain b_v in (0, 1] (split
+ * in two to bound the cyclomatic complexity; same checks, same order). */
+static int additions_ok_q31(const rfe_filter_params_q31_t *f)
+{
+    return additions_nonneg_ok(f) && sig16(f->dt) && sig16(f->tau_v) && is_pos_q31(f->b_v) &&
+           (f->b_v <= RFE_FIX_ONE(RFE_FIX_Q_DT)) && sig16(f->b_v);
 }
 
 /* b_v = dt / (tau_v + dt), with tau_v (Q26) brought to Q30: the sum fits int64. */
@@ -280,14 +313,15 @@ static int gain_agrees(const rfe_filter_params_q31_t *f)
 {
     const pf_t dt = pf_make(f->dt, RFE_FIX_Q_DT);
     const pf_t den =
-        pf_make(((int64_t)f->tau_v * (int64_t)RFE_FIX_ONE(RFE_FIX_Q_DT - RFE_FIX_Q_TAU)) +
+        pf_make(((int64_t)f->tau_v *
+                 rfe_q31_pow2((unsigned int)RFE_FIX_Q_DT - (unsigned int)RFE_FIX_Q_TAU)) +
                     (int64_t)f->dt,
                 RFE_FIX_Q_DT);
     return agrees(f->b_v, pf_div(dt, den), RFE_FIX_Q_DT);
 }
 
 /* The CKF runs only the paper-compatible subset (as rfe_params_validate). */
-static int ckf_subset_ok(const rfe_filter_params_q31_t *f)
+static int ckf_subset_ok_q31(const rfe_filter_params_q31_t *f)
 {
     return (f->kind != RFE_FILTER_CKF) ||
            ((f->structure == RFE_STRUCT_WHEELS) && (f->sd0_common == 0) && (f->q_common == 0) &&
@@ -304,8 +338,9 @@ rfe_status_t rfe_params_validate_q31(const rfe_params_q31_t *p)
     }
     /* The recomputations divide by base fields: only after those are known positive. */
     if (!vehicle_base_ok(&p->vehicle) || !vehicle_derived_sign_ok(&p->vehicle) ||
-        !vehicle_derived_agree(&p->vehicle) || !tyre_ok(&p->tyre) || !filter_ok(&p->filter) ||
-        !additions_ok(&p->filter) || !gain_agrees(&p->filter) || !ckf_subset_ok(&p->filter)) {
+        !vehicle_derived_agree(&p->vehicle) || !tyre_ok_q31(&p->tyre) ||
+        !filter_ok_q31(&p->filter) || !additions_ok_q31(&p->filter) || !gain_agrees(&p->filter) ||
+        !ckf_subset_ok_q31(&p->filter)) {
         return RFE_ERR_PARAM;
     }
     return RFE_OK;

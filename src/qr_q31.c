@@ -26,7 +26,7 @@
 #define C_FRAC 30u
 
 /* Number of significant bits of v (0 for v = 0). */
-static unsigned int bit_length(uint64_t v)
+static unsigned int bit_length_q31(uint64_t v)
 {
     unsigned int len = 0u;
     uint64_t r = v;
@@ -48,7 +48,7 @@ static int tail_shift(const rfe_fix_t *t, size_t len, int *shift)
     unsigned int half;
     size_t j;
     for (j = 0u; j < len; ++j) {
-        const uint64_t m = rfe_q31_mag64((int64_t)t[j]);
+        const uint64_t m = rfe_q31_mag64_any((int64_t)t[j]);
         const uint64_t sq = m * m;
         lo += sq;
         if (lo < sq) {
@@ -59,7 +59,7 @@ static int tail_shift(const rfe_fix_t *t, size_t len, int *shift)
         return 0;
     }
     /* bit length of the 128-bit sum; floor(log2 sqrt(ss)) = floor((bits - 1) / 2) */
-    bits = (hi != 0u) ? (64u + bit_length(hi)) : bit_length(lo);
+    bits = (hi != 0u) ? (64u + bit_length_q31(hi)) : bit_length_q31(lo);
     half = (bits - 1u) / 2u;
     *shift = NORM_LO - (int)half;
     return 1;
@@ -131,10 +131,10 @@ static int64_t reflect(rfe_fix_t *A, size_t rows, size_t lda, size_t k, size_t l
     size_t j;
 
     for (j = 0u; j < len; ++j) {
-        const uint64_t m = rfe_q31_mag64((int64_t)x[j]);
+        const uint64_t m = rfe_q31_mag64_any((int64_t)x[j]);
         ss += m * m;
     }
-    if (ss == (rfe_q31_mag64((int64_t)x[0]) * rfe_q31_mag64((int64_t)x[0]))) {
+    if (ss == (rfe_q31_mag64_any((int64_t)x[0]) * rfe_q31_mag64_any((int64_t)x[0]))) {
         /* Only x0 is non-zero: the reflection would negate column k and the sign fix-up
          * negate it back where x0 > 0; skipping it gives the same factor, exactly (a
          * lower-triangular input is its own Tria up to column signs). */
@@ -143,8 +143,8 @@ static int64_t reflect(rfe_fix_t *A, size_t rows, size_t lda, size_t k, size_t l
     norm = (int64_t)rfe_q31_sqrt_round(ss);
     v0 = (x[0] < 0) ? ((int64_t)x[0] - norm) : ((int64_t)x[0] + norm);
     /* v.v = |x|^2 - x0^2 + v0^2, exact */
-    vtv = (ss - (rfe_q31_mag64((int64_t)x[0]) * rfe_q31_mag64((int64_t)x[0]))) +
-          (rfe_q31_mag64(v0) * rfe_q31_mag64(v0));
+    vtv = (ss - (rfe_q31_mag64_any((int64_t)x[0]) * rfe_q31_mag64_any((int64_t)x[0]))) +
+          (rfe_q31_mag64_any(v0) * rfe_q31_mag64_any(v0));
     for (i = k + 1u; i < rows; ++i) {
         if (nonzero[i] != 0) {
             rfe_fix_t *a = &AT(A, lda, i, k);
@@ -155,7 +155,7 @@ static int64_t reflect(rfe_fix_t *A, size_t rows, size_t lda, size_t k, size_t l
                 dot += (int64_t)a[j] * (int64_t)x[j];
             }
             /* c in Q30: round(2 a.v 2^30 / v.v), magnitude below 2^32 */
-            cm = div_round_shift(rfe_q31_mag64(dot), vtv, C_FRAC + 1u);
+            cm = div_round_shift(rfe_q31_mag64_any(dot), vtv, C_FRAC + 1u);
             c = (dot < 0) ? -(int64_t)cm : (int64_t)cm;
             a[0] = rfe_fix_sat32((int64_t)a[0] - rfe_fix_shr64_round(c * v0, C_FRAC), sat);
             for (j = 1u; j < len; ++j) {
@@ -174,7 +174,7 @@ static int64_t reflect(rfe_fix_t *A, size_t rows, size_t lda, size_t k, size_t l
  * leaves S S^T unchanged (entries are symmetric-saturated, so negation is exact). The flip is
  * decided on the sign of the unrounded diagonal (flip[k]), so that a diagonal entry that
  * rounds to 0 still gets the column sign of the exact factor. */
-static void make_diagonal_nonnegative(rfe_fix_t *A, size_t rows, size_t lda, const int *flip)
+static void make_diagonal_nonnegative_q31(rfe_fix_t *A, size_t rows, size_t lda, const int *flip)
 {
     size_t i;
     size_t k;
@@ -231,14 +231,14 @@ rfe_status_t rfe_qr_tria_q31(rfe_fix_t *A, size_t rows, size_t cols, size_t lda,
             AT(A, lda, i, k) = to_output((int64_t)AT(A, lda, i, k), e[i], &count);
         }
     }
-    make_diagonal_nonnegative(A, rows, lda, flip);
+    make_diagonal_nonnegative_q31(A, rows, lda, flip);
     rfe_q31_add_count(sat, count);
     return RFE_OK;
 }
 
 /* Shared checks of the triangular solves; all diagonal entries must be > 0. */
-static rfe_status_t check_solve(const rfe_fix_t *L, size_t n, size_t ldl, const rfe_fix_t *B,
-                                size_t ncols, size_t ldb, int shift, const uint32_t *sat)
+static rfe_status_t check_solve_q31(const rfe_fix_t *L, size_t n, size_t ldl, const rfe_fix_t *B,
+                                    size_t ncols, size_t ldb, int shift, const uint32_t *sat)
 {
     size_t i;
     if ((L == NULL) || (B == NULL) || (sat == NULL)) {
@@ -265,7 +265,7 @@ rfe_status_t rfe_qr_solve_lower_q31(const rfe_fix_t *L, size_t n, size_t ldl, rf
     size_t c;
     size_t i;
     size_t j;
-    const rfe_status_t st = check_solve(L, n, ldl, B, ncols, ldb, shift, sat);
+    const rfe_status_t st = check_solve_q31(L, n, ldl, B, ncols, ldb, shift, sat);
 
     if (st != RFE_OK) {
         return st;
@@ -292,7 +292,7 @@ rfe_status_t rfe_qr_solve_lower_t_q31(const rfe_fix_t *L, size_t n, size_t ldl, 
     uint32_t count = 0u;
     size_t c;
     size_t j;
-    const rfe_status_t st = check_solve(L, n, ldl, B, ncols, ldb, shift, sat);
+    const rfe_status_t st = check_solve_q31(L, n, ldl, B, ncols, ldb, shift, sat);
 
     if (st != RFE_OK) {
         return st;

@@ -37,7 +37,7 @@
 
 /* Copies the lower triangle of a k x k matrix (src stride lds) into dst (stride ldd),
  * zeroing dst's upper triangle. */
-static void copy_lower(const rfe_fix_t *src, size_t lds, size_t k, rfe_fix_t *dst, size_t ldd)
+static void copy_lower_q31(const rfe_fix_t *src, size_t lds, size_t k, rfe_fix_t *dst, size_t ldd)
 {
     size_t i;
     size_t j;
@@ -50,13 +50,13 @@ static void copy_lower(const rfe_fix_t *src, size_t lds, size_t k, rfe_fix_t *ds
 
 /* Accepts a step: the candidate mean (w.xn) and factor (Tria output in M, ld TC) become the
  * state, and the step's saturation events are added to the counter. */
-static void commit(rfe_sckf_q31_t *f, const rfe_fix_t *M, uint32_t count)
+static void commit_q31(rfe_sckf_q31_t *f, const rfe_fix_t *M, uint32_t count)
 {
     size_t i;
     for (i = 0u; i < f->n; ++i) {
         f->x[i] = f->w.xn[i];
     }
-    copy_lower(M, TC, f->n, f->S, NM);
+    copy_lower_q31(M, TC, f->n, f->S, NM);
     rfe_q31_add_count(&f->sat, count);
 }
 
@@ -75,9 +75,9 @@ rfe_status_t rfe_sckf_init_q31(rfe_sckf_q31_t *f, size_t n, size_t m, const rfe_
     for (i = 0u; i < n; ++i) {
         f->x[i] = x0[i];
     }
-    copy_lower(S0, n, n, f->S, NM);
-    copy_lower(SQ, n, n, f->SQ, NM);
-    copy_lower(SR, m, m, f->SR, MM);
+    copy_lower_q31(S0, n, n, f->S, NM);
+    copy_lower_q31(SQ, n, n, f->SQ, NM);
+    copy_lower_q31(SR, m, m, f->SR, MM);
     f->sat = 0u;
     f->magic = RFE_MAGIC_SCKF_Q31;
     return RFE_OK;
@@ -122,13 +122,13 @@ rfe_status_t rfe_sckf_predict_q31(rfe_sckf_q31_t *f, rfe_process_fn_q31_t proces
     if (st != RFE_OK) {
         return st;
     }
-    commit(f, w->A, count);
+    commit_q31(f, w->A, count);
     return RFE_OK;
 }
 
 /* Xc = (X_j - x-)/sqrt(2n) into B (n x 2n, Q30) and Zc = (Z_j - z)/sqrt(2n) in place in
  * zpts (Q24). */
-static void centre_points(rfe_sckf_q31_t *f, uint32_t *count)
+static void centre_points_q31(rfe_sckf_q31_t *f, uint32_t *count)
 {
     rfe_cub_scratch_q31_t *w = &f->w;
     const size_t n = f->n;
@@ -168,7 +168,7 @@ static void innovation_array(rfe_sckf_q31_t *f, const rfe_fix_t *SR)
 /* S_zz = Tria([Zc, S_R]) into w->Szz (Q24); W = S_zz \ [Zc, S_R] into w->A (m rows, Q30);
  * the whitened gain G = Xc Y^T (Y: the first 2n columns of W) transposed into w->Kt (m x n,
  * Q30). SR: this step's lower-triangular S_R, ld RFE_M_MAX. */
-static rfe_status_t gain(rfe_sckf_q31_t *f, const rfe_fix_t *SR, uint32_t *count)
+static rfe_status_t gain_q31(rfe_sckf_q31_t *f, const rfe_fix_t *SR, uint32_t *count)
 {
     rfe_cub_scratch_q31_t *w = &f->w;
     const size_t n = f->n;
@@ -183,7 +183,7 @@ static rfe_status_t gain(rfe_sckf_q31_t *f, const rfe_fix_t *SR, uint32_t *count
     if (st != RFE_OK) {
         return st;
     }
-    copy_lower(w->A, TC, m, w->Szz, MM);
+    copy_lower_q31(w->A, TC, m, w->Szz, MM);
     /* W = S_zz \ [Zc, S_R]: Q24 by Q24 into Q30, shift = 30 - 24 + 24. */
     innovation_array(f, SR);
     st = rfe_qr_solve_lower_q31(w->Szz, m, MM, w->A, (2u * n) + m, TC,
@@ -238,7 +238,7 @@ static rfe_status_t correct(rfe_sckf_q31_t *f, const rfe_fix_t *y, uint32_t *cou
 
 /* [Xc, 0] - G W (n x (2n + m), Q30) in place of Xc in w->B: the Tria input of the posterior
  * factor, [Xc - K Zc, K S_R]. Needs W (w->A) and G^T (w->Kt). */
-static void posterior_tria_input(rfe_sckf_q31_t *f, uint32_t *count)
+static void posterior_tria_input_q31(rfe_sckf_q31_t *f, uint32_t *count)
 {
     rfe_cub_scratch_q31_t *w = &f->w;
     const size_t n = f->n;
@@ -300,8 +300,8 @@ static void sum_squares(const rfe_sckf_q31_t *f, rfe_fix_t *info, uint32_t *coun
 /* docs/ESTIMATOR.md step 5: I_k = sum_r V_rk^2, V = S_R \ J, J^T = S-^T \ (U Zc^T),
  * U = S- \ Xc. Needs the centred points (w->B, w->zpts); uses w->A and w->Kt as scratch.
  * info in Q10. */
-static rfe_status_t information(rfe_sckf_q31_t *f, const rfe_fix_t *SR, rfe_fix_t *info,
-                                uint32_t *count)
+static rfe_status_t information_q31(rfe_sckf_q31_t *f, const rfe_fix_t *SR, rfe_fix_t *info,
+                                    uint32_t *count)
 {
     rfe_cub_scratch_q31_t *w = &f->w;
     const size_t n = f->n;
@@ -342,10 +342,10 @@ static rfe_status_t information(rfe_sckf_q31_t *f, const rfe_fix_t *SR, rfe_fix_
 
 /* docs/ESTIMATOR.md steps 5-6: the step's information into info (n, Q10) and the gate:
  * *held = 1 when info_min > 0 and no state reaches it. Needs the centred points. */
-static rfe_status_t gate(rfe_sckf_q31_t *f, const rfe_fix_t *SR, rfe_fix_t info_min,
-                         rfe_fix_t *info, int *held, uint32_t *count)
+static rfe_status_t gate_q31(rfe_sckf_q31_t *f, const rfe_fix_t *SR, rfe_fix_t info_min,
+                             rfe_fix_t *info, int *held, uint32_t *count)
 {
-    const rfe_status_t st = information(f, SR, info, count);
+    const rfe_status_t st = information_q31(f, SR, info, count);
     *held = 0;
     if (st == RFE_OK) {
         rfe_fix_t most = 0;
@@ -364,9 +364,9 @@ static rfe_status_t gate(rfe_sckf_q31_t *f, const rfe_fix_t *SR, rfe_fix_t info_
  * information when info_min > 0 (docs/ESTIMATOR.md steps 5-6). Writes info (n) when
  * want_info; *updated = 0 when held. Commits x, S and the count only when everything
  * succeeded (a held step commits the count of the information alone). */
-static rfe_status_t update_core(rfe_sckf_q31_t *f, rfe_measure_fn_q31_t measure, void *ctx,
-                                const rfe_fix_t *y, const rfe_fix_t *SR, rfe_fix_t info_min,
-                                int want_info, rfe_fix_t *info, int *updated)
+static rfe_status_t update_core_q31(rfe_sckf_q31_t *f, rfe_measure_fn_q31_t measure, void *ctx,
+                                    const rfe_fix_t *y, const rfe_fix_t *SR, rfe_fix_t info_min,
+                                    int want_info, rfe_fix_t *info, int *updated)
 {
     rfe_cub_scratch_q31_t *w = &f->w;
     const size_t n = f->n;
@@ -381,10 +381,10 @@ static rfe_status_t update_core(rfe_sckf_q31_t *f, rfe_measure_fn_q31_t measure,
         return st;
     }
     rfe_cub_mean_q31(w->zpts, n, m, MM, w->zhat);
-    centre_points(f, &count);
+    centre_points_q31(f, &count);
     if ((want_info != 0) || (info_min > 0)) {
         int held = 0;
-        st = gate(f, SR, info_min, info, &held, &count);
+        st = gate_q31(f, SR, info_min, info, &held, &count);
         if (st != RFE_OK) {
             return st;
         }
@@ -394,7 +394,7 @@ static rfe_status_t update_core(rfe_sckf_q31_t *f, rfe_measure_fn_q31_t measure,
             return RFE_OK;
         }
     }
-    st = gain(f, SR, &count);
+    st = gain_q31(f, SR, &count);
     if (st == RFE_OK) {
         st = correct(f, y, &count);
     }
@@ -402,19 +402,19 @@ static rfe_status_t update_core(rfe_sckf_q31_t *f, rfe_measure_fn_q31_t measure,
         return st;
     }
     /* S = Tria([Xc - K Zc, K S_R]). */
-    posterior_tria_input(f, &count);
+    posterior_tria_input_q31(f, &count);
     st = rfe_qr_tria_q31(w->B, n, (2u * n) + m, TC, &count);
     if (st != RFE_OK) {
         return st;
     }
-    commit(f, w->B, count);
+    commit_q31(f, w->B, count);
     *updated = 1;
     return RFE_OK;
 }
 
 /* Common argument checks of the measurement updates. */
-static rfe_status_t check_update(const rfe_sckf_q31_t *f, rfe_measure_fn_q31_t measure,
-                                 const rfe_fix_t *y)
+static rfe_status_t check_update_q31(const rfe_sckf_q31_t *f, rfe_measure_fn_q31_t measure,
+                                     const rfe_fix_t *y)
 {
     if ((f == NULL) || (measure == NULL) || (y == NULL)) {
         return RFE_ERR_NULL;
@@ -427,11 +427,11 @@ rfe_status_t rfe_sckf_update_q31(rfe_sckf_q31_t *f, rfe_measure_fn_q31_t measure
 {
     rfe_fix_t info[RFE_N_MAX];
     int updated = 0;
-    const rfe_status_t st = check_update(f, measure, y);
+    const rfe_status_t st = check_update_q31(f, measure, y);
     if (st != RFE_OK) {
         return st;
     }
-    return update_core(f, measure, ctx, y, f->SR, 0, 0, info, &updated);
+    return update_core_q31(f, measure, ctx, y, f->SR, 0, 0, info, &updated);
 }
 
 rfe_status_t rfe_sckf_update_ex_q31(rfe_sckf_q31_t *f, rfe_measure_fn_q31_t measure, void *ctx,
@@ -442,7 +442,7 @@ rfe_status_t rfe_sckf_update_ex_q31(rfe_sckf_q31_t *f, rfe_measure_fn_q31_t meas
     rfe_fix_t info[RFE_N_MAX];
     const rfe_fix_t *sr;
     int upd = 0;
-    rfe_status_t st = check_update(f, measure, y);
+    rfe_status_t st = check_update_q31(f, measure, y);
 
     if ((st == RFE_OK) && (updated == NULL)) {
         st = RFE_ERR_NULL;
@@ -452,10 +452,10 @@ rfe_status_t rfe_sckf_update_ex_q31(rfe_sckf_q31_t *f, rfe_measure_fn_q31_t meas
     }
     sr = f->SR;
     if (SR != NULL) {
-        copy_lower(SR, f->m, f->m, SRl, MM);
+        copy_lower_q31(SR, f->m, f->m, SRl, MM);
         sr = SRl;
     }
-    st = update_core(f, measure, ctx, y, sr, info_min, (info_out != NULL) ? 1 : 0, info, &upd);
+    st = update_core_q31(f, measure, ctx, y, sr, info_min, (info_out != NULL) ? 1 : 0, info, &upd);
     if (st != RFE_OK) {
         return st;
     }

@@ -20,10 +20,15 @@
 
 #include "internal_q31.h"
 
-/* Internal velocity format: Q51. */
+/* Internal velocity format: Q51, and the shift from the sample's speed format to it. */
 #define QV 51u
-/* 1.0 in Q30 (kappa, E, L, direction cosines). */
-#define ONE_Q30 ((int32_t)1 << 30)
+#define QV_SPEED (QV - (unsigned int)RFE_FIX_Q_SPEED)
+/* 1.0 in Q30, 2^30 (kappa, E, L, direction cosines). */
+#define ONE_Q30 ((int32_t)0x40000000)
+/* The slip arithmetic below holds kappa in Q30 (ONE_Q30, the Q59 = Q29 x Q30 of mu (1 - |k|)). */
+#if RFE_FIX_Q_KAPPA != 30
+#error "tyre_q31.c computes kappa in Q30: keep RFE_FIX_Q_KAPPA (params_q31.h) at 30"
+#endif
 
 /* ---- fxmath calls whose arguments are valid by construction -------------------------------
  * Each fxmath function fails only for a NULL pointer or an argument outside its domain; the
@@ -105,7 +110,7 @@ static int32_t long_slip(int32_t omega, int32_t R, int64_t vwx, int32_t v_min)
     const int64_t num = vr - vwx;
     const uint64_t mvr = rfe_q31_mag64(vr);
     const uint64_t mvx = rfe_q31_mag64(vwx);
-    const uint64_t mv = (uint64_t)v_min << (QV - RFE_FIX_Q_SPEED);
+    const uint64_t mv = (uint64_t)v_min << QV_SPEED;
     uint64_t den = (mvr > mvx) ? mvr : mvx;
     int32_t k;
 
@@ -128,11 +133,11 @@ static int32_t long_slip(int32_t omega, int32_t R, int64_t vwx, int32_t v_min)
  *   static: fz_static (Q15) 2^28, |.| < 2^59;
  *   pitch = k_pitch ax, roll = k_roll ay: Q20 x Q24 = Q44 (< 2^62), rounded to Q43 (< 2^61);
  * so every sum is below 2^59 + 2^62 < 2^63. One rounding to Q15, saturating (counted). */
-static void vertical_loads(const rfe_vehicle_q31_t *veh, int32_t ax, int32_t ay,
-                           int32_t fz[RFE_WHEELS], uint32_t *sat)
+static void vertical_loads_q31(const rfe_vehicle_q31_t *veh, int32_t ax, int32_t ay,
+                               int32_t fz[RFE_WHEELS], uint32_t *sat)
 {
-    const int64_t fs_f = (int64_t)veh->fz_static_f * ((int64_t)1 << 28);
-    const int64_t fs_r = (int64_t)veh->fz_static_r * ((int64_t)1 << 28);
+    const int64_t fs_f = (int64_t)veh->fz_static_f * rfe_q31_pow2(28u);
+    const int64_t fs_r = (int64_t)veh->fz_static_r * rfe_q31_pow2(28u);
     const int64_t pitch = rfe_fix_shr64_round((int64_t)veh->k_pitch * (int64_t)ax, 1u);
     const int64_t roll_f = rfe_fix_shr64_round((int64_t)veh->k_roll_f * (int64_t)ay, 1u);
     const int64_t roll_r = rfe_fix_shr64_round((int64_t)veh->k_roll_r * (int64_t)ay, 1u);
@@ -186,19 +191,19 @@ rfe_status_t rfe_tyre_kinematics_q31(const rfe_vehicle_q31_t *veh, const rfe_tyr
         const int32_t si = (i < (size_t)RFE_RL) ? s : 0;
         /* v_i = (vx - r y_i, vy + r x_i) in Q51: |vx 2^28| <= 2^59, |r y| (Q56) <= 2^62
          * becomes <= 2^57 in Q51, so |vb| < 2^59.4. */
-        const int64_t vbx = ((int64_t)u->vx * ((int64_t)1 << (QV - RFE_FIX_Q_SPEED))) -
+        const int64_t vbx = ((int64_t)u->vx * rfe_q31_pow2(QV_SPEED)) -
                             rfe_fix_shr64_round((int64_t)u->yaw_rate * py[i], 5u);
-        const int64_t vby = ((int64_t)u->vy * ((int64_t)1 << (QV - RFE_FIX_Q_SPEED))) +
+        const int64_t vby = ((int64_t)u->vy * rfe_q31_pow2(QV_SPEED)) +
                             rfe_fix_shr64_round((int64_t)u->yaw_rate * px[i], 5u);
         /* Rotated into wheel axes: |vb c|, |vb s| < 2^59.4 each (|c|, |s| <= 1), sums < 2^60.4. */
         const int64_t vwx = rfe_q31_mul64x32(vbx, ci, 30u) + rfe_q31_mul64x32(vby, si, 30u);
         const int64_t vwy = rfe_q31_mul64x32(vby, ci, 30u) - rfe_q31_mul64x32(vbx, si, 30u);
 
-        out.vwx[i] = rfe_fix_narrow(vwx, QV - RFE_FIX_Q_SPEED, &count);
+        out.vwx[i] = rfe_fix_narrow(vwx, QV_SPEED, &count);
         out.alpha[i] = slip_angle(vwx, vwy, tp->alpha_max);
         out.kappa[i] = long_slip(u->omega[i], veh->R, vwx, tp->v_min);
     }
-    vertical_loads(veh, u->ax, u->ay, out.fz, &count);
+    vertical_loads_q31(veh, u->ax, u->ay, out.fz, &count);
     *kin = out;
     rfe_q31_sat_add(sat, count);
     return RFE_OK;
@@ -317,8 +322,8 @@ static void dugoff_core(int32_t k, int32_t t, int32_t c1, int32_t c2, int32_t ep
 }
 
 /* Common checks of the single-wheel functions (the float check_wheel, plus the parameters). */
-static rfe_status_t check_wheel(const rfe_tyre_params_q31_t *tp, int32_t fz, const int32_t *o1,
-                                const int32_t *o2, const uint32_t *sat)
+static rfe_status_t check_wheel_q31(const rfe_tyre_params_q31_t *tp, int32_t fz, const int32_t *o1,
+                                    const int32_t *o2, const uint32_t *sat)
 {
     if ((tp == NULL) || (o1 == NULL) || (o2 == NULL) || (sat == NULL)) {
         return RFE_ERR_NULL;
@@ -341,13 +346,14 @@ static void slip_inputs(const rfe_tyre_params_q31_t *tp, int32_t kappa, int32_t 
     *t = tan_q(rfe_fix_clamp(alpha, -tp->alpha_max, tp->alpha_max));
 }
 
+/* cppcheck-suppress misra-c2012-8.7 ; MISRA-DEV-06: public API, called by the application */
 rfe_status_t rfe_tyre_dugoff_norm_q31(const rfe_tyre_params_q31_t *tp, rfe_fix_t kappa,
                                       rfe_fix_t alpha, rfe_fix_t fz, rfe_fix_t vwx, rfe_fix_t *f0x,
                                       rfe_fix_t *f0y, uint32_t *sat)
 {
     int32_t k;
     int32_t t;
-    const rfe_status_t st = check_wheel(tp, fz, f0x, f0y, sat);
+    const rfe_status_t st = check_wheel_q31(tp, fz, f0x, f0y, sat);
 
     if (st != RFE_OK) {
         return st;
@@ -358,13 +364,14 @@ rfe_status_t rfe_tyre_dugoff_norm_q31(const rfe_tyre_params_q31_t *tp, rfe_fix_t
     return RFE_OK;
 }
 
+/* cppcheck-suppress misra-c2012-8.7 ; MISRA-DEV-06: public API, called by the application */
 rfe_status_t rfe_tyre_dugoff_abs_q31(const rfe_tyre_params_q31_t *tp, rfe_fix_t kappa,
                                      rfe_fix_t alpha, rfe_fix_t fz, rfe_fix_t vwx, rfe_fix_t mu,
                                      rfe_fix_t *fx, rfe_fix_t *fy, uint32_t *sat)
 {
     int32_t k;
     int32_t t;
-    const rfe_status_t st = check_wheel(tp, fz, fx, fy, sat);
+    const rfe_status_t st = check_wheel_q31(tp, fz, fx, fy, sat);
 
     if (st != RFE_OK) {
         return st;

@@ -51,9 +51,13 @@ typedef int32_t rfe_fix_t;
 #define RFE_FIX_Q_TRIG 30u  /**< sin, cos: Q30, range +-2, LSB 9.31e-10 */
 #define RFE_FIX_Q_TAN 26u   /**< tan: Q26, range +-32, LSB 1.49e-8 */
 
-/* Angle constants in Q29 (rounded to nearest). */
-#define RFE_FIX_PI_Q29 ((rfe_fix_t)1686629713)        /**< pi (exact value ...713.065) */
-#define RFE_FIX_HALF_PI_Q29 ((rfe_fix_t)843314857)    /**< pi / 2 */
+/* Angle constants in Q29 (rounded to nearest), for the application: the library's CORDIC
+ * works with its own Q61 constants (fxmath_q31.c) and uses none of them. */
+/* cppcheck-suppress misra-c2012-2.5 ; MISRA-DEV-07: public API constant, for the application */
+#define RFE_FIX_PI_Q29 ((rfe_fix_t)1686629713) /**< pi (exact value ...713.065) */
+/* cppcheck-suppress misra-c2012-2.5 ; MISRA-DEV-07: public API constant, for the application */
+#define RFE_FIX_HALF_PI_Q29 ((rfe_fix_t)843314857) /**< pi / 2 */
+/* cppcheck-suppress misra-c2012-2.5 ; MISRA-DEV-07: public API constant, for the application */
 #define RFE_FIX_QUARTER_PI_Q29 ((rfe_fix_t)421657428) /**< pi / 4 */
 
 /** Counts one saturation event (the counter itself stops at UINT32_MAX). */

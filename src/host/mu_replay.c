@@ -17,6 +17,7 @@
 #include "csv_log.h"
 #include "metrics.h"
 #include "param_file.h"
+#include "replay_q31.h"
 #include "replay_real.h"
 #include "text_io.h"
 
@@ -28,7 +29,7 @@ enum { EXIT_OK = 0, EXIT_INPUT = 1, EXIT_USAGE = 2 };
 static const char k_usage[] =
     "usage: " PROG " --in SENSOR.csv --out ESTIMATE.csv [--preset default|paper]\n"
     "                 [--params FILE] [--filter sckf|ckf] [--tyre paper|absolute]\n"
-    "                 [--real float|double] [--metrics FILE.json] [--quiet] [--help]\n"
+    "                 [--real float|double|q31] [--metrics FILE.json] [--quiet] [--help]\n"
     "\n"
     "Runs the road-friction estimator over a sensor log (docs DATA.md) and writes the\n"
     "estimate log. Parameters: the --preset set < the log's '# key = value' metadata <\n"
@@ -43,7 +44,9 @@ static const char k_usage[] =
     "                   the keys are those of docs DATA.md and docs/ESTIMATOR.md)\n"
     "  --filter KIND    sckf (default) or ckf (the paper's baseline: --preset paper)\n"
     "  --tyre MODE      paper or absolute (default: the preset's)\n"
-    "  --real TYPE      float (default) or double arithmetic\n"
+    "  --real TYPE      float (default) or double arithmetic, or q31: the fixed-point\n"
+    "                   estimator (samples rounded to its Q formats; saturation counts\n"
+    "                   in the estimate log's metadata, the JSON and the summary)\n"
     "  --metrics FILE   write run summary and accuracy as JSON\n"
     "  --quiet, -q      print nothing on success\n"
     "  --help, -h       print this help and exit\n"
@@ -71,7 +74,9 @@ typedef struct {
     rfe_param_set_t ps;
     rfe_est_row_t *rows;
     rfe_replay_stats_t stats;
+    rfe_replay_q31_stats_t q31;  /**< the q31 run's counters (is_q31) */
     int is_double;
+    int is_q31;
     int has_metrics;
     rfe_metrics_t metrics;
 } run_t;
@@ -91,6 +96,8 @@ static void compute_metrics(run_t *r);
 static int write_metrics_json(const options_t *o, const run_t *r);
 static void print_status_counts(const run_t *r);
 static const char *base_name(const char *path);
+static const char *real_name(const run_t *r);
+static size_t saturation_meta(const run_t *r, rfe_kv_t *meta, char vals[][RFE_NUM_BUF]);
 static int fail(const rfe_io_error_t *err);
 
 int main(int argc, char **argv)
@@ -228,8 +235,9 @@ static int check_option_words(options_t *o)
     if ((o->tyre != NULL) && (rfe_tyre_mode_parse(o->tyre, &tm) != 0)) {
         return usage_error("--tyre must be paper or absolute, not '%s'", o->tyre);
     }
-    if ((o->real != NULL) && (strcmp(o->real, "float") != 0) && (strcmp(o->real, "double") != 0)) {
-        return usage_error("--real must be float or double, not '%s'", o->real);
+    if ((o->real != NULL) && (strcmp(o->real, "float") != 0) && (strcmp(o->real, "double") != 0) &&
+        (strcmp(o->real, "q31") != 0)) {
+        return usage_error("--real must be float, double or q31, not '%s'", o->real);
     }
     if (same_file(o->out, o->in) || ((o->params != NULL) && same_file(o->out, o->params)) ||
         ((o->metrics != NULL) && (same_file(o->metrics, o->in) || same_file(o->metrics, o->out)))) {
@@ -285,6 +293,7 @@ static int load_params(const options_t *o, run_t *r)
         r->ps.origin[RFE_PK_TYRE].line = 0u;
     }
     r->is_double = (o->real != NULL) && (strcmp(o->real, "double") == 0);
+    r->is_q31 = (o->real != NULL) && (strcmp(o->real, "q31") == 0);
     return 0;
 }
 
@@ -297,11 +306,28 @@ static int run_estimator(const options_t *o, run_t *r)
     rfe_status_t st;
     char val[RFE_NUM_BUF];
     r->rows = rfe_xrealloc(NULL, r->log.n_rows, sizeof *r->rows);
-    st = run(&r->ps, &r->log, r->rows, &r->stats, &bad);
+    if (r->is_q31) {
+        st = rfe_replay_run_q31(&r->ps, &r->log, r->rows, &r->q31, NULL, &bad);
+        r->stats = r->q31.base;
+    } else {
+        st = run(&r->ps, &r->log, r->rows, &r->stats, &bad);
+    }
     if (st == RFE_OK) {
         return 0;
     }
-    if ((bad == (size_t)RFE_PK_FILTER) && (r->ps.filter == RFE_FILTER_CKF)) {
+    if ((st == RFE_ERR_RANGE) && (bad != RFE_PK_NONE)) {
+        const rfe_param_origin_t *src = &r->ps.origin[bad];
+        rfe_param_format(&r->ps, bad, val);
+        rfe_io_error_set(&err, (src->file != NULL) ? src->file : "preset", src->line, 0u,
+                         "parameter %s = %s does not fit the fixed-point formats "
+                         "(rfe_params_to_q31, q31 run; docs/FIXED_POINT.md)",
+                         rfe_param_info(bad)->key, val);
+    } else if (st == RFE_ERR_RANGE) {
+        rfe_io_error_set(&err, o->in, 0u, 0u,
+                         "estimator init failed: %s (q31 run: the parameter set or the prior "
+                         "does not fit the fixed-point formats, docs/FIXED_POINT.md)",
+                         rfe_status_str(st));
+    } else if ((bad == (size_t)RFE_PK_FILTER) && (r->ps.filter == RFE_FILTER_CKF)) {
         const rfe_param_origin_t *src = &r->ps.origin[bad];
         rfe_io_error_set(&err, (src->file != NULL) ? src->file : "preset", src->line, 0u,
                          "filter = ckf: the CKF baseline needs --preset paper (it runs only "
@@ -311,7 +337,7 @@ static int run_estimator(const options_t *o, run_t *r)
         rfe_param_format(&r->ps, bad, val);
         rfe_io_error_set(&err, (src->file != NULL) ? src->file : "preset", src->line, 0u,
                          "invalid parameter %s = %s (rejected by rfe_params_validate, %s run)",
-                         rfe_param_info(bad)->key, val, r->is_double ? "double" : "float");
+                         rfe_param_info(bad)->key, val, real_name(r));
     } else {
         rfe_io_error_set(&err, o->in, 0u, 0u,
                          "estimator init failed: %s (check the parameter combination: "
@@ -327,12 +353,41 @@ static const char *base_name(const char *path)
     return (slash != NULL) ? slash + 1 : path;
 }
 
+static const char *real_name(const run_t *r)
+{
+    return r->is_q31 ? "q31" : (r->is_double ? "double" : "float");
+}
+
+/* q31 runs: the saturation counters as metadata pairs (values formatted into vals); returns
+ * how many (0 for float and double runs). */
+static size_t saturation_meta(const run_t *r, rfe_kv_t *meta, char vals[][RFE_NUM_BUF])
+{
+    static const char *const keys[5] = {"saturation_estimator_total", "saturation_estimator_steps",
+                                        "saturation_estimator_max_per_step",
+                                        "saturation_input_values", "saturation_input_rows"};
+    const unsigned long long v[5] = {
+        (unsigned long long)r->q31.est_sat, (unsigned long long)r->q31.est_sat_rows,
+        (unsigned long long)r->q31.est_sat_max, (unsigned long long)r->q31.input_sat,
+        (unsigned long long)r->q31.input_sat_rows};
+    size_t i;
+    if (!r->is_q31) {
+        return 0u;
+    }
+    for (i = 0u; i < 5u; ++i) {
+        snprintf(vals[i], RFE_NUM_BUF, "%llu", v[i]);
+        meta[i].key = keys[i];
+        meta[i].value = vals[i];
+    }
+    return 5u;
+}
+
 /* Metadata: generator, preset, filter, tyre, structure, real, input, [param_file], then
  * every numeric key. */
 static int write_estimates(const options_t *o, const run_t *r)
 {
-    rfe_kv_t meta[8u + RFE_PK_NUMERIC];
+    rfe_kv_t meta[13u + RFE_PK_NUMERIC];
     char vals[RFE_PK_NUMERIC][RFE_NUM_BUF];
+    char sat_vals[5][RFE_NUM_BUF];
     size_t n = 0u;
     size_t k;
     rfe_io_error_t err;
@@ -347,7 +402,7 @@ static int write_estimates(const options_t *o, const run_t *r)
     meta[n].key = "structure";
     meta[n++].value = rfe_structure_str(r->ps.structure);
     meta[n].key = "real";
-    meta[n++].value = r->is_double ? "double" : "float";
+    meta[n++].value = real_name(r);
     meta[n].key = "input";
     meta[n++].value = base_name(o->in);
     if (o->params != NULL) {
@@ -359,8 +414,12 @@ static int write_estimates(const options_t *o, const run_t *r)
         meta[n].key = rfe_param_info(k)->key;
         meta[n++].value = vals[k];
     }
+    n += saturation_meta(r, &meta[n], sat_vals);
+    /* q31: the Q values converted exactly to double, written in the shortest form that
+     * reads back as the same double, so the log holds them bit for bit. */
     if (rfe_estimate_log_write(o->out, meta, n, r->rows, r->log.n_rows,
-                               r->is_double ? RFE_NUMFMT_DOUBLE : RFE_NUMFMT_FLOAT, &err) != 0) {
+                               (r->is_double || r->is_q31) ? RFE_NUMFMT_DOUBLE : RFE_NUMFMT_FLOAT,
+                               &err) != 0) {
         return fail(&err);
     }
     return 0;
@@ -428,7 +487,14 @@ static int write_metrics_json(const options_t *o, const run_t *r)
     fprintf(f, ",\n  \"preset\": \"%s\",\n  \"filter\": \"%s\",\n  \"tyre\": \"%s\",\n"
                "  \"real\": \"%s\",\n",
             rfe_preset_str(r->ps.preset), rfe_filter_kind_str(r->ps.filter), rfe_tyre_mode_str(r->ps.tyre),
-            r->is_double ? "double" : "float");
+            real_name(r));
+    if (r->is_q31) {
+        fprintf(f, "  \"saturation\": {\"estimator_total\": %llu, \"estimator_steps\": %zu, "
+                   "\"estimator_max_per_step\": %lu, \"input_values\": %llu, \"input_rows\": %zu},\n",
+                (unsigned long long)r->q31.est_sat, r->q31.est_sat_rows,
+                (unsigned long)r->q31.est_sat_max, (unsigned long long)r->q31.input_sat,
+                r->q31.input_sat_rows);
+    }
     fprintf(f, "  \"steps\": %zu,\n  \"status_counts\": {", r->stats.n_steps);
     for (s = 0u; s < RFE_REPLAY_STATUS_SLOTS; ++s) {
         if (r->stats.status_count[s] != 0u) {
@@ -462,5 +528,12 @@ static void print_status_counts(const run_t *r)
                                    : "other status values";
             printf("  status %2zu %-40s %zu\n", s, name, r->stats.status_count[s]);
         }
+    }
+    if (r->is_q31) {
+        printf("saturation (q31): estimator %llu events in %zu steps (at most %lu in one step); "
+               "input %llu values in %zu rows\n",
+               (unsigned long long)r->q31.est_sat, r->q31.est_sat_rows,
+               (unsigned long)r->q31.est_sat_max, (unsigned long long)r->q31.input_sat,
+               r->q31.input_sat_rows);
     }
 }

@@ -163,6 +163,26 @@ static void step_row(rfe_estimator_t *est, const rfe_sensor_row_t *row, rfe_est_
     out->status = (int)st;
 }
 
+rfe_status_t RFE_FN(rfe_replay_params)(const rfe_param_set_t *ps, rfe_params_t *p,
+                                       size_t *bad_key)
+{
+    rfe_status_t st;
+    if ((ps == NULL) || (p == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    if (bad_key != NULL) {
+        *bad_key = RFE_PK_NONE;
+    }
+    st = to_lib_params(ps, p);
+    if (st == RFE_OK) {
+        st = RFE_FN(rfe_params_validate)(p);
+    }
+    if ((st == RFE_ERR_PARAM) && (bad_key != NULL)) {
+        *bad_key = diagnose_params(ps);
+    }
+    return st;
+}
+
 rfe_status_t RFE_FN(rfe_replay_run)(const rfe_param_set_t *ps, const rfe_sensor_log_t *log,
                                     rfe_est_row_t *out, rfe_replay_stats_t *stats,
                                     size_t *bad_key)
@@ -175,17 +195,11 @@ rfe_status_t RFE_FN(rfe_replay_run)(const rfe_param_set_t *ps, const rfe_sensor_
         return RFE_ERR_NULL;
     }
     memset(stats, 0, sizeof *stats);
-    if (bad_key != NULL) {
-        *bad_key = RFE_PK_NONE;
-    }
-    st = to_lib_params(ps, &p);
+    st = RFE_FN(rfe_replay_params)(ps, &p, bad_key);
     if (st == RFE_OK) {
         st = RFE_FN(rfe_estimator_init)(&est, &p);
     }
     if (st != RFE_OK) {
-        if ((st == RFE_ERR_PARAM) && (bad_key != NULL)) {
-            *bad_key = diagnose_params(ps);
-        }
         return st;
     }
     for (i = 0u; i < log->n_rows; ++i) {

@@ -83,6 +83,17 @@ static inline void rfe_param_set_default(rfe_param_set_t *ps)
     (void)RFE_FN(rfe_param_set_preset)(ps, RFE_PRESET_DEFAULT); /* cannot fail: valid preset */
 }
 
+/**
+ * The library parameters of @p ps (ps->preset, then every key, as rfe_replay_run converts
+ * them), validated with rfe_params_validate. Declared through RFE_FN: the twin of the
+ * including TU's precision (rfe_params_t is that precision's struct). The fixed-point replay
+ * (replay_q31.c) starts from the _f64 one.
+ * @param bad_key on RFE_ERR_PARAM: as rfe_replay_run; else RFE_PK_NONE; may be NULL.
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_PARAM (unknown preset or invalid set).
+ */
+RFE_NODISCARD rfe_status_t RFE_FN(rfe_replay_params)(const rfe_param_set_t *ps, rfe_params_t *p,
+                                                    size_t *bad_key);
+
 /** A library preset function of the including TU's precision (rfe_params_default_fXX, ...). */
 typedef rfe_status_t (*rfe_replay_preset_fn_t)(rfe_params_t *p);
 

@@ -57,6 +57,8 @@ run missing_value 2 --in "$DATA/good_small.csv" --out
 run bad_filter 2 --in "$DATA/good_small.csv" --out "$TMP/e.csv" --filter ekf
 run bad_tyre 2 --in "$DATA/good_small.csv" --out "$TMP/e.csv" --tyre=pacejka
 run bad_real 2 --in "$DATA/good_small.csv" --out "$TMP/e.csv" --real half
+grep -q "^mu_replay: --real must be float, double or q31, not 'half'$" "$TMP/err" && ok "bad_real: named" || bad "bad_real: not named"
+run bad_real_case 2 --in "$DATA/good_small.csv" --out "$TMP/e.csv" --real Q31
 run bad_preset 2 --in "$DATA/good_small.csv" --out "$TMP/e.csv" --preset fast
 grep -q "^mu_replay: --preset must be default or paper, not 'fast'$" "$TMP/err" && ok "bad_preset: named" || bad "bad_preset: not named"
 [ ! -e "$TMP/e.csv" ] && ok "bad_preset: nothing written" || bad "bad_preset: estimate log written"
@@ -182,6 +184,51 @@ printf 'sd_max = -1\n' >"$TMP/sdmax.par"
 run invalid_new_key 1 --in "$DATA/good_small.csv" --out "$TMP/s3.csv" --params "$TMP/sdmax.par"
 one_line invalid_new_key "^mu_replay: .*sdmax\.par:1: invalid parameter sd_max = -1 "
 grep -q 'docs/ESTIMATOR.md' <("$BIN" --help) && ok "help: names docs/ESTIMATOR.md" || bad "help: no docs/ESTIMATOR.md"
+
+# ---- --real q31: the fixed-point estimator (docs/FIXED_POINT.md "Estimator")
+run good_q31 0 --in "$DATA/good_small.csv" --out "$TMP/q.csv" --metrics "$TMP/q.json" --real q31
+grep -q '^# real = q31$' "$TMP/q.csv" && ok "good_q31: real metadata" || bad "good_q31: real metadata"
+[ "$(grep -vc '^#' "$TMP/q.csv")" -eq 4 ] && ok "good_q31: header + 3 rows" || bad "good_q31: row count"
+for key in saturation_estimator_total saturation_estimator_steps saturation_estimator_max_per_step \
+           saturation_input_values saturation_input_rows; do
+    grep -q "^# $key = 0$" "$TMP/q.csv" && ok "good_q31: metadata $key = 0" || bad "good_q31: metadata $key"
+done
+grep -q '"real": "q31",' "$TMP/q.json" && ok "good_q31: real in JSON" || bad "good_q31: real in JSON"
+grep -q '"saturation": {"estimator_total": 0, "estimator_steps": 0, "estimator_max_per_step": 0, "input_values": 0, "input_rows": 0},' "$TMP/q.json" \
+    && ok "good_q31: saturation in JSON" || bad "good_q31: saturation in JSON"
+grep -q '^saturation (q31): estimator 0 events in 0 steps' "$TMP/out" && ok "good_q31: saturation summary" || bad "good_q31: saturation summary"
+grep -q '^steps: 3$' "$TMP/out" && ok "good_q31: step count" || bad "good_q31: step count"
+grep -q '^# mu0 = 0.6$' "$TMP/q.csv" && ok "good_q31: metadata parameter used" || bad "good_q31: mu0 from metadata"
+# mu0 = 0.6 in Q29 and the prior's sd (the Q30 Cholesky factor of 0.1^2 I + 0.3^2 11^T), written
+# so that they read back as the same doubles: more digits than the float format's 9.
+grep -Eq '^0,0\.5999999996[0-9]*,.*,0\.316[0-9]{10,},' "$TMP/q.csv" && ok "good_q31: exact Q values" || bad "good_q31: first row $(grep -m1 '^0,' "$TMP/q.csv")"
+grep -q '^saturation' <("$BIN" --in "$DATA/good_small.csv" --out "$TMP/q2.csv" --real double) \
+    && bad "double: saturation summary printed" || ok "double: no saturation summary"
+grep -q '^# saturation_' "$TMP/q2.csv" && bad "double: saturation metadata" || ok "double: no saturation metadata"
+run q31_again 0 --in "$DATA/good_small.csv" --out "$TMP/q3.csv" --metrics "$TMP/q3.json" --real q31 -q
+cmp -s "$TMP/q.csv" "$TMP/q3.csv" && ok "q31_again: byte-identical estimate log" || bad "q31_again: logs differ"
+run q31_paper_ckf 0 --in "$DATA/good_small.csv" --out "$TMP/qc.csv" --preset paper --filter ckf --real q31 -q
+grep -q '^# filter = ckf$' "$TMP/qc.csv" && grep -Eq '^0,[0-9.]*,.*,1,1,1,1,[01]$' "$TMP/qc.csv" \
+    && ok "q31_paper_ckf: CKF, paper rule (valid when updated)" || bad "q31_paper_ckf: $(grep -m1 '^0,' "$TMP/qc.csv")"
+# A parameter outside its Q format (m in Q16: < 32768 kg): named, one line, nothing written.
+printf 'm = 40000\n' >"$TMP/heavy.par"
+run q31_param_range 1 --in "$DATA/good_small.csv" --out "$TMP/qh.csv" --params "$TMP/heavy.par" --real q31
+one_line q31_param_range "^mu_replay: .*heavy\.par:1: parameter m = 40000 does not fit the fixed-point formats"
+[ ! -e "$TMP/qh.csv" ] && ok "q31_param_range: nothing written" || bad "q31_param_range: estimate log written"
+run heavy_double 0 --in "$DATA/good_small.csv" --out "$TMP/qh.csv" --params "$TMP/heavy.par" --real double -q
+# A prior that does not fit (sd0^2 + sd0_common^2 >= 4: the Q30 factor): init refused.
+printf 'sd0 = 1.9\nsd0_common = 1.9\n' >"$TMP/wide.par"
+run q31_prior_range 1 --in "$DATA/good_small.csv" --out "$TMP/qw.csv" --params "$TMP/wide.par" --real q31
+one_line q31_prior_range "^mu_replay: .*good_small\.csv: estimator init failed: input out of range \(q31 run"
+# A sample beyond its Q format (vx = 300 m/s > 256): counted as input saturation, and the
+# sample is rejected (status 18) like any sample beyond config.h's limits.
+sed 's/^0\.2 , 0\.01 ,second, 0\.85,19\.975,/0.2 , 0.01 ,second, 0.85,300,/' "$DATA/good_small.csv" >"$TMP/fast.csv"
+run q31_input_saturation 0 --in "$TMP/fast.csv" --out "$TMP/qf.csv" --metrics "$TMP/qf.json" --real q31
+grep -q '^# saturation_input_values = 1$' "$TMP/qf.csv" && grep -q '^# saturation_input_rows = 1$' "$TMP/qf.csv" \
+    && ok "q31_input_saturation: counted" || bad "q31_input_saturation: $(grep saturation_input "$TMP/qf.csv")"
+grep -q '^0.01,.*,0,0,0,0,18$' "$TMP/qf.csv" && ok "q31_input_saturation: row rejected (18)" || bad "q31_input_saturation: row 2 $(grep '^0.01,' "$TMP/qf.csv")"
+grep -q '"input_values": 1, "input_rows": 1}' "$TMP/qf.json" && ok "q31_input_saturation: JSON" || bad "q31_input_saturation: JSON"
+grep -q 'input 1 values in 1 rows$' "$TMP/out" && ok "q31_input_saturation: summary" || bad "q31_input_saturation: summary"
 
 if [ -w /dev/full ]; then
     "$BIN" --in "$DATA/good_small.csv" --out "$TMP/s.csv" >/dev/full 2>"$TMP/err"

@@ -1,0 +1,131 @@
+/**
+ * @file estimator_q31.h
+ * @brief Fixed-point twin of rfe/estimator.h: the friction estimator on int32 Q values
+ *        (docs/ESTIMATOR.md "one step", docs/FIXED_POINT.md "Estimator").
+ *
+ * Composition of the q31 modules, one hop each: sample -> input conditioning
+ * (conditioner_q31) -> time update (sckf_q31/ckf_q31) -> kinematics, loads, slips, forces
+ * (meas_q31: tyre_q31, obsmat_q31) -> step noise S_R (eiv_q31) -> cubature points, information
+ * gate, measurement update (sckf_q31) -> sd bounds, projection -> estimate per wheel (T map).
+ * The caller owns the rfe_estimator_q31_t (no heap); init it once, then step at the sample
+ * rate. A rejected sample or a failing step returns an error status and leaves the estimator
+ * (filter, input filter, counters) exactly as it was.
+ *
+ * Formats (fractional bits): the sample in the formats of rfe_sample_q31_t (tyre_q31.h);
+ * mu Q29 (RFE_FIX_Q_MU), sd Q30 (RFE_FIX_Q_SD); the parameters those of rfe_params_q31_t.
+ *
+ * Saturation. Every module counts the values it clamps (rfe/fixed.h); the estimate of each
+ * step carries the sum over everything that step ran (`sat`: input filter, measurement model
+ * at the sample and at every cubature point, step noise S_R, the filter's predict, gate and
+ * update, the sd bounds), and the state keeps the running total since init. A saturation is
+ * never silent, and on the bundled logs there is none (test/test_estimator_q31.c).
+ */
+#ifndef RFE_ESTIMATOR_Q31_H
+#define RFE_ESTIMATOR_Q31_H
+
+#include <stdint.h>
+
+#include "rfe/ckf_q31.h"
+#include "rfe/conditioner_q31.h"
+#include "rfe/config.h"
+#include "rfe/fixed.h"
+#include "rfe/meas_q31.h"
+#include "rfe/params_q31.h"
+#include "rfe/sckf_q31.h"
+#include "rfe/tyre_q31.h"
+
+/* Input limits of rfe_estimator_step_q31: the limits of rfe/config.h (RFE_LIMIT_*) in the
+ * sample's Q formats. Each is an exact multiple of its format's LSB (the integer below is
+ * the config.h value times 2^Q); test/test_estimator_q31.c checks that they equal the
+ * conversions of config.h's values, so an override of one (-D) needs the other too. */
+#ifndef RFE_FIX_LIMIT_DELTA
+#define RFE_FIX_LIMIT_DELTA ((rfe_fix_t)536870912) /**< |delta| <= 1 rad, Q29 */
+#endif
+#ifndef RFE_FIX_LIMIT_VX
+#define RFE_FIX_LIMIT_VX ((rfe_fix_t)838860800) /**< |vx| <= 100 m/s, Q23 */
+#endif
+#ifndef RFE_FIX_LIMIT_VY
+#define RFE_FIX_LIMIT_VY ((rfe_fix_t)419430400) /**< |vy| <= 50 m/s, Q23 */
+#endif
+#ifndef RFE_FIX_LIMIT_YAW_RATE
+#define RFE_FIX_LIMIT_YAW_RATE ((rfe_fix_t)1342177280) /**< |r| <= 10 rad/s, Q27 */
+#endif
+#ifndef RFE_FIX_LIMIT_YAW_ACC
+#define RFE_FIX_LIMIT_YAW_ACC ((rfe_fix_t)1677721600) /**< |r-dot| <= 100 rad/s^2, Q24 */
+#endif
+#ifndef RFE_FIX_LIMIT_ACC
+#define RFE_FIX_LIMIT_ACC ((rfe_fix_t)838860800) /**< |ax|, |ay| <= 50 m/s^2, Q24 */
+#endif
+#ifndef RFE_FIX_LIMIT_OMEGA
+#define RFE_FIX_LIMIT_OMEGA ((rfe_fix_t)2097152000) /**< |omega| <= 500 rad/s, Q22 */
+#endif
+
+/** Output of one step (one row of the DATA.md estimate log, in Q formats). */
+typedef struct {
+    rfe_fix_t mu[RFE_WHEELS];  /**< estimated friction per wheel (T x), Q29 */
+    rfe_fix_t sd[RFE_WHEELS];  /**< its standard deviation (T times the state sds), Q30 */
+    uint8_t valid[RFE_WHEELS]; /**< sd_valid > 0: sd <= sd_valid; sd_valid = 0 (paper rule):
+                                    1 when this step updated (status 0 or 1) */
+    rfe_status_t status;       /**< status of the step (same as the return value) */
+    uint32_t sat;              /**< saturation events of this step, summed over every module
+                                    it ran (0 on an error and from rfe_estimator_get_q31) */
+} rfe_estimate_q31_t;
+
+/** Estimator state (caller-owned; fields are read-only for the caller). */
+typedef struct {
+    uint32_t magic;
+    rfe_params_q31_t params;
+    size_t n;                               /**< state dimension: 4 (wheels) or 2 (sides) */
+    rfe_meas_q31_t meas;                    /**< measurement model of the sample being processed */
+    rfe_conditioner_q31_t cond;             /**< input filter (docs/ESTIMATOR.md step 1) */
+    rfe_conditioner_q31_t backup_cond;      /**< its state before the step (restored on error) */
+    rfe_fix_t backup_x[RFE_N_MAX];          /**< filter mean before the step (Q29) */
+    rfe_fix_t backup_S[RFE_N_MAX * RFE_N_MAX]; /**< its S (SCKF, Q30) or P (CKF, Q31) */
+    uint32_t step_sat;                      /**< saturations of the step in progress (the
+                                                 measurement callback adds to it) */
+    uint32_t sat;                           /**< saturation events since init (saturating) */
+    /* cppcheck-suppress misra-c2012-19.2 ; MISRA-DEV-03: one live filter, selected by kind */
+    union {
+        rfe_sckf_q31_t sckf;
+        rfe_ckf_q31_t ckf;
+        /* cppcheck-suppress misra-c2012-19.2 ; MISRA-DEV-03: (the closing line of the union) */
+    } filter;                               /**< params.filter.kind says which is live; its
+                                                 own counter `sat` is 0 between steps */
+} rfe_estimator_q31_t;
+
+/**
+ * Validates @p params (rfe_params_validate_q31) and initialises: x0 = mu0 on every state,
+ * S0 = sqrt_prior(sd0, sd0_common), S_Q = sqrt_prior(q_mu, q_common) (Q30),
+ * S_R = diag(r_ax, r_ay, r_yaw_acc) (Q24), the input filter reset, the counters at 0.
+ * sqrt_prior(d, c) is the lower Cholesky factor of c^2 11^T + d^2 I, exactly d I when c = 0
+ * (else computed on the matrix scaled by a power of two, so small sds keep their precision).
+ * The CKF gets P0 = sd0^2 I, Q = q_mu^2 I (Q31) and R = diag(r^2) (Q24).
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_PARAM; RFE_ERR_RANGE when a prior or process noise
+ *         does not fit its format (sd0^2 + sd0_common^2 or q_mu^2 + q_common^2 >= 4, i.e. a
+ *         factor entry >= 2; CKF: sd0 or q_mu >= 1, a variance >= 1 outside Q31; r >= 11.3
+ *         m/s^2, r^2 outside Q24). The estimator is untouched on every error.
+ */
+RFE_NODISCARD rfe_status_t rfe_estimator_init_q31(rfe_estimator_q31_t *est,
+                                                  const rfe_params_q31_t *params);
+
+/**
+ * One step (docs/ESTIMATOR.md): input check; input conditioning (tau_v > 0); time update;
+ * if vx >= v_est_min the measurement update with y = [ax, ay, yaw_acc], this step's S_R and
+ * the information gate; the sd bounds; projection onto [mu_min, mu_max] after an update.
+ * @p out receives the posterior and the step's saturation count (or, on error, the unchanged
+ * previous estimate with valid = 0, sat = 0 and the error status).
+ * @return RFE_OK, RFE_PROJECTED, RFE_NO_UPDATE_LOW_SPEED, RFE_HELD_NOT_OBSERVABLE; errors:
+ *         RFE_ERR_NULL, RFE_ERR_NOT_INITIALISED, RFE_ERR_RANGE (a sample outside the limits
+ *         RFE_FIX_LIMIT_* above, i.e. config.h's), RFE_ERR_NOT_POSITIVE_DEFINITE (the CKF's
+ *         covariance or a factor that is not positive definite).
+ */
+RFE_NODISCARD rfe_status_t rfe_estimator_step_q31(rfe_estimator_q31_t *est,
+                                                  const rfe_sample_q31_t *sample,
+                                                  rfe_estimate_q31_t *out);
+
+/** Current estimate without stepping (status RFE_OK, sat 0). valid: with sd_valid > 0 the sd
+ *  rule; under the paper rule 0 (no step made it). */
+RFE_NODISCARD rfe_status_t rfe_estimator_get_q31(const rfe_estimator_q31_t *est,
+                                                 rfe_estimate_q31_t *out);
+
+#endif /* RFE_ESTIMATOR_Q31_H */

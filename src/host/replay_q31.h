@@ -1,0 +1,52 @@
+/**
+ * @file replay_q31.h
+ * @brief Runs the fixed-point estimator (rfe_estimator_*_q31) over a whole sensor log: the
+ *        `--real q31` of mu_replay. Doubles in, doubles out, like replay_real.h.
+ *
+ * The parameters take the double path of rfe_replay_run_f64 (the preset's exact decimals,
+ * then every key; rfe_params_validate_f64) and are then converted with rfe_params_to_q31_f64
+ * (rounded to nearest). Each sample is converted with rfe_fix_from_double (rounded to
+ * nearest, ties up) into the formats of rfe_sample_q31_t; a value beyond its format
+ * saturates and is counted (the estimator then rejects the sample: every format holds its
+ * config.h limit). The estimate is converted back exactly (rfe_fix_to_double: mu Q29,
+ * sd Q30), so an estimate log written with the shortest round-trip format holds the Q values
+ * bit for bit.
+ */
+#ifndef RFE_HOST_REPLAY_Q31_H
+#define RFE_HOST_REPLAY_Q31_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "csv_log.h"
+#include "param_file.h"
+#include "replay_real.h"
+#include "rfe/types.h"
+
+/** Per-run counters of a fixed-point run. */
+typedef struct {
+    rfe_replay_stats_t base;  /**< steps and status counts, as the float/double runs */
+    uint64_t input_sat;       /**< values saturated converting the samples to Q formats */
+    size_t input_sat_rows;    /**< rows with at least one such value */
+    uint64_t est_sat;         /**< sum of the estimator's per-step saturation counts */
+    uint32_t est_sat_max;     /**< the largest per-step count */
+    size_t est_sat_rows;      /**< steps with a nonzero count */
+} rfe_replay_q31_stats_t;
+
+/**
+ * The fixed-point twin of rfe_replay_run_f64: parameters as described above, one estimate row
+ * per input row (a rejected row: the unchanged previous estimate, valid = 0, its error
+ * status), and the saturation counters.
+ * @param row_sat per-row saturation count of the estimator (log->n_rows entries), or NULL
+ * @param bad_key on RFE_ERR_PARAM as rfe_replay_run_f64; on RFE_ERR_RANGE the key that alone
+ *        (starting from the preset) does not fit its Q format, or RFE_PK_NONE when none does
+ *        alone or the estimator's prior does not fit (rfe_estimator_init_q31); may be NULL.
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_PARAM; RFE_ERR_RANGE (rfe_params_to_q31_f64 or
+ *         rfe_estimator_init_q31); the init's other errors (nothing written then).
+ */
+RFE_NODISCARD rfe_status_t rfe_replay_run_q31(const rfe_param_set_t *ps,
+                                              const rfe_sensor_log_t *log, rfe_est_row_t *out,
+                                              rfe_replay_q31_stats_t *stats, uint32_t *row_sat,
+                                              size_t *bad_key);
+
+#endif /* RFE_HOST_REPLAY_Q31_H */
