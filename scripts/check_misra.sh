@@ -24,6 +24,9 @@ echo "misra: $(cppcheck --version), addon misra, $(echo "$SRC" | wc -w) library 
 
 run_variant() { # $1 = name, $2 = define
     local name=$1 def=$2
+    # A fresh build dir every run: with a warm cache cppcheck analyses nothing and then
+    # reports the command-line suppression of missingIncludeSystem as unmatched.
+    rm -rf "$OUT/cache-$name"
     mkdir -p "$OUT/cache-$name"
     # MISRA-GRP-01: Rule 15.5 (advisory) is disapplied project-wide (docs/MISRA.md).
     local rc=0
