@@ -192,6 +192,8 @@ VALGRIND := valgrind --error-exitcode=99 --leak-check=full --errors-for-leak-kin
 # The unit tests run under valgrind side by side, one per core (each is single-threaded and
 # valgrind is ~50x slower than native; the q31 back-to-back tests are the long ones, so they
 # start first). A failing test's log is printed and stops the run (xargs: exit 255).
+# RFE_TEST_LIGHT=1: the long back-to-back tests walk a subset of their logs and random
+# inputs (test/support/test_light.h); the full sets run natively, under ASan and in coverage.
 VALGRIND_JOBS ?= $(shell nproc 2>/dev/null || echo 1)
 valgrind: deps-c deps-valgrind $(foreach f,f32 f64,$(addprefix $(BUILD)/$(f)/test/,$(UNIT_TESTS))) \
           $(addprefix $(BUILD)/q31/test/,$(Q31_TESTS)) \
@@ -199,7 +201,7 @@ valgrind: deps-c deps-valgrind $(foreach f,f32 f64,$(addprefix $(BUILD)/$(f)/tes
 	@mkdir -p $(BUILD)/valgrind; \
 	{ for t in $(Q31_TESTS); do echo $(BUILD)/q31/test/$$t; done; \
 	  for f in f32 f64; do for t in $(UNIT_TESTS); do echo $(BUILD)/$$f/test/$$t; done; done; } | \
-	xargs -P $(VALGRIND_JOBS) -I{} sh -c 'log=$(BUILD)/valgrind/$$(echo {} | tr / _).log; \
+	RFE_TEST_LIGHT=1 xargs -P $(VALGRIND_JOBS) -I{} sh -c 'log=$(BUILD)/valgrind/$$(echo {} | tr / _).log; \
 	  if $(VALGRIND) {} > $$log 2>&1; then echo "== valgrind {}: clean"; \
 	  else cat $$log; echo "== valgrind {}: FAILED (log $$log)"; exit 255; fi'
 	@set -e; for t in $(HOST_TESTS); do echo "== valgrind host/$$t"; $(VALGRIND) $(BUILD)/f64/test/host/$$t; done

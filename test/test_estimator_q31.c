@@ -49,6 +49,7 @@
  *    (|a_i| + |a_j|) + 11 E_A^2 + the Tria bound of rfe/qr_q31.h ((2G + G^2) |a_i| |a_j| +
  *    0.5 (|s_i|_1 + |s_j|_1) LSB + 0.75 rows LSB^2, G = 8 rows 2^-29); asserted per entry.
  */
+#include "test_light.h"
 #include "test_common.h"
 
 #include <stdint.h>
@@ -272,7 +273,7 @@ static void b2b_all(rfe_preset_t preset, rfe_filter_kind_t kind, const char *lab
     uint64_t sat = 0;
     printf("  [%s] per log: max |dmu| settled / all samples, max |dsd|, valid and status "
            "agreement, saturations (estimator, input)\n", label);
-    for (s = 0; s < N_STEMS; ++s) {
+    for (s = 0; s < N_STEMS; s += rfe_test_stride(5u)) {
         for (k = 0; k < 3; ++k) {
             char path[256];
             b2b_t r;
@@ -869,7 +870,7 @@ static void test_rfe_conditioner_q31_b2b(void **state)
     printf("  [conditioner] random: %ld steps, max ||e|| %.3g m/s, %.3g of the bound\n", cw.steps,
            cw.err, cw.ratio);
     memset(&cw, 0, sizeof cw);
-    for (s = 0; s < N_STEMS; ++s) {
+    for (s = 0; s < N_STEMS; s += rfe_test_stride(5u)) {
         char path[256];
         rfe_sensor_log_t log;
         rfe_sample_q31_t *lq;
@@ -955,7 +956,7 @@ static void test_rfe_eiv_q31_b2b(void **state)
     size_t k;
     (void)state;
     rng_seed(77u);
-    for (s = 0; s < N_STEMS; ++s) {
+    for (s = 0; s < N_STEMS; s += rfe_test_stride(5u)) {
         size_t v;
         for (v = 0; v < 3; ++v) {
             char path[256];

@@ -50,6 +50,7 @@
  * the count with the outputs whose double value is beyond the range by more than the bound.
  * The measured worst cases are printed (docs/FIXED_POINT.md quotes them).
  */
+#include "test_light.h"
 #include "test_common.h"
 
 #include <stdint.h>
@@ -416,7 +417,7 @@ static void test_tyre_q31_random(void **state)
     (void)state;
     reset_all();
     rng_seed(0x51A7E5EEDull);
-    for (n = 0; n < N_RANDOM_SAMPLES; ++n) {
+    for (n = 0; n < N_RANDOM_SAMPLES; n += (int)rfe_test_stride(10u)) {
         double om[4], mu[4], delta, vx, vy, r, ax, ay;
         size_t i;
         rfe_sample_q31_t uq;
@@ -598,7 +599,7 @@ static void test_tyre_q31_dugoff_random_and_edges(void **state)
     (void)state;
     reset_all();
     rng_seed(0xD060FFull);
-    for (n = 0; n < N_RANDOM_WHEEL; ++n) {
+    for (n = 0; n < N_RANDOM_WHEEL; n += (int)rfe_test_stride(10u)) {
         const double kappa = (n % 2) ? uni(-1.2, 1.2) : logu(1.0);
         const double alpha = (n % 3) ? uni(-1.5, 1.5) : logu(1.0);
         const double mu = (n % 5) ? uni(-0.5, 1.2) : uni(1.2, 3.9);
