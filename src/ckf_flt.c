@@ -108,6 +108,8 @@ rfe_status_t RFE_FN(rfe_ckf_predict)(rfe_ckf_t *f, rfe_process_fn_t process, voi
             f->Pn[(i * NM) + j] += f->Q[(i * NM) + j];
         }
     }
+    /* The moment above needs the points' own mean; the committed x- of a random walk is x. */
+    RFE_FN(rfe_cub_hold_random_walk_mean)(f->x, n, process, w->xn);
     if (!rfe_all_finite(w->xn, n) || !rfe_lower_finite(f->Pn, n, NM)) {
         return RFE_ERR_NONFINITE; /* overflow in the propagated points: commit nothing */
     }

@@ -150,6 +150,8 @@ rfe_status_t rfe_ckf_predict_q31(rfe_ckf_q31_t *f, rfe_process_fn_q31_t process,
             f->Pn[(i * NM) + j] = rfe_fix_add(f->Pn[(i * NM) + j], f->Q[(i * NM) + j], &count);
         }
     }
+    /* The moment above needs the points' own mean; the committed x- of a random walk is x. */
+    rfe_cub_hold_random_walk_mean_q31(f->x, n, process, w->xn);
     for (i = 0u; i < n; ++i) {
         f->x[i] = w->xn[i];
     }

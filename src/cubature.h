@@ -25,6 +25,14 @@ void RFE_FN(rfe_cub_mean)(const rfe_real_t *rows, size_t n, size_t cols, size_t 
                           rfe_real_t *mean);
 
 /**
+ * For the random walk (process == NULL) replaces the points' average by x itself: the points
+ * are symmetric about x, and their average differs only by rounding, which over many held
+ * steps walks the mean (even outside [mu_min, mu_max]). Any other process: no change.
+ */
+void RFE_FN(rfe_cub_hold_random_walk_mean)(const rfe_real_t *x, size_t n,
+                                           rfe_process_fn_t process, rfe_real_t *mean);
+
+/**
  * x_new = x + K (y - z), with the gain given transposed (Kt: m x n, row stride RFE_N_MAX).
  * @return RFE_OK, or RFE_ERR_NONFINITE when a huge innovation overflowed (x_new unusable).
  */

@@ -77,6 +77,17 @@ void RFE_FN(rfe_cub_mean)(const rfe_real_t *rows, size_t n, size_t cols, size_t 
     }
 }
 
+void RFE_FN(rfe_cub_hold_random_walk_mean)(const rfe_real_t *x, size_t n,
+                                           rfe_process_fn_t process, rfe_real_t *mean)
+{
+    if (process == NULL) {
+        size_t i;
+        for (i = 0u; i < n; ++i) {
+            mean[i] = x[i];
+        }
+    }
+}
+
 rfe_status_t RFE_FN(rfe_cub_correct)(const rfe_real_t *x, const rfe_real_t *Kt,
                                      const rfe_real_t *y, const rfe_real_t *zhat, size_t n,
                                      size_t m, rfe_real_t *x_new)

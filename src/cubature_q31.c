@@ -84,6 +84,17 @@ void rfe_cub_mean_q31(const rfe_fix_t *rows, size_t n, size_t cols, size_t ld,
     }
 }
 
+void rfe_cub_hold_random_walk_mean_q31(const rfe_fix_t *x, size_t n,
+                                       rfe_process_fn_q31_t process, rfe_fix_t *mean)
+{
+    if (process == NULL) {
+        size_t i;
+        for (i = 0u; i < n; ++i) {
+            mean[i] = x[i];
+        }
+    }
+}
+
 rfe_fix_t rfe_cub_centre_q31(rfe_fix_t v, rfe_fix_t mean, size_t n, unsigned int q_in,
                              unsigned int q_out, uint32_t *sat)
 {

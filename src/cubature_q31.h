@@ -99,6 +99,11 @@ rfe_status_t rfe_cub_measure_q31(const rfe_fix_t *pts, size_t n, size_t m,
 void rfe_cub_mean_q31(const rfe_fix_t *rows, size_t n, size_t cols, size_t ld,
                       rfe_fix_t *mean);
 
+/** For the random walk (process == NULL) replaces the points' average by x itself (they
+ *  differ only where points saturated); any other process: no change. */
+void rfe_cub_hold_random_walk_mean_q31(const rfe_fix_t *x, size_t n,
+                                       rfe_process_fn_q31_t process, rfe_fix_t *mean);
+
 /** Centred, weighted deviation (v - mean) / sqrt(2n): v, mean in Q(q_in), the result in
  *  Q(q_out), q_out <= q_in + 1. 1/sqrt(2n) is a Q31 constant rounded to nearest; one
  *  rounding (half up) of the exact product; saturates (counted). */

@@ -90,6 +90,7 @@ rfe_status_t RFE_FN(rfe_sckf_predict)(rfe_sckf_t *f, rfe_process_fn_t process, v
         return st;
     }
     RFE_FN(rfe_cub_mean)(w->pts, n, n, NM, w->xn);
+    RFE_FN(rfe_cub_hold_random_walk_mean)(f->x, n, process, w->xn);
     /* S- = Tria([(X*_1 - x-, ..., X*_2n - x-)/sqrt(2n), S_Q]). */
     inv_sqrt_2n = RFE_R(1.0) / RFE_SQRT(RFE_R(2.0) * (rfe_real_t)n);
     for (i = 0u; i < n; ++i) {

@@ -107,6 +107,7 @@ rfe_status_t rfe_sckf_predict_q31(rfe_sckf_q31_t *f, rfe_process_fn_q31_t proces
         return st;
     }
     rfe_cub_mean_q31(w->pts, n, n, NM, w->xn);
+    rfe_cub_hold_random_walk_mean_q31(f->x, n, process, w->xn);
     /* S- = Tria([(X*_1 - x-, ..., X*_2n - x-)/sqrt(2n), S_Q]): Q29 deviations -> Q30. */
     for (i = 0u; i < n; ++i) {
         for (j = 0u; j < (2u * n); ++j) {

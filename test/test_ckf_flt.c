@@ -479,6 +479,34 @@ static void test_rfe_ckf_random_walk_matches_kalman(void **state)
     }
 }
 
+/* Time updates alone (the estimator's held steps) must not move the random walk's mean by a
+ * single bit (averaging the symmetric points used to add rounding that walked x); P grows. */
+static void test_rfe_ckf_random_walk_hold_keeps_mean_exactly(void **state)
+{
+    static problem_t p;
+    static rfe_ckf_t f;
+    rfe_real_t x[NM];
+    rfe_real_t sd0[NM];
+    rfe_real_t sd[NM];
+    size_t k;
+    (void)state;
+    make_problem(&p, 4u, 3u, 0, 4343u);
+    p.x0[0] = (rfe_real_t)0.05;
+    p.x0[1] = (rfe_real_t)0.1;
+    p.x0[2] = (rfe_real_t)0.3;
+    p.x0[3] = (rfe_real_t)1.2;
+    assert_int_equal(RFE_FN(rfe_ckf_init)(&f, 4u, 3u, p.x0, p.P0, p.Q, p.R), RFE_OK);
+    assert_int_equal(RFE_FN(rfe_ckf_get)(&f, NULL, sd0), RFE_OK);
+    for (k = 0u; k < 2000u; ++k) {
+        assert_int_equal(RFE_FN(rfe_ckf_predict)(&f, NULL, NULL), RFE_OK);
+        assert_int_equal(RFE_FN(rfe_ckf_get)(&f, x, sd), RFE_OK);
+        assert_memory_equal(x, p.x0, 4u * sizeof x[0]);
+    }
+    for (k = 0u; k < 4u; ++k) {
+        assert_true(sd[k] > sd0[k]);
+    }
+}
+
 /* ---- (b) CKF = UKF(alpha 1, beta 0, kappa 0) -------------------------------------------- */
 
 /* The weights really are the formulas: lambda = 0, Wm0 = Wc0 = 0, Wi = 1/(2n), spread sqrt(n)
@@ -1092,6 +1120,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_rfe_ckf_linear_matches_kalman),
         cmocka_unit_test(test_rfe_ckf_random_walk_matches_kalman),
+        cmocka_unit_test(test_rfe_ckf_random_walk_hold_keeps_mean_exactly),
         cmocka_unit_test(test_ref_ukf_weights_alpha1_beta0_kappa0),
         cmocka_unit_test(test_ref_ukf_linear_equals_kalman),
         cmocka_unit_test(test_rfe_ckf_linear_matches_ukf),

@@ -853,6 +853,9 @@ static void test_rfe_ckf_q31_get_clamp_saturation(void **state)
     assert_int_equal(f.sat, 0u);
     assert_int_equal(rfe_ckf_predict_q31(&f, NULL, NULL), RFE_OK);
     assert_true(f.sat > 0u);
+    /* the clipped points average below 3.9; the random walk's mean stays x exactly */
+    assert_int_equal(f.x[0], p.x0q[0]);
+    assert_int_equal(f.x[1], p.x0q[1]);
     y[0] = RFE_FIX_MAX;
     f.w.zhat[0] = 0;
     assert_int_equal(rfe_ckf_update_q31(&f, lin_measure_q31, &p.mdl, y), RFE_OK);

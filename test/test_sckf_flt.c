@@ -316,6 +316,35 @@ static void test_rfe_sckf_random_walk_matches_kalman(void **state)
     }
 }
 
+/* A run of time updates alone (the estimator's held steps) must not move the random walk's
+ * mean by a single bit: averaging the symmetric points used to add rounding that walked x
+ * (out of [mu_min, mu_max] in a long hold). The sd still grows. */
+static void test_rfe_sckf_random_walk_hold_keeps_mean_exactly(void **state)
+{
+    static problem_t p;
+    static rfe_sckf_t f;
+    rfe_real_t x[NM];
+    rfe_real_t sd0[NM];
+    rfe_real_t sd[NM];
+    size_t k;
+    (void)state;
+    make_problem(&p, 4u, 3u, 4242u);
+    p.x0[0] = (rfe_real_t)0.05; /* values whose sums with the point offsets round */
+    p.x0[1] = (rfe_real_t)0.1;
+    p.x0[2] = (rfe_real_t)0.3;
+    p.x0[3] = (rfe_real_t)1.2;
+    assert_int_equal(RFE_FN(rfe_sckf_init)(&f, 4u, 3u, p.x0, p.S0, p.SQ, p.SR), RFE_OK);
+    assert_int_equal(RFE_FN(rfe_sckf_get)(&f, NULL, sd0), RFE_OK);
+    for (k = 0u; k < 2000u; ++k) {
+        assert_int_equal(RFE_FN(rfe_sckf_predict)(&f, NULL, NULL), RFE_OK);
+        assert_int_equal(RFE_FN(rfe_sckf_get)(&f, x, sd), RFE_OK);
+        assert_memory_equal(x, p.x0, 4u * sizeof x[0]);
+    }
+    for (k = 0u; k < 4u; ++k) {
+        assert_true(sd[k] > sd0[k]);
+    }
+}
+
 /* Small dimensions too: n = 1..3 against every m. */
 static void test_rfe_sckf_linear_matches_kalman_small_n(void **state)
 {
@@ -915,6 +944,7 @@ int main(void)
         cmocka_unit_test(test_rfe_sckf_linear_matches_kalman_n4),
         cmocka_unit_test(test_rfe_sckf_linear_matches_kalman_n8),
         cmocka_unit_test(test_rfe_sckf_random_walk_matches_kalman),
+        cmocka_unit_test(test_rfe_sckf_random_walk_hold_keeps_mean_exactly),
         cmocka_unit_test(test_rfe_sckf_linear_matches_kalman_small_n),
         cmocka_unit_test(test_rfe_sckf_update_evaluates_cubature_points),
         cmocka_unit_test(test_rfe_sckf_predict_evaluates_cubature_points),

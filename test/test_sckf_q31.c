@@ -1360,6 +1360,9 @@ static void test_rfe_sckf_q31_saturation_counted(void **state)
     init_q31(&f, &p);
     assert_int_equal(rfe_sckf_predict_q31(&f, NULL, NULL), RFE_OK);
     assert_true(f.sat > 0u);
+    /* the clipped points average below 3.9; the random walk's mean stays x exactly */
+    assert_int_equal(f.x[0], p.x0q[0]);
+    assert_int_equal(f.x[1], p.x0q[1]);
     printf("  [saturation] predict with points beyond +-4: %u events\n", f.sat);
     /* a failing step adds nothing */
     memcpy(before, &f, STATE_BYTES);

@@ -58,7 +58,9 @@ class SCKF:
         """X_j = S xi_j + x; X*_j = f(X_j) = X_j; x- = mean X*_j;
         S- = Tria([(X*_1 - x-, ..., X*_2n - x-)/sqrt(2n), S_Q])   (MODEL.md section 6)."""
         x_star = self.points()
-        x_pred = x_star.mean(axis=1)
+        # The random walk's points are symmetric about x: x- = x exactly (their average
+        # would only add rounding, which walks the mean over many held steps).
+        x_pred = self.x.copy()
         centred = (x_star - x_pred[:, None]) / self.sqrt_2n
         self.x = x_pred
         self.S = tria(np.hstack([centred, self.s_q]))
@@ -108,9 +110,9 @@ class CKF:
     def time_update(self):
         """X*_j = X_j; x- = mean; P- = sum_j w X*_j X*_j^T - x- x-^T + Q."""
         x_star = self.points()
-        x_pred = x_star.mean(axis=1)
-        self.P = self.w * (x_star @ x_star.T) - np.outer(x_pred, x_pred) + self.q
-        self.x = x_pred
+        x_mean = x_star.mean(axis=1)  # the moment formula needs the points' own mean
+        self.P = self.w * (x_star @ x_star.T) - np.outer(x_mean, x_mean) + self.q
+        self.x = self.x.copy()  # symmetric points: x- = x exactly (see SCKF.time_update)
 
     def measurement_update(self, y, h):
         """Z_j = h(X_j); z = mean; P_zz = sum w Z Z^T - z z^T + R; P_xz = sum w X Z^T - x- z^T;
