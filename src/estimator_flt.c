@@ -236,9 +236,42 @@ static rfe_status_t sckf_measurement(rfe_estimator_t *est, const rfe_sample_t *u
     return st;
 }
 
-/* Step 7: one factor c for the whole S (correlations kept). Cap: c = min_k sd_max / sd_k
- * over sd_k > sd_max; else floor: c = max_k f_k / sd_k over sd_k < f_k,
- * f_k = sd_floor_rel max(x_k, 0). */
+/* The cap's factor: min_k sd_max / sd_k over sd_k > sd_max (into *c); *scale = 1 if any. */
+static void cap_factor(const rfe_filter_params_t *fp, const rfe_real_t *sd, size_t n,
+                       rfe_real_t *c, int *scale)
+{
+    size_t k;
+    for (k = 0u; k < n; ++k) {
+        if (sd[k] > fp->sd_max) {
+            *c = rfe_min(*c, fp->sd_max / sd[k]);
+            *scale = 1;
+        }
+    }
+}
+
+/* The floor's factor: max_k f_k / sd_k over sd_k < f_k = sd_floor_rel max(x_k, 0) (into
+ * *c; *scale = 1 if any), limited to sd_max / max_k sd_k when the cap is on, so that lifting
+ * a well-informed wheel to its floor never lifts another above the cap. */
+static void floor_factor(const rfe_filter_params_t *fp, const rfe_real_t *x,
+                         const rfe_real_t *sd, size_t n, rfe_real_t *c, int *scale)
+{
+    rfe_real_t sd_hi = RFE_R(0.0);
+    size_t k;
+    for (k = 0u; k < n; ++k) {
+        const rfe_real_t floor_k = fp->sd_floor_rel * rfe_max(x[k], RFE_R(0.0));
+        if (sd[k] < floor_k) {
+            *c = rfe_max(*c, floor_k / sd[k]);
+            *scale = 1;
+        }
+        sd_hi = rfe_max(sd_hi, sd[k]);
+    }
+    if ((*scale != 0) && (fp->sd_max > RFE_R(0.0))) {
+        *c = rfe_min(*c, fp->sd_max / sd_hi); /* >= 1: no sd_k is above sd_max here */
+    }
+}
+
+/* Step 7: one factor c for the whole S (correlations kept): the cap if some sd_k > sd_max,
+ * else the floor (limited by the cap). */
 static rfe_status_t bound_sd(rfe_estimator_t *est)
 {
     const rfe_filter_params_t *fp = &est->params.filter;
@@ -246,7 +279,6 @@ static rfe_status_t bound_sd(rfe_estimator_t *est)
     rfe_real_t sd[RFE_N_MAX];
     rfe_real_t c = RFE_R(1.0);
     int scale = 0;
-    size_t k;
     rfe_status_t st;
     if (!(fp->sd_max > RFE_R(0.0)) && !(fp->sd_floor_rel > RFE_R(0.0))) {
         return RFE_OK;
@@ -259,21 +291,10 @@ static rfe_status_t bound_sd(rfe_estimator_t *est)
         return st;
     }
     if (fp->sd_max > RFE_R(0.0)) {
-        for (k = 0u; k < est->n; ++k) {
-            if (sd[k] > fp->sd_max) {
-                c = rfe_min(c, fp->sd_max / sd[k]);
-                scale = 1;
-            }
-        }
+        cap_factor(fp, sd, est->n, &c, &scale);
     }
     if ((scale == 0) && (fp->sd_floor_rel > RFE_R(0.0))) {
-        for (k = 0u; k < est->n; ++k) {
-            const rfe_real_t floor_k = fp->sd_floor_rel * rfe_max(x[k], RFE_R(0.0));
-            if (sd[k] < floor_k) {
-                c = rfe_max(c, floor_k / sd[k]);
-                scale = 1;
-            }
-        }
+        floor_factor(fp, x, sd, est->n, &c, &scale);
     }
     return (scale != 0) ? RFE_FN(rfe_sckf_scale)(&est->filter.sckf, c) : RFE_OK;
 }

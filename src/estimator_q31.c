@@ -373,9 +373,27 @@ static void est_floor_factor(const rfe_estimator_q31_t *est, const rfe_fix_t *x,
     }
 }
 
+/* The floor's factor c (Q24, > 1) limited so that no sd_k c exceeds sd_max: c = min(c,
+ * sd_max / max_k sd_k), rounded to nearest (sd_max 2^24 / sd_hi < c: cannot saturate). */
+static rfe_fix_t est_cap_floor_factor(const rfe_estimator_q31_t *est, const rfe_fix_t *sd,
+                                      rfe_fix_t c, uint32_t *count)
+{
+    const rfe_fix_t sd_max = est->params.filter.sd_max;
+    rfe_fix_t sd_hi = 1;
+    size_t k;
+    for (k = 0u; k < est->n; ++k) {
+        sd_hi = rfe_fix_max(sd_hi, sd[k]);
+    }
+    if ((uint64_t)sd_hi * (uint64_t)c > ((uint64_t)sd_max << RFE_Q31_QC)) {
+        return est_div_round_pos((uint64_t)sd_max << RFE_Q31_QC, (uint64_t)sd_hi, count);
+    }
+    return c;
+}
+
 /* Step 7: one factor c (Q24) for the whole S (correlations kept). Cap: c = min_k sd_max / sd_k
  * over sd_k > sd_max; else floor: c = max_k f_k / sd_k over sd_k < f_k,
- * f_k = sd_floor_rel max(x_k, 0). */
+ * f_k = sd_floor_rel max(x_k, 0), limited to sd_max / max_k sd_k so that lifting a
+ * well-informed wheel to its floor never lifts another above the cap. */
 static rfe_status_t est_bound_sd(rfe_estimator_q31_t *est)
 {
     const rfe_filter_params_q31_t *fp = &est->params.filter;
@@ -403,6 +421,9 @@ static rfe_status_t est_bound_sd(rfe_estimator_q31_t *est)
     }
     if ((st == RFE_OK) && (scale == 0) && (fp->sd_floor_rel > 0)) {
         est_floor_factor(est, x, sd, &c, &scale, &est->step_sat);
+        if ((scale != 0) && (fp->sd_max > 0)) {
+            c = est_cap_floor_factor(est, sd, c, &est->step_sat);
+        }
     }
     if ((st == RFE_OK) && (scale != 0)) {
         /* c rounds to 0 only for a cap below 2^-24 of the sd: keep the smallest factor */

@@ -510,6 +510,46 @@ static void test_rfe_estimator_floor_and_priority(void **state)
     assert_close(a.sd[0], 0.05, 4.0 * EPS_R, 0.0, "cap wins again");
 }
 
+/* REQ: the floor's factor never lifts an sd above sd_max: one side well informed (sd far below
+ * its floor), the other near the cap -> c = sd_max / max sd, not f / sd (docs/ESTIMATOR.md
+ * step 7; before, reported sd reached 1.0 on split_mu_brake). */
+/* REQ-EST-009 */
+static void test_rfe_estimator_floor_limited_by_cap(void **state)
+{
+    static rfe_estimator_t fl, free_;
+    rfe_estimate_t a, b;
+    rfe_params_t p = dflt, q;
+    rfe_sample_t u = straight_sample(22.0, 0.0, 0.0);
+    rfe_real_t *S;
+    int k;
+    (void)state;
+    p.filter.mu0 = 1; /* floor = sd_floor_rel = 0.15 on both sides */
+    q = p;
+    q.filter.sd_floor_rel = 0;
+    q.filter.sd_max = 0;
+    assert_int_equal(RFE_FN(rfe_estimator_init)(&fl, &p), RFE_OK);
+    assert_int_equal(RFE_FN(rfe_estimator_init)(&free_, &q), RFE_OK);
+    /* left side informed (sd 0.01), right side near the cap (sd ~0.30), correlated */
+    S = fl.filter.sckf.S;
+    S[0] = (rfe_real_t)0.01;
+    S[RFE_N_MAX] = (rfe_real_t)0.002;
+    S[RFE_N_MAX + 1] = (rfe_real_t)0.30;
+    memcpy(free_.filter.sckf.S, S, sizeof fl.filter.sckf.S);
+    assert_int_equal(RFE_FN(rfe_estimator_step)(&fl, &u, &a), RFE_HELD_NOT_OBSERVABLE);
+    assert_int_equal(RFE_FN(rfe_estimator_step)(&free_, &u, &b), RFE_HELD_NOT_OBSERVABLE);
+    assert_true(b.sd[0] < p.filter.sd_floor_rel); /* the floor wants c = 0.15 / 0.01 */
+    assert_true(b.sd[1] * (rfe_real_t)1.5 > p.filter.sd_max); /* ... which would break the cap */
+    for (k = 0; k < 4; ++k) {
+        ASSERT_LE(a.sd[k], (double)p.filter.sd_max * (1.0 + (4.0 * EPS_R)), "sd <= sd_max");
+    }
+    assert_close(a.sd[1], p.filter.sd_max, 4.0 * EPS_R, 0.0, "the wheel nearest the cap at it");
+    assert_true(a.sd[0] > b.sd[0]); /* still lifted towards the floor, by the same factor */
+    assert_close((double)a.sd[0] / (double)b.sd[0], (double)a.sd[1] / (double)b.sd[1], 8.0 * EPS_R,
+                 0.0, "one factor for all");
+    assert_close(correlation(&fl.filter.sckf), correlation(&free_.filter.sckf), 8.0 * EPS_R, 0.0,
+                 "correlation kept");
+}
+
 /* REQ: structure sides maps fl, rl to the left state and fr, rr to the right one; init gives
  * sd = sqrt(sd0^2 + sd0_common^2) and the exact Cholesky factor of the prior. */
 static void test_rfe_estimator_sides_mapping(void **state)
@@ -820,6 +860,7 @@ int main(void)
         cmocka_unit_test(test_rfe_estimator_gate_updates_on_hard_braking),
         cmocka_unit_test(test_rfe_estimator_cap_keeps_correlation),
         cmocka_unit_test(test_rfe_estimator_floor_and_priority),
+        cmocka_unit_test(test_rfe_estimator_floor_limited_by_cap),
         cmocka_unit_test(test_rfe_estimator_sides_mapping),
         cmocka_unit_test(test_rfe_estimator_validity_rules),
         cmocka_unit_test(test_rfe_params_validate_new_keys),

@@ -144,7 +144,8 @@ def _information(f, hfun, s_r):
 
 
 def _bound_sd(p, f):
-    """Step 7: one factor c for the whole S: cap at sd_max, else floor at sd_floor_rel mu."""
+    """Step 7: one factor c for the whole S: cap at sd_max, else floor at sd_floor_rel mu
+    (limited to sd_max / max sd)."""
     sd = f.sd()
     c = 1.0
     if p["sd_max"] > 0 and np.any(sd > p["sd_max"]):
@@ -153,5 +154,7 @@ def _bound_sd(p, f):
         floor = p["sd_floor_rel"] * np.maximum(f.x, 0.0)
         if np.any(sd < floor):
             c = float(np.max(floor / sd))
+            if p["sd_max"] > 0:  # the floor never lifts another wheel above the cap
+                c = min(c, float(p["sd_max"] / np.max(sd)))
     if c != 1.0:
         f.S = f.S * c
