@@ -62,8 +62,9 @@ RFE_NODISCARD rfe_status_t RFE_FN(rfe_estimator_init)(rfe_estimator_t *est,
  * One step (docs/ESTIMATOR.md): input check; input conditioning (tau_v > 0); time update;
  * if vx >= v_est_min the measurement update with y = [ax, ay, yaw_acc], this step's S_R and
  * the information gate; the sd bounds; projection onto [mu_min, mu_max] after an update.
- * @p out receives the posterior (or, on error, the unchanged previous estimate with
- * valid = 0 and the error status).
+ * @p out receives the posterior (or, on a rejected sample or a numerical error, the unchanged
+ * previous estimate with valid = 0 and the error status; on RFE_ERR_NULL or
+ * RFE_ERR_NOT_INITIALISED nothing is written).
  * @return RFE_OK, RFE_PROJECTED, RFE_NO_UPDATE_LOW_SPEED, RFE_HELD_NOT_OBSERVABLE; errors:
  *         RFE_ERR_NULL, RFE_ERR_NOT_INITIALISED, RFE_ERR_NONFINITE, RFE_ERR_RANGE (see
  *         config.h limits), RFE_ERR_NOT_POSITIVE_DEFINITE (CKF; an overflowing prior).
