@@ -121,6 +121,13 @@ $(eval $(call REPLAY_RULE,$(BUILD)/asan-mu_replay,asan-f32,asan-f64,$(SANFLAGS),
 # Keep intermediate objects (test support) so a second make does not rebuild them.
 .SECONDARY:
 
+# One file per further concern (mk/*.mk: robustness, firmware, benchmarks, evidence). Each
+# adds its installers to DEPS_EXTRA and the checks that gate to TEST_GATES (run by make test
+# after the unit tests).
+DEPS_EXTRA :=
+TEST_GATES :=
+include $(sort $(wildcard mk/*.mk))
+
 .PHONY: all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind coverage demo goldens goldens-q31 scenarios clean vectors shared-sync check-shared readme-table \
         check-goldens check-nofloat help deps-analysis misra tidy complexity structural analysis
 all: lib $(BUILD)/mu_replay
@@ -128,6 +135,7 @@ lib: $(BUILD)/f32/librfe.a $(BUILD)/f64/librfe.a $(if $(Q31_SRC),$(BUILD)/q31/li
 
 help:
 	@sed -n '1,15p' Makefile
+	@for f in $(sort $(wildcard mk/*.mk)); do echo; sed -n '/^#/!q;p' $$f; done
 
 # ---- dependencies (installed when missing) --------------------------------------------
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
@@ -153,7 +161,7 @@ $(PYSTAMP): scripts/requirements.txt
 	$(VENV)/bin/pip install -q -r scripts/requirements.txt
 	touch $@
 venv: $(PYSTAMP)
-deps: deps-c deps-arm venv
+deps: deps-c deps-arm venv $(DEPS_EXTRA)
 
 # ---- tests -----------------------------------------------------------------------------
 # Unit and golden tests run in both precisions; host tests once.
@@ -234,7 +242,7 @@ coverage: deps $(foreach f,cov-f32 cov-f64,$(addprefix $(BUILD)/$(f)/test/,$(UNI
 	@cat $(BUILD)/coverage/summary.txt
 	@echo "coverage report: $(BUILD)/coverage/index.html (per-file detail), coverage.xml (Cobertura)"
 
-test: deps lib check-shared check-nofloat misra tidy complexity structural test-c sanitize valgrind test-py coverage
+test: deps lib check-shared check-nofloat misra tidy complexity structural test-c $(TEST_GATES) sanitize valgrind test-py coverage
 	@echo "make test: all tests passed, coverage gate met"
 
 # $(BUILD)/f64/test/host/test_x comes from test/host/test_x.c through the pattern rule.
@@ -303,6 +311,7 @@ readme-table: deps $(BUILD)/mu_replay
 
 scenarios: venv
 	$(PY) scripts/make_scenarios.py --out scenarios
+	$(PY) scripts/make_fault_scenarios.py --scenarios scenarios --out scenarios/faults
 goldens: scenarios
 	$(PY) scripts/make_goldens.py --scenarios scenarios --out scenarios/golden
 	$(MAKE) goldens-q31

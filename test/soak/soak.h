@@ -1,0 +1,62 @@
+/**
+ * @file soak.h
+ * @brief The soak runner (test/soak/): one variant of the estimator over a long sensor log,
+ *        every invariant checked at every step (test/support/invariants.h), a summary.
+ *
+ * soak_run.c is compiled once per number type and defines soak_run_f32 / soak_run_f64
+ * (RFE_FN); soak_run_q31.c runs the fixed-point estimator; soak.c reads the log once and
+ * calls each variant for each configuration.
+ */
+#ifndef RFE_SOAK_H
+#define RFE_SOAK_H
+
+#include <stddef.h>
+
+#include "csv_log.h"
+
+#define SOAK_STATUS_SLOTS 32
+#define SOAK_WHY 200
+
+/** A configuration: library preset and filter. */
+typedef struct {
+    const char *name;   /**< "paper.sckf", "paper.ckf", "default.sckf" */
+    int preset_default; /**< 0 rfe_params_paper, 1 rfe_params_default */
+    int ckf;            /**< 1: the CKF (paper preset only) */
+} soak_cfg_t;
+
+/** What one run saw. Shares are over (row, wheel) pairs. */
+typedef struct {
+    long steps;
+    long status[SOAK_STATUS_SLOTS];   /**< count per status code */
+    long rejected;                    /**< rows outside the input limits (expected errors) */
+    long failed_valid;                /**< errors on rows inside the limits */
+    long projected;                   /**< steps with status RFE_PROJECTED (saturation) */
+    long at_bound;                    /**< wheel-steps with mu exactly at mu_min or mu_max */
+    long sd_over_cap;                 /**< wheel-steps with sd > sd_max (beyond 1e-5 relative) */
+    long violations;                  /**< steps breaking an invariant */
+    long first_violation_step;        /**< -1 if none */
+    char first_violation[SOAK_WHY];
+    double mu_lo, mu_hi, sd_lo, sd_hi;
+    long n_valid;                     /**< wheel-steps reported valid */
+    double rmse_valid;                /**< against the log's truth, where valid */
+    double max_err_valid;
+    double consistent_valid;          /**< share of valid wheel-steps with |err| <= 2 sd */
+    double us_per_step;               /**< wall time per step */
+    /* fixed point only (0 for float and double) */
+    long input_sat_rows;              /**< rows with a value saturated converting to Q */
+    long sat_steps;                   /**< steps whose estimate reports saturations */
+    unsigned long long sat_total;     /**< sum of the per-step saturation counts */
+    unsigned long sat_max;            /**< the largest per-step count */
+} soak_result_t;
+
+/** Runs the configuration over the whole log; 0, or -1 when init fails (message on stderr). */
+int soak_run_f32(const rfe_sensor_log_t *log, const char *log_name, const soak_cfg_t *cfg,
+                 soak_result_t *res);
+int soak_run_f64(const rfe_sensor_log_t *log, const char *log_name, const soak_cfg_t *cfg,
+                 soak_result_t *res);
+/** The fixed-point estimator (soak_run_q31.c): parameters through the double path and
+ *  rfe_params_to_q31_f64, samples rounded to the Q formats (as mu_replay --real q31). */
+int soak_run_q31(const rfe_sensor_log_t *log, const char *log_name, const soak_cfg_t *cfg,
+                 soak_result_t *res);
+
+#endif /* RFE_SOAK_H */
