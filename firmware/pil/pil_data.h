@@ -1,0 +1,24 @@
+/**
+ * @file pil_data.h
+ * @brief The generated data of a processor-in-the-loop image (pil_gen.c writes it): the
+ *        estimator parameters and the sensor samples, fixed point with PIL_Q31, else float.
+ */
+#ifndef PIL_DATA_H
+#define PIL_DATA_H
+
+#include <stdint.h>
+
+#if defined(PIL_Q31)
+#include "rfe/estimator_q31.h"
+extern const rfe_params_q31_t pil_params;
+extern const rfe_sample_q31_t pil_samples[];
+#else
+#include "rfe/estimator.h"
+extern const rfe_params_t pil_params;
+extern const rfe_sample_t pil_samples[];
+#endif
+
+/** Number of entries of pil_samples. */
+extern const uint32_t pil_n_samples;
+
+#endif /* PIL_DATA_H */

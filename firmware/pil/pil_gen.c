@@ -1,0 +1,186 @@
+/**
+ * @file pil_gen.c
+ * @brief Host tool: turns a sensor log into the C data of a processor-in-the-loop image
+ *        (firmware/pil/pil_main.c): the estimator parameters and every sample, in float32
+ *        and in the Q formats, exactly as `mu_replay` derives them for the same options.
+ *
+ *   pil_gen --in LOG.csv --out DATA.c [--preset paper|default] [--filter sckf|ckf]
+ *           [--tyre paper|absolute] [--rows N]
+ *
+ * Parameters: the library preset, then the log's `# key = value` metadata, then --filter and
+ * --tyre (mu_replay's order). Float: rfe_replay_params_f32 (the keys' doubles rounded to
+ * float); fixed point: pil_gen_params_q31 (double path, then rfe_params_to_q31_f64). Samples:
+ * float = (float)value as replay_real.c; fixed = rfe_fix_from_double as replay_q31.c. Floats
+ * are written as hexadecimal literals and Q values as integers, so the target sees the very
+ * bits the host replay uses. Structs are written with positional initialisers, member by
+ * member in declaration order, which the target compiler lays out for its own ABI (the
+ * Cortex-M build has 1-byte enums and 4-byte size_t; the host has neither).
+ */
+#include <inttypes.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "csv_log.h"
+#include "param_file.h"
+#include "pil_gen_q31.h"
+#include "replay_real.h"
+#include "rfe/params.h"
+
+/* The enum members of rfe_params_t: written as integers, every other 4-byte word as a float. */
+static int is_enum_offset(size_t off)
+{
+    return off == offsetof(rfe_params_t, tyre.mode) || off == offsetof(rfe_params_t, filter.kind) ||
+           off == offsetof(rfe_params_t, filter.structure);
+}
+
+/* Positional initialiser of one 4-byte-word sub-struct of rfe_params_t. */
+static void put_float_block(FILE *f, const rfe_params_t *p, size_t start, size_t size)
+{
+    size_t off;
+    fputs("    {", f);
+    for (off = start; off < start + size; off += 4u) {
+        if (is_enum_offset(off)) {
+            int32_t v;
+            memcpy(&v, (const char *)p + off, sizeof v);
+            fprintf(f, "%s%" PRId32, off == start ? "" : ", ", v);
+        } else {
+            float v;
+            memcpy(&v, (const char *)p + off, sizeof v);
+            fprintf(f, "%s%af", off == start ? "" : ", ", (double)v);
+        }
+    }
+    fputs("},\n", f);
+}
+
+static void put_q31_block(FILE *f, const rfe_params_q31_t *q, size_t start, size_t size)
+{
+    size_t off;
+    fputs("    {", f);
+    for (off = start; off < start + size; off += 4u) {
+        int32_t v;
+        memcpy(&v, (const char *)q + off, sizeof v);
+        fprintf(f, "%s%" PRId32, off == start ? "" : ", ", v);
+    }
+    fputs("},\n", f);
+}
+
+static int usage(const char *msg)
+{
+    fprintf(stderr, "pil_gen: %s\nusage: pil_gen --in LOG.csv --out DATA.c [--preset paper|default] "
+                    "[--filter sckf|ckf] [--tyre paper|absolute] [--rows N]\n", msg);
+    return 2;
+}
+
+int main(int argc, char **argv)
+{
+    const char *in = NULL, *out = NULL, *preset = "paper", *filter = NULL, *tyre = NULL;
+    size_t rows = 0u, i, w;
+    rfe_sensor_log_t log;
+    rfe_param_set_t ps;
+    rfe_preset_t pid;
+    rfe_io_error_t err;
+    rfe_params_t p;
+    rfe_params_q31_t q;
+    uint32_t in_sat = 0u;
+    FILE *f;
+    int a;
+
+    for (a = 1; a + 1 < argc; a += 2) {
+        if (strcmp(argv[a], "--in") == 0) { in = argv[a + 1]; }
+        else if (strcmp(argv[a], "--out") == 0) { out = argv[a + 1]; }
+        else if (strcmp(argv[a], "--preset") == 0) { preset = argv[a + 1]; }
+        else if (strcmp(argv[a], "--filter") == 0) { filter = argv[a + 1]; }
+        else if (strcmp(argv[a], "--tyre") == 0) { tyre = argv[a + 1]; }
+        else if (strcmp(argv[a], "--rows") == 0) { rows = (size_t)strtoul(argv[a + 1], NULL, 10); }
+        else { return usage("unknown option"); }
+    }
+    if (a != argc || in == NULL || out == NULL) {
+        return usage("--in and --out are required");
+    }
+    if (rfe_preset_parse(preset, &pid) != 0) {
+        return usage("bad --preset");
+    }
+    memset(&log, 0, sizeof log);
+    if (rfe_sensor_log_read(in, &log, &err) != 0) {
+        fprintf(stderr, "pil_gen: %s:%zu: %s\n", in, err.line, err.msg);
+        return 1;
+    }
+    (void)rfe_param_set_preset_f64(&ps, pid);
+    if (rfe_param_set_apply_meta(&ps, &log, in, &err) != 0) {
+        fprintf(stderr, "pil_gen: %s: %s\n", in, err.msg);
+        return 1;
+    }
+    if (filter != NULL && rfe_filter_kind_parse(filter, &ps.filter) != 0) {
+        return usage("bad --filter");
+    }
+    if (tyre != NULL && rfe_tyre_mode_parse(tyre, &ps.tyre) != 0) {
+        return usage("bad --tyre");
+    }
+    if (rfe_replay_params_f32(&ps, &p, NULL) != RFE_OK || pil_gen_params_q31(&ps, &q) != RFE_OK) {
+        fprintf(stderr, "pil_gen: %s: the parameters are rejected\n", in);
+        return 1;
+    }
+    if (rows == 0u || rows > log.n_rows) {
+        rows = log.n_rows;
+    }
+    /* Every member of both parameter structs is 4 bytes on the host (checked here), so the
+     * structs are walked word by word, sub-struct by sub-struct. */
+    if (sizeof(rfe_params_t) != sizeof(rfe_vehicle_t) + sizeof(rfe_tyre_params_t) + sizeof(rfe_filter_params_t) ||
+        sizeof(rfe_params_q31_t) != sizeof(rfe_vehicle_q31_t) + sizeof(rfe_tyre_params_q31_t) + sizeof(rfe_filter_params_q31_t) ||
+        sizeof(float) != 4u || sizeof(rfe_tyre_mode_t) != 4u || sizeof(rfe_params_t) % 4u != 0u ||
+        sizeof(rfe_params_q31_t) % 4u != 0u) {
+        fprintf(stderr, "pil_gen: unexpected parameter struct layout on the host\n");
+        return 1;
+    }
+
+    f = fopen(out, "w");
+    if (f == NULL) {
+        perror(out);
+        return 1;
+    }
+    fprintf(f, "/* Generated by firmware/pil/pil_gen.c from %s (preset %s, filter %s, tyre %s): do not edit. */\n",
+            in, preset, rfe_filter_kind_str(ps.filter), rfe_tyre_mode_str(ps.tyre));
+    fputs("#include \"pil_data.h\"\n\n", f);
+    fprintf(f, "const uint32_t pil_n_samples = %zuu;\n\n", rows);
+    fputs("#if defined(PIL_Q31)\nconst rfe_params_q31_t pil_params = {\n", f);
+    put_q31_block(f, &q, offsetof(rfe_params_q31_t, vehicle), sizeof(rfe_vehicle_q31_t));
+    put_q31_block(f, &q, offsetof(rfe_params_q31_t, tyre), sizeof(rfe_tyre_params_q31_t));
+    put_q31_block(f, &q, offsetof(rfe_params_q31_t, filter), sizeof(rfe_filter_params_q31_t));
+    fputs("};\n\nconst rfe_sample_q31_t pil_samples[] = {\n", f);
+    for (i = 0u; i < rows; ++i) {
+        rfe_sample_q31_t s;
+        in_sat += pil_gen_sample_q31(&log.rows[i], &s);
+        fprintf(f, "    {%" PRId32 ", %" PRId32 ", %" PRId32 ", %" PRId32 ", %" PRId32 ", %" PRId32 ", %" PRId32 ", {",
+                s.delta, s.vx, s.vy, s.yaw_rate, s.yaw_acc, s.ax, s.ay);
+        for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
+            fprintf(f, "%s%" PRId32, w == 0u ? "" : ", ", s.omega[w]);
+        }
+        fputs("}},\n", f);
+    }
+    fputs("};\n#else\nconst rfe_params_t pil_params = {\n", f);
+    put_float_block(f, &p, offsetof(rfe_params_t, vehicle), sizeof(rfe_vehicle_t));
+    put_float_block(f, &p, offsetof(rfe_params_t, tyre), sizeof(rfe_tyre_params_t));
+    put_float_block(f, &p, offsetof(rfe_params_t, filter), sizeof(rfe_filter_params_t));
+    fputs("};\n\nconst rfe_sample_t pil_samples[] = {\n", f);
+    for (i = 0u; i < rows; ++i) {
+        const rfe_sensor_row_t *r = &log.rows[i];
+        fprintf(f, "    {%af, %af, %af, %af, %af, %af, %af, {", (double)(float)r->delta, (double)(float)r->vx,
+                (double)(float)r->vy, (double)(float)r->yaw_rate, (double)(float)r->yaw_acc,
+                (double)(float)r->ax, (double)(float)r->ay);
+        for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
+            fprintf(f, "%s%af", w == 0u ? "" : ", ", (double)(float)r->omega[w]);
+        }
+        fputs("}},\n", f);
+    }
+    fputs("};\n#endif\n", f);
+    if (fclose(f) != 0) {
+        perror(out);
+        return 1;
+    }
+    fprintf(stderr, "pil_gen: %s: %zu samples -> %s (%" PRIu32 " values saturated in Q formats)\n", in,
+            rows, out, in_sat);
+    rfe_sensor_log_free(&log);
+    return 0;
+}

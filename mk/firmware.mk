@@ -1,0 +1,189 @@
+# Firmware (README "Firmware: Cortex-M builds, size, stack and emulated runs", issue 5).
+#
+# make firmware        the library cross-built with arm-none-eabi-gcc for each target
+#                      (FW_TARGETS: Cortex-M4F float32 and fixed point, Cortex-M0+ and
+#                      Cortex-M3 fixed point; build/firmware/<target>/), the example
+#                      firmware images (firmware/example/), then make firmware-check
+# make firmware-check  (after its self-test on fixtures that must fail)
+#                      on the cross-built objects: no heap function, no soft-float helper in
+#                      the soft-float and fixed-point builds, no double in the float32 build
+#                      (arm-none-eabi-nm); worst-case stack of each public function from
+#                      -fstack-usage and -fcallgraph-info=su; stack, flash and state budgets
+#                      (FW_BUDGET_*, below); writes build/firmware/report.json
+#                      (make firmware is part of make test)
+# make pil             processor in the loop: PIL_LOG in PIL_CONFIGS through the estimator
+#                      on QEMU's Cortex-M4 (mps2-an386: float32, fixed point), Cortex-M3
+#                      (mps2-an385: fixed point) and Cortex-M0 (microbit: the Cortex-M0+
+#                      fixed-point build), outputs compared with the host (fixed point bit
+#                      for bit, float32 within the golden tolerance); instructions per step
+#                      over the log's first steps (PIL_CONFIGS, PIL_COUNT_STEPS; QEMU's
+#                      -d in_asm,exec log, checked against -singlestep); also runs the
+#                      Cortex-M3 example firmware for 2 s (SysTick steps, none rejected);
+#                      writes build/firmware/pil.json; part of make test
+# make firmware-table  regenerates the firmware table in README.md from both JSON files
+# make deps-firmware   installs gcc-arm-none-eabi, libnewlib-arm-none-eabi and
+#                      qemu-system-arm via apt when missing (part of make deps)
+FW_CROSS   := arm-none-eabi-
+FW_CC      := $(FW_CROSS)gcc
+FW_DIR     := $(BUILD)/firmware
+# The estimator needs n = 4, m = 3 (README "Using the library in firmware").
+FW_DEFS    := -DRFE_N_MAX=4 -DRFE_M_MAX=3
+# -O2 where speed is the point (Cortex-M4F, M3); -Os on the Cortex-M0+, whose parts have
+# 32-128 KB of flash (the same choice as check-nofloat).
+FW_OPT_m4f ?= -O2
+FW_OPT_m3  ?= -O2
+FW_OPT_m0p ?= -Os
+FW_CFLAGS   = $(WARN) -g -ffunction-sections -fdata-sections $(FW_DEFS)
+FW_ARCH_m4f := -mcpu=cortex-m4 -mthumb -mfloat-abi=hard -mfpu=fpv4-sp-d16
+FW_ARCH_m3  := -mcpu=cortex-m3 -mthumb -mfloat-abi=soft
+FW_ARCH_m0p := -mcpu=cortex-m0plus -mthumb -mfloat-abi=soft
+# <core>-<variant>: the float32 library only where the core has a single-precision FPU.
+FW_TARGETS := m4f-f32 m4f-q31 m0p-q31 m3-q31
+fw_core     = $(word 1,$(subst -, ,$(1)))
+fw_variant  = $(word 2,$(subst -, ,$(1)))
+fw_srcs     = $(if $(filter q31,$(call fw_variant,$(1))),$(Q31_SRC),$(LIB_SRC))
+fw_lib      = $(FW_DIR)/$(1)/$(if $(filter q31,$(call fw_variant,$(1))),librfe_q31.a,librfe.a)
+FW_HDRS    := $(wildcard include/rfe/*.h src/*.h)
+FW_COMMON_H := $(wildcard firmware/common/*.h)
+# Example images: float32 on the Cortex-M4F, fixed point on the M4F, the M0+ and the M3
+# (the MPS2 board QEMU emulates).
+FW_EXAMPLES := m4f-f32 m4f-q31 m0p-q31 m3-q31
+FW_LD_m4f  := firmware/ld/stm32f407xg.ld
+FW_LD_m0p  := firmware/ld/stm32g071xb.ld
+FW_LD_m3   := firmware/ld/mps2.ld
+FW_LDLIBS_f32 := -lm
+FW_LDLIBS_q31 :=
+FW_LDFLAGS  = --specs=nano.specs -nostartfiles -Wl,--gc-sections -Wl,--no-warn-rwx-segments
+
+.PHONY: deps-firmware firmware firmware-libs firmware-check firmware-table pil
+DEPS_EXTRA += deps-firmware
+TEST_GATES += firmware pil
+
+deps-firmware:
+	@missing=""; command -v arm-none-eabi-gcc >/dev/null 2>&1 || missing="$$missing gcc-arm-none-eabi"; \
+	  [ -f /usr/lib/arm-none-eabi/newlib/libc.a ] || [ -f /usr/lib/arm-none-eabi/lib/libc.a ] || \
+	    missing="$$missing libnewlib-arm-none-eabi"; \
+	  command -v qemu-system-arm >/dev/null 2>&1 || missing="$$missing qemu-system-arm"; \
+	  if [ -n "$$missing" ]; then echo "[deps] installing$$missing via apt"; \
+	    $(SUDO) apt-get update -qq && $(SUDO) apt-get install -y -qq --no-install-recommends $$missing; fi
+
+# ---- the library, per target -------------------------------------------------------------
+# Objects keep their -fstack-usage (.su) and -fcallgraph-info=su (.ci) files beside them.
+define FW_LIB_RULES
+# $(1) = target (core-variant)
+$(FW_DIR)/$(1)/lib/%.o: src/%.c $(FW_HDRS) | deps-firmware
+	@mkdir -p $$(@D)
+	$$(FW_CC) $$(FW_ARCH_$(call fw_core,$(1))) $$(FW_OPT_$(call fw_core,$(1))) $$(FW_CFLAGS) $$(CPPFLAGS_LIB) -fstack-usage \
+	  -fcallgraph-info=su -fdump-ipa-cgraph -dumpdir $$(@D)/ -c $$< -o $$@
+$(call fw_lib,$(1)): $(patsubst src/%.c,$(FW_DIR)/$(1)/lib/%.o,$(call fw_srcs,$(1)))
+	rm -f $$@ && $(FW_CROSS)ar rcs $$@ $$^
+$(FW_DIR)/$(1)/common/%.o: firmware/common/%.c $(FW_HDRS) $(FW_COMMON_H) | deps-firmware
+	@mkdir -p $$(@D)
+	$$(FW_CC) $$(FW_ARCH_$(call fw_core,$(1))) $$(FW_OPT_$(call fw_core,$(1))) $$(FW_CFLAGS) $$(CPPFLAGS_LIB) -Ifirmware/common -c $$< -o $$@
+# startup_pil.o: the start-up of startup_cm.c that hands over to newlib's semihosting crt0.
+$(FW_DIR)/$(1)/common/startup_pil.o: firmware/common/startup_cm.c $(FW_COMMON_H) | deps-firmware
+	@mkdir -p $$(@D)
+	$$(FW_CC) $$(FW_ARCH_$(call fw_core,$(1))) $$(FW_OPT_$(call fw_core,$(1))) $$(FW_CFLAGS) $$(CPPFLAGS_LIB) -Ifirmware/common -DSTARTUP_NEWLIB_CRT0 -c $$< -o $$@
+endef
+$(foreach t,$(FW_TARGETS),$(eval $(call FW_LIB_RULES,$(t))))
+FW_LIBS := $(foreach t,$(FW_TARGETS),$(call fw_lib,$(t)))
+
+# ---- the example firmware ----------------------------------------------------------------
+define FW_EXAMPLE_RULES
+# $(1) = target
+$(FW_DIR)/$(1)/example/main.o: firmware/example/main.c $(FW_HDRS) $(FW_COMMON_H) | deps-firmware
+	@mkdir -p $$(@D)
+	$$(FW_CC) $$(FW_ARCH_$(call fw_core,$(1))) $$(FW_OPT_$(call fw_core,$(1))) $$(FW_CFLAGS) $$(CPPFLAGS_LIB) -Ifirmware/common \
+	  $(if $(filter q31,$(call fw_variant,$(1))),-DFW_EXAMPLE_Q31) -fstack-usage -c $$< -o $$@
+$(FW_DIR)/$(1)/example.elf: $(FW_DIR)/$(1)/example/main.o $(FW_DIR)/$(1)/common/startup_cm.o \
+                            $(call fw_lib,$(1)) $(FW_LD_$(call fw_core,$(1))) firmware/ld/sections.ld
+	$$(FW_CC) $$(FW_ARCH_$(call fw_core,$(1))) $$(FW_LDFLAGS) -Lfirmware/ld -T$(FW_LD_$(call fw_core,$(1))) \
+	  -Wl,-Map=$$(@:.elf=.map) $$(filter %.o %.a,$$^) $$(FW_LDLIBS_$(call fw_variant,$(1))) -lc -lgcc -o $$@
+endef
+$(foreach t,$(FW_EXAMPLES),$(eval $(call FW_EXAMPLE_RULES,$(t))))
+FW_EXAMPLE_ELFS := $(foreach t,$(FW_EXAMPLES),$(FW_DIR)/$(t)/example.elf)
+
+firmware-libs: $(FW_LIBS)
+firmware: $(FW_LIBS) $(FW_EXAMPLE_ELFS)
+	@$(MAKE) --no-print-directory firmware-check
+
+# Budgets (make firmware fails beyond them).
+# Stack: 2 KB per public call (init, step, get), what an RTOS task running the estimator can
+#   spare on a 32-64 KB-RAM part; static worst case 1.4-1.6 KB (the default configuration's
+#   step; the M0+ needs most), so ~25 % more stack in a change fails.
+# Flash: the library's linked share (example image, --gc-sections) <= 40 KB: measured 16 KB
+#   (float32) to 30 KB (fixed point, -O2), so ~30 % growth fails, and the library keeps under a
+#   third of the 128 KB Cortex-M0+ part (firmware/ld/stm32g071xb.ld).
+# State: sizeof of the estimator state <= 2 KB with RFE_N_MAX=4, RFE_M_MAX=3 (measured
+#   1480-1544 B; it grows only with the filter's maxima).
+FW_BUDGET_STACK ?= 2048
+FW_BUDGET_FLASH ?= 40960
+FW_BUDGET_STATE ?= 2048
+
+firmware-check: $(FW_LIBS) $(FW_EXAMPLE_ELFS)
+	@python3 scripts/firmware_check.py --self-test --out $(FW_DIR)/report.json
+	@python3 scripts/firmware_check.py --build $(FW_DIR) --targets "$(FW_TARGETS)" \
+	  --budget-stack $(FW_BUDGET_STACK) --budget-flash $(FW_BUDGET_FLASH) --budget-state $(FW_BUDGET_STATE) \
+	  --examples "$(FW_EXAMPLES)" --cflags "$(FW_CFLAGS) $(CPPFLAGS_LIB)" --out $(FW_DIR)/report.json
+
+# ---- processor in the loop ---------------------------------------------------------------
+# PIL_LOG is the benchmark's log (mk/bench.mk), so the Cortex-M column there and the host
+# figures describe the same drive. PIL_CONFIGS: <golden tag>:<pil_gen / mu_replay options>:
+# <steps whose instructions are counted> (the first ones of the log; the default
+# configuration's fixed-point step is ~10x the paper's, so fewer of them keep make pil within
+# about two minutes). PIL_COUNT_STEPS=N counts N steps in every configuration instead.
+PIL_LOG         ?= scenarios/brake_in_turn.csv
+PIL_CONFIGS     ?= paper.sckf:--preset,paper,--filter,sckf:100 default.sckf:--preset,default:20
+PIL_COUNT_STEPS ?= 0
+# <core>-<variant>:<QEMU machine>
+PIL_RUNS        := m4f-f32:mps2-an386 m4f-q31:mps2-an386 m3-q31:mps2-an385 m0p-q31:microbit
+# Memory map of each PIL core's QEMU board.
+PIL_LD_m4f      := firmware/ld/mps2.ld
+PIL_LD_m3       := firmware/ld/mps2.ld
+PIL_LD_m0p      := firmware/ld/microbit.ld
+PIL_STEM        := $(basename $(notdir $(PIL_LOG)))
+pil_tag          = $(word 1,$(subst :, ,$(1)))
+pil_opts         = $(subst $(fw_comma), ,$(word 2,$(subst :, ,$(1))))
+fw_comma        := ,
+
+$(FW_DIR)/pil_gen: firmware/pil/pil_gen.c firmware/pil/pil_gen_q31.c firmware/pil/pil_gen_q31.h \
+                   $(BUILD)/f32/host/replay_real.o $(BUILD)/f64/host/replay_real.o $(BUILD)/f64/hostlib.a \
+                   $(BUILD)/f32/librfe.a $(BUILD)/f64/librfe.a
+	@mkdir -p $(@D)
+	$(CC) $(WARN) $(OPT) -Wno-double-promotion $(CPPFLAGS_HOST) -Ifirmware/pil -c firmware/pil/pil_gen.c -o $(FW_DIR)/pil_gen.o
+	$(CC) $(WARN) $(OPT) -DRFE_REAL_DOUBLE $(CPPFLAGS_HOST) -Ifirmware/pil -c firmware/pil/pil_gen_q31.c -o $(FW_DIR)/pil_gen_q31.o
+	$(CC) $(FW_DIR)/pil_gen.o $(FW_DIR)/pil_gen_q31.o $(BUILD)/f32/host/replay_real.o $(BUILD)/f64/host/replay_real.o \
+	  $(BUILD)/f64/hostlib.a $(BUILD)/f32/librfe.a $(BUILD)/f64/librfe.a -lm -o $@
+
+define PIL_DATA_RULES
+# $(1) = <tag>:<options>
+$(FW_DIR)/pil/data/$(PIL_STEM).$(call pil_tag,$(1)).c: $(PIL_LOG) $(FW_DIR)/pil_gen
+	@mkdir -p $$(@D)
+	$(FW_DIR)/pil_gen --in $(PIL_LOG) --out $$@ $(call pil_opts,$(1))
+endef
+$(foreach c,$(PIL_CONFIGS),$(eval $(call PIL_DATA_RULES,$(c))))
+
+define PIL_IMAGE_RULES
+# $(1) = target, $(2) = golden tag
+$(FW_DIR)/$(1)/pil/$(2).elf: firmware/pil/pil_main.c firmware/pil/pil_data.h $(FW_DIR)/pil/data/$(PIL_STEM).$(2).c \
+                            $(FW_DIR)/$(1)/common/startup_pil.o $(call fw_lib,$(1)) $(PIL_LD_$(call fw_core,$(1))) firmware/ld/sections.ld
+	@mkdir -p $$(@D)
+	$$(FW_CC) $$(FW_ARCH_$(call fw_core,$(1))) $$(FW_OPT_$(call fw_core,$(1))) $$(FW_CFLAGS) $$(CPPFLAGS_LIB) -Ifirmware/pil -Ifirmware/common \
+	  $(if $(filter q31,$(call fw_variant,$(1))),-DPIL_Q31) --specs=rdimon.specs -Wl,--gc-sections \
+	  -Wl,--no-warn-rwx-segments -Lfirmware/ld -T$(PIL_LD_$(call fw_core,$(1))) -Wl,-Map=$$(@:.elf=.map) \
+	  firmware/pil/pil_main.c $(FW_DIR)/pil/data/$(PIL_STEM).$(2).c $(FW_DIR)/$(1)/common/startup_pil.o \
+	  $(call fw_lib,$(1)) $$(FW_LDLIBS_$(call fw_variant,$(1))) -o $$@
+endef
+$(foreach r,$(PIL_RUNS),$(foreach c,$(PIL_CONFIGS),$(eval $(call PIL_IMAGE_RULES,$(call pil_tag,$(r)),$(call pil_tag,$(c))))))
+
+PIL_ELFS := $(foreach r,$(PIL_RUNS),$(foreach c,$(PIL_CONFIGS),$(FW_DIR)/$(call pil_tag,$(r))/pil/$(call pil_tag,$(c)).elf))
+
+pil: deps-firmware firmware $(PIL_ELFS) $(BUILD)/mu_replay
+	@python3 scripts/firmware_pil.py --build $(FW_DIR) --log $(PIL_LOG) --runs "$(PIL_RUNS)" \
+	  --configs "$(PIL_CONFIGS)" --replay $(BUILD)/mu_replay --count-steps $(PIL_COUNT_STEPS) \
+	  --example m3-q31:mps2-an385 --out $(FW_DIR)/pil.json
+
+firmware-table:
+	@test -f $(FW_DIR)/report.json || $(MAKE) --no-print-directory firmware
+	@test -f $(FW_DIR)/pil.json || $(MAKE) --no-print-directory pil
+	python3 scripts/firmware_table.py --report $(FW_DIR)/report.json --pil $(FW_DIR)/pil.json --readme README.md
