@@ -4,31 +4,85 @@
  */
 #include "rfe/qr.h"
 
+#include <float.h>
+
 #include "internal.h"
+
+#if defined(RFE_REAL_DOUBLE)
+#define RFE_REAL_MIN_EXP DBL_MIN_EXP
+#define RFE_REAL_MAX_EXP DBL_MAX_EXP
+/* Row maxima Tria() reduces unscaled: squares and sums of up to RFE_TRIA_COLS_MAX of them
+ * stay far inside the normal range (2^+-256 of 2^+-1022). */
+#define TRIA_SAFE_LO RFE_R(8.6361685550944446e-78) /* 2^-256 */
+#define TRIA_SAFE_HI RFE_R(1.1579208923731620e+77) /* 2^256 */
+#else
+#define RFE_REAL_MIN_EXP FLT_MIN_EXP
+#define RFE_REAL_MAX_EXP FLT_MAX_EXP
+/* As above for float: 2^+-30 of 2^+-126. */
+#define TRIA_SAFE_LO RFE_R(9.31322574615478515625e-10) /* 2^-30 */
+#define TRIA_SAFE_HI RFE_R(1073741824.0)               /* 2^30 */
+#endif
 
 #define AT(M, ld, i, j) ((M)[((i) * (ld)) + (j)])
 
-/* Binary exponent e of the largest |element| of a row (max in [2^(e-1), 2^e)); 0 for a
- * zero row. */
-static int row_exponent(const rfe_real_t *row, size_t cols)
+/* Largest |element| of a row; -1 when the row holds a NaN or an infinity. */
+static rfe_real_t row_max(const rfe_real_t *row, size_t cols)
 {
     rfe_real_t big = RFE_R(0.0);
-    int e = 0;
     size_t j;
     for (j = 0u; j < cols; ++j) {
+        if (!rfe_is_finite(row[j])) {
+            return RFE_R(-1.0);
+        }
         big = rfe_max(big, RFE_FABS(row[j]));
     }
+    return big;
+}
+
+/* The maxima of all rows into bigs; *scaled = 1 when one of them lies outside
+ * [TRIA_SAFE_LO, TRIA_SAFE_HI] (zero rows aside). Returns -1 when A holds a NaN/Inf. */
+static int row_maxima(const rfe_real_t *A, size_t rows, size_t cols, size_t lda,
+                      rfe_real_t *bigs, int *scaled)
+{
+    size_t i;
+    *scaled = 0;
+    for (i = 0u; i < rows; ++i) {
+        const rfe_real_t big = row_max(&AT(A, lda, i, 0u), cols);
+        if (big < RFE_R(0.0)) {
+            return -1;
+        }
+        if ((big > RFE_R(0.0)) && ((big < TRIA_SAFE_LO) || (big > TRIA_SAFE_HI))) {
+            *scaled = 1;
+        }
+        bigs[i] = big;
+    }
+    return 0;
+}
+
+/* Binary exponent e of a row maximum big (big in [2^(e-1), 2^e)); 0 for a zero row. */
+static int max_exponent(rfe_real_t big)
+{
+    int e = 0;
     if (big > RFE_R(0.0)) {
         (void)RFE_FREXP(big, &e);
     }
     return e;
 }
 
-/* row[0..cols) *= 2^e (exact barring overflow/underflow of the result). */
+/* row[0..cols) *= 2^e (exact barring overflow/underflow of the result). While 2^e is a
+ * normal number the product x * 2^e is rounded once, exactly as ldexp(x, e) rounds, so one
+ * ldexp for the factor replaces one per element with the same result, bit for bit. */
 static void scale_row(rfe_real_t *row, size_t cols, int e)
 {
-    if (e != 0) {
-        size_t j;
+    size_t j;
+    if ((e >= (RFE_REAL_MIN_EXP - 1)) && (e < RFE_REAL_MAX_EXP)) {
+        if (e != 0) {
+            const rfe_real_t f = RFE_LDEXP(RFE_R(1.0), e);
+            for (j = 0u; j < cols; ++j) {
+                row[j] *= f;
+            }
+        }
+    } else {
         for (j = 0u; j < cols; ++j) {
             row[j] = RFE_LDEXP(row[j], e);
         }
@@ -95,7 +149,9 @@ static void make_diagonal_nonnegative(rfe_real_t *A, size_t rows, size_t lda)
 
 rfe_status_t RFE_FN(rfe_qr_tria)(rfe_real_t *A, size_t rows, size_t cols, size_t lda)
 {
+    rfe_real_t bigs[RFE_N_MAX];
     int exps[RFE_N_MAX];
+    int scaled = 0;
     size_t i;
     size_t k;
 
@@ -106,17 +162,19 @@ rfe_status_t RFE_FN(rfe_qr_tria)(rfe_real_t *A, size_t rows, size_t cols, size_t
         (cols > RFE_TRIA_COLS_SZ) || (lda < cols)) {
         return RFE_ERR_SIZE;
     }
-    for (i = 0u; i < rows; ++i) {
-        if (!rfe_all_finite(&AT(A, lda, i, 0u), cols)) {
-            return RFE_ERR_NONFINITE;
-        }
+    if (row_maxima(A, rows, cols, lda, bigs, &scaled) != 0) {
+        return RFE_ERR_NONFINITE;
     }
     /* Rows are scaled by powers of two so the sums of squares neither overflow nor
-     * underflow: with A = D A', S = D S'. Power-of-two scaling is exact, so in the normal
-     * range the result is bit-identical to the unscaled reduction. */
-    for (i = 0u; i < rows; ++i) {
-        exps[i] = row_exponent(&AT(A, lda, i, 0u), cols);
-        scale_row(&AT(A, lda, i, 0u), cols, -exps[i]);
+     * underflow: with A = D A', S = D S'. Power-of-two scaling is exact, so the result is
+     * the unscaled reduction's wherever that stays in the normal range; rows whose maxima
+     * all lie in [TRIA_SAFE_LO, TRIA_SAFE_HI] (every matrix of the estimator) are reduced
+     * unscaled. */
+    if (scaled != 0) {
+        for (i = 0u; i < rows; ++i) {
+            exps[i] = max_exponent(bigs[i]);
+            scale_row(&AT(A, lda, i, 0u), cols, -exps[i]);
+        }
     }
     /* A^T = Q R  <=>  A Q = R^T = [S 0]: zero each row's tail right of the diagonal. */
     for (k = 0u; k < rows; ++k) {
@@ -127,8 +185,10 @@ rfe_status_t RFE_FN(rfe_qr_tria)(rfe_real_t *A, size_t rows, size_t cols, size_t
         /* norm == 0: the tail is already zero (rank-deficient input); S(k,k) = 0. */
     }
     make_diagonal_nonnegative(A, rows, lda);
-    for (i = 0u; i < rows; ++i) {
-        scale_row(&AT(A, lda, i, 0u), i + 1u, exps[i]); /* S = D S' */
+    if (scaled != 0) {
+        for (i = 0u; i < rows; ++i) {
+            scale_row(&AT(A, lda, i, 0u), i + 1u, exps[i]); /* S = D S' */
+        }
     }
     return RFE_OK;
 }

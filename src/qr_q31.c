@@ -25,16 +25,22 @@
 /* Fractional bits of the reflection coefficient c. */
 #define C_FRAC 30u
 
-/* Number of significant bits of v (0 for v = 0). */
+/* Number of significant bits of v (0 for v = 0), by halving the search window: six
+ * comparisons instead of one shift per bit. */
 static unsigned int bit_length_q31(uint64_t v)
 {
+    static const unsigned int widths[6] = {32u, 16u, 8u, 4u, 2u, 1u};
     unsigned int len = 0u;
     uint64_t r = v;
-    while (r != 0u) {
-        r >>= 1;
-        ++len;
+    size_t i;
+    for (i = 0u; i < 6u; ++i) {
+        const uint64_t high = r >> widths[i];
+        if (high != 0u) {
+            r = high;
+            len += widths[i];
+        }
     }
-    return len;
+    return len + (unsigned int)r; /* r is now 0 or 1 */
 }
 
 /* Shift s that brings the norm of t[0..len) into [2^29, 2^30): s = 29 - floor(log2 |t|).

@@ -66,33 +66,22 @@ rfe_status_t RFE_FN(rfe_sckf_init)(rfe_sckf_t *f, size_t n, size_t m, const rfe_
     return RFE_OK;
 }
 
-rfe_status_t RFE_FN(rfe_sckf_predict)(rfe_sckf_t *f, rfe_process_fn_t process, void *ctx)
+/* Time update through the cubature points (any process f): X_j = S xi_j + x, X*_j = f(X_j),
+ * x- = mean X*_j, and the Tria input [(X*_j - x-)/sqrt(2n), S_Q] (n x 3n) into w->A. */
+static rfe_status_t predict_points(rfe_sckf_t *f, rfe_process_fn_t process, void *ctx)
 {
-    rfe_cub_scratch_t *w;
-    rfe_real_t inv_sqrt_2n;
-    size_t n;
+    rfe_cub_scratch_t *w = &f->w;
+    const size_t n = f->n;
+    const rfe_real_t inv_sqrt_2n = RFE_R(1.0) / RFE_SQRT(RFE_R(2.0) * (rfe_real_t)n);
     size_t i;
     size_t j;
     rfe_status_t st;
-
-    if (f == NULL) {
-        return RFE_ERR_NULL;
-    }
-    if (f->magic != RFE_MAGIC_SCKF) {
-        return RFE_ERR_NOT_INITIALISED;
-    }
-    w = &f->w;
-    n = f->n;
-    /* X_j = S xi_j + x;  X*_j = f(X_j);  x- = mean_j X*_j. */
     RFE_FN(rfe_cub_points)(f->x, f->S, n, w->pts);
     st = RFE_FN(rfe_cub_propagate)(w->pts, n, process, ctx, w->xn);
     if (st != RFE_OK) {
         return st;
     }
     RFE_FN(rfe_cub_mean)(w->pts, n, n, NM, w->xn);
-    RFE_FN(rfe_cub_hold_random_walk_mean)(f->x, n, process, w->xn);
-    /* S- = Tria([(X*_1 - x-, ..., X*_2n - x-)/sqrt(2n), S_Q]). */
-    inv_sqrt_2n = RFE_R(1.0) / RFE_SQRT(RFE_R(2.0) * (rfe_real_t)n);
     for (i = 0u; i < n; ++i) {
         for (j = 0u; j < (2u * n); ++j) {
             w->A[(i * TC) + j] = (w->pts[(j * NM) + i] - w->xn[i]) * inv_sqrt_2n;
@@ -101,7 +90,53 @@ rfe_status_t RFE_FN(rfe_sckf_predict)(rfe_sckf_t *f, rfe_process_fn_t process, v
             w->A[(i * TC) + (2u * n) + j] = f->SQ[(i * NM) + j];
         }
     }
-    st = RFE_FN(rfe_qr_tria)(w->A, n, 3u * n, TC);
+    return RFE_OK;
+}
+
+/* Time update of the random walk f(x) = x: its points X_j = x +- sqrt(n) S e_j are
+ * symmetric about x, so x- = x exactly, and the centred points +-sqrt(n) S e_j / sqrt(2n)
+ * = +-S e_j / sqrt(2) contribute exactly S S^T: S- = Tria([S, S_Q]) (n x 2n) needs no
+ * cubature points. The Tria input into w->A, x- = x into w->xn. */
+static void predict_random_walk(rfe_sckf_t *f)
+{
+    rfe_cub_scratch_t *w = &f->w;
+    const size_t n = f->n;
+    size_t i;
+    size_t j;
+    for (i = 0u; i < n; ++i) {
+        for (j = 0u; j < n; ++j) {
+            w->A[(i * TC) + j] = f->S[(i * NM) + j];
+            w->A[(i * TC) + n + j] = f->SQ[(i * NM) + j];
+        }
+    }
+    RFE_FN(rfe_cub_hold_random_walk_mean)(f->x, n, NULL, w->xn);
+}
+
+rfe_status_t RFE_FN(rfe_sckf_predict)(rfe_sckf_t *f, rfe_process_fn_t process, void *ctx)
+{
+    size_t n;
+    size_t cols;
+    rfe_status_t st = RFE_OK;
+
+    if (f == NULL) {
+        return RFE_ERR_NULL;
+    }
+    if (f->magic != RFE_MAGIC_SCKF) {
+        return RFE_ERR_NOT_INITIALISED;
+    }
+    n = f->n;
+    /* S- = Tria([(X*_1 - x-, ..., X*_2n - x-)/sqrt(2n), S_Q]); for the random walk
+     * S- = Tria([S, S_Q]). */
+    if (process == NULL) {
+        predict_random_walk(f);
+        cols = 2u * n;
+    } else {
+        st = predict_points(f, process, ctx);
+        cols = 3u * n;
+    }
+    if (st == RFE_OK) {
+        st = RFE_FN(rfe_qr_tria)(f->w.A, n, cols, TC);
+    }
     if (st != RFE_OK) {
         return st;
     }
@@ -256,6 +291,25 @@ static rfe_status_t gate(rfe_sckf_t *f, const rfe_real_t *SR, rfe_real_t info_mi
     return st;
 }
 
+/* Row i of Xc - K Zc (2n values) into w->A: element by element the subtractions of
+ * K[i][r] Zc[r][j] for r = 0, 1, ... in that order, with the long loop innermost. */
+static void posterior_points_row(rfe_sckf_t *f, size_t i)
+{
+    rfe_cub_scratch_t *w = &f->w;
+    const size_t n = f->n;
+    size_t j;
+    size_t r;
+    for (j = 0u; j < (2u * n); ++j) {
+        w->A[(i * TC) + j] = w->B[(i * TC) + j];
+    }
+    for (r = 0u; r < f->m; ++r) {
+        const rfe_real_t k_ri = w->Kt[(r * NM) + i];
+        for (j = 0u; j < (2u * n); ++j) {
+            w->A[(i * TC) + j] -= k_ri * w->zpts[(j * MM) + r];
+        }
+    }
+}
+
 /* [Xc - K Zc, K S_R] (n x (2n + m)) into w->A: the Tria input of the posterior factor.
  * Needs the centred points (w->B, w->zpts) and the gain (w->Kt). */
 static void posterior_tria_input(rfe_sckf_t *f, const rfe_real_t *SR)
@@ -267,13 +321,7 @@ static void posterior_tria_input(rfe_sckf_t *f, const rfe_real_t *SR)
     size_t j;
     size_t r;
     for (i = 0u; i < n; ++i) {
-        for (j = 0u; j < (2u * n); ++j) {
-            rfe_real_t acc = w->B[(i * TC) + j];
-            for (r = 0u; r < m; ++r) {
-                acc -= w->Kt[(r * NM) + i] * w->zpts[(j * MM) + r];
-            }
-            w->A[(i * TC) + j] = acc;
-        }
+        posterior_points_row(f, i);
         for (j = 0u; j < m; ++j) {
             rfe_real_t acc = RFE_R(0.0);
             for (r = j; r < m; ++r) { /* S_R is lower-triangular */

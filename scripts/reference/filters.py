@@ -56,14 +56,14 @@ class SCKF:
 
     def time_update(self):
         """X_j = S xi_j + x; X*_j = f(X_j) = X_j; x- = mean X*_j;
-        S- = Tria([(X*_1 - x-, ..., X*_2n - x-)/sqrt(2n), S_Q])   (MODEL.md section 6)."""
-        x_star = self.points()
-        # The random walk's points are symmetric about x: x- = x exactly (their average
-        # would only add rounding, which walks the mean over many held steps).
-        x_pred = self.x.copy()
-        centred = (x_star - x_pred[:, None]) / self.sqrt_2n
-        self.x = x_pred
-        self.S = tria(np.hstack([centred, self.s_q]))
+        S- = Tria([(X*_1 - x-, ..., X*_2n - x-)/sqrt(2n), S_Q])   (MODEL.md section 6).
+
+        For the random walk this needs no cubature points: they are symmetric about x, so
+        x- = x exactly (their average would only add rounding, which walks the mean over many
+        held steps), and the centred points +-sqrt(n) S e_j / sqrt(2n) = +-S e_j / sqrt(2)
+        contribute exactly S S^T, so S- = Tria([S, S_Q]) (as the C library computes it)."""
+        self.x = self.x.copy()
+        self.S = tria(np.hstack([self.S, self.s_q]))
 
     def measurement_update(self, y, h):
         """MODEL.md section 6 measurement update:
