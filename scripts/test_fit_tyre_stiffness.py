@@ -78,6 +78,7 @@ def _check(res, axis, truth, rtol):
         assert res.stderr[axis] < 0.03 * truth
 
 
+# REQ-FIT-001
 def test_mf_truth_recovers_cx_cy(slalom):
     logs = _need("paper_high_mu_brake.mf.csv", "paper_low_mu_brake.mf.csv")
     res = fts.fit(logs + [slalom[("mf", "default")]])
@@ -86,11 +87,13 @@ def test_mf_truth_recovers_cx_cy(slalom):
     assert res.n_excite["cx"] >= 1000 and res.n_excite["cy"] >= 300
 
 
+# REQ-FIT-001
 def test_mf_truth_noise_free_lateral(slalom):
     res = fts.fit([slalom[("mf", "none")]], only="cy")
     _check(res, "cy", 15.0, MF_NF_RTOL)
 
 
+# REQ-FIT-001
 def test_dugoff_truth_recovers_mu_times_stiffness(slalom):
     """The normalised tyre's stiffness scales with mu: the fit sees mu*20, mu*15."""
     res = fts.fit(_need("paper_high_mu_brake.csv") + [slalom[("dugoff", "default")]])
@@ -108,12 +111,14 @@ def test_dugoff_truth_recovers_mu_times_stiffness(slalom):
     assert "cy" not in low.value
 
 
+# REQ-FIT-001
 def test_dugoff_truth_noise_free_exact(slalom):
     res = fts.fit(_need("paper_high_mu_brake.nf.csv") + [slalom[("dugoff", "none")]])
     _check(res, "cx", MU * 20.0, NF_RTOL)
     _check(res, "cy", MU * 15.0, NF_RTOL)
 
 
+# REQ-FIT-001
 def test_refuses_unexcited_axes(capsys):
     with pytest.raises(fts.FitError, match="cy: not identifiable"):
         fts.fit(_need("paper_high_mu_brake.csv"))             # straight braking: no cy
@@ -122,6 +127,7 @@ def test_refuses_unexcited_axes(capsys):
     assert "cx: not identifiable" in err and "straight driving gives no cy" in err
 
 
+# REQ-FIT-001
 def test_selection_excludes_near_limit_samples():
     """Hard braking at the limit: only the brake ramps' first instants pass the selection,
     far too few to fit cx from (the tyre is not linear there)."""
@@ -129,6 +135,7 @@ def test_selection_excludes_near_limit_samples():
         fts.fit(_need("hard_brake_high_mu.csv"), only="cx")
 
 
+# REQ-FIT-001
 def test_cli_writes_parameter_file(slalom, tmp_path, capsys):
     out = tmp_path / "fitted.par"
     logs = _need("paper_high_mu_brake.mf.csv") + [slalom[("mf", "default")]]
@@ -144,6 +151,7 @@ def test_cli_writes_parameter_file(slalom, tmp_path, capsys):
     assert not out2.exists()
 
 
+# REQ-FIT-001
 def test_only_holds_other_axis(slalom):
     """--only cy: cx is held at its parameter value (metadata cx = 20, not the Dugoff log's
     true 0.85*20); on a log without longitudinal slip that makes no difference."""

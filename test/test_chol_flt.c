@@ -124,6 +124,7 @@ static void prefill_l(rfe_real_t *L, size_t n, size_t ldl)
 
 /* ---- tests ------------------------------------------------------------------------------ */
 
+/* REQ-CHOL-001 */
 static void test_rfe_chol_factor_random_spd(void **state)
 {
     static rfe_real_t P[BUF_N];
@@ -153,6 +154,7 @@ static void test_rfe_chol_factor_random_spd(void **state)
 }
 
 /* Exact cases: diagonal P = diag(k^2) gives diag(k); P = [4 2; 2 10] gives [2 0; 1 3]. */
+/* REQ-CHOL-001 */
 static void test_rfe_chol_factor_exact_small(void **state)
 {
     static rfe_real_t L[BUF_N];
@@ -184,6 +186,7 @@ static void test_rfe_chol_factor_exact_small(void **state)
 
 /* Only the lower triangle of P is read: garbage (even NaN) in the strict upper triangle
  * changes nothing. */
+/* REQ-CHOL-001 */
 static void test_rfe_chol_factor_reads_lower_triangle_only(void **state)
 {
     static rfe_real_t P[BUF_N];
@@ -208,6 +211,7 @@ static void test_rfe_chol_factor_reads_lower_triangle_only(void **state)
 }
 
 /* chol(A A^T) equals Tria(A) (both are the unique lower factor with positive diagonal). */
+/* REQ-CHOL-001 */
 static void test_rfe_chol_factor_matches_tria(void **state)
 {
     static rfe_real_t P[BUF_N];
@@ -243,6 +247,7 @@ static void test_rfe_chol_factor_matches_tria(void **state)
 }
 
 /* Not positive definite: the first failing pivot is not > 0. */
+/* REQ-CHOL-002 */
 static void test_rfe_chol_factor_not_positive_definite(void **state)
 {
     static rfe_real_t L[BUF_N];
@@ -283,6 +288,7 @@ static void test_rfe_chol_factor_not_positive_definite(void **state)
 }
 
 /* Random SPD with one diagonal entry pushed below the Schur complement: indefinite. */
+/* REQ-CHOL-002 */
 static void test_rfe_chol_factor_random_indefinite(void **state)
 {
     static rfe_real_t P[BUF_N];
@@ -302,6 +308,7 @@ static void test_rfe_chol_factor_random_indefinite(void **state)
     }
 }
 
+/* REQ-CHOL-003 */
 static void test_rfe_chol_factor_nonfinite(void **state)
 {
     static rfe_real_t P[BUF_N];
@@ -325,6 +332,7 @@ static void test_rfe_chol_factor_nonfinite(void **state)
     }
 }
 
+/* REQ-CHOL-003 */
 static void test_rfe_chol_factor_size_errors(void **state)
 {
     static rfe_real_t P[BUF_N];
@@ -350,6 +358,7 @@ static void test_rfe_chol_factor_size_errors(void **state)
     }
 }
 
+/* REQ-CHOL-003 */
 static void test_rfe_chol_factor_null(void **state)
 {
     static rfe_real_t P[BUF_N];

@@ -160,6 +160,7 @@ static void check_factor(const int32_t *P, size_t n, size_t ldp, unsigned qp, un
 static const unsigned formats[][2] = {{31u, 30u}, {24u, 24u}, {30u, 30u}, {30u, 15u},
                                       {16u, 16u}, {28u, 20u}, {0u, 0u},   {0u, 15u}};
 
+/* REQ-FXP-004 REQ-CHOL-001 */
 static void test_rfe_chol_factor_q31_random_spd(void **state)
 {
     static int32_t P[NM * (NM + 2u)];
@@ -183,6 +184,7 @@ static void test_rfe_chol_factor_q31_random_spd(void **state)
 
 /* Integer matrices (Q0) with an exact factor: P = M M^T for integer M with positive
  * diagonal gives L = M exactly when every division is exact — checked on a known case. */
+/* REQ-FXP-004 REQ-CHOL-001 */
 static void test_rfe_chol_factor_q31_exact_integer(void **state)
 {
     /* M = [2 0 0; 1 3 0; -2 1 4] -> P = [4 2 -4; 2 10 1; -4 1 21] */
@@ -203,6 +205,7 @@ static void test_rfe_chol_factor_q31_exact_integer(void **state)
 
 /* Pivots <= 0 fail with RFE_ERR_NOT_POSITIVE_DEFINITE and leave *sat alone, also when an
  * intermediate saturated on the way. */
+/* REQ-CHOL-002 */
 static void test_rfe_chol_factor_q31_not_positive_definite(void **state)
 {
     static const int32_t indefinite[4] = {1 << 20, 2 << 20, 2 << 20, 1 << 20};
@@ -227,6 +230,7 @@ static void test_rfe_chol_factor_q31_not_positive_definite(void **state)
     assert_int_equal(sat, 11u);
 }
 
+/* REQ-CHOL-003 */
 static void test_rfe_chol_factor_q31_errors(void **state)
 {
     static const int32_t P[4] = {1 << 20, 0, 0, 1 << 20};
@@ -301,6 +305,7 @@ static uint64_t batch_hash(void)
     return h;
 }
 
+/* REQ-FXP-007 */
 static void test_rfe_chol_factor_q31_deterministic(void **state)
 {
     const uint64_t h1 = batch_hash();

@@ -459,6 +459,7 @@ static void run_ckf_vs_kf(size_t n, size_t m, int random_walk, uint64_t seed)
     }
 }
 
+/* REQ-CKF-001 */
 static void test_rfe_ckf_linear_matches_kalman(void **state)
 {
     size_t m;
@@ -469,6 +470,7 @@ static void test_rfe_ckf_linear_matches_kalman(void **state)
     }
 }
 
+/* REQ-CKF-001 */
 static void test_rfe_ckf_random_walk_matches_kalman(void **state)
 {
     size_t m;
@@ -481,6 +483,7 @@ static void test_rfe_ckf_random_walk_matches_kalman(void **state)
 
 /* Time updates alone (the estimator's held steps) must not move the random walk's mean by a
  * single bit (averaging the symmetric points used to add rounding that walked x); P grows. */
+/* REQ-CKF-001 */
 static void test_rfe_ckf_random_walk_hold_keeps_mean_exactly(void **state)
 {
     static problem_t p;
@@ -511,6 +514,7 @@ static void test_rfe_ckf_random_walk_hold_keeps_mean_exactly(void **state)
 
 /* The weights really are the formulas: lambda = 0, Wm0 = Wc0 = 0, Wi = 1/(2n), spread sqrt(n)
  * (so the centre point drops out and the UKF becomes the cubature rule). */
+/* REQ-CKF-002 */
 static void test_ref_ukf_weights_alpha1_beta0_kappa0(void **state)
 {
     const ukf_param_t prm = {1.0, 0.0, 0.0};
@@ -552,6 +556,7 @@ static void run_ckf_vs_ukf(size_t n, size_t m, int nonlinear, int random_walk, u
     }
 }
 
+/* REQ-CKF-002 */
 static void test_rfe_ckf_linear_matches_ukf(void **state)
 {
     (void)state;
@@ -560,6 +565,7 @@ static void test_rfe_ckf_linear_matches_ukf(void **state)
     run_ckf_vs_ukf(4u, 2u, 0, 1, 2402u);
 }
 
+/* REQ-CKF-002 */
 static void test_rfe_ckf_nonlinear_matches_ukf(void **state)
 {
     uint64_t seed;
@@ -572,6 +578,7 @@ static void test_rfe_ckf_nonlinear_matches_ukf(void **state)
 
 /* Sanity check of the reference itself: on the linear model the generic UKF equals the
  * textbook Kalman filter (so (a) and (b) compare against two independent references). */
+/* REQ-CKF-002 */
 static void test_ref_ukf_linear_equals_kalman(void **state)
 {
     static problem_t p;
@@ -632,6 +639,7 @@ static void assert_sckf_equals_ckf(const rfe_sckf_t *s, const rfe_ckf_t *c, cons
     ASSERT_LE(ep / ps, TOL_SCKF, "SCKF S S^T vs CKF P");
 }
 
+/* REQ-CKF-002 REQ-SCKF-003 */
 static void test_rfe_ckf_nonlinear_matches_sckf(void **state)
 {
     static problem_t p;
@@ -697,6 +705,7 @@ static void expect_measure_calls(const rfe_ckf_t *f, void *ctx, int last_mode)
     }
 }
 
+/* REQ-CUB-001 */
 static void test_rfe_ckf_update_evaluates_cubature_points(void **state)
 {
     static problem_t p;
@@ -732,12 +741,14 @@ static void ckf_update_fault_untouched(int mode, rfe_status_t expected)
     assert_int_equal(RFE_FN(rfe_ckf_update)(&f, cb_measure, &p.mdl, y), RFE_OK);
 }
 
+/* REQ-CKF-003 */
 static void test_rfe_ckf_update_callback_error_untouched(void **state)
 {
     (void)state;
     ckf_update_fault_untouched(MOCK_FAIL, MOCK_ERR_STATUS);
 }
 
+/* REQ-CKF-003 */
 static void test_rfe_ckf_update_callback_nan_untouched(void **state)
 {
     (void)state;
@@ -762,6 +773,7 @@ static rfe_status_t faulty_process(void *ctx, const rfe_real_t *x, rfe_real_t *x
     return RFE_OK;
 }
 
+/* REQ-CKF-003 */
 static void test_rfe_ckf_predict_callback_faults_untouched(void **state)
 {
     static problem_t p;
@@ -785,6 +797,7 @@ static void test_rfe_ckf_predict_callback_faults_untouched(void **state)
 
 /* P0 indefinite (eigenvalues of [1 2; 2 1] are 3 and -1): the Cholesky of P fails in both
  * steps and the state stays as it was. */
+/* REQ-CKF-003 */
 static void test_rfe_ckf_indefinite_covariance_untouched(void **state)
 {
     static problem_t p;
@@ -816,6 +829,7 @@ static void test_rfe_ckf_indefinite_covariance_untouched(void **state)
 }
 
 /* Pzz indefinite (R strongly negative): the gain's Cholesky fails, the state stays. */
+/* REQ-CKF-003 */
 static void test_rfe_ckf_update_indefinite_innovation_untouched(void **state)
 {
     static problem_t p;
@@ -859,6 +873,7 @@ static int ckf_state_finite(const rfe_ckf_t *f)
     return 1;
 }
 
+/* REQ-CKF-003 */
 static void test_rfe_ckf_predict_overflow_untouched(void **state)
 {
     static problem_t p;
@@ -883,6 +898,7 @@ static void test_rfe_ckf_predict_overflow_untouched(void **state)
 }
 
 /* n = m = 1, h(x) = 0.01 x, R = 1e-6: K ~ 99 and y = MAX / 2 make x- + K (y - z) overflow. */
+/* REQ-CKF-003 */
 static void test_rfe_ckf_update_mean_overflow_untouched(void **state)
 {
     static problem_t p;
@@ -904,6 +920,7 @@ static void test_rfe_ckf_update_mean_overflow_untouched(void **state)
 
 /* ---- errors ----------------------------------------------------------------------------- */
 
+/* REQ-CKF-004 */
 static void test_rfe_ckf_init_null(void **state)
 {
     static problem_t p;
@@ -921,6 +938,7 @@ static void test_rfe_ckf_init_null(void **state)
     assert_memory_equal(&f, &ref, sizeof f);
 }
 
+/* REQ-CKF-004 */
 static void test_rfe_ckf_init_size_errors(void **state)
 {
     static rfe_ckf_t f;
@@ -942,6 +960,7 @@ static void test_rfe_ckf_init_size_errors(void **state)
     }
 }
 
+/* REQ-CKF-004 */
 static void test_rfe_ckf_init_nonfinite(void **state)
 {
     static problem_t p;
@@ -971,6 +990,7 @@ static void test_rfe_ckf_init_nonfinite(void **state)
     }
 }
 
+/* REQ-CKF-004 */
 static void test_rfe_ckf_use_before_init(void **state)
 {
     static problem_t p;
@@ -1000,6 +1020,7 @@ static void test_rfe_ckf_use_before_init(void **state)
     }
 }
 
+/* REQ-CKF-004 */
 static void test_rfe_ckf_null_args(void **state)
 {
     static problem_t p;
@@ -1025,6 +1046,7 @@ static void test_rfe_ckf_null_args(void **state)
     assert_memory_equal(before, &f, CKF_STATE_BYTES);
 }
 
+/* REQ-CKF-003 REQ-CKF-004 */
 static void test_rfe_ckf_update_nonfinite_y_untouched(void **state)
 {
     static problem_t p;
@@ -1052,6 +1074,7 @@ static void test_rfe_ckf_update_nonfinite_y_untouched(void **state)
     }
 }
 
+/* REQ-CKF-004 */
 static void test_rfe_ckf_clamp(void **state)
 {
     static problem_t p;
@@ -1089,6 +1112,7 @@ static void test_rfe_ckf_clamp(void **state)
     assert_int_equal(clamped, 0);
 }
 
+/* REQ-CKF-004 */
 static void test_rfe_ckf_get_outputs(void **state)
 {
     static problem_t p;

@@ -271,6 +271,7 @@ static void make_problem(problem_t *p, size_t n, size_t m, double sd0, double q_
     diag_cov(sr, m, QR, QZ, p->Rq, p->R, p->SRq, p->SR);
 }
 
+/* REQ-FXP-005 REQ-CKF-001 */
 static void test_rfe_ckf_q31_linear_models_vs_double(void **state)
 {
     static problem_t p;
@@ -535,12 +536,14 @@ static void run_all_scenarios(rfe_tyre_mode_t tyre, const char *label)
     memset(&W, 0, sizeof W);
 }
 
+/* REQ-FXP-005 */
 static void test_rfe_ckf_q31_scenarios_paper_tyre(void **state)
 {
     (void)state;
     run_all_scenarios(RFE_TYRE_PAPER, "scenarios, paper preset");
 }
 
+/* REQ-FXP-005 */
 static void test_rfe_ckf_q31_scenarios_absolute_tyre(void **state)
 {
     (void)state;
@@ -595,6 +598,7 @@ static double min_eig(const double *P, size_t n)
     return lo;
 }
 
+/* REQ-FXP-012 */
 static void test_rfe_ckf_q31_high_information_loses_definiteness(void **state)
 {
     static problem_t p;
@@ -701,6 +705,7 @@ static void test_rfe_ckf_q31_high_information_loses_definiteness(void **state)
 
 /* ---- API contract ------------------------------------------------------------------------ */
 
+/* REQ-CKF-004 */
 static void test_rfe_ckf_q31_argument_errors(void **state)
 {
     static problem_t p;
@@ -763,6 +768,7 @@ static rfe_status_t failing_measure(void *ctx, const int32_t *x, int32_t *z, siz
 }
 
 /* Callback errors and indefinite matrices (P, Pzz) leave the state as it was. */
+/* REQ-CKF-003 */
 static void test_rfe_ckf_q31_failures_untouched(void **state)
 {
     static problem_t p;
@@ -807,6 +813,7 @@ static void test_rfe_ckf_q31_failures_untouched(void **state)
 
 /* get (sd = exactly rounded sqrt of the diagonal, 0 for a negative one) and clamp; the
  * saturation counter of a successful step. */
+/* REQ-CKF-004 REQ-FXP-008 */
 static void test_rfe_ckf_q31_get_clamp_saturation(void **state)
 {
     static problem_t p;

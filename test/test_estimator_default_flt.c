@@ -95,6 +95,7 @@ static double correlation(const rfe_sckf_t *f)
  * vy 0.4): px = 20 + 0.01 (-2 + 0.2 * 0.5) = 19.981, py = 0.5 + 0.01 (1 - 0.2 * 20) = 0.47,
  * vx = 0.9 * 19.981 + 0.1 * 19.9 = 19.9729, vy = 0.9 * 0.47 + 0.1 * 0.4 = 0.463.
  * Sample 3 (all zero but vx 20): vx = 0.9 * 19.9729 + 2 = 19.97561, vy = 0.9 * 0.463 = 0.4167. */
+/* REQ-COND-001 */
 static void test_rfe_conditioner_hand_example(void **state)
 {
     rfe_conditioner_t c;
@@ -129,6 +130,7 @@ static void test_rfe_conditioner_hand_example(void **state)
 }
 
 /* REQ: tau_v = 0 is off (sample passes, state untouched); errors change nothing. */
+/* REQ-COND-002 */
 static void test_rfe_conditioner_off_and_errors(void **state)
 {
     rfe_conditioner_t c, copy, blank;
@@ -178,6 +180,7 @@ static void test_rfe_conditioner_off_and_errors(void **state)
 
 /* REQ: the estimator uses the filtered vx everywhere, including the low-speed test: a
  * measured vx that drops below v_est_min for one sample (a glitch) is smoothed away. */
+/* REQ-EST-011 */
 static void test_rfe_estimator_uses_filtered_speed(void **state)
 {
     static rfe_estimator_t est;
@@ -293,6 +296,7 @@ static void check_sr(const rfe_params_t *p, const rfe_sample_t *u, const rfe_rea
 /* REQ: S_R S_R^T = R0 + sum_j g_j g_j^T (docs/ESTIMATOR.md step 4), g_j from the tyre and
  * obsmat functions called here, for the absolute and the paper tyre, on a braking, steered,
  * yawing sample; inputs with sd 0 contribute nothing. */
+/* REQ-EIV-001 */
 static void test_rfe_eiv_sqrt_noise_reconstructs_r(void **state)
 {
     rfe_params_t p = dflt;
@@ -316,6 +320,7 @@ static void test_rfe_eiv_sqrt_noise_reconstructs_r(void **state)
 }
 
 /* REQ: rfe_eiv_sqrt_noise validates its arguments and leaves SR untouched on error. */
+/* REQ-EIV-002 */
 static void test_rfe_eiv_sqrt_noise_errors(void **state)
 {
     rfe_params_t p = dflt;
@@ -341,6 +346,7 @@ static void test_rfe_eiv_sqrt_noise_errors(void **state)
 
 /* REQ: the measurement model (meas.h) equals H(u) mu in paper mode and the absolute forces'
  * accelerations in absolute mode; bad arguments are rejected. */
+/* REQ-MEAS-001 REQ-MEAS-002 */
 static void test_rfe_meas_setup_eval(void **state)
 {
     rfe_meas_t h, copy;
@@ -385,6 +391,7 @@ static void test_rfe_meas_setup_eval(void **state)
 
 /* REQ: cruising (zero slip) carries no information: every step is held (status 3), the mean
  * stays mu0, the sd grows to the sd_max bound and stays there, the estimate is not valid. */
+/* REQ-EST-008 */
 static void test_rfe_estimator_gate_holds_on_cruise(void **state)
 {
     static rfe_estimator_t est;
@@ -419,6 +426,7 @@ static void test_rfe_estimator_gate_holds_on_cruise(void **state)
 /* REQ: hard braking carries information: the first step updates (status 0 or 1), and a
  * consistent braking sequence (model-matched at mu 0.6, speeds decreasing with ax) converges
  * to 0.6 on every wheel and becomes valid (sd <= sd_valid). */
+/* REQ-EST-008 */
 static void test_rfe_estimator_gate_updates_on_hard_braking(void **state)
 {
     static rfe_estimator_t est;
@@ -451,6 +459,7 @@ static void test_rfe_estimator_gate_updates_on_hard_braking(void **state)
 
 /* REQ: the cap scales the whole S by one factor c = sd_max / max sd_k: the largest sd lands on
  * sd_max, the correlation between the sides is the one without the cap. */
+/* REQ-EST-009 */
 static void test_rfe_estimator_cap_keeps_correlation(void **state)
 {
     static rfe_estimator_t capped, free_;
@@ -478,6 +487,7 @@ static void test_rfe_estimator_cap_keeps_correlation(void **state)
 
 /* REQ: the floor raises sd to sd_floor_rel mu by one factor, correlation kept; with both
  * bounds on, the cap wins (else-if). */
+/* REQ-EST-009 */
 static void test_rfe_estimator_floor_and_priority(void **state)
 {
     static rfe_estimator_t fl, free_;
@@ -552,6 +562,7 @@ static void test_rfe_estimator_floor_limited_by_cap(void **state)
 
 /* REQ: structure sides maps fl, rl to the left state and fr, rr to the right one; init gives
  * sd = sqrt(sd0^2 + sd0_common^2) and the exact Cholesky factor of the prior. */
+/* REQ-EST-010 */
 static void test_rfe_estimator_sides_mapping(void **state)
 {
     static rfe_estimator_t est;
@@ -598,6 +609,7 @@ static void test_rfe_estimator_sides_mapping(void **state)
 
 /* REQ: validity: sd_valid > 0 is the sd rule at every status (also for get and at low speed);
  * sd_valid = 0 is the paper rule (valid when updated). */
+/* REQ-EST-010 */
 static void test_rfe_estimator_validity_rules(void **state)
 {
     static rfe_estimator_t est;
@@ -643,6 +655,7 @@ static void test_rfe_estimator_validity_rules(void **state)
 
 /* REQ: both presets validate; every new key is rejected when negative or non-finite
  * (dt also at 0), one rejection per key, and 0 (off) is accepted where allowed. */
+/* REQ-PARAMS-002 */
 static void test_rfe_params_validate_new_keys(void **state)
 {
     rfe_params_t p;
@@ -699,6 +712,7 @@ static void test_rfe_params_validate_new_keys(void **state)
 
 /* REQ: the CKF runs only the paper subset: the paper preset with any tyre, any dt and any
  * sd_valid is accepted; each addition alone is rejected; the default preset is rejected. */
+/* REQ-PARAMS-003 */
 static void test_rfe_params_validate_ckf_subset(void **state)
 {
     rfe_params_t p;
@@ -744,6 +758,7 @@ static void test_rfe_params_validate_ckf_subset(void **state)
 
 /* REQ: the paper preset has every addition off and its prior is exactly sd0 I (no
  * Cholesky); the default preset has the docs/ESTIMATOR.md values. */
+/* REQ-PARAMS-001 */
 static void test_rfe_params_presets(void **state)
 {
     static rfe_estimator_t est;
@@ -782,6 +797,7 @@ static void test_rfe_params_presets(void **state)
 /* REQ: a step that fails inside the filter (a prior so large that its cross-covariance
  * overflows) restores the filter and the input filter as they were; the estimator then
  * behaves exactly like a copy taken before the failing step. */
+/* REQ-EST-005 */
 static void test_rfe_estimator_rollback_with_conditioner(void **state)
 {
     static rfe_estimator_t est, copy;
@@ -826,6 +842,7 @@ static void test_rfe_estimator_rollback_with_conditioner(void **state)
 }
 
 /* REQ: with sd_max on, a prior whose row norms overflow is an error (not a scale to zero). */
+/* REQ-EST-009 */
 static void test_rfe_estimator_bounds_reject_overflowing_sd(void **state)
 {
     static rfe_estimator_t est, copy;

@@ -67,6 +67,7 @@ static rfe_status_t measure_H(void *ctx, const rfe_real_t *x, rfe_real_t *z, siz
 
 /* REQ: one SCKF step of the paper configuration equals the independent vectors
  * (tyre -> H -> predict -> update -> projection), including the projected flag. */
+/* REQ-EST-001 */
 static void test_rfe_sckf_step_matches_vectors(void **state)
 {
     test_table_t v;
@@ -131,6 +132,7 @@ static void test_rfe_sckf_step_matches_vectors(void **state)
 }
 
 /* REQ: init validates parameters; a rejected init leaves the estimator untouched. */
+/* REQ-EST-002 REQ-EST-003 REQ-PARAMS-002 */
 static void test_rfe_estimator_init_rejects_bad_params(void **state)
 {
     static rfe_estimator_t est, copy;
@@ -160,6 +162,7 @@ static void test_rfe_estimator_init_rejects_bad_params(void **state)
 }
 
 /* REQ: the initial estimate is mu0 with sd0 on every wheel, for both filters. */
+/* REQ-EST-002 */
 static void test_rfe_estimator_init_sets_prior(void **state)
 {
     static rfe_estimator_t est;
@@ -181,6 +184,7 @@ static void test_rfe_estimator_init_sets_prior(void **state)
 }
 
 /* REQ: step/get before init, or with NULL arguments, are rejected. */
+/* REQ-EST-003 */
 static void test_rfe_estimator_step_requires_init(void **state)
 {
     static rfe_estimator_t est;
@@ -199,6 +203,7 @@ static void test_rfe_estimator_step_requires_init(void **state)
 /* REQ: a NaN/Inf or out-of-range sample returns a distinct status, leaves the whole
  * estimator untouched, reports the previous estimate as not valid; the next good sample
  * continues normally. */
+/* REQ-EST-004 REQ-EST-005 */
 static void test_rfe_estimator_step_bad_sample_leaves_state(void **state)
 {
     static rfe_estimator_t est, copy;
@@ -240,6 +245,7 @@ static void test_rfe_estimator_step_bad_sample_leaves_state(void **state)
 }
 
 /* REQ: below v_est_min only the time update runs: mean held, variance grows by q_mu^2. */
+/* REQ-EST-006 */
 static void test_rfe_estimator_step_low_speed_time_update_only(void **state)
 {
     static rfe_estimator_t est;
@@ -261,6 +267,7 @@ static void test_rfe_estimator_step_low_speed_time_update_only(void **state)
 }
 
 /* REQ: a measurement that implies friction above mu_max is projected onto the bound. */
+/* REQ-EST-007 */
 static void test_rfe_estimator_step_projects_onto_bounds(void **state)
 {
     static rfe_estimator_t est;
@@ -287,6 +294,7 @@ static void test_rfe_estimator_step_projects_onto_bounds(void **state)
 /* REQ: absolute tyre mode runs the measurement at every cubature point; on a model-matched
  * sample (y generated from the absolute model at mu = 0.6 on a heavily braked, steered car)
  * the four-wheel mean converges towards 0.6. */
+/* REQ-EST-012 */
 static void test_rfe_estimator_absolute_mode_converges(void **state)
 {
     static rfe_estimator_t est;
@@ -328,6 +336,7 @@ static void test_rfe_estimator_absolute_mode_converges(void **state)
 
 /* REQ: a numerical failure inside the filter (a prior so large its squares overflow)
  * returns an error and restores the filter as it was before the step. */
+/* REQ-EST-013 REQ-EST-005 */
 static void test_rfe_estimator_step_numeric_failure_rolls_back(void **state)
 {
     static rfe_estimator_t est, copy;
@@ -348,6 +357,7 @@ static void test_rfe_estimator_step_numeric_failure_rolls_back(void **state)
 }
 
 /* REQ: every status has a name. */
+/* REQ-EST-014 */
 static void test_rfe_status_str_names_every_code(void **state)
 {
     int s;

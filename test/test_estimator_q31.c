@@ -305,6 +305,7 @@ static void b2b_all(rfe_preset_t preset, rfe_filter_kind_t kind, const char *lab
 
 /* REQ: paper preset, SCKF: |mu_q31 - mu_double| <= 0.005 settled, valid flags agree >= 99 %,
  * no saturation, on all 39 logs. */
+/* REQ-FXP-006 */
 static void test_rfe_estimator_q31_b2b_paper_sckf(void **state)
 {
     (void)state;
@@ -312,6 +313,7 @@ static void test_rfe_estimator_q31_b2b_paper_sckf(void **state)
 }
 
 /* REQ: the same for the paper's CKF baseline in fixed point (P in Q31). */
+/* REQ-FXP-006 */
 static void test_rfe_estimator_q31_b2b_paper_ckf(void **state)
 {
     (void)state;
@@ -320,6 +322,7 @@ static void test_rfe_estimator_q31_b2b_paper_ckf(void **state)
 
 /* REQ: the same for the default preset (sides, absolute tyre, input filter, step S_R,
  * information gate, sd bounds, validity by sd). */
+/* REQ-FXP-006 */
 static void test_rfe_estimator_q31_b2b_default(void **state)
 {
     (void)state;
@@ -371,6 +374,7 @@ static uint64_t run_hash(const char *path, rfe_preset_t preset, rfe_filter_kind_
 }
 
 /* REQ: two runs on the same log are bit-identical (estimates and the whole final state). */
+/* REQ-FXP-007 */
 static void test_rfe_estimator_q31_deterministic(void **state)
 {
     static rfe_estimator_q31_t a, b;
@@ -427,6 +431,7 @@ static rfe_sample_q31_t braking_sample(void)
 }
 
 /* REQ: the Q limits are config.h's limits converted exactly. */
+/* REQ-FXP-010 */
 static void test_rfe_estimator_q31_limits_match_config(void **state)
 {
     uint32_t sat = 0;
@@ -463,6 +468,7 @@ static const rfe_fix_t FIELD_LIMIT[11] = {
 /* REQ: a sample outside the limits (one LSB beyond, or INT32_MIN/MAX) is rejected with
  * RFE_ERR_RANGE and changes nothing (the whole struct); at the limit it is accepted. The
  * output is the previous estimate, not valid, sat 0. */
+/* REQ-FXP-010 REQ-EST-004 */
 static void test_rfe_estimator_q31_input_validation(void **state)
 {
     static rfe_estimator_q31_t est, copy;
@@ -503,6 +509,7 @@ static void test_rfe_estimator_q31_input_validation(void **state)
 
 /* REQ: NULL arguments, a state used before init, invalid parameters and priors that do not
  * fit the formats: each an error status, nothing written. */
+/* REQ-FXP-010 REQ-EST-003 */
 static void test_rfe_estimator_q31_api_errors(void **state)
 {
     static rfe_estimator_q31_t est, copy;
@@ -568,6 +575,7 @@ static void test_rfe_estimator_q31_api_errors(void **state)
 /* REQ: init sets the prior: x0 = mu0, sd0 per state (paper: exactly sd0; default:
  * sqrt(sd0^2 + sd0_common^2) within the Cholesky's rounding), get reports it with the
  * validity rule of the preset and sat 0; a common-mode sd >= 1 (scaled down) works too. */
+/* REQ-EST-002 REQ-FXP-010 */
 static void test_rfe_estimator_q31_init_and_get(void **state)
 {
     static rfe_estimator_q31_t est;
@@ -609,6 +617,7 @@ static void test_rfe_estimator_q31_init_and_get(void **state)
 
 /* REQ: status codes: low speed (2), held (3), updated (0) and projected (1) as the double
  * estimator, on hand-made samples. */
+/* REQ-EST-006 REQ-EST-007 REQ-EST-008 */
 static void test_rfe_estimator_q31_statuses(void **state)
 {
     static rfe_estimator_q31_t est;
@@ -656,6 +665,7 @@ static void test_rfe_estimator_q31_statuses(void **state)
  * counters as they were; the estimator then behaves exactly like a copy taken before it.
  * (In Q formats nothing overflows; the failures are made white-box: a CKF covariance that is
  * not positive definite, an SCKF whose S and S_Q are zero so the information's solve fails.) */
+/* REQ-EST-005 REQ-FXP-010 */
 static void test_rfe_estimator_q31_rollback(void **state)
 {
     static rfe_estimator_q31_t est, copy;
@@ -720,6 +730,7 @@ static void test_rfe_estimator_q31_rollback(void **state)
  * running total is the sum of the steps' counts, the filter's counter stays 0 between steps.
  * An input filter with dt = 1.9 s and tau_v = 30 s at r = 10 rad/s integrates beyond
  * +-256 m/s: counted as well. */
+/* REQ-FXP-008 */
 static void test_rfe_estimator_q31_saturation_counted(void **state)
 {
     static rfe_estimator_q31_t est;
@@ -829,6 +840,7 @@ static void cond_run(const rfe_params_t *pd, const rfe_params_q31_t *pq, const r
 /* REQ: the q31 input filter stays within the recursive bound of the header of the double
  * filter: random sequences over the config.h limits and random dt, tau_v; the bundled logs
  * with the default preset. */
+/* REQ-COND-001 REQ-FXP-006 */
 static void test_rfe_conditioner_q31_b2b(void **state)
 {
     enum { SEQ = 400, LEN = 200 };
@@ -896,6 +908,7 @@ static void test_rfe_conditioner_q31_b2b(void **state)
 
 /* REQ: the input filter's contract: off (tau_v = 0) passes the sample through and does not
  * touch the state; the first sample initialises; argument errors change nothing. */
+/* REQ-COND-002 */
 static void test_rfe_conditioner_q31_contract(void **state)
 {
     rfe_conditioner_q31_t c;
@@ -945,6 +958,7 @@ static void test_rfe_conditioner_q31_contract(void **state)
 
 /* REQ: S_R of the q31 model against the double's, on samples of every log at random mu per
  * side: S S^T within the bound of the header; the contract (errors, untouched outputs). */
+/* REQ-EIV-001 REQ-FXP-006 */
 static void test_rfe_eiv_q31_b2b(void **state)
 {
     const double gam = 8.0 * 3.0 * ldexp(1.0, -29);
@@ -1028,6 +1042,7 @@ static void test_rfe_eiv_q31_b2b(void **state)
     assert_int_equal(conv_sat, 0);
 }
 
+/* REQ-EIV-002 */
 static void test_rfe_eiv_q31_errors(void **state)
 {
     rfe_params_q31_t p = q31_preset(RFE_PRESET_DEFAULT);
@@ -1064,6 +1079,7 @@ static void test_rfe_eiv_q31_errors(void **state)
  * values converted exactly; per-row and total saturation counts; input saturation counted
  * and the row rejected; parameter errors diagnosed (a key beyond its Q format, a combination,
  * a prior that does not fit); NULL arguments. */
+/* REQ-CLI-003 */
 static void test_rfe_replay_run_q31(void **state)
 {
     enum { ROWS = 6 };

@@ -69,6 +69,7 @@ static run_t run_log(const char *path)
 
 /* REQ: on every fault log the default estimator stays within the documented deviation from
  * its clean twin, recovers within the documented time, and keeps its valid share. */
+/* REQ-ROB-007 */
 static void test_rfe_faults_documented_behaviour(void **state)
 {
     size_t e;
@@ -112,6 +113,7 @@ static void test_rfe_faults_documented_behaviour(void **state)
 
 /* REQ: a spike beyond the input limit is rejected on exactly its rows (RFE_ERR_RANGE, the
  * previous estimate, not valid); on the unobservable cruise log every step is held. */
+/* REQ-ROB-007 */
 static void test_rfe_faults_rejection_and_unobservable(void **state)
 {
     const char *path = "scenarios/faults/spike_ax_beyond_limit.hard_brake_low_mu.mf.csv";
@@ -152,6 +154,7 @@ static void test_rfe_faults_rejection_and_unobservable(void **state)
 }
 
 /* REQ: every fault log of scripts/sim/faults.py is covered by the table above. */
+/* REQ-ROB-007 */
 static void test_rfe_faults_all_logs_covered(void **state)
 {
     FILE *p;

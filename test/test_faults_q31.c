@@ -164,6 +164,7 @@ static double check_twin(const char *path, const run_q31_t *q, const run_t *d)
  * from its clean twin, recovers within the documented time and keeps its valid share (the
  * float test's bounds); each q31 run stays within TOL_DEV of the double run, agrees with it
  * on statuses and validity, and saturates nowhere. */
+/* REQ-ROB-007 */
 static void test_rfe_faults_q31_documented_behaviour(void **state)
 {
     size_t e;
@@ -214,6 +215,7 @@ static void test_rfe_faults_q31_documented_behaviour(void **state)
 /* REQ: a spike beyond the input limit is rejected on exactly its rows (RFE_ERR_RANGE, the
  * previous estimate, not valid) by the q31 estimator; on the unobservable cruise log every
  * step is held and never valid. */
+/* REQ-ROB-007 */
 static void test_rfe_faults_q31_rejection_and_unobservable(void **state)
 {
     const char *path = "scenarios/faults/spike_ax_beyond_limit.hard_brake_low_mu.mf.csv";

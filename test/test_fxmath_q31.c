@@ -140,6 +140,7 @@ static uint64_t umag(int32_t v) { return (v < 0) ? (uint64_t)(-(int64_t)v) : (ui
 
 /* ---- saturating helpers and shifts ---------------------------------------------------- */
 
+/* REQ-FXP-001 REQ-FXP-008 */
 static void test_sat32_and_counter(void **state)
 {
     uint32_t sat = 0u;
@@ -165,6 +166,7 @@ static void test_sat32_and_counter(void **state)
     assert_int_equal(RFE_FIX_ONE(0), 1);
 }
 
+/* REQ-FXP-001 */
 static void test_add_sub_neg_abs(void **state)
 {
     static const int32_t edge[] = {0, 1, -1, 2, -2, INT32_MAX, INT32_MIN, INT32_MAX - 1,
@@ -204,6 +206,7 @@ static void test_add_sub_neg_abs(void **state)
     assert_int_equal(rfe_fix_clamp(2, -3, 3), 2);
 }
 
+/* REQ-FXP-001 */
 static void test_shifts(void **state)
 {
     static const int64_t edge[] = {0, 1, -1, 2, -2, 3, -3, 5, -5, 6, -6, INT64_MAX, INT64_MIN,
@@ -254,6 +257,7 @@ static void test_shifts(void **state)
     }
 }
 
+/* REQ-FXP-001 */
 static void test_shl_rescale_mul_narrow(void **state)
 {
     uint32_t sat = 0u;
@@ -300,6 +304,7 @@ static void test_shl_rescale_mul_narrow(void **state)
     }
 }
 
+/* REQ-FXP-001 */
 static void test_add64(void **state)
 {
     uint32_t sat = 0u;
@@ -320,6 +325,7 @@ static void test_add64(void **state)
 
 /* ---- host conversions ------------------------------------------------------------------- */
 
+/* REQ-FXP-001 */
 static void test_conv(void **state)
 {
     uint32_t sat = 0u;
@@ -364,6 +370,7 @@ static void check_isqrt(uint64_t x)
     }
 }
 
+/* REQ-FXP-002 */
 static void test_isqrt64(void **state)
 {
     uint32_t r = 123u;
@@ -427,6 +434,7 @@ static double check_sqrt(int32_t x, unsigned qi, unsigned qo)
     return fabs((double)r - exact);
 }
 
+/* REQ-FXP-002 */
 static void test_sqrt(void **state)
 {
     static const int32_t edge[] = {0, 1, 2, 3, 4, 9, 1 << 30, INT32_MAX, INT32_MAX - 1, 46340,
@@ -519,6 +527,7 @@ static double check_norm(const int32_t *v, size_t n)
     return fabs((double)r - sqrt(ssd));
 }
 
+/* REQ-FXP-002 */
 static void test_norm(void **state)
 {
     static int32_t big[100000];
@@ -588,6 +597,7 @@ static void test_norm(void **state)
 }
 
 /* Threshold case separately: S = (2^31 - 1) * 2^31 = 2^62 - 2^31 is the largest unsaturated. */
+/* REQ-FXP-002 */
 static void test_norm_threshold(void **state)
 {
     int32_t v[2];
@@ -654,6 +664,7 @@ static double check_div(int32_t a, int32_t b, int s)
     return 0.0; /* within 1e-3 of the saturation boundary: no double verdict */
 }
 
+/* REQ-FXP-002 */
 static void test_div(void **state)
 {
     static const int32_t edge[] = {0, 1, -1, 2, -2, 3, -3, 7, INT32_MAX, INT32_MIN,
@@ -762,6 +773,7 @@ static int32_t check_atan2(int32_t y, int32_t x)
     return a;
 }
 
+/* REQ-FXP-002 */
 static void test_atan2(void **state)
 {
     static const int32_t edge[] = {0, 1, -1, 2, -2, INT32_MAX, INT32_MIN, INT32_MAX - 1,
@@ -843,6 +855,7 @@ static void check_sincos(int32_t ang)
     }
 }
 
+/* REQ-FXP-002 */
 static void test_sincos(void **state)
 {
     static const int32_t edge[] = {0, 1, -1, RFE_FIX_PI_Q29, -RFE_FIX_PI_Q29, RFE_FIX_PI_Q29 + 1,
@@ -900,6 +913,7 @@ static void check_tan(int32_t ang)
     assert_int_equal(t2, -t);
 }
 
+/* REQ-FXP-002 */
 static void test_tan(void **state)
 {
     const int32_t lim = RFE_FIX_TAN_LIMIT_Q29;

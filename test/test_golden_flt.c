@@ -256,6 +256,7 @@ static void sckf_absolute(const char *stem) { check_one(stem, RFE_PRESET_PAPER, 
 static void sckf_default(const char *stem) { check_one(stem, RFE_PRESET_DEFAULT, RFE_TYRE_ABSOLUTE, RFE_FILTER_SCKF, "default.sckf", 0); }
 
 /* REQ: the SCKF (paper configuration) reproduces the reference on every scenario. */
+/* REQ-ACC-001 REQ-ACC-002 */
 static void test_rfe_estimator_sckf_matches_goldens(void **state)
 {
     (void)state;
@@ -263,6 +264,7 @@ static void test_rfe_estimator_sckf_matches_goldens(void **state)
 }
 
 /* REQ: the CKF baseline reproduces the reference CKF on every scenario. */
+/* REQ-ACC-001 REQ-ACC-002 */
 static void test_rfe_estimator_ckf_matches_goldens(void **state)
 {
     (void)state;
@@ -270,6 +272,7 @@ static void test_rfe_estimator_ckf_matches_goldens(void **state)
 }
 
 /* REQ: absolute tyre mode (measurement at every cubature point) reproduces the reference. */
+/* REQ-ACC-001 REQ-ACC-002 */
 static void test_rfe_estimator_absolute_matches_goldens(void **state)
 {
     (void)state;
@@ -279,6 +282,7 @@ static void test_rfe_estimator_absolute_matches_goldens(void **state)
 
 /* REQ: the default preset (docs/ESTIMATOR.md) reproduces the reference where its golden
  * exists. */
+/* REQ-ACC-001 REQ-ACC-002 */
 static void test_rfe_estimator_default_matches_goldens(void **state)
 {
     (void)state;
@@ -307,6 +311,7 @@ static void sckf_vs_ckf(const char *stem)
 }
 
 /* REQ: in double precision the SCKF and the CKF are the same filter (~1e-9). */
+/* REQ-ACC-003 */
 static void test_rfe_estimator_sckf_equals_ckf_in_double(void **state)
 {
     (void)state;

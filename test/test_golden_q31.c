@@ -155,6 +155,7 @@ static size_t check_golden(const char *stem, const config_t *c)
 
 /* REQ: the q31 estimator reproduces its goldens bit for bit on every noisy scenario log in
  * every configuration of the float goldens. */
+/* REQ-FXP-009 */
 static void test_rfe_estimator_q31_matches_goldens(void **state)
 {
     size_t s;

@@ -334,6 +334,7 @@ static void check_sample(const rfe_sample_q31_t *uq, const rfe_sample_t *ud, con
 /* REQ: every sample of every bundled log (13 scenarios x 3 truth variants): paper mode at the
  * true mu, absolute mode at the true mu and on the grid mu = 0, 0.1, ..., 1.2, within the
  * composed bounds. */
+/* REQ-FXP-003 REQ-MEAS-001 */
 static void test_meas_q31_scenarios(void **state)
 {
     size_t s, v, r, n = 0;
@@ -374,6 +375,7 @@ static double uni(double a, double b) { return a + (b - a) * 0.5 * (rng_uniform(
 
 /* REQ: 1e5 random samples over the input limits (config.h; uniform and near-rolling), random
  * mu in [-0.5, 1.5] per wheel: within the composed bounds. */
+/* REQ-FXP-003 REQ-MEAS-001 */
 static void test_meas_q31_random(void **state)
 {
     int n;
@@ -416,6 +418,7 @@ static void test_meas_q31_random(void **state)
 }
 
 /* REQ: identical inputs give identical outputs (model and predictions). */
+/* REQ-FXP-007 */
 static void test_meas_q31_deterministic(void **state)
 {
     int n;
@@ -471,6 +474,7 @@ static uint32_t chain_abs(const rfe_meas_q31_t *h, const rfe_params_q31_t *p, co
  * then H's entries (> 128 m/s^2) and z. The counts of
  * setup and eval equal the sums of their steps' counts, every step's count equals its number
  * of clamped outputs; at mu = 1 nothing clamps; the counter stops at UINT32_MAX. */
+/* REQ-FXP-008 */
 static void test_meas_q31_saturation(void **state)
 {
     rfe_params_t lp = pd;
@@ -578,6 +582,7 @@ static void test_meas_q31_saturation(void **state)
 
 /* REQ: NULL -> RFE_ERR_NULL, invalid tyre parameters or mode -> RFE_ERR_PARAM, the tyre's
  * errors passed on; the model, z and the counter untouched on every error. */
+/* REQ-MEAS-002 */
 static void test_meas_q31_argument_checks(void **state)
 {
     rfe_meas_q31_t h, h0;

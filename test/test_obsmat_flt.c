@@ -51,6 +51,7 @@ static void body_accel(const double mu[4], const double fx[4], const double fy[4
 }
 
 /* REQ: column i of H is d(y)/d(mu_i) of the rigid-body accelerations (finite differences). */
+/* REQ-OBSMAT-001 */
 static void test_rfe_obsmat_build_equals_finite_differences(void **state)
 {
     unsigned seed = 12345u;
@@ -93,6 +94,7 @@ static void test_rfe_obsmat_build_equals_finite_differences(void **state)
 }
 
 /* REQ: h(x, u) = H x. */
+/* REQ-OBSMAT-002 */
 static void test_rfe_obsmat_apply_is_matrix_product(void **state)
 {
     rfe_real_t H[12], x[4] = {(rfe_real_t)0.3, (rfe_real_t)0.9, (rfe_real_t)0.1, (rfe_real_t)1.1};
@@ -111,6 +113,7 @@ static void test_rfe_obsmat_apply_is_matrix_product(void **state)
 }
 
 /* REQ: straight driving: the yaw row sees only the left/right difference. */
+/* REQ-OBSMAT-003 */
 static void test_rfe_obsmat_build_straight_braking_structure(void **state)
 {
     const rfe_real_t fx[4] = {-3000, -3000, -2000, -2000}, fy[4] = {0, 0, 0, 0};
@@ -127,6 +130,7 @@ static void test_rfe_obsmat_build_straight_braking_structure(void **state)
 }
 
 /* REQ: bad input gives distinct statuses and no output. */
+/* REQ-OBSMAT-004 */
 static void test_rfe_obsmat_rejects_bad_input(void **state)
 {
     rfe_real_t fx[4] = {1, 2, 3, 4}, fy[4] = {1, 2, 3, 4}, H[12], x[4] = {1, 1, 1, 1}, y[3];

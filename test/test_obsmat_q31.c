@@ -148,6 +148,7 @@ static double uni(double a, double b) { return a + (b - a) * 0.5 * (rng_uniform(
 
 /* REQ: >= 1e5 random force sets over the whole Q15 range and steer angles over +-1 rad (and
  * over the whole Q29 range): H within the derived bounds. */
+/* REQ-FXP-003 REQ-OBSMAT-001 */
 static void test_obsmat_q31_build_random(void **state)
 {
     int n;
@@ -175,6 +176,7 @@ static void test_obsmat_q31_build_random(void **state)
 
 /* REQ: the paper-mode H(u) of every sample of every bundled log (the q31 kinematics and
  * normalised forces, the same Q forces to both twins): within the bounds. */
+/* REQ-FXP-003 REQ-OBSMAT-001 */
 static void test_obsmat_q31_build_scenarios(void **state)
 {
     size_t s, v, r, n = 0;
@@ -257,6 +259,7 @@ static int32_t ref_apply_row(const int32_t *h, const int32_t *x, uint32_t *count
 /* REQ: h = H x is exactly rounded (bit for bit against an exact integer reference, including
  * the saturation count), and within 0.5 LSB24 of the double twin, for H and x over their
  * whole formats. */
+/* REQ-FXP-003 REQ-OBSMAT-002 */
 static void test_obsmat_q31_apply(void **state)
 {
     int n;
@@ -304,6 +307,7 @@ static void test_obsmat_q31_apply(void **state)
 }
 
 /* REQ: identical inputs give identical outputs. */
+/* REQ-FXP-007 */
 static void test_obsmat_q31_deterministic(void **state)
 {
     int n;
@@ -332,6 +336,7 @@ static void test_obsmat_q31_deterministic(void **state)
 /* REQ: the counter grows by exactly the number of clamped entries: a light vehicle (m =
  * 200 kg, J = 300 kg m^2: |H| up to 460 m/s^2 per mu) with forces up to 65 kN clamps some
  * entries, each counted once; the counter stops at UINT32_MAX. */
+/* REQ-FXP-008 */
 static void test_obsmat_q31_saturation(void **state)
 {
     rfe_params_t lp = pd;
@@ -417,6 +422,7 @@ static void test_obsmat_q31_saturation(void **state)
 
 /* REQ: NULL -> RFE_ERR_NULL with outputs and counter untouched; every int32 input is in the
  * domain (no error for any value). */
+/* REQ-OBSMAT-004 */
 static void test_obsmat_q31_argument_checks(void **state)
 {
     int32_t f[4] = {1, 2, 3, 4}, H[12], x[4] = {0, 0, 0, 0}, y[3];

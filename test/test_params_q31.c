@@ -110,6 +110,7 @@ static void assert_rounded(const rfe_params_t *p, const rfe_params_q31_t *q)
 
 /* REQ: the integer preset tables equal the converted double presets bit for bit, are exactly
  * rounded, and validate. */
+/* REQ-PARAMS-004 REQ-PARAMS-001 */
 static void test_params_q31_presets_equal_converted(void **state)
 {
     rfe_params_t p;
@@ -178,6 +179,7 @@ static int some_field_too_large(const rfe_params_t *p)
  * timings), is exactly rounded, and changing a base field by 0.1 % without its derived
  * constants is rejected as inconsistent; a set the converter rejects has a field beyond its
  * format. */
+/* REQ-PARAMS-004 */
 static void test_params_q31_converted_sets_validate(void **state)
 {
     int n, n_hg = 0, n_range = 0;
@@ -244,6 +246,7 @@ static void test_params_q31_converted_sets_validate(void **state)
 
 /* REQ: each derived constant off by more than the tolerance (2^-12 relative) is rejected, one
  * off by its own rounding (1 LSB) is accepted. */
+/* REQ-PARAMS-004 */
 static void test_params_q31_derived_consistency(void **state)
 {
     rfe_params_q31_t q, t;
@@ -273,6 +276,7 @@ static void test_params_q31_derived_consistency(void **state)
 
 /* REQ: each field outside its range is rejected (the checks of rfe_params_validate on the Q
  * values, the 16-significant-bit rule, alpha_max < 1.5 rad, the CKF subset). */
+/* REQ-PARAMS-002 */
 static void test_params_q31_validate_rejects(void **state)
 {
     rfe_params_q31_t q, t;
@@ -415,6 +419,7 @@ static void test_params_q31_validate_rejects(void **state)
  * value that does not fit its format (too large, a nonzero value rounding to 0, fewer than 16
  * significant bits where required, a derived constant out of range, alpha_max rounding to
  * 1.5 rad) -> RFE_ERR_RANGE; the output untouched on every error. */
+/* REQ-PARAMS-004 */
 static void test_params_q31_converter_errors(void **state)
 {
     rfe_params_t p0, p;

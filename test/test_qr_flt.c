@@ -176,6 +176,7 @@ static void check_tria(rfe_real_t *buf, size_t rows, size_t cols, size_t lda, do
 
 /* ---- Tria: random full-rank inputs ------------------------------------------------------ */
 
+/* REQ-QR-001 */
 static void test_rfe_qr_tria_random_all_shapes(void **state)
 {
     static rfe_real_t buf[BUF_N];
@@ -200,6 +201,7 @@ static void test_rfe_qr_tria_random_all_shapes(void **state)
 
 /* The shapes the filter uses (n = 4, m = 3): predict 4 x 12 = [Xc | S_Q], update 4 x 11 =
  * [Xc - K Zc | K S_R], innovation 3 x 11 = [Zc | S_R], all at ld RFE_TRIA_COLS_MAX. */
+/* REQ-QR-001 */
 static void test_rfe_qr_tria_filter_shapes(void **state)
 {
     static rfe_real_t buf[BUF_N];
@@ -232,6 +234,7 @@ static void test_rfe_qr_tria_filter_shapes(void **state)
     }
 }
 
+/* REQ-QR-001 */
 static void test_rfe_qr_tria_orthogonal_factor(void **state)
 {
     static rfe_real_t buf[BUF_N];
@@ -256,6 +259,7 @@ static void test_rfe_qr_tria_orthogonal_factor(void **state)
 
 /* A lower-triangular input with positive diagonal is its own Tria (uniqueness of the
  * Cholesky factor of A A^T); a negative diagonal entry flips that column's sign. */
+/* REQ-QR-001 */
 static void test_rfe_qr_tria_lower_input_fixed_point(void **state)
 {
     static rfe_real_t buf[BUF_N];
@@ -290,6 +294,7 @@ static void test_rfe_qr_tria_lower_input_fixed_point(void **state)
 
 /* ---- Tria: rank-deficient inputs -------------------------------------------------------- */
 
+/* REQ-QR-002 */
 static void test_rfe_qr_tria_repeated_rows(void **state)
 {
     static rfe_real_t buf[BUF_N];
@@ -313,6 +318,7 @@ static void test_rfe_qr_tria_repeated_rows(void **state)
     assert_true(AT(buf, cols, 3u, 3u) > (rfe_real_t)0.01);
 }
 
+/* REQ-QR-002 */
 static void test_rfe_qr_tria_many_repeated_rows(void **state)
 {
     static rfe_real_t buf[BUF_N];
@@ -336,6 +342,7 @@ static void test_rfe_qr_tria_many_repeated_rows(void **state)
     }
 }
 
+/* REQ-QR-002 */
 static void test_rfe_qr_tria_zero_row(void **state)
 {
     static rfe_real_t buf[BUF_N];
@@ -364,6 +371,7 @@ static void test_rfe_qr_tria_zero_row(void **state)
     }
 }
 
+/* REQ-QR-002 */
 static void test_rfe_qr_tria_all_zero(void **state)
 {
     static rfe_real_t buf[BUF_N];
@@ -385,6 +393,7 @@ static void test_rfe_qr_tria_all_zero(void **state)
     }
 }
 
+/* REQ-QR-002 */
 static void test_rfe_qr_tria_rank_one(void **state)
 {
     static rfe_real_t buf[BUF_N];
@@ -428,6 +437,7 @@ static void test_rfe_qr_tria_rank_one(void **state)
 
 /* Kahan matrix (n = 8, c = 0.285): K_ii = s^i, K_ij = -c s^i (j > i); the classic trap for
  * QR-based rank decisions. Tria of K (upper) and of K^T (lower: a fixed point). */
+/* REQ-QR-002 */
 static void test_rfe_qr_tria_kahan(void **state)
 {
     static rfe_real_t buf[BUF_N];
@@ -469,6 +479,7 @@ static void test_rfe_qr_tria_kahan(void **state)
 
 /* Rows of very different size (1 and 1e-6): the residual is row-scaled, so the small rows
  * must be as accurate relative to their own norm as the large ones. */
+/* REQ-QR-002 */
 static void test_rfe_qr_tria_badly_scaled_rows(void **state)
 {
     static rfe_real_t buf[BUF_N];
@@ -501,6 +512,7 @@ static void test_rfe_qr_tria_badly_scaled_rows(void **state)
 
 /* Finite input at the top of the range (float: 1e19, double: 1e154): A A^T overflows but S
  * (of the size of A) is representable. The call must not report success with a non-finite S. */
+/* REQ-QR-002 */
 static void test_rfe_qr_tria_large_finite_entries(void **state)
 {
     static rfe_real_t buf[BUF_N];
@@ -540,6 +552,7 @@ static void test_rfe_qr_tria_large_finite_entries(void **state)
 /* Rows at the bottom of the range (float: 1e-25, double: 1e-170): squares underflow but
  * S (of the size of A) is representable. Expected [S 0] with S relative to the row size:
  * a1 = t [1 2 -1] against a0 = [1 2 3] gives S(1,0) = 2t / sqrt(14), S(1,1) = t sqrt(6 - 4/14). */
+/* REQ-QR-002 */
 static void test_rfe_qr_tria_tiny_row(void **state)
 {
     static rfe_real_t buf[BUF_N];
@@ -567,12 +580,14 @@ static void test_rfe_qr_tria_tiny_row(void **state)
 
 /* ---- Tria: errors ----------------------------------------------------------------------- */
 
+/* REQ-QR-005 */
 static void test_rfe_qr_tria_null(void **state)
 {
     (void)state;
     assert_int_equal(RFE_FN(rfe_qr_tria)(NULL, 4u, 12u, 12u), RFE_ERR_NULL);
 }
 
+/* REQ-QR-005 */
 static void test_rfe_qr_tria_size_errors(void **state)
 {
     static rfe_real_t buf[BUF_N];
@@ -598,6 +613,7 @@ static void test_rfe_qr_tria_size_errors(void **state)
     }
 }
 
+/* REQ-QR-005 */
 static void test_rfe_qr_tria_nonfinite_untouched(void **state)
 {
     static rfe_real_t buf[BUF_N];
@@ -626,6 +642,7 @@ static void test_rfe_qr_tria_nonfinite_untouched(void **state)
 
 /* Non-finite values outside the rows x cols window (padding, after the buffer) are not
  * part of A: they must neither be read as input nor be written. */
+/* REQ-QR-005 */
 static void test_rfe_qr_tria_nonfinite_padding_ignored(void **state)
 {
     static rfe_real_t buf[BUF_N];
@@ -733,12 +750,14 @@ static void solve_round_trip(solve_fn_t solve, int transposed, uint64_t seed)
     }
 }
 
+/* REQ-QR-003 */
 static void test_rfe_qr_solve_lower_round_trip(void **state)
 {
     (void)state;
     solve_round_trip(RFE_FN(rfe_qr_solve_lower), 0, 21u);
 }
 
+/* REQ-QR-003 */
 static void test_rfe_qr_solve_lower_t_round_trip(void **state)
 {
     (void)state;
@@ -746,6 +765,7 @@ static void test_rfe_qr_solve_lower_t_round_trip(void **state)
 }
 
 /* Hand-checked 3 x 3 example with exactly representable data. */
+/* REQ-QR-003 */
 static void test_rfe_qr_solve_lower_known_solution(void **state)
 {
     static const rfe_real_t L[9] = {2, 0, 0, 1, 4, 0, -1, 2, 8};
@@ -788,12 +808,14 @@ static void solve_not_pd(solve_fn_t solve)
     }
 }
 
+/* REQ-QR-004 */
 static void test_rfe_qr_solve_lower_not_positive_diagonal(void **state)
 {
     (void)state;
     solve_not_pd(RFE_FN(rfe_qr_solve_lower));
 }
 
+/* REQ-QR-004 */
 static void test_rfe_qr_solve_lower_t_not_positive_diagonal(void **state)
 {
     (void)state;
@@ -838,12 +860,14 @@ static void solve_errors(solve_fn_t solve)
     assert_memory_equal(B, ref, sizeof B);
 }
 
+/* REQ-QR-005 */
 static void test_rfe_qr_solve_lower_errors(void **state)
 {
     (void)state;
     solve_errors(RFE_FN(rfe_qr_solve_lower));
 }
 
+/* REQ-QR-005 */
 static void test_rfe_qr_solve_lower_t_errors(void **state)
 {
     (void)state;

@@ -229,6 +229,7 @@ static void print_tria_worst(const char *what)
 
 /* ---- Tria: random inputs ----------------------------------------------------------------- */
 
+/* REQ-FXP-004 REQ-QR-001 */
 static void test_rfe_qr_tria_q31_random_all_shapes(void **state)
 {
     static int32_t buf[BUF_N];
@@ -255,6 +256,7 @@ static void test_rfe_qr_tria_q31_random_all_shapes(void **state)
 /* The shapes the filters use, in their formats: predict [Xc | S_Q] (n x 3n, Q30, deviations
  * 1e-3 .. 0.3, S_Q ~ 0.002), update [Xc - K Zc | K S_R] (n x (2n + m)), innovation
  * [Zc | S_R] (m x (2n + m), Q24, deviations up to a few m/s^2, S_R ~ 0.05). */
+/* REQ-FXP-004 REQ-QR-001 */
 static void test_rfe_qr_tria_q31_filter_shapes(void **state)
 {
     static int32_t buf[BUF_N];
@@ -306,6 +308,7 @@ static void test_rfe_qr_tria_q31_filter_shapes(void **state)
 
 /* Rows whose magnitudes differ by up to 2^30 (a 1-LSB row next to a full-scale one) and
  * entries at the top of the range (row norms just below 2^31). */
+/* REQ-FXP-004 REQ-QR-002 */
 static void test_rfe_qr_tria_q31_extreme_scales(void **state)
 {
     static int32_t buf[BUF_N];
@@ -337,6 +340,7 @@ static void test_rfe_qr_tria_q31_extreme_scales(void **state)
 /* A lower-triangular input is its own Tria up to column signs (uniqueness of the factor of
  * A A^T): S = A D with D = sign(diag A), here exactly (a column whose remaining part is a
  * single entry is not reflected, and rows with norms below 2^30 LSB are never scaled down). */
+/* REQ-FXP-004 REQ-QR-001 */
 static void test_rfe_qr_tria_q31_lower_input_exact(void **state)
 {
     static int32_t buf[BUF_N];
@@ -373,6 +377,7 @@ static void test_rfe_qr_tria_q31_lower_input_exact(void **state)
 
 /* ---- Tria: rank-deficient and zero inputs ------------------------------------------------- */
 
+/* REQ-FXP-004 REQ-QR-002 */
 static void test_rfe_qr_tria_q31_repeated_rows(void **state)
 {
     static int32_t buf[BUF_N];
@@ -399,6 +404,7 @@ static void test_rfe_qr_tria_q31_repeated_rows(void **state)
     }
 }
 
+/* REQ-FXP-004 REQ-QR-002 */
 static void test_rfe_qr_tria_q31_rank_two(void **state)
 {
     static int32_t buf[BUF_N];
@@ -422,6 +428,7 @@ static void test_rfe_qr_tria_q31_rank_two(void **state)
     }
 }
 
+/* REQ-FXP-004 REQ-QR-002 */
 static void test_rfe_qr_tria_q31_zero_row_and_all_zero(void **state)
 {
     static int32_t buf[BUF_N];
@@ -459,6 +466,7 @@ static void test_rfe_qr_tria_q31_zero_row_and_all_zero(void **state)
 }
 
 /* u v^T: S(:,0) = -sign... = sign(u_0) u |v| in the double twin's convention, the rest 0. */
+/* REQ-FXP-004 REQ-QR-002 */
 static void test_rfe_qr_tria_q31_rank_one(void **state)
 {
     static int32_t buf[BUF_N];
@@ -502,6 +510,7 @@ static void test_rfe_qr_tria_q31_rank_one(void **state)
 
 /* Row norms above INT32_MAX: the entries of S that do not fit saturate, each counted; the
  * rest is still right (S S^T of the unsaturated rows). INT32_MIN inputs are accepted. */
+/* REQ-FXP-008 */
 static void test_rfe_qr_tria_q31_saturation_counted(void **state)
 {
     static int32_t buf[BUF_N];
@@ -536,6 +545,7 @@ static void test_rfe_qr_tria_q31_saturation_counted(void **state)
 
 /* ---- Tria: arguments ----------------------------------------------------------------------- */
 
+/* REQ-QR-005 */
 static void test_rfe_qr_tria_q31_errors_untouched(void **state)
 {
     static int32_t buf[BUF_N];
@@ -640,6 +650,7 @@ static uint64_t batch_hash(void)
     return h;
 }
 
+/* REQ-FXP-007 */
 static void test_rfe_qr_q31_deterministic(void **state)
 {
     const uint64_t h1 = batch_hash();
@@ -790,6 +801,7 @@ static const unsigned formats[][3] = {
     {30u, 30u, 31u}, /* shift 31 */
 };
 
+/* REQ-FXP-004 REQ-QR-003 */
 static void test_rfe_qr_solve_lower_q31_round_trip(void **state)
 {
     size_t f;
@@ -804,6 +816,7 @@ static void test_rfe_qr_solve_lower_q31_round_trip(void **state)
     worst_solve_lsb = 0.0;
 }
 
+/* REQ-FXP-004 REQ-QR-003 */
 static void test_rfe_qr_solve_lower_t_q31_round_trip(void **state)
 {
     size_t f;
@@ -819,6 +832,7 @@ static void test_rfe_qr_solve_lower_t_q31_round_trip(void **state)
 }
 
 /* Hand-checked 3 x 3 example in Q4 (exact: every quotient is a short dyadic), shift 4. */
+/* REQ-FXP-004 REQ-QR-003 */
 static void test_rfe_qr_solve_q31_known_solution(void **state)
 {
     /* L = [2 0 0; 1 4 0; -1 2 8], X = [1 -2; 0.5 3; -0.25 1]: L X = [2 -4; 3 10; -2 16],
@@ -837,6 +851,7 @@ static void test_rfe_qr_solve_q31_known_solution(void **state)
 }
 
 /* Rounding is to nearest with ties away from zero, exactly odd in B. */
+/* REQ-FXP-001 REQ-FXP-004 */
 static void test_rfe_qr_solve_q31_rounding_ties(void **state)
 {
     static const int32_t L[1] = {2};
@@ -852,6 +867,7 @@ static void test_rfe_qr_solve_q31_rounding_ties(void **state)
 
 /* A quotient beyond int32 saturates (counted); the numerator sum saturates in int64
  * (counted) instead of wrapping. */
+/* REQ-FXP-008 */
 static void test_rfe_qr_solve_q31_saturation_counted(void **state)
 {
     const int32_t L[9] = {1, 0, 0, INT32_MAX, 1, 0, INT32_MAX, -INT32_MAX, 1};
@@ -923,12 +939,14 @@ static void solve_errors(solve_q31_fn solve)
     assert_int_equal(sat, 7u);
 }
 
+/* REQ-QR-004 REQ-QR-005 */
 static void test_rfe_qr_solve_lower_q31_errors(void **state)
 {
     (void)state;
     solve_errors(rfe_qr_solve_lower_q31);
 }
 
+/* REQ-QR-004 REQ-QR-005 */
 static void test_rfe_qr_solve_lower_t_q31_errors(void **state)
 {
     (void)state;

@@ -157,6 +157,7 @@ static void warm_up(rfe_estimator_t *est, const rfe_params_t *p, rfe_sample_t *n
  * +-1e30 (finite in both precisions), +-REAL_MAX -> RFE_ERR_RANGE; the estimator is
  * bit-identical afterwards, the output is the previous estimate with valid 0, and the next
  * valid sample gives exactly what it gives without the bad one. */
+/* REQ-ROB-003 */
 static void test_rfe_robust_bad_field_rejected_state_untouched(void **state)
 {
     static rfe_estimator_t est, before, twin;
@@ -224,6 +225,7 @@ static void test_rfe_robust_bad_field_rejected_state_untouched(void **state)
 /* REQ: a sample with NaN in one field and another field out of range reports
  * RFE_ERR_NONFINITE (the finiteness check comes first); several bad fields at once are one
  * rejection; NULL arguments and an uninitialised estimator have their own statuses. */
+/* REQ-ROB-003 */
 static void test_rfe_robust_bad_combinations(void **state)
 {
     static rfe_estimator_t est, before;
@@ -258,6 +260,7 @@ static void test_rfe_robust_bad_combinations(void **state)
  * inputs: each accepted alone, and all fields at +limit or -limit at once (a car at 360 km/h
  * with 5 g both ways, steer at the stops, 10 rad/s yaw, 500 rad/s wheels) give no error, no
  * floating-point exception and the invariants hold. */
+/* REQ-ROB-004 */
 static void test_rfe_robust_values_at_limits_accepted(void **state)
 {
     static rfe_estimator_t est;
@@ -302,6 +305,7 @@ static void test_rfe_robust_values_at_limits_accepted(void **state)
 /* REQ: one error every 7 samples (a rotating field, NaN / Inf / out of range) through a
  * whole real log: at every valid sample the estimator is bit-identical to a twin that only
  * ever saw the valid samples. */
+/* REQ-ROB-003 */
 static void test_rfe_robust_interleaved_errors_change_nothing(void **state)
 {
     static rfe_estimator_t est, twin;
@@ -401,6 +405,7 @@ static const corner_t CORNERS[] = {
  * invariants after every step, projections within the corner's bound; unobservable corners
  * (vx below v_est_min) hold mu bit-exactly with a non-decreasing sd, and the default preset
  * ends them not valid. */
+/* REQ-ROB-005 */
 static void test_rfe_robust_operating_corners(void **state)
 {
     static rfe_estimator_t est;
@@ -474,6 +479,7 @@ static void test_rfe_robust_operating_corners(void **state)
  * with sd0 = 1e4 .. 1e16 (valid parameters; found by fuzz_csv through a log's metadata,
  * sd0 = 7.8e16) the estimate stays mu0 exactly and inside [mu_min, mu_max] over 300
  * standstill steps (20 under valgrind), in every configuration; with mu0 on a bound too. */
+/* REQ-ROB-005 REQ-ROB-006 */
 static void test_rfe_robust_huge_prior_held(void **state)
 {
     static rfe_estimator_t est;
@@ -598,6 +604,7 @@ static void sweep_file(const char *path, const cfg_t *c, size_t max_rows, sweep_
  * Magic Formula truth) and every fault-injection log, in the paper preset (SCKF, CKF) and
  * the default preset: the invariants hold, valid rows never fail, out-of-limits rows are
  * rejected without a trace. */
+/* REQ-ROB-006 */
 static void test_rfe_robust_every_step_of_every_scenario(void **state)
 {
     static char names[160][256];

@@ -286,6 +286,7 @@ static void bad_values(int f, rfe_fix_t bad[N_BAD], uint32_t conv[N_BAD])
  * counted conversion saturation each) -> RFE_ERR_RANGE; the estimator bit-identical, the
  * output the previous estimate with valid 0 and sat 0; the next valid sample gives exactly
  * what it gives without the bad one. */
+/* REQ-ROB-003 */
 static void test_rfe_robust_q31_bad_field_rejected_state_untouched(void **state)
 {
     static rfe_estimator_q31_t est, before, twin;
@@ -352,6 +353,7 @@ static void test_rfe_robust_q31_bad_field_rejected_state_untouched(void **state)
 /* REQ: several fields beyond at once are one rejection (RFE_ERR_RANGE); NULL arguments give
  * RFE_ERR_NULL and an estimator that was never initialised RFE_ERR_NOT_INITIALISED (and writes
  * nothing, as the float twin); none of them changes the estimator. */
+/* REQ-ROB-003 */
 static void test_rfe_robust_q31_bad_combinations(void **state)
 {
     static rfe_estimator_q31_t est, before, zero;
@@ -394,6 +396,7 @@ static void test_rfe_robust_q31_bad_combinations(void **state)
  * fields at +limit or -limit at once (8 sign patterns: vx, ax/ay, the rest; 360 km/h, 5 g,
  * steer at the stops, 10 rad/s, 500 rad/s wheels) give no error and the invariants hold.
  * The saturations of this class are printed. */
+/* REQ-ROB-004 */
 static void test_rfe_robust_q31_values_at_limits_accepted(void **state)
 {
     static rfe_estimator_q31_t est;
@@ -466,6 +469,7 @@ static void read_log(const char *path, rfe_sensor_log_t *log)
 /* REQ: one bad sample every 7 (a rotating field: one LSB beyond, INT32_MIN, -1.25 x the
  * limit) through a whole real log: at every valid sample the estimator is bit-identical to a
  * twin that only ever saw the valid samples. */
+/* REQ-ROB-003 */
 static void test_rfe_robust_q31_interleaved_errors_change_nothing(void **state)
 {
     static rfe_estimator_q31_t est, twin;
@@ -552,6 +556,7 @@ static const corner_t CORNERS[] = {
  * projections within the corner's bound; unobservable corners (vx below v_est_min) hold mu
  * exactly with a non-decreasing sd (TOL_SD_CAP, TOL_SD_LSB), and the default preset ends
  * them not valid. Saturations printed per corner. */
+/* REQ-ROB-005 */
 static void test_rfe_robust_q31_operating_corners(void **state)
 {
     static rfe_estimator_q31_t est;
@@ -660,6 +665,7 @@ static int prior_fits(const cfg_t *c, size_t n, double mu0, double sd_prev, doub
  *  - the paper preset (no sd bounds) must not lower an sd on a step that reports no
  *    saturation (a time update only adds process noise); the default preset keeps every sd
  *    within its cap sd_max (TOL_SD_CAP, TOL_SD_LSB). */
+/* REQ-ROB-005 REQ-ROB-006 */
 static void test_rfe_robust_q31_huge_prior_held(void **state)
 {
     static rfe_estimator_q31_t est;
@@ -886,6 +892,7 @@ static double sweep_file(const char *path, const cfg_t *c, size_t max_rows, swee
  * preset (SCKF, CKF) and the default preset: the q31 invariants hold, valid rows never fail,
  * out-of-limits rows are rejected without a trace; no saturation on the bundled logs, every
  * sd beyond Q30 reported; q31 within TOL_B2B of the double twin where nothing saturated. */
+/* REQ-ROB-006 */
 static void test_rfe_robust_q31_every_step_of_every_scenario(void **state)
 {
     static char names[160][256];

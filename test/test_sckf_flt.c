@@ -288,6 +288,7 @@ static void run_linear(size_t n, size_t m, int random_walk, uint64_t seed)
     }
 }
 
+/* REQ-SCKF-001 */
 static void test_rfe_sckf_linear_matches_kalman_n4(void **state)
 {
     size_t m;
@@ -297,6 +298,7 @@ static void test_rfe_sckf_linear_matches_kalman_n4(void **state)
     }
 }
 
+/* REQ-SCKF-001 */
 static void test_rfe_sckf_linear_matches_kalman_n8(void **state)
 {
     size_t m;
@@ -306,6 +308,7 @@ static void test_rfe_sckf_linear_matches_kalman_n8(void **state)
     }
 }
 
+/* REQ-SCKF-001 REQ-SCKF-002 */
 static void test_rfe_sckf_random_walk_matches_kalman(void **state)
 {
     size_t m;
@@ -319,6 +322,7 @@ static void test_rfe_sckf_random_walk_matches_kalman(void **state)
 /* A run of time updates alone (the estimator's held steps) must not move the random walk's
  * mean by a single bit: averaging the symmetric points used to add rounding that walked x
  * (out of [mu_min, mu_max] in a long hold). The sd still grows. */
+/* REQ-SCKF-002 */
 static void test_rfe_sckf_random_walk_hold_keeps_mean_exactly(void **state)
 {
     static problem_t p;
@@ -346,6 +350,7 @@ static void test_rfe_sckf_random_walk_hold_keeps_mean_exactly(void **state)
 }
 
 /* Small dimensions too: n = 1..3 against every m. */
+/* REQ-SCKF-001 */
 static void test_rfe_sckf_linear_matches_kalman_small_n(void **state)
 {
     size_t n;
@@ -425,6 +430,7 @@ static void expect_process_calls(const rfe_sckf_t *f, void *ctx, int last_mode)
     }
 }
 
+/* REQ-CUB-001 */
 static void test_rfe_sckf_update_evaluates_cubature_points(void **state)
 {
     static problem_t p;
@@ -452,6 +458,7 @@ static void test_rfe_sckf_update_evaluates_cubature_points(void **state)
     }
 }
 
+/* REQ-CUB-001 */
 static void test_rfe_sckf_predict_evaluates_cubature_points(void **state)
 {
     static problem_t p;
@@ -504,24 +511,28 @@ static void predict_fault_untouched(int mode, rfe_status_t expected)
     assert_int_equal(RFE_FN(rfe_sckf_predict)(&f, lin_process, &p.mdl), RFE_OK);
 }
 
+/* REQ-SCKF-007 */
 static void test_rfe_sckf_update_callback_error_untouched(void **state)
 {
     (void)state;
     update_fault_untouched(MOCK_FAIL, MOCK_ERR_STATUS);
 }
 
+/* REQ-SCKF-007 */
 static void test_rfe_sckf_update_callback_nan_untouched(void **state)
 {
     (void)state;
     update_fault_untouched(MOCK_NAN, RFE_ERR_NONFINITE);
 }
 
+/* REQ-SCKF-007 */
 static void test_rfe_sckf_predict_callback_error_untouched(void **state)
 {
     (void)state;
     predict_fault_untouched(MOCK_FAIL, MOCK_ERR_STATUS);
 }
 
+/* REQ-SCKF-007 */
 static void test_rfe_sckf_predict_callback_nan_untouched(void **state)
 {
     (void)state;
@@ -539,6 +550,7 @@ static rfe_status_t fail_first_measure(void *ctx, const rfe_real_t *x, rfe_real_
     return (fail_first_calls == 1) ? RFE_ERR_RANGE : RFE_OK;
 }
 
+/* REQ-SCKF-007 */
 static void test_rfe_sckf_update_callback_error_first_point_untouched(void **state)
 {
     static problem_t p;
@@ -556,6 +568,7 @@ static void test_rfe_sckf_update_callback_error_first_point_untouched(void **sta
 }
 
 /* Zero innovation covariance: h constant and S_R = 0 make S_zz = 0, the gain undefined. */
+/* REQ-SCKF-007 */
 static void test_rfe_sckf_update_singular_innovation_untouched(void **state)
 {
     static problem_t p;
@@ -576,6 +589,7 @@ static void test_rfe_sckf_update_singular_innovation_untouched(void **state)
 /* Finite but huge model outputs (huge_process, huge_measure: filter_fixtures.h, 0.9 of the
  * largest rfe_real_t at every point): their mean overflows, so Tria sees Inf. The step must
  * fail and leave the state alone. */
+/* REQ-SCKF-007 */
 static void test_rfe_sckf_predict_overflow_untouched(void **state)
 {
     static problem_t p;
@@ -589,6 +603,7 @@ static void test_rfe_sckf_predict_overflow_untouched(void **state)
     assert_memory_equal(before, &f, STATE_BYTES);
 }
 
+/* REQ-SCKF-007 */
 static void test_rfe_sckf_update_measure_overflow_untouched(void **state)
 {
     static problem_t p;
@@ -607,6 +622,7 @@ static void test_rfe_sckf_update_measure_overflow_untouched(void **state)
  * give K ~ 99, and y = MAX / 2 makes x = x- + K (y - z) = Inf. The update must not report
  * success with a non-finite mean (the CKF checks exactly this: ckf_flt.c, "x = x- + K (y - z)"
  * is followed by a finiteness check); expected RFE_ERR_NONFINITE with the state untouched. */
+/* REQ-SCKF-007 */
 static void test_rfe_sckf_update_mean_overflow_untouched(void **state)
 {
     static problem_t p;
@@ -638,6 +654,7 @@ static void test_rfe_sckf_update_mean_overflow_untouched(void **state)
 
 /* ---- (c) errors ------------------------------------------------------------------------- */
 
+/* REQ-SCKF-008 */
 static void test_rfe_sckf_init_null(void **state)
 {
     static problem_t p;
@@ -655,6 +672,7 @@ static void test_rfe_sckf_init_null(void **state)
     assert_memory_equal(&f, &ref, sizeof f);
 }
 
+/* REQ-SCKF-008 */
 static void test_rfe_sckf_init_size_errors(void **state)
 {
     static problem_t p;
@@ -678,6 +696,7 @@ static void test_rfe_sckf_init_size_errors(void **state)
     }
 }
 
+/* REQ-SCKF-008 */
 static void test_rfe_sckf_init_nonfinite(void **state)
 {
     static problem_t p;
@@ -709,6 +728,7 @@ static void test_rfe_sckf_init_nonfinite(void **state)
 
 /* "Only the lower triangles of S0, SQ, SR are read": finite garbage above the diagonal
  * changes nothing (the stored factors are lower-triangular and the steps agree). */
+/* REQ-SCKF-008 */
 static void test_rfe_sckf_init_ignores_upper_triangles(void **state)
 {
     static problem_t p;
@@ -743,6 +763,7 @@ static void test_rfe_sckf_init_ignores_upper_triangles(void **state)
 
 /* Same promise with a NaN above the diagonal: an entry that is not read cannot make the
  * call fail. */
+/* REQ-SCKF-008 */
 static void test_rfe_sckf_init_nonfinite_upper_triangle_ignored(void **state)
 {
     static problem_t p;
@@ -769,6 +790,7 @@ static void test_rfe_sckf_init_nonfinite_upper_triangle_ignored(void **state)
     }
 }
 
+/* REQ-SCKF-008 */
 static void test_rfe_sckf_use_before_init(void **state)
 {
     static problem_t p;
@@ -796,6 +818,7 @@ static void test_rfe_sckf_use_before_init(void **state)
     assert_int_equal(RFE_FN(rfe_sckf_predict)(&f, NULL, NULL), RFE_ERR_NOT_INITIALISED);
 }
 
+/* REQ-SCKF-008 */
 static void test_rfe_sckf_null_args(void **state)
 {
     static problem_t p;
@@ -821,6 +844,7 @@ static void test_rfe_sckf_null_args(void **state)
     assert_memory_equal(before, &f, STATE_BYTES);
 }
 
+/* REQ-SCKF-007 */
 static void test_rfe_sckf_update_nonfinite_y_untouched(void **state)
 {
     static problem_t p;
@@ -848,6 +872,7 @@ static void test_rfe_sckf_update_nonfinite_y_untouched(void **state)
     }
 }
 
+/* REQ-SCKF-006 */
 static void test_rfe_sckf_clamp_range_errors(void **state)
 {
     static problem_t p;
@@ -868,6 +893,7 @@ static void test_rfe_sckf_clamp_range_errors(void **state)
     assert_memory_equal(before, &f, STATE_BYTES);
 }
 
+/* REQ-SCKF-006 */
 static void test_rfe_sckf_clamp_projects_mean(void **state)
 {
     static problem_t p;
@@ -908,6 +934,7 @@ static void test_rfe_sckf_clamp_projects_mean(void **state)
     }
 }
 
+/* REQ-SCKF-008 */
 static void test_rfe_sckf_get_outputs(void **state)
 {
     static problem_t p;

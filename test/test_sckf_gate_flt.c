@@ -195,6 +195,7 @@ static double max_of(const rfe_real_t *v, size_t k)
 
 /* REQ: with the filter's S_R (NULL or passed explicitly) and no gate, update_ex is
  * rfe_sckf_update bit for bit, also when it reports the information on the side. */
+/* REQ-SCKF-004 */
 static void test_rfe_sckf_update_ex_equals_update_bitwise(void **state)
 {
     static rfe_sckf_t a, b, c, d;
@@ -230,6 +231,7 @@ static void test_rfe_sckf_update_ex_equals_update_bitwise(void **state)
 
 /* REQ: a step S_R replaces the filter's S_R for that step only: the same bits as a filter
  * whose own S_R is the step factor; the filter's S_R is not changed. */
+/* REQ-SCKF-004 */
 static void test_rfe_sckf_update_ex_step_sr_replaces_filter_sr(void **state)
 {
     static rfe_sckf_t a, b;
@@ -251,6 +253,7 @@ static void test_rfe_sckf_update_ex_step_sr_replaces_filter_sr(void **state)
 
 /* REQ: on a linear model the information is diag(H^T R^-1 H) with R = S_R S_R^T of the
  * step S_R (statistical linearisation is exact there), independent of the prior. */
+/* REQ-SCKF-004 */
 static void test_rfe_sckf_update_ex_information_linear_model(void **state)
 {
     static rfe_sckf_t f;
@@ -279,6 +282,7 @@ static void test_rfe_sckf_update_ex_information_linear_model(void **state)
 
 /* REQ: max_k I_k >= info_min updates (the same bits as without the gate); below, the step is
  * held: x, S stay the predicted ones, *updated = 0, the information is still reported. */
+/* REQ-SCKF-004 */
 static void test_rfe_sckf_update_ex_gate_threshold(void **state)
 {
     static rfe_sckf_t probe, pred, a, b;
@@ -320,6 +324,7 @@ static void test_rfe_sckf_update_ex_gate_threshold(void **state)
 
 /* REQ: the gate works on a nonlinear model too: a state the measurement does not depend on
  * near the mean carries little information (cubic at x_0 = 0 with a tiny spread). */
+/* REQ-SCKF-004 */
 static void test_rfe_sckf_update_ex_gate_nonlinear(void **state)
 {
     static rfe_sckf_t f, pred;
@@ -343,6 +348,7 @@ static void test_rfe_sckf_update_ex_gate_nonlinear(void **state)
 }
 
 /* REQ: bad arguments are rejected and change nothing (state, info_out, updated). */
+/* REQ-SCKF-004 REQ-SCKF-008 */
 static void test_rfe_sckf_update_ex_argument_errors(void **state)
 {
     static rfe_sckf_t f, copy, blank;
@@ -416,6 +422,7 @@ static void test_rfe_sckf_update_ex_argument_errors(void **state)
 }
 
 /* REQ: a zero diagonal in S- (a singular prior) makes the information fail, state kept. */
+/* REQ-SCKF-007 */
 static void test_rfe_sckf_update_ex_singular_prior(void **state)
 {
     static rfe_sckf_t f, copy;
@@ -445,6 +452,7 @@ static void test_rfe_sckf_update_ex_singular_prior(void **state)
 
 /* REQ: rfe_sckf_scale multiplies every element of S by c (exactly one rounding each), keeps x
  * and the correlation P_01 / sqrt(P_00 P_11). */
+/* REQ-SCKF-005 */
 static void test_rfe_sckf_scale_multiplies_factor(void **state)
 {
     static rfe_sckf_t f, before;
@@ -484,6 +492,7 @@ static void test_rfe_sckf_scale_multiplies_factor(void **state)
 }
 
 /* REQ: a bad factor or an overflowing product is rejected, S untouched. */
+/* REQ-SCKF-005 */
 static void test_rfe_sckf_scale_errors(void **state)
 {
     static rfe_sckf_t f, copy, blank;

@@ -527,6 +527,7 @@ static void run_model(size_t n, size_t m, int nonlinear, uint64_t seed)
     assert_int_equal(conv_sat, 0u);
 }
 
+/* REQ-FXP-005 REQ-SCKF-001 */
 static void test_rfe_sckf_q31_linear_models_vs_double_and_kalman(void **state)
 {
     size_t n;
@@ -540,6 +541,7 @@ static void test_rfe_sckf_q31_linear_models_vs_double_and_kalman(void **state)
     print_worst("linear models, n 1..8, m 1..4");
 }
 
+/* REQ-FXP-005 */
 static void test_rfe_sckf_q31_nonlinear_models_vs_double(void **state)
 {
     size_t n;
@@ -928,18 +930,21 @@ static void run_all_scenarios(int preset, const char *label)
     print_worst(label);
 }
 
+/* REQ-FXP-005 */
 static void test_rfe_sckf_q31_scenarios_paper_tyre(void **state)
 {
     (void)state;
     run_all_scenarios(PRESET_PAPER, "scenarios, paper preset (h linear in mu)");
 }
 
+/* REQ-FXP-005 */
 static void test_rfe_sckf_q31_scenarios_absolute_tyre(void **state)
 {
     (void)state;
     run_all_scenarios(PRESET_ABSOLUTE, "scenarios, absolute tyre (h nonlinear)");
 }
 
+/* REQ-FXP-005 */
 static void test_rfe_sckf_q31_scenarios_default_preset(void **state)
 {
     (void)state;
@@ -960,6 +965,7 @@ static void init_q31(rfe_sckf_q31_t *f, const problem_t *p)
 
 /* REQ: update_ex with the filter's S_R and no gate is update, bit for bit (also while it
  * reports the information); a step S_R is a filter whose own S_R is that factor. */
+/* REQ-SCKF-004 */
 static void test_rfe_sckf_q31_update_ex_equals_update(void **state)
 {
     static problem_t p;
@@ -1017,6 +1023,7 @@ static void test_rfe_sckf_q31_update_ex_equals_update(void **state)
 /* REQ: on a linear model the information is diag(H^T R^-1 H), R = S_R S_R^T; the gate holds
  * below the threshold (x, S exactly the predicted ones, info still reported) and updates at
  * or above it. */
+/* REQ-SCKF-004 REQ-FXP-005 */
 static void test_rfe_sckf_q31_information_and_gate(void **state)
 {
     static problem_t p;
@@ -1106,6 +1113,7 @@ static rfe_status_t failing_process(void *ctx, const int32_t *x, int32_t *xn, si
 }
 
 /* REQ: a callback error at the last cubature point returns its status; state untouched. */
+/* REQ-SCKF-007 */
 static void test_rfe_sckf_q31_callback_errors_untouched(void **state)
 {
     static problem_t p;
@@ -1149,6 +1157,7 @@ static rfe_status_t const_measure(void *ctx, const int32_t *x, int32_t *z, size_
     return RFE_OK;
 }
 
+/* REQ-SCKF-007 */
 static void test_rfe_sckf_q31_not_positive_definite_untouched(void **state)
 {
     static problem_t p;
@@ -1187,6 +1196,7 @@ static void test_rfe_sckf_q31_not_positive_definite_untouched(void **state)
     assert_memory_equal(before, &f, STATE_BYTES);
 }
 
+/* REQ-SCKF-008 */
 static void test_rfe_sckf_q31_argument_errors(void **state)
 {
     static problem_t p;
@@ -1248,6 +1258,7 @@ static void test_rfe_sckf_q31_argument_errors(void **state)
 
 /* Only the lower triangles of S0, SQ, SR are read; init zeroes the upper triangles and the
  * saturation counter. */
+/* REQ-SCKF-008 */
 static void test_rfe_sckf_q31_init_reads_lower_triangles(void **state)
 {
     static problem_t p;
@@ -1279,6 +1290,7 @@ static void test_rfe_sckf_q31_init_reads_lower_triangles(void **state)
 }
 
 /* scale, get, clamp. */
+/* REQ-SCKF-005 REQ-SCKF-006 REQ-SCKF-008 */
 static void test_rfe_sckf_q31_scale_get_clamp(void **state)
 {
     static problem_t p;
@@ -1344,6 +1356,7 @@ static void test_rfe_sckf_q31_scale_get_clamp(void **state)
 
 /* REQ: saturation is counted in the state, by successful steps only: points beyond +-4, an
  * innovation beyond 128 sd, information beyond Q10. */
+/* REQ-FXP-008 */
 static void test_rfe_sckf_q31_saturation_counted(void **state)
 {
     static problem_t p;
@@ -1426,6 +1439,7 @@ static uint64_t run_hash(void)
     return h;
 }
 
+/* REQ-FXP-007 */
 static void test_rfe_sckf_q31_deterministic(void **state)
 {
     const uint64_t h1 = run_hash();

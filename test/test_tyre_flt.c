@@ -79,6 +79,7 @@ static double col(size_t row, const char *prefix, size_t wheel)
 }
 
 /* REQ: MODEL.md §3 slips, slip angles (after the bound) and loads equal the vectors. */
+/* REQ-TYRE-001 */
 static void test_rfe_tyre_kinematics_matches_vectors(void **state)
 {
     size_t r, i;
@@ -102,6 +103,7 @@ static void test_rfe_tyre_kinematics_matches_vectors(void **state)
 }
 
 /* REQ: MODEL.md §4 normalised forces F0x, F0y and §5 H equal the vectors. */
+/* REQ-TYRE-002 */
 static void test_rfe_tyre_forces_norm_matches_vectors(void **state)
 {
     size_t r, i, k;
@@ -131,6 +133,7 @@ static void test_rfe_tyre_forces_norm_matches_vectors(void **state)
 }
 
 /* REQ: MODEL.md §4 load-scaled absolute forces at mu 0.3 and 0.8 equal the vectors. */
+/* REQ-TYRE-003 */
 static void test_rfe_tyre_forces_abs_matches_vectors(void **state)
 {
     static const struct {
@@ -179,6 +182,7 @@ static void dugoff_textbook(double k, double a, double fz, double v, double Cx, 
 }
 
 /* REQ: paper-mode Dugoff equals the textbook formula over a grid away from singular points. */
+/* REQ-TYRE-002 */
 static void test_rfe_tyre_dugoff_norm_matches_textbook_grid(void **state)
 {
     double k, a;
@@ -201,6 +205,7 @@ static void test_rfe_tyre_dugoff_norm_matches_textbook_grid(void **state)
 /* REQ: in the linear region (L >= 1) F0x = Fz Cx kappa / (1 - |kappa|) exactly.
  * kappa = -0.01, alpha = 0, v = 20: S = 0.2, E = 1 - 0.015*20*0.01 = 0.997,
  * L = 0.99*0.997/0.4 = 2.47 >= 1, so F0x = 4000*20*(-0.01)/0.99 = -808.0808... */
+/* REQ-TYRE-002 */
 static void test_rfe_tyre_dugoff_norm_linear_region_hand_value(void **state)
 {
     rfe_real_t fx, fy;
@@ -215,6 +220,7 @@ static void test_rfe_tyre_dugoff_norm_linear_region_hand_value(void **state)
 
 /* REQ: locked wheel kappa = -1, alpha = 0: f(L)/(1-|k|) -> E/S with S = Cx, so
  * F0x = -Fz E = -Fz (1 - eps v); finite and continuous from kappa -> -1. */
+/* REQ-TYRE-004 */
 static void test_rfe_tyre_dugoff_norm_locked_wheel_finite(void **state)
 {
     rfe_real_t fx, fy, fx_near, fy_near;
@@ -238,6 +244,7 @@ static void test_rfe_tyre_dugoff_norm_locked_wheel_finite(void **state)
 }
 
 /* REQ: zero slip and standstill give zero force, no NaN. */
+/* REQ-TYRE-004 */
 static void test_rfe_tyre_zero_slip_and_standstill(void **state)
 {
     rfe_sample_t u;
@@ -260,6 +267,7 @@ static void test_rfe_tyre_zero_slip_and_standstill(void **state)
 }
 
 /* REQ: the mirrored manoeuvre gives mirrored slips, loads and forces (left/right symmetry). */
+/* REQ-TYRE-005 */
 static void test_rfe_tyre_left_right_symmetry(void **state)
 {
     static const size_t mirror[4] = {1, 0, 3, 2};
@@ -293,6 +301,7 @@ static void test_rfe_tyre_left_right_symmetry(void **state)
 
 /* REQ: above ~67 m/s of slip speed the eps factor is clamped at 0: zero force, not a
  * reversed one; huge slip angles are bounded by alpha_max. */
+/* REQ-TYRE-004 */
 static void test_rfe_tyre_eps_clamp_and_alpha_bound(void **state)
 {
     rfe_real_t fx, fy, fx2, fy2;
@@ -320,6 +329,7 @@ static void test_rfe_tyre_eps_clamp_and_alpha_bound(void **state)
 
 /* REQ: absolute mode: mu < 0 evaluates as mu = 0 (zero force); at small slip the force does
  * not depend on mu (L >= 1); it saturates at mu Fz in pure slip for large slip. */
+/* REQ-TYRE-003 */
 static void test_rfe_tyre_dugoff_abs_mu_behaviour(void **state)
 {
     rfe_real_t fx_a, fy_a, fx_b, fy_b;
@@ -348,6 +358,7 @@ static void test_rfe_tyre_dugoff_abs_mu_behaviour(void **state)
 }
 
 /* REQ: invalid inputs give distinct statuses and leave outputs untouched. */
+/* REQ-TYRE-006 */
 static void test_rfe_tyre_rejects_bad_input(void **state)
 {
     rfe_real_t fx = 7, fy = 7;

@@ -361,6 +361,7 @@ static void check_forces(const rfe_wheel_kin_q31_t *kq, const double mu[4], cons
 /* REQ: on every sample of every bundled log (13 scenarios x 3 truth variants) the q31
  * kinematics and both tyre modes (at the log's true mu) agree with the double twin within the
  * derived bounds. */
+/* REQ-FXP-003 */
 static void test_tyre_q31_scenarios(void **state)
 {
     size_t s, v, r, n_logs = 0, n_rows = 0;
@@ -410,6 +411,7 @@ static double logu(double a)
 
 /* REQ: >= 1e5 random samples over the input limits of config.h (uniform, near-rolling wheels
  * and log-uniform magnitudes), with the tyre at random mu in [-0.5, 1.2]: within the bounds. */
+/* REQ-FXP-003 */
 static void test_tyre_q31_random(void **state)
 {
     int n;
@@ -473,6 +475,7 @@ static void test_tyre_q31_random(void **state)
 
 /* REQ: the edges: standstill, zero slip, locked and spinning wheels, slip angles at
  * alpha_max, loads clipped at 0, reversing; exact where the model is exact. */
+/* REQ-FXP-003 REQ-TYRE-001 REQ-TYRE-004 */
 static void test_tyre_q31_kinematics_edges(void **state)
 {
     static const double zero[4] = {0, 0, 0, 0};
@@ -591,6 +594,7 @@ static void check_wheel(double kappa, double alpha, double fz, double vwx, doubl
 /* REQ: >= 1e5 random single-wheel cases over the whole input domain of the Dugoff functions
  * (kappa beyond the clip, alpha beyond alpha_max, loads up to 30 kN, |vwx| up to 150 m/s,
  * mu in [-0.5, 1.2] and up to 3.9 for cubature points) and the edges: within the bounds. */
+/* REQ-FXP-003 REQ-TYRE-002 REQ-TYRE-003 REQ-TYRE-004 */
 static void test_tyre_q31_dugoff_random_and_edges(void **state)
 {
     int n;
@@ -651,6 +655,7 @@ static void test_tyre_q31_dugoff_random_and_edges(void **state)
 /* ---- determinism, saturation ------------------------------------------------------------- */
 
 /* REQ: the same inputs give bit-identical outputs (and saturation counts) on repeated calls. */
+/* REQ-FXP-007 */
 static void test_tyre_q31_deterministic(void **state)
 {
     int n;
@@ -699,6 +704,7 @@ static uint32_t n_railed(const int32_t *v, size_t n)
  * wheel speeds beyond their formats (inputs beyond config.h), forces beyond 65536 N (large mu
  * at a large load); at the rail the value is the clamped one, and the counter itself stops at
  * UINT32_MAX. */
+/* REQ-FXP-008 */
 static void test_tyre_q31_saturation(void **state)
 {
     rfe_sample_q31_t uq;
@@ -824,6 +830,7 @@ static long expected_sat(const int32_t *q, const double *d, const double *b, siz
 /* REQ: every int32 input is in the domain: the extremes of every format run without
  * undefined behaviour (the sanitizer build checks), the clips hold, the results are within
  * the bounds where they fit, and the counter counts exactly the clamped outputs. */
+/* REQ-FXP-003 REQ-FXP-008 */
 static void test_tyre_q31_int32_extremes(void **state)
 {
     static const int32_t ext[5] = {INT32_MIN, -INT32_MAX, -1, 0, INT32_MAX};
@@ -936,6 +943,7 @@ static void test_tyre_q31_int32_extremes(void **state)
 
 /* REQ: NULL -> RFE_ERR_NULL, invalid tyre parameters -> RFE_ERR_PARAM, fz < 0 ->
  * RFE_ERR_RANGE; outputs and the counter untouched on every error. */
+/* REQ-TYRE-006 */
 static void test_tyre_q31_argument_checks(void **state)
 {
     rfe_sample_q31_t u;

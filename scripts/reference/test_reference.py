@@ -58,6 +58,7 @@ def _max_rel(a, b):
 # 1-2: shared test vectors
 # ---------------------------------------------------------------------------------------------
 
+# REQ-REF-001
 def test_model_vectors():
     rows = _read_vectors("model_vectors.csv")
     assert len(rows) >= 71
@@ -84,6 +85,7 @@ def test_model_vectors():
     print("model vectors, max error rel. to max(|ref|,1):", worst)
 
 
+# REQ-REF-001
 def test_absolute_h_matches_forces():
     """h_absolute at equal mu on every wheel == column sums of body_effects of the forces."""
     rows = _read_vectors("model_vectors.csv")
@@ -98,6 +100,7 @@ def test_absolute_h_matches_forces():
             np.testing.assert_allclose(z[:, j], ref, rtol=1e-9, atol=1e-9)
 
 
+# REQ-REF-001
 def test_sckf_step_vectors():
     rows = _read_vectors("sckf_step_vectors.csv")
     assert len(rows) >= 12
@@ -210,6 +213,7 @@ def _assert_same_run(a, b, tol=1e-9):
     return dmu, dsd
 
 
+# REQ-REF-001
 @pytest.mark.parametrize("tyre", ["paper", "absolute"])
 def test_sckf_equals_ckf(tyre, synth_log, synth_log_abs):
     log = synth_log if tyre == "paper" else synth_log_abs
@@ -220,6 +224,7 @@ def test_sckf_equals_ckf(tyre, synth_log, synth_log_abs):
     print(f"{tyre}: SCKF vs CKF max |dmu| {dmu:.3g}, max |dsd| {dsd:.3g}")
 
 
+# REQ-REF-001
 def test_low_speed_rows(synth_log):
     res = estimate.run(synth_log, P, "sckf", "paper")
     low = synth_log.col("vx") < P["v_est_min"]
@@ -232,6 +237,7 @@ def test_low_speed_rows(synth_log):
                                rtol=1e-12)
 
 
+# REQ-REF-001
 def test_noise_free_model_matched_fits_measurement(tmp_path):
     """On noise-free paper-mode data the posterior explains y: H(u) x ~ y at the end."""
     path = str(tmp_path / "nf.csv")
@@ -249,6 +255,7 @@ def test_noise_free_model_matched_fits_measurement(tmp_path):
     assert np.all(res["mu"] >= P["mu_min"]) and np.all(res["mu"] <= P["mu_max"])
 
 
+# REQ-REF-001
 def test_sckf_equals_textbook_kf():
     """Linear-Gaussian toy problem: random walk + y = H_k x + v; no projection."""
     rng = np.random.default_rng(7)
@@ -285,6 +292,7 @@ def test_sckf_equals_textbook_kf():
     np.testing.assert_allclose(g.x, x, rtol=1e-9, atol=1e-12)
 
 
+# REQ-REF-001
 def test_tria():
     rng = np.random.default_rng(3)
     for shape in ((4, 12), (3, 11), (4, 4)):
@@ -295,6 +303,7 @@ def test_tria():
         np.testing.assert_allclose(s @ s.T, a @ a.T, rtol=1e-12, atol=1e-12)
 
 
+# REQ-REF-001
 def test_projection():
     x, c = filters.project(np.array([0.0, 0.5, 1.3, 1.2]), 0.05, 1.2)
     assert c and list(x) == [0.05, 0.5, 1.2, 1.2]
@@ -306,6 +315,7 @@ def test_projection():
 # 5: parameters, I/O, CLI, make_goldens
 # ---------------------------------------------------------------------------------------------
 
+# REQ-REF-003
 def test_param_precedence(tmp_path):
     meta = {"m": "1500", "scenario": "x", "kb_f": "300", "q_mu": "0.01", "seed": "3"}
     pf = tmp_path / "p.txt"
@@ -315,6 +325,7 @@ def test_param_precedence(tmp_path):
     assert "kb_f" not in p and "scenario" not in p
 
 
+# REQ-REF-003
 @pytest.mark.parametrize("text,needle", [
     ("m = 1500\nmass = 3\n", ":2: unknown parameter key 'mass'"),
     ("m = heavy\n", ":1: value of 'm' is not a number"),
@@ -328,6 +339,7 @@ def test_param_file_errors(tmp_path, text, needle):
     assert str(pf) + needle in str(exc.value)
 
 
+# REQ-REF-003
 def test_log_metadata_overrides_defaults(tmp_path):
     path = str(tmp_path / "meta.csv")
     cols = synthetic_columns(n=300)
@@ -343,6 +355,7 @@ def test_log_metadata_overrides_defaults(tmp_path):
     np.testing.assert_array_equal(est.col("t"), cols["t"])
 
 
+# REQ-REF-003
 def test_cli_module_and_script(tmp_path, synth_log):
     src = synth_log.path
     outs = []
@@ -372,6 +385,7 @@ def test_cli_module_and_script(tmp_path, synth_log):
     assert r.returncode == 1 and f"{pf}:1" in r.stderr
 
 
+# REQ-REF-002
 def test_make_goldens_naming_and_determinism(tmp_path):
     sc = tmp_path / "scen"
     sc.mkdir()
@@ -402,6 +416,7 @@ SCENARIOS = sorted(f for f in glob.glob(os.path.join(REPO, "scenarios", "*.csv")
                    if ".mf" not in os.path.basename(f))
 
 
+# REQ-REF-001 REQ-ACC-003
 @pytest.mark.skipif(not SCENARIOS, reason="no scenarios/*.csv yet")
 @pytest.mark.parametrize("path", SCENARIOS, ids=os.path.basename)
 def test_scenario_sckf_equals_ckf(path):
@@ -416,6 +431,7 @@ GOLDENS = sorted(g for g in glob.glob(os.path.join(REPO, "scenarios", "golden", 
                  if not g.endswith(".q31.csv"))
 
 
+# REQ-REF-002
 @pytest.mark.skipif(not GOLDENS, reason="no scenarios/golden/*.csv yet")
 @pytest.mark.parametrize("golden", GOLDENS, ids=os.path.basename)
 def test_goldens_up_to_date(golden, tmp_path):
@@ -434,6 +450,7 @@ def test_goldens_up_to_date(golden, tmp_path):
 # 7: the observability-aware estimator (docs/ESTIMATOR.md, trusted.py)
 # ---------------------------------------------------------------------------------------------
 
+# REQ-REF-001 REQ-ACC-004
 def test_trusted_with_additions_off_is_the_paper_filter(synth_log):
     """docs/ESTIMATOR.md: with every addition off (paper preset values) the steps reduce to
     MODEL.md section 6; trusted.run must then reproduce estimate.run (1e-12: same algebra,
@@ -447,6 +464,7 @@ def test_trusted_with_additions_off_is_the_paper_filter(synth_log):
     np.testing.assert_array_equal(b["status"], a["status"])
 
 
+# REQ-REF-001
 def test_conditioner_hand_example():
     """tau = 0.09, dt = 0.01: b = 0.1. First sample initialises to the measurement; second:
     px = 20 + 0.01 (-2 + 0.1 * 0.5) = 19.9805, py = 0.5 + 0.01 (0.3 - 0.1 * 20) = 0.483;
@@ -457,6 +475,7 @@ def test_conditioner_hand_example():
     assert abs(vx - 19.88245) < 1e-12 and abs(vy - 0.4747) < 1e-12
 
 
+# REQ-REF-001 REQ-ACC-004
 def test_trusted_holds_when_nothing_is_observable(tmp_path):
     """Steady cruising: no tyre works, so every step is held (status 3), the mean stays at
     mu0, the sd sits at the sd_max bound and nothing is reported valid."""

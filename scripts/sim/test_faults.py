@@ -22,17 +22,20 @@ def _logs(f):
     return clean, faults.apply(f, *clean)
 
 
+# REQ-ROB-008
 def test_committed_fault_logs_are_up_to_date():
     """REQ: scenarios/faults/ is exactly what make fault-scenarios writes from the bundled logs."""
     assert make_fault_scenarios.main(["--scenarios", SCEN, "--out", FAULT_DIR, "--check"]) == 0
 
 
+# REQ-ROB-008
 def test_fault_logs_are_deterministic():
     """REQ: the same fault on the same clean log gives the same bytes (fixed seeds)."""
     for f in faults.FAULTS:
         assert faults.make(f, SCEN) == faults.make(f, SCEN)
 
 
+# REQ-ROB-008
 def test_faults_cover_the_issue_list():
     """REQ: spikes on ax, ay, yaw rate; a dropped sample; a frozen wheel speed; an
     accelerometer offset."""
@@ -42,6 +45,7 @@ def test_faults_cover_the_issue_list():
         assert want in kinds
 
 
+# REQ-ROB-008
 @pytest.mark.parametrize("f", faults.FAULTS, ids=faults.file_name)
 def test_fault_changes_only_what_it_says(f):
     """REQ: a fault log equals its clean twin except where (and how) the fault acts; the

@@ -156,6 +156,7 @@ def _close(a, b, rtol, atol=1e-12):
     return np.all(np.abs(a - b) <= rtol * np.abs(b) + atol * max(1.0, float(np.max(np.abs(b)))))
 
 
+# REQ-SIM-001
 def test_independent_model_reproduces_shared_vectors():
     _, v = _vectors()
     res = model_eval(P, v["delta"], v["vx"], v["vy"], v["yaw_rate"], v["ax"], v["ay"],
@@ -167,6 +168,7 @@ def test_independent_model_reproduces_shared_vectors():
     assert _close(res["H"].reshape(-1, 12), H, VEC_RTOL)
 
 
+# REQ-SIM-001
 def test_simulator_model_functions_reproduce_shared_vectors():
     rows, v = _vectors()
     for k in range(len(rows)):
@@ -183,6 +185,7 @@ def test_simulator_model_functions_reproduce_shared_vectors():
         assert _close([f[1] for f in f0], _wheels(v, "f0y")[k], VEC_RTOL), case
 
 
+# REQ-SIM-001
 def test_model_match_mu_step_written_log(mu_step):
     """The key property: the noise-free log as written (repr doubles) is model-matched."""
     sc, sim, table = mu_step
@@ -199,6 +202,7 @@ def test_model_match_mu_step_written_log(mu_step):
     assert np.allclose(res["kappa"], sim["kappa"], rtol=1e-12, atol=1e-15)
 
 
+# REQ-SIM-001
 def test_model_match_combined_slip(short_run):
     sc, sim = short_run
     res = check_model_match(sensors.sensor_table(sim))
@@ -211,6 +215,7 @@ COMMITTED_NF = sorted(SCEN_DIR.glob("*.nf.csv")) if SCEN_DIR.is_dir() else []
 COMMITTED_NF = [f for f in COMMITTED_NF if not f.name.endswith(".mf.nf.csv")]
 
 
+# REQ-SIM-002
 @pytest.mark.skipif(not COMMITTED_NF, reason="no scenarios/*.nf.csv generated yet")
 @pytest.mark.parametrize("path", COMMITTED_NF, ids=lambda f: f.name)
 def test_committed_logs(path):
@@ -238,6 +243,7 @@ def test_committed_logs(path):
 # ---------------------------------------------------------------------------------------
 # Physics sanity
 # ---------------------------------------------------------------------------------------
+# REQ-SIM-002
 def test_paper_braking_distance_and_deceleration(mu_step):
     _, sim, _ = mu_step
     assert np.all(sim["ax"][1:] < 0) and np.all(np.diff(sim["vx"]) < 0)
@@ -248,6 +254,7 @@ def test_paper_braking_distance_and_deceleration(mu_step):
     assert sim["vx"][-1] > 4.0
 
 
+# REQ-SIM-002
 def test_mu_step_front_before_rear(mu_step):
     _, sim, table = mu_step
     first = {w: int(np.argmax(table[f"mu_{w}"] == 0.2)) for w in WHEELS}
@@ -263,6 +270,7 @@ def test_mu_step_front_before_rear(mu_step):
     assert abs(k[first["fl"] + 20, 0]) > 2 * abs(k[first["fl"] - 2, 0])
 
 
+# REQ-SIM-002
 def test_straight_braking_symmetry(mu_step):
     _, sim, table = mu_step
     assert np.max(np.abs(table["vy"])) < 1e-12 and np.max(np.abs(table["yaw_rate"])) < 1e-12
@@ -271,6 +279,7 @@ def test_straight_braking_symmetry(mu_step):
     assert np.array_equal(table["omega_rl"], table["omega_rr"])
 
 
+# REQ-SIM-003
 def test_integration_converged():
     """RK4 at the default rate agrees with twice the rate (combined braking and steering)."""
     sc = BY_NAME["brake_in_turn"]
@@ -280,6 +289,7 @@ def test_integration_converged():
         assert np.max(np.abs(a[key] - b[key])) < 1e-6, key
 
 
+# REQ-SIM-002
 def test_scenario_definitions():
     assert [s.name for s in SCENARIOS] == [
         "paper_low_mu_brake", "paper_high_mu_brake", "paper_mu_step", "split_mu_brake",
@@ -296,6 +306,7 @@ def test_scenario_definitions():
 # ---------------------------------------------------------------------------------------
 # Determinism and noise
 # ---------------------------------------------------------------------------------------
+# REQ-SIM-002
 def test_deterministic_bytes():
     sc = BY_NAME["brake_in_turn"]
     texts = []
@@ -319,6 +330,7 @@ def check_noise(clean, noisy):
         assert abs(d.mean()) < NOISE_MEAN_SIGMAS * sd / math.sqrt(n), c
 
 
+# REQ-SIM-003
 def test_noise_statistics(mu_step):
     sc, _, table = mu_step
     noisy = sensors.add_noise(table, sc.seed)
@@ -331,6 +343,7 @@ def test_noise_statistics(mu_step):
     assert not np.array_equal(other["ax"], noisy["ax"])
 
 
+# REQ-SIM-002
 def test_metadata_keys(mu_step):
     sc = mu_step[0]
     for noise in ("default", "none"):
@@ -348,6 +361,7 @@ def test_metadata_keys(mu_step):
 # ---------------------------------------------------------------------------------------
 # Tyres
 # ---------------------------------------------------------------------------------------
+# REQ-SIM-004
 @pytest.mark.parametrize("mu", [0.1, 0.3, 0.6, 0.85, 1.2])
 def test_mf_peak_and_stiffness(mu):
     fz = 4500.0
@@ -364,6 +378,7 @@ def test_mf_peak_and_stiffness(mu):
     assert abs(sy / (P.cy * fz) - 1) < 1e-6  # d tan(alpha)/d alpha = 1 at 0
 
 
+# REQ-SIM-004
 def test_mf_combined_slip_bounded_smooth_finite():
     kp, ap = np.linspace(0, 1, 101)[1:], np.linspace(0, 1.4, 71)[1:]
     k = np.concatenate([-kp[::-1], [0.0], kp])[:, None, None]   # exactly symmetric grids
@@ -382,6 +397,7 @@ def test_mf_combined_slip_bounded_smooth_finite():
     assert tyres.mf_unit(0.1, 0.1, 0.0, 0.0, P) == (0.0, 0.0)
 
 
+# REQ-SIM-001
 def test_dugoff_singularity_free():
     # kappa -> +-1: f(L)/(1-|kappa|) stays finite and continuous
     for sgn in (1.0, -1.0):
@@ -398,6 +414,7 @@ def test_dugoff_singularity_free():
     assert abs(fx - 0.7 * P.Cx_n * 0.001 / 0.999) < 1e-15
 
 
+# REQ-SIM-001
 @pytest.mark.parametrize("name", ["dugoff", "mf"])
 def test_tyres_per_unit_load_and_loads_fixed_point(name):
     """The simulator's load solver relies on F = Fz * f(kappa, alpha, v, mu)."""
@@ -428,6 +445,7 @@ def _driver_pressure(sc, t):
     return np.array([sc.pressure(float(tk)) for tk in t])
 
 
+# REQ-SIM-004
 def test_abs_no_lock_bounded_slip(abs_run):
     """No wheel locks or slows to a crawl, slip stays bounded, ABS never adds pressure."""
     sc, tyre, sim = abs_run
@@ -442,6 +460,7 @@ def test_abs_no_lock_bounded_slip(abs_run):
     assert np.all(sim["pressure"][braking] < 0.8 * P_HARD)
 
 
+# REQ-SIM-004
 def test_abs_holds_target_slip_without_limit_cycle(abs_run):
     """0.7 s after braking starts and away from mu changes, every wheel sits at the target
     slip: no lock, no controller or integrator limit cycle (slip and pressure steady)."""
@@ -458,6 +477,7 @@ def test_abs_holds_target_slip_without_limit_cycle(abs_run):
     assert np.max(np.abs(dp)) < 0.02             # MPa per 10 ms: a slow drift, no chatter
 
 
+# REQ-SIM-004
 def test_hard_braking_reaches_the_limit(abs_run):
     sc, tyre, sim = abs_run
     util = sensors.utilisation(sim)
@@ -467,6 +487,7 @@ def test_hard_braking_reaches_the_limit(abs_run):
     assert util[steady].min() >= 0.8 if tyre == "dugoff" else util[steady].min() >= 0.75
 
 
+# REQ-SIM-002
 def test_mu_step_happens_while_braking(abs_run):
     sc, tyre, sim = abs_run
     if sc.name != "mu_step_hard_brake":
@@ -484,6 +505,7 @@ def test_mu_step_happens_while_braking(abs_run):
     assert np.max(np.abs(sim["kappa"][after] - KAPPA_TARGET)) < 0.01
 
 
+# REQ-SIM-001
 def test_utilisation_column_matches_truth_tyre(abs_run):
     """util_* of the sensor table against the truth tyre re-evaluated at the logged slips."""
     sc, tyre, sim = abs_run
@@ -496,6 +518,7 @@ def test_utilisation_column_matches_truth_tyre(abs_run):
     assert np.allclose(util, expect, rtol=1e-12, atol=1e-15)
 
 
+# REQ-SIM-003
 def test_closed_loop_integration_converged():
     """ABS + driver steering at 4 kHz against 8 kHz: the controller ticks (1 kHz) do not
     move, so the closed loop converges like the open loop."""
@@ -511,6 +534,7 @@ def test_closed_loop_integration_converged():
 SPLIT_NF = SCEN_DIR / "split_mu_hard_brake.nf.csv"
 
 
+# REQ-SIM-004
 @pytest.mark.skipif(not SPLIT_NF.is_file(), reason="scenarios not generated yet")
 def test_split_mu_hard_brake_stays_sane():
     _, cols = read_log_text(SPLIT_NF.read_text())
@@ -524,12 +548,14 @@ def test_split_mu_hard_brake_stays_sane():
 COMMITTED_MF = sorted(SCEN_DIR.glob("*.mf.csv")) if SCEN_DIR.is_dir() else []
 
 
+# REQ-SIM-002
 def test_every_scenario_has_committed_mf_log():
     if not COMMITTED_NF:
         pytest.skip("no scenarios generated yet")
     assert sorted(f.name for f in COMMITTED_MF) == sorted(f"{s.name}.mf.csv" for s in SCENARIOS)
 
 
+# REQ-SIM-002
 @pytest.mark.parametrize("path", COMMITTED_MF, ids=lambda f: f.name)
 def test_committed_mf_logs(path):
     meta, cols = read_log_text(path.read_text())
@@ -540,6 +566,7 @@ def test_committed_mf_logs(path):
     assert util.min() >= 0.0 and util.max() <= 1.0 + 1e-12
 
 
+# REQ-SIM-002
 def test_make_scenarios_plan():
     import importlib.util
     spec = importlib.util.spec_from_file_location("make_scenarios",

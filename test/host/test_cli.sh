@@ -4,6 +4,8 @@
 #
 # usage: bash test/host/test_cli.sh path/to/mu_replay
 # Prints one line per check and closes with "cli: N passed, N failed"; exits 1 on a failure.
+# Requirements (docs/REQUIREMENTS.md; the script is one test case "test_cli"):
+# REQ-CLI-001 REQ-CLI-003 REQ-CLI-004 REQ-CSV-002 REQ-PARF-002 REQ-PARF-003 REQ-MET-002
 set -u
 
 BIN=${1:?usage: test_cli.sh path/to/mu_replay}

@@ -41,6 +41,7 @@ static int read_text(const char *text, rfe_sensor_log_t *log, rfe_io_error_t *er
 
 /* ------------------------------------------------------------ reading: valid input */
 
+/* REQ-CSV-001 */
 static void test_rfe_sensor_log_read_shuffled_columns_with_extra(void **state)
 {
     rfe_sensor_log_t log;
@@ -67,6 +68,7 @@ static void test_rfe_sensor_log_read_shuffled_columns_with_extra(void **state)
     rfe_sensor_log_free(&log);
 }
 
+/* REQ-CSV-001 */
 static void test_rfe_sensor_log_read_metadata_collected(void **state)
 {
     rfe_sensor_log_t log;
@@ -83,6 +85,7 @@ static void test_rfe_sensor_log_read_metadata_collected(void **state)
     rfe_sensor_log_free(&log);
 }
 
+/* REQ-CSV-001 */
 static void test_rfe_sensor_log_read_without_truth(void **state)
 {
     rfe_sensor_log_t log;
@@ -95,6 +98,7 @@ static void test_rfe_sensor_log_read_without_truth(void **state)
     rfe_sensor_log_free(&log);
 }
 
+/* REQ-CSV-001 */
 static void test_rfe_sensor_log_read_crlf_bom_and_trailing_blank_lines(void **state)
 {
     rfe_sensor_log_t log;
@@ -109,6 +113,7 @@ static void test_rfe_sensor_log_read_crlf_bom_and_trailing_blank_lines(void **st
     rfe_sensor_log_free(&log);
 }
 
+/* REQ-CSV-001 */
 static void test_rfe_sensor_log_read_very_long_number_not_truncated(void **state)
 {
     /* 200000 leading zeros then "1.5": a fixed-size line buffer would cut it. */
@@ -132,6 +137,7 @@ static void test_rfe_sensor_log_read_very_long_number_not_truncated(void **state
 
 /* ------------------------------------------------------------ reading: errors */
 
+/* REQ-CSV-002 */
 static void test_rfe_sensor_log_read_missing_column(void **state)
 {
     rfe_sensor_log_t log;
@@ -145,6 +151,7 @@ static void test_rfe_sensor_log_read_missing_column(void **state)
     assert_null(log.rows);
 }
 
+/* REQ-CSV-002 */
 static void test_rfe_sensor_log_read_bad_number_position(void **state)
 {
     rfe_sensor_log_t log;
@@ -158,6 +165,7 @@ static void test_rfe_sensor_log_read_bad_number_position(void **state)
     assert_int_equal(log.n_rows, 0);
 }
 
+/* REQ-CSV-002 */
 static void test_rfe_sensor_log_read_wrong_column_count(void **state)
 {
     rfe_sensor_log_t log;
@@ -169,6 +177,7 @@ static void test_rfe_sensor_log_read_wrong_column_count(void **state)
     assert_non_null(strstr(err.msg, "11 fields, header has 12"));
 }
 
+/* REQ-CSV-002 */
 static void test_rfe_sensor_log_read_too_many_fields(void **state)
 {
     rfe_sensor_log_t log;
@@ -181,6 +190,7 @@ static void test_rfe_sensor_log_read_too_many_fields(void **state)
     assert_int_equal(err.col, 13); /* first extra field */
 }
 
+/* REQ-CSV-002 */
 static void test_rfe_sensor_log_read_empty_file(void **state)
 {
     rfe_sensor_log_t log;
@@ -191,6 +201,7 @@ static void test_rfe_sensor_log_read_empty_file(void **state)
     assert_non_null(strstr(err.msg, "empty file"));
 }
 
+/* REQ-CSV-002 */
 static void test_rfe_sensor_log_read_only_metadata_no_header(void **state)
 {
     rfe_sensor_log_t log;
@@ -201,6 +212,7 @@ static void test_rfe_sensor_log_read_only_metadata_no_header(void **state)
     assert_int_equal(log.n_meta, 0); /* freed on error */
 }
 
+/* REQ-CSV-002 */
 static void test_rfe_sensor_log_read_nan_text_rejected(void **state)
 {
     rfe_sensor_log_t log;
@@ -213,6 +225,7 @@ static void test_rfe_sensor_log_read_nan_text_rejected(void **state)
     assert_non_null(strstr(err.msg, "nan"));
 }
 
+/* REQ-CSV-002 */
 static void test_rfe_sensor_log_read_inf_text_rejected(void **state)
 {
     rfe_sensor_log_t log;
@@ -224,6 +237,7 @@ static void test_rfe_sensor_log_read_inf_text_rejected(void **state)
     assert_non_null(strstr(err.msg, "finite"));
 }
 
+/* REQ-CSV-002 */
 static void test_rfe_sensor_log_read_empty_field_rejected(void **state)
 {
     rfe_sensor_log_t log;
@@ -234,6 +248,7 @@ static void test_rfe_sensor_log_read_empty_field_rejected(void **state)
     assert_non_null(strstr(err.msg, "column 'yaw_rate': empty field"));
 }
 
+/* REQ-CSV-002 */
 static void test_rfe_sensor_log_read_overflow_rejected(void **state)
 {
     rfe_sensor_log_t log;
@@ -244,6 +259,7 @@ static void test_rfe_sensor_log_read_overflow_rejected(void **state)
     assert_non_null(strstr(err.msg, "out of range"));
 }
 
+/* REQ-CSV-001 REQ-CSV-002 */
 static void test_rfe_sensor_log_read_partial_truth(void **state)
 {
     rfe_sensor_log_t log;
@@ -255,6 +271,7 @@ static void test_rfe_sensor_log_read_partial_truth(void **state)
 }
 
 /* util_fl..util_rr: a second optional truth group, parsed like mu_* (any column order). */
+/* REQ-CSV-001 */
 static void test_rfe_sensor_log_read_util_columns_parsed(void **state)
 {
     rfe_sensor_log_t log;
@@ -276,6 +293,7 @@ static void test_rfe_sensor_log_read_util_columns_parsed(void **state)
 }
 
 /* Without util columns: has_util 0 (good_small has mu_* only). */
+/* REQ-CSV-001 */
 static void test_rfe_sensor_log_read_no_util_columns(void **state)
 {
     rfe_sensor_log_t log;
@@ -288,6 +306,7 @@ static void test_rfe_sensor_log_read_no_util_columns(void **state)
 }
 
 /* The two truth groups are independent: util without mu is accepted. */
+/* REQ-CSV-001 REQ-CSV-002 */
 static void test_rfe_sensor_log_read_util_without_mu(void **state)
 {
     rfe_sensor_log_t log;
@@ -305,6 +324,7 @@ static void test_rfe_sensor_log_read_util_without_mu(void **state)
 }
 
 /* Only some util columns: all or none, the first missing one named, header line. */
+/* REQ-CSV-001 REQ-CSV-002 */
 static void test_rfe_sensor_log_read_partial_util(void **state)
 {
     rfe_sensor_log_t log;
@@ -323,6 +343,7 @@ static void test_rfe_sensor_log_read_partial_util(void **state)
 }
 
 /* A util field is a needed field: a non-number is an error at its position. */
+/* REQ-CSV-002 */
 static void test_rfe_sensor_log_read_bad_util_value(void **state)
 {
     rfe_sensor_log_t log;
@@ -338,6 +359,7 @@ static void test_rfe_sensor_log_read_bad_util_value(void **state)
     assert_non_null(strstr(err.msg, "column 'util_fr'"));
 }
 
+/* REQ-CSV-002 */
 static void test_rfe_sensor_log_read_time_not_increasing(void **state)
 {
     rfe_sensor_log_t log;
@@ -349,6 +371,7 @@ static void test_rfe_sensor_log_read_time_not_increasing(void **state)
     assert_non_null(strstr(err.msg, "time not increasing"));
 }
 
+/* REQ-CSV-002 */
 static void test_rfe_sensor_log_read_header_only(void **state)
 {
     rfe_sensor_log_t log;
@@ -359,6 +382,7 @@ static void test_rfe_sensor_log_read_header_only(void **state)
     assert_non_null(strstr(err.msg, "no data rows"));
 }
 
+/* REQ-CSV-002 */
 static void test_rfe_sensor_log_read_duplicate_column(void **state)
 {
     rfe_sensor_log_t log;
@@ -373,6 +397,7 @@ static void test_rfe_sensor_log_read_duplicate_column(void **state)
     assert_non_null(strstr(err.msg, "duplicate column 'vx' (also column 3)"));
 }
 
+/* REQ-CSV-002 */
 static void test_rfe_sensor_log_read_empty_column_name(void **state)
 {
     rfe_sensor_log_t log;
@@ -383,6 +408,7 @@ static void test_rfe_sensor_log_read_empty_column_name(void **state)
     assert_non_null(strstr(err.msg, "empty column name"));
 }
 
+/* REQ-CSV-001 */
 static void test_rfe_sensor_log_read_blank_line_between_rows(void **state)
 {
     rfe_sensor_log_t log;
@@ -393,6 +419,7 @@ static void test_rfe_sensor_log_read_blank_line_between_rows(void **state)
     assert_non_null(strstr(err.msg, "empty line"));
 }
 
+/* REQ-CSV-001 */
 static void test_rfe_sensor_log_read_comment_after_header(void **state)
 {
     rfe_sensor_log_t log;
@@ -403,6 +430,7 @@ static void test_rfe_sensor_log_read_comment_after_header(void **state)
     assert_non_null(strstr(err.msg, "after the header"));
 }
 
+/* REQ-CSV-002 */
 static void test_rfe_sensor_log_read_nul_byte(void **state)
 {
     static const char text[] = HDR "0,0,20\0,0,0,0,-2,0,60,60,60,60\n";
@@ -419,6 +447,7 @@ static void test_rfe_sensor_log_read_nul_byte(void **state)
     assert_non_null(strstr(err.msg, "NUL"));
 }
 
+/* REQ-CSV-002 */
 static void test_rfe_sensor_log_read_nonexistent_file(void **state)
 {
     rfe_sensor_log_t log;
@@ -429,6 +458,7 @@ static void test_rfe_sensor_log_read_nonexistent_file(void **state)
     assert_non_null(strstr(err.msg, "cannot open"));
 }
 
+/* REQ-CSV-002 */
 static void test_rfe_sensor_log_read_long_bad_field_quoted_short(void **state)
 {
     /* The message quotes at most 40 characters of a huge bad field: still one short line. */
@@ -450,6 +480,7 @@ static void test_rfe_sensor_log_read_long_bad_field_quoted_short(void **state)
 }
 
 
+/* REQ-CSV-002 */
 static void test_rfe_sensor_log_read_directory_is_read_error(void **state)
 {
     rfe_sensor_log_t log;
@@ -461,6 +492,7 @@ static void test_rfe_sensor_log_read_directory_is_read_error(void **state)
     assert_non_null(strstr(err.msg, "read error"));
 }
 
+/* REQ-CSV-001 */
 static void test_rfe_sensor_log_read_metadata_without_key_ignored(void **state)
 {
     rfe_sensor_log_t log;
@@ -473,6 +505,7 @@ static void test_rfe_sensor_log_read_metadata_without_key_ignored(void **state)
     rfe_sensor_log_free(&log);
 }
 
+/* REQ-CSV-001 */
 static void test_rfe_sensor_log_read_many_rows_grow(void **state)
 {
     /* 1000 rows: the row array grows several times; every value lands in its row. */
@@ -497,6 +530,7 @@ static void test_rfe_sensor_log_read_many_rows_grow(void **state)
     free(text);
 }
 
+/* REQ-CSV-003 */
 static void test_rfe_estimate_log_write_full_disk(void **state)
 {
     rfe_est_row_t row;
@@ -517,6 +551,7 @@ static void test_rfe_estimate_log_write_full_disk(void **state)
 
 /* ------------------------------------------------------------ writing */
 
+/* REQ-CSV-003 */
 static void test_rfe_estimate_log_write_round_trips_doubles(void **state)
 {
     rfe_est_row_t rows[2];
@@ -554,6 +589,7 @@ static void test_rfe_estimate_log_write_round_trips_doubles(void **state)
     free(buf);
 }
 
+/* REQ-CSV-003 */
 static void test_rfe_estimate_log_write_float_format_round_trips_floats(void **state)
 {
     rfe_est_row_t row;
@@ -576,6 +612,7 @@ static void test_rfe_estimate_log_write_float_format_round_trips_floats(void **s
     free(buf);
 }
 
+/* REQ-CSV-003 */
 static void test_rfe_estimate_log_write_unwritable_path(void **state)
 {
     rfe_est_row_t row;
@@ -588,6 +625,7 @@ static void test_rfe_estimate_log_write_unwritable_path(void **state)
     assert_non_null(strstr(err.msg, "cannot open for writing"));
 }
 
+/* REQ-CSV-003 */
 static void test_rfe_estimate_log_write_file_then_read_text(void **state)
 {
     char path[] = "/tmp/rfe_test_estimate_XXXXXX";
@@ -615,6 +653,7 @@ static void test_rfe_estimate_log_write_file_then_read_text(void **state)
 
 /* ------------------------------------------------------------ text helpers */
 
+/* REQ-CSV-004 */
 static void test_rfe_text_parse_double_accepts_decimal_forms(void **state)
 {
     static const struct {
@@ -631,6 +670,7 @@ static void test_rfe_text_parse_double_accepts_decimal_forms(void **state)
     }
 }
 
+/* REQ-CSV-004 */
 static void test_rfe_text_parse_double_rejects_non_decimal(void **state)
 {
     static const struct {
@@ -650,6 +690,7 @@ static void test_rfe_text_parse_double_rejects_non_decimal(void **state)
     }
 }
 
+/* REQ-CSV-004 */
 static void test_rfe_text_format_double_shortest_round_trip(void **state)
 {
     char buf[RFE_NUM_BUF];
@@ -666,6 +707,7 @@ static void test_rfe_text_format_double_shortest_round_trip(void **state)
     assert_string_equal(buf, "nan");
 }
 
+/* REQ-CSV-002 */
 static void test_rfe_io_error_print_one_line(void **state)
 {
     rfe_io_error_t err;
@@ -687,6 +729,7 @@ static void test_rfe_io_error_print_one_line(void **state)
     free(buf);
 }
 
+/* REQ-CSV-002 */
 static void test_rfe_text_quote_marks_cut(void **state)
 {
     char q[8];
@@ -700,6 +743,7 @@ static void test_rfe_text_quote_marks_cut(void **state)
     assert_string_equal(q, "abcd...");
 }
 
+/* REQ-CSV-002 */
 static void test_rfe_num_status_str_every_value(void **state)
 {
     (void)state;
@@ -709,6 +753,7 @@ static void test_rfe_num_status_str_every_value(void **state)
     assert_string_equal(rfe_num_status_str((rfe_num_status_t)99), "invalid number");
 }
 
+/* REQ-MET-002 */
 static void test_rfe_json_write_string_escapes(void **state)
 {
     char *buf = NULL;
@@ -726,6 +771,7 @@ static void test_rfe_json_write_string_escapes(void **state)
     free(buf);
 }
 
+/* REQ-CSV-001 */
 static void test_rfe_xrealloc_zero_size_not_null(void **state)
 {
     void *p;

@@ -72,6 +72,7 @@ static int series1(const double *t, const double *truth, const double *est, size
  * max |e| = 0.03; max rel = 0.03/0.5 = 0.06. Converge (tol 0.05): last sample outside is
  * t = 0.5, so from t = 1.0: 1.0 - 0 = 1.0 s.
  */
+/* REQ-MET-001 */
 static void test_rfe_metric_series_constant_truth(void **state)
 {
     const double t[] = {0.0, 0.5, 1.0, 1.5, 2.0};
@@ -101,6 +102,7 @@ static void test_rfe_metric_series_constant_truth(void **state)
  * Converge: from the change (k = 8, t = 2.0): errors .5 .2 .04 -.02 .01; the last outside is
  *   k = 9, so t[10] - t[8] = 0.5 s.
  */
+/* REQ-MET-001 */
 static void test_rfe_metric_series_truth_step(void **state)
 {
     double t[13];
@@ -127,6 +129,7 @@ static void test_rfe_metric_series_truth_step(void **state)
  * convergence from k = 8: only |0.5| > 0.25, so t[9] - t[8] = 0.25 s. Shows the knobs are
  * used rather than literals.
  */
+/* REQ-MET-001 */
 static void test_rfe_metric_series_config_is_used(void **state)
 {
     double t[13];
@@ -150,6 +153,7 @@ static void test_rfe_metric_series_config_is_used(void **state)
 }
 
 /* Last sample outside the tolerance: never converges (negative). */
+/* REQ-MET-001 */
 static void test_rfe_metric_series_never_converges(void **state)
 {
     const double t[] = {0.0, 1.0, 2.0};
@@ -164,6 +168,7 @@ static void test_rfe_metric_series_never_converges(void **state)
 }
 
 /* Within tolerance from the first sample: converged at once (0 s). */
+/* REQ-MET-001 */
 static void test_rfe_metric_series_converged_from_start(void **state)
 {
     const double t[] = {0.0, 1.0, 2.0};
@@ -177,6 +182,7 @@ static void test_rfe_metric_series_converged_from_start(void **state)
 }
 
 /* A log shorter than settle_start has no settled sample: statistics NaN, count 0. */
+/* REQ-MET-001 */
 static void test_rfe_metric_series_no_settled_samples(void **state)
 {
     const double t[] = {0.0, 0.5};
@@ -193,6 +199,7 @@ static void test_rfe_metric_series_no_settled_samples(void **state)
 }
 
 /* A NaN estimate must not disappear: RMSE and max become NaN, and it never converges. */
+/* REQ-MET-001 */
 static void test_rfe_metric_series_nan_estimate(void **state)
 {
     const double t[] = {0.0, 1.0, 2.0};
@@ -208,6 +215,7 @@ static void test_rfe_metric_series_nan_estimate(void **state)
 }
 
 /* Truth <= 0 has no relative error: skipped, NaN when nothing is left. */
+/* REQ-MET-001 */
 static void test_rfe_metric_series_zero_truth_no_relative_error(void **state)
 {
     const double t[] = {1.0, 2.0};
@@ -223,6 +231,7 @@ static void test_rfe_metric_series_zero_truth_no_relative_error(void **state)
     assert_true(isnan(m.max_rel));
 }
 
+/* REQ-MET-001 */
 static void test_rfe_metric_series_rejects_empty_and_null(void **state)
 {
     const double x[] = {0.0};
@@ -267,6 +276,7 @@ static void test_rfe_metric_series_rejects_empty_and_null(void **state)
  *   k4: 0.01 <= 0.008 no -> 1/3. The unsettled k = 0, 1 do not count.
  *   With consistency_k = 3: k2: 0.02 <= 0.015 no; k3 yes; k4: 0.01 <= 0.012 yes -> 2/3.
  */
+/* REQ-MET-001 */
 static void test_rfe_metric_series_valid_and_consistency(void **state)
 {
     const double t[] = {0.0, 0.5, 1.0, 1.5, 2.0};
@@ -300,6 +310,7 @@ static void test_rfe_metric_series_valid_and_consistency(void **state)
  * consistency (k = 2): 0.25 <= 0.25 yes (the bound is inclusive); 0 <= 0 yes; NaN sd no;
  *   0.125 <= 0.125 yes -> 3/4. No valid sample: n_valid 0, frac_valid 0, rmse_valid NaN.
  */
+/* REQ-MET-001 */
 static void test_rfe_metric_series_consistency_bound_and_no_valid(void **state)
 {
     const double t[] = {0.0, 1.0, 2.0, 3.0};
@@ -321,6 +332,7 @@ static void test_rfe_metric_series_consistency_bound_and_no_valid(void **state)
 }
 
 /* No settled sample: the shares are undefined (NaN), not 0. */
+/* REQ-MET-001 */
 static void test_rfe_metric_series_no_settled_shares_nan(void **state)
 {
     const double t[] = {0.0, 0.5};
@@ -351,6 +363,7 @@ static void test_rfe_metric_series_no_settled_shares_nan(void **state)
  * Variant: est[8] = 0.36 (error .06): segment 1 ends outside -> it never re-converges:
  *   n_reconverged 1, reconverge NaN (the max is undefined); t_converge still 0.25 s.
  */
+/* REQ-MET-001 */
 static void test_rfe_metric_series_reconverge_two_changes(void **state)
 {
     double t[13];
@@ -384,6 +397,7 @@ static void test_rfe_metric_series_reconverge_two_changes(void **state)
  *   truth : 0.4  0.4  0.6  0.6  0.6
  *   est   : 0.4  0.4  0.6  0.59 0.61   errors 0 0 0 -0.01 0.01
  */
+/* REQ-MET-001 */
 static void test_rfe_metric_series_reconverge_at_once_never_and_no_change(void **state)
 {
     const double t[] = {0.0, 1.0, 2.0, 3.0, 4.0};
@@ -422,6 +436,7 @@ static void test_rfe_metric_series_reconverge_at_once_never_and_no_change(void *
  * With excite_util = 0.95 nothing is excited: n_excited 0, both figures NaN.
  * Without util columns the figures are not defined: has_util 0.
  */
+/* REQ-MET-001 */
 static void test_rfe_metric_series_excited(void **state)
 {
     const double t[] = {0.0, 1.0, 2.0, 3.0, 4.0};
@@ -453,6 +468,7 @@ static void test_rfe_metric_series_excited(void **state)
 }
 
 /* Excited samples before settling do not count (the figures are over settled samples). */
+/* REQ-MET-001 */
 static void test_rfe_metric_series_excited_only_settled(void **state)
 {
     const double t[] = {0.0, 0.5, 1.0};
@@ -488,6 +504,7 @@ static void test_rfe_metric_series_excited_only_settled(void **state)
  *   0.025/0.5) = 0.05; converge from k = 3: last outside k = 3, so t[4] - t[3] = 0.5 s.
  * fr: error 0 everywhere: RMSE 0, settled k = 2..5 (4 samples, no change on fr), converge 0.
  */
+/* REQ-MET-001 */
 static void test_rfe_metrics_compute_wheels_and_mean(void **state)
 {
     const double t[6] = {0.0, 0.5, 1.0, 1.5, 2.0, 2.5};
@@ -554,6 +571,7 @@ static void test_rfe_metrics_compute_wheels_and_mean(void **state)
  *   rmse_excited_valid = 0.
  *   excite_util = 0.45: rr's 0.49 counts, mean excited k = 0, 1, 3 (fl invalid at 3) -> 1/3.
  */
+/* REQ-MET-001 */
 static void test_rfe_metrics_compute_mean_valid_consistency_excited(void **state)
 {
     const double t[4] = {0.0, 1.0, 2.0, 3.0};
@@ -631,6 +649,7 @@ static void test_rfe_metrics_compute_mean_valid_consistency_excited(void **state
  *   outside at k = 3 -> t[4] - t[2] = 2 s; the mean's segment 2..3 ends outside -> never:
  *   n_reconverged 1 of 2, reconverge NaN.
  */
+/* REQ-MET-001 */
 static void test_rfe_metrics_compute_mean_reconverge_any_wheel_change(void **state)
 {
     const double t[6] = {0.0, 1.0, 2.0, 3.0, 4.0, 5.0};
@@ -674,6 +693,7 @@ static void test_rfe_metrics_compute_mean_reconverge_any_wheel_change(void **sta
     assert_true(isnan(m.mean.reconverge));
 }
 
+/* REQ-MET-001 */
 static void test_rfe_metrics_compute_rejects_bad_input(void **state)
 {
     const double x[1] = {0.0};
@@ -729,6 +749,7 @@ static char *render(const rfe_metrics_t *m, int json)
 
 /* JSON: numbers where defined, null for NaN, "never" and absent util. Table: "n/a",
  * "never", "-" (no change). */
+/* REQ-MET-002 */
 static void test_rfe_metrics_write_json_and_table(void **state)
 {
     const double t[3] = {0.0, 1.0, 2.0};
@@ -785,6 +806,7 @@ static void test_rfe_metrics_write_json_and_table(void **state)
 
 /* With util: JSON has numbers for the excitation keys, the table the exc_val column. A
  * change that never re-converges prints "never" in reconv. */
+/* REQ-MET-002 */
 static void test_rfe_metrics_write_json_and_table_with_util(void **state)
 {
     const double t[3] = {0.0, 1.0, 2.0};

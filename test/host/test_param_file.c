@@ -41,6 +41,7 @@ static void paper_set(rfe_param_set_t *ps)
     assert_int_equal(rfe_param_set_preset_f64(ps, RFE_PRESET_PAPER), 0);
 }
 
+/* REQ-PARF-001 REQ-PARAMS-001 */
 static void test_rfe_param_set_paper_values(void **state)
 {
     rfe_param_set_t ps;
@@ -68,6 +69,7 @@ static void test_rfe_param_set_paper_values(void **state)
     assert_null(ps.origin[RFE_PK_m].file);
 }
 
+/* REQ-PARF-001 */
 static void test_rfe_param_find_every_table_key(void **state)
 {
     size_t k;
@@ -87,6 +89,7 @@ static void test_rfe_param_find_every_table_key(void **state)
     assert_null(rfe_param_info(RFE_PK_NONE));
 }
 
+/* REQ-PARF-001 */
 static void test_rfe_param_set_apply_file_valid(void **state)
 {
     rfe_param_set_t ps;
@@ -106,6 +109,7 @@ static void test_rfe_param_set_apply_file_valid(void **state)
     assert_null(ps.origin[RFE_PK_Lr].file);
 }
 
+/* REQ-PARF-003 */
 static void test_rfe_param_set_apply_file_unknown_key(void **state)
 {
     rfe_param_set_t ps;
@@ -119,6 +123,7 @@ static void test_rfe_param_set_apply_file_unknown_key(void **state)
     assert_non_null(strstr(err.msg, "unknown parameter key 'mass'"));
 }
 
+/* REQ-PARF-003 */
 static void test_rfe_param_set_apply_file_case_typo_hint(void **state)
 {
     rfe_param_set_t ps;
@@ -131,6 +136,7 @@ static void test_rfe_param_set_apply_file_case_typo_hint(void **state)
     assert_non_null(strstr(err.msg, "did you mean 'Lf'?"));
 }
 
+/* REQ-PARF-003 */
 static void test_rfe_param_set_apply_file_bad_number_position(void **state)
 {
     rfe_param_set_t ps;
@@ -144,6 +150,7 @@ static void test_rfe_param_set_apply_file_bad_number_position(void **state)
     assert_non_null(strstr(err.msg, "'1,65'"));
 }
 
+/* REQ-PARF-003 */
 static void test_rfe_param_set_apply_file_missing_equals(void **state)
 {
     rfe_param_set_t ps;
@@ -156,6 +163,7 @@ static void test_rfe_param_set_apply_file_missing_equals(void **state)
     assert_non_null(strstr(err.msg, "expected 'key = value'"));
 }
 
+/* REQ-PARF-003 */
 static void test_rfe_param_set_apply_file_missing_key(void **state)
 {
     rfe_param_set_t ps;
@@ -168,6 +176,7 @@ static void test_rfe_param_set_apply_file_missing_key(void **state)
     assert_non_null(strstr(err.msg, "missing key"));
 }
 
+/* REQ-PARF-003 */
 static void test_rfe_param_set_apply_file_duplicate_key(void **state)
 {
     rfe_param_set_t ps;
@@ -179,6 +188,7 @@ static void test_rfe_param_set_apply_file_duplicate_key(void **state)
     assert_non_null(strstr(err.msg, "'m' given twice (first at line 1)"));
 }
 
+/* REQ-PARF-003 */
 static void test_rfe_param_set_apply_file_nan_value(void **state)
 {
     rfe_param_set_t ps;
@@ -192,6 +202,7 @@ static void test_rfe_param_set_apply_file_nan_value(void **state)
     assert_true(ps.value[RFE_PK_q_mu] == 0.003); /* unchanged */
 }
 
+/* REQ-PARF-003 */
 static void test_rfe_param_set_apply_file_empty_value(void **state)
 {
     rfe_param_set_t ps;
@@ -203,6 +214,7 @@ static void test_rfe_param_set_apply_file_empty_value(void **state)
     assert_non_null(strstr(err.msg, "empty field"));
 }
 
+/* REQ-PARF-003 */
 static void test_rfe_param_set_apply_file_bad_word(void **state)
 {
     rfe_param_set_t ps;
@@ -216,6 +228,7 @@ static void test_rfe_param_set_apply_file_bad_word(void **state)
     assert_int_equal(ps.tyre, RFE_TYRE_PAPER);
 }
 
+/* REQ-PARF-003 */
 static void test_rfe_param_set_apply_file_nonexistent(void **state)
 {
     rfe_param_set_t ps;
@@ -227,6 +240,7 @@ static void test_rfe_param_set_apply_file_nonexistent(void **state)
     assert_non_null(strstr(err.msg, "cannot open"));
 }
 
+/* REQ-PARF-003 */
 static void test_rfe_param_set_apply_file_directory_is_read_error(void **state)
 {
     rfe_param_set_t ps;
@@ -238,6 +252,7 @@ static void test_rfe_param_set_apply_file_directory_is_read_error(void **state)
     assert_non_null(strstr(err.msg, "read error"));
 }
 
+/* REQ-PARF-003 */
 static void test_rfe_param_set_apply_stream_nul_byte(void **state)
 {
     static const char text[] = "m = 1\nLf = 1\0.2\n";
@@ -255,6 +270,7 @@ static void test_rfe_param_set_apply_stream_nul_byte(void **state)
     assert_non_null(strstr(err.msg, "NUL"));
 }
 
+/* REQ-PARF-002 */
 static void test_rfe_param_set_apply_meta_known_keys_only(void **state)
 {
     rfe_sensor_log_t log;
@@ -272,6 +288,7 @@ static void test_rfe_param_set_apply_meta_known_keys_only(void **state)
     rfe_sensor_log_free(&log);
 }
 
+/* REQ-PARF-002 REQ-PARF-003 */
 static void test_rfe_param_set_apply_meta_malformed_known_key(void **state)
 {
     rfe_sensor_log_t log;
@@ -288,6 +305,7 @@ static void test_rfe_param_set_apply_meta_malformed_known_key(void **state)
     rfe_sensor_log_free(&log);
 }
 
+/* REQ-PARF-002 */
 static void test_rfe_param_set_precedence_file_over_metadata(void **state)
 {
     rfe_sensor_log_t log;
@@ -305,6 +323,7 @@ static void test_rfe_param_set_precedence_file_over_metadata(void **state)
     rfe_sensor_log_free(&log);
 }
 
+/* REQ-PARF-001 */
 static void test_rfe_param_format_numbers_and_words(void **state)
 {
     rfe_param_set_t ps;
@@ -322,6 +341,7 @@ static void test_rfe_param_format_numbers_and_words(void **state)
     assert_string_equal(buf, "wheels");
 }
 
+/* REQ-PARF-003 */
 static void test_rfe_param_set_text_rejects_out_of_range_key(void **state)
 {
     rfe_param_set_t ps;
@@ -336,6 +356,7 @@ static void test_rfe_param_set_text_rejects_out_of_range_key(void **state)
     assert_int_equal(ps.structure, RFE_STRUCT_SIDES);
 }
 
+/* REQ-PARF-001 */
 static void test_rfe_enum_words_round_trip(void **state)
 {
     rfe_tyre_mode_t t = RFE_TYRE_PAPER;
@@ -350,6 +371,7 @@ static void test_rfe_enum_words_round_trip(void **state)
     assert_string_equal(rfe_tyre_mode_str((rfe_tyre_mode_t)7), "?");
 }
 
+/* REQ-PARF-001 */
 static void test_rfe_structure_words_round_trip(void **state)
 {
     rfe_structure_t s = RFE_STRUCT_WHEELS;
@@ -365,6 +387,7 @@ static void test_rfe_structure_words_round_trip(void **state)
     assert_string_equal(rfe_structure_str((rfe_structure_t)7), "?");
 }
 
+/* REQ-PARF-001 */
 static void test_rfe_preset_words_round_trip(void **state)
 {
     rfe_preset_t p = RFE_PRESET_DEFAULT;
@@ -382,6 +405,7 @@ static void test_rfe_preset_words_round_trip(void **state)
 }
 
 /* "preset" is a command-line choice, not a parameter key: unknown in a parameter file. */
+/* REQ-PARF-003 */
 static void test_rfe_param_set_apply_file_preset_is_not_a_key(void **state)
 {
     rfe_param_set_t ps;

@@ -55,6 +55,7 @@ static size_t count_sum(const rfe_replay_stats_t *s)
 
 /* Each preset name maps to its library function (a swap would show here even while the
  * two presets have equal values). */
+/* REQ-CLI-002 */
 static void test_rfe_replay_preset_fn_maps_to_library(void **state)
 {
     (void)state;
@@ -90,6 +91,7 @@ static void check_set_equals_library(rfe_preset_t preset, rfe_status_t (*lib)(rf
     }
 }
 
+/* REQ-CLI-002 REQ-PARAMS-001 */
 static void test_rfe_param_set_preset_values_are_the_library_s(void **state)
 {
     (void)state;
@@ -98,6 +100,7 @@ static void test_rfe_param_set_preset_values_are_the_library_s(void **state)
 }
 
 /* rfe_param_set_default (inline; double here) is the default preset. */
+/* REQ-CLI-002 */
 static void test_rfe_param_set_default_is_default_preset(void **state)
 {
     rfe_param_set_t a;
@@ -111,6 +114,7 @@ static void test_rfe_param_set_default_is_default_preset(void **state)
     assert_memory_equal(&a, &b, sizeof a);
 }
 
+/* REQ-CLI-002 */
 static void test_rfe_param_set_preset_rejects_null_and_unknown(void **state)
 {
     rfe_param_set_t ps;
@@ -156,6 +160,7 @@ static void check_replay_equals_library(rfe_preset_t preset, rfe_status_t (*lib)
     }
 }
 
+/* REQ-CLI-002 REQ-CLI-003 */
 static void test_rfe_replay_run_presets_as_library(void **state)
 {
     rfe_sensor_log_t log;
@@ -167,6 +172,7 @@ static void test_rfe_replay_run_presets_as_library(void **state)
 }
 
 /* A set whose preset is not an rfe_preset_t: init refused, no key blamed. */
+/* REQ-CLI-002 */
 static void test_rfe_replay_run_unknown_preset(void **state)
 {
     rfe_sensor_log_t log;
@@ -184,6 +190,7 @@ static void test_rfe_replay_run_unknown_preset(void **state)
     assert_int_equal(st.n_steps, 0);
 }
 
+/* REQ-CLI-003 */
 static void test_rfe_replay_run_file_every_row(void **state)
 {
     rfe_sensor_log_t log;
@@ -207,6 +214,7 @@ static void test_rfe_replay_run_file_every_row(void **state)
     rfe_sensor_log_free(&log);
 }
 
+/* REQ-CLI-003 */
 static void test_rfe_replay_run_rejected_row_logged_and_run_continues(void **state)
 {
     rfe_sensor_log_t log;
@@ -230,6 +238,7 @@ static void test_rfe_replay_run_rejected_row_logged_and_run_continues(void **sta
     assert_int_equal(count_sum(&st), N_ROWS);
 }
 
+/* REQ-CLI-003 */
 static void test_rfe_replay_run_both_filters_and_tyres(void **state)
 {
     rfe_sensor_log_t log;
@@ -247,6 +256,7 @@ static void test_rfe_replay_run_both_filters_and_tyres(void **state)
     assert_int_equal(st.n_steps, N_ROWS);
 }
 
+/* REQ-CLI-004 */
 static void test_rfe_replay_run_invalid_key_diagnosed(void **state)
 {
     rfe_sensor_log_t log;
@@ -264,6 +274,7 @@ static void test_rfe_replay_run_invalid_key_diagnosed(void **state)
     assert_int_equal(st.n_steps, 0);
 }
 
+/* REQ-CLI-004 */
 static void test_rfe_replay_run_invalid_combination_not_blamed_on_one_key(void **state)
 {
     rfe_sensor_log_t log;
@@ -284,6 +295,7 @@ static void test_rfe_replay_run_invalid_combination_not_blamed_on_one_key(void *
 
 /* The CKF runs only the paper subset: asking for it on the default preset (or adding one of
  * docs/ESTIMATOR.md's additions to the paper preset) is blamed on the filter key. */
+/* REQ-CLI-004 */
 static void test_rfe_replay_run_ckf_outside_paper_subset_blames_filter(void **state)
 {
     rfe_sensor_log_t log;
@@ -318,6 +330,7 @@ static void test_rfe_replay_run_ckf_outside_paper_subset_blames_filter(void **st
     assert_int_equal(bad, RFE_PK_STRUCTURE);
 }
 
+/* REQ-CLI-003 */
 static void test_rfe_replay_run_null_arguments(void **state)
 {
     rfe_sensor_log_t log;
@@ -332,6 +345,7 @@ static void test_rfe_replay_run_null_arguments(void **state)
     assert_int_equal(rfe_replay_run_f64(&ps, &log, NULL, &st, NULL), RFE_ERR_NULL);
 }
 
+/* REQ-CLI-003 */
 static void test_rfe_replay_status_slot_bounds(void **state)
 {
     (void)state;
