@@ -43,6 +43,10 @@ ARCH=(-mcpu=cortex-m0plus -mthumb -mfloat-abi=soft)
 WARN=(-std=c99 -pedantic -Wall -Wextra -Wconversion -Wsign-conversion -Wshadow
       -Wdouble-promotion -Wcast-qual -Wstrict-prototypes -Wundef -Werror)
 OPTS=(-Os -ffunction-sections -fdata-sections)
+# Freestanding for real: only GCC's own headers (stdint.h, stddef.h, limits.h, ...), never a
+# C library's, even where newlib is installed (make deps-firmware installs it): the
+# fixed-point sources must not need libc/libm headers at all.
+FREESTANDING=(-ffreestanding -nostdinc -isystem "$("$CC" -print-file-name=include 2>/dev/null)")
 # Functions GCC may call on its own (block copies, zeroing) and requires of a freestanding
 # environment (GCC manual, "Standards"); float-free, so allowed to stay unresolved.
 ALLOWED_UNRESOLVED=" memcpy memmove memset memcmp "
@@ -140,7 +144,7 @@ check_set() {
         log="$out/$base.log"
         rm -f "$obj"
         # 1. compile
-        if ! "$CC" "${ARCH[@]}" "${WARN[@]}" "${OPTS[@]}" -I"$ROOT/include" -c "$f" -o "$obj" \
+        if ! "$CC" "${ARCH[@]}" "${WARN[@]}" "${OPTS[@]}" "${FREESTANDING[@]}" -I"$ROOT/include" -c "$f" -o "$obj" \
                 >"$log" 2>&1; then
             compiled_all=0
             msg=$(grep -m1 -E '(fatal )?error:' "$log" || head -n1 "$log")

@@ -1,6 +1,5 @@
-/* Must be rejected: including <math.h>. The Cortex-M0+ build is freestanding (no libc
- * headers), so this does not compile; were newlib's headers installed, the floor() call
- * would be caught as a libm function instead. */
+/* Must be rejected: including <math.h>. The Cortex-M0+ build is freestanding (-nostdinc:
+ * only GCC's own headers, even where newlib is installed), so this does not compile. */
 #include <math.h>
 
 #include "nofloat_fixture.h"
