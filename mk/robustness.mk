@@ -98,7 +98,7 @@ fault-scenarios: venv
 # is one program linking the float, double and q31 libraries (test/soak/soak_run.c twice,
 # test/soak/soak_run_q31.c).
 SOAK_SECONDS       ?= 3600
-SOAK_SHORT_SECONDS ?= 120
+SOAK_SHORT_SECONDS ?= 300
 SOAK_SEED          ?= 1
 SOAK_JOBS          ?= $(shell nproc 2>/dev/null || echo 1)
 $(BUILD)/soak/drive_%s.csv: scripts/soak_drive.py $(wildcard scripts/sim/*.py) | venv
