@@ -129,11 +129,11 @@ firmware-check: $(FW_LIBS) $(FW_EXAMPLE_ELFS)
 # ---- processor in the loop ---------------------------------------------------------------
 # PIL_LOG is the benchmark's log (mk/bench.mk), so the Cortex-M column there and the host
 # figures describe the same drive. PIL_CONFIGS: <golden tag>:<pil_gen / mu_replay options>:
-# <steps whose instructions are counted> (the first ones of the log; the default
-# configuration's fixed-point step is ~10x the paper's, so fewer of them keep make pil within
-# about two minutes). PIL_COUNT_STEPS=N counts N steps in every configuration instead.
+# <steps whose instructions are counted> (the first ones of the log; QEMU's execution log
+# grows with the count, so 100 steps each keep make pil well under a minute).
+# PIL_COUNT_STEPS=N counts N steps in every configuration instead.
 PIL_LOG         ?= scenarios/brake_in_turn.csv
-PIL_CONFIGS     ?= paper.sckf:--preset,paper,--filter,sckf:100 default.sckf:--preset,default:20
+PIL_CONFIGS     ?= paper.sckf:--preset,paper,--filter,sckf:100 default.sckf:--preset,default:100
 PIL_COUNT_STEPS ?= 0
 # <core>-<variant>:<QEMU machine>
 PIL_RUNS        := m4f-f32:mps2-an386 m4f-q31:mps2-an386 m3-q31:mps2-an385 m0p-q31:microbit

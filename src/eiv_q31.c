@@ -16,7 +16,10 @@
 #include "rfe/meas_q31.h"
 #include "rfe/qr_q31.h"
 
+#include "eiv_internal_q31.h"
 #include "internal_q31.h"
+#include "meas_internal_q31.h"
+#include "tyre_internal_q31.h"
 
 #define CW ((size_t)RFE_MEAS + (size_t)RFE_EIV_Q31_INPUTS) /* widest [S_R0, g_1 .. g_8] */
 
@@ -136,16 +139,186 @@ static rfe_status_t eiv_input_columns(const rfe_params_q31_t *p, const rfe_sampl
     return RFE_OK;
 }
 
+/* ---- absolute tyre mode: only the wheels an input reaches are evaluated again -------------
+ * h(mu, u) is the exact sum of four per-wheel columns (meas_internal_q31.h), each a function
+ * of that wheel's kinematics, its load and cos/sin of delta. The loads depend on ax, ay only
+ * (never perturbed); delta reaches the front wheels' kinematics and columns, vx, vy and r
+ * every wheel, omega_i only wheel i's kappa. A perturbed h therefore takes the nominal
+ * column (and saturation count) of every other wheel: the same integers as a full
+ * evaluation, so the same sums and counts. */
+
+/* The nominal columns of the four wheels and each one's saturation count (its kinematics'
+ * from the set-up, its forces' and entries'). */
+typedef struct {
+    rfe_fix_t col[RFE_MEAS_Q31_COLS];
+    uint32_t cnt[RFE_WHEELS];
+} eiv_cols_t;
+
+static void eiv_nominal_columns(const rfe_params_q31_t *p, const rfe_meas_q31_t *h,
+                                const rfe_fix_t *mu, eiv_cols_t *nom)
+{
+    size_t i;
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        nom->cnt[i] = h->sat_vwx[i] + h->sat_fz[i];
+        rfe_meas_wheel_column_q31(&p->vehicle, &h->pre[i], mu[i], h->kin.fz[i], h->cos_delta,
+                                  h->sin_delta, i, &nom->col[i * (size_t)RFE_MEAS],
+                                  &nom->cnt[i]);
+    }
+}
+
+/* 1 when input j (0 delta, 1 vx, 2 vy, 3 r, 4.. omega_fl..rr) reaches wheel i: delta the
+ * front wheels, vx, vy and r every wheel, omega_i wheel i. */
+static int eiv_reaches(size_t j, size_t i)
+{
+    return (((j == 0u) && (i < (size_t)RFE_RL)) || ((j >= 1u) && (j <= 3u)) ||
+            ((j >= 4u) && ((j - 4u) == i)))
+               ? 1
+               : 0;
+}
+
+/* Column of wheel i (reached by input j) for the perturbed sample up; c, s: cos/sin of
+ * up->delta. Its saturation count into *cnt. */
+static void eiv_wheel_column(const rfe_params_q31_t *p, const rfe_meas_q31_t *h,
+                             const rfe_sample_q31_t *up, size_t j, size_t i, int32_t c,
+                             int32_t s, rfe_fix_t mu, rfe_fix_t col[RFE_MEAS], uint32_t *cnt)
+{
+    rfe_dugoff_pre_q31_t pre;
+    *cnt = h->sat_fz[i];
+    if (j >= 4u) {
+        /* a wheel speed: kappa changes; vwx, alpha and so tan alpha are the nominal ones */
+        const rfe_fix_t kappa = rfe_tyre_wheel_kappa_q31(&p->vehicle, &p->tyre, up, c, s, i);
+        *cnt += h->sat_vwx[i];
+        rfe_tyre_dugoff_pre_tan_q31(&p->tyre, kappa, h->pre[i].tan_a, h->kin.vwx[i], &pre);
+    } else {
+        rfe_fix_t vwx = 0;
+        rfe_fix_t alpha = 0;
+        rfe_fix_t kappa = 0;
+        rfe_tyre_wheel_kin_q31(&p->vehicle, &p->tyre, up, c, s, i, &vwx, &alpha, &kappa, cnt);
+        rfe_tyre_dugoff_pre_q31(&p->tyre, kappa, alpha, vwx, &pre);
+    }
+    rfe_meas_wheel_column_q31(&p->vehicle, &pre, mu, h->kin.fz[i], c, s, i, col, cnt);
+}
+
+/* z = h(mu, up) (Q24) for the sample u with input j perturbed (up), from the nominal
+ * columns of the wheels j does not reach. */
+static void eiv_h_perturbed(const rfe_params_q31_t *p, const rfe_meas_q31_t *h,
+                            const rfe_sample_q31_t *up, size_t j, const rfe_fix_t *mu,
+                            const eiv_cols_t *nom, rfe_fix_t z[RFE_MEAS], uint32_t *count)
+{
+    rfe_fix_t col[RFE_MEAS_Q31_COLS];
+    int32_t c = h->cos_delta;
+    int32_t s = h->sin_delta;
+    size_t i;
+    size_t r;
+    if (j == 0u) {
+        const rfe_status_t st = rfe_fix_sincos(up->delta, &s, &c); /* every angle: no error */
+        (void)st;
+    }
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        rfe_fix_t *ci = &col[i * (size_t)RFE_MEAS];
+        uint32_t cnt = nom->cnt[i];
+        if (eiv_reaches(j, i) != 0) {
+            eiv_wheel_column(p, h, up, j, i, c, s, mu[i], ci, &cnt);
+        } else {
+            for (r = 0u; r < (size_t)RFE_MEAS; ++r) {
+                ci[r] = nom->col[(i * (size_t)RFE_MEAS) + r];
+            }
+        }
+        rfe_q31_sat_add(count, cnt);
+    }
+    rfe_meas_sum_columns_q31(col, z, count);
+}
+
+/* eiv_input_columns for a model set up in absolute mode: the same columns. */
+static void eiv_input_columns_abs(const rfe_params_q31_t *p, const rfe_meas_q31_t *h,
+                                  const rfe_sample_q31_t *u, const rfe_fix_t *mu,
+                                  const eiv_cols_t *nom, rfe_fix_t *A, size_t *cols,
+                                  uint32_t *count)
+{
+    size_t i;
+    size_t j;
+    for (j = 0u; j < (size_t)RFE_EIV_Q31_INPUTS; ++j) {
+        const rfe_fix_t sd = eiv_input_sd(&p->filter, j);
+        rfe_sample_q31_t up = *u;
+        rfe_sample_q31_t um = *u;
+        rfe_fix_t zp[RFE_MEAS];
+        rfe_fix_t zm[RFE_MEAS];
+        if (sd <= 0) {
+            continue;
+        }
+        *eiv_input_slot(&up, j) = rfe_fix_add(*eiv_input_slot(&up, j), sd, count);
+        *eiv_input_slot(&um, j) = rfe_fix_sub(*eiv_input_slot(&um, j), sd, count);
+        eiv_h_perturbed(p, h, &up, j, mu, nom, zp, count);
+        eiv_h_perturbed(p, h, &um, j, mu, nom, zm, count);
+        for (i = 0u; i < (size_t)RFE_MEAS; ++i) {
+            /* the exact difference (< 2^32) halved, rounded half up: fits the int32 range */
+            A[(i * CW) + *cols] = rfe_fix_narrow((int64_t)zp[i] - (int64_t)zm[i], 1u, count);
+        }
+        ++(*cols);
+    }
+}
+
+/* [S_R0, g_1 ..] into A (row stride CW), *cols its columns: absolute mode from the set-up h
+ * (nominal columns reused), paper mode by full evaluations. */
+static rfe_status_t eiv_fill(const rfe_params_q31_t *p, const rfe_meas_q31_t *h,
+                             const rfe_sample_q31_t *u, const rfe_fix_t *mu, rfe_fix_t *A,
+                             size_t *cols, uint32_t *count)
+{
+    rfe_fix_t h0[RFE_MEAS];
+    rfe_status_t st = RFE_OK;
+    if (h->mode == RFE_TYRE_ABSOLUTE) {
+        eiv_cols_t nom;
+        size_t i;
+        eiv_nominal_columns(p, h, mu, &nom);
+        for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+            rfe_q31_sat_add(count, nom.cnt[i]);
+        }
+        rfe_meas_sum_columns_q31(nom.col, h0, count);
+        eiv_sensor_block(&p->filter, h0, A, count);
+        eiv_input_columns_abs(p, h, u, mu, &nom, A, cols, count);
+    } else {
+        st = eiv_h_at(p, u, mu, h0, count);
+        if (st == RFE_OK) {
+            eiv_sensor_block(&p->filter, h0, A, count);
+            st = eiv_input_columns(p, u, mu, A, cols, count);
+        }
+    }
+    return st;
+}
+
+rfe_status_t rfe_eiv_sqrt_noise_core_q31(const rfe_params_q31_t *p, const rfe_meas_q31_t *h,
+                                         const rfe_sample_q31_t *u,
+                                         const rfe_fix_t mu[RFE_WHEELS],
+                                         rfe_fix_t SR[RFE_MEAS * RFE_MEAS], uint32_t *sat)
+{
+    rfe_fix_t A[(size_t)RFE_MEAS * CW];
+    size_t cols = (size_t)RFE_MEAS;
+    uint32_t count = 0u;
+    rfe_status_t st;
+
+    st = eiv_fill(p, h, u, mu, A, &cols, &count);
+    if (st == RFE_OK) {
+        st = rfe_qr_tria_q31(A, (size_t)RFE_MEAS, cols, CW, &count);
+    }
+    if (st == RFE_OK) {
+        size_t i;
+        size_t j;
+        for (i = 0u; i < (size_t)RFE_MEAS; ++i) {
+            for (j = 0u; j < (size_t)RFE_MEAS; ++j) {
+                SR[(i * (size_t)RFE_MEAS) + j] = (j <= i) ? A[(i * CW) + j] : 0;
+            }
+        }
+        rfe_q31_sat_add(sat, count);
+    }
+    return st;
+}
+
 rfe_status_t rfe_eiv_sqrt_noise_q31(const rfe_params_q31_t *p, const rfe_sample_q31_t *u,
                                     const rfe_fix_t mu[RFE_WHEELS],
                                     rfe_fix_t SR[RFE_MEAS * RFE_MEAS], uint32_t *sat)
 {
-    rfe_fix_t A[(size_t)RFE_MEAS * CW];
-    rfe_fix_t h0[RFE_MEAS];
-    size_t cols = (size_t)RFE_MEAS;
-    uint32_t count = 0u;
-    size_t i;
-    size_t j;
+    rfe_meas_q31_t h;
+    uint32_t scratch = 0u; /* the set-up's counts enter through h (its per-wheel counts) */
     rfe_status_t st;
 
     if ((p == NULL) || (u == NULL) || (mu == NULL) || (SR == NULL) || (sat == NULL)) {
@@ -154,22 +327,9 @@ rfe_status_t rfe_eiv_sqrt_noise_q31(const rfe_params_q31_t *p, const rfe_sample_
     if (rfe_params_validate_q31(p) != RFE_OK) {
         return RFE_ERR_PARAM;
     }
-    st = eiv_h_at(p, u, mu, h0, &count);
-    if (st == RFE_OK) {
-        eiv_sensor_block(&p->filter, h0, A, &count);
-        st = eiv_input_columns(p, u, mu, A, &cols, &count);
-    }
-    if (st == RFE_OK) {
-        st = rfe_qr_tria_q31(A, (size_t)RFE_MEAS, cols, CW, &count);
-    }
+    st = rfe_meas_setup_q31(&h, &p->vehicle, &p->tyre, u, &scratch);
     if (st != RFE_OK) {
         return st;
     }
-    for (i = 0u; i < (size_t)RFE_MEAS; ++i) {
-        for (j = 0u; j < (size_t)RFE_MEAS; ++j) {
-            SR[(i * (size_t)RFE_MEAS) + j] = (j <= i) ? A[(i * CW) + j] : 0;
-        }
-    }
-    rfe_q31_sat_add(sat, count);
-    return RFE_OK;
+    return rfe_eiv_sqrt_noise_core_q31(p, &h, u, mu, SR, sat);
 }

@@ -9,6 +9,7 @@
 #include "rfe/chol.h"
 #include "rfe/eiv.h"
 
+#include "eiv_internal.h"
 #include "internal.h"
 
 #define NM ((size_t)RFE_N_MAX)
@@ -227,7 +228,8 @@ static rfe_status_t sckf_measurement(rfe_estimator_t *est, const rfe_sample_t *u
     if (eiv_active(fp) != 0) {
         rfe_real_t mu[RFE_WHEELS];
         to_wheels(est, f->x, mu); /* T x- */
-        st = RFE_FN(rfe_eiv_sqrt_noise)(&est->params, u, mu, SR);
+        /* the internal entry: params validated at init, est->meas set up from u just now */
+        st = RFE_FN(rfe_eiv_sqrt_noise_core)(&est->params, &est->meas, u, mu, SR);
         sr = SR;
     }
     if (st == RFE_OK) {

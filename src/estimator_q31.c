@@ -26,6 +26,7 @@
 #include "rfe/eiv_q31.h"
 #include "rfe/fxmath.h"
 
+#include "eiv_internal_q31.h"
 #include "internal_q31.h"
 
 #define NM ((size_t)RFE_N_MAX)
@@ -328,7 +329,8 @@ static rfe_status_t est_sckf_measurement(rfe_estimator_q31_t *est, const rfe_sam
     if (est_eiv_active(fp) != 0) {
         rfe_fix_t mu[RFE_WHEELS];
         est_to_wheels(est, f->x, mu); /* T x- */
-        st = rfe_eiv_sqrt_noise_q31(&est->params, u, mu, SR, &est->step_sat);
+        /* the internal entry: params validated at init, est->meas set up from u just now */
+        st = rfe_eiv_sqrt_noise_core_q31(&est->params, &est->meas, u, mu, SR, &est->step_sat);
         sr = SR;
     }
     if (st == RFE_OK) {

@@ -13,18 +13,50 @@ static uint64_t mag32(rfe_fix_t v)
     return (v < 0) ? (uint64_t)(-(int64_t)v) : (uint64_t)v;
 }
 
-/* floor(sqrt(x)) and the remainder x - root^2 (<= 2 root), digit by digit: two bits of x per
- * step, 32 steps at most, additions and shifts only. At the step with b = 4^k, r holds the
- * root's bits above bit k, floor(sqrt(x)) >> (k + 1), times 4^(k+1); that is below 2^63
- * (k <= 30; r = 0 at k = 31), so r + b < 2^63 + 2^60 never overflows. */
-static uint64_t isqrt_rem(uint64_t x, uint64_t *rem)
+/* The bit length of m: the smallest len with m < 2^len (0 for m = 0), by halving. */
+static unsigned int bitlen64(uint64_t m)
 {
-    uint64_t r = 0u;
-    uint64_t rm = x;
-    uint64_t b = (uint64_t)1 << 62;
+    uint64_t v = m;
+    unsigned int len = 0u;
+    if ((v >> 32) != 0u) {
+        v >>= 32;
+        len += 32u;
+    }
+    if ((v >> 16) != 0u) {
+        v >>= 16;
+        len += 16u;
+    }
+    if ((v >> 8) != 0u) {
+        v >>= 8;
+        len += 8u;
+    }
+    if ((v >> 4) != 0u) {
+        v >>= 4;
+        len += 4u;
+    }
+    if ((v >> 2) != 0u) {
+        v >>= 2;
+        len += 2u;
+    }
+    if ((v >> 1) != 0u) {
+        v >>= 1;
+        len += 1u;
+    }
+    return len + (unsigned int)v; /* v is now 0 (m = 0) or 1 */
+}
 
-    while (b > x) {
-        b >>= 2;
+/* floor(sqrt(y)) of a 32-bit value and the remainder y - root^2, digit by digit in 32-bit
+ * arithmetic: two bits of y per step from b, the largest power of 4 not above y, 16 steps at
+ * most, additions and shifts only. At the step with b = 4^k, r holds the root's bits above
+ * bit k, floor(sqrt(y)) >> (k + 1), times 4^(k+1); that is below 2^31, so r + b < 2^32. */
+static uint32_t isqrt32_rem(uint32_t y, uint32_t *rem)
+{
+    uint32_t r = 0u;
+    uint32_t rm = y;
+    uint32_t b = 0u;
+
+    if (y != 0u) {
+        b = (uint32_t)1 << ((bitlen64(y) - 1u) & ~1u);
     }
     while (b != 0u) {
         if (rm >= (r + b)) {
@@ -36,6 +68,41 @@ static uint64_t isqrt_rem(uint64_t x, uint64_t *rem)
         b >>= 2;
     }
     *rem = rm;
+    return r;
+}
+
+/* floor(sqrt(x)) and the remainder x - root^2 (<= 2 root) of any uint64. Below 2^32: the
+ * 32-bit digit-by-digit root. Above: with y = floor(x / 2^sh) < 2^32 (sh even, so y keeps 31
+ * or 32 bits), r = (floor(sqrt(y)) + 1) 2^(sh/2) > sqrt(x) (<= 2^32), then integer Newton
+ * steps r <- floor((r + floor(x / r)) / 2). Each step gives floor((r + x/r) / 2) >=
+ * floor(sqrt(x)) (AM-GM), strictly below r while r^2 > x, so the first r with r^2 <= x is
+ * floor(sqrt(x)) exactly (two steps from the 16-bit start, typically). r + x/r <= 2^33 (x/r
+ * <= sqrt(x) < 2^32), and r^2 is formed only for r < 2^32. */
+static uint64_t isqrt_rem(uint64_t x, uint64_t *rem)
+{
+    uint64_t r;
+
+    if ((x >> 32) == 0u) {
+        uint32_t rm32 = 0u;
+        r = isqrt32_rem((uint32_t)x, &rm32);
+        *rem = rm32;
+    } else {
+        const unsigned int sh = (bitlen64(x) - 31u) & ~1u;
+        const unsigned int half = sh / 2u;
+        const uint32_t y = (uint32_t)(x >> sh);
+        uint32_t rm32 = 0u;
+        uint64_t r0;
+        int done = 0;
+        r0 = isqrt32_rem(y, &rm32);
+        r = (r0 + 1u) << half;
+        while (done == 0) {
+            r = (r + (x / r)) >> 1;
+            if (((r >> 32) == 0u) && ((r * r) <= x)) {
+                done = 1;
+            }
+        }
+        *rem = x - (r * r);
+    }
     return r;
 }
 
@@ -51,32 +118,74 @@ static uint64_t sqrt_round(uint64_t n)
     return r;
 }
 
-/* round(n * 2^e / d) for d in [1, 2^63], to nearest with ties up (on the magnitude, i.e.
- * away from zero). Long division gives q2 = floor(n * 2^(e+1) / d): the integer part, then
- * e + 1 quotient bits, the remainder staying below d so that 2 * rem < 2^64; the result is
- * (q2 + 1) >> 1 = floor(n * 2^e / d + 1/2). It exceeds INT32_MAX exactly when
- * q2 >= 2^32 - 1; a partial quotient only grows, so the division stops (returning 1, *q
- * unset) as soon as one reaches that, which also keeps every partial quotient below 2^33. */
-static int div_round_mag(uint64_t n, uint64_t d, unsigned int e, uint64_t *q)
+
+/* 2^32 - 1: a doubled quotient from here on rounds beyond INT32_MAX. */
+#define LIM2 ((((uint64_t)1) << 32) - 1u)
+
+/* The smaller of a and b. */
+static unsigned int min_u(unsigned int a, unsigned int b)
 {
-    const uint64_t lim2 = ((uint64_t)1 << 32) - 1u;
+    return (a < b) ? a : b;
+}
+
+/* floor(n 2^bits / d) for d in [1, 2^63], or a value >= LIM2 when that is >= LIM2 = 2^32 - 1:
+ * long division, the integer part, then the quotient bits, the remainder staying below d; a
+ * partial quotient only grows, so the division stops as soon as one reaches LIM2 (which also
+ * keeps every partial quotient below 2^33). With room = 64 - bitlen(d - 1) >= 8 (d <= 2^56)
+ * the bits are produced k at a time by one integer division each (rem < d, so rem 2^k <
+ * 2^64 for k <= room; a partial quotient below 2^32 shifted by k <= 31 plus the new k bits
+ * stays below 2^63), else one by one (shifts and subtractions): both give exactly
+ * floor(n 2^i / d) for the bits i consumed so far. */
+static uint64_t div_bits(uint64_t n, uint64_t d, unsigned int bits)
+{
     uint64_t quo = n / d;
     uint64_t rem = n % d;
-    unsigned int i = 0u;
+    unsigned int left = bits;
 
-    while ((quo < lim2) && (i <= e)) {
-        quo <<= 1;
-        rem <<= 1;
-        if (rem >= d) {
-            rem -= d;
-            quo += 1u;
+    if (d <= ((uint64_t)1 << 56)) {
+        /* bitlen(d - 1) <= 56: room >= 8 */
+        const unsigned int room = 64u - bitlen64(d - 1u);
+        const unsigned int step = min_u(room, 31u);
+        while ((quo < LIM2) && (left > 0u)) {
+            const unsigned int k = min_u(left, step);
+            const uint64_t x = rem << k;
+            quo = (quo << k) + (x / d);
+            rem = x % d;
+            left -= k;
         }
-        ++i;
+    } else {
+        while ((quo < LIM2) && (left > 0u)) {
+            quo <<= 1;
+            rem <<= 1;
+            if (rem >= d) {
+                rem -= d;
+                quo += 1u;
+            }
+            --left;
+        }
     }
-    if (quo >= lim2) {
+    return quo;
+}
+
+/* round(n * 2^e / d) for d in [1, 2^63], to nearest with ties up (on the magnitude, i.e.
+ * away from zero): with q2 = floor(n * 2^(e+1) / d), the result is
+ * (q2 + 1) >> 1 = floor(n * 2^e / d + 1/2). It exceeds INT32_MAX exactly when
+ * q2 >= 2^32 - 1 (returns 1, *q unset). When n, d < 2^32 and e + 1 <= 32, n 2^(e+1) < 2^64
+ * and q2 is one integer division (the common case: int32 operands); else div_bits. */
+static int div_round_mag(uint64_t n, uint64_t d, unsigned int e, uint64_t *q)
+{
+    const unsigned int e1 = e + 1u;
+    uint64_t q2;
+
+    if (((n >> 32) == 0u) && ((d >> 32) == 0u) && (e1 <= 32u)) {
+        q2 = (n << e1) / d;
+    } else {
+        q2 = div_bits(n, d, e1);
+    }
+    if (q2 >= LIM2) {
         return 1;
     }
-    *q = (quo + 1u) >> 1;
+    *q = (q2 + 1u) >> 1;
     return 0;
 }
 
@@ -228,6 +337,16 @@ static const int64_t cordic_atan_q61[CORDIC_N] = {
 #define PI_Q61 UINT64_C(7244019458077122842)
 #define HALF_PI_Q61 UINT64_C(3622009729038561421)
 
+/* floor(a / 2^s) for 1 <= s <= 63, given o = 2^(63 - s): rfe_fix_shr64_floor's offset-binary
+ * shift, floor(a / 2^s) = ((a + 2^63) >> s) - (2^63 >> s), without its range checks and with
+ * 2^63 >> s carried by the CORDIC loops (halved each iteration). */
+static int64_t floor_shr_o(int64_t a, unsigned int s, uint64_t o)
+{
+    const uint64_t off = (uint64_t)1 << 63;
+    const uint64_t u = ((uint64_t)a + off) >> s; /* < 2^63: converts exactly */
+    return (int64_t)u - (int64_t)o;
+}
+
 /* Vectoring mode: the angle atan(y / x) in Q61 of a first-quadrant vector x >= 0, y >= 0,
  * max(x, y) in [2^59, 2^60). |(x, y)| grows by K < 1.65 at most, so |x|, |y| < 2^62.
  * x stays positive; y changes sign and is shifted with the defined floor shift. */
@@ -236,11 +355,12 @@ static uint64_t cordic_vector(int64_t x0, int64_t y0)
     int64_t x = x0;
     int64_t y = y0;
     int64_t z = 0;
+    uint64_t o = (uint64_t)1 << 63; /* 2^63 >> i */
     unsigned int i;
 
     for (i = 0u; (i < CORDIC_N) && (y != 0); ++i) {
-        const int64_t xs = rfe_fix_shr64_floor(x, i);
-        const int64_t ys = rfe_fix_shr64_floor(y, i);
+        const int64_t xs = (i == 0u) ? x : floor_shr_o(x, i, o);
+        const int64_t ys = (i == 0u) ? y : floor_shr_o(y, i, o);
         if (y > 0) {
             x += ys;
             y -= xs;
@@ -250,6 +370,7 @@ static uint64_t cordic_vector(int64_t x0, int64_t y0)
             y += xs;
             z -= cordic_atan_q61[i];
         }
+        o >>= 1;
     }
     /* From a first-quadrant start z stays within [-2^-39, pi/2 + 2^-39] rad. */
     return (z > 0) ? (uint64_t)z : 0u;
@@ -262,11 +383,12 @@ static void cordic_rotate(int64_t z0, int64_t *c, int64_t *s)
     int64_t x = CORDIC_INV_K_Q61;
     int64_t y = 0;
     int64_t z = z0;
+    uint64_t o = (uint64_t)1 << 63; /* 2^63 >> i */
     unsigned int i;
 
     for (i = 0u; i < CORDIC_N; ++i) {
-        const int64_t xs = rfe_fix_shr64_floor(x, i);
-        const int64_t ys = rfe_fix_shr64_floor(y, i);
+        const int64_t xs = (i == 0u) ? x : floor_shr_o(x, i, o);
+        const int64_t ys = (i == 0u) ? y : floor_shr_o(y, i, o);
         if (z >= 0) {
             x -= ys;
             y += xs;
@@ -276,6 +398,7 @@ static void cordic_rotate(int64_t z0, int64_t *c, int64_t *s)
             y -= xs;
             z += cordic_atan_q61[i];
         }
+        o >>= 1;
     }
     *c = x;
     *s = y;
@@ -304,7 +427,7 @@ rfe_status_t rfe_fix_atan2(rfe_fix_t y, rfe_fix_t x, rfe_fix_t *angle)
     uint64_t th;
     uint64_t xn;
     uint64_t yn;
-    unsigned int len = 0u;
+    unsigned int len;
     unsigned int sh;
 
     if (angle == NULL) {
@@ -318,9 +441,7 @@ rfe_status_t rfe_fix_atan2(rfe_fix_t y, rfe_fix_t x, rfe_fix_t *angle)
     }
     /* Exact normalisation: scale both by 2^sh so that max(|x|, |y|) lies in [2^59, 2^60). */
     big = (ax > ay) ? ax : ay;
-    while ((big >> len) != 0u) {
-        ++len;
-    }
+    len = bitlen64(big);
     sh = 60u - len; /* len <= 32 */
     xn = ax << sh;
     yn = ay << sh;

@@ -69,6 +69,39 @@ static inline uint64_t rfe_q31_mag64(int64_t v)
     return (v < 0) ? (uint64_t)(-v) : (uint64_t)v;
 }
 
+/** The bit length of m: the smallest len with m < 2^len (0 for m = 0), by halving the
+ *  search range (six tests instead of one shift per bit). */
+static inline unsigned int rfe_q31_bitlen64(uint64_t m)
+{
+    uint64_t v = m;
+    unsigned int len = 0u;
+    if ((v >> 32) != 0u) {
+        v >>= 32;
+        len += 32u;
+    }
+    if ((v >> 16) != 0u) {
+        v >>= 16;
+        len += 16u;
+    }
+    if ((v >> 8) != 0u) {
+        v >>= 8;
+        len += 8u;
+    }
+    if ((v >> 4) != 0u) {
+        v >>= 4;
+        len += 4u;
+    }
+    if ((v >> 2) != 0u) {
+        v >>= 2;
+        len += 2u;
+    }
+    if ((v >> 1) != 0u) {
+        v >>= 1;
+        len += 1u;
+    }
+    return len + (unsigned int)v; /* v is now 0 (m = 0) or 1 */
+}
+
 /**
  * The smallest right shift s that brings a magnitude m below 2^bits: m < 2^(bits + s). A value
  * with magnitude <= m rounded by that shift (half up) then has magnitude <= 2^bits, and keeps
@@ -76,11 +109,8 @@ static inline uint64_t rfe_q31_mag64(int64_t v)
  */
 static inline unsigned int rfe_q31_norm_shift(uint64_t m, unsigned int bits)
 {
-    unsigned int len = 0u;
+    const unsigned int len = rfe_q31_bitlen64(m);
     unsigned int s = 0u;
-    while ((m >> len) != 0u) {
-        ++len;
-    }
     if (len > bits) {
         s = len - bits;
     }

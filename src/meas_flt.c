@@ -7,6 +7,34 @@
 #include "rfe/obsmat.h"
 
 #include "internal.h"
+#include "meas_internal.h"
+#include "tyre_internal.h"
+
+/* Absolute mode: cos, sin of delta and each wheel's friction-independent Dugoff terms
+ * (paper mode, which uses neither: zeros), and the tyre parameters they belong to. */
+static void setup_pre(rfe_meas_t *h, const rfe_tyre_params_t *tp)
+{
+    size_t i;
+    h->cos_delta = RFE_R(0.0);
+    h->sin_delta = RFE_R(0.0);
+    if (tp->mode == RFE_TYRE_ABSOLUTE) {
+        h->cos_delta = RFE_COS(h->delta);
+        h->sin_delta = RFE_SIN(h->delta);
+    }
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        const rfe_dugoff_pre_t zero = {RFE_R(0.0), RFE_R(0.0), RFE_R(0.0), RFE_R(0.0),
+                                       RFE_R(0.0)};
+        h->pre[i] = zero;
+        if (tp->mode == RFE_TYRE_ABSOLUTE) {
+            RFE_FN(rfe_tyre_dugoff_pre)(tp, h->kin.kappa[i], h->kin.alpha[i], h->kin.vwx[i],
+                                        &h->pre[i]);
+        }
+    }
+    h->pre_cx = tp->cx;
+    h->pre_cy = tp->cy;
+    h->pre_eps = tp->eps;
+    h->pre_alpha_max = tp->alpha_max;
+}
 
 rfe_status_t RFE_FN(rfe_meas_setup)(rfe_meas_t *h, const rfe_vehicle_t *veh,
                                     const rfe_tyre_params_t *tp, const rfe_sample_t *u)
@@ -37,6 +65,7 @@ rfe_status_t RFE_FN(rfe_meas_setup)(rfe_meas_t *h, const rfe_vehicle_t *veh,
     for (i = 0u; i < RFE_H_SIZE; ++i) {
         h->H[i] = H[i];
     }
+    setup_pre(h, tp);
     return RFE_OK;
 }
 
@@ -61,37 +90,113 @@ static rfe_status_t apply_paper(const rfe_real_t H[RFE_H_SIZE], const rfe_real_t
     return RFE_OK;
 }
 
+/* Wheel i's terms of z (the entries rfe_obsmat_build would put in its column): body-axis
+ * force over m and yaw moment over J, (px, py) its position. */
+static void wheel_terms(const rfe_vehicle_t *veh, rfe_real_t c, rfe_real_t s, size_t i,
+                        rfe_real_t px, rfe_real_t py, rfe_real_t fx, rfe_real_t fy,
+                        rfe_real_t t[RFE_MEAS])
+{
+    /* Front wheels are rotated by delta into body axes, rear wheels are not. */
+    const rfe_real_t ci = (i < (size_t)RFE_RL) ? c : RFE_R(1.0);
+    const rfe_real_t si = (i < (size_t)RFE_RL) ? s : RFE_R(0.0);
+    const rfe_real_t fbx = (fx * ci) - (fy * si);
+    const rfe_real_t fby = (fx * si) + (fy * ci);
+    t[0] = fbx / veh->m;
+    t[1] = fby / veh->m;
+    t[2] = ((px * fby) - (py * fbx)) / veh->J;
+}
+
+void RFE_FN(rfe_meas_wheel_terms)(const rfe_vehicle_t *veh, rfe_real_t c, rfe_real_t s, size_t i,
+                                  rfe_real_t fx, rfe_real_t fy, rfe_real_t t[RFE_MEAS])
+{
+    rfe_real_t px[RFE_WHEELS];
+    rfe_real_t py[RFE_WHEELS];
+    rfe_wheel_positions(veh, px, py);
+    wheel_terms(veh, c, s, i, px[i], py[i], fx, fy, t);
+}
+
+rfe_status_t RFE_FN(rfe_meas_sum_terms)(const rfe_real_t t[RFE_MEAS_COLS],
+                                        rfe_real_t z[RFE_MEAS])
+{
+    rfe_real_t zt[RFE_MEAS] = {RFE_R(0.0), RFE_R(0.0), RFE_R(0.0)};
+    size_t i;
+    size_t r;
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        for (r = 0u; r < (size_t)RFE_MEAS; ++r) {
+            zt[r] += t[(i * (size_t)RFE_MEAS) + r];
+        }
+    }
+    if (!rfe_all_finite(zt, RFE_MEAS)) {
+        return RFE_ERR_NONFINITE;
+    }
+    for (r = 0u; r < (size_t)RFE_MEAS; ++r) {
+        z[r] = zt[r];
+    }
+    return RFE_OK;
+}
+
 /* Absolute mode: z_r = sum_i H_r,i(F(mu_i)), the entries rfe_obsmat_build would put in
  * column i (body-axis force over m, yaw moment over J) summed in wheel order, which is
  * rfe_obsmat_apply(H, ones) bit for bit, without building and re-checking a matrix at every
  * cubature point. z is written only when finite. */
-static rfe_status_t body_sums(const rfe_vehicle_t *veh, rfe_real_t delta,
+static rfe_status_t body_sums(const rfe_vehicle_t *veh, const rfe_meas_t *h,
                               const rfe_real_t fx[RFE_WHEELS], const rfe_real_t fy[RFE_WHEELS],
                               rfe_real_t z[RFE_MEAS])
 {
     rfe_real_t px[RFE_WHEELS];
     rfe_real_t py[RFE_WHEELS];
-    rfe_real_t zt[RFE_MEAS] = {RFE_R(0.0), RFE_R(0.0), RFE_R(0.0)};
-    const rfe_real_t c = RFE_COS(delta);
-    const rfe_real_t s = RFE_SIN(delta);
+    rfe_real_t t[RFE_MEAS_COLS];
     size_t i;
 
     rfe_wheel_positions(veh, px, py);
     for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
-        /* Front wheels are rotated by delta into body axes, rear wheels are not. */
-        const rfe_real_t ci = (i < (size_t)RFE_RL) ? c : RFE_R(1.0);
-        const rfe_real_t si = (i < (size_t)RFE_RL) ? s : RFE_R(0.0);
-        const rfe_real_t fbx = (fx[i] * ci) - (fy[i] * si);
-        const rfe_real_t fby = (fx[i] * si) + (fy[i] * ci);
-        zt[0] += fbx / veh->m;
-        zt[1] += fby / veh->m;
-        zt[2] += ((px[i] * fby) - (py[i] * fbx)) / veh->J;
+        /* cos, sin of h->delta, from the set-up */
+        wheel_terms(veh, h->cos_delta, h->sin_delta, i, px[i], py[i], fx[i], fy[i],
+                    &t[i * (size_t)RFE_MEAS]);
     }
-    if (!rfe_all_finite(zt, RFE_MEAS)) {
-        return RFE_ERR_NONFINITE;
+    return RFE_FN(rfe_meas_sum_terms)(t, z);
+}
+
+/* 1 when pre was computed with these tyre parameters (a NaN parameter never matches). */
+static int pre_matches(const rfe_meas_t *h, const rfe_tyre_params_t *tp)
+{
+    return ((h->pre_cx == tp->cx) && (h->pre_cy == tp->cy) && (h->pre_eps == tp->eps) &&
+            (h->pre_alpha_max == tp->alpha_max))
+               ? 1
+               : 0;
+}
+
+/* rfe_tyre_forces_abs(tp, &h->kin, mu, fx, fy) with the set-up's friction-independent
+ * terms (recomputed when tp is not the set-up's tyre): the same checks in the same order,
+ * the same forces. */
+static rfe_status_t forces_abs(const rfe_meas_t *h, const rfe_tyre_params_t *tp,
+                               const rfe_real_t mu[RFE_WHEELS], rfe_real_t fx[RFE_WHEELS],
+                               rfe_real_t fy[RFE_WHEELS])
+{
+    const int cached = pre_matches(h, tp);
+    rfe_real_t tx[RFE_WHEELS];
+    rfe_real_t ty[RFE_WHEELS];
+    size_t i;
+
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        rfe_dugoff_pre_t fresh;
+        const rfe_dugoff_pre_t *pre = &h->pre[i];
+        rfe_status_t st;
+        if (cached == 0) {
+            RFE_FN(rfe_tyre_dugoff_pre)(tp, h->kin.kappa[i], h->kin.alpha[i], h->kin.vwx[i],
+                                        &fresh);
+            pre = &fresh;
+        }
+        st = RFE_FN(rfe_tyre_dugoff_abs_pre)(tp, pre, h->kin.kappa[i], h->kin.alpha[i],
+                                             h->kin.fz[i], h->kin.vwx[i], mu[i], &tx[i],
+                                             &ty[i]);
+        if (st != RFE_OK) {
+            return st;
+        }
     }
-    for (i = 0u; i < (size_t)RFE_MEAS; ++i) {
-        z[i] = zt[i];
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        fx[i] = tx[i];
+        fy[i] = ty[i];
     }
     return RFE_OK;
 }
@@ -112,9 +217,9 @@ rfe_status_t RFE_FN(rfe_meas_eval)(const rfe_meas_t *h, const rfe_vehicle_t *veh
     }
     /* Absolute mode: forces at this mu (nonlinear in mu), then the same geometry as H's
      * columns: z_r = sum_i H_r,i(F(mu_i)) (MODEL.md §4-5). */
-    st = RFE_FN(rfe_tyre_forces_abs)(tp, &h->kin, mu, fx, fy);
+    st = forces_abs(h, tp, mu, fx, fy);
     if (st == RFE_OK) {
-        st = body_sums(veh, h->delta, fx, fy, z);
+        st = body_sums(veh, h, fx, fy, z);
     }
     return st;
 }

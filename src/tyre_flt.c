@@ -5,6 +5,7 @@
 #include "rfe/tyre.h"
 
 #include "internal.h"
+#include "tyre_internal.h"
 
 /* Quasi-static loads (MODEL.md §3), clamped at >= 0; ay > 0 unloads the left wheels. */
 static void vertical_loads(const rfe_vehicle_t *veh, rfe_real_t ax, rfe_real_t ay,
@@ -22,6 +23,37 @@ static void vertical_loads(const rfe_vehicle_t *veh, rfe_real_t ax, rfe_real_t a
     fz[RFE_FR] = rfe_max(front_static - pitch + roll_f, RFE_R(0.0));
     fz[RFE_RL] = rfe_max(rear_static + pitch - roll_r, RFE_R(0.0));
     fz[RFE_RR] = rfe_max(rear_static + pitch + roll_r, RFE_R(0.0));
+}
+
+/* kappa = (omega R - v_wx) / max(|omega R|, |v_wx|, v_min), clipped to [-1, 1]. */
+static inline rfe_real_t wheel_kappa(const rfe_vehicle_t *veh, const rfe_tyre_params_t *tp,
+                                     rfe_real_t omega, rfe_real_t vwx)
+{
+    const rfe_real_t vr = omega * veh->R;
+    const rfe_real_t den = rfe_max(rfe_max(RFE_FABS(vr), RFE_FABS(vwx)), tp->v_min);
+    return rfe_clamp((vr - vwx) / den, RFE_R(-1.0), RFE_R(1.0));
+}
+
+/* Wheel i at position (px, py) of sample u, c, s = cos, sin of u->delta: vwx, alpha, kappa. */
+static inline void wheel_kin(const rfe_vehicle_t *veh, const rfe_tyre_params_t *tp,
+                             const rfe_sample_t *u, rfe_real_t c, rfe_real_t s, size_t i,
+                             rfe_real_t px, rfe_real_t py, rfe_real_t *vwx_out,
+                             rfe_real_t *alpha_out, rfe_real_t *kappa_out)
+{
+    /* Only the front wheels steer. */
+    const rfe_real_t ci = (i < (size_t)RFE_RL) ? c : RFE_R(1.0);
+    const rfe_real_t si = (i < (size_t)RFE_RL) ? s : RFE_R(0.0);
+    /* v_i = (vx - r y_i, vy + r x_i), rotated into wheel axes. */
+    const rfe_real_t vbx = u->vx - (u->yaw_rate * py);
+    const rfe_real_t vby = u->vy + (u->yaw_rate * px);
+    const rfe_real_t vwx = (vbx * ci) + (vby * si);
+    const rfe_real_t vwy = (-vbx * si) + (vby * ci);
+    /* alpha = -atan2(v_wy, |v_wx|), bounded so tan(alpha) stays finite. */
+    const rfe_real_t alpha = -RFE_ATAN2(vwy, RFE_FABS(vwx));
+
+    *vwx_out = vwx;
+    *alpha_out = rfe_clamp(alpha, -tp->alpha_max, tp->alpha_max);
+    *kappa_out = wheel_kappa(veh, tp, u->omega[i], vwx);
 }
 
 rfe_status_t RFE_FN(rfe_tyre_kinematics)(const rfe_vehicle_t *veh, const rfe_tyre_params_t *tp,
@@ -45,23 +77,8 @@ rfe_status_t RFE_FN(rfe_tyre_kinematics)(const rfe_vehicle_t *veh, const rfe_tyr
     c = RFE_COS(u->delta);
     s = RFE_SIN(u->delta);
     for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
-        /* Only the front wheels steer. */
-        const rfe_real_t ci = (i < (size_t)RFE_RL) ? c : RFE_R(1.0);
-        const rfe_real_t si = (i < (size_t)RFE_RL) ? s : RFE_R(0.0);
-        /* v_i = (vx - r y_i, vy + r x_i), rotated into wheel axes. */
-        const rfe_real_t vbx = u->vx - (u->yaw_rate * py[i]);
-        const rfe_real_t vby = u->vy + (u->yaw_rate * px[i]);
-        const rfe_real_t vwx = (vbx * ci) + (vby * si);
-        const rfe_real_t vwy = (-vbx * si) + (vby * ci);
-        /* alpha = -atan2(v_wy, |v_wx|), bounded so tan(alpha) stays finite. */
-        const rfe_real_t alpha = -RFE_ATAN2(vwy, RFE_FABS(vwx));
-        /* kappa = (omega R - v_wx) / max(|omega R|, |v_wx|, v_min), clipped to [-1, 1]. */
-        const rfe_real_t vr = u->omega[i] * veh->R;
-        const rfe_real_t den = rfe_max(rfe_max(RFE_FABS(vr), RFE_FABS(vwx)), tp->v_min);
-
-        kin->vwx[i] = vwx;
-        kin->alpha[i] = rfe_clamp(alpha, -tp->alpha_max, tp->alpha_max);
-        kin->kappa[i] = rfe_clamp((vr - vwx) / den, RFE_R(-1.0), RFE_R(1.0));
+        wheel_kin(veh, tp, u, c, s, i, px[i], py[i], &kin->vwx[i], &kin->alpha[i],
+                  &kin->kappa[i]);
     }
     vertical_loads(veh, u->ax, u->ay, kin->fz);
     return RFE_OK;
@@ -72,7 +89,46 @@ rfe_status_t RFE_FN(rfe_tyre_kinematics)(const rfe_vehicle_t *veh, const rfe_tyr
  *   S = 0        -> f = 1 and kappa = 0, so g = 1 (forces are 0 anyway);
  *   L < 1        -> g = mu_scale E (2 - L) / (2 S)   (finite as |kappa| -> 1);
  *   L >= 1       -> g = 1 / (1 - |kappa|)            (then 1 - |kappa| >= 2S/(mu_scale E) > 0).
- * mu_scale = 1 in paper mode, mu in absolute mode. */
+ * mu_scale = 1 in paper mode, mu in absolute mode. Split in two: dugoff_terms computes the
+ * terms that do not depend on mu_scale (kept in pre->k, tan_a, s, e, omk), dugoff_g the rest;
+ * together the same operations in the same order as one evaluation. */
+static void dugoff_terms(rfe_real_t kappa, rfe_real_t tan_a, rfe_real_t Cx, rfe_real_t Cy,
+                       rfe_real_t eps, rfe_real_t vwx, rfe_dugoff_pre_t *pre)
+{
+    const rfe_real_t ak = RFE_FABS(kappa);
+    const rfe_real_t S =
+        RFE_SQRT(((Cx * kappa) * (Cx * kappa)) + ((Cy * tan_a) * (Cy * tan_a)));
+    const rfe_real_t slip = RFE_SQRT((kappa * kappa) + (tan_a * tan_a));
+    /* E = 1 - eps |v_wx| sqrt(k^2 + tan^2 a), clamped at >= 0 (negative above ~67 m/s). */
+    pre->e = rfe_max(RFE_R(1.0) - ((eps * RFE_FABS(vwx)) * slip), RFE_R(0.0));
+    pre->k = kappa;
+    pre->tan_a = tan_a;
+    pre->s = S;
+    pre->omk = RFE_R(1.0) - ak;
+}
+
+static rfe_real_t dugoff_g(const rfe_dugoff_pre_t *pre, rfe_real_t mu_scale)
+{
+    const rfe_real_t S = pre->s;
+    const rfe_real_t E = pre->e;
+    rfe_real_t g;
+
+    if (S <= RFE_R(0.0)) {
+        g = RFE_R(1.0);
+    } else {
+        const rfe_real_t L = mu_scale * pre->omk * E / (RFE_R(2.0) * S);
+        if (L < RFE_R(1.0)) {
+            g = mu_scale * E * (RFE_R(2.0) - L) / (RFE_R(2.0) * S);
+        } else {
+            g = RFE_R(1.0) / pre->omk;
+        }
+    }
+    return g;
+}
+
+/* One evaluation of both parts, written out (the same operations in the same order as
+ * dugoff_terms then dugoff_g, without the struct in between: the public single-wheel
+ * functions and the paper mode's set-up keep their cost). */
 static rfe_real_t dugoff_factor(rfe_real_t kappa, rfe_real_t tan_a, rfe_real_t Cx, rfe_real_t Cy,
                                 rfe_real_t eps, rfe_real_t vwx, rfe_real_t mu_scale)
 {
@@ -80,7 +136,6 @@ static rfe_real_t dugoff_factor(rfe_real_t kappa, rfe_real_t tan_a, rfe_real_t C
     const rfe_real_t S =
         RFE_SQRT(((Cx * kappa) * (Cx * kappa)) + ((Cy * tan_a) * (Cy * tan_a)));
     const rfe_real_t slip = RFE_SQRT((kappa * kappa) + (tan_a * tan_a));
-    /* E = 1 - eps |v_wx| sqrt(k^2 + tan^2 a), clamped at >= 0 (negative above ~67 m/s). */
     const rfe_real_t E = rfe_max(RFE_R(1.0) - ((eps * RFE_FABS(vwx)) * slip), RFE_R(0.0));
     rfe_real_t g;
 
@@ -213,4 +268,59 @@ rfe_status_t RFE_FN(rfe_tyre_forces_abs)(const rfe_tyre_params_t *tp, const rfe_
         fy[i] = ty[i];
     }
     return RFE_OK;
+}
+
+/* ---- internal API (tyre_internal.h) ---------------------------------------------------- */
+
+void RFE_FN(rfe_tyre_dugoff_pre)(const rfe_tyre_params_t *tp, rfe_real_t kappa, rfe_real_t alpha,
+                                 rfe_real_t vwx, rfe_dugoff_pre_t *pre)
+{
+    const rfe_real_t k = rfe_clamp(kappa, RFE_R(-1.0), RFE_R(1.0));
+    const rfe_real_t ta = RFE_TAN(rfe_clamp(alpha, -tp->alpha_max, tp->alpha_max));
+    dugoff_terms(k, ta, tp->cx, tp->cy, tp->eps, vwx, pre);
+}
+
+rfe_status_t RFE_FN(rfe_tyre_dugoff_abs_pre)(const rfe_tyre_params_t *tp,
+                                             const rfe_dugoff_pre_t *pre, rfe_real_t kappa,
+                                             rfe_real_t alpha, rfe_real_t fz, rfe_real_t vwx,
+                                             rfe_real_t mu, rfe_real_t *fx, rfe_real_t *fy)
+{
+    rfe_real_t g;
+    const rfe_status_t st = check_wheel(tp, kappa, alpha, fz, vwx, fx, fy);
+
+    if (st != RFE_OK) {
+        return st;
+    }
+    if (!rfe_is_finite(mu)) {
+        return RFE_ERR_NONFINITE;
+    }
+    /* A cubature point may put mu below 0: evaluate it at mu = 0 (MODEL.md §4). */
+    g = dugoff_g(pre, rfe_max(mu, RFE_R(0.0)));
+    /* Fx = cx Fz k f(L)/(1-|k|), Fy = cy Fz tan(a) f(L)/(1-|k|), as rfe_tyre_dugoff_abs. */
+    *fx = fz * tp->cx * pre->k * g;
+    *fy = fz * tp->cy * pre->tan_a * g;
+    return RFE_OK;
+}
+
+void RFE_FN(rfe_tyre_wheel_kin)(const rfe_vehicle_t *veh, const rfe_tyre_params_t *tp,
+                                const rfe_sample_t *u, rfe_real_t c, rfe_real_t s, size_t i,
+                                rfe_real_t *vwx, rfe_real_t *alpha, rfe_real_t *kappa)
+{
+    rfe_real_t px[RFE_WHEELS];
+    rfe_real_t py[RFE_WHEELS];
+    rfe_wheel_positions(veh, px, py);
+    wheel_kin(veh, tp, u, c, s, i, px[i], py[i], vwx, alpha, kappa);
+}
+
+rfe_real_t RFE_FN(rfe_tyre_wheel_kappa)(const rfe_vehicle_t *veh, const rfe_tyre_params_t *tp,
+                                        rfe_real_t omega, rfe_real_t vwx)
+{
+    return wheel_kappa(veh, tp, omega, vwx);
+}
+
+void RFE_FN(rfe_tyre_dugoff_pre_tan)(const rfe_tyre_params_t *tp, rfe_real_t kappa,
+                                     rfe_real_t tan_a, rfe_real_t vwx, rfe_dugoff_pre_t *pre)
+{
+    const rfe_real_t k = rfe_clamp(kappa, RFE_R(-1.0), RFE_R(1.0));
+    dugoff_terms(k, tan_a, tp->cx, tp->cy, tp->eps, vwx, pre);
 }

@@ -19,6 +19,7 @@
 #include "rfe/fxmath.h"
 
 #include "internal_q31.h"
+#include "tyre_internal_q31.h"
 
 /* Internal velocity format: Q51, and the shift from the sample's speed format to it. */
 #define QV 51u
@@ -132,9 +133,10 @@ static int32_t long_slip(int32_t omega, int32_t R, int64_t vwx, int32_t v_min)
 /* Quasi-static loads (MODEL.md §3), clamped at >= 0, in int64 Q43:
  *   static: fz_static (Q15) 2^28, |.| < 2^59;
  *   pitch = k_pitch ax, roll = k_roll ay: Q20 x Q24 = Q44 (< 2^62), rounded to Q43 (< 2^61);
- * so every sum is below 2^59 + 2^62 < 2^63. One rounding to Q15, saturating (counted). */
+ * so every sum is below 2^59 + 2^62 < 2^63. One rounding to Q15, saturating (counted per
+ * wheel in cnt[i]). */
 static void vertical_loads_q31(const rfe_vehicle_q31_t *veh, int32_t ax, int32_t ay,
-                               int32_t fz[RFE_WHEELS], uint32_t *sat)
+                               int32_t fz[RFE_WHEELS], uint32_t cnt[RFE_WHEELS])
 {
     const int64_t fs_f = (int64_t)veh->fz_static_f * rfe_q31_pow2(28u);
     const int64_t fs_r = (int64_t)veh->fz_static_r * rfe_q31_pow2(28u);
@@ -150,61 +152,102 @@ static void vertical_loads_q31(const rfe_vehicle_q31_t *veh, int32_t ax, int32_t
     v[RFE_RL] = fs_r + pitch - roll_r;
     v[RFE_RR] = fs_r + pitch + roll_r;
     for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
-        fz[i] = rfe_fix_narrow((v[i] > 0) ? v[i] : 0, 28u, sat);
+        cnt[i] = 0u;
+        fz[i] = rfe_fix_narrow((v[i] > 0) ? v[i] : 0, 28u, &cnt[i]);
     }
+}
+
+/* Wheel i's centre velocity in wheel axes, int64 Q51 (c, s: cos and sin of delta, Q30; only
+ * the front wheels steer). Wheel positions (MODEL.md §1), Q29: front x = Lf, rear x = -Lr,
+ * left y = +B/2. */
+static void wheel_velocity(const rfe_vehicle_q31_t *veh, const rfe_sample_q31_t *u, int32_t c,
+                           int32_t s, size_t i, int64_t *vwx_out, int64_t *vwy_out)
+{
+    const int64_t px = (i < (size_t)RFE_RL) ? (int64_t)veh->Lf : -(int64_t)veh->Lr;
+    const int64_t y = (i < (size_t)RFE_RL) ? (int64_t)veh->yf : (int64_t)veh->yr;
+    const int64_t py = ((i == (size_t)RFE_FL) || (i == (size_t)RFE_RL)) ? y : -y;
+    const int32_t ci = (i < (size_t)RFE_RL) ? c : ONE_Q30;
+    const int32_t si = (i < (size_t)RFE_RL) ? s : 0;
+    /* v_i = (vx - r y_i, vy + r x_i) in Q51: |vx 2^28| <= 2^59, |r y| (Q56) <= 2^62
+     * becomes <= 2^57 in Q51, so |vb| < 2^59.4. */
+    const int64_t vbx = ((int64_t)u->vx * rfe_q31_pow2(QV_SPEED)) -
+                        rfe_fix_shr64_round((int64_t)u->yaw_rate * py, 5u);
+    const int64_t vby = ((int64_t)u->vy * rfe_q31_pow2(QV_SPEED)) +
+                        rfe_fix_shr64_round((int64_t)u->yaw_rate * px, 5u);
+    /* Rotated into wheel axes: |vb c|, |vb s| < 2^59.4 each (|c|, |s| <= 1), sums < 2^60.4. */
+    *vwx_out = rfe_q31_mul64x32(vbx, ci, 30u) + rfe_q31_mul64x32(vby, si, 30u);
+    *vwy_out = rfe_q31_mul64x32(vby, ci, 30u) - rfe_q31_mul64x32(vbx, si, 30u);
+}
+
+void rfe_tyre_wheel_kin_q31(const rfe_vehicle_q31_t *veh, const rfe_tyre_params_q31_t *tp,
+                            const rfe_sample_q31_t *u, int32_t c, int32_t s, size_t i,
+                            rfe_fix_t *vwx, rfe_fix_t *alpha, rfe_fix_t *kappa, uint32_t *sat)
+{
+    int64_t vx51 = 0;
+    int64_t vy51 = 0;
+    wheel_velocity(veh, u, c, s, i, &vx51, &vy51);
+    *vwx = rfe_fix_narrow(vx51, QV_SPEED, sat);
+    *alpha = slip_angle(vx51, vy51, tp->alpha_max);
+    *kappa = long_slip(u->omega[i], veh->R, vx51, tp->v_min);
+}
+
+rfe_fix_t rfe_tyre_wheel_kappa_q31(const rfe_vehicle_q31_t *veh, const rfe_tyre_params_q31_t *tp,
+                                   const rfe_sample_q31_t *u, int32_t c, int32_t s, size_t i)
+{
+    int64_t vx51 = 0;
+    int64_t vy51 = 0;
+    wheel_velocity(veh, u, c, s, i, &vx51, &vy51);
+    return long_slip(u->omega[i], veh->R, vx51, tp->v_min);
+}
+
+rfe_status_t rfe_tyre_kinematics_ex_q31(const rfe_vehicle_q31_t *veh,
+                                        const rfe_tyre_params_q31_t *tp,
+                                        const rfe_sample_q31_t *u, rfe_wheel_kin_q31_t *kin,
+                                        rfe_tyre_kin_extra_q31_t *extra)
+{
+    rfe_wheel_kin_q31_t out;
+    int32_t c = 0;
+    int32_t s = 0;
+    size_t i;
+
+    if ((tp->v_min <= 0) || !alpha_max_ok(tp)) {
+        return RFE_ERR_PARAM;
+    }
+    {
+        const rfe_status_t st = rfe_fix_sincos(u->delta, &s, &c); /* every angle: no error */
+        (void)st;
+    }
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        extra->sat_vwx[i] = 0u;
+        rfe_tyre_wheel_kin_q31(veh, tp, u, c, s, i, &out.vwx[i], &out.alpha[i], &out.kappa[i],
+                               &extra->sat_vwx[i]);
+    }
+    vertical_loads_q31(veh, u->ax, u->ay, out.fz, extra->sat_fz);
+    extra->cos_delta = c;
+    extra->sin_delta = s;
+    *kin = out;
+    return RFE_OK;
 }
 
 rfe_status_t rfe_tyre_kinematics_q31(const rfe_vehicle_q31_t *veh, const rfe_tyre_params_q31_t *tp,
                                      const rfe_sample_q31_t *u, rfe_wheel_kin_q31_t *kin,
                                      uint32_t *sat)
 {
-    rfe_wheel_kin_q31_t out;
+    rfe_tyre_kin_extra_q31_t extra;
     uint32_t count = 0u;
-    int64_t px[RFE_WHEELS];
-    int64_t py[RFE_WHEELS];
-    int32_t c = 0;
-    int32_t s = 0;
+    rfe_status_t st;
     size_t i;
 
     if ((veh == NULL) || (tp == NULL) || (u == NULL) || (kin == NULL) || (sat == NULL)) {
         return RFE_ERR_NULL;
     }
-    if ((tp->v_min <= 0) || !alpha_max_ok(tp)) {
-        return RFE_ERR_PARAM;
-    }
-    /* Wheel positions (MODEL.md §1), Q29: front x = Lf, rear x = -Lr, left y = +B/2. */
-    px[RFE_FL] = veh->Lf;
-    px[RFE_FR] = veh->Lf;
-    px[RFE_RL] = -(int64_t)veh->Lr;
-    px[RFE_RR] = -(int64_t)veh->Lr;
-    py[RFE_FL] = veh->yf;
-    py[RFE_FR] = -(int64_t)veh->yf;
-    py[RFE_RL] = veh->yr;
-    py[RFE_RR] = -(int64_t)veh->yr;
-    {
-        const rfe_status_t st = rfe_fix_sincos(u->delta, &s, &c); /* every angle: no error */
-        (void)st;
+    st = rfe_tyre_kinematics_ex_q31(veh, tp, u, kin, &extra);
+    if (st != RFE_OK) {
+        return st;
     }
     for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
-        /* Only the front wheels steer. */
-        const int32_t ci = (i < (size_t)RFE_RL) ? c : ONE_Q30;
-        const int32_t si = (i < (size_t)RFE_RL) ? s : 0;
-        /* v_i = (vx - r y_i, vy + r x_i) in Q51: |vx 2^28| <= 2^59, |r y| (Q56) <= 2^62
-         * becomes <= 2^57 in Q51, so |vb| < 2^59.4. */
-        const int64_t vbx = ((int64_t)u->vx * rfe_q31_pow2(QV_SPEED)) -
-                            rfe_fix_shr64_round((int64_t)u->yaw_rate * py[i], 5u);
-        const int64_t vby = ((int64_t)u->vy * rfe_q31_pow2(QV_SPEED)) +
-                            rfe_fix_shr64_round((int64_t)u->yaw_rate * px[i], 5u);
-        /* Rotated into wheel axes: |vb c|, |vb s| < 2^59.4 each (|c|, |s| <= 1), sums < 2^60.4. */
-        const int64_t vwx = rfe_q31_mul64x32(vbx, ci, 30u) + rfe_q31_mul64x32(vby, si, 30u);
-        const int64_t vwy = rfe_q31_mul64x32(vby, ci, 30u) - rfe_q31_mul64x32(vbx, si, 30u);
-
-        out.vwx[i] = rfe_fix_narrow(vwx, QV_SPEED, &count);
-        out.alpha[i] = slip_angle(vwx, vwy, tp->alpha_max);
-        out.kappa[i] = long_slip(u->omega[i], veh->R, vwx, tp->v_min);
+        count += extra.sat_vwx[i] + extra.sat_fz[i]; /* at most 2 each */
     }
-    vertical_loads_q31(veh, u->ax, u->ay, out.fz, &count);
-    *kin = out;
     rfe_q31_sat_add(sat, count);
     return RFE_OK;
 }
@@ -262,9 +305,14 @@ static int32_t dugoff_e(int32_t k, int32_t t, int32_t eps, int32_t vwx)
  * forces are the only values that can exceed their range (counted in *sat).
  * Inputs: k Q30 in [-1, 1], t = tan a Q26, C1, C2 Q24, eps Q32 >= 0, vwx Q23, mu Q29 >= 0,
  * fz Q15 >= 0.
+ *
+ * Split in two: dugoff_pre computes everything that does not depend on mu and fz (S, the
+ * direction cosines, E, 1 - |k|), dugoff_at_mu the rest, so that a caller evaluating one
+ * wheel at several mu (the cubature points) computes the first part once. Together they are
+ * the same operations in the same order as one evaluation.
  */
-static void dugoff_core(int32_t k, int32_t t, int32_t c1, int32_t c2, int32_t eps, int32_t vwx,
-                        int32_t mu, int32_t fz, int32_t *fx, int32_t *fy, uint32_t *sat)
+static void dugoff_pre(int32_t k, int32_t t, int32_t c1, int32_t c2, int32_t eps, int32_t vwx,
+                       rfe_dugoff_pre_q31_t *pre)
 {
     /* S: C1 k is Q54 (|.| <= 2^61), rounded to Q50; C2 tan a is Q50 (< 2^61). One common
      * shift brings both to <= 2^30 (S in Q(50 - sh), sh <= 31); the norm is exact. */
@@ -273,15 +321,35 @@ static void dugoff_core(int32_t k, int32_t t, int32_t c1, int32_t c2, int32_t ep
     const uint64_t ma = rfe_q31_mag64(a50);
     const uint64_t mb = rfe_q31_mag64(b50);
     const unsigned int sh = rfe_q31_norm_shift((ma > mb) ? ma : mb, 30u);
-    const unsigned int qs = 50u - sh;
     const int32_t ca = rfe_q31_shr_to32(a50, sh);
     const int32_t cb = rfe_q31_shr_to32(b50, sh);
     uint32_t scratch = 0u;
     const int32_t S = norm2(ca, cb, &scratch); /* <= 2^30.5: never saturates */
-    int32_t ux;
-    int32_t uy;
-    int32_t e30;
-    int32_t omk;
+
+    pre->tan_a = t;
+    pre->s = S;
+    pre->qs = 50u - sh;
+    pre->ux = 0;
+    pre->uy = 0;
+    pre->e = 0;
+    pre->omk = 0;
+    if (S != 0) {
+        /* |comp| <= S: the quotients are <= 2^30 in Q30 (no saturation). */
+        pre->ux = div_q(ca, S, 30, &scratch);
+        pre->uy = div_q(cb, S, 30, &scratch);
+        pre->e = dugoff_e(k, t, eps, vwx);
+        pre->omk = ONE_Q30 - ((k < 0) ? -k : k); /* 1 - |k| in [0, 1], Q30 */
+    }
+}
+
+static void dugoff_at_mu(const rfe_dugoff_pre_q31_t *pre, int32_t mu, int32_t fz, int32_t *fx,
+                         int32_t *fy, uint32_t *sat)
+{
+    const int32_t S = pre->s;
+    const unsigned int qs = (unsigned int)pre->qs;
+    const int32_t e30 = pre->e;
+    const int32_t omk = pre->omk;
+    uint32_t scratch = 0u;
     int32_t l30 = 0;
     int64_t w;
     bfp_t n1;
@@ -292,12 +360,6 @@ static void dugoff_core(int32_t k, int32_t t, int32_t c1, int32_t c2, int32_t ep
         *fy = 0;
         return;
     }
-    /* |comp| <= S: the quotients are <= 2^30 in Q30 (no saturation). */
-    ux = div_q(ca, S, 30, &scratch);
-    uy = div_q(cb, S, 30, &scratch);
-
-    e30 = dugoff_e(k, t, eps, vwx);
-    omk = ONE_Q30 - ((k < 0) ? -k : k); /* 1 - |k| in [0, 1], Q30 */
     /* N = mu (1 - |k|) E: Q29 x Q30 = Q59 (< 2^61) to 30 bits (Q >= 28), times E (Q30) to 30
      * bits again: Q(qn) in [28, 89]. */
     n1 = bfp_make((int64_t)mu * (int64_t)omk, 59u);
@@ -317,8 +379,17 @@ static void dugoff_core(int32_t k, int32_t t, int32_t c1, int32_t c2, int32_t ep
         w = rfe_q31_mul64x32((int64_t)mu * (int64_t)e30, (int64_t)RFE_FIX_MAX + 1 - l30, 61u);
     }
     /* F = Fz w u: (Fz w, Q44, < 2^62) u (Q30) / 2^59 -> Q15, one rounding; |F| < 2^33. */
-    *fx = rfe_fix_sat32(rfe_q31_mul64x32((int64_t)fz * w, ux, 59u), sat);
-    *fy = rfe_fix_sat32(rfe_q31_mul64x32((int64_t)fz * w, uy, 59u), sat);
+    *fx = rfe_fix_sat32(rfe_q31_mul64x32((int64_t)fz * w, pre->ux, 59u), sat);
+    *fy = rfe_fix_sat32(rfe_q31_mul64x32((int64_t)fz * w, pre->uy, 59u), sat);
+}
+
+/* One evaluation: both parts. */
+static void dugoff_core(int32_t k, int32_t t, int32_t c1, int32_t c2, int32_t eps, int32_t vwx,
+                        int32_t mu, int32_t fz, int32_t *fx, int32_t *fy, uint32_t *sat)
+{
+    rfe_dugoff_pre_q31_t pre;
+    dugoff_pre(k, t, c1, c2, eps, vwx, &pre);
+    dugoff_at_mu(&pre, mu, fz, fx, fy, sat);
 }
 
 /* Common checks of the single-wheel functions (the float check_wheel, plus the parameters). */
@@ -438,4 +509,34 @@ rfe_status_t rfe_tyre_forces_abs_q31(const rfe_tyre_params_q31_t *tp,
     }
     rfe_q31_sat_add(sat, count);
     return RFE_OK;
+}
+
+/* ---- internal API (tyre_internal_q31.h) ------------------------------------------------- */
+
+void rfe_tyre_dugoff_pre_q31(const rfe_tyre_params_q31_t *tp, rfe_fix_t kappa, rfe_fix_t alpha,
+                             rfe_fix_t vwx, rfe_dugoff_pre_q31_t *pre)
+{
+    int32_t k;
+    int32_t t;
+    slip_inputs(tp, kappa, alpha, &k, &t);
+    dugoff_pre(k, t, tp->cx, tp->cy, tp->eps, vwx, pre);
+}
+
+void rfe_tyre_dugoff_pre_tan_q31(const rfe_tyre_params_q31_t *tp, rfe_fix_t kappa,
+                                 rfe_fix_t tan_a, rfe_fix_t vwx, rfe_dugoff_pre_q31_t *pre)
+{
+    const int32_t k = rfe_fix_clamp(kappa, -ONE_Q30, ONE_Q30);
+    dugoff_pre(k, tan_a, tp->cx, tp->cy, tp->eps, vwx, pre);
+}
+
+void rfe_tyre_dugoff_mu_q31(const rfe_dugoff_pre_q31_t *pre, rfe_fix_t mu, rfe_fix_t fz,
+                            rfe_fix_t *fx, rfe_fix_t *fy, uint32_t *sat)
+{
+    /* A cubature point may put mu below 0: evaluate it at mu = 0 (MODEL.md §4). */
+    dugoff_at_mu(pre, (mu > 0) ? mu : 0, fz, fx, fy, sat);
+}
+
+int rfe_tyre_dugoff_params_ok_q31(const rfe_tyre_params_q31_t *tp)
+{
+    return (alpha_max_ok(tp) && (tp->eps >= 0)) ? 1 : 0;
 }

@@ -4,8 +4,9 @@
  *        (MODEL.md §3-5), predicted y = [ax, ay, r-dot] (Q24) from a friction value per wheel
  *        (Q29).
  *
- * rfe_meas_setup_q31 does the per-sample work once (kinematics, slips, loads; in paper tyre
- * mode also H(u)); rfe_meas_eval_q31 is then cheap enough for every cubature point:
+ * rfe_meas_setup_q31 does the per-sample work once (kinematics, slips, loads, cos/sin of delta;
+ * in paper tyre mode also H(u), in absolute mode each wheel's friction-independent Dugoff
+ * terms); rfe_meas_eval_q31 is then cheap enough for every cubature point:
  *  - paper tyre:    h = H(u) mu (linear in mu);
  *  - absolute tyre: the load-scaled Dugoff forces at each wheel's mu (mu < 0 evaluated as 0),
  *                   through the same geometry as H's columns: h_r = sum_i H_r,i(F(mu_i)).
@@ -29,6 +30,18 @@ typedef struct {
     rfe_fix_t delta;               /**< steer angle of the sample [rad], Q29 */
     rfe_wheel_kin_q31_t kin;       /**< kinematics, slips, loads of the sample */
     rfe_fix_t H[RFE_H_Q31_SIZE];   /**< paper mode: H(u), Q24 (absolute mode: zeros) */
+    rfe_fix_t cos_delta;           /**< cos of delta, Q30 */
+    rfe_fix_t sin_delta;           /**< sin of delta, Q30 */
+    /** absolute mode: each wheel's friction-independent Dugoff terms, so that eval does only
+     *  the friction-dependent rest at each cubature point (paper mode: zeros) */
+    rfe_dugoff_pre_q31_t pre[RFE_WHEELS];
+    /* the tyre parameters pre was computed with: eval recomputes the terms for others */
+    rfe_fix_t pre_cx;              /**< cx of the set-up, Q24 */
+    rfe_fix_t pre_cy;              /**< cy of the set-up, Q24 */
+    rfe_fix_t pre_eps;             /**< eps of the set-up, Q32 */
+    rfe_fix_t pre_alpha_max;       /**< alpha_max of the set-up, Q29 */
+    uint32_t sat_vwx[RFE_WHEELS];  /**< saturations of each wheel's vwx in the set-up */
+    uint32_t sat_fz[RFE_WHEELS];   /**< saturations of each wheel's load in the set-up */
 } rfe_meas_q31_t;
 
 /**

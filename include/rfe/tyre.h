@@ -10,6 +10,19 @@
 
 #include "rfe/params.h"
 
+/**
+ * The friction-independent part of one wheel's absolute-mode Dugoff evaluation (MODEL.md §4),
+ * which rfe_meas_setup computes once per sample so that each cubature point only does the
+ * friction-dependent rest (fields read-only for the caller).
+ */
+typedef struct {
+    rfe_real_t tan_a; /**< tan of the clamped slip angle */
+    rfe_real_t k;     /**< kappa clipped to [-1, 1] */
+    rfe_real_t s;     /**< S = |(cx k, cy tan a)| */
+    rfe_real_t e;     /**< E = max(0, 1 - eps |vwx| sqrt(k^2 + tan^2 a)) */
+    rfe_real_t omk;   /**< 1 - |k| */
+} rfe_dugoff_pre_t;
+
 /** Per-wheel quantities derived from one sample: the inputs u of the tyre model. */
 typedef struct {
     rfe_real_t kappa[RFE_WHEELS]; /**< longitudinal slip, clipped to [-1, 1] */

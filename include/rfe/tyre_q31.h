@@ -48,6 +48,22 @@ typedef struct {
 } rfe_wheel_kin_q31_t;
 
 /**
+ * The friction- and load-independent part of one wheel's absolute-mode Dugoff evaluation
+ * (MODEL.md §4), which rfe_meas_setup_q31 computes once per sample so that each cubature
+ * point only does the friction-dependent rest (fields read-only for the caller; the internal
+ * formats of tyre_q31.c).
+ */
+typedef struct {
+    rfe_fix_t tan_a; /**< tan of the clamped slip angle, Q26 */
+    rfe_fix_t s;     /**< S = |(C1 k, C2 tan a)| (30 significant bits), Q(qs) */
+    rfe_fix_t ux;    /**< direction cosine C1 k / S, Q30 (0 when S = 0) */
+    rfe_fix_t uy;    /**< direction cosine C2 tan a / S, Q30 (0 when S = 0) */
+    rfe_fix_t e;     /**< E = max(0, 1 - eps |vwx| sqrt(k^2 + tan^2 a)), Q30 (0 when S = 0) */
+    rfe_fix_t omk;   /**< 1 - |k|, Q30 (0 when S = 0) */
+    uint32_t qs;     /**< the Q format of s */
+} rfe_dugoff_pre_q31_t;
+
+/**
  * MODEL.md §3: wheel-centre velocities, slip angles, longitudinal slips and quasi-static
  * loads from one sample (uses delta, vx, vy, yaw_rate, ax, ay, omega of @p u).
  * Internally the body and wheel-centre velocities are int64 Q51 (exact products, one rounding

@@ -1,0 +1,33 @@
+/**
+ * @file eiv_internal_q31.h
+ * @brief Private entry of the fixed-point step noise (eiv_q31.c) for the estimator
+ *        (estimator_q31.c). Not installed; integer operations only.
+ */
+#ifndef RFE_EIV_INTERNAL_Q31_H
+#define RFE_EIV_INTERNAL_Q31_H
+
+#include <stdint.h>
+
+#include "rfe/eiv_q31.h"
+#include "rfe/fixed.h"
+#include "rfe/meas_q31.h"
+#include "rfe/params_q31.h"
+#include "rfe/tyre_q31.h"
+
+/**
+ * rfe_eiv_sqrt_noise_q31 without its checks, for a caller that has already set up the
+ * measurement model @p h of the same sample @p u with p->vehicle and p->tyre: the same S_R
+ * and count, bit for bit (absolute tyre mode reuses h's kinematics, Dugoff terms and the
+ * columns of the wheels an input does not reach; paper mode evaluates as the public
+ * function). Preconditions (not checked): every pointer valid, @p p passed
+ * rfe_params_validate_q31 (the estimator's, validated at init), rfe_meas_setup_q31(h,
+ * &p->vehicle, &p->tyre, u, .) returned RFE_OK.
+ * @return RFE_OK; the errors of rfe_eiv_sqrt_noise_q31 after its checks (@p SR, *sat then
+ *         untouched).
+ */
+rfe_status_t rfe_eiv_sqrt_noise_core_q31(const rfe_params_q31_t *p, const rfe_meas_q31_t *h,
+                                         const rfe_sample_q31_t *u,
+                                         const rfe_fix_t mu[RFE_WHEELS],
+                                         rfe_fix_t SR[RFE_MEAS * RFE_MEAS], uint32_t *sat);
+
+#endif /* RFE_EIV_INTERNAL_Q31_H */

@@ -1,0 +1,47 @@
+/**
+ * @file tyre_internal.h
+ * @brief Private split of the absolute-mode Dugoff evaluation of tyre_flt.c for the
+ *        measurement model (meas_flt.c): the terms that do not depend on the friction, once
+ *        per sample, and the rest at each friction value. Not installed.
+ *
+ * rfe_tyre_dugoff_abs is exactly rfe_tyre_dugoff_pre followed by rfe_tyre_dugoff_abs_pre
+ * (the same operations in the same order), so a caller that keeps the terms gets the same
+ * bits and the same statuses.
+ */
+#ifndef RFE_TYRE_INTERNAL_H
+#define RFE_TYRE_INTERNAL_H
+
+#include <stddef.h>
+
+#include "rfe/params.h"
+#include "rfe/tyre.h"
+
+/** The friction-independent terms of rfe_tyre_dugoff_abs(tp, kappa, alpha, ., vwx, ...)
+ *  (no checks: non-finite inputs give non-finite terms, which the second part then rejects
+ *  through its checks of the same inputs). */
+void RFE_FN(rfe_tyre_dugoff_pre)(const rfe_tyre_params_t *tp, rfe_real_t kappa, rfe_real_t alpha,
+                                 rfe_real_t vwx, rfe_dugoff_pre_t *pre);
+
+/** rfe_tyre_dugoff_abs(tp, kappa, alpha, fz, vwx, mu, fx, fy) with @p pre =
+ *  rfe_tyre_dugoff_pre(tp, kappa, alpha, vwx): the same checks in the same order, the same
+ *  forces. */
+RFE_NODISCARD rfe_status_t RFE_FN(rfe_tyre_dugoff_abs_pre)(
+    const rfe_tyre_params_t *tp, const rfe_dugoff_pre_t *pre, rfe_real_t kappa,
+    rfe_real_t alpha, rfe_real_t fz, rfe_real_t vwx, rfe_real_t mu, rfe_real_t *fx,
+    rfe_real_t *fy);
+
+/** Wheel @p i's vwx, alpha and kappa for sample @p u, with c, s = cos, sin of u->delta
+ *  (ignored for the rear wheels), as rfe_tyre_kinematics computes them (no checks). */
+void RFE_FN(rfe_tyre_wheel_kin)(const rfe_vehicle_t *veh, const rfe_tyre_params_t *tp,
+                                const rfe_sample_t *u, rfe_real_t c, rfe_real_t s, size_t i,
+                                rfe_real_t *vwx, rfe_real_t *alpha, rfe_real_t *kappa);
+
+/** A wheel's kappa from its spin speed @p omega and vwx, as rfe_tyre_kinematics computes it. */
+rfe_real_t RFE_FN(rfe_tyre_wheel_kappa)(const rfe_vehicle_t *veh, const rfe_tyre_params_t *tp,
+                                        rfe_real_t omega, rfe_real_t vwx);
+
+/** rfe_tyre_dugoff_pre with tan of the clamped slip angle given (a previous pre's tan_a). */
+void RFE_FN(rfe_tyre_dugoff_pre_tan)(const rfe_tyre_params_t *tp, rfe_real_t kappa,
+                                     rfe_real_t tan_a, rfe_real_t vwx, rfe_dugoff_pre_t *pre);
+
+#endif /* RFE_TYRE_INTERNAL_H */

@@ -1,0 +1,65 @@
+/**
+ * @file tyre_internal_q31.h
+ * @brief Private per-wheel pieces of the fixed-point tyre model (tyre_q31.c), for the
+ *        measurement model (meas_q31.c) and the step noise (eiv_q31.c): one wheel's
+ *        kinematics, the Dugoff evaluation split into its friction-independent part and the
+ *        rest. Not installed; integer operations only (no libc header beyond <stdint.h> and
+ *        <stddef.h>, no <math.h>).
+ *
+ * These are exactly the operations of rfe_tyre_kinematics_q31 and rfe_tyre_dugoff_abs_q31
+ * (which are built from them), so a caller that combines them as those functions do gets the
+ * same bits. They check no argument: the callers pass valid pointers, a wheel index below
+ * RFE_WHEELS and parameters that passed the public functions' checks.
+ */
+#ifndef RFE_TYRE_INTERNAL_Q31_H
+#define RFE_TYRE_INTERNAL_Q31_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "rfe/fixed.h"
+#include "rfe/params_q31.h"
+#include "rfe/tyre_q31.h"
+
+/** What rfe_tyre_kinematics_ex_q31 gives beyond rfe_wheel_kin_q31_t. */
+typedef struct {
+    rfe_fix_t cos_delta;          /**< cos of the sample's steer angle, Q30 */
+    rfe_fix_t sin_delta;          /**< sin of the sample's steer angle, Q30 */
+    uint32_t sat_vwx[RFE_WHEELS]; /**< saturations of each wheel's vwx (0 or 1) */
+    uint32_t sat_fz[RFE_WHEELS];  /**< saturations of each wheel's load (0 or 1) */
+} rfe_tyre_kin_extra_q31_t;
+
+/** rfe_tyre_kinematics_q31 without the NULL checks, with the saturations per wheel and
+ *  cos/sin of delta. @return RFE_OK; RFE_ERR_PARAM (v_min, alpha_max) with nothing written. */
+rfe_status_t rfe_tyre_kinematics_ex_q31(const rfe_vehicle_q31_t *veh,
+                                        const rfe_tyre_params_q31_t *tp,
+                                        const rfe_sample_q31_t *u, rfe_wheel_kin_q31_t *kin,
+                                        rfe_tyre_kin_extra_q31_t *extra);
+
+/** Wheel @p i's vwx (Q23, a saturation counted in *sat), alpha and kappa for sample @p u,
+ *  with c, s = cos, sin of u->delta (Q30; ignored for the rear wheels). */
+void rfe_tyre_wheel_kin_q31(const rfe_vehicle_q31_t *veh, const rfe_tyre_params_q31_t *tp,
+                            const rfe_sample_q31_t *u, int32_t c, int32_t s, size_t i,
+                            rfe_fix_t *vwx, rfe_fix_t *alpha, rfe_fix_t *kappa, uint32_t *sat);
+
+/** Wheel @p i's kappa alone (as rfe_tyre_wheel_kin_q31 computes it). */
+rfe_fix_t rfe_tyre_wheel_kappa_q31(const rfe_vehicle_q31_t *veh, const rfe_tyre_params_q31_t *tp,
+                                   const rfe_sample_q31_t *u, int32_t c, int32_t s, size_t i);
+
+/** The friction-independent part of rfe_tyre_dugoff_abs_q31(tp, kappa, alpha, ., vwx, ...). */
+void rfe_tyre_dugoff_pre_q31(const rfe_tyre_params_q31_t *tp, rfe_fix_t kappa, rfe_fix_t alpha,
+                             rfe_fix_t vwx, rfe_dugoff_pre_q31_t *pre);
+
+/** The same with tan of the clamped slip angle given (Q26, a previous pre's tan_a). */
+void rfe_tyre_dugoff_pre_tan_q31(const rfe_tyre_params_q31_t *tp, rfe_fix_t kappa,
+                                 rfe_fix_t tan_a, rfe_fix_t vwx, rfe_dugoff_pre_q31_t *pre);
+
+/** The rest: Fx, Fy (Q15) at friction @p mu (Q29; mu < 0 evaluated as 0) and load @p fz
+ *  (Q15, >= 0); one count in *sat per clamped force, as rfe_tyre_dugoff_abs_q31. */
+void rfe_tyre_dugoff_mu_q31(const rfe_dugoff_pre_q31_t *pre, rfe_fix_t mu, rfe_fix_t fz,
+                            rfe_fix_t *fx, rfe_fix_t *fy, uint32_t *sat);
+
+/** 1 when rfe_tyre_dugoff_abs_q31 accepts the parameters (alpha_max, eps), else 0. */
+int rfe_tyre_dugoff_params_ok_q31(const rfe_tyre_params_q31_t *tp);
+
+#endif /* RFE_TYRE_INTERNAL_Q31_H */

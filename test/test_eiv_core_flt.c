@@ -1,0 +1,455 @@
+/**
+ * @file test_eiv_core_flt.c
+ * @brief The internal pieces behind the cheaper float/double step (src/tyre_internal.h,
+ *        src/eiv_internal.h) against the public functions they replace, bit for bit and
+ *        status for status:
+ *  - the absolute-mode Dugoff evaluation split into its friction-independent part and the
+ *    rest, against rfe_tyre_dugoff_abs (finite, non-finite and out-of-range inputs);
+ *  - rfe_meas_eval with the terms cached by rfe_meas_setup, against the chain
+ *    rfe_tyre_forces_abs -> rfe_obsmat_build -> rfe_obsmat_apply(H, ones), also when eval is
+ *    given other tyre parameters than the set-up (the cached terms are then not used);
+ *  - the step noise's internal entry rfe_eiv_sqrt_noise_core (the estimator's, for a model
+ *    already set up at the sample: nominal terms of the wheels an input does not reach
+ *    reused) against the public rfe_eiv_sqrt_noise and against a reference built here from
+ *    the public measurement model exactly as docs/ESTIMATOR.md step 4 writes it (a full
+ *    set-up and evaluation at u and at u +- sd_j e_j), in absolute and paper tyre mode, with
+ *    every input switched on or off, and the statuses when a perturbed input, a perturbed
+ *    wheel's kinematics or the nominal model is not finite.
+ * Inputs from a fixed-seed generator over and beyond the input limits.
+ */
+#include "test_light.h"
+#include "test_common.h"
+
+#include <math.h>
+#include <stdint.h>
+#include <string.h>
+
+#include "rfe/eiv.h"
+#include "rfe/meas.h"
+#include "rfe/obsmat.h"
+#include "rfe/params.h"
+#include "rfe/qr.h"
+#include "rfe/tyre.h"
+
+#include "eiv_internal.h"
+#include "tyre_internal.h"
+
+#define N_CASES 20000
+#define RFE_R(x) ((rfe_real_t)(x))
+#if defined(RFE_REAL_DOUBLE)
+#define T_SQRT sqrt
+#define T_FABS fabs
+#define T_HUGE 1.7e308
+#define T_BIG 1e308
+#define T_TINY 1e-306
+#else
+#define T_SQRT sqrtf
+#define T_FABS fabsf
+#define T_HUGE 3.35e38
+#define T_BIG 1e38
+#define T_TINY 1e-37
+#endif
+
+static uint64_t rng_state;
+
+static uint64_t next_u64(void)
+{
+    rng_state ^= rng_state << 13;
+    rng_state ^= rng_state >> 7;
+    rng_state ^= rng_state << 17;
+    return rng_state;
+}
+
+/* Uniform in [a, b]. */
+static double uni(double a, double b)
+{
+    return a + (b - a) * ((double)(next_u64() >> 11) / 9007199254740992.0);
+}
+
+/* Mostly uniform in [-typ, typ], sometimes 0, huge, infinite or NaN. */
+static rfe_real_t draw(double typ)
+{
+    const unsigned int k = (unsigned int)(next_u64() % 32u);
+    if (k == 0u) {
+        return RFE_R(0.0);
+    }
+    if (k == 1u) {
+        return (rfe_real_t)(((next_u64() & 1u) != 0u) ? 1e30 : -1e30);
+    }
+    if (k == 2u) {
+        return (rfe_real_t)INFINITY;
+    }
+    if (k == 3u) {
+        return (rfe_real_t)NAN;
+    }
+    return (rfe_real_t)uni(-typ, typ);
+}
+
+static void draw_sample(rfe_sample_t *u, rfe_real_t mu[4], int finite)
+{
+    size_t i;
+    memset(u, 0, sizeof(*u));
+    u->delta = (rfe_real_t)uni(-0.5, 0.5);
+    u->vx = (rfe_real_t)uni(-5.0, 60.0);
+    u->vy = (rfe_real_t)uni(-3.0, 3.0);
+    u->yaw_rate = (rfe_real_t)uni(-1.0, 1.0);
+    u->yaw_acc = (rfe_real_t)uni(-3.0, 3.0);
+    u->ax = (rfe_real_t)uni(-12.0, 12.0);
+    u->ay = (rfe_real_t)uni(-12.0, 12.0);
+    for (i = 0; i < 4; ++i) {
+        u->omega[i] = (rfe_real_t)(u->vx * uni(0.7, 1.1) / 0.3);
+        mu[i] = (rfe_real_t)uni(-0.5, 1.6);
+    }
+    if (finite == 0) {
+        u->vx = draw(3e38);
+        u->omega[next_u64() % 4u] = draw(1e3);
+        mu[next_u64() % 4u] = draw(2.0);
+    }
+}
+
+static void bits_equal(const rfe_real_t *a, const rfe_real_t *b, size_t n)
+{
+    assert_memory_equal(a, b, n * sizeof(rfe_real_t));
+}
+
+/* REQ: the split Dugoff evaluation is rfe_tyre_dugoff_abs's, bits and statuses. */
+/* REQ-TYRE-003 */
+static void test_dugoff_split(void **state)
+{
+    rfe_params_t p;
+    int n;
+    (void)state;
+    rng_state = 0xD06FF5ull;
+    assert_int_equal(RFE_FN(rfe_params_default)(&p), RFE_OK);
+    for (n = 0; n < N_CASES; n += (int)rfe_test_stride(10u)) {
+        const rfe_real_t kappa = draw(1.2);
+        const rfe_real_t alpha = draw(0.6);
+        const rfe_real_t fz = draw(9000.0);
+        const rfe_real_t vwx = draw(60.0);
+        const rfe_real_t mu = draw(2.0);
+        rfe_real_t f1[2] = {RFE_R(7.0), RFE_R(7.0)};
+        rfe_real_t f2[2] = {RFE_R(7.0), RFE_R(7.0)};
+        rfe_dugoff_pre_t pre;
+        rfe_tyre_params_t tp = p.tyre;
+        if ((n % 3) == 1) {
+            tp.cx = (rfe_real_t)uni(0.0, 60.0);
+            tp.cy = (rfe_real_t)uni(0.0, 60.0);
+            tp.eps = (rfe_real_t)uni(0.0, 0.05);
+        }
+        RFE_FN(rfe_tyre_dugoff_pre)(&tp, kappa, alpha, vwx, &pre);
+        assert_int_equal(RFE_FN(rfe_tyre_dugoff_abs_pre)(&tp, &pre, kappa, alpha, fz, vwx, mu,
+                                                         &f2[0], &f2[1]),
+                         RFE_FN(rfe_tyre_dugoff_abs)(&tp, kappa, alpha, fz, vwx, mu, &f1[0],
+                                                     &f1[1]));
+        bits_equal(f1, f2, 2u);
+    }
+    {
+        rfe_dugoff_pre_t pre;
+        rfe_real_t f[2];
+        RFE_FN(rfe_tyre_dugoff_pre)(&p.tyre, RFE_R(0.1), RFE_R(0.0), RFE_R(20.0), &pre);
+        assert_int_equal(RFE_FN(rfe_tyre_dugoff_abs_pre)(NULL, &pre, RFE_R(0.1), RFE_R(0.0),
+                                                         RFE_R(1.0), RFE_R(20.0), RFE_R(1.0),
+                                                         &f[0], &f[1]),
+                         RFE_ERR_NULL);
+    }
+}
+
+/* The absolute-mode chain of the public functions at tyre parameters tp. */
+static rfe_status_t chain(const rfe_meas_t *h, const rfe_vehicle_t *veh,
+                          const rfe_tyre_params_t *tp, const rfe_real_t mu[4], rfe_real_t z[3])
+{
+    static const rfe_real_t ones[4] = {RFE_R(1.0), RFE_R(1.0), RFE_R(1.0), RFE_R(1.0)};
+    rfe_real_t fx[4];
+    rfe_real_t fy[4];
+    rfe_real_t H[RFE_H_SIZE];
+    rfe_status_t st = RFE_FN(rfe_tyre_forces_abs)(tp, &h->kin, mu, fx, fy);
+    if (st == RFE_OK) {
+        st = RFE_FN(rfe_obsmat_build)(veh, h->delta, fx, fy, H);
+    }
+    if (st == RFE_OK) {
+        st = RFE_FN(rfe_obsmat_apply)(H, ones, z);
+    }
+    return st;
+}
+
+/* REQ: eval with the cached terms is the public chain (forces, H, H ones), bits and
+ * statuses, also for other tyre parameters than the set-up's. */
+/* REQ-MEAS-001 */
+static void test_meas_cached(void **state)
+{
+    rfe_params_t p;
+    int n;
+    (void)state;
+    rng_state = 0x3EA5C0ull;
+    assert_int_equal(RFE_FN(rfe_params_default)(&p), RFE_OK);
+    for (n = 0; n < N_CASES; n += (int)rfe_test_stride(10u)) {
+        rfe_sample_t u;
+        rfe_real_t mu[4];
+        rfe_meas_t h;
+        rfe_tyre_params_t other = p.tyre;
+        rfe_real_t z1[3] = {RFE_R(7.0), RFE_R(7.0), RFE_R(7.0)};
+        rfe_real_t z2[3] = {RFE_R(7.0), RFE_R(7.0), RFE_R(7.0)};
+        draw_sample(&u, mu, ((n % 4) != 0) ? 1 : 0);
+        if (RFE_FN(rfe_meas_setup)(&h, &p.vehicle, &p.tyre, &u) != RFE_OK) {
+            continue;
+        }
+        assert_int_equal(RFE_FN(rfe_meas_eval)(&h, &p.vehicle, &p.tyre, mu, z1),
+                         chain(&h, &p.vehicle, &p.tyre, mu, z2));
+        bits_equal(z1, z2, 3u);
+        other.cx = (rfe_real_t)uni(0.0, 60.0);
+        other.cy = (rfe_real_t)uni(0.0, 60.0);
+        other.eps = (n % 2) ? (rfe_real_t)NAN : (rfe_real_t)uni(0.0, 0.05);
+        assert_int_equal(RFE_FN(rfe_meas_eval)(&h, &p.vehicle, &other, mu, z1),
+                         chain(&h, &p.vehicle, &other, mu, z2));
+        bits_equal(z1, z2, 3u);
+    }
+}
+
+/* REQ: the estimator's step-noise entry is the public function's S_R and status for a model
+ * set up at the sample, in absolute and paper tyre mode. */
+/* REQ-EIV-001 */
+static void test_eiv_core(void **state)
+{
+    int n;
+    long ok = 0;
+    long failed = 0;
+    (void)state;
+    rng_state = 0xE1FC0BEull;
+    for (n = 0; n < N_CASES; n += (int)rfe_test_stride(10u)) {
+        rfe_params_t p;
+        rfe_sample_t u;
+        rfe_real_t mu[4];
+        rfe_meas_t h;
+        rfe_real_t S1[9];
+        rfe_real_t S2[9];
+        rfe_status_t e1;
+        size_t i;
+        assert_int_equal(RFE_FN(rfe_params_default)(&p), RFE_OK);
+        if ((n % 5) == 2) {
+            p.filter.sd_in_delta = (rfe_real_t)uni(0.0, 0.02);
+            p.filter.sd_in_vx = (n % 2) ? RFE_R(0.0) : (rfe_real_t)uni(0.0, 0.3);
+            p.filter.sd_in_omega = (rfe_real_t)uni(0.0, 0.5);
+            p.filter.sd_in_vy = ((n % 4) == 3) ? RFE_R(0.0) : p.filter.sd_in_vy;
+        }
+        if ((n % 7) == 3) {
+            p.tyre.mode = RFE_TYRE_PAPER;
+        }
+        draw_sample(&u, mu, ((n % 4) != 0) ? 1 : 0);
+        for (i = 0; i < 9; ++i) {
+            S1[i] = S2[i] = RFE_R(7.0);
+        }
+        e1 = RFE_FN(rfe_eiv_sqrt_noise)(&p, &u, mu, S1);
+        if (RFE_FN(rfe_meas_setup)(&h, &p.vehicle, &p.tyre, &u) != RFE_OK) {
+            assert_true(e1 != RFE_OK);
+            continue;
+        }
+        assert_int_equal(RFE_FN(rfe_eiv_sqrt_noise_core)(&p, &h, &u, mu, S2), e1);
+        bits_equal(S1, S2, 9u);
+        ok += (e1 == RFE_OK) ? 1 : 0;
+        failed += (e1 != RFE_OK) ? 1 : 0;
+    }
+    printf("step noise: %ld equal results, %ld equal errors\n", ok, failed);
+    assert_true(ok > 100);
+    assert_true(failed > 10);
+}
+
+/* ---- reference: docs/ESTIMATOR.md step 4 with the public measurement model -------------- */
+
+static rfe_status_t ref_h(const rfe_params_t *p, const rfe_sample_t *u, const rfe_real_t mu[4],
+                          rfe_real_t z[3])
+{
+    rfe_meas_t h;
+    rfe_status_t st = RFE_FN(rfe_meas_setup)(&h, &p->vehicle, &p->tyre, u);
+    if (st == RFE_OK) {
+        st = RFE_FN(rfe_meas_eval)(&h, &p->vehicle, &p->tyre, mu, z);
+    }
+    return st;
+}
+
+static rfe_real_t *slot(rfe_sample_t *u, size_t j)
+{
+    rfe_real_t *const s[8] = {&u->delta,    &u->vx,       &u->vy,       &u->yaw_rate,
+                              &u->omega[0], &u->omega[1], &u->omega[2], &u->omega[3]};
+    return s[j];
+}
+
+static rfe_status_t ref_eiv(const rfe_params_t *p, const rfe_sample_t *u, const rfe_real_t mu[4],
+                            rfe_real_t SR[9])
+{
+    const rfe_filter_params_t *fp = &p->filter;
+    const rfe_real_t sd[8] = {fp->sd_in_delta,    fp->sd_in_vx,    fp->sd_in_vy,
+                              fp->sd_in_yaw_rate, fp->sd_in_omega, fp->sd_in_omega,
+                              fp->sd_in_omega,    fp->sd_in_omega};
+    const rfe_real_t r[3] = {fp->r_ax, fp->r_ay, fp->r_yaw_acc};
+    rfe_real_t A[3 * 11];
+    rfe_real_t h0[3];
+    size_t cols = 3u;
+    size_t i;
+    size_t j;
+    rfe_status_t st = ref_h(p, u, mu, h0);
+    if (st != RFE_OK) {
+        return st;
+    }
+    for (i = 0; i < 3; ++i) {
+        const rfe_real_t e = fp->r_model_rel * T_FABS(h0[i]);
+        for (j = 0; j < 3; ++j) {
+            A[i * 11u + j] = (i == j) ? T_SQRT((r[i] * r[i]) + (e * e)) : RFE_R(0.0);
+        }
+    }
+    for (j = 0; j < 8; ++j) {
+        rfe_sample_t up = *u;
+        rfe_sample_t um = *u;
+        rfe_real_t zp[3];
+        rfe_real_t zm[3];
+        if (!(sd[j] > RFE_R(0.0))) {
+            continue;
+        }
+        *slot(&up, j) += sd[j];
+        *slot(&um, j) -= sd[j];
+        st = ref_h(p, &up, mu, zp);
+        if (st == RFE_OK) {
+            st = ref_h(p, &um, mu, zm);
+        }
+        if (st != RFE_OK) {
+            return st;
+        }
+        for (i = 0; i < 3; ++i) {
+            A[i * 11u + cols] = (zp[i] - zm[i]) / RFE_R(2.0);
+        }
+        ++cols;
+    }
+    st = RFE_FN(rfe_qr_tria)(A, 3u, cols, 11u);
+    if (st != RFE_OK) {
+        return st;
+    }
+    for (i = 0; i < 3; ++i) {
+        for (j = 0; j < 3; ++j) {
+            SR[i * 3u + j] = (j <= i) ? A[i * 11u + j] : RFE_R(0.0);
+        }
+    }
+    return RFE_OK;
+}
+
+/* The public function, the internal entry (after a set-up) and the reference agree. */
+static rfe_status_t check_three(const rfe_params_t *p, const rfe_sample_t *u,
+                                const rfe_real_t mu[4])
+{
+    rfe_real_t S1[9];
+    rfe_real_t S2[9];
+    rfe_real_t S3[9];
+    rfe_meas_t h;
+    rfe_status_t e1;
+    size_t i;
+    for (i = 0; i < 9; ++i) {
+        S1[i] = S2[i] = S3[i] = RFE_R(7.0);
+    }
+    e1 = RFE_FN(rfe_eiv_sqrt_noise)(p, u, mu, S1);
+    assert_int_equal(ref_eiv(p, u, mu, S2), e1);
+    bits_equal(S1, S2, 9u);
+    if (RFE_FN(rfe_meas_setup)(&h, &p->vehicle, &p->tyre, u) == RFE_OK) {
+        assert_int_equal(RFE_FN(rfe_eiv_sqrt_noise_core)(p, &h, u, mu, S3), e1);
+        bits_equal(S1, S3, 9u);
+    }
+    return e1;
+}
+
+/* REQ: the step noise with the nominal terms reused is the reference's S_R, bit for bit,
+ * and its status, on random samples (absolute and paper tyre, inputs on and off). */
+/* REQ-EIV-001 */
+static void test_eiv_reference(void **state)
+{
+    int n;
+    long ok = 0;
+    (void)state;
+    rng_state = 0xA5A5F00Dull;
+    for (n = 0; n < N_CASES; n += (int)rfe_test_stride(10u)) {
+        rfe_params_t p;
+        rfe_sample_t u;
+        rfe_real_t mu[4];
+        assert_int_equal(RFE_FN(rfe_params_default)(&p), RFE_OK);
+        if ((n % 5) == 2) {
+            p.filter.sd_in_delta = (rfe_real_t)uni(0.0, 0.02);
+            p.filter.sd_in_vx = (n % 2) ? RFE_R(0.0) : (rfe_real_t)uni(0.0, 0.3);
+            p.filter.sd_in_omega = (rfe_real_t)uni(0.0, 0.5);
+            p.filter.sd_in_yaw_rate = ((n % 4) == 3) ? RFE_R(0.0) : p.filter.sd_in_yaw_rate;
+        }
+        if ((n % 7) == 3) {
+            p.tyre.mode = RFE_TYRE_PAPER;
+        }
+        draw_sample(&u, mu, ((n % 4) != 0) ? 1 : 0);
+        ok += (check_three(&p, &u, mu) == RFE_OK) ? 1 : 0;
+    }
+    printf("step noise vs reference: %ld of %d cases RFE_OK\n", ok, N_CASES);
+    assert_true(ok > 100);
+}
+
+/* REQ: the statuses where a perturbed input overflows, a perturbed wheel's kinematics
+ * overflow, or the nominal model is not finite; the internal entry's status for a NaN mu. */
+/* REQ-EIV-002 */
+static void test_eiv_overflow(void **state)
+{
+    rfe_params_t p;
+    rfe_sample_t u;
+    rfe_real_t mu[4];
+    rfe_meas_t h;
+    rfe_real_t S[9];
+    size_t i;
+    (void)state;
+    rng_state = 0x0FF0ull;
+    assert_int_equal(RFE_FN(rfe_params_default)(&p), RFE_OK);
+    draw_sample(&u, mu, 1);
+    u.delta = RFE_R(0.0);
+    u.vy = RFE_R(0.0);
+    u.yaw_rate = RFE_R(0.0);
+    u.vx = (rfe_real_t)T_HUGE;
+    for (i = 0; i < 4; ++i) {
+        u.omega[i] = RFE_R(0.0);
+    }
+    /* vx + sd_vx overflows: the set-up's check of the perturbed sample */
+    p.filter.sd_in_vx = (rfe_real_t)T_BIG;
+    assert_int_equal(check_three(&p, &u, mu), RFE_ERR_NONFINITE);
+    /* r + sd_r finite, but the right wheels' vx - r y overflows: the tyre's check */
+    p.filter.sd_in_vx = RFE_R(0.0);
+    p.filter.sd_in_yaw_rate = (rfe_real_t)T_BIG;
+    assert_int_equal(check_three(&p, &u, mu), RFE_ERR_NONFINITE);
+    /* the nominal model already overflows: the nominal forces' check */
+    u.vy = (rfe_real_t)T_HUGE;
+    u.delta = RFE_R(0.7);
+    assert_int_equal(check_three(&p, &u, mu), RFE_ERR_NONFINITE);
+    /* the same two in paper tyre mode (full evaluations) */
+    p.tyre.mode = RFE_TYRE_PAPER;
+    u.vy = RFE_R(0.0);
+    u.delta = RFE_R(0.0);
+    assert_int_equal(check_three(&p, &u, mu), RFE_ERR_NONFINITE);
+    p.filter.sd_in_yaw_rate = RFE_R(0.0);
+    p.filter.sd_in_vx = (rfe_real_t)T_BIG;
+    assert_int_equal(check_three(&p, &u, mu), RFE_ERR_NONFINITE);
+    /* finite forces whose yaw acceleration overflows (a tiny inertia): the sums' check */
+    assert_int_equal(RFE_FN(rfe_params_default)(&p), RFE_OK);
+    draw_sample(&u, mu, 1);
+    p.vehicle.J = (rfe_real_t)T_TINY;
+    assert_int_equal(check_three(&p, &u, mu), RFE_ERR_NONFINITE);
+    /* the internal entry with a NaN mu: the evaluation's check (absolute and paper mode) */
+    assert_int_equal(RFE_FN(rfe_params_default)(&p), RFE_OK);
+    draw_sample(&u, mu, 1);
+    mu[2] = (rfe_real_t)NAN;
+    for (i = 0; i < 2; ++i) {
+        if (i == 1u) {
+            p.tyre.mode = RFE_TYRE_PAPER;
+        }
+        assert_int_equal(RFE_FN(rfe_meas_setup)(&h, &p.vehicle, &p.tyre, &u), RFE_OK);
+        assert_int_equal(RFE_FN(rfe_eiv_sqrt_noise_core)(&p, &h, &u, mu, S), RFE_ERR_NONFINITE);
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_dugoff_split),
+        cmocka_unit_test(test_meas_cached),
+        cmocka_unit_test(test_eiv_core),
+        cmocka_unit_test(test_eiv_reference),
+        cmocka_unit_test(test_eiv_overflow),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
