@@ -2,7 +2,9 @@
 #
 #   make            library (float32 and double builds) and build/mu_replay
 #   make demo       run the estimator on the bundled scenarios, print accuracy, draw plots
-#   make test       all tests (C unit + golden + host + Python) and the coverage gate
+#   make test       every check: static analysis, C tests (float, double, q31), trace, firmware
+#                   and PIL, fuzz/soak smoke, ASan/UBSan, valgrind, Python, coverage (TEST_JOBS
+#                   at a time; README "Quick start")
 #   make coverage   gcovr HTML / Cobertura XML / text summary for src/, with thresholds
 #   make sanitize   the C tests built with ASan + UBSan (build/asan-*) and run
 #   make valgrind   the optimised C tests and the CLI script run under valgrind memcheck
@@ -11,8 +13,9 @@
 #                   (and the fixed-point goldens: make goldens-q31)
 #   make readme-table  regenerate the accuracy table in README.md
 #
-# `make demo` and `make test` install what they need when it is missing: cmocka and
-# gcc-arm-none-eabi via apt, and a Python venv (.venv) from the pinned scripts/requirements.txt.
+# `make demo` and `make test` install what they need when it is missing (apt: cmocka, the
+# Cortex-M toolchain, newlib, QEMU, valgrind, cppcheck, clang/LLVM 19; a Python venv .venv
+# from the pinned scripts/requirements.txt).
 
 CC      ?= gcc
 ifeq ($(origin CC),default)
@@ -134,7 +137,7 @@ all: lib $(BUILD)/mu_replay
 lib: $(BUILD)/f32/librfe.a $(BUILD)/f64/librfe.a $(if $(Q31_SRC),$(BUILD)/q31/librfe_q31.a)
 
 help:
-	@sed -n '1,15p' Makefile
+	@sed -n '1,17p' Makefile
 	@for f in $(sort $(wildcard mk/*.mk)); do echo; sed -n '/^#/!q;p' $$f; done
 
 # ---- dependencies (installed when missing) --------------------------------------------
