@@ -841,6 +841,29 @@ static void test_rfe_estimator_rollback_with_conditioner(void **state)
     assert_memory_equal(&est, &copy, sizeof est);
 }
 
+/* REQ: a prior whose common-mode part so dominates that its covariance is singular in the
+ * working precision (float: sd0_common / sd0 = 1e11; double: 1e17) is refused at init with
+ * RFE_ERR_NOT_POSITIVE_DEFINITE (estimator.h), the estimator untouched (found by fuzz_csv). */
+/* REQ-EST-002 */
+static void test_rfe_estimator_singular_prior_refused(void **state)
+{
+    static rfe_estimator_t est, copy;
+    rfe_params_t p = dflt;
+    (void)state;
+    p.filter.sd0 = (rfe_real_t)0.1;
+#if defined(RFE_REAL_DOUBLE)
+    p.filter.sd0_common = (rfe_real_t)1e16;
+#else
+    p.filter.sd0_common = (rfe_real_t)1e10;
+#endif
+    memset(&est, 0x5A, sizeof est);
+    copy = est;
+    assert_int_equal(RFE_FN(rfe_estimator_init)(&est, &p), RFE_ERR_NOT_POSITIVE_DEFINITE);
+    assert_memory_equal(&est, &copy, sizeof est);
+    p.filter.sd0_common = (rfe_real_t)3.0; /* a ratio of 30 (the default preset: 3) is fine */
+    assert_int_equal(RFE_FN(rfe_estimator_init)(&est, &p), RFE_OK);
+}
+
 /* REQ: with sd_max on, a prior whose row norms overflow is an error (not a scale to zero). */
 /* REQ-EST-009 */
 static void test_rfe_estimator_bounds_reject_overflowing_sd(void **state)
@@ -885,6 +908,7 @@ int main(void)
         cmocka_unit_test(test_rfe_params_presets),
         cmocka_unit_test(test_rfe_estimator_rollback_with_conditioner),
         cmocka_unit_test(test_rfe_estimator_bounds_reject_overflowing_sd),
+        cmocka_unit_test(test_rfe_estimator_singular_prior_refused),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }

@@ -52,8 +52,10 @@ typedef struct {
  * S_R = diag(r_ax, r_ay, r_yaw_acc), the input filter reset. sqrt_prior(d, c) is the lower
  * Cholesky factor of c^2 11^T + d^2 I, exactly d I when c = 0.
  * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_PARAM; RFE_ERR_NONFINITE when a prior or process
- *         noise with a common-mode part is so large that its covariance overflows (the
- *         estimator is untouched on every error).
+ *         noise with a common-mode part is so large that its covariance overflows;
+ *         RFE_ERR_NOT_POSITIVE_DEFINITE when its common-mode part so dominates that the
+ *         covariance is singular in the working precision (sd0_common / sd0 beyond about
+ *         1e3 in float, 1e8 in double) (the estimator is untouched on every error).
  */
 RFE_NODISCARD rfe_status_t RFE_FN(rfe_estimator_init)(rfe_estimator_t *est,
                                                      const rfe_params_t *params);

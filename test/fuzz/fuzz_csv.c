@@ -125,9 +125,11 @@ static void sensor_log(const uint8_t *data, size_t size)
                 if (stats.n_steps != head.n_rows) {
                     violation("replay step count");
                 }
-            } else if (st != RFE_ERR_PARAM && st != RFE_ERR_NONFINITE) {
-                /* estimator.h: init fails with RFE_ERR_PARAM, or RFE_ERR_NONFINITE when a
-                 * prior with a common-mode part overflows */
+            } else if (st != RFE_ERR_PARAM && st != RFE_ERR_NONFINITE &&
+                       st != RFE_ERR_NOT_POSITIVE_DEFINITE) {
+                /* estimator.h: init fails with RFE_ERR_PARAM, RFE_ERR_NONFINITE when a prior
+                 * with a common-mode part overflows, or RFE_ERR_NOT_POSITIVE_DEFINITE when it
+                 * is singular in the working precision (sd0_common >> sd0) */
                 violation("replay failed with a status other than PARAM / NONFINITE");
             }
         }

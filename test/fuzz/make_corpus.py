@@ -133,6 +133,9 @@ def csv_seeds(scen):
     # found by make fuzz (fuzz_csv): a huge prior sd moves the mean in one held step
     s["log_meta_huge_prior_regression"] = ("0# sd0 = 077777777777777770\n# v_est_min = 0\n" + LOG_HEAD
                                            + "0.0,0.0101,20,0.1,0.02,0.01,-3,0.5,60,60.1,60.2,60.3\n")
+    # found by make fuzz (fuzz_csv): sd0_common / sd0 = 1e11 makes the prior singular in float:
+    # init returns RFE_ERR_NOT_POSITIVE_DEFINITE (now documented in estimator.h)
+    s["log_meta_prior_ratio_regression"] = "0# sd0_common = 1e10\n# mu_min = 1e-300\n# v_est_min = 0\n" + LOG_HEAD + rows
     s["log_meta_extreme"] = "0# sd0_common = 1e30\n# mu_min = 1e-300\n# v_est_min = 0\n" + LOG_HEAD + rows
     s["log_truth_partial"] = "0" + LOG_HEAD.strip() + ",mu_fl,mu_fr\n" + rows.replace("\n", ",0.5,0.5\n")
     s["log_truth_full"] = "0" + LOG_HEAD.strip() + ",mu_fl,mu_fr,mu_rl,mu_rr,extra\n" + rows.replace("\n", ",0.3,0.3,0.3,0.3,x\n")
