@@ -87,8 +87,10 @@ static void draw_sample(const rfe_params_q31_t *p, rfe_sample_q31_t *u, rfe_fix_
         u->vx = (int32_t)(next_u64() % (40u << 23));
         u->delta = (int32_t)(next_u64() % (1u << 28)) - (1 << 27);
         for (i = 0; i < 4; ++i) {
-            u->omega[i] = (int32_t)((((int64_t)u->vx) << 6) / (p->vehicle.R >> 20)) +
-                          draw(1 << 20);
+            /* in int64, saturated: draw() may return an int32 extreme */
+            const int64_t w = ((((int64_t)u->vx) << 6) / (p->vehicle.R >> 20)) +
+                              (int64_t)draw(1 << 20);
+            u->omega[i] = (int32_t)((w > INT32_MAX) ? INT32_MAX : ((w < INT32_MIN) ? INT32_MIN : w));
             mu[i] = (int32_t)(next_u64() % (1u << 30));
         }
     }
