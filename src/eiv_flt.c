@@ -150,13 +150,12 @@ static rfe_status_t nominal_terms(const rfe_params_t *p, const rfe_meas_t *h,
 }
 
 /* 1 when input j (0 delta, 1 vx, 2 vy, 3 r, 4.. omega_fl..rr) reaches wheel i: delta the
- * front wheels, vx, vy and r every wheel, omega_i wheel i. */
+ * front wheels, vx, vy and r every wheel, omega_i wheel i (bit i of the input's mask; wheels
+ * in the order fl, fr, rl, rr). */
 static int reaches(size_t j, size_t i)
 {
-    return (((j == 0u) && (i < (size_t)RFE_RL)) || ((j >= 1u) && (j <= 3u)) ||
-            ((j >= 4u) && ((j - 4u) == i)))
-               ? 1
-               : 0;
+    static const uint8_t wheel_mask[RFE_EIV_INPUTS] = {0x3u, 0xFu, 0xFu, 0xFu, 0x1u, 0x2u, 0x4u, 0x8u};
+    return ((((uint32_t)wheel_mask[j] >> i) & 1u) != 0u) ? 1 : 0;
 }
 
 /* Terms of wheel i (reached by input j) for the perturbed sample up; c, s: cos, sin of

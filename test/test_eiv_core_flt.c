@@ -442,11 +442,47 @@ static void test_eiv_overflow(void **state)
     }
 }
 
+/* REQ: the cached terms are used only for the set-up's own tyre: changing any one of cx, cy,
+ * eps, alpha_max alone makes eval recompute them, giving the public chain's bits. */
+/* REQ-MEAS-001 */
+static void test_meas_cached_each_field(void **state)
+{
+    rfe_params_t p;
+    rfe_sample_t u;
+    rfe_real_t mu[4];
+    rfe_meas_t h;
+    int f;
+    (void)state;
+    rng_state = 0xF1E1Dull;
+    assert_int_equal(RFE_FN(rfe_params_default)(&p), RFE_OK);
+    do {
+        draw_sample(&u, mu, 1);
+    } while (RFE_FN(rfe_meas_setup)(&h, &p.vehicle, &p.tyre, &u) != RFE_OK);
+    for (f = 0; f < 4; ++f) {
+        rfe_tyre_params_t other = p.tyre;
+        rfe_real_t z1[3];
+        rfe_real_t z2[3];
+        if (f == 0) {
+            other.cx *= RFE_R(1.5);
+        } else if (f == 1) {
+            other.cy *= RFE_R(1.5);
+        } else if (f == 2) {
+            other.eps += RFE_R(0.01);
+        } else {
+            other.alpha_max *= RFE_R(0.5);
+        }
+        assert_int_equal(RFE_FN(rfe_meas_eval)(&h, &p.vehicle, &other, mu, z1),
+                         chain(&h, &p.vehicle, &other, mu, z2));
+        bits_equal(z1, z2, 3u);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_dugoff_split),
         cmocka_unit_test(test_meas_cached),
+        cmocka_unit_test(test_meas_cached_each_field),
         cmocka_unit_test(test_eiv_core),
         cmocka_unit_test(test_eiv_reference),
         cmocka_unit_test(test_eiv_overflow),

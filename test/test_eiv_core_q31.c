@@ -423,12 +423,61 @@ static void test_eiv_core_q31(void **state)
     assert_true(with_sat > 10);
 }
 
+/* REQ: a set-up in absolute mode with invalid Dugoff parameters (eps < 0) keeps zero
+ * friction-independent terms, and the evaluation rejects the tyre (as the public chain does);
+ * rfe_fix_div's long division stops as soon as the quotient must saturate (operands that
+ * take the long path: shift + 1 > 32), saturating to INT32_MAX, counted. */
+/* REQ-FXP-008 REQ-MEAS-002 */
+static void test_meas_pre_invalid_tyre_and_div_saturation_q31(void **state)
+{
+    rfe_params_q31_t p = preset();
+    rfe_sample_q31_t u;
+    rfe_fix_t mu[4];
+    rfe_fix_t z[3];
+    rfe_meas_q31_t h;
+    rfe_fix_t q = 0;
+    uint32_t sat = 0u;
+    size_t i;
+    (void)state;
+    rng_state = 0xD1CEull;
+    draw_sample(&p, &u, mu, 0);
+    u.vx = 20 << 23;
+    u.delta = 0;
+    for (i = 0; i < 4; ++i) {
+        u.omega[i] = (int32_t)((((int64_t)u.vx) << 6) / (p.vehicle.R >> 20));
+        mu[i] = 1 << 28;
+    }
+    p.tyre.mode = RFE_TYRE_ABSOLUTE;
+    p.tyre.eps = -1;
+    assert_int_equal(rfe_meas_setup_q31(&h, &p.vehicle, &p.tyre, &u, &sat), RFE_OK);
+    for (i = 0; i < 4; ++i) {
+        const rfe_dugoff_pre_q31_t zero = {0, 0, 0, 0, 0, 0, 0u};
+        assert_memory_equal(&h.pre[i], &zero, sizeof zero);
+    }
+    assert_int_not_equal(rfe_meas_eval_q31(&h, &p.vehicle, &p.tyre, mu, z, &sat), RFE_OK);
+    /* division: a = INT32_MAX, b = 1, shift 40: 2^71, far beyond int32 */
+    sat = 0u;
+    assert_int_equal(rfe_fix_div(INT32_MAX, 1, 40, &q, &sat), RFE_OK);
+    assert_int_equal(q, INT32_MAX);
+    assert_int_equal(sat, 1u);
+    sat = 0u;
+    assert_int_equal(rfe_fix_div(-INT32_MAX, 3, 35, &q, &sat), RFE_OK);
+    assert_int_equal(q, -INT32_MAX);
+    assert_int_equal(sat, 1u);
+    /* and just inside: 3 * 2^35 / 2^6 = 3 * 2^29 fits exactly */
+    sat = 0u;
+    assert_int_equal(rfe_fix_div(3, 1 << 6, 35, &q, &sat), RFE_OK);
+    assert_int_equal(q, 3 << 29);
+    assert_int_equal(sat, 0u);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_tyre_internal_q31),
         cmocka_unit_test(test_meas_columns_q31),
         cmocka_unit_test(test_eiv_core_q31),
+        cmocka_unit_test(test_meas_pre_invalid_tyre_and_div_saturation_q31),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
