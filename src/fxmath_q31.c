@@ -5,44 +5,14 @@
  */
 #include "rfe/fxmath.h"
 
+#include "internal_q31.h"
+
 /* ---- shared helpers ------------------------------------------------------------------- */
 
 /* |v| of an int32 as uint64 (2^31 for INT32_MIN, no overflow). */
 static uint64_t mag32(rfe_fix_t v)
 {
     return (v < 0) ? (uint64_t)(-(int64_t)v) : (uint64_t)v;
-}
-
-/* The bit length of m: the smallest len with m < 2^len (0 for m = 0), by halving. */
-static unsigned int bitlen64(uint64_t m)
-{
-    uint64_t v = m;
-    unsigned int len = 0u;
-    if ((v >> 32) != 0u) {
-        v >>= 32;
-        len += 32u;
-    }
-    if ((v >> 16) != 0u) {
-        v >>= 16;
-        len += 16u;
-    }
-    if ((v >> 8) != 0u) {
-        v >>= 8;
-        len += 8u;
-    }
-    if ((v >> 4) != 0u) {
-        v >>= 4;
-        len += 4u;
-    }
-    if ((v >> 2) != 0u) {
-        v >>= 2;
-        len += 2u;
-    }
-    if ((v >> 1) != 0u) {
-        v >>= 1;
-        len += 1u;
-    }
-    return len + (unsigned int)v; /* v is now 0 (m = 0) or 1 */
 }
 
 /* floor(sqrt(y)) of a 32-bit value and the remainder y - root^2, digit by digit in 32-bit
@@ -56,7 +26,7 @@ static uint32_t isqrt32_rem(uint32_t y, uint32_t *rem)
     uint32_t b = 0u;
 
     if (y != 0u) {
-        b = (uint32_t)1 << ((bitlen64(y) - 1u) & ~1u);
+        b = (uint32_t)1 << ((rfe_q31_bitlen64(y) - 1u) & ~1u);
     }
     while (b != 0u) {
         if (rm >= (r + b)) {
@@ -87,7 +57,7 @@ static uint64_t isqrt_rem(uint64_t x, uint64_t *rem)
         r = isqrt32_rem((uint32_t)x, &rm32);
         *rem = rm32;
     } else {
-        const unsigned int sh = (bitlen64(x) - 31u) & ~1u;
+        const unsigned int sh = (rfe_q31_bitlen64(x) - 31u) & ~1u;
         const unsigned int half = sh / 2u;
         const uint32_t y = (uint32_t)(x >> sh);
         uint32_t rm32 = 0u;
@@ -144,7 +114,7 @@ static uint64_t div_bits(uint64_t n, uint64_t d, unsigned int bits)
 
     if (d <= ((uint64_t)1 << 56)) {
         /* bitlen(d - 1) <= 56: room >= 8 */
-        const unsigned int room = 64u - bitlen64(d - 1u);
+        const unsigned int room = 64u - rfe_q31_bitlen64(d - 1u);
         const unsigned int step = min_u(room, 31u);
         while ((quo < LIM2) && (left > 0u)) {
             const unsigned int k = min_u(left, step);
@@ -441,7 +411,7 @@ rfe_status_t rfe_fix_atan2(rfe_fix_t y, rfe_fix_t x, rfe_fix_t *angle)
     }
     /* Exact normalisation: scale both by 2^sh so that max(|x|, |y|) lies in [2^59, 2^60). */
     big = (ax > ay) ? ax : ay;
-    len = bitlen64(big);
+    len = rfe_q31_bitlen64(big);
     sh = 60u - len; /* len <= 32 */
     xn = ax << sh;
     yn = ay << sh;

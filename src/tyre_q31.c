@@ -295,7 +295,7 @@ static int32_t dugoff_e(int32_t k, int32_t t, int32_t eps, int32_t vwx)
 }
 
 /*
- * Dugoff forces of one wheel, singularity-free (MODEL.md §4; the float code's g = f(L)/(1-|k|)):
+ * Dugoff forces of one wheel, without a singularity (MODEL.md §4; the float code's g = f(L)/(1-|k|)):
  * with S = |(C1 k, C2 tan a)|, the direction cosines ux = C1 k / S, uy = C2 tan a / S and
  *   L < 1:  F = Fz u mu E (1 - L/2)        (= Fz C k g with g = mu E (2 - L) / (2 S))
  *   L >= 1: F = Fz u S / (1 - |k|)         (= Fz C k g with g = 1 / (1 - |k|))
