@@ -327,17 +327,7 @@ static void test_rfe_robust_interleaved_errors_change_nothing(void **state)
             const rfe_sensor_row_t *row = &log.rows[r];
             rfe_sample_t u;
             rfe_estimate_t a, b;
-            int w;
-            u.delta = (rfe_real_t)row->delta;
-            u.vx = (rfe_real_t)row->vx;
-            u.vy = (rfe_real_t)row->vy;
-            u.yaw_rate = (rfe_real_t)row->yaw_rate;
-            u.yaw_acc = (rfe_real_t)row->yaw_acc;
-            u.ax = (rfe_real_t)row->ax;
-            u.ay = (rfe_real_t)row->ay;
-            for (w = 0; w < 4; ++w) {
-                u.omega[w] = (rfe_real_t)row->omega[w];
-            }
+            RFE_FN(rfe_replay_sample_from_row)(row, &u);
             if (r % 7 == 3) {
                 rfe_sample_t bad = u;
                 const int f = (int)((r / 7) % N_FIELDS);
@@ -559,16 +549,7 @@ static void sweep_file(const char *path, const cfg_t *c, size_t max_rows, sweep_
         rfe_status_t st, want;
         char what[600];
         int w;
-        u.delta = (rfe_real_t)row->delta;
-        u.vx = (rfe_real_t)row->vx;
-        u.vy = (rfe_real_t)row->vy;
-        u.yaw_rate = (rfe_real_t)row->yaw_rate;
-        u.yaw_acc = (rfe_real_t)row->yaw_acc;
-        u.ax = (rfe_real_t)row->ax;
-        u.ay = (rfe_real_t)row->ay;
-        for (w = 0; w < 4; ++w) {
-            u.omega[w] = (rfe_real_t)row->omega[w];
-        }
+        RFE_FN(rfe_replay_sample_from_row)(row, &u);
         want = inv_classify_sample(&u);
         snprintf(what, sizeof(what), "%s [%s] row %zu (t = %g)", path, c->name, r, row->t);
         if (want == RFE_OK) {

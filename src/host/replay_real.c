@@ -18,7 +18,6 @@ static rfe_status_t preset_params(rfe_preset_t preset, rfe_params_t *p);
 static void set_key(rfe_params_t *p, const rfe_param_set_t *ps, size_t k);
 static rfe_status_t to_lib_params(const rfe_param_set_t *ps, rfe_params_t *p);
 static size_t diagnose_params(const rfe_param_set_t *ps);
-static void to_sample(const rfe_sensor_row_t *row, rfe_sample_t *s);
 static void step_row(rfe_estimator_t *est, const rfe_sensor_row_t *row, rfe_est_row_t *out);
 
 /* Where each numeric key lives in rfe_params_t of this precision (the RFE_PARAM_KEYS
@@ -127,7 +126,7 @@ static size_t diagnose_params(const rfe_param_set_t *ps)
     return RFE_PK_NONE;
 }
 
-static void to_sample(const rfe_sensor_row_t *row, rfe_sample_t *s)
+void RFE_FN(rfe_replay_sample_from_row)(const rfe_sensor_row_t *row, rfe_sample_t *s)
 {
     size_t w;
     s->delta = (rfe_real_t)row->delta;
@@ -150,7 +149,7 @@ static void step_row(rfe_estimator_t *est, const rfe_sensor_row_t *row, rfe_est_
     rfe_estimate_t e;
     rfe_status_t st;
     size_t w;
-    to_sample(row, &s);
+    RFE_FN(rfe_replay_sample_from_row)(row, &s);
     memset(&e, 0, sizeof e);
     /* estimator.h: on a rejected sample e holds the previous estimate, valid = 0. */
     st = RFE_FN(rfe_estimator_step)(est, &s, &e);

@@ -57,6 +57,10 @@ RFE_NODISCARD rfe_status_t rfe_replay_run_f64(const rfe_param_set_t *ps,
                                               const rfe_sensor_log_t *log, rfe_est_row_t *out,
                                               rfe_replay_stats_t *stats, size_t *bad_key);
 
+/** The library sample of a log row (each field rounded to the build's real type), as the
+ *  replay steps it; for tests and tools that step the estimator themselves. */
+void RFE_FN(rfe_replay_sample_from_row)(const rfe_sensor_row_t *row, rfe_sample_t *s);
+
 /**
  * Fills @p ps from the library's preset @p preset (every key of the table, tyre, filter;
  * origins NULL = "the preset"; ps->preset recorded). The values are the library's, so the

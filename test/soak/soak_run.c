@@ -64,16 +64,7 @@ int RFE_FN(soak_run)(const rfe_sensor_log_t *log, const char *log_name, const so
         rfe_status_t st, want;
         char why[INV_WHY];
         int w, bad = 0;
-        u.delta = (rfe_real_t)row->delta;
-        u.vx = (rfe_real_t)row->vx;
-        u.vy = (rfe_real_t)row->vy;
-        u.yaw_rate = (rfe_real_t)row->yaw_rate;
-        u.yaw_acc = (rfe_real_t)row->yaw_acc;
-        u.ax = (rfe_real_t)row->ax;
-        u.ay = (rfe_real_t)row->ay;
-        for (w = 0; w < 4; ++w) {
-            u.omega[w] = (rfe_real_t)row->omega[w];
-        }
+        RFE_FN(rfe_replay_sample_from_row)(row, &u);
         want = inv_classify_sample(&u);
         if (want != RFE_OK) {
             memcpy(&before, &est, sizeof(est));
