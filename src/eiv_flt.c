@@ -119,7 +119,7 @@ static rfe_status_t input_columns(const rfe_params_t *p, const rfe_sample_t *u,
     return RFE_OK;
 }
 
-/* ---- absolute tyre mode: only the wheels an input reaches are evaluated again -------------
+/* ---- load-scaled tyre modes (absolute, magic): only the wheels an input reaches are evaluated again -------------
  * h(mu, u) is the sum, in wheel order, of four per-wheel terms (meas_internal.h), each a
  * function of that wheel's kinematics, its load and cos/sin of delta. The loads depend on ax,
  * ay only (never perturbed); delta reaches the front wheels' kinematics and terms, vx, vy and
@@ -229,7 +229,7 @@ static rfe_status_t h_at_perturbed(const rfe_params_t *p, const rfe_meas_t *h,
     return h_perturbed(p, h, up, j, mu, nom, z);
 }
 
-/* input_columns for a model set up in absolute mode: the same columns and statuses. */
+/* input_columns for a model set up in a load-scaled mode: the same columns and statuses. */
 static rfe_status_t input_columns_abs(const rfe_params_t *p, const rfe_meas_t *h,
                                       const rfe_sample_t *u, const rfe_real_t *mu,
                                       const rfe_real_t nom[RFE_MEAS_COLS], rfe_real_t *A,
@@ -271,7 +271,7 @@ static rfe_status_t fill(const rfe_params_t *p, const rfe_meas_t *h, const rfe_s
 {
     rfe_real_t h0[RFE_MEAS];
     rfe_status_t st;
-    if (h->mode == RFE_TYRE_ABSOLUTE) {
+    if (h->mode != RFE_TYRE_PAPER) {
         rfe_real_t nom[RFE_MEAS_COLS];
         st = nominal_terms(p, h, mu, nom);
         if (st == RFE_OK) {

@@ -17,9 +17,9 @@
 /**
  * rfe_eiv_sqrt_noise_q31 without its checks, for a caller that has already set up the
  * measurement model @p h of the same sample @p u with p->vehicle and p->tyre: the same S_R
- * and count, bit for bit (absolute tyre mode reuses h's kinematics, Dugoff terms and the
- * columns of the wheels an input does not reach; paper mode evaluates as the public
- * function). Preconditions (not checked): every pointer valid, @p p passed
+ * and count, bit for bit (the load-scaled tyre modes, absolute and magic, reuse h's
+ * kinematics, friction-independent tyre terms and the columns of the wheels an input does
+ * not reach; paper mode evaluates as the public function). Preconditions (not checked): every pointer valid, @p p passed
  * rfe_params_validate_q31 (the estimator's, validated at init), rfe_meas_setup_q31(h,
  * &p->vehicle, &p->tyre, u, .) returned RFE_OK.
  * @return RFE_OK; the errors of rfe_eiv_sqrt_noise_q31 after its checks (@p SR, *sat then

@@ -139,7 +139,8 @@ static rfe_status_t eiv_input_columns(const rfe_params_q31_t *p, const rfe_sampl
     return RFE_OK;
 }
 
-/* ---- absolute tyre mode: only the wheels an input reaches are evaluated again -------------
+/* ---- load-scaled tyre modes (absolute, magic): only the wheels an input reaches are
+ * evaluated again -------------------------------------------------------------------------
  * h(mu, u) is the exact sum of four per-wheel columns (meas_internal_q31.h), each a function
  * of that wheel's kinematics, its load and cos/sin of delta. The loads depend on ax, ay only
  * (never perturbed); delta reaches the front wheels' kinematics and columns, vx, vy and r
@@ -160,9 +161,9 @@ static void eiv_nominal_columns(const rfe_params_q31_t *p, const rfe_meas_q31_t 
     size_t i;
     for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
         nom->cnt[i] = h->sat_vwx[i] + h->sat_fz[i];
-        rfe_meas_wheel_column_q31(&p->vehicle, &h->pre[i], mu[i], h->kin.fz[i], h->cos_delta,
-                                  h->sin_delta, i, &nom->col[i * (size_t)RFE_MEAS],
-                                  &nom->cnt[i]);
+        rfe_meas_wheel_column_q31(&p->vehicle, &p->tyre, &h->pre[i], mu[i], h->kin.fz[i],
+                                  h->cos_delta, h->sin_delta, i,
+                                  &nom->col[i * (size_t)RFE_MEAS], &nom->cnt[i]);
     }
 }
 
@@ -195,7 +196,7 @@ static void eiv_wheel_column(const rfe_params_q31_t *p, const rfe_meas_q31_t *h,
         rfe_tyre_wheel_kin_q31(&p->vehicle, &p->tyre, up, c, s, i, &vwx, &alpha, &kappa, cnt);
         rfe_tyre_dugoff_pre_q31(&p->tyre, kappa, alpha, vwx, &pre);
     }
-    rfe_meas_wheel_column_q31(&p->vehicle, &pre, mu, h->kin.fz[i], c, s, i, col, cnt);
+    rfe_meas_wheel_column_q31(&p->vehicle, &p->tyre, &pre, mu, h->kin.fz[i], c, s, i, col, cnt);
 }
 
 /* z = h(mu, up) (Q24) for the sample u with input j perturbed (up), from the nominal
@@ -228,7 +229,7 @@ static void eiv_h_perturbed(const rfe_params_q31_t *p, const rfe_meas_q31_t *h,
     rfe_meas_sum_columns_q31(col, z, count);
 }
 
-/* eiv_input_columns for a model set up in absolute mode: the same columns. */
+/* eiv_input_columns for a model set up in a load-scaled mode: the same columns. */
 static void eiv_input_columns_abs(const rfe_params_q31_t *p, const rfe_meas_q31_t *h,
                                   const rfe_sample_q31_t *u, const rfe_fix_t *mu,
                                   const eiv_cols_t *nom, rfe_fix_t *A, size_t *cols,
@@ -257,15 +258,15 @@ static void eiv_input_columns_abs(const rfe_params_q31_t *p, const rfe_meas_q31_
     }
 }
 
-/* [S_R0, g_1 ..] into A (row stride CW), *cols its columns: absolute mode from the set-up h
- * (nominal columns reused), paper mode by full evaluations. */
+/* [S_R0, g_1 ..] into A (row stride CW), *cols its columns: the load-scaled modes (absolute,
+ * magic) from the set-up h (nominal columns reused), paper mode by full evaluations. */
 static rfe_status_t eiv_fill(const rfe_params_q31_t *p, const rfe_meas_q31_t *h,
                              const rfe_sample_q31_t *u, const rfe_fix_t *mu, rfe_fix_t *A,
                              size_t *cols, uint32_t *count)
 {
     rfe_fix_t h0[RFE_MEAS];
     rfe_status_t st = RFE_OK;
-    if (h->mode == RFE_TYRE_ABSOLUTE) {
+    if (h->mode != RFE_TYRE_PAPER) {
         eiv_cols_t nom;
         size_t i;
         eiv_nominal_columns(p, h, mu, &nom);

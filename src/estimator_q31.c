@@ -68,7 +68,8 @@ static void est_to_wheels(const rfe_estimator_q31_t *est, const rfe_fix_t *x,
 }
 
 /* h(T x, u) for one cubature point (x Q29, z Q24); a point with mu < 0 is evaluated at mu = 0
- * by the absolute tyre (MODEL.md §4). Its saturations go to the step's count. */
+ * by the load-scaled tyres (absolute Dugoff, MODEL.md §4; Magic Formula, docs/ESTIMATOR.md).
+ * Its saturations go to the step's count. */
 static rfe_status_t est_measure(void *ctx, const rfe_fix_t *x, rfe_fix_t *z, size_t n, size_t m)
 {
     /* cppcheck-suppress misra-c2012-11.5 ; MISRA-DEV-05: ctx is the est this file passes */

@@ -1,6 +1,7 @@
 /**
  * @file meas_flt.c
- * @brief Measurement model h(mu, u) of one sample: paper (H(u) mu) or absolute Dugoff.
+ * @brief Measurement model h(mu, u) of one sample: paper (H(u) mu) or a load-scaled tyre
+ *        (absolute Dugoff or Magic Formula).
  */
 #include "rfe/meas.h"
 
@@ -10,22 +11,22 @@
 #include "meas_internal.h"
 #include "tyre_internal.h"
 
-/* Absolute mode: cos, sin of delta and each wheel's friction-independent Dugoff terms
- * (paper mode, which uses neither: zeros), and the tyre parameters they belong to. */
+/* Load-scaled modes (absolute, magic): cos, sin of delta and each wheel's friction-independent
+ * tyre terms (paper mode, which uses neither: zeros), and the tyre parameters they belong to. */
 static void setup_pre(rfe_meas_t *h, const rfe_tyre_params_t *tp)
 {
     size_t i;
     h->cos_delta = RFE_R(0.0);
     h->sin_delta = RFE_R(0.0);
-    if (tp->mode == RFE_TYRE_ABSOLUTE) {
+    if (tp->mode != RFE_TYRE_PAPER) {
         h->cos_delta = RFE_COS(h->delta);
         h->sin_delta = RFE_SIN(h->delta);
     }
     for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
         const rfe_dugoff_pre_t zero = {RFE_R(0.0), RFE_R(0.0), RFE_R(0.0), RFE_R(0.0),
-                                       RFE_R(0.0)};
+                                       RFE_R(0.0), RFE_R(0.0), RFE_R(0.0)};
         h->pre[i] = zero;
-        if (tp->mode == RFE_TYRE_ABSOLUTE) {
+        if (tp->mode != RFE_TYRE_PAPER) {
             RFE_FN(rfe_tyre_dugoff_pre)(tp, h->kin.kappa[i], h->kin.alpha[i], h->kin.vwx[i],
                                         &h->pre[i]);
         }
@@ -157,10 +158,11 @@ static rfe_status_t body_sums(const rfe_vehicle_t *veh, const rfe_meas_t *h,
     return RFE_FN(rfe_meas_sum_terms)(t, z);
 }
 
-/* 1 when pre was computed with these tyre parameters (a NaN parameter never matches). */
+/* 1 when pre was computed with these tyre parameters (a NaN parameter never matches); the
+ * mode too, since only magic mode fills the direction cosines. */
 static int pre_matches(const rfe_meas_t *h, const rfe_tyre_params_t *tp)
 {
-    return ((h->pre_cx == tp->cx) && (h->pre_cy == tp->cy) && (h->pre_eps == tp->eps) &&
+    return ((h->mode == tp->mode) && (h->pre_cx == tp->cx) && (h->pre_cy == tp->cy) && (h->pre_eps == tp->eps) &&
             (h->pre_alpha_max == tp->alpha_max))
                ? 1
                : 0;
@@ -215,7 +217,7 @@ rfe_status_t RFE_FN(rfe_meas_eval)(const rfe_meas_t *h, const rfe_vehicle_t *veh
     if (h->mode == RFE_TYRE_PAPER) {
         return apply_paper(h->H, mu, z); /* h = H(u) mu */
     }
-    /* Absolute mode: forces at this mu (nonlinear in mu), then the same geometry as H's
+    /* Load-scaled modes: forces at this mu (nonlinear in mu), then the same geometry as H's
      * columns: z_r = sum_i H_r,i(F(mu_i)) (MODEL.md §4-5). */
     st = forces_abs(h, tp, mu, fx, fy);
     if (st == RFE_OK) {

@@ -75,6 +75,14 @@ static void conv_vehicle(conv_t *c, const rfe_vehicle_t *v, rfe_vehicle_q31_t *q
     q->k_roll_r = to_q(c, m * hg * Lf / (La * Br), RFE_FIX_Q_KLOAD, 1);
 }
 
+/* The rounded shape factors still inside 1 < C < 2 and E < 1 (Q24; E >= -4 holds after
+ * rounding whenever it held before: -4 is exact). */
+static int shape_fits(rfe_fix_t C, rfe_fix_t E)
+{
+    const rfe_fix_t one = RFE_FIX_ONE(RFE_FIX_Q_STIFF);
+    return (C > one) && (C < (2 * one)) && (E < one);
+}
+
 static void conv_tyre(conv_t *c, const rfe_tyre_params_t *t, rfe_tyre_params_q31_t *q)
 {
     q->mode = t->mode;
@@ -85,9 +93,18 @@ static void conv_tyre(conv_t *c, const rfe_tyre_params_t *t, rfe_tyre_params_q31
     q->eps = to_q(c, (double)t->eps, RFE_FIX_Q_EPS, 0);
     q->v_min = to_q(c, (double)t->v_min, RFE_FIX_Q_SPEED, 0);
     q->alpha_max = to_q(c, (double)t->alpha_max, RFE_FIX_Q_ANGLE, 0);
+    q->shape_Cx = to_q(c, (double)t->shape_Cx, RFE_FIX_Q_STIFF, 0);
+    q->shape_Ex = to_q(c, (double)t->shape_Ex, RFE_FIX_Q_STIFF, 0);
+    q->shape_Cy = to_q(c, (double)t->shape_Cy, RFE_FIX_Q_STIFF, 0);
+    q->shape_Ey = to_q(c, (double)t->shape_Ey, RFE_FIX_Q_STIFF, 0);
     /* rfe_params_validate keeps alpha_max < 1.5 rad; the rounded value must stay below too
      * (rfe_fix_tan's domain ends at 1.5 rad). */
     if (q->alpha_max >= RFE_FIX_TAN_LIMIT_Q29) {
+        c->bad = 1;
+    }
+    /* The same for the shape factors' open bounds (1 < C < 2, E < 1): a value within half an
+     * LSB (2^-25) of one rounds onto it (C = 1 + 1e-9, E = 1 - 1e-9). */
+    if (!shape_fits(q->shape_Cx, q->shape_Ex) || !shape_fits(q->shape_Cy, q->shape_Ey)) {
         c->bad = 1;
     }
 }

@@ -14,7 +14,7 @@ rfe_status_t RFE_FN(rfe_params_default)(rfe_params_t *p)
     if (st != RFE_OK) {
         return st;
     }
-    p->tyre.mode = RFE_TYRE_ABSOLUTE;
+    p->tyre.mode = RFE_TYRE_MAGIC;
     p->filter.structure = RFE_STRUCT_SIDES;
     p->filter.sd0 = RFE_R(0.1);
     p->filter.sd0_common = RFE_R(0.3);
@@ -27,7 +27,7 @@ rfe_status_t RFE_FN(rfe_params_default)(rfe_params_t *p)
     p->filter.sd_in_yaw_rate = RFE_R(0.005);
     p->filter.sd_in_omega = RFE_R(0.05);
     p->filter.r_model_rel = RFE_R(0.05);
-    p->filter.info_min = RFE_R(100.0);
+    p->filter.info_min = RFE_R(25.0);
     p->filter.sd_max = RFE_R(0.32);
     p->filter.sd_floor_rel = RFE_R(0.15);
     p->filter.sd_valid = RFE_R(0.15);
@@ -59,6 +59,12 @@ rfe_status_t RFE_FN(rfe_params_paper)(rfe_params_t *p)
     p->tyre.eps = RFE_R(0.015);
     p->tyre.v_min = RFE_R(0.5);
     p->tyre.alpha_max = RFE_R(1.4);
+    /* Pacejka's typical passenger-car shape factors, neutral curvature (tyre data, used by
+     * the magic mode only; docs/ESTIMATOR.md). */
+    p->tyre.shape_Cx = RFE_R(1.65);
+    p->tyre.shape_Ex = RFE_R(0.0);
+    p->tyre.shape_Cy = RFE_R(1.3);
+    p->tyre.shape_Ey = RFE_R(0.0);
 
     /* The paper configuration of the filter (MODEL.md §6). */
     p->filter.kind = RFE_FILTER_SCKF;
@@ -102,12 +108,23 @@ static int vehicle_ok(const rfe_vehicle_t *v)
            is_pos(v->R) && is_pos(v->J) && is_nonneg(v->hg) && is_pos(v->g);
 }
 
+/* A Magic Formula shape: 1 < C < 2 (a peak, and a positive force beyond it), -4 <= E < 1
+ * (the curve rises monotonically to its peak; docs/ESTIMATOR.md). */
+static int shape_ok(rfe_real_t C, rfe_real_t E)
+{
+    return (rfe_is_finite(C) != 0) && (C > RFE_R(1.0)) && (C < RFE_R(2.0)) &&
+           (rfe_is_finite(E) != 0) && (E >= RFE_R(-4.0)) && (E < RFE_R(1.0));
+}
+
 static int tyre_ok(const rfe_tyre_params_t *t)
 {
     /* alpha_max < 1.5 rad keeps tan(alpha) bounded (MODEL.md §4: |alpha| < 1.4). */
-    return ((t->mode == RFE_TYRE_PAPER) || (t->mode == RFE_TYRE_ABSOLUTE)) && is_pos(t->Cx_n) &&
-           is_pos(t->Cy_n) && is_pos(t->cx) && is_pos(t->cy) && is_nonneg(t->eps) &&
-           is_pos(t->v_min) && is_pos(t->alpha_max) && (t->alpha_max < RFE_R(1.5));
+    return ((t->mode == RFE_TYRE_PAPER) || (t->mode == RFE_TYRE_ABSOLUTE) ||
+            (t->mode == RFE_TYRE_MAGIC)) &&
+           is_pos(t->Cx_n) && is_pos(t->Cy_n) && is_pos(t->cx) && is_pos(t->cy) &&
+           is_nonneg(t->eps) && is_pos(t->v_min) && is_pos(t->alpha_max) &&
+           (t->alpha_max < RFE_R(1.5)) && shape_ok(t->shape_Cx, t->shape_Ex) &&
+           shape_ok(t->shape_Cy, t->shape_Ey);
 }
 
 /* Enums in range; sd0, q_mu and the measurement noise positive. */

@@ -45,7 +45,11 @@ static const rfe_params_q31_t paper_q31 = {
         251658240,  /* cy = 15, Q24 */
         64424509,   /* eps = 0.015 s/m, Q32 */
         4194304,    /* v_min = 0.5 m/s, Q23 */
-        751619277   /* alpha_max = 1.4 rad, Q29 */
+        751619277,  /* alpha_max = 1.4 rad, Q29 */
+        27682406,   /* shape_Cx = 1.65, Q24 */
+        0,          /* shape_Ex = 0, Q24 */
+        21810381,   /* shape_Cy = 1.3, Q24 */
+        0           /* shape_Ey = 0, Q24 */
     },
     {
         RFE_FILTER_SCKF,
@@ -92,7 +96,7 @@ rfe_status_t rfe_params_default_q31(rfe_params_q31_t *p)
     }
     /* docs/ESTIMATOR.md, "default preset" column: the paper preset plus every addition. */
     *p = paper_q31;
-    p->tyre.mode = RFE_TYRE_ABSOLUTE;
+    p->tyre.mode = RFE_TYRE_MAGIC;
     p->filter.structure = RFE_STRUCT_SIDES;
     p->filter.sd0 = 107374182;          /* 0.1, Q30 */
     p->filter.sd0_common = 322122547;   /* 0.3, Q30 */
@@ -105,7 +109,7 @@ rfe_status_t rfe_params_default_q31(rfe_params_q31_t *p)
     p->filter.sd_in_yaw_rate = 671089;  /* 0.005 rad/s, Q27 */
     p->filter.sd_in_omega = 209715;     /* 0.05 rad/s, Q22 */
     p->filter.r_model_rel = 53687091;   /* 0.05, Q30 */
-    p->filter.info_min = 102400;        /* 100 1/mu^2, Q10 */
+    p->filter.info_min = 25600;         /* 25 1/mu^2, Q10 */
     p->filter.sd_max = 343597384;       /* 0.32, Q30 */
     p->filter.sd_floor_rel = 161061274; /* 0.15, Q30 */
     p->filter.sd_valid = 161061274;     /* 0.15, Q30 */
@@ -269,11 +273,28 @@ static int vehicle_derived_agree(const rfe_vehicle_q31_t *v)
            agrees(v->k_roll_r, pf_div(pf_mul(mh, lf), pf_mul(la, br)), RFE_FIX_Q_KLOAD);
 }
 
+/* A Magic Formula shape (Q24): 1 < C < 2 (a peak, and a positive force beyond it),
+ * -4 <= E < 1 (the curve rises monotonically to its peak; docs/ESTIMATOR.md). */
+static int shape_ok_q31(rfe_fix_t C, rfe_fix_t E)
+{
+    const rfe_fix_t one = RFE_FIX_ONE(RFE_FIX_Q_STIFF);
+    return (C > one) && (C < (2 * one)) && (E >= (-4 * one)) && (E < one);
+}
+
+/* The mode and the shape factors, checked in every mode (as rfe_params_validate; split from
+ * tyre_ok_q31 to bound its cyclomatic complexity). */
+static int tyre_mode_shape_ok_q31(const rfe_tyre_params_q31_t *t)
+{
+    return ((t->mode == RFE_TYRE_PAPER) || (t->mode == RFE_TYRE_ABSOLUTE) ||
+            (t->mode == RFE_TYRE_MAGIC)) &&
+           shape_ok_q31(t->shape_Cx, t->shape_Ex) && shape_ok_q31(t->shape_Cy, t->shape_Ey);
+}
+
 static int tyre_ok_q31(const rfe_tyre_params_q31_t *t)
 {
     /* alpha_max < 1.5 rad keeps tan(alpha) bounded and inside rfe_fix_tan's domain. */
-    return ((t->mode == RFE_TYRE_PAPER) || (t->mode == RFE_TYRE_ABSOLUTE)) && is_pos_q31(t->Cx_n) &&
-           is_pos_q31(t->Cy_n) && is_pos_q31(t->cx) && is_pos_q31(t->cy) && is_nonneg_q31(t->eps) &&
+    return tyre_mode_shape_ok_q31(t) && is_pos_q31(t->Cx_n) && is_pos_q31(t->Cy_n) &&
+           is_pos_q31(t->cx) && is_pos_q31(t->cy) && is_nonneg_q31(t->eps) &&
            is_pos_q31(t->v_min) && is_pos_q31(t->alpha_max) &&
            (t->alpha_max < RFE_FIX_TAN_LIMIT_Q29);
 }

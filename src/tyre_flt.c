@@ -1,6 +1,7 @@
 /**
  * @file tyre_flt.c
- * @brief Wheel kinematics, loads, slips (MODEL.md §3) and the Dugoff tyre (§4).
+ * @brief Wheel kinematics, loads, slips (MODEL.md §3), the Dugoff tyre (§4) and the
+ *        load-scaled Magic Formula tyre (docs/ESTIMATOR.md).
  */
 #include "rfe/tyre.h"
 
@@ -105,6 +106,38 @@ static void dugoff_terms(rfe_real_t kappa, rfe_real_t tan_a, rfe_real_t Cx, rfe_
     pre->tan_a = tan_a;
     pre->s = S;
     pre->omk = RFE_R(1.0) - ak;
+    pre->ux = RFE_R(0.0);
+    pre->uy = RFE_R(0.0);
+}
+
+/* Magic mode: the direction cosines of the normalised slip, (cx k, cy tan a) / S (0 at S = 0,
+ * where the force is 0). Computed once per sample, so a cubature point divides nothing. */
+static void magic_terms(rfe_real_t Cx, rfe_real_t Cy, rfe_dugoff_pre_t *pre)
+{
+    if (pre->s > RFE_R(0.0)) {
+        pre->ux = (Cx * pre->k) / pre->s;
+        pre->uy = (Cy * pre->tan_a) / pre->s;
+    }
+}
+
+/* G = sin(C atan(x - E (x - atan x))), x = s / (m C), written with atan2 (no division, and
+ * atan2(s, 0) = pi/2 as m -> 0): docs/ESTIMATOR.md "The Magic Formula tyre". */
+static rfe_real_t magic_shape(rfe_real_t s, rfe_real_t m, rfe_real_t C, rfe_real_t E)
+{
+    const rfe_real_t mc = m * C;
+    const rfe_real_t a = RFE_ATAN2(s, mc);
+    return RFE_SIN(C * RFE_ATAN2(s - (E * (s - (mc * a))), mc));
+}
+
+/* Forces at friction mu from the friction-independent terms (ux, uy set by magic_terms). */
+static void magic_at_mu(const rfe_tyre_params_t *tp, const rfe_dugoff_pre_t *pre, rfe_real_t fz,
+                        rfe_real_t mu, rfe_real_t *fx, rfe_real_t *fy)
+{
+    /* A cubature point may put mu below 0: evaluate it at mu = 0 (zero force). */
+    const rfe_real_t m = rfe_max(mu, RFE_R(0.0));
+    const rfe_real_t fm = fz * m;
+    *fx = fm * magic_shape(pre->s, m, tp->shape_Cx, tp->shape_Ex) * pre->ux;
+    *fy = fm * magic_shape(pre->s, m, tp->shape_Cy, tp->shape_Ey) * pre->uy;
 }
 
 static rfe_real_t dugoff_g(const rfe_dugoff_pre_t *pre, rfe_real_t mu_scale)
@@ -218,6 +251,28 @@ rfe_status_t RFE_FN(rfe_tyre_dugoff_abs)(const rfe_tyre_params_t *tp, rfe_real_t
     return RFE_OK;
 }
 
+/* cppcheck-suppress misra-c2012-8.7 ; MISRA-DEV-06: public API, called by the application */
+rfe_status_t RFE_FN(rfe_tyre_magic_abs)(const rfe_tyre_params_t *tp, rfe_real_t kappa,
+                                        rfe_real_t alpha, rfe_real_t fz, rfe_real_t vwx,
+                                        rfe_real_t mu, rfe_real_t *fx, rfe_real_t *fy)
+{
+    rfe_dugoff_pre_t pre;
+    const rfe_status_t st = check_wheel(tp, kappa, alpha, fz, vwx, fx, fy);
+
+    if (st != RFE_OK) {
+        return st;
+    }
+    if (!rfe_is_finite(mu)) {
+        return RFE_ERR_NONFINITE;
+    }
+    dugoff_terms(rfe_clamp(kappa, RFE_R(-1.0), RFE_R(1.0)),
+                 RFE_TAN(rfe_clamp(alpha, -tp->alpha_max, tp->alpha_max)), tp->cx, tp->cy,
+                 tp->eps, vwx, &pre);
+    magic_terms(tp->cx, tp->cy, &pre);
+    magic_at_mu(tp, &pre, fz, mu, fx, fy);
+    return RFE_OK;
+}
+
 rfe_status_t RFE_FN(rfe_tyre_forces_norm)(const rfe_tyre_params_t *tp, const rfe_wheel_kin_t *kin,
                                           rfe_real_t f0x[RFE_WHEELS], rfe_real_t f0y[RFE_WHEELS])
 {
@@ -252,13 +307,16 @@ rfe_status_t RFE_FN(rfe_tyre_forces_abs)(const rfe_tyre_params_t *tp, const rfe_
     rfe_real_t ty[RFE_WHEELS];
     size_t i;
 
-    if ((kin == NULL) || (mu == NULL) || (fx == NULL) || (fy == NULL)) {
+    if ((tp == NULL) || (kin == NULL) || (mu == NULL) || (fx == NULL) || (fy == NULL)) {
         return RFE_ERR_NULL;
     }
     for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
-        const rfe_status_t st = RFE_FN(rfe_tyre_dugoff_abs)(tp, kin->kappa[i], kin->alpha[i],
-                                                           kin->fz[i], kin->vwx[i], mu[i],
-                                                           &tx[i], &ty[i]);
+        const rfe_status_t st =
+            (tp->mode == RFE_TYRE_MAGIC)
+                ? RFE_FN(rfe_tyre_magic_abs)(tp, kin->kappa[i], kin->alpha[i], kin->fz[i],
+                                             kin->vwx[i], mu[i], &tx[i], &ty[i])
+                : RFE_FN(rfe_tyre_dugoff_abs)(tp, kin->kappa[i], kin->alpha[i], kin->fz[i],
+                                              kin->vwx[i], mu[i], &tx[i], &ty[i]);
         if (st != RFE_OK) {
             return st;
         }
@@ -278,6 +336,9 @@ void RFE_FN(rfe_tyre_dugoff_pre)(const rfe_tyre_params_t *tp, rfe_real_t kappa, 
     const rfe_real_t k = rfe_clamp(kappa, RFE_R(-1.0), RFE_R(1.0));
     const rfe_real_t ta = RFE_TAN(rfe_clamp(alpha, -tp->alpha_max, tp->alpha_max));
     dugoff_terms(k, ta, tp->cx, tp->cy, tp->eps, vwx, pre);
+    if (tp->mode == RFE_TYRE_MAGIC) {
+        magic_terms(tp->cx, tp->cy, pre);
+    }
 }
 
 rfe_status_t RFE_FN(rfe_tyre_dugoff_abs_pre)(const rfe_tyre_params_t *tp,
@@ -293,6 +354,10 @@ rfe_status_t RFE_FN(rfe_tyre_dugoff_abs_pre)(const rfe_tyre_params_t *tp,
     }
     if (!rfe_is_finite(mu)) {
         return RFE_ERR_NONFINITE;
+    }
+    if (tp->mode == RFE_TYRE_MAGIC) {
+        magic_at_mu(tp, pre, fz, mu, fx, fy); /* as rfe_tyre_magic_abs */
+        return RFE_OK;
     }
     /* A cubature point may put mu below 0: evaluate it at mu = 0 (MODEL.md §4). */
     g = dugoff_g(pre, rfe_max(mu, RFE_R(0.0)));
@@ -323,4 +388,7 @@ void RFE_FN(rfe_tyre_dugoff_pre_tan)(const rfe_tyre_params_t *tp, rfe_real_t kap
 {
     const rfe_real_t k = rfe_clamp(kappa, RFE_R(-1.0), RFE_R(1.0));
     dugoff_terms(k, tan_a, tp->cx, tp->cy, tp->eps, vwx, pre);
+    if (tp->mode == RFE_TYRE_MAGIC) {
+        magic_terms(tp->cx, tp->cy, pre);
+    }
 }

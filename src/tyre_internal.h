@@ -17,14 +17,15 @@
 #include "rfe/tyre.h"
 
 /** The friction-independent terms of rfe_tyre_dugoff_abs(tp, kappa, alpha, ., vwx, ...)
+ *  (and, when tp->mode is RFE_TYRE_MAGIC, the direction cosines ux, uy of rfe_tyre_magic_abs)
  *  (no checks: non-finite inputs give non-finite terms, which the second part then rejects
  *  through its checks of the same inputs). */
 void RFE_FN(rfe_tyre_dugoff_pre)(const rfe_tyre_params_t *tp, rfe_real_t kappa, rfe_real_t alpha,
                                  rfe_real_t vwx, rfe_dugoff_pre_t *pre);
 
-/** rfe_tyre_dugoff_abs(tp, kappa, alpha, fz, vwx, mu, fx, fy) with @p pre =
- *  rfe_tyre_dugoff_pre(tp, kappa, alpha, vwx): the same checks in the same order, the same
- *  forces. */
+/** rfe_tyre_dugoff_abs(tp, kappa, alpha, fz, vwx, mu, fx, fy) (rfe_tyre_magic_abs when
+ *  tp->mode is RFE_TYRE_MAGIC) with @p pre = rfe_tyre_dugoff_pre(tp, kappa, alpha, vwx): the
+ *  same checks in the same order, the same forces. */
 RFE_NODISCARD rfe_status_t RFE_FN(rfe_tyre_dugoff_abs_pre)(
     const rfe_tyre_params_t *tp, const rfe_dugoff_pre_t *pre, rfe_real_t kappa,
     rfe_real_t alpha, rfe_real_t fz, rfe_real_t vwx, rfe_real_t mu, rfe_real_t *fx,

@@ -2,13 +2,13 @@
  * @file tyre_internal_q31.h
  * @brief Private per-wheel pieces of the fixed-point tyre model (tyre_q31.c), for the
  *        measurement model (meas_q31.c) and the step noise (eiv_q31.c): one wheel's
- *        kinematics, the Dugoff evaluation split into its friction-independent part and the
- *        rest. Not installed; integer operations only (no libc header beyond <stdint.h> and
- *        <stddef.h>, no <math.h>).
+ *        kinematics, the load-scaled tyre evaluation (absolute Dugoff or Magic Formula) split
+ *        into its friction-independent part and the rest. Not installed; integer operations
+ *        only (no libc header beyond <stdint.h> and <stddef.h>, no <math.h>).
  *
- * These are exactly the operations of rfe_tyre_kinematics_q31 and rfe_tyre_dugoff_abs_q31
- * (which are built from them), so a caller that combines them as those functions do gets the
- * same bits. They check no argument: the callers pass valid pointers, a wheel index below
+ * These are exactly the operations of rfe_tyre_kinematics_q31, rfe_tyre_dugoff_abs_q31 and
+ * rfe_tyre_magic_abs_q31 (which are built from them), so a caller that combines them as those
+ * functions do gets the same bits. They check no argument: the callers pass valid pointers, a wheel index below
  * RFE_WHEELS and parameters that passed the public functions' checks.
  */
 #ifndef RFE_TYRE_INTERNAL_Q31_H
@@ -46,7 +46,9 @@ void rfe_tyre_wheel_kin_q31(const rfe_vehicle_q31_t *veh, const rfe_tyre_params_
 rfe_fix_t rfe_tyre_wheel_kappa_q31(const rfe_vehicle_q31_t *veh, const rfe_tyre_params_q31_t *tp,
                                    const rfe_sample_q31_t *u, int32_t c, int32_t s, size_t i);
 
-/** The friction-independent part of rfe_tyre_dugoff_abs_q31(tp, kappa, alpha, ., vwx, ...). */
+/** The friction-independent part of rfe_tyre_dugoff_abs_q31(tp, kappa, alpha, ., vwx, ...),
+ *  which is also that of rfe_tyre_magic_abs_q31 (it depends on neither the mode nor the shape
+ *  factors). */
 void rfe_tyre_dugoff_pre_q31(const rfe_tyre_params_q31_t *tp, rfe_fix_t kappa, rfe_fix_t alpha,
                              rfe_fix_t vwx, rfe_dugoff_pre_q31_t *pre);
 
@@ -61,5 +63,17 @@ void rfe_tyre_dugoff_mu_q31(const rfe_dugoff_pre_q31_t *pre, rfe_fix_t mu, rfe_f
 
 /** 1 when rfe_tyre_dugoff_abs_q31 accepts the parameters (alpha_max, eps), else 0. */
 int rfe_tyre_dugoff_params_ok_q31(const rfe_tyre_params_q31_t *tp);
+
+/** The rest of rfe_tyre_magic_abs_q31: Fx, Fy (Q15) with the shape factors of @p tp at
+ *  friction @p mu (Q29; mu < 0 evaluated as 0) and load @p fz (Q15, >= 0), from @p pre (of
+ *  rfe_tyre_dugoff_pre_q31 at tp's cx, cy, eps, alpha_max); one count in *sat per clamped
+ *  force. @p tp's shape factors must pass rfe_tyre_abs_params_ok_q31 in magic mode. */
+void rfe_tyre_magic_mu_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugoff_pre_q31_t *pre,
+                           rfe_fix_t mu, rfe_fix_t fz, rfe_fix_t *fx, rfe_fix_t *fy,
+                           uint32_t *sat);
+
+/** 1 when rfe_tyre_forces_abs_q31 accepts the parameters in tp's mode (alpha_max, eps; in
+ *  magic mode also the shape factors), else 0. */
+int rfe_tyre_abs_params_ok_q31(const rfe_tyre_params_q31_t *tp);
 
 #endif /* RFE_TYRE_INTERNAL_Q31_H */

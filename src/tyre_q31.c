@@ -12,7 +12,11 @@
  *  - Dugoff: mantissa/exponent pairs with 30 significant bits (block floating point in
  *    integers) for S, sqrt(k^2 + tan^2 a), eps |vwx| and mu (1 - |k|) E, because their ranges
  *    span many decades (S from 0 to 1800); E, L and the direction cosines C k / S, C tan a / S
- *    in Q30; the force magnitude w in Q29; the forces Fz w u rounded once to Q15.
+ *    in Q30; the force magnitude w in Q29; the forces Fz w u rounded once to Q15;
+ *  - Magic Formula (docs/ESTIMATOR.md "The Magic Formula tyre"): the Dugoff set-up's S and
+ *    direction cosines, then per direction the pair (S, m C) in one common format with 30
+ *    significant bits (only their ratio matters), the two atan2 (Q29), phi = C b (Q29),
+ *    G = sin phi (Q30), the magnitude w = m G (Q29) and the forces Fz w u rounded once to Q15.
  */
 #include "rfe/tyre_q31.h"
 
@@ -392,14 +396,117 @@ static void dugoff_core(int32_t k, int32_t t, int32_t c1, int32_t c2, int32_t ep
     dugoff_at_mu(&pre, mu, fz, fx, fy, sat);
 }
 
-/* Common checks of the single-wheel functions (the float check_wheel, plus the parameters). */
+/* ---- Magic Formula tyre (docs/ESTIMATOR.md "The Magic Formula tyre") ------------------------
+ * Per direction d with C = shape_Cd, E = shape_Ed and m = max(mu, 0):
+ *   a = atan2(s, m C),  phi = C atan2(s - E (s - m C a), m C),  G = sin phi,  F = Fz m G u
+ * with s = S and u = (ux, uy) of the Dugoff set-up (dugoff_pre: the same friction-independent
+ * terms serve both curves). Both atan2 are of a pair in one format, so only the ratio of
+ * s and m C matters: the pair is brought to 30 significant bits by one power of two (exact
+ * when scaling up), which keeps the angle to 0.71 LSB29 whatever s and m are (m -> 0 gives
+ * a = pi/2, no overflow, no division). With 1 < C < 2 and -4 <= E < 1 (checked):
+ *   - 0 <= a <= pi/2, and z = s - E (s - m C a) = (1 - E) s + E m C a >= 0 (clamped there
+ *     against the rounding of a), so 0 <= b <= pi/2, 0 <= phi = C b < pi, 0 <= G <= 1;
+ *   - w = m G <= m < 4 (Q29) and |F| <= Fz m (saturating, counted, as the Dugoff forces).
+ * Error (derived in test/test_tyre_magic_q31.c and docs/FIXED_POINT.md): the angles within
+ * 0.71 + 0.505 LSB29 each (pair rounding + atan2), the second one also carrying the first's
+ * error times E and the sensitivity of the curve to the slip ratio; no intermediate
+ * saturates. */
+
+/* 1 when the shape factors are inside the domain the arithmetic below is proven for:
+ * 1 < C < 2 and -4 <= E < 1 (Q24), both directions. */
+static int magic_shape_ok(const rfe_tyre_params_q31_t *tp)
+{
+    const int32_t one = RFE_FIX_ONE(RFE_FIX_Q_STIFF);
+    return (tp->shape_Cx > one) && (tp->shape_Cx < (2 * one)) && (tp->shape_Ex >= (-4 * one)) &&
+           (tp->shape_Ex < one) && (tp->shape_Cy > one) && (tp->shape_Cy < (2 * one)) &&
+           (tp->shape_Ey >= (-4 * one)) && (tp->shape_Ey < one);
+}
+
+/* v 2^e (0 <= v < 2^63), rounded half up when e < 0; the callers keep the result <= 2^30. */
+static int32_t scale_pow2(int64_t v, int e)
+{
+    int64_t r;
+    if (e >= 0) {
+        r = v * rfe_q31_pow2((unsigned int)e);
+    } else {
+        r = rfe_fix_shr64_round(v, (unsigned int)(-e));
+    }
+    return (int32_t)r;
+}
+
+/* G = sin(C atan2(s - E (s - m C a), m C)), a = atan2(s, m C), in Q30 (0 <= G <= 1), for
+ * S > 0 in Q(qs) (< 2^31, qs in [19, 50]: dugoff_pre's shift is <= 31), m in Q29
+ * (0 < m < 2^31), C and E Q24 within magic_shape_ok.
+ *   m C: Q29 x Q24 = Q53, exact, in (0, 2^56). S in Q53 would be S 2^(53 - qs) (53 - qs in
+ *   [3, 34]): with l the larger bit length of the two in Q53 (<= 65), both are scaled by
+ *   2^(30 - l): xn, yn <= 2^30, the larger >= 2^29 (the other exact or rounded, 0.5 unit).
+ *   Second angle (E != 0): z = (1 - E) yn + E xn a in Q(W + 24) (W the pair's format):
+ *   (2^24 - E) yn < 5 2^24 2^30 = 2^56.4; xn a < 2^30 2^29.7 = 2^59.7 (< 2^62), times E
+ *   (|E| <= 2^26) over 2^29: < 2^56.7 (rfe_q31_mul64x32's preconditions), so |z| < 2^57.6;
+ *   z and xn 2^24 (< 2^55) are brought below 2^30 by one more shift.
+ *   phi = C b: Q24 x Q29 < 2^25 2^29.7, rounded to Q29: < pi (2^30.7), sin's domain. */
+static int32_t magic_g_q31(int32_t S, unsigned int qs, int32_t m, int32_t C, int32_t E)
+{
+    const int64_t mc = (int64_t)m * (int64_t)C;
+    const unsigned int d = 53u - qs;
+    const unsigned int lx = rfe_q31_bitlen64((uint64_t)mc);
+    const unsigned int ly = rfe_q31_bitlen64((uint64_t)S) + d;
+    const int l = (int)((lx > ly) ? lx : ly);
+    const int32_t xn = scale_pow2(mc, 30 - l);
+    const int32_t yn = scale_pow2((int64_t)S, ((int)d + 30) - l);
+    int32_t b = atan2_q(yn, xn); /* a, Q29, in [0, pi/2] */
+    int32_t g = 0;
+    int32_t c = 0;
+    rfe_status_t st;
+
+    if (E != 0) {
+        const int64_t x24 = (int64_t)xn * rfe_q31_pow2(24u);
+        int64_t z = (((int64_t)RFE_FIX_ONE(RFE_FIX_Q_STIFF) - (int64_t)E) * (int64_t)yn) +
+                    rfe_q31_mul64x32((int64_t)xn * (int64_t)b, (int64_t)E, 29u);
+        unsigned int sh;
+        /* z >= 0 exactly; only the rounding of a (E < 0, yn of a few units) can take it
+         * below */
+        z = (z > 0) ? z : 0;
+        sh = rfe_q31_norm_shift((uint64_t)((z > x24) ? z : x24), 30u);
+        b = atan2_q(rfe_q31_shr_to32(z, sh), rfe_q31_shr_to32(x24, sh));
+    }
+    /* phi = C b in Q29; every angle is in sincos's domain (no error) */
+    st = rfe_fix_sincos((int32_t)rfe_fix_shr64_round((int64_t)C * (int64_t)b, 24u), &g, &c);
+    (void)st;
+    return g;
+}
+
+/* Magic Formula forces at m = max(mu, 0) (Q29, >= 0) and load fz (Q15, >= 0) from the
+ * friction-independent terms pre (S, qs, ux, uy): F = Fz w u with w = m G in Q29 (<= m),
+ * (Fz w, Q44, < 2^62) u (Q30) / 2^59 -> Q15, one rounding, as the Dugoff forces; |F| < 2^33
+ * before the (counted) clamp. S = 0 (no slip) or m = 0: F = 0. */
+static void magic_forces_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugoff_pre_q31_t *pre,
+                             int32_t m, int32_t fz, int32_t *fx, int32_t *fy, uint32_t *sat)
+{
+    int32_t wx;
+    int32_t wy;
+    if ((pre->s == 0) || (m == 0)) {
+        *fx = 0;
+        *fy = 0;
+        return;
+    }
+    wx = (int32_t)rfe_fix_shr64_round(
+        (int64_t)m * (int64_t)magic_g_q31(pre->s, pre->qs, m, tp->shape_Cx, tp->shape_Ex), 30u);
+    wy = (int32_t)rfe_fix_shr64_round(
+        (int64_t)m * (int64_t)magic_g_q31(pre->s, pre->qs, m, tp->shape_Cy, tp->shape_Ey), 30u);
+    *fx = rfe_fix_sat32(rfe_q31_mul64x32((int64_t)fz * (int64_t)wx, pre->ux, 59u), sat);
+    *fy = rfe_fix_sat32(rfe_q31_mul64x32((int64_t)fz * (int64_t)wy, pre->uy, 59u), sat);
+}
+
+/* Common checks of the single-wheel functions (the float check_wheel, plus the parameters;
+ * magic != 0: also the shape factors). */
 static rfe_status_t check_wheel_q31(const rfe_tyre_params_q31_t *tp, int32_t fz, const int32_t *o1,
-                                    const int32_t *o2, const uint32_t *sat)
+                                    const int32_t *o2, const uint32_t *sat, int magic)
 {
     if ((tp == NULL) || (o1 == NULL) || (o2 == NULL) || (sat == NULL)) {
         return RFE_ERR_NULL;
     }
-    if (!alpha_max_ok(tp) || (tp->eps < 0)) {
+    if (!alpha_max_ok(tp) || (tp->eps < 0) || ((magic != 0) && !magic_shape_ok(tp))) {
         return RFE_ERR_PARAM;
     }
     if (fz < 0) {
@@ -424,7 +531,7 @@ rfe_status_t rfe_tyre_dugoff_norm_q31(const rfe_tyre_params_q31_t *tp, rfe_fix_t
 {
     int32_t k;
     int32_t t;
-    const rfe_status_t st = check_wheel_q31(tp, fz, f0x, f0y, sat);
+    const rfe_status_t st = check_wheel_q31(tp, fz, f0x, f0y, sat, 0);
 
     if (st != RFE_OK) {
         return st;
@@ -442,7 +549,7 @@ rfe_status_t rfe_tyre_dugoff_abs_q31(const rfe_tyre_params_q31_t *tp, rfe_fix_t 
 {
     int32_t k;
     int32_t t;
-    const rfe_status_t st = check_wheel_q31(tp, fz, fx, fy, sat);
+    const rfe_status_t st = check_wheel_q31(tp, fz, fx, fy, sat, 0);
 
     if (st != RFE_OK) {
         return st;
@@ -450,6 +557,26 @@ rfe_status_t rfe_tyre_dugoff_abs_q31(const rfe_tyre_params_q31_t *tp, rfe_fix_t 
     slip_inputs(tp, kappa, alpha, &k, &t);
     /* A cubature point may put mu below 0: evaluate it at mu = 0 (MODEL.md §4). */
     dugoff_core(k, t, tp->cx, tp->cy, tp->eps, vwx, (mu > 0) ? mu : 0, fz, fx, fy, sat);
+    return RFE_OK;
+}
+
+/* cppcheck-suppress misra-c2012-8.7 ; MISRA-DEV-06: public API, called by the application */
+rfe_status_t rfe_tyre_magic_abs_q31(const rfe_tyre_params_q31_t *tp, rfe_fix_t kappa,
+                                    rfe_fix_t alpha, rfe_fix_t fz, rfe_fix_t vwx, rfe_fix_t mu,
+                                    rfe_fix_t *fx, rfe_fix_t *fy, uint32_t *sat)
+{
+    rfe_dugoff_pre_q31_t pre;
+    int32_t k;
+    int32_t t;
+    const rfe_status_t st = check_wheel_q31(tp, fz, fx, fy, sat, 1);
+
+    if (st != RFE_OK) {
+        return st;
+    }
+    slip_inputs(tp, kappa, alpha, &k, &t);
+    dugoff_pre(k, t, tp->cx, tp->cy, tp->eps, vwx, &pre);
+    /* A cubature point may put mu below 0: evaluate it at mu = 0 (zero force). */
+    magic_forces_q31(tp, &pre, (mu > 0) ? mu : 0, fz, fx, fy, sat);
     return RFE_OK;
 }
 
@@ -492,13 +619,17 @@ rfe_status_t rfe_tyre_forces_abs_q31(const rfe_tyre_params_q31_t *tp,
     uint32_t count = 0u;
     size_t i;
 
-    if ((kin == NULL) || (mu == NULL) || (fx == NULL) || (fy == NULL) || (sat == NULL)) {
+    if ((tp == NULL) || (kin == NULL) || (mu == NULL) || (fx == NULL) || (fy == NULL) ||
+        (sat == NULL)) {
         return RFE_ERR_NULL;
     }
     for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
-        const rfe_status_t st = rfe_tyre_dugoff_abs_q31(tp, kin->kappa[i], kin->alpha[i],
-                                                        kin->fz[i], kin->vwx[i], mu[i], &tx[i],
-                                                        &ty[i], &count);
+        const rfe_status_t st =
+            (tp->mode == RFE_TYRE_MAGIC)
+                ? rfe_tyre_magic_abs_q31(tp, kin->kappa[i], kin->alpha[i], kin->fz[i],
+                                         kin->vwx[i], mu[i], &tx[i], &ty[i], &count)
+                : rfe_tyre_dugoff_abs_q31(tp, kin->kappa[i], kin->alpha[i], kin->fz[i],
+                                          kin->vwx[i], mu[i], &tx[i], &ty[i], &count);
         if (st != RFE_OK) {
             return st;
         }
@@ -539,4 +670,20 @@ void rfe_tyre_dugoff_mu_q31(const rfe_dugoff_pre_q31_t *pre, rfe_fix_t mu, rfe_f
 int rfe_tyre_dugoff_params_ok_q31(const rfe_tyre_params_q31_t *tp)
 {
     return (alpha_max_ok(tp) && (tp->eps >= 0)) ? 1 : 0;
+}
+
+void rfe_tyre_magic_mu_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugoff_pre_q31_t *pre,
+                           rfe_fix_t mu, rfe_fix_t fz, rfe_fix_t *fx, rfe_fix_t *fy,
+                           uint32_t *sat)
+{
+    /* A cubature point may put mu below 0: evaluate it at mu = 0 (zero force). */
+    magic_forces_q31(tp, pre, (mu > 0) ? mu : 0, fz, fx, fy, sat);
+}
+
+int rfe_tyre_abs_params_ok_q31(const rfe_tyre_params_q31_t *tp)
+{
+    return ((rfe_tyre_dugoff_params_ok_q31(tp) != 0) &&
+            ((tp->mode != RFE_TYRE_MAGIC) || (magic_shape_ok(tp) != 0)))
+               ? 1
+               : 0;
 }

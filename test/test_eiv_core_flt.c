@@ -112,8 +112,9 @@ static void bits_equal(const rfe_real_t *a, const rfe_real_t *b, size_t n)
     assert_memory_equal(a, b, n * sizeof(rfe_real_t));
 }
 
-/* REQ: the split Dugoff evaluation is rfe_tyre_dugoff_abs's, bits and statuses. */
-/* REQ-TYRE-003 */
+/* REQ: the split evaluation of a load-scaled tyre is the public function's (Dugoff:
+ * rfe_tyre_dugoff_abs, magic: rfe_tyre_magic_abs), bits and statuses. */
+/* REQ-TYRE-003 REQ-TYRE-007 */
 static void test_dugoff_split(void **state)
 {
     rfe_params_t p;
@@ -136,11 +137,15 @@ static void test_dugoff_split(void **state)
             tp.cy = (rfe_real_t)uni(0.0, 60.0);
             tp.eps = (rfe_real_t)uni(0.0, 0.05);
         }
+        tp.mode = (((n / (int)rfe_test_stride(10u)) % 2) == 0) ? RFE_TYRE_MAGIC : RFE_TYRE_ABSOLUTE;
         RFE_FN(rfe_tyre_dugoff_pre)(&tp, kappa, alpha, vwx, &pre);
         assert_int_equal(RFE_FN(rfe_tyre_dugoff_abs_pre)(&tp, &pre, kappa, alpha, fz, vwx, mu,
                                                          &f2[0], &f2[1]),
-                         RFE_FN(rfe_tyre_dugoff_abs)(&tp, kappa, alpha, fz, vwx, mu, &f1[0],
-                                                     &f1[1]));
+                         (tp.mode == RFE_TYRE_MAGIC)
+                             ? RFE_FN(rfe_tyre_magic_abs)(&tp, kappa, alpha, fz, vwx, mu, &f1[0],
+                                                          &f1[1])
+                             : RFE_FN(rfe_tyre_dugoff_abs)(&tp, kappa, alpha, fz, vwx, mu, &f1[0],
+                                                           &f1[1]));
         bits_equal(f1, f2, 2u);
     }
     {
@@ -442,8 +447,9 @@ static void test_eiv_overflow(void **state)
     }
 }
 
-/* REQ: the cached terms are used only for the set-up's own tyre: changing any one of cx, cy,
- * eps, alpha_max alone makes eval recompute them, giving the public chain's bits. */
+/* REQ: the cached terms are used only for the set-up's own tyre: changing any one of the
+ * mode (magic <-> absolute Dugoff), cx, cy, eps, alpha_max alone makes eval recompute them,
+ * giving the public chain's bits. */
 /* REQ-MEAS-001 */
 static void test_meas_cached_each_field(void **state)
 {
@@ -458,11 +464,13 @@ static void test_meas_cached_each_field(void **state)
     do {
         draw_sample(&u, mu, 1);
     } while (RFE_FN(rfe_meas_setup)(&h, &p.vehicle, &p.tyre, &u) != RFE_OK);
-    for (f = 0; f < 4; ++f) {
+    for (f = 0; f < 5; ++f) {
         rfe_tyre_params_t other = p.tyre;
         rfe_real_t z1[3];
         rfe_real_t z2[3];
-        if (f == 0) {
+        if (f == 4) {
+            other.mode = RFE_TYRE_ABSOLUTE;
+        } else if (f == 0) {
             other.cx *= RFE_R(1.5);
         } else if (f == 1) {
             other.cy *= RFE_R(1.5);
@@ -473,6 +481,18 @@ static void test_meas_cached_each_field(void **state)
         }
         assert_int_equal(RFE_FN(rfe_meas_eval)(&h, &p.vehicle, &other, mu, z1),
                          chain(&h, &p.vehicle, &other, mu, z2));
+        bits_equal(z1, z2, 3u);
+    }
+    /* set up for the absolute Dugoff (no direction cosines cached), evaluated as magic */
+    {
+        rfe_tyre_params_t dug = p.tyre;
+        rfe_meas_t h2;
+        rfe_real_t z1[3];
+        rfe_real_t z2[3];
+        dug.mode = RFE_TYRE_ABSOLUTE;
+        assert_int_equal(RFE_FN(rfe_meas_setup)(&h2, &p.vehicle, &dug, &u), RFE_OK);
+        assert_int_equal(RFE_FN(rfe_meas_eval)(&h2, &p.vehicle, &p.tyre, mu, z1),
+                         chain(&h2, &p.vehicle, &p.tyre, mu, z2));
         bits_equal(z1, z2, 3u);
     }
 }

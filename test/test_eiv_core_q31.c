@@ -3,17 +3,19 @@
  * @brief The internal pieces behind the cheaper fixed-point step (src/tyre_internal_q31.h,
  *        src/meas_internal_q31.h, src/eiv_internal_q31.h) against the public functions they
  *        replace, bit for bit, saturation counts included:
- *  - one wheel's kinematics, kappa alone, and the Dugoff evaluation split into its
- *    friction-independent part and the rest, against rfe_tyre_kinematics_q31 and
- *    rfe_tyre_dugoff_abs_q31;
+ *  - one wheel's kinematics, kappa alone, and the load-scaled tyre evaluation (absolute
+ *    Dugoff and Magic Formula) split into its friction-independent part and the rest, against
+ *    rfe_tyre_kinematics_q31, rfe_tyre_dugoff_abs_q31 and rfe_tyre_magic_abs_q31;
  *  - one wheel's column of H and the exact column sums, against rfe_obsmat_build_q31 and
- *    rfe_obsmat_apply_q31(H, ones) (the absolute-mode chain of rfe_meas_eval_q31), also when
- *    eval is given other tyre parameters than the set-up (the cached terms are then not used);
+ *    rfe_obsmat_apply_q31(H, ones) (the load-scaled chain of rfe_meas_eval_q31, absolute and
+ *    magic mode), also when eval is given other tyre parameters than the set-up (other
+ *    stiffness, eps or alpha_max: the cached terms are then not used; another load-scaled
+ *    mode or other shape factors: the cached terms, which do not depend on them, are used);
  *  - the step noise's internal entry rfe_eiv_sqrt_noise_core_q31 (the estimator's: nominal
  *    columns of the wheels an input does not reach reused), against the public
  *    rfe_eiv_sqrt_noise_q31 and against a reference built here from the public measurement
  *    model exactly as docs/ESTIMATOR.md step 4 writes it (a full evaluation of h at u and at
- *    u +- sd_j e_j for every input), in absolute and paper tyre mode.
+ *    u +- sd_j e_j for every input), in magic, absolute and paper tyre mode.
  * Inputs: integer samples from a fixed-seed generator, over the typical range, the int32
  * extremes (saturating the kinematics, forces, H and z) and rolling wheels; mu from below 0
  * to 4. In valgrind's light mode every tenth case (every path is still taken).
@@ -96,12 +98,17 @@ static void draw_sample(const rfe_params_q31_t *p, rfe_sample_q31_t *u, rfe_fix_
     }
 }
 
-/* Tyre parameters varied around the preset's (stiffness 0 .. 60, eps 0 .. 0.25). */
+/* Tyre parameters varied around the preset's (stiffness 0 .. 60, eps 0 .. 0.25, the Magic
+ * Formula shape factors anywhere in 1 < C < 2, -4 <= E < 1). */
 static void vary_tyre(rfe_tyre_params_q31_t *tp)
 {
     tp->cx = (int32_t)(next_u64() % (60u << 24));
     tp->cy = (int32_t)(next_u64() % (60u << 24));
     tp->eps = ((next_u64() % 4u) == 0u) ? 0 : (int32_t)(next_u64() % (1u << 30));
+    tp->shape_Cx = (1 << 24) + 1 + (int32_t)(next_u64() % ((1u << 24) - 1u));
+    tp->shape_Cy = (1 << 24) + 1 + (int32_t)(next_u64() % ((1u << 24) - 1u));
+    tp->shape_Ex = ((next_u64() % 2u) == 0u) ? 0 : (int32_t)(next_u64() % (5u << 24)) - (4 << 24);
+    tp->shape_Ey = ((next_u64() % 2u) == 0u) ? 0 : (int32_t)(next_u64() % (5u << 24)) - (4 << 24);
 }
 
 static rfe_params_q31_t preset(void)
@@ -111,8 +118,9 @@ static rfe_params_q31_t preset(void)
     return p;
 }
 
-/* REQ: one wheel's kinematics and the split Dugoff evaluation are rfe_tyre_kinematics_q31's
- * and rfe_tyre_dugoff_abs_q31's bits and counts. */
+/* REQ: one wheel's kinematics and the split Dugoff and Magic Formula evaluations are
+ * rfe_tyre_kinematics_q31's, rfe_tyre_dugoff_abs_q31's and rfe_tyre_magic_abs_q31's bits and
+ * counts. */
 /* REQ-FXP-007 REQ-FXP-008 */
 static void test_tyre_internal_q31(void **state)
 {
@@ -175,12 +183,25 @@ static void test_tyre_internal_q31(void **state)
             assert_int_equal(c2, c1);
             rfe_tyre_dugoff_pre_tan_q31(&p.tyre, kin.kappa[i], pre.tan_a, kin.vwx[i], &pre_t);
             assert_memory_equal(&pre_t, &pre, sizeof(pre));
+            /* the Magic Formula on the same terms */
+            c1 = c2 = 0u;
+            assert_int_equal(rfe_tyre_magic_abs_q31(&p.tyre, kin.kappa[i], kin.alpha[i],
+                                                    kin.fz[i], kin.vwx[i], mu[i], &fx, &fy,
+                                                    &c1),
+                             RFE_OK);
+            rfe_tyre_magic_mu_q31(&p.tyre, &pre, mu[i], kin.fz[i], &gx, &gy, &c2);
+            assert_int_equal(gx, fx);
+            assert_int_equal(gy, fy);
+            assert_int_equal(c2, c1);
         }
         assert_int_equal(sum, sat);
     }
     {
         rfe_tyre_params_q31_t bad = p.tyre;
         assert_int_equal(rfe_tyre_dugoff_params_ok_q31(&p.tyre), 1);
+        bad.shape_Cx = 0; /* the Dugoff check does not look at the shape */
+        assert_int_equal(rfe_tyre_dugoff_params_ok_q31(&bad), 1);
+        bad = p.tyre;
         bad.eps = -1;
         assert_int_equal(rfe_tyre_dugoff_params_ok_q31(&bad), 0);
         bad = p.tyre;
@@ -199,7 +220,8 @@ static void test_tyre_internal_q31(void **state)
     }
 }
 
-/* The absolute-mode chain of the public functions at tyre parameters tp: z and its count. */
+/* The load-scaled chain of the public functions at tyre parameters tp (the curve of tp's
+ * mode): z and its count. */
 static uint32_t chain(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh,
                       const rfe_tyre_params_q31_t *tp, const rfe_fix_t mu[4], rfe_fix_t z[3])
 {
@@ -214,9 +236,10 @@ static uint32_t chain(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh,
     return count;
 }
 
-/* REQ: the per-wheel columns and their sums are the absolute-mode chain (forces, H, H ones)
- * bit for bit with the same count; eval with other tyre parameters than the set-up's gives
- * that chain at the other parameters. */
+/* REQ: the per-wheel columns and their sums are the load-scaled chain (forces, H, H ones) bit
+ * for bit with the same count, in magic and absolute mode; eval with other tyre parameters
+ * than the set-up's (stiffness, eps, alpha_max, the other load-scaled mode, other shape
+ * factors) gives that chain at the other parameters. */
 /* REQ-FXP-007 REQ-FXP-008 */
 static void test_meas_columns_q31(void **state)
 {
@@ -239,11 +262,14 @@ static void test_meas_columns_q31(void **state)
         if ((n % 3) == 1) {
             vary_tyre(&p.tyre);
         }
+        if ((n % 5) == 2) {
+            p.tyre.mode = RFE_TYRE_ABSOLUTE;
+        }
         draw_sample(&p, &u, mu, n);
         assert_int_equal(rfe_meas_setup_q31(&h, &p.vehicle, &p.tyre, &u, &sat), RFE_OK);
         for (i = 0; i < 4; ++i) {
-            rfe_meas_wheel_column_q31(&p.vehicle, &h.pre[i], mu[i], h.kin.fz[i], h.cos_delta,
-                                      h.sin_delta, i, &col[i * 3u], &cnt);
+            rfe_meas_wheel_column_q31(&p.vehicle, &p.tyre, &h.pre[i], mu[i], h.kin.fz[i],
+                                      h.cos_delta, h.sin_delta, i, &col[i * 3u], &cnt);
         }
         rfe_meas_sum_columns_q31(col, z, &cnt);
         assert_int_equal(chain(&h, &p.vehicle, &p.tyre, mu, zc), cnt);
@@ -255,7 +281,7 @@ static void test_meas_columns_q31(void **state)
         with_sat += (cnt != 0u) ? 1 : 0;
         /* other (valid) tyre parameters at eval: the terms are recomputed for them */
         other = p.tyre;
-        switch (n % 4) {
+        switch (n % 6) {
         case 0:
             other.cx = other.cx / 2 + 1;
             break;
@@ -265,8 +291,17 @@ static void test_meas_columns_q31(void **state)
         case 2:
             other.eps = other.eps / 2;
             break;
-        default:
+        case 3:
             other.alpha_max = other.alpha_max / 2;
+            break;
+        case 4:
+            /* the other load-scaled curve on the same cached terms */
+            other.mode = (other.mode == RFE_TYRE_MAGIC) ? RFE_TYRE_ABSOLUTE : RFE_TYRE_MAGIC;
+            break;
+        default:
+            /* other shape factors on the same cached terms */
+            other.shape_Cx = (1 << 24) + 1 + (int32_t)(next_u64() % ((1u << 24) - 1u));
+            other.shape_Ey = (int32_t)(next_u64() % (5u << 24)) - (4 << 24);
             break;
         }
         sat = 0u;
@@ -362,8 +397,8 @@ static rfe_status_t ref_eiv(const rfe_params_q31_t *p, const rfe_sample_q31_t *u
 
 /* REQ: the estimator's step-noise entry (the set-up model reused, only the wheels an input
  * reaches evaluated again) gives the S_R and count of the public function and of the
- * reference with a full evaluation per perturbed input, in absolute and paper tyre mode,
- * with every input switched on or off. */
+ * reference with a full evaluation per perturbed input, in magic, absolute and paper tyre
+ * mode, with every input switched on or off. */
 /* REQ-FXP-007 REQ-FXP-008 */
 static void test_eiv_core_q31(void **state)
 {
@@ -399,6 +434,9 @@ static void test_eiv_core_q31(void **state)
         if ((n % 7) == 3) {
             p.tyre.mode = RFE_TYRE_PAPER;
         }
+        if ((n % 7) == 5) {
+            p.tyre.mode = RFE_TYRE_ABSOLUTE;
+        }
         draw_sample(&p, &u, mu, n);
         if (rfe_params_validate_q31(&p) != RFE_OK) {
             continue;
@@ -425,6 +463,8 @@ static void test_eiv_core_q31(void **state)
 
 /* REQ: a set-up in absolute mode with invalid Dugoff parameters (eps < 0) keeps zero
  * friction-independent terms, and the evaluation rejects the tyre (as the public chain does);
+ * in magic mode with a shape factor outside its domain the set-up succeeds (its terms do not
+ * depend on the shape) and the evaluation rejects the tyre;
  * rfe_fix_div's long division stops as soon as the quotient must saturate (operands that
  * take the long path: shift + 1 > 32), saturating to INT32_MAX, counted. */
 /* REQ-FXP-008 REQ-MEAS-002 */
@@ -455,6 +495,22 @@ static void test_meas_pre_invalid_tyre_and_div_saturation_q31(void **state)
         assert_memory_equal(&h.pre[i], &zero, sizeof zero);
     }
     assert_int_not_equal(rfe_meas_eval_q31(&h, &p.vehicle, &p.tyre, mu, z, &sat), RFE_OK);
+    /* magic mode, C = 2 (outside 1 < C < 2) */
+    p = preset();
+    p.tyre.shape_Cy = 2 << 24;
+    sat = 0u;
+    assert_int_equal(rfe_meas_setup_q31(&h, &p.vehicle, &p.tyre, &u, &sat), RFE_OK);
+    for (i = 0; i < 4; ++i) {
+        rfe_dugoff_pre_q31_t fresh;
+        rfe_tyre_dugoff_pre_q31(&p.tyre, h.kin.kappa[i], h.kin.alpha[i], h.kin.vwx[i], &fresh);
+        assert_memory_equal(&h.pre[i], &fresh, sizeof fresh);
+    }
+    memset(z, 0x5A, sizeof z);
+    assert_int_equal(rfe_meas_eval_q31(&h, &p.vehicle, &p.tyre, mu, z, &sat), RFE_ERR_PARAM);
+    assert_int_equal(z[0], 0x5A5A5A5A);
+    assert_int_equal(sat, 0u);
+    p.tyre.mode = RFE_TYRE_ABSOLUTE; /* the Dugoff curve does not use the shape */
+    assert_int_equal(rfe_meas_eval_q31(&h, &p.vehicle, &p.tyre, mu, z, &sat), RFE_OK);
     /* division: a = INT32_MAX, b = 1, shift 40: 2^71, far beyond int32 */
     sat = 0u;
     assert_int_equal(rfe_fix_div(INT32_MAX, 1, 40, &q, &sat), RFE_OK);

@@ -773,14 +773,17 @@ static void test_rfe_params_presets(void **state)
                 paper.filter.sd_floor_rel == 0 && paper.filter.sd_valid == 0);
     assert_true(paper.filter.dt == (rfe_real_t)0.01);
     assert_int_equal(dflt.filter.structure, RFE_STRUCT_SIDES);
-    assert_int_equal(dflt.tyre.mode, RFE_TYRE_ABSOLUTE);
+    assert_int_equal(dflt.tyre.mode, RFE_TYRE_MAGIC);
+    assert_true(dflt.tyre.shape_Cx == (rfe_real_t)1.65 && dflt.tyre.shape_Ex == 0 &&
+                dflt.tyre.shape_Cy == (rfe_real_t)1.3 && dflt.tyre.shape_Ey == 0);
+    assert_true(paper.tyre.shape_Cx == dflt.tyre.shape_Cx && paper.tyre.shape_Ey == dflt.tyre.shape_Ey);
     assert_true(dflt.filter.sd0 == (rfe_real_t)0.1 && dflt.filter.sd0_common == (rfe_real_t)0.3);
     assert_true(dflt.filter.q_mu == (rfe_real_t)0.002 && dflt.filter.q_common == (rfe_real_t)0.006);
     assert_true(dflt.filter.dt == (rfe_real_t)0.01 && dflt.filter.tau_v == (rfe_real_t)0.3);
     assert_true(dflt.filter.sd_in_delta == (rfe_real_t)0.001 && dflt.filter.sd_in_vx == (rfe_real_t)0.01 &&
                 dflt.filter.sd_in_vy == (rfe_real_t)0.01 && dflt.filter.sd_in_yaw_rate == (rfe_real_t)0.005 &&
                 dflt.filter.sd_in_omega == (rfe_real_t)0.05);
-    assert_true(dflt.filter.r_model_rel == (rfe_real_t)0.05 && dflt.filter.info_min == (rfe_real_t)100 &&
+    assert_true(dflt.filter.r_model_rel == (rfe_real_t)0.05 && dflt.filter.info_min == (rfe_real_t)25 &&
                 dflt.filter.sd_max == (rfe_real_t)0.32 && dflt.filter.sd_floor_rel == (rfe_real_t)0.15 &&
                 dflt.filter.sd_valid == (rfe_real_t)0.15);
     assert_int_equal(RFE_FN(rfe_estimator_init)(&est, &paper), RFE_OK);

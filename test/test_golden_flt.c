@@ -253,7 +253,7 @@ static void sckf_absolute(const char *stem) { check_one(stem, RFE_PRESET_PAPER, 
 /* The default preset (docs/ESTIMATOR.md: sides, absolute tyre, input filter, errors in
  * variables, information gate, sd bounds). Its goldens are optional: a scenario without
  * <stem>.default.sckf.csv is skipped. */
-static void sckf_default(const char *stem) { check_one(stem, RFE_PRESET_DEFAULT, RFE_TYRE_ABSOLUTE, RFE_FILTER_SCKF, "default.sckf", 0); }
+static void sckf_default(const char *stem) { check_one(stem, RFE_PRESET_DEFAULT, RFE_TYRE_MAGIC, RFE_FILTER_SCKF, "default.sckf", 0); }
 
 /* REQ: the SCKF (paper configuration) reproduces the reference on every scenario. */
 /* REQ-ACC-001 REQ-ACC-002 */

@@ -333,7 +333,16 @@ static void test_mcdc_params_each_field(void **state)
         REJECT(vehicle.hg, neg);   REJECT(vehicle.hg, n);
         REJECT(vehicle.g, z);
         /* tyre */
-        REJECT(tyre.mode, (rfe_tyre_mode_t)2);
+        REJECT(tyre.mode, (rfe_tyre_mode_t)3);
+        /* Magic Formula shapes: 1 < C < 2, -4 <= E < 1 (each bound, NaN) */
+        REJECT(tyre.shape_Cx, (rfe_real_t)1.0); REJECT(tyre.shape_Cx, (rfe_real_t)2.0);
+        REJECT(tyre.shape_Cx, n);
+        REJECT(tyre.shape_Ex, (rfe_real_t)1.0); REJECT(tyre.shape_Ex, (rfe_real_t)-4.5);
+        REJECT(tyre.shape_Ex, n);
+        REJECT(tyre.shape_Cy, (rfe_real_t)1.0); REJECT(tyre.shape_Cy, (rfe_real_t)2.0);
+        REJECT(tyre.shape_Cy, n);
+        REJECT(tyre.shape_Ey, (rfe_real_t)1.0); REJECT(tyre.shape_Ey, (rfe_real_t)-4.5);
+        REJECT(tyre.shape_Ey, n);
         REJECT(tyre.Cx_n, z);      REJECT(tyre.Cy_n, z);
         REJECT(tyre.cx, z);        REJECT(tyre.cy, z);
         REJECT(tyre.eps, neg);     REJECT(tyre.v_min, z);
@@ -354,11 +363,18 @@ static void test_mcdc_params_each_field(void **state)
         REJECT(filter.mu0, (rfe_real_t)1.3);     /* above mu_max */
         REJECT(filter.v_est_min, neg);
     }
-    /* the other tyre mode is accepted (second condition of the mode check) */
+    /* the other tyre modes are accepted (each condition of the mode check), and the shape
+     * bounds are inclusive where documented (E = -4) */
     {
         rfe_params_t p = paper;
         p.tyre.mode = RFE_TYRE_ABSOLUTE;
         assert_int_equal(RFE_FN(rfe_params_validate)(&p), RFE_OK);
+        p.tyre.mode = RFE_TYRE_MAGIC;
+        assert_int_equal(RFE_FN(rfe_params_validate)(&p), RFE_OK);
+        p.tyre.shape_Ex = (rfe_real_t)-4.0;
+        p.tyre.shape_Ey = (rfe_real_t)-4.0;
+        assert_int_equal(RFE_FN(rfe_params_validate)(&p), RFE_OK);
+        p.tyre.mode = RFE_TYRE_ABSOLUTE;
         p.filter.structure = RFE_STRUCT_SIDES;
         assert_int_equal(RFE_FN(rfe_params_validate)(&p), RFE_OK);
     }

@@ -11,7 +11,13 @@
  * - Cap only (sd_max = 0.2, sd_floor_rel = 0): every sd ≤ sd_max; a step where no sd is above
  *   the cap gives bit for bit what the same state gives with both bounds off.
  * - Each input-noise key (r_model_rel, sd_in_delta, …, sd_in_omega) alone switches the step
- *   noise on: the sd after 20 steps ends above the one with every key 0.
+ *   noise on: the sd after 20 steps ends above the one with every key 0 (paper tyre), or
+ *   differs from it (load-scaled Magic Formula tyre, whose step noise reuses the set-up's
+ *   per-wheel terms as the absolute Dugoff's; h is nonlinear in mu, so a larger S_R also
+ *   moves the mean and with it the information, and the sd may end lower).
+ * - A floor factor beyond the Q24 range of c (sd_floor_rel μ / sd > 128: a very precise
+ *   sensor, r = 1e-4 m/s², collapses the sd in one update) saturates at 128, counted in the
+ *   step's `sat`; the sd is then lifted by 128, still below its floor.
  *
  * Tolerance REL = 1e-5: c is Q24 (6e-8) and sd Q30 (9e-10 on ~0.1, 1e-8 relative); the
  * floor's f_k is exact in Q59 (FIXED_POINT.md), so a few LSB is far below 1e-5.
@@ -176,10 +182,19 @@ static void test_mcdc_q31_each_input_noise_switches_eiv_on(void **state)
     int which;
     (void)state;
     run_sd(&paper, sd_off);
-    for (which = 0; which < 6; ++which) {
+    for (which = 0; which < 12; ++which) {
         rfe_params_t pd = paper;
         int w, differs = 0;
-        switch (which) {
+        if (which == 6) {
+            /* the same with the Magic Formula tyre */
+            rfe_params_t pm = paper;
+            pm.tyre.mode = RFE_TYRE_MAGIC;
+            run_sd(&pm, sd_off);
+        }
+        if (which >= 6) {
+            pd.tyre.mode = RFE_TYRE_MAGIC;
+        }
+        switch (which % 6) {
         case 0: pd.filter.r_model_rel = 0.05; break;
         case 1: pd.filter.sd_in_delta = 0.01; break;
         case 2: pd.filter.sd_in_vx = 0.05; break;
@@ -189,7 +204,9 @@ static void test_mcdc_q31_each_input_noise_switches_eiv_on(void **state)
         }
         run_sd(&pd, sd_on);
         for (w = 0; w < RFE_WHEELS; ++w) {
-            if (sd_on[w] > sd_off[w]) {
+            /* paper tyre (h linear in mu): a larger S_R only raises the sd; magic tyre: the
+             * mean, and with it the curve's information, moves too, so only "differs" */
+            if ((sd_on[w] > sd_off[w]) || ((which >= 6) && (sd_on[w] != sd_off[w]))) {
                 differs = 1;
             }
         }
@@ -199,12 +216,45 @@ static void test_mcdc_q31_each_input_noise_switches_eiv_on(void **state)
     }
 }
 
+/* REQ-EST-009 REQ-FXP-008 */
+static void test_mcdc_q31_floor_factor_saturates(void **state)
+{
+    rfe_params_t pd = paper;
+    rfe_params_q31_t p;
+    rfe_estimator_q31_t est;
+    rfe_estimate_q31_t out;
+    const rfe_sample_q31_t u = braking(0.02);
+    rfe_status_t st;
+    size_t w;
+    int below = 0;
+    (void)state;
+    pd.filter.structure = RFE_STRUCT_SIDES;
+    pd.filter.sd_max = 0.0;
+    pd.filter.sd_floor_rel = 1.5;
+    pd.filter.r_ax = 1e-4;
+    pd.filter.r_ay = 1e-4;
+    pd.filter.r_yaw_acc = 1e-4;
+    p = to_q(&pd);
+    assert_int_equal(rfe_estimator_init_q31(&est, &p), RFE_OK);
+    st = rfe_estimator_step_q31(&est, &u, &out);
+    assert_false(rfe_status_is_error(st));
+    assert_true(out.sat >= 1u);
+    for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
+        below += (sd_d(out.sd[w]) < 1.5 * mu_d(out.mu[w])) ? 1 : 0;
+    }
+    printf("floor factor beyond Q24: %u saturation(s) in the step, %d of 4 sds left below the "
+           "floor\n",
+           out.sat, below);
+    assert_true(below > 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_mcdc_q31_floor_without_cap),
         cmocka_unit_test(test_mcdc_q31_cap_without_floor),
         cmocka_unit_test(test_mcdc_q31_each_input_noise_switches_eiv_on),
+        cmocka_unit_test(test_mcdc_q31_floor_factor_saturates),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }

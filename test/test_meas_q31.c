@@ -1,13 +1,16 @@
 /**
  * @file test_meas_q31.c
  * @brief The fixed-point measurement model (rfe/meas_q31.h) back to back against the double
- *        twin (rfe/meas.h, _f64): paper mode h = H(u) mu and absolute mode per friction value,
- *        on every sample of every bundled log (at the log's true mu, and in absolute mode on a
- *        mu grid 0, 0.1, ..., 1.2) and on 1e5 random samples over the input limits; determinism,
- *        saturation counting, argument checks.
+ *        twin (rfe/meas.h, _f64): paper mode h = H(u) mu, absolute mode and magic mode per
+ *        friction value, on every sample of every bundled log (at the log's true mu, and in
+ *        the load-scaled modes on a mu grid 0, 0.1, ..., 1.2) and on 1e5 random samples over
+ *        the input limits; in magic mode also bit for bit against the uncached public chain
+ *        (forces, H, H ones); determinism, saturation counting, argument checks.
  *
- * Setup: q31 with the converted presets (paper preset for paper mode, default preset for
- * absolute mode), double with the original ones; the same inputs (Q values converted exactly).
+ * Setup: q31 with the converted presets (paper preset for paper mode, default preset with the
+ * tyre mode set to absolute for absolute mode, the default preset for magic mode), double with
+ * the original ones (magic mode: with the q31 tyre values converted exactly, so the shape
+ * factors' rounding does not enter); the same inputs (Q values converted exactly).
  *
  * Bound (composed from the derived bounds of the parts, test_tyre_q31.c and
  * test_obsmat_q31.c, whose derivations are not repeated here). Per wheel i, evaluated at the
@@ -20,8 +23,12 @@
  *      L_v = Fz mu_e eps sqrt(k^2 + t^2),  d|F|/dFz <= mu_e;
  *  - its effect on H's column: (dFx_i + dFy_i) / m (rows 1-2), (|x_i| + |y_i|) / J (row 3);
  *  - plus H's own bound (obsmat) for the double forces.
- * Paper mode: |dz_r| <= 0.5 LSB24 + sum_i |mu_i| dH_ri. Absolute mode (z_r = row sum of the H
- * of the absolute forces): |dz_r| <= 0.5 LSB24 + sum_i dH_ri. The first-order terms are
+ * Magic mode: the force bound of test_tyre_magic_q31.c (against the exact tangent), and its
+ * Lipschitz constants (derived there: every entry of the Jacobian in (cx k, cy t) is at most
+ * Fz K_E, K_E = 1 for E >= -1): L_k = Fz K_E cx, L_a = Fz K_E cy (1 + t^2), d|F|/dFz <= mu_e,
+ * nothing through vwx (the curve does not use it).
+ * Paper mode: |dz_r| <= 0.5 LSB24 + sum_i |mu_i| dH_ri. Load-scaled modes (z_r = row sum of
+ * the H of the forces): |dz_r| <= 0.5 LSB24 + sum_i dH_ri. The first-order terms are
  * evaluated at the double values; the factor 1.001 covers the change of the constants over
  * the error interval (t and Fz move by < 1e-6 relative).
  * The measured worst cases are printed (docs/FIXED_POINT.md quotes them).
@@ -54,8 +61,8 @@ static const char *const SCENARIO[13] = {
     "split_mu_hard_brake"};
 static const char *const VARIANT[3] = {"", ".mf", ".nf"};
 
-static rfe_params_t pd, pd_pap;
-static rfe_params_q31_t pq, pq_pap;
+static rfe_params_t pd, pd_pap, pd_mag;     /* default (absolute mode), paper, default (magic) */
+static rfe_params_q31_t pq, pq_pap, pq_mag;
 
 /* ---- worst cases -------------------------------------------------------------------------- */
 
@@ -67,6 +74,7 @@ typedef struct {
 
 static worst_t w_paper = {"z paper", 0, 0, 0, 0};
 static worst_t w_abs = {"z absolute", 0, 0, 0, 0};
+static worst_t w_mag = {"z magic", 0, 0, 0, 0};
 
 static void reset(worst_t *w) { w->max_abs = w->max_rel = w->max_ratio = 0.0, w->n = 0; }
 
@@ -126,8 +134,23 @@ static void make_sample(double delta, double vx, double vy, double r, double ax,
 static int setup(void **state)
 {
     (void)state;
-    return (rfe_params_default_f64(&pd) == RFE_OK && rfe_params_paper_f64(&pd_pap) == RFE_OK &&
-            rfe_params_to_q31_f64(&pd, &pq) == RFE_OK &&
+    if (rfe_params_default_f64(&pd_mag) != RFE_OK || rfe_params_to_q31_f64(&pd_mag, &pq_mag) != RFE_OK ||
+        pq_mag.tyre.mode != RFE_TYRE_MAGIC) {
+        return -1;
+    }
+    /* the magic twin gets the q31 tyre values (exact in double) */
+    pd_mag.tyre.cx = fromq(pq_mag.tyre.cx, 24);
+    pd_mag.tyre.cy = fromq(pq_mag.tyre.cy, 24);
+    pd_mag.tyre.alpha_max = fromq(pq_mag.tyre.alpha_max, 29);
+    pd_mag.tyre.shape_Cx = fromq(pq_mag.tyre.shape_Cx, 24);
+    pd_mag.tyre.shape_Ex = fromq(pq_mag.tyre.shape_Ex, 24);
+    pd_mag.tyre.shape_Cy = fromq(pq_mag.tyre.shape_Cy, 24);
+    pd_mag.tyre.shape_Ey = fromq(pq_mag.tyre.shape_Ey, 24);
+    if (rfe_params_default_f64(&pd) != RFE_OK) {
+        return -1;
+    }
+    pd.tyre.mode = RFE_TYRE_ABSOLUTE; /* the Dugoff comparisons */
+    return (rfe_params_paper_f64(&pd_pap) == RFE_OK && rfe_params_to_q31_f64(&pd, &pq) == RFE_OK &&
             rfe_params_to_q31_f64(&pd_pap, &pq_pap) == RFE_OK)
                ? 0
                : -1;
@@ -231,6 +254,27 @@ static double force_bound(int paper, const rfe_sample_t *u, const rfe_wheel_kin_
            1.001 * (Lk * kb.kappa + La * kb.alpha + mue * kb.fz + Lv * kb.vwx);
 }
 
+/* Magic Formula force bound (test_tyre_magic_q31.c: against the exact tangent, no parameter
+ * rounding) through the kinematics' errors, for the magic tyre of pd_mag (E_x, E_y >= -1, so
+ * K_E = 1; the default's E = 0 also gives K_b = 1). */
+static double magic_force_bound(const rfe_sample_t *u, const rfe_wheel_kin_t *kd, size_t i,
+                                double mu, int d)
+{
+    const rfe_tyre_params_t *t = &pd_mag.tyre;
+    const double U = ldexp(1.0, -29);
+    const kin_bound_t kb = kin_bounds(u, i, kd->kappa[i]);
+    const double C = d ? t->shape_Cy : t->shape_Cx, E = d ? t->shape_Ey : t->shape_Ex;
+    const double Kb = (E < 0.0) ? 1.0 - E : 1.0 / (1.0 - E);
+    const double m = fmax(mu, 0.0);
+    const double fz = kd->fz[i] + kb.fz;
+    const double tn = tan(fmin(fabs(kd->alpha[i]) + kb.alpha, t->alpha_max));
+    const double eb = Kb * 0.71 * U + 0.505 * U + ((E != 0.0) ? (fabs(E) * 0.505 + 1.21) * U : 0.0);
+    const double eG = C * eb + 0.7525 * U;
+    const double B = 0.5 * LSB(15) + fz * t->cy * TAN + fz * (1.0 + LSB(30)) * (m * eG + 0.5 * U) +
+                     fz * (m * (0.88 * C * Kb + 3.75) * U + 10.0 * LSB(50)) + 1e-14 * fz * m;
+    return B + 1.001 * (fz * t->cx * kb.kappa + fz * t->cy * (1.0 + tn * tn) * kb.alpha + m * kb.fz);
+}
+
 /* Bounds of H's entries from the double forces fx, fy and their error bounds dfx, dfy. */
 static void h_bounds(double delta, const double fx[4], const double fy[4], const double dfx[4],
                      const double dfy[4], double b[12])
@@ -329,11 +373,49 @@ static void check_sample(const rfe_sample_q31_t *uq, const rfe_sample_t *ud, con
             track(&w_abs, fromq(zq[r], 24), zd[r], bound, what);
         }
     }
+    /* magic mode: against the double twin, and bit for bit against the uncached chain */
+    assert_int_equal(rfe_meas_setup_q31(&hq, &pq_mag.vehicle, &pq_mag.tyre, uq, &sat), RFE_OK);
+    assert_int_equal(rfe_meas_setup_f64(&hd, &pd_mag.vehicle, &pd_mag.tyre, ud), RFE_OK);
+    kd = hd.kin;
+    for (g = -1; g < (grid ? 13 : 0); ++g) {
+        static const rfe_fix_t ones[4] = {1 << 29, 1 << 29, 1 << 29, 1 << 29};
+        double m[4], fx[4], fy[4], dfx[4], dfy[4];
+        rfe_fix_t mq[4], cfx[4], cfy[4], Hc[12], zc[3];
+        uint32_t csat = 0u;
+        for (i = 0; i < 4; ++i) {
+            mq[i] = (g < 0) ? muq[i] : toq(0.1 * g, 29);
+            m[i] = fromq(mq[i], 29);
+        }
+        assert_int_equal(rfe_meas_eval_q31(&hq, &pq_mag.vehicle, &pq_mag.tyre, mq, zq, &sat),
+                         RFE_OK);
+        assert_int_equal(rfe_meas_eval_f64(&hd, &pd_mag.vehicle, &pd_mag.tyre, m, zd), RFE_OK);
+        assert_int_equal(sat, 0u);
+        assert_int_equal(rfe_tyre_forces_abs_q31(&pq_mag.tyre, &hq.kin, mq, cfx, cfy, &csat), RFE_OK);
+        assert_int_equal(rfe_obsmat_build_q31(&pq_mag.vehicle, hq.delta, cfx, cfy, Hc, &csat), RFE_OK);
+        assert_int_equal(rfe_obsmat_apply_q31(Hc, ones, zc, &csat), RFE_OK);
+        assert_memory_equal(zq, zc, sizeof(zc));
+        assert_int_equal(csat, 0u);
+        assert_int_equal(rfe_tyre_forces_abs_f64(&pd_mag.tyre, &kd, m, fx, fy), RFE_OK);
+        for (i = 0; i < 4; ++i) {
+            dfx[i] = magic_force_bound(ud, &kd, i, m[i], 0);
+            dfy[i] = magic_force_bound(ud, &kd, i, m[i], 1);
+        }
+        h_bounds(ud->delta, fx, fy, dfx, dfy, b);
+        for (r = 0; r < 3; ++r) {
+            double bound = 0.5 * LSB(24) + 1e-15 * fabs(zd[r]);
+            for (i = 0; i < 4; ++i) {
+                bound += b[4 * r + i];
+            }
+            snprintf(what, sizeof(what), "%s magic mu %s row %zu", ctx,
+                     (g < 0) ? "truth" : "grid", r);
+            track(&w_mag, fromq(zq[r], 24), zd[r], bound, what);
+        }
+    }
 }
 
 /* REQ: every sample of every bundled log (13 scenarios x 3 truth variants): paper mode at the
- * true mu, absolute mode at the true mu and on the grid mu = 0, 0.1, ..., 1.2, within the
- * composed bounds. */
+ * true mu, absolute and magic mode at the true mu and on the grid mu = 0, 0.1, ..., 1.2,
+ * within the composed bounds; magic mode bit for bit the uncached chain. */
 /* REQ-FXP-003 REQ-MEAS-001 */
 static void test_meas_q31_scenarios(void **state)
 {
@@ -341,6 +423,7 @@ static void test_meas_q31_scenarios(void **state)
     (void)state;
     reset(&w_paper);
     reset(&w_abs);
+    reset(&w_mag);
     for (s = 0; s < 13; ++s) {
         for (v = 0; v < 3; ++v) {
             char path[256], ctx[300];
@@ -365,16 +448,17 @@ static void test_meas_q31_scenarios(void **state)
             rfe_sensor_log_free(&log);
         }
     }
-    printf("scenario samples: %zu (39 logs; absolute mode at the true mu and 13 grid values)\n",
+    printf("scenario samples: %zu (39 logs; load-scaled modes at the true mu and 13 grid values)\n",
            n);
     report(&w_paper);
     report(&w_abs);
+    report(&w_mag);
 }
 
 static double uni(double a, double b) { return a + (b - a) * 0.5 * (rng_uniform() + 1.0); }
 
 /* REQ: 1e5 random samples over the input limits (config.h; uniform and near-rolling), random
- * mu in [-0.5, 1.5] per wheel: within the composed bounds. */
+ * mu in [-0.5, 1.5] per wheel: within the composed bounds (paper, absolute, magic mode). */
 /* REQ-FXP-003 REQ-MEAS-001 */
 static void test_meas_q31_random(void **state)
 {
@@ -383,6 +467,7 @@ static void test_meas_q31_random(void **state)
     (void)state;
     reset(&w_paper);
     reset(&w_abs);
+    reset(&w_mag);
     rng_seed(0x3EA5ull);
     for (n = 0; n < N_RANDOM; n += (int)rfe_test_stride(10u)) {
         double om[4], mu[4];
@@ -415,6 +500,7 @@ static void test_meas_q31_random(void **state)
     printf("random samples: %d\n", N_RANDOM);
     report(&w_paper);
     report(&w_abs);
+    report(&w_mag);
 }
 
 /* REQ: identical inputs give identical outputs (model and predictions). */
@@ -438,17 +524,15 @@ static void test_meas_q31_deterministic(void **state)
         }
         make_sample(uni(-1, 1), uni(-100, 100), uni(-50, 50), uni(-10, 10), uni(-50, 50),
                     uni(-50, 50), om, &uq, &ud);
+        const rfe_tyre_params_q31_t *tp =
+            ((n % 3) == 0) ? &pq_pap.tyre : (((n % 3) == 1) ? &pq.tyre : &pq_mag.tyre);
         memset(&h1, 0x11, sizeof(h1));
         memset(&h2, 0x22, sizeof(h2));
-        assert_int_equal(rfe_meas_setup_q31(&h1, &pq.vehicle, (n % 2) ? &pq.tyre : &pq_pap.tyre,
-                                            &uq, &s1),
-                         RFE_OK);
-        assert_int_equal(rfe_meas_setup_q31(&h2, &pq.vehicle, (n % 2) ? &pq.tyre : &pq_pap.tyre,
-                                            &uq, &s2),
-                         RFE_OK);
+        assert_int_equal(rfe_meas_setup_q31(&h1, &pq.vehicle, tp, &uq, &s1), RFE_OK);
+        assert_int_equal(rfe_meas_setup_q31(&h2, &pq.vehicle, tp, &uq, &s2), RFE_OK);
         assert_memory_equal(&h1, &h2, sizeof(h1));
-        assert_int_equal(rfe_meas_eval_q31(&h1, &pq.vehicle, &pq.tyre, mu, z1, &s1), RFE_OK);
-        assert_int_equal(rfe_meas_eval_q31(&h2, &pq.vehicle, &pq.tyre, mu, z2, &s2), RFE_OK);
+        assert_int_equal(rfe_meas_eval_q31(&h1, &pq.vehicle, tp, mu, z1, &s1), RFE_OK);
+        assert_int_equal(rfe_meas_eval_q31(&h2, &pq.vehicle, tp, mu, z2, &s2), RFE_OK);
         assert_memory_equal(z1, z2, sizeof(z1));
         assert_int_equal(s1, s2);
     }
@@ -566,6 +650,23 @@ static void test_meas_q31_saturation(void **state)
         assert_int_equal(sat, railed);
         assert_true(sat >= 1u);
     }
+    /* magic mode at mu = 3.9: the same count as the chain (forces ~ 80 kN clamp) */
+    {
+        rfe_params_t mp = lp;
+        rfe_params_q31_t lq_mag;
+        mp.tyre.mode = RFE_TYRE_MAGIC;
+        assert_int_equal(rfe_params_to_q31_f64(&mp, &lq_mag), RFE_OK);
+        make_sample(0, 1.0, 0, 0, -80.0, 80.0, om, &uq, &ud);
+        sat = 0u;
+        assert_int_equal(rfe_meas_setup_q31(&h, &lq_mag.vehicle, &lq_mag.tyre, &uq, &sat), RFE_OK);
+        assert_int_equal(rfe_meas_eval_q31(&h, &lq_mag.vehicle, &lq_mag.tyre, mu, z, &sat), RFE_OK);
+        assert_int_equal(sat, chain_abs(&h, &lq_mag, mu, zc, part));
+        assert_memory_equal(z, zc, sizeof(z));
+        assert_true(part[0] >= 1u);
+        printf("magic mode, light tall vehicle, mu 3.9: counts forces %u, H %u, z %u\n", part[0],
+               part[1], part[2]);
+    }
+    make_sample(0, 1.0, 0, 0, -127.0, 127.0, om, &uq, &ud);
     /* The counter stops at UINT32_MAX, in both modes. */
     sat = UINT32_MAX - 1u;
     assert_int_equal(rfe_meas_eval_q31(&h, &lq_pap.vehicle, &lq_pap.tyre, mu, z, &sat), RFE_OK);
@@ -632,6 +733,20 @@ static void test_meas_q31_argument_checks(void **state)
     assert_int_equal(sat, 7u);
     assert_int_equal(rfe_meas_eval_q31(&h, &pq.vehicle, &pq.tyre, mu, z, &sat), RFE_OK);
     assert_int_equal(z[0], 0); /* mu = 0 everywhere: no force */
+    /* magic mode: set up in it; a shape factor outside its domain at eval -> RFE_ERR_PARAM */
+    z[0] = z[1] = z[2] = SENT;
+    sat = 7u;
+    assert_int_equal(rfe_meas_setup_q31(&h, &pq_mag.vehicle, &pq_mag.tyre, &u, &sat), RFE_OK);
+    assert_int_equal(h.mode, RFE_TYRE_MAGIC);
+    bad = pq_mag.tyre;
+    bad.shape_Ex = 1 << 24;
+    assert_int_equal(rfe_meas_eval_q31(&h, &pq.vehicle, &bad, mu, z, &sat), RFE_ERR_PARAM);
+    bad = pq_mag.tyre;
+    bad.shape_Cx = 1 << 24;
+    assert_int_equal(rfe_meas_eval_q31(&h, &pq.vehicle, &bad, mu, z, &sat), RFE_ERR_PARAM);
+    assert_int_equal(z[0], SENT);
+    assert_int_equal(sat, 7u);
+    assert_int_equal(rfe_meas_eval_q31(&h, &pq_mag.vehicle, &pq_mag.tyre, mu, z, &sat), RFE_OK);
 }
 
 int main(void)

@@ -54,6 +54,10 @@
     X(tyre.eps, 32, p->tyre.eps)                                                                 \
     X(tyre.v_min, 23, p->tyre.v_min)                                                             \
     X(tyre.alpha_max, 29, p->tyre.alpha_max)                                                     \
+    X(tyre.shape_Cx, 24, p->tyre.shape_Cx)                                                       \
+    X(tyre.shape_Ex, 24, p->tyre.shape_Ex)                                                       \
+    X(tyre.shape_Cy, 24, p->tyre.shape_Cy)                                                       \
+    X(tyre.shape_Ey, 24, p->tyre.shape_Ey)                                                       \
     X(filter.mu0, 29, p->filter.mu0)                                                             \
     X(filter.sd0, 30, p->filter.sd0)                                                             \
     X(filter.q_mu, 30, p->filter.q_mu)                                                           \
@@ -109,7 +113,8 @@ static void assert_rounded(const rfe_params_t *p, const rfe_params_q31_t *q)
 }
 
 /* REQ: the integer preset tables equal the converted double presets bit for bit, are exactly
- * rounded, and validate. */
+ * rounded, and validate: the paper preset in paper tyre mode, the default preset in magic tyre
+ * mode with info_min 25, both with the Magic Formula shape factors 1.65, 0, 1.3, 0. */
 /* REQ-PARAMS-004 REQ-PARAMS-001 */
 static void test_params_q31_presets_equal_converted(void **state)
 {
@@ -123,6 +128,11 @@ static void test_params_q31_presets_equal_converted(void **state)
     assert_same(&tab, &conv, "paper");
     assert_rounded(&p, &conv);
     assert_int_equal(rfe_params_validate_q31(&tab), RFE_OK);
+    assert_int_equal(tab.tyre.mode, RFE_TYRE_PAPER);
+    assert_int_equal(tab.tyre.shape_Cx, 27682406); /* 1.65 2^24 = 27682406.4 */
+    assert_int_equal(tab.tyre.shape_Ex, 0);
+    assert_int_equal(tab.tyre.shape_Cy, 21810381); /* 1.3 2^24 = 21810380.8 */
+    assert_int_equal(tab.tyre.shape_Ey, 0);
 
     assert_int_equal(rfe_params_default_f64(&p), RFE_OK);
     assert_int_equal(rfe_params_to_q31_f64(&p, &conv), RFE_OK);
@@ -130,8 +140,11 @@ static void test_params_q31_presets_equal_converted(void **state)
     assert_same(&tab, &conv, "default");
     assert_rounded(&p, &conv);
     assert_int_equal(rfe_params_validate_q31(&tab), RFE_OK);
-    assert_int_equal(tab.tyre.mode, RFE_TYRE_ABSOLUTE);
+    assert_int_equal(tab.tyre.mode, RFE_TYRE_MAGIC);
     assert_int_equal(tab.filter.structure, RFE_STRUCT_SIDES);
+    assert_int_equal(tab.filter.info_min, 25 << 10);
+    assert_int_equal(tab.tyre.shape_Cx, 27682406);
+    assert_int_equal(tab.tyre.shape_Cy, 21810381);
 
     assert_int_equal(rfe_params_paper_q31(NULL), RFE_ERR_NULL);
     assert_int_equal(rfe_params_default_q31(NULL), RFE_ERR_NULL);
@@ -159,6 +172,11 @@ static void random_params(rfe_params_t *p)
     p->tyre.eps = uni(0, 0.05);
     p->tyre.v_min = uni(0.1, 2);
     p->tyre.alpha_max = uni(0.5, 1.49);
+    p->tyre.shape_Cx = uni(1.01, 1.99);
+    p->tyre.shape_Cy = uni(1.01, 1.99);
+    p->tyre.shape_Ex = (rng_uniform() < 0.0) ? 0.0 : uni(-4.0, 0.99);
+    p->tyre.shape_Ey = (rng_uniform() < 0.0) ? 0.0 : uni(-4.0, 0.99);
+    p->tyre.mode = (rng_uniform() < -0.3) ? RFE_TYRE_ABSOLUTE : RFE_TYRE_MAGIC;
     p->filter.dt = uni(0.001, 0.1);
     p->filter.tau_v = (rng_uniform() < -0.5) ? 0.0 : uni(0.01, 10);
     p->filter.info_min = uni(0, 1e4);
@@ -275,7 +293,8 @@ static void test_params_q31_derived_consistency(void **state)
 }
 
 /* REQ: each field outside its range is rejected (the checks of rfe_params_validate on the Q
- * values, the 16-significant-bit rule, alpha_max < 1.5 rad, the CKF subset). */
+ * values, the 16-significant-bit rule, alpha_max < 1.5 rad, the tyre mode, the Magic Formula
+ * shape factors 1 < C < 2, -4 <= E < 1 in every mode, the CKF subset). */
 /* REQ-PARAMS-002 */
 static void test_params_q31_validate_rejects(void **state)
 {
@@ -343,7 +362,8 @@ static void test_params_q31_validate_rejects(void **state)
     /* a derived constant whose recomputation does not fit its format */
     REJECT_(t.vehicle.m = 65536; t.vehicle.inv_m = INT32_MAX); /* 1/(1 kg) is 2^38 in Q38 */
     /* tyre */
-    REJECT_(t.tyre.mode = (rfe_tyre_mode_t)2);
+    REJECT_(t.tyre.mode = (rfe_tyre_mode_t)3);
+    REJECT_(t.tyre.mode = (rfe_tyre_mode_t)-1);
     REJECT_(t.tyre.Cx_n = 0);
     REJECT_(t.tyre.Cy_n = 0);
     REJECT_(t.tyre.cx = -1);
@@ -352,6 +372,27 @@ static void test_params_q31_validate_rejects(void **state)
     REJECT_(t.tyre.v_min = 0);
     REJECT_(t.tyre.alpha_max = 0);
     REJECT_(t.tyre.alpha_max = RFE_FIX_TAN_LIMIT_Q29);
+    /* the Magic Formula shape factors: 1 < C < 2, -4 <= E < 1 (Q24), one rejection per bound
+     * and key */
+    REJECT_(t.tyre.shape_Cx = 1 << 24);
+    REJECT_(t.tyre.shape_Cx = 2 << 24);
+    REJECT_(t.tyre.shape_Ex = -(4 << 24) - 1);
+    REJECT_(t.tyre.shape_Ex = 1 << 24);
+    REJECT_(t.tyre.shape_Cy = 1 << 24);
+    REJECT_(t.tyre.shape_Cy = 2 << 24);
+    REJECT_(t.tyre.shape_Ey = -(4 << 24) - 1);
+    REJECT_(t.tyre.shape_Ey = 1 << 24);
+    /* in every mode (the shape is tyre data, checked also where it is not used) */
+    REJECT_(t.tyre.mode = RFE_TYRE_PAPER; t.tyre.shape_Cx = 0);
+    REJECT_(t.tyre.mode = RFE_TYRE_ABSOLUTE; t.tyre.shape_Ey = 1 << 24);
+    t = q;
+    t.tyre.shape_Cx = (1 << 24) + 1; /* the bounds themselves, or 1 LSB inside */
+    t.tyre.shape_Ex = -(4 << 24);
+    t.tyre.shape_Cy = (2 << 24) - 1;
+    t.tyre.shape_Ey = (1 << 24) - 1;
+    assert_int_equal(rfe_params_validate_q31(&t), RFE_OK);
+    t.tyre.mode = RFE_TYRE_ABSOLUTE;
+    assert_int_equal(rfe_params_validate_q31(&t), RFE_OK);
     t = q;
     t.tyre.alpha_max = RFE_FIX_TAN_LIMIT_Q29 - 1;
     t.tyre.eps = 0;
@@ -418,7 +459,8 @@ static void test_params_q31_validate_rejects(void **state)
 /* REQ: the converter: NULL -> RFE_ERR_NULL, an invalid real parameter set -> RFE_ERR_PARAM, a
  * value that does not fit its format (too large, a nonzero value rounding to 0, fewer than 16
  * significant bits where required, a derived constant out of range, alpha_max rounding to
- * 1.5 rad) -> RFE_ERR_RANGE; the output untouched on every error. */
+ * 1.5 rad, a shape factor rounding onto an open bound) -> RFE_ERR_RANGE; the output untouched
+ * on every error; the shape factors converted at their bounds. */
 /* REQ-PARAMS-004 */
 static void test_params_q31_converter_errors(void **state)
 {
@@ -451,6 +493,13 @@ static void test_params_q31_converter_errors(void **state)
     CONV_(p.filter.info_min = 3e6, RFE_ERR_RANGE);           /* beyond Q10 */
     CONV_(p.tyre.alpha_max = 1.5 - 1e-12, RFE_ERR_RANGE);    /* rounds to 1.5 rad */
     CONV_(p.tyre.eps = 0.6, RFE_ERR_RANGE);                  /* beyond Q32 */
+    CONV_(p.tyre.shape_Cx = 1.0, RFE_ERR_PARAM);             /* 1 < C < 2 */
+    CONV_(p.tyre.shape_Ey = 1.0, RFE_ERR_PARAM);             /* E < 1 */
+    CONV_(p.tyre.shape_Cx = 1.0 + 1e-9, RFE_ERR_RANGE);      /* rounds to C = 1 */
+    CONV_(p.tyre.shape_Cy = 2.0 - 1e-9, RFE_ERR_RANGE);      /* rounds to C = 2 */
+    CONV_(p.tyre.shape_Ex = 1.0 - 1e-9, RFE_ERR_RANGE);      /* rounds to E = 1 */
+    CONV_(p.tyre.shape_Ey = 1.0 - 1e-9, RFE_ERR_RANGE);      /* rounds to E = 1 */
+    CONV_(p.tyre.shape_Ey = 1e-12, RFE_ERR_RANGE);           /* nonzero, rounds to 0 */
     CONV_(p.vehicle.J = 1e6, RFE_ERR_RANGE);                 /* beyond Q12 */
     CONV_(p.vehicle.hg = 3.9; p.vehicle.m = 9000.0, RFE_ERR_RANGE); /* k_roll beyond Q20 */
     CONV_(p.vehicle.m = 30000.0, RFE_ERR_RANGE);             /* static load beyond Q15 */
@@ -461,7 +510,15 @@ static void test_params_q31_converter_errors(void **state)
     p.vehicle.hg = 0.0;
     p.filter.tau_v = 0.0;
     p.vehicle.m = 128.5;
+    p.tyre.shape_Cx = 1.0 + ldexp(1.0, -24);
+    p.tyre.shape_Cy = 2.0 - ldexp(1.0, -24);
+    p.tyre.shape_Ex = -4.0;
+    p.tyre.shape_Ey = 1.0 - ldexp(1.0, -24);
     assert_int_equal(rfe_params_to_q31_f64(&p, &q), RFE_OK);
+    assert_int_equal(q.tyre.shape_Cx, (1 << 24) + 1);
+    assert_int_equal(q.tyre.shape_Cy, (2 << 24) - 1);
+    assert_int_equal(q.tyre.shape_Ex, -(4 << 24));
+    assert_int_equal(q.tyre.shape_Ey, (1 << 24) - 1);
     assert_int_equal(q.vehicle.k_pitch, 0);
     assert_int_equal(q.filter.b_v, RFE_FIX_ONE(30));
     assert_int_equal(rfe_params_validate_q31(&q), RFE_OK);

@@ -31,6 +31,12 @@
 #define TOL_H_ABS 5e-4
 #endif
 
+#if defined(RFE_REAL_DOUBLE)
+#define RFE_TAN_TEST(x) tan(x)
+#else
+#define RFE_TAN_TEST(x) tanf((float)(x))
+#endif
+
 static const char *const WHEEL[4] = {"fl", "fr", "rl", "rr"};
 
 static test_table_t vectors;
@@ -146,13 +152,15 @@ static void test_rfe_tyre_forces_abs_matches_vectors(void **state)
     for (r = 0; r < vectors.n_rows; ++r) {
         rfe_sample_t u = sample_from_row(r);
         rfe_wheel_kin_t kin;
-        assert_int_equal(RFE_FN(rfe_tyre_kinematics)(&params.vehicle, &params.tyre, &u, &kin),
+        rfe_tyre_params_t tp = params.tyre;
+        tp.mode = RFE_TYRE_ABSOLUTE; /* the vectors hold the absolute Dugoff */
+        assert_int_equal(RFE_FN(rfe_tyre_kinematics)(&params.vehicle, &tp, &u, &kin),
                          RFE_OK);
         for (c = 0; c < 2; ++c) {
             const rfe_real_t mu[4] = {(rfe_real_t)cases[c].mu, (rfe_real_t)cases[c].mu,
                                       (rfe_real_t)cases[c].mu, (rfe_real_t)cases[c].mu};
             rfe_real_t fx[4], fy[4];
-            assert_int_equal(RFE_FN(rfe_tyre_forces_abs)(&params.tyre, &kin, mu, fx, fy), RFE_OK);
+            assert_int_equal(RFE_FN(rfe_tyre_forces_abs)(&tp, &kin, mu, fx, fy), RFE_OK);
             for (i = 0; i < 4; ++i) {
                 snprintf(name, sizeof(name), "fx_abs_%s", cases[c].tag);
                 snprintf(what, sizeof(what), "row %zu %s_%s", r, name, WHEEL[i]);
@@ -391,6 +399,104 @@ static void test_rfe_tyre_rejects_bad_input(void **state)
     assert_int_equal(RFE_FN(rfe_tyre_forces_abs)(&params.tyre, &kin, NULL, ox, oy), RFE_ERR_NULL);
 }
 
+/* Magic mode at one point (mode set on a copy of the preset's tyre). */
+static void magic(rfe_real_t kappa, rfe_real_t alpha, rfe_real_t fz, rfe_real_t mu, rfe_real_t *fx,
+                  rfe_real_t *fy)
+{
+    rfe_tyre_params_t tp = params.tyre;
+    tp.mode = RFE_TYRE_MAGIC;
+    assert_int_equal(RFE_FN(rfe_tyre_magic_abs)(&tp, kappa, alpha, fz, (rfe_real_t)20.0, mu, fx, fy),
+                     RFE_OK);
+}
+
+/* REQ: the load-scaled Magic Formula: slope cx Fz / cy Fz at zero slip for every mu, pure-slip
+ * peak mu Fz (scanned), |F| <= mu Fz, zero at zero slip and at mu <= 0, odd in the slips.
+ * Tolerances: the slope from a finite difference at 1e-5 slip (curvature term ~ rho^2 ~ 1e-6
+ * relative at mu 0.2) plus float rounding of a sin/atan2 chain (~1e-6 relative): 1e-4 rel;
+ * the scanned peak at 1e-4 slip steps misses the top by < (1e-4 * cx / mu)^2 ~ 1e-4 rel. */
+/* REQ-TYRE-007 */
+static void test_rfe_tyre_magic_abs_shape(void **state)
+{
+    const rfe_real_t fz = (rfe_real_t)4321.0;
+    const rfe_real_t mus[3] = {(rfe_real_t)0.2, (rfe_real_t)0.5, (rfe_real_t)1.1};
+    rfe_real_t fx, fy, fx2, fy2;
+    size_t m;
+    (void)state;
+    for (m = 0u; m < 3u; ++m) {
+        const rfe_real_t mu = mus[m];
+        rfe_real_t peak = 0;
+        int j;
+        magic((rfe_real_t)1e-5, 0, fz, mu, &fx, &fy);
+        assert_close(fx / (fz * (rfe_real_t)1e-5), params.tyre.cx, 0, 1e-4, "slope x");
+        assert_true(fy == 0);
+        magic(0, (rfe_real_t)1e-5, fz, mu, &fx, &fy);
+        assert_close(fy / (fz * (rfe_real_t)RFE_TAN_TEST(1e-5)), params.tyre.cy, 0, 1e-4, "slope y");
+        for (j = 1; j <= 10000; ++j) {
+            magic((rfe_real_t)j * (rfe_real_t)1e-4, 0, fz, mu, &fx, &fy);
+            assert_true(fx <= mu * fz * (rfe_real_t)1.000001);
+            peak = (fx > peak) ? fx : peak;
+        }
+        assert_close(peak, mu * fz, 0, 1e-4, "peak mu Fz");
+        /* combined slip stays within the friction circle */
+        magic((rfe_real_t)-0.3, (rfe_real_t)0.4, fz, mu, &fx, &fy);
+        assert_true(fx < 0 && fy > 0 && (fx * fx + fy * fy) <= (mu * fz) * (mu * fz) * (rfe_real_t)1.00001);
+        magic((rfe_real_t)0.3, (rfe_real_t)-0.4, fz, mu, &fx2, &fy2);
+        assert_true(fx2 == -fx && fy2 == -fy);
+    }
+    magic(0, 0, fz, (rfe_real_t)0.8, &fx, &fy);
+    assert_true(fx == 0 && fy == 0);
+    magic((rfe_real_t)0.1, (rfe_real_t)0.1, fz, 0, &fx, &fy);
+    assert_true(fx == 0 && fy == 0);
+    magic((rfe_real_t)0.1, (rfe_real_t)0.1, fz, (rfe_real_t)-0.2, &fx, &fy);
+    assert_true(fx == 0 && fy == 0);
+    /* the absolute Dugoff and the Magic Formula share the slope at zero slip only: at 40 %
+     * of the friction Dugoff is still linear, the Magic Formula already bends (5 % less) */
+    {
+        rfe_real_t dx, dy;
+        assert_int_equal(RFE_FN(rfe_tyre_dugoff_abs)(&params.tyre, (rfe_real_t)0.01, 0, fz,
+                                                     (rfe_real_t)20.0, (rfe_real_t)0.5, &dx, &dy),
+                         RFE_OK);
+        magic((rfe_real_t)0.01, 0, fz, (rfe_real_t)0.5, &fx, &fy);
+        assert_true(fx < dx * (rfe_real_t)0.99);
+    }
+}
+
+/* REQ: the four-wheel helper dispatches on the mode; the magic function checks its arguments
+ * like the Dugoff one and leaves the outputs untouched on an error. */
+/* REQ-TYRE-007 REQ-TYRE-006 */
+static void test_rfe_tyre_magic_dispatch_and_checks(void **state)
+{
+    rfe_tyre_params_t tp = params.tyre;
+    rfe_wheel_kin_t kin;
+    rfe_real_t mu[4] = {(rfe_real_t)0.3, (rfe_real_t)0.6, (rfe_real_t)0.9, (rfe_real_t)1.2};
+    rfe_real_t fx[4], fy[4], ex, ey, fx1 = 7, fy1 = 7;
+    size_t i;
+    (void)state;
+    tp.mode = RFE_TYRE_MAGIC;
+    for (i = 0u; i < 4u; ++i) {
+        kin.kappa[i] = (rfe_real_t)(-0.02 * (double)(i + 1u));
+        kin.alpha[i] = (rfe_real_t)(0.03 * (double)i);
+        kin.fz[i] = (rfe_real_t)(3000.0 + 500.0 * (double)i);
+        kin.vwx[i] = (rfe_real_t)15.0;
+    }
+    assert_int_equal(RFE_FN(rfe_tyre_forces_abs)(&tp, &kin, mu, fx, fy), RFE_OK);
+    for (i = 0u; i < 4u; ++i) {
+        assert_int_equal(RFE_FN(rfe_tyre_magic_abs)(&tp, kin.kappa[i], kin.alpha[i], kin.fz[i],
+                                                    kin.vwx[i], mu[i], &ex, &ey),
+                         RFE_OK);
+        assert_true(fx[i] == ex && fy[i] == ey);
+    }
+    assert_int_equal(RFE_FN(rfe_tyre_forces_abs)(NULL, &kin, mu, fx, fy), RFE_ERR_NULL);
+    assert_int_equal(RFE_FN(rfe_tyre_magic_abs)(NULL, 0, 0, 1, 1, 1, &fx1, &fy1), RFE_ERR_NULL);
+    assert_int_equal(RFE_FN(rfe_tyre_magic_abs)(&tp, 0, 0, 1, 1, 1, NULL, &fy1), RFE_ERR_NULL);
+    assert_int_equal(RFE_FN(rfe_tyre_magic_abs)(&tp, (rfe_real_t)NAN, 0, 1, 1, 1, &fx1, &fy1),
+                     RFE_ERR_NONFINITE);
+    assert_int_equal(RFE_FN(rfe_tyre_magic_abs)(&tp, 0, 0, 1, 1, (rfe_real_t)INFINITY, &fx1, &fy1),
+                     RFE_ERR_NONFINITE);
+    assert_int_equal(RFE_FN(rfe_tyre_magic_abs)(&tp, 0, 0, -1, 1, 1, &fx1, &fy1), RFE_ERR_RANGE);
+    assert_true(fx1 == 7 && fy1 == 7);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -405,6 +511,8 @@ int main(void)
         cmocka_unit_test(test_rfe_tyre_eps_clamp_and_alpha_bound),
         cmocka_unit_test(test_rfe_tyre_dugoff_abs_mu_behaviour),
         cmocka_unit_test(test_rfe_tyre_rejects_bad_input),
+        cmocka_unit_test(test_rfe_tyre_magic_abs_shape),
+        cmocka_unit_test(test_rfe_tyre_magic_dispatch_and_checks),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

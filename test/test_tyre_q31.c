@@ -3,9 +3,11 @@
  * @brief The fixed-point kinematics and Dugoff tyre (rfe/tyre_q31.h) back to back against the
  *        double twin (rfe/tyre.h, _f64): every bundled scenario log, >= 1e5 random inputs over
  *        the documented limits (config.h) and the edges; determinism, saturation counting,
- *        argument checks.
+ *        argument checks. (The Magic Formula tyre: test_tyre_magic_q31.c.)
  *
- * Setup. The q31 functions get the converted presets (rfe_params_to_q31_f64); the double
+ * Setup. The q31 functions get the converted presets (rfe_params_to_q31_f64; the default
+ * preset with its tyre mode set to absolute, so that the load-scaled forces are the
+ * Dugoff ones); the double
  * functions the original double presets and the same inputs (each Q input converted exactly to
  * double). So every difference is an error of the fixed-point evaluation: the rounding of the
  * parameters to their Q formats (the test measures each constant's actual rounding d(.) from the
@@ -85,7 +87,7 @@ static const char *const SCENARIO[13] = {
     "split_mu_hard_brake"};
 static const char *const VARIANT[3] = {"", ".mf", ".nf"};
 
-static rfe_params_t pd;     /* default preset, double */
+static rfe_params_t pd;     /* default preset in absolute tyre mode, double */
 static rfe_params_t pd_pap; /* paper preset, double */
 static rfe_params_q31_t pq;
 static rfe_params_q31_t pq_pap;
@@ -182,8 +184,13 @@ static void make_sample(double delta, double vx, double vy, double r, double ax,
 static int setup(void **state)
 {
     (void)state;
-    if (rfe_params_default_f64(&pd) != RFE_OK || rfe_params_paper_f64(&pd_pap) != RFE_OK ||
-        rfe_params_to_q31_f64(&pd, &pq) != RFE_OK ||
+    if (rfe_params_default_f64(&pd) != RFE_OK || rfe_params_paper_f64(&pd_pap) != RFE_OK) {
+        return -1;
+    }
+    /* The Dugoff tyre in both of its modes here (the default preset's magic mode has its own
+     * test, test_tyre_magic_q31.c): the load-scaled comparisons use the absolute mode. */
+    pd.tyre.mode = RFE_TYRE_ABSOLUTE;
+    if (rfe_params_to_q31_f64(&pd, &pq) != RFE_OK ||
         rfe_params_to_q31_f64(&pd_pap, &pq_pap) != RFE_OK) {
         return -1;
     }

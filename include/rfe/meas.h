@@ -4,7 +4,8 @@
  *        y = [ax, ay, r-dot] from a friction value per wheel.
  *
  * rfe_meas_setup does the per-sample work once (kinematics, slips, loads; in paper tyre mode
- * also H(u), in absolute mode cos/sin of delta and each wheel's friction-independent Dugoff
+ * also H(u), in the load-scaled modes (absolute, magic) cos/sin of delta and each wheel's
+ * friction-independent tyre
  * terms); rfe_meas_eval is then cheap enough for every cubature point:
  *  - paper tyre:    h = H(u) mu (linear in mu);
  *  - absolute tyre: the load-scaled Dugoff forces at each wheel's mu (mu < 0 evaluated as 0),
@@ -23,9 +24,9 @@ typedef struct {
     rfe_real_t delta;                    /**< steer angle of the sample */
     rfe_wheel_kin_t kin;                 /**< kinematics, slips, loads of the sample */
     rfe_real_t H[RFE_H_SIZE];            /**< paper mode: H(u) */
-    rfe_real_t cos_delta;                /**< absolute mode: cos of delta (paper mode: 0) */
-    rfe_real_t sin_delta;                /**< absolute mode: sin of delta (paper mode: 0) */
-    /** absolute mode: each wheel's friction-independent Dugoff terms, so that eval does only
+    rfe_real_t cos_delta;                /**< load-scaled modes: cos of delta (paper mode: 0) */
+    rfe_real_t sin_delta;                /**< load-scaled modes: sin of delta (paper mode: 0) */
+    /** load-scaled modes: each wheel's friction-independent tyre terms, so that eval does only
      *  the friction-dependent rest at each cubature point (paper mode: zeros) */
     rfe_dugoff_pre_t pre[RFE_WHEELS];
     /* the tyre parameters pre was computed with: eval recomputes the terms for others */

@@ -5,11 +5,16 @@
  *        (Q29).
  *
  * rfe_meas_setup_q31 does the per-sample work once (kinematics, slips, loads, cos/sin of delta;
- * in paper tyre mode also H(u), in absolute mode each wheel's friction-independent Dugoff
- * terms); rfe_meas_eval_q31 is then cheap enough for every cubature point:
+ * in paper tyre mode also H(u), in the load-scaled modes (absolute, magic) each wheel's
+ * friction-independent tyre terms); rfe_meas_eval_q31 is then cheap enough for every
+ * cubature point:
  *  - paper tyre:    h = H(u) mu (linear in mu);
  *  - absolute tyre: the load-scaled Dugoff forces at each wheel's mu (mu < 0 evaluated as 0),
- *                   through the same geometry as H's columns: h_r = sum_i H_r,i(F(mu_i)).
+ *                   through the same geometry as H's columns: h_r = sum_i H_r,i(F(mu_i));
+ *  - magic tyre:    the same with the load-scaled Magic Formula forces
+ *                   (rfe_tyre_magic_abs_q31).
+ * A model set up in a load-scaled mode is evaluated with the curve of the mode of the tyre
+ * parameters given to eval (rfe_tyre_forces_abs_q31's choice).
  * The model keeps no pointer to the parameters: pass the same ones to setup and eval.
  * Saturation: `*sat` gets one count per clamped value anywhere in the chain (kinematics
  * outputs, forces, H entries, z); on an error nothing is written.
@@ -29,13 +34,15 @@ typedef struct {
     rfe_tyre_mode_t mode;          /**< tyre mode it was set up for */
     rfe_fix_t delta;               /**< steer angle of the sample [rad], Q29 */
     rfe_wheel_kin_q31_t kin;       /**< kinematics, slips, loads of the sample */
-    rfe_fix_t H[RFE_H_Q31_SIZE];   /**< paper mode: H(u), Q24 (absolute mode: zeros) */
+    rfe_fix_t H[RFE_H_Q31_SIZE];   /**< paper mode: H(u), Q24 (load-scaled modes: zeros) */
     rfe_fix_t cos_delta;           /**< cos of delta, Q30 */
     rfe_fix_t sin_delta;           /**< sin of delta, Q30 */
-    /** absolute mode: each wheel's friction-independent Dugoff terms, so that eval does only
-     *  the friction-dependent rest at each cubature point (paper mode: zeros) */
+    /** load-scaled modes (absolute, magic): each wheel's friction-independent tyre terms, so
+     *  that eval does only the friction-dependent rest at each cubature point (paper mode:
+     *  zeros); they depend on neither the mode nor the shape factors */
     rfe_dugoff_pre_q31_t pre[RFE_WHEELS];
-    /* the tyre parameters pre was computed with: eval recomputes the terms for others */
+    /* the tyre parameters pre was computed with: eval recomputes the terms for others (the
+     * only ones pre depends on) */
     rfe_fix_t pre_cx;              /**< cx of the set-up, Q24 */
     rfe_fix_t pre_cy;              /**< cy of the set-up, Q24 */
     rfe_fix_t pre_eps;             /**< eps of the set-up, Q32 */

@@ -23,15 +23,17 @@ typedef struct {
     rfe_real_t g;   /**< key g: gravity [m/s^2], default 9.81 */
 } rfe_vehicle_t;
 
-/** Which Dugoff form the measurement model uses (MODEL.md §4). */
+/** Which tyre curve the measurement model uses (MODEL.md §4, docs/ESTIMATOR.md). */
 typedef enum {
-    RFE_TYRE_PAPER = 0,    /**< normalised: F = mu * F0(u), stiffness ∝ mu*Fz; h = H(u) x */
-    RFE_TYRE_ABSOLUTE = 1  /**< load-scaled: Cx = cx*Fz, Cy = cy*Fz; h nonlinear in mu */
+    RFE_TYRE_PAPER = 0,    /**< normalised Dugoff: F = mu * F0(u), stiffness ∝ mu*Fz; h = H(u) x */
+    RFE_TYRE_ABSOLUTE = 1, /**< load-scaled Dugoff: Cx = cx*Fz, Cy = cy*Fz; h nonlinear in mu */
+    RFE_TYRE_MAGIC = 2     /**< load-scaled Magic Formula (similarity combined slip), the same
+                                slip stiffnesses cx*Fz, cy*Fz and curve shapes shape_C*, shape_E* */
 } rfe_tyre_mode_t;
 
 /** Dugoff tyre and slip-computation parameters (MODEL.md §3-4). */
 typedef struct {
-    rfe_tyre_mode_t mode; /**< key tyre (paper|absolute): paper / absolute (preset paper / default) */
+    rfe_tyre_mode_t mode; /**< key tyre (paper|absolute|magic): paper / magic (preset paper / default) */
     rfe_real_t Cx_n;      /**< key Cx_n: normalised longitudinal stiffness [1], default 20 */
     rfe_real_t Cy_n;      /**< key Cy_n: normalised cornering stiffness [1/rad], default 15 */
     rfe_real_t cx;        /**< key cx: longitudinal stiffness per unit Fz, absolute mode, default 20 */
@@ -39,6 +41,10 @@ typedef struct {
     rfe_real_t eps;       /**< key eps: Dugoff velocity-reduction factor [s/m], default 0.015 */
     rfe_real_t v_min;     /**< key v_min: slip denominator guard [m/s], default 0.5 */
     rfe_real_t alpha_max; /**< key alpha_max: slip-angle bound [rad], default 1.4, must be < pi/2 */
+    rfe_real_t shape_Cx;  /**< key shape_Cx: Magic Formula shape factor C, longitudinal, 1 < C < 2, default 1.65 */
+    rfe_real_t shape_Ex;  /**< key shape_Ex: Magic Formula curvature factor E, longitudinal, -4 <= E < 1, default 0 */
+    rfe_real_t shape_Cy;  /**< key shape_Cy: Magic Formula shape factor C, lateral, 1 < C < 2, default 1.3 */
+    rfe_real_t shape_Ey;  /**< key shape_Ey: Magic Formula curvature factor E, lateral, -4 <= E < 1, default 0 */
 } rfe_tyre_params_t;
 
 /** Which filter runs the estimator (MODEL.md §6). */

@@ -77,7 +77,7 @@ typedef struct {
 
 /** Dugoff tyre and slip parameters (MODEL.md §3-4); fields as rfe_tyre_params_t. */
 typedef struct {
-    rfe_tyre_mode_t mode; /**< paper (normalised) or absolute (load-scaled) Dugoff */
+    rfe_tyre_mode_t mode; /**< paper (normalised) or absolute (load-scaled) Dugoff, or magic */
     rfe_fix_t Cx_n;       /**< normalised longitudinal stiffness [1], Q24 */
     rfe_fix_t Cy_n;       /**< normalised cornering stiffness [1/rad], Q24 */
     rfe_fix_t cx;         /**< longitudinal stiffness per unit Fz [1], Q24 */
@@ -85,6 +85,10 @@ typedef struct {
     rfe_fix_t eps;        /**< Dugoff velocity-reduction factor [s/m], Q32 */
     rfe_fix_t v_min;      /**< slip denominator guard [m/s], Q23 */
     rfe_fix_t alpha_max;  /**< slip-angle bound [rad], Q29, < 1.5 rad */
+    rfe_fix_t shape_Cx;   /**< Magic Formula shape factor C, longitudinal [1], Q24, 1 < C < 2 */
+    rfe_fix_t shape_Ex;   /**< Magic Formula curvature factor E, longitudinal [1], Q24, -4 <= E < 1 */
+    rfe_fix_t shape_Cy;   /**< Magic Formula shape factor C, lateral [1], Q24, 1 < C < 2 */
+    rfe_fix_t shape_Ey;   /**< Magic Formula curvature factor E, lateral [1], Q24, -4 <= E < 1 */
 } rfe_tyre_params_q31_t;
 
 /** Filter tuning (MODEL.md §6, docs/ESTIMATOR.md); fields as rfe_filter_params_t. The

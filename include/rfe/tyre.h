@@ -1,6 +1,7 @@
 /**
  * @file tyre.h
- * @brief Wheel kinematics, vertical loads, slips (MODEL.md §3) and the Dugoff tyre (§4).
+ * @brief Wheel kinematics, vertical loads, slips (MODEL.md §3), the Dugoff tyre (§4) and the
+ *        load-scaled Magic Formula tyre (docs/ESTIMATOR.md).
  *
  * Pure functions: no state. All inputs in SI units, wheel order fl, fr, rl, rr.
  * Singularity-free at zero slip (S -> 0), locked wheel (|kappa| -> 1) and standstill.
@@ -11,9 +12,10 @@
 #include "rfe/params.h"
 
 /**
- * The friction-independent part of one wheel's absolute-mode Dugoff evaluation (MODEL.md §4),
- * which rfe_meas_setup computes once per sample so that each cubature point only does the
- * friction-dependent rest (fields read-only for the caller).
+ * The friction-independent part of one wheel's load-scaled tyre evaluation (absolute Dugoff,
+ * MODEL.md §4, or Magic Formula, docs/ESTIMATOR.md), which rfe_meas_setup computes once per
+ * sample so that each cubature point only does the friction-dependent rest (fields read-only
+ * for the caller).
  */
 typedef struct {
     rfe_real_t tan_a; /**< tan of the clamped slip angle */
@@ -21,6 +23,8 @@ typedef struct {
     rfe_real_t s;     /**< S = |(cx k, cy tan a)| */
     rfe_real_t e;     /**< E = max(0, 1 - eps |vwx| sqrt(k^2 + tan^2 a)) */
     rfe_real_t omk;   /**< 1 - |k| */
+    rfe_real_t ux;    /**< cx k / S (magic mode; 0 when S = 0 or in the Dugoff modes) */
+    rfe_real_t uy;    /**< cy tan a / S (magic mode; 0 when S = 0 or in the Dugoff modes) */
 } rfe_dugoff_pre_t;
 
 /** Per-wheel quantities derived from one sample: the inputs u of the tyre model. */
@@ -63,13 +67,28 @@ RFE_NODISCARD rfe_status_t RFE_FN(rfe_tyre_dugoff_abs)(const rfe_tyre_params_t *
                                                       rfe_real_t fz, rfe_real_t vwx, rfe_real_t mu,
                                                       rfe_real_t *fx, rfe_real_t *fy);
 
+/**
+ * Load-scaled Magic Formula (docs/ESTIMATOR.md "The Magic Formula tyre"), one wheel: forces
+ * in wheel axes at friction mu, with the slip stiffnesses cx Fz, cy Fz of the absolute mode
+ * and the shape factors shape_Cx, shape_Ex, shape_Cy, shape_Ey of @p tp:
+ *   s = |(cx k, cy tan a)|, m = max(mu, 0), per direction d: a = atan2(s, m C_d),
+ *   G_d = sin(C_d atan2(s - E_d (s - m C_d a), m C_d)),  F_d = Fz m G_d (c_d slip_d) / s.
+ * |F| <= m Fz; zero force at zero slip and at mu <= 0 (a cubature point may fall there).
+ * Arguments and statuses as rfe_tyre_dugoff_abs (vwx is checked but not used).
+ */
+RFE_NODISCARD rfe_status_t RFE_FN(rfe_tyre_magic_abs)(const rfe_tyre_params_t *tp,
+                                                     rfe_real_t kappa, rfe_real_t alpha,
+                                                     rfe_real_t fz, rfe_real_t vwx, rfe_real_t mu,
+                                                     rfe_real_t *fx, rfe_real_t *fy);
+
 /** Four-wheel paper-mode forces F0x, F0y (wheel axes) from the kinematics. */
 RFE_NODISCARD rfe_status_t RFE_FN(rfe_tyre_forces_norm)(const rfe_tyre_params_t *tp,
                                                        const rfe_wheel_kin_t *kin,
                                                        rfe_real_t f0x[RFE_WHEELS],
                                                        rfe_real_t f0y[RFE_WHEELS]);
 
-/** Four-wheel absolute-mode forces Fx, Fy (wheel axes) at per-wheel friction mu. */
+/** Four-wheel load-scaled forces Fx, Fy (wheel axes) at per-wheel friction mu: the Magic
+ *  Formula when tp->mode is RFE_TYRE_MAGIC, the absolute Dugoff otherwise. */
 RFE_NODISCARD rfe_status_t RFE_FN(rfe_tyre_forces_abs)(const rfe_tyre_params_t *tp,
                                                       const rfe_wheel_kin_t *kin,
                                                       const rfe_real_t mu[RFE_WHEELS],

@@ -1,8 +1,8 @@
 /**
  * @file tyre_q31.h
- * @brief Fixed-point twin of rfe/tyre.h: wheel kinematics, loads, slips (MODEL.md §3) and the
- *        Dugoff tyre (§4) on int32 Q values (docs/FIXED_POINT.md, "Tyre, kinematics and
- *        observation matrix").
+ * @brief Fixed-point twin of rfe/tyre.h: wheel kinematics, loads, slips (MODEL.md §3), the
+ *        Dugoff tyre (§4) and the load-scaled Magic Formula tyre (docs/ESTIMATOR.md) on int32
+ *        Q values (docs/FIXED_POINT.md, "Tyre, kinematics and observation matrix").
  *
  * Same functions, arguments and structs as the float module, with Q values and a trailing
  * saturation counter: a result beyond its format's range is clamped symmetrically and one
@@ -16,7 +16,9 @@
  *
  * Parameter checks (the float module has them implicitly, through NaN; here they guard the
  * integer algorithms): v_min > 0 (kinematics: slip denominator), 0 < alpha_max < 1.5 rad
- * (tan's domain), eps >= 0 (keeps E in [0, 1]); otherwise RFE_ERR_PARAM.
+ * (tan's domain), eps >= 0 (keeps E in [0, 1]); the Magic Formula also 1 < shape_C < 2 and
+ * -4 <= shape_E < 1 in both directions (rfe_params_validate's rule; it keeps every angle of
+ * the curve in [0, pi)); otherwise RFE_ERR_PARAM.
  */
 #ifndef RFE_TYRE_Q31_H
 #define RFE_TYRE_Q31_H
@@ -48,10 +50,12 @@ typedef struct {
 } rfe_wheel_kin_q31_t;
 
 /**
- * The friction- and load-independent part of one wheel's absolute-mode Dugoff evaluation
- * (MODEL.md §4), which rfe_meas_setup_q31 computes once per sample so that each cubature
- * point only does the friction-dependent rest (fields read-only for the caller; the internal
- * formats of tyre_q31.c).
+ * The friction- and load-independent part of one wheel's load-scaled tyre evaluation
+ * (absolute Dugoff, MODEL.md §4, and the Magic Formula, docs/ESTIMATOR.md, which uses s, ux,
+ * uy and qs; the same terms for both, independent of the mode and the shape factors), which
+ * rfe_meas_setup_q31 computes once per sample so that each cubature point only does the
+ * friction-dependent rest (fields read-only for the caller; the internal formats of
+ * tyre_q31.c).
  */
 typedef struct {
     rfe_fix_t tan_a; /**< tan of the clamped slip angle, Q26 */
@@ -97,13 +101,33 @@ RFE_NODISCARD rfe_status_t rfe_tyre_dugoff_abs_q31(const rfe_tyre_params_q31_t *
                                                    rfe_fix_t *fx, rfe_fix_t *fy,
                                                    uint32_t *sat);
 
+/**
+ * Load-scaled Magic Formula (docs/ESTIMATOR.md "The Magic Formula tyre"), one wheel: forces
+ * Fx, Fy [N, Q15] in wheel axes at friction @p mu (Q29; mu < 0 is evaluated as mu = 0, zero
+ * force), with the slip stiffnesses cx Fz, cy Fz and the shape factors shape_Cx, shape_Ex,
+ * shape_Cy, shape_Ey (Q24) of @p tp:
+ *   s = |(cx k, cy tan a)|, m = max(mu, 0), per direction d: a = atan2(s, m C_d),
+ *   G_d = sin(C_d atan2(s - E_d (s - m C_d a), m C_d)),  F_d = Fz m G_d (c_d slip_d) / s.
+ * |F| <= m Fz (a value beyond Q15 clamps and counts); F = 0 at zero slip and at mu <= 0.
+ * Arguments as rfe_tyre_dugoff_abs_q31 (vwx is not used by the curve; eps must still be
+ * >= 0, the set-up shared with the Dugoff tyre uses it).
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_RANGE if fz < 0; RFE_ERR_PARAM (alpha_max, eps, a
+ *         shape factor outside 1 < C < 2, -4 <= E < 1).
+ */
+RFE_NODISCARD rfe_status_t rfe_tyre_magic_abs_q31(const rfe_tyre_params_q31_t *tp,
+                                                  rfe_fix_t kappa, rfe_fix_t alpha,
+                                                  rfe_fix_t fz, rfe_fix_t vwx, rfe_fix_t mu,
+                                                  rfe_fix_t *fx, rfe_fix_t *fy, uint32_t *sat);
+
 /** Four-wheel paper-mode forces F0x, F0y (wheel axes, Q15) from the kinematics. */
 RFE_NODISCARD rfe_status_t rfe_tyre_forces_norm_q31(const rfe_tyre_params_q31_t *tp,
                                                     const rfe_wheel_kin_q31_t *kin,
                                                     rfe_fix_t f0x[RFE_WHEELS],
                                                     rfe_fix_t f0y[RFE_WHEELS], uint32_t *sat);
 
-/** Four-wheel absolute-mode forces Fx, Fy (wheel axes, Q15) at per-wheel friction mu (Q29). */
+/** Four-wheel load-scaled forces Fx, Fy (wheel axes, Q15) at per-wheel friction mu (Q29): the
+ *  Magic Formula (rfe_tyre_magic_abs_q31) when tp->mode is RFE_TYRE_MAGIC, the absolute
+ *  Dugoff (rfe_tyre_dugoff_abs_q31) otherwise. */
 RFE_NODISCARD rfe_status_t rfe_tyre_forces_abs_q31(const rfe_tyre_params_q31_t *tp,
                                                    const rfe_wheel_kin_q31_t *kin,
                                                    const rfe_fix_t mu[RFE_WHEELS],

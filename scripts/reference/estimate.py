@@ -3,7 +3,7 @@
 Usage, from the repository root (both forms work):
 
     .venv/bin/python -m scripts.reference.estimate --in SENSOR.csv --out EST.csv \
-        [--preset paper|default] [--params FILE] [--filter sckf|ckf] [--tyre paper|absolute]
+        [--preset paper|default] [--params FILE] [--filter sckf|ckf] [--tyre paper|absolute|magic]
 
 --preset default (the default) runs docs/ESTIMATOR.md (trusted.py); --preset paper runs the
 paper's filter of MODEL.md section 6, as below.
@@ -14,8 +14,9 @@ Per sample k (row k of the output is the posterior after sample k):
   2. if the logged vx < v_est_min: no measurement update, status 2, valid 0;
      else measurement update with y = [ax, ay, yaw_acc] and u of that sample, then projection
      of the mean onto [mu_min, mu_max]: status 1 if any component was clamped, else 0; valid 1.
-Tyre modes: "paper" (h = H(u) x, normalised Dugoff) and "absolute" (load-scaled Dugoff,
-h evaluated at each cubature point, mu < 0 evaluated at 0).
+Tyre modes: "paper" (h = H(u) x, normalised Dugoff), "absolute" (load-scaled Dugoff,
+h evaluated at each cubature point, mu < 0 evaluated at 0) and "magic" (load-scaled Magic
+Formula, docs/ESTIMATOR.md, evaluated likewise).
 """
 
 from __future__ import annotations
@@ -34,7 +35,7 @@ import numpy as np  # noqa: E402
 from . import filters, logs, model, params, trusted  # noqa: E402
 
 FILTERS = ("sckf", "ckf")
-TYRES = ("paper", "absolute")
+TYRES = ("paper", "absolute", "magic")
 STATUS_OK, STATUS_CLAMPED, STATUS_LOW_SPEED = 0, 1, 2
 
 
@@ -54,6 +55,7 @@ def run(log: logs.CsvLog, p: dict, kind: str = "sckf", tyre: str = "paper"):
     """Run one filter over a whole sensor log. Returns dict of arrays t, mu, sd, valid, status."""
     if tyre not in TYRES:
         raise ValueError(f"unknown tyre mode {tyre!r}")
+    p = dict(p, tyre=tyre)      # model.h_absolute picks the load-scaled curve from p["tyre"]
     ti = model.tyre_inputs(p, log.col("delta"), log.col("vx"), log.col("vy"),
                            log.col("yaw_rate"), log.col("ax"), log.col("ay"), log.omega())
     ys = np.stack([log.col("ax"), log.col("ay"), log.col("yaw_acc")], axis=-1)

@@ -147,6 +147,38 @@ def dugoff_absolute(p, mu, fz, kappa, alpha, v_wx):
     return fz * cxk * g, fz * cyt * g
 
 
+def magic_absolute(p, mu, fz, kappa, alpha, v_wx):
+    """Load-scaled Magic Formula (docs/ESTIMATOR.md "The Magic Formula tyre"): forces Fx, Fy
+    in wheel axes at friction mu. s = |(cx k, cy tan a)|, u = (cx k, cy tan a) / s, m = max(mu, 0),
+    per direction a = atan2(s, m C), phi = C atan2(s - E (s - m C a), m C), F = Fz m sin(phi) u.
+    v_wx is unused (no velocity reduction); all arguments broadcast against each other."""
+    del v_wx
+    m = np.maximum(np.asarray(mu, dtype=float), 0.0)
+    k = np.clip(kappa, -1.0, 1.0)
+    ta = np.tan(np.clip(alpha, -p["alpha_max"], p["alpha_max"]))
+    cxk = p["cx"] * k
+    cyt = p["cy"] * ta
+    s = np.sqrt(cxk * cxk + cyt * cyt)
+    s_safe = np.where(s > 0.0, s, 1.0)
+    ux = np.where(s > 0.0, cxk / s_safe, 0.0)
+    uy = np.where(s > 0.0, cyt / s_safe, 0.0)
+
+    def shape(c, e):
+        mc = m * c
+        a = np.arctan2(s, mc)
+        return np.sin(c * np.arctan2(s - e * (s - mc * a), mc))
+
+    gx = shape(p["shape_Cx"], p["shape_Ex"])
+    gy = shape(p["shape_Cy"], p["shape_Ey"])
+    return fz * m * gx * ux, fz * m * gy * uy
+
+
+def tyre_absolute(p, mu, fz, kappa, alpha, v_wx):
+    """The load-scaled tyre of p["tyre"]: "magic" or (otherwise) the absolute Dugoff."""
+    fn = magic_absolute if p.get("tyre") == "magic" else dugoff_absolute
+    return fn(p, mu, fz, kappa, alpha, v_wx)
+
+
 # ---------------------------------------------------------------------------------------------
 # MODEL.md section 5: observation
 # ---------------------------------------------------------------------------------------------
@@ -200,7 +232,7 @@ def h_absolute(p, ti: TyreInputs, k: int, mu_points):
     [sum body-x force / m, sum body-y force / m, yaw moment / J] at each point.
     """
     col = lambda a: a[k][:, None]  # noqa: E731  per-wheel values of sample k as (4, 1)
-    fx, fy = dugoff_absolute(p, mu_points, col(ti.fz), col(ti.kappa), col(ti.alpha), col(ti.v_wx))
+    fx, fy = tyre_absolute(p, mu_points, col(ti.fz), col(ti.kappa), col(ti.alpha), col(ti.v_wx))
     # body_effects wants the wheel axis last: work on (P, 4) and sum over wheels.
     eff = body_effects(p, fx.T, fy.T, ti.delta_i[k])       # (P, 3, 4)
     return eff.sum(axis=-1).T                                # (3, P)

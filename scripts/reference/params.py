@@ -28,6 +28,10 @@ DEFAULTS: dict[str, float] = {
     "eps": 0.015,         # Dugoff velocity-reduction factor, s/m
     "v_min": 0.5,         # slip denominator guard, m/s (MODEL.md section 3)
     "alpha_max": 1.4,     # slip-angle bound, rad (MODEL.md section 4)
+    "shape_Cx": 1.65,     # Magic Formula shape factor C, longitudinal (tyre = magic)
+    "shape_Ex": 0.0,      # Magic Formula curvature factor E, longitudinal
+    "shape_Cy": 1.3,      # Magic Formula shape factor C, lateral
+    "shape_Ey": 0.0,      # Magic Formula curvature factor E, lateral
     # filter (MODEL.md section 6)
     "mu0": 0.5,           # initial estimate on every wheel
     "sd0": 0.3,           # initial standard deviation, S0 = sd0 I
@@ -60,11 +64,11 @@ DEFAULTS: dict[str, float] = {
 PRESETS: dict[str, dict] = {
     "paper": {"structure": "wheels", "tyre": "paper"},
     "default": {
-        "structure": "sides", "tyre": "absolute",
+        "structure": "sides", "tyre": "magic",
         "sd0": 0.1, "sd0_common": 0.3, "q_mu": 0.002, "q_common": 0.006,
         "tau_v": 0.3, "sd_in_delta": 0.001, "sd_in_vx": 0.01, "sd_in_vy": 0.01,
         "sd_in_yaw_rate": 0.005, "sd_in_omega": 0.05, "r_model_rel": 0.05,
-        "info_min": 100.0, "sd_max": 0.32, "sd_floor_rel": 0.15, "sd_valid": 0.15,
+        "info_min": 25.0, "sd_max": 0.32, "sd_floor_rel": 0.15, "sd_valid": 0.15,
     },
 }
 

@@ -85,6 +85,37 @@ def test_model_vectors():
     print("model vectors, max error rel. to max(|ref|,1):", worst)
 
 
+# REQ-TYRE-007
+def test_magic_tyre_matches_simulator_truth():
+    """The estimator's Magic Formula tyre at the simulator's shape factors == the simulator's
+    MF truth (an independent implementation: similarity method written with G(rho)/rho), and
+    its properties: slope cx Fz at zero slip for every mu, peak mu Fz, |F| <= mu Fz, zero at
+    mu <= 0. 1e-12: the two forms differ only by rounding of O(10) operations."""
+    sys.path.insert(0, os.path.join(REPO, "scripts"))
+    from sim import tyres as sim_tyres      # noqa: E402  (the simulator package)
+    from sim.vehicle import Params as SimParams  # noqa: E402
+    sp = SimParams()
+    p = dict(P, tyre="magic", shape_Cx=sp.mf_Cx, shape_Ex=sp.mf_Ex, shape_Cy=sp.mf_Cy,
+             shape_Ey=sp.mf_Ey, cx=sp.cx, cy=sp.cy)
+    fz = 4321.0
+    for mu in (0.05, 0.3, 0.85, 1.2):
+        for kappa in (-1.0, -0.3, -0.05, -1e-6, 0.0, 2e-3, 0.08, 0.5):
+            for alpha in (-0.6, -0.05, 0.0, 1e-5, 0.1, 1.0):
+                fx, fy = model.magic_absolute(p, mu, fz, kappa, alpha, 20.0)
+                ux, uy = sim_tyres.mf_unit(kappa, alpha, 20.0, mu, sp)
+                assert abs(fx - fz * ux) <= 1e-12 * fz and abs(fy - fz * uy) <= 1e-12 * fz
+                assert np.hypot(fx, fy) <= mu * fz * (1 + 1e-12)
+    for mu in (0.2, 1.0):                     # slope at zero slip does not depend on mu
+        fx, _ = model.magic_absolute(p, mu, fz, 1e-7, 0.0, 0.0)
+        assert abs(fx / (fz * 1e-7) - p["cx"]) < 1e-5 * p["cx"]
+        kap = np.linspace(0.0, 1.0, 20001)   # pure-slip peak mu Fz
+        fxs, _ = model.magic_absolute(p, mu, fz, kap, 0.0, 0.0)
+        assert abs(fxs.max() - mu * fz) < 1e-6 * fz
+    for mu in (0.0, -0.2):
+        fx, fy = model.magic_absolute(p, mu, fz, 0.1, 0.1, 0.0)
+        assert fx == 0.0 and fy == 0.0
+
+
 # REQ-REF-001
 def test_absolute_h_matches_forces():
     """h_absolute at equal mu on every wheel == column sums of body_effects of the forces."""

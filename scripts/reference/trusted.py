@@ -47,7 +47,7 @@ class Conditioner:
 
 def h_point(p, u, mu4):
     """h(mu, u) for one input vector u = (delta, vx, vy, r, ax, ay, w1..w4) and mu per wheel
-    (absolute tyre: load-scaled Dugoff at mu; paper tyre: H(u) mu)."""
+    (absolute / magic tyre: the load-scaled curve at mu; paper tyre: H(u) mu)."""
     delta, vx, vy, r, ax, ay = u[:6]
     omega = np.asarray(u[6:10])[None, :]
     ti = model.tyre_inputs(p, np.array([delta]), np.array([vx]), np.array([vy]), np.array([r]),

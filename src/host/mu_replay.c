@@ -28,7 +28,7 @@ enum { EXIT_OK = 0, EXIT_INPUT = 1, EXIT_USAGE = 2 };
 
 static const char k_usage[] =
     "usage: " PROG " --in SENSOR.csv --out ESTIMATE.csv [--preset default|paper]\n"
-    "                 [--params FILE] [--filter sckf|ckf] [--tyre paper|absolute]\n"
+    "                 [--params FILE] [--filter sckf|ckf] [--tyre paper|absolute|magic]\n"
     "                 [--real float|double|q31] [--metrics FILE.json] [--quiet] [--help]\n"
     "\n"
     "Runs the road-friction estimator over a sensor log (docs DATA.md) and writes the\n"
@@ -43,7 +43,8 @@ static const char k_usage[] =
     "  --params FILE    parameter file ('key = value' lines; unknown keys are errors;\n"
     "                   the keys are those of docs DATA.md and docs/ESTIMATOR.md)\n"
     "  --filter KIND    sckf (default) or ckf (the paper's baseline: --preset paper)\n"
-    "  --tyre MODE      paper or absolute (default: the preset's)\n"
+    "  --tyre MODE      paper, absolute (Dugoff) or magic (Magic Formula; default:\n"
+    "                   the preset's)\n"
     "  --real TYPE      float (default) or double arithmetic, or q31: the fixed-point\n"
     "                   estimator (samples rounded to its Q formats; saturation counts\n"
     "                   in the estimate log's metadata, the JSON and the summary)\n"
@@ -233,7 +234,7 @@ static int check_option_words(options_t *o)
         return usage_error("--filter must be sckf or ckf, not '%s'", o->filter);
     }
     if ((o->tyre != NULL) && (rfe_tyre_mode_parse(o->tyre, &tm) != 0)) {
-        return usage_error("--tyre must be paper or absolute, not '%s'", o->tyre);
+        return usage_error("--tyre must be paper, absolute or magic, not '%s'", o->tyre);
     }
     if ((o->real != NULL) && (strcmp(o->real, "float") != 0) && (strcmp(o->real, "double") != 0) &&
         (strcmp(o->real, "q31") != 0)) {

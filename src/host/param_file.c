@@ -20,12 +20,12 @@ static const rfe_param_info_t k_info[RFE_PK_COUNT] = {
 #define RFE_PK_INFO_(key, member, unit, doc) {#key, unit, doc},
     RFE_PARAM_KEYS(RFE_PK_INFO_)
 #undef RFE_PK_INFO_
-    {"tyre", "-", "tyre model: paper (normalised Dugoff) or absolute (load-scaled)"},
+    {"tyre", "-", "tyre model: paper (normalised Dugoff), absolute (load-scaled Dugoff) or magic (load-scaled Magic Formula)"},
     {"filter", "-", "filter: sckf (square-root cubature) or ckf (full covariance)"},
     {"structure", "-", "state: wheels (four independent mu) or sides (mu_left, mu_right)"},
 };
 
-static const char *const k_tyre_words[] = {"paper", "absolute"};     /* rfe_tyre_mode_t order */
+static const char *const k_tyre_words[] = {"paper", "absolute", "magic"}; /* rfe_tyre_mode_t order */
 static const char *const k_filter_words[] = {"sckf", "ckf"};         /* rfe_filter_kind_t order */
 static const char *const k_structure_words[] = {"wheels", "sides"};  /* rfe_structure_t order */
 static const char *const k_preset_words[] = {"default", "paper"};    /* rfe_preset_t order */
@@ -251,7 +251,7 @@ static int word_index(const char *s, const char *const *words, size_t n)
 
 const char *rfe_tyre_mode_str(rfe_tyre_mode_t m)
 {
-    return ((unsigned)m < 2u) ? k_tyre_words[m] : "?";
+    return ((unsigned)m < 3u) ? k_tyre_words[m] : "?";
 }
 
 const char *rfe_filter_kind_str(rfe_filter_kind_t k)
@@ -261,11 +261,14 @@ const char *rfe_filter_kind_str(rfe_filter_kind_t k)
 
 int rfe_tyre_mode_parse(const char *s, rfe_tyre_mode_t *out)
 {
-    int i = word_index(s, k_tyre_words, 2u);
+    int i = word_index(s, k_tyre_words, 3u);
     if (i < 0) {
         return -1;
     }
-    *out = (i == 0) ? RFE_TYRE_PAPER : RFE_TYRE_ABSOLUTE;
+    {
+        static const rfe_tyre_mode_t modes[] = {RFE_TYRE_PAPER, RFE_TYRE_ABSOLUTE, RFE_TYRE_MAGIC};
+        *out = modes[i];
+    }
     return 0;
 }
 

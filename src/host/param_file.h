@@ -36,11 +36,15 @@
     X(g, vehicle.g, "m/s^2", "gravity")                                                        \
     X(Cx_n, tyre.Cx_n, "1", "normalised longitudinal stiffness (paper mode)")                  \
     X(Cy_n, tyre.Cy_n, "1/rad", "normalised cornering stiffness (paper mode)")                 \
-    X(cx, tyre.cx, "1", "longitudinal stiffness per unit Fz (absolute mode)")                  \
-    X(cy, tyre.cy, "1/rad", "cornering stiffness per unit Fz (absolute mode)")                 \
+    X(cx, tyre.cx, "1", "longitudinal stiffness per unit Fz (absolute, magic modes)")          \
+    X(cy, tyre.cy, "1/rad", "cornering stiffness per unit Fz (absolute, magic modes)")         \
     X(eps, tyre.eps, "s/m", "Dugoff velocity-reduction factor")                                \
     X(v_min, tyre.v_min, "m/s", "slip denominator guard")                                      \
     X(alpha_max, tyre.alpha_max, "rad", "slip-angle bound (< pi/2)")                           \
+    X(shape_Cx, tyre.shape_Cx, "1", "Magic Formula shape factor C, longitudinal (1 < C < 2)")  \
+    X(shape_Ex, tyre.shape_Ex, "1", "Magic Formula curvature factor E, longitudinal (-4..1)") \
+    X(shape_Cy, tyre.shape_Cy, "1", "Magic Formula shape factor C, lateral (1 < C < 2)")       \
+    X(shape_Ey, tyre.shape_Ey, "1", "Magic Formula curvature factor E, lateral (-4..1)")      \
     X(mu0, filter.mu0, "1", "initial estimate on every wheel")                                 \
     X(sd0, filter.sd0, "1", "initial standard deviation, S0 = sd0 I")                          \
     X(q_mu, filter.q_mu, "1", "process-noise sd per step, S_Q = q_mu I")                       \
@@ -70,7 +74,7 @@ typedef enum {
 #define RFE_PK_ENUM_(key, member, unit, doc) RFE_PK_##key,
     RFE_PARAM_KEYS(RFE_PK_ENUM_)
 #undef RFE_PK_ENUM_
-    RFE_PK_TYRE,        /**< key tyre = paper|absolute */
+    RFE_PK_TYRE,        /**< key tyre = paper|absolute|magic */
     RFE_PK_FILTER,      /**< key filter = sckf|ckf */
     RFE_PK_STRUCTURE,   /**< key structure = wheels|sides */
     RFE_PK_COUNT        /**< number of keys, numeric and word */
@@ -157,7 +161,7 @@ const char *rfe_filter_kind_str(rfe_filter_kind_t k);
 const char *rfe_structure_str(rfe_structure_t s);
 const char *rfe_preset_str(rfe_preset_t p);
 
-/** Parses "paper"/"absolute", "sckf"/"ckf", "wheels"/"sides" and "default"/"paper"
+/** Parses "paper"/"absolute"/"magic", "sckf"/"ckf", "wheels"/"sides" and "default"/"paper"
  *  (case-sensitive); 0 on success, -1 otherwise (@p out then untouched). */
 RFE_NODISCARD int rfe_tyre_mode_parse(const char *s, rfe_tyre_mode_t *out);
 RFE_NODISCARD int rfe_filter_kind_parse(const char *s, rfe_filter_kind_t *out);

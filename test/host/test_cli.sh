@@ -171,7 +171,7 @@ one_line ckf_paper_plus_addition "^mu_replay: command line: filter = ckf: the CK
 
 # docs/ESTIMATOR.md keys: the word key structure and the numeric keys, in files and metadata.
 grep -q '^# structure = sides$' "$TMP/pd.csv" && ok "default: structure metadata" || bad "default: structure metadata"
-grep -q '^# info_min = 100$' "$TMP/pd.csv" && grep -q '^# sd_valid = 0.15$' "$TMP/pd.csv" \
+grep -q '^# info_min = 25$' "$TMP/pd.csv" && grep -q '^# sd_valid = 0.15$' "$TMP/pd.csv" \
     && ok "default: new keys in metadata" || bad "default: new keys in metadata"
 grep -q '^# structure = wheels$' "$TMP/pp.csv" && grep -q '^# info_min = 0$' "$TMP/pp.csv" \
     && ok "paper: additions off in metadata" || bad "paper: additions off in metadata"

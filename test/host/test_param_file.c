@@ -364,6 +364,11 @@ static void test_rfe_enum_words_round_trip(void **state)
     (void)state;
     assert_int_equal(rfe_tyre_mode_parse("absolute", &t), 0);
     assert_string_equal(rfe_tyre_mode_str(t), "absolute");
+    assert_int_equal(rfe_tyre_mode_parse("magic", &t), 0);
+    assert_int_equal(t, RFE_TYRE_MAGIC);
+    assert_string_equal(rfe_tyre_mode_str(t), "magic");
+    assert_int_equal(rfe_tyre_mode_parse("paper", &t), 0);
+    assert_int_equal(t, RFE_TYRE_PAPER);
     assert_int_equal(rfe_tyre_mode_parse("Paper", &t), -1); /* words are case-sensitive */
     assert_int_equal(rfe_filter_kind_parse("ckf", &f), 0);
     assert_string_equal(rfe_filter_kind_str(f), "ckf");
