@@ -45,6 +45,7 @@ static rfe_meas_q31_t meas_paper[MAXN];
 static rfe_meas_q31_t meas_abs[MAXN];
 static rfe_params_q31_t par_paper;    /* paper preset, paper tyre */
 static rfe_params_q31_t par_abs;      /* paper preset, absolute tyre */
+static rfe_params_q31_t par_magic;    /* paper preset, Magic Formula tyre */
 static rfe_params_q31_t par_step;     /* the parameters of the step case being run */
 static rfe_estimator_q31_t est;
 static rfe_estimate_q31_t out;
@@ -128,6 +129,13 @@ static void run_forces_abs(size_t k)
     rfe_fix_t fy[RFE_WHEELS];
     bench_sink +=
         (uint32_t)rfe_tyre_forces_abs_q31(&par_abs.tyre, &kins[k], mu_true[k], fx, fy, &sat);
+}
+static void run_forces_magic(size_t k)
+{
+    rfe_fix_t fx[RFE_WHEELS];
+    rfe_fix_t fy[RFE_WHEELS];
+    bench_sink +=
+        (uint32_t)rfe_tyre_forces_abs_q31(&par_magic.tyre, &kins[k], mu_true[k], fx, fy, &sat);
 }
 static void run_obsmat(size_t k)
 {
@@ -232,6 +240,7 @@ const bench_case_t bench_cases[] = {
     {"tyre.kinematics", NULL, NULL, run_kin},
     {"tyre.forces_norm", NULL, NULL, run_forces_norm},
     {"tyre.forces_abs", NULL, NULL, run_forces_abs},
+    {"tyre.forces_magic", NULL, NULL, run_forces_magic},
     {"obsmat.build", NULL, NULL, run_obsmat},
     {"meas.setup.paper", NULL, NULL, run_setup_paper},
     {"meas.setup.absolute", NULL, NULL, run_setup_abs},
@@ -357,6 +366,7 @@ size_t bench_setup(const char *log_path)
     if ((params_for(&log, RFE_PRESET_PAPER, "sckf", "paper", &par_paper) != 0) ||
         (params_for(&log, RFE_PRESET_PAPER, "ckf", "paper", &par_paper_ckf) != 0) ||
         (params_for(&log, RFE_PRESET_PAPER, "sckf", "absolute", &par_abs) != 0) ||
+        (params_for(&log, RFE_PRESET_PAPER, "sckf", "magic", &par_magic) != 0) ||
         (params_for(&log, RFE_PRESET_PAPER, "ckf", "absolute", &par_abs_ckf) != 0) ||
         (params_for(&log, RFE_PRESET_DEFAULT, NULL, NULL, &par_default) != 0)) {
         fprintf(stderr, "bench: parameters rejected\n");

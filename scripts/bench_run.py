@@ -44,12 +44,13 @@ STEP_CASES = {
     "step.paper.ckf.paper": ("paper preset, CKF, paper tyre", "ckf", "paper"),
     "step.paper.sckf.absolute": ("paper preset, SCKF, absolute tyre", "sckf", "absolute"),
     "step.paper.ckf.absolute": ("paper preset, CKF, absolute tyre", "ckf", "absolute"),
-    "step.default": ("default preset (2 states, absolute tyre, gate)", None, "absolute"),
+    "step.default": ("default preset (2 states, Magic Formula tyre, gate)", None, "magic"),
 }
 MODULE_DOC = {
     "tyre.kinematics": "tyre: kinematics, slips, loads (per sample)",
     "tyre.forces_norm": "tyre: normalised Dugoff, 4 wheels",
     "tyre.forces_abs": "tyre: absolute Dugoff, 4 wheels, one mu",
+    "tyre.forces_magic": "tyre: Magic Formula, 4 wheels, one mu",
     "obsmat.build": "obsmat: H(u) from the forces",
     "meas.setup.paper": "meas: set-up, paper tyre (kinematics + Dugoff + H)",
     "meas.setup.absolute": "meas: set-up, absolute tyre (kinematics)",

@@ -102,6 +102,35 @@ static inline unsigned int rfe_q31_bitlen64(uint64_t m)
     return len + (unsigned int)v; /* v is now 0 (m = 0) or 1 */
 }
 
+/** The bit length of a 32-bit m (the value rfe_q31_bitlen64 gives for it), by halving the
+ *  search range in 32-bit operations (five tests; the Cortex-M0+ has no 64-bit shift). */
+static inline unsigned int rfe_q31_bitlen32(uint32_t m)
+{
+    uint32_t v = m;
+    unsigned int len = 0u;
+    if ((v >> 16) != 0u) {
+        v >>= 16;
+        len += 16u;
+    }
+    if ((v >> 8) != 0u) {
+        v >>= 8;
+        len += 8u;
+    }
+    if ((v >> 4) != 0u) {
+        v >>= 4;
+        len += 4u;
+    }
+    if ((v >> 2) != 0u) {
+        v >>= 2;
+        len += 2u;
+    }
+    if ((v >> 1) != 0u) {
+        v >>= 1;
+        len += 1u;
+    }
+    return len + (unsigned int)v; /* v is now 0 (m = 0) or 1 */
+}
+
 /**
  * The smallest right shift s that brings a magnitude m below 2^bits: m < 2^(bits + s). A value
  * with magnitude <= m rounded by that shift (half up) then has magnitude <= 2^bits, and keeps

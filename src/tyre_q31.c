@@ -15,19 +15,24 @@
  *    in Q30; the force magnitude w in Q29; the forces Fz w u rounded once to Q15;
  *  - Magic Formula (docs/ESTIMATOR.md "The Magic Formula tyre"): the Dugoff set-up's S and
  *    direction cosines, then per direction the pair (S, m C) in one common format with 30
- *    significant bits (only their ratio matters), the two atan2 (Q29), phi = C b (Q29),
- *    G = sin phi (Q30), the magnitude w = m G (Q29) and the forces Fz w u rounded once to Q15.
+ *    significant bits (only their ratio matters), the two atan2 (Q31, the short 32-bit
+ *    CORDIC of fxmath_internal_q31.h), phi = C b (Q55, exact), G = sin phi (Q30, table and
+ *    polynomial, fxmath_internal_q31.h), the magnitude w = m G (Q29) and the forces Fz w u
+ *    rounded once to Q15.
  */
 #include "rfe/tyre_q31.h"
 
 #include "rfe/fxmath.h"
 
+#include "fxmath_internal_q31.h"
 #include "internal_q31.h"
 #include "tyre_internal_q31.h"
 
 /* Internal velocity format: Q51, and the shift from the sample's speed format to it. */
 #define QV 51u
 #define QV_SPEED (QV - (unsigned int)RFE_FIX_Q_SPEED)
+/* 1/2 in Q30 as uint64: the rounding bit of a shift by 30. */
+#define HALF_Q30 ((uint64_t)1 << 29)
 /* 1.0 in Q30, 2^30 (kappa, E, L, direction cosines). */
 #define ONE_Q30 ((int32_t)0x40000000)
 /* The slip arithmetic below holds kappa in Q30 (ONE_Q30, the Q59 = Q29 x Q30 of mu (1 - |k|)). */
@@ -403,14 +408,17 @@ static void dugoff_core(int32_t k, int32_t t, int32_t c1, int32_t c2, int32_t ep
  * terms serve both curves). Both atan2 are of a pair in one format, so only the ratio of
  * s and m C matters: the pair is brought to 30 significant bits by one power of two (exact
  * when scaling up), which keeps the angle to 0.71 LSB29 whatever s and m are (m -> 0 gives
- * a = pi/2, no overflow, no division). With 1 < C < 2 and -4 <= E < 1 (checked):
+ * a = pi/2, no overflow, no division). The curve needs ~2^-30, so the angles and the sine
+ * are the short 32-bit routines of fxmath_internal_q31.h (rfe_q31_atan2_quad1,
+ * rfe_q31_sin_q55), not the 40-step int64 CORDIC of rfe_fix_atan2 / rfe_fix_sincos (which
+ * the kinematics keep). With 1 < C < 2 and -4 <= E < 1 (checked):
  *   - 0 <= a <= pi/2, and z = s - E (s - m C a) = (1 - E) s + E m C a >= 0 (clamped there
  *     against the rounding of a), so 0 <= b <= pi/2, 0 <= phi = C b < pi, 0 <= G <= 1;
  *   - w = m G <= m < 4 (Q29) and |F| <= Fz m (saturating, counted, as the Dugoff forces).
  * Error (derived in test/test_tyre_magic_q31.c and docs/FIXED_POINT.md): the angles within
- * 0.71 + 0.505 LSB29 each (pair rounding + atan2), the second one also carrying the first's
- * error times E and the sensitivity of the curve to the slip ratio; no intermediate
- * saturates. */
+ * 0.71 LSB29 (pair rounding) + 1.211e-9 rad (0.65 LSB29, rfe_q31_atan2_quad1) each, the second
+ * one also carrying the first's error times E and the sensitivity of the curve to the slip
+ * ratio; phi = C b exact; the sine within 6.15e-10 (0.66 LSB30); no intermediate saturates. */
 
 /* 1 when the shape factors are inside the domain the arithmetic below is proven for:
  * 1 < C < 2 and -4 <= E < 1 (Q24), both directions. */
@@ -422,16 +430,28 @@ static int magic_shape_ok(const rfe_tyre_params_q31_t *tp)
            (tp->shape_Ey >= (-4 * one)) && (tp->shape_Ey < one);
 }
 
-/* v 2^e (0 <= v < 2^63), rounded half up when e < 0; the callers keep the result <= 2^30. */
+/* v 2^e (0 <= v < 2^62), rounded half up when e < 0 (the callers keep e >= -35 and the result
+ * <= 2^30): a shift of the non-negative value, no multiplication (on the Cortex-M0+ a 64-bit
+ * product is a libgcc call). */
 static int32_t scale_pow2(int64_t v, int e)
 {
-    int64_t r;
+    const uint64_t u = (uint64_t)v;
+    uint64_t r;
     if (e >= 0) {
-        r = v * rfe_q31_pow2((unsigned int)e);
+        r = u << (unsigned int)e;
     } else {
-        r = rfe_fix_shr64_round(v, (unsigned int)(-e));
+        const unsigned int s = (unsigned int)(-e);
+        const unsigned int s1 = s - 1u;
+        r = (u + ((uint64_t)1 << s1)) >> s;
     }
     return (int32_t)r;
+}
+
+/* The bit length of v < 2^64 (rfe_q31_bitlen64's value) from its two 32-bit halves. */
+static unsigned int bitlen_halves(uint64_t v)
+{
+    const uint32_t hi = (uint32_t)(v >> 32);
+    return (hi != 0u) ? (32u + rfe_q31_bitlen32(hi)) : rfe_q31_bitlen32((uint32_t)v);
 }
 
 /* G = sin(C atan2(s - E (s - m C a), m C)), a = atan2(s, m C), in Q30 (0 <= G <= 1), for
@@ -439,41 +459,39 @@ static int32_t scale_pow2(int64_t v, int e)
  * (0 < m < 2^31), C and E Q24 within magic_shape_ok.
  *   m C: Q29 x Q24 = Q53, exact, in (0, 2^56). S in Q53 would be S 2^(53 - qs) (53 - qs in
  *   [3, 34]): with l the larger bit length of the two in Q53 (<= 65), both are scaled by
- *   2^(30 - l): xn, yn <= 2^30, the larger >= 2^29 (the other exact or rounded, 0.5 unit).
+ *   2^(30 - l): xn, yn <= 2^30, the larger >= 2^29 (the other exact or rounded, 0.5 unit), so
+ *   never both 0: rfe_q31_atan2_quad1's domain. a in Q31, <= round(pi/2 2^31) = 3373259426.
  *   Second angle (E != 0): z = (1 - E) yn + E xn a in Q(W + 24) (W the pair's format):
- *   (2^24 - E) yn < 5 2^24 2^30 = 2^56.4; xn a < 2^30 2^29.7 = 2^59.7 (< 2^62), times E
- *   (|E| <= 2^26) over 2^29: < 2^56.7 (rfe_q31_mul64x32's preconditions), so |z| < 2^57.6;
- *   z and xn 2^24 (< 2^55) are brought below 2^30 by one more shift.
- *   phi = C b: Q24 x Q29 < 2^25 2^29.7, rounded to Q29: < pi (2^30.7), sin's domain. */
+ *   (2^24 - E) yn < 5 2^24 2^30 = 2^56.4; xn a < 2^30 2^31.65 = 2^61.65 (< 2^62), times E
+ *   (|E| <= 2^26) over 2^31: < 2^56.7 (rfe_q31_mul64x32's preconditions), so |z| < 2^57.6;
+ *   z and xn 2^24 (< 2^55) are brought below 2^30 by one more shift (z >= 2^29 when xn = 0).
+ *   phi = C b: Q24 x Q31 = Q55, exact, <= (2^25 - 1) 3373259426 < round(pi 2^55): the sine's
+ *   domain [0, pi]. */
 static int32_t magic_g_q31(int32_t S, unsigned int qs, int32_t m, int32_t C, int32_t E)
 {
     const int64_t mc = (int64_t)m * (int64_t)C;
     const unsigned int d = 53u - qs;
-    const unsigned int lx = rfe_q31_bitlen64((uint64_t)mc);
-    const unsigned int ly = rfe_q31_bitlen64((uint64_t)S) + d;
+    const unsigned int lx = bitlen_halves((uint64_t)mc);
+    const unsigned int ly = rfe_q31_bitlen32((uint32_t)S) + d;
     const int l = (int)((lx > ly) ? lx : ly);
     const int32_t xn = scale_pow2(mc, 30 - l);
     const int32_t yn = scale_pow2((int64_t)S, ((int)d + 30) - l);
-    int32_t b = atan2_q(yn, xn); /* a, Q29, in [0, pi/2] */
-    int32_t g = 0;
-    int32_t c = 0;
-    rfe_status_t st;
+    uint32_t b = rfe_q31_atan2_quad1((uint32_t)yn, (uint32_t)xn); /* a, Q31, in [0, pi/2] */
 
     if (E != 0) {
         const int64_t x24 = (int64_t)xn * rfe_q31_pow2(24u);
         int64_t z = (((int64_t)RFE_FIX_ONE(RFE_FIX_Q_STIFF) - (int64_t)E) * (int64_t)yn) +
-                    rfe_q31_mul64x32((int64_t)xn * (int64_t)b, (int64_t)E, 29u);
+                    rfe_q31_mul64x32((int64_t)xn * (int64_t)b, (int64_t)E, 31u);
         unsigned int sh;
         /* z >= 0 exactly; only the rounding of a (E < 0, yn of a few units) can take it
          * below */
         z = (z > 0) ? z : 0;
         sh = rfe_q31_norm_shift((uint64_t)((z > x24) ? z : x24), 30u);
-        b = atan2_q(rfe_q31_shr_to32(z, sh), rfe_q31_shr_to32(x24, sh));
+        b = rfe_q31_atan2_quad1((uint32_t)rfe_q31_shr_to32(z, sh),
+                                (uint32_t)rfe_q31_shr_to32(x24, sh));
     }
-    /* phi = C b in Q29; every angle is in sincos's domain (no error) */
-    st = rfe_fix_sincos((int32_t)rfe_fix_shr64_round((int64_t)C * (int64_t)b, 24u), &g, &c);
-    (void)st;
-    return g;
+    /* phi = C b in Q55, within the sine's domain */
+    return rfe_q31_sin_q55((int64_t)C * (int64_t)b);
 }
 
 /* Magic Formula forces at m = max(mu, 0) (Q29, >= 0) and load fz (Q15, >= 0) from the
@@ -483,17 +501,20 @@ static int32_t magic_g_q31(int32_t S, unsigned int qs, int32_t m, int32_t C, int
 static void magic_forces_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugoff_pre_q31_t *pre,
                              int32_t m, int32_t fz, int32_t *fx, int32_t *fy, uint32_t *sat)
 {
-    int32_t wx;
-    int32_t wy;
+    int64_t px;
+    int64_t py;
+    uint64_t wx;
+    uint64_t wy;
     if ((pre->s == 0) || (m == 0)) {
         *fx = 0;
         *fy = 0;
         return;
     }
-    wx = (int32_t)rfe_fix_shr64_round(
-        (int64_t)m * (int64_t)magic_g_q31(pre->s, pre->qs, m, tp->shape_Cx, tp->shape_Ex), 30u);
-    wy = (int32_t)rfe_fix_shr64_round(
-        (int64_t)m * (int64_t)magic_g_q31(pre->s, pre->qs, m, tp->shape_Cy, tp->shape_Ey), 30u);
+    /* w = m G rounded to Q29 (<= m): m G >= 0, so the rounding is a shift of the product */
+    px = (int64_t)m * (int64_t)magic_g_q31(pre->s, pre->qs, m, tp->shape_Cx, tp->shape_Ex);
+    py = (int64_t)m * (int64_t)magic_g_q31(pre->s, pre->qs, m, tp->shape_Cy, tp->shape_Ey);
+    wx = ((uint64_t)px + HALF_Q30) >> 30;
+    wy = ((uint64_t)py + HALF_Q30) >> 30;
     *fx = rfe_fix_sat32(rfe_q31_mul64x32((int64_t)fz * (int64_t)wx, pre->ux, 59u), sat);
     *fy = rfe_fix_sat32(rfe_q31_mul64x32((int64_t)fz * (int64_t)wy, pre->uy, 59u), sat);
 }

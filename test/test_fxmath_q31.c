@@ -14,6 +14,13 @@
  *    most that) + < 1e-15: TOL_SINCOS = 4.7e-10;
  *  - tan, Q26: 0.5 LSB (1/2^27) + 1.82e-12 * (1 + tan^2) (<= 3.7e-10 at |angle| = 1.5,
  *    tan^2 = 199) + < 1e-14: TOL_TAN = 7.9e-9.
+ * The Magic Formula's shorter routines (src/fxmath_internal_q31.h, derived in fxmath_q31.c):
+ *  - rfe_q31_atan2_quad1, Q31: 2^-32 final rounding + 3.49 2^-32 (rounding of x in the 11
+ *    CORDIC steps) + 2^-33 (division remainder) + 2^-34.6 (atan q ~ q) + 2^-36.8 (table)
+ *    < 5.2 2^-32, + ~2e-16 rad for libm atan2: TOL_ATAN2_Q1 = 5.2 2^-32 + 1e-15 = 1.211e-9 rad;
+ *  - rfe_q31_sin_q55, Q30: 2^-31 final rounding + 2^-33 (table) + < 2^-35 (polynomial,
+ *    arithmetic) = 6.15e-10, + ~1e-16 for libm sin (and the rounding of the Q55 angle to a
+ *    double, < 2^-51 rad): TOL_SIN_Q55 = 6.15e-10 + 1e-15.
  * The measured worst cases are printed (docs/FIXED_POINT.md quotes them).
  */
 #include "test_common.h"
@@ -25,11 +32,14 @@
 #include "rfe/fixed.h"
 #include "rfe/fixed_conv.h"
 #include "rfe/fxmath.h"
+#include "fxmath_internal_q31.h"
 #include "test_rng.h"
 
 #define TOL_ATAN2 9.4e-10
 #define TOL_SINCOS 4.7e-10
 #define TOL_TAN 7.9e-9
+#define TOL_ATAN2_Q1 (5.2 / 4294967296.0 + 1e-15)
+#define TOL_SIN_Q55 (6.15e-10 + 1e-15)
 
 #define TEST_PI 3.14159265358979323846
 
@@ -947,6 +957,164 @@ static void test_tan(void **state)
            tan_worst, tan_worst / LSB26, tan_worst_rel, tan_count, TOL_TAN);
 }
 
+/* ---- the Magic Formula's atan2 and sine (fxmath_internal_q31.h) ---------------------------- */
+
+#define Q31_HALF_PI 3373259426u                       /* round(pi/2 2^31) */
+#define Q55_PI INT64_C(113187804032455044)            /* round(pi 2^55) */
+#define Q55_HALF_PI INT64_C(56593902016227522)        /* round(pi/2 2^55) */
+#define TWO30 1073741824u
+
+static double atq_worst = 0.0;
+static long atq_count = 0;
+
+static uint32_t check_atan2_quad1(uint32_t y, uint32_t x)
+{
+    const uint32_t a = rfe_q31_atan2_quad1(y, x);
+    const double want = ((x == 0u) && (y == 0u)) ? 0.0 : atan2((double)y, (double)x);
+    const double err = fabs(ldexp((double)a, -31) - want);
+    atq_worst = fmax(atq_worst, err);
+    ++atq_count;
+    ASSERT_LE(err, TOL_ATAN2_Q1, "atan2_quad1");
+    assert_true(a <= Q31_HALF_PI);
+    return a;
+}
+
+/* A value in [0, 2^30] with a random bit length (0 .. 31). */
+static uint32_t rand_u30_log(void)
+{
+    const unsigned bits = rand_below(32u);
+    const uint32_t v = (bits == 0u) ? 0u : (uint32_t)(rand_u64() >> (64u - bits));
+    return (v > TWO30) ? TWO30 : v;
+}
+
+/* REQ: rfe_q31_atan2_quad1 (the Magic Formula's first-quadrant atan2, Q31) is within
+ * TOL_ATAN2_Q1 of libm over every 0 <= x, y <= 2^30: the axes and the origin exactly
+ * (0 -> 0, y > 0 at x = 0 -> round(pi/2 2^31)), every pair up to 64, the edges of the
+ * normalisation (2^29 - 1, 2^29, 2^30) and the diagonal, a dense angle grid at random radii,
+ * near-axis and near-diagonal pairs and random pairs (uniform and log-uniform magnitudes); the
+ * result never leaves [0, pi/2]. */
+/* REQ-FXP-002 */
+static void test_atan2_quad1(void **state)
+{
+    static const uint32_t edge[] = {0u, 1u, 2u, 3u, 1000u, (1u << 29) - 1u, 1u << 29,
+                                    (1u << 29) + 1u, TWO30 - 1u, TWO30, 12345678u, 987654321u};
+    const size_t ne = sizeof(edge) / sizeof(edge[0]);
+    size_t i;
+    size_t j;
+    long k;
+    uint32_t x;
+    uint32_t y;
+    (void)state;
+    atq_worst = 0.0;
+    atq_count = 0;
+    /* Axes and the origin: exact. */
+    assert_int_equal(check_atan2_quad1(0u, 0u), 0);
+    assert_int_equal(check_atan2_quad1(0u, 1u), 0);
+    assert_int_equal(check_atan2_quad1(0u, TWO30), 0);
+    assert_int_equal(check_atan2_quad1(1u, 0u), Q31_HALF_PI);
+    assert_int_equal(check_atan2_quad1(TWO30, 0u), Q31_HALF_PI);
+    /* The diagonal: pi/4 2^31 = 1686629713.07. */
+    assert_int_equal(check_atan2_quad1(TWO30, TWO30), 1686629713u);
+    assert_int_equal(check_atan2_quad1(7u, 7u), 1686629713u);
+    for (i = 0; i < ne; ++i) {
+        for (j = 0; j < ne; ++j) {
+            (void)check_atan2_quad1(edge[i], edge[j]);
+        }
+    }
+    for (y = 0u; y <= 64u; ++y) {
+        for (x = 0u; x <= 64u; ++x) {
+            (void)check_atan2_quad1(y, x);
+        }
+    }
+    /* Dense angle grid over [0, pi/2] at random radii up to 2^30. */
+    rng_seed(1111u);
+    for (k = 0; k <= 262144; ++k) {
+        const double th = (0.5 * TEST_PI * (double)k) / 262144.0;
+        const double rad = ldexp(1.0, (int)rand_below(31u)) * (1.0 + 0.999 * fabs(rng_uniform()));
+        (void)check_atan2_quad1((uint32_t)fmin(rad * sin(th), (double)TWO30),
+                                (uint32_t)fmin(rad * cos(th), (double)TWO30));
+    }
+    /* Near the axes and the diagonal, at the largest and the smallest normalised scale. */
+    for (k = 0; k < 4096; ++k) {
+        const uint32_t big = (k & 1) ? TWO30 - (uint32_t)rand_below(1024u)
+                                     : (1u << 29) + (uint32_t)rand_below(1024u);
+        const uint32_t small = (uint32_t)rand_below(4096u);
+        (void)check_atan2_quad1(small, big);
+        (void)check_atan2_quad1(big, small);
+        (void)check_atan2_quad1(big - small, big);
+        (void)check_atan2_quad1(big, big - small);
+    }
+    for (k = 0; k < 400000; ++k) {
+        const uint32_t yy = (k & 1) ? (uint32_t)rand_below(TWO30 + 1u) : rand_u30_log();
+        const uint32_t xx = (k & 2) ? (uint32_t)rand_below(TWO30 + 1u) : rand_u30_log();
+        (void)check_atan2_quad1(yy, xx);
+    }
+    printf("[fxmath] atan2_quad1: max |err| = %.3e rad (%.3f 2^-32, %.4f LSB Q29) over %ld "
+           "pairs, bound %.3e\n",
+           atq_worst, ldexp(atq_worst, 32), atq_worst / LSB29, atq_count, TOL_ATAN2_Q1);
+}
+
+static double sinq_worst = 0.0;
+static long sinq_count = 0;
+
+static int32_t check_sin_q55(int64_t phi)
+{
+    const int32_t g = rfe_q31_sin_q55(phi);
+    const double err = fabs((double)g * LSB30 - sin(ldexp((double)phi, -55)));
+    sinq_worst = fmax(sinq_worst, err);
+    ++sinq_count;
+    ASSERT_LE(err, TOL_SIN_Q55, "sin_q55");
+    assert_true((g >= 0) && (g <= (1 << 30)));
+    return g;
+}
+
+/* REQ: rfe_q31_sin_q55 (the Magic Formula's sine of a Q55 angle in [0, pi], Q30) is within
+ * TOL_SIN_Q55 of libm: exactly 0 at 0 and pi and 1 at pi/2; at every table node k/32 and
+ * next to it, at the ties of the node rounding (k + 1/2)/32 and of the rounding of d to Q36,
+ * at both sides of the reflection at pi/2, on a dense grid and at random angles; the result
+ * never leaves [0, 1]. */
+/* REQ-FXP-002 */
+static void test_sin_q55(void **state)
+{
+    const int64_t node = (int64_t)1 << 50; /* 1/32 rad in Q55 */
+    long k;
+    int d;
+    (void)state;
+    sinq_worst = 0.0;
+    sinq_count = 0;
+    assert_int_equal(check_sin_q55(0), 0);
+    assert_int_equal(check_sin_q55(Q55_PI), 0);
+    assert_int_equal(check_sin_q55(Q55_HALF_PI), 1 << 30);
+    for (d = -2; d <= 2; ++d) {
+        (void)check_sin_q55(Q55_HALF_PI + d);
+        if (d >= 0) {
+            (void)check_sin_q55(d);
+            (void)check_sin_q55(Q55_PI - d);
+        }
+    }
+    for (k = 0; k <= 101; ++k) {
+        for (d = -3; d <= 3; ++d) {
+            const int64_t at[3] = {k * node, k * node + node / 2, k * node + ((int64_t)1 << 18)};
+            size_t i;
+            for (i = 0; i < 3u; ++i) {
+                const int64_t phi = at[i] + d;
+                if ((phi >= 0) && (phi <= Q55_PI)) {
+                    (void)check_sin_q55(phi);
+                }
+            }
+        }
+    }
+    for (k = 0; k <= (1L << 20); ++k) { /* every 2^-20-th of [0, pi] */
+        (void)check_sin_q55((int64_t)floor(ldexp((double)Q55_PI, -20) * (double)k));
+    }
+    rng_seed(1212u);
+    for (k = 0; k < 200000; ++k) {
+        (void)check_sin_q55((int64_t)(rand_u64() % (uint64_t)(Q55_PI + 1)));
+    }
+    printf("[fxmath] sin_q55: max |err| = %.3e (%.4f LSB Q30) over %ld angles, bound %.3e\n",
+           sinq_worst, sinq_worst / LSB30, sinq_count, TOL_SIN_Q55);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -964,6 +1132,8 @@ int main(void)
         cmocka_unit_test(test_atan2),
         cmocka_unit_test(test_sincos),
         cmocka_unit_test(test_tan),
+        cmocka_unit_test(test_atan2_quad1),
+        cmocka_unit_test(test_sin_q55),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -27,13 +27,15 @@
  *    Q24 value below 1; the bound says so honestly.)
  *
  * Error of the integer evaluation (tyre_q31.c) given its inputs S (Q(qs)), u (Q30):
- *  - first angle: the pair (S, m C) scaled to 30 bits, the larger >= 2^29: 0.71 U; atan2
- *    0.505 U (fxmath.h);
+ *  - first angle: the pair (S, m C) scaled to 30 bits, the larger >= 2^29: 0.71 U; atan2 in
+ *    Q31 by rfe_q31_atan2_quad1 (fxmath_internal_q31.h, the Magic Formula's short CORDIC):
+ *    e_at = 5.2 2^-32 = 1.211e-9 rad (0.65 U);
  *  - second angle (E != 0): K_b 0.71 U (the first pair's rounding, through the curve),
- *    |E| 0.505 U (z carries E x da), 0.5 U (z rounded in Q(W + 24): 0.5 2^-24 over
- *    |(x, z)| >= 32 units), 0.71 U (the second pair), 0.505 U (atan2); for E = 0, b = a;
- *    so e_b = K_b 0.71 U + 0.505 U + [E != 0] (|E| 0.505 + 1.21) U;
- *  - G: |d sin| <= C e_b + 0.5 U (phi rounded to Q29) + 0.2525 U (sin, 0.505 LSB30): e_G;
+ *    |E| e_at (z carries E x da), 0.5 U (z rounded in Q(W + 24): 0.5 2^-24 over
+ *    |(x, z)| >= 32 units), 0.71 U (the second pair), e_at (atan2); for E = 0, b = a;
+ *    so e_b = K_b 0.71 U + e_at + [E != 0] (|E| e_at + 1.21 U);
+ *  - G: phi = C b is exact (Q24 x Q31 = Q55), and rfe_q31_sin_q55 is within e_sin = 6.15e-10
+ *    (0.66 LSB30, 0.33 U): |d sin| <= C e_b + e_sin = e_G;
  *  - w = m G rounded to Q29 (0.5 U): Fz (1 + 2^-30)(m e_G + 0.5 U) in the force (|u| <= 1);
  *  - the Dugoff set-up's S and u (shared): the components rounded to 30 bits (0.71 ulp_s),
  *    S exactly rounded (0.5 ulp_s), C1 k rounded to Q50 (0.5 2^-50): eps_S <= 1.71 ulp_s,
@@ -49,9 +51,11 @@
  *   B_d = 0.5 LSB15 + Fz [K_E cy TAN] + Fz (1 + 2^-30)(m e_G + 0.5 U)
  *         + Fz (m (0.88 C K_b + 3.75) U + 10 K_E 2^-50) + 1e-14 Fz m (the reference's own
  *         double rounding).
- * For the default tyre (cx = 20, cy = 15, C = 1.65 / 1.3, E = 0) at mu = 1, Fz = 5 kN:
- * 5.9e-4 N (19 LSB15) against the exact tangent, dominated by the tangent's format as in the
- * Dugoff tyre; 7.9e-5 N (2.6 LSB15) at the Q26 tangent.
+ * For the default tyre (cx = 20, cy = 15, C = 1.65 / 1.3, E = 0) at mu = 1, Fz = 5 kN, above
+ * the output rounding: 6.7e-4 N (22 LSB15) against the exact tangent, dominated by the
+ * tangent's format (5.9e-4 N) as in the Dugoff tyre; 7.7e-5 N (2.5 LSB15) at the Q26 tangent,
+ * of which the angles, the sine and the rounding of w are 2.9e-5 N (3.0e-5 N with the 40-step
+ * CORDIC of rfe_fix_atan2 / rfe_fix_sincos and phi rounded to Q29, before the short routines).
  *
  * Saturation: a force beyond +-65536 N clamps and counts once; the count must be between the
  * number of outputs whose double value is beyond the range by more than the bound and the
@@ -72,11 +76,15 @@
 #include "rfe/params_conv.h"
 #include "rfe/tyre.h"
 #include "rfe/tyre_q31.h"
+#include "fxmath_internal_q31.h"
+#include "internal_q31.h"
 #include "test_rng.h"
 #include "tyre_internal_q31.h"
 
 #define U_ ldexp(1.0, -29)
 #define TAN 7.9e-9
+#define EAT (5.2 * ldexp(1.0, -32)) /* rfe_q31_atan2_quad1 [rad] */
+#define ESIN 6.15e-10               /* rfe_q31_sin_q55 */
 #define LSB15 ldexp(1.0, -15)
 #define FMAX_N (2147483647.0 / 32768.0) /* largest Q15 force [N] */
 #define ONE24 (1 << 24)
@@ -148,8 +156,8 @@ static double magic_bound(const mtp_t *t, int d, double fz, double mu, int exact
     const double m = fmax(mu, 0.0);
     const double C = t->C[d], E = t->E[d];
     const double KE = k_e(E), Kb = k_b(E);
-    const double eb = Kb * 0.71 * U_ + 0.505 * U_ + ((E != 0.0) ? (fabs(E) * 0.505 + 1.21) * U_ : 0.0);
-    const double eG = C * eb + 0.5 * U_ + 0.2525 * U_;
+    const double eb = Kb * 0.71 * U_ + EAT + ((E != 0.0) ? fabs(E) * EAT + 1.21 * U_ : 0.0);
+    const double eG = C * eb + ESIN;
     double b = 0.5 * LSB15 + fz * (1.0 + ldexp(1.0, -30)) * (m * eG + 0.5 * U_) +
                fz * (m * (0.88 * C * Kb + 3.75) * U_ + 10.0 * KE * ldexp(1.0, -50)) + 1e-14 * fz * m;
     if (exact_tan) {
@@ -534,11 +542,35 @@ static void test_magic_q31_mirror(void **state)
     assert_true(exact * 10 >= total * 9);
 }
 
+/* White box: the argument z of the second atan2 in tyre_q31.c's magic_g_q31 for the x
+ * direction (longitudinal slip kappa, alpha = 0), before its clamp at 0, computed as there:
+ * the Dugoff set-up's S, the pair (S, m C) scaled to 30 bits, a = rfe_q31_atan2_quad1 and
+ * z = (1 - E) yn + E xn a. */
+static int64_t second_angle_arg(const rfe_tyre_params_q31_t *tp, int32_t kappa, int32_t mu)
+{
+    rfe_dugoff_pre_q31_t pre;
+    int64_t mc, xn, yn;
+    unsigned d, lx, ly;
+    int l, e;
+    uint32_t a;
+    rfe_tyre_dugoff_pre_q31(tp, kappa, 0, 0, &pre);
+    mc = (int64_t)mu * tp->shape_Cx;
+    d = 53u - pre.qs;
+    lx = rfe_q31_bitlen64((uint64_t)mc);
+    ly = rfe_q31_bitlen64((uint64_t)pre.s) + d;
+    l = (int)((lx > ly) ? lx : ly);
+    xn = (l > 30) ? rfe_fix_shr64_round(mc, (unsigned)(l - 30)) : mc * ((int64_t)1 << (30 - l));
+    e = (int)d + 30 - l;
+    yn = (e >= 0) ? (int64_t)pre.s * ((int64_t)1 << e) : rfe_fix_shr64_round(pre.s, (unsigned)-e);
+    a = rfe_q31_atan2_quad1((uint32_t)yn, (uint32_t)xn);
+    return ((int64_t)ONE24 - tp->shape_Ex) * yn + rfe_q31_mul64x32(xn * (int64_t)a, tp->shape_Ex, 31u);
+}
+
 /* REQ: the shape of the curve: zero force at zero slip and at mu <= 0 for any shape; at zero
  * slip the slope is cx Fz (cy Fz) for every mu > 0; the pure-slip peak is mu Fz (C atan = pi/2
  * reached at some slip) and the force never exceeds it; the rounding of a pushing the second
  * atan2's argument below 0 (E < 0, slip a few LSB of m C) is clamped to a zero force, not a
- * force against the slip. */
+ * force against the slip (cases that do clamp are checked to exist). */
 /* REQ-TYRE-007 REQ-FXP-003 */
 static void test_magic_q31_curve_properties(void **state)
 {
@@ -588,18 +620,30 @@ static void test_magic_q31_curve_properties(void **state)
     }
     assert_close(peak, 0.8 * 5000.0, 0.0, 2e-5, "peak");
     assert_int_equal(sat, 0u);
-    /* the clamp of the second angle: E = -4, mu = 3.99, the smallest slips */
+    /* the clamp of the second angle: E = -4, the smallest slips, mu where m C is just above a
+     * power of two (the pair's x just above 2^29, y = 1 or 2 units: the Q31 rounding of a can
+     * take z below 0) and mu = 3.99; second_angle_arg (white box) says which cases clamp */
     {
+        static const double MUC[3] = {2.005, 2.025, 3.99};
         rfe_tyre_params_q31_t te = tyre_with(2 * ONE24 - 1, -4 * ONE24, 2 * ONE24 - 1, -4 * ONE24);
-        int hit = 0;
+        int hit = 0, clamped = 0, j;
         te.cx = 8 * ONE24;
-        for (i = 1; i <= 64; ++i) {
-            int32_t out[2];
-            check_case(&te, i, 0, toq(40000.0, 15), toq(3.99, 29), out);
-            assert_true(out[0] >= 0);
-            hit += (out[0] == 0) ? 1 : 0;
+        for (j = 0; j < 3; ++j) {
+            for (i = 1; i <= 64; ++i) {
+                int32_t out[2];
+                const int32_t mu = toq(MUC[j], 29);
+                check_case(&te, i, 0, toq(40000.0, 15), mu, out);
+                assert_true(out[0] >= 0);
+                hit += (out[0] == 0) ? 1 : 0;
+                if (second_angle_arg(&te, i, mu) < 0) {
+                    assert_int_equal(out[0], 0); /* b = 0: G = 0 */
+                    ++clamped;
+                }
+            }
         }
-        printf("second-angle clamp: %d of 64 tiny-slip cases give zero force\n", hit);
+        printf("second-angle clamp: %d of 192 tiny-slip cases clamped, %d give zero force\n",
+               clamped, hit);
+        assert_true(clamped > 0);
     }
 }
 
