@@ -69,41 +69,8 @@ static inline uint64_t rfe_q31_mag64(int64_t v)
     return (v < 0) ? (uint64_t)(-v) : (uint64_t)v;
 }
 
-/** The bit length of m: the smallest len with m < 2^len (0 for m = 0), by halving the
- *  search range (six tests instead of one shift per bit). */
-static inline unsigned int rfe_q31_bitlen64(uint64_t m)
-{
-    uint64_t v = m;
-    unsigned int len = 0u;
-    if ((v >> 32) != 0u) {
-        v >>= 32;
-        len += 32u;
-    }
-    if ((v >> 16) != 0u) {
-        v >>= 16;
-        len += 16u;
-    }
-    if ((v >> 8) != 0u) {
-        v >>= 8;
-        len += 8u;
-    }
-    if ((v >> 4) != 0u) {
-        v >>= 4;
-        len += 4u;
-    }
-    if ((v >> 2) != 0u) {
-        v >>= 2;
-        len += 2u;
-    }
-    if ((v >> 1) != 0u) {
-        v >>= 1;
-        len += 1u;
-    }
-    return len + (unsigned int)v; /* v is now 0 (m = 0) or 1 */
-}
-
-/** The bit length of a 32-bit m (the value rfe_q31_bitlen64 gives for it), by halving the
- *  search range in 32-bit operations (five tests; the Cortex-M0+ has no 64-bit shift). */
+/** The bit length of a 32-bit m: the smallest len with m < 2^len (0 for m = 0), by halving
+ *  the search range in 32-bit operations (five tests; the Cortex-M0+ has no 64-bit shift). */
 static inline unsigned int rfe_q31_bitlen32(uint32_t m)
 {
     uint32_t v = m;
@@ -129,6 +96,13 @@ static inline unsigned int rfe_q31_bitlen32(uint32_t m)
         len += 1u;
     }
     return len + (unsigned int)v; /* v is now 0 (m = 0) or 1 */
+}
+
+/** The bit length of a 64-bit m (0 for m = 0): the high word's plus 32, else the low word's. */
+static inline unsigned int rfe_q31_bitlen64(uint64_t m)
+{
+    const uint32_t hi = (uint32_t)(m >> 32);
+    return (hi != 0u) ? (32u + rfe_q31_bitlen32(hi)) : rfe_q31_bitlen32((uint32_t)m);
 }
 
 /**
