@@ -27,6 +27,7 @@
 #include <string.h>
 
 #include "csv_log.h"
+#include "q31_rows.h"
 #include "rfe/fixed_conv.h"
 #include "rfe/obsmat.h"
 #include "rfe/obsmat_q31.h"
@@ -201,17 +202,7 @@ static void test_obsmat_q31_build_scenarios(void **state)
                 rfe_wheel_kin_q31_t kin;
                 rfe_fix_t f0x[4], f0y[4];
                 uint32_t sat = 0u;
-                size_t i;
-                u.delta = toq(row->delta, 29);
-                u.vx = toq(row->vx, 23);
-                u.vy = toq(row->vy, 23);
-                u.yaw_rate = toq(row->yaw_rate, 27);
-                u.yaw_acc = toq(row->yaw_acc, 24);
-                u.ax = toq(row->ax, 24);
-                u.ay = toq(row->ay, 24);
-                for (i = 0; i < 4; ++i) {
-                    u.omega[i] = toq(row->omega[i], 22);
-                }
+                q31_sample_from_row(row, &u);
                 assert_int_equal(rfe_tyre_kinematics_q31(&pap.vehicle, &pap.tyre, &u, &kin, &sat),
                                  RFE_OK);
                 assert_int_equal(rfe_tyre_forces_norm_q31(&pap.tyre, &kin, f0x, f0y, &sat),

@@ -70,6 +70,7 @@
 #include <string.h>
 
 #include "csv_log.h"
+#include "q31_rows.h"
 #include "rfe/config.h"
 #include "rfe/fixed_conv.h"
 #include "rfe/fxmath.h"
@@ -462,16 +463,7 @@ static void test_magic_q31_scenarios_twin(void **state)
                 rfe_wheel_kin_q31_t kq;
                 uint32_t sat = 0u;
                 size_t i, c;
-                memset(&uq, 0, sizeof(uq));
-                uq.delta = toq(row->delta, 29);
-                uq.vx = toq(row->vx, 23);
-                uq.vy = toq(row->vy, 23);
-                uq.yaw_rate = toq(row->yaw_rate, 27);
-                uq.ax = toq(row->ax, 24);
-                uq.ay = toq(row->ay, 24);
-                for (i = 0; i < 4; ++i) {
-                    uq.omega[i] = toq(row->omega[i], 22);
-                }
+                q31_sample_from_row(row, &uq);
                 assert_int_equal(rfe_tyre_kinematics_q31(&pq.vehicle, &pq.tyre, &uq, &kq, &sat),
                                  RFE_OK);
                 for (c = 0; c < 3; ++c) {
