@@ -32,7 +32,7 @@ if __package__ in (None, ""):           # run as a script: make the package impo
 
 import numpy as np  # noqa: E402
 
-from . import filters, logs, model, params, trusted  # noqa: E402
+from . import filters, logs, model, params, runtime, trusted  # noqa: E402
 
 FILTERS = ("sckf", "ckf")
 TYRES = ("paper", "absolute", "magic")
@@ -68,7 +68,8 @@ def run(log: logs.CsvLog, p: dict, kind: str = "sckf", tyre: str = "paper"):
     sd = np.empty((n_rows, 4))
     valid = np.zeros((n_rows, 4), dtype=int)
     status = np.empty(n_rows, dtype=int)
-    for k in range(n_rows):
+    mu_unprojected = np.empty((n_rows, 4))      # diagnostics (compare.py): the mean before
+    for k in range(n_rows):                     # projection, and vx, the low-speed gate's input
         f.time_update()
         if vx[k] < p["v_est_min"]:
             status[k] = STATUS_LOW_SPEED
@@ -78,23 +79,29 @@ def run(log: logs.CsvLog, p: dict, kind: str = "sckf", tyre: str = "paper"):
             else:
                 h = lambda pts, k=k: model.h_absolute(p, ti, k, pts)  # noqa: E731  (MODEL.md 4)
             f.measurement_update(ys[k], h)
+            mu_unprojected[k] = f.x
             f.x, clamped = filters.project(f.x, p["mu_min"], p["mu_max"])
             status[k] = STATUS_CLAMPED if clamped else STATUS_OK
             valid[k, :] = 1
+        if status[k] == STATUS_LOW_SPEED:
+            mu_unprojected[k] = f.x
         mu[k] = f.x
         sd[k] = f.sd()
-    return {"t": log.col("t"), "mu": mu, "sd": sd, "valid": valid, "status": status}
+    return {"t": log.col("t"), "mu": mu, "sd": sd, "valid": valid, "status": status,
+            "v_gate": vx, "mu_unprojected": mu_unprojected}
 
 
 def metadata(kind: str, tyre: str, input_path: str, p: dict, param_file: str | None = None,
              preset: str = "paper"):
     """Metadata lines of an estimate log: generator, preset, filter, tyre, structure, input,
+    the numerical machinery that computed it (runtime.py: BLAS kernel, numpy SIMD paths),
     then every parameter."""
     meta = [("generator", "scripts/reference"), ("preset", preset), ("filter", kind),
             ("tyre", tyre), ("structure", p.get("structure", "wheels")),
             ("input", os.path.basename(input_path))]
     if param_file:
         meta.append(("param_file", os.path.basename(param_file)))
+    meta += runtime.metadata()
     meta += [(k, float(p[k])) for k in params.DEFAULTS]
     return meta
 

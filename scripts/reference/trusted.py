@@ -77,6 +77,8 @@ def run(log, p: dict):
     out["valid"] = np.zeros((N, 4), dtype=int)
     out["status"] = np.zeros(N, dtype=int)
     out["info"] = np.zeros((N, n))
+    out["v_gate"] = np.zeros(N)                 # diagnostics (compare.py): the gate's vx and
+    out["mu_unprojected"] = np.zeros((N, 4))    # the mean before projection
     for k in range(N):
         delta, vx_m, vy_m, r, ax, ay = (c[k] for c in cols)
         vx, vy = cond.step(vx_m, vy_m, ax, ay, r)                       # 1
@@ -98,6 +100,8 @@ def run(log, p: dict):
                 f.s_r = saved
                 status = 0
         _bound_sd(p, f)                                                 # 7
+        out["v_gate"][k] = vx
+        out["mu_unprojected"][k] = T @ f.x
         f.x, clamped = filters.project(f.x, p["mu_min"], p["mu_max"])  # 8
         if clamped and status == 0:
             status = 1
