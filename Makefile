@@ -10,12 +10,23 @@
 #   make valgrind   the optimised C tests and the CLI script run under valgrind memcheck
 #   make check-nofloat  src/*_q31.c built for Cortex-M0+: no float/double, soft-float or libm
 #   make goldens    regenerate scenarios/*.csv and scenarios/golden/ from the Python tools
-#                   (and the fixed-point goldens: make goldens-q31)
+#                   (the reference goldens alone: make goldens-ref; fixed point: make goldens-q31)
+#   make check-kernels  the reference goldens under this CPU's other BLAS kernels, thread
+#                   counts and numpy SIMD paths agree within 1e-9 (docs/PORTABILITY.md)
+#   make check-tools    the system tools' versions against their pins
 #   make readme-table  regenerate the accuracy table in README.md
 #
 # `make demo` and `make test` install what they need when it is missing (apt: cmocka, the
 # Cortex-M toolchain, newlib, QEMU, valgrind, cppcheck, clang/LLVM 19; a Python venv .venv
 # from the pinned scripts/requirements.txt).
+
+# Every recipe runs in the C locale and UTC, Python in UTF-8 mode: sort order, character
+# ranges of grep and sed, printf's number format, the linker's quoting that the no-float
+# check parses, and the encoding Python opens files with then do not depend on the user's
+# settings (docs/PORTABILITY.md).
+export LC_ALL     := C
+export TZ         := UTC
+export PYTHONUTF8 := 1
 
 CC      ?= gcc
 ifeq ($(origin CC),default)
@@ -132,12 +143,12 @@ TEST_GATES :=
 include $(sort $(wildcard mk/*.mk))
 
 .PHONY: all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind coverage demo goldens goldens-q31 scenarios clean vectors shared-sync check-shared readme-table \
-        check-goldens check-nofloat help deps-analysis misra tidy complexity structural analysis
+        check-kernels check-tools goldens-ref check-nofloat help deps-analysis misra tidy complexity structural analysis
 all: lib $(BUILD)/mu_replay
 lib: $(BUILD)/f32/librfe.a $(BUILD)/f64/librfe.a $(if $(Q31_SRC),$(BUILD)/q31/librfe_q31.a)
 
 help:
-	@sed -n '1,17p' Makefile
+	@sed -n '1,21p' Makefile
 	@for f in $(sort $(wildcard mk/*.mk)); do echo; sed -n '/^#/!q;p' $$f; done
 
 # ---- dependencies (installed when missing) --------------------------------------------
@@ -278,8 +289,8 @@ coverage: deps $(foreach f,cov-f32 cov-f64,$(addprefix $(BUILD)/$(f)/test/,$(UNI
 # make test: the installers first, then every check, TEST_JOBS of them side by side (they
 # share nothing but their common prerequisites, which make builds once); --output-sync
 # prints each check's output whole when it ends, so a long one (valgrind) is quiet a while.
-TEST_STEPS = lib check-shared check-nofloat misra tidy complexity structural test-c $(TEST_GATES) \
-             sanitize valgrind test-py coverage
+TEST_STEPS = lib check-tools check-shared check-nofloat misra tidy complexity structural test-c $(TEST_GATES) \
+             sanitize valgrind test-py check-kernels coverage
 TEST_JOBS ?= $(shell nproc 2>/dev/null || echo 1)
 test: deps
 	@echo "make test: $(words $(TEST_STEPS)) checks ($(TEST_STEPS)), $(TEST_JOBS) at a time"
@@ -354,8 +365,23 @@ scenarios: venv
 	$(PY) scripts/make_scenarios.py --out scenarios
 	$(PY) scripts/make_fault_scenarios.py --scenarios scenarios --out scenarios/faults
 goldens: scenarios
+	$(MAKE) goldens-ref goldens-q31
+# The reference goldens alone, from the committed scenarios. Byte-stable on one machine; each
+# records the BLAS kernel and numpy SIMD paths that wrote it (metadata blas, numpy_simd).
+goldens-ref: venv
 	$(PY) scripts/make_goldens.py --scenarios scenarios --out scenarios/golden
-	$(MAKE) goldens-q31
+
+# The tools outside the Python pins whose version can change an outcome, against the versions
+# the gates were calibrated with (scripts/check_tools.py; TOOL_PINS=warn only reports).
+TOOL_PINS ?= fail
+check-tools:
+	@python3 scripts/check_tools.py $(if $(filter warn,$(TOOL_PINS)),--warn)
+
+# The golden checks do not depend on the CPU (docs/PORTABILITY.md): the reference goldens
+# regenerated under this machine's BLAS kernels, thread counts and numpy SIMD paths agree with
+# the committed ones and with each other within the golden tolerance (1e-9), decisions exactly.
+check-kernels: venv
+	@$(PY) scripts/check_kernels.py --scenarios scenarios --goldens scenarios/golden --out $(BUILD)/kernels
 
 # Fixed-point goldens (docs/FIXED_POINT.md "Estimator"): the estimate logs of `mu_replay --real
 # q31` on the noisy scenario logs in the four configurations of the float goldens, written to
