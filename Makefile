@@ -1,4 +1,4 @@
-# rfe — road-friction estimator (SCKF, 3-DOF vehicle model, Dugoff tyre), C99.
+# rfe — road-friction estimator (SCKF, 3-DOF vehicle model, Magic Formula / Dugoff tyre), C99.
 #
 #   make            library (float32 and double builds) and build/mu_replay
 #   make demo       run the estimator on the bundled scenarios, print accuracy, draw plots
@@ -14,7 +14,7 @@
 #   make check-kernels  the reference goldens under this CPU's other BLAS kernels, thread
 #                   counts and numpy SIMD paths agree within 1e-9 (docs/PORTABILITY.md)
 #   make check-tools    the system tools' versions against their pins
-#   make readme-table  regenerate the accuracy table in README.md
+#   make readme-table  regenerate the tables of docs/RESULTS.md and the README headline
 #
 # `make demo` and `make test` install what they need when it is missing (apt: cmocka, the
 # Cortex-M toolchain, newlib, QEMU, valgrind, cppcheck, clang/LLVM 19; a Python venv .venv
@@ -357,9 +357,11 @@ analysis: misra tidy complexity structural
 demo: deps $(BUILD)/mu_replay
 	$(PY) scripts/demo.py --replay $(BUILD)/mu_replay --out $(BUILD)/demo --trust
 
-# Regenerates the accuracy table in README.md (never typed by hand).
+# Regenerates the accuracy, trust and fixed-point tables of docs/RESULTS.md and the headline
+# table of README.md (a few columns of the trust table); never typed by hand.
 readme-table: deps $(BUILD)/mu_replay
-	$(PY) scripts/demo.py --replay $(BUILD)/mu_replay --out $(BUILD)/demo --no-plots --trust --readme README.md
+	$(PY) scripts/demo.py --replay $(BUILD)/mu_replay --out $(BUILD)/demo --no-plots --trust \
+	  --results docs/RESULTS.md --readme README.md
 
 scenarios: venv
 	$(PY) scripts/make_scenarios.py --out scenarios

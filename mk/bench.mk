@@ -1,4 +1,4 @@
-# Benchmarks (README "Benchmarks", issue 8): cost per estimator step, not a test.
+# Benchmarks (docs/BENCHMARKS.md, issue 8): cost per estimator step, not a test.
 #
 # make bench        builds the optimised host benchmarks (build/bench/bench_{f32,f64,q31}:
 #                   bench/*.c against the -O2 libraries) and runs scripts/bench_run.py:
@@ -7,10 +7,10 @@
 #                   per-function profile of every step), FilterPy's CubatureKalmanFilter on
 #                   the same model and log, the operation-count lower bound, the Cortex-M4
 #                   column from build/firmware/pil.json when the firmware run wrote it;
-#                   writes build/bench/bench.json and the table in README.md
+#                   writes build/bench/bench.json and the tables in docs/BENCHMARKS.md
 # make bench-build  only the benchmark binaries
 # BENCH_LOG=scenarios/brake_in_turn.csv BENCH_REPS=51 BENCH_ARGS= (e.g. --no-callgrind,
-# --no-readme, --quick, --render-only) choose the log, the passes and what runs. Not part of
+# --no-page, --quick, --render-only) choose the log, the passes and what runs. Not part of
 # make test (a benchmark gates nothing); about a minute on two cores.
 BENCH_LOG  ?= scenarios/brake_in_turn.csv
 BENCH_REPS ?= 51
@@ -36,4 +36,4 @@ $(BUILD)/bench/bench_q31: bench/bench_q31.c bench/harness.h $(BUILD)/q31/librfe_
 
 bench: deps-valgrind venv bench-build
 	$(PY) scripts/bench_run.py --bin-dir $(BUILD)/bench --replay $(BUILD)/mu_replay \
-	  --log $(BENCH_LOG) --reps $(BENCH_REPS) --out $(BUILD)/bench --readme README.md $(BENCH_ARGS)
+	  --log $(BENCH_LOG) --reps $(BENCH_REPS) --out $(BUILD)/bench --page docs/BENCHMARKS.md $(BENCH_ARGS)

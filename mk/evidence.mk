@@ -1,4 +1,4 @@
-# Certification evidence (README "Certification evidence", issue 6): traceability, MC/DC,
+# Certification evidence (docs/EVIDENCE.md, issue 6): traceability, MC/DC,
 # justified uncovered lines, and one folder with all of it.
 #
 # make trace        the traceability matrix requirement -> tests -> result of the last run
@@ -12,7 +12,7 @@
 #                   build/mcdc-*, one profile per process, llvm-profdata-19 merge, llvm-cov-19
 #                   report (--show-mcdc-summary) and show --show-mcdc (HTML) over src/ only;
 #                   build/mcdc/{report.txt,summary.md,gaps.md,html/}. Not part of make test.
-# make mcdc-readme  make mcdc, then the figure into README.md ("Certification evidence")
+# make mcdc-readme  make mcdc, then the figure into docs/EVIDENCE.md (its name is historic)
 # make coverage-justify  every line left uncovered in src/ by make coverage (and every MC/DC
 #                   gap, when build/mcdc/ exists) is listed in docs/COVERAGE_JUSTIFICATION.md,
 #                   else it fails (scripts/evidence_coverage.py); run by make coverage
@@ -104,7 +104,7 @@ mcdc: mcdc-run
 
 mcdc-readme: mcdc
 	@$(PY) scripts/evidence_mcdc.py --summary $(MCDC_DIR)/summary.json --show $(MCDC_DIR)/show.txt \
-	  --out $(MCDC_DIR) --readme README.md
+	  --out $(MCDC_DIR) --page docs/EVIDENCE.md
 
 # ---- uncovered lines: tested or justified --------------------------------------------------------
 coverage-justify: venv

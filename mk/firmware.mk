@@ -1,4 +1,4 @@
-# Firmware (README "Firmware: Cortex-M builds, size, stack and emulated runs", issue 5).
+# Firmware (docs/FIRMWARE.md, issue 5).
 #
 # make firmware        the library cross-built with arm-none-eabi-gcc for each target
 #                      (FW_TARGETS: Cortex-M4F float32 and fixed point, Cortex-M0+ and
@@ -20,7 +20,8 @@
 #                      -d in_asm,exec log, checked against -singlestep); also runs the
 #                      Cortex-M3 example firmware for 2 s (SysTick steps, none rejected);
 #                      writes build/firmware/pil.json; part of make test
-# make firmware-table  regenerates the firmware table in README.md from both JSON files
+# make firmware-table  regenerates the firmware tables in docs/FIRMWARE.md ("Measured") from
+#                      both JSON files
 # make deps-firmware   installs gcc-arm-none-eabi, libnewlib-arm-none-eabi and
 #                      qemu-system-arm via apt when missing (part of make deps)
 FW_CROSS   := arm-none-eabi-
@@ -186,4 +187,4 @@ pil: deps-firmware firmware $(PIL_ELFS) $(BUILD)/mu_replay
 firmware-table:
 	@test -f $(FW_DIR)/report.json || $(MAKE) --no-print-directory firmware
 	@test -f $(FW_DIR)/pil.json || $(MAKE) --no-print-directory pil
-	python3 scripts/firmware_table.py --report $(FW_DIR)/report.json --pil $(FW_DIR)/pil.json --readme README.md
+	python3 scripts/firmware_table.py --report $(FW_DIR)/report.json --pil $(FW_DIR)/pil.json --page docs/FIRMWARE.md

@@ -1,4 +1,4 @@
-# Robustness (README "Robustness", issue 7): fuzzing, fault scenarios, soak.
+# Robustness (docs/ROBUSTNESS.md, issue 7): fuzzing, fault scenarios, soak.
 #
 # make fuzz [FUZZ_SECONDS=60]  every libFuzzer harness (test/fuzz/: the step of the float,
 #                              double and fixed-point estimator, the CLI's readers)

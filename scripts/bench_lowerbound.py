@@ -1,4 +1,4 @@
-"""Operation-count lower bound of one estimator step (issue 8, README "Benchmarks").
+"""Operation-count lower bound of one estimator step (issue 8, docs/BENCHMARKS.md).
 
 Counts the arithmetic one step of the paper's filter needs at minimum for n states and m
 measurements: every +, -, *, /, sqrt and every transcendental call (sin, cos, tan, atan2)

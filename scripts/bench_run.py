@@ -1,4 +1,4 @@
-"""`make bench`: cost per estimator step, measured (issue 8, README "Benchmarks").
+"""`make bench`: cost per estimator step, measured (issue 8, docs/BENCHMARKS.md).
 
 Runs the benchmark binaries (bench/: build/bench/bench_{f32,f64,q31}) on one sensor log and
 collects, per case (the whole estimator step in five configurations and every module):
@@ -13,8 +13,9 @@ then FilterPy's CubatureKalmanFilter on the same model and log (scripts/bench_fi
 time per step, ratio, agreement of its mu with this library's double CKF and SCKF), the
 operation-count lower bound (scripts/bench_lowerbound.py) and, when the firmware's emulated
 run wrote build/firmware/pil.json, the Cortex-M4 instructions per step and the share of a
-168 MHz core at 100 Hz. Writes OUT/bench.json and, with --readme, the table between the
-markers <!-- bench:begin --> / <!-- bench:end --> of README.md.
+168 MHz core at 100 Hz. Writes OUT/bench.json and, with --page PAGE (alias --readme, the
+former name), the tables between the markers <!-- bench:begin --> / <!-- bench:end --> of
+PAGE (`make bench`: docs/BENCHMARKS.md); --no-page (alias --no-readme) skips that.
 """
 
 from __future__ import annotations
@@ -428,7 +429,7 @@ def _filterpy_version() -> str:
 BEGIN, END = "<!-- bench:begin -->", "<!-- bench:end -->"
 
 
-def write_readme(path: str, table: str) -> None:
+def write_page(path: str, table: str) -> None:
     with open(path) as f:
         text = f.read()
     block = f"{BEGIN}\n{table}\n{END}"
@@ -451,9 +452,10 @@ def main(argv=None) -> int:
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--out", default="build/bench")
     ap.add_argument("--pil", default="build/firmware/pil.json")
-    ap.add_argument("--readme", default=None)
+    ap.add_argument("--page", "--readme", dest="page", default=None,
+                    help="rewrite the tables between the bench markers of this page")
     ap.add_argument("--no-callgrind", action="store_true")
-    ap.add_argument("--no-readme", action="store_true")
+    ap.add_argument("--no-page", "--no-readme", dest="no_page", action="store_true")
     ap.add_argument("--quick", action="store_true", help="few passes (a smoke run)")
     ap.add_argument("--render-only", action="store_true",
                     help="no measurement: the tables from OUT/bench.json of an earlier run")
@@ -473,9 +475,9 @@ def main(argv=None) -> int:
     with open(os.path.join(a.out, "bench.md"), "w") as f:
         f.write(table + "\n")
     say(f"wrote {out_json} and {os.path.join(a.out, 'bench.md')}")
-    if a.readme and not a.no_readme:
-        write_readme(a.readme, table)
-        say(f"table written into {a.readme}")
+    if a.page and not a.no_page:
+        write_page(a.page, table)
+        say(f"table written into {a.page}")
     print(table)
     return 0
 

@@ -11,8 +11,14 @@ reference in the accuracy table, from the double run in the trust table, and a t
 mu_replay defines them), with the valid-flag agreement and the saturation counts.
 
     .venv/bin/python scripts/demo.py --replay build/mu_replay --out build/demo
-    .venv/bin/python scripts/demo.py ... --readme README.md   # also rewrite the README tables
-    .venv/bin/python scripts/demo.py ... --plot-q31           # plots with the q31 estimate too
+    .venv/bin/python scripts/demo.py ... --trust --results docs/RESULTS.md --readme README.md
+                                       # also rewrite the tables of docs/RESULTS.md (accuracy,
+                                       # trust, q31) and the README's headline table
+    .venv/bin/python scripts/demo.py ... --plot-q31   # plots with the q31 estimate too
+
+`make readme-table` runs the second form. The headline table (markers headline:begin/end in
+the README) is a few columns of the trust table: the default preset on the Magic Formula
+truth, one row per excited manoeuvre and one for the never-excited logs together.
 
 The accuracy numbers come from mu_replay itself (one definition of "settled", RMSE, ...);
 this script only adds the mean standard deviation over the same time span (t >= 1 s) and
@@ -37,11 +43,12 @@ CHANGE_MIN = 1e-9  # mu_replay's smallest truth step that counts as a change
 BEGIN, END = "<!-- accuracy:begin -->", "<!-- accuracy:end -->"
 TRUST_BEGIN, TRUST_END = "<!-- trust:begin -->", "<!-- trust:end -->"
 Q31_BEGIN, Q31_END = "<!-- q31:begin -->", "<!-- q31:end -->"
+HEADLINE_BEGIN, HEADLINE_END = "<!-- headline:begin -->", "<!-- headline:end -->"
 Q31_TOL = 0.005  # the requirement on |mu_q31 - mu_double| at settled samples (issue)
 
-# Scenario classes of the trustworthiness targets (README): excited = the tyres work near
-# their limit; steering = cornering; never = friction is not observable (mild braking,
-# cruising, the moderate split-mu braking whose high side stays linear).
+# Scenario classes of the trustworthiness targets (docs/RESULTS.md): excited = the tyres
+# work near their limit; steering = cornering; never = friction is not observable (mild
+# braking, cruising, the moderate split-mu braking whose high side stays linear).
 CLASSES = {
     "hard_brake_high_mu": "excited", "hard_brake_low_mu": "excited",
     "mu_step_hard_brake": "excited", "split_mu_hard_brake": "excited",
@@ -140,13 +147,24 @@ def table_rows(results: list[tuple[str, str, dict, dict]]) -> list[str]:
     return lines
 
 
-def update_readme(readme: Path, lines: list[str], begin: str = BEGIN, end: str = END) -> None:
-    text = readme.read_text()
+def update_page(page: Path, lines: list[str], begin: str = BEGIN, end: str = END) -> None:
+    """Replace the text between the markers begin ... end of a markdown page by lines."""
+    text = page.read_text()
     if begin not in text or end not in text:
-        sys.exit(f"demo: {readme} has no {begin} ... {end} section")
+        sys.exit(f"demo: {page} has no {begin} ... {end} section")
     head, rest = text.split(begin, 1)
     _, tail = rest.split(end, 1)
-    readme.write_text(head + begin + "\n" + "\n".join(lines) + "\n" + end + tail)
+    page.write_text(head + begin + "\n" + "\n".join(lines) + "\n" + end + tail)
+
+
+def check_markers(page: Path, pairs: list[tuple[str, str]]) -> None:
+    """Exit unless page exists and holds every begin ... end pair (checked before the runs)."""
+    if not page.is_file():
+        sys.exit(f"demo: {page}: no such file")
+    text = page.read_text()
+    for begin, end in pairs:
+        if begin not in text or end not in text:
+            sys.exit(f"demo: {page} has no {begin} ... {end} section")
 
 
 def pooled(m: dict, key: str, weight: str, square: bool = False):
@@ -190,8 +208,44 @@ def trust_rows(runs: list[tuple[str, str, str, dict]]) -> list[str]:
     return lines
 
 
-def trust_table(replay: Path, scen_dir: Path, out_dir: Path, real: str) -> list[str]:
-    """Default preset next to the paper baseline, on every noisy log of both truth tyres."""
+HEADLINE_TRUTH, HEADLINE_PRESET = "MF", "default"
+TRUTH_NAMES = {"MF": "Magic Formula", "Dugoff": "Dugoff"}
+
+
+def headline_rows(runs: list[tuple[str, str, str, dict]]) -> list[str]:
+    """The README's headline table, from the runs of the trust table (same metrics, same
+    pooling over the wheels): the default preset on the Magic Formula truth, one row per
+    excited manoeuvre (RMSE where valid, share of the excited samples and of the settled
+    samples reported valid), then one row for all never-excited logs together, each column
+    the worst of those logs (the highest figure: there every valid sample is a false claim)."""
+    pct = lambda x: "–" if x is None else f"{100 * x:.0f} %"  # noqa: E731
+    lines = ["| manoeuvre | truth tyre | RMSE when valid | excited samples valid | "
+             "settled samples valid |", "|---|---|---|---|---|"]
+    sel = [r for r in runs if r[1] == HEADLINE_TRUTH and r[2] == HEADLINE_PRESET]
+    never = []
+    for scen, truth, _, info in sel:
+        m = info["metrics"]
+        has_valid = sum(m[w]["n_valid"] or 0 for w in WHEELS) > 0
+        rv = pooled(m, "rmse_valid", "n_valid", square=True) if has_valid else None
+        fv = pooled(m, "frac_valid", "n_settled")
+        ex = pooled(m, "frac_valid_excited", "n_excited")
+        if CLASSES.get(scen) == "excited":
+            lines.append(f"| {scen} | {TRUTH_NAMES.get(truth, truth)} | {fmt(rv)} | {pct(ex)} | "
+                         f"{pct(fv)} |")
+        elif CLASSES.get(scen) == "never":
+            never.append((rv, ex, fv))
+    if never:
+        worst = [max((x[k] for x in never if x[k] is not None), default=None) for k in range(3)]
+        lines.append(f"| never excited ({len(never)} log{'s' if len(never) > 1 else ''}, worst) | "
+                     f"{TRUTH_NAMES.get(HEADLINE_TRUTH, HEADLINE_TRUTH)} | {fmt(worst[0])} | "
+                     f"{pct(worst[1])} | {pct(worst[2])} |")
+    return lines
+
+
+def trust_runs(replay: Path, scen_dir: Path, out_dir: Path, real: str
+               ) -> list[tuple[str, str, str, dict]]:
+    """Default preset next to the paper baseline, on every noisy log of both truth tyres:
+    (scenario, truth tyre, preset, replay info) in the order of the trust table."""
     runs = []
     logs = sorted(p for p in scen_dir.glob("*.csv") if not p.name.endswith(".nf.csv"))
     for k, log in enumerate(logs, 1):
@@ -209,7 +263,7 @@ def trust_table(replay: Path, scen_dir: Path, out_dir: Path, real: str) -> list[
     order = {"excited": 0, "steering": 1, "never": 2}
     runs.sort(key=lambda r: (r[1] != "MF", order.get(CLASSES.get(r[0], ""), 3), r[0],
                              r[2] != "default"))
-    return trust_rows(runs)
+    return runs
 
 
 Q31_CONFIGS = (("paper", "sckf", "paper SCKF"), ("paper", "ckf", "paper CKF"),
@@ -267,13 +321,26 @@ def main() -> int:
     ap.add_argument("--scenarios", type=Path, default=ROOT / "scenarios")
     ap.add_argument("--out", type=Path, default=ROOT / "build" / "demo")
     ap.add_argument("--real", choices=("float", "double"), default="float")
-    ap.add_argument("--readme", type=Path, help="rewrite the accuracy table in this README")
+    ap.add_argument("--results", "--page", type=Path, metavar="PAGE",
+                    help="rewrite the accuracy, trust (with --trust) and fixed-point tables "
+                    "between their markers in this page (docs/RESULTS.md)")
+    ap.add_argument("--readme", type=Path,
+                    help="rewrite the headline table (markers headline:begin/end) in this "
+                    "README; needs --trust")
     ap.add_argument("--no-plots", action="store_true")
     ap.add_argument("--trust", action="store_true",
                     help="also the default-vs-paper trustworthiness table (both truth tyres)")
     ap.add_argument("--plot-q31", action="store_true",
                     help="add the fixed-point (q31) default-preset estimate to the plots")
     args = ap.parse_args()
+    if args.readme and not args.trust:
+        ap.error("--readme (the headline table) needs --trust")
+    # fail before minutes of replays, not after
+    if args.results:
+        check_markers(args.results, [(BEGIN, END), (Q31_BEGIN, Q31_END)]
+                      + ([(TRUST_BEGIN, TRUST_END)] if args.trust else []))
+    if args.readme:
+        check_markers(args.readme, [(HEADLINE_BEGIN, HEADLINE_END)])
 
     args.out.mkdir(parents=True, exist_ok=True)
     logs = scenario_logs(args.scenarios)
@@ -314,18 +381,24 @@ def main() -> int:
     (args.out / "accuracy.md").write_text("\n".join(lines) + "\n")
     print(f"\nestimate logs, metrics and plots: {args.out}/ (accuracy.md, <scenario>.png)")
     if args.trust:
-        tl = trust_table(args.replay, args.scenarios, args.out, args.real)
+        truns = trust_runs(args.replay, args.scenarios, args.out, args.real)
+        tl, hl = trust_rows(truns), headline_rows(truns)
         print("\n".join(tl))
         (args.out / "trust.md").write_text("\n".join(tl) + "\n")
+        print("\n".join(hl))
+        (args.out / "headline.md").write_text("\n".join(hl) + "\n")
     ql = q31_table(args.replay, args.scenarios, args.out)
     print("\n".join(ql))
     (args.out / "q31.md").write_text("\n".join(ql) + "\n")
-    if args.readme:
-        update_readme(args.readme, lines)
+    if args.results:
+        update_page(args.results, lines)
         if args.trust:
-            update_readme(args.readme, tl, TRUST_BEGIN, TRUST_END)
-        update_readme(args.readme, ql, Q31_BEGIN, Q31_END)
-        print(f"updated the tables in {args.readme}")
+            update_page(args.results, tl, TRUST_BEGIN, TRUST_END)
+        update_page(args.results, ql, Q31_BEGIN, Q31_END)
+        print(f"updated the tables in {args.results}")
+    if args.readme:
+        update_page(args.readme, hl, HEADLINE_BEGIN, HEADLINE_END)
+        print(f"updated the headline table in {args.readme}")
     return 0
 
 

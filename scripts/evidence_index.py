@@ -198,7 +198,8 @@ def main(argv=None):
 
     # firmware (issue 5): size/stack table. The firmware work writes build/firmware/report.json
     # (make firmware-check: sizes, worst-case stacks, budgets) and pil.json (make pil), and
-    # `make firmware-table` puts the table into README.md's "Firmware" section.
+    # `make firmware-table` puts the table into docs/FIRMWARE.md's section "Measured: size,
+    # stack and emulated runs".
     fw = os.path.join(b, "firmware")
     fw_files = [p for p in sorted(glob.glob(os.path.join(fw, "*")))
                 if os.path.isfile(p) and p.endswith((".md", ".txt", ".csv", ".json", ".html"))
@@ -207,15 +208,16 @@ def main(argv=None):
         copy(p, os.path.join(out, "firmware", os.path.basename(p)))
         parts.append((f"Firmware size/stack: {os.path.basename(p)}", f"firmware/{os.path.basename(p)}",
                       "from build/firmware/ (make firmware, make pil)"))
-    readme = open("README.md", encoding="utf-8").read() if os.path.isfile("README.md") else ""
-    m = re.search(r"^## Firmware.*?(?=^## )", readme, re.S | re.M)
+    fw_page = "docs/FIRMWARE.md"
+    page = open(fw_page, encoding="utf-8").read() if os.path.isfile(fw_page) else ""
+    m = re.search(r"^## Measured.*?(?=^## |\Z)", page, re.S | re.M)
     if m and ("|" in m.group(0)):
         os.makedirs(os.path.join(out, "firmware"), exist_ok=True)
         with open(os.path.join(out, "firmware", "README_firmware.md"), "w", encoding="utf-8") as f:
             f.write(m.group(0))
         md_page(os.path.join(out, "firmware", "README_firmware.md"),
                 os.path.join(out, "firmware", "README_firmware.html"), "Firmware table")
-        parts.append(("Firmware size and stack table (README, make firmware-table)",
+        parts.append(("Firmware size and stack table (docs/FIRMWARE.md, make firmware-table)",
                       "firmware/README_firmware.html", ""))
     if not fw_files and not (m and "|" in m.group(0)):
         parts.append(("Firmware size and stack table", None, "not built (make firmware, make firmware-table)"))

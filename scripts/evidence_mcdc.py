@@ -5,11 +5,12 @@ Inputs: the `llvm-cov export --summary-only` JSON (totals and per file: lines, b
 MC/DC conditions) and the `llvm-cov show --show-mcdc` text (the decisions, their conditions
 and which independence pairs were shown). Writes OUT/summary.md (the figure and a per-file
 table) and OUT/gaps.md and OUT/gaps.json (every decision with an uncovered condition: file,
-line, the source line, the conditions not independently shown). With --readme FILE it
-replaces the block between `<!-- mcdc:begin -->` and `<!-- mcdc:end -->` in FILE by the figure
-and the per-file table.
+line, the source line, the conditions not independently shown). With --page FILE (alias
+--readme, the former name) it replaces the block between `<!-- mcdc:begin -->` and
+`<!-- mcdc:end -->` in FILE (`make mcdc-readme`: docs/EVIDENCE.md) by the figure and the
+per-file table.
 
-usage: evidence_mcdc.py --summary summary.json --show show.txt --out DIR [--readme README.md]
+usage: evidence_mcdc.py --summary summary.json --show show.txt --out DIR [--page docs/EVIDENCE.md]
 """
 from __future__ import annotations
 
@@ -128,7 +129,7 @@ def main(argv=None):
     ap.add_argument("--out", required=True)
     ap.add_argument("--root", default=".")
     ap.add_argument("--tool", default="llvm-cov")
-    ap.add_argument("--readme", default=None)
+    ap.add_argument("--page", "--readme", dest="page", default=None)
     a = ap.parse_args(argv)
     root = os.path.abspath(a.root)
     data = json.load(open(a.summary, encoding="utf-8"))["data"][0]
@@ -172,17 +173,17 @@ def main(argv=None):
         f.write("\n".join(g) + "\n")
     print(f"mcdc: {pct:.1f} % of {cnt} conditions ({cov} independently shown); "
           f"{len(gaps)} decisions with gaps")
-    if a.readme:
-        text = open(a.readme, encoding="utf-8").read()
+    if a.page:
+        text = open(a.page, encoding="utf-8").read()
         b, e = "<!-- mcdc:begin -->", "<!-- mcdc:end -->"
         if b not in text or e not in text:
-            print(f"{a.readme}: no {b} … {e} block", file=sys.stderr)
+            print(f"{a.page}: no {b} … {e} block", file=sys.stderr)
             return 1
         pre, rest = text.split(b, 1)
         _, post = rest.split(e, 1)
-        with open(a.readme, "w", encoding="utf-8") as f:
+        with open(a.page, "w", encoding="utf-8") as f:
             f.write(pre + b + "\n" + head + "\n\n" + "\n".join(table) + "\n" + e + post)
-        print(f"mcdc: figure written to {a.readme}")
+        print(f"mcdc: figure written to {a.page}")
     return 0
 
 

@@ -49,7 +49,7 @@ MACHINE_CORE = {"mps2-an386": "cortex-m4", "mps2-an385": "cortex-m3", "microbit"
 FLOAT_TOL = 2e-3                 # test/test_golden_flt.c TOL_MU / TOL_SD (float32)
 FLOAT_FRACTION_OUT = {"default": 0.03}  # ... MAX_FRACTION_OUT_DEFAULT; 0 for the paper preset
 QEMU_TIMEOUT = 300
-CORE_HZ = 100e6                  # the README's reference core: 100 MHz, 100 Hz step rate
+CORE_HZ = 100e6                  # docs/FIRMWARE.md's reference core: 100 MHz, 100 Hz step rate
 STEP_HZ = 100.0
 
 

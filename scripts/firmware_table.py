@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
-"""Writes the firmware tables of README.md (make firmware-table, issue 5) between the markers
-<!-- firmware:begin --> and <!-- firmware:end --> from build/firmware/report.json
-(scripts/firmware_check.py: sizes, stack, budgets) and build/firmware/pil.json
-(scripts/firmware_pil.py: emulated runs, comparisons, instructions per step). Never typed by
-hand: `make firmware-table` regenerates them.
+"""Writes the firmware tables of docs/FIRMWARE.md (section "Measured: size, stack and emulated
+runs"; make firmware-table, issue 5) between the markers <!-- firmware:begin --> and
+<!-- firmware:end --> of the page given by --page (alias --readme, the former name) from
+build/firmware/report.json (scripts/firmware_check.py: sizes, stack, budgets) and
+build/firmware/pil.json (scripts/firmware_pil.py: emulated runs, comparisons, instructions
+per step). Never typed by hand: `make firmware-table` regenerates them.
 """
 import argparse
 import json
@@ -94,21 +95,22 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--report", required=True)
     ap.add_argument("--pil", required=True)
-    ap.add_argument("--readme", required=True)
+    ap.add_argument("--page", "--readme", dest="page", required=True,
+                    help="the markdown page holding the markers (docs/FIRMWARE.md)")
     a = ap.parse_args()
     report = json.load(open(a.report))
     try:
         pil = json.load(open(a.pil))
     except OSError:
         pil = {}
-    text = open(a.readme).read()
+    text = open(a.page).read()
     if BEGIN not in text or END not in text:
-        sys.exit(f"firmware-table: {a.readme} has no {BEGIN} ... {END} section")
+        sys.exit(f"firmware-table: {a.page} has no {BEGIN} ... {END} section")
     head, rest = text.split(BEGIN, 1)
     _, tail = rest.split(END, 1)
-    with open(a.readme, "w") as f:
+    with open(a.page, "w") as f:
         f.write(head + BEGIN + "\n" + "\n".join(tables(report, pil)) + "\n" + END + tail)
-    print(f"firmware-table: {a.readme} updated")
+    print(f"firmware-table: {a.page} updated")
     return 0
 
 

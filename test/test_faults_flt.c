@@ -2,7 +2,7 @@
  * @file test_faults_flt.c
  * @brief What the default estimator does on each fault-injection log (scenarios/faults/,
  *        scripts/sim/faults.py) against its clean twin (the bundled log the fault was
- *        applied to): the behaviour documented in the README's "Robustness" section.
+ *        applied to): the behaviour documented in docs/ROBUSTNESS.md.
  *
  * Both logs are run through the library exactly as mu_replay does (preset default, the
  * log's metadata), rows matched by t. Per log:
@@ -15,7 +15,7 @@
  * Bounds: the value measured with the float build (the double build measures the same
  * to the printed digits, except where said) plus a margin of 10 % or 0.02, whichever is
  * larger, for rounding and future retuning to stay inside; NA = not asserted (printed).
- * Measured (float): see the table in the README's "Robustness" section, written from the
+ * Measured (float): see the table in docs/ROBUSTNESS.md, written from the
  * lines this test prints. The table of bounds (EXPECT) and the comparison live in
  * test/support/fault_bounds.h, shared with the fixed-point twin (test/test_faults_q31.c).
  * Besides: the out-of-limits spikes are rejected with RFE_ERR_RANGE on exactly the faulty

@@ -28,7 +28,7 @@
  *    since the Magic Formula default one update of the frozen-wheel samples moves mu beyond
  *    Q29's +-4 before the projection brings it back (3 counted saturations, the same
  *    projection in double: the deviation and agreement bounds above still hold). (Before the
- *    sd-bound fix, finding 2 of the README, the floor lifted an sd beyond Q30's range there:
+ *    sd-bound fix, finding 2 of docs/ROBUSTNESS.md, the floor lifted an sd beyond Q30's range there:
  *    17 saturations in 12 steps and |mu_q31 - mu_double| 0.029; this bound catches a return.)
  * Besides, as the float test: the out-of-limits spikes are rejected with RFE_ERR_RANGE on
  * exactly the faulty rows (their values fit the Q24 format, so the library, not the host's

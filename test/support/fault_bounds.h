@@ -1,8 +1,8 @@
 /**
  * @file fault_bounds.h
  * @brief The fault-injection logs (scenarios/faults/, scripts/sim/faults.py), their clean
- *        twins and the documented bounds on what the default estimator does on them (README
- *        "Robustness"), with the comparison that measures it: shared by the float/double test
+ *        twins and the documented bounds on what the default estimator does on them
+ *        (docs/ROBUSTNESS.md), with the comparison that measures it: shared by the float/double test
  *        (test/test_faults_flt.c, where the bounds were measured and are justified) and the
  *        fixed-point one (test/test_faults_q31.c, which derives its own from them).
  *
@@ -73,7 +73,7 @@ static const expect_t EXPECT[] = {
     /* a 3 degree bank: 0.771, 0.662 at the end; valid share -29 % (Dugoff tyre: 0.992, 0.454) */
     /* cruise: friction not observable, held throughout: nothing may change */
     {"spike_ax.cruise.mf.csv", "cruise.mf.csv", 0.0, 0.0, 0, 0.0, 0.0},
-    /* KNOWN LIMIT (README "Robustness"): a +0.5 m/s^2 accelerometer offset (or a 5 % uphill
+    /* KNOWN LIMIT (docs/ROBUSTNESS.md): a +0.5 m/s^2 accelerometer offset (or a 5 % uphill
      * grade) passes through the vx complementary filter as a vx error of tau_v x 0.5 =
      * 0.15 m/s, i.e. an apparent braking slip of 0.6 % on every wheel; the Magic Formula tyre
      * explains the missing braking force by a low friction: mu goes to mu_min (0.450 off),
