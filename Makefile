@@ -8,12 +8,13 @@
 #   make coverage   gcovr HTML / Cobertura XML / text summary for src/, with thresholds
 #   make sanitize   the C tests built with ASan + UBSan (build/asan-*) and run
 #   make valgrind   the optimised C tests and the CLI script run under valgrind memcheck
-#   make check-nofloat  src/*_q31.c built for Cortex-M0+: no float/double, soft-float or libm
+#   make check-nofloat  the *_q31.c sources built for Cortex-M0+: no float/double, soft-float or libm
 #   make goldens    regenerate scenarios/*.csv and scenarios/golden/ from the Python tools
 #                   (the reference goldens alone: make goldens-ref; fixed point: make goldens-q31)
 #   make check-kernels  the reference goldens under this CPU's other BLAS kernels, thread
 #                   counts and numpy SIMD paths agree within 1e-9 (docs/PORTABILITY.md)
 #   make check-tools    the system tools' versions against their pins
+#   make layers     the dependency rules of src/ and include/rfe/ (docs/LAYOUT.md)
 #   make readme-table  regenerate the tables of docs/RESULTS.md and the README headline
 #
 # `make demo` and `make test` install what they need when it is missing (apt: cmocka, the
@@ -41,19 +42,24 @@ PYSTAMP := $(VENV)/.installed
 WARN := -std=c99 -pedantic -Wall -Wextra -Wconversion -Wsign-conversion -Wshadow \
         -Wdouble-promotion -Wcast-qual -Wstrict-prototypes -Wundef -Werror
 OPT  ?= -O2 -g
-CPPFLAGS_LIB  := -Iinclude
-CPPFLAGS_HOST := -Iinclude -Isrc/host -D_POSIX_C_SOURCE=200809L
+CPPFLAGS_LIB  := -Iinclude -Isrc
+CPPFLAGS_HOST := -Iinclude -Isrc -Isrc/host -D_POSIX_C_SOURCE=200809L
 # Tests: strict, except the conversions cmocka's macros trip over and truncation of
 # diagnostic messages (harmless in a test).
 TEST_WARN := -std=c99 -Wall -Wextra -Wshadow -Werror -Wno-unused-parameter -Wno-format-truncation
 LDLIBS_TEST := -lcmocka -lm
 
 # ---- sources -------------------------------------------------------------------------
-# The fixed-point twins (src/*_q31.c, integer only) are built into their own library,
+# The fixed-point twins (*_q31.c, integer only) are built into their own library,
 # librfe_q31.a, never into the float/double ones; their tests (test/test_*_q31.c) are built
 # once (Q31_RULES below), not per precision like UNIT_TESTS.
-Q31_SRC       := $(wildcard src/*_q31.c)
-LIB_SRC       := $(filter-out $(Q31_SRC),$(wildcard src/*.c))
+# The library's folders (docs/LAYOUT.md): shared numerics, filters, models, parameters,
+# estimators; src/host/ is host code, never part of it.
+LIB_DIRS      := src/numerics src/filters src/models src/params src/estimators/friction
+LIB_ALL_SRC   := $(foreach d,$(LIB_DIRS),$(wildcard $(d)/*.c))
+LIB_HDRS      := $(wildcard include/rfe/*.h $(addsuffix /*.h,$(LIB_DIRS)))
+Q31_SRC       := $(filter %_q31.c,$(LIB_ALL_SRC))
+LIB_SRC       := $(filter-out $(Q31_SRC),$(LIB_ALL_SRC))
 # replay_q31.c (the `--real q31` replay) needs the q31 library: linked only into mu_replay and
 # the q31 tests, never into hostlib.a (whose objects the fuzz harnesses link one by one).
 HOST_SRC      := $(filter-out src/host/mu_replay.c src/host/replay_real.c src/host/replay_q31.c,$(wildcard src/host/*.c))
@@ -65,7 +71,8 @@ TEST_SUPPORT  := $(wildcard test/support/*.c)
 # One build tree per flavour: f32 (float), f64 (double); cov-* are the instrumented twins.
 define FLAVOUR_RULES
 # $(1) = tree name, $(2) = real-type defines, $(3) = extra compile flags
-$(BUILD)/$(1)/lib/%.o: src/%.c $(wildcard include/rfe/*.h src/*.h) | $(BUILD)/$(1)/lib
+$(BUILD)/$(1)/lib/%.o: src/%.c $(LIB_HDRS) | $(BUILD)/$(1)/lib
+	@mkdir -p $$(@D)
 	$$(CC) $$(WARN) $(3) $(2) $$(CPPFLAGS_LIB) -c $$< -o $$@
 $(BUILD)/$(1)/librfe.a: $(patsubst src/%.c,$(BUILD)/$(1)/lib/%.o,$(LIB_SRC))
 	rm -f $$@ && ar rcs $$@ $$^
@@ -102,7 +109,8 @@ $(eval $(call FLAVOUR_RULES,asan-f64,-DRFE_REAL_DOUBLE,$(SANFLAGS)))
 # its test support, so a back-to-back test can compare a _q31 function with its _f64 twin.
 define Q31_RULES
 # $(1) = tree name, $(2) = double tree, $(3) = extra compile flags
-$(BUILD)/$(1)/lib/%.o: src/%.c $(wildcard include/rfe/*.h src/*.h) | $(BUILD)/$(1)/lib
+$(BUILD)/$(1)/lib/%.o: src/%.c $(LIB_HDRS) | $(BUILD)/$(1)/lib
+	@mkdir -p $$(@D)
 	$$(CC) $$(WARN) $(3) $$(CPPFLAGS_LIB) -c $$< -o $$@
 $(BUILD)/$(1)/librfe_q31.a: $(patsubst src/%.c,$(BUILD)/$(1)/lib/%.o,$(Q31_SRC))
 	rm -f $$@ && ar rcs $$@ $$^
@@ -143,12 +151,12 @@ TEST_GATES :=
 include $(sort $(wildcard mk/*.mk))
 
 .PHONY: all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind coverage demo goldens goldens-q31 scenarios clean vectors shared-sync check-shared readme-table \
-        check-kernels check-tools goldens-ref check-nofloat help deps-analysis misra tidy complexity structural analysis
+        check-kernels check-tools layers goldens-ref check-nofloat help deps-analysis misra tidy complexity structural analysis
 all: lib $(BUILD)/mu_replay
 lib: $(BUILD)/f32/librfe.a $(BUILD)/f64/librfe.a $(if $(Q31_SRC),$(BUILD)/q31/librfe_q31.a)
 
 help:
-	@sed -n '1,21p' Makefile
+	@sed -n '1,/^$$/p' Makefile
 	@for f in $(sort $(wildcard mk/*.mk)); do echo; sed -n '/^#/!q;p' $$f; done
 
 # ---- dependencies (installed when missing) --------------------------------------------
@@ -289,7 +297,7 @@ coverage: deps $(foreach f,cov-f32 cov-f64,$(addprefix $(BUILD)/$(f)/test/,$(UNI
 # make test: the installers first, then every check, TEST_JOBS of them side by side (they
 # share nothing but their common prerequisites, which make builds once); --output-sync
 # prints each check's output whole when it ends, so a long one (valgrind) is quiet a while.
-TEST_STEPS = lib check-tools check-shared check-nofloat misra tidy complexity structural test-c $(TEST_GATES) \
+TEST_STEPS = lib check-tools layers check-shared check-nofloat misra tidy complexity structural test-c $(TEST_GATES) \
              sanitize valgrind test-py check-kernels coverage
 TEST_JOBS ?= $(shell nproc 2>/dev/null || echo 1)
 test: deps
@@ -307,11 +315,11 @@ test: deps
 # make complexity  lizard: cyclomatic complexity of every library function <= CCN_MAX
 # make structural  no dynamic memory, no recursion, no VLA: nm, the GCC call graph and stack
 #                  usage (scripts/check_structural.py), after its self-test on test/structural/
-# The library is src/*.c (float/double sources and the src/*_q31.c twins) with include/rfe/
-# and src/*.h; src/host/ is host code and not part of it.
+# The library is LIB_DIRS' *.c (float/double sources and the *_q31.c twins) with include/rfe/
+# and their *.h; src/host/ is host code and not part of it.
 CLANG_TIDY := clang-tidy-19
 CCN_MAX    := 15
-ANALYSIS_SRC := $(wildcard src/*.c)
+ANALYSIS_SRC := $(LIB_ALL_SRC)
 # No variable-length arrays in any build (checked again by make structural).
 WARN += -Werror=vla
 
@@ -337,10 +345,10 @@ tidy: deps-analysis
 	@echo "tidy: clean ($(words $(ANALYSIS_SRC)) library sources and the headers they include)"
 
 complexity: venv
-	@$(VENV)/bin/lizard -l c -C $(CCN_MAX) -w $(ANALYSIS_SRC) $(wildcard src/*.h include/rfe/*.h) \
+	@$(VENV)/bin/lizard -l c -C $(CCN_MAX) -w $(ANALYSIS_SRC) $(LIB_HDRS) \
 	  || { echo "complexity: a function exceeds cyclomatic complexity $(CCN_MAX) (above)"; exit 1; }
 	@echo "complexity: every library function has cyclomatic complexity <= $(CCN_MAX); the highest:"
-	@$(VENV)/bin/lizard -l c --csv $(ANALYSIS_SRC) $(wildcard src/*.h include/rfe/*.h) | \
+	@$(VENV)/bin/lizard -l c --csv $(ANALYSIS_SRC) $(LIB_HDRS) | \
 	  sort -t, -k2 -n -r | head -3 | awk -F, '{ printf "  %3d  %s\n", $$2, $$6 }'
 
 structural: lib
@@ -372,6 +380,10 @@ goldens: scenarios
 # records the BLAS kernel and numpy SIMD paths that wrote it (metadata blas, numpy_simd).
 goldens-ref: venv
 	$(PY) scripts/make_goldens.py --scenarios scenarios --out scenarios/golden
+
+# The dependency rules of the source tree (docs/LAYOUT.md) on every #include.
+layers:
+	@python3 scripts/check_layers.py
 
 # The tools outside the Python pins whose version can change an outcome, against the versions
 # the gates were calibrated with (scripts/check_tools.py; TOOL_PINS=warn only reports).
@@ -415,7 +427,7 @@ check-shared:
 	  done; echo "shared copies: up to date"; \
 	else echo "shared copies: $(SHARED) not present, not checked"; fi
 
-# The fixed-point translation units (src/*_q31.c) hold no floating point: built for Cortex-M0+
+# The fixed-point translation units (*_q31.c) hold no floating point: built for Cortex-M0+
 # with -mfloat-abi=soft and linked against libgcc only, they may not use float/double, any
 # soft-float helper (__aeabi_f*, __aeabi_d*, __addsf3, …) or libm. The self-test first proves
 # that the checker rejects such code (fixtures in test/nofloat/).

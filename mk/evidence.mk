@@ -58,7 +58,7 @@ $(eval $(call REPLAY_RULE,$(BUILD)/mcdc-mu_replay,mcdc-f32,mcdc-f64,$(MCDC_FLAGS
 MCDC_TEST_BINS := $(foreach f,mcdc-f32 mcdc-f64,$(addprefix $(BUILD)/$(f)/test/,$(UNIT_TESTS))) \
                   $(if $(Q31_SRC),$(addprefix $(BUILD)/mcdc-q31/test/,$(Q31_TESTS))) \
                   $(addprefix $(BUILD)/mcdc-f64/test/host/,$(HOST_TESTS))
-MCDC_SOURCES   := $(wildcard src/*.c src/*.h)
+MCDC_SOURCES   := $(LIB_ALL_SRC) $(wildcard $(addsuffix /*.h,$(LIB_DIRS)))
 
 # Runs the suite with one raw profile per process (%p) and merges them. The tests write their
 # JUnit XML to build/results/mcdc-*. A failing test does not stop the run (the coverage of the

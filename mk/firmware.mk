@@ -44,7 +44,7 @@ fw_core     = $(word 1,$(subst -, ,$(1)))
 fw_variant  = $(word 2,$(subst -, ,$(1)))
 fw_srcs     = $(if $(filter q31,$(call fw_variant,$(1))),$(Q31_SRC),$(LIB_SRC))
 fw_lib      = $(FW_DIR)/$(1)/$(if $(filter q31,$(call fw_variant,$(1))),librfe_q31.a,librfe.a)
-FW_HDRS    := $(wildcard include/rfe/*.h src/*.h)
+FW_HDRS    := $(LIB_HDRS)
 FW_COMMON_H := $(wildcard firmware/common/*.h)
 # Example images: float32 on the Cortex-M4F, fixed point on the M4F, the M0+ and the M3
 # (the MPS2 board QEMU emulates).

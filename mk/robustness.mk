@@ -40,13 +40,13 @@ deps-fuzz:
 	  $(SUDO) apt-get update -qq && $(SUDO) apt-get install -y -qq clang-$(FUZZ_LLVM) libclang-rt-$(FUZZ_LLVM)-dev; fi
 
 # The library and host code instrumented for coverage (fuzzer-no-link): float, double, q31.
-$(BUILD)/fuzz-f32/lib/%.o: src/%.c $(wildcard include/rfe/*.h src/*.h) | deps-fuzz
+$(BUILD)/fuzz-f32/lib/%.o: src/%.c $(LIB_HDRS) | deps-fuzz
 	@mkdir -p $(@D)
 	$(FUZZ_CC) $(FUZZ_CFLAGS) -fsanitize=fuzzer-no-link $(CPPFLAGS_LIB) -c $< -o $@
-$(BUILD)/fuzz-f64/lib/%.o: src/%.c $(wildcard include/rfe/*.h src/*.h) | deps-fuzz
+$(BUILD)/fuzz-f64/lib/%.o: src/%.c $(LIB_HDRS) | deps-fuzz
 	@mkdir -p $(@D)
 	$(FUZZ_CC) $(FUZZ_CFLAGS) -fsanitize=fuzzer-no-link -DRFE_REAL_DOUBLE $(CPPFLAGS_LIB) -c $< -o $@
-$(BUILD)/fuzz-q31/lib/%.o: src/%.c $(wildcard include/rfe/*.h src/*.h) | deps-fuzz
+$(BUILD)/fuzz-q31/lib/%.o: src/%.c $(LIB_HDRS) | deps-fuzz
 	@mkdir -p $(@D)
 	$(FUZZ_CC) $(FUZZ_CFLAGS) -fsanitize=fuzzer-no-link $(CPPFLAGS_LIB) -c $< -o $@
 $(BUILD)/fuzz-f32/host/%.o: src/host/%.c $(wildcard src/host/*.h include/rfe/*.h) | deps-fuzz
@@ -107,7 +107,7 @@ $(BUILD)/soak/drive_%s.csv: scripts/soak_drive.py $(wildcard scripts/sim/*.py) |
 $(BUILD)/soak/run_%.o: test/soak/soak_run.c test/soak/soak.h test/support/invariants.h $(wildcard include/rfe/*.h src/host/*.h)
 	@mkdir -p $(@D)
 	$(CC) $(TEST_WARN) $(OPT) $(INV_FLAGS) $(if $(filter f64,$*),-DRFE_REAL_DOUBLE) $(CPPFLAGS_HOST) -Itest/support -Itest/soak -c $< -o $@
-# The fixed-point variant joins when the q31 library exists (src/*_q31.c).
+# The fixed-point variant joins when the q31 library exists (*_q31.c sources).
 $(BUILD)/soak/run_q31.o: test/soak/soak_run_q31.c test/soak/soak.h test/support/invariants.h $(wildcard include/rfe/*.h src/host/*.h)
 	@mkdir -p $(@D)
 	$(CC) $(TEST_WARN) $(OPT) $(INV_FLAGS) $(CPPFLAGS_HOST) -Itest/support -Itest/soak -c $< -o $@

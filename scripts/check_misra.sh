@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # make misra: cppcheck with its MISRA C:2012 addon over the library (include/rfe/*.h through
-# their inclusion, src/*.c -- src/host/ is not library code), once per real type:
+# their inclusion, the library's src/<group>/*.c -- src/host/ is not library code), once per
+# real type:
 #   float  : -URFE_REAL_DOUBLE (cppcheck then also checks the __GNUC__ configuration)
 #   double : -DRFE_REAL_DOUBLE
 # plus cppcheck's own warning/style/portability/performance checks, which implement the
@@ -15,7 +16,9 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 OUT=${MISRA_OUT:-build/misra}
-SRC=${MISRA_SRC:-$(ls src/*.c)}
+# The library's sources and private headers: every folder of src/ but src/host/.
+LIB_FILES=$(find src -path src/host -prune -o \( -name '*.c' -o -name '*.h' \) -print | sort)
+SRC=${MISRA_SRC:-$(grep '\.c$' <<<"$LIB_FILES")}
 DOC=docs/MISRA.md
 mkdir -p "$OUT"
 
@@ -30,7 +33,7 @@ run_variant() { # $1 = name, $2 = define
     mkdir -p "$OUT/cache-$name"
     # MISRA-GRP-01: Rule 15.5 (advisory) is disapplied project-wide (docs/MISRA.md).
     local rc=0
-    cppcheck --addon=misra --std=c99 --language=c --error-exitcode=1 -Iinclude "$def" \
+    cppcheck --addon=misra --std=c99 --language=c --error-exitcode=1 -Iinclude -Isrc "$def" \
         --enable=warning,style,portability,performance,information \
         --inline-suppr --suppress=misra-c2012-15.5 --suppress=missingIncludeSystem \
         --cppcheck-build-dir="$OUT/cache-$name" --xml --output-file="$OUT/$name.xml" -q \
@@ -75,20 +78,20 @@ done
 # cppcheck checks a header only through an #include: say which public headers no library
 # file includes (host-only headers such as fixed_conv.h), so nobody reads them as checked.
 for h in include/rfe/*.h; do
-    if ! grep -qs "#include \"rfe/$(basename "$h")\"" src/*.c src/*.h include/rfe/*.h; then
+    if ! grep -qs "#include \"rfe/$(basename "$h")\"" $LIB_FILES include/rfe/*.h; then
         echo "misra: note: $h is included by no library file: not checked (host-only header?)"
     fi
 done
 
 # Deviation records: each inline suppression cites an ID recorded in docs/MISRA.md, and each
 # ID recorded there is cited in the code.
-code_ids=$(grep -rhoE 'MISRA-(DEV|FP)-[0-9]+' include/rfe src/*.c src/*.h | sort -u)
+code_ids=$(grep -hoE 'MISRA-(DEV|FP)-[0-9]+' include/rfe/*.h $LIB_FILES | sort -u)
 doc_ids=$(grep -oE '^\| *MISRA-(DEV|FP)-[0-9]+' "$DOC" | grep -oE 'MISRA-(DEV|FP)-[0-9]+' | sort -u)
 while IFS= read -r line; do
     if ! grep -qE 'MISRA-(DEV|FP)-[0-9]+' <<<"$line"; then
         echo "misra: suppression without a MISRA-DEV/FP id: $line"; status=1
     fi
-done < <(grep -rnE 'cppcheck-suppress' include/rfe src/*.c src/*.h || true)
+done < <(grep -nE 'cppcheck-suppress' include/rfe/*.h $LIB_FILES || true)
 for id in $code_ids; do
     grep -qx "$id" <<<"$doc_ids" || { echo "misra: $id is cited in the code but not recorded in $DOC"; status=1; }
 done

@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # check_nofloat.sh — proves mechanically that the fixed-point translation units
-# (src/*_q31.c) contain no floating point: no `float` or `double` in the source and no
+# (src/<group>/*_q31.c) contain no floating point: no `float` or `double` in the source and no
 # soft-float helper or libm symbol in the Cortex-M0+ build.
 #
-#   scripts/check_nofloat.sh                     check src/*_q31.c
+#   scripts/check_nofloat.sh                     check the library's *_q31.c
 #   scripts/check_nofloat.sh [--out DIR] FILE.c… check these files instead (one set, linked
 #                                                together); objects go to DIR (build/m0plus)
 #   scripts/check_nofloat.sh --self-test         run the same check on the fixtures in
@@ -11,7 +11,7 @@
 #
 # For the set of files it
 #   1. compiles each one with arm-none-eabi-gcc for -mcpu=cortex-m0plus -mthumb
-#      -mfloat-abi=soft, the project's strict warnings and -Werror, -Iinclude, -Os
+#      -mfloat-abi=soft, the project's strict warnings and -Werror, -Iinclude -Isrc, -Os
 #      -ffunction-sections -fdata-sections (make deps-arm installs no C library for the
 #      target, so a TU that includes <math.h>, even through a header, does not compile);
 #   2. rejects the tokens float, double, _FloatN[x], __fp16, __bf16, _DecimalN in each .c
@@ -144,7 +144,7 @@ check_set() {
         log="$out/$base.log"
         rm -f "$obj"
         # 1. compile
-        if ! "$CC" "${ARCH[@]}" "${WARN[@]}" "${OPTS[@]}" "${FREESTANDING[@]}" -I"$ROOT/include" -c "$f" -o "$obj" \
+        if ! "$CC" "${ARCH[@]}" "${WARN[@]}" "${OPTS[@]}" "${FREESTANDING[@]}" -I"$ROOT/include" -I"$ROOT/src" -c "$f" -o "$obj" \
                 >"$log" 2>&1; then
             compiled_all=0
             msg=$(grep -m1 -E '(fatal )?error:' "$log" || head -n1 "$log")
@@ -232,7 +232,7 @@ check_set() {
 run_check() {
     local out=$1; shift
     if (($# == 0)); then
-        echo "$PROG: no src/*_q31.c: nothing to check"
+        echo "$PROG: no *_q31.c source: nothing to check"
         return 0
     fi
     check_set "$out" "$@"
@@ -377,9 +377,7 @@ main() {
     fi
     if ((${#files[@]} == 0)); then
         cd "$ROOT"
-        shopt -s nullglob
-        files=(src/*_q31.c)
-        shopt -u nullglob
+        mapfile -t files < <(find src -path src/host -prune -o -name '*_q31.c' -print | sort)
         out=${out#"$ROOT"/}
     fi
     run_check "$out" "${files[@]}"

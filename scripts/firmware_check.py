@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Mechanical checks of the cross-built library (make firmware-check, issue 5).
 
-For every target <core>-<variant> under --build (build/firmware/<target>/lib/*.o, compiled
+For every target <core>-<variant> under --build (build/firmware/<target>/lib/<layer>/*.o, compiled
 with -fstack-usage, -fcallgraph-info=su and -fdump-ipa-cgraph by mk/firmware.mk) and its
 example image (build/firmware/<target>/example.elf, linked with --gc-sections):
 
@@ -318,7 +318,8 @@ def external_stack(funcs, name, memo, path=()):
 
 # ---- the library's call graph ------------------------------------------------------------
 def library_graph(libdir):
-    bases = sorted(os.path.splitext(p)[0] for p in glob.glob(os.path.join(libdir, "*.o")))
+    bases = sorted(os.path.splitext(p)[0]
+                   for p in glob.glob(os.path.join(libdir, "**", "*.o"), recursive=True))
     ck = Checker(CROSS + "gcc", [], libdir, ["src", "include"])
     nodes, edges, addr_taken, stack = ck.read_graph(bases)
     if ck.findings:
@@ -400,7 +401,7 @@ def main():
         core, variant = t.split("-")
         soft_core = core in ("m0p", "m3")
         libdir = os.path.join(a.build, t, "lib")
-        objs = sorted(glob.glob(os.path.join(libdir, "*.o")))
+        objs = sorted(glob.glob(os.path.join(libdir, "**", "*.o"), recursive=True))
         if not objs:
             failures.append(f"{t}: no objects in {libdir}")
             continue

@@ -1,7 +1,7 @@
 /**
  * @file test_eiv_core_flt.c
- * @brief The internal pieces behind the cheaper float/double step (src/tyre_internal.h,
- *        src/eiv_internal.h) against the public functions they replace, bit for bit and
+ * @brief The internal pieces behind the cheaper float/double step (src/models/tyre_internal.h,
+ *        src/estimators/friction/eiv_internal.h) against the public functions they replace, bit for bit and
  *        status for status:
  *  - the absolute-mode Dugoff evaluation split into its friction-independent part and the
  *    rest, against rfe_tyre_dugoff_abs (finite, non-finite and out-of-range inputs);
@@ -31,8 +31,8 @@
 #include "rfe/qr.h"
 #include "rfe/tyre.h"
 
-#include "eiv_internal.h"
-#include "tyre_internal.h"
+#include "estimators/friction/eiv_internal.h"
+#include "models/tyre_internal.h"
 
 #define N_CASES 20000
 #define RFE_R(x) ((rfe_real_t)(x))

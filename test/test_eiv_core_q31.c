@@ -1,7 +1,7 @@
 /**
  * @file test_eiv_core_q31.c
- * @brief The internal pieces behind the cheaper fixed-point step (src/tyre_internal_q31.h,
- *        src/meas_internal_q31.h, src/eiv_internal_q31.h) against the public functions they
+ * @brief The internal pieces behind the cheaper fixed-point step (src/models/tyre_internal_q31.h,
+ *        src/models/meas_internal_q31.h, src/estimators/friction/eiv_internal_q31.h) against the public functions they
  *        replace, bit for bit, saturation counts included:
  *  - one wheel's kinematics, kappa alone, and the load-scaled tyre evaluation (absolute
  *    Dugoff and Magic Formula) split into its friction-independent part and the rest, against
@@ -36,9 +36,9 @@
 #include "rfe/qr_q31.h"
 #include "rfe/tyre_q31.h"
 
-#include "eiv_internal_q31.h"
-#include "meas_internal_q31.h"
-#include "tyre_internal_q31.h"
+#include "estimators/friction/eiv_internal_q31.h"
+#include "models/meas_internal_q31.h"
+#include "models/tyre_internal_q31.h"
 
 #define N_CASES 20000
 

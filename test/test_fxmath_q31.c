@@ -14,7 +14,7 @@
  *    most that) + < 1e-15: TOL_SINCOS = 4.7e-10;
  *  - tan, Q26: 0.5 LSB (1/2^27) + 1.82e-12 * (1 + tan^2) (<= 3.7e-10 at |angle| = 1.5,
  *    tan^2 = 199) + < 1e-14: TOL_TAN = 7.9e-9.
- * The Magic Formula's shorter routines (src/fxmath_internal_q31.h, derived in fxmath_q31.c):
+ * The Magic Formula's shorter routines (src/numerics/fxmath_internal_q31.h, derived in fxmath_q31.c):
  *  - rfe_q31_atan2_quad1, Q31: 2^-32 final rounding + 3.49 2^-32 (rounding of x in the 11
  *    CORDIC steps) + 2^-33 (division remainder) + 2^-34.6 (atan q ~ q) + 2^-36.8 (table)
  *    < 5.2 2^-32, + ~2e-16 rad for libm atan2: TOL_ATAN2_Q1 = 5.2 2^-32 + 1e-15 = 1.211e-9 rad;
@@ -32,7 +32,7 @@
 #include "rfe/fixed.h"
 #include "rfe/fixed_conv.h"
 #include "rfe/fxmath.h"
-#include "fxmath_internal_q31.h"
+#include "numerics/fxmath_internal_q31.h"
 #include "test_rng.h"
 
 #define TOL_ATAN2 9.4e-10

@@ -77,10 +77,10 @@
 #include "rfe/params_conv.h"
 #include "rfe/tyre.h"
 #include "rfe/tyre_q31.h"
-#include "fxmath_internal_q31.h"
-#include "internal_q31.h"
+#include "numerics/fxmath_internal_q31.h"
+#include "numerics/internal_q31.h"
 #include "test_rng.h"
-#include "tyre_internal_q31.h"
+#include "models/tyre_internal_q31.h"
 
 #define U_ ldexp(1.0, -29)
 #define TAN 7.9e-9

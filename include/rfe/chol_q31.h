@@ -9,9 +9,9 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "rfe/common.h"
 #include "rfe/config.h"
 #include "rfe/fixed.h"
-#include "rfe/types.h"
 
 /**
  * L lower-triangular with L L^T = P, read from the lower triangle of P (n x n, row-major,

@@ -19,9 +19,9 @@
 
 #include <stdint.h>
 
+#include "rfe/common.h"
 #include "rfe/fixed.h"
 #include "rfe/tyre_q31.h"
-#include "rfe/types.h"
 
 /** Complementary-filter state (caller-owned; fields read-only for the caller). */
 typedef struct {

@@ -20,8 +20,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "rfe/common.h"
 #include "rfe/fixed.h"
-#include "rfe/types.h"
 
 /** |angle| limit of rfe_fix_tan: 1.5 rad in Q29 (the tyre's alpha_max must be < 1.5). */
 #define RFE_FIX_TAN_LIMIT_Q29 ((rfe_fix_t)805306368)

@@ -17,9 +17,9 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "rfe/common.h"
 #include "rfe/fixed.h"
 #include "rfe/params_q31.h"
-#include "rfe/types.h"
 
 /** Element (row, wheel) of a row-major 3x4 H (same layout as RFE_H_AT of rfe/obsmat.h). */
 #define RFE_H_Q31_AT(row, wheel) (((size_t)(row) * (size_t)RFE_WHEELS) + (size_t)(wheel))

@@ -8,6 +8,7 @@
 #ifndef RFE_PARAMS_H
 #define RFE_PARAMS_H
 
+#include "rfe/modes.h"
 #include "rfe/types.h"
 
 /** Vehicle geometry and mass (MODEL.md §2). */
@@ -22,14 +23,6 @@ typedef struct {
     rfe_real_t hg;  /**< key hg: CoG height [m], default 0.54 */
     rfe_real_t g;   /**< key g: gravity [m/s^2], default 9.81 */
 } rfe_vehicle_t;
-
-/** Which tyre curve the measurement model uses (MODEL.md §4, docs/ESTIMATOR.md). */
-typedef enum {
-    RFE_TYRE_PAPER = 0,    /**< normalised Dugoff: F = mu * F0(u), stiffness ∝ mu*Fz; h = H(u) x */
-    RFE_TYRE_ABSOLUTE = 1, /**< load-scaled Dugoff: Cx = cx*Fz, Cy = cy*Fz; h nonlinear in mu */
-    RFE_TYRE_MAGIC = 2     /**< load-scaled Magic Formula (similarity combined slip), the same
-                                slip stiffnesses cx*Fz, cy*Fz and curve shapes shape_C*, shape_E* */
-} rfe_tyre_mode_t;
 
 /** Dugoff tyre and slip-computation parameters (MODEL.md §3-4). */
 typedef struct {
@@ -46,18 +39,6 @@ typedef struct {
     rfe_real_t shape_Cy;  /**< key shape_Cy: Magic Formula shape factor C, lateral, 1 < C < 2, default 1.3 */
     rfe_real_t shape_Ey;  /**< key shape_Ey: Magic Formula curvature factor E, lateral, -4 <= E < 1, default 0 */
 } rfe_tyre_params_t;
-
-/** Which filter runs the estimator (MODEL.md §6). */
-typedef enum {
-    RFE_FILTER_SCKF = 0,  /**< square-root cubature Kalman filter (the paper's method) */
-    RFE_FILTER_CKF = 1    /**< full-covariance cubature Kalman filter (the paper's baseline) */
-} rfe_filter_kind_t;
-
-/** The estimator's state (docs/ESTIMATOR.md): the map T from states to wheels. */
-typedef enum {
-    RFE_STRUCT_WHEELS = 0, /**< n = 4: one mu per wheel, T = I */
-    RFE_STRUCT_SIDES = 1   /**< n = 2: [mu_left, mu_right]; fl, rl on the left, fr, rr on the right */
-} rfe_structure_t;
 
 /**
  * Filter tuning (MODEL.md §6, docs/ESTIMATOR.md). Each field names its DATA.md key and its

@@ -15,17 +15,17 @@
  * and rejects a struct whose derived constant is off by more than 2^-13 relative (a stale
  * constant after a base field was changed by more than ~0.01 %).
  *
- * The enums (tyre mode, filter kind, structure) are the ones of params.h, which includes only
- * rfe/types.h (no floating-point header), so the fixed-point build may include it.
+ * The enums (tyre mode, filter kind, structure) are rfe/modes.h's, which both number types
+ * share; the float parameters of rfe/params.h are never included here.
  */
 #ifndef RFE_PARAMS_Q31_H
 #define RFE_PARAMS_Q31_H
 
 #include <stdint.h>
 
+#include "rfe/common.h"
 #include "rfe/fixed.h"
-#include "rfe/params.h"
-#include "rfe/types.h"
+#include "rfe/modes.h"
 
 /* ---- Q formats of the measurement model (docs/FIXED_POINT.md) -------------------------- */
 #define RFE_FIX_Q_MU 29      /**< friction mu, mu0, mu_min, mu_max: Q29, +-4 */

@@ -17,9 +17,9 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "rfe/common.h"
 #include "rfe/config.h"
 #include "rfe/fixed.h"
-#include "rfe/types.h"
 
 /**
  * Tria(A), in place: A (rows x cols, cols >= rows; every element in one common Q format)

@@ -35,9 +35,9 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "rfe/common.h"
 #include "rfe/config.h"
 #include "rfe/fixed.h"
-#include "rfe/types.h"
 
 /** Fractional bits of the mean, the cubature points and the clamp bounds (mu). */
 #define RFE_Q31_QX 29u
@@ -58,7 +58,7 @@ typedef rfe_status_t (*rfe_measure_fn_q31_t)(void *ctx, const rfe_fix_t *x, rfe_
                                              size_t n, size_t m);
 
 /** Scratch shared by the fixed-point cubature filters (contents meaningless between calls;
- *  formats of each use in src/sckf_q31.c and src/ckf_q31.c). */
+ *  formats of each use in src/filters/sckf_q31.c and src/filters/ckf_q31.c). */
 typedef struct {
     rfe_fix_t pts[RFE_CUB_MAX * RFE_N_MAX];     /**< cubature points, one per row (Q29) */
     rfe_fix_t zpts[RFE_CUB_MAX * RFE_M_MAX];    /**< their measurements, one per row (Q24) */

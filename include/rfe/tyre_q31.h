@@ -25,9 +25,9 @@
 
 #include <stdint.h>
 
+#include "rfe/common.h"
 #include "rfe/fixed.h"
 #include "rfe/params_q31.h"
-#include "rfe/types.h"
 
 /** One sensor sample in Q formats (fields of rfe_sample_t). */
 typedef struct {

@@ -1,0 +1,72 @@
+/**
+ * @file common.h
+ * @brief What the float, double and fixed-point (_q31) libraries share: status codes and
+ *        their names, wheel indices, the estimator's measurement count. No number type:
+ *        the fixed-point build includes this, never rfe/types.h.
+ */
+#ifndef RFE_COMMON_H
+#define RFE_COMMON_H
+
+/** Results that must be checked. */
+#if defined(__GNUC__)
+/* MISRA-DEV-02: a GNU attribute (Rule 1.2, language extension), only under __GNUC__ */
+#define RFE_NODISCARD __attribute__((warn_unused_result))
+#else
+#define RFE_NODISCARD
+#endif
+
+/**
+ * One status enum for the whole library. Values below RFE_ERR_FIRST are information
+ * about a successful call; from RFE_ERR_FIRST on they are errors, and the call left its
+ * state and outputs untouched.
+ */
+typedef enum {
+    RFE_OK = 0,                     /**< success */
+    RFE_PROJECTED = 1,              /**< estimate projected onto [mu_min, mu_max] */
+    RFE_NO_UPDATE_LOW_SPEED = 2,    /**< vx < v_est_min: time update only */
+    RFE_HELD_NOT_OBSERVABLE = 3,    /**< the step's information about the state is below the
+                                         threshold (info_min): time update only */
+    RFE_ERR_FIRST = 16,
+    RFE_ERR_NULL = 16,              /**< a required pointer is NULL */
+    RFE_ERR_NONFINITE = 17,         /**< an input is NaN or infinite */
+    RFE_ERR_RANGE = 18,             /**< an input is outside its documented limits */
+    RFE_ERR_PARAM = 19,             /**< a parameter is invalid (see rfe_params_validate) */
+    RFE_ERR_SIZE = 20,              /**< a dimension exceeds the compile-time maxima */
+    RFE_ERR_NOT_POSITIVE_DEFINITE = 21, /**< Cholesky / triangular factor failed */
+    RFE_ERR_NOT_INITIALISED = 22    /**< state used before a successful init */
+} rfe_status_t;
+
+/** Wheel order everywhere (MODEL.md §1). */
+/* cppcheck-suppress misra-c2012-2.4 ; MISRA-FP-01: an anonymous enum has no tag */
+enum { RFE_FL = 0, RFE_FR = 1, RFE_RL = 2, RFE_RR = 3, RFE_WHEELS = 4 };
+
+/** Number of measurements of the friction estimator: ax, ay, yaw acceleration. */
+/* cppcheck-suppress misra-c2012-2.4 ; MISRA-FP-01: an anonymous enum has no tag */
+enum { RFE_MEAS = 3 };
+
+/** True when the status is an error (the call changed nothing). */
+static inline int rfe_status_is_error(rfe_status_t s) { return (int)s >= (int)RFE_ERR_FIRST; }
+
+/** Short human-readable name of a status code (never NULL). Inline because it does not
+ *  depend on the number type: one definition serves the _f32, _f64 and _q31 libraries. */
+static inline const char *rfe_status_str(rfe_status_t s)
+{
+    const char *name;
+    switch (s) {
+    case RFE_OK: name = "ok"; break;
+    case RFE_PROJECTED: name = "projected onto [mu_min, mu_max]"; break;
+    case RFE_NO_UPDATE_LOW_SPEED: name = "no update: speed below v_est_min"; break;
+    case RFE_HELD_NOT_OBSERVABLE: name = "held: not observable"; break;
+    case RFE_ERR_NULL: name = "null pointer"; break;
+    case RFE_ERR_NONFINITE: name = "non-finite input"; break;
+    case RFE_ERR_RANGE: name = "input out of range"; break;
+    case RFE_ERR_PARAM: name = "invalid parameter"; break;
+    case RFE_ERR_SIZE: name = "dimension exceeds compile-time maximum"; break;
+    case RFE_ERR_NOT_POSITIVE_DEFINITE: name = "matrix not positive definite"; break;
+    case RFE_ERR_NOT_INITIALISED: name = "not initialised"; break;
+    default: name = "unknown status"; break;
+    }
+    return name;
+}
+
+#endif /* RFE_COMMON_H */

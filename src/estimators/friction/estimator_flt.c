@@ -1,0 +1,423 @@
+/**
+ * @file estimator_flt.c
+ * @brief The friction estimator: one step of docs/ESTIMATOR.md (MODEL.md §5-6 when every
+ *        addition is off): conditioner -> SCKF/CKF time update -> meas, eiv -> SCKF gated
+ *        update -> sd bounds -> projection -> per-wheel estimate.
+ */
+#include "rfe/estimator.h"
+
+#include "rfe/chol.h"
+#include "rfe/eiv.h"
+
+#include "estimators/friction/eiv_internal.h"
+#include "numerics/internal.h"
+
+#define NM ((size_t)RFE_N_MAX)
+
+/* C99 static assertion: the filters' compile-time maxima must hold the estimator's
+ * four states and three measurements (a -DRFE_N_MAX=4 -DRFE_M_MAX=3 build is the smallest). */
+/* cppcheck-suppress misra-c2012-2.3 ; MISRA-DEV-04: static assertion, never used by design */
+typedef char rfe_assert_maxima_hold_estimator[((RFE_N_MAX >= RFE_WHEELS) && (RFE_M_MAX >= RFE_MEAS)) ? 1 : -1];
+
+/* State index of wheel w: the map T (docs/ESTIMATOR.md). wheels: T = I; sides: fl, rl on
+ * the left state 0, fr, rr on the right state 1. */
+static size_t state_of(const rfe_estimator_t *est, size_t w)
+{
+    if (est->params.filter.structure == RFE_STRUCT_SIDES) {
+        return ((w == (size_t)RFE_FL) || (w == (size_t)RFE_RL)) ? 0u : 1u;
+    }
+    return w;
+}
+
+/* mu per wheel = T x. */
+static void to_wheels(const rfe_estimator_t *est, const rfe_real_t *x, rfe_real_t mu[RFE_WHEELS])
+{
+    size_t w;
+    for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
+        mu[w] = x[state_of(est, w)];
+    }
+}
+
+/* h(T x, u) for one cubature point; a point with mu < 0 is evaluated at mu = 0 by the
+ * absolute tyre (MODEL.md §4). */
+static rfe_status_t measure(void *ctx, const rfe_real_t *x, rfe_real_t *z, size_t n, size_t m)
+{
+    /* cppcheck-suppress misra-c2012-11.5 ; MISRA-DEV-05: ctx is the est this file passes */
+    const rfe_estimator_t *est = (const rfe_estimator_t *)ctx;
+    rfe_real_t mu[RFE_WHEELS];
+    (void)n;
+    (void)m;
+    to_wheels(est, x, mu);
+    return RFE_FN(rfe_meas_eval)(&est->meas, &est->params.vehicle, &est->params.tyre, mu, z);
+}
+
+/* sqrt_prior(d, c) (n x n, ld n): the lower Cholesky factor of c^2 11^T + d^2 I; exactly
+ * d I when c = 0 (no Cholesky, so the paper preset's factors are bit-exact). */
+static rfe_status_t sqrt_prior(rfe_real_t d, rfe_real_t c, size_t n, rfe_real_t *F)
+{
+    rfe_real_t P[RFE_WHEELS * RFE_WHEELS];
+    const rfe_real_t d2 = d * d;
+    size_t i;
+    size_t j;
+    for (i = 0u; i < n; ++i) {
+        for (j = 0u; j < n; ++j) {
+            const rfe_real_t diag = (i == j) ? d2 : RFE_R(0.0);
+            F[(i * n) + j] = (i == j) ? d : RFE_R(0.0);
+            P[(i * n) + j] = (c * c) + diag;
+        }
+    }
+    return (c == RFE_R(0.0)) ? RFE_OK : RFE_FN(rfe_chol_factor)(P, n, n, F, n);
+}
+
+static rfe_status_t init_sckf(rfe_estimator_t *est, const rfe_filter_params_t *fp, size_t n)
+{
+    rfe_real_t x0[RFE_WHEELS];
+    rfe_real_t S0[RFE_WHEELS * RFE_WHEELS];
+    rfe_real_t SQ[RFE_WHEELS * RFE_WHEELS];
+    rfe_real_t SR[RFE_MEAS * RFE_MEAS] = {0};
+    size_t i;
+    rfe_status_t st;
+    for (i = 0u; i < n; ++i) {
+        x0[i] = fp->mu0;
+    }
+    SR[0] = fp->r_ax;
+    SR[RFE_MEAS + 1] = fp->r_ay;
+    SR[(2 * RFE_MEAS) + 2] = fp->r_yaw_acc;
+    st = sqrt_prior(fp->sd0, fp->sd0_common, n, S0);
+    if (st == RFE_OK) {
+        st = sqrt_prior(fp->q_mu, fp->q_common, n, SQ);
+    }
+    if (st == RFE_OK) {
+        st = RFE_FN(rfe_sckf_init)(&est->filter.sckf, n, RFE_MEAS, x0, S0, SQ, SR);
+    }
+    return st;
+}
+
+/* The CKF runs only the paper subset (rfe_params_validate): P0 = sd0^2 I, Q = q_mu^2 I. */
+static rfe_status_t init_ckf(rfe_estimator_t *est, const rfe_filter_params_t *fp)
+{
+    rfe_real_t x0[RFE_WHEELS];
+    rfe_real_t P0[RFE_WHEELS * RFE_WHEELS];
+    rfe_real_t Q[RFE_WHEELS * RFE_WHEELS];
+    rfe_real_t R[RFE_MEAS * RFE_MEAS] = {0};
+    size_t i;
+    size_t j;
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        x0[i] = fp->mu0;
+        for (j = 0u; j < (size_t)RFE_WHEELS; ++j) {
+            const rfe_real_t on = (i == j) ? RFE_R(1.0) : RFE_R(0.0);
+            P0[(i * RFE_WHEELS) + j] = on * (fp->sd0 * fp->sd0);
+            Q[(i * RFE_WHEELS) + j] = on * (fp->q_mu * fp->q_mu);
+        }
+    }
+    R[0] = fp->r_ax * fp->r_ax;
+    R[RFE_MEAS + 1] = fp->r_ay * fp->r_ay;
+    R[(2 * RFE_MEAS) + 2] = fp->r_yaw_acc * fp->r_yaw_acc;
+    return RFE_FN(rfe_ckf_init)(&est->filter.ckf, RFE_WHEELS, RFE_MEAS, x0, P0, Q, R);
+}
+
+rfe_status_t RFE_FN(rfe_estimator_init)(rfe_estimator_t *est, const rfe_params_t *params)
+{
+    const rfe_filter_params_t *fp;
+    size_t n;
+    rfe_status_t st;
+
+    if ((est == NULL) || (params == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    st = RFE_FN(rfe_params_validate)(params);
+    if (st != RFE_OK) {
+        return st;
+    }
+    fp = &params->filter;
+    n = (fp->structure == RFE_STRUCT_SIDES) ? 2u : (size_t)RFE_WHEELS;
+    /* Nothing below fails for validated parameters (positive sd0, q_mu: the prior is
+     * positive definite); a failure would leave the estimator not initialised. */
+    st = (fp->kind == RFE_FILTER_CKF) ? init_ckf(est, fp) : init_sckf(est, fp, n);
+    if (st == RFE_OK) {
+        st = RFE_FN(rfe_conditioner_init)(&est->cond);
+    }
+    if (st != RFE_OK) {
+        return st;
+    }
+    est->params = *params;
+    est->n = n;
+    est->backup_cond = est->cond;
+    est->magic = RFE_MAGIC_EST;
+    return RFE_OK;
+}
+
+/* RFE_ERR_RANGE for a physically implausible (finite) sample: limits in config.h. */
+static rfe_status_t sample_in_range(const rfe_sample_t *u)
+{
+    size_t i;
+    if ((RFE_FABS(u->delta) > RFE_R(RFE_LIMIT_DELTA)) || (RFE_FABS(u->vx) > RFE_R(RFE_LIMIT_VX)) ||
+        (RFE_FABS(u->vy) > RFE_R(RFE_LIMIT_VY)) ||
+        (RFE_FABS(u->yaw_rate) > RFE_R(RFE_LIMIT_YAW_RATE)) ||
+        (RFE_FABS(u->yaw_acc) > RFE_R(RFE_LIMIT_YAW_ACC)) ||
+        (RFE_FABS(u->ax) > RFE_R(RFE_LIMIT_ACC)) || (RFE_FABS(u->ay) > RFE_R(RFE_LIMIT_ACC))) {
+        return RFE_ERR_RANGE;
+    }
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        if (RFE_FABS(u->omega[i]) > RFE_R(RFE_LIMIT_OMEGA)) {
+            return RFE_ERR_RANGE;
+        }
+    }
+    return RFE_OK;
+}
+
+/* Rejects non-finite samples (RFE_ERR_NONFINITE) and physically implausible ones
+ * (RFE_ERR_RANGE, limits in config.h). */
+static rfe_status_t check_sample(const rfe_sample_t *u)
+{
+    if (!rfe_is_finite(u->delta) || !rfe_is_finite(u->vx) || !rfe_is_finite(u->vy) ||
+        !rfe_is_finite(u->yaw_rate) || !rfe_is_finite(u->yaw_acc) || !rfe_is_finite(u->ax) ||
+        !rfe_is_finite(u->ay) || !rfe_all_finite(u->omega, RFE_WHEELS)) {
+        return RFE_ERR_NONFINITE;
+    }
+    return sample_in_range(u);
+}
+
+/* Saves / restores what a step changes (filter mean and factor, input filter) so a failing
+ * step changes nothing. */
+static void backup(rfe_estimator_t *est, int restore)
+{
+    const rfe_filter_kind_t kind = est->params.filter.kind;
+    rfe_real_t *x = (kind == RFE_FILTER_CKF) ? est->filter.ckf.x : est->filter.sckf.x;
+    rfe_real_t *F = (kind == RFE_FILTER_CKF) ? est->filter.ckf.P : est->filter.sckf.S;
+    size_t i;
+    for (i = 0u; i < NM; ++i) {
+        if (restore != 0) {
+            x[i] = est->backup_x[i];
+        } else {
+            est->backup_x[i] = x[i];
+        }
+    }
+    for (i = 0u; i < (NM * NM); ++i) {
+        if (restore != 0) {
+            F[i] = est->backup_S[i];
+        } else {
+            est->backup_S[i] = F[i];
+        }
+    }
+    if (restore != 0) {
+        est->cond = est->backup_cond;
+    } else {
+        est->backup_cond = est->cond;
+    }
+}
+
+/* Step 4 runs when any part of it is switched on. */
+static int eiv_active(const rfe_filter_params_t *fp)
+{
+    const rfe_real_t zero = RFE_R(0.0);
+    return (fp->r_model_rel > zero) || (fp->sd_in_delta > zero) || (fp->sd_in_vx > zero) ||
+           (fp->sd_in_vy > zero) || (fp->sd_in_yaw_rate > zero) || (fp->sd_in_omega > zero);
+}
+
+/* Steps 4-6 (SCKF): this step's S_R at the predicted mean, then the gated update.
+ * *updated = 0 when the gate held the step. */
+static rfe_status_t sckf_measurement(rfe_estimator_t *est, const rfe_sample_t *u,
+                                     const rfe_real_t y[RFE_MEAS], int *updated)
+{
+    const rfe_filter_params_t *fp = &est->params.filter;
+    rfe_sckf_t *f = &est->filter.sckf;
+    rfe_real_t SR[RFE_MEAS * RFE_MEAS];
+    const rfe_real_t *sr = NULL; /* the filter's diagonal S_R */
+    rfe_status_t st = RFE_OK;
+    if (eiv_active(fp) != 0) {
+        rfe_real_t mu[RFE_WHEELS];
+        to_wheels(est, f->x, mu); /* T x- */
+        /* the internal entry: params validated at init, est->meas set up from u just now */
+        st = RFE_FN(rfe_eiv_sqrt_noise_core)(&est->params, &est->meas, u, mu, SR);
+        sr = SR;
+    }
+    if (st == RFE_OK) {
+        st = RFE_FN(rfe_sckf_update_ex)(f, measure, est, y, sr, fp->info_min, NULL, updated);
+    }
+    return st;
+}
+
+/* The cap's factor: min_k sd_max / sd_k over sd_k > sd_max (into *c); *scale = 1 if any. */
+static void cap_factor(const rfe_filter_params_t *fp, const rfe_real_t *sd, size_t n,
+                       rfe_real_t *c, int *scale)
+{
+    size_t k;
+    for (k = 0u; k < n; ++k) {
+        if (sd[k] > fp->sd_max) {
+            *c = rfe_min(*c, fp->sd_max / sd[k]);
+            *scale = 1;
+        }
+    }
+}
+
+/* The floor's factor: max_k f_k / sd_k over sd_k < f_k = sd_floor_rel max(x_k, 0) (into
+ * *c; *scale = 1 if any), limited to sd_max / max_k sd_k when the cap is on, so that lifting
+ * a well-informed wheel to its floor never lifts another above the cap. */
+static void floor_factor(const rfe_filter_params_t *fp, const rfe_real_t *x,
+                         const rfe_real_t *sd, size_t n, rfe_real_t *c, int *scale)
+{
+    rfe_real_t sd_hi = RFE_R(0.0);
+    size_t k;
+    for (k = 0u; k < n; ++k) {
+        const rfe_real_t floor_k = fp->sd_floor_rel * rfe_max(x[k], RFE_R(0.0));
+        if (sd[k] < floor_k) {
+            *c = rfe_max(*c, floor_k / sd[k]);
+            *scale = 1;
+        }
+        sd_hi = rfe_max(sd_hi, sd[k]);
+    }
+    if ((*scale != 0) && (fp->sd_max > RFE_R(0.0))) {
+        *c = rfe_min(*c, fp->sd_max / sd_hi); /* >= 1: no sd_k is above sd_max here */
+    }
+}
+
+/* Step 7: one factor c for the whole S (correlations kept): the cap if some sd_k > sd_max,
+ * else the floor (limited by the cap). */
+static rfe_status_t bound_sd(rfe_estimator_t *est)
+{
+    const rfe_filter_params_t *fp = &est->params.filter;
+    rfe_real_t x[RFE_N_MAX];
+    rfe_real_t sd[RFE_N_MAX];
+    rfe_real_t c = RFE_R(1.0);
+    int scale = 0;
+    rfe_status_t st;
+    if (!(fp->sd_max > RFE_R(0.0)) && !(fp->sd_floor_rel > RFE_R(0.0))) {
+        return RFE_OK;
+    }
+    st = RFE_FN(rfe_sckf_get)(&est->filter.sckf, x, sd);
+    if ((st == RFE_OK) && !rfe_all_finite(sd, est->n)) {
+        st = RFE_ERR_NONFINITE; /* S so large its row norms overflow */
+    }
+    if (st != RFE_OK) {
+        return st;
+    }
+    if (fp->sd_max > RFE_R(0.0)) {
+        cap_factor(fp, sd, est->n, &c, &scale);
+    }
+    if ((scale == 0) && (fp->sd_floor_rel > RFE_R(0.0))) {
+        floor_factor(fp, x, sd, est->n, &c, &scale);
+    }
+    return (scale != 0) ? RFE_FN(rfe_sckf_scale)(&est->filter.sckf, c) : RFE_OK;
+}
+
+/* Steps 1-8 after the input check. Returns the step's status or an error (the caller
+ * rolls back). */
+static rfe_status_t filter_step(rfe_estimator_t *est, const rfe_sample_t *sample)
+{
+    const rfe_filter_kind_t kind = est->params.filter.kind;
+    const rfe_filter_params_t *fp = &est->params.filter;
+    rfe_sample_t u;
+    rfe_status_t st;
+    rfe_status_t status = RFE_NO_UPDATE_LOW_SPEED;
+    int updated = 0;
+    int clamped = 0;
+
+    /* 1. Input conditioning (a copy of the sample when tau_v = 0). */
+    st = RFE_FN(rfe_conditioner_step)(&est->cond, fp->dt, fp->tau_v, sample, &u);
+    /* 2. Time update of the random walk: process callback NULL (identity). */
+    if (st == RFE_OK) {
+        st = (kind == RFE_FILTER_CKF) ? RFE_FN(rfe_ckf_predict)(&est->filter.ckf, NULL, NULL)
+                        : RFE_FN(rfe_sckf_predict)(&est->filter.sckf, NULL, NULL);
+    }
+    /* 3. Below v_est_min (standstill, creeping, reversing) tyre forces carry no usable
+     * friction information: time update only. 4-6 otherwise. */
+    if ((st == RFE_OK) && (u.vx >= fp->v_est_min)) {
+        rfe_real_t y[RFE_MEAS];
+        y[0] = u.ax;
+        y[1] = u.ay;
+        y[2] = u.yaw_acc;
+        st = RFE_FN(rfe_meas_setup)(&est->meas, &est->params.vehicle, &est->params.tyre, &u);
+        if (st == RFE_OK) {
+            if (kind == RFE_FILTER_CKF) {
+                st = RFE_FN(rfe_ckf_update)(&est->filter.ckf, measure, est, y);
+                updated = 1;
+            } else {
+                st = sckf_measurement(est, &u, y, &updated);
+            }
+        }
+        status = (updated != 0) ? RFE_OK : RFE_HELD_NOT_OBSERVABLE;
+    }
+    /* 7. Bounds on the sd (SCKF; the CKF runs without them). */
+    if ((st == RFE_OK) && (kind != RFE_FILTER_CKF)) {
+        st = bound_sd(est);
+    }
+    /* 8. Friction is physically bounded: after an update, project the mean (not S). */
+    if ((st == RFE_OK) && (updated != 0)) {
+        st = (kind == RFE_FILTER_CKF)
+                 ? RFE_FN(rfe_ckf_clamp)(&est->filter.ckf, fp->mu_min, fp->mu_max, &clamped)
+                 : RFE_FN(rfe_sckf_clamp)(&est->filter.sckf, fp->mu_min, fp->mu_max, &clamped);
+        if (clamped != 0) {
+            status = RFE_PROJECTED;
+        }
+    }
+    return (st != RFE_OK) ? st : status;
+}
+
+/* cppcheck-suppress misra-c2012-8.7 ; MISRA-DEV-06: public API, called by the application */
+rfe_status_t RFE_FN(rfe_estimator_get)(const rfe_estimator_t *est, rfe_estimate_t *out)
+{
+    rfe_real_t x[RFE_N_MAX];
+    rfe_real_t sd[RFE_N_MAX];
+    const rfe_real_t sd_valid = (est != NULL) ? est->params.filter.sd_valid : RFE_R(0.0);
+    size_t w;
+    rfe_status_t st;
+    if ((est == NULL) || (out == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    if (est->magic != RFE_MAGIC_EST) {
+        return RFE_ERR_NOT_INITIALISED;
+    }
+    st = (est->params.filter.kind == RFE_FILTER_CKF)
+             ? RFE_FN(rfe_ckf_get)(&est->filter.ckf, x, sd)
+             : RFE_FN(rfe_sckf_get)(&est->filter.sckf, x, sd);
+    /* 9. mu = T x, sd = T (row norms of S); validity by sd when sd_valid > 0. */
+    for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
+        const size_t k = state_of(est, w);
+        out->mu[w] = x[k];
+        out->sd[w] = sd[k];
+        out->valid[w] = ((sd_valid > RFE_R(0.0)) && (sd[k] <= sd_valid)) ? 1u : 0u;
+    }
+    out->status = st;
+    return st;
+}
+
+rfe_status_t RFE_FN(rfe_estimator_step)(rfe_estimator_t *est, const rfe_sample_t *sample,
+                                        rfe_estimate_t *out)
+{
+    rfe_status_t st;
+    rfe_status_t got;
+    size_t i;
+
+    if ((est == NULL) || (sample == NULL) || (out == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    if (est->magic != RFE_MAGIC_EST) {
+        return RFE_ERR_NOT_INITIALISED;
+    }
+    /* 0. Input check: a rejected sample changes nothing. */
+    st = check_sample(sample);
+    if (st == RFE_OK) {
+        backup(est, 0);
+        st = filter_step(est, sample);
+        if (rfe_status_is_error(st) != 0) {
+            backup(est, 1);
+        }
+    }
+    got = RFE_FN(rfe_estimator_get)(est, out);
+    if (got != RFE_OK) {
+        return got;
+    }
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        if (rfe_status_is_error(st) != 0) {
+            out->valid[i] = 0u;
+        } else if (!(est->params.filter.sd_valid > RFE_R(0.0))) {
+            /* The paper rule: valid when this step updated the estimate from data. */
+            out->valid[i] = ((st == RFE_OK) || (st == RFE_PROJECTED)) ? 1u : 0u;
+        } else {
+            /* sd rule, set by get */
+        }
+    }
+    out->status = st;
+    return st;
+}

@@ -1,0 +1,114 @@
+/**
+ * @file cubature_q31.c
+ * @brief Third-degree spherical-radial cubature rule on fixed-point values: points,
+ *        propagation, means, centring (the twin of cubature_flt.c).
+ */
+#include "filters/cubature_q31.h"
+
+#define NM ((size_t)RFE_N_MAX)
+#define MM ((size_t)RFE_M_MAX)
+
+/* The cubature constants are tabulated for n = 1..8 (rfe_cub_dims_ok_q31 rejects more). */
+#define CUB_TABLE_N 8u
+
+void rfe_cub_points_q31(const rfe_fix_t *x, const rfe_fix_t *F, size_t n, rfe_fix_t *pts,
+                        uint32_t *sat)
+{
+    /* sqrt(n) in Q30, n = 1..8, rounded to nearest (50-digit reference values); as int64,
+     * since sqrt(n) >= 2 does not fit an int32 Q30. */
+    static const int64_t sqrt_n_q30[CUB_TABLE_N] = {
+        INT64_C(1073741824), INT64_C(1518500250), INT64_C(1859775393), INT64_C(2147483648),
+        INT64_C(2400959709), INT64_C(2630119584), INT64_C(2840853839), INT64_C(3037000500)};
+    /* xi_j = +-sqrt(n) e_j, equal weights 1/(2n). |F| <= 2^31, sqrt(n) 2^30 < 2^31.6: the
+     * product is below 2^62.6 and exact; rounded from Q60 to Q29. */
+    const int64_t r = sqrt_n_q30[n - 1u];
+    size_t j;
+    size_t i;
+    for (j = 0u; j < n; ++j) {
+        for (i = 0u; i < n; ++i) {
+            const int64_t d =
+                rfe_fix_shr64_round((int64_t)F[(i * NM) + j] * r, 60u - RFE_Q31_QX);
+            pts[(j * NM) + i] = rfe_fix_sat32((int64_t)x[i] + d, sat);
+            pts[((n + j) * NM) + i] = rfe_fix_sat32((int64_t)x[i] - d, sat);
+        }
+    }
+}
+
+rfe_status_t rfe_cub_propagate_q31(rfe_fix_t *pts, size_t n, rfe_process_fn_q31_t process,
+                                   void *ctx, rfe_fix_t *tmp)
+{
+    size_t j;
+    size_t i;
+    if (process == NULL) {
+        return RFE_OK; /* random walk: X*_j = X_j */
+    }
+    for (j = 0u; j < (2u * n); ++j) {
+        rfe_fix_t *row = &pts[j * NM];
+        const rfe_status_t st = process(ctx, row, tmp, n);
+        if (st != RFE_OK) {
+            return st;
+        }
+        for (i = 0u; i < n; ++i) {
+            row[i] = tmp[i];
+        }
+    }
+    return RFE_OK;
+}
+
+rfe_status_t rfe_cub_measure_q31(const rfe_fix_t *pts, size_t n, size_t m,
+                                 rfe_measure_fn_q31_t measure, void *ctx, rfe_fix_t *zpts)
+{
+    size_t j;
+    for (j = 0u; j < (2u * n); ++j) {
+        const rfe_status_t st = measure(ctx, &pts[j * NM], &zpts[j * MM], n, m);
+        if (st != RFE_OK) {
+            return st;
+        }
+    }
+    return RFE_OK;
+}
+
+void rfe_cub_mean_q31(const rfe_fix_t *rows, size_t n, size_t cols, size_t ld,
+                      rfe_fix_t *mean)
+{
+    uint32_t unused = 0u; /* |sum| / 2n <= 2^31: never saturates */
+    const size_t two_n = 2u * n; /* <= 16 */
+    size_t i;
+    size_t j;
+    for (i = 0u; i < cols; ++i) {
+        int64_t acc = 0; /* <= 16 terms of 2^31: exact */
+        for (j = 0u; j < two_n; ++j) {
+            acc += (int64_t)rows[(j * ld) + i];
+        }
+        mean[i] = rfe_q31_div_round(acc, (rfe_fix_t)two_n, &unused);
+    }
+}
+
+void rfe_cub_hold_random_walk_mean_q31(const rfe_fix_t *x, size_t n,
+                                       rfe_process_fn_q31_t process, rfe_fix_t *mean)
+{
+    if (process == NULL) {
+        size_t i;
+        for (i = 0u; i < n; ++i) {
+            mean[i] = x[i];
+        }
+    }
+}
+
+rfe_fix_t rfe_cub_centre_q31(rfe_fix_t v, rfe_fix_t mean, size_t n, unsigned int q_in,
+                             unsigned int q_out, uint32_t *sat)
+{
+    /* 1 / sqrt(2n) in Q31, n = 1..8, rounded to nearest (all < 1, so they fit an int32). */
+    static const int64_t inv_sqrt_2n_q31[CUB_TABLE_N] = {
+        INT64_C(1518500250), INT64_C(1073741824), INT64_C(876706528), INT64_C(759250125),
+        INT64_C(679093957),  INT64_C(619925131),  INT64_C(573939147), INT64_C(536870912)};
+    /* |v - mean| < 2^32 and 1/sqrt(2n) 2^31 <= 2^30.5: the product is below 2^62.5, exact;
+     * Q(q_in + 31) -> Q(q_out). */
+    const int64_t d = (int64_t)v - (int64_t)mean;
+    return rfe_fix_narrow(d * inv_sqrt_2n_q31[n - 1u], (q_in + 31u) - q_out, sat);
+}
+
+int rfe_cub_dims_ok_q31(size_t n, size_t m)
+{
+    return ((n >= 1u) && (n <= NM) && (n <= CUB_TABLE_N) && (m >= 1u) && (m <= MM)) ? 1 : 0;
+}

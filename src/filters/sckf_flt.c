@@ -1,0 +1,523 @@
+/**
+ * @file sckf_flt.c
+ * @brief Square-root cubature Kalman filter (MODEL.md §6).
+ *
+ * Every step computes into scratch and commits x and S only when everything succeeded,
+ * so an error leaves the filter exactly as it was.
+ */
+#include "rfe/sckf.h"
+
+#include "rfe/qr.h"
+
+#include "filters/cubature.h"
+#include "numerics/internal.h"
+
+#define NM ((size_t)RFE_N_MAX)
+#define MM ((size_t)RFE_M_MAX)
+#define TC RFE_TRIA_COLS_SZ
+
+/* Copies the lower triangle of a k x k matrix (src stride lds) into dst (stride ldd),
+ * zeroing dst's upper triangle. */
+static void copy_lower(const rfe_real_t *src, size_t lds, size_t k, rfe_real_t *dst, size_t ldd)
+{
+    size_t i;
+    size_t j;
+    for (i = 0u; i < k; ++i) {
+        for (j = 0u; j < k; ++j) {
+            dst[(i * ldd) + j] = (j <= i) ? src[(i * lds) + j] : RFE_R(0.0);
+        }
+    }
+}
+
+/* Accepts a step: the candidate mean (w.xn) and factor (Tria output in w.A) become the state. */
+static void commit(rfe_sckf_t *f)
+{
+    size_t i;
+    for (i = 0u; i < f->n; ++i) {
+        f->x[i] = f->w.xn[i];
+    }
+    copy_lower(f->w.A, TC, f->n, f->S, NM);
+}
+
+rfe_status_t RFE_FN(rfe_sckf_init)(rfe_sckf_t *f, size_t n, size_t m, const rfe_real_t *x0,
+                                   const rfe_real_t *S0, const rfe_real_t *SQ,
+                                   const rfe_real_t *SR)
+{
+    size_t i;
+    if ((f == NULL) || (x0 == NULL) || (S0 == NULL) || (SQ == NULL) || (SR == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    if (RFE_FN(rfe_cub_dims_ok)(n, m) == 0) {
+        return RFE_ERR_SIZE;
+    }
+    if (!rfe_all_finite(x0, n) || !rfe_lower_finite(S0, n, n) || !rfe_lower_finite(SQ, n, n) ||
+        !rfe_lower_finite(SR, m, m)) {
+        return RFE_ERR_NONFINITE;
+    }
+    f->n = n;
+    f->m = m;
+    for (i = 0u; i < n; ++i) {
+        f->x[i] = x0[i];
+    }
+    copy_lower(S0, n, n, f->S, NM);
+    copy_lower(SQ, n, n, f->SQ, NM);
+    copy_lower(SR, m, m, f->SR, MM);
+    f->magic = RFE_MAGIC_SCKF;
+    return RFE_OK;
+}
+
+/* Time update through the cubature points (any process f): X_j = S xi_j + x, X*_j = f(X_j),
+ * x- = mean X*_j, and the Tria input [(X*_j - x-)/sqrt(2n), S_Q] (n x 3n) into w->A. */
+static rfe_status_t predict_points(rfe_sckf_t *f, rfe_process_fn_t process, void *ctx)
+{
+    rfe_cub_scratch_t *w = &f->w;
+    const size_t n = f->n;
+    const rfe_real_t inv_sqrt_2n = RFE_R(1.0) / RFE_SQRT(RFE_R(2.0) * (rfe_real_t)n);
+    size_t i;
+    size_t j;
+    rfe_status_t st;
+    RFE_FN(rfe_cub_points)(f->x, f->S, n, w->pts);
+    st = RFE_FN(rfe_cub_propagate)(w->pts, n, process, ctx, w->xn);
+    if (st != RFE_OK) {
+        return st;
+    }
+    RFE_FN(rfe_cub_mean)(w->pts, n, n, NM, w->xn);
+    for (i = 0u; i < n; ++i) {
+        for (j = 0u; j < (2u * n); ++j) {
+            w->A[(i * TC) + j] = (w->pts[(j * NM) + i] - w->xn[i]) * inv_sqrt_2n;
+        }
+        for (j = 0u; j < n; ++j) {
+            w->A[(i * TC) + (2u * n) + j] = f->SQ[(i * NM) + j];
+        }
+    }
+    return RFE_OK;
+}
+
+/* Time update of the random walk f(x) = x: its points X_j = x +- sqrt(n) S e_j are
+ * symmetric about x, so x- = x exactly, and the centred points +-sqrt(n) S e_j / sqrt(2n)
+ * = +-S e_j / sqrt(2) contribute exactly S S^T: S- = Tria([S, S_Q]) (n x 2n) needs no
+ * cubature points. The Tria input into w->A, x- = x into w->xn. */
+static void predict_random_walk(rfe_sckf_t *f)
+{
+    rfe_cub_scratch_t *w = &f->w;
+    const size_t n = f->n;
+    size_t i;
+    size_t j;
+    for (i = 0u; i < n; ++i) {
+        for (j = 0u; j < n; ++j) {
+            w->A[(i * TC) + j] = f->S[(i * NM) + j];
+            w->A[(i * TC) + n + j] = f->SQ[(i * NM) + j];
+        }
+    }
+    RFE_FN(rfe_cub_hold_random_walk_mean)(f->x, n, NULL, w->xn);
+}
+
+rfe_status_t RFE_FN(rfe_sckf_predict)(rfe_sckf_t *f, rfe_process_fn_t process, void *ctx)
+{
+    size_t n;
+    size_t cols;
+    rfe_status_t st = RFE_OK;
+
+    if (f == NULL) {
+        return RFE_ERR_NULL;
+    }
+    if (f->magic != RFE_MAGIC_SCKF) {
+        return RFE_ERR_NOT_INITIALISED;
+    }
+    n = f->n;
+    /* S- = Tria([(X*_1 - x-, ..., X*_2n - x-)/sqrt(2n), S_Q]); for the random walk
+     * S- = Tria([S, S_Q]). */
+    if (process == NULL) {
+        predict_random_walk(f);
+        cols = 2u * n;
+    } else {
+        st = predict_points(f, process, ctx);
+        cols = 3u * n;
+    }
+    if (st == RFE_OK) {
+        st = RFE_FN(rfe_qr_tria)(f->w.A, n, cols, TC);
+    }
+    if (st != RFE_OK) {
+        return st;
+    }
+    commit(f);
+    return RFE_OK;
+}
+
+/* Xc = (X_j - x-)/sqrt(2n) into B (n x 2n) and Zc = (Z_j - z)/sqrt(2n) in place in zpts. */
+static void centre_points(rfe_sckf_t *f)
+{
+    rfe_cub_scratch_t *w = &f->w;
+    const size_t n = f->n;
+    const size_t m = f->m;
+    const rfe_real_t inv_sqrt_2n = RFE_R(1.0) / RFE_SQRT(RFE_R(2.0) * (rfe_real_t)n);
+    size_t i;
+    size_t j;
+    for (j = 0u; j < (2u * n); ++j) {
+        for (i = 0u; i < n; ++i) {
+            w->B[(i * TC) + j] = (w->pts[(j * NM) + i] - f->x[i]) * inv_sqrt_2n;
+        }
+        for (i = 0u; i < m; ++i) {
+            w->zpts[(j * MM) + i] = (w->zpts[(j * MM) + i] - w->zhat[i]) * inv_sqrt_2n;
+        }
+    }
+}
+
+/* P_xz[i][r] = sum_j Xc[i][j] Zc[r][j] (centred points in w->B and w->zpts). One definition
+ * for the gain and the information, so both use the same sums in the same order. */
+static rfe_real_t pxz_element(const rfe_cub_scratch_t *w, size_t r, size_t i, size_t n)
+{
+    rfe_real_t acc = RFE_R(0.0);
+    size_t j;
+    for (j = 0u; j < (2u * n); ++j) {
+        acc += w->zpts[(j * MM) + r] * w->B[(i * TC) + j];
+    }
+    return acc;
+}
+
+/* S_zz = Tria([Zc, S_R]) into w->Szz; then K^T = S_zz^-T (S_zz^-1 P_xz^T), P_xz = Xc Zc^T.
+ * SR: this step's lower-triangular S_R, ld RFE_M_MAX. */
+static rfe_status_t gain(rfe_sckf_t *f, const rfe_real_t *SR)
+{
+    rfe_cub_scratch_t *w = &f->w;
+    const size_t n = f->n;
+    const size_t m = f->m;
+    size_t i;
+    size_t j;
+    size_t r;
+    rfe_status_t st;
+
+    for (r = 0u; r < m; ++r) {
+        for (j = 0u; j < (2u * n); ++j) {
+            w->A[(r * TC) + j] = w->zpts[(j * MM) + r];
+        }
+        for (j = 0u; j < m; ++j) {
+            w->A[(r * TC) + (2u * n) + j] = SR[(r * MM) + j];
+        }
+    }
+    st = RFE_FN(rfe_qr_tria)(w->A, m, (2u * n) + m, TC);
+    if (st != RFE_OK) {
+        return st;
+    }
+    copy_lower(w->A, TC, m, w->Szz, MM);
+    /* P_xz^T (m x n). */
+    for (r = 0u; r < m; ++r) {
+        for (i = 0u; i < n; ++i) {
+            w->Kt[(r * NM) + i] = pxz_element(w, r, i, n);
+        }
+    }
+    /* K = (P_xz / S_zz^T) / S_zz: two triangular solves, never an inverse. */
+    st = RFE_FN(rfe_qr_solve_lower)(w->Szz, m, MM, w->Kt, n, NM);
+    if (st == RFE_OK) {
+        st = RFE_FN(rfe_qr_solve_lower_t)(w->Szz, m, MM, w->Kt, n, NM);
+    }
+    return st;
+}
+
+/* P_xz (n x m) = Xc Zc^T into w->A (ld TC): the same sums, in the same order, as the gain's
+ * P_xz^T. */
+static void cross_covariance(rfe_sckf_t *f)
+{
+    rfe_cub_scratch_t *w = &f->w;
+    const size_t n = f->n;
+    const size_t m = f->m;
+    size_t i;
+    size_t r;
+    for (r = 0u; r < m; ++r) {
+        for (i = 0u; i < n; ++i) {
+            w->A[(i * TC) + r] = pxz_element(w, r, i, n);
+        }
+    }
+}
+
+/* docs/ESTIMATOR.md step 5: I_k = sum_r W_rk^2, W = S_R \ J, J^T = S-^T \ (S- \ P_zx^T).
+ * Needs the centred points (w->B, w->zpts); uses w->A and w->Kt as scratch. */
+static rfe_status_t information(rfe_sckf_t *f, const rfe_real_t *SR, rfe_real_t *info)
+{
+    rfe_cub_scratch_t *w = &f->w;
+    const size_t n = f->n;
+    const size_t m = f->m;
+    size_t i;
+    size_t r;
+    rfe_status_t st;
+
+    cross_covariance(f);
+    /* J^T (n x m) = S-^T \ (S- \ P_xz): statistical linearisation, no inverse of S- S-^T. */
+    st = RFE_FN(rfe_qr_solve_lower)(f->S, n, NM, w->A, m, TC);
+    if (st == RFE_OK) {
+        st = RFE_FN(rfe_qr_solve_lower_t)(f->S, n, NM, w->A, m, TC);
+    }
+    if (st != RFE_OK) {
+        return st;
+    }
+    /* W (m x n) = S_R \ J, J transposed into w->Kt. */
+    for (r = 0u; r < m; ++r) {
+        for (i = 0u; i < n; ++i) {
+            w->Kt[(r * NM) + i] = w->A[(i * TC) + r];
+        }
+    }
+    st = RFE_FN(rfe_qr_solve_lower)(SR, m, MM, w->Kt, n, NM);
+    if (st != RFE_OK) {
+        return st;
+    }
+    for (i = 0u; i < n; ++i) {
+        rfe_real_t acc = RFE_R(0.0);
+        for (r = 0u; r < m; ++r) {
+            acc += w->Kt[(r * NM) + i] * w->Kt[(r * NM) + i];
+        }
+        info[i] = acc;
+    }
+    /* An overflow (absurd prior or model) must not pass as "no information". */
+    return rfe_all_finite(info, n) ? RFE_OK : RFE_ERR_NONFINITE;
+}
+
+/* docs/ESTIMATOR.md steps 5-6: the step's information into info (n) and the gate: *held = 1
+ * when info_min > 0 and no state reaches it. Needs the centred points. */
+static rfe_status_t gate(rfe_sckf_t *f, const rfe_real_t *SR, rfe_real_t info_min,
+                         rfe_real_t *info, int *held)
+{
+    const rfe_status_t st = information(f, SR, info);
+    *held = 0;
+    if (st == RFE_OK) {
+        rfe_real_t most = RFE_R(0.0);
+        size_t i;
+        for (i = 0u; i < f->n; ++i) {
+            most = rfe_max(most, info[i]);
+        }
+        if ((info_min > RFE_R(0.0)) && (most < info_min)) {
+            *held = 1;
+        }
+    }
+    return st;
+}
+
+/* Row i of Xc - K Zc (2n values) into w->A: element by element the subtractions of
+ * K[i][r] Zc[r][j] for r = 0, 1, ... in that order, with the long loop innermost. */
+static void posterior_points_row(rfe_sckf_t *f, size_t i)
+{
+    rfe_cub_scratch_t *w = &f->w;
+    const size_t n = f->n;
+    size_t j;
+    size_t r;
+    for (j = 0u; j < (2u * n); ++j) {
+        w->A[(i * TC) + j] = w->B[(i * TC) + j];
+    }
+    for (r = 0u; r < f->m; ++r) {
+        const rfe_real_t k_ri = w->Kt[(r * NM) + i];
+        for (j = 0u; j < (2u * n); ++j) {
+            w->A[(i * TC) + j] -= k_ri * w->zpts[(j * MM) + r];
+        }
+    }
+}
+
+/* [Xc - K Zc, K S_R] (n x (2n + m)) into w->A: the Tria input of the posterior factor.
+ * Needs the centred points (w->B, w->zpts) and the gain (w->Kt). */
+static void posterior_tria_input(rfe_sckf_t *f, const rfe_real_t *SR)
+{
+    rfe_cub_scratch_t *w = &f->w;
+    const size_t n = f->n;
+    const size_t m = f->m;
+    size_t i;
+    size_t j;
+    size_t r;
+    for (i = 0u; i < n; ++i) {
+        posterior_points_row(f, i);
+        for (j = 0u; j < m; ++j) {
+            rfe_real_t acc = RFE_R(0.0);
+            for (r = j; r < m; ++r) { /* S_R is lower-triangular */
+                acc += w->Kt[(r * NM) + i] * SR[(r * MM) + j];
+            }
+            w->A[(i * TC) + (2u * n) + j] = acc;
+        }
+    }
+}
+
+/* The measurement update of MODEL.md §6 with S_R = SR (ld RFE_M_MAX), gated on the
+ * information when info_min > 0 (docs/ESTIMATOR.md steps 5-6). Writes info (n) when
+ * want_info; *updated = 0 when held. Commits x and S only when everything succeeded. */
+static rfe_status_t update_core(rfe_sckf_t *f, rfe_measure_fn_t measure, void *ctx,
+                                const rfe_real_t *y, const rfe_real_t *SR, rfe_real_t info_min,
+                                int want_info, rfe_real_t *info, int *updated)
+{
+    rfe_cub_scratch_t *w = &f->w;
+    const size_t n = f->n;
+    const size_t m = f->m;
+    rfe_status_t st;
+
+    /* X_j = S- xi_j + x-;  Z_j = h(X_j, u);  z = mean_j Z_j. */
+    RFE_FN(rfe_cub_points)(f->x, f->S, n, w->pts);
+    st = RFE_FN(rfe_cub_measure)(w->pts, n, m, measure, ctx, w->zpts);
+    if (st != RFE_OK) {
+        return st;
+    }
+    RFE_FN(rfe_cub_mean)(w->zpts, n, m, MM, w->zhat);
+    centre_points(f);
+    if ((want_info != 0) || (info_min > RFE_R(0.0))) {
+        int held = 0;
+        st = gate(f, SR, info_min, info, &held);
+        if (st != RFE_OK) {
+            return st;
+        }
+        if (held != 0) {
+            *updated = 0; /* held: not observable; x-, S- stay */
+            return RFE_OK;
+        }
+    }
+    st = gain(f, SR);
+    if (st != RFE_OK) {
+        return st;
+    }
+    /* x = x- + K (y - z); a huge innovation that overflows commits nothing. */
+    st = RFE_FN(rfe_cub_correct)(f->x, w->Kt, y, w->zhat, n, m, w->xn);
+    if (st != RFE_OK) {
+        return st;
+    }
+    /* S = Tria([Xc - K Zc, K S_R]). */
+    posterior_tria_input(f, SR);
+    st = RFE_FN(rfe_qr_tria)(w->A, n, (2u * n) + m, TC);
+    if (st != RFE_OK) {
+        return st;
+    }
+    commit(f);
+    *updated = 1;
+    return RFE_OK;
+}
+
+/* Common argument checks of the measurement updates. */
+static rfe_status_t check_update(const rfe_sckf_t *f, rfe_measure_fn_t measure,
+                                 const rfe_real_t *y)
+{
+    if ((f == NULL) || (measure == NULL) || (y == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    if (f->magic != RFE_MAGIC_SCKF) {
+        return RFE_ERR_NOT_INITIALISED;
+    }
+    return rfe_all_finite(y, f->m) ? RFE_OK : RFE_ERR_NONFINITE;
+}
+
+rfe_status_t RFE_FN(rfe_sckf_update)(rfe_sckf_t *f, rfe_measure_fn_t measure, void *ctx,
+                                     const rfe_real_t *y)
+{
+    rfe_real_t info[RFE_N_MAX];
+    int updated = 0;
+    const rfe_status_t st = check_update(f, measure, y);
+    if (st != RFE_OK) {
+        return st;
+    }
+    return update_core(f, measure, ctx, y, f->SR, RFE_R(0.0), 0, info, &updated);
+}
+
+rfe_status_t RFE_FN(rfe_sckf_update_ex)(rfe_sckf_t *f, rfe_measure_fn_t measure, void *ctx,
+                                        const rfe_real_t *y, const rfe_real_t *SR,
+                                        rfe_real_t info_min, rfe_real_t *info_out, int *updated)
+{
+    rfe_real_t SRl[RFE_M_MAX * RFE_M_MAX];
+    rfe_real_t info[RFE_N_MAX];
+    const rfe_real_t *sr;
+    int upd = 0;
+    rfe_status_t st = check_update(f, measure, y);
+
+    if ((st == RFE_OK) && (updated == NULL)) {
+        st = RFE_ERR_NULL;
+    }
+    if (st != RFE_OK) {
+        return st;
+    }
+    if (!rfe_is_finite(info_min)) {
+        return RFE_ERR_NONFINITE;
+    }
+    sr = f->SR;
+    if (SR != NULL) {
+        if (!rfe_lower_finite(SR, f->m, f->m)) {
+            return RFE_ERR_NONFINITE;
+        }
+        copy_lower(SR, f->m, f->m, SRl, MM);
+        sr = SRl;
+    }
+    st = update_core(f, measure, ctx, y, sr, info_min, (info_out != NULL) ? 1 : 0, info, &upd);
+    if (st != RFE_OK) {
+        return st;
+    }
+    if (info_out != NULL) {
+        size_t i;
+        for (i = 0u; i < f->n; ++i) {
+            info_out[i] = info[i];
+        }
+    }
+    *updated = upd;
+    return RFE_OK;
+}
+
+rfe_status_t RFE_FN(rfe_sckf_scale)(rfe_sckf_t *f, rfe_real_t c)
+{
+    rfe_real_t *cand;
+    size_t i;
+    size_t j;
+    if (f == NULL) {
+        return RFE_ERR_NULL;
+    }
+    if (f->magic != RFE_MAGIC_SCKF) {
+        return RFE_ERR_NOT_INITIALISED;
+    }
+    if (!rfe_is_finite(c) || !(c > RFE_R(0.0))) {
+        return RFE_ERR_RANGE;
+    }
+    /* Candidate c S in the Tria scratch (lower triangle, ld TC), committed when finite. */
+    cand = f->w.A;
+    for (i = 0u; i < f->n; ++i) {
+        for (j = 0u; j <= i; ++j) {
+            cand[(i * TC) + j] = c * f->S[(i * NM) + j];
+        }
+        if (!rfe_all_finite(&cand[i * TC], i + 1u)) {
+            return RFE_ERR_NONFINITE;
+        }
+    }
+    for (i = 0u; i < f->n; ++i) {
+        for (j = 0u; j <= i; ++j) {
+            f->S[(i * NM) + j] = cand[(i * TC) + j];
+        }
+    }
+    return RFE_OK;
+}
+
+rfe_status_t RFE_FN(rfe_sckf_get)(const rfe_sckf_t *f, rfe_real_t *x, rfe_real_t *sd)
+{
+    size_t i;
+    size_t j;
+    if (f == NULL) {
+        return RFE_ERR_NULL;
+    }
+    if (f->magic != RFE_MAGIC_SCKF) {
+        return RFE_ERR_NOT_INITIALISED;
+    }
+    for (i = 0u; i < f->n; ++i) {
+        if (x != NULL) {
+            x[i] = f->x[i];
+        }
+        if (sd != NULL) {
+            /* sd_i = sqrt((S S^T)_ii) = norm of row i of S. */
+            rfe_real_t ss = RFE_R(0.0);
+            for (j = 0u; j <= i; ++j) {
+                ss += f->S[(i * NM) + j] * f->S[(i * NM) + j];
+            }
+            sd[i] = RFE_SQRT(ss);
+        }
+    }
+    return RFE_OK;
+}
+
+rfe_status_t RFE_FN(rfe_sckf_clamp)(rfe_sckf_t *f, rfe_real_t lo, rfe_real_t hi, int *clamped)
+{
+    if ((f == NULL) || (clamped == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    if (f->magic != RFE_MAGIC_SCKF) {
+        return RFE_ERR_NOT_INITIALISED;
+    }
+    if (!rfe_is_finite(lo) || !rfe_is_finite(hi) || !(lo <= hi)) {
+        return RFE_ERR_RANGE;
+    }
+    *clamped = rfe_clamp_vec(f->x, f->n, lo, hi);
+    return RFE_OK;
+}

@@ -1,0 +1,543 @@
+/**
+ * @file sckf_q31.c
+ * @brief Square-root cubature Kalman filter on int32 Q values (the twin of sckf_flt.c,
+ *        MODEL.md §6, docs/ESTIMATOR.md steps 5-7).
+ *
+ * Every step computes into scratch and commits x, S and the saturation count only when
+ * everything succeeded, so an error leaves the filter exactly as it was.
+ *
+ * The measurement update is the float twin's algebra in whitened form, chosen because every
+ * intermediate then has a range known in advance (what a fixed-point format needs):
+ *  - W = S_zz \ [Zc, S_R] (m x (2n + m)): S_zz S_zz^T = Zc Zc^T + S_R S_R^T, so W W^T = I,
+ *    every |W_rj| <= 1 (Q30, format QW);
+ *  - G = [Xc 0] W^T = P_xz S_zz^-T = K S_zz (n x m): |G_ir| <= |row i of Xc| = sd_i (Q30);
+ *  - e = S_zz \ (y - z): the innovation in units of its own sd (Q24, format QE; an innovation
+ *    beyond 128 sd saturates, counted);
+ *  - x = x- + G e = x- + K (y - z);  S = Tria([Xc, 0] - G W) = Tria([Xc - K Zc, K S_R]).
+ * The information of update_ex (docs/ESTIMATOR.md step 5) is the float twin's sequence of
+ * solves with the first one moved onto Xc: S- \ P_xz = (S- \ Xc) Zc^T, U = S- \ Xc (Q30,
+ * ~ +-1/sqrt(2) e_k), then J^T = S-^T \ (U Zc^T) (Q20, format QJ), S_R \ J (Q16, format QV),
+ * I_k in Q10.
+ */
+#include "rfe/sckf_q31.h"
+
+#include "rfe/qr_q31.h"
+
+#include "filters/cubature_q31.h"
+
+#define NM ((size_t)RFE_N_MAX)
+#define MM ((size_t)RFE_M_MAX)
+#define TC RFE_Q31_TRIA_COLS
+
+/* Internal formats (fractional bits; docs/FIXED_POINT.md "Linear algebra and filters"). */
+#define QW 30u /* U = S- \ Xc, W = S_zz \ [Zc, S_R], G = [Xc 0] W^T: dimensionless / mu */
+#define QE 24u /* whitened innovation S_zz \ (y - z) [sd] */
+#define QJ 20u /* statistical linearisation J [m/s^2 per mu], +-2048 */
+#define QV 16u /* S_R \ J [1/mu], +-32768 */
+
+/* Copies the lower triangle of a k x k matrix (src stride lds) into dst (stride ldd),
+ * zeroing dst's upper triangle. */
+static void copy_lower_q31(const rfe_fix_t *src, size_t lds, size_t k, rfe_fix_t *dst, size_t ldd)
+{
+    size_t i;
+    size_t j;
+    for (i = 0u; i < k; ++i) {
+        for (j = 0u; j < k; ++j) {
+            dst[(i * ldd) + j] = (j <= i) ? src[(i * lds) + j] : 0;
+        }
+    }
+}
+
+/* Accepts a step: the candidate mean (w.xn) and factor (Tria output in M, ld TC) become the
+ * state, and the step's saturation events are added to the counter. */
+static void commit_q31(rfe_sckf_q31_t *f, const rfe_fix_t *M, uint32_t count)
+{
+    size_t i;
+    for (i = 0u; i < f->n; ++i) {
+        f->x[i] = f->w.xn[i];
+    }
+    copy_lower_q31(M, TC, f->n, f->S, NM);
+    rfe_q31_sat_add(&f->sat, count);
+}
+
+rfe_status_t rfe_sckf_init_q31(rfe_sckf_q31_t *f, size_t n, size_t m, const rfe_fix_t *x0,
+                               const rfe_fix_t *S0, const rfe_fix_t *SQ, const rfe_fix_t *SR)
+{
+    size_t i;
+    if ((f == NULL) || (x0 == NULL) || (S0 == NULL) || (SQ == NULL) || (SR == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    if (rfe_cub_dims_ok_q31(n, m) == 0) {
+        return RFE_ERR_SIZE;
+    }
+    f->n = n;
+    f->m = m;
+    for (i = 0u; i < n; ++i) {
+        f->x[i] = x0[i];
+    }
+    copy_lower_q31(S0, n, n, f->S, NM);
+    copy_lower_q31(SQ, n, n, f->SQ, NM);
+    copy_lower_q31(SR, m, m, f->SR, MM);
+    f->sat = 0u;
+    f->magic = RFE_MAGIC_SCKF_Q31;
+    return RFE_OK;
+}
+
+rfe_status_t rfe_sckf_predict_q31(rfe_sckf_q31_t *f, rfe_process_fn_q31_t process, void *ctx)
+{
+    rfe_cub_scratch_q31_t *w;
+    uint32_t count = 0u;
+    size_t n;
+    size_t i;
+    size_t j;
+    rfe_status_t st;
+
+    if (f == NULL) {
+        return RFE_ERR_NULL;
+    }
+    if (f->magic != RFE_MAGIC_SCKF_Q31) {
+        return RFE_ERR_NOT_INITIALISED;
+    }
+    w = &f->w;
+    n = f->n;
+    /* X_j = S xi_j + x;  X*_j = f(X_j);  x- = mean_j X*_j. */
+    rfe_cub_points_q31(f->x, f->S, n, w->pts, &count);
+    st = rfe_cub_propagate_q31(w->pts, n, process, ctx, w->xn);
+    if (st != RFE_OK) {
+        return st;
+    }
+    rfe_cub_mean_q31(w->pts, n, n, NM, w->xn);
+    rfe_cub_hold_random_walk_mean_q31(f->x, n, process, w->xn);
+    /* S- = Tria([(X*_1 - x-, ..., X*_2n - x-)/sqrt(2n), S_Q]): Q29 deviations -> Q30. */
+    for (i = 0u; i < n; ++i) {
+        for (j = 0u; j < (2u * n); ++j) {
+            w->A[(i * TC) + j] =
+                rfe_cub_centre_q31(w->pts[(j * NM) + i], w->xn[i], n, RFE_Q31_QX, RFE_Q31_QS,
+                                   &count);
+        }
+        for (j = 0u; j < n; ++j) {
+            w->A[(i * TC) + (2u * n) + j] = f->SQ[(i * NM) + j];
+        }
+    }
+    st = rfe_qr_tria_q31(w->A, n, 3u * n, TC, &count);
+    if (st != RFE_OK) {
+        return st;
+    }
+    commit_q31(f, w->A, count);
+    return RFE_OK;
+}
+
+/* Xc = (X_j - x-)/sqrt(2n) into B (n x 2n, Q30) and Zc = (Z_j - z)/sqrt(2n) in place in
+ * zpts (Q24). */
+static void centre_points_q31(rfe_sckf_q31_t *f, uint32_t *count)
+{
+    rfe_cub_scratch_q31_t *w = &f->w;
+    const size_t n = f->n;
+    const size_t m = f->m;
+    size_t i;
+    size_t j;
+    for (j = 0u; j < (2u * n); ++j) {
+        for (i = 0u; i < n; ++i) {
+            w->B[(i * TC) + j] = rfe_cub_centre_q31(w->pts[(j * NM) + i], f->x[i], n,
+                                                    RFE_Q31_QX, RFE_Q31_QS, count);
+        }
+        for (i = 0u; i < m; ++i) {
+            w->zpts[(j * MM) + i] = rfe_cub_centre_q31(w->zpts[(j * MM) + i], w->zhat[i], n,
+                                                       RFE_Q31_QZ, RFE_Q31_QZ, count);
+        }
+    }
+}
+
+/* [Zc, S_R] (m x (2n + m), Q24) into w->A. */
+static void innovation_array(rfe_sckf_q31_t *f, const rfe_fix_t *SR)
+{
+    rfe_cub_scratch_q31_t *w = &f->w;
+    const size_t n = f->n;
+    const size_t m = f->m;
+    size_t j;
+    size_t r;
+    for (r = 0u; r < m; ++r) {
+        for (j = 0u; j < (2u * n); ++j) {
+            w->A[(r * TC) + j] = w->zpts[(j * MM) + r];
+        }
+        for (j = 0u; j < m; ++j) {
+            w->A[(r * TC) + (2u * n) + j] = SR[(r * MM) + j];
+        }
+    }
+}
+
+/* S_zz = Tria([Zc, S_R]) into w->Szz (Q24); W = S_zz \ [Zc, S_R] into w->A (m rows, Q30);
+ * the whitened gain G = Xc Y^T (Y: the first 2n columns of W) transposed into w->Kt (m x n,
+ * Q30). SR: this step's lower-triangular S_R, ld RFE_M_MAX. */
+static rfe_status_t gain_q31(rfe_sckf_q31_t *f, const rfe_fix_t *SR, uint32_t *count)
+{
+    rfe_cub_scratch_q31_t *w = &f->w;
+    const size_t n = f->n;
+    const size_t m = f->m;
+    size_t i;
+    size_t j;
+    size_t r;
+    rfe_status_t st;
+
+    innovation_array(f, SR);
+    st = rfe_qr_tria_q31(w->A, m, (2u * n) + m, TC, count);
+    if (st != RFE_OK) {
+        return st;
+    }
+    copy_lower_q31(w->A, TC, m, w->Szz, MM);
+    /* W = S_zz \ [Zc, S_R]: Q24 by Q24 into Q30, shift = 30 - 24 + 24. */
+    innovation_array(f, SR);
+    st = rfe_qr_solve_lower_q31(w->Szz, m, MM, w->A, (2u * n) + m, TC,
+                                (int)QW - (int)RFE_Q31_QZ + (int)RFE_Q31_QZ, count);
+    if (st != RFE_OK) {
+        return st;
+    }
+    /* G^T[r][i] = sum_j W[r][j] Xc[i][j]: Q30 Q30 = Q60 -> Q30. */
+    for (r = 0u; r < m; ++r) {
+        for (i = 0u; i < n; ++i) {
+            int64_t acc = 0;
+            for (j = 0u; j < (2u * n); ++j) {
+                acc = rfe_fix_add64(acc, (int64_t)w->A[(r * TC) + j] * (int64_t)w->B[(i * TC) + j],
+                                    count);
+            }
+            w->Kt[(r * NM) + i] = rfe_fix_narrow(acc, RFE_Q31_QS, count); /* Q(QW + QS) -> QW */
+        }
+    }
+    return RFE_OK;
+}
+
+/* x = x- + G (S_zz \ (y - z)) into w->xn (needs w->Szz, w->Kt). */
+static rfe_status_t correct(rfe_sckf_q31_t *f, const rfe_fix_t *y, uint32_t *count)
+{
+    rfe_cub_scratch_q31_t *w = &f->w;
+    const size_t n = f->n;
+    const size_t m = f->m;
+    rfe_fix_t e[RFE_M_MAX];
+    size_t i;
+    size_t r;
+    rfe_status_t st;
+
+    for (r = 0u; r < m; ++r) {
+        e[r] = rfe_fix_sub(y[r], w->zhat[r], count);
+    }
+    /* e = S_zz \ (y - z): Q24 by Q24 into Q24. */
+    st = rfe_qr_solve_lower_q31(w->Szz, m, MM, e, 1u, 1u,
+                                (int)QE - (int)RFE_Q31_QZ + (int)RFE_Q31_QZ, count);
+    if (st != RFE_OK) {
+        return st;
+    }
+    /* x_i + sum_r G_ir e_r in Q(30 + 24) = Q54, rounded to Q29. */
+    for (i = 0u; i < n; ++i) {
+        int64_t acc = (int64_t)f->x[i] * rfe_q31_pow2((QW + QE) - RFE_Q31_QX);
+        for (r = 0u; r < m; ++r) {
+            acc = rfe_fix_add64(acc, (int64_t)w->Kt[(r * NM) + i] * (int64_t)e[r], count);
+        }
+        w->xn[i] = rfe_fix_narrow(acc, (QW + QE) - RFE_Q31_QX, count);
+    }
+    return RFE_OK;
+}
+
+/* [Xc, 0] - G W (n x (2n + m), Q30) in place of Xc in w->B: the Tria input of the posterior
+ * factor, [Xc - K Zc, K S_R]. Needs W (w->A) and G^T (w->Kt). */
+static void posterior_tria_input_q31(rfe_sckf_q31_t *f, uint32_t *count)
+{
+    rfe_cub_scratch_q31_t *w = &f->w;
+    const size_t n = f->n;
+    const size_t m = f->m;
+    size_t i;
+    size_t j;
+    size_t r;
+    for (i = 0u; i < n; ++i) {
+        for (j = 0u; j < ((2u * n) + m); ++j) {
+            int64_t acc = (j < (2u * n))
+                              ? ((int64_t)w->B[(i * TC) + j] * rfe_q31_pow2(QW))
+                              : 0;
+            for (r = 0u; r < m; ++r) {
+                const int64_t gw = (int64_t)w->Kt[(r * NM) + i] * (int64_t)w->A[(r * TC) + j];
+                acc = rfe_fix_add64(acc, -gw, count);
+            }
+            w->B[(i * TC) + j] = rfe_fix_narrow(acc, QW, count);
+        }
+    }
+}
+
+/* S- \ P_xz = U Zc^T (n x m) into columns 2n.. of w->A, U = S- \ Xc in its first 2n columns:
+ * Q30 Q24 = Q54 -> Q24. */
+static void project_innovations(rfe_sckf_q31_t *f, uint32_t *count)
+{
+    rfe_cub_scratch_q31_t *w = &f->w;
+    const size_t n = f->n;
+    size_t i;
+    size_t j;
+    size_t r;
+    for (i = 0u; i < n; ++i) {
+        const rfe_fix_t *u = &w->A[i * TC];
+        for (r = 0u; r < f->m; ++r) {
+            int64_t acc = 0;
+            for (j = 0u; j < (2u * n); ++j) {
+                acc = rfe_fix_add64(acc, (int64_t)u[j] * (int64_t)w->zpts[(j * MM) + r], count);
+            }
+            w->A[(i * TC) + (2u * n) + r] = rfe_fix_narrow(acc, QW, count);
+        }
+    }
+}
+
+/* I_k = sum_r V_rk^2 from V (m x n, Q16) in w->Kt: Q32 -> Q10, saturating (counted) above
+ * 2.1e6 1/mu^2. */
+static void sum_squares(const rfe_sckf_q31_t *f, rfe_fix_t *info, uint32_t *count)
+{
+    size_t i;
+    size_t r;
+    for (i = 0u; i < f->n; ++i) {
+        int64_t acc = 0;
+        for (r = 0u; r < f->m; ++r) {
+            const int64_t v = (int64_t)f->w.Kt[(r * NM) + i];
+            acc = rfe_fix_add64(acc, v * v, count);
+        }
+        info[i] = rfe_fix_narrow(acc, (2u * QV) - RFE_Q31_QI, count);
+    }
+}
+
+/* docs/ESTIMATOR.md step 5: I_k = sum_r V_rk^2, V = S_R \ J, J^T = S-^T \ (U Zc^T),
+ * U = S- \ Xc. Needs the centred points (w->B, w->zpts); uses w->A and w->Kt as scratch.
+ * info in Q10. */
+static rfe_status_t information_q31(rfe_sckf_q31_t *f, const rfe_fix_t *SR, rfe_fix_t *info,
+                                    uint32_t *count)
+{
+    rfe_cub_scratch_q31_t *w = &f->w;
+    const size_t n = f->n;
+    const size_t m = f->m;
+    size_t i;
+    size_t r;
+    rfe_status_t st;
+
+    /* U = S- \ Xc (n x 2n): Q30 by Q30 into Q30. */
+    for (i = 0u; i < (n * TC); ++i) {
+        w->A[i] = w->B[i];
+    }
+    st = rfe_qr_solve_lower_q31(f->S, n, NM, w->A, 2u * n, TC,
+                                (int)QW - (int)RFE_Q31_QS + (int)RFE_Q31_QS, count);
+    if (st != RFE_OK) {
+        return st;
+    }
+    project_innovations(f, count);
+    /* J^T = S-^T \ (S- \ P_xz): Q24 by Q30 into Q20 (cannot fail: diag(S-) > 0 was
+     * checked by the solve above). */
+    st = rfe_qr_solve_lower_t_q31(f->S, n, NM, &w->A[2u * n], m, TC,
+                                  (int)QJ - (int)RFE_Q31_QZ + (int)RFE_Q31_QS, count);
+    /* V (m x n) = S_R \ J, J transposed into w->Kt: Q20 by Q24 into Q16. */
+    for (r = 0u; r < m; ++r) {
+        for (i = 0u; i < n; ++i) {
+            w->Kt[(r * NM) + i] = w->A[(i * TC) + (2u * n) + r];
+        }
+    }
+    if (st == RFE_OK) {
+        st = rfe_qr_solve_lower_q31(SR, m, MM, w->Kt, n, NM, (int)QV - (int)QJ + (int)RFE_Q31_QZ,
+                                    count);
+    }
+    if (st == RFE_OK) {
+        sum_squares(f, info, count);
+    }
+    return st;
+}
+
+/* docs/ESTIMATOR.md steps 5-6: the step's information into info (n, Q10) and the gate:
+ * *held = 1 when info_min > 0 and no state reaches it. Needs the centred points. */
+static rfe_status_t gate_q31(rfe_sckf_q31_t *f, const rfe_fix_t *SR, rfe_fix_t info_min,
+                             rfe_fix_t *info, int *held, uint32_t *count)
+{
+    const rfe_status_t st = information_q31(f, SR, info, count);
+    *held = 0;
+    if (st == RFE_OK) {
+        rfe_fix_t most = 0;
+        size_t i;
+        for (i = 0u; i < f->n; ++i) {
+            most = rfe_fix_max(most, info[i]);
+        }
+        if ((info_min > 0) && (most < info_min)) {
+            *held = 1;
+        }
+    }
+    return st;
+}
+
+/* The measurement update of MODEL.md §6 with S_R = SR (ld RFE_M_MAX), gated on the
+ * information when info_min > 0 (docs/ESTIMATOR.md steps 5-6). Writes info (n) when
+ * want_info; *updated = 0 when held. Commits x, S and the count only when everything
+ * succeeded (a held step commits the count of the information alone). */
+static rfe_status_t update_core_q31(rfe_sckf_q31_t *f, rfe_measure_fn_q31_t measure, void *ctx,
+                                    const rfe_fix_t *y, const rfe_fix_t *SR, rfe_fix_t info_min,
+                                    int want_info, rfe_fix_t *info, int *updated)
+{
+    rfe_cub_scratch_q31_t *w = &f->w;
+    const size_t n = f->n;
+    const size_t m = f->m;
+    uint32_t count = 0u;
+    rfe_status_t st;
+
+    /* X_j = S- xi_j + x-;  Z_j = h(X_j, u);  z = mean_j Z_j. */
+    rfe_cub_points_q31(f->x, f->S, n, w->pts, &count);
+    st = rfe_cub_measure_q31(w->pts, n, m, measure, ctx, w->zpts);
+    if (st != RFE_OK) {
+        return st;
+    }
+    rfe_cub_mean_q31(w->zpts, n, m, MM, w->zhat);
+    centre_points_q31(f, &count);
+    if ((want_info != 0) || (info_min > 0)) {
+        int held = 0;
+        st = gate_q31(f, SR, info_min, info, &held, &count);
+        if (st != RFE_OK) {
+            return st;
+        }
+        if (held != 0) {
+            rfe_q31_sat_add(&f->sat, count);
+            *updated = 0; /* held: not observable; x-, S- stay */
+            return RFE_OK;
+        }
+    }
+    st = gain_q31(f, SR, &count);
+    if (st == RFE_OK) {
+        st = correct(f, y, &count);
+    }
+    if (st != RFE_OK) {
+        return st;
+    }
+    /* S = Tria([Xc - K Zc, K S_R]). */
+    posterior_tria_input_q31(f, &count);
+    st = rfe_qr_tria_q31(w->B, n, (2u * n) + m, TC, &count);
+    if (st != RFE_OK) {
+        return st;
+    }
+    commit_q31(f, w->B, count);
+    *updated = 1;
+    return RFE_OK;
+}
+
+/* Common argument checks of the measurement updates. */
+static rfe_status_t check_update_q31(const rfe_sckf_q31_t *f, rfe_measure_fn_q31_t measure,
+                                     const rfe_fix_t *y)
+{
+    if ((f == NULL) || (measure == NULL) || (y == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    return (f->magic != RFE_MAGIC_SCKF_Q31) ? RFE_ERR_NOT_INITIALISED : RFE_OK;
+}
+
+rfe_status_t rfe_sckf_update_q31(rfe_sckf_q31_t *f, rfe_measure_fn_q31_t measure, void *ctx,
+                                 const rfe_fix_t *y)
+{
+    rfe_fix_t info[RFE_N_MAX];
+    int updated = 0;
+    const rfe_status_t st = check_update_q31(f, measure, y);
+    if (st != RFE_OK) {
+        return st;
+    }
+    return update_core_q31(f, measure, ctx, y, f->SR, 0, 0, info, &updated);
+}
+
+rfe_status_t rfe_sckf_update_ex_q31(rfe_sckf_q31_t *f, rfe_measure_fn_q31_t measure, void *ctx,
+                                    const rfe_fix_t *y, const rfe_fix_t *SR, rfe_fix_t info_min,
+                                    rfe_fix_t *info_out, int *updated)
+{
+    rfe_fix_t SRl[RFE_M_MAX * RFE_M_MAX];
+    rfe_fix_t info[RFE_N_MAX];
+    const rfe_fix_t *sr;
+    int upd = 0;
+    rfe_status_t st = check_update_q31(f, measure, y);
+
+    if ((st == RFE_OK) && (updated == NULL)) {
+        st = RFE_ERR_NULL;
+    }
+    if (st != RFE_OK) {
+        return st;
+    }
+    sr = f->SR;
+    if (SR != NULL) {
+        copy_lower_q31(SR, f->m, f->m, SRl, MM);
+        sr = SRl;
+    }
+    st = update_core_q31(f, measure, ctx, y, sr, info_min, (info_out != NULL) ? 1 : 0, info, &upd);
+    if (st != RFE_OK) {
+        return st;
+    }
+    if (info_out != NULL) {
+        size_t i;
+        for (i = 0u; i < f->n; ++i) {
+            info_out[i] = info[i];
+        }
+    }
+    *updated = upd;
+    return RFE_OK;
+}
+
+rfe_status_t rfe_sckf_scale_q31(rfe_sckf_q31_t *f, rfe_fix_t c)
+{
+    uint32_t count = 0u;
+    size_t i;
+    size_t j;
+    if (f == NULL) {
+        return RFE_ERR_NULL;
+    }
+    if (f->magic != RFE_MAGIC_SCKF_Q31) {
+        return RFE_ERR_NOT_INITIALISED;
+    }
+    if (c <= 0) {
+        return RFE_ERR_RANGE;
+    }
+    /* c S: Q24 Q30 = Q54 -> Q30, each element rounded once, saturating (counted). */
+    for (i = 0u; i < f->n; ++i) {
+        for (j = 0u; j <= i; ++j) {
+            f->S[(i * NM) + j] = rfe_fix_mul(c, f->S[(i * NM) + j], RFE_Q31_QC, &count);
+        }
+    }
+    rfe_q31_sat_add(&f->sat, count);
+    return RFE_OK;
+}
+
+rfe_status_t rfe_sckf_get_q31(const rfe_sckf_q31_t *f, rfe_fix_t *x, rfe_fix_t *sd)
+{
+    uint32_t unreported = 0u; /* f is const: an sd >= 2 is reported as RFE_FIX_MAX only */
+    size_t i;
+    if (f == NULL) {
+        return RFE_ERR_NULL;
+    }
+    if (f->magic != RFE_MAGIC_SCKF_Q31) {
+        return RFE_ERR_NOT_INITIALISED;
+    }
+    for (i = 0u; i < f->n; ++i) {
+        if (x != NULL) {
+            x[i] = f->x[i];
+        }
+        if (sd != NULL) {
+            /* sd_i = sqrt((S S^T)_ii) = norm of row i of S (exactly rounded, Q30). */
+            rfe_fix_t v = 0;
+            const rfe_status_t st = rfe_fix_norm(&f->S[i * NM], i + 1u, &v, &unreported);
+            (void)st; /* fails only for NULL arguments, which these are not */
+            sd[i] = v;
+        }
+    }
+    return RFE_OK;
+}
+
+rfe_status_t rfe_sckf_clamp_q31(rfe_sckf_q31_t *f, rfe_fix_t lo, rfe_fix_t hi, int *clamped)
+{
+    int moved = 0;
+    size_t i;
+    if ((f == NULL) || (clamped == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    if (f->magic != RFE_MAGIC_SCKF_Q31) {
+        return RFE_ERR_NOT_INITIALISED;
+    }
+    if (lo > hi) {
+        return RFE_ERR_RANGE;
+    }
+    for (i = 0u; i < f->n; ++i) {
+        if ((f->x[i] < lo) || (f->x[i] > hi)) {
+            f->x[i] = rfe_fix_clamp(f->x[i], lo, hi);
+            moved = 1;
+        }
+    }
+    *clamped = moved;
+    return RFE_OK;
+}

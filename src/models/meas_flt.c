@@ -1,0 +1,228 @@
+/**
+ * @file meas_flt.c
+ * @brief Measurement model h(mu, u) of one sample: paper (H(u) mu) or a load-scaled tyre
+ *        (absolute Dugoff or Magic Formula).
+ */
+#include "rfe/meas.h"
+
+#include "rfe/obsmat.h"
+
+#include "numerics/internal.h"
+#include "models/vehicle.h"
+#include "models/meas_internal.h"
+#include "models/tyre_internal.h"
+
+/* Load-scaled modes (absolute, magic): cos, sin of delta and each wheel's friction-independent
+ * tyre terms (paper mode, which uses neither: zeros), and the tyre parameters they belong to. */
+static void setup_pre(rfe_meas_t *h, const rfe_tyre_params_t *tp)
+{
+    size_t i;
+    h->cos_delta = RFE_R(0.0);
+    h->sin_delta = RFE_R(0.0);
+    if (tp->mode != RFE_TYRE_PAPER) {
+        h->cos_delta = RFE_COS(h->delta);
+        h->sin_delta = RFE_SIN(h->delta);
+    }
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        const rfe_dugoff_pre_t zero = {RFE_R(0.0), RFE_R(0.0), RFE_R(0.0), RFE_R(0.0),
+                                       RFE_R(0.0), RFE_R(0.0), RFE_R(0.0)};
+        h->pre[i] = zero;
+        if (tp->mode != RFE_TYRE_PAPER) {
+            RFE_FN(rfe_tyre_dugoff_pre)(tp, h->kin.kappa[i], h->kin.alpha[i], h->kin.vwx[i],
+                                        &h->pre[i]);
+        }
+    }
+    h->pre_cx = tp->cx;
+    h->pre_cy = tp->cy;
+    h->pre_eps = tp->eps;
+    h->pre_alpha_max = tp->alpha_max;
+}
+
+rfe_status_t RFE_FN(rfe_meas_setup)(rfe_meas_t *h, const rfe_vehicle_t *veh,
+                                    const rfe_tyre_params_t *tp, const rfe_sample_t *u)
+{
+    rfe_wheel_kin_t kin;
+    rfe_real_t H[RFE_H_SIZE] = {0};
+    rfe_status_t st;
+    size_t i;
+
+    if ((h == NULL) || (veh == NULL) || (tp == NULL) || (u == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    st = RFE_FN(rfe_tyre_kinematics)(veh, tp, u, &kin);
+    if ((st == RFE_OK) && (tp->mode == RFE_TYRE_PAPER)) {
+        rfe_real_t f0x[RFE_WHEELS];
+        rfe_real_t f0y[RFE_WHEELS];
+        st = RFE_FN(rfe_tyre_forces_norm)(tp, &kin, f0x, f0y);
+        if (st == RFE_OK) {
+            st = RFE_FN(rfe_obsmat_build)(veh, u->delta, f0x, f0y, H);
+        }
+    }
+    if (st != RFE_OK) {
+        return st;
+    }
+    h->mode = tp->mode;
+    h->delta = u->delta;
+    h->kin = kin;
+    for (i = 0u; i < RFE_H_SIZE; ++i) {
+        h->H[i] = H[i];
+    }
+    setup_pre(h, tp);
+    return RFE_OK;
+}
+
+/* z = H(u) mu with the H of rfe_meas_setup, the sums of rfe_obsmat_apply in the same order
+ * (the same result, bit for bit), without re-checking H at every cubature point: setup built
+ * it from finite forces. A non-finite mu is rejected as rfe_obsmat_apply rejects it. */
+static rfe_status_t apply_paper(const rfe_real_t H[RFE_H_SIZE], const rfe_real_t mu[RFE_WHEELS],
+                                rfe_real_t z[RFE_MEAS])
+{
+    size_t r;
+    size_t i;
+    if (!rfe_all_finite(mu, RFE_WHEELS)) {
+        return RFE_ERR_NONFINITE;
+    }
+    for (r = 0u; r < (size_t)RFE_MEAS; ++r) {
+        rfe_real_t acc = RFE_R(0.0);
+        for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+            acc += H[RFE_H_AT(r, i)] * mu[i];
+        }
+        z[r] = acc;
+    }
+    return RFE_OK;
+}
+
+/* Wheel i's terms of z (the entries rfe_obsmat_build would put in its column): body-axis
+ * force over m and yaw moment over J, (px, py) its position. */
+static void wheel_terms(const rfe_vehicle_t *veh, rfe_real_t c, rfe_real_t s, size_t i,
+                        rfe_real_t px, rfe_real_t py, rfe_real_t fx, rfe_real_t fy,
+                        rfe_real_t t[RFE_MEAS])
+{
+    /* Front wheels are rotated by delta into body axes, rear wheels are not. */
+    const rfe_real_t ci = (i < (size_t)RFE_RL) ? c : RFE_R(1.0);
+    const rfe_real_t si = (i < (size_t)RFE_RL) ? s : RFE_R(0.0);
+    const rfe_real_t fbx = (fx * ci) - (fy * si);
+    const rfe_real_t fby = (fx * si) + (fy * ci);
+    t[0] = fbx / veh->m;
+    t[1] = fby / veh->m;
+    t[2] = ((px * fby) - (py * fbx)) / veh->J;
+}
+
+void RFE_FN(rfe_meas_wheel_terms)(const rfe_vehicle_t *veh, rfe_real_t c, rfe_real_t s, size_t i,
+                                  rfe_real_t fx, rfe_real_t fy, rfe_real_t t[RFE_MEAS])
+{
+    rfe_real_t px[RFE_WHEELS];
+    rfe_real_t py[RFE_WHEELS];
+    rfe_wheel_positions(veh, px, py);
+    wheel_terms(veh, c, s, i, px[i], py[i], fx, fy, t);
+}
+
+rfe_status_t RFE_FN(rfe_meas_sum_terms)(const rfe_real_t t[RFE_MEAS_COLS],
+                                        rfe_real_t z[RFE_MEAS])
+{
+    rfe_real_t zt[RFE_MEAS] = {RFE_R(0.0), RFE_R(0.0), RFE_R(0.0)};
+    size_t i;
+    size_t r;
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        for (r = 0u; r < (size_t)RFE_MEAS; ++r) {
+            zt[r] += t[(i * (size_t)RFE_MEAS) + r];
+        }
+    }
+    if (!rfe_all_finite(zt, RFE_MEAS)) {
+        return RFE_ERR_NONFINITE;
+    }
+    for (r = 0u; r < (size_t)RFE_MEAS; ++r) {
+        z[r] = zt[r];
+    }
+    return RFE_OK;
+}
+
+/* Absolute mode: z_r = sum_i H_r,i(F(mu_i)), the entries rfe_obsmat_build would put in
+ * column i (body-axis force over m, yaw moment over J) summed in wheel order, which is
+ * rfe_obsmat_apply(H, ones) bit for bit, without building and re-checking a matrix at every
+ * cubature point. z is written only when finite. */
+static rfe_status_t body_sums(const rfe_vehicle_t *veh, const rfe_meas_t *h,
+                              const rfe_real_t fx[RFE_WHEELS], const rfe_real_t fy[RFE_WHEELS],
+                              rfe_real_t z[RFE_MEAS])
+{
+    rfe_real_t px[RFE_WHEELS];
+    rfe_real_t py[RFE_WHEELS];
+    rfe_real_t t[RFE_MEAS_COLS];
+    size_t i;
+
+    rfe_wheel_positions(veh, px, py);
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        /* cos, sin of h->delta, from the set-up */
+        wheel_terms(veh, h->cos_delta, h->sin_delta, i, px[i], py[i], fx[i], fy[i],
+                    &t[i * (size_t)RFE_MEAS]);
+    }
+    return RFE_FN(rfe_meas_sum_terms)(t, z);
+}
+
+/* 1 when pre was computed with these tyre parameters (a NaN parameter never matches); the
+ * mode too, since only magic mode fills the direction cosines. */
+static int pre_matches(const rfe_meas_t *h, const rfe_tyre_params_t *tp)
+{
+    return ((h->mode == tp->mode) && (h->pre_cx == tp->cx) && (h->pre_cy == tp->cy) && (h->pre_eps == tp->eps) &&
+            (h->pre_alpha_max == tp->alpha_max))
+               ? 1
+               : 0;
+}
+
+/* rfe_tyre_forces_abs(tp, &h->kin, mu, fx, fy) with the set-up's friction-independent
+ * terms (recomputed when tp is not the set-up's tyre): the same checks in the same order,
+ * the same forces. */
+static rfe_status_t forces_abs(const rfe_meas_t *h, const rfe_tyre_params_t *tp,
+                               const rfe_real_t mu[RFE_WHEELS], rfe_real_t fx[RFE_WHEELS],
+                               rfe_real_t fy[RFE_WHEELS])
+{
+    const int cached = pre_matches(h, tp);
+    rfe_real_t tx[RFE_WHEELS];
+    rfe_real_t ty[RFE_WHEELS];
+    size_t i;
+
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        rfe_dugoff_pre_t fresh;
+        const rfe_dugoff_pre_t *pre = &h->pre[i];
+        rfe_status_t st;
+        if (cached == 0) {
+            RFE_FN(rfe_tyre_dugoff_pre)(tp, h->kin.kappa[i], h->kin.alpha[i], h->kin.vwx[i],
+                                        &fresh);
+            pre = &fresh;
+        }
+        st = RFE_FN(rfe_tyre_dugoff_abs_pre)(tp, pre, h->kin.kappa[i], h->kin.alpha[i],
+                                             h->kin.fz[i], h->kin.vwx[i], mu[i], &tx[i],
+                                             &ty[i]);
+        if (st != RFE_OK) {
+            return st;
+        }
+    }
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        fx[i] = tx[i];
+        fy[i] = ty[i];
+    }
+    return RFE_OK;
+}
+
+rfe_status_t RFE_FN(rfe_meas_eval)(const rfe_meas_t *h, const rfe_vehicle_t *veh,
+                                   const rfe_tyre_params_t *tp, const rfe_real_t mu[RFE_WHEELS],
+                                   rfe_real_t z[RFE_MEAS])
+{
+    rfe_real_t fx[RFE_WHEELS];
+    rfe_real_t fy[RFE_WHEELS];
+    rfe_status_t st;
+
+    if ((h == NULL) || (veh == NULL) || (tp == NULL) || (mu == NULL) || (z == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    if (h->mode == RFE_TYRE_PAPER) {
+        return apply_paper(h->H, mu, z); /* h = H(u) mu */
+    }
+    /* Load-scaled modes: forces at this mu (nonlinear in mu), then the same geometry as H's
+     * columns: z_r = sum_i H_r,i(F(mu_i)) (MODEL.md §4-5). */
+    st = forces_abs(h, tp, mu, fx, fy);
+    if (st == RFE_OK) {
+        st = body_sums(veh, h, fx, fy, z);
+    }
+    return st;
+}

@@ -1,0 +1,710 @@
+/**
+ * @file tyre_q31.c
+ * @brief Fixed-point twin of tyre_flt.c: wheel kinematics, loads, slips (MODEL.md §3) and the
+ *        Dugoff tyre (§4). Integer operations only (rfe/tyre_q31.h).
+ *
+ * Internal formats (docs/FIXED_POINT.md, "Tyre, kinematics and observation matrix"):
+ *  - body and wheel-centre velocities: int64 Q51 (range 2^12 m/s). vx 2^28 is exact,
+ *    r y_i (Q27 x Q29 = Q56) is rounded once to Q51 (2^-52 m/s), omega R (Q22 x Q29) is exactly
+ *    Q51, and the rotation by delta rounds each product once (rfe_q31_mul64x32);
+ *  - loads: int64 Q43 sums of the static load (Q15 2^28) and k a (Q20 x Q24 = Q44, one
+ *    rounding), so one rounding to Q15 at the end;
+ *  - Dugoff: mantissa/exponent pairs with 30 significant bits (block floating point in
+ *    integers) for S, sqrt(k^2 + tan^2 a), eps |vwx| and mu (1 - |k|) E, because their ranges
+ *    span many decades (S from 0 to 1800); E, L and the direction cosines C k / S, C tan a / S
+ *    in Q30; the force magnitude w in Q29; the forces Fz w u rounded once to Q15;
+ *  - Magic Formula (docs/ESTIMATOR.md "The Magic Formula tyre"): the Dugoff set-up's S and
+ *    direction cosines, then per direction the pair (S, m C) in one common format with 30
+ *    significant bits (only their ratio matters), the two atan2 (Q31, the short 32-bit
+ *    CORDIC of fxmath_internal_q31.h), phi = C b (Q55, exact), G = sin phi (Q30, table and
+ *    polynomial, fxmath_internal_q31.h), the magnitude w = m G (Q29) and the forces Fz w u
+ *    rounded once to Q15.
+ */
+#include "rfe/tyre_q31.h"
+
+#include "rfe/fxmath.h"
+
+#include "numerics/fxmath_internal_q31.h"
+#include "numerics/internal_q31.h"
+#include "models/tyre_internal_q31.h"
+
+/* Internal velocity format: Q51, and the shift from the sample's speed format to it. */
+#define QV 51u
+#define QV_SPEED (QV - (unsigned int)RFE_FIX_Q_SPEED)
+/* 1/2 in Q30 as uint64: the rounding bit of a shift by 30. */
+#define HALF_Q30 ((uint64_t)1 << 29)
+/* 1.0 in Q30, 2^30 (kappa, E, L, direction cosines). */
+#define ONE_Q30 ((int32_t)0x40000000)
+/* The slip arithmetic below holds kappa in Q30 (ONE_Q30, the Q59 = Q29 x Q30 of mu (1 - |k|)). */
+#if RFE_FIX_Q_KAPPA != 30
+#error "tyre_q31.c computes kappa in Q30: keep RFE_FIX_Q_KAPPA (params_q31.h) at 30"
+#endif
+
+/* ---- fxmath calls whose arguments are valid by construction -------------------------------
+ * Each fxmath function fails only for a NULL pointer or an argument outside its domain; the
+ * wrappers below are called with local outputs and with arguments proven inside the domain at
+ * each call site, so the status is always RFE_OK and is not propagated. */
+
+/* round(a 2^shift / b): b != 0 and shift in [-62, 62] at every call. */
+static int32_t div_q(int32_t a, int32_t b, int shift, uint32_t *sat)
+{
+    int32_t q = 0;
+    const rfe_status_t st = rfe_fix_div(a, b, shift, &q, sat);
+    (void)st;
+    return q;
+}
+
+/* |(x, y)|, exactly rounded. */
+static int32_t norm2(int32_t x, int32_t y, uint32_t *sat)
+{
+    int32_t v[2];
+    int32_t r = 0;
+    rfe_status_t st;
+    v[0] = x;
+    v[1] = y;
+    st = rfe_fix_norm(v, 2u, &r, sat);
+    (void)st;
+    return r;
+}
+
+/* atan2(y, x), Q29: every pair is in the domain. */
+static int32_t atan2_q(int32_t y, int32_t x)
+{
+    int32_t a = 0;
+    const rfe_status_t st = rfe_fix_atan2(y, x, &a);
+    (void)st;
+    return a;
+}
+
+/* tan(angle), Q26: |angle| <= alpha_max < 1.5 rad at the only call. */
+static int32_t tan_q(int32_t angle)
+{
+    int32_t t = 0;
+    const rfe_status_t st = rfe_fix_tan(angle, &t);
+    (void)st;
+    return t;
+}
+
+/* ---- parameter checks ------------------------------------------------------------------- */
+
+static int alpha_max_ok(const rfe_tyre_params_q31_t *tp)
+{
+    return (tp->alpha_max > 0) && (tp->alpha_max < RFE_FIX_TAN_LIMIT_Q29);
+}
+
+/* ---- kinematics (MODEL.md §3) ----------------------------------------------------------- */
+
+/* alpha = -atan2(v_wy, |v_wx|) of the Q51 wheel-centre velocity, clamped to +-alpha_max.
+ * Both components are scaled by one common power of two to <= 2^30 (rounding: relative error
+ * <= 2^-31 on the larger one), so the angle keeps its accuracy at any speed. */
+static int32_t slip_angle(int64_t vwx, int64_t vwy, int32_t alpha_max)
+{
+    const uint64_t mx = rfe_q31_mag64(vwx);
+    const uint64_t my = rfe_q31_mag64(vwy);
+    const unsigned int sh = rfe_q31_norm_shift((mx > my) ? mx : my, 30u);
+    const int32_t xm = rfe_q31_shr_to32((int64_t)mx, sh);
+    const int32_t ym = rfe_q31_shr_to32(vwy, sh);
+    const int32_t a = atan2_q(ym, xm);
+
+    /* |a| <= pi/2 in Q29 (x >= 0), so the negation cannot overflow. */
+    return rfe_fix_clamp(-a, -alpha_max, alpha_max);
+}
+
+/* kappa = (omega R - v_wx) / max(|omega R|, |v_wx|, v_min), clipped to [-1, 1], Q30.
+ * Q51 operands: |omega R| <= 2^62 (Q22 x Q29), |v_wx| < 2^61, so num fits int64; den >= v_min
+ * > 0. Inside the clip |num| < den: both are scaled by one shift to den <= 2^30, and the
+ * exactly rounded quotient is <= 2^30 (no saturation). */
+static int32_t long_slip(int32_t omega, int32_t R, int64_t vwx, int32_t v_min)
+{
+    const int64_t vr = (int64_t)omega * (int64_t)R;
+    const int64_t num = vr - vwx;
+    const uint64_t mvr = rfe_q31_mag64(vr);
+    const uint64_t mvx = rfe_q31_mag64(vwx);
+    const uint64_t mv = (uint64_t)v_min << QV_SPEED;
+    uint64_t den = (mvr > mvx) ? mvr : mvx;
+    int32_t k;
+
+    den = (den > mv) ? den : mv;
+    if (num >= (int64_t)den) {
+        k = ONE_Q30;
+    } else if (num <= -(int64_t)den) {
+        k = -ONE_Q30;
+    } else {
+        const unsigned int sh = rfe_q31_norm_shift(den, 30u);
+        const int32_t nm = rfe_q31_shr_to32(num, sh);
+        const int32_t dm = rfe_q31_shr_to32((int64_t)den, sh);
+        uint32_t scratch = 0u;
+        k = div_q(nm, dm, 30, &scratch); /* dm >= 2^27 > 0; |nm| <= dm: no saturation */
+    }
+    return k;
+}
+
+/* Quasi-static loads (MODEL.md §3), clamped at >= 0, in int64 Q43:
+ *   static: fz_static (Q15) 2^28, |.| < 2^59;
+ *   pitch = k_pitch ax, roll = k_roll ay: Q20 x Q24 = Q44 (< 2^62), rounded to Q43 (< 2^61);
+ * so every sum is below 2^59 + 2^62 < 2^63. One rounding to Q15, saturating (counted per
+ * wheel in cnt[i]). */
+static void vertical_loads_q31(const rfe_vehicle_q31_t *veh, int32_t ax, int32_t ay,
+                               int32_t fz[RFE_WHEELS], uint32_t cnt[RFE_WHEELS])
+{
+    const int64_t fs_f = (int64_t)veh->fz_static_f * rfe_q31_pow2(28u);
+    const int64_t fs_r = (int64_t)veh->fz_static_r * rfe_q31_pow2(28u);
+    const int64_t pitch = rfe_fix_shr64_round((int64_t)veh->k_pitch * (int64_t)ax, 1u);
+    const int64_t roll_f = rfe_fix_shr64_round((int64_t)veh->k_roll_f * (int64_t)ay, 1u);
+    const int64_t roll_r = rfe_fix_shr64_round((int64_t)veh->k_roll_r * (int64_t)ay, 1u);
+    int64_t v[RFE_WHEELS];
+    size_t i;
+
+    /* ay > 0 unloads the left wheels; ax > 0 loads the rear. */
+    v[RFE_FL] = fs_f - pitch - roll_f;
+    v[RFE_FR] = fs_f - pitch + roll_f;
+    v[RFE_RL] = fs_r + pitch - roll_r;
+    v[RFE_RR] = fs_r + pitch + roll_r;
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        cnt[i] = 0u;
+        fz[i] = rfe_fix_narrow((v[i] > 0) ? v[i] : 0, 28u, &cnt[i]);
+    }
+}
+
+/* Wheel i's centre velocity in wheel axes, int64 Q51 (c, s: cos and sin of delta, Q30; only
+ * the front wheels steer). Wheel positions (MODEL.md §1), Q29: front x = Lf, rear x = -Lr,
+ * left y = +B/2. */
+static void wheel_velocity(const rfe_vehicle_q31_t *veh, const rfe_sample_q31_t *u, int32_t c,
+                           int32_t s, size_t i, int64_t *vwx_out, int64_t *vwy_out)
+{
+    const int64_t px = (i < (size_t)RFE_RL) ? (int64_t)veh->Lf : -(int64_t)veh->Lr;
+    const int64_t y = (i < (size_t)RFE_RL) ? (int64_t)veh->yf : (int64_t)veh->yr;
+    const int64_t py = ((i == (size_t)RFE_FL) || (i == (size_t)RFE_RL)) ? y : -y;
+    const int32_t ci = (i < (size_t)RFE_RL) ? c : ONE_Q30;
+    const int32_t si = (i < (size_t)RFE_RL) ? s : 0;
+    /* v_i = (vx - r y_i, vy + r x_i) in Q51: |vx 2^28| <= 2^59, |r y| (Q56) <= 2^62
+     * becomes <= 2^57 in Q51, so |vb| < 2^59.4. */
+    const int64_t vbx = ((int64_t)u->vx * rfe_q31_pow2(QV_SPEED)) -
+                        rfe_fix_shr64_round((int64_t)u->yaw_rate * py, 5u);
+    const int64_t vby = ((int64_t)u->vy * rfe_q31_pow2(QV_SPEED)) +
+                        rfe_fix_shr64_round((int64_t)u->yaw_rate * px, 5u);
+    /* Rotated into wheel axes: |vb c|, |vb s| < 2^59.4 each (|c|, |s| <= 1), sums < 2^60.4. */
+    *vwx_out = rfe_q31_mul64x32(vbx, ci, 30u) + rfe_q31_mul64x32(vby, si, 30u);
+    *vwy_out = rfe_q31_mul64x32(vby, ci, 30u) - rfe_q31_mul64x32(vbx, si, 30u);
+}
+
+void rfe_tyre_wheel_kin_q31(const rfe_vehicle_q31_t *veh, const rfe_tyre_params_q31_t *tp,
+                            const rfe_sample_q31_t *u, int32_t c, int32_t s, size_t i,
+                            rfe_fix_t *vwx, rfe_fix_t *alpha, rfe_fix_t *kappa, uint32_t *sat)
+{
+    int64_t vx51 = 0;
+    int64_t vy51 = 0;
+    wheel_velocity(veh, u, c, s, i, &vx51, &vy51);
+    *vwx = rfe_fix_narrow(vx51, QV_SPEED, sat);
+    *alpha = slip_angle(vx51, vy51, tp->alpha_max);
+    *kappa = long_slip(u->omega[i], veh->R, vx51, tp->v_min);
+}
+
+rfe_fix_t rfe_tyre_wheel_kappa_q31(const rfe_vehicle_q31_t *veh, const rfe_tyre_params_q31_t *tp,
+                                   const rfe_sample_q31_t *u, int32_t c, int32_t s, size_t i)
+{
+    int64_t vx51 = 0;
+    int64_t vy51 = 0;
+    wheel_velocity(veh, u, c, s, i, &vx51, &vy51);
+    return long_slip(u->omega[i], veh->R, vx51, tp->v_min);
+}
+
+rfe_status_t rfe_tyre_kinematics_ex_q31(const rfe_vehicle_q31_t *veh,
+                                        const rfe_tyre_params_q31_t *tp,
+                                        const rfe_sample_q31_t *u, rfe_wheel_kin_q31_t *kin,
+                                        rfe_tyre_kin_extra_q31_t *extra)
+{
+    rfe_wheel_kin_q31_t out;
+    int32_t c = 0;
+    int32_t s = 0;
+    size_t i;
+
+    if ((tp->v_min <= 0) || !alpha_max_ok(tp)) {
+        return RFE_ERR_PARAM;
+    }
+    {
+        const rfe_status_t st = rfe_fix_sincos(u->delta, &s, &c); /* every angle: no error */
+        (void)st;
+    }
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        extra->sat_vwx[i] = 0u;
+        rfe_tyre_wheel_kin_q31(veh, tp, u, c, s, i, &out.vwx[i], &out.alpha[i], &out.kappa[i],
+                               &extra->sat_vwx[i]);
+    }
+    vertical_loads_q31(veh, u->ax, u->ay, out.fz, extra->sat_fz);
+    extra->cos_delta = c;
+    extra->sin_delta = s;
+    *kin = out;
+    return RFE_OK;
+}
+
+rfe_status_t rfe_tyre_kinematics_q31(const rfe_vehicle_q31_t *veh, const rfe_tyre_params_q31_t *tp,
+                                     const rfe_sample_q31_t *u, rfe_wheel_kin_q31_t *kin,
+                                     uint32_t *sat)
+{
+    rfe_tyre_kin_extra_q31_t extra;
+    uint32_t count = 0u;
+    rfe_status_t st;
+    size_t i;
+
+    if ((veh == NULL) || (tp == NULL) || (u == NULL) || (kin == NULL) || (sat == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    st = rfe_tyre_kinematics_ex_q31(veh, tp, u, kin, &extra);
+    if (st != RFE_OK) {
+        return st;
+    }
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        count += extra.sat_vwx[i] + extra.sat_fz[i]; /* at most 2 each */
+    }
+    rfe_q31_sat_add(sat, count);
+    return RFE_OK;
+}
+
+/* ---- Dugoff tyre (MODEL.md §4) ---------------------------------------------------------- */
+
+/* A positive quantity as mant 2^-q with |mant| <= 2^30 (block floating point). */
+typedef struct {
+    int32_t mant;
+    unsigned int q;
+} bfp_t;
+
+/* v (0 <= v < 2^63) in Q(q) to 30 bits: relative rounding error <= 2^-30. The callers keep
+ * q - shift >= 0 (commented at each call). */
+static bfp_t bfp_make(int64_t v, unsigned int q)
+{
+    const unsigned int sh = rfe_q31_norm_shift((uint64_t)v, 30u);
+    bfp_t r;
+    r.mant = rfe_q31_shr_to32(v, sh);
+    r.q = q - sh;
+    return r;
+}
+
+/* E = max(0, 1 - eps |vwx| sqrt(k^2 + tan^2 a)) in Q30 (eps >= 0, so E <= 1).
+ * slip = |(k, tan a)|: k Q30 and tan a Q26 brought to Q30 (|.| < 2^34) are scaled by one
+ * shift (<= 4) to <= 2^30 and normed exactly: slip in Q(30 - sh) >= Q26, <= 2^30.5.
+ * ev = eps |vwx|: Q32 x Q23 = Q55, < 2^62, to 30 bits: Q(55 - sh) >= Q23.
+ * P = ev slip < 2^61 in Q(q_ev + q_slip) >= Q49; rounded to Q30 (shift in [19, 55]). */
+static int32_t dugoff_e(int32_t k, int32_t t, int32_t eps, int32_t vwx)
+{
+    const int64_t t30 = (int64_t)t * 16;
+    const uint64_t mk = rfe_q31_mag64(k);
+    const uint64_t mt = rfe_q31_mag64(t30);
+    const unsigned int sh = rfe_q31_norm_shift((mk > mt) ? mk : mt, 30u);
+    uint32_t scratch = 0u;
+    /* both <= 2^30, so the norm <= 2^30.5 never saturates */
+    const int32_t slip =
+        norm2(rfe_q31_shr_to32(k, sh), rfe_q31_shr_to32(t30, sh), &scratch);
+    bfp_t ev;
+    int64_t p30;
+
+    ev = bfp_make((int64_t)eps * (int64_t)rfe_q31_mag64(vwx), 55u);
+    p30 = rfe_fix_shr64_round((int64_t)ev.mant * (int64_t)slip, (ev.q + (30u - sh)) - 30u);
+    return (p30 >= (int64_t)ONE_Q30) ? 0 : (ONE_Q30 - (int32_t)p30);
+}
+
+/*
+ * Dugoff forces of one wheel, without a singularity (MODEL.md §4; the float code's g = f(L)/(1-|k|)):
+ * with S = |(C1 k, C2 tan a)|, the direction cosines ux = C1 k / S, uy = C2 tan a / S and
+ *   L < 1:  F = Fz u mu E (1 - L/2)        (= Fz C k g with g = mu E (2 - L) / (2 S))
+ *   L >= 1: F = Fz u S / (1 - |k|)         (= Fz C k g with g = 1 / (1 - |k|))
+ *   S = 0:  F = 0                          (the float code's g = 1 with C k = C tan a = 0)
+ * where L = mu (1 - |k|) E / (2 S), mu = 1 in paper mode. The magnitude w (the brackets) is
+ * <= mu < 4 (L < 1) or <= mu E / 2 (L >= 1, since then S <= mu (1 - |k|) E / 2): Q29. The
+ * forces are the only values that can exceed their range (counted in *sat).
+ * Inputs: k Q30 in [-1, 1], t = tan a Q26, C1, C2 Q24, eps Q32 >= 0, vwx Q23, mu Q29 >= 0,
+ * fz Q15 >= 0.
+ *
+ * Split in two: dugoff_pre computes everything that does not depend on mu and fz (S, the
+ * direction cosines, E, 1 - |k|), dugoff_at_mu the rest, so that a caller evaluating one
+ * wheel at several mu (the cubature points) computes the first part once. Together they are
+ * the same operations in the same order as one evaluation.
+ */
+static void dugoff_pre(int32_t k, int32_t t, int32_t c1, int32_t c2, int32_t eps, int32_t vwx,
+                       rfe_dugoff_pre_q31_t *pre)
+{
+    /* S: C1 k is Q54 (|.| <= 2^61), rounded to Q50; C2 tan a is Q50 (< 2^61). One common
+     * shift brings both to <= 2^30 (S in Q(50 - sh), sh <= 31); the norm is exact. */
+    const int64_t a50 = rfe_fix_shr64_round((int64_t)c1 * (int64_t)k, 4u);
+    const int64_t b50 = (int64_t)c2 * (int64_t)t;
+    const uint64_t ma = rfe_q31_mag64(a50);
+    const uint64_t mb = rfe_q31_mag64(b50);
+    const unsigned int sh = rfe_q31_norm_shift((ma > mb) ? ma : mb, 30u);
+    const int32_t ca = rfe_q31_shr_to32(a50, sh);
+    const int32_t cb = rfe_q31_shr_to32(b50, sh);
+    uint32_t scratch = 0u;
+    const int32_t S = norm2(ca, cb, &scratch); /* <= 2^30.5: never saturates */
+
+    pre->tan_a = t;
+    pre->s = S;
+    pre->qs = 50u - sh;
+    pre->ux = 0;
+    pre->uy = 0;
+    pre->e = 0;
+    pre->omk = 0;
+    if (S != 0) {
+        /* |comp| <= S: the quotients are <= 2^30 in Q30 (no saturation). */
+        pre->ux = div_q(ca, S, 30, &scratch);
+        pre->uy = div_q(cb, S, 30, &scratch);
+        pre->e = dugoff_e(k, t, eps, vwx);
+        pre->omk = ONE_Q30 - ((k < 0) ? -k : k); /* 1 - |k| in [0, 1], Q30 */
+    }
+}
+
+static void dugoff_at_mu(const rfe_dugoff_pre_q31_t *pre, int32_t mu, int32_t fz, int32_t *fx,
+                         int32_t *fy, uint32_t *sat)
+{
+    const int32_t S = pre->s;
+    const unsigned int qs = (unsigned int)pre->qs;
+    const int32_t e30 = pre->e;
+    const int32_t omk = pre->omk;
+    uint32_t scratch = 0u;
+    int32_t l30 = 0;
+    int64_t w;
+    bfp_t n1;
+    bfp_t n;
+
+    if (S == 0) {
+        *fx = 0; /* k = 0 and tan a = 0 (C1, C2 != 0) or no stiffness: no force */
+        *fy = 0;
+        return;
+    }
+    /* N = mu (1 - |k|) E: Q29 x Q30 = Q59 (< 2^61) to 30 bits (Q >= 28), times E (Q30) to 30
+     * bits again: Q(qn) in [28, 89]. */
+    n1 = bfp_make((int64_t)mu * (int64_t)omk, 59u);
+    n = bfp_make((int64_t)n1.mant * (int64_t)e30, n1.q + 30u);
+    if (n.mant > 0) {
+        /* L = N / (2 S) in Q30: shift = 30 - qn + qs - 1 in [-41, 51]. A quotient beyond the
+         * int32 range (L >= 2) saturates in the scratch counter: only L >= 1 is used then. */
+        l30 = div_q(n.mant, S, (29 - (int)n.q) + (int)qs, &scratch);
+    }
+    if (l30 >= ONE_Q30) {
+        /* L >= 1: w = S / (1 - |k|) in Q29, shift 59 - qs in [9, 40]; here N > 0, so
+         * 1 - |k| > 0, and w <= mu E / 2 (1 + 2^-28) < 2: no saturation. */
+        w = div_q(S, omk, 59 - (int)qs, &scratch);
+    } else {
+        /* L < 1: w = mu E (1 - L/2) = (mu E, Q59 < 2^61) (2^31 - L30, Q31 <= 2^31) / 2^61,
+         * <= mu (E <= 1): Q29. */
+        w = rfe_q31_mul64x32((int64_t)mu * (int64_t)e30, (int64_t)RFE_FIX_MAX + 1 - l30, 61u);
+    }
+    /* F = Fz w u: (Fz w, Q44, < 2^62) u (Q30) / 2^59 -> Q15, one rounding; |F| < 2^33. */
+    *fx = rfe_fix_sat32(rfe_q31_mul64x32((int64_t)fz * w, pre->ux, 59u), sat);
+    *fy = rfe_fix_sat32(rfe_q31_mul64x32((int64_t)fz * w, pre->uy, 59u), sat);
+}
+
+/* One evaluation: both parts. */
+static void dugoff_core(int32_t k, int32_t t, int32_t c1, int32_t c2, int32_t eps, int32_t vwx,
+                        int32_t mu, int32_t fz, int32_t *fx, int32_t *fy, uint32_t *sat)
+{
+    rfe_dugoff_pre_q31_t pre;
+    dugoff_pre(k, t, c1, c2, eps, vwx, &pre);
+    dugoff_at_mu(&pre, mu, fz, fx, fy, sat);
+}
+
+/* ---- Magic Formula tyre (docs/ESTIMATOR.md "The Magic Formula tyre") ------------------------
+ * Per direction d with C = shape_Cd, E = shape_Ed and m = max(mu, 0):
+ *   a = atan2(s, m C),  phi = C atan2(s - E (s - m C a), m C),  G = sin phi,  F = Fz m G u
+ * with s = S and u = (ux, uy) of the Dugoff set-up (dugoff_pre: the same friction-independent
+ * terms serve both curves). Both atan2 are of a pair in one format, so only the ratio of
+ * s and m C matters: the pair is brought to 30 significant bits by one power of two (exact
+ * when scaling up), which keeps the angle to 0.71 LSB29 whatever s and m are (m -> 0 gives
+ * a = pi/2, no overflow, no division). The curve needs ~2^-30, so the angles and the sine
+ * are the short 32-bit routines of fxmath_internal_q31.h (rfe_q31_atan2_quad1,
+ * rfe_q31_sin_q55), not the 40-step int64 CORDIC of rfe_fix_atan2 / rfe_fix_sincos (which
+ * the kinematics keep). With 1 < C < 2 and -4 <= E < 1 (checked):
+ *   - 0 <= a <= pi/2, and z = s - E (s - m C a) = (1 - E) s + E m C a >= 0 (clamped there
+ *     against the rounding of a), so 0 <= b <= pi/2, 0 <= phi = C b < pi, 0 <= G <= 1;
+ *   - w = m G <= m < 4 (Q29) and |F| <= Fz m (saturating, counted, as the Dugoff forces).
+ * Error (derived in test/test_tyre_magic_q31.c and docs/FIXED_POINT.md): the angles within
+ * 0.71 LSB29 (pair rounding) + 1.211e-9 rad (0.65 LSB29, rfe_q31_atan2_quad1) each, the second
+ * one also carrying the first's error times E and the sensitivity of the curve to the slip
+ * ratio; phi = C b exact; the sine within 6.15e-10 (0.66 LSB30); no intermediate saturates. */
+
+/* 1 when the shape factors are inside the domain the arithmetic below is proven for:
+ * 1 < C < 2 and -4 <= E < 1 (Q24), both directions. */
+static int magic_shape_ok(const rfe_tyre_params_q31_t *tp)
+{
+    const int32_t one = RFE_FIX_ONE(RFE_FIX_Q_STIFF);
+    return (tp->shape_Cx > one) && (tp->shape_Cx < (2 * one)) && (tp->shape_Ex >= (-4 * one)) &&
+           (tp->shape_Ex < one) && (tp->shape_Cy > one) && (tp->shape_Cy < (2 * one)) &&
+           (tp->shape_Ey >= (-4 * one)) && (tp->shape_Ey < one);
+}
+
+/* v 2^e (0 <= v < 2^62), rounded half up when e < 0 (the callers keep e >= -35 and the result
+ * <= 2^30): a shift of the non-negative value, no multiplication (on the Cortex-M0+ a 64-bit
+ * product is a libgcc call). */
+static int32_t scale_pow2(int64_t v, int e)
+{
+    const uint64_t u = (uint64_t)v;
+    uint64_t r;
+    if (e >= 0) {
+        r = u << (unsigned int)e;
+    } else {
+        const unsigned int s = (unsigned int)(-e);
+        const unsigned int s1 = s - 1u;
+        r = (u + ((uint64_t)1 << s1)) >> s;
+    }
+    return (int32_t)r;
+}
+
+/* The bit length of v < 2^64 (rfe_q31_bitlen64's value) from its two 32-bit halves. */
+static unsigned int bitlen_halves(uint64_t v)
+{
+    const uint32_t hi = (uint32_t)(v >> 32);
+    return (hi != 0u) ? (32u + rfe_q31_bitlen32(hi)) : rfe_q31_bitlen32((uint32_t)v);
+}
+
+/* G = sin(C atan2(s - E (s - m C a), m C)), a = atan2(s, m C), in Q30 (0 <= G <= 1), for
+ * S > 0 in Q(qs) (< 2^31, qs in [19, 50]: dugoff_pre's shift is <= 31), m in Q29
+ * (0 < m < 2^31), C and E Q24 within magic_shape_ok.
+ *   m C: Q29 x Q24 = Q53, exact, in (0, 2^56). S in Q53 would be S 2^(53 - qs) (53 - qs in
+ *   [3, 34]): with l the larger bit length of the two in Q53 (<= 65), both are scaled by
+ *   2^(30 - l): xn, yn <= 2^30, the larger >= 2^29 (the other exact or rounded, 0.5 unit), so
+ *   never both 0: rfe_q31_atan2_quad1's domain. a in Q31, <= round(pi/2 2^31) = 3373259426.
+ *   Second angle (E != 0): z = (1 - E) yn + E xn a in Q(W + 24) (W the pair's format):
+ *   (2^24 - E) yn < 5 2^24 2^30 = 2^56.4; xn a < 2^30 2^31.65 = 2^61.65 (< 2^62), times E
+ *   (|E| <= 2^26) over 2^31: < 2^56.7 (rfe_q31_mul64x32's preconditions), so |z| < 2^57.6;
+ *   z and xn 2^24 (< 2^55) are brought below 2^30 by one more shift (z >= 2^29 when xn = 0).
+ *   phi = C b: Q24 x Q31 = Q55, exact, <= (2^25 - 1) 3373259426 < round(pi 2^55): the sine's
+ *   domain [0, pi]. */
+static int32_t magic_g_q31(int32_t S, unsigned int qs, int32_t m, int32_t C, int32_t E)
+{
+    const int64_t mc = (int64_t)m * (int64_t)C;
+    const unsigned int d = 53u - qs;
+    const unsigned int lx = bitlen_halves((uint64_t)mc);
+    const unsigned int ly = rfe_q31_bitlen32((uint32_t)S) + d;
+    const int l = (int)((lx > ly) ? lx : ly);
+    const int32_t xn = scale_pow2(mc, 30 - l);
+    const int32_t yn = scale_pow2((int64_t)S, ((int)d + 30) - l);
+    uint32_t b = rfe_q31_atan2_quad1((uint32_t)yn, (uint32_t)xn); /* a, Q31, in [0, pi/2] */
+
+    if (E != 0) {
+        const int64_t x24 = (int64_t)xn * rfe_q31_pow2(24u);
+        int64_t z = (((int64_t)RFE_FIX_ONE(RFE_FIX_Q_STIFF) - (int64_t)E) * (int64_t)yn) +
+                    rfe_q31_mul64x32((int64_t)xn * (int64_t)b, (int64_t)E, 31u);
+        unsigned int sh;
+        /* z >= 0 exactly; only the rounding of a (E < 0, yn of a few units) can take it
+         * below */
+        z = (z > 0) ? z : 0;
+        sh = rfe_q31_norm_shift((uint64_t)((z > x24) ? z : x24), 30u);
+        b = rfe_q31_atan2_quad1((uint32_t)rfe_q31_shr_to32(z, sh),
+                                (uint32_t)rfe_q31_shr_to32(x24, sh));
+    }
+    /* phi = C b in Q55, within the sine's domain */
+    return rfe_q31_sin_q55((int64_t)C * (int64_t)b);
+}
+
+/* Magic Formula forces at m = max(mu, 0) (Q29, >= 0) and load fz (Q15, >= 0) from the
+ * friction-independent terms pre (S, qs, ux, uy): F = Fz w u with w = m G in Q29 (<= m),
+ * (Fz w, Q44, < 2^62) u (Q30) / 2^59 -> Q15, one rounding, as the Dugoff forces; |F| < 2^33
+ * before the (counted) clamp. S = 0 (no slip) or m = 0: F = 0. */
+static void magic_forces_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugoff_pre_q31_t *pre,
+                             int32_t m, int32_t fz, int32_t *fx, int32_t *fy, uint32_t *sat)
+{
+    int64_t px;
+    int64_t py;
+    uint64_t wx;
+    uint64_t wy;
+    if ((pre->s == 0) || (m == 0)) {
+        *fx = 0;
+        *fy = 0;
+        return;
+    }
+    /* w = m G rounded to Q29 (<= m): m G >= 0, so the rounding is a shift of the product */
+    px = (int64_t)m * (int64_t)magic_g_q31(pre->s, pre->qs, m, tp->shape_Cx, tp->shape_Ex);
+    py = (int64_t)m * (int64_t)magic_g_q31(pre->s, pre->qs, m, tp->shape_Cy, tp->shape_Ey);
+    wx = ((uint64_t)px + HALF_Q30) >> 30;
+    wy = ((uint64_t)py + HALF_Q30) >> 30;
+    *fx = rfe_fix_sat32(rfe_q31_mul64x32((int64_t)fz * (int64_t)wx, pre->ux, 59u), sat);
+    *fy = rfe_fix_sat32(rfe_q31_mul64x32((int64_t)fz * (int64_t)wy, pre->uy, 59u), sat);
+}
+
+/* Common checks of the single-wheel functions (the float check_wheel, plus the parameters;
+ * magic != 0: also the shape factors). */
+static rfe_status_t check_wheel_q31(const rfe_tyre_params_q31_t *tp, int32_t fz, const int32_t *o1,
+                                    const int32_t *o2, const uint32_t *sat, int magic)
+{
+    if ((tp == NULL) || (o1 == NULL) || (o2 == NULL) || (sat == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    if (!alpha_max_ok(tp) || (tp->eps < 0) || ((magic != 0) && !magic_shape_ok(tp))) {
+        return RFE_ERR_PARAM;
+    }
+    if (fz < 0) {
+        return RFE_ERR_RANGE;
+    }
+    return RFE_OK;
+}
+
+/* Clip kappa to [-1, 1] and tan of alpha clamped to +-alpha_max (Q26). */
+static void slip_inputs(const rfe_tyre_params_q31_t *tp, int32_t kappa, int32_t alpha,
+                        int32_t *k, int32_t *t)
+{
+    *k = rfe_fix_clamp(kappa, -ONE_Q30, ONE_Q30);
+    /* |alpha| <= alpha_max < 1.5 rad: inside tan's domain. */
+    *t = tan_q(rfe_fix_clamp(alpha, -tp->alpha_max, tp->alpha_max));
+}
+
+/* cppcheck-suppress misra-c2012-8.7 ; MISRA-DEV-06: public API, called by the application */
+rfe_status_t rfe_tyre_dugoff_norm_q31(const rfe_tyre_params_q31_t *tp, rfe_fix_t kappa,
+                                      rfe_fix_t alpha, rfe_fix_t fz, rfe_fix_t vwx, rfe_fix_t *f0x,
+                                      rfe_fix_t *f0y, uint32_t *sat)
+{
+    int32_t k;
+    int32_t t;
+    const rfe_status_t st = check_wheel_q31(tp, fz, f0x, f0y, sat, 0);
+
+    if (st != RFE_OK) {
+        return st;
+    }
+    slip_inputs(tp, kappa, alpha, &k, &t);
+    dugoff_core(k, t, tp->Cx_n, tp->Cy_n, tp->eps, vwx, RFE_FIX_ONE(RFE_FIX_Q_MU), fz, f0x, f0y,
+                sat);
+    return RFE_OK;
+}
+
+/* cppcheck-suppress misra-c2012-8.7 ; MISRA-DEV-06: public API, called by the application */
+rfe_status_t rfe_tyre_dugoff_abs_q31(const rfe_tyre_params_q31_t *tp, rfe_fix_t kappa,
+                                     rfe_fix_t alpha, rfe_fix_t fz, rfe_fix_t vwx, rfe_fix_t mu,
+                                     rfe_fix_t *fx, rfe_fix_t *fy, uint32_t *sat)
+{
+    int32_t k;
+    int32_t t;
+    const rfe_status_t st = check_wheel_q31(tp, fz, fx, fy, sat, 0);
+
+    if (st != RFE_OK) {
+        return st;
+    }
+    slip_inputs(tp, kappa, alpha, &k, &t);
+    /* A cubature point may put mu below 0: evaluate it at mu = 0 (MODEL.md §4). */
+    dugoff_core(k, t, tp->cx, tp->cy, tp->eps, vwx, (mu > 0) ? mu : 0, fz, fx, fy, sat);
+    return RFE_OK;
+}
+
+/* cppcheck-suppress misra-c2012-8.7 ; MISRA-DEV-06: public API, called by the application */
+rfe_status_t rfe_tyre_magic_abs_q31(const rfe_tyre_params_q31_t *tp, rfe_fix_t kappa,
+                                    rfe_fix_t alpha, rfe_fix_t fz, rfe_fix_t vwx, rfe_fix_t mu,
+                                    rfe_fix_t *fx, rfe_fix_t *fy, uint32_t *sat)
+{
+    rfe_dugoff_pre_q31_t pre;
+    int32_t k;
+    int32_t t;
+    const rfe_status_t st = check_wheel_q31(tp, fz, fx, fy, sat, 1);
+
+    if (st != RFE_OK) {
+        return st;
+    }
+    slip_inputs(tp, kappa, alpha, &k, &t);
+    dugoff_pre(k, t, tp->cx, tp->cy, tp->eps, vwx, &pre);
+    /* A cubature point may put mu below 0: evaluate it at mu = 0 (zero force). */
+    magic_forces_q31(tp, &pre, (mu > 0) ? mu : 0, fz, fx, fy, sat);
+    return RFE_OK;
+}
+
+rfe_status_t rfe_tyre_forces_norm_q31(const rfe_tyre_params_q31_t *tp,
+                                      const rfe_wheel_kin_q31_t *kin, rfe_fix_t f0x[RFE_WHEELS],
+                                      rfe_fix_t f0y[RFE_WHEELS], uint32_t *sat)
+{
+    rfe_fix_t fx[RFE_WHEELS];
+    rfe_fix_t fy[RFE_WHEELS];
+    uint32_t count = 0u;
+    size_t i;
+
+    if ((kin == NULL) || (f0x == NULL) || (f0y == NULL) || (sat == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    /* Compute all four first so an error leaves the outputs untouched. */
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        const rfe_status_t st = rfe_tyre_dugoff_norm_q31(tp, kin->kappa[i], kin->alpha[i],
+                                                         kin->fz[i], kin->vwx[i], &fx[i],
+                                                         &fy[i], &count);
+        if (st != RFE_OK) {
+            return st;
+        }
+    }
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        f0x[i] = fx[i];
+        f0y[i] = fy[i];
+    }
+    rfe_q31_sat_add(sat, count);
+    return RFE_OK;
+}
+
+rfe_status_t rfe_tyre_forces_abs_q31(const rfe_tyre_params_q31_t *tp,
+                                     const rfe_wheel_kin_q31_t *kin,
+                                     const rfe_fix_t mu[RFE_WHEELS], rfe_fix_t fx[RFE_WHEELS],
+                                     rfe_fix_t fy[RFE_WHEELS], uint32_t *sat)
+{
+    rfe_fix_t tx[RFE_WHEELS];
+    rfe_fix_t ty[RFE_WHEELS];
+    uint32_t count = 0u;
+    size_t i;
+
+    if ((tp == NULL) || (kin == NULL) || (mu == NULL) || (fx == NULL) || (fy == NULL) ||
+        (sat == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        const rfe_status_t st =
+            (tp->mode == RFE_TYRE_MAGIC)
+                ? rfe_tyre_magic_abs_q31(tp, kin->kappa[i], kin->alpha[i], kin->fz[i],
+                                         kin->vwx[i], mu[i], &tx[i], &ty[i], &count)
+                : rfe_tyre_dugoff_abs_q31(tp, kin->kappa[i], kin->alpha[i], kin->fz[i],
+                                          kin->vwx[i], mu[i], &tx[i], &ty[i], &count);
+        if (st != RFE_OK) {
+            return st;
+        }
+    }
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        fx[i] = tx[i];
+        fy[i] = ty[i];
+    }
+    rfe_q31_sat_add(sat, count);
+    return RFE_OK;
+}
+
+/* ---- internal API (tyre_internal_q31.h) ------------------------------------------------- */
+
+void rfe_tyre_dugoff_pre_q31(const rfe_tyre_params_q31_t *tp, rfe_fix_t kappa, rfe_fix_t alpha,
+                             rfe_fix_t vwx, rfe_dugoff_pre_q31_t *pre)
+{
+    int32_t k;
+    int32_t t;
+    slip_inputs(tp, kappa, alpha, &k, &t);
+    dugoff_pre(k, t, tp->cx, tp->cy, tp->eps, vwx, pre);
+}
+
+void rfe_tyre_dugoff_pre_tan_q31(const rfe_tyre_params_q31_t *tp, rfe_fix_t kappa,
+                                 rfe_fix_t tan_a, rfe_fix_t vwx, rfe_dugoff_pre_q31_t *pre)
+{
+    const int32_t k = rfe_fix_clamp(kappa, -ONE_Q30, ONE_Q30);
+    dugoff_pre(k, tan_a, tp->cx, tp->cy, tp->eps, vwx, pre);
+}
+
+void rfe_tyre_dugoff_mu_q31(const rfe_dugoff_pre_q31_t *pre, rfe_fix_t mu, rfe_fix_t fz,
+                            rfe_fix_t *fx, rfe_fix_t *fy, uint32_t *sat)
+{
+    /* A cubature point may put mu below 0: evaluate it at mu = 0 (MODEL.md §4). */
+    dugoff_at_mu(pre, (mu > 0) ? mu : 0, fz, fx, fy, sat);
+}
+
+int rfe_tyre_dugoff_params_ok_q31(const rfe_tyre_params_q31_t *tp)
+{
+    return (alpha_max_ok(tp) && (tp->eps >= 0)) ? 1 : 0;
+}
+
+void rfe_tyre_magic_mu_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugoff_pre_q31_t *pre,
+                           rfe_fix_t mu, rfe_fix_t fz, rfe_fix_t *fx, rfe_fix_t *fy,
+                           uint32_t *sat)
+{
+    /* A cubature point may put mu below 0: evaluate it at mu = 0 (zero force). */
+    magic_forces_q31(tp, pre, (mu > 0) ? mu : 0, fz, fx, fy, sat);
+}
+
+int rfe_tyre_abs_params_ok_q31(const rfe_tyre_params_q31_t *tp)
+{
+    return ((rfe_tyre_dugoff_params_ok_q31(tp) != 0) &&
+            ((tp->mode != RFE_TYRE_MAGIC) || (magic_shape_ok(tp) != 0)))
+               ? 1
+               : 0;
+}

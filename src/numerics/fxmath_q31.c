@@ -1,0 +1,729 @@
+/**
+ * @file fxmath_q31.c
+ * @brief Integer math of the fixed-point variant (rfe/fxmath.h): square roots, norm,
+ *        division, CORDIC atan2 / sincos / tan; and the shorter atan2 and sine of the Magic
+ *        Formula tyre (fxmath_internal_q31.h). Integer operations only.
+ */
+#include "rfe/fxmath.h"
+
+#include "numerics/fxmath_internal_q31.h"
+#include "numerics/internal_q31.h"
+
+/* ---- shared helpers ------------------------------------------------------------------- */
+
+/* |v| of an int32 as uint64 (2^31 for INT32_MIN, no overflow). */
+static uint64_t mag32(rfe_fix_t v)
+{
+    return (v < 0) ? (uint64_t)(-(int64_t)v) : (uint64_t)v;
+}
+
+/* floor(sqrt(y)) of a 32-bit value and the remainder y - root^2, digit by digit in 32-bit
+ * arithmetic: two bits of y per step from b, the largest power of 4 not above y, 16 steps at
+ * most, additions and shifts only. At the step with b = 4^k, r holds the root's bits above
+ * bit k, floor(sqrt(y)) >> (k + 1), times 4^(k+1); that is below 2^31, so r + b < 2^32. */
+static uint32_t isqrt32_rem(uint32_t y, uint32_t *rem)
+{
+    uint32_t r = 0u;
+    uint32_t rm = y;
+    uint32_t b = 0u;
+
+    if (y != 0u) {
+        b = (uint32_t)1 << ((rfe_q31_bitlen64(y) - 1u) & ~1u);
+    }
+    while (b != 0u) {
+        if (rm >= (r + b)) {
+            rm -= r + b;
+            r = (r >> 1) + b;
+        } else {
+            r >>= 1;
+        }
+        b >>= 2;
+    }
+    *rem = rm;
+    return r;
+}
+
+/* floor(sqrt(x)) and the remainder x - root^2 (<= 2 root) of any uint64. Below 2^32: the
+ * 32-bit digit-by-digit root. Above: with y = floor(x / 2^sh) < 2^32 (sh even, so y keeps 31
+ * or 32 bits), r = (floor(sqrt(y)) + 1) 2^(sh/2) > sqrt(x) (<= 2^32), then integer Newton
+ * steps r <- floor((r + floor(x / r)) / 2). Each step gives floor((r + x/r) / 2) >=
+ * floor(sqrt(x)) (AM-GM), strictly below r while r^2 > x, so the first r with r^2 <= x is
+ * floor(sqrt(x)) exactly (two steps from the 16-bit start, typically). r + x/r <= 2^33 (x/r
+ * <= sqrt(x) < 2^32), and r^2 is formed only for r < 2^32. */
+static uint64_t isqrt_rem(uint64_t x, uint64_t *rem)
+{
+    uint64_t r;
+
+    if ((x >> 32) == 0u) {
+        uint32_t rm32 = 0u;
+        r = isqrt32_rem((uint32_t)x, &rm32);
+        *rem = rm32;
+    } else {
+        const unsigned int sh = (rfe_q31_bitlen64(x) - 31u) & ~1u;
+        const unsigned int half = sh / 2u;
+        const uint32_t y = (uint32_t)(x >> sh);
+        uint32_t rm32 = 0u;
+        uint64_t r0;
+        int done = 0;
+        r0 = isqrt32_rem(y, &rm32);
+        r = (r0 + 1u) << half;
+        while (done == 0) {
+            r = (r + (x / r)) >> 1;
+            if (((r >> 32) == 0u) && ((r * r) <= x)) {
+                done = 1;
+            }
+        }
+        *rem = x - (r * r);
+    }
+    return r;
+}
+
+/* Rounded root of the integer n: round(sqrt(n)) = r + 1 exactly when n - r^2 > r (sqrt(n)
+ * is never a half-integer). Result <= 2^32. */
+static uint64_t sqrt_round(uint64_t n)
+{
+    uint64_t rem;
+    uint64_t r = isqrt_rem(n, &rem);
+    if (rem > r) {
+        r += 1u;
+    }
+    return r;
+}
+
+
+/* 2^32 - 1: a doubled quotient from here on rounds beyond INT32_MAX. */
+#define LIM2 ((((uint64_t)1) << 32) - 1u)
+
+/* The smaller of a and b. */
+static unsigned int min_u(unsigned int a, unsigned int b)
+{
+    return (a < b) ? a : b;
+}
+
+/* floor(n 2^bits / d) for d in [1, 2^63], or a value >= LIM2 when that is >= LIM2 = 2^32 - 1:
+ * long division, the integer part, then the quotient bits, the remainder staying below d; a
+ * partial quotient only grows, so the division stops as soon as one reaches LIM2 (which also
+ * keeps every partial quotient below 2^33). With room = 64 - bitlen(d - 1) >= 8 (d <= 2^56)
+ * the bits are produced k at a time by one integer division each (rem < d, so rem 2^k <
+ * 2^64 for k <= room; a partial quotient below 2^32 shifted by k <= 31 plus the new k bits
+ * stays below 2^63), else one by one (shifts and subtractions): both give exactly
+ * floor(n 2^i / d) for the bits i consumed so far. */
+static uint64_t div_bits(uint64_t n, uint64_t d, unsigned int bits)
+{
+    uint64_t quo = n / d;
+    uint64_t rem = n % d;
+    unsigned int left = bits;
+
+    if (d <= ((uint64_t)1 << 56)) {
+        /* bitlen(d - 1) <= 56: room >= 8 */
+        const unsigned int room = 64u - rfe_q31_bitlen64(d - 1u);
+        const unsigned int step = min_u(room, 31u);
+        while ((quo < LIM2) && (left > 0u)) {
+            const unsigned int k = min_u(left, step);
+            const uint64_t x = rem << k;
+            quo = (quo << k) + (x / d);
+            rem = x % d;
+            left -= k;
+        }
+    } else {
+        while ((quo < LIM2) && (left > 0u)) {
+            quo <<= 1;
+            rem <<= 1;
+            if (rem >= d) {
+                rem -= d;
+                quo += 1u;
+            }
+            --left;
+        }
+    }
+    return quo;
+}
+
+/* round(n * 2^e / d) for d in [1, 2^63], to nearest with ties up (on the magnitude, i.e.
+ * away from zero): with q2 = floor(n * 2^(e+1) / d), the result is
+ * (q2 + 1) >> 1 = floor(n * 2^e / d + 1/2). It exceeds INT32_MAX exactly when
+ * q2 >= 2^32 - 1 (returns 1, *q unset). When n, d < 2^32 and e + 1 <= 32, n 2^(e+1) < 2^64
+ * and q2 is one integer division (the common case: int32 operands); else div_bits. */
+static int div_round_mag(uint64_t n, uint64_t d, unsigned int e, uint64_t *q)
+{
+    const unsigned int e1 = e + 1u;
+    uint64_t q2;
+
+    if (((n >> 32) == 0u) && ((d >> 32) == 0u) && (e1 <= 32u)) {
+        q2 = (n << e1) / d;
+    } else {
+        q2 = div_bits(n, d, e1);
+    }
+    if (q2 >= LIM2) {
+        return 1;
+    }
+    *q = (q2 + 1u) >> 1;
+    return 0;
+}
+
+/* Applies the sign to a magnitude that fits int32 (m <= INT32_MAX). */
+static rfe_fix_t signed32(uint64_t m, int neg)
+{
+    const rfe_fix_t v = (rfe_fix_t)m;
+    return (neg != 0) ? -v : v;
+}
+
+/* ---- square roots and norm -------------------------------------------------------------- */
+
+rfe_status_t rfe_fix_isqrt64(uint64_t x, uint32_t *root)
+{
+    uint64_t rem;
+
+    if (root == NULL) {
+        return RFE_ERR_NULL;
+    }
+    *root = (uint32_t)isqrt_rem(x, &rem);
+    return RFE_OK;
+}
+
+/* round(sqrt(N)) > INT32_MAX exactly when N > (2^31 - 1/2)^2 - 1/4 = 2^62 - 2^31. */
+#define SQRT_SAT_ABOVE (((uint64_t)1 << 62) - ((uint64_t)1 << 31))
+
+rfe_status_t rfe_fix_sqrt(rfe_fix_t x, unsigned int q_in, unsigned int q_out, rfe_fix_t *root,
+                          uint32_t *sat)
+{
+    const uint64_t ux = mag32(x); /* used only when x >= 0 */
+    uint64_t r;
+    int e;
+
+    if ((root == NULL) || (sat == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    if ((x < 0) || (q_in > 31u) || (q_out > 31u)) {
+        return RFE_ERR_RANGE;
+    }
+    /* root = sqrt(x * 2^e) with e = 2 q_out - q_in in [-31, 62]. */
+    e = (2 * (int)q_out) - (int)q_in;
+    if (e >= 0) {
+        /* x * 2^e > T  <=>  x > floor(T / 2^e): decided before the product could overflow. */
+        if (ux > (SQRT_SAT_ABOVE >> (unsigned int)e)) {
+            rfe_fix_count_sat(sat);
+            *root = RFE_FIX_MAX;
+            return RFE_OK;
+        }
+        r = sqrt_round(ux << (unsigned int)e);
+    } else {
+        /* sqrt(x / 2^k) = sqrt(x * 2^m) / 2^h with m = k mod 2, h = (k + m) / 2 >= 1, and
+         * round(y / 2^h) = (floor(y) + 2^(h-1)) >> h exactly for real y >= 0. */
+        const unsigned int k = (unsigned int)(-e);
+        const unsigned int m = k & 1u;
+        const unsigned int h = (k + m) / 2u;
+        const unsigned int h1 = h - 1u;
+        const uint64_t half = (uint64_t)1 << h1;
+        uint64_t rem;
+        r = isqrt_rem(ux << m, &rem) + half;
+        r >>= h;
+    }
+    *root = (rfe_fix_t)r;
+    return RFE_OK;
+}
+
+rfe_status_t rfe_fix_norm(const rfe_fix_t *v, size_t n, rfe_fix_t *norm, uint32_t *sat)
+{
+    uint64_t ss = 0u;
+    size_t i;
+
+    if ((v == NULL) || (norm == NULL) || (sat == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    /* Exact sum of squares: each term <= 2^62 and the sum stays <= SQRT_SAT_ABOVE < 2^62
+     * before every addition (or we stop), so it never exceeds 2^63. */
+    for (i = 0u; i < n; ++i) {
+        const uint64_t m = mag32(v[i]);
+        ss += m * m;
+        if (ss > SQRT_SAT_ABOVE) {
+            rfe_fix_count_sat(sat);
+            *norm = RFE_FIX_MAX;
+            return RFE_OK;
+        }
+    }
+    *norm = (rfe_fix_t)sqrt_round(ss);
+    return RFE_OK;
+}
+
+/* ---- division --------------------------------------------------------------------------- */
+
+rfe_status_t rfe_fix_div(rfe_fix_t a, rfe_fix_t b, int shift, rfe_fix_t *q, uint32_t *sat)
+{
+    uint64_t m = 0u;
+    int over = 0;
+    int neg = 0;
+
+    if ((q == NULL) || (sat == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    if ((b == 0) || (shift < -62) || (shift > 62)) {
+        return RFE_ERR_RANGE;
+    }
+    if ((a < 0) != (b < 0)) {
+        neg = 1;
+    }
+    if (shift >= 0) {
+        over = div_round_mag(mag32(a), mag32(b), (unsigned int)shift, &m);
+    } else if (shift >= -32) {
+        /* divisor |b| 2^-shift <= 2^63 */
+        over = div_round_mag(mag32(a), mag32(b) << (unsigned int)(-shift), 0u, &m);
+    } else {
+        m = 0u; /* |a / b| 2^shift <= 2^31 2^-33 = 1/4 rounds to 0 */
+    }
+    if (over != 0) {
+        rfe_fix_count_sat(sat);
+        *q = (neg != 0) ? RFE_FIX_MIN : RFE_FIX_MAX;
+    } else {
+        *q = signed32(m, neg);
+    }
+    return RFE_OK;
+}
+
+/* ---- CORDIC ------------------------------------------------------------------------------ */
+
+/* Iterations of both CORDIC modes; the residual angle after them is <= atan(2^-39) = 1.8e-12
+ * rad, 0.001 LSB of Q29. */
+#define CORDIC_N 40u
+
+/* atan(2^-i) in Q61, rounded to nearest (computed with 60 significant digits). */
+static const int64_t cordic_atan_q61[CORDIC_N] = {
+    INT64_C(1811004864519280711), INT64_C(1069098597953152948), INT64_C(564882337777596249),
+    INT64_C(286743094836456889),  INT64_C(143927976672616092),  INT64_C(72034151524184357),
+    INT64_C(36025865417378411),   INT64_C(18014032019027246),   INT64_C(9007153442175927),
+    INT64_C(4503593900760542),    INT64_C(2251799097857775),    INT64_C(1125899817364151),
+    INT64_C(562949942236502),     INT64_C(281474975312555),     INT64_C(140737488180565),
+    INT64_C(70368744155819),      INT64_C(35184372086101),      INT64_C(17592186044075),
+    INT64_C(8796093022165),       INT64_C(4398046511099),       INT64_C(2199023255551),
+    INT64_C(1099511627776),       INT64_C(549755813888),        INT64_C(274877906944),
+    INT64_C(137438953472),        INT64_C(68719476736),         INT64_C(34359738368),
+    INT64_C(17179869184),         INT64_C(8589934592),          INT64_C(4294967296),
+    INT64_C(2147483648),          INT64_C(1073741824),          INT64_C(536870912),
+    INT64_C(268435456),           INT64_C(134217728),           INT64_C(67108864),
+    INT64_C(33554432),            INT64_C(16777216),            INT64_C(8388608),
+    INT64_C(4194304)};
+
+/* 1 / K in Q61, K = prod_{i<40} sqrt(1 + 2^-2i) = 1.64676025812106564836... */
+#define CORDIC_INV_K_Q61 INT64_C(1400229935014726477)
+/* pi and pi/2 in Q61, rounded to nearest. */
+#define PI_Q61 UINT64_C(7244019458077122842)
+#define HALF_PI_Q61 UINT64_C(3622009729038561421)
+
+/* floor(a / 2^s) for 1 <= s <= 63, given o = 2^(63 - s): rfe_fix_shr64_floor's offset-binary
+ * shift, floor(a / 2^s) = ((a + 2^63) >> s) - (2^63 >> s), without its range checks and with
+ * 2^63 >> s carried by the CORDIC loops (halved each iteration). */
+static int64_t floor_shr_o(int64_t a, unsigned int s, uint64_t o)
+{
+    const uint64_t off = (uint64_t)1 << 63;
+    const uint64_t u = ((uint64_t)a + off) >> s; /* < 2^63: converts exactly */
+    return (int64_t)u - (int64_t)o;
+}
+
+/* Vectoring mode: the angle atan(y / x) in Q61 of a first-quadrant vector x >= 0, y >= 0,
+ * max(x, y) in [2^59, 2^60). |(x, y)| grows by K < 1.65 at most, so |x|, |y| < 2^62.
+ * x stays positive; y changes sign and is shifted with the defined floor shift. */
+static uint64_t cordic_vector(int64_t x0, int64_t y0)
+{
+    int64_t x = x0;
+    int64_t y = y0;
+    int64_t z = 0;
+    uint64_t o = (uint64_t)1 << 63; /* 2^63 >> i */
+    unsigned int i;
+
+    for (i = 0u; (i < CORDIC_N) && (y != 0); ++i) {
+        const int64_t xs = (i == 0u) ? x : floor_shr_o(x, i, o);
+        const int64_t ys = (i == 0u) ? y : floor_shr_o(y, i, o);
+        if (y > 0) {
+            x += ys;
+            y -= xs;
+            z += cordic_atan_q61[i];
+        } else {
+            x -= ys;
+            y += xs;
+            z -= cordic_atan_q61[i];
+        }
+        o >>= 1;
+    }
+    /* From a first-quadrant start z stays within [-2^-39, pi/2 + 2^-39] rad. */
+    return (z > 0) ? (uint64_t)z : 0u;
+}
+
+/* Rotation mode: (cos z, sin z) in Q61 for |z| <= pi/2 (z in Q61), starting from
+ * (1/K, 0); every intermediate vector has length <= 1 (plus rounding), so |x|, |y| < 2^62. */
+static void cordic_rotate(int64_t z0, int64_t *c, int64_t *s)
+{
+    int64_t x = CORDIC_INV_K_Q61;
+    int64_t y = 0;
+    int64_t z = z0;
+    uint64_t o = (uint64_t)1 << 63; /* 2^63 >> i */
+    unsigned int i;
+
+    for (i = 0u; i < CORDIC_N; ++i) {
+        const int64_t xs = (i == 0u) ? x : floor_shr_o(x, i, o);
+        const int64_t ys = (i == 0u) ? y : floor_shr_o(y, i, o);
+        if (z >= 0) {
+            x -= ys;
+            y += xs;
+            z -= cordic_atan_q61[i];
+        } else {
+            x += ys;
+            y -= xs;
+            z += cordic_atan_q61[i];
+        }
+        o >>= 1;
+    }
+    *c = x;
+    *s = y;
+}
+
+/* Q61 magnitude -> Q(61 - s), rounded half up, for a non-negative value below 2^63 - 2^s. */
+static uint64_t round_down_mag(uint64_t m, unsigned int s)
+{
+    const unsigned int s1 = s - 1u;
+    const uint64_t half = (uint64_t)1 << s1;
+    return (m + half) >> s;
+}
+
+/* v rounded from Q61 to Q30 on its magnitude (v is a CORDIC output, |v| < 2^62). */
+static rfe_fix_t q61_to_trig(int64_t v)
+{
+    const uint64_t m = (v < 0) ? (uint64_t)(-v) : (uint64_t)v;
+    return signed32(round_down_mag(m, 61u - RFE_FIX_Q_TRIG), (v < 0) ? 1 : 0);
+}
+
+rfe_status_t rfe_fix_atan2(rfe_fix_t y, rfe_fix_t x, rfe_fix_t *angle)
+{
+    uint64_t ax;
+    uint64_t ay;
+    uint64_t big;
+    uint64_t th;
+    uint64_t xn;
+    uint64_t yn;
+    unsigned int len;
+    unsigned int sh;
+
+    if (angle == NULL) {
+        return RFE_ERR_NULL;
+    }
+    ax = mag32(x);
+    ay = mag32(y);
+    if ((ax == 0u) && (ay == 0u)) {
+        *angle = 0;
+        return RFE_OK;
+    }
+    /* Exact normalisation: scale both by 2^sh so that max(|x|, |y|) lies in [2^59, 2^60). */
+    big = (ax > ay) ? ax : ay;
+    len = rfe_q31_bitlen64(big);
+    sh = 60u - len; /* len <= 32 */
+    xn = ax << sh;
+    yn = ay << sh;
+    th = cordic_vector((int64_t)xn, (int64_t)yn);
+    /* Quadrant: x < 0 mirrors to pi - theta (>= pi/2 - 2^-39 rad, so no wrap). */
+    if (x < 0) {
+        th = PI_Q61 - th;
+    }
+    *angle = signed32(round_down_mag(th, 61u - RFE_FIX_Q_ANGLE), (y < 0) ? 1 : 0);
+    return RFE_OK;
+}
+
+/* The unrounded Q61 cosine and sine of a Q29 angle reduced to |z| <= pi/2, computed on |a|
+ * and mirrored (sin odd, cos even, so the results are exactly symmetric). */
+static void sincos_q61(rfe_fix_t a, int64_t *c, int64_t *s)
+{
+    const uint64_t am = mag32(a) << (61u - RFE_FIX_Q_ANGLE); /* |a| in Q61, <= 2^63 */
+    int64_t cz;
+    int64_t sz;
+    int flip = 0;
+    int64_t z;
+
+    if (am > HALF_PI_Q61) {
+        /* |a| in (pi/2, 4]: sin a = sin(pi - a), cos a = -cos(pi - a), |pi - a| <= pi/2. */
+        flip = 1;
+        z = (am <= PI_Q61) ? (int64_t)(PI_Q61 - am) : -(int64_t)(am - PI_Q61);
+    } else {
+        z = (int64_t)am;
+    }
+    cordic_rotate(z, &cz, &sz);
+    *c = (flip != 0) ? -cz : cz;
+    *s = (a < 0) ? -sz : sz;
+}
+
+rfe_status_t rfe_fix_sincos(rfe_fix_t angle, rfe_fix_t *s, rfe_fix_t *c)
+{
+    int64_t c61;
+    int64_t s61;
+
+    if ((s == NULL) || (c == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    sincos_q61(angle, &c61, &s61);
+    *s = q61_to_trig(s61);
+    *c = q61_to_trig(c61);
+    return RFE_OK;
+}
+
+rfe_status_t rfe_fix_tan(rfe_fix_t angle, rfe_fix_t *t)
+{
+    int64_t c61;
+    int64_t s61;
+    uint64_t m = 0u;
+
+    if (t == NULL) {
+        return RFE_ERR_NULL;
+    }
+    if ((angle > RFE_FIX_TAN_LIMIT_Q29) || (angle < -RFE_FIX_TAN_LIMIT_Q29)) {
+        return RFE_ERR_RANGE;
+    }
+    /* |angle| <= 1.5 rad: cos >= 0.0707, so c61 >= 1.6e17 > 0 and s / c <= 14.2 (Q26 fits). */
+    /* (sin can come out as -1e-12 instead of 0 at angle 0; its magnitude then rounds to 0.)
+     * The quotient is <= 14.2 * 2^26, so the division cannot report an overflow. */
+    sincos_q61((angle < 0) ? -angle : angle, &c61, &s61);
+    (void)div_round_mag((s61 < 0) ? (uint64_t)(-s61) : (uint64_t)s61, (uint64_t)c61,
+                        RFE_FIX_Q_TAN, &m);
+    *t = signed32(m, (angle < 0) ? 1 : 0);
+    return RFE_OK;
+}
+
+/* ---- the Magic Formula's atan2 and sine (fxmath_internal_q31.h) ---------------------------------
+ * Both are built for the ~2^-30 the curve needs, in 32-bit arithmetic wherever the 40-step
+ * int64 CORDIC above spends its time (on the Cortex-M0+ every 64-bit shift is a libgcc call). */
+
+/* CORDIC steps of rfe_q31_atan2_quad1 (i = 1 .. QA_CORDIC); the division then delivers the
+ * digits 2^-11 .. 2^-33 of the residual ratio: the leading one and 22 more. */
+#define QA_CORDIC 11u
+/* The leading digit 2^-11 in Q33, and the marker bit after the 22 further digits. */
+#define QA_LEAD 4194304u
+/* The marker of the step bits after the 10 steps i = 2 .. 11 (2^10). */
+#define QA_CPOS 1024u
+/* The larger input is scaled to [QA_X_MIN, 2^30] (2^29). */
+#define QA_X_MIN 536870912u
+
+/*
+ * atan2(y, x), 0 <= x, y <= 2^30, in Q31.
+ *
+ * Octant: with a = max(x, y), b = min(x, y) the angle t = atan(b / a) is in [0, pi/4] and the
+ * result t or pi/2 - t (b = 0: t = 0 exactly). Both are scaled by 2^sh (exact) so that
+ * a in [2^29, 2^30].
+ *
+ * CORDIC steps i = 1 .. 11 (no step 0: sum_{i>=1} atan 2^-i = 0.958 > pi/4), vectoring mode,
+ * sigma = sign(y), y carried as W = y 2^(i-1), so that
+ *   W <- 2 W - sigma x (exact),  x <- x + |W| 2^-(2i-1) (rounded half up),  z += sigma atan 2^-i.
+ * Step 1 has sigma = +1 (W = b > 0). The angle is summed as atan(1/2) (Q61) plus, for
+ * i = 2 .. 11, the digits sigma 2^-i (an integer in Q11) minus sigma (2^-i - atan 2^-i) (Q38,
+ * table above): 2^-36.8 of table rounding. From t in [0, pi/4] the residual angle
+ * phi_(i+1) of the exact iteration obeys |phi_2| <= atan(1/2) and |phi_(i+1)| <= atan(2^-i)
+ * (atan 2^-(i-1) <= 2 atan 2^-i), so |y_(i+1)| <= 2^-i x_(i+1) and |W| <= x; the rounding of x
+ * moves the angle by < 2^-29 rad, which loosens this to |W| <= x (1 + 2^-18). x only grows,
+ * to K' |(a, b)| <= 1.1645 sqrt(2) 2^30 < 2^30.72 (K' = prod_{i>=1} sqrt(1 + 2^-2i)), so x
+ * and W, and W -+ x (|.| <= max(|W|, x)), fit int32.
+ *
+ * Error of the rounding of x: a change e (|e| <= 1/2) of x after step i is a vector error
+ * (e, 0) that the later steps rotate onto the residual direction, whose angle to it is
+ * phi_(i+1), and scale by prod_{j>i} k_j: the angle moves by at most
+ *   sum_i (1/2) |phi_(i+1)| / (prod_{j<=i} k_j |(a, b)|) <= (1/2) 0.8729 2^-29 = 3.49 2^-32 rad
+ * (|phi_(i+1)| <= sum_{j>i} atan 2^-j, the sum evaluated numerically; |(a, b)| >= 2^29).
+ *
+ * Division: after step 11 the remaining angle is atan(q), q = y_12 / x_12 = 2^-11 W / x with
+ * |W| <= x (1 + 2^-18). The digits sigma_j 2^-j, j = 11 .. 33, come from non-restoring
+ * division: the leading one W <- W - sigma x (|W| <= x afterwards, as |W| <= 2 x), then
+ * W <- 2 W - sigma x, which keeps |W| <= x exactly; the remainder is <= 2^-33. atan q and q
+ * differ by <= |q|^3 / 3 <= 2^-34.58. The digits are summed in Q33 (|.| < 2^23).
+ *
+ * Total: 3.49 2^-32 + 2^-33 + 2^-34.58 + 2^-36.8 + 2^-62 (atan(1/2), pi/2) < 4.2 2^-32
+ * before, 5.2 2^-32 = 1.211e-9 rad after the final rounding (2^-32, Q61 -> Q31). Range: for
+ * b >= 1 the angle t >= atan(2^-30) > 3.99 2^-32 (a <= 2^30), so the unrounded t is above
+ * -0.21 2^-32 and rounds to >= 0 (b = 0: t = 0 exactly); pi/2 - t is then below
+ * pi/2 + 0.21 2^-32 and rounds to at most round(pi/2 2^31) = 3373259426 (pi/2 2^31 =
+ * 3373259426.13). So no clamp is needed: the result is within [0, pi/2].
+ */
+uint32_t rfe_q31_atan2_quad1(uint32_t y, uint32_t x)
+{
+    /* 2^-i - atan(2^-i) in Q38, i = 2 .. 11, rounded to nearest (2^-36.8 of rounding in all;
+     * the sum of the entries, 1583063625, fits int32). */
+    static const int32_t qa_corr_q38[QA_CORDIC - 1u] = {1380254570, 177297749, 22317338,
+                                                        2794565,    349474,    43689,
+                                                        5461,       683,       85,
+                                                        11};
+    const uint32_t a = (y > x) ? y : x;
+    const uint32_t b = (y > x) ? x : y;
+    int64_t z = 0; /* t, Q61 */
+
+    if (b != 0u) {
+        unsigned int sh = 0u;
+        unsigned int s1 = 2u;  /* 2i - 2: x gains round(|W| / 2^(s1 + 1)) */
+        uint32_t cpos = 1u;    /* a marker bit, then sigma_i = +1 as a 1, i = 2 .. 11 */
+        uint32_t dpos = 1u;    /* the same for the division digits 2^-12 .. 2^-33 */
+        int32_t corr = 0;      /* sum sigma_i (2^-i - atan 2^-i), i = 2 .. 11, Q38 */
+        int32_t lead;          /* the leading division digit 2^-11, Q33 */
+        int32_t steps;         /* sum sigma_i 2^-i, i = 2 .. 11, Q11 */
+        int32_t digits;        /* sum sigma_j 2^-j, j = 11 .. 33, Q33 */
+        int32_t xx;
+        int32_t w;
+        unsigned int i;
+
+        if (a < QA_X_MIN) {
+            sh = 30u - rfe_q31_bitlen32(a); /* a >= 1: bit length 1 .. 29 */
+        }
+        {
+            const uint32_t an = a << sh; /* [2^29, 2^30] */
+            const uint32_t bn = b << sh; /* W_1 = y > 0: sigma_1 = +1 */
+            xx = (int32_t)an;
+            w = (int32_t)bn;
+        }
+        {
+            const uint32_t m = (uint32_t)w;
+            w = (w - xx) + w;
+            xx += (int32_t)((m + 1u) >> 1);
+        }
+        for (i = 0u; i < (QA_CORDIC - 1u); ++i) {
+            uint32_t m;
+            cpos += cpos;
+            if (w >= 0) {
+                m = (uint32_t)w;
+                w = (w - xx) + w;
+                cpos += 1u;
+                corr += qa_corr_q38[i];
+            } else {
+                m = (uint32_t)(-w);
+                w = (w + xx) + w;
+                corr -= qa_corr_q38[i];
+            }
+            /* round(m / 2^(s1 + 1)) = floor((floor(m / 2^s1) + 1) / 2) */
+            xx += (int32_t)(((m >> s1) + 1u) >> 1);
+            s1 += 2u;
+        }
+        /* The leading digit 2^-11, then 2^-12 .. 2^-33 (the marker reaches bit 22 after 22
+         * digits). */
+        if (w >= 0) {
+            w -= xx;
+            lead = (int32_t)QA_LEAD;
+        } else {
+            w += xx;
+            lead = -(int32_t)QA_LEAD;
+        }
+        while (dpos < QA_LEAD) {
+            dpos += dpos;
+            if (w >= 0) {
+                w = (w - xx) + w;
+                dpos += 1u;
+            } else {
+                w = (w + xx) + w;
+            }
+        }
+        /* sum sigma 2^-k over n digits with the +1s as bits B (marker 2^n taken off):
+         * 2 B - (2^n - 1), in units of the last digit: the steps' in Q11 (|.| < 2^10), the
+         * division's with the leading digit in Q33 (|.| < 2^23) */
+        {
+            const uint32_t cb = cpos - QA_CPOS; /* < 2^10 */
+            const uint32_t db = dpos - QA_LEAD; /* < 2^22 */
+            steps = ((2 * (int32_t)cb) + 1) - (int32_t)QA_CPOS;
+            digits = lead + (((2 * (int32_t)db) + 1) - (int32_t)QA_LEAD);
+        }
+        /* t = atan(1/2) + steps 2^-11 - corr 2^-38 + digits 2^-33, in Q61 */
+        z = ((cordic_atan_q61[1] + ((int64_t)steps * rfe_q31_pow2(50u))) -
+             ((int64_t)corr * rfe_q31_pow2(23u))) +
+            ((int64_t)digits * rfe_q31_pow2(28u));
+    }
+    if (y > x) {
+        z = (int64_t)HALF_PI_Q61 - z;
+    }
+    /* z > -2^29 (see above), < pi/2 2^61 + 2^28: rounded to Q31, within [0, 3373259426] */
+    z += rfe_q31_pow2(29u);
+    return (uint32_t)((uint64_t)z >> 30);
+}
+
+/* Entries of the sine and cosine tables of rfe_q31_sin_q55 (k = 0 .. 50). */
+#define SIN_TAB_N 51u
+/* pi and pi/2 in Q55, rounded to nearest (pi 2^55 = ...044.41, so pi/2 is exactly half). */
+#define PI_Q55 INT64_C(113187804032455044)
+#define HALF_PI_Q55 INT64_C(56593902016227522)
+/* 2^18 / 6 and 2^16 / 24, rounded (1/6 + 1.27e-6 and 1/24 + 5.1e-6). */
+#define INV6_Q18 43691u
+#define INV24_Q16 2731
+
+/* floor(v / 2^s + 1/2) for |v| <= 2^30 and 1 <= s <= 29, in 32-bit offset binary: v + 2^30
+ * (modulo 2^32, intended) is the non-negative value v + 2^30 <= 2^31, the rounding bit
+ * 2^(s-1) <= 2^28 keeps it below 2^32, and the shifted offset is taken off after the shift. */
+static int32_t rshr32(int32_t v, unsigned int s)
+{
+    const uint32_t off = (uint32_t)1 << 30;
+    const unsigned int s1 = s - 1u;
+    const uint32_t u = (((uint32_t)v + off) + ((uint32_t)1 << s1)) >> s;
+    const uint32_t offs = off >> s;
+    return (int32_t)u - (int32_t)offs;
+}
+
+/* floor(v / 2^s + 1/2) for |v| <= 2^61 and 1 <= s <= 61, as rshr32 with the offset 2^62. */
+static int64_t rshr64(int64_t v, unsigned int s)
+{
+    const uint64_t off = (uint64_t)1 << 62;
+    const unsigned int s1 = s - 1u;
+    const uint64_t u = (((uint64_t)v + off) + ((uint64_t)1 << s1)) >> s;
+    const uint64_t offs = off >> s;
+    return (int64_t)u - (int64_t)offs;
+}
+
+/*
+ * sin(phi), phi in Q55 within [0, pi], in Q30.
+ *
+ * p = phi or pi - phi, in [0, pi/2] (pi rounded by 2^-56); k = round(32 p) in [0, 50],
+ * d = p - k/32 with |d| <= 2^-6, rounded to Q36 (|d| <= 2^30, error 2^-37). With S, C the
+ * table's sin, cos of k/32:
+ *   sin(k/32 + d) = S + d (C + d (-S/2 + d (-C/6 + d S/24))) + R,  |R| <= d^5/120 <= 2^-36.9.
+ * Horner from the inside (error bounds of each level in brackets):
+ *   u3 = -C/6 + d S/24, Q31, in 32-bit products: C/6 from C rounded to Q16 (2^-17 / 6) times
+ *        1/6 in Q18 (1.27e-6), d S from d in Q20 and S in Q16 rounded to Q24 (2^-20.4), times
+ *        1/24 in Q16 (5.1e-6 2^-6): [2^-18.5];
+ *   u2 = -S/2 + d u3, Q31: 64-bit product rounded (2^-32), S/2 rounded (2^-32): [2^-24.5];
+ *   u1 = C + d u2, Q31 in int64 (C = 1 at k = 0): C's table rounding 2^-32, the product's
+ *        2^-32, d 2^-24.5: [2^-29.7];
+ *   G = S + d u1, Q62: S's table rounding 2^-33, d u1 to 2^-63, d 2^-29.7: [2^-33 + 2^-35.7].
+ * Total before the final rounding: 2^-33 + 2^-35.7 + 2^-37 (d rounded, slope <= 1) + 2^-36.9
+ * (R) < 2^-32.64 (1.28 2^-33), so -2^-32.64 < G < 1 + 2^-32.64, and G rounded to Q30 (half
+ * up) is within [0, 2^30]; error <= 2^-31 + 2^-32.64 = 0.66 LSB30 = 6.15e-10.
+ */
+int32_t rfe_q31_sin_q55(int64_t phi)
+{
+    /* sin(k / 32) in Q32 (all below 2^32: k / 32 <= 1.5625 < pi/2) and cos(k / 32) in Q31
+     * (<= 2^31), k = 0 .. 50, rounded to nearest (computed with 60 significant digits). */
+    static const uint32_t sin_tab_q32[SIN_TAB_N] = {
+        0u,          134195884u,  268260727u,  402063619u,  535473903u,  668361305u,  800596063u,
+        932049054u,  1062591914u, 1192097171u, 1320438366u, 1447490175u, 1573128534u, 1697230760u,
+        1819675669u, 1940343695u, 2059117009u, 2175879630u, 2290517542u, 2402918802u, 2512973652u,
+        2620574627u, 2725616654u, 2827997164u, 2927616182u, 3024376433u, 3118183431u, 3208945576u,
+        3296574240u, 3380983856u, 3462091998u, 3539819466u, 3614090360u, 3684832157u, 3751975777u,
+        3815455657u, 3875209809u, 3931179884u, 3983311229u, 4031552938u, 4075857905u, 4116182865u,
+        4152488442u, 4184739185u, 4212903601u, 4236954188u, 4256867461u, 4272623976u, 4284208345u,
+        4291609258u, 4294819488u};
+    static const uint32_t cos_tab_q31[SIN_TAB_N] = {
+        2147483648u, 2146435157u, 2143290709u, 2138053374u, 2130728266u, 2121322538u, 2109845374u,
+        2096307983u, 2080723582u, 2063107390u, 2043476608u, 2021850407u, 1998249902u, 1972698141u,
+        1945220073u, 1915842531u, 1884594201u, 1851505597u, 1816609030u, 1779938574u, 1741530038u,
+        1701420928u, 1659650409u, 1616259270u, 1571289881u, 1524786154u, 1476793500u, 1427358781u,
+        1376530271u, 1324357603u, 1270891722u, 1216184836u, 1160290367u, 1103262894u, 1045158103u,
+        986032733u,  925944519u,  864952136u,  803115142u,  740493919u,  677149617u,  613144090u,
+        548539838u,  483399946u,  417788022u,  351768135u,  285404752u,  218762677u,  151906984u,
+        84902956u,   17816022u};
+    const int64_t p = (phi > HALF_PI_Q55) ? (PI_Q55 - phi) : phi;
+    const uint32_t k = (uint32_t)(((uint64_t)p + ((uint64_t)1 << 49)) >> 50); /* <= 50 */
+    const int64_t d55 = p - (int64_t)((uint64_t)k << 50); /* in [-2^49, 2^49) */
+    const int32_t d = (int32_t)rshr64(d55, 19u);          /* Q36, |d| <= 2^30 */
+    const uint32_t s = sin_tab_q32[k];
+    const uint32_t c = cos_tab_q31[k];
+    /* C/6 in Q34: (C rounded to Q16, <= 2^16) times 1/6 in Q18: < 2^31.5, uint32 */
+    const uint32_t c6 = ((c + ((uint32_t)1 << 14)) >> 15) * INV6_Q18;
+    /* d S in Q24: (d in Q20, |.| <= 2^14) (S in Q16, < 2^16) < 2^30, rounded by 12 bits */
+    const int32_t ds = rshr32(rshr32(d, 16u) * (int32_t)(s >> 16), 12u);
+    /* u3 = -C/6 + d S/24, Q31 (|ds| 1/24 in Q40: < 2^29.4) */
+    const int32_t u3 = rshr32(ds * INV24_Q16, 9u) - (int32_t)((c6 + 4u) >> 3);
+    /* u2 = -S/2 + d u3, Q31 (S + 2 < 2^32: S <= 2^32 - 147808) */
+    const int32_t u2 =
+        (int32_t)rshr64((int64_t)d * (int64_t)u3, 36u) - (int32_t)((s + 2u) >> 2);
+    /* u1 = C + d u2, Q31, <= 2^31 */
+    const int64_t u1 = (int64_t)c + rshr64((int64_t)d * (int64_t)u2, 36u);
+    /* G = S + d u1, Q62 (|d u1| <= 2^61 in Q67) */
+    const int64_t g = (int64_t)((uint64_t)s << 30) + rshr64((int64_t)d * u1, 5u);
+
+    /* g + 2^31 > 0 (G > -2^-32.64): rounded to Q30 */
+    return (int32_t)(((uint64_t)g + ((uint64_t)1 << 31)) >> 32);
+}

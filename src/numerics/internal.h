@@ -1,0 +1,102 @@
+/**
+ * @file internal.h
+ * @brief Private helpers shared by the floating-point library sources (not installed).
+ *
+ * Literals and libm calls go through these macros so that the float32 build never
+ * promotes to double (-Wdouble-promotion) and the double build never truncates.
+ */
+#ifndef RFE_INTERNAL_H
+#define RFE_INTERNAL_H
+
+#include <math.h>
+
+#include "rfe/config.h"
+#include "rfe/types.h"
+
+/** RFE_TRIA_COLS_MAX as a size_t, built from casts of the single constants (a cast of the
+ *  composite int expression would break MISRA C:2012 Rule 10.8). Same formula, checked: */
+#if RFE_TRIA_COLS_MAX != ((2 * RFE_N_MAX) + ((RFE_N_MAX > RFE_M_MAX) ? RFE_N_MAX : RFE_M_MAX))
+#error "RFE_TRIA_COLS_SZ restates RFE_TRIA_COLS_MAX (config.h): keep the two formulas equal"
+#endif
+#define RFE_TRIA_COLS_SZ                                                                       \
+    ((2u * (size_t)RFE_N_MAX) +                                                                \
+     (((size_t)RFE_N_MAX > (size_t)RFE_M_MAX) ? (size_t)RFE_N_MAX : (size_t)RFE_M_MAX))
+
+/** A literal in the build's real type. */
+#define RFE_R(x) ((rfe_real_t)(x))
+
+#if defined(RFE_REAL_DOUBLE)
+#define RFE_SQRT(x) sqrt(x)
+#define RFE_FABS(x) fabs(x)
+#define RFE_ATAN2(y, x) atan2((y), (x))
+#define RFE_SIN(x) sin(x)
+#define RFE_COS(x) cos(x)
+#define RFE_TAN(x) tan(x)
+#define RFE_FREXP(x, e) frexp((x), (e))
+#define RFE_LDEXP(x, e) ldexp((x), (e))
+#else
+#define RFE_SQRT(x) sqrtf(x)
+#define RFE_FABS(x) fabsf(x)
+#define RFE_ATAN2(y, x) atan2f((y), (x))
+#define RFE_SIN(x) sinf(x)
+#define RFE_COS(x) cosf(x)
+#define RFE_TAN(x) tanf(x)
+#define RFE_FREXP(x, e) frexpf((x), (e))
+#define RFE_LDEXP(x, e) ldexpf((x), (e))
+#endif
+
+/** Magic words marking an initialised state struct (guards use before init). */
+#define RFE_MAGIC_SCKF 0x53434B46u /* "SCKF" */
+#define RFE_MAGIC_CKF 0x434B4620u  /* "CKF " */
+#define RFE_MAGIC_EST 0x45535431u  /* "EST1" */
+#define RFE_MAGIC_COND 0x434F4E44u /* "COND" */
+
+/** True when x is neither NaN nor infinite. */
+static inline int rfe_is_finite(rfe_real_t x) { return isfinite(x) ? 1 : 0; }
+
+/** True when all k values are finite. */
+static inline int rfe_all_finite(const rfe_real_t *v, size_t k)
+{
+    size_t i;
+    for (i = 0u; i < k; ++i) {
+        if (!isfinite(v[i])) {
+            return 0;
+        }
+    }
+    return 1;
+}
+
+/** True when the lower triangle of the k x k matrix M (row stride ld) is finite. */
+static inline int rfe_lower_finite(const rfe_real_t *M, size_t k, size_t ld)
+{
+    size_t i;
+    for (i = 0u; i < k; ++i) {
+        if (!rfe_all_finite(&M[i * ld], i + 1u)) {
+            return 0;
+        }
+    }
+    return 1;
+}
+
+static inline rfe_real_t rfe_max(rfe_real_t a, rfe_real_t b) { return (a > b) ? a : b; }
+static inline rfe_real_t rfe_min(rfe_real_t a, rfe_real_t b) { return (a < b) ? a : b; }
+static inline rfe_real_t rfe_clamp(rfe_real_t x, rfe_real_t lo, rfe_real_t hi)
+{
+    return rfe_min(rfe_max(x, lo), hi);
+}
+
+/* Projects v[0..k) onto [lo, hi]; returns 1 if any element moved. */
+static inline int rfe_clamp_vec(rfe_real_t *v, size_t k, rfe_real_t lo, rfe_real_t hi)
+{
+    size_t i;
+    int moved = 0;
+    for (i = 0u; i < k; ++i) {
+        if ((v[i] < lo) || (v[i] > hi)) {
+            v[i] = rfe_clamp(v[i], lo, hi);
+            moved = 1;
+        }
+    }
+    return moved;
+}
+
+#endif /* RFE_INTERNAL_H */

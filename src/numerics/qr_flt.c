@@ -1,0 +1,262 @@
+/**
+ * @file qr_flt.c
+ * @brief Householder Tria() and triangular solves (MODEL.md §6).
+ */
+#include "rfe/qr.h"
+
+#include <float.h>
+
+#include "numerics/internal.h"
+
+#if defined(RFE_REAL_DOUBLE)
+#define RFE_REAL_MIN_EXP DBL_MIN_EXP
+#define RFE_REAL_MAX_EXP DBL_MAX_EXP
+/* Row maxima Tria() reduces unscaled: squares and sums of up to RFE_TRIA_COLS_MAX of them
+ * stay far inside the normal range (2^+-256 of 2^+-1022). */
+#define TRIA_SAFE_LO RFE_R(8.6361685550944446e-78) /* 2^-256 */
+#define TRIA_SAFE_HI RFE_R(1.1579208923731620e+77) /* 2^256 */
+#else
+#define RFE_REAL_MIN_EXP FLT_MIN_EXP
+#define RFE_REAL_MAX_EXP FLT_MAX_EXP
+/* As above for float: 2^+-30 of 2^+-126. */
+#define TRIA_SAFE_LO RFE_R(9.31322574615478515625e-10) /* 2^-30 */
+#define TRIA_SAFE_HI RFE_R(1073741824.0)               /* 2^30 */
+#endif
+
+#define AT(M, ld, i, j) ((M)[((i) * (ld)) + (j)])
+
+/* Largest |element| of a row; -1 when the row holds a NaN or an infinity. */
+static rfe_real_t row_max(const rfe_real_t *row, size_t cols)
+{
+    rfe_real_t big = RFE_R(0.0);
+    size_t j;
+    for (j = 0u; j < cols; ++j) {
+        if (!rfe_is_finite(row[j])) {
+            return RFE_R(-1.0);
+        }
+        big = rfe_max(big, RFE_FABS(row[j]));
+    }
+    return big;
+}
+
+/* The maxima of all rows into bigs; *scaled = 1 when one of them lies outside
+ * [TRIA_SAFE_LO, TRIA_SAFE_HI] (zero rows aside). Returns -1 when A holds a NaN/Inf. */
+static int row_maxima(const rfe_real_t *A, size_t rows, size_t cols, size_t lda,
+                      rfe_real_t *bigs, int *scaled)
+{
+    size_t i;
+    *scaled = 0;
+    for (i = 0u; i < rows; ++i) {
+        const rfe_real_t big = row_max(&AT(A, lda, i, 0u), cols);
+        if (big < RFE_R(0.0)) {
+            return -1;
+        }
+        if ((big > RFE_R(0.0)) && ((big < TRIA_SAFE_LO) || (big > TRIA_SAFE_HI))) {
+            *scaled = 1;
+        }
+        bigs[i] = big;
+    }
+    return 0;
+}
+
+/* Binary exponent e of a row maximum big (big in [2^(e-1), 2^e)); 0 for a zero row. */
+static int max_exponent(rfe_real_t big)
+{
+    int e = 0;
+    if (big > RFE_R(0.0)) {
+        (void)RFE_FREXP(big, &e);
+    }
+    return e;
+}
+
+/* row[0..cols) *= 2^e (exact barring overflow/underflow of the result). While 2^e is a
+ * normal number the product x * 2^e is rounded once, exactly as ldexp(x, e) rounds, so one
+ * ldexp for the factor replaces one per element with the same result, bit for bit. */
+static void scale_row(rfe_real_t *row, size_t cols, int e)
+{
+    size_t j;
+    if ((e >= (RFE_REAL_MIN_EXP - 1)) && (e < RFE_REAL_MAX_EXP)) {
+        if (e != 0) {
+            const rfe_real_t f = RFE_LDEXP(RFE_R(1.0), e);
+            for (j = 0u; j < cols; ++j) {
+                row[j] *= f;
+            }
+        }
+    } else {
+        for (j = 0u; j < cols; ++j) {
+            row[j] = RFE_LDEXP(row[j], e);
+        }
+    }
+}
+
+/* Euclidean norm of row k of A from column k on. */
+static rfe_real_t row_tail_norm(const rfe_real_t *A, size_t lda, size_t k, size_t cols)
+{
+    rfe_real_t ss = RFE_R(0.0);
+    size_t j;
+    for (j = k; j < cols; ++j) {
+        ss += AT(A, lda, k, j) * AT(A, lda, k, j);
+    }
+    return RFE_SQRT(ss);
+}
+
+/* One Householder reflection H = I - 2 v v^T / (v^T v) from the right that maps row k's
+ * tail x = A[k][k..] onto (-sign(x0) |x|, 0, ..., 0); v = x + sign(x0) |x| e_0 avoids
+ * cancellation. Applied to rows k..rows-1; v is kept in row k's tail until done. */
+static void reflect_row(rfe_real_t *A, size_t rows, size_t cols, size_t lda, size_t k,
+                        rfe_real_t norm)
+{
+    const rfe_real_t x0 = AT(A, lda, k, k);
+    const rfe_real_t sgn = (x0 < RFE_R(0.0)) ? RFE_R(-1.0) : RFE_R(1.0);
+    /* v^T v = 2 |x| (|x| + |x0|). */
+    const rfe_real_t vtv = RFE_R(2.0) * norm * (norm + RFE_FABS(x0));
+    size_t i;
+    size_t j;
+
+    AT(A, lda, k, k) = x0 + (sgn * norm); /* row k's tail now holds v */
+    for (i = k + 1u; i < rows; ++i) {
+        rfe_real_t dot = RFE_R(0.0);
+        rfe_real_t scale;
+        for (j = k; j < cols; ++j) {
+            dot += AT(A, lda, i, j) * AT(A, lda, k, j);
+        }
+        scale = RFE_R(2.0) * dot / vtv;
+        for (j = k; j < cols; ++j) {
+            AT(A, lda, i, j) -= scale * AT(A, lda, k, j);
+        }
+    }
+    /* Row k itself becomes (-sign(x0) |x|, 0, ...). */
+    AT(A, lda, k, k) = -sgn * norm;
+    for (j = k + 1u; j < cols; ++j) {
+        AT(A, lda, k, j) = RFE_R(0.0);
+    }
+}
+
+/* Non-negative diagonal of the lower-triangular rows x rows S in A: flipping a column's sign
+ * leaves S S^T unchanged. */
+static void make_diagonal_nonnegative(rfe_real_t *A, size_t rows, size_t lda)
+{
+    size_t i;
+    size_t k;
+    for (k = 0u; k < rows; ++k) {
+        if (AT(A, lda, k, k) < RFE_R(0.0)) {
+            for (i = k; i < rows; ++i) {
+                AT(A, lda, i, k) = -AT(A, lda, i, k);
+            }
+        }
+    }
+}
+
+rfe_status_t RFE_FN(rfe_qr_tria)(rfe_real_t *A, size_t rows, size_t cols, size_t lda)
+{
+    rfe_real_t bigs[RFE_N_MAX];
+    int exps[RFE_N_MAX];
+    int scaled = 0;
+    size_t i;
+    size_t k;
+
+    if (A == NULL) {
+        return RFE_ERR_NULL;
+    }
+    if ((rows == 0u) || (rows > (size_t)RFE_N_MAX) || (cols < rows) ||
+        (cols > RFE_TRIA_COLS_SZ) || (lda < cols)) {
+        return RFE_ERR_SIZE;
+    }
+    if (row_maxima(A, rows, cols, lda, bigs, &scaled) != 0) {
+        return RFE_ERR_NONFINITE;
+    }
+    /* Rows are scaled by powers of two so the sums of squares neither overflow nor
+     * underflow: with A = D A', S = D S'. Power-of-two scaling is exact, so the result is
+     * the unscaled reduction's wherever that stays in the normal range; rows whose maxima
+     * all lie in [TRIA_SAFE_LO, TRIA_SAFE_HI] (every matrix of the estimator) are reduced
+     * unscaled. */
+    if (scaled != 0) {
+        for (i = 0u; i < rows; ++i) {
+            exps[i] = max_exponent(bigs[i]);
+            scale_row(&AT(A, lda, i, 0u), cols, -exps[i]);
+        }
+    }
+    /* A^T = Q R  <=>  A Q = R^T = [S 0]: zero each row's tail right of the diagonal. */
+    for (k = 0u; k < rows; ++k) {
+        const rfe_real_t norm = row_tail_norm(A, lda, k, cols);
+        if (norm > RFE_R(0.0)) {
+            reflect_row(A, rows, cols, lda, k, norm);
+        }
+        /* norm == 0: the tail is already zero (rank-deficient input); S(k,k) = 0. */
+    }
+    make_diagonal_nonnegative(A, rows, lda);
+    if (scaled != 0) {
+        for (i = 0u; i < rows; ++i) {
+            scale_row(&AT(A, lda, i, 0u), i + 1u, exps[i]); /* S = D S' */
+        }
+    }
+    return RFE_OK;
+}
+
+/* Shared checks of the triangular solves; all diagonal entries must be > 0. */
+static rfe_status_t check_solve(const rfe_real_t *L, size_t n, size_t ldl, const rfe_real_t *B,
+                                size_t ncols, size_t ldb)
+{
+    size_t i;
+    if ((L == NULL) || (B == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    if ((n == 0u) || (n > (size_t)RFE_N_MAX) || (ldl < n) || (ncols == 0u) || (ldb < ncols)) {
+        return RFE_ERR_SIZE;
+    }
+    for (i = 0u; i < n; ++i) {
+        if (!(AT(L, ldl, i, i) > RFE_R(0.0))) { /* also rejects NaN */
+            return RFE_ERR_NOT_POSITIVE_DEFINITE;
+        }
+    }
+    return RFE_OK;
+}
+
+rfe_status_t RFE_FN(rfe_qr_solve_lower)(const rfe_real_t *L, size_t n, size_t ldl, rfe_real_t *B,
+                                        size_t ncols, size_t ldb)
+{
+    size_t c;
+    size_t i;
+    size_t j;
+    const rfe_status_t st = check_solve(L, n, ldl, B, ncols, ldb);
+
+    if (st != RFE_OK) {
+        return st;
+    }
+    /* x_i = (b_i - sum_{j<i} L_ij x_j) / L_ii, column by column. */
+    for (c = 0u; c < ncols; ++c) {
+        for (i = 0u; i < n; ++i) {
+            rfe_real_t acc = AT(B, ldb, i, c);
+            for (j = 0u; j < i; ++j) {
+                acc -= AT(L, ldl, i, j) * AT(B, ldb, j, c);
+            }
+            AT(B, ldb, i, c) = acc / AT(L, ldl, i, i);
+        }
+    }
+    return RFE_OK;
+}
+
+rfe_status_t RFE_FN(rfe_qr_solve_lower_t)(const rfe_real_t *L, size_t n, size_t ldl,
+                                          rfe_real_t *B, size_t ncols, size_t ldb)
+{
+    size_t c;
+    size_t j;
+    const rfe_status_t st = check_solve(L, n, ldl, B, ncols, ldb);
+
+    if (st != RFE_OK) {
+        return st;
+    }
+    /* x_i = (b_i - sum_{j>i} L_ji x_j) / L_ii, from the last row up. */
+    for (c = 0u; c < ncols; ++c) {
+        size_t up;
+        for (up = 0u; up < n; ++up) {
+            const size_t i = n - 1u - up; /* rows n-1 .. 0 */
+            rfe_real_t acc = AT(B, ldb, i, c);
+            for (j = i + 1u; j < n; ++j) {
+                acc -= AT(L, ldl, j, i) * AT(B, ldb, j, c);
+            }
+            AT(B, ldb, i, c) = acc / AT(L, ldl, i, i);
+        }
+    }
+    return RFE_OK;
+}

@@ -1,0 +1,321 @@
+/**
+ * @file qr_q31.c
+ * @brief Householder Tria() and triangular solves on int32 Q values (the twin of qr_flt.c).
+ *
+ * Tria works row by row on the unreduced part ("tail", columns k..cols-1 at reflection k) of
+ * every remaining row, each in its own power-of-two scale: the stored integer w stands for
+ * w 2^-e_i LSB of the input format. Before reflection k every tail is rescaled so that its
+ * norm lies in [2^29, 2^30) (block scaling), so whatever the magnitude of a row, its
+ * remaining part is always carried with ~30 significant bits. Bounds used below, for a tail
+ * a of L <= RFE_TRIA_COLS_MAX = 24 elements with |a| < 2^30 (+ a few units of rounding):
+ *  - sum of squares of a normalised tail < 2^60 + 2^32: exact in uint64;
+ *  - v = x + sign(x0) |x| e0: |v0| <= 2 |x| < 2^31, v.v = 2 |x| (|x| + |x0|) < 2^62;
+ *  - a.v: |a.v| <= |a| |v| < 2^61 (every partial sum too, by Cauchy-Schwarz): exact in int64;
+ *  - c = 2 a.v / v.v, |c| <= 2 |a| / |v| < 4 (|v| >= |x| >= 2^29): in Q30 below 2^32, and
+ *    |c v_j| <= 2 |a|, so the Q30 product c v_j stays below 2^62.
+ */
+#include "rfe/qr_q31.h"
+
+#include "numerics/internal_q31.h"
+
+#define AT(M, ld, i, j) ((M)[((i) * (ld)) + (j)])
+
+/* Target of the block scaling: the norm of every tail in [2^NORM_LO, 2^(NORM_LO + 1)). */
+#define NORM_LO 29
+/* Fractional bits of the reflection coefficient c. */
+#define C_FRAC 30u
+
+/* Number of significant bits of v (0 for v = 0), by halving the search window: six
+ * comparisons instead of one shift per bit. */
+static unsigned int bit_length_q31(uint64_t v)
+{
+    static const unsigned int widths[6] = {32u, 16u, 8u, 4u, 2u, 1u};
+    unsigned int len = 0u;
+    uint64_t r = v;
+    size_t i;
+    for (i = 0u; i < 6u; ++i) {
+        const uint64_t high = r >> widths[i];
+        if (high != 0u) {
+            r = high;
+            len += widths[i];
+        }
+    }
+    return len + (unsigned int)r; /* r is now 0 or 1 */
+}
+
+/* Shift s that brings the norm of t[0..len) into [2^29, 2^30): s = 29 - floor(log2 |t|).
+ * Returns 0 (and leaves *shift alone) for an all-zero tail. The sum of squares is formed
+ * exactly in two uint64 limbs (each square <= 2^62, at most 24 of them). */
+static int tail_shift(const rfe_fix_t *t, size_t len, int *shift)
+{
+    uint64_t lo = 0u;
+    uint64_t hi = 0u;
+    unsigned int bits;
+    unsigned int half;
+    size_t j;
+    for (j = 0u; j < len; ++j) {
+        const uint64_t m = rfe_q31_mag64_any((int64_t)t[j]);
+        const uint64_t sq = m * m;
+        lo += sq;
+        if (lo < sq) {
+            hi += 1u;
+        }
+    }
+    if ((hi == 0u) && (lo == 0u)) {
+        return 0;
+    }
+    /* bit length of the 128-bit sum; floor(log2 sqrt(ss)) = floor((bits - 1) / 2) */
+    bits = (hi != 0u) ? (64u + bit_length_q31(hi)) : bit_length_q31(lo);
+    half = (bits - 1u) / 2u;
+    *shift = NORM_LO - (int)half;
+    return 1;
+}
+
+/* t[0..len) *= 2^s: exact for s > 0 (the result is below 2^30 by the choice of s), rounded
+ * half up for s < 0. */
+static void scale_tail(rfe_fix_t *t, size_t len, int s)
+{
+    size_t j;
+    if (s > 0) {
+        const int64_t p2 = rfe_q31_pow2((unsigned int)s);
+        for (j = 0u; j < len; ++j) {
+            t[j] = (rfe_fix_t)((int64_t)t[j] * p2);
+        }
+    } else if (s < 0) {
+        for (j = 0u; j < len; ++j) {
+            t[j] = rfe_fix_shr_round(t[j], (unsigned int)(-s));
+        }
+    } else {
+        /* already in range */
+    }
+}
+
+/* A working value w of scale e (w 2^-e LSB) rounded into the output format, saturating. */
+static rfe_fix_t to_output(int64_t w, int e, uint32_t *sat)
+{
+    rfe_fix_t r;
+    if (e >= 0) {
+        r = rfe_fix_narrow(w, (unsigned int)e, sat);
+    } else {
+        r = rfe_fix_shl(rfe_fix_sat32(w, sat), (unsigned int)(-e), sat);
+    }
+    return r;
+}
+
+/* round(n 2^e / d) on magnitudes (d > 0, n < 2^63, e + 1 quotient bits appended by long
+ * division; the remainder stays below d < 2^63, so doubling it cannot overflow). The caller
+ * guarantees that the quotient is below 2^62. */
+static uint64_t div_round_shift(uint64_t n, uint64_t d, unsigned int e)
+{
+    uint64_t quo = n / d;
+    uint64_t rem = n % d;
+    unsigned int i;
+    for (i = 0u; i <= e; ++i) {
+        quo <<= 1;
+        rem <<= 1;
+        if (rem >= d) {
+            rem -= d;
+            quo += 1u;
+        }
+    }
+    return (quo + 1u) >> 1;
+}
+
+/* Reflection k, on normalised tails: row k's tail x (length len, starting at column k) is
+ * mapped onto (-sign(x0) |x|, 0, ..., 0) and every other row i > k with a non-zero tail gets
+ * a <- a - c v, c = 2 a.v / v.v, v = x + sign(x0) |x| e0. Returns the unrounded diagonal
+ * entry (scale of row k): -sign(x0) |x|, or x0 itself when it is the only non-zero. */
+static int64_t reflect(rfe_fix_t *A, size_t rows, size_t lda, size_t k, size_t len,
+                       const int *nonzero, uint32_t *sat)
+{
+    rfe_fix_t *x = &AT(A, lda, k, k);
+    uint64_t ss = 0u;
+    int64_t norm;
+    int64_t v0;
+    uint64_t vtv;
+    size_t i;
+    size_t j;
+
+    for (j = 0u; j < len; ++j) {
+        const uint64_t m = rfe_q31_mag64_any((int64_t)x[j]);
+        ss += m * m;
+    }
+    if (ss == (rfe_q31_mag64_any((int64_t)x[0]) * rfe_q31_mag64_any((int64_t)x[0]))) {
+        /* Only x0 is non-zero: the reflection would negate column k and the sign fix-up
+         * negate it back where x0 > 0; skipping it gives the same factor, exactly (a
+         * lower-triangular input is its own Tria up to column signs). */
+        return (int64_t)x[0];
+    }
+    norm = (int64_t)rfe_q31_sqrt_round(ss);
+    v0 = (x[0] < 0) ? ((int64_t)x[0] - norm) : ((int64_t)x[0] + norm);
+    /* v.v = |x|^2 - x0^2 + v0^2, exact */
+    vtv = (ss - (rfe_q31_mag64_any((int64_t)x[0]) * rfe_q31_mag64_any((int64_t)x[0]))) +
+          (rfe_q31_mag64_any(v0) * rfe_q31_mag64_any(v0));
+    for (i = k + 1u; i < rows; ++i) {
+        if (nonzero[i] != 0) {
+            rfe_fix_t *a = &AT(A, lda, i, k);
+            int64_t dot = (int64_t)a[0] * v0;
+            uint64_t cm;
+            int64_t c;
+            for (j = 1u; j < len; ++j) {
+                dot += (int64_t)a[j] * (int64_t)x[j];
+            }
+            /* c in Q30: round(2 a.v 2^30 / v.v), magnitude below 2^32 */
+            cm = div_round_shift(rfe_q31_mag64_any(dot), vtv, C_FRAC + 1u);
+            c = (dot < 0) ? -(int64_t)cm : (int64_t)cm;
+            a[0] = rfe_fix_sat32((int64_t)a[0] - rfe_fix_shr64_round(c * v0, C_FRAC), sat);
+            for (j = 1u; j < len; ++j) {
+                a[j] = rfe_fix_sat32(
+                    (int64_t)a[j] - rfe_fix_shr64_round(c * (int64_t)x[j], C_FRAC), sat);
+            }
+        }
+    }
+    for (j = 0u; j < len; ++j) {
+        x[j] = 0;
+    }
+    return (v0 < 0) ? norm : -norm;
+}
+
+/* Non-negative diagonal of the lower-triangular rows x rows S in A: flipping a column's sign
+ * leaves S S^T unchanged (entries are symmetric-saturated, so negation is exact). The flip is
+ * decided on the sign of the unrounded diagonal (flip[k]), so that a diagonal entry that
+ * rounds to 0 still gets the column sign of the exact factor. */
+static void make_diagonal_nonnegative_q31(rfe_fix_t *A, size_t rows, size_t lda, const int *flip)
+{
+    size_t i;
+    size_t k;
+    for (k = 0u; k < rows; ++k) {
+        if (flip[k] != 0) {
+            for (i = k; i < rows; ++i) {
+                AT(A, lda, i, k) = -AT(A, lda, i, k);
+            }
+        }
+    }
+}
+
+rfe_status_t rfe_qr_tria_q31(rfe_fix_t *A, size_t rows, size_t cols, size_t lda, uint32_t *sat)
+{
+    int e[RFE_N_MAX];       /* scale of each row's tail */
+    int nonzero[RFE_N_MAX]; /* tail of the row not all zero */
+    int flip[RFE_N_MAX];    /* unrounded diagonal entry negative */
+    uint32_t count = 0u;
+    size_t i;
+    size_t k;
+
+    if ((A == NULL) || (sat == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    if ((rows == 0u) || (rows > (size_t)RFE_N_MAX) || (cols < rows) ||
+        (cols > RFE_Q31_TRIA_COLS) || (lda < cols)) {
+        return RFE_ERR_SIZE;
+    }
+    for (i = 0u; i < rows; ++i) {
+        e[i] = 0;
+    }
+    /* A^T = Q R  <=>  A Q = R^T = [S 0]: zero each row's tail right of the diagonal. */
+    for (k = 0u; k < rows; ++k) {
+        const size_t len = cols - k;
+        for (i = k; i < rows; ++i) {
+            int s = 0;
+            rfe_fix_t *t = &AT(A, lda, i, k);
+            nonzero[i] = tail_shift(t, len, &s);
+            if (nonzero[i] != 0) {
+                scale_tail(t, len, s);
+                e[i] += s;
+            }
+        }
+        flip[k] = 0;
+        if (nonzero[k] != 0) {
+            const int64_t diag = reflect(A, rows, lda, k, len, nonzero, &count);
+            AT(A, lda, k, k) = to_output(diag, e[k], &count);
+            if (diag < 0) {
+                flip[k] = 1;
+            }
+        }
+        /* nonzero[k] == 0: the tail is already zero (rank-deficient input); S(k,k) = 0. */
+        for (i = k + 1u; i < rows; ++i) {
+            AT(A, lda, i, k) = to_output((int64_t)AT(A, lda, i, k), e[i], &count);
+        }
+    }
+    make_diagonal_nonnegative_q31(A, rows, lda, flip);
+    rfe_q31_sat_add(sat, count);
+    return RFE_OK;
+}
+
+/* Shared checks of the triangular solves; all diagonal entries must be > 0. */
+static rfe_status_t check_solve_q31(const rfe_fix_t *L, size_t n, size_t ldl, const rfe_fix_t *B,
+                                    size_t ncols, size_t ldb, int shift, const uint32_t *sat)
+{
+    size_t i;
+    if ((L == NULL) || (B == NULL) || (sat == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    if ((n == 0u) || (n > (size_t)RFE_N_MAX) || (ldl < n) || (ncols == 0u) || (ldb < ncols)) {
+        return RFE_ERR_SIZE;
+    }
+    if ((shift < 0) || (shift > 31)) {
+        return RFE_ERR_RANGE;
+    }
+    for (i = 0u; i < n; ++i) {
+        if (AT(L, ldl, i, i) <= 0) {
+            return RFE_ERR_NOT_POSITIVE_DEFINITE;
+        }
+    }
+    return RFE_OK;
+}
+
+rfe_status_t rfe_qr_solve_lower_q31(const rfe_fix_t *L, size_t n, size_t ldl, rfe_fix_t *B,
+                                    size_t ncols, size_t ldb, int shift, uint32_t *sat)
+{
+    uint32_t count = 0u;
+    size_t c;
+    size_t i;
+    size_t j;
+    const rfe_status_t st = check_solve_q31(L, n, ldl, B, ncols, ldb, shift, sat);
+
+    if (st != RFE_OK) {
+        return st;
+    }
+    /* x_i = (b_i 2^shift - sum_{j<i} L_ij x_j) / L_ii, column by column; the numerator in
+     * Q(qx + ql): b_i 2^shift <= 2^62, each product <= 2^62, summed with saturation. */
+    for (c = 0u; c < ncols; ++c) {
+        for (i = 0u; i < n; ++i) {
+            int64_t acc = (int64_t)AT(B, ldb, i, c) * rfe_q31_pow2((unsigned int)shift);
+            for (j = 0u; j < i; ++j) {
+                acc = rfe_fix_add64(acc, -((int64_t)AT(L, ldl, i, j) * (int64_t)AT(B, ldb, j, c)),
+                                    &count);
+            }
+            AT(B, ldb, i, c) = rfe_q31_div_round(acc, AT(L, ldl, i, i), &count);
+        }
+    }
+    rfe_q31_sat_add(sat, count);
+    return RFE_OK;
+}
+
+rfe_status_t rfe_qr_solve_lower_t_q31(const rfe_fix_t *L, size_t n, size_t ldl, rfe_fix_t *B,
+                                      size_t ncols, size_t ldb, int shift, uint32_t *sat)
+{
+    uint32_t count = 0u;
+    size_t c;
+    size_t j;
+    const rfe_status_t st = check_solve_q31(L, n, ldl, B, ncols, ldb, shift, sat);
+
+    if (st != RFE_OK) {
+        return st;
+    }
+    /* x_i = (b_i 2^shift - sum_{j>i} L_ji x_j) / L_ii, from the last row up. */
+    for (c = 0u; c < ncols; ++c) {
+        size_t up;
+        for (up = 0u; up < n; ++up) {
+            const size_t i = n - 1u - up; /* rows n-1 .. 0 */
+            int64_t acc = (int64_t)AT(B, ldb, i, c) * rfe_q31_pow2((unsigned int)shift);
+            for (j = i + 1u; j < n; ++j) {
+                acc = rfe_fix_add64(acc, -((int64_t)AT(L, ldl, j, i) * (int64_t)AT(B, ldb, j, c)),
+                                    &count);
+            }
+            AT(B, ldb, i, c) = rfe_q31_div_round(acc, AT(L, ldl, i, i), &count);
+        }
+    }
+    rfe_q31_sat_add(sat, count);
+    return RFE_OK;
+}

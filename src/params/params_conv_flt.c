@@ -1,0 +1,166 @@
+/**
+ * @file params_conv_flt.c
+ * @brief rfe_params_t -> rfe_params_q31_t (rfe/params_conv.h). A float translation unit: it
+ *        is built into the float and double libraries, never into the fixed-point one.
+ *
+ * Every value is first widened to double (explicit casts: the float build then converts the
+ * float parameters exactly), derived constants are computed in double from the real values
+ * (relative error ~1e-16, far below the 2^-31 resolution of any Q format used) and each value
+ * is rounded once to its format.
+ */
+#include "rfe/params_conv.h"
+
+#include "rfe/fxmath.h" /* RFE_FIX_TAN_LIMIT_Q29 only: no call into the fixed-point library */
+
+#include "numerics/internal.h"
+
+/* Smallest magnitude, in LSB, of a value that must carry 16 significant bits. */
+#define MIN_SIGNIFICANT 65536.0
+
+/* Conversion state: set to 1 when a value does not fit its format. */
+typedef struct {
+    int bad;
+} conv_t;
+
+/* round(x * 2^q) to nearest, ties away from zero; flags a value that is not finite, rounds
+ * beyond +-INT32_MAX, is nonzero but rounds to 0, or (need16) is nonzero and below 2^16 LSB. */
+static rfe_fix_t to_q(conv_t *c, double x, int q, int need16)
+{
+    const double y = ldexp(x, q);
+    const double r = floor(fabs(y) + 0.5);
+    rfe_fix_t v = 0;
+
+    if (!(r <= (double)RFE_FIX_MAX) || /* also NaN */
+        ((x != 0.0) && ((r == 0.0) || ((need16 != 0) && (r < MIN_SIGNIFICANT))))) {
+        c->bad = 1;
+    } else {
+        v = (rfe_fix_t)((y < 0.0) ? -r : r);
+    }
+    return v;
+}
+
+static void conv_vehicle(conv_t *c, const rfe_vehicle_t *v, rfe_vehicle_q31_t *q)
+{
+    const double m = (double)v->m;
+    const double Lf = (double)v->Lf;
+    const double Lr = (double)v->Lr;
+    const double Bf = (double)v->Bf;
+    const double Br = (double)v->Br;
+    const double J = (double)v->J;
+    const double hg = (double)v->hg;
+    const double g = (double)v->g;
+    const double La = Lf + Lr;
+
+    q->m = to_q(c, m, RFE_FIX_Q_MASS, 1);
+    q->Lf = to_q(c, Lf, RFE_FIX_Q_LEN, 1);
+    q->Lr = to_q(c, Lr, RFE_FIX_Q_LEN, 1);
+    q->Bf = to_q(c, Bf, RFE_FIX_Q_LEN, 1);
+    q->Br = to_q(c, Br, RFE_FIX_Q_LEN, 1);
+    q->R = to_q(c, (double)v->R, RFE_FIX_Q_LEN, 0);
+    q->J = to_q(c, J, RFE_FIX_Q_INERTIA, 1);
+    q->hg = to_q(c, hg, RFE_FIX_Q_LEN, 1);
+    q->g = to_q(c, g, RFE_FIX_Q_ACC, 1);
+    /* Derived (MODEL.md §3 loads, §5 H). */
+    q->yf = to_q(c, 0.5 * Bf, RFE_FIX_Q_LEN, 1);
+    q->yr = to_q(c, 0.5 * Br, RFE_FIX_Q_LEN, 1);
+    q->inv_m = to_q(c, 1.0 / m, RFE_FIX_Q_INV, 1);
+    q->lf_J = to_q(c, Lf / J, RFE_FIX_Q_INV, 1);
+    q->lr_J = to_q(c, Lr / J, RFE_FIX_Q_INV, 1);
+    q->yf_J = to_q(c, 0.5 * Bf / J, RFE_FIX_Q_INV, 1);
+    q->yr_J = to_q(c, 0.5 * Br / J, RFE_FIX_Q_INV, 1);
+    q->fz_static_f = to_q(c, m * g * Lr / (2.0 * La), RFE_FIX_Q_FORCE, 1);
+    q->fz_static_r = to_q(c, m * g * Lf / (2.0 * La), RFE_FIX_Q_FORCE, 1);
+    q->k_pitch = to_q(c, m * hg / (2.0 * La), RFE_FIX_Q_KLOAD, 1);
+    q->k_roll_f = to_q(c, m * hg * Lr / (La * Bf), RFE_FIX_Q_KLOAD, 1);
+    q->k_roll_r = to_q(c, m * hg * Lf / (La * Br), RFE_FIX_Q_KLOAD, 1);
+}
+
+/* The rounded shape factors still inside 1 < C < 2 and E < 1 (Q24; E >= -4 holds after
+ * rounding whenever it held before: -4 is exact). */
+static int shape_fits(rfe_fix_t C, rfe_fix_t E)
+{
+    const rfe_fix_t one = RFE_FIX_ONE(RFE_FIX_Q_STIFF);
+    return (C > one) && (C < (2 * one)) && (E < one);
+}
+
+static void conv_tyre(conv_t *c, const rfe_tyre_params_t *t, rfe_tyre_params_q31_t *q)
+{
+    q->mode = t->mode;
+    q->Cx_n = to_q(c, (double)t->Cx_n, RFE_FIX_Q_STIFF, 0);
+    q->Cy_n = to_q(c, (double)t->Cy_n, RFE_FIX_Q_STIFF, 0);
+    q->cx = to_q(c, (double)t->cx, RFE_FIX_Q_STIFF, 0);
+    q->cy = to_q(c, (double)t->cy, RFE_FIX_Q_STIFF, 0);
+    q->eps = to_q(c, (double)t->eps, RFE_FIX_Q_EPS, 0);
+    q->v_min = to_q(c, (double)t->v_min, RFE_FIX_Q_SPEED, 0);
+    q->alpha_max = to_q(c, (double)t->alpha_max, RFE_FIX_Q_ANGLE, 0);
+    q->shape_Cx = to_q(c, (double)t->shape_Cx, RFE_FIX_Q_STIFF, 0);
+    q->shape_Ex = to_q(c, (double)t->shape_Ex, RFE_FIX_Q_STIFF, 0);
+    q->shape_Cy = to_q(c, (double)t->shape_Cy, RFE_FIX_Q_STIFF, 0);
+    q->shape_Ey = to_q(c, (double)t->shape_Ey, RFE_FIX_Q_STIFF, 0);
+    /* rfe_params_validate keeps alpha_max < 1.5 rad; the rounded value must stay below too
+     * (rfe_fix_tan's domain ends at 1.5 rad). */
+    if (q->alpha_max >= RFE_FIX_TAN_LIMIT_Q29) {
+        c->bad = 1;
+    }
+    /* The same for the shape factors' open bounds (1 < C < 2, E < 1): a value within half an
+     * LSB (2^-25) of one rounds onto it (C = 1 + 1e-9, E = 1 - 1e-9). */
+    if (!shape_fits(q->shape_Cx, q->shape_Ex) || !shape_fits(q->shape_Cy, q->shape_Ey)) {
+        c->bad = 1;
+    }
+}
+
+static void conv_filter(conv_t *c, const rfe_filter_params_t *f, rfe_filter_params_q31_t *q)
+{
+    const double dt = (double)f->dt;
+    const double tau = (double)f->tau_v;
+
+    q->kind = f->kind;
+    q->structure = f->structure;
+    q->mu0 = to_q(c, (double)f->mu0, RFE_FIX_Q_MU, 0);
+    q->sd0 = to_q(c, (double)f->sd0, RFE_FIX_Q_SD, 0);
+    q->q_mu = to_q(c, (double)f->q_mu, RFE_FIX_Q_SD, 0);
+    q->r_ax = to_q(c, (double)f->r_ax, RFE_FIX_Q_ACC, 0);
+    q->r_ay = to_q(c, (double)f->r_ay, RFE_FIX_Q_ACC, 0);
+    q->r_yaw_acc = to_q(c, (double)f->r_yaw_acc, RFE_FIX_Q_ACC, 0);
+    q->mu_min = to_q(c, (double)f->mu_min, RFE_FIX_Q_MU, 0);
+    q->mu_max = to_q(c, (double)f->mu_max, RFE_FIX_Q_MU, 0);
+    q->v_est_min = to_q(c, (double)f->v_est_min, RFE_FIX_Q_SPEED, 0);
+    q->sd0_common = to_q(c, (double)f->sd0_common, RFE_FIX_Q_SD, 0);
+    q->q_common = to_q(c, (double)f->q_common, RFE_FIX_Q_SD, 0);
+    q->dt = to_q(c, dt, RFE_FIX_Q_DT, 1);
+    q->tau_v = to_q(c, tau, RFE_FIX_Q_TAU, 1);
+    q->sd_in_delta = to_q(c, (double)f->sd_in_delta, RFE_FIX_Q_ANGLE, 0);
+    q->sd_in_vx = to_q(c, (double)f->sd_in_vx, RFE_FIX_Q_SPEED, 0);
+    q->sd_in_vy = to_q(c, (double)f->sd_in_vy, RFE_FIX_Q_SPEED, 0);
+    q->sd_in_yaw_rate = to_q(c, (double)f->sd_in_yaw_rate, RFE_FIX_Q_YAWRATE, 0);
+    q->sd_in_omega = to_q(c, (double)f->sd_in_omega, RFE_FIX_Q_OMEGA, 0);
+    q->r_model_rel = to_q(c, (double)f->r_model_rel, RFE_FIX_Q_SD, 0);
+    q->info_min = to_q(c, (double)f->info_min, RFE_FIX_Q_INFO, 0);
+    q->sd_max = to_q(c, (double)f->sd_max, RFE_FIX_Q_SD, 0);
+    q->sd_floor_rel = to_q(c, (double)f->sd_floor_rel, RFE_FIX_Q_SD, 0);
+    q->sd_valid = to_q(c, (double)f->sd_valid, RFE_FIX_Q_SD, 0);
+    q->b_v = to_q(c, dt / (tau + dt), RFE_FIX_Q_DT, 1);
+}
+
+rfe_status_t RFE_FN(rfe_params_to_q31)(const rfe_params_t *p, rfe_params_q31_t *q)
+{
+    rfe_params_q31_t t;
+    conv_t c = {0};
+    rfe_status_t st;
+
+    if ((p == NULL) || (q == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    st = RFE_FN(rfe_params_validate)(p);
+    if (st != RFE_OK) {
+        return st;
+    }
+    conv_vehicle(&c, &p->vehicle, &t.vehicle);
+    conv_tyre(&c, &p->tyre, &t.tyre);
+    conv_filter(&c, &p->filter, &t.filter);
+    if (c.bad != 0) {
+        return RFE_ERR_RANGE;
+    }
+    *q = t;
+    return RFE_OK;
+}

@@ -1,0 +1,368 @@
+/**
+ * @file params_q31.c
+ * @brief The two parameter presets in Q formats (integer tables) and their validation
+ *        (rfe/params_q31.h). Integer operations only.
+ */
+#include "rfe/params_q31.h"
+
+#include "rfe/fxmath.h"
+
+#include "numerics/internal_q31.h"
+
+/* ---- presets ------------------------------------------------------------------------------
+ * The tables are rfe_params_to_q31_f64() of rfe_params_paper_f64() / rfe_params_default_f64()
+ * (test/test_params_q31.c checks that bit for bit); the real value is in each comment. */
+
+static const rfe_params_q31_t paper_q31 = {
+    {
+        119930880,  /* m = 1830 kg, Q16 */
+        751619277,  /* Lf = 1.40 m, Q29 */
+        885837005,  /* Lr = 1.65 m, Q29 */
+        858993459,  /* Bf = 1.60 m, Q29 */
+        858993459,  /* Br = 1.60 m, Q29 */
+        174483046,  /* R = 0.325 m, Q29 */
+        13246464,   /* J = 3234 kg m^2, Q12 */
+        289910292,  /* hg = 0.54 m, Q29 */
+        164584489,  /* g = 9.81 m/s^2, Q24 */
+        429496730,  /* yf = 0.80 m, Q29 */
+        429496730,  /* yr = 0.80 m, Q29 */
+        150206507,  /* inv_m = 1/1830 1/kg, Q38 */
+        118994765,  /* lf_J = 1.40/3234, Q38 */
+        140243830,  /* lr_J = 1.65/3234, Q38 */
+        67997009,   /* yf_J = 0.80/3234, Q38 */
+        67997009,   /* yr_J = 0.80/3234, Q38 */
+        159119770,  /* fz_static_f = 4855.95 N, Q15 */
+        135010714,  /* fz_static_r = 4120.20 N, Q15 */
+        169869312,  /* k_pitch = 162.00 kg, Q20 */
+        350355456,  /* k_roll_f = 334.125 kg, Q20 */
+        297271296   /* k_roll_r = 283.5 kg, Q20 */
+    },
+    {
+        RFE_TYRE_PAPER,
+        335544320,  /* Cx_n = 20, Q24 */
+        251658240,  /* Cy_n = 15, Q24 */
+        335544320,  /* cx = 20, Q24 */
+        251658240,  /* cy = 15, Q24 */
+        64424509,   /* eps = 0.015 s/m, Q32 */
+        4194304,    /* v_min = 0.5 m/s, Q23 */
+        751619277,  /* alpha_max = 1.4 rad, Q29 */
+        27682406,   /* shape_Cx = 1.65, Q24 */
+        0,          /* shape_Ex = 0, Q24 */
+        21810381,   /* shape_Cy = 1.3, Q24 */
+        0           /* shape_Ey = 0, Q24 */
+    },
+    {
+        RFE_FILTER_SCKF,
+        RFE_STRUCT_WHEELS,
+        268435456,  /* mu0 = 0.5, Q29 */
+        322122547,  /* sd0 = 0.3, Q30 */
+        3221225,    /* q_mu = 0.003, Q30 */
+        838861,     /* r_ax = 0.05 m/s^2, Q24 */
+        838861,     /* r_ay = 0.05 m/s^2, Q24 */
+        838861,     /* r_yaw_acc = 0.05 rad/s^2, Q24 */
+        26843546,   /* mu_min = 0.05, Q29 */
+        644245094,  /* mu_max = 1.2, Q29 */
+        25165824,   /* v_est_min = 3 m/s, Q23 */
+        0,          /* sd0_common = 0, Q30 */
+        0,          /* q_common = 0, Q30 */
+        10737418,   /* dt = 0.01 s, Q30 */
+        0,          /* tau_v = 0 (off), Q26 */
+        0,          /* sd_in_delta = 0, Q29 */
+        0,          /* sd_in_vx = 0, Q23 */
+        0,          /* sd_in_vy = 0, Q23 */
+        0,          /* sd_in_yaw_rate = 0, Q27 */
+        0,          /* sd_in_omega = 0, Q22 */
+        0,          /* r_model_rel = 0, Q30 */
+        0,          /* info_min = 0 (off), Q10 */
+        0,          /* sd_max = 0 (off), Q30 */
+        0,          /* sd_floor_rel = 0 (off), Q30 */
+        0,          /* sd_valid = 0 (paper rule), Q30 */
+        1073741824  /* b_v = 1 (tau_v = 0), Q30 */
+    }};
+
+rfe_status_t rfe_params_paper_q31(rfe_params_q31_t *p)
+{
+    if (p == NULL) {
+        return RFE_ERR_NULL;
+    }
+    *p = paper_q31;
+    return RFE_OK;
+}
+
+rfe_status_t rfe_params_default_q31(rfe_params_q31_t *p)
+{
+    if (p == NULL) {
+        return RFE_ERR_NULL;
+    }
+    /* docs/ESTIMATOR.md, "default preset" column: the paper preset plus every addition. */
+    *p = paper_q31;
+    p->tyre.mode = RFE_TYRE_MAGIC;
+    p->filter.structure = RFE_STRUCT_SIDES;
+    p->filter.sd0 = 107374182;          /* 0.1, Q30 */
+    p->filter.sd0_common = 322122547;   /* 0.3, Q30 */
+    p->filter.q_mu = 2147484;           /* 0.002, Q30 */
+    p->filter.q_common = 6442451;       /* 0.006, Q30 */
+    p->filter.tau_v = 20132659;         /* 0.3 s, Q26 */
+    p->filter.sd_in_delta = 536871;     /* 0.001 rad, Q29 */
+    p->filter.sd_in_vx = 83886;         /* 0.01 m/s, Q23 */
+    p->filter.sd_in_vy = 83886;         /* 0.01 m/s, Q23 */
+    p->filter.sd_in_yaw_rate = 671089;  /* 0.005 rad/s, Q27 */
+    p->filter.sd_in_omega = 209715;     /* 0.05 rad/s, Q22 */
+    p->filter.r_model_rel = 53687091;   /* 0.05, Q30 */
+    p->filter.info_min = 25600;         /* 25 1/mu^2, Q10 */
+    p->filter.sd_max = 343597384;       /* 0.32, Q30 */
+    p->filter.sd_floor_rel = 161061274; /* 0.15, Q30 */
+    p->filter.sd_valid = 161061274;     /* 0.15, Q30 */
+    p->filter.b_v = 34636833;           /* 0.01 / 0.31, Q30 */
+    return RFE_OK;
+}
+
+/* ---- recomputation of the derived constants -------------------------------------------------
+ * A nonnegative real as mant * 2^-q with mant in [2^29, 2^30] (or 0): 30 significant bits, so
+ * each product or quotient below adds at most 2^-29 relative error, and a derived constant
+ * (at most five operations) is recomputed to better than 2^-26. */
+typedef struct {
+    int64_t mant;
+    int q;
+} pf_t;
+
+/* Number of significant bits of v > 0. */
+static int pf_bit_length(uint64_t v)
+{
+    uint64_t r = v;
+    int n = 0;
+    while (r != 0u) {
+        r >>= 1;
+        ++n;
+    }
+    return n;
+}
+
+/* v * 2^-q (0 <= v < 2^62) normalised; one rounding (half up) when v has more than 30 bits. */
+static pf_t pf_make(int64_t v, int q)
+{
+    pf_t r = {0, 0};
+    if (v > 0) {
+        const int len = pf_bit_length((uint64_t)v);
+        if (len > 30) {
+            r.mant = rfe_fix_shr64_round(v, (unsigned int)len - 30u);
+            r.q = q - (len - 30);
+        } else {
+            r.mant = v * rfe_q31_pow2(30u - (unsigned int)len);
+            r.q = q + (30 - len);
+        }
+    }
+    return r;
+}
+
+static pf_t pf_mul(pf_t a, pf_t b) { return pf_make(a.mant * b.mant, a.q + b.q); }
+
+/* a / b for b > 0: the quotient of two mantissas in [2^29, 2^30] lies in [1/2, 2], so
+ * round(a 2^29 / b) <= 2^30 and the division never saturates. */
+static pf_t pf_div(pf_t a, pf_t b)
+{
+    uint32_t sat = 0u;
+    int32_t quo = 0;
+    /* b > 0 after the positivity checks; were it 0, the division would fail with quo = 0 */
+    const rfe_status_t st = rfe_fix_div((int32_t)a.mant, (int32_t)b.mant, 29, &quo, &sat);
+    (void)st;
+    return pf_make((int64_t)quo, a.q - b.q + 29);
+}
+
+/* The value in Q(qt) as int64, or -1 when it exceeds INT32_MAX there. */
+static int64_t pf_to_q(pf_t a, int qt)
+{
+    const int sh = qt - a.q;
+    int64_t v;
+    if (a.mant == 0) {
+        v = 0;
+    } else if (sh >= 0) {
+        v = (sh > 2) ? -1 : (a.mant * rfe_q31_pow2((unsigned int)sh));
+    } else {
+        v = rfe_fix_shr64_round(a.mant, (unsigned int)(-sh));
+    }
+    return ((v < 0) || (v > (int64_t)RFE_FIX_MAX)) ? -1 : v;
+}
+
+/* The stored constant agrees with its recomputation: |stored - ref| <= ref 2^-13 + 2 LSB. */
+static int agrees(rfe_fix_t stored, pf_t ref, int qt)
+{
+    const int64_t r = pf_to_q(ref, qt);
+    const int64_t d = (int64_t)stored - r;
+    return (r >= 0) && (((d < 0) ? -d : d) <= ((r / rfe_q31_pow2(13u)) + 2));
+}
+
+/* ---- validation ------------------------------------------------------------------------- */
+
+static int is_pos_q31(rfe_fix_t x) { return x > 0; }
+static int is_nonneg_q31(rfe_fix_t x) { return x >= 0; }
+/* 0, or at least 16 significant bits (2^16 LSB); used on fields already checked >= 0. */
+static int sig16(rfe_fix_t x) { return (x == 0) || (x >= 65536); }
+
+/* The base fields: signs, then 16 significant bits (split from vehicle_base_ok to bound its
+ * cyclomatic complexity; same checks, same order). */
+static int vehicle_base_sign_ok(const rfe_vehicle_q31_t *v)
+{
+    return is_pos_q31(v->m) && is_pos_q31(v->Lf) && is_pos_q31(v->Lr) && is_pos_q31(v->Bf) &&
+           is_pos_q31(v->Br) && is_pos_q31(v->R) && is_pos_q31(v->J) && is_nonneg_q31(v->hg) &&
+           is_pos_q31(v->g);
+}
+
+static int vehicle_base_sig16_ok(const rfe_vehicle_q31_t *v)
+{
+    return sig16(v->m) && sig16(v->Lf) && sig16(v->Lr) && sig16(v->Bf) && sig16(v->Br) &&
+           sig16(v->J) && sig16(v->hg) && sig16(v->g);
+}
+
+static int vehicle_base_ok(const rfe_vehicle_q31_t *v)
+{
+    return vehicle_base_sign_ok(v) && vehicle_base_sig16_ok(v);
+}
+
+/* The derived constants: signs, then 16 significant bits (split from vehicle_derived_sign_ok
+ * to bound its cyclomatic complexity; same checks, same order). */
+static int derived_signs_ok(const rfe_vehicle_q31_t *v)
+{
+    return is_pos_q31(v->yf) && is_pos_q31(v->yr) && is_pos_q31(v->inv_m) && is_pos_q31(v->lf_J) &&
+           is_pos_q31(v->lr_J) && is_pos_q31(v->yf_J) && is_pos_q31(v->yr_J) &&
+           is_pos_q31(v->fz_static_f) && is_pos_q31(v->fz_static_r) && is_nonneg_q31(v->k_pitch) &&
+           is_nonneg_q31(v->k_roll_f) && is_nonneg_q31(v->k_roll_r);
+}
+
+static int derived_sig16_ok(const rfe_vehicle_q31_t *v)
+{
+    return sig16(v->yf) && sig16(v->yr) && sig16(v->inv_m) && sig16(v->lf_J) && sig16(v->lr_J) &&
+           sig16(v->yf_J) && sig16(v->yr_J) && sig16(v->fz_static_f) && sig16(v->fz_static_r) &&
+           sig16(v->k_pitch) && sig16(v->k_roll_f) && sig16(v->k_roll_r);
+}
+
+static int vehicle_derived_sign_ok(const rfe_vehicle_q31_t *v)
+{
+    return derived_signs_ok(v) && derived_sig16_ok(v);
+}
+
+/* Each derived constant against its recomputation from the (positive) base fields. */
+static int vehicle_derived_agree(const rfe_vehicle_q31_t *v)
+{
+    const pf_t m = pf_make(v->m, RFE_FIX_Q_MASS);
+    const pf_t lf = pf_make(v->Lf, RFE_FIX_Q_LEN);
+    const pf_t lr = pf_make(v->Lr, RFE_FIX_Q_LEN);
+    const pf_t bf = pf_make(v->Bf, RFE_FIX_Q_LEN);
+    const pf_t br = pf_make(v->Br, RFE_FIX_Q_LEN);
+    const pf_t J = pf_make(v->J, RFE_FIX_Q_INERTIA);
+    const pf_t hg = pf_make(v->hg, RFE_FIX_Q_LEN);
+    const pf_t g = pf_make(v->g, RFE_FIX_Q_ACC);
+    const pf_t one = pf_make(1, 0);
+    /* 2 La in Q29 as 2 (Lf + Lr) = Q28 of the sum; La itself in Q29 */
+    const pf_t la = pf_make((int64_t)v->Lf + (int64_t)v->Lr, RFE_FIX_Q_LEN);
+    const pf_t la2 = pf_make((int64_t)v->Lf + (int64_t)v->Lr, RFE_FIX_Q_LEN - 1);
+    const pf_t mg = pf_mul(m, g);
+    const pf_t mh = pf_mul(m, hg);
+
+    return agrees(v->yf, pf_make(v->Bf, RFE_FIX_Q_LEN + 1), RFE_FIX_Q_LEN) &&
+           agrees(v->yr, pf_make(v->Br, RFE_FIX_Q_LEN + 1), RFE_FIX_Q_LEN) &&
+           agrees(v->inv_m, pf_div(one, m), RFE_FIX_Q_INV) &&
+           agrees(v->lf_J, pf_div(lf, J), RFE_FIX_Q_INV) &&
+           agrees(v->lr_J, pf_div(lr, J), RFE_FIX_Q_INV) &&
+           agrees(v->yf_J, pf_div(pf_make(v->Bf, RFE_FIX_Q_LEN + 1), J), RFE_FIX_Q_INV) &&
+           agrees(v->yr_J, pf_div(pf_make(v->Br, RFE_FIX_Q_LEN + 1), J), RFE_FIX_Q_INV) &&
+           agrees(v->fz_static_f, pf_div(pf_mul(mg, lr), la2), RFE_FIX_Q_FORCE) &&
+           agrees(v->fz_static_r, pf_div(pf_mul(mg, lf), la2), RFE_FIX_Q_FORCE) &&
+           agrees(v->k_pitch, pf_div(mh, la2), RFE_FIX_Q_KLOAD) &&
+           agrees(v->k_roll_f, pf_div(pf_mul(mh, lr), pf_mul(la, bf)), RFE_FIX_Q_KLOAD) &&
+           agrees(v->k_roll_r, pf_div(pf_mul(mh, lf), pf_mul(la, br)), RFE_FIX_Q_KLOAD);
+}
+
+/* A Magic Formula shape (Q24): 1 < C < 2 (a peak, and a positive force beyond it),
+ * -4 <= E < 1 (the curve rises monotonically to its peak; docs/ESTIMATOR.md). */
+static int shape_ok_q31(rfe_fix_t C, rfe_fix_t E)
+{
+    const rfe_fix_t one = RFE_FIX_ONE(RFE_FIX_Q_STIFF);
+    return (C > one) && (C < (2 * one)) && (E >= (-4 * one)) && (E < one);
+}
+
+/* The mode and the shape factors, checked in every mode (as rfe_params_validate; split from
+ * tyre_ok_q31 to bound its cyclomatic complexity). */
+static int tyre_mode_shape_ok_q31(const rfe_tyre_params_q31_t *t)
+{
+    return ((t->mode == RFE_TYRE_PAPER) || (t->mode == RFE_TYRE_ABSOLUTE) ||
+            (t->mode == RFE_TYRE_MAGIC)) &&
+           shape_ok_q31(t->shape_Cx, t->shape_Ex) && shape_ok_q31(t->shape_Cy, t->shape_Ey);
+}
+
+static int tyre_ok_q31(const rfe_tyre_params_q31_t *t)
+{
+    /* alpha_max < 1.5 rad keeps tan(alpha) bounded and inside rfe_fix_tan's domain. */
+    return tyre_mode_shape_ok_q31(t) && is_pos_q31(t->Cx_n) && is_pos_q31(t->Cy_n) &&
+           is_pos_q31(t->cx) && is_pos_q31(t->cy) && is_nonneg_q31(t->eps) &&
+           is_pos_q31(t->v_min) && is_pos_q31(t->alpha_max) &&
+           (t->alpha_max < RFE_FIX_TAN_LIMIT_Q29);
+}
+
+/* Enums in range; sd0, q_mu and the measurement noise positive; the mu bounds. */
+static int filter_ok_q31(const rfe_filter_params_q31_t *f)
+{
+    return ((f->kind == RFE_FILTER_SCKF) || (f->kind == RFE_FILTER_CKF)) &&
+           ((f->structure == RFE_STRUCT_WHEELS) || (f->structure == RFE_STRUCT_SIDES)) &&
+           is_pos_q31(f->sd0) && is_pos_q31(f->q_mu) && is_pos_q31(f->r_ax) &&
+           is_pos_q31(f->r_ay) && is_pos_q31(f->r_yaw_acc) && is_nonneg_q31(f->mu_min) &&
+           is_pos_q31(f->mu_max) && (f->mu_min < f->mu_max) && (f->mu0 >= f->mu_min) &&
+           (f->mu0 <= f->mu_max) && is_nonneg_q31(f->v_est_min);
+}
+
+/* The docs/ESTIMATOR.md additions: each >= 0 (0 = off), dt > 0. */
+static int additions_nonneg_ok(const rfe_filter_params_q31_t *f)
+{
+    return is_nonneg_q31(f->sd0_common) && is_nonneg_q31(f->q_common) && is_pos_q31(f->dt) &&
+           is_nonneg_q31(f->tau_v) && is_nonneg_q31(f->sd_in_delta) && is_nonneg_q31(f->sd_in_vx) &&
+           is_nonneg_q31(f->sd_in_vy) && is_nonneg_q31(f->sd_in_yaw_rate) &&
+           is_nonneg_q31(f->sd_in_omega) && is_nonneg_q31(f->r_model_rel) &&
+           is_nonneg_q31(f->info_min) && is_nonneg_q31(f->sd_max) &&
+           is_nonneg_q31(f->sd_floor_rel) && is_nonneg_q31(f->sd_valid);
+}
+
+/* The additions, then dt and tau_v with 16 significant bits and the gain b_v in (0, 1] (split
+ * in two to bound the cyclomatic complexity; same checks, same order). */
+static int additions_ok_q31(const rfe_filter_params_q31_t *f)
+{
+    return additions_nonneg_ok(f) && sig16(f->dt) && sig16(f->tau_v) && is_pos_q31(f->b_v) &&
+           (f->b_v <= RFE_FIX_ONE(RFE_FIX_Q_DT)) && sig16(f->b_v);
+}
+
+/* b_v = dt / (tau_v + dt), with tau_v (Q26) brought to Q30: the sum fits int64. */
+static int gain_agrees(const rfe_filter_params_q31_t *f)
+{
+    const pf_t dt = pf_make(f->dt, RFE_FIX_Q_DT);
+    const pf_t den =
+        pf_make(((int64_t)f->tau_v *
+                 rfe_q31_pow2((unsigned int)RFE_FIX_Q_DT - (unsigned int)RFE_FIX_Q_TAU)) +
+                    (int64_t)f->dt,
+                RFE_FIX_Q_DT);
+    return agrees(f->b_v, pf_div(dt, den), RFE_FIX_Q_DT);
+}
+
+/* The CKF runs only the paper-compatible subset (as rfe_params_validate). */
+static int ckf_subset_ok_q31(const rfe_filter_params_q31_t *f)
+{
+    return (f->kind != RFE_FILTER_CKF) ||
+           ((f->structure == RFE_STRUCT_WHEELS) && (f->sd0_common == 0) && (f->q_common == 0) &&
+            (f->tau_v == 0) && (f->sd_in_delta == 0) && (f->sd_in_vx == 0) &&
+            (f->sd_in_vy == 0) && (f->sd_in_yaw_rate == 0) && (f->sd_in_omega == 0) &&
+            (f->r_model_rel == 0) && (f->info_min == 0) && (f->sd_max == 0) &&
+            (f->sd_floor_rel == 0));
+}
+
+rfe_status_t rfe_params_validate_q31(const rfe_params_q31_t *p)
+{
+    if (p == NULL) {
+        return RFE_ERR_NULL;
+    }
+    /* The recomputations divide by base fields: only after those are known positive. */
+    if (!vehicle_base_ok(&p->vehicle) || !vehicle_derived_sign_ok(&p->vehicle) ||
+        !vehicle_derived_agree(&p->vehicle) || !tyre_ok_q31(&p->tyre) ||
+        !filter_ok_q31(&p->filter) || !additions_ok_q31(&p->filter) || !gain_agrees(&p->filter) ||
+        !ckf_subset_ok_q31(&p->filter)) {
+        return RFE_ERR_PARAM;
+    }
+    return RFE_OK;
+}
