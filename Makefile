@@ -1,21 +1,7 @@
 # rfe — road-friction estimator (SCKF, 3-DOF vehicle model, Magic Formula / Dugoff tyre), C99.
 #
-#   make            library (float32 and double builds) and build/mu_replay
-#   make demo       run the estimator on the bundled scenarios, print accuracy, draw plots
-#   make test       every check: static analysis, C tests (float, double, q31), trace, firmware
-#                   and PIL, fuzz/soak smoke, ASan/UBSan, valgrind, Python, coverage (TEST_JOBS
-#                   at a time; README "Quick start")
-#   make coverage   gcovr HTML / Cobertura XML / text summary for src/, with thresholds
-#   make sanitize   the C tests built with ASan + UBSan (build/asan-*) and run
-#   make valgrind   the optimised C tests and the CLI script run under valgrind memcheck
-#   make check-nofloat  the *_q31.c sources built for Cortex-M0+: no float/double, soft-float or libm
-#   make goldens    regenerate scenarios/*.csv and scenarios/golden/ from the Python tools
-#                   (the reference goldens alone: make goldens-ref; fixed point: make goldens-q31)
-#   make check-kernels  the reference goldens under this CPU's other BLAS kernels, thread
-#                   counts and numpy SIMD paths agree within 1e-9 (docs/PORTABILITY.md)
-#   make check-tools    the system tools' versions against their pins
-#   make layers     the dependency rules of src/ and include/rfe/ (docs/LAYOUT.md)
-#   make readme-table  regenerate the tables of docs/RESULTS.md and the README headline
+#   make help       every target with one line on what it does (from the ## lines above
+#                   each rule); the README's two commands are make demo and make test.
 #
 # `make demo` and `make test` install what they need when it is missing (apt: cmocka, the
 # Cortex-M toolchain, newlib, QEMU, valgrind, cppcheck, clang/LLVM 19; a Python venv .venv
@@ -49,128 +35,46 @@ CPPFLAGS_HOST := -Iinclude -Isrc -Isrc/host -D_POSIX_C_SOURCE=200809L
 TEST_WARN := -std=c99 -Wall -Wextra -Wshadow -Werror -Wno-unused-parameter -Wno-format-truncation
 LDLIBS_TEST := -lcmocka -lm
 
-# ---- sources -------------------------------------------------------------------------
-# The fixed-point twins (*_q31.c, integer only) are built into their own library,
-# librfe_q31.a, never into the float/double ones; their tests (test/test_*_q31.c) are built
-# once (Q31_RULES below), not per precision like UNIT_TESTS.
-# The library's folders (docs/LAYOUT.md): shared numerics, filters, models, parameters,
-# estimators; src/host/ is host code, never part of it.
-LIB_DIRS      := src/numerics src/filters src/models src/params src/estimators/friction
-LIB_ALL_SRC   := $(foreach d,$(LIB_DIRS),$(wildcard $(d)/*.c))
-LIB_HDRS      := $(wildcard include/rfe/*.h $(addsuffix /*.h,$(LIB_DIRS)))
-Q31_SRC       := $(filter %_q31.c,$(LIB_ALL_SRC))
-LIB_SRC       := $(filter-out $(Q31_SRC),$(LIB_ALL_SRC))
-# replay_q31.c (the `--real q31` replay) needs the q31 library: linked only into mu_replay and
-# the q31 tests, never into hostlib.a (whose objects the fuzz harnesses link one by one).
-HOST_SRC      := $(filter-out src/host/mu_replay.c src/host/replay_real.c src/host/replay_q31.c,$(wildcard src/host/*.c))
-Q31_TESTS     := $(basename $(notdir $(wildcard test/test_*_q31.c)))
-UNIT_TESTS    := $(filter-out $(Q31_TESTS),$(basename $(notdir $(wildcard test/test_*.c))))
-HOST_TESTS    := $(basename $(notdir $(wildcard test/host/test_*.c)))
-TEST_SUPPORT  := $(wildcard test/support/*.c)
-
-# One build tree per flavour: f32 (float), f64 (double); cov-* are the instrumented twins.
-define FLAVOUR_RULES
-# $(1) = tree name, $(2) = real-type defines, $(3) = extra compile flags
-$(BUILD)/$(1)/lib/%.o: src/%.c $(LIB_HDRS) | $(BUILD)/$(1)/lib
-	@mkdir -p $$(@D)
-	$$(CC) $$(WARN) $(3) $(2) $$(CPPFLAGS_LIB) -c $$< -o $$@
-$(BUILD)/$(1)/librfe.a: $(patsubst src/%.c,$(BUILD)/$(1)/lib/%.o,$(LIB_SRC))
-	rm -f $$@ && ar rcs $$@ $$^
-$(BUILD)/$(1)/host/replay_real.o: src/host/replay_real.c $(wildcard src/host/*.h include/rfe/*.h) | $(BUILD)/$(1)/host
-	$$(CC) $$(WARN) $(3) $(2) $$(CPPFLAGS_HOST) -c $$< -o $$@
-$(BUILD)/$(1)/support/%.o: test/support/%.c $(wildcard test/support/*.h src/host/*.h include/rfe/*.h) | $(BUILD)/$(1)/support
-	$$(CC) $$(TEST_WARN) $(3) $(2) $$(CPPFLAGS_HOST) -Itest/support -c $$< -o $$@
-$(BUILD)/$(1)/test/%: test/%.c $(BUILD)/$(1)/librfe.a $(patsubst test/support/%.c,$(BUILD)/$(1)/support/%.o,$(TEST_SUPPORT)) $(BUILD)/$(1)/hostlib.a $(BUILD)/$(1)/host/replay_real.o
-	@mkdir -p $$(@D)
-	$$(CC) $$(TEST_WARN) $(3) $(2) $$(CPPFLAGS_HOST) -Itest/support -Isrc $$< \
-	  $(patsubst test/support/%.c,$(BUILD)/$(1)/support/%.o,$(TEST_SUPPORT)) \
-	  $(BUILD)/$(1)/host/replay_real.o $(BUILD)/$(1)/hostlib.a $(BUILD)/$(1)/librfe.a $$(LDLIBS_TEST) -o $$@
-$(BUILD)/$(1)/hostlib.a: $(patsubst src/host/%.c,$(BUILD)/$(1)/host/%.o,$(HOST_SRC))
-	rm -f $$@ && ar rcs $$@ $$^
-$(BUILD)/$(1)/host/%.o: src/host/%.c $(wildcard src/host/*.h include/rfe/*.h) | $(BUILD)/$(1)/host
-	$$(CC) $$(WARN) $(3) $$(CPPFLAGS_HOST) -c $$< -o $$@
-$(BUILD)/$(1)/lib $(BUILD)/$(1)/host $(BUILD)/$(1)/test $(BUILD)/$(1)/support:
-	mkdir -p $$@
-endef
-
-COVFLAGS := -O0 -g --coverage
-$(eval $(call FLAVOUR_RULES,f32,,$(OPT)))
-$(eval $(call FLAVOUR_RULES,f64,-DRFE_REAL_DOUBLE,$(OPT)))
-$(eval $(call FLAVOUR_RULES,cov-f32,,$(COVFLAGS)))
-$(eval $(call FLAVOUR_RULES,cov-f64,-DRFE_REAL_DOUBLE,$(COVFLAGS)))
-# asan-*: AddressSanitizer + UndefinedBehaviorSanitizer twins; any report aborts the test.
-SANFLAGS := -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all -O1 -g
-$(eval $(call FLAVOUR_RULES,asan-f32,,$(SANFLAGS)))
-$(eval $(call FLAVOUR_RULES,asan-f64,-DRFE_REAL_DOUBLE,$(SANFLAGS)))
-
-# Fixed-point trees: q31 (optimised), cov-q31 (instrumented), asan-q31 (ASan + UBSan). The
-# library gets the same strict flags and no real-type define. The tests are compiled for
-# double and also link the double tree of the same kind ($(2): f64, cov-f64, asan-f64) with
-# its test support, so a back-to-back test can compare a _q31 function with its _f64 twin.
-define Q31_RULES
-# $(1) = tree name, $(2) = double tree, $(3) = extra compile flags
-$(BUILD)/$(1)/lib/%.o: src/%.c $(LIB_HDRS) | $(BUILD)/$(1)/lib
-	@mkdir -p $$(@D)
-	$$(CC) $$(WARN) $(3) $$(CPPFLAGS_LIB) -c $$< -o $$@
-$(BUILD)/$(1)/librfe_q31.a: $(patsubst src/%.c,$(BUILD)/$(1)/lib/%.o,$(Q31_SRC))
-	rm -f $$@ && ar rcs $$@ $$^
-$(BUILD)/$(1)/test/%: test/%.c $(BUILD)/$(1)/librfe_q31.a $(BUILD)/$(2)/librfe.a $(patsubst test/support/%.c,$(BUILD)/$(2)/support/%.o,$(TEST_SUPPORT)) $(BUILD)/$(2)/hostlib.a $(BUILD)/$(2)/host/replay_real.o $(BUILD)/$(2)/host/replay_q31.o
-	@mkdir -p $$(@D)
-	$$(CC) $$(TEST_WARN) $(3) -DRFE_REAL_DOUBLE $$(CPPFLAGS_HOST) -Itest/support -Isrc $$< \
-	  $(patsubst test/support/%.c,$(BUILD)/$(2)/support/%.o,$(TEST_SUPPORT)) \
-	  $(BUILD)/$(2)/host/replay_q31.o $(BUILD)/$(2)/host/replay_real.o $(BUILD)/$(2)/hostlib.a $(BUILD)/$(1)/librfe_q31.a \
-	  $(BUILD)/$(2)/librfe.a $$(LDLIBS_TEST) -o $$@
-$(BUILD)/$(1)/lib:
-	mkdir -p $$@
-endef
-$(eval $(call Q31_RULES,q31,f64,$(OPT)))
-$(eval $(call Q31_RULES,cov-q31,cov-f64,$(COVFLAGS)))
-$(eval $(call Q31_RULES,asan-q31,asan-f64,$(SANFLAGS)))
-
-# mu_replay: precision-independent host code once, the replay core twice (float, double),
-# and the fixed-point replay (replay_q31.o, a double unit) with the q31 library.
-define REPLAY_RULE
-# $(1) = output, $(2) = f32 tree, $(3) = f64 tree, $(4) = flags, $(5) = q31 tree
-$(1): src/host/mu_replay.c $(BUILD)/$(2)/host/replay_real.o $(BUILD)/$(3)/host/replay_real.o \
-      $(BUILD)/$(3)/host/replay_q31.o $(BUILD)/$(3)/hostlib.a $(BUILD)/$(5)/librfe_q31.a \
-      $(BUILD)/$(2)/librfe.a $(BUILD)/$(3)/librfe.a
-	$$(CC) $$(WARN) $(4) $$(CPPFLAGS_HOST) $$^ -lm -o $$@
-endef
-$(eval $(call REPLAY_RULE,$(BUILD)/mu_replay,f32,f64,$(OPT),q31))
-$(eval $(call REPLAY_RULE,$(BUILD)/cov-mu_replay,cov-f32,cov-f64,$(COVFLAGS),cov-q31))
-$(eval $(call REPLAY_RULE,$(BUILD)/asan-mu_replay,asan-f32,asan-f64,$(SANFLAGS),asan-q31))
-
-# Keep intermediate objects (test support) so a second make does not rebuild them.
-.SECONDARY:
+# The library, the host code and the test binaries in every build tree: mk/lib.mk (first,
+# since the other fragments reuse its rules for their trees).
+include mk/lib.mk
 
 # One file per further concern (mk/*.mk: robustness, firmware, benchmarks, evidence). Each
 # adds its installers to DEPS_EXTRA and the checks that gate to TEST_GATES (run by make test
 # after the unit tests).
 DEPS_EXTRA :=
 TEST_GATES :=
-include $(sort $(wildcard mk/*.mk))
+include $(sort $(filter-out mk/lib.mk,$(wildcard mk/*.mk)))
 
 .PHONY: all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind coverage demo goldens goldens-q31 scenarios clean vectors shared-sync check-shared readme-table \
-        check-kernels check-tools layers goldens-ref check-nofloat help deps-analysis misra tidy complexity structural analysis
+        check-kernels check-tools layers help-check goldens-ref check-nofloat help deps-analysis misra tidy complexity structural analysis
+## the libraries and build/mu_replay (the default target)
 all: lib $(BUILD)/mu_replay
+## the float, double and fixed-point libraries (build/{f32,f64,q31}/)
 lib: $(BUILD)/f32/librfe.a $(BUILD)/f64/librfe.a $(if $(Q31_SRC),$(BUILD)/q31/librfe_q31.a)
 
+## this list, generated from the ## lines of the Makefiles
 help:
-	@sed -n '1,/^$$/p' Makefile
-	@for f in $(sort $(wildcard mk/*.mk)); do echo; sed -n '/^#/!q;p' $$f; done
+	@python3 scripts/make_help.py
+## every .PHONY target has its ## description (so make help cannot drift)
+help-check:
+	@python3 scripts/make_help.py --check
 
 # ---- dependencies (installed when missing) --------------------------------------------
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
+## install libcmocka-dev (apt) when it is missing
 deps-c:
 	@if [ ! -f /usr/include/cmocka.h ]; then \
 	  echo "[deps] installing libcmocka-dev via apt"; \
 	  $(SUDO) apt-get update -qq && $(SUDO) apt-get install -y -qq libcmocka-dev; fi
+## install valgrind (apt) when it is missing
 deps-valgrind:
 	@if ! command -v valgrind >/dev/null 2>&1; then \
 	  echo "[deps] installing valgrind via apt"; \
 	  $(SUDO) apt-get update -qq && $(SUDO) apt-get install -y -qq valgrind; fi
 # Cortex-M0+ cross compiler for check-nofloat (the link uses libgcc only, so newlib, which
 # apt would add as a recommendation, is not installed).
+## install the Cortex-M cross compiler gcc-arm-none-eabi (apt) when it is missing
 deps-arm:
 	@if ! command -v arm-none-eabi-gcc >/dev/null 2>&1; then \
 	  echo "[deps] installing gcc-arm-none-eabi via apt"; \
@@ -182,7 +86,9 @@ $(PYSTAMP): scripts/requirements.txt
 	$(VENV)/bin/pip install -q --upgrade pip
 	$(VENV)/bin/pip install -q -r scripts/requirements.txt
 	touch $@
+## the Python venv .venv from the pinned scripts/requirements.txt
 venv: $(PYSTAMP)
+## every installer above, each only when its tool is missing
 deps: deps-c deps-arm venv $(DEPS_EXTRA)
 
 # ---- tests -----------------------------------------------------------------------------
@@ -213,6 +119,7 @@ run_cli_test = if [ -f test/host/test_cli.sh ]; then mkdir -p $(RESULTS)/cli; l=
     $$([ -z "$$r" ] && echo 0 || echo 1) "$$r" >$(RESULTS)/cli/test_cli.xml; \
   if [ -z "$$r" ]; then echo "== $$(tail -n 1 $$l)"; else cat $$l >&2; echo "== cli: FAILED (log $$l)" >&2; exit 1; fi; fi
 
+## the C tests: float, double, fixed point, host, and the CLI script
 test-c: deps-c $(foreach f,f32 f64,$(addprefix $(BUILD)/$(f)/test/,$(UNIT_TESTS))) \
         $(addprefix $(BUILD)/q31/test/,$(Q31_TESTS)) \
         $(addprefix $(BUILD)/f64/test/host/,$(HOST_TESTS)) $(BUILD)/mu_replay
@@ -226,6 +133,7 @@ test-c: deps-c $(foreach f,f32 f64,$(addprefix $(BUILD)/$(f)/test/,$(UNIT_TESTS)
 # aborts (exit 134); for the CLI script UBSan exits 98, so a report can never pass for one of
 # the CLI's own exit codes (0, 1, 2) that test_cli.sh expects.
 SAN_ENV := ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+## the C tests and the CLI under ASan + UBSan
 sanitize: deps-c $(foreach f,asan-f32 asan-f64,$(addprefix $(BUILD)/$(f)/test/,$(UNIT_TESTS))) \
           $(addprefix $(BUILD)/asan-q31/test/,$(Q31_TESTS)) \
           $(addprefix $(BUILD)/asan-f64/test/host/,$(HOST_TESTS)) $(BUILD)/asan-mu_replay
@@ -247,6 +155,7 @@ VALGRIND := valgrind --error-exitcode=99 --leak-check=full --errors-for-leak-kin
 # RFE_TEST_LIGHT=1: the long back-to-back tests walk a subset of their logs and random
 # inputs (test/support/test_light.h); the full sets run natively, under ASan and in coverage.
 VALGRIND_JOBS ?= $(shell nproc 2>/dev/null || echo 1)
+## the C tests and the CLI under valgrind memcheck
 valgrind: deps-c deps-valgrind $(foreach f,f32 f64,$(addprefix $(BUILD)/$(f)/test/,$(UNIT_TESTS))) \
           $(addprefix $(BUILD)/q31/test/,$(Q31_TESTS)) \
           $(addprefix $(BUILD)/f64/test/host/,$(HOST_TESTS)) $(BUILD)/mu_replay
@@ -263,12 +172,14 @@ valgrind: deps-c deps-valgrind $(foreach f,f32 f64,$(addprefix $(BUILD)/$(f)/tes
 	  if [ -s $(BUILD)/valgrind-cli.log ]; then cat $(BUILD)/valgrind-cli.log; exit 1; fi; fi
 	@echo "valgrind: all tests clean under memcheck"
 
+## the Python tests (simulator, reference, tools)
 test-py: venv
 	@mkdir -p $(RESULTS)/py
 	$(PY) -m pytest -q -p no:cacheprovider scripts --junitxml=$(RESULTS)/py/pytest.xml
 
 COV_MIN_LINES    := 95
 COV_MIN_BRANCHES := 85
+## gcov line and branch coverage of src/ with its gate and justifications
 coverage: deps $(foreach f,cov-f32 cov-f64,$(addprefix $(BUILD)/$(f)/test/,$(UNIT_TESTS))) \
           $(addprefix $(BUILD)/cov-q31/test/,$(Q31_TESTS)) \
           $(addprefix $(BUILD)/cov-f64/test/host/,$(HOST_TESTS)) $(BUILD)/cov-mu_replay
@@ -297,9 +208,10 @@ coverage: deps $(foreach f,cov-f32 cov-f64,$(addprefix $(BUILD)/$(f)/test/,$(UNI
 # make test: the installers first, then every check, TEST_JOBS of them side by side (they
 # share nothing but their common prerequisites, which make builds once); --output-sync
 # prints each check's output whole when it ends, so a long one (valgrind) is quiet a while.
-TEST_STEPS = lib check-tools layers check-shared check-nofloat misra tidy complexity structural test-c $(TEST_GATES) \
+TEST_STEPS = lib check-tools layers help-check check-shared check-nofloat misra tidy complexity structural test-c $(TEST_GATES) \
              sanitize valgrind test-py check-kernels coverage
 TEST_JOBS ?= $(shell nproc 2>/dev/null || echo 1)
+## every check, TEST_JOBS at a time (the README's test command)
 test: deps
 	@echo "make test: $(words $(TEST_STEPS)) checks ($(TEST_STEPS)), $(TEST_JOBS) at a time"
 	@$(MAKE) --no-print-directory -j$(TEST_JOBS) --output-sync=target $(TEST_STEPS)
@@ -323,11 +235,13 @@ ANALYSIS_SRC := $(LIB_ALL_SRC)
 # No variable-length arrays in any build (checked again by make structural).
 WARN += -Werror=vla
 
+## install cppcheck and clang-tidy-19 (apt) when missing
 deps-analysis:
 	@if ! command -v cppcheck >/dev/null 2>&1 || ! command -v $(CLANG_TIDY) >/dev/null 2>&1; then \
 	  echo "[deps] installing cppcheck and $(CLANG_TIDY) via apt"; \
 	  $(SUDO) apt-get update -qq && $(SUDO) apt-get install -y -qq cppcheck $(CLANG_TIDY); fi
 
+## cppcheck's MISRA C:2012 addon, zero findings beyond docs/MISRA.md
 misra: deps-analysis
 	@MISRA_SRC="$(ANALYSIS_SRC)" bash scripts/check_misra.sh
 
@@ -336,6 +250,7 @@ misra: deps-analysis
 TIDY_RUN = $(CLANG_TIDY) --quiet -warnings-as-errors='*' $(1) -- $(WARN) $(2) $(CPPFLAGS_LIB) \
            2>$(BUILD)/tidy.log || { grep -vE '^\[[0-9]+/[0-9]+\] Processing|^[0-9]+ warnings? generated' \
            $(BUILD)/tidy.log; echo "tidy: findings above (.clang-tidy)"; exit 1; }
+## clang-tidy over the library, every finding an error
 tidy: deps-analysis
 	@mkdir -p $(BUILD)
 	@echo "tidy: $$($(CLANG_TIDY) --version | grep -m1 -o 'LLVM version [0-9.]*'), .clang-tidy"
@@ -344,6 +259,7 @@ tidy: deps-analysis
 	@$(if $(Q31_SRC),$(call TIDY_RUN,$(Q31_SRC),))
 	@echo "tidy: clean ($(words $(ANALYSIS_SRC)) library sources and the headers they include)"
 
+## cyclomatic complexity of every library function <= CCN_MAX
 complexity: venv
 	@$(VENV)/bin/lizard -l c -C $(CCN_MAX) -w $(ANALYSIS_SRC) $(LIB_HDRS) \
 	  || { echo "complexity: a function exceeds cyclomatic complexity $(CCN_MAX) (above)"; exit 1; }
@@ -351,6 +267,7 @@ complexity: venv
 	@$(VENV)/bin/lizard -l c --csv $(ANALYSIS_SRC) $(LIB_HDRS) | \
 	  sort -t, -k2 -n -r | head -3 | awk -F, '{ printf "  %3d  %s\n", $$2, $$6 }'
 
+## no heap, no recursion, no VLA (objects, call graph, stack)
 structural: lib
 	@python3 scripts/check_structural.py --self-test --cflags "$(WARN)" --out $(BUILD)/structural
 	@python3 scripts/check_structural.py --cflags "$(WARN) $(CPPFLAGS_LIB)" --out $(BUILD)/structural/f32 \
@@ -359,49 +276,59 @@ structural: lib
 	@python3 scripts/check_structural.py --cflags "$(WARN) -DRFE_REAL_DOUBLE $(CPPFLAGS_LIB)" \
 	  --label double --out $(BUILD)/structural/f64 --archive $(BUILD)/f64/librfe.a $(LIB_SRC)
 
+## misra, tidy, complexity and structural
 analysis: misra tidy complexity structural
 
 # ---- demo, goldens ---------------------------------------------------------------------
-demo: deps $(BUILD)/mu_replay
+## run the estimator on every bundled scenario: tables and plots in build/demo/
+demo: venv $(BUILD)/mu_replay
 	$(PY) scripts/demo.py --replay $(BUILD)/mu_replay --out $(BUILD)/demo --trust
 
 # Regenerates the accuracy, trust and fixed-point tables of docs/RESULTS.md and the headline
 # table of README.md (a few columns of the trust table); never typed by hand.
-readme-table: deps $(BUILD)/mu_replay
+## regenerate the tables of docs/RESULTS.md and the README headline
+readme-table: venv $(BUILD)/mu_replay
 	$(PY) scripts/demo.py --replay $(BUILD)/mu_replay --out $(BUILD)/demo --no-plots --trust \
 	  --results docs/RESULTS.md --readme README.md
 
+## regenerate the sensor and fault logs with the simulator
 scenarios: venv
 	$(PY) scripts/make_scenarios.py --out scenarios
 	$(PY) scripts/make_fault_scenarios.py --scenarios scenarios --out scenarios/faults
+## regenerate the scenarios and every golden (reference and q31)
 goldens: scenarios
 	$(MAKE) goldens-ref goldens-q31
 # The reference goldens alone, from the committed scenarios. Byte-stable on one machine; each
 # records the BLAS kernel and numpy SIMD paths that wrote it (metadata blas, numpy_simd).
+## regenerate the reference goldens from the committed scenarios
 goldens-ref: venv
 	$(PY) scripts/make_goldens.py --scenarios scenarios --out scenarios/golden
 
 # The dependency rules of the source tree (docs/LAYOUT.md) on every #include.
+## the dependency rules of src/ and include/rfe/ (docs/LAYOUT.md)
 layers:
 	@python3 scripts/check_layers.py
 
 # The tools outside the Python pins whose version can change an outcome, against the versions
 # the gates were calibrated with (scripts/check_tools.py; TOOL_PINS=warn only reports).
 TOOL_PINS ?= fail
+## the system tools' versions against their pins (TOOL_PINS=warn reports only)
 check-tools:
 	@python3 scripts/check_tools.py $(if $(filter warn,$(TOOL_PINS)),--warn)
 
 # The golden checks do not depend on the CPU (docs/PORTABILITY.md): the reference goldens
 # regenerated under this machine's BLAS kernels, thread counts and numpy SIMD paths agree with
 # the committed ones and with each other within the golden tolerance (1e-9), decisions exactly.
+## the reference goldens under this CPU's other BLAS kernels and numpy paths
 check-kernels: venv
 	@$(PY) scripts/check_kernels.py --scenarios scenarios --goldens scenarios/golden --out $(BUILD)/kernels
 
 # Fixed-point goldens (docs/FIXED_POINT.md "Estimator"): the estimate logs of `mu_replay --real
 # q31` on the noisy scenario logs in the four configurations of the float goldens, written to
-# scenarios/golden/<stem>.<config>.q31.csv; test/test_golden_q31.c requires every value bit
+# scenarios/golden/<stem>.<config>.q31.csv; test/golden/test_golden_q31.c requires every value bit
 # for bit (the Q values converted exactly to double, written in the shortest exact form).
 Q31_GOLDEN_LOGS = $(filter-out %.nf.csv %.mf.csv,$(wildcard scenarios/*.csv))
+## regenerate the fixed-point goldens with mu_replay --real q31
 goldens-q31: $(BUILD)/mu_replay
 	@set -e; for f in $(Q31_GOLDEN_LOGS); do s=$$(basename $$f .csv); \
 	  for c in "paper.sckf --preset paper --filter sckf" "paper.ckf --preset paper --filter ckf" \
@@ -414,11 +341,14 @@ goldens-q31: $(BUILD)/mu_replay
 # implementation live in the project's shared folder (../shared); copies sit in docs/spec
 # and test/vectors so a clone is self-contained. This refreshes the copies.
 SHARED ?= ../shared
+## copy MODEL.md, DATA.md and the test vectors from ../shared
 shared-sync:
 	cp $(SHARED)/docs/MODEL.md $(SHARED)/docs/DATA.md docs/spec/
 	cp $(SHARED)/vectors/model_vectors.csv $(SHARED)/vectors/sckf_step_vectors.csv test/vectors/
+## the same as shared-sync
 vectors: shared-sync
 # Fails when the copies differ from ../shared (where it exists): run `make shared-sync`.
+## the copies of ../shared are up to date
 check-shared:
 	@if [ -d $(SHARED) ]; then \
 	  for f in docs/MODEL.md docs/DATA.md vectors/model_vectors.csv vectors/sckf_step_vectors.csv; do \
@@ -431,9 +361,11 @@ check-shared:
 # with -mfloat-abi=soft and linked against libgcc only, they may not use float/double, any
 # soft-float helper (__aeabi_f*, __aeabi_d*, __addsf3, …) or libm. The self-test first proves
 # that the checker rejects such code (fixtures in test/nofloat/).
+## the fixed-point sources hold no float, soft-float or libm (Cortex-M0+)
 check-nofloat: deps-arm
 	bash scripts/check_nofloat.sh --self-test
 	bash scripts/check_nofloat.sh
 
+## remove build/
 clean:
 	rm -rf $(BUILD)

@@ -19,6 +19,7 @@ BENCH_CFLAGS := -std=c99 -Wall -Wextra -Wshadow -Werror -O2 -g
 BENCH_BINS := $(BUILD)/bench/bench_f32 $(BUILD)/bench/bench_f64 $(if $(Q31_SRC),$(BUILD)/bench/bench_q31)
 
 .PHONY: bench bench-build
+## only the benchmark binaries
 bench-build: $(BENCH_BINS) $(BUILD)/mu_replay
 
 $(BUILD)/bench/bench_f32: bench/bench_flt.c bench/harness.h $(BUILD)/f32/librfe.a $(BUILD)/f32/hostlib.a $(BUILD)/f32/host/replay_real.o
@@ -34,6 +35,7 @@ $(BUILD)/bench/bench_q31: bench/bench_q31.c bench/harness.h $(BUILD)/q31/librfe_
 	$(CC) $(BENCH_CFLAGS) -DRFE_REAL_DOUBLE $(CPPFLAGS_HOST) $< $(BUILD)/f64/host/replay_real.o \
 	  $(BUILD)/f64/hostlib.a $(BUILD)/q31/librfe_q31.a $(BUILD)/f64/librfe.a -lm -o $@
 
+## cost per step: host time, callgrind, FilterPy, lower bound -> docs/BENCHMARKS.md
 bench: deps-valgrind venv bench-build
 	$(PY) scripts/bench_run.py --bin-dir $(BUILD)/bench --replay $(BUILD)/mu_replay \
 	  --log $(BENCH_LOG) --reps $(BENCH_REPS) --out $(BUILD)/bench --page docs/BENCHMARKS.md $(BENCH_ARGS)

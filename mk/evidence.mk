@@ -31,12 +31,15 @@ DEPS_EXTRA += deps-mcdc
 TEST_GATES += trace
 
 # ---- traceability ------------------------------------------------------------------------
+## the requirements traceability matrix from the last test results (gates)
 trace: test-c test-py
 	@$(PY) scripts/trace_requirements.py --results $(RESULTS) --out $(BUILD)/trace
+## the traceability matrix from whatever results exist, running nothing
 trace-report: venv
 	@$(PY) scripts/trace_requirements.py --results $(RESULTS) --out $(BUILD)/trace
 
 # ---- MC/DC (clang source-based coverage) -----------------------------------------------------
+## install clang-19 and llvm-19 (apt) when missing
 deps-mcdc:
 	@if ! command -v $(MCDC_CC) >/dev/null 2>&1 || ! command -v $(LLVM_COV) >/dev/null 2>&1 || \
 	  ! command -v $(LLVM_PROFDATA) >/dev/null 2>&1; then \
@@ -69,6 +72,7 @@ mcdc_run_tree = rm -rf $(RESULTS)/$(1); mkdir -p $(RESULTS)/$(1); \
   for t in $(2); do ( $(call run_cmocka,$(1)/$$t,$(BUILD)/$(3)/$$t,$(RESULTS)/$(1)) ) || \
   echo "$(1)/$$t" >> $(MCDC_DIR)/failed.txt; done
 MCDC_ENV = LLVM_PROFILE_FILE=$(abspath $(MCDC_DIR))/prof/%m-%p.profraw
+## run the suite built for MC/DC and merge the profiles
 mcdc-run: deps-c deps-mcdc venv $(MCDC_TEST_BINS) $(BUILD)/mcdc-mu_replay
 	@rm -rf $(MCDC_DIR) && mkdir -p $(MCDC_DIR)/prof
 	@export $(MCDC_ENV); $(call mcdc_run_tree,mcdc-f32,$(UNIT_TESTS),mcdc-f32/test)
@@ -85,6 +89,7 @@ mcdc-run: deps-c deps-mcdc venv $(MCDC_TEST_BINS) $(BUILD)/mcdc-mu_replay
 	  sed 's/^/  /' $(MCDC_DIR)/failed.txt; fi
 
 MCDC_OBJECTS = $(firstword $(MCDC_TEST_BINS)) $(addprefix -object ,$(wordlist 2,999,$(MCDC_TEST_BINS)) $(BUILD)/mcdc-mu_replay)
+## MC/DC coverage with clang 19 (build/mcdc/)
 mcdc: mcdc-run
 	@$(LLVM_COV) report --show-mcdc-summary --show-region-summary=false --show-instantiation-summary=false \
 	  -instr-profile=$(MCDC_DIR)/merged.profdata $(MCDC_OBJECTS) $(MCDC_SOURCES) > $(MCDC_DIR)/report.txt
@@ -102,11 +107,13 @@ mcdc: mcdc-run
 	@$(PY) scripts/evidence_coverage.py --mcdc $(MCDC_DIR)/show.txt \
 	  --justifications docs/COVERAGE_JUSTIFICATION.md --out $(MCDC_DIR)/justified.md
 
+## make mcdc, then its figure into docs/EVIDENCE.md
 mcdc-readme: mcdc
 	@$(PY) scripts/evidence_mcdc.py --summary $(MCDC_DIR)/summary.json --show $(MCDC_DIR)/show.txt \
 	  --out $(MCDC_DIR) --page docs/EVIDENCE.md
 
 # ---- uncovered lines: tested or justified --------------------------------------------------------
+## every uncovered line and MC/DC gap is justified
 coverage-justify: venv
 	@$(PY) scripts/evidence_coverage.py --justifications docs/COVERAGE_JUSTIFICATION.md \
 	  $(if $(wildcard $(BUILD)/coverage/coverage.xml),--cobertura $(BUILD)/coverage/coverage.xml) \
@@ -115,6 +122,7 @@ coverage-justify: venv
 # ---- the evidence folder ------------------------------------------------------------------
 # Runs misra, coverage (with the whole C suite instrumented), test-c, test-py, the trace and
 # mcdc, then copies their outputs into build/evidence/ and writes index.html.
+## the assessor's folder build/evidence/ with index.html
 evidence: misra coverage test-c test-py trace mcdc
 	@rm -rf $(EVIDENCE_DIR) && mkdir -p $(EVIDENCE_DIR)
 	@$(PY) scripts/evidence_index.py --build $(BUILD) --out $(EVIDENCE_DIR) \

@@ -44,7 +44,6 @@ fw_core     = $(word 1,$(subst -, ,$(1)))
 fw_variant  = $(word 2,$(subst -, ,$(1)))
 fw_srcs     = $(if $(filter q31,$(call fw_variant,$(1))),$(Q31_SRC),$(LIB_SRC))
 fw_lib      = $(FW_DIR)/$(1)/$(if $(filter q31,$(call fw_variant,$(1))),librfe_q31.a,librfe.a)
-FW_HDRS    := $(LIB_HDRS)
 FW_COMMON_H := $(wildcard firmware/common/*.h)
 # Example images: float32 on the Cortex-M4F, fixed point on the M4F, the M0+ and the M3
 # (the MPS2 board QEMU emulates).
@@ -60,6 +59,7 @@ FW_LDFLAGS  = --specs=nano.specs -nostartfiles -Wl,--gc-sections -Wl,--no-warn-r
 DEPS_EXTRA += deps-firmware
 TEST_GATES += firmware pil
 
+## install the Cortex-M toolchain, newlib and QEMU (apt) when missing
 deps-firmware:
 	@missing=""; command -v arm-none-eabi-gcc >/dev/null 2>&1 || missing="$$missing gcc-arm-none-eabi"; \
 	  [ -f /usr/lib/arm-none-eabi/newlib/libc.a ] || [ -f /usr/lib/arm-none-eabi/lib/libc.a ] || \
@@ -72,19 +72,19 @@ deps-firmware:
 # Objects keep their -fstack-usage (.su) and -fcallgraph-info=su (.ci) files beside them.
 define FW_LIB_RULES
 # $(1) = target (core-variant)
-$(FW_DIR)/$(1)/lib/%.o: src/%.c $(FW_HDRS) | deps-firmware
+$(FW_DIR)/$(1)/lib/%.o: src/%.c | deps-firmware
 	@mkdir -p $$(@D)
-	$$(FW_CC) $$(FW_ARCH_$(call fw_core,$(1))) $$(FW_OPT_$(call fw_core,$(1))) $$(FW_CFLAGS) $$(CPPFLAGS_LIB) -fstack-usage \
+	$$(FW_CC) $$(DEPFLAGS) $$(FW_ARCH_$(call fw_core,$(1))) $$(FW_OPT_$(call fw_core,$(1))) $$(FW_CFLAGS) $$(CPPFLAGS_LIB) -fstack-usage \
 	  -fcallgraph-info=su -fdump-ipa-cgraph -dumpdir $$(@D)/ -c $$< -o $$@
 $(call fw_lib,$(1)): $(patsubst src/%.c,$(FW_DIR)/$(1)/lib/%.o,$(call fw_srcs,$(1)))
 	rm -f $$@ && $(FW_CROSS)ar rcs $$@ $$^
-$(FW_DIR)/$(1)/common/%.o: firmware/common/%.c $(FW_HDRS) $(FW_COMMON_H) | deps-firmware
+$(FW_DIR)/$(1)/common/%.o: firmware/common/%.c | deps-firmware
 	@mkdir -p $$(@D)
-	$$(FW_CC) $$(FW_ARCH_$(call fw_core,$(1))) $$(FW_OPT_$(call fw_core,$(1))) $$(FW_CFLAGS) $$(CPPFLAGS_LIB) -Ifirmware/common -c $$< -o $$@
+	$$(FW_CC) $$(DEPFLAGS) $$(FW_ARCH_$(call fw_core,$(1))) $$(FW_OPT_$(call fw_core,$(1))) $$(FW_CFLAGS) $$(CPPFLAGS_LIB) -Ifirmware/common -c $$< -o $$@
 # startup_pil.o: the start-up of startup_cm.c that hands over to newlib's semihosting crt0.
 $(FW_DIR)/$(1)/common/startup_pil.o: firmware/common/startup_cm.c $(FW_COMMON_H) | deps-firmware
 	@mkdir -p $$(@D)
-	$$(FW_CC) $$(FW_ARCH_$(call fw_core,$(1))) $$(FW_OPT_$(call fw_core,$(1))) $$(FW_CFLAGS) $$(CPPFLAGS_LIB) -Ifirmware/common -DSTARTUP_NEWLIB_CRT0 -c $$< -o $$@
+	$$(FW_CC) $$(DEPFLAGS) $$(FW_ARCH_$(call fw_core,$(1))) $$(FW_OPT_$(call fw_core,$(1))) $$(FW_CFLAGS) $$(CPPFLAGS_LIB) -Ifirmware/common -DSTARTUP_NEWLIB_CRT0 -c $$< -o $$@
 endef
 $(foreach t,$(FW_TARGETS),$(eval $(call FW_LIB_RULES,$(t))))
 FW_LIBS := $(foreach t,$(FW_TARGETS),$(call fw_lib,$(t)))
@@ -92,9 +92,9 @@ FW_LIBS := $(foreach t,$(FW_TARGETS),$(call fw_lib,$(t)))
 # ---- the example firmware ----------------------------------------------------------------
 define FW_EXAMPLE_RULES
 # $(1) = target
-$(FW_DIR)/$(1)/example/main.o: firmware/example/main.c $(FW_HDRS) $(FW_COMMON_H) | deps-firmware
+$(FW_DIR)/$(1)/example/main.o: firmware/example/main.c | deps-firmware
 	@mkdir -p $$(@D)
-	$$(FW_CC) $$(FW_ARCH_$(call fw_core,$(1))) $$(FW_OPT_$(call fw_core,$(1))) $$(FW_CFLAGS) $$(CPPFLAGS_LIB) -Ifirmware/common \
+	$$(FW_CC) $$(DEPFLAGS) $$(FW_ARCH_$(call fw_core,$(1))) $$(FW_OPT_$(call fw_core,$(1))) $$(FW_CFLAGS) $$(CPPFLAGS_LIB) -Ifirmware/common \
 	  $(if $(filter q31,$(call fw_variant,$(1))),-DFW_EXAMPLE_Q31) -fstack-usage -c $$< -o $$@
 $(FW_DIR)/$(1)/example.elf: $(FW_DIR)/$(1)/example/main.o $(FW_DIR)/$(1)/common/startup_cm.o \
                             $(call fw_lib,$(1)) $(FW_LD_$(call fw_core,$(1))) firmware/ld/sections.ld
@@ -104,7 +104,9 @@ endef
 $(foreach t,$(FW_EXAMPLES),$(eval $(call FW_EXAMPLE_RULES,$(t))))
 FW_EXAMPLE_ELFS := $(foreach t,$(FW_EXAMPLES),$(FW_DIR)/$(t)/example.elf)
 
+## the library cross-built for each Cortex-M target
 firmware-libs: $(FW_LIBS)
+## Cortex-M libraries and example images, then firmware-check
 firmware: $(FW_LIBS) $(FW_EXAMPLE_ELFS)
 	@$(MAKE) --no-print-directory firmware-check
 
@@ -121,6 +123,7 @@ FW_BUDGET_STACK ?= 2048
 FW_BUDGET_FLASH ?= 40960
 FW_BUDGET_STATE ?= 2048
 
+## no heap, no soft float, stack, flash and state budgets
 firmware-check: $(FW_LIBS) $(FW_EXAMPLE_ELFS)
 	@python3 scripts/firmware_check.py --self-test --out $(FW_DIR)/report.json
 	@python3 scripts/firmware_check.py --build $(FW_DIR) --targets "$(FW_TARGETS)" \
@@ -179,11 +182,13 @@ $(foreach r,$(PIL_RUNS),$(foreach c,$(PIL_CONFIGS),$(eval $(call PIL_IMAGE_RULES
 
 PIL_ELFS := $(foreach r,$(PIL_RUNS),$(foreach c,$(PIL_CONFIGS),$(FW_DIR)/$(call pil_tag,$(r))/pil/$(call pil_tag,$(c)).elf))
 
+## processor in the loop on QEMU's Cortex-M4, M3 and M0: bit identity, instructions
 pil: deps-firmware firmware $(PIL_ELFS) $(BUILD)/mu_replay
 	@python3 scripts/firmware_pil.py --build $(FW_DIR) --log $(PIL_LOG) --runs "$(PIL_RUNS)" \
 	  --configs "$(PIL_CONFIGS)" --replay $(BUILD)/mu_replay --count-steps $(PIL_COUNT_STEPS) \
 	  --example m3-q31:mps2-an385 --out $(FW_DIR)/pil.json
 
+## regenerate the firmware tables of docs/FIRMWARE.md
 firmware-table:
 	@test -f $(FW_DIR)/report.json || $(MAKE) --no-print-directory firmware
 	@test -f $(FW_DIR)/pil.json || $(MAKE) --no-print-directory pil

@@ -32,6 +32,7 @@ FUZZ_HOST    := $(patsubst src/host/%.c,$(BUILD)/fuzz-f32/host/%.o,$(HOST_SRC) s
 DEPS_EXTRA += deps-fuzz
 TEST_GATES += fuzz-smoke soak-short
 
+## install clang-19 with libFuzzer (apt) when missing
 deps-fuzz:
 	@if ! command -v $(FUZZ_CC) >/dev/null 2>&1 || \
 	  ! echo 'int LLVMFuzzerTestOneInput(const char *d, unsigned long n) { return (int)n & (int)*d & 0; }' | \
@@ -40,18 +41,18 @@ deps-fuzz:
 	  $(SUDO) apt-get update -qq && $(SUDO) apt-get install -y -qq clang-$(FUZZ_LLVM) libclang-rt-$(FUZZ_LLVM)-dev; fi
 
 # The library and host code instrumented for coverage (fuzzer-no-link): float, double, q31.
-$(BUILD)/fuzz-f32/lib/%.o: src/%.c $(LIB_HDRS) | deps-fuzz
+$(BUILD)/fuzz-f32/lib/%.o: src/%.c | deps-fuzz
 	@mkdir -p $(@D)
-	$(FUZZ_CC) $(FUZZ_CFLAGS) -fsanitize=fuzzer-no-link $(CPPFLAGS_LIB) -c $< -o $@
-$(BUILD)/fuzz-f64/lib/%.o: src/%.c $(LIB_HDRS) | deps-fuzz
+	$(FUZZ_CC) $(DEPFLAGS) $(FUZZ_CFLAGS) -fsanitize=fuzzer-no-link $(CPPFLAGS_LIB) -c $< -o $@
+$(BUILD)/fuzz-f64/lib/%.o: src/%.c | deps-fuzz
 	@mkdir -p $(@D)
-	$(FUZZ_CC) $(FUZZ_CFLAGS) -fsanitize=fuzzer-no-link -DRFE_REAL_DOUBLE $(CPPFLAGS_LIB) -c $< -o $@
-$(BUILD)/fuzz-q31/lib/%.o: src/%.c $(LIB_HDRS) | deps-fuzz
+	$(FUZZ_CC) $(DEPFLAGS) $(FUZZ_CFLAGS) -fsanitize=fuzzer-no-link -DRFE_REAL_DOUBLE $(CPPFLAGS_LIB) -c $< -o $@
+$(BUILD)/fuzz-q31/lib/%.o: src/%.c | deps-fuzz
 	@mkdir -p $(@D)
-	$(FUZZ_CC) $(FUZZ_CFLAGS) -fsanitize=fuzzer-no-link $(CPPFLAGS_LIB) -c $< -o $@
-$(BUILD)/fuzz-f32/host/%.o: src/host/%.c $(wildcard src/host/*.h include/rfe/*.h) | deps-fuzz
+	$(FUZZ_CC) $(DEPFLAGS) $(FUZZ_CFLAGS) -fsanitize=fuzzer-no-link $(CPPFLAGS_LIB) -c $< -o $@
+$(BUILD)/fuzz-f32/host/%.o: src/host/%.c | deps-fuzz
 	@mkdir -p $(@D)
-	$(FUZZ_CC) $(FUZZ_CFLAGS) -fsanitize=fuzzer-no-link $(CPPFLAGS_HOST) -c $< -o $@
+	$(FUZZ_CC) $(DEPFLAGS) $(FUZZ_CFLAGS) -fsanitize=fuzzer-no-link $(CPPFLAGS_HOST) -c $< -o $@
 FUZZ_STEP_DEPS := test/fuzz/fuzz_step_flt.c test/fuzz/fuzz_input.h test/support/invariants.h
 $(BUILD)/fuzz/fuzz_step_f32: $(FUZZ_STEP_DEPS) $(FUZZ_LIB_F32)
 	@mkdir -p $(@D)
@@ -85,12 +86,15 @@ define FUZZ_RUN
 	done; exit $$failed
 endef
 FUZZ_TARGETS := $(addprefix $(BUILD)/fuzz/,$(FUZZ_BINS))
+## every libFuzzer harness FUZZ_SECONDS each
 fuzz: deps-fuzz $(FUZZ_TARGETS)
 	$(call FUZZ_RUN,$(BUILD)/fuzz,-max_total_time=$(FUZZ_SECONDS))
+## each harness FUZZ_SMOKE_SECONDS over the committed seeds
 fuzz-smoke: deps-fuzz $(FUZZ_TARGETS)
 	@rm -rf $(BUILD)/fuzz-smoke
 	$(call FUZZ_RUN,$(BUILD)/fuzz-smoke,-seed=1 -max_total_time=$(FUZZ_SMOKE_SECONDS))
 
+## regenerate scenarios/faults/ from the bundled logs
 fault-scenarios: venv
 	$(PY) scripts/make_fault_scenarios.py --scenarios scenarios --out scenarios/faults
 
@@ -116,7 +120,9 @@ SOAK_LINK := $(BUILD)/soak/run_f32.o $(BUILD)/soak/run_f64.o $(if $(Q31_SRC),$(B
              $(BUILD)/f32/librfe.a $(if $(Q31_SRC),$(BUILD)/q31/librfe_q31.a) $(BUILD)/f64/librfe.a
 $(BUILD)/soak/soak: test/soak/soak.c test/soak/soak.h $(SOAK_LINK)
 	$(CC) $(TEST_WARN) $(OPT) $(CPPFLAGS_HOST) $(if $(Q31_SRC),-DSOAK_Q31) -Itest/soak $< $(SOAK_LINK) -lm -o $@
+## SOAK_SECONDS (one hour) of simulated driving, invariants at every step
 soak: $(BUILD)/soak/soak $(BUILD)/soak/drive_$(SOAK_SECONDS)s.csv
 	$(BUILD)/soak/soak --in $(BUILD)/soak/drive_$(SOAK_SECONDS)s.csv --json $(BUILD)/soak/summary_$(SOAK_SECONDS)s.json
+## the short soak (SOAK_SHORT_SECONDS), part of make test
 soak-short: $(BUILD)/soak/soak $(BUILD)/soak/drive_$(SOAK_SHORT_SECONDS)s.csv
 	$(BUILD)/soak/soak --in $(BUILD)/soak/drive_$(SOAK_SHORT_SECONDS)s.csv --json $(BUILD)/soak/summary_$(SOAK_SHORT_SECONDS)s.json

@@ -13,9 +13,9 @@ and every configuration <tag>:<mu_replay options> (paper.sckf, default.sckf):
  2. the host build on the same log and options: build/mu_replay --real q31 (fixed point) or
     --real float (float32). Fixed point: every mu, sd, valid flag and status must equal the
     host's bit for bit (equality with the committed golden scenarios/golden/<stem>.<tag>.q31.csv
-    is reported too; test/test_golden_q31.c is what holds the host to it).
+    is reported too; test/golden/test_golden_q31.c is what holds the host to it).
     Float32: mu and sd against the double golden scenarios/golden/<stem>.<tag>.csv with the
-    tolerance of test/test_golden_flt.c (2e-3; for the default preset at least 97 % of the
+    tolerance of test/golden/test_golden_flt.c (2e-3; for the default preset at least 97 % of the
     estimates, as the host float32 build is held to); the difference from the host float32
     run is reported, not required (the two builds use different C libraries: newlib's
     sinf, cosf, tanf, atan2f need not round like glibc's);
@@ -46,7 +46,7 @@ BUILD_CORE = {"m4f": "cortex-m4", "m3": "cortex-m3", "m0p": "cortex-m0plus"}
 # The core each QEMU board emulates (the micro:bit's nRF51 is a Cortex-M0, the same ARMv6-M
 # instruction set as the Cortex-M0+ build it runs).
 MACHINE_CORE = {"mps2-an386": "cortex-m4", "mps2-an385": "cortex-m3", "microbit": "cortex-m0"}
-FLOAT_TOL = 2e-3                 # test/test_golden_flt.c TOL_MU / TOL_SD (float32)
+FLOAT_TOL = 2e-3                 # test/golden/test_golden_flt.c TOL_MU / TOL_SD (float32)
 FLOAT_FRACTION_OUT = {"default": 0.03}  # ... MAX_FRACTION_OUT_DEFAULT; 0 for the paper preset
 QEMU_TIMEOUT = 300
 CORE_HZ = 100e6                  # docs/FIRMWARE.md's reference core: 100 MHz, 100 Hz step rate

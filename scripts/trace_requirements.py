@@ -4,9 +4,9 @@
 Reads
   * the requirements: every table row `| REQ-<AREA>-<NNN> | text | source | verification |`
     of docs/REQUIREMENTS.md;
-  * the tests and the requirements each names: the cmocka tests registered in test/*.c and
-    test/host/*.c (cmocka_unit_test*(name)), the CLI script test/host/test_cli.sh (one test
-    case, `test_cli`) and the pytest tests scripts/**/test_*.py; a test's IDs are the
+  * the tests and the requirements each names: the cmocka tests registered in
+    test/**/test_*.c, host included (cmocka_unit_test*(name)), the CLI script
+    test/host/test_cli.sh (one test case, `test_cli`) and the pytest tests scripts/**/test_*.py; a test's IDs are the
     `REQ-...` tokens in the comment block directly above its definition (REQUIREMENTS.md,
     "Conventions");
   * the results of the last run: the JUnit XML files under build/results/<tree>/ written by
@@ -172,9 +172,20 @@ def collect_sh_test(root, rel):
     return [Test(rel, "test_cli", ids, 1)]
 
 
+# Folders of test/ that hold no cmocka test programs (harnesses, fixtures, data, helpers).
+NOT_TESTS = ("test/fuzz/", "test/soak/", "test/structural/", "test/nofloat/", "test/support/",
+             "test/vectors/")
+
+
+def c_test_files(root):
+    """The cmocka test programs: test/**/test_*.c outside NOT_TESTS."""
+    return sorted(rel for rel in glob.glob("test/**/test_*.c", root_dir=root, recursive=True)
+                  if not rel.startswith(NOT_TESTS))
+
+
 def collect_tests(root):
     tests = []
-    for rel in sorted(glob.glob("test/*.c", root_dir=root)) + sorted(glob.glob("test/host/*.c", root_dir=root)):
+    for rel in c_test_files(root):
         tests += collect_c_tests(root, rel)
     if os.path.isfile(os.path.join(root, "test/host/test_cli.sh")):
         tests += collect_sh_test(root, "test/host/test_cli.sh")
@@ -200,12 +211,14 @@ def attach_results(root, results_dir, tests, trees):
     errors, unmatched, files = [], [], []
     by_c = {}
     by_py = {}
+    c_file = {}                 # stem -> test program (stems are unique across test/)
     for t in tests:
         stem = os.path.splitext(os.path.basename(t.file))[0]
         if t.file.endswith(".py"):
             by_py.setdefault((stem, t.name), t)
         else:
             by_c.setdefault((t.file, t.name), t)
+            c_file.setdefault(stem, t.file)
     for path in sorted(glob.glob(os.path.join(results_dir, "*", "*.xml"))):
         tree = os.path.basename(os.path.dirname(path))
         if tree not in trees:
@@ -227,7 +240,7 @@ def attach_results(root, results_dir, tests, trees):
             elif tree == "cli":
                 t = by_c.get(("test/host/test_cli.sh", name))
             else:
-                src = f"test/host/{stem}.c" if tree.endswith("host") else f"test/{stem}.c"
+                src = c_file.get(stem, f"test/{stem}.c")
                 t = by_c.get((src, name))
             if t is None:
                 unmatched.append(f"{os.path.relpath(path, root)}: {name}")

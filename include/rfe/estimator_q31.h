@@ -18,7 +18,7 @@
  * step carries the sum over everything that step ran (`sat`: input filter, measurement model
  * at the sample and at every cubature point, step noise S_R, the filter's predict, gate and
  * update, the sd bounds), and the state keeps the running total since init. A saturation is
- * never silent, and on the bundled logs there is none (test/test_estimator_q31.c).
+ * never silent, and on the bundled logs there is none (test/estimators/friction/test_estimator_q31.c).
  */
 #ifndef RFE_ESTIMATOR_Q31_H
 #define RFE_ESTIMATOR_Q31_H
@@ -36,7 +36,7 @@
 
 /* Input limits of rfe_estimator_step_q31: the limits of rfe/config.h (RFE_LIMIT_*) in the
  * sample's Q formats. Each is an exact multiple of its format's LSB (the integer below is
- * the config.h value times 2^Q); test/test_estimator_q31.c checks that they equal the
+ * the config.h value times 2^Q); test/estimators/friction/test_estimator_q31.c checks that they equal the
  * conversions of config.h's values, so an override of one (-D) needs the other too. */
 #ifndef RFE_FIX_LIMIT_DELTA
 #define RFE_FIX_LIMIT_DELTA ((rfe_fix_t)536870912) /**< |delta| <= 1 rad, Q29 */

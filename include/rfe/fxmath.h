@@ -10,7 +10,7 @@
  * error: the call returns RFE_OK with the saturated value and one count added to `*sat`.
  *
  * The stated error bounds are properties of the algorithms (derived at each function) and
- * are checked against libm in test/test_fxmath_q31.c, which also prints the measured
+ * are checked against libm in test/numerics/test_fxmath_q31.c, which also prints the measured
  * worst cases quoted in docs/FIXED_POINT.md. These functions have no real-number twin, so
  * their names carry the `rfe_fix_` prefix instead of a `_q31` suffix.
  */

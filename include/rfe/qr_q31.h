@@ -37,7 +37,7 @@
  * Each finished entry S_ik is rounded (half up) into the input format as soon as it is
  * final. Error: S S^T = (A + E)(A + E)^T + F with |row i of E| <= 8 rows 2^-29 |a_i| (at
  * most ~6.4 units of 2^-29 of the remaining row norm per reflection: element roundings, the
- * Q30 coefficient, the rounded norm, a first down-scaling; derived in test/test_qr_q31.c)
+ * Q30 coefficient, the rounded norm, a first down-scaling; derived in test/numerics/test_qr_q31.c)
  * and F from the final rounding of S (0.5 LSB per entry).
  * Saturation: an entry of S beyond the int32 range (a row norm above INT32_MAX) is clamped
  * and counted.

@@ -8,7 +8,7 @@ order, so the same log gives estimates that differ in the last bits from machine
 it again on each machine). A golden check must therefore compare with a tolerance:
 
 * mu and sd: |a - b| <= TOL_MU / TOL_SD = 1e-9. The same bound the C double build is held
-  to against the reference (test/test_golden_flt.c TOL_MU): both differences come from
+  to against the reference (test/golden/test_golden_flt.c TOL_MU): both differences come from
   summation order and rounding only (~1e-16 per operation), and the filter is contractive,
   so over 1 000 steps they stay ~1e-11; 1e-9 leaves two orders of magnitude of margin and
   is still six orders below anything the estimator's accuracy figures (>= 1e-3) can see.

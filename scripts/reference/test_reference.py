@@ -458,7 +458,7 @@ def test_scenario_sckf_equals_ckf(path):
 
 
 # The reference's goldens; the fixed-point estimator's own goldens (*.q31.csv, written by
-# `mu_replay --real q31`, `make goldens-q31`) are checked bit for bit by test/test_golden_q31.c.
+# `mu_replay --real q31`, `make goldens-q31`) are checked bit for bit by test/golden/test_golden_q31.c.
 GOLDENS = sorted(g for g in glob.glob(os.path.join(REPO, "scenarios", "golden", "*.csv"))
                  if not g.endswith(".q31.csv"))
 

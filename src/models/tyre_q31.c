@@ -415,7 +415,7 @@ static void dugoff_core(int32_t k, int32_t t, int32_t c1, int32_t c2, int32_t ep
  *   - 0 <= a <= pi/2, and z = s - E (s - m C a) = (1 - E) s + E m C a >= 0 (clamped there
  *     against the rounding of a), so 0 <= b <= pi/2, 0 <= phi = C b < pi, 0 <= G <= 1;
  *   - w = m G <= m < 4 (Q29) and |F| <= Fz m (saturating, counted, as the Dugoff forces).
- * Error (derived in test/test_tyre_magic_q31.c and docs/FIXED_POINT.md): the angles within
+ * Error (derived in test/models/test_tyre_magic_q31.c and docs/FIXED_POINT.md): the angles within
  * 0.71 LSB29 (pair rounding) + 1.211e-9 rad (0.65 LSB29, rfe_q31_atan2_quad1) each, the second
  * one also carrying the first's error times E and the sensitivity of the curve to the slip
  * ratio; phi = C b exact; the sine within 6.15e-10 (0.66 LSB30); no intermediate saturates. */

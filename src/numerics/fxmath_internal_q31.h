@@ -15,7 +15,7 @@
  *  - rfe_q31_sin_q55: sin(k/32 + d) = sin(k/32) cos d + cos(k/32) sin d from a 51-entry table
  *    and a fourth-order Taylor polynomial in |d| <= 2^-6 (Horner, three 64-bit products).
  * The error bounds below are derived at the definitions (fxmath_q31.c) and checked against
- * libm in test/test_fxmath_q31.c, which prints the measured worst cases (docs/FIXED_POINT.md).
+ * libm in test/numerics/test_fxmath_q31.c, which prints the measured worst cases (docs/FIXED_POINT.md).
  * They check no argument: the caller keeps them in their domain (outside it the value is
  * unspecified, never undefined behaviour).
  */

@@ -11,7 +11,7 @@
 
 /* ---- presets ------------------------------------------------------------------------------
  * The tables are rfe_params_to_q31_f64() of rfe_params_paper_f64() / rfe_params_default_f64()
- * (test/test_params_q31.c checks that bit for bit); the real value is in each comment. */
+ * (test/params/test_params_q31.c checks that bit for bit); the real value is in each comment. */
 
 static const rfe_params_q31_t paper_q31 = {
     {

@@ -3,8 +3,8 @@
  * @brief The fault-injection logs (scenarios/faults/, scripts/sim/faults.py), their clean
  *        twins and the documented bounds on what the default estimator does on them
  *        (docs/ROBUSTNESS.md), with the comparison that measures it: shared by the float/double test
- *        (test/test_faults_flt.c, where the bounds were measured and are justified) and the
- *        fixed-point one (test/test_faults_q31.c, which derives its own from them).
+ *        (test/robustness/test_faults_flt.c, where the bounds were measured and are justified) and the
+ *        fixed-point one (test/robustness/test_faults_q31.c, which derives its own from them).
  *
  * Per fault log, the estimate of the fault run against the estimate of the clean run, rows
  * matched by t:
@@ -16,7 +16,7 @@
  *   dvalid   |share of (row, wheel) valid in the fault log - in the clean one|.
  * Bounds (EXPECT): the value measured with the float build (the double build measures the
  * same to the printed digits, except where said) plus a margin of 10 % or 0.02, whichever is
- * larger; NA = not asserted (printed); see test/test_faults_flt.c.
+ * larger; NA = not asserted (printed); see test/robustness/test_faults_flt.c.
  * Include after test_common.h (cmocka).
  */
 #ifndef RFE_TEST_FAULT_BOUNDS_H

@@ -1,7 +1,7 @@
 /**
  * @file robust_gen.h
- * @brief Shared by the robustness tests of the float/double estimator (test/test_robust_flt.c)
- *        and of the fixed-point one (test/test_robust_q31.c): the configurations, the
+ * @brief Shared by the robustness tests of the float/double estimator (test/robustness/test_robust_flt.c)
+ *        and of the fixed-point one (test/robustness/test_robust_q31.c): the configurations, the
  *        model-consistent sample generators of the operating corners (double / rfe_real_t
  *        samples: the q31 test rounds them to the Q formats with rfe_fix_from_double, as
  *        mu_replay --real q31 does), and the list of the bundled logs.

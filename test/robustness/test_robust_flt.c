@@ -11,7 +11,7 @@
  * subset, rfe_params_validate) and, for the synthetic corners, "paper-absolute.sckf" (the
  * paper preset with the absolute tyre, the nonlinear measurement at every cubature point).
  * The configurations, the sample generators of the corners and the log list live in
- * test/support/robust_gen.h, shared with the fixed-point twin (test/test_robust_q31.c).
+ * test/support/robust_gen.h, shared with the fixed-point twin (test/robustness/test_robust_q31.c).
  *
  * What "unharmed" means here:
  * - a sample with a NaN/Inf field returns RFE_ERR_NONFINITE, one with a finite field

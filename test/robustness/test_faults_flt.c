@@ -17,7 +17,7 @@
  * larger, for rounding and future retuning to stay inside; NA = not asserted (printed).
  * Measured (float): see the table in docs/ROBUSTNESS.md, written from the
  * lines this test prints. The table of bounds (EXPECT) and the comparison live in
- * test/support/fault_bounds.h, shared with the fixed-point twin (test/test_faults_q31.c).
+ * test/support/fault_bounds.h, shared with the fixed-point twin (test/robustness/test_faults_q31.c).
  * Besides: the out-of-limits spikes are rejected with RFE_ERR_RANGE on exactly the faulty
  * rows, and there the estimate is the previous row's; on the cruise log (friction not
  * observable) no fault changes anything (every step held, dmu 0, never valid).
