@@ -49,7 +49,7 @@ PUBLIC = {
 }
 # Headers of both number types: no real type in them.
 Q31_SHARED = {"include/rfe/" + h for h in ("common.h", "config.h", "fixed.h", "fxmath.h",
-                                             "modes.h")}
+                                             "modes.h")} | {"src/numerics/sizes.h"}
 Q31_SYSTEM = {"stddef.h", "stdint.h"}
 INCLUDE_RE = re.compile(r'^\s*#\s*include\s*([<"])([^>"]+)[>"]')
 

@@ -22,7 +22,7 @@
 
 #define NM ((size_t)RFE_N_MAX)
 #define MM ((size_t)RFE_M_MAX)
-#define TC RFE_Q31_TRIA_COLS
+#define TC RFE_TRIA_COLS_SZ
 
 /* Internal formats (fractional bits; docs/FIXED_POINT.md "Linear algebra and filters"). */
 #define QL 30u   /* chol(P): standard deviations, as S of the SCKF */

@@ -17,7 +17,7 @@
 #include "rfe/fxmath.h"
 #include "rfe/sckf_q31.h"
 
-#include "numerics/internal_q31.h" /* rfe_q31_pow2, RFE_Q31_TRIA_COLS, rfe_q31_div_round */
+#include "numerics/internal_q31.h" /* rfe_q31_pow2, RFE_TRIA_COLS_SZ, rfe_q31_div_round */
 
 /** Magic words marking an initialised fixed-point state struct (distinct from the float
  *  filters' so that a struct of the other kind is never taken for initialised). */

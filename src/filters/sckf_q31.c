@@ -27,7 +27,7 @@
 
 #define NM ((size_t)RFE_N_MAX)
 #define MM ((size_t)RFE_M_MAX)
-#define TC RFE_Q31_TRIA_COLS
+#define TC RFE_TRIA_COLS_SZ
 
 /* Internal formats (fractional bits; docs/FIXED_POINT.md "Linear algebra and filters"). */
 #define QW 30u /* U = S- \ Xc, W = S_zz \ [Zc, S_R], G = [Xc 0] W^T: dimensionless / mu */

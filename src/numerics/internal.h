@@ -13,14 +13,7 @@
 #include "rfe/config.h"
 #include "rfe/types.h"
 
-/** RFE_TRIA_COLS_MAX as a size_t, built from casts of the single constants (a cast of the
- *  composite int expression would break MISRA C:2012 Rule 10.8). Same formula, checked: */
-#if RFE_TRIA_COLS_MAX != ((2 * RFE_N_MAX) + ((RFE_N_MAX > RFE_M_MAX) ? RFE_N_MAX : RFE_M_MAX))
-#error "RFE_TRIA_COLS_SZ restates RFE_TRIA_COLS_MAX (config.h): keep the two formulas equal"
-#endif
-#define RFE_TRIA_COLS_SZ                                                                       \
-    ((2u * (size_t)RFE_N_MAX) +                                                                \
-     (((size_t)RFE_N_MAX > (size_t)RFE_M_MAX) ? (size_t)RFE_N_MAX : (size_t)RFE_M_MAX))
+#include "numerics/sizes.h" /* RFE_TRIA_COLS_SZ */
 
 /** A literal in the build's real type. */
 #define RFE_R(x) ((rfe_real_t)(x))

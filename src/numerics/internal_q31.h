@@ -17,6 +17,8 @@
 #include "rfe/fixed.h"
 #include "rfe/fxmath.h"
 
+#include "numerics/sizes.h" /* RFE_TRIA_COLS_SZ */
+
 /* ==== Section: every module ================================================================ */
 
 /** 2^s as an int64 multiplier (0 <= s <= 62): a left shift is a multiplication by it (no
@@ -139,12 +141,6 @@ static inline void rfe_q31_sat_add(uint32_t *sat, uint32_t count)
 
 /* ==== Section: linear algebra and the cubature filters (qr_q31.c, chol_q31.c, sckf_q31.c,
  * ckf_q31.c) ================================================================================ */
-
-/** RFE_TRIA_COLS_MAX as a size_t, built from casts of the single constants (as
- *  RFE_TRIA_COLS_SZ of the float sources' internal.h, which q31 sources cannot include). */
-#define RFE_Q31_TRIA_COLS                                                                      \
-    ((2u * (size_t)RFE_N_MAX) +                                                                \
-     (((size_t)RFE_N_MAX > (size_t)RFE_M_MAX) ? (size_t)RFE_N_MAX : (size_t)RFE_M_MAX))
 
 /** |v| as uint64 for every int64 (2^63 for INT64_MIN; internal_q31.h's rfe_q31_mag64 needs
  *  v > INT64_MIN). */

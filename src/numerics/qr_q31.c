@@ -206,7 +206,7 @@ rfe_status_t rfe_qr_tria_q31(rfe_fix_t *A, size_t rows, size_t cols, size_t lda,
         return RFE_ERR_NULL;
     }
     if ((rows == 0u) || (rows > (size_t)RFE_N_MAX) || (cols < rows) ||
-        (cols > RFE_Q31_TRIA_COLS) || (lda < cols)) {
+        (cols > RFE_TRIA_COLS_SZ) || (lda < cols)) {
         return RFE_ERR_SIZE;
     }
     for (i = 0u; i < rows; ++i) {

@@ -42,6 +42,12 @@
 #define QFLOOR 59u                         /* sd_floor_rel (Q30) times x (Q29) */
 #define ONE_QC ((rfe_fix_t)16777216)       /* 1.0 in Q24 (RFE_Q31_QC) */
 
+/* The generic filters' Q formats (rfe/sckf_q31.h) are the estimator's: the state is mu
+ * (RFE_FIX_Q_MU) and the measurements are accelerations (RFE_FIX_Q_ACC, rfe/params_q31.h). */
+#if (RFE_Q31_QX != RFE_FIX_Q_MU) || (RFE_Q31_QZ != RFE_FIX_Q_ACC)
+#error "the filters' RFE_Q31_QX / RFE_Q31_QZ differ from RFE_FIX_Q_MU / RFE_FIX_Q_ACC"
+#endif
+
 /* C99 static assertion: the filters' compile-time maxima must hold the estimator's
  * four states and three measurements (a -DRFE_N_MAX=4 -DRFE_M_MAX=3 build is the smallest). */
 /* cppcheck-suppress misra-c2012-2.3 ; MISRA-DEV-04: static assertion, never used by design */
