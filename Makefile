@@ -55,10 +55,10 @@ lib: $(BUILD)/f32/librfe.a $(BUILD)/f64/librfe.a $(if $(Q31_SRC),$(BUILD)/q31/li
 
 ## this list, generated from the ## lines of the Makefiles
 help:
-	@python3 scripts/make_help.py
+	@python3 scripts/checks/make_help.py
 ## every .PHONY target has its ## description (so make help cannot drift)
 help-check:
-	@python3 scripts/make_help.py --check
+	@python3 scripts/checks/make_help.py --check
 
 # ---- dependencies (installed when missing) --------------------------------------------
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
@@ -202,7 +202,7 @@ coverage: deps $(foreach f,cov-f32 cov-f64,$(addprefix $(BUILD)/$(f)/test/,$(UNI
 	@cat $(BUILD)/coverage/summary.txt
 	@echo "coverage report: $(BUILD)/coverage/index.html (per-file detail), coverage.xml (Cobertura)"
 	@# every line left uncovered is tested or justified (docs/COVERAGE_JUSTIFICATION.md)
-	@$(PY) scripts/evidence_coverage.py --cobertura $(BUILD)/coverage/coverage.xml \
+	@$(PY) scripts/evidence/evidence_coverage.py --cobertura $(BUILD)/coverage/coverage.xml \
 	  --justifications docs/COVERAGE_JUSTIFICATION.md --out $(BUILD)/coverage/justified.md
 
 # make test: the installers first, then every check, TEST_JOBS of them side by side (they
@@ -226,7 +226,7 @@ test: deps
 #                  few) over the library, every finding an error
 # make complexity  lizard: cyclomatic complexity of every library function <= CCN_MAX
 # make structural  no dynamic memory, no recursion, no VLA: nm, the GCC call graph and stack
-#                  usage (scripts/check_structural.py), after its self-test on test/structural/
+#                  usage (scripts/checks/check_structural.py), after its self-test on test/structural/
 # The library is LIB_DIRS' *.c (float/double sources and the *_q31.c twins) with include/rfe/
 # and their *.h; src/host/ is host code and not part of it.
 CLANG_TIDY := clang-tidy-19
@@ -243,7 +243,7 @@ deps-analysis:
 
 ## cppcheck's MISRA C:2012 addon, zero findings beyond docs/MISRA.md
 misra: deps-analysis
-	@MISRA_SRC="$(ANALYSIS_SRC)" bash scripts/check_misra.sh
+	@MISRA_SRC="$(ANALYSIS_SRC)" bash scripts/checks/check_misra.sh
 
 # (clang-tidy's stderr mostly counts the diagnostics it suppressed in system headers: kept in
 # build/tidy.log, shown without those counts when the run fails; findings go to stdout.)
@@ -269,11 +269,11 @@ complexity: venv
 
 ## no heap, no recursion, no VLA (objects, call graph, stack)
 structural: lib
-	@python3 scripts/check_structural.py --self-test --cflags "$(WARN)" --out $(BUILD)/structural
-	@python3 scripts/check_structural.py --cflags "$(WARN) $(CPPFLAGS_LIB)" --out $(BUILD)/structural/f32 \
+	@python3 scripts/checks/check_structural.py --self-test --cflags "$(WARN)" --out $(BUILD)/structural
+	@python3 scripts/checks/check_structural.py --cflags "$(WARN) $(CPPFLAGS_LIB)" --out $(BUILD)/structural/f32 \
 	  --label "float + q31" --archive $(BUILD)/f32/librfe.a \
 	  $(if $(Q31_SRC),--archive $(BUILD)/q31/librfe_q31.a) $(ANALYSIS_SRC)
-	@python3 scripts/check_structural.py --cflags "$(WARN) -DRFE_REAL_DOUBLE $(CPPFLAGS_LIB)" \
+	@python3 scripts/checks/check_structural.py --cflags "$(WARN) -DRFE_REAL_DOUBLE $(CPPFLAGS_LIB)" \
 	  --label double --out $(BUILD)/structural/f64 --archive $(BUILD)/f64/librfe.a $(LIB_SRC)
 
 ## misra, tidy, complexity and structural
@@ -282,19 +282,19 @@ analysis: misra tidy complexity structural
 # ---- demo, goldens ---------------------------------------------------------------------
 ## run the estimator on every bundled scenario: tables and plots in build/demo/
 demo: venv $(BUILD)/mu_replay
-	$(PY) scripts/demo.py --replay $(BUILD)/mu_replay --out $(BUILD)/demo --trust
+	$(PY) scripts/tools/demo.py --replay $(BUILD)/mu_replay --out $(BUILD)/demo --trust
 
 # Regenerates the accuracy, trust and fixed-point tables of docs/RESULTS.md and the headline
 # table of README.md (a few columns of the trust table); never typed by hand.
 ## regenerate the tables of docs/RESULTS.md and the README headline
 readme-table: venv $(BUILD)/mu_replay
-	$(PY) scripts/demo.py --replay $(BUILD)/mu_replay --out $(BUILD)/demo --no-plots --trust \
+	$(PY) scripts/tools/demo.py --replay $(BUILD)/mu_replay --out $(BUILD)/demo --no-plots --trust \
 	  --results docs/RESULTS.md --readme README.md
 
 ## regenerate the sensor and fault logs with the simulator
 scenarios: venv
-	$(PY) scripts/make_scenarios.py --out scenarios
-	$(PY) scripts/make_fault_scenarios.py --scenarios scenarios --out scenarios/faults
+	$(PY) scripts/data/make_scenarios.py --out scenarios
+	$(PY) scripts/data/make_fault_scenarios.py --scenarios scenarios --out scenarios/faults
 ## regenerate the scenarios and every golden (reference and q31)
 goldens: scenarios
 	$(MAKE) goldens-ref goldens-q31
@@ -302,26 +302,26 @@ goldens: scenarios
 # records the BLAS kernel and numpy SIMD paths that wrote it (metadata blas, numpy_simd).
 ## regenerate the reference goldens from the committed scenarios
 goldens-ref: venv
-	$(PY) scripts/make_goldens.py --scenarios scenarios --out scenarios/golden
+	$(PY) scripts/data/make_goldens.py --scenarios scenarios --out scenarios/golden
 
 # The dependency rules of the source tree (docs/LAYOUT.md) on every #include.
 ## the dependency rules of src/ and include/rfe/ (docs/LAYOUT.md)
 layers:
-	@python3 scripts/check_layers.py
+	@python3 scripts/checks/check_layers.py
 
 # The tools outside the Python pins whose version can change an outcome, against the versions
-# the gates were calibrated with (scripts/check_tools.py; TOOL_PINS=warn only reports).
+# the gates were calibrated with (scripts/checks/check_tools.py; TOOL_PINS=warn only reports).
 TOOL_PINS ?= fail
 ## the system tools' versions against their pins (TOOL_PINS=warn reports only)
 check-tools:
-	@python3 scripts/check_tools.py $(if $(filter warn,$(TOOL_PINS)),--warn)
+	@python3 scripts/checks/check_tools.py $(if $(filter warn,$(TOOL_PINS)),--warn)
 
 # The golden checks do not depend on the CPU (docs/PORTABILITY.md): the reference goldens
 # regenerated under this machine's BLAS kernels, thread counts and numpy SIMD paths agree with
 # the committed ones and with each other within the golden tolerance (1e-9), decisions exactly.
 ## the reference goldens under this CPU's other BLAS kernels and numpy paths
 check-kernels: venv
-	@$(PY) scripts/check_kernels.py --scenarios scenarios --goldens scenarios/golden --out $(BUILD)/kernels
+	@$(PY) scripts/checks/check_kernels.py --scenarios scenarios --goldens scenarios/golden --out $(BUILD)/kernels
 
 # Fixed-point goldens (docs/FIXED_POINT.md "Estimator"): the estimate logs of `mu_replay --real
 # q31` on the noisy scenario logs in the four configurations of the float goldens, written to
@@ -363,8 +363,8 @@ check-shared:
 # that the checker rejects such code (fixtures in test/nofloat/).
 ## the fixed-point sources hold no float, soft-float or libm (Cortex-M0+)
 check-nofloat: deps-arm
-	bash scripts/check_nofloat.sh --self-test
-	bash scripts/check_nofloat.sh
+	bash scripts/checks/check_nofloat.sh --self-test
+	bash scripts/checks/check_nofloat.sh
 
 ## remove build/
 clean:

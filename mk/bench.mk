@@ -1,7 +1,7 @@
 # Benchmarks (docs/BENCHMARKS.md, issue 8): cost per estimator step, not a test.
 #
 # make bench        builds the optimised host benchmarks (build/bench/bench_{f32,f64,q31}:
-#                   bench/*.c against the -O2 libraries) and runs scripts/bench_run.py:
+#                   bench/*.c against the -O2 libraries) and runs scripts/bench/bench_run.py:
 #                   host time per call (median, min, max over BENCH_REPS passes over
 #                   BENCH_LOG), instructions per call (valgrind --tool=callgrind, with the
 #                   per-function profile of every step), FilterPy's CubatureKalmanFilter on
@@ -37,5 +37,5 @@ $(BUILD)/bench/bench_q31: bench/bench_q31.c bench/harness.h $(BUILD)/q31/librfe_
 
 ## cost per step: host time, callgrind, FilterPy, lower bound -> docs/BENCHMARKS.md
 bench: deps-valgrind venv bench-build
-	$(PY) scripts/bench_run.py --bin-dir $(BUILD)/bench --replay $(BUILD)/mu_replay \
+	$(PY) scripts/bench/bench_run.py --bin-dir $(BUILD)/bench --replay $(BUILD)/mu_replay \
 	  --log $(BENCH_LOG) --reps $(BENCH_REPS) --out $(BUILD)/bench --page docs/BENCHMARKS.md $(BENCH_ARGS)

@@ -2,7 +2,7 @@
 # justified uncovered lines, and one folder with all of it.
 #
 # make trace        the traceability matrix requirement -> tests -> result of the last run
-#                   (docs/REQUIREMENTS.md, scripts/trace_requirements.py) from the JUnit XML
+#                   (docs/REQUIREMENTS.md, scripts/evidence/trace_requirements.py) from the JUnit XML
 #                   that make test-c / test-py leave in build/results/; fails on a requirement
 #                   without a passing test or a test citing an unknown ID; part of make test
 #                   (it needs test-c and test-py, and reruns nothing else)
@@ -15,7 +15,7 @@
 # make mcdc-readme  make mcdc, then the figure into docs/EVIDENCE.md (its name is historic)
 # make coverage-justify  every line left uncovered in src/ by make coverage (and every MC/DC
 #                   gap, when build/mcdc/ exists) is listed in docs/COVERAGE_JUSTIFICATION.md,
-#                   else it fails (scripts/evidence_coverage.py); run by make coverage
+#                   else it fails (scripts/evidence/evidence_coverage.py); run by make coverage
 # make evidence     coverage, MC/DC, MISRA, traceability, JUnit results, tool versions and the
 #                   firmware size/stack table (when built) in build/evidence/ with index.html
 MCDC_LLVM     ?= 19
@@ -33,10 +33,10 @@ TEST_GATES += trace
 # ---- traceability ------------------------------------------------------------------------
 ## the requirements traceability matrix from the last test results (gates)
 trace: test-c test-py
-	@$(PY) scripts/trace_requirements.py --results $(RESULTS) --out $(BUILD)/trace
+	@$(PY) scripts/evidence/trace_requirements.py --results $(RESULTS) --out $(BUILD)/trace
 ## the traceability matrix from whatever results exist, running nothing
 trace-report: venv
-	@$(PY) scripts/trace_requirements.py --results $(RESULTS) --out $(BUILD)/trace
+	@$(PY) scripts/evidence/trace_requirements.py --results $(RESULTS) --out $(BUILD)/trace
 
 # ---- MC/DC (clang source-based coverage) -----------------------------------------------------
 ## install clang-19 and llvm-19 (apt) when missing
@@ -100,22 +100,22 @@ mcdc: mcdc-run
 	  $(MCDC_OBJECTS) $(MCDC_SOURCES) > $(MCDC_DIR)/show.txt
 	@$(LLVM_COV) export --format=text --summary-only -instr-profile=$(MCDC_DIR)/merged.profdata \
 	  $(MCDC_OBJECTS) $(MCDC_SOURCES) > $(MCDC_DIR)/summary.json
-	@$(PY) scripts/evidence_mcdc.py --summary $(MCDC_DIR)/summary.json --show $(MCDC_DIR)/show.txt \
+	@$(PY) scripts/evidence/evidence_mcdc.py --summary $(MCDC_DIR)/summary.json --show $(MCDC_DIR)/show.txt \
 	  --out $(MCDC_DIR) --tool "$$($(LLVM_COV) --version | grep -m1 -o 'LLVM version [0-9.]*')"
 	@echo "mcdc: report $(MCDC_DIR)/report.txt, HTML $(MCDC_DIR)/html/index.html, gaps $(MCDC_DIR)/gaps.md"
 	@# every decision with a condition not shown independent is tested or justified
-	@$(PY) scripts/evidence_coverage.py --mcdc $(MCDC_DIR)/show.txt \
+	@$(PY) scripts/evidence/evidence_coverage.py --mcdc $(MCDC_DIR)/show.txt \
 	  --justifications docs/COVERAGE_JUSTIFICATION.md --out $(MCDC_DIR)/justified.md
 
 ## make mcdc, then its figure into docs/EVIDENCE.md
 mcdc-readme: mcdc
-	@$(PY) scripts/evidence_mcdc.py --summary $(MCDC_DIR)/summary.json --show $(MCDC_DIR)/show.txt \
+	@$(PY) scripts/evidence/evidence_mcdc.py --summary $(MCDC_DIR)/summary.json --show $(MCDC_DIR)/show.txt \
 	  --out $(MCDC_DIR) --page docs/EVIDENCE.md
 
 # ---- uncovered lines: tested or justified --------------------------------------------------------
 ## every uncovered line and MC/DC gap is justified
 coverage-justify: venv
-	@$(PY) scripts/evidence_coverage.py --justifications docs/COVERAGE_JUSTIFICATION.md \
+	@$(PY) scripts/evidence/evidence_coverage.py --justifications docs/COVERAGE_JUSTIFICATION.md \
 	  $(if $(wildcard $(BUILD)/coverage/coverage.xml),--cobertura $(BUILD)/coverage/coverage.xml) \
 	  $(if $(wildcard $(MCDC_DIR)/show.txt),--mcdc $(MCDC_DIR)/show.txt) --out $(BUILD)/coverage/justified.md
 
@@ -125,6 +125,6 @@ coverage-justify: venv
 ## the assessor's folder build/evidence/ with index.html
 evidence: misra coverage test-c test-py trace mcdc
 	@rm -rf $(EVIDENCE_DIR) && mkdir -p $(EVIDENCE_DIR)
-	@$(PY) scripts/evidence_index.py --build $(BUILD) --out $(EVIDENCE_DIR) \
+	@$(PY) scripts/evidence/evidence_index.py --build $(BUILD) --out $(EVIDENCE_DIR) \
 	  --cc "$(CC)" --mcdc-cc "$(MCDC_CC)" --llvm-cov "$(LLVM_COV)" --clang-tidy "$(CLANG_TIDY)"
 	@echo "evidence: $(EVIDENCE_DIR)/index.html"

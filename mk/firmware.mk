@@ -125,8 +125,8 @@ FW_BUDGET_STATE ?= 2048
 
 ## no heap, no soft float, stack, flash and state budgets
 firmware-check: $(FW_LIBS) $(FW_EXAMPLE_ELFS)
-	@python3 scripts/firmware_check.py --self-test --out $(FW_DIR)/report.json
-	@python3 scripts/firmware_check.py --build $(FW_DIR) --targets "$(FW_TARGETS)" \
+	@python3 scripts/firmware/firmware_check.py --self-test --out $(FW_DIR)/report.json
+	@python3 scripts/firmware/firmware_check.py --build $(FW_DIR) --targets "$(FW_TARGETS)" \
 	  --budget-stack $(FW_BUDGET_STACK) --budget-flash $(FW_BUDGET_FLASH) --budget-state $(FW_BUDGET_STATE) \
 	  --examples "$(FW_EXAMPLES)" --cflags "$(FW_CFLAGS) $(CPPFLAGS_LIB)" --out $(FW_DIR)/report.json
 
@@ -184,7 +184,7 @@ PIL_ELFS := $(foreach r,$(PIL_RUNS),$(foreach c,$(PIL_CONFIGS),$(FW_DIR)/$(call 
 
 ## processor in the loop on QEMU's Cortex-M4, M3 and M0: bit identity, instructions
 pil: deps-firmware firmware $(PIL_ELFS) $(BUILD)/mu_replay
-	@python3 scripts/firmware_pil.py --build $(FW_DIR) --log $(PIL_LOG) --runs "$(PIL_RUNS)" \
+	@python3 scripts/firmware/firmware_pil.py --build $(FW_DIR) --log $(PIL_LOG) --runs "$(PIL_RUNS)" \
 	  --configs "$(PIL_CONFIGS)" --replay $(BUILD)/mu_replay --count-steps $(PIL_COUNT_STEPS) \
 	  --example m3-q31:mps2-an385 --out $(FW_DIR)/pil.json
 
@@ -192,4 +192,4 @@ pil: deps-firmware firmware $(PIL_ELFS) $(BUILD)/mu_replay
 firmware-table:
 	@test -f $(FW_DIR)/report.json || $(MAKE) --no-print-directory firmware
 	@test -f $(FW_DIR)/pil.json || $(MAKE) --no-print-directory pil
-	python3 scripts/firmware_table.py --report $(FW_DIR)/report.json --pil $(FW_DIR)/pil.json --page docs/FIRMWARE.md
+	python3 scripts/firmware/firmware_table.py --report $(FW_DIR)/report.json --pil $(FW_DIR)/pil.json --page docs/FIRMWARE.md

@@ -9,7 +9,7 @@
 #                              (test/fuzz/corpus/), fixed seed; part of make test
 # make fault-scenarios         scenarios/faults/ from the bundled logs (scripts/sim/faults.py)
 # make soak / make soak-short  SOAK_SECONDS (one hour) / SOAK_SHORT_SECONDS of simulated mixed
-#                              driving (scripts/soak_drive.py) through the float, double and
+#                              driving (scripts/data/soak_drive.py) through the float, double and
 #                              fixed-point estimator, invariants at every step, saturation
 #                              counts (test/soak/soak.c); the short one is part of make test
 # INV_FLAGS=-DINV_MU_TOL=1e-3 relaxes the [mu_min, mu_max] invariant by 1e-3 in the fuzz
@@ -96,7 +96,7 @@ fuzz-smoke: deps-fuzz $(FUZZ_TARGETS)
 
 ## regenerate scenarios/faults/ from the bundled logs
 fault-scenarios: venv
-	$(PY) scripts/make_fault_scenarios.py --scenarios scenarios --out scenarios/faults
+	$(PY) scripts/data/make_fault_scenarios.py --scenarios scenarios --out scenarios/faults
 
 # Soak: the drive is simulated once per length and seed (cached in build/soak/), the runner
 # is one program linking the float, double and q31 libraries (test/soak/soak_run.c twice,
@@ -105,9 +105,9 @@ SOAK_SECONDS       ?= 3600
 SOAK_SHORT_SECONDS ?= 300
 SOAK_SEED          ?= 1
 SOAK_JOBS          ?= $(shell nproc 2>/dev/null || echo 1)
-$(BUILD)/soak/drive_%s.csv: scripts/soak_drive.py $(wildcard scripts/sim/*.py) | venv
+$(BUILD)/soak/drive_%s.csv: scripts/data/soak_drive.py $(wildcard scripts/sim/*.py) | venv
 	@mkdir -p $(@D)
-	$(PY) scripts/soak_drive.py --seconds $* --seed $(SOAK_SEED) --jobs $(SOAK_JOBS) --out $@
+	$(PY) scripts/data/soak_drive.py --seconds $* --seed $(SOAK_SEED) --jobs $(SOAK_JOBS) --out $@
 $(BUILD)/soak/run_%.o: test/soak/soak_run.c test/soak/soak.h test/support/invariants.h $(wildcard include/rfe/*.h src/host/*.h)
 	@mkdir -p $(@D)
 	$(CC) $(TEST_WARN) $(OPT) $(INV_FLAGS) $(if $(filter f64,$*),-DRFE_REAL_DOUBLE) $(CPPFLAGS_HOST) -Itest/support -Itest/soak -c $< -o $@

@@ -9,7 +9,7 @@
  * start-up (--specs=rdimon.specs) and firmware/common/startup_cm.c. The command line
  * (QEMU -append) may give the number of samples to run; default all.
  *
- * Output (stdout, one line each; scripts/firmware_pil.py parses it):
+ * Output (stdout, one line each; scripts/firmware/firmware_pil.py parses it):
  *   R <row> <status> <valid bits> <sat> <mu x4> <sd x4>   every step; mu and sd as the raw
  *       32-bit words in hex (Q29 / Q30, or the float32 bit patterns): exact
  *   S <bytes>   the deepest stack any step used, measured: before each step the 4 KB below

@@ -4,7 +4,7 @@ The reference runs on numpy: its QR, Cholesky and products go to the BLAS, whose
 depends on the CPU (OPENBLAS_CORETYPE, thread count), and its elementwise exp, log, arctan,
 arctan2 and tanh to SIMD paths numpy picks per CPU. Each choice sums and rounds in its own
 order, so the same log gives estimates that differ in the last bits from machine to machine
-(measured: at most 9.6e-12 on mu and sd over every golden; scripts/check_kernels.py measures
+(measured: at most 9.6e-12 on mu and sd over every golden; scripts/checks/check_kernels.py measures
 it again on each machine). A golden check must therefore compare with a tolerance:
 
 * mu and sd: |a - b| <= TOL_MU / TOL_SD = 1e-9. The same bound the C double build is held

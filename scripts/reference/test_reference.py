@@ -427,7 +427,7 @@ def test_make_goldens_naming_and_determinism(tmp_path):
             write_sensor_log(str(sc / name), cols)
         else:
             (sc / name).write_text("x")
-    script = os.path.join(REPO, "scripts", "make_goldens.py")
+    script = os.path.join(REPO, "scripts", "data", "make_goldens.py")
     digests = []
     for run in range(2):
         out = tmp_path / f"gold{run}"

@@ -4,5 +4,5 @@ Modules: vehicle (parameters, 7-DOF two-track dynamics, RK4), tyres (truth tyre 
 "dugoff" and "mf"), control (closed-loop inputs: per-wheel ABS, driver yaw controller),
 scenarios (MODEL.md section 8 inputs and the ABS hard-braking set), sensors (sensor noise,
 truth utilisation, CSV logs).
-CLI: scripts/make_scenarios.py.  Tests: scripts/sim/test_sim.py.
+CLI: scripts/data/make_scenarios.py.  Tests: scripts/sim/test_sim.py.
 """

@@ -570,7 +570,7 @@ def test_committed_mf_logs(path):
 def test_make_scenarios_plan():
     import importlib.util
     spec = importlib.util.spec_from_file_location("make_scenarios",
-                                                  REPO / "scripts" / "make_scenarios.py")
+                                                  REPO / "scripts" / "data" / "make_scenarios.py")
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)
     assert mod.plan() == {"dugoff": ("default", "none"), "mf": ("default",)}

@@ -1,6 +1,6 @@
 /**
  * @file soak.c
- * @brief The soak run: a long simulated drive (scripts/soak_drive.py) through every variant
+ * @brief The soak run: a long simulated drive (scripts/data/soak_drive.py) through every variant
  *        of the estimator (float, double and, built with -DSOAK_Q31, the fixed-point one) in
  *        the paper preset (SCKF, CKF) and the default preset, the invariants checked at
  *        every step; prints a summary (for q31 also the saturation counts) and writes it as

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Simulated mixed driving for the soak run: SECONDS of trips, seeded, as one sensor log.
 
-    .venv/bin/python scripts/soak_drive.py --seconds 3600 [--seed 1] [--jobs N]
+    .venv/bin/python scripts/data/soak_drive.py --seconds 3600 [--seed 1] [--jobs N]
                                            [--rate 2000] --out build/soak/drive_3600s.csv
 
 A trip starts and ends parked (the steering wheel turned at rest), sometimes with a
@@ -35,7 +35,8 @@ import time
 
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path[:0] = [os.path.dirname(os.path.abspath(__file__)),  # this folder, and scripts/
+                os.path.dirname(os.path.dirname(os.path.abspath(__file__)))]  # (sim, reference)
 
 from sim import sensors  # noqa: E402
 from sim.control import AbsConfig  # noqa: E402
@@ -263,7 +264,7 @@ def main(argv=None):
     n = len(out["t"])
     meta = [("scenario", "soak"), ("description",
             f"{len(lengths)} trips of simulated mixed driving, {a.seconds:g} s, seed {a.seed} "
-            f"(scripts/soak_drive.py)"), ("dt", DT), ("seed", a.seed), ("noise", "default"),
+            f"(scripts/data/soak_drive.py)"), ("dt", DT), ("seed", a.seed), ("noise", "default"),
             ("truth_tyre", "/".join(t for _, t in trips)), ("sim_rate", a.rate)]
     meta += P.items(ESTIMATOR_KEYS)
     os.makedirs(os.path.dirname(os.path.abspath(a.out)), exist_ok=True)

@@ -3,10 +3,10 @@
 # (src/<group>/*_q31.c) contain no floating point: no `float` or `double` in the source and no
 # soft-float helper or libm symbol in the Cortex-M0+ build.
 #
-#   scripts/check_nofloat.sh                     check the library's *_q31.c
-#   scripts/check_nofloat.sh [--out DIR] FILE.c… check these files instead (one set, linked
+#   scripts/checks/check_nofloat.sh                     check the library's *_q31.c
+#   scripts/checks/check_nofloat.sh [--out DIR] FILE.c… check these files instead (one set, linked
 #                                                together); objects go to DIR (build/m0plus)
-#   scripts/check_nofloat.sh --self-test         run the same check on the fixtures in
+#   scripts/checks/check_nofloat.sh --self-test         run the same check on the fixtures in
 #                                                test/nofloat/ and assert each verdict
 #
 # For the set of files it
@@ -33,8 +33,8 @@ set -euo pipefail
 export LC_ALL=C  # stable tool messages (parsed below)
 
 PROG=check_nofloat
-ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
-SELF="$ROOT/scripts/check_nofloat.sh"
+ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
+SELF="$ROOT/scripts/checks/check_nofloat.sh"
 CROSS=arm-none-eabi-
 CC=${CROSS}gcc
 NM=${CROSS}nm

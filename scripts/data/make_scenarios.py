@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Write the scenario sensor logs (MODEL.md section 8, DATA.md) with the reference simulator.
 
-    .venv/bin/python scripts/make_scenarios.py [--out scenarios] [--only NAME ...]
+    .venv/bin/python scripts/data/make_scenarios.py [--out scenarios] [--only NAME ...]
                                                [--tyre dugoff|mf] [--noise default|none]
                                                [--jobs N]
 
@@ -25,7 +25,8 @@ import os
 import sys
 import time
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path[:0] = [os.path.dirname(os.path.abspath(__file__)),  # this folder, and scripts/
+                os.path.dirname(os.path.dirname(os.path.abspath(__file__)))]  # (sim, reference)
 
 from sim import sensors  # noqa: E402
 from sim.scenarios import BY_NAME, SCENARIOS  # noqa: E402
@@ -76,7 +77,7 @@ def run_one(job):
 
 
 def main(argv=None):
-    repo = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    repo = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--out", default=os.path.join(repo, "scenarios"),
                     help="output directory (default: <repo>/scenarios)")

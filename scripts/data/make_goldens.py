@@ -2,7 +2,7 @@
 
 Usage (from the repository root):
 
-    .venv/bin/python scripts/make_goldens.py [--scenarios scenarios] [--out scenarios/golden]
+    .venv/bin/python scripts/data/make_goldens.py [--scenarios scenarios] [--out scenarios/golden]
 
 For every sensor log <scenarios>/<name>.csv and <name>.nf.csv (files containing ".mf" are
 skipped, as are files in sub-directories) it writes, with stem = file name without ".csv":
@@ -26,7 +26,8 @@ import argparse  # noqa: E402
 import sys  # noqa: E402
 import time  # noqa: E402
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path[:0] = [os.path.dirname(os.path.abspath(__file__)),  # this folder, and scripts/
+                os.path.dirname(os.path.dirname(os.path.abspath(__file__)))]  # (sim, reference)
 from reference import estimate  # noqa: E402
 
 

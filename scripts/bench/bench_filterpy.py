@@ -14,7 +14,7 @@ predicted P-. To run the same algorithm the points are redrawn after predict() w
 FilterPy's own spherical_radial_sigmas(x-, P-) ("same algorithm", the one timed); "stock"
 runs FilterPy unchanged, for the record of how far that is.
 
-Usage: .venv/bin/python scripts/bench_filterpy.py --log LOG.csv [--tyre paper|absolute]
+Usage: .venv/bin/python scripts/bench/bench_filterpy.py --log LOG.csv [--tyre paper|absolute]
 """
 
 from __future__ import annotations
@@ -27,7 +27,8 @@ import time
 
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path[:0] = [os.path.dirname(os.path.abspath(__file__)),  # this folder, and scripts/
+                os.path.dirname(os.path.dirname(os.path.abspath(__file__)))]  # (sim, reference)
 from reference import logs, model, params  # noqa: E402
 
 from filterpy.kalman import CubatureKalmanFilter  # noqa: E402

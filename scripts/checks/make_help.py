@@ -2,7 +2,7 @@
 """`make help`: one line per target, from the `## description` line that stands directly
 above each rule in the Makefile and mk/*.mk, so the list cannot drift from the rules.
 
-    python3 scripts/make_help.py [--check] [FILE ...]
+    python3 scripts/checks/make_help.py [--check] [FILE ...]
 
 --check (`make help-check`, part of make test): every .PHONY target has a description, and
 every description sits directly above a rule. Exit 1 naming what is missing, else 0.
@@ -16,7 +16,7 @@ import os
 import re
 import sys
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 RULE_RE = re.compile(r"^([a-z][a-z0-9-]*(?:[ \t]+[a-z][a-z0-9-]*)*)[ \t]*:(?!=)")
 
 

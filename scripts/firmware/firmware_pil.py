@@ -27,7 +27,7 @@ and every configuration <tag>:<mu_replay options> (paper.sckf, default.sckf):
     again with -singlestep (one instruction per block, one log line per instruction) and must
     agree. Deterministic: the same image executes the same instructions every run.
 Writes --out (JSON: per run and configuration the comparison and the instructions per step,
-mean/max/min), read by scripts/firmware_table.py and the benchmark script.
+mean/max/min), read by scripts/firmware/firmware_table.py and the benchmark script.
 """
 import argparse
 import csv
@@ -333,7 +333,7 @@ def main():
                     result["runs"].append(entry)
                     continue
                 # The measured stack may never exceed the static worst case of make firmware
-                # (scripts/firmware_check.py): else the call-graph analysis missed a call.
+                # (scripts/firmware/firmware_check.py): else the call-graph analysis missed a call.
                 static = report.get("targets", {}).get(target, {}).get("stack", {}).get(
                     f"rfe_estimator_step_{variant}", {}).get("bytes")
                 entry["stack_static"] = static

@@ -1,4 +1,4 @@
-"""Tests of scripts/check_layers.py on small trees made here: each dependency rule of
+"""Tests of scripts/checks/check_layers.py on small trees made here: each dependency rule of
 docs/LAYOUT.md fires on a file that breaks it, and a tree that keeps them passes."""
 
 import os
@@ -6,7 +6,8 @@ import sys
 
 import pytest
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path[:0] = [os.path.dirname(os.path.abspath(__file__)),  # this folder, and scripts/
+                os.path.dirname(os.path.dirname(os.path.abspath(__file__)))]  # (sim, reference)
 
 import check_layers  # noqa: E402
 
@@ -67,5 +68,5 @@ def test_each_rule_fires(tmp_path, rel, text, expect):
 # REQ-QA-009
 def test_the_repository_keeps_the_rules():
     problems, n_files, n_inc = check_layers.check(os.path.dirname(os.path.dirname(
-        os.path.abspath(__file__))))
+        os.path.dirname(os.path.abspath(__file__)))))
     assert problems == [] and n_files > 50 and n_inc > 200

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Write the fault-injection logs (scripts/sim/faults.py) from the bundled clean logs.
 
-    .venv/bin/python scripts/make_fault_scenarios.py [--scenarios scenarios]
+    .venv/bin/python scripts/data/make_fault_scenarios.py [--scenarios scenarios]
                                                      [--out scenarios/faults] [--check]
 
 Each fault log is scenarios/<base>.csv with one sensor fault applied (faults.FAULTS),
@@ -14,13 +14,14 @@ import argparse
 import os
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path[:0] = [os.path.dirname(os.path.abspath(__file__)),  # this folder, and scripts/
+                os.path.dirname(os.path.dirname(os.path.abspath(__file__)))]  # (sim, reference)
 
 from sim import faults  # noqa: E402
 
 
 def main(argv=None):
-    repo = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    repo = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--scenarios", default=os.path.join(repo, "scenarios"))
     ap.add_argument("--out", default=os.path.join(repo, "scenarios", "faults"))

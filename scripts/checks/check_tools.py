@@ -3,7 +3,7 @@
 against the versions the gates were calibrated with (Debian 12's packages, which `make deps`
 installs). Prints one line per tool; fails naming what a mismatch would change.
 
-    python3 scripts/check_tools.py [--warn] [--only NAME ...]
+    python3 scripts/checks/check_tools.py [--warn] [--only NAME ...]
 
 --warn (make test TOOL_PINS=warn) reports a mismatch and goes on: for trying the suite on
 another distribution, knowing which gates may then disagree. A tool that is not installed is

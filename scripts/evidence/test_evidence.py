@@ -1,4 +1,4 @@
-"""Tests of the evidence gates: scripts/trace_requirements.py and scripts/evidence_coverage.py.
+"""Tests of the evidence gates: scripts/evidence/trace_requirements.py and scripts/evidence/evidence_coverage.py.
 
 Each builds a miniature repository in a temporary folder (requirements, tagged tests, JUnit
 XML, a Cobertura report, a justification table) and checks that the gate passes exactly when
@@ -9,7 +9,8 @@ import os
 import sys
 import textwrap
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path[:0] = [os.path.dirname(os.path.abspath(__file__)),  # this folder, and scripts/
+                os.path.dirname(os.path.dirname(os.path.abspath(__file__)))]  # (sim, reference)
 import evidence_coverage  # noqa: E402
 import trace_requirements  # noqa: E402
 

@@ -10,11 +10,11 @@ reference in the accuracy table, from the double run in the trust table, and a t
 |mu_q31 - mu_double| per scenario and configuration (all 39 logs; settled samples as
 mu_replay defines them), with the valid-flag agreement and the saturation counts.
 
-    .venv/bin/python scripts/demo.py --replay build/mu_replay --out build/demo
-    .venv/bin/python scripts/demo.py ... --trust --results docs/RESULTS.md --readme README.md
+    .venv/bin/python scripts/tools/demo.py --replay build/mu_replay --out build/demo
+    .venv/bin/python scripts/tools/demo.py ... --trust --results docs/RESULTS.md --readme README.md
                                        # also rewrite the tables of docs/RESULTS.md (accuracy,
                                        # trust, q31) and the README's headline table
-    .venv/bin/python scripts/demo.py ... --plot-q31   # plots with the q31 estimate too
+    .venv/bin/python scripts/tools/demo.py ... --plot-q31   # plots with the q31 estimate too
 
 `make readme-table` runs the second form. The headline table (markers headline:begin/end in
 the README) is a few columns of the trust table: the default preset on the Magic Formula
@@ -34,8 +34,8 @@ import time
 from pathlib import Path
 
 WHEELS = ("fl", "fr", "rl", "rr")
-ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "scripts"))
+ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(Path(__file__).resolve().parent))   # scripts/tools: plot_estimates
 from plot_estimates import plot, read_csv  # noqa: E402  (one plotting/reading code path)
 SETTLE_START_S = 1.0  # same as mu_replay's default settle start
 SETTLE_AFTER_CHANGE_S = 0.5  # mu_replay's default: settled again 0.5 s after a truth change

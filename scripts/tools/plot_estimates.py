@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Draw estimated vs true friction per wheel (the paper's Fig. 4-6 style) to a PNG.
 
-    .venv/bin/python scripts/plot_estimates.py --sensor LOG.csv \\
+    .venv/bin/python scripts/tools/plot_estimates.py --sensor LOG.csv \\
         --estimate SCKF.csv --estimate CKF.csv [--label SCKF --label CKF] \\
         --out fig.png [--title TEXT]
 

@@ -1,10 +1,11 @@
-"""Tests of scripts/make_help.py: make help lists every described target, and --check fails
+"""Tests of scripts/checks/make_help.py: make help lists every described target, and --check fails
 on a .PHONY target without a description or a ## line that describes no rule."""
 
 import os
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path[:0] = [os.path.dirname(os.path.abspath(__file__)),  # this folder, and scripts/
+                os.path.dirname(os.path.dirname(os.path.abspath(__file__)))]  # (sim, reference)
 
 import make_help  # noqa: E402
 

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The dependency rules of the source tree (docs/LAYOUT.md), checked on every #include.
 
-    python3 scripts/check_layers.py [--root DIR]
+    python3 scripts/checks/check_layers.py [--root DIR]
 
 Layers, lowest first. A file may include its own layer and the layers listed for it:
 
@@ -136,7 +136,7 @@ def check(root: str) -> tuple[list[str], int, int]:
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--root", default=os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    ap.add_argument("--root", default=os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))))
     a = ap.parse_args(argv)
     if not os.path.isdir(os.path.join(a.root, "src")):
         print(f"layers: {a.root}: no src/ folder", file=sys.stderr)

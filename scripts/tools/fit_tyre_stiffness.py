@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Identify the absolute-mode tyre stiffnesses cx, cy from sensor logs, without knowing mu.
 
-    .venv/bin/python scripts/fit_tyre_stiffness.py LOG.csv [LOG.csv ...] [--max-acc G]
+    .venv/bin/python scripts/tools/fit_tyre_stiffness.py LOG.csv [LOG.csv ...] [--max-acc G]
         [--only cx|cy] [--params FILE] [--out params.par]  (--help: all thresholds)
 
 MODEL.md section 4, "absolute Dugoff": Cx = cx*Fz, Cy = cy*Fz, and at low utilisation the
@@ -76,7 +76,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.signal import butter, filtfilt
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path[:0] = [os.path.dirname(os.path.abspath(__file__)),  # this folder, and scripts/
+                os.path.dirname(os.path.dirname(os.path.abspath(__file__)))]  # (sim, reference)
 from reference import logs, model, params  # noqa: E402
 
 AXES = ("cx", "cy")
@@ -261,7 +262,7 @@ def fit(paths, st: Settings = Settings(), only=None, param_file=None) -> FitResu
 
 def param_text(res: FitResult, paths):
     lines = ["# absolute-mode tyre stiffness per unit Fz (MODEL.md section 4), fitted by",
-             "# scripts/fit_tyre_stiffness.py from " + ", ".join(os.path.basename(p) for p in paths)]
+             "# scripts/tools/fit_tyre_stiffness.py from " + ", ".join(os.path.basename(p) for p in paths)]
     for ax in AXES:
         if ax in res.value:
             lines.append(f"# {ax}: standard error {res.stderr[ax]:.3g}, "

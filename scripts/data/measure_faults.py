@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Measure what the estimator does on each fault-injection log against its clean twin.
 
-    .venv/bin/python scripts/measure_faults.py [--replay build/mu_replay] [--real float]
+    .venv/bin/python scripts/data/measure_faults.py [--replay build/mu_replay] [--real float]
         [--preset default] [--gate] [--only NAME ...] [--json OUT.json]
 
 For every fault of scripts/sim/faults.py: mu_replay on the fault log and on its clean twin
@@ -41,7 +41,7 @@ import tempfile
 import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, HERE)
+sys.path.insert(0, os.path.dirname(HERE))       # scripts/: sim
 
 from sim import faults  # noqa: E402
 
@@ -176,7 +176,7 @@ def gate_clean(scenarios):
 
 
 def main(argv=None):
-    repo = os.path.dirname(HERE)
+    repo = os.path.dirname(os.path.dirname(HERE))
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--replay", default=os.path.join(repo, "build", "mu_replay"))
     ap.add_argument("--scenarios", default=os.path.join(repo, "scenarios"))

@@ -9,9 +9,9 @@ collects, per case (the whole estimator step in five configurations and every mo
     cases are kept with their per-function profile;
   - a filter-level case (sckf.*, ckf.*, qr.*) minus its baseline (restoring the state it
     starts from), in time and in instructions;
-then FilterPy's CubatureKalmanFilter on the same model and log (scripts/bench_filterpy.py:
+then FilterPy's CubatureKalmanFilter on the same model and log (scripts/bench/bench_filterpy.py:
 time per step, ratio, agreement of its mu with this library's double CKF and SCKF), the
-operation-count lower bound (scripts/bench_lowerbound.py) and, when the firmware's emulated
+operation-count lower bound (scripts/bench/bench_lowerbound.py) and, when the firmware's emulated
 run wrote build/firmware/pil.json, the Cortex-M4 instructions per step and the share of a
 168 MHz core at 100 Hz. Writes OUT/bench.json and, with --page PAGE (alias --readme, the
 former name), the tables between the markers <!-- bench:begin --> / <!-- bench:end --> of
@@ -34,7 +34,8 @@ import tempfile
 
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path[:0] = [os.path.dirname(os.path.abspath(__file__)),  # this folder, and scripts/
+                os.path.dirname(os.path.dirname(os.path.abspath(__file__)))]  # (sim, reference)
 import bench_filterpy  # noqa: E402
 import bench_lowerbound  # noqa: E402
 
@@ -366,7 +367,7 @@ def markdown(res: dict) -> str:
                  "writes it).")
     L.append("")
     fp = res["filterpy"]
-    L.append("FilterPy peer (`scripts/bench_filterpy.py`, FilterPy "
+    L.append("FilterPy peer (`scripts/bench/bench_filterpy.py`, FilterPy "
              f"{_filterpy_version()}): per step "
              f"{fp['paper']['median_ns'] / 1e3:,.0f} µs (paper tyre) and "
              f"{fp['absolute']['median_ns'] / 1e3:,.0f} µs (absolute tyre). Its μ agrees with "
@@ -397,7 +398,7 @@ def markdown(res: dict) -> str:
     L.append("")
     lb = res["lower_bound"]
     tot = {k: sum(v.values()) for k, v in lb.items()}
-    L.append("Lower bound (`scripts/bench_lowerbound.py`): every +, −, ×, ÷, √ and "
+    L.append("Lower bound (`scripts/bench/bench_lowerbound.py`): every +, −, ×, ÷, √ and "
              "transcendental call of one step counted once, each stage as MODEL.md §6 writes "
              "it (dense formulas, only the structure that is there for free used: S is "
              "triangular, the centred state points are ±S/√2; the random walk's time update "

@@ -8,7 +8,7 @@ example image (build/firmware/<target>/example.elf, linked with --gc-sections):
   heap        no object references an allocator (malloc, free, _sbrk, ...; nm -u) and the
               linked example image defines none;
   soft-float  fixed-point objects and everything built for a core without FPU: no soft-float
-              helper (the rules of scripts/check_nofloat.sh: __aeabi_f*, __aeabi_d*, __addsf3,
+              helper (the rules of scripts/checks/check_nofloat.sh: __aeabi_f*, __aeabi_d*, __addsf3,
               ...), neither referenced by an object nor linked into the example image; the
               float32 build for the Cortex-M4F: no single-precision helper either (the FPU
               does that arithmetic);
@@ -20,7 +20,7 @@ example image (build/firmware/<target>/example.elf, linked with --gc-sections):
               libgcc helper or memcpy/memmove/memset/memcmp;
   stack       worst-case stack of each public estimator function (init, step, get): the call
               graph of -fcallgraph-info=su (indirect calls reach every address-taken library
-              function, as scripts/check_structural.py resolves them), each library
+              function, as scripts/checks/check_structural.py resolves them), each library
               function's frame from -fstack-usage, and for functions outside the library
               (libgcc, libm, libc) the frame read from the disassembly of the linked example
               image (every push, vpush and sp decrement of the function summed, callees
@@ -30,7 +30,7 @@ example image (build/firmware/<target>/example.elf, linked with --gc-sections):
               and the example image's totals;
   budgets     stack per public call, linked library flash and state size against BUDGETS.
 
-Writes the figures to --out (JSON, read by scripts/firmware_table.py). Exit status 1 when a
+Writes the figures to --out (JSON, read by scripts/firmware/firmware_table.py). Exit status 1 when a
 check fails or a budget is exceeded.
 """
 import argparse
@@ -41,11 +41,13 @@ import re
 import subprocess
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path[:0] = [os.path.dirname(os.path.abspath(__file__)),  # this folder, and scripts/
+                os.path.dirname(os.path.dirname(os.path.abspath(__file__)))]  # (sim, reference)
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "checks"))
 from check_structural import Checker  # noqa: E402  (its .ci / cgraph reader)
 
 CROSS = "arm-none-eabi-"
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 # Default budgets; make firmware-check passes mk/firmware.mk's FW_BUDGET_* (justified there).
 BUDGETS = {"stack_per_call": 2048, "flash_linked": 40 * 1024, "state": 2048}
@@ -93,8 +95,8 @@ def sh(cmd):
 
 
 def float_helper_re():
-    """The soft-float helper rule of scripts/check_nofloat.sh (one definition)."""
-    script = os.path.join(ROOT, "scripts", "check_nofloat.sh")
+    """The soft-float helper rule of scripts/checks/check_nofloat.sh (one definition)."""
+    script = os.path.join(ROOT, "scripts", "checks", "check_nofloat.sh")
     out = sh(["bash", "-c", f'source <(sed -n "/^FM=/,/^is_float_helper/p" "{script}"); '
                             'printf %s "$FLOAT_HELPER_RE"'])
     if not out.startswith("^("):

@@ -1,4 +1,4 @@
-"""Tests of scripts/fit_tyre_stiffness.py (pytest, about 5 s).
+"""Tests of scripts/tools/fit_tyre_stiffness.py (pytest, about 5 s).
 
 Longitudinal excitation comes from the committed paper braking logs (0.45 MPa, |ax| ~0.07 g,
 utilisation <= 0.2).  The committed sine-steer logs reach 0.5 g, so only a few dozen samples
@@ -24,17 +24,20 @@ Tolerances (relative):
     and, tighter where the fit is precise: |error| <= 3 standard errors + 1.5 % of truth.
 """
 
+import sys
 from math import pi, sin
 from pathlib import Path
 
 import pytest
+
+sys.path[:0] = [str(Path(__file__).resolve().parent), str(Path(__file__).resolve().parents[1])]
 
 import fit_tyre_stiffness as fts
 from reference import params as ref_params
 from sim import sensors
 from sim.scenarios import KMH, ZERO4, Scenario, const, uniform_mu
 
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 SCEN = REPO / "scenarios"
 NF_RTOL = 1e-6
 MF_NF_RTOL = 0.015

@@ -2,8 +2,8 @@
 """Writes the firmware tables of docs/FIRMWARE.md (section "Measured: size, stack and emulated
 runs"; make firmware-table, issue 5) between the markers <!-- firmware:begin --> and
 <!-- firmware:end --> of the page given by --page (alias --readme, the former name) from
-build/firmware/report.json (scripts/firmware_check.py: sizes, stack, budgets) and
-build/firmware/pil.json (scripts/firmware_pil.py: emulated runs, comparisons, instructions
+build/firmware/report.json (scripts/firmware/firmware_check.py: sizes, stack, budgets) and
+build/firmware/pil.json (scripts/firmware/firmware_pil.py: emulated runs, comparisons, instructions
 per step). Never typed by hand: `make firmware-table` regenerates them.
 """
 import argparse

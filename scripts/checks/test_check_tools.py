@@ -1,10 +1,11 @@
-"""Tests of scripts/check_tools.py: a tool outside its pin fails the check (and only warns
+"""Tests of scripts/checks/check_tools.py: a tool outside its pin fails the check (and only warns
 with --warn); a missing tool is reported, not failed."""
 
 import os
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path[:0] = [os.path.dirname(os.path.abspath(__file__)),  # this folder, and scripts/
+                os.path.dirname(os.path.dirname(os.path.abspath(__file__)))]  # (sim, reference)
 
 import check_tools  # noqa: E402
 

@@ -13,7 +13,7 @@
 # anything is itself a finding (unmatchedSuppression). Finally the deviation IDs in the
 # code and in docs/MISRA.md must match both ways.
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 
 OUT=${MISRA_OUT:-build/misra}
 # The library's sources and private headers: every folder of src/ but src/host/.

@@ -5,7 +5,7 @@ and metadata exactly).
 
 Usage (from the repository root; `make check-kernels`, part of `make test`):
 
-    .venv/bin/python scripts/check_kernels.py [--scenarios scenarios] [--goldens scenarios/golden]
+    .venv/bin/python scripts/checks/check_kernels.py [--scenarios scenarios] [--goldens scenarios/golden]
         [--out build/kernels] [--jobs N] [--subset LOG,LOG]
 
 What varies, and why: the reference's QR, Cholesky and products go to OpenBLAS, which picks a
@@ -43,7 +43,8 @@ import sys
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, HERE)
+SCRIPTS = os.path.dirname(HERE)                 # reference/, and data/ (make_goldens)
+sys.path[:0] = [SCRIPTS, os.path.join(SCRIPTS, "data")]
 
 # Per architecture: (OPENBLAS_CORETYPE name, CPU flags it needs), oldest first. The names are
 # OpenBLAS's (driver/others/dynamic.c); the flags /proc/cpuinfo's.
@@ -75,7 +76,7 @@ def probe(env: dict) -> dict:
     code = ("import json; from reference import runtime; "
             "print(json.dumps({'blas': runtime.blas(), 'kernel': runtime.blas_kernel(), "
             "'numpy_simd': runtime.numpy_simd(), 'dispatched': runtime.numpy_dispatched()}))")
-    r = subprocess.run([sys.executable, "-c", code], env=env, cwd=HERE, capture_output=True,
+    r = subprocess.run([sys.executable, "-c", code], env=env, cwd=SCRIPTS, capture_output=True,
                        text=True, check=False)
     if r.returncode != 0:
         return {"error": _death(r.returncode, r.stderr)}
