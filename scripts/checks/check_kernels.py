@@ -272,9 +272,9 @@ def main(argv=None) -> int:
     if len(results) < 2:
         print("check_kernels: only one numerical configuration ran here; nothing was compared "
               "across configurations (reasons above)")
-    print(f"check_kernels: {'FAILED' if failed else 'ok'}: every run "
-          f"{'does not ' if failed else ''}agree{'' if failed else 's'} with the committed goldens "
-          f"and the as-is run within {compare.TOL_MU:g} (mu, sd), decisions exactly")
+    verdict = ("FAILED: a run differs (above) from" if failed else "ok: every run agrees with")
+    print(f"check_kernels: {verdict} the committed goldens and the as-is run within "
+          f"{compare.TOL_MU:g} (mu, sd), decisions exactly")
     return 1 if failed else 0
 
 
