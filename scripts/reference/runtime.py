@@ -17,13 +17,20 @@ import numpy as np
 RUNTIME_KEYS = ("blas", "numpy_simd")
 
 
-def blas() -> str:
-    """'openblas 0.3.31.188.0 Haswell, 1 thread' (or 'unknown' without threadpoolctl)."""
+def _blas_libs() -> list[dict] | None:
+    """threadpoolctl's records of the BLAS libraries loaded (None without threadpoolctl)."""
     try:
         import threadpoolctl
     except ImportError:                      # pragma: no cover - pinned in requirements.txt
+        return None
+    return [i for i in threadpoolctl.threadpool_info() if i.get("user_api") == "blas"]
+
+
+def blas() -> str:
+    """'openblas 0.3.31.188.0 Haswell, 1 thread' (or 'unknown' without threadpoolctl)."""
+    libs = _blas_libs()
+    if libs is None:                         # pragma: no cover
         return "unknown (threadpoolctl not installed)"
-    libs = [i for i in threadpoolctl.threadpool_info() if i.get("user_api") == "blas"]
     if not libs:
         return "none found"
     parts = []
@@ -36,34 +43,35 @@ def blas() -> str:
 
 def blas_kernel() -> str:
     """The BLAS kernel name alone (for example 'Haswell'), '' when unknown."""
-    try:
-        import threadpoolctl
-    except ImportError:                      # pragma: no cover
-        return ""
-    libs = [i for i in threadpoolctl.threadpool_info() if i.get("user_api") == "blas"]
+    libs = _blas_libs()
     return str(libs[0].get("architecture") or "") if libs else ""
+
+
+def _simd_targets():
+    """(baseline, dispatched targets enabled on this CPU), None when numpy hides them."""
+    try:
+        from numpy._core._multiarray_umath import (__cpu_baseline__, __cpu_dispatch__,
+                                                   __cpu_features__)
+    except ImportError:                      # pragma: no cover - other numpy layouts
+        return None
+    return list(__cpu_baseline__), [f for f in __cpu_dispatch__ if __cpu_features__.get(f)]
 
 
 def numpy_simd() -> str:
     """numpy's SIMD targets in use: the baseline and the dispatched ones enabled on this CPU,
     for example 'X86_V2 + X86_V3 X86_V4 AVX512_ICL'."""
-    try:
-        from numpy._core._multiarray_umath import (__cpu_baseline__, __cpu_dispatch__,
-                                                   __cpu_features__)
-    except ImportError:                      # pragma: no cover - other numpy layouts
+    t = _simd_targets()
+    if t is None:                            # pragma: no cover
         return f"numpy {np.__version__}, unknown"
-    found = [f for f in __cpu_dispatch__ if __cpu_features__.get(f)]
-    return f"{' '.join(__cpu_baseline__)} + {' '.join(found) if found else 'none'}"
+    base, found = t
+    return f"{' '.join(base)} + {' '.join(found) if found else 'none'}"
 
 
 def numpy_dispatched() -> list[str]:
     """The dispatched (non-baseline) SIMD targets numpy enabled here; disabling all of them
     (NPY_DISABLE_CPU_FEATURES) leaves the baseline paths every CPU of the architecture has."""
-    try:
-        from numpy._core._multiarray_umath import __cpu_dispatch__, __cpu_features__
-    except ImportError:                      # pragma: no cover
-        return []
-    return [f for f in __cpu_dispatch__ if __cpu_features__.get(f)]
+    t = _simd_targets()
+    return t[1] if t else []
 
 
 def metadata() -> list[tuple[str, str]]:
