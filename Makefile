@@ -46,7 +46,7 @@ DEPS_EXTRA :=
 TEST_GATES :=
 include $(sort $(filter-out mk/lib.mk,$(wildcard mk/*.mk)))
 
-.PHONY: all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind coverage demo goldens goldens-q31 scenarios clean vectors shared-sync check-shared readme-table \
+.PHONY: names all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind coverage demo goldens goldens-q31 scenarios clean vectors shared-sync check-shared readme-table \
         check-kernels check-tools layers help-check goldens-ref check-nofloat help deps-analysis misra tidy complexity structural analysis
 ## the libraries and build/mu_replay (the default target)
 all: lib $(BUILD)/mu_replay
@@ -208,7 +208,7 @@ coverage: deps $(foreach f,cov-f32 cov-f64,$(addprefix $(BUILD)/$(f)/test/,$(UNI
 # make test: the installers first, then every check, TEST_JOBS of them side by side (they
 # share nothing but their common prerequisites, which make builds once); --output-sync
 # prints each check's output whole when it ends, so a long one (valgrind) is quiet a while.
-TEST_STEPS = lib check-tools layers help-check check-shared check-nofloat misra tidy complexity structural test-c $(TEST_GATES) \
+TEST_STEPS = lib check-tools layers names help-check check-shared check-nofloat misra tidy complexity structural test-c $(TEST_GATES) \
              sanitize valgrind test-py check-kernels coverage
 TEST_JOBS ?= $(shell nproc 2>/dev/null || echo 1)
 ## every check, TEST_JOBS at a time (the README's test command)
@@ -308,6 +308,13 @@ goldens-ref: venv
 ## the dependency rules of src/ and include/rfe/ (docs/LAYOUT.md)
 layers:
 	@python3 scripts/checks/check_layers.py
+
+# Every public symbol carries its type's suffix and is written out in a header, so grep finds
+# it (docs/LAYOUT.md "Names"): nm on the three libraries.
+## every library symbol suffixed (_f32, _f64) and written out in a header
+names: lib
+	@python3 scripts/checks/check_names.py --lib $(BUILD)/f32/librfe.a:_f32 \
+	  --lib $(BUILD)/f64/librfe.a:_f64 --lib $(BUILD)/q31/librfe_q31.a:
 
 # The tools outside the Python pins whose version can change an outcome, against the versions
 # the gates were calibrated with (scripts/checks/check_tools.py; TOOL_PINS=warn only reports).

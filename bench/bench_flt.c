@@ -76,7 +76,7 @@ static rfe_status_t bench_measure(void *ctx, const rfe_real_t *x, rfe_real_t *z,
     (void)ctx;
     (void)n;
     (void)m;
-    return RFE_FN(rfe_meas_eval)(cur_meas, &cur_par->vehicle, &cur_par->tyre, x, z);
+    return rfe_meas_eval(cur_meas, &cur_par->vehicle, &cur_par->tyre, x, z);
 }
 
 static void restore(snap_t *s, rfe_real_t *x, rfe_real_t *F)
@@ -94,7 +94,7 @@ static void save(snap_t *s, const rfe_real_t *x, const rfe_real_t *F)
 static void prep_step(const rfe_params_t *p)
 {
     par_step = *p;
-    if (RFE_FN(rfe_estimator_init)(&est, &par_step) != RFE_OK) {
+    if (rfe_estimator_init(&est, &par_step) != RFE_OK) {
         fprintf(stderr, "bench: estimator init failed\n");
         exit(1);
     }
@@ -109,106 +109,106 @@ static void prep_step_ckf_abs(void) { prep_step(&par_abs_ckf); }
 static void prep_step_default(void) { prep_step(&par_default); }
 static void run_step(size_t k)
 {
-    bench_sink += (uint32_t)RFE_FN(rfe_estimator_step)(&est, &samples[k], &out);
+    bench_sink += (uint32_t)rfe_estimator_step(&est, &samples[k], &out);
 }
 
 /* ---- module cases --------------------------------------------------------------------- */
 static void run_kin(size_t k)
 {
     rfe_wheel_kin_t kin;
-    bench_sink += (uint32_t)RFE_FN(rfe_tyre_kinematics)(&par_paper.vehicle, &par_paper.tyre,
-                                                       &samples[k], &kin);
+    bench_sink += (uint32_t)rfe_tyre_kinematics(&par_paper.vehicle, &par_paper.tyre,
+                                               &samples[k], &kin);
 }
 static void run_forces_norm(size_t k)
 {
     rfe_real_t fx[RFE_WHEELS];
     rfe_real_t fy[RFE_WHEELS];
-    bench_sink += (uint32_t)RFE_FN(rfe_tyre_forces_norm)(&par_paper.tyre, &kins[k], fx, fy);
+    bench_sink += (uint32_t)rfe_tyre_forces_norm(&par_paper.tyre, &kins[k], fx, fy);
 }
 static void run_forces_abs(size_t k)
 {
     rfe_real_t fx[RFE_WHEELS];
     rfe_real_t fy[RFE_WHEELS];
     bench_sink +=
-        (uint32_t)RFE_FN(rfe_tyre_forces_abs)(&par_abs.tyre, &kins[k], mu_true[k], fx, fy);
+        (uint32_t)rfe_tyre_forces_abs(&par_abs.tyre, &kins[k], mu_true[k], fx, fy);
 }
 static void run_forces_magic(size_t k)
 {
     rfe_real_t fx[RFE_WHEELS];
     rfe_real_t fy[RFE_WHEELS];
     bench_sink +=
-        (uint32_t)RFE_FN(rfe_tyre_forces_abs)(&par_magic.tyre, &kins[k], mu_true[k], fx, fy);
+        (uint32_t)rfe_tyre_forces_abs(&par_magic.tyre, &kins[k], mu_true[k], fx, fy);
 }
 static void run_obsmat(size_t k)
 {
     rfe_real_t H[RFE_H_SIZE];
-    bench_sink += (uint32_t)RFE_FN(rfe_obsmat_build)(&par_paper.vehicle, samples[k].delta,
-                                                    f0x[k], f0y[k], H);
+    bench_sink += (uint32_t)rfe_obsmat_build(&par_paper.vehicle, samples[k].delta,
+                                            f0x[k], f0y[k], H);
 }
 static void run_setup_paper(size_t k)
 {
     rfe_meas_t h;
-    bench_sink += (uint32_t)RFE_FN(rfe_meas_setup)(&h, &par_paper.vehicle, &par_paper.tyre,
-                                                  &samples[k]);
+    bench_sink += (uint32_t)rfe_meas_setup(&h, &par_paper.vehicle, &par_paper.tyre,
+                                          &samples[k]);
 }
 static void run_setup_abs(size_t k)
 {
     rfe_meas_t h;
     bench_sink +=
-        (uint32_t)RFE_FN(rfe_meas_setup)(&h, &par_abs.vehicle, &par_abs.tyre, &samples[k]);
+        (uint32_t)rfe_meas_setup(&h, &par_abs.vehicle, &par_abs.tyre, &samples[k]);
 }
 static void run_eval_paper(size_t k)
 {
     rfe_real_t z[RFE_MEAS];
-    bench_sink += (uint32_t)RFE_FN(rfe_meas_eval)(&meas_paper[k], &par_paper.vehicle,
-                                                 &par_paper.tyre, mu_true[k], z);
+    bench_sink += (uint32_t)rfe_meas_eval(&meas_paper[k], &par_paper.vehicle,
+                                         &par_paper.tyre, mu_true[k], z);
 }
 static void run_eval_abs(size_t k)
 {
     rfe_real_t z[RFE_MEAS];
-    bench_sink += (uint32_t)RFE_FN(rfe_meas_eval)(&meas_abs[k], &par_abs.vehicle, &par_abs.tyre,
-                                                 mu_true[k], z);
+    bench_sink += (uint32_t)rfe_meas_eval(&meas_abs[k], &par_abs.vehicle, &par_abs.tyre,
+                                         mu_true[k], z);
 }
 
 static void run_restore_sckf(size_t k) { restore(&sckf_post[k], sckf.x, sckf.S); }
 static void run_sckf_predict(size_t k)
 {
     restore(&sckf_post[k], sckf.x, sckf.S);
-    bench_sink += (uint32_t)RFE_FN(rfe_sckf_predict)(&sckf, NULL, NULL);
+    bench_sink += (uint32_t)rfe_sckf_predict(&sckf, NULL, NULL);
 }
 static void run_sckf_update_paper(size_t k)
 {
     restore(&sckf_pre[k], sckf.x, sckf.S);
     cur_meas = &meas_paper[k];
     cur_par = &par_paper;
-    bench_sink += (uint32_t)RFE_FN(rfe_sckf_update)(&sckf, bench_measure, NULL, ys[k]);
+    bench_sink += (uint32_t)rfe_sckf_update(&sckf, bench_measure, NULL, ys[k]);
 }
 static void run_sckf_update_abs(size_t k)
 {
     restore(&sckf_pre[k], sckf.x, sckf.S);
     cur_meas = &meas_abs[k];
     cur_par = &par_abs;
-    bench_sink += (uint32_t)RFE_FN(rfe_sckf_update)(&sckf, bench_measure, NULL, ys[k]);
+    bench_sink += (uint32_t)rfe_sckf_update(&sckf, bench_measure, NULL, ys[k]);
 }
 static void run_restore_ckf(size_t k) { restore(&ckf_post[k], ckf.x, ckf.P); }
 static void run_ckf_predict(size_t k)
 {
     restore(&ckf_post[k], ckf.x, ckf.P);
-    bench_sink += (uint32_t)RFE_FN(rfe_ckf_predict)(&ckf, NULL, NULL);
+    bench_sink += (uint32_t)rfe_ckf_predict(&ckf, NULL, NULL);
 }
 static void run_ckf_update_paper(size_t k)
 {
     restore(&ckf_pre[k], ckf.x, ckf.P);
     cur_meas = &meas_paper[k];
     cur_par = &par_paper;
-    bench_sink += (uint32_t)RFE_FN(rfe_ckf_update)(&ckf, bench_measure, NULL, ys[k]);
+    bench_sink += (uint32_t)rfe_ckf_update(&ckf, bench_measure, NULL, ys[k]);
 }
 static void run_ckf_update_abs(size_t k)
 {
     restore(&ckf_pre[k], ckf.x, ckf.P);
     cur_meas = &meas_abs[k];
     cur_par = &par_abs;
-    bench_sink += (uint32_t)RFE_FN(rfe_ckf_update)(&ckf, bench_measure, NULL, ys[k]);
+    bench_sink += (uint32_t)rfe_ckf_update(&ckf, bench_measure, NULL, ys[k]);
 }
 /* Tria of the cubature time update's input, 4 x 12 ([Xc, S_Q], Xc = [S, -S]/sqrt(2)). */
 static void load_tria(size_t k)
@@ -226,11 +226,11 @@ static void run_restore_tria(size_t k)
 static void run_tria(size_t k)
 {
     load_tria(k);
-    bench_sink += (uint32_t)RFE_FN(rfe_qr_tria)(tria_work, RFE_WHEELS, 12u, TC);
+    bench_sink += (uint32_t)rfe_qr_tria(tria_work, RFE_WHEELS, 12u, TC);
 }
 static void run_chol(size_t k)
 {
-    bench_sink += (uint32_t)RFE_FN(rfe_chol_factor)(ckf_pre[k].F, RFE_WHEELS, NM, chol_L, NM);
+    bench_sink += (uint32_t)rfe_chol_factor(ckf_pre[k].F, RFE_WHEELS, NM, chol_L, NM);
 }
 
 const bench_case_t bench_cases[] = {
@@ -269,7 +269,7 @@ static int params_for(const rfe_sensor_log_t *log, rfe_preset_t preset, const ch
     rfe_param_set_t ps;
     rfe_io_error_t err;
     memset(&err, 0, sizeof err);
-    (void)RFE_FN(rfe_param_set_preset)(&ps, preset);
+    (void)rfe_param_set_preset(&ps, preset);
     if (rfe_param_set_apply_meta(&ps, log, "log", &err) != 0) {
         return -1;
     }
@@ -279,7 +279,7 @@ static int params_for(const rfe_sensor_log_t *log, rfe_preset_t preset, const ch
     if ((tyre != NULL) && (rfe_tyre_mode_parse(tyre, &ps.tyre) != 0)) {
         return -1;
     }
-    return (RFE_FN(rfe_replay_params)(&ps, p, NULL) == RFE_OK) ? 0 : -1;
+    return (rfe_replay_params(&ps, p, NULL) == RFE_OK) ? 0 : -1;
 }
 
 static void to_sample(const rfe_sensor_row_t *r, rfe_sample_t *s)
@@ -304,11 +304,11 @@ static int record_states(void)
     size_t k;
     rfe_estimator_t e;
     int clamped;
-    if (RFE_FN(rfe_estimator_init)(&e, &par_paper) != RFE_OK) {
+    if (rfe_estimator_init(&e, &par_paper) != RFE_OK) {
         return -1;
     }
     sckf = e.filter.sckf;
-    if (RFE_FN(rfe_estimator_init)(&e, &par_paper_ckf) != RFE_OK) {
+    if (rfe_estimator_init(&e, &par_paper_ckf) != RFE_OK) {
         return -1;
     }
     ckf = e.filter.ckf;
@@ -318,17 +318,17 @@ static int record_states(void)
         cur_meas = &meas_paper[k];
         save(&sckf_post[k], sckf.x, sckf.S);
         save(&ckf_post[k], ckf.x, ckf.P);
-        if ((RFE_FN(rfe_sckf_predict)(&sckf, NULL, NULL) != RFE_OK) ||
-            (RFE_FN(rfe_ckf_predict)(&ckf, NULL, NULL) != RFE_OK)) {
+        if ((rfe_sckf_predict(&sckf, NULL, NULL) != RFE_OK) ||
+            (rfe_ckf_predict(&ckf, NULL, NULL) != RFE_OK)) {
             return -1;
         }
         save(&sckf_pre[k], sckf.x, sckf.S);
         save(&ckf_pre[k], ckf.x, ckf.P);
-        if (upd && ((RFE_FN(rfe_sckf_update)(&sckf, bench_measure, NULL, ys[k]) != RFE_OK) ||
-                    (RFE_FN(rfe_ckf_update)(&ckf, bench_measure, NULL, ys[k]) != RFE_OK) ||
-                    (RFE_FN(rfe_sckf_clamp)(&sckf, par_paper.filter.mu_min,
+        if (upd && ((rfe_sckf_update(&sckf, bench_measure, NULL, ys[k]) != RFE_OK) ||
+                    (rfe_ckf_update(&ckf, bench_measure, NULL, ys[k]) != RFE_OK) ||
+                    (rfe_sckf_clamp(&sckf, par_paper.filter.mu_min,
                                             par_paper.filter.mu_max, &clamped) != RFE_OK) ||
-                    (RFE_FN(rfe_ckf_clamp)(&ckf, par_paper.filter.mu_min,
+                    (rfe_ckf_clamp(&ckf, par_paper.filter.mu_min,
                                            par_paper.filter.mu_max, &clamped) != RFE_OK))) {
             return -1;
         }
@@ -382,12 +382,12 @@ size_t bench_setup(const char *log_path)
         for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
             mu_true[k][w] = log.has_truth ? (rfe_real_t)r->mu_true[w] : RFE_R(0.5);
         }
-        if ((RFE_FN(rfe_tyre_kinematics)(&par_paper.vehicle, &par_paper.tyre, &samples[k],
+        if ((rfe_tyre_kinematics(&par_paper.vehicle, &par_paper.tyre, &samples[k],
                                          &kins[k]) != RFE_OK) ||
-            (RFE_FN(rfe_tyre_forces_norm)(&par_paper.tyre, &kins[k], f0x[k], f0y[k]) != RFE_OK) ||
-            (RFE_FN(rfe_meas_setup)(&meas_paper[k], &par_paper.vehicle, &par_paper.tyre,
+            (rfe_tyre_forces_norm(&par_paper.tyre, &kins[k], f0x[k], f0y[k]) != RFE_OK) ||
+            (rfe_meas_setup(&meas_paper[k], &par_paper.vehicle, &par_paper.tyre,
                                     &samples[k]) != RFE_OK) ||
-            (RFE_FN(rfe_meas_setup)(&meas_abs[k], &par_abs.vehicle, &par_abs.tyre,
+            (rfe_meas_setup(&meas_abs[k], &par_abs.vehicle, &par_abs.tyre,
                                     &samples[k]) != RFE_OK)) {
             fprintf(stderr, "bench: sample %zu rejected\n", k);
             rfe_sensor_log_free(&log);

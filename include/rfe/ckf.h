@@ -12,6 +12,22 @@
 
 #include "rfe/sckf.h"
 
+/* Full names of the functions declared here: _f32 in the float build, _f64 with
+ * RFE_REAL_DOUBLE (rfe/types.h). Sources define and call them by the short name. */
+#if defined(RFE_REAL_DOUBLE)
+#define rfe_ckf_init    rfe_ckf_init_f64
+#define rfe_ckf_predict rfe_ckf_predict_f64
+#define rfe_ckf_update  rfe_ckf_update_f64
+#define rfe_ckf_get     rfe_ckf_get_f64
+#define rfe_ckf_clamp   rfe_ckf_clamp_f64
+#else
+#define rfe_ckf_init    rfe_ckf_init_f32
+#define rfe_ckf_predict rfe_ckf_predict_f32
+#define rfe_ckf_update  rfe_ckf_update_f32
+#define rfe_ckf_get     rfe_ckf_get_f32
+#define rfe_ckf_clamp   rfe_ckf_clamp_f32
+#endif
+
 /** CKF state (caller-owned). */
 typedef struct {
     uint32_t magic;
@@ -27,19 +43,19 @@ typedef struct {
 } rfe_ckf_t;
 
 /** Initialises from x0 (n), P0 (n x n), Q (n x n), R (m x m), all full symmetric matrices. */
-RFE_NODISCARD rfe_status_t RFE_FN(rfe_ckf_init)(rfe_ckf_t *f, size_t n, size_t m,
-                                               const rfe_real_t *x0, const rfe_real_t *P0,
-                                               const rfe_real_t *Q, const rfe_real_t *R);
+RFE_NODISCARD rfe_status_t rfe_ckf_init(rfe_ckf_t *f, size_t n, size_t m,
+                                       const rfe_real_t *x0, const rfe_real_t *P0,
+                                       const rfe_real_t *Q, const rfe_real_t *R);
 /** Time update: points from chol(P), P- = sum w X* X*^T - x- x-^T + Q. */
-RFE_NODISCARD rfe_status_t RFE_FN(rfe_ckf_predict)(rfe_ckf_t *f, rfe_process_fn_t process,
-                                                  void *ctx);
+RFE_NODISCARD rfe_status_t rfe_ckf_predict(rfe_ckf_t *f, rfe_process_fn_t process,
+                                          void *ctx);
 /** Measurement update: Pzz = sum w Z Z^T - z z^T + R, Pxz = sum w X Z^T - x- z^T, K = Pxz Pzz^-1. */
-RFE_NODISCARD rfe_status_t RFE_FN(rfe_ckf_update)(rfe_ckf_t *f, rfe_measure_fn_t measure,
-                                                 void *ctx, const rfe_real_t *y);
+RFE_NODISCARD rfe_status_t rfe_ckf_update(rfe_ckf_t *f, rfe_measure_fn_t measure,
+                                         void *ctx, const rfe_real_t *y);
 /** Mean and sqrt(diag(P)); either may be NULL. */
-RFE_NODISCARD rfe_status_t RFE_FN(rfe_ckf_get)(const rfe_ckf_t *f, rfe_real_t *x, rfe_real_t *sd);
+RFE_NODISCARD rfe_status_t rfe_ckf_get(const rfe_ckf_t *f, rfe_real_t *x, rfe_real_t *sd);
 /** Projects the mean onto [lo, hi] (P untouched). */
-RFE_NODISCARD rfe_status_t RFE_FN(rfe_ckf_clamp)(rfe_ckf_t *f, rfe_real_t lo, rfe_real_t hi,
-                                                int *clamped);
+RFE_NODISCARD rfe_status_t rfe_ckf_clamp(rfe_ckf_t *f, rfe_real_t lo, rfe_real_t hi,
+                                        int *clamped);
 
 #endif /* RFE_CKF_H */

@@ -15,6 +15,16 @@
 
 #include "rfe/types.h"
 
+/* Full names of the functions declared here: _f32 in the float build, _f64 with
+ * RFE_REAL_DOUBLE (rfe/types.h). Sources define and call them by the short name. */
+#if defined(RFE_REAL_DOUBLE)
+#define rfe_conditioner_init rfe_conditioner_init_f64
+#define rfe_conditioner_step rfe_conditioner_step_f64
+#else
+#define rfe_conditioner_init rfe_conditioner_init_f32
+#define rfe_conditioner_step rfe_conditioner_step_f32
+#endif
+
 /** Complementary-filter state (caller-owned; fields read-only for the caller). */
 typedef struct {
     uint32_t magic;   /**< set by init; guards use before init */
@@ -24,7 +34,7 @@ typedef struct {
 } rfe_conditioner_t;
 
 /** Resets the filter: the next accepted sample initialises it. @return RFE_OK; RFE_ERR_NULL. */
-RFE_NODISCARD rfe_status_t RFE_FN(rfe_conditioner_init)(rfe_conditioner_t *c);
+RFE_NODISCARD rfe_status_t rfe_conditioner_init(rfe_conditioner_t *c);
 
 /**
  * One sample: updates the state (when tau_v > 0) and writes the conditioned sample to
@@ -35,8 +45,8 @@ RFE_NODISCARD rfe_status_t RFE_FN(rfe_conditioner_init)(rfe_conditioner_t *c);
  *         RFE_ERR_NONFINITE (vx, vy, ax, ay, yaw_rate of @p in, or an overflowing result).
  *         On error the state and @p out are untouched.
  */
-RFE_NODISCARD rfe_status_t RFE_FN(rfe_conditioner_step)(rfe_conditioner_t *c, rfe_real_t dt,
-                                                       rfe_real_t tau_v, const rfe_sample_t *in,
-                                                       rfe_sample_t *out);
+RFE_NODISCARD rfe_status_t rfe_conditioner_step(rfe_conditioner_t *c, rfe_real_t dt,
+                                               rfe_real_t tau_v, const rfe_sample_t *in,
+                                               rfe_sample_t *out);
 
 #endif /* RFE_CONDITIONER_H */

@@ -16,6 +16,14 @@
 
 #include "rfe/params.h"
 
+/* Full names of the functions declared here: _f32 in the float build, _f64 with
+ * RFE_REAL_DOUBLE (rfe/types.h). Sources define and call them by the short name. */
+#if defined(RFE_REAL_DOUBLE)
+#define rfe_eiv_sqrt_noise rfe_eiv_sqrt_noise_f64
+#else
+#define rfe_eiv_sqrt_noise rfe_eiv_sqrt_noise_f32
+#endif
+
 /** Number of perturbed inputs: delta, vx, vy, r and the four wheel speeds. */
 /* cppcheck-suppress misra-c2012-2.4 ; MISRA-FP-01: an anonymous enum has no tag */
 enum { RFE_EIV_INPUTS = 8 };
@@ -26,9 +34,9 @@ enum { RFE_EIV_INPUTS = 8 };
  * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_PARAM (rfe_params_validate fails);
  *         RFE_ERR_NONFINITE and the tyre's errors (@p SR then untouched).
  */
-RFE_NODISCARD rfe_status_t RFE_FN(rfe_eiv_sqrt_noise)(const rfe_params_t *p,
-                                                     const rfe_sample_t *u,
-                                                     const rfe_real_t mu[RFE_WHEELS],
-                                                     rfe_real_t SR[RFE_MEAS * RFE_MEAS]);
+RFE_NODISCARD rfe_status_t rfe_eiv_sqrt_noise(const rfe_params_t *p,
+                                             const rfe_sample_t *u,
+                                             const rfe_real_t mu[RFE_WHEELS],
+                                             rfe_real_t SR[RFE_MEAS * RFE_MEAS]);
 
 #endif /* RFE_EIV_H */

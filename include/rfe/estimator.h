@@ -19,6 +19,18 @@
 #include "rfe/params.h"
 #include "rfe/sckf.h"
 
+/* Full names of the functions declared here: _f32 in the float build, _f64 with
+ * RFE_REAL_DOUBLE (rfe/types.h). Sources define and call them by the short name. */
+#if defined(RFE_REAL_DOUBLE)
+#define rfe_estimator_init rfe_estimator_init_f64
+#define rfe_estimator_step rfe_estimator_step_f64
+#define rfe_estimator_get  rfe_estimator_get_f64
+#else
+#define rfe_estimator_init rfe_estimator_init_f32
+#define rfe_estimator_step rfe_estimator_step_f32
+#define rfe_estimator_get  rfe_estimator_get_f32
+#endif
+
 /** Output of one step (one row of the DATA.md estimate log). */
 typedef struct {
     rfe_real_t mu[RFE_WHEELS];    /**< estimated friction per wheel (T x) */
@@ -57,8 +69,8 @@ typedef struct {
  *         covariance is singular in the working precision (sd0_common / sd0 beyond about
  *         1e3 in float, 1e8 in double) (the estimator is untouched on every error).
  */
-RFE_NODISCARD rfe_status_t RFE_FN(rfe_estimator_init)(rfe_estimator_t *est,
-                                                     const rfe_params_t *params);
+RFE_NODISCARD rfe_status_t rfe_estimator_init(rfe_estimator_t *est,
+                                             const rfe_params_t *params);
 
 /**
  * One step (docs/ESTIMATOR.md): input check; input conditioning (tau_v > 0); time update;
@@ -71,13 +83,13 @@ RFE_NODISCARD rfe_status_t RFE_FN(rfe_estimator_init)(rfe_estimator_t *est,
  *         RFE_ERR_NULL, RFE_ERR_NOT_INITIALISED, RFE_ERR_NONFINITE, RFE_ERR_RANGE (see
  *         config.h limits), RFE_ERR_NOT_POSITIVE_DEFINITE (CKF; an overflowing prior).
  */
-RFE_NODISCARD rfe_status_t RFE_FN(rfe_estimator_step)(rfe_estimator_t *est,
-                                                     const rfe_sample_t *sample,
-                                                     rfe_estimate_t *out);
+RFE_NODISCARD rfe_status_t rfe_estimator_step(rfe_estimator_t *est,
+                                             const rfe_sample_t *sample,
+                                             rfe_estimate_t *out);
 
 /** Current estimate without stepping (status RFE_OK). valid: with sd_valid > 0 the sd rule;
  *  under the paper rule 0 (no step made it). */
-RFE_NODISCARD rfe_status_t RFE_FN(rfe_estimator_get)(const rfe_estimator_t *est,
-                                                    rfe_estimate_t *out);
+RFE_NODISCARD rfe_status_t rfe_estimator_get(const rfe_estimator_t *est,
+                                            rfe_estimate_t *out);
 
 #endif /* RFE_ESTIMATOR_H */

@@ -18,6 +18,16 @@
 #include "rfe/obsmat.h"
 #include "rfe/tyre.h"
 
+/* Full names of the functions declared here: _f32 in the float build, _f64 with
+ * RFE_REAL_DOUBLE (rfe/types.h). Sources define and call them by the short name. */
+#if defined(RFE_REAL_DOUBLE)
+#define rfe_meas_setup rfe_meas_setup_f64
+#define rfe_meas_eval  rfe_meas_eval_f64
+#else
+#define rfe_meas_setup rfe_meas_setup_f32
+#define rfe_meas_eval  rfe_meas_eval_f32
+#endif
+
 /** One sample's measurement model (caller-owned; fields read-only for the caller). */
 typedef struct {
     rfe_tyre_mode_t mode;                /**< tyre mode it was set up for */
@@ -41,18 +51,18 @@ typedef struct {
  * tyre mode tp->mode.
  * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_NONFINITE; the tyre's errors (@p h then untouched).
  */
-RFE_NODISCARD rfe_status_t RFE_FN(rfe_meas_setup)(rfe_meas_t *h, const rfe_vehicle_t *veh,
-                                                 const rfe_tyre_params_t *tp,
-                                                 const rfe_sample_t *u);
+RFE_NODISCARD rfe_status_t rfe_meas_setup(rfe_meas_t *h, const rfe_vehicle_t *veh,
+                                         const rfe_tyre_params_t *tp,
+                                         const rfe_sample_t *u);
 
 /**
  * z = h(mu, u) for the sample of the last rfe_meas_setup.
  * @param mu friction per wheel (fl, fr, rl, rr)
  * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_NONFINITE; the tyre's / obsmat's errors.
  */
-RFE_NODISCARD rfe_status_t RFE_FN(rfe_meas_eval)(const rfe_meas_t *h, const rfe_vehicle_t *veh,
-                                                const rfe_tyre_params_t *tp,
-                                                const rfe_real_t mu[RFE_WHEELS],
-                                                rfe_real_t z[RFE_MEAS]);
+RFE_NODISCARD rfe_status_t rfe_meas_eval(const rfe_meas_t *h, const rfe_vehicle_t *veh,
+                                        const rfe_tyre_params_t *tp,
+                                        const rfe_real_t mu[RFE_WHEELS],
+                                        rfe_real_t z[RFE_MEAS]);
 
 #endif /* RFE_MEAS_H */

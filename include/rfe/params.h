@@ -11,6 +11,18 @@
 #include "rfe/modes.h"
 #include "rfe/types.h"
 
+/* Full names of the functions declared here: _f32 in the float build, _f64 with
+ * RFE_REAL_DOUBLE (rfe/types.h). Sources define and call them by the short name. */
+#if defined(RFE_REAL_DOUBLE)
+#define rfe_params_default  rfe_params_default_f64
+#define rfe_params_paper    rfe_params_paper_f64
+#define rfe_params_validate rfe_params_validate_f64
+#else
+#define rfe_params_default  rfe_params_default_f32
+#define rfe_params_paper    rfe_params_paper_f32
+#define rfe_params_validate rfe_params_validate_f32
+#endif
+
 /** Vehicle geometry and mass (MODEL.md §2). */
 typedef struct {
     rfe_real_t m;   /**< key m: mass [kg], default 1830 */
@@ -89,14 +101,14 @@ typedef struct {
  * process noise, input filter, errors in variables, information gate, sd bounds, validity
  * by sd).
  */
-RFE_NODISCARD rfe_status_t RFE_FN(rfe_params_default)(rfe_params_t *p);
+RFE_NODISCARD rfe_status_t rfe_params_default(rfe_params_t *p);
 
 /**
  * Fills @p p with the paper configuration (MODEL.md §2, §6; docs/ESTIMATOR.md "paper
  * preset" column): four independent mu, normalised tyre, x0 = 0.5, S0 = 0.3 I,
  * S_Q = 0.003 I, S_R = 0.05 I, every addition off. Kept as the reference baseline.
  */
-RFE_NODISCARD rfe_status_t RFE_FN(rfe_params_paper)(rfe_params_t *p);
+RFE_NODISCARD rfe_status_t rfe_params_paper(rfe_params_t *p);
 
 /**
  * Checks every field: finite; positive where physical (m, L, B, R, J, g, stiffnesses,
@@ -109,6 +121,6 @@ RFE_NODISCARD rfe_status_t RFE_FN(rfe_params_paper)(rfe_params_t *p);
  * info_min, sd_max and sd_floor_rel must be 0 (any tyre, any sd_valid, any dt).
  * Returns RFE_OK, RFE_ERR_NULL or RFE_ERR_PARAM.
  */
-RFE_NODISCARD rfe_status_t RFE_FN(rfe_params_validate)(const rfe_params_t *p);
+RFE_NODISCARD rfe_status_t rfe_params_validate(const rfe_params_t *p);
 
 #endif /* RFE_PARAMS_H */

@@ -10,6 +10,14 @@
 #include "rfe/params.h"
 #include "rfe/params_q31.h"
 
+/* Full names of the functions declared here: _f32 in the float build, _f64 with
+ * RFE_REAL_DOUBLE (rfe/types.h). Sources define and call them by the short name. */
+#if defined(RFE_REAL_DOUBLE)
+#define rfe_params_to_q31 rfe_params_to_q31_f64
+#else
+#define rfe_params_to_q31 rfe_params_to_q31_f32
+#endif
+
 /**
  * Converts @p p to Q formats (params_q31.h), each value rounded to nearest (ties away from
  * zero), and computes the derived constants from the real values (in double precision in
@@ -23,6 +31,6 @@
  *         bits has fewer (see there), or alpha_max rounds to 1.5 rad or more.
  *         On error @p q is untouched.
  */
-RFE_NODISCARD rfe_status_t RFE_FN(rfe_params_to_q31)(const rfe_params_t *p, rfe_params_q31_t *q);
+RFE_NODISCARD rfe_status_t rfe_params_to_q31(const rfe_params_t *p, rfe_params_q31_t *q);
 
 #endif /* RFE_PARAMS_CONV_H */

@@ -12,6 +12,18 @@
 #include "rfe/config.h"
 #include "rfe/types.h"
 
+/* Full names of the functions declared here: _f32 in the float build, _f64 with
+ * RFE_REAL_DOUBLE (rfe/types.h). Sources define and call them by the short name. */
+#if defined(RFE_REAL_DOUBLE)
+#define rfe_qr_tria          rfe_qr_tria_f64
+#define rfe_qr_solve_lower   rfe_qr_solve_lower_f64
+#define rfe_qr_solve_lower_t rfe_qr_solve_lower_t_f64
+#else
+#define rfe_qr_tria          rfe_qr_tria_f32
+#define rfe_qr_solve_lower   rfe_qr_solve_lower_f32
+#define rfe_qr_solve_lower_t rfe_qr_solve_lower_t_f32
+#endif
+
 /**
  * Tria(A), in place: A (rows x cols, cols >= rows) is reduced by Householder reflections
  * applied from the right (a QR of A^T) to [S 0], with S lower-triangular,
@@ -19,18 +31,18 @@
  * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_SIZE if rows > RFE_N_MAX, cols > RFE_TRIA_COLS_MAX,
  *         cols < rows or lda < cols; RFE_ERR_NONFINITE if A holds NaN/Inf (A then untouched).
  */
-RFE_NODISCARD rfe_status_t RFE_FN(rfe_qr_tria)(rfe_real_t *A, size_t rows, size_t cols, size_t lda);
+RFE_NODISCARD rfe_status_t rfe_qr_tria(rfe_real_t *A, size_t rows, size_t cols, size_t lda);
 
 /**
  * Forward substitution L X = B for X (L n x n lower-triangular, B n x ncols), X over B.
  * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_SIZE; RFE_ERR_NOT_POSITIVE_DEFINITE if a diagonal
  *         entry of L is not > 0 (B then untouched).
  */
-RFE_NODISCARD rfe_status_t RFE_FN(rfe_qr_solve_lower)(const rfe_real_t *L, size_t n, size_t ldl,
-                                                     rfe_real_t *B, size_t ncols, size_t ldb);
+RFE_NODISCARD rfe_status_t rfe_qr_solve_lower(const rfe_real_t *L, size_t n, size_t ldl,
+                                             rfe_real_t *B, size_t ncols, size_t ldb);
 
 /** Back substitution L^T X = B for X, same conventions as rfe_qr_solve_lower. */
-RFE_NODISCARD rfe_status_t RFE_FN(rfe_qr_solve_lower_t)(const rfe_real_t *L, size_t n, size_t ldl,
-                                                       rfe_real_t *B, size_t ncols, size_t ldb);
+RFE_NODISCARD rfe_status_t rfe_qr_solve_lower_t(const rfe_real_t *L, size_t n, size_t ldl,
+                                               rfe_real_t *B, size_t ncols, size_t ldb);
 
 #endif /* RFE_QR_H */

@@ -14,6 +14,26 @@
 #include "rfe/config.h"
 #include "rfe/types.h"
 
+/* Full names of the functions declared here: _f32 in the float build, _f64 with
+ * RFE_REAL_DOUBLE (rfe/types.h). Sources define and call them by the short name. */
+#if defined(RFE_REAL_DOUBLE)
+#define rfe_sckf_init      rfe_sckf_init_f64
+#define rfe_sckf_predict   rfe_sckf_predict_f64
+#define rfe_sckf_update    rfe_sckf_update_f64
+#define rfe_sckf_update_ex rfe_sckf_update_ex_f64
+#define rfe_sckf_scale     rfe_sckf_scale_f64
+#define rfe_sckf_get       rfe_sckf_get_f64
+#define rfe_sckf_clamp     rfe_sckf_clamp_f64
+#else
+#define rfe_sckf_init      rfe_sckf_init_f32
+#define rfe_sckf_predict   rfe_sckf_predict_f32
+#define rfe_sckf_update    rfe_sckf_update_f32
+#define rfe_sckf_update_ex rfe_sckf_update_ex_f32
+#define rfe_sckf_scale     rfe_sckf_scale_f32
+#define rfe_sckf_get       rfe_sckf_get_f32
+#define rfe_sckf_clamp     rfe_sckf_clamp_f32
+#endif
+
 /** Process model x_next = f(x) for one cubature point (n values). */
 typedef rfe_status_t (*rfe_process_fn_t)(void *ctx, const rfe_real_t *x, rfe_real_t *x_next,
                                          size_t n);
@@ -51,17 +71,17 @@ typedef struct {
  * SR (m x m). Only the lower triangles of S0, SQ, SR are read.
  * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_SIZE; RFE_ERR_NONFINITE.
  */
-RFE_NODISCARD rfe_status_t RFE_FN(rfe_sckf_init)(rfe_sckf_t *f, size_t n, size_t m,
-                                                const rfe_real_t *x0, const rfe_real_t *S0,
-                                                const rfe_real_t *SQ, const rfe_real_t *SR);
+RFE_NODISCARD rfe_status_t rfe_sckf_init(rfe_sckf_t *f, size_t n, size_t m,
+                                        const rfe_real_t *x0, const rfe_real_t *S0,
+                                        const rfe_real_t *SQ, const rfe_real_t *SR);
 
 /**
  * Time update: X_j = S xi_j + x, X*_j = f(X_j), x- = mean X*_j,
  * S- = Tria([(X*_j - x-)/sqrt(2n), SQ]). @p process NULL means f(x) = x (random walk).
  * @return RFE_OK, or the callback's / Tria's error (state untouched).
  */
-RFE_NODISCARD rfe_status_t RFE_FN(rfe_sckf_predict)(rfe_sckf_t *f, rfe_process_fn_t process,
-                                                   void *ctx);
+RFE_NODISCARD rfe_status_t rfe_sckf_predict(rfe_sckf_t *f, rfe_process_fn_t process,
+                                           void *ctx);
 
 /**
  * Measurement update with measurement y (m values): cubature points from S-, Z_j = h(X_j),
@@ -70,8 +90,8 @@ RFE_NODISCARD rfe_status_t RFE_FN(rfe_sckf_predict)(rfe_sckf_t *f, rfe_process_f
  * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_NONFINITE (y or a callback output);
  *         RFE_ERR_NOT_POSITIVE_DEFINITE (S_zz singular); the callback's error.
  */
-RFE_NODISCARD rfe_status_t RFE_FN(rfe_sckf_update)(rfe_sckf_t *f, rfe_measure_fn_t measure,
-                                                  void *ctx, const rfe_real_t *y);
+RFE_NODISCARD rfe_status_t rfe_sckf_update(rfe_sckf_t *f, rfe_measure_fn_t measure,
+                                          void *ctx, const rfe_real_t *y);
 
 /**
  * Measurement update with a step-specific noise factor and an information gate
@@ -98,23 +118,23 @@ RFE_NODISCARD rfe_status_t RFE_FN(rfe_sckf_update)(rfe_sckf_t *f, rfe_measure_fn
  *         information is computed, S_zz singular); the callback's error. On error nothing
  *         is written.
  */
-RFE_NODISCARD rfe_status_t RFE_FN(rfe_sckf_update_ex)(rfe_sckf_t *f, rfe_measure_fn_t measure,
-                                                     void *ctx, const rfe_real_t *y,
-                                                     const rfe_real_t *SR, rfe_real_t info_min,
-                                                     rfe_real_t *info_out, int *updated);
+RFE_NODISCARD rfe_status_t rfe_sckf_update_ex(rfe_sckf_t *f, rfe_measure_fn_t measure,
+                                             void *ctx, const rfe_real_t *y,
+                                             const rfe_real_t *SR, rfe_real_t info_min,
+                                             rfe_real_t *info_out, int *updated);
 
 /**
  * Scales the square-root factor, S <- c S (P <- c^2 P: every standard deviation by c,
  * correlations kept). @p c must be finite and > 0 (else RFE_ERR_RANGE); a product that
  * overflows gives RFE_ERR_NONFINITE. On error S is untouched.
  */
-RFE_NODISCARD rfe_status_t RFE_FN(rfe_sckf_scale)(rfe_sckf_t *f, rfe_real_t c);
+RFE_NODISCARD rfe_status_t rfe_sckf_scale(rfe_sckf_t *f, rfe_real_t c);
 
 /** Copies the mean (n) and the standard deviations sqrt(diag(S S^T)) (n); either may be NULL. */
-RFE_NODISCARD rfe_status_t RFE_FN(rfe_sckf_get)(const rfe_sckf_t *f, rfe_real_t *x, rfe_real_t *sd);
+RFE_NODISCARD rfe_status_t rfe_sckf_get(const rfe_sckf_t *f, rfe_real_t *x, rfe_real_t *sd);
 
 /** Projects the mean onto [lo, hi] element-wise (S untouched); *clamped = 1 if any moved. */
-RFE_NODISCARD rfe_status_t RFE_FN(rfe_sckf_clamp)(rfe_sckf_t *f, rfe_real_t lo, rfe_real_t hi,
-                                                 int *clamped);
+RFE_NODISCARD rfe_status_t rfe_sckf_clamp(rfe_sckf_t *f, rfe_real_t lo, rfe_real_t hi,
+                                         int *clamped);
 
 #endif /* RFE_SCKF_H */

@@ -1,13 +1,16 @@
 /**
  * @file types.h
- * @brief Types of the floating-point library (float or double): the real type, the
- *        precision suffix of public names, and the sensor sample. What every number type
- *        shares (status codes, wheel indices) is rfe/common.h's, which this includes.
+ * @brief Types of the floating-point library (float or double): the real type and the
+ *        sensor sample. What every number type shares (status codes, wheel indices) is
+ *        rfe/common.h's, which this includes.
  *
  * Build switch: the floating-point variant is compiled for float32 by default (firmware)
  * or for double with -DRFE_REAL_DOUBLE (host build, compared against the float64
  * reference). Public functions carry the precision in their name (`_f32` / `_f64`) so
  * both builds can be linked into one host program; the fixed-point twin uses `_q31`.
+ * Each header maps its functions' short names to the full ones in a block at its top
+ * (`#define rfe_sckf_init rfe_sckf_init_f32`), so every full name is written out once
+ * and a grep for it finds that header.
  */
 #ifndef RFE_TYPES_H
 #define RFE_TYPES_H
@@ -19,13 +22,8 @@
 
 #if defined(RFE_REAL_DOUBLE)
 typedef double rfe_real_t;
-/** Appends the precision suffix to a public function name. */
-/* cppcheck-suppress misra-c2012-20.10 ; MISRA-DEV-01: ## builds the precision suffix */
-#define RFE_FN(name) name##_f64
 #else
 typedef float rfe_real_t;
-/* cppcheck-suppress misra-c2012-20.10 ; MISRA-DEV-01: ## builds the precision suffix */
-#define RFE_FN(name) name##_f32
 #endif
 
 /** One sensor sample (DATA.md sensor log), SI units, ISO 8855 body axes. */

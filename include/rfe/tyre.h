@@ -11,6 +11,24 @@
 
 #include "rfe/params.h"
 
+/* Full names of the functions declared here: _f32 in the float build, _f64 with
+ * RFE_REAL_DOUBLE (rfe/types.h). Sources define and call them by the short name. */
+#if defined(RFE_REAL_DOUBLE)
+#define rfe_tyre_kinematics  rfe_tyre_kinematics_f64
+#define rfe_tyre_dugoff_norm rfe_tyre_dugoff_norm_f64
+#define rfe_tyre_dugoff_abs  rfe_tyre_dugoff_abs_f64
+#define rfe_tyre_magic_abs   rfe_tyre_magic_abs_f64
+#define rfe_tyre_forces_norm rfe_tyre_forces_norm_f64
+#define rfe_tyre_forces_abs  rfe_tyre_forces_abs_f64
+#else
+#define rfe_tyre_kinematics  rfe_tyre_kinematics_f32
+#define rfe_tyre_dugoff_norm rfe_tyre_dugoff_norm_f32
+#define rfe_tyre_dugoff_abs  rfe_tyre_dugoff_abs_f32
+#define rfe_tyre_magic_abs   rfe_tyre_magic_abs_f32
+#define rfe_tyre_forces_norm rfe_tyre_forces_norm_f32
+#define rfe_tyre_forces_abs  rfe_tyre_forces_abs_f32
+#endif
+
 /**
  * The friction-independent part of one wheel's load-scaled tyre evaluation (absolute Dugoff,
  * MODEL.md §4, or Magic Formula, docs/ESTIMATOR.md), which rfe_meas_setup computes once per
@@ -40,10 +58,10 @@ typedef struct {
  * loads from one sample. Uses delta, vx, vy, yaw_rate, ax, ay, omega of @p u.
  * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_NONFINITE if a used input is NaN/Inf.
  */
-RFE_NODISCARD rfe_status_t RFE_FN(rfe_tyre_kinematics)(const rfe_vehicle_t *veh,
-                                                      const rfe_tyre_params_t *tp,
-                                                      const rfe_sample_t *u,
-                                                      rfe_wheel_kin_t *kin);
+RFE_NODISCARD rfe_status_t rfe_tyre_kinematics(const rfe_vehicle_t *veh,
+                                              const rfe_tyre_params_t *tp,
+                                              const rfe_sample_t *u,
+                                              rfe_wheel_kin_t *kin);
 
 /**
  * MODEL.md §4, paper mode, one wheel: normalised forces in wheel axes, F = mu * F0.
@@ -52,20 +70,20 @@ RFE_NODISCARD rfe_status_t RFE_FN(rfe_tyre_kinematics)(const rfe_vehicle_t *veh,
  *   E = max(0, 1 - eps |vwx| sqrt(k^2 + tan^2 a)).
  * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_NONFINITE; RFE_ERR_RANGE if fz < 0.
  */
-RFE_NODISCARD rfe_status_t RFE_FN(rfe_tyre_dugoff_norm)(const rfe_tyre_params_t *tp,
-                                                       rfe_real_t kappa, rfe_real_t alpha,
-                                                       rfe_real_t fz, rfe_real_t vwx,
-                                                       rfe_real_t *f0x, rfe_real_t *f0y);
+RFE_NODISCARD rfe_status_t rfe_tyre_dugoff_norm(const rfe_tyre_params_t *tp,
+                                               rfe_real_t kappa, rfe_real_t alpha,
+                                               rfe_real_t fz, rfe_real_t vwx,
+                                               rfe_real_t *f0x, rfe_real_t *f0y);
 
 /**
  * MODEL.md §4, absolute (load-scaled) mode, one wheel: forces in wheel axes at friction mu,
  * Cx = cx Fz, Cy = cy Fz, L = mu (1-|k|) E / (2 sqrt(cx^2 k^2 + cy^2 tan^2 a)).
  * Nonlinear in mu; mu < 0 is evaluated as mu = 0 (a cubature point may fall there).
  */
-RFE_NODISCARD rfe_status_t RFE_FN(rfe_tyre_dugoff_abs)(const rfe_tyre_params_t *tp,
-                                                      rfe_real_t kappa, rfe_real_t alpha,
-                                                      rfe_real_t fz, rfe_real_t vwx, rfe_real_t mu,
-                                                      rfe_real_t *fx, rfe_real_t *fy);
+RFE_NODISCARD rfe_status_t rfe_tyre_dugoff_abs(const rfe_tyre_params_t *tp,
+                                              rfe_real_t kappa, rfe_real_t alpha,
+                                              rfe_real_t fz, rfe_real_t vwx, rfe_real_t mu,
+                                              rfe_real_t *fx, rfe_real_t *fy);
 
 /**
  * Load-scaled Magic Formula (docs/ESTIMATOR.md "The Magic Formula tyre"), one wheel: forces
@@ -76,23 +94,23 @@ RFE_NODISCARD rfe_status_t RFE_FN(rfe_tyre_dugoff_abs)(const rfe_tyre_params_t *
  * |F| <= m Fz; zero force at zero slip and at mu <= 0 (a cubature point may fall there).
  * Arguments and statuses as rfe_tyre_dugoff_abs (vwx is checked but not used).
  */
-RFE_NODISCARD rfe_status_t RFE_FN(rfe_tyre_magic_abs)(const rfe_tyre_params_t *tp,
-                                                     rfe_real_t kappa, rfe_real_t alpha,
-                                                     rfe_real_t fz, rfe_real_t vwx, rfe_real_t mu,
-                                                     rfe_real_t *fx, rfe_real_t *fy);
+RFE_NODISCARD rfe_status_t rfe_tyre_magic_abs(const rfe_tyre_params_t *tp,
+                                             rfe_real_t kappa, rfe_real_t alpha,
+                                             rfe_real_t fz, rfe_real_t vwx, rfe_real_t mu,
+                                             rfe_real_t *fx, rfe_real_t *fy);
 
 /** Four-wheel paper-mode forces F0x, F0y (wheel axes) from the kinematics. */
-RFE_NODISCARD rfe_status_t RFE_FN(rfe_tyre_forces_norm)(const rfe_tyre_params_t *tp,
-                                                       const rfe_wheel_kin_t *kin,
-                                                       rfe_real_t f0x[RFE_WHEELS],
-                                                       rfe_real_t f0y[RFE_WHEELS]);
+RFE_NODISCARD rfe_status_t rfe_tyre_forces_norm(const rfe_tyre_params_t *tp,
+                                               const rfe_wheel_kin_t *kin,
+                                               rfe_real_t f0x[RFE_WHEELS],
+                                               rfe_real_t f0y[RFE_WHEELS]);
 
 /** Four-wheel load-scaled forces Fx, Fy (wheel axes) at per-wheel friction mu: the Magic
  *  Formula when tp->mode is RFE_TYRE_MAGIC, the absolute Dugoff otherwise. */
-RFE_NODISCARD rfe_status_t RFE_FN(rfe_tyre_forces_abs)(const rfe_tyre_params_t *tp,
-                                                      const rfe_wheel_kin_t *kin,
-                                                      const rfe_real_t mu[RFE_WHEELS],
-                                                      rfe_real_t fx[RFE_WHEELS],
-                                                      rfe_real_t fy[RFE_WHEELS]);
+RFE_NODISCARD rfe_status_t rfe_tyre_forces_abs(const rfe_tyre_params_t *tp,
+                                              const rfe_wheel_kin_t *kin,
+                                              const rfe_real_t mu[RFE_WHEELS],
+                                              rfe_real_t fx[RFE_WHEELS],
+                                              rfe_real_t fy[RFE_WHEELS]);
 
 #endif /* RFE_TYRE_H */

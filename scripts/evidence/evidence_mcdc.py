@@ -28,21 +28,21 @@ PAIR_RE = re.compile(r"(C\d+)-Pair: (.*)$")
 PCT_RE = re.compile(r"MC/DC Coverage for Decision: ([\d.]+)%")
 
 
-FUNC_RE = re.compile(r"^[A-Za-z_][\w \t\*]*?\b(?:RFE_FN\s*\(\s*(\w+)\s*\)|(\w+))\s*\(")
+FUNC_RE = re.compile(r"^[A-Za-z_][\w \t\*]*?\b(\w+)\s*\(")
 KEYWORDS = {"if", "for", "while", "switch", "return", "sizeof", "do", "else"}
 
 
 def find_function(text_of, line):
     """The function whose definition (in column 0) precedes `line`; text_of(n) gives the
-    source text of line n (1-based, '' when unknown). The _f32/_f64 suffix of RFE_FN is not
-    part of the name."""
+    source text of line n (1-based, '' when unknown). The name is the short one the source
+    writes; a _f32/_f64 suffix, where a source spells the full name, is not part of it."""
     for n in range(line, 0, -1):
         s = text_of(n)
         if not s or s[0] in " \t#/*}{":
             continue
         m = FUNC_RE.match(s)
         if m and not s.rstrip().endswith(";"):
-            name = m.group(1) or m.group(2)
+            name = m.group(1)
             if name not in KEYWORDS:
                 return re.sub(r"_(f32|f64)$", "", name)
     return "?"

@@ -160,7 +160,7 @@ COBERTURA = """<?xml version="1.0"?>
 """
 
 SRC = """\
-rfe_status_t RFE_FN(rfe_m_do)(int a)
+rfe_status_t rfe_m_do(int a)
 {
     if (a > 0) {
         return RFE_ERR_RANGE; /* defensive */

@@ -27,14 +27,14 @@ static void copy_square(const rfe_real_t *src, size_t lds, size_t k, rfe_real_t 
     }
 }
 
-rfe_status_t RFE_FN(rfe_ckf_init)(rfe_ckf_t *f, size_t n, size_t m, const rfe_real_t *x0,
-                                  const rfe_real_t *P0, const rfe_real_t *Q, const rfe_real_t *R)
+rfe_status_t rfe_ckf_init(rfe_ckf_t *f, size_t n, size_t m, const rfe_real_t *x0,
+                          const rfe_real_t *P0, const rfe_real_t *Q, const rfe_real_t *R)
 {
     size_t i;
     if ((f == NULL) || (x0 == NULL) || (P0 == NULL) || (Q == NULL) || (R == NULL)) {
         return RFE_ERR_NULL;
     }
-    if (RFE_FN(rfe_cub_dims_ok)(n, m) == 0) {
+    if (rfe_cub_dims_ok(n, m) == 0) {
         return RFE_ERR_SIZE;
     }
     if (!rfe_all_finite(x0, n) || !rfe_all_finite(P0, n * n) || !rfe_all_finite(Q, n * n) ||
@@ -74,7 +74,7 @@ static void cross_moment(const rfe_real_t *a, size_t lda, const rfe_real_t *abar
     }
 }
 
-rfe_status_t RFE_FN(rfe_ckf_predict)(rfe_ckf_t *f, rfe_process_fn_t process, void *ctx)
+rfe_status_t rfe_ckf_predict(rfe_ckf_t *f, rfe_process_fn_t process, void *ctx)
 {
     rfe_cub_scratch_t *w;
     size_t n;
@@ -91,16 +91,16 @@ rfe_status_t RFE_FN(rfe_ckf_predict)(rfe_ckf_t *f, rfe_process_fn_t process, voi
     w = &f->w;
     n = f->n;
     /* X_j = chol(P) xi_j + x;  X*_j = f(X_j);  x- = mean X*_j. */
-    st = RFE_FN(rfe_chol_factor)(f->P, n, NM, f->L, NM);
+    st = rfe_chol_factor(f->P, n, NM, f->L, NM);
     if (st != RFE_OK) {
         return st;
     }
-    RFE_FN(rfe_cub_points)(f->x, f->L, n, w->pts);
-    st = RFE_FN(rfe_cub_propagate)(w->pts, n, process, ctx, w->xn);
+    rfe_cub_points(f->x, f->L, n, w->pts);
+    st = rfe_cub_propagate(w->pts, n, process, ctx, w->xn);
     if (st != RFE_OK) {
         return st;
     }
-    RFE_FN(rfe_cub_mean)(w->pts, n, n, NM, w->xn);
+    rfe_cub_mean(w->pts, n, n, NM, w->xn);
     /* P- = sum_j w X*_j X*_j^T - x- x-^T + Q. */
     cross_moment(w->pts, NM, w->xn, n, w->pts, NM, w->xn, n, n, f->Pn, NM);
     for (i = 0u; i < n; ++i) {
@@ -109,7 +109,7 @@ rfe_status_t RFE_FN(rfe_ckf_predict)(rfe_ckf_t *f, rfe_process_fn_t process, voi
         }
     }
     /* The moment above needs the points' own mean; the committed x- of a random walk is x. */
-    RFE_FN(rfe_cub_hold_random_walk_mean)(f->x, n, process, w->xn);
+    rfe_cub_hold_random_walk_mean(f->x, n, process, w->xn);
     if (!rfe_all_finite(w->xn, n) || !rfe_lower_finite(f->Pn, n, NM)) {
         return RFE_ERR_NONFINITE; /* overflow in the propagated points: commit nothing */
     }
@@ -156,8 +156,8 @@ static void posterior_covariance(rfe_ckf_t *f)
     }
 }
 
-rfe_status_t RFE_FN(rfe_ckf_update)(rfe_ckf_t *f, rfe_measure_fn_t measure, void *ctx,
-                                    const rfe_real_t *y)
+rfe_status_t rfe_ckf_update(rfe_ckf_t *f, rfe_measure_fn_t measure, void *ctx,
+                            const rfe_real_t *y)
 {
     rfe_cub_scratch_t *w;
     size_t n;
@@ -178,33 +178,33 @@ rfe_status_t RFE_FN(rfe_ckf_update)(rfe_ckf_t *f, rfe_measure_fn_t measure, void
         return RFE_ERR_NONFINITE;
     }
     /* X_j = chol(P-) xi_j + x-;  Z_j = h(X_j);  z = mean Z_j. */
-    st = RFE_FN(rfe_chol_factor)(f->P, n, NM, f->L, NM);
+    st = rfe_chol_factor(f->P, n, NM, f->L, NM);
     if (st != RFE_OK) {
         return st;
     }
-    RFE_FN(rfe_cub_points)(f->x, f->L, n, w->pts);
-    st = RFE_FN(rfe_cub_measure)(w->pts, n, m, measure, ctx, w->zpts);
+    rfe_cub_points(f->x, f->L, n, w->pts);
+    st = rfe_cub_measure(w->pts, n, m, measure, ctx, w->zpts);
     if (st != RFE_OK) {
         return st;
     }
-    RFE_FN(rfe_cub_mean)(w->zpts, n, m, MM, w->zhat);
+    rfe_cub_mean(w->zpts, n, m, MM, w->zhat);
     /* Pzz = sum w Z Z^T - z z^T + R;  Pxz^T = sum w Z X^T - z x-^T (m x n). */
     cross_moment(w->zpts, MM, w->zhat, m, w->zpts, MM, w->zhat, m, n, w->Szz, MM);
     add_square(f->R, m, MM, w->Szz);
     cross_moment(w->zpts, MM, w->zhat, m, w->pts, NM, f->x, n, n, w->Kt, NM);
     /* K = Pxz Pzz^-1 via Pzz = Lz Lz^T: K^T = Lz^-T (Lz^-1 Pxz^T). */
-    st = RFE_FN(rfe_chol_factor)(w->Szz, m, MM, w->Lz, MM);
+    st = rfe_chol_factor(w->Szz, m, MM, w->Lz, MM);
     if (st == RFE_OK) {
-        st = RFE_FN(rfe_qr_solve_lower)(w->Lz, m, MM, w->Kt, n, NM);
+        st = rfe_qr_solve_lower(w->Lz, m, MM, w->Kt, n, NM);
     }
     if (st == RFE_OK) {
-        st = RFE_FN(rfe_qr_solve_lower_t)(w->Lz, m, MM, w->Kt, n, NM);
+        st = rfe_qr_solve_lower_t(w->Lz, m, MM, w->Kt, n, NM);
     }
     if (st != RFE_OK) {
         return st;
     }
     /* x = x- + K (y - z). */
-    st = RFE_FN(rfe_cub_correct)(f->x, w->Kt, y, w->zhat, n, m, w->xn);
+    st = rfe_cub_correct(f->x, w->Kt, y, w->zhat, n, m, w->xn);
     if (st != RFE_OK) {
         return st;
     }
@@ -217,7 +217,7 @@ rfe_status_t RFE_FN(rfe_ckf_update)(rfe_ckf_t *f, rfe_measure_fn_t measure, void
     return RFE_OK;
 }
 
-rfe_status_t RFE_FN(rfe_ckf_get)(const rfe_ckf_t *f, rfe_real_t *x, rfe_real_t *sd)
+rfe_status_t rfe_ckf_get(const rfe_ckf_t *f, rfe_real_t *x, rfe_real_t *sd)
 {
     size_t i;
     if (f == NULL) {
@@ -238,7 +238,7 @@ rfe_status_t RFE_FN(rfe_ckf_get)(const rfe_ckf_t *f, rfe_real_t *x, rfe_real_t *
     return RFE_OK;
 }
 
-rfe_status_t RFE_FN(rfe_ckf_clamp)(rfe_ckf_t *f, rfe_real_t lo, rfe_real_t hi, int *clamped)
+rfe_status_t rfe_ckf_clamp(rfe_ckf_t *f, rfe_real_t lo, rfe_real_t hi, int *clamped)
 {
     if ((f == NULL) || (clamped == NULL)) {
         return RFE_ERR_NULL;

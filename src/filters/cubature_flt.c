@@ -6,7 +6,7 @@
 
 #include "numerics/internal.h"
 
-void RFE_FN(rfe_cub_points)(const rfe_real_t *x, const rfe_real_t *F, size_t n, rfe_real_t *pts)
+void rfe_cub_points(const rfe_real_t *x, const rfe_real_t *F, size_t n, rfe_real_t *pts)
 {
     /* xi_j = +-sqrt(n) e_j, equal weights 1/(2n). */
     const rfe_real_t r = RFE_SQRT((rfe_real_t)n);
@@ -21,8 +21,8 @@ void RFE_FN(rfe_cub_points)(const rfe_real_t *x, const rfe_real_t *F, size_t n, 
     }
 }
 
-rfe_status_t RFE_FN(rfe_cub_propagate)(rfe_real_t *pts, size_t n, rfe_process_fn_t process,
-                                       void *ctx, rfe_real_t *tmp)
+rfe_status_t rfe_cub_propagate(rfe_real_t *pts, size_t n, rfe_process_fn_t process,
+                               void *ctx, rfe_real_t *tmp)
 {
     size_t j;
     size_t i;
@@ -45,8 +45,8 @@ rfe_status_t RFE_FN(rfe_cub_propagate)(rfe_real_t *pts, size_t n, rfe_process_fn
     return RFE_OK;
 }
 
-rfe_status_t RFE_FN(rfe_cub_measure)(const rfe_real_t *pts, size_t n, size_t m,
-                                     rfe_measure_fn_t measure, void *ctx, rfe_real_t *zpts)
+rfe_status_t rfe_cub_measure(const rfe_real_t *pts, size_t n, size_t m,
+                             rfe_measure_fn_t measure, void *ctx, rfe_real_t *zpts)
 {
     size_t j;
     for (j = 0u; j < (2u * n); ++j) {
@@ -62,8 +62,8 @@ rfe_status_t RFE_FN(rfe_cub_measure)(const rfe_real_t *pts, size_t n, size_t m,
     return RFE_OK;
 }
 
-void RFE_FN(rfe_cub_mean)(const rfe_real_t *rows, size_t n, size_t cols, size_t ld,
-                          rfe_real_t *mean)
+void rfe_cub_mean(const rfe_real_t *rows, size_t n, size_t cols, size_t ld,
+                  rfe_real_t *mean)
 {
     const rfe_real_t w = RFE_R(1.0) / (RFE_R(2.0) * (rfe_real_t)n);
     size_t i;
@@ -77,8 +77,8 @@ void RFE_FN(rfe_cub_mean)(const rfe_real_t *rows, size_t n, size_t cols, size_t 
     }
 }
 
-void RFE_FN(rfe_cub_hold_random_walk_mean)(const rfe_real_t *x, size_t n,
-                                           rfe_process_fn_t process, rfe_real_t *mean)
+void rfe_cub_hold_random_walk_mean(const rfe_real_t *x, size_t n,
+                                   rfe_process_fn_t process, rfe_real_t *mean)
 {
     if (process == NULL) {
         size_t i;
@@ -88,9 +88,9 @@ void RFE_FN(rfe_cub_hold_random_walk_mean)(const rfe_real_t *x, size_t n,
     }
 }
 
-rfe_status_t RFE_FN(rfe_cub_correct)(const rfe_real_t *x, const rfe_real_t *Kt,
-                                     const rfe_real_t *y, const rfe_real_t *zhat, size_t n,
-                                     size_t m, rfe_real_t *x_new)
+rfe_status_t rfe_cub_correct(const rfe_real_t *x, const rfe_real_t *Kt,
+                             const rfe_real_t *y, const rfe_real_t *zhat, size_t n,
+                             size_t m, rfe_real_t *x_new)
 {
     size_t i;
     size_t r;
@@ -104,7 +104,7 @@ rfe_status_t RFE_FN(rfe_cub_correct)(const rfe_real_t *x, const rfe_real_t *Kt,
     return rfe_all_finite(x_new, n) ? RFE_OK : RFE_ERR_NONFINITE;
 }
 
-int RFE_FN(rfe_cub_dims_ok)(size_t n, size_t m)
+int rfe_cub_dims_ok(size_t n, size_t m)
 {
     return (n >= 1u) && (n <= (size_t)RFE_N_MAX) && (m >= 1u) && (m <= (size_t)RFE_M_MAX);
 }

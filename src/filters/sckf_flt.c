@@ -39,15 +39,15 @@ static void commit(rfe_sckf_t *f)
     copy_lower(f->w.A, TC, f->n, f->S, NM);
 }
 
-rfe_status_t RFE_FN(rfe_sckf_init)(rfe_sckf_t *f, size_t n, size_t m, const rfe_real_t *x0,
-                                   const rfe_real_t *S0, const rfe_real_t *SQ,
-                                   const rfe_real_t *SR)
+rfe_status_t rfe_sckf_init(rfe_sckf_t *f, size_t n, size_t m, const rfe_real_t *x0,
+                           const rfe_real_t *S0, const rfe_real_t *SQ,
+                           const rfe_real_t *SR)
 {
     size_t i;
     if ((f == NULL) || (x0 == NULL) || (S0 == NULL) || (SQ == NULL) || (SR == NULL)) {
         return RFE_ERR_NULL;
     }
-    if (RFE_FN(rfe_cub_dims_ok)(n, m) == 0) {
+    if (rfe_cub_dims_ok(n, m) == 0) {
         return RFE_ERR_SIZE;
     }
     if (!rfe_all_finite(x0, n) || !rfe_lower_finite(S0, n, n) || !rfe_lower_finite(SQ, n, n) ||
@@ -76,12 +76,12 @@ static rfe_status_t predict_points(rfe_sckf_t *f, rfe_process_fn_t process, void
     size_t i;
     size_t j;
     rfe_status_t st;
-    RFE_FN(rfe_cub_points)(f->x, f->S, n, w->pts);
-    st = RFE_FN(rfe_cub_propagate)(w->pts, n, process, ctx, w->xn);
+    rfe_cub_points(f->x, f->S, n, w->pts);
+    st = rfe_cub_propagate(w->pts, n, process, ctx, w->xn);
     if (st != RFE_OK) {
         return st;
     }
-    RFE_FN(rfe_cub_mean)(w->pts, n, n, NM, w->xn);
+    rfe_cub_mean(w->pts, n, n, NM, w->xn);
     for (i = 0u; i < n; ++i) {
         for (j = 0u; j < (2u * n); ++j) {
             w->A[(i * TC) + j] = (w->pts[(j * NM) + i] - w->xn[i]) * inv_sqrt_2n;
@@ -109,10 +109,10 @@ static void predict_random_walk(rfe_sckf_t *f)
             w->A[(i * TC) + n + j] = f->SQ[(i * NM) + j];
         }
     }
-    RFE_FN(rfe_cub_hold_random_walk_mean)(f->x, n, NULL, w->xn);
+    rfe_cub_hold_random_walk_mean(f->x, n, NULL, w->xn);
 }
 
-rfe_status_t RFE_FN(rfe_sckf_predict)(rfe_sckf_t *f, rfe_process_fn_t process, void *ctx)
+rfe_status_t rfe_sckf_predict(rfe_sckf_t *f, rfe_process_fn_t process, void *ctx)
 {
     size_t n;
     size_t cols;
@@ -135,7 +135,7 @@ rfe_status_t RFE_FN(rfe_sckf_predict)(rfe_sckf_t *f, rfe_process_fn_t process, v
         cols = 3u * n;
     }
     if (st == RFE_OK) {
-        st = RFE_FN(rfe_qr_tria)(f->w.A, n, cols, TC);
+        st = rfe_qr_tria(f->w.A, n, cols, TC);
     }
     if (st != RFE_OK) {
         return st;
@@ -195,7 +195,7 @@ static rfe_status_t gain(rfe_sckf_t *f, const rfe_real_t *SR)
             w->A[(r * TC) + (2u * n) + j] = SR[(r * MM) + j];
         }
     }
-    st = RFE_FN(rfe_qr_tria)(w->A, m, (2u * n) + m, TC);
+    st = rfe_qr_tria(w->A, m, (2u * n) + m, TC);
     if (st != RFE_OK) {
         return st;
     }
@@ -207,9 +207,9 @@ static rfe_status_t gain(rfe_sckf_t *f, const rfe_real_t *SR)
         }
     }
     /* K = (P_xz / S_zz^T) / S_zz: two triangular solves, never an inverse. */
-    st = RFE_FN(rfe_qr_solve_lower)(w->Szz, m, MM, w->Kt, n, NM);
+    st = rfe_qr_solve_lower(w->Szz, m, MM, w->Kt, n, NM);
     if (st == RFE_OK) {
-        st = RFE_FN(rfe_qr_solve_lower_t)(w->Szz, m, MM, w->Kt, n, NM);
+        st = rfe_qr_solve_lower_t(w->Szz, m, MM, w->Kt, n, NM);
     }
     return st;
 }
@@ -243,9 +243,9 @@ static rfe_status_t information(rfe_sckf_t *f, const rfe_real_t *SR, rfe_real_t 
 
     cross_covariance(f);
     /* J^T (n x m) = S-^T \ (S- \ P_xz): statistical linearisation, no inverse of S- S-^T. */
-    st = RFE_FN(rfe_qr_solve_lower)(f->S, n, NM, w->A, m, TC);
+    st = rfe_qr_solve_lower(f->S, n, NM, w->A, m, TC);
     if (st == RFE_OK) {
-        st = RFE_FN(rfe_qr_solve_lower_t)(f->S, n, NM, w->A, m, TC);
+        st = rfe_qr_solve_lower_t(f->S, n, NM, w->A, m, TC);
     }
     if (st != RFE_OK) {
         return st;
@@ -256,7 +256,7 @@ static rfe_status_t information(rfe_sckf_t *f, const rfe_real_t *SR, rfe_real_t 
             w->Kt[(r * NM) + i] = w->A[(i * TC) + r];
         }
     }
-    st = RFE_FN(rfe_qr_solve_lower)(SR, m, MM, w->Kt, n, NM);
+    st = rfe_qr_solve_lower(SR, m, MM, w->Kt, n, NM);
     if (st != RFE_OK) {
         return st;
     }
@@ -345,12 +345,12 @@ static rfe_status_t update_core(rfe_sckf_t *f, rfe_measure_fn_t measure, void *c
     rfe_status_t st;
 
     /* X_j = S- xi_j + x-;  Z_j = h(X_j, u);  z = mean_j Z_j. */
-    RFE_FN(rfe_cub_points)(f->x, f->S, n, w->pts);
-    st = RFE_FN(rfe_cub_measure)(w->pts, n, m, measure, ctx, w->zpts);
+    rfe_cub_points(f->x, f->S, n, w->pts);
+    st = rfe_cub_measure(w->pts, n, m, measure, ctx, w->zpts);
     if (st != RFE_OK) {
         return st;
     }
-    RFE_FN(rfe_cub_mean)(w->zpts, n, m, MM, w->zhat);
+    rfe_cub_mean(w->zpts, n, m, MM, w->zhat);
     centre_points(f);
     if ((want_info != 0) || (info_min > RFE_R(0.0))) {
         int held = 0;
@@ -368,13 +368,13 @@ static rfe_status_t update_core(rfe_sckf_t *f, rfe_measure_fn_t measure, void *c
         return st;
     }
     /* x = x- + K (y - z); a huge innovation that overflows commits nothing. */
-    st = RFE_FN(rfe_cub_correct)(f->x, w->Kt, y, w->zhat, n, m, w->xn);
+    st = rfe_cub_correct(f->x, w->Kt, y, w->zhat, n, m, w->xn);
     if (st != RFE_OK) {
         return st;
     }
     /* S = Tria([Xc - K Zc, K S_R]). */
     posterior_tria_input(f, SR);
-    st = RFE_FN(rfe_qr_tria)(w->A, n, (2u * n) + m, TC);
+    st = rfe_qr_tria(w->A, n, (2u * n) + m, TC);
     if (st != RFE_OK) {
         return st;
     }
@@ -396,8 +396,8 @@ static rfe_status_t check_update(const rfe_sckf_t *f, rfe_measure_fn_t measure,
     return rfe_all_finite(y, f->m) ? RFE_OK : RFE_ERR_NONFINITE;
 }
 
-rfe_status_t RFE_FN(rfe_sckf_update)(rfe_sckf_t *f, rfe_measure_fn_t measure, void *ctx,
-                                     const rfe_real_t *y)
+rfe_status_t rfe_sckf_update(rfe_sckf_t *f, rfe_measure_fn_t measure, void *ctx,
+                             const rfe_real_t *y)
 {
     rfe_real_t info[RFE_N_MAX];
     int updated = 0;
@@ -408,9 +408,9 @@ rfe_status_t RFE_FN(rfe_sckf_update)(rfe_sckf_t *f, rfe_measure_fn_t measure, vo
     return update_core(f, measure, ctx, y, f->SR, RFE_R(0.0), 0, info, &updated);
 }
 
-rfe_status_t RFE_FN(rfe_sckf_update_ex)(rfe_sckf_t *f, rfe_measure_fn_t measure, void *ctx,
-                                        const rfe_real_t *y, const rfe_real_t *SR,
-                                        rfe_real_t info_min, rfe_real_t *info_out, int *updated)
+rfe_status_t rfe_sckf_update_ex(rfe_sckf_t *f, rfe_measure_fn_t measure, void *ctx,
+                                const rfe_real_t *y, const rfe_real_t *SR,
+                                rfe_real_t info_min, rfe_real_t *info_out, int *updated)
 {
     rfe_real_t SRl[RFE_M_MAX * RFE_M_MAX];
     rfe_real_t info[RFE_N_MAX];
@@ -449,7 +449,7 @@ rfe_status_t RFE_FN(rfe_sckf_update_ex)(rfe_sckf_t *f, rfe_measure_fn_t measure,
     return RFE_OK;
 }
 
-rfe_status_t RFE_FN(rfe_sckf_scale)(rfe_sckf_t *f, rfe_real_t c)
+rfe_status_t rfe_sckf_scale(rfe_sckf_t *f, rfe_real_t c)
 {
     rfe_real_t *cand;
     size_t i;
@@ -481,7 +481,7 @@ rfe_status_t RFE_FN(rfe_sckf_scale)(rfe_sckf_t *f, rfe_real_t c)
     return RFE_OK;
 }
 
-rfe_status_t RFE_FN(rfe_sckf_get)(const rfe_sckf_t *f, rfe_real_t *x, rfe_real_t *sd)
+rfe_status_t rfe_sckf_get(const rfe_sckf_t *f, rfe_real_t *x, rfe_real_t *sd)
 {
     size_t i;
     size_t j;
@@ -507,7 +507,7 @@ rfe_status_t RFE_FN(rfe_sckf_get)(const rfe_sckf_t *f, rfe_real_t *x, rfe_real_t
     return RFE_OK;
 }
 
-rfe_status_t RFE_FN(rfe_sckf_clamp)(rfe_sckf_t *f, rfe_real_t lo, rfe_real_t hi, int *clamped)
+rfe_status_t rfe_sckf_clamp(rfe_sckf_t *f, rfe_real_t lo, rfe_real_t hi, int *clamped)
 {
     if ((f == NULL) || (clamped == NULL)) {
         return RFE_ERR_NULL;

@@ -3,8 +3,8 @@
  * @brief The precision-specific part of mu_replay: double parameter set -> rfe_params_t,
  *        sensor rows -> rfe_sample_t, estimator steps -> double estimate rows.
  *
- * Compiled twice (float by default, double with -DRFE_REAL_DOUBLE); public names go through
- * RFE_FN() so both objects link into one program. Keep everything else out of this file.
+ * Compiled twice (float by default, double with -DRFE_REAL_DOUBLE); public names carry the
+ * precision suffix (replay_real.h) so both objects link into one program. Keep everything else out of this file.
  */
 #include "replay_real.h"
 
@@ -35,13 +35,13 @@ static const size_t k_member_offset[RFE_PK_NUMERIC] = {
 RFE_PARAM_KEYS(RFE_IS_REAL_)
 #undef RFE_IS_REAL_
 
-rfe_replay_preset_fn_t RFE_FN(rfe_replay_preset_fn)(rfe_preset_t preset)
+rfe_replay_preset_fn_t rfe_replay_preset_fn(rfe_preset_t preset)
 {
     switch (preset) {
     case RFE_PRESET_DEFAULT:
-        return RFE_FN(rfe_params_default);
+        return rfe_params_default;
     case RFE_PRESET_PAPER:
-        return RFE_FN(rfe_params_paper);
+        return rfe_params_paper;
     default:
         return NULL;
     }
@@ -50,11 +50,11 @@ rfe_replay_preset_fn_t RFE_FN(rfe_replay_preset_fn)(rfe_preset_t preset)
 /* The library's parameters of @p preset; RFE_ERR_PARAM for an unknown preset. */
 static rfe_status_t preset_params(rfe_preset_t preset, rfe_params_t *p)
 {
-    const rfe_replay_preset_fn_t fill = RFE_FN(rfe_replay_preset_fn)(preset);
+    const rfe_replay_preset_fn_t fill = rfe_replay_preset_fn(preset);
     return (fill != NULL) ? fill(p) : RFE_ERR_PARAM;
 }
 
-int RFE_FN(rfe_param_set_preset)(rfe_param_set_t *ps, rfe_preset_t preset)
+int rfe_param_set_preset(rfe_param_set_t *ps, rfe_preset_t preset)
 {
     rfe_params_t p;
     size_t k;
@@ -109,7 +109,7 @@ static size_t diagnose_params(const rfe_param_set_t *ps)
     rfe_params_t all;
     if ((ps->filter == RFE_FILTER_CKF) && (to_lib_params(ps, &all) == RFE_OK)) {
         all.filter.kind = RFE_FILTER_SCKF;
-        if (RFE_FN(rfe_params_validate)(&all) == RFE_OK) {
+        if (rfe_params_validate(&all) == RFE_OK) {
             return (size_t)RFE_PK_FILTER;
         }
     }
@@ -119,14 +119,14 @@ static size_t diagnose_params(const rfe_param_set_t *ps)
             return RFE_PK_NONE; /* the preset itself is unknown: no key to blame */
         }
         set_key(&p, ps, k);
-        if (RFE_FN(rfe_params_validate)(&p) != RFE_OK) {
+        if (rfe_params_validate(&p) != RFE_OK) {
             return k;
         }
     }
     return RFE_PK_NONE;
 }
 
-void RFE_FN(rfe_replay_sample_from_row)(const rfe_sensor_row_t *row, rfe_sample_t *s)
+void rfe_replay_sample_from_row(const rfe_sensor_row_t *row, rfe_sample_t *s)
 {
     size_t w;
     s->delta = (rfe_real_t)row->delta;
@@ -149,10 +149,10 @@ static void step_row(rfe_estimator_t *est, const rfe_sensor_row_t *row, rfe_est_
     rfe_estimate_t e;
     rfe_status_t st;
     size_t w;
-    RFE_FN(rfe_replay_sample_from_row)(row, &s);
+    rfe_replay_sample_from_row(row, &s);
     memset(&e, 0, sizeof e);
     /* estimator.h: on a rejected sample e holds the previous estimate, valid = 0. */
-    st = RFE_FN(rfe_estimator_step)(est, &s, &e);
+    st = rfe_estimator_step(est, &s, &e);
     out->t = row->t;
     for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
         out->mu[w] = (double)e.mu[w];
@@ -162,8 +162,8 @@ static void step_row(rfe_estimator_t *est, const rfe_sensor_row_t *row, rfe_est_
     out->status = (int)st;
 }
 
-rfe_status_t RFE_FN(rfe_replay_params)(const rfe_param_set_t *ps, rfe_params_t *p,
-                                       size_t *bad_key)
+rfe_status_t rfe_replay_params(const rfe_param_set_t *ps, rfe_params_t *p,
+                               size_t *bad_key)
 {
     rfe_status_t st;
     if ((ps == NULL) || (p == NULL)) {
@@ -174,7 +174,7 @@ rfe_status_t RFE_FN(rfe_replay_params)(const rfe_param_set_t *ps, rfe_params_t *
     }
     st = to_lib_params(ps, p);
     if (st == RFE_OK) {
-        st = RFE_FN(rfe_params_validate)(p);
+        st = rfe_params_validate(p);
     }
     if ((st == RFE_ERR_PARAM) && (bad_key != NULL)) {
         *bad_key = diagnose_params(ps);
@@ -182,9 +182,9 @@ rfe_status_t RFE_FN(rfe_replay_params)(const rfe_param_set_t *ps, rfe_params_t *
     return st;
 }
 
-rfe_status_t RFE_FN(rfe_replay_run)(const rfe_param_set_t *ps, const rfe_sensor_log_t *log,
-                                    rfe_est_row_t *out, rfe_replay_stats_t *stats,
-                                    size_t *bad_key)
+rfe_status_t rfe_replay_run(const rfe_param_set_t *ps, const rfe_sensor_log_t *log,
+                            rfe_est_row_t *out, rfe_replay_stats_t *stats,
+                            size_t *bad_key)
 {
     rfe_params_t p;
     rfe_estimator_t est;
@@ -194,9 +194,9 @@ rfe_status_t RFE_FN(rfe_replay_run)(const rfe_param_set_t *ps, const rfe_sensor_
         return RFE_ERR_NULL;
     }
     memset(stats, 0, sizeof *stats);
-    st = RFE_FN(rfe_replay_params)(ps, &p, bad_key);
+    st = rfe_replay_params(ps, &p, bad_key);
     if (st == RFE_OK) {
-        st = RFE_FN(rfe_estimator_init)(&est, &p);
+        st = rfe_estimator_init(&est, &p);
     }
     if (st != RFE_OK) {
         return st;

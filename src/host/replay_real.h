@@ -3,7 +3,7 @@
  * @brief Runs the estimator over a whole sensor log, in float or double.
  *
  * replay_real.c is compiled twice (float, and -DRFE_REAL_DOUBLE); its public names carry
- * the precision suffix through RFE_FN(), so both are declared here explicitly and one
+ * the precision suffix (the block below), so both are declared here explicitly and one
  * program can call either. Everything here is doubles in, doubles out.
  */
 #ifndef RFE_HOST_REPLAY_REAL_H
@@ -15,6 +15,22 @@
 #include "param_file.h"
 #include "rfe/params.h"
 #include "rfe/types.h"
+
+/* Full names of the functions declared here: _f32 in the float build, _f64 with
+ * RFE_REAL_DOUBLE (rfe/types.h). Sources define and call them by the short name. */
+#if defined(RFE_REAL_DOUBLE)
+#define rfe_replay_run             rfe_replay_run_f64
+#define rfe_replay_sample_from_row rfe_replay_sample_from_row_f64
+#define rfe_param_set_preset       rfe_param_set_preset_f64
+#define rfe_replay_params          rfe_replay_params_f64
+#define rfe_replay_preset_fn       rfe_replay_preset_fn_f64
+#else
+#define rfe_replay_run             rfe_replay_run_f32
+#define rfe_replay_sample_from_row rfe_replay_sample_from_row_f32
+#define rfe_param_set_preset       rfe_param_set_preset_f32
+#define rfe_replay_params          rfe_replay_params_f32
+#define rfe_replay_preset_fn       rfe_replay_preset_fn_f32
+#endif
 
 /** Status codes counted individually (0 .. RFE_REPLAY_STATUS_SLOTS-2); the last slot is
  *  "any other value". */
@@ -59,7 +75,7 @@ RFE_NODISCARD rfe_status_t rfe_replay_run_f64(const rfe_param_set_t *ps,
 
 /** The library sample of a log row (each field rounded to the build's real type), as the
  *  replay steps it; for tests and tools that step the estimator themselves. */
-void RFE_FN(rfe_replay_sample_from_row)(const rfe_sensor_row_t *row, rfe_sample_t *s);
+void rfe_replay_sample_from_row(const rfe_sensor_row_t *row, rfe_sample_t *s);
 
 /**
  * Fills @p ps from the library's preset @p preset (every key of the table, tyre, filter;
@@ -78,25 +94,25 @@ int rfe_param_set_preset_f64(rfe_param_set_t *ps, rfe_preset_t preset);
 
 /**
  * The default preset, from the library of the including translation unit's precision
- * (RFE_FN: _f64 where RFE_REAL_DOUBLE is defined, else _f32). Inline because that choice
+ * (_f64 where RFE_REAL_DOUBLE is defined, else _f32). Inline because that choice
  * is the caller's: a test linked against one library gets that library's values.
  * Precision-independent host code (mu_replay.c) calls rfe_param_set_preset_f64 instead.
  */
 static inline void rfe_param_set_default(rfe_param_set_t *ps)
 {
-    (void)RFE_FN(rfe_param_set_preset)(ps, RFE_PRESET_DEFAULT); /* cannot fail: valid preset */
+    (void)rfe_param_set_preset(ps, RFE_PRESET_DEFAULT); /* cannot fail: valid preset */
 }
 
 /**
  * The library parameters of @p ps (ps->preset, then every key, as rfe_replay_run converts
- * them), validated with rfe_params_validate. Declared through RFE_FN: the twin of the
+ * them), validated with rfe_params_validate. Its short name is the twin of the
  * including TU's precision (rfe_params_t is that precision's struct). The fixed-point replay
  * (replay_q31.c) starts from the _f64 one.
  * @param bad_key on RFE_ERR_PARAM: as rfe_replay_run; else RFE_PK_NONE; may be NULL.
  * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_PARAM (unknown preset or invalid set).
  */
-RFE_NODISCARD rfe_status_t RFE_FN(rfe_replay_params)(const rfe_param_set_t *ps, rfe_params_t *p,
-                                                    size_t *bad_key);
+RFE_NODISCARD rfe_status_t rfe_replay_params(const rfe_param_set_t *ps, rfe_params_t *p,
+                                            size_t *bad_key);
 
 /** A library preset function of the including TU's precision (rfe_params_default_fXX, ...). */
 typedef rfe_status_t (*rfe_replay_preset_fn_t)(rfe_params_t *p);
@@ -104,8 +120,8 @@ typedef rfe_status_t (*rfe_replay_preset_fn_t)(rfe_params_t *p);
 /**
  * The library function behind @p preset (the one mapping from rfe_preset_t to the library,
  * used by rfe_param_set_preset and by the replay's conversion), or NULL for a value that is
- * not an rfe_preset_t. Declared through RFE_FN: the twin of the including TU's precision.
+ * not an rfe_preset_t. Its short name is the twin of the including TU's precision.
  */
-rfe_replay_preset_fn_t RFE_FN(rfe_replay_preset_fn)(rfe_preset_t preset);
+rfe_replay_preset_fn_t rfe_replay_preset_fn(rfe_preset_t preset);
 
 #endif /* RFE_HOST_REPLAY_REAL_H */

@@ -28,8 +28,8 @@ static void setup_pre(rfe_meas_t *h, const rfe_tyre_params_t *tp)
                                        RFE_R(0.0), RFE_R(0.0), RFE_R(0.0)};
         h->pre[i] = zero;
         if (tp->mode != RFE_TYRE_PAPER) {
-            RFE_FN(rfe_tyre_dugoff_pre)(tp, h->kin.kappa[i], h->kin.alpha[i], h->kin.vwx[i],
-                                        &h->pre[i]);
+            rfe_tyre_dugoff_pre(tp, h->kin.kappa[i], h->kin.alpha[i], h->kin.vwx[i],
+                                &h->pre[i]);
         }
     }
     h->pre_cx = tp->cx;
@@ -38,8 +38,8 @@ static void setup_pre(rfe_meas_t *h, const rfe_tyre_params_t *tp)
     h->pre_alpha_max = tp->alpha_max;
 }
 
-rfe_status_t RFE_FN(rfe_meas_setup)(rfe_meas_t *h, const rfe_vehicle_t *veh,
-                                    const rfe_tyre_params_t *tp, const rfe_sample_t *u)
+rfe_status_t rfe_meas_setup(rfe_meas_t *h, const rfe_vehicle_t *veh,
+                            const rfe_tyre_params_t *tp, const rfe_sample_t *u)
 {
     rfe_wheel_kin_t kin;
     rfe_real_t H[RFE_H_SIZE] = {0};
@@ -49,13 +49,13 @@ rfe_status_t RFE_FN(rfe_meas_setup)(rfe_meas_t *h, const rfe_vehicle_t *veh,
     if ((h == NULL) || (veh == NULL) || (tp == NULL) || (u == NULL)) {
         return RFE_ERR_NULL;
     }
-    st = RFE_FN(rfe_tyre_kinematics)(veh, tp, u, &kin);
+    st = rfe_tyre_kinematics(veh, tp, u, &kin);
     if ((st == RFE_OK) && (tp->mode == RFE_TYRE_PAPER)) {
         rfe_real_t f0x[RFE_WHEELS];
         rfe_real_t f0y[RFE_WHEELS];
-        st = RFE_FN(rfe_tyre_forces_norm)(tp, &kin, f0x, f0y);
+        st = rfe_tyre_forces_norm(tp, &kin, f0x, f0y);
         if (st == RFE_OK) {
-            st = RFE_FN(rfe_obsmat_build)(veh, u->delta, f0x, f0y, H);
+            st = rfe_obsmat_build(veh, u->delta, f0x, f0y, H);
         }
     }
     if (st != RFE_OK) {
@@ -108,8 +108,8 @@ static void wheel_terms(const rfe_vehicle_t *veh, rfe_real_t c, rfe_real_t s, si
     t[2] = ((px * fby) - (py * fbx)) / veh->J;
 }
 
-void RFE_FN(rfe_meas_wheel_terms)(const rfe_vehicle_t *veh, rfe_real_t c, rfe_real_t s, size_t i,
-                                  rfe_real_t fx, rfe_real_t fy, rfe_real_t t[RFE_MEAS])
+void rfe_meas_wheel_terms(const rfe_vehicle_t *veh, rfe_real_t c, rfe_real_t s, size_t i,
+                          rfe_real_t fx, rfe_real_t fy, rfe_real_t t[RFE_MEAS])
 {
     rfe_real_t px[RFE_WHEELS];
     rfe_real_t py[RFE_WHEELS];
@@ -117,8 +117,8 @@ void RFE_FN(rfe_meas_wheel_terms)(const rfe_vehicle_t *veh, rfe_real_t c, rfe_re
     wheel_terms(veh, c, s, i, px[i], py[i], fx, fy, t);
 }
 
-rfe_status_t RFE_FN(rfe_meas_sum_terms)(const rfe_real_t t[RFE_MEAS_COLS],
-                                        rfe_real_t z[RFE_MEAS])
+rfe_status_t rfe_meas_sum_terms(const rfe_real_t t[RFE_MEAS_COLS],
+                                rfe_real_t z[RFE_MEAS])
 {
     rfe_real_t zt[RFE_MEAS] = {RFE_R(0.0), RFE_R(0.0), RFE_R(0.0)};
     size_t i;
@@ -156,7 +156,7 @@ static rfe_status_t body_sums(const rfe_vehicle_t *veh, const rfe_meas_t *h,
         wheel_terms(veh, h->cos_delta, h->sin_delta, i, px[i], py[i], fx[i], fy[i],
                     &t[i * (size_t)RFE_MEAS]);
     }
-    return RFE_FN(rfe_meas_sum_terms)(t, z);
+    return rfe_meas_sum_terms(t, z);
 }
 
 /* 1 when pre was computed with these tyre parameters (a NaN parameter never matches); the
@@ -186,13 +186,13 @@ static rfe_status_t forces_abs(const rfe_meas_t *h, const rfe_tyre_params_t *tp,
         const rfe_dugoff_pre_t *pre = &h->pre[i];
         rfe_status_t st;
         if (cached == 0) {
-            RFE_FN(rfe_tyre_dugoff_pre)(tp, h->kin.kappa[i], h->kin.alpha[i], h->kin.vwx[i],
-                                        &fresh);
+            rfe_tyre_dugoff_pre(tp, h->kin.kappa[i], h->kin.alpha[i], h->kin.vwx[i],
+                                &fresh);
             pre = &fresh;
         }
-        st = RFE_FN(rfe_tyre_dugoff_abs_pre)(tp, pre, h->kin.kappa[i], h->kin.alpha[i],
-                                             h->kin.fz[i], h->kin.vwx[i], mu[i], &tx[i],
-                                             &ty[i]);
+        st = rfe_tyre_dugoff_abs_pre(tp, pre, h->kin.kappa[i], h->kin.alpha[i],
+                                     h->kin.fz[i], h->kin.vwx[i], mu[i], &tx[i],
+                                     &ty[i]);
         if (st != RFE_OK) {
             return st;
         }
@@ -204,9 +204,9 @@ static rfe_status_t forces_abs(const rfe_meas_t *h, const rfe_tyre_params_t *tp,
     return RFE_OK;
 }
 
-rfe_status_t RFE_FN(rfe_meas_eval)(const rfe_meas_t *h, const rfe_vehicle_t *veh,
-                                   const rfe_tyre_params_t *tp, const rfe_real_t mu[RFE_WHEELS],
-                                   rfe_real_t z[RFE_MEAS])
+rfe_status_t rfe_meas_eval(const rfe_meas_t *h, const rfe_vehicle_t *veh,
+                           const rfe_tyre_params_t *tp, const rfe_real_t mu[RFE_WHEELS],
+                           rfe_real_t z[RFE_MEAS])
 {
     rfe_real_t fx[RFE_WHEELS];
     rfe_real_t fy[RFE_WHEELS];

@@ -7,10 +7,10 @@
 #include "numerics/internal.h"
 #include "models/vehicle.h"
 
-rfe_status_t RFE_FN(rfe_obsmat_build)(const rfe_vehicle_t *veh, rfe_real_t delta,
-                                      const rfe_real_t fx[RFE_WHEELS],
-                                      const rfe_real_t fy[RFE_WHEELS],
-                                      rfe_real_t H[RFE_H_SIZE])
+rfe_status_t rfe_obsmat_build(const rfe_vehicle_t *veh, rfe_real_t delta,
+                              const rfe_real_t fx[RFE_WHEELS],
+                              const rfe_real_t fy[RFE_WHEELS],
+                              rfe_real_t H[RFE_H_SIZE])
 {
     rfe_real_t px[RFE_WHEELS];
     rfe_real_t py[RFE_WHEELS];
@@ -42,8 +42,8 @@ rfe_status_t RFE_FN(rfe_obsmat_build)(const rfe_vehicle_t *veh, rfe_real_t delta
     return RFE_OK;
 }
 
-rfe_status_t RFE_FN(rfe_obsmat_apply)(const rfe_real_t H[RFE_H_SIZE],
-                                      const rfe_real_t x[RFE_WHEELS], rfe_real_t y[RFE_MEAS])
+rfe_status_t rfe_obsmat_apply(const rfe_real_t H[RFE_H_SIZE],
+                              const rfe_real_t x[RFE_WHEELS], rfe_real_t y[RFE_MEAS])
 {
     size_t r;
     size_t i;

@@ -58,8 +58,8 @@ static inline void wheel_kin(const rfe_vehicle_t *veh, const rfe_tyre_params_t *
     *kappa_out = wheel_kappa(veh, tp, u->omega[i], vwx);
 }
 
-rfe_status_t RFE_FN(rfe_tyre_kinematics)(const rfe_vehicle_t *veh, const rfe_tyre_params_t *tp,
-                                         const rfe_sample_t *u, rfe_wheel_kin_t *kin)
+rfe_status_t rfe_tyre_kinematics(const rfe_vehicle_t *veh, const rfe_tyre_params_t *tp,
+                                 const rfe_sample_t *u, rfe_wheel_kin_t *kin)
 {
     rfe_real_t px[RFE_WHEELS];
     rfe_real_t py[RFE_WHEELS];
@@ -205,9 +205,9 @@ static rfe_status_t check_wheel(const rfe_tyre_params_t *tp, rfe_real_t kappa, r
 }
 
 /* cppcheck-suppress misra-c2012-8.7 ; MISRA-DEV-06: public API, called by the application */
-rfe_status_t RFE_FN(rfe_tyre_dugoff_norm)(const rfe_tyre_params_t *tp, rfe_real_t kappa,
-                                          rfe_real_t alpha, rfe_real_t fz, rfe_real_t vwx,
-                                          rfe_real_t *f0x, rfe_real_t *f0y)
+rfe_status_t rfe_tyre_dugoff_norm(const rfe_tyre_params_t *tp, rfe_real_t kappa,
+                                  rfe_real_t alpha, rfe_real_t fz, rfe_real_t vwx,
+                                  rfe_real_t *f0x, rfe_real_t *f0y)
 {
     rfe_real_t k;
     rfe_real_t ta;
@@ -227,9 +227,9 @@ rfe_status_t RFE_FN(rfe_tyre_dugoff_norm)(const rfe_tyre_params_t *tp, rfe_real_
 }
 
 /* cppcheck-suppress misra-c2012-8.7 ; MISRA-DEV-06: public API, called by the application */
-rfe_status_t RFE_FN(rfe_tyre_dugoff_abs)(const rfe_tyre_params_t *tp, rfe_real_t kappa,
-                                         rfe_real_t alpha, rfe_real_t fz, rfe_real_t vwx,
-                                         rfe_real_t mu, rfe_real_t *fx, rfe_real_t *fy)
+rfe_status_t rfe_tyre_dugoff_abs(const rfe_tyre_params_t *tp, rfe_real_t kappa,
+                                 rfe_real_t alpha, rfe_real_t fz, rfe_real_t vwx,
+                                 rfe_real_t mu, rfe_real_t *fx, rfe_real_t *fy)
 {
     rfe_real_t k;
     rfe_real_t ta;
@@ -253,9 +253,9 @@ rfe_status_t RFE_FN(rfe_tyre_dugoff_abs)(const rfe_tyre_params_t *tp, rfe_real_t
 }
 
 /* cppcheck-suppress misra-c2012-8.7 ; MISRA-DEV-06: public API, called by the application */
-rfe_status_t RFE_FN(rfe_tyre_magic_abs)(const rfe_tyre_params_t *tp, rfe_real_t kappa,
-                                        rfe_real_t alpha, rfe_real_t fz, rfe_real_t vwx,
-                                        rfe_real_t mu, rfe_real_t *fx, rfe_real_t *fy)
+rfe_status_t rfe_tyre_magic_abs(const rfe_tyre_params_t *tp, rfe_real_t kappa,
+                                rfe_real_t alpha, rfe_real_t fz, rfe_real_t vwx,
+                                rfe_real_t mu, rfe_real_t *fx, rfe_real_t *fy)
 {
     rfe_dugoff_pre_t pre;
     const rfe_status_t st = check_wheel(tp, kappa, alpha, fz, vwx, fx, fy);
@@ -274,8 +274,8 @@ rfe_status_t RFE_FN(rfe_tyre_magic_abs)(const rfe_tyre_params_t *tp, rfe_real_t 
     return RFE_OK;
 }
 
-rfe_status_t RFE_FN(rfe_tyre_forces_norm)(const rfe_tyre_params_t *tp, const rfe_wheel_kin_t *kin,
-                                          rfe_real_t f0x[RFE_WHEELS], rfe_real_t f0y[RFE_WHEELS])
+rfe_status_t rfe_tyre_forces_norm(const rfe_tyre_params_t *tp, const rfe_wheel_kin_t *kin,
+                                  rfe_real_t f0x[RFE_WHEELS], rfe_real_t f0y[RFE_WHEELS])
 {
     rfe_real_t fx[RFE_WHEELS];
     rfe_real_t fy[RFE_WHEELS];
@@ -286,9 +286,9 @@ rfe_status_t RFE_FN(rfe_tyre_forces_norm)(const rfe_tyre_params_t *tp, const rfe
     }
     /* Compute all four first so an error leaves the outputs untouched. */
     for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
-        const rfe_status_t st = RFE_FN(rfe_tyre_dugoff_norm)(tp, kin->kappa[i], kin->alpha[i],
-                                                            kin->fz[i], kin->vwx[i], &fx[i],
-                                                            &fy[i]);
+        const rfe_status_t st = rfe_tyre_dugoff_norm(tp, kin->kappa[i], kin->alpha[i],
+                                                    kin->fz[i], kin->vwx[i], &fx[i],
+                                                    &fy[i]);
         if (st != RFE_OK) {
             return st;
         }
@@ -300,9 +300,9 @@ rfe_status_t RFE_FN(rfe_tyre_forces_norm)(const rfe_tyre_params_t *tp, const rfe
     return RFE_OK;
 }
 
-rfe_status_t RFE_FN(rfe_tyre_forces_abs)(const rfe_tyre_params_t *tp, const rfe_wheel_kin_t *kin,
-                                         const rfe_real_t mu[RFE_WHEELS],
-                                         rfe_real_t fx[RFE_WHEELS], rfe_real_t fy[RFE_WHEELS])
+rfe_status_t rfe_tyre_forces_abs(const rfe_tyre_params_t *tp, const rfe_wheel_kin_t *kin,
+                                 const rfe_real_t mu[RFE_WHEELS],
+                                 rfe_real_t fx[RFE_WHEELS], rfe_real_t fy[RFE_WHEELS])
 {
     rfe_real_t tx[RFE_WHEELS];
     rfe_real_t ty[RFE_WHEELS];
@@ -314,10 +314,10 @@ rfe_status_t RFE_FN(rfe_tyre_forces_abs)(const rfe_tyre_params_t *tp, const rfe_
     for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
         const rfe_status_t st =
             (tp->mode == RFE_TYRE_MAGIC)
-                ? RFE_FN(rfe_tyre_magic_abs)(tp, kin->kappa[i], kin->alpha[i], kin->fz[i],
-                                             kin->vwx[i], mu[i], &tx[i], &ty[i])
-                : RFE_FN(rfe_tyre_dugoff_abs)(tp, kin->kappa[i], kin->alpha[i], kin->fz[i],
-                                              kin->vwx[i], mu[i], &tx[i], &ty[i]);
+                ? rfe_tyre_magic_abs(tp, kin->kappa[i], kin->alpha[i], kin->fz[i],
+                                     kin->vwx[i], mu[i], &tx[i], &ty[i])
+                : rfe_tyre_dugoff_abs(tp, kin->kappa[i], kin->alpha[i], kin->fz[i],
+                                      kin->vwx[i], mu[i], &tx[i], &ty[i]);
         if (st != RFE_OK) {
             return st;
         }
@@ -331,8 +331,8 @@ rfe_status_t RFE_FN(rfe_tyre_forces_abs)(const rfe_tyre_params_t *tp, const rfe_
 
 /* ---- internal API (tyre_internal.h) ---------------------------------------------------- */
 
-void RFE_FN(rfe_tyre_dugoff_pre)(const rfe_tyre_params_t *tp, rfe_real_t kappa, rfe_real_t alpha,
-                                 rfe_real_t vwx, rfe_dugoff_pre_t *pre)
+void rfe_tyre_dugoff_pre(const rfe_tyre_params_t *tp, rfe_real_t kappa, rfe_real_t alpha,
+                         rfe_real_t vwx, rfe_dugoff_pre_t *pre)
 {
     const rfe_real_t k = rfe_clamp(kappa, RFE_R(-1.0), RFE_R(1.0));
     const rfe_real_t ta = RFE_TAN(rfe_clamp(alpha, -tp->alpha_max, tp->alpha_max));
@@ -342,10 +342,10 @@ void RFE_FN(rfe_tyre_dugoff_pre)(const rfe_tyre_params_t *tp, rfe_real_t kappa, 
     }
 }
 
-rfe_status_t RFE_FN(rfe_tyre_dugoff_abs_pre)(const rfe_tyre_params_t *tp,
-                                             const rfe_dugoff_pre_t *pre, rfe_real_t kappa,
-                                             rfe_real_t alpha, rfe_real_t fz, rfe_real_t vwx,
-                                             rfe_real_t mu, rfe_real_t *fx, rfe_real_t *fy)
+rfe_status_t rfe_tyre_dugoff_abs_pre(const rfe_tyre_params_t *tp,
+                                     const rfe_dugoff_pre_t *pre, rfe_real_t kappa,
+                                     rfe_real_t alpha, rfe_real_t fz, rfe_real_t vwx,
+                                     rfe_real_t mu, rfe_real_t *fx, rfe_real_t *fy)
 {
     rfe_real_t g;
     const rfe_status_t st = check_wheel(tp, kappa, alpha, fz, vwx, fx, fy);
@@ -368,9 +368,9 @@ rfe_status_t RFE_FN(rfe_tyre_dugoff_abs_pre)(const rfe_tyre_params_t *tp,
     return RFE_OK;
 }
 
-void RFE_FN(rfe_tyre_wheel_kin)(const rfe_vehicle_t *veh, const rfe_tyre_params_t *tp,
-                                const rfe_sample_t *u, rfe_real_t c, rfe_real_t s, size_t i,
-                                rfe_real_t *vwx, rfe_real_t *alpha, rfe_real_t *kappa)
+void rfe_tyre_wheel_kin(const rfe_vehicle_t *veh, const rfe_tyre_params_t *tp,
+                        const rfe_sample_t *u, rfe_real_t c, rfe_real_t s, size_t i,
+                        rfe_real_t *vwx, rfe_real_t *alpha, rfe_real_t *kappa)
 {
     rfe_real_t px[RFE_WHEELS];
     rfe_real_t py[RFE_WHEELS];
@@ -378,14 +378,14 @@ void RFE_FN(rfe_tyre_wheel_kin)(const rfe_vehicle_t *veh, const rfe_tyre_params_
     wheel_kin(veh, tp, u, c, s, i, px[i], py[i], vwx, alpha, kappa);
 }
 
-rfe_real_t RFE_FN(rfe_tyre_wheel_kappa)(const rfe_vehicle_t *veh, const rfe_tyre_params_t *tp,
-                                        rfe_real_t omega, rfe_real_t vwx)
+rfe_real_t rfe_tyre_wheel_kappa(const rfe_vehicle_t *veh, const rfe_tyre_params_t *tp,
+                                rfe_real_t omega, rfe_real_t vwx)
 {
     return wheel_kappa(veh, tp, omega, vwx);
 }
 
-void RFE_FN(rfe_tyre_dugoff_pre_tan)(const rfe_tyre_params_t *tp, rfe_real_t kappa,
-                                     rfe_real_t tan_a, rfe_real_t vwx, rfe_dugoff_pre_t *pre)
+void rfe_tyre_dugoff_pre_tan(const rfe_tyre_params_t *tp, rfe_real_t kappa,
+                             rfe_real_t tan_a, rfe_real_t vwx, rfe_dugoff_pre_t *pre)
 {
     const rfe_real_t k = rfe_clamp(kappa, RFE_R(-1.0), RFE_R(1.0));
     dugoff_terms(k, tan_a, tp->cx, tp->cy, tp->eps, vwx, pre);

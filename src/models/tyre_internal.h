@@ -16,33 +16,49 @@
 #include "rfe/params.h"
 #include "rfe/tyre.h"
 
+/* Full names of the functions declared here: _f32 in the float build, _f64 with
+ * RFE_REAL_DOUBLE (rfe/types.h). Sources define and call them by the short name. */
+#if defined(RFE_REAL_DOUBLE)
+#define rfe_tyre_dugoff_pre     rfe_tyre_dugoff_pre_f64
+#define rfe_tyre_dugoff_abs_pre rfe_tyre_dugoff_abs_pre_f64
+#define rfe_tyre_wheel_kin      rfe_tyre_wheel_kin_f64
+#define rfe_tyre_wheel_kappa    rfe_tyre_wheel_kappa_f64
+#define rfe_tyre_dugoff_pre_tan rfe_tyre_dugoff_pre_tan_f64
+#else
+#define rfe_tyre_dugoff_pre     rfe_tyre_dugoff_pre_f32
+#define rfe_tyre_dugoff_abs_pre rfe_tyre_dugoff_abs_pre_f32
+#define rfe_tyre_wheel_kin      rfe_tyre_wheel_kin_f32
+#define rfe_tyre_wheel_kappa    rfe_tyre_wheel_kappa_f32
+#define rfe_tyre_dugoff_pre_tan rfe_tyre_dugoff_pre_tan_f32
+#endif
+
 /** The friction-independent terms of rfe_tyre_dugoff_abs(tp, kappa, alpha, ., vwx, ...)
  *  (and, when tp->mode is RFE_TYRE_MAGIC, the direction cosines ux, uy of rfe_tyre_magic_abs)
  *  (no checks: non-finite inputs give non-finite terms, which the second part then rejects
  *  through its checks of the same inputs). */
-void RFE_FN(rfe_tyre_dugoff_pre)(const rfe_tyre_params_t *tp, rfe_real_t kappa, rfe_real_t alpha,
-                                 rfe_real_t vwx, rfe_dugoff_pre_t *pre);
+void rfe_tyre_dugoff_pre(const rfe_tyre_params_t *tp, rfe_real_t kappa, rfe_real_t alpha,
+                         rfe_real_t vwx, rfe_dugoff_pre_t *pre);
 
 /** rfe_tyre_dugoff_abs(tp, kappa, alpha, fz, vwx, mu, fx, fy) (rfe_tyre_magic_abs when
  *  tp->mode is RFE_TYRE_MAGIC) with @p pre = rfe_tyre_dugoff_pre(tp, kappa, alpha, vwx): the
  *  same checks in the same order, the same forces. */
-RFE_NODISCARD rfe_status_t RFE_FN(rfe_tyre_dugoff_abs_pre)(
+RFE_NODISCARD rfe_status_t rfe_tyre_dugoff_abs_pre(
     const rfe_tyre_params_t *tp, const rfe_dugoff_pre_t *pre, rfe_real_t kappa,
     rfe_real_t alpha, rfe_real_t fz, rfe_real_t vwx, rfe_real_t mu, rfe_real_t *fx,
     rfe_real_t *fy);
 
 /** Wheel @p i's vwx, alpha and kappa for sample @p u, with c, s = cos, sin of u->delta
  *  (ignored for the rear wheels), as rfe_tyre_kinematics computes them (no checks). */
-void RFE_FN(rfe_tyre_wheel_kin)(const rfe_vehicle_t *veh, const rfe_tyre_params_t *tp,
-                                const rfe_sample_t *u, rfe_real_t c, rfe_real_t s, size_t i,
-                                rfe_real_t *vwx, rfe_real_t *alpha, rfe_real_t *kappa);
+void rfe_tyre_wheel_kin(const rfe_vehicle_t *veh, const rfe_tyre_params_t *tp,
+                        const rfe_sample_t *u, rfe_real_t c, rfe_real_t s, size_t i,
+                        rfe_real_t *vwx, rfe_real_t *alpha, rfe_real_t *kappa);
 
 /** A wheel's kappa from its spin speed @p omega and vwx, as rfe_tyre_kinematics computes it. */
-rfe_real_t RFE_FN(rfe_tyre_wheel_kappa)(const rfe_vehicle_t *veh, const rfe_tyre_params_t *tp,
-                                        rfe_real_t omega, rfe_real_t vwx);
+rfe_real_t rfe_tyre_wheel_kappa(const rfe_vehicle_t *veh, const rfe_tyre_params_t *tp,
+                                rfe_real_t omega, rfe_real_t vwx);
 
 /** rfe_tyre_dugoff_pre with tan of the clamped slip angle given (a previous pre's tan_a). */
-void RFE_FN(rfe_tyre_dugoff_pre_tan)(const rfe_tyre_params_t *tp, rfe_real_t kappa,
-                                     rfe_real_t tan_a, rfe_real_t vwx, rfe_dugoff_pre_t *pre);
+void rfe_tyre_dugoff_pre_tan(const rfe_tyre_params_t *tp, rfe_real_t kappa,
+                             rfe_real_t tan_a, rfe_real_t vwx, rfe_dugoff_pre_t *pre);
 
 #endif /* RFE_TYRE_INTERNAL_H */

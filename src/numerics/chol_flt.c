@@ -8,8 +8,8 @@
 
 #define AT(M, ld, i, j) ((M)[((i) * (ld)) + (j)])
 
-rfe_status_t RFE_FN(rfe_chol_factor)(const rfe_real_t *P, size_t n, size_t ldp, rfe_real_t *L,
-                                     size_t ldl)
+rfe_status_t rfe_chol_factor(const rfe_real_t *P, size_t n, size_t ldp, rfe_real_t *L,
+                             size_t ldl)
 {
     size_t i;
     size_t j;

@@ -147,7 +147,7 @@ static void make_diagonal_nonnegative(rfe_real_t *A, size_t rows, size_t lda)
     }
 }
 
-rfe_status_t RFE_FN(rfe_qr_tria)(rfe_real_t *A, size_t rows, size_t cols, size_t lda)
+rfe_status_t rfe_qr_tria(rfe_real_t *A, size_t rows, size_t cols, size_t lda)
 {
     rfe_real_t bigs[RFE_N_MAX];
     int exps[RFE_N_MAX];
@@ -212,8 +212,8 @@ static rfe_status_t check_solve(const rfe_real_t *L, size_t n, size_t ldl, const
     return RFE_OK;
 }
 
-rfe_status_t RFE_FN(rfe_qr_solve_lower)(const rfe_real_t *L, size_t n, size_t ldl, rfe_real_t *B,
-                                        size_t ncols, size_t ldb)
+rfe_status_t rfe_qr_solve_lower(const rfe_real_t *L, size_t n, size_t ldl, rfe_real_t *B,
+                                size_t ncols, size_t ldb)
 {
     size_t c;
     size_t i;
@@ -236,8 +236,8 @@ rfe_status_t RFE_FN(rfe_qr_solve_lower)(const rfe_real_t *L, size_t n, size_t ld
     return RFE_OK;
 }
 
-rfe_status_t RFE_FN(rfe_qr_solve_lower_t)(const rfe_real_t *L, size_t n, size_t ldl,
-                                          rfe_real_t *B, size_t ncols, size_t ldb)
+rfe_status_t rfe_qr_solve_lower_t(const rfe_real_t *L, size_t n, size_t ldl,
+                                  rfe_real_t *B, size_t ncols, size_t ldb)
 {
     size_t c;
     size_t j;

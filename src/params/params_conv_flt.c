@@ -142,7 +142,7 @@ static void conv_filter(conv_t *c, const rfe_filter_params_t *f, rfe_filter_para
     q->b_v = to_q(c, dt / (tau + dt), RFE_FIX_Q_DT, 1);
 }
 
-rfe_status_t RFE_FN(rfe_params_to_q31)(const rfe_params_t *p, rfe_params_q31_t *q)
+rfe_status_t rfe_params_to_q31(const rfe_params_t *p, rfe_params_q31_t *q)
 {
     rfe_params_q31_t t;
     conv_t c = {0};
@@ -151,7 +151,7 @@ rfe_status_t RFE_FN(rfe_params_to_q31)(const rfe_params_t *p, rfe_params_q31_t *
     if ((p == NULL) || (q == NULL)) {
         return RFE_ERR_NULL;
     }
-    st = RFE_FN(rfe_params_validate)(p);
+    st = rfe_params_validate(p);
     if (st != RFE_OK) {
         return st;
     }

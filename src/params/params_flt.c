@@ -6,11 +6,11 @@
 
 #include "numerics/internal.h"
 
-rfe_status_t RFE_FN(rfe_params_default)(rfe_params_t *p)
+rfe_status_t rfe_params_default(rfe_params_t *p)
 {
     /* docs/ESTIMATOR.md, "default preset" column: the paper's vehicle, tyre constants and
      * measurement noise, plus every addition switched on. */
-    const rfe_status_t st = RFE_FN(rfe_params_paper)(p);
+    const rfe_status_t st = rfe_params_paper(p);
     if (st != RFE_OK) {
         return st;
     }
@@ -35,7 +35,7 @@ rfe_status_t RFE_FN(rfe_params_default)(rfe_params_t *p)
 }
 
 /* cppcheck-suppress misra-c2012-8.7 ; MISRA-DEV-06: public API, called by the application */
-rfe_status_t RFE_FN(rfe_params_paper)(rfe_params_t *p)
+rfe_status_t rfe_params_paper(rfe_params_t *p)
 {
     if (p == NULL) {
         return RFE_ERR_NULL;
@@ -174,7 +174,7 @@ static int ckf_subset_ok(const rfe_filter_params_t *f)
             (f->sd_max == zero) && (f->sd_floor_rel == zero));
 }
 
-rfe_status_t RFE_FN(rfe_params_validate)(const rfe_params_t *p)
+rfe_status_t rfe_params_validate(const rfe_params_t *p)
 {
     if (p == NULL) {
         return RFE_ERR_NULL;

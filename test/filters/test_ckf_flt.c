@@ -411,13 +411,13 @@ static void assert_ckf_matches(const rfe_ckf_t *f, const kf_ref_t *r, double tol
 static void init_ckf(rfe_ckf_t *f, const problem_t *p)
 {
     memset(f, 0, sizeof *f);
-    assert_int_equal(RFE_FN(rfe_ckf_init)(f, p->n, p->m, p->x0, p->P0, p->Q, p->R), RFE_OK);
+    assert_int_equal(rfe_ckf_init(f, p->n, p->m, p->x0, p->P0, p->Q, p->R), RFE_OK);
 }
 
 static void init_sckf(rfe_sckf_t *f, const problem_t *p)
 {
     memset(f, 0, sizeof *f);
-    assert_int_equal(RFE_FN(rfe_sckf_init)(f, p->n, p->m, p->x0, p->S0, p->SQ, p->SR), RFE_OK);
+    assert_int_equal(rfe_sckf_init(f, p->n, p->m, p->x0, p->S0, p->SQ, p->SR), RFE_OK);
 }
 
 static void random_y(rfe_real_t *y, size_t m)
@@ -445,15 +445,15 @@ static void run_ckf_vs_kf(size_t n, size_t m, int random_walk, uint64_t seed)
     ref_init(&r, &p);
     for (step = 0; step < STEPS; ++step) {
         if (random_walk != 0) {
-            assert_int_equal(RFE_FN(rfe_ckf_predict)(&f, NULL, NULL), RFE_OK);
+            assert_int_equal(rfe_ckf_predict(&f, NULL, NULL), RFE_OK);
             kf_predict(&r, NULL);
         } else {
-            assert_int_equal(RFE_FN(rfe_ckf_predict)(&f, cb_process, &p.mdl), RFE_OK);
+            assert_int_equal(rfe_ckf_predict(&f, cb_process, &p.mdl), RFE_OK);
             kf_predict(&r, &p.mdl);
         }
         assert_ckf_matches(&f, &r, TOL_REF, "CKF vs Kalman filter", "predict");
         random_y(y, m);
-        assert_int_equal(RFE_FN(rfe_ckf_update)(&f, cb_measure, &p.mdl, y), RFE_OK);
+        assert_int_equal(rfe_ckf_update(&f, cb_measure, &p.mdl, y), RFE_OK);
         kf_update(&r, &p.mdl, y);
         assert_ckf_matches(&f, &r, TOL_REF, "CKF vs Kalman filter", "update");
     }
@@ -498,11 +498,11 @@ static void test_rfe_ckf_random_walk_hold_keeps_mean_exactly(void **state)
     p.x0[1] = (rfe_real_t)0.1;
     p.x0[2] = (rfe_real_t)0.3;
     p.x0[3] = (rfe_real_t)1.2;
-    assert_int_equal(RFE_FN(rfe_ckf_init)(&f, 4u, 3u, p.x0, p.P0, p.Q, p.R), RFE_OK);
-    assert_int_equal(RFE_FN(rfe_ckf_get)(&f, NULL, sd0), RFE_OK);
+    assert_int_equal(rfe_ckf_init(&f, 4u, 3u, p.x0, p.P0, p.Q, p.R), RFE_OK);
+    assert_int_equal(rfe_ckf_get(&f, NULL, sd0), RFE_OK);
     for (k = 0u; k < 2000u; ++k) {
-        assert_int_equal(RFE_FN(rfe_ckf_predict)(&f, NULL, NULL), RFE_OK);
-        assert_int_equal(RFE_FN(rfe_ckf_get)(&f, x, sd), RFE_OK);
+        assert_int_equal(rfe_ckf_predict(&f, NULL, NULL), RFE_OK);
+        assert_int_equal(rfe_ckf_get(&f, x, sd), RFE_OK);
         assert_memory_equal(x, p.x0, 4u * sizeof x[0]);
     }
     for (k = 0u; k < 4u; ++k) {
@@ -543,14 +543,14 @@ static void run_ckf_vs_ukf(size_t n, size_t m, int nonlinear, int random_walk, u
     ref_init(&r, &p);
     for (step = 0; step < STEPS; ++step) {
         if (random_walk != 0) {
-            assert_int_equal(RFE_FN(rfe_ckf_predict)(&f, NULL, NULL), RFE_OK);
+            assert_int_equal(rfe_ckf_predict(&f, NULL, NULL), RFE_OK);
         } else {
-            assert_int_equal(RFE_FN(rfe_ckf_predict)(&f, cb_process, &p.mdl), RFE_OK);
+            assert_int_equal(rfe_ckf_predict(&f, cb_process, &p.mdl), RFE_OK);
         }
         ukf_predict(&r, &prm, &p.mdl, random_walk);
         assert_ckf_matches(&f, &r, TOL_REF, "CKF vs UKF(1, 0, 0)", "predict");
         random_y(y, m);
-        assert_int_equal(RFE_FN(rfe_ckf_update)(&f, cb_measure, &p.mdl, y), RFE_OK);
+        assert_int_equal(rfe_ckf_update(&f, cb_measure, &p.mdl, y), RFE_OK);
         ukf_update(&r, &prm, &p.mdl, y);
         assert_ckf_matches(&f, &r, TOL_REF, "CKF vs UKF(1, 0, 0)", "update");
     }
@@ -654,12 +654,12 @@ static void test_rfe_ckf_nonlinear_matches_sckf(void **state)
         init_ckf(&c, &p);
         init_sckf(&s, &p);
         for (step = 0; step < STEPS; ++step) {
-            assert_int_equal(RFE_FN(rfe_ckf_predict)(&c, cb_process, &p.mdl), RFE_OK);
-            assert_int_equal(RFE_FN(rfe_sckf_predict)(&s, cb_process, &p.mdl), RFE_OK);
+            assert_int_equal(rfe_ckf_predict(&c, cb_process, &p.mdl), RFE_OK);
+            assert_int_equal(rfe_sckf_predict(&s, cb_process, &p.mdl), RFE_OK);
             assert_sckf_equals_ckf(&s, &c, "predict");
             random_y(y, 2u);
-            assert_int_equal(RFE_FN(rfe_ckf_update)(&c, cb_measure, &p.mdl, y), RFE_OK);
-            assert_int_equal(RFE_FN(rfe_sckf_update)(&s, cb_measure, &p.mdl, y), RFE_OK);
+            assert_int_equal(rfe_ckf_update(&c, cb_measure, &p.mdl, y), RFE_OK);
+            assert_int_equal(rfe_sckf_update(&s, cb_measure, &p.mdl, y), RFE_OK);
             assert_sckf_equals_ckf(&s, &c, "update");
         }
     }
@@ -693,7 +693,7 @@ static void expect_measure_calls(const rfe_ckf_t *f, void *ctx, int last_mode)
     static rfe_real_t L[NM * NM];
     const size_t n = f->n;
     size_t k;
-    assert_int_equal(RFE_FN(rfe_chol_factor)(f->P, n, NM, L, NM), RFE_OK);
+    assert_int_equal(rfe_chol_factor(f->P, n, NM, L, NM), RFE_OK);
     fill_expected_points(f->x, L, n, TOL_POINT);
     expect_function_calls(mock_measure, (int)(2u * n));
     for (k = 0u; k < (2u * n); ++k) {
@@ -716,11 +716,11 @@ static void test_rfe_ckf_update_evaluates_cubature_points(void **state)
     make_problem(&p, 4u, 3u, 0, 2800u);
     init_ckf(&f, &p);
     ref_init(&r, &p);
-    assert_int_equal(RFE_FN(rfe_ckf_predict)(&f, cb_process, &p.mdl), RFE_OK);
+    assert_int_equal(rfe_ckf_predict(&f, cb_process, &p.mdl), RFE_OK);
     kf_predict(&r, &p.mdl);
     random_y(y, 3u);
     expect_measure_calls(&f, &p.mdl, MOCK_OK);
-    assert_int_equal(RFE_FN(rfe_ckf_update)(&f, mock_measure, &p.mdl, y), RFE_OK);
+    assert_int_equal(rfe_ckf_update(&f, mock_measure, &p.mdl, y), RFE_OK);
     kf_update(&r, &p.mdl, y);
     assert_ckf_matches(&f, &r, TOL_REF, "mocked CKF vs Kalman filter", "update");
 }
@@ -733,12 +733,12 @@ static void ckf_update_fault_untouched(int mode, rfe_status_t expected)
     rfe_real_t y[MM] = {0};
     make_problem(&p, 4u, 3u, 0, 2900u + (uint64_t)mode);
     init_ckf(&f, &p);
-    assert_int_equal(RFE_FN(rfe_ckf_predict)(&f, cb_process, &p.mdl), RFE_OK);
+    assert_int_equal(rfe_ckf_predict(&f, cb_process, &p.mdl), RFE_OK);
     memcpy(before, &f, CKF_STATE_BYTES);
     expect_measure_calls(&f, &p.mdl, mode);
-    assert_int_equal(RFE_FN(rfe_ckf_update)(&f, mock_measure, &p.mdl, y), expected);
+    assert_int_equal(rfe_ckf_update(&f, mock_measure, &p.mdl, y), expected);
     assert_memory_equal(before, &f, CKF_STATE_BYTES);
-    assert_int_equal(RFE_FN(rfe_ckf_update)(&f, cb_measure, &p.mdl, y), RFE_OK);
+    assert_int_equal(rfe_ckf_update(&f, cb_measure, &p.mdl, y), RFE_OK);
 }
 
 /* REQ-CKF-003 */
@@ -786,7 +786,7 @@ static void test_rfe_ckf_predict_callback_faults_untouched(void **state)
     for (proc_nan = 0; proc_nan <= 1; ++proc_nan) {
         proc_calls = 0;
         proc_fail_at = 8; /* the last of the 2n = 8 points */
-        assert_int_equal(RFE_FN(rfe_ckf_predict)(&f, faulty_process, &p.mdl),
+        assert_int_equal(rfe_ckf_predict(&f, faulty_process, &p.mdl),
                          (proc_nan != 0) ? RFE_ERR_NONFINITE : RFE_ERR_RANGE);
         assert_int_equal(proc_calls, 8);
         assert_memory_equal(before, &f, CKF_STATE_BYTES);
@@ -817,12 +817,12 @@ static void test_rfe_ckf_indefinite_covariance_untouched(void **state)
         }
         init_ckf(&f, &p);
         memcpy(before, &f, CKF_STATE_BYTES);
-        assert_int_equal(RFE_FN(rfe_ckf_predict)(&f, cb_process, &p.mdl),
+        assert_int_equal(rfe_ckf_predict(&f, cb_process, &p.mdl),
                          RFE_ERR_NOT_POSITIVE_DEFINITE);
         assert_memory_equal(before, &f, CKF_STATE_BYTES);
-        assert_int_equal(RFE_FN(rfe_ckf_predict)(&f, NULL, NULL), RFE_ERR_NOT_POSITIVE_DEFINITE);
+        assert_int_equal(rfe_ckf_predict(&f, NULL, NULL), RFE_ERR_NOT_POSITIVE_DEFINITE);
         assert_memory_equal(before, &f, CKF_STATE_BYTES);
-        assert_int_equal(RFE_FN(rfe_ckf_update)(&f, cb_measure, &p.mdl, y),
+        assert_int_equal(rfe_ckf_update(&f, cb_measure, &p.mdl, y),
                          RFE_ERR_NOT_POSITIVE_DEFINITE);
         assert_memory_equal(before, &f, CKF_STATE_BYTES);
     }
@@ -845,7 +845,7 @@ static void test_rfe_ckf_update_indefinite_innovation_untouched(void **state)
     }
     init_ckf(&f, &p);
     memcpy(before, &f, CKF_STATE_BYTES);
-    assert_int_equal(RFE_FN(rfe_ckf_update)(&f, cb_measure, &p.mdl, y),
+    assert_int_equal(rfe_ckf_update(&f, cb_measure, &p.mdl, y),
                      RFE_ERR_NOT_POSITIVE_DEFINITE);
     assert_memory_equal(before, &f, CKF_STATE_BYTES);
 }
@@ -884,7 +884,7 @@ static void test_rfe_ckf_predict_overflow_untouched(void **state)
     make_problem(&p, 4u, 3u, 0, 3900u);
     init_ckf(&f, &p);
     memcpy(before, &f, CKF_STATE_BYTES);
-    st = RFE_FN(rfe_ckf_predict)(&f, huge_process, NULL);
+    st = rfe_ckf_predict(&f, huge_process, NULL);
     if ((st == RFE_OK) && (ckf_state_finite(&f) == 0)) {
         print_error("rfe_ckf_predict returned RFE_OK with a non-finite x or P "
                     "(x0 = %g, P00 = %g) from finite callback outputs\n",
@@ -914,7 +914,7 @@ static void test_rfe_ckf_update_mean_overflow_untouched(void **state)
     init_ckf(&f, &p);
     memcpy(before, &f, CKF_STATE_BYTES);
     y[0] = (rfe_real_t)0.5 * REAL_BIG;
-    assert_int_equal(RFE_FN(rfe_ckf_update)(&f, cb_measure, &p.mdl, y), RFE_ERR_NONFINITE);
+    assert_int_equal(rfe_ckf_update(&f, cb_measure, &p.mdl, y), RFE_ERR_NONFINITE);
     assert_memory_equal(before, &f, CKF_STATE_BYTES);
 }
 
@@ -930,11 +930,11 @@ static void test_rfe_ckf_init_null(void **state)
     make_problem(&p, 4u, 3u, 0, 3200u);
     memset(&f, 0xA5, sizeof f);
     memcpy(&ref, &f, sizeof f);
-    assert_int_equal(RFE_FN(rfe_ckf_init)(NULL, 4u, 3u, p.x0, p.P0, p.Q, p.R), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_ckf_init)(&f, 4u, 3u, NULL, p.P0, p.Q, p.R), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_ckf_init)(&f, 4u, 3u, p.x0, NULL, p.Q, p.R), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_ckf_init)(&f, 4u, 3u, p.x0, p.P0, NULL, p.R), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_ckf_init)(&f, 4u, 3u, p.x0, p.P0, p.Q, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_ckf_init(NULL, 4u, 3u, p.x0, p.P0, p.Q, p.R), RFE_ERR_NULL);
+    assert_int_equal(rfe_ckf_init(&f, 4u, 3u, NULL, p.P0, p.Q, p.R), RFE_ERR_NULL);
+    assert_int_equal(rfe_ckf_init(&f, 4u, 3u, p.x0, NULL, p.Q, p.R), RFE_ERR_NULL);
+    assert_int_equal(rfe_ckf_init(&f, 4u, 3u, p.x0, p.P0, NULL, p.R), RFE_ERR_NULL);
+    assert_int_equal(rfe_ckf_init(&f, 4u, 3u, p.x0, p.P0, p.Q, NULL), RFE_ERR_NULL);
     assert_memory_equal(&f, &ref, sizeof f);
 }
 
@@ -954,7 +954,7 @@ static void test_rfe_ckf_init_size_errors(void **state)
     memset(&f, 0xA5, sizeof f);
     memcpy(&ref, &f, sizeof f);
     for (c = 0u; c < (sizeof cases / sizeof cases[0]); ++c) {
-        assert_int_equal(RFE_FN(rfe_ckf_init)(&f, cases[c][0], cases[c][1], big, big, big, big),
+        assert_int_equal(rfe_ckf_init(&f, cases[c][0], cases[c][1], big, big, big, big),
                          RFE_ERR_SIZE);
         assert_memory_equal(&f, &ref, sizeof f);
     }
@@ -983,7 +983,7 @@ static void test_rfe_ckf_init_nonfinite(void **state)
             case 2: bad.Q[(1u * 4u) + 1u] = vals[v]; break;
             default: bad.R[(2u * 3u) + 2u] = vals[v]; break;
             }
-            assert_int_equal(RFE_FN(rfe_ckf_init)(&f, 4u, 3u, bad.x0, bad.P0, bad.Q, bad.R),
+            assert_int_equal(rfe_ckf_init(&f, 4u, 3u, bad.x0, bad.P0, bad.Q, bad.R),
                              RFE_ERR_NONFINITE);
             assert_memory_equal(&f, &ref, sizeof f);
         }
@@ -1004,10 +1004,10 @@ static void test_rfe_ckf_use_before_init(void **state)
     make_problem(&p, 4u, 3u, 0, 3400u);
     memset(&f, 0, sizeof f);
     memcpy(&ref, &f, sizeof f);
-    assert_int_equal(RFE_FN(rfe_ckf_predict)(&f, cb_process, &p.mdl), RFE_ERR_NOT_INITIALISED);
-    assert_int_equal(RFE_FN(rfe_ckf_update)(&f, cb_measure, &p.mdl, y), RFE_ERR_NOT_INITIALISED);
-    assert_int_equal(RFE_FN(rfe_ckf_get)(&f, x, sd), RFE_ERR_NOT_INITIALISED);
-    assert_int_equal(RFE_FN(rfe_ckf_clamp)(&f, (rfe_real_t)0.0, (rfe_real_t)1.0, &clamped),
+    assert_int_equal(rfe_ckf_predict(&f, cb_process, &p.mdl), RFE_ERR_NOT_INITIALISED);
+    assert_int_equal(rfe_ckf_update(&f, cb_measure, &p.mdl, y), RFE_ERR_NOT_INITIALISED);
+    assert_int_equal(rfe_ckf_get(&f, x, sd), RFE_ERR_NOT_INITIALISED);
+    assert_int_equal(rfe_ckf_clamp(&f, (rfe_real_t)0.0, (rfe_real_t)1.0, &clamped),
                      RFE_ERR_NOT_INITIALISED);
     assert_int_equal(clamped, 7);
     assert_memory_equal(&f, &ref, sizeof f);
@@ -1016,7 +1016,7 @@ static void test_rfe_ckf_use_before_init(void **state)
         static rfe_sckf_t s;
         init_sckf(&s, &p);
         memcpy(&f, &s, sizeof s < sizeof f ? sizeof s : sizeof f);
-        assert_int_equal(RFE_FN(rfe_ckf_predict)(&f, NULL, NULL), RFE_ERR_NOT_INITIALISED);
+        assert_int_equal(rfe_ckf_predict(&f, NULL, NULL), RFE_ERR_NOT_INITIALISED);
     }
 }
 
@@ -1033,14 +1033,14 @@ static void test_rfe_ckf_null_args(void **state)
     make_problem(&p, 4u, 3u, 0, 3500u);
     init_ckf(&f, &p);
     memcpy(before, &f, CKF_STATE_BYTES);
-    assert_int_equal(RFE_FN(rfe_ckf_predict)(NULL, cb_process, &p.mdl), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_ckf_update)(NULL, cb_measure, &p.mdl, y), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_ckf_update)(&f, NULL, &p.mdl, y), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_ckf_update)(&f, cb_measure, &p.mdl, NULL), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_ckf_get)(NULL, x, NULL), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_ckf_clamp)(NULL, (rfe_real_t)0.0, (rfe_real_t)1.0, &clamped),
+    assert_int_equal(rfe_ckf_predict(NULL, cb_process, &p.mdl), RFE_ERR_NULL);
+    assert_int_equal(rfe_ckf_update(NULL, cb_measure, &p.mdl, y), RFE_ERR_NULL);
+    assert_int_equal(rfe_ckf_update(&f, NULL, &p.mdl, y), RFE_ERR_NULL);
+    assert_int_equal(rfe_ckf_update(&f, cb_measure, &p.mdl, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_ckf_get(NULL, x, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_ckf_clamp(NULL, (rfe_real_t)0.0, (rfe_real_t)1.0, &clamped),
                      RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_ckf_clamp)(&f, (rfe_real_t)0.0, (rfe_real_t)1.0, NULL),
+    assert_int_equal(rfe_ckf_clamp(&f, (rfe_real_t)0.0, (rfe_real_t)1.0, NULL),
                      RFE_ERR_NULL);
     assert_int_equal(clamped, 7);
     assert_memory_equal(before, &f, CKF_STATE_BYTES);
@@ -1059,7 +1059,7 @@ static void test_rfe_ckf_update_nonfinite_y_untouched(void **state)
     (void)state;
     make_problem(&p, 4u, 3u, 0, 3600u);
     init_ckf(&f, &p);
-    assert_int_equal(RFE_FN(rfe_ckf_predict)(&f, cb_process, &p.mdl), RFE_OK);
+    assert_int_equal(rfe_ckf_predict(&f, cb_process, &p.mdl), RFE_OK);
     memcpy(before, &f, CKF_STATE_BYTES);
     for (b = 0u; b < 2u; ++b) {
         for (k = 0u; k < 3u; ++k) {
@@ -1067,7 +1067,7 @@ static void test_rfe_ckf_update_nonfinite_y_untouched(void **state)
             y[1] = (rfe_real_t)0.2;
             y[2] = (rfe_real_t)0.3;
             y[k] = bad[b];
-            assert_int_equal(RFE_FN(rfe_ckf_update)(&f, cb_measure, &p.mdl, y),
+            assert_int_equal(rfe_ckf_update(&f, cb_measure, &p.mdl, y),
                              RFE_ERR_NONFINITE);
             assert_memory_equal(before, &f, CKF_STATE_BYTES);
         }
@@ -1091,15 +1091,15 @@ static void test_rfe_ckf_clamp(void **state)
     init_ckf(&f, &p);
     memcpy(before, &f, CKF_STATE_BYTES);
     /* invalid intervals */
-    assert_int_equal(RFE_FN(rfe_ckf_clamp)(&f, (rfe_real_t)1.2, (rfe_real_t)0.05, &clamped),
+    assert_int_equal(rfe_ckf_clamp(&f, (rfe_real_t)1.2, (rfe_real_t)0.05, &clamped),
                      RFE_ERR_RANGE);
-    assert_int_equal(RFE_FN(rfe_ckf_clamp)(&f, (rfe_real_t)NAN, (rfe_real_t)1.2, &clamped),
+    assert_int_equal(rfe_ckf_clamp(&f, (rfe_real_t)NAN, (rfe_real_t)1.2, &clamped),
                      RFE_ERR_RANGE);
     assert_int_equal(clamped, 7);
     assert_memory_equal(before, &f, CKF_STATE_BYTES);
     /* projection: mean only, P unchanged */
     memcpy(P_before, f.P, sizeof P_before);
-    assert_int_equal(RFE_FN(rfe_ckf_clamp)(&f, (rfe_real_t)0.05, (rfe_real_t)1.2, &clamped),
+    assert_int_equal(rfe_ckf_clamp(&f, (rfe_real_t)0.05, (rfe_real_t)1.2, &clamped),
                      RFE_OK);
     assert_int_equal(clamped, 1);
     assert_true(f.x[0] == (rfe_real_t)0.05);
@@ -1107,7 +1107,7 @@ static void test_rfe_ckf_clamp(void **state)
     assert_true(f.x[2] == (rfe_real_t)1.2);
     assert_true(f.x[3] == (rfe_real_t)0.05);
     assert_memory_equal(P_before, f.P, sizeof P_before);
-    assert_int_equal(RFE_FN(rfe_ckf_clamp)(&f, (rfe_real_t)0.05, (rfe_real_t)1.2, &clamped),
+    assert_int_equal(rfe_ckf_clamp(&f, (rfe_real_t)0.05, (rfe_real_t)1.2, &clamped),
                      RFE_OK);
     assert_int_equal(clamped, 0);
 }
@@ -1125,18 +1125,18 @@ static void test_rfe_ckf_get_outputs(void **state)
     (void)state;
     make_problem(&p, 6u, 2u, 0, 3800u);
     init_ckf(&f, &p);
-    assert_int_equal(RFE_FN(rfe_ckf_predict)(&f, cb_process, &p.mdl), RFE_OK);
-    assert_int_equal(RFE_FN(rfe_ckf_get)(&f, x, sd), RFE_OK);
+    assert_int_equal(rfe_ckf_predict(&f, cb_process, &p.mdl), RFE_OK);
+    assert_int_equal(rfe_ckf_get(&f, x, sd), RFE_OK);
     for (i = 0u; i < 6u; ++i) {
         const double pii = (double)f.P[(i * NM) + i];
         assert_true(x[i] == f.x[i]);
         ASSERT_LE(fabs((double)sd[i] - sqrt(pii)), TOL_POINT * sqrt(pii), "sd = sqrt(P_ii)");
     }
-    assert_int_equal(RFE_FN(rfe_ckf_get)(&f, x2, NULL), RFE_OK);
+    assert_int_equal(rfe_ckf_get(&f, x2, NULL), RFE_OK);
     assert_memory_equal(x, x2, 6u * sizeof x[0]);
-    assert_int_equal(RFE_FN(rfe_ckf_get)(&f, NULL, sd2), RFE_OK);
+    assert_int_equal(rfe_ckf_get(&f, NULL, sd2), RFE_OK);
     assert_memory_equal(sd, sd2, 6u * sizeof sd[0]);
-    assert_int_equal(RFE_FN(rfe_ckf_get)(&f, NULL, NULL), RFE_OK);
+    assert_int_equal(rfe_ckf_get(&f, NULL, NULL), RFE_OK);
 }
 
 int main(void)

@@ -248,7 +248,7 @@ static void assert_s_invariants(const rfe_sckf_t *f)
 static void init_filter(rfe_sckf_t *f, const problem_t *p)
 {
     memset(f, 0, sizeof *f);
-    assert_int_equal(RFE_FN(rfe_sckf_init)(f, p->n, p->m, p->x0, p->S0, p->SQ, p->SR), RFE_OK);
+    assert_int_equal(rfe_sckf_init(f, p->n, p->m, p->x0, p->S0, p->SQ, p->SR), RFE_OK);
 }
 
 /* Byte image of the state without the scratch member w. */
@@ -270,10 +270,10 @@ static void run_linear(size_t n, size_t m, int random_walk, uint64_t seed)
     assert_matches_ref(&f, &r, "init");
     for (step = 0; step < STEPS; ++step) {
         if (random_walk != 0) {
-            assert_int_equal(RFE_FN(rfe_sckf_predict)(&f, NULL, &p.mdl), RFE_OK);
+            assert_int_equal(rfe_sckf_predict(&f, NULL, &p.mdl), RFE_OK);
             ref_predict(&r, NULL);
         } else {
-            assert_int_equal(RFE_FN(rfe_sckf_predict)(&f, lin_process, &p.mdl), RFE_OK);
+            assert_int_equal(rfe_sckf_predict(&f, lin_process, &p.mdl), RFE_OK);
             ref_predict(&r, &p.mdl);
         }
         assert_s_invariants(&f);
@@ -281,7 +281,7 @@ static void run_linear(size_t n, size_t m, int random_walk, uint64_t seed)
         for (i = 0u; i < m; ++i) {
             y[i] = (rfe_real_t)(2.0 * rng_uniform());
         }
-        assert_int_equal(RFE_FN(rfe_sckf_update)(&f, lin_measure, &p.mdl, y), RFE_OK);
+        assert_int_equal(rfe_sckf_update(&f, lin_measure, &p.mdl, y), RFE_OK);
         ref_update(&r, &p.mdl, y);
         assert_s_invariants(&f);
         assert_matches_ref(&f, &r, "update");
@@ -337,11 +337,11 @@ static void test_rfe_sckf_random_walk_hold_keeps_mean_exactly(void **state)
     p.x0[1] = (rfe_real_t)0.1;
     p.x0[2] = (rfe_real_t)0.3;
     p.x0[3] = (rfe_real_t)1.2;
-    assert_int_equal(RFE_FN(rfe_sckf_init)(&f, 4u, 3u, p.x0, p.S0, p.SQ, p.SR), RFE_OK);
-    assert_int_equal(RFE_FN(rfe_sckf_get)(&f, NULL, sd0), RFE_OK);
+    assert_int_equal(rfe_sckf_init(&f, 4u, 3u, p.x0, p.S0, p.SQ, p.SR), RFE_OK);
+    assert_int_equal(rfe_sckf_get(&f, NULL, sd0), RFE_OK);
     for (k = 0u; k < 2000u; ++k) {
-        assert_int_equal(RFE_FN(rfe_sckf_predict)(&f, NULL, NULL), RFE_OK);
-        assert_int_equal(RFE_FN(rfe_sckf_get)(&f, x, sd), RFE_OK);
+        assert_int_equal(rfe_sckf_predict(&f, NULL, NULL), RFE_OK);
+        assert_int_equal(rfe_sckf_get(&f, x, sd), RFE_OK);
         assert_memory_equal(x, p.x0, 4u * sizeof x[0]);
     }
     for (k = 0u; k < 4u; ++k) {
@@ -445,13 +445,13 @@ static void test_rfe_sckf_update_evaluates_cubature_points(void **state)
         make_problem(&p, n, m, 700u + n);
         init_filter(&f, &p);
         ref_init(&r, &p);
-        assert_int_equal(RFE_FN(rfe_sckf_predict)(&f, lin_process, &p.mdl), RFE_OK);
+        assert_int_equal(rfe_sckf_predict(&f, lin_process, &p.mdl), RFE_OK);
         ref_predict(&r, &p.mdl);
         for (i = 0u; i < m; ++i) {
             y[i] = (rfe_real_t)rng_uniform();
         }
         expect_measure_calls(&f, &p.mdl, MOCK_OK);
-        assert_int_equal(RFE_FN(rfe_sckf_update)(&f, mock_measure, &p.mdl, y), RFE_OK);
+        assert_int_equal(rfe_sckf_update(&f, mock_measure, &p.mdl, y), RFE_OK);
         /* the mocked model is the linear one: the result is still the Kalman filter's */
         ref_update(&r, &p.mdl, y);
         assert_matches_ref(&f, &r, "mocked update");
@@ -471,7 +471,7 @@ static void test_rfe_sckf_predict_evaluates_cubature_points(void **state)
         init_filter(&f, &p);
         ref_init(&r, &p);
         expect_process_calls(&f, &p.mdl, MOCK_OK);
-        assert_int_equal(RFE_FN(rfe_sckf_predict)(&f, mock_process, &p.mdl), RFE_OK);
+        assert_int_equal(rfe_sckf_predict(&f, mock_process, &p.mdl), RFE_OK);
         ref_predict(&r, &p.mdl);
         assert_matches_ref(&f, &r, "mocked predict");
     }
@@ -487,14 +487,14 @@ static void update_fault_untouched(int mode, rfe_status_t expected)
     rfe_real_t y[MM] = {0};
     make_problem(&p, 4u, 3u, 900u + (uint64_t)mode);
     init_filter(&f, &p);
-    assert_int_equal(RFE_FN(rfe_sckf_predict)(&f, lin_process, &p.mdl), RFE_OK);
+    assert_int_equal(rfe_sckf_predict(&f, lin_process, &p.mdl), RFE_OK);
     y[0] = (rfe_real_t)0.5;
     memcpy(before, &f, STATE_BYTES);
     expect_measure_calls(&f, &p.mdl, mode);
-    assert_int_equal(RFE_FN(rfe_sckf_update)(&f, mock_measure, &p.mdl, y), expected);
+    assert_int_equal(rfe_sckf_update(&f, mock_measure, &p.mdl, y), expected);
     assert_memory_equal(before, &f, STATE_BYTES);
     /* and the filter still works afterwards */
-    assert_int_equal(RFE_FN(rfe_sckf_update)(&f, lin_measure, &p.mdl, y), RFE_OK);
+    assert_int_equal(rfe_sckf_update(&f, lin_measure, &p.mdl, y), RFE_OK);
 }
 
 static void predict_fault_untouched(int mode, rfe_status_t expected)
@@ -506,9 +506,9 @@ static void predict_fault_untouched(int mode, rfe_status_t expected)
     init_filter(&f, &p);
     memcpy(before, &f, STATE_BYTES);
     expect_process_calls(&f, &p.mdl, mode);
-    assert_int_equal(RFE_FN(rfe_sckf_predict)(&f, mock_process, &p.mdl), expected);
+    assert_int_equal(rfe_sckf_predict(&f, mock_process, &p.mdl), expected);
     assert_memory_equal(before, &f, STATE_BYTES);
-    assert_int_equal(RFE_FN(rfe_sckf_predict)(&f, lin_process, &p.mdl), RFE_OK);
+    assert_int_equal(rfe_sckf_predict(&f, lin_process, &p.mdl), RFE_OK);
 }
 
 /* REQ-SCKF-007 */
@@ -562,7 +562,7 @@ static void test_rfe_sckf_update_callback_error_first_point_untouched(void **sta
     init_filter(&f, &p);
     memcpy(before, &f, STATE_BYTES);
     fail_first_calls = 0;
-    assert_int_equal(RFE_FN(rfe_sckf_update)(&f, fail_first_measure, &p.mdl, y), RFE_ERR_RANGE);
+    assert_int_equal(rfe_sckf_update(&f, fail_first_measure, &p.mdl, y), RFE_ERR_RANGE);
     assert_true(fail_first_calls >= 1);
     assert_memory_equal(before, &f, STATE_BYTES);
 }
@@ -581,7 +581,7 @@ static void test_rfe_sckf_update_singular_innovation_untouched(void **state)
     memset(p.SR, 0, sizeof p.SR);
     init_filter(&f, &p);
     memcpy(before, &f, STATE_BYTES);
-    assert_int_equal(RFE_FN(rfe_sckf_update)(&f, lin_measure, &p.mdl, y),
+    assert_int_equal(rfe_sckf_update(&f, lin_measure, &p.mdl, y),
                      RFE_ERR_NOT_POSITIVE_DEFINITE);
     assert_memory_equal(before, &f, STATE_BYTES);
 }
@@ -599,7 +599,7 @@ static void test_rfe_sckf_predict_overflow_untouched(void **state)
     make_problem(&p, 4u, 3u, 992u);
     init_filter(&f, &p);
     memcpy(before, &f, STATE_BYTES);
-    assert_int_equal(RFE_FN(rfe_sckf_predict)(&f, huge_process, NULL), RFE_ERR_NONFINITE);
+    assert_int_equal(rfe_sckf_predict(&f, huge_process, NULL), RFE_ERR_NONFINITE);
     assert_memory_equal(before, &f, STATE_BYTES);
 }
 
@@ -614,7 +614,7 @@ static void test_rfe_sckf_update_measure_overflow_untouched(void **state)
     make_problem(&p, 4u, 3u, 993u);
     init_filter(&f, &p);
     memcpy(before, &f, STATE_BYTES);
-    assert_int_equal(RFE_FN(rfe_sckf_update)(&f, huge_measure, NULL, y), RFE_ERR_NONFINITE);
+    assert_int_equal(rfe_sckf_update(&f, huge_measure, NULL, y), RFE_ERR_NONFINITE);
     assert_memory_equal(before, &f, STATE_BYTES);
 }
 
@@ -639,7 +639,7 @@ static void test_rfe_sckf_update_mean_overflow_untouched(void **state)
     init_filter(&f, &p);
     memcpy(before, &f, STATE_BYTES);
     y[0] = (rfe_real_t)0.5 * REAL_BIG;
-    st = RFE_FN(rfe_sckf_update)(&f, lin_measure, &p.mdl, y);
+    st = rfe_sckf_update(&f, lin_measure, &p.mdl, y);
     if (st == RFE_OK) {
         if (!isfinite(f.x[0])) {
             print_error("rfe_sckf_update returned RFE_OK with x = %g for finite y = %g\n",
@@ -664,11 +664,11 @@ static void test_rfe_sckf_init_null(void **state)
     make_problem(&p, 4u, 3u, 1001u);
     memset(&f, 0xA5, sizeof f);
     memcpy(&ref, &f, sizeof f);
-    assert_int_equal(RFE_FN(rfe_sckf_init)(NULL, 4u, 3u, p.x0, p.S0, p.SQ, p.SR), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_sckf_init)(&f, 4u, 3u, NULL, p.S0, p.SQ, p.SR), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_sckf_init)(&f, 4u, 3u, p.x0, NULL, p.SQ, p.SR), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_sckf_init)(&f, 4u, 3u, p.x0, p.S0, NULL, p.SR), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_sckf_init)(&f, 4u, 3u, p.x0, p.S0, p.SQ, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_sckf_init(NULL, 4u, 3u, p.x0, p.S0, p.SQ, p.SR), RFE_ERR_NULL);
+    assert_int_equal(rfe_sckf_init(&f, 4u, 3u, NULL, p.S0, p.SQ, p.SR), RFE_ERR_NULL);
+    assert_int_equal(rfe_sckf_init(&f, 4u, 3u, p.x0, NULL, p.SQ, p.SR), RFE_ERR_NULL);
+    assert_int_equal(rfe_sckf_init(&f, 4u, 3u, p.x0, p.S0, NULL, p.SR), RFE_ERR_NULL);
+    assert_int_equal(rfe_sckf_init(&f, 4u, 3u, p.x0, p.S0, p.SQ, NULL), RFE_ERR_NULL);
     assert_memory_equal(&f, &ref, sizeof f);
 }
 
@@ -690,7 +690,7 @@ static void test_rfe_sckf_init_size_errors(void **state)
     memset(&f, 0xA5, sizeof f);
     memcpy(&ref, &f, sizeof f);
     for (c = 0u; c < (sizeof cases / sizeof cases[0]); ++c) {
-        assert_int_equal(RFE_FN(rfe_sckf_init)(&f, cases[c][0], cases[c][1], big, big, big, big),
+        assert_int_equal(rfe_sckf_init(&f, cases[c][0], cases[c][1], big, big, big, big),
                          RFE_ERR_SIZE);
         assert_memory_equal(&f, &ref, sizeof f);
     }
@@ -719,7 +719,7 @@ static void test_rfe_sckf_init_nonfinite(void **state)
             case 2: bad.SQ[(3u * 4u) + 3u] = vals[v]; break;
             default: bad.SR[(2u * 3u) + 0u] = vals[v]; break;
             }
-            assert_int_equal(RFE_FN(rfe_sckf_init)(&f, 4u, 3u, bad.x0, bad.S0, bad.SQ, bad.SR),
+            assert_int_equal(rfe_sckf_init(&f, 4u, 3u, bad.x0, bad.S0, bad.SQ, bad.SR),
                              RFE_ERR_NONFINITE);
             assert_memory_equal(&f, &ref, sizeof f);
         }
@@ -753,10 +753,10 @@ static void test_rfe_sckf_init_ignores_upper_triangles(void **state)
     init_filter(&f1, &p);
     init_filter(&f2, &g);
     assert_memory_equal(&f1, &f2, STATE_BYTES);
-    assert_int_equal(RFE_FN(rfe_sckf_predict)(&f1, lin_process, &p.mdl), RFE_OK);
-    assert_int_equal(RFE_FN(rfe_sckf_predict)(&f2, lin_process, &g.mdl), RFE_OK);
-    assert_int_equal(RFE_FN(rfe_sckf_update)(&f1, lin_measure, &p.mdl, y), RFE_OK);
-    assert_int_equal(RFE_FN(rfe_sckf_update)(&f2, lin_measure, &g.mdl, y), RFE_OK);
+    assert_int_equal(rfe_sckf_predict(&f1, lin_process, &p.mdl), RFE_OK);
+    assert_int_equal(rfe_sckf_predict(&f2, lin_process, &g.mdl), RFE_OK);
+    assert_int_equal(rfe_sckf_update(&f1, lin_measure, &p.mdl, y), RFE_OK);
+    assert_int_equal(rfe_sckf_update(&f2, lin_measure, &g.mdl, y), RFE_OK);
     assert_memory_equal(f1.x, f2.x, sizeof f1.x);
     assert_memory_equal(f1.S, f2.S, sizeof f1.S);
 }
@@ -780,7 +780,7 @@ static void test_rfe_sckf_init_nonfinite_upper_triangle_ignored(void **state)
         default: p.SR[(0u * 3u) + 1u] = (rfe_real_t)NAN; break;
         }
         memset(&f, 0, sizeof f);
-        if (RFE_FN(rfe_sckf_init)(&f, 4u, 3u, p.x0, p.S0, p.SQ, p.SR) != RFE_OK) {
+        if (rfe_sckf_init(&f, 4u, 3u, p.x0, p.S0, p.SQ, p.SR) != RFE_OK) {
             print_error("rfe_sckf_init rejected a NaN in the strict upper triangle of %s, "
                         "which sckf.h says is not read\n",
                         (which == 0) ? "S0" : ((which == 1) ? "SQ" : "SR"));
@@ -804,18 +804,18 @@ static void test_rfe_sckf_use_before_init(void **state)
     make_problem(&p, 4u, 3u, 1006u);
     memset(&f, 0, sizeof f);
     memcpy(&ref, &f, sizeof f);
-    assert_int_equal(RFE_FN(rfe_sckf_predict)(&f, lin_process, &p.mdl), RFE_ERR_NOT_INITIALISED);
-    assert_int_equal(RFE_FN(rfe_sckf_predict)(&f, NULL, NULL), RFE_ERR_NOT_INITIALISED);
-    assert_int_equal(RFE_FN(rfe_sckf_update)(&f, lin_measure, &p.mdl, y),
+    assert_int_equal(rfe_sckf_predict(&f, lin_process, &p.mdl), RFE_ERR_NOT_INITIALISED);
+    assert_int_equal(rfe_sckf_predict(&f, NULL, NULL), RFE_ERR_NOT_INITIALISED);
+    assert_int_equal(rfe_sckf_update(&f, lin_measure, &p.mdl, y),
                      RFE_ERR_NOT_INITIALISED);
-    assert_int_equal(RFE_FN(rfe_sckf_get)(&f, x, sd), RFE_ERR_NOT_INITIALISED);
-    assert_int_equal(RFE_FN(rfe_sckf_clamp)(&f, (rfe_real_t)0.0, (rfe_real_t)1.0, &clamped),
+    assert_int_equal(rfe_sckf_get(&f, x, sd), RFE_ERR_NOT_INITIALISED);
+    assert_int_equal(rfe_sckf_clamp(&f, (rfe_real_t)0.0, (rfe_real_t)1.0, &clamped),
                      RFE_ERR_NOT_INITIALISED);
     assert_int_equal(clamped, 7);
     assert_memory_equal(&f, &ref, sizeof f);
     /* a failed init does not make the state usable */
-    assert_int_equal(RFE_FN(rfe_sckf_init)(&f, 0u, 3u, p.x0, p.S0, p.SQ, p.SR), RFE_ERR_SIZE);
-    assert_int_equal(RFE_FN(rfe_sckf_predict)(&f, NULL, NULL), RFE_ERR_NOT_INITIALISED);
+    assert_int_equal(rfe_sckf_init(&f, 0u, 3u, p.x0, p.S0, p.SQ, p.SR), RFE_ERR_SIZE);
+    assert_int_equal(rfe_sckf_predict(&f, NULL, NULL), RFE_ERR_NOT_INITIALISED);
 }
 
 /* REQ-SCKF-008 */
@@ -831,14 +831,14 @@ static void test_rfe_sckf_null_args(void **state)
     make_problem(&p, 4u, 3u, 1007u);
     init_filter(&f, &p);
     memcpy(before, &f, STATE_BYTES);
-    assert_int_equal(RFE_FN(rfe_sckf_predict)(NULL, lin_process, &p.mdl), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_sckf_update)(NULL, lin_measure, &p.mdl, y), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_sckf_update)(&f, NULL, &p.mdl, y), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_sckf_update)(&f, lin_measure, &p.mdl, NULL), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_sckf_get)(NULL, x, NULL), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_sckf_clamp)(NULL, (rfe_real_t)0.0, (rfe_real_t)1.0, &clamped),
+    assert_int_equal(rfe_sckf_predict(NULL, lin_process, &p.mdl), RFE_ERR_NULL);
+    assert_int_equal(rfe_sckf_update(NULL, lin_measure, &p.mdl, y), RFE_ERR_NULL);
+    assert_int_equal(rfe_sckf_update(&f, NULL, &p.mdl, y), RFE_ERR_NULL);
+    assert_int_equal(rfe_sckf_update(&f, lin_measure, &p.mdl, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_sckf_get(NULL, x, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_sckf_clamp(NULL, (rfe_real_t)0.0, (rfe_real_t)1.0, &clamped),
                      RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_sckf_clamp)(&f, (rfe_real_t)0.0, (rfe_real_t)1.0, NULL),
+    assert_int_equal(rfe_sckf_clamp(&f, (rfe_real_t)0.0, (rfe_real_t)1.0, NULL),
                      RFE_ERR_NULL);
     assert_int_equal(clamped, 7);
     assert_memory_equal(before, &f, STATE_BYTES);
@@ -857,7 +857,7 @@ static void test_rfe_sckf_update_nonfinite_y_untouched(void **state)
     (void)state;
     make_problem(&p, 4u, 3u, 1008u);
     init_filter(&f, &p);
-    assert_int_equal(RFE_FN(rfe_sckf_predict)(&f, lin_process, &p.mdl), RFE_OK);
+    assert_int_equal(rfe_sckf_predict(&f, lin_process, &p.mdl), RFE_OK);
     memcpy(before, &f, STATE_BYTES);
     for (b = 0u; b < 3u; ++b) {
         for (k = 0u; k < 3u; ++k) {
@@ -865,7 +865,7 @@ static void test_rfe_sckf_update_nonfinite_y_untouched(void **state)
             y[1] = (rfe_real_t)0.2;
             y[2] = (rfe_real_t)0.3;
             y[k] = bad[b];
-            assert_int_equal(RFE_FN(rfe_sckf_update)(&f, lin_measure, &p.mdl, y),
+            assert_int_equal(rfe_sckf_update(&f, lin_measure, &p.mdl, y),
                              RFE_ERR_NONFINITE);
             assert_memory_equal(before, &f, STATE_BYTES);
         }
@@ -883,11 +883,11 @@ static void test_rfe_sckf_clamp_range_errors(void **state)
     make_problem(&p, 4u, 3u, 1009u);
     init_filter(&f, &p);
     memcpy(before, &f, STATE_BYTES);
-    assert_int_equal(RFE_FN(rfe_sckf_clamp)(&f, (rfe_real_t)1.0, (rfe_real_t)0.5, &clamped),
+    assert_int_equal(rfe_sckf_clamp(&f, (rfe_real_t)1.0, (rfe_real_t)0.5, &clamped),
                      RFE_ERR_RANGE);
-    assert_int_equal(RFE_FN(rfe_sckf_clamp)(&f, (rfe_real_t)NAN, (rfe_real_t)1.0, &clamped),
+    assert_int_equal(rfe_sckf_clamp(&f, (rfe_real_t)NAN, (rfe_real_t)1.0, &clamped),
                      RFE_ERR_RANGE);
-    assert_int_equal(RFE_FN(rfe_sckf_clamp)(&f, (rfe_real_t)0.0, (rfe_real_t)NAN, &clamped),
+    assert_int_equal(rfe_sckf_clamp(&f, (rfe_real_t)0.0, (rfe_real_t)NAN, &clamped),
                      RFE_ERR_RANGE);
     assert_int_equal(clamped, 7);
     assert_memory_equal(before, &f, STATE_BYTES);
@@ -912,12 +912,12 @@ static void test_rfe_sckf_clamp_projects_mean(void **state)
     memcpy(S_before, f.S, sizeof S_before);
     /* inside: nothing moves */
     memcpy(x_before, f.x, sizeof x_before);
-    assert_int_equal(RFE_FN(rfe_sckf_clamp)(&f, (rfe_real_t)-1.0, (rfe_real_t)2.0, &clamped),
+    assert_int_equal(rfe_sckf_clamp(&f, (rfe_real_t)-1.0, (rfe_real_t)2.0, &clamped),
                      RFE_OK);
     assert_int_equal(clamped, 0);
     assert_memory_equal(x_before, f.x, sizeof x_before);
     /* [0.05, 1.2]: -0.5 -> 0.05, 2.0 -> 1.2, the others stay (1.2 is on the bound) */
-    assert_int_equal(RFE_FN(rfe_sckf_clamp)(&f, (rfe_real_t)0.05, (rfe_real_t)1.2, &clamped),
+    assert_int_equal(rfe_sckf_clamp(&f, (rfe_real_t)0.05, (rfe_real_t)1.2, &clamped),
                      RFE_OK);
     assert_int_equal(clamped, 1);
     assert_true(f.x[0] == (rfe_real_t)0.05);
@@ -926,7 +926,7 @@ static void test_rfe_sckf_clamp_projects_mean(void **state)
     assert_true(f.x[3] == (rfe_real_t)1.2);
     assert_memory_equal(S_before, f.S, sizeof S_before);
     /* lo == hi is a valid (degenerate) interval */
-    assert_int_equal(RFE_FN(rfe_sckf_clamp)(&f, (rfe_real_t)0.5, (rfe_real_t)0.5, &clamped),
+    assert_int_equal(rfe_sckf_clamp(&f, (rfe_real_t)0.5, (rfe_real_t)0.5, &clamped),
                      RFE_OK);
     assert_int_equal(clamped, 1);
     for (i = 0u; i < 4u; ++i) {
@@ -948,8 +948,8 @@ static void test_rfe_sckf_get_outputs(void **state)
     (void)state;
     make_problem(&p, 5u, 2u, 1011u);
     init_filter(&f, &p);
-    assert_int_equal(RFE_FN(rfe_sckf_predict)(&f, lin_process, &p.mdl), RFE_OK);
-    assert_int_equal(RFE_FN(rfe_sckf_get)(&f, x, sd), RFE_OK);
+    assert_int_equal(rfe_sckf_predict(&f, lin_process, &p.mdl), RFE_OK);
+    assert_int_equal(rfe_sckf_get(&f, x, sd), RFE_OK);
     for (i = 0u; i < 5u; ++i) {
         double pii = 0.0;
         for (k = 0u; k <= i; ++k) {
@@ -958,11 +958,11 @@ static void test_rfe_sckf_get_outputs(void **state)
         assert_true(x[i] == f.x[i]);
         ASSERT_LE(fabs((double)sd[i] - sqrt(pii)), 4.0 * TOL_POINT * sqrt(pii), "sd");
     }
-    assert_int_equal(RFE_FN(rfe_sckf_get)(&f, x2, NULL), RFE_OK);
+    assert_int_equal(rfe_sckf_get(&f, x2, NULL), RFE_OK);
     assert_memory_equal(x, x2, 5u * sizeof x[0]);
-    assert_int_equal(RFE_FN(rfe_sckf_get)(&f, NULL, sd2), RFE_OK);
+    assert_int_equal(rfe_sckf_get(&f, NULL, sd2), RFE_OK);
     assert_memory_equal(sd, sd2, 5u * sizeof sd[0]);
-    assert_int_equal(RFE_FN(rfe_sckf_get)(&f, NULL, NULL), RFE_OK);
+    assert_int_equal(rfe_sckf_get(&f, NULL, NULL), RFE_OK);
 }
 
 int main(void)

@@ -120,8 +120,8 @@ static void make_problem(problem_t *p, size_t n, size_t m, uint64_t seed)
 static void init_filter(rfe_sckf_t *f, const problem_t *p, const rfe_real_t *SR)
 {
     memset(f, 0, sizeof *f);
-    assert_int_equal(RFE_FN(rfe_sckf_init)(f, p->n, p->m, p->x0, p->S0, p->SQ, SR), RFE_OK);
-    assert_int_equal(RFE_FN(rfe_sckf_predict)(f, NULL, NULL), RFE_OK);
+    assert_int_equal(rfe_sckf_init(f, p->n, p->m, p->x0, p->S0, p->SQ, SR), RFE_OK);
+    assert_int_equal(rfe_sckf_predict(f, NULL, NULL), RFE_OK);
 }
 
 /* The state a step may change: mean and factor, bit for bit. */
@@ -210,21 +210,21 @@ static void test_rfe_sckf_update_ex_equals_update_bitwise(void **state)
         c = a;
         d = a;
         for (k = 0; k < 3; ++k) {
-            assert_int_equal(RFE_FN(rfe_sckf_update)(&a, lin_measure, &p.h, p.y), RFE_OK);
-            assert_int_equal(RFE_FN(rfe_sckf_update_ex)(&b, lin_measure, &p.h, p.y, NULL,
+            assert_int_equal(rfe_sckf_update(&a, lin_measure, &p.h, p.y), RFE_OK);
+            assert_int_equal(rfe_sckf_update_ex(&b, lin_measure, &p.h, p.y, NULL,
                                                         (rfe_real_t)0, NULL, &upd), RFE_OK);
             assert_int_equal(upd, 1);
-            assert_int_equal(RFE_FN(rfe_sckf_update_ex)(&c, lin_measure, &p.h, p.y, p.SR,
+            assert_int_equal(rfe_sckf_update_ex(&c, lin_measure, &p.h, p.y, p.SR,
                                                         (rfe_real_t)-1, info, &upd), RFE_OK);
             assert_int_equal(upd, 1);
-            assert_int_equal(RFE_FN(rfe_sckf_update_ex)(&d, cubic_measure, NULL, p.y, NULL,
+            assert_int_equal(rfe_sckf_update_ex(&d, cubic_measure, NULL, p.y, NULL,
                                                         (rfe_real_t)0, info, &upd), RFE_OK);
             assert_same_state(&a, &b);
             assert_same_state(&a, &c);
-            assert_int_equal(RFE_FN(rfe_sckf_predict)(&a, NULL, NULL), RFE_OK);
-            assert_int_equal(RFE_FN(rfe_sckf_predict)(&b, NULL, NULL), RFE_OK);
-            assert_int_equal(RFE_FN(rfe_sckf_predict)(&c, NULL, NULL), RFE_OK);
-            assert_int_equal(RFE_FN(rfe_sckf_predict)(&d, NULL, NULL), RFE_OK);
+            assert_int_equal(rfe_sckf_predict(&a, NULL, NULL), RFE_OK);
+            assert_int_equal(rfe_sckf_predict(&b, NULL, NULL), RFE_OK);
+            assert_int_equal(rfe_sckf_predict(&c, NULL, NULL), RFE_OK);
+            assert_int_equal(rfe_sckf_predict(&d, NULL, NULL), RFE_OK);
         }
     });
 }
@@ -243,9 +243,9 @@ static void test_rfe_sckf_update_ex_step_sr_replaces_filter_sr(void **state)
         init_filter(&a, &p, p.SR);
         init_filter(&b, &p, p.SR2);
         memcpy(SR_before, a.SR, sizeof SR_before);
-        assert_int_equal(RFE_FN(rfe_sckf_update_ex)(&a, lin_measure, &p.h, p.y, p.SR2,
+        assert_int_equal(rfe_sckf_update_ex(&a, lin_measure, &p.h, p.y, p.SR2,
                                                     (rfe_real_t)0, NULL, &upd), RFE_OK);
-        assert_int_equal(RFE_FN(rfe_sckf_update)(&b, lin_measure, &p.h, p.y), RFE_OK);
+        assert_int_equal(rfe_sckf_update(&b, lin_measure, &p.h, p.y), RFE_OK);
         assert_same_state(&a, &b);
         assert_memory_equal(a.SR, SR_before, sizeof SR_before);
     });
@@ -267,7 +267,7 @@ static void test_rfe_sckf_update_ex_information_linear_model(void **state)
         size_t i;
         char what[64];
         init_filter(&f, &p, p.SR);
-        assert_int_equal(RFE_FN(rfe_sckf_update_ex)(&f, lin_measure, &p.h, p.y, p.SR2,
+        assert_int_equal(rfe_sckf_update_ex(&f, lin_measure, &p.h, p.y, p.SR2,
                                                     (rfe_real_t)0, info, &upd), RFE_OK);
         ref_information(&p, p.SR2, ref);
         for (i = 0u; i < p.n; ++i) {
@@ -295,25 +295,25 @@ static void test_rfe_sckf_update_ex_gate_threshold(void **state)
         int upd = -1;
         init_filter(&pred, &p, p.SR);
         probe = pred;
-        assert_int_equal(RFE_FN(rfe_sckf_update_ex)(&probe, lin_measure, &p.h, p.y, p.SR2,
+        assert_int_equal(rfe_sckf_update_ex(&probe, lin_measure, &p.h, p.y, p.SR2,
                                                     (rfe_real_t)0, info, &upd), RFE_OK);
         most = (rfe_real_t)max_of(info, p.n);
         assert_true(most > 0);
         /* Just below the largest information: updates, same bits as the ungated step. */
         a = pred;
-        assert_int_equal(RFE_FN(rfe_sckf_update_ex)(&a, lin_measure, &p.h, p.y, p.SR2,
+        assert_int_equal(rfe_sckf_update_ex(&a, lin_measure, &p.h, p.y, p.SR2,
                                                     most * (rfe_real_t)0.999, NULL, &upd), RFE_OK);
         assert_int_equal(upd, 1);
         assert_same_state(&a, &probe);
         /* Equal to it: updates (the gate holds only below info_min). */
         a = pred;
-        assert_int_equal(RFE_FN(rfe_sckf_update_ex)(&a, lin_measure, &p.h, p.y, p.SR2, most,
+        assert_int_equal(rfe_sckf_update_ex(&a, lin_measure, &p.h, p.y, p.SR2, most,
                                                     NULL, &upd), RFE_OK);
         assert_int_equal(upd, 1);
         /* Just above: held. */
         b = pred;
         upd = -1;
-        assert_int_equal(RFE_FN(rfe_sckf_update_ex)(&b, lin_measure, &p.h, p.y, p.SR2,
+        assert_int_equal(rfe_sckf_update_ex(&b, lin_measure, &p.h, p.y, p.SR2,
                                                     most * (rfe_real_t)1.001, info_held, &upd),
                          RFE_OK);
         assert_int_equal(upd, 0);
@@ -336,11 +336,11 @@ static void test_rfe_sckf_update_ex_gate_nonlinear(void **state)
     rfe_real_t info[1];
     int upd = -1;
     (void)state;
-    assert_int_equal(RFE_FN(rfe_sckf_init)(&f, 1, 1, x0, S0, SQ, SR), RFE_OK);
-    assert_int_equal(RFE_FN(rfe_sckf_predict)(&f, NULL, NULL), RFE_OK);
+    assert_int_equal(rfe_sckf_init(&f, 1, 1, x0, S0, SQ, SR), RFE_OK);
+    assert_int_equal(rfe_sckf_predict(&f, NULL, NULL), RFE_OK);
     pred = f;
     /* z = x^3: J = E[x^4]/E[x^2] ~ S^2 = 1e-4, so I ~ (1e-4 / 0.1)^2 = 1e-6. */
-    assert_int_equal(RFE_FN(rfe_sckf_update_ex)(&f, cubic_measure, NULL, y, NULL, (rfe_real_t)1e-3,
+    assert_int_equal(rfe_sckf_update_ex(&f, cubic_measure, NULL, y, NULL, (rfe_real_t)1e-3,
                                                 info, &upd), RFE_OK);
     assert_int_equal(upd, 0);
     assert_true(info[0] > 0 && info[0] < (rfe_real_t)1e-5);
@@ -367,24 +367,24 @@ static void test_rfe_sckf_update_ex_argument_errors(void **state)
         info[i] = (rfe_real_t)-3;
     }
     memcpy(info_copy, info, sizeof info);
-    assert_int_equal(RFE_FN(rfe_sckf_update_ex)(NULL, lin_measure, &p.h, p.y, NULL, 0, info, &upd), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_sckf_update_ex)(&f, NULL, &p.h, p.y, NULL, 0, info, &upd), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_sckf_update_ex)(&f, lin_measure, &p.h, NULL, NULL, 0, info, &upd), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_sckf_update_ex)(&f, lin_measure, &p.h, p.y, NULL, 0, info, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_sckf_update_ex(NULL, lin_measure, &p.h, p.y, NULL, 0, info, &upd), RFE_ERR_NULL);
+    assert_int_equal(rfe_sckf_update_ex(&f, NULL, &p.h, p.y, NULL, 0, info, &upd), RFE_ERR_NULL);
+    assert_int_equal(rfe_sckf_update_ex(&f, lin_measure, &p.h, NULL, NULL, 0, info, &upd), RFE_ERR_NULL);
+    assert_int_equal(rfe_sckf_update_ex(&f, lin_measure, &p.h, p.y, NULL, 0, info, NULL), RFE_ERR_NULL);
     memset(&blank, 0, sizeof blank);
-    assert_int_equal(RFE_FN(rfe_sckf_update_ex)(&blank, lin_measure, &p.h, p.y, NULL, 0, info, &upd),
+    assert_int_equal(rfe_sckf_update_ex(&blank, lin_measure, &p.h, p.y, NULL, 0, info, &upd),
                      RFE_ERR_NOT_INITIALISED);
-    assert_int_equal(RFE_FN(rfe_sckf_update_ex)(&f, lin_measure, &p.h, p.y, NULL, (rfe_real_t)NAN,
+    assert_int_equal(rfe_sckf_update_ex(&f, lin_measure, &p.h, p.y, NULL, (rfe_real_t)NAN,
                                                 info, &upd), RFE_ERR_NONFINITE);
-    assert_int_equal(RFE_FN(rfe_sckf_update_ex)(&f, lin_measure, &p.h, p.y, NULL,
+    assert_int_equal(rfe_sckf_update_ex(&f, lin_measure, &p.h, p.y, NULL,
                                                 (rfe_real_t)INFINITY, info, &upd), RFE_ERR_NONFINITE);
     memcpy(ybad, p.y, sizeof ybad);
     ybad[1] = (rfe_real_t)NAN;
-    assert_int_equal(RFE_FN(rfe_sckf_update_ex)(&f, lin_measure, &p.h, ybad, NULL, 0, info, &upd),
+    assert_int_equal(rfe_sckf_update_ex(&f, lin_measure, &p.h, ybad, NULL, 0, info, &upd),
                      RFE_ERR_NONFINITE);
     memcpy(SRbad, p.SR2, sizeof SRbad);
     SRbad[2] = (rfe_real_t)INFINITY; /* (1,0): lower triangle */
-    assert_int_equal(RFE_FN(rfe_sckf_update_ex)(&f, lin_measure, &p.h, p.y, SRbad, 0, info, &upd),
+    assert_int_equal(rfe_sckf_update_ex(&f, lin_measure, &p.h, p.y, SRbad, 0, info, &upd),
                      RFE_ERR_NONFINITE);
     /* The upper triangle is not read. */
     memcpy(SRbad, p.SR2, sizeof SRbad);
@@ -393,9 +393,9 @@ static void test_rfe_sckf_update_ex_argument_errors(void **state)
     {
         static rfe_sckf_t g;
         g = f;
-        assert_int_equal(RFE_FN(rfe_sckf_update_ex)(&g, lin_measure, &p.h, p.y, SRbad, 0, NULL, &upd),
+        assert_int_equal(rfe_sckf_update_ex(&g, lin_measure, &p.h, p.y, SRbad, 0, NULL, &upd),
                          RFE_OK);
-        assert_int_equal(RFE_FN(rfe_sckf_update_ex)(&copy, lin_measure, &p.h, p.y, p.SR2, 0, NULL, &upd),
+        assert_int_equal(rfe_sckf_update_ex(&copy, lin_measure, &p.h, p.y, p.SR2, 0, NULL, &upd),
                          RFE_OK);
         assert_same_state(&g, &copy);
     }
@@ -404,17 +404,17 @@ static void test_rfe_sckf_update_ex_argument_errors(void **state)
     /* A zero diagonal in S_R: the information cannot be formed (the update alone could). */
     memcpy(SRbad, p.SR2, sizeof SRbad);
     SRbad[3] = 0; /* (1,1) */
-    assert_int_equal(RFE_FN(rfe_sckf_update_ex)(&f, lin_measure, &p.h, p.y, SRbad, (rfe_real_t)1,
+    assert_int_equal(rfe_sckf_update_ex(&f, lin_measure, &p.h, p.y, SRbad, (rfe_real_t)1,
                                                 info, &upd), RFE_ERR_NOT_POSITIVE_DEFINITE);
     /* An information that overflows is an error, not "no information". */
     memcpy(SRbad, p.SR2, sizeof SRbad);
     SRbad[0] = (rfe_real_t)TINY_SR;
     SRbad[2] = 0;
     SRbad[3] = (rfe_real_t)TINY_SR;
-    assert_int_equal(RFE_FN(rfe_sckf_update_ex)(&f, lin_measure, &p.h, p.y, SRbad, (rfe_real_t)1,
+    assert_int_equal(rfe_sckf_update_ex(&f, lin_measure, &p.h, p.y, SRbad, (rfe_real_t)1,
                                                 info, &upd), RFE_ERR_NONFINITE);
     /* Measurements whose mean overflows. */
-    assert_int_equal(RFE_FN(rfe_sckf_update_ex)(&f, huge_measure, NULL, p.y, NULL, (rfe_real_t)1,
+    assert_int_equal(rfe_sckf_update_ex(&f, huge_measure, NULL, p.y, NULL, (rfe_real_t)1,
                                                 info, &upd), RFE_ERR_NONFINITE);
     assert_same_state(&f, &copy);
     assert_memory_equal(info, info_copy, sizeof info);
@@ -440,13 +440,13 @@ static void test_rfe_sckf_update_ex_singular_prior(void **state)
     h.m = 1;
     h.H[0] = 1;
     h.H[1] = 2;
-    assert_int_equal(RFE_FN(rfe_sckf_init)(&f, 2, 1, x0, S0, SQ, SR), RFE_OK);
+    assert_int_equal(rfe_sckf_init(&f, 2, 1, x0, S0, SQ, SR), RFE_OK);
     copy = f;
-    assert_int_equal(RFE_FN(rfe_sckf_update_ex)(&f, lin_measure, &h, y, NULL, (rfe_real_t)1, info, &upd),
+    assert_int_equal(rfe_sckf_update_ex(&f, lin_measure, &h, y, NULL, (rfe_real_t)1, info, &upd),
                      RFE_ERR_NOT_POSITIVE_DEFINITE);
     assert_same_state(&f, &copy);
     /* Without the information the (rank-deficient) update itself still runs. */
-    assert_int_equal(RFE_FN(rfe_sckf_update_ex)(&f, lin_measure, &h, y, NULL, 0, NULL, &upd), RFE_OK);
+    assert_int_equal(rfe_sckf_update_ex(&f, lin_measure, &h, y, NULL, 0, NULL, &upd), RFE_OK);
     assert_int_equal(upd, 1);
 }
 
@@ -468,7 +468,7 @@ static void test_rfe_sckf_scale_multiplies_factor(void **state)
     make_problem(&p, (NM >= 4u) ? 4u : NM, 2u, 7u);
     init_filter(&f, &p, p.SR);
     before = f;
-    assert_int_equal(RFE_FN(rfe_sckf_scale)(&f, c), RFE_OK);
+    assert_int_equal(rfe_sckf_scale(&f, c), RFE_OK);
     assert_memory_equal(f.x, before.x, sizeof f.x);
     for (i = 0u; i < p.n; ++i) {
         for (j = 0u; j <= i; ++j) {
@@ -476,8 +476,8 @@ static void test_rfe_sckf_scale_multiplies_factor(void **state)
             assert_true(f.S[(i * NM) + j] == want);
         }
     }
-    assert_int_equal(RFE_FN(rfe_sckf_get)(&before, NULL, sd0), RFE_OK);
-    assert_int_equal(RFE_FN(rfe_sckf_get)(&f, NULL, sd1), RFE_OK);
+    assert_int_equal(rfe_sckf_get(&before, NULL, sd0), RFE_OK);
+    assert_int_equal(rfe_sckf_get(&f, NULL, sd1), RFE_OK);
     for (i = 0u; i < p.n; ++i) {
         assert_close(sd1[i], (double)c * (double)sd0[i], 0.0, 4.0 * (double)FLT_EPSILON, "sd scaled");
     }
@@ -501,18 +501,18 @@ static void test_rfe_sckf_scale_errors(void **state)
     const rfe_real_t SQ[4] = {(rfe_real_t)0.1, 0, 0, (rfe_real_t)0.1};
     const rfe_real_t SR[1] = {1};
     (void)state;
-    assert_int_equal(RFE_FN(rfe_sckf_init)(&f, 2, 1, x0, S0, SQ, SR), RFE_OK);
+    assert_int_equal(rfe_sckf_init(&f, 2, 1, x0, S0, SQ, SR), RFE_OK);
     copy = f;
-    assert_int_equal(RFE_FN(rfe_sckf_scale)(NULL, 1), RFE_ERR_NULL);
+    assert_int_equal(rfe_sckf_scale(NULL, 1), RFE_ERR_NULL);
     memset(&blank, 0, sizeof blank);
-    assert_int_equal(RFE_FN(rfe_sckf_scale)(&blank, 1), RFE_ERR_NOT_INITIALISED);
-    assert_int_equal(RFE_FN(rfe_sckf_scale)(&f, 0), RFE_ERR_RANGE);
-    assert_int_equal(RFE_FN(rfe_sckf_scale)(&f, -1), RFE_ERR_RANGE);
-    assert_int_equal(RFE_FN(rfe_sckf_scale)(&f, (rfe_real_t)NAN), RFE_ERR_RANGE);
-    assert_int_equal(RFE_FN(rfe_sckf_scale)(&f, (rfe_real_t)INFINITY), RFE_ERR_RANGE);
-    assert_int_equal(RFE_FN(rfe_sckf_scale)(&f, REAL_BIG), RFE_ERR_NONFINITE);
+    assert_int_equal(rfe_sckf_scale(&blank, 1), RFE_ERR_NOT_INITIALISED);
+    assert_int_equal(rfe_sckf_scale(&f, 0), RFE_ERR_RANGE);
+    assert_int_equal(rfe_sckf_scale(&f, -1), RFE_ERR_RANGE);
+    assert_int_equal(rfe_sckf_scale(&f, (rfe_real_t)NAN), RFE_ERR_RANGE);
+    assert_int_equal(rfe_sckf_scale(&f, (rfe_real_t)INFINITY), RFE_ERR_RANGE);
+    assert_int_equal(rfe_sckf_scale(&f, REAL_BIG), RFE_ERR_NONFINITE);
     assert_same_state(&f, &copy);
-    assert_int_equal(RFE_FN(rfe_sckf_scale)(&f, 1), RFE_OK);
+    assert_int_equal(rfe_sckf_scale(&f, 1), RFE_OK);
     assert_same_state(&f, &copy);
 }
 

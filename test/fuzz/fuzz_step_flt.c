@@ -89,7 +89,7 @@ static int step(void *ctxp, const fz_sample_t *s)
     }
     want = inv_classify_sample(&u);
     memcpy(&c->before, &c->est, sizeof c->est);
-    st = RFE_FN(rfe_estimator_step)(&c->est, &u, &out);
+    st = rfe_estimator_step(&c->est, &u, &out);
     if (want != RFE_OK) {
         if (st != want) {
             violation(c, "input error not reported as its class", &u, (int)st);
@@ -134,7 +134,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     r.n = size;
     memset(&p, 0, sizeof p); /* padding included: the harness compares whole estimators */
     cfg = fz_config(&r);
-    if ((cfg.preset_default ? RFE_FN(rfe_params_default)(&p) : RFE_FN(rfe_params_paper)(&p)) !=
+    if ((cfg.preset_default ? rfe_params_default(&p) : rfe_params_paper(&p)) !=
         RFE_OK) {
         abort();
     }
@@ -152,8 +152,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         p.filter.mu0 = (rfe_real_t)0.3;
     }
     memset(&c, 0, sizeof c);
-    if (RFE_FN(rfe_estimator_init)(&c.est, &p) != RFE_OK ||
-        RFE_FN(rfe_estimator_get)(&c.est, &c.prev) != RFE_OK) {
+    if (rfe_estimator_init(&c.est, &p) != RFE_OK ||
+        rfe_estimator_get(&c.est, &c.prev) != RFE_OK) {
         fprintf(stderr, "fuzz_step: init failed for a preset\n");
         abort();
     }

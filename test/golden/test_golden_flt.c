@@ -87,7 +87,7 @@ static rfe_est_row_t *run(const char *sensor_path, rfe_preset_t preset, rfe_tyre
     if (rfe_sensor_log_read(sensor_path, &log, &err) != 0) {
         fail_msg("%s:%zu:%zu: %s", err.file, err.line, err.col, err.msg);
     }
-    assert_int_equal(RFE_FN(rfe_param_set_preset)(&ps, preset), 0);
+    assert_int_equal(rfe_param_set_preset(&ps, preset), 0);
     if (rfe_param_set_apply_meta(&ps, &log, sensor_path, &err) != 0) {
         fail_msg("%s: %s", sensor_path, err.msg);
     }
@@ -95,7 +95,7 @@ static rfe_est_row_t *run(const char *sensor_path, rfe_preset_t preset, rfe_tyre
     ps.filter = kind;
     rows = calloc(log.n_rows, sizeof(*rows));
     assert_non_null(rows);
-    assert_int_equal(RFE_FN(rfe_replay_run)(&ps, &log, rows, &stats, NULL), RFE_OK);
+    assert_int_equal(rfe_replay_run(&ps, &log, rows, &stats, NULL), RFE_OK);
     *n_rows = log.n_rows;
     rfe_sensor_log_free(&log);
     return rows;
@@ -233,7 +233,7 @@ static void check_one(const char *stem, rfe_preset_t preset, rfe_tyre_mode_t tyr
     rows = run(sensor, preset, tyre, kind, &n);
     if (preset == RFE_PRESET_DEFAULT) {
         rfe_params_t lib;
-        assert_int_equal(RFE_FN(rfe_params_default)(&lib), RFE_OK);
+        assert_int_equal(rfe_params_default(&lib), RFE_OK);
         worst = compare_with_golden(golden, rows, n, CHECK_STATUS, MAX_FRACTION_OUT_DEFAULT,
                                     (double)lib.filter.sd_valid);
     } else {

@@ -42,7 +42,7 @@ static rfe_params_t dflt;  /* rfe_params_default */
 static int setup(void **state)
 {
     (void)state;
-    if ((RFE_FN(rfe_params_paper)(&paper) != RFE_OK) || (RFE_FN(rfe_params_default)(&dflt) != RFE_OK)) {
+    if ((rfe_params_paper(&paper) != RFE_OK) || (rfe_params_default(&dflt) != RFE_OK)) {
         return -1;
     }
     return 0;
@@ -74,7 +74,7 @@ static rfe_wheel_kin_t good_kin(void)
 {
     rfe_sample_t u = good_sample();
     rfe_wheel_kin_t kin;
-    assert_int_equal(RFE_FN(rfe_tyre_kinematics)(&paper.vehicle, &paper.tyre, &u, &kin), RFE_OK);
+    assert_int_equal(rfe_tyre_kinematics(&paper.vehicle, &paper.tyre, &u, &kin), RFE_OK);
     return kin;
 }
 
@@ -88,10 +88,10 @@ static void test_mcdc_tyre_kinematics_each_argument(void **state)
     (void)state;
     memset(&kin, 0x5a, sizeof kin);
     before = kin;
-    assert_int_equal(RFE_FN(rfe_tyre_kinematics)(NULL, &paper.tyre, &good, &kin), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_tyre_kinematics)(&paper.vehicle, NULL, &good, &kin), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_tyre_kinematics)(&paper.vehicle, &paper.tyre, NULL, &kin), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_tyre_kinematics)(&paper.vehicle, &paper.tyre, &good, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_tyre_kinematics(NULL, &paper.tyre, &good, &kin), RFE_ERR_NULL);
+    assert_int_equal(rfe_tyre_kinematics(&paper.vehicle, NULL, &good, &kin), RFE_ERR_NULL);
+    assert_int_equal(rfe_tyre_kinematics(&paper.vehicle, &paper.tyre, NULL, &kin), RFE_ERR_NULL);
+    assert_int_equal(rfe_tyre_kinematics(&paper.vehicle, &paper.tyre, &good, NULL), RFE_ERR_NULL);
     assert_memory_equal(&kin, &before, sizeof kin);
     /* every field of the sample non-finite on its own: delta, vx, vy, yaw_rate, yaw_acc (not
      * an input of the kinematics: accepted), ax, ay, omega[0..3] */
@@ -111,15 +111,15 @@ static void test_mcdc_tyre_kinematics_each_argument(void **state)
         field[10] = &u.omega[3];
         *field[f] = nan_r();
         if (f == 4u) {
-            assert_int_equal(RFE_FN(rfe_tyre_kinematics)(&paper.vehicle, &paper.tyre, &u, &kin), RFE_OK);
+            assert_int_equal(rfe_tyre_kinematics(&paper.vehicle, &paper.tyre, &u, &kin), RFE_OK);
             memset(&kin, 0x5a, sizeof kin);
         } else {
-            assert_int_equal(RFE_FN(rfe_tyre_kinematics)(&paper.vehicle, &paper.tyre, &u, &kin),
+            assert_int_equal(rfe_tyre_kinematics(&paper.vehicle, &paper.tyre, &u, &kin),
                              RFE_ERR_NONFINITE);
             assert_memory_equal(&kin, &before, sizeof kin);
         }
     }
-    assert_int_equal(RFE_FN(rfe_tyre_kinematics)(&paper.vehicle, &paper.tyre, &good, &kin), RFE_OK);
+    assert_int_equal(rfe_tyre_kinematics(&paper.vehicle, &paper.tyre, &good, &kin), RFE_OK);
 }
 
 /* REQ-TYRE-006 */
@@ -134,8 +134,8 @@ static void test_mcdc_tyre_dugoff_each_argument(void **state)
     for (mode = 0; mode < 2; ++mode) {
         /* the two single-wheel functions share the checks (check_wheel) */
 #define DUG(tp, k_, a_, f_, v_, o1, o2)                                                        \
-    ((mode == 0) ? RFE_FN(rfe_tyre_dugoff_norm)((tp), (k_), (a_), (f_), (v_), (o1), (o2))      \
-                 : RFE_FN(rfe_tyre_dugoff_abs)((tp), (k_), (a_), (f_), (v_), (rfe_real_t)0.5, (o1), (o2)))
+    ((mode == 0) ? rfe_tyre_dugoff_norm((tp), (k_), (a_), (f_), (v_), (o1), (o2))      \
+                 : rfe_tyre_dugoff_abs((tp), (k_), (a_), (f_), (v_), (rfe_real_t)0.5, (o1), (o2)))
         assert_int_equal(DUG(NULL, ka, al, fz, vw, &a, &b), RFE_ERR_NULL);
         assert_int_equal(DUG(&paper.tyre, ka, al, fz, vw, NULL, &b), RFE_ERR_NULL);
         assert_int_equal(DUG(&paper.tyre, ka, al, fz, vw, &a, NULL), RFE_ERR_NULL);
@@ -162,17 +162,17 @@ static void test_mcdc_tyre_forces_each_argument(void **state)
     memset(fy, 0x5a, sizeof fy);
     memcpy(bx, fx, sizeof fx);
     memcpy(by, fy, sizeof fy);
-    assert_int_equal(RFE_FN(rfe_tyre_forces_norm)(&paper.tyre, NULL, fx, fy), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_tyre_forces_norm)(&paper.tyre, &k, NULL, fy), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_tyre_forces_norm)(&paper.tyre, &k, fx, NULL), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_tyre_forces_abs)(&paper.tyre, NULL, mu, fx, fy), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_tyre_forces_abs)(&paper.tyre, &k, NULL, fx, fy), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_tyre_forces_abs)(&paper.tyre, &k, mu, NULL, fy), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_tyre_forces_abs)(&paper.tyre, &k, mu, fx, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_tyre_forces_norm(&paper.tyre, NULL, fx, fy), RFE_ERR_NULL);
+    assert_int_equal(rfe_tyre_forces_norm(&paper.tyre, &k, NULL, fy), RFE_ERR_NULL);
+    assert_int_equal(rfe_tyre_forces_norm(&paper.tyre, &k, fx, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_tyre_forces_abs(&paper.tyre, NULL, mu, fx, fy), RFE_ERR_NULL);
+    assert_int_equal(rfe_tyre_forces_abs(&paper.tyre, &k, NULL, fx, fy), RFE_ERR_NULL);
+    assert_int_equal(rfe_tyre_forces_abs(&paper.tyre, &k, mu, NULL, fy), RFE_ERR_NULL);
+    assert_int_equal(rfe_tyre_forces_abs(&paper.tyre, &k, mu, fx, NULL), RFE_ERR_NULL);
     assert_memory_equal(fx, bx, sizeof fx);
     assert_memory_equal(fy, by, sizeof fy);
-    assert_int_equal(RFE_FN(rfe_tyre_forces_norm)(&paper.tyre, &k, fx, fy), RFE_OK);
-    assert_int_equal(RFE_FN(rfe_tyre_forces_abs)(&paper.tyre, &k, mu, fx, fy), RFE_OK);
+    assert_int_equal(rfe_tyre_forces_norm(&paper.tyre, &k, fx, fy), RFE_OK);
+    assert_int_equal(rfe_tyre_forces_abs(&paper.tyre, &k, mu, fx, fy), RFE_OK);
 }
 
 /* REQ-OBSMAT-004 */
@@ -184,40 +184,40 @@ static void test_mcdc_obsmat_each_argument(void **state)
     rfe_real_t y[RFE_MEAS], yb[RFE_MEAS];
     size_t i;
     (void)state;
-    assert_int_equal(RFE_FN(rfe_tyre_forces_norm)(&paper.tyre, &k, fx, fy), RFE_OK);
+    assert_int_equal(rfe_tyre_forces_norm(&paper.tyre, &k, fx, fy), RFE_OK);
     memset(H, 0x5a, sizeof H);
     memcpy(Hb, H, sizeof H);
-    assert_int_equal(RFE_FN(rfe_obsmat_build)(NULL, (rfe_real_t)0.02, fx, fy, H), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_obsmat_build)(&paper.vehicle, (rfe_real_t)0.02, NULL, fy, H), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_obsmat_build)(&paper.vehicle, (rfe_real_t)0.02, fx, NULL, H), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_obsmat_build)(&paper.vehicle, (rfe_real_t)0.02, fx, fy, NULL), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_obsmat_build)(&paper.vehicle, nan_r(), fx, fy, H), RFE_ERR_NONFINITE);
+    assert_int_equal(rfe_obsmat_build(NULL, (rfe_real_t)0.02, fx, fy, H), RFE_ERR_NULL);
+    assert_int_equal(rfe_obsmat_build(&paper.vehicle, (rfe_real_t)0.02, NULL, fy, H), RFE_ERR_NULL);
+    assert_int_equal(rfe_obsmat_build(&paper.vehicle, (rfe_real_t)0.02, fx, NULL, H), RFE_ERR_NULL);
+    assert_int_equal(rfe_obsmat_build(&paper.vehicle, (rfe_real_t)0.02, fx, fy, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_obsmat_build(&paper.vehicle, nan_r(), fx, fy, H), RFE_ERR_NONFINITE);
     for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
         const rfe_real_t keep_x = fx[i], keep_y = fy[i];
         fx[i] = nan_r();
-        assert_int_equal(RFE_FN(rfe_obsmat_build)(&paper.vehicle, (rfe_real_t)0.02, fx, fy, H), RFE_ERR_NONFINITE);
+        assert_int_equal(rfe_obsmat_build(&paper.vehicle, (rfe_real_t)0.02, fx, fy, H), RFE_ERR_NONFINITE);
         fx[i] = keep_x;
         fy[i] = nan_r();
-        assert_int_equal(RFE_FN(rfe_obsmat_build)(&paper.vehicle, (rfe_real_t)0.02, fx, fy, H), RFE_ERR_NONFINITE);
+        assert_int_equal(rfe_obsmat_build(&paper.vehicle, (rfe_real_t)0.02, fx, fy, H), RFE_ERR_NONFINITE);
         fy[i] = keep_y;
     }
     assert_memory_equal(H, Hb, sizeof H);
-    assert_int_equal(RFE_FN(rfe_obsmat_build)(&paper.vehicle, (rfe_real_t)0.02, fx, fy, H), RFE_OK);
+    assert_int_equal(rfe_obsmat_build(&paper.vehicle, (rfe_real_t)0.02, fx, fy, H), RFE_OK);
 
     memset(y, 0x5a, sizeof y);
     memcpy(yb, y, sizeof y);
-    assert_int_equal(RFE_FN(rfe_obsmat_apply)(NULL, x, y), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_obsmat_apply)(H, NULL, y), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_obsmat_apply)(H, x, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_obsmat_apply(NULL, x, y), RFE_ERR_NULL);
+    assert_int_equal(rfe_obsmat_apply(H, NULL, y), RFE_ERR_NULL);
+    assert_int_equal(rfe_obsmat_apply(H, x, NULL), RFE_ERR_NULL);
     memcpy(Hb, H, sizeof H);
     H[5] = nan_r();
-    assert_int_equal(RFE_FN(rfe_obsmat_apply)(H, x, y), RFE_ERR_NONFINITE);
+    assert_int_equal(rfe_obsmat_apply(H, x, y), RFE_ERR_NONFINITE);
     memcpy(H, Hb, sizeof H);
     x[2] = nan_r();
-    assert_int_equal(RFE_FN(rfe_obsmat_apply)(H, x, y), RFE_ERR_NONFINITE);
+    assert_int_equal(rfe_obsmat_apply(H, x, y), RFE_ERR_NONFINITE);
     assert_memory_equal(y, yb, sizeof y);
     x[2] = (rfe_real_t)0.7;
-    assert_int_equal(RFE_FN(rfe_obsmat_apply)(H, x, y), RFE_OK);
+    assert_int_equal(rfe_obsmat_apply(H, x, y), RFE_OK);
 }
 
 /* REQ-COND-002 */
@@ -229,8 +229,8 @@ static void test_mcdc_conditioner_each_input(void **state)
     rfe_sample_t u, out, ob;
     size_t f;
     (void)state;
-    assert_int_equal(RFE_FN(rfe_conditioner_init)(&c), RFE_OK);
-    assert_int_equal(RFE_FN(rfe_conditioner_step)(&c, dt, tau, &good, &out), RFE_OK); /* started */
+    assert_int_equal(rfe_conditioner_init(&c), RFE_OK);
+    assert_int_equal(rfe_conditioner_step(&c, dt, tau, &good, &out), RFE_OK); /* started */
     memcpy(&cb, &c, sizeof c);
     memset(&out, 0x5a, sizeof out);
     ob = out;
@@ -244,7 +244,7 @@ static void test_mcdc_conditioner_each_input(void **state)
         case 3u: u.ay = nan_r(); break;
         default: u.yaw_rate = nan_r(); break;
         }
-        assert_int_equal(RFE_FN(rfe_conditioner_step)(&c, dt, tau, &u, &out), RFE_ERR_NONFINITE);
+        assert_int_equal(rfe_conditioner_step(&c, dt, tau, &u, &out), RFE_ERR_NONFINITE);
         assert_memory_equal(&c, &cb, sizeof c);
         assert_memory_equal(&out, &ob, sizeof out);
     }
@@ -253,13 +253,13 @@ static void test_mcdc_conditioner_each_input(void **state)
      * with ax); nothing may change */
     u = good;
     u.ay = (rfe_real_t)REAL_BIG;
-    assert_int_equal(RFE_FN(rfe_conditioner_step)(&c, (rfe_real_t)2.0, tau, &u, &out), RFE_ERR_NONFINITE);
+    assert_int_equal(rfe_conditioner_step(&c, (rfe_real_t)2.0, tau, &u, &out), RFE_ERR_NONFINITE);
     u = good;
     u.ax = (rfe_real_t)REAL_BIG;
-    assert_int_equal(RFE_FN(rfe_conditioner_step)(&c, (rfe_real_t)2.0, tau, &u, &out), RFE_ERR_NONFINITE);
+    assert_int_equal(rfe_conditioner_step(&c, (rfe_real_t)2.0, tau, &u, &out), RFE_ERR_NONFINITE);
     assert_memory_equal(&c, &cb, sizeof c);
     assert_memory_equal(&out, &ob, sizeof out);
-    assert_int_equal(RFE_FN(rfe_conditioner_step)(&c, dt, tau, &good, &out), RFE_OK);
+    assert_int_equal(rfe_conditioner_step(&c, dt, tau, &good, &out), RFE_OK);
 }
 
 /* REQ-CKF-004 */
@@ -271,17 +271,17 @@ static void test_mcdc_ckf_clamp_each_bound(void **state)
     int clamped = 7;
     (void)state;
     memset(&f, 0, sizeof f); /* every byte defined, so the arrays can be compared whole */
-    assert_int_equal(RFE_FN(rfe_ckf_init)(&f, 1u, 1u, x0, P0, Q, R), RFE_OK);
+    assert_int_equal(rfe_ckf_init(&f, 1u, 1u, x0, P0, Q, R), RFE_OK);
     memcpy(&fb, &f, sizeof f);
-    assert_int_equal(RFE_FN(rfe_ckf_clamp)(&f, nan_r(), (rfe_real_t)1.0, &clamped), RFE_ERR_RANGE);
-    assert_int_equal(RFE_FN(rfe_ckf_clamp)(&f, (rfe_real_t)0.0, nan_r(), &clamped), RFE_ERR_RANGE);
-    assert_int_equal(RFE_FN(rfe_ckf_clamp)(&f, (rfe_real_t)0.0, (rfe_real_t)INFINITY, &clamped), RFE_ERR_RANGE);
-    assert_int_equal(RFE_FN(rfe_ckf_clamp)(&f, (rfe_real_t)1.0, (rfe_real_t)0.5, &clamped), RFE_ERR_RANGE);
+    assert_int_equal(rfe_ckf_clamp(&f, nan_r(), (rfe_real_t)1.0, &clamped), RFE_ERR_RANGE);
+    assert_int_equal(rfe_ckf_clamp(&f, (rfe_real_t)0.0, nan_r(), &clamped), RFE_ERR_RANGE);
+    assert_int_equal(rfe_ckf_clamp(&f, (rfe_real_t)0.0, (rfe_real_t)INFINITY, &clamped), RFE_ERR_RANGE);
+    assert_int_equal(rfe_ckf_clamp(&f, (rfe_real_t)1.0, (rfe_real_t)0.5, &clamped), RFE_ERR_RANGE);
     assert_int_equal(clamped, 7);
     /* the state, not the scratch (uninitialised between calls) */
     assert_memory_equal(f.x, fb.x, sizeof f.x);
     assert_memory_equal(f.P, fb.P, sizeof f.P);
-    assert_int_equal(RFE_FN(rfe_ckf_clamp)(&f, (rfe_real_t)0.0, (rfe_real_t)1.0, &clamped), RFE_OK);
+    assert_int_equal(rfe_ckf_clamp(&f, (rfe_real_t)0.0, (rfe_real_t)1.0, &clamped), RFE_OK);
     assert_int_equal(clamped, 1);
 }
 
@@ -291,19 +291,19 @@ static void test_mcdc_estimator_get_each_argument(void **state)
     rfe_estimator_t est;
     rfe_estimate_t out, ob;
     (void)state;
-    assert_int_equal(RFE_FN(rfe_estimator_init)(&est, &paper), RFE_OK);
+    assert_int_equal(rfe_estimator_init(&est, &paper), RFE_OK);
     memset(&out, 0x5a, sizeof out);
     ob = out;
-    assert_int_equal(RFE_FN(rfe_estimator_get)(NULL, &out), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_estimator_get)(&est, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_estimator_get(NULL, &out), RFE_ERR_NULL);
+    assert_int_equal(rfe_estimator_get(&est, NULL), RFE_ERR_NULL);
     assert_memory_equal(&out, &ob, sizeof out);
-    assert_int_equal(RFE_FN(rfe_estimator_get)(&est, &out), RFE_OK);
+    assert_int_equal(rfe_estimator_get(&est, &out), RFE_OK);
 }
 
 /* One parameter changed from a valid set must make rfe_params_validate fail (what). */
 static void expect_param_rejected(const rfe_params_t *p, const char *what)
 {
-    if (RFE_FN(rfe_params_validate)(p) != RFE_ERR_PARAM) {
+    if (rfe_params_validate(p) != RFE_ERR_PARAM) {
         fail_msg("rfe_params_validate accepted %s", what);
     }
 }
@@ -323,7 +323,7 @@ static void test_mcdc_params_each_field(void **state)
     (void)state;
     for (which = 0; which < 2; ++which) {
         const rfe_params_t base = (which == 0) ? paper : dflt;
-        assert_int_equal(RFE_FN(rfe_params_validate)(&base), RFE_OK);
+        assert_int_equal(rfe_params_validate(&base), RFE_OK);
         /* vehicle: positive (zero and NaN: both conditions of is_pos), hg non-negative */
         REJECT(vehicle.m, z);      REJECT(vehicle.m, n);
         REJECT(vehicle.Lf, z);     REJECT(vehicle.Lf, n);
@@ -368,15 +368,15 @@ static void test_mcdc_params_each_field(void **state)
     {
         rfe_params_t p = paper;
         p.tyre.mode = RFE_TYRE_ABSOLUTE;
-        assert_int_equal(RFE_FN(rfe_params_validate)(&p), RFE_OK);
+        assert_int_equal(rfe_params_validate(&p), RFE_OK);
         p.tyre.mode = RFE_TYRE_MAGIC;
-        assert_int_equal(RFE_FN(rfe_params_validate)(&p), RFE_OK);
+        assert_int_equal(rfe_params_validate(&p), RFE_OK);
         p.tyre.shape_Ex = (rfe_real_t)-4.0;
         p.tyre.shape_Ey = (rfe_real_t)-4.0;
-        assert_int_equal(RFE_FN(rfe_params_validate)(&p), RFE_OK);
+        assert_int_equal(rfe_params_validate(&p), RFE_OK);
         p.tyre.mode = RFE_TYRE_ABSOLUTE;
         p.filter.structure = RFE_STRUCT_SIDES;
-        assert_int_equal(RFE_FN(rfe_params_validate)(&p), RFE_OK);
+        assert_int_equal(rfe_params_validate(&p), RFE_OK);
     }
 }
 
@@ -387,9 +387,9 @@ static void run_sd(const rfe_params_t *p, rfe_real_t sd[RFE_WHEELS])
     rfe_estimate_t out;
     const rfe_sample_t u = good_sample();
     int k;
-    assert_int_equal(RFE_FN(rfe_estimator_init)(&est, p), RFE_OK);
+    assert_int_equal(rfe_estimator_init(&est, p), RFE_OK);
     for (k = 0; k < 20; ++k) {
-        assert_false(rfe_status_is_error(RFE_FN(rfe_estimator_step)(&est, &u, &out)));
+        assert_false(rfe_status_is_error(rfe_estimator_step(&est, &u, &out)));
     }
     memcpy(sd, out.sd, sizeof out.sd);
 }
@@ -412,7 +412,7 @@ static void test_mcdc_estimator_each_input_noise_switches_eiv_on(void **state)
         case 4: p.filter.sd_in_yaw_rate = (rfe_real_t)0.02; break;
         default: p.filter.sd_in_omega = (rfe_real_t)0.2; break;
         }
-        assert_int_equal(RFE_FN(rfe_params_validate)(&p), RFE_OK);
+        assert_int_equal(rfe_params_validate(&p), RFE_OK);
         run_sd(&p, sd_on);
         /* a larger S_R means less information per step: the sd of some wheel must end
          * higher than with S_R diagonal (strictly: the noise added is far above rounding) */
@@ -435,19 +435,19 @@ static void test_mcdc_params_to_q31_this_precision(void **state)
     (void)state;
     memset(&q, 0x5a, sizeof q);
     q0 = q;
-    assert_int_equal(RFE_FN(rfe_params_to_q31)(NULL, &q), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_params_to_q31)(&paper, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_params_to_q31(NULL, &q), RFE_ERR_NULL);
+    assert_int_equal(rfe_params_to_q31(&paper, NULL), RFE_ERR_NULL);
     p = paper;
     p.vehicle.m = (rfe_real_t)-1.0; /* invalid: rfe_params_validate fails first */
-    assert_int_equal(RFE_FN(rfe_params_to_q31)(&p, &q), RFE_ERR_PARAM);
+    assert_int_equal(rfe_params_to_q31(&p, &q), RFE_ERR_PARAM);
     p = paper;
     p.vehicle.m = (rfe_real_t)40000.0; /* valid, but beyond its Q16 format */
-    assert_int_equal(RFE_FN(rfe_params_to_q31)(&p, &q), RFE_ERR_RANGE);
+    assert_int_equal(rfe_params_to_q31(&p, &q), RFE_ERR_RANGE);
     assert_memory_equal(&q, &q0, sizeof q);
     /* the paper preset converts, and the values exact in both precisions convert exactly:
      * mu0 = 0.5 (Q29), m = 1830 kg (Q16), the enums (validation of the result in Q is
      * test_params_q31's: the q31 library is not linked here) */
-    assert_int_equal(RFE_FN(rfe_params_to_q31)(&paper, &q), RFE_OK);
+    assert_int_equal(rfe_params_to_q31(&paper, &q), RFE_OK);
     assert_int_equal(q.filter.mu0, (rfe_fix_t)(1 << 28));
     assert_int_equal(q.vehicle.m, (rfe_fix_t)(1830 << 16));
     assert_int_equal((int)q.filter.kind, (int)paper.filter.kind);
@@ -467,23 +467,23 @@ static void test_mcdc_eiv_failures_leave_sr_untouched(void **state)
     /* the sample itself non-finite: the measurement model at u fails */
     u = good_sample();
     u.vx = nan_r();
-    assert_int_equal(RFE_FN(rfe_eiv_sqrt_noise)(&dflt, &u, mu, SR), RFE_ERR_NONFINITE);
+    assert_int_equal(rfe_eiv_sqrt_noise(&dflt, &u, mu, SR), RFE_ERR_NONFINITE);
     /* finite sample, but u + sd_in_delta overflows: the perturbed evaluation fails */
     u = good_sample();
     u.delta = (rfe_real_t)REAL_BIG;
     p = dflt;
     p.filter.sd_in_delta = (rfe_real_t)REAL_BIG;
-    assert_int_equal(RFE_FN(rfe_params_validate)(&p), RFE_OK);
-    assert_int_equal(RFE_FN(rfe_eiv_sqrt_noise)(&p, &u, mu, SR), RFE_ERR_NONFINITE);
+    assert_int_equal(rfe_params_validate(&p), RFE_OK);
+    assert_int_equal(rfe_eiv_sqrt_noise(&p, &u, mu, SR), RFE_ERR_NONFINITE);
     /* a valid but huge sensor noise: r_ax^2 overflows in S_R0, Tria rejects the block */
     u = good_sample();
     p = dflt;
     p.filter.r_ax = (rfe_real_t)(REAL_BIG / 4);
-    assert_int_equal(RFE_FN(rfe_params_validate)(&p), RFE_OK);
-    assert_int_equal(RFE_FN(rfe_eiv_sqrt_noise)(&p, &u, mu, SR), RFE_ERR_NONFINITE);
+    assert_int_equal(rfe_params_validate(&p), RFE_OK);
+    assert_int_equal(rfe_eiv_sqrt_noise(&p, &u, mu, SR), RFE_ERR_NONFINITE);
     assert_memory_equal(SR, SRb, sizeof SR);
     /* and the good call succeeds */
-    assert_int_equal(RFE_FN(rfe_eiv_sqrt_noise)(&dflt, &u, mu, SR), RFE_OK);
+    assert_int_equal(rfe_eiv_sqrt_noise(&dflt, &u, mu, SR), RFE_OK);
 }
 
 /* REQ-EST-005 REQ-COND-002 */
@@ -498,16 +498,16 @@ static void test_mcdc_estimator_conditioner_overflow_rolls_back(void **state)
     rfe_sample_t u = good_sample();
     (void)state;
     p.filter.dt = (rfe_real_t)(REAL_BIG / 4);
-    assert_int_equal(RFE_FN(rfe_params_validate)(&p), RFE_OK);
-    assert_int_equal(RFE_FN(rfe_estimator_init)(&est, &p), RFE_OK);
-    assert_false(rfe_status_is_error(RFE_FN(rfe_estimator_step)(&est, &u, &out)));
-    assert_int_equal(RFE_FN(rfe_estimator_get)(&est, &prev), RFE_OK);
+    assert_int_equal(rfe_params_validate(&p), RFE_OK);
+    assert_int_equal(rfe_estimator_init(&est, &p), RFE_OK);
+    assert_false(rfe_status_is_error(rfe_estimator_step(&est, &u, &out)));
+    assert_int_equal(rfe_estimator_get(&est, &prev), RFE_OK);
     u.ax = (rfe_real_t)-8.0;
-    assert_int_equal(RFE_FN(rfe_estimator_step)(&est, &u, &out), RFE_ERR_NONFINITE);
+    assert_int_equal(rfe_estimator_step(&est, &u, &out), RFE_ERR_NONFINITE);
     assert_memory_equal(out.mu, prev.mu, sizeof out.mu);
     assert_memory_equal(out.sd, prev.sd, sizeof out.sd);
     assert_true((out.valid[0] == 0u) && (out.valid[1] == 0u) && (out.valid[2] == 0u) && (out.valid[3] == 0u));
-    assert_int_equal(RFE_FN(rfe_estimator_get)(&est, &out), RFE_OK);
+    assert_int_equal(rfe_estimator_get(&est, &out), RFE_OK);
     assert_memory_equal(out.mu, prev.mu, sizeof out.mu);
     assert_memory_equal(out.sd, prev.sd, sizeof out.sd);
 }

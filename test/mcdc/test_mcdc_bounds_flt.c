@@ -30,7 +30,7 @@ static rfe_params_t paper;
 static int setup(void **state)
 {
     (void)state;
-    return (RFE_FN(rfe_params_paper)(&paper) == RFE_OK) ? 0 : -1;
+    return (rfe_params_paper(&paper) == RFE_OK) ? 0 : -1;
 }
 
 /* Straight braking at 20 m/s, 4 % slip, 4 m/s^2 (every wheel informative). */
@@ -59,9 +59,9 @@ static void test_mcdc_floor_without_cap(void **state)
     (void)state;
     p.filter.sd_max = (rfe_real_t)0.0;
     p.filter.sd_floor_rel = (rfe_real_t)0.5;
-    assert_int_equal(RFE_FN(rfe_estimator_init)(&est, &p), RFE_OK);
+    assert_int_equal(rfe_estimator_init(&est, &p), RFE_OK);
     for (k = 0; k < 200; ++k) {
-        const rfe_status_t st = RFE_FN(rfe_estimator_step)(&est, &u, &out);
+        const rfe_status_t st = rfe_estimator_step(&est, &u, &out);
         double lo = 1e300;
         size_t w;
         assert_false(rfe_status_is_error(st));
@@ -99,15 +99,15 @@ static void test_mcdc_cap_without_floor(void **state)
     (void)state;
     p.filter.sd_max = (rfe_real_t)0.2;
     p.filter.sd_floor_rel = (rfe_real_t)0.0;
-    assert_int_equal(RFE_FN(rfe_estimator_init)(&est, &p), RFE_OK);
+    assert_int_equal(rfe_estimator_init(&est, &p), RFE_OK);
     for (k = 0; k < 200; ++k) {
         size_t w;
         double hi = 0.0;
         /* the twin: this state with both bounds off, stepped with the same sample */
         memcpy(&twin, &est, sizeof est);
         twin.params.filter.sd_max = (rfe_real_t)0.0;
-        assert_false(rfe_status_is_error(RFE_FN(rfe_estimator_step)(&twin, &u, &out_twin)));
-        assert_false(rfe_status_is_error(RFE_FN(rfe_estimator_step)(&est, &u, &out)));
+        assert_false(rfe_status_is_error(rfe_estimator_step(&twin, &u, &out_twin)));
+        assert_false(rfe_status_is_error(rfe_estimator_step(&est, &u, &out)));
         for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
             if (!((double)out.sd[w] <= 0.2 * (1.0 + REL))) {
                 fail_msg("step %d wheel %zu: sd %.9g above the cap 0.2", k, w, (double)out.sd[w]);

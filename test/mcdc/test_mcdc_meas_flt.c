@@ -25,7 +25,7 @@ static rfe_params_t paper;
 static int setup(void **state)
 {
     (void)state;
-    return (RFE_FN(rfe_params_paper)(&paper) == RFE_OK) ? 0 : -1;
+    return (rfe_params_paper(&paper) == RFE_OK) ? 0 : -1;
 }
 
 static rfe_sample_t braking_turn(void)
@@ -54,18 +54,18 @@ static void test_mcdc_meas_eval_nonfinite_mu_paper(void **state)
     size_t w;
     (void)state;
     assert_int_equal(paper.tyre.mode, RFE_TYRE_PAPER);
-    assert_int_equal(RFE_FN(rfe_meas_setup)(&h, &paper.vehicle, &paper.tyre, &u), RFE_OK);
+    assert_int_equal(rfe_meas_setup(&h, &paper.vehicle, &paper.tyre, &u), RFE_OK);
     memset(z, 0x5a, sizeof z);
     memcpy(zb, z, sizeof z);
     for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
         mu[w] = (rfe_real_t)NAN;
-        assert_int_equal(RFE_FN(rfe_meas_eval)(&h, &paper.vehicle, &paper.tyre, mu, z), RFE_ERR_NONFINITE);
+        assert_int_equal(rfe_meas_eval(&h, &paper.vehicle, &paper.tyre, mu, z), RFE_ERR_NONFINITE);
         mu[w] = (rfe_real_t)INFINITY;
-        assert_int_equal(RFE_FN(rfe_meas_eval)(&h, &paper.vehicle, &paper.tyre, mu, z), RFE_ERR_NONFINITE);
+        assert_int_equal(rfe_meas_eval(&h, &paper.vehicle, &paper.tyre, mu, z), RFE_ERR_NONFINITE);
         mu[w] = (rfe_real_t)0.5;
     }
     assert_memory_equal(z, zb, sizeof z);
-    assert_int_equal(RFE_FN(rfe_meas_eval)(&h, &paper.vehicle, &paper.tyre, mu, z), RFE_OK);
+    assert_int_equal(rfe_meas_eval(&h, &paper.vehicle, &paper.tyre, mu, z), RFE_OK);
 }
 
 /* REQ-MEAS-002 */
@@ -79,15 +79,15 @@ static void test_mcdc_meas_eval_overflowing_sum_absolute(void **state)
     rfe_real_t z[RFE_MEAS], zb[RFE_MEAS];
     (void)state;
     p.tyre.mode = RFE_TYRE_ABSOLUTE;
-    assert_int_equal(RFE_FN(rfe_meas_setup)(&h, &p.vehicle, &p.tyre, &u), RFE_OK);
+    assert_int_equal(rfe_meas_setup(&h, &p.vehicle, &p.tyre, &u), RFE_OK);
     /* the yaw moment (~1e3 N m) over J = the smallest normal number overflows */
     tiny_j = p.vehicle;
     tiny_j.J = (rfe_real_t)REAL_TINY;
     memset(z, 0x5a, sizeof z);
     memcpy(zb, z, sizeof z);
-    assert_int_equal(RFE_FN(rfe_meas_eval)(&h, &tiny_j, &p.tyre, mu, z), RFE_ERR_NONFINITE);
+    assert_int_equal(rfe_meas_eval(&h, &tiny_j, &p.tyre, mu, z), RFE_ERR_NONFINITE);
     assert_memory_equal(z, zb, sizeof z);
-    assert_int_equal(RFE_FN(rfe_meas_eval)(&h, &p.vehicle, &p.tyre, mu, z), RFE_OK);
+    assert_int_equal(rfe_meas_eval(&h, &p.vehicle, &p.tyre, mu, z), RFE_OK);
     assert_true(isfinite((double)z[0]) && isfinite((double)z[1]) && isfinite((double)z[2]));
 }
 

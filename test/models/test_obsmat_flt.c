@@ -25,7 +25,7 @@ static rfe_params_t params;
 static int setup(void **state)
 {
     (void)state;
-    return RFE_FN(rfe_params_default)(&params) == RFE_OK ? 0 : -1;
+    return rfe_params_default(&params) == RFE_OK ? 0 : -1;
 }
 
 /* Independent rigid-body sum (double): each wheel's force (mu_i * F0 in wheel axes)
@@ -74,7 +74,7 @@ static void test_rfe_obsmat_build_equals_finite_differences(void **state)
         }
         seed = seed * 1103515245u + 12345u;
         delta = (double)(rfe_real_t)(((double)(seed >> 8) / 16777216.0 - 0.5) * 1.2);
-        assert_int_equal(RFE_FN(rfe_obsmat_build)(&params.vehicle, (rfe_real_t)delta, rfx, rfy, H),
+        assert_int_equal(rfe_obsmat_build(&params.vehicle, (rfe_real_t)delta, rfx, rfy, H),
                          RFE_OK);
         for (i = 0; i < 4; ++i) {
             double yp[3], ym[3];
@@ -104,7 +104,7 @@ static void test_rfe_obsmat_apply_is_matrix_product(void **state)
     for (k = 0; k < 12; ++k) {
         H[k] = (rfe_real_t)((double)k - 5.5);
     }
-    assert_int_equal(RFE_FN(rfe_obsmat_apply)(H, x, y), RFE_OK);
+    assert_int_equal(rfe_obsmat_apply(H, x, y), RFE_OK);
     for (k = 0; k < 3; ++k) {
         const double want = (double)H[4 * k] * x[0] + (double)H[4 * k + 1] * x[1] +
                             (double)H[4 * k + 2] * x[2] + (double)H[4 * k + 3] * x[3];
@@ -119,7 +119,7 @@ static void test_rfe_obsmat_build_straight_braking_structure(void **state)
     const rfe_real_t fx[4] = {-3000, -3000, -2000, -2000}, fy[4] = {0, 0, 0, 0};
     rfe_real_t H[12];
     (void)state;
-    assert_int_equal(RFE_FN(rfe_obsmat_build)(&params.vehicle, 0, fx, fy, H), RFE_OK);
+    assert_int_equal(rfe_obsmat_build(&params.vehicle, 0, fx, fy, H), RFE_OK);
     /* Equal mu left and right: zero yaw moment. */
     assert_close(H[RFE_H_AT(2, 0)] + H[RFE_H_AT(2, 1)], 0.0, 1e-9, 0.0, "front yaw cancels");
     assert_close(H[RFE_H_AT(2, 2)] + H[RFE_H_AT(2, 3)], 0.0, 1e-9, 0.0, "rear yaw cancels");
@@ -139,15 +139,15 @@ static void test_rfe_obsmat_rejects_bad_input(void **state)
     for (k = 0; k < 12; ++k) {
         H[k] = 7;
     }
-    assert_int_equal(RFE_FN(rfe_obsmat_build)(NULL, 0, fx, fy, H), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_obsmat_build)(&params.vehicle, (rfe_real_t)NAN, fx, fy, H),
+    assert_int_equal(rfe_obsmat_build(NULL, 0, fx, fy, H), RFE_ERR_NULL);
+    assert_int_equal(rfe_obsmat_build(&params.vehicle, (rfe_real_t)NAN, fx, fy, H),
                      RFE_ERR_NONFINITE);
     fy[2] = (rfe_real_t)INFINITY;
-    assert_int_equal(RFE_FN(rfe_obsmat_build)(&params.vehicle, 0, fx, fy, H), RFE_ERR_NONFINITE);
+    assert_int_equal(rfe_obsmat_build(&params.vehicle, 0, fx, fy, H), RFE_ERR_NONFINITE);
     assert_true(H[0] == 7 && H[11] == 7);
-    assert_int_equal(RFE_FN(rfe_obsmat_apply)(H, NULL, y), RFE_ERR_NULL);
+    assert_int_equal(rfe_obsmat_apply(H, NULL, y), RFE_ERR_NULL);
     x[1] = (rfe_real_t)NAN;
-    assert_int_equal(RFE_FN(rfe_obsmat_apply)(H, x, y), RFE_ERR_NONFINITE);
+    assert_int_equal(rfe_obsmat_apply(H, x, y), RFE_ERR_NONFINITE);
 }
 
 int main(void)

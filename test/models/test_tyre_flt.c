@@ -45,7 +45,7 @@ static rfe_params_t params;
 static int setup(void **state)
 {
     (void)state;
-    if (RFE_FN(rfe_params_default)(&params) != RFE_OK) {
+    if (rfe_params_default(&params) != RFE_OK) {
         return -1;
     }
     return test_table_load(TEST_VECTORS_DIR "/model_vectors.csv", &vectors);
@@ -95,7 +95,7 @@ static void test_rfe_tyre_kinematics_matches_vectors(void **state)
     for (r = 0; r < vectors.n_rows; ++r) {
         rfe_sample_t u = sample_from_row(r);
         rfe_wheel_kin_t kin;
-        assert_int_equal(RFE_FN(rfe_tyre_kinematics)(&params.vehicle, &params.tyre, &u, &kin),
+        assert_int_equal(rfe_tyre_kinematics(&params.vehicle, &params.tyre, &u, &kin),
                          RFE_OK);
         for (i = 0; i < 4; ++i) {
             snprintf(what, sizeof(what), "row %zu kappa_%s", r, WHEEL[i]);
@@ -119,16 +119,16 @@ static void test_rfe_tyre_forces_norm_matches_vectors(void **state)
         rfe_sample_t u = sample_from_row(r);
         rfe_wheel_kin_t kin;
         rfe_real_t f0x[4], f0y[4], H[12];
-        assert_int_equal(RFE_FN(rfe_tyre_kinematics)(&params.vehicle, &params.tyre, &u, &kin),
+        assert_int_equal(rfe_tyre_kinematics(&params.vehicle, &params.tyre, &u, &kin),
                          RFE_OK);
-        assert_int_equal(RFE_FN(rfe_tyre_forces_norm)(&params.tyre, &kin, f0x, f0y), RFE_OK);
+        assert_int_equal(rfe_tyre_forces_norm(&params.tyre, &kin, f0x, f0y), RFE_OK);
         for (i = 0; i < 4; ++i) {
             snprintf(what, sizeof(what), "row %zu f0x_%s", r, WHEEL[i]);
             assert_close(f0x[i], col(r, "f0x", i), TOL_FORCE_ABS, TOL_REL, what);
             snprintf(what, sizeof(what), "row %zu f0y_%s", r, WHEEL[i]);
             assert_close(f0y[i], col(r, "f0y", i), TOL_FORCE_ABS, TOL_REL, what);
         }
-        assert_int_equal(RFE_FN(rfe_obsmat_build)(&params.vehicle, u.delta, f0x, f0y, H), RFE_OK);
+        assert_int_equal(rfe_obsmat_build(&params.vehicle, u.delta, f0x, f0y, H), RFE_OK);
         for (k = 0; k < 12; ++k) {
             char name[8];
             snprintf(name, sizeof(name), "H%zu%zu", k / 4 + 1, k % 4 + 1);
@@ -154,13 +154,13 @@ static void test_rfe_tyre_forces_abs_matches_vectors(void **state)
         rfe_wheel_kin_t kin;
         rfe_tyre_params_t tp = params.tyre;
         tp.mode = RFE_TYRE_ABSOLUTE; /* the vectors hold the absolute Dugoff */
-        assert_int_equal(RFE_FN(rfe_tyre_kinematics)(&params.vehicle, &tp, &u, &kin),
+        assert_int_equal(rfe_tyre_kinematics(&params.vehicle, &tp, &u, &kin),
                          RFE_OK);
         for (c = 0; c < 2; ++c) {
             const rfe_real_t mu[4] = {(rfe_real_t)cases[c].mu, (rfe_real_t)cases[c].mu,
                                       (rfe_real_t)cases[c].mu, (rfe_real_t)cases[c].mu};
             rfe_real_t fx[4], fy[4];
-            assert_int_equal(RFE_FN(rfe_tyre_forces_abs)(&tp, &kin, mu, fx, fy), RFE_OK);
+            assert_int_equal(rfe_tyre_forces_abs(&tp, &kin, mu, fx, fy), RFE_OK);
             for (i = 0; i < 4; ++i) {
                 snprintf(name, sizeof(name), "fx_abs_%s", cases[c].tag);
                 snprintf(what, sizeof(what), "row %zu %s_%s", r, name, WHEEL[i]);
@@ -200,7 +200,7 @@ static void test_rfe_tyre_dugoff_norm_matches_textbook_grid(void **state)
             double ex, ey;
             rfe_real_t fx, fy;
             dugoff_textbook(k, a, 4321.0, 23.0, 20.0, 15.0, 0.015, 1.0, &ex, &ey);
-            assert_int_equal(RFE_FN(rfe_tyre_dugoff_norm)(&params.tyre, (rfe_real_t)k,
+            assert_int_equal(rfe_tyre_dugoff_norm(&params.tyre, (rfe_real_t)k,
                                                           (rfe_real_t)a, (rfe_real_t)4321.0,
                                                           (rfe_real_t)23.0, &fx, &fy),
                              RFE_OK);
@@ -218,7 +218,7 @@ static void test_rfe_tyre_dugoff_norm_linear_region_hand_value(void **state)
 {
     rfe_real_t fx, fy;
     (void)state;
-    assert_int_equal(RFE_FN(rfe_tyre_dugoff_norm)(&params.tyre, (rfe_real_t)-0.01, 0,
+    assert_int_equal(rfe_tyre_dugoff_norm(&params.tyre, (rfe_real_t)-0.01, 0,
                                                   (rfe_real_t)4000.0, (rfe_real_t)20.0, &fx,
                                                   &fy),
                      RFE_OK);
@@ -234,17 +234,17 @@ static void test_rfe_tyre_dugoff_norm_locked_wheel_finite(void **state)
     rfe_real_t fx, fy, fx_near, fy_near;
     const double want = -5000.0 * (1.0 - 0.015 * 20.0);
     (void)state;
-    assert_int_equal(RFE_FN(rfe_tyre_dugoff_norm)(&params.tyre, (rfe_real_t)-1.0, 0,
+    assert_int_equal(rfe_tyre_dugoff_norm(&params.tyre, (rfe_real_t)-1.0, 0,
                                                   (rfe_real_t)5000.0, (rfe_real_t)20.0, &fx, &fy),
                      RFE_OK);
     assert_close(fx, want, TOL_FORCE_ABS, TOL_REL, "locked F0x");
-    assert_int_equal(RFE_FN(rfe_tyre_dugoff_norm)(&params.tyre, (rfe_real_t)-0.99999, 0,
+    assert_int_equal(rfe_tyre_dugoff_norm(&params.tyre, (rfe_real_t)-0.99999, 0,
                                                   (rfe_real_t)5000.0, (rfe_real_t)20.0, &fx_near,
                                                   &fy_near),
                      RFE_OK);
     assert_close(fx_near, want, 1.0, 1e-3, "near-locked F0x continuous");
     /* Beyond -1 the slip is clipped to -1. */
-    assert_int_equal(RFE_FN(rfe_tyre_dugoff_norm)(&params.tyre, (rfe_real_t)-3.0, 0,
+    assert_int_equal(rfe_tyre_dugoff_norm(&params.tyre, (rfe_real_t)-3.0, 0,
                                                   (rfe_real_t)5000.0, (rfe_real_t)20.0, &fx_near,
                                                   &fy_near),
                      RFE_OK);
@@ -261,8 +261,8 @@ static void test_rfe_tyre_zero_slip_and_standstill(void **state)
     size_t i;
     (void)state;
     memset(&u, 0, sizeof(u)); /* standing still, nothing turning */
-    assert_int_equal(RFE_FN(rfe_tyre_kinematics)(&params.vehicle, &params.tyre, &u, &kin), RFE_OK);
-    assert_int_equal(RFE_FN(rfe_tyre_forces_norm)(&params.tyre, &kin, f0x, f0y), RFE_OK);
+    assert_int_equal(rfe_tyre_kinematics(&params.vehicle, &params.tyre, &u, &kin), RFE_OK);
+    assert_int_equal(rfe_tyre_forces_norm(&params.tyre, &kin, f0x, f0y), RFE_OK);
     for (i = 0; i < 4; ++i) {
         assert_true(kin.kappa[i] == 0 && kin.alpha[i] == 0);
         assert_true(f0x[i] == 0 && f0y[i] == 0);
@@ -270,7 +270,7 @@ static void test_rfe_tyre_zero_slip_and_standstill(void **state)
     }
     /* Creeping wheel spin at standstill: den = v_min keeps kappa finite and clipped. */
     u.omega[0] = (rfe_real_t)1.0;
-    assert_int_equal(RFE_FN(rfe_tyre_kinematics)(&params.vehicle, &params.tyre, &u, &kin), RFE_OK);
+    assert_int_equal(rfe_tyre_kinematics(&params.vehicle, &params.tyre, &u, &kin), RFE_OK);
     assert_close(kin.kappa[0], 0.325 / 0.5, TOL_SLIP_ABS, TOL_REL, "kappa with v_min guard");
 }
 
@@ -292,10 +292,10 @@ static void test_rfe_tyre_left_right_symmetry(void **state)
         for (i = 0; i < 4; ++i) {
             m.omega[i] = u.omega[mirror[i]];
         }
-        assert_int_equal(RFE_FN(rfe_tyre_kinematics)(&params.vehicle, &params.tyre, &u, &ku), RFE_OK);
-        assert_int_equal(RFE_FN(rfe_tyre_kinematics)(&params.vehicle, &params.tyre, &m, &km), RFE_OK);
-        assert_int_equal(RFE_FN(rfe_tyre_forces_norm)(&params.tyre, &ku, ux, uy), RFE_OK);
-        assert_int_equal(RFE_FN(rfe_tyre_forces_norm)(&params.tyre, &km, mx, my), RFE_OK);
+        assert_int_equal(rfe_tyre_kinematics(&params.vehicle, &params.tyre, &u, &ku), RFE_OK);
+        assert_int_equal(rfe_tyre_kinematics(&params.vehicle, &params.tyre, &m, &km), RFE_OK);
+        assert_int_equal(rfe_tyre_forces_norm(&params.tyre, &ku, ux, uy), RFE_OK);
+        assert_int_equal(rfe_tyre_forces_norm(&params.tyre, &km, mx, my), RFE_OK);
         for (i = 0; i < 4; ++i) {
             const size_t j = mirror[i];
             assert_close(km.kappa[i], ku.kappa[j], TOL_SLIP_ABS, TOL_REL, "mirrored kappa");
@@ -316,22 +316,22 @@ static void test_rfe_tyre_eps_clamp_and_alpha_bound(void **state)
     rfe_sample_t u;
     rfe_wheel_kin_t kin;
     (void)state;
-    assert_int_equal(RFE_FN(rfe_tyre_dugoff_norm)(&params.tyre, (rfe_real_t)-1.0, 0,
+    assert_int_equal(rfe_tyre_dugoff_norm(&params.tyre, (rfe_real_t)-1.0, 0,
                                                   (rfe_real_t)5000.0, (rfe_real_t)90.0, &fx, &fy),
                      RFE_OK);
     assert_true(fx == 0 && fy == 0);
     /* alpha beyond the bound behaves like alpha at the bound. */
-    assert_int_equal(RFE_FN(rfe_tyre_dugoff_norm)(&params.tyre, 0, (rfe_real_t)1.5,
+    assert_int_equal(rfe_tyre_dugoff_norm(&params.tyre, 0, (rfe_real_t)1.5,
                                                   (rfe_real_t)5000.0, (rfe_real_t)5.0, &fx, &fy),
                      RFE_OK);
-    assert_int_equal(RFE_FN(rfe_tyre_dugoff_norm)(&params.tyre, 0, params.tyre.alpha_max,
+    assert_int_equal(rfe_tyre_dugoff_norm(&params.tyre, 0, params.tyre.alpha_max,
                                                   (rfe_real_t)5000.0, (rfe_real_t)5.0, &fx2, &fy2),
                      RFE_OK);
     assert_true(fx == fx2 && fy == fy2 && isfinite(fy));
     /* Pure sideways sliding: |alpha| = pi/2 before the bound. */
     memset(&u, 0, sizeof(u));
     u.vy = (rfe_real_t)10.0;
-    assert_int_equal(RFE_FN(rfe_tyre_kinematics)(&params.vehicle, &params.tyre, &u, &kin), RFE_OK);
+    assert_int_equal(rfe_tyre_kinematics(&params.vehicle, &params.tyre, &u, &kin), RFE_OK);
     assert_close(kin.alpha[0], -params.tyre.alpha_max, 0.0, 0.0, "alpha bounded");
 }
 
@@ -342,23 +342,23 @@ static void test_rfe_tyre_dugoff_abs_mu_behaviour(void **state)
 {
     rfe_real_t fx_a, fy_a, fx_b, fy_b;
     (void)state;
-    assert_int_equal(RFE_FN(rfe_tyre_dugoff_abs)(&params.tyre, (rfe_real_t)-0.2, (rfe_real_t)0.1,
+    assert_int_equal(rfe_tyre_dugoff_abs(&params.tyre, (rfe_real_t)-0.2, (rfe_real_t)0.1,
                                                  (rfe_real_t)4000.0, (rfe_real_t)20.0,
                                                  (rfe_real_t)-0.3, &fx_a, &fy_a),
                      RFE_OK);
     assert_true(fx_a == 0 && fy_a == 0);
-    assert_int_equal(RFE_FN(rfe_tyre_dugoff_abs)(&params.tyre, (rfe_real_t)-0.005, 0,
+    assert_int_equal(rfe_tyre_dugoff_abs(&params.tyre, (rfe_real_t)-0.005, 0,
                                                  (rfe_real_t)4000.0, (rfe_real_t)20.0,
                                                  (rfe_real_t)0.8, &fx_a, &fy_a),
                      RFE_OK);
-    assert_int_equal(RFE_FN(rfe_tyre_dugoff_abs)(&params.tyre, (rfe_real_t)-0.005, 0,
+    assert_int_equal(rfe_tyre_dugoff_abs(&params.tyre, (rfe_real_t)-0.005, 0,
                                                  (rfe_real_t)4000.0, (rfe_real_t)20.0,
                                                  (rfe_real_t)1.1, &fx_b, &fy_b),
                      RFE_OK);
     assert_close(fx_a, fx_b, TOL_FORCE_ABS, TOL_REL, "low slip independent of mu");
     assert_close(fx_a, -4000.0 * 20.0 * 0.005 / 0.995, TOL_FORCE_ABS, TOL_REL, "linear abs force");
     /* Deep slip at low speed: |F| approaches mu Fz (Dugoff saturation), never above it. */
-    assert_int_equal(RFE_FN(rfe_tyre_dugoff_abs)(&params.tyre, (rfe_real_t)-0.9, 0,
+    assert_int_equal(rfe_tyre_dugoff_abs(&params.tyre, (rfe_real_t)-0.9, 0,
                                                  (rfe_real_t)4000.0, (rfe_real_t)0.0,
                                                  (rfe_real_t)0.4, &fx_a, &fy_a),
                      RFE_OK);
@@ -374,29 +374,29 @@ static void test_rfe_tyre_rejects_bad_input(void **state)
     rfe_wheel_kin_t kin;
     rfe_real_t mu[4] = {1, 1, 1, 1}, ox[4] = {7, 7, 7, 7}, oy[4] = {7, 7, 7, 7};
     (void)state;
-    assert_int_equal(RFE_FN(rfe_tyre_dugoff_norm)(NULL, 0, 0, 1, 1, &fx, &fy), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_tyre_dugoff_norm)(&params.tyre, 0, 0, 1, 1, NULL, &fy), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_tyre_dugoff_norm)(&params.tyre, (rfe_real_t)NAN, 0, 1, 1, &fx, &fy),
+    assert_int_equal(rfe_tyre_dugoff_norm(NULL, 0, 0, 1, 1, &fx, &fy), RFE_ERR_NULL);
+    assert_int_equal(rfe_tyre_dugoff_norm(&params.tyre, 0, 0, 1, 1, NULL, &fy), RFE_ERR_NULL);
+    assert_int_equal(rfe_tyre_dugoff_norm(&params.tyre, (rfe_real_t)NAN, 0, 1, 1, &fx, &fy),
                      RFE_ERR_NONFINITE);
-    assert_int_equal(RFE_FN(rfe_tyre_dugoff_norm)(&params.tyre, 0, (rfe_real_t)INFINITY, 1, 1, &fx, &fy),
+    assert_int_equal(rfe_tyre_dugoff_norm(&params.tyre, 0, (rfe_real_t)INFINITY, 1, 1, &fx, &fy),
                      RFE_ERR_NONFINITE);
-    assert_int_equal(RFE_FN(rfe_tyre_dugoff_norm)(&params.tyre, 0, 0, -1, 1, &fx, &fy), RFE_ERR_RANGE);
-    assert_int_equal(RFE_FN(rfe_tyre_dugoff_abs)(&params.tyre, 0, 0, 1, 1, (rfe_real_t)NAN, &fx, &fy),
+    assert_int_equal(rfe_tyre_dugoff_norm(&params.tyre, 0, 0, -1, 1, &fx, &fy), RFE_ERR_RANGE);
+    assert_int_equal(rfe_tyre_dugoff_abs(&params.tyre, 0, 0, 1, 1, (rfe_real_t)NAN, &fx, &fy),
                      RFE_ERR_NONFINITE);
-    assert_int_equal(RFE_FN(rfe_tyre_dugoff_abs)(&params.tyre, 0, 0, -1, 1, 1, &fx, &fy), RFE_ERR_RANGE);
+    assert_int_equal(rfe_tyre_dugoff_abs(&params.tyre, 0, 0, -1, 1, 1, &fx, &fy), RFE_ERR_RANGE);
     assert_true(fx == 7 && fy == 7);
     memset(&u, 0, sizeof(u));
     u.omega[3] = (rfe_real_t)NAN;
-    assert_int_equal(RFE_FN(rfe_tyre_kinematics)(&params.vehicle, &params.tyre, &u, &kin),
+    assert_int_equal(rfe_tyre_kinematics(&params.vehicle, &params.tyre, &u, &kin),
                      RFE_ERR_NONFINITE);
-    assert_int_equal(RFE_FN(rfe_tyre_kinematics)(NULL, &params.tyre, &u, &kin), RFE_ERR_NULL);
+    assert_int_equal(rfe_tyre_kinematics(NULL, &params.tyre, &u, &kin), RFE_ERR_NULL);
     memset(&kin, 0, sizeof(kin));
     kin.fz[2] = -1; /* a negative load is out of range for the four-wheel helpers too */
-    assert_int_equal(RFE_FN(rfe_tyre_forces_norm)(&params.tyre, &kin, ox, oy), RFE_ERR_RANGE);
-    assert_int_equal(RFE_FN(rfe_tyre_forces_abs)(&params.tyre, &kin, mu, ox, oy), RFE_ERR_RANGE);
+    assert_int_equal(rfe_tyre_forces_norm(&params.tyre, &kin, ox, oy), RFE_ERR_RANGE);
+    assert_int_equal(rfe_tyre_forces_abs(&params.tyre, &kin, mu, ox, oy), RFE_ERR_RANGE);
     assert_true(ox[0] == 7 && oy[3] == 7);
-    assert_int_equal(RFE_FN(rfe_tyre_forces_norm)(&params.tyre, NULL, ox, oy), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_tyre_forces_abs)(&params.tyre, &kin, NULL, ox, oy), RFE_ERR_NULL);
+    assert_int_equal(rfe_tyre_forces_norm(&params.tyre, NULL, ox, oy), RFE_ERR_NULL);
+    assert_int_equal(rfe_tyre_forces_abs(&params.tyre, &kin, NULL, ox, oy), RFE_ERR_NULL);
 }
 
 /* Magic mode at one point (mode set on a copy of the preset's tyre). */
@@ -405,7 +405,7 @@ static void magic(rfe_real_t kappa, rfe_real_t alpha, rfe_real_t fz, rfe_real_t 
 {
     rfe_tyre_params_t tp = params.tyre;
     tp.mode = RFE_TYRE_MAGIC;
-    assert_int_equal(RFE_FN(rfe_tyre_magic_abs)(&tp, kappa, alpha, fz, (rfe_real_t)20.0, mu, fx, fy),
+    assert_int_equal(rfe_tyre_magic_abs(&tp, kappa, alpha, fz, (rfe_real_t)20.0, mu, fx, fy),
                      RFE_OK);
 }
 
@@ -453,7 +453,7 @@ static void test_rfe_tyre_magic_abs_shape(void **state)
      * of the friction Dugoff is still linear, the Magic Formula already bends (5 % less) */
     {
         rfe_real_t dx, dy;
-        assert_int_equal(RFE_FN(rfe_tyre_dugoff_abs)(&params.tyre, (rfe_real_t)0.01, 0, fz,
+        assert_int_equal(rfe_tyre_dugoff_abs(&params.tyre, (rfe_real_t)0.01, 0, fz,
                                                      (rfe_real_t)20.0, (rfe_real_t)0.5, &dx, &dy),
                          RFE_OK);
         magic((rfe_real_t)0.01, 0, fz, (rfe_real_t)0.5, &fx, &fy);
@@ -479,21 +479,21 @@ static void test_rfe_tyre_magic_dispatch_and_checks(void **state)
         kin.fz[i] = (rfe_real_t)(3000.0 + 500.0 * (double)i);
         kin.vwx[i] = (rfe_real_t)15.0;
     }
-    assert_int_equal(RFE_FN(rfe_tyre_forces_abs)(&tp, &kin, mu, fx, fy), RFE_OK);
+    assert_int_equal(rfe_tyre_forces_abs(&tp, &kin, mu, fx, fy), RFE_OK);
     for (i = 0u; i < 4u; ++i) {
-        assert_int_equal(RFE_FN(rfe_tyre_magic_abs)(&tp, kin.kappa[i], kin.alpha[i], kin.fz[i],
+        assert_int_equal(rfe_tyre_magic_abs(&tp, kin.kappa[i], kin.alpha[i], kin.fz[i],
                                                     kin.vwx[i], mu[i], &ex, &ey),
                          RFE_OK);
         assert_true(fx[i] == ex && fy[i] == ey);
     }
-    assert_int_equal(RFE_FN(rfe_tyre_forces_abs)(NULL, &kin, mu, fx, fy), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_tyre_magic_abs)(NULL, 0, 0, 1, 1, 1, &fx1, &fy1), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_tyre_magic_abs)(&tp, 0, 0, 1, 1, 1, NULL, &fy1), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_tyre_magic_abs)(&tp, (rfe_real_t)NAN, 0, 1, 1, 1, &fx1, &fy1),
+    assert_int_equal(rfe_tyre_forces_abs(NULL, &kin, mu, fx, fy), RFE_ERR_NULL);
+    assert_int_equal(rfe_tyre_magic_abs(NULL, 0, 0, 1, 1, 1, &fx1, &fy1), RFE_ERR_NULL);
+    assert_int_equal(rfe_tyre_magic_abs(&tp, 0, 0, 1, 1, 1, NULL, &fy1), RFE_ERR_NULL);
+    assert_int_equal(rfe_tyre_magic_abs(&tp, (rfe_real_t)NAN, 0, 1, 1, 1, &fx1, &fy1),
                      RFE_ERR_NONFINITE);
-    assert_int_equal(RFE_FN(rfe_tyre_magic_abs)(&tp, 0, 0, 1, 1, (rfe_real_t)INFINITY, &fx1, &fy1),
+    assert_int_equal(rfe_tyre_magic_abs(&tp, 0, 0, 1, 1, (rfe_real_t)INFINITY, &fx1, &fy1),
                      RFE_ERR_NONFINITE);
-    assert_int_equal(RFE_FN(rfe_tyre_magic_abs)(&tp, 0, 0, -1, 1, 1, &fx1, &fy1), RFE_ERR_RANGE);
+    assert_int_equal(rfe_tyre_magic_abs(&tp, 0, 0, -1, 1, 1, &fx1, &fy1), RFE_ERR_RANGE);
     assert_true(fx1 == 7 && fy1 == 7);
 }
 

@@ -143,7 +143,7 @@ static void test_rfe_chol_factor_random_spd(void **state)
                     make_spd(P, n, ldp, NULL, n);
                     memcpy(Pref, P, sizeof P);
                     prefill_l(L, n, ldl);
-                    assert_int_equal(RFE_FN(rfe_chol_factor)(P, n, ldp, L, ldl), RFE_OK);
+                    assert_int_equal(rfe_chol_factor(P, n, ldp, L, ldl), RFE_OK);
                     assert_memory_equal(P, Pref, sizeof P); /* input is const */
                     assert_chol_structure(L, n, ldl);
                     ASSERT_LE(chol_residual(P, ldp, L, ldl, n), TOL_CHOL, "L L^T - P");
@@ -164,7 +164,7 @@ static void test_rfe_chol_factor_exact_small(void **state)
     size_t j;
     (void)state;
     prefill_l(L, 2u, 2u);
-    assert_int_equal(RFE_FN(rfe_chol_factor)(P2, 2u, 2u, L, 2u), RFE_OK);
+    assert_int_equal(rfe_chol_factor(P2, 2u, 2u, L, 2u), RFE_OK);
     assert_true(L[0] == (rfe_real_t)2.0);
     assert_true(L[1] == (rfe_real_t)0.0);
     assert_true(L[2] == (rfe_real_t)1.0);
@@ -175,7 +175,7 @@ static void test_rfe_chol_factor_exact_small(void **state)
         }
     }
     prefill_l(L, NM, NM);
-    assert_int_equal(RFE_FN(rfe_chol_factor)(D, NM, NM, L, NM), RFE_OK);
+    assert_int_equal(rfe_chol_factor(D, NM, NM, L, NM), RFE_OK);
     for (i = 0u; i < NM; ++i) {
         for (j = 0u; j < NM; ++j) {
             assert_true(AT(L, NM, i, j) ==
@@ -199,14 +199,14 @@ static void test_rfe_chol_factor_reads_lower_triangle_only(void **state)
     rng_seed(102u);
     make_spd(P, n, n, NULL, n);
     prefill_l(Lref, n, n);
-    assert_int_equal(RFE_FN(rfe_chol_factor)(P, n, n, Lref, n), RFE_OK);
+    assert_int_equal(rfe_chol_factor(P, n, n, Lref, n), RFE_OK);
     for (i = 0u; i < n; ++i) {
         for (j = i + 1u; j < n; ++j) {
             AT(P, n, i, j) = ((j % 2u) == 0u) ? (rfe_real_t)NAN : (rfe_real_t)-1e6;
         }
     }
     prefill_l(L, n, n);
-    assert_int_equal(RFE_FN(rfe_chol_factor)(P, n, n, L, n), RFE_OK);
+    assert_int_equal(rfe_chol_factor(P, n, n, L, n), RFE_OK);
     assert_memory_equal(L, Lref, sizeof L);
 }
 
@@ -234,8 +234,8 @@ static void test_rfe_chol_factor_matches_tria(void **state)
             AT(P, n, i, i) = (rfe_real_t)acc;
         }
         prefill_l(L, n, n);
-        assert_int_equal(RFE_FN(rfe_chol_factor)(P, n, n, L, n), RFE_OK);
-        assert_int_equal(RFE_FN(rfe_qr_tria)(G, n, cols, cols), RFE_OK);
+        assert_int_equal(rfe_chol_factor(P, n, n, L, n), RFE_OK);
+        assert_int_equal(rfe_qr_tria(G, n, cols, cols), RFE_OK);
         for (i = 0u; i < n; ++i) {
             for (j = 0u; j <= i; ++j) {
                 ASSERT_LE(fabs((double)AT(L, n, i, j) - (double)AT(G, cols, i, j)) /
@@ -271,16 +271,16 @@ static void test_rfe_chol_factor_not_positive_definite(void **state)
         ones[i] = (rfe_real_t)1.0;
     }
     prefill_l(L, 2u, 2u);
-    assert_int_equal(RFE_FN(rfe_chol_factor)(indef, 2u, 2u, L, 2u), RFE_ERR_NOT_POSITIVE_DEFINITE);
-    assert_int_equal(RFE_FN(rfe_chol_factor)(sing, 2u, 2u, L, 2u), RFE_ERR_NOT_POSITIVE_DEFINITE);
-    assert_int_equal(RFE_FN(rfe_chol_factor)(negd0, 2u, 2u, L, 2u), RFE_ERR_NOT_POSITIVE_DEFINITE);
-    assert_int_equal(RFE_FN(rfe_chol_factor)(negd1, 3u, 3u, L, 3u), RFE_ERR_NOT_POSITIVE_DEFINITE);
-    assert_int_equal(RFE_FN(rfe_chol_factor)(zero, 3u, 3u, L, 3u), RFE_ERR_NOT_POSITIVE_DEFINITE);
-    assert_int_equal(RFE_FN(rfe_chol_factor)(indef3, 3u, 3u, L, 3u), RFE_ERR_NOT_POSITIVE_DEFINITE);
-    assert_int_equal(RFE_FN(rfe_chol_factor)(ones, NM, NM, L, NM), RFE_ERR_NOT_POSITIVE_DEFINITE);
+    assert_int_equal(rfe_chol_factor(indef, 2u, 2u, L, 2u), RFE_ERR_NOT_POSITIVE_DEFINITE);
+    assert_int_equal(rfe_chol_factor(sing, 2u, 2u, L, 2u), RFE_ERR_NOT_POSITIVE_DEFINITE);
+    assert_int_equal(rfe_chol_factor(negd0, 2u, 2u, L, 2u), RFE_ERR_NOT_POSITIVE_DEFINITE);
+    assert_int_equal(rfe_chol_factor(negd1, 3u, 3u, L, 3u), RFE_ERR_NOT_POSITIVE_DEFINITE);
+    assert_int_equal(rfe_chol_factor(zero, 3u, 3u, L, 3u), RFE_ERR_NOT_POSITIVE_DEFINITE);
+    assert_int_equal(rfe_chol_factor(indef3, 3u, 3u, L, 3u), RFE_ERR_NOT_POSITIVE_DEFINITE);
+    assert_int_equal(rfe_chol_factor(ones, NM, NM, L, NM), RFE_ERR_NOT_POSITIVE_DEFINITE);
     /* the 1 x 1 cases */
-    assert_int_equal(RFE_FN(rfe_chol_factor)(zero, 1u, 1u, L, 1u), RFE_ERR_NOT_POSITIVE_DEFINITE);
-    assert_int_equal(RFE_FN(rfe_chol_factor)(negd0, 1u, 1u, L, 1u), RFE_ERR_NOT_POSITIVE_DEFINITE);
+    assert_int_equal(rfe_chol_factor(zero, 1u, 1u, L, 1u), RFE_ERR_NOT_POSITIVE_DEFINITE);
+    assert_int_equal(rfe_chol_factor(negd0, 1u, 1u, L, 1u), RFE_ERR_NOT_POSITIVE_DEFINITE);
     /* guard words after L never written, even on failure */
     for (i = NM * NM; i < BUF_N; ++i) {
         assert_true(L[i] == GUARD_VAL);
@@ -302,7 +302,7 @@ static void test_rfe_chol_factor_random_indefinite(void **state)
             make_spd(P, n, n, NULL, n);
             AT(P, n, k, k) = (rfe_real_t)-0.1; /* P_kk < 0: never PD */
             prefill_l(L, n, n);
-            assert_int_equal(RFE_FN(rfe_chol_factor)(P, n, n, L, n),
+            assert_int_equal(rfe_chol_factor(P, n, n, L, n),
                              RFE_ERR_NOT_POSITIVE_DEFINITE);
         }
     }
@@ -326,7 +326,7 @@ static void test_rfe_chol_factor_nonfinite(void **state)
             make_spd(P, n, n, NULL, n);
             AT(P, n, pos[p][0], pos[p][1]) = bad[b];
             prefill_l(L, n, n);
-            assert_int_equal(RFE_FN(rfe_chol_factor)(P, n, n, L, n), RFE_ERR_NONFINITE);
+            assert_int_equal(rfe_chol_factor(P, n, n, L, n), RFE_ERR_NONFINITE);
             assert_true(L[n * n] == GUARD_VAL);
         }
     }
@@ -352,7 +352,7 @@ static void test_rfe_chol_factor_size_errors(void **state)
     prefill_l(L, NM, LD_MAX);
     memcpy(Lref, L, sizeof L);
     for (c = 0u; c < (sizeof cases / sizeof cases[0]); ++c) {
-        assert_int_equal(RFE_FN(rfe_chol_factor)(P, cases[c][0], cases[c][1], L, cases[c][2]),
+        assert_int_equal(rfe_chol_factor(P, cases[c][0], cases[c][1], L, cases[c][2]),
                          RFE_ERR_SIZE);
         assert_memory_equal(L, Lref, sizeof L);
     }
@@ -366,8 +366,8 @@ static void test_rfe_chol_factor_null(void **state)
     (void)state;
     rng_seed(107u);
     make_spd(P, 3u, 3u, NULL, 3u);
-    assert_int_equal(RFE_FN(rfe_chol_factor)(NULL, 3u, 3u, L, 3u), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_chol_factor)(P, 3u, 3u, NULL, 3u), RFE_ERR_NULL);
+    assert_int_equal(rfe_chol_factor(NULL, 3u, 3u, L, 3u), RFE_ERR_NULL);
+    assert_int_equal(rfe_chol_factor(P, 3u, 3u, NULL, 3u), RFE_ERR_NULL);
 }
 
 int main(void)

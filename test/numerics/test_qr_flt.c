@@ -152,7 +152,7 @@ static double orth_residual(const double *A0, const rfe_real_t *S, size_t lds, s
             qt[(i * cols) + j] = (rfe_real_t)A0[(i * cols) + j];
         }
     }
-    assert_int_equal(RFE_FN(rfe_qr_solve_lower)(S, rows, lds, qt, cols, cols), RFE_OK);
+    assert_int_equal(rfe_qr_solve_lower(S, rows, lds, qt, cols, cols), RFE_OK);
     for (i = 0u; i < rows; ++i) {
         for (j = 0u; j < rows; ++j) {
             double acc = 0.0;
@@ -169,7 +169,7 @@ static double orth_residual(const double *A0, const rfe_real_t *S, size_t lds, s
 static void check_tria(rfe_real_t *buf, size_t rows, size_t cols, size_t lda, double *A0)
 {
     to_double(buf, rows, cols, lda, A0);
-    assert_int_equal(RFE_FN(rfe_qr_tria)(buf, rows, cols, lda), RFE_OK);
+    assert_int_equal(rfe_qr_tria(buf, rows, cols, lda), RFE_OK);
     assert_tria_structure(buf, rows, cols, lda);
     ASSERT_LE(tria_residual(A0, buf, lda, rows, cols), TOL_TRIA, "S S^T - A A^T (row-scaled)");
 }
@@ -533,7 +533,7 @@ static void test_rfe_qr_tria_large_finite_entries(void **state)
     for (i = 0u; i < (rows * cols); ++i) {
         buf[i] *= big;
     }
-    st = RFE_FN(rfe_qr_tria)(buf, rows, cols, cols);
+    st = rfe_qr_tria(buf, rows, cols, cols);
     for (i = 0u; i < rows; ++i) {
         for (j = 0u; j <= i; ++j) {
             if (!isfinite(AT(buf, cols, i, j))) {
@@ -569,7 +569,7 @@ static void test_rfe_qr_tria_tiny_row(void **state)
     AT(buf, 3u, 1u, 0u) = t;
     AT(buf, 3u, 1u, 1u) = (rfe_real_t)2.0 * t;
     AT(buf, 3u, 1u, 2u) = -t;
-    assert_int_equal(RFE_FN(rfe_qr_tria)(buf, 2u, 3u, 3u), RFE_OK);
+    assert_int_equal(rfe_qr_tria(buf, 2u, 3u, 3u), RFE_OK);
     assert_tria_structure(buf, 2u, 3u, 3u); /* the tail of row 1 must be zeroed */
     ASSERT_LE(fabs(((double)AT(buf, 3u, 0u, 0u)) - sqrt(14.0)), TOL_TRIA * 4.0, "S(0,0)");
     ASSERT_LE(fabs(((double)AT(buf, 3u, 1u, 0u) / (double)t) - (2.0 / sqrt(14.0))),
@@ -584,7 +584,7 @@ static void test_rfe_qr_tria_tiny_row(void **state)
 static void test_rfe_qr_tria_null(void **state)
 {
     (void)state;
-    assert_int_equal(RFE_FN(rfe_qr_tria)(NULL, 4u, 12u, 12u), RFE_ERR_NULL);
+    assert_int_equal(rfe_qr_tria(NULL, 4u, 12u, 12u), RFE_ERR_NULL);
 }
 
 /* REQ-QR-005 */
@@ -607,7 +607,7 @@ static void test_rfe_qr_tria_size_errors(void **state)
     for (c = 0u; c < (sizeof cases / sizeof cases[0]); ++c) {
         fill_matrix(buf, NM, LD_MAX, LD_MAX);
         memcpy(ref, buf, sizeof buf);
-        assert_int_equal(RFE_FN(rfe_qr_tria)(buf, cases[c][0], cases[c][1], cases[c][2]),
+        assert_int_equal(rfe_qr_tria(buf, cases[c][0], cases[c][1], cases[c][2]),
                          RFE_ERR_SIZE);
         assert_memory_equal(buf, ref, sizeof buf);
     }
@@ -633,7 +633,7 @@ static void test_rfe_qr_tria_nonfinite_untouched(void **state)
             fill_matrix(buf, rows, cols, lda);
             AT(buf, lda, pos[p][0], pos[p][1]) = bad[b];
             memcpy(ref, buf, sizeof buf);
-            assert_int_equal(RFE_FN(rfe_qr_tria)(buf, rows, cols, lda), RFE_ERR_NONFINITE);
+            assert_int_equal(rfe_qr_tria(buf, rows, cols, lda), RFE_ERR_NONFINITE);
             /* every element, the padding and the guard words after the matrix */
             assert_memory_equal(buf, ref, sizeof buf);
         }
@@ -658,7 +658,7 @@ static void test_rfe_qr_tria_nonfinite_padding_ignored(void **state)
         AT(buf, lda, i, cols) = (rfe_real_t)NAN;
     }
     to_double(buf, rows, cols, lda, A0);
-    assert_int_equal(RFE_FN(rfe_qr_tria)(buf, rows, cols, lda), RFE_OK);
+    assert_int_equal(rfe_qr_tria(buf, rows, cols, lda), RFE_OK);
     for (i = 0u; i < rows; ++i) {
         assert_true(isnan(AT(buf, lda, i, cols)));
         assert_true(AT(buf, lda, i, cols + 1u) == PAD_VAL);
@@ -754,14 +754,14 @@ static void solve_round_trip(solve_fn_t solve, int transposed, uint64_t seed)
 static void test_rfe_qr_solve_lower_round_trip(void **state)
 {
     (void)state;
-    solve_round_trip(RFE_FN(rfe_qr_solve_lower), 0, 21u);
+    solve_round_trip(rfe_qr_solve_lower, 0, 21u);
 }
 
 /* REQ-QR-003 */
 static void test_rfe_qr_solve_lower_t_round_trip(void **state)
 {
     (void)state;
-    solve_round_trip(RFE_FN(rfe_qr_solve_lower_t), 1, 22u);
+    solve_round_trip(rfe_qr_solve_lower_t, 1, 22u);
 }
 
 /* Hand-checked 3 x 3 example with exactly representable data. */
@@ -775,8 +775,8 @@ static void test_rfe_qr_solve_lower_known_solution(void **state)
     static const rfe_real_t X[6] = {1, -2, 0.5, 3, -0.25, 1};
     size_t i;
     (void)state;
-    assert_int_equal(RFE_FN(rfe_qr_solve_lower)(L, 3u, 3u, B, 2u, 2u), RFE_OK);
-    assert_int_equal(RFE_FN(rfe_qr_solve_lower_t)(L, 3u, 3u, Bt, 2u, 2u), RFE_OK);
+    assert_int_equal(rfe_qr_solve_lower(L, 3u, 3u, B, 2u, 2u), RFE_OK);
+    assert_int_equal(rfe_qr_solve_lower_t(L, 3u, 3u, Bt, 2u, 2u), RFE_OK);
     for (i = 0u; i < 6u; ++i) {
         assert_true(B[i] == X[i]);  /* exact: every intermediate is a short dyadic */
         assert_true(Bt[i] == X[i]);
@@ -812,14 +812,14 @@ static void solve_not_pd(solve_fn_t solve)
 static void test_rfe_qr_solve_lower_not_positive_diagonal(void **state)
 {
     (void)state;
-    solve_not_pd(RFE_FN(rfe_qr_solve_lower));
+    solve_not_pd(rfe_qr_solve_lower);
 }
 
 /* REQ-QR-004 */
 static void test_rfe_qr_solve_lower_t_not_positive_diagonal(void **state)
 {
     (void)state;
-    solve_not_pd(RFE_FN(rfe_qr_solve_lower_t));
+    solve_not_pd(rfe_qr_solve_lower_t);
 }
 
 static void solve_errors(solve_fn_t solve)
@@ -864,14 +864,14 @@ static void solve_errors(solve_fn_t solve)
 static void test_rfe_qr_solve_lower_errors(void **state)
 {
     (void)state;
-    solve_errors(RFE_FN(rfe_qr_solve_lower));
+    solve_errors(rfe_qr_solve_lower);
 }
 
 /* REQ-QR-005 */
 static void test_rfe_qr_solve_lower_t_errors(void **state)
 {
     (void)state;
-    solve_errors(RFE_FN(rfe_qr_solve_lower_t));
+    solve_errors(rfe_qr_solve_lower_t);
 }
 
 int main(void)

@@ -55,14 +55,14 @@ static run_t run_log(const char *path)
     if (rfe_sensor_log_read(path, &log, &err) != 0) {
         fail_msg("%s:%zu: %s", err.file, err.line, err.msg);
     }
-    assert_int_equal(RFE_FN(rfe_param_set_preset)(&ps, RFE_PRESET_DEFAULT), 0);
+    assert_int_equal(rfe_param_set_preset(&ps, RFE_PRESET_DEFAULT), 0);
     if (rfe_param_set_apply_meta(&ps, &log, path, &err) != 0) {
         fail_msg("%s: %s", path, err.msg);
     }
     r.n = log.n_rows;
     r.rows = calloc(log.n_rows, sizeof(*r.rows));
     assert_non_null(r.rows);
-    assert_int_equal(RFE_FN(rfe_replay_run)(&ps, &log, r.rows, &stats, NULL), RFE_OK);
+    assert_int_equal(rfe_replay_run(&ps, &log, r.rows, &stats, NULL), RFE_OK);
     rfe_sensor_log_free(&log);
     return r;
 }

@@ -119,7 +119,7 @@ static rfe_status_t step_valid(rfe_estimator_t *est, const rfe_sample_t *u, rfe_
     rfe_status_t st;
     const int check_fe = !under_valgrind();
     feclearexcept(FE_ALL_EXCEPT);
-    st = RFE_FN(rfe_estimator_step)(est, u, out);
+    st = rfe_estimator_step(est, u, out);
     if (check_fe && fetestexcept(FE_BAD) != 0) {
         fail_msg("%s step %ld: floating-point exception raised (%s%s%s), status %d", what, k,
                  fetestexcept(FE_DIVBYZERO) ? "divide-by-zero " : "",
@@ -169,9 +169,9 @@ static void test_rfe_robust_bad_field_rejected_state_untouched(void **state)
         rfe_sample_t good;
         rfe_estimate_t prev;
         cfg_params(&CFG[c], &p);
-        assert_int_equal(RFE_FN(rfe_estimator_init)(&est, &p), RFE_OK);
+        assert_int_equal(rfe_estimator_init(&est, &p), RFE_OK);
         warm_up(&est, &p, &good);
-        assert_int_equal(RFE_FN(rfe_estimator_get)(&est, &prev), RFE_OK);
+        assert_int_equal(rfe_estimator_get(&est, &prev), RFE_OK);
         for (f = 0; f < N_FIELDS; ++f) {
             const rfe_real_t lim = limit_of(f);
             const rfe_real_t bad[10] = {(rfe_real_t)NAN, (rfe_real_t)INFINITY,
@@ -189,7 +189,7 @@ static void test_rfe_robust_bad_field_rejected_state_untouched(void **state)
                 assert_int_equal(inv_classify_sample(&u), want);
                 memcpy(&before, &est, sizeof(est));
                 memset(&out, 0x5A, sizeof(out));
-                st = RFE_FN(rfe_estimator_step)(&est, &u, &out);
+                st = rfe_estimator_step(&est, &u, &out);
                 if (st != want) {
                     fail_msg("%s: %s = %g: status %d, want %d", CFG[c].name, FIELD[f],
                              (double)bad[v], (int)st, (int)want);
@@ -206,8 +206,8 @@ static void test_rfe_robust_bad_field_rejected_state_untouched(void **state)
                 }
                 /* The next valid sample: same result as a twin that never saw the bad one. */
                 memcpy(&twin, &before, sizeof(est));
-                st = RFE_FN(rfe_estimator_step)(&est, &good, &out);
-                assert_int_equal(RFE_FN(rfe_estimator_step)(&twin, &good, &out_twin), st);
+                st = rfe_estimator_step(&est, &good, &out);
+                assert_int_equal(rfe_estimator_step(&twin, &good, &out_twin), st);
                 assert_false(rfe_status_is_error(st));
                 assert_memory_equal(&est, &twin, sizeof(est));
                 assert_memory_equal(out.mu, out_twin.mu, sizeof(out.mu));
@@ -235,25 +235,25 @@ static void test_rfe_robust_bad_combinations(void **state)
     int f;
     (void)state;
     cfg_params(&CFG[2], &p);
-    assert_int_equal(RFE_FN(rfe_estimator_init)(&est, &p), RFE_OK);
+    assert_int_equal(rfe_estimator_init(&est, &p), RFE_OK);
     warm_up(&est, &p, &good);
     memcpy(&before, &est, sizeof(est));
     for (f = 0; f < N_FIELDS; ++f) {
         u = good;
         *field_ptr(&u, f) = (rfe_real_t)NAN;
         *field_ptr(&u, (f + 5) % N_FIELDS) = (rfe_real_t)(LIMIT[(f + 5) % N_FIELDS] * 2.0);
-        assert_int_equal(RFE_FN(rfe_estimator_step)(&est, &u, &out), RFE_ERR_NONFINITE);
+        assert_int_equal(rfe_estimator_step(&est, &u, &out), RFE_ERR_NONFINITE);
     }
     u = good;
     for (f = 0; f < N_FIELDS; ++f) {
         *field_ptr(&u, f) = (rfe_real_t)(LIMIT[f] * 1.5);
     }
-    assert_int_equal(RFE_FN(rfe_estimator_step)(&est, &u, &out), RFE_ERR_RANGE);
-    assert_int_equal(RFE_FN(rfe_estimator_step)(&est, NULL, &out), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_estimator_step)(&est, &good, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_estimator_step(&est, &u, &out), RFE_ERR_RANGE);
+    assert_int_equal(rfe_estimator_step(&est, NULL, &out), RFE_ERR_NULL);
+    assert_int_equal(rfe_estimator_step(&est, &good, NULL), RFE_ERR_NULL);
     assert_memory_equal(&est, &before, sizeof(est));
     memset(&before, 0, sizeof(before));
-    assert_int_equal(RFE_FN(rfe_estimator_step)(&before, &good, &out), RFE_ERR_NOT_INITIALISED);
+    assert_int_equal(rfe_estimator_step(&before, &good, &out), RFE_ERR_NOT_INITIALISED);
 }
 
 /* REQ: values exactly at the limits, -0, the smallest subnormal and FLT/DBL_MIN are valid
@@ -273,7 +273,7 @@ static void test_rfe_robust_values_at_limits_accepted(void **state)
         rfe_estimate_t out;
         long k = 0;
         cfg_params(&CFG[c], &p);
-        assert_int_equal(RFE_FN(rfe_estimator_init)(&est, &p), RFE_OK);
+        assert_int_equal(rfe_estimator_init(&est, &p), RFE_OK);
         warm_up(&est, &p, &good);
         for (f = 0; f < N_FIELDS; ++f) {
             const rfe_real_t edge[6] = {limit_of(f), -limit_of(f), (rfe_real_t)-0.0,
@@ -321,24 +321,24 @@ static void test_rfe_robust_interleaved_errors_change_nothing(void **state)
         rfe_params_t p;
         size_t n_bad = 0;
         cfg_params(&CFG[c], &p);
-        assert_int_equal(RFE_FN(rfe_estimator_init)(&est, &p), RFE_OK);
+        assert_int_equal(rfe_estimator_init(&est, &p), RFE_OK);
         memcpy(&twin, &est, sizeof(est));
         for (r = 0; r < log.n_rows && (!under_valgrind() || r < VG_ROWS); ++r) {
             const rfe_sensor_row_t *row = &log.rows[r];
             rfe_sample_t u;
             rfe_estimate_t a, b;
-            RFE_FN(rfe_replay_sample_from_row)(row, &u);
+            rfe_replay_sample_from_row(row, &u);
             if (r % 7 == 3) {
                 rfe_sample_t bad = u;
                 const int f = (int)((r / 7) % N_FIELDS);
                 const rfe_real_t vals[3] = {(rfe_real_t)NAN, (rfe_real_t)-INFINITY,
                                             (rfe_real_t)(-LIMIT[f] * 1.25)};
                 *field_ptr(&bad, f) = vals[(r / 7) % 3];
-                assert_true(rfe_status_is_error(RFE_FN(rfe_estimator_step)(&est, &bad, &a)));
+                assert_true(rfe_status_is_error(rfe_estimator_step(&est, &bad, &a)));
                 ++n_bad;
             }
             (void)step_valid(&est, &u, &a, CFG[c].name, (long)r);
-            assert_int_equal(RFE_FN(rfe_estimator_step)(&twin, &u, &b), a.status);
+            assert_int_equal(rfe_estimator_step(&twin, &u, &b), a.status);
             if (memcmp(&est, &twin, sizeof(est)) != 0 || memcmp(a.mu, b.mu, sizeof(a.mu)) != 0 ||
                 memcmp(a.sd, b.sd, sizeof(a.sd)) != 0) {
                 fail_msg("%s row %zu: differs from the twin that never saw the %zu bad samples",
@@ -420,9 +420,9 @@ static void test_rfe_robust_operating_corners(void **state)
             double sd_prev = 0.0, sd_min = 1e300, sd_max = 0.0, bound;
             cfg_params(&CFG[c], &p);
             snprintf(what, sizeof(what), "%s/%s", cn->name, CFG[c].name);
-            assert_int_equal(RFE_FN(rfe_estimator_init)(&est, &p), RFE_OK);
+            assert_int_equal(rfe_estimator_init(&est, &p), RFE_OK);
             warm_up(&est, &p, &w0); /* start from an informed state, not the prior */
-            assert_int_equal(RFE_FN(rfe_estimator_get)(&est, &start), RFE_OK);
+            assert_int_equal(rfe_estimator_get(&est, &start), RFE_OK);
             sd_prev = (double)start.sd[0];
             for (k = 0; k < n_steps; ++k) {
                 rfe_status_t st;
@@ -495,7 +495,7 @@ static void test_rfe_robust_huge_prior_held(void **state)
                 p.filter.mu0 = (b == 0) ? p.filter.mu0 : (b == 1) ? p.filter.mu_min : p.filter.mu_max;
                 snprintf(what, sizeof(what), "%s sd0 %g mu0 %g", CFG[c].name, SD0[s],
                          (double)p.filter.mu0);
-                assert_int_equal(RFE_FN(rfe_estimator_init)(&est, &p), RFE_OK);
+                assert_int_equal(rfe_estimator_init(&est, &p), RFE_OK);
                 memset(&u, 0, sizeof(u));
                 for (k = 0; k < (under_valgrind() ? 20 : 300); ++k) {
                     assert_int_equal(step_valid(&est, &u, &out, what, k), RFE_NO_UPDATE_LOW_SPEED);
@@ -520,7 +520,7 @@ static void log_params(const rfe_sensor_log_t *log, const char *path, const cfg_
     rfe_param_set_t ps;
     rfe_io_error_t err;
     cfg_params(c, p);
-    assert_int_equal(RFE_FN(rfe_param_set_preset)(&ps, c->preset), 0);
+    assert_int_equal(rfe_param_set_preset(&ps, c->preset), 0);
     if (rfe_param_set_apply_meta(&ps, log, path, &err) != 0) {
         fail_msg("%s: %s", path, err.msg);
     }
@@ -547,7 +547,7 @@ static void sweep_file(const char *path, const cfg_t *c, size_t max_rows, sweep_
         fail_msg("%s:%zu: %s", err.file, err.line, err.msg);
     }
     log_params(&log, path, c, &p);
-    assert_int_equal(RFE_FN(rfe_estimator_init)(&est, &p), RFE_OK);
+    assert_int_equal(rfe_estimator_init(&est, &p), RFE_OK);
     for (r = 0; r < log.n_rows && r < max_rows; ++r) {
         const rfe_sensor_row_t *row = &log.rows[r];
         rfe_sample_t u;
@@ -555,7 +555,7 @@ static void sweep_file(const char *path, const cfg_t *c, size_t max_rows, sweep_
         rfe_status_t st, want;
         char what[600];
         int w;
-        RFE_FN(rfe_replay_sample_from_row)(row, &u);
+        rfe_replay_sample_from_row(row, &u);
         want = inv_classify_sample(&u);
         snprintf(what, sizeof(what), "%s [%s] row %zu (t = %g)", path, c->name, r, row->t);
         if (want == RFE_OK) {
@@ -564,7 +564,7 @@ static void sweep_file(const char *path, const cfg_t *c, size_t max_rows, sweep_
             static rfe_estimator_t before;
             char why[INV_WHY];
             memcpy(&before, &est, sizeof(est));
-            st = RFE_FN(rfe_estimator_step)(&est, &u, &out);
+            st = rfe_estimator_step(&est, &u, &out);
             if (st != want || memcmp(&est, &before, sizeof(est)) != 0) {
                 fail_msg("%s: out-of-limits sample: status %d (want %d) or state changed", what,
                          (int)st, (int)want);

@@ -4,7 +4,7 @@
  *        every invariant checked at every step (test/support/invariants.h), a summary.
  *
  * soak_run.c is compiled once per number type and defines soak_run_f32 / soak_run_f64
- * (RFE_FN); soak_run_q31.c runs the fixed-point estimator; soak.c reads the log once and
+ * (as soak_run, named below); soak_run_q31.c runs the fixed-point estimator; soak.c reads the log once and
  * calls each variant for each configuration.
  */
 #ifndef RFE_SOAK_H
@@ -50,6 +50,13 @@ typedef struct {
 } soak_result_t;
 
 /** Runs the configuration over the whole log; 0, or -1 when init fails (message on stderr). */
+/* soak_run.c's short name: the twin of the including translation unit's precision. */
+#if defined(RFE_REAL_DOUBLE)
+#define soak_run soak_run_f64
+#else
+#define soak_run soak_run_f32
+#endif
+
 int soak_run_f32(const rfe_sensor_log_t *log, const char *log_name, const soak_cfg_t *cfg,
                  soak_result_t *res);
 int soak_run_f64(const rfe_sensor_log_t *log, const char *log_name, const soak_cfg_t *cfg,

@@ -22,8 +22,8 @@ static int params_for(const rfe_sensor_log_t *log, const char *name, const soak_
     rfe_io_error_t err;
     const rfe_preset_t preset = cfg->preset_default ? RFE_PRESET_DEFAULT : RFE_PRESET_PAPER;
     memset(p, 0, sizeof(*p)); /* padding included: rejected rows are compared with memcmp */
-    if (RFE_FN(rfe_param_set_preset)(&ps, preset) != 0 ||
-        RFE_FN(rfe_replay_preset_fn)(preset)(p) != RFE_OK) {
+    if (rfe_param_set_preset(&ps, preset) != 0 ||
+        rfe_replay_preset_fn(preset)(p) != RFE_OK) {
         return -1;
     }
     if (rfe_param_set_apply_meta(&ps, log, name, &err) != 0) {
@@ -39,8 +39,8 @@ static int params_for(const rfe_sensor_log_t *log, const char *name, const soak_
     return 0;
 }
 
-int RFE_FN(soak_run)(const rfe_sensor_log_t *log, const char *log_name, const soak_cfg_t *cfg,
-                     soak_result_t *res)
+int soak_run(const rfe_sensor_log_t *log, const char *log_name, const soak_cfg_t *cfg,
+             soak_result_t *res)
 {
     static rfe_estimator_t est, before;
     rfe_params_t p;
@@ -53,7 +53,7 @@ int RFE_FN(soak_run)(const rfe_sensor_log_t *log, const char *log_name, const so
     res->first_violation_step = -1;
     res->mu_lo = res->sd_lo = INFINITY;
     res->mu_hi = res->sd_hi = -INFINITY;
-    if (params_for(log, log_name, cfg, &p) != 0 || RFE_FN(rfe_estimator_init)(&est, &p) != RFE_OK) {
+    if (params_for(log, log_name, cfg, &p) != 0 || rfe_estimator_init(&est, &p) != RFE_OK) {
         fprintf(stderr, "soak: %s: init failed\n", cfg->name);
         return -1;
     }
@@ -64,12 +64,12 @@ int RFE_FN(soak_run)(const rfe_sensor_log_t *log, const char *log_name, const so
         rfe_status_t st, want;
         char why[INV_WHY];
         int w, bad = 0;
-        RFE_FN(rfe_replay_sample_from_row)(row, &u);
+        rfe_replay_sample_from_row(row, &u);
         want = inv_classify_sample(&u);
         if (want != RFE_OK) {
             memcpy(&before, &est, sizeof(est));
         }
-        st = RFE_FN(rfe_estimator_step)(&est, &u, &out);
+        st = rfe_estimator_step(&est, &u, &out);
         ++res->steps;
         ++res->status[(st >= 0 && st < SOAK_STATUS_SLOTS) ? st : SOAK_STATUS_SLOTS - 1];
         if (want != RFE_OK) {

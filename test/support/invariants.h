@@ -5,7 +5,7 @@
  *        (test/soak/) check exactly the same thing without linking test support.
  *
  * Checked, for the floating-point estimator of the including translation unit's precision
- * (rfe_real_t, RFE_FN):
+ * (rfe_real_t and the short names):
  *  - state: the mean x is finite and inside [mu_min, mu_max]; SCKF: S is lower-triangular
  *    (upper triangle exactly 0), finite, with a positive diagonal; CKF: P finite, symmetric
  *    (exactly after a time update, to the rounding of the update's terms after an update:
@@ -119,7 +119,7 @@ static inline int inv_check_state(const rfe_estimator_t *est, rfe_status_t st, c
                 }
             }
         }
-        if (RFE_FN(rfe_chol_factor)(P, n, ld, L, ld) != RFE_OK) {
+        if (rfe_chol_factor(P, n, ld, L, ld) != RFE_OK) {
             return inv_fail(why, "CKF: Cholesky of P fails (n %g)", (double)n, 0, 0);
         }
         return 0;

@@ -5,7 +5,7 @@
  *        model-consistent sample generators of the operating corners (double / rfe_real_t
  *        samples: the q31 test rounds them to the Q formats with rfe_fix_from_double, as
  *        mu_replay --real q31 does), and the list of the bundled logs.
- * Uses the estimator of the including translation unit's precision (RFE_FN) for the presets
+ * Uses the estimator of the including translation unit's precision (short names, rfe/types.h) for the presets
  * and the measurement model. Include after test_common.h (cmocka).
  */
 #ifndef RFE_TEST_ROBUST_GEN_H
@@ -60,9 +60,9 @@ static inline void cfg_params(const cfg_t *c, rfe_params_t *p)
      * compare whole estimators with memcmp */
     memset(p, 0, sizeof(*p));
     if (c->preset == RFE_PRESET_PAPER) {
-        assert_int_equal(RFE_FN(rfe_params_paper)(p), RFE_OK);
+        assert_int_equal(rfe_params_paper(p), RFE_OK);
     } else {
-        assert_int_equal(RFE_FN(rfe_params_default)(p), RFE_OK);
+        assert_int_equal(rfe_params_default(p), RFE_OK);
     }
     p->filter.kind = c->kind;
     if (c->absolute) {
@@ -84,8 +84,8 @@ static inline void make_consistent(const rfe_params_t *p, rfe_sample_t *u, doubl
         mu[w] = (rfe_real_t)mu_true;
     }
     for (k = 0; k < 4; ++k) {
-        assert_int_equal(RFE_FN(rfe_meas_setup)(&m, &p->vehicle, &p->tyre, u), RFE_OK);
-        assert_int_equal(RFE_FN(rfe_meas_eval)(&m, &p->vehicle, &p->tyre, mu, z), RFE_OK);
+        assert_int_equal(rfe_meas_setup(&m, &p->vehicle, &p->tyre, u), RFE_OK);
+        assert_int_equal(rfe_meas_eval(&m, &p->vehicle, &p->tyre, mu, z), RFE_OK);
         u->ax = (rfe_real_t)clampd((double)z[0], RFE_LIMIT_ACC);
         u->ay = (rfe_real_t)clampd((double)z[1], RFE_LIMIT_ACC);
         u->yaw_acc = (rfe_real_t)clampd((double)z[2], RFE_LIMIT_YAW_ACC);

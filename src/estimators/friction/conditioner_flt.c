@@ -6,7 +6,7 @@
 
 #include "numerics/internal.h"
 
-rfe_status_t RFE_FN(rfe_conditioner_init)(rfe_conditioner_t *c)
+rfe_status_t rfe_conditioner_init(rfe_conditioner_t *c)
 {
     if (c == NULL) {
         return RFE_ERR_NULL;
@@ -39,8 +39,8 @@ static rfe_status_t check_step(const rfe_conditioner_t *c, rfe_real_t dt, rfe_re
     return RFE_OK;
 }
 
-rfe_status_t RFE_FN(rfe_conditioner_step)(rfe_conditioner_t *c, rfe_real_t dt, rfe_real_t tau_v,
-                                          const rfe_sample_t *in, rfe_sample_t *out)
+rfe_status_t rfe_conditioner_step(rfe_conditioner_t *c, rfe_real_t dt, rfe_real_t tau_v,
+                                  const rfe_sample_t *in, rfe_sample_t *out)
 {
     rfe_real_t vx;
     rfe_real_t vy;

@@ -59,9 +59,9 @@ static rfe_status_t h_at(const rfe_params_t *p, const rfe_sample_t *u, const rfe
                          rfe_real_t z[RFE_MEAS])
 {
     rfe_meas_t h;
-    rfe_status_t st = RFE_FN(rfe_meas_setup)(&h, &p->vehicle, &p->tyre, u);
+    rfe_status_t st = rfe_meas_setup(&h, &p->vehicle, &p->tyre, u);
     if (st == RFE_OK) {
-        st = RFE_FN(rfe_meas_eval)(&h, &p->vehicle, &p->tyre, mu, z);
+        st = rfe_meas_eval(&h, &p->vehicle, &p->tyre, mu, z);
     }
     return st;
 }
@@ -137,14 +137,14 @@ static rfe_status_t nominal_terms(const rfe_params_t *p, const rfe_meas_t *h,
     for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
         rfe_real_t fx = RFE_R(0.0);
         rfe_real_t fy = RFE_R(0.0);
-        const rfe_status_t st = RFE_FN(rfe_tyre_dugoff_abs_pre)(
+        const rfe_status_t st = rfe_tyre_dugoff_abs_pre(
             &p->tyre, &h->pre[i], h->kin.kappa[i], h->kin.alpha[i], h->kin.fz[i],
             h->kin.vwx[i], mu[i], &fx, &fy);
         if (st != RFE_OK) {
             return st;
         }
-        RFE_FN(rfe_meas_wheel_terms)(&p->vehicle, h->cos_delta, h->sin_delta, i, fx, fy,
-                                     &t[i * (size_t)RFE_MEAS]);
+        rfe_meas_wheel_terms(&p->vehicle, h->cos_delta, h->sin_delta, i, fx, fy,
+                             &t[i * (size_t)RFE_MEAS]);
     }
     return RFE_OK;
 }
@@ -172,16 +172,16 @@ static rfe_status_t perturbed_terms(const rfe_params_t *p, const rfe_meas_t *h,
     rfe_real_t fy = RFE_R(0.0);
     rfe_status_t st;
     if (j >= 4u) {
-        kappa = RFE_FN(rfe_tyre_wheel_kappa)(&p->vehicle, &p->tyre, up->omega[i], vwx);
-        RFE_FN(rfe_tyre_dugoff_pre_tan)(&p->tyre, kappa, h->pre[i].tan_a, vwx, &pre);
+        kappa = rfe_tyre_wheel_kappa(&p->vehicle, &p->tyre, up->omega[i], vwx);
+        rfe_tyre_dugoff_pre_tan(&p->tyre, kappa, h->pre[i].tan_a, vwx, &pre);
     } else {
-        RFE_FN(rfe_tyre_wheel_kin)(&p->vehicle, &p->tyre, up, c, s, i, &vwx, &alpha, &kappa);
-        RFE_FN(rfe_tyre_dugoff_pre)(&p->tyre, kappa, alpha, vwx, &pre);
+        rfe_tyre_wheel_kin(&p->vehicle, &p->tyre, up, c, s, i, &vwx, &alpha, &kappa);
+        rfe_tyre_dugoff_pre(&p->tyre, kappa, alpha, vwx, &pre);
     }
-    st = RFE_FN(rfe_tyre_dugoff_abs_pre)(&p->tyre, &pre, kappa, alpha, h->kin.fz[i], vwx, mu,
-                                         &fx, &fy);
+    st = rfe_tyre_dugoff_abs_pre(&p->tyre, &pre, kappa, alpha, h->kin.fz[i], vwx, mu,
+                                 &fx, &fy);
     if (st == RFE_OK) {
-        RFE_FN(rfe_meas_wheel_terms)(&p->vehicle, c, s, i, fx, fy, t);
+        rfe_meas_wheel_terms(&p->vehicle, c, s, i, fx, fy, t);
     }
     return st;
 }
@@ -214,7 +214,7 @@ static rfe_status_t h_perturbed(const rfe_params_t *p, const rfe_meas_t *h,
             }
         }
     }
-    return RFE_FN(rfe_meas_sum_terms)(t, z);
+    return rfe_meas_sum_terms(t, z);
 }
 
 /* h at the perturbed sample up: the set-up's check of its one changed input (u's others
@@ -275,7 +275,7 @@ static rfe_status_t fill(const rfe_params_t *p, const rfe_meas_t *h, const rfe_s
         rfe_real_t nom[RFE_MEAS_COLS];
         st = nominal_terms(p, h, mu, nom);
         if (st == RFE_OK) {
-            st = RFE_FN(rfe_meas_sum_terms)(nom, h0);
+            st = rfe_meas_sum_terms(nom, h0);
         }
         if (st == RFE_OK) {
             sensor_block(&p->filter, h0, A);
@@ -283,7 +283,7 @@ static rfe_status_t fill(const rfe_params_t *p, const rfe_meas_t *h, const rfe_s
         }
     } else {
         /* h0 = h(mu, u) from the model set up at u (a non-finite mu: RFE_ERR_NONFINITE) */
-        st = RFE_FN(rfe_meas_eval)(h, &p->vehicle, &p->tyre, mu, h0);
+        st = rfe_meas_eval(h, &p->vehicle, &p->tyre, mu, h0);
         if (st == RFE_OK) {
             sensor_block(&p->filter, h0, A);
             st = input_columns(p, u, mu, A, cols);
@@ -292,17 +292,17 @@ static rfe_status_t fill(const rfe_params_t *p, const rfe_meas_t *h, const rfe_s
     return st;
 }
 
-rfe_status_t RFE_FN(rfe_eiv_sqrt_noise_core)(const rfe_params_t *p, const rfe_meas_t *h,
-                                             const rfe_sample_t *u,
-                                             const rfe_real_t mu[RFE_WHEELS],
-                                             rfe_real_t SR[RFE_MEAS * RFE_MEAS])
+rfe_status_t rfe_eiv_sqrt_noise_core(const rfe_params_t *p, const rfe_meas_t *h,
+                                     const rfe_sample_t *u,
+                                     const rfe_real_t mu[RFE_WHEELS],
+                                     rfe_real_t SR[RFE_MEAS * RFE_MEAS])
 {
     rfe_real_t A[(size_t)RFE_MEAS * CW];
     size_t cols = (size_t)RFE_MEAS;
     rfe_status_t st = fill(p, h, u, mu, A, &cols);
 
     if (st == RFE_OK) {
-        st = RFE_FN(rfe_qr_tria)(A, (size_t)RFE_MEAS, cols, CW);
+        st = rfe_qr_tria(A, (size_t)RFE_MEAS, cols, CW);
     }
     if (st == RFE_OK) {
         size_t i;
@@ -316,9 +316,9 @@ rfe_status_t RFE_FN(rfe_eiv_sqrt_noise_core)(const rfe_params_t *p, const rfe_me
     return st;
 }
 
-rfe_status_t RFE_FN(rfe_eiv_sqrt_noise)(const rfe_params_t *p, const rfe_sample_t *u,
-                                        const rfe_real_t mu[RFE_WHEELS],
-                                        rfe_real_t SR[RFE_MEAS * RFE_MEAS])
+rfe_status_t rfe_eiv_sqrt_noise(const rfe_params_t *p, const rfe_sample_t *u,
+                                const rfe_real_t mu[RFE_WHEELS],
+                                rfe_real_t SR[RFE_MEAS * RFE_MEAS])
 {
     rfe_meas_t h;
     rfe_status_t st;
@@ -326,15 +326,15 @@ rfe_status_t RFE_FN(rfe_eiv_sqrt_noise)(const rfe_params_t *p, const rfe_sample_
     if ((p == NULL) || (u == NULL) || (mu == NULL) || (SR == NULL)) {
         return RFE_ERR_NULL;
     }
-    if (RFE_FN(rfe_params_validate)(p) != RFE_OK) {
+    if (rfe_params_validate(p) != RFE_OK) {
         return RFE_ERR_PARAM;
     }
     if (!rfe_all_finite(mu, RFE_WHEELS)) {
         return RFE_ERR_NONFINITE;
     }
-    st = RFE_FN(rfe_meas_setup)(&h, &p->vehicle, &p->tyre, u);
+    st = rfe_meas_setup(&h, &p->vehicle, &p->tyre, u);
     if (st != RFE_OK) {
         return st;
     }
-    return RFE_FN(rfe_eiv_sqrt_noise_core)(p, &h, u, mu, SR);
+    return rfe_eiv_sqrt_noise_core(p, &h, u, mu, SR);
 }

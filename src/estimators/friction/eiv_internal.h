@@ -10,20 +10,28 @@
 #include "rfe/meas.h"
 #include "rfe/params.h"
 
+/* Full names of the functions declared here: _f32 in the float build, _f64 with
+ * RFE_REAL_DOUBLE (rfe/types.h). Sources define and call them by the short name. */
+#if defined(RFE_REAL_DOUBLE)
+#define rfe_eiv_sqrt_noise_core rfe_eiv_sqrt_noise_core_f64
+#else
+#define rfe_eiv_sqrt_noise_core rfe_eiv_sqrt_noise_core_f32
+#endif
+
 /**
- * RFE_FN(rfe_eiv_sqrt_noise) without its checks, for a caller that has already set up the
+ * rfe_eiv_sqrt_noise without its checks, for a caller that has already set up the
  * measurement model @p h of the same sample @p u with p->vehicle and p->tyre (the nominal
  * h(mu, u) is then one evaluation of @p h): the same S_R, bit for bit, and the same
  * statuses after the checks. Preconditions (not checked): every pointer valid, @p p passed
- * rfe_params_validate (the estimator's, validated at init), RFE_FN(rfe_meas_setup)(h,
+ * rfe_params_validate (the estimator's, validated at init), rfe_meas_setup(h,
  * &p->vehicle, &p->tyre, u) returned RFE_OK. A non-finite @p mu gives RFE_ERR_NONFINITE (from
  * the evaluation).
  * @return RFE_OK; RFE_ERR_NONFINITE and the tyre's errors (@p SR then untouched).
  */
-RFE_NODISCARD rfe_status_t RFE_FN(rfe_eiv_sqrt_noise_core)(const rfe_params_t *p,
-                                                          const rfe_meas_t *h,
-                                                          const rfe_sample_t *u,
-                                                          const rfe_real_t mu[RFE_WHEELS],
-                                                          rfe_real_t SR[RFE_MEAS * RFE_MEAS]);
+RFE_NODISCARD rfe_status_t rfe_eiv_sqrt_noise_core(const rfe_params_t *p,
+                                                  const rfe_meas_t *h,
+                                                  const rfe_sample_t *u,
+                                                  const rfe_real_t mu[RFE_WHEELS],
+                                                  rfe_real_t SR[RFE_MEAS * RFE_MEAS]);
 
 #endif /* RFE_EIV_INTERNAL_H */

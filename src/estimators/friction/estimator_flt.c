@@ -48,7 +48,7 @@ static rfe_status_t measure(void *ctx, const rfe_real_t *x, rfe_real_t *z, size_
     (void)n;
     (void)m;
     to_wheels(est, x, mu);
-    return RFE_FN(rfe_meas_eval)(&est->meas, &est->params.vehicle, &est->params.tyre, mu, z);
+    return rfe_meas_eval(&est->meas, &est->params.vehicle, &est->params.tyre, mu, z);
 }
 
 /* sqrt_prior(d, c) (n x n, ld n): the lower Cholesky factor of c^2 11^T + d^2 I; exactly
@@ -66,7 +66,7 @@ static rfe_status_t sqrt_prior(rfe_real_t d, rfe_real_t c, size_t n, rfe_real_t 
             P[(i * n) + j] = (c * c) + diag;
         }
     }
-    return (c == RFE_R(0.0)) ? RFE_OK : RFE_FN(rfe_chol_factor)(P, n, n, F, n);
+    return (c == RFE_R(0.0)) ? RFE_OK : rfe_chol_factor(P, n, n, F, n);
 }
 
 static rfe_status_t init_sckf(rfe_estimator_t *est, const rfe_filter_params_t *fp, size_t n)
@@ -88,7 +88,7 @@ static rfe_status_t init_sckf(rfe_estimator_t *est, const rfe_filter_params_t *f
         st = sqrt_prior(fp->q_mu, fp->q_common, n, SQ);
     }
     if (st == RFE_OK) {
-        st = RFE_FN(rfe_sckf_init)(&est->filter.sckf, n, RFE_MEAS, x0, S0, SQ, SR);
+        st = rfe_sckf_init(&est->filter.sckf, n, RFE_MEAS, x0, S0, SQ, SR);
     }
     return st;
 }
@@ -113,10 +113,10 @@ static rfe_status_t init_ckf(rfe_estimator_t *est, const rfe_filter_params_t *fp
     R[0] = fp->r_ax * fp->r_ax;
     R[RFE_MEAS + 1] = fp->r_ay * fp->r_ay;
     R[(2 * RFE_MEAS) + 2] = fp->r_yaw_acc * fp->r_yaw_acc;
-    return RFE_FN(rfe_ckf_init)(&est->filter.ckf, RFE_WHEELS, RFE_MEAS, x0, P0, Q, R);
+    return rfe_ckf_init(&est->filter.ckf, RFE_WHEELS, RFE_MEAS, x0, P0, Q, R);
 }
 
-rfe_status_t RFE_FN(rfe_estimator_init)(rfe_estimator_t *est, const rfe_params_t *params)
+rfe_status_t rfe_estimator_init(rfe_estimator_t *est, const rfe_params_t *params)
 {
     const rfe_filter_params_t *fp;
     size_t n;
@@ -125,7 +125,7 @@ rfe_status_t RFE_FN(rfe_estimator_init)(rfe_estimator_t *est, const rfe_params_t
     if ((est == NULL) || (params == NULL)) {
         return RFE_ERR_NULL;
     }
-    st = RFE_FN(rfe_params_validate)(params);
+    st = rfe_params_validate(params);
     if (st != RFE_OK) {
         return st;
     }
@@ -135,7 +135,7 @@ rfe_status_t RFE_FN(rfe_estimator_init)(rfe_estimator_t *est, const rfe_params_t
      * positive definite); a failure would leave the estimator not initialised. */
     st = (fp->kind == RFE_FILTER_CKF) ? init_ckf(est, fp) : init_sckf(est, fp, n);
     if (st == RFE_OK) {
-        st = RFE_FN(rfe_conditioner_init)(&est->cond);
+        st = rfe_conditioner_init(&est->cond);
     }
     if (st != RFE_OK) {
         return st;
@@ -229,11 +229,11 @@ static rfe_status_t sckf_measurement(rfe_estimator_t *est, const rfe_sample_t *u
         rfe_real_t mu[RFE_WHEELS];
         to_wheels(est, f->x, mu); /* T x- */
         /* the internal entry: params validated at init, est->meas set up from u just now */
-        st = RFE_FN(rfe_eiv_sqrt_noise_core)(&est->params, &est->meas, u, mu, SR);
+        st = rfe_eiv_sqrt_noise_core(&est->params, &est->meas, u, mu, SR);
         sr = SR;
     }
     if (st == RFE_OK) {
-        st = RFE_FN(rfe_sckf_update_ex)(f, measure, est, y, sr, fp->info_min, NULL, updated);
+        st = rfe_sckf_update_ex(f, measure, est, y, sr, fp->info_min, NULL, updated);
     }
     return st;
 }
@@ -285,7 +285,7 @@ static rfe_status_t bound_sd(rfe_estimator_t *est)
     if (!(fp->sd_max > RFE_R(0.0)) && !(fp->sd_floor_rel > RFE_R(0.0))) {
         return RFE_OK;
     }
-    st = RFE_FN(rfe_sckf_get)(&est->filter.sckf, x, sd);
+    st = rfe_sckf_get(&est->filter.sckf, x, sd);
     if ((st == RFE_OK) && !rfe_all_finite(sd, est->n)) {
         st = RFE_ERR_NONFINITE; /* S so large its row norms overflow */
     }
@@ -298,7 +298,7 @@ static rfe_status_t bound_sd(rfe_estimator_t *est)
     if ((scale == 0) && (fp->sd_floor_rel > RFE_R(0.0))) {
         floor_factor(fp, x, sd, est->n, &c, &scale);
     }
-    return (scale != 0) ? RFE_FN(rfe_sckf_scale)(&est->filter.sckf, c) : RFE_OK;
+    return (scale != 0) ? rfe_sckf_scale(&est->filter.sckf, c) : RFE_OK;
 }
 
 /* Steps 1-8 after the input check. Returns the step's status or an error (the caller
@@ -314,11 +314,11 @@ static rfe_status_t filter_step(rfe_estimator_t *est, const rfe_sample_t *sample
     int clamped = 0;
 
     /* 1. Input conditioning (a copy of the sample when tau_v = 0). */
-    st = RFE_FN(rfe_conditioner_step)(&est->cond, fp->dt, fp->tau_v, sample, &u);
+    st = rfe_conditioner_step(&est->cond, fp->dt, fp->tau_v, sample, &u);
     /* 2. Time update of the random walk: process callback NULL (identity). */
     if (st == RFE_OK) {
-        st = (kind == RFE_FILTER_CKF) ? RFE_FN(rfe_ckf_predict)(&est->filter.ckf, NULL, NULL)
-                        : RFE_FN(rfe_sckf_predict)(&est->filter.sckf, NULL, NULL);
+        st = (kind == RFE_FILTER_CKF) ? rfe_ckf_predict(&est->filter.ckf, NULL, NULL)
+                        : rfe_sckf_predict(&est->filter.sckf, NULL, NULL);
     }
     /* 3. Below v_est_min (standstill, creeping, reversing) tyre forces carry no usable
      * friction information: time update only. 4-6 otherwise. */
@@ -327,10 +327,10 @@ static rfe_status_t filter_step(rfe_estimator_t *est, const rfe_sample_t *sample
         y[0] = u.ax;
         y[1] = u.ay;
         y[2] = u.yaw_acc;
-        st = RFE_FN(rfe_meas_setup)(&est->meas, &est->params.vehicle, &est->params.tyre, &u);
+        st = rfe_meas_setup(&est->meas, &est->params.vehicle, &est->params.tyre, &u);
         if (st == RFE_OK) {
             if (kind == RFE_FILTER_CKF) {
-                st = RFE_FN(rfe_ckf_update)(&est->filter.ckf, measure, est, y);
+                st = rfe_ckf_update(&est->filter.ckf, measure, est, y);
                 updated = 1;
             } else {
                 st = sckf_measurement(est, &u, y, &updated);
@@ -345,8 +345,8 @@ static rfe_status_t filter_step(rfe_estimator_t *est, const rfe_sample_t *sample
     /* 8. Friction is physically bounded: after an update, project the mean (not S). */
     if ((st == RFE_OK) && (updated != 0)) {
         st = (kind == RFE_FILTER_CKF)
-                 ? RFE_FN(rfe_ckf_clamp)(&est->filter.ckf, fp->mu_min, fp->mu_max, &clamped)
-                 : RFE_FN(rfe_sckf_clamp)(&est->filter.sckf, fp->mu_min, fp->mu_max, &clamped);
+                 ? rfe_ckf_clamp(&est->filter.ckf, fp->mu_min, fp->mu_max, &clamped)
+                 : rfe_sckf_clamp(&est->filter.sckf, fp->mu_min, fp->mu_max, &clamped);
         if (clamped != 0) {
             status = RFE_PROJECTED;
         }
@@ -355,7 +355,7 @@ static rfe_status_t filter_step(rfe_estimator_t *est, const rfe_sample_t *sample
 }
 
 /* cppcheck-suppress misra-c2012-8.7 ; MISRA-DEV-06: public API, called by the application */
-rfe_status_t RFE_FN(rfe_estimator_get)(const rfe_estimator_t *est, rfe_estimate_t *out)
+rfe_status_t rfe_estimator_get(const rfe_estimator_t *est, rfe_estimate_t *out)
 {
     rfe_real_t x[RFE_N_MAX];
     rfe_real_t sd[RFE_N_MAX];
@@ -369,8 +369,8 @@ rfe_status_t RFE_FN(rfe_estimator_get)(const rfe_estimator_t *est, rfe_estimate_
         return RFE_ERR_NOT_INITIALISED;
     }
     st = (est->params.filter.kind == RFE_FILTER_CKF)
-             ? RFE_FN(rfe_ckf_get)(&est->filter.ckf, x, sd)
-             : RFE_FN(rfe_sckf_get)(&est->filter.sckf, x, sd);
+             ? rfe_ckf_get(&est->filter.ckf, x, sd)
+             : rfe_sckf_get(&est->filter.sckf, x, sd);
     /* 9. mu = T x, sd = T (row norms of S); validity by sd when sd_valid > 0. */
     for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
         const size_t k = state_of(est, w);
@@ -382,8 +382,8 @@ rfe_status_t RFE_FN(rfe_estimator_get)(const rfe_estimator_t *est, rfe_estimate_
     return st;
 }
 
-rfe_status_t RFE_FN(rfe_estimator_step)(rfe_estimator_t *est, const rfe_sample_t *sample,
-                                        rfe_estimate_t *out)
+rfe_status_t rfe_estimator_step(rfe_estimator_t *est, const rfe_sample_t *sample,
+                                rfe_estimate_t *out)
 {
     rfe_status_t st;
     rfe_status_t got;
@@ -404,7 +404,7 @@ rfe_status_t RFE_FN(rfe_estimator_step)(rfe_estimator_t *est, const rfe_sample_t
             backup(est, 1);
         }
     }
-    got = RFE_FN(rfe_estimator_get)(est, out);
+    got = rfe_estimator_get(est, out);
     if (got != RFE_OK) {
         return got;
     }

@@ -121,7 +121,7 @@ static void test_dugoff_split(void **state)
     int n;
     (void)state;
     rng_state = 0xD06FF5ull;
-    assert_int_equal(RFE_FN(rfe_params_default)(&p), RFE_OK);
+    assert_int_equal(rfe_params_default(&p), RFE_OK);
     for (n = 0; n < N_CASES; n += (int)rfe_test_stride(10u)) {
         const rfe_real_t kappa = draw(1.2);
         const rfe_real_t alpha = draw(0.6);
@@ -138,21 +138,21 @@ static void test_dugoff_split(void **state)
             tp.eps = (rfe_real_t)uni(0.0, 0.05);
         }
         tp.mode = (((n / (int)rfe_test_stride(10u)) % 2) == 0) ? RFE_TYRE_MAGIC : RFE_TYRE_ABSOLUTE;
-        RFE_FN(rfe_tyre_dugoff_pre)(&tp, kappa, alpha, vwx, &pre);
-        assert_int_equal(RFE_FN(rfe_tyre_dugoff_abs_pre)(&tp, &pre, kappa, alpha, fz, vwx, mu,
+        rfe_tyre_dugoff_pre(&tp, kappa, alpha, vwx, &pre);
+        assert_int_equal(rfe_tyre_dugoff_abs_pre(&tp, &pre, kappa, alpha, fz, vwx, mu,
                                                          &f2[0], &f2[1]),
                          (tp.mode == RFE_TYRE_MAGIC)
-                             ? RFE_FN(rfe_tyre_magic_abs)(&tp, kappa, alpha, fz, vwx, mu, &f1[0],
-                                                          &f1[1])
-                             : RFE_FN(rfe_tyre_dugoff_abs)(&tp, kappa, alpha, fz, vwx, mu, &f1[0],
-                                                           &f1[1]));
+                             ? rfe_tyre_magic_abs(&tp, kappa, alpha, fz, vwx, mu, &f1[0],
+                                                  &f1[1])
+                             : rfe_tyre_dugoff_abs(&tp, kappa, alpha, fz, vwx, mu, &f1[0],
+                                                   &f1[1]));
         bits_equal(f1, f2, 2u);
     }
     {
         rfe_dugoff_pre_t pre;
         rfe_real_t f[2];
-        RFE_FN(rfe_tyre_dugoff_pre)(&p.tyre, RFE_R(0.1), RFE_R(0.0), RFE_R(20.0), &pre);
-        assert_int_equal(RFE_FN(rfe_tyre_dugoff_abs_pre)(NULL, &pre, RFE_R(0.1), RFE_R(0.0),
+        rfe_tyre_dugoff_pre(&p.tyre, RFE_R(0.1), RFE_R(0.0), RFE_R(20.0), &pre);
+        assert_int_equal(rfe_tyre_dugoff_abs_pre(NULL, &pre, RFE_R(0.1), RFE_R(0.0),
                                                          RFE_R(1.0), RFE_R(20.0), RFE_R(1.0),
                                                          &f[0], &f[1]),
                          RFE_ERR_NULL);
@@ -167,12 +167,12 @@ static rfe_status_t chain(const rfe_meas_t *h, const rfe_vehicle_t *veh,
     rfe_real_t fx[4];
     rfe_real_t fy[4];
     rfe_real_t H[RFE_H_SIZE];
-    rfe_status_t st = RFE_FN(rfe_tyre_forces_abs)(tp, &h->kin, mu, fx, fy);
+    rfe_status_t st = rfe_tyre_forces_abs(tp, &h->kin, mu, fx, fy);
     if (st == RFE_OK) {
-        st = RFE_FN(rfe_obsmat_build)(veh, h->delta, fx, fy, H);
+        st = rfe_obsmat_build(veh, h->delta, fx, fy, H);
     }
     if (st == RFE_OK) {
-        st = RFE_FN(rfe_obsmat_apply)(H, ones, z);
+        st = rfe_obsmat_apply(H, ones, z);
     }
     return st;
 }
@@ -186,7 +186,7 @@ static void test_meas_cached(void **state)
     int n;
     (void)state;
     rng_state = 0x3EA5C0ull;
-    assert_int_equal(RFE_FN(rfe_params_default)(&p), RFE_OK);
+    assert_int_equal(rfe_params_default(&p), RFE_OK);
     for (n = 0; n < N_CASES; n += (int)rfe_test_stride(10u)) {
         rfe_sample_t u;
         rfe_real_t mu[4];
@@ -195,16 +195,16 @@ static void test_meas_cached(void **state)
         rfe_real_t z1[3] = {RFE_R(7.0), RFE_R(7.0), RFE_R(7.0)};
         rfe_real_t z2[3] = {RFE_R(7.0), RFE_R(7.0), RFE_R(7.0)};
         draw_sample(&u, mu, ((n % 4) != 0) ? 1 : 0);
-        if (RFE_FN(rfe_meas_setup)(&h, &p.vehicle, &p.tyre, &u) != RFE_OK) {
+        if (rfe_meas_setup(&h, &p.vehicle, &p.tyre, &u) != RFE_OK) {
             continue;
         }
-        assert_int_equal(RFE_FN(rfe_meas_eval)(&h, &p.vehicle, &p.tyre, mu, z1),
+        assert_int_equal(rfe_meas_eval(&h, &p.vehicle, &p.tyre, mu, z1),
                          chain(&h, &p.vehicle, &p.tyre, mu, z2));
         bits_equal(z1, z2, 3u);
         other.cx = (rfe_real_t)uni(0.0, 60.0);
         other.cy = (rfe_real_t)uni(0.0, 60.0);
         other.eps = (n % 2) ? (rfe_real_t)NAN : (rfe_real_t)uni(0.0, 0.05);
-        assert_int_equal(RFE_FN(rfe_meas_eval)(&h, &p.vehicle, &other, mu, z1),
+        assert_int_equal(rfe_meas_eval(&h, &p.vehicle, &other, mu, z1),
                          chain(&h, &p.vehicle, &other, mu, z2));
         bits_equal(z1, z2, 3u);
     }
@@ -229,7 +229,7 @@ static void test_eiv_core(void **state)
         rfe_real_t S2[9];
         rfe_status_t e1;
         size_t i;
-        assert_int_equal(RFE_FN(rfe_params_default)(&p), RFE_OK);
+        assert_int_equal(rfe_params_default(&p), RFE_OK);
         if ((n % 5) == 2) {
             p.filter.sd_in_delta = (rfe_real_t)uni(0.0, 0.02);
             p.filter.sd_in_vx = (n % 2) ? RFE_R(0.0) : (rfe_real_t)uni(0.0, 0.3);
@@ -243,12 +243,12 @@ static void test_eiv_core(void **state)
         for (i = 0; i < 9; ++i) {
             S1[i] = S2[i] = RFE_R(7.0);
         }
-        e1 = RFE_FN(rfe_eiv_sqrt_noise)(&p, &u, mu, S1);
-        if (RFE_FN(rfe_meas_setup)(&h, &p.vehicle, &p.tyre, &u) != RFE_OK) {
+        e1 = rfe_eiv_sqrt_noise(&p, &u, mu, S1);
+        if (rfe_meas_setup(&h, &p.vehicle, &p.tyre, &u) != RFE_OK) {
             assert_true(e1 != RFE_OK);
             continue;
         }
-        assert_int_equal(RFE_FN(rfe_eiv_sqrt_noise_core)(&p, &h, &u, mu, S2), e1);
+        assert_int_equal(rfe_eiv_sqrt_noise_core(&p, &h, &u, mu, S2), e1);
         bits_equal(S1, S2, 9u);
         ok += (e1 == RFE_OK) ? 1 : 0;
         failed += (e1 != RFE_OK) ? 1 : 0;
@@ -264,9 +264,9 @@ static rfe_status_t ref_h(const rfe_params_t *p, const rfe_sample_t *u, const rf
                           rfe_real_t z[3])
 {
     rfe_meas_t h;
-    rfe_status_t st = RFE_FN(rfe_meas_setup)(&h, &p->vehicle, &p->tyre, u);
+    rfe_status_t st = rfe_meas_setup(&h, &p->vehicle, &p->tyre, u);
     if (st == RFE_OK) {
-        st = RFE_FN(rfe_meas_eval)(&h, &p->vehicle, &p->tyre, mu, z);
+        st = rfe_meas_eval(&h, &p->vehicle, &p->tyre, mu, z);
     }
     return st;
 }
@@ -323,7 +323,7 @@ static rfe_status_t ref_eiv(const rfe_params_t *p, const rfe_sample_t *u, const 
         }
         ++cols;
     }
-    st = RFE_FN(rfe_qr_tria)(A, 3u, cols, 11u);
+    st = rfe_qr_tria(A, 3u, cols, 11u);
     if (st != RFE_OK) {
         return st;
     }
@@ -348,11 +348,11 @@ static rfe_status_t check_three(const rfe_params_t *p, const rfe_sample_t *u,
     for (i = 0; i < 9; ++i) {
         S1[i] = S2[i] = S3[i] = RFE_R(7.0);
     }
-    e1 = RFE_FN(rfe_eiv_sqrt_noise)(p, u, mu, S1);
+    e1 = rfe_eiv_sqrt_noise(p, u, mu, S1);
     assert_int_equal(ref_eiv(p, u, mu, S2), e1);
     bits_equal(S1, S2, 9u);
-    if (RFE_FN(rfe_meas_setup)(&h, &p->vehicle, &p->tyre, u) == RFE_OK) {
-        assert_int_equal(RFE_FN(rfe_eiv_sqrt_noise_core)(p, &h, u, mu, S3), e1);
+    if (rfe_meas_setup(&h, &p->vehicle, &p->tyre, u) == RFE_OK) {
+        assert_int_equal(rfe_eiv_sqrt_noise_core(p, &h, u, mu, S3), e1);
         bits_equal(S1, S3, 9u);
     }
     return e1;
@@ -371,7 +371,7 @@ static void test_eiv_reference(void **state)
         rfe_params_t p;
         rfe_sample_t u;
         rfe_real_t mu[4];
-        assert_int_equal(RFE_FN(rfe_params_default)(&p), RFE_OK);
+        assert_int_equal(rfe_params_default(&p), RFE_OK);
         if ((n % 5) == 2) {
             p.filter.sd_in_delta = (rfe_real_t)uni(0.0, 0.02);
             p.filter.sd_in_vx = (n % 2) ? RFE_R(0.0) : (rfe_real_t)uni(0.0, 0.3);
@@ -401,7 +401,7 @@ static void test_eiv_overflow(void **state)
     size_t i;
     (void)state;
     rng_state = 0x0FF0ull;
-    assert_int_equal(RFE_FN(rfe_params_default)(&p), RFE_OK);
+    assert_int_equal(rfe_params_default(&p), RFE_OK);
     draw_sample(&u, mu, 1);
     u.delta = RFE_R(0.0);
     u.vy = RFE_R(0.0);
@@ -430,20 +430,20 @@ static void test_eiv_overflow(void **state)
     p.filter.sd_in_vx = (rfe_real_t)T_BIG;
     assert_int_equal(check_three(&p, &u, mu), RFE_ERR_NONFINITE);
     /* finite forces whose yaw acceleration overflows (a tiny inertia): the sums' check */
-    assert_int_equal(RFE_FN(rfe_params_default)(&p), RFE_OK);
+    assert_int_equal(rfe_params_default(&p), RFE_OK);
     draw_sample(&u, mu, 1);
     p.vehicle.J = (rfe_real_t)T_TINY;
     assert_int_equal(check_three(&p, &u, mu), RFE_ERR_NONFINITE);
     /* the internal entry with a NaN mu: the evaluation's check (absolute and paper mode) */
-    assert_int_equal(RFE_FN(rfe_params_default)(&p), RFE_OK);
+    assert_int_equal(rfe_params_default(&p), RFE_OK);
     draw_sample(&u, mu, 1);
     mu[2] = (rfe_real_t)NAN;
     for (i = 0; i < 2; ++i) {
         if (i == 1u) {
             p.tyre.mode = RFE_TYRE_PAPER;
         }
-        assert_int_equal(RFE_FN(rfe_meas_setup)(&h, &p.vehicle, &p.tyre, &u), RFE_OK);
-        assert_int_equal(RFE_FN(rfe_eiv_sqrt_noise_core)(&p, &h, &u, mu, S), RFE_ERR_NONFINITE);
+        assert_int_equal(rfe_meas_setup(&h, &p.vehicle, &p.tyre, &u), RFE_OK);
+        assert_int_equal(rfe_eiv_sqrt_noise_core(&p, &h, &u, mu, S), RFE_ERR_NONFINITE);
     }
 }
 
@@ -460,10 +460,10 @@ static void test_meas_cached_each_field(void **state)
     int f;
     (void)state;
     rng_state = 0xF1E1Dull;
-    assert_int_equal(RFE_FN(rfe_params_default)(&p), RFE_OK);
+    assert_int_equal(rfe_params_default(&p), RFE_OK);
     do {
         draw_sample(&u, mu, 1);
-    } while (RFE_FN(rfe_meas_setup)(&h, &p.vehicle, &p.tyre, &u) != RFE_OK);
+    } while (rfe_meas_setup(&h, &p.vehicle, &p.tyre, &u) != RFE_OK);
     for (f = 0; f < 5; ++f) {
         rfe_tyre_params_t other = p.tyre;
         rfe_real_t z1[3];
@@ -479,7 +479,7 @@ static void test_meas_cached_each_field(void **state)
         } else {
             other.alpha_max *= RFE_R(0.5);
         }
-        assert_int_equal(RFE_FN(rfe_meas_eval)(&h, &p.vehicle, &other, mu, z1),
+        assert_int_equal(rfe_meas_eval(&h, &p.vehicle, &other, mu, z1),
                          chain(&h, &p.vehicle, &other, mu, z2));
         bits_equal(z1, z2, 3u);
     }
@@ -490,8 +490,8 @@ static void test_meas_cached_each_field(void **state)
         rfe_real_t z1[3];
         rfe_real_t z2[3];
         dug.mode = RFE_TYRE_ABSOLUTE;
-        assert_int_equal(RFE_FN(rfe_meas_setup)(&h2, &p.vehicle, &dug, &u), RFE_OK);
-        assert_int_equal(RFE_FN(rfe_meas_eval)(&h2, &p.vehicle, &p.tyre, mu, z1),
+        assert_int_equal(rfe_meas_setup(&h2, &p.vehicle, &dug, &u), RFE_OK);
+        assert_int_equal(rfe_meas_eval(&h2, &p.vehicle, &p.tyre, mu, z1),
                          chain(&h2, &p.vehicle, &p.tyre, mu, z2));
         bits_equal(z1, z2, 3u);
     }

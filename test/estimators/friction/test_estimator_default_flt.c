@@ -42,7 +42,7 @@ static rfe_params_t paper; /* rfe_params_paper */
 static int setup(void **state)
 {
     (void)state;
-    if ((RFE_FN(rfe_params_default)(&dflt) != RFE_OK) || (RFE_FN(rfe_params_paper)(&paper) != RFE_OK)) {
+    if ((rfe_params_default(&dflt) != RFE_OK) || (rfe_params_paper(&paper) != RFE_OK)) {
         return -1;
     }
     return 0;
@@ -69,10 +69,10 @@ static void model_match(const rfe_params_t *p, rfe_sample_t *u, const rfe_real_t
     rfe_real_t fx[4], fy[4], H[12], y[3];
     int k;
     for (k = 0; k < 8; ++k) {
-        assert_int_equal(RFE_FN(rfe_tyre_kinematics)(&p->vehicle, &p->tyre, u, &kin), RFE_OK);
-        assert_int_equal(RFE_FN(rfe_tyre_forces_abs)(&p->tyre, &kin, mu, fx, fy), RFE_OK);
-        assert_int_equal(RFE_FN(rfe_obsmat_build)(&p->vehicle, u->delta, fx, fy, H), RFE_OK);
-        assert_int_equal(RFE_FN(rfe_obsmat_apply)(H, ones, y), RFE_OK);
+        assert_int_equal(rfe_tyre_kinematics(&p->vehicle, &p->tyre, u, &kin), RFE_OK);
+        assert_int_equal(rfe_tyre_forces_abs(&p->tyre, &kin, mu, fx, fy), RFE_OK);
+        assert_int_equal(rfe_obsmat_build(&p->vehicle, u->delta, fx, fy, H), RFE_OK);
+        assert_int_equal(rfe_obsmat_apply(H, ones, y), RFE_OK);
         u->ax = y[0];
         u->ay = y[1];
         u->yaw_acc = y[2];
@@ -102,13 +102,13 @@ static void test_rfe_conditioner_hand_example(void **state)
     rfe_sample_t u, out;
     const rfe_real_t dt = (rfe_real_t)0.01, tau = (rfe_real_t)0.09;
     (void)state;
-    assert_int_equal(RFE_FN(rfe_conditioner_init)(&c), RFE_OK);
+    assert_int_equal(rfe_conditioner_init(&c), RFE_OK);
     memset(&u, 0, sizeof u);
     u.vx = 20;
     u.vy = (rfe_real_t)0.5;
     u.ax = 7; /* not used at the first sample */
     u.omega[2] = 3;
-    assert_int_equal(RFE_FN(rfe_conditioner_step)(&c, dt, tau, &u, &out), RFE_OK);
+    assert_int_equal(rfe_conditioner_step(&c, dt, tau, &u, &out), RFE_OK);
     assert_true(out.vx == u.vx && out.vy == u.vy && out.ax == u.ax && out.omega[2] == u.omega[2]);
     assert_int_equal(c.started, 1);
     u.vx = (rfe_real_t)19.9;
@@ -116,7 +116,7 @@ static void test_rfe_conditioner_hand_example(void **state)
     u.ax = -2;
     u.ay = 1;
     u.yaw_rate = (rfe_real_t)0.2;
-    assert_int_equal(RFE_FN(rfe_conditioner_step)(&c, dt, tau, &u, &out), RFE_OK);
+    assert_int_equal(rfe_conditioner_step(&c, dt, tau, &u, &out), RFE_OK);
     assert_close(out.vx, 19.9729, TOL_CF, 0.0, "vx after step 2");
     assert_close(out.vy, 0.463, TOL_CF, 0.0, "vy after step 2");
     assert_close(c.vx, 19.9729, TOL_CF, 0.0, "state vx");
@@ -124,7 +124,7 @@ static void test_rfe_conditioner_hand_example(void **state)
     memset(&u, 0, sizeof u);
     u.vx = 20;
     /* out may alias in */
-    assert_int_equal(RFE_FN(rfe_conditioner_step)(&c, dt, tau, &u, &u), RFE_OK);
+    assert_int_equal(rfe_conditioner_step(&c, dt, tau, &u, &u), RFE_OK);
     assert_close(u.vx, 19.97561, TOL_CF, 0.0, "vx after step 3");
     assert_close(u.vy, 0.4167, TOL_CF, 0.0, "vy after step 3");
 }
@@ -136,32 +136,32 @@ static void test_rfe_conditioner_off_and_errors(void **state)
     rfe_conditioner_t c, copy, blank;
     rfe_sample_t u, out, out_copy;
     (void)state;
-    assert_int_equal(RFE_FN(rfe_conditioner_init)(NULL), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_conditioner_init)(&c), RFE_OK);
+    assert_int_equal(rfe_conditioner_init(NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_conditioner_init(&c), RFE_OK);
     memset(&u, 0, sizeof u);
     u.vx = 10;
     u.vy = 1;
     copy = c;
-    assert_int_equal(RFE_FN(rfe_conditioner_step)(&c, (rfe_real_t)0.01, 0, &u, &out), RFE_OK);
+    assert_int_equal(rfe_conditioner_step(&c, (rfe_real_t)0.01, 0, &u, &out), RFE_OK);
     assert_memory_equal(&out, &u, sizeof u);
     assert_memory_equal(&c, &copy, sizeof c);
     memset(&out, 0x5A, sizeof out);
     out_copy = out;
-    assert_int_equal(RFE_FN(rfe_conditioner_step)(NULL, (rfe_real_t)0.01, 1, &u, &out), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_conditioner_step)(&c, (rfe_real_t)0.01, 1, NULL, &out), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_conditioner_step)(&c, (rfe_real_t)0.01, 1, &u, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_conditioner_step(NULL, (rfe_real_t)0.01, 1, &u, &out), RFE_ERR_NULL);
+    assert_int_equal(rfe_conditioner_step(&c, (rfe_real_t)0.01, 1, NULL, &out), RFE_ERR_NULL);
+    assert_int_equal(rfe_conditioner_step(&c, (rfe_real_t)0.01, 1, &u, NULL), RFE_ERR_NULL);
     memset(&blank, 0, sizeof blank);
-    assert_int_equal(RFE_FN(rfe_conditioner_step)(&blank, (rfe_real_t)0.01, 1, &u, &out), RFE_ERR_NOT_INITIALISED);
-    assert_int_equal(RFE_FN(rfe_conditioner_step)(&c, 0, 1, &u, &out), RFE_ERR_PARAM);
-    assert_int_equal(RFE_FN(rfe_conditioner_step)(&c, (rfe_real_t)NAN, 1, &u, &out), RFE_ERR_PARAM);
-    assert_int_equal(RFE_FN(rfe_conditioner_step)(&c, (rfe_real_t)0.01, -1, &u, &out), RFE_ERR_PARAM);
-    assert_int_equal(RFE_FN(rfe_conditioner_step)(&c, (rfe_real_t)0.01, (rfe_real_t)INFINITY, &u, &out),
+    assert_int_equal(rfe_conditioner_step(&blank, (rfe_real_t)0.01, 1, &u, &out), RFE_ERR_NOT_INITIALISED);
+    assert_int_equal(rfe_conditioner_step(&c, 0, 1, &u, &out), RFE_ERR_PARAM);
+    assert_int_equal(rfe_conditioner_step(&c, (rfe_real_t)NAN, 1, &u, &out), RFE_ERR_PARAM);
+    assert_int_equal(rfe_conditioner_step(&c, (rfe_real_t)0.01, -1, &u, &out), RFE_ERR_PARAM);
+    assert_int_equal(rfe_conditioner_step(&c, (rfe_real_t)0.01, (rfe_real_t)INFINITY, &u, &out),
                      RFE_ERR_PARAM);
     u.yaw_rate = (rfe_real_t)NAN;
-    assert_int_equal(RFE_FN(rfe_conditioner_step)(&c, (rfe_real_t)0.01, 1, &u, &out), RFE_ERR_NONFINITE);
+    assert_int_equal(rfe_conditioner_step(&c, (rfe_real_t)0.01, 1, &u, &out), RFE_ERR_NONFINITE);
     u.yaw_rate = 0;
     u.vy = (rfe_real_t)INFINITY;
-    assert_int_equal(RFE_FN(rfe_conditioner_step)(&c, (rfe_real_t)0.01, 1, &u, &out), RFE_ERR_NONFINITE);
+    assert_int_equal(rfe_conditioner_step(&c, (rfe_real_t)0.01, 1, &u, &out), RFE_ERR_NONFINITE);
     assert_memory_equal(&c, &copy, sizeof c);
     assert_memory_equal(&out, &out_copy, sizeof out);
     /* A finite sample whose prediction overflows. */
@@ -171,10 +171,10 @@ static void test_rfe_conditioner_off_and_errors(void **state)
     u.vx = (rfe_real_t)(0.9 * FLT_MAX);
 #endif
     u.vy = 0;
-    assert_int_equal(RFE_FN(rfe_conditioner_step)(&c, (rfe_real_t)0.01, 1, &u, &out), RFE_OK);
+    assert_int_equal(rfe_conditioner_step(&c, (rfe_real_t)0.01, 1, &u, &out), RFE_OK);
     copy = c;
     u.ax = u.vx;
-    assert_int_equal(RFE_FN(rfe_conditioner_step)(&c, 1, 1, &u, &out), RFE_ERR_NONFINITE);
+    assert_int_equal(rfe_conditioner_step(&c, 1, 1, &u, &out), RFE_ERR_NONFINITE);
     assert_memory_equal(&c, &copy, sizeof c);
 }
 
@@ -188,19 +188,19 @@ static void test_rfe_estimator_uses_filtered_speed(void **state)
     rfe_sample_t u = straight_sample(20.0, 0.0, 0.0);
     rfe_status_t st;
     (void)state;
-    assert_int_equal(RFE_FN(rfe_estimator_init)(&est, &dflt), RFE_OK);
+    assert_int_equal(rfe_estimator_init(&est, &dflt), RFE_OK);
     assert_int_equal(est.cond.started, 0);
-    st = RFE_FN(rfe_estimator_step)(&est, &u, &out);
+    st = rfe_estimator_step(&est, &u, &out);
     assert_int_equal(st, RFE_HELD_NOT_OBSERVABLE); /* zero slip: no information */
     assert_true(est.cond.vx == u.vx);
     u.vx = 1; /* glitch */
-    st = RFE_FN(rfe_estimator_step)(&est, &u, &out);
+    st = rfe_estimator_step(&est, &u, &out);
     assert_false(rfe_status_is_error(st));
     assert_true(st != RFE_NO_UPDATE_LOW_SPEED); /* the filtered vx is ~19.4 */
     assert_close(est.cond.vx, 20.0 - (19.0 * 0.01 / 0.31), 1e-4, 0.0, "filtered vx");
     /* The paper preset uses the measured vx. */
-    assert_int_equal(RFE_FN(rfe_estimator_init)(&est, &paper), RFE_OK);
-    assert_int_equal(RFE_FN(rfe_estimator_step)(&est, &u, &out), RFE_NO_UPDATE_LOW_SPEED);
+    assert_int_equal(rfe_estimator_init(&est, &paper), RFE_OK);
+    assert_int_equal(rfe_estimator_step(&est, &u, &out), RFE_NO_UPDATE_LOW_SPEED);
 }
 
 /* ---- step 4: step noise S_R ------------------------------------------------------------ */
@@ -212,15 +212,15 @@ static void h_direct(const rfe_params_t *p, const rfe_sample_t *u, const rfe_rea
     rfe_wheel_kin_t kin;
     rfe_real_t fx[4], fy[4], H[12], y[3];
     size_t r;
-    assert_int_equal(RFE_FN(rfe_tyre_kinematics)(&p->vehicle, &p->tyre, u, &kin), RFE_OK);
+    assert_int_equal(rfe_tyre_kinematics(&p->vehicle, &p->tyre, u, &kin), RFE_OK);
     if (p->tyre.mode == RFE_TYRE_PAPER) {
-        assert_int_equal(RFE_FN(rfe_tyre_forces_norm)(&p->tyre, &kin, fx, fy), RFE_OK);
-        assert_int_equal(RFE_FN(rfe_obsmat_build)(&p->vehicle, u->delta, fx, fy, H), RFE_OK);
-        assert_int_equal(RFE_FN(rfe_obsmat_apply)(H, mu, y), RFE_OK);
+        assert_int_equal(rfe_tyre_forces_norm(&p->tyre, &kin, fx, fy), RFE_OK);
+        assert_int_equal(rfe_obsmat_build(&p->vehicle, u->delta, fx, fy, H), RFE_OK);
+        assert_int_equal(rfe_obsmat_apply(H, mu, y), RFE_OK);
     } else {
-        assert_int_equal(RFE_FN(rfe_tyre_forces_abs)(&p->tyre, &kin, mu, fx, fy), RFE_OK);
-        assert_int_equal(RFE_FN(rfe_obsmat_build)(&p->vehicle, u->delta, fx, fy, H), RFE_OK);
-        assert_int_equal(RFE_FN(rfe_obsmat_apply)(H, ones, y), RFE_OK);
+        assert_int_equal(rfe_tyre_forces_abs(&p->tyre, &kin, mu, fx, fy), RFE_OK);
+        assert_int_equal(rfe_obsmat_build(&p->vehicle, u->delta, fx, fy, H), RFE_OK);
+        assert_int_equal(rfe_obsmat_apply(H, ones, y), RFE_OK);
     }
     for (r = 0; r < 3; ++r) {
         z[r] = (double)y[r];
@@ -272,7 +272,7 @@ static void check_sr(const rfe_params_t *p, const rfe_sample_t *u, const rfe_rea
     double R[3][3], scale = 0.0;
     size_t i, j, k;
     char msg[96];
-    assert_int_equal(RFE_FN(rfe_eiv_sqrt_noise)(p, u, mu, SR), RFE_OK);
+    assert_int_equal(rfe_eiv_sqrt_noise(p, u, mu, SR), RFE_OK);
     r_reference(p, u, mu, R);
     for (i = 0; i < 3; ++i) {
         scale = fmax(scale, fabs(R[i][i]));
@@ -331,16 +331,16 @@ static void test_rfe_eiv_sqrt_noise_errors(void **state)
     (void)state;
     memset(SR, 0x3C, sizeof SR);
     memcpy(SR_copy, SR, sizeof SR);
-    assert_int_equal(RFE_FN(rfe_eiv_sqrt_noise)(NULL, &u, mu, SR), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_eiv_sqrt_noise)(&p, NULL, mu, SR), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_eiv_sqrt_noise)(&p, &u, NULL, SR), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_eiv_sqrt_noise)(&p, &u, mu, NULL), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_eiv_sqrt_noise)(&p, &u, bad_mu, SR), RFE_ERR_NONFINITE);
+    assert_int_equal(rfe_eiv_sqrt_noise(NULL, &u, mu, SR), RFE_ERR_NULL);
+    assert_int_equal(rfe_eiv_sqrt_noise(&p, NULL, mu, SR), RFE_ERR_NULL);
+    assert_int_equal(rfe_eiv_sqrt_noise(&p, &u, NULL, SR), RFE_ERR_NULL);
+    assert_int_equal(rfe_eiv_sqrt_noise(&p, &u, mu, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_eiv_sqrt_noise(&p, &u, bad_mu, SR), RFE_ERR_NONFINITE);
     p.filter.sd_in_vx = -1;
-    assert_int_equal(RFE_FN(rfe_eiv_sqrt_noise)(&p, &u, mu, SR), RFE_ERR_PARAM);
+    assert_int_equal(rfe_eiv_sqrt_noise(&p, &u, mu, SR), RFE_ERR_PARAM);
     p = dflt;
     u.ax = (rfe_real_t)NAN;
-    assert_int_equal(RFE_FN(rfe_eiv_sqrt_noise)(&p, &u, mu, SR), RFE_ERR_NONFINITE);
+    assert_int_equal(rfe_eiv_sqrt_noise(&p, &u, mu, SR), RFE_ERR_NONFINITE);
     assert_memory_equal(SR, SR_copy, sizeof SR);
 }
 
@@ -364,27 +364,27 @@ static void test_rfe_meas_setup_eval(void **state)
     u.yaw_rate = (rfe_real_t)0.1;
     for (k = 0; k < 2; ++k) {
         const rfe_params_t *p = k ? &dflt : &paper;
-        assert_int_equal(RFE_FN(rfe_meas_setup)(&h, &p->vehicle, &p->tyre, &u), RFE_OK);
-        assert_int_equal(RFE_FN(rfe_meas_eval)(&h, &p->vehicle, &p->tyre, mu, z), RFE_OK);
+        assert_int_equal(rfe_meas_setup(&h, &p->vehicle, &p->tyre, &u), RFE_OK);
+        assert_int_equal(rfe_meas_eval(&h, &p->vehicle, &p->tyre, mu, z), RFE_OK);
         h_direct(p, &u, mu, ref);
         for (r = 0; r < 3; ++r) {
             assert_true((double)z[r] == ref[r]);
         }
     }
     memcpy(&copy, &h, sizeof h);
-    assert_int_equal(RFE_FN(rfe_meas_setup)(NULL, &dflt.vehicle, &dflt.tyre, &u), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_meas_setup)(&h, NULL, &dflt.tyre, &u), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_meas_setup)(&h, &dflt.vehicle, NULL, &u), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_meas_setup)(&h, &dflt.vehicle, &dflt.tyre, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_setup(NULL, &dflt.vehicle, &dflt.tyre, &u), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_setup(&h, NULL, &dflt.tyre, &u), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_setup(&h, &dflt.vehicle, NULL, &u), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_setup(&h, &dflt.vehicle, &dflt.tyre, NULL), RFE_ERR_NULL);
     u.vy = (rfe_real_t)NAN;
-    assert_int_equal(RFE_FN(rfe_meas_setup)(&h, &dflt.vehicle, &dflt.tyre, &u), RFE_ERR_NONFINITE);
-    assert_int_equal(RFE_FN(rfe_meas_setup)(&h, &paper.vehicle, &paper.tyre, &u), RFE_ERR_NONFINITE);
+    assert_int_equal(rfe_meas_setup(&h, &dflt.vehicle, &dflt.tyre, &u), RFE_ERR_NONFINITE);
+    assert_int_equal(rfe_meas_setup(&h, &paper.vehicle, &paper.tyre, &u), RFE_ERR_NONFINITE);
     assert_memory_equal(&h, &copy, sizeof h);
-    assert_int_equal(RFE_FN(rfe_meas_eval)(NULL, &dflt.vehicle, &dflt.tyre, mu, z), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_meas_eval)(&h, NULL, &dflt.tyre, mu, z), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_meas_eval)(&h, &dflt.vehicle, NULL, mu, z), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_meas_eval)(&h, &dflt.vehicle, &dflt.tyre, NULL, z), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_meas_eval)(&h, &dflt.vehicle, &dflt.tyre, mu, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_eval(NULL, &dflt.vehicle, &dflt.tyre, mu, z), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_eval(&h, NULL, &dflt.tyre, mu, z), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_eval(&h, &dflt.vehicle, NULL, mu, z), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_eval(&h, &dflt.vehicle, &dflt.tyre, NULL, z), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_eval(&h, &dflt.vehicle, &dflt.tyre, mu, NULL), RFE_ERR_NULL);
 }
 
 /* ---- steps 5-9: gate, bounds, output --------------------------------------------------- */
@@ -401,10 +401,10 @@ static void test_rfe_estimator_gate_holds_on_cruise(void **state)
     size_t i;
     int k;
     (void)state;
-    assert_int_equal(RFE_FN(rfe_estimator_init)(&est, &dflt), RFE_OK);
+    assert_int_equal(rfe_estimator_init(&est, &dflt), RFE_OK);
     assert_int_equal(est.n, 2);
     for (k = 0; k < 200; ++k) {
-        assert_int_equal(RFE_FN(rfe_estimator_step)(&est, &u, &out), RFE_HELD_NOT_OBSERVABLE);
+        assert_int_equal(rfe_estimator_step(&est, &u, &out), RFE_HELD_NOT_OBSERVABLE);
         assert_int_equal(out.status, RFE_HELD_NOT_OBSERVABLE);
         for (i = 0; i < 4; ++i) {
             assert_close(out.mu[i], dflt.filter.mu0, 64.0 * EPS_R, 0.0, "held mean");
@@ -437,11 +437,11 @@ static void test_rfe_estimator_gate_updates_on_hard_braking(void **state)
     size_t i;
     int k;
     (void)state;
-    assert_int_equal(RFE_FN(rfe_estimator_init)(&est, &dflt), RFE_OK);
+    assert_int_equal(rfe_estimator_init(&est, &dflt), RFE_OK);
     for (k = 0; k < 150; ++k) {
         rfe_sample_t u = straight_sample(vx, -0.12, -0.12);
         model_match(&dflt, &u, mu);
-        st = RFE_FN(rfe_estimator_step)(&est, &u, &out);
+        st = rfe_estimator_step(&est, &u, &out);
         if (k == 0) {
             assert_true(st == RFE_OK || st == RFE_PROJECTED);
             assert_true(fabs((double)out.mu[0] - 0.5) > 1e-3); /* the mean moved */
@@ -471,10 +471,10 @@ static void test_rfe_estimator_cap_keeps_correlation(void **state)
     p.filter.sd0 = (rfe_real_t)0.2; /* prior sd 0.36 > sd_max 0.32 */
     q = p;
     q.filter.sd_max = 0;
-    assert_int_equal(RFE_FN(rfe_estimator_init)(&capped, &p), RFE_OK);
-    assert_int_equal(RFE_FN(rfe_estimator_init)(&free_, &q), RFE_OK);
-    assert_int_equal(RFE_FN(rfe_estimator_step)(&capped, &u, &a), RFE_HELD_NOT_OBSERVABLE);
-    assert_int_equal(RFE_FN(rfe_estimator_step)(&free_, &u, &b), RFE_HELD_NOT_OBSERVABLE);
+    assert_int_equal(rfe_estimator_init(&capped, &p), RFE_OK);
+    assert_int_equal(rfe_estimator_init(&free_, &q), RFE_OK);
+    assert_int_equal(rfe_estimator_step(&capped, &u, &a), RFE_HELD_NOT_OBSERVABLE);
+    assert_int_equal(rfe_estimator_step(&free_, &u, &b), RFE_HELD_NOT_OBSERVABLE);
     assert_true(b.sd[0] > p.filter.sd_max);
     assert_close(a.sd[0], p.filter.sd_max, 4.0 * EPS_R, 0.0, "capped sd");
     assert_close((double)a.sd[1] / (double)b.sd[1], (double)a.sd[0] / (double)b.sd[0], 8.0 * EPS_R, 0.0,
@@ -500,10 +500,10 @@ static void test_rfe_estimator_floor_and_priority(void **state)
     p.filter.sd0_common = (rfe_real_t)0.02;
     q = p;
     q.filter.sd_floor_rel = 0;
-    assert_int_equal(RFE_FN(rfe_estimator_init)(&fl, &p), RFE_OK);
-    assert_int_equal(RFE_FN(rfe_estimator_init)(&free_, &q), RFE_OK);
-    assert_int_equal(RFE_FN(rfe_estimator_step)(&fl, &u, &a), RFE_HELD_NOT_OBSERVABLE);
-    assert_int_equal(RFE_FN(rfe_estimator_step)(&free_, &u, &b), RFE_HELD_NOT_OBSERVABLE);
+    assert_int_equal(rfe_estimator_init(&fl, &p), RFE_OK);
+    assert_int_equal(rfe_estimator_init(&free_, &q), RFE_OK);
+    assert_int_equal(rfe_estimator_step(&fl, &u, &a), RFE_HELD_NOT_OBSERVABLE);
+    assert_int_equal(rfe_estimator_step(&free_, &u, &b), RFE_HELD_NOT_OBSERVABLE);
     assert_true(b.sd[0] < p.filter.sd_floor_rel);
     assert_close(a.sd[0], p.filter.sd_floor_rel, 4.0 * EPS_R, 0.0, "sd raised to the floor");
     assert_close(correlation(&fl.filter.sckf), correlation(&free_.filter.sckf), 8.0 * EPS_R, 0.0,
@@ -512,11 +512,11 @@ static void test_rfe_estimator_floor_and_priority(void **state)
     /* Cap below the floor: the cap applies first. */
     p.filter.sd_max = (rfe_real_t)0.05;
     p.filter.sd0 = (rfe_real_t)0.2;
-    assert_int_equal(RFE_FN(rfe_estimator_init)(&fl, &p), RFE_OK);
-    assert_int_equal(RFE_FN(rfe_estimator_step)(&fl, &u, &a), RFE_HELD_NOT_OBSERVABLE);
+    assert_int_equal(rfe_estimator_init(&fl, &p), RFE_OK);
+    assert_int_equal(rfe_estimator_step(&fl, &u, &a), RFE_HELD_NOT_OBSERVABLE);
     assert_close(a.sd[0], 0.05, 4.0 * EPS_R, 0.0, "cap wins");
     /* Next step: sd 0.05 plus process noise is above the cap again: capped again. */
-    assert_int_equal(RFE_FN(rfe_estimator_step)(&fl, &u, &a), RFE_HELD_NOT_OBSERVABLE);
+    assert_int_equal(rfe_estimator_step(&fl, &u, &a), RFE_HELD_NOT_OBSERVABLE);
     assert_close(a.sd[0], 0.05, 4.0 * EPS_R, 0.0, "cap wins again");
 }
 
@@ -537,16 +537,16 @@ static void test_rfe_estimator_floor_limited_by_cap(void **state)
     q = p;
     q.filter.sd_floor_rel = 0;
     q.filter.sd_max = 0;
-    assert_int_equal(RFE_FN(rfe_estimator_init)(&fl, &p), RFE_OK);
-    assert_int_equal(RFE_FN(rfe_estimator_init)(&free_, &q), RFE_OK);
+    assert_int_equal(rfe_estimator_init(&fl, &p), RFE_OK);
+    assert_int_equal(rfe_estimator_init(&free_, &q), RFE_OK);
     /* left side informed (sd 0.01), right side near the cap (sd ~0.30), correlated */
     S = fl.filter.sckf.S;
     S[0] = (rfe_real_t)0.01;
     S[RFE_N_MAX] = (rfe_real_t)0.002;
     S[RFE_N_MAX + 1] = (rfe_real_t)0.30;
     memcpy(free_.filter.sckf.S, S, sizeof fl.filter.sckf.S);
-    assert_int_equal(RFE_FN(rfe_estimator_step)(&fl, &u, &a), RFE_HELD_NOT_OBSERVABLE);
-    assert_int_equal(RFE_FN(rfe_estimator_step)(&free_, &u, &b), RFE_HELD_NOT_OBSERVABLE);
+    assert_int_equal(rfe_estimator_step(&fl, &u, &a), RFE_HELD_NOT_OBSERVABLE);
+    assert_int_equal(rfe_estimator_step(&free_, &u, &b), RFE_HELD_NOT_OBSERVABLE);
     assert_true(b.sd[0] < p.filter.sd_floor_rel); /* the floor wants c = 0.15 / 0.01 */
     assert_true(b.sd[1] * (rfe_real_t)1.5 > p.filter.sd_max); /* ... which would break the cap */
     for (k = 0; k < 4; ++k) {
@@ -572,8 +572,8 @@ static void test_rfe_estimator_sides_mapping(void **state)
     double p00, p01, p11;
     int k;
     (void)state;
-    assert_int_equal(RFE_FN(rfe_estimator_init)(&est, &dflt), RFE_OK);
-    assert_int_equal(RFE_FN(rfe_estimator_get)(&est, &out), RFE_OK);
+    assert_int_equal(rfe_estimator_init(&est, &dflt), RFE_OK);
+    assert_int_equal(rfe_estimator_get(&est, &out), RFE_OK);
     assert_close(out.sd[0], sqrt(0.1 * 0.1 + 0.3 * 0.3), 4.0 * EPS_R, 0.0, "prior sd");
     p00 = (double)f->S[0] * (double)f->S[0];
     p01 = (double)f->S[0] * (double)f->S[RFE_N_MAX];
@@ -585,7 +585,7 @@ static void test_rfe_estimator_sides_mapping(void **state)
     for (k = 0; k < 100; ++k) {
         rfe_sample_t u = straight_sample(25.0 - 0.05 * k, -0.1, -0.1);
         model_match(&dflt, &u, mu);
-        assert_false(rfe_status_is_error(RFE_FN(rfe_estimator_step)(&est, &u, &out)));
+        assert_false(rfe_status_is_error(rfe_estimator_step(&est, &u, &out)));
         assert_true(out.mu[RFE_FL] == out.mu[RFE_RL] && out.mu[RFE_FR] == out.mu[RFE_RR]);
         assert_true(out.sd[RFE_FL] == out.sd[RFE_RL] && out.sd[RFE_FR] == out.sd[RFE_RR]);
         assert_int_equal(out.valid[RFE_FL], out.valid[RFE_RL]);
@@ -596,12 +596,12 @@ static void test_rfe_estimator_sides_mapping(void **state)
     {
         rfe_params_t p = dflt;
         p.filter.structure = RFE_STRUCT_WHEELS;
-        assert_int_equal(RFE_FN(rfe_estimator_init)(&est, &p), RFE_OK);
+        assert_int_equal(rfe_estimator_init(&est, &p), RFE_OK);
         assert_int_equal(est.n, 4);
         for (k = 0; k < 20; ++k) {
             rfe_sample_t u = straight_sample(25.0 - 0.05 * k, -0.1, -0.1);
             model_match(&p, &u, mu);
-            assert_false(rfe_status_is_error(RFE_FN(rfe_estimator_step)(&est, &u, &out)));
+            assert_false(rfe_status_is_error(rfe_estimator_step(&est, &u, &out)));
         }
         assert_true(out.mu[RFE_FL] != out.mu[RFE_RL]);
     }
@@ -624,30 +624,30 @@ static void test_rfe_estimator_validity_rules(void **state)
     model_match(&dflt, &brake, mu);
     p.filter.sd0 = (rfe_real_t)0.05; /* prior sd 0.07: valid by the sd rule from the start */
     p.filter.sd0_common = (rfe_real_t)0.05;
-    assert_int_equal(RFE_FN(rfe_estimator_init)(&est, &p), RFE_OK);
-    assert_int_equal(RFE_FN(rfe_estimator_get)(&est, &out), RFE_OK);
+    assert_int_equal(rfe_estimator_init(&est, &p), RFE_OK);
+    assert_int_equal(rfe_estimator_get(&est, &out), RFE_OK);
     assert_int_equal(out.valid[0], 1);
-    assert_int_equal(RFE_FN(rfe_estimator_step)(&est, &slow, &out), RFE_NO_UPDATE_LOW_SPEED);
+    assert_int_equal(rfe_estimator_step(&est, &slow, &out), RFE_NO_UPDATE_LOW_SPEED);
     assert_int_equal(out.valid[2], 1);
     /* The paper rule with the default tuning: valid only on updating steps. */
     p.filter.sd_valid = 0;
-    assert_int_equal(RFE_FN(rfe_estimator_init)(&est, &p), RFE_OK);
-    assert_int_equal(RFE_FN(rfe_estimator_get)(&est, &out), RFE_OK);
+    assert_int_equal(rfe_estimator_init(&est, &p), RFE_OK);
+    assert_int_equal(rfe_estimator_get(&est, &out), RFE_OK);
     assert_int_equal(out.valid[0], 0);
-    st = RFE_FN(rfe_estimator_step)(&est, &brake, &out);
+    st = rfe_estimator_step(&est, &brake, &out);
     assert_true(st == RFE_OK || st == RFE_PROJECTED);
     assert_int_equal(out.valid[0], 1);
-    assert_int_equal(RFE_FN(rfe_estimator_step)(&est, &cruise, &out), RFE_HELD_NOT_OBSERVABLE);
+    assert_int_equal(rfe_estimator_step(&est, &cruise, &out), RFE_HELD_NOT_OBSERVABLE);
     assert_int_equal(out.valid[0], 0);
-    assert_int_equal(RFE_FN(rfe_estimator_init)(&est, &p), RFE_OK);
-    assert_int_equal(RFE_FN(rfe_estimator_step)(&est, &slow, &out), RFE_NO_UPDATE_LOW_SPEED);
+    assert_int_equal(rfe_estimator_init(&est, &p), RFE_OK);
+    assert_int_equal(rfe_estimator_step(&est, &slow, &out), RFE_NO_UPDATE_LOW_SPEED);
     assert_int_equal(out.valid[0], 0);
     /* The CKF accepts any sd_valid (an output rule). */
     p = paper;
     p.filter.kind = RFE_FILTER_CKF;
     p.filter.sd_valid = 1;
-    assert_int_equal(RFE_FN(rfe_estimator_init)(&est, &p), RFE_OK);
-    assert_int_equal(RFE_FN(rfe_estimator_step)(&est, &slow, &out), RFE_NO_UPDATE_LOW_SPEED);
+    assert_int_equal(rfe_estimator_init(&est, &p), RFE_OK);
+    assert_int_equal(rfe_estimator_step(&est, &slow, &out), RFE_NO_UPDATE_LOW_SPEED);
     assert_int_equal(out.valid[1], 1);
 }
 
@@ -662,10 +662,10 @@ static void test_rfe_params_validate_new_keys(void **state)
     size_t k;
     rfe_real_t *fields[14];
     (void)state;
-    assert_int_equal(RFE_FN(rfe_params_validate)(&dflt), RFE_OK);
-    assert_int_equal(RFE_FN(rfe_params_validate)(&paper), RFE_OK);
-    assert_int_equal(RFE_FN(rfe_params_paper)(NULL), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_params_default)(NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_params_validate(&dflt), RFE_OK);
+    assert_int_equal(rfe_params_validate(&paper), RFE_OK);
+    assert_int_equal(rfe_params_paper(NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_params_default(NULL), RFE_ERR_NULL);
     p = dflt;
     fields[0] = &p.filter.sd0_common;
     fields[1] = &p.filter.q_common;
@@ -686,28 +686,28 @@ static void test_rfe_params_validate_new_keys(void **state)
         char what[32];
         snprintf(what, sizeof what, "field %zu", k);
         *fields[k] = (rfe_real_t)-0.001;
-        if (RFE_FN(rfe_params_validate)(&p) != RFE_ERR_PARAM) {
+        if (rfe_params_validate(&p) != RFE_ERR_PARAM) {
             fail_msg("%s: negative accepted", what);
         }
         *fields[k] = (rfe_real_t)NAN;
-        if (RFE_FN(rfe_params_validate)(&p) != RFE_ERR_PARAM) {
+        if (rfe_params_validate(&p) != RFE_ERR_PARAM) {
             fail_msg("%s: NaN accepted", what);
         }
         *fields[k] = (rfe_real_t)INFINITY;
-        if (RFE_FN(rfe_params_validate)(&p) != RFE_ERR_PARAM) {
+        if (rfe_params_validate(&p) != RFE_ERR_PARAM) {
             fail_msg("%s: Inf accepted", what);
         }
         *fields[k] = 0;
-        if (RFE_FN(rfe_params_validate)(&p) != ((k == 2) ? RFE_ERR_PARAM : RFE_OK)) {
+        if (rfe_params_validate(&p) != ((k == 2) ? RFE_ERR_PARAM : RFE_OK)) {
             fail_msg("%s: 0 handled wrongly", what);
         }
         *fields[k] = keep;
     }
     p.filter.structure = (rfe_structure_t)2;
-    assert_int_equal(RFE_FN(rfe_params_validate)(&p), RFE_ERR_PARAM);
+    assert_int_equal(rfe_params_validate(&p), RFE_ERR_PARAM);
     p = dflt;
     p.filter.sd_max = (rfe_real_t)1e-3; /* any positive bound */
-    assert_int_equal(RFE_FN(rfe_params_validate)(&p), RFE_OK);
+    assert_int_equal(rfe_params_validate(&p), RFE_OK);
 }
 
 /* REQ: the CKF runs only the paper subset: the paper preset with any tyre, any dt and any
@@ -724,7 +724,7 @@ static void test_rfe_params_validate_ckf_subset(void **state)
     p.tyre.mode = RFE_TYRE_ABSOLUTE;
     p.filter.dt = (rfe_real_t)0.02;
     p.filter.sd_valid = (rfe_real_t)0.1;
-    assert_int_equal(RFE_FN(rfe_params_validate)(&p), RFE_OK);
+    assert_int_equal(rfe_params_validate(&p), RFE_OK);
     fields[0] = &p.filter.sd0_common;
     fields[1] = &p.filter.q_common;
     fields[2] = &p.filter.tau_v;
@@ -741,19 +741,19 @@ static void test_rfe_params_validate_ckf_subset(void **state)
     for (k = 0; k < 13; ++k) {
         const rfe_real_t keep = *fields[k];
         *fields[k] = (rfe_real_t)0.5;
-        if (RFE_FN(rfe_params_validate)(&p) != ((k == 12) ? RFE_OK : RFE_ERR_PARAM)) {
+        if (rfe_params_validate(&p) != ((k == 12) ? RFE_OK : RFE_ERR_PARAM)) {
             fail_msg("CKF subset: field %zu", k);
         }
         p.filter.kind = RFE_FILTER_SCKF; /* the same value is fine for the SCKF */
-        assert_int_equal(RFE_FN(rfe_params_validate)(&p), RFE_OK);
+        assert_int_equal(rfe_params_validate(&p), RFE_OK);
         p.filter.kind = RFE_FILTER_CKF;
         *fields[k] = keep;
     }
     p.filter.structure = RFE_STRUCT_SIDES;
-    assert_int_equal(RFE_FN(rfe_params_validate)(&p), RFE_ERR_PARAM);
+    assert_int_equal(rfe_params_validate(&p), RFE_ERR_PARAM);
     p = dflt;
     p.filter.kind = RFE_FILTER_CKF;
-    assert_int_equal(RFE_FN(rfe_params_validate)(&p), RFE_ERR_PARAM);
+    assert_int_equal(rfe_params_validate(&p), RFE_ERR_PARAM);
 }
 
 /* REQ: the paper preset has every addition off and its prior is exactly sd0 I (no
@@ -786,7 +786,7 @@ static void test_rfe_params_presets(void **state)
     assert_true(dflt.filter.r_model_rel == (rfe_real_t)0.05 && dflt.filter.info_min == (rfe_real_t)25 &&
                 dflt.filter.sd_max == (rfe_real_t)0.32 && dflt.filter.sd_floor_rel == (rfe_real_t)0.15 &&
                 dflt.filter.sd_valid == (rfe_real_t)0.15);
-    assert_int_equal(RFE_FN(rfe_estimator_init)(&est, &paper), RFE_OK);
+    assert_int_equal(rfe_estimator_init(&est, &paper), RFE_OK);
     for (i = 0; i < 4; ++i) {
         for (j = 0; j <= i; ++j) {
             assert_true(est.filter.sckf.S[i * RFE_N_MAX + j] == ((i == j) ? paper.filter.sd0 : 0));
@@ -817,14 +817,14 @@ static void test_rfe_estimator_rollback_with_conditioner(void **state)
     p.filter.sd_max = 0;
     p.filter.sd_floor_rel = 0;
     fast.ax = -5;
-    assert_int_equal(RFE_FN(rfe_estimator_init)(&est, &p), RFE_OK);
+    assert_int_equal(rfe_estimator_init(&est, &p), RFE_OK);
     slow.ax = (rfe_real_t)-0.5;
-    assert_int_equal(RFE_FN(rfe_estimator_step)(&est, &slow, &out), RFE_NO_UPDATE_LOW_SPEED);
-    assert_int_equal(RFE_FN(rfe_estimator_step)(&est, &slow, &out), RFE_NO_UPDATE_LOW_SPEED);
+    assert_int_equal(rfe_estimator_step(&est, &slow, &out), RFE_NO_UPDATE_LOW_SPEED);
+    assert_int_equal(rfe_estimator_step(&est, &slow, &out), RFE_NO_UPDATE_LOW_SPEED);
     assert_int_equal(est.cond.started, 1);
     assert_true(est.cond.vx != slow.vx); /* the input filter has a state of its own */
     copy = est;
-    st = RFE_FN(rfe_estimator_step)(&est, &fast, &out);
+    st = rfe_estimator_step(&est, &fast, &out);
     assert_true(rfe_status_is_error(st));
     assert_int_equal(out.status, st);
     assert_int_equal(out.valid[0], 0);
@@ -832,15 +832,15 @@ static void test_rfe_estimator_rollback_with_conditioner(void **state)
     assert_memory_equal(est.filter.sckf.x, copy.filter.sckf.x, sizeof est.filter.sckf.x);
     assert_memory_equal(est.filter.sckf.S, copy.filter.sckf.S, sizeof est.filter.sckf.S);
     /* The next good step is the same as the copy's. */
-    assert_int_equal(RFE_FN(rfe_estimator_step)(&est, &slow, &out), RFE_NO_UPDATE_LOW_SPEED);
-    assert_int_equal(RFE_FN(rfe_estimator_step)(&copy, &slow, &out_copy), RFE_NO_UPDATE_LOW_SPEED);
+    assert_int_equal(rfe_estimator_step(&est, &slow, &out), RFE_NO_UPDATE_LOW_SPEED);
+    assert_int_equal(rfe_estimator_step(&copy, &slow, &out_copy), RFE_NO_UPDATE_LOW_SPEED);
     assert_memory_equal(&est.cond, &copy.cond, sizeof est.cond);
     assert_memory_equal(est.filter.sckf.x, copy.filter.sckf.x, sizeof est.filter.sckf.x);
     assert_memory_equal(est.filter.sckf.S, copy.filter.sckf.S, sizeof est.filter.sckf.S);
     /* A rejected sample touches nothing at all, conditioner included. */
     copy = est;
     fast.vx = (rfe_real_t)NAN;
-    assert_int_equal(RFE_FN(rfe_estimator_step)(&est, &fast, &out), RFE_ERR_NONFINITE);
+    assert_int_equal(rfe_estimator_step(&est, &fast, &out), RFE_ERR_NONFINITE);
     assert_memory_equal(&est, &copy, sizeof est);
 }
 
@@ -861,10 +861,10 @@ static void test_rfe_estimator_singular_prior_refused(void **state)
 #endif
     memset(&est, 0x5A, sizeof est);
     copy = est;
-    assert_int_equal(RFE_FN(rfe_estimator_init)(&est, &p), RFE_ERR_NOT_POSITIVE_DEFINITE);
+    assert_int_equal(rfe_estimator_init(&est, &p), RFE_ERR_NOT_POSITIVE_DEFINITE);
     assert_memory_equal(&est, &copy, sizeof est);
     p.filter.sd0_common = (rfe_real_t)3.0; /* a ratio of 30 (the default preset: 3) is fine */
-    assert_int_equal(RFE_FN(rfe_estimator_init)(&est, &p), RFE_OK);
+    assert_int_equal(rfe_estimator_init(&est, &p), RFE_OK);
 }
 
 /* REQ: with sd_max on, a prior whose row norms overflow is an error (not a scale to zero). */
@@ -880,12 +880,12 @@ static void test_rfe_estimator_bounds_reject_overflowing_sd(void **state)
     /* With a common-mode part the prior's Cholesky squares sd0: refused at init, untouched. */
     memset(&est, 0x5A, sizeof est);
     copy = est;
-    assert_int_equal(RFE_FN(rfe_estimator_init)(&est, &p), RFE_ERR_NONFINITE);
+    assert_int_equal(rfe_estimator_init(&est, &p), RFE_ERR_NONFINITE);
     assert_memory_equal(&est, &copy, sizeof est);
     p.filter.sd0_common = 0;
-    assert_int_equal(RFE_FN(rfe_estimator_init)(&est, &p), RFE_OK);
+    assert_int_equal(rfe_estimator_init(&est, &p), RFE_OK);
     copy = est;
-    assert_int_equal(RFE_FN(rfe_estimator_step)(&est, &slow, &out), RFE_ERR_NONFINITE);
+    assert_int_equal(rfe_estimator_step(&est, &slow, &out), RFE_ERR_NONFINITE);
     assert_memory_equal(est.filter.sckf.S, copy.filter.sckf.S, sizeof est.filter.sckf.S);
     assert_memory_equal(&est.cond, &copy.cond, sizeof est.cond);
 }

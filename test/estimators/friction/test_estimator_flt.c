@@ -34,7 +34,7 @@ static int setup(void **state)
     (void)state;
     /* The paper preset: these tests pin MODEL.md §6 (the default preset is tested in
      * test_estimator_default_flt.c). */
-    return RFE_FN(rfe_params_paper)(&params) == RFE_OK ? 0 : -1;
+    return rfe_params_paper(&params) == RFE_OK ? 0 : -1;
 }
 
 /* A plausible braking sample at 20 m/s. */
@@ -62,7 +62,7 @@ static rfe_status_t measure_H(void *ctx, const rfe_real_t *x, rfe_real_t *z, siz
 {
     (void)n;
     (void)m;
-    return RFE_FN(rfe_obsmat_apply)(((struct paper_ctx *)ctx)->H, x, z);
+    return rfe_obsmat_apply(((struct paper_ctx *)ctx)->H, x, z);
 }
 
 /* REQ: one SCKF step of the paper configuration equals the independent vectors
@@ -107,16 +107,16 @@ static void test_rfe_sckf_step_matches_vectors(void **state)
         SR[0] = params.filter.r_ax;
         SR[4] = params.filter.r_ay;
         SR[8] = params.filter.r_yaw_acc;
-        assert_int_equal(RFE_FN(rfe_tyre_kinematics)(&params.vehicle, &params.tyre, &u, &kin), RFE_OK);
-        assert_int_equal(RFE_FN(rfe_tyre_forces_norm)(&params.tyre, &kin, f0x, f0y), RFE_OK);
-        assert_int_equal(RFE_FN(rfe_obsmat_build)(&params.vehicle, u.delta, f0x, f0y, ctx.H), RFE_OK);
-        assert_int_equal(RFE_FN(rfe_sckf_init)(&f, 4, 3, x0, S0, SQ, SR), RFE_OK);
-        assert_int_equal(RFE_FN(rfe_sckf_predict)(&f, NULL, NULL), RFE_OK);
-        assert_int_equal(RFE_FN(rfe_sckf_update)(&f, measure_H, &ctx, y), RFE_OK);
-        assert_int_equal(RFE_FN(rfe_sckf_clamp)(&f, params.filter.mu_min, params.filter.mu_max,
+        assert_int_equal(rfe_tyre_kinematics(&params.vehicle, &params.tyre, &u, &kin), RFE_OK);
+        assert_int_equal(rfe_tyre_forces_norm(&params.tyre, &kin, f0x, f0y), RFE_OK);
+        assert_int_equal(rfe_obsmat_build(&params.vehicle, u.delta, f0x, f0y, ctx.H), RFE_OK);
+        assert_int_equal(rfe_sckf_init(&f, 4, 3, x0, S0, SQ, SR), RFE_OK);
+        assert_int_equal(rfe_sckf_predict(&f, NULL, NULL), RFE_OK);
+        assert_int_equal(rfe_sckf_update(&f, measure_H, &ctx, y), RFE_OK);
+        assert_int_equal(rfe_sckf_clamp(&f, params.filter.mu_min, params.filter.mu_max,
                                                 &clamped), RFE_OK);
         assert_int_equal(clamped, (int)test_table_get(&v, r, "projected"));
-        assert_int_equal(RFE_FN(rfe_sckf_get)(&f, x1, NULL), RFE_OK);
+        assert_int_equal(rfe_sckf_get(&f, x1, NULL), RFE_OK);
         for (i = 0; i < 4; ++i) {
             snprintf(name, sizeof(name), "x1_%s", WHEEL[i]);
             snprintf(what, sizeof(what), "case %zu %s", r, name);
@@ -141,24 +141,24 @@ static void test_rfe_estimator_init_rejects_bad_params(void **state)
     memset(&est, 0xA5, sizeof(est));
     copy = est;
     p.vehicle.m = -1;
-    assert_int_equal(RFE_FN(rfe_estimator_init)(&est, &p), RFE_ERR_PARAM);
+    assert_int_equal(rfe_estimator_init(&est, &p), RFE_ERR_PARAM);
     p = params;
     p.filter.mu_min = (rfe_real_t)1.3; /* above mu_max */
-    assert_int_equal(RFE_FN(rfe_estimator_init)(&est, &p), RFE_ERR_PARAM);
+    assert_int_equal(rfe_estimator_init(&est, &p), RFE_ERR_PARAM);
     p = params;
     p.tyre.alpha_max = (rfe_real_t)1.6; /* tan would blow up near pi/2 */
-    assert_int_equal(RFE_FN(rfe_estimator_init)(&est, &p), RFE_ERR_PARAM);
+    assert_int_equal(rfe_estimator_init(&est, &p), RFE_ERR_PARAM);
     p = params;
     p.filter.q_mu = (rfe_real_t)NAN;
-    assert_int_equal(RFE_FN(rfe_estimator_init)(&est, &p), RFE_ERR_PARAM);
+    assert_int_equal(rfe_estimator_init(&est, &p), RFE_ERR_PARAM);
     p = params;
     p.filter.kind = (rfe_filter_kind_t)7;
-    assert_int_equal(RFE_FN(rfe_estimator_init)(&est, &p), RFE_ERR_PARAM);
-    assert_int_equal(RFE_FN(rfe_estimator_init)(NULL, &params), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_estimator_init)(&est, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_estimator_init(&est, &p), RFE_ERR_PARAM);
+    assert_int_equal(rfe_estimator_init(NULL, &params), RFE_ERR_NULL);
+    assert_int_equal(rfe_estimator_init(&est, NULL), RFE_ERR_NULL);
     assert_memory_equal(&est, &copy, sizeof(est));
-    assert_int_equal(RFE_FN(rfe_params_validate)(NULL), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_params_default)(NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_params_validate(NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_params_default(NULL), RFE_ERR_NULL);
 }
 
 /* REQ: the initial estimate is mu0 with sd0 on every wheel, for both filters. */
@@ -173,8 +173,8 @@ static void test_rfe_estimator_init_sets_prior(void **state)
     (void)state;
     for (k = 0; k < 2; ++k) {
         p.filter.kind = k ? RFE_FILTER_CKF : RFE_FILTER_SCKF;
-        assert_int_equal(RFE_FN(rfe_estimator_init)(&est, &p), RFE_OK);
-        assert_int_equal(RFE_FN(rfe_estimator_get)(&est, &out), RFE_OK);
+        assert_int_equal(rfe_estimator_init(&est, &p), RFE_OK);
+        assert_int_equal(rfe_estimator_get(&est, &out), RFE_OK);
         for (i = 0; i < 4; ++i) {
             assert_close(out.mu[i], params.filter.mu0, 1e-7, 0.0, "mu0");
             assert_close(out.sd[i], params.filter.sd0, 1e-7, 0.0, "sd0");
@@ -192,12 +192,12 @@ static void test_rfe_estimator_step_requires_init(void **state)
     rfe_sample_t u = braking_sample();
     (void)state;
     memset(&est, 0, sizeof(est));
-    assert_int_equal(RFE_FN(rfe_estimator_step)(&est, &u, &out), RFE_ERR_NOT_INITIALISED);
-    assert_int_equal(RFE_FN(rfe_estimator_get)(&est, &out), RFE_ERR_NOT_INITIALISED);
-    assert_int_equal(RFE_FN(rfe_estimator_step)(NULL, &u, &out), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_estimator_step)(&est, NULL, &out), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_estimator_step)(&est, &u, NULL), RFE_ERR_NULL);
-    assert_int_equal(RFE_FN(rfe_estimator_get)(NULL, &out), RFE_ERR_NULL);
+    assert_int_equal(rfe_estimator_step(&est, &u, &out), RFE_ERR_NOT_INITIALISED);
+    assert_int_equal(rfe_estimator_get(&est, &out), RFE_ERR_NOT_INITIALISED);
+    assert_int_equal(rfe_estimator_step(NULL, &u, &out), RFE_ERR_NULL);
+    assert_int_equal(rfe_estimator_step(&est, NULL, &out), RFE_ERR_NULL);
+    assert_int_equal(rfe_estimator_step(&est, &u, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_estimator_get(NULL, &out), RFE_ERR_NULL);
 }
 
 /* REQ: a NaN/Inf or out-of-range sample returns a distinct status, leaves the whole
@@ -214,32 +214,32 @@ static void test_rfe_estimator_step_bad_sample_leaves_state(void **state)
     for (k = 0; k < 2; ++k) {
         rfe_params_t p = params;
         p.filter.kind = k ? RFE_FILTER_CKF : RFE_FILTER_SCKF;
-        assert_int_equal(RFE_FN(rfe_estimator_init)(&est, &p), RFE_OK);
-        assert_false(rfe_status_is_error(RFE_FN(rfe_estimator_step)(&est, &good, &out)));
+        assert_int_equal(rfe_estimator_init(&est, &p), RFE_OK);
+        assert_false(rfe_status_is_error(rfe_estimator_step(&est, &good, &out)));
         copy = est;
         bad = good;
         bad.ax = (rfe_real_t)NAN;
-        assert_int_equal(RFE_FN(rfe_estimator_step)(&est, &bad, &out), RFE_ERR_NONFINITE);
+        assert_int_equal(rfe_estimator_step(&est, &bad, &out), RFE_ERR_NONFINITE);
         assert_memory_equal(&est, &copy, sizeof(est));
         assert_int_equal(out.status, RFE_ERR_NONFINITE);
         assert_int_equal(out.valid[0], 0);
         bad = good;
         bad.yaw_acc = (rfe_real_t)-INFINITY;
-        assert_int_equal(RFE_FN(rfe_estimator_step)(&est, &bad, &out), RFE_ERR_NONFINITE);
+        assert_int_equal(rfe_estimator_step(&est, &bad, &out), RFE_ERR_NONFINITE);
         bad = good;
         bad.omega[2] = (rfe_real_t)(RFE_LIMIT_OMEGA * 1.01);
-        assert_int_equal(RFE_FN(rfe_estimator_step)(&est, &bad, &out), RFE_ERR_RANGE);
+        assert_int_equal(rfe_estimator_step(&est, &bad, &out), RFE_ERR_RANGE);
         bad = good;
         bad.delta = (rfe_real_t)(RFE_LIMIT_DELTA * 1.01);
-        assert_int_equal(RFE_FN(rfe_estimator_step)(&est, &bad, &out), RFE_ERR_RANGE);
+        assert_int_equal(rfe_estimator_step(&est, &bad, &out), RFE_ERR_RANGE);
         bad = good;
         bad.vx = (rfe_real_t)(-RFE_LIMIT_VX * 1.01);
-        assert_int_equal(RFE_FN(rfe_estimator_step)(&est, &bad, &out), RFE_ERR_RANGE);
+        assert_int_equal(rfe_estimator_step(&est, &bad, &out), RFE_ERR_RANGE);
         bad = good;
         bad.ay = (rfe_real_t)(RFE_LIMIT_ACC * 1.01);
-        assert_int_equal(RFE_FN(rfe_estimator_step)(&est, &bad, &out), RFE_ERR_RANGE);
+        assert_int_equal(rfe_estimator_step(&est, &bad, &out), RFE_ERR_RANGE);
         assert_memory_equal(&est, &copy, sizeof(est));
-        assert_false(rfe_status_is_error(RFE_FN(rfe_estimator_step)(&est, &good, &out)));
+        assert_false(rfe_status_is_error(rfe_estimator_step(&est, &good, &out)));
         assert_int_equal(out.valid[3], 1);
     }
 }
@@ -254,8 +254,8 @@ static void test_rfe_estimator_step_low_speed_time_update_only(void **state)
     size_t i;
     (void)state;
     u.vx = (rfe_real_t)(params.filter.v_est_min * 0.5);
-    assert_int_equal(RFE_FN(rfe_estimator_init)(&est, &params), RFE_OK);
-    assert_int_equal(RFE_FN(rfe_estimator_step)(&est, &u, &out), RFE_NO_UPDATE_LOW_SPEED);
+    assert_int_equal(rfe_estimator_init(&est, &params), RFE_OK);
+    assert_int_equal(rfe_estimator_step(&est, &u, &out), RFE_NO_UPDATE_LOW_SPEED);
     for (i = 0; i < 4; ++i) {
         const double sd0 = params.filter.sd0, q = params.filter.q_mu;
         assert_close(out.mu[i], params.filter.mu0, 1e-6, 0.0, "held mean");
@@ -263,7 +263,7 @@ static void test_rfe_estimator_step_low_speed_time_update_only(void **state)
         assert_int_equal(out.valid[i], 0);
     }
     u.vx = -5; /* reversing: also no update */
-    assert_int_equal(RFE_FN(rfe_estimator_step)(&est, &u, &out), RFE_NO_UPDATE_LOW_SPEED);
+    assert_int_equal(rfe_estimator_step(&est, &u, &out), RFE_NO_UPDATE_LOW_SPEED);
 }
 
 /* REQ: a measurement that implies friction above mu_max is projected onto the bound. */
@@ -278,9 +278,9 @@ static void test_rfe_estimator_step_projects_onto_bounds(void **state)
     size_t i;
     (void)state;
     u.ax = -40; /* 4 g of braking with ~3 % slip: mu far above 1.2 */
-    assert_int_equal(RFE_FN(rfe_estimator_init)(&est, &params), RFE_OK);
+    assert_int_equal(rfe_estimator_init(&est, &params), RFE_OK);
     for (k = 0; k < 50; ++k) {
-        st = RFE_FN(rfe_estimator_step)(&est, &u, &out);
+        st = rfe_estimator_step(&est, &u, &out);
         assert_false(rfe_status_is_error(st));
         seen |= (st == RFE_PROJECTED);
     }
@@ -315,17 +315,17 @@ static void test_rfe_estimator_absolute_mode_converges(void **state)
         u.omega[i] = (rfe_real_t)(20.0 * 0.85 / 0.325); /* 15 % slip: near saturation */
     }
     for (k = 0; k < 3; ++k) { /* loads depend on ax, ay: iterate to the model-matched point */
-        assert_int_equal(RFE_FN(rfe_tyre_kinematics)(&p.vehicle, &p.tyre, &u, &kin), RFE_OK);
-        assert_int_equal(RFE_FN(rfe_tyre_forces_abs)(&p.tyre, &kin, mu, fx, fy), RFE_OK);
-        assert_int_equal(RFE_FN(rfe_obsmat_build)(&p.vehicle, u.delta, fx, fy, H), RFE_OK);
-        assert_int_equal(RFE_FN(rfe_obsmat_apply)(H, ones, y), RFE_OK);
+        assert_int_equal(rfe_tyre_kinematics(&p.vehicle, &p.tyre, &u, &kin), RFE_OK);
+        assert_int_equal(rfe_tyre_forces_abs(&p.tyre, &kin, mu, fx, fy), RFE_OK);
+        assert_int_equal(rfe_obsmat_build(&p.vehicle, u.delta, fx, fy, H), RFE_OK);
+        assert_int_equal(rfe_obsmat_apply(H, ones, y), RFE_OK);
         u.ax = y[0];
         u.ay = y[1];
         u.yaw_acc = y[2];
     }
-    assert_int_equal(RFE_FN(rfe_estimator_init)(&est, &p), RFE_OK);
+    assert_int_equal(rfe_estimator_init(&est, &p), RFE_OK);
     for (k = 0; k < 300; ++k) {
-        assert_false(rfe_status_is_error(RFE_FN(rfe_estimator_step)(&est, &u, &out)));
+        assert_false(rfe_status_is_error(rfe_estimator_step(&est, &u, &out)));
     }
     for (i = 0; i < 4; ++i) {
         mean += out.mu[i] / 4.0;
@@ -346,9 +346,9 @@ static void test_rfe_estimator_step_numeric_failure_rolls_back(void **state)
     rfe_status_t st;
     (void)state;
     p.filter.sd0 = (rfe_real_t)HUGE_SD0;
-    assert_int_equal(RFE_FN(rfe_estimator_init)(&est, &p), RFE_OK);
+    assert_int_equal(rfe_estimator_init(&est, &p), RFE_OK);
     copy = est;
-    st = RFE_FN(rfe_estimator_step)(&est, &u, &out);
+    st = rfe_estimator_step(&est, &u, &out);
     assert_true(rfe_status_is_error(st));
     assert_memory_equal(est.filter.sckf.x, copy.filter.sckf.x, sizeof(copy.filter.sckf.x));
     assert_memory_equal(est.filter.sckf.S, copy.filter.sckf.S, sizeof(copy.filter.sckf.S));
