@@ -10,14 +10,14 @@
  */
 #include <math.h>
 
-#include "rfe/chol.h"
-#include "rfe/ckf.h"
-#include "rfe/estimator.h"
-#include "rfe/meas.h"
-#include "rfe/obsmat.h"
-#include "rfe/qr.h"
-#include "rfe/sckf.h"
-#include "rfe/tyre.h"
+#include "rfe/component/chol.h"
+#include "rfe/component/ckf.h"
+#include "rfe/friction.h"
+#include "rfe/component/meas.h"
+#include "rfe/component/obsmat.h"
+#include "rfe/component/qr.h"
+#include "rfe/component/sckf.h"
+#include "rfe/component/tyre.h"
 
 #include "csv_log.h"
 #include "param_file.h"
@@ -49,7 +49,7 @@ static rfe_params_t par_paper;    /* paper preset, paper tyre */
 static rfe_params_t par_abs;      /* paper preset, absolute tyre */
 static rfe_params_t par_magic;    /* paper preset, Magic Formula tyre */
 static rfe_params_t par_step;     /* the parameters of the step case being run */
-static rfe_estimator_t est;
+static rfe_friction_t est;
 static rfe_estimate_t out;
 
 /* Recorded filter states: before the time update (post[k], i.e. after step k-1) and before
@@ -94,7 +94,7 @@ static void save(snap_t *s, const rfe_real_t *x, const rfe_real_t *F)
 static void prep_step(const rfe_params_t *p)
 {
     par_step = *p;
-    if (rfe_estimator_init(&est, &par_step) != RFE_OK) {
+    if (rfe_friction_init(&est, &par_step) != RFE_OK) {
         fprintf(stderr, "bench: estimator init failed\n");
         exit(1);
     }
@@ -109,7 +109,7 @@ static void prep_step_ckf_abs(void) { prep_step(&par_abs_ckf); }
 static void prep_step_default(void) { prep_step(&par_default); }
 static void run_step(size_t k)
 {
-    bench_sink += (uint32_t)rfe_estimator_step(&est, &samples[k], &out);
+    bench_sink += (uint32_t)rfe_friction_step(&est, &samples[k], &out);
 }
 
 /* ---- module cases --------------------------------------------------------------------- */
@@ -302,13 +302,13 @@ static void to_sample(const rfe_sensor_row_t *r, rfe_sample_t *s)
 static int record_states(void)
 {
     size_t k;
-    rfe_estimator_t e;
+    rfe_friction_t e;
     int clamped;
-    if (rfe_estimator_init(&e, &par_paper) != RFE_OK) {
+    if (rfe_friction_init(&e, &par_paper) != RFE_OK) {
         return -1;
     }
     sckf = e.filter.sckf;
-    if (rfe_estimator_init(&e, &par_paper_ckf) != RFE_OK) {
+    if (rfe_friction_init(&e, &par_paper_ckf) != RFE_OK) {
         return -1;
     }
     ckf = e.filter.ckf;

@@ -10,16 +10,16 @@
  */
 #include <math.h>
 
-#include "rfe/chol_q31.h"
-#include "rfe/ckf_q31.h"
-#include "rfe/estimator_q31.h"
-#include "rfe/fixed_conv.h"
-#include "rfe/meas_q31.h"
-#include "rfe/obsmat_q31.h"
-#include "rfe/params_conv.h"
-#include "rfe/qr_q31.h"
-#include "rfe/sckf_q31.h"
-#include "rfe/tyre_q31.h"
+#include "rfe/component/chol_q31.h"
+#include "rfe/component/ckf_q31.h"
+#include "rfe/friction_q31.h"
+#include "host/fixed_conv.h"
+#include "rfe/component/meas_q31.h"
+#include "rfe/component/obsmat_q31.h"
+#include "rfe/component/params_conv.h"
+#include "rfe/component/qr_q31.h"
+#include "rfe/component/sckf_q31.h"
+#include "rfe/component/tyre_q31.h"
 
 #include "csv_log.h"
 #include "param_file.h"
@@ -47,7 +47,7 @@ static rfe_params_q31_t par_paper;    /* paper preset, paper tyre */
 static rfe_params_q31_t par_abs;      /* paper preset, absolute tyre */
 static rfe_params_q31_t par_magic;    /* paper preset, Magic Formula tyre */
 static rfe_params_q31_t par_step;     /* the parameters of the step case being run */
-static rfe_estimator_q31_t est;
+static rfe_friction_q31_t est;
 static rfe_estimate_q31_t out;
 
 /* Recorded filter states: before the time update (post[k], i.e. after step k-1) and before
@@ -92,7 +92,7 @@ static void save(snap_t *s, const rfe_fix_t *x, const rfe_fix_t *F)
 static void prep_step(const rfe_params_q31_t *p)
 {
     par_step = *p;
-    if (rfe_estimator_init_q31(&est, &par_step) != RFE_OK) {
+    if (rfe_friction_init_q31(&est, &par_step) != RFE_OK) {
         fprintf(stderr, "bench: estimator init failed\n");
         exit(1);
     }
@@ -107,7 +107,7 @@ static void prep_step_ckf_abs(void) { prep_step(&par_abs_ckf); }
 static void prep_step_default(void) { prep_step(&par_default); }
 static void run_step(size_t k)
 {
-    bench_sink += (uint32_t)rfe_estimator_step_q31(&est, &samples[k], &out);
+    bench_sink += (uint32_t)rfe_friction_step_q31(&est, &samples[k], &out);
 }
 
 /* ---- module cases --------------------------------------------------------------------- */
@@ -303,13 +303,13 @@ static void to_sample(const rfe_sensor_row_t *r, rfe_sample_q31_t *s)
 static int record_states(void)
 {
     size_t k;
-    rfe_estimator_q31_t e;
+    rfe_friction_q31_t e;
     int clamped;
-    if (rfe_estimator_init_q31(&e, &par_paper) != RFE_OK) {
+    if (rfe_friction_init_q31(&e, &par_paper) != RFE_OK) {
         return -1;
     }
     sckf = e.filter.sckf;
-    if (rfe_estimator_init_q31(&e, &par_paper_ckf) != RFE_OK) {
+    if (rfe_friction_init_q31(&e, &par_paper_ckf) != RFE_OK) {
         return -1;
     }
     ckf = e.filter.ckf;

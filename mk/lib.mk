@@ -14,7 +14,7 @@ DEPFLAGS := -MMD -MP
 # estimators; src/host/ is host code, never part of it.
 LIB_DIRS      := src/numerics src/filters src/models src/params src/estimators/friction
 LIB_ALL_SRC   := $(foreach d,$(LIB_DIRS),$(wildcard $(d)/*.c))
-LIB_HDRS      := $(wildcard include/rfe/*.h $(addsuffix /*.h,$(LIB_DIRS)))
+LIB_HDRS      := $(wildcard include/rfe/*.h include/rfe/component/*.h $(addsuffix /*.h,$(LIB_DIRS)))
 Q31_SRC       := $(filter %_q31.c,$(LIB_ALL_SRC))
 LIB_SRC       := $(filter-out $(Q31_SRC),$(LIB_ALL_SRC))
 # replay_q31.c (the `--real q31` replay) needs the q31 library: linked only into mu_replay and

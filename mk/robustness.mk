@@ -108,11 +108,11 @@ SOAK_JOBS          ?= $(shell nproc 2>/dev/null || echo 1)
 $(BUILD)/soak/drive_%s.csv: scripts/data/soak_drive.py $(wildcard scripts/sim/*.py) | venv
 	@mkdir -p $(@D)
 	$(PY) scripts/data/soak_drive.py --seconds $* --seed $(SOAK_SEED) --jobs $(SOAK_JOBS) --out $@
-$(BUILD)/soak/run_%.o: test/soak/soak_run.c test/soak/soak.h test/support/invariants.h $(wildcard include/rfe/*.h src/host/*.h)
+$(BUILD)/soak/run_%.o: test/soak/soak_run.c test/soak/soak.h test/support/invariants.h $(wildcard include/rfe/*.h include/rfe/component/*.h src/host/*.h)
 	@mkdir -p $(@D)
 	$(CC) $(TEST_WARN) $(OPT) $(INV_FLAGS) $(if $(filter f64,$*),-DRFE_REAL_DOUBLE) $(CPPFLAGS_HOST) -Itest/support -Itest/soak -c $< -o $@
 # The fixed-point variant joins when the q31 library exists (*_q31.c sources).
-$(BUILD)/soak/run_q31.o: test/soak/soak_run_q31.c test/soak/soak.h test/support/invariants.h $(wildcard include/rfe/*.h src/host/*.h)
+$(BUILD)/soak/run_q31.o: test/soak/soak_run_q31.c test/soak/soak.h test/support/invariants.h $(wildcard include/rfe/*.h include/rfe/component/*.h src/host/*.h)
 	@mkdir -p $(@D)
 	$(CC) $(TEST_WARN) $(OPT) $(INV_FLAGS) $(CPPFLAGS_HOST) -Itest/support -Itest/soak -c $< -o $@
 SOAK_LINK := $(BUILD)/soak/run_f32.o $(BUILD)/soak/run_f64.o $(if $(Q31_SRC),$(BUILD)/soak/run_q31.o) \

@@ -3,11 +3,11 @@
  * @brief Example firmware: the friction estimator in a bare-metal image, static state, one
  *        step per 10 ms tick (SysTick at 100 Hz), the way an application integrates it.
  *
- * Built by `make firmware` for the Cortex-M4F (float32: rfe_estimator_*_f32; fixed point with
- * FW_EXAMPLE_Q31: rfe_estimator_*_q31) and the Cortex-M0+ (fixed point), linked with
+ * Built by `make firmware` for the Cortex-M4F (float32: rfe_friction_*_f32; fixed point with
+ * FW_EXAMPLE_Q31: rfe_friction_*_q31) and the Cortex-M0+ (fixed point), linked with
  * firmware/common/startup_cm.c and a part's linker script (firmware/ld/). What to replace:
  *  - board_read_sample(): your sensor acquisition (CAN decoding, IMU, wheel-speed capture)
- *    into SI units (float) or the Q formats of rfe_sample_q31_t (rfe/tyre_q31.h);
+ *    into SI units (float) or the Q formats of rfe_sample_q31_t (rfe/component/tyre_q31.h);
  *  - board_publish(): hand the estimate to the rest of the application;
  *  - FW_CORE_HZ: the core clock SysTick counts (here 100 MHz).
  * Both hooks are weak: the defaults feed a constant 20 m/s cruise and keep the last estimate
@@ -23,25 +23,25 @@
 #include "cm_regs.h"
 
 #if defined(FW_EXAMPLE_Q31)
-#include "rfe/estimator_q31.h"
-typedef rfe_estimator_q31_t fw_estimator_t;
+#include "rfe/friction_q31.h"
+typedef rfe_friction_q31_t fw_estimator_t;
 typedef rfe_params_q31_t fw_params_t;
 typedef rfe_sample_q31_t fw_sample_t;
 typedef rfe_estimate_q31_t fw_estimate_t;
 #define FW_PARAMS_DEFAULT rfe_params_default_q31
-#define FW_INIT rfe_estimator_init_q31
-#define FW_STEP rfe_estimator_step_q31
-#define FW_GET rfe_estimator_get_q31
+#define FW_INIT rfe_friction_init_q31
+#define FW_STEP rfe_friction_step_q31
+#define FW_GET rfe_friction_get_q31
 #else
-#include "rfe/estimator.h"
-typedef rfe_estimator_t fw_estimator_t;
+#include "rfe/friction.h"
+typedef rfe_friction_t fw_estimator_t;
 typedef rfe_params_t fw_params_t;
 typedef rfe_sample_t fw_sample_t;
 typedef rfe_estimate_t fw_estimate_t;
 #define FW_PARAMS_DEFAULT rfe_params_default_f32
-#define FW_INIT rfe_estimator_init_f32
-#define FW_STEP rfe_estimator_step_f32
-#define FW_GET rfe_estimator_get_f32
+#define FW_INIT rfe_friction_init_f32
+#define FW_STEP rfe_friction_step_f32
+#define FW_GET rfe_friction_get_f32
 #endif
 
 #ifndef FW_CORE_HZ

@@ -9,11 +9,11 @@
 #include <stdint.h>
 
 #if defined(PIL_Q31)
-#include "rfe/estimator_q31.h"
+#include "rfe/friction_q31.h"
 extern const rfe_params_q31_t pil_params;
 extern const rfe_sample_q31_t pil_samples[];
 #else
-#include "rfe/estimator.h"
+#include "rfe/friction.h"
 extern const rfe_params_t pil_params;
 extern const rfe_sample_t pil_samples[];
 #endif

@@ -15,8 +15,8 @@
 #include "pil_gen_q31.h"
 
 #include "replay_real.h"
-#include "rfe/fixed_conv.h"
-#include "rfe/params_conv.h"
+#include "host/fixed_conv.h"
+#include "rfe/component/params_conv.h"
 
 rfe_status_t pil_gen_params_q31(const rfe_param_set_t *ps, rfe_params_q31_t *q)
 {

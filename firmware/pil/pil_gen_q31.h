@@ -10,7 +10,7 @@
 #include "csv_log.h"
 #include "param_file.h"
 #include "rfe/params_q31.h"
-#include "rfe/tyre_q31.h"
+#include "rfe/component/tyre_q31.h"
 
 /** The parameters of `mu_replay --real q31` for @p ps (RFE_OK or the conversion's error). */
 rfe_status_t pil_gen_params_q31(const rfe_param_set_t *ps, rfe_params_q31_t *q);

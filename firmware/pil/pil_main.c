@@ -3,8 +3,8 @@
  * @brief Processor-in-the-loop image: the estimator over a whole sensor log on an emulated
  *        Cortex-M (QEMU mps2-an386 / mps2-an385), results written through semihosting.
  *
- * Built per core and variant by mk/firmware.mk (PIL_Q31: rfe_estimator_*_q31, else the float32
- * rfe_estimator_*_f32) with the data that firmware/pil/pil_gen.c generated from the log
+ * Built per core and variant by mk/firmware.mk (PIL_Q31: rfe_friction_*_q31, else the float32
+ * rfe_friction_*_f32) with the data that firmware/pil/pil_gen.c generated from the log
  * (pil_data.h: parameters and samples as the host replay sees them), newlib's semihosting
  * start-up (--specs=rdimon.specs) and firmware/common/startup_cm.c. The command line
  * (QEMU -append) may give the number of samples to run; default all.
@@ -26,15 +26,15 @@
 #include "pil_data.h"
 
 #if defined(PIL_Q31)
-typedef rfe_estimator_q31_t pil_estimator_t;
+typedef rfe_friction_q31_t pil_estimator_t;
 typedef rfe_estimate_q31_t pil_estimate_t;
-#define PIL_INIT rfe_estimator_init_q31
-#define PIL_STEP rfe_estimator_step_q31
+#define PIL_INIT rfe_friction_init_q31
+#define PIL_STEP rfe_friction_step_q31
 #else
-typedef rfe_estimator_t pil_estimator_t;
+typedef rfe_friction_t pil_estimator_t;
 typedef rfe_estimate_t pil_estimate_t;
-#define PIL_INIT rfe_estimator_init_f32
-#define PIL_STEP rfe_estimator_step_f32
+#define PIL_INIT rfe_friction_init_f32
+#define PIL_STEP rfe_friction_step_f32
 #endif
 
 #define PIL_PAINT_WORDS 1024u   /* 4 KB painted below the stack pointer before each step */

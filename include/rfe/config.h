@@ -18,7 +18,7 @@
 /** Number of cubature points at the largest state dimension. */
 #define RFE_CUB_MAX (2 * RFE_N_MAX)
 
-/* Input limits of rfe_estimator_step (absolute values, SI). A sample outside them is
+/* Input limits of rfe_friction_step (absolute values, SI). A sample outside them is
  * rejected with RFE_ERR_RANGE and leaves the estimator untouched. They are physical
  * plausibility bounds for a passenger car, not tuning. */
 #ifndef RFE_LIMIT_DELTA

@@ -29,7 +29,7 @@
  * the results are bit-identical on every platform.
  *
  * This header uses only <stdint.h>; host-side conversions to and from real numbers are in
- * rfe/fixed_conv.h, which library sources must never include.
+ * host/fixed_conv.h, which library sources must never include.
  */
 #ifndef RFE_FIXED_H
 #define RFE_FIXED_H

@@ -100,6 +100,8 @@ typedef struct {
  * docs/ESTIMATOR.md ("default preset" column: sides, absolute tyre, common-mode prior and
  * process noise, input filter, errors in variables, information gate, sd bounds, validity
  * by sd).
+ * @param[out] p  the parameters to fill.
+ * @return RFE_OK; RFE_ERR_NULL.
  */
 RFE_NODISCARD rfe_status_t rfe_params_default(rfe_params_t *p);
 
@@ -107,6 +109,8 @@ RFE_NODISCARD rfe_status_t rfe_params_default(rfe_params_t *p);
  * Fills @p p with the paper configuration (MODEL.md §2, §6; docs/ESTIMATOR.md "paper
  * preset" column): four independent mu, normalised tyre, x0 = 0.5, S0 = 0.3 I,
  * S_Q = 0.003 I, S_R = 0.05 I, every addition off. Kept as the reference baseline.
+ * @param[out] p  the parameters to fill.
+ * @return RFE_OK; RFE_ERR_NULL.
  */
 RFE_NODISCARD rfe_status_t rfe_params_paper(rfe_params_t *p);
 
@@ -119,7 +123,8 @@ RFE_NODISCARD rfe_status_t rfe_params_paper(rfe_params_t *p);
  * The CKF (the paper's baseline) runs only the paper-compatible subset: with filter = ckf,
  * structure must be wheels and sd0_common, q_common, tau_v, every sd_in_*, r_model_rel,
  * info_min, sd_max and sd_floor_rel must be 0 (any tyre, any sd_valid, any dt).
- * Returns RFE_OK, RFE_ERR_NULL or RFE_ERR_PARAM.
+ * @param[in] p  the parameters to check.
+ * @return RFE_OK, RFE_ERR_NULL or RFE_ERR_PARAM.
  */
 RFE_NODISCARD rfe_status_t rfe_params_validate(const rfe_params_t *p);
 

@@ -10,7 +10,7 @@
  *
  * The derived constants (1/m, x_i/J, y_i/J, half tracks, static loads, load-transfer
  * coefficients, the input-filter gain) are redundant: they must agree with the base fields.
- * rfe_params_to_q31_f32/_f64 (rfe/params_conv.h, host or float build) computes them from
+ * rfe_params_to_q31_f32/_f64 (rfe/component/params_conv.h, host or float build) computes them from
  * the real-valued parameters; rfe_params_validate_q31 recomputes each from the Q base fields
  * and rejects a struct whose derived constant is off by more than 2^-13 relative (a stale
  * constant after a base field was changed by more than ~0.01 %).
@@ -133,11 +133,14 @@ typedef struct {
 /**
  * The default preset (rfe_params_default) in Q formats: an integer table, equal bit for bit to
  * rfe_params_to_q31_f64(rfe_params_default_f64).
+ * @param[out] p  the parameters to fill.
  * @return RFE_OK; RFE_ERR_NULL.
  */
 RFE_NODISCARD rfe_status_t rfe_params_default_q31(rfe_params_q31_t *p);
 
-/** The paper preset (rfe_params_paper) in Q formats, likewise. @return RFE_OK; RFE_ERR_NULL. */
+/** The paper preset (rfe_params_paper) in Q formats, likewise.
+ *  @param[out] p  the parameters to fill.
+ *  @return RFE_OK; RFE_ERR_NULL. */
 RFE_NODISCARD rfe_status_t rfe_params_paper_q31(rfe_params_q31_t *p);
 
 /**
@@ -151,7 +154,8 @@ RFE_NODISCARD rfe_status_t rfe_params_paper_q31(rfe_params_q31_t *p);
  *    tau_v) and each nonzero derived constant at least 2^16 LSB (16 significant bits), so that
  *    the rounding of the converter (<= 5 * 2^-17 relative: at most five base fields per
  *    constant) always passes the 2^-13 check.
- * Returns RFE_OK, RFE_ERR_NULL or RFE_ERR_PARAM.
+ * @param[in] p  the parameters to check.
+ * @return RFE_OK, RFE_ERR_NULL or RFE_ERR_PARAM.
  */
 RFE_NODISCARD rfe_status_t rfe_params_validate_q31(const rfe_params_q31_t *p);
 

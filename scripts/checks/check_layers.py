@@ -43,13 +43,12 @@ PUBLIC = {
     "filters": ("sckf.h", "sckf_q31.h", "ckf.h", "ckf_q31.h"),
     "params": ("modes.h", "params.h", "params_q31.h", "params_conv.h"),
     "models": ("tyre.h", "tyre_q31.h", "obsmat.h", "obsmat_q31.h", "meas.h", "meas_q31.h"),
-    "estimators": ("eiv.h", "eiv_q31.h", "conditioner.h", "conditioner_q31.h", "estimator.h",
-                   "estimator_q31.h"),
-    "host": ("fixed_conv.h",),
+    "estimators": ("eiv.h", "eiv_q31.h", "conditioner.h", "conditioner_q31.h", "friction.h",
+                   "friction_q31.h"),
 }
 # Headers of both number types: no real type in them.
-Q31_SHARED = {"include/rfe/" + h for h in ("common.h", "config.h", "fixed.h", "fxmath.h",
-                                             "modes.h")} | {"src/numerics/sizes.h"}
+Q31_SHARED = ({"include/rfe/" + h for h in ("common.h", "config.h", "fixed.h", "modes.h")}
+              | {"include/rfe/component/fxmath.h", "src/numerics/sizes.h"})
 Q31_SYSTEM = {"stddef.h", "stdint.h"}
 INCLUDE_RE = re.compile(r'^\s*#\s*include\s*([<"])([^>"]+)[>"]')
 

@@ -23,16 +23,16 @@ def tree(tmp_path, files):
 GOOD = {
     "include/rfe/common.h": "#include <stdint.h>\n",
     "include/rfe/types.h": '#include "rfe/common.h"\n',
-    "include/rfe/qr.h": '#include "rfe/types.h"\n',
-    "include/rfe/qr_q31.h": '#include "rfe/common.h"\n',
-    "include/rfe/tyre.h": '#include "rfe/types.h"\n',
-    "include/rfe/estimator.h": '#include "rfe/tyre.h"\n#include "rfe/qr.h"\n',
+    "include/rfe/component/qr.h": '#include "rfe/types.h"\n',
+    "include/rfe/component/qr_q31.h": '#include "rfe/common.h"\n',
+    "include/rfe/component/tyre.h": '#include "rfe/types.h"\n',
+    "include/rfe/friction.h": '#include "rfe/component/tyre.h"\n#include "rfe/component/qr.h"\n',
     "src/numerics/internal.h": "#include <math.h>\n#include \"rfe/types.h\"\n",
-    "src/numerics/qr_flt.c": '#include "rfe/qr.h"\n#include "numerics/internal.h"\n',
-    "src/numerics/qr_q31.c": '#include "rfe/qr_q31.h"\n#include <stddef.h>\n',
-    "src/models/tyre_flt.c": '#include "rfe/tyre.h"\n#include "numerics/internal.h"\n',
-    "src/estimators/friction/estimator_flt.c": '#include "rfe/estimator.h"\n',
-    "src/host/cli.c": '#include "rfe/estimator.h"\n#include "cli.h"\n#include <stdio.h>\n',
+    "src/numerics/qr_flt.c": '#include "rfe/component/qr.h"\n#include "numerics/internal.h"\n',
+    "src/numerics/qr_q31.c": '#include "rfe/component/qr_q31.h"\n#include <stddef.h>\n',
+    "src/models/tyre_flt.c": '#include "rfe/component/tyre.h"\n#include "numerics/internal.h"\n',
+    "src/estimators/friction/friction_flt.c": '#include "rfe/friction.h"\n',
+    "src/host/cli.c": '#include "rfe/friction.h"\n#include "cli.h"\n#include <stdio.h>\n',
     "src/host/cli.h": "",
 }
 
@@ -50,8 +50,8 @@ def test_a_tree_that_keeps_the_rules_passes(tmp_path, capsys):
 
 # REQ-QA-009
 @pytest.mark.parametrize("rel,text,expect", [
-    ("src/numerics/chol_flt.c", '#include "rfe/tyre.h"\n', "numerics includes include/rfe/tyre.h (models)"),
-    ("src/models/meas_flt.c", '#include "rfe/estimator.h"\n', "models includes include/rfe/estimator.h (estimators)"),
+    ("src/numerics/chol_flt.c", '#include "rfe/component/tyre.h"\n', "numerics includes include/rfe/component/tyre.h (models)"),
+    ("src/models/meas_flt.c", '#include "rfe/friction.h"\n', "models includes include/rfe/friction.h (estimators)"),
     ("src/models/meas2_flt.c", '#include "host/cli.h"\n', "models includes src/host/cli.h (host)"),
     ("src/numerics/chol_q31.c", '#include "rfe/types.h"\n', "fixed-point file includes the float header include/rfe/types.h"),
     ("src/numerics/fx_q31.c", "#include <math.h>\n", "fixed-point file includes <math.h>"),

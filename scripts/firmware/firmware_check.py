@@ -77,14 +77,14 @@ DOUBLE_LIBM = {
     "nextafter", "fdim", "fmax", "fmin", "fma", "sincos", "__ieee754_sqrt", "__ieee754_atan2",
     "__ieee754_rem_pio2", "__kernel_sin", "__kernel_cos", "__kernel_tan", "__kernel_rem_pio2"}
 # Objects of the float32 library that compute in double on purpose: the parameter converter
-# to Q formats (include/rfe/params_conv.h: "part of the float and double libraries (host
+# to Q formats (include/rfe/component/params_conv.h: "part of the float and double libraries (host
 # tools, calibration, tests)", computing the derived constants "in double precision in both
 # builds"). It is never called by the estimator, and the example image (--gc-sections)
 # shows that nothing of it is linked into firmware that does not call it.
 DOUBLE_BY_DESIGN = {"params_conv_flt.o": "rfe_params_to_q31_f32: host-side converter, "
-                                         "double by design (include/rfe/params_conv.h)"}
+                                         "double by design (include/rfe/component/params_conv.h)"}
 
-PUBLIC = ("rfe_estimator_init", "rfe_estimator_step", "rfe_estimator_get")
+PUBLIC = ("rfe_friction_init", "rfe_friction_step", "rfe_friction_get")
 
 
 def sh(cmd):
@@ -479,7 +479,7 @@ def main():
             failures.append(f"{t}: the estimator state is {entry['state']} B, budget {BUDGETS['state']} B")
         report["targets"][t] = entry
 
-        st = entry["stack"].get("rfe_estimator_step" + suffix, {})
+        st = entry["stack"].get("rfe_friction_step" + suffix, {})
         print(f"firmware-check: {t:8s} library {flash_all:6d} B flash (linked {entry.get('lib_flash_linked', '-')}), "
               f"{ram_all} B data+bss; state {entry.get('state', '-')} B; step stack {st.get('bytes', '-')} B "
               f"({' -> '.join(st.get('path', [])[:12])})")

@@ -335,7 +335,7 @@ def main():
                 # The measured stack may never exceed the static worst case of make firmware
                 # (scripts/firmware/firmware_check.py): else the call-graph analysis missed a call.
                 static = report.get("targets", {}).get(target, {}).get("stack", {}).get(
-                    f"rfe_estimator_step_{variant}", {}).get("bytes")
+                    f"rfe_friction_step_{variant}", {}).get("bytes")
                 entry["stack_static"] = static
                 if static is not None and stack is not None and stack > static:
                     failures.append(f"{label}: a step used {stack} B of stack, more than the static "

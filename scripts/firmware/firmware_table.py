@@ -36,7 +36,7 @@ def tables(report, pil):
              [x for x in sorted(report["targets"]) if x not in ORDER]:
         e = report["targets"][t]
         suf = "_q31" if e["variant"] == "q31" else "_f32"
-        st = [e["stack"].get(f"rfe_estimator_{f}{suf}", {}).get("bytes", "?")
+        st = [e["stack"].get(f"rfe_friction_{f}{suf}", {}).get("bytes", "?")
               for f in ("init", "step", "get")]
         img = e.get("image", {})
         out.append(f"| {CORES[e['core']]} {VARIANTS[e['variant']]} "

@@ -5,10 +5,10 @@
  * Deliberately the textbook form (P = P- - K Pzz K^T, no symmetrisation or Joseph form):
  * it is the comparison the paper makes, and its finite-precision failure is the point.
  */
-#include "rfe/ckf.h"
+#include "rfe/component/ckf.h"
 
-#include "rfe/chol.h"
-#include "rfe/qr.h"
+#include "rfe/component/chol.h"
+#include "rfe/component/qr.h"
 
 #include "filters/cubature.h"
 #include "numerics/internal.h"

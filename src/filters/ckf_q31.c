@@ -13,10 +13,10 @@
  * Every step computes into scratch and commits x, P and the saturation count only when
  * everything succeeded.
  */
-#include "rfe/ckf_q31.h"
+#include "rfe/component/ckf_q31.h"
 
-#include "rfe/chol_q31.h"
-#include "rfe/qr_q31.h"
+#include "rfe/component/chol_q31.h"
+#include "rfe/component/qr_q31.h"
 
 #include "filters/cubature_q31.h"
 

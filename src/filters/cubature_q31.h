@@ -14,8 +14,8 @@
 #include <stdint.h>
 
 #include "rfe/fixed.h"
-#include "rfe/fxmath.h"
-#include "rfe/sckf_q31.h"
+#include "rfe/component/fxmath.h"
+#include "rfe/component/sckf_q31.h"
 
 #include "numerics/internal_q31.h" /* rfe_q31_pow2, RFE_TRIA_COLS_SZ, rfe_q31_div_round */
 

@@ -5,9 +5,9 @@
  * Every step computes into scratch and commits x and S only when everything succeeded,
  * so an error leaves the filter exactly as it was.
  */
-#include "rfe/sckf.h"
+#include "rfe/component/sckf.h"
 
-#include "rfe/qr.h"
+#include "rfe/component/qr.h"
 
 #include "filters/cubature.h"
 #include "numerics/internal.h"

@@ -19,9 +19,9 @@
  * ~ +-1/sqrt(2) e_k), then J^T = S-^T \ (U Zc^T) (Q20, format QJ), S_R \ J (Q16, format QV),
  * I_k in Q10.
  */
-#include "rfe/sckf_q31.h"
+#include "rfe/component/sckf_q31.h"
 
-#include "rfe/qr_q31.h"
+#include "rfe/component/qr_q31.h"
 
 #include "filters/cubature_q31.h"
 

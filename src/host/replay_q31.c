@@ -15,9 +15,9 @@
 
 #include <string.h>
 
-#include "rfe/estimator_q31.h"
-#include "rfe/fixed_conv.h"
-#include "rfe/params_conv.h"
+#include "rfe/friction_q31.h"
+#include "host/fixed_conv.h"
+#include "rfe/component/params_conv.h"
 
 /* The parameter set in Q formats; RFE_ERR_PARAM / RFE_ERR_RANGE as rfe_replay_run_q31. */
 static rfe_status_t to_q31_params(const rfe_param_set_t *ps, rfe_params_q31_t *q,
@@ -68,7 +68,7 @@ static void to_sample(const rfe_sensor_row_t *row, rfe_sample_q31_t *s, uint32_t
 }
 
 /* One step; a rejected sample logs the unchanged estimate, not valid, with its status. */
-static uint32_t step_row(rfe_estimator_q31_t *est, const rfe_sensor_row_t *row,
+static uint32_t step_row(rfe_friction_q31_t *est, const rfe_sensor_row_t *row,
                          rfe_est_row_t *out, rfe_replay_q31_stats_t *stats)
 {
     rfe_sample_q31_t s;
@@ -78,7 +78,7 @@ static uint32_t step_row(rfe_estimator_q31_t *est, const rfe_sensor_row_t *row,
     size_t w;
     to_sample(row, &s, &in_sat);
     memset(&e, 0, sizeof e);
-    st = rfe_estimator_step_q31(est, &s, &e);
+    st = rfe_friction_step_q31(est, &s, &e);
     out->t = row->t;
     for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
         out->mu[w] = rfe_fix_to_double(e.mu[w], RFE_FIX_Q_MU);
@@ -105,7 +105,7 @@ rfe_status_t rfe_replay_run_q31(const rfe_param_set_t *ps, const rfe_sensor_log_
                                 uint32_t *row_sat, size_t *bad_key)
 {
     rfe_params_q31_t q;
-    rfe_estimator_q31_t est;
+    rfe_friction_q31_t est;
     rfe_status_t st;
     size_t i;
     if ((ps == NULL) || (log == NULL) || (out == NULL) || (stats == NULL)) {
@@ -117,7 +117,7 @@ rfe_status_t rfe_replay_run_q31(const rfe_param_set_t *ps, const rfe_sensor_log_
         *bad_key = diagnose_range(ps);
     }
     if (st == RFE_OK) {
-        st = rfe_estimator_init_q31(&est, &q);
+        st = rfe_friction_init_q31(&est, &q);
     }
     if (st != RFE_OK) {
         return st;

@@ -1,6 +1,6 @@
 /**
  * @file replay_q31.h
- * @brief Runs the fixed-point estimator (rfe_estimator_*_q31) over a whole sensor log: the
+ * @brief Runs the fixed-point estimator (rfe_friction_*_q31) over a whole sensor log: the
  *        `--real q31` of mu_replay. Doubles in, doubles out, like replay_real.h.
  *
  * The parameters take the double path of rfe_replay_run_f64 (the preset's exact decimals,
@@ -40,9 +40,9 @@ typedef struct {
  * @param row_sat per-row saturation count of the estimator (log->n_rows entries), or NULL
  * @param bad_key on RFE_ERR_PARAM as rfe_replay_run_f64; on RFE_ERR_RANGE the key that alone
  *        (starting from the preset) does not fit its Q format, or RFE_PK_NONE when none does
- *        alone or the estimator's prior does not fit (rfe_estimator_init_q31); may be NULL.
+ *        alone or the estimator's prior does not fit (rfe_friction_init_q31); may be NULL.
  * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_PARAM; RFE_ERR_RANGE (rfe_params_to_q31_f64 or
- *         rfe_estimator_init_q31); the init's other errors (nothing written then).
+ *         rfe_friction_init_q31); the init's other errors (nothing written then).
  */
 RFE_NODISCARD rfe_status_t rfe_replay_run_q31(const rfe_param_set_t *ps,
                                               const rfe_sensor_log_t *log, rfe_est_row_t *out,

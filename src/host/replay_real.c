@@ -11,14 +11,14 @@
 #include <math.h>
 #include <string.h>
 
-#include "rfe/estimator.h"
+#include "rfe/friction.h"
 #include "rfe/params.h"
 
 static rfe_status_t preset_params(rfe_preset_t preset, rfe_params_t *p);
 static void set_key(rfe_params_t *p, const rfe_param_set_t *ps, size_t k);
 static rfe_status_t to_lib_params(const rfe_param_set_t *ps, rfe_params_t *p);
 static size_t diagnose_params(const rfe_param_set_t *ps);
-static void step_row(rfe_estimator_t *est, const rfe_sensor_row_t *row, rfe_est_row_t *out);
+static void step_row(rfe_friction_t *est, const rfe_sensor_row_t *row, rfe_est_row_t *out);
 
 /* Where each numeric key lives in rfe_params_t of this precision (the RFE_PARAM_KEYS
  * table): one table instead of a switch, so a new key needs no code here. */
@@ -143,7 +143,7 @@ void rfe_replay_sample_from_row(const rfe_sensor_row_t *row, rfe_sample_t *s)
 
 /* One step. On a rejected sample the estimator is unchanged: log its current estimate,
  * not valid, with the error status, and carry on. */
-static void step_row(rfe_estimator_t *est, const rfe_sensor_row_t *row, rfe_est_row_t *out)
+static void step_row(rfe_friction_t *est, const rfe_sensor_row_t *row, rfe_est_row_t *out)
 {
     rfe_sample_t s;
     rfe_estimate_t e;
@@ -151,8 +151,8 @@ static void step_row(rfe_estimator_t *est, const rfe_sensor_row_t *row, rfe_est_
     size_t w;
     rfe_replay_sample_from_row(row, &s);
     memset(&e, 0, sizeof e);
-    /* estimator.h: on a rejected sample e holds the previous estimate, valid = 0. */
-    st = rfe_estimator_step(est, &s, &e);
+    /* friction.h: on a rejected sample e holds the previous estimate, valid = 0. */
+    st = rfe_friction_step(est, &s, &e);
     out->t = row->t;
     for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
         out->mu[w] = (double)e.mu[w];
@@ -187,7 +187,7 @@ rfe_status_t rfe_replay_run(const rfe_param_set_t *ps, const rfe_sensor_log_t *l
                             size_t *bad_key)
 {
     rfe_params_t p;
-    rfe_estimator_t est;
+    rfe_friction_t est;
     rfe_status_t st;
     size_t i;
     if ((ps == NULL) || (log == NULL) || (out == NULL) || (stats == NULL)) {
@@ -196,7 +196,7 @@ rfe_status_t rfe_replay_run(const rfe_param_set_t *ps, const rfe_sensor_log_t *l
     memset(stats, 0, sizeof *stats);
     st = rfe_replay_params(ps, &p, bad_key);
     if (st == RFE_OK) {
-        st = rfe_estimator_init(&est, &p);
+        st = rfe_friction_init(&est, &p);
     }
     if (st != RFE_OK) {
         return st;

@@ -62,7 +62,7 @@ static inline size_t rfe_replay_status_slot(int status)
  *        else the first key that alone makes the library's rfe_params_validate fail
  *        (starting from the library preset), or RFE_PK_NONE when only a combination does
  *        (e.g. mu_min >= mu_max); may be NULL.
- * @return RFE_OK, or RFE_ERR_PARAM for an unknown ps->preset, or the rfe_estimator_init
+ * @return RFE_OK, or RFE_ERR_PARAM for an unknown ps->preset, or the rfe_friction_init
  *         error (nothing written then).
  */
 RFE_NODISCARD rfe_status_t rfe_replay_run_f32(const rfe_param_set_t *ps,

@@ -3,9 +3,9 @@
  * @brief Measurement model h(mu, u) of one sample: paper (H(u) mu) or a load-scaled tyre
  *        (absolute Dugoff or Magic Formula).
  */
-#include "rfe/meas.h"
+#include "rfe/component/meas.h"
 
-#include "rfe/obsmat.h"
+#include "rfe/component/obsmat.h"
 
 #include "numerics/internal.h"
 #include "models/vehicle.h"

@@ -13,7 +13,7 @@
 
 #include <stddef.h>
 
-#include "rfe/meas.h"
+#include "rfe/component/meas.h"
 #include "rfe/params.h"
 
 /* Full names of the functions declared here: _f32 in the float build, _f64 with

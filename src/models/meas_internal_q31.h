@@ -16,9 +16,9 @@
 #include <stdint.h>
 
 #include "rfe/fixed.h"
-#include "rfe/meas_q31.h"
+#include "rfe/component/meas_q31.h"
 #include "rfe/params_q31.h"
-#include "rfe/tyre_q31.h"
+#include "rfe/component/tyre_q31.h"
 
 /** Entries of the four wheels' columns side by side (wheel i at i RFE_MEAS). */
 #define RFE_MEAS_Q31_COLS ((size_t)RFE_WHEELS * (size_t)RFE_MEAS)

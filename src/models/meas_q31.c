@@ -2,7 +2,7 @@
  * @file meas_q31.c
  * @brief Fixed-point twin of meas_flt.c: the measurement model h(mu, u) of one sample, paper
  *        (H(u) mu) or a load-scaled tyre (absolute Dugoff or Magic Formula). Integer operations
- *        only (rfe/meas_q31.h).
+ *        only (rfe/component/meas_q31.h).
  *
  * The set-up keeps, beside the kinematics, cos/sin of delta and (load-scaled modes) each
  * wheel's friction-independent tyre terms (the same for both curves), so an evaluation at a
@@ -11,7 +11,7 @@
  * rfe_obsmat_apply_q31(H, ones) is the saturated int64 sum of each row, since H 2^29 / 2^29
  * leaves no fraction to round.
  */
-#include "rfe/meas_q31.h"
+#include "rfe/component/meas_q31.h"
 
 #include "numerics/internal_q31.h"
 #include "models/meas_internal_q31.h"

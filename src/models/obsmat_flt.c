@@ -2,7 +2,7 @@
  * @file obsmat_flt.c
  * @brief Observation matrix H(u) of MODEL.md §5 and h(x, u) = H x.
  */
-#include "rfe/obsmat.h"
+#include "rfe/component/obsmat.h"
 
 #include "numerics/internal.h"
 #include "models/vehicle.h"

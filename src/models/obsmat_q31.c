@@ -1,15 +1,15 @@
 /**
  * @file obsmat_q31.c
  * @brief Fixed-point twin of obsmat_flt.c: H(u) of MODEL.md §5 and h(x, u) = H x.
- *        Integer operations only (rfe/obsmat_q31.h).
+ *        Integer operations only (rfe/component/obsmat_q31.h).
  *
  * Formats: forces Q15, cos/sin of delta Q30, body-axis forces Fbx, Fby exact int64 Q45,
  * 1/m, x_i/J, y_i/J Q38; rows 1-2 are one exactly rounded product each (Q45 x Q38 -> Q24);
  * row 3 sums two products rounded to Q30 (2^-30 each) and rounds once to Q24.
  */
-#include "rfe/obsmat_q31.h"
+#include "rfe/component/obsmat_q31.h"
 
-#include "rfe/fxmath.h"
+#include "rfe/component/fxmath.h"
 
 #include "numerics/internal_q31.h"
 

@@ -3,7 +3,7 @@
  * @brief Wheel kinematics, loads, slips (MODEL.md §3), the Dugoff tyre (§4) and the
  *        load-scaled Magic Formula tyre (docs/ESTIMATOR.md).
  */
-#include "rfe/tyre.h"
+#include "rfe/component/tyre.h"
 
 #include "numerics/internal.h"
 #include "models/vehicle.h"

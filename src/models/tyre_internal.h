@@ -14,7 +14,7 @@
 #include <stddef.h>
 
 #include "rfe/params.h"
-#include "rfe/tyre.h"
+#include "rfe/component/tyre.h"
 
 /* Full names of the functions declared here: _f32 in the float build, _f64 with
  * RFE_REAL_DOUBLE (rfe/types.h). Sources define and call them by the short name. */

@@ -19,7 +19,7 @@
 
 #include "rfe/fixed.h"
 #include "rfe/params_q31.h"
-#include "rfe/tyre_q31.h"
+#include "rfe/component/tyre_q31.h"
 
 /** What rfe_tyre_kinematics_ex_q31 gives beyond rfe_wheel_kin_q31_t. */
 typedef struct {

@@ -1,7 +1,7 @@
 /**
  * @file tyre_q31.c
  * @brief Fixed-point twin of tyre_flt.c: wheel kinematics, loads, slips (MODEL.md §3) and the
- *        Dugoff tyre (§4). Integer operations only (rfe/tyre_q31.h).
+ *        Dugoff tyre (§4). Integer operations only (rfe/component/tyre_q31.h).
  *
  * Internal formats (docs/FIXED_POINT.md, "Tyre, kinematics and observation matrix"):
  *  - body and wheel-centre velocities: int64 Q51 (range 2^12 m/s). vx 2^28 is exact,
@@ -20,9 +20,9 @@
  *    polynomial, fxmath_internal_q31.h), the magnitude w = m G (Q29) and the forces Fz w u
  *    rounded once to Q15.
  */
-#include "rfe/tyre_q31.h"
+#include "rfe/component/tyre_q31.h"
 
-#include "rfe/fxmath.h"
+#include "rfe/component/fxmath.h"
 
 #include "numerics/fxmath_internal_q31.h"
 #include "numerics/internal_q31.h"

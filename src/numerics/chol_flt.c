@@ -2,7 +2,7 @@
  * @file chol_flt.c
  * @brief Cholesky factorisation for the CKF baseline.
  */
-#include "rfe/chol.h"
+#include "rfe/component/chol.h"
 
 #include "numerics/internal.h"
 

@@ -3,7 +3,7 @@
  * @brief Cholesky factorisation on int32 Q values for the CKF baseline (the twin of
  *        chol_flt.c).
  */
-#include "rfe/chol_q31.h"
+#include "rfe/component/chol_q31.h"
 
 #include "numerics/internal_q31.h"
 

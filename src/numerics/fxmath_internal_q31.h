@@ -2,7 +2,7 @@
  * @file fxmath_internal_q31.h
  * @brief Private integer math of fxmath_q31.c for the Magic Formula tyre (tyre_q31.c): a
  *        first-quadrant atan2 and the sine of an angle in [0, pi], built for the ~2^-30 the
- *        curve needs rather than the 2^-40 of rfe_fix_atan2 / rfe_fix_sincos (rfe/fxmath.h),
+ *        curve needs rather than the 2^-40 of rfe_fix_atan2 / rfe_fix_sincos (rfe/component/fxmath.h),
  *        whose behaviour and bounds they leave untouched. Not installed; integer operations
  *        only (no libc header beyond <stdint.h>).
  *

@@ -1,10 +1,10 @@
 /**
  * @file fxmath_q31.c
- * @brief Integer math of the fixed-point variant (rfe/fxmath.h): square roots, norm,
+ * @brief Integer math of the fixed-point variant (rfe/component/fxmath.h): square roots, norm,
  *        division, CORDIC atan2 / sincos / tan; and the shorter atan2 and sine of the Magic
  *        Formula tyre (fxmath_internal_q31.h). Integer operations only.
  */
-#include "rfe/fxmath.h"
+#include "rfe/component/fxmath.h"
 
 #include "numerics/fxmath_internal_q31.h"
 #include "numerics/internal_q31.h"

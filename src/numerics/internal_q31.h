@@ -15,7 +15,7 @@
 
 #include "rfe/config.h"
 #include "rfe/fixed.h"
-#include "rfe/fxmath.h"
+#include "rfe/component/fxmath.h"
 
 #include "numerics/sizes.h" /* RFE_TRIA_COLS_SZ */
 

@@ -2,7 +2,7 @@
  * @file qr_flt.c
  * @brief Householder Tria() and triangular solves (MODEL.md §6).
  */
-#include "rfe/qr.h"
+#include "rfe/component/qr.h"
 
 #include <float.h>
 

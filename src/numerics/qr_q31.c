@@ -14,7 +14,7 @@
  *  - c = 2 a.v / v.v, |c| <= 2 |a| / |v| < 4 (|v| >= |x| >= 2^29): in Q30 below 2^32, and
  *    |c v_j| <= 2 |a|, so the Q30 product c v_j stays below 2^62.
  */
-#include "rfe/qr_q31.h"
+#include "rfe/component/qr_q31.h"
 
 #include "numerics/internal_q31.h"
 

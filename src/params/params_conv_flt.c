@@ -1,6 +1,6 @@
 /**
  * @file params_conv_flt.c
- * @brief rfe_params_t -> rfe_params_q31_t (rfe/params_conv.h). A float translation unit: it
+ * @brief rfe_params_t -> rfe_params_q31_t (rfe/component/params_conv.h). A float translation unit: it
  *        is built into the float and double libraries, never into the fixed-point one.
  *
  * Every value is first widened to double (explicit casts: the float build then converts the
@@ -8,11 +8,12 @@
  * (relative error ~1e-16, far below the 2^-31 resolution of any Q format used) and each value
  * is rounded once to its format.
  */
-#include "rfe/params_conv.h"
+#include "rfe/component/params_conv.h"
 
-#include "rfe/fxmath.h" /* RFE_FIX_TAN_LIMIT_Q29 only: no call into the fixed-point library */
+#include "rfe/component/fxmath.h" /* RFE_FIX_TAN_LIMIT_Q29 only: no call into the fixed-point library */
 
 #include "numerics/internal.h"
+#include "numerics/round_half_up.h"
 
 /* Smallest magnitude, in LSB, of a value that must carry 16 significant bits. */
 #define MIN_SIGNIFICANT 65536.0
@@ -22,19 +23,23 @@ typedef struct {
     int bad;
 } conv_t;
 
-/* round(x * 2^q) to nearest, ties away from zero; flags a value that is not finite, rounds
+/* round(x * 2^q) to nearest, ties up (numerics/round_half_up.h, the host's rule too); flags a value that is not finite, rounds
  * beyond +-INT32_MAX, is nonzero but rounds to 0, or (need16) is nonzero and below 2^16 LSB. */
 static rfe_fix_t to_q(conv_t *c, double x, int q, int need16)
 {
     const double y = ldexp(x, q);
-    const double r = floor(fabs(y) + 0.5);
     rfe_fix_t v = 0;
 
-    if (!(r <= (double)RFE_FIX_MAX) || /* also NaN */
-        ((x != 0.0) && ((r == 0.0) || ((need16 != 0) && (r < MIN_SIGNIFICANT))))) {
+    if (!(fabs(y) <= (double)RFE_FIX_MAX)) { /* also NaN and +-inf */
         c->bad = 1;
     } else {
-        v = (rfe_fix_t)((y < 0.0) ? -r : r);
+        const double r = rfe_round_half_up(y);
+        if (!(fabs(r) <= (double)RFE_FIX_MAX) ||
+            ((x != 0.0) && ((r == 0.0) || ((need16 != 0) && (fabs(r) < MIN_SIGNIFICANT))))) {
+            c->bad = 1;
+        } else {
+            v = (rfe_fix_t)r;
+        }
     }
     return v;
 }

@@ -5,7 +5,7 @@
  */
 #include "rfe/params_q31.h"
 
-#include "rfe/fxmath.h"
+#include "rfe/component/fxmath.h"
 
 #include "numerics/internal_q31.h"
 

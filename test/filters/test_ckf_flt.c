@@ -21,9 +21,9 @@
 
 #include "filter_fixtures.h"
 #include "kalman_ref.h"
-#include "rfe/chol.h"
-#include "rfe/ckf.h"
-#include "rfe/sckf.h"
+#include "rfe/component/chol.h"
+#include "rfe/component/ckf.h"
+#include "rfe/component/sckf.h"
 #include "test_linalg.h"
 #include "test_rng.h"
 

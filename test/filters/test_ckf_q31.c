@@ -45,13 +45,13 @@
 #include <string.h>
 
 #include "csv_log.h"
-#include "rfe/ckf.h"
-#include "rfe/ckf_q31.h"
-#include "rfe/fixed_conv.h"
-#include "rfe/meas.h"
+#include "rfe/component/ckf.h"
+#include "rfe/component/ckf_q31.h"
+#include "host/fixed_conv.h"
+#include "rfe/component/meas.h"
 #include "rfe/params.h"
-#include "rfe/sckf.h"
-#include "rfe/sckf_q31.h"
+#include "rfe/component/sckf.h"
+#include "rfe/component/sckf_q31.h"
 #include "test_rng.h"
 
 #define NM ((size_t)RFE_N_MAX)

@@ -19,7 +19,7 @@
 
 #include "filter_fixtures.h"
 #include "kalman_ref.h"
-#include "rfe/sckf.h"
+#include "rfe/component/sckf.h"
 #include "test_rng.h"
 
 /* ---- tolerances ------------------------------------------------------------------------

@@ -23,7 +23,7 @@
 #include <string.h>
 
 #include "filter_fixtures.h"
-#include "rfe/sckf.h"
+#include "rfe/component/sckf.h"
 #include "test_linalg.h"
 #include "test_rng.h"
 

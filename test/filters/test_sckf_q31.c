@@ -54,14 +54,14 @@
 
 #include "csv_log.h"
 #include "kalman_ref.h"
-#include "rfe/chol.h"
-#include "rfe/eiv.h"
-#include "rfe/fixed_conv.h"
-#include "rfe/meas.h"
+#include "rfe/component/chol.h"
+#include "rfe/component/eiv.h"
+#include "host/fixed_conv.h"
+#include "rfe/component/meas.h"
 #include "rfe/params.h"
-#include "rfe/qr.h"
-#include "rfe/sckf.h"
-#include "rfe/sckf_q31.h"
+#include "rfe/component/qr.h"
+#include "rfe/component/sckf.h"
+#include "rfe/component/sckf_q31.h"
 #include "test_rng.h"
 
 #define NM ((size_t)RFE_N_MAX)

@@ -127,7 +127,7 @@ static void sensor_log(const uint8_t *data, size_t size)
                 }
             } else if (st != RFE_ERR_PARAM && st != RFE_ERR_NONFINITE &&
                        st != RFE_ERR_NOT_POSITIVE_DEFINITE) {
-                /* estimator.h: init fails with RFE_ERR_PARAM, RFE_ERR_NONFINITE when a prior
+                /* friction.h: init fails with RFE_ERR_PARAM, RFE_ERR_NONFINITE when a prior
                  * with a common-mode part overflows, or RFE_ERR_NOT_POSITIVE_DEFINITE when it
                  * is singular in the working precision (sd0_common >> sd0) */
                 violation("replay failed with a status other than PARAM / NONFINITE");

@@ -1,14 +1,14 @@
 /**
  * @file fuzz_step_flt.c
  * @brief libFuzzer harness: raw bytes -> configuration + a sequence of samples
- *        (fuzz_input.h) -> rfe_estimator_step of the float build (or the double build with
+ *        (fuzz_input.h) -> rfe_friction_step of the float build (or the double build with
  *        -DRFE_REAL_DOUBLE), with every invariant checked after every step; a violation
  *        prints one line and aborts (libFuzzer keeps the input as a crash artifact).
  *
  * Checked after each step:
  *  - the sample's class by the config.h limits (NaN/Inf -> RFE_ERR_NONFINITE, else out of
  *    limits -> RFE_ERR_RANGE) is exactly the status returned, and then the whole
- *    rfe_estimator_t is bit-identical to before and the output is the previous estimate
+ *    rfe_friction_t is bit-identical to before and the output is the previous estimate
  *    with valid = 0;
  *  - a sample inside the limits never gets an input error; an internal error (allowed for
  *    the CKF only: RFE_ERR_NOT_POSITIVE_DEFINITE, or RFE_ERR_NONFINITE from an overflow)
@@ -25,7 +25,7 @@
 
 #include "fuzz_input.h"
 #include "invariants.h"
-#include "rfe/estimator.h"
+#include "rfe/friction.h"
 
 #if defined(RFE_REAL_DOUBLE)
 #define REAL_MAX DBL_MAX
@@ -36,8 +36,8 @@
 #endif
 
 typedef struct {
-    rfe_estimator_t est;
-    rfe_estimator_t before;
+    rfe_friction_t est;
+    rfe_friction_t before;
     rfe_estimate_t prev;
     long k;
 } fz_ctx_t;
@@ -89,7 +89,7 @@ static int step(void *ctxp, const fz_sample_t *s)
     }
     want = inv_classify_sample(&u);
     memcpy(&c->before, &c->est, sizeof c->est);
-    st = rfe_estimator_step(&c->est, &u, &out);
+    st = rfe_friction_step(&c->est, &u, &out);
     if (want != RFE_OK) {
         if (st != want) {
             violation(c, "input error not reported as its class", &u, (int)st);
@@ -152,8 +152,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         p.filter.mu0 = (rfe_real_t)0.3;
     }
     memset(&c, 0, sizeof c);
-    if (rfe_estimator_init(&c.est, &p) != RFE_OK ||
-        rfe_estimator_get(&c.est, &c.prev) != RFE_OK) {
+    if (rfe_friction_init(&c.est, &p) != RFE_OK ||
+        rfe_friction_get(&c.est, &c.prev) != RFE_OK) {
         fprintf(stderr, "fuzz_step: init failed for a preset\n");
         abort();
     }

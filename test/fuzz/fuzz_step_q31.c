@@ -4,12 +4,12 @@
  *        (fuzz_input.h: configuration byte and samples in double), each sample rounded to the
  *        Q formats of rfe_sample_q31_t (rfe_fix_from_double: a value beyond its format
  *        saturates to the format's end; a NaN becomes 0, the one value a Q format cannot
- *        carry), then rfe_estimator_step_q31 and every invariant after every step
+ *        carry), then rfe_friction_step_q31 and every invariant after every step
  *        (invariants.h, the q31 block); a violation prints one line and aborts.
  *
  * Checked after each step:
  *  - a sample with a Q value beyond its RFE_FIX_LIMIT_* gets exactly RFE_ERR_RANGE, the whole
- *    rfe_estimator_q31_t is bit-identical afterwards and the output is the previous estimate
+ *    rfe_friction_q31_t is bit-identical afterwards and the output is the previous estimate
  *    with valid 0 and sat 0;
  *  - a sample inside the limits never gets an input error; an internal error (allowed for the
  *    CKF only: RFE_ERR_NOT_POSITIVE_DEFINITE) leaves mean, factor or covariance, input filter
@@ -31,13 +31,13 @@
 
 #include "fuzz_input.h"
 #include "invariants.h"
-#include "rfe/estimator_q31.h"
-#include "rfe/fixed_conv.h"
-#include "rfe/params_conv.h"
+#include "rfe/friction_q31.h"
+#include "host/fixed_conv.h"
+#include "rfe/component/params_conv.h"
 
 typedef struct {
-    rfe_estimator_q31_t est;
-    rfe_estimator_q31_t before;
+    rfe_friction_q31_t est;
+    rfe_friction_q31_t before;
     rfe_estimate_q31_t prev;
     long k;
 } fz_ctx_q31_t;
@@ -55,7 +55,7 @@ static void violation(const fz_ctx_q31_t *c, const char *what, const rfe_sample_
 
 static int beyond(rfe_fix_t v, rfe_fix_t lim) { return (v > lim) || (v < -lim); }
 
-static int filter_equal(const rfe_estimator_q31_t *a, const rfe_estimator_q31_t *b)
+static int filter_equal(const rfe_friction_q31_t *a, const rfe_friction_q31_t *b)
 {
     if (a->params.filter.kind == RFE_FILTER_CKF) {
         return memcmp(a->filter.ckf.x, b->filter.ckf.x, sizeof a->filter.ckf.x) == 0 &&
@@ -94,7 +94,7 @@ static int step(void *ctxp, const fz_sample_t *s)
         out_of_limits = out_of_limits || beyond(u.omega[w], RFE_FIX_LIMIT_OMEGA);
     }
     memcpy(&c->before, &c->est, sizeof c->est);
-    st = rfe_estimator_step_q31(&c->est, &u, &out);
+    st = rfe_friction_step_q31(&c->est, &u, &out);
     if (out_of_limits) {
         if (st != RFE_ERR_RANGE) {
             violation(c, "a sample beyond the limits was not rejected with RFE_ERR_RANGE", &u,
@@ -168,8 +168,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         p.filter.mu0 = 0.3;
     }
     memset(&c, 0, sizeof c);
-    if (rfe_params_to_q31_f64(&p, &q) != RFE_OK || rfe_estimator_init_q31(&c.est, &q) != RFE_OK ||
-        rfe_estimator_get_q31(&c.est, &c.prev) != RFE_OK) {
+    if (rfe_params_to_q31_f64(&p, &q) != RFE_OK || rfe_friction_init_q31(&c.est, &q) != RFE_OK ||
+        rfe_friction_get_q31(&c.est, &c.prev) != RFE_OK) {
         fprintf(stderr, "fuzz_step (q31): init failed for a preset\n");
         abort();
     }

@@ -134,7 +134,7 @@ def csv_seeds(scen):
     s["log_meta_huge_prior_regression"] = ("0# sd0 = 077777777777777770\n# v_est_min = 0\n" + LOG_HEAD
                                            + "0.0,0.0101,20,0.1,0.02,0.01,-3,0.5,60,60.1,60.2,60.3\n")
     # found by make fuzz (fuzz_csv): sd0_common / sd0 = 1e11 makes the prior singular in float:
-    # init returns RFE_ERR_NOT_POSITIVE_DEFINITE (now documented in estimator.h)
+    # init returns RFE_ERR_NOT_POSITIVE_DEFINITE (now documented in friction.h)
     s["log_meta_prior_ratio_regression"] = "0# sd0_common = 1e10\n# mu_min = 1e-300\n# v_est_min = 0\n" + LOG_HEAD + rows
     s["log_meta_extreme"] = "0# sd0_common = 1e30\n# mu_min = 1e-300\n# v_est_min = 0\n" + LOG_HEAD + rows
     s["log_truth_partial"] = "0" + LOG_HEAD.strip() + ",mu_fl,mu_fr\n" + rows.replace("\n", ",0.5,0.5\n")

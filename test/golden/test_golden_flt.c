@@ -257,7 +257,7 @@ static void sckf_default(const char *stem) { check_one(stem, RFE_PRESET_DEFAULT,
 
 /* REQ: the SCKF (paper configuration) reproduces the reference on every scenario. */
 /* REQ-ACC-001 REQ-ACC-002 */
-static void test_rfe_estimator_sckf_matches_goldens(void **state)
+static void test_rfe_friction_sckf_matches_goldens(void **state)
 {
     (void)state;
     assert_true(for_each_scenario(sckf_paper) >= MIN_SCENARIOS);
@@ -265,7 +265,7 @@ static void test_rfe_estimator_sckf_matches_goldens(void **state)
 
 /* REQ: the CKF baseline reproduces the reference CKF on every scenario. */
 /* REQ-ACC-001 REQ-ACC-002 */
-static void test_rfe_estimator_ckf_matches_goldens(void **state)
+static void test_rfe_friction_ckf_matches_goldens(void **state)
 {
     (void)state;
     assert_true(for_each_scenario(ckf_paper) >= MIN_SCENARIOS);
@@ -273,7 +273,7 @@ static void test_rfe_estimator_ckf_matches_goldens(void **state)
 
 /* REQ: absolute tyre mode (measurement at every cubature point) reproduces the reference. */
 /* REQ-ACC-001 REQ-ACC-002 */
-static void test_rfe_estimator_absolute_matches_goldens(void **state)
+static void test_rfe_friction_absolute_matches_goldens(void **state)
 {
     (void)state;
     assert_true(for_each_scenario(sckf_absolute) >= MIN_SCENARIOS);
@@ -283,7 +283,7 @@ static void test_rfe_estimator_absolute_matches_goldens(void **state)
 /* REQ: the default preset (docs/ESTIMATOR.md) reproduces the reference where its golden
  * exists. */
 /* REQ-ACC-001 REQ-ACC-002 */
-static void test_rfe_estimator_default_matches_goldens(void **state)
+static void test_rfe_friction_default_matches_goldens(void **state)
 {
     (void)state;
     assert_true(for_each_scenario(sckf_default) >= MIN_SCENARIOS);
@@ -312,7 +312,7 @@ static void sckf_vs_ckf(const char *stem)
 
 /* REQ: in double precision the SCKF and the CKF are the same filter (~1e-9). */
 /* REQ-ACC-003 */
-static void test_rfe_estimator_sckf_equals_ckf_in_double(void **state)
+static void test_rfe_friction_sckf_equals_ckf_in_double(void **state)
 {
     (void)state;
     assert_true(for_each_scenario(sckf_vs_ckf) >= MIN_SCENARIOS);
@@ -322,12 +322,12 @@ static void test_rfe_estimator_sckf_equals_ckf_in_double(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_rfe_estimator_sckf_matches_goldens),
-        cmocka_unit_test(test_rfe_estimator_ckf_matches_goldens),
-        cmocka_unit_test(test_rfe_estimator_absolute_matches_goldens),
-        cmocka_unit_test(test_rfe_estimator_default_matches_goldens),
+        cmocka_unit_test(test_rfe_friction_sckf_matches_goldens),
+        cmocka_unit_test(test_rfe_friction_ckf_matches_goldens),
+        cmocka_unit_test(test_rfe_friction_absolute_matches_goldens),
+        cmocka_unit_test(test_rfe_friction_default_matches_goldens),
 #if defined(RFE_REAL_DOUBLE)
-        cmocka_unit_test(test_rfe_estimator_sckf_equals_ckf_in_double),
+        cmocka_unit_test(test_rfe_friction_sckf_equals_ckf_in_double),
 #endif
     };
     (void)WHEEL;

@@ -156,7 +156,7 @@ static size_t check_golden(const char *stem, const config_t *c)
 /* REQ: the q31 estimator reproduces its goldens bit for bit on every noisy scenario log in
  * every configuration of the float goldens. */
 /* REQ-FXP-009 */
-static void test_rfe_estimator_q31_matches_goldens(void **state)
+static void test_rfe_friction_q31_matches_goldens(void **state)
 {
     size_t s;
     size_t c;
@@ -175,7 +175,7 @@ static void test_rfe_estimator_q31_matches_goldens(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_rfe_estimator_q31_matches_goldens),
+        cmocka_unit_test(test_rfe_friction_q31_matches_goldens),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

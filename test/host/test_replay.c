@@ -18,7 +18,7 @@
 #include "param_file.h"
 #include "replay_real.h"
 #include "rfe/config.h"
-#include "rfe/estimator.h"
+#include "rfe/friction.h"
 #include "rfe/params.h"
 
 #define DATA "test/host/data/"
@@ -134,7 +134,7 @@ static void check_replay_equals_library(rfe_preset_t preset, rfe_status_t (*lib)
 {
     rfe_param_set_t ps;
     rfe_params_t p;
-    rfe_estimator_t est;
+    rfe_friction_t est;
     rfe_estimate_t e;
     rfe_est_row_t out[N_ROWS];
     rfe_replay_stats_t st;
@@ -143,7 +143,7 @@ static void check_replay_equals_library(rfe_preset_t preset, rfe_status_t (*lib)
     assert_int_equal(rfe_param_set_preset_f64(&ps, preset), 0);
     assert_int_equal(rfe_replay_run_f64(&ps, log, out, &st, NULL), RFE_OK);
     assert_int_equal(lib(&p), RFE_OK);
-    assert_int_equal(rfe_estimator_init_f64(&est, &p), RFE_OK);
+    assert_int_equal(rfe_friction_init_f64(&est, &p), RFE_OK);
     for (i = 0u; i < log->n_rows; ++i) {
         rfe_sample_t s;
         memset(&s, 0, sizeof s);
@@ -152,7 +152,7 @@ static void check_replay_equals_library(rfe_preset_t preset, rfe_status_t (*lib)
         for (w = 0u; w < RFE_WHEELS; ++w) {
             s.omega[w] = log->rows[i].omega[w];
         }
-        assert_int_equal(rfe_estimator_step_f64(&est, &s, &e), out[i].status);
+        assert_int_equal(rfe_friction_step_f64(&est, &s, &e), out[i].status);
         for (w = 0u; w < RFE_WHEELS; ++w) {
             assert_true(out[i].mu[w] == e.mu[w]);
             assert_true(out[i].sd[w] == e.sd[w]);

@@ -20,15 +20,15 @@
 #include <float.h>
 #include <string.h>
 
-#include "rfe/ckf.h"
-#include "rfe/conditioner.h"
-#include "rfe/eiv.h"
-#include "rfe/estimator.h"
-#include "rfe/obsmat.h"
+#include "rfe/component/ckf.h"
+#include "rfe/component/conditioner.h"
+#include "rfe/component/eiv.h"
+#include "rfe/friction.h"
+#include "rfe/component/obsmat.h"
 #include "rfe/params.h"
-#include "rfe/params_conv.h"
+#include "rfe/component/params_conv.h"
 #include "rfe/params_q31.h"
-#include "rfe/tyre.h"
+#include "rfe/component/tyre.h"
 
 #if defined(RFE_REAL_DOUBLE)
 #define REAL_BIG DBL_MAX
@@ -288,16 +288,16 @@ static void test_mcdc_ckf_clamp_each_bound(void **state)
 /* REQ-EST-003 */
 static void test_mcdc_estimator_get_each_argument(void **state)
 {
-    rfe_estimator_t est;
+    rfe_friction_t est;
     rfe_estimate_t out, ob;
     (void)state;
-    assert_int_equal(rfe_estimator_init(&est, &paper), RFE_OK);
+    assert_int_equal(rfe_friction_init(&est, &paper), RFE_OK);
     memset(&out, 0x5a, sizeof out);
     ob = out;
-    assert_int_equal(rfe_estimator_get(NULL, &out), RFE_ERR_NULL);
-    assert_int_equal(rfe_estimator_get(&est, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_friction_get(NULL, &out), RFE_ERR_NULL);
+    assert_int_equal(rfe_friction_get(&est, NULL), RFE_ERR_NULL);
     assert_memory_equal(&out, &ob, sizeof out);
-    assert_int_equal(rfe_estimator_get(&est, &out), RFE_OK);
+    assert_int_equal(rfe_friction_get(&est, &out), RFE_OK);
 }
 
 /* One parameter changed from a valid set must make rfe_params_validate fail (what). */
@@ -383,13 +383,13 @@ static void test_mcdc_params_each_field(void **state)
 /* The paper preset's sd after 20 steps on the good sample with the given parameters. */
 static void run_sd(const rfe_params_t *p, rfe_real_t sd[RFE_WHEELS])
 {
-    rfe_estimator_t est;
+    rfe_friction_t est;
     rfe_estimate_t out;
     const rfe_sample_t u = good_sample();
     int k;
-    assert_int_equal(rfe_estimator_init(&est, p), RFE_OK);
+    assert_int_equal(rfe_friction_init(&est, p), RFE_OK);
     for (k = 0; k < 20; ++k) {
-        assert_false(rfe_status_is_error(rfe_estimator_step(&est, &u, &out)));
+        assert_false(rfe_status_is_error(rfe_friction_step(&est, &u, &out)));
     }
     memcpy(sd, out.sd, sizeof out.sd);
 }
@@ -493,21 +493,21 @@ static void test_mcdc_estimator_conditioner_overflow_rolls_back(void **state)
      * v̂x + dt·(ax + r·v̂y) overflows on the second sample, so the step fails before its time
      * update result is used (the low-speed test is not reached) and everything is restored */
     rfe_params_t p = dflt;
-    rfe_estimator_t est;
+    rfe_friction_t est;
     rfe_estimate_t out, prev;
     rfe_sample_t u = good_sample();
     (void)state;
     p.filter.dt = (rfe_real_t)(REAL_BIG / 4);
     assert_int_equal(rfe_params_validate(&p), RFE_OK);
-    assert_int_equal(rfe_estimator_init(&est, &p), RFE_OK);
-    assert_false(rfe_status_is_error(rfe_estimator_step(&est, &u, &out)));
-    assert_int_equal(rfe_estimator_get(&est, &prev), RFE_OK);
+    assert_int_equal(rfe_friction_init(&est, &p), RFE_OK);
+    assert_false(rfe_status_is_error(rfe_friction_step(&est, &u, &out)));
+    assert_int_equal(rfe_friction_get(&est, &prev), RFE_OK);
     u.ax = (rfe_real_t)-8.0;
-    assert_int_equal(rfe_estimator_step(&est, &u, &out), RFE_ERR_NONFINITE);
+    assert_int_equal(rfe_friction_step(&est, &u, &out), RFE_ERR_NONFINITE);
     assert_memory_equal(out.mu, prev.mu, sizeof out.mu);
     assert_memory_equal(out.sd, prev.sd, sizeof out.sd);
     assert_true((out.valid[0] == 0u) && (out.valid[1] == 0u) && (out.valid[2] == 0u) && (out.valid[3] == 0u));
-    assert_int_equal(rfe_estimator_get(&est, &out), RFE_OK);
+    assert_int_equal(rfe_friction_get(&est, &out), RFE_OK);
     assert_memory_equal(out.mu, prev.mu, sizeof out.mu);
     assert_memory_equal(out.sd, prev.sd, sizeof out.sd);
 }

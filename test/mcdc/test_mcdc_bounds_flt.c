@@ -20,7 +20,7 @@
 
 #include <string.h>
 
-#include "rfe/estimator.h"
+#include "rfe/friction.h"
 #include "rfe/params.h"
 
 #define REL 1e-5
@@ -52,16 +52,16 @@ static rfe_sample_t braking(void)
 static void test_mcdc_floor_without_cap(void **state)
 {
     rfe_params_t p = paper;
-    rfe_estimator_t est;
+    rfe_friction_t est;
     rfe_estimate_t out;
     const rfe_sample_t u = braking();
     int k, binding = 0, checked = 0;
     (void)state;
     p.filter.sd_max = (rfe_real_t)0.0;
     p.filter.sd_floor_rel = (rfe_real_t)0.5;
-    assert_int_equal(rfe_estimator_init(&est, &p), RFE_OK);
+    assert_int_equal(rfe_friction_init(&est, &p), RFE_OK);
     for (k = 0; k < 200; ++k) {
-        const rfe_status_t st = rfe_estimator_step(&est, &u, &out);
+        const rfe_status_t st = rfe_friction_step(&est, &u, &out);
         double lo = 1e300;
         size_t w;
         assert_false(rfe_status_is_error(st));
@@ -92,22 +92,22 @@ static void test_mcdc_floor_without_cap(void **state)
 static void test_mcdc_cap_without_floor(void **state)
 {
     rfe_params_t p = paper;
-    rfe_estimator_t est, twin;
+    rfe_friction_t est, twin;
     rfe_estimate_t out, out_twin;
     const rfe_sample_t u = braking();
     int k, capped = 0, free_steps = 0;
     (void)state;
     p.filter.sd_max = (rfe_real_t)0.2;
     p.filter.sd_floor_rel = (rfe_real_t)0.0;
-    assert_int_equal(rfe_estimator_init(&est, &p), RFE_OK);
+    assert_int_equal(rfe_friction_init(&est, &p), RFE_OK);
     for (k = 0; k < 200; ++k) {
         size_t w;
         double hi = 0.0;
         /* the twin: this state with both bounds off, stepped with the same sample */
         memcpy(&twin, &est, sizeof est);
         twin.params.filter.sd_max = (rfe_real_t)0.0;
-        assert_false(rfe_status_is_error(rfe_estimator_step(&twin, &u, &out_twin)));
-        assert_false(rfe_status_is_error(rfe_estimator_step(&est, &u, &out)));
+        assert_false(rfe_status_is_error(rfe_friction_step(&twin, &u, &out_twin)));
+        assert_false(rfe_status_is_error(rfe_friction_step(&est, &u, &out)));
         for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
             if (!((double)out.sd[w] <= 0.2 * (1.0 + REL))) {
                 fail_msg("step %d wheel %zu: sd %.9g above the cap 0.2", k, w, (double)out.sd[w]);

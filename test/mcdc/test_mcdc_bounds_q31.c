@@ -27,11 +27,11 @@
 #include <stdint.h>
 #include <string.h>
 
-#include "rfe/estimator.h"
-#include "rfe/estimator_q31.h"
-#include "rfe/fixed_conv.h"
+#include "rfe/friction.h"
+#include "rfe/friction_q31.h"
+#include "host/fixed_conv.h"
 #include "rfe/params.h"
-#include "rfe/params_conv.h"
+#include "rfe/component/params_conv.h"
 
 #define REL 1e-5
 
@@ -81,7 +81,7 @@ static void test_mcdc_q31_floor_without_cap(void **state)
 {
     rfe_params_t pd = paper;
     rfe_params_q31_t p;
-    rfe_estimator_q31_t est;
+    rfe_friction_q31_t est;
     rfe_estimate_q31_t out;
     const rfe_sample_q31_t u = braking(0.0);
     int k, binding = 0, checked = 0;
@@ -89,9 +89,9 @@ static void test_mcdc_q31_floor_without_cap(void **state)
     pd.filter.sd_max = 0.0;
     pd.filter.sd_floor_rel = 0.5;
     p = to_q(&pd);
-    assert_int_equal(rfe_estimator_init_q31(&est, &p), RFE_OK);
+    assert_int_equal(rfe_friction_init_q31(&est, &p), RFE_OK);
     for (k = 0; k < 200; ++k) {
-        const rfe_status_t st = rfe_estimator_step_q31(&est, &u, &out);
+        const rfe_status_t st = rfe_friction_step_q31(&est, &u, &out);
         double lo = 1e300;
         size_t w;
         assert_false(rfe_status_is_error(st));
@@ -123,7 +123,7 @@ static void test_mcdc_q31_cap_without_floor(void **state)
 {
     rfe_params_t pd = paper;
     rfe_params_q31_t p;
-    rfe_estimator_q31_t est, twin;
+    rfe_friction_q31_t est, twin;
     rfe_estimate_q31_t out, out_twin;
     const rfe_sample_q31_t u = braking(0.0);
     int k, capped = 0, free_steps = 0;
@@ -131,14 +131,14 @@ static void test_mcdc_q31_cap_without_floor(void **state)
     pd.filter.sd_max = 0.2;
     pd.filter.sd_floor_rel = 0.0;
     p = to_q(&pd);
-    assert_int_equal(rfe_estimator_init_q31(&est, &p), RFE_OK);
+    assert_int_equal(rfe_friction_init_q31(&est, &p), RFE_OK);
     for (k = 0; k < 200; ++k) {
         size_t w;
         double hi = 0.0;
         memcpy(&twin, &est, sizeof est);
         twin.params.filter.sd_max = 0;
-        assert_false(rfe_status_is_error(rfe_estimator_step_q31(&twin, &u, &out_twin)));
-        assert_false(rfe_status_is_error(rfe_estimator_step_q31(&est, &u, &out)));
+        assert_false(rfe_status_is_error(rfe_friction_step_q31(&twin, &u, &out_twin)));
+        assert_false(rfe_status_is_error(rfe_friction_step_q31(&est, &u, &out)));
         for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
             if (!(sd_d(out.sd[w]) <= 0.2 * (1.0 + REL))) {
                 fail_msg("step %d wheel %zu: sd %.9g above the cap 0.2", k, w, sd_d(out.sd[w]));
@@ -162,13 +162,13 @@ static void run_sd(const rfe_params_t *pd, double sd[RFE_WHEELS])
 {
     const rfe_params_q31_t p = to_q(pd);
     const rfe_sample_q31_t u = braking(0.02);
-    rfe_estimator_q31_t est;
+    rfe_friction_q31_t est;
     rfe_estimate_q31_t out;
     size_t w;
     int k;
-    assert_int_equal(rfe_estimator_init_q31(&est, &p), RFE_OK);
+    assert_int_equal(rfe_friction_init_q31(&est, &p), RFE_OK);
     for (k = 0; k < 20; ++k) {
-        assert_false(rfe_status_is_error(rfe_estimator_step_q31(&est, &u, &out)));
+        assert_false(rfe_status_is_error(rfe_friction_step_q31(&est, &u, &out)));
     }
     for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
         sd[w] = sd_d(out.sd[w]);
@@ -221,7 +221,7 @@ static void test_mcdc_q31_floor_factor_saturates(void **state)
 {
     rfe_params_t pd = paper;
     rfe_params_q31_t p;
-    rfe_estimator_q31_t est;
+    rfe_friction_q31_t est;
     rfe_estimate_q31_t out;
     const rfe_sample_q31_t u = braking(0.02);
     rfe_status_t st;
@@ -235,8 +235,8 @@ static void test_mcdc_q31_floor_factor_saturates(void **state)
     pd.filter.r_ay = 1e-4;
     pd.filter.r_yaw_acc = 1e-4;
     p = to_q(&pd);
-    assert_int_equal(rfe_estimator_init_q31(&est, &p), RFE_OK);
-    st = rfe_estimator_step_q31(&est, &u, &out);
+    assert_int_equal(rfe_friction_init_q31(&est, &p), RFE_OK);
+    st = rfe_friction_step_q31(&est, &u, &out);
     assert_false(rfe_status_is_error(st));
     assert_true(out.sat >= 1u);
     for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {

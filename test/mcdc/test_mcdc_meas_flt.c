@@ -11,7 +11,7 @@
 #include <float.h>
 #include <string.h>
 
-#include "rfe/meas.h"
+#include "rfe/component/meas.h"
 #include "rfe/params.h"
 
 #if defined(RFE_REAL_DOUBLE)

@@ -22,8 +22,8 @@
 #include <float.h>
 #include <string.h>
 
-#include "rfe/ckf.h"
-#include "rfe/qr.h"
+#include "rfe/component/ckf.h"
+#include "rfe/component/qr.h"
 
 #if defined(RFE_REAL_DOUBLE)
 #define TRUE_MIN_EXP (DBL_MIN_EXP - DBL_MANT_DIG) /* 2^-1074 */

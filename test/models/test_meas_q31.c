@@ -1,7 +1,7 @@
 /**
  * @file test_meas_q31.c
- * @brief The fixed-point measurement model (rfe/meas_q31.h) back to back against the double
- *        twin (rfe/meas.h, _f64): paper mode h = H(u) mu, absolute mode and magic mode per
+ * @brief The fixed-point measurement model (rfe/component/meas_q31.h) back to back against the double
+ *        twin (rfe/component/meas.h, _f64): paper mode h = H(u) mu, absolute mode and magic mode per
  *        friction value, on every sample of every bundled log (at the log's true mu, and in
  *        the load-scaled modes on a mu grid 0, 0.1, ..., 1.2) and on 1e5 random samples over
  *        the input limits; in magic mode also bit for bit against the uncached public chain
@@ -42,10 +42,10 @@
 
 #include "csv_log.h"
 #include "rfe/config.h"
-#include "rfe/fixed_conv.h"
-#include "rfe/meas.h"
-#include "rfe/meas_q31.h"
-#include "rfe/params_conv.h"
+#include "host/fixed_conv.h"
+#include "rfe/component/meas.h"
+#include "rfe/component/meas_q31.h"
+#include "rfe/component/params_conv.h"
 #include "test_rng.h"
 
 #define TRIG 4.7e-10

@@ -11,7 +11,7 @@
 
 #include <string.h>
 
-#include "rfe/obsmat.h"
+#include "rfe/component/obsmat.h"
 #include "rfe/params.h"
 
 #if defined(RFE_REAL_DOUBLE)

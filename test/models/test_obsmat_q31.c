@@ -1,7 +1,7 @@
 /**
  * @file test_obsmat_q31.c
- * @brief The fixed-point observation matrix (rfe/obsmat_q31.h) back to back against the double
- *        twin (rfe/obsmat.h, _f64): random forces and steer angles over the whole Q15 range,
+ * @brief The fixed-point observation matrix (rfe/component/obsmat_q31.h) back to back against the double
+ *        twin (rfe/component/obsmat.h, _f64): random forces and steer angles over the whole Q15 range,
  *        the paper-mode H of every sample of every bundled log, h = H x against an exact
  *        integer reference; determinism, saturation counting, argument checks.
  *
@@ -28,11 +28,11 @@
 
 #include "csv_log.h"
 #include "q31_rows.h"
-#include "rfe/fixed_conv.h"
-#include "rfe/obsmat.h"
-#include "rfe/obsmat_q31.h"
-#include "rfe/params_conv.h"
-#include "rfe/tyre_q31.h"
+#include "host/fixed_conv.h"
+#include "rfe/component/obsmat.h"
+#include "rfe/component/obsmat_q31.h"
+#include "rfe/component/params_conv.h"
+#include "rfe/component/tyre_q31.h"
 #include "test_rng.h"
 
 #define TRIG 4.7e-10

@@ -14,9 +14,9 @@
 
 #include <string.h>
 
-#include "rfe/obsmat.h"
+#include "rfe/component/obsmat.h"
 #include "rfe/params.h"
-#include "rfe/tyre.h"
+#include "rfe/component/tyre.h"
 #include "table.h"
 
 #if defined(RFE_REAL_DOUBLE)

@@ -1,7 +1,7 @@
 /**
  * @file test_tyre_q31.c
- * @brief The fixed-point kinematics and Dugoff tyre (rfe/tyre_q31.h) back to back against the
- *        double twin (rfe/tyre.h, _f64): every bundled scenario log, >= 1e5 random inputs over
+ * @brief The fixed-point kinematics and Dugoff tyre (rfe/component/tyre_q31.h) back to back against the
+ *        double twin (rfe/component/tyre.h, _f64): every bundled scenario log, >= 1e5 random inputs over
  *        the documented limits (config.h) and the edges; determinism, saturation counting,
  *        argument checks. (The Magic Formula tyre: test_tyre_magic_q31.c.)
  *
@@ -61,11 +61,11 @@
 
 #include "csv_log.h"
 #include "rfe/config.h"
-#include "rfe/fixed_conv.h"
-#include "rfe/fxmath.h"
-#include "rfe/params_conv.h"
-#include "rfe/tyre.h"
-#include "rfe/tyre_q31.h"
+#include "host/fixed_conv.h"
+#include "rfe/component/fxmath.h"
+#include "rfe/component/params_conv.h"
+#include "rfe/component/tyre.h"
+#include "rfe/component/tyre_q31.h"
 #include "test_rng.h"
 
 #define TRIG 4.7e-10

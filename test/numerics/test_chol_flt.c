@@ -10,8 +10,8 @@
 
 #include <string.h>
 
-#include "rfe/chol.h"
-#include "rfe/qr.h"
+#include "rfe/component/chol.h"
+#include "rfe/component/qr.h"
 #include "test_guard.h"
 #include "test_rng.h"
 

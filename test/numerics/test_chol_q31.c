@@ -24,9 +24,9 @@
 #include <stdint.h>
 #include <string.h>
 
-#include "rfe/chol.h"
-#include "rfe/chol_q31.h"
-#include "rfe/fixed_conv.h"
+#include "rfe/component/chol.h"
+#include "rfe/component/chol_q31.h"
+#include "host/fixed_conv.h"
 #include "test_rng.h"
 
 typedef __int128 i128;

@@ -1,7 +1,7 @@
 /**
  * @file test_fxmath_q31.c
- * @brief The fixed-point primitives (rfe/fixed.h), the host conversions (rfe/fixed_conv.h)
- *        and the integer math (rfe/fxmath.h) against exact integer references and libm.
+ * @brief The fixed-point primitives (rfe/fixed.h), the host conversions (host/fixed_conv.h)
+ *        and the integer math (rfe/component/fxmath.h) against exact integer references and libm.
  *
  * Tolerances: each is the worst-case error the algorithm guarantees (fxmath.h), plus the
  * error of the double reference where it matters:
@@ -30,8 +30,8 @@
 #include <string.h>
 
 #include "rfe/fixed.h"
-#include "rfe/fixed_conv.h"
-#include "rfe/fxmath.h"
+#include "host/fixed_conv.h"
+#include "rfe/component/fxmath.h"
 #include "numerics/fxmath_internal_q31.h"
 #include "test_rng.h"
 

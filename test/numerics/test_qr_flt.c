@@ -12,7 +12,7 @@
 #include <stdint.h>
 #include <string.h>
 
-#include "rfe/qr.h"
+#include "rfe/component/qr.h"
 #include "test_guard.h"
 #include "test_rng.h"
 

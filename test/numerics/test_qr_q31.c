@@ -39,9 +39,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "rfe/fixed_conv.h"
-#include "rfe/qr.h"
-#include "rfe/qr_q31.h"
+#include "host/fixed_conv.h"
+#include "rfe/component/qr.h"
+#include "rfe/component/qr_q31.h"
 #include "test_rng.h"
 
 typedef __int128 i128; /* exact references (GNU C; tests only) */

@@ -1,6 +1,6 @@
 /**
  * @file test_params_q31.c
- * @brief The fixed-point parameters (rfe/params_q31.h) and the converter (rfe/params_conv.h):
+ * @brief The fixed-point parameters (rfe/params_q31.h) and the converter (rfe/component/params_conv.h):
  *        the integer preset tables equal the converted double presets bit for bit, the
  *        converter rounds to nearest and rejects what does not fit, the validation accepts
  *        every converted valid parameter set and rejects each invalid field and each stale
@@ -17,10 +17,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "rfe/fixed_conv.h"
-#include "rfe/fxmath.h"
+#include "host/fixed_conv.h"
+#include "rfe/component/fxmath.h"
 #include "rfe/params.h"
-#include "rfe/params_conv.h"
+#include "rfe/component/params_conv.h"
 #include "rfe/params_q31.h"
 #include "test_rng.h"
 

@@ -1,7 +1,7 @@
 /**
  * @file test_faults_q31.c
  * @brief The fixed-point twin of test_faults_flt.c: what the default estimator in Q formats
- *        (rfe_estimator_*_q31, run exactly as `mu_replay --real q31`: rfe_replay_run_q31 with
+ *        (rfe_friction_*_q31, run exactly as `mu_replay --real q31`: rfe_replay_run_q31 with
  *        the default preset and the log's metadata) does on each fault-injection log
  *        (scenarios/faults/, scripts/sim/faults.py) against its clean twin.
  *
@@ -21,7 +21,7 @@
  *    to the printed digits on every log (both printed side by side), and the double figures
  *    are the float table's (test_faults_flt.c: "the double build measures the same");
  *  - the decisions agree: statuses and valid flags of the q31 run equal the double's on
- *    >= MIN_AGREE = 99 % of the rows (the issue's requirement, as test_estimator_q31.c;
+ *    >= MIN_AGREE = 99 % of the rows (the issue's requirement, as test_friction_q31.c;
  *    measured: 100 %, no row differs);
  *  - at most MAX_EST_SAT = 3 saturations in the estimator (per-step counts summed) on any of
  *    these runs: measured 0 on every log but freeze_omega_fl.hard_brake_low_mu.mf, where

@@ -16,7 +16,7 @@
  * What "unharmed" means here:
  * - a sample with a NaN/Inf field returns RFE_ERR_NONFINITE, one with a finite field
  *   outside its config.h limit RFE_ERR_RANGE (NaN/Inf wins when both occur); the whole
- *   rfe_estimator_t is bit-identical before and after (memcmp), the output is the previous
+ *   rfe_friction_t is bit-identical before and after (memcmp), the output is the previous
  *   estimate with valid = 0, and the next valid sample gives bit-for-bit what it gives when
  *   the bad sample never came; a value exactly at its limit is accepted;
  * - valid samples never return an error and raise no FE_DIVBYZERO, FE_INVALID or
@@ -51,7 +51,7 @@
 #include "invariants.h"
 #include "param_file.h"
 #include "replay_real.h"
-#include "rfe/estimator.h"
+#include "rfe/friction.h"
 #include "robust_gen.h"
 
 #define N_FIELDS 11
@@ -112,14 +112,14 @@ static rfe_real_t above(rfe_real_t x) { return nextafterf(x, INFINITY); }
 
 /* One step with every check of a valid sample: no error, no floating-point exception,
  * invariants. Returns the status. */
-static rfe_status_t step_valid(rfe_estimator_t *est, const rfe_sample_t *u, rfe_estimate_t *out,
+static rfe_status_t step_valid(rfe_friction_t *est, const rfe_sample_t *u, rfe_estimate_t *out,
                                const char *what, long k)
 {
     char why[INV_WHY];
     rfe_status_t st;
     const int check_fe = !under_valgrind();
     feclearexcept(FE_ALL_EXCEPT);
-    st = rfe_estimator_step(est, u, out);
+    st = rfe_friction_step(est, u, out);
     if (check_fe && fetestexcept(FE_BAD) != 0) {
         fail_msg("%s step %ld: floating-point exception raised (%s%s%s), status %d", what, k,
                  fetestexcept(FE_DIVBYZERO) ? "divide-by-zero " : "",
@@ -140,7 +140,7 @@ static rfe_status_t step_valid(rfe_estimator_t *est, const rfe_sample_t *u, rfe_
 
 /* Warm-up: 150 model-consistent braking samples at mu 0.6 with a little steering, so the
  * state is neither the prior nor trivially diagonal. */
-static void warm_up(rfe_estimator_t *est, const rfe_params_t *p, rfe_sample_t *next)
+static void warm_up(rfe_friction_t *est, const rfe_params_t *p, rfe_sample_t *next)
 {
     rfe_estimate_t out;
     int k;
@@ -160,7 +160,7 @@ static void warm_up(rfe_estimator_t *est, const rfe_params_t *p, rfe_sample_t *n
 /* REQ-ROB-003 */
 static void test_rfe_robust_bad_field_rejected_state_untouched(void **state)
 {
-    static rfe_estimator_t est, before, twin;
+    static rfe_friction_t est, before, twin;
     size_t c;
     int f, v, n_checked = 0;
     (void)state;
@@ -169,9 +169,9 @@ static void test_rfe_robust_bad_field_rejected_state_untouched(void **state)
         rfe_sample_t good;
         rfe_estimate_t prev;
         cfg_params(&CFG[c], &p);
-        assert_int_equal(rfe_estimator_init(&est, &p), RFE_OK);
+        assert_int_equal(rfe_friction_init(&est, &p), RFE_OK);
         warm_up(&est, &p, &good);
-        assert_int_equal(rfe_estimator_get(&est, &prev), RFE_OK);
+        assert_int_equal(rfe_friction_get(&est, &prev), RFE_OK);
         for (f = 0; f < N_FIELDS; ++f) {
             const rfe_real_t lim = limit_of(f);
             const rfe_real_t bad[10] = {(rfe_real_t)NAN, (rfe_real_t)INFINITY,
@@ -189,7 +189,7 @@ static void test_rfe_robust_bad_field_rejected_state_untouched(void **state)
                 assert_int_equal(inv_classify_sample(&u), want);
                 memcpy(&before, &est, sizeof(est));
                 memset(&out, 0x5A, sizeof(out));
-                st = rfe_estimator_step(&est, &u, &out);
+                st = rfe_friction_step(&est, &u, &out);
                 if (st != want) {
                     fail_msg("%s: %s = %g: status %d, want %d", CFG[c].name, FIELD[f],
                              (double)bad[v], (int)st, (int)want);
@@ -206,8 +206,8 @@ static void test_rfe_robust_bad_field_rejected_state_untouched(void **state)
                 }
                 /* The next valid sample: same result as a twin that never saw the bad one. */
                 memcpy(&twin, &before, sizeof(est));
-                st = rfe_estimator_step(&est, &good, &out);
-                assert_int_equal(rfe_estimator_step(&twin, &good, &out_twin), st);
+                st = rfe_friction_step(&est, &good, &out);
+                assert_int_equal(rfe_friction_step(&twin, &good, &out_twin), st);
                 assert_false(rfe_status_is_error(st));
                 assert_memory_equal(&est, &twin, sizeof(est));
                 assert_memory_equal(out.mu, out_twin.mu, sizeof(out.mu));
@@ -228,32 +228,32 @@ static void test_rfe_robust_bad_field_rejected_state_untouched(void **state)
 /* REQ-ROB-003 */
 static void test_rfe_robust_bad_combinations(void **state)
 {
-    static rfe_estimator_t est, before;
+    static rfe_friction_t est, before;
     rfe_params_t p;
     rfe_sample_t good, u;
     rfe_estimate_t out;
     int f;
     (void)state;
     cfg_params(&CFG[2], &p);
-    assert_int_equal(rfe_estimator_init(&est, &p), RFE_OK);
+    assert_int_equal(rfe_friction_init(&est, &p), RFE_OK);
     warm_up(&est, &p, &good);
     memcpy(&before, &est, sizeof(est));
     for (f = 0; f < N_FIELDS; ++f) {
         u = good;
         *field_ptr(&u, f) = (rfe_real_t)NAN;
         *field_ptr(&u, (f + 5) % N_FIELDS) = (rfe_real_t)(LIMIT[(f + 5) % N_FIELDS] * 2.0);
-        assert_int_equal(rfe_estimator_step(&est, &u, &out), RFE_ERR_NONFINITE);
+        assert_int_equal(rfe_friction_step(&est, &u, &out), RFE_ERR_NONFINITE);
     }
     u = good;
     for (f = 0; f < N_FIELDS; ++f) {
         *field_ptr(&u, f) = (rfe_real_t)(LIMIT[f] * 1.5);
     }
-    assert_int_equal(rfe_estimator_step(&est, &u, &out), RFE_ERR_RANGE);
-    assert_int_equal(rfe_estimator_step(&est, NULL, &out), RFE_ERR_NULL);
-    assert_int_equal(rfe_estimator_step(&est, &good, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_friction_step(&est, &u, &out), RFE_ERR_RANGE);
+    assert_int_equal(rfe_friction_step(&est, NULL, &out), RFE_ERR_NULL);
+    assert_int_equal(rfe_friction_step(&est, &good, NULL), RFE_ERR_NULL);
     assert_memory_equal(&est, &before, sizeof(est));
     memset(&before, 0, sizeof(before));
-    assert_int_equal(rfe_estimator_step(&before, &good, &out), RFE_ERR_NOT_INITIALISED);
+    assert_int_equal(rfe_friction_step(&before, &good, &out), RFE_ERR_NOT_INITIALISED);
 }
 
 /* REQ: values exactly at the limits, -0, the smallest subnormal and FLT/DBL_MIN are valid
@@ -263,7 +263,7 @@ static void test_rfe_robust_bad_combinations(void **state)
 /* REQ-ROB-004 */
 static void test_rfe_robust_values_at_limits_accepted(void **state)
 {
-    static rfe_estimator_t est;
+    static rfe_friction_t est;
     size_t c;
     int f, v, s;
     (void)state;
@@ -273,7 +273,7 @@ static void test_rfe_robust_values_at_limits_accepted(void **state)
         rfe_estimate_t out;
         long k = 0;
         cfg_params(&CFG[c], &p);
-        assert_int_equal(rfe_estimator_init(&est, &p), RFE_OK);
+        assert_int_equal(rfe_friction_init(&est, &p), RFE_OK);
         warm_up(&est, &p, &good);
         for (f = 0; f < N_FIELDS; ++f) {
             const rfe_real_t edge[6] = {limit_of(f), -limit_of(f), (rfe_real_t)-0.0,
@@ -308,7 +308,7 @@ static void test_rfe_robust_values_at_limits_accepted(void **state)
 /* REQ-ROB-003 */
 static void test_rfe_robust_interleaved_errors_change_nothing(void **state)
 {
-    static rfe_estimator_t est, twin;
+    static rfe_friction_t est, twin;
     rfe_sensor_log_t log;
     rfe_io_error_t err;
     size_t c, r;
@@ -321,7 +321,7 @@ static void test_rfe_robust_interleaved_errors_change_nothing(void **state)
         rfe_params_t p;
         size_t n_bad = 0;
         cfg_params(&CFG[c], &p);
-        assert_int_equal(rfe_estimator_init(&est, &p), RFE_OK);
+        assert_int_equal(rfe_friction_init(&est, &p), RFE_OK);
         memcpy(&twin, &est, sizeof(est));
         for (r = 0; r < log.n_rows && (!under_valgrind() || r < VG_ROWS); ++r) {
             const rfe_sensor_row_t *row = &log.rows[r];
@@ -334,11 +334,11 @@ static void test_rfe_robust_interleaved_errors_change_nothing(void **state)
                 const rfe_real_t vals[3] = {(rfe_real_t)NAN, (rfe_real_t)-INFINITY,
                                             (rfe_real_t)(-LIMIT[f] * 1.25)};
                 *field_ptr(&bad, f) = vals[(r / 7) % 3];
-                assert_true(rfe_status_is_error(rfe_estimator_step(&est, &bad, &a)));
+                assert_true(rfe_status_is_error(rfe_friction_step(&est, &bad, &a)));
                 ++n_bad;
             }
             (void)step_valid(&est, &u, &a, CFG[c].name, (long)r);
-            assert_int_equal(rfe_estimator_step(&twin, &u, &b), a.status);
+            assert_int_equal(rfe_friction_step(&twin, &u, &b), a.status);
             if (memcmp(&est, &twin, sizeof(est)) != 0 || memcmp(a.mu, b.mu, sizeof(a.mu)) != 0 ||
                 memcmp(a.sd, b.sd, sizeof(a.sd)) != 0) {
                 fail_msg("%s row %zu: differs from the twin that never saw the %zu bad samples",
@@ -404,7 +404,7 @@ static const corner_t CORNERS[] = {
 /* REQ-ROB-005 */
 static void test_rfe_robust_operating_corners(void **state)
 {
-    static rfe_estimator_t est;
+    static rfe_friction_t est;
     size_t c, i;
     (void)state;
     for (i = 0; i < N_CORNERS; ++i) {
@@ -420,9 +420,9 @@ static void test_rfe_robust_operating_corners(void **state)
             double sd_prev = 0.0, sd_min = 1e300, sd_max = 0.0, bound;
             cfg_params(&CFG[c], &p);
             snprintf(what, sizeof(what), "%s/%s", cn->name, CFG[c].name);
-            assert_int_equal(rfe_estimator_init(&est, &p), RFE_OK);
+            assert_int_equal(rfe_friction_init(&est, &p), RFE_OK);
             warm_up(&est, &p, &w0); /* start from an informed state, not the prior */
-            assert_int_equal(rfe_estimator_get(&est, &start), RFE_OK);
+            assert_int_equal(rfe_friction_get(&est, &start), RFE_OK);
             sd_prev = (double)start.sd[0];
             for (k = 0; k < n_steps; ++k) {
                 rfe_status_t st;
@@ -478,7 +478,7 @@ static void test_rfe_robust_operating_corners(void **state)
 /* REQ-ROB-005 REQ-ROB-006 */
 static void test_rfe_robust_huge_prior_held(void **state)
 {
-    static rfe_estimator_t est;
+    static rfe_friction_t est;
     static const double SD0[4] = {1.0, 1e4, 1e10, 1e16};
     size_t c;
     int s, b, k, w;
@@ -495,7 +495,7 @@ static void test_rfe_robust_huge_prior_held(void **state)
                 p.filter.mu0 = (b == 0) ? p.filter.mu0 : (b == 1) ? p.filter.mu_min : p.filter.mu_max;
                 snprintf(what, sizeof(what), "%s sd0 %g mu0 %g", CFG[c].name, SD0[s],
                          (double)p.filter.mu0);
-                assert_int_equal(rfe_estimator_init(&est, &p), RFE_OK);
+                assert_int_equal(rfe_friction_init(&est, &p), RFE_OK);
                 memset(&u, 0, sizeof(u));
                 for (k = 0; k < (under_valgrind() ? 20 : 300); ++k) {
                     assert_int_equal(step_valid(&est, &u, &out, what, k), RFE_NO_UPDATE_LOW_SPEED);
@@ -537,7 +537,7 @@ typedef struct {
 
 static void sweep_file(const char *path, const cfg_t *c, size_t max_rows, sweep_stats_t *s)
 {
-    static rfe_estimator_t est;
+    static rfe_friction_t est;
     rfe_sensor_log_t log;
     rfe_io_error_t err;
     rfe_params_t p;
@@ -547,7 +547,7 @@ static void sweep_file(const char *path, const cfg_t *c, size_t max_rows, sweep_
         fail_msg("%s:%zu: %s", err.file, err.line, err.msg);
     }
     log_params(&log, path, c, &p);
-    assert_int_equal(rfe_estimator_init(&est, &p), RFE_OK);
+    assert_int_equal(rfe_friction_init(&est, &p), RFE_OK);
     for (r = 0; r < log.n_rows && r < max_rows; ++r) {
         const rfe_sensor_row_t *row = &log.rows[r];
         rfe_sample_t u;
@@ -561,10 +561,10 @@ static void sweep_file(const char *path, const cfg_t *c, size_t max_rows, sweep_
         if (want == RFE_OK) {
             st = step_valid(&est, &u, &out, what, (long)r);
         } else {
-            static rfe_estimator_t before;
+            static rfe_friction_t before;
             char why[INV_WHY];
             memcpy(&before, &est, sizeof(est));
-            st = rfe_estimator_step(&est, &u, &out);
+            st = rfe_friction_step(&est, &u, &out);
             if (st != want || memcmp(&est, &before, sizeof(est)) != 0) {
                 fail_msg("%s: out-of-limits sample: status %d (want %d) or state changed", what,
                          (int)st, (int)want);

@@ -1,7 +1,7 @@
 /**
  * @file test_robust_q31.c
  * @brief The fixed-point twin of test_robust_flt.c (the robustness issue): the q31 estimator
- *        step (rfe_estimator_step_q31) under every input class a Q format can carry, in the
+ *        step (rfe_friction_step_q31) under every input class a Q format can carry, in the
  *        operating corners, with a huge prior, and the q31 invariants of
  *        test/support/invariants.h (the INV_Q31 block) after every step of every bundled log
  *        (the .csv of scenarios/, 39) and every fault log (the .csv of scenarios/faults/, 15).
@@ -11,13 +11,13 @@
  * built as the double parameters (rfe_params_t) converted by rfe_params_to_q31_f64, what
  * mu_replay --real q31 does. Samples: the float twin's generators (double samples,
  * robust_gen.h) and the logs' rows, rounded to the Q formats of rfe_sample_q31_t by
- * rfe_fix_from_double (rfe/fixed_conv.h, the conversion of src/host/replay_q31.c).
+ * rfe_fix_from_double (host/fixed_conv.h, the conversion of src/host/replay_q31.c).
  *
  * Input classes. A Q value has no NaN/Inf: the float test's non-finite class becomes the
  * host's conversion of +-Inf, +-1e30, +-DBL_MAX (saturated to +-RFE_FIX_MAX, counted, beyond
  * every limit) and the integer extremes INT32_MIN, -INT32_MAX, INT32_MAX; plus one LSB beyond
  * each RFE_FIX_LIMIT_* and 1.5 x the limit. Each must give RFE_ERR_RANGE (there is no
- * RFE_ERR_NONFINITE in Q), leave the whole rfe_estimator_q31_t bit-identical (memcmp), report
+ * RFE_ERR_NONFINITE in Q), leave the whole rfe_friction_q31_t bit-identical (memcmp), report
  * the previous estimate with valid 0 and sat 0, and the next valid sample must give bit for
  * bit what it gives when the bad one never came. A value exactly at +-limit is accepted.
  *
@@ -41,8 +41,8 @@
  *    the row norms rounded to Q30: relative TOL_SD_CAP = 1e-5 (the float twin's) plus
  *    TOL_SD_LSB = 4 LSB of Q30;
  *  - q31 vs the double twin (double estimator on the unrounded rows, as
- *    test_estimator_q31.c) on the sweep: |mu_q31 - mu_double| <= TOL_B2B = 0.005 (the issue's
- *    requirement, which test_estimator_q31.c asserts on the settled samples of the 39 logs;
+ *    test_friction_q31.c) on the sweep: |mu_q31 - mu_double| <= TOL_B2B = 0.005 (the issue's
+ *    requirement, which test_friction_q31.c asserts on the settled samples of the 39 logs;
  *    here on every row of every log, fault logs included, whose q31 run has no saturation;
  *    documented worst over all samples 4.6e-4, paper CKF) and statuses agreeing on >= 99 % of
  *    the rows. A run with saturations (e.g. an sd driven beyond Q30's 2) departs from the
@@ -91,10 +91,10 @@
 #include "invariants.h"
 #include "param_file.h"
 #include "replay_real.h"
-#include "rfe/estimator.h"
-#include "rfe/estimator_q31.h"
-#include "rfe/fixed_conv.h"
-#include "rfe/params_conv.h"
+#include "rfe/friction.h"
+#include "rfe/friction_q31.h"
+#include "host/fixed_conv.h"
+#include "rfe/component/params_conv.h"
 #include "robust_gen.h"
 
 #define N_FIELDS 11
@@ -215,13 +215,13 @@ typedef struct {
 } sat_count_t;
 
 /* One step with every check of a valid sample; returns the status. */
-static rfe_status_t step_valid(rfe_estimator_q31_t *est, const rfe_sample_q31_t *u,
+static rfe_status_t step_valid(rfe_friction_q31_t *est, const rfe_sample_q31_t *u,
                                rfe_estimate_q31_t *out, const char *what, long k,
                                sat_count_t *sc)
 {
     char why[INV_WHY];
     const uint32_t total = est->sat;
-    rfe_status_t st = rfe_estimator_step_q31(est, u, out);
+    rfe_status_t st = rfe_friction_step_q31(est, u, out);
     if (rfe_status_is_error(st)) {
         fail_msg("%s step %ld: valid sample rejected with status %d (%s)", what, k, (int)st,
                  rfe_status_str(st));
@@ -243,7 +243,7 @@ static rfe_status_t step_valid(rfe_estimator_q31_t *est, const rfe_sample_q31_t 
 /* ---- bad input values -------------------------------------------------------------------- */
 
 /* The float twin's warm-up: 150 model-consistent braking samples at mu 0.6, a little steer. */
-static void warm_up(rfe_estimator_q31_t *est, const both_t *b, rfe_sample_q31_t *next)
+static void warm_up(rfe_friction_q31_t *est, const both_t *b, rfe_sample_q31_t *next)
 {
     rfe_estimate_q31_t out;
     uint32_t sat = 0;
@@ -293,7 +293,7 @@ static void bad_values(int f, rfe_fix_t bad[N_BAD], uint32_t conv[N_BAD])
 /* REQ-ROB-003 */
 static void test_rfe_robust_q31_bad_field_rejected_state_untouched(void **state)
 {
-    static rfe_estimator_q31_t est, before, twin;
+    static rfe_friction_q31_t est, before, twin;
     size_t c;
     int f, v, n_checked = 0;
     (void)state;
@@ -303,9 +303,9 @@ static void test_rfe_robust_q31_bad_field_rejected_state_untouched(void **state)
         rfe_estimate_q31_t prev;
         cfg_both(&CFG[c], &b);
         memset(&est, 0, sizeof(est));
-        assert_int_equal(rfe_estimator_init_q31(&est, &b.pq), RFE_OK);
+        assert_int_equal(rfe_friction_init_q31(&est, &b.pq), RFE_OK);
         warm_up(&est, &b, &good);
-        assert_int_equal(rfe_estimator_get_q31(&est, &prev), RFE_OK);
+        assert_int_equal(rfe_friction_get_q31(&est, &prev), RFE_OK);
         for (f = 0; f < N_FIELDS; ++f) {
             rfe_fix_t bad[N_BAD];
             uint32_t conv[N_BAD];
@@ -320,7 +320,7 @@ static void test_rfe_robust_q31_bad_field_rejected_state_untouched(void **state)
                 assert_int_equal(classify_q(&u), RFE_ERR_RANGE);
                 memcpy(&before, &est, sizeof(est));
                 memset(&out, 0x5A, sizeof(out));
-                st = rfe_estimator_step_q31(&est, &u, &out);
+                st = rfe_friction_step_q31(&est, &u, &out);
                 if (st != RFE_ERR_RANGE) {
                     fail_msg("%s: %s = %ld: status %d, want %d", CFG[c].name, FIELD[f],
                              (long)bad[v], (int)st, (int)RFE_ERR_RANGE);
@@ -338,8 +338,8 @@ static void test_rfe_robust_q31_bad_field_rejected_state_untouched(void **state)
                 }
                 /* the next valid sample: the same as a twin that never saw the bad one */
                 memcpy(&twin, &before, sizeof(est));
-                st = rfe_estimator_step_q31(&est, &good, &out);
-                assert_int_equal(rfe_estimator_step_q31(&twin, &good, &out_twin), st);
+                st = rfe_friction_step_q31(&est, &good, &out);
+                assert_int_equal(rfe_friction_step_q31(&twin, &good, &out_twin), st);
                 assert_false(rfe_status_is_error(st));
                 assert_memory_equal(&est, &twin, sizeof(est));
                 assert_memory_equal(out.mu, out_twin.mu, sizeof(out.mu));
@@ -360,7 +360,7 @@ static void test_rfe_robust_q31_bad_field_rejected_state_untouched(void **state)
 /* REQ-ROB-003 */
 static void test_rfe_robust_q31_bad_combinations(void **state)
 {
-    static rfe_estimator_q31_t est, before, zero;
+    static rfe_friction_q31_t est, before, zero;
     both_t b;
     rfe_sample_q31_t good, u;
     rfe_estimate_q31_t out, out_copy;
@@ -368,29 +368,29 @@ static void test_rfe_robust_q31_bad_combinations(void **state)
     (void)state;
     cfg_both(&CFG[2], &b);
     memset(&est, 0, sizeof(est));
-    assert_int_equal(rfe_estimator_init_q31(&est, &b.pq), RFE_OK);
+    assert_int_equal(rfe_friction_init_q31(&est, &b.pq), RFE_OK);
     warm_up(&est, &b, &good);
     memcpy(&before, &est, sizeof(est));
     for (f = 0; f < N_FIELDS; ++f) { /* two bad fields: INT32_MIN and one LSB beyond */
         u = good;
         *field_q(&u, f) = INT32_MIN;
         *field_q(&u, (f + 5) % N_FIELDS) = QLIM[(f + 5) % N_FIELDS] + 1;
-        assert_int_equal(rfe_estimator_step_q31(&est, &u, &out), RFE_ERR_RANGE);
+        assert_int_equal(rfe_friction_step_q31(&est, &u, &out), RFE_ERR_RANGE);
     }
     u = good;
     for (f = 0; f < N_FIELDS; ++f) {
         *field_q(&u, f) = (f % 2) ? INT32_MIN : INT32_MAX;
     }
-    assert_int_equal(rfe_estimator_step_q31(&est, &u, &out), RFE_ERR_RANGE);
-    assert_int_equal(rfe_estimator_step_q31(&est, NULL, &out), RFE_ERR_NULL);
-    assert_int_equal(rfe_estimator_step_q31(&est, &good, NULL), RFE_ERR_NULL);
-    assert_int_equal(rfe_estimator_step_q31(NULL, &good, &out), RFE_ERR_NULL);
+    assert_int_equal(rfe_friction_step_q31(&est, &u, &out), RFE_ERR_RANGE);
+    assert_int_equal(rfe_friction_step_q31(&est, NULL, &out), RFE_ERR_NULL);
+    assert_int_equal(rfe_friction_step_q31(&est, &good, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_friction_step_q31(NULL, &good, &out), RFE_ERR_NULL);
     assert_memory_equal(&est, &before, sizeof(est));
     /* never initialised: the error, nothing written (no previous estimate to report) */
     memset(&zero, 0, sizeof(zero));
     memset(&out, 0x5A, sizeof(out));
     out_copy = out;
-    assert_int_equal(rfe_estimator_step_q31(&zero, &good, &out), RFE_ERR_NOT_INITIALISED);
+    assert_int_equal(rfe_friction_step_q31(&zero, &good, &out), RFE_ERR_NOT_INITIALISED);
     assert_memory_equal(&out, &out_copy, sizeof(out));
     memset(&before, 0, sizeof(before));
     assert_memory_equal(&zero, &before, sizeof(zero));
@@ -403,7 +403,7 @@ static void test_rfe_robust_q31_bad_combinations(void **state)
 /* REQ-ROB-004 */
 static void test_rfe_robust_q31_values_at_limits_accepted(void **state)
 {
-    static rfe_estimator_q31_t est;
+    static rfe_friction_q31_t est;
     size_t c;
     int f, v, s;
     (void)state;
@@ -415,7 +415,7 @@ static void test_rfe_robust_q31_values_at_limits_accepted(void **state)
         long k = 0;
         cfg_both(&CFG[c], &b);
         memset(&est, 0, sizeof(est));
-        assert_int_equal(rfe_estimator_init_q31(&est, &b.pq), RFE_OK);
+        assert_int_equal(rfe_friction_init_q31(&est, &b.pq), RFE_OK);
         warm_up(&est, &b, &good);
         for (f = 0; f < N_FIELDS; ++f) {
             const rfe_fix_t edge[5] = {QLIM[f], -QLIM[f], 0, 1, -1};
@@ -476,7 +476,7 @@ static void read_log(const char *path, rfe_sensor_log_t *log)
 /* REQ-ROB-003 */
 static void test_rfe_robust_q31_interleaved_errors_change_nothing(void **state)
 {
-    static rfe_estimator_q31_t est, twin;
+    static rfe_friction_q31_t est, twin;
     const char *path = "scenarios/mu_step_hard_brake.mf.csv";
     rfe_sensor_log_t log;
     size_t c, r;
@@ -487,7 +487,7 @@ static void test_rfe_robust_q31_interleaved_errors_change_nothing(void **state)
         size_t n_bad = 0;
         log_params(&log, path, &CFG[c], &b);
         memset(&est, 0, sizeof(est));
-        assert_int_equal(rfe_estimator_init_q31(&est, &b.pq), RFE_OK);
+        assert_int_equal(rfe_friction_init_q31(&est, &b.pq), RFE_OK);
         memcpy(&twin, &est, sizeof(est));
         for (r = 0; r < log.n_rows && (!light() || r < VG_ROWS); ++r) {
             rfe_sample_t d;
@@ -503,11 +503,11 @@ static void test_rfe_robust_q31_interleaved_errors_change_nothing(void **state)
                 const rfe_fix_t vals[3] = {QLIM[f] + 1, INT32_MIN,
                                            clamp32(-(int64_t)QLIM[f] - QLIM[f] / 4)};
                 *field_q(&bad, f) = vals[(r / 7) % 3];
-                assert_int_equal(rfe_estimator_step_q31(&est, &bad, &a), RFE_ERR_RANGE);
+                assert_int_equal(rfe_friction_step_q31(&est, &bad, &a), RFE_ERR_RANGE);
                 ++n_bad;
             }
             (void)step_valid(&est, &u, &a, CFG[c].name, (long)r, NULL);
-            assert_int_equal(rfe_estimator_step_q31(&twin, &u, &bo), a.status);
+            assert_int_equal(rfe_friction_step_q31(&twin, &u, &bo), a.status);
             if (memcmp(&est, &twin, sizeof(est)) != 0 || memcmp(a.mu, bo.mu, sizeof(a.mu)) != 0 ||
                 memcmp(a.sd, bo.sd, sizeof(a.sd)) != 0 || a.sat != bo.sat) {
                 fail_msg("%s row %zu: differs from the twin that never saw the %zu bad samples",
@@ -569,7 +569,7 @@ static const corner_t CORNERS[] = {
 /* REQ-ROB-005 */
 static void test_rfe_robust_q31_operating_corners(void **state)
 {
-    static rfe_estimator_q31_t est;
+    static rfe_friction_q31_t est;
     size_t c, i;
     (void)state;
     for (i = 0; i < N_CORNERS; ++i) {
@@ -587,9 +587,9 @@ static void test_rfe_robust_q31_operating_corners(void **state)
             cfg_both(&CFG[c], &b);
             snprintf(what, sizeof(what), "%s/%s", cn->name, CFG[c].name);
             memset(&est, 0, sizeof(est));
-            assert_int_equal(rfe_estimator_init_q31(&est, &b.pq), RFE_OK);
+            assert_int_equal(rfe_friction_init_q31(&est, &b.pq), RFE_OK);
             warm_up(&est, &b, &w0);
-            assert_int_equal(rfe_estimator_get_q31(&est, &start), RFE_OK);
+            assert_int_equal(rfe_friction_get_q31(&est, &start), RFE_OK);
             sd_prev = (double)start.sd[0];
             for (k = 0; k < n_steps; ++k) {
                 rfe_sample_t d;
@@ -672,7 +672,7 @@ static int prior_fits(const cfg_t *c, size_t n, double mu0, double sd_prev, doub
  * (CKF), mu0 inside and on each bound: 300 standstill steps (20 in light mode) hold mu0
  * exactly, status 2, every invariant. Where the cubature points leave Q29's +-4 or S (P)
  * leaves Q30 (Q31), the step saturates: counted, never silent, so
- *  - a step on which the double twin (same prior, rfe_estimator_*_f64) fits the formats
+ *  - a step on which the double twin (same prior, rfe_friction_*_f64) fits the formats
  *    (prior_fits) must report no saturation in q31;
  *  - the paper preset (no sd bounds) must not lower an sd on a step that reports no
  *    saturation (a time update only adds process noise); the default preset keeps every sd
@@ -680,8 +680,8 @@ static int prior_fits(const cfg_t *c, size_t n, double mu0, double sd_prev, doub
 /* REQ-ROB-005 REQ-ROB-006 */
 static void test_rfe_robust_q31_huge_prior_held(void **state)
 {
-    static rfe_estimator_q31_t est;
-    static rfe_estimator_t ed;
+    static rfe_friction_q31_t est;
+    static rfe_friction_t ed;
     size_t c;
     int s, bnd, k, w;
     (void)state;
@@ -720,12 +720,12 @@ static void test_rfe_robust_q31_huge_prior_held(void **state)
                 snprintf(what, sizeof(what), "%s sd0 %.9g mu0 %.3f", CFG[c].name, sd0,
                          b.pd.filter.mu0);
                 memset(&est, 0, sizeof(est));
-                if (rfe_estimator_init_q31(&est, &b.pq) != RFE_OK) {
+                if (rfe_friction_init_q31(&est, &b.pq) != RFE_OK) {
                     fail_msg("%s: init failed for a prior that fits the format", what);
                 }
-                assert_int_equal(rfe_estimator_init_f64(&ed, &b.pd), RFE_OK);
-                assert_int_equal(rfe_estimator_get_q31(&est, &prev), RFE_OK);
-                assert_int_equal(rfe_estimator_get_f64(&ed, &od), RFE_OK);
+                assert_int_equal(rfe_friction_init_f64(&ed, &b.pd), RFE_OK);
+                assert_int_equal(rfe_friction_get_q31(&est, &prev), RFE_OK);
+                assert_int_equal(rfe_friction_get_f64(&ed, &od), RFE_OK);
                 sd_d_prev = od.sd[0];
                 q2 = b.pd.filter.q_mu * b.pd.filter.q_mu +
                      b.pd.filter.q_common * b.pd.filter.q_common;
@@ -735,7 +735,7 @@ static void test_rfe_robust_q31_huge_prior_held(void **state)
                     int fits;
                     assert_int_equal(step_valid(&est, &u, &out, what, k, &sc),
                                      RFE_NO_UPDATE_LOW_SPEED);
-                    assert_int_equal(rfe_estimator_step_f64(&ed, &ud, &od),
+                    assert_int_equal(rfe_friction_step_f64(&ed, &ud, &od),
                                      RFE_NO_UPDATE_LOW_SPEED);
                     /* the time update's sd before any bound: sqrt(sd^2 + row norm of S_Q ^2) */
                     fits = prior_fits(&CFG[c], est.n, b.pd.filter.mu0, sd_d_prev,
@@ -789,8 +789,8 @@ typedef struct {
 static double sweep_file(const char *path, const cfg_t *c, size_t max_rows, sweep_stats_t *s,
                          int is_bundled)
 {
-    static rfe_estimator_q31_t est, before;
-    static rfe_estimator_t ed;
+    static rfe_friction_q31_t est, before;
+    static rfe_friction_t ed;
     rfe_sensor_log_t log;
     rfe_estimate_q31_t prev;
     both_t b;
@@ -802,9 +802,9 @@ static double sweep_file(const char *path, const cfg_t *c, size_t max_rows, swee
     read_log(path, &log);
     log_params(&log, path, c, &b);
     memset(&est, 0, sizeof(est));
-    assert_int_equal(rfe_estimator_init_q31(&est, &b.pq), RFE_OK);
-    assert_int_equal(rfe_estimator_init_f64(&ed, &b.pd), RFE_OK);
-    assert_int_equal(rfe_estimator_get_q31(&est, &prev), RFE_OK);
+    assert_int_equal(rfe_friction_init_q31(&est, &b.pq), RFE_OK);
+    assert_int_equal(rfe_friction_init_f64(&ed, &b.pd), RFE_OK);
+    assert_int_equal(rfe_friction_get_q31(&est, &prev), RFE_OK);
     for (r = 0; r < log.n_rows && r < max_rows; ++r) {
         const rfe_sensor_row_t *row = &log.rows[r];
         rfe_sample_t d;
@@ -820,13 +820,13 @@ static double sweep_file(const char *path, const cfg_t *c, size_t max_rows, swee
         to_q(&d, &u, &in_sat);
         s->input_sat += in_sat;
         snprintf(what, sizeof(what), "%s [%s] row %zu (t = %g)", path, c->name, r, row->t);
-        std_ = rfe_estimator_step_f64(&ed, &d, &od);
+        std_ = rfe_friction_step_f64(&ed, &d, &od);
         if (classify_q(&u) == RFE_OK) {
             st = step_valid(&est, &u, &out, what, (long)r, NULL);
         } else {
             char why[INV_WHY];
             memcpy(&before, &est, sizeof(est));
-            st = rfe_estimator_step_q31(&est, &u, &out);
+            st = rfe_friction_step_q31(&est, &u, &out);
             if (st != RFE_ERR_RANGE || memcmp(&est, &before, sizeof(est)) != 0) {
                 fail_msg("%s: out-of-limits sample: status %d (want %d) or state changed", what,
                          (int)st, (int)RFE_ERR_RANGE);

@@ -12,7 +12,7 @@
 #include "invariants.h"
 #include "param_file.h"
 #include "replay_real.h"
-#include "rfe/estimator.h"
+#include "rfe/friction.h"
 #include "soak.h"
 
 static int params_for(const rfe_sensor_log_t *log, const char *name, const soak_cfg_t *cfg,
@@ -42,7 +42,7 @@ static int params_for(const rfe_sensor_log_t *log, const char *name, const soak_
 int soak_run(const rfe_sensor_log_t *log, const char *log_name, const soak_cfg_t *cfg,
              soak_result_t *res)
 {
-    static rfe_estimator_t est, before;
+    static rfe_friction_t est, before;
     rfe_params_t p;
     rfe_estimate_t out;
     double sq = 0.0;
@@ -53,7 +53,7 @@ int soak_run(const rfe_sensor_log_t *log, const char *log_name, const soak_cfg_t
     res->first_violation_step = -1;
     res->mu_lo = res->sd_lo = INFINITY;
     res->mu_hi = res->sd_hi = -INFINITY;
-    if (params_for(log, log_name, cfg, &p) != 0 || rfe_estimator_init(&est, &p) != RFE_OK) {
+    if (params_for(log, log_name, cfg, &p) != 0 || rfe_friction_init(&est, &p) != RFE_OK) {
         fprintf(stderr, "soak: %s: init failed\n", cfg->name);
         return -1;
     }
@@ -69,7 +69,7 @@ int soak_run(const rfe_sensor_log_t *log, const char *log_name, const soak_cfg_t
         if (want != RFE_OK) {
             memcpy(&before, &est, sizeof(est));
         }
-        st = rfe_estimator_step(&est, &u, &out);
+        st = rfe_friction_step(&est, &u, &out);
         ++res->steps;
         ++res->status[(st >= 0 && st < SOAK_STATUS_SLOTS) ? st : SOAK_STATUS_SLOTS - 1];
         if (want != RFE_OK) {

@@ -1,6 +1,6 @@
 /**
  * @file soak_run_q31.c
- * @brief One soak run of the fixed-point estimator (rfe_estimator_*_q31): parameters from the
+ * @brief One soak run of the fixed-point estimator (rfe_friction_*_q31): parameters from the
  *        library preset and the log's metadata through the double path
  *        (rfe_replay_params_f64, rfe_params_to_q31_f64), every row rounded to the Q formats
  *        of rfe_sample_q31_t (rfe_fix_from_double, as mu_replay --real q31), stepped and
@@ -20,9 +20,9 @@
 #include "invariants.h"
 #include "param_file.h"
 #include "replay_real.h"
-#include "rfe/estimator_q31.h"
-#include "rfe/fixed_conv.h"
-#include "rfe/params_conv.h"
+#include "rfe/friction_q31.h"
+#include "host/fixed_conv.h"
+#include "rfe/component/params_conv.h"
 #include "soak.h"
 
 static int params_for(const rfe_sensor_log_t *log, const char *name, const soak_cfg_t *cfg,
@@ -88,7 +88,7 @@ static int row_in_limits(const rfe_sensor_row_t *row)
 int soak_run_q31(const rfe_sensor_log_t *log, const char *log_name, const soak_cfg_t *cfg,
                  soak_result_t *res)
 {
-    static rfe_estimator_q31_t est, before;
+    static rfe_friction_q31_t est, before;
     rfe_params_q31_t q;
     rfe_estimate_q31_t out;
     double sq = 0.0;
@@ -99,7 +99,7 @@ int soak_run_q31(const rfe_sensor_log_t *log, const char *log_name, const soak_c
     res->first_violation_step = -1;
     res->mu_lo = res->sd_lo = INFINITY;
     res->mu_hi = res->sd_hi = -INFINITY;
-    if (params_for(log, log_name, cfg, &q) != 0 || rfe_estimator_init_q31(&est, &q) != RFE_OK) {
+    if (params_for(log, log_name, cfg, &q) != 0 || rfe_friction_init_q31(&est, &q) != RFE_OK) {
         fprintf(stderr, "soak: q31 %s: init failed\n", cfg->name);
         return -1;
     }
@@ -117,7 +117,7 @@ int soak_run_q31(const rfe_sensor_log_t *log, const char *log_name, const soak_c
         if (!in_limits) {
             memcpy(&before, &est, sizeof(est));
         }
-        st = rfe_estimator_step_q31(&est, &u, &out);
+        st = rfe_friction_step_q31(&est, &u, &out);
         ++res->steps;
         ++res->status[(st >= 0 && st < SOAK_STATUS_SLOTS) ? st : SOAK_STATUS_SLOTS - 1];
         if (!in_limits) {

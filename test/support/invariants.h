@@ -22,8 +22,8 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "rfe/chol.h"
-#include "rfe/estimator.h"
+#include "rfe/component/chol.h"
+#include "rfe/friction.h"
 
 /* Slack on the [mu_min, mu_max] checks: 0 (the invariant as the issue states it). Build
  * with -DINV_MU_TOL=1e-3 to look past a known rounding excursion while hunting for others
@@ -69,7 +69,7 @@ static inline int inv_fail(char *why, const char *fmt, double a, double b, doubl
 
 /** The filter state of an initialised estimator after a step that returned @p st (see the
  *  file comment; an error status leaves the state of the step before, checked then). */
-static inline int inv_check_state(const rfe_estimator_t *est, rfe_status_t st, char *why)
+static inline int inv_check_state(const rfe_friction_t *est, rfe_status_t st, char *why)
 {
     const rfe_filter_params_t *fp = &est->params.filter;
     const size_t ld = (size_t)RFE_N_MAX;
@@ -147,7 +147,7 @@ static inline int inv_check_state(const rfe_estimator_t *est, rfe_status_t st, c
 }
 
 /** The output of a step that returned @p st (see the file comment). */
-static inline int inv_check_output(const rfe_estimator_t *est, const rfe_estimate_t *out,
+static inline int inv_check_output(const rfe_friction_t *est, const rfe_estimate_t *out,
                                    rfe_status_t st, char *why)
 {
     const rfe_filter_params_t *fp = &est->params.filter;
@@ -178,7 +178,7 @@ static inline int inv_check_output(const rfe_estimator_t *est, const rfe_estimat
 }
 
 /** Both of the above. */
-static inline int inv_check_step(const rfe_estimator_t *est, const rfe_estimate_t *out,
+static inline int inv_check_step(const rfe_friction_t *est, const rfe_estimate_t *out,
                                  rfe_status_t st, char *why)
 {
     return inv_check_output(est, out, st, why) ||
@@ -211,7 +211,7 @@ static inline rfe_status_t inv_classify_sample(const rfe_sample_t *u)
 }
 
 /** What a step changes (mean, factor or covariance, input filter) equals @p before's. */
-static inline int inv_filter_equal(const rfe_estimator_t *a, const rfe_estimator_t *b)
+static inline int inv_filter_equal(const rfe_friction_t *a, const rfe_friction_t *b)
 {
     if (a->params.filter.kind == RFE_FILTER_CKF) {
         return memcmp(a->filter.ckf.x, b->filter.ckf.x, sizeof a->filter.ckf.x) == 0 &&
@@ -225,8 +225,8 @@ static inline int inv_filter_equal(const rfe_estimator_t *a, const rfe_estimator
 
 /* ---- the fixed-point estimator (build with -DINV_Q31; needs the q31 library) ----------- */
 #if defined(INV_Q31)
-#include "rfe/chol_q31.h"
-#include "rfe/estimator_q31.h"
+#include "rfe/component/chol_q31.h"
+#include "rfe/friction_q31.h"
 
 /* The q31 CKF's update P - K Pzz K^T rounds P_ij and P_ji separately (seen in the soak:
  * 1 LSB of Q31 apart); allowed after an update, in LSB of Q31 (P ~ 0.09 is ~2e8 LSB). */
@@ -236,7 +236,7 @@ static inline int inv_filter_equal(const rfe_estimator_t *a, const rfe_estimator
  *  integers: no rounding slack); SCKF: S lower-triangular (upper triangle exactly 0) with a
  *  positive diagonal (Q30); CKF: P with a positive diagonal, symmetric (exactly after a time
  *  update, within INV_Q31_CKF_SYM_LSB after an update), and rfe_chol_factor_q31 succeeds. */
-static inline int inv_check_state_q31(const rfe_estimator_q31_t *est, rfe_status_t st, char *why)
+static inline int inv_check_state_q31(const rfe_friction_q31_t *est, rfe_status_t st, char *why)
 {
     const rfe_filter_params_q31_t *fp = &est->params.filter;
     const size_t ld = (size_t)RFE_N_MAX;
@@ -292,7 +292,7 @@ static inline int inv_check_state_q31(const rfe_estimator_q31_t *est, rfe_status
 }
 
 /** The q31 output of a step that returned @p st (as inv_check_output). */
-static inline int inv_check_step_q31(const rfe_estimator_q31_t *est,
+static inline int inv_check_step_q31(const rfe_friction_q31_t *est,
                                      const rfe_estimate_q31_t *out, rfe_status_t st, char *why)
 {
     const rfe_filter_params_q31_t *fp = &est->params.filter;

@@ -10,9 +10,9 @@
 #include <string.h>
 
 #include "csv_log.h"
-#include "rfe/fixed_conv.h"
+#include "host/fixed_conv.h"
 #include "rfe/params_q31.h"
-#include "rfe/tyre_q31.h"
+#include "rfe/component/tyre_q31.h"
 
 /** @p x rounded to Q @p q (a value beyond the format saturates; the count is not kept). */
 static inline int32_t q31_rows_toq(double x, unsigned int q)

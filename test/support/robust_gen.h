@@ -17,8 +17,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "rfe/estimator.h"
-#include "rfe/meas.h"
+#include "rfe/friction.h"
+#include "rfe/component/meas.h"
 
 typedef struct {
     const char *name;

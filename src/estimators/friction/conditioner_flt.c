@@ -2,7 +2,7 @@
  * @file conditioner_flt.c
  * @brief Complementary filter for vx, vy (docs/ESTIMATOR.md step 1).
  */
-#include "rfe/conditioner.h"
+#include "rfe/component/conditioner.h"
 
 #include "numerics/internal.h"
 

@@ -16,7 +16,7 @@
  * (four roundings at 2^-46 .. 2^-41, the Q40 one weighted by dt (1 - b) < 2), and a
  * saturation can only come from the final narrowing (a speed beyond +-256 m/s).
  */
-#include "rfe/conditioner_q31.h"
+#include "rfe/component/conditioner_q31.h"
 
 #include "numerics/internal_q31.h"
 

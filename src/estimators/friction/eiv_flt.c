@@ -3,10 +3,10 @@
  * @brief Step-noise S_R: sensor noise, relative tyre-model error, input noise propagated by
  *        central differences (docs/ESTIMATOR.md step 4).
  */
-#include "rfe/eiv.h"
+#include "rfe/component/eiv.h"
 
-#include "rfe/meas.h"
-#include "rfe/qr.h"
+#include "rfe/component/meas.h"
+#include "rfe/component/qr.h"
 
 #include "estimators/friction/eiv_internal.h"
 #include "numerics/internal.h"

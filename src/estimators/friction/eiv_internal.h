@@ -1,13 +1,13 @@
 /**
  * @file eiv_internal.h
- * @brief Private entry of the step noise (eiv_flt.c) for the estimator (estimator_flt.c).
+ * @brief Private entry of the step noise (eiv_flt.c) for the estimator (friction_flt.c).
  *        Not installed.
  */
 #ifndef RFE_EIV_INTERNAL_H
 #define RFE_EIV_INTERNAL_H
 
-#include "rfe/eiv.h"
-#include "rfe/meas.h"
+#include "rfe/component/eiv.h"
+#include "rfe/component/meas.h"
 #include "rfe/params.h"
 
 /* Full names of the functions declared here: _f32 in the float build, _f64 with

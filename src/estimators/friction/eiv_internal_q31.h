@@ -1,18 +1,18 @@
 /**
  * @file eiv_internal_q31.h
  * @brief Private entry of the fixed-point step noise (eiv_q31.c) for the estimator
- *        (estimator_q31.c). Not installed; integer operations only.
+ *        (friction_q31.c). Not installed; integer operations only.
  */
 #ifndef RFE_EIV_INTERNAL_Q31_H
 #define RFE_EIV_INTERNAL_Q31_H
 
 #include <stdint.h>
 
-#include "rfe/eiv_q31.h"
+#include "rfe/component/eiv_q31.h"
 #include "rfe/fixed.h"
-#include "rfe/meas_q31.h"
+#include "rfe/component/meas_q31.h"
 #include "rfe/params_q31.h"
-#include "rfe/tyre_q31.h"
+#include "rfe/component/tyre_q31.h"
 
 /**
  * rfe_eiv_sqrt_noise_q31 without its checks, for a caller that has already set up the

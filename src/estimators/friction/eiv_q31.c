@@ -10,11 +10,11 @@
  * beyond +-128 m/s^2 (r_model_rel > 1 only), an entry of S_R beyond the format (Tria). A
  * halved difference of two int32 cannot leave the int32 range.
  */
-#include "rfe/eiv_q31.h"
+#include "rfe/component/eiv_q31.h"
 
-#include "rfe/fxmath.h"
-#include "rfe/meas_q31.h"
-#include "rfe/qr_q31.h"
+#include "rfe/component/fxmath.h"
+#include "rfe/component/meas_q31.h"
+#include "rfe/component/qr_q31.h"
 
 #include "estimators/friction/eiv_internal_q31.h"
 #include "numerics/internal_q31.h"

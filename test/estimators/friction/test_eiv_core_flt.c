@@ -24,12 +24,12 @@
 #include <stdint.h>
 #include <string.h>
 
-#include "rfe/eiv.h"
-#include "rfe/meas.h"
-#include "rfe/obsmat.h"
+#include "rfe/component/eiv.h"
+#include "rfe/component/meas.h"
+#include "rfe/component/obsmat.h"
 #include "rfe/params.h"
-#include "rfe/qr.h"
-#include "rfe/tyre.h"
+#include "rfe/component/qr.h"
+#include "rfe/component/tyre.h"
 
 #include "estimators/friction/eiv_internal.h"
 #include "models/tyre_internal.h"

@@ -27,14 +27,14 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "rfe/eiv_q31.h"
+#include "rfe/component/eiv_q31.h"
 #include "rfe/fixed.h"
-#include "rfe/fxmath.h"
-#include "rfe/meas_q31.h"
-#include "rfe/obsmat_q31.h"
+#include "rfe/component/fxmath.h"
+#include "rfe/component/meas_q31.h"
+#include "rfe/component/obsmat_q31.h"
 #include "rfe/params_q31.h"
-#include "rfe/qr_q31.h"
-#include "rfe/tyre_q31.h"
+#include "rfe/component/qr_q31.h"
+#include "rfe/component/tyre_q31.h"
 
 #include "estimators/friction/eiv_internal_q31.h"
 #include "models/meas_internal_q31.h"

@@ -1,9 +1,9 @@
 /**
- * @file test_estimator_default_flt.c
+ * @file test_friction_default_flt.c
  * @brief The observability-aware estimator of docs/ESTIMATOR.md (the default preset): input
  *        conditioning, step noise S_R, information gate, sd bounds, sides structure,
  *        validity by sd, parameter validation of every new key, rollback with the input
- *        filter active. The paper preset is pinned by test_estimator_flt.c and the goldens.
+ *        filter active. The paper preset is pinned by test_friction_flt.c and the goldens.
  *
  * Tolerances.
  * - Complementary filter (hand-derived values): a handful of roundings on values ~20:
@@ -19,10 +19,10 @@
 #include <float.h>
 #include <string.h>
 
-#include "rfe/eiv.h"
-#include "rfe/estimator.h"
-#include "rfe/meas.h"
-#include "rfe/obsmat.h"
+#include "rfe/component/eiv.h"
+#include "rfe/friction.h"
+#include "rfe/component/meas.h"
+#include "rfe/component/obsmat.h"
 
 #if defined(RFE_REAL_DOUBLE)
 #define TOL_CF 1e-12
@@ -181,26 +181,26 @@ static void test_rfe_conditioner_off_and_errors(void **state)
 /* REQ: the estimator uses the filtered vx everywhere, including the low-speed test: a
  * measured vx that drops below v_est_min for one sample (a glitch) is smoothed away. */
 /* REQ-EST-011 */
-static void test_rfe_estimator_uses_filtered_speed(void **state)
+static void test_rfe_friction_uses_filtered_speed(void **state)
 {
-    static rfe_estimator_t est;
+    static rfe_friction_t est;
     rfe_estimate_t out;
     rfe_sample_t u = straight_sample(20.0, 0.0, 0.0);
     rfe_status_t st;
     (void)state;
-    assert_int_equal(rfe_estimator_init(&est, &dflt), RFE_OK);
+    assert_int_equal(rfe_friction_init(&est, &dflt), RFE_OK);
     assert_int_equal(est.cond.started, 0);
-    st = rfe_estimator_step(&est, &u, &out);
+    st = rfe_friction_step(&est, &u, &out);
     assert_int_equal(st, RFE_HELD_NOT_OBSERVABLE); /* zero slip: no information */
     assert_true(est.cond.vx == u.vx);
     u.vx = 1; /* glitch */
-    st = rfe_estimator_step(&est, &u, &out);
+    st = rfe_friction_step(&est, &u, &out);
     assert_false(rfe_status_is_error(st));
     assert_true(st != RFE_NO_UPDATE_LOW_SPEED); /* the filtered vx is ~19.4 */
     assert_close(est.cond.vx, 20.0 - (19.0 * 0.01 / 0.31), 1e-4, 0.0, "filtered vx");
     /* The paper preset uses the measured vx. */
-    assert_int_equal(rfe_estimator_init(&est, &paper), RFE_OK);
-    assert_int_equal(rfe_estimator_step(&est, &u, &out), RFE_NO_UPDATE_LOW_SPEED);
+    assert_int_equal(rfe_friction_init(&est, &paper), RFE_OK);
+    assert_int_equal(rfe_friction_step(&est, &u, &out), RFE_NO_UPDATE_LOW_SPEED);
 }
 
 /* ---- step 4: step noise S_R ------------------------------------------------------------ */
@@ -392,19 +392,19 @@ static void test_rfe_meas_setup_eval(void **state)
 /* REQ: cruising (zero slip) carries no information: every step is held (status 3), the mean
  * stays mu0, the sd grows to the sd_max bound and stays there, the estimate is not valid. */
 /* REQ-EST-008 */
-static void test_rfe_estimator_gate_holds_on_cruise(void **state)
+static void test_rfe_friction_gate_holds_on_cruise(void **state)
 {
-    static rfe_estimator_t est;
+    static rfe_friction_t est;
     rfe_estimate_t out;
     rfe_sample_t u = straight_sample(22.0, 0.0, 0.0);
     double sd_prev = 0.0;
     size_t i;
     int k;
     (void)state;
-    assert_int_equal(rfe_estimator_init(&est, &dflt), RFE_OK);
+    assert_int_equal(rfe_friction_init(&est, &dflt), RFE_OK);
     assert_int_equal(est.n, 2);
     for (k = 0; k < 200; ++k) {
-        assert_int_equal(rfe_estimator_step(&est, &u, &out), RFE_HELD_NOT_OBSERVABLE);
+        assert_int_equal(rfe_friction_step(&est, &u, &out), RFE_HELD_NOT_OBSERVABLE);
         assert_int_equal(out.status, RFE_HELD_NOT_OBSERVABLE);
         for (i = 0; i < 4; ++i) {
             assert_close(out.mu[i], dflt.filter.mu0, 64.0 * EPS_R, 0.0, "held mean");
@@ -427,9 +427,9 @@ static void test_rfe_estimator_gate_holds_on_cruise(void **state)
  * consistent braking sequence (model-matched at mu 0.6, speeds decreasing with ax) converges
  * to 0.6 on every wheel and becomes valid (sd <= sd_valid). */
 /* REQ-EST-008 */
-static void test_rfe_estimator_gate_updates_on_hard_braking(void **state)
+static void test_rfe_friction_gate_updates_on_hard_braking(void **state)
 {
-    static rfe_estimator_t est;
+    static rfe_friction_t est;
     rfe_estimate_t out;
     const rfe_real_t mu[4] = {(rfe_real_t)0.6, (rfe_real_t)0.6, (rfe_real_t)0.6, (rfe_real_t)0.6};
     double vx = 25.0;
@@ -437,11 +437,11 @@ static void test_rfe_estimator_gate_updates_on_hard_braking(void **state)
     size_t i;
     int k;
     (void)state;
-    assert_int_equal(rfe_estimator_init(&est, &dflt), RFE_OK);
+    assert_int_equal(rfe_friction_init(&est, &dflt), RFE_OK);
     for (k = 0; k < 150; ++k) {
         rfe_sample_t u = straight_sample(vx, -0.12, -0.12);
         model_match(&dflt, &u, mu);
-        st = rfe_estimator_step(&est, &u, &out);
+        st = rfe_friction_step(&est, &u, &out);
         if (k == 0) {
             assert_true(st == RFE_OK || st == RFE_PROJECTED);
             assert_true(fabs((double)out.mu[0] - 0.5) > 1e-3); /* the mean moved */
@@ -460,9 +460,9 @@ static void test_rfe_estimator_gate_updates_on_hard_braking(void **state)
 /* REQ: the cap scales the whole S by one factor c = sd_max / max sd_k: the largest sd lands on
  * sd_max, the correlation between the sides is the one without the cap. */
 /* REQ-EST-009 */
-static void test_rfe_estimator_cap_keeps_correlation(void **state)
+static void test_rfe_friction_cap_keeps_correlation(void **state)
 {
-    static rfe_estimator_t capped, free_;
+    static rfe_friction_t capped, free_;
     rfe_estimate_t a, b;
     rfe_params_t p = dflt, q;
     rfe_sample_t u = straight_sample(22.0, 0.0, 0.0);
@@ -471,10 +471,10 @@ static void test_rfe_estimator_cap_keeps_correlation(void **state)
     p.filter.sd0 = (rfe_real_t)0.2; /* prior sd 0.36 > sd_max 0.32 */
     q = p;
     q.filter.sd_max = 0;
-    assert_int_equal(rfe_estimator_init(&capped, &p), RFE_OK);
-    assert_int_equal(rfe_estimator_init(&free_, &q), RFE_OK);
-    assert_int_equal(rfe_estimator_step(&capped, &u, &a), RFE_HELD_NOT_OBSERVABLE);
-    assert_int_equal(rfe_estimator_step(&free_, &u, &b), RFE_HELD_NOT_OBSERVABLE);
+    assert_int_equal(rfe_friction_init(&capped, &p), RFE_OK);
+    assert_int_equal(rfe_friction_init(&free_, &q), RFE_OK);
+    assert_int_equal(rfe_friction_step(&capped, &u, &a), RFE_HELD_NOT_OBSERVABLE);
+    assert_int_equal(rfe_friction_step(&free_, &u, &b), RFE_HELD_NOT_OBSERVABLE);
     assert_true(b.sd[0] > p.filter.sd_max);
     assert_close(a.sd[0], p.filter.sd_max, 4.0 * EPS_R, 0.0, "capped sd");
     assert_close((double)a.sd[1] / (double)b.sd[1], (double)a.sd[0] / (double)b.sd[0], 8.0 * EPS_R, 0.0,
@@ -488,9 +488,9 @@ static void test_rfe_estimator_cap_keeps_correlation(void **state)
 /* REQ: the floor raises sd to sd_floor_rel mu by one factor, correlation kept; with both
  * bounds on, the cap wins (else-if). */
 /* REQ-EST-009 */
-static void test_rfe_estimator_floor_and_priority(void **state)
+static void test_rfe_friction_floor_and_priority(void **state)
 {
-    static rfe_estimator_t fl, free_;
+    static rfe_friction_t fl, free_;
     rfe_estimate_t a, b;
     rfe_params_t p = dflt, q;
     rfe_sample_t u = straight_sample(22.0, 0.0, 0.0);
@@ -500,10 +500,10 @@ static void test_rfe_estimator_floor_and_priority(void **state)
     p.filter.sd0_common = (rfe_real_t)0.02;
     q = p;
     q.filter.sd_floor_rel = 0;
-    assert_int_equal(rfe_estimator_init(&fl, &p), RFE_OK);
-    assert_int_equal(rfe_estimator_init(&free_, &q), RFE_OK);
-    assert_int_equal(rfe_estimator_step(&fl, &u, &a), RFE_HELD_NOT_OBSERVABLE);
-    assert_int_equal(rfe_estimator_step(&free_, &u, &b), RFE_HELD_NOT_OBSERVABLE);
+    assert_int_equal(rfe_friction_init(&fl, &p), RFE_OK);
+    assert_int_equal(rfe_friction_init(&free_, &q), RFE_OK);
+    assert_int_equal(rfe_friction_step(&fl, &u, &a), RFE_HELD_NOT_OBSERVABLE);
+    assert_int_equal(rfe_friction_step(&free_, &u, &b), RFE_HELD_NOT_OBSERVABLE);
     assert_true(b.sd[0] < p.filter.sd_floor_rel);
     assert_close(a.sd[0], p.filter.sd_floor_rel, 4.0 * EPS_R, 0.0, "sd raised to the floor");
     assert_close(correlation(&fl.filter.sckf), correlation(&free_.filter.sckf), 8.0 * EPS_R, 0.0,
@@ -512,11 +512,11 @@ static void test_rfe_estimator_floor_and_priority(void **state)
     /* Cap below the floor: the cap applies first. */
     p.filter.sd_max = (rfe_real_t)0.05;
     p.filter.sd0 = (rfe_real_t)0.2;
-    assert_int_equal(rfe_estimator_init(&fl, &p), RFE_OK);
-    assert_int_equal(rfe_estimator_step(&fl, &u, &a), RFE_HELD_NOT_OBSERVABLE);
+    assert_int_equal(rfe_friction_init(&fl, &p), RFE_OK);
+    assert_int_equal(rfe_friction_step(&fl, &u, &a), RFE_HELD_NOT_OBSERVABLE);
     assert_close(a.sd[0], 0.05, 4.0 * EPS_R, 0.0, "cap wins");
     /* Next step: sd 0.05 plus process noise is above the cap again: capped again. */
-    assert_int_equal(rfe_estimator_step(&fl, &u, &a), RFE_HELD_NOT_OBSERVABLE);
+    assert_int_equal(rfe_friction_step(&fl, &u, &a), RFE_HELD_NOT_OBSERVABLE);
     assert_close(a.sd[0], 0.05, 4.0 * EPS_R, 0.0, "cap wins again");
 }
 
@@ -524,9 +524,9 @@ static void test_rfe_estimator_floor_and_priority(void **state)
  * its floor), the other near the cap -> c = sd_max / max sd, not f / sd (docs/ESTIMATOR.md
  * step 7; before, reported sd reached 1.0 on split_mu_brake). */
 /* REQ-EST-009 */
-static void test_rfe_estimator_floor_limited_by_cap(void **state)
+static void test_rfe_friction_floor_limited_by_cap(void **state)
 {
-    static rfe_estimator_t fl, free_;
+    static rfe_friction_t fl, free_;
     rfe_estimate_t a, b;
     rfe_params_t p = dflt, q;
     rfe_sample_t u = straight_sample(22.0, 0.0, 0.0);
@@ -537,16 +537,16 @@ static void test_rfe_estimator_floor_limited_by_cap(void **state)
     q = p;
     q.filter.sd_floor_rel = 0;
     q.filter.sd_max = 0;
-    assert_int_equal(rfe_estimator_init(&fl, &p), RFE_OK);
-    assert_int_equal(rfe_estimator_init(&free_, &q), RFE_OK);
+    assert_int_equal(rfe_friction_init(&fl, &p), RFE_OK);
+    assert_int_equal(rfe_friction_init(&free_, &q), RFE_OK);
     /* left side informed (sd 0.01), right side near the cap (sd ~0.30), correlated */
     S = fl.filter.sckf.S;
     S[0] = (rfe_real_t)0.01;
     S[RFE_N_MAX] = (rfe_real_t)0.002;
     S[RFE_N_MAX + 1] = (rfe_real_t)0.30;
     memcpy(free_.filter.sckf.S, S, sizeof fl.filter.sckf.S);
-    assert_int_equal(rfe_estimator_step(&fl, &u, &a), RFE_HELD_NOT_OBSERVABLE);
-    assert_int_equal(rfe_estimator_step(&free_, &u, &b), RFE_HELD_NOT_OBSERVABLE);
+    assert_int_equal(rfe_friction_step(&fl, &u, &a), RFE_HELD_NOT_OBSERVABLE);
+    assert_int_equal(rfe_friction_step(&free_, &u, &b), RFE_HELD_NOT_OBSERVABLE);
     assert_true(b.sd[0] < p.filter.sd_floor_rel); /* the floor wants c = 0.15 / 0.01 */
     assert_true(b.sd[1] * (rfe_real_t)1.5 > p.filter.sd_max); /* ... which would break the cap */
     for (k = 0; k < 4; ++k) {
@@ -563,17 +563,17 @@ static void test_rfe_estimator_floor_limited_by_cap(void **state)
 /* REQ: structure sides maps fl, rl to the left state and fr, rr to the right one; init gives
  * sd = sqrt(sd0^2 + sd0_common^2) and the exact Cholesky factor of the prior. */
 /* REQ-EST-010 */
-static void test_rfe_estimator_sides_mapping(void **state)
+static void test_rfe_friction_sides_mapping(void **state)
 {
-    static rfe_estimator_t est;
+    static rfe_friction_t est;
     rfe_estimate_t out;
     const rfe_real_t mu[4] = {(rfe_real_t)0.8, (rfe_real_t)0.3, (rfe_real_t)0.8, (rfe_real_t)0.3};
     const rfe_sckf_t *f = &est.filter.sckf;
     double p00, p01, p11;
     int k;
     (void)state;
-    assert_int_equal(rfe_estimator_init(&est, &dflt), RFE_OK);
-    assert_int_equal(rfe_estimator_get(&est, &out), RFE_OK);
+    assert_int_equal(rfe_friction_init(&est, &dflt), RFE_OK);
+    assert_int_equal(rfe_friction_get(&est, &out), RFE_OK);
     assert_close(out.sd[0], sqrt(0.1 * 0.1 + 0.3 * 0.3), 4.0 * EPS_R, 0.0, "prior sd");
     p00 = (double)f->S[0] * (double)f->S[0];
     p01 = (double)f->S[0] * (double)f->S[RFE_N_MAX];
@@ -585,7 +585,7 @@ static void test_rfe_estimator_sides_mapping(void **state)
     for (k = 0; k < 100; ++k) {
         rfe_sample_t u = straight_sample(25.0 - 0.05 * k, -0.1, -0.1);
         model_match(&dflt, &u, mu);
-        assert_false(rfe_status_is_error(rfe_estimator_step(&est, &u, &out)));
+        assert_false(rfe_status_is_error(rfe_friction_step(&est, &u, &out)));
         assert_true(out.mu[RFE_FL] == out.mu[RFE_RL] && out.mu[RFE_FR] == out.mu[RFE_RR]);
         assert_true(out.sd[RFE_FL] == out.sd[RFE_RL] && out.sd[RFE_FR] == out.sd[RFE_RR]);
         assert_int_equal(out.valid[RFE_FL], out.valid[RFE_RL]);
@@ -596,12 +596,12 @@ static void test_rfe_estimator_sides_mapping(void **state)
     {
         rfe_params_t p = dflt;
         p.filter.structure = RFE_STRUCT_WHEELS;
-        assert_int_equal(rfe_estimator_init(&est, &p), RFE_OK);
+        assert_int_equal(rfe_friction_init(&est, &p), RFE_OK);
         assert_int_equal(est.n, 4);
         for (k = 0; k < 20; ++k) {
             rfe_sample_t u = straight_sample(25.0 - 0.05 * k, -0.1, -0.1);
             model_match(&p, &u, mu);
-            assert_false(rfe_status_is_error(rfe_estimator_step(&est, &u, &out)));
+            assert_false(rfe_status_is_error(rfe_friction_step(&est, &u, &out)));
         }
         assert_true(out.mu[RFE_FL] != out.mu[RFE_RL]);
     }
@@ -610,9 +610,9 @@ static void test_rfe_estimator_sides_mapping(void **state)
 /* REQ: validity: sd_valid > 0 is the sd rule at every status (also for get and at low speed);
  * sd_valid = 0 is the paper rule (valid when updated). */
 /* REQ-EST-010 */
-static void test_rfe_estimator_validity_rules(void **state)
+static void test_rfe_friction_validity_rules(void **state)
 {
-    static rfe_estimator_t est;
+    static rfe_friction_t est;
     rfe_estimate_t out;
     rfe_params_t p = dflt;
     rfe_sample_t slow = straight_sample(2.0, 0.0, 0.0);
@@ -624,30 +624,30 @@ static void test_rfe_estimator_validity_rules(void **state)
     model_match(&dflt, &brake, mu);
     p.filter.sd0 = (rfe_real_t)0.05; /* prior sd 0.07: valid by the sd rule from the start */
     p.filter.sd0_common = (rfe_real_t)0.05;
-    assert_int_equal(rfe_estimator_init(&est, &p), RFE_OK);
-    assert_int_equal(rfe_estimator_get(&est, &out), RFE_OK);
+    assert_int_equal(rfe_friction_init(&est, &p), RFE_OK);
+    assert_int_equal(rfe_friction_get(&est, &out), RFE_OK);
     assert_int_equal(out.valid[0], 1);
-    assert_int_equal(rfe_estimator_step(&est, &slow, &out), RFE_NO_UPDATE_LOW_SPEED);
+    assert_int_equal(rfe_friction_step(&est, &slow, &out), RFE_NO_UPDATE_LOW_SPEED);
     assert_int_equal(out.valid[2], 1);
     /* The paper rule with the default tuning: valid only on updating steps. */
     p.filter.sd_valid = 0;
-    assert_int_equal(rfe_estimator_init(&est, &p), RFE_OK);
-    assert_int_equal(rfe_estimator_get(&est, &out), RFE_OK);
+    assert_int_equal(rfe_friction_init(&est, &p), RFE_OK);
+    assert_int_equal(rfe_friction_get(&est, &out), RFE_OK);
     assert_int_equal(out.valid[0], 0);
-    st = rfe_estimator_step(&est, &brake, &out);
+    st = rfe_friction_step(&est, &brake, &out);
     assert_true(st == RFE_OK || st == RFE_PROJECTED);
     assert_int_equal(out.valid[0], 1);
-    assert_int_equal(rfe_estimator_step(&est, &cruise, &out), RFE_HELD_NOT_OBSERVABLE);
+    assert_int_equal(rfe_friction_step(&est, &cruise, &out), RFE_HELD_NOT_OBSERVABLE);
     assert_int_equal(out.valid[0], 0);
-    assert_int_equal(rfe_estimator_init(&est, &p), RFE_OK);
-    assert_int_equal(rfe_estimator_step(&est, &slow, &out), RFE_NO_UPDATE_LOW_SPEED);
+    assert_int_equal(rfe_friction_init(&est, &p), RFE_OK);
+    assert_int_equal(rfe_friction_step(&est, &slow, &out), RFE_NO_UPDATE_LOW_SPEED);
     assert_int_equal(out.valid[0], 0);
     /* The CKF accepts any sd_valid (an output rule). */
     p = paper;
     p.filter.kind = RFE_FILTER_CKF;
     p.filter.sd_valid = 1;
-    assert_int_equal(rfe_estimator_init(&est, &p), RFE_OK);
-    assert_int_equal(rfe_estimator_step(&est, &slow, &out), RFE_NO_UPDATE_LOW_SPEED);
+    assert_int_equal(rfe_friction_init(&est, &p), RFE_OK);
+    assert_int_equal(rfe_friction_step(&est, &slow, &out), RFE_NO_UPDATE_LOW_SPEED);
     assert_int_equal(out.valid[1], 1);
 }
 
@@ -761,7 +761,7 @@ static void test_rfe_params_validate_ckf_subset(void **state)
 /* REQ-PARAMS-001 */
 static void test_rfe_params_presets(void **state)
 {
-    static rfe_estimator_t est;
+    static rfe_friction_t est;
     size_t i, j;
     (void)state;
     assert_int_equal(paper.filter.structure, RFE_STRUCT_WHEELS);
@@ -786,7 +786,7 @@ static void test_rfe_params_presets(void **state)
     assert_true(dflt.filter.r_model_rel == (rfe_real_t)0.05 && dflt.filter.info_min == (rfe_real_t)25 &&
                 dflt.filter.sd_max == (rfe_real_t)0.32 && dflt.filter.sd_floor_rel == (rfe_real_t)0.15 &&
                 dflt.filter.sd_valid == (rfe_real_t)0.15);
-    assert_int_equal(rfe_estimator_init(&est, &paper), RFE_OK);
+    assert_int_equal(rfe_friction_init(&est, &paper), RFE_OK);
     for (i = 0; i < 4; ++i) {
         for (j = 0; j <= i; ++j) {
             assert_true(est.filter.sckf.S[i * RFE_N_MAX + j] == ((i == j) ? paper.filter.sd0 : 0));
@@ -801,9 +801,9 @@ static void test_rfe_params_presets(void **state)
  * overflows) restores the filter and the input filter as they were; the estimator then
  * behaves exactly like a copy taken before the failing step. */
 /* REQ-EST-005 */
-static void test_rfe_estimator_rollback_with_conditioner(void **state)
+static void test_rfe_friction_rollback_with_conditioner(void **state)
 {
-    static rfe_estimator_t est, copy;
+    static rfe_friction_t est, copy;
     rfe_estimate_t out, out_copy;
     rfe_params_t p = dflt;
     rfe_sample_t slow = straight_sample(2.0, 0.0, 0.0);
@@ -817,14 +817,14 @@ static void test_rfe_estimator_rollback_with_conditioner(void **state)
     p.filter.sd_max = 0;
     p.filter.sd_floor_rel = 0;
     fast.ax = -5;
-    assert_int_equal(rfe_estimator_init(&est, &p), RFE_OK);
+    assert_int_equal(rfe_friction_init(&est, &p), RFE_OK);
     slow.ax = (rfe_real_t)-0.5;
-    assert_int_equal(rfe_estimator_step(&est, &slow, &out), RFE_NO_UPDATE_LOW_SPEED);
-    assert_int_equal(rfe_estimator_step(&est, &slow, &out), RFE_NO_UPDATE_LOW_SPEED);
+    assert_int_equal(rfe_friction_step(&est, &slow, &out), RFE_NO_UPDATE_LOW_SPEED);
+    assert_int_equal(rfe_friction_step(&est, &slow, &out), RFE_NO_UPDATE_LOW_SPEED);
     assert_int_equal(est.cond.started, 1);
     assert_true(est.cond.vx != slow.vx); /* the input filter has a state of its own */
     copy = est;
-    st = rfe_estimator_step(&est, &fast, &out);
+    st = rfe_friction_step(&est, &fast, &out);
     assert_true(rfe_status_is_error(st));
     assert_int_equal(out.status, st);
     assert_int_equal(out.valid[0], 0);
@@ -832,25 +832,25 @@ static void test_rfe_estimator_rollback_with_conditioner(void **state)
     assert_memory_equal(est.filter.sckf.x, copy.filter.sckf.x, sizeof est.filter.sckf.x);
     assert_memory_equal(est.filter.sckf.S, copy.filter.sckf.S, sizeof est.filter.sckf.S);
     /* The next good step is the same as the copy's. */
-    assert_int_equal(rfe_estimator_step(&est, &slow, &out), RFE_NO_UPDATE_LOW_SPEED);
-    assert_int_equal(rfe_estimator_step(&copy, &slow, &out_copy), RFE_NO_UPDATE_LOW_SPEED);
+    assert_int_equal(rfe_friction_step(&est, &slow, &out), RFE_NO_UPDATE_LOW_SPEED);
+    assert_int_equal(rfe_friction_step(&copy, &slow, &out_copy), RFE_NO_UPDATE_LOW_SPEED);
     assert_memory_equal(&est.cond, &copy.cond, sizeof est.cond);
     assert_memory_equal(est.filter.sckf.x, copy.filter.sckf.x, sizeof est.filter.sckf.x);
     assert_memory_equal(est.filter.sckf.S, copy.filter.sckf.S, sizeof est.filter.sckf.S);
     /* A rejected sample touches nothing at all, conditioner included. */
     copy = est;
     fast.vx = (rfe_real_t)NAN;
-    assert_int_equal(rfe_estimator_step(&est, &fast, &out), RFE_ERR_NONFINITE);
+    assert_int_equal(rfe_friction_step(&est, &fast, &out), RFE_ERR_NONFINITE);
     assert_memory_equal(&est, &copy, sizeof est);
 }
 
 /* REQ: a prior whose common-mode part so dominates that its covariance is singular in the
  * working precision (float: sd0_common / sd0 = 1e11; double: 1e17) is refused at init with
- * RFE_ERR_NOT_POSITIVE_DEFINITE (estimator.h), the estimator untouched (found by fuzz_csv). */
+ * RFE_ERR_NOT_POSITIVE_DEFINITE (friction.h), the estimator untouched (found by fuzz_csv). */
 /* REQ-EST-002 */
-static void test_rfe_estimator_singular_prior_refused(void **state)
+static void test_rfe_friction_singular_prior_refused(void **state)
 {
-    static rfe_estimator_t est, copy;
+    static rfe_friction_t est, copy;
     rfe_params_t p = dflt;
     (void)state;
     p.filter.sd0 = (rfe_real_t)0.1;
@@ -861,17 +861,17 @@ static void test_rfe_estimator_singular_prior_refused(void **state)
 #endif
     memset(&est, 0x5A, sizeof est);
     copy = est;
-    assert_int_equal(rfe_estimator_init(&est, &p), RFE_ERR_NOT_POSITIVE_DEFINITE);
+    assert_int_equal(rfe_friction_init(&est, &p), RFE_ERR_NOT_POSITIVE_DEFINITE);
     assert_memory_equal(&est, &copy, sizeof est);
     p.filter.sd0_common = (rfe_real_t)3.0; /* a ratio of 30 (the default preset: 3) is fine */
-    assert_int_equal(rfe_estimator_init(&est, &p), RFE_OK);
+    assert_int_equal(rfe_friction_init(&est, &p), RFE_OK);
 }
 
 /* REQ: with sd_max on, a prior whose row norms overflow is an error (not a scale to zero). */
 /* REQ-EST-009 */
-static void test_rfe_estimator_bounds_reject_overflowing_sd(void **state)
+static void test_rfe_friction_bounds_reject_overflowing_sd(void **state)
 {
-    static rfe_estimator_t est, copy;
+    static rfe_friction_t est, copy;
     rfe_estimate_t out;
     rfe_params_t p = dflt;
     rfe_sample_t slow = straight_sample(2.0, 0.0, 0.0);
@@ -880,12 +880,12 @@ static void test_rfe_estimator_bounds_reject_overflowing_sd(void **state)
     /* With a common-mode part the prior's Cholesky squares sd0: refused at init, untouched. */
     memset(&est, 0x5A, sizeof est);
     copy = est;
-    assert_int_equal(rfe_estimator_init(&est, &p), RFE_ERR_NONFINITE);
+    assert_int_equal(rfe_friction_init(&est, &p), RFE_ERR_NONFINITE);
     assert_memory_equal(&est, &copy, sizeof est);
     p.filter.sd0_common = 0;
-    assert_int_equal(rfe_estimator_init(&est, &p), RFE_OK);
+    assert_int_equal(rfe_friction_init(&est, &p), RFE_OK);
     copy = est;
-    assert_int_equal(rfe_estimator_step(&est, &slow, &out), RFE_ERR_NONFINITE);
+    assert_int_equal(rfe_friction_step(&est, &slow, &out), RFE_ERR_NONFINITE);
     assert_memory_equal(est.filter.sckf.S, copy.filter.sckf.S, sizeof est.filter.sckf.S);
     assert_memory_equal(&est.cond, &copy.cond, sizeof est.cond);
 }
@@ -895,23 +895,23 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_rfe_conditioner_hand_example),
         cmocka_unit_test(test_rfe_conditioner_off_and_errors),
-        cmocka_unit_test(test_rfe_estimator_uses_filtered_speed),
+        cmocka_unit_test(test_rfe_friction_uses_filtered_speed),
         cmocka_unit_test(test_rfe_eiv_sqrt_noise_reconstructs_r),
         cmocka_unit_test(test_rfe_eiv_sqrt_noise_errors),
         cmocka_unit_test(test_rfe_meas_setup_eval),
-        cmocka_unit_test(test_rfe_estimator_gate_holds_on_cruise),
-        cmocka_unit_test(test_rfe_estimator_gate_updates_on_hard_braking),
-        cmocka_unit_test(test_rfe_estimator_cap_keeps_correlation),
-        cmocka_unit_test(test_rfe_estimator_floor_and_priority),
-        cmocka_unit_test(test_rfe_estimator_floor_limited_by_cap),
-        cmocka_unit_test(test_rfe_estimator_sides_mapping),
-        cmocka_unit_test(test_rfe_estimator_validity_rules),
+        cmocka_unit_test(test_rfe_friction_gate_holds_on_cruise),
+        cmocka_unit_test(test_rfe_friction_gate_updates_on_hard_braking),
+        cmocka_unit_test(test_rfe_friction_cap_keeps_correlation),
+        cmocka_unit_test(test_rfe_friction_floor_and_priority),
+        cmocka_unit_test(test_rfe_friction_floor_limited_by_cap),
+        cmocka_unit_test(test_rfe_friction_sides_mapping),
+        cmocka_unit_test(test_rfe_friction_validity_rules),
         cmocka_unit_test(test_rfe_params_validate_new_keys),
         cmocka_unit_test(test_rfe_params_validate_ckf_subset),
         cmocka_unit_test(test_rfe_params_presets),
-        cmocka_unit_test(test_rfe_estimator_rollback_with_conditioner),
-        cmocka_unit_test(test_rfe_estimator_bounds_reject_overflowing_sd),
-        cmocka_unit_test(test_rfe_estimator_singular_prior_refused),
+        cmocka_unit_test(test_rfe_friction_rollback_with_conditioner),
+        cmocka_unit_test(test_rfe_friction_bounds_reject_overflowing_sd),
+        cmocka_unit_test(test_rfe_friction_singular_prior_refused),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }

@@ -1,6 +1,6 @@
 /**
  * @file conditioner_q31.h
- * @brief Fixed-point twin of rfe/conditioner.h: the complementary filter for the speeds
+ * @brief Fixed-point twin of rfe/component/conditioner.h: the complementary filter for the speeds
  *        vx, vy (docs/ESTIMATOR.md step 1) on int32 Q values (docs/FIXED_POINT.md,
  *        "Estimator").
  *
@@ -21,7 +21,7 @@
 
 #include "rfe/common.h"
 #include "rfe/fixed.h"
-#include "rfe/tyre_q31.h"
+#include "rfe/component/tyre_q31.h"
 
 /** Complementary-filter state (caller-owned; fields read-only for the caller). */
 typedef struct {

@@ -1,6 +1,6 @@
 /**
  * @file eiv_q31.h
- * @brief Fixed-point twin of rfe/eiv.h: this step's measurement-noise factor S_R
+ * @brief Fixed-point twin of rfe/component/eiv.h: this step's measurement-noise factor S_R
  *        (docs/ESTIMATOR.md step 4) on int32 Q values (docs/FIXED_POINT.md, "Estimator").
  *
  *   h = h(mu, u) at the given (predicted) friction, u the (conditioned) sample;
@@ -15,7 +15,7 @@
  * one saturating integer addition. Errors against the exact values of the same Q inputs:
  * r_model_rel |h_r| rounded to Q24 (0.5 LSB), the norm exactly rounded (0.5 LSB), each g_j
  * the halved difference of two model evaluations (each within the measurement model's own
- * bound, docs/FIXED_POINT.md) rounded half up (0.5 LSB), and the Tria of rfe/qr_q31.h.
+ * bound, docs/FIXED_POINT.md) rounded half up (0.5 LSB), and the Tria of rfe/component/qr_q31.h.
  */
 #ifndef RFE_EIV_Q31_H
 #define RFE_EIV_Q31_H
@@ -24,10 +24,10 @@
 
 #include "rfe/fixed.h"
 #include "rfe/params_q31.h"
-#include "rfe/tyre_q31.h"
+#include "rfe/component/tyre_q31.h"
 
 /** Number of perturbed inputs: delta, vx, vy, r and the four wheel speeds (RFE_EIV_INPUTS of
- *  rfe/eiv.h, which a fixed-point build does not include). */
+ *  rfe/component/eiv.h, which a fixed-point build does not include). */
 #define RFE_EIV_Q31_INPUTS 8u
 
 /**

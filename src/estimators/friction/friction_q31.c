@@ -1,6 +1,6 @@
 /**
- * @file estimator_q31.c
- * @brief The friction estimator on int32 Q values (the twin of estimator_flt.c): one step of
+ * @file friction_q31.c
+ * @brief The friction estimator on int32 Q values (the twin of friction_flt.c): one step of
  *        docs/ESTIMATOR.md (MODEL.md §5-6 when every addition is off): conditioner -> SCKF/CKF
  *        time update -> meas, eiv -> SCKF gated update -> sd bounds -> projection ->
  *        per-wheel estimate. Integer operations only.
@@ -15,16 +15,16 @@
  * Internal formats (fractional bits, docs/FIXED_POINT.md "Estimator"):
  *  - sqrt_prior: the matrix c^2 11^T + d^2 I of Q30 sds is factored scaled by 2^(2k) (k such
  *    that max(c, d) 2^k is in [1/2, 1)), in Q29 (< 2), into a Q30 factor, then scaled back by
- *    2^-k with one rounding: error 0.5 LSB30 + 2^-k (Cholesky bound of rfe/chol_q31.h);
+ *    2^-k with one rounding: error 0.5 LSB30 + 2^-k (Cholesky bound of rfe/component/chol_q31.h);
  *  - sd bounds: the factor c of rfe_sckf_scale_q31 in Q24 (RFE_Q31_QC), the cap ratio
  *    sd_max / sd_k exactly rounded; the floor f_k = sd_floor_rel max(x_k, 0) exact in int64
  *    (Q59), compared exactly with sd_k and divided by it with one rounding.
  */
-#include "rfe/estimator_q31.h"
+#include "rfe/friction_q31.h"
 
-#include "rfe/chol_q31.h"
-#include "rfe/eiv_q31.h"
-#include "rfe/fxmath.h"
+#include "rfe/component/chol_q31.h"
+#include "rfe/component/eiv_q31.h"
+#include "rfe/component/fxmath.h"
 
 #include "estimators/friction/eiv_internal_q31.h"
 #include "numerics/internal_q31.h"
@@ -32,7 +32,7 @@
 #define NM ((size_t)RFE_N_MAX)
 #define NW ((size_t)RFE_WHEELS)
 
-/** Marks an initialised rfe_estimator_q31_t (distinct from the float estimator's word). */
+/** Marks an initialised rfe_friction_q31_t (distinct from the float estimator's word). */
 #define RFE_MAGIC_EST_Q31 0x45513331u /* "EQ31" */
 
 /* Formats (fractional bits) as unsigned shift counts. */
@@ -42,7 +42,7 @@
 #define QFLOOR 59u                         /* sd_floor_rel (Q30) times x (Q29) */
 #define ONE_QC ((rfe_fix_t)16777216)       /* 1.0 in Q24 (RFE_Q31_QC) */
 
-/* The generic filters' Q formats (rfe/sckf_q31.h) are the estimator's: the state is mu
+/* The generic filters' Q formats (rfe/component/sckf_q31.h) are the estimator's: the state is mu
  * (RFE_FIX_Q_MU) and the measurements are accelerations (RFE_FIX_Q_ACC, rfe/params_q31.h). */
 #if (RFE_Q31_QX != RFE_FIX_Q_MU) || (RFE_Q31_QZ != RFE_FIX_Q_ACC)
 #error "the filters' RFE_Q31_QX / RFE_Q31_QZ differ from RFE_FIX_Q_MU / RFE_FIX_Q_ACC"
@@ -55,7 +55,7 @@ typedef char rfe_assert_maxima_hold_estimator_q31[((RFE_N_MAX >= RFE_WHEELS) && 
 
 /* State index of wheel w: the map T (docs/ESTIMATOR.md). wheels: T = I; sides: fl, rl on
  * the left state 0, fr, rr on the right state 1. */
-static size_t est_state_of(const rfe_estimator_q31_t *est, size_t w)
+static size_t est_state_of(const rfe_friction_q31_t *est, size_t w)
 {
     if (est->params.filter.structure == RFE_STRUCT_SIDES) {
         return ((w == (size_t)RFE_FL) || (w == (size_t)RFE_RL)) ? 0u : 1u;
@@ -64,7 +64,7 @@ static size_t est_state_of(const rfe_estimator_q31_t *est, size_t w)
 }
 
 /* mu per wheel = T x (Q29). */
-static void est_to_wheels(const rfe_estimator_q31_t *est, const rfe_fix_t *x,
+static void est_to_wheels(const rfe_friction_q31_t *est, const rfe_fix_t *x,
                           rfe_fix_t mu[RFE_WHEELS])
 {
     size_t w;
@@ -79,7 +79,7 @@ static void est_to_wheels(const rfe_estimator_q31_t *est, const rfe_fix_t *x,
 static rfe_status_t est_measure(void *ctx, const rfe_fix_t *x, rfe_fix_t *z, size_t n, size_t m)
 {
     /* cppcheck-suppress misra-c2012-11.5 ; MISRA-DEV-05: ctx is the est this file passes */
-    rfe_estimator_q31_t *est = (rfe_estimator_q31_t *)ctx;
+    rfe_friction_q31_t *est = (rfe_friction_q31_t *)ctx;
     rfe_fix_t mu[RFE_WHEELS];
     (void)n;
     (void)m;
@@ -157,7 +157,7 @@ static rfe_status_t est_square_into(rfe_fix_t v, unsigned int s, rfe_fix_t *out)
     return (count != 0u) ? RFE_ERR_RANGE : RFE_OK;
 }
 
-static rfe_status_t est_init_sckf(rfe_estimator_q31_t *est, const rfe_filter_params_q31_t *fp,
+static rfe_status_t est_init_sckf(rfe_friction_q31_t *est, const rfe_filter_params_q31_t *fp,
                                   size_t n)
 {
     rfe_fix_t x0[RFE_WHEELS];
@@ -184,7 +184,7 @@ static rfe_status_t est_init_sckf(rfe_estimator_q31_t *est, const rfe_filter_par
 
 /* The CKF runs only the paper subset (rfe_params_validate_q31): P0 = sd0^2 I, Q = q_mu^2 I
  * (Q60 -> Q31), R = diag(r^2) (Q48 -> Q24). */
-static rfe_status_t est_init_ckf(rfe_estimator_q31_t *est, const rfe_filter_params_q31_t *fp)
+static rfe_status_t est_init_ckf(rfe_friction_q31_t *est, const rfe_filter_params_q31_t *fp)
 {
     rfe_fix_t x0[RFE_WHEELS];
     rfe_fix_t P0[RFE_WHEELS * RFE_WHEELS] = {0};
@@ -219,7 +219,7 @@ static rfe_status_t est_init_ckf(rfe_estimator_q31_t *est, const rfe_filter_para
     return st;
 }
 
-rfe_status_t rfe_estimator_init_q31(rfe_estimator_q31_t *est, const rfe_params_q31_t *params)
+rfe_status_t rfe_friction_init_q31(rfe_friction_q31_t *est, const rfe_params_q31_t *params)
 {
     const rfe_filter_params_q31_t *fp;
     size_t n;
@@ -281,7 +281,7 @@ static rfe_status_t est_check_sample(const rfe_sample_q31_t *u)
 
 /* Saves / restores what a step changes (filter mean and factor, input filter) so a failing
  * step changes nothing; the filter's counter is 0 between steps, so restoring sets it to 0. */
-static void est_backup(rfe_estimator_q31_t *est, int restore)
+static void est_backup(rfe_friction_q31_t *est, int restore)
 {
     const rfe_filter_kind_t kind = est->params.filter.kind;
     rfe_fix_t *x = (kind == RFE_FILTER_CKF) ? est->filter.ckf.x : est->filter.sckf.x;
@@ -325,7 +325,7 @@ static int est_eiv_active(const rfe_filter_params_q31_t *fp)
 
 /* Steps 4-6 (SCKF): this step's S_R at the predicted mean, then the gated update.
  * *updated = 0 when the gate held the step. */
-static rfe_status_t est_sckf_measurement(rfe_estimator_q31_t *est, const rfe_sample_q31_t *u,
+static rfe_status_t est_sckf_measurement(rfe_friction_q31_t *est, const rfe_sample_q31_t *u,
                                          const rfe_fix_t y[RFE_MEAS], int *updated)
 {
     const rfe_filter_params_q31_t *fp = &est->params.filter;
@@ -362,7 +362,7 @@ static rfe_fix_t est_div_round_pos(uint64_t num, uint64_t den, uint32_t *count)
 
 /* The floor's factor: max over the states with sd_k < f_k = sd_floor_rel max(x_k, 0) of
  * f_k / sd_k (Q24, into *c); *scale = 1 when some state is below its floor. */
-static void est_floor_factor(const rfe_estimator_q31_t *est, const rfe_fix_t *x,
+static void est_floor_factor(const rfe_friction_q31_t *est, const rfe_fix_t *x,
                              const rfe_fix_t *sd, rfe_fix_t *c, int *scale, uint32_t *count)
 {
     const rfe_filter_params_q31_t *fp = &est->params.filter;
@@ -384,7 +384,7 @@ static void est_floor_factor(const rfe_estimator_q31_t *est, const rfe_fix_t *x,
 
 /* The floor's factor c (Q24, > 1) limited so that no sd_k c exceeds sd_max: c = min(c,
  * sd_max / max_k sd_k), rounded to nearest (sd_max 2^24 / sd_hi < c: cannot saturate). */
-static rfe_fix_t est_cap_floor_factor(const rfe_estimator_q31_t *est, const rfe_fix_t *sd,
+static rfe_fix_t est_cap_floor_factor(const rfe_friction_q31_t *est, const rfe_fix_t *sd,
                                       rfe_fix_t c, uint32_t *count)
 {
     const rfe_fix_t sd_max = est->params.filter.sd_max;
@@ -403,7 +403,7 @@ static rfe_fix_t est_cap_floor_factor(const rfe_estimator_q31_t *est, const rfe_
  * over sd_k > sd_max; else floor: c = max_k f_k / sd_k over sd_k < f_k,
  * f_k = sd_floor_rel max(x_k, 0), limited to sd_max / max_k sd_k so that lifting a
  * well-informed wheel to its floor never lifts another above the cap. */
-static rfe_status_t est_bound_sd(rfe_estimator_q31_t *est)
+static rfe_status_t est_bound_sd(rfe_friction_q31_t *est)
 {
     const rfe_filter_params_q31_t *fp = &est->params.filter;
     rfe_fix_t x[RFE_N_MAX];
@@ -443,7 +443,7 @@ static rfe_status_t est_bound_sd(rfe_estimator_q31_t *est)
 
 /* Steps 3-6 when vx >= v_est_min: the measurement model of the sample, then the update
  * (CKF) or the gated update with the step's S_R (SCKF). */
-static rfe_status_t est_measurement_step(rfe_estimator_q31_t *est, const rfe_sample_q31_t *u,
+static rfe_status_t est_measurement_step(rfe_friction_q31_t *est, const rfe_sample_q31_t *u,
                                          int *updated)
 {
     rfe_fix_t y[RFE_MEAS];
@@ -466,7 +466,7 @@ static rfe_status_t est_measurement_step(rfe_estimator_q31_t *est, const rfe_sam
 
 /* Steps 1-8 after the input check. Returns the step's status or an error (the caller
  * rolls back). */
-static rfe_status_t est_filter_step(rfe_estimator_q31_t *est, const rfe_sample_q31_t *sample)
+static rfe_status_t est_filter_step(rfe_friction_q31_t *est, const rfe_sample_q31_t *sample)
 {
     const rfe_filter_kind_t kind = est->params.filter.kind;
     const rfe_filter_params_q31_t *fp = &est->params.filter;
@@ -508,7 +508,7 @@ static rfe_status_t est_filter_step(rfe_estimator_q31_t *est, const rfe_sample_q
 
 /* After a successful step: the filter's count joins the step's, both go to the running
  * total, the filter's counter is emptied. Returns the step's count. */
-static uint32_t est_settle_counts(rfe_estimator_q31_t *est)
+static uint32_t est_settle_counts(rfe_friction_q31_t *est)
 {
     uint32_t *fsat = (est->params.filter.kind == RFE_FILTER_CKF) ? &est->filter.ckf.sat
                                                                  : &est->filter.sckf.sat;
@@ -521,7 +521,7 @@ static uint32_t est_settle_counts(rfe_estimator_q31_t *est)
 }
 
 /* cppcheck-suppress misra-c2012-8.7 ; MISRA-DEV-06: public API, called by the application */
-rfe_status_t rfe_estimator_get_q31(const rfe_estimator_q31_t *est, rfe_estimate_q31_t *out)
+rfe_status_t rfe_friction_get_q31(const rfe_friction_q31_t *est, rfe_estimate_q31_t *out)
 {
     rfe_fix_t x[RFE_N_MAX];
     rfe_fix_t sd[RFE_N_MAX];
@@ -550,8 +550,8 @@ rfe_status_t rfe_estimator_get_q31(const rfe_estimator_q31_t *est, rfe_estimate_
     return st;
 }
 
-rfe_status_t rfe_estimator_step_q31(rfe_estimator_q31_t *est, const rfe_sample_q31_t *sample,
-                                    rfe_estimate_q31_t *out)
+rfe_status_t rfe_friction_step_q31(rfe_friction_q31_t *est, const rfe_sample_q31_t *sample,
+                                   rfe_estimate_q31_t *out)
 {
     rfe_status_t st;
     rfe_status_t got;
@@ -575,7 +575,7 @@ rfe_status_t rfe_estimator_step_q31(rfe_estimator_q31_t *est, const rfe_sample_q
             step_sat = est_settle_counts(est);
         }
     }
-    got = rfe_estimator_get_q31(est, out);
+    got = rfe_friction_get_q31(est, out);
     if (got != RFE_OK) {
         return got;
     }

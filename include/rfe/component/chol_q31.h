@@ -1,7 +1,7 @@
 /**
  * @file chol_q31.h
- * @brief Fixed-point twin of rfe/chol.h: Cholesky factorisation on int32 Q values, used
- *        only by the full-covariance CKF baseline (rfe/ckf_q31.h).
+ * @brief Fixed-point twin of rfe/component/chol.h: Cholesky factorisation on int32 Q values, used
+ *        only by the full-covariance CKF baseline (rfe/component/ckf_q31.h).
  */
 #ifndef RFE_CHOL_Q31_H
 #define RFE_CHOL_Q31_H

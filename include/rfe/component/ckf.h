@@ -10,7 +10,7 @@
 #ifndef RFE_CKF_H
 #define RFE_CKF_H
 
-#include "rfe/sckf.h"
+#include "rfe/component/sckf.h"
 
 /* Full names of the functions declared here: _f32 in the float build, _f64 with
  * RFE_REAL_DOUBLE (rfe/types.h). Sources define and call them by the short name. */

@@ -1,6 +1,6 @@
 /**
  * @file sckf_q31.h
- * @brief Fixed-point twin of rfe/sckf.h: the generic square-root cubature Kalman filter
+ * @brief Fixed-point twin of rfe/component/sckf.h: the generic square-root cubature Kalman filter
  *        on int32 Q values (MODEL.md §6, docs/ESTIMATOR.md steps 5-7, docs/FIXED_POINT.md
  *        "Linear algebra and filters").
  *

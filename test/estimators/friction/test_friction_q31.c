@@ -1,6 +1,6 @@
 /**
- * @file test_estimator_q31.c
- * @brief The fixed-point estimator (rfe_estimator_*_q31) and its two own modules
+ * @file test_friction_q31.c
+ * @brief The fixed-point estimator (rfe_friction_*_q31) and its two own modules
  *        (rfe_conditioner_*_q31, rfe_eiv_sqrt_noise_q31) back to back against the double
  *        twins (_f64), on every bundled log and on random inputs; plus the API contract
  *        (input validation, untouched state on every error, determinism, saturation counts).
@@ -46,7 +46,7 @@
  *    r_model_rel <= 1 times |h| plus two 0.5-LSB roundings); E_H = 4e-6 m/s^2 is 2.5 times the
  *    measurement model's measured worst case over its random domain (1.6e-6 m/s^2,
  *    test_meas_q31.c, docs/FIXED_POINT.md). So |(S S^T - S_d S_d^T)_ij| <= sqrt(11) E_A
- *    (|a_i| + |a_j|) + 11 E_A^2 + the Tria bound of rfe/qr_q31.h ((2G + G^2) |a_i| |a_j| +
+ *    (|a_i| + |a_j|) + 11 E_A^2 + the Tria bound of rfe/component/qr_q31.h ((2G + G^2) |a_i| |a_j| +
  *    0.5 (|s_i|_1 + |s_j|_1) LSB + 0.75 rows LSB^2, G = 8 rows 2^-29); asserted per entry.
  */
 #include "test_light.h"
@@ -60,15 +60,15 @@
 #include "param_file.h"
 #include "replay_q31.h"
 #include "replay_real.h"
-#include "rfe/conditioner.h"
-#include "rfe/conditioner_q31.h"
+#include "rfe/component/conditioner.h"
+#include "rfe/component/conditioner_q31.h"
 #include "rfe/config.h"
-#include "rfe/eiv.h"
-#include "rfe/eiv_q31.h"
-#include "rfe/estimator.h"
-#include "rfe/estimator_q31.h"
-#include "rfe/fixed_conv.h"
-#include "rfe/params_conv.h"
+#include "rfe/component/eiv.h"
+#include "rfe/component/eiv_q31.h"
+#include "rfe/friction.h"
+#include "rfe/friction_q31.h"
+#include "host/fixed_conv.h"
+#include "rfe/component/params_conv.h"
 #include "test_rng.h"
 
 #define SCENARIO_DIR "scenarios"
@@ -205,8 +205,8 @@ typedef struct {
 
 static void run_b2b(const char *path, rfe_preset_t preset, rfe_filter_kind_t kind, b2b_t *res)
 {
-    static rfe_estimator_t ed;
-    static rfe_estimator_q31_t eq;
+    static rfe_friction_t ed;
+    static rfe_friction_q31_t eq;
     rfe_sensor_log_t log;
     both_params_t bp;
     unsigned char *mask[4];
@@ -216,8 +216,8 @@ static void run_b2b(const char *path, rfe_preset_t preset, rfe_filter_kind_t kin
     read_log(path, &log);
     assert_true(log.has_truth);
     params_for(&log, path, preset, kind, &bp);
-    assert_int_equal(rfe_estimator_init_f64(&ed, &bp.pd), RFE_OK);
-    assert_int_equal(rfe_estimator_init_q31(&eq, &bp.pq), RFE_OK);
+    assert_int_equal(rfe_friction_init_f64(&ed, &bp.pd), RFE_OK);
+    assert_int_equal(rfe_friction_init_q31(&eq, &bp.pq), RFE_OK);
     for (w = 0; w < 4; ++w) {
         mask[w] = malloc(log.n_rows);
         assert_non_null(mask[w]);
@@ -232,9 +232,9 @@ static void run_b2b(const char *path, rfe_preset_t preset, rfe_filter_kind_t kin
         rfe_status_t std_;
         rfe_status_t stq;
         sample_d(&log.rows[k], &sd);
-        std_ = rfe_estimator_step_f64(&ed, &sd, &od);
+        std_ = rfe_friction_step_f64(&ed, &sd, &od);
         sample_q(&sd, &sq, &res->input_sat);
-        stq = rfe_estimator_step_q31(&eq, &sq, &oq);
+        stq = rfe_friction_step_q31(&eq, &sq, &oq);
         assert_int_equal(stq, oq.status);
         res->status_agree += (stq == std_);
         ++res->rows;
@@ -306,7 +306,7 @@ static void b2b_all(rfe_preset_t preset, rfe_filter_kind_t kind, const char *lab
 /* REQ: paper preset, SCKF: |mu_q31 - mu_double| <= 0.005 settled, valid flags agree >= 99 %,
  * no saturation, on all 39 logs. */
 /* REQ-FXP-006 */
-static void test_rfe_estimator_q31_b2b_paper_sckf(void **state)
+static void test_rfe_friction_q31_b2b_paper_sckf(void **state)
 {
     (void)state;
     b2b_all(RFE_PRESET_PAPER, RFE_FILTER_SCKF, "paper SCKF");
@@ -314,7 +314,7 @@ static void test_rfe_estimator_q31_b2b_paper_sckf(void **state)
 
 /* REQ: the same for the paper's CKF baseline in fixed point (P in Q31). */
 /* REQ-FXP-006 */
-static void test_rfe_estimator_q31_b2b_paper_ckf(void **state)
+static void test_rfe_friction_q31_b2b_paper_ckf(void **state)
 {
     (void)state;
     b2b_all(RFE_PRESET_PAPER, RFE_FILTER_CKF, "paper CKF");
@@ -323,7 +323,7 @@ static void test_rfe_estimator_q31_b2b_paper_ckf(void **state)
 /* REQ: the same for the default preset (sides, absolute tyre, input filter, step S_R,
  * information gate, sd bounds, validity by sd). */
 /* REQ-FXP-006 */
-static void test_rfe_estimator_q31_b2b_default(void **state)
+static void test_rfe_friction_q31_b2b_default(void **state)
 {
     (void)state;
     b2b_all(RFE_PRESET_DEFAULT, RFE_FILTER_SCKF, "default");
@@ -344,7 +344,7 @@ static uint64_t fnv1a(uint64_t h, const void *p, size_t n)
 /* One log through a q31 estimator started from zeroed memory; returns a hash of every
  * estimate (mu, sd, valid, status, sat). */
 static uint64_t run_hash(const char *path, rfe_preset_t preset, rfe_filter_kind_t kind,
-                         rfe_estimator_q31_t *eq)
+                         rfe_friction_q31_t *eq)
 {
     rfe_sensor_log_t log;
     both_params_t bp;
@@ -353,7 +353,7 @@ static uint64_t run_hash(const char *path, rfe_preset_t preset, rfe_filter_kind_
     read_log(path, &log);
     params_for(&log, path, preset, kind, &bp);
     memset(eq, 0, sizeof *eq);
-    assert_int_equal(rfe_estimator_init_q31(eq, &bp.pq), RFE_OK);
+    assert_int_equal(rfe_friction_init_q31(eq, &bp.pq), RFE_OK);
     for (k = 0; k < log.n_rows; ++k) {
         rfe_sample_t sd;
         rfe_sample_q31_t sq;
@@ -362,7 +362,7 @@ static uint64_t run_hash(const char *path, rfe_preset_t preset, rfe_filter_kind_
         memset(&o, 0, sizeof o);
         sample_d(&log.rows[k], &sd);
         sample_q(&sd, &sq, &sat);
-        assert_false(rfe_status_is_error(rfe_estimator_step_q31(eq, &sq, &o)));
+        assert_false(rfe_status_is_error(rfe_friction_step_q31(eq, &sq, &o)));
         h = fnv1a(h, o.mu, sizeof o.mu);
         h = fnv1a(h, o.sd, sizeof o.sd);
         h = fnv1a(h, o.valid, sizeof o.valid);
@@ -375,9 +375,9 @@ static uint64_t run_hash(const char *path, rfe_preset_t preset, rfe_filter_kind_
 
 /* REQ: two runs on the same log are bit-identical (estimates and the whole final state). */
 /* REQ-FXP-007 */
-static void test_rfe_estimator_q31_deterministic(void **state)
+static void test_rfe_friction_q31_deterministic(void **state)
 {
-    static rfe_estimator_q31_t a, b;
+    static rfe_friction_q31_t a, b;
     static const struct {
         const char *stem;
         rfe_preset_t preset;
@@ -432,7 +432,7 @@ static rfe_sample_q31_t braking_sample(void)
 
 /* REQ: the Q limits are config.h's limits converted exactly. */
 /* REQ-FXP-010 */
-static void test_rfe_estimator_q31_limits_match_config(void **state)
+static void test_rfe_friction_q31_limits_match_config(void **state)
 {
     uint32_t sat = 0;
     (void)state;
@@ -469,9 +469,9 @@ static const rfe_fix_t FIELD_LIMIT[11] = {
  * RFE_ERR_RANGE and changes nothing (the whole struct); at the limit it is accepted. The
  * output is the previous estimate, not valid, sat 0. */
 /* REQ-FXP-010 REQ-EST-004 */
-static void test_rfe_estimator_q31_input_validation(void **state)
+static void test_rfe_friction_q31_input_validation(void **state)
 {
-    static rfe_estimator_q31_t est, copy;
+    static rfe_friction_q31_t est, copy;
     const rfe_params_q31_t p = q31_preset(RFE_PRESET_DEFAULT);
     rfe_estimate_q31_t out;
     rfe_estimate_q31_t prev;
@@ -479,10 +479,10 @@ static void test_rfe_estimator_q31_input_validation(void **state)
     size_t s;
     (void)state;
     memset(&est, 0, sizeof est);
-    assert_int_equal(rfe_estimator_init_q31(&est, &p), RFE_OK);
+    assert_int_equal(rfe_friction_init_q31(&est, &p), RFE_OK);
     {
         rfe_sample_q31_t u = braking_sample();
-        assert_false(rfe_status_is_error(rfe_estimator_step_q31(&est, &u, &prev)));
+        assert_false(rfe_status_is_error(rfe_friction_step_q31(&est, &u, &prev)));
     }
     for (f = 0; f < 11; ++f) {
         const rfe_fix_t bad[4] = {FIELD_LIMIT[f] + 1, -FIELD_LIMIT[f] - 1, INT32_MIN, INT32_MAX};
@@ -491,7 +491,7 @@ static void test_rfe_estimator_q31_input_validation(void **state)
             *field(&u, f) = bad[s];
             copy = est;
             memset(&out, 0x5A, sizeof out);
-            assert_int_equal(rfe_estimator_step_q31(&est, &u, &out), RFE_ERR_RANGE);
+            assert_int_equal(rfe_friction_step_q31(&est, &u, &out), RFE_ERR_RANGE);
             assert_memory_equal(&est, &copy, sizeof est);
             assert_int_equal(out.status, RFE_ERR_RANGE);
             assert_int_equal(out.sat, 0);
@@ -502,7 +502,7 @@ static void test_rfe_estimator_q31_input_validation(void **state)
         for (s = 0; s < 2; ++s) {
             rfe_sample_q31_t u = braking_sample();
             *field(&u, f) = (s == 0) ? FIELD_LIMIT[f] : -FIELD_LIMIT[f];
-            assert_false(rfe_status_is_error(rfe_estimator_step_q31(&est, &u, &prev)));
+            assert_false(rfe_status_is_error(rfe_friction_step_q31(&est, &u, &prev)));
         }
     }
 }
@@ -510,9 +510,9 @@ static void test_rfe_estimator_q31_input_validation(void **state)
 /* REQ: NULL arguments, a state used before init, invalid parameters and priors that do not
  * fit the formats: each an error status, nothing written. */
 /* REQ-FXP-010 REQ-EST-003 */
-static void test_rfe_estimator_q31_api_errors(void **state)
+static void test_rfe_friction_q31_api_errors(void **state)
 {
-    static rfe_estimator_q31_t est, copy;
+    static rfe_friction_q31_t est, copy;
     rfe_params_q31_t p = q31_preset(RFE_PRESET_PAPER);
     rfe_params_t pd;
     rfe_estimate_q31_t out;
@@ -520,12 +520,12 @@ static void test_rfe_estimator_q31_api_errors(void **state)
     (void)state;
     memset(&est, 0x5A, sizeof est);
     copy = est;
-    assert_int_equal(rfe_estimator_init_q31(NULL, &p), RFE_ERR_NULL);
-    assert_int_equal(rfe_estimator_init_q31(&est, NULL), RFE_ERR_NULL);
-    assert_int_equal(rfe_estimator_step_q31(&est, &u, &out), RFE_ERR_NOT_INITIALISED);
-    assert_int_equal(rfe_estimator_get_q31(&est, &out), RFE_ERR_NOT_INITIALISED);
+    assert_int_equal(rfe_friction_init_q31(NULL, &p), RFE_ERR_NULL);
+    assert_int_equal(rfe_friction_init_q31(&est, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_friction_step_q31(&est, &u, &out), RFE_ERR_NOT_INITIALISED);
+    assert_int_equal(rfe_friction_get_q31(&est, &out), RFE_ERR_NOT_INITIALISED);
     p.filter.mu0 = p.filter.mu_max + 1; /* outside [mu_min, mu_max] */
-    assert_int_equal(rfe_estimator_init_q31(&est, &p), RFE_ERR_PARAM);
+    assert_int_equal(rfe_friction_init_q31(&est, &p), RFE_ERR_PARAM);
     assert_memory_equal(&est, &copy, sizeof est);
 
     /* priors that do not fit Q30 / Q31 / Q24 (the double library accepts them) */
@@ -533,59 +533,59 @@ static void test_rfe_estimator_q31_api_errors(void **state)
     pd.filter.sd0 = 1.9;
     pd.filter.sd0_common = 1.9; /* sd0^2 + sd0_common^2 = 7.2: factor entry 2.7 */
     assert_int_equal(rfe_params_to_q31_f64(&pd, &p), RFE_OK);
-    assert_int_equal(rfe_estimator_init_q31(&est, &p), RFE_ERR_RANGE);
+    assert_int_equal(rfe_friction_init_q31(&est, &p), RFE_ERR_RANGE);
     assert_memory_equal(&est, &copy, sizeof est);
     assert_int_equal(rfe_params_default_f64(&pd), RFE_OK);
     pd.filter.q_common = 1.5;
     pd.filter.q_mu = 1.5; /* 4.5 */
     assert_int_equal(rfe_params_to_q31_f64(&pd, &p), RFE_OK);
-    assert_int_equal(rfe_estimator_init_q31(&est, &p), RFE_ERR_RANGE);
+    assert_int_equal(rfe_friction_init_q31(&est, &p), RFE_ERR_RANGE);
     assert_int_equal(rfe_params_paper_f64(&pd), RFE_OK);
     pd.filter.kind = RFE_FILTER_CKF;
     pd.filter.sd0 = 1.0; /* P0 = 1 is outside Q31 */
     assert_int_equal(rfe_params_to_q31_f64(&pd, &p), RFE_OK);
-    assert_int_equal(rfe_estimator_init_q31(&est, &p), RFE_ERR_RANGE);
+    assert_int_equal(rfe_friction_init_q31(&est, &p), RFE_ERR_RANGE);
     pd.filter.sd0 = 0.3;
     pd.filter.q_mu = 1.2;
     assert_int_equal(rfe_params_to_q31_f64(&pd, &p), RFE_OK);
-    assert_int_equal(rfe_estimator_init_q31(&est, &p), RFE_ERR_RANGE);
+    assert_int_equal(rfe_friction_init_q31(&est, &p), RFE_ERR_RANGE);
     pd.filter.q_mu = 0.003;
     pd.filter.r_ay = 12.0; /* r^2 = 144 outside Q24 */
     assert_int_equal(rfe_params_to_q31_f64(&pd, &p), RFE_OK);
-    assert_int_equal(rfe_estimator_init_q31(&est, &p), RFE_ERR_RANGE);
+    assert_int_equal(rfe_friction_init_q31(&est, &p), RFE_ERR_RANGE);
     pd.filter.r_ay = 0.05;
     pd.filter.r_yaw_acc = 12.0;
     assert_int_equal(rfe_params_to_q31_f64(&pd, &p), RFE_OK);
-    assert_int_equal(rfe_estimator_init_q31(&est, &p), RFE_ERR_RANGE);
+    assert_int_equal(rfe_friction_init_q31(&est, &p), RFE_ERR_RANGE);
     pd.filter.r_yaw_acc = 0.05;
     pd.filter.r_ax = 12.0;
     assert_int_equal(rfe_params_to_q31_f64(&pd, &p), RFE_OK);
-    assert_int_equal(rfe_estimator_init_q31(&est, &p), RFE_ERR_RANGE);
+    assert_int_equal(rfe_friction_init_q31(&est, &p), RFE_ERR_RANGE);
     assert_memory_equal(&est, &copy, sizeof est);
 
     p = q31_preset(RFE_PRESET_PAPER);
-    assert_int_equal(rfe_estimator_init_q31(&est, &p), RFE_OK);
-    assert_int_equal(rfe_estimator_step_q31(NULL, &u, &out), RFE_ERR_NULL);
-    assert_int_equal(rfe_estimator_step_q31(&est, NULL, &out), RFE_ERR_NULL);
-    assert_int_equal(rfe_estimator_step_q31(&est, &u, NULL), RFE_ERR_NULL);
-    assert_int_equal(rfe_estimator_get_q31(NULL, &out), RFE_ERR_NULL);
-    assert_int_equal(rfe_estimator_get_q31(&est, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_friction_init_q31(&est, &p), RFE_OK);
+    assert_int_equal(rfe_friction_step_q31(NULL, &u, &out), RFE_ERR_NULL);
+    assert_int_equal(rfe_friction_step_q31(&est, NULL, &out), RFE_ERR_NULL);
+    assert_int_equal(rfe_friction_step_q31(&est, &u, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_friction_get_q31(NULL, &out), RFE_ERR_NULL);
+    assert_int_equal(rfe_friction_get_q31(&est, NULL), RFE_ERR_NULL);
 }
 
 /* REQ: init sets the prior: x0 = mu0, sd0 per state (paper: exactly sd0; default:
  * sqrt(sd0^2 + sd0_common^2) within the Cholesky's rounding), get reports it with the
  * validity rule of the preset and sat 0; a common-mode sd >= 1 (scaled down) works too. */
 /* REQ-EST-002 REQ-FXP-010 */
-static void test_rfe_estimator_q31_init_and_get(void **state)
+static void test_rfe_friction_q31_init_and_get(void **state)
 {
-    static rfe_estimator_q31_t est;
+    static rfe_friction_q31_t est;
     rfe_params_q31_t p = q31_preset(RFE_PRESET_PAPER);
     rfe_params_t pd;
     rfe_estimate_q31_t out;
     size_t w;
     (void)state;
-    assert_int_equal(rfe_estimator_init_q31(&est, &p), RFE_OK);
-    assert_int_equal(rfe_estimator_get_q31(&est, &out), RFE_OK);
+    assert_int_equal(rfe_friction_init_q31(&est, &p), RFE_OK);
+    assert_int_equal(rfe_friction_get_q31(&est, &out), RFE_OK);
     for (w = 0; w < 4; ++w) {
         assert_int_equal(out.mu[w], p.filter.mu0);
         assert_int_equal(out.sd[w], p.filter.sd0);
@@ -595,8 +595,8 @@ static void test_rfe_estimator_q31_init_and_get(void **state)
     assert_int_equal(out.status, RFE_OK);
 
     p = q31_preset(RFE_PRESET_DEFAULT);
-    assert_int_equal(rfe_estimator_init_q31(&est, &p), RFE_OK);
-    assert_int_equal(rfe_estimator_get_q31(&est, &out), RFE_OK);
+    assert_int_equal(rfe_friction_init_q31(&est, &p), RFE_OK);
+    assert_int_equal(rfe_friction_get_q31(&est, &out), RFE_OK);
     for (w = 0; w < 4; ++w) {
         assert_close(rfe_fix_to_double(out.sd[w], QSD), sqrt(0.1 * 0.1 + 0.3 * 0.3), 4e-9, 0.0,
                      "default prior sd");
@@ -608,8 +608,8 @@ static void test_rfe_estimator_q31_init_and_get(void **state)
     assert_int_equal(rfe_params_default_f64(&pd), RFE_OK);
     pd.filter.sd0_common = 1.2;
     assert_int_equal(rfe_params_to_q31_f64(&pd, &p), RFE_OK);
-    assert_int_equal(rfe_estimator_init_q31(&est, &p), RFE_OK);
-    assert_int_equal(rfe_estimator_get_q31(&est, &out), RFE_OK);
+    assert_int_equal(rfe_friction_init_q31(&est, &p), RFE_OK);
+    assert_int_equal(rfe_friction_get_q31(&est, &out), RFE_OK);
     assert_close(rfe_fix_to_double(out.sd[0], QSD), sqrt(0.01 + 1.44), 8e-9, 0.0, "sd 1.2");
     assert_close(rfe_fix_to_double(est.filter.sckf.S[RFE_N_MAX], QSD), 1.44 / sqrt(1.45), 8e-9,
                  0.0, "S_10");
@@ -618,18 +618,18 @@ static void test_rfe_estimator_q31_init_and_get(void **state)
 /* REQ: status codes: low speed (2), held (3), updated (0) and projected (1) as the double
  * estimator, on hand-made samples. */
 /* REQ-EST-006 REQ-EST-007 REQ-EST-008 */
-static void test_rfe_estimator_q31_statuses(void **state)
+static void test_rfe_friction_q31_statuses(void **state)
 {
-    static rfe_estimator_q31_t est;
+    static rfe_friction_q31_t est;
     rfe_params_q31_t p = q31_preset(RFE_PRESET_DEFAULT);
     rfe_estimate_q31_t out;
     rfe_sample_q31_t u = braking_sample();
     rfe_sample_q31_t slow = u;
     int i;
     (void)state;
-    assert_int_equal(rfe_estimator_init_q31(&est, &p), RFE_OK);
+    assert_int_equal(rfe_friction_init_q31(&est, &p), RFE_OK);
     slow.vx = rfe_fix_from_double(2.0, RFE_FIX_Q_SPEED, &conv_sat);
-    assert_int_equal(rfe_estimator_step_q31(&est, &slow, &out), RFE_NO_UPDATE_LOW_SPEED);
+    assert_int_equal(rfe_friction_step_q31(&est, &slow, &out), RFE_NO_UPDATE_LOW_SPEED);
     assert_int_equal(out.valid[0], 0);
     /* cruising: no force, no information: held (the input filter starts at 2 m/s: let it
      * follow the measured 20 m/s first) */
@@ -641,19 +641,19 @@ static void test_rfe_estimator_q31_statuses(void **state)
             cruise.omega[w] = rfe_fix_from_double(20.0 / 0.325, RFE_FIX_Q_OMEGA, &conv_sat);
         }
         for (i = 0; i < 300; ++i) {
-            assert_false(rfe_status_is_error(rfe_estimator_step_q31(&est, &cruise, &out)));
+            assert_false(rfe_status_is_error(rfe_friction_step_q31(&est, &cruise, &out)));
         }
-        assert_int_equal(rfe_estimator_step_q31(&est, &cruise, &out), RFE_HELD_NOT_OBSERVABLE);
+        assert_int_equal(rfe_friction_step_q31(&est, &cruise, &out), RFE_HELD_NOT_OBSERVABLE);
     }
     /* paper preset: every step at speed updates; a hard, impossible deceleration (ax = -30
      * m/s^2 at 4 % slip) drives mu above mu_max: projected */
     p = q31_preset(RFE_PRESET_PAPER);
-    assert_int_equal(rfe_estimator_init_q31(&est, &p), RFE_OK);
-    assert_int_equal(rfe_estimator_step_q31(&est, &u, &out), RFE_OK);
+    assert_int_equal(rfe_friction_init_q31(&est, &p), RFE_OK);
+    assert_int_equal(rfe_friction_step_q31(&est, &u, &out), RFE_OK);
     assert_int_equal(out.valid[0], 1); /* paper rule: updated */
     u.ax = rfe_fix_from_double(-30.0, RFE_FIX_Q_ACC, &conv_sat);
     for (i = 0; i < 50 && out.status != RFE_PROJECTED; ++i) {
-        assert_false(rfe_status_is_error(rfe_estimator_step_q31(&est, &u, &out)));
+        assert_false(rfe_status_is_error(rfe_friction_step_q31(&est, &u, &out)));
     }
     assert_int_equal(out.status, RFE_PROJECTED);
     assert_int_equal(out.valid[0], 1);
@@ -666,9 +666,9 @@ static void test_rfe_estimator_q31_statuses(void **state)
  * (In Q formats nothing overflows; the failures are made white-box: a CKF covariance that is
  * not positive definite, an SCKF whose S and S_Q are zero so the information's solve fails.) */
 /* REQ-EST-005 REQ-FXP-010 */
-static void test_rfe_estimator_q31_rollback(void **state)
+static void test_rfe_friction_q31_rollback(void **state)
 {
-    static rfe_estimator_q31_t est, copy;
+    static rfe_friction_q31_t est, copy;
     rfe_params_q31_t p = q31_preset(RFE_PRESET_DEFAULT);
     rfe_estimate_q31_t out;
     rfe_estimate_q31_t out_copy;
@@ -680,17 +680,17 @@ static void test_rfe_estimator_q31_rollback(void **state)
     (void)state;
 
     /* SCKF with the input filter on */
-    assert_int_equal(rfe_estimator_init_q31(&est, &p), RFE_OK);
+    assert_int_equal(rfe_friction_init_q31(&est, &p), RFE_OK);
     for (i = 0; i < 3; ++i) {
         u.vx += 20000; /* the input filter lags the measurement: a state of its own */
-        assert_false(rfe_status_is_error(rfe_estimator_step_q31(&est, &u, &out)));
+        assert_false(rfe_status_is_error(rfe_friction_step_q31(&est, &u, &out)));
     }
     assert_true(est.cond.vx != u.vx);
-    assert_int_equal(rfe_estimator_get_q31(&est, &before), RFE_OK);
+    assert_int_equal(rfe_friction_get_q31(&est, &before), RFE_OK);
     memset(est.filter.sckf.S, 0, sizeof est.filter.sckf.S);
     memset(est.filter.sckf.SQ, 0, sizeof est.filter.sckf.SQ);
     copy = est;
-    st = rfe_estimator_step_q31(&est, &u, &out);
+    st = rfe_friction_step_q31(&est, &u, &out);
     assert_int_equal(st, RFE_ERR_NOT_POSITIVE_DEFINITE);
     assert_int_equal(out.status, st);
     assert_int_equal(out.sat, 0);
@@ -703,8 +703,8 @@ static void test_rfe_estimator_q31_rollback(void **state)
     assert_int_equal(est.step_sat, 0);
     assert_memory_equal(out.mu, before.mu, sizeof out.mu);
     /* the next step is the same as the copy's */
-    st = rfe_estimator_step_q31(&est, &u, &out);
-    assert_int_equal(rfe_estimator_step_q31(&copy, &u, &out_copy), st);
+    st = rfe_friction_step_q31(&est, &u, &out);
+    assert_int_equal(rfe_friction_step_q31(&copy, &u, &out_copy), st);
     assert_memory_equal(&out, &out_copy, sizeof out);
     assert_memory_equal(&est.cond, &copy.cond, sizeof est.cond);
 
@@ -712,12 +712,12 @@ static void test_rfe_estimator_q31_rollback(void **state)
     assert_int_equal(rfe_params_paper_f64(&pd), RFE_OK);
     pd.filter.kind = RFE_FILTER_CKF;
     assert_int_equal(rfe_params_to_q31_f64(&pd, &p), RFE_OK);
-    assert_int_equal(rfe_estimator_init_q31(&est, &p), RFE_OK);
+    assert_int_equal(rfe_friction_init_q31(&est, &p), RFE_OK);
     u = braking_sample();
-    assert_int_equal(rfe_estimator_step_q31(&est, &u, &out), RFE_OK);
+    assert_int_equal(rfe_friction_step_q31(&est, &u, &out), RFE_OK);
     est.filter.ckf.P[0] = -est.filter.ckf.P[0];
     copy = est;
-    st = rfe_estimator_step_q31(&est, &u, &out);
+    st = rfe_friction_step_q31(&est, &u, &out);
     assert_int_equal(st, RFE_ERR_NOT_POSITIVE_DEFINITE);
     assert_memory_equal(est.filter.ckf.x, copy.filter.ckf.x, sizeof est.filter.ckf.x);
     assert_memory_equal(est.filter.ckf.P, copy.filter.ckf.P, sizeof est.filter.ckf.P);
@@ -731,9 +731,9 @@ static void test_rfe_estimator_q31_rollback(void **state)
  * An input filter with dt = 1.9 s and tau_v = 30 s at r = 10 rad/s integrates beyond
  * +-256 m/s: counted as well. */
 /* REQ-FXP-008 */
-static void test_rfe_estimator_q31_saturation_counted(void **state)
+static void test_rfe_friction_q31_saturation_counted(void **state)
 {
-    static rfe_estimator_q31_t est;
+    static rfe_friction_q31_t est;
     rfe_params_t pd;
     rfe_params_q31_t p;
     rfe_estimate_q31_t out;
@@ -744,9 +744,9 @@ static void test_rfe_estimator_q31_saturation_counted(void **state)
     assert_int_equal(rfe_params_paper_f64(&pd), RFE_OK);
     pd.filter.sd0 = 1.9;
     assert_int_equal(rfe_params_to_q31_f64(&pd, &p), RFE_OK);
-    assert_int_equal(rfe_estimator_init_q31(&est, &p), RFE_OK);
+    assert_int_equal(rfe_friction_init_q31(&est, &p), RFE_OK);
     for (i = 0; i < 5; ++i) {
-        assert_false(rfe_status_is_error(rfe_estimator_step_q31(&est, &u, &out)));
+        assert_false(rfe_status_is_error(rfe_friction_step_q31(&est, &u, &out)));
         if (i == 0) {
             assert_true(out.sat > 0);
         }
@@ -760,14 +760,14 @@ static void test_rfe_estimator_q31_saturation_counted(void **state)
     pd.filter.dt = 1.9;
     pd.filter.tau_v = 30.0;
     assert_int_equal(rfe_params_to_q31_f64(&pd, &p), RFE_OK);
-    assert_int_equal(rfe_estimator_init_q31(&est, &p), RFE_OK);
+    assert_int_equal(rfe_friction_init_q31(&est, &p), RFE_OK);
     u.vx = RFE_FIX_LIMIT_VX;
     u.vy = RFE_FIX_LIMIT_VY;
     u.yaw_rate = RFE_FIX_LIMIT_YAW_RATE;
     u.ax = RFE_FIX_LIMIT_ACC;
     u.ay = RFE_FIX_LIMIT_ACC;
-    assert_false(rfe_status_is_error(rfe_estimator_step_q31(&est, &u, &out)));
-    assert_false(rfe_status_is_error(rfe_estimator_step_q31(&est, &u, &out)));
+    assert_false(rfe_status_is_error(rfe_friction_step_q31(&est, &u, &out)));
+    assert_false(rfe_status_is_error(rfe_friction_step_q31(&est, &u, &out)));
     assert_true(out.sat >= 2); /* both filtered speeds clamped (and what follows from it) */
     assert_int_equal(est.cond.vx, RFE_FIX_MAX);
     assert_int_equal(est.cond.vy, RFE_FIX_MIN);
@@ -1084,7 +1084,7 @@ static void test_rfe_replay_run_q31(void **state)
 {
     enum { ROWS = 6 };
     static rfe_sensor_row_t rows[ROWS];
-    static rfe_estimator_q31_t est;
+    static rfe_friction_q31_t est;
     rfe_sensor_log_t log;
     rfe_param_set_t ps;
     rfe_replay_q31_stats_t st;
@@ -1115,7 +1115,7 @@ static void test_rfe_replay_run_q31(void **state)
     assert_int_equal(bad, RFE_PK_NONE);
     assert_int_equal(rfe_replay_params_f64(&ps, &bp.pd, NULL), RFE_OK);
     assert_int_equal(rfe_params_to_q31_f64(&bp.pd, &bp.pq), RFE_OK);
-    assert_int_equal(rfe_estimator_init_q31(&est, &bp.pq), RFE_OK);
+    assert_int_equal(rfe_friction_init_q31(&est, &bp.pq), RFE_OK);
     for (k = 0; k < ROWS; ++k) {
         rfe_sample_t d;
         rfe_sample_q31_t q;
@@ -1124,7 +1124,7 @@ static void test_rfe_replay_run_q31(void **state)
         rfe_status_t s1;
         sample_d(&rows[k], &d);
         sample_q(&d, &q, &sat);
-        s1 = rfe_estimator_step_q31(&est, &q, &e);
+        s1 = rfe_friction_step_q31(&est, &q, &e);
         assert_int_equal(out[k].status, s1);
         assert_true(out[k].t == rows[k].t);
         for (w = 0; w < 4; ++w) {
@@ -1178,22 +1178,22 @@ static void test_rfe_replay_run_q31(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_rfe_estimator_q31_limits_match_config),
-        cmocka_unit_test(test_rfe_estimator_q31_api_errors),
-        cmocka_unit_test(test_rfe_estimator_q31_init_and_get),
-        cmocka_unit_test(test_rfe_estimator_q31_input_validation),
-        cmocka_unit_test(test_rfe_estimator_q31_statuses),
-        cmocka_unit_test(test_rfe_estimator_q31_rollback),
-        cmocka_unit_test(test_rfe_estimator_q31_saturation_counted),
-        cmocka_unit_test(test_rfe_estimator_q31_deterministic),
+        cmocka_unit_test(test_rfe_friction_q31_limits_match_config),
+        cmocka_unit_test(test_rfe_friction_q31_api_errors),
+        cmocka_unit_test(test_rfe_friction_q31_init_and_get),
+        cmocka_unit_test(test_rfe_friction_q31_input_validation),
+        cmocka_unit_test(test_rfe_friction_q31_statuses),
+        cmocka_unit_test(test_rfe_friction_q31_rollback),
+        cmocka_unit_test(test_rfe_friction_q31_saturation_counted),
+        cmocka_unit_test(test_rfe_friction_q31_deterministic),
         cmocka_unit_test(test_rfe_conditioner_q31_contract),
         cmocka_unit_test(test_rfe_conditioner_q31_b2b),
         cmocka_unit_test(test_rfe_eiv_q31_errors),
         cmocka_unit_test(test_rfe_eiv_q31_b2b),
         cmocka_unit_test(test_rfe_replay_run_q31),
-        cmocka_unit_test(test_rfe_estimator_q31_b2b_paper_sckf),
-        cmocka_unit_test(test_rfe_estimator_q31_b2b_paper_ckf),
-        cmocka_unit_test(test_rfe_estimator_q31_b2b_default),
+        cmocka_unit_test(test_rfe_friction_q31_b2b_paper_sckf),
+        cmocka_unit_test(test_rfe_friction_q31_b2b_paper_ckf),
+        cmocka_unit_test(test_rfe_friction_q31_b2b_default),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

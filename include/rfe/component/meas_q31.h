@@ -1,6 +1,6 @@
 /**
  * @file meas_q31.h
- * @brief Fixed-point twin of rfe/meas.h: the measurement model h(mu, u) of one sample
+ * @brief Fixed-point twin of rfe/component/meas.h: the measurement model h(mu, u) of one sample
  *        (MODEL.md §3-5), predicted y = [ax, ay, r-dot] (Q24) from a friction value per wheel
  *        (Q29).
  *
@@ -25,9 +25,9 @@
 #include <stdint.h>
 
 #include "rfe/fixed.h"
-#include "rfe/obsmat_q31.h"
+#include "rfe/component/obsmat_q31.h"
 #include "rfe/params_q31.h"
-#include "rfe/tyre_q31.h"
+#include "rfe/component/tyre_q31.h"
 
 /** One sample's measurement model (caller-owned; fields read-only for the caller). */
 typedef struct {

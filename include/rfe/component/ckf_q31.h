@@ -1,6 +1,6 @@
 /**
  * @file ckf_q31.h
- * @brief Fixed-point twin of rfe/ckf.h: the full-covariance cubature Kalman filter (the
+ * @brief Fixed-point twin of rfe/component/ckf.h: the full-covariance cubature Kalman filter (the
  *        paper's baseline, MODEL.md §6) on int32 Q values.
  *
  * Same API shape as the float CKF: it carries P and takes a Cholesky factor of it at every
@@ -20,7 +20,7 @@
 #ifndef RFE_CKF_Q31_H
 #define RFE_CKF_Q31_H
 
-#include "rfe/sckf_q31.h"
+#include "rfe/component/sckf_q31.h"
 
 /** Fractional bits of the covariances P, P0, Q [mu^2]. */
 #define RFE_Q31_QP 31u

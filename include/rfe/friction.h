@@ -1,34 +1,63 @@
 /**
- * @file estimator.h
+ * @file friction.h
  * @brief The friction estimator: one sensor sample in, four mu estimates out.
  *
  * Composition of the modules, one hop each (docs/ESTIMATOR.md "one step"): sample ->
  * input conditioning (conditioner) -> time update (sckf/ckf) -> kinematics, loads, slips,
  * forces (meas: tyre, obsmat) -> step noise S_R (eiv) -> cubature points, information gate,
  * measurement update (sckf) -> sd bounds, projection -> estimate per wheel (T map).
- * The caller owns the rfe_estimator_t (no heap); init it once, then step at the sample
+ * The caller owns the rfe_friction_t (no heap); init it once, then step at the sample
  * rate. A rejected sample or a failing step returns an error status and leaves the
  * estimator (filter, input filter) as it was.
+ *
+ * This is the integrator's header: it and rfe/params.h (presets, validation) are all an
+ * application needs. rfe/component/ holds the parts, for those who build their own filter.
+ * Write the short names; a float build links the _f32 functions, -DRFE_REAL_DOUBLE the _f64.
+ *
+ * @code
+ * #include "rfe/friction.h"
+ *
+ * static rfe_friction_t est;                 // caller-owned, no heap
+ *
+ * rfe_status_t friction_setup(void)
+ * {
+ *     rfe_params_t p;
+ *     rfe_status_t st = rfe_params_default(&p);
+ *     if (st == RFE_OK) {
+ *         p.vehicle.m = 1650.0f;             // your vehicle's calibration
+ *         st = rfe_friction_init(&est, &p);   // RFE_ERR_PARAM names a bad calibration
+ *     }
+ *     return st;
+ * }
+ *
+ * void friction_task_100hz(const rfe_sample_t *s)   // SI units, ISO 8855 axes
+ * {
+ *     rfe_estimate_t e;
+ *     if (!rfe_status_is_error(rfe_friction_step(&est, s, &e))) {
+ *         // e.mu[w], e.sd[w], e.valid[w] for w = RFE_FL .. RFE_RR
+ *     }
+ * }
+ * @endcode
  */
-#ifndef RFE_ESTIMATOR_H
-#define RFE_ESTIMATOR_H
+#ifndef RFE_FRICTION_H
+#define RFE_FRICTION_H
 
-#include "rfe/ckf.h"
-#include "rfe/conditioner.h"
-#include "rfe/meas.h"
+#include "rfe/component/ckf.h"
+#include "rfe/component/conditioner.h"
+#include "rfe/component/meas.h"
 #include "rfe/params.h"
-#include "rfe/sckf.h"
+#include "rfe/component/sckf.h"
 
 /* Full names of the functions declared here: _f32 in the float build, _f64 with
  * RFE_REAL_DOUBLE (rfe/types.h). Sources define and call them by the short name. */
 #if defined(RFE_REAL_DOUBLE)
-#define rfe_estimator_init rfe_estimator_init_f64
-#define rfe_estimator_step rfe_estimator_step_f64
-#define rfe_estimator_get  rfe_estimator_get_f64
+#define rfe_friction_init rfe_friction_init_f64
+#define rfe_friction_step rfe_friction_step_f64
+#define rfe_friction_get  rfe_friction_get_f64
 #else
-#define rfe_estimator_init rfe_estimator_init_f32
-#define rfe_estimator_step rfe_estimator_step_f32
-#define rfe_estimator_get  rfe_estimator_get_f32
+#define rfe_friction_init rfe_friction_init_f32
+#define rfe_friction_step rfe_friction_step_f32
+#define rfe_friction_get  rfe_friction_get_f32
 #endif
 
 /** Output of one step (one row of the DATA.md estimate log). */
@@ -56,7 +85,7 @@ typedef struct {
         rfe_ckf_t ckf;
         /* cppcheck-suppress misra-c2012-19.2 ; MISRA-DEV-03: (the closing line of the union) */
     } filter;                          /**< params.filter.kind says which is live */
-} rfe_estimator_t;
+} rfe_friction_t;
 
 /**
  * Validates @p params (rfe_params_validate) and initialises: x0 = mu0 on every state,
@@ -68,8 +97,11 @@ typedef struct {
  *         RFE_ERR_NOT_POSITIVE_DEFINITE when its common-mode part so dominates that the
  *         covariance is singular in the working precision (sd0_common / sd0 beyond about
  *         1e3 in float, 1e8 in double) (the estimator is untouched on every error).
+ * @param[out] est     the caller's estimator state; written only on RFE_OK.
+ * @param[in]  params  vehicle, tyre and filter parameters (rfe_params_default, then your
+ *                     calibration); copied, so the caller may reuse it.
  */
-RFE_NODISCARD rfe_status_t rfe_estimator_init(rfe_estimator_t *est,
+RFE_NODISCARD rfe_status_t rfe_friction_init(rfe_friction_t *est,
                                              const rfe_params_t *params);
 
 /**
@@ -82,14 +114,22 @@ RFE_NODISCARD rfe_status_t rfe_estimator_init(rfe_estimator_t *est,
  * @return RFE_OK, RFE_PROJECTED, RFE_NO_UPDATE_LOW_SPEED, RFE_HELD_NOT_OBSERVABLE; errors:
  *         RFE_ERR_NULL, RFE_ERR_NOT_INITIALISED, RFE_ERR_NONFINITE, RFE_ERR_RANGE (see
  *         config.h limits), RFE_ERR_NOT_POSITIVE_DEFINITE (CKF; an overflowing prior).
+ * @param[in,out] est     an estimator set up by rfe_friction_init.
+ * @param[in]     sample  one sensor sample (SI units, ISO 8855 axes, wheels fl fr rl rr).
+ * @param[out]    out     this step's estimate per wheel, with its sd, valid flag and status.
  */
-RFE_NODISCARD rfe_status_t rfe_estimator_step(rfe_estimator_t *est,
+RFE_NODISCARD rfe_status_t rfe_friction_step(rfe_friction_t *est,
                                              const rfe_sample_t *sample,
                                              rfe_estimate_t *out);
 
-/** Current estimate without stepping (status RFE_OK). valid: with sd_valid > 0 the sd rule;
- *  under the paper rule 0 (no step made it). */
-RFE_NODISCARD rfe_status_t rfe_estimator_get(const rfe_estimator_t *est,
+/**
+ * Current estimate without stepping (status RFE_OK). valid: with sd_valid > 0 the sd rule;
+ * under the paper rule 0 (no step made it).
+ * @param[in]  est  an estimator set up by rfe_friction_init.
+ * @param[out] out  the estimate of its last step.
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_NOT_INITIALISED.
+ */
+RFE_NODISCARD rfe_status_t rfe_friction_get(const rfe_friction_t *est,
                                             rfe_estimate_t *out);
 
-#endif /* RFE_ESTIMATOR_H */
+#endif /* RFE_FRICTION_H */

@@ -1,12 +1,12 @@
 /**
  * @file obsmat_q31.h
- * @brief Fixed-point twin of rfe/obsmat.h: the observation matrix H(u) (MODEL.md §5) and
+ * @brief Fixed-point twin of rfe/component/obsmat.h: the observation matrix H(u) (MODEL.md §5) and
  *        h(x, u) = H x on int32 Q values (docs/FIXED_POINT.md, "Tyre, kinematics and
  *        observation matrix").
  *
  * Column i of H is wheel i's body-axis force per unit mu divided by m (rows 1, 2) and its yaw
  * moment x_i Fby - y_i Fbx divided by J (row 3), from the precomputed 1/m, x_i/J and y_i/J of
- * rfe_vehicle_q31_t. H is row-major 3 x 4 (the layout of rfe/obsmat.h: element (row, wheel)
+ * rfe_vehicle_q31_t. H is row-major 3 x 4 (the layout of rfe/component/obsmat.h: element (row, wheel)
  * at RFE_H_Q31_AT(row, wheel)), entries in Q24 [m/s^2 or rad/s^2 per unit mu, +-128].
  * Saturation: one count in `*sat` per clamped output element; no intermediate saturates.
  * On an error nothing is written.
@@ -21,7 +21,7 @@
 #include "rfe/fixed.h"
 #include "rfe/params_q31.h"
 
-/** Element (row, wheel) of a row-major 3x4 H (same layout as RFE_H_AT of rfe/obsmat.h). */
+/** Element (row, wheel) of a row-major 3x4 H (same layout as RFE_H_AT of rfe/component/obsmat.h). */
 #define RFE_H_Q31_AT(row, wheel) (((size_t)(row) * (size_t)RFE_WHEELS) + (size_t)(wheel))
 /** Number of elements of H (RFE_MEAS x RFE_WHEELS). */
 #define RFE_H_Q31_SIZE ((size_t)RFE_MEAS * (size_t)RFE_WHEELS)

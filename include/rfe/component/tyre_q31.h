@@ -1,6 +1,6 @@
 /**
  * @file tyre_q31.h
- * @brief Fixed-point twin of rfe/tyre.h: wheel kinematics, loads, slips (MODEL.md §3), the
+ * @brief Fixed-point twin of rfe/component/tyre.h: wheel kinematics, loads, slips (MODEL.md §3), the
  *        Dugoff tyre (§4) and the load-scaled Magic Formula tyre (docs/ESTIMATOR.md) on int32
  *        Q values (docs/FIXED_POINT.md, "Tyre, kinematics and observation matrix").
  *

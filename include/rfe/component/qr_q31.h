@@ -1,10 +1,10 @@
 /**
  * @file qr_q31.h
- * @brief Fixed-point twin of rfe/qr.h: Householder triangularisation Tria() and the two
+ * @brief Fixed-point twin of rfe/component/qr.h: Householder triangularisation Tria() and the two
  *        triangular solves on int32 Q values (docs/FIXED_POINT.md, "Linear algebra and
  *        filters").
  *
- * Matrices are row-major with an explicit leading dimension, as in rfe/qr.h; sizes are
+ * Matrices are row-major with an explicit leading dimension, as in rfe/component/qr.h; sizes are
  * bounded by RFE_N_MAX rows and RFE_TRIA_COLS_MAX columns; no memory is allocated. Integer
  * operations only (int32 storage, int64 intermediates), bit-identical on every platform.
  * Saturation follows rfe/fixed.h: symmetric clamping to [-INT32_MAX, INT32_MAX], each clamp

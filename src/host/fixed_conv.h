@@ -13,6 +13,7 @@
 #include <math.h>
 #include <stdint.h>
 
+#include "numerics/round_half_up.h"
 #include "rfe/fixed.h"
 
 /** x * 2^q rounded to nearest (ties up, like the library's shifts), saturating to
@@ -31,12 +32,7 @@ static inline int32_t rfe_fix_from_double(double x, unsigned int q, uint32_t *sa
         rfe_fix_count_sat(sat);
         r = RFE_FIX_MIN;
     } else {
-        /* floor(y + 0.5) without the double rounding of y + 0.5: y - floor(y) is exact. */
-        double f = floor(y);
-        if (y - f >= 0.5) {
-            f += 1.0;
-        }
-        r = (int32_t)f;
+        r = (int32_t)rfe_round_half_up(y);
     }
     return r;
 }

@@ -15,8 +15,8 @@
 #ifndef RFE_MEAS_H
 #define RFE_MEAS_H
 
-#include "rfe/obsmat.h"
-#include "rfe/tyre.h"
+#include "rfe/component/obsmat.h"
+#include "rfe/component/tyre.h"
 
 /* Full names of the functions declared here: _f32 in the float build, _f64 with
  * RFE_REAL_DOUBLE (rfe/types.h). Sources define and call them by the short name. */

@@ -1,13 +1,13 @@
 /**
- * @file estimator_flt.c
+ * @file friction_flt.c
  * @brief The friction estimator: one step of docs/ESTIMATOR.md (MODEL.md §5-6 when every
  *        addition is off): conditioner -> SCKF/CKF time update -> meas, eiv -> SCKF gated
  *        update -> sd bounds -> projection -> per-wheel estimate.
  */
-#include "rfe/estimator.h"
+#include "rfe/friction.h"
 
-#include "rfe/chol.h"
-#include "rfe/eiv.h"
+#include "rfe/component/chol.h"
+#include "rfe/component/eiv.h"
 
 #include "estimators/friction/eiv_internal.h"
 #include "numerics/internal.h"
@@ -21,7 +21,7 @@ typedef char rfe_assert_maxima_hold_estimator[((RFE_N_MAX >= RFE_WHEELS) && (RFE
 
 /* State index of wheel w: the map T (docs/ESTIMATOR.md). wheels: T = I; sides: fl, rl on
  * the left state 0, fr, rr on the right state 1. */
-static size_t state_of(const rfe_estimator_t *est, size_t w)
+static size_t state_of(const rfe_friction_t *est, size_t w)
 {
     if (est->params.filter.structure == RFE_STRUCT_SIDES) {
         return ((w == (size_t)RFE_FL) || (w == (size_t)RFE_RL)) ? 0u : 1u;
@@ -30,7 +30,7 @@ static size_t state_of(const rfe_estimator_t *est, size_t w)
 }
 
 /* mu per wheel = T x. */
-static void to_wheels(const rfe_estimator_t *est, const rfe_real_t *x, rfe_real_t mu[RFE_WHEELS])
+static void to_wheels(const rfe_friction_t *est, const rfe_real_t *x, rfe_real_t mu[RFE_WHEELS])
 {
     size_t w;
     for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
@@ -43,7 +43,7 @@ static void to_wheels(const rfe_estimator_t *est, const rfe_real_t *x, rfe_real_
 static rfe_status_t measure(void *ctx, const rfe_real_t *x, rfe_real_t *z, size_t n, size_t m)
 {
     /* cppcheck-suppress misra-c2012-11.5 ; MISRA-DEV-05: ctx is the est this file passes */
-    const rfe_estimator_t *est = (const rfe_estimator_t *)ctx;
+    const rfe_friction_t *est = (const rfe_friction_t *)ctx;
     rfe_real_t mu[RFE_WHEELS];
     (void)n;
     (void)m;
@@ -69,7 +69,7 @@ static rfe_status_t sqrt_prior(rfe_real_t d, rfe_real_t c, size_t n, rfe_real_t 
     return (c == RFE_R(0.0)) ? RFE_OK : rfe_chol_factor(P, n, n, F, n);
 }
 
-static rfe_status_t init_sckf(rfe_estimator_t *est, const rfe_filter_params_t *fp, size_t n)
+static rfe_status_t init_sckf(rfe_friction_t *est, const rfe_filter_params_t *fp, size_t n)
 {
     rfe_real_t x0[RFE_WHEELS];
     rfe_real_t S0[RFE_WHEELS * RFE_WHEELS];
@@ -94,7 +94,7 @@ static rfe_status_t init_sckf(rfe_estimator_t *est, const rfe_filter_params_t *f
 }
 
 /* The CKF runs only the paper subset (rfe_params_validate): P0 = sd0^2 I, Q = q_mu^2 I. */
-static rfe_status_t init_ckf(rfe_estimator_t *est, const rfe_filter_params_t *fp)
+static rfe_status_t init_ckf(rfe_friction_t *est, const rfe_filter_params_t *fp)
 {
     rfe_real_t x0[RFE_WHEELS];
     rfe_real_t P0[RFE_WHEELS * RFE_WHEELS];
@@ -116,7 +116,7 @@ static rfe_status_t init_ckf(rfe_estimator_t *est, const rfe_filter_params_t *fp
     return rfe_ckf_init(&est->filter.ckf, RFE_WHEELS, RFE_MEAS, x0, P0, Q, R);
 }
 
-rfe_status_t rfe_estimator_init(rfe_estimator_t *est, const rfe_params_t *params)
+rfe_status_t rfe_friction_init(rfe_friction_t *est, const rfe_params_t *params)
 {
     const rfe_filter_params_t *fp;
     size_t n;
@@ -180,7 +180,7 @@ static rfe_status_t check_sample(const rfe_sample_t *u)
 
 /* Saves / restores what a step changes (filter mean and factor, input filter) so a failing
  * step changes nothing. */
-static void backup(rfe_estimator_t *est, int restore)
+static void backup(rfe_friction_t *est, int restore)
 {
     const rfe_filter_kind_t kind = est->params.filter.kind;
     rfe_real_t *x = (kind == RFE_FILTER_CKF) ? est->filter.ckf.x : est->filter.sckf.x;
@@ -217,7 +217,7 @@ static int eiv_active(const rfe_filter_params_t *fp)
 
 /* Steps 4-6 (SCKF): this step's S_R at the predicted mean, then the gated update.
  * *updated = 0 when the gate held the step. */
-static rfe_status_t sckf_measurement(rfe_estimator_t *est, const rfe_sample_t *u,
+static rfe_status_t sckf_measurement(rfe_friction_t *est, const rfe_sample_t *u,
                                      const rfe_real_t y[RFE_MEAS], int *updated)
 {
     const rfe_filter_params_t *fp = &est->params.filter;
@@ -274,7 +274,7 @@ static void floor_factor(const rfe_filter_params_t *fp, const rfe_real_t *x,
 
 /* Step 7: one factor c for the whole S (correlations kept): the cap if some sd_k > sd_max,
  * else the floor (limited by the cap). */
-static rfe_status_t bound_sd(rfe_estimator_t *est)
+static rfe_status_t bound_sd(rfe_friction_t *est)
 {
     const rfe_filter_params_t *fp = &est->params.filter;
     rfe_real_t x[RFE_N_MAX];
@@ -303,7 +303,7 @@ static rfe_status_t bound_sd(rfe_estimator_t *est)
 
 /* Steps 1-8 after the input check. Returns the step's status or an error (the caller
  * rolls back). */
-static rfe_status_t filter_step(rfe_estimator_t *est, const rfe_sample_t *sample)
+static rfe_status_t filter_step(rfe_friction_t *est, const rfe_sample_t *sample)
 {
     const rfe_filter_kind_t kind = est->params.filter.kind;
     const rfe_filter_params_t *fp = &est->params.filter;
@@ -355,7 +355,7 @@ static rfe_status_t filter_step(rfe_estimator_t *est, const rfe_sample_t *sample
 }
 
 /* cppcheck-suppress misra-c2012-8.7 ; MISRA-DEV-06: public API, called by the application */
-rfe_status_t rfe_estimator_get(const rfe_estimator_t *est, rfe_estimate_t *out)
+rfe_status_t rfe_friction_get(const rfe_friction_t *est, rfe_estimate_t *out)
 {
     rfe_real_t x[RFE_N_MAX];
     rfe_real_t sd[RFE_N_MAX];
@@ -382,8 +382,8 @@ rfe_status_t rfe_estimator_get(const rfe_estimator_t *est, rfe_estimate_t *out)
     return st;
 }
 
-rfe_status_t rfe_estimator_step(rfe_estimator_t *est, const rfe_sample_t *sample,
-                                rfe_estimate_t *out)
+rfe_status_t rfe_friction_step(rfe_friction_t *est, const rfe_sample_t *sample,
+                               rfe_estimate_t *out)
 {
     rfe_status_t st;
     rfe_status_t got;
@@ -404,7 +404,7 @@ rfe_status_t rfe_estimator_step(rfe_estimator_t *est, const rfe_sample_t *sample
             backup(est, 1);
         }
     }
-    got = rfe_estimator_get(est, out);
+    got = rfe_friction_get(est, out);
     if (got != RFE_OK) {
         return got;
     }

@@ -1,5 +1,5 @@
 /**
- * @file test_estimator_flt.c
+ * @file test_friction_flt.c
  * @brief The friction estimator (MODEL.md §5-6): single SCKF steps against the independent
  *        vectors, input validation, untouched state on error, low speed, projection.
  *
@@ -12,9 +12,9 @@
 
 #include <string.h>
 
-#include "rfe/estimator.h"
-#include "rfe/obsmat.h"
-#include "rfe/qr.h"
+#include "rfe/friction.h"
+#include "rfe/component/obsmat.h"
+#include "rfe/component/qr.h"
 #include "table.h"
 
 #if defined(RFE_REAL_DOUBLE)
@@ -33,7 +33,7 @@ static int setup(void **state)
 {
     (void)state;
     /* The paper preset: these tests pin MODEL.md §6 (the default preset is tested in
-     * test_estimator_default_flt.c). */
+     * test_friction_default_flt.c). */
     return rfe_params_paper(&params) == RFE_OK ? 0 : -1;
 }
 
@@ -133,29 +133,29 @@ static void test_rfe_sckf_step_matches_vectors(void **state)
 
 /* REQ: init validates parameters; a rejected init leaves the estimator untouched. */
 /* REQ-EST-002 REQ-EST-003 REQ-PARAMS-002 */
-static void test_rfe_estimator_init_rejects_bad_params(void **state)
+static void test_rfe_friction_init_rejects_bad_params(void **state)
 {
-    static rfe_estimator_t est, copy;
+    static rfe_friction_t est, copy;
     rfe_params_t p = params;
     (void)state;
     memset(&est, 0xA5, sizeof(est));
     copy = est;
     p.vehicle.m = -1;
-    assert_int_equal(rfe_estimator_init(&est, &p), RFE_ERR_PARAM);
+    assert_int_equal(rfe_friction_init(&est, &p), RFE_ERR_PARAM);
     p = params;
     p.filter.mu_min = (rfe_real_t)1.3; /* above mu_max */
-    assert_int_equal(rfe_estimator_init(&est, &p), RFE_ERR_PARAM);
+    assert_int_equal(rfe_friction_init(&est, &p), RFE_ERR_PARAM);
     p = params;
     p.tyre.alpha_max = (rfe_real_t)1.6; /* tan would blow up near pi/2 */
-    assert_int_equal(rfe_estimator_init(&est, &p), RFE_ERR_PARAM);
+    assert_int_equal(rfe_friction_init(&est, &p), RFE_ERR_PARAM);
     p = params;
     p.filter.q_mu = (rfe_real_t)NAN;
-    assert_int_equal(rfe_estimator_init(&est, &p), RFE_ERR_PARAM);
+    assert_int_equal(rfe_friction_init(&est, &p), RFE_ERR_PARAM);
     p = params;
     p.filter.kind = (rfe_filter_kind_t)7;
-    assert_int_equal(rfe_estimator_init(&est, &p), RFE_ERR_PARAM);
-    assert_int_equal(rfe_estimator_init(NULL, &params), RFE_ERR_NULL);
-    assert_int_equal(rfe_estimator_init(&est, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_friction_init(&est, &p), RFE_ERR_PARAM);
+    assert_int_equal(rfe_friction_init(NULL, &params), RFE_ERR_NULL);
+    assert_int_equal(rfe_friction_init(&est, NULL), RFE_ERR_NULL);
     assert_memory_equal(&est, &copy, sizeof(est));
     assert_int_equal(rfe_params_validate(NULL), RFE_ERR_NULL);
     assert_int_equal(rfe_params_default(NULL), RFE_ERR_NULL);
@@ -163,9 +163,9 @@ static void test_rfe_estimator_init_rejects_bad_params(void **state)
 
 /* REQ: the initial estimate is mu0 with sd0 on every wheel, for both filters. */
 /* REQ-EST-002 */
-static void test_rfe_estimator_init_sets_prior(void **state)
+static void test_rfe_friction_init_sets_prior(void **state)
 {
-    static rfe_estimator_t est;
+    static rfe_friction_t est;
     rfe_estimate_t out;
     rfe_params_t p = params;
     int k;
@@ -173,8 +173,8 @@ static void test_rfe_estimator_init_sets_prior(void **state)
     (void)state;
     for (k = 0; k < 2; ++k) {
         p.filter.kind = k ? RFE_FILTER_CKF : RFE_FILTER_SCKF;
-        assert_int_equal(rfe_estimator_init(&est, &p), RFE_OK);
-        assert_int_equal(rfe_estimator_get(&est, &out), RFE_OK);
+        assert_int_equal(rfe_friction_init(&est, &p), RFE_OK);
+        assert_int_equal(rfe_friction_get(&est, &out), RFE_OK);
         for (i = 0; i < 4; ++i) {
             assert_close(out.mu[i], params.filter.mu0, 1e-7, 0.0, "mu0");
             assert_close(out.sd[i], params.filter.sd0, 1e-7, 0.0, "sd0");
@@ -185,28 +185,28 @@ static void test_rfe_estimator_init_sets_prior(void **state)
 
 /* REQ: step/get before init, or with NULL arguments, are rejected. */
 /* REQ-EST-003 */
-static void test_rfe_estimator_step_requires_init(void **state)
+static void test_rfe_friction_step_requires_init(void **state)
 {
-    static rfe_estimator_t est;
+    static rfe_friction_t est;
     rfe_estimate_t out;
     rfe_sample_t u = braking_sample();
     (void)state;
     memset(&est, 0, sizeof(est));
-    assert_int_equal(rfe_estimator_step(&est, &u, &out), RFE_ERR_NOT_INITIALISED);
-    assert_int_equal(rfe_estimator_get(&est, &out), RFE_ERR_NOT_INITIALISED);
-    assert_int_equal(rfe_estimator_step(NULL, &u, &out), RFE_ERR_NULL);
-    assert_int_equal(rfe_estimator_step(&est, NULL, &out), RFE_ERR_NULL);
-    assert_int_equal(rfe_estimator_step(&est, &u, NULL), RFE_ERR_NULL);
-    assert_int_equal(rfe_estimator_get(NULL, &out), RFE_ERR_NULL);
+    assert_int_equal(rfe_friction_step(&est, &u, &out), RFE_ERR_NOT_INITIALISED);
+    assert_int_equal(rfe_friction_get(&est, &out), RFE_ERR_NOT_INITIALISED);
+    assert_int_equal(rfe_friction_step(NULL, &u, &out), RFE_ERR_NULL);
+    assert_int_equal(rfe_friction_step(&est, NULL, &out), RFE_ERR_NULL);
+    assert_int_equal(rfe_friction_step(&est, &u, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_friction_get(NULL, &out), RFE_ERR_NULL);
 }
 
 /* REQ: a NaN/Inf or out-of-range sample returns a distinct status, leaves the whole
  * estimator untouched, reports the previous estimate as not valid; the next good sample
  * continues normally. */
 /* REQ-EST-004 REQ-EST-005 */
-static void test_rfe_estimator_step_bad_sample_leaves_state(void **state)
+static void test_rfe_friction_step_bad_sample_leaves_state(void **state)
 {
-    static rfe_estimator_t est, copy;
+    static rfe_friction_t est, copy;
     rfe_estimate_t out;
     rfe_sample_t good = braking_sample(), bad;
     int k;
@@ -214,48 +214,48 @@ static void test_rfe_estimator_step_bad_sample_leaves_state(void **state)
     for (k = 0; k < 2; ++k) {
         rfe_params_t p = params;
         p.filter.kind = k ? RFE_FILTER_CKF : RFE_FILTER_SCKF;
-        assert_int_equal(rfe_estimator_init(&est, &p), RFE_OK);
-        assert_false(rfe_status_is_error(rfe_estimator_step(&est, &good, &out)));
+        assert_int_equal(rfe_friction_init(&est, &p), RFE_OK);
+        assert_false(rfe_status_is_error(rfe_friction_step(&est, &good, &out)));
         copy = est;
         bad = good;
         bad.ax = (rfe_real_t)NAN;
-        assert_int_equal(rfe_estimator_step(&est, &bad, &out), RFE_ERR_NONFINITE);
+        assert_int_equal(rfe_friction_step(&est, &bad, &out), RFE_ERR_NONFINITE);
         assert_memory_equal(&est, &copy, sizeof(est));
         assert_int_equal(out.status, RFE_ERR_NONFINITE);
         assert_int_equal(out.valid[0], 0);
         bad = good;
         bad.yaw_acc = (rfe_real_t)-INFINITY;
-        assert_int_equal(rfe_estimator_step(&est, &bad, &out), RFE_ERR_NONFINITE);
+        assert_int_equal(rfe_friction_step(&est, &bad, &out), RFE_ERR_NONFINITE);
         bad = good;
         bad.omega[2] = (rfe_real_t)(RFE_LIMIT_OMEGA * 1.01);
-        assert_int_equal(rfe_estimator_step(&est, &bad, &out), RFE_ERR_RANGE);
+        assert_int_equal(rfe_friction_step(&est, &bad, &out), RFE_ERR_RANGE);
         bad = good;
         bad.delta = (rfe_real_t)(RFE_LIMIT_DELTA * 1.01);
-        assert_int_equal(rfe_estimator_step(&est, &bad, &out), RFE_ERR_RANGE);
+        assert_int_equal(rfe_friction_step(&est, &bad, &out), RFE_ERR_RANGE);
         bad = good;
         bad.vx = (rfe_real_t)(-RFE_LIMIT_VX * 1.01);
-        assert_int_equal(rfe_estimator_step(&est, &bad, &out), RFE_ERR_RANGE);
+        assert_int_equal(rfe_friction_step(&est, &bad, &out), RFE_ERR_RANGE);
         bad = good;
         bad.ay = (rfe_real_t)(RFE_LIMIT_ACC * 1.01);
-        assert_int_equal(rfe_estimator_step(&est, &bad, &out), RFE_ERR_RANGE);
+        assert_int_equal(rfe_friction_step(&est, &bad, &out), RFE_ERR_RANGE);
         assert_memory_equal(&est, &copy, sizeof(est));
-        assert_false(rfe_status_is_error(rfe_estimator_step(&est, &good, &out)));
+        assert_false(rfe_status_is_error(rfe_friction_step(&est, &good, &out)));
         assert_int_equal(out.valid[3], 1);
     }
 }
 
 /* REQ: below v_est_min only the time update runs: mean held, variance grows by q_mu^2. */
 /* REQ-EST-006 */
-static void test_rfe_estimator_step_low_speed_time_update_only(void **state)
+static void test_rfe_friction_step_low_speed_time_update_only(void **state)
 {
-    static rfe_estimator_t est;
+    static rfe_friction_t est;
     rfe_estimate_t out;
     rfe_sample_t u = braking_sample();
     size_t i;
     (void)state;
     u.vx = (rfe_real_t)(params.filter.v_est_min * 0.5);
-    assert_int_equal(rfe_estimator_init(&est, &params), RFE_OK);
-    assert_int_equal(rfe_estimator_step(&est, &u, &out), RFE_NO_UPDATE_LOW_SPEED);
+    assert_int_equal(rfe_friction_init(&est, &params), RFE_OK);
+    assert_int_equal(rfe_friction_step(&est, &u, &out), RFE_NO_UPDATE_LOW_SPEED);
     for (i = 0; i < 4; ++i) {
         const double sd0 = params.filter.sd0, q = params.filter.q_mu;
         assert_close(out.mu[i], params.filter.mu0, 1e-6, 0.0, "held mean");
@@ -263,14 +263,14 @@ static void test_rfe_estimator_step_low_speed_time_update_only(void **state)
         assert_int_equal(out.valid[i], 0);
     }
     u.vx = -5; /* reversing: also no update */
-    assert_int_equal(rfe_estimator_step(&est, &u, &out), RFE_NO_UPDATE_LOW_SPEED);
+    assert_int_equal(rfe_friction_step(&est, &u, &out), RFE_NO_UPDATE_LOW_SPEED);
 }
 
 /* REQ: a measurement that implies friction above mu_max is projected onto the bound. */
 /* REQ-EST-007 */
-static void test_rfe_estimator_step_projects_onto_bounds(void **state)
+static void test_rfe_friction_step_projects_onto_bounds(void **state)
 {
-    static rfe_estimator_t est;
+    static rfe_friction_t est;
     rfe_estimate_t out;
     rfe_sample_t u = braking_sample();
     rfe_status_t st = RFE_OK;
@@ -278,9 +278,9 @@ static void test_rfe_estimator_step_projects_onto_bounds(void **state)
     size_t i;
     (void)state;
     u.ax = -40; /* 4 g of braking with ~3 % slip: mu far above 1.2 */
-    assert_int_equal(rfe_estimator_init(&est, &params), RFE_OK);
+    assert_int_equal(rfe_friction_init(&est, &params), RFE_OK);
     for (k = 0; k < 50; ++k) {
-        st = rfe_estimator_step(&est, &u, &out);
+        st = rfe_friction_step(&est, &u, &out);
         assert_false(rfe_status_is_error(st));
         seen |= (st == RFE_PROJECTED);
     }
@@ -295,9 +295,9 @@ static void test_rfe_estimator_step_projects_onto_bounds(void **state)
  * sample (y generated from the absolute model at mu = 0.6 on a heavily braked, steered car)
  * the four-wheel mean converges towards 0.6. */
 /* REQ-EST-012 */
-static void test_rfe_estimator_absolute_mode_converges(void **state)
+static void test_rfe_friction_absolute_mode_converges(void **state)
 {
-    static rfe_estimator_t est;
+    static rfe_friction_t est;
     rfe_estimate_t out;
     rfe_params_t p = params;
     rfe_sample_t u = braking_sample();
@@ -323,9 +323,9 @@ static void test_rfe_estimator_absolute_mode_converges(void **state)
         u.ay = y[1];
         u.yaw_acc = y[2];
     }
-    assert_int_equal(rfe_estimator_init(&est, &p), RFE_OK);
+    assert_int_equal(rfe_friction_init(&est, &p), RFE_OK);
     for (k = 0; k < 300; ++k) {
-        assert_false(rfe_status_is_error(rfe_estimator_step(&est, &u, &out)));
+        assert_false(rfe_status_is_error(rfe_friction_step(&est, &u, &out)));
     }
     for (i = 0; i < 4; ++i) {
         mean += out.mu[i] / 4.0;
@@ -337,18 +337,18 @@ static void test_rfe_estimator_absolute_mode_converges(void **state)
 /* REQ: a numerical failure inside the filter (a prior so large its squares overflow)
  * returns an error and restores the filter as it was before the step. */
 /* REQ-EST-013 REQ-EST-005 */
-static void test_rfe_estimator_step_numeric_failure_rolls_back(void **state)
+static void test_rfe_friction_step_numeric_failure_rolls_back(void **state)
 {
-    static rfe_estimator_t est, copy;
+    static rfe_friction_t est, copy;
     rfe_estimate_t out;
     rfe_params_t p = params;
     rfe_sample_t u = braking_sample();
     rfe_status_t st;
     (void)state;
     p.filter.sd0 = (rfe_real_t)HUGE_SD0;
-    assert_int_equal(rfe_estimator_init(&est, &p), RFE_OK);
+    assert_int_equal(rfe_friction_init(&est, &p), RFE_OK);
     copy = est;
-    st = rfe_estimator_step(&est, &u, &out);
+    st = rfe_friction_step(&est, &u, &out);
     assert_true(rfe_status_is_error(st));
     assert_memory_equal(est.filter.sckf.x, copy.filter.sckf.x, sizeof(copy.filter.sckf.x));
     assert_memory_equal(est.filter.sckf.S, copy.filter.sckf.S, sizeof(copy.filter.sckf.S));
@@ -375,14 +375,14 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_rfe_sckf_step_matches_vectors),
-        cmocka_unit_test(test_rfe_estimator_init_rejects_bad_params),
-        cmocka_unit_test(test_rfe_estimator_init_sets_prior),
-        cmocka_unit_test(test_rfe_estimator_step_requires_init),
-        cmocka_unit_test(test_rfe_estimator_step_bad_sample_leaves_state),
-        cmocka_unit_test(test_rfe_estimator_step_low_speed_time_update_only),
-        cmocka_unit_test(test_rfe_estimator_step_projects_onto_bounds),
-        cmocka_unit_test(test_rfe_estimator_absolute_mode_converges),
-        cmocka_unit_test(test_rfe_estimator_step_numeric_failure_rolls_back),
+        cmocka_unit_test(test_rfe_friction_init_rejects_bad_params),
+        cmocka_unit_test(test_rfe_friction_init_sets_prior),
+        cmocka_unit_test(test_rfe_friction_step_requires_init),
+        cmocka_unit_test(test_rfe_friction_step_bad_sample_leaves_state),
+        cmocka_unit_test(test_rfe_friction_step_low_speed_time_update_only),
+        cmocka_unit_test(test_rfe_friction_step_projects_onto_bounds),
+        cmocka_unit_test(test_rfe_friction_absolute_mode_converges),
+        cmocka_unit_test(test_rfe_friction_step_numeric_failure_rolls_back),
         cmocka_unit_test(test_rfe_status_str_names_every_code),
     };
     return cmocka_run_group_tests(tests, setup, NULL);

@@ -1,13 +1,13 @@
 /**
- * @file estimator_q31.h
- * @brief Fixed-point twin of rfe/estimator.h: the friction estimator on int32 Q values
+ * @file friction_q31.h
+ * @brief Fixed-point twin of rfe/friction.h: the friction estimator on int32 Q values
  *        (docs/ESTIMATOR.md "one step", docs/FIXED_POINT.md "Estimator").
  *
  * Composition of the q31 modules, one hop each: sample -> input conditioning
  * (conditioner_q31) -> time update (sckf_q31/ckf_q31) -> kinematics, loads, slips, forces
  * (meas_q31: tyre_q31, obsmat_q31) -> step noise S_R (eiv_q31) -> cubature points, information
  * gate, measurement update (sckf_q31) -> sd bounds, projection -> estimate per wheel (T map).
- * The caller owns the rfe_estimator_q31_t (no heap); init it once, then step at the sample
+ * The caller owns the rfe_friction_q31_t (no heap); init it once, then step at the sample
  * rate. A rejected sample or a failing step returns an error status and leaves the estimator
  * (filter, input filter, counters) exactly as it was.
  *
@@ -18,25 +18,25 @@
  * step carries the sum over everything that step ran (`sat`: input filter, measurement model
  * at the sample and at every cubature point, step noise S_R, the filter's predict, gate and
  * update, the sd bounds), and the state keeps the running total since init. A saturation is
- * never silent, and on the bundled logs there is none (test/estimators/friction/test_estimator_q31.c).
+ * never silent, and on the bundled logs there is none (test/estimators/friction/test_friction_q31.c).
  */
-#ifndef RFE_ESTIMATOR_Q31_H
-#define RFE_ESTIMATOR_Q31_H
+#ifndef RFE_FRICTION_Q31_H
+#define RFE_FRICTION_Q31_H
 
 #include <stdint.h>
 
-#include "rfe/ckf_q31.h"
-#include "rfe/conditioner_q31.h"
+#include "rfe/component/ckf_q31.h"
+#include "rfe/component/conditioner_q31.h"
 #include "rfe/config.h"
 #include "rfe/fixed.h"
-#include "rfe/meas_q31.h"
+#include "rfe/component/meas_q31.h"
 #include "rfe/params_q31.h"
-#include "rfe/sckf_q31.h"
-#include "rfe/tyre_q31.h"
+#include "rfe/component/sckf_q31.h"
+#include "rfe/component/tyre_q31.h"
 
-/* Input limits of rfe_estimator_step_q31: the limits of rfe/config.h (RFE_LIMIT_*) in the
+/* Input limits of rfe_friction_step_q31: the limits of rfe/config.h (RFE_LIMIT_*) in the
  * sample's Q formats. Each is an exact multiple of its format's LSB (the integer below is
- * the config.h value times 2^Q); test/estimators/friction/test_estimator_q31.c checks that they equal the
+ * the config.h value times 2^Q); test/estimators/friction/test_friction_q31.c checks that they equal the
  * conversions of config.h's values, so an override of one (-D) needs the other too. */
 #ifndef RFE_FIX_LIMIT_DELTA
 #define RFE_FIX_LIMIT_DELTA ((rfe_fix_t)536870912) /**< |delta| <= 1 rad, Q29 */
@@ -68,7 +68,7 @@ typedef struct {
                                     1 when this step updated (status 0 or 1) */
     rfe_status_t status;       /**< status of the step (same as the return value) */
     uint32_t sat;              /**< saturation events of this step, summed over every module
-                                    it ran (0 on an error and from rfe_estimator_get_q31) */
+                                    it ran (0 on an error and from rfe_friction_get_q31) */
 } rfe_estimate_q31_t;
 
 /** Estimator state (caller-owned; fields are read-only for the caller). */
@@ -91,7 +91,7 @@ typedef struct {
         /* cppcheck-suppress misra-c2012-19.2 ; MISRA-DEV-03: (the closing line of the union) */
     } filter;                               /**< params.filter.kind says which is live; its
                                                  own counter `sat` is 0 between steps */
-} rfe_estimator_q31_t;
+} rfe_friction_q31_t;
 
 /**
  * Validates @p params (rfe_params_validate_q31) and initialises: x0 = mu0 on every state,
@@ -104,9 +104,12 @@ typedef struct {
  *         does not fit its format (sd0^2 + sd0_common^2 or q_mu^2 + q_common^2 >= 4, i.e. a
  *         factor entry >= 2; CKF: sd0 or q_mu >= 1, a variance >= 1 outside Q31; r >= 11.3
  *         m/s^2, r^2 outside Q24). The estimator is untouched on every error.
+ * @param[out] est     the caller's estimator state; written only on RFE_OK.
+ * @param[in]  params  parameters in Q formats (rfe_params_default_q31, or a table made on the
+ *                     host from a real calibration); copied.
  */
-RFE_NODISCARD rfe_status_t rfe_estimator_init_q31(rfe_estimator_q31_t *est,
-                                                  const rfe_params_q31_t *params);
+RFE_NODISCARD rfe_status_t rfe_friction_init_q31(rfe_friction_q31_t *est,
+                                                 const rfe_params_q31_t *params);
 
 /**
  * One step (docs/ESTIMATOR.md): input check; input conditioning (tau_v > 0); time update;
@@ -119,14 +122,22 @@ RFE_NODISCARD rfe_status_t rfe_estimator_init_q31(rfe_estimator_q31_t *est,
  *         RFE_ERR_NULL, RFE_ERR_NOT_INITIALISED, RFE_ERR_RANGE (a sample outside the limits
  *         RFE_FIX_LIMIT_* above, i.e. config.h's), RFE_ERR_NOT_POSITIVE_DEFINITE (the CKF's
  *         covariance or a factor that is not positive definite).
+ * @param[in,out] est     an estimator set up by rfe_friction_init_q31.
+ * @param[in]     sample  one sensor sample in the Q formats of rfe/fixed.h.
+ * @param[out]    out     this step's estimate per wheel, sd, valid flag, status, saturations.
  */
-RFE_NODISCARD rfe_status_t rfe_estimator_step_q31(rfe_estimator_q31_t *est,
-                                                  const rfe_sample_q31_t *sample,
-                                                  rfe_estimate_q31_t *out);
-
-/** Current estimate without stepping (status RFE_OK, sat 0). valid: with sd_valid > 0 the sd
- *  rule; under the paper rule 0 (no step made it). */
-RFE_NODISCARD rfe_status_t rfe_estimator_get_q31(const rfe_estimator_q31_t *est,
+RFE_NODISCARD rfe_status_t rfe_friction_step_q31(rfe_friction_q31_t *est,
+                                                 const rfe_sample_q31_t *sample,
                                                  rfe_estimate_q31_t *out);
 
-#endif /* RFE_ESTIMATOR_Q31_H */
+/**
+ * Current estimate without stepping (status RFE_OK, sat 0). valid: with sd_valid > 0 the sd
+ * rule; under the paper rule 0 (no step made it).
+ * @param[in]  est  an estimator set up by rfe_friction_init_q31.
+ * @param[out] out  the estimate of its last step.
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_NOT_INITIALISED.
+ */
+RFE_NODISCARD rfe_status_t rfe_friction_get_q31(const rfe_friction_q31_t *est,
+                                                rfe_estimate_q31_t *out);
+
+#endif /* RFE_FRICTION_Q31_H */
