@@ -150,12 +150,12 @@ pil_tag          = $(word 1,$(subst :, ,$(1)))
 pil_opts         = $(subst $(fw_comma), ,$(word 2,$(subst :, ,$(1))))
 fw_comma        := ,
 
-$(FW_DIR)/pil_gen: firmware/pil/pil_gen.c firmware/pil/pil_gen_q31.c firmware/pil/pil_gen_q31.h \
+$(FW_DIR)/pil_gen: src/host/pil/pil_gen.c src/host/pil/pil_gen_q31.c src/host/pil/pil_gen_q31.h \
                    $(BUILD)/f32/host/replay_real.o $(BUILD)/f64/host/replay_real.o $(BUILD)/f64/hostlib.a \
                    $(BUILD)/f32/librfe.a $(BUILD)/f64/librfe.a
 	@mkdir -p $(@D)
-	$(CC) $(WARN) $(OPT) -Wno-double-promotion $(CPPFLAGS_HOST) -Ifirmware/pil -c firmware/pil/pil_gen.c -o $(FW_DIR)/pil_gen.o
-	$(CC) $(WARN) $(OPT) -DRFE_REAL_DOUBLE $(CPPFLAGS_HOST) -Ifirmware/pil -c firmware/pil/pil_gen_q31.c -o $(FW_DIR)/pil_gen_q31.o
+	$(CC) $(WARN) $(OPT) -Wno-double-promotion $(CPPFLAGS_HOST) -Ifirmware/pil -c src/host/pil/pil_gen.c -o $(FW_DIR)/pil_gen.o
+	$(CC) $(WARN) $(OPT) -DRFE_REAL_DOUBLE $(CPPFLAGS_HOST) -Ifirmware/pil -c src/host/pil/pil_gen_q31.c -o $(FW_DIR)/pil_gen_q31.o
 	$(CC) $(FW_DIR)/pil_gen.o $(FW_DIR)/pil_gen_q31.o $(BUILD)/f32/host/replay_real.o $(BUILD)/f64/host/replay_real.o \
 	  $(BUILD)/f64/hostlib.a $(BUILD)/f32/librfe.a $(BUILD)/f64/librfe.a -lm -o $@
 

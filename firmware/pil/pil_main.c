@@ -4,7 +4,7 @@
  *        Cortex-M (QEMU mps2-an386 / mps2-an385), results written through semihosting.
  *
  * Built per core and variant by mk/firmware.mk (PIL_Q31: rfe_friction_*_q31, else the float32
- * rfe_friction_*_f32) with the data that firmware/pil/pil_gen.c generated from the log
+ * rfe_friction_*_f32) with the data that src/host/pil/pil_gen.c generated from the log
  * (pil_data.h: parameters and samples as the host replay sees them), newlib's semihosting
  * start-up (--specs=rdimon.specs) and firmware/common/startup_cm.c. The command line
  * (QEMU -append) may give the number of samples to run; default all.

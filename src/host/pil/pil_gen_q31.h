@@ -7,8 +7,8 @@
 
 #include <stdint.h>
 
-#include "csv_log.h"
-#include "param_file.h"
+#include "host/csv_log.h"
+#include "host/param_file.h"
 #include "rfe/params_q31.h"
 #include "rfe/component/tyre_q31.h"
 

@@ -14,7 +14,7 @@
 
 #include "pil_gen_q31.h"
 
-#include "replay_real.h"
+#include "host/replay_real.h"
 #include "host/fixed_conv.h"
 #include "rfe/component/params_conv.h"
 

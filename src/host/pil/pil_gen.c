@@ -22,10 +22,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "csv_log.h"
-#include "param_file.h"
+#include "host/csv_log.h"
+#include "host/param_file.h"
 #include "pil_gen_q31.h"
-#include "replay_real.h"
+#include "host/replay_real.h"
 #include "rfe/params.h"
 
 /* The enum members of rfe_params_t: written as integers, every other 4-byte word as a float. */
