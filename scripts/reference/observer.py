@@ -1,0 +1,321 @@
+"""Reference velocity and sideslip observer (docs/OBSERVER.md), float64, scalar arithmetic.
+
+Independent of the C library: written from docs/OBSERVER.md only, in plain Python floats
+(no BLAS, no vectorisation), so the C double build can be compared with it to 1e-9.
+
+    obs = Observer(params)            # params: vehicle keys of params.DEFAULTS + OBS_DEFAULTS
+    out = obs.step(sample)            # sample: dict of the ESC inputs (Sample fields)
+    tab = run(log_columns, params)    # a whole sensor log -> dict of output arrays
+
+Every number and step of the page appears here in the same order; the section numbers in the
+comments are the page's.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+# §2 The observer's parameters (keys of a parameter file), with their defaults.
+OBS_DEFAULTS: dict[str, float] = {
+    "obs_driven": 3.0,          # driven wheels, bit mask fl=1 fr=2 rl=4 rr=8 (3: front drive)
+    "obs_dt_min": 0.001,        # shortest accepted sample period, s
+    "obs_dt_max": 0.1,          # longest accepted sample period, s
+    "obs_q_jerk": 0.5,          # yaw-jerk density of the yaw-rate differentiator, rad/s^3 sqrt(s)
+    "obs_sd_r": 0.005,          # yaw-rate sensor noise sd, rad/s
+    "obs_sd_ax": 0.05,          # ax sensor noise sd per sample, m/s^2
+    "obs_q_bx": 0.005,          # random walk of the longitudinal offset, m/s^2 per sqrt(s)
+    "obs_sd_wheel": 0.05,       # wheel reference noise sd, m/s
+    "obs_sd_wheel_rel": 0.005,  # wheel reference error relative to speed (radius, slip)
+    "obs_k_gate": 3.0,          # plausibility gate on a wheel, in sd
+    "obs_ax_brake_on": 0.5,     # deceleration above which the car is braking, m/s^2
+    "obs_ax_drive_on": 0.5,     # acceleration above which the car is driving, m/s^2
+    "obs_p_brake_on": 0.2,      # brake pressure above which the car is braking, MPa
+    "obs_torque_on": 50.0,      # drive torque above which a wheel is driven, N m
+    "obs_sd_ay": 0.05,          # ay sensor noise sd per sample, m/s^2
+    "obs_q_by": 0.001,          # random walk of the lateral offset (bias, bank), m/s^2 per sqrt(s)
+    "obs_sd_model_ay": 0.3,     # single-track model error, m/s^2
+    "obs_model_ay_rel": 0.1,    # model error relative to |ay|
+    "obs_v_lat_min": 3.0,       # below this vx, vy follows the rear-axle kinematics, m/s
+    "obs_sd_lowspeed": 0.1,     # sd of the low-speed kinematic vy, m/s
+    "obs_mu_default": 1.0,      # friction the model uses while none is supplied
+    "obs_sd_mu_default": 0.3,   # its sd
+    "obs_mu_margin": 0.1,
+    "obs_dvy": 0.01,
+    "obs_tau_nis": 0.5,         # averaging time of the model's innovation consistency, s            # step of the model's derivative by vy, m/s       # the measured |ay|/g raises the model's friction to (1+margin) of it
+    "obs_sd_vx0": 1.0,          # initial sd of vx, m/s
+    "obs_sd_bx0": 0.3,          # initial sd of the longitudinal offset, m/s^2
+    "obs_sd_vy0": 0.3,          # initial sd of vy, m/s
+    "obs_sd_by0": 0.1,          # initial sd of the lateral offset, m/s^2
+}
+
+VEHICLE_KEYS = ("m", "Lf", "Lr", "Bf", "Br", "R", "hg", "g")
+
+# §5 output flags
+FLAG_VX_WHEEL = 1        # vx corrected by a wheel reference this step
+FLAG_BRAKING = 2         # driving state: braking
+FLAG_DRIVING = 4         # driving state: driving
+FLAG_VY_MODEL = 8        # vy corrected by the single-track model
+FLAG_VY_LOWSPEED = 16    # vy corrected by the low-speed kinematics
+FLAG_MU_RAISED = 32      # the measured ay raised the model's friction
+
+
+@dataclass
+class Sample:
+    """One ESC sample (§1), SI units."""
+    t: float
+    delta: float
+    yaw_rate: float
+    ax: float
+    ay: float
+    omega: tuple
+    p_brake: tuple | None = None      # per wheel, MPa, or None
+    torque: tuple | None = None       # per wheel, N m, or None
+    grade: float = 0.0                # known road grade, rad (uphill positive)
+    mu: tuple | None = None           # friction per wheel (the friction estimator's last), or None
+    sd_mu: tuple = (0.0, 0.0, 0.0, 0.0)  # its sd
+
+
+@dataclass
+class Kf2:
+    """A two-state Kalman filter, state x, covariance P (2 x 2, symmetric)."""
+    x: list = field(default_factory=lambda: [0.0, 0.0])
+    P: list = field(default_factory=lambda: [[0.0, 0.0], [0.0, 0.0]])
+
+    def predict(self, f01, u, q0, q1, q01=0.0):
+        """x <- F x + [u, 0], P <- F P F^T + Q, with F = [[1, f01], [0, 1]]."""
+        x0, x1 = self.x
+        p00, p01, p11 = self.P[0][0], self.P[0][1], self.P[1][1]
+        self.x = [x0 + f01 * x1 + u, x1]
+        n00 = p00 + 2.0 * f01 * p01 + f01 * f01 * p11 + q0
+        n01 = p01 + f01 * p11 + q01
+        n11 = p11 + q1
+        self.P = [[n00, n01], [n01, n11]]
+
+    def update(self, h0, h1, innovation, r):
+        """Scalar update with H = [h0, h1]: S = H P H^T + r, K = P H^T / S,
+        x <- x + K innovation, P <- P - K K^T S. Returns S."""
+        p00, p01, p11 = self.P[0][0], self.P[0][1], self.P[1][1]
+        ph0 = p00 * h0 + p01 * h1
+        ph1 = p01 * h0 + p11 * h1
+        s = h0 * ph0 + h1 * ph1 + r
+        k0, k1 = ph0 / s, ph1 / s
+        self.x = [self.x[0] + k0 * innovation, self.x[1] + k1 * innovation]
+        n00 = p00 - k0 * k0 * s
+        n01 = p01 - k0 * k1 * s
+        n11 = p11 - k1 * k1 * s
+        self.P = [[n00, n01], [n01, n11]]
+        return s
+
+
+def wheel_positions(p):
+    """(x_i, y_i) of fl, fr, rl, rr relative to the CoG (MODEL.md §1)."""
+    return ((p["Lf"], 0.5 * p["Bf"]), (p["Lf"], -0.5 * p["Bf"]),
+            (-p["Lr"], 0.5 * p["Br"]), (-p["Lr"], -0.5 * p["Br"]))
+
+
+class Observer:
+    """The observer of docs/OBSERVER.md."""
+
+    def __init__(self, params: dict):
+        self.p = dict(params)
+        self.pos = wheel_positions(self.p)
+        self.driven = int(self.p["obs_driven"])
+        self.pm = model_params(self.p)
+        self.started = False
+        self.t = 0.0
+        self.yaw = Kf2()
+        self.lon = Kf2()
+        self.lat = Kf2()
+
+    # §3.1 the wheel references
+    def wheel_refs(self, s: Sample, vy):
+        out = []
+        for i, (xi, yi) in enumerate(self.pos):
+            d = s.delta if i < 2 else 0.0
+            v_w = s.omega[i] * self.p["R"]
+            out.append((v_w - (vy + s.yaw_rate * xi) * math.sin(d)) / math.cos(d)
+                       + s.yaw_rate * yi)
+        return out
+
+    def start(self, s: Sample):
+        """§3.0 the first sample initialises."""
+        p = self.p
+        refs = self.wheel_refs(s, 0.0)
+        vx0 = max(sum(refs) / 4.0, 0.0)
+        self.yaw.x = [s.yaw_rate, 0.0]
+        self.yaw.P = [[p["obs_sd_r"] ** 2, 0.0], [0.0, 1.0]]
+        self.lon.x = [vx0, 0.0]
+        self.lon.P = [[p["obs_sd_vx0"] ** 2, 0.0], [0.0, p["obs_sd_bx0"] ** 2]]
+        self.lat.x = [0.0, 0.0]
+        self.lat.P = [[p["obs_sd_vy0"] ** 2, 0.0], [0.0, p["obs_sd_by0"] ** 2]]
+        self.t = s.t
+        self.started = True
+        return self.output(0)
+
+    def step(self, s: Sample):
+        if not self.started:
+            return self.start(s)
+        p = self.p
+        dt = s.t - self.t
+        if not (p["obs_dt_min"] <= dt <= p["obs_dt_max"]):
+            raise ValueError(f"sample period {dt} outside [obs_dt_min, obs_dt_max]")
+        self.t = s.t
+        flags = 0
+
+        # §3.2 yaw rate and its derivative: constant yaw acceleration, white jerk
+        qj = p["obs_q_jerk"] ** 2
+        self.yaw.predict(dt, 0.0, qj * dt ** 3 / 3.0, qj * dt, qj * dt * dt / 2.0)
+        self.yaw.update(1.0, 0.0, s.yaw_rate - self.yaw.x[0], p["obs_sd_r"] ** 2)
+
+        # §3.3 longitudinal: predict with the accelerometer
+        vy_prev = self.lat.x[0]
+        a_kin = s.ax - p["g"] * math.sin(s.grade) + s.yaw_rate * vy_prev
+        self.lon.predict(-dt, dt * a_kin, (dt * p["obs_sd_ax"]) ** 2, p["obs_q_bx"] ** 2 * dt)
+        vx_pred, bx = self.lon.x
+        a_net = a_kin - bx
+
+        # §3.4 driving state
+        braking = a_net < -p["obs_ax_brake_on"]
+        if s.p_brake is not None and max(s.p_brake) > p["obs_p_brake_on"]:
+            braking = True
+        driven = self.driven
+        driving = (not braking) and a_net > p["obs_ax_drive_on"]
+        if s.torque is not None:
+            driven = sum(1 << i for i in range(4) if s.torque[i] > p["obs_torque_on"])
+            driving = (not braking) and driven != 0
+        flags |= FLAG_BRAKING if braking else (FLAG_DRIVING if driving else 0)
+
+        # §3.5 plausible wheels and the reference. A free-rolling wheel measures vx; a braked
+        # wheel turns slower than it rolls, so it bounds vx from below; a driven wheel bounds
+        # it from above.
+        refs = self.wheel_refs(s, vy_prev)
+        sd_w = p["obs_sd_wheel"] + p["obs_sd_wheel_rel"] * abs(vx_pred)
+        gate = p["obs_k_gate"] * math.sqrt(self.lon.P[0][0] + sd_w * sd_w)
+        ok = [i for i in range(4) if abs(refs[i] - vx_pred) <= gate]
+        free = [] if braking else [i for i in ok if not (driving and (driven >> i) & 1)]
+        z = None
+        r = sd_w * sd_w
+        if free:
+            z = sum(refs[i] for i in free) / len(free)
+            r = r / len(free)
+        elif braking and ok:
+            z = max(refs[i] for i in ok)
+            z = z if z > vx_pred else None
+        elif driving and ok:
+            z = min(refs[i] for i in ok)
+            z = z if z < vx_pred else None
+        if z is not None:
+            self.lon.update(1.0, 0.0, z - vx_pred, r)
+            flags |= FLAG_VX_WHEEL
+        if self.lon.x[0] < 0.0:                   # forward driving only
+            self.lon.x[0] = 0.0
+        vx = self.lon.x[0]
+
+        # §4.1 lateral: predict with the accelerometer
+        self.lat.predict(-dt, dt * (s.ay - s.yaw_rate * vx), (dt * p["obs_sd_ay"]) ** 2,
+                         p["obs_q_by"] ** 2 * dt)
+        vy_pred = self.lat.x[0]
+        if vx >= p["obs_v_lat_min"]:
+            # §4.2 the lateral acceleration of the friction estimator's model (MODEL.md §3-5)
+            # at vy, at this step's friction (raised to what the measured ay proves)
+            mu_low = (1.0 + p["obs_mu_margin"]) * abs(s.ay) / p["g"]
+            if s.mu is None:
+                mu_in, sd_in = (p["obs_mu_default"],) * 4, (p["obs_sd_mu_default"],) * 4
+            else:
+                mu_in, sd_in = s.mu, s.sd_mu
+            if min(mu_in) < mu_low:
+                flags |= FLAG_MU_RAISED
+            mu = tuple(max(m, mu_low) for m in mu_in)
+            mu_hi = tuple(m + d for m, d in zip(mu, sd_in))
+            h = p["obs_dvy"]
+            ay_model = self.model_ay(s, vx, vy_pred, mu)
+            h0 = (self.model_ay(s, vx, vy_pred + h, mu) - ay_model) / h
+            e_mu = (self.model_ay(s, vx, vy_pred, mu_hi) - ay_model) ** 2
+            r = (p["obs_sd_model_ay"] ** 2 + (p["obs_model_ay_rel"] * s.ay) ** 2 + e_mu)
+            self.lat.update(h0, 0.0, s.ay - ay_model, r)
+            flags |= FLAG_VY_MODEL
+        else:
+            # §4.3 low speed: the rear axle rolls without side slip, vy = Lr r
+            self.lat.update(1.0, 0.0, p["Lr"] * s.yaw_rate - vy_pred, p["obs_sd_lowspeed"] ** 2)
+            flags |= FLAG_VY_LOWSPEED
+        return self.output(flags)
+
+    def model_ay(self, s, vx, vy, mu):
+        """MODEL.md §3-5: the lateral row of h(mu, u) at u = (delta, vx, vy, r, ax, ay, omega),
+        with the tyre of the configuration (p["tyre"]: "paper" normalised Dugoff, forces
+        mu F0(u); "dugoff" absolute Dugoff; "magic" Magic Formula)."""
+        import numpy as np
+        from . import model
+        pm = self.pm
+        ti = model.tyre_inputs(pm, np.array([s.delta]), np.array([vx]), np.array([vy]),
+                               np.array([s.yaw_rate]), np.array([s.ax]), np.array([s.ay]),
+                               np.array([s.omega]))
+        m = np.array(mu, dtype=float)
+        if pm["tyre"] == "paper":
+            return float(model.observation_matrix(pm, ti)[0, 1] @ m)
+        return float(model.h_absolute(pm, ti, 0, m[:, None])[1, 0])
+
+    def output(self, flags):
+        """§5 the outputs and their sd."""
+        vx, vy = self.lon.x[0], self.lat.x[0]
+        svx = math.sqrt(max(self.lon.P[0][0], 0.0))
+        svy = math.sqrt(max(self.lat.P[0][0], 0.0))
+        vmin = self.p["obs_v_lat_min"]
+        n2 = max(vx * vx + vy * vy, vmin * vmin)
+        beta = math.atan2(vy, vx) if vx >= vmin else 0.0
+        sbeta = math.sqrt((vx * vx * svy * svy + vy * vy * svx * svx)) / n2
+        return dict(vx=vx, vy=vy, beta=beta, yaw_acc=self.yaw.x[1], sd_vx=svx, sd_vy=svy,
+                    sd_beta=sbeta, sd_yaw_acc=math.sqrt(max(self.yaw.P[1][1], 0.0)),
+                    bx=self.lon.x[1], by=self.lat.x[1], flags=flags)
+
+
+OUTPUTS = ("vx", "vy", "beta", "yaw_acc", "sd_vx", "sd_vy", "sd_beta", "sd_yaw_acc", "bx", "by",
+           "flags")
+
+
+def model_params(p):
+    from .params import DEFAULTS
+    q = dict(DEFAULTS)
+    q.update({k: v for k, v in p.items() if k in DEFAULTS})
+    q["tyre"] = p.get("tyre", "magic")
+    return q
+
+
+def params_with_defaults(vehicle: dict | None = None, **over):
+    from .params import DEFAULTS
+    p = {k: DEFAULTS[k] for k in VEHICLE_KEYS}
+    p.update(OBS_DEFAULTS)
+    if vehicle:
+        p.update({k: v for k, v in vehicle.items() if k in p})
+    p.update(over)
+    p.setdefault("tyre", "magic")
+    return p
+
+
+def run(cols: dict, params: dict, mu=None):
+    """Run the observer over a sensor log's columns (DATA.md names); optional columns
+    p_fl.., torque_fl.., grade are used when present. mu: optional (mu, sd) with mu[w], sd[w]
+    arrays per wheel (the friction estimate the observer's model uses). Returns a dict of output arrays (OUTPUTS)."""
+    import numpy as np
+    n = len(cols["t"])
+    wheels = ("fl", "fr", "rl", "rr")
+    has_p = all(f"p_{w}" in cols for w in wheels)
+    has_t = all(f"torque_{w}" in cols for w in wheels)
+    obs = Observer(params)
+    out = {k: np.zeros(n) for k in OUTPUTS}
+    for k in range(n):
+        s = Sample(t=float(cols["t"][k]), delta=float(cols["delta"][k]),
+                   yaw_rate=float(cols["yaw_rate"][k]), ax=float(cols["ax"][k]),
+                   ay=float(cols["ay"][k]),
+                   omega=tuple(float(cols[f"omega_{w}"][k]) for w in wheels),
+                   p_brake=tuple(float(cols[f"p_{w}"][k]) for w in wheels) if has_p else None,
+                   torque=tuple(float(cols[f"torque_{w}"][k]) for w in wheels) if has_t else None,
+                   grade=float(cols["grade"][k]) if "grade" in cols else 0.0)
+        if mu is not None:
+            s.mu = tuple(float(mu[0][w][k]) for w in range(4))
+            s.sd_mu = tuple(float(mu[1][w][k]) for w in range(4))
+        o = obs.step(s)
+        for key in OUTPUTS:
+            out[key][k] = o[key]
+    return out

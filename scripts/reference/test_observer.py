@@ -1,0 +1,193 @@
+"""Tests of the reference velocity and sideslip observer (docs/OBSERVER.md).
+
+1. its two-state Kalman filter equals the textbook matrix formulas (numpy);
+2. a freely rolling wheel's reference is vx exactly (MODEL.md §3 run forwards);
+3. the yaw-rate differentiator has the lag, gain and noise OBSERVER.md §3.2 states;
+4. on the bundled scenarios (noisy logs, truth from the noise-free twins) vx and beta meet
+   issue 16's targets, with the model's tyre matching the simulator's truth tyre;
+5. an ay bias and a too-low friction do not make vy run away; bad periods are rejected.
+"""
+
+from __future__ import annotations
+
+import glob
+import math
+import os
+
+import numpy as np
+import pytest
+
+from . import logs, model, observer
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+REPO = os.path.dirname(os.path.dirname(HERE))
+SCEN = os.path.join(REPO, "scenarios")
+W = model.WHEELS
+
+
+def test_kf2_matches_the_matrix_formulas():
+    rng = np.random.default_rng(7)
+    for _ in range(50):
+        a = rng.standard_normal((2, 2))
+        P = a @ a.T + 0.1 * np.eye(2)
+        x = rng.standard_normal(2)
+        f01, u, q0, q1, q01 = rng.standard_normal(5) * 0.1
+        q0, q1 = abs(q0), abs(q1)
+        kf = observer.Kf2(list(x), P.tolist())
+        kf.predict(f01, u, q0, q1, q01)
+        F = np.array([[1.0, f01], [0.0, 1.0]])
+        Q = np.array([[q0, q01], [q01, q1]])
+        xe, Pe = F @ x + np.array([u, 0.0]), F @ P @ F.T + Q
+        # 1e-12: two orderings of a few products and sums of O(1) numbers (~1e-15 each)
+        assert np.allclose(kf.x, xe, atol=1e-12) and np.allclose(kf.P, Pe, atol=1e-12)
+        H = rng.standard_normal(2)
+        nu, r = rng.standard_normal(), abs(rng.standard_normal()) + 0.01
+        kf.update(H[0], H[1], nu, r)
+        S = H @ Pe @ H + r
+        K = Pe @ H / S
+        assert np.allclose(kf.x, xe + K * nu, atol=1e-12)
+        assert np.allclose(kf.P, Pe - np.outer(K, K) * S, atol=1e-12)
+
+
+def test_a_free_rolling_wheel_reference_is_vx():
+    p = observer.params_with_defaults()
+    ob = observer.Observer(p)
+    rng = np.random.default_rng(3)
+    for _ in range(20):
+        vx, vy, r, d = 5 + 30 * rng.random(), rng.normal(0, 1), rng.normal(0, 0.3), rng.normal(0, 0.1)
+        pm = observer.model_params(p)
+        v_wx, _, _ = model.wheel_velocities(pm, np.array([d]), np.array([vx]), np.array([vy]),
+                                            np.array([r]))
+        omega = tuple(v_wx[0] / pm["R"])
+        s = observer.Sample(t=0.0, delta=d, yaw_rate=r, ax=0.0, ay=0.0, omega=omega)
+        # 1e-9 m/s: the forward and the inverse formula round differently (~1e-14 relative)
+        assert np.allclose(ob.wheel_refs(s, vy), vx, atol=1e-9)
+
+
+def _steps(p, rates, dt=0.01):
+    ob = observer.Observer(p)
+    out = []
+    for k, r in enumerate(rates):
+        out.append(ob.step(observer.Sample(t=k * dt, delta=0.0, yaw_rate=float(r), ax=0.0,
+                                           ay=0.0, omega=(60.0,) * 4))["yaw_acc"])
+    return np.array(out)
+
+
+@pytest.mark.parametrize("f", [0.25, 1.0, 2.0])
+def test_differentiator_lag_and_gain(f):
+    p = observer.params_with_defaults()
+    t = np.arange(0, 20, 0.01)
+    a = 0.2
+    rd = _steps(p, a * np.sin(2 * np.pi * f * t))[1000:]       # after the start-up
+    w = 2 * np.pi * f
+    tt = t[1000:]
+    # least squares fit rd = G cos(w t - w tau) (the derivative of a sin is a w cos)
+    A = np.column_stack([np.cos(w * tt), np.sin(w * tt)])
+    c, s = np.linalg.lstsq(A, rd, rcond=None)[0]
+    gain = math.hypot(c, s) / (a * w)
+    delay = math.atan2(s, c) / w
+    # OBSERVER.md: 0.04 s and within 1.5 % of unit gain; the fit of a noise-free run is
+    # exact to ~1e-6, the page rounds the delay to 0.04 (0.040-0.042 s over 0.25-2 Hz)
+    assert 0.035 <= delay <= 0.045
+    assert abs(gain - 1.0) <= 0.015
+
+
+def test_differentiator_noise():
+    p = observer.params_with_defaults()
+    rng = np.random.default_rng(11)
+    n = 40000
+    rd = _steps(p, rng.normal(0.0, p["obs_sd_r"], n))[2000:]
+    # OBSERVER.md: 0.053 rad/s^2. The output is correlated over ~0.05 s (5 samples), so
+    # 38000 samples are ~7600 independent ones: the sd estimate is within ~1 % (1/sqrt(2N));
+    # 5 % allows for that and the page's rounding.
+    assert abs(np.std(rd) - 0.053) <= 0.05 * 0.053
+
+
+def _pairs():
+    out = []
+    for f in sorted(glob.glob(os.path.join(SCEN, "*.nf.csv"))):
+        noisy = f.replace(".nf.csv", ".csv")
+        if os.path.exists(noisy):
+            out.append(pytest.param(noisy, f, id=os.path.basename(noisy)[:-4]))
+    return out
+
+
+def _run_with_truth_mu(path, sd_mu=0.05, **over):
+    log = logs.read_csv_log(path)
+    c = log.columns
+    meta = {k: float(v) for k, v in log.meta.items() if k in observer.VEHICLE_KEYS}
+    p = observer.params_with_defaults(meta, tyre="paper", **over)  # the simulator's Dugoff
+    mu = ([c["mu_" + w] for w in W], [np.full(len(c["t"]), sd_mu)] * 4)
+    return c, observer.run(c, p, mu)
+
+
+@pytest.mark.skipif(not _pairs(), reason="no bundled scenarios")
+@pytest.mark.parametrize("noisy,truth", _pairs())
+def test_scenario_targets(noisy, truth):
+    c, o = _run_with_truth_mu(noisy)
+    tr = logs.read_csv_log(truth).columns
+    ex = o["vx"] - tr["vx"]
+    eb = np.degrees(o["beta"] - np.arctan2(tr["vy"], tr["vx"]))
+    # issue 16's targets: vx RMSE <= 0.15 m/s, max <= 0.5 m/s; beta RMSE <= 0.3 deg (these
+    # scenarios stay below the limit except the hard-braking ones, which are straight)
+    assert np.sqrt(np.mean(ex ** 2)) <= 0.15
+    assert np.max(np.abs(ex)) <= 0.5
+    assert np.sqrt(np.mean(eb ** 2)) <= 0.3
+
+
+def _with(path, **cols):
+    log = logs.read_csv_log(path)
+    c = dict(log.columns)
+    c.update(cols)
+    return c
+
+
+@pytest.mark.skipif(not os.path.exists(os.path.join(SCEN, "sine_steer_high_mu.csv")),
+                    reason="no bundled scenarios")
+def test_an_ay_bias_does_not_drift():
+    path = os.path.join(SCEN, "sine_steer_high_mu.csv")
+    c = _with(path)
+    c["ay"] = c["ay"] + 0.1                                   # issue 16: 0.1 m/s^2 bias
+    p = observer.params_with_defaults(tyre="paper")
+    o = observer.run(c, p, ([c["mu_" + w] for w in W], [np.full(len(c["t"]), 0.05)] * 4))
+    tr = logs.read_csv_log(path.replace(".csv", ".nf.csv")).columns
+    eb = np.degrees(o["beta"] - np.arctan2(tr["vy"], tr["vx"]))
+    # pure integration would drift by 0.1 * t: 1 m/s, 2.6 deg after 10 s at 22 m/s; the
+    # model holds vy: the error stays below the 0.3 deg target and b_y finds the bias
+    # (0.1 within 0.03: the offset also absorbs the model's own error, ~0.01 m/s^2 here)
+    assert np.sqrt(np.mean(eb[500:] ** 2)) <= 0.3
+    assert abs(o["by"][-1] - 0.1) <= 0.03
+
+
+@pytest.mark.skipif(not os.path.exists(os.path.join(SCEN, "sine_steer_high_mu.csv")),
+                    reason="no bundled scenarios")
+def test_a_too_low_friction_does_not_run_away():
+    path = os.path.join(SCEN, "sine_steer_high_mu.csv")
+    c = _with(path)
+    n = len(c["t"])
+    p = observer.params_with_defaults(tyre="paper")
+    # the friction estimator claims 0.2 with confidence on a 0.85 road (peak ay 5 m/s^2)
+    o = observer.run(c, p, ([np.full(n, 0.2)] * 4, [np.full(n, 0.02)] * 4))
+    tr = logs.read_csv_log(path.replace(".csv", ".nf.csv")).columns
+    b_true = np.degrees(np.arctan2(tr["vy"], tr["vx"]))
+    eb = np.degrees(o["beta"]) - b_true
+    assert np.any(o["flags"].astype(int) & observer.FLAG_MU_RAISED)
+    # The ay lower bound keeps mu >= 1.1 |ay|/g (0.56 at the 5 m/s^2 peaks), so the model
+    # never saturates below the measured ay. With the simulator's tyre, whose stiffness
+    # scales with mu, a 0.56 road is 0.66 times as stiff: the model alone would put beta at
+    # up to ~2.3 times the truth, so the fused error is bounded by 3 |beta_true|max (5.2
+    # deg); and the kinematics pull vy back: in the last 2 s the error is below 1 deg and
+    # below a third of the first 2 s (no run-away: it shrinks).
+    err = np.abs(eb)
+    assert np.max(err) <= 3.0 * np.max(np.abs(b_true))
+    assert np.max(err[-200:]) <= 1.0
+    assert np.max(err[-200:]) <= np.max(err[:200]) / 3.0
+
+
+def test_a_bad_period_is_rejected():
+    ob = observer.Observer(observer.params_with_defaults())
+    s = observer.Sample(t=0.0, delta=0.0, yaw_rate=0.0, ax=0.0, ay=0.0, omega=(60.0,) * 4)
+    ob.step(s)
+    with pytest.raises(ValueError):
+        ob.step(observer.Sample(t=0.5, delta=0.0, yaw_rate=0.0, ax=0.0, ay=0.0,
+                                omega=(60.0,) * 4))
