@@ -46,7 +46,7 @@ DEPS_EXTRA :=
 TEST_GATES :=
 include $(sort $(filter-out mk/lib.mk,$(wildcard mk/*.mk)))
 
-.PHONY: names all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind coverage demo goldens goldens-q31 scenarios clean vectors shared-sync check-shared readme-table \
+.PHONY: names observer-goldens all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind coverage demo goldens goldens-q31 scenarios clean vectors shared-sync check-shared readme-table \
         check-kernels check-tools layers help-check goldens-ref check-nofloat help deps-analysis misra tidy complexity structural analysis
 ## the libraries and build/mu_replay (the default target)
 all: lib $(BUILD)/mu_replay
@@ -335,6 +335,11 @@ check-kernels: venv
 # scenarios/golden/<stem>.<config>.q31.csv; test/golden/test_golden_q31.c requires every value bit
 # for bit (the Q values converted exactly to double, written in the shortest exact form).
 Q31_GOLDEN_LOGS = $(filter-out %.nf.csv %.mf.csv,$(wildcard scenarios/*.csv))
+# The velocity observer's goldens (docs/OBSERVER.md) from its float64 reference.
+## regenerate the velocity observer's goldens (scenarios/golden/observer/)
+observer-goldens: venv
+	$(PY) scripts/data/make_observer_goldens.py --scenarios scenarios --out scenarios/golden/observer
+
 ## regenerate the fixed-point goldens with mu_replay --real q31
 goldens-q31: $(BUILD)/mu_replay
 	@set -e; for f in $(Q31_GOLDEN_LOGS); do s=$$(basename $$f .csv); \

@@ -42,5 +42,14 @@
 #ifndef RFE_LIMIT_OMEGA
 #define RFE_LIMIT_OMEGA 500.0    /**< |omega| [rad/s] (about 160 m/s at R = 0.325 m) */
 #endif
+#ifndef RFE_LIMIT_PRESSURE
+#define RFE_LIMIT_PRESSURE 50.0  /**< brake pressure [MPa], 0 .. this (velocity observer) */
+#endif
+#ifndef RFE_LIMIT_TORQUE
+#define RFE_LIMIT_TORQUE 20000.0 /**< |drive torque at a wheel| [N m] (velocity observer) */
+#endif
+#ifndef RFE_LIMIT_GRADE
+#define RFE_LIMIT_GRADE 0.6      /**< |road grade| [rad] (about 35 degrees) */
+#endif
 
 #endif /* RFE_CONFIG_H */

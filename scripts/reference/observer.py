@@ -49,7 +49,6 @@ OBS_DEFAULTS: dict[str, float] = {
     "obs_sd_by0": 0.1,          # initial sd of the lateral offset, m/s^2
 }
 
-VEHICLE_KEYS = ("m", "Lf", "Lr", "Bf", "Br", "R", "hg", "g")
 
 # §5 output flags
 FLAG_VX_WHEEL = 1        # vx corrected by a wheel reference this step
@@ -165,13 +164,14 @@ class Observer:
 
         # §3.2 yaw rate and its derivative: constant yaw acceleration, white jerk
         qj = p["obs_q_jerk"] ** 2
-        self.yaw.predict(dt, 0.0, qj * dt ** 3 / 3.0, qj * dt, qj * dt * dt / 2.0)
+        self.yaw.predict(dt, 0.0, qj * dt * dt * dt / 3.0, qj * dt, qj * dt * dt / 2.0)
         self.yaw.update(1.0, 0.0, s.yaw_rate - self.yaw.x[0], p["obs_sd_r"] ** 2)
 
         # §3.3 longitudinal: predict with the accelerometer
         vy_prev = self.lat.x[0]
         a_kin = s.ax - p["g"] * math.sin(s.grade) + s.yaw_rate * vy_prev
-        self.lon.predict(-dt, dt * a_kin, (dt * p["obs_sd_ax"]) ** 2, p["obs_q_bx"] ** 2 * dt)
+        sx = dt * p["obs_sd_ax"]
+        self.lon.predict(-dt, dt * a_kin, sx * sx, (p["obs_q_bx"] * p["obs_q_bx"]) * dt)
         vx_pred, bx = self.lon.x
         a_net = a_kin - bx
 
@@ -213,8 +213,9 @@ class Observer:
         vx = self.lon.x[0]
 
         # §4.1 lateral: predict with the accelerometer
-        self.lat.predict(-dt, dt * (s.ay - s.yaw_rate * vx), (dt * p["obs_sd_ay"]) ** 2,
-                         p["obs_q_by"] ** 2 * dt)
+        sy = dt * p["obs_sd_ay"]
+        self.lat.predict(-dt, dt * (s.ay - s.yaw_rate * vx), sy * sy,
+                         (p["obs_q_by"] * p["obs_q_by"]) * dt)
         vy_pred = self.lat.x[0]
         if vx >= p["obs_v_lat_min"]:
             # §4.2 the lateral acceleration of the friction estimator's model (MODEL.md §3-5)
@@ -264,7 +265,7 @@ class Observer:
         vmin = self.p["obs_v_lat_min"]
         n2 = max(vx * vx + vy * vy, vmin * vmin)
         beta = math.atan2(vy, vx) if vx >= vmin else 0.0
-        sbeta = math.sqrt((vx * vx * svy * svy + vy * vy * svx * svx)) / n2
+        sbeta = math.sqrt((vx * vx) * (svy * svy) + (vy * vy) * (svx * svx)) / n2
         return dict(vx=vx, vy=vy, beta=beta, yaw_acc=self.yaw.x[1], sd_vx=svx, sd_vy=svy,
                     sd_beta=sbeta, sd_yaw_acc=math.sqrt(max(self.yaw.P[1][1], 0.0)),
                     bx=self.lon.x[1], by=self.lat.x[1], flags=flags)
@@ -275,6 +276,7 @@ OUTPUTS = ("vx", "vy", "beta", "yaw_acc", "sd_vx", "sd_vy", "sd_beta", "sd_yaw_a
 
 
 def model_params(p):
+    """The friction model's parameters (vehicle, tyre) out of the observer's dict."""
     from .params import DEFAULTS
     q = dict(DEFAULTS)
     q.update({k: v for k, v in p.items() if k in DEFAULTS})
@@ -282,14 +284,16 @@ def model_params(p):
     return q
 
 
-def params_with_defaults(vehicle: dict | None = None, **over):
-    from .params import DEFAULTS
-    p = {k: DEFAULTS[k] for k in VEHICLE_KEYS}
+def params_with_defaults(known: dict | None = None, **over):
+    """The friction estimator's default preset (its vehicle and tyre are the observer's),
+    the observer's defaults, then @p known (e.g. params.from_metadata of a log), then @p over."""
+    from .params import DEFAULTS, PRESETS
+    p = dict(DEFAULTS)
+    p.update(PRESETS["default"])
     p.update(OBS_DEFAULTS)
-    if vehicle:
-        p.update({k: v for k, v in vehicle.items() if k in p})
+    if known:
+        p.update(known)
     p.update(over)
-    p.setdefault("tyre", "magic")
     return p
 
 

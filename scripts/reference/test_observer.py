@@ -17,7 +17,7 @@ import os
 import numpy as np
 import pytest
 
-from . import logs, model, observer
+from . import logs, model, observer, params
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(os.path.dirname(HERE))
@@ -115,7 +115,7 @@ def _pairs():
 def _run_with_truth_mu(path, sd_mu=0.05, **over):
     log = logs.read_csv_log(path)
     c = log.columns
-    meta = {k: float(v) for k, v in log.meta.items() if k in observer.VEHICLE_KEYS}
+    meta = params.from_metadata(log.meta)
     p = observer.params_with_defaults(meta, tyre="paper", **over)  # the simulator's Dugoff
     mu = ([c["mu_" + w] for w in W], [np.full(len(c["t"]), sd_mu)] * 4)
     return c, observer.run(c, p, mu)
@@ -191,3 +191,25 @@ def test_a_bad_period_is_rejected():
     with pytest.raises(ValueError):
         ob.step(observer.Sample(t=0.5, delta=0.0, yaw_rate=0.0, ax=0.0, ay=0.0,
                                 omega=(60.0,) * 4))
+
+
+GOLDEN_OBS = os.path.join(SCEN, "golden", "observer")
+
+
+@pytest.mark.skipif(not os.path.isdir(GOLDEN_OBS), reason="no observer goldens")
+@pytest.mark.parametrize("name", ["brake_in_turn.csv", "sine_steer_low_mu.csv"])
+def test_observer_goldens_are_up_to_date(name):
+    import sys
+    sys.path.insert(0, os.path.join(REPO, "scripts", "data"))
+    import make_observer_goldens as mog
+    meta, cols, rows = mog.golden(os.path.join(SCEN, name))
+    now = np.array([list(r) for r in rows])
+    g = logs.read_csv_log(os.path.join(GOLDEN_OBS, name), required=cols)
+    old = np.column_stack([g.columns[c] for c in cols])
+    assert now.shape == old.shape
+    # 1e-9 absolute: the observer's path is plain float64 except the model's 4-term dot
+    # products (numpy may sum them in another order on another CPU: ~1e-16 relative), and
+    # the filters are stable; the flags (last column) exactly
+    assert np.max(np.abs(now[:, :-1] - old[:, :-1])) <= 1e-9
+    assert np.array_equal(now[:, -1], old[:, -1])
+    assert dict(meta)["source"] == g.meta["source"]

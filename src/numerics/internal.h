@@ -43,6 +43,7 @@
 #define RFE_MAGIC_CKF 0x434B4620u  /* "CKF " */
 #define RFE_MAGIC_EST 0x45535431u  /* "EST1" */
 #define RFE_MAGIC_COND 0x434F4E44u /* "COND" */
+#define RFE_MAGIC_VEL 0x56454C31u  /* "VEL1" */
 
 /** True when x is neither NaN nor infinite. */
 static inline int rfe_is_finite(rfe_real_t x) { return isfinite(x) ? 1 : 0; }

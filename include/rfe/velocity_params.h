@@ -1,0 +1,78 @@
+/**
+ * @file velocity_params.h
+ * @brief Parameters of the velocity and sideslip observer (docs/OBSERVER.md §2), their
+ *        defaults and their validation. The vehicle and the tyre are the friction
+ *        estimator's (rfe/params.h): one calibration serves both.
+ */
+#ifndef RFE_VELOCITY_PARAMS_H
+#define RFE_VELOCITY_PARAMS_H
+
+#include "rfe/types.h"
+
+/* Full names of the functions declared here: _f32 in the float build, _f64 with
+ * RFE_REAL_DOUBLE (rfe/types.h). Sources define and call them by the short name. */
+#if defined(RFE_REAL_DOUBLE)
+#define rfe_velocity_params_default  rfe_velocity_params_default_f64
+#define rfe_velocity_params_validate rfe_velocity_params_validate_f64
+#else
+#define rfe_velocity_params_default  rfe_velocity_params_default_f32
+#define rfe_velocity_params_validate rfe_velocity_params_validate_f32
+#endif
+
+/** Driven-wheel bits of rfe_velocity_params_t.driven (fl, fr, rl, rr). */
+#define RFE_DRIVEN_FL 1u
+#define RFE_DRIVEN_FR 2u
+#define RFE_DRIVEN_RL 4u
+#define RFE_DRIVEN_RR 8u
+/** Every wheel driven (all-wheel drive). */
+#define RFE_DRIVEN_ALL (RFE_DRIVEN_FL | RFE_DRIVEN_FR | RFE_DRIVEN_RL | RFE_DRIVEN_RR)
+
+/** The observer's parameters; each field is the parameter-file key obs_<field>. */
+typedef struct {
+    uint32_t driven;          /**< driven wheels, RFE_DRIVEN_* bits (1..15): 3 (front drive) */
+    rfe_real_t dt_min;        /**< shortest accepted sample period [s]: 0.001 */
+    rfe_real_t dt_max;        /**< longest accepted sample period [s]: 0.1 */
+    rfe_real_t q_jerk;        /**< yaw-jerk density of the differentiator [rad/s^3 sqrt(s)]: 0.5 */
+    rfe_real_t sd_r;          /**< yaw-rate sensor noise [rad/s]: 0.005 */
+    rfe_real_t sd_ax;         /**< ax noise per sample [m/s^2]: 0.05 */
+    rfe_real_t sd_ay;         /**< ay noise per sample [m/s^2]: 0.05 */
+    rfe_real_t q_bx;          /**< random walk of the longitudinal offset [m/s^2/sqrt(s)]: 0.005 */
+    rfe_real_t q_by;          /**< random walk of the lateral offset [m/s^2/sqrt(s)]: 0.001 */
+    rfe_real_t sd_wheel;      /**< wheel reference noise [m/s]: 0.05 */
+    rfe_real_t sd_wheel_rel;  /**< wheel reference error relative to vx [1]: 0.005 */
+    rfe_real_t k_gate;        /**< plausibility gate of a wheel [sd]: 3 */
+    rfe_real_t ax_brake_on;   /**< net deceleration that means braking [m/s^2]: 0.5 */
+    rfe_real_t ax_drive_on;   /**< net acceleration that means driving [m/s^2]: 0.5 */
+    rfe_real_t p_brake_on;    /**< brake pressure that means braking [MPa]: 0.2 */
+    rfe_real_t torque_on;     /**< drive torque that marks a wheel driven [N m]: 50 */
+    rfe_real_t sd_model_ay;   /**< error of the model's lateral acceleration [m/s^2]: 0.3 */
+    rfe_real_t model_ay_rel;  /**< the same relative to |ay| [1]: 0.1 */
+    rfe_real_t dvy;           /**< step of the model's derivative by vy [m/s]: 0.01 */
+    rfe_real_t v_lat_min;     /**< below this vx, vy = Lr r [m/s]: 3 */
+    rfe_real_t sd_lowspeed;   /**< sd of that kinematic vy [m/s]: 0.1 */
+    rfe_real_t mu_default;    /**< friction the model uses while none is given: 1.0 */
+    rfe_real_t sd_mu_default; /**< its sd: 0.3 */
+    rfe_real_t mu_margin;     /**< the model's friction >= (1 + margin) |ay| / g: 0.1 */
+    rfe_real_t sd_vx0;        /**< initial sd of vx [m/s]: 1.0 */
+    rfe_real_t sd_bx0;        /**< initial sd of the longitudinal offset [m/s^2]: 0.3 */
+    rfe_real_t sd_vy0;        /**< initial sd of vy [m/s]: 0.3 */
+    rfe_real_t sd_by0;        /**< initial sd of the lateral offset [m/s^2]: 0.1 */
+} rfe_velocity_params_t;
+
+/**
+ * The defaults of docs/OBSERVER.md §2.
+ * @param[out] p  the parameters to fill.
+ * @return RFE_OK; RFE_ERR_NULL.
+ */
+RFE_NODISCARD rfe_status_t rfe_velocity_params_default(rfe_velocity_params_t *p);
+
+/**
+ * Checks every field: finite; driven in 1..15; 0 < dt_min <= dt_max <= 1; q_jerk, sd_r,
+ * sd_ax, sd_ay, dvy, v_lat_min, sd_lowspeed, mu_default > 0; every other sd, q, gate,
+ * threshold and margin >= 0.
+ * @param[in] p  the parameters to check.
+ * @return RFE_OK, RFE_ERR_NULL or RFE_ERR_PARAM.
+ */
+RFE_NODISCARD rfe_status_t rfe_velocity_params_validate(const rfe_velocity_params_t *p);
+
+#endif /* RFE_VELOCITY_PARAMS_H */

@@ -1,0 +1,116 @@
+/**
+ * @file lateral_flt.c
+ * @brief The lateral filter [vy, b_y] (docs/OBSERVER.md §4): ay - r vx integrated, held by
+ *        the friction estimator's own measurement model (rfe/component/meas.h) at its last
+ *        friction, which the measured ay bounds from below.
+ */
+#include "estimators/velocity/velocity_internal.h"
+
+#include "rfe/component/meas.h"
+
+#include "numerics/internal.h"
+
+/* The lateral row of h(mu, u) at vy (MODEL.md §3-5), and, when @p mu_hi is not NULL, at
+ * the raised friction too (same kinematics: one set-up). */
+static rfe_status_t model_ay(const rfe_velocity_t *obs, const rfe_velocity_input_t *in,
+                             rfe_real_t vx, rfe_real_t vy, const rfe_real_t mu[RFE_WHEELS],
+                             const rfe_real_t *mu_hi, rfe_real_t *ay, rfe_real_t *ay_hi)
+{
+    rfe_meas_t h;
+    rfe_real_t z[RFE_MEAS];
+    rfe_sample_t u;
+    size_t i;
+    rfe_status_t st;
+    u.delta = in->delta;
+    u.vx = vx;
+    u.vy = vy;
+    u.yaw_rate = in->yaw_rate;
+    u.yaw_acc = RFE_R(0.0); /* not used by the model */
+    u.ax = in->ax;
+    u.ay = in->ay;
+    for (i = 0u; i < RFE_WHEELS; ++i) {
+        u.omega[i] = in->omega[i];
+    }
+    st = rfe_meas_setup(&h, &obs->veh, &obs->tyre, &u);
+    if (st == RFE_OK) {
+        st = rfe_meas_eval(&h, &obs->veh, &obs->tyre, mu, z);
+        *ay = z[1];
+    }
+    if ((st == RFE_OK) && (mu_hi != NULL)) {
+        st = rfe_meas_eval(&h, &obs->veh, &obs->tyre, mu_hi, z);
+        *ay_hi = z[1];
+    }
+    return st;
+}
+
+/* The model's friction (§4.2): the input or the default, raised to what the measured ay
+ * proves; mu_hi = mu + sd. Returns 1 when the bound raised a wheel. */
+static int model_friction(const rfe_velocity_params_t *p, rfe_real_t g, rfe_real_t ay,
+                          const rfe_velocity_mu_t *in, rfe_real_t mu[RFE_WHEELS],
+                          rfe_real_t mu_hi[RFE_WHEELS])
+{
+    const rfe_real_t mu_low = ((RFE_R(1.0) + p->mu_margin) * RFE_FABS(ay)) / g;
+    int raised = 0;
+    size_t i;
+    for (i = 0u; i < RFE_WHEELS; ++i) {
+        const rfe_real_t m = (in != NULL) ? in->mu[i] : p->mu_default;
+        const rfe_real_t sd = (in != NULL) ? in->sd[i] : p->sd_mu_default;
+        if (m < mu_low) {
+            raised = 1;
+        }
+        mu[i] = rfe_max(m, mu_low);
+        mu_hi[i] = mu[i] + sd;
+    }
+    return raised;
+}
+
+rfe_status_t rfe_vel_lateral_step(rfe_kf2_t *f, const rfe_velocity_t *obs,
+                                  const rfe_velocity_input_t *in, rfe_real_t vx,
+                                  const rfe_velocity_mu_t *mu, uint32_t *flags)
+{
+    const rfe_velocity_params_t *p = &obs->p;
+    rfe_kf2_t k;
+    uint32_t fl = 0u;
+    const rfe_real_t dt = in->dt;
+    const rfe_real_t sy = dt * p->sd_ay;
+    rfe_status_t st;
+    k = *f;
+    st = rfe_kf2_predict(&k, -dt, dt * (in->ay - (in->yaw_rate * vx)), sy * sy,
+                                      (p->q_by * p->q_by) * dt, RFE_R(0.0));
+    if (st != RFE_OK) {
+        return st;
+    }
+    if (vx >= p->v_lat_min) {
+        rfe_real_t m[RFE_WHEELS];
+        rfe_real_t m_hi[RFE_WHEELS];
+        rfe_real_t ay0 = RFE_R(0.0);
+        rfe_real_t ay_mu = RFE_R(0.0);
+        rfe_real_t ay_h = RFE_R(0.0);
+        const rfe_real_t vy_pred = k.x[0];
+        if (model_friction(p, obs->veh.g, in->ay, mu, m, m_hi) != 0) {
+            fl |= RFE_VEL_FLAG_MU_RAISED;
+        }
+        st = model_ay(obs, in, vx, vy_pred, m, m_hi, &ay0, &ay_mu);
+        if (st == RFE_OK) {
+            st = model_ay(obs, in, vx, vy_pred + p->dvy, m, NULL, &ay_h, NULL);
+        }
+        if (st == RFE_OK) {
+            const rfe_real_t h0 = (ay_h - ay0) / p->dvy;
+            const rfe_real_t e_mu = ay_mu - ay0;
+            const rfe_real_t rel = p->model_ay_rel * in->ay;
+            const rfe_real_t r = ((p->sd_model_ay * p->sd_model_ay) + (rel * rel)) + (e_mu * e_mu);
+            st = rfe_kf2_update(&k, h0, RFE_R(0.0), in->ay - ay0, r);
+            fl |= RFE_VEL_FLAG_VY_MODEL;
+        }
+    } else {
+        /* §4.3 low speed: the rear axle rolls without side slip, vy = Lr r */
+        st = rfe_kf2_update(&k, RFE_R(1.0), RFE_R(0.0), (obs->veh.Lr * in->yaw_rate) - k.x[0],
+                            p->sd_lowspeed * p->sd_lowspeed);
+        fl |= RFE_VEL_FLAG_VY_LOWSPEED;
+    }
+    if (st == RFE_OK) {
+        *f = k;
+        *flags |= fl;
+    }
+    return st;
+}

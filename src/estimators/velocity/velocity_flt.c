@@ -1,0 +1,178 @@
+/**
+ * @file velocity_flt.c
+ * @brief The velocity and sideslip observer (docs/OBSERVER.md): input checks, the first
+ *        sample, the step order (yaw rate, longitudinal, lateral) and the outputs (§5).
+ */
+#include "rfe/velocity.h"
+
+#include "estimators/velocity/velocity_internal.h"
+#include "numerics/internal.h"
+
+rfe_status_t rfe_velocity_init(rfe_velocity_t *obs, const rfe_velocity_params_t *vp,
+                               const rfe_params_t *veh)
+{
+    if ((obs == NULL) || (vp == NULL) || (veh == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    if ((rfe_velocity_params_validate(vp) != RFE_OK) || (rfe_params_validate(veh) != RFE_OK)) {
+        return RFE_ERR_PARAM;
+    }
+    obs->p = *vp;
+    obs->veh = veh->vehicle;
+    obs->tyre = veh->tyre;
+    obs->started = 0u;
+    obs->yaw = (rfe_kf2_t){{RFE_R(0.0), RFE_R(0.0)}, RFE_R(0.0), RFE_R(0.0), RFE_R(0.0)};
+    obs->lon = obs->yaw;
+    obs->lat = obs->yaw;
+    obs->last = (rfe_velocity_estimate_t){0};
+    obs->magic = RFE_MAGIC_VEL;
+    return RFE_OK;
+}
+
+/* §1 every input finite. */
+static int inputs_finite(const rfe_velocity_input_t *in, const rfe_velocity_mu_t *mu)
+{
+    const rfe_real_t v[6] = {in->dt, in->delta, in->yaw_rate, in->ax, in->ay, in->grade};
+    if ((rfe_all_finite(v, 6u) == 0) || (rfe_all_finite(in->omega, RFE_WHEELS) == 0) ||
+        (rfe_all_finite(in->p_brake, RFE_WHEELS) == 0) ||
+        (rfe_all_finite(in->torque, RFE_WHEELS) == 0)) {
+        return 0;
+    }
+    if ((mu != NULL) &&
+        ((rfe_all_finite(mu->mu, RFE_WHEELS) == 0) || (rfe_all_finite(mu->sd, RFE_WHEELS) == 0))) {
+        return 0;
+    }
+    return 1;
+}
+
+/* §1 the per-wheel inputs inside their limits: |omega|, 0 <= p, |torque|, 0 <= mu <= 2,
+ * sd >= 0. */
+static int wheels_in_range(const rfe_velocity_input_t *in, const rfe_velocity_mu_t *mu)
+{
+    size_t i;
+    for (i = 0u; i < RFE_WHEELS; ++i) {
+        if ((RFE_FABS(in->omega[i]) > RFE_R(RFE_LIMIT_OMEGA)) ||
+            (in->p_brake[i] < RFE_R(0.0)) || (in->p_brake[i] > RFE_R(RFE_LIMIT_PRESSURE)) ||
+            (RFE_FABS(in->torque[i]) > RFE_R(RFE_LIMIT_TORQUE))) {
+            return 0;
+        }
+        if ((mu != NULL) && ((mu->mu[i] < RFE_R(0.0)) || (mu->mu[i] > RFE_R(2.0)) ||
+                             (mu->sd[i] < RFE_R(0.0)))) {
+            return 0;
+        }
+    }
+    return 1;
+}
+
+/* §1 the inputs: finite, inside config.h's limits; on a later sample dt in range. */
+static rfe_status_t check_input(const rfe_velocity_t *obs, const rfe_velocity_input_t *in,
+                                const rfe_velocity_mu_t *mu)
+{
+    if (inputs_finite(in, mu) == 0) {
+        return RFE_ERR_NONFINITE;
+    }
+    if ((RFE_FABS(in->delta) > RFE_R(RFE_LIMIT_DELTA)) ||
+        (RFE_FABS(in->yaw_rate) > RFE_R(RFE_LIMIT_YAW_RATE)) ||
+        (RFE_FABS(in->ax) > RFE_R(RFE_LIMIT_ACC)) || (RFE_FABS(in->ay) > RFE_R(RFE_LIMIT_ACC)) ||
+        (RFE_FABS(in->grade) > RFE_R(RFE_LIMIT_GRADE)) || (wheels_in_range(in, mu) == 0)) {
+        return RFE_ERR_RANGE;
+    }
+    if ((obs->started != 0u) && ((in->dt < obs->p.dt_min) || (in->dt > obs->p.dt_max))) {
+        return RFE_ERR_RANGE;
+    }
+    return RFE_OK;
+}
+
+/* §5 the outputs of the filters. */
+static void outputs(const rfe_velocity_t *obs, uint32_t flags, rfe_velocity_estimate_t *e)
+{
+    const rfe_real_t vx = obs->lon.x[0];
+    const rfe_real_t vy = obs->lat.x[0];
+    const rfe_real_t vmin = obs->p.v_lat_min;
+    const rfe_real_t svx = RFE_SQRT(rfe_max(obs->lon.p00, RFE_R(0.0)));
+    const rfe_real_t svy = RFE_SQRT(rfe_max(obs->lat.p00, RFE_R(0.0)));
+    const rfe_real_t n2 = rfe_max((vx * vx) + (vy * vy), vmin * vmin);
+    e->vx = vx;
+    e->vy = vy;
+    e->beta = (vx >= vmin) ? RFE_ATAN2(vy, vx) : RFE_R(0.0);
+    e->sd_vx = svx;
+    e->sd_vy = svy;
+    e->sd_beta = RFE_SQRT(((vx * vx) * (svy * svy)) + ((vy * vy) * (svx * svx))) / n2;
+    e->yaw_acc = obs->yaw.x[1];
+    e->sd_yaw_acc = RFE_SQRT(rfe_max(obs->yaw.p11, RFE_R(0.0)));
+    e->bx = obs->lon.x[1];
+    e->by = obs->lat.x[1];
+    e->flags = flags;
+    e->status = RFE_OK;
+}
+
+/* §3.0 the first sample initialises every filter. */
+static rfe_status_t start(rfe_velocity_t *o, const rfe_velocity_input_t *in)
+{
+    rfe_real_t refs[RFE_WHEELS];
+    rfe_real_t mean;
+    rfe_status_t st;
+    rfe_vel_wheel_refs(&o->veh, in, RFE_R(0.0), refs);
+    mean = (((refs[0] + refs[1]) + refs[2]) + refs[3]) / RFE_R(4.0);
+    st = rfe_kf2_init(&o->yaw, in->yaw_rate, RFE_R(0.0), o->p.sd_r, RFE_R(1.0));
+    if (st == RFE_OK) {
+        st = rfe_kf2_init(&o->lon, rfe_max(mean, RFE_R(0.0)), RFE_R(0.0), o->p.sd_vx0,
+                          o->p.sd_bx0);
+    }
+    if (st == RFE_OK) {
+        st = rfe_kf2_init(&o->lat, RFE_R(0.0), RFE_R(0.0), o->p.sd_vy0, o->p.sd_by0);
+    }
+    return st;
+}
+
+rfe_status_t rfe_velocity_step(rfe_velocity_t *obs, const rfe_velocity_input_t *in,
+                               const rfe_velocity_mu_t *mu, rfe_velocity_estimate_t *out)
+{
+    rfe_velocity_t o;
+    uint32_t flags = 0u;
+    rfe_status_t st;
+    if ((obs == NULL) || (in == NULL) || (out == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    if (obs->magic != RFE_MAGIC_VEL) {
+        return RFE_ERR_NOT_INITIALISED;
+    }
+    st = check_input(obs, in, mu);
+    o = *obs; /* work on a copy: an error leaves the observer as it was */
+    if ((st == RFE_OK) && (o.started == 0u)) {
+        st = start(&o, in);
+    } else if (st == RFE_OK) {
+        const rfe_real_t vy_prev = o.lat.x[0];
+        st = rfe_vel_yaw_acc_step(&o.yaw, &o.p, in->dt, in->yaw_rate);
+        if (st == RFE_OK) {
+            st = rfe_vel_longitudinal_step(&o.lon, &o.p, &o.veh, in, vy_prev, &flags);
+        }
+        if (st == RFE_OK) {
+            st = rfe_vel_lateral_step(&o.lat, &o, in, o.lon.x[0], mu, &flags);
+        }
+    } else {
+        /* the checks failed: nothing to compute */
+    }
+    if (st != RFE_OK) {
+        *out = obs->last;
+        out->status = st;
+        return st;
+    }
+    o.started = 1u;
+    outputs(&o, flags, &o.last);
+    *obs = o;
+    *out = o.last;
+    return RFE_OK;
+}
+
+rfe_status_t rfe_velocity_get(const rfe_velocity_t *obs, rfe_velocity_estimate_t *out)
+{
+    if ((obs == NULL) || (out == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    if (obs->magic != RFE_MAGIC_VEL) {
+        return RFE_ERR_NOT_INITIALISED;
+    }
+    *out = obs->last;
+    return RFE_OK;
+}

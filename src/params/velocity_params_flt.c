@@ -1,0 +1,90 @@
+/**
+ * @file velocity_params_flt.c
+ * @brief The observer's defaults and validation (docs/OBSERVER.md §2).
+ */
+#include "rfe/velocity_params.h"
+
+#include "numerics/internal.h"
+
+rfe_status_t rfe_velocity_params_default(rfe_velocity_params_t *p)
+{
+    if (p == NULL) {
+        return RFE_ERR_NULL;
+    }
+    p->driven = RFE_DRIVEN_FL | RFE_DRIVEN_FR;
+    p->dt_min = RFE_R(0.001);
+    p->dt_max = RFE_R(0.1);
+    p->q_jerk = RFE_R(0.5);
+    p->sd_r = RFE_R(0.005);
+    p->sd_ax = RFE_R(0.05);
+    p->sd_ay = RFE_R(0.05);
+    p->q_bx = RFE_R(0.005);
+    p->q_by = RFE_R(0.001);
+    p->sd_wheel = RFE_R(0.05);
+    p->sd_wheel_rel = RFE_R(0.005);
+    p->k_gate = RFE_R(3.0);
+    p->ax_brake_on = RFE_R(0.5);
+    p->ax_drive_on = RFE_R(0.5);
+    p->p_brake_on = RFE_R(0.2);
+    p->torque_on = RFE_R(50.0);
+    p->sd_model_ay = RFE_R(0.3);
+    p->model_ay_rel = RFE_R(0.1);
+    p->dvy = RFE_R(0.01);
+    p->v_lat_min = RFE_R(3.0);
+    p->sd_lowspeed = RFE_R(0.1);
+    p->mu_default = RFE_R(1.0);
+    p->sd_mu_default = RFE_R(0.3);
+    p->mu_margin = RFE_R(0.1);
+    p->sd_vx0 = RFE_R(1.0);
+    p->sd_bx0 = RFE_R(0.3);
+    p->sd_vy0 = RFE_R(0.3);
+    p->sd_by0 = RFE_R(0.1);
+    return RFE_OK;
+}
+
+/* The fields that must be > 0, then those that must be >= 0 (docs/OBSERVER.md §2). */
+static int positive_ok(const rfe_velocity_params_t *p)
+{
+    const rfe_real_t v[8] = {p->q_jerk, p->sd_r, p->sd_ax, p->sd_ay,
+                             p->dvy, p->v_lat_min, p->sd_lowspeed, p->mu_default};
+    size_t i;
+    for (i = 0u; i < 8u; ++i) {
+        if (!rfe_is_finite(v[i]) || !(v[i] > RFE_R(0.0))) {
+            return 0;
+        }
+    }
+    return 1;
+}
+
+static int non_negative_ok(const rfe_velocity_params_t *p)
+{
+    const rfe_real_t v[17] = {p->q_bx, p->q_by, p->sd_wheel, p->sd_wheel_rel, p->k_gate,
+                              p->ax_brake_on, p->ax_drive_on, p->p_brake_on, p->torque_on,
+                              p->sd_model_ay, p->model_ay_rel, p->sd_mu_default,
+                              p->mu_margin, p->sd_vx0, p->sd_bx0, p->sd_vy0, p->sd_by0};
+    size_t i;
+    for (i = 0u; i < 17u; ++i) {
+        if (!rfe_is_finite(v[i]) || !(v[i] >= RFE_R(0.0))) {
+            return 0;
+        }
+    }
+    return 1;
+}
+
+rfe_status_t rfe_velocity_params_validate(const rfe_velocity_params_t *p)
+{
+    if (p == NULL) {
+        return RFE_ERR_NULL;
+    }
+    if ((p->driven == 0u) || ((p->driven & ~RFE_DRIVEN_ALL) != 0u)) {
+        return RFE_ERR_PARAM;
+    }
+    if (!rfe_is_finite(p->dt_min) || !rfe_is_finite(p->dt_max) || !(p->dt_min > RFE_R(0.0)) ||
+        !(p->dt_min <= p->dt_max) || !(p->dt_max <= RFE_R(1.0))) {
+        return RFE_ERR_PARAM;
+    }
+    if ((positive_ok(p) == 0) || (non_negative_ok(p) == 0)) {
+        return RFE_ERR_PARAM;
+    }
+    return RFE_OK;
+}

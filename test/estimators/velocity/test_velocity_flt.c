@@ -1,0 +1,317 @@
+/**
+ * @file test_velocity_flt.c
+ * @brief The velocity observer's interface (rfe/velocity.h) and its behaviour on cases
+ *        whose answer is known without the reference: parameters, statuses, an untouched
+ *        state on every error, the first sample, free rolling, braking, a stop.
+ */
+#include "test_common.h"
+
+#include <string.h>
+
+#include "rfe/velocity.h"
+
+typedef struct {
+    rfe_params_t p;
+    rfe_velocity_params_t vp;
+    rfe_velocity_t obs;
+} fixture_t;
+
+static fixture_t fx;
+
+static void setup_fixture(void)
+{
+    assert_int_equal(rfe_params_default(&fx.p), RFE_OK);
+    assert_int_equal(rfe_velocity_params_default(&fx.vp), RFE_OK);
+    assert_int_equal(rfe_velocity_init(&fx.obs, &fx.vp, &fx.p), RFE_OK);
+}
+
+/* Straight running at v with every wheel rolling freely. */
+static rfe_velocity_input_t rolling(rfe_real_t v, rfe_real_t dt)
+{
+    rfe_velocity_input_t in;
+    size_t i;
+    memset(&in, 0, sizeof(in));
+    in.dt = dt;
+    for (i = 0u; i < 4u; ++i) {
+        in.omega[i] = v / fx.p.vehicle.R;
+    }
+    return in;
+}
+
+static void test_params(void **state)
+{
+    rfe_velocity_params_t vp;
+    (void)state;
+    assert_int_equal(rfe_velocity_params_default(NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_velocity_params_validate(NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_velocity_params_default(&vp), RFE_OK);
+    assert_int_equal(rfe_velocity_params_validate(&vp), RFE_OK);
+    vp.driven = 0u;
+    assert_int_equal(rfe_velocity_params_validate(&vp), RFE_ERR_PARAM);
+    vp.driven = 16u;
+    assert_int_equal(rfe_velocity_params_validate(&vp), RFE_ERR_PARAM);
+    assert_int_equal(rfe_velocity_params_default(&vp), RFE_OK);
+    vp.dt_min = vp.dt_max * 2.0f;
+    assert_int_equal(rfe_velocity_params_validate(&vp), RFE_ERR_PARAM);
+    assert_int_equal(rfe_velocity_params_default(&vp), RFE_OK);
+    vp.dt_max = 2.0f;
+    assert_int_equal(rfe_velocity_params_validate(&vp), RFE_ERR_PARAM);
+    assert_int_equal(rfe_velocity_params_default(&vp), RFE_OK);
+    vp.q_jerk = 0.0f; /* must be > 0 */
+    assert_int_equal(rfe_velocity_params_validate(&vp), RFE_ERR_PARAM);
+    assert_int_equal(rfe_velocity_params_default(&vp), RFE_OK);
+    vp.sd_by0 = -1.0f; /* must be >= 0 */
+    assert_int_equal(rfe_velocity_params_validate(&vp), RFE_ERR_PARAM);
+    assert_int_equal(rfe_velocity_params_default(&vp), RFE_OK);
+    vp.k_gate = (rfe_real_t)NAN;
+    assert_int_equal(rfe_velocity_params_validate(&vp), RFE_ERR_PARAM);
+}
+
+static void test_init_and_get(void **state)
+{
+    rfe_velocity_estimate_t e;
+    rfe_velocity_t obs;
+    rfe_params_t bad;
+    (void)state;
+    setup_fixture();
+    assert_int_equal(rfe_velocity_init(NULL, &fx.vp, &fx.p), RFE_ERR_NULL);
+    assert_int_equal(rfe_velocity_init(&obs, NULL, &fx.p), RFE_ERR_NULL);
+    assert_int_equal(rfe_velocity_init(&obs, &fx.vp, NULL), RFE_ERR_NULL);
+    bad = fx.p;
+    bad.vehicle.m = -1.0f;
+    memset(&obs, 0, sizeof(obs));
+    assert_int_equal(rfe_velocity_init(&obs, &fx.vp, &bad), RFE_ERR_PARAM);
+    assert_int_equal(rfe_velocity_get(&obs, &e), RFE_ERR_NOT_INITIALISED);
+    assert_int_equal(rfe_velocity_get(NULL, &e), RFE_ERR_NULL);
+    assert_int_equal(rfe_velocity_get(&fx.obs, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_velocity_get(&fx.obs, &e), RFE_OK);
+}
+
+static void test_bad_inputs_leave_the_observer_untouched(void **state)
+{
+    rfe_velocity_estimate_t e;
+    rfe_velocity_t before;
+    rfe_velocity_input_t in;
+    rfe_velocity_mu_t mu = {{0.8f, 0.8f, 0.8f, 0.8f}, {0.1f, 0.1f, 0.1f, 0.1f}};
+    size_t k;
+    (void)state;
+    setup_fixture();
+    for (k = 0u; k < 5u; ++k) {
+        in = rolling(20.0f, 0.01f);
+        assert_int_equal(rfe_velocity_step(&fx.obs, &in, &mu, &e), RFE_OK);
+    }
+    before = fx.obs;
+    assert_int_equal(rfe_velocity_step(NULL, &in, &mu, &e), RFE_ERR_NULL);
+    assert_int_equal(rfe_velocity_step(&fx.obs, NULL, &mu, &e), RFE_ERR_NULL);
+    assert_int_equal(rfe_velocity_step(&fx.obs, &in, &mu, NULL), RFE_ERR_NULL);
+    in = rolling(20.0f, 0.01f);
+    in.ay = (rfe_real_t)NAN;
+    assert_int_equal(rfe_velocity_step(&fx.obs, &in, &mu, &e), RFE_ERR_NONFINITE);
+    assert_int_equal(e.status, RFE_ERR_NONFINITE);
+    in = rolling(20.0f, 0.5f); /* dt beyond dt_max */
+    assert_int_equal(rfe_velocity_step(&fx.obs, &in, &mu, &e), RFE_ERR_RANGE);
+    in = rolling(20.0f, 0.0001f); /* dt below dt_min */
+    assert_int_equal(rfe_velocity_step(&fx.obs, &in, &mu, &e), RFE_ERR_RANGE);
+    in = rolling(20.0f, 0.01f);
+    in.p_brake[2] = -1.0f;
+    assert_int_equal(rfe_velocity_step(&fx.obs, &in, &mu, &e), RFE_ERR_RANGE);
+    in = rolling(20.0f, 0.01f);
+    in.delta = 2.0f;
+    assert_int_equal(rfe_velocity_step(&fx.obs, &in, &mu, &e), RFE_ERR_RANGE);
+    in = rolling(20.0f, 0.01f);
+    in.grade = 1.0f;
+    assert_int_equal(rfe_velocity_step(&fx.obs, &in, &mu, &e), RFE_ERR_RANGE);
+    in = rolling(20.0f, 0.01f);
+    mu.sd[1] = -0.1f;
+    assert_int_equal(rfe_velocity_step(&fx.obs, &in, &mu, &e), RFE_ERR_RANGE);
+    mu.sd[1] = 0.1f;
+    mu.mu[0] = 3.0f;
+    assert_int_equal(rfe_velocity_step(&fx.obs, &in, &mu, &e), RFE_ERR_RANGE);
+    assert_memory_equal(&fx.obs, &before, sizeof(before));
+    /* and the previous estimate came back with each error */
+    assert_close(e.vx, before.last.vx, 0.0, 0.0, "vx on error");
+}
+
+static void test_first_sample_and_free_rolling(void **state)
+{
+    rfe_velocity_estimate_t e;
+    rfe_velocity_input_t in = rolling(25.0f, 0.0f);
+    size_t k;
+    (void)state;
+    setup_fixture();
+    assert_int_equal(rfe_velocity_step(&fx.obs, &in, NULL, &e), RFE_OK);
+    /* OBSERVER.md §3.0: vx = mean of the wheel references, everything else 0 */
+    assert_close(e.vx, 25.0, 1e-4, 0.0, "first vx");
+    assert_close(e.vy, 0.0, 0.0, 0.0, "first vy");
+    assert_close(e.sd_vx, fx.vp.sd_vx0, 1e-6, 0.0, "first sd vx");
+    assert_int_equal(e.flags, 0u);
+    for (k = 0u; k < 300u; ++k) {
+        in = rolling(25.0f, 0.01f);
+        assert_int_equal(rfe_velocity_step(&fx.obs, &in, NULL, &e), RFE_OK);
+    }
+    /* free rolling, no acceleration: exactly 25 m/s, no sideslip, the wheels and the model
+     * correct every step; the sd falls from 1 m/s to about sd_wheel / 2 (four wheels) */
+    assert_close(e.vx, 25.0, 1e-4, 0.0, "rolling vx");
+    assert_close(e.vy, 0.0, 1e-6, 0.0, "rolling vy");
+    assert_close(e.beta, 0.0, 1e-6, 0.0, "rolling beta");
+    assert_int_equal(e.flags, (uint32_t)RFE_VEL_FLAG_VX_WHEEL | (uint32_t)RFE_VEL_FLAG_VY_MODEL);
+    assert_true(e.sd_vx < 0.1f);
+}
+
+static void test_braking_wheels_only_bound_vx_from_below(void **state)
+{
+    /* Braking at 5 m/s^2 while every wheel reads 10 % slow (a locked-up ABS cycle): the
+     * observer must follow the accelerometer, not the wheels. */
+    rfe_velocity_estimate_t e;
+    rfe_velocity_input_t in = rolling(25.0f, 0.0f);
+    rfe_real_t v = 25.0f;
+    size_t k, i;
+    (void)state;
+    setup_fixture();
+    for (k = 0u; k < 100u; ++k) {
+        in = rolling(25.0f, (k == 0u) ? 0.0f : 0.01f);
+        assert_int_equal(rfe_velocity_step(&fx.obs, &in, NULL, &e), RFE_OK);
+    }
+    for (k = 0u; k < 200u; ++k) {
+        v -= 5.0f * 0.01f;
+        in = rolling(0.9f * v, 0.01f);
+        in.ax = -5.0f;
+        for (i = 0u; i < 4u; ++i) {
+            in.p_brake[i] = 3.0f;
+        }
+        in.has = (uint32_t)RFE_VEL_HAS_PRESSURE;
+        assert_int_equal(rfe_velocity_step(&fx.obs, &in, NULL, &e), RFE_OK);
+        assert_true((e.flags & (uint32_t)RFE_VEL_FLAG_BRAKING) != 0u);
+        assert_true((e.flags & (uint32_t)RFE_VEL_FLAG_VX_WHEEL) == 0u);
+    }
+    /* 2 s of integration of a noise-free ax: the truth within 0.05 m/s (the offset b_x
+     * learnt while rolling is ~0) */
+    assert_close(e.vx, v, 0.05, 0.0, "vx after braking");
+}
+
+static void test_a_stop(void **state)
+{
+    rfe_velocity_estimate_t e;
+    rfe_velocity_input_t in;
+    size_t k;
+    (void)state;
+    setup_fixture();
+    for (k = 0u; k < 200u; ++k) {
+        in = rolling(0.0f, (k == 0u) ? 0.0f : 0.01f);
+        in.yaw_rate = 0.0f;
+        assert_int_equal(rfe_velocity_step(&fx.obs, &in, NULL, &e), RFE_OK);
+    }
+    /* standing still: vx = 0 exactly (clamped at 0, wheels at 0), vy follows Lr r = 0,
+     * beta is 0 below v_lat_min */
+    assert_close(e.vx, 0.0, 1e-6, 0.0, "vx at standstill");
+    assert_close(e.beta, 0.0, 0.0, 0.0, "beta at standstill");
+    assert_true((e.flags & (uint32_t)RFE_VEL_FLAG_VY_LOWSPEED) != 0u);
+}
+
+static void test_not_initialised_and_nonfinite_friction(void **state)
+{
+    rfe_velocity_t obs;
+    rfe_velocity_estimate_t e;
+    rfe_velocity_input_t in = rolling(20.0f, 0.0f);
+    rfe_velocity_mu_t mu = {{0.8f, 0.8f, 0.8f, 0.8f}, {0.1f, 0.1f, 0.1f, 0.1f}};
+    (void)state;
+    memset(&obs, 0, sizeof(obs));
+    assert_int_equal(rfe_velocity_step(&obs, &in, NULL, &e), RFE_ERR_NOT_INITIALISED);
+    setup_fixture();
+    mu.mu[3] = (rfe_real_t)NAN;
+    assert_int_equal(rfe_velocity_step(&fx.obs, &in, &mu, &e), RFE_ERR_NONFINITE);
+    mu.mu[3] = 0.8f;
+    mu.sd[0] = (rfe_real_t)INFINITY;
+    assert_int_equal(rfe_velocity_step(&fx.obs, &in, &mu, &e), RFE_ERR_NONFINITE);
+}
+
+static void test_a_too_low_friction_is_raised_by_the_measured_ay(void **state)
+{
+    /* cornering at ay = 6 m/s^2 while the friction input says 0.2: the model's friction is
+     * raised to (1 + margin) * 6 / 9.81 = 0.67 on every wheel and the flag says so */
+    rfe_velocity_estimate_t e;
+    rfe_velocity_input_t in = rolling(20.0f, 0.0f);
+    rfe_velocity_mu_t mu = {{0.2f, 0.2f, 0.2f, 0.2f}, {0.02f, 0.02f, 0.02f, 0.02f}};
+    (void)state;
+    setup_fixture();
+    assert_int_equal(rfe_velocity_step(&fx.obs, &in, &mu, &e), RFE_OK);
+    in = rolling(20.0f, 0.01f);
+    in.ay = 6.0f;
+    in.yaw_rate = 0.3f;
+    in.delta = 0.05f;
+    assert_int_equal(rfe_velocity_step(&fx.obs, &in, &mu, &e), RFE_OK);
+    assert_true((e.flags & RFE_VEL_FLAG_MU_RAISED) != 0u);
+    assert_true((e.flags & RFE_VEL_FLAG_VY_MODEL) != 0u);
+}
+
+static void test_all_wheel_drive_wheels_only_bound_vx_from_above(void **state)
+{
+    /* Accelerating at 2 m/s^2 with torque on all four wheels, each spinning 10 % fast: no
+     * free wheel, so the slowest one may only pull vx down; vx follows the accelerometer. */
+    rfe_velocity_estimate_t e;
+    rfe_velocity_input_t in;
+    rfe_real_t v = 10.0f;
+    size_t k, i;
+    (void)state;
+    setup_fixture();
+    for (k = 0u; k < 100u; ++k) {
+        in = rolling(10.0f, (k == 0u) ? 0.0f : 0.01f);
+        assert_int_equal(rfe_velocity_step(&fx.obs, &in, NULL, &e), RFE_OK);
+    }
+    for (k = 0u; k < 200u; ++k) {
+        v += 2.0f * 0.01f;
+        in = rolling(1.1f * v, 0.01f);
+        in.ax = 2.0f;
+        for (i = 0u; i < 4u; ++i) {
+            in.torque[i] = 400.0f;
+        }
+        in.has = RFE_VEL_HAS_TORQUE;
+        assert_int_equal(rfe_velocity_step(&fx.obs, &in, NULL, &e), RFE_OK);
+        assert_true((e.flags & RFE_VEL_FLAG_DRIVING) != 0u);
+        assert_true((e.flags & RFE_VEL_FLAG_VX_WHEEL) == 0u);
+    }
+    assert_close(e.vx, v, 0.05, 0.0, "vx after spinning up");
+    /* a wheel that reads slower than the prediction bounds it from above (corrects it) */
+    in = rolling(v - 0.05f, 0.01f);
+    in.ax = 2.0f;
+    for (i = 0u; i < 4u; ++i) {
+        in.torque[i] = 400.0f;
+    }
+    in.has = RFE_VEL_HAS_TORQUE;
+    assert_int_equal(rfe_velocity_step(&fx.obs, &in, NULL, &e), RFE_OK);
+    assert_true((e.flags & RFE_VEL_FLAG_VX_WHEEL) != 0u);
+}
+
+static void test_vx_never_goes_negative(void **state)
+{
+    /* standing, then an accelerometer reading -3 m/s^2 (a car held on a slope by its
+     * brakes reads the slope, not a motion): vx stays at 0, never backwards */
+    rfe_velocity_estimate_t e;
+    rfe_velocity_input_t in;
+    size_t k;
+    (void)state;
+    setup_fixture();
+    for (k = 0u; k < 50u; ++k) {
+        in = rolling(0.0f, (k == 0u) ? 0.0f : 0.01f);
+        in.ax = (k == 0u) ? 0.0f : -3.0f;
+        assert_int_equal(rfe_velocity_step(&fx.obs, &in, NULL, &e), RFE_OK);
+        assert_true(e.vx >= 0.0f);
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_params),
+        cmocka_unit_test(test_init_and_get),
+        cmocka_unit_test(test_bad_inputs_leave_the_observer_untouched),
+        cmocka_unit_test(test_first_sample_and_free_rolling),
+        cmocka_unit_test(test_braking_wheels_only_bound_vx_from_below),
+        cmocka_unit_test(test_a_stop),
+        cmocka_unit_test(test_not_initialised_and_nonfinite_friction),
+        cmocka_unit_test(test_a_too_low_friction_is_raised_by_the_measured_ay),
+        cmocka_unit_test(test_all_wheel_drive_wheels_only_bound_vx_from_above),
+        cmocka_unit_test(test_vx_never_goes_negative),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
