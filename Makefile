@@ -46,7 +46,7 @@ DEPS_EXTRA :=
 TEST_GATES :=
 include $(sort $(filter-out mk/lib.mk,$(wildcard mk/*.mk)))
 
-.PHONY: all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind coverage demo goldens goldens-q31 scenarios clean vectors shared-sync check-shared readme-table \
+.PHONY: all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind coverage demo goldens goldens-q31 scenarios observer-scenarios clean vectors shared-sync check-shared readme-table \
         check-kernels check-tools layers help-check goldens-ref check-nofloat help deps-analysis misra tidy complexity structural analysis
 ## the libraries and build/mu_replay (the default target)
 all: lib $(BUILD)/mu_replay
@@ -295,6 +295,9 @@ readme-table: venv $(BUILD)/mu_replay
 scenarios: venv
 	$(PY) scripts/data/make_scenarios.py --out scenarios
 	$(PY) scripts/data/make_fault_scenarios.py --scenarios scenarios --out scenarios/faults
+## regenerate the velocity / sideslip observer logs (scenarios/observer/) with the simulator
+observer-scenarios: venv
+	$(PY) scripts/data/make_observer_scenarios.py --out scenarios/observer
 ## regenerate the scenarios and every golden (reference and q31)
 goldens: scenarios
 	$(MAKE) goldens-ref goldens-q31
