@@ -127,7 +127,10 @@ def _ramp_s(s0, length, value):
 
 # ---- ABS braking ------------------------------------------------------------------------
 ABS = AbsConfig()
-DRIVER_YAW = YawConfig()
+# Split mu 0.9 / 0.2 gives twice the yaw moment of scenarios.py's 0.85 / 0.3: with the
+# default driver (YawConfig()) the Magic-Formula car spins (vx < 0).  An alert driver: twice
+# the gains, twice the steering rate, up to 0.3 rad (|beta| stays ~5 deg).
+SPLIT_DRIVER = YawConfig(k_r=1.0, k_psi=2.0, rate_max=1.0, delta_max=0.3)
 P_HARD, HARD_TR = 8.0, 0.2          # MPa, s: far above what any wheel takes (as scenarios.py)
 V_ABS = 100.0 * KMH
 SPLIT_MU = (0.9, 0.2)
@@ -302,7 +305,7 @@ OBSERVER_SCENARIOS = [
     _abs("abs_brake_mu09", 1, uniform_mu(0.9), "mu = 0.9 everywhere", (1.0, 3.5), 6.0),
     _abs("abs_brake_split_mu", 2, _split_mu,
          f"split mu: left {_fmt(SPLIT_MU[0])} / right {_fmt(SPLIT_MU[1])}", (1.0, 5.0), 8.0,
-         DRIVER_YAW, DRIVER_YAW.text()),
+         SPLIT_DRIVER, SPLIT_DRIVER.text()),
     _traction("traction_rwd_mu03", 3, "rwd", "rear-wheel drive"),
     _traction("traction_awd_mu03", 4, "awd", "all-wheel drive"),
     _swd("sine_dwell_mu09", 5, 0.9, SWD_A_HIGH),
@@ -339,9 +342,9 @@ OBSERVER_SCENARIOS = [
         f"{_fmt(LONG_T)} s straight with an ay sensor bias of {_fmt(BIAS)} m/s^2: v = "
         f"{_fmt(LONG_V)} m/s held by cruise control (fwd), mu = 0.9, small driver corrections "
         f"(0.0012 sin(2 pi 0.071 t) + 0.0008 sin(2 pi 0.23 t + 1) + 0.0005 sin(2 pi 0.61 t "
-        f"+ 2) rad) on top of {DRIVER_YAW.text()}; logged every {_fmt(LONG_DT)} s",
+        f"+ 2) rad) on top of {YawConfig().text()}; logged every {_fmt(LONG_DT)} s",
         LONG_V, LONG_T, _long_corrections, const(ZERO4), const(ZERO4), uniform_mu(0.9),
-        yaw=DRIVER_YAW, layout="fwd", speed=_cruise(LONG_V), ay_bias=BIAS, dt=LONG_DT,
+        yaw=YawConfig(), layout="fwd", speed=_cruise(LONG_V), ay_bias=BIAS, dt=LONG_DT,
         tyres=("dugoff",)),
     ObserverScenario(
         "creep_stop", 15,
