@@ -28,10 +28,14 @@ extra columns: docs/spec/DATA.md; the physics options: vehicle.py, control.py).
 | hill_known_grade | cruise at 60 km/h over a +-6 % hill, the grade known (logged `grade` column) |
 
 Every scenario's noise seed is 201 + its index (the friction scenarios use 1-13, the fault
-logs 101-115).  The long straight logs every 0.02 s (60 s of it at 0.01 s would be 40 MB
-per variant) and is written with the Dugoff truth only (on a straight at constant speed
+logs 101-115).  The long straight logs every 0.02 s (at 0.01 s it would be ~35 MB per
+variant; at 0.02 s it is 17 MB noisy, 15 MB noise-free) and is written with the Dugoff truth only (on a straight at constant speed
 the tyre forces are tiny, where both truth tyres are the same linear tyre); the rest are
 written like the friction scenarios: Dugoff noisy + noise-free, Magic Formula noisy.
+
+On low mu the Magic-Formula car is less forgiving than the Dugoff one (its force falls past
+the peak): with the same steering, sine_dwell_mu035 and dlc_mu035 reach |beta| ~ 3.8-3.9 deg
+with Dugoff but 12-17 deg with mf, where the car is still sliding at the end of the log.
 """
 
 from dataclasses import dataclass
