@@ -46,7 +46,7 @@ DEPS_EXTRA :=
 TEST_GATES :=
 include $(sort $(filter-out mk/lib.mk,$(wildcard mk/*.mk)))
 
-.PHONY: names observer-goldens all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind coverage demo goldens goldens-q31 scenarios clean vectors shared-sync check-shared readme-table \
+.PHONY: names observer-goldens all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind coverage demo goldens goldens-q31 scenarios observer-scenarios clean vectors shared-sync check-shared readme-table \
         check-kernels check-tools layers help-check goldens-ref check-nofloat help deps-analysis misra tidy complexity structural analysis
 ## the libraries and build/mu_replay (the default target)
 all: lib $(BUILD)/mu_replay
@@ -295,6 +295,9 @@ readme-table: venv $(BUILD)/mu_replay
 scenarios: venv
 	$(PY) scripts/data/make_scenarios.py --out scenarios
 	$(PY) scripts/data/make_fault_scenarios.py --scenarios scenarios --out scenarios/faults
+## regenerate the velocity / sideslip observer logs (scenarios/observer/) with the simulator
+observer-scenarios: venv
+	$(PY) scripts/data/make_observer_scenarios.py --out scenarios/observer
 ## regenerate the scenarios and every golden (reference and q31)
 goldens: scenarios
 	$(MAKE) goldens-ref goldens-q31
@@ -350,23 +353,29 @@ goldens-q31: $(BUILD)/mu_replay
 	  done; echo "goldens-q31: scenarios/golden/$$s.{paper.sckf,paper.ckf,absolute.sckf,default.sckf}.q31.csv"; done
 
 # The specification (MODEL.md, DATA.md) and the test vectors of the independent
-# implementation live in the project's shared folder (../shared); copies sit in docs/spec
-# and test/vectors so a clone is self-contained. This refreshes the copies.
+# implementation came from the project's shared folder (../shared); copies sit in docs/spec
+# and test/vectors so a clone is self-contained. MODEL.md and the vectors stay equal to the
+# shared ones (this refreshes them). docs/spec/DATA.md is the project's own since the new
+# estimators add columns and keys: it is never overwritten, and check-shared requires only
+# that it still documents every column and key the shared DATA.md names.
 SHARED ?= ../shared
-## copy MODEL.md, DATA.md and the test vectors from ../shared
+## copy MODEL.md and the test vectors from ../shared (docs/spec/DATA.md is the project's)
 shared-sync:
-	cp $(SHARED)/docs/MODEL.md $(SHARED)/docs/DATA.md docs/spec/
+	cp $(SHARED)/docs/MODEL.md docs/spec/
 	cp $(SHARED)/vectors/model_vectors.csv $(SHARED)/vectors/sckf_step_vectors.csv test/vectors/
 ## the same as shared-sync
 vectors: shared-sync
-# Fails when the copies differ from ../shared (where it exists): run `make shared-sync`.
-## the copies of ../shared are up to date
+# Fails when MODEL.md or the vectors differ from ../shared (where it exists), or when the
+# project's DATA.md lost a column or key of the shared one.
+## the copies of ../shared are up to date; DATA.md still documents the shared names
 check-shared:
 	@if [ -d $(SHARED) ]; then \
-	  for f in docs/MODEL.md docs/DATA.md vectors/model_vectors.csv vectors/sckf_step_vectors.csv; do \
+	  for f in docs/MODEL.md vectors/model_vectors.csv vectors/sckf_step_vectors.csv; do \
 	    copy=$$(case $$f in docs/*) echo docs/spec/$${f#docs/};; *) echo test/$$f;; esac); \
 	    cmp -s $(SHARED)/$$f $$copy || { echo "$$copy differs from $(SHARED)/$$f: run make shared-sync"; exit 1; }; \
-	  done; echo "shared copies: up to date"; \
+	  done; \
+	  python3 scripts/checks/check_data_names.py $(SHARED)/docs/DATA.md docs/spec/DATA.md || exit 1; \
+	  echo "shared copies: up to date"; \
 	else echo "shared copies: $(SHARED) not present, not checked"; fi
 
 # The fixed-point translation units (*_q31.c) hold no floating point: built for Cortex-M0+

@@ -117,3 +117,105 @@ def summary(sim):
     return dict(kappa=np.abs(sim["kappa"]).max(axis=0), alpha=np.abs(sim["alpha"]).max(axis=0),
                 util=util.max(axis=0), excited=(util >= 0.5).mean(axis=0),
                 min_vx=float(np.min(sim["vx"])))
+
+
+# ---- observer scenarios (observer_scenarios.py): extra inputs and truth columns -------------
+#
+# Written only for the observer scenarios; the functions above (and so the friction logs)
+# are unchanged.  Columns, in this order:
+#     COLUMNS (as above; vx, vy and yaw_acc stand for an optical sensor on a test car, noisy
+#              as above), then
+#     p_fl..p_rr            applied wheel-cylinder brake pressure [MPa], noisy
+#     torque_fl..torque_rr  applied drive torque at the wheel [N m], noisy
+#     grade                 known road grade [rad] (only when the scenario declares it
+#                           known), noisy
+#     vx_true, vy_true      true CoG velocity, body axes [m/s]            (no noise)
+#     beta_true             atan2(vy_true, vx_true) [rad]                 (no noise; 0 at
+#                           exact standstill, ill-defined as vx -> 0)
+#     yaw_acc_true          true r_dot [rad/s^2]                          (no noise)
+#     grade_true, bank_true road grade and bank under the CoG [rad]       (no noise)
+# ay carries the scenario's constant sensor bias ay_bias (a fault, not noise: in both
+# variants), added before the noise.  The noise block is one (rows x OBS_NOISY_COLUMNS)
+# standard-normal draw of Generator(PCG64(seed)) in column order, as add_noise.
+
+OBS_INPUTS = [f"p_{w}" for w in WHEELS] + [f"torque_{w}" for w in WHEELS]
+OBS_TRUTH = ["vx_true", "vy_true", "beta_true", "yaw_acc_true", "grade_true", "bank_true"]
+OBS_NOISE_SD = dict(NOISE_SD, **{f"p_{w}": 0.02 for w in WHEELS},
+                    **{f"torque_{w}": 5.0 for w in WHEELS}, grade=0.001)
+
+
+def observer_columns(sc):
+    return COLUMNS + OBS_INPUTS + (["grade"] if sc.grade_known else []) + OBS_TRUTH
+
+
+def observer_noisy_columns(sc):
+    return [c for c in observer_columns(sc) if c in OBS_NOISE_SD]
+
+
+def run_observer(sc, tyre="dugoff", params=None, rate=None, duration=None):
+    """Simulate an observer scenario at its own log period, rate, road and low-speed floor."""
+    params = Params() if params is None else params
+    return simulate(sc.make_inputs(params), sc.mu, sc.v0,
+                    sc.duration if duration is None else duration, params, tyre, sc.dt,
+                    sc.rate if rate is None else rate, sc.road, sc.v_low)
+
+
+def observer_table(sim, sc):
+    """Noise-free observer-log columns (the ay bias included) from a simulator output."""
+    tab = sensor_table(sim)
+    tab["ay"] = tab["ay"] + sc.ay_bias
+    for i, w in enumerate(WHEELS):
+        tab[f"p_{w}"] = sim["pressure"][:, i].copy()
+        tab[f"torque_{w}"] = sim["drive"][:, i].copy()
+    if sc.grade_known:
+        tab["grade"] = np.asarray(sim["grade"], dtype=float).copy()
+    tab["vx_true"] = np.asarray(sim["vx"], dtype=float).copy()
+    tab["vy_true"] = np.asarray(sim["vy"], dtype=float).copy()
+    tab["beta_true"] = np.arctan2(tab["vy_true"], tab["vx_true"])
+    tab["yaw_acc_true"] = np.asarray(sim["yaw_acc"], dtype=float).copy()
+    tab["grade_true"] = np.asarray(sim["grade"], dtype=float).copy()
+    tab["bank_true"] = np.asarray(sim["bank"], dtype=float).copy()
+    return tab
+
+
+def observer_noise(table, sc):
+    """Copy of an observer table with the sensor noise of OBS_NOISE_SD (seed sc.seed)."""
+    rng = np.random.Generator(np.random.PCG64(sc.seed))
+    cols = observer_noisy_columns(sc)
+    z = rng.standard_normal((len(table["t"]), len(cols)))
+    out = {c: v.copy() for c, v in table.items()}
+    for j, c in enumerate(cols):
+        out[c] = table[c] + OBS_NOISE_SD[c] * z[:, j]
+    return out
+
+
+def observer_metadata(sc, noise, tyre, params=None):
+    """Metadata of an observer log: the friction logs' keys plus the observer options."""
+    params = Params() if params is None else params
+    meta = [("scenario", sc.name), ("description", sc.description), ("dt", sc.dt),
+            ("seed", sc.seed if noise == "default" else "none"), ("noise", noise),
+            ("truth_tyre", tyre), ("abs", "on" if sc.abs is not None else "off"),
+            ("driver_steer", "path_follower" if sc.path is not None else
+             "yaw_controller" if sc.yaw is not None else "open_loop"),
+            ("drive_layout", sc.layout), ("tcs", "on" if sc.tcs is not None else "off"),
+            ("cruise_control", "on" if sc.speed is not None else "off"),
+            ("road", sc.road.text if sc.road is not None else "flat"),
+            ("grade_known", "yes" if sc.grade_known else "no"), ("ay_bias", float(sc.ay_bias)),
+            ("sim_v_low", "none" if sc.v_low is None else float(sc.v_low))]
+    meta += params.items(ESTIMATOR_KEYS) + params.items(SIM_KEYS)
+    if tyre == "mf":
+        meta += params.items(MF_KEYS)
+    meta += [(f"noise_{c}", OBS_NOISE_SD[c] if noise == "default" else 0.0)
+             for c in observer_noisy_columns(sc)]
+    meta += [("sim_integrator", "rk4"), ("sim_rate", sc.rate), ("v0", sc.v0),
+             ("duration", sc.duration)]
+    return meta
+
+
+def observer_csv_text(table, meta, columns):
+    lines = [f"# {k} = {_fmt(v)}" for k, v in meta]
+    lines.append(",".join(columns))
+    cols = [table[c].tolist() for c in columns]
+    for row in zip(*cols):
+        lines.append(",".join(map(repr, row)))
+    return "\n".join(lines) + "\n"

@@ -12,6 +12,44 @@ tyre of tyres.py.  Equations of motion (body axes; front forces rotated by delta
     Iw omega_dot_i = T_drive_i - kb_i p_i tanh(omega_i/brake_omega_eps) - R Fx_i
 No aerodynamic drag, no rolling resistance (as the paper).
 
+Road grade and bank (optional, ``road``; off by default, and then the code path and every
+number are those of the flat road).  A road gives grade theta(s) and bank phi(s) as
+functions of the CoG path distance s.  Sign conventions (ISO 8855 axes, x forward, y left,
+z up; the body's x-y plane is the local road plane, x along the road):
+    theta > 0  uphill: the road rises in the direction of travel (nose up).
+    phi   > 0  the road rises to the LEFT (left wheels higher; a positive rotation about
+               x, ISO roll sense): gravity pulls the car to the right (-y).
+Gravity in body axes is then g_b = (-g sin(theta), -g sin(phi) cos(theta),
+-g cos(phi) cos(theta)) (pitch theta, then roll phi).  The equations of motion become
+    vx_dot = sum Fbx/m + r vy - g sin(theta)
+    vy_dot = sum Fby/m - r vx - g sin(phi) cos(theta)
+(no moment: gravity acts at the CoG), and the loads' static part is the normal component:
+Fz_i = cos(theta) cos(phi) Fz0_i + Gx_i ax + Gy_i ay.  The logged ax, ay stay sum F/m: that
+is the *specific force*, what an accelerometer fixed to the body measures, so
+    ax_meas = (vx_dot - r vy) + g sin(theta)
+    ay_meas = (vy_dot + r vx) + g sin(phi) cos(theta)
+(a car held by its tyres on a bank, vy_dot = r = 0, reads ay = +g sin(phi): the tyres push
+it up the slope, to the left).  Integrating ax, ay without removing gravity therefore
+drifts.  The grade and bank are applied to the body as pitch and roll directly: the car's
+heading relative to the road tangent (its sideslip, a few degrees) is neglected in the
+projection, as are the pitch / roll rates of a changing grade (theta'(s)*v, the road's
+curvature in the vertical plane) and any suspension roll or pitch; X, Y stay the
+horizontal-plane integrals of the body velocities.
+
+Low speed (optional, ``v_low`` [m/s]; off by default).  The slip denominators of MODEL.md
+(max(|omega R|, |v_wx|, v_min) for kappa, |v_wx| for alpha) make the tyres infinitely stiff
+as the car stops (the wheel-spin eigenvalue ~ -R^2*Cx*Fz/(Iw*v) leaves RK4's stability
+region below ~0.6 m/s at 4 kHz, and alpha jumps to +-alpha_max).  With v_low set, both
+denominators are floored at v_low:
+    kappa = (omega R - v_wx) / max(|omega R|, |v_wx|, v_min, v_low)
+    alpha = -atan2(v_wy, max(|v_wx|, v_low))
+identical to MODEL.md above v_low, and below it a linear (viscous) tyre whose stiffness
+per unit speed stays bounded (the usual low-speed regularisation, cf. a tyre relaxation
+length): the car can creep and stop, the states decay smoothly to zero at standstill.  The
+existing scenarios never set it (they stay above 4 m/s); the creep scenario uses 2 m/s,
+where the spin eigenvalue is ~ -3600 1/s (h*lambda ~ 0.9 at 4 kHz).  Below v_low a log is
+not model-matched with MODEL.md's slips (the metadata says sim_v_low).
+
 Vertical loads use the quasi-static MODEL.md formula with the TRUE body accelerations of
 the same instant, ax = sum Fbx/m and ay = sum Fby/m (what an accelerometer at the CoG
 measures; not vx_dot).  Loads depend on forces which depend on loads: the algebraic loop
@@ -87,8 +125,9 @@ def wheel_geometry(p):
     return ((p.Lf, 0.5 * p.Bf), (p.Lf, -0.5 * p.Bf), (-p.Lr, 0.5 * p.Br), (-p.Lr, -0.5 * p.Br))
 
 
-def wheel_slips(p, delta, vx, vy, r, omega):
-    """MODEL.md section 3 for one sample: returns (v_wx[4], kappa[4], alpha[4])."""
+def wheel_slips(p, delta, vx, vy, r, omega, v_low=None):
+    """MODEL.md section 3 for one sample: returns (v_wx[4], kappa[4], alpha[4]).
+    v_low: optional low-speed floor of the slip denominators (module docstring)."""
     c, s = cos(delta), sin(delta)
     vwx_all, kap_all, alp_all = [], [], []
     for i, (xi, yi) in enumerate(wheel_geometry(p)):
@@ -99,13 +138,19 @@ def wheel_slips(p, delta, vx, vy, r, omega):
             vwy = -vxi * s + vyi * c
         else:
             vwx, vwy = vxi, vyi
-        alpha = -atan2(vwy, abs(vwx))
+        if v_low is None:
+            alpha = -atan2(vwy, abs(vwx))
+        else:
+            alpha = -atan2(vwy, max(abs(vwx), v_low))
         if alpha > p.alpha_max:
             alpha = p.alpha_max
         elif alpha < -p.alpha_max:
             alpha = -p.alpha_max
         wr = omega[i] * p.R
-        kappa = (wr - vwx) / max(abs(wr), abs(vwx), p.v_min)
+        if v_low is None:
+            kappa = (wr - vwx) / max(abs(wr), abs(vwx), p.v_min)
+        else:
+            kappa = (wr - vwx) / max(abs(wr), abs(vwx), p.v_min, v_low)
         if kappa > 1.0:
             kappa = 1.0
         elif kappa < -1.0:
@@ -136,10 +181,14 @@ class Vehicle:
     """Derivative function of the 11-element state
     [vx, vy, r, omega_fl, omega_fr, omega_rl, omega_rr, s, psi, X, Y]."""
 
-    def __init__(self, p, tyre, inputs, mu_map):
+    def __init__(self, p, tyre, inputs, mu_map, road=None, v_low=None):
         """inputs(t) -> (delta, (p_fl..p_rr) MPa, (T_fl..T_rr) N m);
         mu_map(x_road, left) -> mu under a wheel at road position x_road (CoG path
-        distance + the wheel's x offset) on the left (True) or right (False) side."""
+        distance + the wheel's x offset) on the left (True) or right (False) side;
+        road: None (flat) or an object with grade(s), bank(s) [rad] of the CoG path
+        distance s (module docstring for the signs); v_low: low-speed slip floor or None."""
+        self.road = road
+        self.v_low = v_low
         self.p = p
         self.tyre_fn = TRUTH_TYRES[tyre]
         self.inputs = inputs
@@ -152,10 +201,13 @@ class Vehicle:
     def mu_at(self, s):
         return [self.mu_map(s + xi, yi > 0.0) for (xi, yi) in self.geom]
 
-    def solve_accelerations(self, bx, by):
-        """Fixed point a = sum_i Fz_i(a) * b_i / m (b_i = body-axis force per unit load)."""
+    def solve_accelerations(self, bx, by, Fz0=None):
+        """Fixed point a = sum_i Fz_i(a) * b_i / m (b_i = body-axis force per unit load);
+        Fz0: static loads (default the flat road's)."""
         p = self.p
-        Fz0, Gx, Gy = self.Fz0, self.Gx, self.Gy
+        Gx, Gy = self.Gx, self.Gy
+        if Fz0 is None:
+            Fz0 = self.Fz0
         ax, ay = self.a_guess
         for _ in range(50):
             A11 = A22 = p.m
@@ -187,7 +239,7 @@ class Vehicle:
         s, psi = y[7], y[8]
         delta, pres, tdrive = self.inputs(t)
         mu = self.mu_at(s)
-        vwx, kappa, alpha = wheel_slips(p, delta, vx, vy, r, omega)
+        vwx, kappa, alpha = wheel_slips(p, delta, vx, vy, r, omega, self.v_low)
         c, sn = cos(delta), sin(delta)
         fx, fy, bx, by = [], [], [], []
         for i in range(4):
@@ -200,8 +252,16 @@ class Vehicle:
             else:
                 bx.append(ux)
                 by.append(uy)
-        ax_s, ay_s = self.solve_accelerations(bx, by)
-        Fz = [max(0.0, self.Fz0[i] + self.Gx[i] * ax_s + self.Gy[i] * ay_s) for i in range(4)]
+        if self.road is None:
+            theta = phi = 0.0
+            Fz0 = self.Fz0
+            ax_s, ay_s = self.solve_accelerations(bx, by)
+        else:
+            theta, phi = self.road.grade(s), self.road.bank(s)
+            cn = cos(theta) * cos(phi)
+            Fz0 = [cn * f for f in self.Fz0]
+            ax_s, ay_s = self.solve_accelerations(bx, by, Fz0)
+        Fz = [max(0.0, Fz0[i] + self.Gx[i] * ax_s + self.Gy[i] * ay_s) for i in range(4)]
         sum_x = sum_y = mz = 0.0
         for i, (xi, yi) in enumerate(self.geom):
             fbx = Fz[i] * bx[i]
@@ -214,7 +274,11 @@ class Vehicle:
         if abs(ax - ax_s) > 1e-9 * max(1.0, abs(ax)) or abs(ay - ay_s) > 1e-9 * max(1.0, abs(ay)):
             raise RuntimeError("load/force fixed point check failed")
         r_dot = mz / p.J
-        dy = [ax + r * vy, ay - r * vx, r_dot]
+        if self.road is None:
+            dy = [ax + r * vy, ay - r * vx, r_dot]
+        else:
+            dy = [ax + r * vy - p.g * sin(theta), ay - r * vx - p.g * sin(phi) * cos(theta),
+                  r_dot]
         for i in range(4):
             tb = self.kb[i] * pres[i] * tanh(omega[i] / p.brake_omega_eps)
             dy.append((tdrive[i] - tb - p.R * Fz[i] * fx[i]) / p.Iw)
@@ -227,15 +291,17 @@ class Vehicle:
         info = dict(delta=delta, ax=ax, ay=ay, yaw_acc=r_dot, mu=mu, kappa=kappa,
                     alpha=alpha, vwx=vwx, Fz=Fz, Fx=[Fz[i] * fx[i] for i in range(4)],
                     Fy=[Fz[i] * fy[i] for i in range(4)], pressure=list(pres),
-                    drive=list(tdrive))
+                    drive=list(tdrive), vx_dot=dy[0], vy_dot=dy[1], grade=theta, bank=phi)
         return dy, info
 
 
-LOG_SCALARS = ("t", "delta", "vx", "vy", "yaw_rate", "yaw_acc", "ax", "ay", "s", "psi", "X", "Y")
+LOG_SCALARS = ("t", "delta", "vx", "vy", "yaw_rate", "yaw_acc", "ax", "ay", "s", "psi", "X", "Y",
+               "vx_dot", "vy_dot", "grade", "bank")
 LOG_WHEEL = ("omega", "mu", "kappa", "alpha", "vwx", "Fz", "Fx", "Fy", "pressure", "drive")
 
 
-def simulate(inputs, mu_map, v0, duration, p=None, tyre="dugoff", dt_log=0.01, rate=4000):
+def simulate(inputs, mu_map, v0, duration, p=None, tyre="dugoff", dt_log=0.01, rate=4000,
+             road=None, v_low=None):
     """Integrate from straight running at v0 (free-rolling wheels, kappa = 0) and return a
     dict of numpy arrays sampled every dt_log: scalars of LOG_SCALARS (shape (N,)) and
     per-wheel arrays of LOG_WHEEL (shape (N, 4)), all instantaneous values of the same
@@ -244,10 +310,12 @@ def simulate(inputs, mu_map, v0, duration, p=None, tyre="dugoff", dt_log=0.01, r
     inputs is a function of time, or a closed-loop controller (control.ClosedLoopInputs:
     anything with an ``update(t, y)`` method and a ``rate`` in Hz); a controller is updated
     at every multiple of 1/rate (before that instant's derivative evaluation, so also
-    before each logged evaluation) and holds its outputs in between."""
+    before each logged evaluation) and holds its outputs in between.  road, v_low: see
+    Vehicle (both off by default).  vx_dot, vy_dot are the body-axis velocity derivatives
+    (kinematic, gravity included), grade and bank the road's at the CoG."""
     import numpy as np
     p = Params() if p is None else p
-    veh = Vehicle(p, tyre, inputs, mu_map)
+    veh = Vehicle(p, tyre, inputs, mu_map, road, v_low)
     n_log = int(round(duration / dt_log)) + 1
     nsub = int(round(rate * dt_log))
     if nsub < 1 or abs(nsub - rate * dt_log) > 1e-9:
@@ -261,7 +329,7 @@ def simulate(inputs, mu_map, v0, duration, p=None, tyre="dugoff", dt_log=0.01, r
     log_rate = round(1.0 / dt_log)
     exact_rate = abs(log_rate * dt_log - 1.0) < 1e-12  # t_k = k/100 prints as 0.03, not
     delta0 = inputs(0.0)[0]
-    vwx0, _, _ = wheel_slips(p, delta0, v0, 0.0, 0.0, [0.0] * 4)
+    vwx0, _, _ = wheel_slips(p, delta0, v0, 0.0, 0.0, [0.0] * 4, v_low)
     y = [v0, 0.0, 0.0] + [v / p.R for v in vwx0] + [0.0, 0.0, 0.0, 0.0]
     out = {k: np.empty(n_log) for k in LOG_SCALARS}
     out.update({k: np.empty((n_log, 4)) for k in LOG_WHEEL})
@@ -275,7 +343,7 @@ def simulate(inputs, mu_map, v0, duration, p=None, tyre="dugoff", dt_log=0.01, r
         out["vx"][k], out["vy"][k], out["yaw_rate"][k] = y[0], y[1], y[2]
         out["omega"][k] = y[3:7]
         out["s"][k], out["psi"][k], out["X"][k], out["Y"][k] = y[7], y[8], y[9], y[10]
-        for key in ("delta", "ax", "ay", "yaw_acc"):
+        for key in ("delta", "ax", "ay", "yaw_acc", "vx_dot", "vy_dot", "grade", "bank"):
             out[key][k] = info[key]
         for key in LOG_WHEEL[1:]:
             out[key][k] = info[key]
