@@ -37,7 +37,7 @@ typedef struct {
     rfe_real_t sd_ax;         /**< ax noise per sample [m/s^2]: 0.05 */
     rfe_real_t sd_ay;         /**< ay noise per sample [m/s^2]: 0.05 */
     rfe_real_t q_bx;          /**< random walk of the longitudinal offset [m/s^2/sqrt(s)]: 0.005 */
-    rfe_real_t q_by;          /**< random walk of the lateral offset [m/s^2/sqrt(s)]: 0.001 */
+    rfe_real_t q_by;          /**< random walk of the lateral offset [m/s^2/sqrt(s)]: 0.05 */
     rfe_real_t sd_wheel;      /**< wheel reference noise [m/s]: 0.05 */
     rfe_real_t sd_wheel_rel;  /**< wheel reference error relative to vx [1]: 0.005 */
     rfe_real_t k_gate;        /**< plausibility gate of a wheel [sd]: 3 */

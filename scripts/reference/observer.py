@@ -33,7 +33,7 @@ OBS_DEFAULTS: dict[str, float] = {
     "obs_p_brake_on": 0.2,      # brake pressure above which the car is braking, MPa
     "obs_torque_on": 50.0,      # drive torque above which a wheel is driven, N m
     "obs_sd_ay": 0.05,          # ay sensor noise sd per sample, m/s^2
-    "obs_q_by": 0.001,          # random walk of the lateral offset (bias, bank), m/s^2 per sqrt(s)
+    "obs_q_by": 0.05,           # random walk of the lateral offset (bias, bank), m/s^2 per sqrt(s)
     "obs_sd_model_ay": 0.3,     # single-track model error, m/s^2
     "obs_model_ay_rel": 0.1,    # model error relative to |ay|
     "obs_v_lat_min": 3.0,       # below this vx, vy follows the rear-axle kinematics, m/s

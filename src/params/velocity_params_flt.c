@@ -19,7 +19,7 @@ rfe_status_t rfe_velocity_params_default(rfe_velocity_params_t *p)
     p->sd_ax = RFE_R(0.05);
     p->sd_ay = RFE_R(0.05);
     p->q_bx = RFE_R(0.005);
-    p->q_by = RFE_R(0.001);
+    p->q_by = RFE_R(0.05);
     p->sd_wheel = RFE_R(0.05);
     p->sd_wheel_rel = RFE_R(0.005);
     p->k_gate = RFE_R(3.0);
