@@ -54,10 +54,12 @@
 #define rfe_friction_init rfe_friction_init_f64
 #define rfe_friction_step rfe_friction_step_f64
 #define rfe_friction_get  rfe_friction_get_f64
+#define rfe_friction_set_input_noise rfe_friction_set_input_noise_f64
 #else
 #define rfe_friction_init rfe_friction_init_f32
 #define rfe_friction_step rfe_friction_step_f32
 #define rfe_friction_get  rfe_friction_get_f32
+#define rfe_friction_set_input_noise rfe_friction_set_input_noise_f32
 #endif
 
 /** Output of one step (one row of the DATA.md estimate log). */
@@ -131,5 +133,24 @@ RFE_NODISCARD rfe_status_t rfe_friction_step(rfe_friction_t *est,
  */
 RFE_NODISCARD rfe_status_t rfe_friction_get(const rfe_friction_t *est,
                                             rfe_estimate_t *out);
+
+/**
+ * Sets the input uncertainties of the next steps' errors-in-variables terms (docs/
+ * ESTIMATOR.md steps 4-5): sd_in_vx, sd_in_vy and the yaw-acceleration noise r_yaw_acc,
+ * for inputs that are themselves estimates (the velocity observer's sd each step,
+ * docs/OBSERVER.md §6). They act where the errors-in-variables terms are on (an sd_in_* or
+ * r_model_rel > 0 at init, as in the default preset); otherwise the step's noise is the
+ * constant one of init.
+ * @param[in,out] est        an estimator set up by rfe_friction_init.
+ * @param[in]     sd_in_vx   input noise sd of vx [m/s], finite and >= 0.
+ * @param[in]     sd_in_vy   input noise sd of vy [m/s], finite and >= 0.
+ * @param[in]     r_yaw_acc  yaw-acceleration noise sd [rad/s^2], finite and > 0.
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_NOT_INITIALISED; RFE_ERR_RANGE (the estimator is
+ *         then untouched).
+ */
+RFE_NODISCARD rfe_status_t rfe_friction_set_input_noise(rfe_friction_t *est,
+                                                        rfe_real_t sd_in_vx,
+                                                        rfe_real_t sd_in_vy,
+                                                        rfe_real_t r_yaw_acc);
 
 #endif /* RFE_FRICTION_H */

@@ -354,7 +354,6 @@ static rfe_status_t filter_step(rfe_friction_t *est, const rfe_sample_t *sample)
     return (st != RFE_OK) ? st : status;
 }
 
-/* cppcheck-suppress misra-c2012-8.7 ; MISRA-DEV-06: public API, called by the application */
 rfe_status_t rfe_friction_get(const rfe_friction_t *est, rfe_estimate_t *out)
 {
     rfe_real_t x[RFE_N_MAX];

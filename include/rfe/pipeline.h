@@ -1,0 +1,94 @@
+/**
+ * @file pipeline.h
+ * @brief The composed entry for firmware: one ESC sample in; the friction per wheel and
+ *        vx, vy, beta, yaw acceleration out, each with its sd (docs/OBSERVER.md §6).
+ *
+ * Each step runs the velocity observer (rfe/velocity.h) with the friction estimator's
+ * previous estimate, hands the friction estimator (rfe/friction.h) the observer's vx, vy
+ * and yaw acceleration as its inputs, and their sd as its per-step input noise
+ * (rfe_friction_set_input_noise: sd_in_vx, sd_in_vy, and sqrt(r_yaw_acc^2 + sd(r-dot)^2)).
+ * The parameters' filter.dt must be the sample period (the friction estimator's input
+ * filter uses it).
+ *
+ * @code
+ * #include "rfe/pipeline.h"
+ *
+ * static rfe_pipeline_t pl;                     // caller-owned, no heap
+ *
+ * rfe_status_t pipeline_setup(void)
+ * {
+ *     rfe_params_t p;
+ *     rfe_velocity_params_t vp;
+ *     rfe_status_t st = rfe_params_default(&p);
+ *     if (st == RFE_OK) {
+ *         st = rfe_velocity_params_default(&vp);
+ *     }
+ *     if (st == RFE_OK) {
+ *         st = rfe_pipeline_init(&pl, &p, &vp);
+ *     }
+ *     return st;
+ * }
+ *
+ * void esc_task_100hz(const rfe_velocity_input_t *in)
+ * {
+ *     rfe_pipeline_out_t o;
+ *     if (!rfe_status_is_error(rfe_pipeline_step(&pl, in, &o))) {
+ *         // o.friction.mu[w], o.friction.sd[w], o.friction.valid[w]; o.velocity.vx, ...
+ *     }
+ * }
+ * @endcode
+ */
+#ifndef RFE_PIPELINE_H
+#define RFE_PIPELINE_H
+
+#include "rfe/friction.h"
+#include "rfe/velocity.h"
+
+/* Full names of the functions declared here: _f32 in the float build, _f64 with
+ * RFE_REAL_DOUBLE (rfe/types.h). Sources define and call them by the short name. */
+#if defined(RFE_REAL_DOUBLE)
+#define rfe_pipeline_init rfe_pipeline_init_f64
+#define rfe_pipeline_step rfe_pipeline_step_f64
+#else
+#define rfe_pipeline_init rfe_pipeline_init_f32
+#define rfe_pipeline_step rfe_pipeline_step_f32
+#endif
+
+/** Output of one step. */
+typedef struct {
+    rfe_estimate_t friction;          /**< mu, sd, valid per wheel and the friction status */
+    rfe_velocity_estimate_t velocity; /**< vx, vy, beta, r-dot, their sd, flags, status */
+} rfe_pipeline_out_t;
+
+/** Pipeline state (caller-owned; fields read-only for the caller). */
+typedef struct {
+    uint32_t started;           /**< 0 until the first accepted sample */
+    rfe_real_t r_yaw_acc;       /**< the friction estimator's own r-dot noise (params) */
+    rfe_velocity_t velocity;    /**< the observer */
+    rfe_friction_t friction;    /**< the friction estimator */
+    rfe_estimate_t last;        /**< its last estimate (the observer's friction input) */
+} rfe_pipeline_t;
+
+/**
+ * Initialises both estimators.
+ * @param[out] pl  the pipeline state.
+ * @param[in]  p   vehicle, tyre and friction-filter parameters (rfe_params_default, then
+ *                 your calibration); the observer uses the same vehicle and tyre.
+ * @param[in]  vp  the observer's parameters (rfe_velocity_params_default, then tuning).
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_PARAM; rfe_friction_init's errors.
+ */
+RFE_NODISCARD rfe_status_t rfe_pipeline_init(rfe_pipeline_t *pl, const rfe_params_t *p,
+                                             const rfe_velocity_params_t *vp);
+
+/**
+ * One step: the observer, then the friction estimator on its outputs.
+ * @param[in,out] pl   a pipeline set up by rfe_pipeline_init.
+ * @param[in]     in   one ESC sample (rfe_velocity_input_t).
+ * @param[out]    out  both estimates.
+ * @return the observer's error (then nothing changed), else the friction estimator's status
+ *         (on its error the observer's step is undone too, so the pipeline is untouched).
+ */
+RFE_NODISCARD rfe_status_t rfe_pipeline_step(rfe_pipeline_t *pl, const rfe_velocity_input_t *in,
+                                             rfe_pipeline_out_t *out);
+
+#endif /* RFE_PIPELINE_H */

@@ -1,0 +1,90 @@
+/**
+ * @file pipeline_flt.c
+ * @brief The composed entry (rfe/pipeline.h): observer, then friction on its outputs.
+ */
+#include "rfe/pipeline.h"
+
+#include "numerics/internal.h"
+
+rfe_status_t rfe_pipeline_init(rfe_pipeline_t *pl, const rfe_params_t *p,
+                               const rfe_velocity_params_t *vp)
+{
+    rfe_status_t st;
+    if ((pl == NULL) || (p == NULL) || (vp == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    st = rfe_velocity_init(&pl->velocity, vp, p);
+    if (st == RFE_OK) {
+        st = rfe_friction_init(&pl->friction, p);
+    }
+    if (st == RFE_OK) {
+        st = rfe_friction_get(&pl->friction, &pl->last);
+    }
+    if (st == RFE_OK) {
+        pl->r_yaw_acc = p->filter.r_yaw_acc;
+        pl->started = 0u;
+    }
+    return st;
+}
+
+/* The friction estimator's sample from the ESC sample and the observer's estimate. */
+static void friction_sample(const rfe_velocity_input_t *in, const rfe_velocity_estimate_t *v,
+                            rfe_sample_t *u)
+{
+    size_t i;
+    u->delta = in->delta;
+    u->vx = v->vx;
+    u->vy = v->vy;
+    u->yaw_rate = in->yaw_rate;
+    u->yaw_acc = v->yaw_acc;
+    u->ax = in->ax;
+    u->ay = in->ay;
+    for (i = 0u; i < RFE_WHEELS; ++i) {
+        u->omega[i] = in->omega[i];
+    }
+}
+
+rfe_status_t rfe_pipeline_step(rfe_pipeline_t *pl, const rfe_velocity_input_t *in,
+                               rfe_pipeline_out_t *out)
+{
+    rfe_velocity_t obs_before;
+    rfe_filter_params_t noise_before;
+    rfe_velocity_mu_t mu;
+    rfe_sample_t u;
+    size_t i;
+    rfe_status_t st;
+    if ((pl == NULL) || (in == NULL) || (out == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    for (i = 0u; i < RFE_WHEELS; ++i) {
+        mu.mu[i] = rfe_max(pl->last.mu[i], RFE_R(0.0));
+        mu.sd[i] = pl->last.sd[i];
+    }
+    obs_before = pl->velocity;
+    st = rfe_velocity_step(&pl->velocity, in, (pl->started != 0u) ? &mu : NULL, &out->velocity);
+    if (st != RFE_OK) {
+        out->friction = pl->last;
+        return st;
+    }
+    friction_sample(in, &out->velocity, &u);
+    noise_before = pl->friction.params.filter;
+    {
+        const rfe_real_t s = out->velocity.sd_yaw_acc;
+        st = rfe_friction_set_input_noise(&pl->friction, out->velocity.sd_vx,
+                                          out->velocity.sd_vy,
+                                          RFE_SQRT((pl->r_yaw_acc * pl->r_yaw_acc) + (s * s)));
+    }
+    if (st == RFE_OK) {
+        st = rfe_friction_step(&pl->friction, &u, &out->friction);
+    }
+    if (rfe_status_is_error(st) != 0) {
+        pl->velocity = obs_before; /* undo the observer's step and the input noise: the */
+        pl->friction.params.filter = noise_before; /* pipeline is untouched */
+        out->friction = pl->last;
+        out->friction.status = st;
+        return st;
+    }
+    pl->last = out->friction;
+    pl->started = 1u;
+    return st;
+}
