@@ -73,6 +73,7 @@ def _steps(p, rates, dt=0.01):
     return np.array(out)
 
 
+# REQ-OBS-005
 @pytest.mark.parametrize("f", [0.25, 1.0, 2.0])
 def test_differentiator_lag_and_gain(f):
     p = observer.params_with_defaults()
@@ -92,6 +93,7 @@ def test_differentiator_lag_and_gain(f):
     assert abs(gain - 1.0) <= 0.015
 
 
+# REQ-OBS-005
 def test_differentiator_noise():
     p = observer.params_with_defaults()
     rng = np.random.default_rng(11)
@@ -171,6 +173,7 @@ def _wrong_mu_errors(sd_mu):
     return o, np.abs(np.degrees(o["beta"]) - b_true), np.max(np.abs(b_true))
 
 
+# REQ-OBS-006
 @pytest.mark.skipif(not os.path.exists(os.path.join(SCEN, "sine_steer_high_mu.csv")),
                     reason="no bundled scenarios")
 def test_a_confidently_wrong_friction_does_not_run_away():

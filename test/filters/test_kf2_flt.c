@@ -37,6 +37,7 @@ static void mat_mul(const double A[2][2], const double B[2][2], double C[2][2])
     }
 }
 
+/* REQ-OBS-001 */
 static void test_predict_and_update_match_matrix_algebra(void **state)
 {
     /* a fixed, well-conditioned case and a second with a negative correlation */
@@ -100,6 +101,7 @@ static void test_init(void **state)
     assert_int_equal(rfe_kf2_init(&f, 1.0f, 2.0f, 0.5f, -3.0f), RFE_ERR_RANGE);
 }
 
+/* REQ-OBS-001 */
 static void test_errors_leave_the_filter_untouched(void **state)
 {
     rfe_kf2_t f;

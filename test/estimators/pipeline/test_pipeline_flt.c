@@ -46,6 +46,7 @@ static void test_set_input_noise(void **state)
     assert_close(est.params.filter.r_yaw_acc, 0.4, 1e-7, 0.0, "r_yaw_acc");
 }
 
+/* REQ-OBS-007 */
 static void test_pipeline_steps_both_estimators(void **state)
 {
     rfe_params_t p;
@@ -80,6 +81,7 @@ static void test_pipeline_steps_both_estimators(void **state)
     assert_memory_equal(&pl.last, &o.friction, sizeof(o.friction));
 }
 
+/* REQ-OBS-007 */
 static void test_an_error_leaves_the_pipeline_untouched(void **state)
 {
     rfe_params_t p;

@@ -87,6 +87,7 @@ static void test_init_and_get(void **state)
     assert_int_equal(rfe_velocity_get(&fx.obs, &e), RFE_OK);
 }
 
+/* REQ-OBS-003 */
 static void test_bad_inputs_leave_the_observer_untouched(void **state)
 {
     rfe_velocity_estimate_t e;
@@ -158,6 +159,7 @@ static void test_first_sample_and_free_rolling(void **state)
     assert_true(e.sd_vx < 0.1f);
 }
 
+/* REQ-OBS-004 */
 static void test_braking_wheels_only_bound_vx_from_below(void **state)
 {
     /* Braking at 5 m/s^2 while every wheel reads 10 % slow (a locked-up ABS cycle): the
@@ -208,6 +210,7 @@ static void test_a_stop(void **state)
     assert_true((e.flags & (uint32_t)RFE_VEL_FLAG_VY_LOWSPEED) != 0u);
 }
 
+/* REQ-OBS-003 */
 static void test_not_initialised_and_nonfinite_friction(void **state)
 {
     rfe_velocity_t obs;
@@ -225,6 +228,7 @@ static void test_not_initialised_and_nonfinite_friction(void **state)
     assert_int_equal(rfe_velocity_step(&fx.obs, &in, &mu, &e), RFE_ERR_NONFINITE);
 }
 
+/* REQ-OBS-006 */
 static void test_a_too_low_friction_is_raised_by_the_measured_ay(void **state)
 {
     /* cornering at ay = 6 m/s^2 while the friction input says 0.2: the model's friction is
@@ -244,6 +248,7 @@ static void test_a_too_low_friction_is_raised_by_the_measured_ay(void **state)
     assert_true((e.flags & RFE_VEL_FLAG_VY_MODEL) != 0u);
 }
 
+/* REQ-OBS-004 */
 static void test_all_wheel_drive_wheels_only_bound_vx_from_above(void **state)
 {
     /* Accelerating at 2 m/s^2 with torque on all four wheels, each spinning 10 % fast: no
@@ -282,6 +287,7 @@ static void test_all_wheel_drive_wheels_only_bound_vx_from_above(void **state)
     assert_true((e.flags & RFE_VEL_FLAG_VX_WHEEL) != 0u);
 }
 
+/* REQ-OBS-004 */
 static void test_vx_never_goes_negative(void **state)
 {
     /* standing, then an accelerometer reading -3 m/s^2 (a car held on a slope by its

@@ -133,6 +133,7 @@ static void compare_one(const char *name)
     rfe_sensor_log_free(&log);
 }
 
+/* REQ-OBS-002 */
 static void test_every_golden(void **state)
 {
     DIR *d = opendir(GOLDEN_DIR);
