@@ -12,9 +12,19 @@
 #include <stdlib.h>
 #include <string.h>
 
-/** Column roles: required input, or one of the optional truth groups (each all four or
- *  none): true friction, true friction utilisation. */
-typedef enum { COL_INPUT = 0, COL_MU = 1, COL_UTIL = 2, COL_KINDS = 3 } col_kind_t;
+/** Column roles: required input, or one of the optional groups (each all or none): true
+ *  friction, true friction utilisation, measured velocities (a test car), brake
+ *  pressures, drive torques, the known grade. */
+typedef enum {
+    COL_INPUT = 0,
+    COL_MU = 1,
+    COL_UTIL = 2,
+    COL_VEL = 3,
+    COL_PRES = 4,
+    COL_TORQ = 5,
+    COL_GRADE = 6,
+    COL_KINDS = 7
+} col_kind_t;
 
 /** A sensor-log column: its DATA.md name and where its value goes in a row. */
 typedef struct {
@@ -28,10 +38,10 @@ typedef struct {
 static const col_spec_t k_cols[] = {
     {"t", ROW_OFF(t), COL_INPUT},
     {"delta", ROW_OFF(delta), COL_INPUT},
-    {"vx", ROW_OFF(vx), COL_INPUT},
-    {"vy", ROW_OFF(vy), COL_INPUT},
+    {"vx", ROW_OFF(vx), COL_VEL},
+    {"vy", ROW_OFF(vy), COL_VEL},
     {"yaw_rate", ROW_OFF(yaw_rate), COL_INPUT},
-    {"yaw_acc", ROW_OFF(yaw_acc), COL_INPUT},
+    {"yaw_acc", ROW_OFF(yaw_acc), COL_VEL},
     {"ax", ROW_OFF(ax), COL_INPUT},
     {"ay", ROW_OFF(ay), COL_INPUT},
     {"omega_fl", ROW_OFF(omega[RFE_FL]), COL_INPUT},
@@ -46,6 +56,15 @@ static const col_spec_t k_cols[] = {
     {"util_fr", ROW_OFF(util_true[RFE_FR]), COL_UTIL},
     {"util_rl", ROW_OFF(util_true[RFE_RL]), COL_UTIL},
     {"util_rr", ROW_OFF(util_true[RFE_RR]), COL_UTIL},
+    {"p_fl", ROW_OFF(p_brake[RFE_FL]), COL_PRES},
+    {"p_fr", ROW_OFF(p_brake[RFE_FR]), COL_PRES},
+    {"p_rl", ROW_OFF(p_brake[RFE_RL]), COL_PRES},
+    {"p_rr", ROW_OFF(p_brake[RFE_RR]), COL_PRES},
+    {"torque_fl", ROW_OFF(torque[RFE_FL]), COL_TORQ},
+    {"torque_fr", ROW_OFF(torque[RFE_FR]), COL_TORQ},
+    {"torque_rl", ROW_OFF(torque[RFE_RL]), COL_TORQ},
+    {"torque_rr", ROW_OFF(torque[RFE_RR]), COL_TORQ},
+    {"grade", ROW_OFF(grade), COL_GRADE},
 };
 #define N_COLS (sizeof k_cols / sizeof k_cols[0])
 
@@ -297,10 +316,14 @@ static int map_header_fields(reader_t *r, size_t n)
 static int check_columns(reader_t *r, rfe_sensor_log_t *log)
 {
     static const char *const group_list[COL_KINDS] = {
-        "", "mu_fl, mu_fr, mu_rl, mu_rr", "util_fl, util_fr, util_rl, util_rr"};
+        "", "mu_fl, mu_fr, mu_rl, mu_rr", "util_fl, util_fr, util_rl, util_rr",
+        "vx, vy, yaw_acc", "p_fl, p_fr, p_rl, p_rr", "torque_fl, torque_fr, torque_rl, torque_rr",
+        "grade"};
+    static const char *const group_word[COL_KINDS] = {"", "truth", "truth", "velocity",
+                                                      "pressure", "torque", "grade"};
     size_t present[N_COLS] = {0u};
     size_t n_present[COL_KINDS] = {0u};
-    const char *missing[COL_KINDS] = {NULL, NULL, NULL};
+    const char *missing[COL_KINDS] = {NULL, NULL, NULL, NULL, NULL, NULL, NULL};
     size_t j;
     size_t k;
     for (j = 0u; j < r->n_fields; ++j) {
@@ -322,13 +345,17 @@ static int check_columns(reader_t *r, rfe_sensor_log_t *log)
     for (k = (size_t)COL_MU; k < (size_t)COL_KINDS; ++k) {
         if ((n_present[k] != 0u) && (missing[k] != NULL)) {
             rfe_io_error_set(r->err, r->name, r->line, 0u,
-                             "truth column '%s' missing (give all of %s or none)", missing[k],
-                             group_list[k]);
+                             "%s column '%s' missing (give all of %s or none)", group_word[k],
+                             missing[k], group_list[k]);
             return -1;
         }
     }
     log->has_truth = (n_present[COL_MU] != 0u) ? 1 : 0;
     log->has_util = (n_present[COL_UTIL] != 0u) ? 1 : 0;
+    log->has_velocity = (n_present[COL_VEL] != 0u) ? 1 : 0;
+    log->has_pressure = (n_present[COL_PRES] != 0u) ? 1 : 0;
+    log->has_torque = (n_present[COL_TORQ] != 0u) ? 1 : 0;
+    log->has_grade = (n_present[COL_GRADE] != 0u) ? 1 : 0;
     return 0;
 }
 
@@ -423,6 +450,9 @@ static void *grow(void *arr, size_t *cap, size_t elem, size_t need)
 
 static const char *const k_est_header =
     "t,mu_fl,mu_fr,mu_rl,mu_rr,sd_fl,sd_fr,sd_rl,sd_rr,valid_fl,valid_fr,valid_rl,valid_rr,status";
+/* The velocity observer's columns, written when it ran (DATA.md "Estimate log"). */
+static const char *const k_est_velocity_header =
+    ",vx_est,vy_est,beta_est,yaw_acc_est,sd_vx,sd_vy,sd_beta";
 
 /* Metadata value on one line: control characters (a newline in a file name) become '?'. */
 static void write_sanitised(FILE *f, const char *s)
@@ -447,7 +477,8 @@ int rfe_estimate_log_write_stream(FILE *f, const rfe_kv_t *meta, size_t n_meta,
         write_sanitised(f, meta[i].value);
         fputc('\n', f);
     }
-    fprintf(f, "%s\n", k_est_header);
+    fprintf(f, "%s%s\n", k_est_header,
+            ((n_rows > 0u) && (rows[0].has_velocity != 0)) ? k_est_velocity_header : "");
     for (i = 0u; i < n_rows; ++i) {
         const rfe_est_row_t *e = &rows[i];
         /* t is the input time, copied exactly whatever the run precision. */
@@ -464,7 +495,15 @@ int rfe_estimate_log_write_stream(FILE *f, const rfe_kv_t *meta, size_t n_meta,
         for (w = 0u; w < RFE_WHEELS; ++w) {
             fprintf(f, ",%u", (unsigned)e->valid[w]);
         }
-        fprintf(f, ",%d\n", e->status);
+        fprintf(f, ",%d", e->status);
+        if (rows[0].has_velocity != 0) {
+            const double v[7] = {e->vx, e->vy, e->beta, e->yaw_acc, e->sd_vx, e->sd_vy, e->sd_beta};
+            for (w = 0u; w < 7u; ++w) {
+                format(num, v[w]);
+                fprintf(f, ",%s", num);
+            }
+        }
+        fputc('\n', f);
     }
     return ferror(f) ? -1 : 0;
 }

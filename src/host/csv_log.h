@@ -25,8 +25,11 @@ typedef struct {
 
 /** One sensor sample as read (DATA.md sensor log), doubles whatever the build precision. */
 typedef struct {
-    double t, delta, vx, vy, yaw_rate, yaw_acc, ax, ay;
+    double t, delta, vx, vy, yaw_rate, yaw_acc, ax, ay; /**< vx, vy, yaw_acc: 0 unless has_velocity */
     double omega[RFE_WHEELS];    /**< omega_fl .. omega_rr */
+    double p_brake[RFE_WHEELS];  /**< p_fl .. p_rr [MPa]; only when has_pressure */
+    double torque[RFE_WHEELS];   /**< torque_fl .. torque_rr [N m]; only when has_torque */
+    double grade;                /**< known road grade [rad]; only when has_grade (else 0) */
     double mu_true[RFE_WHEELS];  /**< mu_fl .. mu_rr; only meaningful when has_truth */
     double util_true[RFE_WHEELS]; /**< util_fl .. util_rr (true friction utilisation
                                        sqrt(Fx^2 + Fy^2) / (mu Fz)); only when has_util */
@@ -40,11 +43,16 @@ typedef struct {
     size_t n_rows;
     int has_truth;  /**< 1 when all four mu_* truth columns are present */
     int has_util;   /**< 1 when all four util_* truth columns are present */
+    int has_velocity; /**< 1 when vx, vy, yaw_acc are present (a test car's sensors) */
+    int has_pressure; /**< 1 when the four p_* brake pressures are present */
+    int has_torque;   /**< 1 when the four torque_* drive torques are present */
+    int has_grade;    /**< 1 when the grade column is present */
 } rfe_sensor_log_t;
 
 /**
  * Reads @p path into @p log. Rejected: no header, a missing required column, only some of
- * the four columns of a truth group (mu_fl..mu_rr, util_fl..util_rr: each all or none),
+ * the columns of an optional group (each all or none: vx, vy, yaw_acc; p_fl..p_rr;
+ * torque_fl..torque_rr; the truth groups mu_fl..mu_rr, util_fl..util_rr),
  * duplicate column names, a wrong field count, a field that is not
  * a finite decimal number, time not strictly increasing, no data rows.
  * @return 0, or -1 with @p err filled (log then empty; err->file points to @p path).
@@ -69,6 +77,8 @@ typedef struct {
     double sd[RFE_WHEELS];
     unsigned char valid[RFE_WHEELS];
     int status;  /**< rfe_status_t of that step */
+    int has_velocity; /**< 1 when the velocity observer ran: the fields below are written */
+    double vx, vy, beta, yaw_acc, sd_vx, sd_vy, sd_beta; /**< the observer's estimate */
 } rfe_est_row_t;
 
 /** A metadata pair to write (strings not owned). */

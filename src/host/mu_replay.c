@@ -29,7 +29,8 @@ enum { EXIT_OK = 0, EXIT_INPUT = 1, EXIT_USAGE = 2 };
 static const char k_usage[] =
     "usage: " PROG " --in SENSOR.csv --out ESTIMATE.csv [--preset default|paper]\n"
     "                 [--params FILE] [--filter sckf|ckf] [--tyre paper|absolute|magic]\n"
-    "                 [--real float|double|q31] [--metrics FILE.json] [--quiet] [--help]\n"
+    "                 [--real float|double|q31] [--velocity auto|observer|measured]\n"
+    "                 [--metrics FILE.json] [--quiet] [--help]\n"
     "\n"
     "Runs the road-friction estimator over a sensor log (docs DATA.md) and writes the\n"
     "estimate log. Parameters: the --preset set < the log's '# key = value' metadata <\n"
@@ -48,6 +49,12 @@ static const char k_usage[] =
     "  --real TYPE      float (default) or double arithmetic, or q31: the fixed-point\n"
     "                   estimator (samples rounded to its Q formats; saturation counts\n"
     "                   in the estimate log's metadata, the JSON and the summary)\n"
+    "  --velocity WHERE where vx, vy and the yaw acceleration come from: measured (the\n"
+    "                   log's vx, vy, yaw_acc columns, a test car's sensors), observer\n"
+    "                   (estimated from steer, yaw rate, ax, ay, wheel speeds and the\n"
+    "                   optional p_*, torque_*, grade columns: docs/OBSERVER.md, float and\n"
+    "                   double; the estimate log gains vx_est .. sd_beta), or auto\n"
+    "                   (default): measured when the log has the columns, else observer\n"
     "  --metrics FILE   write run summary and accuracy as JSON\n"
     "  --quiet, -q      print nothing on success\n"
     "  --help, -h       print this help and exit\n"
@@ -65,6 +72,7 @@ typedef struct {
     const char *filter;
     const char *tyre;
     const char *real;
+    const char *velocity;
     int quiet;
     int help;
 } options_t;
@@ -78,6 +86,7 @@ typedef struct {
     rfe_replay_q31_stats_t q31;  /**< the q31 run's counters (is_q31) */
     int is_double;
     int is_q31;
+    int use_observer;  /**< vx, vy, r-dot from the velocity observer (--velocity) */
     int has_metrics;
     rfe_metrics_t metrics;
 } run_t;
@@ -156,7 +165,7 @@ static int usage_error(const char *fmt, const char *arg)
 static const char **option_slot(options_t *o, const char *name)
 {
     static const char *const names[] = {"in",     "out",  "params", "metrics",
-                                        "filter", "tyre", "real",   "preset"};
+                                        "filter", "tyre", "real",   "preset", "velocity"};
     const char **slots[sizeof names / sizeof names[0]];
     size_t i;
     slots[0] = &o->in;
@@ -167,6 +176,7 @@ static const char **option_slot(options_t *o, const char *name)
     slots[5] = &o->tyre;
     slots[6] = &o->real;
     slots[7] = &o->preset;
+    slots[8] = &o->velocity;
     for (i = 0u; i < sizeof names / sizeof names[0]; ++i) {
         if (strcmp(names[i], name) == 0) {
             return slots[i];
@@ -240,6 +250,15 @@ static int check_option_words(options_t *o)
         (strcmp(o->real, "q31") != 0)) {
         return usage_error("--real must be float, double or q31, not '%s'", o->real);
     }
+    if ((o->velocity != NULL) && (strcmp(o->velocity, "auto") != 0) &&
+        (strcmp(o->velocity, "observer") != 0) && (strcmp(o->velocity, "measured") != 0)) {
+        return usage_error("--velocity must be auto, observer or measured, not '%s'", o->velocity);
+    }
+    if ((o->velocity != NULL) && (strcmp(o->velocity, "observer") == 0) && (o->real != NULL) &&
+        (strcmp(o->real, "q31") == 0)) {
+        return usage_error("%s", "--velocity observer runs in float or double (the fixed-point "
+                                 "observer does not exist yet), not with --real q31");
+    }
     if (same_file(o->out, o->in) || ((o->params != NULL) && same_file(o->out, o->params)) ||
         ((o->metrics != NULL) && (same_file(o->metrics, o->in) || same_file(o->metrics, o->out)))) {
         return usage_error("%s", "an output file (--out, --metrics) is also an input or the other output");
@@ -295,13 +314,30 @@ static int load_params(const options_t *o, run_t *r)
     }
     r->is_double = (o->real != NULL) && (strcmp(o->real, "double") == 0);
     r->is_q31 = (o->real != NULL) && (strcmp(o->real, "q31") == 0);
+    if ((o->velocity != NULL) && (strcmp(o->velocity, "measured") == 0) && !r->log.has_velocity) {
+        rfe_io_error_set(&err, o->in, 0u, 0u, "%s",
+                         "--velocity measured needs the columns vx, vy, yaw_acc; this log has "
+                         "none (a production car's log: use --velocity observer)");
+        return fail(&err);
+    }
+    r->use_observer = ((o->velocity != NULL) && (strcmp(o->velocity, "observer") == 0)) ||
+                      (((o->velocity == NULL) || (strcmp(o->velocity, "auto") == 0)) &&
+                       !r->log.has_velocity);
+    if (r->use_observer && r->is_q31) {
+        rfe_io_error_set(&err, o->in, 0u, 0u, "%s",
+                         "this log has no vx, vy, yaw_acc columns, and the fixed-point run "
+                         "has no velocity observer yet: use --real float or double");
+        return fail(&err);
+    }
     return 0;
 }
 
 /* Steps the estimator; an invalid parameter set is reported where its value came from. */
 static int run_estimator(const options_t *o, run_t *r)
 {
-    replay_fn_t run = r->is_double ? rfe_replay_run_f64 : rfe_replay_run_f32;
+    replay_fn_t run = r->use_observer
+                          ? (r->is_double ? rfe_replay_run_observer_f64 : rfe_replay_run_observer_f32)
+                          : (r->is_double ? rfe_replay_run_f64 : rfe_replay_run_f32);
     rfe_io_error_t err;
     size_t bad = RFE_PK_NONE;
     rfe_status_t st;
@@ -386,7 +422,7 @@ static size_t saturation_meta(const run_t *r, rfe_kv_t *meta, char vals[][RFE_NU
  * every numeric key. */
 static int write_estimates(const options_t *o, const run_t *r)
 {
-    rfe_kv_t meta[13u + RFE_PK_NUMERIC];
+    rfe_kv_t meta[14u + RFE_PK_NUMERIC];
     char vals[RFE_PK_NUMERIC][RFE_NUM_BUF];
     char sat_vals[5][RFE_NUM_BUF];
     size_t n = 0u;
@@ -400,6 +436,10 @@ static int write_estimates(const options_t *o, const run_t *r)
     meta[n++].value = rfe_filter_kind_str(r->ps.filter);
     meta[n].key = "tyre";
     meta[n++].value = rfe_tyre_mode_str(r->ps.tyre);
+    if (r->use_observer) { /* only then: estimate logs of measured runs stay as they were */
+        meta[n].key = "velocity";
+        meta[n++].value = "observer";
+    }
     meta[n].key = "structure";
     meta[n++].value = rfe_structure_str(r->ps.structure);
     meta[n].key = "real";

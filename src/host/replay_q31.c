@@ -86,6 +86,7 @@ static uint32_t step_row(rfe_friction_q31_t *est, const rfe_sensor_row_t *row,
         out->valid[w] = rfe_status_is_error(st) ? 0u : e.valid[w];
     }
     out->status = (int)st;
+    out->has_velocity = 0; /* the fixed-point observer does not exist yet */
     if (in_sat != 0u) {
         stats->input_sat += in_sat;
         ++stats->input_sat_rows;

@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "rfe/friction.h"
+#include "rfe/pipeline.h"
 #include "rfe/params.h"
 
 static rfe_status_t preset_params(rfe_preset_t preset, rfe_params_t *p);
@@ -160,6 +161,7 @@ static void step_row(rfe_friction_t *est, const rfe_sensor_row_t *row, rfe_est_r
         out->valid[w] = rfe_status_is_error(st) ? 0u : e.valid[w];
     }
     out->status = (int)st;
+    out->has_velocity = 0;
 }
 
 rfe_status_t rfe_replay_params(const rfe_param_set_t *ps, rfe_params_t *p,
@@ -203,6 +205,78 @@ rfe_status_t rfe_replay_run(const rfe_param_set_t *ps, const rfe_sensor_log_t *l
     }
     for (i = 0u; i < log->n_rows; ++i) {
         step_row(&est, &log->rows[i], &out[i]);
+        ++stats->status_count[rfe_replay_status_slot(out[i].status)];
+    }
+    stats->n_steps = log->n_rows;
+    return RFE_OK;
+}
+
+/* The ESC sample of log row @p i (the period from the time stamps, in double). */
+static void esc_input(const rfe_sensor_log_t *log, size_t i, rfe_velocity_input_t *in)
+{
+    const rfe_sensor_row_t *row = &log->rows[i];
+    size_t w;
+    memset(in, 0, sizeof *in);
+    in->dt = (i > 0u) ? (rfe_real_t)(row->t - log->rows[i - 1u].t) : (rfe_real_t)0.0;
+    in->delta = (rfe_real_t)row->delta;
+    in->yaw_rate = (rfe_real_t)row->yaw_rate;
+    in->ax = (rfe_real_t)row->ax;
+    in->ay = (rfe_real_t)row->ay;
+    in->grade = log->has_grade ? (rfe_real_t)row->grade : (rfe_real_t)0.0;
+    for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
+        in->omega[w] = (rfe_real_t)row->omega[w];
+        in->p_brake[w] = log->has_pressure ? (rfe_real_t)row->p_brake[w] : (rfe_real_t)0.0;
+        in->torque[w] = log->has_torque ? (rfe_real_t)row->torque[w] : (rfe_real_t)0.0;
+    }
+    in->has = (log->has_pressure ? RFE_VEL_HAS_PRESSURE : 0u) |
+              (log->has_torque ? RFE_VEL_HAS_TORQUE : 0u);
+}
+
+rfe_status_t rfe_replay_run_observer(const rfe_param_set_t *ps, const rfe_sensor_log_t *log,
+                                     rfe_est_row_t *out, rfe_replay_stats_t *stats,
+                                     size_t *bad_key)
+{
+    rfe_params_t p;
+    rfe_velocity_params_t vp;
+    static rfe_pipeline_t pl; /* large; the replay is single-threaded host code */
+    rfe_status_t st;
+    size_t i;
+    size_t w;
+    if ((ps == NULL) || (log == NULL) || (out == NULL) || (stats == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    memset(stats, 0, sizeof *stats);
+    st = rfe_replay_params(ps, &p, bad_key);
+    if (st == RFE_OK) {
+        st = rfe_velocity_params_default(&vp);
+    }
+    if (st == RFE_OK) {
+        st = rfe_pipeline_init(&pl, &p, &vp);
+    }
+    if (st != RFE_OK) {
+        return st;
+    }
+    for (i = 0u; i < log->n_rows; ++i) {
+        rfe_velocity_input_t in;
+        rfe_pipeline_out_t o;
+        esc_input(log, i, &in);
+        memset(&o, 0, sizeof o);
+        st = rfe_pipeline_step(&pl, &in, &o);
+        out[i].t = log->rows[i].t;
+        for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
+            out[i].mu[w] = (double)o.friction.mu[w];
+            out[i].sd[w] = (double)o.friction.sd[w];
+            out[i].valid[w] = rfe_status_is_error(st) ? 0u : o.friction.valid[w];
+        }
+        out[i].status = (int)st;
+        out[i].has_velocity = 1;
+        out[i].vx = (double)o.velocity.vx;
+        out[i].vy = (double)o.velocity.vy;
+        out[i].beta = (double)o.velocity.beta;
+        out[i].yaw_acc = (double)o.velocity.yaw_acc;
+        out[i].sd_vx = (double)o.velocity.sd_vx;
+        out[i].sd_vy = (double)o.velocity.sd_vy;
+        out[i].sd_beta = (double)o.velocity.sd_beta;
         ++stats->status_count[rfe_replay_status_slot(out[i].status)];
     }
     stats->n_steps = log->n_rows;

@@ -20,12 +20,14 @@
  * RFE_REAL_DOUBLE (rfe/types.h). Sources define and call them by the short name. */
 #if defined(RFE_REAL_DOUBLE)
 #define rfe_replay_run             rfe_replay_run_f64
+#define rfe_replay_run_observer    rfe_replay_run_observer_f64
 #define rfe_replay_sample_from_row rfe_replay_sample_from_row_f64
 #define rfe_param_set_preset       rfe_param_set_preset_f64
 #define rfe_replay_params          rfe_replay_params_f64
 #define rfe_replay_preset_fn       rfe_replay_preset_fn_f64
 #else
 #define rfe_replay_run             rfe_replay_run_f32
+#define rfe_replay_run_observer    rfe_replay_run_observer_f32
 #define rfe_replay_sample_from_row rfe_replay_sample_from_row_f32
 #define rfe_param_set_preset       rfe_param_set_preset_f32
 #define rfe_replay_params          rfe_replay_params_f32
@@ -72,6 +74,27 @@ RFE_NODISCARD rfe_status_t rfe_replay_run_f32(const rfe_param_set_t *ps,
 RFE_NODISCARD rfe_status_t rfe_replay_run_f64(const rfe_param_set_t *ps,
                                               const rfe_sensor_log_t *log, rfe_est_row_t *out,
                                               rfe_replay_stats_t *stats, size_t *bad_key);
+
+/**
+ * As rfe_replay_run, on the sensors of a production car: the composed pipeline
+ * (rfe/pipeline.h, docs/OBSERVER.md) estimates vx, vy and the yaw acceleration from the
+ * log's steer, yaw rate, ax, ay and wheel speeds (and its brake pressures, drive torques
+ * and grade when the log has them), with the observer's default parameters, and feeds
+ * the friction estimator; measured vx, vy, yaw_acc columns are ignored. The period of
+ * each step is the difference of the log's time stamps. Each row gets the observer's
+ * estimate too (has_velocity = 1).
+ */
+RFE_NODISCARD rfe_status_t rfe_replay_run_observer_f32(const rfe_param_set_t *ps,
+                                                       const rfe_sensor_log_t *log,
+                                                       rfe_est_row_t *out,
+                                                       rfe_replay_stats_t *stats,
+                                                       size_t *bad_key);
+/** Double-precision twin of rfe_replay_run_observer_f32. */
+RFE_NODISCARD rfe_status_t rfe_replay_run_observer_f64(const rfe_param_set_t *ps,
+                                                       const rfe_sensor_log_t *log,
+                                                       rfe_est_row_t *out,
+                                                       rfe_replay_stats_t *stats,
+                                                       size_t *bad_key);
 
 /** The library sample of a log row (each field rounded to the build's real type), as the
  *  replay steps it; for tests and tools that step the estimator themselves. */

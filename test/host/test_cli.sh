@@ -80,7 +80,7 @@ cmp -s "$DATA/good_small.csv" "$TMP/in.csv" && ok "out_is_in: input untouched" |
 input_error bad_number "$DATA/bad_number.csv" "^mu_replay: .*bad_number\.csv:4:3: column 'vx': "
 input_error wrong_count "$DATA/wrong_count.csv" "^mu_replay: .*wrong_count\.csv:3:12: wrong column count"
 input_error nan_text "$DATA/nan_value.csv" "^mu_replay: .*nan_value\.csv:3:7: column 'ax': nan"
-input_error missing_column "$DATA/missing_column.csv" "^mu_replay: .*missing_column\.csv:2: missing column 'vy'$"
+input_error missing_column "$DATA/missing_column.csv" "^mu_replay: .*missing_column\.csv:2: velocity column 'vy' missing \(give all of vx, vy, yaw_acc or none\)$"
 input_error empty_file "$DATA/empty.csv" "^mu_replay: .*empty\.csv: empty file"
 input_error time_backwards "$DATA/time_backwards.csv" "^mu_replay: .*time_backwards\.csv:4:1: "
 input_error bad_metadata "$DATA/bad_meta.csv" "^mu_replay: .*bad_meta\.csv:2: metadata 'm'"
@@ -186,6 +186,26 @@ printf 'sd_max = -1\n' >"$TMP/sdmax.par"
 run invalid_new_key 1 --in "$DATA/good_small.csv" --out "$TMP/s3.csv" --params "$TMP/sdmax.par"
 one_line invalid_new_key "^mu_replay: .*sdmax\.par:1: invalid parameter sd_max = -1 "
 grep -q 'docs/ESTIMATOR.md' <("$BIN" --help) && ok "help: names docs/ESTIMATOR.md" || bad "help: no docs/ESTIMATOR.md"
+
+# ---- --velocity: a production car's log (no vx, vy, yaw_acc) runs the observer (docs/OBSERVER.md)
+run esc_auto 0 --in "$DATA/good_esc.csv" --out "$TMP/v.csv"
+grep -q '^# velocity = observer$' "$TMP/v.csv" && ok "esc_auto: observer metadata" || bad "esc_auto: observer metadata"
+grep -q '^t,.*,status,vx_est,vy_est,beta_est,yaw_acc_est,sd_vx,sd_vy,sd_beta$' "$TMP/v.csv" \
+    && ok "esc_auto: observer columns" || bad "esc_auto: observer columns"
+[ "$(grep -vc '^#' "$TMP/v.csv")" -eq 4 ] && ok "esc_auto: header + 3 rows" || bad "esc_auto: row count"
+# the first row's vx_est is the mean wheel speed: 60 rad/s x R 0.325 m = 19.5 m/s
+awk -F, '!/^#/ { n++ } n == 2 { exit !($15 > 19.49 && $15 < 19.51) }' "$TMP/v.csv" \
+    && ok "esc_auto: vx_est from the wheels" || bad "esc_auto: vx_est"
+run esc_measured 1 --in "$DATA/good_esc.csv" --out "$TMP/v.csv" --velocity measured
+one_line esc_measured "^mu_replay: .*good_esc\.csv: --velocity measured needs the columns vx, vy, yaw_acc"
+run observer_on_measured 0 --in "$DATA/good_small.csv" --out "$TMP/v.csv" --velocity observer
+grep -q '^# velocity = observer$' "$TMP/v.csv" && ok "observer_on_measured: metadata" || bad "observer_on_measured: metadata"
+run measured_default 0 --in "$DATA/good_small.csv" --out "$TMP/v.csv"
+grep -q '^# velocity' "$TMP/v.csv" && bad "measured_default: no velocity metadata" || ok "measured_default: no velocity metadata"
+run bad_velocity 2 --in "$DATA/good_small.csv" --out "$TMP/v.csv" --velocity optical
+run observer_q31 2 --in "$DATA/good_small.csv" --out "$TMP/v.csv" --velocity observer --real q31
+run esc_q31 1 --in "$DATA/good_esc.csv" --out "$TMP/v.csv" --real q31
+one_line esc_q31 "^mu_replay: .*good_esc\.csv: this log has no vx, vy, yaw_acc columns, and the fixed-point run"
 
 # ---- --real q31: the fixed-point estimator (docs/FIXED_POINT.md "Estimator")
 run good_q31 0 --in "$DATA/good_small.csv" --out "$TMP/q.csv" --metrics "$TMP/q.json" --real q31

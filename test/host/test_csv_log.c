@@ -147,8 +147,52 @@ static void test_rfe_sensor_log_read_missing_column(void **state)
     assert_string_equal(err.file, DATA "missing_column.csv");
     assert_int_equal(err.line, 2);
     assert_int_equal(err.col, 0);
-    assert_non_null(strstr(err.msg, "missing column 'vy'"));
+    /* vx, vy, yaw_acc are optional together (a production car has none of them) */
+    assert_non_null(strstr(err.msg, "velocity column 'vy' missing (give all of vx, vy, yaw_acc or none)"));
     assert_null(log.rows);
+}
+
+/* REQ-CSV-002 */
+static void test_rfe_sensor_log_read_missing_required_column(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    (void)state;
+    memset(&log, 0, sizeof log);
+    assert_int_equal(read_text("t,delta,yaw_rate,ax,omega_fl,omega_fr,omega_rl,omega_rr\n"
+                               "0,0,0,0,60,60,60,60\n", &log, &err), -1);
+    assert_non_null(strstr(err.msg, "missing column 'ay'"));
+}
+
+/* REQ-CSV-001 */
+static void test_rfe_sensor_log_read_production_car_log(void **state)
+{
+    /* no vx, vy, yaw_acc; brake pressures; a partial pressure group is rejected */
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    (void)state;
+    memset(&log, 0, sizeof log);
+    assert_int_equal(rfe_sensor_log_read(DATA "good_esc.csv", &log, &err), 0);
+    assert_int_equal(log.n_rows, 3);
+    assert_int_equal(log.has_velocity, 0);
+    assert_int_equal(log.has_pressure, 1);
+    assert_int_equal(log.has_torque, 0);
+    assert_int_equal(log.has_grade, 0);
+    assert_true(log.rows[1].p_brake[2] == 0.3);
+    assert_true(log.rows[1].omega[0] == 59.94);
+    assert_true(log.rows[1].vx == 0.0);
+    rfe_sensor_log_free(&log);
+    assert_int_equal(read_text("t,delta,yaw_rate,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr,p_fl\n"
+                               "0,0,0,0,0,60,60,60,60,1\n", &log, &err), -1);
+    assert_non_null(strstr(err.msg, "pressure column 'p_fr' missing"));
+    assert_int_equal(read_text("t,delta,yaw_rate,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr,grade,"
+                               "torque_fl,torque_fr,torque_rl,torque_rr\n"
+                               "0,0,0,0,0,60,60,60,60,0.05,100,100,0,0\n", &log, &err), 0);
+    assert_int_equal(log.has_torque, 1);
+    assert_int_equal(log.has_grade, 1);
+    assert_true(log.rows[0].grade == 0.05);
+    assert_true(log.rows[0].torque[1] == 100.0);
+    rfe_sensor_log_free(&log);
 }
 
 /* REQ-CSV-002 */
@@ -794,6 +838,8 @@ int main(void)
         cmocka_unit_test(test_rfe_sensor_log_read_crlf_bom_and_trailing_blank_lines),
         cmocka_unit_test(test_rfe_sensor_log_read_very_long_number_not_truncated),
         cmocka_unit_test(test_rfe_sensor_log_read_missing_column),
+        cmocka_unit_test(test_rfe_sensor_log_read_missing_required_column),
+        cmocka_unit_test(test_rfe_sensor_log_read_production_car_log),
         cmocka_unit_test(test_rfe_sensor_log_read_bad_number_position),
         cmocka_unit_test(test_rfe_sensor_log_read_wrong_column_count),
         cmocka_unit_test(test_rfe_sensor_log_read_too_many_fields),
