@@ -43,7 +43,7 @@
 #define RFE_LIMIT_OMEGA 500.0    /**< |omega| [rad/s] (about 160 m/s at R = 0.325 m) */
 #endif
 #ifndef RFE_LIMIT_PRESSURE
-#define RFE_LIMIT_PRESSURE 50.0  /**< brake pressure [MPa], 0 .. this (velocity observer) */
+#define RFE_LIMIT_PRESSURE 50.0  /**< |brake pressure| [MPa] (velocity observer; a sensor reads a little below 0 around zero) */
 #endif
 #ifndef RFE_LIMIT_TORQUE
 #define RFE_LIMIT_TORQUE 20000.0 /**< |drive torque at a wheel| [N m] (velocity observer) */

@@ -138,7 +138,7 @@ RFE_NODISCARD rfe_status_t rfe_velocity_init(rfe_velocity_t *obs,
  * @param[in]     mu   the friction estimator's last estimate, or NULL (then mu_default).
  * @param[out]    out  the estimate (on error: the previous one, with the error status).
  * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_NOT_INITIALISED; RFE_ERR_NONFINITE (an input);
- *         RFE_ERR_RANGE (dt, or an input outside config.h's limits, a negative pressure,
+ *         RFE_ERR_RANGE (dt, or an input outside config.h's limits, a pressure beyond +-RFE_LIMIT_PRESSURE,
  *         a friction outside [0, 2] or a negative sd); the model's and filters' errors. On
  *         error the observer is untouched.
  */

@@ -45,14 +45,14 @@ static int inputs_finite(const rfe_velocity_input_t *in, const rfe_velocity_mu_t
     return 1;
 }
 
-/* §1 the per-wheel inputs inside their limits: |omega|, 0 <= p, |torque|, 0 <= mu <= 2,
- * sd >= 0. */
+/* §1 the per-wheel inputs inside their limits: |omega|, |p| (a pressure sensor reads a
+ * little below 0 around zero), |torque|, 0 <= mu <= 2, sd >= 0. */
 static int wheels_in_range(const rfe_velocity_input_t *in, const rfe_velocity_mu_t *mu)
 {
     size_t i;
     for (i = 0u; i < RFE_WHEELS; ++i) {
         if ((RFE_FABS(in->omega[i]) > RFE_R(RFE_LIMIT_OMEGA)) ||
-            (in->p_brake[i] < RFE_R(0.0)) || (in->p_brake[i] > RFE_R(RFE_LIMIT_PRESSURE)) ||
+            (RFE_FABS(in->p_brake[i]) > RFE_R(RFE_LIMIT_PRESSURE)) ||
             (RFE_FABS(in->torque[i]) > RFE_R(RFE_LIMIT_TORQUE))) {
             return 0;
         }
