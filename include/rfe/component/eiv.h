@@ -24,10 +24,6 @@
 #define rfe_eiv_sqrt_noise rfe_eiv_sqrt_noise_f32
 #endif
 
-/** Number of perturbed inputs: delta, vx, vy, r and the four wheel speeds. */
-/* cppcheck-suppress misra-c2012-2.4 ; MISRA-FP-01: an anonymous enum has no tag */
-enum { RFE_EIV_INPUTS = 8 };
-
 /**
  * S_R (3 x 3, row-major, lower-triangular, upper triangle zero) for sample @p u at friction
  * @p mu (per wheel), with r_ax, r_ay, r_yaw_acc, r_model_rel and sd_in_* of @p p.

@@ -26,10 +26,6 @@
 #include "rfe/params_q31.h"
 #include "rfe/component/tyre_q31.h"
 
-/** Number of perturbed inputs: delta, vx, vy, r and the four wheel speeds (RFE_EIV_INPUTS of
- *  rfe/component/eiv.h, which a fixed-point build does not include). */
-#define RFE_EIV_Q31_INPUTS 8u
-
 /**
  * S_R (3 x 3, row-major, lower-triangular, upper triangle zero; Q24) for sample @p u at
  * friction @p mu (per wheel, Q29), with r_ax, r_ay, r_yaw_acc, r_model_rel and sd_in_* of
