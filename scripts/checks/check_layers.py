@@ -43,7 +43,7 @@ PUBLIC = {
     "filters": ("sckf.h", "sckf_q31.h", "ckf.h", "ckf_q31.h"),
     "params": ("modes.h", "params.h", "params_q31.h", "params_conv.h"),
     "models": ("tyre.h", "tyre_q31.h", "obsmat.h", "obsmat_q31.h", "meas.h", "meas_q31.h"),
-    "estimators": ("eiv.h", "eiv_q31.h", "conditioner.h", "conditioner_q31.h", "friction.h",
+    "estimators": ("step_noise.h", "step_noise_q31.h", "conditioner.h", "conditioner_q31.h", "friction.h",
                    "friction_q31.h"),
 }
 # Headers of both number types: no real type in them.

@@ -900,6 +900,18 @@ static void test_meas_q31_perturbed_args(void **state)
     assert_int_equal(rfe_meas_eval_perturbed_q31(&h, &p->vehicle, &p->tyre, &nom, &uq, (size_t)RFE_INPUTS, 1, mu, z, &sat), RFE_ERR_PARAM);
     assert_memory_equal(z, z7, sizeof(z));
     assert_int_equal(sat, 0u);
+    /* paper mode: the perturbed sample's set-up rejects tyre parameters it would reject
+     * (v_min <= 0), with nothing written; with the set-up's own parameters it succeeds */
+    {
+        rfe_tyre_params_q31_t bad = pq_pap.tyre;
+        bad.v_min = 0;
+        assert_int_equal(rfe_meas_setup_q31(&h, &pq_pap.vehicle, &pq_pap.tyre, &uq, &sat), RFE_OK);
+        sat = 0u;
+        assert_int_equal(rfe_meas_eval_perturbed_q31(&h, &pq_pap.vehicle, &bad, &nom, &uq, RFE_IN_VX, 1, mu, z, &sat), RFE_ERR_PARAM);
+        assert_memory_equal(z, z7, sizeof(z));
+        assert_int_equal(sat, 0u);
+        assert_int_equal(rfe_meas_eval_perturbed_q31(&h, &pq_pap.vehicle, &pq_pap.tyre, &nom, &uq, RFE_IN_VX, 1, mu, z, &sat), RFE_OK);
+    }
 }
 
 int main(void)

@@ -1,21 +1,21 @@
 /**
- * @file eiv_flt.c
+ * @file step_noise_flt.c
  * @brief Step-noise S_R: sensor noise, relative tyre-model error, input noise propagated by
  *        central differences (docs/ESTIMATOR.md step 4).
  */
-#include "rfe/component/eiv.h"
+#include "rfe/component/step_noise.h"
 
 #include "rfe/component/meas.h"
 #include "rfe/component/qr.h"
 
-#include "estimators/friction/eiv_internal.h"
+#include "estimators/friction/step_noise_internal.h"
 #include "numerics/internal.h"
 
 #define CW ((size_t)RFE_MEAS + (size_t)RFE_INPUTS) /* widest [S_R0, g_1 .. g_8] */
 
 /* The Tria of [S_R0, g_1 .. g_8] is 3 x 11: it must fit the smallest build's maxima. */
 /* cppcheck-suppress misra-c2012-2.3 ; MISRA-DEV-04: static assertion, never used by design */
-typedef char rfe_assert_eiv_tria_fits[((RFE_MEAS + RFE_INPUTS) <= RFE_TRIA_COLS_MAX) &&
+typedef char rfe_assert_step_noise_tria_fits[((RFE_MEAS + RFE_INPUTS) <= RFE_TRIA_COLS_MAX) &&
                                               (RFE_MEAS <= RFE_N_MAX)
                                           ? 1
                                           : -1];
@@ -95,7 +95,7 @@ static rfe_status_t fill(const rfe_params_t *p, const rfe_meas_t *h, const rfe_s
     return st;
 }
 
-rfe_status_t rfe_eiv_sqrt_noise_core(const rfe_params_t *p, const rfe_meas_t *h,
+rfe_status_t rfe_step_noise_sqrt_core(const rfe_params_t *p, const rfe_meas_t *h,
                                      const rfe_sample_t *u,
                                      const rfe_real_t mu[RFE_WHEELS],
                                      rfe_real_t SR[RFE_MEAS * RFE_MEAS])
@@ -119,7 +119,7 @@ rfe_status_t rfe_eiv_sqrt_noise_core(const rfe_params_t *p, const rfe_meas_t *h,
     return st;
 }
 
-rfe_status_t rfe_eiv_sqrt_noise(const rfe_params_t *p, const rfe_sample_t *u,
+rfe_status_t rfe_step_noise_sqrt(const rfe_params_t *p, const rfe_sample_t *u,
                                 const rfe_real_t mu[RFE_WHEELS],
                                 rfe_real_t SR[RFE_MEAS * RFE_MEAS])
 {
@@ -139,5 +139,5 @@ rfe_status_t rfe_eiv_sqrt_noise(const rfe_params_t *p, const rfe_sample_t *u,
     if (st != RFE_OK) {
         return st;
     }
-    return rfe_eiv_sqrt_noise_core(p, &h, u, mu, SR);
+    return rfe_step_noise_sqrt_core(p, &h, u, mu, SR);
 }

@@ -1,6 +1,6 @@
 /**
- * @file eiv_q31.c
- * @brief Step-noise S_R on int32 Q values (the twin of eiv_flt.c, docs/ESTIMATOR.md step 4):
+ * @file step_noise_q31.c
+ * @brief Step-noise S_R on int32 Q values (the twin of step_noise_flt.c, docs/ESTIMATOR.md step 4):
  *        sensor noise, relative tyre-model error, input noise propagated by central
  *        differences. Integer operations only.
  *
@@ -10,20 +10,20 @@
  * beyond +-128 m/s^2 (r_model_rel > 1 only), an entry of S_R beyond the format (Tria). A
  * halved difference of two int32 cannot leave the int32 range.
  */
-#include "rfe/component/eiv_q31.h"
+#include "rfe/component/step_noise_q31.h"
 
 #include "rfe/component/fxmath.h"
 #include "rfe/component/meas_q31.h"
 #include "rfe/component/qr_q31.h"
 
-#include "estimators/friction/eiv_internal_q31.h"
+#include "estimators/friction/step_noise_internal_q31.h"
 #include "numerics/internal_q31.h"
 
 #define CW ((size_t)RFE_MEAS + (size_t)RFE_INPUTS) /* widest [S_R0, g_1 .. g_8] */
 
 /* The Tria of [S_R0, g_1 .. g_8] is 3 x 11: it must fit the smallest build's maxima. */
 /* cppcheck-suppress misra-c2012-2.3 ; MISRA-DEV-04: static assertion, never used by design */
-typedef char rfe_assert_eiv_q31_tria_fits[((RFE_MEAS + RFE_INPUTS) <= RFE_TRIA_COLS_MAX) &&
+typedef char rfe_assert_step_noise_q31_tria_fits[((RFE_MEAS + RFE_INPUTS) <= RFE_TRIA_COLS_MAX) &&
                                                   (RFE_MEAS <= RFE_N_MAX)
                                               ? 1
                                               : -1];
@@ -138,7 +138,7 @@ static rfe_status_t fill_q31(const rfe_params_q31_t *p, const rfe_meas_q31_t *h,
     return st;
 }
 
-rfe_status_t rfe_eiv_sqrt_noise_core_q31(const rfe_params_q31_t *p, const rfe_meas_q31_t *h,
+rfe_status_t rfe_step_noise_sqrt_core_q31(const rfe_params_q31_t *p, const rfe_meas_q31_t *h,
                                          const rfe_sample_q31_t *u,
                                          const rfe_fix_t mu[RFE_WHEELS],
                                          rfe_fix_t SR[RFE_MEAS * RFE_MEAS], uint32_t *sat)
@@ -165,7 +165,7 @@ rfe_status_t rfe_eiv_sqrt_noise_core_q31(const rfe_params_q31_t *p, const rfe_me
     return st;
 }
 
-rfe_status_t rfe_eiv_sqrt_noise_q31(const rfe_params_q31_t *p, const rfe_sample_q31_t *u,
+rfe_status_t rfe_step_noise_sqrt_q31(const rfe_params_q31_t *p, const rfe_sample_q31_t *u,
                                     const rfe_fix_t mu[RFE_WHEELS],
                                     rfe_fix_t SR[RFE_MEAS * RFE_MEAS], uint32_t *sat)
 {
@@ -183,5 +183,5 @@ rfe_status_t rfe_eiv_sqrt_noise_q31(const rfe_params_q31_t *p, const rfe_sample_
     if (st != RFE_OK) {
         return st;
     }
-    return rfe_eiv_sqrt_noise_core_q31(p, &h, u, mu, SR, sat);
+    return rfe_step_noise_sqrt_core_q31(p, &h, u, mu, SR, sat);
 }
