@@ -91,7 +91,7 @@ static void sum_terms_q31(const rfe_fix_t col[COLS], rfe_fix_t z[RFE_MEAS], uint
  * when the tyre's Dugoff parameters are invalid, which eval then rejects). They depend on
  * cx, cy, eps and alpha_max only, not on the mode or the shape factors, so the record of
  * those four is all eval needs to know whether it may use them. */
-static void meas_setup_pre(rfe_meas_q31_t *h, const rfe_tyre_params_q31_t *tp)
+static void setup_pre_q31(rfe_meas_q31_t *h, const rfe_tyre_params_q31_t *tp)
 {
     size_t i;
     for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
@@ -109,7 +109,7 @@ static void meas_setup_pre(rfe_meas_q31_t *h, const rfe_tyre_params_q31_t *tp)
 }
 
 /* 1 for the three tyre modes (paper, absolute, magic). */
-static int meas_mode_ok(rfe_tyre_mode_t mode)
+static int mode_ok_q31(rfe_tyre_mode_t mode)
 {
     return ((mode == RFE_TYRE_PAPER) || (mode == RFE_TYRE_ABSOLUTE) || (mode == RFE_TYRE_MAGIC))
                ? 1
@@ -130,7 +130,7 @@ rfe_status_t rfe_meas_setup_q31(rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh,
     if ((h == NULL) || (veh == NULL) || (tp == NULL) || (u == NULL) || (sat == NULL)) {
         return RFE_ERR_NULL;
     }
-    if (meas_mode_ok(tp->mode) == 0) {
+    if (mode_ok_q31(tp->mode) == 0) {
         return RFE_ERR_PARAM;
     }
     st = rfe_tyre_kinematics_ex_q31(veh, tp, u, &kin, &extra);
@@ -158,14 +158,14 @@ rfe_status_t rfe_meas_setup_q31(rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh,
     }
     h->cos_delta = extra.cos_delta;
     h->sin_delta = extra.sin_delta;
-    meas_setup_pre(h, tp);
+    setup_pre_q31(h, tp);
     rfe_q31_sat_add(sat, count);
     return RFE_OK;
 }
 
 /* 1 when pre was computed with these tyre parameters (the mode and the shape factors do not
  * enter pre: a set-up in one load-scaled mode serves an evaluation in the other). */
-static int meas_pre_matches(const rfe_meas_q31_t *h, const rfe_tyre_params_q31_t *tp)
+static int pre_matches_q31(const rfe_meas_q31_t *h, const rfe_tyre_params_q31_t *tp)
 {
     return ((h->pre_cx == tp->cx) && (h->pre_cy == tp->cy) && (h->pre_eps == tp->eps) &&
             (h->pre_alpha_max == tp->alpha_max))
@@ -177,7 +177,7 @@ static int meas_pre_matches(const rfe_meas_q31_t *h, const rfe_tyre_params_q31_t
  * rfe_tyre_forces_abs_q31 chooses it), then the same geometry as H's columns:
  * z_r = sum_i H_r,i(F(mu_i)) (MODEL.md §4-5). The checks of rfe_tyre_forces_abs_q31, in its
  * order. */
-static rfe_status_t meas_eval_abs(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh,
+static rfe_status_t eval_abs_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh,
                                   const rfe_tyre_params_q31_t *tp,
                                   const rfe_fix_t mu[RFE_WHEELS], rfe_fix_t z[RFE_MEAS],
                                   uint32_t *sat)
@@ -195,7 +195,7 @@ static rfe_status_t meas_eval_abs(const rfe_meas_q31_t *h, const rfe_vehicle_q31
             return RFE_ERR_RANGE;
         }
     }
-    cached = meas_pre_matches(h, tp);
+    cached = pre_matches_q31(h, tp);
     for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
         rfe_dugoff_pre_q31_t fresh;
         const rfe_dugoff_pre_q31_t *pre = &h->pre[i];
@@ -223,7 +223,7 @@ rfe_status_t rfe_meas_eval_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t 
     if (h->mode == RFE_TYRE_PAPER) {
         return rfe_obsmat_apply_q31(h->H, mu, z, sat); /* h = H(u) mu */
     }
-    return meas_eval_abs(h, veh, tp, mu, z, sat);
+    return eval_abs_q31(h, veh, tp, mu, z, sat);
 }
 
 /* ---- the model at a perturbed input (the step noise, docs/ESTIMATOR.md step 4) ---------------
