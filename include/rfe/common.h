@@ -44,6 +44,20 @@ enum { RFE_FL = 0, RFE_FR = 1, RFE_RL = 2, RFE_RR = 3, RFE_WHEELS = 4 };
 /* cppcheck-suppress misra-c2012-2.4 ; MISRA-FP-01: an anonymous enum has no tag */
 enum { RFE_MEAS = 3 };
 
+/** The inputs of a sample that the step noise perturbs and rfe_meas_eval_perturbed (and its
+ *  fixed-point twin) evaluates the model at, in that order: the steer angle, the body
+ *  velocities, the yaw rate, then the wheel speed of wheel w as input RFE_IN_OMEGA + w.
+ *  ax and ay are never perturbed: the loads stay nominal. */
+/* cppcheck-suppress misra-c2012-2.4 ; MISRA-FP-01: an anonymous enum has no tag */
+enum {
+    RFE_IN_DELTA = 0,
+    RFE_IN_VX = 1,
+    RFE_IN_VY = 2,
+    RFE_IN_YAW_RATE = 3,
+    RFE_IN_OMEGA = 4,
+    RFE_INPUTS = 8
+};
+
 /** True when the status is an error (the call changed nothing). */
 static inline int rfe_status_is_error(rfe_status_t s) { return (int)s >= (int)RFE_ERR_FIRST; }
 

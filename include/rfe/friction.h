@@ -4,7 +4,7 @@
  *
  * Composition of the modules, one hop each (docs/ESTIMATOR.md "one step"): sample ->
  * input conditioning (conditioner) -> time update (sckf/ckf) -> kinematics, loads, slips,
- * forces (meas: tyre, obsmat) -> step noise S_R (eiv) -> cubature points, information gate,
+ * forces (meas: tyre, obsmat) -> step noise S_R (step_noise) -> cubature points, information gate,
  * measurement update (sckf) -> sd bounds, projection -> estimate per wheel (T map).
  * The caller owns the rfe_friction_t (no heap); init it once, then step at the sample
  * rate. A rejected sample or a failing step returns an error status and leaves the

@@ -5,7 +5,7 @@
  *
  * Composition of the q31 modules, one hop each: sample -> input conditioning
  * (conditioner_q31) -> time update (sckf_q31/ckf_q31) -> kinematics, loads, slips, forces
- * (meas_q31: tyre_q31, obsmat_q31) -> step noise S_R (eiv_q31) -> cubature points, information
+ * (meas_q31: tyre_q31, obsmat_q31) -> step noise S_R (step_noise_q31) -> cubature points, information
  * gate, measurement update (sckf_q31) -> sd bounds, projection -> estimate per wheel (T map).
  * The caller owns the rfe_friction_q31_t (no heap); init it once, then step at the sample
  * rate. A rejected sample or a failing step returns an error status and leaves the estimator

@@ -9,8 +9,11 @@
 
 #include "numerics/internal.h"
 #include "models/vehicle.h"
-#include "models/meas_internal.h"
+#include "models/meas_inputs.h"
 #include "models/tyre_internal.h"
+
+/* The four wheels' terms side by side (wheel i at i RFE_MEAS). */
+#define COLS ((size_t)RFE_WHEELS * (size_t)RFE_MEAS)
 
 /* Load-scaled modes (absolute, magic): cos, sin of delta and each wheel's friction-independent
  * tyre terms (paper mode, which uses neither: zeros), and the tyre parameters they belong to. */
@@ -108,8 +111,10 @@ static void wheel_terms(const rfe_vehicle_t *veh, rfe_real_t c, rfe_real_t s, si
     t[2] = ((px * fby) - (py * fbx)) / veh->J;
 }
 
-void rfe_meas_wheel_terms(const rfe_vehicle_t *veh, rfe_real_t c, rfe_real_t s, size_t i,
-                          rfe_real_t fx, rfe_real_t fy, rfe_real_t t[RFE_MEAS])
+/* Wheel i's terms of z from its forces fx, fy (wheel axes) and c, s = cos, sin of delta
+ * (ignored for the rear wheels). */
+static void wheel_terms_of(const rfe_vehicle_t *veh, rfe_real_t c, rfe_real_t s, size_t i,
+                           rfe_real_t fx, rfe_real_t fy, rfe_real_t t[RFE_MEAS])
 {
     rfe_real_t px[RFE_WHEELS];
     rfe_real_t py[RFE_WHEELS];
@@ -117,8 +122,11 @@ void rfe_meas_wheel_terms(const rfe_vehicle_t *veh, rfe_real_t c, rfe_real_t s, 
     wheel_terms(veh, c, s, i, px[i], py[i], fx, fy, t);
 }
 
-rfe_status_t rfe_meas_sum_terms(const rfe_real_t t[RFE_MEAS_COLS],
-                                rfe_real_t z[RFE_MEAS])
+/* z = the sums of the four wheels' terms in wheel order from 0: RFE_ERR_NONFINITE when a
+ * sum is not finite (z then untouched). In the load-scaled modes z is this sum of the terms,
+ * so a caller may keep the terms of the wheels an input change does not touch and sum them
+ * with the others in the same order: the same bits. */
+static rfe_status_t sum_terms(const rfe_real_t t[COLS], rfe_real_t z[RFE_MEAS])
 {
     rfe_real_t zt[RFE_MEAS] = {RFE_R(0.0), RFE_R(0.0), RFE_R(0.0)};
     size_t i;
@@ -147,7 +155,7 @@ static rfe_status_t body_sums(const rfe_vehicle_t *veh, const rfe_meas_t *h,
 {
     rfe_real_t px[RFE_WHEELS];
     rfe_real_t py[RFE_WHEELS];
-    rfe_real_t t[RFE_MEAS_COLS];
+    rfe_real_t t[COLS];
     size_t i;
 
     rfe_wheel_positions(veh, px, py);
@@ -156,7 +164,7 @@ static rfe_status_t body_sums(const rfe_vehicle_t *veh, const rfe_meas_t *h,
         wheel_terms(veh, h->cos_delta, h->sin_delta, i, px[i], py[i], fx[i], fy[i],
                     &t[i * (size_t)RFE_MEAS]);
     }
-    return rfe_meas_sum_terms(t, z);
+    return sum_terms(t, z);
 }
 
 /* 1 when pre was computed with these tyre parameters (a NaN parameter never matches); the
@@ -225,4 +233,173 @@ rfe_status_t rfe_meas_eval(const rfe_meas_t *h, const rfe_vehicle_t *veh,
         st = body_sums(veh, h, fx, fy, z);
     }
     return st;
+}
+
+/* ---- the model at a perturbed input (the step noise, docs/ESTIMATOR.md step 4) ---------------
+ * Load-scaled modes: only the wheels an input reaches are evaluated again (meas_inputs.h);
+ * the others keep their nominal terms (which passed the model's checks): the same values
+ * summed in the same order, and the same statuses (the set-up's check of the perturbed input,
+ * then the forces' checks of the wheels evaluated, in wheel order, then the sums'). */
+
+/* Input j (RFE_IN_*) of the sample. */
+static rfe_real_t *input_slot(rfe_sample_t *u, size_t j)
+{
+    rfe_real_t *slot;
+    switch (j) {
+    case RFE_IN_DELTA:
+        slot = &u->delta;
+        break;
+    case RFE_IN_VX:
+        slot = &u->vx;
+        break;
+    case RFE_IN_VY:
+        slot = &u->vy;
+        break;
+    case RFE_IN_YAW_RATE:
+        slot = &u->yaw_rate;
+        break;
+    default:
+        slot = &u->omega[j - (size_t)RFE_IN_OMEGA];
+        break;
+    }
+    return slot;
+}
+
+/* The nominal terms of the four wheels from the set-up model h: rfe_meas_eval's forces (with
+ * its checks, in its order) and terms. */
+static rfe_status_t nominal_terms(const rfe_meas_t *h, const rfe_vehicle_t *veh,
+                                  const rfe_tyre_params_t *tp, const rfe_real_t *mu,
+                                  rfe_real_t t[COLS])
+{
+    size_t i;
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        rfe_real_t fx = RFE_R(0.0);
+        rfe_real_t fy = RFE_R(0.0);
+        const rfe_status_t st = rfe_tyre_dugoff_abs_pre(
+            tp, &h->pre[i], h->kin.kappa[i], h->kin.alpha[i], h->kin.fz[i],
+            h->kin.vwx[i], mu[i], &fx, &fy);
+        if (st != RFE_OK) {
+            return st;
+        }
+        wheel_terms_of(veh, h->cos_delta, h->sin_delta, i, fx, fy, &t[i * (size_t)RFE_MEAS]);
+    }
+    return RFE_OK;
+}
+
+rfe_status_t rfe_meas_nominal(const rfe_meas_t *h, const rfe_vehicle_t *veh,
+                              const rfe_tyre_params_t *tp, const rfe_real_t mu[RFE_WHEELS],
+                              rfe_meas_terms_t *nom, rfe_real_t z[RFE_MEAS])
+{
+    rfe_real_t t[COLS];
+    rfe_status_t st;
+
+    if ((h == NULL) || (veh == NULL) || (tp == NULL) || (mu == NULL) || (nom == NULL) ||
+        (z == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    if (h->mode == RFE_TYRE_PAPER) {
+        return rfe_meas_eval(h, veh, tp, mu, z); /* a non-finite mu: RFE_ERR_NONFINITE */
+    }
+    st = nominal_terms(h, veh, tp, mu, t);
+    if (st == RFE_OK) {
+        st = sum_terms(t, z);
+    }
+    if (st == RFE_OK) {
+        size_t k;
+        for (k = 0u; k < COLS; ++k) {
+            nom->t[k] = t[k];
+        }
+    }
+    return st;
+}
+
+/* Terms of wheel i (reached by input j) for the perturbed sample up; c, s: cos, sin of
+ * up->delta. A wheel speed changes kappa only (vwx, alpha and tan alpha are the nominal). */
+static rfe_status_t perturbed_terms(const rfe_meas_t *h, const rfe_vehicle_t *veh,
+                                    const rfe_tyre_params_t *tp, const rfe_sample_t *up,
+                                    size_t j, size_t i, rfe_real_t c, rfe_real_t s,
+                                    rfe_real_t mu, rfe_real_t t[RFE_MEAS])
+{
+    rfe_dugoff_pre_t pre;
+    rfe_real_t vwx = h->kin.vwx[i];
+    rfe_real_t alpha = h->kin.alpha[i];
+    rfe_real_t kappa;
+    rfe_real_t fx = RFE_R(0.0);
+    rfe_real_t fy = RFE_R(0.0);
+    rfe_status_t st;
+    if (j >= (size_t)RFE_IN_OMEGA) {
+        kappa = rfe_tyre_wheel_kappa(veh, tp, up->omega[i], vwx);
+        rfe_tyre_dugoff_pre_tan(tp, kappa, h->pre[i].tan_a, vwx, &pre);
+    } else {
+        rfe_tyre_wheel_kin(veh, tp, up, c, s, i, &vwx, &alpha, &kappa);
+        rfe_tyre_dugoff_pre(tp, kappa, alpha, vwx, &pre);
+    }
+    st = rfe_tyre_dugoff_abs_pre(tp, &pre, kappa, alpha, h->kin.fz[i], vwx, mu, &fx, &fy);
+    if (st == RFE_OK) {
+        wheel_terms_of(veh, c, s, i, fx, fy, t);
+    }
+    return st;
+}
+
+/* z = h(mu, up) for up = u with input j perturbed (its value already checked finite), from
+ * the nominal terms of the wheels j does not reach. */
+static rfe_status_t perturbed_sum(const rfe_meas_t *h, const rfe_vehicle_t *veh,
+                                  const rfe_tyre_params_t *tp, const rfe_sample_t *up,
+                                  size_t j, const rfe_real_t *mu, const rfe_real_t nom[COLS],
+                                  rfe_real_t z[RFE_MEAS])
+{
+    rfe_real_t t[COLS];
+    rfe_real_t c = h->cos_delta;
+    rfe_real_t s = h->sin_delta;
+    size_t i;
+    size_t r;
+    if (j == (size_t)RFE_IN_DELTA) {
+        c = RFE_COS(up->delta);
+        s = RFE_SIN(up->delta);
+    }
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        rfe_real_t *ti = &t[i * (size_t)RFE_MEAS];
+        if (rfe_input_reaches(j, i) != 0) {
+            const rfe_status_t st = perturbed_terms(h, veh, tp, up, j, i, c, s, mu[i], ti);
+            if (st != RFE_OK) {
+                return st;
+            }
+        } else {
+            for (r = 0u; r < (size_t)RFE_MEAS; ++r) {
+                ti[r] = nom[(i * (size_t)RFE_MEAS) + r];
+            }
+        }
+    }
+    return sum_terms(t, z);
+}
+
+rfe_status_t rfe_meas_eval_perturbed(const rfe_meas_t *h, const rfe_vehicle_t *veh,
+                                     const rfe_tyre_params_t *tp, const rfe_meas_terms_t *nom,
+                                     const rfe_sample_t *u, size_t j, rfe_real_t d,
+                                     const rfe_real_t mu[RFE_WHEELS], rfe_real_t z[RFE_MEAS])
+{
+    rfe_sample_t up;
+    if ((h == NULL) || (veh == NULL) || (tp == NULL) || (nom == NULL) || (u == NULL) ||
+        (mu == NULL) || (z == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    if (j >= (size_t)RFE_INPUTS) {
+        return RFE_ERR_PARAM;
+    }
+    up = *u;
+    *input_slot(&up, j) += d;
+    if (h->mode == RFE_TYRE_PAPER) {
+        /* the model of the perturbed sample, set up and evaluated in full */
+        rfe_meas_t hp;
+        rfe_status_t st = rfe_meas_setup(&hp, veh, tp, &up);
+        if (st == RFE_OK) {
+            st = rfe_meas_eval(&hp, veh, tp, mu, z);
+        }
+        return st;
+    }
+    /* the set-up's check of the one changed input (u's others passed it) */
+    if (!rfe_is_finite(*input_slot(&up, j))) {
+        return RFE_ERR_NONFINITE;
+    }
+    return perturbed_sum(h, veh, tp, &up, j, mu, nom->t, z);
 }

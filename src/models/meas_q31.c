@@ -13,17 +13,34 @@
  */
 #include "rfe/component/meas_q31.h"
 
+#include "rfe/component/fxmath.h"
+
 #include "numerics/internal_q31.h"
-#include "models/meas_internal_q31.h"
+#include "models/meas_inputs.h"
 #include "models/tyre_internal_q31.h"
+
+/* Entries of the four wheels' terms side by side (wheel i at i RFE_MEAS). */
+#define COLS ((size_t)RFE_WHEELS * (size_t)RFE_MEAS)
 
 /* 1.0 in Q30, 2^30 (cos of an unsteered wheel). */
 #define ONE_Q30 ((int32_t)0x40000000)
 
-void rfe_meas_wheel_column_q31(const rfe_vehicle_q31_t *veh, const rfe_tyre_params_q31_t *tp,
-                               const rfe_dugoff_pre_q31_t *pre, rfe_fix_t mu, rfe_fix_t fz,
-                               int32_t c, int32_t s, size_t i, rfe_fix_t col[RFE_MEAS],
-                               uint32_t *sat)
+/* In the load-scaled tyre modes (absolute Dugoff, Magic Formula), h(mu, u) is
+ * z_r = sat(sum_i t_i,r) (exact int64 sum of the four wheels' terms): the column of H
+ * (MODEL.md §5) that wheel i's forces F(mu_i) give, with the entries rfe_obsmat_build_q31
+ * computes, bit for bit. A caller may therefore reuse the terms of the wheels an input change
+ * does not touch. */
+
+/* Wheel i's terms (Q24, RFE_MEAS entries: its column of H at its forces) from its
+ * friction-independent tyre terms pre (of rfe_tyre_dugoff_pre_q31 at tp), friction mu (Q29),
+ * load fz (Q15, >= 0) and c, s = cos, sin of delta (Q30; ignored for the rear wheels); the
+ * forces of tp->mode's curve (rfe_tyre_magic_mu_q31 in magic mode, rfe_tyre_dugoff_mu_q31
+ * otherwise, as rfe_tyre_forces_abs_q31; tp passed rfe_tyre_abs_params_ok_q31); saturations
+ * (forces, entries) counted in *sat. */
+static void wheel_terms_q31(const rfe_vehicle_q31_t *veh, const rfe_tyre_params_q31_t *tp,
+                            const rfe_dugoff_pre_q31_t *pre, rfe_fix_t mu, rfe_fix_t fz,
+                            int32_t c, int32_t s, size_t i, rfe_fix_t col[RFE_MEAS],
+                            uint32_t *sat)
 {
     /* Front wheels are rotated by delta into body axes, rear wheels are not; x_i / J and
      * y_i / J (MODEL.md §1 positions), Q38. As rfe_obsmat_build_q31's column i. */
@@ -55,8 +72,9 @@ void rfe_meas_wheel_column_q31(const rfe_vehicle_q31_t *veh, const rfe_tyre_para
     col[2] = rfe_fix_narrow(m3, 6u, sat);
 }
 
-void rfe_meas_sum_columns_q31(const rfe_fix_t col[RFE_MEAS_Q31_COLS], rfe_fix_t z[RFE_MEAS],
-                              uint32_t *sat)
+/* z_r = the saturated sum of the four wheels' terms (col[i RFE_MEAS + r], wheel i), counted
+ * in *sat. */
+static void sum_terms_q31(const rfe_fix_t col[COLS], rfe_fix_t z[RFE_MEAS], uint32_t *sat)
 {
     size_t r;
     size_t i;
@@ -73,7 +91,7 @@ void rfe_meas_sum_columns_q31(const rfe_fix_t col[RFE_MEAS_Q31_COLS], rfe_fix_t 
  * when the tyre's Dugoff parameters are invalid, which eval then rejects). They depend on
  * cx, cy, eps and alpha_max only, not on the mode or the shape factors, so the record of
  * those four is all eval needs to know whether it may use them. */
-static void meas_setup_pre(rfe_meas_q31_t *h, const rfe_tyre_params_q31_t *tp)
+static void setup_pre_q31(rfe_meas_q31_t *h, const rfe_tyre_params_q31_t *tp)
 {
     size_t i;
     for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
@@ -91,7 +109,7 @@ static void meas_setup_pre(rfe_meas_q31_t *h, const rfe_tyre_params_q31_t *tp)
 }
 
 /* 1 for the three tyre modes (paper, absolute, magic). */
-static int meas_mode_ok(rfe_tyre_mode_t mode)
+static int mode_ok_q31(rfe_tyre_mode_t mode)
 {
     return ((mode == RFE_TYRE_PAPER) || (mode == RFE_TYRE_ABSOLUTE) || (mode == RFE_TYRE_MAGIC))
                ? 1
@@ -112,7 +130,7 @@ rfe_status_t rfe_meas_setup_q31(rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh,
     if ((h == NULL) || (veh == NULL) || (tp == NULL) || (u == NULL) || (sat == NULL)) {
         return RFE_ERR_NULL;
     }
-    if (meas_mode_ok(tp->mode) == 0) {
+    if (mode_ok_q31(tp->mode) == 0) {
         return RFE_ERR_PARAM;
     }
     st = rfe_tyre_kinematics_ex_q31(veh, tp, u, &kin, &extra);
@@ -140,14 +158,14 @@ rfe_status_t rfe_meas_setup_q31(rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh,
     }
     h->cos_delta = extra.cos_delta;
     h->sin_delta = extra.sin_delta;
-    meas_setup_pre(h, tp);
+    setup_pre_q31(h, tp);
     rfe_q31_sat_add(sat, count);
     return RFE_OK;
 }
 
 /* 1 when pre was computed with these tyre parameters (the mode and the shape factors do not
  * enter pre: a set-up in one load-scaled mode serves an evaluation in the other). */
-static int meas_pre_matches(const rfe_meas_q31_t *h, const rfe_tyre_params_q31_t *tp)
+static int pre_matches_q31(const rfe_meas_q31_t *h, const rfe_tyre_params_q31_t *tp)
 {
     return ((h->pre_cx == tp->cx) && (h->pre_cy == tp->cy) && (h->pre_eps == tp->eps) &&
             (h->pre_alpha_max == tp->alpha_max))
@@ -159,12 +177,12 @@ static int meas_pre_matches(const rfe_meas_q31_t *h, const rfe_tyre_params_q31_t
  * rfe_tyre_forces_abs_q31 chooses it), then the same geometry as H's columns:
  * z_r = sum_i H_r,i(F(mu_i)) (MODEL.md §4-5). The checks of rfe_tyre_forces_abs_q31, in its
  * order. */
-static rfe_status_t meas_eval_abs(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh,
+static rfe_status_t eval_abs_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh,
                                   const rfe_tyre_params_q31_t *tp,
                                   const rfe_fix_t mu[RFE_WHEELS], rfe_fix_t z[RFE_MEAS],
                                   uint32_t *sat)
 {
-    rfe_fix_t col[RFE_MEAS_Q31_COLS];
+    rfe_fix_t col[COLS];
     uint32_t count = 0u;
     int cached;
     size_t i;
@@ -177,7 +195,7 @@ static rfe_status_t meas_eval_abs(const rfe_meas_q31_t *h, const rfe_vehicle_q31
             return RFE_ERR_RANGE;
         }
     }
-    cached = meas_pre_matches(h, tp);
+    cached = pre_matches_q31(h, tp);
     for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
         rfe_dugoff_pre_q31_t fresh;
         const rfe_dugoff_pre_q31_t *pre = &h->pre[i];
@@ -186,10 +204,10 @@ static rfe_status_t meas_eval_abs(const rfe_meas_q31_t *h, const rfe_vehicle_q31
                                     &fresh);
             pre = &fresh;
         }
-        rfe_meas_wheel_column_q31(veh, tp, pre, mu[i], h->kin.fz[i], h->cos_delta,
-                                  h->sin_delta, i, &col[i * (size_t)RFE_MEAS], &count);
+        wheel_terms_q31(veh, tp, pre, mu[i], h->kin.fz[i], h->cos_delta, h->sin_delta, i,
+                        &col[i * (size_t)RFE_MEAS], &count);
     }
-    rfe_meas_sum_columns_q31(col, z, &count);
+    sum_terms_q31(col, z, &count);
     rfe_q31_sat_add(sat, count);
     return RFE_OK;
 }
@@ -205,5 +223,161 @@ rfe_status_t rfe_meas_eval_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t 
     if (h->mode == RFE_TYRE_PAPER) {
         return rfe_obsmat_apply_q31(h->H, mu, z, sat); /* h = H(u) mu */
     }
-    return meas_eval_abs(h, veh, tp, mu, z, sat);
+    return eval_abs_q31(h, veh, tp, mu, z, sat);
+}
+
+/* ---- the model at a perturbed input (the step noise, docs/ESTIMATOR.md step 4) ---------------
+ * Load-scaled modes: only the wheels an input reaches are evaluated again (meas_inputs.h);
+ * the others keep their nominal terms and saturation counts: the same integers as a full
+ * evaluation, so the same sums and counts. */
+
+/* Input j (RFE_IN_*) of the sample. */
+static rfe_fix_t *input_slot_q31(rfe_sample_q31_t *u, size_t j)
+{
+    rfe_fix_t *slot;
+    switch (j) {
+    case RFE_IN_DELTA:
+        slot = &u->delta;
+        break;
+    case RFE_IN_VX:
+        slot = &u->vx;
+        break;
+    case RFE_IN_VY:
+        slot = &u->vy;
+        break;
+    case RFE_IN_YAW_RATE:
+        slot = &u->yaw_rate;
+        break;
+    default:
+        slot = &u->omega[j - (size_t)RFE_IN_OMEGA];
+        break;
+    }
+    return slot;
+}
+
+/* The nominal terms of the four wheels and each one's saturation count (its kinematics'
+ * from the set-up, its forces' and entries'). */
+static void nominal_terms_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh,
+                              const rfe_tyre_params_q31_t *tp, const rfe_fix_t *mu,
+                              rfe_meas_terms_q31_t *nom)
+{
+    size_t i;
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        nom->cnt[i] = h->sat_vwx[i] + h->sat_fz[i];
+        wheel_terms_q31(veh, tp, &h->pre[i], mu[i], h->kin.fz[i], h->cos_delta, h->sin_delta,
+                        i, &nom->t[i * (size_t)RFE_MEAS], &nom->cnt[i]);
+    }
+}
+
+rfe_status_t rfe_meas_nominal_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh,
+                                  const rfe_tyre_params_q31_t *tp,
+                                  const rfe_fix_t mu[RFE_WHEELS], rfe_meas_terms_q31_t *nom,
+                                  rfe_fix_t z[RFE_MEAS], uint32_t *sat)
+{
+    uint32_t count = 0u;
+    size_t i;
+    if ((h == NULL) || (veh == NULL) || (tp == NULL) || (mu == NULL) || (nom == NULL) ||
+        (z == NULL) || (sat == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    if (h->mode == RFE_TYRE_PAPER) {
+        return rfe_meas_eval_q31(h, veh, tp, mu, z, sat);
+    }
+    nominal_terms_q31(h, veh, tp, mu, nom);
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        rfe_q31_sat_add(&count, nom->cnt[i]);
+    }
+    sum_terms_q31(nom->t, z, &count);
+    rfe_q31_sat_add(sat, count);
+    return RFE_OK;
+}
+
+/* Terms of wheel i (reached by input j) for the perturbed sample up; c, s: cos/sin of
+ * up->delta. Its saturation count into *cnt. */
+static void perturbed_terms_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh,
+                                const rfe_tyre_params_q31_t *tp, const rfe_sample_q31_t *up,
+                                size_t j, size_t i, int32_t c, int32_t s, rfe_fix_t mu,
+                                rfe_fix_t t[RFE_MEAS], uint32_t *cnt)
+{
+    rfe_dugoff_pre_q31_t pre;
+    *cnt = h->sat_fz[i];
+    if (j >= (size_t)RFE_IN_OMEGA) {
+        /* a wheel speed: kappa changes; vwx, alpha and so tan alpha are the nominal ones */
+        const rfe_fix_t kappa = rfe_tyre_wheel_kappa_q31(veh, tp, up, c, s, i);
+        *cnt += h->sat_vwx[i];
+        rfe_tyre_dugoff_pre_tan_q31(tp, kappa, h->pre[i].tan_a, h->kin.vwx[i], &pre);
+    } else {
+        rfe_fix_t vwx = 0;
+        rfe_fix_t alpha = 0;
+        rfe_fix_t kappa = 0;
+        rfe_tyre_wheel_kin_q31(veh, tp, up, c, s, i, &vwx, &alpha, &kappa, cnt);
+        rfe_tyre_dugoff_pre_q31(tp, kappa, alpha, vwx, &pre);
+    }
+    wheel_terms_q31(veh, tp, &pre, mu, h->kin.fz[i], c, s, i, t, cnt);
+}
+
+/* z = h(mu, up) (Q24) for the sample u with input j perturbed (up), from the nominal
+ * terms of the wheels j does not reach. */
+static void perturbed_sum_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh,
+                              const rfe_tyre_params_q31_t *tp, const rfe_sample_q31_t *up,
+                              size_t j, const rfe_fix_t *mu, const rfe_meas_terms_q31_t *nom,
+                              rfe_fix_t z[RFE_MEAS], uint32_t *count)
+{
+    rfe_fix_t col[COLS];
+    int32_t c = h->cos_delta;
+    int32_t s = h->sin_delta;
+    size_t i;
+    size_t r;
+    if (j == (size_t)RFE_IN_DELTA) {
+        const rfe_status_t st = rfe_fix_sincos(up->delta, &s, &c); /* every angle: no error */
+        (void)st;
+    }
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        rfe_fix_t *ci = &col[i * (size_t)RFE_MEAS];
+        uint32_t cnt = nom->cnt[i];
+        if (rfe_input_reaches(j, i) != 0) {
+            perturbed_terms_q31(h, veh, tp, up, j, i, c, s, mu[i], ci, &cnt);
+        } else {
+            for (r = 0u; r < (size_t)RFE_MEAS; ++r) {
+                ci[r] = nom->t[(i * (size_t)RFE_MEAS) + r];
+            }
+        }
+        rfe_q31_sat_add(count, cnt);
+    }
+    sum_terms_q31(col, z, count);
+}
+
+rfe_status_t rfe_meas_eval_perturbed_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh,
+                                         const rfe_tyre_params_q31_t *tp,
+                                         const rfe_meas_terms_q31_t *nom,
+                                         const rfe_sample_q31_t *u, size_t j, rfe_fix_t d,
+                                         const rfe_fix_t mu[RFE_WHEELS], rfe_fix_t z[RFE_MEAS],
+                                         uint32_t *sat)
+{
+    rfe_sample_q31_t up;
+    uint32_t count = 0u;
+    rfe_status_t st = RFE_OK;
+    if ((h == NULL) || (veh == NULL) || (tp == NULL) || (nom == NULL) || (u == NULL) ||
+        (mu == NULL) || (z == NULL) || (sat == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    if (j >= (size_t)RFE_INPUTS) {
+        return RFE_ERR_PARAM;
+    }
+    up = *u;
+    *input_slot_q31(&up, j) = rfe_fix_add(*input_slot_q31(&up, j), d, &count);
+    if (h->mode == RFE_TYRE_PAPER) {
+        /* the model of the perturbed sample, set up and evaluated in full */
+        rfe_meas_q31_t hp;
+        st = rfe_meas_setup_q31(&hp, veh, tp, &up, &count);
+        if (st == RFE_OK) {
+            st = rfe_meas_eval_q31(&hp, veh, tp, mu, z, &count);
+        }
+    } else {
+        perturbed_sum_q31(h, veh, tp, &up, j, mu, nom, z, &count);
+    }
+    if (st == RFE_OK) {
+        rfe_q31_sat_add(sat, count);
+    }
+    return st;
 }

@@ -1,10 +1,23 @@
 /**
  * @file tyre_internal_q31.h
  * @brief Private per-wheel pieces of the fixed-point tyre model (tyre_q31.c), for the
- *        measurement model (meas_q31.c) and the step noise (eiv_q31.c): one wheel's
+ *        measurement model (meas_q31.c; the step noise reaches them only through its
+ *        public rfe_meas_nominal_q31 / rfe_meas_eval_perturbed_q31): one wheel's
  *        kinematics, the load-scaled tyre evaluation (absolute Dugoff or Magic Formula) split
  *        into its friction-independent part and the rest. Not installed; integer operations
  *        only (no libc header beyond <stdint.h> and <stddef.h>, no <math.h>).
+ *
+ * Twin of tyre_internal.h, name for name where the concept exists in both:
+ * rfe_tyre_wheel_kin_q31, rfe_tyre_wheel_kappa_q31, rfe_tyre_dugoff_pre_q31 and
+ * rfe_tyre_dugoff_pre_tan_q31. The float header's rfe_tyre_dugoff_abs_pre (checks, then the
+ * curve of tp->mode at mu) is split here into the parameter checks
+ * (rfe_tyre_dugoff_params_ok_q31, rfe_tyre_abs_params_ok_q31) and the curves
+ * (rfe_tyre_dugoff_mu_q31, rfe_tyre_magic_mu_q31), because the fixed-point evaluation has no
+ * per-value checks (no NaN or infinity: it saturates and counts instead), so the checks are
+ * made once per set of parameters; rfe_tyre_kinematics_ex_q31 exists only here because it
+ * returns the per-wheel saturation counts, a fixed-point concept (the float set-up computes
+ * cos/sin of delta itself). Aligning these into one rfe_tyre_dugoff_abs_pre_q31 is left
+ * for later (docs/LAYOUT.md, "Twins").
  *
  * These are exactly the operations of rfe_tyre_kinematics_q31, rfe_tyre_dugoff_abs_q31 and
  * rfe_tyre_magic_abs_q31 (which are built from them), so a caller that combines them as those

@@ -55,7 +55,7 @@
 #include "csv_log.h"
 #include "kalman_ref.h"
 #include "rfe/component/chol.h"
-#include "rfe/component/eiv.h"
+#include "rfe/component/step_noise.h"
 #include "host/fixed_conv.h"
 #include "rfe/component/meas.h"
 #include "rfe/params.h"
@@ -792,12 +792,12 @@ static void run_scenario(const char *path, int preset, scen_stats_t *st)
                 double mu[RFE_WHEELS];
                 double xq[NM];
                 to_wheels(&cd, fd.x, mu);
-                assert_int_equal(rfe_eiv_sqrt_noise_f64(&cd.p, &u, mu, SRd), RFE_OK);
+                assert_int_equal(rfe_step_noise_sqrt_f64(&cd.p, &u, mu, SRd), RFE_OK);
                 for (i = 0u; i < n; ++i) {
                     xq[i] = d(fq.x[i], QX);
                 }
                 to_wheels(&cd, xq, mu);
-                assert_int_equal(rfe_eiv_sqrt_noise_f64(&cd.p, &u, mu, SRs), RFE_OK);
+                assert_int_equal(rfe_step_noise_sqrt_f64(&cd.p, &u, mu, SRs), RFE_OK);
                 quant_lower(SRs, RFE_MEAS, QZ, SRqq, SRs);
                 srd = SRd;
                 srs = SRs;

@@ -22,7 +22,7 @@
 
 #include "rfe/component/ckf.h"
 #include "rfe/component/conditioner.h"
-#include "rfe/component/eiv.h"
+#include "rfe/component/step_noise.h"
 #include "rfe/friction.h"
 #include "rfe/component/obsmat.h"
 #include "rfe/params.h"
@@ -395,7 +395,7 @@ static void run_sd(const rfe_params_t *p, rfe_real_t sd[RFE_WHEELS])
 }
 
 /* REQ-EIV-001 */
-static void test_mcdc_estimator_each_input_noise_switches_eiv_on(void **state)
+static void test_mcdc_estimator_each_input_noise_switches_step_noise_on(void **state)
 {
     rfe_real_t sd_off[RFE_WHEELS], sd_on[RFE_WHEELS];
     int which;
@@ -455,7 +455,7 @@ static void test_mcdc_params_to_q31_this_precision(void **state)
 }
 
 /* REQ-EIV-002 */
-static void test_mcdc_eiv_failures_leave_sr_untouched(void **state)
+static void test_mcdc_step_noise_failures_leave_sr_untouched(void **state)
 {
     const rfe_real_t mu[RFE_WHEELS] = {(rfe_real_t)0.5, (rfe_real_t)0.5, (rfe_real_t)0.5, (rfe_real_t)0.5};
     rfe_real_t SR[RFE_MEAS * RFE_MEAS], SRb[RFE_MEAS * RFE_MEAS];
@@ -467,23 +467,23 @@ static void test_mcdc_eiv_failures_leave_sr_untouched(void **state)
     /* the sample itself non-finite: the measurement model at u fails */
     u = good_sample();
     u.vx = nan_r();
-    assert_int_equal(rfe_eiv_sqrt_noise(&dflt, &u, mu, SR), RFE_ERR_NONFINITE);
+    assert_int_equal(rfe_step_noise_sqrt(&dflt, &u, mu, SR), RFE_ERR_NONFINITE);
     /* finite sample, but u + sd_in_delta overflows: the perturbed evaluation fails */
     u = good_sample();
     u.delta = (rfe_real_t)REAL_BIG;
     p = dflt;
     p.filter.sd_in_delta = (rfe_real_t)REAL_BIG;
     assert_int_equal(rfe_params_validate(&p), RFE_OK);
-    assert_int_equal(rfe_eiv_sqrt_noise(&p, &u, mu, SR), RFE_ERR_NONFINITE);
+    assert_int_equal(rfe_step_noise_sqrt(&p, &u, mu, SR), RFE_ERR_NONFINITE);
     /* a valid but huge sensor noise: r_ax^2 overflows in S_R0, Tria rejects the block */
     u = good_sample();
     p = dflt;
     p.filter.r_ax = (rfe_real_t)(REAL_BIG / 4);
     assert_int_equal(rfe_params_validate(&p), RFE_OK);
-    assert_int_equal(rfe_eiv_sqrt_noise(&p, &u, mu, SR), RFE_ERR_NONFINITE);
+    assert_int_equal(rfe_step_noise_sqrt(&p, &u, mu, SR), RFE_ERR_NONFINITE);
     assert_memory_equal(SR, SRb, sizeof SR);
     /* and the good call succeeds */
-    assert_int_equal(rfe_eiv_sqrt_noise(&dflt, &u, mu, SR), RFE_OK);
+    assert_int_equal(rfe_step_noise_sqrt(&dflt, &u, mu, SR), RFE_OK);
 }
 
 /* REQ-EST-005 REQ-COND-002 */
@@ -523,9 +523,9 @@ int main(void)
         cmocka_unit_test(test_mcdc_ckf_clamp_each_bound),
         cmocka_unit_test(test_mcdc_estimator_get_each_argument),
         cmocka_unit_test(test_mcdc_params_each_field),
-        cmocka_unit_test(test_mcdc_estimator_each_input_noise_switches_eiv_on),
+        cmocka_unit_test(test_mcdc_estimator_each_input_noise_switches_step_noise_on),
         cmocka_unit_test(test_mcdc_params_to_q31_this_precision),
-        cmocka_unit_test(test_mcdc_eiv_failures_leave_sr_untouched),
+        cmocka_unit_test(test_mcdc_step_noise_failures_leave_sr_untouched),
         cmocka_unit_test(test_mcdc_estimator_conditioner_overflow_rolls_back),
     };
     return cmocka_run_group_tests(tests, setup, NULL);

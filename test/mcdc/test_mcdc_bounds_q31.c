@@ -176,7 +176,7 @@ static void run_sd(const rfe_params_t *pd, double sd[RFE_WHEELS])
 }
 
 /* REQ-EIV-001 REQ-FXP-006 */
-static void test_mcdc_q31_each_input_noise_switches_eiv_on(void **state)
+static void test_mcdc_q31_each_input_noise_switches_step_noise_on(void **state)
 {
     double sd_off[RFE_WHEELS], sd_on[RFE_WHEELS];
     int which;
@@ -253,7 +253,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_mcdc_q31_floor_without_cap),
         cmocka_unit_test(test_mcdc_q31_cap_without_floor),
-        cmocka_unit_test(test_mcdc_q31_each_input_noise_switches_eiv_on),
+        cmocka_unit_test(test_mcdc_q31_each_input_noise_switches_step_noise_on),
         cmocka_unit_test(test_mcdc_q31_floor_factor_saturates),
     };
     return cmocka_run_group_tests(tests, setup, NULL);

@@ -749,6 +749,171 @@ static void test_meas_q31_argument_checks(void **state)
     assert_int_equal(rfe_meas_eval_q31(&h, &pq_mag.vehicle, &pq_mag.tyre, mu, z, &sat), RFE_OK);
 }
 
+/* u with input j changed by d (saturating), as a caller would write it. */
+static rfe_sample_q31_t perturb_q31(const rfe_sample_q31_t *u, size_t j, rfe_fix_t d)
+{
+    rfe_sample_q31_t up = *u;
+    uint32_t unused = 0u;
+    rfe_fix_t *slot;
+    switch (j) {
+    case RFE_IN_DELTA: slot = &up.delta; break;
+    case RFE_IN_VX: slot = &up.vx; break;
+    case RFE_IN_VY: slot = &up.vy; break;
+    case RFE_IN_YAW_RATE: slot = &up.yaw_rate; break;
+    default: slot = &up.omega[j - RFE_IN_OMEGA]; break;
+    }
+    *slot = rfe_fix_add(*slot, d, &unused);
+    return up;
+}
+
+/* REQ: the model at u + d e_j from the set-up model at u (the nominal terms and counts of
+ * the wheels input j does not reach reused) is the full set-up and evaluation at u + d e_j:
+ * the same integers, statuses and saturation counts (the perturbed input's own saturation
+ * included), for every input in paper, absolute and magic mode; the nominal z is
+ * rfe_meas_eval_q31's, its count that plus the set-up's kinematics counts. */
+/* REQ-FXP-007 REQ-MEAS-001 */
+static void test_meas_q31_perturbed(void **state)
+{
+    int n;
+    long compared = 0;
+    long saturated = 0;
+    (void)state;
+    rng_seed(0x7E57ull);
+    for (n = 0; n < 3000; n += (int)rfe_test_stride(10u)) {
+        const rfe_params_q31_t *p = ((n % 3) == 0) ? &pq_pap : (((n % 3) == 1) ? &pq : &pq_mag);
+        double om[4];
+        rfe_fix_t mu[4];
+        rfe_sample_q31_t uq;
+        rfe_sample_t ud;
+        rfe_meas_q31_t h;
+        rfe_meas_terms_q31_t nom;
+        rfe_fix_t z0[3];
+        rfe_fix_t ze[3];
+        uint32_t s0 = 0u;
+        uint32_t se = 0u;
+        uint32_t kin = 0u;
+        const double vx = uni(0, 60);
+        size_t i;
+        size_t j;
+        for (i = 0; i < 4; ++i) {
+            om[i] = vx * (1.0 + uni(-0.3, 0.1)) / pd.vehicle.R;
+            mu[i] = toq(uni(-0.5, 1.5), 29);
+        }
+        make_sample(uni(-0.3, 0.3), vx, uni(-2, 2), uni(-1, 1), uni(-10, 10), uni(-10, 10), om,
+                    &uq, &ud);
+        if (rfe_meas_setup_q31(&h, &p->vehicle, &p->tyre, &uq, &s0) != RFE_OK) {
+            continue;
+        }
+        s0 = 0u;
+        assert_int_equal(rfe_meas_nominal_q31(&h, &p->vehicle, &p->tyre, mu, &nom, z0, &s0),
+                         RFE_OK);
+        assert_int_equal(rfe_meas_eval_q31(&h, &p->vehicle, &p->tyre, mu, ze, &se), RFE_OK);
+        assert_memory_equal(z0, ze, sizeof(z0));
+        if (p->tyre.mode != RFE_TYRE_PAPER) {
+            for (i = 0; i < 4; ++i) {
+                kin += h.sat_vwx[i] + h.sat_fz[i];
+            }
+        }
+        assert_int_equal(s0, se + kin);
+        for (j = 0; j < (size_t)RFE_INPUTS; ++j) {
+            /* a small change, and (every 8th case) one that saturates the input */
+            const rfe_fix_t d = ((n % 8) == 3) ? (rfe_fix_t)0x7FFFFFFF
+                                               : (rfe_fix_t)((int32_t)(rng_uniform() * 2e6));
+            const rfe_sample_q31_t up = perturb_q31(&uq, j, d);
+            rfe_meas_q31_t hp;
+            rfe_fix_t zg[3] = {7, 7, 7};
+            rfe_fix_t zw[3] = {7, 7, 7};
+            uint32_t sg = 0u;
+            uint32_t sw = 0u;
+            uint32_t sd = 0u;
+            rfe_status_t want;
+            rfe_status_t got;
+            {
+                /* the perturbed input's saturation, as the function counts it */
+                const rfe_sample_q31_t *base = &uq;
+                const rfe_fix_t v[8] = {base->delta, base->vx, base->vy, base->yaw_rate,
+                                        base->omega[0], base->omega[1], base->omega[2],
+                                        base->omega[3]};
+                (void)rfe_fix_add(v[j], d, &sd);
+            }
+            want = rfe_meas_setup_q31(&hp, &p->vehicle, &p->tyre, &up, &sw);
+            if (want == RFE_OK) {
+                want = rfe_meas_eval_q31(&hp, &p->vehicle, &p->tyre, mu, zw, &sw);
+            }
+            got = rfe_meas_eval_perturbed_q31(&h, &p->vehicle, &p->tyre, &nom, &uq, j, d, mu, zg,
+                                              &sg);
+            assert_int_equal(got, want);
+            assert_memory_equal(zg, zw, sizeof(zg));
+            if (got == RFE_OK) {
+                assert_int_equal(sg, sw + sd);
+            } else {
+                assert_int_equal(sg, 0u); /* nothing added on an error */
+            }
+            ++compared;
+            saturated += (sg != 0u) ? 1 : 0;
+        }
+    }
+    printf("meas perturbed q31: %ld evaluations identical, %ld with saturations\n", compared,
+           saturated);
+    assert_true(compared > 1000);
+    assert_true(saturated > 0);
+}
+
+/* REQ: bad arguments of the perturbed evaluation are rejected with a status, nothing
+ * written. */
+/* REQ-MEAS-002 */
+static void test_meas_q31_perturbed_args(void **state)
+{
+    const rfe_params_q31_t *p = &pq;
+    const double om[4] = {66.0, 66.0, 66.0, 66.0};
+    const rfe_fix_t mu[4] = {1 << 29, 1 << 29, 1 << 29, 1 << 29};
+    rfe_sample_q31_t uq;
+    rfe_sample_t ud;
+    rfe_meas_q31_t h;
+    rfe_meas_terms_q31_t nom;
+    rfe_fix_t z[3] = {7, 7, 7};
+    const rfe_fix_t z7[3] = {7, 7, 7};
+    uint32_t sat = 0u;
+    (void)state;
+    make_sample(0.05, 20.0, 0.1, 0.1, -2.0, 1.0, om, &uq, &ud);
+    assert_int_equal(rfe_meas_setup_q31(&h, &p->vehicle, &p->tyre, &uq, &sat), RFE_OK);
+    sat = 0u;
+    assert_int_equal(rfe_meas_nominal_q31(NULL, &p->vehicle, &p->tyre, mu, &nom, z, &sat), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_nominal_q31(&h, NULL, &p->tyre, mu, &nom, z, &sat), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_nominal_q31(&h, &p->vehicle, NULL, mu, &nom, z, &sat), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_nominal_q31(&h, &p->vehicle, &p->tyre, NULL, &nom, z, &sat), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_nominal_q31(&h, &p->vehicle, &p->tyre, mu, NULL, z, &sat), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_nominal_q31(&h, &p->vehicle, &p->tyre, mu, &nom, NULL, &sat), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_nominal_q31(&h, &p->vehicle, &p->tyre, mu, &nom, z, NULL), RFE_ERR_NULL);
+    assert_memory_equal(z, z7, sizeof(z));
+    assert_int_equal(rfe_meas_nominal_q31(&h, &p->vehicle, &p->tyre, mu, &nom, z, &sat), RFE_OK);
+    z[0] = z[1] = z[2] = 7;
+    sat = 0u;
+    assert_int_equal(rfe_meas_eval_perturbed_q31(NULL, &p->vehicle, &p->tyre, &nom, &uq, 0u, 1, mu, z, &sat), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_eval_perturbed_q31(&h, NULL, &p->tyre, &nom, &uq, 0u, 1, mu, z, &sat), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_eval_perturbed_q31(&h, &p->vehicle, NULL, &nom, &uq, 0u, 1, mu, z, &sat), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_eval_perturbed_q31(&h, &p->vehicle, &p->tyre, NULL, &uq, 0u, 1, mu, z, &sat), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_eval_perturbed_q31(&h, &p->vehicle, &p->tyre, &nom, NULL, 0u, 1, mu, z, &sat), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_eval_perturbed_q31(&h, &p->vehicle, &p->tyre, &nom, &uq, 0u, 1, NULL, z, &sat), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_eval_perturbed_q31(&h, &p->vehicle, &p->tyre, &nom, &uq, 0u, 1, mu, NULL, &sat), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_eval_perturbed_q31(&h, &p->vehicle, &p->tyre, &nom, &uq, 0u, 1, mu, z, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_eval_perturbed_q31(&h, &p->vehicle, &p->tyre, &nom, &uq, (size_t)RFE_INPUTS, 1, mu, z, &sat), RFE_ERR_PARAM);
+    assert_memory_equal(z, z7, sizeof(z));
+    assert_int_equal(sat, 0u);
+    /* paper mode: the perturbed sample's set-up rejects tyre parameters it would reject
+     * (v_min <= 0), with nothing written; with the set-up's own parameters it succeeds */
+    {
+        rfe_tyre_params_q31_t bad = pq_pap.tyre;
+        bad.v_min = 0;
+        assert_int_equal(rfe_meas_setup_q31(&h, &pq_pap.vehicle, &pq_pap.tyre, &uq, &sat), RFE_OK);
+        sat = 0u;
+        assert_int_equal(rfe_meas_eval_perturbed_q31(&h, &pq_pap.vehicle, &bad, &nom, &uq, RFE_IN_VX, 1, mu, z, &sat), RFE_ERR_PARAM);
+        assert_memory_equal(z, z7, sizeof(z));
+        assert_int_equal(sat, 0u);
+        assert_int_equal(rfe_meas_eval_perturbed_q31(&h, &pq_pap.vehicle, &pq_pap.tyre, &nom, &uq, RFE_IN_VX, 1, mu, z, &sat), RFE_OK);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -757,6 +922,8 @@ int main(void)
         cmocka_unit_test(test_meas_q31_deterministic),
         cmocka_unit_test(test_meas_q31_saturation),
         cmocka_unit_test(test_meas_q31_argument_checks),
+        cmocka_unit_test(test_meas_q31_perturbed),
+        cmocka_unit_test(test_meas_q31_perturbed_args),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }

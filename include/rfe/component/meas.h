@@ -21,11 +21,15 @@
 /* Full names of the functions declared here: _f32 in the float build, _f64 with
  * RFE_REAL_DOUBLE (rfe/types.h). Sources define and call them by the short name. */
 #if defined(RFE_REAL_DOUBLE)
-#define rfe_meas_setup rfe_meas_setup_f64
-#define rfe_meas_eval  rfe_meas_eval_f64
+#define rfe_meas_setup           rfe_meas_setup_f64
+#define rfe_meas_eval            rfe_meas_eval_f64
+#define rfe_meas_nominal         rfe_meas_nominal_f64
+#define rfe_meas_eval_perturbed  rfe_meas_eval_perturbed_f64
 #else
-#define rfe_meas_setup rfe_meas_setup_f32
-#define rfe_meas_eval  rfe_meas_eval_f32
+#define rfe_meas_setup           rfe_meas_setup_f32
+#define rfe_meas_eval            rfe_meas_eval_f32
+#define rfe_meas_nominal         rfe_meas_nominal_f32
+#define rfe_meas_eval_perturbed  rfe_meas_eval_perturbed_f32
 #endif
 
 /** One sample's measurement model (caller-owned; fields read-only for the caller). */
@@ -64,5 +68,58 @@ RFE_NODISCARD rfe_status_t rfe_meas_eval(const rfe_meas_t *h, const rfe_vehicle_
                                         const rfe_tyre_params_t *tp,
                                         const rfe_real_t mu[RFE_WHEELS],
                                         rfe_real_t z[RFE_MEAS]);
+
+/** The nominal per-wheel terms of h(mu, u) at the set-up sample (caller-owned, written by
+ *  rfe_meas_nominal): in the load-scaled modes wheel i's body-axis force over m and yaw
+ *  moment over J at t[i RFE_MEAS ..], the entries rfe_obsmat_build would put in its column
+ *  (paper mode: unused). */
+typedef struct {
+    rfe_real_t t[(size_t)RFE_WHEELS * (size_t)RFE_MEAS]; /**< wheel i's terms at i RFE_MEAS */
+} rfe_meas_terms_t;
+
+/**
+ * z = h(mu, u) for the sample u of the last rfe_meas_setup, and (load-scaled modes) the
+ * per-wheel terms that rfe_meas_eval_perturbed reuses for the wheels an input change does
+ * not reach. Paper mode: z as rfe_meas_eval. Load-scaled modes: the forces with the set-up's
+ * friction-independent tyre terms (the parameters @p tp must be the set-up's), each wheel's
+ * terms, z their sum in wheel order: rfe_meas_eval's result and statuses, bit for bit.
+ * @param[in]  h   the model set up by rfe_meas_setup with @p veh and @p tp
+ * @param[in]  veh vehicle parameters of the set-up
+ * @param[in]  tp  tyre parameters of the set-up
+ * @param[in]  mu  friction per wheel (fl, fr, rl, rr)
+ * @param[out] nom the nominal terms (load-scaled modes; paper mode: untouched)
+ * @param[out] z   h(mu, u)
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_NONFINITE; the tyre's errors (@p nom, @p z then
+ *         untouched).
+ */
+RFE_NODISCARD rfe_status_t rfe_meas_nominal(const rfe_meas_t *h, const rfe_vehicle_t *veh,
+                                           const rfe_tyre_params_t *tp,
+                                           const rfe_real_t mu[RFE_WHEELS],
+                                           rfe_meas_terms_t *nom, rfe_real_t z[RFE_MEAS]);
+
+/**
+ * z = h(mu, u + d e_j): the model at the set-up's sample u with its input @p j (RFE_IN_*,
+ * rfe/common.h) changed by @p d, bit for bit what rfe_meas_setup and rfe_meas_eval at that
+ * sample give, and the same statuses. Paper mode does exactly that; the load-scaled modes
+ * evaluate again only the wheels input j reaches (delta: the front wheels, vx, vy, r: all,
+ * omega_w: wheel w's slip) and take the other wheels' terms from @p nom.
+ * @param[in]  h   the model set up by rfe_meas_setup(h, veh, tp, u)
+ * @param[in]  veh vehicle parameters of the set-up
+ * @param[in]  tp  tyre parameters of the set-up
+ * @param[in]  nom the terms of rfe_meas_nominal(h, veh, tp, mu, ...) (load-scaled modes)
+ * @param[in]  u   the set-up's sample (only its input j is read in the load-scaled modes)
+ * @param[in]  j   the input to change: RFE_IN_DELTA .. RFE_INPUTS - 1
+ * @param[in]  d   the change of input j (its unit)
+ * @param[in]  mu  friction per wheel (fl, fr, rl, rr), as given to rfe_meas_nominal
+ * @param[out] z   h(mu, u + d e_j)
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_PARAM (@p j out of range); RFE_ERR_NONFINITE (the
+ *         changed input, or a result, not finite); the tyre's errors (@p z then untouched).
+ */
+RFE_NODISCARD rfe_status_t rfe_meas_eval_perturbed(const rfe_meas_t *h, const rfe_vehicle_t *veh,
+                                                  const rfe_tyre_params_t *tp,
+                                                  const rfe_meas_terms_t *nom,
+                                                  const rfe_sample_t *u, size_t j, rfe_real_t d,
+                                                  const rfe_real_t mu[RFE_WHEELS],
+                                                  rfe_real_t z[RFE_MEAS]);
 
 #endif /* RFE_MEAS_H */

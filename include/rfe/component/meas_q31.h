@@ -22,6 +22,7 @@
 #ifndef RFE_MEAS_Q31_H
 #define RFE_MEAS_Q31_H
 
+#include <stddef.h>
 #include <stdint.h>
 
 #include "rfe/fixed.h"
@@ -71,5 +72,64 @@ RFE_NODISCARD rfe_status_t rfe_meas_eval_q31(const rfe_meas_q31_t *h,
                                              const rfe_tyre_params_q31_t *tp,
                                              const rfe_fix_t mu[RFE_WHEELS],
                                              rfe_fix_t z[RFE_MEAS], uint32_t *sat);
+
+/** The nominal per-wheel terms of h(mu, u) at the set-up sample (caller-owned, written by
+ *  rfe_meas_nominal_q31): in the load-scaled modes wheel i's column of H at its forces
+ *  F(mu_i) (Q24) at t[i RFE_MEAS ..] and that wheel's saturation count (its kinematics' from
+ *  the set-up, its forces' and entries'); paper mode: unused. */
+typedef struct {
+    rfe_fix_t t[(size_t)RFE_WHEELS * (size_t)RFE_MEAS]; /**< wheel i's terms at i RFE_MEAS, Q24 */
+    uint32_t cnt[RFE_WHEELS];           /**< wheel i's saturations */
+} rfe_meas_terms_q31_t;
+
+/**
+ * z = h(mu, u) (Q24) for the sample u of the last rfe_meas_setup_q31, and (load-scaled
+ * modes) the per-wheel terms that rfe_meas_eval_perturbed_q31 reuses for the wheels an input
+ * change does not reach. Paper mode: z as rfe_meas_eval_q31. Load-scaled modes: the exact
+ * sum of the wheels' terms from the set-up's friction-independent tyre terms, the integers of
+ * rfe_meas_eval_q31 (with the set-up's kinematics counts). Preconditions of the load-scaled
+ * modes (not checked, as the estimator guarantees them): @p tp is the set-up's and passed
+ * rfe_params_validate_q31.
+ * @param[in]  h   the model set up by rfe_meas_setup_q31 with @p veh and @p tp
+ * @param[in]  veh vehicle parameters of the set-up
+ * @param[in]  tp  tyre parameters of the set-up
+ * @param[in]  mu  friction per wheel (fl, fr, rl, rr), Q29
+ * @param[out] nom the nominal terms and counts (load-scaled modes; paper mode: untouched)
+ * @param[out] z   h(mu, u), Q24
+ * @param[in,out] sat saturation counter (required), added to on success
+ * @return RFE_OK; RFE_ERR_NULL; the errors of rfe_meas_eval_q31 in paper mode (@p nom, @p z,
+ *         *sat then untouched).
+ */
+RFE_NODISCARD rfe_status_t rfe_meas_nominal_q31(const rfe_meas_q31_t *h,
+                                                const rfe_vehicle_q31_t *veh,
+                                                const rfe_tyre_params_q31_t *tp,
+                                                const rfe_fix_t mu[RFE_WHEELS],
+                                                rfe_meas_terms_q31_t *nom,
+                                                rfe_fix_t z[RFE_MEAS], uint32_t *sat);
+
+/**
+ * z = h(mu, u + d e_j) (Q24): the model at the set-up's sample u with its input @p j
+ * (RFE_IN_*, rfe/common.h) changed by @p d (saturating, counted), the integers and counts
+ * rfe_meas_setup_q31 and rfe_meas_eval_q31 at that sample give. Paper mode does exactly that;
+ * the load-scaled modes evaluate again only the wheels input j reaches (delta: the front
+ * wheels, vx, vy, r: all, omega_w: wheel w's slip) and take the other wheels' terms and
+ * counts from @p nom (preconditions as rfe_meas_nominal_q31).
+ * @param[in]  h   the model set up by rfe_meas_setup_q31(h, veh, tp, u, .)
+ * @param[in]  veh vehicle parameters of the set-up
+ * @param[in]  tp  tyre parameters of the set-up
+ * @param[in]  nom the terms of rfe_meas_nominal_q31(h, veh, tp, mu, ...) (load-scaled modes)
+ * @param[in]  u   the set-up's sample
+ * @param[in]  j   the input to change: RFE_IN_DELTA .. RFE_INPUTS - 1
+ * @param[in]  d   the change of input j, in that input's format
+ * @param[in]  mu  friction per wheel (fl, fr, rl, rr), Q29, as given to rfe_meas_nominal_q31
+ * @param[out] z   h(mu, u + d e_j), Q24
+ * @param[in,out] sat saturation counter (required), added to on success
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_PARAM (@p j out of range); in paper mode the errors
+ *         of the set-up and evaluation (@p z, *sat then untouched).
+ */
+RFE_NODISCARD rfe_status_t rfe_meas_eval_perturbed_q31(
+    const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh, const rfe_tyre_params_q31_t *tp,
+    const rfe_meas_terms_q31_t *nom, const rfe_sample_q31_t *u, size_t j, rfe_fix_t d,
+    const rfe_fix_t mu[RFE_WHEELS], rfe_fix_t z[RFE_MEAS], uint32_t *sat);
 
 #endif /* RFE_MEAS_Q31_H */

@@ -1,15 +1,15 @@
 /**
  * @file friction_flt.c
  * @brief The friction estimator: one step of docs/ESTIMATOR.md (MODEL.md §5-6 when every
- *        addition is off): conditioner -> SCKF/CKF time update -> meas, eiv -> SCKF gated
+ *        addition is off): conditioner -> SCKF/CKF time update -> meas, step noise -> SCKF gated
  *        update -> sd bounds -> projection -> per-wheel estimate.
  */
 #include "rfe/friction.h"
 
 #include "rfe/component/chol.h"
-#include "rfe/component/eiv.h"
+#include "rfe/component/step_noise.h"
 
-#include "estimators/friction/eiv_internal.h"
+#include "estimators/friction/step_noise_internal.h"
 #include "numerics/internal.h"
 
 #define NM ((size_t)RFE_N_MAX)
@@ -208,7 +208,7 @@ static void backup(rfe_friction_t *est, int restore)
 }
 
 /* Step 4 runs when any part of it is switched on. */
-static int eiv_active(const rfe_filter_params_t *fp)
+static int step_noise_active(const rfe_filter_params_t *fp)
 {
     const rfe_real_t zero = RFE_R(0.0);
     return (fp->r_model_rel > zero) || (fp->sd_in_delta > zero) || (fp->sd_in_vx > zero) ||
@@ -225,11 +225,11 @@ static rfe_status_t sckf_measurement(rfe_friction_t *est, const rfe_sample_t *u,
     rfe_real_t SR[RFE_MEAS * RFE_MEAS];
     const rfe_real_t *sr = NULL; /* the filter's diagonal S_R */
     rfe_status_t st = RFE_OK;
-    if (eiv_active(fp) != 0) {
+    if (step_noise_active(fp) != 0) {
         rfe_real_t mu[RFE_WHEELS];
         to_wheels(est, f->x, mu); /* T x- */
         /* the internal entry: params validated at init, est->meas set up from u just now */
-        st = rfe_eiv_sqrt_noise_core(&est->params, &est->meas, u, mu, SR);
+        st = rfe_step_noise_sqrt_core(&est->params, &est->meas, u, mu, SR);
         sr = SR;
     }
     if (st == RFE_OK) {

@@ -2,7 +2,7 @@
  * @file friction_q31.c
  * @brief The friction estimator on int32 Q values (the twin of friction_flt.c): one step of
  *        docs/ESTIMATOR.md (MODEL.md §5-6 when every addition is off): conditioner -> SCKF/CKF
- *        time update -> meas, eiv -> SCKF gated update -> sd bounds -> projection ->
+ *        time update -> meas, step noise -> SCKF gated update -> sd bounds -> projection ->
  *        per-wheel estimate. Integer operations only.
  *
  * Saturation accounting: the modules the step calls with a counter (conditioner, measurement
@@ -23,10 +23,10 @@
 #include "rfe/friction_q31.h"
 
 #include "rfe/component/chol_q31.h"
-#include "rfe/component/eiv_q31.h"
+#include "rfe/component/step_noise_q31.h"
 #include "rfe/component/fxmath.h"
 
-#include "estimators/friction/eiv_internal_q31.h"
+#include "estimators/friction/step_noise_internal_q31.h"
 #include "numerics/internal_q31.h"
 
 #define NM ((size_t)RFE_N_MAX)
@@ -315,7 +315,7 @@ static void est_backup(rfe_friction_q31_t *est, int restore)
 }
 
 /* Step 4 runs when any part of it is switched on. */
-static int est_eiv_active(const rfe_filter_params_q31_t *fp)
+static int step_noise_active_q31(const rfe_filter_params_q31_t *fp)
 {
     return ((fp->r_model_rel > 0) || (fp->sd_in_delta > 0) || (fp->sd_in_vx > 0) ||
             (fp->sd_in_vy > 0) || (fp->sd_in_yaw_rate > 0) || (fp->sd_in_omega > 0))
@@ -333,11 +333,11 @@ static rfe_status_t est_sckf_measurement(rfe_friction_q31_t *est, const rfe_samp
     rfe_fix_t SR[RFE_MEAS * RFE_MEAS];
     const rfe_fix_t *sr = NULL; /* the filter's diagonal S_R */
     rfe_status_t st = RFE_OK;
-    if (est_eiv_active(fp) != 0) {
+    if (step_noise_active_q31(fp) != 0) {
         rfe_fix_t mu[RFE_WHEELS];
         est_to_wheels(est, f->x, mu); /* T x- */
         /* the internal entry: params validated at init, est->meas set up from u just now */
-        st = rfe_eiv_sqrt_noise_core_q31(&est->params, &est->meas, u, mu, SR, &est->step_sat);
+        st = rfe_step_noise_sqrt_core_q31(&est->params, &est->meas, u, mu, SR, &est->step_sat);
         sr = SR;
     }
     if (st == RFE_OK) {

@@ -19,7 +19,7 @@
 #include <float.h>
 #include <string.h>
 
-#include "rfe/component/eiv.h"
+#include "rfe/component/step_noise.h"
 #include "rfe/friction.h"
 #include "rfe/component/meas.h"
 #include "rfe/component/obsmat.h"
@@ -272,7 +272,7 @@ static void check_sr(const rfe_params_t *p, const rfe_sample_t *u, const rfe_rea
     double R[3][3], scale = 0.0;
     size_t i, j, k;
     char msg[96];
-    assert_int_equal(rfe_eiv_sqrt_noise(p, u, mu, SR), RFE_OK);
+    assert_int_equal(rfe_step_noise_sqrt(p, u, mu, SR), RFE_OK);
     r_reference(p, u, mu, R);
     for (i = 0; i < 3; ++i) {
         scale = fmax(scale, fabs(R[i][i]));
@@ -297,7 +297,7 @@ static void check_sr(const rfe_params_t *p, const rfe_sample_t *u, const rfe_rea
  * obsmat functions called here, for the absolute and the paper tyre, on a braking, steered,
  * yawing sample; inputs with sd 0 contribute nothing. */
 /* REQ-EIV-001 */
-static void test_rfe_eiv_sqrt_noise_reconstructs_r(void **state)
+static void test_rfe_step_noise_sqrt_reconstructs_r(void **state)
 {
     rfe_params_t p = dflt;
     rfe_sample_t u = straight_sample(18.0, -0.06, -0.03);
@@ -319,9 +319,9 @@ static void test_rfe_eiv_sqrt_noise_reconstructs_r(void **state)
     check_sr(&p, &u, mu, "paper tyre");
 }
 
-/* REQ: rfe_eiv_sqrt_noise validates its arguments and leaves SR untouched on error. */
+/* REQ: rfe_step_noise_sqrt validates its arguments and leaves SR untouched on error. */
 /* REQ-EIV-002 */
-static void test_rfe_eiv_sqrt_noise_errors(void **state)
+static void test_rfe_step_noise_sqrt_errors(void **state)
 {
     rfe_params_t p = dflt;
     rfe_sample_t u = straight_sample(18.0, -0.05, -0.05);
@@ -331,16 +331,16 @@ static void test_rfe_eiv_sqrt_noise_errors(void **state)
     (void)state;
     memset(SR, 0x3C, sizeof SR);
     memcpy(SR_copy, SR, sizeof SR);
-    assert_int_equal(rfe_eiv_sqrt_noise(NULL, &u, mu, SR), RFE_ERR_NULL);
-    assert_int_equal(rfe_eiv_sqrt_noise(&p, NULL, mu, SR), RFE_ERR_NULL);
-    assert_int_equal(rfe_eiv_sqrt_noise(&p, &u, NULL, SR), RFE_ERR_NULL);
-    assert_int_equal(rfe_eiv_sqrt_noise(&p, &u, mu, NULL), RFE_ERR_NULL);
-    assert_int_equal(rfe_eiv_sqrt_noise(&p, &u, bad_mu, SR), RFE_ERR_NONFINITE);
+    assert_int_equal(rfe_step_noise_sqrt(NULL, &u, mu, SR), RFE_ERR_NULL);
+    assert_int_equal(rfe_step_noise_sqrt(&p, NULL, mu, SR), RFE_ERR_NULL);
+    assert_int_equal(rfe_step_noise_sqrt(&p, &u, NULL, SR), RFE_ERR_NULL);
+    assert_int_equal(rfe_step_noise_sqrt(&p, &u, mu, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_step_noise_sqrt(&p, &u, bad_mu, SR), RFE_ERR_NONFINITE);
     p.filter.sd_in_vx = -1;
-    assert_int_equal(rfe_eiv_sqrt_noise(&p, &u, mu, SR), RFE_ERR_PARAM);
+    assert_int_equal(rfe_step_noise_sqrt(&p, &u, mu, SR), RFE_ERR_PARAM);
     p = dflt;
     u.ax = (rfe_real_t)NAN;
-    assert_int_equal(rfe_eiv_sqrt_noise(&p, &u, mu, SR), RFE_ERR_NONFINITE);
+    assert_int_equal(rfe_step_noise_sqrt(&p, &u, mu, SR), RFE_ERR_NONFINITE);
     assert_memory_equal(SR, SR_copy, sizeof SR);
 }
 
@@ -896,8 +896,8 @@ int main(void)
         cmocka_unit_test(test_rfe_conditioner_hand_example),
         cmocka_unit_test(test_rfe_conditioner_off_and_errors),
         cmocka_unit_test(test_rfe_friction_uses_filtered_speed),
-        cmocka_unit_test(test_rfe_eiv_sqrt_noise_reconstructs_r),
-        cmocka_unit_test(test_rfe_eiv_sqrt_noise_errors),
+        cmocka_unit_test(test_rfe_step_noise_sqrt_reconstructs_r),
+        cmocka_unit_test(test_rfe_step_noise_sqrt_errors),
         cmocka_unit_test(test_rfe_meas_setup_eval),
         cmocka_unit_test(test_rfe_friction_gate_holds_on_cruise),
         cmocka_unit_test(test_rfe_friction_gate_updates_on_hard_braking),

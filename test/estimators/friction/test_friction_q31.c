@@ -1,7 +1,7 @@
 /**
  * @file test_friction_q31.c
  * @brief The fixed-point estimator (rfe_friction_*_q31) and its two own modules
- *        (rfe_conditioner_*_q31, rfe_eiv_sqrt_noise_q31) back to back against the double
+ *        (rfe_conditioner_*_q31, rfe_step_noise_sqrt_q31) back to back against the double
  *        twins (_f64), on every bundled log and on random inputs; plus the API contract
  *        (input validation, untouched state on every error, determinism, saturation counts).
  *
@@ -40,7 +40,7 @@
  *    final rounding, the intermediate roundings, the double's own rounding). So ||e_k|| <= E_k
  *    with E_0 = 0, E_k = (1 - b) ||M_k|| E_{k-1} + |db| ||m - p|| + sqrt(2) rho, evaluated
  *    along the run and asserted at every step (ratio printed).
- *  - Step noise S_R (eiv), samples of every log at random mu: each entry of the Tria input
+ *  - Step noise S_R (step_noise), samples of every log at random mu: each entry of the Tria input
  *    A = [S_R0, g_j] is within E_A = E_H + 1 LSB24 of the double's (g_j is half the difference
  *    of two model evaluations, each within E_H, plus 0.5 LSB of the halving; S_R0 is
  *    r_model_rel <= 1 times |h| plus two 0.5-LSB roundings); E_H = 4e-6 m/s^2 is 2.5 times the
@@ -63,8 +63,8 @@
 #include "rfe/component/conditioner.h"
 #include "rfe/component/conditioner_q31.h"
 #include "rfe/config.h"
-#include "rfe/component/eiv.h"
-#include "rfe/component/eiv_q31.h"
+#include "rfe/component/step_noise.h"
+#include "rfe/component/step_noise_q31.h"
 #include "rfe/friction.h"
 #include "rfe/friction_q31.h"
 #include "host/fixed_conv.h"
@@ -954,12 +954,12 @@ static void test_rfe_conditioner_q31_contract(void **state)
     assert_int_equal(sat, 7u);
 }
 
-/* ---- step noise (eiv) ------------------------------------------------------------------ */
+/* ---- step noise (step_noise) ------------------------------------------------------------------ */
 
 /* REQ: S_R of the q31 model against the double's, on samples of every log at random mu per
  * side: S S^T within the bound of the header; the contract (errors, untouched outputs). */
 /* REQ-EIV-001 REQ-FXP-006 */
-static void test_rfe_eiv_q31_b2b(void **state)
+static void test_rfe_step_noise_q31_b2b(void **state)
 {
     const double gam = 8.0 * 3.0 * ldexp(1.0, -29);
     const double ea = E_H + LSB24;
@@ -1001,8 +1001,8 @@ static void test_rfe_eiv_q31_b2b(void **state)
                     mu_q[w] = rfe_fix_from_double((w == 0 || w == 2) ? ml : mr, QMU, &conv_sat);
                     mu_d[w] = rfe_fix_to_double(mu_q[w], QMU);
                 }
-                assert_int_equal(rfe_eiv_sqrt_noise_f64(&bp.pd, &dq, mu_d, SRd), RFE_OK);
-                assert_int_equal(rfe_eiv_sqrt_noise_q31(&bp.pq, &q, mu_q, SRq, &sat), RFE_OK);
+                assert_int_equal(rfe_step_noise_sqrt_f64(&bp.pd, &dq, mu_d, SRd), RFE_OK);
+                assert_int_equal(rfe_step_noise_sqrt_q31(&bp.pq, &q, mu_q, SRq, &sat), RFE_OK);
                 assert_int_equal(sat, 0);
                 for (i = 0; i < 9; ++i) {
                     Sq[i] = rfe_fix_to_double(SRq[i], 24u);
@@ -1037,13 +1037,13 @@ static void test_rfe_eiv_q31_b2b(void **state)
             rfe_sensor_log_free(&log);
         }
     }
-    printf("  [eiv] %ld samples x random mu: S S^T within %.3g of the bound; max |dS_R| %.3g "
+    printf("  [step_noise] %ld samples x random mu: S S^T within %.3g of the bound; max |dS_R| %.3g "
            "m/s^2\n", cases, worst, worst_abs);
     assert_int_equal(conv_sat, 0);
 }
 
 /* REQ-EIV-002 */
-static void test_rfe_eiv_q31_errors(void **state)
+static void test_rfe_step_noise_q31_errors(void **state)
 {
     rfe_params_q31_t p = q31_preset(RFE_PRESET_DEFAULT);
     rfe_sample_q31_t u = braking_sample();
@@ -1054,18 +1054,18 @@ static void test_rfe_eiv_q31_errors(void **state)
     (void)state;
     memset(SR0, 0x5A, sizeof SR0);
     memcpy(SR, SR0, sizeof SR);
-    assert_int_equal(rfe_eiv_sqrt_noise_q31(NULL, &u, mu, SR, &sat), RFE_ERR_NULL);
-    assert_int_equal(rfe_eiv_sqrt_noise_q31(&p, NULL, mu, SR, &sat), RFE_ERR_NULL);
-    assert_int_equal(rfe_eiv_sqrt_noise_q31(&p, &u, NULL, SR, &sat), RFE_ERR_NULL);
-    assert_int_equal(rfe_eiv_sqrt_noise_q31(&p, &u, mu, NULL, &sat), RFE_ERR_NULL);
-    assert_int_equal(rfe_eiv_sqrt_noise_q31(&p, &u, mu, SR, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_step_noise_sqrt_q31(NULL, &u, mu, SR, &sat), RFE_ERR_NULL);
+    assert_int_equal(rfe_step_noise_sqrt_q31(&p, NULL, mu, SR, &sat), RFE_ERR_NULL);
+    assert_int_equal(rfe_step_noise_sqrt_q31(&p, &u, NULL, SR, &sat), RFE_ERR_NULL);
+    assert_int_equal(rfe_step_noise_sqrt_q31(&p, &u, mu, NULL, &sat), RFE_ERR_NULL);
+    assert_int_equal(rfe_step_noise_sqrt_q31(&p, &u, mu, SR, NULL), RFE_ERR_NULL);
     p.tyre.v_min = 0;
-    assert_int_equal(rfe_eiv_sqrt_noise_q31(&p, &u, mu, SR, &sat), RFE_ERR_PARAM);
+    assert_int_equal(rfe_step_noise_sqrt_q31(&p, &u, mu, SR, &sat), RFE_ERR_PARAM);
     assert_memory_equal(SR, SR0, sizeof SR);
     assert_int_equal(sat, 3u);
     /* every addition off: S_R = diag(r) exactly */
     p = q31_preset(RFE_PRESET_PAPER);
-    assert_int_equal(rfe_eiv_sqrt_noise_q31(&p, &u, mu, SR, &sat), RFE_OK);
+    assert_int_equal(rfe_step_noise_sqrt_q31(&p, &u, mu, SR, &sat), RFE_OK);
     assert_int_equal(SR[0], p.filter.r_ax);
     assert_int_equal(SR[4], p.filter.r_ay);
     assert_int_equal(SR[8], p.filter.r_yaw_acc);
@@ -1188,8 +1188,8 @@ int main(void)
         cmocka_unit_test(test_rfe_friction_q31_deterministic),
         cmocka_unit_test(test_rfe_conditioner_q31_contract),
         cmocka_unit_test(test_rfe_conditioner_q31_b2b),
-        cmocka_unit_test(test_rfe_eiv_q31_errors),
-        cmocka_unit_test(test_rfe_eiv_q31_b2b),
+        cmocka_unit_test(test_rfe_step_noise_q31_errors),
+        cmocka_unit_test(test_rfe_step_noise_q31_b2b),
         cmocka_unit_test(test_rfe_replay_run_q31),
         cmocka_unit_test(test_rfe_friction_q31_b2b_paper_sckf),
         cmocka_unit_test(test_rfe_friction_q31_b2b_paper_ckf),

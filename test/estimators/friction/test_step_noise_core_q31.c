@@ -1,7 +1,7 @@
 /**
- * @file test_eiv_core_q31.c
+ * @file test_step_noise_core_q31.c
  * @brief The internal pieces behind the cheaper fixed-point step (src/models/tyre_internal_q31.h,
- *        src/models/meas_internal_q31.h, src/estimators/friction/eiv_internal_q31.h) against the public functions they
+ *        src/models/meas_internal_q31.h, src/estimators/friction/step_noise_internal_q31.h) against the public functions they
  *        replace, bit for bit, saturation counts included:
  *  - one wheel's kinematics, kappa alone, and the load-scaled tyre evaluation (absolute
  *    Dugoff and Magic Formula) split into its friction-independent part and the rest, against
@@ -11,9 +11,9 @@
  *    magic mode), also when eval is given other tyre parameters than the set-up (other
  *    stiffness, eps or alpha_max: the cached terms are then not used; another load-scaled
  *    mode or other shape factors: the cached terms, which do not depend on them, are used);
- *  - the step noise's internal entry rfe_eiv_sqrt_noise_core_q31 (the estimator's: nominal
+ *  - the step noise's internal entry rfe_step_noise_sqrt_core_q31 (the estimator's: nominal
  *    columns of the wheels an input does not reach reused), against the public
- *    rfe_eiv_sqrt_noise_q31 and against a reference built here from the public measurement
+ *    rfe_step_noise_sqrt_q31 and against a reference built here from the public measurement
  *    model exactly as docs/ESTIMATOR.md step 4 writes it (a full evaluation of h at u and at
  *    u +- sd_j e_j for every input), in magic, absolute and paper tyre mode.
  * Inputs: integer samples from a fixed-seed generator, over the typical range, the int32
@@ -27,7 +27,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "rfe/component/eiv_q31.h"
+#include "rfe/component/step_noise_q31.h"
 #include "rfe/fixed.h"
 #include "rfe/component/fxmath.h"
 #include "rfe/component/meas_q31.h"
@@ -36,8 +36,7 @@
 #include "rfe/component/qr_q31.h"
 #include "rfe/component/tyre_q31.h"
 
-#include "estimators/friction/eiv_internal_q31.h"
-#include "models/meas_internal_q31.h"
+#include "estimators/friction/step_noise_internal_q31.h"
 #include "models/tyre_internal_q31.h"
 
 #define N_CASES 20000
@@ -253,11 +252,12 @@ static void test_meas_columns_q31(void **state)
         rfe_sample_q31_t u;
         rfe_fix_t mu[4];
         rfe_meas_q31_t h;
-        rfe_fix_t col[RFE_MEAS_Q31_COLS];
+        rfe_meas_terms_q31_t nom;
         rfe_fix_t z[3];
         rfe_fix_t zc[3];
         uint32_t sat = 0u;
         uint32_t cnt = 0u;
+        uint32_t kin_cnt;
         size_t i;
         if ((n % 3) == 1) {
             vary_tyre(&p.tyre);
@@ -267,12 +267,16 @@ static void test_meas_columns_q31(void **state)
         }
         draw_sample(&p, &u, mu, n);
         assert_int_equal(rfe_meas_setup_q31(&h, &p.vehicle, &p.tyre, &u, &sat), RFE_OK);
+        /* the nominal terms and their sum: the chain's z; the count is the chain's plus the
+         * set-up's kinematics counts, which each wheel's terms carry */
+        assert_int_equal(rfe_meas_nominal_q31(&h, &p.vehicle, &p.tyre, mu, &nom, z, &cnt),
+                         RFE_OK);
+        kin_cnt = 0u;
         for (i = 0; i < 4; ++i) {
-            rfe_meas_wheel_column_q31(&p.vehicle, &p.tyre, &h.pre[i], mu[i], h.kin.fz[i],
-                                      h.cos_delta, h.sin_delta, i, &col[i * 3u], &cnt);
+            kin_cnt += h.sat_vwx[i] + h.sat_fz[i];
         }
-        rfe_meas_sum_columns_q31(col, z, &cnt);
-        assert_int_equal(chain(&h, &p.vehicle, &p.tyre, mu, zc), cnt);
+        assert_int_equal(chain(&h, &p.vehicle, &p.tyre, mu, zc) + kin_cnt, cnt);
+        cnt -= kin_cnt;
         assert_memory_equal(z, zc, sizeof(z));
         sat = 0u;
         assert_int_equal(rfe_meas_eval_q31(&h, &p.vehicle, &p.tyre, mu, z, &sat), RFE_OK);
@@ -335,7 +339,7 @@ static rfe_fix_t *slot(rfe_sample_q31_t *u, size_t j)
 
 /* docs/ESTIMATOR.md step 4 as written: S_R = Tria([S_R0, g_1 ..]), every h a full
  * evaluation (set-up and eval) of the public measurement model. */
-static rfe_status_t ref_eiv(const rfe_params_q31_t *p, const rfe_sample_q31_t *u,
+static rfe_status_t ref_step_noise(const rfe_params_q31_t *p, const rfe_sample_q31_t *u,
                             const rfe_fix_t mu[4], rfe_fix_t SR[9], uint32_t *sat)
 {
     const rfe_filter_params_q31_t *fp = &p->filter;
@@ -400,7 +404,7 @@ static rfe_status_t ref_eiv(const rfe_params_q31_t *p, const rfe_sample_q31_t *u
  * reference with a full evaluation per perturbed input, in magic, absolute and paper tyre
  * mode, with every input switched on or off. */
 /* REQ-FXP-007 REQ-FXP-008 */
-static void test_eiv_core_q31(void **state)
+static void test_step_noise_core_q31(void **state)
 {
     int n;
     long checked = 0;
@@ -441,8 +445,8 @@ static void test_eiv_core_q31(void **state)
         if (rfe_params_validate_q31(&p) != RFE_OK) {
             continue;
         }
-        e1 = rfe_eiv_sqrt_noise_q31(&p, &u, mu, S1, &s1);
-        e2 = ref_eiv(&p, &u, mu, S2, &s2);
+        e1 = rfe_step_noise_sqrt_q31(&p, &u, mu, S1, &s1);
+        e2 = ref_step_noise(&p, &u, mu, S2, &s2);
         assert_int_equal(e1, e2);
         if (e1 != RFE_OK) {
             continue;
@@ -450,7 +454,7 @@ static void test_eiv_core_q31(void **state)
         assert_memory_equal(S1, S2, sizeof(S1));
         assert_int_equal(s1, s2);
         assert_int_equal(rfe_meas_setup_q31(&h, &p.vehicle, &p.tyre, &u, &scratch), RFE_OK);
-        assert_int_equal(rfe_eiv_sqrt_noise_core_q31(&p, &h, &u, mu, S3, &s3), RFE_OK);
+        assert_int_equal(rfe_step_noise_sqrt_core_q31(&p, &h, &u, mu, S3, &s3), RFE_OK);
         assert_memory_equal(S3, S2, sizeof(S3));
         assert_int_equal(s3, s2);
         ++checked;
@@ -532,7 +536,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_tyre_internal_q31),
         cmocka_unit_test(test_meas_columns_q31),
-        cmocka_unit_test(test_eiv_core_q31),
+        cmocka_unit_test(test_step_noise_core_q31),
         cmocka_unit_test(test_meas_pre_invalid_tyre_and_div_saturation_q31),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

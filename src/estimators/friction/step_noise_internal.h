@@ -1,25 +1,25 @@
 /**
- * @file eiv_internal.h
- * @brief Private entry of the step noise (eiv_flt.c) for the estimator (friction_flt.c).
+ * @file step_noise_internal.h
+ * @brief Private entry of the step noise (step_noise_flt.c) for the estimator (friction_flt.c).
  *        Not installed.
  */
-#ifndef RFE_EIV_INTERNAL_H
-#define RFE_EIV_INTERNAL_H
+#ifndef RFE_STEP_NOISE_INTERNAL_H
+#define RFE_STEP_NOISE_INTERNAL_H
 
-#include "rfe/component/eiv.h"
+#include "rfe/component/step_noise.h"
 #include "rfe/component/meas.h"
 #include "rfe/params.h"
 
 /* Full names of the functions declared here: _f32 in the float build, _f64 with
  * RFE_REAL_DOUBLE (rfe/types.h). Sources define and call them by the short name. */
 #if defined(RFE_REAL_DOUBLE)
-#define rfe_eiv_sqrt_noise_core rfe_eiv_sqrt_noise_core_f64
+#define rfe_step_noise_sqrt_core rfe_step_noise_sqrt_core_f64
 #else
-#define rfe_eiv_sqrt_noise_core rfe_eiv_sqrt_noise_core_f32
+#define rfe_step_noise_sqrt_core rfe_step_noise_sqrt_core_f32
 #endif
 
 /**
- * rfe_eiv_sqrt_noise without its checks, for a caller that has already set up the
+ * rfe_step_noise_sqrt without its checks, for a caller that has already set up the
  * measurement model @p h of the same sample @p u with p->vehicle and p->tyre (the nominal
  * h(mu, u) is then one evaluation of @p h): the same S_R, bit for bit, and the same
  * statuses after the checks. Preconditions (not checked): every pointer valid, @p p passed
@@ -28,10 +28,10 @@
  * the evaluation).
  * @return RFE_OK; RFE_ERR_NONFINITE and the tyre's errors (@p SR then untouched).
  */
-RFE_NODISCARD rfe_status_t rfe_eiv_sqrt_noise_core(const rfe_params_t *p,
+RFE_NODISCARD rfe_status_t rfe_step_noise_sqrt_core(const rfe_params_t *p,
                                                   const rfe_meas_t *h,
                                                   const rfe_sample_t *u,
                                                   const rfe_real_t mu[RFE_WHEELS],
                                                   rfe_real_t SR[RFE_MEAS * RFE_MEAS]);
 
-#endif /* RFE_EIV_INTERNAL_H */
+#endif /* RFE_STEP_NOISE_INTERNAL_H */

@@ -1,16 +1,16 @@
 /**
- * @file test_eiv_core_flt.c
+ * @file test_step_noise_core_flt.c
  * @brief The internal pieces behind the cheaper float/double step (src/models/tyre_internal.h,
- *        src/estimators/friction/eiv_internal.h) against the public functions they replace, bit for bit and
+ *        src/estimators/friction/step_noise_internal.h) against the public functions they replace, bit for bit and
  *        status for status:
  *  - the absolute-mode Dugoff evaluation split into its friction-independent part and the
  *    rest, against rfe_tyre_dugoff_abs (finite, non-finite and out-of-range inputs);
  *  - rfe_meas_eval with the terms cached by rfe_meas_setup, against the chain
  *    rfe_tyre_forces_abs -> rfe_obsmat_build -> rfe_obsmat_apply(H, ones), also when eval is
  *    given other tyre parameters than the set-up (the cached terms are then not used);
- *  - the step noise's internal entry rfe_eiv_sqrt_noise_core (the estimator's, for a model
+ *  - the step noise's internal entry rfe_step_noise_sqrt_core (the estimator's, for a model
  *    already set up at the sample: nominal terms of the wheels an input does not reach
- *    reused) against the public rfe_eiv_sqrt_noise and against a reference built here from
+ *    reused) against the public rfe_step_noise_sqrt and against a reference built here from
  *    the public measurement model exactly as docs/ESTIMATOR.md step 4 writes it (a full
  *    set-up and evaluation at u and at u +- sd_j e_j), in absolute and paper tyre mode, with
  *    every input switched on or off, and the statuses when a perturbed input, a perturbed
@@ -24,14 +24,14 @@
 #include <stdint.h>
 #include <string.h>
 
-#include "rfe/component/eiv.h"
+#include "rfe/component/step_noise.h"
 #include "rfe/component/meas.h"
 #include "rfe/component/obsmat.h"
 #include "rfe/params.h"
 #include "rfe/component/qr.h"
 #include "rfe/component/tyre.h"
 
-#include "estimators/friction/eiv_internal.h"
+#include "estimators/friction/step_noise_internal.h"
 #include "models/tyre_internal.h"
 
 #define N_CASES 20000
@@ -213,7 +213,7 @@ static void test_meas_cached(void **state)
 /* REQ: the estimator's step-noise entry is the public function's S_R and status for a model
  * set up at the sample, in absolute and paper tyre mode. */
 /* REQ-EIV-001 */
-static void test_eiv_core(void **state)
+static void test_step_noise_core(void **state)
 {
     int n;
     long ok = 0;
@@ -243,12 +243,12 @@ static void test_eiv_core(void **state)
         for (i = 0; i < 9; ++i) {
             S1[i] = S2[i] = RFE_R(7.0);
         }
-        e1 = rfe_eiv_sqrt_noise(&p, &u, mu, S1);
+        e1 = rfe_step_noise_sqrt(&p, &u, mu, S1);
         if (rfe_meas_setup(&h, &p.vehicle, &p.tyre, &u) != RFE_OK) {
             assert_true(e1 != RFE_OK);
             continue;
         }
-        assert_int_equal(rfe_eiv_sqrt_noise_core(&p, &h, &u, mu, S2), e1);
+        assert_int_equal(rfe_step_noise_sqrt_core(&p, &h, &u, mu, S2), e1);
         bits_equal(S1, S2, 9u);
         ok += (e1 == RFE_OK) ? 1 : 0;
         failed += (e1 != RFE_OK) ? 1 : 0;
@@ -278,7 +278,7 @@ static rfe_real_t *slot(rfe_sample_t *u, size_t j)
     return s[j];
 }
 
-static rfe_status_t ref_eiv(const rfe_params_t *p, const rfe_sample_t *u, const rfe_real_t mu[4],
+static rfe_status_t ref_step_noise(const rfe_params_t *p, const rfe_sample_t *u, const rfe_real_t mu[4],
                             rfe_real_t SR[9])
 {
     const rfe_filter_params_t *fp = &p->filter;
@@ -348,11 +348,11 @@ static rfe_status_t check_three(const rfe_params_t *p, const rfe_sample_t *u,
     for (i = 0; i < 9; ++i) {
         S1[i] = S2[i] = S3[i] = RFE_R(7.0);
     }
-    e1 = rfe_eiv_sqrt_noise(p, u, mu, S1);
-    assert_int_equal(ref_eiv(p, u, mu, S2), e1);
+    e1 = rfe_step_noise_sqrt(p, u, mu, S1);
+    assert_int_equal(ref_step_noise(p, u, mu, S2), e1);
     bits_equal(S1, S2, 9u);
     if (rfe_meas_setup(&h, &p->vehicle, &p->tyre, u) == RFE_OK) {
-        assert_int_equal(rfe_eiv_sqrt_noise_core(p, &h, u, mu, S3), e1);
+        assert_int_equal(rfe_step_noise_sqrt_core(p, &h, u, mu, S3), e1);
         bits_equal(S1, S3, 9u);
     }
     return e1;
@@ -361,7 +361,7 @@ static rfe_status_t check_three(const rfe_params_t *p, const rfe_sample_t *u,
 /* REQ: the step noise with the nominal terms reused is the reference's S_R, bit for bit,
  * and its status, on random samples (absolute and paper tyre, inputs on and off). */
 /* REQ-EIV-001 */
-static void test_eiv_reference(void **state)
+static void test_step_noise_reference(void **state)
 {
     int n;
     long ok = 0;
@@ -391,7 +391,7 @@ static void test_eiv_reference(void **state)
 /* REQ: the statuses where a perturbed input overflows, a perturbed wheel's kinematics
  * overflow, or the nominal model is not finite; the internal entry's status for a NaN mu. */
 /* REQ-EIV-002 */
-static void test_eiv_overflow(void **state)
+static void test_step_noise_overflow(void **state)
 {
     rfe_params_t p;
     rfe_sample_t u;
@@ -443,7 +443,7 @@ static void test_eiv_overflow(void **state)
             p.tyre.mode = RFE_TYRE_PAPER;
         }
         assert_int_equal(rfe_meas_setup(&h, &p.vehicle, &p.tyre, &u), RFE_OK);
-        assert_int_equal(rfe_eiv_sqrt_noise_core(&p, &h, &u, mu, S), RFE_ERR_NONFINITE);
+        assert_int_equal(rfe_step_noise_sqrt_core(&p, &h, &u, mu, S), RFE_ERR_NONFINITE);
     }
 }
 
@@ -503,9 +503,9 @@ int main(void)
         cmocka_unit_test(test_dugoff_split),
         cmocka_unit_test(test_meas_cached),
         cmocka_unit_test(test_meas_cached_each_field),
-        cmocka_unit_test(test_eiv_core),
-        cmocka_unit_test(test_eiv_reference),
-        cmocka_unit_test(test_eiv_overflow),
+        cmocka_unit_test(test_step_noise_core),
+        cmocka_unit_test(test_step_noise_reference),
+        cmocka_unit_test(test_step_noise_overflow),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,5 +1,5 @@
 /**
- * @file eiv.h
+ * @file step_noise.h
  * @brief This step's measurement-noise factor S_R (docs/ESTIMATOR.md step 4): sensor noise,
  *        tyre-model error relative to the predicted accelerations, and the noise of the
  *        inputs propagated through the measurement model ("errors in variables").
@@ -11,22 +11,18 @@
  *   (kinematics, slips and loads recomputed for the perturbed input; ax, ay not perturbed);
  *   S_R = Tria([S_R0, g_1, ...])  (lower-triangular, S_R S_R^T = S_R0 S_R0^T + sum g g^T).
  */
-#ifndef RFE_EIV_H
-#define RFE_EIV_H
+#ifndef RFE_STEP_NOISE_H
+#define RFE_STEP_NOISE_H
 
 #include "rfe/params.h"
 
 /* Full names of the functions declared here: _f32 in the float build, _f64 with
  * RFE_REAL_DOUBLE (rfe/types.h). Sources define and call them by the short name. */
 #if defined(RFE_REAL_DOUBLE)
-#define rfe_eiv_sqrt_noise rfe_eiv_sqrt_noise_f64
+#define rfe_step_noise_sqrt rfe_step_noise_sqrt_f64
 #else
-#define rfe_eiv_sqrt_noise rfe_eiv_sqrt_noise_f32
+#define rfe_step_noise_sqrt rfe_step_noise_sqrt_f32
 #endif
-
-/** Number of perturbed inputs: delta, vx, vy, r and the four wheel speeds. */
-/* cppcheck-suppress misra-c2012-2.4 ; MISRA-FP-01: an anonymous enum has no tag */
-enum { RFE_EIV_INPUTS = 8 };
 
 /**
  * S_R (3 x 3, row-major, lower-triangular, upper triangle zero) for sample @p u at friction
@@ -34,9 +30,9 @@ enum { RFE_EIV_INPUTS = 8 };
  * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_PARAM (rfe_params_validate fails);
  *         RFE_ERR_NONFINITE and the tyre's errors (@p SR then untouched).
  */
-RFE_NODISCARD rfe_status_t rfe_eiv_sqrt_noise(const rfe_params_t *p,
+RFE_NODISCARD rfe_status_t rfe_step_noise_sqrt(const rfe_params_t *p,
                                              const rfe_sample_t *u,
                                              const rfe_real_t mu[RFE_WHEELS],
                                              rfe_real_t SR[RFE_MEAS * RFE_MEAS]);
 
-#endif /* RFE_EIV_H */
+#endif /* RFE_STEP_NOISE_H */

@@ -1,6 +1,6 @@
 /**
- * @file eiv_q31.h
- * @brief Fixed-point twin of rfe/component/eiv.h: this step's measurement-noise factor S_R
+ * @file step_noise_q31.h
+ * @brief Fixed-point twin of rfe/component/step_noise.h: this step's measurement-noise factor S_R
  *        (docs/ESTIMATOR.md step 4) on int32 Q values (docs/FIXED_POINT.md, "Estimator").
  *
  *   h = h(mu, u) at the given (predicted) friction, u the (conditioned) sample;
@@ -17,8 +17,8 @@
  * the halved difference of two model evaluations (each within the measurement model's own
  * bound, docs/FIXED_POINT.md) rounded half up (0.5 LSB), and the Tria of rfe/component/qr_q31.h.
  */
-#ifndef RFE_EIV_Q31_H
-#define RFE_EIV_Q31_H
+#ifndef RFE_STEP_NOISE_Q31_H
+#define RFE_STEP_NOISE_Q31_H
 
 #include <stdint.h>
 
@@ -26,24 +26,20 @@
 #include "rfe/params_q31.h"
 #include "rfe/component/tyre_q31.h"
 
-/** Number of perturbed inputs: delta, vx, vy, r and the four wheel speeds (RFE_EIV_INPUTS of
- *  rfe/component/eiv.h, which a fixed-point build does not include). */
-#define RFE_EIV_Q31_INPUTS 8u
-
 /**
  * S_R (3 x 3, row-major, lower-triangular, upper triangle zero; Q24) for sample @p u at
  * friction @p mu (per wheel, Q29), with r_ax, r_ay, r_yaw_acc, r_model_rel and sd_in_* of
- * @p p (the arguments of rfe_eiv_sqrt_noise plus the saturation counter).
+ * @p p (the arguments of rfe_step_noise_sqrt plus the saturation counter).
  * @param sat saturation counter (required): one count per clamped value anywhere in the
  *            chain (the model evaluations, a perturbed input, r_model_rel |h|, the halved
  *            differences, S_R); added to only on success.
  * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_PARAM (rfe_params_validate_q31 fails); the
  *         measurement model's errors (@p SR and *sat then untouched).
  */
-RFE_NODISCARD rfe_status_t rfe_eiv_sqrt_noise_q31(const rfe_params_q31_t *p,
+RFE_NODISCARD rfe_status_t rfe_step_noise_sqrt_q31(const rfe_params_q31_t *p,
                                                   const rfe_sample_q31_t *u,
                                                   const rfe_fix_t mu[RFE_WHEELS],
                                                   rfe_fix_t SR[RFE_MEAS * RFE_MEAS],
                                                   uint32_t *sat);
 
-#endif /* RFE_EIV_Q31_H */
+#endif /* RFE_STEP_NOISE_Q31_H */

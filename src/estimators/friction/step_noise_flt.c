@@ -1,0 +1,143 @@
+/**
+ * @file step_noise_flt.c
+ * @brief Step-noise S_R: sensor noise, relative tyre-model error, input noise propagated by
+ *        central differences (docs/ESTIMATOR.md step 4).
+ */
+#include "rfe/component/step_noise.h"
+
+#include "rfe/component/meas.h"
+#include "rfe/component/qr.h"
+
+#include "estimators/friction/step_noise_internal.h"
+#include "numerics/internal.h"
+
+#define CW ((size_t)RFE_MEAS + (size_t)RFE_INPUTS) /* widest [S_R0, g_1 .. g_8] */
+
+/* The Tria of [S_R0, g_1 .. g_8] is 3 x 11: it must fit the smallest build's maxima. */
+/* cppcheck-suppress misra-c2012-2.3 ; MISRA-DEV-04: static assertion, never used by design */
+typedef char rfe_assert_step_noise_tria_fits[((RFE_MEAS + RFE_INPUTS) <= RFE_TRIA_COLS_MAX) &&
+                                              (RFE_MEAS <= RFE_N_MAX)
+                                          ? 1
+                                          : -1];
+
+/* The noise sd of input j (RFE_IN_*, rfe/common.h). */
+static rfe_real_t input_sd(const rfe_filter_params_t *fp, size_t j)
+{
+    const rfe_real_t sd[RFE_INPUTS] = {fp->sd_in_delta,    fp->sd_in_vx,    fp->sd_in_vy,
+                                       fp->sd_in_yaw_rate, fp->sd_in_omega, fp->sd_in_omega,
+                                       fp->sd_in_omega,    fp->sd_in_omega};
+    return sd[j];
+}
+
+/* S_R0 into the first RFE_MEAS columns of A (row stride CW): sensor noise and the model
+ * error relative to each predicted acceleration h0. */
+static void sensor_block(const rfe_filter_params_t *fp, const rfe_real_t h0[RFE_MEAS],
+                         rfe_real_t *A)
+{
+    rfe_real_t r[RFE_MEAS];
+    size_t i;
+    size_t j;
+    r[0] = fp->r_ax;
+    r[1] = fp->r_ay;
+    r[2] = fp->r_yaw_acc;
+    for (i = 0u; i < (size_t)RFE_MEAS; ++i) {
+        const rfe_real_t e = fp->r_model_rel * RFE_FABS(h0[i]);
+        for (j = 0u; j < (size_t)RFE_MEAS; ++j) {
+            A[(i * CW) + j] = (i == j) ? RFE_SQRT((r[i] * r[i]) + (e * e)) : RFE_R(0.0);
+        }
+    }
+}
+
+/* g_j = (h(u + sd_j e_j) - h(u - sd_j e_j)) / 2 for each noisy input, in order, as columns
+ * *cols, *cols + 1, ... of A (row stride CW); *cols ends one past the last. The model at
+ * each perturbed input comes from the set-up h and its nominal terms (rfe_meas_eval_perturbed). */
+static rfe_status_t input_columns(const rfe_params_t *p, const rfe_meas_t *h,
+                                  const rfe_meas_terms_t *nom, const rfe_sample_t *u,
+                                  const rfe_real_t *mu, rfe_real_t *A, size_t *cols)
+{
+    size_t i;
+    size_t j;
+    for (j = 0u; j < (size_t)RFE_INPUTS; ++j) {
+        const rfe_real_t sd = input_sd(&p->filter, j);
+        rfe_real_t zp[RFE_MEAS];
+        rfe_real_t zm[RFE_MEAS];
+        rfe_status_t st;
+        if (!(sd > RFE_R(0.0))) {
+            continue;
+        }
+        st = rfe_meas_eval_perturbed(h, &p->vehicle, &p->tyre, nom, u, j, sd, mu, zp);
+        if (st == RFE_OK) {
+            st = rfe_meas_eval_perturbed(h, &p->vehicle, &p->tyre, nom, u, j, -sd, mu, zm);
+        }
+        if (st != RFE_OK) {
+            return st;
+        }
+        for (i = 0u; i < (size_t)RFE_MEAS; ++i) {
+            A[(i * CW) + *cols] = (zp[i] - zm[i]) / RFE_R(2.0);
+        }
+        ++(*cols);
+    }
+    return RFE_OK;
+}
+
+/* [S_R0, g_1 ..] into A (row stride CW), *cols its columns: h0 and the nominal terms from the
+ * set-up h (rfe_meas_nominal), then S_R0 and the input columns. */
+static rfe_status_t fill(const rfe_params_t *p, const rfe_meas_t *h, const rfe_sample_t *u,
+                         const rfe_real_t *mu, rfe_real_t *A, size_t *cols)
+{
+    rfe_meas_terms_t nom;
+    rfe_real_t h0[RFE_MEAS];
+    rfe_status_t st = rfe_meas_nominal(h, &p->vehicle, &p->tyre, mu, &nom, h0);
+    if (st == RFE_OK) {
+        sensor_block(&p->filter, h0, A);
+        st = input_columns(p, h, &nom, u, mu, A, cols);
+    }
+    return st;
+}
+
+rfe_status_t rfe_step_noise_sqrt_core(const rfe_params_t *p, const rfe_meas_t *h,
+                                     const rfe_sample_t *u,
+                                     const rfe_real_t mu[RFE_WHEELS],
+                                     rfe_real_t SR[RFE_MEAS * RFE_MEAS])
+{
+    rfe_real_t A[(size_t)RFE_MEAS * CW];
+    size_t cols = (size_t)RFE_MEAS;
+    rfe_status_t st = fill(p, h, u, mu, A, &cols);
+
+    if (st == RFE_OK) {
+        st = rfe_qr_tria(A, (size_t)RFE_MEAS, cols, CW);
+    }
+    if (st == RFE_OK) {
+        size_t i;
+        size_t j;
+        for (i = 0u; i < (size_t)RFE_MEAS; ++i) {
+            for (j = 0u; j < (size_t)RFE_MEAS; ++j) {
+                SR[(i * (size_t)RFE_MEAS) + j] = (j <= i) ? A[(i * CW) + j] : RFE_R(0.0);
+            }
+        }
+    }
+    return st;
+}
+
+rfe_status_t rfe_step_noise_sqrt(const rfe_params_t *p, const rfe_sample_t *u,
+                                const rfe_real_t mu[RFE_WHEELS],
+                                rfe_real_t SR[RFE_MEAS * RFE_MEAS])
+{
+    rfe_meas_t h;
+    rfe_status_t st;
+
+    if ((p == NULL) || (u == NULL) || (mu == NULL) || (SR == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    if (rfe_params_validate(p) != RFE_OK) {
+        return RFE_ERR_PARAM;
+    }
+    if (!rfe_all_finite(mu, RFE_WHEELS)) {
+        return RFE_ERR_NONFINITE;
+    }
+    st = rfe_meas_setup(&h, &p->vehicle, &p->tyre, u);
+    if (st != RFE_OK) {
+        return st;
+    }
+    return rfe_step_noise_sqrt_core(p, &h, u, mu, SR);
+}

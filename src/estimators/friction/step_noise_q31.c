@@ -1,0 +1,187 @@
+/**
+ * @file step_noise_q31.c
+ * @brief Step-noise S_R on int32 Q values (the twin of step_noise_flt.c, docs/ESTIMATOR.md step 4):
+ *        sensor noise, relative tyre-model error, input noise propagated by central
+ *        differences. Integer operations only.
+ *
+ * Everything is in Q24 (RFE_FIX_Q_ACC) except the perturbed sample, whose fields keep their
+ * own formats (the input noise sds share them). The saturations counted: the measurement
+ * model's (kinematics, forces, H, h), a perturbed input beyond its format, r_model_rel |h|
+ * beyond +-128 m/s^2 (r_model_rel > 1 only), an entry of S_R beyond the format (Tria). A
+ * halved difference of two int32 cannot leave the int32 range.
+ */
+#include "rfe/component/step_noise_q31.h"
+
+#include "rfe/component/fxmath.h"
+#include "rfe/component/meas_q31.h"
+#include "rfe/component/qr_q31.h"
+
+#include "estimators/friction/step_noise_internal_q31.h"
+#include "numerics/internal_q31.h"
+
+#define CW ((size_t)RFE_MEAS + (size_t)RFE_INPUTS) /* widest [S_R0, g_1 .. g_8] */
+
+/* The Tria of [S_R0, g_1 .. g_8] is 3 x 11: it must fit the smallest build's maxima. */
+/* cppcheck-suppress misra-c2012-2.3 ; MISRA-DEV-04: static assertion, never used by design */
+typedef char rfe_assert_step_noise_q31_tria_fits[((RFE_MEAS + RFE_INPUTS) <= RFE_TRIA_COLS_MAX) &&
+                                                  (RFE_MEAS <= RFE_N_MAX)
+                                              ? 1
+                                              : -1];
+
+/* The noise sd of input j (RFE_IN_*, rfe/common.h), in the format of that input. */
+static rfe_fix_t input_sd_q31(const rfe_filter_params_q31_t *fp, size_t j)
+{
+    const rfe_fix_t sd[RFE_INPUTS] = {fp->sd_in_delta,    fp->sd_in_vx,
+                                      fp->sd_in_vy,       fp->sd_in_yaw_rate,
+                                      fp->sd_in_omega,    fp->sd_in_omega,
+                                      fp->sd_in_omega,    fp->sd_in_omega};
+    return sd[j];
+}
+
+/* z = h(mu, u) (Q24) for sample u, its model set up again (paper mode's h0: the set-up's
+ * saturations are counted once more here, as they always were; the committed goldens hold
+ * these counts). */
+static rfe_status_t h_at_q31(const rfe_params_q31_t *p, const rfe_sample_q31_t *u,
+                             const rfe_fix_t *mu, rfe_fix_t z[RFE_MEAS], uint32_t *count)
+{
+    rfe_meas_q31_t h;
+    rfe_status_t st = rfe_meas_setup_q31(&h, &p->vehicle, &p->tyre, u, count);
+    if (st == RFE_OK) {
+        st = rfe_meas_eval_q31(&h, &p->vehicle, &p->tyre, mu, z, count);
+    }
+    return st;
+}
+
+/* S_R0 into the first RFE_MEAS columns of A (row stride CW, Q24): sensor noise and the model
+ * error relative to each predicted acceleration h0. */
+static void sensor_block_q31(const rfe_filter_params_q31_t *fp, const rfe_fix_t h0[RFE_MEAS],
+                             rfe_fix_t *A, uint32_t *count)
+{
+    rfe_fix_t r[RFE_MEAS];
+    size_t i;
+    size_t j;
+    r[0] = fp->r_ax;
+    r[1] = fp->r_ay;
+    r[2] = fp->r_yaw_acc;
+    for (i = 0u; i < (size_t)RFE_MEAS; ++i) {
+        /* r_model_rel (Q30) |h| (Q24): Q54 rounded to Q24; then sqrt(r^2 + e^2), exactly
+         * rounded (rfe_fix_norm fails only for NULL pointers, which these are not). */
+        rfe_fix_t v[2];
+        rfe_fix_t norm = 0;
+        rfe_status_t st;
+        v[0] = r[i];
+        v[1] = rfe_fix_mul(fp->r_model_rel, rfe_fix_abs(h0[i], count), RFE_FIX_Q_SD, count);
+        st = rfe_fix_norm(v, 2u, &norm, count);
+        (void)st;
+        for (j = 0u; j < (size_t)RFE_MEAS; ++j) {
+            A[(i * CW) + j] = (i == j) ? norm : 0;
+        }
+    }
+}
+
+/* g_j = (h(u + sd_j e_j) - h(u - sd_j e_j)) / 2 (Q24) for each noisy input, in order, as
+ * columns *cols, *cols + 1, ... of A (row stride CW); *cols ends one past the last. The model
+ * at each perturbed input comes from the set-up h and its nominal terms
+ * (rfe_meas_eval_perturbed_q31). */
+static rfe_status_t input_columns_q31(const rfe_params_q31_t *p, const rfe_meas_q31_t *h,
+                                      const rfe_meas_terms_q31_t *nom,
+                                      const rfe_sample_q31_t *u, const rfe_fix_t *mu,
+                                      rfe_fix_t *A, size_t *cols, uint32_t *count)
+{
+    size_t i;
+    size_t j;
+    for (j = 0u; j < (size_t)RFE_INPUTS; ++j) {
+        const rfe_fix_t sd = input_sd_q31(&p->filter, j);
+        rfe_fix_t zp[RFE_MEAS];
+        rfe_fix_t zm[RFE_MEAS];
+        rfe_status_t st;
+        if (sd <= 0) {
+            continue;
+        }
+        st = rfe_meas_eval_perturbed_q31(h, &p->vehicle, &p->tyre, nom, u, j, sd, mu, zp,
+                                         count);
+        if (st == RFE_OK) {
+            st = rfe_meas_eval_perturbed_q31(h, &p->vehicle, &p->tyre, nom, u, j, -sd, mu, zm,
+                                             count);
+        }
+        if (st != RFE_OK) {
+            return st;
+        }
+        for (i = 0u; i < (size_t)RFE_MEAS; ++i) {
+            /* the exact difference (< 2^32) halved, rounded half up: fits the int32 range */
+            A[(i * CW) + *cols] = rfe_fix_narrow((int64_t)zp[i] - (int64_t)zm[i], 1u, count);
+        }
+        ++(*cols);
+    }
+    return RFE_OK;
+}
+
+/* [S_R0, g_1 ..] into A (row stride CW), *cols its columns: h0 and (the load-scaled modes,
+ * absolute and magic) the nominal terms from the set-up h (rfe_meas_nominal_q31), paper mode
+ * h0 from the model set up again (h_at_q31); then S_R0 and the input columns. */
+static rfe_status_t fill_q31(const rfe_params_q31_t *p, const rfe_meas_q31_t *h,
+                             const rfe_sample_q31_t *u, const rfe_fix_t *mu, rfe_fix_t *A,
+                             size_t *cols, uint32_t *count)
+{
+    rfe_meas_terms_q31_t nom; /* written in the load-scaled modes, read only there */
+    rfe_fix_t h0[RFE_MEAS];
+    rfe_status_t st;
+    if (h->mode != RFE_TYRE_PAPER) {
+        st = rfe_meas_nominal_q31(h, &p->vehicle, &p->tyre, mu, &nom, h0, count);
+    } else {
+        st = h_at_q31(p, u, mu, h0, count);
+    }
+    if (st == RFE_OK) {
+        sensor_block_q31(&p->filter, h0, A, count);
+        st = input_columns_q31(p, h, &nom, u, mu, A, cols, count);
+    }
+    return st;
+}
+
+rfe_status_t rfe_step_noise_sqrt_core_q31(const rfe_params_q31_t *p, const rfe_meas_q31_t *h,
+                                         const rfe_sample_q31_t *u,
+                                         const rfe_fix_t mu[RFE_WHEELS],
+                                         rfe_fix_t SR[RFE_MEAS * RFE_MEAS], uint32_t *sat)
+{
+    rfe_fix_t A[(size_t)RFE_MEAS * CW];
+    size_t cols = (size_t)RFE_MEAS;
+    uint32_t count = 0u;
+    rfe_status_t st;
+
+    st = fill_q31(p, h, u, mu, A, &cols, &count);
+    if (st == RFE_OK) {
+        st = rfe_qr_tria_q31(A, (size_t)RFE_MEAS, cols, CW, &count);
+    }
+    if (st == RFE_OK) {
+        size_t i;
+        size_t j;
+        for (i = 0u; i < (size_t)RFE_MEAS; ++i) {
+            for (j = 0u; j < (size_t)RFE_MEAS; ++j) {
+                SR[(i * (size_t)RFE_MEAS) + j] = (j <= i) ? A[(i * CW) + j] : 0;
+            }
+        }
+        rfe_q31_sat_add(sat, count);
+    }
+    return st;
+}
+
+rfe_status_t rfe_step_noise_sqrt_q31(const rfe_params_q31_t *p, const rfe_sample_q31_t *u,
+                                    const rfe_fix_t mu[RFE_WHEELS],
+                                    rfe_fix_t SR[RFE_MEAS * RFE_MEAS], uint32_t *sat)
+{
+    rfe_meas_q31_t h;
+    uint32_t scratch = 0u; /* the set-up's counts enter through h (its per-wheel counts) */
+    rfe_status_t st;
+
+    if ((p == NULL) || (u == NULL) || (mu == NULL) || (SR == NULL) || (sat == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    if (rfe_params_validate_q31(p) != RFE_OK) {
+        return RFE_ERR_PARAM;
+    }
+    st = rfe_meas_setup_q31(&h, &p->vehicle, &p->tyre, u, &scratch);
+    if (st != RFE_OK) {
+        return st;
+    }
+    return rfe_step_noise_sqrt_core_q31(p, &h, u, mu, SR, sat);
+}
