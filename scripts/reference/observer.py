@@ -42,6 +42,8 @@ OBS_DEFAULTS: dict[str, float] = {
     "obs_sd_mu_default": 0.3,   # its sd
     "obs_mu_margin": 0.1,
     "obs_dvy": 0.01,
+    "obs_sd_vydot": 1.0,        # the lateral acceleration of the sideslip, v-dot_y, as noise, m/s^2
+    "obs_vydot_rdot": 15.0,     # its growth with |r-dot|, m/s^2 per rad/s^2
     "obs_tau_nis": 0.5,         # averaging time of the model's innovation consistency, s            # step of the model's derivative by vy, m/s       # the measured |ay|/g raises the model's friction to (1+margin) of it
     "obs_sd_vx0": 1.0,          # initial sd of vx, m/s
     "obs_sd_bx0": 0.3,          # initial sd of the longitudinal offset, m/s^2
@@ -240,6 +242,10 @@ class Observer:
             # §4.3 low speed: the rear axle rolls without side slip, vy = Lr r
             self.lat.update(1.0, 0.0, p["Lr"] * s.yaw_rate - vy_pred, p["obs_sd_lowspeed"] ** 2)
             flags |= FLAG_VY_LOWSPEED
+        # §4.4 no sideslip accelerates for long: ay - r vx = b_y + v-dot_y, with v-dot_y as
+        # noise, holds b_y where the model cannot (a saturated tyre tells nothing about vy)
+        sv = p["obs_sd_vydot"] + p["obs_vydot_rdot"] * abs(self.yaw.x[1])
+        self.lat.update(0.0, 1.0, (s.ay - s.yaw_rate * vx) - self.lat.x[1], sv * sv)
         return self.output(flags)
 
     def model_ay(self, s, vx, vy, mu):

@@ -109,6 +109,14 @@ rfe_status_t rfe_vel_lateral_step(rfe_kf2_t *f, const rfe_velocity_t *obs,
         fl |= RFE_VEL_FLAG_VY_LOWSPEED;
     }
     if (st == RFE_OK) {
+        /* §4.4 no sideslip accelerates for long: ay - r vx = b_y + v-dot_y, with v-dot_y as
+         * noise (larger while the yaw rate changes), holds b_y where the model cannot (a
+         * saturated tyre tells nothing of vy) */
+        const rfe_real_t sv = p->sd_vydot + (p->vydot_rdot * RFE_FABS(obs->yaw.x[1]));
+        st = rfe_kf2_update(&k, RFE_R(0.0), RFE_R(1.0),
+                            (in->ay - (in->yaw_rate * vx)) - k.x[1], sv * sv);
+    }
+    if (st == RFE_OK) {
         *f = k;
         *flags |= fl;
     }
