@@ -46,7 +46,7 @@ DEPS_EXTRA :=
 TEST_GATES :=
 include $(sort $(filter-out mk/lib.mk,$(wildcard mk/*.mk)))
 
-.PHONY: names observer-goldens all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind coverage demo goldens goldens-q31 scenarios observer-scenarios clean vectors shared-sync check-shared readme-table \
+.PHONY: names observer-goldens observer-results all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind coverage demo goldens goldens-q31 scenarios observer-scenarios clean vectors shared-sync check-shared readme-table \
         check-kernels check-tools layers help-check goldens-ref check-nofloat help deps-analysis misra tidy complexity structural analysis
 ## the libraries and build/mu_replay (the default target)
 all: lib $(BUILD)/mu_replay
@@ -338,6 +338,11 @@ check-kernels: venv
 # scenarios/golden/<stem>.<config>.q31.csv; test/golden/test_golden_q31.c requires every value bit
 # for bit (the Q values converted exactly to double, written in the shortest exact form).
 Q31_GOLDEN_LOGS = $(filter-out %.nf.csv %.mf.csv,$(wildcard scenarios/*.csv))
+# The velocity observer measured through the C library (docs/OBSERVER_RESULTS.md).
+## measure the velocity observer and write docs/OBSERVER_RESULTS.md
+observer-results: $(BUILD)/mu_replay venv
+	$(PY) scripts/tools/observer_results.py --replay $(BUILD)/mu_replay --page docs/OBSERVER_RESULTS.md
+
 # The velocity observer's goldens (docs/OBSERVER.md) from its float64 reference.
 ## regenerate the velocity observer's goldens (scenarios/golden/observer/)
 observer-goldens: venv
