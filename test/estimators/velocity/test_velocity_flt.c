@@ -101,7 +101,7 @@ static void test_bad_inputs_leave_the_observer_untouched(void **state)
         in = rolling(20.0f, 0.01f);
         assert_int_equal(rfe_velocity_step(&fx.obs, &in, &mu, &e), RFE_OK);
     }
-    before = fx.obs;
+    memcpy(&before, &fx.obs, sizeof before); /* bytes, padding included */
     assert_int_equal(rfe_velocity_step(NULL, &in, &mu, &e), RFE_ERR_NULL);
     assert_int_equal(rfe_velocity_step(&fx.obs, NULL, &mu, &e), RFE_ERR_NULL);
     assert_int_equal(rfe_velocity_step(&fx.obs, &in, &mu, NULL), RFE_ERR_NULL);
