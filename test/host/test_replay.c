@@ -345,6 +345,37 @@ static void test_rfe_replay_run_null_arguments(void **state)
     assert_int_equal(rfe_replay_run_f64(&ps, &log, NULL, &st, NULL), RFE_ERR_NULL);
 }
 
+/* REQ-CLI-004 */
+static void test_rfe_replay_run_observer_checks_its_arguments(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_sensor_row_t rows[N_ROWS];
+    rfe_param_set_t ps;
+    rfe_est_row_t out[N_ROWS];
+    rfe_replay_stats_t st;
+    size_t bad = 0u;
+    size_t i;
+    (void)state;
+    make_log(&log, rows);
+    assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_DEFAULT), 0);
+    assert_int_equal(rfe_replay_run_observer_f64(NULL, &log, out, &st, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_replay_run_observer_f64(&ps, NULL, out, &st, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_replay_run_observer_f64(&ps, &log, NULL, &st, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_replay_run_observer_f64(&ps, &log, out, NULL, NULL), RFE_ERR_NULL);
+    ps.value[RFE_PK_mu0] = 2.0; /* above mu_max: the set is diagnosed as for rfe_replay_run */
+    assert_int_equal(rfe_replay_run_observer_f64(&ps, &log, out, &st, &bad), RFE_ERR_PARAM);
+    assert_int_equal(bad, RFE_PK_mu0);
+    assert_int_equal(st.n_steps, 0);
+    /* a valid set runs every row and writes the observer's estimate into each */
+    assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_DEFAULT), 0);
+    assert_int_equal(rfe_replay_run_observer_f64(&ps, &log, out, &st, NULL), RFE_OK);
+    assert_int_equal(st.n_steps, log.n_rows);
+    for (i = 0u; i < log.n_rows; ++i) {
+        assert_int_equal(out[i].has_velocity, 1);
+        assert_true(out[i].t == log.rows[i].t);
+    }
+}
+
 /* REQ-CLI-003 */
 static void test_rfe_replay_status_slot_bounds(void **state)
 {
@@ -371,6 +402,7 @@ int main(void)
         cmocka_unit_test(test_rfe_replay_run_invalid_combination_not_blamed_on_one_key),
         cmocka_unit_test(test_rfe_replay_run_ckf_outside_paper_subset_blames_filter),
         cmocka_unit_test(test_rfe_replay_run_null_arguments),
+        cmocka_unit_test(test_rfe_replay_run_observer_checks_its_arguments),
         cmocka_unit_test(test_rfe_replay_status_slot_bounds),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
