@@ -60,6 +60,8 @@
 /** Bits of rfe_velocity_input_t.has: which optional inputs the sample carries. */
 #define RFE_VEL_HAS_PRESSURE 1u /**< p_brake is given */
 #define RFE_VEL_HAS_TORQUE 2u   /**< torque is given */
+#define RFE_VEL_HAS_STEER_WHEEL 4u /**< the steering angle is steer_wheel (delta is ignored):
+                                        delta = steer_wheel / steer_ratio */
 
 /** Bits of rfe_velocity_estimate_t.flags: what corrected the estimate (OBSERVER.md §5). */
 #define RFE_VEL_FLAG_VX_WHEEL 1u     /**< vx corrected by a wheel reference */
@@ -73,6 +75,7 @@
 typedef struct {
     rfe_real_t dt;                  /**< period since the previous sample [s] (first: ignored) */
     rfe_real_t delta;               /**< front road-wheel angle [rad] */
+    rfe_real_t steer_wheel;         /**< steering-wheel angle [rad] (RFE_VEL_HAS_STEER_WHEEL) */
     rfe_real_t yaw_rate;            /**< r [rad/s] */
     rfe_real_t ax;                  /**< accelerometer, body x [m/s^2] */
     rfe_real_t ay;                  /**< accelerometer, body y [m/s^2] */
@@ -95,6 +98,8 @@ typedef struct {
     rfe_real_t vy;         /**< [m/s] */
     rfe_real_t beta;       /**< sideslip atan2(vy, vx) [rad] (0 below v_lat_min) */
     rfe_real_t yaw_acc;    /**< r-dot [rad/s^2] */
+    rfe_real_t delta;      /**< the road-wheel angle used [rad] (steer_wheel / steer_ratio
+                                when the sample gives the steering-wheel angle) */
     rfe_real_t sd_vx;      /**< [m/s] */
     rfe_real_t sd_vy;      /**< [m/s] */
     rfe_real_t sd_beta;    /**< [rad] */

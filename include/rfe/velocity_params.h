@@ -30,6 +30,9 @@
 /** The observer's parameters; each field is the parameter-file key obs_<field>. */
 typedef struct {
     uint32_t driven;          /**< driven wheels, RFE_DRIVEN_* bits (1..15): 3 (front drive) */
+    rfe_real_t steer_ratio;   /**< steering-wheel angle / road-wheel angle, used when a sample
+                                   gives the steering-wheel angle (RFE_VEL_HAS_STEER_WHEEL) [1]:
+                                   16 */
     rfe_real_t dt_min;        /**< shortest accepted sample period [s]: 0.001 */
     rfe_real_t dt_max;        /**< longest accepted sample period [s]: 0.1 */
     rfe_real_t q_jerk;        /**< yaw-jerk density of the differentiator [rad/s^3 sqrt(s)]: 0.5 */
@@ -70,7 +73,7 @@ RFE_NODISCARD rfe_status_t rfe_velocity_params_default(rfe_velocity_params_t *p)
 
 /**
  * Checks every field: finite; driven in 1..15; 0 < dt_min <= dt_max <= 1; q_jerk, sd_r,
- * sd_ax, sd_ay, dvy, v_lat_min, sd_lowspeed, mu_default, sd_vydot > 0; every other sd, q, gate,
+ * sd_ax, sd_ay, dvy, v_lat_min, sd_lowspeed, mu_default, sd_vydot, steer_ratio > 0; every other sd, q, gate,
  * threshold and margin >= 0.
  * @param[in] p  the parameters to check.
  * @return RFE_OK, RFE_ERR_NULL or RFE_ERR_PARAM.

@@ -12,6 +12,7 @@ rfe_status_t rfe_velocity_params_default(rfe_velocity_params_t *p)
         return RFE_ERR_NULL;
     }
     p->driven = RFE_DRIVEN_FL | RFE_DRIVEN_FR;
+    p->steer_ratio = RFE_R(16.0);
     p->dt_min = RFE_R(0.001);
     p->dt_max = RFE_R(0.1);
     p->q_jerk = RFE_R(0.5);
@@ -47,10 +48,11 @@ rfe_status_t rfe_velocity_params_default(rfe_velocity_params_t *p)
 /* The fields that must be > 0, then those that must be >= 0 (docs/OBSERVER.md §2). */
 static int positive_ok(const rfe_velocity_params_t *p)
 {
-    const rfe_real_t v[9] = {p->q_jerk, p->sd_r, p->sd_ax, p->sd_ay, p->dvy,
-                             p->v_lat_min, p->sd_lowspeed, p->mu_default, p->sd_vydot};
+    const rfe_real_t v[10] = {p->q_jerk, p->sd_r, p->sd_ax, p->sd_ay, p->dvy,
+                              p->v_lat_min, p->sd_lowspeed, p->mu_default, p->sd_vydot,
+                              p->steer_ratio};
     size_t i;
-    for (i = 0u; i < 9u; ++i) {
+    for (i = 0u; i < 10u; ++i) {
         if (!rfe_is_finite(v[i]) || !(v[i] > RFE_R(0.0))) {
             return 0;
         }

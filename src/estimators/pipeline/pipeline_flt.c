@@ -27,12 +27,13 @@ rfe_status_t rfe_pipeline_init(rfe_pipeline_t *pl, const rfe_params_t *p,
     return st;
 }
 
-/* The friction estimator's sample from the ESC sample and the observer's estimate. */
+/* The friction estimator's sample from the ESC sample and the observer's estimate (its
+ * road-wheel angle: the observer applies the steering ratio). */
 static void friction_sample(const rfe_velocity_input_t *in, const rfe_velocity_estimate_t *v,
                             rfe_sample_t *u)
 {
     size_t i;
-    u->delta = in->delta;
+    u->delta = v->delta;
     u->vx = v->vx;
     u->vy = v->vy;
     u->yaw_rate = in->yaw_rate;

@@ -32,8 +32,9 @@ rfe_status_t rfe_velocity_init(rfe_velocity_t *obs, const rfe_velocity_params_t 
 /* §1 every input finite. */
 static int inputs_finite(const rfe_velocity_input_t *in, const rfe_velocity_mu_t *mu)
 {
-    const rfe_real_t v[6] = {in->dt, in->delta, in->yaw_rate, in->ax, in->ay, in->grade};
-    if ((rfe_all_finite(v, 6u) == 0) || (rfe_all_finite(in->omega, RFE_WHEELS) == 0) ||
+    const rfe_real_t v[7] = {in->dt,  in->delta, in->steer_wheel, in->yaw_rate,
+                             in->ax,  in->ay,    in->grade};
+    if ((rfe_all_finite(v, 7u) == 0) || (rfe_all_finite(in->omega, RFE_WHEELS) == 0) ||
         (rfe_all_finite(in->p_brake, RFE_WHEELS) == 0) ||
         (rfe_all_finite(in->torque, RFE_WHEELS) == 0)) {
         return 0;
@@ -64,13 +65,11 @@ static int wheels_in_range(const rfe_velocity_input_t *in, const rfe_velocity_mu
     return 1;
 }
 
-/* §1 the inputs: finite, inside config.h's limits; on a later sample dt in range. */
+/* §1 the inputs: finite, inside config.h's limits; on a later sample dt in range. @p in
+ * already carries the road-wheel angle (road_wheel_input). */
 static rfe_status_t check_input(const rfe_velocity_t *obs, const rfe_velocity_input_t *in,
                                 const rfe_velocity_mu_t *mu)
 {
-    if (inputs_finite(in, mu) == 0) {
-        return RFE_ERR_NONFINITE;
-    }
     if ((RFE_FABS(in->delta) > RFE_R(RFE_LIMIT_DELTA)) ||
         (RFE_FABS(in->yaw_rate) > RFE_R(RFE_LIMIT_YAW_RATE)) ||
         (RFE_FABS(in->ax) > RFE_R(RFE_LIMIT_ACC)) || (RFE_FABS(in->ay) > RFE_R(RFE_LIMIT_ACC)) ||
@@ -83,8 +82,25 @@ static rfe_status_t check_input(const rfe_velocity_t *obs, const rfe_velocity_in
     return RFE_OK;
 }
 
+/* §1 the sample with its road-wheel angle: delta, or steer_wheel / steer_ratio when the
+ * sample gives the steering-wheel angle. The one place the ratio is applied. */
+static rfe_status_t road_wheel_input(const rfe_velocity_t *obs, const rfe_velocity_input_t *in,
+                                     const rfe_velocity_mu_t *mu, rfe_velocity_input_t *u)
+{
+    if (inputs_finite(in, mu) == 0) {
+        return RFE_ERR_NONFINITE;
+    }
+    *u = *in;
+    if ((in->has & RFE_VEL_HAS_STEER_WHEEL) != 0u) {
+        u->delta = in->steer_wheel / obs->p.steer_ratio;
+        u->has = in->has & ~RFE_VEL_HAS_STEER_WHEEL;
+    }
+    return RFE_OK;
+}
+
 /* §5 the outputs of the filters. */
-static void outputs(const rfe_velocity_t *obs, uint32_t flags, rfe_velocity_estimate_t *e)
+static void outputs(const rfe_velocity_t *obs, const rfe_velocity_input_t *in, uint32_t flags,
+                    rfe_velocity_estimate_t *e)
 {
     const rfe_real_t vx = obs->lon.x[0];
     const rfe_real_t vy = obs->lat.x[0];
@@ -99,6 +115,7 @@ static void outputs(const rfe_velocity_t *obs, uint32_t flags, rfe_velocity_esti
     e->sd_vy = svy;
     e->sd_beta = RFE_SQRT(((vx * vx) * (svy * svy)) + ((vy * vy) * (svx * svx))) / n2;
     e->yaw_acc = obs->yaw.x[1];
+    e->delta = in->delta;
     e->sd_yaw_acc = RFE_SQRT(rfe_max(obs->yaw.p11, RFE_R(0.0)));
     e->bx = obs->lon.x[1];
     e->by = obs->lat.x[1];
@@ -125,19 +142,24 @@ static rfe_status_t start(rfe_velocity_t *o, const rfe_velocity_input_t *in)
     return st;
 }
 
-rfe_status_t rfe_velocity_step(rfe_velocity_t *obs, const rfe_velocity_input_t *in,
+rfe_status_t rfe_velocity_step(rfe_velocity_t *obs, const rfe_velocity_input_t *sample,
                                const rfe_velocity_mu_t *mu, rfe_velocity_estimate_t *out)
 {
     rfe_velocity_t o;
+    rfe_velocity_input_t u;
+    const rfe_velocity_input_t *in = &u;
     uint32_t flags = 0u;
     rfe_status_t st;
-    if ((obs == NULL) || (in == NULL) || (out == NULL)) {
+    if ((obs == NULL) || (sample == NULL) || (out == NULL)) {
         return RFE_ERR_NULL;
     }
     if (obs->magic != RFE_MAGIC_VEL) {
         return RFE_ERR_NOT_INITIALISED;
     }
-    st = check_input(obs, in, mu);
+    st = road_wheel_input(obs, sample, mu, &u);
+    if (st == RFE_OK) {
+        st = check_input(obs, in, mu);
+    }
     o = *obs; /* work on a copy: an error leaves the observer as it was */
     if ((st == RFE_OK) && (o.started == 0u)) {
         st = start(&o, in);
@@ -159,7 +181,7 @@ rfe_status_t rfe_velocity_step(rfe_velocity_t *obs, const rfe_velocity_input_t *
         return st;
     }
     o.started = 1u;
-    outputs(&o, flags, &o.last);
+    outputs(&o, in, flags, &o.last);
     *obs = o;
     *out = o.last;
     return RFE_OK;

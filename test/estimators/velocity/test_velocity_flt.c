@@ -8,6 +8,7 @@
 
 #include <string.h>
 
+#include "rfe/config.h"
 #include "rfe/velocity.h"
 
 typedef struct {
@@ -305,6 +306,51 @@ static void test_vx_never_goes_negative(void **state)
     }
 }
 
+/* A sample with the steering-wheel angle runs exactly as one with swa / steer_ratio: the
+ * default ratio 16 is a power of two, so the division is exact and the two observers must
+ * agree bit for bit; the estimate reports the road-wheel angle used. */
+/* REQ-OBS-008 */
+static void test_steering_wheel_angle_through_the_ratio(void **state)
+{
+    rfe_velocity_t a;
+    rfe_velocity_t b;
+    rfe_velocity_estimate_t ea;
+    rfe_velocity_estimate_t eb;
+    rfe_velocity_input_t in;
+    rfe_velocity_input_t sw;
+    size_t k;
+    (void)state;
+    setup_fixture();
+    assert_true(fx.vp.steer_ratio == 16.0f);
+    a = fx.obs;
+    b = fx.obs;
+    for (k = 0u; k < 100u; ++k) {
+        in = rolling(20.0f, (k == 0u) ? 0.0f : 0.01f);
+        in.delta = 0.05f * (rfe_real_t)k / 100.0f;
+        in.yaw_rate = in.delta * 5.0f;
+        in.ay = in.yaw_rate * 20.0f;
+        sw = in;
+        sw.steer_wheel = in.delta * 16.0f;
+        sw.delta = 0.3f; /* ignored when the bit is set */
+        sw.has |= RFE_VEL_HAS_STEER_WHEEL;
+        assert_int_equal(rfe_velocity_step(&a, &in, NULL, &ea), RFE_OK);
+        assert_int_equal(rfe_velocity_step(&b, &sw, NULL, &eb), RFE_OK);
+        assert_true(eb.delta == in.delta);
+        assert_true(ea.delta == in.delta);
+        assert_true((ea.vx == eb.vx) && (ea.vy == eb.vy) && (ea.sd_vy == eb.sd_vy));
+    }
+    /* beyond the road-wheel limit only after the ratio: RANGE; NaN: NONFINITE; untouched */
+    sw.steer_wheel = (rfe_real_t)RFE_LIMIT_DELTA * 16.0f * 1.01f;
+    assert_int_equal(rfe_velocity_step(&b, &sw, NULL, &eb), RFE_ERR_RANGE);
+    sw.steer_wheel = (rfe_real_t)NAN;
+    assert_int_equal(rfe_velocity_step(&b, &sw, NULL, &eb), RFE_ERR_NONFINITE);
+    assert_memory_equal(&a.lat, &b.lat, sizeof a.lat);
+    assert_memory_equal(&a.lon, &b.lon, sizeof a.lon);
+    /* the ratio is a parameter that must be > 0 */
+    fx.vp.steer_ratio = 0.0f;
+    assert_int_equal(rfe_velocity_params_validate(&fx.vp), RFE_ERR_PARAM);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -318,6 +364,7 @@ int main(void)
         cmocka_unit_test(test_a_too_low_friction_is_raised_by_the_measured_ay),
         cmocka_unit_test(test_all_wheel_drive_wheels_only_bound_vx_from_above),
         cmocka_unit_test(test_vx_never_goes_negative),
+        cmocka_unit_test(test_steering_wheel_angle_through_the_ratio),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
