@@ -46,7 +46,7 @@ DEPS_EXTRA :=
 TEST_GATES :=
 include $(sort $(filter-out mk/lib.mk,$(wildcard mk/*.mk)))
 
-.PHONY: names observer-goldens observer-results all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind coverage demo goldens goldens-q31 scenarios observer-scenarios clean vectors shared-sync check-shared readme-table \
+.PHONY: names car-format-logs observer-goldens observer-results all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind coverage demo goldens goldens-q31 scenarios observer-scenarios clean vectors shared-sync check-shared readme-table \
         check-kernels check-tools layers help-check goldens-ref check-nofloat help deps-analysis misra tidy complexity structural analysis
 ## the libraries and build/mu_replay (the default target)
 all: lib $(BUILD)/mu_replay
@@ -298,6 +298,9 @@ scenarios: venv
 ## regenerate the velocity / sideslip observer logs (scenarios/observer/) with the simulator
 observer-scenarios: venv
 	$(PY) scripts/data/make_observer_scenarios.py --out scenarios/observer
+## rewrite observer scenarios in a car logger's format (scenarios/car_format/, DATA.md)
+car-format-logs: venv
+	$(PY) scripts/data/make_car_format_logs.py --src scenarios/observer --out scenarios/car_format
 ## regenerate the scenarios and every golden (reference and q31)
 goldens: scenarios
 	$(MAKE) goldens-ref goldens-q31

@@ -8,9 +8,12 @@
 #include "csv_log.h"
 
 #include <errno.h>
+#include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+
+#include "log_units.h"
 
 /** Column roles: required input, or one of the optional groups (each all or none): true
  *  friction, true friction utilisation, measured velocities (a test car), brake
@@ -23,48 +26,52 @@ typedef enum {
     COL_PRES = 4,
     COL_TORQ = 5,
     COL_GRADE = 6,
-    COL_KINDS = 7
+    COL_STEER = 7, /**< delta or swa: exactly one of them */
+    COL_KINDS = 8
 } col_kind_t;
 
-/** A sensor-log column: its DATA.md name and where its value goes in a row. */
+/** A sensor-log column: its DATA.md name, where its value goes in a row, its role and its
+ *  physical quantity (which unit_<name> words it accepts). */
 typedef struct {
     const char *name;
     size_t offset;
     col_kind_t kind;
+    rfe_dim_t dim;
 } col_spec_t;
 
 #define ROW_OFF(member) offsetof(rfe_sensor_row_t, member)
 
 static const col_spec_t k_cols[] = {
-    {"t", ROW_OFF(t), COL_INPUT},
-    {"delta", ROW_OFF(delta), COL_INPUT},
-    {"vx", ROW_OFF(vx), COL_VEL},
-    {"vy", ROW_OFF(vy), COL_VEL},
-    {"yaw_rate", ROW_OFF(yaw_rate), COL_INPUT},
-    {"yaw_acc", ROW_OFF(yaw_acc), COL_VEL},
-    {"ax", ROW_OFF(ax), COL_INPUT},
-    {"ay", ROW_OFF(ay), COL_INPUT},
-    {"omega_fl", ROW_OFF(omega[RFE_FL]), COL_INPUT},
-    {"omega_fr", ROW_OFF(omega[RFE_FR]), COL_INPUT},
-    {"omega_rl", ROW_OFF(omega[RFE_RL]), COL_INPUT},
-    {"omega_rr", ROW_OFF(omega[RFE_RR]), COL_INPUT},
-    {"mu_fl", ROW_OFF(mu_true[RFE_FL]), COL_MU},
-    {"mu_fr", ROW_OFF(mu_true[RFE_FR]), COL_MU},
-    {"mu_rl", ROW_OFF(mu_true[RFE_RL]), COL_MU},
-    {"mu_rr", ROW_OFF(mu_true[RFE_RR]), COL_MU},
-    {"util_fl", ROW_OFF(util_true[RFE_FL]), COL_UTIL},
-    {"util_fr", ROW_OFF(util_true[RFE_FR]), COL_UTIL},
-    {"util_rl", ROW_OFF(util_true[RFE_RL]), COL_UTIL},
-    {"util_rr", ROW_OFF(util_true[RFE_RR]), COL_UTIL},
-    {"p_fl", ROW_OFF(p_brake[RFE_FL]), COL_PRES},
-    {"p_fr", ROW_OFF(p_brake[RFE_FR]), COL_PRES},
-    {"p_rl", ROW_OFF(p_brake[RFE_RL]), COL_PRES},
-    {"p_rr", ROW_OFF(p_brake[RFE_RR]), COL_PRES},
-    {"torque_fl", ROW_OFF(torque[RFE_FL]), COL_TORQ},
-    {"torque_fr", ROW_OFF(torque[RFE_FR]), COL_TORQ},
-    {"torque_rl", ROW_OFF(torque[RFE_RL]), COL_TORQ},
-    {"torque_rr", ROW_OFF(torque[RFE_RR]), COL_TORQ},
-    {"grade", ROW_OFF(grade), COL_GRADE},
+    {"t", ROW_OFF(t), COL_INPUT, RFE_DIM_TIME},
+    {"delta", ROW_OFF(delta), COL_STEER, RFE_DIM_ANGLE},
+    {"swa", ROW_OFF(swa), COL_STEER, RFE_DIM_ANGLE},
+    {"vx", ROW_OFF(vx), COL_VEL, RFE_DIM_SPEED},
+    {"vy", ROW_OFF(vy), COL_VEL, RFE_DIM_SPEED},
+    {"yaw_rate", ROW_OFF(yaw_rate), COL_INPUT, RFE_DIM_RATE},
+    {"yaw_acc", ROW_OFF(yaw_acc), COL_VEL, RFE_DIM_ANG_ACC},
+    {"ax", ROW_OFF(ax), COL_INPUT, RFE_DIM_ACC},
+    {"ay", ROW_OFF(ay), COL_INPUT, RFE_DIM_ACC},
+    {"omega_fl", ROW_OFF(omega[RFE_FL]), COL_INPUT, RFE_DIM_WHEEL},
+    {"omega_fr", ROW_OFF(omega[RFE_FR]), COL_INPUT, RFE_DIM_WHEEL},
+    {"omega_rl", ROW_OFF(omega[RFE_RL]), COL_INPUT, RFE_DIM_WHEEL},
+    {"omega_rr", ROW_OFF(omega[RFE_RR]), COL_INPUT, RFE_DIM_WHEEL},
+    {"mu_fl", ROW_OFF(mu_true[RFE_FL]), COL_MU, RFE_DIM_NONE},
+    {"mu_fr", ROW_OFF(mu_true[RFE_FR]), COL_MU, RFE_DIM_NONE},
+    {"mu_rl", ROW_OFF(mu_true[RFE_RL]), COL_MU, RFE_DIM_NONE},
+    {"mu_rr", ROW_OFF(mu_true[RFE_RR]), COL_MU, RFE_DIM_NONE},
+    {"util_fl", ROW_OFF(util_true[RFE_FL]), COL_UTIL, RFE_DIM_NONE},
+    {"util_fr", ROW_OFF(util_true[RFE_FR]), COL_UTIL, RFE_DIM_NONE},
+    {"util_rl", ROW_OFF(util_true[RFE_RL]), COL_UTIL, RFE_DIM_NONE},
+    {"util_rr", ROW_OFF(util_true[RFE_RR]), COL_UTIL, RFE_DIM_NONE},
+    {"p_fl", ROW_OFF(p_brake[RFE_FL]), COL_PRES, RFE_DIM_PRESSURE},
+    {"p_fr", ROW_OFF(p_brake[RFE_FR]), COL_PRES, RFE_DIM_PRESSURE},
+    {"p_rl", ROW_OFF(p_brake[RFE_RL]), COL_PRES, RFE_DIM_PRESSURE},
+    {"p_rr", ROW_OFF(p_brake[RFE_RR]), COL_PRES, RFE_DIM_PRESSURE},
+    {"torque_fl", ROW_OFF(torque[RFE_FL]), COL_TORQ, RFE_DIM_TORQUE},
+    {"torque_fr", ROW_OFF(torque[RFE_FR]), COL_TORQ, RFE_DIM_TORQUE},
+    {"torque_rl", ROW_OFF(torque[RFE_RL]), COL_TORQ, RFE_DIM_TORQUE},
+    {"torque_rr", ROW_OFF(torque[RFE_RR]), COL_TORQ, RFE_DIM_TORQUE},
+    {"grade", ROW_OFF(grade), COL_GRADE, RFE_DIM_ANGLE},
 };
 #define N_COLS (sizeof k_cols / sizeof k_cols[0])
 
@@ -87,6 +94,9 @@ typedef struct {
     size_t n_fields;      /**< fields per row (header width) */
     size_t t_field;       /**< field index of column t */
     size_t *field_col;    /**< per field: index into k_cols, or NO_COL (ignored column) */
+    const char *want[N_COLS]; /**< header name of each column (its name, or column_<name>) */
+    double col_a[N_COLS];     /**< per column: SI value = col_a * text + col_b (unit_, scale_, */
+    double col_b[N_COLS];     /**< offset_ metadata) */
     char **fields;        /**< n_fields pointers into buf, reused per row */
     size_t rows_cap;
     size_t meta_cap;
@@ -97,6 +107,9 @@ static int read_preamble(reader_t *r, rfe_sensor_log_t *log);
 static void add_meta(reader_t *r, rfe_sensor_log_t *log);
 static size_t split_fields(char *line, char **fields, size_t max);
 static int parse_header(reader_t *r, rfe_sensor_log_t *log);
+static int check_column_meta(reader_t *r, const rfe_sensor_log_t *log);
+static int column_meta(reader_t *r, rfe_sensor_log_t *log, size_t k);
+static int meta_number(reader_t *r, const rfe_sensor_log_t *log, const char *key, double *v);
 static int map_header_fields(reader_t *r, size_t n);
 static int check_columns(reader_t *r, rfe_sensor_log_t *log);
 static int read_rows(reader_t *r, rfe_sensor_log_t *log);
@@ -157,6 +170,38 @@ void rfe_sensor_log_free(rfe_sensor_log_t *log)
     free(log->meta);
     free(log->rows);
     memset(log, 0, sizeof *log);
+}
+
+int rfe_sensor_log_wheel_radius(rfe_sensor_log_t *log, double R)
+{
+    size_t i;
+    size_t w;
+    if (!(isfinite(R) && (R > 0.0))) {
+        return -1;
+    }
+    if (log->omega_linear == 0) {
+        return 0;
+    }
+    for (i = 0u; i < log->n_rows; ++i) {
+        for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
+            log->rows[i].omega[w] /= R;
+        }
+    }
+    log->omega_linear = 0;
+    return 0;
+}
+
+int rfe_sensor_log_steer_ratio(rfe_sensor_log_t *log, double ratio)
+{
+    size_t i;
+    if (!(isfinite(ratio) && (ratio > 0.0))) {
+        return -1;
+    }
+    for (i = 0u; (log->has_swa != 0) && (i < log->n_rows); ++i) {
+        log->rows[i].delta = log->rows[i].swa / ratio;
+    }
+    log->has_swa = 0;
+    return 0;
 }
 
 const char *rfe_sensor_log_meta(const rfe_sensor_log_t *log, const char *key)
@@ -268,6 +313,7 @@ static size_t split_fields(char *line, char **fields, size_t max)
 static int parse_header(reader_t *r, rfe_sensor_log_t *log)
 {
     size_t n = 1u;
+    size_t k;
     const char *p;
     for (p = r->buf; *p != '\0'; ++p) {
         n += (*p == ',') ? 1u : 0u;
@@ -276,10 +322,140 @@ static int parse_header(reader_t *r, rfe_sensor_log_t *log)
     r->field_col = rfe_xrealloc(NULL, n, sizeof *r->field_col);
     r->fields = rfe_xrealloc(NULL, n, sizeof *r->fields);
     (void)split_fields(r->buf, r->fields, n);
+    if (check_column_meta(r, log) != 0) {
+        return -1;
+    }
+    for (k = 0u; k < N_COLS; ++k) {
+        if (column_meta(r, log, k) != 0) {
+            return -1;
+        }
+    }
     if (map_header_fields(r, n) != 0) {
         return -1;
     }
     return check_columns(r, log);
+}
+
+/** Metadata prefixes that describe a column (DATA.md "Units, scales and names"). */
+static const char *const k_col_prefix[] = {"unit_", "scale_", "offset_", "column_"};
+#define N_COL_PREFIX (sizeof k_col_prefix / sizeof k_col_prefix[0])
+
+/* Index of the column named @p name in k_cols, or NO_COL. */
+static size_t find_col(const char *name)
+{
+    size_t k;
+    for (k = 0u; k < N_COLS; ++k) {
+        if (strcmp(k_cols[k].name, name) == 0) {
+            return k;
+        }
+    }
+    return NO_COL;
+}
+
+/* Every unit_X, scale_X, offset_X, column_X key names a column of k_cols: a typo
+ * ("unit_yawrate") would otherwise leave a column in the wrong unit without a word. */
+static int check_column_meta(reader_t *r, const rfe_sensor_log_t *log)
+{
+    char q[QUOTE_MAX + 4u];
+    size_t i;
+    size_t j;
+    for (i = 0u; i < log->n_meta; ++i) {
+        const char *key = log->meta[i].key;
+        for (j = 0u; j < N_COL_PREFIX; ++j) {
+            const size_t len = strlen(k_col_prefix[j]);
+            if ((strncmp(key, k_col_prefix[j], len) == 0) && (find_col(key + len) == NO_COL)) {
+                rfe_text_quote(q, sizeof q, key, QUOTE_MAX);
+                rfe_io_error_set(r->err, r->name, log->meta[i].line, 0u,
+                                 "metadata '%s': '%s' is not a sensor-log column (DATA.md)", q,
+                                 key + len);
+                return -1;
+            }
+        }
+    }
+    return 0;
+}
+
+/* Line of metadata @p key (the last one, the one rfe_sensor_log_meta returns), 0 if none. */
+static size_t meta_line(const rfe_sensor_log_t *log, const char *key)
+{
+    size_t line = 0u;
+    size_t i;
+    for (i = 0u; i < log->n_meta; ++i) {
+        line = (strcmp(log->meta[i].key, key) == 0) ? log->meta[i].line : line;
+    }
+    return line;
+}
+
+/* Metadata @p key as a finite number into @p v (untouched when absent); -1 if malformed. */
+static int meta_number(reader_t *r, const rfe_sensor_log_t *log, const char *key, double *v)
+{
+    char q[QUOTE_MAX + 4u];
+    const char *text = rfe_sensor_log_meta(log, key);
+    rfe_num_status_t st;
+    if (text == NULL) {
+        return 0;
+    }
+    st = rfe_text_parse_double(text, v);
+    if (st == RFE_NUM_OK) {
+        return 0;
+    }
+    rfe_text_quote(q, sizeof q, text, QUOTE_MAX);
+    rfe_io_error_set(r->err, r->name, meta_line(log, key), 0u, "metadata '%s': %s: '%s'", key,
+                     rfe_num_status_str(st), q);
+    return -1;
+}
+
+/* Column k's header name and its conversion to SI from unit_, scale_, offset_, column_
+ * metadata: SI = factor(unit) * (scale * text + offset). Wheel speeds given as a speed
+ * (km/h) are kept in m/s and flagged (log->omega_linear) for rfe_sensor_log_wheel_radius. */
+static int column_meta(reader_t *r, rfe_sensor_log_t *log, size_t k)
+{
+    char key[64];
+    char q[QUOTE_MAX + 4u];
+    const col_spec_t *c = &k_cols[k];
+    const char *unit;
+    const char *alias;
+    double factor = 1.0;
+    double scale = 1.0;
+    double offset = 0.0;
+    int linear = 0;
+    (void)snprintf(key, sizeof key, "column_%s", c->name);
+    alias = rfe_sensor_log_meta(log, key);
+    r->want[k] = ((alias != NULL) && (alias[0] != '\0')) ? alias : c->name;
+    (void)snprintf(key, sizeof key, "unit_%s", c->name);
+    unit = rfe_sensor_log_meta(log, key);
+    if ((unit != NULL) && (rfe_unit_factor(c->dim, unit, &factor, &linear) != 0)) {
+        rfe_text_quote(q, sizeof q, unit, QUOTE_MAX);
+        rfe_io_error_set(r->err, r->name, meta_line(log, key), 0u,
+                         "metadata '%s': '%s' is not a unit of column '%s' (one of: %s)", key, q,
+                         c->name, rfe_unit_words(c->dim));
+        return -1;
+    }
+    (void)snprintf(key, sizeof key, "scale_%s", c->name);
+    if (meta_number(r, log, key, &scale) != 0) {
+        return -1;
+    }
+    if (scale == 0.0) {
+        rfe_io_error_set(r->err, r->name, meta_line(log, key), 0u,
+                         "metadata '%s': a scale of 0 erases the column", key);
+        return -1;
+    }
+    (void)snprintf(key, sizeof key, "offset_%s", c->name);
+    if (meta_number(r, log, key, &offset) != 0) {
+        return -1;
+    }
+    r->col_a[k] = factor * scale;
+    r->col_b[k] = factor * offset;
+    if (c->dim == RFE_DIM_WHEEL) {
+        if ((k != find_col("omega_fl")) && (linear != log->omega_linear)) {
+            rfe_io_error_set(r->err, r->name, r->header_line, 0u,
+                             "metadata: the wheel speeds mix spin (rad/s, rpm) and "
+                             "circumferential (km/h, m/s) units; give all four in one kind");
+            return -1;
+        }
+        log->omega_linear = linear;
+    }
+    return 0;
 }
 
 /* Names -> k_cols indices; rejects empty and duplicate names. */
@@ -303,7 +479,14 @@ static int map_header_fields(reader_t *r, size_t n)
             }
         }
         for (k = 0u; k < N_COLS; ++k) {
-            if (strcmp(k_cols[k].name, r->fields[j]) == 0) {
+            if (strcmp(r->want[k], r->fields[j]) == 0) {
+                if (r->field_col[j] != NO_COL) {
+                    rfe_text_quote(q, sizeof q, r->fields[j], QUOTE_MAX);
+                    rfe_io_error_set(r->err, r->name, r->line, j + 1u,
+                                     "column '%s' is named for both '%s' and '%s' (column_ "
+                                     "metadata)", q, k_cols[r->field_col[j]].name, k_cols[k].name);
+                    return -1;
+                }
                 r->field_col[j] = k;
                 r->t_field = (k == 0u) ? j : r->t_field; /* k_cols[0] is t */
             }
@@ -312,18 +495,18 @@ static int map_header_fields(reader_t *r, size_t n)
     return 0;
 }
 
-/* Every input column present; each truth group all or none. */
+/* Every input column present, delta or swa (one of them), each optional group all or none. */
 static int check_columns(reader_t *r, rfe_sensor_log_t *log)
 {
     static const char *const group_list[COL_KINDS] = {
         "", "mu_fl, mu_fr, mu_rl, mu_rr", "util_fl, util_fr, util_rl, util_rr",
         "vx, vy, yaw_acc", "p_fl, p_fr, p_rl, p_rr", "torque_fl, torque_fr, torque_rl, torque_rr",
-        "grade"};
+        "grade", ""};
     static const char *const group_word[COL_KINDS] = {"", "truth", "truth", "velocity",
-                                                      "pressure", "torque", "grade"};
+                                                      "pressure", "torque", "grade", ""};
     size_t present[N_COLS] = {0u};
     size_t n_present[COL_KINDS] = {0u};
-    const char *missing[COL_KINDS] = {NULL, NULL, NULL, NULL, NULL, NULL, NULL};
+    const char *missing[COL_KINDS] = {NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL};
     size_t j;
     size_t k;
     for (j = 0u; j < r->n_fields; ++j) {
@@ -334,7 +517,14 @@ static int check_columns(reader_t *r, rfe_sensor_log_t *log)
     for (k = 0u; k < N_COLS; ++k) {
         const col_kind_t g = k_cols[k].kind;
         if ((g == COL_INPUT) && (present[k] == 0u)) {
-            rfe_io_error_set(r->err, r->name, r->line, 0u, "missing column '%s'", k_cols[k].name);
+            if (r->want[k] != k_cols[k].name) {
+                rfe_io_error_set(r->err, r->name, r->line, 0u,
+                                 "missing column '%s' (named '%s' by its column_%s metadata)",
+                                 k_cols[k].name, r->want[k], k_cols[k].name);
+            } else {
+                rfe_io_error_set(r->err, r->name, r->line, 0u, "missing column '%s'",
+                                 k_cols[k].name);
+            }
             return -1;
         }
         n_present[g] += present[k];
@@ -342,7 +532,15 @@ static int check_columns(reader_t *r, rfe_sensor_log_t *log)
             missing[g] = k_cols[k].name;
         }
     }
-    for (k = (size_t)COL_MU; k < (size_t)COL_KINDS; ++k) {
+    if (n_present[COL_STEER] != 1u) {
+        rfe_io_error_set(r->err, r->name, r->line, 0u, "%s",
+                         (n_present[COL_STEER] == 0u)
+                             ? "missing column 'delta' (the road-wheel angle) or 'swa' (the "
+                               "steering-wheel angle, with obs_steer_ratio)"
+                             : "both 'delta' and 'swa' given: keep one steering angle");
+        return -1;
+    }
+    for (k = (size_t)COL_MU; k < (size_t)COL_STEER; ++k) {
         if ((n_present[k] != 0u) && (missing[k] != NULL)) {
             rfe_io_error_set(r->err, r->name, r->line, 0u,
                              "%s column '%s' missing (give all of %s or none)", group_word[k],
@@ -356,6 +554,7 @@ static int check_columns(reader_t *r, rfe_sensor_log_t *log)
     log->has_pressure = (n_present[COL_PRES] != 0u) ? 1 : 0;
     log->has_torque = (n_present[COL_TORQ] != 0u) ? 1 : 0;
     log->has_grade = (n_present[COL_GRADE] != 0u) ? 1 : 0;
+    log->has_swa = present[find_col("swa")] != 0u ? 1 : 0;
     return 0;
 }
 
@@ -420,6 +619,13 @@ static int parse_row(reader_t *r, rfe_sensor_log_t *log)
             rfe_text_quote(q, sizeof q, r->fields[j], QUOTE_MAX);
             rfe_io_error_set(r->err, r->name, r->line, j + 1u, "column '%s': %s: '%s'", c->name,
                              rfe_num_status_str(st), q);
+            return -1;
+        }
+        v = r->col_a[r->field_col[j]] * v + r->col_b[r->field_col[j]];
+        if (!isfinite(v)) {
+            rfe_text_quote(q, sizeof q, r->fields[j], QUOTE_MAX);
+            rfe_io_error_set(r->err, r->name, r->line, j + 1u,
+                             "column '%s': out of range in SI units: '%s'", c->name, q);
             return -1;
         }
         memcpy((char *)&row + c->offset, &v, sizeof v);

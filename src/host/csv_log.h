@@ -6,6 +6,12 @@
  * per sample. Columns are looked up by name (any order; extra columns are ignored and not
  * parsed). Fields may be padded with blanks. Every needed field must be a finite decimal
  * number; anything else is an error that names file, line and column (field index and name).
+ *
+ * A recorded car's log declares its own units, scales and column names in the metadata
+ * (DATA.md "Units, scales and names of a recorded log"): `unit_<column>` (deg, km/h, rpm,
+ * g, bar, ms, ...), `scale_<column>`, `offset_<column>` and `column_<column> = <its header
+ * name>`. The reader converts every value to SI as it reads: SI = factor(unit) * (scale *
+ * value + offset).
  */
 #ifndef RFE_HOST_CSV_LOG_H
 #define RFE_HOST_CSV_LOG_H
@@ -25,7 +31,9 @@ typedef struct {
 
 /** One sensor sample as read (DATA.md sensor log), doubles whatever the build precision. */
 typedef struct {
-    double t, delta, vx, vy, yaw_rate, yaw_acc, ax, ay; /**< vx, vy, yaw_acc: 0 unless has_velocity */
+    double t, delta, vx, vy, yaw_rate, yaw_acc, ax, ay; /**< vx, vy, yaw_acc: 0 unless has_velocity;
+                                                             delta 0 when has_swa */
+    double swa;                  /**< steering-wheel angle [rad]; only when has_swa */
     double omega[RFE_WHEELS];    /**< omega_fl .. omega_rr */
     double p_brake[RFE_WHEELS];  /**< p_fl .. p_rr [MPa]; only when has_pressure */
     double torque[RFE_WHEELS];   /**< torque_fl .. torque_rr [N m]; only when has_torque */
@@ -47,10 +55,16 @@ typedef struct {
     int has_pressure; /**< 1 when the four p_* brake pressures are present */
     int has_torque;   /**< 1 when the four torque_* drive torques are present */
     int has_grade;    /**< 1 when the grade column is present */
+    int has_swa;      /**< 1 while the steering angle is the steering wheel's (swa) and delta is
+                           not filled (rfe_sensor_log_steer_ratio fills it) */
+    int omega_linear; /**< 1 while omega_* hold circumferential speeds [m/s] (a unit_omega_* of
+                           km/h, m/s, mph): rfe_sensor_log_wheel_radius makes them rad/s */
 } rfe_sensor_log_t;
 
 /**
- * Reads @p path into @p log. Rejected: no header, a missing required column, only some of
+ * Reads @p path into @p log, every value in SI. Rejected: no header, a missing required
+ * column, neither or both of delta and swa, a unit_/scale_/offset_/column_ key naming no
+ * column, a unit that is not one of its column's quantity, a scale of 0, only some of
  * the columns of an optional group (each all or none: vx, vy, yaw_acc; p_fl..p_rr;
  * torque_fl..torque_rr; the truth groups mu_fl..mu_rr, util_fl..util_rr),
  * duplicate column names, a wrong field count, a field that is not
@@ -66,6 +80,21 @@ RFE_NODISCARD int rfe_sensor_log_read_stream(FILE *f, const char *name, rfe_sens
 
 /** Frees everything the log owns and zeroes it (safe on a zeroed or freed log). */
 void rfe_sensor_log_free(rfe_sensor_log_t *log);
+
+/**
+ * Turns circumferential wheel speeds [m/s] into spin speeds [rad/s] with the effective
+ * rolling radius @p R [m] (the vehicle parameter R), once; a log in rad/s is untouched.
+ * @return 0, or -1 when @p R is not a positive finite number (log then untouched).
+ */
+RFE_NODISCARD int rfe_sensor_log_wheel_radius(rfe_sensor_log_t *log, double R);
+
+/**
+ * Fills delta = swa / @p ratio in every row of a log that gives the steering-wheel angle
+ * and clears has_swa, for the runs that take the road-wheel angle; a log with delta is
+ * untouched.
+ * @return 0, or -1 when @p ratio is not a positive finite number (log then untouched).
+ */
+RFE_NODISCARD int rfe_sensor_log_steer_ratio(rfe_sensor_log_t *log, double ratio);
 
 /** Value of metadata @p key, or NULL (the last one when repeated). */
 const char *rfe_sensor_log_meta(const rfe_sensor_log_t *log, const char *key);

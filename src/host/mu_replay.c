@@ -9,12 +9,14 @@
  * --params file < --filter/--tyre flags.
  */
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 
 #include "csv_log.h"
+#include "log_timing.h"
 #include "metrics.h"
 #include "param_file.h"
 #include "replay_q31.h"
@@ -100,6 +102,8 @@ static int parse_args(int argc, char **argv, options_t *o);
 static int check_option_words(options_t *o);
 static int same_file(const char *a, const char *b);
 static int load_params(const options_t *o, run_t *r);
+static int prepare_log(const options_t *o, run_t *r);
+static int check_period(const options_t *o, run_t *r);
 static int run_estimator(const options_t *o, run_t *r);
 static int write_estimates(const options_t *o, const run_t *r);
 static void compute_metrics(run_t *r);
@@ -122,6 +126,9 @@ int main(int argc, char **argv)
         return (rc != 0) ? EXIT_USAGE : EXIT_OK;
     }
     rc = load_params(&o, &r);
+    if (rc == 0) {
+        rc = prepare_log(&o, &r);
+    }
     if (rc == 0) {
         rc = run_estimator(&o, &r);
     }
@@ -332,6 +339,81 @@ static int load_params(const options_t *o, run_t *r)
     return 0;
 }
 
+/* A recorded car's log in the library's terms, once the parameters are known: wheel speeds
+ * in km/h through the rolling radius R, the steering-wheel angle through obs_steer_ratio
+ * (the observer applies it itself), the sample period against dt. */
+static int prepare_log(const options_t *o, run_t *r)
+{
+    rfe_io_error_t err;
+    const size_t k_ratio = (size_t)RFE_PK_obs_steer_ratio;
+    const double ratio = r->ps.obs[k_ratio - RFE_PK_OBS_FIRST];
+    if ((r->log.omega_linear != 0) &&
+        (rfe_sensor_log_wheel_radius(&r->log, r->ps.value[RFE_PK_R]) != 0)) {
+        rfe_io_error_set(&err, o->in, 0u, 0u, "the wheel speeds are circumferential speeds and "
+                         "need a positive rolling radius R (R = %.17g)", r->ps.value[RFE_PK_R]);
+        return fail(&err);
+    }
+    if (r->log.has_swa != 0) {
+        /* The default ratio is only a typical car's: a log of the steering-wheel angle must
+         * say its own, or every slip angle is silently off by the ratio's error. */
+        if (r->ps.origin[k_ratio].file == NULL) {
+            rfe_io_error_set(&err, o->in, 0u, 0u, "%s",
+                             "the log gives the steering-wheel angle (swa): declare the "
+                             "car's obs_steer_ratio in its metadata or a --params file");
+            return fail(&err);
+        }
+        if (!r->use_observer && (rfe_sensor_log_steer_ratio(&r->log, ratio) != 0)) {
+            rfe_io_error_set(&err, (r->ps.origin[k_ratio].file != NULL) ? r->ps.origin[k_ratio].file
+                                                                       : o->in,
+                             r->ps.origin[k_ratio].line, 0u,
+                             "obs_steer_ratio = %.17g: must be a positive number", ratio);
+            return fail(&err);
+        }
+    }
+    return check_period(o, r);
+}
+
+/* The friction estimator's input filter assumes the period dt; a log at another rate (a car
+ * logged at 50 Hz) must say so. dt not given: it becomes the time stamps' median period.
+ * Given: it must match that median within 2 % (loggers' clocks drift < 0.1 %; the median
+ * ignores jitter and gaps; a 50 Hz log read as 100 Hz is off by 100 %). */
+static int check_period(const options_t *o, run_t *r)
+{
+    rfe_io_error_t err;
+    rfe_log_period_t per;
+    const rfe_param_origin_t *src = &r->ps.origin[RFE_PK_dt];
+    const double dt = r->ps.value[RFE_PK_dt];
+    const double dt_max = r->ps.obs[(size_t)RFE_PK_obs_dt_max - RFE_PK_OBS_FIRST];
+    size_t gaps;
+    if (rfe_log_period(&r->log, &per) != 0) {
+        return 0; /* one row: no period to check */
+    }
+    if (src->file == NULL) {
+        r->ps.value[RFE_PK_dt] = per.median;
+        r->ps.origin[RFE_PK_dt].file = "the log's time stamps";
+        if (!o->quiet && (per.median != dt)) {
+            fprintf(stderr, "%s: note: dt = %.6g s, the median period of the time stamps (the "
+                            "preset's %.6g s does not match this log)\n",
+                    PROG, per.median, dt);
+        }
+    } else if (!(fabs(dt - per.median) <= 0.02 * per.median)) {
+        rfe_io_error_set(&err, src->file, src->line, 0u,
+                         "dt = %.6g s, but the log's time stamps have a median period of %.6g s "
+                         "(%.6g .. %.6g s): correct dt, or drop it to take the time stamps'",
+                         dt, per.median, per.min, per.max);
+        return fail(&err);
+    } else {
+        /* dt as given: it matches */
+    }
+    gaps = rfe_log_gaps(&r->log, dt_max);
+    if (!o->quiet && r->use_observer && (gaps != 0u)) {
+        fprintf(stderr, "%s: note: %zu period(s) longer than obs_dt_max = %.6g s (longest "
+                        "%.6g s): the observer rejects the sample after each gap\n",
+                PROG, gaps, dt_max, per.max);
+    }
+    return 0;
+}
+
 /* Steps the estimator; an invalid parameter set is reported where its value came from. */
 static int run_estimator(const options_t *o, run_t *r)
 {
@@ -373,8 +455,11 @@ static int run_estimator(const options_t *o, run_t *r)
         const rfe_param_origin_t *src = &r->ps.origin[bad];
         rfe_param_format(&r->ps, bad, val);
         rfe_io_error_set(&err, (src->file != NULL) ? src->file : "preset", src->line, 0u,
-                         "invalid parameter %s = %s (rejected by rfe_params_validate, %s run)",
-                         rfe_param_info(bad)->key, val, real_name(r));
+                         "invalid parameter %s = %s (rejected by %s, %s run)",
+                         rfe_param_info(bad)->key, val,
+                         rfe_param_is_obs(bad) ? "rfe_velocity_params_validate"
+                                               : "rfe_params_validate",
+                         real_name(r));
     } else {
         rfe_io_error_set(&err, o->in, 0u, 0u,
                          "estimator init failed: %s (check the parameter combination: "
@@ -418,12 +503,12 @@ static size_t saturation_meta(const run_t *r, rfe_kv_t *meta, char vals[][RFE_NU
     return 5u;
 }
 
-/* Metadata: generator, preset, filter, tyre, structure, real, input, [param_file], then
- * every numeric key. */
+/* Metadata: generator, preset, filter, tyre, [velocity], structure, real, input,
+ * [param_file], then every numeric key (the obs_* keys when the observer ran). */
 static int write_estimates(const options_t *o, const run_t *r)
 {
-    rfe_kv_t meta[14u + RFE_PK_NUMERIC];
-    char vals[RFE_PK_NUMERIC][RFE_NUM_BUF];
+    rfe_kv_t meta[14u + RFE_PK_COUNT];
+    char vals[RFE_PK_COUNT][RFE_NUM_BUF];
     char sat_vals[5][RFE_NUM_BUF];
     size_t n = 0u;
     size_t k;
@@ -450,10 +535,13 @@ static int write_estimates(const options_t *o, const run_t *r)
         meta[n].key = "param_file";
         meta[n++].value = base_name(o->params);
     }
-    for (k = 0u; k < RFE_PK_NUMERIC; ++k) {
-        rfe_param_format(&r->ps, k, vals[k]);
-        meta[n].key = rfe_param_info(k)->key;
-        meta[n++].value = vals[k];
+    for (k = 0u; k < (size_t)RFE_PK_COUNT; ++k) {
+        /* numbers only (the words are above); the observer's keys when it ran */
+        if ((rfe_param_is_word(k) == 0) && (r->use_observer || (rfe_param_is_obs(k) == 0))) {
+            rfe_param_format(&r->ps, k, vals[k]);
+            meta[n].key = rfe_param_info(k)->key;
+            meta[n++].value = vals[k];
+        }
     }
     n += saturation_meta(r, &meta[n], sat_vals);
     /* q31: the Q values converted exactly to double, written in the shortest form that

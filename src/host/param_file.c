@@ -19,10 +19,12 @@
 static const rfe_param_info_t k_info[RFE_PK_COUNT] = {
 #define RFE_PK_INFO_(key, member, unit, doc) {#key, unit, doc},
     RFE_PARAM_KEYS(RFE_PK_INFO_)
-#undef RFE_PK_INFO_
     {"tyre", "-", "tyre model: paper (normalised Dugoff), absolute (load-scaled Dugoff) or magic (load-scaled Magic Formula)"},
     {"filter", "-", "filter: sckf (square-root cubature) or ckf (full covariance)"},
     {"structure", "-", "state: wheels (four independent mu) or sides (mu_left, mu_right)"},
+    {"obs_driven", "-", "driven wheels, a bit mask fl 1, fr 2, rl 4, rr 8 (3 front, 12 rear, 15 all)"},
+    RFE_OBS_KEYS(RFE_PK_INFO_)
+#undef RFE_PK_INFO_
 };
 
 static const char *const k_tyre_words[] = {"paper", "absolute", "magic"}; /* rfe_tyre_mode_t order */
@@ -56,6 +58,8 @@ void rfe_param_format(const rfe_param_set_t *ps, size_t k, char buf[RFE_NUM_BUF]
 {
     if (k < RFE_PK_NUMERIC) {
         rfe_text_format_double(buf, ps->value[k]);
+    } else if (rfe_param_is_obs(k) != 0) {
+        rfe_text_format_double(buf, ps->obs[k - RFE_PK_OBS_FIRST]);
     } else {
         const char *w = (k == (size_t)RFE_PK_TYRE)     ? rfe_tyre_mode_str(ps->tyre)
                         : (k == (size_t)RFE_PK_FILTER) ? rfe_filter_kind_str(ps->filter)
@@ -77,12 +81,16 @@ rfe_num_status_t rfe_param_set_text(rfe_param_set_t *ps, size_t k, const char *v
     if (k == (size_t)RFE_PK_STRUCTURE) {
         return (rfe_structure_parse(value, &ps->structure) == 0) ? RFE_NUM_OK : RFE_NUM_SYNTAX;
     }
-    if (k >= RFE_PK_NUMERIC) {
+    if ((k >= (size_t)RFE_PK_COUNT) || (rfe_param_is_word(k) != 0)) {
         return RFE_NUM_SYNTAX;
     }
     st = rfe_text_parse_double(value, &v);
-    if (st == RFE_NUM_OK) {
+    if ((st == RFE_NUM_OK) && (k < RFE_PK_NUMERIC)) {
         ps->value[k] = v;
+    } else if (st == RFE_NUM_OK) {
+        ps->obs[k - RFE_PK_OBS_FIRST] = v;
+    } else {
+        /* st names what is wrong with the text */
     }
     return st;
 }
@@ -178,7 +186,7 @@ static int apply_line(rfe_param_set_t *ps, char *line, const char *name, size_t 
         rfe_text_quote(q, sizeof q, value, QUOTE_MAX);
         rfe_io_error_set(err, name, line_no, (size_t)(value - line) + 1u, "value of '%s': %s: '%s'",
                          k_info[k].key,
-                         (k >= RFE_PK_NUMERIC) ? "not one of the allowed words"
+                         (rfe_param_is_word(k) != 0) ? "not one of the allowed words"
                                                : rfe_num_status_str(st),
                          q);
         return -1;
@@ -225,7 +233,7 @@ int rfe_param_set_apply_meta(rfe_param_set_t *ps, const rfe_sensor_log_t *log,
         if (st != RFE_NUM_OK) {
             rfe_text_quote(q, sizeof q, e->value, QUOTE_MAX);
             rfe_io_error_set(err, log_name, e->line, 0u, "metadata '%s': %s: '%s'", e->key,
-                             (k >= RFE_PK_NUMERIC) ? "not one of the allowed words"
+                             (rfe_param_is_word(k) != 0) ? "not one of the allowed words"
                                                    : rfe_num_status_str(st),
                              q);
             return -1;

@@ -69,19 +69,74 @@
     X(sd_floor_rel, filter.sd_floor_rel, "1", "floor on sd as a fraction of mu (0 = off)")      \
     X(sd_valid, filter.sd_valid, "1", "valid when sd <= sd_valid (0 = valid when updated)")
 
-/** Index of each numeric key: RFE_PK_m, RFE_PK_Lf, ...; then the three word-valued keys. */
+/**
+ * The velocity observer's keys (docs/OBSERVER.md §2): X(key, rfe_velocity_params_t member,
+ * unit, doc), each an rfe_real_t; obs_driven (an integer bit mask) comes before them. As
+ * above, no values: they start from rfe_velocity_params_default.
+ */
+#define RFE_OBS_KEYS(X) \
+    X(obs_steer_ratio, steer_ratio, "1", "steering-wheel angle / road-wheel angle (a log or sample with swa)") \
+    X(obs_dt_min, dt_min, "s", "shortest accepted sample period")                                              \
+    X(obs_dt_max, dt_max, "s", "longest accepted sample period")                                               \
+    X(obs_q_jerk, q_jerk, "rad/s^3 sqrt(s)", "yaw-jerk density of the yaw-rate differentiator")                \
+    X(obs_sd_r, sd_r, "rad/s", "yaw-rate sensor noise")                                                        \
+    X(obs_sd_ax, sd_ax, "m/s^2", "ax noise per sample")                                                        \
+    X(obs_sd_ay, sd_ay, "m/s^2", "ay noise per sample")                                                        \
+    X(obs_q_bx, q_bx, "m/s^2/sqrt(s)", "random walk of the longitudinal offset b_x")                           \
+    X(obs_q_by, q_by, "m/s^2/sqrt(s)", "random walk of the lateral offset b_y")                                \
+    X(obs_sd_wheel, sd_wheel, "m/s", "wheel reference noise")                                                  \
+    X(obs_sd_wheel_rel, sd_wheel_rel, "1", "wheel reference error relative to vx")                             \
+    X(obs_k_gate, k_gate, "sd", "plausibility gate of a wheel")                                                \
+    X(obs_ax_brake_on, ax_brake_on, "m/s^2", "net deceleration that means braking")                            \
+    X(obs_ax_drive_on, ax_drive_on, "m/s^2", "net acceleration that means driving")                            \
+    X(obs_p_brake_on, p_brake_on, "MPa", "brake pressure that means braking")                                  \
+    X(obs_torque_on, torque_on, "N m", "drive torque that marks a wheel driven")                               \
+    X(obs_sd_model_ay, sd_model_ay, "m/s^2", "error of the tyre model's lateral acceleration")                 \
+    X(obs_model_ay_rel, model_ay_rel, "1", "the same, relative to |ay|")                                       \
+    X(obs_dvy, dvy, "m/s", "step of the model's derivative by vy")                                             \
+    X(obs_sd_vydot, sd_vydot, "m/s^2", "v-dot_y as noise of the offset's kinematic update")                    \
+    X(obs_vydot_rdot, vydot_rdot, "m/s^2 per rad/s^2", "its growth with |r-dot|")                              \
+    X(obs_v_lat_min, v_lat_min, "m/s", "below this vx, vy follows the rear-axle kinematics")                   \
+    X(obs_sd_lowspeed, sd_lowspeed, "m/s", "sd of that kinematic vy")                                          \
+    X(obs_mu_default, mu_default, "1", "friction the model uses while the friction estimator gives none")      \
+    X(obs_sd_mu_default, sd_mu_default, "1", "its sd")                                                         \
+    X(obs_mu_margin, mu_margin, "1", "the measured ay raises the model's friction to (1 + margin) |ay| / g")   \
+    X(obs_sd_vx0, sd_vx0, "m/s", "initial sd of vx")                                                           \
+    X(obs_sd_bx0, sd_bx0, "m/s^2", "initial sd of b_x")                                                        \
+    X(obs_sd_vy0, sd_vy0, "m/s", "initial sd of vy")                                                           \
+    X(obs_sd_by0, sd_by0, "m/s^2", "initial sd of b_y")
+
+/** Index of each key: the friction estimator's numeric keys RFE_PK_m, RFE_PK_Lf, ...; its
+ *  three word-valued keys; then the observer's keys, obs_driven first. */
 typedef enum {
 #define RFE_PK_ENUM_(key, member, unit, doc) RFE_PK_##key,
     RFE_PARAM_KEYS(RFE_PK_ENUM_)
-#undef RFE_PK_ENUM_
     RFE_PK_TYRE,        /**< key tyre = paper|absolute|magic */
     RFE_PK_FILTER,      /**< key filter = sckf|ckf */
     RFE_PK_STRUCTURE,   /**< key structure = wheels|sides */
-    RFE_PK_COUNT        /**< number of keys, numeric and word */
+    RFE_PK_obs_driven,  /**< key obs_driven: driven wheels, bit mask fl 1, fr 2, rl 4, rr 8 */
+    RFE_OBS_KEYS(RFE_PK_ENUM_)
+#undef RFE_PK_ENUM_
+    RFE_PK_COUNT        /**< number of keys */
 } rfe_param_key_t;
 
-/** Number of numeric keys (the first RFE_PK_NUMERIC indices). */
+/** Number of the friction estimator's numeric keys (the first RFE_PK_NUMERIC indices). */
 #define RFE_PK_NUMERIC ((size_t)RFE_PK_TYRE)
+/** The observer's keys: indices RFE_PK_OBS_FIRST .. RFE_PK_COUNT - 1, all numeric. */
+#define RFE_PK_OBS_FIRST ((size_t)RFE_PK_obs_driven)
+#define RFE_PK_OBS_COUNT ((size_t)RFE_PK_COUNT - RFE_PK_OBS_FIRST)
+
+/** 1 when key @p k is an observer key (obs_*). */
+static inline int rfe_param_is_obs(size_t k)
+{
+    return ((k >= RFE_PK_OBS_FIRST) && (k < (size_t)RFE_PK_COUNT)) ? 1 : 0;
+}
+
+/** 1 when key @p k takes a word (tyre, filter, structure), not a number. */
+static inline int rfe_param_is_word(size_t k)
+{
+    return ((k >= RFE_PK_NUMERIC) && (k < RFE_PK_OBS_FIRST)) ? 1 : 0;
+}
 
 /** "No key" answer of rfe_param_find and the replay's diagnosis. */
 #define RFE_PK_NONE ((size_t)RFE_PK_COUNT)
@@ -111,6 +166,7 @@ typedef struct {
 typedef struct {
     rfe_preset_t preset;
     double value[RFE_PK_NUMERIC];
+    double obs[RFE_PK_OBS_COUNT]; /**< the observer's keys, index k - RFE_PK_OBS_FIRST */
     rfe_tyre_mode_t tyre;
     rfe_filter_kind_t filter;
     rfe_structure_t structure;

@@ -113,6 +113,9 @@ rfe_status_t rfe_replay_run_q31(const rfe_param_set_t *ps, const rfe_sensor_log_
         return RFE_ERR_NULL;
     }
     memset(stats, 0, sizeof *stats);
+    if ((log->omega_linear != 0) || (log->has_swa != 0)) {
+        return RFE_ERR_RANGE; /* not yet rad/s and road-wheel angle: csv_log.h */
+    }
     st = to_q31_params(ps, &q, bad_key);
     if ((st == RFE_ERR_RANGE) && (bad_key != NULL)) {
         *bad_key = diagnose_range(ps);

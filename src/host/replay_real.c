@@ -14,6 +14,7 @@
 #include "rfe/friction.h"
 #include "rfe/pipeline.h"
 #include "rfe/params.h"
+#include "rfe/velocity_params.h"
 
 static rfe_status_t preset_params(rfe_preset_t preset, rfe_params_t *p);
 static void set_key(rfe_params_t *p, const rfe_param_set_t *ps, size_t k);
@@ -34,6 +35,19 @@ static const size_t k_member_offset[RFE_PK_NUMERIC] = {
 #define RFE_IS_REAL_(key, member, unit, doc)                                               \
     typedef char rfe_key_is_real_##key[(sizeof(((rfe_params_t *)0)->member) == sizeof(rfe_real_t)) ? 1 : -1];
 RFE_PARAM_KEYS(RFE_IS_REAL_)
+#undef RFE_IS_REAL_
+
+/* Where each observer key after obs_driven lives in rfe_velocity_params_t (RFE_OBS_KEYS). */
+static const size_t k_obs_offset[RFE_PK_OBS_COUNT - 1u] = {
+#define RFE_OFFSET_(key, member, unit, doc) offsetof(rfe_velocity_params_t, member),
+    RFE_OBS_KEYS(RFE_OFFSET_)
+#undef RFE_OFFSET_
+};
+
+/* As above: every observer key after obs_driven is an rfe_real_t. */
+#define RFE_IS_REAL_(key, member, unit, doc)                                               \
+    typedef char rfe_key_is_real_##key[(sizeof(((rfe_velocity_params_t *)0)->member) == sizeof(rfe_real_t)) ? 1 : -1];
+RFE_OBS_KEYS(RFE_IS_REAL_)
 #undef RFE_IS_REAL_
 
 rfe_replay_preset_fn_t rfe_replay_preset_fn(rfe_preset_t preset)
@@ -58,8 +72,10 @@ static rfe_status_t preset_params(rfe_preset_t preset, rfe_params_t *p)
 int rfe_param_set_preset(rfe_param_set_t *ps, rfe_preset_t preset)
 {
     rfe_params_t p;
+    rfe_velocity_params_t vp;
     size_t k;
-    if ((ps == NULL) || (preset_params(preset, &p) != RFE_OK)) {
+    if ((ps == NULL) || (preset_params(preset, &p) != RFE_OK) ||
+        (rfe_velocity_params_default(&vp) != RFE_OK)) {
         return -1;
     }
     memset(ps, 0, sizeof *ps);
@@ -72,6 +88,12 @@ int rfe_param_set_preset(rfe_param_set_t *ps, rfe_preset_t preset)
     ps->tyre = p.tyre.mode;
     ps->filter = p.filter.kind;
     ps->structure = p.filter.structure;
+    ps->obs[0] = (double)vp.driven;
+    for (k = 1u; k < RFE_PK_OBS_COUNT; ++k) {
+        rfe_real_t v;
+        memcpy(&v, (const char *)&vp + k_obs_offset[k - 1u], sizeof v);
+        ps->obs[k] = (double)v;
+    }
     return 0;
 }
 
@@ -85,9 +107,28 @@ static void set_key(rfe_params_t *p, const rfe_param_set_t *ps, size_t k)
         p->tyre.mode = ps->tyre;
     } else if (k == (size_t)RFE_PK_FILTER) {
         p->filter.kind = ps->filter;
-    } else {
+    } else if (k == (size_t)RFE_PK_STRUCTURE) {
         p->filter.structure = ps->structure;
+    } else {
+        /* an observer key: rfe_replay_velocity_params */
     }
+}
+
+/* Observer key @p k of the set into @p vp; 0, or -1 when obs_driven is not an integer
+ * bit mask 0..15 (a double would otherwise be truncated without a word). */
+static int set_obs_key(rfe_velocity_params_t *vp, const rfe_param_set_t *ps, size_t k)
+{
+    const double v = ps->obs[k - RFE_PK_OBS_FIRST];
+    if (k == RFE_PK_OBS_FIRST) {
+        if (!((v >= 0.0) && (v <= 15.0) && (v == floor(v)))) {
+            return -1;
+        }
+        vp->driven = (uint32_t)v;
+    } else {
+        const rfe_real_t r = (rfe_real_t)v;
+        memcpy((char *)vp + k_obs_offset[k - RFE_PK_OBS_FIRST - 1u], &r, sizeof r);
+    }
+    return 0;
 }
 
 /* The preset first, so a library field without a key keeps the preset's value. */
@@ -125,6 +166,36 @@ static size_t diagnose_params(const rfe_param_set_t *ps)
         }
     }
     return RFE_PK_NONE;
+}
+
+rfe_status_t rfe_replay_velocity_params(const rfe_param_set_t *ps, rfe_velocity_params_t *vp,
+                                        size_t *bad_key)
+{
+    size_t k;
+    int bad;
+    if ((ps == NULL) || (vp == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    if (bad_key != NULL) {
+        *bad_key = RFE_PK_NONE;
+    }
+    bad = (rfe_velocity_params_default(vp) != RFE_OK) ? -1 : 0; /* cannot fail: vp is set */
+    for (k = RFE_PK_OBS_FIRST; k < (size_t)RFE_PK_COUNT; ++k) {
+        bad |= set_obs_key(vp, ps, k);
+    }
+    if ((bad == 0) && (rfe_velocity_params_validate(vp) == RFE_OK)) {
+        return RFE_OK;
+    }
+    /* Which key alone makes it fail, from the (valid) defaults. */
+    for (k = RFE_PK_OBS_FIRST; (bad_key != NULL) && (k < (size_t)RFE_PK_COUNT); ++k) {
+        rfe_velocity_params_t one;
+        if ((rfe_velocity_params_default(&one) != RFE_OK) || (set_obs_key(&one, ps, k) != 0) ||
+            (rfe_velocity_params_validate(&one) != RFE_OK)) {
+            *bad_key = k;
+            break;
+        }
+    }
+    return RFE_ERR_PARAM;
 }
 
 void rfe_replay_sample_from_row(const rfe_sensor_row_t *row, rfe_sample_t *s)
@@ -196,6 +267,9 @@ rfe_status_t rfe_replay_run(const rfe_param_set_t *ps, const rfe_sensor_log_t *l
         return RFE_ERR_NULL;
     }
     memset(stats, 0, sizeof *stats);
+    if ((log->omega_linear != 0) || (log->has_swa != 0)) {
+        return RFE_ERR_RANGE; /* not yet rad/s and road-wheel angle: csv_log.h */
+    }
     st = rfe_replay_params(ps, &p, bad_key);
     if (st == RFE_OK) {
         st = rfe_friction_init(&est, &p);
@@ -219,6 +293,7 @@ static void esc_input(const rfe_sensor_log_t *log, size_t i, rfe_velocity_input_
     memset(in, 0, sizeof *in);
     in->dt = (i > 0u) ? (rfe_real_t)(row->t - log->rows[i - 1u].t) : (rfe_real_t)0.0;
     in->delta = (rfe_real_t)row->delta;
+    in->steer_wheel = log->has_swa ? (rfe_real_t)row->swa : (rfe_real_t)0.0;
     in->yaw_rate = (rfe_real_t)row->yaw_rate;
     in->ax = (rfe_real_t)row->ax;
     in->ay = (rfe_real_t)row->ay;
@@ -229,7 +304,8 @@ static void esc_input(const rfe_sensor_log_t *log, size_t i, rfe_velocity_input_
         in->torque[w] = log->has_torque ? (rfe_real_t)row->torque[w] : (rfe_real_t)0.0;
     }
     in->has = (log->has_pressure ? RFE_VEL_HAS_PRESSURE : 0u) |
-              (log->has_torque ? RFE_VEL_HAS_TORQUE : 0u);
+              (log->has_torque ? RFE_VEL_HAS_TORQUE : 0u) |
+              (log->has_swa ? RFE_VEL_HAS_STEER_WHEEL : 0u);
 }
 
 rfe_status_t rfe_replay_run_observer(const rfe_param_set_t *ps, const rfe_sensor_log_t *log,
@@ -246,9 +322,12 @@ rfe_status_t rfe_replay_run_observer(const rfe_param_set_t *ps, const rfe_sensor
         return RFE_ERR_NULL;
     }
     memset(stats, 0, sizeof *stats);
+    if (log->omega_linear != 0) {
+        return RFE_ERR_RANGE; /* wheel speeds not yet rad/s: rfe_sensor_log_wheel_radius */
+    }
     st = rfe_replay_params(ps, &p, bad_key);
     if (st == RFE_OK) {
-        st = rfe_velocity_params_default(&vp);
+        st = rfe_replay_velocity_params(ps, &vp, bad_key);
     }
     if (st == RFE_OK) {
         st = rfe_pipeline_init(&pl, &p, &vp);

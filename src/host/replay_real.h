@@ -15,6 +15,7 @@
 #include "param_file.h"
 #include "rfe/params.h"
 #include "rfe/types.h"
+#include "rfe/velocity_params.h"
 
 /* Full names of the functions declared here: _f32 in the float build, _f64 with
  * RFE_REAL_DOUBLE (rfe/types.h). Sources define and call them by the short name. */
@@ -24,6 +25,7 @@
 #define rfe_replay_sample_from_row rfe_replay_sample_from_row_f64
 #define rfe_param_set_preset       rfe_param_set_preset_f64
 #define rfe_replay_params          rfe_replay_params_f64
+#define rfe_replay_velocity_params rfe_replay_velocity_params_f64
 #define rfe_replay_preset_fn       rfe_replay_preset_fn_f64
 #else
 #define rfe_replay_run             rfe_replay_run_f32
@@ -31,6 +33,7 @@
 #define rfe_replay_sample_from_row rfe_replay_sample_from_row_f32
 #define rfe_param_set_preset       rfe_param_set_preset_f32
 #define rfe_replay_params          rfe_replay_params_f32
+#define rfe_replay_velocity_params rfe_replay_velocity_params_f32
 #define rfe_replay_preset_fn       rfe_replay_preset_fn_f32
 #endif
 
@@ -136,6 +139,17 @@ static inline void rfe_param_set_default(rfe_param_set_t *ps)
  */
 RFE_NODISCARD rfe_status_t rfe_replay_params(const rfe_param_set_t *ps, rfe_params_t *p,
                                             size_t *bad_key);
+
+/**
+ * The observer's parameters of the set (its obs_* keys over rfe_velocity_params_default),
+ * validated.
+ * @param[out] bad_key  when not NULL: the obs_* key whose value alone fails validation (or
+ *                      is not an integer 0..15 for obs_driven), else RFE_PK_NONE.
+ * @return RFE_OK, RFE_ERR_NULL or RFE_ERR_PARAM.
+ */
+RFE_NODISCARD rfe_status_t rfe_replay_velocity_params(const rfe_param_set_t *ps,
+                                                     rfe_velocity_params_t *vp,
+                                                     size_t *bad_key);
 
 /** A library preset function of the including TU's precision (rfe_params_default_fXX, ...). */
 typedef rfe_status_t (*rfe_replay_preset_fn_t)(rfe_params_t *p);

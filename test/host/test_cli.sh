@@ -5,7 +5,8 @@
 # usage: bash test/host/test_cli.sh path/to/mu_replay
 # Prints one line per check and closes with "cli: N passed, N failed"; exits 1 on a failure.
 # Requirements (docs/REQUIREMENTS.md; the script is one test case "test_cli"):
-# REQ-CLI-001 REQ-CLI-003 REQ-CLI-004 REQ-CSV-002 REQ-PARF-002 REQ-PARF-003 REQ-MET-002
+# REQ-CLI-001 REQ-CLI-003 REQ-CLI-004 REQ-CSV-002 REQ-CSV-005 REQ-CSV-006 REQ-PARF-002 REQ-PARF-003
+# REQ-PARF-004 REQ-MET-002
 set -u
 
 BIN=${1:?usage: test_cli.sh path/to/mu_replay}
@@ -206,6 +207,48 @@ run bad_velocity 2 --in "$DATA/good_small.csv" --out "$TMP/v.csv" --velocity opt
 run observer_q31 2 --in "$DATA/good_small.csv" --out "$TMP/v.csv" --velocity observer --real q31
 run esc_q31 1 --in "$DATA/good_esc.csv" --out "$TMP/v.csv" --real q31
 one_line esc_q31 "^mu_replay: .*good_esc\.csv: this log has no vx, vy, yaw_acc columns, and the fixed-point run"
+
+# ---- a production car's log in its logger's units (DATA.md "Units, scales and names of a
+#      recorded log"): 50 Hz with jitter, ms, steering-wheel angle, deg/s, g, km/h
+run car_format 0 --in "$DATA/car_format_small.csv" --out "$TMP/c.csv"
+grep -q '^mu_replay: note: dt = 0.019 s, the median period' "$TMP/err" \
+    && ok "car_format: dt from the time stamps noted" || bad "car_format: dt note: $(cat "$TMP/err")"
+grep -Eq '^# dt = 0\.0190{6,}[0-9]*$' "$TMP/c.csv" && ok "car_format: dt in metadata" || bad "car_format: dt metadata"
+grep -q '^# obs_steer_ratio = 16$' "$TMP/c.csv" && ok "car_format: ratio in metadata" || bad "car_format: ratio"
+# periods 19, 22.5, 18.5 ms: the lower median is 19 ms. t in s; vx_est = 70.2 km/h = 19.5 m/s on the first row (the wheels' mean)
+awk -F, '!/^#/ { n++ } n == 2 { exit !($1 == 1 && $15 > 19.49 && $15 < 19.51) }' "$TMP/c.csv" \
+    && ok "car_format: t and vx_est in SI" || bad "car_format: t, vx_est"
+run car_format_measured 0 --in "$DATA/car_format_small.csv" --out "$TMP/c.csv" --velocity observer --real double
+grep -v '^# obs_steer_ratio' "$DATA/car_format_small.csv" >"$TMP/noratio.csv"
+input_error car_no_ratio "$TMP/noratio.csv" \
+    "^mu_replay: .*noratio\.csv: the log gives the steering-wheel angle \(swa\): declare the car's obs_steer_ratio"
+sed 's/^# obs_steer_ratio = 16$/# obs_steer_ratio = 16\n# dt = 0.01/' "$DATA/car_format_small.csv" >"$TMP/wrongdt.csv"
+input_error car_wrong_dt "$TMP/wrongdt.csv" \
+    "^mu_replay: .*wrongdt\.csv:4: dt = 0.01 s, but the log's time stamps have a median period of 0.019 s"
+sed 's/^# unit_yaw_rate = deg\/s$/# unit_yawrate = deg\/s/' "$DATA/car_format_small.csv" >"$TMP/typo.csv"
+input_error car_unit_typo "$TMP/typo.csv" "^mu_replay: .*typo\.csv:9: metadata 'unit_yawrate': 'yawrate' is not a sensor-log column"
+printf 'R = -1\n' >"$TMP/negR.par"
+run car_negative_R 1 --in "$DATA/car_format_small.csv" --out "$TMP/c.csv" --params "$TMP/negR.par"
+one_line car_negative_R "^mu_replay: .*car_format_small\.csv: the wheel speeds are circumferential speeds and need a positive rolling radius R"
+# a steering-wheel log with measured velocities (a test car): delta = swa / ratio on the host
+printf '# obs_steer_ratio = -2\nt,swa,vx,vy,yaw_rate,yaw_acc,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr\n0,0,20,0,0,0,0,0,61.5,61.5,61.5,61.5\n' >"$TMP/swa_neg.csv"
+input_error car_negative_ratio "$TMP/swa_neg.csv" "^mu_replay: .*swa_neg\.csv:1: obs_steer_ratio = -2: must be a positive number"
+printf 't,delta,yaw_rate,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr\n0,0,0,0,0,61.5,61.5,61.5,61.5\n' >"$TMP/one_row.csv"
+run one_row 0 --in "$TMP/one_row.csv" --out "$TMP/o.csv"
+[ -s "$TMP/err" ] && bad "one_row: stderr not empty: $(cat "$TMP/err")" || ok "one_row: no period, no note"
+printf '# dt = 0.01\nt,delta,yaw_rate,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr\n0,0,0,0,0,61.5,61.5,61.5,61.5\n0.01,0,0,0,0,61.5,61.5,61.5,61.5\n0.02,0,0,0,0,61.5,61.5,61.5,61.5\n0.5,0,0,0,0,61.5,61.5,61.5,61.5\n0.51,0,0,0,0,61.5,61.5,61.5,61.5\n' >"$TMP/gap.csv"
+run gap 0 --in "$TMP/gap.csv" --out "$TMP/g.csv"
+one_line gap "^mu_replay: note: 1 period\(s\) longer than obs_dt_max = 0.1 s \(longest 0.48 s\): the observer rejects the sample after each gap$"
+grep -q 'status 18' "$TMP/out" && ok "gap: the rejected sample counted" || bad "gap: no status 18 in the summary"
+printf 'obs_driven = 2.5\n' >"$TMP/driven.par"
+run obs_bad_driven 1 --in "$DATA/good_esc.csv" --out "$TMP/v.csv" --params "$TMP/driven.par"
+one_line obs_bad_driven "^mu_replay: .*driven\.par:1: invalid parameter obs_driven = 2.5 \(rejected by rfe_velocity_params_validate"
+printf 'obs_sd_r = 0.01\nobs_driven = 12\n' >"$TMP/obs.par"
+run obs_keys 0 --in "$DATA/good_esc.csv" --out "$TMP/v.csv" --params "$TMP/obs.par"
+grep -q '^# obs_sd_r = 0.01$' "$TMP/v.csv" && grep -q '^# obs_driven = 12$' "$TMP/v.csv" \
+    && ok "obs_keys: applied and written" || bad "obs_keys: metadata"
+run measured_no_obs_keys 0 --in "$DATA/good_small.csv" --out "$TMP/v.csv"
+grep -q '^# obs_' "$TMP/v.csv" && bad "measured_no_obs_keys: obs_* written" || ok "measured_no_obs_keys: none written"
 
 # ---- --real q31: the fixed-point estimator (docs/FIXED_POINT.md "Estimator")
 run good_q31 0 --in "$DATA/good_small.csv" --out "$TMP/q.csv" --metrics "$TMP/q.json" --real q31

@@ -20,6 +20,7 @@
 #include "rfe/config.h"
 #include "rfe/friction.h"
 #include "rfe/params.h"
+#include "rfe/velocity.h"
 
 #define DATA "test/host/data/"
 #define N_ROWS 4u
@@ -376,6 +377,91 @@ static void test_rfe_replay_run_observer_checks_its_arguments(void **state)
     }
 }
 
+/* The observer's keys start from rfe_velocity_params_default and reach rfe_velocity_params_t
+ * member by member (each default times 1.5 stays valid: every default is > 0 and dt_max
+ * 0.15 s is still within 1 s). */
+/* REQ-PARF-004 */
+static void test_rfe_replay_velocity_params_keys_reach_members(void **state)
+{
+    rfe_param_set_t ps;
+    rfe_velocity_params_t def;
+    rfe_velocity_params_t vp;
+    size_t bad = 0u;
+    (void)state;
+    /* zeroed first: the padding after the uint32_t driven stays defined for the compare */
+    memset(&def, 0, sizeof def);
+    memset(&vp, 0, sizeof vp);
+    assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_DEFAULT), 0);
+    assert_int_equal(rfe_velocity_params_default_f64(&def), RFE_OK);
+    assert_int_equal(rfe_replay_velocity_params_f64(&ps, &vp, &bad), RFE_OK);
+    assert_int_equal(bad, RFE_PK_NONE);
+    assert_memory_equal(&vp, &def, sizeof vp);
+#define CHECK_OBS_(key, member, unit, doc)                                                   \
+    ps.obs[(size_t)RFE_PK_##key - RFE_PK_OBS_FIRST] = def.member * 1.5;                \
+    assert_int_equal(rfe_replay_velocity_params_f64(&ps, &vp, NULL), RFE_OK);                \
+    if (!(vp.member == def.member * 1.5)) {                                           \
+        fail_msg("key %s did not reach its member", #key);                                   \
+    }                                                                                        \
+    ps.obs[(size_t)RFE_PK_##key - RFE_PK_OBS_FIRST] = def.member;
+    RFE_OBS_KEYS(CHECK_OBS_)
+#undef CHECK_OBS_
+    ps.obs[0] = 12.0; /* rear drive */
+    assert_int_equal(rfe_replay_velocity_params_f64(&ps, &vp, NULL), RFE_OK);
+    assert_int_equal(vp.driven, RFE_DRIVEN_RL | RFE_DRIVEN_RR);
+}
+
+/* REQ-PARF-004 */
+static void test_rfe_replay_velocity_params_names_the_bad_key(void **state)
+{
+    rfe_param_set_t ps;
+    rfe_velocity_params_t vp;
+    size_t bad = 0u;
+    static const double not_a_mask[] = {0.0, 2.5, 16.0, -1.0};
+    size_t i;
+    (void)state;
+    assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_DEFAULT), 0);
+    assert_int_equal(rfe_replay_velocity_params_f64(NULL, &vp, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_replay_velocity_params_f64(&ps, NULL, NULL), RFE_ERR_NULL);
+    /* 0 is an integer but no wheel driven: validation; the rest are not masks at all. */
+    for (i = 0u; i < sizeof not_a_mask / sizeof not_a_mask[0]; ++i) {
+        ps.obs[0] = not_a_mask[i];
+        assert_int_equal(rfe_replay_velocity_params_f64(&ps, &vp, &bad), RFE_ERR_PARAM);
+        assert_int_equal(bad, RFE_PK_obs_driven);
+    }
+    ps.obs[0] = 3.0;
+    ps.obs[(size_t)RFE_PK_obs_steer_ratio - RFE_PK_OBS_FIRST] = 0.0;
+    assert_int_equal(rfe_replay_velocity_params_f64(&ps, &vp, &bad), RFE_ERR_PARAM);
+    assert_int_equal(bad, RFE_PK_obs_steer_ratio);
+    ps.obs[(size_t)RFE_PK_obs_steer_ratio - RFE_PK_OBS_FIRST] = 16.0;
+    ps.obs[(size_t)RFE_PK_obs_dt_max - RFE_PK_OBS_FIRST] = 0.0005; /* below dt_min */
+    assert_int_equal(rfe_replay_velocity_params_f64(&ps, &vp, &bad), RFE_ERR_PARAM);
+    assert_int_equal(bad, RFE_PK_obs_dt_max);
+}
+
+/* A log still in km/h wheel speeds or steering-wheel angles is refused, never run as if
+ * it were rad/s and road-wheel angles; the observer takes the steering-wheel angle itself. */
+/* REQ-CSV-005 */
+static void test_rfe_replay_refuses_unconverted_logs(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_sensor_row_t rows[N_ROWS];
+    rfe_param_set_t ps;
+    rfe_est_row_t out[N_ROWS];
+    rfe_replay_stats_t st;
+    (void)state;
+    make_log(&log, rows);
+    assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_DEFAULT), 0);
+    log.omega_linear = 1;
+    assert_int_equal(rfe_replay_run_f64(&ps, &log, out, &st, NULL), RFE_ERR_RANGE);
+    assert_int_equal(rfe_replay_run_observer_f64(&ps, &log, out, &st, NULL), RFE_ERR_RANGE);
+    log.omega_linear = 0;
+    log.has_swa = 1;
+    assert_int_equal(rfe_replay_run_f64(&ps, &log, out, &st, NULL), RFE_ERR_RANGE);
+    assert_int_equal(st.n_steps, 0);
+    assert_int_equal(rfe_replay_run_observer_f64(&ps, &log, out, &st, NULL), RFE_OK);
+    assert_int_equal(st.n_steps, log.n_rows);
+}
+
 /* REQ-CLI-003 */
 static void test_rfe_replay_status_slot_bounds(void **state)
 {
@@ -403,6 +489,9 @@ int main(void)
         cmocka_unit_test(test_rfe_replay_run_ckf_outside_paper_subset_blames_filter),
         cmocka_unit_test(test_rfe_replay_run_null_arguments),
         cmocka_unit_test(test_rfe_replay_run_observer_checks_its_arguments),
+        cmocka_unit_test(test_rfe_replay_velocity_params_keys_reach_members),
+        cmocka_unit_test(test_rfe_replay_velocity_params_names_the_bad_key),
+        cmocka_unit_test(test_rfe_replay_refuses_unconverted_logs),
         cmocka_unit_test(test_rfe_replay_status_slot_bounds),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

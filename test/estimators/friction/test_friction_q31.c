@@ -1169,6 +1169,15 @@ static void test_rfe_replay_run_q31(void **state)
     ps.value[RFE_PK_mu0] = 2.0; /* invalid in double: diagnosed as the double run does */
     assert_int_equal(rfe_replay_run_q31(&ps, &log, out, &st, NULL, &bad), RFE_ERR_PARAM);
     assert_int_equal(bad, RFE_PK_mu0);
+    /* a log still in km/h or steering-wheel angles is refused (csv_log.h), not run */
+    assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_DEFAULT), 0);
+    log.omega_linear = 1;
+    assert_int_equal(rfe_replay_run_q31(&ps, &log, out, &st, NULL, NULL), RFE_ERR_RANGE);
+    log.omega_linear = 0;
+    log.has_swa = 1;
+    assert_int_equal(rfe_replay_run_q31(&ps, &log, out, &st, NULL, NULL), RFE_ERR_RANGE);
+    assert_int_equal(st.base.n_steps, 0);
+    log.has_swa = 0;
     assert_int_equal(rfe_replay_run_q31(NULL, &log, out, &st, NULL, NULL), RFE_ERR_NULL);
     assert_int_equal(rfe_replay_run_q31(&ps, NULL, out, &st, NULL, NULL), RFE_ERR_NULL);
     assert_int_equal(rfe_replay_run_q31(&ps, &log, NULL, &st, NULL, NULL), RFE_ERR_NULL);
