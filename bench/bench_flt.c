@@ -13,6 +13,8 @@
 #include "rfe/component/chol.h"
 #include "rfe/component/ckf.h"
 #include "rfe/friction.h"
+#include "rfe/pipeline.h"
+#include "rfe/velocity.h"
 #include "rfe/component/meas.h"
 #include "rfe/component/obsmat.h"
 #include "rfe/component/qr.h"
@@ -51,6 +53,15 @@ static rfe_params_t par_magic;    /* paper preset, Magic Formula tyre */
 static rfe_params_t par_step;     /* the parameters of the step case being run */
 static rfe_friction_t est;
 static rfe_estimate_t out;
+/* The velocity observer and the composed entry on the log's ESC signals (docs/OBSERVER.md),
+ * with the log's true friction (sd 0.05) as the observer's friction input. */
+static rfe_velocity_input_t esc[MAXN];
+static rfe_velocity_mu_t esc_mu[MAXN];
+static rfe_velocity_params_t vel_par;
+static rfe_velocity_t vel;
+static rfe_velocity_estimate_t vel_out;
+static rfe_pipeline_t pipe_state;
+static rfe_pipeline_out_t pipe_out;
 
 /* Recorded filter states: before the time update (post[k], i.e. after step k-1) and before
  * the measurement update (pre[k]). x and the whole factor (SCKF S / CKF P, ld RFE_N_MAX). */
@@ -110,6 +121,26 @@ static void prep_step_default(void) { prep_step(&par_default); }
 static void run_step(size_t k)
 {
     bench_sink += (uint32_t)rfe_friction_step(&est, &samples[k], &out);
+}
+static void prep_velocity(void)
+{
+    if (rfe_velocity_init(&vel, &vel_par, &par_default) != RFE_OK) {
+        fprintf(stderr, "bench: observer init failed\n");
+    }
+}
+static void run_velocity(size_t k)
+{
+    bench_sink += (uint32_t)rfe_velocity_step(&vel, &esc[k], &esc_mu[k], &vel_out);
+}
+static void prep_pipeline(void)
+{
+    if (rfe_pipeline_init(&pipe_state, &par_default, &vel_par) != RFE_OK) {
+        fprintf(stderr, "bench: pipeline init failed\n");
+    }
+}
+static void run_pipeline(size_t k)
+{
+    bench_sink += (uint32_t)rfe_pipeline_step(&pipe_state, &esc[k], &pipe_out);
 }
 
 /* ---- module cases --------------------------------------------------------------------- */
@@ -239,6 +270,8 @@ const bench_case_t bench_cases[] = {
     {"step.paper.sckf.absolute", NULL, prep_step_sckf_abs, run_step},
     {"step.paper.ckf.absolute", NULL, prep_step_ckf_abs, run_step},
     {"step.default", NULL, prep_step_default, run_step},
+    {"velocity.step", NULL, prep_velocity, run_velocity},
+    {"pipeline.step", NULL, prep_pipeline, run_pipeline},
     {"tyre.kinematics", NULL, NULL, run_kin},
     {"tyre.forces_norm", NULL, NULL, run_forces_norm},
     {"tyre.forces_abs", NULL, NULL, run_forces_abs},
@@ -362,6 +395,10 @@ size_t bench_setup(const char *log_path)
         return 0u;
     }
     n_samples = (log.n_rows < MAXN) ? log.n_rows : MAXN;
+    if (rfe_velocity_params_default(&vel_par) != RFE_OK) {
+        rfe_sensor_log_free(&log);
+        return 0u;
+    }
     if ((params_for(&log, RFE_PRESET_PAPER, "sckf", "paper", &par_paper) != 0) ||
         (params_for(&log, RFE_PRESET_PAPER, "ckf", "paper", &par_paper_ckf) != 0) ||
         (params_for(&log, RFE_PRESET_PAPER, "sckf", "absolute", &par_abs) != 0) ||
@@ -376,6 +413,17 @@ size_t bench_setup(const char *log_path)
         const rfe_sensor_row_t *r = &log.rows[k];
         size_t w;
         to_sample(r, &samples[k]);
+        memset(&esc[k], 0, sizeof esc[k]);
+        esc[k].dt = (k > 0u) ? (rfe_real_t)(r->t - log.rows[k - 1u].t) : RFE_R(0.0);
+        esc[k].delta = samples[k].delta;
+        esc[k].yaw_rate = samples[k].yaw_rate;
+        esc[k].ax = samples[k].ax;
+        esc[k].ay = samples[k].ay;
+        for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
+            esc[k].omega[w] = samples[k].omega[w];
+            esc_mu[k].mu[w] = log.has_truth ? (rfe_real_t)r->mu_true[w] : RFE_R(0.5);
+            esc_mu[k].sd[w] = RFE_R(0.05);
+        }
         ys[k][0] = samples[k].ax;
         ys[k][1] = samples[k].ay;
         ys[k][2] = samples[k].yaw_acc;

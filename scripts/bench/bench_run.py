@@ -66,6 +66,8 @@ MODULE_DOC = {
     "ckf.update.absolute": "CKF measurement update, absolute tyre",
     "qr.tria.4x12": "qr: Tria() of a 4 x 12 matrix",
     "chol.4x4": "chol: Cholesky of a 4 x 4 matrix",
+    "velocity.step": "velocity observer: one step (yaw-rate differentiator, vx, vy; OBSERVER.md)",
+    "pipeline.step": "composed entry: observer + default-preset friction step (rfe/pipeline.h)",
 }
 M4_HZ = 168e6
 STEP_HZ = 100.0

@@ -67,12 +67,12 @@ def scenario_logs(scen_dir: Path) -> list[Path]:
 
 
 def run_replay(replay: Path, log: Path, out_dir: Path, filt: str, real: str,
-               preset: str = "paper") -> dict:
-    stem = log.name[: -len(".csv")]
+               preset: str = "paper", velocity: str = "auto") -> dict:
+    stem = log.name[: -len(".csv")] + ("" if velocity == "auto" else f".{velocity}")
     est = out_dir / f"{stem}.{preset}.{filt}.{real}.csv"
     met = out_dir / f"{stem}.{preset}.{filt}.{real}.json"
     cmd = [str(replay), "--in", str(log), "--out", str(est), "--preset", preset, "--filter", filt,
-           "--real", real, "--metrics", str(met), "--quiet"]
+           "--real", real, "--velocity", velocity, "--metrics", str(met), "--quiet"]
     res = subprocess.run(cmd, capture_output=True, text=True)
     if res.returncode != 0:
         sys.exit(f"demo: {' '.join(cmd)} failed: {res.stderr.strip()}")
@@ -217,28 +217,33 @@ def headline_rows(runs: list[tuple[str, str, str, dict]]) -> list[str]:
     pooling over the wheels): the default preset on the Magic Formula truth, one row per
     excited manoeuvre (RMSE where valid, share of the excited samples and of the settled
     samples reported valid), then one row for all never-excited logs together, each column
-    the worst of those logs (the highest figure: there every valid sample is a false claim)."""
+    the worst of those logs (the highest figure: there every valid sample is a false claim).
+    The last two columns: the same log run as a production car's (vx, vy, yaw_acc from the
+    velocity observer, info["observer"])."""
     pct = lambda x: "–" if x is None else f"{100 * x:.0f} %"  # noqa: E731
     lines = ["| manoeuvre | truth tyre | RMSE when valid | excited samples valid | "
-             "settled samples valid |", "|---|---|---|---|---|"]
+             "settled samples valid | RMSE when valid, observer | settled valid, observer |",
+             "|---|---|---|---|---|---|---|"]
     sel = [r for r in runs if r[1] == HEADLINE_TRUTH and r[2] == HEADLINE_PRESET]
     never = []
-    for scen, truth, _, info in sel:
-        m = info["metrics"]
+    def valid_figures(m):
         has_valid = sum(m[w]["n_valid"] or 0 for w in WHEELS) > 0
-        rv = pooled(m, "rmse_valid", "n_valid", square=True) if has_valid else None
-        fv = pooled(m, "frac_valid", "n_settled")
-        ex = pooled(m, "frac_valid_excited", "n_excited")
+        return (pooled(m, "rmse_valid", "n_valid", square=True) if has_valid else None,
+                pooled(m, "frac_valid_excited", "n_excited"), pooled(m, "frac_valid", "n_settled"))
+
+    for scen, truth, _, info in sel:
+        rv, ex, fv = valid_figures(info["metrics"])
+        orv, _, ofv = valid_figures(info["observer"]["metrics"])
         if CLASSES.get(scen) == "excited":
             lines.append(f"| {scen} | {TRUTH_NAMES.get(truth, truth)} | {fmt(rv)} | {pct(ex)} | "
-                         f"{pct(fv)} |")
+                         f"{pct(fv)} | {fmt(orv)} | {pct(ofv)} |")
         elif CLASSES.get(scen) == "never":
-            never.append((rv, ex, fv))
+            never.append((rv, ex, fv, orv, ofv))
     if never:
-        worst = [max((x[k] for x in never if x[k] is not None), default=None) for k in range(3)]
+        worst = [max((x[k] for x in never if x[k] is not None), default=None) for k in range(5)]
         lines.append(f"| never excited ({len(never)} log{'s' if len(never) > 1 else ''}, worst) | "
                      f"{TRUTH_NAMES.get(HEADLINE_TRUTH, HEADLINE_TRUTH)} | {fmt(worst[0])} | "
-                     f"{pct(worst[1])} | {pct(worst[2])} |")
+                     f"{pct(worst[1])} | {pct(worst[2])} | {fmt(worst[3])} | {pct(worst[4])} |")
     return lines
 
 
@@ -258,6 +263,9 @@ def trust_runs(replay: Path, scen_dir: Path, out_dir: Path, real: str
             q31 = run_replay(replay, log, out_dir, "sckf", "q31", preset)
             dbl = run_replay(replay, log, out_dir, "sckf", "double", preset)
             info["q31_dev"] = run_deviation(q31["estimate_file"], dbl["estimate_file"], sensor)[0]
+            if preset == HEADLINE_PRESET:  # the headline's production-car columns
+                info["observer"] = run_replay(replay, log, out_dir, "sckf", real, preset,
+                                              "observer")
             runs.append((scen, truth, preset, info))
         print(f"[trust {k}/{len(logs)}] {stem}", flush=True)
     order = {"excited": 0, "steering": 1, "never": 2}
