@@ -22,7 +22,8 @@ INV_FLAGS          ?=
 FUZZ_CFLAGS := -std=c99 -g -O1 -fno-omit-frame-pointer -fsanitize=address,undefined \
                -fno-sanitize-recover=all $(INV_FLAGS)
 FUZZ_OPTS   := -max_len=16384 -print_final_stats=1
-FUZZ_BINS   := fuzz_step_f32 fuzz_step_f64 $(if $(Q31_SRC),fuzz_step_q31) fuzz_csv
+FUZZ_BINS   := fuzz_step_f32 fuzz_step_f64 $(if $(Q31_SRC),fuzz_step_q31) fuzz_velocity_f32 \
+               fuzz_velocity_f64 fuzz_csv
 FUZZ_LIB_F32 := $(patsubst src/%.c,$(BUILD)/fuzz-f32/lib/%.o,$(LIB_SRC))
 FUZZ_LIB_F64 := $(patsubst src/%.c,$(BUILD)/fuzz-f64/lib/%.o,$(LIB_SRC))
 FUZZ_LIB_Q31 := $(patsubst src/%.c,$(BUILD)/fuzz-q31/lib/%.o,$(Q31_SRC))
@@ -53,7 +54,7 @@ $(BUILD)/fuzz-q31/lib/%.o: src/%.c | deps-fuzz
 $(BUILD)/fuzz-f32/host/%.o: src/host/%.c | deps-fuzz
 	@mkdir -p $(@D)
 	$(FUZZ_CC) $(DEPFLAGS) $(FUZZ_CFLAGS) -fsanitize=fuzzer-no-link $(CPPFLAGS_HOST) -c $< -o $@
-FUZZ_STEP_DEPS := test/fuzz/fuzz_step_flt.c test/fuzz/fuzz_input.h test/support/invariants.h
+FUZZ_STEP_DEPS := test/fuzz/fuzz_step_flt.c test/fuzz/fuzz_input.h test/fuzz/fuzz_real.h test/support/invariants.h
 $(BUILD)/fuzz/fuzz_step_f32: $(FUZZ_STEP_DEPS) $(FUZZ_LIB_F32)
 	@mkdir -p $(@D)
 	$(FUZZ_CC) $(FUZZ_CFLAGS) -fsanitize=fuzzer $(CPPFLAGS_LIB) -Itest/support -Itest/fuzz $< $(FUZZ_LIB_F32) -lm -o $@
@@ -64,17 +65,25 @@ $(BUILD)/fuzz/fuzz_step_f64: $(FUZZ_STEP_DEPS) $(FUZZ_LIB_F64)
 $(BUILD)/fuzz/fuzz_step_q31: test/fuzz/fuzz_step_q31.c test/fuzz/fuzz_input.h test/support/invariants.h $(FUZZ_LIB_Q31) $(FUZZ_LIB_F64)
 	@mkdir -p $(@D)
 	$(FUZZ_CC) $(FUZZ_CFLAGS) -fsanitize=fuzzer $(CPPFLAGS_LIB) -Itest/support -Itest/fuzz $< $(FUZZ_LIB_Q31) $(FUZZ_LIB_F64) -lm -o $@
+# The velocity observer's harness (float, double): the same decoding, an ESC sample.
+FUZZ_VEL_DEPS := test/fuzz/fuzz_velocity_flt.c test/fuzz/fuzz_input.h test/fuzz/fuzz_real.h
+$(BUILD)/fuzz/fuzz_velocity_f32: $(FUZZ_VEL_DEPS) $(FUZZ_LIB_F32)
+	@mkdir -p $(@D)
+	$(FUZZ_CC) $(FUZZ_CFLAGS) -fsanitize=fuzzer $(CPPFLAGS_LIB) -Itest/fuzz $< $(FUZZ_LIB_F32) -lm -o $@
+$(BUILD)/fuzz/fuzz_velocity_f64: $(FUZZ_VEL_DEPS) $(FUZZ_LIB_F64)
+	@mkdir -p $(@D)
+	$(FUZZ_CC) $(FUZZ_CFLAGS) -fsanitize=fuzzer -DRFE_REAL_DOUBLE $(CPPFLAGS_LIB) -Itest/fuzz $< $(FUZZ_LIB_F64) -lm -o $@
 $(BUILD)/fuzz/fuzz_csv: test/fuzz/fuzz_csv.c $(FUZZ_HOST) $(FUZZ_LIB_F32)
 	@mkdir -p $(@D)
 	$(FUZZ_CC) $(FUZZ_CFLAGS) -fsanitize=fuzzer $(CPPFLAGS_HOST) $< $(FUZZ_HOST) $(FUZZ_LIB_F32) -lm -o $@
 
 # $(1) = output directory, $(2) = libFuzzer options. Seeds: test/fuzz/corpus/fuzz_step (every
-# step harness) and test/fuzz/corpus/fuzz_csv; new inputs go to $(1)/corpus/<harness>.
+# step harness, the observer's too: one decoding) and test/fuzz/corpus/fuzz_csv; new inputs go to $(1)/corpus/<harness>.
 # Prints executions, corpus size and coverage per harness; a failure shows its first lines,
 # the other harnesses still run, and the target fails at the end.
 define FUZZ_RUN
 	@failed=0; for h in $(FUZZ_BINS); do \
-	  seeds=test/fuzz/corpus/$$(echo $$h | sed 's/_\(f32\|f64\|q31\)$$//'); \
+	  seeds=test/fuzz/corpus/$$(echo $$h | sed 's/_\(f32\|f64\|q31\)$$//; s/^fuzz_velocity$$/fuzz_step/'); \
 	  mkdir -p $(1)/corpus/$$h $(1)/artifacts; \
 	  if ! $(BUILD)/fuzz/$$h $(FUZZ_OPTS) $(2) -artifact_prefix=$(1)/artifacts/$$h- \
 	      $(1)/corpus/$$h $$seeds > $(1)/$$h.log 2>&1; then \

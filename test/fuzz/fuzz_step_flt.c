@@ -24,16 +24,9 @@
 #include <string.h>
 
 #include "fuzz_input.h"
+#include "fuzz_real.h"
 #include "invariants.h"
 #include "rfe/friction.h"
-
-#if defined(RFE_REAL_DOUBLE)
-#define REAL_MAX DBL_MAX
-#define BUILD "double"
-#else
-#define REAL_MAX FLT_MAX
-#define BUILD "float"
-#endif
 
 typedef struct {
     rfe_friction_t est;
@@ -47,26 +40,10 @@ static void violation(const fz_ctx_t *c, const char *what, const rfe_sample_t *u
     fprintf(stderr,
             "fuzz_step (%s): step %ld: %s (status %d)\n  sample: delta %.9g vx %.9g vy %.9g "
             "r %.9g rdot %.9g ax %.9g ay %.9g omega %.9g %.9g %.9g %.9g\n",
-            BUILD, c->k, what, st, (double)u->delta, (double)u->vx, (double)u->vy,
+            FZ_BUILD, c->k, what, st, (double)u->delta, (double)u->vx, (double)u->vy,
             (double)u->yaw_rate, (double)u->yaw_acc, (double)u->ax, (double)u->ay,
             (double)u->omega[0], (double)u->omega[1], (double)u->omega[2], (double)u->omega[3]);
     abort();
-}
-
-/* double -> rfe_real_t as a sensor driver would: out of range becomes +-Inf (a plain cast
- * would be undefined behaviour). */
-static rfe_real_t to_real(double d)
-{
-    if (isnan(d)) {
-        return (rfe_real_t)NAN;
-    }
-    if (d > (double)REAL_MAX) {
-        return (rfe_real_t)INFINITY;
-    }
-    if (d < -(double)REAL_MAX) {
-        return (rfe_real_t)-INFINITY;
-    }
-    return (rfe_real_t)d;
 }
 
 static int step(void *ctxp, const fz_sample_t *s)
@@ -77,15 +54,15 @@ static int step(void *ctxp, const fz_sample_t *s)
     rfe_status_t st, want;
     char why[INV_WHY];
     int w;
-    u.delta = to_real(s->v[0]);
-    u.vx = to_real(s->v[1]);
-    u.vy = to_real(s->v[2]);
-    u.yaw_rate = to_real(s->v[3]);
-    u.yaw_acc = to_real(s->v[4]);
-    u.ax = to_real(s->v[5]);
-    u.ay = to_real(s->v[6]);
+    u.delta = fz_to_real(s->v[0]);
+    u.vx = fz_to_real(s->v[1]);
+    u.vy = fz_to_real(s->v[2]);
+    u.yaw_rate = fz_to_real(s->v[3]);
+    u.yaw_acc = fz_to_real(s->v[4]);
+    u.ax = fz_to_real(s->v[5]);
+    u.ay = fz_to_real(s->v[6]);
     for (w = 0; w < 4; ++w) {
-        u.omega[w] = to_real(s->v[7 + w]);
+        u.omega[w] = fz_to_real(s->v[7 + w]);
     }
     want = inv_classify_sample(&u);
     memcpy(&c->before, &c->est, sizeof c->est);
