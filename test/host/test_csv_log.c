@@ -18,22 +18,10 @@
 #include <unistd.h>
 
 #include "csv_log.h"
+#include "log_text.h"
 #include "text_io.h"
 
 #define DATA "test/host/data/"
-
-/* Reads @p text through a temporary file (exercises the same stream code as a real file). */
-static int read_text(const char *text, rfe_sensor_log_t *log, rfe_io_error_t *err)
-{
-    FILE *f = tmpfile();
-    int rc;
-    assert_non_null(f);
-    assert_int_equal(fwrite(text, 1u, strlen(text), f), strlen(text));
-    rewind(f);
-    rc = rfe_sensor_log_read_stream(f, "mem.csv", log, err);
-    fclose(f);
-    return rc;
-}
 
 #define HDR "t,delta,vx,vy,yaw_rate,yaw_acc,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr\n"
 #define ROW0 "0,0,20,0,0,0,-2,0,60,60,60,60\n"
@@ -104,7 +92,7 @@ static void test_rfe_sensor_log_read_crlf_bom_and_trailing_blank_lines(void **st
     rfe_sensor_log_t log;
     rfe_io_error_t err;
     (void)state;
-    assert_int_equal(read_text("\xEF\xBB\xBFt,delta,vx,vy,yaw_rate,yaw_acc,ax,ay,omega_fl,"
+    assert_int_equal(read_log_text("\xEF\xBB\xBFt,delta,vx,vy,yaw_rate,yaw_acc,ax,ay,omega_fl,"
                                "omega_fr,omega_rl,omega_rr\r\n0,0,20,0,0,0,-2,0,60,60,60,60.5\r\n\r\n\n",
                                &log, &err),
                      0);
@@ -129,7 +117,7 @@ static void test_rfe_sensor_log_read_very_long_number_not_truncated(void **state
     memset(p, '0', zeros);
     p += zeros;
     strcpy(p, "1.5,0,0,0,-2,0,60,60,60,60\n");
-    assert_int_equal(read_text(text, &log, &err), 0);
+    assert_int_equal(read_log_text(text, &log, &err), 0);
     assert_true(log.rows[0].vx == 1.5);
     rfe_sensor_log_free(&log);
     free(text);
@@ -159,7 +147,7 @@ static void test_rfe_sensor_log_read_missing_required_column(void **state)
     rfe_io_error_t err;
     (void)state;
     memset(&log, 0, sizeof log);
-    assert_int_equal(read_text("t,delta,yaw_rate,ax,omega_fl,omega_fr,omega_rl,omega_rr\n"
+    assert_int_equal(read_log_text("t,delta,yaw_rate,ax,omega_fl,omega_fr,omega_rl,omega_rr\n"
                                "0,0,0,0,60,60,60,60\n", &log, &err), -1);
     assert_non_null(strstr(err.msg, "missing column 'ay'"));
 }
@@ -182,10 +170,10 @@ static void test_rfe_sensor_log_read_production_car_log(void **state)
     assert_true(log.rows[1].omega[0] == 59.94);
     assert_true(log.rows[1].vx == 0.0);
     rfe_sensor_log_free(&log);
-    assert_int_equal(read_text("t,delta,yaw_rate,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr,p_fl\n"
+    assert_int_equal(read_log_text("t,delta,yaw_rate,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr,p_fl\n"
                                "0,0,0,0,0,60,60,60,60,1\n", &log, &err), -1);
     assert_non_null(strstr(err.msg, "pressure column 'p_fr' missing"));
-    assert_int_equal(read_text("t,delta,yaw_rate,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr,grade,"
+    assert_int_equal(read_log_text("t,delta,yaw_rate,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr,grade,"
                                "torque_fl,torque_fr,torque_rl,torque_rr\n"
                                "0,0,0,0,0,60,60,60,60,0.05,100,100,0,0\n", &log, &err), 0);
     assert_int_equal(log.has_torque, 1);
@@ -227,7 +215,7 @@ static void test_rfe_sensor_log_read_too_many_fields(void **state)
     rfe_sensor_log_t log;
     rfe_io_error_t err;
     (void)state;
-    assert_int_equal(read_text(HDR ROW0 "0.01,0,19.98,0,0,0,-2,0,59.9,59.9,59.9,59.9,7\n", &log,
+    assert_int_equal(read_log_text(HDR ROW0 "0.01,0,19.98,0,0,0,-2,0,59.9,59.9,59.9,59.9,7\n", &log,
                                &err),
                      -1);
     assert_int_equal(err.line, 3);
@@ -251,7 +239,7 @@ static void test_rfe_sensor_log_read_only_metadata_no_header(void **state)
     rfe_sensor_log_t log;
     rfe_io_error_t err;
     (void)state;
-    assert_int_equal(read_text("# dt = 0.01\n\n", &log, &err), -1);
+    assert_int_equal(read_log_text("# dt = 0.01\n\n", &log, &err), -1);
     assert_non_null(strstr(err.msg, "no header row"));
     assert_int_equal(log.n_meta, 0); /* freed on error */
 }
@@ -275,7 +263,7 @@ static void test_rfe_sensor_log_read_inf_text_rejected(void **state)
     rfe_sensor_log_t log;
     rfe_io_error_t err;
     (void)state;
-    assert_int_equal(read_text(HDR "0,0,20,0,0,0,-2,0,60,60,60,-Infinity\n", &log, &err), -1);
+    assert_int_equal(read_log_text(HDR "0,0,20,0,0,0,-2,0,60,60,60,-Infinity\n", &log, &err), -1);
     assert_int_equal(err.line, 2);
     assert_int_equal(err.col, 12);
     assert_non_null(strstr(err.msg, "finite"));
@@ -287,7 +275,7 @@ static void test_rfe_sensor_log_read_empty_field_rejected(void **state)
     rfe_sensor_log_t log;
     rfe_io_error_t err;
     (void)state;
-    assert_int_equal(read_text(HDR "0,0,20,0,,0,-2,0,60,60,60,60\n", &log, &err), -1);
+    assert_int_equal(read_log_text(HDR "0,0,20,0,,0,-2,0,60,60,60,60\n", &log, &err), -1);
     assert_int_equal(err.col, 5);
     assert_non_null(strstr(err.msg, "column 'yaw_rate': empty field"));
 }
@@ -298,7 +286,7 @@ static void test_rfe_sensor_log_read_overflow_rejected(void **state)
     rfe_sensor_log_t log;
     rfe_io_error_t err;
     (void)state;
-    assert_int_equal(read_text(HDR "0,0,1e999,0,0,0,-2,0,60,60,60,60\n", &log, &err), -1);
+    assert_int_equal(read_log_text(HDR "0,0,1e999,0,0,0,-2,0,60,60,60,60\n", &log, &err), -1);
     assert_int_equal(err.col, 3);
     assert_non_null(strstr(err.msg, "out of range"));
 }
@@ -356,7 +344,7 @@ static void test_rfe_sensor_log_read_util_without_mu(void **state)
     rfe_sensor_log_t log;
     rfe_io_error_t err;
     (void)state;
-    assert_int_equal(read_text("t,delta,vx,vy,yaw_rate,yaw_acc,ax,ay,omega_fl,omega_fr,omega_rl,"
+    assert_int_equal(read_log_text("t,delta,vx,vy,yaw_rate,yaw_acc,ax,ay,omega_fl,omega_fr,omega_rl,"
                                "omega_rr,util_fl,util_fr,util_rl,util_rr\n"
                                "0,0,20,0,0,0,-2,0,60,60,60,60,0.1,0.2,0.3,0.4\n",
                                &log, &err),
@@ -374,7 +362,7 @@ static void test_rfe_sensor_log_read_partial_util(void **state)
     rfe_sensor_log_t log;
     rfe_io_error_t err;
     (void)state;
-    assert_int_equal(read_text("# dt = 0.01\n"
+    assert_int_equal(read_log_text("# dt = 0.01\n"
                                "t,delta,vx,vy,yaw_rate,yaw_acc,ax,ay,omega_fl,omega_fr,omega_rl,"
                                "omega_rr,util_fl,util_rl,util_rr\n"
                                "0,0,20,0,0,0,-2,0,60,60,60,60,0.1,0.3,0.4\n",
@@ -393,7 +381,7 @@ static void test_rfe_sensor_log_read_bad_util_value(void **state)
     rfe_sensor_log_t log;
     rfe_io_error_t err;
     (void)state;
-    assert_int_equal(read_text("t,delta,vx,vy,yaw_rate,yaw_acc,ax,ay,omega_fl,omega_fr,omega_rl,"
+    assert_int_equal(read_log_text("t,delta,vx,vy,yaw_rate,yaw_acc,ax,ay,omega_fl,omega_fr,omega_rl,"
                                "omega_rr,util_fl,util_fr,util_rl,util_rr\n"
                                "0,0,20,0,0,0,-2,0,60,60,60,60,0.1,high,0.3,0.4\n",
                                &log, &err),
@@ -432,7 +420,7 @@ static void test_rfe_sensor_log_read_duplicate_column(void **state)
     rfe_sensor_log_t log;
     rfe_io_error_t err;
     (void)state;
-    assert_int_equal(read_text("t,delta,vx,vy,yaw_rate,yaw_acc,ax,ay,omega_fl,omega_fr,omega_rl,"
+    assert_int_equal(read_log_text("t,delta,vx,vy,yaw_rate,yaw_acc,ax,ay,omega_fl,omega_fr,omega_rl,"
                                "omega_rr,vx\n",
                                &log, &err),
                      -1);
@@ -447,7 +435,7 @@ static void test_rfe_sensor_log_read_empty_column_name(void **state)
     rfe_sensor_log_t log;
     rfe_io_error_t err;
     (void)state;
-    assert_int_equal(read_text("t,,delta\n", &log, &err), -1);
+    assert_int_equal(read_log_text("t,,delta\n", &log, &err), -1);
     assert_int_equal(err.col, 2);
     assert_non_null(strstr(err.msg, "empty column name"));
 }
@@ -458,7 +446,7 @@ static void test_rfe_sensor_log_read_blank_line_between_rows(void **state)
     rfe_sensor_log_t log;
     rfe_io_error_t err;
     (void)state;
-    assert_int_equal(read_text(HDR ROW0 "\n" ROW1, &log, &err), -1);
+    assert_int_equal(read_log_text(HDR ROW0 "\n" ROW1, &log, &err), -1);
     assert_int_equal(err.line, 3);
     assert_non_null(strstr(err.msg, "empty line"));
 }
@@ -469,7 +457,7 @@ static void test_rfe_sensor_log_read_comment_after_header(void **state)
     rfe_sensor_log_t log;
     rfe_io_error_t err;
     (void)state;
-    assert_int_equal(read_text(HDR ROW0 "# late = 1\n" ROW1, &log, &err), -1);
+    assert_int_equal(read_log_text(HDR ROW0 "# late = 1\n" ROW1, &log, &err), -1);
     assert_int_equal(err.line, 3);
     assert_non_null(strstr(err.msg, "after the header"));
 }
@@ -516,7 +504,7 @@ static void test_rfe_sensor_log_read_long_bad_field_quoted_short(void **state)
     p = text + sprintf(text, "%s0,0,", HDR);
     memset(p, 'x', big);
     strcpy(p + big, ",0,0,0,-2,0,60,60,60,60\n");
-    assert_int_equal(read_text(text, &log, &err), -1);
+    assert_int_equal(read_log_text(text, &log, &err), -1);
     assert_int_equal(err.col, 3);
     assert_non_null(strstr(err.msg, "...'"));
     assert_true(strlen(err.msg) < 120u);
@@ -542,7 +530,7 @@ static void test_rfe_sensor_log_read_metadata_without_key_ignored(void **state)
     rfe_sensor_log_t log;
     rfe_io_error_t err;
     (void)state;
-    assert_int_equal(read_text("#  = orphan value\n# k = v = w\n" HDR ROW0, &log, &err), 0);
+    assert_int_equal(read_log_text("#  = orphan value\n# k = v = w\n" HDR ROW0, &log, &err), 0);
     assert_int_equal(log.n_meta, 1);
     assert_string_equal(log.meta[0].key, "k");
     assert_string_equal(log.meta[0].value, "v = w"); /* split at the first '=' only */
@@ -565,7 +553,7 @@ static void test_rfe_sensor_log_read_many_rows_grow(void **state)
     for (i = 0u; i < n; ++i) {
         p += sprintf(p, "%zu,0,%zu,0,0,0,-2,0,60,60,60,60\n", i, 2u * i);
     }
-    assert_int_equal(read_text(text, &log, &err), 0);
+    assert_int_equal(read_log_text(text, &log, &err), 0);
     assert_int_equal(log.n_rows, n);
     assert_true(log.rows[999].t == 999.0);
     assert_true(log.rows[999].vx == 1998.0);

@@ -20,6 +20,7 @@
 #include <string.h>
 
 #include "csv_log.h"
+#include "log_text.h"
 #include "log_timing.h"
 #include "log_units.h"
 #include "text_io.h"
@@ -35,26 +36,13 @@ static void assert_close(double got, double want)
     }
 }
 
-/* Reads @p text through a temporary file (the same stream code as a real file). */
-static int read_text(const char *text, rfe_sensor_log_t *log, rfe_io_error_t *err)
-{
-    FILE *f = tmpfile();
-    int rc;
-    assert_non_null(f);
-    assert_int_equal(fwrite(text, 1u, strlen(text), f), strlen(text));
-    rewind(f);
-    rc = rfe_sensor_log_read_stream(f, "mem.csv", log, err);
-    fclose(f);
-    return rc;
-}
-
 /* Reads @p text expecting an error at @p line whose message contains @p part. */
 static void assert_read_error(const char *text, size_t line, const char *part)
 {
     rfe_sensor_log_t log;
     rfe_io_error_t err;
     memset(&err, 0, sizeof err);
-    assert_int_equal(read_text(text, &log, &err), -1);
+    assert_int_equal(read_log_text(text, &log, &err), -1);
     assert_int_equal(log.n_rows, 0);
     if (strstr(err.msg, part) == NULL) {
         fail_msg("message '%s' lacks '%s'", err.msg, part);
@@ -135,7 +123,7 @@ static void test_rfe_sensor_log_read_car_units_to_si(void **state)
     rfe_io_error_t err;
     const rfe_sensor_row_t *r;
     (void)state;
-    assert_int_equal(read_text(CAR_META CAR_HDR CAR_ROWS, &log, &err), 0);
+    assert_int_equal(read_log_text(CAR_META CAR_HDR CAR_ROWS, &log, &err), 0);
     assert_int_equal(log.n_rows, 2);
     assert_int_equal(log.has_swa, 1);
     assert_int_equal(log.has_pressure, 1);
@@ -174,7 +162,7 @@ static void test_rfe_sensor_log_radius_and_ratio_rejected_untouched(void **state
     rfe_sensor_log_t log;
     rfe_io_error_t err;
     (void)state;
-    assert_int_equal(read_text(CAR_META CAR_HDR CAR_ROWS, &log, &err), 0);
+    assert_int_equal(read_log_text(CAR_META CAR_HDR CAR_ROWS, &log, &err), 0);
     assert_int_equal(rfe_sensor_log_wheel_radius(&log, 0.0), -1);
     assert_int_equal(rfe_sensor_log_wheel_radius(&log, NAN), -1);
     assert_int_equal(rfe_sensor_log_steer_ratio(&log, -15.0), -1);
@@ -192,7 +180,7 @@ static void test_rfe_sensor_log_read_spin_units_need_no_radius(void **state)
     rfe_sensor_log_t log;
     rfe_io_error_t err;
     (void)state;
-    assert_int_equal(read_text("# unit_omega_fl = rpm\n# unit_omega_fr = rpm\n"
+    assert_int_equal(read_log_text("# unit_omega_fl = rpm\n# unit_omega_fr = rpm\n"
                                "# unit_omega_rl = rpm\n# unit_omega_rr = rpm\n"
                                "# unit_delta = deg\n# unit_yaw_acc = deg/s^2\n"
                                "# unit_vx = km/h\n# unit_vy = mph\n"
@@ -256,7 +244,7 @@ static void test_rfe_sensor_log_read_alias_wins_over_own_name(void **state)
     rfe_io_error_t err;
     (void)state;
     /* column_ax = Ax2: the header's own "ax" is then just an extra column. */
-    assert_int_equal(read_text("# column_ax = Ax2\n"
+    assert_int_equal(read_log_text("# column_ax = Ax2\n"
                                "t,delta,yaw_rate,ax,Ax2,ay,omega_fl,omega_fr,omega_rl,omega_rr\n"
                                "0,0,0,5,-1.5,0,60,60,60,60\n",
                                &log, &err), 0);
@@ -275,7 +263,7 @@ static void test_rfe_log_period_median_of_jittered_stamps(void **state)
     (void)state;
     /* Periods 0.018, 0.022, 0.020, 0.021, 0.150 (a gap): sorted, the lower median of five
      * is the third, 0.021. */
-    assert_int_equal(read_text(SI_HDR "0,0,0,0,0,1,1,1,1\n0.018,0,0,0,0,1,1,1,1\n"
+    assert_int_equal(read_log_text(SI_HDR "0,0,0,0,0,1,1,1,1\n0.018,0,0,0,0,1,1,1,1\n"
                                       "0.040,0,0,0,0,1,1,1,1\n0.060,0,0,0,0,1,1,1,1\n"
                                       "0.081,0,0,0,0,1,1,1,1\n0.231,0,0,0,0,1,1,1,1\n",
                                &log, &err), 0);
@@ -296,7 +284,7 @@ static void test_rfe_log_period_one_row_has_none(void **state)
     rfe_io_error_t err;
     rfe_log_period_t per = {7.0, 7.0, 7.0, 7u};
     (void)state;
-    assert_int_equal(read_text(SI_HDR SI_ROW, &log, &err), 0);
+    assert_int_equal(read_log_text(SI_HDR SI_ROW, &log, &err), 0);
     assert_int_equal(rfe_log_period(&log, &per), -1);
     assert_true(per.median == 7.0);
     assert_int_equal(per.n, 7);
