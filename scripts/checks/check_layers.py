@@ -49,7 +49,7 @@ PUBLIC = {
 # Headers of both number types: no real type in them.
 Q31_SHARED = ({"include/rfe/" + h for h in ("common.h", "config.h", "fixed.h", "modes.h")}
               | {"include/rfe/component/fxmath.h", "src/numerics/sizes.h",
-                 "src/models/meas_inputs.h"})
+                 "src/models/meas_inputs.h", "src/estimators/friction/friction_logic.h"})
 Q31_SYSTEM = {"stddef.h", "stdint.h"}
 INCLUDE_RE = re.compile(r'^\s*#\s*include\s*([<"])([^>"]+)[>"]')
 

@@ -467,7 +467,7 @@ static unsigned int bitlen_halves(uint64_t v)
  *   z and xn 2^24 (< 2^55) are brought below 2^30 by one more shift (z >= 2^29 when xn = 0).
  *   phi = C b: Q24 x Q31 = Q55, exact, <= (2^25 - 1) 3373259426 < round(pi 2^55): the sine's
  *   domain [0, pi]. */
-static int32_t magic_g_q31(int32_t S, unsigned int qs, int32_t m, int32_t C, int32_t E)
+static int32_t magic_shape_q31(int32_t S, unsigned int qs, int32_t m, int32_t C, int32_t E)
 {
     const int64_t mc = (int64_t)m * (int64_t)C;
     const unsigned int d = 53u - qs;
@@ -511,8 +511,8 @@ static void magic_forces_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugoff_p
         return;
     }
     /* w = m G rounded to Q29 (<= m): m G >= 0, so the rounding is a shift of the product */
-    px = (int64_t)m * (int64_t)magic_g_q31(pre->s, pre->qs, m, tp->shape_Cx, tp->shape_Ex);
-    py = (int64_t)m * (int64_t)magic_g_q31(pre->s, pre->qs, m, tp->shape_Cy, tp->shape_Ey);
+    px = (int64_t)m * (int64_t)magic_shape_q31(pre->s, pre->qs, m, tp->shape_Cx, tp->shape_Ex);
+    py = (int64_t)m * (int64_t)magic_shape_q31(pre->s, pre->qs, m, tp->shape_Cy, tp->shape_Ey);
     wx = ((uint64_t)px + HALF_Q30) >> 30;
     wy = ((uint64_t)py + HALF_Q30) >> 30;
     *fx = rfe_fix_sat32(rfe_q31_mul64x32((int64_t)fz * (int64_t)wx, pre->ux, 59u), sat);

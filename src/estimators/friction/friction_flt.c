@@ -9,6 +9,7 @@
 #include "rfe/component/chol.h"
 #include "rfe/component/step_noise.h"
 
+#include "estimators/friction/friction_logic.h"
 #include "estimators/friction/step_noise_internal.h"
 #include "numerics/internal.h"
 
@@ -23,10 +24,7 @@ typedef char rfe_assert_maxima_hold_estimator[((RFE_N_MAX >= RFE_WHEELS) && (RFE
  * the left state 0, fr, rr on the right state 1. */
 static size_t state_of(const rfe_friction_t *est, size_t w)
 {
-    if (est->params.filter.structure == RFE_STRUCT_SIDES) {
-        return ((w == (size_t)RFE_FL) || (w == (size_t)RFE_RL)) ? 0u : 1u;
-    }
-    return w;
+    return rfe_friction_state_index(est->params.filter.structure, w);
 }
 
 /* mu per wheel = T x. */
@@ -309,7 +307,7 @@ static rfe_status_t filter_step(rfe_friction_t *est, const rfe_sample_t *sample)
     const rfe_filter_params_t *fp = &est->params.filter;
     rfe_sample_t u;
     rfe_status_t st;
-    rfe_status_t status = RFE_NO_UPDATE_LOW_SPEED;
+    int measured = 0;
     int updated = 0;
     int clamped = 0;
 
@@ -336,7 +334,7 @@ static rfe_status_t filter_step(rfe_friction_t *est, const rfe_sample_t *sample)
                 st = sckf_measurement(est, &u, y, &updated);
             }
         }
-        status = (updated != 0) ? RFE_OK : RFE_HELD_NOT_OBSERVABLE;
+        measured = 1;
     }
     /* 7. Bounds on the sd (SCKF; the CKF runs without them). */
     if ((st == RFE_OK) && (kind != RFE_FILTER_CKF)) {
@@ -347,11 +345,8 @@ static rfe_status_t filter_step(rfe_friction_t *est, const rfe_sample_t *sample)
         st = (kind == RFE_FILTER_CKF)
                  ? rfe_ckf_clamp(&est->filter.ckf, fp->mu_min, fp->mu_max, &clamped)
                  : rfe_sckf_clamp(&est->filter.sckf, fp->mu_min, fp->mu_max, &clamped);
-        if (clamped != 0) {
-            status = RFE_PROJECTED;
-        }
     }
-    return (st != RFE_OK) ? st : status;
+    return (st != RFE_OK) ? st : rfe_friction_step_status(measured, updated, clamped);
 }
 
 rfe_status_t rfe_friction_get(const rfe_friction_t *est, rfe_estimate_t *out)
@@ -387,6 +382,7 @@ rfe_status_t rfe_friction_step(rfe_friction_t *est, const rfe_sample_t *sample,
     rfe_status_t st;
     rfe_status_t got;
     size_t i;
+    int sd_rule = 0;
 
     if ((est == NULL) || (sample == NULL) || (out == NULL)) {
         return RFE_ERR_NULL;
@@ -403,19 +399,15 @@ rfe_status_t rfe_friction_step(rfe_friction_t *est, const rfe_sample_t *sample,
             backup(est, 1);
         }
     }
+    if (est->params.filter.sd_valid > RFE_R(0.0)) {
+        sd_rule = 1; /* the sd rule; else the paper's */
+    }
     got = rfe_friction_get(est, out);
     if (got != RFE_OK) {
         return got;
     }
     for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
-        if (rfe_status_is_error(st) != 0) {
-            out->valid[i] = 0u;
-        } else if (!(est->params.filter.sd_valid > RFE_R(0.0))) {
-            /* The paper rule: valid when this step updated the estimate from data. */
-            out->valid[i] = ((st == RFE_OK) || (st == RFE_PROJECTED)) ? 1u : 0u;
-        } else {
-            /* sd rule, set by get */
-        }
+        out->valid[i] = rfe_friction_valid(st, sd_rule, out->valid[i]);
     }
     out->status = st;
     return st;

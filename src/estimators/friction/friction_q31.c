@@ -26,6 +26,7 @@
 #include "rfe/component/step_noise_q31.h"
 #include "rfe/component/fxmath.h"
 
+#include "estimators/friction/friction_logic.h"
 #include "estimators/friction/step_noise_internal_q31.h"
 #include "numerics/internal_q31.h"
 
@@ -55,41 +56,38 @@ typedef char rfe_assert_maxima_hold_estimator_q31[((RFE_N_MAX >= RFE_WHEELS) && 
 
 /* State index of wheel w: the map T (docs/ESTIMATOR.md). wheels: T = I; sides: fl, rl on
  * the left state 0, fr, rr on the right state 1. */
-static size_t est_state_of(const rfe_friction_q31_t *est, size_t w)
+static size_t state_of_q31(const rfe_friction_q31_t *est, size_t w)
 {
-    if (est->params.filter.structure == RFE_STRUCT_SIDES) {
-        return ((w == (size_t)RFE_FL) || (w == (size_t)RFE_RL)) ? 0u : 1u;
-    }
-    return w;
+    return rfe_friction_state_index(est->params.filter.structure, w);
 }
 
 /* mu per wheel = T x (Q29). */
-static void est_to_wheels(const rfe_friction_q31_t *est, const rfe_fix_t *x,
+static void to_wheels_q31(const rfe_friction_q31_t *est, const rfe_fix_t *x,
                           rfe_fix_t mu[RFE_WHEELS])
 {
     size_t w;
     for (w = 0u; w < NW; ++w) {
-        mu[w] = x[est_state_of(est, w)];
+        mu[w] = x[state_of_q31(est, w)];
     }
 }
 
 /* h(T x, u) for one cubature point (x Q29, z Q24); a point with mu < 0 is evaluated at mu = 0
  * by the load-scaled tyres (absolute Dugoff, MODEL.md §4; Magic Formula, docs/ESTIMATOR.md).
  * Its saturations go to the step's count. */
-static rfe_status_t est_measure(void *ctx, const rfe_fix_t *x, rfe_fix_t *z, size_t n, size_t m)
+static rfe_status_t measure_q31(void *ctx, const rfe_fix_t *x, rfe_fix_t *z, size_t n, size_t m)
 {
     /* cppcheck-suppress misra-c2012-11.5 ; MISRA-DEV-05: ctx is the est this file passes */
     rfe_friction_q31_t *est = (rfe_friction_q31_t *)ctx;
     rfe_fix_t mu[RFE_WHEELS];
     (void)n;
     (void)m;
-    est_to_wheels(est, x, mu);
+    to_wheels_q31(est, x, mu);
     return rfe_meas_eval_q31(&est->meas, &est->params.vehicle, &est->params.tyre, mu, z,
                              &est->step_sat);
 }
 
 /* The power of two k >= -1 that brings v (Q30, > 0) into [2^29, 2^30) as v 2^k. */
-static int est_norm_exponent(rfe_fix_t v)
+static int norm_exponent_q31(rfe_fix_t v)
 {
     int k = 0;
     uint32_t u = (uint32_t)v;
@@ -105,22 +103,22 @@ static int est_norm_exponent(rfe_fix_t v)
 }
 
 /* v 2^k for k >= -1 (Q30; the right shift rounds half up). */
-static rfe_fix_t est_scale_pow2(rfe_fix_t v, int k)
+static rfe_fix_t scale_pow2_q31(rfe_fix_t v, int k)
 {
     uint32_t unused = 0u; /* v 2^k < 2^30 by the choice of k: never saturates */
     return (k < 0) ? rfe_fix_shr_round(v, 1u) : rfe_fix_shl(v, (unsigned int)k, &unused);
 }
 
-/* est_sqrt_prior(d, c) (n x n, ld n, Q30): the lower Cholesky factor of c^2 11^T + d^2 I; exactly
+/* sqrt_prior_q31(d, c) (n x n, ld n, Q30): the lower Cholesky factor of c^2 11^T + d^2 I; exactly
  * d I when c = 0 (no Cholesky, so the paper preset's factors are exact). d > 0, c >= 0.
  * RFE_ERR_RANGE when the factor does not fit Q30 (c^2 + d^2 >= 4). */
-static rfe_status_t est_sqrt_prior(rfe_fix_t d, rfe_fix_t c, size_t n, rfe_fix_t *F)
+static rfe_status_t sqrt_prior_q31(rfe_fix_t d, rfe_fix_t c, size_t n, rfe_fix_t *F)
 {
     rfe_fix_t P[RFE_WHEELS * RFE_WHEELS];
     uint32_t count = 0u;
-    const int k = est_norm_exponent(rfe_fix_max(c, d));
-    const int64_t cs = (int64_t)est_scale_pow2(c, k); /* < 2^30 */
-    const int64_t ds = (int64_t)est_scale_pow2(d, k);
+    const int k = norm_exponent_q31(rfe_fix_max(c, d));
+    const int64_t cs = (int64_t)scale_pow2_q31(c, k); /* < 2^30 */
+    const int64_t ds = (int64_t)scale_pow2_q31(d, k);
     size_t i;
     rfe_status_t st = RFE_OK;
 
@@ -150,14 +148,14 @@ static rfe_status_t est_sqrt_prior(rfe_fix_t d, rfe_fix_t c, size_t n, rfe_fix_t
 }
 
 /* v^2 from Q(q) into Q(2q - s) as int32, or RFE_ERR_RANGE when it does not fit. */
-static rfe_status_t est_square_into(rfe_fix_t v, unsigned int s, rfe_fix_t *out)
+static rfe_status_t square_into_q31(rfe_fix_t v, unsigned int s, rfe_fix_t *out)
 {
     uint32_t count = 0u;
     *out = rfe_fix_narrow((int64_t)v * (int64_t)v, s, &count);
     return (count != 0u) ? RFE_ERR_RANGE : RFE_OK;
 }
 
-static rfe_status_t est_init_sckf(rfe_friction_q31_t *est, const rfe_filter_params_q31_t *fp,
+static rfe_status_t init_sckf_q31(rfe_friction_q31_t *est, const rfe_filter_params_q31_t *fp,
                                   size_t n)
 {
     rfe_fix_t x0[RFE_WHEELS];
@@ -172,9 +170,9 @@ static rfe_status_t est_init_sckf(rfe_friction_q31_t *est, const rfe_filter_para
     SR[0] = fp->r_ax;
     SR[RFE_MEAS + 1] = fp->r_ay;
     SR[(2 * RFE_MEAS) + 2] = fp->r_yaw_acc;
-    st = est_sqrt_prior(fp->sd0, fp->sd0_common, n, S0);
+    st = sqrt_prior_q31(fp->sd0, fp->sd0_common, n, S0);
     if (st == RFE_OK) {
-        st = est_sqrt_prior(fp->q_mu, fp->q_common, n, SQ);
+        st = sqrt_prior_q31(fp->q_mu, fp->q_common, n, SQ);
     }
     if (st == RFE_OK) {
         st = rfe_sckf_init_q31(&est->filter.sckf, n, RFE_MEAS, x0, S0, SQ, SR);
@@ -184,7 +182,7 @@ static rfe_status_t est_init_sckf(rfe_friction_q31_t *est, const rfe_filter_para
 
 /* The CKF runs only the paper subset (rfe_params_validate_q31): P0 = sd0^2 I, Q = q_mu^2 I
  * (Q60 -> Q31), R = diag(r^2) (Q48 -> Q24). */
-static rfe_status_t est_init_ckf(rfe_friction_q31_t *est, const rfe_filter_params_q31_t *fp)
+static rfe_status_t init_ckf_q31(rfe_friction_q31_t *est, const rfe_filter_params_q31_t *fp)
 {
     rfe_fix_t x0[RFE_WHEELS];
     rfe_fix_t P0[RFE_WHEELS * RFE_WHEELS] = {0};
@@ -195,18 +193,18 @@ static rfe_status_t est_init_ckf(rfe_friction_q31_t *est, const rfe_filter_param
     const unsigned int sp = (2u * QSD) - RFE_Q31_QP;
     const unsigned int sr = (2u * QACC) - RFE_Q31_QR;
     size_t i;
-    rfe_status_t st = est_square_into(fp->sd0, sp, &p0);
+    rfe_status_t st = square_into_q31(fp->sd0, sp, &p0);
     if (st == RFE_OK) {
-        st = est_square_into(fp->q_mu, sp, &q);
+        st = square_into_q31(fp->q_mu, sp, &q);
     }
     if (st == RFE_OK) {
-        st = est_square_into(fp->r_ax, sr, &R[0]);
+        st = square_into_q31(fp->r_ax, sr, &R[0]);
     }
     if (st == RFE_OK) {
-        st = est_square_into(fp->r_ay, sr, &R[RFE_MEAS + 1]);
+        st = square_into_q31(fp->r_ay, sr, &R[RFE_MEAS + 1]);
     }
     if (st == RFE_OK) {
-        st = est_square_into(fp->r_yaw_acc, sr, &R[(2 * RFE_MEAS) + 2]);
+        st = square_into_q31(fp->r_yaw_acc, sr, &R[(2 * RFE_MEAS) + 2]);
     }
     for (i = 0u; i < NW; ++i) {
         x0[i] = fp->mu0;
@@ -236,7 +234,7 @@ rfe_status_t rfe_friction_init_q31(rfe_friction_q31_t *est, const rfe_params_q31
     n = (fp->structure == RFE_STRUCT_SIDES) ? 2u : NW;
     /* A failure (a prior that does not fit its format) leaves the estimator not initialised;
      * the filter init writes only after its own checks, which validated sizes pass. */
-    st = (fp->kind == RFE_FILTER_CKF) ? est_init_ckf(est, fp) : est_init_sckf(est, fp, n);
+    st = (fp->kind == RFE_FILTER_CKF) ? init_ckf_q31(est, fp) : init_sckf_q31(est, fp, n);
     if (st == RFE_OK) {
         st = rfe_conditioner_init_q31(&est->cond);
     }
@@ -253,26 +251,26 @@ rfe_status_t rfe_friction_init_q31(rfe_friction_q31_t *est, const rfe_params_q31
 }
 
 /* |v| <= lim without forming |v| (INT32_MIN is a valid input). */
-static int est_within(rfe_fix_t v, rfe_fix_t lim)
+static int within_q31(rfe_fix_t v, rfe_fix_t lim)
 {
     return ((v <= lim) && (v >= -lim)) ? 1 : 0;
 }
 
 /* RFE_ERR_RANGE for a physically implausible sample: the limits of config.h in Q formats. */
-static rfe_status_t est_check_sample(const rfe_sample_q31_t *u)
+static rfe_status_t check_sample_q31(const rfe_sample_q31_t *u)
 {
     size_t i;
-    if ((est_within(u->delta, RFE_FIX_LIMIT_DELTA) == 0) ||
-        (est_within(u->vx, RFE_FIX_LIMIT_VX) == 0) ||
-        (est_within(u->vy, RFE_FIX_LIMIT_VY) == 0) ||
-        (est_within(u->yaw_rate, RFE_FIX_LIMIT_YAW_RATE) == 0) ||
-        (est_within(u->yaw_acc, RFE_FIX_LIMIT_YAW_ACC) == 0) ||
-        (est_within(u->ax, RFE_FIX_LIMIT_ACC) == 0) ||
-        (est_within(u->ay, RFE_FIX_LIMIT_ACC) == 0)) {
+    if ((within_q31(u->delta, RFE_FIX_LIMIT_DELTA) == 0) ||
+        (within_q31(u->vx, RFE_FIX_LIMIT_VX) == 0) ||
+        (within_q31(u->vy, RFE_FIX_LIMIT_VY) == 0) ||
+        (within_q31(u->yaw_rate, RFE_FIX_LIMIT_YAW_RATE) == 0) ||
+        (within_q31(u->yaw_acc, RFE_FIX_LIMIT_YAW_ACC) == 0) ||
+        (within_q31(u->ax, RFE_FIX_LIMIT_ACC) == 0) ||
+        (within_q31(u->ay, RFE_FIX_LIMIT_ACC) == 0)) {
         return RFE_ERR_RANGE;
     }
     for (i = 0u; i < NW; ++i) {
-        if (est_within(u->omega[i], RFE_FIX_LIMIT_OMEGA) == 0) {
+        if (within_q31(u->omega[i], RFE_FIX_LIMIT_OMEGA) == 0) {
             return RFE_ERR_RANGE;
         }
     }
@@ -281,7 +279,7 @@ static rfe_status_t est_check_sample(const rfe_sample_q31_t *u)
 
 /* Saves / restores what a step changes (filter mean and factor, input filter) so a failing
  * step changes nothing; the filter's counter is 0 between steps, so restoring sets it to 0. */
-static void est_backup(rfe_friction_q31_t *est, int restore)
+static void backup_q31(rfe_friction_q31_t *est, int restore)
 {
     const rfe_filter_kind_t kind = est->params.filter.kind;
     rfe_fix_t *x = (kind == RFE_FILTER_CKF) ? est->filter.ckf.x : est->filter.sckf.x;
@@ -325,7 +323,7 @@ static int step_noise_active_q31(const rfe_filter_params_q31_t *fp)
 
 /* Steps 4-6 (SCKF): this step's S_R at the predicted mean, then the gated update.
  * *updated = 0 when the gate held the step. */
-static rfe_status_t est_sckf_measurement(rfe_friction_q31_t *est, const rfe_sample_q31_t *u,
+static rfe_status_t sckf_measurement_q31(rfe_friction_q31_t *est, const rfe_sample_q31_t *u,
                                          const rfe_fix_t y[RFE_MEAS], int *updated)
 {
     const rfe_filter_params_q31_t *fp = &est->params.filter;
@@ -335,19 +333,19 @@ static rfe_status_t est_sckf_measurement(rfe_friction_q31_t *est, const rfe_samp
     rfe_status_t st = RFE_OK;
     if (step_noise_active_q31(fp) != 0) {
         rfe_fix_t mu[RFE_WHEELS];
-        est_to_wheels(est, f->x, mu); /* T x- */
+        to_wheels_q31(est, f->x, mu); /* T x- */
         /* the internal entry: params validated at init, est->meas set up from u just now */
         st = rfe_step_noise_sqrt_core_q31(&est->params, &est->meas, u, mu, SR, &est->step_sat);
         sr = SR;
     }
     if (st == RFE_OK) {
-        st = rfe_sckf_update_ex_q31(f, est_measure, est, y, sr, fp->info_min, NULL, updated);
+        st = rfe_sckf_update_ex_q31(f, measure_q31, est, y, sr, fp->info_min, NULL, updated);
     }
     return st;
 }
 
 /* round(num / den) for num >= 0, den > 0, saturating (counted) to the int32 range. */
-static rfe_fix_t est_div_round_pos(uint64_t num, uint64_t den, uint32_t *count)
+static rfe_fix_t div_round_pos_q31(uint64_t num, uint64_t den, uint32_t *count)
 {
     uint64_t q = num / den;
     if ((num % den) >= (den - (num % den))) { /* remainder >= den / 2: ties up */
@@ -362,7 +360,7 @@ static rfe_fix_t est_div_round_pos(uint64_t num, uint64_t den, uint32_t *count)
 
 /* The floor's factor: max over the states with sd_k < f_k = sd_floor_rel max(x_k, 0) of
  * f_k / sd_k (Q24, into *c); *scale = 1 when some state is below its floor. */
-static void est_floor_factor(const rfe_friction_q31_t *est, const rfe_fix_t *x,
+static void floor_factor_q31(const rfe_friction_q31_t *est, const rfe_fix_t *x,
                              const rfe_fix_t *sd, rfe_fix_t *c, int *scale, uint32_t *count)
 {
     const rfe_filter_params_q31_t *fp = &est->params.filter;
@@ -376,7 +374,7 @@ static void est_floor_factor(const rfe_friction_q31_t *est, const rfe_fix_t *x,
              * S_Q, whose diagonal is >= q_mu > 0); a zero sd would count as 1 LSB (the
              * factor then saturates, counted), where the float twin fails on infinity. */
             const uint64_t den = (uint64_t)rfe_fix_max(sd[k], 1) << (QFLOOR - QSD - RFE_Q31_QC);
-            *c = rfe_fix_max(*c, est_div_round_pos(f59, den, count));
+            *c = rfe_fix_max(*c, div_round_pos_q31(f59, den, count));
             *scale = 1;
         }
     }
@@ -384,7 +382,7 @@ static void est_floor_factor(const rfe_friction_q31_t *est, const rfe_fix_t *x,
 
 /* The floor's factor c (Q24, > 1) limited so that no sd_k c exceeds sd_max: c = min(c,
  * sd_max / max_k sd_k), rounded to nearest (sd_max 2^24 / sd_hi < c: cannot saturate). */
-static rfe_fix_t est_cap_floor_factor(const rfe_friction_q31_t *est, const rfe_fix_t *sd,
+static rfe_fix_t cap_floor_factor_q31(const rfe_friction_q31_t *est, const rfe_fix_t *sd,
                                       rfe_fix_t c, uint32_t *count)
 {
     const rfe_fix_t sd_max = est->params.filter.sd_max;
@@ -394,7 +392,7 @@ static rfe_fix_t est_cap_floor_factor(const rfe_friction_q31_t *est, const rfe_f
         sd_hi = rfe_fix_max(sd_hi, sd[k]);
     }
     if ((uint64_t)sd_hi * (uint64_t)c > ((uint64_t)sd_max << RFE_Q31_QC)) {
-        return est_div_round_pos((uint64_t)sd_max << RFE_Q31_QC, (uint64_t)sd_hi, count);
+        return div_round_pos_q31((uint64_t)sd_max << RFE_Q31_QC, (uint64_t)sd_hi, count);
     }
     return c;
 }
@@ -403,7 +401,7 @@ static rfe_fix_t est_cap_floor_factor(const rfe_friction_q31_t *est, const rfe_f
  * over sd_k > sd_max; else floor: c = max_k f_k / sd_k over sd_k < f_k,
  * f_k = sd_floor_rel max(x_k, 0), limited to sd_max / max_k sd_k so that lifting a
  * well-informed wheel to its floor never lifts another above the cap. */
-static rfe_status_t est_bound_sd(rfe_friction_q31_t *est)
+static rfe_status_t bound_sd_q31(rfe_friction_q31_t *est)
 {
     const rfe_filter_params_q31_t *fp = &est->params.filter;
     rfe_fix_t x[RFE_N_MAX];
@@ -429,9 +427,9 @@ static rfe_status_t est_bound_sd(rfe_friction_q31_t *est)
         }
     }
     if ((st == RFE_OK) && (scale == 0) && (fp->sd_floor_rel > 0)) {
-        est_floor_factor(est, x, sd, &c, &scale, &est->step_sat);
+        floor_factor_q31(est, x, sd, &c, &scale, &est->step_sat);
         if ((scale != 0) && (fp->sd_max > 0)) {
-            c = est_cap_floor_factor(est, sd, c, &est->step_sat);
+            c = cap_floor_factor_q31(est, sd, c, &est->step_sat);
         }
     }
     if ((st == RFE_OK) && (scale != 0)) {
@@ -443,7 +441,7 @@ static rfe_status_t est_bound_sd(rfe_friction_q31_t *est)
 
 /* Steps 3-6 when vx >= v_est_min: the measurement model of the sample, then the update
  * (CKF) or the gated update with the step's S_R (SCKF). */
-static rfe_status_t est_measurement_step(rfe_friction_q31_t *est, const rfe_sample_q31_t *u,
+static rfe_status_t measurement_step_q31(rfe_friction_q31_t *est, const rfe_sample_q31_t *u,
                                          int *updated)
 {
     rfe_fix_t y[RFE_MEAS];
@@ -455,10 +453,10 @@ static rfe_status_t est_measurement_step(rfe_friction_q31_t *est, const rfe_samp
                             &est->step_sat);
     if (st == RFE_OK) {
         if (est->params.filter.kind == RFE_FILTER_CKF) {
-            st = rfe_ckf_update_q31(&est->filter.ckf, est_measure, est, y);
+            st = rfe_ckf_update_q31(&est->filter.ckf, measure_q31, est, y);
             *updated = 1;
         } else {
-            st = est_sckf_measurement(est, u, y, updated);
+            st = sckf_measurement_q31(est, u, y, updated);
         }
     }
     return st;
@@ -466,13 +464,13 @@ static rfe_status_t est_measurement_step(rfe_friction_q31_t *est, const rfe_samp
 
 /* Steps 1-8 after the input check. Returns the step's status or an error (the caller
  * rolls back). */
-static rfe_status_t est_filter_step(rfe_friction_q31_t *est, const rfe_sample_q31_t *sample)
+static rfe_status_t filter_step_q31(rfe_friction_q31_t *est, const rfe_sample_q31_t *sample)
 {
     const rfe_filter_kind_t kind = est->params.filter.kind;
     const rfe_filter_params_q31_t *fp = &est->params.filter;
     rfe_sample_q31_t u;
     rfe_status_t st;
-    rfe_status_t status = RFE_NO_UPDATE_LOW_SPEED;
+    int measured = 0;
     int updated = 0;
     int clamped = 0;
 
@@ -487,28 +485,25 @@ static rfe_status_t est_filter_step(rfe_friction_q31_t *est, const rfe_sample_q3
     /* 3. Below v_est_min (standstill, creeping, reversing) tyre forces carry no usable
      * friction information: time update only. 4-6 otherwise. */
     if ((st == RFE_OK) && (u.vx >= fp->v_est_min)) {
-        st = est_measurement_step(est, &u, &updated);
-        status = (updated != 0) ? RFE_OK : RFE_HELD_NOT_OBSERVABLE;
+        st = measurement_step_q31(est, &u, &updated);
+        measured = 1;
     }
     /* 7. Bounds on the sd (SCKF; the CKF runs without them). */
     if ((st == RFE_OK) && (kind != RFE_FILTER_CKF)) {
-        st = est_bound_sd(est);
+        st = bound_sd_q31(est);
     }
     /* 8. Friction is physically bounded: after an update, project the mean (not S). */
     if ((st == RFE_OK) && (updated != 0)) {
         st = (kind == RFE_FILTER_CKF)
                  ? rfe_ckf_clamp_q31(&est->filter.ckf, fp->mu_min, fp->mu_max, &clamped)
                  : rfe_sckf_clamp_q31(&est->filter.sckf, fp->mu_min, fp->mu_max, &clamped);
-        if (clamped != 0) {
-            status = RFE_PROJECTED;
-        }
     }
-    return (st != RFE_OK) ? st : status;
+    return (st != RFE_OK) ? st : rfe_friction_step_status(measured, updated, clamped);
 }
 
 /* After a successful step: the filter's count joins the step's, both go to the running
  * total, the filter's counter is emptied. Returns the step's count. */
-static uint32_t est_settle_counts(rfe_friction_q31_t *est)
+static uint32_t settle_counts_q31(rfe_friction_q31_t *est)
 {
     uint32_t *fsat = (est->params.filter.kind == RFE_FILTER_CKF) ? &est->filter.ckf.sat
                                                                  : &est->filter.sckf.sat;
@@ -540,7 +535,7 @@ rfe_status_t rfe_friction_get_q31(const rfe_friction_q31_t *est, rfe_estimate_q3
              : rfe_sckf_get_q31(&est->filter.sckf, x, sd);
     /* 9. mu = T x, sd = T (row norms of S); validity by sd when sd_valid > 0. */
     for (w = 0u; w < NW; ++w) {
-        const size_t k = est_state_of(est, w);
+        const size_t k = state_of_q31(est, w);
         out->mu[w] = x[k];
         out->sd[w] = sd[k];
         out->valid[w] = ((sd_valid > 0) && (sd[k] <= sd_valid)) ? 1u : 0u;
@@ -557,6 +552,7 @@ rfe_status_t rfe_friction_step_q31(rfe_friction_q31_t *est, const rfe_sample_q31
     rfe_status_t got;
     uint32_t step_sat = 0u;
     size_t i;
+    int sd_rule = 0;
 
     if ((est == NULL) || (sample == NULL) || (out == NULL)) {
         return RFE_ERR_NULL;
@@ -565,29 +561,25 @@ rfe_status_t rfe_friction_step_q31(rfe_friction_q31_t *est, const rfe_sample_q31
         return RFE_ERR_NOT_INITIALISED;
     }
     /* 0. Input check: a rejected sample changes nothing. */
-    st = est_check_sample(sample);
+    st = check_sample_q31(sample);
     if (st == RFE_OK) {
-        est_backup(est, 0);
-        st = est_filter_step(est, sample);
+        backup_q31(est, 0);
+        st = filter_step_q31(est, sample);
         if (rfe_status_is_error(st) != 0) {
-            est_backup(est, 1);
+            backup_q31(est, 1);
         } else {
-            step_sat = est_settle_counts(est);
+            step_sat = settle_counts_q31(est);
         }
+    }
+    if (est->params.filter.sd_valid > 0) {
+        sd_rule = 1; /* the sd rule; else the paper's */
     }
     got = rfe_friction_get_q31(est, out);
     if (got != RFE_OK) {
         return got;
     }
     for (i = 0u; i < NW; ++i) {
-        if (rfe_status_is_error(st) != 0) {
-            out->valid[i] = 0u;
-        } else if (est->params.filter.sd_valid <= 0) {
-            /* The paper rule: valid when this step updated the estimate from data. */
-            out->valid[i] = ((st == RFE_OK) || (st == RFE_PROJECTED)) ? 1u : 0u;
-        } else {
-            /* sd rule, set by get */
-        }
+        out->valid[i] = rfe_friction_valid(st, sd_rule, out->valid[i]);
     }
     out->status = st;
     out->sat = step_sat;

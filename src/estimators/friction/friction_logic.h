@@ -1,0 +1,54 @@
+/**
+ * @file friction_logic.h
+ * @brief What the friction estimator's twins (friction_flt.c, friction_q31.c) decide alike,
+ *        whatever their arithmetic (docs/ESTIMATOR.md): the map T from wheels to states, the
+ *        step's status and the per-wheel valid flag. Written once, so the twins cannot drift.
+ */
+#ifndef RFE_FRICTION_LOGIC_H
+#define RFE_FRICTION_LOGIC_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "rfe/common.h"
+#include "rfe/modes.h"
+
+/* State index of wheel w: the map T. wheels: T = I; sides: fl, rl on the left state 0,
+ * fr, rr on the right state 1. */
+static inline size_t rfe_friction_state_index(rfe_structure_t structure, size_t w)
+{
+    if (structure == RFE_STRUCT_SIDES) {
+        return ((w == (size_t)RFE_FL) || (w == (size_t)RFE_RL)) ? 0u : 1u;
+    }
+    return w;
+}
+
+/* The status of a step that raised no error (steps 3, 6, 8): no measurement below v_est_min,
+ * held when the gate kept the update out, projected when step 8 moved the mean. */
+static inline rfe_status_t rfe_friction_step_status(int measured, int updated, int clamped)
+{
+    rfe_status_t s = RFE_NO_UPDATE_LOW_SPEED;
+    if (measured != 0) {
+        s = (updated != 0) ? RFE_OK : RFE_HELD_NOT_OBSERVABLE;
+    }
+    if ((updated != 0) && (clamped != 0)) {
+        s = RFE_PROJECTED;
+    }
+    return s;
+}
+
+/* Step 9's valid flag of one wheel after a step with status st: never after an error; by the
+ * sd (by_sd, computed from the estimate) when the sd rule is on (sd_valid > 0); else the
+ * paper's rule, valid when this step updated the estimate from data. */
+static inline uint8_t rfe_friction_valid(rfe_status_t st, int sd_rule, uint8_t by_sd)
+{
+    if (rfe_status_is_error(st) != 0) {
+        return 0u;
+    }
+    if (sd_rule != 0) {
+        return by_sd;
+    }
+    return ((st == RFE_OK) || (st == RFE_PROJECTED)) ? 1u : 0u;
+}
+
+#endif /* RFE_FRICTION_LOGIC_H */
