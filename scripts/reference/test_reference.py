@@ -459,8 +459,22 @@ def test_scenario_sckf_equals_ckf(path):
 
 # The reference's goldens; the fixed-point estimator's own goldens (*.q31.csv, written by
 # `mu_replay --real q31`, `make goldens-q31`) are checked bit for bit by test/golden/test_golden_q31.c.
+# Every golden is regenerated and compared by `make check-kernels` (its as-is run, part of
+# `make test`); here only those of its subset logs, so the two do not repeat the same work.
+def _kernel_subset() -> tuple[str, ...]:
+    """The stems of scripts/checks/check_kernels.py's DEFAULT_SUBSET (read, not copied)."""
+    import importlib.util
+    spec = importlib.util.spec_from_file_location(
+        "check_kernels", os.path.join(REPO, "scripts", "checks", "check_kernels.py"))
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return tuple(f[:-len(".csv")] for f in mod.DEFAULT_SUBSET.split(","))
+
+
+KERNEL_SUBSET = _kernel_subset()
 GOLDENS = sorted(g for g in glob.glob(os.path.join(REPO, "scenarios", "golden", "*.csv"))
-                 if not g.endswith(".q31.csv"))
+                 if not g.endswith(".q31.csv")
+                 and os.path.basename(g).rsplit(".", 3)[0] in KERNEL_SUBSET)
 
 
 # REQ-REF-002
