@@ -4,7 +4,7 @@
  *        rfe_meas_eval_perturbed; the step noise's model evaluations, docs/ESTIMATOR.md
  *        step 4) against a full rfe_meas_setup + rfe_meas_eval at the perturbed sample, bit
  *        for bit and status for status, in every tyre mode and for every input, and their
- *        argument checks. Inputs from a fixed-seed generator, some beyond the limits.
+ *        argument checks. Inputs from a fixed-seed generator (test_draws.h), some beyond the limits.
  */
 #include "test_light.h"
 #include "test_common.h"
@@ -16,41 +16,10 @@
 #include "rfe/component/meas.h"
 #include "rfe/params.h"
 
+#include "test_draws.h"
+
 #define N_CASES 4000
 #define RFE_R(x) ((rfe_real_t)(x))
-
-static uint64_t rng_state;
-
-static uint64_t next_u64(void)
-{
-    rng_state ^= rng_state << 13;
-    rng_state ^= rng_state >> 7;
-    rng_state ^= rng_state << 17;
-    return rng_state;
-}
-
-/* Uniform in [a, b]. */
-static double uni(double a, double b)
-{
-    return a + (b - a) * ((double)(next_u64() >> 11) / 9007199254740992.0);
-}
-
-static void draw_sample(rfe_sample_t *u, rfe_real_t mu[4])
-{
-    size_t i;
-    memset(u, 0, sizeof(*u));
-    u->delta = (rfe_real_t)uni(-0.5, 0.5);
-    u->vx = (rfe_real_t)uni(-5.0, 60.0);
-    u->vy = (rfe_real_t)uni(-3.0, 3.0);
-    u->yaw_rate = (rfe_real_t)uni(-1.0, 1.0);
-    u->yaw_acc = (rfe_real_t)uni(-3.0, 3.0);
-    u->ax = (rfe_real_t)uni(-12.0, 12.0);
-    u->ay = (rfe_real_t)uni(-12.0, 12.0);
-    for (i = 0; i < 4; ++i) {
-        u->omega[i] = (rfe_real_t)(u->vx * uni(0.7, 1.1) / 0.3);
-        mu[i] = (rfe_real_t)uni(-0.5, 1.6);
-    }
-}
 
 /* u with input j changed by d, as a caller would write it. */
 static rfe_sample_t perturb(const rfe_sample_t *u, size_t j, rfe_real_t d)
@@ -80,7 +49,7 @@ static void test_meas_perturbed(void **state)
     long compared = 0;
     long failed = 0;
     (void)state;
-    rng_state = 0x9E3779B97F4A7C15ull;
+    draw_seed(0x9E3779B97F4A7C15ull);
     for (n = 0; n < N_CASES; n += (int)rfe_test_stride(10u)) {
         ++n_case;
         rfe_params_t p;
@@ -93,7 +62,7 @@ static void test_meas_perturbed(void **state)
         size_t j;
         assert_int_equal(rfe_params_default(&p), RFE_OK);
         p.tyre.mode = MODES[n % 3];
-        draw_sample(&u, mu);
+        draw_sample(&u, mu, 1);
         if (rfe_meas_setup(&h, &p.vehicle, &p.tyre, &u) != RFE_OK) {
             continue;
         }
@@ -109,7 +78,7 @@ static void test_meas_perturbed(void **state)
             /* a small step, a large one, and (every 16th case) an infinite one */
             const double mag = ((n_case % 2) == 0) ? 1e-2 : 0.3;
             const rfe_real_t dm = ((n_case % 16) == 5) ? (rfe_real_t)INFINITY : (rfe_real_t)mag;
-            const rfe_real_t d = ((next_u64() & 1u) != 0u) ? dm : -dm;
+            const rfe_real_t d = ((draw_u64() & 1u) != 0u) ? dm : -dm;
             const rfe_sample_t up = perturb(&u, j, d);
             rfe_meas_t hp;
             rfe_real_t zg[3] = {RFE_R(7.0), RFE_R(7.0), RFE_R(7.0)};
@@ -146,10 +115,10 @@ static void test_meas_perturbed_args(void **state)
     rfe_real_t z[3] = {RFE_R(7.0), RFE_R(7.0), RFE_R(7.0)};
     const rfe_real_t z7[3] = {RFE_R(7.0), RFE_R(7.0), RFE_R(7.0)};
     (void)state;
-    rng_state = 0x1234567ull;
+    draw_seed(0x1234567ull);
     assert_int_equal(rfe_params_default(&p), RFE_OK);
     p.tyre.mode = RFE_TYRE_ABSOLUTE;
-    draw_sample(&u, mu);
+    draw_sample(&u, mu, 1);
     u.vx = RFE_R(20.0);
     assert_int_equal(rfe_meas_setup(&h, &p.vehicle, &p.tyre, &u), RFE_OK);
     assert_int_equal(rfe_meas_nominal(NULL, &p.vehicle, &p.tyre, mu, &nom, z), RFE_ERR_NULL);

@@ -15,7 +15,7 @@
  *    set-up and evaluation at u and at u +- sd_j e_j), in absolute and paper tyre mode, with
  *    every input switched on or off, and the statuses when a perturbed input, a perturbed
  *    wheel's kinematics or the nominal model is not finite.
- * Inputs from a fixed-seed generator over and beyond the input limits.
+ * Inputs from a fixed-seed generator (test_draws.h) over and beyond the input limits.
  */
 #include "test_light.h"
 #include "test_common.h"
@@ -33,6 +33,7 @@
 
 #include "estimators/friction/step_noise_internal.h"
 #include "models/tyre_internal.h"
+#include "test_draws.h"
 
 #define N_CASES 20000
 #define RFE_R(x) ((rfe_real_t)(x))
@@ -50,63 +51,6 @@
 #define T_TINY 1e-37
 #endif
 
-static uint64_t rng_state;
-
-static uint64_t next_u64(void)
-{
-    rng_state ^= rng_state << 13;
-    rng_state ^= rng_state >> 7;
-    rng_state ^= rng_state << 17;
-    return rng_state;
-}
-
-/* Uniform in [a, b]. */
-static double uni(double a, double b)
-{
-    return a + (b - a) * ((double)(next_u64() >> 11) / 9007199254740992.0);
-}
-
-/* Mostly uniform in [-typ, typ], sometimes 0, huge, infinite or NaN. */
-static rfe_real_t draw(double typ)
-{
-    const unsigned int k = (unsigned int)(next_u64() % 32u);
-    if (k == 0u) {
-        return RFE_R(0.0);
-    }
-    if (k == 1u) {
-        return (rfe_real_t)(((next_u64() & 1u) != 0u) ? 1e30 : -1e30);
-    }
-    if (k == 2u) {
-        return (rfe_real_t)INFINITY;
-    }
-    if (k == 3u) {
-        return (rfe_real_t)NAN;
-    }
-    return (rfe_real_t)uni(-typ, typ);
-}
-
-static void draw_sample(rfe_sample_t *u, rfe_real_t mu[4], int finite)
-{
-    size_t i;
-    memset(u, 0, sizeof(*u));
-    u->delta = (rfe_real_t)uni(-0.5, 0.5);
-    u->vx = (rfe_real_t)uni(-5.0, 60.0);
-    u->vy = (rfe_real_t)uni(-3.0, 3.0);
-    u->yaw_rate = (rfe_real_t)uni(-1.0, 1.0);
-    u->yaw_acc = (rfe_real_t)uni(-3.0, 3.0);
-    u->ax = (rfe_real_t)uni(-12.0, 12.0);
-    u->ay = (rfe_real_t)uni(-12.0, 12.0);
-    for (i = 0; i < 4; ++i) {
-        u->omega[i] = (rfe_real_t)(u->vx * uni(0.7, 1.1) / 0.3);
-        mu[i] = (rfe_real_t)uni(-0.5, 1.6);
-    }
-    if (finite == 0) {
-        u->vx = draw(3e38);
-        u->omega[next_u64() % 4u] = draw(1e3);
-        mu[next_u64() % 4u] = draw(2.0);
-    }
-}
-
 static void bits_equal(const rfe_real_t *a, const rfe_real_t *b, size_t n)
 {
     assert_memory_equal(a, b, n * sizeof(rfe_real_t));
@@ -120,22 +64,22 @@ static void test_dugoff_split(void **state)
     rfe_params_t p;
     int n;
     (void)state;
-    rng_state = 0xD06FF5ull;
+    draw_seed(0xD06FF5ull);
     assert_int_equal(rfe_params_default(&p), RFE_OK);
     for (n = 0; n < N_CASES; n += (int)rfe_test_stride(10u)) {
-        const rfe_real_t kappa = draw(1.2);
-        const rfe_real_t alpha = draw(0.6);
-        const rfe_real_t fz = draw(9000.0);
-        const rfe_real_t vwx = draw(60.0);
-        const rfe_real_t mu = draw(2.0);
+        const rfe_real_t kappa = draw_special(1.2);
+        const rfe_real_t alpha = draw_special(0.6);
+        const rfe_real_t fz = draw_special(9000.0);
+        const rfe_real_t vwx = draw_special(60.0);
+        const rfe_real_t mu = draw_special(2.0);
         rfe_real_t f1[2] = {RFE_R(7.0), RFE_R(7.0)};
         rfe_real_t f2[2] = {RFE_R(7.0), RFE_R(7.0)};
         rfe_dugoff_pre_t pre;
         rfe_tyre_params_t tp = p.tyre;
         if ((n % 3) == 1) {
-            tp.cx = (rfe_real_t)uni(0.0, 60.0);
-            tp.cy = (rfe_real_t)uni(0.0, 60.0);
-            tp.eps = (rfe_real_t)uni(0.0, 0.05);
+            tp.cx = (rfe_real_t)draw_uniform(0.0, 60.0);
+            tp.cy = (rfe_real_t)draw_uniform(0.0, 60.0);
+            tp.eps = (rfe_real_t)draw_uniform(0.0, 0.05);
         }
         tp.mode = (((n / (int)rfe_test_stride(10u)) % 2) == 0) ? RFE_TYRE_MAGIC : RFE_TYRE_ABSOLUTE;
         rfe_tyre_dugoff_pre(&tp, kappa, alpha, vwx, &pre);
@@ -185,7 +129,7 @@ static void test_meas_cached(void **state)
     rfe_params_t p;
     int n;
     (void)state;
-    rng_state = 0x3EA5C0ull;
+    draw_seed(0x3EA5C0ull);
     assert_int_equal(rfe_params_default(&p), RFE_OK);
     for (n = 0; n < N_CASES; n += (int)rfe_test_stride(10u)) {
         rfe_sample_t u;
@@ -201,9 +145,9 @@ static void test_meas_cached(void **state)
         assert_int_equal(rfe_meas_eval(&h, &p.vehicle, &p.tyre, mu, z1),
                          chain(&h, &p.vehicle, &p.tyre, mu, z2));
         bits_equal(z1, z2, 3u);
-        other.cx = (rfe_real_t)uni(0.0, 60.0);
-        other.cy = (rfe_real_t)uni(0.0, 60.0);
-        other.eps = (n % 2) ? (rfe_real_t)NAN : (rfe_real_t)uni(0.0, 0.05);
+        other.cx = (rfe_real_t)draw_uniform(0.0, 60.0);
+        other.cy = (rfe_real_t)draw_uniform(0.0, 60.0);
+        other.eps = (n % 2) ? (rfe_real_t)NAN : (rfe_real_t)draw_uniform(0.0, 0.05);
         assert_int_equal(rfe_meas_eval(&h, &p.vehicle, &other, mu, z1),
                          chain(&h, &p.vehicle, &other, mu, z2));
         bits_equal(z1, z2, 3u);
@@ -219,7 +163,7 @@ static void test_step_noise_core(void **state)
     long ok = 0;
     long failed = 0;
     (void)state;
-    rng_state = 0xE1FC0BEull;
+    draw_seed(0xE1FC0BEull);
     for (n = 0; n < N_CASES; n += (int)rfe_test_stride(10u)) {
         rfe_params_t p;
         rfe_sample_t u;
@@ -231,9 +175,9 @@ static void test_step_noise_core(void **state)
         size_t i;
         assert_int_equal(rfe_params_default(&p), RFE_OK);
         if ((n % 5) == 2) {
-            p.filter.sd_in_delta = (rfe_real_t)uni(0.0, 0.02);
-            p.filter.sd_in_vx = (n % 2) ? RFE_R(0.0) : (rfe_real_t)uni(0.0, 0.3);
-            p.filter.sd_in_omega = (rfe_real_t)uni(0.0, 0.5);
+            p.filter.sd_in_delta = (rfe_real_t)draw_uniform(0.0, 0.02);
+            p.filter.sd_in_vx = (n % 2) ? RFE_R(0.0) : (rfe_real_t)draw_uniform(0.0, 0.3);
+            p.filter.sd_in_omega = (rfe_real_t)draw_uniform(0.0, 0.5);
             p.filter.sd_in_vy = ((n % 4) == 3) ? RFE_R(0.0) : p.filter.sd_in_vy;
         }
         if ((n % 7) == 3) {
@@ -366,16 +310,16 @@ static void test_step_noise_reference(void **state)
     int n;
     long ok = 0;
     (void)state;
-    rng_state = 0xA5A5F00Dull;
+    draw_seed(0xA5A5F00Dull);
     for (n = 0; n < N_CASES; n += (int)rfe_test_stride(10u)) {
         rfe_params_t p;
         rfe_sample_t u;
         rfe_real_t mu[4];
         assert_int_equal(rfe_params_default(&p), RFE_OK);
         if ((n % 5) == 2) {
-            p.filter.sd_in_delta = (rfe_real_t)uni(0.0, 0.02);
-            p.filter.sd_in_vx = (n % 2) ? RFE_R(0.0) : (rfe_real_t)uni(0.0, 0.3);
-            p.filter.sd_in_omega = (rfe_real_t)uni(0.0, 0.5);
+            p.filter.sd_in_delta = (rfe_real_t)draw_uniform(0.0, 0.02);
+            p.filter.sd_in_vx = (n % 2) ? RFE_R(0.0) : (rfe_real_t)draw_uniform(0.0, 0.3);
+            p.filter.sd_in_omega = (rfe_real_t)draw_uniform(0.0, 0.5);
             p.filter.sd_in_yaw_rate = ((n % 4) == 3) ? RFE_R(0.0) : p.filter.sd_in_yaw_rate;
         }
         if ((n % 7) == 3) {
@@ -400,7 +344,7 @@ static void test_step_noise_overflow(void **state)
     rfe_real_t S[9];
     size_t i;
     (void)state;
-    rng_state = 0x0FF0ull;
+    draw_seed(0x0FF0ull);
     assert_int_equal(rfe_params_default(&p), RFE_OK);
     draw_sample(&u, mu, 1);
     u.delta = RFE_R(0.0);
@@ -459,7 +403,7 @@ static void test_meas_cached_each_field(void **state)
     rfe_meas_t h;
     int f;
     (void)state;
-    rng_state = 0xF1E1Dull;
+    draw_seed(0xF1E1Dull);
     assert_int_equal(rfe_params_default(&p), RFE_OK);
     do {
         draw_sample(&u, mu, 1);

@@ -16,7 +16,7 @@
  *    rfe_step_noise_sqrt_q31 and against a reference built here from the public measurement
  *    model exactly as docs/ESTIMATOR.md step 4 writes it (a full evaluation of h at u and at
  *    u +- sd_j e_j for every input), in magic, absolute and paper tyre mode.
- * Inputs: integer samples from a fixed-seed generator, over the typical range, the int32
+ * Inputs: integer samples from a fixed-seed generator (test_draws_q31.h), over the typical range, the int32
  * extremes (saturating the kinematics, forces, H and z) and rolling wheels; mu from below 0
  * to 4. In valgrind's light mode every tenth case (every path is still taken).
  */
@@ -38,77 +38,9 @@
 
 #include "estimators/friction/step_noise_internal_q31.h"
 #include "models/tyre_internal_q31.h"
+#include "test_draws_q31.h"
 
 #define N_CASES 20000
-
-static uint64_t rng_state;
-
-static uint64_t next_u64(void)
-{
-    rng_state ^= rng_state << 13;
-    rng_state ^= rng_state >> 7;
-    rng_state ^= rng_state << 17;
-    return rng_state;
-}
-
-/* Mostly within +-typical, sometimes any int32, an extreme or 0. */
-static int32_t draw(int32_t typical)
-{
-    const uint64_t r = next_u64();
-    const unsigned int k = (unsigned int)(r % 16u);
-    if (k == 0u) {
-        return (int32_t)(uint32_t)(next_u64() >> 32);
-    }
-    if (k == 1u) {
-        return ((r & 16u) != 0u) ? INT32_MAX : INT32_MIN;
-    }
-    if (k == 2u) {
-        return 0;
-    }
-    return (int32_t)((int64_t)(next_u64() % (2u * (uint64_t)typical + 1u)) - typical);
-}
-
-static void draw_sample(const rfe_params_q31_t *p, rfe_sample_q31_t *u, rfe_fix_t mu[4], int n)
-{
-    size_t i;
-    memset(u, 0, sizeof(*u));
-    u->delta = draw(1 << 29);
-    u->vx = draw(40 << 23);
-    u->vy = draw(5 << 23);
-    u->yaw_rate = draw(1 << 27);
-    u->yaw_acc = draw(1 << 24);
-    u->ax = draw(10 << 24);
-    u->ay = draw(10 << 24);
-    for (i = 0; i < 4; ++i) {
-        u->omega[i] = draw(100 << 22);
-        mu[i] = draw(1 << 30);
-    }
-    if ((n % 4) == 0) {
-        /* rolling wheels: omega = vx / R plus a little slip, realistic mu */
-        u->vx = (int32_t)(next_u64() % (40u << 23));
-        u->delta = (int32_t)(next_u64() % (1u << 28)) - (1 << 27);
-        for (i = 0; i < 4; ++i) {
-            /* in int64, saturated: draw() may return an int32 extreme */
-            const int64_t w = ((((int64_t)u->vx) << 6) / (p->vehicle.R >> 20)) +
-                              (int64_t)draw(1 << 20);
-            u->omega[i] = (int32_t)((w > INT32_MAX) ? INT32_MAX : ((w < INT32_MIN) ? INT32_MIN : w));
-            mu[i] = (int32_t)(next_u64() % (1u << 30));
-        }
-    }
-}
-
-/* Tyre parameters varied around the preset's (stiffness 0 .. 60, eps 0 .. 0.25, the Magic
- * Formula shape factors anywhere in 1 < C < 2, -4 <= E < 1). */
-static void vary_tyre(rfe_tyre_params_q31_t *tp)
-{
-    tp->cx = (int32_t)(next_u64() % (60u << 24));
-    tp->cy = (int32_t)(next_u64() % (60u << 24));
-    tp->eps = ((next_u64() % 4u) == 0u) ? 0 : (int32_t)(next_u64() % (1u << 30));
-    tp->shape_Cx = (1 << 24) + 1 + (int32_t)(next_u64() % ((1u << 24) - 1u));
-    tp->shape_Cy = (1 << 24) + 1 + (int32_t)(next_u64() % ((1u << 24) - 1u));
-    tp->shape_Ex = ((next_u64() % 2u) == 0u) ? 0 : (int32_t)(next_u64() % (5u << 24)) - (4 << 24);
-    tp->shape_Ey = ((next_u64() % 2u) == 0u) ? 0 : (int32_t)(next_u64() % (5u << 24)) - (4 << 24);
-}
 
 static rfe_params_q31_t preset(void)
 {
@@ -126,7 +58,7 @@ static void test_tyre_internal_q31(void **state)
     rfe_params_q31_t p = preset();
     int n;
     (void)state;
-    rng_state = 0x7E1EC0DEull;
+    draw_seed(0x7E1EC0DEull);
     for (n = 0; n < N_CASES; n += (int)rfe_test_stride(10u)) {
         rfe_sample_q31_t u;
         rfe_fix_t mu[4];
@@ -140,9 +72,9 @@ static void test_tyre_internal_q31(void **state)
         size_t i;
         p = preset();
         if ((n % 3) == 1) {
-            vary_tyre(&p.tyre);
+            draw_tyre_q31(&p.tyre);
         }
-        draw_sample(&p, &u, mu, n);
+        draw_sample_q31(&p, &u, mu, n);
         assert_int_equal(rfe_tyre_kinematics_q31(&p.vehicle, &p.tyre, &u, &kin, &sat), RFE_OK);
         assert_int_equal(rfe_tyre_kinematics_ex_q31(&p.vehicle, &p.tyre, &u, &kin_ex, &extra),
                          RFE_OK);
@@ -245,7 +177,7 @@ static void test_meas_columns_q31(void **state)
     int n;
     long with_sat = 0;
     (void)state;
-    rng_state = 0xC01C01ull;
+    draw_seed(0xC01C01ull);
     for (n = 0; n < N_CASES; n += (int)rfe_test_stride(10u)) {
         rfe_params_q31_t p = preset();
         rfe_tyre_params_q31_t other;
@@ -260,12 +192,12 @@ static void test_meas_columns_q31(void **state)
         uint32_t kin_cnt;
         size_t i;
         if ((n % 3) == 1) {
-            vary_tyre(&p.tyre);
+            draw_tyre_q31(&p.tyre);
         }
         if ((n % 5) == 2) {
             p.tyre.mode = RFE_TYRE_ABSOLUTE;
         }
-        draw_sample(&p, &u, mu, n);
+        draw_sample_q31(&p, &u, mu, n);
         assert_int_equal(rfe_meas_setup_q31(&h, &p.vehicle, &p.tyre, &u, &sat), RFE_OK);
         /* the nominal terms and their sum: the chain's z; the count is the chain's plus the
          * set-up's kinematics counts, which each wheel's terms carry */
@@ -304,8 +236,8 @@ static void test_meas_columns_q31(void **state)
             break;
         default:
             /* other shape factors on the same cached terms */
-            other.shape_Cx = (1 << 24) + 1 + (int32_t)(next_u64() % ((1u << 24) - 1u));
-            other.shape_Ey = (int32_t)(next_u64() % (5u << 24)) - (4 << 24);
+            other.shape_Cx = (1 << 24) + 1 + (int32_t)(draw_u64() % ((1u << 24) - 1u));
+            other.shape_Ey = (int32_t)(draw_u64() % (5u << 24)) - (4 << 24);
             break;
         }
         sat = 0u;
@@ -410,7 +342,7 @@ static void test_step_noise_core_q31(void **state)
     long checked = 0;
     long with_sat = 0;
     (void)state;
-    rng_state = 0xE1F5EEDull;
+    draw_seed(0xE1F5EEDull);
     for (n = 0; n < N_CASES; n += (int)rfe_test_stride(10u)) {
         rfe_params_q31_t p = preset();
         rfe_sample_q31_t u;
@@ -426,12 +358,12 @@ static void test_step_noise_core_q31(void **state)
         rfe_status_t e1;
         rfe_status_t e2;
         if ((n % 3) == 1) {
-            vary_tyre(&p.tyre);
+            draw_tyre_q31(&p.tyre);
         }
         if ((n % 5) == 2) {
-            p.filter.sd_in_delta = (int32_t)(next_u64() % (1u << 26));
-            p.filter.sd_in_vx = (int32_t)(next_u64() % (1u << 26));
-            p.filter.sd_in_omega = (int32_t)(next_u64() % (1u << 26));
+            p.filter.sd_in_delta = (int32_t)(draw_u64() % (1u << 26));
+            p.filter.sd_in_vx = (int32_t)(draw_u64() % (1u << 26));
+            p.filter.sd_in_omega = (int32_t)(draw_u64() % (1u << 26));
             p.filter.sd_in_vy = ((n % 2) == 0) ? 0 : p.filter.sd_in_vy;
             p.filter.sd_in_yaw_rate = ((n % 4) == 3) ? 0 : p.filter.sd_in_yaw_rate;
         }
@@ -441,7 +373,7 @@ static void test_step_noise_core_q31(void **state)
         if ((n % 7) == 5) {
             p.tyre.mode = RFE_TYRE_ABSOLUTE;
         }
-        draw_sample(&p, &u, mu, n);
+        draw_sample_q31(&p, &u, mu, n);
         if (rfe_params_validate_q31(&p) != RFE_OK) {
             continue;
         }
@@ -483,8 +415,8 @@ static void test_meas_pre_invalid_tyre_and_div_saturation_q31(void **state)
     uint32_t sat = 0u;
     size_t i;
     (void)state;
-    rng_state = 0xD1CEull;
-    draw_sample(&p, &u, mu, 0);
+    draw_seed(0xD1CEull);
+    draw_sample_q31(&p, &u, mu, 0);
     u.vx = 20 << 23;
     u.delta = 0;
     for (i = 0; i < 4; ++i) {
