@@ -1,10 +1,13 @@
 /**
  * @file test_meas_flt.c
- * @brief The measurement model at a perturbed input (rfe_meas_nominal,
- *        rfe_meas_eval_perturbed; the step noise's model evaluations, docs/ESTIMATOR.md
- *        step 4) against a full rfe_meas_setup + rfe_meas_eval at the perturbed sample, bit
- *        for bit and status for status, in every tyre mode and for every input, and their
- *        argument checks. Inputs from a fixed-seed generator (test_draws.h), some beyond the limits.
+ * @brief The measurement model (src/models/meas_flt.c), bit for bit and status for status:
+ *  - at a perturbed input (rfe_meas_nominal, rfe_meas_eval_perturbed; the step noise's model
+ *    evaluations, docs/ESTIMATOR.md step 4) against a full rfe_meas_setup + rfe_meas_eval at
+ *    the perturbed sample, in every tyre mode and for every input, and their argument checks;
+ *  - rfe_meas_eval with the terms cached by rfe_meas_setup, against the chain
+ *    rfe_tyre_forces_abs -> rfe_obsmat_build -> rfe_obsmat_apply(H, ones), also when eval is
+ *    given other tyre parameters than the set-up (the cached terms are then not used).
+ * Inputs from a fixed-seed generator (test_draws.h), some beyond the limits.
  */
 #include "test_light.h"
 #include "test_common.h"
@@ -14,11 +17,14 @@
 #include <string.h>
 
 #include "rfe/component/meas.h"
+#include "rfe/component/obsmat.h"
 #include "rfe/params.h"
+#include "rfe/component/tyre.h"
 
 #include "test_draws.h"
 
-#define N_CASES 4000
+#define N_CASES 4000         /* perturbed-input cases */
+#define N_CACHED_CASES 20000 /* cached-terms cases */
 #define RFE_R(x) ((rfe_real_t)(x))
 
 /* u with input j changed by d, as a caller would write it. */
@@ -149,11 +155,114 @@ static void test_meas_perturbed_args(void **state)
     assert_memory_equal(&nom, &nom0, sizeof(nom));
 }
 
+/* The absolute-mode chain of the public functions at tyre parameters tp. */
+static rfe_status_t chain(const rfe_meas_t *h, const rfe_vehicle_t *veh,
+                          const rfe_tyre_params_t *tp, const rfe_real_t mu[4], rfe_real_t z[3])
+{
+    static const rfe_real_t ones[4] = {RFE_R(1.0), RFE_R(1.0), RFE_R(1.0), RFE_R(1.0)};
+    rfe_real_t fx[4];
+    rfe_real_t fy[4];
+    rfe_real_t H[RFE_H_SIZE];
+    rfe_status_t st = rfe_tyre_forces_abs(tp, &h->kin, mu, fx, fy);
+    if (st == RFE_OK) {
+        st = rfe_obsmat_build(veh, h->delta, fx, fy, H);
+    }
+    if (st == RFE_OK) {
+        st = rfe_obsmat_apply(H, ones, z);
+    }
+    return st;
+}
+
+/* REQ: eval with the cached terms is the public chain (forces, H, H ones), bits and
+ * statuses, also for other tyre parameters than the set-up's. */
+/* REQ-MEAS-001 */
+static void test_meas_cached(void **state)
+{
+    rfe_params_t p;
+    int n;
+    (void)state;
+    draw_seed(0x3EA5C0ull);
+    assert_int_equal(rfe_params_default(&p), RFE_OK);
+    for (n = 0; n < N_CACHED_CASES; n += (int)rfe_test_stride(10u)) {
+        rfe_sample_t u;
+        rfe_real_t mu[4];
+        rfe_meas_t h;
+        rfe_tyre_params_t other = p.tyre;
+        rfe_real_t z1[3] = {RFE_R(7.0), RFE_R(7.0), RFE_R(7.0)};
+        rfe_real_t z2[3] = {RFE_R(7.0), RFE_R(7.0), RFE_R(7.0)};
+        draw_sample(&u, mu, ((n % 4) != 0) ? 1 : 0);
+        if (rfe_meas_setup(&h, &p.vehicle, &p.tyre, &u) != RFE_OK) {
+            continue;
+        }
+        assert_int_equal(rfe_meas_eval(&h, &p.vehicle, &p.tyre, mu, z1),
+                         chain(&h, &p.vehicle, &p.tyre, mu, z2));
+        assert_memory_equal(z1, z2, sizeof(z1));
+        other.cx = (rfe_real_t)draw_uniform(0.0, 60.0);
+        other.cy = (rfe_real_t)draw_uniform(0.0, 60.0);
+        other.eps = (n % 2) ? (rfe_real_t)NAN : (rfe_real_t)draw_uniform(0.0, 0.05);
+        assert_int_equal(rfe_meas_eval(&h, &p.vehicle, &other, mu, z1),
+                         chain(&h, &p.vehicle, &other, mu, z2));
+        assert_memory_equal(z1, z2, sizeof(z1));
+    }
+}
+
+/* REQ: the cached terms are used only for the set-up's own tyre: changing any one of the
+ * mode (magic <-> absolute Dugoff), cx, cy, eps, alpha_max alone makes eval recompute them,
+ * giving the public chain's bits. */
+/* REQ-MEAS-001 */
+static void test_meas_cached_each_field(void **state)
+{
+    rfe_params_t p;
+    rfe_sample_t u;
+    rfe_real_t mu[4];
+    rfe_meas_t h;
+    int f;
+    (void)state;
+    draw_seed(0xF1E1Dull);
+    assert_int_equal(rfe_params_default(&p), RFE_OK);
+    do {
+        draw_sample(&u, mu, 1);
+    } while (rfe_meas_setup(&h, &p.vehicle, &p.tyre, &u) != RFE_OK);
+    for (f = 0; f < 5; ++f) {
+        rfe_tyre_params_t other = p.tyre;
+        rfe_real_t z1[3];
+        rfe_real_t z2[3];
+        if (f == 4) {
+            other.mode = RFE_TYRE_ABSOLUTE;
+        } else if (f == 0) {
+            other.cx *= RFE_R(1.5);
+        } else if (f == 1) {
+            other.cy *= RFE_R(1.5);
+        } else if (f == 2) {
+            other.eps += RFE_R(0.01);
+        } else {
+            other.alpha_max *= RFE_R(0.5);
+        }
+        assert_int_equal(rfe_meas_eval(&h, &p.vehicle, &other, mu, z1),
+                         chain(&h, &p.vehicle, &other, mu, z2));
+        assert_memory_equal(z1, z2, sizeof(z1));
+    }
+    /* set up for the absolute Dugoff (no direction cosines cached), evaluated as magic */
+    {
+        rfe_tyre_params_t dug = p.tyre;
+        rfe_meas_t h2;
+        rfe_real_t z1[3];
+        rfe_real_t z2[3];
+        dug.mode = RFE_TYRE_ABSOLUTE;
+        assert_int_equal(rfe_meas_setup(&h2, &p.vehicle, &dug, &u), RFE_OK);
+        assert_int_equal(rfe_meas_eval(&h2, &p.vehicle, &p.tyre, mu, z1),
+                         chain(&h2, &p.vehicle, &p.tyre, mu, z2));
+        assert_memory_equal(z1, z2, sizeof(z1));
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_meas_perturbed),
         cmocka_unit_test(test_meas_perturbed_args),
+        cmocka_unit_test(test_meas_cached),
+        cmocka_unit_test(test_meas_cached_each_field),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
