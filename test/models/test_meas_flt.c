@@ -1,10 +1,13 @@
 /**
  * @file test_meas_flt.c
- * @brief The measurement model at a perturbed input (rfe_meas_nominal,
- *        rfe_meas_eval_perturbed; the step noise's model evaluations, docs/ESTIMATOR.md
- *        step 4) against a full rfe_meas_setup + rfe_meas_eval at the perturbed sample, bit
- *        for bit and status for status, in every tyre mode and for every input, and their
- *        argument checks. Inputs from a fixed-seed generator, some beyond the limits.
+ * @brief The measurement model (src/models/meas_flt.c), bit for bit and status for status:
+ *  - at a perturbed input (rfe_meas_nominal, rfe_meas_eval_perturbed; the step noise's model
+ *    evaluations, docs/ESTIMATOR.md step 4) against a full rfe_meas_setup + rfe_meas_eval at
+ *    the perturbed sample, in every tyre mode and for every input, and their argument checks;
+ *  - rfe_meas_eval with the terms cached by rfe_meas_setup, against the chain
+ *    rfe_tyre_forces_abs -> rfe_obsmat_build -> rfe_obsmat_apply(H, ones), also when eval is
+ *    given other tyre parameters than the set-up (the cached terms are then not used).
+ * Inputs from a fixed-seed generator (test_draws.h), some beyond the limits.
  */
 #include "test_light.h"
 #include "test_common.h"
@@ -14,43 +17,15 @@
 #include <string.h>
 
 #include "rfe/component/meas.h"
+#include "rfe/component/obsmat.h"
 #include "rfe/params.h"
+#include "rfe/component/tyre.h"
 
-#define N_CASES 4000
+#include "test_draws.h"
+
+#define N_CASES 4000         /* perturbed-input cases */
+#define N_CACHED_CASES 20000 /* cached-terms cases */
 #define RFE_R(x) ((rfe_real_t)(x))
-
-static uint64_t rng_state;
-
-static uint64_t next_u64(void)
-{
-    rng_state ^= rng_state << 13;
-    rng_state ^= rng_state >> 7;
-    rng_state ^= rng_state << 17;
-    return rng_state;
-}
-
-/* Uniform in [a, b]. */
-static double uni(double a, double b)
-{
-    return a + (b - a) * ((double)(next_u64() >> 11) / 9007199254740992.0);
-}
-
-static void draw_sample(rfe_sample_t *u, rfe_real_t mu[4])
-{
-    size_t i;
-    memset(u, 0, sizeof(*u));
-    u->delta = (rfe_real_t)uni(-0.5, 0.5);
-    u->vx = (rfe_real_t)uni(-5.0, 60.0);
-    u->vy = (rfe_real_t)uni(-3.0, 3.0);
-    u->yaw_rate = (rfe_real_t)uni(-1.0, 1.0);
-    u->yaw_acc = (rfe_real_t)uni(-3.0, 3.0);
-    u->ax = (rfe_real_t)uni(-12.0, 12.0);
-    u->ay = (rfe_real_t)uni(-12.0, 12.0);
-    for (i = 0; i < 4; ++i) {
-        u->omega[i] = (rfe_real_t)(u->vx * uni(0.7, 1.1) / 0.3);
-        mu[i] = (rfe_real_t)uni(-0.5, 1.6);
-    }
-}
 
 /* u with input j changed by d, as a caller would write it. */
 static rfe_sample_t perturb(const rfe_sample_t *u, size_t j, rfe_real_t d)
@@ -80,7 +55,7 @@ static void test_meas_perturbed(void **state)
     long compared = 0;
     long failed = 0;
     (void)state;
-    rng_state = 0x9E3779B97F4A7C15ull;
+    draw_seed(0x9E3779B97F4A7C15ull);
     for (n = 0; n < N_CASES; n += (int)rfe_test_stride(10u)) {
         ++n_case;
         rfe_params_t p;
@@ -93,7 +68,7 @@ static void test_meas_perturbed(void **state)
         size_t j;
         assert_int_equal(rfe_params_default(&p), RFE_OK);
         p.tyre.mode = MODES[n % 3];
-        draw_sample(&u, mu);
+        draw_sample(&u, mu, 1);
         if (rfe_meas_setup(&h, &p.vehicle, &p.tyre, &u) != RFE_OK) {
             continue;
         }
@@ -109,7 +84,7 @@ static void test_meas_perturbed(void **state)
             /* a small step, a large one, and (every 16th case) an infinite one */
             const double mag = ((n_case % 2) == 0) ? 1e-2 : 0.3;
             const rfe_real_t dm = ((n_case % 16) == 5) ? (rfe_real_t)INFINITY : (rfe_real_t)mag;
-            const rfe_real_t d = ((next_u64() & 1u) != 0u) ? dm : -dm;
+            const rfe_real_t d = ((draw_u64() & 1u) != 0u) ? dm : -dm;
             const rfe_sample_t up = perturb(&u, j, d);
             rfe_meas_t hp;
             rfe_real_t zg[3] = {RFE_R(7.0), RFE_R(7.0), RFE_R(7.0)};
@@ -146,10 +121,10 @@ static void test_meas_perturbed_args(void **state)
     rfe_real_t z[3] = {RFE_R(7.0), RFE_R(7.0), RFE_R(7.0)};
     const rfe_real_t z7[3] = {RFE_R(7.0), RFE_R(7.0), RFE_R(7.0)};
     (void)state;
-    rng_state = 0x1234567ull;
+    draw_seed(0x1234567ull);
     assert_int_equal(rfe_params_default(&p), RFE_OK);
     p.tyre.mode = RFE_TYRE_ABSOLUTE;
-    draw_sample(&u, mu);
+    draw_sample(&u, mu, 1);
     u.vx = RFE_R(20.0);
     assert_int_equal(rfe_meas_setup(&h, &p.vehicle, &p.tyre, &u), RFE_OK);
     assert_int_equal(rfe_meas_nominal(NULL, &p.vehicle, &p.tyre, mu, &nom, z), RFE_ERR_NULL);
@@ -180,11 +155,114 @@ static void test_meas_perturbed_args(void **state)
     assert_memory_equal(&nom, &nom0, sizeof(nom));
 }
 
+/* The absolute-mode chain of the public functions at tyre parameters tp. */
+static rfe_status_t chain(const rfe_meas_t *h, const rfe_vehicle_t *veh,
+                          const rfe_tyre_params_t *tp, const rfe_real_t mu[4], rfe_real_t z[3])
+{
+    static const rfe_real_t ones[4] = {RFE_R(1.0), RFE_R(1.0), RFE_R(1.0), RFE_R(1.0)};
+    rfe_real_t fx[4];
+    rfe_real_t fy[4];
+    rfe_real_t H[RFE_H_SIZE];
+    rfe_status_t st = rfe_tyre_forces_abs(tp, &h->kin, mu, fx, fy);
+    if (st == RFE_OK) {
+        st = rfe_obsmat_build(veh, h->delta, fx, fy, H);
+    }
+    if (st == RFE_OK) {
+        st = rfe_obsmat_apply(H, ones, z);
+    }
+    return st;
+}
+
+/* REQ: eval with the cached terms is the public chain (forces, H, H ones), bits and
+ * statuses, also for other tyre parameters than the set-up's. */
+/* REQ-MEAS-001 */
+static void test_meas_cached(void **state)
+{
+    rfe_params_t p;
+    int n;
+    (void)state;
+    draw_seed(0x3EA5C0ull);
+    assert_int_equal(rfe_params_default(&p), RFE_OK);
+    for (n = 0; n < N_CACHED_CASES; n += (int)rfe_test_stride(10u)) {
+        rfe_sample_t u;
+        rfe_real_t mu[4];
+        rfe_meas_t h;
+        rfe_tyre_params_t other = p.tyre;
+        rfe_real_t z1[3] = {RFE_R(7.0), RFE_R(7.0), RFE_R(7.0)};
+        rfe_real_t z2[3] = {RFE_R(7.0), RFE_R(7.0), RFE_R(7.0)};
+        draw_sample(&u, mu, ((n % 4) != 0) ? 1 : 0);
+        if (rfe_meas_setup(&h, &p.vehicle, &p.tyre, &u) != RFE_OK) {
+            continue;
+        }
+        assert_int_equal(rfe_meas_eval(&h, &p.vehicle, &p.tyre, mu, z1),
+                         chain(&h, &p.vehicle, &p.tyre, mu, z2));
+        assert_memory_equal(z1, z2, sizeof(z1));
+        other.cx = (rfe_real_t)draw_uniform(0.0, 60.0);
+        other.cy = (rfe_real_t)draw_uniform(0.0, 60.0);
+        other.eps = (n % 2) ? (rfe_real_t)NAN : (rfe_real_t)draw_uniform(0.0, 0.05);
+        assert_int_equal(rfe_meas_eval(&h, &p.vehicle, &other, mu, z1),
+                         chain(&h, &p.vehicle, &other, mu, z2));
+        assert_memory_equal(z1, z2, sizeof(z1));
+    }
+}
+
+/* REQ: the cached terms are used only for the set-up's own tyre: changing any one of the
+ * mode (magic <-> absolute Dugoff), cx, cy, eps, alpha_max alone makes eval recompute them,
+ * giving the public chain's bits. */
+/* REQ-MEAS-001 */
+static void test_meas_cached_each_field(void **state)
+{
+    rfe_params_t p;
+    rfe_sample_t u;
+    rfe_real_t mu[4];
+    rfe_meas_t h;
+    int f;
+    (void)state;
+    draw_seed(0xF1E1Dull);
+    assert_int_equal(rfe_params_default(&p), RFE_OK);
+    do {
+        draw_sample(&u, mu, 1);
+    } while (rfe_meas_setup(&h, &p.vehicle, &p.tyre, &u) != RFE_OK);
+    for (f = 0; f < 5; ++f) {
+        rfe_tyre_params_t other = p.tyre;
+        rfe_real_t z1[3];
+        rfe_real_t z2[3];
+        if (f == 4) {
+            other.mode = RFE_TYRE_ABSOLUTE;
+        } else if (f == 0) {
+            other.cx *= RFE_R(1.5);
+        } else if (f == 1) {
+            other.cy *= RFE_R(1.5);
+        } else if (f == 2) {
+            other.eps += RFE_R(0.01);
+        } else {
+            other.alpha_max *= RFE_R(0.5);
+        }
+        assert_int_equal(rfe_meas_eval(&h, &p.vehicle, &other, mu, z1),
+                         chain(&h, &p.vehicle, &other, mu, z2));
+        assert_memory_equal(z1, z2, sizeof(z1));
+    }
+    /* set up for the absolute Dugoff (no direction cosines cached), evaluated as magic */
+    {
+        rfe_tyre_params_t dug = p.tyre;
+        rfe_meas_t h2;
+        rfe_real_t z1[3];
+        rfe_real_t z2[3];
+        dug.mode = RFE_TYRE_ABSOLUTE;
+        assert_int_equal(rfe_meas_setup(&h2, &p.vehicle, &dug, &u), RFE_OK);
+        assert_int_equal(rfe_meas_eval(&h2, &p.vehicle, &p.tyre, mu, z1),
+                         chain(&h2, &p.vehicle, &p.tyre, mu, z2));
+        assert_memory_equal(z1, z2, sizeof(z1));
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_meas_perturbed),
         cmocka_unit_test(test_meas_perturbed_args),
+        cmocka_unit_test(test_meas_cached),
+        cmocka_unit_test(test_meas_cached_each_field),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -5,7 +5,11 @@
  *        friction value, on every sample of every bundled log (at the log's true mu, and in
  *        the load-scaled modes on a mu grid 0, 0.1, ..., 1.2) and on 1e5 random samples over
  *        the input limits; in magic mode also bit for bit against the uncached public chain
- *        (forces, H, H ones); determinism, saturation counting, argument checks.
+ *        (forces, H, H ones); determinism, saturation counting, argument checks. Also the
+ *        cached terms (rfe_meas_setup_q31, rfe_meas_nominal_q31) bit for bit against that
+ *        chain with the same count, per wheel and summed, for tyre parameters other than the
+ *        set-up's too (random integer samples and tyres from test_draws_q31.h, including the
+ *        int32 extremes), invalid tyres at set-up and eval, and rfe_fix_div's saturation.
  *
  * Setup: q31 with the converted presets (paper preset for paper mode, default preset with the
  * tyre mode set to absolute for absolute mode, the default preset for magic mode), double with
@@ -45,7 +49,10 @@
 #include "host/fixed_conv.h"
 #include "rfe/component/meas.h"
 #include "rfe/component/meas_q31.h"
+#include "rfe/component/fxmath.h"
 #include "rfe/component/params_conv.h"
+#include "models/tyre_internal_q31.h"
+#include "test_draws_q31.h"
 #include "test_rng.h"
 
 #define TRIG 4.7e-10
@@ -53,6 +60,7 @@
 #define TAN 7.9e-9
 #define LSB(q) ldexp(1.0, -(q))
 #define N_RANDOM 100000
+#define N_COLUMN_CASES 20000 /* per-wheel column cases */
 
 static const char *const SCENARIO[13] = {
     "accel_low_mu",       "brake_in_turn",      "cruise",          "hard_brake_high_mu",
@@ -538,15 +546,18 @@ static void test_meas_q31_deterministic(void **state)
     }
 }
 
-/* The chain of rfe_meas_eval_q31 (absolute mode) step by step: its total count. */
-static uint32_t chain_abs(const rfe_meas_q31_t *h, const rfe_params_q31_t *p, const rfe_fix_t mu[4],
-                          rfe_fix_t z[3], uint32_t part[3])
+/* The load-scaled chain of the public functions (forces, H, H ones) at tyre parameters tp (the
+ * curve of tp's mode), i.e. rfe_meas_eval_q31 step by step: z, each step's count in part, and
+ * their total. */
+static uint32_t chain(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh,
+                      const rfe_tyre_params_q31_t *tp, const rfe_fix_t mu[4], rfe_fix_t z[3],
+                      uint32_t part[3])
 {
     static const rfe_fix_t ones[4] = {1 << 29, 1 << 29, 1 << 29, 1 << 29};
     rfe_fix_t fx[4], fy[4], Hf[12];
     part[0] = part[1] = part[2] = 0u;
-    assert_int_equal(rfe_tyre_forces_abs_q31(&p->tyre, &h->kin, mu, fx, fy, &part[0]), RFE_OK);
-    assert_int_equal(rfe_obsmat_build_q31(&p->vehicle, h->delta, fx, fy, Hf, &part[1]), RFE_OK);
+    assert_int_equal(rfe_tyre_forces_abs_q31(tp, &h->kin, mu, fx, fy, &part[0]), RFE_OK);
+    assert_int_equal(rfe_obsmat_build_q31(veh, h->delta, fx, fy, Hf, &part[1]), RFE_OK);
     assert_int_equal(rfe_obsmat_apply_q31(Hf, ones, z, &part[2]), RFE_OK);
     return part[0] + part[1] + part[2];
 }
@@ -585,12 +596,12 @@ static void test_meas_q31_saturation(void **state)
     }
     assert_int_equal(rfe_meas_eval_q31(&h, &lq.vehicle, &lq.tyre, mu, z, &sat), RFE_OK);
     assert_int_equal(sat, 0u);
-    assert_int_equal(chain_abs(&h, &lq, mu, zc, part), 0u);
+    assert_int_equal(chain(&h, &lq.vehicle, &lq.tyre, mu, zc, part), 0u);
     for (i = 0; i < 4; ++i) {
         mu[i] = toq(3.9, 29);
     }
     assert_int_equal(rfe_meas_eval_q31(&h, &lq.vehicle, &lq.tyre, mu, z, &sat), RFE_OK);
-    assert_int_equal(sat, chain_abs(&h, &lq, mu, zc, part));
+    assert_int_equal(sat, chain(&h, &lq.vehicle, &lq.tyre, mu, zc, part));
     assert_memory_equal(z, zc, sizeof(z));
     printf("absolute mode, light tall vehicle, mu 3.9: counts forces %u, H %u, z %u; z = [%g, "
            "%g, %g]\n",
@@ -660,7 +671,7 @@ static void test_meas_q31_saturation(void **state)
         sat = 0u;
         assert_int_equal(rfe_meas_setup_q31(&h, &lq_mag.vehicle, &lq_mag.tyre, &uq, &sat), RFE_OK);
         assert_int_equal(rfe_meas_eval_q31(&h, &lq_mag.vehicle, &lq_mag.tyre, mu, z, &sat), RFE_OK);
-        assert_int_equal(sat, chain_abs(&h, &lq_mag, mu, zc, part));
+        assert_int_equal(sat, chain(&h, &lq_mag.vehicle, &lq_mag.tyre, mu, zc, part));
         assert_memory_equal(z, zc, sizeof(z));
         assert_true(part[0] >= 1u);
         printf("magic mode, light tall vehicle, mu 3.9: counts forces %u, H %u, z %u\n", part[0],
@@ -916,6 +927,165 @@ static void test_meas_q31_perturbed_args(void **state)
     }
 }
 
+/* ---- the cached terms against the public chain ------------------------------------------ */
+
+/* The fixed-point default preset (the cached-terms tests start from it). */
+static rfe_params_q31_t preset(void)
+{
+    rfe_params_q31_t p;
+    assert_int_equal(rfe_params_default_q31(&p), RFE_OK);
+    return p;
+}
+
+/* REQ: the per-wheel columns and their sums are the load-scaled chain (forces, H, H ones) bit
+ * for bit with the same count, in magic and absolute mode; eval with other tyre parameters
+ * than the set-up's (stiffness, eps, alpha_max, the other load-scaled mode, other shape
+ * factors) gives that chain at the other parameters. */
+/* REQ-FXP-007 REQ-FXP-008 */
+static void test_meas_columns_q31(void **state)
+{
+    int n;
+    long with_sat = 0;
+    (void)state;
+    draw_seed(0xC01C01ull);
+    for (n = 0; n < N_COLUMN_CASES; n += (int)rfe_test_stride(10u)) {
+        rfe_params_q31_t p = preset();
+        rfe_tyre_params_q31_t other;
+        rfe_sample_q31_t u;
+        rfe_fix_t mu[4];
+        rfe_meas_q31_t h;
+        rfe_meas_terms_q31_t nom;
+        rfe_fix_t z[3];
+        rfe_fix_t zc[3];
+        uint32_t sat = 0u;
+        uint32_t cnt = 0u;
+        uint32_t kin_cnt;
+        uint32_t part[3];
+        size_t i;
+        if ((n % 3) == 1) {
+            draw_tyre_q31(&p.tyre);
+        }
+        if ((n % 5) == 2) {
+            p.tyre.mode = RFE_TYRE_ABSOLUTE;
+        }
+        draw_sample_q31(&p, &u, mu, n);
+        assert_int_equal(rfe_meas_setup_q31(&h, &p.vehicle, &p.tyre, &u, &sat), RFE_OK);
+        /* the nominal terms and their sum: the chain's z; the count is the chain's plus the
+         * set-up's kinematics counts, which each wheel's terms carry */
+        assert_int_equal(rfe_meas_nominal_q31(&h, &p.vehicle, &p.tyre, mu, &nom, z, &cnt),
+                         RFE_OK);
+        kin_cnt = 0u;
+        for (i = 0; i < 4; ++i) {
+            kin_cnt += h.sat_vwx[i] + h.sat_fz[i];
+        }
+        assert_int_equal(chain(&h, &p.vehicle, &p.tyre, mu, zc, part) + kin_cnt, cnt);
+        cnt -= kin_cnt;
+        assert_memory_equal(z, zc, sizeof(z));
+        sat = 0u;
+        assert_int_equal(rfe_meas_eval_q31(&h, &p.vehicle, &p.tyre, mu, z, &sat), RFE_OK);
+        assert_int_equal(sat, cnt);
+        assert_memory_equal(z, zc, sizeof(z));
+        with_sat += (cnt != 0u) ? 1 : 0;
+        /* other (valid) tyre parameters at eval: the terms are recomputed for them */
+        other = p.tyre;
+        switch (n % 6) {
+        case 0:
+            other.cx = other.cx / 2 + 1;
+            break;
+        case 1:
+            other.cy = other.cy / 3 + 1;
+            break;
+        case 2:
+            other.eps = other.eps / 2;
+            break;
+        case 3:
+            other.alpha_max = other.alpha_max / 2;
+            break;
+        case 4:
+            /* the other load-scaled curve on the same cached terms */
+            other.mode = (other.mode == RFE_TYRE_MAGIC) ? RFE_TYRE_ABSOLUTE : RFE_TYRE_MAGIC;
+            break;
+        default:
+            /* other shape factors on the same cached terms */
+            other.shape_Cx = (1 << 24) + 1 + (int32_t)(draw_u64() % ((1u << 24) - 1u));
+            other.shape_Ey = (int32_t)(draw_u64() % (5u << 24)) - (4 << 24);
+            break;
+        }
+        sat = 0u;
+        assert_int_equal(rfe_meas_eval_q31(&h, &p.vehicle, &other, mu, z, &sat), RFE_OK);
+        assert_int_equal(sat, chain(&h, &p.vehicle, &other, mu, zc, part));
+        assert_memory_equal(z, zc, sizeof(z));
+    }
+    printf("columns: %d cases, %ld with saturations\n", N_COLUMN_CASES, with_sat);
+    assert_true(with_sat > 10);
+}
+
+/* REQ: a set-up in absolute mode with invalid Dugoff parameters (eps < 0) keeps zero
+ * friction-independent terms, and the evaluation rejects the tyre (as the public chain does);
+ * in magic mode with a shape factor outside its domain the set-up succeeds (its terms do not
+ * depend on the shape) and the evaluation rejects the tyre;
+ * rfe_fix_div's long division stops as soon as the quotient must saturate (operands that
+ * take the long path: shift + 1 > 32), saturating to INT32_MAX, counted. */
+/* REQ-FXP-008 REQ-MEAS-002 */
+static void test_meas_pre_invalid_tyre_and_div_saturation_q31(void **state)
+{
+    rfe_params_q31_t p = preset();
+    rfe_sample_q31_t u;
+    rfe_fix_t mu[4];
+    rfe_fix_t z[3];
+    rfe_meas_q31_t h;
+    rfe_fix_t q = 0;
+    uint32_t sat = 0u;
+    size_t i;
+    (void)state;
+    draw_seed(0xD1CEull);
+    draw_sample_q31(&p, &u, mu, 0);
+    u.vx = 20 << 23;
+    u.delta = 0;
+    for (i = 0; i < 4; ++i) {
+        u.omega[i] = (int32_t)((((int64_t)u.vx) << 6) / (p.vehicle.R >> 20));
+        mu[i] = 1 << 28;
+    }
+    p.tyre.mode = RFE_TYRE_ABSOLUTE;
+    p.tyre.eps = -1;
+    assert_int_equal(rfe_meas_setup_q31(&h, &p.vehicle, &p.tyre, &u, &sat), RFE_OK);
+    for (i = 0; i < 4; ++i) {
+        const rfe_dugoff_pre_q31_t zero = {0, 0, 0, 0, 0, 0, 0u};
+        assert_memory_equal(&h.pre[i], &zero, sizeof zero);
+    }
+    assert_int_not_equal(rfe_meas_eval_q31(&h, &p.vehicle, &p.tyre, mu, z, &sat), RFE_OK);
+    /* magic mode, C = 2 (outside 1 < C < 2) */
+    p = preset();
+    p.tyre.shape_Cy = 2 << 24;
+    sat = 0u;
+    assert_int_equal(rfe_meas_setup_q31(&h, &p.vehicle, &p.tyre, &u, &sat), RFE_OK);
+    for (i = 0; i < 4; ++i) {
+        rfe_dugoff_pre_q31_t fresh;
+        rfe_tyre_dugoff_pre_q31(&p.tyre, h.kin.kappa[i], h.kin.alpha[i], h.kin.vwx[i], &fresh);
+        assert_memory_equal(&h.pre[i], &fresh, sizeof fresh);
+    }
+    memset(z, 0x5A, sizeof z);
+    assert_int_equal(rfe_meas_eval_q31(&h, &p.vehicle, &p.tyre, mu, z, &sat), RFE_ERR_PARAM);
+    assert_int_equal(z[0], 0x5A5A5A5A);
+    assert_int_equal(sat, 0u);
+    p.tyre.mode = RFE_TYRE_ABSOLUTE; /* the Dugoff curve does not use the shape */
+    assert_int_equal(rfe_meas_eval_q31(&h, &p.vehicle, &p.tyre, mu, z, &sat), RFE_OK);
+    /* division: a = INT32_MAX, b = 1, shift 40: 2^71, far beyond int32 */
+    sat = 0u;
+    assert_int_equal(rfe_fix_div(INT32_MAX, 1, 40, &q, &sat), RFE_OK);
+    assert_int_equal(q, INT32_MAX);
+    assert_int_equal(sat, 1u);
+    sat = 0u;
+    assert_int_equal(rfe_fix_div(-INT32_MAX, 3, 35, &q, &sat), RFE_OK);
+    assert_int_equal(q, -INT32_MAX);
+    assert_int_equal(sat, 1u);
+    /* and just inside: 3 * 2^35 / 2^6 = 3 * 2^29 fits exactly */
+    sat = 0u;
+    assert_int_equal(rfe_fix_div(3, 1 << 6, 35, &q, &sat), RFE_OK);
+    assert_int_equal(q, 3 << 29);
+    assert_int_equal(sat, 0u);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -926,6 +1096,8 @@ int main(void)
         cmocka_unit_test(test_meas_q31_argument_checks),
         cmocka_unit_test(test_meas_q31_perturbed),
         cmocka_unit_test(test_meas_q31_perturbed_args),
+        cmocka_unit_test(test_meas_columns_q31),
+        cmocka_unit_test(test_meas_pre_invalid_tyre_and_div_saturation_q31),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }

@@ -1,21 +1,17 @@
 /**
  * @file test_step_noise_core_flt.c
- * @brief The internal pieces behind the cheaper float/double step (src/models/tyre_internal.h,
- *        src/estimators/friction/step_noise_internal.h) against the public functions they replace, bit for bit and
- *        status for status:
- *  - the absolute-mode Dugoff evaluation split into its friction-independent part and the
- *    rest, against rfe_tyre_dugoff_abs (finite, non-finite and out-of-range inputs);
- *  - rfe_meas_eval with the terms cached by rfe_meas_setup, against the chain
- *    rfe_tyre_forces_abs -> rfe_obsmat_build -> rfe_obsmat_apply(H, ones), also when eval is
- *    given other tyre parameters than the set-up (the cached terms are then not used);
- *  - the step noise's internal entry rfe_step_noise_sqrt_core (the estimator's, for a model
- *    already set up at the sample: nominal terms of the wheels an input does not reach
- *    reused) against the public rfe_step_noise_sqrt and against a reference built here from
- *    the public measurement model exactly as docs/ESTIMATOR.md step 4 writes it (a full
- *    set-up and evaluation at u and at u +- sd_j e_j), in absolute and paper tyre mode, with
- *    every input switched on or off, and the statuses when a perturbed input, a perturbed
- *    wheel's kinematics or the nominal model is not finite.
- * Inputs from a fixed-seed generator over and beyond the input limits.
+ * @brief The step noise's internal entry rfe_step_noise_sqrt_core
+ *        (src/estimators/friction/step_noise_internal.h; the estimator's, for a model already
+ *        set up at the sample: nominal terms of the wheels an input does not reach reused)
+ *        against the public rfe_step_noise_sqrt and against a reference built here from the
+ *        public measurement model exactly as docs/ESTIMATOR.md step 4 writes it (a full set-up
+ *        and evaluation at u and at u +- sd_j e_j), bit for bit and status for status, in
+ *        absolute and paper tyre mode, with every input switched on or off, and the statuses
+ *        when a perturbed input, a perturbed wheel's kinematics or the nominal model is not
+ *        finite. The pieces it is built on are tested with their modules:
+ *        test/models/test_tyre_internal_flt.c (the tyre's split), test/models/test_meas_flt.c
+ *        (the cached measurement terms).
+ * Inputs from a fixed-seed generator (test_draws.h) over and beyond the input limits.
  */
 #include "test_light.h"
 #include "test_common.h"
@@ -26,13 +22,11 @@
 
 #include "rfe/component/step_noise.h"
 #include "rfe/component/meas.h"
-#include "rfe/component/obsmat.h"
 #include "rfe/params.h"
 #include "rfe/component/qr.h"
-#include "rfe/component/tyre.h"
 
 #include "estimators/friction/step_noise_internal.h"
-#include "models/tyre_internal.h"
+#include "test_draws.h"
 
 #define N_CASES 20000
 #define RFE_R(x) ((rfe_real_t)(x))
@@ -50,164 +44,9 @@
 #define T_TINY 1e-37
 #endif
 
-static uint64_t rng_state;
-
-static uint64_t next_u64(void)
-{
-    rng_state ^= rng_state << 13;
-    rng_state ^= rng_state >> 7;
-    rng_state ^= rng_state << 17;
-    return rng_state;
-}
-
-/* Uniform in [a, b]. */
-static double uni(double a, double b)
-{
-    return a + (b - a) * ((double)(next_u64() >> 11) / 9007199254740992.0);
-}
-
-/* Mostly uniform in [-typ, typ], sometimes 0, huge, infinite or NaN. */
-static rfe_real_t draw(double typ)
-{
-    const unsigned int k = (unsigned int)(next_u64() % 32u);
-    if (k == 0u) {
-        return RFE_R(0.0);
-    }
-    if (k == 1u) {
-        return (rfe_real_t)(((next_u64() & 1u) != 0u) ? 1e30 : -1e30);
-    }
-    if (k == 2u) {
-        return (rfe_real_t)INFINITY;
-    }
-    if (k == 3u) {
-        return (rfe_real_t)NAN;
-    }
-    return (rfe_real_t)uni(-typ, typ);
-}
-
-static void draw_sample(rfe_sample_t *u, rfe_real_t mu[4], int finite)
-{
-    size_t i;
-    memset(u, 0, sizeof(*u));
-    u->delta = (rfe_real_t)uni(-0.5, 0.5);
-    u->vx = (rfe_real_t)uni(-5.0, 60.0);
-    u->vy = (rfe_real_t)uni(-3.0, 3.0);
-    u->yaw_rate = (rfe_real_t)uni(-1.0, 1.0);
-    u->yaw_acc = (rfe_real_t)uni(-3.0, 3.0);
-    u->ax = (rfe_real_t)uni(-12.0, 12.0);
-    u->ay = (rfe_real_t)uni(-12.0, 12.0);
-    for (i = 0; i < 4; ++i) {
-        u->omega[i] = (rfe_real_t)(u->vx * uni(0.7, 1.1) / 0.3);
-        mu[i] = (rfe_real_t)uni(-0.5, 1.6);
-    }
-    if (finite == 0) {
-        u->vx = draw(3e38);
-        u->omega[next_u64() % 4u] = draw(1e3);
-        mu[next_u64() % 4u] = draw(2.0);
-    }
-}
-
 static void bits_equal(const rfe_real_t *a, const rfe_real_t *b, size_t n)
 {
     assert_memory_equal(a, b, n * sizeof(rfe_real_t));
-}
-
-/* REQ: the split evaluation of a load-scaled tyre is the public function's (Dugoff:
- * rfe_tyre_dugoff_abs, magic: rfe_tyre_magic_abs), bits and statuses. */
-/* REQ-TYRE-003 REQ-TYRE-007 */
-static void test_dugoff_split(void **state)
-{
-    rfe_params_t p;
-    int n;
-    (void)state;
-    rng_state = 0xD06FF5ull;
-    assert_int_equal(rfe_params_default(&p), RFE_OK);
-    for (n = 0; n < N_CASES; n += (int)rfe_test_stride(10u)) {
-        const rfe_real_t kappa = draw(1.2);
-        const rfe_real_t alpha = draw(0.6);
-        const rfe_real_t fz = draw(9000.0);
-        const rfe_real_t vwx = draw(60.0);
-        const rfe_real_t mu = draw(2.0);
-        rfe_real_t f1[2] = {RFE_R(7.0), RFE_R(7.0)};
-        rfe_real_t f2[2] = {RFE_R(7.0), RFE_R(7.0)};
-        rfe_dugoff_pre_t pre;
-        rfe_tyre_params_t tp = p.tyre;
-        if ((n % 3) == 1) {
-            tp.cx = (rfe_real_t)uni(0.0, 60.0);
-            tp.cy = (rfe_real_t)uni(0.0, 60.0);
-            tp.eps = (rfe_real_t)uni(0.0, 0.05);
-        }
-        tp.mode = (((n / (int)rfe_test_stride(10u)) % 2) == 0) ? RFE_TYRE_MAGIC : RFE_TYRE_ABSOLUTE;
-        rfe_tyre_dugoff_pre(&tp, kappa, alpha, vwx, &pre);
-        assert_int_equal(rfe_tyre_dugoff_abs_pre(&tp, &pre, kappa, alpha, fz, vwx, mu,
-                                                         &f2[0], &f2[1]),
-                         (tp.mode == RFE_TYRE_MAGIC)
-                             ? rfe_tyre_magic_abs(&tp, kappa, alpha, fz, vwx, mu, &f1[0],
-                                                  &f1[1])
-                             : rfe_tyre_dugoff_abs(&tp, kappa, alpha, fz, vwx, mu, &f1[0],
-                                                   &f1[1]));
-        bits_equal(f1, f2, 2u);
-    }
-    {
-        rfe_dugoff_pre_t pre;
-        rfe_real_t f[2];
-        rfe_tyre_dugoff_pre(&p.tyre, RFE_R(0.1), RFE_R(0.0), RFE_R(20.0), &pre);
-        assert_int_equal(rfe_tyre_dugoff_abs_pre(NULL, &pre, RFE_R(0.1), RFE_R(0.0),
-                                                         RFE_R(1.0), RFE_R(20.0), RFE_R(1.0),
-                                                         &f[0], &f[1]),
-                         RFE_ERR_NULL);
-    }
-}
-
-/* The absolute-mode chain of the public functions at tyre parameters tp. */
-static rfe_status_t chain(const rfe_meas_t *h, const rfe_vehicle_t *veh,
-                          const rfe_tyre_params_t *tp, const rfe_real_t mu[4], rfe_real_t z[3])
-{
-    static const rfe_real_t ones[4] = {RFE_R(1.0), RFE_R(1.0), RFE_R(1.0), RFE_R(1.0)};
-    rfe_real_t fx[4];
-    rfe_real_t fy[4];
-    rfe_real_t H[RFE_H_SIZE];
-    rfe_status_t st = rfe_tyre_forces_abs(tp, &h->kin, mu, fx, fy);
-    if (st == RFE_OK) {
-        st = rfe_obsmat_build(veh, h->delta, fx, fy, H);
-    }
-    if (st == RFE_OK) {
-        st = rfe_obsmat_apply(H, ones, z);
-    }
-    return st;
-}
-
-/* REQ: eval with the cached terms is the public chain (forces, H, H ones), bits and
- * statuses, also for other tyre parameters than the set-up's. */
-/* REQ-MEAS-001 */
-static void test_meas_cached(void **state)
-{
-    rfe_params_t p;
-    int n;
-    (void)state;
-    rng_state = 0x3EA5C0ull;
-    assert_int_equal(rfe_params_default(&p), RFE_OK);
-    for (n = 0; n < N_CASES; n += (int)rfe_test_stride(10u)) {
-        rfe_sample_t u;
-        rfe_real_t mu[4];
-        rfe_meas_t h;
-        rfe_tyre_params_t other = p.tyre;
-        rfe_real_t z1[3] = {RFE_R(7.0), RFE_R(7.0), RFE_R(7.0)};
-        rfe_real_t z2[3] = {RFE_R(7.0), RFE_R(7.0), RFE_R(7.0)};
-        draw_sample(&u, mu, ((n % 4) != 0) ? 1 : 0);
-        if (rfe_meas_setup(&h, &p.vehicle, &p.tyre, &u) != RFE_OK) {
-            continue;
-        }
-        assert_int_equal(rfe_meas_eval(&h, &p.vehicle, &p.tyre, mu, z1),
-                         chain(&h, &p.vehicle, &p.tyre, mu, z2));
-        bits_equal(z1, z2, 3u);
-        other.cx = (rfe_real_t)uni(0.0, 60.0);
-        other.cy = (rfe_real_t)uni(0.0, 60.0);
-        other.eps = (n % 2) ? (rfe_real_t)NAN : (rfe_real_t)uni(0.0, 0.05);
-        assert_int_equal(rfe_meas_eval(&h, &p.vehicle, &other, mu, z1),
-                         chain(&h, &p.vehicle, &other, mu, z2));
-        bits_equal(z1, z2, 3u);
-    }
 }
 
 /* REQ: the estimator's step-noise entry is the public function's S_R and status for a model
@@ -219,7 +58,7 @@ static void test_step_noise_core(void **state)
     long ok = 0;
     long failed = 0;
     (void)state;
-    rng_state = 0xE1FC0BEull;
+    draw_seed(0xE1FC0BEull);
     for (n = 0; n < N_CASES; n += (int)rfe_test_stride(10u)) {
         rfe_params_t p;
         rfe_sample_t u;
@@ -231,9 +70,9 @@ static void test_step_noise_core(void **state)
         size_t i;
         assert_int_equal(rfe_params_default(&p), RFE_OK);
         if ((n % 5) == 2) {
-            p.filter.sd_in_delta = (rfe_real_t)uni(0.0, 0.02);
-            p.filter.sd_in_vx = (n % 2) ? RFE_R(0.0) : (rfe_real_t)uni(0.0, 0.3);
-            p.filter.sd_in_omega = (rfe_real_t)uni(0.0, 0.5);
+            p.filter.sd_in_delta = (rfe_real_t)draw_uniform(0.0, 0.02);
+            p.filter.sd_in_vx = (n % 2) ? RFE_R(0.0) : (rfe_real_t)draw_uniform(0.0, 0.3);
+            p.filter.sd_in_omega = (rfe_real_t)draw_uniform(0.0, 0.5);
             p.filter.sd_in_vy = ((n % 4) == 3) ? RFE_R(0.0) : p.filter.sd_in_vy;
         }
         if ((n % 7) == 3) {
@@ -366,16 +205,16 @@ static void test_step_noise_reference(void **state)
     int n;
     long ok = 0;
     (void)state;
-    rng_state = 0xA5A5F00Dull;
+    draw_seed(0xA5A5F00Dull);
     for (n = 0; n < N_CASES; n += (int)rfe_test_stride(10u)) {
         rfe_params_t p;
         rfe_sample_t u;
         rfe_real_t mu[4];
         assert_int_equal(rfe_params_default(&p), RFE_OK);
         if ((n % 5) == 2) {
-            p.filter.sd_in_delta = (rfe_real_t)uni(0.0, 0.02);
-            p.filter.sd_in_vx = (n % 2) ? RFE_R(0.0) : (rfe_real_t)uni(0.0, 0.3);
-            p.filter.sd_in_omega = (rfe_real_t)uni(0.0, 0.5);
+            p.filter.sd_in_delta = (rfe_real_t)draw_uniform(0.0, 0.02);
+            p.filter.sd_in_vx = (n % 2) ? RFE_R(0.0) : (rfe_real_t)draw_uniform(0.0, 0.3);
+            p.filter.sd_in_omega = (rfe_real_t)draw_uniform(0.0, 0.5);
             p.filter.sd_in_yaw_rate = ((n % 4) == 3) ? RFE_R(0.0) : p.filter.sd_in_yaw_rate;
         }
         if ((n % 7) == 3) {
@@ -400,7 +239,7 @@ static void test_step_noise_overflow(void **state)
     rfe_real_t S[9];
     size_t i;
     (void)state;
-    rng_state = 0x0FF0ull;
+    draw_seed(0x0FF0ull);
     assert_int_equal(rfe_params_default(&p), RFE_OK);
     draw_sample(&u, mu, 1);
     u.delta = RFE_R(0.0);
@@ -447,62 +286,9 @@ static void test_step_noise_overflow(void **state)
     }
 }
 
-/* REQ: the cached terms are used only for the set-up's own tyre: changing any one of the
- * mode (magic <-> absolute Dugoff), cx, cy, eps, alpha_max alone makes eval recompute them,
- * giving the public chain's bits. */
-/* REQ-MEAS-001 */
-static void test_meas_cached_each_field(void **state)
-{
-    rfe_params_t p;
-    rfe_sample_t u;
-    rfe_real_t mu[4];
-    rfe_meas_t h;
-    int f;
-    (void)state;
-    rng_state = 0xF1E1Dull;
-    assert_int_equal(rfe_params_default(&p), RFE_OK);
-    do {
-        draw_sample(&u, mu, 1);
-    } while (rfe_meas_setup(&h, &p.vehicle, &p.tyre, &u) != RFE_OK);
-    for (f = 0; f < 5; ++f) {
-        rfe_tyre_params_t other = p.tyre;
-        rfe_real_t z1[3];
-        rfe_real_t z2[3];
-        if (f == 4) {
-            other.mode = RFE_TYRE_ABSOLUTE;
-        } else if (f == 0) {
-            other.cx *= RFE_R(1.5);
-        } else if (f == 1) {
-            other.cy *= RFE_R(1.5);
-        } else if (f == 2) {
-            other.eps += RFE_R(0.01);
-        } else {
-            other.alpha_max *= RFE_R(0.5);
-        }
-        assert_int_equal(rfe_meas_eval(&h, &p.vehicle, &other, mu, z1),
-                         chain(&h, &p.vehicle, &other, mu, z2));
-        bits_equal(z1, z2, 3u);
-    }
-    /* set up for the absolute Dugoff (no direction cosines cached), evaluated as magic */
-    {
-        rfe_tyre_params_t dug = p.tyre;
-        rfe_meas_t h2;
-        rfe_real_t z1[3];
-        rfe_real_t z2[3];
-        dug.mode = RFE_TYRE_ABSOLUTE;
-        assert_int_equal(rfe_meas_setup(&h2, &p.vehicle, &dug, &u), RFE_OK);
-        assert_int_equal(rfe_meas_eval(&h2, &p.vehicle, &p.tyre, mu, z1),
-                         chain(&h2, &p.vehicle, &p.tyre, mu, z2));
-        bits_equal(z1, z2, 3u);
-    }
-}
-
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_dugoff_split),
-        cmocka_unit_test(test_meas_cached),
-        cmocka_unit_test(test_meas_cached_each_field),
         cmocka_unit_test(test_step_noise_core),
         cmocka_unit_test(test_step_noise_reference),
         cmocka_unit_test(test_step_noise_overflow),

@@ -1,0 +1,145 @@
+/**
+ * @file test_tyre_internal_q31.c
+ * @brief The fixed-point tyre model's internal split (src/models/tyre_internal_q31.h) behind
+ *        the cheaper fixed-point step, against the public functions it replaces, bit for bit,
+ *        saturation counts included: one wheel's kinematics and kappa alone against
+ *        rfe_tyre_kinematics_q31 (and its variant with the extra terms), the load-scaled tyre
+ *        evaluation (absolute Dugoff and Magic Formula) split into its friction-independent
+ *        part and the rest against rfe_tyre_dugoff_abs_q31 and rfe_tyre_magic_abs_q31; the
+ *        Dugoff parameter check.
+ * Inputs: integer samples from a fixed-seed generator (test_draws_q31.h) over the typical
+ * range, the int32 extremes and rolling wheels, tyre parameters varied around the preset's.
+ * In valgrind's light mode every tenth case (every path is still taken).
+ */
+#include "test_light.h"
+#include "test_common.h"
+
+#include <stdint.h>
+#include <string.h>
+
+#include "rfe/fixed.h"
+#include "rfe/component/fxmath.h"
+#include "rfe/params_q31.h"
+#include "rfe/component/tyre_q31.h"
+
+#include "models/tyre_internal_q31.h"
+#include "test_draws_q31.h"
+
+#define N_CASES 20000
+
+static rfe_params_q31_t preset(void)
+{
+    rfe_params_q31_t p;
+    assert_int_equal(rfe_params_default_q31(&p), RFE_OK);
+    return p;
+}
+
+/* REQ: one wheel's kinematics and the split Dugoff and Magic Formula evaluations are
+ * rfe_tyre_kinematics_q31's, rfe_tyre_dugoff_abs_q31's and rfe_tyre_magic_abs_q31's bits and
+ * counts. */
+/* REQ-FXP-007 REQ-FXP-008 */
+static void test_tyre_internal_q31(void **state)
+{
+    rfe_params_q31_t p = preset();
+    int n;
+    (void)state;
+    draw_seed(0x7E1EC0DEull);
+    for (n = 0; n < N_CASES; n += (int)rfe_test_stride(10u)) {
+        rfe_sample_q31_t u;
+        rfe_fix_t mu[4];
+        rfe_wheel_kin_q31_t kin;
+        rfe_wheel_kin_q31_t kin_ex;
+        rfe_tyre_kin_extra_q31_t extra;
+        rfe_fix_t s = 0;
+        rfe_fix_t c = 0;
+        uint32_t sat = 0u;
+        uint32_t sum = 0u;
+        size_t i;
+        p = preset();
+        if ((n % 3) == 1) {
+            draw_tyre_q31(&p.tyre);
+        }
+        draw_sample_q31(&p, &u, mu, n);
+        assert_int_equal(rfe_tyre_kinematics_q31(&p.vehicle, &p.tyre, &u, &kin, &sat), RFE_OK);
+        assert_int_equal(rfe_tyre_kinematics_ex_q31(&p.vehicle, &p.tyre, &u, &kin_ex, &extra),
+                         RFE_OK);
+        assert_memory_equal(&kin, &kin_ex, sizeof(kin));
+        assert_int_equal(rfe_fix_sincos(u.delta, &s, &c), RFE_OK);
+        assert_int_equal(extra.cos_delta, c);
+        assert_int_equal(extra.sin_delta, s);
+        for (i = 0; i < 4; ++i) {
+            rfe_fix_t vwx = 0;
+            rfe_fix_t alpha = 0;
+            rfe_fix_t kappa = 0;
+            rfe_fix_t fx = 0;
+            rfe_fix_t fy = 0;
+            rfe_fix_t gx = 0;
+            rfe_fix_t gy = 0;
+            uint32_t cw = 0u;
+            uint32_t c1 = 0u;
+            uint32_t c2 = 0u;
+            rfe_dugoff_pre_q31_t pre;
+            rfe_dugoff_pre_q31_t pre_t;
+            sum += extra.sat_vwx[i] + extra.sat_fz[i];
+            rfe_tyre_wheel_kin_q31(&p.vehicle, &p.tyre, &u, c, s, i, &vwx, &alpha, &kappa, &cw);
+            assert_int_equal(vwx, kin.vwx[i]);
+            assert_int_equal(alpha, kin.alpha[i]);
+            assert_int_equal(kappa, kin.kappa[i]);
+            assert_int_equal(cw, extra.sat_vwx[i]);
+            assert_int_equal(rfe_tyre_wheel_kappa_q31(&p.vehicle, &p.tyre, &u, c, s, i),
+                             kin.kappa[i]);
+            assert_int_equal(rfe_tyre_dugoff_abs_q31(&p.tyre, kin.kappa[i], kin.alpha[i],
+                                                     kin.fz[i], kin.vwx[i], mu[i], &fx, &fy,
+                                                     &c1),
+                             RFE_OK);
+            rfe_tyre_dugoff_pre_q31(&p.tyre, kin.kappa[i], kin.alpha[i], kin.vwx[i], &pre);
+            rfe_tyre_dugoff_mu_q31(&pre, mu[i], kin.fz[i], &gx, &gy, &c2);
+            assert_int_equal(gx, fx);
+            assert_int_equal(gy, fy);
+            assert_int_equal(c2, c1);
+            rfe_tyre_dugoff_pre_tan_q31(&p.tyre, kin.kappa[i], pre.tan_a, kin.vwx[i], &pre_t);
+            assert_memory_equal(&pre_t, &pre, sizeof(pre));
+            /* the Magic Formula on the same terms */
+            c1 = c2 = 0u;
+            assert_int_equal(rfe_tyre_magic_abs_q31(&p.tyre, kin.kappa[i], kin.alpha[i],
+                                                    kin.fz[i], kin.vwx[i], mu[i], &fx, &fy,
+                                                    &c1),
+                             RFE_OK);
+            rfe_tyre_magic_mu_q31(&p.tyre, &pre, mu[i], kin.fz[i], &gx, &gy, &c2);
+            assert_int_equal(gx, fx);
+            assert_int_equal(gy, fy);
+            assert_int_equal(c2, c1);
+        }
+        assert_int_equal(sum, sat);
+    }
+    {
+        rfe_tyre_params_q31_t bad = p.tyre;
+        assert_int_equal(rfe_tyre_dugoff_params_ok_q31(&p.tyre), 1);
+        bad.shape_Cx = 0; /* the Dugoff check does not look at the shape */
+        assert_int_equal(rfe_tyre_dugoff_params_ok_q31(&bad), 1);
+        bad = p.tyre;
+        bad.eps = -1;
+        assert_int_equal(rfe_tyre_dugoff_params_ok_q31(&bad), 0);
+        bad = p.tyre;
+        bad.alpha_max = 0;
+        assert_int_equal(rfe_tyre_dugoff_params_ok_q31(&bad), 0);
+        bad = p.tyre;
+        bad.v_min = 0;
+        {
+            rfe_wheel_kin_q31_t kin;
+            rfe_tyre_kin_extra_q31_t extra;
+            rfe_sample_q31_t u;
+            memset(&u, 0, sizeof(u));
+            assert_int_equal(rfe_tyre_kinematics_ex_q31(&p.vehicle, &bad, &u, &kin, &extra),
+                             RFE_ERR_PARAM);
+        }
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_tyre_internal_q31),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
