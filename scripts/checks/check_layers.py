@@ -40,7 +40,7 @@ ALLOWED = {
 PUBLIC = {
     "numerics": ("common.h", "config.h", "types.h", "fixed.h", "fxmath.h", "qr.h", "qr_q31.h",
                  "chol.h", "chol_q31.h"),
-    "filters": ("sckf.h", "sckf_q31.h", "ckf.h", "ckf_q31.h", "kf2.h"),
+    "filters": ("sckf.h", "sckf_q31.h", "ckf.h", "ckf_q31.h", "kf2.h", "kf2_q31.h"),
     "params": ("modes.h", "params.h", "params_q31.h", "params_conv.h", "velocity_params.h"),
     "models": ("tyre.h", "tyre_q31.h", "obsmat.h", "obsmat_q31.h", "meas.h", "meas_q31.h"),
     "estimators": ("step_noise.h", "step_noise_q31.h", "conditioner.h", "conditioner_q31.h",
