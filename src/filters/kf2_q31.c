@@ -246,3 +246,16 @@ rfe_status_t rfe_kf2_update_q31(rfe_kf2_q31_t *f, const rfe_kf2_meas_q31_t *m, u
     rfe_q31_sat_add(sat, cnt);
     return RFE_OK;
 }
+
+rfe_status_t rfe_kf2_scale_q31(int64_t v, rfe_fix_t c, unsigned int s, int64_t *out,
+                               uint32_t *sat)
+{
+    if ((out == NULL) || (sat == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    if ((v > RFE_KF2_Q31_PMAX) || (v < -RFE_KF2_Q31_PMAX) || (s < 1u) || (s > 62u)) {
+        return RFE_ERR_RANGE;
+    }
+    *out = mul_p_q31(v, c, s, sat);
+    return RFE_OK;
+}

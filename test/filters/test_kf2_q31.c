@@ -389,6 +389,32 @@ static void test_saturation_is_counted(void **state)
     assert_int_equal(sat, UINT32_MAX);
 }
 
+/* REQ-FXP-013: the public covariance product: exactly rounded, clamped and counted, its
+ * arguments checked. */
+static void test_scale(void **state)
+{
+    int64_t y = 7;
+    uint32_t sat = 0u;
+    (void)state;
+    assert_int_equal(rfe_kf2_scale_q31(3, 5, 1u, &y, &sat), RFE_OK);
+    assert_true(y == 8); /* 15 / 2 = 7.5 rounds half up */
+    assert_int_equal(rfe_kf2_scale_q31(-3, 5, 1u, &y, &sat), RFE_OK);
+    assert_true(y == -7); /* -7.5 rounds half up */
+    assert_int_equal(sat, 0u);
+    assert_int_equal(rfe_kf2_scale_q31(RFE_KF2_Q31_PMAX, INT32_MAX, 1u, &y, &sat), RFE_OK);
+    assert_true(y == RFE_KF2_Q31_PMAX);
+    assert_int_equal(sat, 1u);
+    y = 7;
+    assert_int_equal(rfe_kf2_scale_q31(1, 1, 1u, NULL, &sat), RFE_ERR_NULL);
+    assert_int_equal(rfe_kf2_scale_q31(1, 1, 1u, &y, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_kf2_scale_q31(RFE_KF2_Q31_PMAX + 1, 1, 1u, &y, &sat), RFE_ERR_RANGE);
+    assert_int_equal(rfe_kf2_scale_q31(-RFE_KF2_Q31_PMAX - 1, 1, 1u, &y, &sat), RFE_ERR_RANGE);
+    assert_int_equal(rfe_kf2_scale_q31(1, 1, 0u, &y, &sat), RFE_ERR_RANGE);
+    assert_int_equal(rfe_kf2_scale_q31(1, 1, 63u, &y, &sat), RFE_ERR_RANGE);
+    assert_true(y == 7);
+    assert_int_equal(sat, 1u);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -398,6 +424,7 @@ int main(void)
         cmocka_unit_test(test_init),
         cmocka_unit_test(test_errors_leave_the_filter_untouched),
         cmocka_unit_test(test_saturation_is_counted),
+        cmocka_unit_test(test_scale),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

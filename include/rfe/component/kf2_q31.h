@@ -92,4 +92,17 @@ RFE_NODISCARD rfe_status_t rfe_kf2_predict_q31(rfe_kf2_q31_t *f, rfe_fix_t f01, 
 RFE_NODISCARD rfe_status_t rfe_kf2_update_q31(rfe_kf2_q31_t *f, const rfe_kf2_meas_q31_t *m,
                                               uint32_t *sat);
 
+/**
+ * The filter's covariance product, for the callers' noise terms: *out = round(v c / 2^s),
+ * exactly rounded, clamped to +-RFE_KF2_Q31_PMAX (counted in *sat).
+ * @param[in]     v    |v| <= RFE_KF2_Q31_PMAX.
+ * @param[in]     c    any int32.
+ * @param[in]     s    1 <= s <= 62.
+ * @param[out]    out  the product.
+ * @param[in,out] sat  saturation counter.
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_RANGE (v or s outside their ranges; nothing written).
+ */
+RFE_NODISCARD rfe_status_t rfe_kf2_scale_q31(int64_t v, rfe_fix_t c, unsigned int s,
+                                             int64_t *out, uint32_t *sat);
+
 #endif /* RFE_KF2_Q31_H */
