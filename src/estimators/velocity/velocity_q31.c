@@ -28,9 +28,19 @@ rfe_status_t rfe_velocity_init_q31(rfe_velocity_q31_t *obs, const rfe_velocity_p
     obs->veh = veh->vehicle;
     obs->tyre = veh->tyre;
     obs->started = 0u;
-    obs->yaw = (rfe_kf2_q31_t){{0, 0}, 0, 0, 0, RFE_VEL_Q31_QR, RFE_VEL_Q31_QRDOT, RFE_VEL_Q31_QDT};
-    obs->lon = (rfe_kf2_q31_t){{0, 0}, 0, 0, 0, RFE_VEL_Q31_QV, RFE_VEL_Q31_QB, RFE_VEL_Q31_QDT};
-    obs->lat = obs->lon;
+    {
+        /* the filters' formats, their states at 0 until the first sample (constant formats
+         * and sds: these cannot fail); member writes keep the caller's padding bytes */
+        const rfe_status_t s1 = rfe_kf2_init_q31(&obs->yaw, RFE_VEL_Q31_QR, RFE_VEL_Q31_QRDOT,
+                                                 RFE_VEL_Q31_QDT, 0, 0, 0, 0);
+        const rfe_status_t s2 = rfe_kf2_init_q31(&obs->lon, RFE_VEL_Q31_QV, RFE_VEL_Q31_QB,
+                                                 RFE_VEL_Q31_QDT, 0, 0, 0, 0);
+        const rfe_status_t s3 = rfe_kf2_init_q31(&obs->lat, RFE_VEL_Q31_QV, RFE_VEL_Q31_QB,
+                                                 RFE_VEL_Q31_QDT, 0, 0, 0, 0);
+        (void)s1;
+        (void)s2;
+        (void)s3;
+    }
     obs->last = (rfe_velocity_estimate_q31_t){0};
     obs->sat = 0u;
     obs->magic = RFE_MAGIC_VEL_Q31;

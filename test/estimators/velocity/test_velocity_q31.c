@@ -60,6 +60,7 @@
  *    (Q22: 512), accelerations and r-dot < 30 (Q24: 128), pressures < 20 MPa (Q25: 64),
  *    torques < 5000 N m (Q15: 65536), variances far inside 2^61.
  */
+#include "test_light.h"
 #include "test_common.h"
 
 #include <dirent.h>
@@ -273,9 +274,12 @@ static void test_back_to_back_on_every_observer_scenario(void **state)
     worst_t all = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0u, 0u, 0};
     (void)state;
     assert_non_null(d);
+    size_t seen = 0u;
+    const size_t stride = rfe_test_stride(10u); /* light mode (valgrind): every 10th log */
     while ((de = readdir(d)) != NULL) {
         const size_t len = strlen(de->d_name);
-        if ((len > 4u) && (strcmp(de->d_name + len - 4u, ".csv") == 0)) {
+        if ((len > 4u) && (strcmp(de->d_name + len - 4u, ".csv") == 0) &&
+            ((seen++ % stride) == 0u)) {
             const worst_t w = run_log(de->d_name);
             all.vx = fmax(all.vx, w.vx);
             all.vy = fmax(all.vy, w.vy);
@@ -291,14 +295,16 @@ static void test_back_to_back_on_every_observer_scenario(void **state)
         }
     }
     closedir(d);
-    assert_true(n >= MIN_LOGS);
+    assert_true(seen >= MIN_LOGS);
     printf("observer q31 vs f64 over %d logs (%zu steps): |dvx| %.3g m/s, |dvy| %.3g m/s, "
            "|dbeta| %.3g rad, |dr-dot| %.3g rad/s^2, |dsd| %.3g; %d log(s) with a decision "
            "split, after it |dvx| %.3g m/s, |dsd| %.3g; flags differ on %zu steps\n",
            n, all.n, all.vx, all.vy, all.beta, all.rdot, all.sd, all.splits, all.vx_split,
            all.sd_split, all.flag_diff);
-    ASSERT_LE((double)all.flag_diff, (1.0 - MIN_FLAG_AGREE_ALL) * (double)all.n,
-              "flag steps differing, all logs");
+    if (stride == 1u) { /* a subset's share is not the whole set's */
+        ASSERT_LE((double)all.flag_diff, (1.0 - MIN_FLAG_AGREE_ALL) * (double)all.n,
+                  "flag steps differing, all logs");
+    }
 }
 
 /* REQ-FXP-015: the defaults are the conversion of the double defaults, bit for bit; the
@@ -386,7 +392,7 @@ static void test_init_and_get(void **state)
     (void)state;
     params_of(NULL, &b);
     memset(&o, 0x5a, sizeof(o));
-    before = o;
+    memcpy(&before, &o, sizeof before);
     assert_int_equal(rfe_velocity_init_q31(NULL, &b.vq, &b.pq), RFE_ERR_NULL);
     assert_int_equal(rfe_velocity_init_q31(&o, NULL, &b.pq), RFE_ERR_NULL);
     assert_int_equal(rfe_velocity_init_q31(&o, &b.vq, NULL), RFE_ERR_NULL);
@@ -423,11 +429,12 @@ static void test_bad_inputs_leave_the_observer_untouched(void **state)
     int c;
     (void)state;
     params_of(NULL, &b);
+    memset(&o, 0, sizeof o); /* padding defined, so whole-struct compares see bytes */
     assert_int_equal(rfe_velocity_init_q31(&o, &b.vq, &b.pq), RFE_OK);
     rolling(&b, 20.0, 0.01, &in, &good);
     assert_int_equal(rfe_velocity_step_q31(&o, &good, NULL, &e), RFE_OK);
     assert_int_equal(rfe_velocity_step_q31(&o, &good, NULL, &prev), RFE_OK);
-    before = o;
+    memcpy(&before, &o, sizeof before); /* bytes, padding included (not a member copy) */
     assert_int_equal(rfe_velocity_step_q31(NULL, &good, NULL, &e), RFE_ERR_NULL);
     assert_int_equal(rfe_velocity_step_q31(&o, NULL, NULL, &e), RFE_ERR_NULL);
     assert_int_equal(rfe_velocity_step_q31(&o, &good, NULL, NULL), RFE_ERR_NULL);
@@ -478,7 +485,7 @@ static void test_bad_inputs_leave_the_observer_untouched(void **state)
     assert_int_equal(rfe_velocity_step_q31(&o, &x, &mu, &e), RFE_OK);
     /* not initialised */
     memset(&o, 0, sizeof(o));
-    before = o;
+    memcpy(&before, &o, sizeof before);
     assert_int_equal(rfe_velocity_step_q31(&o, &good, NULL, &e), RFE_ERR_NOT_INITIALISED);
     assert_memory_equal(&o, &before, sizeof(o));
 }
@@ -496,21 +503,23 @@ static void test_model_error_leaves_the_observer_untouched(void **state)
     rfe_velocity_estimate_q31_t e;
     (void)state;
     params_of(NULL, &b);
+    memset(&o, 0, sizeof o);
     assert_int_equal(rfe_velocity_init_q31(&o, &b.vq, &b.pq), RFE_OK);
     rolling(&b, 20.0, 0.01, &in, &iq);
     assert_int_equal(rfe_velocity_step_q31(&o, &iq, NULL, &e), RFE_OK);
     {
-        const rfe_velocity_q31_t good = o;
+        rfe_velocity_q31_t good;
         int c;
+        memcpy(&good, &o, sizeof good);
         for (c = 0; c < 4; ++c) {
-            o = good;
+            memcpy(&o, &good, sizeof o);
             switch (c) {
             case 0: o.tyre.mode = (rfe_tyre_mode_t)7; break; /* rfe_meas_setup_q31 rejects it */
             case 1: o.yaw.qf = 40u; break; /* the filters reject a corrupted format */
             case 2: o.lon.qf = 40u; break;
             default: o.lat.qf = 40u; break;
             }
-            before = o;
+            memcpy(&before, &o, sizeof before);
             assert_int_not_equal(rfe_velocity_step_q31(&o, &iq, NULL, &e), RFE_OK);
             assert_true(rfe_status_is_error(e.status));
             assert_int_equal(e.sat, 0u);
