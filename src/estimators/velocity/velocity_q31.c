@@ -12,8 +12,6 @@
 #include "estimators/velocity/velocity_logic.h"
 #include "numerics/internal_q31.h"
 
-#define RFE_MAGIC_VEL_Q31 0x56513331u /* "VQ31" */
-
 rfe_status_t rfe_velocity_init_q31(rfe_velocity_q31_t *obs, const rfe_velocity_params_q31_t *vp,
                                    const rfe_params_q31_t *veh)
 {
