@@ -140,4 +140,20 @@ RFE_NODISCARD rfe_status_t rfe_friction_step_q31(rfe_friction_q31_t *est,
 RFE_NODISCARD rfe_status_t rfe_friction_get_q31(const rfe_friction_q31_t *est,
                                                 rfe_estimate_q31_t *out);
 
+/**
+ * Sets the per-step input uncertainties of the errors-in-variables terms (the twin of
+ * rfe_friction_set_input_noise), for inputs that are estimates themselves (the velocity
+ * observer's sd each step, docs/OBSERVER.md §6).
+ * @param[in,out] est        an estimator set up by rfe_friction_init_q31.
+ * @param[in]     sd_in_vx   input noise sd of vx [m/s], Q23, >= 0.
+ * @param[in]     sd_in_vy   input noise sd of vy [m/s], Q23, >= 0.
+ * @param[in]     r_yaw_acc  yaw-acceleration noise sd [rad/s^2], Q24, > 0.
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_NOT_INITIALISED; RFE_ERR_RANGE (the estimator is
+ *         then untouched).
+ */
+RFE_NODISCARD rfe_status_t rfe_friction_set_input_noise_q31(rfe_friction_q31_t *est,
+                                                            rfe_fix_t sd_in_vx,
+                                                            rfe_fix_t sd_in_vy,
+                                                            rfe_fix_t r_yaw_acc);
+
 #endif /* RFE_FRICTION_Q31_H */

@@ -43,6 +43,7 @@
 
 #include "rfe/component/kf2.h"
 #include "rfe/params.h"
+#include "rfe/velocity_bits.h"
 #include "rfe/velocity_params.h"
 
 /* Full names of the functions declared here: _f32 in the float build, _f64 with
@@ -57,19 +58,7 @@
 #define rfe_velocity_get  rfe_velocity_get_f32
 #endif
 
-/** Bits of rfe_velocity_input_t.has: which optional inputs the sample carries. */
-#define RFE_VEL_HAS_PRESSURE 1u /**< p_brake is given */
-#define RFE_VEL_HAS_TORQUE 2u   /**< torque is given */
-#define RFE_VEL_HAS_STEER_WHEEL 4u /**< the steering angle is steer_wheel (delta is ignored):
-                                        delta = steer_wheel / steer_ratio */
-
-/** Bits of rfe_velocity_estimate_t.flags: what corrected the estimate (OBSERVER.md §5). */
-#define RFE_VEL_FLAG_VX_WHEEL 1u     /**< vx corrected by a wheel reference */
-#define RFE_VEL_FLAG_BRAKING 2u      /**< driving state: braking */
-#define RFE_VEL_FLAG_DRIVING 4u      /**< driving state: driving */
-#define RFE_VEL_FLAG_VY_MODEL 8u     /**< vy corrected by the tyre model */
-#define RFE_VEL_FLAG_VY_LOWSPEED 16u /**< vy corrected by the low-speed kinematics */
-#define RFE_VEL_FLAG_MU_RAISED 32u   /**< the measured ay raised the model's friction */
+/* The bits of has and flags (RFE_VEL_HAS_*, RFE_VEL_FLAG_*): rfe/velocity_bits.h. */
 
 /** One ESC sample (OBSERVER.md §1), SI units, ISO 8855 axes, wheels fl fr rl rr. */
 typedef struct {

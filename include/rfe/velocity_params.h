@@ -8,6 +8,7 @@
 #define RFE_VELOCITY_PARAMS_H
 
 #include "rfe/types.h"
+#include "rfe/velocity_bits.h"
 
 /* Full names of the functions declared here: _f32 in the float build, _f64 with
  * RFE_REAL_DOUBLE (rfe/types.h). Sources define and call them by the short name. */
@@ -19,13 +20,7 @@
 #define rfe_velocity_params_validate rfe_velocity_params_validate_f32
 #endif
 
-/** Driven-wheel bits of rfe_velocity_params_t.driven (fl, fr, rl, rr). */
-#define RFE_DRIVEN_FL 1u
-#define RFE_DRIVEN_FR 2u
-#define RFE_DRIVEN_RL 4u
-#define RFE_DRIVEN_RR 8u
-/** Every wheel driven (all-wheel drive). */
-#define RFE_DRIVEN_ALL (RFE_DRIVEN_FL | RFE_DRIVEN_FR | RFE_DRIVEN_RL | RFE_DRIVEN_RR)
+/* The driven-wheel bits (RFE_DRIVEN_*): rfe/velocity_bits.h. */
 
 /** The observer's parameters; each field is the parameter-file key obs_<field>. */
 typedef struct {

@@ -21,6 +21,10 @@
 
 /* ==== Section: every module ================================================================ */
 
+/** Magic words marking an initialised fixed-point state (distinct from the float twins'). */
+#define RFE_MAGIC_EST_Q31 0x45513331u /* "EQ31" */
+#define RFE_MAGIC_VEL_Q31 0x56513331u /* "VQ31" */
+
 /** 2^s as an int64 multiplier (0 <= s <= 62): a left shift is a multiplication by it (no
  *  shift of a signed value). */
 static inline int64_t rfe_q31_pow2(unsigned int s)

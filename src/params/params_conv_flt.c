@@ -169,3 +169,56 @@ rfe_status_t rfe_params_to_q31(const rfe_params_t *p, rfe_params_q31_t *q)
     *q = t;
     return RFE_OK;
 }
+
+rfe_status_t rfe_velocity_params_to_q31(const rfe_velocity_params_t *p,
+                                        rfe_velocity_params_q31_t *q)
+{
+    rfe_velocity_params_q31_t t;
+    conv_t c = {0};
+    rfe_status_t st;
+
+    if ((p == NULL) || (q == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    st = rfe_velocity_params_validate(p);
+    if (st != RFE_OK) {
+        return st;
+    }
+    t.driven = p->driven;
+    t.steer_ratio = to_q(&c, (double)p->steer_ratio, RFE_FIX_Q_RATIO, 0);
+    t.dt_min = to_q(&c, (double)p->dt_min, RFE_FIX_Q_DT, 0);
+    t.dt_max = to_q(&c, (double)p->dt_max, RFE_FIX_Q_DT, 0);
+    t.q_jerk = to_q(&c, (double)p->q_jerk, RFE_FIX_Q_ACC, 0);
+    t.sd_r = to_q(&c, (double)p->sd_r, RFE_FIX_Q_YAWRATE, 0);
+    t.sd_ax = to_q(&c, (double)p->sd_ax, RFE_FIX_Q_ACC, 0);
+    t.sd_ay = to_q(&c, (double)p->sd_ay, RFE_FIX_Q_ACC, 0);
+    t.q_bx = to_q(&c, (double)p->q_bx, RFE_FIX_Q_ACC, 0);
+    t.q_by = to_q(&c, (double)p->q_by, RFE_FIX_Q_ACC, 0);
+    t.sd_wheel = to_q(&c, (double)p->sd_wheel, RFE_FIX_Q_SPEED, 0);
+    t.sd_wheel_rel = to_q(&c, (double)p->sd_wheel_rel, RFE_FIX_Q_SD, 0);
+    t.k_gate = to_q(&c, (double)p->k_gate, RFE_FIX_Q_RATIO, 0);
+    t.ax_brake_on = to_q(&c, (double)p->ax_brake_on, RFE_FIX_Q_ACC, 0);
+    t.ax_drive_on = to_q(&c, (double)p->ax_drive_on, RFE_FIX_Q_ACC, 0);
+    t.p_brake_on = to_q(&c, (double)p->p_brake_on, RFE_FIX_Q_PRESSURE, 0);
+    t.torque_on = to_q(&c, (double)p->torque_on, RFE_FIX_Q_TORQUE, 0);
+    t.sd_model_ay = to_q(&c, (double)p->sd_model_ay, RFE_FIX_Q_ACC, 0);
+    t.model_ay_rel = to_q(&c, (double)p->model_ay_rel, RFE_FIX_Q_SD, 0);
+    t.dvy = to_q(&c, (double)p->dvy, RFE_FIX_Q_SPEED, 0);
+    t.sd_vydot = to_q(&c, (double)p->sd_vydot, RFE_FIX_Q_ACC, 0);
+    t.vydot_rdot = to_q(&c, (double)p->vydot_rdot, RFE_FIX_Q_RATIO, 0);
+    t.v_lat_min = to_q(&c, (double)p->v_lat_min, RFE_FIX_Q_SPEED, 0);
+    t.sd_lowspeed = to_q(&c, (double)p->sd_lowspeed, RFE_FIX_Q_SPEED, 0);
+    t.mu_default = to_q(&c, (double)p->mu_default, RFE_FIX_Q_MU, 0);
+    t.sd_mu_default = to_q(&c, (double)p->sd_mu_default, RFE_FIX_Q_SD, 0);
+    t.mu_margin = to_q(&c, (double)p->mu_margin, RFE_FIX_Q_SD, 0);
+    t.sd_vx0 = to_q(&c, (double)p->sd_vx0, RFE_FIX_Q_SPEED, 0);
+    t.sd_bx0 = to_q(&c, (double)p->sd_bx0, RFE_FIX_Q_ACC, 0);
+    t.sd_vy0 = to_q(&c, (double)p->sd_vy0, RFE_FIX_Q_SPEED, 0);
+    t.sd_by0 = to_q(&c, (double)p->sd_by0, RFE_FIX_Q_ACC, 0);
+    /* dt_max = 1 s is Q30's 2^30 exactly: within int32 */
+    if (c.bad != 0) {
+        return RFE_ERR_RANGE;
+    }
+    *q = t;
+    return RFE_OK;
+}

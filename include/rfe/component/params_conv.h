@@ -9,13 +9,17 @@
 
 #include "rfe/params.h"
 #include "rfe/params_q31.h"
+#include "rfe/velocity_params.h"
+#include "rfe/velocity_params_q31.h"
 
 /* Full names of the functions declared here: _f32 in the float build, _f64 with
  * RFE_REAL_DOUBLE (rfe/types.h). Sources define and call them by the short name. */
 #if defined(RFE_REAL_DOUBLE)
 #define rfe_params_to_q31 rfe_params_to_q31_f64
+#define rfe_velocity_params_to_q31 rfe_velocity_params_to_q31_f64
 #else
 #define rfe_params_to_q31 rfe_params_to_q31_f32
+#define rfe_velocity_params_to_q31 rfe_velocity_params_to_q31_f32
 #endif
 
 /**
@@ -32,5 +36,15 @@
  *         On error @p q is untouched.
  */
 RFE_NODISCARD rfe_status_t rfe_params_to_q31(const rfe_params_t *p, rfe_params_q31_t *q);
+
+/**
+ * Converts the observer's parameters @p p to Q formats (velocity_params_q31.h), each value
+ * rounded to nearest like rfe_params_to_q31 (the same rounding, one converter).
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_PARAM if rfe_velocity_params_validate(p) fails;
+ *         RFE_ERR_RANGE if a value rounds beyond +-INT32_MAX or a nonzero value rounds to 0.
+ *         On error @p q is untouched.
+ */
+RFE_NODISCARD rfe_status_t rfe_velocity_params_to_q31(const rfe_velocity_params_t *p,
+                                                      rfe_velocity_params_q31_t *q);
 
 #endif /* RFE_PARAMS_CONV_H */

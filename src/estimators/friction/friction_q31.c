@@ -33,9 +33,6 @@
 #define NM ((size_t)RFE_N_MAX)
 #define NW ((size_t)RFE_WHEELS)
 
-/** Marks an initialised rfe_friction_q31_t (distinct from the float estimator's word). */
-#define RFE_MAGIC_EST_Q31 0x45513331u /* "EQ31" */
-
 /* Formats (fractional bits) as unsigned shift counts. */
 #define QPRIOR 29u                         /* sqrt_prior's scaled matrix (< 4) */
 #define QSD ((unsigned int)RFE_FIX_Q_SD)   /* sd, S: Q30 */
@@ -515,7 +512,6 @@ static uint32_t settle_counts_q31(rfe_friction_q31_t *est)
     return step;
 }
 
-/* cppcheck-suppress misra-c2012-8.7 ; MISRA-DEV-06: public API, called by the application */
 rfe_status_t rfe_friction_get_q31(const rfe_friction_q31_t *est, rfe_estimate_q31_t *out)
 {
     rfe_fix_t x[RFE_N_MAX];

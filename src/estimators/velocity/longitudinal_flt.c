@@ -5,6 +5,7 @@
  *        braked wheel bounds it from below, a driven wheel from above.
  */
 #include "estimators/velocity/velocity_internal.h"
+#include "estimators/velocity/velocity_logic.h"
 
 #include "models/vehicle.h"
 #include "numerics/internal.h"
@@ -26,46 +27,28 @@ void rfe_vel_wheel_refs(const rfe_vehicle_t *veh, const rfe_velocity_input_t *in
     }
 }
 
-/* One bit per wheel, fl fr rl rr (the RFE_DRIVEN_* order). */
-static const uint32_t wheel_bit[RFE_WHEELS] = {RFE_DRIVEN_FL, RFE_DRIVEN_FR, RFE_DRIVEN_RL,
-                                               RFE_DRIVEN_RR};
-
-/* §3.4 the driving state: sets *braking, *driving (0 or 1) and the driven-wheel mask. */
-static void driving_state(const rfe_velocity_params_t *p, const rfe_velocity_input_t *in,
-                          rfe_real_t a_net, int *braking, int *driving, uint32_t *driven)
+/* §3.4 the driving state: the comparisons here, what follows from them in
+ * velocity_logic.h. */
+static rfe_vel_drive_state_t driving_state(const rfe_velocity_params_t *p,
+                                           const rfe_velocity_input_t *in, rfe_real_t a_net)
 {
+    rfe_vel_drive_tests_t t = {0, 0, 0u, 0u};
     size_t i;
-    int brake = 0;
-    int drive = 0;
-    uint32_t mask = p->driven;
     if (a_net < -p->ax_brake_on) {
-        brake = 1;
+        t.decelerating = 1;
     }
-    if ((in->has & RFE_VEL_HAS_PRESSURE) != 0u) {
-        for (i = 0u; i < RFE_WHEELS; ++i) {
-            if (in->p_brake[i] > p->p_brake_on) {
-                brake = 1;
-            }
+    if (a_net > p->ax_drive_on) {
+        t.accelerating = 1;
+    }
+    for (i = 0u; i < RFE_WHEELS; ++i) {
+        if (in->p_brake[i] > p->p_brake_on) {
+            t.pressure_mask |= rfe_vel_wheel_bit(i);
+        }
+        if (in->torque[i] > p->torque_on) {
+            t.torque_mask |= rfe_vel_wheel_bit(i);
         }
     }
-    if ((brake == 0) && (a_net > p->ax_drive_on)) {
-        drive = 1;
-    }
-    if ((in->has & RFE_VEL_HAS_TORQUE) != 0u) {
-        mask = 0u;
-        for (i = 0u; i < RFE_WHEELS; ++i) {
-            if (in->torque[i] > p->torque_on) {
-                mask |= wheel_bit[i];
-            }
-        }
-        drive = 0;
-        if ((brake == 0) && (mask != 0u)) {
-            drive = 1;
-        }
-    }
-    *braking = brake;
-    *driving = drive;
-    *driven = mask;
+    return rfe_vel_drive_state(&t, in->has, p->driven);
 }
 
 /* §3.5 what the plausible wheels say: the free ones' sum and count, the fastest and the
@@ -79,13 +62,13 @@ typedef struct {
 } wheel_vote_t;
 
 static wheel_vote_t wheel_votes(const rfe_real_t refs[RFE_WHEELS], rfe_real_t vx_pred,
-                                rfe_real_t gate, int braking, int driving, uint32_t driven)
+                                rfe_real_t gate, const rfe_vel_drive_state_t *ds)
 {
     wheel_vote_t w = {RFE_R(0.0), 0u, RFE_R(0.0), RFE_R(0.0), 0u};
     size_t i;
     for (i = 0u; i < RFE_WHEELS; ++i) {
         if (RFE_FABS(refs[i] - vx_pred) <= gate) {
-            if ((braking == 0) && ((driving == 0) || ((driven & wheel_bit[i]) == 0u))) {
+            if (rfe_vel_wheel_is_free(ds, i) != 0) {
                 w.sum += refs[i];
                 ++w.n_free;
             }
@@ -97,25 +80,27 @@ static wheel_vote_t wheel_votes(const rfe_real_t refs[RFE_WHEELS], rfe_real_t vx
     return w;
 }
 
-/* §3.5 the wheel reference z and its variance *r; 0 when there is none this step. */
-static int wheel_reference(const wheel_vote_t *w, rfe_real_t vx_pred, int braking, int driving,
-                           rfe_real_t sd_w, rfe_real_t *z, rfe_real_t *r)
+/* §3.5 the wheel reference z and its variance *r (the choice in velocity_logic.h); 0 when
+ * there is none this step. */
+static int wheel_reference(const wheel_vote_t *w, rfe_real_t vx_pred,
+                           const rfe_vel_drive_state_t *ds, rfe_real_t sd_w, rfe_real_t *z,
+                           rfe_real_t *r)
 {
+    const rfe_vel_ref_t ref = rfe_vel_reference(w->n_free, w->n_ok, ds,
+                                                (w->hi > vx_pred) ? 1 : 0,
+                                                (w->lo < vx_pred) ? 1 : 0);
     *r = sd_w * sd_w;
-    if (w->n_free > 0u) {
+    if (ref == RFE_VEL_REF_FREE_MEAN) {
         *z = w->sum / (rfe_real_t)w->n_free;
         *r = *r / (rfe_real_t)w->n_free;
-        return 1;
+    } else if (ref == RFE_VEL_REF_BRAKED_HI) {
+        *z = w->hi;
+    } else if (ref == RFE_VEL_REF_DRIVEN_LO) {
+        *z = w->lo;
+    } else {
+        /* none */
     }
-    if ((w->n_ok > 0u) && (braking != 0) && (w->hi > vx_pred)) {
-        *z = w->hi; /* a braked wheel turns slower than it rolls: a lower bound */
-        return 1;
-    }
-    if ((w->n_ok > 0u) && (braking == 0) && (driving != 0) && (w->lo < vx_pred)) {
-        *z = w->lo; /* a driven wheel turns faster: an upper bound */
-        return 1;
-    }
-    return 0;
+    return (ref != RFE_VEL_REF_NONE) ? 1 : 0;
 }
 
 rfe_status_t rfe_vel_longitudinal_step(rfe_kf2_t *f, const rfe_velocity_params_t *p,
@@ -126,10 +111,8 @@ rfe_status_t rfe_vel_longitudinal_step(rfe_kf2_t *f, const rfe_velocity_params_t
     rfe_real_t refs[RFE_WHEELS];
     rfe_real_t z = RFE_R(0.0);
     rfe_real_t r = RFE_R(0.0);
-    int braking;
-    int driving;
-    uint32_t driven;
-    uint32_t fl = 0u;
+    rfe_vel_drive_state_t ds;
+    uint32_t fl;
     const rfe_real_t dt = in->dt;
     const rfe_real_t a = (in->ax - (veh->g * RFE_SIN(in->grade))) + (in->yaw_rate * vy_prev);
     const rfe_real_t sx = dt * p->sd_ax;
@@ -140,21 +123,15 @@ rfe_status_t rfe_vel_longitudinal_step(rfe_kf2_t *f, const rfe_velocity_params_t
     if (st != RFE_OK) {
         return st;
     }
-    driving_state(p, in, a - k.x[1], &braking, &driving, &driven);
-    if (braking != 0) {
-        fl |= RFE_VEL_FLAG_BRAKING;
-    } else if (driving != 0) {
-        fl |= RFE_VEL_FLAG_DRIVING;
-    } else {
-        /* rolling */
-    }
+    ds = driving_state(p, in, a - k.x[1]);
+    fl = rfe_vel_drive_flags(&ds);
     rfe_vel_wheel_refs(veh, in, vy_prev, refs);
     {
         const rfe_real_t vx_pred = k.x[0];
         const rfe_real_t sd_w = p->sd_wheel + (p->sd_wheel_rel * RFE_FABS(vx_pred));
         const rfe_real_t gate = p->k_gate * RFE_SQRT(k.p00 + (sd_w * sd_w));
-        const wheel_vote_t w = wheel_votes(refs, vx_pred, gate, braking, driving, driven);
-        if (wheel_reference(&w, vx_pred, braking, driving, sd_w, &z, &r) != 0) {
+        const wheel_vote_t w = wheel_votes(refs, vx_pred, gate, &ds);
+        if (wheel_reference(&w, vx_pred, &ds, sd_w, &z, &r) != 0) {
             st = rfe_kf2_update(&k, RFE_R(1.0), RFE_R(0.0), z - vx_pred, r);
             fl |= RFE_VEL_FLAG_VX_WHEEL;
         }

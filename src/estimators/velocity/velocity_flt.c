@@ -6,6 +6,7 @@
 #include "rfe/velocity.h"
 
 #include "estimators/velocity/velocity_internal.h"
+#include "estimators/velocity/velocity_logic.h"
 #include "numerics/internal.h"
 
 rfe_status_t rfe_velocity_init(rfe_velocity_t *obs, const rfe_velocity_params_t *vp,
@@ -142,6 +143,23 @@ static rfe_status_t start(rfe_velocity_t *o, const rfe_velocity_input_t *in)
     return st;
 }
 
+/* §3.1 one stage of a later sample (the order: velocity_logic.h); @p vy_prev is the
+ * lateral filter's vy before this step. */
+static rfe_status_t run_stage(rfe_velocity_t *o, rfe_vel_stage_t stage,
+                              const rfe_velocity_input_t *in, rfe_real_t vy_prev,
+                              const rfe_velocity_mu_t *mu, uint32_t *flags)
+{
+    rfe_status_t st;
+    if (stage == RFE_VEL_STAGE_YAW) {
+        st = rfe_vel_yaw_acc_step(&o->yaw, &o->p, in->dt, in->yaw_rate);
+    } else if (stage == RFE_VEL_STAGE_LONGITUDINAL) {
+        st = rfe_vel_longitudinal_step(&o->lon, &o->p, &o->veh, in, vy_prev, flags);
+    } else {
+        st = rfe_vel_lateral_step(&o->lat, o, in, o->lon.x[0], mu, flags);
+    }
+    return st;
+}
+
 rfe_status_t rfe_velocity_step(rfe_velocity_t *obs, const rfe_velocity_input_t *sample,
                                const rfe_velocity_mu_t *mu, rfe_velocity_estimate_t *out)
 {
@@ -161,16 +179,13 @@ rfe_status_t rfe_velocity_step(rfe_velocity_t *obs, const rfe_velocity_input_t *
         st = check_input(obs, in, mu);
     }
     o = *obs; /* work on a copy: an error leaves the observer as it was */
-    if ((st == RFE_OK) && (o.started == 0u)) {
+    if ((st == RFE_OK) && (rfe_vel_plan(o.started) == RFE_VEL_PLAN_START)) {
         st = start(&o, in);
     } else if (st == RFE_OK) {
         const rfe_real_t vy_prev = o.lat.x[0];
-        st = rfe_vel_yaw_acc_step(&o.yaw, &o.p, in->dt, in->yaw_rate);
-        if (st == RFE_OK) {
-            st = rfe_vel_longitudinal_step(&o.lon, &o.p, &o.veh, in, vy_prev, &flags);
-        }
-        if (st == RFE_OK) {
-            st = rfe_vel_lateral_step(&o.lat, &o, in, o.lon.x[0], mu, &flags);
+        size_t k;
+        for (k = 0u; (k < (size_t)RFE_VEL_STAGES) && (st == RFE_OK); ++k) {
+            st = run_stage(&o, rfe_vel_stage(k), in, vy_prev, mu, &flags);
         }
     } else {
         /* the checks failed: nothing to compute */

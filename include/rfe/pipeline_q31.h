@@ -1,0 +1,61 @@
+/**
+ * @file pipeline_q31.h
+ * @brief Fixed-point twin of rfe/pipeline.h: one ESC sample in Q formats in; the friction
+ *        per wheel and vx, vy, beta, yaw acceleration out, each with its sd
+ *        (docs/OBSERVER.md §6). Integer operations only.
+ *
+ * Each step runs the velocity observer (rfe/velocity_q31.h) with the friction estimator's
+ * previous estimate, hands the friction estimator (rfe/friction_q31.h) the observer's vx,
+ * vy and yaw acceleration as its inputs, and their sd as its per-step input noise
+ * (rfe_friction_set_input_noise_q31: sd_in_vx, sd_in_vy, and sqrt(r_yaw_acc^2 +
+ * sd(r-dot)^2), Q24). The parameters' filter.dt must be the sample period.
+ */
+#ifndef RFE_PIPELINE_Q31_H
+#define RFE_PIPELINE_Q31_H
+
+#include <stdint.h>
+
+#include "rfe/friction_q31.h"
+#include "rfe/velocity_q31.h"
+
+/** Output of one step. */
+typedef struct {
+    rfe_estimate_q31_t friction;          /**< mu, sd, valid per wheel, status, sat */
+    rfe_velocity_estimate_q31_t velocity; /**< vx, vy, beta, r-dot, their sd, flags, status,
+                                               sat */
+} rfe_pipeline_out_q31_t;
+
+/** Pipeline state (caller-owned; fields read-only for the caller). */
+typedef struct {
+    uint32_t started;             /**< 0 until the first accepted sample */
+    rfe_fix_t r_yaw_acc;          /**< the friction estimator's own r-dot noise, Q24 */
+    rfe_velocity_q31_t velocity;  /**< the observer */
+    rfe_friction_q31_t friction;  /**< the friction estimator */
+    rfe_estimate_q31_t last;      /**< its last estimate (the observer's friction input) */
+} rfe_pipeline_q31_t;
+
+/**
+ * Initialises both estimators.
+ * @param[out] pl  the pipeline state.
+ * @param[in]  p   vehicle, tyre and friction-filter parameters in Q formats; the observer
+ *                 uses the same vehicle and tyre.
+ * @param[in]  vp  the observer's parameters in Q formats.
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_PARAM; rfe_friction_init_q31's errors.
+ */
+RFE_NODISCARD rfe_status_t rfe_pipeline_init_q31(rfe_pipeline_q31_t *pl,
+                                                 const rfe_params_q31_t *p,
+                                                 const rfe_velocity_params_q31_t *vp);
+
+/**
+ * One step: the observer, then the friction estimator on its outputs.
+ * @param[in,out] pl   a pipeline set up by rfe_pipeline_init_q31.
+ * @param[in]     in   one ESC sample (rfe_velocity_input_q31_t).
+ * @param[out]    out  both estimates.
+ * @return the observer's error (then nothing changed), else the friction estimator's status
+ *         (on its error the observer's step is undone too, so the pipeline is untouched).
+ */
+RFE_NODISCARD rfe_status_t rfe_pipeline_step_q31(rfe_pipeline_q31_t *pl,
+                                                 const rfe_velocity_input_q31_t *in,
+                                                 rfe_pipeline_out_q31_t *out);
+
+#endif /* RFE_PIPELINE_Q31_H */

@@ -1,0 +1,103 @@
+/**
+ * @file pipeline_q31.c
+ * @brief The composed entry in fixed point (rfe/pipeline_q31.h; twin of pipeline_flt.c):
+ *        observer, then friction on its outputs. Integer operations only.
+ */
+#include "rfe/pipeline_q31.h"
+
+#include "rfe/component/fxmath.h"
+
+#include "numerics/internal_q31.h"
+
+rfe_status_t rfe_pipeline_init_q31(rfe_pipeline_q31_t *pl, const rfe_params_q31_t *p,
+                                   const rfe_velocity_params_q31_t *vp)
+{
+    rfe_status_t st;
+    if ((pl == NULL) || (p == NULL) || (vp == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    st = rfe_velocity_init_q31(&pl->velocity, vp, p);
+    if (st == RFE_OK) {
+        st = rfe_friction_init_q31(&pl->friction, p);
+    }
+    if (st == RFE_OK) {
+        st = rfe_friction_get_q31(&pl->friction, &pl->last);
+    }
+    if (st == RFE_OK) {
+        pl->r_yaw_acc = p->filter.r_yaw_acc;
+        pl->started = 0u;
+    }
+    return st;
+}
+
+/* The friction estimator's sample from the ESC sample and the observer's estimate (its
+ * road-wheel angle: the observer applies the steering ratio). */
+static void friction_sample_q31(const rfe_velocity_input_q31_t *in,
+                                const rfe_velocity_estimate_q31_t *v, rfe_sample_q31_t *u)
+{
+    size_t i;
+    u->delta = v->delta;
+    u->vx = v->vx;
+    u->vy = v->vy;
+    u->yaw_rate = in->yaw_rate;
+    u->yaw_acc = v->yaw_acc;
+    u->ax = in->ax;
+    u->ay = in->ay;
+    for (i = 0u; i < RFE_WHEELS; ++i) {
+        u->omega[i] = in->omega[i];
+    }
+}
+
+rfe_status_t rfe_pipeline_step_q31(rfe_pipeline_q31_t *pl, const rfe_velocity_input_q31_t *in,
+                                   rfe_pipeline_out_q31_t *out)
+{
+    rfe_velocity_q31_t obs_before;
+    rfe_filter_params_q31_t noise_before;
+    rfe_velocity_mu_q31_t mu;
+    rfe_sample_q31_t u;
+    uint32_t sat = 0u;
+    size_t i;
+    rfe_status_t st;
+    if ((pl == NULL) || (in == NULL) || (out == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    for (i = 0u; i < RFE_WHEELS; ++i) {
+        mu.mu[i] = rfe_fix_max(pl->last.mu[i], 0);
+        mu.sd[i] = pl->last.sd[i];
+    }
+    obs_before = pl->velocity;
+    st = rfe_velocity_step_q31(&pl->velocity, in, (pl->started != 0u) ? &mu : NULL,
+                               &out->velocity);
+    if (st != RFE_OK) {
+        out->friction = pl->last;
+        out->friction.sat = 0u;
+        return st;
+    }
+    friction_sample_q31(in, &out->velocity, &u);
+    noise_before = pl->friction.params.filter;
+    {
+        /* sqrt(r_yaw_acc^2 + sd(r-dot)^2), Q24, exactly rounded */
+        const rfe_fix_t v[2] = {pl->r_yaw_acc, out->velocity.sd_yaw_acc};
+        rfe_fix_t r = 0;
+        st = rfe_fix_norm(v, 2u, &r, &sat);
+        if (st == RFE_OK) {
+            st = rfe_friction_set_input_noise_q31(&pl->friction, out->velocity.sd_vx,
+                                                  out->velocity.sd_vy, r);
+        }
+    }
+    if (st == RFE_OK) {
+        st = rfe_friction_step_q31(&pl->friction, &u, &out->friction);
+    }
+    if (rfe_status_is_error(st) != 0) {
+        pl->velocity = obs_before; /* undo the observer's step and the input noise: the */
+        pl->friction.params.filter = noise_before; /* pipeline is untouched */
+        out->friction = pl->last;
+        out->friction.status = st;
+        out->friction.sat = 0u;
+        return st;
+    }
+    rfe_q31_sat_add(&out->friction.sat, sat);
+    pl->last = out->friction;
+    pl->started = 1u;
+    return st;
+}

@@ -1,0 +1,177 @@
+/**
+ * @file lateral_q31.c
+ * @brief The lateral filter [vy Q23, b_y Q24] in fixed point (docs/OBSERVER.md §4; twin of
+ *        lateral_flt.c, the same steps in the same order): ay - r vx integrated, held by the
+ *        friction estimator's Q31 measurement model (rfe/component/meas_q31.h) at its last
+ *        friction, which the measured ay bounds from below.
+ */
+#include "estimators/velocity/velocity_internal_q31.h"
+
+#include "rfe/component/fxmath.h"
+#include "rfe/component/meas_q31.h"
+
+#include "numerics/internal_q31.h"
+
+/* The lateral row of h(mu, u) at vy (Q24), and, when @p mu_hi is not NULL, at the raised
+ * friction too (same kinematics: one set-up). */
+static rfe_status_t model_ay_q31(const rfe_velocity_q31_t *obs,
+                                 const rfe_velocity_input_q31_t *in, rfe_fix_t vx, rfe_fix_t vy,
+                                 const rfe_fix_t mu[RFE_WHEELS], const rfe_fix_t *mu_hi,
+                                 rfe_fix_t *ay, rfe_fix_t *ay_hi, uint32_t *sat)
+{
+    rfe_meas_q31_t h;
+    rfe_fix_t z[RFE_MEAS];
+    rfe_sample_q31_t u;
+    size_t i;
+    rfe_status_t st;
+    u.delta = in->delta;
+    u.vx = vx;
+    u.vy = vy;
+    u.yaw_rate = in->yaw_rate;
+    u.yaw_acc = 0; /* not used by the model */
+    u.ax = in->ax;
+    u.ay = in->ay;
+    for (i = 0u; i < RFE_WHEELS; ++i) {
+        u.omega[i] = in->omega[i];
+    }
+    st = rfe_meas_setup_q31(&h, &obs->veh, &obs->tyre, &u, sat);
+    if (st == RFE_OK) {
+        st = rfe_meas_eval_q31(&h, &obs->veh, &obs->tyre, mu, z, sat);
+        *ay = z[1];
+    }
+    if ((st == RFE_OK) && (mu_hi != NULL)) {
+        st = rfe_meas_eval_q31(&h, &obs->veh, &obs->tyre, mu_hi, z, sat);
+        *ay_hi = z[1];
+    }
+    return st;
+}
+
+/* The model's friction (§4.2), Q29: the input or the default, raised to what the measured
+ * ay proves, (1 + margin) |ay| / g; mu_hi = mu + sd. Returns 1 when the bound raised a
+ * wheel. */
+static int model_friction_q31(const rfe_velocity_params_q31_t *p, rfe_fix_t g, rfe_fix_t ay,
+                              const rfe_velocity_mu_q31_t *in, rfe_fix_t mu[RFE_WHEELS],
+                              rfe_fix_t mu_hi[RFE_WHEELS], uint32_t *sat)
+{
+    /* (1 + margin) Q30 times |ay| Q24: Q54, exact in int64; over g Q24 into Q29 after one
+     * rounding shift to Q53 (g > 0 after the parameter check) */
+    const int64_t gain = (int64_t)RFE_FIX_ONE(30) + (int64_t)p->mu_margin;
+    const int64_t num = gain * (int64_t)rfe_fix_abs(ay, sat);
+    const rfe_fix_t mu_low = rfe_q31_div_round(rfe_fix_shr64_round(num, 1u), g, sat);
+    int raised = 0;
+    size_t i;
+    for (i = 0u; i < RFE_WHEELS; ++i) {
+        const rfe_fix_t m = (in != NULL) ? in->mu[i] : p->mu_default;
+        const rfe_fix_t sd = (in != NULL) ? in->sd[i] : p->sd_mu_default;
+        if (m < mu_low) {
+            raised = 1;
+        }
+        mu[i] = rfe_fix_max(m, mu_low);
+        mu_hi[i] = rfe_fix_add(mu[i], rfe_fix_shr_round(sd, 1u), sat); /* sd Q30 -> Q29 */
+    }
+    return raised;
+}
+
+/* §4.1 the tyre model's row: h0 = d ay / d vy (Q24) by the difference over dvy, the
+ * innovation ay - ay0 and the noise sd_model_ay^2 + (model_ay_rel ay)^2 + (ay_mu - ay0)^2
+ * (Q48). */
+static rfe_status_t model_row_q31(const rfe_velocity_q31_t *obs,
+                                  const rfe_velocity_input_q31_t *in, rfe_fix_t vx,
+                                  rfe_fix_t vy_pred, const rfe_velocity_mu_q31_t *mu,
+                                  rfe_kf2_meas_q31_t *m, uint32_t *fl, uint32_t *sat)
+{
+    const rfe_velocity_params_q31_t *p = &obs->p;
+    rfe_fix_t mm[RFE_WHEELS];
+    rfe_fix_t m_hi[RFE_WHEELS];
+    rfe_fix_t ay0 = 0;
+    rfe_fix_t ay_mu = 0;
+    rfe_fix_t ay_h = 0;
+    rfe_status_t st;
+    if (model_friction_q31(p, obs->veh.g, in->ay, mu, mm, m_hi, sat) != 0) {
+        *fl |= RFE_VEL_FLAG_MU_RAISED;
+    }
+    st = model_ay_q31(obs, in, vx, vy_pred, mm, m_hi, &ay0, &ay_mu, sat);
+    if (st == RFE_OK) {
+        st = model_ay_q31(obs, in, vx, rfe_fix_add(vy_pred, p->dvy, sat), mm, NULL, &ay_h, NULL,
+                          sat);
+    }
+    if (st == RFE_OK) {
+        /* (Q24 - Q24) / Q23 into Q24: shift 24 - 24 + 23; dvy > 0 after the check */
+        const rfe_status_t dst = rfe_fix_div(rfe_fix_sub(ay_h, ay0, sat), p->dvy, 23, &m->h0, sat);
+        const rfe_fix_t e_mu = rfe_fix_sub(ay_mu, ay0, sat);
+        const rfe_fix_t rel = rfe_fix_mul(p->model_ay_rel, in->ay, 30u, sat);
+        int64_t r = rfe_fix_add64(rfe_vel_var_q31(p->sd_model_ay, sat), rfe_vel_var_q31(rel, sat),
+                                  sat);
+        (void)dst;
+        r = rfe_fix_add64(r, rfe_vel_var_q31(e_mu, sat), sat);
+        m->h1 = 0;
+        m->qh0 = RFE_VEL_Q31_QB;
+        m->qh1 = RFE_VEL_Q31_QB;
+        m->qz = RFE_VEL_Q31_QB;
+        m->nu = rfe_fix_sub(in->ay, ay0, sat);
+        m->r = rfe_vel_pmax_q31(r, sat);
+        *fl |= RFE_VEL_FLAG_VY_MODEL;
+    }
+    return st;
+}
+
+rfe_status_t rfe_vel_lateral_step_q31(rfe_kf2_q31_t *f, const rfe_velocity_q31_t *obs,
+                                      const rfe_velocity_input_q31_t *in, rfe_fix_t vx,
+                                      const rfe_velocity_mu_q31_t *mu, uint32_t *flags,
+                                      uint32_t *sat)
+{
+    const rfe_velocity_params_q31_t *p = &obs->p;
+    rfe_kf2_q31_t k;
+    rfe_kf2_meas_q31_t m;
+    uint32_t fl = 0u;
+    uint32_t cnt = 0u;
+    const rfe_fix_t dt = in->dt;
+    /* ay - r vx: r Q27 vx Q23 -> Q24 */
+    const rfe_fix_t a_kin = rfe_fix_sub(in->ay, rfe_fix_mul(in->yaw_rate, vx, 26u, &cnt), &cnt);
+    const int64_t q00 = rfe_vel_dt_var_q31(dt, p->sd_ay, &cnt);
+    const int64_t q11 = rfe_vel_scale_q31(rfe_vel_var_q31(p->q_by, &cnt), dt, 30u, &cnt);
+    rfe_status_t st;
+    k = *f;
+    st = rfe_kf2_predict_q31(&k, -dt, rfe_fix_mul(dt, a_kin, 31u, &cnt), q00, q11, 0, &cnt);
+    if (st != RFE_OK) {
+        return st;
+    }
+    if (vx >= p->v_lat_min) {
+        st = model_row_q31(obs, in, vx, k.x[0], mu, &m, &fl, &cnt);
+        if (st == RFE_OK) {
+            st = rfe_kf2_update_q31(&k, &m, &cnt);
+        }
+    } else {
+        /* §4.3 low speed: the rear axle rolls without side slip, vy = Lr r (Q29 Q27 -> Q23) */
+        m.h0 = RFE_VEL_Q31_ONE;
+        m.h1 = 0;
+        m.qh0 = RFE_VEL_Q31_QONE;
+        m.qh1 = RFE_VEL_Q31_QONE;
+        m.qz = RFE_VEL_Q31_QV;
+        m.nu = rfe_fix_sub(rfe_fix_mul(obs->veh.Lr, in->yaw_rate, 33u, &cnt), k.x[0], &cnt);
+        m.r = rfe_vel_var_q31(p->sd_lowspeed, &cnt);
+        st = rfe_kf2_update_q31(&k, &m, &cnt);
+        fl |= RFE_VEL_FLAG_VY_LOWSPEED;
+    }
+    if (st == RFE_OK) {
+        /* §4.4 no sideslip accelerates for long: ay - r vx = b_y + v-dot_y, v-dot_y as noise
+         * (larger while the yaw rate changes): Q24 + Q24 Q24 -> Q24 */
+        const rfe_fix_t sv = rfe_fix_add(
+            p->sd_vydot, rfe_fix_mul(p->vydot_rdot, rfe_fix_abs(obs->yaw.x[1], &cnt), 24u, &cnt),
+            &cnt);
+        m.h0 = 0;
+        m.h1 = RFE_VEL_Q31_ONE;
+        m.qh0 = RFE_VEL_Q31_QB;
+        m.qh1 = RFE_VEL_Q31_QONE;
+        m.qz = RFE_VEL_Q31_QB;
+        m.nu = rfe_fix_sub(a_kin, k.x[1], &cnt);
+        m.r = rfe_vel_var_q31(sv, &cnt);
+        st = rfe_kf2_update_q31(&k, &m, &cnt);
+    }
+    if (st == RFE_OK) {
+        *f = k;
+        *flags |= fl;
+        rfe_q31_sat_add(sat, cnt);
+    }
+    return st;
+}

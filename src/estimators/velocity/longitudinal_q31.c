@@ -1,0 +1,200 @@
+/**
+ * @file longitudinal_q31.c
+ * @brief The longitudinal filter [vx Q23, b_x Q24] in fixed point (docs/OBSERVER.md
+ *        §3.3-3.5; twin of longitudinal_flt.c): ax integrated, corrected by the wheels that
+ *        can be trusted. The decisions are velocity_logic.h's, shared with the float twin.
+ */
+#include "estimators/velocity/velocity_internal_q31.h"
+#include "estimators/velocity/velocity_logic.h"
+
+#include "rfe/component/fxmath.h"
+
+#include "numerics/internal_q31.h"
+
+/* Wheel positions (MODEL.md §2), Q29: the twin of models/vehicle.h's rfe_wheel_positions. */
+static void wheel_positions_q31(const rfe_vehicle_q31_t *veh, rfe_fix_t px[RFE_WHEELS],
+                                rfe_fix_t py[RFE_WHEELS])
+{
+    px[RFE_FL] = veh->Lf;
+    px[RFE_FR] = veh->Lf;
+    px[RFE_RL] = -veh->Lr;
+    px[RFE_RR] = -veh->Lr;
+    py[RFE_FL] = veh->yf;
+    py[RFE_FR] = -veh->yf;
+    py[RFE_RL] = veh->yr;
+    py[RFE_RR] = -veh->yr;
+}
+
+void rfe_vel_wheel_refs_q31(const rfe_vehicle_q31_t *veh, const rfe_velocity_input_q31_t *in,
+                            rfe_fix_t vy, rfe_fix_t refs[RFE_WHEELS], uint32_t *sat)
+{
+    rfe_fix_t px[RFE_WHEELS];
+    rfe_fix_t py[RFE_WHEELS];
+    rfe_fix_t sd = 0;
+    rfe_fix_t cd = RFE_FIX_ONE(30);
+    size_t i;
+    /* every int32 angle is in rfe_fix_sincos's domain; the pointers are not NULL */
+    const rfe_status_t st = rfe_fix_sincos(in->delta, &sd, &cd);
+    (void)st;
+    wheel_positions_q31(veh, px, py);
+    for (i = 0u; i < RFE_WHEELS; ++i) {
+        /* omega Q22 R Q29 -> Q23; r Q27 x Q29 -> Q23 */
+        rfe_fix_t v = rfe_fix_mul(in->omega[i], veh->R, 28u, sat);
+        if (i < 2u) {
+            const rfe_fix_t lat = rfe_fix_add(vy, rfe_fix_mul(in->yaw_rate, px[i], 33u, sat), sat);
+            const rfe_fix_t num = rfe_fix_sub(v, rfe_fix_mul(lat, sd, 30u, sat), sat);
+            /* cos(delta) >= cos(1 rad) > 0 after the input check: the division is defined */
+            const rfe_status_t sd_st = rfe_fix_div(num, cd, 30, &v, sat);
+            (void)sd_st;
+        }
+        refs[i] = rfe_fix_add(v, rfe_fix_mul(in->yaw_rate, py[i], 33u, sat), sat);
+    }
+}
+
+/* §3.4 the driving state: the comparisons here, what follows from them in
+ * velocity_logic.h. */
+static rfe_vel_drive_state_t driving_state_q31(const rfe_velocity_params_q31_t *p,
+                                               const rfe_velocity_input_q31_t *in,
+                                               rfe_fix_t a_net)
+{
+    rfe_vel_drive_tests_t t = {0, 0, 0u, 0u};
+    size_t i;
+    if (a_net < -p->ax_brake_on) {
+        t.decelerating = 1;
+    }
+    if (a_net > p->ax_drive_on) {
+        t.accelerating = 1;
+    }
+    for (i = 0u; i < RFE_WHEELS; ++i) {
+        if (in->p_brake[i] > p->p_brake_on) {
+            t.pressure_mask |= rfe_vel_wheel_bit(i);
+        }
+        if (in->torque[i] > p->torque_on) {
+            t.torque_mask |= rfe_vel_wheel_bit(i);
+        }
+    }
+    return rfe_vel_drive_state(&t, in->has, p->driven);
+}
+
+/* §3.5 what the plausible wheels say (Q23; the sum in int64). */
+typedef struct {
+    int64_t sum;
+    size_t n_free;
+    rfe_fix_t hi;
+    rfe_fix_t lo;
+    size_t n_ok;
+} wheel_vote_q31_t;
+
+static wheel_vote_q31_t wheel_votes_q31(const rfe_fix_t refs[RFE_WHEELS], rfe_fix_t vx_pred,
+                                        rfe_fix_t gate, const rfe_vel_drive_state_t *ds)
+{
+    wheel_vote_q31_t w = {0, 0u, 0, 0, 0u};
+    size_t i;
+    for (i = 0u; i < RFE_WHEELS; ++i) {
+        const int64_t d = (int64_t)refs[i] - (int64_t)vx_pred;
+        if (((d < 0) ? -d : d) <= (int64_t)gate) {
+            if (rfe_vel_wheel_is_free(ds, i) != 0) {
+                w.sum += (int64_t)refs[i];
+                ++w.n_free;
+            }
+            w.hi = (w.n_ok == 0u) ? refs[i] : rfe_fix_max(w.hi, refs[i]);
+            w.lo = (w.n_ok == 0u) ? refs[i] : rfe_fix_min(w.lo, refs[i]);
+            ++w.n_ok;
+        }
+    }
+    return w;
+}
+
+/* §3.5 the wheel reference z (Q23) and its variance *r (Q46); 0 when there is none. */
+static int wheel_reference_q31(const wheel_vote_q31_t *w, rfe_fix_t vx_pred,
+                               const rfe_vel_drive_state_t *ds, rfe_fix_t sd_w, rfe_fix_t *z,
+                               int64_t *r, uint32_t *sat)
+{
+    const rfe_vel_ref_t ref = rfe_vel_reference(w->n_free, w->n_ok, ds,
+                                                (w->hi > vx_pred) ? 1 : 0,
+                                                (w->lo < vx_pred) ? 1 : 0);
+    *r = rfe_vel_var_q31(sd_w, sat);
+    if (ref == RFE_VEL_REF_FREE_MEAN) {
+        const int64_t n = (int64_t)w->n_free; /* 1 .. 4 */
+        *z = rfe_q31_div_round(w->sum, (rfe_fix_t)n, sat);
+        *r = (*r + (n / 2)) / n; /* r >= 0: rounded to nearest */
+    } else if (ref == RFE_VEL_REF_BRAKED_HI) {
+        *z = w->hi;
+    } else if (ref == RFE_VEL_REF_DRIVEN_LO) {
+        *z = w->lo;
+    } else {
+        /* none */
+    }
+    return (ref != RFE_VEL_REF_NONE) ? 1 : 0;
+}
+
+/* The net acceleration ax - g sin(grade) + r vy_prev, Q24. */
+static rfe_fix_t net_acc_q31(const rfe_vehicle_q31_t *veh, const rfe_velocity_input_q31_t *in,
+                             rfe_fix_t vy_prev, uint32_t *sat)
+{
+    rfe_fix_t sg = 0;
+    rfe_fix_t cg = 0;
+    const rfe_status_t st = rfe_fix_sincos(in->grade, &sg, &cg); /* every angle: defined */
+    const rfe_fix_t a = rfe_fix_sub(in->ax, rfe_fix_mul(veh->g, sg, 30u, sat), sat);
+    (void)st;
+    return rfe_fix_add(a, rfe_fix_mul(in->yaw_rate, vy_prev, 26u, sat), sat);
+}
+
+rfe_status_t rfe_vel_longitudinal_step_q31(rfe_kf2_q31_t *f, const rfe_velocity_params_q31_t *p,
+                                           const rfe_vehicle_q31_t *veh,
+                                           const rfe_velocity_input_q31_t *in,
+                                           rfe_fix_t vy_prev, uint32_t *flags, uint32_t *sat)
+{
+    rfe_kf2_q31_t k;
+    rfe_fix_t refs[RFE_WHEELS];
+    rfe_kf2_meas_q31_t m;
+    rfe_vel_drive_state_t ds;
+    uint32_t fl;
+    uint32_t cnt = 0u;
+    const rfe_fix_t dt = in->dt;
+    const rfe_fix_t a = net_acc_q31(veh, in, vy_prev, &cnt);
+    const int64_t q00 = rfe_vel_dt_var_q31(dt, p->sd_ax, &cnt);
+    const int64_t q11 = rfe_vel_scale_q31(rfe_vel_var_q31(p->q_bx, &cnt), dt, 30u, &cnt);
+    rfe_status_t st;
+    k = *f;
+    /* f01 = -dt; u = dt a: Q30 Q24 -> Q23 */
+    st = rfe_kf2_predict_q31(&k, -dt, rfe_fix_mul(dt, a, 31u, &cnt), q00, q11, 0, &cnt);
+    if (st != RFE_OK) {
+        return st;
+    }
+    ds = driving_state_q31(p, in, rfe_fix_sub(a, k.x[1], &cnt));
+    fl = rfe_vel_drive_flags(&ds);
+    rfe_vel_wheel_refs_q31(veh, in, vy_prev, refs, &cnt);
+    {
+        const rfe_fix_t vx_pred = k.x[0];
+        const rfe_fix_t sd_w = rfe_fix_add(
+            p->sd_wheel, rfe_fix_mul(p->sd_wheel_rel, rfe_fix_abs(vx_pred, &cnt), 30u, &cnt),
+            &cnt);
+        /* sqrt(p00 + sd_w^2): Q46 -> Q23, the root of an int64 below 2^62 */
+        const int64_t v_gate = rfe_fix_add64(k.p00, rfe_vel_var_q31(sd_w, &cnt), &cnt);
+        const uint64_t root = rfe_q31_sqrt_round((v_gate > 0) ? (uint64_t)v_gate : 0u);
+        const rfe_fix_t sd_gate = rfe_fix_sat32((int64_t)root, &cnt);
+        const rfe_fix_t gate = rfe_fix_mul(p->k_gate, sd_gate, 24u, &cnt);
+        const wheel_vote_q31_t w = wheel_votes_q31(refs, vx_pred, gate, &ds);
+        rfe_fix_t z = 0;
+        if (wheel_reference_q31(&w, vx_pred, &ds, sd_w, &z, &m.r, &cnt) != 0) {
+            m.h0 = RFE_VEL_Q31_ONE;
+            m.h1 = 0;
+            m.qh0 = RFE_VEL_Q31_QONE;
+            m.qh1 = RFE_VEL_Q31_QONE;
+            m.qz = RFE_VEL_Q31_QV;
+            m.nu = rfe_fix_sub(z, vx_pred, &cnt);
+            st = rfe_kf2_update_q31(&k, &m, &cnt);
+            fl |= RFE_VEL_FLAG_VX_WHEEL;
+        }
+    }
+    if (st == RFE_OK) {
+        if (k.x[0] < 0) {
+            k.x[0] = 0; /* forward driving only */
+        }
+        *f = k;
+        *flags |= fl;
+        rfe_q31_sat_add(sat, cnt);
+    }
+    return st;
+}

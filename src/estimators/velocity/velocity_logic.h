@@ -1,0 +1,157 @@
+/**
+ * @file velocity_logic.h
+ * @brief Private, shared by both number types (the observer's *_flt.c and *_q31.c; no real
+ *        type in it): the observer's decisions that are not arithmetic. Each twin makes the
+ *        comparisons on its own numbers and hands their outcomes (0 or 1, or a wheel mask)
+ *        here; what follows from them lives once. Not installed.
+ *
+ *  - the step plan (§3.0): the first accepted sample initialises, every later one runs the
+ *    filters in the order yaw rate, longitudinal, lateral;
+ *  - the driving state (§3.4) from the deceleration / acceleration tests, the pressures and
+ *    the torques;
+ *  - the wheel votes (§3.5): which plausible wheel is free-rolling, and which reference the
+ *    longitudinal filter takes;
+ *  - the flags each decision sets (§5).
+ */
+#ifndef RFE_VELOCITY_LOGIC_H
+#define RFE_VELOCITY_LOGIC_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "rfe/common.h"
+#include "rfe/velocity_bits.h"
+
+/** §3.0 what a step does: initialise the filters, or run them. */
+typedef enum {
+    RFE_VEL_PLAN_START = 0,  /**< first accepted sample: every filter initialised from it */
+    RFE_VEL_PLAN_FILTERS = 1 /**< later samples: yaw rate, then longitudinal, then lateral */
+} rfe_vel_plan_t;
+
+/** The filters a later sample runs, in their order (§3.1): the yaw-rate differentiator
+ *  first (the lateral filter's kinematic noise uses its r-dot of the previous step), then
+ *  the longitudinal filter (on the lateral filter's previous vy), then the lateral filter
+ *  (at this step's vx). */
+typedef enum {
+    RFE_VEL_STAGE_YAW = 0,
+    RFE_VEL_STAGE_LONGITUDINAL = 1,
+    RFE_VEL_STAGE_LATERAL = 2,
+    RFE_VEL_STAGES = 3
+} rfe_vel_stage_t;
+
+/** Stage @p k (0 .. RFE_VEL_STAGES - 1) of a later sample, in the order above. */
+static inline rfe_vel_stage_t rfe_vel_stage(size_t k)
+{
+    static const rfe_vel_stage_t order[RFE_VEL_STAGES] = {
+        RFE_VEL_STAGE_YAW, RFE_VEL_STAGE_LONGITUDINAL, RFE_VEL_STAGE_LATERAL};
+    return order[k];
+}
+
+/** §3.0 the plan of a step from the observer's `started`. */
+static inline rfe_vel_plan_t rfe_vel_plan(uint32_t started)
+{
+    return (started == 0u) ? RFE_VEL_PLAN_START : RFE_VEL_PLAN_FILTERS;
+}
+
+/** The driven-wheel bit of wheel @p i (fl, fr, rl, rr: the RFE_DRIVEN_* order). */
+static inline uint32_t rfe_vel_wheel_bit(size_t i)
+{
+    return (uint32_t)1u << i;
+}
+
+/** The outcomes of the driving-state comparisons of one sample (§3.4). */
+typedef struct {
+    int decelerating;       /**< a_net < -ax_brake_on */
+    int accelerating;       /**< a_net > ax_drive_on */
+    uint32_t pressure_mask; /**< bit i: p_brake[i] > p_brake_on */
+    uint32_t torque_mask;   /**< bit i: torque[i] > torque_on */
+} rfe_vel_drive_tests_t;
+
+/** The driving state (§3.4). */
+typedef struct {
+    int braking;     /**< 1: braking */
+    int driving;     /**< 1: driving (never together with braking) */
+    uint32_t driven; /**< the wheels driven this step (RFE_DRIVEN_* bits) */
+} rfe_vel_drive_state_t;
+
+/** §3.4 braking when decelerating or (pressures given) a wheel's pressure is above its
+ *  threshold; driving when not braking and accelerating, or (torques given) when not
+ *  braking and a wheel's torque is above its threshold, which then also names the driven
+ *  wheels (else the parameters' @p driven). */
+static inline rfe_vel_drive_state_t rfe_vel_drive_state(const rfe_vel_drive_tests_t *t,
+                                                        uint32_t has, uint32_t driven)
+{
+    rfe_vel_drive_state_t s;
+    s.braking = 0;
+    s.driving = 0;
+    s.driven = driven;
+    if ((t->decelerating != 0) ||
+        (((has & RFE_VEL_HAS_PRESSURE) != 0u) && (t->pressure_mask != 0u))) {
+        s.braking = 1;
+    }
+    if ((has & RFE_VEL_HAS_TORQUE) != 0u) {
+        s.driven = t->torque_mask;
+        if ((s.braking == 0) && (s.driven != 0u)) {
+            s.driving = 1;
+        }
+    } else if ((s.braking == 0) && (t->accelerating != 0)) {
+        s.driving = 1;
+    } else {
+        /* rolling or braking */
+    }
+    return s;
+}
+
+/** §5 the driving-state flag. */
+static inline uint32_t rfe_vel_drive_flags(const rfe_vel_drive_state_t *s)
+{
+    uint32_t fl = 0u;
+    if (s->braking != 0) {
+        fl = RFE_VEL_FLAG_BRAKING;
+    } else if (s->driving != 0) {
+        fl = RFE_VEL_FLAG_DRIVING;
+    } else {
+        /* rolling */
+    }
+    return fl;
+}
+
+/** §3.5 a plausible wheel @p i measures vx (free-rolling): nothing is braked, and nothing
+ *  is driven or wheel i is not a driven one. */
+static inline int rfe_vel_wheel_is_free(const rfe_vel_drive_state_t *s, size_t i)
+{
+    return ((s->braking == 0) &&
+            ((s->driving == 0) || ((s->driven & rfe_vel_wheel_bit(i)) == 0u))) ? 1 : 0;
+}
+
+/** §3.5 the reference the longitudinal filter takes. */
+typedef enum {
+    RFE_VEL_REF_NONE = 0,     /**< no correction this step */
+    RFE_VEL_REF_FREE_MEAN = 1, /**< the mean of the free-rolling wheels (variance / count) */
+    RFE_VEL_REF_BRAKED_HI = 2, /**< braking: the fastest plausible wheel, a lower bound */
+    RFE_VEL_REF_DRIVEN_LO = 3  /**< driving: the slowest plausible wheel, an upper bound */
+} rfe_vel_ref_t;
+
+/** §3.5 which reference: the free wheels' mean when there is one; else, braking, the
+ *  fastest plausible wheel when it is above the prediction (a braked wheel turns slower
+ *  than it rolls); else, driving, the slowest when it is below (a driven wheel turns
+ *  faster). @p hi_above: the fastest plausible wheel > vx_pred; @p lo_below: the slowest
+ *  < vx_pred (both meaningless, and unused, when @p n_ok is 0). */
+static inline rfe_vel_ref_t rfe_vel_reference(size_t n_free, size_t n_ok,
+                                              const rfe_vel_drive_state_t *s, int hi_above,
+                                              int lo_below)
+{
+    rfe_vel_ref_t r = RFE_VEL_REF_NONE;
+    if (n_free > 0u) {
+        r = RFE_VEL_REF_FREE_MEAN;
+    } else if ((n_ok > 0u) && (s->braking != 0) && (hi_above != 0)) {
+        r = RFE_VEL_REF_BRAKED_HI;
+    } else if ((n_ok > 0u) && (s->braking == 0) && (s->driving != 0) && (lo_below != 0)) {
+        r = RFE_VEL_REF_DRIVEN_LO;
+    } else {
+        /* no trustworthy wheel this step */
+    }
+    return r;
+}
+
+#endif /* RFE_VELOCITY_LOGIC_H */

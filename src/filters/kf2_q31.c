@@ -1,0 +1,261 @@
+/**
+ * @file kf2_q31.c
+ * @brief The two-state Kalman filter in fixed point (rfe/component/kf2_q31.h). Integer
+ *        operations only.
+ */
+#include "rfe/component/kf2_q31.h"
+
+#include "rfe/component/fxmath.h"
+
+#include "numerics/internal_q31.h"
+
+/* The formats of a filter: both states in Q0..Q31, the transition's shift in [1, 62]. */
+static int formats_ok_q31(unsigned int q0, unsigned int q1, unsigned int qf)
+{
+    const int s = ((int)q1 + (int)qf) - (int)q0;
+    return (q0 <= 31u) && (q1 <= 31u) && (qf <= 31u) && (s >= 1) && (s <= 62);
+}
+
+/* A covariance entry clamped to +-RFE_KF2_Q31_PMAX (counted). */
+static int64_t clamp_p_q31(int64_t v, uint32_t *sat)
+{
+    int64_t r = v;
+    if (v > RFE_KF2_Q31_PMAX) {
+        rfe_fix_count_sat(sat);
+        r = RFE_KF2_Q31_PMAX;
+    } else if (v < -RFE_KF2_Q31_PMAX) {
+        rfe_fix_count_sat(sat);
+        r = -RFE_KF2_Q31_PMAX;
+    } else {
+        /* inside the bound */
+    }
+    return r;
+}
+
+/* round(v c / 2^s) for |v| <= PMAX, any int32 c, 1 <= s <= 62, clamped to +-PMAX. The
+ * bit lengths bound the product: 2^(lv + lc - 2) <= |v c| < 2^(lv + lc). Below 2^(s + 61)
+ * the exact product of rfe_q31_mul64x32 is taken; from 2^(s + 63) on the result is beyond
+ * PMAX; in between the product rounded by two more bits (below 2^61) decides. */
+static int64_t mul_p_q31(int64_t v, rfe_fix_t c, unsigned int s, uint32_t *sat)
+{
+    const unsigned int lv = rfe_q31_bitlen64(rfe_q31_mag64_any(v));
+    const unsigned int lc = rfe_q31_bitlen64(rfe_q31_mag64_any((int64_t)c));
+    const int64_t sat_value = ((v < 0) != (c < 0)) ? -RFE_KF2_Q31_PMAX : RFE_KF2_Q31_PMAX;
+    int64_t r;
+    if ((v == 0) || (c == 0)) {
+        r = 0;
+    } else if ((lv + lc) <= (s + 61u)) {
+        r = clamp_p_q31(rfe_q31_mul64x32(v, (int64_t)c, s), sat);
+    } else if ((lv + lc) > (s + 63u)) {
+        rfe_fix_count_sat(sat);
+        r = sat_value;
+    } else {
+        /* s <= lv + lc - 62 <= 31: s + 2 is a valid shift; |coarse| < 2^61 */
+        const int64_t coarse = rfe_q31_mul64x32(v, (int64_t)c, s + 2u);
+        if (rfe_q31_mag64_any(coarse) > ((uint64_t)RFE_KF2_Q31_PMAX >> 2)) {
+            rfe_fix_count_sat(sat);
+            r = sat_value;
+        } else {
+            r = clamp_p_q31(rfe_q31_mul64x32(v, (int64_t)c, s), sat); /* <= 2^61 + 4 */
+        }
+    }
+    return r;
+}
+
+/* The ratio a / b (b > 0) as m 2^-e: |m| <= 2^30 with 29 significant bits at least. */
+typedef struct {
+    rfe_fix_t m;
+    int e;
+} ratio_q31_t;
+
+/* v != 0 as m 2^e with |m| in [2^29, 2^30] (m exact when e <= 0, rounded half up when
+ * e > 0); v = 0 gives m = 0. |v| <= PMAX. */
+static void normalise_q31(int64_t v, rfe_fix_t *m, int *e)
+{
+    const int len = (int)rfe_q31_bitlen64(rfe_q31_mag64_any(v));
+    const int sh = len - 30;
+    if (sh > 0) {
+        *m = (rfe_fix_t)rfe_fix_shr64_round(v, (unsigned int)sh);
+    } else {
+        *m = (rfe_fix_t)(v * rfe_q31_pow2((unsigned int)(-sh)));
+    }
+    *e = sh;
+}
+
+static ratio_q31_t ratio_q31(int64_t a, int64_t b)
+{
+    ratio_q31_t r = {0, 0};
+    rfe_fix_t ma;
+    rfe_fix_t mb;
+    int ea;
+    int eb;
+    uint32_t unused = 0u;
+    normalise_q31(a, &ma, &ea);
+    normalise_q31(b, &mb, &eb);
+    if (ma != 0) {
+        /* |ma / mb| <= 2: the quotient in Q29 fits (no saturation); mb >= 2^29 is nonzero */
+        const rfe_status_t st = rfe_fix_div(ma, mb, 29, &r.m, &unused);
+        (void)st;
+        r.e = (29 + eb) - ea;
+    }
+    return r;
+}
+
+/* round(v a / b) for the ratio r = a / b and |v| <= PMAX, clamped to +-PMAX. A ratio below
+ * 2^-32 (e > 62) pre-rounds v (one more rounding of at most 1/2 result LSB); a ratio above
+ * 2^28 (e < 1) scales the product up, saturating. */
+static int64_t apply_ratio_q31(ratio_q31_t r, int64_t v, uint32_t *sat)
+{
+    int64_t y;
+    if (r.e > 62) {
+        const int pre = r.e - 62;
+        const int64_t vr = rfe_fix_shr64_round(v, (unsigned int)pre);
+        y = mul_p_q31(vr, r.m, 62u, sat);
+    } else if (r.e >= 1) {
+        y = mul_p_q31(v, r.m, (unsigned int)r.e, sat);
+    } else {
+        const int up_bits = 1 - r.e;
+        const unsigned int up = (unsigned int)up_bits;
+        const int64_t y1 = mul_p_q31(v, r.m, 1u, sat);
+        if (y1 == 0) {
+            y = 0;
+        } else if ((up >= 61u) || (rfe_q31_mag64_any(y1) > ((uint64_t)RFE_KF2_Q31_PMAX >> up))) {
+            rfe_fix_count_sat(sat);
+            y = (y1 < 0) ? -RFE_KF2_Q31_PMAX : RFE_KF2_Q31_PMAX;
+        } else {
+            y = y1 * rfe_q31_pow2(up);
+        }
+    }
+    return y;
+}
+
+rfe_status_t rfe_kf2_init_q31(rfe_kf2_q31_t *f, unsigned int q0, unsigned int q1,
+                              unsigned int qf, rfe_fix_t x0, rfe_fix_t x1, rfe_fix_t sd0,
+                              rfe_fix_t sd1)
+{
+    if (f == NULL) {
+        return RFE_ERR_NULL;
+    }
+    if ((formats_ok_q31(q0, q1, qf) == 0) || (sd0 < 0) || (sd1 < 0)) {
+        return RFE_ERR_RANGE;
+    }
+    f->q0 = q0;
+    f->q1 = q1;
+    f->qf = qf;
+    f->x[0] = x0;
+    f->x[1] = x1;
+    f->p00 = (int64_t)sd0 * (int64_t)sd0; /* < 2^62: Q(2 q0) */
+    f->p01 = 0;
+    f->p11 = (int64_t)sd1 * (int64_t)sd1;
+    /* sd^2 < 2^62 may exceed PMAX = 2^61 (sd > 2^30.5 LSB): clamp, uncounted (no sat
+     * counter here; such an sd is beyond every format's use) */
+    if (f->p00 > RFE_KF2_Q31_PMAX) {
+        f->p00 = RFE_KF2_Q31_PMAX;
+    }
+    if (f->p11 > RFE_KF2_Q31_PMAX) {
+        f->p11 = RFE_KF2_Q31_PMAX;
+    }
+    return RFE_OK;
+}
+
+/* A noise term within +-PMAX. */
+static int noise_ok_q31(int64_t q) { return (q >= -RFE_KF2_Q31_PMAX) && (q <= RFE_KF2_Q31_PMAX); }
+
+rfe_status_t rfe_kf2_predict_q31(rfe_kf2_q31_t *f, rfe_fix_t f01, rfe_fix_t u, int64_t q00,
+                                 int64_t q11, int64_t q01, uint32_t *sat)
+{
+    uint32_t cnt = 0u;
+    unsigned int s;
+    int64_t t;
+    int64_t p00;
+    int64_t p01;
+    int64_t x0;
+    if ((f == NULL) || (sat == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    if ((formats_ok_q31(f->q0, f->q1, f->qf) == 0) || (noise_ok_q31(q00) == 0) ||
+        (noise_ok_q31(q11) == 0) || (noise_ok_q31(q01) == 0)) {
+        return RFE_ERR_RANGE;
+    }
+    s = (f->q1 + f->qf) - f->q0;
+    /* x0 + f01 x1 + u: |f01 x1| <= 2^62, the sum of three such terms fits int64 */
+    x0 = ((int64_t)f->x[0] + rfe_fix_shr64_round((int64_t)f01 * (int64_t)f->x[1], s)) +
+         (int64_t)u;
+    /* f01 p11 in Q(q0 + q1); p00 + 2 f01 p01 + f01 (f01 p11) + q00; p01 + f01 p11 + q01 */
+    t = mul_p_q31(f->p11, f01, s, &cnt);
+    p00 = clamp_p_q31(f->p00 + mul_p_q31(f->p01, f01, s, &cnt), &cnt);
+    p00 = clamp_p_q31(p00 + mul_p_q31(f->p01, f01, s, &cnt), &cnt);
+    p00 = clamp_p_q31(p00 + mul_p_q31(t, f01, s, &cnt), &cnt);
+    p00 = clamp_p_q31(p00 + q00, &cnt);
+    p01 = clamp_p_q31(clamp_p_q31(f->p01 + t, &cnt) + q01, &cnt);
+    f->x[0] = rfe_fix_sat32(x0, &cnt);
+    f->p00 = p00;
+    f->p01 = p01;
+    f->p11 = clamp_p_q31(f->p11 + q11, &cnt);
+    rfe_q31_sat_add(sat, cnt);
+    return RFE_OK;
+}
+
+/* The measurement's formats: the shifts of h0 x0 and h1 x1 into Q(qz) within [1, 62]. */
+static int meas_ok_q31(const rfe_kf2_q31_t *f, const rfe_kf2_meas_q31_t *m)
+{
+    const int s0 = ((int)f->q0 + (int)m->qh0) - (int)m->qz;
+    const int s1 = ((int)f->q1 + (int)m->qh1) - (int)m->qz;
+    return (formats_ok_q31(f->q0, f->q1, f->qf) != 0) && (m->qz <= 31u) && (m->qh0 <= 31u) &&
+           (m->qh1 <= 31u) && (s0 >= 1) && (s0 <= 62) && (s1 >= 1) && (s1 <= 62) &&
+           (m->r >= 0) && (m->r <= RFE_KF2_Q31_PMAX);
+}
+
+rfe_status_t rfe_kf2_update_q31(rfe_kf2_q31_t *f, const rfe_kf2_meas_q31_t *m, uint32_t *sat)
+{
+    uint32_t cnt = 0u;
+    unsigned int s0;
+    unsigned int s1;
+    int64_t ph0;
+    int64_t ph1;
+    int64_t s;
+    ratio_q31_t k0;
+    ratio_q31_t k1;
+    if ((f == NULL) || (m == NULL) || (sat == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    if (meas_ok_q31(f, m) == 0) {
+        return RFE_ERR_RANGE;
+    }
+    s0 = (f->q0 + m->qh0) - m->qz;
+    s1 = (f->q1 + m->qh1) - m->qz;
+    /* P H^T: ph0 in Q(q0 + qz), ph1 in Q(q1 + qz); S = H P H^T + r in Q(2 qz) */
+    ph0 = clamp_p_q31(mul_p_q31(f->p00, m->h0, s0, &cnt) + mul_p_q31(f->p01, m->h1, s1, &cnt),
+                      &cnt);
+    ph1 = clamp_p_q31(mul_p_q31(f->p01, m->h0, s0, &cnt) + mul_p_q31(f->p11, m->h1, s1, &cnt),
+                      &cnt);
+    s = clamp_p_q31(mul_p_q31(ph0, m->h0, s0, &cnt) + mul_p_q31(ph1, m->h1, s1, &cnt), &cnt);
+    s = clamp_p_q31(s + m->r, &cnt);
+    if (s <= 0) {
+        return RFE_ERR_NOT_POSITIVE_DEFINITE;
+    }
+    /* K_i nu and K_i ph_j in the states' formats are (ph_i / S) times nu and ph_j as
+     * integers: the formats cancel (x_i: Q(q_i + qz) / Q(2 qz) * Q(qz) = Q(q_i)) */
+    k0 = ratio_q31(ph0, s);
+    k1 = ratio_q31(ph1, s);
+    f->x[0] = rfe_fix_sat32((int64_t)f->x[0] + apply_ratio_q31(k0, (int64_t)m->nu, &cnt), &cnt);
+    f->x[1] = rfe_fix_sat32((int64_t)f->x[1] + apply_ratio_q31(k1, (int64_t)m->nu, &cnt), &cnt);
+    f->p00 = clamp_p_q31(f->p00 - apply_ratio_q31(k0, ph0, &cnt), &cnt);
+    f->p01 = clamp_p_q31(f->p01 - apply_ratio_q31(k0, ph1, &cnt), &cnt);
+    f->p11 = clamp_p_q31(f->p11 - apply_ratio_q31(k1, ph1, &cnt), &cnt);
+    rfe_q31_sat_add(sat, cnt);
+    return RFE_OK;
+}
+
+rfe_status_t rfe_kf2_scale_q31(int64_t v, rfe_fix_t c, unsigned int s, int64_t *out,
+                               uint32_t *sat)
+{
+    if ((out == NULL) || (sat == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    if ((v > RFE_KF2_Q31_PMAX) || (v < -RFE_KF2_Q31_PMAX) || (s < 1u) || (s > 62u)) {
+        return RFE_ERR_RANGE;
+    }
+    *out = mul_p_q31(v, c, s, sat);
+    return RFE_OK;
+}

@@ -1,0 +1,270 @@
+/**
+ * @file test_pipeline_q31.c
+ * @brief The fixed-point composed entry (rfe/pipeline_q31.h) and the friction estimator's
+ *        per-step input noise in Q31: statuses, the untouched state on error, that each step
+ *        hands the observer's estimate and sd to the friction estimator, and back to back
+ *        against the double pipeline on observer scenarios.
+ *
+ * Bounds of the back-to-back run (end to end as test_velocity_q31.c: rounded samples,
+ * converted parameters). The velocity outputs keep test_velocity_q31.c's bounds (the
+ * friction input of the observer differs only by the friction estimators' difference, which
+ * moves the lateral model's ay by at most dmu g ~ 0.05 m/s^2 times the model's gain: the
+ * same 5e-4 m/s on vy). The friction estimate: REQ-FXP-006's 0.005 on every wheel, which
+ * the friction estimator twins meet on their own (test_friction_q31.c); the observer's
+ * differences (vx 1e-4 m/s, vy 5e-4 m/s, r-dot 1e-4 rad/s^2) are far below the input noise
+ * the pipeline hands the estimator (sd_vx ~ 0.005 m/s and up, sd(r-dot) ~ 0.05), so they
+ * move mu by a small fraction of that bound. Asserted on the samples where the estimate is
+ * valid on both sides (an invalid, unsettled estimate is not a result), measured worst cases
+ * printed.
+ */
+#include "test_common.h"
+
+#include <math.h>
+#include <string.h>
+
+#include "csv_log.h"
+#include "host/fixed_conv.h"
+#include "param_file.h"
+#include "replay_real.h"
+#include "rfe/component/params_conv.h"
+#include "rfe/pipeline.h"
+#include "rfe/pipeline_q31.h"
+
+#define TOL_MU 0.005  /* REQ-FXP-006 */
+#define TOL_VX 1e-4   /* test_velocity_q31.c */
+#define TOL_VY 5e-4
+
+static uint32_t conv_sat;
+
+static rfe_fix_t fx(double v, unsigned int q) { return rfe_fix_from_double(v, q, &conv_sat); }
+
+typedef struct {
+    rfe_params_t pd;
+    rfe_velocity_params_t vd;
+    rfe_params_q31_t pq;
+    rfe_velocity_params_q31_t vq;
+} both_t;
+
+static void params_of(const rfe_sensor_log_t *log, both_t *b)
+{
+    rfe_param_set_t ps;
+    rfe_io_error_t err;
+    memset(b, 0, sizeof(*b)); /* the estimators copy them, padding included */
+    rfe_param_set_default(&ps);
+    if (log != NULL) {
+        assert_int_equal(rfe_param_set_apply_meta(&ps, log, "log", &err), 0);
+    }
+    assert_int_equal(rfe_replay_params(&ps, &b->pd, NULL), RFE_OK);
+    assert_int_equal(rfe_replay_velocity_params(&ps, &b->vd, NULL), RFE_OK);
+    assert_int_equal(rfe_params_to_q31_f64(&b->pd, &b->pq), RFE_OK);
+    assert_int_equal(rfe_velocity_params_to_q31_f64(&b->vd, &b->vq), RFE_OK);
+}
+
+static rfe_velocity_input_q31_t rolling_q31(const both_t *b, double v, double dt)
+{
+    rfe_velocity_input_q31_t in;
+    size_t i;
+    memset(&in, 0, sizeof(in));
+    in.dt = fx(dt, RFE_FIX_Q_DT);
+    for (i = 0u; i < 4u; ++i) {
+        in.omega[i] = fx(v / b->pd.vehicle.R, RFE_FIX_Q_OMEGA);
+    }
+    return in;
+}
+
+/* REQ-FXP-016 */
+static void test_set_input_noise(void **state)
+{
+    both_t b;
+    static rfe_friction_q31_t est;
+    static rfe_friction_q31_t before;
+    (void)state;
+    params_of(NULL, &b);
+    memset(&est, 0, sizeof(est));
+    assert_int_equal(rfe_friction_set_input_noise_q31(NULL, 1, 1, 1), RFE_ERR_NULL);
+    assert_int_equal(rfe_friction_set_input_noise_q31(&est, 1, 1, 1), RFE_ERR_NOT_INITIALISED);
+    assert_int_equal(rfe_friction_init_q31(&est, &b.pq), RFE_OK);
+    memcpy(&before, &est, sizeof before);
+    assert_int_equal(rfe_friction_set_input_noise_q31(&est, -1, 1, 1), RFE_ERR_RANGE);
+    assert_int_equal(rfe_friction_set_input_noise_q31(&est, 1, -1, 1), RFE_ERR_RANGE);
+    assert_int_equal(rfe_friction_set_input_noise_q31(&est, 1, 1, 0), RFE_ERR_RANGE);
+    assert_memory_equal(&est, &before, sizeof(est));
+    assert_int_equal(rfe_friction_set_input_noise_q31(&est, 0, 5, 7), RFE_OK);
+    assert_int_equal(est.params.filter.sd_in_vx, 0);
+    assert_int_equal(est.params.filter.sd_in_vy, 5);
+    assert_int_equal(est.params.filter.r_yaw_acc, 7);
+}
+
+/* REQ-FXP-016 */
+static void test_pipeline_steps_both_estimators(void **state)
+{
+    both_t b;
+    static rfe_pipeline_q31_t pl;
+    rfe_pipeline_out_q31_t o;
+    rfe_velocity_input_q31_t in;
+    rfe_velocity_params_q31_t bad;
+    size_t k;
+    double r_want;
+    (void)state;
+    params_of(NULL, &b);
+    memset(&pl, 0, sizeof pl);
+    assert_int_equal(rfe_pipeline_init_q31(NULL, &b.pq, &b.vq), RFE_ERR_NULL);
+    assert_int_equal(rfe_pipeline_init_q31(&pl, NULL, &b.vq), RFE_ERR_NULL);
+    assert_int_equal(rfe_pipeline_init_q31(&pl, &b.pq, NULL), RFE_ERR_NULL);
+    bad = b.vq;
+    bad.driven = 0u;
+    assert_int_equal(rfe_pipeline_init_q31(&pl, &b.pq, &bad), RFE_ERR_PARAM);
+    assert_int_equal(rfe_pipeline_init_q31(&pl, &b.pq, &b.vq), RFE_OK);
+    for (k = 0u; k < 100u; ++k) {
+        in = rolling_q31(&b, 20.0, (k == 0u) ? 0.0 : 0.01);
+        assert_false(rfe_status_is_error(rfe_pipeline_step_q31(&pl, &in, &o)));
+    }
+    /* the friction estimator ran on the observer's vx, with the observer's sd as its input
+     * noise; r_yaw_acc is the exactly rounded norm (rfe_fix_norm), which the double's root
+     * of the exact integer sum of squares (< 2^53) rounds the same way */
+    assert_close(rfe_fix_to_double(o.velocity.vx, 23u), 20.0, 1e-3, 0.0, "vx");
+    assert_int_equal(pl.friction.params.filter.sd_in_vx, o.velocity.sd_vx);
+    assert_int_equal(pl.friction.params.filter.sd_in_vy, o.velocity.sd_vy);
+    r_want = floor(sqrt((double)b.pq.filter.r_yaw_acc * (double)b.pq.filter.r_yaw_acc +
+                        (double)o.velocity.sd_yaw_acc * (double)o.velocity.sd_yaw_acc) + 0.5);
+    assert_int_equal(pl.friction.params.filter.r_yaw_acc, (rfe_fix_t)r_want);
+    assert_memory_equal(&pl.last, &o.friction, sizeof(o.friction));
+    assert_int_equal(o.friction.sat, 0u);
+}
+
+/* REQ-FXP-016 */
+static void test_an_error_leaves_the_pipeline_untouched(void **state)
+{
+    both_t b;
+    static rfe_pipeline_q31_t pl;
+    static rfe_pipeline_q31_t before;
+    rfe_pipeline_out_q31_t o;
+    rfe_velocity_input_q31_t in;
+    (void)state;
+    params_of(NULL, &b);
+    memset(&pl, 0, sizeof pl); /* padding and scratch defined, so whole-struct compares are */
+    assert_int_equal(rfe_pipeline_init_q31(&pl, &b.pq, &b.vq), RFE_OK);
+    in = rolling_q31(&b, 20.0, 0.0);
+    assert_false(rfe_status_is_error(rfe_pipeline_step_q31(&pl, &in, &o)));
+    memcpy(&before, &pl, sizeof before);
+    assert_int_equal(rfe_pipeline_step_q31(NULL, &in, &o), RFE_ERR_NULL);
+    assert_int_equal(rfe_pipeline_step_q31(&pl, NULL, &o), RFE_ERR_NULL);
+    assert_int_equal(rfe_pipeline_step_q31(&pl, &in, NULL), RFE_ERR_NULL);
+    in = rolling_q31(&b, 20.0, 0.01);
+    in.ax = RFE_FIX_LIMIT_ACC + 1; /* the observer rejects it */
+    assert_int_equal(rfe_pipeline_step_q31(&pl, &in, &o), RFE_ERR_RANGE);
+    assert_int_equal(o.friction.sat, 0u);
+    assert_memory_equal(&pl, &before, sizeof(pl));
+    /* the observer accepts a sample the friction estimator rejects: an uninitialised
+     * friction estimator */
+    pl.friction.magic = 0u;
+    memcpy(&before, &pl, sizeof before);
+    in = rolling_q31(&b, 20.0, 0.01);
+    assert_int_equal(rfe_pipeline_step_q31(&pl, &in, &o), RFE_ERR_NOT_INITIALISED);
+    assert_int_equal(o.friction.status, RFE_ERR_NOT_INITIALISED);
+    assert_memory_equal(&pl, &before, sizeof(pl));
+}
+
+/* REQ-FXP-016: back to back against the double pipeline. */
+static void run_log(const char *name, double *worst_mu, double *worst_vx, double *worst_vy,
+                    size_t *n_valid)
+{
+    char path[512];
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    both_t b;
+    static rfe_pipeline_t pd;
+    static rfe_pipeline_q31_t pq;
+    size_t k;
+    memset(&log, 0, sizeof(log));
+    snprintf(path, sizeof(path), "scenarios/observer/%s", name);
+    assert_int_equal(rfe_sensor_log_read(path, &log, &err), 0);
+    params_of(&log, &b);
+    memset(&pd, 0, sizeof pd);
+    memset(&pq, 0, sizeof pq);
+    assert_int_equal(rfe_pipeline_init(&pd, &b.pd, &b.vd), RFE_OK);
+    assert_int_equal(rfe_pipeline_init_q31(&pq, &b.pq, &b.vq), RFE_OK);
+    conv_sat = 0u;
+    for (k = 0u; k < log.n_rows; ++k) {
+        const rfe_sensor_row_t *r = &log.rows[k];
+        rfe_velocity_input_t in;
+        rfe_velocity_input_q31_t iq;
+        rfe_pipeline_out_t od;
+        rfe_pipeline_out_q31_t oq;
+        rfe_status_t sd;
+        rfe_status_t sq;
+        size_t w;
+        char what[160];
+        memset(&in, 0, sizeof in);
+        memset(&iq, 0, sizeof iq);
+        in.dt = (k > 0u) ? r->t - log.rows[k - 1u].t : 0.0;
+        in.delta = r->delta;
+        in.yaw_rate = r->yaw_rate;
+        in.ax = r->ax;
+        in.ay = r->ay;
+        iq.dt = fx(in.dt, RFE_FIX_Q_DT);
+        iq.delta = fx(in.delta, RFE_FIX_Q_ANGLE);
+        iq.yaw_rate = fx(in.yaw_rate, RFE_FIX_Q_YAWRATE);
+        iq.ax = fx(in.ax, RFE_FIX_Q_ACC);
+        iq.ay = fx(in.ay, RFE_FIX_Q_ACC);
+        for (w = 0u; w < 4u; ++w) {
+            in.omega[w] = r->omega[w];
+            iq.omega[w] = fx(in.omega[w], RFE_FIX_Q_OMEGA);
+        }
+        sd = rfe_pipeline_step(&pd, &in, &od);
+        sq = rfe_pipeline_step_q31(&pq, &iq, &oq);
+        assert_false(rfe_status_is_error(sd));
+        assert_false(rfe_status_is_error(sq));
+        assert_int_equal(oq.velocity.sat, 0u);
+        assert_int_equal(oq.friction.sat, 0u);
+        snprintf(what, sizeof(what), "%s row %zu", name, k);
+        *worst_vx = fmax(*worst_vx, fabs(rfe_fix_to_double(oq.velocity.vx, 23u) - od.velocity.vx));
+        *worst_vy = fmax(*worst_vy, fabs(rfe_fix_to_double(oq.velocity.vy, 23u) - od.velocity.vy));
+        ASSERT_LE(fabs(rfe_fix_to_double(oq.velocity.vx, 23u) - od.velocity.vx), TOL_VX, what);
+        ASSERT_LE(fabs(rfe_fix_to_double(oq.velocity.vy, 23u) - od.velocity.vy), TOL_VY, what);
+        for (w = 0u; w < 4u; ++w) {
+            if ((oq.friction.valid[w] != 0u) && (od.friction.valid[w] != 0u)) {
+                const double d = fabs(rfe_fix_to_double(oq.friction.mu[w], 29u) -
+                                      od.friction.mu[w]);
+                *worst_mu = fmax(*worst_mu, d);
+                ++*n_valid;
+                ASSERT_LE(d, TOL_MU, what);
+            }
+        }
+    }
+    assert_int_equal(conv_sat, 0u);
+    rfe_sensor_log_free(&log);
+}
+
+/* REQ-FXP-016 */
+static void test_back_to_back(void **state)
+{
+    /* braking, a lane change and a sine with dwell at two friction levels: the logs where
+     * the friction estimate updates (excitation) */
+    static const char *const LOGS[] = {"abs_brake_mu09.csv", "dlc_mu035.csv",
+                                       "dlc_mu09.csv", "sine_dwell_mu035.csv",
+                                       "abs_brake_split_mu.csv"};
+    double worst_mu = 0.0;
+    double worst_vx = 0.0;
+    double worst_vy = 0.0;
+    size_t n_valid = 0u;
+    size_t i;
+    (void)state;
+    for (i = 0u; i < sizeof LOGS / sizeof LOGS[0]; ++i) {
+        run_log(LOGS[i], &worst_mu, &worst_vx, &worst_vy, &n_valid);
+    }
+    printf("pipeline q31 vs f64: |dmu| %.3g over %zu valid wheel samples, |dvx| %.3g m/s, "
+           "|dvy| %.3g m/s\n", worst_mu, n_valid, worst_vx, worst_vy);
+    assert_true(n_valid > 1000u); /* the comparison saw settled estimates */
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_set_input_noise),
+        cmocka_unit_test(test_pipeline_steps_both_estimators),
+        cmocka_unit_test(test_an_error_leaves_the_pipeline_untouched),
+        cmocka_unit_test(test_back_to_back),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

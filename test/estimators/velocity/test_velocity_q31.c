@@ -1,0 +1,634 @@
+/**
+ * @file test_velocity_q31.c
+ * @brief The fixed-point velocity observer (rfe_velocity_*_q31) and its parameters: the
+ *        API contract (input validation, untouched state on every error status), the
+ *        parameter defaults and conversion, the first sample, the steering-wheel input, and
+ *        back to back against the double observer (_f64) on every observer scenario.
+ *
+ * How the two are fed (end to end, like test_friction_q31.c): the double observer gets the
+ * log's samples and the double parameters (the default preset and the log's metadata, the
+ * observer's defaults); the q31 observer gets the samples rounded to their Q formats and the
+ * parameters converted by rfe_params_to_q31_f64 / rfe_velocity_params_to_q31_f64. The
+ * friction input is the log's truth with sd 0.05 (as the goldens), NULL without truth.
+ *
+ * Bounds (each output, at every step of all 50 scenarios; measured worst cases are printed
+ * and quoted in docs/FIXED_POINT.md "Observer").
+ *  - The error sources per step: the inputs' rounding (0.5 LSB: 3e-8 m/s^2 on ax, ay,
+ *    6e-8 m/s^2 Q24; 1.2e-7 rad/s Q22 on omega, so 4e-8 m/s on a wheel reference; 4e-9
+ *    rad/s on r), the parameters' rounding (relative 2^-24 at worst, sd_r: 2e-6 relative of
+ *    0.005 in Q27), the filters' arithmetic (kf2_q31: 1 LSB plus 2^-28 of the correction,
+ *    test_kf2_q31.c), dt's rounding (2e-8 relative in Q30) and the measurement model (1.6e-6
+ *    m/s^2 per evaluation, test_meas_q31.c), which enters the lateral filter's innovation
+ *    directly and its H through the difference over dvy = 0.01 m/s: 2 x 1.6e-6 / 0.01 =
+ *    3.2e-4 1/s on h0 ~ 1..50 1/s, at most 3e-4 relative of the model's gain.
+ *  - The filters are stable (gains in (0, 1), the same on both sides), so these per-step
+ *    errors do not accumulate beyond their memory: vx integrates ax with a wheel gain near
+ *    0.1 per step while a wheel corrects it; while none does (ABS braking for seconds) it
+ *    integrates the ax error for up to 800 steps: 800 x 0.01 s x 6e-8 m/s^2 = 5e-7 m/s,
+ *    plus the same of the offset's drift. TOL_VX = 1e-4 m/s is 100 times that, and 400 Q23
+ *    LSB: it also covers a trajectory where a wheel sits on its gate and one twin takes it
+ *    one step before the other (such a step is then off by at most the wheel's gate share
+ *    of the innovation, and is forgotten at the filter's rate; these steps are counted by
+ *    the flags, below).
+ *  - vy: the model's gain error (3e-4 relative) times the model innovation (< 1 m/s^2)
+ *    times the lateral gain (K0 ~ 0.01 s): 3e-6 m/s per step, forgotten within ~ 30
+ *    steps: 1e-4 m/s; TOL_VY = 5e-4 m/s. beta = vy / vx at vx >= 3 m/s: TOL_BETA = 2e-4
+ *    rad.
+ *  - yaw_acc: the differentiator amplifies the r input rounding (4e-9 rad/s) by its gain
+ *    K1 / dt ~ 10 1/s^... (0.053 rad/s^2 out of 0.005 rad/s in, REQ-OBS-005: x 10.6): 5e-8
+ *    rad/s^2, and sd_r's rounding changes its gain by ~2e-6 relative on r-dot < 10
+ *    rad/s^2: 2e-5; TOL_RDOT = 1e-4 rad/s^2.
+ *  - sds: the covariances' rounding (1 LSB per operation, relative 2^-28 of the gain)
+ *    and the parameters' (2^-24): 1e-6 relative of sds < 1: TOL_SD = 1e-5 (sd_yaw_acc: the
+ *    sd_r rounding, 2e-6 relative, on 0.05..1 rad/s^2: 1e-5 too).
+ *  - Decision splits. A threshold (a wheel's gate, the braking or driving acceleration,
+ *    vx reaching 0) that a value crosses within an LSB may be decided one step apart by the
+ *    two twins; the flags then differ. The bounds above hold on every step up to a log's
+ *    first differing flags. From there on the longitudinal filter may have taken one wheel
+ *    correction more: at most its gain (p00 / (p00 + r) < 0.01 at the settled sd 0.0045
+ *    m/s and the wheel noise 0.05 m/s) times the gate (3 sqrt(p00 + r) = 0.15 m/s), 1.5e-3
+ *    m/s, plus the offset's share, which integrates until the next correction joins the
+ *    two again: TOL_VX_SPLIT = 2e-3 m/s; and one twin's sd_vx may grow uncorrected while
+ *    the other's is corrected, by at most the growth of an uncorrected filter over the
+ *    split (sd_ax dt per step and sd(b_x) t: 0.01 + 0.01 x 4 s): TOL_SD_SPLIT = 0.05 m/s.
+ *    vy, beta and r-dot keep their bounds (vx enters them only through r vx, r small
+ *    where a split happens). Flags agree on >= 90 % of each log's steps
+ *    (MIN_FLAG_AGREE_LOG) and on >= 99.9 % of all steps (MIN_FLAG_AGREE_ALL): measured, one
+ *    split on the 50 logs (creep_stop.nf: the braking onset of a noise-free deceleration
+ *    ramp, decided one step apart; 117 steps until both have stopped).
+ *  - Saturation: 0 on every log: speeds < 60 m/s (Q23: 256), wheel speeds < 200 rad/s
+ *    (Q22: 512), accelerations and r-dot < 30 (Q24: 128), pressures < 20 MPa (Q25: 64),
+ *    torques < 5000 N m (Q15: 65536), variances far inside 2^61.
+ */
+#include "test_light.h"
+#include "test_common.h"
+
+#include <dirent.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "csv_log.h"
+#include "host/fixed_conv.h"
+#include "param_file.h"
+#include "replay_real.h"
+#include "rfe/component/params_conv.h"
+#include "rfe/params_q31.h"
+#include "rfe/velocity.h"
+#include "rfe/velocity_q31.h"
+
+#define OBS_DIR "scenarios/observer"
+#define MIN_LOGS 50 /* the bundled observer scenarios; fewer means files went missing */
+#define MU_SD 0.05  /* the goldens' friction input sd */
+#define TOL_VX 1e-4
+#define TOL_VY 5e-4
+#define TOL_BETA 2e-4
+#define TOL_RDOT 1e-4
+#define TOL_SD 1e-5
+#define TOL_VX_SPLIT 2e-3
+#define TOL_SD_SPLIT 5e-2
+#define MIN_FLAG_AGREE_LOG 0.90
+#define MIN_FLAG_AGREE_ALL 0.999
+
+static uint32_t conv_sat; /* saturations of the test's own conversions */
+
+typedef struct {
+    rfe_params_t pd;
+    rfe_velocity_params_t vd;
+    rfe_params_q31_t pq;
+    rfe_velocity_params_q31_t vq;
+} both_t;
+
+static void params_of(const rfe_sensor_log_t *log, both_t *b)
+{
+    rfe_param_set_t ps;
+    rfe_io_error_t err;
+    rfe_param_set_default(&ps);
+    if (log != NULL) {
+        assert_int_equal(rfe_param_set_apply_meta(&ps, log, "log", &err), 0);
+    }
+    assert_int_equal(rfe_replay_params(&ps, &b->pd, NULL), RFE_OK);
+    assert_int_equal(rfe_replay_velocity_params(&ps, &b->vd, NULL), RFE_OK);
+    assert_int_equal(rfe_params_to_q31_f64(&b->pd, &b->pq), RFE_OK);
+    assert_int_equal(rfe_velocity_params_to_q31_f64(&b->vd, &b->vq), RFE_OK);
+}
+
+static rfe_fix_t fx(double v, unsigned int q) { return rfe_fix_from_double(v, q, &conv_sat); }
+
+/* The double sample of a log row and its Q31 rounding. */
+static void inputs_of(const rfe_sensor_log_t *log, size_t k, rfe_velocity_input_t *in,
+                      rfe_velocity_input_q31_t *iq)
+{
+    const rfe_sensor_row_t *r = &log->rows[k];
+    size_t w;
+    memset(in, 0, sizeof(*in));
+    memset(iq, 0, sizeof(*iq));
+    in->dt = (k > 0u) ? r->t - log->rows[k - 1u].t : 0.0;
+    in->delta = r->delta;
+    in->steer_wheel = log->has_swa ? r->swa : 0.0;
+    in->yaw_rate = r->yaw_rate;
+    in->ax = r->ax;
+    in->ay = r->ay;
+    in->grade = log->has_grade ? r->grade : 0.0;
+    for (w = 0u; w < 4u; ++w) {
+        in->omega[w] = r->omega[w];
+        in->p_brake[w] = log->has_pressure ? r->p_brake[w] : 0.0;
+        in->torque[w] = log->has_torque ? r->torque[w] : 0.0;
+    }
+    in->has = (log->has_pressure ? RFE_VEL_HAS_PRESSURE : 0u) |
+              (log->has_torque ? RFE_VEL_HAS_TORQUE : 0u) |
+              (log->has_swa ? RFE_VEL_HAS_STEER_WHEEL : 0u);
+    iq->dt = fx(in->dt, RFE_FIX_Q_DT);
+    iq->delta = fx(in->delta, RFE_FIX_Q_ANGLE);
+    iq->steer_wheel = fx(in->steer_wheel, RFE_FIX_Q_STEER_WHEEL);
+    iq->yaw_rate = fx(in->yaw_rate, RFE_FIX_Q_YAWRATE);
+    iq->ax = fx(in->ax, RFE_FIX_Q_ACC);
+    iq->ay = fx(in->ay, RFE_FIX_Q_ACC);
+    iq->grade = fx(in->grade, RFE_FIX_Q_ANGLE);
+    for (w = 0u; w < 4u; ++w) {
+        iq->omega[w] = fx(in->omega[w], RFE_FIX_Q_OMEGA);
+        iq->p_brake[w] = fx(in->p_brake[w], RFE_FIX_Q_PRESSURE);
+        iq->torque[w] = fx(in->torque[w], RFE_FIX_Q_TORQUE);
+    }
+    iq->has = in->has;
+}
+
+/* A free-rolling sample at v [m/s] straight ahead (the default preset's R). */
+static void rolling(const both_t *b, double v, double dt, rfe_velocity_input_t *in,
+                    rfe_velocity_input_q31_t *iq)
+{
+    size_t w;
+    memset(in, 0, sizeof(*in));
+    in->dt = dt;
+    for (w = 0u; w < 4u; ++w) {
+        in->omega[w] = v / b->pd.vehicle.R;
+    }
+    memset(iq, 0, sizeof(*iq));
+    iq->dt = fx(dt, RFE_FIX_Q_DT);
+    for (w = 0u; w < 4u; ++w) {
+        iq->omega[w] = fx(in->omega[w], RFE_FIX_Q_OMEGA);
+    }
+}
+
+typedef struct {
+    double vx, vy, beta, rdot, sd; /* the worst |q31 - double| over the log (vx, sd: before
+                                      the first decision split) */
+    double vx_split, sd_split;     /* vx, sd after it */
+    size_t flag_diff;
+    size_t n;
+    int splits;
+} worst_t;
+
+static void compare(const rfe_velocity_estimate_t *e, const rfe_velocity_estimate_q31_t *q,
+                    worst_t *w, int split, const char *what)
+{
+    const double tol_vx = (split != 0) ? TOL_VX_SPLIT : TOL_VX;
+    const double tol_sd = (split != 0) ? TOL_SD_SPLIT : TOL_SD;
+    const double d[7] = {
+        fabs(rfe_fix_to_double(q->vx, 23u) - e->vx),
+        fabs(rfe_fix_to_double(q->vy, 23u) - e->vy),
+        fabs(rfe_fix_to_double(q->beta, 29u) - e->beta),
+        fabs(rfe_fix_to_double(q->yaw_acc, 24u) - e->yaw_acc),
+        fabs(rfe_fix_to_double(q->sd_vx, 23u) - e->sd_vx),
+        fabs(rfe_fix_to_double(q->sd_vy, 23u) - e->sd_vy),
+        fabs(rfe_fix_to_double(q->sd_yaw_acc, 24u) - e->sd_yaw_acc)};
+    const double dsb = fabs(rfe_fix_to_double(q->sd_beta, 29u) - e->sd_beta);
+    if (split == 0) {
+        w->vx = fmax(w->vx, d[0]);
+        w->sd = fmax(w->sd, fmax(fmax(d[4], d[5]), fmax(d[6], dsb)));
+    } else {
+        w->vx_split = fmax(w->vx_split, d[0]);
+        w->sd_split = fmax(w->sd_split, fmax(fmax(d[4], d[5]), fmax(d[6], dsb)));
+    }
+    w->vy = fmax(w->vy, d[1]);
+    w->beta = fmax(w->beta, d[2]);
+    w->rdot = fmax(w->rdot, d[3]);
+    ASSERT_LE(d[0], tol_vx, what);
+    ASSERT_LE(d[1], TOL_VY, what);
+    ASSERT_LE(d[2], TOL_BETA, what);
+    ASSERT_LE(d[3], TOL_RDOT, what);
+    ASSERT_LE(fmax(fmax(d[4], d[5]), fmax(d[6], dsb)), tol_sd, what);
+    ASSERT_LE(fabs(rfe_fix_to_double(q->delta, 29u) - e->delta), 1e-8, what);
+}
+
+static worst_t run_log(const char *name)
+{
+    char path[512];
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    both_t b;
+    rfe_velocity_t od;
+    rfe_velocity_q31_t oq;
+    worst_t w = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0u, 0u, 0};
+    size_t k;
+    memset(&log, 0, sizeof(log));
+    snprintf(path, sizeof(path), "%s/%s", OBS_DIR, name);
+    assert_int_equal(rfe_sensor_log_read(path, &log, &err), 0);
+    params_of(&log, &b);
+    assert_int_equal(rfe_velocity_init(&od, &b.vd, &b.pd), RFE_OK);
+    assert_int_equal(rfe_velocity_init_q31(&oq, &b.vq, &b.pq), RFE_OK);
+    conv_sat = 0u;
+    for (k = 0u; k < log.n_rows; ++k) {
+        rfe_velocity_input_t in;
+        rfe_velocity_input_q31_t iq;
+        rfe_velocity_mu_t mu;
+        rfe_velocity_mu_q31_t mq;
+        rfe_velocity_estimate_t e;
+        rfe_velocity_estimate_q31_t q;
+        size_t i;
+        char what[200];
+        inputs_of(&log, k, &in, &iq);
+        for (i = 0u; i < 4u; ++i) {
+            mu.mu[i] = log.rows[k].mu_true[i];
+            mu.sd[i] = MU_SD;
+            mq.mu[i] = fx(mu.mu[i], RFE_FIX_Q_MU);
+            mq.sd[i] = fx(MU_SD, RFE_FIX_Q_SD);
+        }
+        assert_int_equal(rfe_velocity_step(&od, &in, log.has_truth ? &mu : NULL, &e), RFE_OK);
+        assert_int_equal(rfe_velocity_step_q31(&oq, &iq, log.has_truth ? &mq : NULL, &q), RFE_OK);
+        assert_int_equal(q.sat, 0u);
+        snprintf(what, sizeof(what), "%s row %zu", name, k);
+        if (q.flags != e.flags) {
+            ++w.flag_diff;
+            w.splits = 1;
+        }
+        compare(&e, &q, &w, w.splits, what);
+    }
+    assert_int_equal(conv_sat, 0u);
+    assert_int_equal(oq.sat, 0u);
+    w.n = log.n_rows;
+    if ((double)w.flag_diff > (1.0 - MIN_FLAG_AGREE_LOG) * (double)log.n_rows) {
+        fail_msg("%s: flags differ on %zu of %zu steps", name, w.flag_diff, log.n_rows);
+    }
+    rfe_sensor_log_free(&log);
+    return w;
+}
+
+/* REQ-FXP-014 */
+static void test_back_to_back_on_every_observer_scenario(void **state)
+{
+    DIR *d = opendir(OBS_DIR);
+    struct dirent *de;
+    int n = 0;
+    worst_t all = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0u, 0u, 0};
+    (void)state;
+    assert_non_null(d);
+    size_t seen = 0u;
+    const size_t stride = rfe_test_stride(10u); /* light mode (valgrind): every 10th log */
+    while ((de = readdir(d)) != NULL) {
+        const size_t len = strlen(de->d_name);
+        if ((len > 4u) && (strcmp(de->d_name + len - 4u, ".csv") == 0) &&
+            ((seen++ % stride) == 0u)) {
+            const worst_t w = run_log(de->d_name);
+            all.vx = fmax(all.vx, w.vx);
+            all.vy = fmax(all.vy, w.vy);
+            all.beta = fmax(all.beta, w.beta);
+            all.rdot = fmax(all.rdot, w.rdot);
+            all.sd = fmax(all.sd, w.sd);
+            all.vx_split = fmax(all.vx_split, w.vx_split);
+            all.sd_split = fmax(all.sd_split, w.sd_split);
+            all.flag_diff += w.flag_diff;
+            all.n += w.n;
+            all.splits += w.splits;
+            ++n;
+        }
+    }
+    closedir(d);
+    assert_true(seen >= MIN_LOGS);
+    printf("observer q31 vs f64 over %d logs (%zu steps): |dvx| %.3g m/s, |dvy| %.3g m/s, "
+           "|dbeta| %.3g rad, |dr-dot| %.3g rad/s^2, |dsd| %.3g; %d log(s) with a decision "
+           "split, after it |dvx| %.3g m/s, |dsd| %.3g; flags differ on %zu steps\n",
+           n, all.n, all.vx, all.vy, all.beta, all.rdot, all.sd, all.splits, all.vx_split,
+           all.sd_split, all.flag_diff);
+    if (stride == 1u) { /* a subset's share is not the whole set's */
+        ASSERT_LE((double)all.flag_diff, (1.0 - MIN_FLAG_AGREE_ALL) * (double)all.n,
+                  "flag steps differing, all logs");
+    }
+}
+
+/* REQ-FXP-015: the defaults are the conversion of the double defaults, bit for bit; the
+ * validation rejects what the double one does. */
+static void test_params(void **state)
+{
+    rfe_velocity_params_t vd;
+    rfe_velocity_params_q31_t conv;
+    rfe_velocity_params_q31_t def;
+    rfe_velocity_params_q31_t bad;
+    size_t i;
+    (void)state;
+    assert_int_equal(rfe_velocity_params_default(&vd), RFE_OK);
+    assert_int_equal(rfe_velocity_params_to_q31_f64(&vd, &conv), RFE_OK);
+    assert_int_equal(rfe_velocity_params_default_q31(&def), RFE_OK);
+    assert_memory_equal(&conv, &def, sizeof(def));
+    assert_int_equal(rfe_velocity_params_validate_q31(&def), RFE_OK);
+    assert_int_equal(rfe_velocity_params_default_q31(NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_velocity_params_validate_q31(NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_velocity_params_to_q31_f64(NULL, &conv), RFE_ERR_NULL);
+    assert_int_equal(rfe_velocity_params_to_q31_f64(&vd, NULL), RFE_ERR_NULL);
+    /* driven */
+    bad = def;
+    bad.driven = 0u;
+    assert_int_equal(rfe_velocity_params_validate_q31(&bad), RFE_ERR_PARAM);
+    bad.driven = 16u;
+    assert_int_equal(rfe_velocity_params_validate_q31(&bad), RFE_ERR_PARAM);
+    /* dt range */
+    bad = def;
+    bad.dt_min = 0;
+    assert_int_equal(rfe_velocity_params_validate_q31(&bad), RFE_ERR_PARAM);
+    bad = def;
+    bad.dt_min = bad.dt_max + 1;
+    assert_int_equal(rfe_velocity_params_validate_q31(&bad), RFE_ERR_PARAM);
+    bad = def;
+    bad.dt_max = RFE_FIX_ONE(30) + 1;
+    assert_int_equal(rfe_velocity_params_validate_q31(&bad), RFE_ERR_PARAM);
+    /* every field that must be > 0 rejects 0, every other one a negative value; in the
+     * order of the struct after dt_max (steer_ratio is checked positive too) */
+    {
+        rfe_fix_t *const pos[10] = {&bad.q_jerk, &bad.sd_r, &bad.sd_ax, &bad.sd_ay, &bad.dvy,
+                                    &bad.v_lat_min, &bad.sd_lowspeed, &bad.mu_default,
+                                    &bad.sd_vydot, &bad.steer_ratio};
+        rfe_fix_t *const nonneg[18] = {
+            &bad.vydot_rdot, &bad.q_bx, &bad.q_by, &bad.sd_wheel, &bad.sd_wheel_rel,
+            &bad.k_gate, &bad.ax_brake_on, &bad.ax_drive_on, &bad.p_brake_on, &bad.torque_on,
+            &bad.sd_model_ay, &bad.model_ay_rel, &bad.sd_mu_default, &bad.mu_margin,
+            &bad.sd_vx0, &bad.sd_bx0, &bad.sd_vy0, &bad.sd_by0};
+        for (i = 0u; i < 10u; ++i) {
+            bad = def;
+            *pos[i] = 0;
+            assert_int_equal(rfe_velocity_params_validate_q31(&bad), RFE_ERR_PARAM);
+        }
+        for (i = 0u; i < 18u; ++i) {
+            bad = def;
+            *nonneg[i] = 0;
+            assert_int_equal(rfe_velocity_params_validate_q31(&bad), RFE_OK);
+            *nonneg[i] = -1;
+            assert_int_equal(rfe_velocity_params_validate_q31(&bad), RFE_ERR_PARAM);
+        }
+    }
+    /* the converter: an invalid double set; a value beyond its format (a gate of 200 sd in
+     * Q24, +-128); a nonzero value rounding to 0 */
+    conv = def;
+    vd.sd_r = -1.0;
+    assert_int_equal(rfe_velocity_params_to_q31_f64(&vd, &conv), RFE_ERR_PARAM);
+    assert_int_equal(rfe_velocity_params_default(&vd), RFE_OK);
+    vd.k_gate = 200.0;
+    assert_int_equal(rfe_velocity_params_to_q31_f64(&vd, &conv), RFE_ERR_RANGE);
+    assert_int_equal(rfe_velocity_params_default(&vd), RFE_OK);
+    vd.sd_wheel = 1e-9;
+    assert_int_equal(rfe_velocity_params_to_q31_f64(&vd, &conv), RFE_ERR_RANGE);
+    assert_memory_equal(&conv, &def, sizeof(def)); /* untouched on error */
+}
+
+/* REQ-FXP-015 */
+static void test_init_and_get(void **state)
+{
+    both_t b;
+    rfe_velocity_q31_t o;
+    rfe_velocity_q31_t before;
+    rfe_velocity_params_q31_t bad;
+    rfe_params_q31_t badp;
+    rfe_velocity_estimate_q31_t e;
+    (void)state;
+    params_of(NULL, &b);
+    memset(&o, 0x5a, sizeof(o));
+    memcpy(&before, &o, sizeof before);
+    assert_int_equal(rfe_velocity_init_q31(NULL, &b.vq, &b.pq), RFE_ERR_NULL);
+    assert_int_equal(rfe_velocity_init_q31(&o, NULL, &b.pq), RFE_ERR_NULL);
+    assert_int_equal(rfe_velocity_init_q31(&o, &b.vq, NULL), RFE_ERR_NULL);
+    bad = b.vq;
+    bad.driven = 0u;
+    assert_int_equal(rfe_velocity_init_q31(&o, &bad, &b.pq), RFE_ERR_PARAM);
+    badp = b.pq;
+    badp.vehicle.m = -1;
+    assert_int_equal(rfe_velocity_init_q31(&o, &b.vq, &badp), RFE_ERR_PARAM);
+    assert_memory_equal(&o, &before, sizeof(o));
+    assert_int_equal(rfe_velocity_get_q31(&o, &e), RFE_ERR_NOT_INITIALISED);
+    assert_int_equal(rfe_velocity_init_q31(&o, &b.vq, &b.pq), RFE_OK);
+    assert_int_equal(rfe_velocity_get_q31(NULL, &e), RFE_ERR_NULL);
+    assert_int_equal(rfe_velocity_get_q31(&o, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_velocity_get_q31(&o, &e), RFE_OK);
+    assert_int_equal(e.vx, 0);
+    assert_int_equal(e.sat, 0u);
+}
+
+/* REQ-FXP-015: every error status leaves the observer as it was and reports the previous
+ * estimate with the status and sat 0. */
+static void test_bad_inputs_leave_the_observer_untouched(void **state)
+{
+    both_t b;
+    rfe_velocity_q31_t o;
+    rfe_velocity_q31_t before;
+    rfe_velocity_input_t in;
+    rfe_velocity_input_q31_t good;
+    rfe_velocity_input_q31_t x;
+    rfe_velocity_mu_q31_t mu;
+    rfe_velocity_estimate_q31_t e;
+    rfe_velocity_estimate_q31_t prev;
+    size_t i;
+    int c;
+    (void)state;
+    params_of(NULL, &b);
+    memset(&o, 0, sizeof o); /* padding defined, so whole-struct compares see bytes */
+    assert_int_equal(rfe_velocity_init_q31(&o, &b.vq, &b.pq), RFE_OK);
+    rolling(&b, 20.0, 0.01, &in, &good);
+    assert_int_equal(rfe_velocity_step_q31(&o, &good, NULL, &e), RFE_OK);
+    assert_int_equal(rfe_velocity_step_q31(&o, &good, NULL, &prev), RFE_OK);
+    memcpy(&before, &o, sizeof before); /* bytes, padding included (not a member copy) */
+    assert_int_equal(rfe_velocity_step_q31(NULL, &good, NULL, &e), RFE_ERR_NULL);
+    assert_int_equal(rfe_velocity_step_q31(&o, NULL, NULL, &e), RFE_ERR_NULL);
+    assert_int_equal(rfe_velocity_step_q31(&o, &good, NULL, NULL), RFE_ERR_NULL);
+    for (i = 0u; i < 4u; ++i) {
+        mu.mu[i] = fx(0.8, RFE_FIX_Q_MU);
+        mu.sd[i] = fx(0.1, RFE_FIX_Q_SD);
+    }
+    for (c = 0; c < 16; ++c) {
+        rfe_velocity_mu_q31_t m = mu;
+        x = good;
+        switch (c) {
+        case 0: x.dt = b.vq.dt_min - 1; break;
+        case 1: x.dt = b.vq.dt_max + 1; break;
+        case 2: x.delta = RFE_FIX_LIMIT_DELTA + 1; break;
+        case 3: x.yaw_rate = -RFE_FIX_LIMIT_YAW_RATE - 1; break;
+        case 4: x.ax = RFE_FIX_LIMIT_ACC + 1; break;
+        case 5: x.ay = -RFE_FIX_LIMIT_ACC - 1; break;
+        case 6: x.grade = RFE_FIX_LIMIT_GRADE + 1; break;
+        case 7: x.omega[2] = RFE_FIX_LIMIT_OMEGA + 1; break;
+        case 8: x.p_brake[1] = -RFE_FIX_LIMIT_PRESSURE - 1; break;
+        case 9: x.torque[3] = RFE_FIX_LIMIT_TORQUE + 1; break;
+        case 10: m.mu[0] = -1; break;
+        case 11: m.mu[1] = RFE_FIX_LIMIT_MU_IN + 1; break;
+        case 12: m.sd[2] = -1; break;
+        case 13: /* a steering-wheel angle whose road-wheel angle is beyond the stops */
+            x.has = RFE_VEL_HAS_STEER_WHEEL;
+            x.steer_wheel = fx(17.0, RFE_FIX_Q_STEER_WHEEL);
+            break;
+        case 14: x.dt = 0; break;
+        default: x.dt = -good.dt; break;
+        }
+        assert_int_equal(rfe_velocity_step_q31(&o, &x, &m, &e), RFE_ERR_RANGE);
+        assert_memory_equal(&o, &before, sizeof(o));
+        assert_int_equal(e.status, RFE_ERR_RANGE);
+        assert_int_equal(e.sat, 0u);
+        assert_int_equal(e.vx, prev.vx);
+        assert_int_equal(e.flags, prev.flags);
+    }
+    /* the limits themselves are accepted */
+    x = good;
+    x.delta = RFE_FIX_LIMIT_DELTA;
+    x.grade = -RFE_FIX_LIMIT_GRADE;
+    x.p_brake[0] = -RFE_FIX_LIMIT_PRESSURE;
+    x.torque[0] = RFE_FIX_LIMIT_TORQUE;
+    mu.mu[0] = RFE_FIX_LIMIT_MU_IN;
+    mu.mu[1] = 0;
+    mu.sd[1] = 0;
+    assert_int_equal(rfe_velocity_step_q31(&o, &x, &mu, &e), RFE_OK);
+    /* not initialised */
+    memset(&o, 0, sizeof(o));
+    memcpy(&before, &o, sizeof before);
+    assert_int_equal(rfe_velocity_step_q31(&o, &good, NULL, &e), RFE_ERR_NOT_INITIALISED);
+    assert_memory_equal(&o, &before, sizeof(o));
+}
+
+/* REQ-FXP-015: a failure of the model (tyre parameters it rejects) or of a filter (a
+ * corrupted state format), in a state that bypassed init's validation, is an error of the
+ * step and leaves the observer untouched. */
+static void test_model_error_leaves_the_observer_untouched(void **state)
+{
+    both_t b;
+    rfe_velocity_q31_t o;
+    rfe_velocity_q31_t before;
+    rfe_velocity_input_t in;
+    rfe_velocity_input_q31_t iq;
+    rfe_velocity_estimate_q31_t e;
+    (void)state;
+    params_of(NULL, &b);
+    memset(&o, 0, sizeof o);
+    assert_int_equal(rfe_velocity_init_q31(&o, &b.vq, &b.pq), RFE_OK);
+    rolling(&b, 20.0, 0.01, &in, &iq);
+    assert_int_equal(rfe_velocity_step_q31(&o, &iq, NULL, &e), RFE_OK);
+    {
+        rfe_velocity_q31_t good;
+        int c;
+        memcpy(&good, &o, sizeof good);
+        for (c = 0; c < 4; ++c) {
+            memcpy(&o, &good, sizeof o);
+            switch (c) {
+            case 0: o.tyre.mode = (rfe_tyre_mode_t)7; break; /* rfe_meas_setup_q31 rejects it */
+            case 1: o.yaw.qf = 40u; break; /* the filters reject a corrupted format */
+            case 2: o.lon.qf = 40u; break;
+            default: o.lat.qf = 40u; break;
+            }
+            memcpy(&before, &o, sizeof before);
+            assert_int_not_equal(rfe_velocity_step_q31(&o, &iq, NULL, &e), RFE_OK);
+            assert_true(rfe_status_is_error(e.status));
+            assert_int_equal(e.sat, 0u);
+            assert_memory_equal(&o, &before, sizeof(o));
+        }
+    }
+}
+
+/* REQ-FXP-014: the first sample initialises vx from the wheels' mean, r from the sample,
+ * the rest at 0, every sd at its initial value, like the double observer. */
+static void test_first_sample(void **state)
+{
+    both_t b;
+    rfe_velocity_t od;
+    rfe_velocity_q31_t oq;
+    rfe_velocity_input_t in;
+    rfe_velocity_input_q31_t iq;
+    rfe_velocity_estimate_t e;
+    rfe_velocity_estimate_q31_t q;
+    (void)state;
+    params_of(NULL, &b);
+    assert_int_equal(rfe_velocity_init(&od, &b.vd, &b.pd), RFE_OK);
+    assert_int_equal(rfe_velocity_init_q31(&oq, &b.vq, &b.pq), RFE_OK);
+    rolling(&b, 17.3, 0.0, &in, &iq);
+    in.yaw_rate = 0.2;
+    iq.yaw_rate = fx(0.2, RFE_FIX_Q_YAWRATE);
+    in.delta = 0.05;
+    iq.delta = fx(0.05, RFE_FIX_Q_ANGLE);
+    assert_int_equal(rfe_velocity_step(&od, &in, NULL, &e), RFE_OK);
+    assert_int_equal(rfe_velocity_step_q31(&oq, &iq, NULL, &q), RFE_OK);
+    /* the mean of four references, each from omega (0.5 LSB22 = 1.2e-7 rad/s: 4e-8 m/s at
+     * R = 0.325 m) through sin/cos (0.5 LSB30) and one division: 1e-6 m/s covers it */
+    assert_close(rfe_fix_to_double(q.vx, 23u), e.vx, 1e-6, 0.0, "first vx");
+    assert_int_equal(q.vy, 0);
+    assert_int_equal(q.yaw_acc, 0);
+    assert_int_equal(q.bx, 0);
+    assert_int_equal(q.by, 0);
+    assert_int_equal(q.flags, 0u);
+    assert_int_equal(q.sd_vx, b.vq.sd_vx0);
+    assert_int_equal(q.sd_vy, b.vq.sd_vy0);
+    assert_int_equal(q.sd_yaw_acc, RFE_FIX_ONE(24));
+    assert_int_equal(oq.yaw.x[0], iq.yaw_rate);
+    assert_int_equal(q.beta, fx(e.beta, RFE_FIX_Q_ANGLE)); /* atan2(0, vx) = 0 */
+    /* sd_beta = sd_vy0 vx / vx^2 = 0.3 / 17.3: 2 LSB29 of the 30-bit quotient */
+    assert_close(rfe_fix_to_double(q.sd_beta, 29u), e.sd_beta, 4e-9, 0.0, "first sd_beta");
+    /* the first sample's dt is ignored (0 here), a later one is checked */
+    iq.dt = 0;
+    assert_int_equal(rfe_velocity_step_q31(&oq, &iq, NULL, &q), RFE_ERR_RANGE);
+}
+
+/* REQ-FXP-014 (REQ-OBS-008): the steering-wheel angle through the ratio gives the road-wheel
+ * angle the double observer uses, and the observer reports it. */
+static void test_steering_wheel_input(void **state)
+{
+    both_t b;
+    rfe_velocity_t od;
+    rfe_velocity_q31_t oq;
+    rfe_velocity_q31_t oq2;
+    rfe_velocity_input_t in;
+    rfe_velocity_input_q31_t iq;
+    rfe_velocity_input_q31_t iq2;
+    rfe_velocity_estimate_t e;
+    rfe_velocity_estimate_q31_t q;
+    rfe_velocity_estimate_q31_t q2;
+    int k;
+    (void)state;
+    params_of(NULL, &b);
+    assert_int_equal(rfe_velocity_init(&od, &b.vd, &b.pd), RFE_OK);
+    assert_int_equal(rfe_velocity_init_q31(&oq, &b.vq, &b.pq), RFE_OK);
+    assert_int_equal(rfe_velocity_init_q31(&oq2, &b.vq, &b.pq), RFE_OK);
+    for (k = 0; k < 200; ++k) {
+        const double sw = 1.6 * sin(0.02 * k); /* up to 0.1 rad at the road wheels */
+        rolling(&b, 15.0, 0.01, &in, &iq);
+        in.has = RFE_VEL_HAS_STEER_WHEEL;
+        in.steer_wheel = sw;
+        in.delta = 0.7; /* ignored */
+        in.yaw_rate = 15.0 * sw / 16.0 / 2.7;
+        in.ay = 15.0 * in.yaw_rate;
+        iq.has = RFE_VEL_HAS_STEER_WHEEL;
+        iq.steer_wheel = fx(sw, RFE_FIX_Q_STEER_WHEEL);
+        iq.delta = fx(0.7, RFE_FIX_Q_ANGLE);
+        iq.yaw_rate = fx(in.yaw_rate, RFE_FIX_Q_YAWRATE);
+        iq.ay = fx(in.ay, RFE_FIX_Q_ACC);
+        /* the same sample with the road-wheel angle the ratio gives, in Q29 */
+        iq2 = iq;
+        iq2.has = 0u;
+        iq2.delta = fx(sw / 16.0, RFE_FIX_Q_ANGLE);
+        assert_int_equal(rfe_velocity_step(&od, &in, NULL, &e), RFE_OK);
+        assert_int_equal(rfe_velocity_step_q31(&oq, &iq, NULL, &q), RFE_OK);
+        assert_int_equal(rfe_velocity_step_q31(&oq2, &iq2, NULL, &q2), RFE_OK);
+        /* the input's rounding (0.5 LSB26 / 16 = 4.7e-10) and the division's (0.5 LSB29 =
+         * 9.3e-10) */
+        assert_close(rfe_fix_to_double(q.delta, 29u), e.delta, 1.4e-9, 0.0, "delta used");
+        /* the quotient and the directly rounded angle differ by at most 1 LSB29 */
+        assert_true(abs(q.delta - q2.delta) <= 1);
+        assert_close(rfe_fix_to_double(q.vy, 23u), e.vy, TOL_VY, 0.0, "vy");
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_params),
+        cmocka_unit_test(test_init_and_get),
+        cmocka_unit_test(test_bad_inputs_leave_the_observer_untouched),
+        cmocka_unit_test(test_model_error_leaves_the_observer_untouched),
+        cmocka_unit_test(test_first_sample),
+        cmocka_unit_test(test_steering_wheel_input),
+        cmocka_unit_test(test_back_to_back_on_every_observer_scenario),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
