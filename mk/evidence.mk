@@ -56,6 +56,7 @@ $(BUILD)/mcdc-f32/% $(BUILD)/mcdc-f64/% $(BUILD)/mcdc-q31/% $(BUILD)/mcdc-mu_rep
 $(eval $(call FLAVOUR_RULES,mcdc-f32,,$(MCDC_FLAGS)))
 $(eval $(call FLAVOUR_RULES,mcdc-f64,-DRFE_REAL_DOUBLE,$(MCDC_FLAGS)))
 $(eval $(call Q31_RULES,mcdc-q31,mcdc-f64,$(MCDC_FLAGS)))
+$(eval $(call HOST_TEST_RULES,mcdc-f64,mcdc-q31,$(MCDC_FLAGS)))
 $(eval $(call REPLAY_RULE,$(BUILD)/mcdc-mu_replay,mcdc-f32,mcdc-f64,$(MCDC_FLAGS),mcdc-q31))
 
 MCDC_TEST_BINS := $(foreach f,mcdc-f32 mcdc-f64,$(addprefix $(BUILD)/$(f)/test/,$(UNIT_TESTS))) \

@@ -91,6 +91,22 @@ $(eval $(call Q31_RULES,q31,f64,$(OPT)))
 $(eval $(call Q31_RULES,cov-q31,cov-f64,$(COVFLAGS)))
 $(eval $(call Q31_RULES,asan-q31,asan-f64,$(SANFLAGS)))
 
+# The host tests (built in the double trees) also link the fixed-point replay (replay_q31.o
+# and the q31 library of the same kind), so test_replay.c checks `--real q31` beside the
+# double runs. Its stem is shorter than that of FLAVOUR_RULES' test rule, so make takes it.
+define HOST_TEST_RULES
+# $(1) = double tree, $(2) = its q31 tree, $(3) = extra compile flags
+$(BUILD)/$(1)/test/host/%: test/host/%.c $(BUILD)/$(1)/librfe.a $(patsubst test/support/%.c,$(BUILD)/$(1)/support/%.o,$(TEST_SUPPORT)) $(BUILD)/$(1)/hostlib.a $(BUILD)/$(1)/host/replay_real.o $(BUILD)/$(1)/host/replay_q31.o $(BUILD)/$(2)/librfe_q31.a
+	@mkdir -p $$(@D)
+	$$(CC) $$(DEPFLAGS) $$(TEST_WARN) $(3) -DRFE_REAL_DOUBLE $$(CPPFLAGS_HOST) -Itest/support -Isrc $$< \
+	  $(patsubst test/support/%.c,$(BUILD)/$(1)/support/%.o,$(TEST_SUPPORT)) \
+	  $(BUILD)/$(1)/host/replay_q31.o $(BUILD)/$(1)/host/replay_real.o $(BUILD)/$(1)/hostlib.a \
+	  $(BUILD)/$(2)/librfe_q31.a $(BUILD)/$(1)/librfe.a $$(LDLIBS_TEST) -o $$@
+endef
+$(eval $(call HOST_TEST_RULES,f64,q31,$(OPT)))
+$(eval $(call HOST_TEST_RULES,cov-f64,cov-q31,$(COVFLAGS)))
+$(eval $(call HOST_TEST_RULES,asan-f64,asan-q31,$(SANFLAGS)))
+
 # mu_replay: precision-independent host code once, the replay core twice (float, double),
 # and the fixed-point replay (replay_q31.o, a double unit) with the q31 library.
 define REPLAY_RULE

@@ -49,13 +49,14 @@ static const char k_usage[] =
     "  --tyre MODE      paper, absolute (Dugoff) or magic (Magic Formula; default:\n"
     "                   the preset's)\n"
     "  --real TYPE      float (default) or double arithmetic, or q31: the fixed-point\n"
-    "                   estimator (samples rounded to its Q formats; saturation counts\n"
-    "                   in the estimate log's metadata, the JSON and the summary)\n"
+    "                   estimator and observer (samples rounded to their Q formats;\n"
+    "                   saturation counts in the estimate log's metadata, the JSON and\n"
+    "                   the summary)\n"
     "  --velocity WHERE where vx, vy and the yaw acceleration come from: measured (the\n"
     "                   log's vx, vy, yaw_acc columns, a test car's sensors), observer\n"
     "                   (estimated from steer, yaw rate, ax, ay, wheel speeds and the\n"
-    "                   optional p_*, torque_*, grade columns: docs/OBSERVER.md, float and\n"
-    "                   double; the estimate log gains vx_est .. sd_beta), or auto\n"
+    "                   optional p_*, torque_*, grade columns: docs/OBSERVER.md, in every\n"
+    "                   --real; the estimate log gains vx_est .. sd_beta), or auto\n"
     "                   (default): measured when the log has the columns, else observer\n"
     "  --metrics FILE   write run summary and accuracy as JSON\n"
     "  --quiet, -q      print nothing on success\n"
@@ -261,11 +262,6 @@ static int check_option_words(options_t *o)
         (strcmp(o->velocity, "observer") != 0) && (strcmp(o->velocity, "measured") != 0)) {
         return usage_error("--velocity must be auto, observer or measured, not '%s'", o->velocity);
     }
-    if ((o->velocity != NULL) && (strcmp(o->velocity, "observer") == 0) && (o->real != NULL) &&
-        (strcmp(o->real, "q31") == 0)) {
-        return usage_error("%s", "--velocity observer runs in float or double (the fixed-point "
-                                 "observer does not exist yet), not with --real q31");
-    }
     if (same_file(o->out, o->in) || ((o->params != NULL) && same_file(o->out, o->params)) ||
         ((o->metrics != NULL) && (same_file(o->metrics, o->in) || same_file(o->metrics, o->out)))) {
         return usage_error("%s", "an output file (--out, --metrics) is also an input or the other output");
@@ -330,12 +326,6 @@ static int load_params(const options_t *o, run_t *r)
     r->use_observer = ((o->velocity != NULL) && (strcmp(o->velocity, "observer") == 0)) ||
                       (((o->velocity == NULL) || (strcmp(o->velocity, "auto") == 0)) &&
                        !r->log.has_velocity);
-    if (r->use_observer && r->is_q31) {
-        rfe_io_error_set(&err, o->in, 0u, 0u, "%s",
-                         "this log has no vx, vy, yaw_acc columns, and the fixed-point run "
-                         "has no velocity observer yet: use --real float or double");
-        return fail(&err);
-    }
     return 0;
 }
 
@@ -426,7 +416,8 @@ static int run_estimator(const options_t *o, run_t *r)
     char val[RFE_NUM_BUF];
     r->rows = rfe_xrealloc(NULL, r->log.n_rows, sizeof *r->rows);
     if (r->is_q31) {
-        st = rfe_replay_run_q31(&r->ps, &r->log, r->rows, &r->q31, NULL, &bad);
+        st = r->use_observer ? rfe_replay_run_observer_q31(&r->ps, &r->log, r->rows, &r->q31, NULL, &bad)
+                             : rfe_replay_run_q31(&r->ps, &r->log, r->rows, &r->q31, NULL, &bad);
         r->stats = r->q31.base;
     } else {
         st = run(&r->ps, &r->log, r->rows, &r->stats, &bad);
@@ -439,8 +430,9 @@ static int run_estimator(const options_t *o, run_t *r)
         rfe_param_format(&r->ps, bad, val);
         rfe_io_error_set(&err, (src->file != NULL) ? src->file : "preset", src->line, 0u,
                          "parameter %s = %s does not fit the fixed-point formats "
-                         "(rfe_params_to_q31, q31 run; docs/FIXED_POINT.md)",
-                         rfe_param_info(bad)->key, val);
+                         "(%s, q31 run; docs/FIXED_POINT.md)",
+                         rfe_param_info(bad)->key, val,
+                         rfe_param_is_obs(bad) ? "rfe_velocity_params_to_q31" : "rfe_params_to_q31");
     } else if (st == RFE_ERR_RANGE) {
         rfe_io_error_set(&err, o->in, 0u, 0u,
                          "estimator init failed: %s (q31 run: the parameter set or the prior "

@@ -1,8 +1,10 @@
 /**
  * @file replay_q31.c
  * @brief The fixed-point part of mu_replay (`--real q31`): double parameter set ->
- *        rfe_params_t (double) -> rfe_params_q31_t, sensor rows -> rfe_sample_q31_t,
- *        estimator steps -> double estimate rows (exact conversions back).
+ *        rfe_params_t (double) -> rfe_params_q31_t (and the observer's
+ *        rfe_velocity_params_q31_t), sensor rows -> rfe_sample_q31_t (or
+ *        rfe_velocity_input_q31_t), estimator or pipeline steps -> double estimate rows
+ *        (exact conversions back).
  *
  * Compiled once. It uses the double library for the parameters (rfe_replay_params_f64,
  * rfe_params_to_q31_f64), so it is always built as a double translation unit.
@@ -16,6 +18,7 @@
 #include <string.h>
 
 #include "rfe/friction_q31.h"
+#include "rfe/pipeline_q31.h"
 #include "host/fixed_conv.h"
 #include "rfe/component/params_conv.h"
 
@@ -31,20 +34,48 @@ static rfe_status_t to_q31_params(const rfe_param_set_t *ps, rfe_params_q31_t *q
     return st;
 }
 
+/* The friction parameters as to_q31_params, then the observer's (its obs_* keys over
+ * rfe_velocity_params_default_f64, validated, rfe_velocity_params_to_q31_f64). */
+static rfe_status_t to_q31_observer_params(const rfe_param_set_t *ps, rfe_params_q31_t *q,
+                                           rfe_velocity_params_q31_t *vq, size_t *bad_key)
+{
+    rfe_velocity_params_t vp;
+    rfe_status_t st = to_q31_params(ps, q, bad_key);
+    if (st == RFE_OK) {
+        st = rfe_replay_velocity_params_f64(ps, &vp, bad_key);
+    }
+    if (st == RFE_OK) {
+        st = rfe_velocity_params_to_q31_f64(&vp, vq);
+    }
+    return st;
+}
+
 /* The numeric key that alone, on top of the preset, makes the conversion to Q formats fail
  * with RFE_ERR_RANGE, or RFE_PK_NONE (a combination, e.g. dt and tau_v whose gain
  * dt / (tau_v + dt) has too few bits). The word keys (tyre, filter, structure) change no
- * value's format. Called after a conversion that got as far as the formats, so the preset
- * is a valid one. */
-static size_t diagnose_range(const rfe_param_set_t *ps)
+ * value's format. With @p observer the obs_* keys are tried too (the observer's conversion
+ * after the friction one). Called after a conversion that got as far as the formats, so the
+ * preset is a valid one. */
+static size_t diagnose_range(const rfe_param_set_t *ps, int observer)
 {
     size_t k;
-    for (k = 0u; k < RFE_PK_NUMERIC; ++k) {
+    for (k = 0u; k < (size_t)RFE_PK_COUNT; ++k) {
         rfe_param_set_t one;
         rfe_params_q31_t q;
+        rfe_velocity_params_q31_t vq;
+        rfe_status_t st;
+        if ((k >= RFE_PK_NUMERIC) && ((observer == 0) || (rfe_param_is_obs(k) == 0))) {
+            continue; /* a word key, or an observer key of a friction-only run */
+        }
         (void)rfe_param_set_preset_f64(&one, ps->preset); /* cannot fail: a valid preset */
-        one.value[k] = ps->value[k];
-        if (to_q31_params(&one, &q, NULL) == RFE_ERR_RANGE) {
+        if (k < RFE_PK_NUMERIC) {
+            one.value[k] = ps->value[k];
+        } else {
+            one.obs[k - RFE_PK_OBS_FIRST] = ps->obs[k - RFE_PK_OBS_FIRST];
+        }
+        st = (observer != 0) ? to_q31_observer_params(&one, &q, &vq, NULL)
+                             : to_q31_params(&one, &q, NULL);
+        if (st == RFE_ERR_RANGE) {
             return k;
         }
     }
@@ -67,6 +98,22 @@ static void to_sample(const rfe_sensor_row_t *row, rfe_sample_q31_t *s, uint32_t
     }
 }
 
+/* Adds one row's saturation counts (of its conversion and of the library's step). */
+static void count_sat(rfe_replay_q31_stats_t *stats, uint32_t in_sat, uint32_t step_sat)
+{
+    if (in_sat != 0u) {
+        stats->input_sat += in_sat;
+        ++stats->input_sat_rows;
+    }
+    if (step_sat != 0u) {
+        stats->est_sat += step_sat;
+        ++stats->est_sat_rows;
+        if (step_sat > stats->est_sat_max) {
+            stats->est_sat_max = step_sat;
+        }
+    }
+}
+
 /* One step; a rejected sample logs the unchanged estimate, not valid, with its status. */
 static uint32_t step_row(rfe_friction_q31_t *est, const rfe_sensor_row_t *row,
                          rfe_est_row_t *out, rfe_replay_q31_stats_t *stats)
@@ -86,18 +133,8 @@ static uint32_t step_row(rfe_friction_q31_t *est, const rfe_sensor_row_t *row,
         out->valid[w] = rfe_status_is_error(st) ? 0u : e.valid[w];
     }
     out->status = (int)st;
-    out->has_velocity = 0; /* the fixed-point observer does not exist yet */
-    if (in_sat != 0u) {
-        stats->input_sat += in_sat;
-        ++stats->input_sat_rows;
-    }
-    if (e.sat != 0u) {
-        stats->est_sat += e.sat;
-        ++stats->est_sat_rows;
-        if (e.sat > stats->est_sat_max) {
-            stats->est_sat_max = e.sat;
-        }
-    }
+    out->has_velocity = 0;
+    count_sat(stats, in_sat, e.sat);
     return e.sat;
 }
 
@@ -118,7 +155,7 @@ rfe_status_t rfe_replay_run_q31(const rfe_param_set_t *ps, const rfe_sensor_log_
     }
     st = to_q31_params(ps, &q, bad_key);
     if ((st == RFE_ERR_RANGE) && (bad_key != NULL)) {
-        *bad_key = diagnose_range(ps);
+        *bad_key = diagnose_range(ps, 0);
     }
     if (st == RFE_OK) {
         st = rfe_friction_init_q31(&est, &q);
@@ -128,6 +165,109 @@ rfe_status_t rfe_replay_run_q31(const rfe_param_set_t *ps, const rfe_sensor_log_
     }
     for (i = 0u; i < log->n_rows; ++i) {
         const uint32_t sat = step_row(&est, &log->rows[i], &out[i], stats);
+        if (row_sat != NULL) {
+            row_sat[i] = sat;
+        }
+        ++stats->base.status_count[rfe_replay_status_slot(out[i].status)];
+    }
+    stats->base.n_steps = log->n_rows;
+    return RFE_OK;
+}
+
+/* The ESC sample of log row @p i in Q formats, as the float/double observer replay builds it
+ * (the period from the time stamps, in double; an absent optional column 0), each value
+ * rounded as to_sample (saturations counted in *sat). */
+static void to_esc_input(const rfe_sensor_log_t *log, size_t i, rfe_velocity_input_q31_t *in,
+                         uint32_t *sat)
+{
+    const rfe_sensor_row_t *row = &log->rows[i];
+    const double dt = (i > 0u) ? (row->t - log->rows[i - 1u].t) : 0.0;
+    size_t w;
+    memset(in, 0, sizeof *in);
+    in->dt = rfe_fix_from_double(dt, RFE_FIX_Q_DT, sat);
+    in->delta = rfe_fix_from_double(row->delta, RFE_FIX_Q_ANGLE, sat);
+    in->steer_wheel = log->has_swa ? rfe_fix_from_double(row->swa, RFE_FIX_Q_STEER_WHEEL, sat) : 0;
+    in->yaw_rate = rfe_fix_from_double(row->yaw_rate, RFE_FIX_Q_YAWRATE, sat);
+    in->ax = rfe_fix_from_double(row->ax, RFE_FIX_Q_ACC, sat);
+    in->ay = rfe_fix_from_double(row->ay, RFE_FIX_Q_ACC, sat);
+    in->grade = log->has_grade ? rfe_fix_from_double(row->grade, RFE_FIX_Q_ANGLE, sat) : 0;
+    for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
+        in->omega[w] = rfe_fix_from_double(row->omega[w], RFE_FIX_Q_OMEGA, sat);
+        in->p_brake[w] =
+            log->has_pressure ? rfe_fix_from_double(row->p_brake[w], RFE_FIX_Q_PRESSURE, sat) : 0;
+        in->torque[w] =
+            log->has_torque ? rfe_fix_from_double(row->torque[w], RFE_FIX_Q_TORQUE, sat) : 0;
+    }
+    in->has = (log->has_pressure ? RFE_VEL_HAS_PRESSURE : 0u) |
+              (log->has_torque ? RFE_VEL_HAS_TORQUE : 0u) |
+              (log->has_swa ? RFE_VEL_HAS_STEER_WHEEL : 0u);
+}
+
+/* One pipeline step of row @p i; returns the step's saturations (observer and friction). */
+static uint32_t step_observer_row(rfe_pipeline_q31_t *pl, const rfe_sensor_log_t *log,
+                                  size_t i, rfe_est_row_t *out, rfe_replay_q31_stats_t *stats)
+{
+    rfe_velocity_input_q31_t in;
+    rfe_pipeline_out_q31_t o;
+    rfe_status_t st;
+    uint32_t in_sat = 0u;
+    uint32_t sat;
+    size_t w;
+    to_esc_input(log, i, &in, &in_sat);
+    memset(&o, 0, sizeof o);
+    /* pipeline_q31.h: on an error o holds the previous estimates, sat 0 */
+    st = rfe_pipeline_step_q31(pl, &in, &o);
+    out->t = log->rows[i].t;
+    for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
+        out->mu[w] = rfe_fix_to_double(o.friction.mu[w], RFE_FIX_Q_MU);
+        out->sd[w] = rfe_fix_to_double(o.friction.sd[w], RFE_FIX_Q_SD);
+        out->valid[w] = rfe_status_is_error(st) ? 0u : o.friction.valid[w];
+    }
+    out->status = (int)st;
+    out->has_velocity = 1;
+    out->vx = rfe_fix_to_double(o.velocity.vx, RFE_FIX_Q_SPEED);
+    out->vy = rfe_fix_to_double(o.velocity.vy, RFE_FIX_Q_SPEED);
+    out->beta = rfe_fix_to_double(o.velocity.beta, RFE_FIX_Q_ANGLE);
+    out->yaw_acc = rfe_fix_to_double(o.velocity.yaw_acc, RFE_FIX_Q_ACC);
+    out->sd_vx = rfe_fix_to_double(o.velocity.sd_vx, RFE_FIX_Q_SPEED);
+    out->sd_vy = rfe_fix_to_double(o.velocity.sd_vy, RFE_FIX_Q_SPEED);
+    out->sd_beta = rfe_fix_to_double(o.velocity.sd_beta, RFE_FIX_Q_ANGLE);
+    /* a saturating sum, as each count is */
+    sat = (o.velocity.sat > UINT32_MAX - o.friction.sat) ? UINT32_MAX
+                                                          : o.velocity.sat + o.friction.sat;
+    count_sat(stats, in_sat, sat);
+    return sat;
+}
+
+rfe_status_t rfe_replay_run_observer_q31(const rfe_param_set_t *ps, const rfe_sensor_log_t *log,
+                                         rfe_est_row_t *out, rfe_replay_q31_stats_t *stats,
+                                         uint32_t *row_sat, size_t *bad_key)
+{
+    rfe_params_q31_t q;
+    rfe_velocity_params_q31_t vq;
+    static rfe_pipeline_q31_t pl; /* large; the replay is single-threaded host code */
+    rfe_status_t st;
+    size_t i;
+    if ((ps == NULL) || (log == NULL) || (out == NULL) || (stats == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    memset(stats, 0, sizeof *stats);
+    if (log->omega_linear != 0) {
+        return RFE_ERR_RANGE; /* wheel speeds not yet rad/s: rfe_sensor_log_wheel_radius */
+    }
+    st = to_q31_observer_params(ps, &q, &vq, bad_key);
+    if ((st == RFE_ERR_RANGE) && (bad_key != NULL)) {
+        *bad_key = diagnose_range(ps, 1);
+    }
+    if (st == RFE_OK) {
+        memset(&pl, 0, sizeof pl); /* padding defined: a run is a function of its input */
+        st = rfe_pipeline_init_q31(&pl, &q, &vq);
+    }
+    if (st != RFE_OK) {
+        return st;
+    }
+    for (i = 0u; i < log->n_rows; ++i) {
+        const uint32_t sat = step_observer_row(&pl, log, i, &out[i], stats);
         if (row_sat != NULL) {
             row_sat[i] = sat;
         }

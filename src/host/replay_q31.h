@@ -1,6 +1,7 @@
 /**
  * @file replay_q31.h
- * @brief Runs the fixed-point estimator (rfe_friction_*_q31) over a whole sensor log: the
+ * @brief Runs the fixed-point estimator (rfe_friction_*_q31), or the fixed-point pipeline
+ *        (rfe_pipeline_*_q31: the velocity observer feeding it), over a whole sensor log: the
  *        `--real q31` of mu_replay. Doubles in, doubles out, like replay_real.h.
  *
  * The parameters take the double path of rfe_replay_run_f64 (the preset's exact decimals,
@@ -11,6 +12,12 @@
  * config.h limit). The estimate is converted back exactly (rfe_fix_to_double: mu Q29,
  * sd Q30), so an estimate log written with the shortest round-trip format holds the Q values
  * bit for bit.
+ *
+ * The observer run takes the observer's parameters the same way (rfe_replay_velocity_params_f64,
+ * then rfe_velocity_params_to_q31_f64), builds each ESC sample as rfe_replay_run_observer_f64
+ * does (the period from the time stamps' difference in double), rounds every value as above
+ * into the formats of rfe_velocity_input_q31_t, and converts the observer's estimate back
+ * exactly too (vx, vy, sd Q23; beta, sd_beta Q29; yaw acceleration Q24).
  */
 #ifndef RFE_HOST_REPLAY_Q31_H
 #define RFE_HOST_REPLAY_Q31_H
@@ -48,5 +55,25 @@ RFE_NODISCARD rfe_status_t rfe_replay_run_q31(const rfe_param_set_t *ps,
                                               const rfe_sensor_log_t *log, rfe_est_row_t *out,
                                               rfe_replay_q31_stats_t *stats, uint32_t *row_sat,
                                               size_t *bad_key);
+
+/**
+ * The fixed-point twin of rfe_replay_run_observer_f64 (the parameters, samples and estimates
+ * as described above): one row per input row with the observer's estimate (has_velocity = 1);
+ * a rejected row gets the unchanged previous estimates, valid = 0, its error status.
+ * The estimator's saturation count of a step is the observer's plus the friction
+ * estimator's (rfe_velocity_estimate_q31_t.sat + rfe_estimate_q31_t.sat).
+ * @param row_sat as rfe_replay_run_q31
+ * @param bad_key on RFE_ERR_PARAM as rfe_replay_run_observer_f64; on RFE_ERR_RANGE the key
+ *        (an obs_* key included) that alone does not fit its Q format, or RFE_PK_NONE; may be
+ *        NULL.
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_PARAM; RFE_ERR_RANGE (wheel speeds not in rad/s, a
+ *         conversion, or rfe_pipeline_init_q31); the init's other errors (nothing written
+ *         then).
+ */
+RFE_NODISCARD rfe_status_t rfe_replay_run_observer_q31(const rfe_param_set_t *ps,
+                                                       const rfe_sensor_log_t *log,
+                                                       rfe_est_row_t *out,
+                                                       rfe_replay_q31_stats_t *stats,
+                                                       uint32_t *row_sat, size_t *bad_key);
 
 #endif /* RFE_HOST_REPLAY_Q31_H */

@@ -6,7 +6,7 @@
 # Prints one line per check and closes with "cli: N passed, N failed"; exits 1 on a failure.
 # Requirements (docs/REQUIREMENTS.md; the script is one test case "test_cli"):
 # REQ-CLI-001 REQ-CLI-003 REQ-CLI-004 REQ-CSV-002 REQ-CSV-005 REQ-CSV-006 REQ-PARF-002 REQ-PARF-003
-# REQ-PARF-004 REQ-MET-002
+# REQ-PARF-004 REQ-MET-002 REQ-CLI-005
 set -u
 
 BIN=${1:?usage: test_cli.sh path/to/mu_replay}
@@ -204,9 +204,44 @@ grep -q '^# velocity = observer$' "$TMP/v.csv" && ok "observer_on_measured: meta
 run measured_default 0 --in "$DATA/good_small.csv" --out "$TMP/v.csv"
 grep -q '^# velocity' "$TMP/v.csv" && bad "measured_default: no velocity metadata" || ok "measured_default: no velocity metadata"
 run bad_velocity 2 --in "$DATA/good_small.csv" --out "$TMP/v.csv" --velocity optical
-run observer_q31 2 --in "$DATA/good_small.csv" --out "$TMP/v.csv" --velocity observer --real q31
-run esc_q31 1 --in "$DATA/good_esc.csv" --out "$TMP/v.csv" --real q31
-one_line esc_q31 "^mu_replay: .*good_esc\.csv: this log has no vx, vy, yaw_acc columns, and the fixed-point run"
+
+# ---- --real q31 with the observer: the fixed-point pipeline (rfe_pipeline_*_q31), --velocity
+#      chosen as in float and double
+run esc_q31 0 --in "$DATA/good_esc.csv" --out "$TMP/vq.csv" --metrics "$TMP/vq.json" --real q31
+grep -q '^# velocity = observer$' "$TMP/vq.csv" && grep -q '^# real = q31$' "$TMP/vq.csv" \
+    && ok "esc_q31: auto ran the observer, in q31" || bad "esc_q31: velocity/real metadata"
+grep -q '^t,.*,status,vx_est,vy_est,beta_est,yaw_acc_est,sd_vx,sd_vy,sd_beta$' "$TMP/vq.csv" \
+    && ok "esc_q31: observer columns" || bad "esc_q31: observer columns"
+[ "$(grep -vc '^#' "$TMP/vq.csv")" -eq 4 ] && ok "esc_q31: header + 3 rows" || bad "esc_q31: row count"
+for key in saturation_estimator_total saturation_input_values; do
+    grep -q "^# $key = 0$" "$TMP/vq.csv" && ok "esc_q31: metadata $key = 0" || bad "esc_q31: metadata $key"
+done
+grep -q '"saturation": {"estimator_total": 0,' "$TMP/vq.json" && ok "esc_q31: saturation in JSON" || bad "esc_q31: saturation in JSON"
+awk -F, '!/^#/ { n++ } n == 2 { exit !($15 > 19.49 && $15 < 19.51) }' "$TMP/vq.csv" \
+    && ok "esc_q31: vx_est from the wheels" || bad "esc_q31: vx_est"
+# Every estimate is its Q value exactly (mu Q29, sd Q30, vx, vy, sd_vx, sd_vy Q23, beta, sd_beta
+# Q29, r-dot Q24): times 2^q an integer, which a value rounded to 9 digits is not in general.
+awk -F, '!/^#/ { n++ } n >= 2 {
+    for (c = 2; c <= 9; c++) { q = (c <= 5) ? 536870912 : 1073741824; if ($c * q != int($c * q)) exit 1 }
+    split("8388608 8388608 536870912 16777216 8388608 8388608 536870912", f, " ")
+    for (c = 15; c <= 21; c++) if ($c * f[c - 14] != int($c * f[c - 14])) exit 1 }' "$TMP/vq.csv" \
+    && ok "esc_q31: exact Q values" || bad "esc_q31: a value that is not its Q value"
+run esc_q31_again 0 --in "$DATA/good_esc.csv" --out "$TMP/vq2.csv" --metrics "$TMP/vq2.json" --real q31 -q
+cmp -s "$TMP/vq.csv" "$TMP/vq2.csv" && ok "esc_q31_again: byte-identical estimate log" || bad "esc_q31_again: logs differ"
+run esc_measured_q31 1 --in "$DATA/good_esc.csv" --out "$TMP/v.csv" --velocity measured --real q31
+one_line esc_measured_q31 "^mu_replay: .*good_esc\.csv: --velocity measured needs the columns vx, vy, yaw_acc"
+run observer_q31 0 --in "$DATA/good_small.csv" --out "$TMP/v.csv" --velocity observer --real q31
+grep -q '^# velocity = observer$' "$TMP/v.csv" && ok "observer_q31: metadata" || bad "observer_q31: metadata"
+run measured_q31 0 --in "$DATA/good_small.csv" --out "$TMP/v.csv" --velocity auto --real q31
+grep -q '^# velocity' "$TMP/v.csv" && bad "measured_q31: auto on a log with vx ran the observer" || ok "measured_q31: auto measured"
+run car_format_q31 0 --in "$DATA/car_format_small.csv" --out "$TMP/c.csv" --real q31
+awk -F, '!/^#/ { n++ } n == 2 { exit !($1 == 1 && $15 > 19.49 && $15 < 19.51) }' "$TMP/c.csv" \
+    && ok "car_format_q31: t and vx_est in SI" || bad "car_format_q31: t, vx_est"
+# An observer parameter outside its Q format (torque in Q15: < 65536 N m): named, one line.
+printf 'obs_torque_on = 1e5\n' >"$TMP/torque.par"
+run q31_obs_param_range 1 --in "$DATA/good_esc.csv" --out "$TMP/qt.csv" --params "$TMP/torque.par" --real q31
+one_line q31_obs_param_range "^mu_replay: .*torque\.par:1: parameter obs_torque_on = 100000 does not fit the fixed-point formats \(rfe_velocity_params_to_q31"
+[ ! -e "$TMP/qt.csv" ] && ok "q31_obs_param_range: nothing written" || bad "q31_obs_param_range: estimate log written"
 
 # ---- a production car's log in its logger's units (DATA.md "Units, scales and names of a
 #      recorded log"): 50 Hz with jitter, ms, steering-wheel angle, deg/s, g, km/h
@@ -240,6 +275,14 @@ printf '# dt = 0.01\nt,delta,yaw_rate,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr\
 run gap 0 --in "$TMP/gap.csv" --out "$TMP/g.csv"
 one_line gap "^mu_replay: note: 1 period\(s\) longer than obs_dt_max = 0.1 s \(longest 0.48 s\): the observer rejects the sample after each gap$"
 grep -q 'status 18' "$TMP/out" && ok "gap: the rejected sample counted" || bad "gap: no status 18 in the summary"
+# q31: a 3.5 s gap does not fit the period's Q30 (< 2 s): counted as input saturation, and
+# the sample rejected (18) as in float and double
+sed 's/^0\.5,/3.5,/; s/^0\.51,/3.51,/' "$TMP/gap.csv" >"$TMP/gap3.csv"
+run gap_q31 0 --in "$TMP/gap3.csv" --out "$TMP/g3.csv" --real q31 --quiet
+grep -q '^# saturation_input_values = 1$' "$TMP/g3.csv" && ok "gap_q31: the period's saturation counted" \
+    || bad "gap_q31: $(grep saturation_input_values "$TMP/g3.csv")"
+grep -Eq '^3\.5,.*,0,0,0,0,18,' "$TMP/g3.csv" && ok "gap_q31: the sample after the gap rejected (18)" \
+    || bad "gap_q31: $(grep '^3.5,' "$TMP/g3.csv")"
 printf 'obs_driven = 2.5\n' >"$TMP/driven.par"
 run obs_bad_driven 1 --in "$DATA/good_esc.csv" --out "$TMP/v.csv" --params "$TMP/driven.par"
 one_line obs_bad_driven "^mu_replay: .*driven\.par:1: invalid parameter obs_driven = 2.5 \(rejected by rfe_velocity_params_validate"

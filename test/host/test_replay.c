@@ -1,7 +1,8 @@
 /**
  * @file test_replay.c
  * @brief Tests of the replay core (double build, as linked into the host tests): presets
- *        taken from the library, parameter conversion, rejected rows, parameter diagnosis.
+ *        taken from the library, parameter conversion, rejected rows, parameter diagnosis;
+ *        and the fixed-point observer replay (replay_q31.h, the q31 library linked too).
  *
  * The float twin runs through mu_replay in test_cli.sh. Tests of the replay mechanics start
  * from the paper preset, whose values are fixed (the default preset may change).
@@ -12,12 +13,17 @@
 #include <stdint.h>
 #include <cmocka.h>
 
+#include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "csv_log.h"
 #include "param_file.h"
+#include "replay_q31.h"
 #include "replay_real.h"
+#include "rfe/component/params_conv.h"
 #include "rfe/config.h"
+#include "rfe/pipeline_q31.h"
 #include "rfe/friction.h"
 #include "rfe/params.h"
 #include "rfe/velocity.h"
@@ -462,6 +468,285 @@ static void test_rfe_replay_refuses_unconverted_logs(void **state)
     assert_int_equal(st.n_steps, log.n_rows);
 }
 
+
+/* ------------------------------------------------------------ the fixed-point observer run */
+
+/* REQ-CLI-004 REQ-CLI-005 */
+static void test_rfe_replay_run_observer_q31_checks_its_arguments(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_sensor_row_t rows[N_ROWS];
+    rfe_param_set_t ps;
+    rfe_est_row_t out[N_ROWS];
+    rfe_replay_q31_stats_t st;
+    size_t bad = 0u;
+    size_t i;
+    (void)state;
+    make_log(&log, rows);
+    assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_DEFAULT), 0);
+    assert_int_equal(rfe_replay_run_observer_q31(NULL, &log, out, &st, NULL, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_replay_run_observer_q31(&ps, NULL, out, &st, NULL, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_replay_run_observer_q31(&ps, &log, NULL, &st, NULL, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_replay_run_observer_q31(&ps, &log, out, NULL, NULL, NULL), RFE_ERR_NULL);
+    /* an invalid value: diagnosed as in the double run (the double path comes first) */
+    ps.value[RFE_PK_mu0] = 2.0;
+    assert_int_equal(rfe_replay_run_observer_q31(&ps, &log, out, &st, NULL, &bad), RFE_ERR_PARAM);
+    assert_int_equal(bad, RFE_PK_mu0);
+    assert_int_equal(st.base.n_steps, 0);
+    assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_DEFAULT), 0);
+    ps.obs[(size_t)RFE_PK_obs_steer_ratio - RFE_PK_OBS_FIRST] = 0.0;
+    assert_int_equal(rfe_replay_run_observer_q31(&ps, &log, out, &st, NULL, &bad), RFE_ERR_PARAM);
+    assert_int_equal(bad, RFE_PK_obs_steer_ratio);
+    /* valid, but beyond its Q format: 1e5 N m > 2^16 N m (Q15) for the observer's key, and
+     * 40000 kg > 2^15 kg (Q16) for the friction estimator's */
+    assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_DEFAULT), 0);
+    ps.obs[(size_t)RFE_PK_obs_torque_on - RFE_PK_OBS_FIRST] = 1e5;
+    assert_int_equal(rfe_replay_run_observer_q31(&ps, &log, out, &st, NULL, &bad), RFE_ERR_RANGE);
+    assert_int_equal(bad, RFE_PK_obs_torque_on);
+    assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_DEFAULT), 0);
+    ps.value[RFE_PK_m] = 40000.0;
+    assert_int_equal(rfe_replay_run_observer_q31(&ps, &log, out, &st, NULL, &bad), RFE_ERR_RANGE);
+    assert_int_equal(bad, RFE_PK_m);
+    /* wheel speeds still km/h: refused; a steering-wheel angle: the observer takes it */
+    assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_DEFAULT), 0);
+    log.omega_linear = 1;
+    assert_int_equal(rfe_replay_run_observer_q31(&ps, &log, out, &st, NULL, NULL), RFE_ERR_RANGE);
+    log.omega_linear = 0;
+    log.has_swa = 1;
+    assert_int_equal(rfe_replay_run_observer_q31(&ps, &log, out, &st, NULL, NULL), RFE_OK);
+    assert_int_equal(st.base.n_steps, log.n_rows);
+    for (i = 0u; i < log.n_rows; ++i) {
+        assert_int_equal(out[i].has_velocity, 1);
+        assert_true(out[i].t == log.rows[i].t);
+    }
+}
+
+/* The Q31 parameters of @p ps by the documented path (double, then the converters). */
+static void q31_params_of(const rfe_param_set_t *ps, rfe_params_q31_t *pq,
+                          rfe_velocity_params_q31_t *vq)
+{
+    rfe_params_t p;
+    rfe_velocity_params_t vp;
+    assert_int_equal(rfe_replay_params_f64(ps, &p, NULL), RFE_OK);
+    assert_int_equal(rfe_replay_velocity_params_f64(ps, &vp, NULL), RFE_OK);
+    assert_int_equal(rfe_params_to_q31_f64(&p, pq), RFE_OK);
+    assert_int_equal(rfe_velocity_params_to_q31_f64(&vp, vq), RFE_OK);
+}
+
+/* x * 2^q rounded to nearest, ties up (what the replay documents), in the format's range. */
+static rfe_fix_t q_of(double x, int q)
+{
+    const double y = floor(ldexp(x, q) + 0.5);
+    assert_true(fabs(y) <= 2147483647.0); /* the rows below stay inside every format */
+    return (rfe_fix_t)y;
+}
+
+#define N_ESC 8u
+
+/* An ESC log in a turn with every optional column (pressures, torques, grade, the
+ * steering-wheel angle; delta 0, as the reader leaves it) where each decides: braking on the
+ * pressures alone (rows 0-3, ax 0), then driving on the front torques alone (rows 4-7). */
+static void make_esc_log(rfe_sensor_log_t *log, rfe_sensor_row_t rows[N_ESC])
+{
+    size_t i;
+    size_t w;
+    memset(log, 0, sizeof *log);
+    memset(rows, 0, N_ESC * sizeof rows[0]);
+    for (i = 0u; i < N_ESC; ++i) {
+        rows[i].t = 0.01 * (double)i;
+        rows[i].swa = 0.8 + 0.01 * (double)i;
+        rows[i].yaw_rate = 0.1;
+        rows[i].ay = 2.0;
+        rows[i].grade = 0.02;
+        for (w = 0u; w < RFE_WHEELS; ++w) {
+            rows[i].omega[w] = (20.0 + 0.1 * (double)w) / 0.325;
+            rows[i].p_brake[w] = (i < 4u) ? 1.5 + 0.1 * (double)w : 0.0;
+            rows[i].torque[w] = ((i >= 4u) && (w < 2u)) ? 300.0 : 0.0;
+        }
+    }
+    log->rows = rows;
+    log->n_rows = N_ESC;
+    log->has_pressure = 1;
+    log->has_torque = 1;
+    log->has_grade = 1;
+    log->has_swa = 1;
+}
+
+/* Every row of the replay is the fixed-point pipeline's step on the row's Q values (rounded
+ * by q_of, its period the time stamps' difference), every output the Q value exactly (an
+ * integer after scaling back by 2^q). */
+/* REQ-CLI-005 */
+static void test_rfe_replay_run_observer_q31_is_the_pipeline_bit_for_bit(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_sensor_row_t rows[N_ESC];
+    rfe_param_set_t ps;
+    rfe_est_row_t out[N_ESC];
+    rfe_replay_q31_stats_t st;
+    uint32_t row_sat[N_ESC];
+    uint32_t flags[N_ESC];
+    rfe_params_q31_t pq;
+    rfe_velocity_params_q31_t vq;
+    static rfe_pipeline_q31_t pl;
+    size_t i;
+    size_t w;
+    (void)state;
+    make_esc_log(&log, rows);
+    assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_DEFAULT), 0);
+    memset(row_sat, 0xff, sizeof row_sat);
+    assert_int_equal(rfe_replay_run_observer_q31(&ps, &log, out, &st, row_sat, NULL), RFE_OK);
+    q31_params_of(&ps, &pq, &vq);
+    memset(&pl, 0, sizeof pl);
+    assert_int_equal(rfe_pipeline_init_q31(&pl, &pq, &vq), RFE_OK);
+    for (i = 0u; i < N_ESC; ++i) {
+        const rfe_sensor_row_t *r = &rows[i];
+        rfe_velocity_input_q31_t in;
+        rfe_pipeline_out_q31_t o;
+        rfe_status_t s;
+        memset(&in, 0, sizeof in);
+        in.dt = q_of((i > 0u) ? r->t - rows[i - 1u].t : 0.0, 30);
+        in.delta = q_of(r->delta, 29);
+        in.steer_wheel = q_of(r->swa, 26);
+        in.yaw_rate = q_of(r->yaw_rate, 27);
+        in.ax = q_of(r->ax, 24);
+        in.ay = q_of(r->ay, 24);
+        in.grade = q_of(r->grade, 29);
+        for (w = 0u; w < RFE_WHEELS; ++w) {
+            in.omega[w] = q_of(r->omega[w], 22);
+            in.p_brake[w] = q_of(r->p_brake[w], 25);
+            in.torque[w] = q_of(r->torque[w], 15);
+        }
+        in.has = RFE_VEL_HAS_PRESSURE | RFE_VEL_HAS_TORQUE | RFE_VEL_HAS_STEER_WHEEL;
+        s = rfe_pipeline_step_q31(&pl, &in, &o);
+        assert_false(rfe_status_is_error(s));
+        assert_int_equal(out[i].status, (int)s);
+        assert_int_equal(out[i].has_velocity, 1);
+        assert_true(out[i].t == r->t);
+        for (w = 0u; w < RFE_WHEELS; ++w) {
+            assert_true(ldexp(out[i].mu[w], 29) == (double)o.friction.mu[w]);
+            assert_true(ldexp(out[i].sd[w], 30) == (double)o.friction.sd[w]);
+            assert_int_equal(out[i].valid[w], o.friction.valid[w]);
+        }
+        assert_true(ldexp(out[i].vx, 23) == (double)o.velocity.vx);
+        assert_true(ldexp(out[i].vy, 23) == (double)o.velocity.vy);
+        assert_true(ldexp(out[i].beta, 29) == (double)o.velocity.beta);
+        assert_true(ldexp(out[i].yaw_acc, 24) == (double)o.velocity.yaw_acc);
+        assert_true(ldexp(out[i].sd_vx, 23) == (double)o.velocity.sd_vx);
+        assert_true(ldexp(out[i].sd_vy, 23) == (double)o.velocity.sd_vy);
+        assert_true(ldexp(out[i].sd_beta, 29) == (double)o.velocity.sd_beta);
+        assert_int_equal(row_sat[i], o.velocity.sat + o.friction.sat);
+        flags[i] = o.velocity.flags;
+    }
+    /* each optional input decided something, so a replay that dropped one would differ
+     * above: braking on the pressures, driving on the torques, and the road-wheel angle from
+     * the steering wheel through the default ratio 16, within 1 LSB of Q29 (the Q26 rounding
+     * of the angle, 2^-27 rad / 16 = 0.25 LSB, and the division's 0.5 LSB) */
+    assert_true((flags[3] & RFE_VEL_FLAG_BRAKING) != 0u);
+    assert_true((flags[N_ESC - 1u] & RFE_VEL_FLAG_DRIVING) != 0u);
+    assert_true(labs((long)pl.velocity.last.delta - (long)q_of(0.87 / 16.0, 29)) <= 1L);
+    assert_int_equal(st.base.n_steps, N_ESC);
+    assert_int_equal(st.input_sat, 0u);
+}
+
+/* A value beyond its Q format saturates and is counted, and the observer rejects the sample
+ * (every format holds its limit: ax 200 m/s^2 > 128 m/s^2 of Q24; a 3 s gap > 2 s of Q30):
+ * logged with its status, not valid, the previous estimates kept, and the run goes on. */
+/* REQ-CLI-003 REQ-CLI-005 */
+static void test_rfe_replay_run_observer_q31_counts_saturation_and_goes_on(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_sensor_row_t rows[N_ROWS];
+    rfe_param_set_t ps;
+    rfe_est_row_t out[N_ROWS];
+    rfe_replay_q31_stats_t st;
+    size_t w;
+    (void)state;
+    make_log(&log, rows);
+    rows[1].ax = 200.0;
+    rows[3].t = rows[2].t + 3.0;
+    assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_DEFAULT), 0);
+    assert_int_equal(rfe_replay_run_observer_q31(&ps, &log, out, &st, NULL, NULL), RFE_OK);
+    assert_int_equal(st.base.n_steps, N_ROWS);
+    assert_int_equal(st.input_sat, 2u);
+    assert_int_equal(st.input_sat_rows, 2u);
+    assert_int_equal(out[1].status, RFE_ERR_RANGE);
+    assert_int_equal(out[3].status, RFE_ERR_RANGE);
+    assert_false(rfe_status_is_error((rfe_status_t)out[2].status));
+    assert_int_equal(st.base.status_count[RFE_ERR_RANGE], 2u);
+    assert_int_equal(count_sum(&st.base), N_ROWS);
+    for (w = 0u; w < RFE_WHEELS; ++w) {
+        assert_int_equal(out[1].valid[w], 0u);
+        assert_int_equal(out[3].valid[w], 0u);
+        assert_true(out[1].mu[w] == out[0].mu[w]);
+        assert_true(out[3].mu[w] == out[2].mu[w]);
+    }
+    assert_true(out[1].vx == out[0].vx);
+    assert_true(out[3].vx == out[2].vx);
+    assert_int_equal(out[3].has_velocity, 1);
+}
+
+/* The fixed-point run agrees with the double observer run on a recorded car's log (km/h
+ * wheel speeds, the steering-wheel angle, no vx columns) and on a simulated lane change with
+ * pressures and torques, within REQ-FXP-016's bounds of the pipeline twins (mu 0.005 where
+ * both are valid; vx 1e-4 m/s, vy 5e-4 m/s: test_pipeline_q31.c), statuses and valid flags
+ * equal (the samples' decisions are far from their thresholds on these logs; measured on the
+ * lane change through mu_replay: every flag equal, |dmu| 1.9e-6, |dvx| 1.0e-6 m/s). A wrong
+ * conversion (a format, the period, a missing column) is off by orders of magnitude more. */
+/* REQ-CLI-005 */
+static void test_rfe_replay_run_observer_q31_agrees_with_double(void **state)
+{
+    static const char *const LOGS[] = {DATA "car_format_small.csv",
+                                       "scenarios/observer/dlc_mu09.csv"};
+    size_t k;
+    (void)state;
+    for (k = 0u; k < sizeof LOGS / sizeof LOGS[0]; ++k) {
+        rfe_sensor_log_t log;
+        rfe_param_set_t ps;
+        rfe_io_error_t err;
+        rfe_replay_stats_t sd;
+        rfe_replay_q31_stats_t sq;
+        rfe_est_row_t *od;
+        rfe_est_row_t *oq;
+        size_t i;
+        size_t w;
+        size_t n_valid = 0u;
+        memset(&log, 0, sizeof log);
+        if (rfe_sensor_log_read(LOGS[k], &log, &err) != 0) {
+            fail_msg("%s:%zu: %s", err.file, err.line, err.msg);
+        }
+        assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_DEFAULT), 0);
+        assert_int_equal(rfe_param_set_apply_meta(&ps, &log, LOGS[k], &err), 0);
+        if (log.omega_linear != 0) { /* as mu_replay: km/h through R */
+            assert_int_equal(rfe_sensor_log_wheel_radius(&log, ps.value[RFE_PK_R]), 0);
+        }
+        od = calloc(log.n_rows, sizeof *od);
+        oq = calloc(log.n_rows, sizeof *oq);
+        assert_non_null(od);
+        assert_non_null(oq);
+        assert_int_equal(rfe_replay_run_observer_f64(&ps, &log, od, &sd, NULL), RFE_OK);
+        assert_int_equal(rfe_replay_run_observer_q31(&ps, &log, oq, &sq, NULL, NULL), RFE_OK);
+        assert_int_equal(sq.input_sat, 0u);
+        assert_int_equal(sq.est_sat, 0u);
+        for (i = 0u; i < log.n_rows; ++i) {
+            assert_int_equal(oq[i].status, od[i].status);
+            assert_true(fabs(oq[i].vx - od[i].vx) <= 1e-4);
+            assert_true(fabs(oq[i].vy - od[i].vy) <= 5e-4);
+            for (w = 0u; w < RFE_WHEELS; ++w) {
+                assert_int_equal(oq[i].valid[w], od[i].valid[w]);
+                if (oq[i].valid[w] != 0u) {
+                    assert_true(fabs(oq[i].mu[w] - od[i].mu[w]) <= 0.005);
+                    ++n_valid;
+                }
+            }
+        }
+        /* the lane change settles: the comparison saw valid estimates */
+        assert_true((k == 0u) || (n_valid > 1000u));
+        free(od);
+        free(oq);
+        rfe_sensor_log_free(&log);
+    }
+}
+
 /* REQ-CLI-003 */
 static void test_rfe_replay_status_slot_bounds(void **state)
 {
@@ -492,6 +777,10 @@ int main(void)
         cmocka_unit_test(test_rfe_replay_velocity_params_keys_reach_members),
         cmocka_unit_test(test_rfe_replay_velocity_params_names_the_bad_key),
         cmocka_unit_test(test_rfe_replay_refuses_unconverted_logs),
+        cmocka_unit_test(test_rfe_replay_run_observer_q31_checks_its_arguments),
+        cmocka_unit_test(test_rfe_replay_run_observer_q31_is_the_pipeline_bit_for_bit),
+        cmocka_unit_test(test_rfe_replay_run_observer_q31_counts_saturation_and_goes_on),
+        cmocka_unit_test(test_rfe_replay_run_observer_q31_agrees_with_double),
         cmocka_unit_test(test_rfe_replay_status_slot_bounds),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
