@@ -46,7 +46,7 @@ DEPS_EXTRA :=
 TEST_GATES :=
 include $(sort $(filter-out mk/lib.mk,$(wildcard mk/*.mk)))
 
-.PHONY: names car-format-logs observer-goldens observer-results all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind coverage demo goldens goldens-q31 scenarios observer-scenarios clean vectors shared-sync check-shared readme-table \
+.PHONY: names car-format-logs observer-goldens observer-goldens-q31 observer-results all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind coverage demo goldens goldens-q31 scenarios observer-scenarios clean vectors shared-sync check-shared readme-table \
         check-kernels check-tools layers help-check goldens-ref check-nofloat help deps-analysis misra tidy complexity structural analysis
 ## the libraries and build/mu_replay (the default target)
 all: lib $(BUILD)/mu_replay
@@ -303,7 +303,7 @@ car-format-logs: venv
 	$(PY) scripts/data/make_car_format_logs.py --src scenarios/observer --out scenarios/car_format
 ## regenerate the scenarios and every golden (reference and q31)
 goldens: scenarios
-	$(MAKE) goldens-ref goldens-q31
+	$(MAKE) goldens-ref goldens-q31 observer-goldens-q31
 # The reference goldens alone, from the committed scenarios. Byte-stable on one machine; each
 # records the BLAS kernel and numpy SIMD paths that wrote it (metadata blas, numpy_simd).
 ## regenerate the reference goldens from the committed scenarios
@@ -359,6 +359,24 @@ goldens-q31: $(BUILD)/mu_replay
 	    set -- $$c; tag=$$1; shift; \
 	    $(BUILD)/mu_replay --in $$f --out scenarios/golden/$$s.$$tag.q31.csv "$$@" --real q31 --quiet; \
 	  done; echo "goldens-q31: scenarios/golden/$$s.{paper.sckf,paper.ckf,absolute.sckf,default.sckf}.q31.csv"; done
+
+# Fixed-point observer goldens (docs/FIXED_POINT.md "Observer"): the estimate logs of `mu_replay
+# --real q31 --velocity observer` (the Q31 pipeline, default preset) on a subset of the observer
+# scenarios that takes every path of the observer (ABS on one and on split friction, lane
+# change, sine with dwell, rear-wheel traction, a known grade, creeping to a stop) and on one
+# car-format log (km/h, the steering-wheel angle, jittered 50 Hz), written to
+# scenarios/golden/observer_q31/[car_format.]<stem>.q31.csv; test/golden/test_golden_observer_q31.c
+# requires every value bit for bit. A subset so that the test stays fast under valgrind too.
+Q31_OBS_GOLDEN_LOGS = $(addprefix scenarios/observer/,abs_brake_mu02.csv abs_brake_split_mu.csv \
+                        dlc_mu035.csv sine_dwell_mu09.csv traction_rwd_mu03.csv \
+                        hill_known_grade.csv creep_stop.csv) scenarios/car_format/dlc_mu035.csv
+## regenerate the fixed-point observer goldens (scenarios/golden/observer_q31/) with mu_replay
+observer-goldens-q31: $(BUILD)/mu_replay
+	@set -e; mkdir -p scenarios/golden/observer_q31; for f in $(Q31_OBS_GOLDEN_LOGS); do \
+	  case $$f in scenarios/car_format/*) p=car_format. ;; *) p= ;; esac; \
+	  g=scenarios/golden/observer_q31/$$p$$(basename $$f .csv).q31.csv; \
+	  $(BUILD)/mu_replay --in $$f --out $$g --velocity observer --real q31 --quiet; \
+	  echo "observer-goldens-q31: $$g"; done
 
 # The specification (MODEL.md, DATA.md) and the test vectors of the independent
 # implementation came from the project's shared folder (../shared); copies sit in docs/spec
