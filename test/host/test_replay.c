@@ -507,6 +507,14 @@ static void test_rfe_replay_run_observer_q31_checks_its_arguments(void **state)
     ps.value[RFE_PK_m] = 40000.0;
     assert_int_equal(rfe_replay_run_observer_q31(&ps, &log, out, &st, NULL, &bad), RFE_ERR_RANGE);
     assert_int_equal(bad, RFE_PK_m);
+    /* only a combination beyond its format: dt 1e-4 s and tau_v 30 s each fit, but the
+     * input filter's gain dt / (tau_v + dt) = 3.3e-6 has fewer than the 16 significant bits
+     * of Q30 its conversion demands (2^30 3.3e-6 = 3579 LSB) */
+    assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_DEFAULT), 0);
+    ps.value[RFE_PK_dt] = 1e-4;
+    ps.value[RFE_PK_tau_v] = 30.0;
+    assert_int_equal(rfe_replay_run_observer_q31(&ps, &log, out, &st, NULL, &bad), RFE_ERR_RANGE);
+    assert_int_equal(bad, RFE_PK_NONE);
     /* wheel speeds still km/h: refused; a steering-wheel angle: the observer takes it */
     assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_DEFAULT), 0);
     log.omega_linear = 1;
