@@ -1,8 +1,9 @@
 # Robustness (docs/ROBUSTNESS.md, issue 7): fuzzing, fault scenarios, soak.
 #
 # make fuzz [FUZZ_SECONDS=60]  every libFuzzer harness (test/fuzz/: the step of the float,
-#                              double and fixed-point estimator, the CLI's readers)
-#                              FUZZ_SECONDS each, clang -fsanitize=fuzzer,address,undefined;
+#                              double and fixed-point estimator and velocity observer, the
+#                              CLI's readers) FUZZ_SECONDS each, clang
+#                              -fsanitize=fuzzer,address,undefined;
 #                              the corpus grows in build/fuzz/corpus/, crashes land in
 #                              build/fuzz/artifacts/
 # make fuzz-smoke              each harness FUZZ_SMOKE_SECONDS over the committed seeds
@@ -23,7 +24,7 @@ FUZZ_CFLAGS := -std=c99 -g -O1 -fno-omit-frame-pointer -fsanitize=address,undefi
                -fno-sanitize-recover=all $(INV_FLAGS)
 FUZZ_OPTS   := -max_len=16384 -print_final_stats=1
 FUZZ_BINS   := fuzz_step_f32 fuzz_step_f64 $(if $(Q31_SRC),fuzz_step_q31) fuzz_velocity_f32 \
-               fuzz_velocity_f64 fuzz_csv
+               fuzz_velocity_f64 $(if $(Q31_SRC),fuzz_velocity_q31) fuzz_csv
 FUZZ_LIB_F32 := $(patsubst src/%.c,$(BUILD)/fuzz-f32/lib/%.o,$(LIB_SRC))
 FUZZ_LIB_F64 := $(patsubst src/%.c,$(BUILD)/fuzz-f64/lib/%.o,$(LIB_SRC))
 FUZZ_LIB_Q31 := $(patsubst src/%.c,$(BUILD)/fuzz-q31/lib/%.o,$(Q31_SRC))
@@ -73,6 +74,10 @@ $(BUILD)/fuzz/fuzz_velocity_f32: $(FUZZ_VEL_DEPS) $(FUZZ_LIB_F32)
 $(BUILD)/fuzz/fuzz_velocity_f64: $(FUZZ_VEL_DEPS) $(FUZZ_LIB_F64)
 	@mkdir -p $(@D)
 	$(FUZZ_CC) $(FUZZ_CFLAGS) -fsanitize=fuzzer -DRFE_REAL_DOUBLE $(CPPFLAGS_LIB) -Itest/fuzz $< $(FUZZ_LIB_F64) -lm -o $@
+# The fixed-point observer's harness: the double library gives the defaults and their conversion.
+$(BUILD)/fuzz/fuzz_velocity_q31: test/fuzz/fuzz_velocity_q31.c test/fuzz/fuzz_input.h $(FUZZ_LIB_Q31) $(FUZZ_LIB_F64)
+	@mkdir -p $(@D)
+	$(FUZZ_CC) $(FUZZ_CFLAGS) -fsanitize=fuzzer $(CPPFLAGS_LIB) -Itest/fuzz $< $(FUZZ_LIB_Q31) $(FUZZ_LIB_F64) -lm -o $@
 $(BUILD)/fuzz/fuzz_csv: test/fuzz/fuzz_csv.c $(FUZZ_HOST) $(FUZZ_LIB_F32)
 	@mkdir -p $(@D)
 	$(FUZZ_CC) $(FUZZ_CFLAGS) -fsanitize=fuzzer $(CPPFLAGS_HOST) $< $(FUZZ_HOST) $(FUZZ_LIB_F32) -lm -o $@
