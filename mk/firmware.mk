@@ -27,7 +27,9 @@
 #                      double difference; fixed point, later, bit for bit) and instructions
 #                      per pipeline, observer and friction step
 # make firmware-table  regenerates the firmware tables in docs/FIRMWARE.md ("Measured") from
-#                      both JSON files
+#                      both JSON files, and the observer's cost in docs/OBSERVER_RESULTS.md
+#                      and README.md (with the host's figure from make bench's bench.json
+#                      when it exists)
 # make deps-firmware   installs gcc-arm-none-eabi, libnewlib-arm-none-eabi and
 #                      qemu-system-arm via apt when missing (part of make deps)
 FW_CROSS   := arm-none-eabi-
@@ -247,4 +249,5 @@ pil: deps-firmware firmware $(PIL_ELFS) $(PIL_OBS_ELFS) $(PIL_OBS_HOST) $(BUILD)
 firmware-table:
 	@test -f $(FW_DIR)/report.json || $(MAKE) --no-print-directory firmware
 	@test -f $(FW_DIR)/pil.json || $(MAKE) --no-print-directory pil
-	python3 scripts/firmware/firmware_table.py --report $(FW_DIR)/report.json --pil $(FW_DIR)/pil.json --page docs/FIRMWARE.md
+	python3 scripts/firmware/firmware_table.py --report $(FW_DIR)/report.json --pil $(FW_DIR)/pil.json --page docs/FIRMWARE.md \
+	  --obs-page docs/OBSERVER_RESULTS.md --readme-page README.md --bench $(BUILD)/bench/bench.json

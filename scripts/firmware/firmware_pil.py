@@ -243,6 +243,7 @@ def count_instructions(machine, elf, steps, singlestep=False, parts=(), function
     entries = {e: name for name, (e, _) in part_at.items()}
     part_counts = {name: [] for name in inclusive}
     per_func = {name: {} for name in ("step", *inclusive)}
+    calls = {name: {} for name in ("step", *inclusive)}
     starts, names = function_table(elf) if functions else ([], [])
     active = None
     for line in _trace(machine, elf, steps, args):
@@ -277,9 +278,12 @@ def count_instructions(machine, elf, steps, singlestep=False, parts=(), function
                 if active is not None:
                     part_counts[active][-1] += length
                 if functions:
-                    fn = names[bisect.bisect_right(starts, pc) - 1]
+                    k = bisect.bisect_right(starts, pc) - 1
+                    fn = names[k]
                     for key in ("step", active) if active is not None else ("step",):
                         per_func[key][fn] = per_func[key].get(fn, 0) + length
+                        if pc == starts[k]:  # a TB at the function's first instruction: a call
+                            calls[key][fn] = calls[key].get(fn, 0) + 1
         elif line.startswith(b"IN:"):
             pending_pc, pending_len = None, 0
         elif line.startswith(b"0x") and b":  " in line:
@@ -289,7 +293,8 @@ def count_instructions(machine, elf, steps, singlestep=False, parts=(), function
     if len(counts) != steps:
         sys.exit(f"pil: instruction count on {elf}: {len(counts)} of {steps} steps traced")
     if inclusive:
-        return counts, part_counts, per_func
+        return counts, part_counts, {key: {fn: (v, calls[key].get(fn, 0)) for fn, v in d.items()}
+                                     for key, d in per_func.items()}
     return counts
 
 
@@ -445,6 +450,45 @@ def function_table(elf):
     return [a for a, _ in syms], [n for _, n in syms]
 
 
+def code_objects(elf):
+    """(sorted start addresses, [(end, object)]) of the image's .text input sections, from
+    the linker map beside the image: which object (librfe.a's tyre_flt.o, newlib's libm ...)
+    each function's code comes from."""
+    sec = re.compile(r"^ (\.text\S*)\s*$")
+    ent = re.compile(r"^ (?:(\.text\S*)\s+)?\s*0x([0-9a-f]+)\s+0x([0-9a-f]+)\s+(\S+)$")
+    spans, pending = [], False
+    try:
+        lines = open(elf[:-4] + ".map").read().split("Linker script and memory map", 1)[-1].splitlines()
+    except OSError:
+        return [], []
+    for ln in lines:
+        m = ent.match(ln)
+        if m and (m.group(1) or pending) and int(m.group(3), 16) > 0:
+            path = m.group(4)
+            lib = re.match(r".*/(lib[a-z_]+)\.a\((.*)\)$", path)
+            if lib and lib.group(1) == "libm":
+                obj = "newlib libm"
+            elif lib and lib.group(1) in ("libc", "libg", "libc_nano", "libg_nano", "librdimon", "libgcc"):
+                obj = "newlib libc" if lib.group(1) != "libgcc" else "libgcc"
+            elif lib:
+                obj = lib.group(2)
+            elif path.startswith("/tmp/") or re.match(r"^cc\w+\.o$", os.path.basename(path)):
+                obj = "pil_main.o"  # the image's main, compiled on the fly
+            else:
+                obj = os.path.basename(path)
+            a0 = int(m.group(2), 16)
+            spans.append((a0, a0 + int(m.group(3), 16), obj))
+        pending = bool(sec.match(ln))
+    spans.sort()
+    return [a for a, _, _ in spans], [(e, o) for _, e, o in spans]
+
+
+def object_of(objects, addr):
+    starts, rest = objects
+    k = bisect.bisect_right(starts, addr) - 1
+    return rest[k][1] if k >= 0 and addr < rest[k][0] else "?"
+
+
 def part_addresses(elf, name):
     """Entry address of function `name` and the return addresses of its calls (the
     instruction after each bl). A tail call (b.w) would return elsewhere: refused."""
@@ -547,9 +591,15 @@ def run_obs_entry(a, spec, report, tmp, failures):
 
         entry["instructions_per_step"] = stats(counts)
         entry["instructions_per_part"] = {p: stats(c) for p, c in part_counts.items()}
-        # [function, instructions per step], most first (a list: JSON keeps its order)
+        # [function, instructions per step, calls per step, object], most instructions first
+        # (a list: JSON keeps its order); a call is an execution of the TB at the function's
+        # entry; the object is the linker map's (librfe.a's tyre_flt.o, newlib libm ...)
+        objects = code_objects(elf)
+        starts, names = function_table(elf)
+        where = {nm_: object_of(objects, a_) for a_, nm_ in zip(starts, names)}
         entry["instructions_per_function"] = {
-            key: sorted(([f, round(v / n, 1)] for f, v in d.items()), key=lambda x: -x[1])
+            key: sorted(([f, round(v / n, 1), round(c / n, 2), where.get(f, "?")] for f, (v, c) in d.items()),
+                        key=lambda x: -x[1])
             for key, d in per_func.items()}
         entry["core_share_mean"] = sum(counts) / n * STEP_HZ / CORE_HZ
         entry["core_share_max"] = max(counts) * STEP_HZ / CORE_HZ
