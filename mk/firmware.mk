@@ -158,14 +158,15 @@ pil_tag          = $(word 1,$(subst :, ,$(1)))
 pil_opts         = $(subst $(fw_comma), ,$(word 2,$(subst :, ,$(1))))
 fw_comma        := ,
 
-$(FW_DIR)/pil_gen: src/host/pil/pil_gen.c src/host/pil/pil_gen_q31.c src/host/pil/pil_gen_q31.h \
-                   $(BUILD)/f32/host/replay_real.o $(BUILD)/f64/host/replay_real.o $(BUILD)/f64/hostlib.a \
-                   $(BUILD)/f32/librfe.a $(BUILD)/f64/librfe.a
+# pil_gen: a float unit, linked with both replays (replay_q31.o derives the Q parameters and
+# samples, mu_replay --real q31's own conversions) and the libraries they need.
+$(FW_DIR)/pil_gen: src/host/pil/pil_gen.c $(BUILD)/f32/host/replay_real.o $(BUILD)/f64/host/replay_real.o \
+                   $(BUILD)/f64/host/replay_q31.o $(BUILD)/f64/hostlib.a $(BUILD)/f32/librfe.a $(BUILD)/f64/librfe.a \
+                   $(BUILD)/q31/librfe_q31.a
 	@mkdir -p $(@D)
 	$(CC) $(WARN) $(OPT) -Wno-double-promotion $(CPPFLAGS_HOST) -Ifirmware/pil -c src/host/pil/pil_gen.c -o $(FW_DIR)/pil_gen.o
-	$(CC) $(WARN) $(OPT) -DRFE_REAL_DOUBLE $(CPPFLAGS_HOST) -Ifirmware/pil -c src/host/pil/pil_gen_q31.c -o $(FW_DIR)/pil_gen_q31.o
-	$(CC) $(FW_DIR)/pil_gen.o $(FW_DIR)/pil_gen_q31.o $(BUILD)/f32/host/replay_real.o $(BUILD)/f64/host/replay_real.o \
-	  $(BUILD)/f64/hostlib.a $(BUILD)/f32/librfe.a $(BUILD)/f64/librfe.a -lm -o $@
+	$(CC) $(FW_DIR)/pil_gen.o $(BUILD)/f32/host/replay_real.o $(BUILD)/f64/host/replay_real.o $(BUILD)/f64/host/replay_q31.o \
+	  $(BUILD)/f64/hostlib.a $(BUILD)/q31/librfe_q31.a $(BUILD)/f32/librfe.a $(BUILD)/f64/librfe.a -lm -o $@
 
 define PIL_DATA_RULES
 # $(1) = <tag>:<options>

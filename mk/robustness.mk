@@ -124,7 +124,7 @@ $(BUILD)/soak/run_%.o: test/soak/soak_run.c test/soak/soak.h test/support/invari
 $(BUILD)/soak/run_q31.o: test/soak/soak_run_q31.c test/soak/soak.h test/support/invariants.h $(wildcard include/rfe/*.h include/rfe/component/*.h src/host/*.h)
 	@mkdir -p $(@D)
 	$(CC) $(TEST_WARN) $(OPT) $(INV_FLAGS) $(CPPFLAGS_HOST) -Itest/support -Itest/soak -c $< -o $@
-SOAK_LINK := $(BUILD)/soak/run_f32.o $(BUILD)/soak/run_f64.o $(if $(Q31_SRC),$(BUILD)/soak/run_q31.o) \
+SOAK_LINK := $(BUILD)/soak/run_f32.o $(BUILD)/soak/run_f64.o $(if $(Q31_SRC),$(BUILD)/soak/run_q31.o $(BUILD)/f64/host/replay_q31.o) \
              $(BUILD)/f32/host/replay_real.o $(BUILD)/f64/host/replay_real.o $(BUILD)/f64/hostlib.a \
              $(BUILD)/f32/librfe.a $(if $(Q31_SRC),$(BUILD)/q31/librfe_q31.a) $(BUILD)/f64/librfe.a
 $(BUILD)/soak/soak: test/soak/soak.c test/soak/soak.h $(SOAK_LINK)

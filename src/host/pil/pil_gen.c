@@ -14,8 +14,8 @@
  *
  * Parameters: the library preset, then the log's `# key = value` metadata, then --filter and
  * --tyre (mu_replay's order). Float: rfe_replay_params_f32 (the keys' doubles rounded to
- * float); fixed point: pil_gen_params_q31 (double path, then rfe_params_to_q31_f64). Samples:
- * float = (float)value as replay_real.c; fixed = rfe_fix_from_double as replay_q31.c. Floats
+ * float); fixed point: rfe_replay_params_q31 (double path, then rfe_params_to_q31_f64). Samples:
+ * float = (float)value as replay_real.c; fixed = rfe_replay_sample_q31 (replay_q31.c). Floats
  * are written as hexadecimal literals and Q values as integers, so the target sees the very
  * bits the host replay uses. Structs are written with positional initialisers, member by
  * member in declaration order, which the target compiler lays out for its own ABI (the
@@ -29,7 +29,7 @@
 
 #include "host/csv_log.h"
 #include "host/param_file.h"
-#include "pil_gen_q31.h"
+#include "host/replay_q31.h"
 #include "host/replay_real.h"
 #include "rfe/params.h"
 
@@ -85,7 +85,7 @@ static uint32_t put_friction(FILE *f, const rfe_params_t *p, const rfe_params_q3
     fputs("};\n\nconst rfe_sample_q31_t pil_samples[] = {\n", f);
     for (i = 0u; i < rows; ++i) {
         rfe_sample_q31_t s;
-        in_sat += pil_gen_sample_q31(&log->rows[i], &s);
+        in_sat += rfe_replay_sample_q31(&log->rows[i], &s);
         fprintf(f, "    {%" PRId32 ", %" PRId32 ", %" PRId32 ", %" PRId32 ", %" PRId32 ", %" PRId32 ", %" PRId32 ", {",
                 s.delta, s.vx, s.vy, s.yaw_rate, s.yaw_acc, s.ax, s.ay);
         for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
@@ -224,7 +224,7 @@ int main(int argc, char **argv)
         return 1;
     }
     if (rfe_replay_params_f32(&ps, &p, NULL) != RFE_OK ||
-        (pipeline ? rfe_replay_velocity_params_f32(&ps, &vp, NULL) : pil_gen_params_q31(&ps, &q)) != RFE_OK) {
+        (pipeline ? rfe_replay_velocity_params_f32(&ps, &vp, NULL) : rfe_replay_params_q31(&ps, &q, NULL)) != RFE_OK) {
         fprintf(stderr, "pil_gen: %s: the parameters are rejected\n", in);
         return 1;
     }
