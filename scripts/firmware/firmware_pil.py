@@ -292,7 +292,7 @@ def count_instructions(machine, elf, steps, singlestep=False, parts=(), function
             pending_len += 1
     if len(counts) != steps:
         sys.exit(f"pil: instruction count on {elf}: {len(counts)} of {steps} steps traced")
-    if inclusive:
+    if inclusive or functions:
         return counts, part_counts, {key: {fn: (v, calls[key].get(fn, 0)) for fn, v in d.items()}
                                      for key, d in per_func.items()}
     return counts
@@ -581,7 +581,7 @@ def run_obs_entry(a, spec, report, tmp, failures):
         counts, part_counts, per_func = count_instructions(machine, elf, n, parts=parts, functions=True)
         k = min(a.singlestep_check, n)
         if k:
-            c1, p1, _ = count_instructions(machine, elf, k, singlestep=True, parts=parts)
+            c1, p1, _ = count_instructions(machine, elf, k, singlestep=True, parts=parts, functions=True)
             if c1 != counts[:k] or any(p1[p] != part_counts[p][:k] for p in parts):
                 failures.append(f"{label}: instruction counts of the TB method differ from -singlestep "
                                 f"over the first {k} steps")
