@@ -26,6 +26,11 @@ PART = {"m4f": "STM32F407xG", "m3": "MPS2 AN385", "m0p": "STM32G071xB"}
 ORDER = ["m4f-f32", "m4f-q31", "m3-q31", "m0p-q31"]
 
 
+def pct(x, digits=1):
+    """A share as the project writes it: 22.9 %."""
+    return f"{100 * x:.{digits}f} %"
+
+
 def kb(n):
     return f"{n / 1024:.1f} kB"
 
@@ -116,9 +121,9 @@ def tables(report, pil):
             else:
                 worst = max((e["max_abs_diff"] / e["bound"] for e in c.get("fields", {}).values()
                              if e["bound"] > 0), default=0.0)
-                cmp_ = ((f"within the bound (largest difference {worst:.1%} of its bound), "
+                cmp_ = ((f"within the bound (largest difference {pct(worst, 1)} of its bound), "
                          if c.get("mismatches") == 0 else f"{c.get('mismatches')} values beyond the bound, ") +
-                        f"{c.get('bit_identical_fraction', 0):.0%} of values bit-identical; "
+                        f"{pct(c.get('bit_identical_fraction', 0), 0)} of values bit-identical; "
                         "status, valid, flags equal" +
                         ("; host program = `mu_replay`" if c.get("replay", {}).get("mismatches") == 0 else ""))
             ips = r.get("instructions_per_step")
@@ -159,7 +164,7 @@ def observer_ratio(pil, r):
 
 
 def ratio_text(ratio):
-    return f"{ratio[2]:.1%} ({ratio[0]:,.0f} / {ratio[1]:,.0f})" if ratio else "—"
+    return f"{pct(ratio[2], 1)} ({ratio[0]:,.0f} / {ratio[1]:,.0f})" if ratio else "—"
 
 
 def host_ratio(bench):
@@ -178,25 +183,25 @@ def observer_cost(pil, bench, short):
     rows = [(r, q) for r, q in rows if q]
     host = host_ratio(bench) if bench else None
     if short:
-        parts = [f"+{q[2]:.0%} on the {CORES.get(r['target'].split('-')[0], r['target'])} "
+        parts = [f"+{pct(q[2], 0)} on the {CORES.get(r['target'].split('-')[0], r['target'])} "
                  f"({VARIANTS[r['variant']]})" for r, q in rows]
         if host:
-            parts.append(f"+{host[2]:.0%} on the host")
+            parts.append(f"+{pct(host[2], 0)} on the host")
         return [("The velocity observer's cost on top of the default friction step, in instructions: " +
-                 ", ".join(parts) + f" (target ≤ {TARGET_SHARE:.0%} on the Cortex-M4; "
+                 ", ".join(parts) + f" (target ≤ {pct(TARGET_SHARE, 0)} on the Cortex-M4; "
                  "[`docs/OBSERVER_RESULTS.md`](docs/OBSERVER_RESULTS.md#cost-per-step))."
                  if parts else "The velocity observer's cost: not measured (`make pil`, `make firmware-table`).")]
     out = ["| where | observer step, instructions | default friction step | observer / default step "
-           f"| target ≤ {TARGET_SHARE:.0%} |", "|---|---|---|---|---|"]
+           f"| target ≤ {pct(TARGET_SHARE, 0)} |", "|---|---|---|---|---|"]
     for r, q in rows:
         out.append(f"| {CORES.get(r['target'].split('-')[0], r['target'])} {VARIANTS[r['variant']]} "
                    f"({r['machine']}, `make pil`: in the pipeline on {r['scenario']}, first "
                    f"{r['instructions_per_step']['steps']} steps; friction: default.sckf on "
-                   f"{pil.get('log', '?')}) | {q[0]:,.0f} | {q[1]:,.0f} | {q[2]:.1%} "
+                   f"{pil.get('log', '?')}) | {q[0]:,.0f} | {q[1]:,.0f} | {pct(q[2], 1)} "
                    f"| {'met' if q[2] <= TARGET_SHARE else 'missed'} |")
     if host:
         out.append(f"| host x86-64 float32 (`make bench`, callgrind, {bench.get('log', '?')}) "
-                   f"| {host[0]:,.0f} | {host[1]:,.0f} | {host[2]:.1%} | – |")
+                   f"| {host[0]:,.0f} | {host[1]:,.0f} | {pct(host[2], 1)} | – |")
     for r, q in rows:
         funcs = r.get("instructions_per_function", {})
         key = next((k for k in funcs if k.startswith("rfe_velocity_step")), None)
@@ -212,9 +217,9 @@ def observer_cost(pil, bench, short):
         out.append("|---|---|---|---|---|")
         for f in funcs[key][:TOP_FUNCTIONS]:
             obj = f[3] if len(f) > 3 else "?"
-            out.append(f"| `{f[0]}` | {obj} | {f[1]:,.0f} | {f[1] / total:.1%} | {f[2]:g} |")
+            out.append(f"| `{f[0]}` | {obj} | {f[1]:,.0f} | {pct(f[1] / total, 1)} | {f[2]:g} |")
         rest = sum(f[1] for f in funcs[key][TOP_FUNCTIONS:])
-        out.append(f"| {len(funcs[key]) - TOP_FUNCTIONS} others | | {rest:,.0f} | {rest / total:.1%} | |")
+        out.append(f"| {len(funcs[key]) - TOP_FUNCTIONS} others | | {rest:,.0f} | {pct(rest / total, 1)} | |")
         by_obj = {}
         for f in funcs[key]:
             obj = f[3] if len(f) > 3 else "?"
@@ -225,7 +230,7 @@ def observer_cost(pil, bench, short):
         out.append("| object | instructions per step | share of the observer |")
         out.append("|---|---|---|")
         for obj, v in sorted(by_obj.items(), key=lambda x: -x[1]):
-            out.append(f"| {obj} | {v:,.0f} | {v / total:.1%} |")
+            out.append(f"| {obj} | {v:,.0f} | {pct(v / total, 1)} |")
     return out
 
 
