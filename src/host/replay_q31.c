@@ -19,12 +19,15 @@
 #include "host/fixed_conv.h"
 #include "rfe/component/params_conv.h"
 
-/* The parameter set in Q formats; RFE_ERR_PARAM / RFE_ERR_RANGE as rfe_replay_run_q31. */
-static rfe_status_t to_q31_params(const rfe_param_set_t *ps, rfe_params_q31_t *q,
-                                  size_t *bad_key)
+rfe_status_t rfe_replay_params_q31(const rfe_param_set_t *ps, rfe_params_q31_t *q,
+                                   size_t *bad_key)
 {
     rfe_params_t p;
-    rfe_status_t st = rfe_replay_params_f64(ps, &p, bad_key);
+    rfe_status_t st;
+    if ((ps == NULL) || (q == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    st = rfe_replay_params_f64(ps, &p, bad_key);
     if (st == RFE_OK) {
         st = rfe_params_to_q31_f64(&p, q);
     }
@@ -44,27 +47,28 @@ static size_t diagnose_range(const rfe_param_set_t *ps)
         rfe_params_q31_t q;
         (void)rfe_param_set_preset_f64(&one, ps->preset); /* cannot fail: a valid preset */
         one.value[k] = ps->value[k];
-        if (to_q31_params(&one, &q, NULL) == RFE_ERR_RANGE) {
+        if (rfe_replay_params_q31(&one, &q, NULL) == RFE_ERR_RANGE) {
             return k;
         }
     }
     return RFE_PK_NONE;
 }
 
-/* The sample in Q formats (rounded to nearest; saturations counted in *sat). */
-static void to_sample(const rfe_sensor_row_t *row, rfe_sample_q31_t *s, uint32_t *sat)
+uint32_t rfe_replay_sample_q31(const rfe_sensor_row_t *row, rfe_sample_q31_t *s)
 {
+    uint32_t sat = 0u;
     size_t w;
-    s->delta = rfe_fix_from_double(row->delta, RFE_FIX_Q_ANGLE, sat);
-    s->vx = rfe_fix_from_double(row->vx, RFE_FIX_Q_SPEED, sat);
-    s->vy = rfe_fix_from_double(row->vy, RFE_FIX_Q_SPEED, sat);
-    s->yaw_rate = rfe_fix_from_double(row->yaw_rate, RFE_FIX_Q_YAWRATE, sat);
-    s->yaw_acc = rfe_fix_from_double(row->yaw_acc, RFE_FIX_Q_ACC, sat);
-    s->ax = rfe_fix_from_double(row->ax, RFE_FIX_Q_ACC, sat);
-    s->ay = rfe_fix_from_double(row->ay, RFE_FIX_Q_ACC, sat);
+    s->delta = rfe_fix_from_double(row->delta, RFE_FIX_Q_ANGLE, &sat);
+    s->vx = rfe_fix_from_double(row->vx, RFE_FIX_Q_SPEED, &sat);
+    s->vy = rfe_fix_from_double(row->vy, RFE_FIX_Q_SPEED, &sat);
+    s->yaw_rate = rfe_fix_from_double(row->yaw_rate, RFE_FIX_Q_YAWRATE, &sat);
+    s->yaw_acc = rfe_fix_from_double(row->yaw_acc, RFE_FIX_Q_ACC, &sat);
+    s->ax = rfe_fix_from_double(row->ax, RFE_FIX_Q_ACC, &sat);
+    s->ay = rfe_fix_from_double(row->ay, RFE_FIX_Q_ACC, &sat);
     for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
-        s->omega[w] = rfe_fix_from_double(row->omega[w], RFE_FIX_Q_OMEGA, sat);
+        s->omega[w] = rfe_fix_from_double(row->omega[w], RFE_FIX_Q_OMEGA, &sat);
     }
+    return sat;
 }
 
 /* One step; a rejected sample logs the unchanged estimate, not valid, with its status. */
@@ -74,9 +78,9 @@ static uint32_t step_row(rfe_friction_q31_t *est, const rfe_sensor_row_t *row,
     rfe_sample_q31_t s;
     rfe_estimate_q31_t e;
     rfe_status_t st;
-    uint32_t in_sat = 0u;
+    uint32_t in_sat;
     size_t w;
-    to_sample(row, &s, &in_sat);
+    in_sat = rfe_replay_sample_q31(row, &s);
     memset(&e, 0, sizeof e);
     st = rfe_friction_step_q31(est, &s, &e);
     out->t = row->t;
@@ -116,7 +120,7 @@ rfe_status_t rfe_replay_run_q31(const rfe_param_set_t *ps, const rfe_sensor_log_
     if ((log->omega_linear != 0) || (log->has_swa != 0)) {
         return RFE_ERR_RANGE; /* not yet rad/s and road-wheel angle: csv_log.h */
     }
-    st = to_q31_params(ps, &q, bad_key);
+    st = rfe_replay_params_q31(ps, &q, bad_key);
     if ((st == RFE_ERR_RANGE) && (bad_key != NULL)) {
         *bad_key = diagnose_range(ps);
     }
