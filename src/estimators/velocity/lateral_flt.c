@@ -10,13 +10,16 @@
 
 #include "numerics/internal.h"
 
-/* The lateral row of h(mu, u) at vy (MODEL.md §3-5), and, when @p mu_hi is not NULL, at
- * the raised friction too (same kinematics: one set-up). */
+/* The lateral row of h(mu, u) at vy, at vy + dvy and at the raised friction @p mu_hi
+ * (§4.2), from one set-up: the step at vy + dvy re-evaluates only the tyre forces
+ * (rfe_meas_eval_perturbed), bit for bit what a second set-up at vy + dvy would give. */
 static rfe_status_t model_ay(const rfe_velocity_t *obs, const rfe_velocity_input_t *in,
-                             rfe_real_t vx, rfe_real_t vy, const rfe_real_t mu[RFE_WHEELS],
-                             const rfe_real_t *mu_hi, rfe_real_t *ay, rfe_real_t *ay_hi)
+                             rfe_real_t vx, rfe_real_t vy, rfe_real_t dvy,
+                             const rfe_real_t mu[RFE_WHEELS], const rfe_real_t mu_hi[RFE_WHEELS],
+                             rfe_real_t *ay, rfe_real_t *ay_dvy, rfe_real_t *ay_hi)
 {
     rfe_meas_t h;
+    rfe_meas_terms_t nom;
     rfe_real_t z[RFE_MEAS];
     rfe_sample_t u;
     size_t i;
@@ -33,10 +36,15 @@ static rfe_status_t model_ay(const rfe_velocity_t *obs, const rfe_velocity_input
     }
     st = rfe_meas_setup(&h, &obs->veh, &obs->tyre, &u);
     if (st == RFE_OK) {
-        st = rfe_meas_eval(&h, &obs->veh, &obs->tyre, mu, z);
+        st = rfe_meas_nominal(&h, &obs->veh, &obs->tyre, mu, &nom, z);
         *ay = z[1];
     }
-    if ((st == RFE_OK) && (mu_hi != NULL)) {
+    if (st == RFE_OK) {
+        st = rfe_meas_eval_perturbed(&h, &obs->veh, &obs->tyre, &nom, &u, (size_t)RFE_IN_VY,
+                                     dvy, mu, z);
+        *ay_dvy = z[1];
+    }
+    if (st == RFE_OK) {
         st = rfe_meas_eval(&h, &obs->veh, &obs->tyre, mu_hi, z);
         *ay_hi = z[1];
     }
@@ -90,10 +98,7 @@ rfe_status_t rfe_vel_lateral_step(rfe_kf2_t *f, const rfe_velocity_t *obs,
         if (model_friction(p, obs->veh.g, in->ay, mu, m, m_hi) != 0) {
             fl |= RFE_VEL_FLAG_MU_RAISED;
         }
-        st = model_ay(obs, in, vx, vy_pred, m, m_hi, &ay0, &ay_mu);
-        if (st == RFE_OK) {
-            st = model_ay(obs, in, vx, vy_pred + p->dvy, m, NULL, &ay_h, NULL);
-        }
+        st = model_ay(obs, in, vx, vy_pred, p->dvy, m, m_hi, &ay0, &ay_h, &ay_mu);
         if (st == RFE_OK) {
             const rfe_real_t h0 = (ay_h - ay0) / p->dvy;
             const rfe_real_t e_mu = ay_mu - ay0;
