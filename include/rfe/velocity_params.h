@@ -69,8 +69,8 @@ RFE_NODISCARD rfe_status_t rfe_velocity_params_default(rfe_velocity_params_t *p)
 
 /**
  * Checks every field: finite; driven in 1..15; 0 < dt_min <= dt_max <= 1; q_jerk, sd_r,
- * sd_ax, sd_ay, dvy, v_lat_min, sd_lowspeed, mu_default, sd_vydot, steer_ratio > 0; every other sd, q, gate,
- * threshold and margin >= 0.
+ * sd_ax, sd_ay, dvy, v_lat_min, sd_lowspeed, mu_default, sd_vydot, steer_ratio,
+ * sd_model_rdot > 0; every other sd, q, gate, threshold and margin >= 0.
  * @param[in] p  the parameters to check.
  * @return RFE_OK, RFE_ERR_NULL or RFE_ERR_PARAM.
  */
