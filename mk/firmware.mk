@@ -20,8 +20,16 @@
 #                      -d in_asm,exec log, checked against -singlestep); also runs the
 #                      Cortex-M3 example firmware for 2 s (SysTick steps, none rejected);
 #                      writes build/firmware/pil.json; part of make test
+#                      Then the observer entries (PIL_OBS_ENTRIES): the composed pipeline
+#                      (velocity observer + friction estimator) on PIL_OBS_LOG on the
+#                      Cortex-M4F float32 build, compared with the same program built for
+#                      the host (float32 within a tolerance derived from the host's float32 vs
+#                      double difference; fixed point, later, bit for bit) and instructions
+#                      per pipeline, observer and friction step
 # make firmware-table  regenerates the firmware tables in docs/FIRMWARE.md ("Measured") from
-#                      both JSON files
+#                      both JSON files, and the observer's cost in docs/OBSERVER_RESULTS.md
+#                      and README.md (with the host's figure from make bench's bench.json
+#                      when it exists)
 # make deps-firmware   installs gcc-arm-none-eabi, libnewlib-arm-none-eabi and
 #                      qemu-system-arm via apt when missing (part of make deps)
 FW_CROSS   := arm-none-eabi-
@@ -150,14 +158,15 @@ pil_tag          = $(word 1,$(subst :, ,$(1)))
 pil_opts         = $(subst $(fw_comma), ,$(word 2,$(subst :, ,$(1))))
 fw_comma        := ,
 
-$(FW_DIR)/pil_gen: src/host/pil/pil_gen.c src/host/pil/pil_gen_q31.c src/host/pil/pil_gen_q31.h \
-                   $(BUILD)/f32/host/replay_real.o $(BUILD)/f64/host/replay_real.o $(BUILD)/f64/hostlib.a \
-                   $(BUILD)/f32/librfe.a $(BUILD)/f64/librfe.a
+# pil_gen: a float unit, linked with both replays (replay_q31.o derives the Q parameters and
+# samples, mu_replay --real q31's own conversions) and the libraries they need.
+$(FW_DIR)/pil_gen: src/host/pil/pil_gen.c $(BUILD)/f32/host/replay_real.o $(BUILD)/f64/host/replay_real.o \
+                   $(BUILD)/f64/host/replay_q31.o $(BUILD)/f64/hostlib.a $(BUILD)/f32/librfe.a $(BUILD)/f64/librfe.a \
+                   $(BUILD)/q31/librfe_q31.a
 	@mkdir -p $(@D)
 	$(CC) $(WARN) $(OPT) -Wno-double-promotion $(CPPFLAGS_HOST) -Ifirmware/pil -c src/host/pil/pil_gen.c -o $(FW_DIR)/pil_gen.o
-	$(CC) $(WARN) $(OPT) -DRFE_REAL_DOUBLE $(CPPFLAGS_HOST) -Ifirmware/pil -c src/host/pil/pil_gen_q31.c -o $(FW_DIR)/pil_gen_q31.o
-	$(CC) $(FW_DIR)/pil_gen.o $(FW_DIR)/pil_gen_q31.o $(BUILD)/f32/host/replay_real.o $(BUILD)/f64/host/replay_real.o \
-	  $(BUILD)/f64/hostlib.a $(BUILD)/f32/librfe.a $(BUILD)/f64/librfe.a -lm -o $@
+	$(CC) $(FW_DIR)/pil_gen.o $(BUILD)/f32/host/replay_real.o $(BUILD)/f64/host/replay_real.o $(BUILD)/f64/host/replay_q31.o \
+	  $(BUILD)/f64/hostlib.a $(BUILD)/q31/librfe_q31.a $(BUILD)/f32/librfe.a $(BUILD)/f64/librfe.a -lm -o $@
 
 define PIL_DATA_RULES
 # $(1) = <tag>:<options>
@@ -182,14 +191,64 @@ $(foreach r,$(PIL_RUNS),$(foreach c,$(PIL_CONFIGS),$(eval $(call PIL_IMAGE_RULES
 
 PIL_ELFS := $(foreach r,$(PIL_RUNS),$(foreach c,$(PIL_CONFIGS),$(FW_DIR)/$(call pil_tag,$(r))/pil/$(call pil_tag,$(c)).elf))
 
+# Observer entries: <tag>:<target>:<QEMU machine>:<steps counted>. The tag names the estimator
+# entry of firmware/pil/pil_main.c (PIL_OBS_DEFS_<tag>) and pil_gen's data for it
+# (PIL_OBS_GEN_<tag>). PIL_OBS_LOG: ABS braking on split mu with the driver counter-steering
+# (braking, yaw and lateral slip at once), 8 s; the first 200 steps counted: 1 s cruising and
+# the first second of ABS braking, so both observer states are in the count (about 30 s of
+# QEMU logging). The fixed-point observer is one more entry here (and a block in pil_main.c).
+PIL_OBS_LOG        ?= scenarios/observer/abs_brake_split_mu.csv
+PIL_OBS_ENTRIES    ?= pipeline:m4f-f32:mps2-an386:200
+PIL_OBS_GEN_pipeline  := --estimator pipeline --preset default
+PIL_OBS_DEFS_pipeline := -DPIL_PIPELINE
+PIL_OBS_STEM       := $(basename $(notdir $(PIL_OBS_LOG)))
+pil_obs_field       = $(word $(2),$(subst :, ,$(1)))
+# The host builds of a PIL program: float32 and double (the tolerance's reference) for a
+# float32 entry, fixed point for a fixed-point one.
+pil_host_libs_f32  := f32:$(BUILD)/f32/librfe.a f64:$(BUILD)/f64/librfe.a
+pil_host_libs_q31  := q31:$(BUILD)/q31/librfe_q31.a
+PIL_HOST_DEFS_f32  :=
+PIL_HOST_DEFS_f64  := -DRFE_REAL_DOUBLE
+PIL_HOST_DEFS_q31  := -DPIL_Q31
+
+define PIL_OBS_RULES
+# $(1) = <tag>, $(2) = target
+$(FW_DIR)/pil/data/$(PIL_OBS_STEM).$(1).c: $(PIL_OBS_LOG) $(FW_DIR)/pil_gen
+	@mkdir -p $$(@D)
+	$(FW_DIR)/pil_gen --in $(PIL_OBS_LOG) --out $$@ $(PIL_OBS_GEN_$(1))
+$(FW_DIR)/$(2)/pil/$(1).elf: firmware/pil/pil_main.c firmware/pil/pil_data.h $(FW_DIR)/pil/data/$(PIL_OBS_STEM).$(1).c \
+                            $(FW_DIR)/$(2)/common/startup_pil.o $(call fw_lib,$(2)) $(PIL_LD_$(call fw_core,$(2))) firmware/ld/sections.ld
+	@mkdir -p $$(@D)
+	$$(FW_CC) $$(FW_ARCH_$(call fw_core,$(2))) $$(FW_OPT_$(call fw_core,$(2))) $$(FW_CFLAGS) $$(CPPFLAGS_LIB) -Ifirmware/pil -Ifirmware/common \
+	  $(PIL_OBS_DEFS_$(1)) $(if $(filter q31,$(call fw_variant,$(2))),-DPIL_Q31) --specs=rdimon.specs -Wl,--gc-sections \
+	  -Wl,--no-warn-rwx-segments -Lfirmware/ld -T$(PIL_LD_$(call fw_core,$(2))) -Wl,-Map=$$(@:.elf=.map) \
+	  firmware/pil/pil_main.c $(FW_DIR)/pil/data/$(PIL_OBS_STEM).$(1).c $(FW_DIR)/$(2)/common/startup_pil.o \
+	  $(call fw_lib,$(2)) $$(FW_LDLIBS_$(call fw_variant,$(2))) -o $$@
+endef
+define PIL_HOST_RULES
+# $(1) = <tag>, $(2) = host build (f32, f64, q31), $(3) = its library
+$(FW_DIR)/host-$(2)/pil/$(1): firmware/pil/pil_main.c firmware/pil/pil_data.h $(FW_DIR)/pil/data/$(PIL_OBS_STEM).$(1).c $(3)
+	@mkdir -p $$(@D)
+	$$(CC) $$(WARN) $$(OPT) -Wno-double-promotion $$(CPPFLAGS_LIB) -Ifirmware/pil -DPIL_HOST $(PIL_HOST_DEFS_$(2)) $(PIL_OBS_DEFS_$(1)) \
+	  firmware/pil/pil_main.c $(FW_DIR)/pil/data/$(PIL_OBS_STEM).$(1).c $(3) -lm -o $$@
+endef
+$(foreach e,$(PIL_OBS_ENTRIES),$(eval $(call PIL_OBS_RULES,$(call pil_obs_field,$(e),1),$(call pil_obs_field,$(e),2))))
+$(foreach e,$(PIL_OBS_ENTRIES),$(foreach h,$(pil_host_libs_$(call fw_variant,$(call pil_obs_field,$(e),2))),\
+  $(eval $(call PIL_HOST_RULES,$(call pil_obs_field,$(e),1),$(word 1,$(subst :, ,$(h))),$(word 2,$(subst :, ,$(h)))))))
+PIL_OBS_ELFS := $(foreach e,$(PIL_OBS_ENTRIES),$(FW_DIR)/$(call pil_obs_field,$(e),2)/pil/$(call pil_obs_field,$(e),1).elf)
+PIL_OBS_HOST := $(foreach e,$(PIL_OBS_ENTRIES),$(foreach h,$(pil_host_libs_$(call fw_variant,$(call pil_obs_field,$(e),2))),\
+  $(FW_DIR)/host-$(word 1,$(subst :, ,$(h)))/pil/$(call pil_obs_field,$(e),1)))
+
 ## processor in the loop on QEMU's Cortex-M4, M3 and M0: bit identity, instructions
-pil: deps-firmware firmware $(PIL_ELFS) $(BUILD)/mu_replay
+pil: deps-firmware firmware $(PIL_ELFS) $(PIL_OBS_ELFS) $(PIL_OBS_HOST) $(BUILD)/mu_replay
 	@python3 scripts/firmware/firmware_pil.py --build $(FW_DIR) --log $(PIL_LOG) --runs "$(PIL_RUNS)" \
 	  --configs "$(PIL_CONFIGS)" --replay $(BUILD)/mu_replay --count-steps $(PIL_COUNT_STEPS) \
+	  --obs-log $(PIL_OBS_LOG) --obs-entries "$(PIL_OBS_ENTRIES)" \
 	  --example m3-q31:mps2-an385 --out $(FW_DIR)/pil.json
 
 ## regenerate the firmware tables of docs/FIRMWARE.md
 firmware-table:
 	@test -f $(FW_DIR)/report.json || $(MAKE) --no-print-directory firmware
 	@test -f $(FW_DIR)/pil.json || $(MAKE) --no-print-directory pil
-	python3 scripts/firmware/firmware_table.py --report $(FW_DIR)/report.json --pil $(FW_DIR)/pil.json --page docs/FIRMWARE.md
+	python3 scripts/firmware/firmware_table.py --report $(FW_DIR)/report.json --pil $(FW_DIR)/pil.json --page docs/FIRMWARE.md \
+	  --obs-page docs/OBSERVER_RESULTS.md --readme-page README.md --bench $(BUILD)/bench/bench.json

@@ -11,7 +11,8 @@
 # make fault-scenarios         scenarios/faults/ from the bundled logs (scripts/sim/faults.py)
 # make soak / make soak-short  SOAK_SECONDS (one hour) / SOAK_SHORT_SECONDS of simulated mixed
 #                              driving (scripts/data/soak_drive.py) through the float, double and
-#                              fixed-point estimator, invariants at every step, saturation
+#                              fixed-point estimator and the composed pipeline (observer +
+#                              friction, float and double), invariants at every step, saturation
 #                              counts (test/soak/soak.c); the short one is part of make test
 # INV_FLAGS=-DINV_MU_TOL=1e-3 relaxes the [mu_min, mu_max] invariant by 1e-3 in the fuzz
 # and soak builds (to look past a known rounding excursion); by default it is exact.
@@ -113,8 +114,8 @@ fault-scenarios: venv
 	$(PY) scripts/data/make_fault_scenarios.py --scenarios scenarios --out scenarios/faults
 
 # Soak: the drive is simulated once per length and seed (cached in build/soak/), the runner
-# is one program linking the float, double and q31 libraries (test/soak/soak_run.c twice,
-# test/soak/soak_run_q31.c).
+# is one program linking the float, double and q31 libraries (test/soak/soak_run.c and
+# soak_run_pipeline.c twice, test/soak/soak_run_q31.c).
 SOAK_SECONDS       ?= 3600
 SOAK_SHORT_SECONDS ?= 300
 SOAK_SEED          ?= 1
@@ -125,11 +126,14 @@ $(BUILD)/soak/drive_%s.csv: scripts/data/soak_drive.py $(wildcard scripts/sim/*.
 $(BUILD)/soak/run_%.o: test/soak/soak_run.c test/soak/soak.h test/support/invariants.h $(wildcard include/rfe/*.h include/rfe/component/*.h src/host/*.h)
 	@mkdir -p $(@D)
 	$(CC) $(TEST_WARN) $(OPT) $(INV_FLAGS) $(if $(filter f64,$*),-DRFE_REAL_DOUBLE) $(CPPFLAGS_HOST) -Itest/support -Itest/soak -c $< -o $@
+$(BUILD)/soak/pipeline_%.o: test/soak/soak_run_pipeline.c test/soak/soak.h test/support/invariants.h $(wildcard include/rfe/*.h include/rfe/component/*.h src/host/*.h)
+	@mkdir -p $(@D)
+	$(CC) $(TEST_WARN) $(OPT) $(INV_FLAGS) $(if $(filter f64,$*),-DRFE_REAL_DOUBLE) $(CPPFLAGS_HOST) -Itest/support -Itest/soak -c $< -o $@
 # The fixed-point variant joins when the q31 library exists (*_q31.c sources).
 $(BUILD)/soak/run_q31.o: test/soak/soak_run_q31.c test/soak/soak.h test/support/invariants.h $(wildcard include/rfe/*.h include/rfe/component/*.h src/host/*.h)
 	@mkdir -p $(@D)
 	$(CC) $(TEST_WARN) $(OPT) $(INV_FLAGS) $(CPPFLAGS_HOST) -Itest/support -Itest/soak -c $< -o $@
-SOAK_LINK := $(BUILD)/soak/run_f32.o $(BUILD)/soak/run_f64.o $(if $(Q31_SRC),$(BUILD)/soak/run_q31.o) \
+SOAK_LINK := $(BUILD)/soak/run_f32.o $(BUILD)/soak/run_f64.o $(BUILD)/soak/pipeline_f32.o $(BUILD)/soak/pipeline_f64.o $(if $(Q31_SRC),$(BUILD)/soak/run_q31.o $(BUILD)/f64/host/replay_q31.o) \
              $(BUILD)/f32/host/replay_real.o $(BUILD)/f64/host/replay_real.o $(BUILD)/f64/hostlib.a \
              $(BUILD)/f32/librfe.a $(if $(Q31_SRC),$(BUILD)/q31/librfe_q31.a) $(BUILD)/f64/librfe.a
 $(BUILD)/soak/soak: test/soak/soak.c test/soak/soak.h $(SOAK_LINK)

@@ -2,13 +2,19 @@
  * @file pil_data.h
  * @brief The generated data of a processor-in-the-loop image (pil_gen.c writes it): the
  *        estimator parameters and the sensor samples, fixed point with PIL_Q31, else float.
+ *        With PIL_PIPELINE: the composed pipeline's parameters and ESC samples (float).
  */
 #ifndef PIL_DATA_H
 #define PIL_DATA_H
 
 #include <stdint.h>
 
-#if defined(PIL_Q31)
+#if defined(PIL_PIPELINE)
+#include "rfe/pipeline.h"
+extern const rfe_params_t pil_params;
+extern const rfe_velocity_params_t pil_velocity_params;
+extern const rfe_velocity_input_t pil_inputs[];
+#elif defined(PIL_Q31)
 #include "rfe/friction_q31.h"
 extern const rfe_params_q31_t pil_params;
 extern const rfe_sample_q31_t pil_samples[];
@@ -18,7 +24,7 @@ extern const rfe_params_t pil_params;
 extern const rfe_sample_t pil_samples[];
 #endif
 
-/** Number of entries of pil_samples. */
+/** Number of entries of pil_samples (pil_inputs). */
 extern const uint32_t pil_n_samples;
 
 #endif /* PIL_DATA_H */

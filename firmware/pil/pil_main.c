@@ -1,19 +1,30 @@
 /**
  * @file pil_main.c
- * @brief Processor-in-the-loop image: the estimator over a whole sensor log on an emulated
- *        Cortex-M (QEMU mps2-an386 / mps2-an385), results written through semihosting.
+ * @brief Processor-in-the-loop image: an estimator over a whole sensor log on an emulated
+ *        Cortex-M (QEMU mps2-an386 / mps2-an385 / microbit), results written through
+ *        semihosting; the same program built for the host is a reference it is compared with.
  *
- * Built per core and variant by mk/firmware.mk (PIL_Q31: rfe_friction_*_q31, else the float32
- * rfe_friction_*_f32) with the data that src/host/pil/pil_gen.c generated from the log
- * (pil_data.h: parameters and samples as the host replay sees them), newlib's semihosting
- * start-up (--specs=rdimon.specs) and firmware/common/startup_cm.c. The command line
- * (QEMU -append) may give the number of samples to run; default all.
+ * Built per core, variant and estimator by mk/firmware.mk with the data that
+ * src/host/pil/pil_gen.c generated from the log (pil_data.h: parameters and samples as the
+ * host replay sees them), newlib's semihosting start-up (--specs=rdimon.specs) and
+ * firmware/common/startup_cm.c. The estimator entry (one #if block below each):
+ *   default       the friction estimator, rfe_friction_*_f32;
+ *   PIL_Q31       the friction estimator, rfe_friction_*_q31;
+ *   PIL_PIPELINE  the composed pipeline, rfe_pipeline_*_f32 (the velocity observer, then the
+ *                 friction estimator on its outputs; float only).
+ * Another estimator (the fixed-point observer) is one more block giving pil_estimator_t,
+ * pil_output_t, pil_init, PIL_STEP_CALL and put_output. PIL_HOST: the host build of the
+ * same program (no stack painting; rfe_real_t may be double, printed as 16 hex digits). The
+ * command line (QEMU -append) may give the number of samples to run; default all.
  *
  * Output (stdout, one line each; scripts/firmware/firmware_pil.py parses it):
  *   R <row> <status> <valid bits> <sat> <mu x4> <sd x4>   every step; mu and sd as the raw
- *       32-bit words in hex (Q29 / Q30, or the float32 bit patterns): exact
+ *       words in hex (Q29 / Q30, or the bit patterns of rfe_real_t): exact
+ *   V <row> <status> <flags> <vx> <vy> <beta> <yaw_acc> <sd_vx> <sd_vy> <sd_beta>
+ *       <sd_yaw_acc>   every step of an entry with the velocity observer, after its R line
  *   S <bytes>   the deepest stack any step used, measured: before each step the 4 KB below
  *               the stack pointer are painted, after it the lowest overwritten word is found
+ *               (0 on the host)
  *   E <rows>    end of the run
  * Every step is bracketed by calls to pil_step_begin() and pil_step_end(), two empty
  * functions whose addresses the instruction-count run looks for in QEMU's execution trace.
@@ -25,18 +36,6 @@
 
 #include "pil_data.h"
 
-#if defined(PIL_Q31)
-typedef rfe_friction_q31_t pil_estimator_t;
-typedef rfe_estimate_q31_t pil_estimate_t;
-#define PIL_INIT rfe_friction_init_q31
-#define PIL_STEP rfe_friction_step_q31
-#else
-typedef rfe_friction_t pil_estimator_t;
-typedef rfe_estimate_t pil_estimate_t;
-#define PIL_INIT rfe_friction_init_f32
-#define PIL_STEP rfe_friction_step_f32
-#endif
-
 #define PIL_PAINT_WORDS 1024u   /* 4 KB painted below the stack pointer before each step */
 #define PIL_PAINT 0xC5A5C5A5u
 
@@ -44,10 +43,72 @@ void pil_step_begin(void) __attribute__((noinline));
 void pil_step_end(void) __attribute__((noinline));
 int main(int argc, char **argv);
 
+static void put_char(char c);
+static void put_dec(uint32_t v);
+static void put_bits(const void *p, uint32_t bytes);
+static void put_friction(uint32_t row, rfe_status_t st, uint32_t sat, const void *mu,
+                         const void *sd, const uint8_t *valid, uint32_t real_bytes);
+
+#if defined(PIL_PIPELINE) && defined(PIL_Q31)
+#error "no fixed-point pipeline: the fixed-point observer is an entry of its own"
+#elif defined(PIL_PIPELINE)
+typedef rfe_pipeline_t pil_estimator_t;
+typedef rfe_pipeline_out_t pil_output_t;
 static pil_estimator_t g_est;
+#define PIL_STEP_CALL(i, o) rfe_pipeline_step(&g_est, &pil_inputs[(i)], (o))
+static rfe_status_t pil_init(void)
+{
+    return rfe_pipeline_init(&g_est, &pil_params, &pil_velocity_params);
+}
+static void put_output(uint32_t i, rfe_status_t st, const pil_output_t *o)
+{
+    const rfe_velocity_estimate_t *v = &o->velocity;
+    const uint32_t b = (uint32_t)sizeof(rfe_real_t);
+    put_friction(i, st, 0u, o->friction.mu, o->friction.sd, o->friction.valid, b);
+    put_char('V');
+    put_dec(i);
+    put_dec((uint32_t)v->status);
+    put_dec(v->flags);
+    put_bits(&v->vx, b);
+    put_bits(&v->vy, b);
+    put_bits(&v->beta, b);
+    put_bits(&v->yaw_acc, b);
+    put_bits(&v->sd_vx, b);
+    put_bits(&v->sd_vy, b);
+    put_bits(&v->sd_beta, b);
+    put_bits(&v->sd_yaw_acc, b);
+    put_char('\n');
+}
+#elif defined(PIL_Q31)
+typedef rfe_friction_q31_t pil_estimator_t;
+typedef rfe_estimate_q31_t pil_output_t;
+static pil_estimator_t g_est;
+#define PIL_STEP_CALL(i, o) rfe_friction_step_q31(&g_est, &pil_samples[(i)], (o))
+static rfe_status_t pil_init(void)
+{
+    return rfe_friction_init_q31(&g_est, &pil_params);
+}
+static void put_output(uint32_t i, rfe_status_t st, const pil_output_t *e)
+{
+    put_friction(i, st, e->sat, e->mu, e->sd, e->valid, (uint32_t)sizeof e->mu[0]);
+}
+#else
+typedef rfe_friction_t pil_estimator_t;
+typedef rfe_estimate_t pil_output_t;
+static pil_estimator_t g_est;
+#define PIL_STEP_CALL(i, o) rfe_friction_step(&g_est, &pil_samples[(i)], (o))
+static rfe_status_t pil_init(void)
+{
+    return rfe_friction_init(&g_est, &pil_params);
+}
+static void put_output(uint32_t i, rfe_status_t st, const pil_output_t *e)
+{
+    put_friction(i, st, 0u, e->mu, e->sd, e->valid, (uint32_t)sizeof(rfe_real_t));
+}
+#endif
+
 static char g_out[4096];
 static uint32_t g_out_len;
-static uint32_t *g_paint_low;
 
 void pil_step_begin(void) { __asm__ volatile("" ::: "memory"); }
 void pil_step_end(void) { __asm__ volatile("" ::: "memory"); }
@@ -69,12 +130,21 @@ static void put_char(char c)
     ++g_out_len;
 }
 
-static void put_hex(uint32_t v)
+/* The bytes at @p p (4 or 8) as one hexadecimal number: the exact bits of a word. */
+static void put_bits(const void *p, uint32_t bytes)
 {
     static const char digits[] = "0123456789abcdef";
+    uint64_t v;
     int s;
+    if (bytes == 8u) {
+        memcpy(&v, p, sizeof v);
+    } else {
+        uint32_t w;
+        memcpy(&w, p, sizeof w);
+        v = w;
+    }
     put_char(' ');
-    for (s = 28; s >= 0; s -= 4) {
+    for (s = (int)(bytes * 8u) - 4; s >= 0; s -= 4) {
         put_char(digits[(v >> (uint32_t)s) & 0xFu]);
     }
 }
@@ -95,14 +165,44 @@ static void put_dec(uint32_t v)
     }
 }
 
-static uint32_t word_of(const void *p)
+/* One R line: status, valid bits, saturations, mu and sd per wheel (each real_bytes long). */
+static void put_friction(uint32_t row, rfe_status_t st, uint32_t sat, const void *mu,
+                         const void *sd, const uint8_t *valid, uint32_t real_bytes)
 {
-    uint32_t w;
-    memcpy(&w, p, sizeof w);
-    return w;
+    uint32_t w, bits = 0u;
+    for (w = 0u; w < (uint32_t)RFE_WHEELS; ++w) {
+        bits |= (valid[w] != 0u ? 1u : 0u) << w;
+    }
+    put_char('R');
+    put_dec(row);
+    put_dec((uint32_t)st);
+    put_dec(bits);
+    put_dec(sat);
+    for (w = 0u; w < (uint32_t)RFE_WHEELS; ++w) {
+        put_bits((const char *)mu + w * real_bytes, real_bytes);
+    }
+    for (w = 0u; w < (uint32_t)RFE_WHEELS; ++w) {
+        put_bits((const char *)sd + w * real_bytes, real_bytes);
+    }
+    put_char('\n');
 }
 
-static uint32_t *stack_pointer(void)
+#if defined(PIL_HOST)
+/* The host build measures no stack (the host's frames are not the target's). */
+static const uint32_t *stack_pointer(void)
+{
+    return NULL;
+}
+static void paint_stack(void) {}
+static uint32_t stack_used(const uint32_t *top)
+{
+    (void)top;
+    return 0u;
+}
+#else
+static uint32_t *g_paint_low;
+
+static const uint32_t *stack_pointer(void)
 {
     uint32_t *sp;
     __asm__ volatile("mov %0, sp" : "=r"(sp));
@@ -113,8 +213,10 @@ static uint32_t *stack_pointer(void)
  * runs here) and remembers the lowest painted word. */
 static void __attribute__((noinline)) paint_stack(void)
 {
-    uint32_t *p = stack_pointer() - 16;
+    uint32_t *p;
     uint32_t i;
+    __asm__ volatile("mov %0, sp" : "=r"(p));
+    p -= 16;
     for (i = 0u; i < PIL_PAINT_WORDS; ++i) {
         --p;
         *(volatile uint32_t *)p = PIL_PAINT;
@@ -132,6 +234,7 @@ static uint32_t stack_used(const uint32_t *top)
     }
     return (uint32_t)((uintptr_t)top - (uintptr_t)p);
 }
+#endif
 
 static uint32_t parse_count(const char *s)
 {
@@ -145,48 +248,31 @@ static uint32_t parse_count(const char *s)
 
 int main(int argc, char **argv)
 {
-    uint32_t n = pil_n_samples, i, w, deepest = 0u;
+    uint32_t n = pil_n_samples, i, deepest = 0u;
     if (argc > 1) {
         const uint32_t want = parse_count(argv[argc - 1]);
         if (want > 0u && want < n) {
             n = want;
         }
     }
-    if (PIL_INIT(&g_est, &pil_params) != RFE_OK) {
+    if (pil_init() != RFE_OK) {
         static const char msg[] = "pil: the estimator does not initialise\n";
         (void)write(2, msg, sizeof msg - 1u);
         return 2;
     }
     for (i = 0u; i < n; ++i) {
-        pil_estimate_t e;
+        pil_output_t o;
         rfe_status_t st;
-        uint32_t valid = 0u, sat = 0u, used;
+        uint32_t used;
         const uint32_t *top = stack_pointer();
-        memset(&e, 0, sizeof e);
+        memset(&o, 0, sizeof o);
         paint_stack();
         pil_step_begin();
-        st = PIL_STEP(&g_est, &pil_samples[i], &e);
+        st = PIL_STEP_CALL(i, &o);
         pil_step_end();
         used = stack_used(top);
         deepest = used > deepest ? used : deepest;
-#if defined(PIL_Q31)
-        sat = e.sat;
-#endif
-        for (w = 0u; w < (uint32_t)RFE_WHEELS; ++w) {
-            valid |= (e.valid[w] != 0u ? 1u : 0u) << w;
-        }
-        put_char('R');
-        put_dec(i);
-        put_dec((uint32_t)st);
-        put_dec(valid);
-        put_dec(sat);
-        for (w = 0u; w < (uint32_t)RFE_WHEELS; ++w) {
-            put_hex(word_of(&e.mu[w]));
-        }
-        for (w = 0u; w < (uint32_t)RFE_WHEELS; ++w) {
-            put_hex(word_of(&e.sd[w]));
-        }
-        put_char('\n');
+        put_output(i, st, &o);
     }
     put_char('S');
     put_dec(deepest);

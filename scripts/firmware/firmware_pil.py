@@ -26,9 +26,26 @@ and every configuration <tag>:<mu_replay options> (paper.sckf, default.sckf):
     few instructions (argument set-up, bl). The first --singlestep-check steps are counted
     again with -singlestep (one instruction per block, one log line per instruction) and must
     agree. Deterministic: the same image executes the same instructions every run.
+Then the observer entries (--obs-entries <tag>:<target>:<machine>:<steps counted>, on
+--obs-log; OBS_ENTRIES below says what each tag runs):
+
+ 4. the whole log on the target as in 1 (R and V lines: the friction and the observer's
+    estimate of every step);
+ 5. the same program built for the host (build/firmware/host-<build>/pil/<tag>, mk/firmware.mk)
+    with the host's library: a fixed-point entry must equal it bit for bit; a float32 entry
+    must stay within OBS_TOLERANCE's bound of the host's float32 build, and the discrete
+    outputs (status, valid flags, observer flags) must be equal. The host float32 program is
+    also held bit for bit to `mu_replay --velocity observer --real float` on the values the
+    replay logs (the generated inputs are the replay's);
+ 6. instructions as in 3, per step of the entry and per call of each of its parts (the
+    observer and the friction step inside the pipeline: from a part's entry to the return
+    address of its call, both from arm-none-eabi-nm / -objdump), and per function inside
+    each part (the instructions of the translation blocks that start in the function:
+    where a part's instructions go).
 Writes --out (JSON: per run and configuration the comparison and the instructions per step,
 mean/max/min), read by scripts/firmware/firmware_table.py and the benchmark script.
 """
+import bisect
 import argparse
 import csv
 import json
@@ -49,6 +66,26 @@ MACHINE_CORE = {"mps2-an386": "cortex-m4", "mps2-an385": "cortex-m3", "microbit"
 FLOAT_TOL = 2e-3                 # test/golden/test_golden_flt.c TOL_MU / TOL_SD (float32)
 FLOAT_FRACTION_OUT = {"default": 0.03}  # ... MAX_FRACTION_OUT_DEFAULT; 0 for the paper preset
 QEMU_TIMEOUT = 300
+# Observer entries of pil_main.c: the function one step calls (suffixed _f32 / _q31 by the
+# variant), the parts counted inside it, and the mu_replay options of the host replay whose
+# logged values the host float32 program must reproduce (None: no replay runs that entry).
+# The fixed-point observer becomes one more entry ("velocity": rfe_velocity_step, no parts).
+OBS_ENTRIES = {
+    "pipeline": {"step": "rfe_pipeline_step", "parts": ["rfe_velocity_step", "rfe_friction_step"],
+                 "replay": ["--velocity", "observer", "--preset", "default"]},
+}
+OBS_FIELDS = ["vx", "vy", "beta", "yaw_acc", "sd_vx", "sd_vy", "sd_beta", "sd_yaw_acc"]
+# The float32 bound, per output field: the largest |host float32 - host double| of that field
+# over the log, both host builds of the same program on the same (float) inputs. Why that
+# bounds |target - host float32|: the two float32 builds execute the same IEEE single
+# operations in the same order (C99 mode: no contraction into fused multiply-adds; the
+# Cortex-M4F's FPU and x86-64's SSE both round every operation to nearest) and differ only
+# in the C library's functions (newlib's sinf, cosf, atan2f, expf ... against glibc's, each
+# within an ulp or two of the exact value). That is an ulp-sized perturbation at a few of the
+# places where every float operation makes an ulp-sized one, so its effect on an output
+# stays within the effect of float32 rounding as a whole, which the double build measures.
+# A field the double build reproduces exactly (bound 0) must then be bit-identical.
+OBS_TOLERANCE = "max |host f32 - host f64| per field over the log"
 CORE_HZ = 100e6                  # docs/FIRMWARE.md's reference core: 100 MHz, 100 Hz step rate
 STEP_HZ = 100.0
 
@@ -181,7 +218,8 @@ def _trace(machine, elf, steps, qemu_args):
                  f"{proc.stderr.read().decode(errors='replace')[-2000:]}")
 
 
-def count_instructions(machine, elf, steps, singlestep=False):
+def count_instructions(machine, elf, steps, singlestep=False, parts=(), functions=False):
+    inclusive = tuple(parts)
     """Instructions per step over the first `steps` samples.
 
     Default: -d in_asm,exec,nochain. in_asm prints each translation block (TB) once, when it
@@ -192,12 +230,22 @@ def count_instructions(machine, elf, steps, singlestep=False):
     (one instruction: bx lr) and the TB of pil_step_end. No chaining (nochain) means every
     execution is logged; nothing interrupts a TB here (no interrupts, no I/O in a step).
     singlestep=True: -singlestep -d exec,nochain, one instruction per TB, a line each (the
-    slow reference the default is checked against: make pil PIL_SINGLESTEP=1)."""
+    slow reference the default is checked against: make pil PIL_SINGLESTEP=1).
+    parts: function names counted inclusively per step too (from the TB at the function's
+    entry to the TB at the return address of its call); returns then (counts, {part: counts
+    per step}, {part or "step": {function: instructions over all steps}}) when functions."""
     marks = marker_addresses(elf)
     begin, end = marks["pil_step_begin"], marks["pil_step_end"]
     args = ["-singlestep", "-d", "exec,nochain"] if singlestep else ["-d", "in_asm,exec,nochain"]
     tb_len, counts = {}, []
     inside, n, pending_pc, pending_len = False, 0, None, 0
+    part_at = {name: part_addresses(elf, name) for name in inclusive}
+    entries = {e: name for name, (e, _) in part_at.items()}
+    part_counts = {name: [] for name in inclusive}
+    per_func = {name: {} for name in ("step", *inclusive)}
+    calls = {name: {} for name in ("step", *inclusive)}
+    starts, names = function_table(elf) if functions else ([], [])
+    active = None
     for line in _trace(machine, elf, steps, args):
         if line.startswith(b"Trace "):
             # "Trace 0: 0x<host> [<cs_base>/<pc>/<flags>/<cflags>] symbol"
@@ -216,11 +264,26 @@ def count_instructions(machine, elf, steps, singlestep=False):
                     sys.exit(f"pil: {elf}: TB at {pc:#x} executed without its in_asm listing")
             if pc == begin:
                 inside, n = True, 0
+                for c in part_counts.values():
+                    c.append(0)
             elif pc == end and inside:
                 counts.append(n)
                 inside = False
             elif inside:
                 n += length
+                if active is not None and pc in part_at[active][1]:
+                    active = None
+                if active is None and pc in entries:
+                    active = entries[pc]
+                if active is not None:
+                    part_counts[active][-1] += length
+                if functions:
+                    k = bisect.bisect_right(starts, pc) - 1
+                    fn = names[k]
+                    for key in ("step", active) if active is not None else ("step",):
+                        per_func[key][fn] = per_func[key].get(fn, 0) + length
+                        if pc == starts[k]:  # a TB at the function's first instruction: a call
+                            calls[key][fn] = calls[key].get(fn, 0) + 1
         elif line.startswith(b"IN:"):
             pending_pc, pending_len = None, 0
         elif line.startswith(b"0x") and b":  " in line:
@@ -229,6 +292,9 @@ def count_instructions(machine, elf, steps, singlestep=False):
             pending_len += 1
     if len(counts) != steps:
         sys.exit(f"pil: instruction count on {elf}: {len(counts)} of {steps} steps traced")
+    if inclusive or functions:
+        return counts, part_counts, {key: {fn: (v, calls[key].get(fn, 0)) for fn, v in d.items()}
+                                     for key, d in per_func.items()}
     return counts
 
 
@@ -272,6 +338,278 @@ def example_smoke(machine, elf, seconds=2.0):
                 f"{overruns} overruns, last status {status}")
 
 
+def obs_value(h):
+    """A printed word as a number: 8 hex digits = float32 or Q word, 16 = double."""
+    if len(h) == 16:
+        return struct.unpack("<d", struct.pack("<Q", int(h, 16)))[0]
+    return f32(int(h, 16))
+
+
+def parse_obs(text):
+    """R and V lines of an observer entry: per row the raw words (exact comparison) and the
+    discrete outputs."""
+    rows, stack, end = {}, None, None
+    for ln in text.splitlines():
+        p = ln.split()
+        if not p:
+            continue
+        if p[0] == "R" and len(p) == 13:
+            r = rows.setdefault(int(p[1]), {})
+            r["status"], r["valid"] = int(p[2]), int(p[3])
+            r["mu"], r["sd"] = p[5:9], p[9:13]
+        elif p[0] == "V" and len(p) == 12:
+            r = rows.setdefault(int(p[1]), {})
+            r["v_status"], r["flags"] = int(p[2]), int(p[3])
+            r.update(zip(OBS_FIELDS, p[4:12]))
+        elif p[0] == "S":
+            stack = int(p[1])
+        elif p[0] == "E":
+            end = int(p[1])
+    return [rows[i] for i in sorted(rows)], stack, end
+
+
+def obs_fields(row):
+    """(field, index, raw word) of every real output of a row: mu and sd per wheel, then
+    the observer's values."""
+    out = [("mu", w, row["mu"][w]) for w in range(4)] + [("sd", w, row["sd"][w]) for w in range(4)]
+    return out + [(f, 0, row[f]) for f in OBS_FIELDS if f in row]
+
+
+def obs_discrete(row):
+    return (row.get("status"), row.get("valid"), row.get("v_status"), row.get("flags"))
+
+
+def obs_compare(rows, ref, dbl):
+    """Target rows against the host build of the same program. dbl (the host double build,
+    float32 entries only) gives each field's bound; without it every word must be equal.
+    Returns (mismatch count, first mismatch, per field {bound, max_abs_diff, bit_identical})."""
+    fields, bad, first = {}, abs(len(rows) - len(ref)), None
+    if dbl is not None:
+        for h, d in zip(ref, dbl):
+            for (f, _, a), (_, _, b) in zip(obs_fields(h), obs_fields(d)):
+                e = fields.setdefault(f, {"bound": 0.0, "max_abs_diff": 0.0, "values": 0, "bit_identical": 0})
+                e["bound"] = max(e["bound"], abs(obs_value(a) - obs_value(b)))
+    for i, (t, h) in enumerate(zip(rows, ref)):
+        n = int(obs_discrete(t) != obs_discrete(h))
+        for (f, w, a), (_, _, b) in zip(obs_fields(t), obs_fields(h)):
+            e = fields.setdefault(f, {"bound": 0.0, "max_abs_diff": 0.0, "values": 0, "bit_identical": 0})
+            diff = abs(obs_value(a) - obs_value(b)) if dbl is not None else float(a != b)
+            e["max_abs_diff"] = max(e["max_abs_diff"], diff)
+            e["values"] += 1
+            e["bit_identical"] += a == b
+            n += diff > e["bound"] if dbl is not None else a != b
+        if n and first is None:
+            first = f"row {i}: target {t}; host {h}"
+        bad += n
+    return bad, first, fields
+
+
+def obs_check_replay(host_rows, replay_rows):
+    """The host float32 program against the replay's estimate log (%.9g: reads back as the
+    same float): every logged value equal."""
+    names = ("vx", "vy", "beta", "yaw_acc", "sd_vx", "sd_vy", "sd_beta")
+    def as_f32(x):
+        return struct.unpack("<f", struct.pack("<f", x))[0]
+
+    bad, first = abs(len(host_rows) - len(replay_rows)), None
+    for i, (h, g) in enumerate(zip(host_rows, replay_rows)):
+        err = h["status"] >= 16
+        valid = [0 if err else (h["valid"] >> w) & 1 for w in range(4)]
+        n = sum(obs_value(h["mu"][w]) != as_f32(g["mu"][w]) or obs_value(h["sd"][w]) != as_f32(g["sd"][w])
+                for w in range(4))
+        n += (valid != g["valid"]) + (h["status"] != g["status"])
+        n += sum(obs_value(h[k]) != as_f32(g[k]) for k in names)
+        if n and first is None:
+            first = f"row {i}: host program {h}; replay {g}"
+        bad += n
+    return bad, first
+
+
+def read_observer_estimates(path):
+    out = read_estimates(path)
+    with open(path) as f:
+        r = csv.DictReader(ln for ln in f if not ln.startswith("#"))
+        for e, row in zip(out, r):
+            e.update({"vx": float(row["vx_est"]), "vy": float(row["vy_est"]),
+                      "beta": float(row["beta_est"]), "yaw_acc": float(row["yaw_acc_est"]),
+                      "sd_vx": float(row["sd_vx"]), "sd_vy": float(row["sd_vy"]),
+                      "sd_beta": float(row["sd_beta"])})
+    return out
+
+
+def function_table(elf):
+    """(sorted start addresses, names) of the image's functions, for attributing a pc."""
+    syms = []
+    nm = subprocess.run([CROSS + "nm", "--defined-only", elf], stdout=subprocess.PIPE, text=True,
+                        check=True).stdout
+    for ln in nm.splitlines():
+        p = ln.split()
+        if len(p) == 3 and p[1] in "tTW" and not p[2].startswith("$"):
+            syms.append((int(p[0], 16) & ~1, p[2]))
+    syms.sort()
+    return [a for a, _ in syms], [n for _, n in syms]
+
+
+def code_objects(elf):
+    """(sorted start addresses, [(end, object)]) of the image's .text input sections, from
+    the linker map beside the image: which object (librfe.a's tyre_flt.o, newlib's libm ...)
+    each function's code comes from."""
+    sec = re.compile(r"^ (\.text\S*)\s*$")
+    ent = re.compile(r"^ (?:(\.text\S*)\s+)?\s*0x([0-9a-f]+)\s+0x([0-9a-f]+)\s+(\S+)$")
+    spans, pending = [], False
+    try:
+        lines = open(elf[:-4] + ".map").read().split("Linker script and memory map", 1)[-1].splitlines()
+    except OSError:
+        return [], []
+    for ln in lines:
+        m = ent.match(ln)
+        if m and (m.group(1) or pending) and int(m.group(3), 16) > 0:
+            path = m.group(4)
+            lib = re.match(r".*/(lib[a-z_]+)\.a\((.*)\)$", path)
+            if lib and lib.group(1) == "libm":
+                obj = "newlib libm"
+            elif lib and lib.group(1) in ("libc", "libg", "libc_nano", "libg_nano", "librdimon", "libgcc"):
+                obj = "newlib libc" if lib.group(1) != "libgcc" else "libgcc"
+            elif lib:
+                obj = lib.group(2)
+            elif path.startswith("/tmp/") or re.match(r"^cc\w+\.o$", os.path.basename(path)):
+                obj = "pil_main.o"  # the image's main, compiled on the fly
+            else:
+                obj = os.path.basename(path)
+            a0 = int(m.group(2), 16)
+            spans.append((a0, a0 + int(m.group(3), 16), obj))
+        pending = bool(sec.match(ln))
+    spans.sort()
+    return [a for a, _, _ in spans], [(e, o) for _, e, o in spans]
+
+
+def object_of(objects, addr):
+    starts, rest = objects
+    k = bisect.bisect_right(starts, addr) - 1
+    return rest[k][1] if k >= 0 and addr < rest[k][0] else "?"
+
+
+def part_addresses(elf, name):
+    """Entry address of function `name` and the return addresses of its calls (the
+    instruction after each bl). A tail call (b.w) would return elsewhere: refused."""
+    entry, rets = None, set()
+    dis = subprocess.run([CROSS + "objdump", "-d", "--no-show-raw-insn", elf], stdout=subprocess.PIPE,
+                         text=True, check=True).stdout.splitlines()
+    insn = re.compile(r"^\s*([0-9a-f]+):\s+(\S+)\s*(.*)$")
+    for k, ln in enumerate(dis):
+        if ln.endswith(f"<{name}>:"):
+            entry = int(ln.split()[0], 16)
+        m = insn.match(ln)
+        if m and m.group(3).endswith(f"<{name}>"):
+            if m.group(2) != "bl":
+                sys.exit(f"pil: {elf}: {name} reached by '{m.group(2)}', not a call: its return is unknown")
+            for nxt in dis[k + 1:]:
+                n2 = insn.match(nxt)
+                if n2:
+                    rets.add(int(n2.group(1), 16))
+                    break
+    if entry is None or not rets:
+        sys.exit(f"pil: {elf}: {name} or its calls not found")
+    return entry, rets
+
+
+def run_obs_entry(a, spec, report, tmp, failures):
+    """Step 4-6 of the module's description for one observer entry; returns its JSON."""
+    tag, target, machine, steps = spec.split(":")
+    core, variant = target.split("-")
+    kind = OBS_ENTRIES[tag]
+    stem = os.path.splitext(os.path.basename(a.obs_log))[0]
+    elf = os.path.join(a.build, target, "pil", tag + ".elf")
+    label = f"{tag} on {target} ({machine}), {stem}"
+    t0 = time.time()
+    r = subprocess.run(qemu_cmd(machine, elf), stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                       text=True, timeout=QEMU_TIMEOUT)
+    rows, stack, end = parse_obs(r.stdout)
+    entry = {"tag": tag, "target": target, "core": MACHINE_CORE.get(machine, machine),
+             "build_core": BUILD_CORE[core], "machine": machine, "variant": variant,
+             "scenario": stem, "steps": len(rows), "exit": r.returncode,
+             "qemu_seconds": round(time.time() - t0, 2), "stack_measured": stack}
+    if r.returncode != 0 or end != len(rows) or not rows:
+        failures.append(f"{label}: QEMU exit {r.returncode}, {len(rows)} rows, end marker {end}\n"
+                        f"{r.stderr[-1500:]}")
+        return entry
+
+    def host(build):
+        prog = os.path.join(a.build, f"host-{build}", "pil", tag)
+        h = subprocess.run([prog], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        if h.returncode != 0:
+            sys.exit(f"pil: {prog} failed ({h.returncode}): {h.stderr[-800:]}")
+        return parse_obs(h.stdout)[0]
+
+    if variant == "q31":
+        bad, first, fields = obs_compare(rows, host("q31"), None)
+        verdict = "bit-identical to the host build" if not bad else f"{bad} values differ from the host build"
+        entry["compare"] = {"host": f"host-q31/pil/{tag}", "mismatches": bad, "fields": fields}
+    else:
+        h32 = host("f32")
+        bad, first, fields = obs_compare(rows, h32, host("f64"))
+        same = sum(e["bit_identical"] for e in fields.values())
+        total = sum(e["values"] for e in fields.values())
+        entry["compare"] = {"host": f"host-f32/pil/{tag}", "mismatches": bad, "fields": fields,
+                            "tolerance": OBS_TOLERANCE, "bit_identical_fraction": same / total if total else 0.0}
+        verdict = (f"{'within' if not bad else 'OUTSIDE'} the bound of host float32 vs double "
+                   f"({same / total:.1%} of values bit-identical)")
+        if kind["replay"] is not None:
+            path = os.path.join(tmp, f"{tag}.replay.csv")
+            cmd = [a.replay, "--in", a.obs_log, "--out", path, *kind["replay"], "--real", "float", "--quiet"]
+            rr = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+            if rr.returncode != 0:
+                sys.exit(f"pil: {' '.join(cmd)} failed ({rr.returncode}):\n{rr.stdout}")
+            bad_r, first_r = obs_check_replay(h32, read_observer_estimates(path))
+            entry["compare"]["replay"] = {"command": "mu_replay " + " ".join(kind["replay"]) + " --real float",
+                                          "mismatches": bad_r}
+            if bad_r:
+                failures.append(f"{label}: the host float32 program differs from mu_replay in {bad_r} "
+                                f"values (the generated inputs are not the replay's): {first_r}")
+            verdict += "; host program = mu_replay" if not bad_r else "; host program DIFFERS from mu_replay"
+    if bad:
+        failures.append(f"{label}: {bad} values differ from the host build beyond the bound: {first}")
+    step_fn = f"{kind['step']}_{variant}"
+    static = report.get("targets", {}).get(target, {}).get("stack", {}).get(step_fn, {}).get("bytes")
+    entry["stack_static"] = static
+    if static is not None and stack is not None and stack > static:
+        failures.append(f"{label}: a step used {stack} B of stack, more than the static {static} B")
+    n = min(int(steps), len(rows))
+    if n > 0:
+        t0 = time.time()
+        parts = [f"{p}_{variant}" for p in kind["parts"]]
+        counts, part_counts, per_func = count_instructions(machine, elf, n, parts=parts, functions=True)
+        k = min(a.singlestep_check, n)
+        if k:
+            c1, p1, _ = count_instructions(machine, elf, k, singlestep=True, parts=parts, functions=True)
+            if c1 != counts[:k] or any(p1[p] != part_counts[p][:k] for p in parts):
+                failures.append(f"{label}: instruction counts of the TB method differ from -singlestep "
+                                f"over the first {k} steps")
+
+        def stats(c):
+            return {"mean": round(sum(c) / len(c), 1), "max": max(c), "min": min(c), "steps": len(c)}
+
+        entry["instructions_per_step"] = stats(counts)
+        entry["instructions_per_part"] = {p: stats(c) for p, c in part_counts.items()}
+        # [function, instructions per step, calls per step, object], most instructions first
+        # (a list: JSON keeps its order); a call is an execution of the TB at the function's
+        # entry; the object is the linker map's (librfe.a's tyre_flt.o, newlib libm ...)
+        objects = code_objects(elf)
+        starts, names = function_table(elf)
+        where = {nm_: object_of(objects, a_) for a_, nm_ in zip(starts, names)}
+        entry["instructions_per_function"] = {
+            key: sorted(([f, round(v / n, 1), round(c / n, 2), where.get(f, "?")] for f, (v, c) in d.items()),
+                        key=lambda x: -x[1])
+            for key, d in per_func.items()}
+        entry["core_share_mean"] = sum(counts) / n * STEP_HZ / CORE_HZ
+        entry["core_share_max"] = max(counts) * STEP_HZ / CORE_HZ
+        entry["count_seconds"] = round(time.time() - t0, 1)
+        verdict += f"; {sum(counts) / n:.0f} instructions/step (max {max(counts)})" + "".join(
+            f", {p} {sum(c) / n:.0f}" for p, c in part_counts.items()) + f" over {n} steps"
+    print(f"pil: {label}: {len(rows)} steps, {verdict}; stack {stack} B measured")
+    return entry
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--build", default="build/firmware")
@@ -288,6 +626,9 @@ def main():
                     help="<target>:<machine> whose example firmware (example.elf) to run a while")
     ap.add_argument("--report", default="build/firmware/report.json",
                     help="make firmware's figures (static stack), when present")
+    ap.add_argument("--obs-log", default="", help="the observer entries' log")
+    ap.add_argument("--obs-entries", default="",
+                    help="<tag>:<target>:<machine>:<steps counted> (tags: OBS_ENTRIES)")
     ap.add_argument("--out", required=True)
     a = ap.parse_args()
     stem = os.path.splitext(os.path.basename(a.log))[0]
@@ -390,6 +731,12 @@ def main():
                                 f"{len(counts)} steps")
                 print(f"pil: {label}: {len(rows)} steps, {verdict}; stack {stack} B measured")
                 result["runs"].append(entry)
+        for spec in a.obs_entries.split():
+            entry = run_obs_entry(a, spec, report, tmp, failures)
+            result.setdefault("observer_runs", []).append(entry)
+    if a.obs_entries:
+        result["obs_log"] = a.obs_log
+        result["obs_tolerance"] = OBS_TOLERANCE
     if a.example:
         target, machine = a.example.split(":")
         ok, msg = example_smoke(machine, os.path.join(a.build, target, "example.elf"))

@@ -5,16 +5,30 @@ runs"; make firmware-table, issue 5) between the markers <!-- firmware:begin -->
 build/firmware/report.json (scripts/firmware/firmware_check.py: sizes, stack, budgets) and
 build/firmware/pil.json (scripts/firmware/firmware_pil.py: emulated runs, comparisons, instructions
 per step). Never typed by hand: `make firmware-table` regenerates them.
+
+With --obs-page / --readme-page it also writes the observer's cost (the observer entries of
+pil.json: instructions per observer step against the default friction step, and where the
+observer's instructions go) between <!-- observer-cost:begin --> and <!-- observer-cost:end -->
+of those pages (docs/OBSERVER_RESULTS.md: the table; README.md: one line), with the host's
+figure from --bench (build/bench/bench.json of `make bench`) when it exists.
 """
 import argparse
 import json
 import sys
 
 BEGIN, END = "<!-- firmware:begin -->", "<!-- firmware:end -->"
+OBS_BEGIN, OBS_END = "<!-- observer-cost:begin -->", "<!-- observer-cost:end -->"
+TARGET_SHARE = 0.15   # issue 16: the observer adds at most 15 % to the default step (M4)
+TOP_FUNCTIONS = 12    # functions listed in the breakdown of the observer's instructions
 CORES = {"m4f": "Cortex-M4F", "m3": "Cortex-M3", "m0p": "Cortex-M0+"}
 VARIANTS = {"f32": "float32", "q31": "fixed point"}
 PART = {"m4f": "STM32F407xG", "m3": "MPS2 AN385", "m0p": "STM32G071xB"}
 ORDER = ["m4f-f32", "m4f-q31", "m3-q31", "m0p-q31"]
+
+
+def pct(x, digits=1):
+    """A share as the project writes it: 22.9 %."""
+    return f"{100 * x:.{digits}f} %"
 
 
 def kb(n):
@@ -88,7 +102,147 @@ def tables(report, pil):
                 core += f", the {r['build_core']} build"
             out.append(f"| {core}) | {VARIANTS[r['variant']]} | {r['config']} "
                        f"| {cmp_} | {ipc} | {share} | {ips['steps'] if ips else '—'} |")
+    obs = pil.get("observer_runs", [])
+    if obs:
+        out.append("")
+        out.append(f"Observer entries on `{pil.get('obs_log')}` (every step compared; float32 "
+                   f"bound per output: {pil.get('obs_tolerance')}); the observer and friction "
+                   f"columns count the instructions inside `rfe_velocity_step` and "
+                   f"`rfe_friction_step` of each pipeline step:")
+        out.append("")
+        out.append("| core (QEMU machine) | variant | entry | outputs vs the host build "
+                   "| instructions per step, mean (max) | observer, mean (max) | friction, mean (max) "
+                   "| observer / default friction step | steps counted |")
+        out.append("|---|---|---|---|---|---|---|---|---|")
+        for r in obs:
+            c = r.get("compare", {})
+            if r["variant"] == "q31":
+                cmp_ = "bit-identical" if c.get("mismatches") == 0 else f"{c.get('mismatches')} values differ"
+            else:
+                worst = max((e["max_abs_diff"] / e["bound"] for e in c.get("fields", {}).values()
+                             if e["bound"] > 0), default=0.0)
+                cmp_ = ((f"within the bound (largest difference {pct(worst, 1)} of its bound), "
+                         if c.get("mismatches") == 0 else f"{c.get('mismatches')} values beyond the bound, ") +
+                        f"{pct(c.get('bit_identical_fraction', 0), 0)} of values bit-identical; "
+                        "status, valid, flags equal" +
+                        ("; host program = `mu_replay`" if c.get("replay", {}).get("mismatches") == 0 else ""))
+            ips = r.get("instructions_per_step")
+            parts = r.get("instructions_per_part", {})
+
+            def fmt(d):
+                return f"{d['mean']:,.0f} ({d['max']:,})" if d else "—"
+
+            vel = next((v for k, v in parts.items() if k.startswith("rfe_velocity_step")), None)
+            fri = next((v for k, v in parts.items() if k.startswith("rfe_friction_step")), None)
+            ratio = observer_ratio(pil, r)
+            core = f"{r['core']} ({r['machine']}"
+            if r.get("build_core") and r["build_core"] != r["core"]:
+                core += f", the {r['build_core']} build"
+            out.append(f"| {core}) | {VARIANTS[r['variant']]} | {r['tag']} | {cmp_} | {fmt(ips)} "
+                       f"| {fmt(vel)} | {fmt(fri)} | {ratio_text(ratio)} | {ips['steps'] if ips else '—'} |")
     return out
+
+
+def default_step(pil, target):
+    """Mean instructions of the default friction step (default.sckf) on @p target."""
+    for r in pil.get("runs", []):
+        if r["target"] == target and r.get("config") == "default.sckf" and r.get("instructions_per_step"):
+            return r["instructions_per_step"]["mean"]
+    return None
+
+
+def observer_ratio(pil, r):
+    """(observer instructions, default friction step, ratio) of an observer entry, or None."""
+    parts = r.get("instructions_per_part", {})
+    vel = next((v for k, v in parts.items() if k.startswith("rfe_velocity_step")), None)
+    if vel is None and r.get("tag") == "velocity":
+        vel = r.get("instructions_per_step")
+    base = default_step(pil, r["target"])
+    if vel is None or not base:
+        return None
+    return vel["mean"], base, vel["mean"] / base
+
+
+def ratio_text(ratio):
+    return f"{pct(ratio[2], 1)} ({ratio[0]:,.0f} / {ratio[1]:,.0f})" if ratio else "—"
+
+
+def host_ratio(bench):
+    """(observer, default step, ratio) in host instructions (callgrind) from bench.json."""
+    try:
+        vel = next(m for m in bench["modules"] if m["case"] == "velocity.step")["f32"]["instructions"]
+        base = next(s for s in bench["steps"] if s["case"] == "step.default" and s["flavour"] == "f32")["instructions"]
+    except (KeyError, StopIteration, TypeError):
+        return None
+    return (vel, base, vel / base) if vel and base else None
+
+
+def observer_cost(pil, bench, short):
+    """The observer-cost section of OBSERVER_RESULTS.md, or the README's line (short)."""
+    rows = [(r, observer_ratio(pil, r)) for r in pil.get("observer_runs", [])]
+    rows = [(r, q) for r, q in rows if q]
+    host = host_ratio(bench) if bench else None
+    if short:
+        parts = [f"+{pct(q[2], 0)} on the {CORES.get(r['target'].split('-')[0], r['target'])} "
+                 f"({VARIANTS[r['variant']]})" for r, q in rows]
+        if host:
+            parts.append(f"+{pct(host[2], 0)} on the host")
+        return [("The velocity observer's cost on top of the default friction step, in instructions: " +
+                 ", ".join(parts) + f" (target ≤ {pct(TARGET_SHARE, 0)} on the Cortex-M4; "
+                 "[`docs/OBSERVER_RESULTS.md`](docs/OBSERVER_RESULTS.md#cost-per-step))."
+                 if parts else "The velocity observer's cost: not measured (`make pil`, `make firmware-table`).")]
+    out = ["| where | observer step, instructions | default friction step | observer / default step "
+           f"| target ≤ {pct(TARGET_SHARE, 0)} |", "|---|---|---|---|---|"]
+    for r, q in rows:
+        out.append(f"| {CORES.get(r['target'].split('-')[0], r['target'])} {VARIANTS[r['variant']]} "
+                   f"({r['machine']}, `make pil`: in the pipeline on {r['scenario']}, first "
+                   f"{r['instructions_per_step']['steps']} steps; friction: default.sckf on "
+                   f"{pil.get('log', '?')}) | {q[0]:,.0f} | {q[1]:,.0f} | {pct(q[2], 1)} "
+                   f"| {'met' if q[2] <= TARGET_SHARE else 'missed'} |")
+    if host:
+        out.append(f"| host x86-64 float32 (`make bench`, callgrind, {bench.get('log', '?')}) "
+                   f"| {host[0]:,.0f} | {host[1]:,.0f} | {pct(host[2], 1)} | – |")
+    for r, q in rows:
+        funcs = r.get("instructions_per_function", {})
+        key = next((k for k in funcs if k.startswith("rfe_velocity_step")), None)
+        if key is None:
+            continue
+        total = sum(f[1] for f in funcs[key])
+        out.append("")
+        out.append(f"Where the observer's instructions go on the {CORES.get(r['target'].split('-')[0])} "
+                   f"{VARIANTS[r['variant']]} build (per step, the functions whose code runs inside "
+                   f"`{key}`, each counted where its own instructions are; the first {TOP_FUNCTIONS}):")
+        out.append("")
+        out.append("| function | object | instructions per step | share of the observer | calls per step |")
+        out.append("|---|---|---|---|---|")
+        for f in funcs[key][:TOP_FUNCTIONS]:
+            obj = f[3] if len(f) > 3 else "?"
+            out.append(f"| `{f[0]}` | {obj} | {f[1]:,.0f} | {pct(f[1] / total, 1)} | {f[2]:g} |")
+        rest = sum(f[1] for f in funcs[key][TOP_FUNCTIONS:])
+        out.append(f"| {len(funcs[key]) - TOP_FUNCTIONS} others | | {rest:,.0f} | {pct(rest / total, 1)} | |")
+        by_obj = {}
+        for f in funcs[key]:
+            obj = f[3] if len(f) > 3 else "?"
+            by_obj[obj] = by_obj.get(obj, 0.0) + f[1]
+        out.append("")
+        out.append("The same by object file (librfe.a's modules, newlib's C library):")
+        out.append("")
+        out.append("| object | instructions per step | share of the observer |")
+        out.append("|---|---|---|")
+        for obj, v in sorted(by_obj.items(), key=lambda x: -x[1]):
+            out.append(f"| {obj} | {v:,.0f} | {pct(v / total, 1)} |")
+    return out
+
+
+def replace_section(path, begin, end, lines):
+    text = open(path).read()
+    if begin not in text or end not in text:
+        sys.exit(f"firmware-table: {path} has no {begin} ... {end} section")
+    head, rest = text.split(begin, 1)
+    _, tail = rest.split(end, 1)
+    with open(path, "w") as f:
+        f.write(head + begin + "\n" + "\n".join(lines) + "\n" + end + tail)
+    print(f"firmware-table: {path} updated")
 
 
 def main():
@@ -97,20 +251,26 @@ def main():
     ap.add_argument("--pil", required=True)
     ap.add_argument("--page", "--readme", dest="page", required=True,
                     help="the markdown page holding the markers (docs/FIRMWARE.md)")
+    ap.add_argument("--obs-page", default=None, help="the page of the observer's cost table")
+    ap.add_argument("--readme-page", default=None, help="the page of the observer's cost line")
+    ap.add_argument("--bench", default=None, help="bench.json of make bench (host figure)")
     a = ap.parse_args()
     report = json.load(open(a.report))
     try:
         pil = json.load(open(a.pil))
     except OSError:
         pil = {}
-    text = open(a.page).read()
-    if BEGIN not in text or END not in text:
-        sys.exit(f"firmware-table: {a.page} has no {BEGIN} ... {END} section")
-    head, rest = text.split(BEGIN, 1)
-    _, tail = rest.split(END, 1)
-    with open(a.page, "w") as f:
-        f.write(head + BEGIN + "\n" + "\n".join(tables(report, pil)) + "\n" + END + tail)
-    print(f"firmware-table: {a.page} updated")
+    replace_section(a.page, BEGIN, END, tables(report, pil))
+    bench = None
+    if a.bench:
+        try:
+            bench = json.load(open(a.bench))
+        except OSError:
+            bench = None
+    if a.obs_page:
+        replace_section(a.obs_page, OBS_BEGIN, OBS_END, observer_cost(pil, bench, short=False))
+    if a.readme_page:
+        replace_section(a.readme_page, OBS_BEGIN, OBS_END, observer_cost(pil, bench, short=True))
     return 0
 
 

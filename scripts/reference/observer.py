@@ -36,6 +36,7 @@ OBS_DEFAULTS: dict[str, float] = {
     "obs_q_by": 0.05,           # random walk of the lateral offset (bias, bank), m/s^2 per sqrt(s)
     "obs_sd_model_ay": 0.3,     # single-track model error, m/s^2
     "obs_model_ay_rel": 0.1,    # model error relative to |ay|
+    "obs_sd_model_rdot": 0.3,   # model error of the yaw acceleration, rad/s^2
     "obs_v_lat_min": 3.0,       # below this vx, vy follows the rear-axle kinematics, m/s
     "obs_sd_lowspeed": 0.1,     # sd of the low-speed kinematic vy, m/s
     "obs_mu_default": 1.0,      # friction the model uses while none is supplied
@@ -44,7 +45,6 @@ OBS_DEFAULTS: dict[str, float] = {
     "obs_dvy": 0.01,
     "obs_sd_vydot": 1.0,        # the lateral acceleration of the sideslip, v-dot_y, as noise, m/s^2
     "obs_vydot_rdot": 15.0,     # its growth with |r-dot|, m/s^2 per rad/s^2
-    "obs_tau_nis": 0.5,         # averaging time of the model's innovation consistency, s            # step of the model's derivative by vy, m/s       # the measured |ay|/g raises the model's friction to (1+margin) of it
     "obs_sd_vx0": 1.0,          # initial sd of vx, m/s
     "obs_sd_bx0": 0.3,          # initial sd of the longitudinal offset, m/s^2
     "obs_sd_vy0": 0.3,          # initial sd of vy, m/s
@@ -232,12 +232,20 @@ class Observer:
             mu = tuple(max(m, mu_low) for m in mu_in)
             mu_hi = tuple(m + d for m, d in zip(mu, sd_in))
             h = p["obs_dvy"]
-            ay_model = self.model_ay(s, vx, vy_pred, mu)
-            h0 = (self.model_ay(s, vx, vy_pred + h, mu) - ay_model) / h
-            e_mu = (self.model_ay(s, vx, vy_pred, mu_hi) - ay_model) ** 2
+            ay_model, rd_model = self.model_rows(s, vx, vy_pred, mu)
+            ay_h, rd_h = self.model_rows(s, vx, vy_pred + h, mu)
+            ay_hi, rd_hi = self.model_rows(s, vx, vy_pred, mu_hi)
+            h0 = (ay_h - ay_model) / h
+            e_mu = (ay_hi - ay_model) ** 2
             r = (p["obs_sd_model_ay"] ** 2 + (p["obs_model_ay_rel"] * s.ay) ** 2 + e_mu)
             self.lat.update(h0, 0.0, s.ay - ay_model, r)
             flags |= FLAG_VY_MODEL
+            # the yaw moment balance: the differentiator's r-dot against the model's, linearised
+            # at the same vy_pred, the innovation at the vy the lateral row left
+            h1 = (rd_h - rd_model) / h
+            r1 = p["obs_sd_model_rdot"] ** 2 + (rd_hi - rd_model) ** 2 + self.yaw.P[1][1]
+            self.lat.update(h1, 0.0, self.yaw.x[1] - (rd_model + h1 * (self.lat.x[0] - vy_pred)),
+                            r1)
         else:
             # §4.3 low speed: the rear axle rolls without side slip, vy = Lr r
             self.lat.update(1.0, 0.0, p["Lr"] * s.yaw_rate - vy_pred, p["obs_sd_lowspeed"] ** 2)
@@ -248,8 +256,9 @@ class Observer:
         self.lat.update(0.0, 1.0, (s.ay - s.yaw_rate * vx) - self.lat.x[1], sv * sv)
         return self.output(flags)
 
-    def model_ay(self, s, vx, vy, mu):
-        """MODEL.md §3-5: the lateral row of h(mu, u) at u = (delta, vx, vy, r, ax, ay, omega),
+    def model_rows(self, s, vx, vy, mu):
+        """MODEL.md §3-5: the lateral and yaw rows (ay, r-dot) of h(mu, u) at
+        u = (delta, vx, vy, r, ax, ay, omega),
         with the tyre of the configuration (p["tyre"]: "paper" normalised Dugoff, forces
         mu F0(u); "dugoff" absolute Dugoff; "magic" Magic Formula)."""
         import numpy as np
@@ -260,8 +269,10 @@ class Observer:
                                np.array([s.omega]))
         m = np.array(mu, dtype=float)
         if pm["tyre"] == "paper":
-            return float(model.observation_matrix(pm, ti)[0, 1] @ m)
-        return float(model.h_absolute(pm, ti, 0, m[:, None])[1, 0])
+            hm = model.observation_matrix(pm, ti)[0]
+            return float(hm[1] @ m), float(hm[2] @ m)
+        z = model.h_absolute(pm, ti, 0, m[:, None])
+        return float(z[1, 0]), float(z[2, 0])
 
     def output(self, flags):
         """§5 the outputs and their sd."""

@@ -9,11 +9,12 @@
 
 #include "numerics/internal_q31.h"
 
-/* The formats of a filter: both states in Q0..Q31, the transition's shift in [1, 62]. */
+/* The formats of a filter: both states in Q0..Q31, the transition's shift in [1, 62] (its
+ * upper end holds by itself: q1 + qf - q0 <= 31 + 31 - 0). */
 static int formats_ok_q31(unsigned int q0, unsigned int q1, unsigned int qf)
 {
     const int s = ((int)q1 + (int)qf) - (int)q0;
-    return (q0 <= 31u) && (q1 <= 31u) && (qf <= 31u) && (s >= 1) && (s <= 62);
+    return (q0 <= 31u) && (q1 <= 31u) && (qf <= 31u) && (s >= 1);
 }
 
 /* A covariance entry clamped to +-RFE_KF2_Q31_PMAX (counted). */
@@ -196,13 +197,14 @@ rfe_status_t rfe_kf2_predict_q31(rfe_kf2_q31_t *f, rfe_fix_t f01, rfe_fix_t u, i
     return RFE_OK;
 }
 
-/* The measurement's formats: the shifts of h0 x0 and h1 x1 into Q(qz) within [1, 62]. */
+/* The measurement's formats: the shifts of h0 x0 and h1 x1 into Q(qz) within [1, 62] (the
+ * upper end holds by itself once every format is within Q0..Q31: 31 + 31 - 0). */
 static int meas_ok_q31(const rfe_kf2_q31_t *f, const rfe_kf2_meas_q31_t *m)
 {
     const int s0 = ((int)f->q0 + (int)m->qh0) - (int)m->qz;
     const int s1 = ((int)f->q1 + (int)m->qh1) - (int)m->qz;
     return (formats_ok_q31(f->q0, f->q1, f->qf) != 0) && (m->qz <= 31u) && (m->qh0 <= 31u) &&
-           (m->qh1 <= 31u) && (s0 >= 1) && (s0 <= 62) && (s1 >= 1) && (s1 <= 62) &&
+           (m->qh1 <= 31u) && (s0 >= 1) && (s1 >= 1) &&
            (m->r >= 0) && (m->r <= RFE_KF2_Q31_PMAX);
 }
 

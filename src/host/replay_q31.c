@@ -22,25 +22,28 @@
 #include "host/fixed_conv.h"
 #include "rfe/component/params_conv.h"
 
-/* The parameter set in Q formats; RFE_ERR_PARAM / RFE_ERR_RANGE as rfe_replay_run_q31. */
-static rfe_status_t to_q31_params(const rfe_param_set_t *ps, rfe_params_q31_t *q,
-                                  size_t *bad_key)
+rfe_status_t rfe_replay_params_q31(const rfe_param_set_t *ps, rfe_params_q31_t *q,
+                                   size_t *bad_key)
 {
     rfe_params_t p;
-    rfe_status_t st = rfe_replay_params_f64(ps, &p, bad_key);
+    rfe_status_t st;
+    if ((ps == NULL) || (q == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    st = rfe_replay_params_f64(ps, &p, bad_key);
     if (st == RFE_OK) {
         st = rfe_params_to_q31_f64(&p, q);
     }
     return st;
 }
 
-/* The friction parameters as to_q31_params, then the observer's (its obs_* keys over
+/* The friction parameters as rfe_replay_params_q31, then the observer's (its obs_* keys over
  * rfe_velocity_params_default_f64, validated, rfe_velocity_params_to_q31_f64). */
 static rfe_status_t to_q31_observer_params(const rfe_param_set_t *ps, rfe_params_q31_t *q,
                                            rfe_velocity_params_q31_t *vq, size_t *bad_key)
 {
     rfe_velocity_params_t vp;
-    rfe_status_t st = to_q31_params(ps, q, bad_key);
+    rfe_status_t st = rfe_replay_params_q31(ps, q, bad_key);
     if (st == RFE_OK) {
         st = rfe_replay_velocity_params_f64(ps, &vp, bad_key);
     }
@@ -74,7 +77,7 @@ static size_t diagnose_range(const rfe_param_set_t *ps, int observer)
             one.obs[k - RFE_PK_OBS_FIRST] = ps->obs[k - RFE_PK_OBS_FIRST];
         }
         st = (observer != 0) ? to_q31_observer_params(&one, &q, &vq, NULL)
-                             : to_q31_params(&one, &q, NULL);
+                             : rfe_replay_params_q31(&one, &q, NULL);
         if (st == RFE_ERR_RANGE) {
             return k;
         }
@@ -82,20 +85,21 @@ static size_t diagnose_range(const rfe_param_set_t *ps, int observer)
     return RFE_PK_NONE;
 }
 
-/* The sample in Q formats (rounded to nearest; saturations counted in *sat). */
-static void to_sample(const rfe_sensor_row_t *row, rfe_sample_q31_t *s, uint32_t *sat)
+uint32_t rfe_replay_sample_q31(const rfe_sensor_row_t *row, rfe_sample_q31_t *s)
 {
+    uint32_t sat = 0u;
     size_t w;
-    s->delta = rfe_fix_from_double(row->delta, RFE_FIX_Q_ANGLE, sat);
-    s->vx = rfe_fix_from_double(row->vx, RFE_FIX_Q_SPEED, sat);
-    s->vy = rfe_fix_from_double(row->vy, RFE_FIX_Q_SPEED, sat);
-    s->yaw_rate = rfe_fix_from_double(row->yaw_rate, RFE_FIX_Q_YAWRATE, sat);
-    s->yaw_acc = rfe_fix_from_double(row->yaw_acc, RFE_FIX_Q_ACC, sat);
-    s->ax = rfe_fix_from_double(row->ax, RFE_FIX_Q_ACC, sat);
-    s->ay = rfe_fix_from_double(row->ay, RFE_FIX_Q_ACC, sat);
+    s->delta = rfe_fix_from_double(row->delta, RFE_FIX_Q_ANGLE, &sat);
+    s->vx = rfe_fix_from_double(row->vx, RFE_FIX_Q_SPEED, &sat);
+    s->vy = rfe_fix_from_double(row->vy, RFE_FIX_Q_SPEED, &sat);
+    s->yaw_rate = rfe_fix_from_double(row->yaw_rate, RFE_FIX_Q_YAWRATE, &sat);
+    s->yaw_acc = rfe_fix_from_double(row->yaw_acc, RFE_FIX_Q_ACC, &sat);
+    s->ax = rfe_fix_from_double(row->ax, RFE_FIX_Q_ACC, &sat);
+    s->ay = rfe_fix_from_double(row->ay, RFE_FIX_Q_ACC, &sat);
     for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
-        s->omega[w] = rfe_fix_from_double(row->omega[w], RFE_FIX_Q_OMEGA, sat);
+        s->omega[w] = rfe_fix_from_double(row->omega[w], RFE_FIX_Q_OMEGA, &sat);
     }
+    return sat;
 }
 
 /* Adds one row's saturation counts (of its conversion and of the library's step). */
@@ -121,9 +125,9 @@ static uint32_t step_row(rfe_friction_q31_t *est, const rfe_sensor_row_t *row,
     rfe_sample_q31_t s;
     rfe_estimate_q31_t e;
     rfe_status_t st;
-    uint32_t in_sat = 0u;
+    uint32_t in_sat;
     size_t w;
-    to_sample(row, &s, &in_sat);
+    in_sat = rfe_replay_sample_q31(row, &s);
     memset(&e, 0, sizeof e);
     st = rfe_friction_step_q31(est, &s, &e);
     out->t = row->t;
@@ -153,7 +157,7 @@ rfe_status_t rfe_replay_run_q31(const rfe_param_set_t *ps, const rfe_sensor_log_
     if ((log->omega_linear != 0) || (log->has_swa != 0)) {
         return RFE_ERR_RANGE; /* not yet rad/s and road-wheel angle: csv_log.h */
     }
-    st = to_q31_params(ps, &q, bad_key);
+    st = rfe_replay_params_q31(ps, &q, bad_key);
     if ((st == RFE_ERR_RANGE) && (bad_key != NULL)) {
         *bad_key = diagnose_range(ps, 0);
     }
@@ -174,14 +178,13 @@ rfe_status_t rfe_replay_run_q31(const rfe_param_set_t *ps, const rfe_sensor_log_
     return RFE_OK;
 }
 
-/* The ESC sample of log row @p i in Q formats, as the float/double observer replay builds it
- * (the period from the time stamps, in double; an absent optional column 0), each value
- * rounded as to_sample (saturations counted in *sat). */
-static void to_esc_input(const rfe_sensor_log_t *log, size_t i, rfe_velocity_input_q31_t *in,
-                         uint32_t *sat)
+uint32_t rfe_replay_esc_input_q31(const rfe_sensor_log_t *log, size_t i,
+                                  rfe_velocity_input_q31_t *in)
 {
     const rfe_sensor_row_t *row = &log->rows[i];
     const double dt = (i > 0u) ? (row->t - log->rows[i - 1u].t) : 0.0;
+    uint32_t n_sat = 0u;
+    uint32_t *sat = &n_sat;
     size_t w;
     memset(in, 0, sizeof *in);
     in->dt = rfe_fix_from_double(dt, RFE_FIX_Q_DT, sat);
@@ -201,6 +204,7 @@ static void to_esc_input(const rfe_sensor_log_t *log, size_t i, rfe_velocity_inp
     in->has = (log->has_pressure ? RFE_VEL_HAS_PRESSURE : 0u) |
               (log->has_torque ? RFE_VEL_HAS_TORQUE : 0u) |
               (log->has_swa ? RFE_VEL_HAS_STEER_WHEEL : 0u);
+    return n_sat;
 }
 
 /* One pipeline step of row @p i; returns the step's saturations (observer and friction). */
@@ -210,10 +214,10 @@ static uint32_t step_observer_row(rfe_pipeline_q31_t *pl, const rfe_sensor_log_t
     rfe_velocity_input_q31_t in;
     rfe_pipeline_out_q31_t o;
     rfe_status_t st;
-    uint32_t in_sat = 0u;
+    uint32_t in_sat;
     uint32_t sat;
     size_t w;
-    to_esc_input(log, i, &in, &in_sat);
+    in_sat = rfe_replay_esc_input_q31(log, i, &in);
     memset(&o, 0, sizeof o);
     /* pipeline_q31.h: on an error o holds the previous estimates, sat 0 */
     st = rfe_pipeline_step_q31(pl, &in, &o);

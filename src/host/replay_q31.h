@@ -28,6 +28,9 @@
 #include "csv_log.h"
 #include "param_file.h"
 #include "replay_real.h"
+#include "rfe/component/tyre_q31.h"
+#include "rfe/params_q31.h"
+#include "rfe/velocity_q31.h"
 #include "rfe/types.h"
 
 /** Per-run counters of a fixed-point run. */
@@ -55,6 +58,34 @@ RFE_NODISCARD rfe_status_t rfe_replay_run_q31(const rfe_param_set_t *ps,
                                               const rfe_sensor_log_t *log, rfe_est_row_t *out,
                                               rfe_replay_q31_stats_t *stats, uint32_t *row_sat,
                                               size_t *bad_key);
+
+/**
+ * The fixed-point parameters of @p ps as rfe_replay_run_q31 derives them (the one place
+ * they are derived: mu_replay --real q31, the PIL data generator and the soak runner):
+ * rfe_replay_params_f64, then rfe_params_to_q31_f64.
+ * @param bad_key on RFE_ERR_PARAM as rfe_replay_params_f64; may be NULL.
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_PARAM; RFE_ERR_RANGE (a value outside its Q format).
+ */
+RFE_NODISCARD rfe_status_t rfe_replay_params_q31(const rfe_param_set_t *ps, rfe_params_q31_t *q,
+                                                 size_t *bad_key);
+
+/**
+ * One sensor row in the Q formats of rfe_sample_q31_t, as rfe_replay_run_q31 steps it
+ * (rfe_fix_from_double: rounded to nearest, saturated).
+ * @return the number of values that saturated.
+ */
+uint32_t rfe_replay_sample_q31(const rfe_sensor_row_t *row, rfe_sample_q31_t *s);
+
+/**
+ * The ESC sample of log row @p i in the Q formats of rfe_velocity_input_q31_t, as
+ * rfe_replay_run_observer_q31 steps it: rfe_replay_esc_input_f64's sample (the period the
+ * time stamps' difference in double; the optional columns when the log has them) with each
+ * value rounded by rfe_fix_from_double; for tools that step the fixed-point observer
+ * themselves.
+ * @return the number of values that saturated.
+ */
+uint32_t rfe_replay_esc_input_q31(const rfe_sensor_log_t *log, size_t i,
+                                  rfe_velocity_input_q31_t *in);
 
 /**
  * The fixed-point twin of rfe_replay_run_observer_f64 (the parameters, samples and estimates

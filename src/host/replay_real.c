@@ -285,8 +285,7 @@ rfe_status_t rfe_replay_run(const rfe_param_set_t *ps, const rfe_sensor_log_t *l
     return RFE_OK;
 }
 
-/* The ESC sample of log row @p i (the period from the time stamps, in double). */
-static void esc_input(const rfe_sensor_log_t *log, size_t i, rfe_velocity_input_t *in)
+void rfe_replay_esc_input(const rfe_sensor_log_t *log, size_t i, rfe_velocity_input_t *in)
 {
     const rfe_sensor_row_t *row = &log->rows[i];
     size_t w;
@@ -338,7 +337,7 @@ rfe_status_t rfe_replay_run_observer(const rfe_param_set_t *ps, const rfe_sensor
     for (i = 0u; i < log->n_rows; ++i) {
         rfe_velocity_input_t in;
         rfe_pipeline_out_t o;
-        esc_input(log, i, &in);
+        rfe_replay_esc_input(log, i, &in);
         memset(&o, 0, sizeof o);
         st = rfe_pipeline_step(&pl, &in, &o);
         out[i].t = log->rows[i].t;

@@ -15,6 +15,7 @@
 #include "param_file.h"
 #include "rfe/params.h"
 #include "rfe/types.h"
+#include "rfe/velocity.h"
 #include "rfe/velocity_params.h"
 
 /* Full names of the functions declared here: _f32 in the float build, _f64 with
@@ -23,6 +24,7 @@
 #define rfe_replay_run             rfe_replay_run_f64
 #define rfe_replay_run_observer    rfe_replay_run_observer_f64
 #define rfe_replay_sample_from_row rfe_replay_sample_from_row_f64
+#define rfe_replay_esc_input       rfe_replay_esc_input_f64
 #define rfe_param_set_preset       rfe_param_set_preset_f64
 #define rfe_replay_params          rfe_replay_params_f64
 #define rfe_replay_velocity_params rfe_replay_velocity_params_f64
@@ -31,6 +33,7 @@
 #define rfe_replay_run             rfe_replay_run_f32
 #define rfe_replay_run_observer    rfe_replay_run_observer_f32
 #define rfe_replay_sample_from_row rfe_replay_sample_from_row_f32
+#define rfe_replay_esc_input       rfe_replay_esc_input_f32
 #define rfe_param_set_preset       rfe_param_set_preset_f32
 #define rfe_replay_params          rfe_replay_params_f32
 #define rfe_replay_velocity_params rfe_replay_velocity_params_f32
@@ -102,6 +105,11 @@ RFE_NODISCARD rfe_status_t rfe_replay_run_observer_f64(const rfe_param_set_t *ps
 /** The library sample of a log row (each field rounded to the build's real type), as the
  *  replay steps it; for tests and tools that step the estimator themselves. */
 void rfe_replay_sample_from_row(const rfe_sensor_row_t *row, rfe_sample_t *s);
+
+/** The ESC sample of log row @p i as rfe_replay_run_observer steps it (the period from the
+ *  time stamps' difference in double, then each field rounded to the build's real type);
+ *  for tools that step the observer themselves (the PIL data generator). */
+void rfe_replay_esc_input(const rfe_sensor_log_t *log, size_t i, rfe_velocity_input_t *in);
 
 /**
  * Fills @p ps from the library's preset @p preset (every key of the table, tyre, filter;

@@ -25,6 +25,12 @@
 #define RFE_MAGIC_EST_Q31 0x45513331u /* "EQ31" */
 #define RFE_MAGIC_VEL_Q31 0x56513331u /* "VQ31" */
 
+/** 1 when |v| <= lim (lim >= 0), without forming |v| (INT32_MIN is a valid input), else 0. */
+static inline int rfe_q31_within(rfe_fix_t v, rfe_fix_t lim)
+{
+    return ((v <= lim) && (v >= -lim)) ? 1 : 0;
+}
+
 /** 2^s as an int64 multiplier (0 <= s <= 62): a left shift is a multiplication by it (no
  *  shift of a signed value). */
 static inline int64_t rfe_q31_pow2(unsigned int s)

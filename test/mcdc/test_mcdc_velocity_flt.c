@@ -12,7 +12,8 @@
  * state bit for bit untouched; the all-valid call, the other half of each pair, succeeds.
  * Then the driving-state decision with a drive-torque input (braked, no torque, torque) and
  * the input-noise setter's finiteness checks with +-infinity (which, unlike NaN, fails
- * only the finiteness condition of each pair).
+ * only the finiteness condition of each pair) and its sign checks with finite negatives, and
+ * the conversion of the observer's parameters to Q formats with each NULL argument.
  *
  * No tolerances: statuses and flags are exact, "untouched" is compared with memcmp.
  */
@@ -20,10 +21,12 @@
 
 #include <string.h>
 
+#include "rfe/component/params_conv.h"
 #include "rfe/config.h"
 #include "rfe/friction.h"
 #include "rfe/pipeline.h"
 #include "rfe/velocity.h"
+#include "rfe/velocity_params_q31.h"
 
 static rfe_params_t veh;
 static rfe_velocity_params_t vpar;
@@ -99,17 +102,39 @@ static void test_params_one_at_a_time(void **state)
     size_t b;
     (void)state;
     assert_int_equal(rfe_velocity_params_validate(&vpar), RFE_OK);
-    for (f = 0u; f < 12u; ++f) {
+    for (f = 0u; f < 13u; ++f) {
         for (b = 0u; b < 2u; ++b) {
             rfe_velocity_params_t p = vpar;
-            rfe_real_t *const field[12] = {&p.q_jerk,      &p.sd_r,       &p.sd_ax,
-                                           &p.sd_ay,       &p.dvy,        &p.v_lat_min,
-                                           &p.sd_lowspeed, &p.mu_default, &p.sd_vydot,
-                                           &p.steer_ratio, &p.dt_min,     &p.dt_max};
+            rfe_real_t *const field[13] = {&p.q_jerk,      &p.sd_r,          &p.sd_ax,
+                                           &p.sd_ay,       &p.dvy,           &p.v_lat_min,
+                                           &p.sd_lowspeed, &p.mu_default,    &p.sd_vydot,
+                                           &p.steer_ratio, &p.sd_model_rdot, &p.dt_min,
+                                           &p.dt_max};
             *field[f] = bad[b];
             assert_int_equal(rfe_velocity_params_validate(&p), RFE_ERR_PARAM);
         }
     }
+    {
+        rfe_velocity_params_t p = vpar; /* finite, not positive: the sign condition alone */
+        p.dt_min = (rfe_real_t)0.0;
+        assert_int_equal(rfe_velocity_params_validate(&p), RFE_ERR_PARAM);
+    }
+}
+
+/* REQ: the conversion to Q formats rejects each NULL argument alone and leaves the output
+ * untouched. */
+/* REQ-FXP-015 */
+static void test_params_to_q31_null_one_at_a_time(void **state)
+{
+    rfe_velocity_params_q31_t q;
+    rfe_velocity_params_q31_t before;
+    (void)state;
+    memset(&q, 0x5A, sizeof q);
+    before = q;
+    assert_int_equal(rfe_velocity_params_to_q31(NULL, &q), RFE_ERR_NULL);
+    assert_memory_equal(&q, &before, sizeof q);
+    assert_int_equal(rfe_velocity_params_to_q31(&vpar, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_velocity_params_to_q31(&vpar, &q), RFE_OK);
 }
 
 /* REQ: a non-finite wheel speed, brake pressure or drive torque alone is RFE_ERR_NONFINITE,
@@ -233,12 +258,17 @@ static void test_input_noise_infinite_one_at_a_time(void **state)
     assert_int_equal(rfe_friction_set_input_noise(&est, inf, ok, ok), RFE_ERR_RANGE);
     assert_int_equal(rfe_friction_set_input_noise(&est, ok, inf, ok), RFE_ERR_RANGE);
     assert_int_equal(rfe_friction_set_input_noise(&est, ok, ok, inf), RFE_ERR_RANGE);
+    /* finite and negative (r_yaw_acc: zero): the sign conditions alone */
+    assert_int_equal(rfe_friction_set_input_noise(&est, -ok, ok, ok), RFE_ERR_RANGE);
+    assert_int_equal(rfe_friction_set_input_noise(&est, ok, -ok, ok), RFE_ERR_RANGE);
+    assert_int_equal(rfe_friction_set_input_noise(&est, ok, ok, (rfe_real_t)0.0), RFE_ERR_RANGE);
 }
 
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_params_one_at_a_time),
+        cmocka_unit_test(test_params_to_q31_null_one_at_a_time),
         cmocka_unit_test(test_nonfinite_wheel_inputs_one_at_a_time),
         cmocka_unit_test(test_limits_one_at_a_time),
         cmocka_unit_test(test_driving_state_by_torque),

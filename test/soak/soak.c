@@ -2,8 +2,10 @@
  * @file soak.c
  * @brief The soak run: a long simulated drive (scripts/data/soak_drive.py) through every variant
  *        of the estimator (float, double and, built with -DSOAK_Q31, the fixed-point one) in
- *        the paper preset (SCKF, CKF) and the default preset, the invariants checked at
- *        every step; prints a summary (for q31 also the saturation counts) and writes it as
+ *        the paper preset (SCKF, CKF) and the default preset, then through the composed
+ *        pipeline (velocity observer + friction estimator, float and double), the
+ *        invariants checked at every step; prints a summary (for q31 also the saturation
+ *        counts, for the pipeline the observer's vx, vy against the log) and writes it as
  *        JSON.
  *
  *     build/soak/soak --in DRIVE.csv [--json SUMMARY.json]
@@ -38,7 +40,18 @@ static const soak_cfg_t CFGS[] = {
     {"default.sckf", 1, 0},
 };
 
+/* The composed pipeline: the observer needs no measured vx, vy, yaw_acc (a production car). */
+static const struct {
+    const char *name;
+    soak_fn_t run;
+} PIPELINES[] = {
+    {"float", soak_run_pipeline_f32},
+    {"double", soak_run_pipeline_f64},
+};
+static const soak_cfg_t PIPELINE_CFG = {"pipeline", 1, 0};
+
 #define N_VARIANTS (sizeof VARIANTS / sizeof VARIANTS[0])
+#define N_PIPELINES (sizeof PIPELINES / sizeof PIPELINES[0])
 #define N_CFGS (sizeof CFGS / sizeof CFGS[0])
 
 int main(int argc, char **argv)
@@ -47,6 +60,7 @@ int main(int argc, char **argv)
     rfe_sensor_log_t log;
     rfe_io_error_t err;
     soak_result_t res[N_VARIANTS][N_CFGS];
+    soak_result_t res_pl[N_PIPELINES];
     size_t v, c;
     int i, failed = 0;
     FILE *jf = NULL;
@@ -100,6 +114,31 @@ int main(int argc, char **argv)
             }
         }
     }
+    printf("%-7s %-13s %8s %6s %6s %12s %13s %8s %6s %6s %8s %7s %8s %7s %7s %6s\n", "variant",
+           "config", "steps", "ok%", "err", "mu min..max", "sd min..max", "valid%", "rmse_v",
+           "cons_v", "vx_rmse", "vx_2sd", "vy_rmse", "vy_max", "vy_2sd", "us/st");
+    for (v = 0; v < N_PIPELINES; ++v) {
+        soak_result_t *r = &res_pl[v];
+        double n;
+        if (PIPELINES[v].run(&log, in, &PIPELINE_CFG, r) != 0) {
+            rfe_sensor_log_free(&log);
+            return 2;
+        }
+        n = (double)(r->steps ? r->steps : 1);
+        printf("%-7s %-13s %8ld %5.1f%% %6ld %5.3f..%5.3f %6.4f..%5.3f %7.1f%% %6.3f %5.1f%% "
+               "%8.3f %6.1f%% %8.3f %7.3f %6.1f%% %6.1f\n",
+               PIPELINES[v].name, PIPELINE_CFG.name, r->steps,
+               100.0 * (double)(r->status[0] + r->status[1]) / n, r->failed_valid, r->mu_lo,
+               r->mu_hi, r->sd_lo, r->sd_hi, 100.0 * (double)r->n_valid / (4.0 * n),
+               r->rmse_valid, 100.0 * r->consistent_valid, r->obs_rmse_vx,
+               100.0 * r->obs_cons_vx, r->obs_rmse_vy, r->obs_max_err_vy, 100.0 * r->obs_cons_vy,
+               r->us_per_step);
+        if (r->violations > 0) {
+            printf("  FAILED: %ld step(s) broke an invariant; first at step %ld, %s\n",
+                   r->violations, r->first_violation_step, r->first_violation);
+            failed = 1;
+        }
+    }
     if (json != NULL && (jf = fopen(json, "w")) != NULL) {
         fprintf(jf, "{\n \"input\": \"%s\",\n \"steps\": %zu,\n \"runs\": [\n", in, log.n_rows);
         for (v = 0; v < N_VARIANTS; ++v) {
@@ -128,6 +167,23 @@ int main(int argc, char **argv)
                         r->input_sat_rows, r->sat_steps, r->sat_total, r->sat_max,
                         (v + 1 == N_VARIANTS && c + 1 == N_CFGS) ? "" : ",");
             }
+        }
+        fprintf(jf, " ],\n \"pipeline_runs\": [\n");
+        for (v = 0; v < N_PIPELINES; ++v) {
+            const soak_result_t *r = &res_pl[v];
+            fprintf(jf, "  {\"variant\": \"%s\", \"config\": \"%s\", \"steps\": %ld, "
+                        "\"failed\": %ld, \"violations\": %ld, \"projected\": %ld, "
+                        "\"mu_min\": %.9g, \"mu_max\": %.9g, \"sd_min\": %.9g, \"sd_max\": %.9g, "
+                        "\"valid_share\": %.6f, \"rmse_valid\": %.6f, \"consistent_valid\": %.6f, "
+                        "\"observer_steps\": %ld, \"vx_rmse\": %.6f, \"vx_max_err\": %.6f, "
+                        "\"vx_within_2sd\": %.6f, \"vy_rmse\": %.6f, \"vy_max_err\": %.6f, \"vy_within_2sd\": %.6f, "
+                        "\"us_per_step\": %.3f}%s\n",
+                    PIPELINES[v].name, PIPELINE_CFG.name, r->steps, r->failed_valid,
+                    r->violations, r->projected, r->mu_lo, r->mu_hi, r->sd_lo, r->sd_hi,
+                    (double)r->n_valid / (4.0 * (double)(r->steps ? r->steps : 1)),
+                    r->rmse_valid, r->consistent_valid, r->obs_steps, r->obs_rmse_vx,
+                    r->obs_max_err_vx, r->obs_cons_vx, r->obs_rmse_vy, r->obs_max_err_vy, r->obs_cons_vy,
+                    r->us_per_step, v + 1 == N_PIPELINES ? "" : ",");
         }
         fprintf(jf, " ]\n}\n");
         fclose(jf);

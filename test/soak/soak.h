@@ -4,7 +4,8 @@
  *        every invariant checked at every step (test/support/invariants.h), a summary.
  *
  * soak_run.c is compiled once per number type and defines soak_run_f32 / soak_run_f64
- * (as soak_run, named below); soak_run_q31.c runs the fixed-point estimator; soak.c reads the log once and
+ * (as soak_run, named below); soak_run_pipeline.c likewise runs the composed pipeline
+ * (observer + friction estimator); soak_run_q31.c runs the fixed-point estimator; soak.c reads the log once and
  * calls each variant for each configuration.
  */
 #ifndef RFE_SOAK_H
@@ -47,20 +48,33 @@ typedef struct {
     long sat_steps;                   /**< steps whose estimate reports saturations */
     unsigned long long sat_total;     /**< sum of the per-step saturation counts */
     unsigned long sat_max;            /**< the largest per-step count */
+    /* the composed pipeline only (0 otherwise): the observer against the log's vx, vy where
+     * vx >= v_lat_min */
+    long obs_steps;                   /**< accepted steps compared */
+    double obs_rmse_vx, obs_max_err_vx, obs_cons_vx; /**< cons: share within 2 sd */
+    double obs_rmse_vy, obs_max_err_vy, obs_cons_vy;
 } soak_result_t;
 
 /** Runs the configuration over the whole log; 0, or -1 when init fails (message on stderr). */
 /* soak_run.c's short name: the twin of the including translation unit's precision. */
 #if defined(RFE_REAL_DOUBLE)
 #define soak_run soak_run_f64
+#define soak_run_pipeline soak_run_pipeline_f64
 #else
 #define soak_run soak_run_f32
+#define soak_run_pipeline soak_run_pipeline_f32
 #endif
 
 int soak_run_f32(const rfe_sensor_log_t *log, const char *log_name, const soak_cfg_t *cfg,
                  soak_result_t *res);
 int soak_run_f64(const rfe_sensor_log_t *log, const char *log_name, const soak_cfg_t *cfg,
                  soak_result_t *res);
+/** The composed pipeline (soak_run_pipeline.c, float and double), the default preset with
+ *  the observer's parameters of the log (cfg names the run only). */
+int soak_run_pipeline_f32(const rfe_sensor_log_t *log, const char *log_name, const soak_cfg_t *cfg,
+                          soak_result_t *res);
+int soak_run_pipeline_f64(const rfe_sensor_log_t *log, const char *log_name, const soak_cfg_t *cfg,
+                          soak_result_t *res);
 /** The fixed-point estimator (soak_run_q31.c): parameters through the double path and
  *  rfe_params_to_q31_f64, samples rounded to the Q formats (as mu_replay --real q31). */
 int soak_run_q31(const rfe_sensor_log_t *log, const char *log_name, const soak_cfg_t *cfg,

@@ -1,9 +1,9 @@
 /**
  * @file soak_run_q31.c
  * @brief One soak run of the fixed-point estimator (rfe_friction_*_q31): parameters from the
- *        library preset and the log's metadata through the double path
- *        (rfe_replay_params_f64, rfe_params_to_q31_f64), every row rounded to the Q formats
- *        of rfe_sample_q31_t (rfe_fix_from_double, as mu_replay --real q31), stepped and
+ *        library preset and the log's metadata, and every row in the Q formats of
+ *        rfe_sample_q31_t, both by mu_replay --real q31's own conversions
+ *        (rfe_replay_params_q31, rfe_replay_sample_q31: replay_q31.c), stepped and
  *        checked (invariants.h, the q31 block), saturations counted. A double translation
  *        unit (the parameter path is the double library's).
  */
@@ -19,10 +19,10 @@
 
 #include "invariants.h"
 #include "param_file.h"
+#include "replay_q31.h"
 #include "replay_real.h"
 #include "rfe/friction_q31.h"
 #include "host/fixed_conv.h"
-#include "rfe/component/params_conv.h"
 #include "soak.h"
 
 static int params_for(const rfe_sensor_log_t *log, const char *name, const soak_cfg_t *cfg,
@@ -30,8 +30,6 @@ static int params_for(const rfe_sensor_log_t *log, const char *name, const soak_
 {
     rfe_param_set_t ps;
     rfe_io_error_t err;
-    rfe_params_t p;
-    memset(&p, 0, sizeof(p));
     memset(q, 0, sizeof(*q)); /* padding included: rejected rows are compared with memcmp */
     if (rfe_param_set_preset_f64(&ps, cfg->preset_default ? RFE_PRESET_DEFAULT : RFE_PRESET_PAPER) != 0) {
         return -1;
@@ -41,28 +39,8 @@ static int params_for(const rfe_sensor_log_t *log, const char *name, const soak_
         return -1;
     }
     ps.filter = cfg->ckf ? RFE_FILTER_CKF : RFE_FILTER_SCKF;
-    if (rfe_replay_params_f64(&ps, &p, NULL) != RFE_OK || rfe_params_to_q31_f64(&p, q) != RFE_OK) {
-        return -1;
-    }
-    return 0;
-}
-
-/* The row in Q formats; returns the number of saturated values. */
-static uint32_t to_sample(const rfe_sensor_row_t *row, rfe_sample_q31_t *s)
-{
-    uint32_t sat = 0u;
-    size_t w;
-    s->delta = rfe_fix_from_double(row->delta, RFE_FIX_Q_ANGLE, &sat);
-    s->vx = rfe_fix_from_double(row->vx, RFE_FIX_Q_SPEED, &sat);
-    s->vy = rfe_fix_from_double(row->vy, RFE_FIX_Q_SPEED, &sat);
-    s->yaw_rate = rfe_fix_from_double(row->yaw_rate, RFE_FIX_Q_YAWRATE, &sat);
-    s->yaw_acc = rfe_fix_from_double(row->yaw_acc, RFE_FIX_Q_ACC, &sat);
-    s->ax = rfe_fix_from_double(row->ax, RFE_FIX_Q_ACC, &sat);
-    s->ay = rfe_fix_from_double(row->ay, RFE_FIX_Q_ACC, &sat);
-    for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
-        s->omega[w] = rfe_fix_from_double(row->omega[w], RFE_FIX_Q_OMEGA, &sat);
-    }
-    return sat;
+    /* mu_replay --real q31's own conversion (replay_q31.c) */
+    return rfe_replay_params_q31(&ps, q, NULL) == RFE_OK ? 0 : -1;
 }
 
 /* The row's class by the config.h limits, in double: 0 when a value is beyond its limit
@@ -111,7 +89,7 @@ int soak_run_q31(const rfe_sensor_log_t *log, const char *log_name, const soak_c
         char why[INV_WHY];
         const int in_limits = row_in_limits(row);
         int w, bad = 0;
-        if (to_sample(row, &u) != 0u) {
+        if (rfe_replay_sample_q31(row, &u) != 0u) {
             ++res->input_sat_rows;
         }
         if (!in_limits) {

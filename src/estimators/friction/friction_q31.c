@@ -247,27 +247,22 @@ rfe_status_t rfe_friction_init_q31(rfe_friction_q31_t *est, const rfe_params_q31
     return RFE_OK;
 }
 
-/* |v| <= lim without forming |v| (INT32_MIN is a valid input). */
-static int within_q31(rfe_fix_t v, rfe_fix_t lim)
-{
-    return ((v <= lim) && (v >= -lim)) ? 1 : 0;
-}
 
 /* RFE_ERR_RANGE for a physically implausible sample: the limits of config.h in Q formats. */
 static rfe_status_t check_sample_q31(const rfe_sample_q31_t *u)
 {
     size_t i;
-    if ((within_q31(u->delta, RFE_FIX_LIMIT_DELTA) == 0) ||
-        (within_q31(u->vx, RFE_FIX_LIMIT_VX) == 0) ||
-        (within_q31(u->vy, RFE_FIX_LIMIT_VY) == 0) ||
-        (within_q31(u->yaw_rate, RFE_FIX_LIMIT_YAW_RATE) == 0) ||
-        (within_q31(u->yaw_acc, RFE_FIX_LIMIT_YAW_ACC) == 0) ||
-        (within_q31(u->ax, RFE_FIX_LIMIT_ACC) == 0) ||
-        (within_q31(u->ay, RFE_FIX_LIMIT_ACC) == 0)) {
+    if ((rfe_q31_within(u->delta, RFE_FIX_LIMIT_DELTA) == 0) ||
+        (rfe_q31_within(u->vx, RFE_FIX_LIMIT_VX) == 0) ||
+        (rfe_q31_within(u->vy, RFE_FIX_LIMIT_VY) == 0) ||
+        (rfe_q31_within(u->yaw_rate, RFE_FIX_LIMIT_YAW_RATE) == 0) ||
+        (rfe_q31_within(u->yaw_acc, RFE_FIX_LIMIT_YAW_ACC) == 0) ||
+        (rfe_q31_within(u->ax, RFE_FIX_LIMIT_ACC) == 0) ||
+        (rfe_q31_within(u->ay, RFE_FIX_LIMIT_ACC) == 0)) {
         return RFE_ERR_RANGE;
     }
     for (i = 0u; i < NW; ++i) {
-        if (within_q31(u->omega[i], RFE_FIX_LIMIT_OMEGA) == 0) {
+        if (rfe_q31_within(u->omega[i], RFE_FIX_LIMIT_OMEGA) == 0) {
             return RFE_ERR_RANGE;
         }
     }

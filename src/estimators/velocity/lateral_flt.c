@@ -2,7 +2,8 @@
  * @file lateral_flt.c
  * @brief The lateral filter [vy, b_y] (docs/OBSERVER.md §4): ay - r vx integrated, held by
  *        the friction estimator's own measurement model (rfe/component/meas.h) at its last
- *        friction, which the measured ay bounds from below.
+ *        friction, which the measured ay bounds from below: its lateral acceleration against
+ *        the measured ay, its yaw acceleration against the differentiator's.
  */
 #include "estimators/velocity/velocity_internal.h"
 
@@ -10,13 +11,24 @@
 
 #include "numerics/internal.h"
 
-/* The lateral row of h(mu, u) at vy (MODEL.md §3-5), and, when @p mu_hi is not NULL, at
- * the raised friction too (same kinematics: one set-up). */
-static rfe_status_t model_ay(const rfe_velocity_t *obs, const rfe_velocity_input_t *in,
-                             rfe_real_t vx, rfe_real_t vy, const rfe_real_t mu[RFE_WHEELS],
-                             const rfe_real_t *mu_hi, rfe_real_t *ay, rfe_real_t *ay_hi)
+/* The model's rows used (§4.2): the lateral acceleration (row 1) and the yaw acceleration
+ * (row 2) of h(mu, u). */
+typedef struct {
+    rfe_real_t at[2];  /**< at vy */
+    rfe_real_t dvy[2]; /**< at vy + dvy */
+    rfe_real_t hi[2];  /**< at vy, at the raised friction mu_hi */
+} model_rows_t;
+
+/* The rows of h(mu, u) at vy, at vy + dvy and at the raised friction @p mu_hi (§4.2), from
+ * one set-up: the step at vy + dvy re-evaluates only the tyre forces
+ * (rfe_meas_eval_perturbed), bit for bit what a second set-up at vy + dvy would give. */
+static rfe_status_t model_rows(const rfe_velocity_t *obs, const rfe_velocity_input_t *in,
+                               rfe_real_t vx, rfe_real_t vy, rfe_real_t dvy,
+                               const rfe_real_t mu[RFE_WHEELS],
+                               const rfe_real_t mu_hi[RFE_WHEELS], model_rows_t *rows)
 {
     rfe_meas_t h;
+    rfe_meas_terms_t nom;
     rfe_real_t z[RFE_MEAS];
     rfe_sample_t u;
     size_t i;
@@ -33,12 +45,20 @@ static rfe_status_t model_ay(const rfe_velocity_t *obs, const rfe_velocity_input
     }
     st = rfe_meas_setup(&h, &obs->veh, &obs->tyre, &u);
     if (st == RFE_OK) {
-        st = rfe_meas_eval(&h, &obs->veh, &obs->tyre, mu, z);
-        *ay = z[1];
+        st = rfe_meas_nominal(&h, &obs->veh, &obs->tyre, mu, &nom, z);
+        rows->at[0] = z[1];
+        rows->at[1] = z[2];
     }
-    if ((st == RFE_OK) && (mu_hi != NULL)) {
+    if (st == RFE_OK) {
+        st = rfe_meas_eval_perturbed(&h, &obs->veh, &obs->tyre, &nom, &u, (size_t)RFE_IN_VY,
+                                     dvy, mu, z);
+        rows->dvy[0] = z[1];
+        rows->dvy[1] = z[2];
+    }
+    if (st == RFE_OK) {
         st = rfe_meas_eval(&h, &obs->veh, &obs->tyre, mu_hi, z);
-        *ay_hi = z[1];
+        rows->hi[0] = z[1];
+        rows->hi[1] = z[2];
     }
     return st;
 }
@@ -83,24 +103,30 @@ rfe_status_t rfe_vel_lateral_step(rfe_kf2_t *f, const rfe_velocity_t *obs,
     if (vx >= p->v_lat_min) {
         rfe_real_t m[RFE_WHEELS];
         rfe_real_t m_hi[RFE_WHEELS];
-        rfe_real_t ay0 = RFE_R(0.0);
-        rfe_real_t ay_mu = RFE_R(0.0);
-        rfe_real_t ay_h = RFE_R(0.0);
+        model_rows_t z;
         const rfe_real_t vy_pred = k.x[0];
         if (model_friction(p, obs->veh.g, in->ay, mu, m, m_hi) != 0) {
             fl |= RFE_VEL_FLAG_MU_RAISED;
         }
-        st = model_ay(obs, in, vx, vy_pred, m, m_hi, &ay0, &ay_mu);
+        st = model_rows(obs, in, vx, vy_pred, p->dvy, m, m_hi, &z);
         if (st == RFE_OK) {
-            st = model_ay(obs, in, vx, vy_pred + p->dvy, m, NULL, &ay_h, NULL);
-        }
-        if (st == RFE_OK) {
-            const rfe_real_t h0 = (ay_h - ay0) / p->dvy;
-            const rfe_real_t e_mu = ay_mu - ay0;
+            const rfe_real_t h0 = (z.dvy[0] - z.at[0]) / p->dvy;
+            const rfe_real_t e_mu = z.hi[0] - z.at[0];
             const rfe_real_t rel = p->model_ay_rel * in->ay;
             const rfe_real_t r = ((p->sd_model_ay * p->sd_model_ay) + (rel * rel)) + (e_mu * e_mu);
-            st = rfe_kf2_update(&k, h0, RFE_R(0.0), in->ay - ay0, r);
+            st = rfe_kf2_update(&k, h0, RFE_R(0.0), in->ay - z.at[0], r);
             fl |= RFE_VEL_FLAG_VY_MODEL;
+        }
+        if (st == RFE_OK) {
+            /* §4.2 the yaw moment balance: the differentiator's r-dot against the model's, at
+             * the same linearisation point vy_pred (sequential update: the innovation is taken
+             * at the vy the lateral row left) */
+            const rfe_real_t h1 = (z.dvy[1] - z.at[1]) / p->dvy;
+            const rfe_real_t e_mu = z.hi[1] - z.at[1];
+            const rfe_real_t r = ((p->sd_model_rdot * p->sd_model_rdot) + (e_mu * e_mu)) +
+                                 obs->yaw.p11;
+            st = rfe_kf2_update(&k, h1, RFE_R(0.0),
+                                obs->yaw.x[1] - (z.at[1] + (h1 * (k.x[0] - vy_pred))), r);
         }
     } else {
         /* §4.3 low speed: the rear axle rolls without side slip, vy = Lr r */

@@ -45,11 +45,6 @@ rfe_status_t rfe_velocity_init_q31(rfe_velocity_q31_t *obs, const rfe_velocity_p
     return RFE_OK;
 }
 
-/* |v| <= lim (lim > 0). */
-static int within_q31(rfe_fix_t v, rfe_fix_t lim)
-{
-    return ((v <= lim) && (v >= -lim)) ? 1 : 0;
-}
 
 /* §1 the per-wheel inputs inside their limits: |omega|, |p|, |torque|, 0 <= mu <= 2,
  * sd >= 0. */
@@ -57,9 +52,9 @@ static int wheels_in_range_q31(const rfe_velocity_input_q31_t *in, const rfe_vel
 {
     size_t i;
     for (i = 0u; i < RFE_WHEELS; ++i) {
-        if ((within_q31(in->omega[i], RFE_FIX_LIMIT_OMEGA) == 0) ||
-            (within_q31(in->p_brake[i], RFE_FIX_LIMIT_PRESSURE) == 0) ||
-            (within_q31(in->torque[i], RFE_FIX_LIMIT_TORQUE) == 0)) {
+        if ((rfe_q31_within(in->omega[i], RFE_FIX_LIMIT_OMEGA) == 0) ||
+            (rfe_q31_within(in->p_brake[i], RFE_FIX_LIMIT_PRESSURE) == 0) ||
+            (rfe_q31_within(in->torque[i], RFE_FIX_LIMIT_TORQUE) == 0)) {
             return 0;
         }
         if ((mu != NULL) &&
@@ -76,11 +71,11 @@ static rfe_status_t check_input_q31(const rfe_velocity_q31_t *obs,
                                     const rfe_velocity_input_q31_t *in,
                                     const rfe_velocity_mu_q31_t *mu)
 {
-    if ((within_q31(in->delta, RFE_FIX_LIMIT_DELTA) == 0) ||
-        (within_q31(in->yaw_rate, RFE_FIX_LIMIT_YAW_RATE) == 0) ||
-        (within_q31(in->ax, RFE_FIX_LIMIT_ACC) == 0) ||
-        (within_q31(in->ay, RFE_FIX_LIMIT_ACC) == 0) ||
-        (within_q31(in->grade, RFE_FIX_LIMIT_GRADE) == 0) || (wheels_in_range_q31(in, mu) == 0)) {
+    if ((rfe_q31_within(in->delta, RFE_FIX_LIMIT_DELTA) == 0) ||
+        (rfe_q31_within(in->yaw_rate, RFE_FIX_LIMIT_YAW_RATE) == 0) ||
+        (rfe_q31_within(in->ax, RFE_FIX_LIMIT_ACC) == 0) ||
+        (rfe_q31_within(in->ay, RFE_FIX_LIMIT_ACC) == 0) ||
+        (rfe_q31_within(in->grade, RFE_FIX_LIMIT_GRADE) == 0) || (wheels_in_range_q31(in, mu) == 0)) {
         return RFE_ERR_RANGE;
     }
     if ((obs->started != 0u) && ((in->dt < obs->p.dt_min) || (in->dt > obs->p.dt_max))) {

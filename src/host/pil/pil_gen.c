@@ -5,12 +5,17 @@
  *        and in the Q formats, exactly as `mu_replay` derives them for the same options.
  *
  *   pil_gen --in LOG.csv --out DATA.c [--preset paper|default] [--filter sckf|ckf]
- *           [--tyre paper|absolute] [--rows N]
+ *           [--tyre paper|absolute] [--rows N] [--estimator friction|pipeline]
+ *
+ * --estimator pipeline (float only): the composed pipeline of a production car's sensors
+ * (rfe/pipeline.h) instead of the friction estimator: the parameters, the observer's
+ * parameters (rfe_replay_velocity_params: its obs_* keys) and the ESC samples exactly as
+ * `mu_replay --velocity observer --real float` steps them (rfe_replay_esc_input).
  *
  * Parameters: the library preset, then the log's `# key = value` metadata, then --filter and
  * --tyre (mu_replay's order). Float: rfe_replay_params_f32 (the keys' doubles rounded to
- * float); fixed point: pil_gen_params_q31 (double path, then rfe_params_to_q31_f64). Samples:
- * float = (float)value as replay_real.c; fixed = rfe_fix_from_double as replay_q31.c. Floats
+ * float); fixed point: rfe_replay_params_q31 (double path, then rfe_params_to_q31_f64). Samples:
+ * float = (float)value as replay_real.c; fixed = rfe_replay_sample_q31 (replay_q31.c). Floats
  * are written as hexadecimal literals and Q values as integers, so the target sees the very
  * bits the host replay uses. Structs are written with positional initialisers, member by
  * member in declaration order, which the target compiler lays out for its own ABI (the
@@ -24,7 +29,7 @@
 
 #include "host/csv_log.h"
 #include "host/param_file.h"
-#include "pil_gen_q31.h"
+#include "host/replay_q31.h"
 #include "host/replay_real.h"
 #include "rfe/params.h"
 
@@ -66,17 +71,106 @@ static void put_q31_block(FILE *f, const rfe_params_q31_t *q, size_t start, size
     fputs("},\n", f);
 }
 
+/* The data of the friction estimator's image: fixed point under PIL_Q31, else float;
+ * returns how many values saturated in the Q formats. */
+static uint32_t put_friction(FILE *f, const rfe_params_t *p, const rfe_params_q31_t *q,
+                             const rfe_sensor_log_t *log, size_t rows)
+{
+    uint32_t in_sat = 0u;
+    size_t i, w;
+    fputs("#if defined(PIL_Q31)\nconst rfe_params_q31_t pil_params = {\n", f);
+    put_q31_block(f, q, offsetof(rfe_params_q31_t, vehicle), sizeof(rfe_vehicle_q31_t));
+    put_q31_block(f, q, offsetof(rfe_params_q31_t, tyre), sizeof(rfe_tyre_params_q31_t));
+    put_q31_block(f, q, offsetof(rfe_params_q31_t, filter), sizeof(rfe_filter_params_q31_t));
+    fputs("};\n\nconst rfe_sample_q31_t pil_samples[] = {\n", f);
+    for (i = 0u; i < rows; ++i) {
+        rfe_sample_q31_t s;
+        in_sat += rfe_replay_sample_q31(&log->rows[i], &s);
+        fprintf(f, "    {%" PRId32 ", %" PRId32 ", %" PRId32 ", %" PRId32 ", %" PRId32 ", %" PRId32 ", %" PRId32 ", {",
+                s.delta, s.vx, s.vy, s.yaw_rate, s.yaw_acc, s.ax, s.ay);
+        for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
+            fprintf(f, "%s%" PRId32, w == 0u ? "" : ", ", s.omega[w]);
+        }
+        fputs("}},\n", f);
+    }
+    fputs("};\n#else\nconst rfe_params_t pil_params = {\n", f);
+    put_float_block(f, p, offsetof(rfe_params_t, vehicle), sizeof(rfe_vehicle_t));
+    put_float_block(f, p, offsetof(rfe_params_t, tyre), sizeof(rfe_tyre_params_t));
+    put_float_block(f, p, offsetof(rfe_params_t, filter), sizeof(rfe_filter_params_t));
+    fputs("};\n\nconst rfe_sample_t pil_samples[] = {\n", f);
+    for (i = 0u; i < rows; ++i) {
+        const rfe_sensor_row_t *r = &log->rows[i];
+        fprintf(f, "    {%af, %af, %af, %af, %af, %af, %af, {", (double)(float)r->delta, (double)(float)r->vx,
+                (double)(float)r->vy, (double)(float)r->yaw_rate, (double)(float)r->yaw_acc,
+                (double)(float)r->ax, (double)(float)r->ay);
+        for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
+            fprintf(f, "%s%af", w == 0u ? "" : ", ", (double)(float)r->omega[w]);
+        }
+        fputs("}},\n", f);
+    }
+    fputs("};\n#endif\n", f);
+    return in_sat;
+}
+
+/* One float per element (hexadecimal literal: the exact bits). */
+static void put_floats(FILE *f, const float *v, size_t n)
+{
+    size_t k;
+    fputs("{", f);
+    for (k = 0u; k < n; ++k) {
+        fprintf(f, "%s%af", k == 0u ? "" : ", ", (double)v[k]);
+    }
+    fputs("}", f);
+}
+
+/* The float data of the pipeline image (PIL_PIPELINE): parameters, observer parameters and
+ * the ESC samples; rfe_velocity_params_t is driven (uint32_t) followed by floats only
+ * (checked in main). */
+static void put_pipeline(FILE *f, const rfe_params_t *p, const rfe_velocity_params_t *vp,
+                         const rfe_sensor_log_t *log, size_t rows)
+{
+    size_t i, off;
+    fputs("#if !defined(PIL_Q31)\nconst rfe_params_t pil_params = {\n", f);
+    put_float_block(f, p, offsetof(rfe_params_t, vehicle), sizeof(rfe_vehicle_t));
+    put_float_block(f, p, offsetof(rfe_params_t, tyre), sizeof(rfe_tyre_params_t));
+    put_float_block(f, p, offsetof(rfe_params_t, filter), sizeof(rfe_filter_params_t));
+    fprintf(f, "};\n\nconst rfe_velocity_params_t pil_velocity_params = {%" PRIu32, vp->driven);
+    for (off = sizeof vp->driven; off < sizeof *vp; off += sizeof(float)) {
+        float v;
+        memcpy(&v, (const char *)vp + off, sizeof v);
+        fprintf(f, ", %af", (double)v);
+    }
+    fputs("};\n\nconst rfe_velocity_input_t pil_inputs[] = {\n", f);
+    for (i = 0u; i < rows; ++i) {
+        rfe_velocity_input_t in;
+        rfe_replay_esc_input(log, i, &in);
+        fprintf(f, "    {%af, %af, %af, %af, %af, %af, ", (double)in.dt, (double)in.delta,
+                (double)in.steer_wheel, (double)in.yaw_rate, (double)in.ax, (double)in.ay);
+        put_floats(f, in.omega, (size_t)RFE_WHEELS);
+        fputs(", ", f);
+        put_floats(f, in.p_brake, (size_t)RFE_WHEELS);
+        fputs(", ", f);
+        put_floats(f, in.torque, (size_t)RFE_WHEELS);
+        fprintf(f, ", %af, %" PRIu32 "u},\n", (double)in.grade, in.has);
+    }
+    fputs("};\n#endif\n", f);
+}
+
 static int usage(const char *msg)
 {
     fprintf(stderr, "pil_gen: %s\nusage: pil_gen --in LOG.csv --out DATA.c [--preset paper|default] "
-                    "[--filter sckf|ckf] [--tyre paper|absolute] [--rows N]\n", msg);
+                    "[--filter sckf|ckf] [--tyre paper|absolute] [--rows N] "
+                    "[--estimator friction|pipeline]\n", msg);
     return 2;
 }
 
 int main(int argc, char **argv)
 {
     const char *in = NULL, *out = NULL, *preset = "paper", *filter = NULL, *tyre = NULL;
-    size_t rows = 0u, i, w;
+    const char *estimator = "friction";
+    int pipeline;
+    rfe_velocity_params_t vp;
+    size_t rows = 0u;
     rfe_sensor_log_t log;
     rfe_param_set_t ps;
     rfe_preset_t pid;
@@ -93,11 +187,16 @@ int main(int argc, char **argv)
         else if (strcmp(argv[a], "--preset") == 0) { preset = argv[a + 1]; }
         else if (strcmp(argv[a], "--filter") == 0) { filter = argv[a + 1]; }
         else if (strcmp(argv[a], "--tyre") == 0) { tyre = argv[a + 1]; }
+        else if (strcmp(argv[a], "--estimator") == 0) { estimator = argv[a + 1]; }
         else if (strcmp(argv[a], "--rows") == 0) { rows = (size_t)strtoul(argv[a + 1], NULL, 10); }
         else { return usage("unknown option"); }
     }
     if (a != argc || in == NULL || out == NULL) {
         return usage("--in and --out are required");
+    }
+    pipeline = strcmp(estimator, "pipeline") == 0;
+    if (!pipeline && strcmp(estimator, "friction") != 0) {
+        return usage("bad --estimator");
     }
     if (rfe_preset_parse(preset, &pid) != 0) {
         return usage("bad --preset");
@@ -118,7 +217,14 @@ int main(int argc, char **argv)
     if (tyre != NULL && rfe_tyre_mode_parse(tyre, &ps.tyre) != 0) {
         return usage("bad --tyre");
     }
-    if (rfe_replay_params_f32(&ps, &p, NULL) != RFE_OK || pil_gen_params_q31(&ps, &q) != RFE_OK) {
+    if (pipeline && (log.omega_linear != 0 || log.has_swa != 0)) {
+        /* mu_replay converts these from the parameters first; the PIL logs need not */
+        fprintf(stderr, "pil_gen: %s: wheel speeds in km/h or a steering-wheel angle: not "
+                        "supported for --estimator pipeline\n", in);
+        return 1;
+    }
+    if (rfe_replay_params_f32(&ps, &p, NULL) != RFE_OK ||
+        (pipeline ? rfe_replay_velocity_params_f32(&ps, &vp, NULL) : rfe_replay_params_q31(&ps, &q, NULL)) != RFE_OK) {
         fprintf(stderr, "pil_gen: %s: the parameters are rejected\n", in);
         return 1;
     }
@@ -130,7 +236,8 @@ int main(int argc, char **argv)
     if (sizeof(rfe_params_t) != sizeof(rfe_vehicle_t) + sizeof(rfe_tyre_params_t) + sizeof(rfe_filter_params_t) ||
         sizeof(rfe_params_q31_t) != sizeof(rfe_vehicle_q31_t) + sizeof(rfe_tyre_params_q31_t) + sizeof(rfe_filter_params_q31_t) ||
         sizeof(float) != 4u || sizeof(rfe_tyre_mode_t) != 4u || sizeof(rfe_params_t) % 4u != 0u ||
-        sizeof(rfe_params_q31_t) % 4u != 0u) {
+        sizeof(rfe_params_q31_t) % 4u != 0u || offsetof(rfe_velocity_params_t, driven) != 0u ||
+        sizeof vp.driven != sizeof(float) || sizeof vp % sizeof(float) != 0u) {
         fprintf(stderr, "pil_gen: unexpected parameter struct layout on the host\n");
         return 1;
     }
@@ -144,37 +251,11 @@ int main(int argc, char **argv)
             in, preset, rfe_filter_kind_str(ps.filter), rfe_tyre_mode_str(ps.tyre));
     fputs("#include \"pil_data.h\"\n\n", f);
     fprintf(f, "const uint32_t pil_n_samples = %zuu;\n\n", rows);
-    fputs("#if defined(PIL_Q31)\nconst rfe_params_q31_t pil_params = {\n", f);
-    put_q31_block(f, &q, offsetof(rfe_params_q31_t, vehicle), sizeof(rfe_vehicle_q31_t));
-    put_q31_block(f, &q, offsetof(rfe_params_q31_t, tyre), sizeof(rfe_tyre_params_q31_t));
-    put_q31_block(f, &q, offsetof(rfe_params_q31_t, filter), sizeof(rfe_filter_params_q31_t));
-    fputs("};\n\nconst rfe_sample_q31_t pil_samples[] = {\n", f);
-    for (i = 0u; i < rows; ++i) {
-        rfe_sample_q31_t s;
-        in_sat += pil_gen_sample_q31(&log.rows[i], &s);
-        fprintf(f, "    {%" PRId32 ", %" PRId32 ", %" PRId32 ", %" PRId32 ", %" PRId32 ", %" PRId32 ", %" PRId32 ", {",
-                s.delta, s.vx, s.vy, s.yaw_rate, s.yaw_acc, s.ax, s.ay);
-        for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
-            fprintf(f, "%s%" PRId32, w == 0u ? "" : ", ", s.omega[w]);
-        }
-        fputs("}},\n", f);
+    if (pipeline) {
+        put_pipeline(f, &p, &vp, &log, rows);
+    } else {
+        in_sat = put_friction(f, &p, &q, &log, rows);
     }
-    fputs("};\n#else\nconst rfe_params_t pil_params = {\n", f);
-    put_float_block(f, &p, offsetof(rfe_params_t, vehicle), sizeof(rfe_vehicle_t));
-    put_float_block(f, &p, offsetof(rfe_params_t, tyre), sizeof(rfe_tyre_params_t));
-    put_float_block(f, &p, offsetof(rfe_params_t, filter), sizeof(rfe_filter_params_t));
-    fputs("};\n\nconst rfe_sample_t pil_samples[] = {\n", f);
-    for (i = 0u; i < rows; ++i) {
-        const rfe_sensor_row_t *r = &log.rows[i];
-        fprintf(f, "    {%af, %af, %af, %af, %af, %af, %af, {", (double)(float)r->delta, (double)(float)r->vx,
-                (double)(float)r->vy, (double)(float)r->yaw_rate, (double)(float)r->yaw_acc,
-                (double)(float)r->ax, (double)(float)r->ay);
-        for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
-            fprintf(f, "%s%af", w == 0u ? "" : ", ", (double)(float)r->omega[w]);
-        }
-        fputs("}},\n", f);
-    }
-    fputs("};\n#endif\n", f);
     if (fclose(f) != 0) {
         perror(out);
         return 1;

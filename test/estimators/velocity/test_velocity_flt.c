@@ -8,6 +8,7 @@
 
 #include <string.h>
 
+#include "rfe/component/meas.h"
 #include "rfe/config.h"
 #include "rfe/velocity.h"
 
@@ -249,6 +250,74 @@ static void test_a_too_low_friction_is_raised_by_the_measured_ay(void **state)
     assert_true((e.flags & RFE_VEL_FLAG_VY_MODEL) != 0u);
 }
 
+/* A steady turn (vx 20 m/s, r 0.2 rad/s, ay = r vx, delta 0.08 rad, measured r constant so
+ * the differentiator's r-dot is 0) with the lateral row's error made huge: only the yaw row
+ * can move vy, over 3 s. Returns the final vy. */
+static rfe_real_t vy_in_a_turn_by_the_yaw_row(rfe_real_t sd_model_rdot)
+{
+    rfe_velocity_estimate_t e;
+    rfe_velocity_input_t in;
+    const rfe_velocity_mu_t mu = {{1.0f, 1.0f, 1.0f, 1.0f}, {0.0f, 0.0f, 0.0f, 0.0f}};
+    size_t k;
+    setup_fixture();
+    fx.vp.sd_model_ay = 1000.0f;
+    fx.vp.sd_model_rdot = sd_model_rdot;
+    assert_int_equal(rfe_velocity_init(&fx.obs, &fx.vp, &fx.p), RFE_OK);
+    for (k = 0u; k <= 300u; ++k) {
+        in = rolling(20.0f, (k == 0u) ? 0.0f : 0.01f);
+        in.delta = 0.08f;
+        in.yaw_rate = 0.2f;
+        in.ay = 4.0f;
+        assert_int_equal(rfe_velocity_step(&fx.obs, &in, &mu, &e), RFE_OK);
+    }
+    return e.vy;
+}
+
+/* REQ-OBS-009 */
+static void test_the_yaw_row_moves_vy_towards_the_moment_balance(void **state)
+{
+    /* The expected direction from the model itself (rfe_meas, not the observer): at vy = 0
+     * the model's r-dot z2 is not the measured 0, and vy must move by -z2 / (dz2/dvy). */
+    rfe_meas_t h;
+    rfe_sample_t u;
+    rfe_real_t z0[RFE_MEAS];
+    rfe_real_t z1[RFE_MEAS];
+    const rfe_real_t mu[RFE_WHEELS] = {1.0f, 1.0f, 1.0f, 1.0f};
+    rfe_real_t vy_on;
+    rfe_real_t vy_off;
+    size_t i;
+    (void)state;
+    setup_fixture();
+    memset(&u, 0, sizeof(u));
+    u.delta = 0.08f;
+    u.vx = 20.0f;
+    u.yaw_rate = 0.2f;
+    u.ay = 4.0f;
+    for (i = 0u; i < RFE_WHEELS; ++i) {
+        u.omega[i] = 20.0f / fx.p.vehicle.R;
+    }
+    assert_int_equal(rfe_meas_setup(&h, &fx.obs.veh, &fx.obs.tyre, &u), RFE_OK);
+    assert_int_equal(rfe_meas_eval(&h, &fx.obs.veh, &fx.obs.tyre, mu, z0), RFE_OK);
+    u.vy = 0.01f;
+    assert_int_equal(rfe_meas_setup(&h, &fx.obs.veh, &fx.obs.tyre, &u), RFE_OK);
+    assert_int_equal(rfe_meas_eval(&h, &fx.obs.veh, &fx.obs.tyre, mu, z1), RFE_OK);
+    /* the case must be one where the yaw row has something to say: 0.1 rad/s^2 is twice the
+     * r-dot noise the differentiator leaves (OBSERVER.md §3.2) */
+    assert_true(fabsf((float)z0[2]) > 0.1f);
+    vy_on = vy_in_a_turn_by_the_yaw_row(fx.vp.sd_model_rdot);
+    vy_off = vy_in_a_turn_by_the_yaw_row(1000.0f);
+    /* vy moved the way the moment balance asks */
+    assert_true((vy_on * -(z0[2] * (z1[2] - z0[2]))) > 0.0f);
+    /* and by more than what the kinematics and the other rows move it without the yaw row:
+     * the factor 2 leaves room for the part of vy that the offset's update lets drift */
+    assert_true(fabsf((float)vy_on) > (2.0f * fabsf((float)vy_off)));
+    /* a yaw row with no error is not allowed (R could vanish) */
+    fx.vp.sd_model_rdot = 0.0f;
+    assert_int_equal(rfe_velocity_params_validate(&fx.vp), RFE_ERR_PARAM);
+    fx.vp.sd_model_rdot = (rfe_real_t)NAN;
+    assert_int_equal(rfe_velocity_params_validate(&fx.vp), RFE_ERR_PARAM);
+}
+
 /* REQ-OBS-004 */
 static void test_all_wheel_drive_wheels_only_bound_vx_from_above(void **state)
 {
@@ -362,6 +431,7 @@ int main(void)
         cmocka_unit_test(test_a_stop),
         cmocka_unit_test(test_not_initialised_and_nonfinite_friction),
         cmocka_unit_test(test_a_too_low_friction_is_raised_by_the_measured_ay),
+        cmocka_unit_test(test_the_yaw_row_moves_vy_towards_the_moment_balance),
         cmocka_unit_test(test_all_wheel_drive_wheels_only_bound_vx_from_above),
         cmocka_unit_test(test_vx_never_goes_negative),
         cmocka_unit_test(test_steering_wheel_angle_through_the_ratio),
