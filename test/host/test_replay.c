@@ -488,6 +488,11 @@ static void test_rfe_replay_run_observer_q31_checks_its_arguments(void **state)
     assert_int_equal(rfe_replay_run_observer_q31(&ps, NULL, out, &st, NULL, NULL), RFE_ERR_NULL);
     assert_int_equal(rfe_replay_run_observer_q31(&ps, &log, NULL, &st, NULL, NULL), RFE_ERR_NULL);
     assert_int_equal(rfe_replay_run_observer_q31(&ps, &log, out, NULL, NULL, NULL), RFE_ERR_NULL);
+    {
+        rfe_params_q31_t pq;
+        assert_int_equal(rfe_replay_params_q31(NULL, &pq, NULL), RFE_ERR_NULL);
+        assert_int_equal(rfe_replay_params_q31(&ps, NULL, NULL), RFE_ERR_NULL);
+    }
     /* an invalid value: diagnosed as in the double run (the double path comes first) */
     ps.value[RFE_PK_mu0] = 2.0;
     assert_int_equal(rfe_replay_run_observer_q31(&ps, &log, out, &st, NULL, &bad), RFE_ERR_PARAM);
