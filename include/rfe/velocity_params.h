@@ -43,7 +43,7 @@ typedef struct {
                                    taken although outside the gate (re-acquisition) [sd]: 3 */
     rfe_real_t v_stand;       /**< every wheel below this: standing [m/s]: 0.3 */
     rfe_real_t q_vx_brake;    /**< growth of vx's variance while braking without a wheel
-                                   [m/s/sqrt(s)]: 0.5 */
+                                   [m/s/sqrt(s)]: 0 (off: OBSERVER.md §2) */
     rfe_real_t ax_brake_on;   /**< net deceleration that means braking [m/s^2]: 0.5 */
     rfe_real_t ax_drive_on;   /**< net acceleration that means driving [m/s^2]: 0.5 */
     rfe_real_t p_brake_on;    /**< brake pressure that means braking [MPa]: 0.2 */

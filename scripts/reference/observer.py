@@ -30,7 +30,7 @@ OBS_DEFAULTS: dict[str, float] = {
     "obs_k_gate": 3.0,          # plausibility gate on a wheel, in sd
     "obs_k_agree": 3.0,         # wheels this close (in sd) agree: re-acquired outside the gate
     "obs_v_stand": 0.3,         # every wheel below this: standing, m/s
-    "obs_q_vx_brake": 0.5,      # growth of vx's sd while braking without a wheel, m/s per sqrt(s)
+    "obs_q_vx_brake": 0.0,      # growth of vx's sd while braking without a wheel, m/s per sqrt(s)
     "obs_ax_brake_on": 0.5,     # deceleration above which the car is braking, m/s^2
     "obs_ax_drive_on": 0.5,     # acceleration above which the car is driving, m/s^2
     "obs_p_brake_on": 0.2,      # brake pressure above which the car is braking, MPa

@@ -26,7 +26,7 @@ rfe_status_t rfe_velocity_params_default(rfe_velocity_params_t *p)
     p->k_gate = RFE_R(3.0);
     p->k_agree = RFE_R(3.0);
     p->v_stand = RFE_R(0.3);
-    p->q_vx_brake = RFE_R(0.5);
+    p->q_vx_brake = RFE_R(0.0);
     p->ax_brake_on = RFE_R(0.5);
     p->ax_drive_on = RFE_R(0.5);
     p->p_brake_on = RFE_R(0.2);

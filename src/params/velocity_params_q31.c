@@ -29,7 +29,7 @@ rfe_status_t rfe_velocity_params_default_q31(rfe_velocity_params_q31_t *p)
     p->k_gate = 50331648; /* 3 sd, Q24 */
     p->k_agree = 50331648; /* 3 sd, Q24 */
     p->v_stand = 2516582; /* 0.3 m/s, Q23 */
-    p->q_vx_brake = 4194304; /* 0.5 m/s/sqrt(s), Q23 */
+    p->q_vx_brake = 0; /* off (OBSERVER.md §2), Q23 */
     p->ax_brake_on = 8388608; /* 0.5 m/s^2, Q24 */
     p->ax_drive_on = 8388608; /* 0.5 m/s^2, Q24 */
     p->p_brake_on = 6710886; /* 0.2 MPa, Q25 */

@@ -213,7 +213,7 @@ static rfe_real_t brake_with_a_biased_ax(rfe_velocity_estimate_t *e, rfe_real_t 
     return v;
 }
 
-/* REQ-OBS-009 */
+/* REQ-OBS-010 */
 static void test_vx_regains_the_wheels_after_braking(void **state)
 {
     rfe_velocity_estimate_t e;
@@ -222,6 +222,8 @@ static void test_vx_regains_the_wheels_after_braking(void **state)
     size_t k;
     (void)state;
     setup_fixture();
+    fx.vp.q_vx_brake = 0.5f; /* the braking drift on (off by default, OBSERVER.md §2) */
+    assert_int_equal(rfe_velocity_init(&fx.obs, &fx.vp, &fx.p), RFE_OK);
     for (k = 0u; k < 500u; ++k) { /* 5 s of free rolling at 20 m/s: b_x learnt */
         in = rolling(20.0f, (k == 0u) ? 0.0f : 0.01f);
         assert_int_equal(rfe_velocity_step(&fx.obs, &in, NULL, &e), RFE_OK);
@@ -244,7 +246,7 @@ static void test_vx_regains_the_wheels_after_braking(void **state)
     assert_close(e.vx, v, 0.1, 0.0, "vx after regaining the wheels");
 }
 
-/* REQ-OBS-009 */
+/* REQ-OBS-010 */
 static void test_vx_regains_the_wheels_at_standstill(void **state)
 {
     rfe_velocity_estimate_t e;

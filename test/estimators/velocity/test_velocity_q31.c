@@ -280,7 +280,7 @@ static void step_both(rfe_velocity_t *od, rfe_velocity_q31_t *oq, const rfe_velo
     compare(e, &q, &w, 0, what);
 }
 
-/* The lock-out of test_velocity_flt.c (REQ-OBS-009) through both twins: 5 s rolling at
+/* The lock-out of test_velocity_flt.c (REQ-OBS-010) through both twins: 5 s rolling at
  * 20 m/s, ABS braking to 5 m/s with every wheel 15 % slow and ax 0.8 m/s^2 short, then
  * (q_vx_brake as given) 1 s rolling with one wheel 1 m/s fast, braking on to standstill and
  * 1 s parked with the brake held. Returns the last double estimate. */
@@ -332,13 +332,13 @@ static rfe_velocity_estimate_t lockout_both(double q_vx_brake)
     return e;
 }
 
-/* REQ-FXP-014 (REQ-OBS-009): the re-acquisition and the braking drift decide the same in
+/* REQ-FXP-014 (REQ-OBS-010): the re-acquisition and the braking drift decide the same in
  * both twins, and the fixed-point vx regains its wheels too */
 static void test_back_to_back_through_a_lockout(void **state)
 {
     rfe_velocity_estimate_t e;
     (void)state;
-    e = lockout_both(0.5);  /* the default braking drift */
+    e = lockout_both(0.5);  /* a braking drift of 0.5 (off by default) */
     assert_true(e.vx < 0.05); /* parked: within sd_wheel of 0 */
     e = lockout_both(0.0);  /* none: only the re-acquisition at standstill */
     assert_true(e.vx < 0.05);
