@@ -39,6 +39,11 @@ typedef struct {
     rfe_real_t sd_wheel;      /**< wheel reference noise [m/s]: 0.05 */
     rfe_real_t sd_wheel_rel;  /**< wheel reference error relative to vx [1]: 0.005 */
     rfe_real_t k_gate;        /**< plausibility gate of a wheel [sd]: 3 */
+    rfe_real_t k_agree;       /**< wheels within k_agree sd_w of each other agree, and are
+                                   taken although outside the gate (re-acquisition) [sd]: 3 */
+    rfe_real_t v_stand;       /**< every wheel below this: standing [m/s]: 0.3 */
+    rfe_real_t q_vx_brake;    /**< growth of vx's variance while braking without a wheel
+                                   [m/s/sqrt(s)]: 0 (off: OBSERVER.md §2) */
     rfe_real_t ax_brake_on;   /**< net deceleration that means braking [m/s^2]: 0.5 */
     rfe_real_t ax_drive_on;   /**< net acceleration that means driving [m/s^2]: 0.5 */
     rfe_real_t p_brake_on;    /**< brake pressure that means braking [MPa]: 0.2 */

@@ -38,6 +38,9 @@ typedef struct {
     rfe_fix_t sd_wheel;       /**< wheel reference noise [m/s], Q23 */
     rfe_fix_t sd_wheel_rel;   /**< wheel reference error relative to vx [1], Q30 */
     rfe_fix_t k_gate;         /**< plausibility gate of a wheel [sd], Q24 */
+    rfe_fix_t k_agree;        /**< wheels in agreement within k_agree sd_w [sd], Q24 */
+    rfe_fix_t v_stand;        /**< every wheel below this: standing [m/s], Q23 */
+    rfe_fix_t q_vx_brake;     /**< vx's variance growth while braking unchecked [m/s/sqrt(s)], Q23 */
     rfe_fix_t ax_brake_on;    /**< net deceleration that means braking [m/s^2], Q24 */
     rfe_fix_t ax_drive_on;    /**< net acceleration that means driving [m/s^2], Q24 */
     rfe_fix_t p_brake_on;     /**< brake pressure that means braking [MPa], Q25 */

@@ -27,6 +27,9 @@ rfe_status_t rfe_velocity_params_default_q31(rfe_velocity_params_q31_t *p)
     p->sd_wheel = 419430; /* 0.05 m/s, Q23 */
     p->sd_wheel_rel = 5368709; /* 0.005, Q30 */
     p->k_gate = 50331648; /* 3 sd, Q24 */
+    p->k_agree = 50331648; /* 3 sd, Q24 */
+    p->v_stand = 2516582; /* 0.3 m/s, Q23 */
+    p->q_vx_brake = 0; /* off (OBSERVER.md §2), Q23 */
     p->ax_brake_on = 8388608; /* 0.5 m/s^2, Q24 */
     p->ax_drive_on = 8388608; /* 0.5 m/s^2, Q24 */
     p->p_brake_on = 6710886; /* 0.2 MPa, Q25 */
@@ -66,12 +69,12 @@ static int positive_ok_q31(const rfe_velocity_params_q31_t *p)
 
 static int non_negative_ok_q31(const rfe_velocity_params_q31_t *p)
 {
-    const rfe_fix_t v[18] = {p->vydot_rdot, p->q_bx, p->q_by, p->sd_wheel, p->sd_wheel_rel,
-                             p->k_gate, p->ax_brake_on, p->ax_drive_on, p->p_brake_on,
+    const rfe_fix_t v[21] = {p->vydot_rdot, p->q_bx, p->q_by, p->sd_wheel, p->sd_wheel_rel,
+                             p->k_gate, p->k_agree, p->v_stand, p->q_vx_brake, p->ax_brake_on, p->ax_drive_on, p->p_brake_on,
                              p->torque_on, p->sd_model_ay, p->model_ay_rel, p->sd_mu_default,
                              p->mu_margin, p->sd_vx0, p->sd_bx0, p->sd_vy0, p->sd_by0};
     size_t i;
-    for (i = 0u; i < 18u; ++i) {
+    for (i = 0u; i < 21u; ++i) {
         if (v[i] < 0) {
             return 0;
         }
