@@ -39,7 +39,7 @@ OBS_DEFAULTS: dict[str, float] = {
     "obs_q_by": 0.05,           # random walk of the lateral offset (bias, bank), m/s^2 per sqrt(s)
     "obs_sd_model_ay": 0.3,     # single-track model error, m/s^2
     "obs_model_ay_rel": 0.1,    # model error relative to |ay|
-    "obs_sd_model_rdot": 0.3,   # model error of the yaw acceleration, rad/s^2
+    "obs_sd_model_rdot": 0.0,   # model error of the yaw acceleration, rad/s^2 (0: row off)
     "obs_v_lat_min": 3.0,       # below this vx, vy follows the rear-axle kinematics, m/s
     "obs_sd_lowspeed": 0.1,     # sd of the low-speed kinematic vy, m/s
     "obs_mu_default": 1.0,      # friction the model uses while none is supplied
@@ -261,10 +261,12 @@ class Observer:
             flags |= FLAG_VY_MODEL
             # the yaw moment balance: the differentiator's r-dot against the model's, linearised
             # at the same vy_pred, the innovation at the vy the lateral row left
-            h1 = (rd_h - rd_model) / h
-            r1 = p["obs_sd_model_rdot"] ** 2 + (rd_hi - rd_model) ** 2 + self.yaw.P[1][1]
-            self.lat.update(h1, 0.0, self.yaw.x[1] - (rd_model + h1 * (self.lat.x[0] - vy_pred)),
-                            r1)
+            # (on when obs_sd_model_rdot > 0)
+            if p["obs_sd_model_rdot"] > 0.0:
+                h1 = (rd_h - rd_model) / h
+                r1 = p["obs_sd_model_rdot"] ** 2 + (rd_hi - rd_model) ** 2 + self.yaw.P[1][1]
+                self.lat.update(h1, 0.0,
+                                self.yaw.x[1] - (rd_model + h1 * (self.lat.x[0] - vy_pred)), r1)
         else:
             # §4.3 low speed: the rear axle rolls without side slip, vy = Lr r
             self.lat.update(1.0, 0.0, p["Lr"] * s.yaw_rate - vy_pred, p["obs_sd_lowspeed"] ** 2)

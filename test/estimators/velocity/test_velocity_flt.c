@@ -405,15 +405,17 @@ static void test_the_yaw_row_moves_vy_towards_the_moment_balance(void **state)
     /* the case must be one where the yaw row has something to say: 0.1 rad/s^2 is twice the
      * r-dot noise the differentiator leaves (OBSERVER.md §3.2) */
     assert_true(fabsf((float)z0[2]) > 0.1f);
-    vy_on = vy_in_a_turn_by_the_yaw_row(fx.vp.sd_model_rdot);
-    vy_off = vy_in_a_turn_by_the_yaw_row(1000.0f);
+    vy_on = vy_in_a_turn_by_the_yaw_row(0.3f); /* the row on (off by default) */
+    vy_off = vy_in_a_turn_by_the_yaw_row(0.0f); /* off: the default */
     /* vy moved the way the moment balance asks */
     assert_true((vy_on * -(z0[2] * (z1[2] - z0[2]))) > 0.0f);
     /* and by more than what the kinematics and the other rows move it without the yaw row:
      * the factor 2 leaves room for the part of vy that the offset's update lets drift */
     assert_true(fabsf((float)vy_on) > (2.0f * fabsf((float)vy_off)));
-    /* a yaw row with no error is not allowed (R could vanish) */
-    fx.vp.sd_model_rdot = 0.0f;
+    /* 0 is the default and turns the row off; a negative or non-finite error is rejected */
+    assert_true(fx.vp.sd_model_rdot == 0.0f);
+    assert_int_equal(rfe_velocity_params_validate(&fx.vp), RFE_OK);
+    fx.vp.sd_model_rdot = -0.1f;
     assert_int_equal(rfe_velocity_params_validate(&fx.vp), RFE_ERR_PARAM);
     fx.vp.sd_model_rdot = (rfe_real_t)NAN;
     assert_int_equal(rfe_velocity_params_validate(&fx.vp), RFE_ERR_PARAM);

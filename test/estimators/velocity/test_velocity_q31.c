@@ -434,23 +434,23 @@ static void test_params(void **state)
     bad.dt_max = RFE_FIX_ONE(30) + 1;
     assert_int_equal(rfe_velocity_params_validate_q31(&bad), RFE_ERR_PARAM);
     /* every field that must be > 0 rejects 0, every other one a negative value; in the
-     * order of the struct after dt_max (steer_ratio and sd_model_rdot are checked positive
-     * too) */
+     * order of the struct after dt_max (steer_ratio is checked positive too; sd_model_rdot
+     * is 0 when off) */
     {
-        rfe_fix_t *const pos[11] = {&bad.q_jerk, &bad.sd_r, &bad.sd_ax, &bad.sd_ay, &bad.dvy,
+        rfe_fix_t *const pos[10] = {&bad.q_jerk, &bad.sd_r, &bad.sd_ax, &bad.sd_ay, &bad.dvy,
                                     &bad.v_lat_min, &bad.sd_lowspeed, &bad.mu_default,
-                                    &bad.sd_vydot, &bad.steer_ratio, &bad.sd_model_rdot};
-        rfe_fix_t *const nonneg[21] = {
-            &bad.vydot_rdot, &bad.q_bx, &bad.q_by, &bad.sd_wheel, &bad.sd_wheel_rel,
+                                    &bad.sd_vydot, &bad.steer_ratio};
+        rfe_fix_t *const nonneg[22] = {
+            &bad.sd_model_rdot, &bad.vydot_rdot, &bad.q_bx, &bad.q_by, &bad.sd_wheel, &bad.sd_wheel_rel,
             &bad.k_gate, &bad.k_agree, &bad.v_stand, &bad.q_vx_brake, &bad.ax_brake_on, &bad.ax_drive_on, &bad.p_brake_on, &bad.torque_on,
             &bad.sd_model_ay, &bad.model_ay_rel, &bad.sd_mu_default, &bad.mu_margin,
             &bad.sd_vx0, &bad.sd_bx0, &bad.sd_vy0, &bad.sd_by0};
-        for (i = 0u; i < 11u; ++i) {
+        for (i = 0u; i < 10u; ++i) {
             bad = def;
             *pos[i] = 0;
             assert_int_equal(rfe_velocity_params_validate_q31(&bad), RFE_ERR_PARAM);
         }
-        for (i = 0u; i < 21u; ++i) {
+        for (i = 0u; i < 22u; ++i) {
             bad = def;
             *nonneg[i] = 0;
             assert_int_equal(rfe_velocity_params_validate_q31(&bad), RFE_OK);
@@ -759,8 +759,8 @@ static void turn_by_the_yaw_row(double sd_model_rdot, double *vy_d, double *vy_q
 }
 
 /* REQ-OBS-009 (REQ-FXP-014): the fixed-point lateral filter weighs the yaw row as the double
- * one does: with the row (sd_model_rdot 0.3 rad/s^2) and without it (its error as large as
- * the lateral row's, 30 rad/s^2) the q31 vy follows the double vy within TOL_VY, and the row
+ * one does: with the row (sd_model_rdot 0.3 rad/s^2; off by default) and without it (0, off)
+ * the q31 vy follows the double vy within TOL_VY, and the row
  * moves the final vy by more than 20 TOL_VY, so agreeing within TOL_VY needs the row. */
 static void test_the_yaw_row_in_fixed_point(void **state)
 {
@@ -770,7 +770,7 @@ static void test_the_yaw_row_in_fixed_point(void **state)
     double off_q = 0.0;
     (void)state;
     turn_by_the_yaw_row(0.3, &on_d, &on_q);
-    turn_by_the_yaw_row(30.0, &off_d, &off_q);
+    turn_by_the_yaw_row(0.0, &off_d, &off_q);
     printf("yaw row, final vy: with it %.6g m/s (q31 %.6g), without %.6g m/s (q31 %.6g)\n",
            on_d, on_q, off_d, off_q);
     assert_true(fabs(on_d - off_d) > 20.0 * TOL_VY);
