@@ -39,13 +39,19 @@ typedef struct {
     rfe_real_t sd_wheel;      /**< wheel reference noise [m/s]: 0.05 */
     rfe_real_t sd_wheel_rel;  /**< wheel reference error relative to vx [1]: 0.005 */
     rfe_real_t k_gate;        /**< plausibility gate of a wheel [sd]: 3 */
+    rfe_real_t k_agree;       /**< wheels within k_agree sd_w of each other agree, and are
+                                   taken although outside the gate (re-acquisition) [sd]: 3 */
+    rfe_real_t v_stand;       /**< every wheel below this: standing [m/s]: 0.3 */
+    rfe_real_t q_vx_brake;    /**< growth of vx's variance while braking without a wheel
+                                   [m/s/sqrt(s)]: 0 (off: OBSERVER.md §2) */
     rfe_real_t ax_brake_on;   /**< net deceleration that means braking [m/s^2]: 0.5 */
     rfe_real_t ax_drive_on;   /**< net acceleration that means driving [m/s^2]: 0.5 */
     rfe_real_t p_brake_on;    /**< brake pressure that means braking [MPa]: 0.2 */
     rfe_real_t torque_on;     /**< drive torque that marks a wheel driven [N m]: 50 */
     rfe_real_t sd_model_ay;   /**< error of the model's lateral acceleration [m/s^2]: 0.3 */
     rfe_real_t model_ay_rel;  /**< the same relative to |ay| [1]: 0.1 */
-    rfe_real_t sd_model_rdot; /**< error of the model's yaw acceleration [rad/s^2]: 0.3 */
+    rfe_real_t sd_model_rdot; /**< error of the model's yaw acceleration [rad/s^2]; 0 turns
+                                   the yaw row of §4.2 off: 0 (off, OBSERVER.md §2) */
     rfe_real_t dvy;           /**< step of the model's derivative by vy [m/s]: 0.01 */
     rfe_real_t sd_vydot;      /**< v-dot_y as noise of the offset's kinematic update [m/s^2]: 1 */
     rfe_real_t vydot_rdot;    /**< its growth with |r-dot| [m/s^2 per rad/s^2]: 15 */
@@ -69,8 +75,8 @@ RFE_NODISCARD rfe_status_t rfe_velocity_params_default(rfe_velocity_params_t *p)
 
 /**
  * Checks every field: finite; driven in 1..15; 0 < dt_min <= dt_max <= 1; q_jerk, sd_r,
- * sd_ax, sd_ay, dvy, v_lat_min, sd_lowspeed, mu_default, sd_vydot, steer_ratio,
- * sd_model_rdot > 0; every other sd, q, gate, threshold and margin >= 0.
+ * sd_ax, sd_ay, dvy, v_lat_min, sd_lowspeed, mu_default, sd_vydot, steer_ratio > 0;
+ * every other sd, q, gate, threshold and margin (sd_model_rdot included: 0 is off) >= 0.
  * @param[in] p  the parameters to check.
  * @return RFE_OK, RFE_ERR_NULL or RFE_ERR_PARAM.
  */

@@ -28,6 +28,9 @@ OBS_DEFAULTS: dict[str, float] = {
     "obs_sd_wheel": 0.05,       # wheel reference noise sd, m/s
     "obs_sd_wheel_rel": 0.005,  # wheel reference error relative to speed (radius, slip)
     "obs_k_gate": 3.0,          # plausibility gate on a wheel, in sd
+    "obs_k_agree": 3.0,         # wheels this close (in sd) agree: re-acquired outside the gate
+    "obs_v_stand": 0.3,         # every wheel below this: standing, m/s
+    "obs_q_vx_brake": 0.0,      # growth of vx's sd while braking without a wheel, m/s per sqrt(s)
     "obs_ax_brake_on": 0.5,     # deceleration above which the car is braking, m/s^2
     "obs_ax_drive_on": 0.5,     # acceleration above which the car is driving, m/s^2
     "obs_p_brake_on": 0.2,      # brake pressure above which the car is braking, MPa
@@ -36,7 +39,7 @@ OBS_DEFAULTS: dict[str, float] = {
     "obs_q_by": 0.05,           # random walk of the lateral offset (bias, bank), m/s^2 per sqrt(s)
     "obs_sd_model_ay": 0.3,     # single-track model error, m/s^2
     "obs_model_ay_rel": 0.1,    # model error relative to |ay|
-    "obs_sd_model_rdot": 0.3,   # model error of the yaw acceleration, rad/s^2
+    "obs_sd_model_rdot": 0.0,   # model error of the yaw acceleration, rad/s^2 (0: row off)
     "obs_v_lat_min": 3.0,       # below this vx, vy follows the rear-axle kinematics, m/s
     "obs_sd_lowspeed": 0.1,     # sd of the low-speed kinematic vy, m/s
     "obs_mu_default": 1.0,      # friction the model uses while none is supplied
@@ -207,9 +210,25 @@ class Observer:
         elif driving and ok:
             z = min(refs[i] for i in ok)
             z = z if z < vx_pred else None
+        if z is None:
+            # re-acquisition: the gate guards against one slipping wheel, not against a
+            # prediction drifted away from all of them; rolling with the wheels in agreement,
+            # or standing (brake held) without decelerating: their mean, the prediction's
+            # variance re-inflated by the innovation squared
+            rolling = not braking and not driving
+            agree = max(refs) - min(refs) <= p["obs_k_agree"] * sd_w
+            standing = max(refs) < p["obs_v_stand"] and a_net >= -p["obs_ax_brake_on"] \
+                and not driving
+            if (rolling and agree) or standing:
+                z = sum(refs) / 4.0
+                r = sd_w * sd_w / 4.0
+                self.lon.P[0][0] += (z - vx_pred) * (z - vx_pred)
         if z is not None:
             self.lon.update(1.0, 0.0, z - vx_pred, r)
             flags |= FLAG_VX_WHEEL
+        elif braking:
+            # braking unchecked: ax's error while braking (pitch, scale) grows vx's variance
+            self.lon.P[0][0] += p["obs_q_vx_brake"] ** 2 * dt
         if self.lon.x[0] < 0.0:                   # forward driving only
             self.lon.x[0] = 0.0
         vx = self.lon.x[0]
@@ -242,10 +261,12 @@ class Observer:
             flags |= FLAG_VY_MODEL
             # the yaw moment balance: the differentiator's r-dot against the model's, linearised
             # at the same vy_pred, the innovation at the vy the lateral row left
-            h1 = (rd_h - rd_model) / h
-            r1 = p["obs_sd_model_rdot"] ** 2 + (rd_hi - rd_model) ** 2 + self.yaw.P[1][1]
-            self.lat.update(h1, 0.0, self.yaw.x[1] - (rd_model + h1 * (self.lat.x[0] - vy_pred)),
-                            r1)
+            # (on when obs_sd_model_rdot > 0)
+            if p["obs_sd_model_rdot"] > 0.0:
+                h1 = (rd_h - rd_model) / h
+                r1 = p["obs_sd_model_rdot"] ** 2 + (rd_hi - rd_model) ** 2 + self.yaw.P[1][1]
+                self.lat.update(h1, 0.0,
+                                self.yaw.x[1] - (rd_model + h1 * (self.lat.x[0] - vy_pred)), r1)
         else:
             # §4.3 low speed: the rear axle rolls without side slip, vy = Lr r
             self.lat.update(1.0, 0.0, p["Lr"] * s.yaw_rate - vy_pred, p["obs_sd_lowspeed"] ** 2)

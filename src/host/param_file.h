@@ -87,6 +87,9 @@
     X(obs_sd_wheel, sd_wheel, "m/s", "wheel reference noise")                                                  \
     X(obs_sd_wheel_rel, sd_wheel_rel, "1", "wheel reference error relative to vx")                             \
     X(obs_k_gate, k_gate, "sd", "plausibility gate of a wheel")                                                \
+    X(obs_k_agree, k_agree, "sd", "wheels this close (in sd) agree: taken although outside the gate")          \
+    X(obs_v_stand, v_stand, "m/s", "every wheel below this: standing")                                         \
+    X(obs_q_vx_brake, q_vx_brake, "m/s/sqrt(s)", "growth of vx's sd while braking without a wheel")           \
     X(obs_ax_brake_on, ax_brake_on, "m/s^2", "net deceleration that means braking")                            \
     X(obs_ax_drive_on, ax_drive_on, "m/s^2", "net acceleration that means driving")                            \
     X(obs_p_brake_on, p_brake_on, "MPa", "brake pressure that means braking")                                  \

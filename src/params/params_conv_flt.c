@@ -197,6 +197,9 @@ rfe_status_t rfe_velocity_params_to_q31(const rfe_velocity_params_t *p,
     t.sd_wheel = to_q(&c, (double)p->sd_wheel, RFE_FIX_Q_SPEED, 0);
     t.sd_wheel_rel = to_q(&c, (double)p->sd_wheel_rel, RFE_FIX_Q_SD, 0);
     t.k_gate = to_q(&c, (double)p->k_gate, RFE_FIX_Q_RATIO, 0);
+    t.k_agree = to_q(&c, (double)p->k_agree, RFE_FIX_Q_RATIO, 0);
+    t.v_stand = to_q(&c, (double)p->v_stand, RFE_FIX_Q_SPEED, 0);
+    t.q_vx_brake = to_q(&c, (double)p->q_vx_brake, RFE_FIX_Q_SPEED, 0);
     t.ax_brake_on = to_q(&c, (double)p->ax_brake_on, RFE_FIX_Q_ACC, 0);
     t.ax_drive_on = to_q(&c, (double)p->ax_drive_on, RFE_FIX_Q_ACC, 0);
     t.p_brake_on = to_q(&c, (double)p->p_brake_on, RFE_FIX_Q_PRESSURE, 0);

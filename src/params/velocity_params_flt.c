@@ -24,13 +24,16 @@ rfe_status_t rfe_velocity_params_default(rfe_velocity_params_t *p)
     p->sd_wheel = RFE_R(0.05);
     p->sd_wheel_rel = RFE_R(0.005);
     p->k_gate = RFE_R(3.0);
+    p->k_agree = RFE_R(3.0);
+    p->v_stand = RFE_R(0.3);
+    p->q_vx_brake = RFE_R(0.0);
     p->ax_brake_on = RFE_R(0.5);
     p->ax_drive_on = RFE_R(0.5);
     p->p_brake_on = RFE_R(0.2);
     p->torque_on = RFE_R(50.0);
     p->sd_model_ay = RFE_R(0.3);
     p->model_ay_rel = RFE_R(0.1);
-    p->sd_model_rdot = RFE_R(0.3);
+    p->sd_model_rdot = RFE_R(0.0);
     p->dvy = RFE_R(0.01);
     p->sd_vydot = RFE_R(1.0);
     p->vydot_rdot = RFE_R(15.0);
@@ -49,11 +52,11 @@ rfe_status_t rfe_velocity_params_default(rfe_velocity_params_t *p)
 /* The fields that must be > 0, then those that must be >= 0 (docs/OBSERVER.md §2). */
 static int positive_ok(const rfe_velocity_params_t *p)
 {
-    const rfe_real_t v[11] = {p->q_jerk, p->sd_r, p->sd_ax, p->sd_ay, p->dvy,
+    const rfe_real_t v[10] = {p->q_jerk, p->sd_r, p->sd_ax, p->sd_ay, p->dvy,
                               p->v_lat_min, p->sd_lowspeed, p->mu_default, p->sd_vydot,
-                              p->steer_ratio, p->sd_model_rdot};
+                              p->steer_ratio};
     size_t i;
-    for (i = 0u; i < 11u; ++i) {
+    for (i = 0u; i < 10u; ++i) {
         if (!rfe_is_finite(v[i]) || !(v[i] > RFE_R(0.0))) {
             return 0;
         }
@@ -63,12 +66,13 @@ static int positive_ok(const rfe_velocity_params_t *p)
 
 static int non_negative_ok(const rfe_velocity_params_t *p)
 {
-    const rfe_real_t v[18] = {p->vydot_rdot, p->q_bx, p->q_by, p->sd_wheel, p->sd_wheel_rel, p->k_gate,
+    const rfe_real_t v[22] = {p->sd_model_rdot, p->vydot_rdot, p->q_bx, p->q_by, p->sd_wheel, p->sd_wheel_rel, p->k_gate,
+                              p->k_agree, p->v_stand, p->q_vx_brake,
                               p->ax_brake_on, p->ax_drive_on, p->p_brake_on, p->torque_on,
                               p->sd_model_ay, p->model_ay_rel, p->sd_mu_default,
                               p->mu_margin, p->sd_vx0, p->sd_bx0, p->sd_vy0, p->sd_by0};
     size_t i;
-    for (i = 0u; i < 18u; ++i) {
+    for (i = 0u; i < 22u; ++i) {
         if (!rfe_is_finite(v[i]) || !(v[i] >= RFE_R(0.0))) {
             return 0;
         }

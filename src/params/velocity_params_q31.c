@@ -27,13 +27,16 @@ rfe_status_t rfe_velocity_params_default_q31(rfe_velocity_params_q31_t *p)
     p->sd_wheel = 419430; /* 0.05 m/s, Q23 */
     p->sd_wheel_rel = 5368709; /* 0.005, Q30 */
     p->k_gate = 50331648; /* 3 sd, Q24 */
+    p->k_agree = 50331648; /* 3 sd, Q24 */
+    p->v_stand = 2516582; /* 0.3 m/s, Q23 */
+    p->q_vx_brake = 0; /* off (OBSERVER.md §2), Q23 */
     p->ax_brake_on = 8388608; /* 0.5 m/s^2, Q24 */
     p->ax_drive_on = 8388608; /* 0.5 m/s^2, Q24 */
     p->p_brake_on = 6710886; /* 0.2 MPa, Q25 */
     p->torque_on = 1638400; /* 50 N m, Q15 */
     p->sd_model_ay = 5033165; /* 0.3 m/s^2, Q24 */
     p->model_ay_rel = 107374182; /* 0.1, Q30 */
-    p->sd_model_rdot = 5033165; /* 0.3 rad/s^2, Q24 */
+    p->sd_model_rdot = 0; /* off (OBSERVER.md §2), Q24 */
     p->dvy = 83886; /* 0.01 m/s, Q23 */
     p->sd_vydot = 16777216; /* 1 m/s^2, Q24 */
     p->vydot_rdot = 251658240; /* 15 m/s^2 per rad/s^2, Q24 */
@@ -52,11 +55,11 @@ rfe_status_t rfe_velocity_params_default_q31(rfe_velocity_params_q31_t *p)
 /* The fields that must be > 0, then those that must be >= 0 (docs/OBSERVER.md §2). */
 static int positive_ok_q31(const rfe_velocity_params_q31_t *p)
 {
-    const rfe_fix_t v[11] = {p->q_jerk, p->sd_r, p->sd_ax, p->sd_ay, p->dvy,
+    const rfe_fix_t v[10] = {p->q_jerk, p->sd_r, p->sd_ax, p->sd_ay, p->dvy,
                              p->v_lat_min, p->sd_lowspeed, p->mu_default, p->sd_vydot,
-                             p->steer_ratio, p->sd_model_rdot};
+                             p->steer_ratio};
     size_t i;
-    for (i = 0u; i < 11u; ++i) {
+    for (i = 0u; i < 10u; ++i) {
         if (v[i] <= 0) {
             return 0;
         }
@@ -66,12 +69,12 @@ static int positive_ok_q31(const rfe_velocity_params_q31_t *p)
 
 static int non_negative_ok_q31(const rfe_velocity_params_q31_t *p)
 {
-    const rfe_fix_t v[18] = {p->vydot_rdot, p->q_bx, p->q_by, p->sd_wheel, p->sd_wheel_rel,
-                             p->k_gate, p->ax_brake_on, p->ax_drive_on, p->p_brake_on,
+    const rfe_fix_t v[22] = {p->sd_model_rdot, p->vydot_rdot, p->q_bx, p->q_by, p->sd_wheel, p->sd_wheel_rel,
+                             p->k_gate, p->k_agree, p->v_stand, p->q_vx_brake, p->ax_brake_on, p->ax_drive_on, p->p_brake_on,
                              p->torque_on, p->sd_model_ay, p->model_ay_rel, p->sd_mu_default,
                              p->mu_margin, p->sd_vx0, p->sd_bx0, p->sd_vy0, p->sd_by0};
     size_t i;
-    for (i = 0u; i < 18u; ++i) {
+    for (i = 0u; i < 22u; ++i) {
         if (v[i] < 0) {
             return 0;
         }

@@ -114,9 +114,10 @@ int main(int argc, char **argv)
             }
         }
     }
-    printf("%-7s %-13s %8s %6s %6s %12s %13s %8s %6s %6s %8s %7s %8s %7s %7s %6s\n", "variant",
-           "config", "steps", "ok%", "err", "mu min..max", "sd min..max", "valid%", "rmse_v",
-           "cons_v", "vx_rmse", "vx_2sd", "vy_rmse", "vy_max", "vy_2sd", "us/st");
+    printf("%-7s %-13s %8s %6s %6s %12s %13s %8s %6s %6s %8s %7s %6s %7s %8s %7s %7s %6s\n",
+           "variant", "config", "steps", "ok%", "err", "mu min..max", "sd min..max", "valid%",
+           "rmse_v", "cons_v", "vx_rmse", "vx_max", "vx>1", "vx_2sd", "vy_rmse", "vy_max",
+           "vy_2sd", "us/st");
     for (v = 0; v < N_PIPELINES; ++v) {
         soak_result_t *r = &res_pl[v];
         double n;
@@ -126,12 +127,12 @@ int main(int argc, char **argv)
         }
         n = (double)(r->steps ? r->steps : 1);
         printf("%-7s %-13s %8ld %5.1f%% %6ld %5.3f..%5.3f %6.4f..%5.3f %7.1f%% %6.3f %5.1f%% "
-               "%8.3f %6.1f%% %8.3f %7.3f %6.1f%% %6.1f\n",
+               "%8.3f %7.3f %5.1f%% %6.1f%% %8.3f %7.3f %6.1f%% %6.1f\n",
                PIPELINES[v].name, PIPELINE_CFG.name, r->steps,
                100.0 * (double)(r->status[0] + r->status[1]) / n, r->failed_valid, r->mu_lo,
                r->mu_hi, r->sd_lo, r->sd_hi, 100.0 * (double)r->n_valid / (4.0 * n),
-               r->rmse_valid, 100.0 * r->consistent_valid, r->obs_rmse_vx,
-               100.0 * r->obs_cons_vx, r->obs_rmse_vy, r->obs_max_err_vy, 100.0 * r->obs_cons_vy,
+               r->rmse_valid, 100.0 * r->consistent_valid, r->obs_rmse_vx, r->obs_max_err_vx,
+               100.0 * r->obs_far_vx, 100.0 * r->obs_cons_vx, r->obs_rmse_vy, r->obs_max_err_vy, 100.0 * r->obs_cons_vy,
                r->us_per_step);
         if (r->violations > 0) {
             printf("  FAILED: %ld step(s) broke an invariant; first at step %ld, %s\n",
@@ -176,13 +177,13 @@ int main(int argc, char **argv)
                         "\"mu_min\": %.9g, \"mu_max\": %.9g, \"sd_min\": %.9g, \"sd_max\": %.9g, "
                         "\"valid_share\": %.6f, \"rmse_valid\": %.6f, \"consistent_valid\": %.6f, "
                         "\"observer_steps\": %ld, \"vx_rmse\": %.6f, \"vx_max_err\": %.6f, "
-                        "\"vx_within_2sd\": %.6f, \"vy_rmse\": %.6f, \"vy_max_err\": %.6f, \"vy_within_2sd\": %.6f, "
+                        "\"vx_within_2sd\": %.6f, \"vx_far_1ms\": %.6f, \"vy_rmse\": %.6f, \"vy_max_err\": %.6f, \"vy_within_2sd\": %.6f, "
                         "\"us_per_step\": %.3f}%s\n",
                     PIPELINES[v].name, PIPELINE_CFG.name, r->steps, r->failed_valid,
                     r->violations, r->projected, r->mu_lo, r->mu_hi, r->sd_lo, r->sd_hi,
                     (double)r->n_valid / (4.0 * (double)(r->steps ? r->steps : 1)),
                     r->rmse_valid, r->consistent_valid, r->obs_steps, r->obs_rmse_vx,
-                    r->obs_max_err_vx, r->obs_cons_vx, r->obs_rmse_vy, r->obs_max_err_vy, r->obs_cons_vy,
+                    r->obs_max_err_vx, r->obs_cons_vx, r->obs_far_vx, r->obs_rmse_vy, r->obs_max_err_vy, r->obs_cons_vy,
                     r->us_per_step, v + 1 == N_PIPELINES ? "" : ",");
         }
         fprintf(jf, " ]\n}\n");

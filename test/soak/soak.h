@@ -52,6 +52,7 @@ typedef struct {
      * vx >= v_lat_min */
     long obs_steps;                   /**< accepted steps compared */
     double obs_rmse_vx, obs_max_err_vx, obs_cons_vx; /**< cons: share within 2 sd */
+    double obs_far_vx;                /**< share of the steps with vx more than 1 m/s off */
     double obs_rmse_vy, obs_max_err_vy, obs_cons_vy;
 } soak_result_t;
 

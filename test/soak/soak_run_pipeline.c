@@ -93,7 +93,7 @@ int soak_run_pipeline(const rfe_sensor_log_t *log, const char *log_name, const s
     rfe_velocity_params_t vp;
     rfe_pipeline_out_t out;
     double sq = 0.0, sq_vx = 0.0, sq_vy = 0.0;
-    long n_cons = 0, n_v = 0, cons_vx = 0, cons_vy = 0;
+    long n_cons = 0, n_v = 0, cons_vx = 0, cons_vy = 0, far_vx = 0;
     size_t i;
     clock_t c0;
     memset(res, 0, sizeof(*res));
@@ -160,6 +160,7 @@ int soak_run_pipeline(const rfe_sensor_log_t *log, const char *log_name, const s
             res->obs_max_err_vx = fmax(res->obs_max_err_vx, ex);
             res->obs_max_err_vy = fmax(res->obs_max_err_vy, ey);
             cons_vx += (ex <= 2.0 * (double)out.velocity.sd_vx);
+            far_vx += (ex > 1.0); /* the figure ROBUSTNESS.md quotes for the lock-out */
             cons_vy += (ey <= 2.0 * (double)out.velocity.sd_vy);
         }
     }
@@ -173,6 +174,7 @@ int soak_run_pipeline(const rfe_sensor_log_t *log, const char *log_name, const s
         res->obs_rmse_vx = sqrt(sq_vx / (double)n_v);
         res->obs_rmse_vy = sqrt(sq_vy / (double)n_v);
         res->obs_cons_vx = (double)cons_vx / (double)n_v;
+        res->obs_far_vx = (double)far_vx / (double)n_v;
         res->obs_cons_vy = (double)cons_vy / (double)n_v;
     }
     return 0;

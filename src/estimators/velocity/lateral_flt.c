@@ -117,10 +117,10 @@ rfe_status_t rfe_vel_lateral_step(rfe_kf2_t *f, const rfe_velocity_t *obs,
             st = rfe_kf2_update(&k, h0, RFE_R(0.0), in->ay - z.at[0], r);
             fl |= RFE_VEL_FLAG_VY_MODEL;
         }
-        if (st == RFE_OK) {
-            /* §4.2 the yaw moment balance: the differentiator's r-dot against the model's, at
-             * the same linearisation point vy_pred (sequential update: the innovation is taken
-             * at the vy the lateral row left) */
+        if ((st == RFE_OK) && (p->sd_model_rdot > RFE_R(0.0))) {
+            /* §4.2 the yaw moment balance (on when sd_model_rdot > 0): the differentiator's
+             * r-dot against the model's, at the same linearisation point vy_pred (sequential
+             * update: the innovation is taken at the vy the lateral row left) */
             const rfe_real_t h1 = (z.dvy[1] - z.at[1]) / p->dvy;
             const rfe_real_t e_mu = z.hi[1] - z.at[1];
             const rfe_real_t r = ((p->sd_model_rdot * p->sd_model_rdot) + (e_mu * e_mu)) +

@@ -192,8 +192,9 @@ rfe_status_t rfe_vel_lateral_step_q31(rfe_kf2_q31_t *f, const rfe_velocity_q31_t
             st = rfe_kf2_update_q31(&k, &m, &cnt);
             fl |= RFE_VEL_FLAG_VY_MODEL;
         }
-        if (st == RFE_OK) {
-            /* sequential update: the yaw row after the lateral one, on the vy it left */
+        if ((st == RFE_OK) && (p->sd_model_rdot > 0)) {
+            /* sequential update (on when sd_model_rdot > 0): the yaw row after the lateral
+             * one, on the vy it left */
             rdot_row_q31(obs, &z, vy_pred, k.x[0], &m, &cnt);
             st = rfe_kf2_update_q31(&k, &m, &cnt);
         }

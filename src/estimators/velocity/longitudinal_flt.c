@@ -80,15 +80,44 @@ static wheel_vote_t wheel_votes(const rfe_real_t refs[RFE_WHEELS], rfe_real_t vx
     return w;
 }
 
-/* §3.5 the wheel reference z and its variance *r (the choice in velocity_logic.h); 0 when
- * there is none this step. */
-static int wheel_reference(const wheel_vote_t *w, rfe_real_t vx_pred,
-                           const rfe_vel_drive_state_t *ds, rfe_real_t sd_w, rfe_real_t *z,
-                           rfe_real_t *r)
+/* §3.5 every wheel, gated or not: their sum, the fastest and the slowest, for the
+ * re-acquisition. */
+typedef struct {
+    rfe_real_t sum;
+    rfe_real_t hi;
+    rfe_real_t lo;
+} wheel_spread_t;
+
+static wheel_spread_t wheel_spread(const rfe_real_t refs[RFE_WHEELS])
+{
+    wheel_spread_t a = {refs[0], refs[0], refs[0]};
+    size_t i;
+    for (i = 1u; i < RFE_WHEELS; ++i) {
+        a.sum += refs[i];
+        a.hi = rfe_max(a.hi, refs[i]);
+        a.lo = rfe_min(a.lo, refs[i]);
+    }
+    return a;
+}
+
+/* §3.5 which reference (the choice in velocity_logic.h). */
+static rfe_vel_ref_t reference_kind(const rfe_velocity_params_t *p, const wheel_vote_t *w,
+                                    const wheel_spread_t *a, rfe_real_t vx_pred,
+                                    const rfe_vel_drive_state_t *ds, rfe_real_t sd_w)
 {
     const rfe_vel_ref_t ref = rfe_vel_reference(w->n_free, w->n_ok, ds,
                                                 (w->hi > vx_pred) ? 1 : 0,
                                                 (w->lo < vx_pred) ? 1 : 0);
+    return rfe_vel_reacquire(ref, ((a->hi - a->lo) <= (p->k_agree * sd_w)) ? 1 : 0,
+                             (a->hi < p->v_stand) ? 1 : 0, ds);
+}
+
+/* §3.5 the wheel reference z and its variance *r for @p ref; a re-acquisition also
+ * re-inflates the prediction's variance by the innovation squared (*p00). */
+static void wheel_reference(rfe_vel_ref_t ref, const wheel_vote_t *w, const wheel_spread_t *a,
+                            rfe_real_t vx_pred, rfe_real_t sd_w, rfe_real_t *z, rfe_real_t *r,
+                            rfe_real_t *p00)
+{
     *r = sd_w * sd_w;
     if (ref == RFE_VEL_REF_FREE_MEAN) {
         *z = w->sum / (rfe_real_t)w->n_free;
@@ -97,10 +126,13 @@ static int wheel_reference(const wheel_vote_t *w, rfe_real_t vx_pred,
         *z = w->hi;
     } else if (ref == RFE_VEL_REF_DRIVEN_LO) {
         *z = w->lo;
+    } else if (ref == RFE_VEL_REF_REACQUIRE) {
+        *z = a->sum / (rfe_real_t)RFE_WHEELS;
+        *r = *r / (rfe_real_t)RFE_WHEELS;
+        *p00 += (*z - vx_pred) * (*z - vx_pred);
     } else {
         /* none */
     }
-    return (ref != RFE_VEL_REF_NONE) ? 1 : 0;
 }
 
 rfe_status_t rfe_vel_longitudinal_step(rfe_kf2_t *f, const rfe_velocity_params_t *p,
@@ -131,9 +163,16 @@ rfe_status_t rfe_vel_longitudinal_step(rfe_kf2_t *f, const rfe_velocity_params_t
         const rfe_real_t sd_w = p->sd_wheel + (p->sd_wheel_rel * RFE_FABS(vx_pred));
         const rfe_real_t gate = p->k_gate * RFE_SQRT(k.p00 + (sd_w * sd_w));
         const wheel_vote_t w = wheel_votes(refs, vx_pred, gate, &ds);
-        if (wheel_reference(&w, vx_pred, &ds, sd_w, &z, &r) != 0) {
+        const wheel_spread_t all = wheel_spread(refs);
+        const rfe_vel_ref_t ref = reference_kind(p, &w, &all, vx_pred, &ds, sd_w);
+        wheel_reference(ref, &w, &all, vx_pred, sd_w, &z, &r, &k.p00);
+        if (ref != RFE_VEL_REF_NONE) {
             st = rfe_kf2_update(&k, RFE_R(1.0), RFE_R(0.0), z - vx_pred, r);
             fl |= RFE_VEL_FLAG_VX_WHEEL;
+        } else if (rfe_vel_brake_drift(ref, &ds) != 0) {
+            k.p00 += (p->q_vx_brake * p->q_vx_brake) * dt;
+        } else {
+            /* rolling or driving without a wheel: the prediction's own variance */
         }
     }
     if (st == RFE_OK) {

@@ -105,14 +105,48 @@ static wheel_vote_q31_t wheel_votes_q31(const rfe_fix_t refs[RFE_WHEELS], rfe_fi
     return w;
 }
 
-/* §3.5 the wheel reference z (Q23) and its variance *r (Q46); 0 when there is none. */
-static int wheel_reference_q31(const wheel_vote_q31_t *w, rfe_fix_t vx_pred,
-                               const rfe_vel_drive_state_t *ds, rfe_fix_t sd_w, rfe_fix_t *z,
-                               int64_t *r, uint32_t *sat)
+/* §3.5 every wheel, gated or not: their sum (int64), the fastest and the slowest, for the
+ * re-acquisition. */
+typedef struct {
+    int64_t sum;
+    rfe_fix_t hi;
+    rfe_fix_t lo;
+} wheel_spread_q31_t;
+
+static wheel_spread_q31_t wheel_spread_q31(const rfe_fix_t refs[RFE_WHEELS])
+{
+    wheel_spread_q31_t a = {(int64_t)refs[0], refs[0], refs[0]};
+    size_t i;
+    for (i = 1u; i < RFE_WHEELS; ++i) {
+        a.sum += (int64_t)refs[i];
+        a.hi = rfe_fix_max(a.hi, refs[i]);
+        a.lo = rfe_fix_min(a.lo, refs[i]);
+    }
+    return a;
+}
+
+/* §3.5 which reference (the choice in velocity_logic.h); the spread in int64. */
+static rfe_vel_ref_t reference_kind_q31(const rfe_velocity_params_q31_t *p,
+                                        const wheel_vote_q31_t *w, const wheel_spread_q31_t *a,
+                                        rfe_fix_t vx_pred, const rfe_vel_drive_state_t *ds,
+                                        rfe_fix_t sd_w, uint32_t *sat)
 {
     const rfe_vel_ref_t ref = rfe_vel_reference(w->n_free, w->n_ok, ds,
                                                 (w->hi > vx_pred) ? 1 : 0,
                                                 (w->lo < vx_pred) ? 1 : 0);
+    /* k_agree Q24 sd_w Q23 -> Q23 */
+    const rfe_fix_t bound = rfe_fix_mul(p->k_agree, sd_w, 24u, sat);
+    const int64_t spread = (int64_t)a->hi - (int64_t)a->lo;
+    return rfe_vel_reacquire(ref, (spread <= (int64_t)bound) ? 1 : 0,
+                             (a->hi < p->v_stand) ? 1 : 0, ds);
+}
+
+/* §3.5 the wheel reference z (Q23) and its variance *r (Q46) for @p ref; a re-acquisition
+ * also re-inflates the prediction's variance (*p00, Q46) by the innovation squared. */
+static void wheel_reference_q31(rfe_vel_ref_t ref, const wheel_vote_q31_t *w,
+                                const wheel_spread_q31_t *a, rfe_fix_t vx_pred, rfe_fix_t sd_w,
+                                rfe_fix_t *z, int64_t *r, int64_t *p00, uint32_t *sat)
+{
     *r = rfe_vel_var_q31(sd_w, sat);
     if (ref == RFE_VEL_REF_FREE_MEAN) {
         const int64_t n = (int64_t)w->n_free; /* 1 .. 4 */
@@ -122,10 +156,15 @@ static int wheel_reference_q31(const wheel_vote_q31_t *w, rfe_fix_t vx_pred,
         *z = w->hi;
     } else if (ref == RFE_VEL_REF_DRIVEN_LO) {
         *z = w->lo;
+    } else if (ref == RFE_VEL_REF_REACQUIRE) {
+        const int64_t n = (int64_t)RFE_WHEELS;
+        *z = rfe_q31_div_round(a->sum, (rfe_fix_t)n, sat);
+        *r = (*r + (n / 2)) / n;
+        *p00 = rfe_vel_pmax_q31(
+            rfe_fix_add64(*p00, rfe_vel_var_q31(rfe_fix_sub(*z, vx_pred, sat), sat), sat), sat);
     } else {
         /* none */
     }
-    return (ref != RFE_VEL_REF_NONE) ? 1 : 0;
 }
 
 /* The net acceleration ax - g sin(grade) + r vy_prev, Q24. */
@@ -176,8 +215,11 @@ rfe_status_t rfe_vel_longitudinal_step_q31(rfe_kf2_q31_t *f, const rfe_velocity_
         const rfe_fix_t sd_gate = rfe_fix_sat32((int64_t)root, &cnt);
         const rfe_fix_t gate = rfe_fix_mul(p->k_gate, sd_gate, 24u, &cnt);
         const wheel_vote_q31_t w = wheel_votes_q31(refs, vx_pred, gate, &ds);
+        const wheel_spread_q31_t all = wheel_spread_q31(refs);
+        const rfe_vel_ref_t ref = reference_kind_q31(p, &w, &all, vx_pred, &ds, sd_w, &cnt);
         rfe_fix_t z = 0;
-        if (wheel_reference_q31(&w, vx_pred, &ds, sd_w, &z, &m.r, &cnt) != 0) {
+        wheel_reference_q31(ref, &w, &all, vx_pred, sd_w, &z, &m.r, &k.p00, &cnt);
+        if (ref != RFE_VEL_REF_NONE) {
             m.h0 = RFE_VEL_Q31_ONE;
             m.h1 = 0;
             m.qh0 = RFE_VEL_Q31_QONE;
@@ -186,6 +228,16 @@ rfe_status_t rfe_vel_longitudinal_step_q31(rfe_kf2_q31_t *f, const rfe_velocity_
             m.nu = rfe_fix_sub(z, vx_pred, &cnt);
             st = rfe_kf2_update_q31(&k, &m, &cnt);
             fl |= RFE_VEL_FLAG_VX_WHEEL;
+        } else if (rfe_vel_brake_drift(ref, &ds) != 0) {
+            /* q_vx_brake^2 Q46, times dt Q30 */
+            k.p00 = rfe_vel_pmax_q31(
+                rfe_fix_add64(k.p00,
+                              rfe_vel_scale_q31(rfe_vel_var_q31(p->q_vx_brake, &cnt), dt, 30u,
+                                                &cnt),
+                              &cnt),
+                &cnt);
+        } else {
+            /* rolling or driving without a wheel: the prediction's own variance */
         }
     }
     if (st == RFE_OK) {

@@ -11,6 +11,7 @@
  *    the torques;
  *  - the wheel votes (§3.5): which plausible wheel is free-rolling, and which reference the
  *    longitudinal filter takes;
+ *  - the re-acquisition of the wheels and the drift while braking unchecked (§3.5);
  *  - the flags each decision sets (§5).
  */
 #ifndef RFE_VELOCITY_LOGIC_H
@@ -69,6 +70,7 @@ typedef struct {
 
 /** The driving state (§3.4). */
 typedef struct {
+    int decelerating; /**< 1: a_net < -ax_brake_on (the test's outcome) */
     int braking;     /**< 1: braking */
     int driving;     /**< 1: driving (never together with braking) */
     uint32_t driven; /**< the wheels driven this step (RFE_DRIVEN_* bits) */
@@ -82,6 +84,7 @@ static inline rfe_vel_drive_state_t rfe_vel_drive_state(const rfe_vel_drive_test
                                                         uint32_t has, uint32_t driven)
 {
     rfe_vel_drive_state_t s;
+    s.decelerating = t->decelerating;
     s.braking = 0;
     s.driving = 0;
     s.driven = driven;
@@ -129,7 +132,9 @@ typedef enum {
     RFE_VEL_REF_NONE = 0,     /**< no correction this step */
     RFE_VEL_REF_FREE_MEAN = 1, /**< the mean of the free-rolling wheels (variance / count) */
     RFE_VEL_REF_BRAKED_HI = 2, /**< braking: the fastest plausible wheel, a lower bound */
-    RFE_VEL_REF_DRIVEN_LO = 3  /**< driving: the slowest plausible wheel, an upper bound */
+    RFE_VEL_REF_DRIVEN_LO = 3, /**< driving: the slowest plausible wheel, an upper bound */
+    RFE_VEL_REF_REACQUIRE = 4  /**< every wheel outside the gate but in agreement: their
+                                    mean, the prediction's variance re-inflated */
 } rfe_vel_ref_t;
 
 /** §3.5 which reference: the free wheels' mean when there is one; else, braking, the
@@ -152,6 +157,31 @@ static inline rfe_vel_ref_t rfe_vel_reference(size_t n_free, size_t n_ok,
         /* no trustworthy wheel this step */
     }
     return r;
+}
+
+/** §3.5 re-acquisition when the gated wheels gave no reference (@p ref NONE): the gate
+ *  guards against one wheel that slips, not against a prediction that drifted away from
+ *  all of them. Taken when the car rolls (neither braking nor driving) and the wheels agree
+ *  (@p agree: max - min <= k_agree sd_w), or when it stands (@p standing: every wheel below
+ *  v_stand) without decelerating or driving (the brake may be held). */
+static inline rfe_vel_ref_t rfe_vel_reacquire(rfe_vel_ref_t ref, int agree, int standing,
+                                              const rfe_vel_drive_state_t *s)
+{
+    rfe_vel_ref_t r = ref;
+    if ((ref == RFE_VEL_REF_NONE) && (s->driving == 0)) {
+        if (((s->braking == 0) && (agree != 0)) ||
+            ((standing != 0) && (s->decelerating == 0))) {
+            r = RFE_VEL_REF_REACQUIRE;
+        }
+    }
+    return r;
+}
+
+/** §3.5 braking and no wheel corrected vx this step: vx integrates ax, whose error while
+ *  braking (pitch, scale) is more than its offset's: the variance grows by q_vx_brake^2 dt. */
+static inline int rfe_vel_brake_drift(rfe_vel_ref_t ref, const rfe_vel_drive_state_t *s)
+{
+    return ((ref == RFE_VEL_REF_NONE) && (s->braking != 0)) ? 1 : 0;
 }
 
 #endif /* RFE_VELOCITY_LOGIC_H */

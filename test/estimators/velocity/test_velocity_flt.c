@@ -193,6 +193,107 @@ static void test_braking_wheels_only_bound_vx_from_below(void **state)
     assert_close(e.vx, v, 0.05, 0.0, "vx after braking");
 }
 
+/* Braking with ABS (every wheel 15 % slower than the car) while ax reads 0.8 m/s^2 short of
+ * the deceleration (pitch, a 13 % scale error): no wheel corrects vx, which runs above the truth.
+ * Returns the true speed at the end; *e the last estimate. */
+static rfe_real_t brake_with_a_biased_ax(rfe_velocity_estimate_t *e, rfe_real_t v, size_t steps)
+{
+    rfe_velocity_input_t in;
+    size_t k, i;
+    for (k = 0u; k < steps; ++k) {
+        v -= 6.0f * 0.01f;
+        in = rolling(0.85f * v, 0.01f);
+        in.ax = -6.0f + 0.8f;
+        for (i = 0u; i < 4u; ++i) {
+            in.p_brake[i] = 3.0f;
+        }
+        in.has = (uint32_t)RFE_VEL_HAS_PRESSURE;
+        assert_int_equal(rfe_velocity_step(&fx.obs, &in, NULL, e), RFE_OK);
+        assert_true((e->flags & (uint32_t)RFE_VEL_FLAG_VX_WHEEL) == 0u);
+    }
+    return v;
+}
+
+/* REQ-OBS-010 */
+static void test_vx_regains_the_wheels_after_braking(void **state)
+{
+    rfe_velocity_estimate_t e;
+    rfe_velocity_input_t in;
+    rfe_real_t v;
+    size_t k;
+    (void)state;
+    setup_fixture();
+    fx.vp.q_vx_brake = 0.5f; /* the braking drift on (off by default, OBSERVER.md §2) */
+    assert_int_equal(rfe_velocity_init(&fx.obs, &fx.vp, &fx.p), RFE_OK);
+    for (k = 0u; k < 500u; ++k) { /* 5 s of free rolling at 20 m/s: b_x learnt */
+        in = rolling(20.0f, (k == 0u) ? 0.0f : 0.01f);
+        assert_int_equal(rfe_velocity_step(&fx.obs, &in, NULL, &e), RFE_OK);
+    }
+    v = brake_with_a_biased_ax(&e, 20.0f, 250u); /* 20 -> 5 m/s in 2.5 s */
+    /* the integrated bias: 0.8 m/s^2 over 2.5 s puts vx 2 m/s above the truth, ten times the
+     * gate the ax noise alone gives (3 sqrt(0.03^2 + 0.075^2) = 0.24 m/s) */
+    assert_true(e.vx - v > 1.9f);
+    /* the honest sd (q_vx_brake): the error within 3 sd, while the error (an offset the
+     * filter cannot tell from its b_x) stays within what its sd allows */
+    assert_true(e.vx - v < 3.0f * e.sd_vx);
+    /* then rolling freely at the truth, the four wheels in agreement, ax 0 */
+    for (k = 0u; k < 100u; ++k) {
+        in = rolling(v, 0.01f);
+        assert_int_equal(rfe_velocity_step(&fx.obs, &in, NULL, &e), RFE_OK);
+    }
+    /* within 1 s the wheels are taken again: vx within 0.1 m/s (twice the wheel noise
+     * sd_wheel + sd_wheel_rel |v| = 0.075 m/s, noise-free wheels here) */
+    assert_true((e.flags & (uint32_t)RFE_VEL_FLAG_VX_WHEEL) != 0u);
+    assert_close(e.vx, v, 0.1, 0.0, "vx after regaining the wheels");
+}
+
+/* REQ-OBS-010 */
+static void test_vx_regains_the_wheels_at_standstill(void **state)
+{
+    rfe_velocity_estimate_t e;
+    rfe_velocity_input_t in;
+    rfe_real_t v;
+    size_t k;
+    (void)state;
+    setup_fixture();
+    /* without the braking drift the sd stays small: only the re-acquisition brings the
+     * wheels back */
+    fx.vp.q_vx_brake = 0.0f;
+    assert_int_equal(rfe_velocity_init(&fx.obs, &fx.vp, &fx.p), RFE_OK);
+    for (k = 0u; k < 500u; ++k) {
+        in = rolling(20.0f, (k == 0u) ? 0.0f : 0.01f);
+        assert_int_equal(rfe_velocity_step(&fx.obs, &in, NULL, &e), RFE_OK);
+    }
+    /* 20 -> 5 m/s: vx 2 m/s above the truth, sd a few hundredths */
+    v = brake_with_a_biased_ax(&e, 20.0f, 250u);
+    assert_true(e.vx - v > 1.9f);
+    assert_true(e.sd_vx < 0.1f);
+    /* rolling with one wheel 1 m/s fast (spread 1 m/s > k_agree sd_w = 0.23 m/s): the
+     * wheels disagree, none is taken */
+    for (k = 0u; k < 50u; ++k) {
+        in = rolling(v, 0.01f);
+        in.omega[3] = (v + 1.0f) / fx.p.vehicle.R;
+        assert_int_equal(rfe_velocity_step(&fx.obs, &in, NULL, &e), RFE_OK);
+        assert_true((e.flags & (uint32_t)RFE_VEL_FLAG_VX_WHEEL) == 0u);
+    }
+    /* braking on to 0.2 m/s: vx ends 2.6 m/s above the truth */
+    v = brake_with_a_biased_ax(&e, v, 80u);
+    assert_true(e.vx - v > 2.5f);
+    /* parked, foot on the brake, every wheel at 0 rad/s, ax 0 */
+    for (k = 0u; k < 100u; ++k) {
+        size_t i;
+        in = rolling(0.0f, 0.01f);
+        for (i = 0u; i < 4u; ++i) {
+            in.p_brake[i] = 1.0f;
+        }
+        in.has = (uint32_t)RFE_VEL_HAS_PRESSURE;
+        assert_int_equal(rfe_velocity_step(&fx.obs, &in, NULL, &e), RFE_OK);
+    }
+    /* standing: vx 0 within the wheel noise sd_wheel = 0.05 m/s */
+    assert_true((e.flags & (uint32_t)RFE_VEL_FLAG_VX_WHEEL) != 0u);
+    assert_close(e.vx, 0.0, 0.05, 0.0, "vx parked");
+}
+
 static void test_a_stop(void **state)
 {
     rfe_velocity_estimate_t e;
@@ -304,15 +405,17 @@ static void test_the_yaw_row_moves_vy_towards_the_moment_balance(void **state)
     /* the case must be one where the yaw row has something to say: 0.1 rad/s^2 is twice the
      * r-dot noise the differentiator leaves (OBSERVER.md §3.2) */
     assert_true(fabsf((float)z0[2]) > 0.1f);
-    vy_on = vy_in_a_turn_by_the_yaw_row(fx.vp.sd_model_rdot);
-    vy_off = vy_in_a_turn_by_the_yaw_row(1000.0f);
+    vy_on = vy_in_a_turn_by_the_yaw_row(0.3f); /* the row on (off by default) */
+    vy_off = vy_in_a_turn_by_the_yaw_row(0.0f); /* off: the default */
     /* vy moved the way the moment balance asks */
     assert_true((vy_on * -(z0[2] * (z1[2] - z0[2]))) > 0.0f);
     /* and by more than what the kinematics and the other rows move it without the yaw row:
      * the factor 2 leaves room for the part of vy that the offset's update lets drift */
     assert_true(fabsf((float)vy_on) > (2.0f * fabsf((float)vy_off)));
-    /* a yaw row with no error is not allowed (R could vanish) */
-    fx.vp.sd_model_rdot = 0.0f;
+    /* 0 is the default and turns the row off; a negative or non-finite error is rejected */
+    assert_true(fx.vp.sd_model_rdot == 0.0f);
+    assert_int_equal(rfe_velocity_params_validate(&fx.vp), RFE_OK);
+    fx.vp.sd_model_rdot = -0.1f;
     assert_int_equal(rfe_velocity_params_validate(&fx.vp), RFE_ERR_PARAM);
     fx.vp.sd_model_rdot = (rfe_real_t)NAN;
     assert_int_equal(rfe_velocity_params_validate(&fx.vp), RFE_ERR_PARAM);
@@ -429,6 +532,8 @@ int main(void)
         cmocka_unit_test(test_first_sample_and_free_rolling),
         cmocka_unit_test(test_braking_wheels_only_bound_vx_from_below),
         cmocka_unit_test(test_a_stop),
+        cmocka_unit_test(test_vx_regains_the_wheels_after_braking),
+        cmocka_unit_test(test_vx_regains_the_wheels_at_standstill),
         cmocka_unit_test(test_not_initialised_and_nonfinite_friction),
         cmocka_unit_test(test_a_too_low_friction_is_raised_by_the_measured_ay),
         cmocka_unit_test(test_the_yaw_row_moves_vy_towards_the_moment_balance),

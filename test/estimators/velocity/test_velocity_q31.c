@@ -276,6 +276,86 @@ static worst_t run_log(const char *name)
     return w;
 }
 
+/* One step of both observers on the same sample, compared (no decision split expected:
+ * the flags must agree). */
+static void step_both(rfe_velocity_t *od, rfe_velocity_q31_t *oq, const rfe_velocity_input_t *in,
+                      const rfe_velocity_input_q31_t *iq, rfe_velocity_estimate_t *e,
+                      const char *what)
+{
+    rfe_velocity_estimate_q31_t q;
+    worst_t w = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0u, 0u, 0};
+    assert_int_equal(rfe_velocity_step(od, in, NULL, e), RFE_OK);
+    assert_int_equal(rfe_velocity_step_q31(oq, iq, NULL, &q), RFE_OK);
+    assert_int_equal(q.sat, 0u);
+    assert_int_equal(q.flags, e->flags);
+    compare(e, &q, &w, 0, what);
+}
+
+/* The lock-out of test_velocity_flt.c (REQ-OBS-010) through both twins: 5 s rolling at
+ * 20 m/s, ABS braking to 5 m/s with every wheel 15 % slow and ax 0.8 m/s^2 short, then
+ * (q_vx_brake as given) 1 s rolling with one wheel 1 m/s fast, braking on to standstill and
+ * 1 s parked with the brake held. Returns the last double estimate. */
+static rfe_velocity_estimate_t lockout_both(double q_vx_brake)
+{
+    both_t b;
+    rfe_velocity_t od;
+    rfe_velocity_q31_t oq;
+    rfe_velocity_input_t in;
+    rfe_velocity_input_q31_t iq;
+    rfe_velocity_estimate_t e;
+    double v = 20.0;
+    size_t k, w;
+    params_of(NULL, &b);
+    b.vd.q_vx_brake = q_vx_brake;
+    assert_int_equal(rfe_velocity_params_to_q31_f64(&b.vd, &b.vq), RFE_OK);
+    assert_int_equal(rfe_velocity_init(&od, &b.vd, &b.pd), RFE_OK);
+    assert_int_equal(rfe_velocity_init_q31(&oq, &b.vq, &b.pq), RFE_OK);
+    conv_sat = 0u;
+    for (k = 0u; k < 1000u; ++k) {
+        if (k < 500u) { /* rolling */
+        } else if (k < 580u) { /* braking, ABS */
+            v -= 0.06;
+        } else if (k < 680u) { /* rolling, one wheel fast */
+        } else if (k < 760u) { /* braking on to 0.2 m/s */
+            v -= 0.06;
+        } else { /* parked */
+            v = 0.0;
+        }
+        rolling(&b, ((k >= 500u && k < 580u) || (k >= 680u && k < 760u)) ? 0.85 * v : v,
+                (k == 0u) ? 0.0 : 0.01, &in, &iq);
+        if ((k >= 500u && k < 580u) || k >= 680u) {
+            in.ax = (k < 760u) ? -5.2 : 0.0;
+            iq.ax = fx(in.ax, RFE_FIX_Q_ACC);
+            for (w = 0u; w < 4u; ++w) {
+                in.p_brake[w] = 3.0;
+                iq.p_brake[w] = fx(3.0, RFE_FIX_Q_PRESSURE);
+            }
+            in.has = (uint32_t)RFE_VEL_HAS_PRESSURE;
+            iq.has = in.has;
+        }
+        if (k >= 580u && k < 680u) {
+            in.omega[3] = (v + 1.0) / b.pd.vehicle.R;
+            iq.omega[3] = fx(in.omega[3], RFE_FIX_Q_OMEGA);
+        }
+        step_both(&od, &oq, &in, &iq, &e, "lock-out sequence");
+    }
+    assert_int_equal(conv_sat, 0u);
+    return e;
+}
+
+/* REQ-FXP-014 (REQ-OBS-010): the re-acquisition and the braking drift decide the same in
+ * both twins, and the fixed-point vx regains its wheels too */
+static void test_back_to_back_through_a_lockout(void **state)
+{
+    rfe_velocity_estimate_t e;
+    (void)state;
+    e = lockout_both(0.5);  /* a braking drift of 0.5 (off by default) */
+    assert_true(e.vx < 0.05); /* parked: within sd_wheel of 0 */
+    e = lockout_both(0.0);  /* none: only the re-acquisition at standstill */
+    assert_true(e.vx < 0.05);
+    assert_true((e.flags & (uint32_t)RFE_VEL_FLAG_VX_WHEEL) != 0u);
+}
+
 /* REQ-FXP-014 */
 static void test_back_to_back_on_every_observer_scenario(void **state)
 {
@@ -354,23 +434,23 @@ static void test_params(void **state)
     bad.dt_max = RFE_FIX_ONE(30) + 1;
     assert_int_equal(rfe_velocity_params_validate_q31(&bad), RFE_ERR_PARAM);
     /* every field that must be > 0 rejects 0, every other one a negative value; in the
-     * order of the struct after dt_max (steer_ratio and sd_model_rdot are checked positive
-     * too) */
+     * order of the struct after dt_max (steer_ratio is checked positive too; sd_model_rdot
+     * is 0 when off) */
     {
-        rfe_fix_t *const pos[11] = {&bad.q_jerk, &bad.sd_r, &bad.sd_ax, &bad.sd_ay, &bad.dvy,
+        rfe_fix_t *const pos[10] = {&bad.q_jerk, &bad.sd_r, &bad.sd_ax, &bad.sd_ay, &bad.dvy,
                                     &bad.v_lat_min, &bad.sd_lowspeed, &bad.mu_default,
-                                    &bad.sd_vydot, &bad.steer_ratio, &bad.sd_model_rdot};
-        rfe_fix_t *const nonneg[18] = {
-            &bad.vydot_rdot, &bad.q_bx, &bad.q_by, &bad.sd_wheel, &bad.sd_wheel_rel,
-            &bad.k_gate, &bad.ax_brake_on, &bad.ax_drive_on, &bad.p_brake_on, &bad.torque_on,
+                                    &bad.sd_vydot, &bad.steer_ratio};
+        rfe_fix_t *const nonneg[22] = {
+            &bad.sd_model_rdot, &bad.vydot_rdot, &bad.q_bx, &bad.q_by, &bad.sd_wheel, &bad.sd_wheel_rel,
+            &bad.k_gate, &bad.k_agree, &bad.v_stand, &bad.q_vx_brake, &bad.ax_brake_on, &bad.ax_drive_on, &bad.p_brake_on, &bad.torque_on,
             &bad.sd_model_ay, &bad.model_ay_rel, &bad.sd_mu_default, &bad.mu_margin,
             &bad.sd_vx0, &bad.sd_bx0, &bad.sd_vy0, &bad.sd_by0};
-        for (i = 0u; i < 11u; ++i) {
+        for (i = 0u; i < 10u; ++i) {
             bad = def;
             *pos[i] = 0;
             assert_int_equal(rfe_velocity_params_validate_q31(&bad), RFE_ERR_PARAM);
         }
-        for (i = 0u; i < 18u; ++i) {
+        for (i = 0u; i < 22u; ++i) {
             bad = def;
             *nonneg[i] = 0;
             assert_int_equal(rfe_velocity_params_validate_q31(&bad), RFE_OK);
@@ -679,8 +759,8 @@ static void turn_by_the_yaw_row(double sd_model_rdot, double *vy_d, double *vy_q
 }
 
 /* REQ-OBS-009 (REQ-FXP-014): the fixed-point lateral filter weighs the yaw row as the double
- * one does: with the row (sd_model_rdot 0.3 rad/s^2) and without it (its error as large as
- * the lateral row's, 30 rad/s^2) the q31 vy follows the double vy within TOL_VY, and the row
+ * one does: with the row (sd_model_rdot 0.3 rad/s^2; off by default) and without it (0, off)
+ * the q31 vy follows the double vy within TOL_VY, and the row
  * moves the final vy by more than 20 TOL_VY, so agreeing within TOL_VY needs the row. */
 static void test_the_yaw_row_in_fixed_point(void **state)
 {
@@ -690,7 +770,7 @@ static void test_the_yaw_row_in_fixed_point(void **state)
     double off_q = 0.0;
     (void)state;
     turn_by_the_yaw_row(0.3, &on_d, &on_q);
-    turn_by_the_yaw_row(30.0, &off_d, &off_q);
+    turn_by_the_yaw_row(0.0, &off_d, &off_q);
     printf("yaw row, final vy: with it %.6g m/s (q31 %.6g), without %.6g m/s (q31 %.6g)\n",
            on_d, on_q, off_d, off_q);
     assert_true(fabs(on_d - off_d) > 20.0 * TOL_VY);
@@ -707,6 +787,7 @@ int main(void)
         cmocka_unit_test(test_first_sample),
         cmocka_unit_test(test_steering_wheel_input),
         cmocka_unit_test(test_the_yaw_row_in_fixed_point),
+        cmocka_unit_test(test_back_to_back_through_a_lockout),
         cmocka_unit_test(test_back_to_back_on_every_observer_scenario),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
