@@ -703,7 +703,7 @@ static void test_rfe_replay_run_observer_q31_counts_saturation_and_goes_on(void 
  * pressures and torques, within REQ-FXP-016's bounds of the pipeline twins (mu 0.005 where
  * both are valid; vx 1e-4 m/s, vy 5e-4 m/s: test_pipeline_q31.c), statuses and valid flags
  * equal (the samples' decisions are far from their thresholds on these logs; measured on the
- * lane change through mu_replay: every flag equal, |dmu| 2.8e-6, |dvx| 1.4e-6 m/s). A wrong
+ * lane change through mu_replay: every flag equal, |dmu| 1.9e-6, |dvx| 1.0e-6 m/s). A wrong
  * conversion (a format, the period, a missing column) is off by orders of magnitude more. */
 /* REQ-CLI-005 */
 static void test_rfe_replay_run_observer_q31_agrees_with_double(void **state)
