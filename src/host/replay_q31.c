@@ -181,30 +181,25 @@ rfe_status_t rfe_replay_run_q31(const rfe_param_set_t *ps, const rfe_sensor_log_
 uint32_t rfe_replay_esc_input_q31(const rfe_sensor_log_t *log, size_t i,
                                   rfe_velocity_input_q31_t *in)
 {
-    const rfe_sensor_row_t *row = &log->rows[i];
-    const double dt = (i > 0u) ? (row->t - log->rows[i - 1u].t) : 0.0;
-    uint32_t n_sat = 0u;
-    uint32_t *sat = &n_sat;
+    rfe_velocity_input_t d; /* the double run's sample: which columns, the period, the bits */
+    uint32_t sat = 0u;
     size_t w;
+    rfe_replay_esc_input_f64(log, i, &d);
     memset(in, 0, sizeof *in);
-    in->dt = rfe_fix_from_double(dt, RFE_FIX_Q_DT, sat);
-    in->delta = rfe_fix_from_double(row->delta, RFE_FIX_Q_ANGLE, sat);
-    in->steer_wheel = log->has_swa ? rfe_fix_from_double(row->swa, RFE_FIX_Q_STEER_WHEEL, sat) : 0;
-    in->yaw_rate = rfe_fix_from_double(row->yaw_rate, RFE_FIX_Q_YAWRATE, sat);
-    in->ax = rfe_fix_from_double(row->ax, RFE_FIX_Q_ACC, sat);
-    in->ay = rfe_fix_from_double(row->ay, RFE_FIX_Q_ACC, sat);
-    in->grade = log->has_grade ? rfe_fix_from_double(row->grade, RFE_FIX_Q_ANGLE, sat) : 0;
+    in->dt = rfe_fix_from_double(d.dt, RFE_FIX_Q_DT, &sat);
+    in->delta = rfe_fix_from_double(d.delta, RFE_FIX_Q_ANGLE, &sat);
+    in->steer_wheel = rfe_fix_from_double(d.steer_wheel, RFE_FIX_Q_STEER_WHEEL, &sat);
+    in->yaw_rate = rfe_fix_from_double(d.yaw_rate, RFE_FIX_Q_YAWRATE, &sat);
+    in->ax = rfe_fix_from_double(d.ax, RFE_FIX_Q_ACC, &sat);
+    in->ay = rfe_fix_from_double(d.ay, RFE_FIX_Q_ACC, &sat);
+    in->grade = rfe_fix_from_double(d.grade, RFE_FIX_Q_ANGLE, &sat);
     for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
-        in->omega[w] = rfe_fix_from_double(row->omega[w], RFE_FIX_Q_OMEGA, sat);
-        in->p_brake[w] =
-            log->has_pressure ? rfe_fix_from_double(row->p_brake[w], RFE_FIX_Q_PRESSURE, sat) : 0;
-        in->torque[w] =
-            log->has_torque ? rfe_fix_from_double(row->torque[w], RFE_FIX_Q_TORQUE, sat) : 0;
+        in->omega[w] = rfe_fix_from_double(d.omega[w], RFE_FIX_Q_OMEGA, &sat);
+        in->p_brake[w] = rfe_fix_from_double(d.p_brake[w], RFE_FIX_Q_PRESSURE, &sat);
+        in->torque[w] = rfe_fix_from_double(d.torque[w], RFE_FIX_Q_TORQUE, &sat);
     }
-    in->has = (log->has_pressure ? RFE_VEL_HAS_PRESSURE : 0u) |
-              (log->has_torque ? RFE_VEL_HAS_TORQUE : 0u) |
-              (log->has_swa ? RFE_VEL_HAS_STEER_WHEEL : 0u);
-    return n_sat;
+    in->has = d.has;
+    return sat;
 }
 
 /* One pipeline step of row @p i; returns the step's saturations (observer and friction). */
