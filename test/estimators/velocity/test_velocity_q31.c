@@ -664,6 +664,45 @@ static void test_first_sample(void **state)
 
 /* REQ-FXP-014 (REQ-OBS-008): the steering-wheel angle through the ratio gives the road-wheel
  * angle the double observer uses, and the observer reports it. */
+/* REQ-FXP-015: a noise parameter at the top of its Q format (sd_model_ay = INT32_MAX in Q24,
+ * about 128 m/s^2) squares beyond the filters' variance range: the variance and the model
+ * row's summed noise (with a little ay, so its relative part adds to it) are clamped to
+ * RFE_KF2_Q31_PMAX and counted (a saturation is not an error), and the step goes on with finite outputs. With the default the same step counts
+ * none, so the count is the clamp's. */
+static void test_a_huge_noise_parameter_saturates_and_is_counted(void **state)
+{
+    both_t b;
+    rfe_velocity_q31_t o;
+    rfe_velocity_input_t in;
+    rfe_velocity_input_q31_t iq;
+    rfe_velocity_estimate_q31_t e;
+    uint32_t sat_default = 0u;
+    int run;
+    (void)state;
+    for (run = 0; run < 2; ++run) {
+        params_of(NULL, &b);
+        if (run == 1) {
+            b.vq.sd_model_ay = INT32_MAX;
+        }
+        assert_int_equal(rfe_velocity_params_validate_q31(&b.vq), RFE_OK);
+        memset(&o, 0, sizeof o);
+        assert_int_equal(rfe_velocity_init_q31(&o, &b.vq, &b.pq), RFE_OK);
+        rolling(&b, 20.0, 0.01, &in, &iq);
+        iq.ay = fx(0.5, RFE_FIX_Q_ACC); /* a little ay: the relative model error is not 0 */
+        assert_int_equal(rfe_velocity_step_q31(&o, &iq, NULL, &e), RFE_OK); /* the start */
+        assert_int_equal(rfe_velocity_step_q31(&o, &iq, NULL, &e), RFE_OK); /* a model step */
+        assert_true((e.flags & RFE_VEL_FLAG_VY_MODEL) != 0u);
+        if (run == 0) {
+            sat_default = e.sat;
+        } else {
+            /* two clamps: the squared parameter, then the row's summed noise */
+            assert_true(e.sat >= sat_default + 2u);
+            assert_true(e.sd_vy >= 0);
+        }
+    }
+    assert_int_equal(sat_default, 0u);
+}
+
 static void test_steering_wheel_input(void **state)
 {
     both_t b;
@@ -786,6 +825,7 @@ int main(void)
         cmocka_unit_test(test_model_error_leaves_the_observer_untouched),
         cmocka_unit_test(test_first_sample),
         cmocka_unit_test(test_steering_wheel_input),
+        cmocka_unit_test(test_a_huge_noise_parameter_saturates_and_is_counted),
         cmocka_unit_test(test_the_yaw_row_in_fixed_point),
         cmocka_unit_test(test_back_to_back_through_a_lockout),
         cmocka_unit_test(test_back_to_back_on_every_observer_scenario),
