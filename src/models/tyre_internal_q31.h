@@ -7,17 +7,17 @@
  *        into its friction-independent part and the rest. Not installed; integer operations
  *        only (no libc header beyond <stdint.h> and <stddef.h>, no <math.h>).
  *
- * Twin of tyre_internal.h, name for name where the concept exists in both:
- * rfe_tyre_wheel_kin_q31, rfe_tyre_wheel_kappa_q31, rfe_tyre_dugoff_pre_q31 and
- * rfe_tyre_dugoff_pre_tan_q31. The float header's rfe_tyre_dugoff_abs_pre (checks, then the
- * curve of tp->mode at mu) is split here into the parameter checks
- * (rfe_tyre_dugoff_params_ok_q31, rfe_tyre_abs_params_ok_q31) and the curves
- * (rfe_tyre_dugoff_mu_q31, rfe_tyre_magic_mu_q31), because the fixed-point evaluation has no
- * per-value checks (no NaN or infinity: it saturates and counts instead), so the checks are
- * made once per set of parameters; rfe_tyre_kinematics_ex_q31 exists only here because it
- * returns the per-wheel saturation counts, a fixed-point concept (the float set-up computes
- * cos/sin of delta itself). Aligning these into one rfe_tyre_dugoff_abs_pre_q31 is left
- * for later (docs/LAYOUT.md, "Twins").
+ * Twin of tyre_internal.h, name for name: rfe_tyre_wheel_kin_q31, rfe_tyre_wheel_kappa_q31,
+ * rfe_tyre_dugoff_pre_q31, rfe_tyre_dugoff_pre_tan_q31 and rfe_tyre_dugoff_abs_pre_q31 (the
+ * curve of tp->mode at mu from the friction-independent terms). The float
+ * rfe_tyre_dugoff_abs_pre also checks its arguments at every call; the fixed-point one checks
+ * none, because the fixed-point evaluation has no per-value checks (no NaN or infinity: it
+ * saturates and counts instead), so the parameter checks (rfe_tyre_dugoff_params_ok_q31,
+ * rfe_tyre_abs_params_ok_q31) are made once per set of parameters, and the curves it chooses
+ * between (rfe_tyre_dugoff_mu_q31, rfe_tyre_magic_mu_q31) are its parts, tested on their
+ * own. rfe_tyre_kinematics_ex_q31 exists only here because it returns the per-wheel
+ * saturation counts, a fixed-point concept (the float set-up computes cos/sin of delta
+ * itself).
  *
  * These are exactly the operations of rfe_tyre_kinematics_q31, rfe_tyre_dugoff_abs_q31 and
  * rfe_tyre_magic_abs_q31 (which are built from them), so a caller that combines them as those
@@ -84,6 +84,15 @@ int rfe_tyre_dugoff_params_ok_q31(const rfe_tyre_params_q31_t *tp);
 void rfe_tyre_magic_mu_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugoff_pre_q31_t *pre,
                            rfe_fix_t mu, rfe_fix_t fz, rfe_fix_t *fx, rfe_fix_t *fy,
                            uint32_t *sat);
+
+/** The forces Fx, Fy (Q15) of tp->mode's load-scaled curve at friction @p mu (Q29; mu < 0
+ *  evaluated as 0) and load @p fz (Q15, >= 0) from @p pre (of rfe_tyre_dugoff_pre_q31 at tp):
+ *  rfe_tyre_magic_mu_q31 in magic mode, rfe_tyre_dugoff_mu_q31 otherwise, as
+ *  rfe_tyre_forces_abs_q31 chooses; one count in *sat per clamped force. @p tp must pass
+ *  rfe_tyre_abs_params_ok_q31. The twin of tyre_internal.h's rfe_tyre_dugoff_abs_pre. */
+void rfe_tyre_dugoff_abs_pre_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugoff_pre_q31_t *pre,
+                                 rfe_fix_t mu, rfe_fix_t fz, rfe_fix_t *fx, rfe_fix_t *fy,
+                                 uint32_t *sat);
 
 /** 1 when rfe_tyre_forces_abs_q31 accepts the parameters in tp's mode (alpha_max, eps; in
  *  magic mode also the shape factors), else 0. */

@@ -701,6 +701,17 @@ void rfe_tyre_magic_mu_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugoff_pre
     magic_forces_q31(tp, pre, (mu > 0) ? mu : 0, fz, fx, fy, sat);
 }
 
+void rfe_tyre_dugoff_abs_pre_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugoff_pre_q31_t *pre,
+                                 rfe_fix_t mu, rfe_fix_t fz, rfe_fix_t *fx, rfe_fix_t *fy,
+                                 uint32_t *sat)
+{
+    if (tp->mode == RFE_TYRE_MAGIC) {
+        rfe_tyre_magic_mu_q31(tp, pre, mu, fz, fx, fy, sat);
+    } else {
+        rfe_tyre_dugoff_mu_q31(pre, mu, fz, fx, fy, sat);
+    }
+}
+
 int rfe_tyre_abs_params_ok_q31(const rfe_tyre_params_q31_t *tp)
 {
     return ((rfe_tyre_dugoff_params_ok_q31(tp) != 0) &&

@@ -109,6 +109,29 @@ static void test_tyre_internal_q31(void **state)
             assert_int_equal(gx, fx);
             assert_int_equal(gy, fy);
             assert_int_equal(c2, c1);
+            /* the mode's curve by rfe_tyre_dugoff_abs_pre_q31: the public function of that
+             * mode's bits and counts, in both load-scaled modes */
+            {
+                rfe_tyre_params_q31_t tp = p.tyre;
+                size_t mode;
+                for (mode = 0u; mode < 2u; ++mode) {
+                    uint32_t c3 = 0u;
+                    uint32_t c4 = 0u;
+                    tp.mode = (mode == 0u) ? RFE_TYRE_MAGIC : RFE_TYRE_ABSOLUTE;
+                    assert_int_equal((mode == 0u)
+                                         ? rfe_tyre_magic_abs_q31(&tp, kin.kappa[i], kin.alpha[i],
+                                                                  kin.fz[i], kin.vwx[i], mu[i],
+                                                                  &fx, &fy, &c3)
+                                         : rfe_tyre_dugoff_abs_q31(&tp, kin.kappa[i], kin.alpha[i],
+                                                                   kin.fz[i], kin.vwx[i], mu[i],
+                                                                   &fx, &fy, &c3),
+                                     RFE_OK);
+                    rfe_tyre_dugoff_abs_pre_q31(&tp, &pre, mu[i], kin.fz[i], &gx, &gy, &c4);
+                    assert_int_equal(gx, fx);
+                    assert_int_equal(gy, fy);
+                    assert_int_equal(c4, c3);
+                }
+            }
         }
         assert_int_equal(sum, sat);
     }
