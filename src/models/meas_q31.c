@@ -34,9 +34,8 @@
 /* Wheel i's terms (Q24, RFE_MEAS entries: its column of H at its forces) from its
  * friction-independent tyre terms pre (of rfe_tyre_dugoff_pre_q31 at tp), friction mu (Q29),
  * load fz (Q15, >= 0) and c, s = cos, sin of delta (Q30; ignored for the rear wheels); the
- * forces of tp->mode's curve (rfe_tyre_dugoff_abs_pre_q31: rfe_tyre_magic_mu_q31 in magic mode,
- * rfe_tyre_dugoff_mu_q31 otherwise, as rfe_tyre_forces_abs_q31; tp passed
- * rfe_tyre_abs_params_ok_q31); saturations
+ * forces of tp->mode's curve (rfe_tyre_dugoff_abs_pre_q31, as rfe_tyre_forces_abs_q31 chooses
+ * it; tp passed rfe_tyre_abs_params_ok_q31); saturations
  * (forces, entries) counted in *sat. */
 static void wheel_terms_q31(const rfe_vehicle_q31_t *veh, const rfe_tyre_params_q31_t *tp,
                             const rfe_dugoff_pre_q31_t *pre, rfe_fix_t mu, rfe_fix_t fz,

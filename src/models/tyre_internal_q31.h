@@ -13,9 +13,7 @@
  * rfe_tyre_dugoff_abs_pre also checks its arguments at every call; the fixed-point one checks
  * none, because the fixed-point evaluation has no per-value checks (no NaN or infinity: it
  * saturates and counts instead), so the parameter checks (rfe_tyre_dugoff_params_ok_q31,
- * rfe_tyre_abs_params_ok_q31) are made once per set of parameters, and the curves it chooses
- * between (rfe_tyre_dugoff_mu_q31, rfe_tyre_magic_mu_q31) are its parts, tested on their
- * own. rfe_tyre_kinematics_ex_q31 exists only here because it returns the per-wheel
+ * rfe_tyre_abs_params_ok_q31) are made once per set of parameters. rfe_tyre_kinematics_ex_q31 exists only here because it returns the per-wheel
  * saturation counts, a fixed-point concept (the float set-up computes cos/sin of delta
  * itself).
  *
@@ -69,26 +67,14 @@ void rfe_tyre_dugoff_pre_q31(const rfe_tyre_params_q31_t *tp, rfe_fix_t kappa, r
 void rfe_tyre_dugoff_pre_tan_q31(const rfe_tyre_params_q31_t *tp, rfe_fix_t kappa,
                                  rfe_fix_t tan_a, rfe_fix_t vwx, rfe_dugoff_pre_q31_t *pre);
 
-/** The rest: Fx, Fy (Q15) at friction @p mu (Q29; mu < 0 evaluated as 0) and load @p fz
- *  (Q15, >= 0); one count in *sat per clamped force, as rfe_tyre_dugoff_abs_q31. */
-void rfe_tyre_dugoff_mu_q31(const rfe_dugoff_pre_q31_t *pre, rfe_fix_t mu, rfe_fix_t fz,
-                            rfe_fix_t *fx, rfe_fix_t *fy, uint32_t *sat);
-
 /** 1 when rfe_tyre_dugoff_abs_q31 accepts the parameters (alpha_max, eps), else 0. */
 int rfe_tyre_dugoff_params_ok_q31(const rfe_tyre_params_q31_t *tp);
 
-/** The rest of rfe_tyre_magic_abs_q31: Fx, Fy (Q15) with the shape factors of @p tp at
- *  friction @p mu (Q29; mu < 0 evaluated as 0) and load @p fz (Q15, >= 0), from @p pre (of
- *  rfe_tyre_dugoff_pre_q31 at tp's cx, cy, eps, alpha_max); one count in *sat per clamped
- *  force. @p tp's shape factors must pass rfe_tyre_abs_params_ok_q31 in magic mode. */
-void rfe_tyre_magic_mu_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugoff_pre_q31_t *pre,
-                           rfe_fix_t mu, rfe_fix_t fz, rfe_fix_t *fx, rfe_fix_t *fy,
-                           uint32_t *sat);
-
 /** The forces Fx, Fy (Q15) of tp->mode's load-scaled curve at friction @p mu (Q29; mu < 0
  *  evaluated as 0) and load @p fz (Q15, >= 0) from @p pre (of rfe_tyre_dugoff_pre_q31 at tp):
- *  rfe_tyre_magic_mu_q31 in magic mode, rfe_tyre_dugoff_mu_q31 otherwise, as
- *  rfe_tyre_forces_abs_q31 chooses; one count in *sat per clamped force. @p tp must pass
+ *  the Magic Formula in magic mode, the load-scaled Dugoff otherwise, as
+ *  rfe_tyre_forces_abs_q31 chooses (the same operations as rfe_tyre_magic_abs_q31 /
+ *  rfe_tyre_dugoff_abs_q31 after their checks); one count in *sat per clamped force. @p tp must pass
  *  rfe_tyre_abs_params_ok_q31. The twin of tyre_internal.h's rfe_tyre_dugoff_abs_pre. */
 void rfe_tyre_dugoff_abs_pre_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugoff_pre_q31_t *pre,
                                  rfe_fix_t mu, rfe_fix_t fz, rfe_fix_t *fx, rfe_fix_t *fy,

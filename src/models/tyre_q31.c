@@ -681,8 +681,9 @@ void rfe_tyre_dugoff_pre_tan_q31(const rfe_tyre_params_q31_t *tp, rfe_fix_t kapp
     dugoff_pre(k, tan_a, tp->cx, tp->cy, tp->eps, vwx, pre);
 }
 
-void rfe_tyre_dugoff_mu_q31(const rfe_dugoff_pre_q31_t *pre, rfe_fix_t mu, rfe_fix_t fz,
-                            rfe_fix_t *fx, rfe_fix_t *fy, uint32_t *sat)
+/* The rest of rfe_tyre_dugoff_abs_q31 from pre: Fx, Fy at mu (mu < 0 as 0) and fz. */
+static void dugoff_mu_q31(const rfe_dugoff_pre_q31_t *pre, rfe_fix_t mu, rfe_fix_t fz,
+                          rfe_fix_t *fx, rfe_fix_t *fy, uint32_t *sat)
 {
     /* A cubature point may put mu below 0: evaluate it at mu = 0 (MODEL.md §4). */
     dugoff_at_mu(pre, (mu > 0) ? mu : 0, fz, fx, fy, sat);
@@ -693,9 +694,10 @@ int rfe_tyre_dugoff_params_ok_q31(const rfe_tyre_params_q31_t *tp)
     return (alpha_max_ok(tp) && (tp->eps >= 0)) ? 1 : 0;
 }
 
-void rfe_tyre_magic_mu_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugoff_pre_q31_t *pre,
-                           rfe_fix_t mu, rfe_fix_t fz, rfe_fix_t *fx, rfe_fix_t *fy,
-                           uint32_t *sat)
+/* The rest of rfe_tyre_magic_abs_q31 from pre: Fx, Fy with tp's shape at mu (mu < 0 as 0). */
+static void magic_mu_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugoff_pre_q31_t *pre,
+                         rfe_fix_t mu, rfe_fix_t fz, rfe_fix_t *fx, rfe_fix_t *fy,
+                         uint32_t *sat)
 {
     /* A cubature point may put mu below 0: evaluate it at mu = 0 (zero force). */
     magic_forces_q31(tp, pre, (mu > 0) ? mu : 0, fz, fx, fy, sat);
@@ -706,9 +708,9 @@ void rfe_tyre_dugoff_abs_pre_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugo
                                  uint32_t *sat)
 {
     if (tp->mode == RFE_TYRE_MAGIC) {
-        rfe_tyre_magic_mu_q31(tp, pre, mu, fz, fx, fy, sat);
+        magic_mu_q31(tp, pre, mu, fz, fx, fy, sat);
     } else {
-        rfe_tyre_dugoff_mu_q31(pre, mu, fz, fx, fy, sat);
+        dugoff_mu_q31(pre, mu, fz, fx, fy, sat);
     }
 }
 

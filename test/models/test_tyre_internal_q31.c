@@ -93,7 +93,11 @@ static void test_tyre_internal_q31(void **state)
                                                      &c1),
                              RFE_OK);
             rfe_tyre_dugoff_pre_q31(&p.tyre, kin.kappa[i], kin.alpha[i], kin.vwx[i], &pre);
-            rfe_tyre_dugoff_mu_q31(&pre, mu[i], kin.fz[i], &gx, &gy, &c2);
+            {
+                rfe_tyre_params_q31_t td = p.tyre;
+                td.mode = RFE_TYRE_ABSOLUTE;
+                rfe_tyre_dugoff_abs_pre_q31(&td, &pre, mu[i], kin.fz[i], &gx, &gy, &c2);
+            }
             assert_int_equal(gx, fx);
             assert_int_equal(gy, fy);
             assert_int_equal(c2, c1);
@@ -105,7 +109,11 @@ static void test_tyre_internal_q31(void **state)
                                                     kin.fz[i], kin.vwx[i], mu[i], &fx, &fy,
                                                     &c1),
                              RFE_OK);
-            rfe_tyre_magic_mu_q31(&p.tyre, &pre, mu[i], kin.fz[i], &gx, &gy, &c2);
+            {
+                rfe_tyre_params_q31_t tm = p.tyre;
+                tm.mode = RFE_TYRE_MAGIC;
+                rfe_tyre_dugoff_abs_pre_q31(&tm, &pre, mu[i], kin.fz[i], &gx, &gy, &c2);
+            }
             assert_int_equal(gx, fx);
             assert_int_equal(gy, fy);
             assert_int_equal(c2, c1);

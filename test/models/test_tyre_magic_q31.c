@@ -1,7 +1,7 @@
 /**
  * @file test_tyre_magic_q31.c
  * @brief The fixed-point Magic Formula tyre (rfe_tyre_magic_abs_q31, the magic mode of
- *        rfe_tyre_forces_abs_q31, rfe_tyre_magic_mu_q31) against the formula of
+ *        rfe_tyre_forces_abs_q31, rfe_tyre_dugoff_abs_pre_q31) against the formula of
  *        docs/ESTIMATOR.md "The Magic Formula tyre" evaluated in double here, and against the
  *        double twin rfe_tyre_magic_abs_f64 on every bundled log; its properties (zero force
  *        at zero slip and at mu <= 0, |F| <= mu Fz, left/right mirror), the dispatch of the
@@ -641,7 +641,7 @@ static void test_magic_q31_curve_properties(void **state)
 
 /* REQ: rfe_tyre_forces_abs_q31 dispatches on the mode: magic -> rfe_tyre_magic_abs_q31,
  * absolute and paper -> rfe_tyre_dugoff_abs_q31, bit for bit with the same count; the internal
- * per-point pieces on the shared set-up (rfe_tyre_magic_mu_q31, rfe_tyre_dugoff_mu_q31) are
+ * per-point piece on the shared set-up (rfe_tyre_dugoff_abs_pre_q31, either mode) is
  * the public functions' bits; shape factors matter only in magic mode. */
 /* REQ-TYRE-007 REQ-FXP-007 */
 static void test_magic_q31_dispatch(void **state)
@@ -684,11 +684,7 @@ static void test_magic_q31_dispatch(void **state)
             assert_int_equal(b, fy[i]);
             sum += s1;
             rfe_tyre_dugoff_pre_q31(&tp, kin.kappa[i], kin.alpha[i], kin.vwx[i], &pre);
-            if (tp.mode == RFE_TYRE_MAGIC) {
-                rfe_tyre_magic_mu_q31(&tp, &pre, mu[i], kin.fz[i], &c, &d, &s2);
-            } else {
-                rfe_tyre_dugoff_mu_q31(&pre, mu[i], kin.fz[i], &c, &d, &s2);
-            }
+            rfe_tyre_dugoff_abs_pre_q31(&tp, &pre, mu[i], kin.fz[i], &c, &d, &s2);
             assert_int_equal(c, a);
             assert_int_equal(d, b);
             assert_int_equal(s2, s1);
