@@ -85,6 +85,7 @@
 #include "param_file.h"
 #include "replay_real.h"
 #include "rfe/component/params_conv.h"
+#include "test_params_both.h"
 #include "rfe/params_q31.h"
 #include "rfe/velocity.h"
 #include "rfe/velocity_q31.h"
@@ -103,27 +104,6 @@
 #define MIN_FLAG_AGREE_ALL 0.999
 
 static uint32_t conv_sat; /* saturations of the test's own conversions */
-
-typedef struct {
-    rfe_params_t pd;
-    rfe_velocity_params_t vd;
-    rfe_params_q31_t pq;
-    rfe_velocity_params_q31_t vq;
-} both_t;
-
-static void params_of(const rfe_sensor_log_t *log, both_t *b)
-{
-    rfe_param_set_t ps;
-    rfe_io_error_t err;
-    rfe_param_set_default(&ps);
-    if (log != NULL) {
-        assert_int_equal(rfe_param_set_apply_meta(&ps, log, "log", &err), 0);
-    }
-    assert_int_equal(rfe_replay_params(&ps, &b->pd, NULL), RFE_OK);
-    assert_int_equal(rfe_replay_velocity_params(&ps, &b->vd, NULL), RFE_OK);
-    assert_int_equal(rfe_params_to_q31_f64(&b->pd, &b->pq), RFE_OK);
-    assert_int_equal(rfe_velocity_params_to_q31_f64(&b->vd, &b->vq), RFE_OK);
-}
 
 static rfe_fix_t fx(double v, unsigned int q) { return rfe_fix_from_double(v, q, &conv_sat); }
 
