@@ -52,7 +52,6 @@ typedef struct {
     rfe_real_t model_ay_rel;  /**< the same relative to |ay| [1]: 0.1 */
     rfe_real_t sd_model_rdot; /**< error of the model's yaw acceleration [rad/s^2]; 0 turns
                                    the yaw row of §4.2 off: 0 (off, OBSERVER.md §2) */
-    rfe_real_t dvy;           /**< step of the model's derivative by vy [m/s]: 0.01 */
     rfe_real_t sd_vydot;      /**< v-dot_y as noise of the offset's kinematic update [m/s^2]: 1 */
     rfe_real_t vydot_rdot;    /**< its growth with |r-dot| [m/s^2 per rad/s^2]: 15 */
     rfe_real_t v_lat_min;     /**< below this vx, vy = Lr r [m/s]: 3 */
@@ -75,7 +74,7 @@ RFE_NODISCARD rfe_status_t rfe_velocity_params_default(rfe_velocity_params_t *p)
 
 /**
  * Checks every field: finite; driven in 1..15; 0 < dt_min <= dt_max <= 1; q_jerk, sd_r,
- * sd_ax, sd_ay, dvy, v_lat_min, sd_lowspeed, mu_default, sd_vydot, steer_ratio > 0;
+ * sd_ax, sd_ay, v_lat_min, sd_lowspeed, mu_default, sd_vydot, steer_ratio > 0;
  * every other sd, q, gate, threshold and margin (sd_model_rdot included: 0 is off) >= 0.
  * @param[in] p  the parameters to check.
  * @return RFE_OK, RFE_ERR_NULL or RFE_ERR_PARAM.

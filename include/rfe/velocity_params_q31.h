@@ -48,7 +48,6 @@ typedef struct {
     rfe_fix_t sd_model_ay;    /**< error of the model's ay [m/s^2], Q24 */
     rfe_fix_t model_ay_rel;   /**< the same relative to |ay| [1], Q30 */
     rfe_fix_t sd_model_rdot;  /**< error of the model's yaw acceleration [rad/s^2], Q24; 0: off */
-    rfe_fix_t dvy;            /**< step of the model's derivative by vy [m/s], Q23 */
     rfe_fix_t sd_vydot;       /**< v-dot_y as noise of the offset's update [m/s^2], Q24 */
     rfe_fix_t vydot_rdot;     /**< its growth with |r-dot| [m/s^2 per rad/s^2], Q24 */
     rfe_fix_t v_lat_min;      /**< below this vx, vy = Lr r [m/s], Q23 */
@@ -72,7 +71,7 @@ RFE_NODISCARD rfe_status_t rfe_velocity_params_default_q31(rfe_velocity_params_q
 
 /**
  * The checks of rfe_velocity_params_validate on the Q values: driven in 1..15;
- * 0 < dt_min <= dt_max <= 1 s; q_jerk, sd_r, sd_ax, sd_ay, dvy, v_lat_min, sd_lowspeed,
+ * 0 < dt_min <= dt_max <= 1 s; q_jerk, sd_r, sd_ax, sd_ay, v_lat_min, sd_lowspeed,
  * mu_default, sd_vydot, steer_ratio > 0; every other field >= 0 (sd_model_rdot 0: off).
  * @param[in] p  the parameters to check.
  * @return RFE_OK, RFE_ERR_NULL or RFE_ERR_PARAM.

@@ -44,8 +44,7 @@ OBS_DEFAULTS: dict[str, float] = {
     "obs_sd_lowspeed": 0.1,     # sd of the low-speed kinematic vy, m/s
     "obs_mu_default": 1.0,      # friction the model uses while none is supplied
     "obs_sd_mu_default": 0.3,   # its sd
-    "obs_mu_margin": 0.1,
-    "obs_dvy": 0.01,
+    "obs_mu_margin": 0.1,       # the measured ay raises the model's friction to (1 + margin) |ay| / g
     "obs_sd_vydot": 1.0,        # the lateral acceleration of the sideslip, v-dot_y, as noise, m/s^2
     "obs_vydot_rdot": 15.0,     # its growth with |r-dot|, m/s^2 per rad/s^2
     "obs_sd_vx0": 1.0,          # initial sd of vx, m/s
@@ -249,22 +248,17 @@ class Observer:
             if min(mu_in) < mu_low:
                 flags |= FLAG_MU_RAISED
             mu = tuple(max(m, mu_low) for m in mu_in)
-            mu_hi = tuple(m + d for m, d in zip(mu, sd_in))
-            h = p["obs_dvy"]
-            ay_model, rd_model = self.model_rows(s, vx, vy_pred, mu)
-            ay_h, rd_h = self.model_rows(s, vx, vy_pred + h, mu)
-            ay_hi, rd_hi = self.model_rows(s, vx, vy_pred, mu_hi)
-            h0 = (ay_h - ay_model) / h
-            e_mu = (ay_hi - ay_model) ** 2
-            r = (p["obs_sd_model_ay"] ** 2 + (p["obs_model_ay_rel"] * s.ay) ** 2 + e_mu)
+            # the rows at vy_pred, their derivatives by vy and by the friction along its sd
+            (ay_model, rd_model), (h0, h1), (e_ay, e_rd) = self.model_rows_jac(
+                s, vx, vy_pred, mu, sd_in)
+            r = (p["obs_sd_model_ay"] ** 2 + (p["obs_model_ay_rel"] * s.ay) ** 2 + e_ay ** 2)
             self.lat.update(h0, 0.0, s.ay - ay_model, r)
             flags |= FLAG_VY_MODEL
             # the yaw moment balance: the differentiator's r-dot against the model's, linearised
             # at the same vy_pred, the innovation at the vy the lateral row left
             # (on when obs_sd_model_rdot > 0)
             if p["obs_sd_model_rdot"] > 0.0:
-                h1 = (rd_h - rd_model) / h
-                r1 = p["obs_sd_model_rdot"] ** 2 + (rd_hi - rd_model) ** 2 + self.yaw.P[1][1]
+                r1 = p["obs_sd_model_rdot"] ** 2 + e_rd ** 2 + self.yaw.P[1][1]
                 self.lat.update(h1, 0.0,
                                 self.yaw.x[1] - (rd_model + h1 * (self.lat.x[0] - vy_pred)), r1)
         else:
@@ -295,6 +289,25 @@ class Observer:
         z = model.h_absolute(pm, ti, 0, m[:, None])
         return float(z[1, 0]), float(z[2, 0])
 
+    def model_rows_jac(self, s, vx, vy, mu, dmu):
+        """§4.2: the rows (ay, r-dot) of h(mu, u) at vy (model_rows), their derivatives by vy and
+        their derivative by the per-wheel friction in the direction dmu, analytically, wheel by
+        wheel as the page writes them (scalar floats)."""
+        z = self.model_rows(s, vx, vy, mu)
+        d_vy, d_mu = [0.0, 0.0], [0.0, 0.0]
+        pm = self.pm
+        fz = vertical_loads(pm, s.ax, s.ay)
+        c, sn = math.cos(s.delta), math.sin(s.delta)
+        for i, (xi, yi) in enumerate(self.pos):
+            ci, si = (c, sn) if i < 2 else (1.0, 0.0)
+            f = wheel_force_jac(pm, s, vx, vy, i, xi, yi, ci, si, fz[i], mu[i])
+            for row, (gx, gy) in enumerate(((f[2], f[3]), (f[4] * dmu[i], f[5] * dmu[i]))):
+                fbx, fby = gx * ci - gy * si, gx * si + gy * ci
+                out = d_vy if row == 0 else d_mu
+                out[0] += fby / pm["m"]
+                out[1] += (xi * fby - yi * fbx) / pm["J"]
+        return z, tuple(d_vy), tuple(d_mu)
+
     def output(self, flags):
         """§5 the outputs and their sd."""
         vx, vy = self.lon.x[0], self.lat.x[0]
@@ -311,6 +324,108 @@ class Observer:
 
 OUTPUTS = ("vx", "vy", "beta", "yaw_acc", "sd_vx", "sd_vy", "sd_beta", "sd_yaw_acc", "bx", "by",
            "flags")
+
+
+def _sgn(x):
+    return 1.0 if x > 0.0 else (-1.0 if x < 0.0 else 0.0)
+
+
+def vertical_loads(p, ax, ay):
+    """MODEL.md §3 quasi-static loads fl, fr, rl, rr, clamped at >= 0."""
+    la = p["Lf"] + p["Lr"]
+    mg = p["m"] * p["g"]
+    fs, rs = mg * p["Lr"] / (2.0 * la), mg * p["Lf"] / (2.0 * la)
+    pitch = p["m"] * ax * p["hg"] / (2.0 * la)
+    rf = p["m"] * ay * p["hg"] * p["Lr"] / (la * p["Bf"])
+    rr = p["m"] * ay * p["hg"] * p["Lf"] / (la * p["Br"])
+    return [max(v, 0.0) for v in (fs - pitch - rf, fs - pitch + rf, rs + pitch - rr, rs + pitch + rr)]
+
+
+def _dugoff_jac(k, t, dk, dt, dv, c1, c2, eps, vwx, mu_s, fz):
+    """§4.2 the Dugoff forces fz (c1 k, c2 t) g at the friction scale mu_s and their derivatives
+    along (dk, dt, d vwx) and by mu_s."""
+    S = math.sqrt((c1 * k) ** 2 + (c2 * t) ** 2)
+    slip = math.sqrt(k * k + t * t)
+    e = max(1.0 - eps * abs(vwx) * slip, 0.0)
+    omk = 1.0 - abs(k)
+    if S <= 0.0:
+        # the limit S -> 0: g = 1 (L -> infinity), or 0 at mu_s = 0 (no force at any slip)
+        g, dg, dg_mu = (1.0 if mu_s > 0.0 else 0.0), 0.0, 0.0
+    else:
+        lam = mu_s * omk * e / (2.0 * S)
+        if lam < 1.0:
+            q = mu_s / (2.0 * S)
+            g = q * e * (2.0 - lam)
+            ds = ((c1 * k) * (c1 * dk) + (c2 * t) * (c2 * dt)) / S
+            de = 0.0
+            if e > 0.0:
+                de = -eps * (_sgn(vwx) * dv * slip + abs(vwx) * (k * dk + t * dt) / slip)
+            dq = -q * ds / S
+            dl = (dq * omk - q * _sgn(k) * dk) * e + q * omk * de
+            dg = (dq * e + q * de) * (2.0 - lam) - q * e * dl
+            dg_mu = e * (1.0 - lam) / S
+        else:
+            g = 1.0 / omk
+            dg = _sgn(k) * dk / (omk * omk)
+            dg_mu = 0.0
+    return (fz * c1 * k * g, fz * c2 * t * g, fz * c1 * (dk * g + k * dg),
+            fz * c2 * (dt * g + t * dg), fz * c1 * k * dg_mu, fz * c2 * t * dg_mu)
+
+
+def _magic_shape_jac(s, m, C, E):
+    """G = sin(C atan2(n, mC)), n = s - E (s - mC atan2(s, mC)), and dG/ds (0 at m = 0)."""
+    mc = m * C
+    a = math.atan2(s, mc)
+    n = s - E * (s - mc * a)
+    phi = C * math.atan2(n, mc)
+    g_s = 0.0
+    if mc > 0.0:
+        g_s = math.cos(phi) * C * ((1.0 - E) + E * mc * mc / (mc * mc + s * s)) * mc / (mc * mc + n * n)
+    return math.sin(phi), g_s
+
+
+def wheel_force_jac(p, s, vx, vy, i, xi, yi, ci, si, fz, mu):
+    """§4.2 wheel i: (Fx, Fy, dFx/dvy, dFy/dvy, dFx/dmu, dFy/dmu) in wheel axes at friction mu."""
+    vbx, vby = vx - s.yaw_rate * yi, vy + s.yaw_rate * xi
+    vwx, vwy = vbx * ci + vby * si, -vbx * si + vby * ci
+    amax = p["alpha_max"]
+    alpha = min(max(-math.atan2(vwy, abs(vwx)), -amax), amax)
+    vr = s.omega[i] * p["R"]
+    den = max(max(abs(vr), abs(vwx)), p["v_min"])
+    k = min(max((vr - vwx) / den, -1.0), 1.0)
+    t = math.tan(alpha)
+    # the vy direction: d vwx = si, d vwy = ci through the slip angle and the slip
+    dt = -(ci + t * _sgn(vwx) * si) / abs(vwx) if (abs(alpha) < amax and abs(vwx) > 0.0) else 0.0
+    dk = 0.0
+    if abs(k) < 1.0:
+        own = k * _sgn(vwx) if (abs(vwx) > abs(vr) and abs(vwx) > p["v_min"]) else 0.0
+        dk = -(1.0 + own) * si / den
+    dv = si
+    tyre = p["tyre"]
+    if tyre == "paper":
+        f = _dugoff_jac(k, t, dk, dt, dv, p["Cx_n"], p["Cy_n"], p["eps"], vwx, 1.0, fz)
+        return (mu * f[0], mu * f[1], mu * f[2], mu * f[3], f[0], f[1])
+    if tyre != "magic":
+        f = _dugoff_jac(k, t, dk, dt, dv, p["cx"], p["cy"], p["eps"], vwx, max(mu, 0.0), fz)
+        return f if mu > 0.0 else (f[0], f[1], f[2], f[3], 0.0, 0.0)
+    m = max(mu, 0.0)
+    cxk, cyt = p["cx"] * k, p["cy"] * t
+    sl = math.sqrt(cxk * cxk + cyt * cyt)
+    ux, uy = (cxk / sl, cyt / sl) if sl > 0.0 else (0.0, 0.0)
+    gx, gxs = _magic_shape_jac(sl, m, p["shape_Cx"], p["shape_Ex"])
+    gy, gys = _magic_shape_jac(sl, m, p["shape_Cy"], p["shape_Ey"])
+    fm = fz * m
+    cdk, cdt = p["cx"] * dk, p["cy"] * dt
+    if sl > 0.0:
+        ds = ux * cdk + uy * cdt
+        dux, duy = (cdk - ux * ds) / sl, (cdt - uy * ds) / sl
+        dfx = fm * (gxs * ds * ux + gx * dux)
+        dfy = fm * (gys * ds * uy + gy * duy)
+        mfx = fz * ux * (gx - sl * gxs) if m > 0.0 else 0.0
+        mfy = fz * uy * (gy - sl * gys) if m > 0.0 else 0.0
+    else:
+        dfx, dfy, mfx, mfy = fm * gxs * cdk, fm * gys * cdt, 0.0, 0.0
+    return (fm * gx * ux, fm * gy * uy, dfx, dfy, mfx, mfy)
 
 
 def model_params(p):

@@ -5,7 +5,9 @@
 3. the yaw-rate differentiator has the lag, gain and noise OBSERVER.md §3.2 states;
 4. on the bundled scenarios (noisy logs, truth from the noise-free twins) vx and beta meet
    issue 16's targets, with the model's tyre matching the simulator's truth tyre;
-5. an ay bias and a too-low friction do not make vy run away; bad periods are rejected.
+5. an ay bias and a too-low friction do not make vy run away; bad periods are rejected;
+6. the model rows' analytic derivatives (§4.2) are central differences of the model, in every
+   tyre mode.
 """
 
 from __future__ import annotations
@@ -199,6 +201,45 @@ def test_an_honest_friction_sd_limits_the_error():
     _, err_conf, _ = _wrong_mu_errors(0.02)
     assert np.max(err) <= 1.5 * b_max
     assert np.max(err) < np.max(err_conf)
+
+
+@pytest.mark.parametrize("tyre", ["paper", "dugoff", "magic"])
+def test_model_row_derivatives_are_the_models(tyre):
+    """§4.2: d(ay, r-dot)/dvy and the friction derivative along sd against central differences
+    of model_rows. Bound: a central difference D(h) errs by its truncation, which
+    |D(2h) - D(h)| over-estimates threefold, and by rounding 1e-13 / h; a kink (alpha_max, the
+    kappa clip, E = 0, mu = 0) within 2h of the point shows as a large |D(2h) - D(h)| and
+    loosens the bound there, so at least 90 % of the bounds must be below 1e-5 relative."""
+    ob = observer.Observer(observer.params_with_defaults(tyre=tyre))
+    rng = np.random.default_rng(16)
+    h, tight, n = 1e-4, 0, 0
+    for _ in range(300):
+        vx = rng.uniform(3.0, 45.0)
+        s = observer.Sample(t=0.0, delta=rng.uniform(-0.4, 0.4), yaw_rate=rng.uniform(-0.8, 0.8),
+                            ax=rng.uniform(-9.0, 5.0), ay=rng.uniform(-9.0, 9.0),
+                            omega=tuple(vx * rng.uniform(0.8, 1.1, 4) / 0.3))
+        vy = rng.uniform(-3.0, 3.0)
+        mu = tuple(rng.uniform(0.05, 1.3, 4))
+        sd = tuple(rng.uniform(0.0, 0.4, 4))
+        z, d_vy, d_mu = ob.model_rows_jac(s, vx, vy, mu, sd)
+        assert z == ob.model_rows(s, vx, vy, mu)
+
+        def diff(step, by_vy):
+            if by_vy:
+                hi, lo = ob.model_rows(s, vx, vy + step, mu), ob.model_rows(s, vx, vy - step, mu)
+            else:
+                hi = ob.model_rows(s, vx, vy, tuple(m + step * d for m, d in zip(mu, sd)))
+                lo = ob.model_rows(s, vx, vy, tuple(m - step * d for m, d in zip(mu, sd)))
+            return [(a - b) / (2.0 * step) for a, b in zip(hi, lo)]
+
+        for an, by_vy in ((d_vy, True), (d_mu, False)):
+            d1, d2 = diff(h, by_vy), diff(2.0 * h, by_vy)
+            for r in range(2):
+                bound = abs(d2[r] - d1[r]) + 1e-13 / h + 1e-9 * abs(an[r])
+                assert abs(an[r] - d1[r]) <= bound, (tyre, by_vy, r, an[r], d1[r], d2[r])
+                tight += bound <= 1e-5 * max(abs(an[r]), 1.0)
+                n += 1
+    assert tight >= 0.9 * n
 
 
 def test_a_bad_period_is_rejected():

@@ -97,7 +97,6 @@
     X(obs_sd_model_ay, sd_model_ay, "m/s^2", "error of the tyre model's lateral acceleration")                 \
     X(obs_model_ay_rel, model_ay_rel, "1", "the same, relative to |ay|")                                       \
     X(obs_sd_model_rdot, sd_model_rdot, "rad/s^2", "error of the tyre model's yaw acceleration")             \
-    X(obs_dvy, dvy, "m/s", "step of the model's derivative by vy")                                             \
     X(obs_sd_vydot, sd_vydot, "m/s^2", "v-dot_y as noise of the offset's kinematic update")                    \
     X(obs_vydot_rdot, vydot_rdot, "m/s^2 per rad/s^2", "its growth with |r-dot|")                              \
     X(obs_v_lat_min, v_lat_min, "m/s", "below this vx, vy follows the rear-axle kinematics")                   \

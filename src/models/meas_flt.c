@@ -403,3 +403,131 @@ rfe_status_t rfe_meas_eval_perturbed(const rfe_meas_t *h, const rfe_vehicle_t *v
     }
     return perturbed_sum(h, veh, tp, &up, j, mu, nom->t, z);
 }
+
+/* ---- the lateral rows and their derivatives (docs/OBSERVER.md §4.2) -------------------------- */
+
+/* Wheel i's input change per unit of vy (ci, si: cos, sin of its steer angle): d v_wx = si,
+ * d v_wy = ci, so, with t = tan(alpha) = -v_wy / |v_wx| where alpha is inside its bound,
+ *   d tan(alpha) = -(ci + t sgn(v_wx) si) / |v_wx|   (0 where |alpha| >= alpha_max or v_wx = 0),
+ *   d kappa = -(1 + [den = |v_wx|] kappa sgn(v_wx)) si / den   (0 where |kappa| >= 1),
+ * with den = max(|omega R|, |v_wx|, v_min) following |v_wx| when it exceeds both others. */
+static rfe_slip_dir_t vy_direction(const rfe_meas_t *h, const rfe_vehicle_t *veh,
+                                   const rfe_tyre_params_t *tp, const rfe_sample_t *u,
+                                   size_t i, rfe_real_t ci, rfe_real_t si, rfe_real_t tan_a)
+{
+    const rfe_real_t vwx = h->kin.vwx[i];
+    const rfe_real_t avx = RFE_FABS(vwx);
+    const rfe_real_t kappa = h->kin.kappa[i];
+    rfe_slip_dir_t d;
+    d.vwx = si;
+    d.tan_a = RFE_R(0.0);
+    d.k = RFE_R(0.0);
+    if ((RFE_FABS(h->kin.alpha[i]) < tp->alpha_max) && (avx > RFE_R(0.0))) {
+        d.tan_a = -(ci + ((tan_a * rfe_sgn(vwx)) * si)) / avx;
+    }
+    if (RFE_FABS(kappa) < RFE_R(1.0)) {
+        const rfe_real_t avr = RFE_FABS(u->omega[i] * veh->R);
+        const rfe_real_t den = rfe_max(rfe_max(avr, avx), tp->v_min);
+        const rfe_real_t own = ((avx > avr) && (avx > tp->v_min)) ? (kappa * rfe_sgn(vwx))
+                                                                   : RFE_R(0.0);
+        d.k = (-(RFE_R(1.0) + own) * si) / den;
+    }
+    return d;
+}
+
+/* Wheel i's friction-independent tyre terms for the derivative: the set-up's (load-scaled
+ * modes with its tyre), recomputed for other tyre parameters, or paper mode's with the
+ * normalised stiffnesses (the set-up keeps none there). */
+static void jac_pre(const rfe_meas_t *h, const rfe_tyre_params_t *tp, int cached, size_t i,
+                    rfe_dugoff_pre_t *pre)
+{
+    if (h->mode == RFE_TYRE_PAPER) {
+        rfe_tyre_norm_pre(tp, h->kin.kappa[i], h->kin.alpha[i], h->kin.vwx[i], pre);
+    } else if (cached != 0) {
+        *pre = h->pre[i];
+    } else {
+        rfe_tyre_dugoff_pre(tp, h->kin.kappa[i], h->kin.alpha[i], h->kin.vwx[i], pre);
+    }
+}
+
+/* The three sets of wheel terms (at mu, by vy, by mu along dmu) of the four wheels. */
+static rfe_status_t lateral_terms(const rfe_meas_t *h, const rfe_vehicle_t *veh,
+                                  const rfe_tyre_params_t *tp, const rfe_sample_t *u,
+                                  const rfe_real_t *mu, const rfe_real_t *dmu, rfe_real_t t[COLS],
+                                  rfe_real_t tv[COLS], rfe_real_t tm[COLS])
+{
+    rfe_real_t px[RFE_WHEELS];
+    rfe_real_t py[RFE_WHEELS];
+    rfe_real_t c = h->cos_delta;
+    rfe_real_t s = h->sin_delta;
+    const int cached = pre_matches(h, tp);
+    size_t i;
+    if (h->mode == RFE_TYRE_PAPER) {
+        c = RFE_COS(h->delta);
+        s = RFE_SIN(h->delta);
+    }
+    rfe_wheel_positions(veh, px, py);
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        /* front wheels steer: the vy direction in wheel axes */
+        const rfe_real_t ci = (i < (size_t)RFE_RL) ? c : RFE_R(1.0);
+        const rfe_real_t si = (i < (size_t)RFE_RL) ? s : RFE_R(0.0);
+        const size_t o = i * (size_t)RFE_MEAS;
+        rfe_dugoff_pre_t pre;
+        rfe_slip_dir_t d;
+        rfe_tyre_jac_t f;
+        rfe_status_t st;
+        jac_pre(h, tp, cached, i, &pre);
+        d = vy_direction(h, veh, tp, u, i, ci, si, pre.tan_a);
+        st = rfe_tyre_pre_jac(tp, &pre, h->kin.kappa[i], h->kin.alpha[i], h->kin.fz[i],
+                              h->kin.vwx[i], mu[i], &d, &f);
+        if (st != RFE_OK) {
+            return st;
+        }
+        /* the body terms are linear in the forces: the same map for each derivative */
+        wheel_terms(veh, c, s, i, px[i], py[i], f.fx, f.fy, &t[o]);
+        wheel_terms(veh, c, s, i, px[i], py[i], f.dfx, f.dfy, &tv[o]);
+        wheel_terms(veh, c, s, i, px[i], py[i], f.mfx * dmu[i], f.mfy * dmu[i], &tm[o]);
+    }
+    return RFE_OK;
+}
+
+rfe_status_t rfe_meas_lateral_jac(const rfe_meas_t *h, const rfe_vehicle_t *veh,
+                                  const rfe_tyre_params_t *tp, const rfe_sample_t *u,
+                                  const rfe_real_t mu[RFE_WHEELS],
+                                  const rfe_real_t dmu[RFE_WHEELS], rfe_meas_lateral_t *out)
+{
+    rfe_real_t t[COLS];
+    rfe_real_t tv[COLS];
+    rfe_real_t tm[COLS];
+    rfe_real_t z[RFE_MEAS];
+    rfe_real_t zv[RFE_MEAS];
+    rfe_real_t zm[RFE_MEAS];
+    rfe_status_t st;
+
+    if ((h == NULL) || (veh == NULL) || (tp == NULL) || (u == NULL) || (mu == NULL) ||
+        (dmu == NULL) || (out == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    st = lateral_terms(h, veh, tp, u, mu, dmu, t, tv, tm);
+    if (st == RFE_OK) {
+        st = sum_terms(t, z);
+    }
+    if ((st == RFE_OK) && (h->mode == RFE_TYRE_PAPER)) {
+        st = apply_paper(h->H, mu, z); /* rfe_meas_eval's z = H(u) mu, bit for bit */
+    }
+    if (st == RFE_OK) {
+        st = sum_terms(tv, zv);
+    }
+    if (st == RFE_OK) {
+        st = sum_terms(tm, zm);
+    }
+    if (st == RFE_OK) {
+        size_t r;
+        for (r = 0u; r < 2u; ++r) {
+            out->z[r] = z[r + 1u];
+            out->d_vy[r] = zv[r + 1u];
+            out->d_mu[r] = zm[r + 1u];
+        }
+    }
+    return st;
+}

@@ -16,6 +16,7 @@
 #include "rfe/component/fxmath.h"
 
 #include "numerics/internal_q31.h"
+#include "numerics/xf_q31.h"
 #include "models/meas_inputs.h"
 #include "models/tyre_internal_q31.h"
 
@@ -376,4 +377,138 @@ rfe_status_t rfe_meas_eval_perturbed_q31(const rfe_meas_q31_t *h, const rfe_vehi
         rfe_q31_sat_add(sat, count);
     }
     return st;
+}
+
+/* ---- the lateral rows and their derivatives (docs/OBSERVER.md §4.2) -------------------------- */
+
+/* Wheel i's input change per unit of vy (meas_flt.c vy_direction) in rfe_xf_t: ci, si Q30 the
+ * cos, sin of its steer angle, t30 its tan(alpha) (Q26). den = max(|omega R|, |v_wx|, v_min)
+ * in Q51, as the kinematics form it. */
+static rfe_slip_dir_q31_t vy_direction_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh,
+                                           const rfe_tyre_params_q31_t *tp,
+                                           const rfe_sample_q31_t *u, size_t i, int32_t ci,
+                                           int32_t si, int32_t tan_a)
+{
+    const int32_t vwx = h->kin.vwx[i];
+    const int32_t kappa = h->kin.kappa[i];
+    const int sv = rfe_q31_sign(vwx);
+    const rfe_xf_t one = rfe_xf_make(1, 0);
+    const rfe_xf_t s = rfe_xf_of(si, 30);
+    rfe_slip_dir_q31_t d;
+    d.vwx = s;
+    d.tan_a = rfe_xf_make(0, 0);
+    d.k = rfe_xf_make(0, 0);
+    if ((rfe_q31_within(h->kin.alpha[i], tp->alpha_max - 1) != 0) && (vwx != 0)) {
+        /* -(ci + t sgn(v_wx) si) / |v_wx| */
+        const rfe_xf_t ts = rfe_xf_mul(rfe_xf_of((sv > 0) ? tan_a : -tan_a, 26), s);
+        const rfe_xf_t avx = rfe_xf_of((vwx < 0) ? -vwx : vwx, (int)RFE_FIX_Q_SPEED);
+        d.tan_a = rfe_xf_neg(rfe_xf_div(rfe_xf_add(rfe_xf_of(ci, 30), ts), avx));
+    }
+    if (rfe_q31_within(kappa, ONE_Q30 - 1) != 0) {
+        /* -(1 + [den = |v_wx|] kappa sgn(v_wx)) si / den, all three in Q51 */
+        const uint64_t avr = rfe_q31_mag64((int64_t)u->omega[i] * (int64_t)veh->R);
+        const uint64_t avx = (uint64_t)((vwx < 0) ? -(int64_t)vwx : (int64_t)vwx) << 28;
+        const uint64_t vmin = (uint64_t)tp->v_min << 28;
+        const uint64_t big = (avr > avx) ? avr : avx;
+        const uint64_t den = (big > vmin) ? big : vmin;
+        rfe_xf_t own = rfe_xf_make(0, 0);
+        if ((avx > avr) && (avx > vmin)) {
+            own = rfe_xf_of((sv > 0) ? kappa : -kappa, 30);
+        }
+        d.k = rfe_xf_neg(rfe_xf_div(rfe_xf_mul(rfe_xf_add(one, own), s),
+                                    rfe_xf_make((int64_t)den, -51)));
+    }
+    return d;
+}
+
+/* Wheel i's friction-independent tyre terms for the derivative (meas_flt.c jac_pre). */
+static void jac_pre_q31(const rfe_meas_q31_t *h, const rfe_tyre_params_q31_t *tp, int cached,
+                        size_t i, rfe_dugoff_pre_q31_t *pre)
+{
+    if (h->mode == RFE_TYRE_PAPER) {
+        rfe_tyre_norm_pre_q31(tp, h->kin.kappa[i], h->kin.alpha[i], h->kin.vwx[i], pre);
+    } else if (cached != 0) {
+        *pre = h->pre[i];
+    } else {
+        rfe_tyre_dugoff_pre_q31(tp, h->kin.kappa[i], h->kin.alpha[i], h->kin.vwx[i], pre);
+    }
+}
+
+/* Wheel i's body terms (rows ay, r-dot) of a force pair (wheel axes, real values): the map of
+ * wheel_terms_q31 (x_i / J, y_i / J, 1 / m: Q38), added to acc[0..1]. */
+static void body_add_q31(const rfe_vehicle_q31_t *veh, int32_t c, int32_t s, size_t i,
+                         rfe_xf_t fx, rfe_xf_t fy, rfe_xf_t acc[2])
+{
+    const rfe_xf_t ci = rfe_xf_of((i < (size_t)RFE_RL) ? c : ONE_Q30, 30);
+    const rfe_xf_t si = rfe_xf_of((i < (size_t)RFE_RL) ? s : 0, 30);
+    const int32_t px_J = (i < (size_t)RFE_RL) ? veh->lf_J : -veh->lr_J;
+    const int32_t y_J = (i < (size_t)RFE_RL) ? veh->yf_J : veh->yr_J;
+    const int32_t py_J = ((i == (size_t)RFE_FL) || (i == (size_t)RFE_RL)) ? y_J : -y_J;
+    const rfe_xf_t fbx = rfe_xf_sub(rfe_xf_mul(fx, ci), rfe_xf_mul(fy, si));
+    const rfe_xf_t fby = rfe_xf_add(rfe_xf_mul(fx, si), rfe_xf_mul(fy, ci));
+    acc[0] = rfe_xf_add(acc[0], rfe_xf_mul(fby, rfe_xf_of(veh->inv_m, 38)));
+    acc[1] = rfe_xf_add(acc[1], rfe_xf_sub(rfe_xf_mul(fby, rfe_xf_of(px_J, 38)),
+                                           rfe_xf_mul(fbx, rfe_xf_of(py_J, 38))));
+}
+
+/* The derivatives' sums over the wheels (rfe_xf_t): by vy in dv, by mu along dmu in dm. */
+static void lateral_sums_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh,
+                             const rfe_tyre_params_q31_t *tp, const rfe_sample_q31_t *u,
+                             const rfe_fix_t *mu, const rfe_fix_t *dmu, rfe_xf_t dv[2],
+                             rfe_xf_t dm[2])
+{
+    const int cached = pre_matches_q31(h, tp);
+    size_t i;
+    for (i = 0u; i < 2u; ++i) {
+        dv[i] = rfe_xf_make(0, 0);
+        dm[i] = rfe_xf_make(0, 0);
+    }
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        const int32_t ci = (i < (size_t)RFE_RL) ? h->cos_delta : ONE_Q30;
+        const int32_t si = (i < (size_t)RFE_RL) ? h->sin_delta : 0;
+        const rfe_xf_t sd = rfe_xf_of(dmu[i], 30);
+        rfe_dugoff_pre_q31_t pre;
+        rfe_slip_dir_q31_t d;
+        rfe_tyre_jac_q31_t f;
+        jac_pre_q31(h, tp, cached, i, &pre);
+        d = vy_direction_q31(h, veh, tp, u, i, ci, si, pre.tan_a);
+        rfe_tyre_pre_jac_q31(tp, &pre, h->kin.kappa[i], h->kin.vwx[i], h->kin.fz[i], mu[i], &d,
+                             &f);
+        body_add_q31(veh, h->cos_delta, h->sin_delta, i, f.dfx, f.dfy, dv);
+        body_add_q31(veh, h->cos_delta, h->sin_delta, i, rfe_xf_mul(f.mfx, sd),
+                     rfe_xf_mul(f.mfy, sd), dm);
+    }
+}
+
+rfe_status_t rfe_meas_lateral_jac_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh,
+                                      const rfe_tyre_params_q31_t *tp, const rfe_sample_q31_t *u,
+                                      const rfe_fix_t mu[RFE_WHEELS],
+                                      const rfe_fix_t dmu[RFE_WHEELS],
+                                      rfe_meas_lateral_q31_t *out, uint32_t *sat)
+{
+    rfe_fix_t z[RFE_MEAS];
+    rfe_xf_t dv[2];
+    rfe_xf_t dm[2];
+    uint32_t count = 0u;
+    size_t r;
+    rfe_status_t st;
+    if ((h == NULL) || (veh == NULL) || (tp == NULL) || (u == NULL) || (mu == NULL) ||
+        (dmu == NULL) || (out == NULL) || (sat == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    if (rfe_tyre_dugoff_params_ok_q31(tp) == 0) {
+        return RFE_ERR_PARAM; /* paper mode's tangents need alpha_max; eval checks the rest */
+    }
+    st = rfe_meas_eval_q31(h, veh, tp, mu, z, &count);
+    if (st != RFE_OK) {
+        return st;
+    }
+    lateral_sums_q31(h, veh, tp, u, mu, dmu, dv, dm);
+    for (r = 0u; r < 2u; ++r) {
+        out->z[r] = z[r + 1u];
+        out->d_vy[r] = rfe_xf_to_fix(dv[r], 24, &count);
+        out->d_mu[r] = rfe_xf_to_fix(dm[r], 24, &count);
+    }
+    rfe_q31_sat_add(sat, count);
+    return RFE_OK;
 }

@@ -393,3 +393,181 @@ void rfe_tyre_dugoff_pre_tan(const rfe_tyre_params_t *tp, rfe_real_t kappa,
         magic_terms(tp->cx, tp->cy, pre);
     }
 }
+
+/* ---- the forces' derivatives (docs/OBSERVER.md §4.2) ------------------------------------- */
+
+void rfe_tyre_norm_pre(const rfe_tyre_params_t *tp, rfe_real_t kappa, rfe_real_t alpha,
+                       rfe_real_t vwx, rfe_dugoff_pre_t *pre)
+{
+    const rfe_real_t k = rfe_clamp(kappa, RFE_R(-1.0), RFE_R(1.0));
+    const rfe_real_t ta = RFE_TAN(rfe_clamp(alpha, -tp->alpha_max, tp->alpha_max));
+    dugoff_terms(k, ta, tp->Cx_n, tp->Cy_n, tp->eps, vwx, pre);
+}
+
+/* dE along d: E = max(0, 1 - eps |vwx| sqrt(k^2 + tan^2 a)) has
+ * dE = -eps (sgn(vwx) d_vwx |(k, t)| + |vwx| (k dk + t dt) / |(k, t)|) where E > 0, else 0
+ * (the clamp; (k, t) != 0 since S > 0 at the only call). */
+static rfe_real_t dugoff_de(const rfe_dugoff_pre_t *pre, rfe_real_t eps, rfe_real_t vwx,
+                            const rfe_slip_dir_t *d)
+{
+    rfe_real_t de = RFE_R(0.0);
+    if (pre->e > RFE_R(0.0)) {
+        const rfe_real_t slip = RFE_SQRT((pre->k * pre->k) + (pre->tan_a * pre->tan_a));
+        const rfe_real_t dslip = ((pre->k * d->k) + (pre->tan_a * d->tan_a)) / slip;
+        de = -eps * (((rfe_sgn(vwx) * d->vwx) * slip) + (RFE_FABS(vwx) * dslip));
+    }
+    return de;
+}
+
+/* The Dugoff factor g = dugoff_g(pre, mu_s) (S > 0) differentiated: along d (*dg) and by the
+ * friction scale mu_s (*dg_mu). With q = mu_s / (2 S), L = q (1 - |k|) E:
+ *   L < 1:  g = q E (2 - L): dq = -q dS / S, dL = (dq (1 - |k|) - q sgn(k) dk) E + q (1 - |k|) dE,
+ *           dg = (dq E + q dE) (2 - L) - q E dL,  dg/dmu_s = E (1 - L) / S;
+ *   L >= 1: g = 1 / (1 - |k|): dg = sgn(k) dk / (1 - |k|)^2, dg/dmu_s = 0;
+ * dS = (c1^2 k dk + c2^2 tan a dt) / S. */
+static void dugoff_g_jac(const rfe_dugoff_pre_t *pre, rfe_real_t c1, rfe_real_t c2,
+                         rfe_real_t eps, rfe_real_t vwx, rfe_real_t mu_s,
+                         const rfe_slip_dir_t *d, rfe_real_t *dg, rfe_real_t *dg_mu)
+{
+    const rfe_real_t S = pre->s;
+    const rfe_real_t E = pre->e;
+    const rfe_real_t L = mu_s * pre->omk * E / (RFE_R(2.0) * S);
+    if (L < RFE_R(1.0)) {
+        const rfe_real_t q = mu_s / (RFE_R(2.0) * S);
+        const rfe_real_t ds =
+            (((c1 * pre->k) * (c1 * d->k)) + ((c2 * pre->tan_a) * (c2 * d->tan_a))) / S;
+        const rfe_real_t de = dugoff_de(pre, eps, vwx, d);
+        const rfe_real_t dq = -q * ds / S;
+        const rfe_real_t dl =
+            (((dq * pre->omk) - (q * (rfe_sgn(pre->k) * d->k))) * E) + ((q * pre->omk) * de);
+        *dg = (((dq * E) + (q * de)) * (RFE_R(2.0) - L)) - ((q * E) * dl);
+        *dg_mu = E * (RFE_R(1.0) - L) / S;
+    } else {
+        *dg = (rfe_sgn(pre->k) * d->k) / (pre->omk * pre->omk);
+        *dg_mu = RFE_R(0.0);
+    }
+}
+
+/* Dugoff forces F = fz (c1 k, c2 tan a) g at the friction scale mu_s and their derivatives
+ * (along d; by mu_s): dF = fz (c1 (dk g + k dg), c2 (dt g + t dg)), dF/dmu_s = fz (c1 k, c2 t)
+ * dg/dmu_s. S = 0 (no slip): the limit S -> 0, dg = dg/dmu_s = 0 and g = 1 (L -> infinity)
+ * where mu_s > 0, g = 0 at mu_s = 0 (no force at any slip). */
+static void dugoff_jac(const rfe_dugoff_pre_t *pre, rfe_real_t c1, rfe_real_t c2,
+                       rfe_real_t eps, rfe_real_t vwx, rfe_real_t mu_s, rfe_real_t fz,
+                       const rfe_slip_dir_t *d, rfe_tyre_jac_t *o)
+{
+    const rfe_real_t g = dugoff_g(pre, mu_s);
+    rfe_real_t g_d = g;
+    rfe_real_t dg = RFE_R(0.0);
+    rfe_real_t dg_mu = RFE_R(0.0);
+    if (pre->s > RFE_R(0.0)) {
+        dugoff_g_jac(pre, c1, c2, eps, vwx, mu_s, d, &dg, &dg_mu);
+    } else if (!(mu_s > RFE_R(0.0))) {
+        g_d = RFE_R(0.0);
+    } else {
+        /* g = 1 */
+    }
+    /* as rfe_tyre_dugoff_abs_pre / rfe_tyre_dugoff_norm: the same products, the same bits */
+    o->fx = fz * c1 * pre->k * g;
+    o->fy = fz * c2 * pre->tan_a * g;
+    o->dfx = (fz * c1) * ((d->k * g_d) + (pre->k * dg));
+    o->dfy = (fz * c2) * ((d->tan_a * g_d) + (pre->tan_a * dg));
+    o->mfx = (fz * c1) * (pre->k * dg_mu);
+    o->mfy = (fz * c2) * (pre->tan_a * dg_mu);
+}
+
+/* The Magic Formula shape G of magic_shape (the same operations) and dG/ds, from its own atan
+ * values a = atan(x), b = atan(y) (x = s / (m C), y = x - E (x - a)) and one cosine:
+ *   dG/dx = cos(C b) C (1 - E + E / (1 + x^2)) / (1 + y^2),  dG/ds = dG/dx / (m C),
+ * written with n = s - E (s - m C a) = m C y as
+ *   dG/ds = cos(C b) C (1 - E + E (mC)^2 / ((mC)^2 + s^2)) mC / ((mC)^2 + n^2)   (m C > 0; 0
+ * at m = 0, where the force is 0 whatever the slip). */
+static rfe_real_t magic_shape_jac(rfe_real_t s, rfe_real_t m, rfe_real_t C, rfe_real_t E,
+                                  rfe_real_t *g_s)
+{
+    const rfe_real_t mc = m * C;
+    const rfe_real_t a = RFE_ATAN2(s, mc);
+    const rfe_real_t n = s - (E * (s - (mc * a)));
+    const rfe_real_t phi = C * RFE_ATAN2(n, mc);
+    *g_s = RFE_R(0.0);
+    if (mc > RFE_R(0.0)) {
+        const rfe_real_t mc2 = mc * mc;
+        const rfe_real_t shape = (RFE_R(1.0) - E) + ((E * mc2) / (mc2 + (s * s)));
+        *g_s = ((RFE_COS(phi) * C) * shape) * (mc / (mc2 + (n * n)));
+    }
+    return RFE_SIN(phi);
+}
+
+/* Magic Formula forces F = fz m G(s) u (magic_at_mu's operations) and their derivatives, m =
+ * max(mu, 0) > 0: ds = ux cx dk + uy cy dt, du = ((cx dk, cy dt) - u ds) / s,
+ * dF = fz m (G_s ds u + G du); dF/dmu = fz u (G - s G_s) (x dG/dx = s G_s). At s = 0 (u = 0)
+ * the force is linear in the slip: dF = fz m G_s (cx dk, cy dt), dF/dmu = 0. m = 0: every
+ * derivative 0 (no force at any slip). */
+static void magic_jac(const rfe_tyre_params_t *tp, const rfe_dugoff_pre_t *pre, rfe_real_t fz,
+                      rfe_real_t mu, const rfe_slip_dir_t *d, rfe_tyre_jac_t *o)
+{
+    const rfe_real_t m = rfe_max(mu, RFE_R(0.0));
+    const rfe_real_t fm = fz * m;
+    const rfe_real_t s = pre->s;
+    rfe_real_t gxs;
+    rfe_real_t gys;
+    const rfe_real_t gx = magic_shape_jac(s, m, tp->shape_Cx, tp->shape_Ex, &gxs);
+    const rfe_real_t gy = magic_shape_jac(s, m, tp->shape_Cy, tp->shape_Ey, &gys);
+    const rfe_real_t cdk = tp->cx * d->k;
+    const rfe_real_t cdt = tp->cy * d->tan_a;
+    o->fx = fm * gx * pre->ux;
+    o->fy = fm * gy * pre->uy;
+    o->mfx = RFE_R(0.0);
+    o->mfy = RFE_R(0.0);
+    if (s > RFE_R(0.0)) {
+        const rfe_real_t ds = (pre->ux * cdk) + (pre->uy * cdt);
+        const rfe_real_t dux = (cdk - (pre->ux * ds)) / s;
+        const rfe_real_t duy = (cdt - (pre->uy * ds)) / s;
+        o->dfx = fm * (((gxs * ds) * pre->ux) + (gx * dux));
+        o->dfy = fm * (((gys * ds) * pre->uy) + (gy * duy));
+        if (m > RFE_R(0.0)) {
+            o->mfx = (fz * pre->ux) * (gx - (s * gxs));
+            o->mfy = (fz * pre->uy) * (gy - (s * gys));
+        }
+    } else {
+        o->dfx = fm * (gxs * cdk);
+        o->dfy = fm * (gys * cdt);
+    }
+}
+
+rfe_status_t rfe_tyre_pre_jac(const rfe_tyre_params_t *tp, const rfe_dugoff_pre_t *pre,
+                              rfe_real_t kappa, rfe_real_t alpha, rfe_real_t fz, rfe_real_t vwx,
+                              rfe_real_t mu, const rfe_slip_dir_t *d, rfe_tyre_jac_t *out)
+{
+    rfe_status_t st = RFE_ERR_NULL;
+    if ((pre != NULL) && (d != NULL) && (out != NULL)) {
+        st = check_wheel(tp, kappa, alpha, fz, vwx, &out->fx, &out->fy);
+    }
+    if (st != RFE_OK) {
+        return st;
+    }
+    if (!rfe_is_finite(mu)) {
+        return RFE_ERR_NONFINITE;
+    }
+    if (tp->mode == RFE_TYRE_MAGIC) {
+        magic_jac(tp, pre, fz, mu, d, out);
+    } else if (tp->mode == RFE_TYRE_PAPER) {
+        /* F = mu F0: dF = mu dF0, dF/dmu = F0 */
+        rfe_tyre_jac_t f0;
+        dugoff_jac(pre, tp->Cx_n, tp->Cy_n, tp->eps, vwx, RFE_R(1.0), fz, d, &f0);
+        out->fx = mu * f0.fx;
+        out->fy = mu * f0.fy;
+        out->dfx = mu * f0.dfx;
+        out->dfy = mu * f0.dfy;
+        out->mfx = f0.fx;
+        out->mfy = f0.fy;
+    } else {
+        /* mu < 0 is evaluated at 0 (MODEL.md §4), where nothing depends on mu */
+        dugoff_jac(pre, tp->cx, tp->cy, tp->eps, vwx, rfe_max(mu, RFE_R(0.0)), fz, d, out);
+        if (mu <= RFE_R(0.0)) {
+            out->mfx = RFE_R(0.0);
+            out->mfy = RFE_R(0.0);
+        }
+    }
+    return RFE_OK;
+}

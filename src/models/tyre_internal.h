@@ -24,12 +24,16 @@
 #define rfe_tyre_wheel_kin      rfe_tyre_wheel_kin_f64
 #define rfe_tyre_wheel_kappa    rfe_tyre_wheel_kappa_f64
 #define rfe_tyre_dugoff_pre_tan rfe_tyre_dugoff_pre_tan_f64
+#define rfe_tyre_norm_pre       rfe_tyre_norm_pre_f64
+#define rfe_tyre_pre_jac        rfe_tyre_pre_jac_f64
 #else
 #define rfe_tyre_dugoff_pre     rfe_tyre_dugoff_pre_f32
 #define rfe_tyre_dugoff_abs_pre rfe_tyre_dugoff_abs_pre_f32
 #define rfe_tyre_wheel_kin      rfe_tyre_wheel_kin_f32
 #define rfe_tyre_wheel_kappa    rfe_tyre_wheel_kappa_f32
 #define rfe_tyre_dugoff_pre_tan rfe_tyre_dugoff_pre_tan_f32
+#define rfe_tyre_norm_pre       rfe_tyre_norm_pre_f32
+#define rfe_tyre_pre_jac        rfe_tyre_pre_jac_f32
 #endif
 
 /** The friction-independent terms of rfe_tyre_dugoff_abs(tp, kappa, alpha, ., vwx, ...)
@@ -60,5 +64,43 @@ rfe_real_t rfe_tyre_wheel_kappa(const rfe_vehicle_t *veh, const rfe_tyre_params_
 /** rfe_tyre_dugoff_pre with tan of the clamped slip angle given (a previous pre's tan_a). */
 void rfe_tyre_dugoff_pre_tan(const rfe_tyre_params_t *tp, rfe_real_t kappa,
                              rfe_real_t tan_a, rfe_real_t vwx, rfe_dugoff_pre_t *pre);
+
+/* ---- the forces' derivatives (the observer's lateral rows, docs/OBSERVER.md §4.2) ---------- */
+
+/** A change of one wheel's tyre inputs per unit of the variable differentiated by: of the
+ *  clipped kappa, of tan of the clamped slip angle and of vwx. */
+typedef struct {
+    rfe_real_t k;     /**< d kappa */
+    rfe_real_t tan_a; /**< d tan(alpha) */
+    rfe_real_t vwx;   /**< d v_wx */
+} rfe_slip_dir_t;
+
+/** One wheel's forces (wheel axes) at its friction and their first derivatives. */
+typedef struct {
+    rfe_real_t fx;  /**< Fx at mu (paper mode: mu F0x) */
+    rfe_real_t fy;  /**< Fy at mu (paper mode: mu F0y) */
+    rfe_real_t dfx; /**< dFx along the input change rfe_slip_dir_t */
+    rfe_real_t dfy; /**< dFy along the input change */
+    rfe_real_t mfx; /**< dFx / d mu (paper mode: F0x; 0 where mu <= 0 in the others) */
+    rfe_real_t mfy; /**< dFy / d mu */
+} rfe_tyre_jac_t;
+
+/** Paper mode's friction-independent terms of rfe_tyre_dugoff_norm(tp, kappa, alpha, ., vwx):
+ *  rfe_tyre_dugoff_pre with the normalised stiffnesses Cx_n, Cy_n (ux, uy 0). */
+void rfe_tyre_norm_pre(const rfe_tyre_params_t *tp, rfe_real_t kappa, rfe_real_t alpha,
+                       rfe_real_t vwx, rfe_dugoff_pre_t *pre);
+
+/** The forces of tp->mode's curve at friction @p mu (paper: mu F0 from @p pre of
+ *  rfe_tyre_norm_pre; absolute, magic: as rfe_tyre_dugoff_abs_pre from @p pre of
+ *  rfe_tyre_dugoff_pre, the same operations, so the same bits) and, analytically, their
+ *  derivatives along the input change @p d and by mu (docs/OBSERVER.md §4.2: the Dugoff
+ *  factor piecewise in L, the Magic Formula shape through the atan values of its own
+ *  evaluation and one cosine per direction). Checks and statuses as rfe_tyre_dugoff_abs_pre.
+ *  No derivative is checked for finiteness (the caller's sums are). */
+RFE_NODISCARD rfe_status_t rfe_tyre_pre_jac(const rfe_tyre_params_t *tp,
+                                           const rfe_dugoff_pre_t *pre, rfe_real_t kappa,
+                                           rfe_real_t alpha, rfe_real_t fz, rfe_real_t vwx,
+                                           rfe_real_t mu, const rfe_slip_dir_t *d,
+                                           rfe_tyre_jac_t *out);
 
 #endif /* RFE_TYRE_INTERNAL_H */

@@ -31,6 +31,7 @@
 #include "rfe/fixed.h"
 #include "rfe/params_q31.h"
 #include "rfe/component/tyre_q31.h"
+#include "numerics/xf_q31.h"
 
 /** What rfe_tyre_kinematics_ex_q31 gives beyond rfe_wheel_kin_q31_t. */
 typedef struct {
@@ -83,5 +84,36 @@ void rfe_tyre_dugoff_abs_pre_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugo
 /** 1 when rfe_tyre_forces_abs_q31 accepts the parameters in tp's mode (alpha_max, eps; in
  *  magic mode also the shape factors), else 0. */
 int rfe_tyre_abs_params_ok_q31(const rfe_tyre_params_q31_t *tp);
+
+/* ---- the forces' derivatives (the observer's lateral rows, docs/OBSERVER.md §4.2) ---------- */
+
+/** A change of one wheel's tyre inputs per unit of vy (tyre_internal.h's rfe_slip_dir_t), real
+ *  values in rfe_xf_t: of the clipped kappa [s/m], of tan alpha [s/m], of v_wx [1]. */
+typedef struct {
+    rfe_xf_t k;     /**< d kappa */
+    rfe_xf_t tan_a; /**< d tan(alpha) */
+    rfe_xf_t vwx;   /**< d v_wx */
+} rfe_slip_dir_q31_t;
+
+/** One wheel's force derivatives (real values in rfe_xf_t, wheel axes). */
+typedef struct {
+    rfe_xf_t dfx; /**< dFx along the input change [N per unit of the change's variable] */
+    rfe_xf_t dfy; /**< dFy along the input change */
+    rfe_xf_t mfx; /**< dFx / d mu [N] (paper mode: F0x; 0 where mu <= 0 in the others) */
+    rfe_xf_t mfy; /**< dFy / d mu [N] */
+} rfe_tyre_jac_q31_t;
+
+/** Paper mode's friction-independent terms (rfe_tyre_dugoff_pre_q31 with Cx_n, Cy_n). */
+void rfe_tyre_norm_pre_q31(const rfe_tyre_params_q31_t *tp, rfe_fix_t kappa, rfe_fix_t alpha,
+                           rfe_fix_t vwx, rfe_dugoff_pre_q31_t *pre);
+
+/** The twin of tyre_internal.h's rfe_tyre_pre_jac: the derivatives of tp->mode's forces at
+ *  friction @p mu (Q29) and load @p fz (Q15) along @p d and by mu, from @p pre (paper:
+ *  rfe_tyre_norm_pre_q31; the others: rfe_tyre_dugoff_pre_q31) and the clipped kappa (Q30) and
+ *  v_wx (Q23) it was made of; the float formulas in rfe_xf_t (2^-30 relative per operation).
+ *  @p tp must pass rfe_tyre_abs_params_ok_q31 (paper mode: its Dugoff checks). */
+void rfe_tyre_pre_jac_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugoff_pre_q31_t *pre,
+                          rfe_fix_t kappa, rfe_fix_t vwx, rfe_fix_t fz, rfe_fix_t mu,
+                          const rfe_slip_dir_q31_t *d, rfe_tyre_jac_q31_t *out);
 
 #endif /* RFE_TYRE_INTERNAL_Q31_H */

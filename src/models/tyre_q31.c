@@ -26,6 +26,7 @@
 
 #include "numerics/fxmath_internal_q31.h"
 #include "numerics/internal_q31.h"
+#include "numerics/xf_q31.h"
 #include "models/tyre_internal_q31.h"
 
 /* Internal velocity format: Q51, and the shift from the sample's speed format to it. */
@@ -447,13 +448,6 @@ static int32_t scale_pow2(int64_t v, int e)
     return (int32_t)r;
 }
 
-/* The bit length of v < 2^64 (rfe_q31_bitlen64's value) from its two 32-bit halves. */
-static unsigned int bitlen_halves(uint64_t v)
-{
-    const uint32_t hi = (uint32_t)(v >> 32);
-    return (hi != 0u) ? (32u + rfe_q31_bitlen32(hi)) : rfe_q31_bitlen32((uint32_t)v);
-}
-
 /* G = sin(C atan2(s - E (s - m C a), m C)), a = atan2(s, m C), in Q30 (0 <= G <= 1), for
  * S > 0 in Q(qs) (< 2^31, qs in [19, 50]: dugoff_pre's shift is <= 31), m in Q29
  * (0 < m < 2^31), C and E Q24 within magic_shape_ok.
@@ -467,16 +461,24 @@ static unsigned int bitlen_halves(uint64_t v)
  *   z and xn 2^24 (< 2^55) are brought below 2^30 by one more shift (z >= 2^29 when xn = 0).
  *   phi = C b: Q24 x Q31 = Q55, exact, <= (2^25 - 1) 3373259426 < round(pi 2^55): the sine's
  *   domain [0, pi]. */
-static int32_t magic_shape_q31(int32_t S, unsigned int qs, int32_t m, int32_t C, int32_t E)
+/* phi = C b of the shape below (Q55), and n = s - E (s - m C a), the numerator of b's
+ * tangent, as *z_out 2^(*l_out - 107) (the pair's format times 2^24), from the pair of the two
+ * atan2 (the same operations as magic_shape_q31). */
+static int64_t magic_phi_q31(int32_t S, unsigned int qs, int32_t m, int32_t C, int32_t E,
+                             int64_t *z_out, int *l_out)
 {
     const int64_t mc = (int64_t)m * (int64_t)C;
     const unsigned int d = 53u - qs;
-    const unsigned int lx = bitlen_halves((uint64_t)mc);
+    const unsigned int lx = rfe_q31_bitlen64((uint64_t)mc);
     const unsigned int ly = rfe_q31_bitlen32((uint32_t)S) + d;
     const int l = (int)((lx > ly) ? lx : ly);
     const int32_t xn = scale_pow2(mc, 30 - l);
     const int32_t yn = scale_pow2((int64_t)S, ((int)d + 30) - l);
     uint32_t b = rfe_q31_atan2_quad1((uint32_t)yn, (uint32_t)xn); /* a, Q31, in [0, pi/2] */
+
+    /* n = s when E = 0 */
+    *z_out = (int64_t)yn * rfe_q31_pow2(24u);
+    *l_out = l;
 
     if (E != 0) {
         const int64_t x24 = (int64_t)xn * rfe_q31_pow2(24u);
@@ -489,9 +491,17 @@ static int32_t magic_shape_q31(int32_t S, unsigned int qs, int32_t m, int32_t C,
         sh = rfe_q31_norm_shift((uint64_t)((z > x24) ? z : x24), 30u);
         b = rfe_q31_atan2_quad1((uint32_t)rfe_q31_shr_to32(z, sh),
                                 (uint32_t)rfe_q31_shr_to32(x24, sh));
+        *z_out = z;
     }
     /* phi = C b in Q55, within the sine's domain */
-    return rfe_q31_sin_q55((int64_t)C * (int64_t)b);
+    return (int64_t)C * (int64_t)b;
+}
+
+static int32_t magic_shape_q31(int32_t S, unsigned int qs, int32_t m, int32_t C, int32_t E)
+{
+    int64_t z = 0;
+    int l = 0;
+    return rfe_q31_sin_q55(magic_phi_q31(S, qs, m, C, E, &z, &l));
 }
 
 /* Magic Formula forces at m = max(mu, 0) (Q29, >= 0) and load fz (Q15, >= 0) from the
@@ -720,4 +730,244 @@ int rfe_tyre_abs_params_ok_q31(const rfe_tyre_params_q31_t *tp)
             ((tp->mode != RFE_TYRE_MAGIC) || (magic_shape_ok(tp) != 0)))
                ? 1
                : 0;
+}
+
+/* ---- the forces' derivatives (docs/OBSERVER.md §4.2, FIXED_POINT.md "Observer") ------------
+ * The float twin's formulas (tyre_flt.c) operation for operation in rfe_xf_t (xf_q31.h: 30
+ * significant bits and a power of two per value), because a derivative's terms span many
+ * decades (q = mu / (2 S) from 1e-3 to 1e6, dS/S, 1/|v_wx|). The set-up's Q formats enter
+ * exactly; every operation rounds once to 2^-30 relative. */
+
+void rfe_tyre_norm_pre_q31(const rfe_tyre_params_q31_t *tp, rfe_fix_t kappa, rfe_fix_t alpha,
+                           rfe_fix_t vwx, rfe_dugoff_pre_q31_t *pre)
+{
+    int32_t k;
+    int32_t t;
+    slip_inputs(tp, kappa, alpha, &k, &t);
+    dugoff_pre(k, t, tp->Cx_n, tp->Cy_n, tp->eps, vwx, pre);
+}
+
+/* sgn(s) a for s in {-1, 0, 1}. */
+static rfe_xf_t xf_signed(int s, rfe_xf_t a)
+{
+    rfe_xf_t r = rfe_xf_make(0, 0);
+    if (s > 0) {
+        r = a;
+    } else if (s < 0) {
+        r = rfe_xf_neg(a);
+    } else {
+        /* 0 */
+    }
+    return r;
+}
+
+/* dE along d (tyre_flt.c dugoff_de): -eps (sgn(vwx) d_vwx |(k, t)| + |vwx| (k dk + t dt) /
+ * |(k, t)|) where E > 0, else 0. k, t: the slip and tan alpha; (k, t) != 0 (S > 0). */
+static rfe_xf_t dugoff_de_q31(const rfe_dugoff_pre_q31_t *pre, rfe_xf_t k, rfe_xf_t t,
+                              int32_t eps, int32_t vwx, const rfe_slip_dir_q31_t *d)
+{
+    rfe_xf_t de = rfe_xf_make(0, 0);
+    if (pre->e > 0) {
+        const rfe_xf_t slip = rfe_xf_sqrt(rfe_xf_add(rfe_xf_mul(k, k), rfe_xf_mul(t, t)));
+        const rfe_xf_t dslip =
+            rfe_xf_div(rfe_xf_add(rfe_xf_mul(k, d->k), rfe_xf_mul(t, d->tan_a)), slip);
+        const rfe_xf_t avx = rfe_xf_of((vwx < 0) ? -vwx : vwx, (int)RFE_FIX_Q_SPEED);
+        const int sv = rfe_q31_sign(vwx);
+        const rfe_xf_t inner = rfe_xf_add(rfe_xf_mul(xf_signed(sv, d->vwx), slip),
+                                          rfe_xf_mul(avx, dslip));
+        de = rfe_xf_neg(rfe_xf_mul(rfe_xf_of(eps, 32), inner));
+    }
+    return de;
+}
+
+/* g, dg, dg/dmu_s of the Dugoff factor for S > 0 (tyre_flt.c dugoff_g_jac): L < 1 or not. */
+static void dugoff_g_jac_q31(const rfe_dugoff_pre_q31_t *pre, rfe_xf_t k, rfe_xf_t t, int sk,
+                             rfe_xf_t c1, rfe_xf_t c2, int32_t eps, int32_t vwx, rfe_xf_t mu_s,
+                             const rfe_slip_dir_q31_t *d, rfe_xf_t g[3])
+{
+    const rfe_xf_t one = rfe_xf_make(1, 0);
+    const rfe_xf_t two = rfe_xf_make(2, 0);
+    const rfe_xf_t S = rfe_xf_of(pre->s, (int)pre->qs);
+    const rfe_xf_t E = rfe_xf_of(pre->e, 30);
+    const rfe_xf_t omk = rfe_xf_of(pre->omk, 30);
+    const rfe_xf_t q = rfe_xf_div(mu_s, rfe_xf_mul(two, S));
+    const rfe_xf_t L = rfe_xf_mul(rfe_xf_mul(q, omk), E);
+    const rfe_xf_t sdk = xf_signed(sk, d->k);
+    if (rfe_xf_sign(rfe_xf_sub(L, one)) < 0) {
+        const rfe_xf_t ds = rfe_xf_div(rfe_xf_add(rfe_xf_mul(rfe_xf_mul(c1, k), rfe_xf_mul(c1, d->k)),
+                                                  rfe_xf_mul(rfe_xf_mul(c2, t),
+                                                             rfe_xf_mul(c2, d->tan_a))),
+                                       S);
+        const rfe_xf_t de = dugoff_de_q31(pre, k, t, eps, vwx, d);
+        const rfe_xf_t dq = rfe_xf_neg(rfe_xf_div(rfe_xf_mul(q, ds), S));
+        const rfe_xf_t qe = rfe_xf_mul(q, E);
+        const rfe_xf_t dl = rfe_xf_add(
+            rfe_xf_mul(rfe_xf_sub(rfe_xf_mul(dq, omk), rfe_xf_mul(q, sdk)), E),
+            rfe_xf_mul(rfe_xf_mul(q, omk), de));
+        const rfe_xf_t two_l = rfe_xf_sub(two, L);
+        g[0] = rfe_xf_mul(qe, two_l);
+        g[1] = rfe_xf_sub(rfe_xf_mul(rfe_xf_add(rfe_xf_mul(dq, E), rfe_xf_mul(q, de)), two_l),
+                          rfe_xf_mul(qe, dl));
+        g[2] = rfe_xf_div(rfe_xf_mul(E, rfe_xf_sub(one, L)), S);
+    } else {
+        g[0] = rfe_xf_div(one, omk);
+        g[1] = rfe_xf_div(sdk, rfe_xf_mul(omk, omk));
+        g[2] = rfe_xf_make(0, 0);
+    }
+}
+
+/* Dugoff forces fz (c1 k, c2 t) g and their derivatives (tyre_flt.c dugoff_jac); f0[0..1]:
+ * the forces. S = 0: dg = dg/dmu_s = 0, g = 1 (0 at mu_s = 0). */
+static void dugoff_jac_q31(const rfe_dugoff_pre_q31_t *pre, int32_t kq, int32_t c1q,
+                           int32_t c2q, int32_t eps, int32_t vwx, rfe_xf_t mu_s, int32_t fz,
+                           const rfe_slip_dir_q31_t *d, rfe_tyre_jac_q31_t *o, rfe_xf_t f0[2])
+{
+    const rfe_xf_t k = rfe_xf_of(kq, 30);
+    const rfe_xf_t t = rfe_xf_of(pre->tan_a, 26);
+    const rfe_xf_t c1 = rfe_xf_of(c1q, (int)RFE_FIX_Q_STIFF);
+    const rfe_xf_t c2 = rfe_xf_of(c2q, (int)RFE_FIX_Q_STIFF);
+    const rfe_xf_t fc1 = rfe_xf_mul(rfe_xf_of(fz, 15), c1);
+    const rfe_xf_t fc2 = rfe_xf_mul(rfe_xf_of(fz, 15), c2);
+    rfe_xf_t g[3];
+    g[0] = rfe_xf_make(1, 0);
+    g[1] = rfe_xf_make(0, 0);
+    g[2] = rfe_xf_make(0, 0);
+    if (pre->s > 0) {
+        const int sk = rfe_q31_sign(kq);
+        dugoff_g_jac_q31(pre, k, t, sk, c1, c2, eps, vwx, mu_s, d, g);
+    } else if (mu_s.m == 0) {
+        g[0] = rfe_xf_make(0, 0); /* S -> 0 at mu_s = 0: no force at any slip */
+    } else {
+        /* g = 1: the limit S -> 0 (L -> infinity) */
+    }
+    f0[0] = rfe_xf_mul(fc1, rfe_xf_mul(k, g[0]));
+    f0[1] = rfe_xf_mul(fc2, rfe_xf_mul(t, g[0]));
+    o->dfx = rfe_xf_mul(fc1, rfe_xf_add(rfe_xf_mul(d->k, g[0]), rfe_xf_mul(k, g[1])));
+    o->dfy = rfe_xf_mul(fc2, rfe_xf_add(rfe_xf_mul(d->tan_a, g[0]), rfe_xf_mul(t, g[1])));
+    o->mfx = rfe_xf_mul(fc1, rfe_xf_mul(k, g[2]));
+    o->mfy = rfe_xf_mul(fc2, rfe_xf_mul(t, g[2]));
+}
+
+/* pi/2 in Q55, round(pi/2 2^55). */
+#define HALF_PI_Q55 ((int64_t)56593902016227522)
+
+/* G / s of one direction (S > 0, m > 0) from G (Q30): G holds 30 bits of its value only where
+ * it is not small, so below x = s / (m C) = 2^-8 the series G / s = (1 - ((1 + E) / 3 + C^2 /
+ * 6) x^2) / m + O(x^4) (atan and sin to third order: relative error < x^4 < 2.4e-10) replaces
+ * the quotient (G >= C x / 2 > 2^-9 above it: 2^-21 relative, and better as x grows). */
+static rfe_xf_t magic_g_over_s_q31(rfe_xf_t g, rfe_xf_t s, rfe_xf_t mc, rfe_xf_t C, rfe_xf_t E,
+                                   int32_t m)
+{
+    const rfe_xf_t x = rfe_xf_div(s, mc);
+    rfe_xf_t r;
+    if (rfe_xf_sign(rfe_xf_sub(x, rfe_xf_make(1, -8))) < 0) {
+        const rfe_xf_t one = rfe_xf_make(1, 0);
+        const rfe_xf_t c2 = rfe_xf_add(rfe_xf_div(rfe_xf_add(one, E), rfe_xf_make(3, 0)),
+                                       rfe_xf_div(rfe_xf_mul(C, C), rfe_xf_make(6, 0)));
+        r = rfe_xf_div(rfe_xf_sub(one, rfe_xf_mul(c2, rfe_xf_mul(x, x))),
+                       rfe_xf_of(m, (int)RFE_FIX_Q_MU));
+    } else {
+        r = rfe_xf_div(g, s);
+    }
+    return r;
+}
+
+/* G (Q30, magic_shape_q31's value), G / s and dG/ds of one direction, S > 0, m > 0 (tyre_flt.c
+ * magic_shape_jac): dG/ds = cos(C b) C (1 - E + E (mC)^2 / ((mC)^2 + s^2)) mC / ((mC)^2 +
+ * n^2), cos(phi) = sin(pi/2 - phi) or -sin(phi - pi/2) (phi in [0, pi)), the sine's domain. */
+static rfe_xf_t magic_shape_jac_q31(const rfe_dugoff_pre_q31_t *pre, int32_t m, int32_t Cq,
+                                    int32_t Eq, rfe_xf_t *g_over_s, rfe_xf_t *g_s)
+{
+    int64_t z = 0;
+    int l = 0;
+    const int64_t phi = magic_phi_q31(pre->s, (unsigned int)pre->qs, m, Cq, Eq, &z, &l);
+    const int32_t c30 = (phi <= HALF_PI_Q55) ? rfe_q31_sin_q55(HALF_PI_Q55 - phi)
+                                             : -rfe_q31_sin_q55(phi - HALF_PI_Q55);
+    const rfe_xf_t one = rfe_xf_make(1, 0);
+    const rfe_xf_t C = rfe_xf_of(Cq, (int)RFE_FIX_Q_STIFF);
+    const rfe_xf_t E = rfe_xf_of(Eq, (int)RFE_FIX_Q_STIFF);
+    const rfe_xf_t mc = rfe_xf_make((int64_t)m * (int64_t)Cq, -53); /* Q29 x Q24 */
+    const rfe_xf_t mc2 = rfe_xf_mul(mc, mc);
+    const rfe_xf_t s = rfe_xf_of(pre->s, (int)pre->qs);
+    const rfe_xf_t n = rfe_xf_make(z, l - 107);
+    const rfe_xf_t g = rfe_xf_of(rfe_q31_sin_q55(phi), 30);
+    const rfe_xf_t shape = rfe_xf_add(rfe_xf_sub(one, E),
+                                      rfe_xf_div(rfe_xf_mul(E, mc2),
+                                                 rfe_xf_add(mc2, rfe_xf_mul(s, s))));
+    *g_s = rfe_xf_mul(rfe_xf_mul(rfe_xf_mul(rfe_xf_of(c30, 30), C), shape),
+                      rfe_xf_div(mc, rfe_xf_add(mc2, rfe_xf_mul(n, n))));
+    *g_over_s = magic_g_over_s_q31(g, s, mc, C, E, m);
+    return g;
+}
+
+/* Magic Formula forces' derivatives (tyre_flt.c magic_jac) at m = max(mu, 0) (Q29): m = 0:
+ * all 0; S = 0: dF = fz (cx dk, cy dt) (the limit fz m G_s(0) = fz), dF/dmu = 0; else
+ * ds = ux cx dk + uy cy dt, du = ((cx dk, cy dt) - u ds) / s, dF = fz m (G_s ds u + G du),
+ * dF/dmu = fz u (G - s G_s), with G du = (G / s) ((cx dk, cy dt) - u ds) (magic_g_over_s_q31). */
+static void magic_jac_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugoff_pre_q31_t *pre,
+                          int32_t m, int32_t fz, const rfe_slip_dir_q31_t *d,
+                          rfe_tyre_jac_q31_t *o)
+{
+    const rfe_xf_t zero = rfe_xf_make(0, 0);
+    const rfe_xf_t fzx = rfe_xf_of(fz, 15);
+    const rfe_xf_t cdk = rfe_xf_mul(rfe_xf_of(tp->cx, (int)RFE_FIX_Q_STIFF), d->k);
+    const rfe_xf_t cdt = rfe_xf_mul(rfe_xf_of(tp->cy, (int)RFE_FIX_Q_STIFF), d->tan_a);
+    o->dfx = zero;
+    o->dfy = zero;
+    o->mfx = zero;
+    o->mfy = zero;
+    if (m <= 0) {
+        return; /* no force at any slip */
+    }
+    if (pre->s == 0) {
+        o->dfx = rfe_xf_mul(fzx, cdk);
+        o->dfy = rfe_xf_mul(fzx, cdt);
+    } else {
+        const rfe_xf_t fm = rfe_xf_mul(fzx, rfe_xf_of(m, (int)RFE_FIX_Q_MU));
+        const rfe_xf_t s = rfe_xf_of(pre->s, (int)pre->qs);
+        const rfe_xf_t ux = rfe_xf_of(pre->ux, 30);
+        const rfe_xf_t uy = rfe_xf_of(pre->uy, 30);
+        rfe_xf_t gxs;
+        rfe_xf_t gys;
+        rfe_xf_t rx;
+        rfe_xf_t ry;
+        const rfe_xf_t gx = magic_shape_jac_q31(pre, m, tp->shape_Cx, tp->shape_Ex, &rx, &gxs);
+        const rfe_xf_t gy = magic_shape_jac_q31(pre, m, tp->shape_Cy, tp->shape_Ey, &ry, &gys);
+        const rfe_xf_t ds = rfe_xf_add(rfe_xf_mul(ux, cdk), rfe_xf_mul(uy, cdt));
+        o->dfx = rfe_xf_mul(fm, rfe_xf_add(rfe_xf_mul(rfe_xf_mul(gxs, ds), ux),
+                                           rfe_xf_mul(rx, rfe_xf_sub(cdk, rfe_xf_mul(ux, ds)))));
+        o->dfy = rfe_xf_mul(fm, rfe_xf_add(rfe_xf_mul(rfe_xf_mul(gys, ds), uy),
+                                           rfe_xf_mul(ry, rfe_xf_sub(cdt, rfe_xf_mul(uy, ds)))));
+        o->mfx = rfe_xf_mul(rfe_xf_mul(fzx, ux), rfe_xf_sub(gx, rfe_xf_mul(s, gxs)));
+        o->mfy = rfe_xf_mul(rfe_xf_mul(fzx, uy), rfe_xf_sub(gy, rfe_xf_mul(s, gys)));
+    }
+}
+
+void rfe_tyre_pre_jac_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugoff_pre_q31_t *pre,
+                          rfe_fix_t kappa, rfe_fix_t vwx, rfe_fix_t fz, rfe_fix_t mu,
+                          const rfe_slip_dir_q31_t *d, rfe_tyre_jac_q31_t *out)
+{
+    const int32_t k = rfe_fix_clamp(kappa, -ONE_Q30, ONE_Q30);
+    const int32_t m = (mu > 0) ? mu : 0;
+    rfe_xf_t f0[2];
+    if (tp->mode == RFE_TYRE_MAGIC) {
+        magic_jac_q31(tp, pre, m, fz, d, out);
+    } else if (tp->mode == RFE_TYRE_PAPER) {
+        /* F = mu F0: dF = mu dF0, dF/dmu = F0 */
+        const rfe_xf_t mux = rfe_xf_of(mu, (int)RFE_FIX_Q_MU);
+        dugoff_jac_q31(pre, k, tp->Cx_n, tp->Cy_n, tp->eps, vwx, rfe_xf_make(1, 0), fz, d, out,
+                       f0);
+        out->dfx = rfe_xf_mul(mux, out->dfx);
+        out->dfy = rfe_xf_mul(mux, out->dfy);
+        out->mfx = f0[0];
+        out->mfy = f0[1];
+    } else {
+        /* mu < 0 is evaluated at 0 (MODEL.md §4), where nothing depends on mu */
+        dugoff_jac_q31(pre, k, tp->cx, tp->cy, tp->eps, vwx, rfe_xf_of(m, (int)RFE_FIX_Q_MU),
+                       fz, d, out, f0);
+        if (m == 0) {
+            out->mfx = rfe_xf_make(0, 0);
+            out->mfy = rfe_xf_make(0, 0);
+        }
+    }
 }

@@ -78,6 +78,19 @@ static inline rfe_real_t rfe_clamp(rfe_real_t x, rfe_real_t lo, rfe_real_t hi)
 {
     return rfe_min(rfe_max(x, lo), hi);
 }
+/** -1, 0 or 1: the derivative of |x|, taken as 0 at 0. */
+static inline rfe_real_t rfe_sgn(rfe_real_t x)
+{
+    rfe_real_t r = (rfe_real_t)0;
+    if (x > (rfe_real_t)0) {
+        r = (rfe_real_t)1;
+    } else if (x < (rfe_real_t)0) {
+        r = (rfe_real_t)-1;
+    } else {
+        /* 0 (also NaN, which the callers' sums then reject) */
+    }
+    return r;
+}
 
 /* Projects v[0..k) onto [lo, hi]; returns 1 if any element moved. */
 static inline int rfe_clamp_vec(rfe_real_t *v, size_t k, rfe_real_t lo, rfe_real_t hi)

@@ -34,7 +34,6 @@ rfe_status_t rfe_velocity_params_default(rfe_velocity_params_t *p)
     p->sd_model_ay = RFE_R(0.3);
     p->model_ay_rel = RFE_R(0.1);
     p->sd_model_rdot = RFE_R(0.0);
-    p->dvy = RFE_R(0.01);
     p->sd_vydot = RFE_R(1.0);
     p->vydot_rdot = RFE_R(15.0);
     p->v_lat_min = RFE_R(3.0);
@@ -52,11 +51,11 @@ rfe_status_t rfe_velocity_params_default(rfe_velocity_params_t *p)
 /* The fields that must be > 0, then those that must be >= 0 (docs/OBSERVER.md §2). */
 static int positive_ok(const rfe_velocity_params_t *p)
 {
-    const rfe_real_t v[10] = {p->q_jerk, p->sd_r, p->sd_ax, p->sd_ay, p->dvy,
-                              p->v_lat_min, p->sd_lowspeed, p->mu_default, p->sd_vydot,
-                              p->steer_ratio};
+    const rfe_real_t v[9] = {p->q_jerk,     p->sd_r,      p->sd_ax,
+                             p->sd_ay,      p->v_lat_min, p->sd_lowspeed,
+                             p->mu_default, p->sd_vydot,  p->steer_ratio};
     size_t i;
-    for (i = 0u; i < 10u; ++i) {
+    for (i = 0u; i < 9u; ++i) {
         if (!rfe_is_finite(v[i]) || !(v[i] > RFE_R(0.0))) {
             return 0;
         }

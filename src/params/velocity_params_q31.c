@@ -37,7 +37,6 @@ rfe_status_t rfe_velocity_params_default_q31(rfe_velocity_params_q31_t *p)
     p->sd_model_ay = 5033165; /* 0.3 m/s^2, Q24 */
     p->model_ay_rel = 107374182; /* 0.1, Q30 */
     p->sd_model_rdot = 0; /* off (OBSERVER.md §2), Q24 */
-    p->dvy = 83886; /* 0.01 m/s, Q23 */
     p->sd_vydot = 16777216; /* 1 m/s^2, Q24 */
     p->vydot_rdot = 251658240; /* 15 m/s^2 per rad/s^2, Q24 */
     p->v_lat_min = 25165824; /* 3 m/s, Q23 */
@@ -55,11 +54,11 @@ rfe_status_t rfe_velocity_params_default_q31(rfe_velocity_params_q31_t *p)
 /* The fields that must be > 0, then those that must be >= 0 (docs/OBSERVER.md §2). */
 static int positive_ok_q31(const rfe_velocity_params_q31_t *p)
 {
-    const rfe_fix_t v[10] = {p->q_jerk, p->sd_r, p->sd_ax, p->sd_ay, p->dvy,
-                             p->v_lat_min, p->sd_lowspeed, p->mu_default, p->sd_vydot,
-                             p->steer_ratio};
+    const rfe_fix_t v[9] = {p->q_jerk,     p->sd_r,      p->sd_ax,
+                            p->sd_ay,      p->v_lat_min, p->sd_lowspeed,
+                            p->mu_default, p->sd_vydot,  p->steer_ratio};
     size_t i;
-    for (i = 0u; i < 10u; ++i) {
+    for (i = 0u; i < 9u; ++i) {
         if (v[i] <= 0) {
             return 0;
         }

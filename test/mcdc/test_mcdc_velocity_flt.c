@@ -102,14 +102,13 @@ static void test_params_one_at_a_time(void **state)
     size_t b;
     (void)state;
     assert_int_equal(rfe_velocity_params_validate(&vpar), RFE_OK);
-    for (f = 0u; f < 12u; ++f) {
+    for (f = 0u; f < 11u; ++f) {
         for (b = 0u; b < 2u; ++b) {
             rfe_velocity_params_t p = vpar;
-            rfe_real_t *const field[12] = {&p.q_jerk,      &p.sd_r,          &p.sd_ax,
-                                           &p.sd_ay,       &p.dvy,           &p.v_lat_min,
-                                           &p.sd_lowspeed, &p.mu_default,    &p.sd_vydot,
-                                           &p.steer_ratio, &p.dt_min,
-                                           &p.dt_max};
+            rfe_real_t *const field[11] = {&p.q_jerk,      &p.sd_r,       &p.sd_ax,
+                                           &p.sd_ay,       &p.v_lat_min,  &p.sd_lowspeed,
+                                           &p.mu_default,  &p.sd_vydot,   &p.steer_ratio,
+                                           &p.dt_min,      &p.dt_max};
             *field[f] = bad[b];
             assert_int_equal(rfe_velocity_params_validate(&p), RFE_ERR_PARAM);
         }

@@ -6,7 +6,9 @@
  *    the perturbed sample, in every tyre mode and for every input, and their argument checks;
  *  - rfe_meas_eval with the terms cached by rfe_meas_setup, against the chain
  *    rfe_tyre_forces_abs -> rfe_obsmat_build -> rfe_obsmat_apply(H, ones), also when eval is
- *    given other tyre parameters than the set-up (the cached terms are then not used).
+ *    given other tyre parameters than the set-up (the cached terms are then not used);
+ *  - the lateral rows' analytic derivatives (rfe_meas_lateral_jac, docs/OBSERVER.md §4.2)
+ *    against central differences of full set-ups and evaluations, in every tyre mode.
  * Inputs from a fixed-seed generator (test_draws.h), some beyond the limits.
  */
 #include "test_light.h"
@@ -25,6 +27,40 @@
 
 #define N_CASES 4000         /* perturbed-input cases */
 #define N_CACHED_CASES 20000 /* cached-terms cases */
+#define N_JAC_CASES 6000     /* derivative cases (2000 per tyre mode) */
+
+/* The derivatives' tolerance. A central difference D(h) = (f(x + h) - f(x - h)) / 2h differs
+ * from f' by its truncation h^2 f''' / 6 + ... and its rounding <= 2 EPS_F max|f| / h. The
+ * truncation is estimated from the same function: D(2h) - D(h) = 3 h^2 f''' / 6 + O(h^4), so
+ * |D(h) - f'| <= |D(2h) - D(h)| / 3 (1 + o(1)) + rounding; the bound below takes the whole
+ * difference D(2h) - D(h) (three times the estimate: margin for the O(h^4) terms), the
+ * rounding of the evaluations (8 EPS_F over h of the rows' term scale, term_scale) and a
+ * relative floor REL_FLOOR |f'| for the analytic side's own rounding. Where a clamp or branch of the model (alpha_max, the
+ * kappa clip, L = 1, E = 0, mu = 0, den's max) lies within 2h the difference is not a
+ * derivative: D(2h) - D(h) is then large and so is the bound, and such cases are counted; at
+ * least MIN_TIGHT of the cases must have a bound below TIGHT relative (the test is not
+ * vacuous). A smooth function's differences shrink as h^2: D(4h) - D(2h) = 4 (D(2h) - D(h));
+ * a kink within 4h breaks that ratio, and a kink nearer than h, where the central differences
+ * of both steps are the same mean of the two sides' slopes, leaves the one-sided differences'
+ * gap F - B the jump whatever the step, where a smooth function's grows as h (F(2h) - B(2h)
+ * = 2 (F(h) - B(h))). Such cases (a few in a thousand) are not compared but counted
+ * (at most MAX_KINKED of them); a kink too small to be told from the rounding by that test
+ * moves D(h) by at most half the gap F(h) - B(h) it leaves (the derivative's jump times the
+ * share of the step beyond it), which the bound adds (in a smooth stretch that gap is h f'',
+ * which sets TIGHT). Double: h = 1e-4 (m/s for vy, unit sd steps for mu), float: h = 1e-2. */
+#if defined(RFE_REAL_DOUBLE)
+#define JAC_H 1e-4
+#define EPS_F 2.3e-16
+#define REL_FLOOR 1e-9
+#define TIGHT 1e-4
+#else
+#define JAC_H 1e-2
+#define EPS_F 1.2e-7
+#define REL_FLOOR 1e-4
+#define TIGHT 1e-2
+#endif
+#define MIN_TIGHT 0.9
+#define MAX_KINKED 0.01
 #define RFE_R(x) ((rfe_real_t)(x))
 
 /* u with input j changed by d, as a caller would write it. */
@@ -256,6 +292,249 @@ static void test_meas_cached_each_field(void **state)
     }
 }
 
+/* Rows ay, r-dot of h(mu, u) at u with vy moved by dvy and mu moved by t dmu: a full set-up
+ * and evaluation. */
+static rfe_status_t rows_at(const rfe_params_t *p, const rfe_sample_t *u, double dvy,
+                            const rfe_real_t mu[4], const rfe_real_t dmu[4], double t,
+                            double z[2])
+{
+    rfe_sample_t up = *u;
+    rfe_real_t m[4];
+    rfe_real_t zz[3];
+    rfe_meas_t h;
+    size_t i;
+    rfe_status_t st;
+    up.vy = (rfe_real_t)((double)u->vy + dvy);
+    for (i = 0u; i < 4u; ++i) {
+        m[i] = (rfe_real_t)((double)mu[i] + (t * (double)dmu[i]));
+    }
+    st = rfe_meas_setup(&h, &p->vehicle, &p->tyre, &up);
+    if (st == RFE_OK) {
+        st = rfe_meas_eval(&h, &p->vehicle, &p->tyre, m, zz);
+    }
+    z[0] = (double)zz[1];
+    z[1] = (double)zz[2];
+    return st;
+}
+
+/* Central differences D(h), D(2h), D(4h) of the two rows by vy (which = 0) or by mu along dmu
+ * (which = 1) in d[0..2], the one-sided differences' gaps F(h) - B(h), F(2h) - B(2h) in
+ * gap[0..1]; 0 when an evaluation failed. */
+static int central(const rfe_params_t *p, const rfe_sample_t *u, const rfe_real_t mu[4],
+                   const rfe_real_t dmu[4], int which, double d[3][2], double gap[2][2])
+{
+    double z[7][2];
+    int k;
+    int r;
+    for (k = 0; k < 7; ++k) {
+        /* +h, -h, +2h, -2h, +4h, -4h, 0 */
+        const double st =
+            (k == 6) ? 0.0 : (double)(1 << (k / 2)) * (((k % 2) == 0) ? JAC_H : -JAC_H);
+        const double dv = (which == 0) ? st : 0.0;
+        const double dm = (which == 0) ? 0.0 : st;
+        if (rows_at(p, u, dv, mu, dmu, dm, z[k]) != RFE_OK) {
+            return 0;
+        }
+    }
+    for (r = 0; r < 2; ++r) {
+        for (k = 0; k < 3; ++k) {
+            d[k][r] = (z[2 * k][r] - z[(2 * k) + 1][r]) / (2.0 * JAC_H * (double)(1 << k));
+        }
+        for (k = 0; k < 2; ++k) {
+            gap[k][r] = ((z[2 * k][r] - z[6][r]) - (z[6][r] - z[(2 * k) + 1][r])) /
+                        (JAC_H * (double)(1 << k));
+        }
+    }
+    return 1;
+}
+
+/* The rounding scale of each row: a wheel's force is at most |mu| Fz (every tyre mode) on the
+ * stencil (|mu| + 4h dmu), its terms at most that over m (ay) and times |(x_i, y_i)| / J
+ * (r-dot); the rows' rounding is a few EPS_F of the sum of the terms' magnitudes. */
+static void term_scale(const rfe_params_t *p, const rfe_meas_t *h, const rfe_real_t mu[4],
+                       const rfe_real_t dmu[4], double scale[2])
+{
+    const double x[4] = {p->vehicle.Lf, p->vehicle.Lf, -p->vehicle.Lr, -p->vehicle.Lr};
+    const double y[4] = {p->vehicle.Bf / 2.0, p->vehicle.Bf / 2.0, p->vehicle.Br / 2.0,
+                         p->vehicle.Br / 2.0};
+    int i;
+    scale[0] = 0.0;
+    scale[1] = 0.0;
+    for (i = 0; i < 4; ++i) {
+        const double f = (fabs((double)mu[i]) + (4.0 * JAC_H * (double)dmu[i])) *
+                         (double)h->kin.fz[i];
+        scale[0] += f / (double)p->vehicle.m;
+        scale[1] += f * sqrt((x[i] * x[i]) + (y[i] * y[i])) / (double)p->vehicle.J;
+    }
+}
+
+/* REQ: the lateral rows' derivatives by vy and by the friction along dmu are the model's
+ * (central differences of full set-ups and evaluations within their truncation and rounding
+ * error), in every tyre mode, and the rows are rfe_meas_eval's bit for bit. */
+/* REQ-MEAS-003 */
+static void test_meas_lateral_jac(void **state)
+{
+    long checked = 0;
+    long tight = 0;
+    long kinked = 0;
+    long worse[3] = {0, 0, 0};
+    double worst = 0.0;
+    int n;
+    (void)state;
+    draw_seed(0xD1FFEull);
+    for (n = 0; n < N_JAC_CASES; n += (int)rfe_test_stride(10u)) {
+        rfe_params_t p;
+        rfe_sample_t u;
+        rfe_real_t mu[4];
+        rfe_real_t dmu[4];
+        rfe_real_t ze[3];
+        rfe_meas_t h;
+        rfe_meas_lateral_t out;
+        size_t i;
+        int which;
+        assert_int_equal(rfe_params_default(&p), RFE_OK);
+        p.tyre.mode = MODES[n % 3];
+        draw_sample(&u, mu, 1);
+        for (i = 0u; i < 4u; ++i) {
+            dmu[i] = (rfe_real_t)draw_uniform(0.0, 0.5);
+        }
+        if ((n % 50) < 3) {
+            /* no slip at all (S = 0 on every wheel: the limits of the derivatives) */
+            u.delta = RFE_R(0.0);
+            u.vy = RFE_R(0.0);
+            u.yaw_rate = RFE_R(0.0);
+            for (i = 0u; i < 4u; ++i) {
+                u.omega[i] = RFE_R(20.0) / p.vehicle.R;
+            }
+            u.vx = u.omega[0] * p.vehicle.R;
+        }
+        if (rfe_meas_setup(&h, &p.vehicle, &p.tyre, &u) != RFE_OK) {
+            continue;
+        }
+        assert_int_equal(rfe_meas_lateral_jac(&h, &p.vehicle, &p.tyre, &u, mu, dmu, &out),
+                         rfe_meas_eval(&h, &p.vehicle, &p.tyre, mu, ze));
+        assert_memory_equal(out.z, &ze[1], sizeof(out.z));
+        for (which = 0; which < 2; ++which) {
+            const rfe_real_t *an = (which == 0) ? out.d_vy : out.d_mu;
+            double d[3][2];
+            double gap[2][2];
+            double sc[2];
+            int r;
+            if (central(&p, &u, mu, dmu, which, d, gap) == 0) {
+                continue;
+            }
+            term_scale(&p, &h, mu, dmu, sc);
+            for (r = 0; r < 2; ++r) {
+                const double a = (double)an[r];
+                const double noise = 8.0 * EPS_F * sc[r] / JAC_H;
+                const double d12 = fabs(d[1][r] - d[0][r]);
+                const double g1 = fabs(gap[0][r]);
+                const double tol = d12 + (0.5 * g1) + noise + (REL_FLOOR * fabs(a));
+                const double err = fabs(a - d[0][r]);
+                if (((d12 > (2.0 * noise)) && (fabs(d[2][r] - d[1][r]) < (2.0 * d12))) ||
+                    ((g1 > (4.0 * noise)) && (fabs(gap[1][r]) < (1.5 * g1)))) {
+                    ++kinked; /* not smooth within 4h */
+                    continue;
+                }
+                if (err > tol) {
+                    print_message("case %d mode %d %s row %d: analytic %.12g, difference "
+                                  "%.12g (2h: %.12g), bound %.3g\n",
+                                  n, (int)p.tyre.mode, (which == 0) ? "d/dvy" : "d/dmu", r,
+                                  a, d[0][r], d[1][r], tol);
+                    print_message("  u: delta %.17g vx %.17g vy %.17g r %.17g ax %.17g ay %.17g "
+                                  "omega %.17g %.17g %.17g %.17g mu %.17g %.17g %.17g %.17g "
+                                  "dmu %.17g %.17g %.17g %.17g\n",
+                                  (double)u.delta, (double)u.vx, (double)u.vy,
+                                  (double)u.yaw_rate, (double)u.ax, (double)u.ay,
+                                  (double)u.omega[0], (double)u.omega[1], (double)u.omega[2],
+                                  (double)u.omega[3], (double)mu[0], (double)mu[1],
+                                  (double)mu[2], (double)mu[3], (double)dmu[0], (double)dmu[1],
+                                  (double)dmu[2], (double)dmu[3]);
+                    ++worse[n % 3];
+                }
+                if (tol <= (TIGHT * fmax(fabs(a), 1.0))) {
+                    ++tight;
+                }
+                worst = fmax(worst, err / fmax(fabs(a), 1.0));
+                ++checked;
+            }
+        }
+    }
+    print_message("meas lateral jac: %ld derivatives against central differences, %ld with a "
+                  "tight bound, worst error %.3g (relative to max(|f'|, 1)); %ld not smooth "
+                  "within 4h, not compared\n",
+                  checked, tight, worst, kinked);
+    assert_int_equal(worse[0], 0);
+    assert_int_equal(worse[1], 0);
+    assert_int_equal(worse[2], 0);
+    assert_true(checked > 1000);
+    assert_true((double)tight >= (MIN_TIGHT * (double)checked));
+    assert_true((double)kinked <= (MAX_KINKED * (double)(checked + kinked)));
+}
+
+/* REQ: the derivatives with tyre parameters other than the set-up's recompute the cached terms
+ * (the same derivatives as a set-up with those parameters); bad arguments and non-finite friction
+ * or directions are rejected with rfe_meas_eval's statuses, nothing written. */
+/* REQ-MEAS-002 */
+/* REQ-MEAS-003 */
+static void test_meas_lateral_jac_args(void **state)
+{
+    rfe_params_t p;
+    rfe_sample_t u;
+    rfe_real_t mu[4];
+    rfe_real_t dmu[4] = {RFE_R(0.1), RFE_R(0.1), RFE_R(0.2), RFE_R(0.2)};
+    rfe_meas_t h;
+    rfe_meas_lateral_t out;
+    rfe_meas_lateral_t out0;
+    int m;
+    (void)state;
+    draw_seed(0xA1B2C3ull);
+    assert_int_equal(rfe_params_default(&p), RFE_OK);
+    draw_sample(&u, mu, 1);
+    u.vx = RFE_R(20.0);
+    for (m = 0; m < 3; ++m) {
+        rfe_tyre_params_t other = p.tyre;
+        rfe_meas_t h2;
+        rfe_meas_lateral_t o2;
+        rfe_real_t bad[4];
+        p.tyre.mode = MODES[m];
+        other.mode = MODES[m];
+        other.cy *= RFE_R(1.3);
+        other.Cy_n *= RFE_R(1.3);
+        assert_int_equal(rfe_meas_setup(&h, &p.vehicle, &p.tyre, &u), RFE_OK);
+        assert_int_equal(rfe_meas_setup(&h2, &p.vehicle, &other, &u), RFE_OK);
+        assert_int_equal(rfe_meas_lateral_jac(&h, &p.vehicle, &other, &u, mu, dmu, &out),
+                         RFE_OK);
+        assert_int_equal(rfe_meas_lateral_jac(&h2, &p.vehicle, &other, &u, mu, dmu, &o2),
+                         RFE_OK);
+        /* paper mode's rows are H(u) mu of the set-up, as rfe_meas_eval's */
+        if (MODES[m] != RFE_TYRE_PAPER) {
+            assert_memory_equal(out.z, o2.z, sizeof(out.z));
+        }
+        assert_memory_equal(out.d_vy, o2.d_vy, sizeof(out.d_vy));
+        assert_memory_equal(out.d_mu, o2.d_mu, sizeof(out.d_mu));
+        memset(&out, 0x5A, sizeof(out));
+        out0 = out;
+        memcpy(bad, mu, sizeof(bad));
+        bad[2] = (rfe_real_t)NAN;
+        assert_int_equal(rfe_meas_lateral_jac(&h, &p.vehicle, &p.tyre, &u, bad, dmu, &out),
+                         RFE_ERR_NONFINITE);
+        memcpy(bad, dmu, sizeof(bad));
+        bad[1] = (rfe_real_t)INFINITY;
+        assert_int_equal(rfe_meas_lateral_jac(&h, &p.vehicle, &p.tyre, &u, mu, bad, &out),
+                         RFE_ERR_NONFINITE);
+        assert_memory_equal(&out, &out0, sizeof(out));
+    }
+    assert_int_equal(rfe_meas_lateral_jac(NULL, &p.vehicle, &p.tyre, &u, mu, dmu, &out), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_lateral_jac(&h, NULL, &p.tyre, &u, mu, dmu, &out), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_lateral_jac(&h, &p.vehicle, NULL, &u, mu, dmu, &out), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_lateral_jac(&h, &p.vehicle, &p.tyre, NULL, mu, dmu, &out), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_lateral_jac(&h, &p.vehicle, &p.tyre, &u, NULL, dmu, &out), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_lateral_jac(&h, &p.vehicle, &p.tyre, &u, mu, NULL, &out), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_lateral_jac(&h, &p.vehicle, &p.tyre, &u, mu, dmu, NULL), RFE_ERR_NULL);
+    assert_memory_equal(&out, &out0, sizeof(out));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -263,6 +542,8 @@ int main(void)
         cmocka_unit_test(test_meas_perturbed_args),
         cmocka_unit_test(test_meas_cached),
         cmocka_unit_test(test_meas_cached_each_field),
+        cmocka_unit_test(test_meas_lateral_jac),
+        cmocka_unit_test(test_meas_lateral_jac_args),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1086,6 +1086,204 @@ static void test_meas_pre_invalid_tyre_and_div_saturation_q31(void **state)
     assert_int_equal(sat, 0u);
 }
 
+/* ---- the lateral rows' derivatives (rfe_meas_lateral_jac_q31) ------------------------------
+ * Bound. The q31 derivatives are the double formulas in rfe_xf_t: each of the ~120 operations
+ * of a wheel rounds to 2^-30 relative of its result, and a sum to 2^-29 of its larger
+ * operand, so a wheel's derivative errs by at most ~120 2^-29 = 2.2e-7 of the largest term it
+ * passes through (the wheel's |dF| / m, |dF| |r_i| / J, |F_mu| sd / m: JAC_SCALE below); the
+ * inputs enter rounded (the kinematics: tan alpha within TAN + alpha's 2 LSB29, kappa 1 LSB30,
+ * the Magic Formula angles and sine within 2 ATAN2 and TRIG), which moves a derivative by its
+ * own sensitivity to them: below 1e-6 relative of the wheel's terms at the slips met (d/dt of
+ * dF/dt over dF/dt is < 1/t_min with t_min ~ 1e-3 where the derivative of the shape changes
+ * fastest), and the result rounds to Q24 (0.5 LSB, 3e-8). JAC_REL = 1e-5 of the wheels' term
+ * scale is ten times the sum, plus 1 LSB24. Cases whose double state lies within
+ * JAC_NEAR of a kink of the derivative (alpha at alpha_max, |kappa| at 1, E at 0, mu at 0: the
+ * two twins may take opposite sides) are not compared but counted (<= 1 %). */
+#define JAC_REL 1e-5
+#define JAC_NEAR 1e-6
+#define N_JAC 20000
+
+/* The double twin's kinks within JAC_NEAR (see above). */
+static int near_kink(const rfe_meas_t *h, const rfe_params_t *p, const double mu[4])
+{
+    size_t i;
+    for (i = 0; i < 4; ++i) {
+        if ((fabs(fabs(h->kin.alpha[i]) - p->tyre.alpha_max) < JAC_NEAR) ||
+            (fabs(fabs(h->kin.kappa[i]) - 1.0) < JAC_NEAR) ||
+            ((mu[i] != 0.0) && (fabs(mu[i]) < JAC_NEAR)) ||
+            ((h->mode != RFE_TYRE_MAGIC) && (h->pre[i].s > 0.0) && (h->pre[i].e < JAC_NEAR))) {
+            return 1;
+        }
+    }
+    return 0;
+}
+
+/* The wheels' term scale of the derivatives (double): per wheel the magnitude of each
+ * derivative's body terms, from a central difference of each wheel's terms alone would be
+ * costly; the sum of the rows' derivative magnitudes per wheel is bounded by the friction
+ * limit over the speed (|dF/dvy| <= cy Fz / |vwx| (1 + |t|) for every mode and mu, from the
+ * linear tyre, the stiffest) and the friction derivative by Fz sd: scale = sum_i Fz_i (cy (1 +
+ * |t_i|) / max(|vwx_i|, v_min) + sd_i) (1 / m + |r_i| / J). */
+static double jac_scale(const rfe_meas_t *h, const rfe_params_t *p, const double sd[4])
+{
+    const double x[4] = {p->vehicle.Lf, p->vehicle.Lf, -p->vehicle.Lr, -p->vehicle.Lr};
+    const double y[4] = {p->vehicle.Bf / 2, p->vehicle.Bf / 2, p->vehicle.Br / 2,
+                         p->vehicle.Br / 2};
+    const double c = fmax(p->tyre.cy, p->tyre.Cy_n);
+    double sc = 0.0;
+    size_t i;
+    for (i = 0; i < 4; ++i) {
+        const double t = fabs(tan(h->kin.alpha[i]));
+        const double f = h->kin.fz[i] * ((c * (1.0 + t) / fmax(fabs(h->kin.vwx[i]), p->tyre.v_min)) + sd[i]);
+        sc += f * ((1.0 / p->vehicle.m) + (sqrt((x[i] * x[i]) + (y[i] * y[i])) / p->vehicle.J));
+    }
+    return sc;
+}
+
+/* REQ: the lateral rows' derivatives in fixed point against the double twin within the
+ * derived bound (above), in every tyre mode, on driving samples (vx 3 .. 45 m/s, the observer's
+ * range), the rows themselves rfe_meas_eval_q31's integers; the worst cases printed. */
+/* REQ-MEAS-003 REQ-FXP-003 */
+static void test_meas_lateral_jac_q31(void **state)
+{
+    double worst[3] = {0.0, 0.0, 0.0};
+    long compared = 0;
+    long kinks = 0;
+    int n;
+    (void)state;
+    rng_seed(0x1A7E2A1ull);
+    for (n = 0; n < N_JAC; n += (int)rfe_test_stride(10u)) {
+        const int m = n % 3;
+        const rfe_params_t *p = (m == 0) ? &pd_pap : ((m == 1) ? &pd : &pd_mag);
+        const rfe_params_q31_t *q = (m == 0) ? &pq_pap : ((m == 1) ? &pq : &pq_mag);
+        const double vx = uni(3.0, 45.0);
+        double om[4];
+        double mu[4];
+        double sd[4];
+        rfe_fix_t muq[4];
+        rfe_fix_t sdq[4];
+        rfe_real_t mud[4];
+        rfe_real_t sdd[4];
+        rfe_sample_q31_t uq;
+        rfe_sample_t ud;
+        rfe_meas_q31_t hq;
+        rfe_meas_t hd;
+        rfe_meas_lateral_q31_t oq;
+        rfe_meas_lateral_t od;
+        rfe_fix_t zq[3];
+        uint32_t sat = 0u;
+        uint32_t sat2 = 0u;
+        double sc;
+        size_t i;
+        int r;
+        for (i = 0; i < 4; ++i) {
+            om[i] = vx * (1.0 + uni(-0.2, 0.1)) / p->vehicle.R;
+            muq[i] = toq(uni(0.05, 1.3), 29);
+            sdq[i] = toq(uni(0.0, 0.4), 30);
+            mu[i] = fromq(muq[i], 29);
+            sd[i] = fromq(sdq[i], 30);
+            mud[i] = mu[i];
+            sdd[i] = sd[i];
+        }
+        if ((n % 50) < 3) {
+            /* no slip (S = 0), or a slip so small that the shape's series replaces G / s */
+            for (i = 0; i < 4; ++i) {
+                om[i] = 20.0 / p->vehicle.R;
+            }
+            make_sample(0.0, 20.0, ((n % 50) == 0) ? 0.0 : 1e-4, 0.0, 0.0, 0.0, om, &uq, &ud);
+            if ((n % 50) == 2) {
+                muq[1] = 0; /* no friction on one wheel: no force at any slip */
+                mu[1] = 0.0;
+                mud[1] = 0.0;
+            }
+        } else {
+            make_sample(uni(-0.3, 0.3), vx, uni(-2.5, 2.5), uni(-0.8, 0.8), uni(-9, 5),
+                        uni(-9, 9), om, &uq, &ud);
+        }
+        assert_int_equal(rfe_meas_setup_q31(&hq, &q->vehicle, &q->tyre, &uq, &sat), RFE_OK);
+        assert_int_equal(rfe_meas_setup_f64(&hd, &p->vehicle, &p->tyre, &ud), RFE_OK);
+        assert_int_equal(rfe_meas_lateral_jac_q31(&hq, &q->vehicle, &q->tyre, &uq, muq, sdq, &oq, &sat), RFE_OK);
+        assert_int_equal(rfe_meas_eval_q31(&hq, &q->vehicle, &q->tyre, muq, zq, &sat2), RFE_OK);
+        assert_int_equal(oq.z[0], zq[1]);
+        assert_int_equal(oq.z[1], zq[2]);
+        assert_int_equal(rfe_meas_lateral_jac_f64(&hd, &p->vehicle, &p->tyre, &ud, mud, sdd, &od), RFE_OK);
+        if (near_kink(&hd, p, mu) != 0) {
+            ++kinks;
+            continue;
+        }
+        sc = jac_scale(&hd, p, sd);
+        for (r = 0; r < 2; ++r) {
+            const double ev = fabs(fromq(oq.d_vy[r], 24) - od.d_vy[r]);
+            const double em = fabs(fromq(oq.d_mu[r], 24) - od.d_mu[r]);
+            const double bound = (JAC_REL * sc) + ldexp(1.0, -24);
+            if ((ev > bound) || (em > bound)) {
+                printf("case %d mode %d row %d: d_vy q31 %.9g f64 %.9g, d_mu q31 %.9g f64 %.9g, "
+                       "bound %.3g\n", n, m, r, fromq(oq.d_vy[r], 24), od.d_vy[r],
+                       fromq(oq.d_mu[r], 24), od.d_mu[r], bound);
+            }
+            assert_true(ev <= bound);
+            assert_true(em <= bound);
+            worst[m] = fmax(worst[m], fmax(ev, em) / bound);
+            ++compared;
+        }
+    }
+    printf("lateral jac q31 vs f64: %ld rows compared, %ld cases near a kink skipped; worst "
+           "|error| / bound: paper %.3g, absolute %.3g, magic %.3g\n",
+           compared, kinks, worst[0], worst[1], worst[2]);
+    assert_true((double)kinks <= (0.01 * (double)(compared / 2 + kinks)));
+}
+
+/* REQ: the lateral rows' derivatives reject missing arguments (RFE_ERR_NULL), tyre parameters
+ * the tangent or the curve cannot use (RFE_ERR_PARAM: alpha_max, a Magic Formula shape factor
+ * out of its domain), nothing written, the counter untouched. */
+/* REQ-MEAS-002 REQ-MEAS-003 */
+static void test_meas_lateral_jac_q31_args(void **state)
+{
+    const rfe_params_q31_t *q = &pq_mag;
+    rfe_fix_t mu[4] = {1 << 29, 1 << 29, 1 << 29, 1 << 29};
+    rfe_fix_t sd[4] = {1 << 28, 1 << 28, 1 << 28, 1 << 28};
+    const double om[4] = {66.0, 66.0, 66.0, 66.0};
+    rfe_sample_q31_t uq;
+    rfe_sample_t ud;
+    rfe_meas_q31_t h;
+    rfe_meas_lateral_q31_t o;
+    rfe_meas_lateral_q31_t o0;
+    rfe_tyre_params_q31_t bad = q->tyre;
+    uint32_t sat = 0u;
+    (void)state;
+    make_sample(0.05, 20.0, 0.3, 0.1, 0.0, 2.0, om, &uq, &ud);
+    assert_int_equal(rfe_meas_setup_q31(&h, &q->vehicle, &q->tyre, &uq, &sat), RFE_OK);
+    memset(&o, 0x5A, sizeof(o));
+    o0 = o;
+    sat = 0u;
+    assert_int_equal(rfe_meas_lateral_jac_q31(NULL, &q->vehicle, &q->tyre, &uq, mu, sd, &o, &sat), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_lateral_jac_q31(&h, NULL, &q->tyre, &uq, mu, sd, &o, &sat), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_lateral_jac_q31(&h, &q->vehicle, NULL, &uq, mu, sd, &o, &sat), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_lateral_jac_q31(&h, &q->vehicle, &q->tyre, NULL, mu, sd, &o, &sat), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_lateral_jac_q31(&h, &q->vehicle, &q->tyre, &uq, NULL, sd, &o, &sat), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_lateral_jac_q31(&h, &q->vehicle, &q->tyre, &uq, mu, NULL, &o, &sat), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_lateral_jac_q31(&h, &q->vehicle, &q->tyre, &uq, mu, sd, NULL, &sat), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_lateral_jac_q31(&h, &q->vehicle, &q->tyre, &uq, mu, sd, &o, NULL), RFE_ERR_NULL);
+    bad.alpha_max = 0;
+    assert_int_equal(rfe_meas_lateral_jac_q31(&h, &q->vehicle, &bad, &uq, mu, sd, &o, &sat), RFE_ERR_PARAM);
+    bad = q->tyre;
+    bad.shape_Cx = 0;
+    assert_int_equal(rfe_meas_lateral_jac_q31(&h, &q->vehicle, &bad, &uq, mu, sd, &o, &sat), RFE_ERR_PARAM);
+    assert_memory_equal(&o, &o0, sizeof(o));
+    assert_int_equal(sat, 0u);
+    /* other tyre parameters than the set-up's: the terms are recomputed, as a set-up with them */
+    {
+        rfe_tyre_params_q31_t other = q->tyre;
+        rfe_meas_q31_t h2;
+        rfe_meas_lateral_q31_t o2;
+        other.cy = other.cy + (other.cy / 4);
+        assert_int_equal(rfe_meas_setup_q31(&h2, &q->vehicle, &other, &uq, &sat), RFE_OK);
+        assert_int_equal(rfe_meas_lateral_jac_q31(&h, &q->vehicle, &other, &uq, mu, sd, &o, &sat), RFE_OK);
+        assert_int_equal(rfe_meas_lateral_jac_q31(&h2, &q->vehicle, &other, &uq, mu, sd, &o2, &sat), RFE_OK);
+        assert_memory_equal(&o, &o2, sizeof(o));
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1098,6 +1296,8 @@ int main(void)
         cmocka_unit_test(test_meas_q31_perturbed_args),
         cmocka_unit_test(test_meas_columns_q31),
         cmocka_unit_test(test_meas_pre_invalid_tyre_and_div_saturation_q31),
+        cmocka_unit_test(test_meas_lateral_jac_q31),
+        cmocka_unit_test(test_meas_lateral_jac_q31_args),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }

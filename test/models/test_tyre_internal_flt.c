@@ -69,10 +69,56 @@ static void test_dugoff_split(void **state)
     }
 }
 
+/* REQ: the forces' derivatives (rfe_tyre_pre_jac) give the forces of the split evaluation
+ * (rfe_tyre_dugoff_abs_pre) bit for bit in the load-scaled modes, its statuses on
+ * non-finite and out-of-range inputs, and reject missing arguments, nothing written. */
+/* REQ-MEAS-003 REQ-TYRE-007 */
+static void test_pre_jac_forces_and_args(void **state)
+{
+    static const rfe_tyre_mode_t modes[2] = {RFE_TYRE_ABSOLUTE, RFE_TYRE_MAGIC};
+    const rfe_slip_dir_t d = {RFE_R(0.01), RFE_R(-0.02), RFE_R(0.1)};
+    rfe_params_t p;
+    rfe_dugoff_pre_t pre;
+    rfe_tyre_jac_t j;
+    rfe_tyre_jac_t j0;
+    int n;
+    (void)state;
+    draw_seed(0x7AC0B1ull);
+    assert_int_equal(rfe_params_default(&p), RFE_OK);
+    for (n = 0; n < N_CASES; n += (int)rfe_test_stride(10u)) {
+        const rfe_real_t kappa = draw_special(1.2);
+        const rfe_real_t alpha = draw_special(0.6);
+        const rfe_real_t fz = draw_special(9000.0);
+        const rfe_real_t vwx = draw_special(60.0);
+        const rfe_real_t mu = draw_special(2.0);
+        rfe_real_t fx = RFE_R(7.0);
+        rfe_real_t fy = RFE_R(7.0);
+        rfe_status_t want;
+        p.tyre.mode = modes[n % 2];
+        rfe_tyre_dugoff_pre(&p.tyre, kappa, alpha, vwx, &pre);
+        want = rfe_tyre_dugoff_abs_pre(&p.tyre, &pre, kappa, alpha, fz, vwx, mu, &fx, &fy);
+        memset(&j, 0x5A, sizeof(j));
+        j0 = j;
+        assert_int_equal(rfe_tyre_pre_jac(&p.tyre, &pre, kappa, alpha, fz, vwx, mu, &d, &j), want);
+        if (want == RFE_OK) {
+            assert_memory_equal(&j.fx, &fx, sizeof(fx));
+            assert_memory_equal(&j.fy, &fy, sizeof(fy));
+        } else {
+            assert_memory_equal(&j, &j0, sizeof(j));
+        }
+    }
+    rfe_tyre_dugoff_pre(&p.tyre, RFE_R(0.05), RFE_R(0.02), RFE_R(20.0), &pre);
+    assert_int_equal(rfe_tyre_pre_jac(NULL, &pre, RFE_R(0.05), RFE_R(0.02), RFE_R(4000.0), RFE_R(20.0), RFE_R(1.0), &d, &j), RFE_ERR_NULL);
+    assert_int_equal(rfe_tyre_pre_jac(&p.tyre, NULL, RFE_R(0.05), RFE_R(0.02), RFE_R(4000.0), RFE_R(20.0), RFE_R(1.0), &d, &j), RFE_ERR_NULL);
+    assert_int_equal(rfe_tyre_pre_jac(&p.tyre, &pre, RFE_R(0.05), RFE_R(0.02), RFE_R(4000.0), RFE_R(20.0), RFE_R(1.0), NULL, &j), RFE_ERR_NULL);
+    assert_int_equal(rfe_tyre_pre_jac(&p.tyre, &pre, RFE_R(0.05), RFE_R(0.02), RFE_R(4000.0), RFE_R(20.0), RFE_R(1.0), &d, NULL), RFE_ERR_NULL);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_dugoff_split),
+        cmocka_unit_test(test_pre_jac_forces_and_args),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

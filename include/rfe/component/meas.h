@@ -25,11 +25,13 @@
 #define rfe_meas_eval            rfe_meas_eval_f64
 #define rfe_meas_nominal         rfe_meas_nominal_f64
 #define rfe_meas_eval_perturbed  rfe_meas_eval_perturbed_f64
+#define rfe_meas_lateral_jac     rfe_meas_lateral_jac_f64
 #else
 #define rfe_meas_setup           rfe_meas_setup_f32
 #define rfe_meas_eval            rfe_meas_eval_f32
 #define rfe_meas_nominal         rfe_meas_nominal_f32
 #define rfe_meas_eval_perturbed  rfe_meas_eval_perturbed_f32
+#define rfe_meas_lateral_jac     rfe_meas_lateral_jac_f32
 #endif
 
 /** One sample's measurement model (caller-owned; fields read-only for the caller). */
@@ -121,5 +123,40 @@ RFE_NODISCARD rfe_status_t rfe_meas_eval_perturbed(const rfe_meas_t *h, const rf
                                                   const rfe_sample_t *u, size_t j, rfe_real_t d,
                                                   const rfe_real_t mu[RFE_WHEELS],
                                                   rfe_real_t z[RFE_MEAS]);
+
+/** The lateral rows of h(mu, u) and their first derivatives (rfe_meas_lateral_jac): index 0
+ *  the lateral acceleration ay (row 1 of h), index 1 the yaw acceleration r-dot (row 2). */
+typedef struct {
+    rfe_real_t z[2];    /**< the rows at (mu, u): rfe_meas_eval's z[1], z[2], bit for bit */
+    rfe_real_t d_vy[2]; /**< their derivatives by vy [1/s, rad/(m s)] */
+    rfe_real_t d_mu[2]; /**< their derivatives by the per-wheel friction in the direction
+                             dmu: sum_i dz/dmu_i dmu_i [m/s^2, rad/s^2 per unit of dmu] */
+} rfe_meas_lateral_t;
+
+/**
+ * The rows ay and r-dot of h(mu, u) at the set-up's sample, with their derivatives by vy and
+ * by the friction in the direction @p dmu, analytically, in one pass over the four wheels
+ * (docs/OBSERVER.md §4.2): the chain vy -> each wheel's velocity in wheel axes (d v_wx =
+ * sin delta_i, d v_wy = cos delta_i) -> tan alpha and kappa (0 where alpha_max or the kappa
+ * clip bounds them) -> the tyre's forces (paper F = mu F0, absolute Dugoff, Magic Formula;
+ * rfe_tyre_pre_jac) -> the body terms. The load-scaled modes reuse the set-up's tyre terms
+ * (so no further slip angle or tangent: two atan2 and one sine and cosine per direction and
+ * wheel in magic mode); paper mode computes each wheel's tangent again.
+ * @param[in]  h   the model set up by rfe_meas_setup(h, veh, tp, u)
+ * @param[in]  veh vehicle parameters of the set-up
+ * @param[in]  tp  tyre parameters of the set-up
+ * @param[in]  u   the set-up's sample (its wheel speeds are read: kappa's derivative)
+ * @param[in]  mu  friction per wheel (fl, fr, rl, rr)
+ * @param[in]  dmu the direction of the friction derivative, per wheel (the observer: sd(mu))
+ * @param[out] out the rows and their derivatives
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_NONFINITE (mu, dmu or a result not finite); the
+ *         tyre's errors, as rfe_meas_eval's (@p out then untouched).
+ */
+RFE_NODISCARD rfe_status_t rfe_meas_lateral_jac(const rfe_meas_t *h, const rfe_vehicle_t *veh,
+                                               const rfe_tyre_params_t *tp,
+                                               const rfe_sample_t *u,
+                                               const rfe_real_t mu[RFE_WHEELS],
+                                               const rfe_real_t dmu[RFE_WHEELS],
+                                               rfe_meas_lateral_t *out);
 
 #endif /* RFE_MEAS_H */

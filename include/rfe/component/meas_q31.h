@@ -132,4 +132,39 @@ RFE_NODISCARD rfe_status_t rfe_meas_eval_perturbed_q31(
     const rfe_meas_terms_q31_t *nom, const rfe_sample_q31_t *u, size_t j, rfe_fix_t d,
     const rfe_fix_t mu[RFE_WHEELS], rfe_fix_t z[RFE_MEAS], uint32_t *sat);
 
+/** The lateral rows of h(mu, u) and their first derivatives (rfe_meas_lateral_jac_q31), Q24:
+ *  index 0 the lateral acceleration ay (row 1 of h), index 1 the yaw acceleration r-dot. */
+typedef struct {
+    rfe_fix_t z[2];    /**< the rows at (mu, u): rfe_meas_eval_q31's z[1], z[2] [m/s^2, rad/s^2] */
+    rfe_fix_t d_vy[2]; /**< their derivatives by vy [1/s, rad/(m s)] */
+    rfe_fix_t d_mu[2]; /**< sum_i dz/dmu_i dmu_i [m/s^2, rad/s^2] */
+} rfe_meas_lateral_q31_t;
+
+/**
+ * Fixed-point twin of rfe_meas_lateral_jac (rfe/component/meas.h): the rows ay and r-dot of
+ * h(mu, u) at the set-up's sample (the integers and counts of rfe_meas_eval_q31), their
+ * derivatives by vy and by the per-wheel friction in the direction @p dmu, analytically in one
+ * pass over the wheels (docs/OBSERVER.md §4.2). The derivatives are the float formulas in
+ * rfe_xf_t (numerics/xf_q31.h: 30 significant bits and a power of two, 2^-30 relative per
+ * operation; docs/FIXED_POINT.md "Observer" gives the error) rounded once to Q24, saturating
+ * (counted) beyond +-128.
+ * @param[in]  h   the model set up by rfe_meas_setup_q31(h, veh, tp, u, .)
+ * @param[in]  veh vehicle parameters of the set-up
+ * @param[in]  tp  tyre parameters of the set-up
+ * @param[in]  u   the set-up's sample (its wheel speeds are read: kappa's derivative)
+ * @param[in]  mu  friction per wheel, Q29
+ * @param[in]  dmu the direction of the friction derivative per wheel, Q30 (the observer: sd)
+ * @param[out] out the rows and their derivatives, Q24
+ * @param[in,out] sat saturation counter (required), added to on success
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_PARAM (tyre parameters); rfe_meas_eval_q31's errors
+ *         (@p out, *sat then untouched).
+ */
+RFE_NODISCARD rfe_status_t rfe_meas_lateral_jac_q31(const rfe_meas_q31_t *h,
+                                                    const rfe_vehicle_q31_t *veh,
+                                                    const rfe_tyre_params_q31_t *tp,
+                                                    const rfe_sample_q31_t *u,
+                                                    const rfe_fix_t mu[RFE_WHEELS],
+                                                    const rfe_fix_t dmu[RFE_WHEELS],
+                                                    rfe_meas_lateral_q31_t *out, uint32_t *sat);
+
 #endif /* RFE_MEAS_Q31_H */

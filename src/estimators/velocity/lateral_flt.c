@@ -11,25 +11,13 @@
 
 #include "numerics/internal.h"
 
-/* The model's rows used (§4.2): the lateral acceleration (row 1) and the yaw acceleration
- * (row 2) of h(mu, u). */
-typedef struct {
-    rfe_real_t at[2];  /**< at vy */
-    rfe_real_t dvy[2]; /**< at vy + dvy */
-    rfe_real_t hi[2];  /**< at vy, at the raised friction mu_hi */
-} model_rows_t;
-
-/* The rows of h(mu, u) at vy, at vy + dvy and at the raised friction @p mu_hi (§4.2), from
- * one set-up: the step at vy + dvy re-evaluates only the tyre forces
- * (rfe_meas_eval_perturbed), bit for bit what a second set-up at vy + dvy would give. */
+/* The model's rows ay and r-dot of h(mu, u) at vy and their derivatives by vy and by the
+ * friction in the direction of its sd (§4.2), from one set-up at vy. */
 static rfe_status_t model_rows(const rfe_velocity_t *obs, const rfe_velocity_input_t *in,
-                               rfe_real_t vx, rfe_real_t vy, rfe_real_t dvy,
-                               const rfe_real_t mu[RFE_WHEELS],
-                               const rfe_real_t mu_hi[RFE_WHEELS], model_rows_t *rows)
+                               rfe_real_t vx, rfe_real_t vy, const rfe_real_t mu[RFE_WHEELS],
+                               const rfe_real_t sd[RFE_WHEELS], rfe_meas_lateral_t *rows)
 {
     rfe_meas_t h;
-    rfe_meas_terms_t nom;
-    rfe_real_t z[RFE_MEAS];
     rfe_sample_t u;
     size_t i;
     rfe_status_t st;
@@ -45,41 +33,27 @@ static rfe_status_t model_rows(const rfe_velocity_t *obs, const rfe_velocity_inp
     }
     st = rfe_meas_setup(&h, &obs->veh, &obs->tyre, &u);
     if (st == RFE_OK) {
-        st = rfe_meas_nominal(&h, &obs->veh, &obs->tyre, mu, &nom, z);
-        rows->at[0] = z[1];
-        rows->at[1] = z[2];
-    }
-    if (st == RFE_OK) {
-        st = rfe_meas_eval_perturbed(&h, &obs->veh, &obs->tyre, &nom, &u, (size_t)RFE_IN_VY,
-                                     dvy, mu, z);
-        rows->dvy[0] = z[1];
-        rows->dvy[1] = z[2];
-    }
-    if (st == RFE_OK) {
-        st = rfe_meas_eval(&h, &obs->veh, &obs->tyre, mu_hi, z);
-        rows->hi[0] = z[1];
-        rows->hi[1] = z[2];
+        st = rfe_meas_lateral_jac(&h, &obs->veh, &obs->tyre, &u, mu, sd, rows);
     }
     return st;
 }
 
 /* The model's friction (§4.2): the input or the default, raised to what the measured ay
- * proves; mu_hi = mu + sd. Returns 1 when the bound raised a wheel. */
+ * proves, and its sd. Returns 1 when the bound raised a wheel. */
 static int model_friction(const rfe_velocity_params_t *p, rfe_real_t g, rfe_real_t ay,
                           const rfe_velocity_mu_t *in, rfe_real_t mu[RFE_WHEELS],
-                          rfe_real_t mu_hi[RFE_WHEELS])
+                          rfe_real_t sd_mu[RFE_WHEELS])
 {
     const rfe_real_t mu_low = ((RFE_R(1.0) + p->mu_margin) * RFE_FABS(ay)) / g;
     int raised = 0;
     size_t i;
     for (i = 0u; i < RFE_WHEELS; ++i) {
         const rfe_real_t m = (in != NULL) ? in->mu[i] : p->mu_default;
-        const rfe_real_t sd = (in != NULL) ? in->sd[i] : p->sd_mu_default;
         if (m < mu_low) {
             raised = 1;
         }
         mu[i] = rfe_max(m, mu_low);
-        mu_hi[i] = mu[i] + sd;
+        sd_mu[i] = (in != NULL) ? in->sd[i] : p->sd_mu_default;
     }
     return raised;
 }
@@ -102,31 +76,32 @@ rfe_status_t rfe_vel_lateral_step(rfe_kf2_t *f, const rfe_velocity_t *obs,
     }
     if (vx >= p->v_lat_min) {
         rfe_real_t m[RFE_WHEELS];
-        rfe_real_t m_hi[RFE_WHEELS];
-        model_rows_t z;
+        rfe_real_t m_sd[RFE_WHEELS];
+        rfe_meas_lateral_t z;
         const rfe_real_t vy_pred = k.x[0];
-        if (model_friction(p, obs->veh.g, in->ay, mu, m, m_hi) != 0) {
+        if (model_friction(p, obs->veh.g, in->ay, mu, m, m_sd) != 0) {
             fl |= RFE_VEL_FLAG_MU_RAISED;
         }
-        st = model_rows(obs, in, vx, vy_pred, p->dvy, m, m_hi, &z);
+        st = model_rows(obs, in, vx, vy_pred, m, m_sd, &z);
         if (st == RFE_OK) {
-            const rfe_real_t h0 = (z.dvy[0] - z.at[0]) / p->dvy;
-            const rfe_real_t e_mu = z.hi[0] - z.at[0];
+            /* H = d ay / d vy, the friction's error to first order: (d ay / d mu) . sd */
+            const rfe_real_t h0 = z.d_vy[0];
+            const rfe_real_t e_mu = z.d_mu[0];
             const rfe_real_t rel = p->model_ay_rel * in->ay;
             const rfe_real_t r = ((p->sd_model_ay * p->sd_model_ay) + (rel * rel)) + (e_mu * e_mu);
-            st = rfe_kf2_update(&k, h0, RFE_R(0.0), in->ay - z.at[0], r);
+            st = rfe_kf2_update(&k, h0, RFE_R(0.0), in->ay - z.z[0], r);
             fl |= RFE_VEL_FLAG_VY_MODEL;
         }
         if ((st == RFE_OK) && (p->sd_model_rdot > RFE_R(0.0))) {
             /* §4.2 the yaw moment balance (on when sd_model_rdot > 0): the differentiator's
              * r-dot against the model's, at the same linearisation point vy_pred (sequential
              * update: the innovation is taken at the vy the lateral row left) */
-            const rfe_real_t h1 = (z.dvy[1] - z.at[1]) / p->dvy;
-            const rfe_real_t e_mu = z.hi[1] - z.at[1];
+            const rfe_real_t h1 = z.d_vy[1];
+            const rfe_real_t e_mu = z.d_mu[1];
             const rfe_real_t r = ((p->sd_model_rdot * p->sd_model_rdot) + (e_mu * e_mu)) +
                                  obs->yaw.p11;
             st = rfe_kf2_update(&k, h1, RFE_R(0.0),
-                                obs->yaw.x[1] - (z.at[1] + (h1 * (k.x[0] - vy_pred))), r);
+                                obs->yaw.x[1] - (z.z[1] + (h1 * (k.x[0] - vy_pred))), r);
         }
     } else {
         /* §4.3 low speed: the rear axle rolls without side slip, vy = Lr r */

@@ -13,27 +13,15 @@
 
 #include "numerics/internal_q31.h"
 
-/* The model's rows used (§4.2), Q24: the lateral acceleration (row 1) and the yaw
- * acceleration (row 2) of h(mu, u). */
-typedef struct {
-    rfe_fix_t at[2];  /**< at vy */
-    rfe_fix_t dvy[2]; /**< at vy + dvy */
-    rfe_fix_t hi[2];  /**< at vy, at the raised friction mu_hi */
-} model_rows_q31_t;
-
-/* The rows of h(mu, u) at vy, at vy + dvy (Q23, saturating, counted) and at the raised
- * friction @p mu_hi (§4.2), from one set-up: the step at vy + dvy re-evaluates only the
- * tyre forces (rfe_meas_eval_perturbed_q31), the integers and counts a second set-up at
- * vy + dvy would give. */
+/* The model's rows ay and r-dot of h(mu, u) at vy (Q23) and their derivatives by vy and by
+ * the friction in the direction of its sd (Q30) (§4.2), Q24, from one set-up at vy. */
 static rfe_status_t model_rows_q31(const rfe_velocity_q31_t *obs,
                                    const rfe_velocity_input_q31_t *in, rfe_fix_t vx,
-                                   rfe_fix_t vy, rfe_fix_t dvy, const rfe_fix_t mu[RFE_WHEELS],
-                                   const rfe_fix_t mu_hi[RFE_WHEELS], model_rows_q31_t *rows,
+                                   rfe_fix_t vy, const rfe_fix_t mu[RFE_WHEELS],
+                                   const rfe_fix_t sd[RFE_WHEELS], rfe_meas_lateral_q31_t *rows,
                                    uint32_t *sat)
 {
     rfe_meas_q31_t h;
-    rfe_meas_terms_q31_t nom;
-    rfe_fix_t z[RFE_MEAS];
     rfe_sample_q31_t u;
     size_t i;
     rfe_status_t st;
@@ -49,30 +37,17 @@ static rfe_status_t model_rows_q31(const rfe_velocity_q31_t *obs,
     }
     st = rfe_meas_setup_q31(&h, &obs->veh, &obs->tyre, &u, sat);
     if (st == RFE_OK) {
-        st = rfe_meas_nominal_q31(&h, &obs->veh, &obs->tyre, mu, &nom, z, sat);
-        rows->at[0] = z[1];
-        rows->at[1] = z[2];
-    }
-    if (st == RFE_OK) {
-        st = rfe_meas_eval_perturbed_q31(&h, &obs->veh, &obs->tyre, &nom, &u, (size_t)RFE_IN_VY,
-                                         dvy, mu, z, sat);
-        rows->dvy[0] = z[1];
-        rows->dvy[1] = z[2];
-    }
-    if (st == RFE_OK) {
-        st = rfe_meas_eval_q31(&h, &obs->veh, &obs->tyre, mu_hi, z, sat);
-        rows->hi[0] = z[1];
-        rows->hi[1] = z[2];
+        st = rfe_meas_lateral_jac_q31(&h, &obs->veh, &obs->tyre, &u, mu, sd, rows, sat);
     }
     return st;
 }
 
 /* The model's friction (§4.2), Q29: the input or the default, raised to what the measured
- * ay proves, (1 + margin) |ay| / g; mu_hi = mu + sd. Returns 1 when the bound raised a
+ * ay proves, (1 + margin) |ay| / g, and its sd (Q30). Returns 1 when the bound raised a
  * wheel. */
 static int model_friction_q31(const rfe_velocity_params_q31_t *p, rfe_fix_t g, rfe_fix_t ay,
                               const rfe_velocity_mu_q31_t *in, rfe_fix_t mu[RFE_WHEELS],
-                              rfe_fix_t mu_hi[RFE_WHEELS], uint32_t *sat)
+                              rfe_fix_t sd_mu[RFE_WHEELS], uint32_t *sat)
 {
     /* (1 + margin) Q30 times |ay| Q24: Q54, exact in int64; over g Q24 into Q29 after one
      * rounding shift to Q53 (g > 0 after the parameter check) */
@@ -83,12 +58,11 @@ static int model_friction_q31(const rfe_velocity_params_q31_t *p, rfe_fix_t g, r
     size_t i;
     for (i = 0u; i < RFE_WHEELS; ++i) {
         const rfe_fix_t m = (in != NULL) ? in->mu[i] : p->mu_default;
-        const rfe_fix_t sd = (in != NULL) ? in->sd[i] : p->sd_mu_default;
         if (m < mu_low) {
             raised = 1;
         }
         mu[i] = rfe_fix_max(m, mu_low);
-        mu_hi[i] = rfe_fix_add(mu[i], rfe_fix_shr_round(sd, 1u), sat); /* sd Q30 -> Q29 */
+        sd_mu[i] = (in != NULL) ? in->sd[i] : p->sd_mu_default;
     }
     return raised;
 }
@@ -97,59 +71,48 @@ static int model_friction_q31(const rfe_velocity_params_q31_t *p, rfe_fix_t g, r
  * the prediction @p vy_pred. */
 static rfe_status_t model_q31(const rfe_velocity_q31_t *obs, const rfe_velocity_input_q31_t *in,
                               rfe_fix_t vx, rfe_fix_t vy_pred, const rfe_velocity_mu_q31_t *mu,
-                              model_rows_q31_t *z, uint32_t *fl, uint32_t *sat)
+                              rfe_meas_lateral_q31_t *z, uint32_t *fl, uint32_t *sat)
 {
     rfe_fix_t mm[RFE_WHEELS];
-    rfe_fix_t m_hi[RFE_WHEELS];
-    if (model_friction_q31(&obs->p, obs->veh.g, in->ay, mu, mm, m_hi, sat) != 0) {
+    rfe_fix_t m_sd[RFE_WHEELS];
+    if (model_friction_q31(&obs->p, obs->veh.g, in->ay, mu, mm, m_sd, sat) != 0) {
         *fl |= RFE_VEL_FLAG_MU_RAISED;
     }
-    return model_rows_q31(obs, in, vx, vy_pred, obs->p.dvy, mm, m_hi, z, sat);
-}
-
-/* d row / d vy (Q24) by the difference over dvy: (Q24 - Q24) / Q23 into Q24, shift
- * 24 - 24 + 23 (dvy > 0 after the parameter check, so the division cannot fail; a quotient
- * beyond Q24's +-128 saturates, counted). */
-static rfe_fix_t slope_q31(rfe_fix_t at_dvy, rfe_fix_t at, rfe_fix_t dvy, uint32_t *sat)
-{
-    rfe_fix_t h = 0;
-    const rfe_status_t st = rfe_fix_div(rfe_fix_sub(at_dvy, at, sat), dvy, 23, &h, sat);
-    (void)st;
-    return h;
+    return model_rows_q31(obs, in, vx, vy_pred, mm, m_sd, z, sat);
 }
 
 /* §4.2 the lateral-acceleration row: h0 = d ay / d vy (Q24), the innovation ay - ay0 and
- * the noise sd_model_ay^2 + (model_ay_rel ay)^2 + (ay_mu - ay0)^2 (Q48). */
+ * the noise sd_model_ay^2 + (model_ay_rel ay)^2 + ((d ay / d mu) . sd)^2 (Q48). */
 static void ay_row_q31(const rfe_velocity_params_q31_t *p, const rfe_velocity_input_q31_t *in,
-                       const model_rows_q31_t *z, rfe_kf2_meas_q31_t *m, uint32_t *sat)
+                       const rfe_meas_lateral_q31_t *z, rfe_kf2_meas_q31_t *m, uint32_t *sat)
 {
-    const rfe_fix_t e_mu = rfe_fix_sub(z->hi[0], z->at[0], sat);
+    const rfe_fix_t e_mu = z->d_mu[0];
     const rfe_fix_t rel = rfe_fix_mul(p->model_ay_rel, in->ay, 30u, sat);
     int64_t r = rfe_fix_add64(rfe_vel_var_q31(p->sd_model_ay, sat), rfe_vel_var_q31(rel, sat),
                               sat);
     r = rfe_fix_add64(r, rfe_vel_var_q31(e_mu, sat), sat);
-    m->h0 = slope_q31(z->dvy[0], z->at[0], p->dvy, sat);
+    m->h0 = z->d_vy[0];
     m->h1 = 0;
     m->qh0 = RFE_VEL_Q31_QB;
     m->qh1 = RFE_VEL_Q31_QB;
     m->qz = RFE_VEL_Q31_QB;
-    m->nu = rfe_fix_sub(in->ay, z->at[0], sat);
+    m->nu = rfe_fix_sub(in->ay, z->z[0], sat);
     m->r = rfe_vel_pmax_q31(r, sat);
 }
 
 /* §4.2 the yaw moment balance: the differentiator's r-dot (Q24) against the model's, both
  * rows linearised at vy_pred; the innovation at the vy the lateral row left, @p vy_now:
  * r-dot - (rdot0 + h1 (vy_now - vy_pred)), h1 Q24 times Q23 into Q24 (shift 23); the noise
- * sd_model_rdot^2 + (rdot_mu - rdot0)^2 + the differentiator's p11 (all Q48). */
-static void rdot_row_q31(const rfe_velocity_q31_t *obs, const model_rows_q31_t *z,
+ * sd_model_rdot^2 + ((d rdot / d mu) . sd)^2 + the differentiator's p11 (all Q48). */
+static void rdot_row_q31(const rfe_velocity_q31_t *obs, const rfe_meas_lateral_q31_t *z,
                          rfe_fix_t vy_pred, rfe_fix_t vy_now, rfe_kf2_meas_q31_t *m,
                          uint32_t *sat)
 {
     const rfe_velocity_params_q31_t *p = &obs->p;
-    const rfe_fix_t h1 = slope_q31(z->dvy[1], z->at[1], p->dvy, sat);
-    const rfe_fix_t e_mu = rfe_fix_sub(z->hi[1], z->at[1], sat);
+    const rfe_fix_t h1 = z->d_vy[1];
+    const rfe_fix_t e_mu = z->d_mu[1];
     const rfe_fix_t lin =
-        rfe_fix_add(z->at[1], rfe_fix_mul(h1, rfe_fix_sub(vy_now, vy_pred, sat), 23u, sat), sat);
+        rfe_fix_add(z->z[1], rfe_fix_mul(h1, rfe_fix_sub(vy_now, vy_pred, sat), 23u, sat), sat);
     int64_t r = rfe_fix_add64(rfe_vel_var_q31(p->sd_model_rdot, sat), rfe_vel_var_q31(e_mu, sat),
                               sat);
     r = rfe_fix_add64(r, obs->yaw.p11, sat);
@@ -184,7 +147,7 @@ rfe_status_t rfe_vel_lateral_step_q31(rfe_kf2_q31_t *f, const rfe_velocity_q31_t
         return st;
     }
     if (vx >= p->v_lat_min) {
-        model_rows_q31_t z;
+        rfe_meas_lateral_q31_t z;
         const rfe_fix_t vy_pred = k.x[0];
         st = model_q31(obs, in, vx, vy_pred, mu, &z, &fl, &cnt);
         if (st == RFE_OK) {

@@ -13,9 +13,10 @@
  *   the outputs are O(1..30)), and the flags exactly.
  * - Float32 build: the filters round to ~6e-8 relative per operation. vx integrates ax over
  *   the whole log with a gain near 0.01, so its error settles near 1e-5 relative (2e-4 m/s
- *   at 25 m/s); the model's derivative by vy is a difference quotient over dvy = 0.01 m/s
- *   of accelerations of ~5 m/s^2, whose float rounding (~5e-7) becomes ~5e-5 relative noise
- *   in the gain. Bounds: 5e-3 m/s on vx, 2e-3 m/s on vy, 1e-4 rad on beta, 0.02 rad/s^2 on
+ *   at 25 m/s); the model's derivative by vy (analytic, rfe_meas_lateral_jac) rounds to
+ *   ~1e-6 relative of its wheels' terms (test_meas_flt.c), ~1e-6 relative noise in the gain
+ *   (the bounds below were derived for the former difference quotient over 0.01 m/s, whose
+ *   noise was ~5e-5: they hold with margin). Bounds: 5e-3 m/s on vx, 2e-3 m/s on vy, 1e-4 rad on beta, 0.02 rad/s^2 on
  *   the yaw acceleration (its differentiator divides the yaw-rate rounding by dt), 2e-3 on
  *   the sds; flags may flip where a wheel sits at its gate: at most 1 % of the steps.
  */

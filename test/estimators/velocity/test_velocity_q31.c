@@ -19,8 +19,12 @@
  *    0.005 in Q27), the filters' arithmetic (kf2_q31: 1 LSB plus 2^-28 of the correction,
  *    test_kf2_q31.c), dt's rounding (2e-8 relative in Q30) and the measurement model (1.6e-6
  *    m/s^2 per evaluation, test_meas_q31.c), which enters the lateral filter's innovation
- *    directly and its H through the difference over dvy = 0.01 m/s: 2 x 1.6e-6 / 0.01 =
- *    3.2e-4 1/s on h0 ~ 1..50 1/s, at most 3e-4 relative of the model's gain.
+ *    directly; its H is the analytic derivative (rfe_meas_lateral_jac_q31), within 1e-5 of
+ *    the wheels' term scale of the double's (test_meas_q31.c: 2.4e-4 1/s at 15 m/s, 1e-3 at
+ *    the 3 m/s where the model starts; measured at most 1.3 % of that bound), which the
+ *    3.2e-4 1/s on h0 ~ 1..50 1/s used below (the former difference over 0.01 m/s: 2 x
+ *    1.6e-6 / 0.01) covers above ~11 m/s and the measured error everywhere: at most 3e-4
+ *    relative of the model's gain.
  *  - The filters are stable (gains in (0, 1), the same on both sides), so these per-step
  *    errors do not accumulate beyond their memory: vx integrates ax with a wheel gain near
  *    0.1 per step while a wheel corrects it; while none does (ABS braking for seconds) it
@@ -34,7 +38,7 @@
  *    times the lateral gain (K0 ~ 0.01 s): 3e-6 m/s per step, forgotten within ~ 30
  *    steps: 1e-4 m/s. The yaw row (OBSERVER.md §4.2, second update) adds its own: its
  *    h1 = d r-dot / d vy carries the same 3.2e-4 1/s absolute error (the model's r-dot row,
- *    the same difference over dvy), which changes its gain K = p00 h1 / (h1^2 p00 + R1) by
+ *    the same analytic derivative), which changes its gain K = p00 h1 / (h1^2 p00 + R1) by
  *    at most p00 / R1 times that (|dK/dh1| <= p00 / S); on an innovation within 3 sqrt(S)
  *    the correction's error is <= 3 p00 / sqrt(R1) x 3.2e-4 <= 3 x 0.05^2 / 0.3 x 3.2e-4 =
  *    8e-6 m/s per step (R1 >= sd_model_rdot^2 = 0.09; sd_vy <= 0.05 m/s, as on 98 % of
@@ -417,7 +421,7 @@ static void test_params(void **state)
      * order of the struct after dt_max (steer_ratio is checked positive too; sd_model_rdot
      * is 0 when off) */
     {
-        rfe_fix_t *const pos[10] = {&bad.q_jerk, &bad.sd_r, &bad.sd_ax, &bad.sd_ay, &bad.dvy,
+        rfe_fix_t *const pos[9] = {&bad.q_jerk, &bad.sd_r, &bad.sd_ax, &bad.sd_ay,
                                     &bad.v_lat_min, &bad.sd_lowspeed, &bad.mu_default,
                                     &bad.sd_vydot, &bad.steer_ratio};
         rfe_fix_t *const nonneg[22] = {
@@ -425,7 +429,7 @@ static void test_params(void **state)
             &bad.k_gate, &bad.k_agree, &bad.v_stand, &bad.q_vx_brake, &bad.ax_brake_on, &bad.ax_drive_on, &bad.p_brake_on, &bad.torque_on,
             &bad.sd_model_ay, &bad.model_ay_rel, &bad.sd_mu_default, &bad.mu_margin,
             &bad.sd_vx0, &bad.sd_bx0, &bad.sd_vy0, &bad.sd_by0};
-        for (i = 0u; i < 10u; ++i) {
+        for (i = 0u; i < 9u; ++i) {
             bad = def;
             *pos[i] = 0;
             assert_int_equal(rfe_velocity_params_validate_q31(&bad), RFE_ERR_PARAM);

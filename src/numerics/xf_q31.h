@@ -1,0 +1,181 @@
+/**
+ * @file xf_q31.h
+ * @brief Private: numbers as a 30-bit integer mantissa and a power of two, m 2^e (block
+ *        floating point in integers), for the few fixed-point computations whose
+ *        intermediate values span too many decades for one Q format: the lateral rows'
+ *        derivatives of the measurement model (meas_q31.c, tyre_q31.c; docs/OBSERVER.md
+ *        §4.2, docs/FIXED_POINT.md "Observer"). Integer operations only (no float, no libm).
+ *
+ * A value is normalised: m = 0 (e = 0), or 2^29 <= |m| <= 2^30. Each operation rounds its
+ * exact integer result once, half up, to 30 significant bits: a relative error <= 2^-30 per
+ * operation (a sum rounds to 2^-30 of its result, at most 2^-29 of its larger operand: a
+ * cancellation keeps that absolute error, it is not amplified beyond it). No operation overflows:
+ * products of two mantissas are < 2^61, sums are formed at the larger operand's exponent
+ * minus 31 (< 2^62), quotients by rfe_fix_div of a normalised mantissa (< 2^31). The
+ * exponent is an int: the values met (forces, their derivatives, ratios of lengths) stay
+ * within 2^+-200, far inside its range.
+ */
+#ifndef RFE_XF_Q31_H
+#define RFE_XF_Q31_H
+
+#include <stdint.h>
+
+#include "rfe/component/fxmath.h"
+#include "rfe/fixed.h"
+#include "numerics/internal_q31.h"
+
+/** m 2^e, normalised (see the file comment). */
+typedef struct {
+    int32_t m; /**< mantissa: 0 or 2^29 <= |m| <= 2^30 */
+    int e;     /**< exponent */
+} rfe_xf_t;
+
+/** v 2^e (|v| < 2^63) normalised: rounded to 30 significant bits (half up), exact below. */
+static inline rfe_xf_t rfe_xf_make(int64_t v, int e)
+{
+    rfe_xf_t r;
+    r.m = 0;
+    r.e = 0;
+    if (v != 0) {
+        const unsigned int len = rfe_q31_bitlen64(rfe_q31_mag64(v));
+        if (len > 30u) {
+            const unsigned int sh = len - 30u;
+            r.m = rfe_q31_shr_to32(v, sh);
+            r.e = e + (int)sh;
+        } else {
+            const unsigned int sh = 30u - len;
+            r.m = (int32_t)(v * rfe_q31_pow2(sh));
+            r.e = e - (int)sh;
+        }
+    }
+    return r;
+}
+
+/** The fixed-point value v in Q(q). */
+static inline rfe_xf_t rfe_xf_of(int32_t v, int q) { return rfe_xf_make((int64_t)v, -q); }
+
+/** a b. */
+static inline rfe_xf_t rfe_xf_mul(rfe_xf_t a, rfe_xf_t b)
+{
+    return rfe_xf_make((int64_t)a.m * (int64_t)b.m, a.e + b.e);
+}
+
+/** -a. */
+static inline rfe_xf_t rfe_xf_neg(rfe_xf_t a)
+{
+    rfe_xf_t r = a;
+    r.m = -a.m;
+    return r;
+}
+
+/** a's mantissa at exponent base (base <= a.e - 0 and a.e - base <= 31): exact when the shift
+ *  is to the left, rounded half up when base is above a.e (then a is the smaller operand). */
+static inline int64_t rfe_xf_at(rfe_xf_t a, int base)
+{
+    const int s = a.e - base;
+    int64_t v;
+    if (s >= 0) {
+        v = (int64_t)a.m * rfe_q31_pow2((unsigned int)s);
+    } else {
+        v = rfe_fix_shr64_round((int64_t)a.m, (unsigned int)(-s));
+    }
+    return v;
+}
+
+/** a + b: both mantissas at the larger exponent minus 31 (|.| <= 2^61 each). */
+static inline rfe_xf_t rfe_xf_add(rfe_xf_t a, rfe_xf_t b)
+{
+    rfe_xf_t r;
+    if (a.m == 0) {
+        r = b;
+    } else if (b.m == 0) {
+        r = a;
+    } else {
+        const int base = ((a.e > b.e) ? a.e : b.e) - 31;
+        r = rfe_xf_make(rfe_xf_at(a, base) + rfe_xf_at(b, base), base);
+    }
+    return r;
+}
+
+/** a - b. */
+static inline rfe_xf_t rfe_xf_sub(rfe_xf_t a, rfe_xf_t b) { return rfe_xf_add(a, rfe_xf_neg(b)); }
+
+/** a / b for b != 0 (b = 0 gives 0: no caller divides by 0): the quotient of the mantissas
+ *  at shift 30 when |a.m| < |b.m|, else 29, so that 2^29 <= |q| <= 2^30 (30 bits). */
+static inline rfe_xf_t rfe_xf_div(rfe_xf_t a, rfe_xf_t b)
+{
+    int32_t q = 0;
+    uint32_t scratch = 0u;
+    rfe_xf_t r;
+    r.m = 0;
+    r.e = 0;
+    if (b.m != 0) {
+        const int64_t ma = (a.m < 0) ? -(int64_t)a.m : (int64_t)a.m;
+        const int64_t mb = (b.m < 0) ? -(int64_t)b.m : (int64_t)b.m;
+        int sh = 29;
+        rfe_status_t st;
+        if (ma < mb) {
+            sh = 30;
+        }
+        /* b.m != 0, shift 29 or 30: inside rfe_fix_div's domain, no saturation */
+        st = rfe_fix_div(a.m, b.m, sh, &q, &scratch);
+        (void)st;
+        r = rfe_xf_make((int64_t)q, (a.e - b.e) - sh);
+    }
+    return r;
+}
+
+/** sqrt(a) for a >= 0 (the floor root of the mantissa at an even exponent, 31 bits or more). */
+static inline rfe_xf_t rfe_xf_sqrt(rfe_xf_t a)
+{
+    rfe_xf_t r;
+    r.m = 0;
+    r.e = 0;
+    if (a.m > 0) {
+        /* (e - s) even, s in {32, 33}: m 2^s < 2^64 */
+        unsigned int s = 32u;
+        uint32_t root = 0u;
+        rfe_status_t st;
+        if ((a.e % 2) != 0) {
+            s = 33u;
+        }
+        st = rfe_fix_isqrt64((uint64_t)a.m << s, &root);
+        (void)st;
+        r = rfe_xf_make((int64_t)root, (a.e - (int)s) / 2);
+    }
+    return r;
+}
+
+/** -1, 0 or 1: the sign of v. */
+static inline int rfe_q31_sign(int32_t v)
+{
+    int r = 0;
+    if (v > 0) {
+        r = 1;
+    } else if (v < 0) {
+        r = -1;
+    } else {
+        /* 0 */
+    }
+    return r;
+}
+
+/** -1, 0 or 1: the sign of a. */
+static inline int rfe_xf_sign(rfe_xf_t a) { return rfe_q31_sign(a.m); }
+
+/** a in Q(q), rounded half up, saturated to int32 (counted in *sat). */
+static inline rfe_fix_t rfe_xf_to_fix(rfe_xf_t a, int q, uint32_t *sat)
+{
+    const int s = a.e + q;
+    int64_t v;
+    if (a.m == 0) {
+        v = 0;
+    } else if (s > 31) {
+        v = (a.m > 0) ? INT64_MAX : -INT64_MAX; /* |a| 2^q >= 2^60: saturates */
+    } else {
+        v = rfe_xf_at(a, -q);
+    }
+    return rfe_fix_sat32(v, sat);
+}
+
+#endif /* RFE_XF_Q31_H */

@@ -1,0 +1,126 @@
+/**
+ * @file test_xf_q31.c
+ * @brief The integer mantissa-exponent numbers of src/numerics/xf_q31.h (the fixed-point
+ *        derivatives of the measurement model, docs/FIXED_POINT.md "Observer") against
+ *        double: each operation within its stated 2^-30 relative rounding (a sum: 2^-29 of its
+ *        larger operand), normalised results, and the edge cases (zeros, a division by 0,
+ *        square roots at odd and even exponents, conversion to Q formats with rounding and
+ *        saturation of both signs), on random operands over 2^+-80 from test_rng.h.
+ */
+#include "test_common.h"
+
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+
+#include "numerics/xf_q31.h"
+#include "test_rng.h"
+
+#define N_CASES 20000
+/* One rounding to 30 significant bits, half up: <= 2^-30 of the result (2^-29.0 of the
+ * normalised mantissa's lowest value); the bound allows that plus the operands' own. */
+#define REL 1.0e-9
+/* A sum: 2^-30 of its result, which is at most twice the larger operand. */
+#define REL_SUM 1.9e-9
+
+static double val(rfe_xf_t a) { return ldexp((double)a.m, a.e); }
+
+static rfe_xf_t draw(void)
+{
+    const double m = rng_uniform();            /* (-1, 1) */
+    const int e = (int)(rng_uniform() * 80.0); /* -80 .. 80 */
+    return rfe_xf_make((int64_t)(m * 4.0e18), e - 62);
+}
+
+static void normalised(rfe_xf_t a)
+{
+    if (a.m != 0) {
+        const int32_t mag = (a.m < 0) ? -a.m : a.m;
+        assert_true((mag >= (1 << 29)) && (mag <= (1 << 30)));
+    } else {
+        assert_int_equal(a.e, 0);
+    }
+}
+
+/* REQ: every operation within one rounding of its exact value, normalised (REQ-FXP-002's
+ * integer math, here the derivatives' number type). */
+/* REQ-FXP-002 REQ-MEAS-003 */
+static void test_xf_operations(void **state)
+{
+    double worst = 0.0;
+    int n;
+    (void)state;
+    rng_seed(0x3F5ull);
+    for (n = 0; n < N_CASES; ++n) {
+        const rfe_xf_t a = draw();
+        const rfe_xf_t b = draw();
+        const double va = val(a);
+        const double vb = val(b);
+        const rfe_xf_t p = rfe_xf_mul(a, b);
+        const rfe_xf_t s = rfe_xf_add(a, b);
+        const rfe_xf_t d = rfe_xf_sub(a, b);
+        const rfe_xf_t q = rfe_xf_div(a, b);
+        const rfe_xf_t r = rfe_xf_sqrt((a.m < 0) ? rfe_xf_neg(a) : a);
+        const double big = fmax(fabs(va), fabs(vb));
+        normalised(p);
+        normalised(s);
+        normalised(q);
+        normalised(r);
+        assert_true(fabs(val(p) - (va * vb)) <= REL * fabs(va * vb));
+        assert_true(fabs(val(s) - (va + vb)) <= REL_SUM * big);
+        assert_true(fabs(val(d) - (va - vb)) <= REL_SUM * big);
+        assert_true(fabs(val(q) - (va / vb)) <= REL * fabs(va / vb));
+        assert_true(fabs(val(r) - sqrt(fabs(va))) <= REL * sqrt(fabs(va)));
+        assert_int_equal(rfe_xf_sign(a), (va > 0.0) ? 1 : -1);
+        worst = fmax(worst, fabs(val(p) - (va * vb)) / fabs(va * vb));
+    }
+    printf("xf: %d cases, worst product error %.3g relative\n", N_CASES, worst);
+}
+
+/* REQ: zeros, a division by 0 (0, never called so), a sum across many decades, square roots
+ * at odd and even exponents, and the conversion to a Q format: rounding, saturation of both
+ * signs (counted), and the values too small for the format. */
+/* REQ-FXP-001 REQ-FXP-008 REQ-MEAS-003 */
+static void test_xf_edges(void **state)
+{
+    const rfe_xf_t zero = rfe_xf_make(0, 5);
+    const rfe_xf_t one = rfe_xf_make(1, 0);
+    uint32_t sat = 0u;
+    (void)state;
+    assert_int_equal(zero.m, 0);
+    assert_int_equal(zero.e, 0);
+    assert_int_equal(rfe_xf_add(zero, one).m, one.m);
+    assert_int_equal(rfe_xf_add(one, zero).m, one.m);
+    assert_int_equal(rfe_xf_div(one, zero).m, 0);
+    assert_int_equal(rfe_xf_sqrt(zero).m, 0);
+    assert_int_equal(rfe_xf_sqrt(rfe_xf_neg(one)).m, 0);
+    assert_int_equal(rfe_xf_sign(zero), 0);
+    assert_int_equal(rfe_q31_sign(-3), -1);
+    /* a sum across 100 decades keeps the larger operand (the smaller rounds away) */
+    assert_true(val(rfe_xf_add(one, rfe_xf_make(1, -100))) == 1.0);
+    assert_true(val(rfe_xf_add(rfe_xf_make(1, -100), one)) == 1.0);
+    assert_true(fabs(val(rfe_xf_sqrt(rfe_xf_make(2, 0))) - sqrt(2.0)) < 1e-9);
+    assert_true(fabs(val(rfe_xf_sqrt(rfe_xf_make(8, 0))) - sqrt(8.0)) < 1e-8);
+    assert_true(fabs(val(rfe_xf_sqrt(rfe_xf_make(3, -7))) - sqrt(3.0 / 128.0)) < 1e-9);
+    /* to Q24: 1.5 exactly, -2.5 LSB rounds half up to -2, tiny to 0, huge saturates */
+    assert_int_equal(rfe_xf_to_fix(rfe_xf_make(3, -1), 24, &sat), 3 << 23);
+    assert_int_equal(rfe_xf_to_fix(rfe_xf_make(-5, -25), 24, &sat), -2);
+    assert_int_equal(rfe_xf_to_fix(rfe_xf_make(1, -90), 24, &sat), 0);
+    assert_int_equal(rfe_xf_to_fix(zero, 24, &sat), 0);
+    assert_int_equal(sat, 0u);
+    assert_int_equal(rfe_xf_to_fix(rfe_xf_make(1, 10), 24, &sat), INT32_MAX);
+    assert_int_equal(rfe_xf_to_fix(rfe_xf_make(-1, 40), 24, &sat), -INT32_MAX);
+    assert_int_equal(rfe_xf_to_fix(rfe_xf_make(1, 40), 24, &sat), INT32_MAX);
+    assert_int_equal(sat, 3u);
+    /* the fixed-point value of a Q format, exactly */
+    assert_true(val(rfe_xf_of(-12345, 15)) == -12345.0 / 32768.0);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_xf_operations),
+        cmocka_unit_test(test_xf_edges),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
