@@ -115,7 +115,7 @@ fault-scenarios: venv
 
 # Soak: the drive is simulated once per length and seed (cached in build/soak/), the runner
 # is one program linking the float, double and q31 libraries (test/soak/soak_run.c and
-# soak_run_pipeline.c twice, test/soak/soak_run_q31.c).
+# soak_run_pipeline.c twice, test/soak/soak_run_q31.c and soak_run_pipeline_q31.c).
 SOAK_SECONDS       ?= 3600
 SOAK_SHORT_SECONDS ?= 300
 SOAK_SEED          ?= 1
@@ -133,7 +133,11 @@ $(BUILD)/soak/pipeline_%.o: test/soak/soak_run_pipeline.c test/soak/soak.h test/
 $(BUILD)/soak/run_q31.o: test/soak/soak_run_q31.c test/soak/soak.h test/support/invariants.h $(wildcard include/rfe/*.h include/rfe/component/*.h src/host/*.h)
 	@mkdir -p $(@D)
 	$(CC) $(TEST_WARN) $(OPT) $(INV_FLAGS) $(CPPFLAGS_HOST) -Itest/support -Itest/soak -c $< -o $@
-SOAK_LINK := $(BUILD)/soak/run_f32.o $(BUILD)/soak/run_f64.o $(BUILD)/soak/pipeline_f32.o $(BUILD)/soak/pipeline_f64.o $(if $(Q31_SRC),$(BUILD)/soak/run_q31.o $(BUILD)/f64/host/replay_q31.o) \
+# (an explicit rule: it wins over the pipeline_% pattern above)
+$(BUILD)/soak/pipeline_q31.o: test/soak/soak_run_pipeline_q31.c test/soak/soak.h test/support/invariants.h $(wildcard include/rfe/*.h include/rfe/component/*.h src/host/*.h)
+	@mkdir -p $(@D)
+	$(CC) $(TEST_WARN) $(OPT) $(INV_FLAGS) $(CPPFLAGS_HOST) -Itest/support -Itest/soak -c $< -o $@
+SOAK_LINK := $(BUILD)/soak/run_f32.o $(BUILD)/soak/run_f64.o $(BUILD)/soak/pipeline_f32.o $(BUILD)/soak/pipeline_f64.o $(if $(Q31_SRC),$(BUILD)/soak/run_q31.o $(BUILD)/soak/pipeline_q31.o $(BUILD)/f64/host/replay_q31.o) \
              $(BUILD)/f32/host/replay_real.o $(BUILD)/f64/host/replay_real.o $(BUILD)/f64/hostlib.a \
              $(BUILD)/f32/librfe.a $(if $(Q31_SRC),$(BUILD)/q31/librfe_q31.a) $(BUILD)/f64/librfe.a
 $(BUILD)/soak/soak: test/soak/soak.c test/soak/soak.h $(SOAK_LINK)

@@ -3,7 +3,8 @@
  * @brief The soak run: a long simulated drive (scripts/data/soak_drive.py) through every variant
  *        of the estimator (float, double and, built with -DSOAK_Q31, the fixed-point one) in
  *        the paper preset (SCKF, CKF) and the default preset, then through the composed
- *        pipeline (velocity observer + friction estimator, float and double), the
+ *        pipeline (velocity observer + friction estimator, float, double and with -DSOAK_Q31
+ *        fixed point), the
  *        invariants checked at every step; prints a summary (for q31 also the saturation
  *        counts, for the pipeline the observer's vx, vy against the log) and writes it as
  *        JSON.
@@ -47,6 +48,9 @@ static const struct {
 } PIPELINES[] = {
     {"float", soak_run_pipeline_f32},
     {"double", soak_run_pipeline_f64},
+#if defined(SOAK_Q31)
+    {"q31", soak_run_pipeline_q31},
+#endif
 };
 static const soak_cfg_t PIPELINE_CFG = {"pipeline", 1, 0};
 
@@ -178,13 +182,15 @@ int main(int argc, char **argv)
                         "\"valid_share\": %.6f, \"rmse_valid\": %.6f, \"consistent_valid\": %.6f, "
                         "\"observer_steps\": %ld, \"vx_rmse\": %.6f, \"vx_max_err\": %.6f, "
                         "\"vx_within_2sd\": %.6f, \"vx_far_1ms\": %.6f, \"vy_rmse\": %.6f, \"vy_max_err\": %.6f, \"vy_within_2sd\": %.6f, "
-                        "\"us_per_step\": %.3f}%s\n",
+                        "\"us_per_step\": %.3f, \"input_sat_rows\": %ld, \"sat_steps\": %ld, "
+                        "\"sat_total\": %llu, \"sat_max\": %lu}%s\n",
                     PIPELINES[v].name, PIPELINE_CFG.name, r->steps, r->failed_valid,
                     r->violations, r->projected, r->mu_lo, r->mu_hi, r->sd_lo, r->sd_hi,
                     (double)r->n_valid / (4.0 * (double)(r->steps ? r->steps : 1)),
                     r->rmse_valid, r->consistent_valid, r->obs_steps, r->obs_rmse_vx,
                     r->obs_max_err_vx, r->obs_cons_vx, r->obs_far_vx, r->obs_rmse_vy, r->obs_max_err_vy, r->obs_cons_vy,
-                    r->us_per_step, v + 1 == N_PIPELINES ? "" : ",");
+                    r->us_per_step, r->input_sat_rows, r->sat_steps, r->sat_total, r->sat_max,
+                    v + 1 == N_PIPELINES ? "" : ",");
         }
         fprintf(jf, " ]\n}\n");
         fclose(jf);

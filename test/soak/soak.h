@@ -5,7 +5,7 @@
  *
  * soak_run.c is compiled once per number type and defines soak_run_f32 / soak_run_f64
  * (as soak_run, named below); soak_run_pipeline.c likewise runs the composed pipeline
- * (observer + friction estimator); soak_run_q31.c runs the fixed-point estimator; soak.c reads the log once and
+ * (observer + friction estimator); soak_run_q31.c and soak_run_pipeline_q31.c run the fixed-point estimator and pipeline; soak.c reads the log once and
  * calls each variant for each configuration.
  */
 #ifndef RFE_SOAK_H
@@ -80,5 +80,9 @@ int soak_run_pipeline_f64(const rfe_sensor_log_t *log, const char *log_name, con
  *  rfe_params_to_q31_f64, samples rounded to the Q formats (as mu_replay --real q31). */
 int soak_run_q31(const rfe_sensor_log_t *log, const char *log_name, const soak_cfg_t *cfg,
                  soak_result_t *res);
+/** The fixed-point composed pipeline (soak_run_pipeline_q31.c): parameters and ESC samples as
+ *  mu_replay --real q31 --velocity observer derives them. */
+int soak_run_pipeline_q31(const rfe_sensor_log_t *log, const char *log_name,
+                          const soak_cfg_t *cfg, soak_result_t *res);
 
 #endif /* RFE_SOAK_H */

@@ -12,7 +12,8 @@
  *    returned, the pipeline must be untouched (checked too);
  *  - the friction estimator inside the pipeline: inv_check_step (invariants.h), as the
  *    friction soak checks it;
- *  - the observer: every output finite, every sd finite and positive, the status the
+ *  - the observer: every output finite, every sd finite and positive (sd_beta where beta
+ *    is estimated), the status the
  *    returned one, and each two-state filter's covariance positive definite up to rounding:
  *    p00 > 0, p11 > 0 and p01^2 <= p00 p11 (1 + KF2_PSD_ULPS eps). The filters update P in
  *    the plain form P - K H P, whose every element carries a few roundings of its largest
@@ -69,13 +70,18 @@ static int observer_fails(const rfe_pipeline_t *pl, const rfe_velocity_estimate_
 {
     const double out[4] = {v->vx, v->vy, v->beta, v->yaw_acc};
     const double sd[4] = {v->sd_vx, v->sd_vy, v->sd_beta, v->sd_yaw_acc};
+    /* sd_beta = |(vx svy, vy svx)| / max(vx^2 + vy^2, v_lat_min^2) (OBSERVER.md §5) is 0 at
+     * a standstill (vx = vy = 0): positive is asserted only where beta is estimated
+     * (vx >= v_lat_min), non-negative everywhere */
+    const int beta_on = (v->vx >= pl->velocity.p.v_lat_min);
     int k;
     if (v->status != RFE_OK) {
         snprintf(why, INV_WHY, "observer status %d in an accepted step", (int)v->status);
         return 1;
     }
     for (k = 0; k < 4; ++k) {
-        if (!isfinite(out[k]) || !isfinite(sd[k]) || !(sd[k] > 0.0)) {
+        if (!isfinite(out[k]) || !isfinite(sd[k]) ||
+            (!(sd[k] > 0.0) && !((k == 2) && !beta_on && (sd[k] == 0.0)))) {
             snprintf(why, INV_WHY, "observer output %d = %.9g, sd %.9g: not finite or sd not "
                      "positive", k, out[k], sd[k]);
             return 1;
