@@ -20,6 +20,7 @@
 #define RFE_VEL_FLAG_VY_MODEL 8u     /**< vy corrected by the tyre model */
 #define RFE_VEL_FLAG_VY_LOWSPEED 16u /**< vy corrected by the low-speed kinematics */
 #define RFE_VEL_FLAG_MU_RAISED 32u   /**< the measured ay raised the model's friction */
+#define RFE_VEL_FLAG_VY_LINEAR 64u   /**< vy corrected by the linear range (OBSERVER.md §4.2b) */
 
 /** Driven-wheel bits of the parameters' `driven` (fl, fr, rl, rr). */
 #define RFE_DRIVEN_FL 1u

@@ -63,6 +63,10 @@ typedef struct {
     rfe_real_t sd_bx0;        /**< initial sd of the longitudinal offset [m/s^2]: 0.3 */
     rfe_real_t sd_vy0;        /**< initial sd of vy [m/s]: 0.3 */
     rfe_real_t sd_by0;        /**< initial sd of the lateral offset [m/s^2]: 0.1 */
+    rfe_real_t sd_vy_lin;     /**< sd of the linear range's vy (§4.2b) [m/s]; 0 turns it off: 0.3 */
+    rfe_real_t lin_r_tol;     /**< the linear range: |r - r_ref| within this [rad/s]: 0.01 */
+    rfe_real_t lin_r_rel;     /**< ... plus this share of |r_ref| [1]: 0.05 */
+    rfe_real_t lin_ay_max;    /**< ... and |ay| at most this [m/s^2]: 3 */
 } rfe_velocity_params_t;
 
 /**
@@ -75,7 +79,8 @@ RFE_NODISCARD rfe_status_t rfe_velocity_params_default(rfe_velocity_params_t *p)
 /**
  * Checks every field: finite; driven in 1..15; 0 < dt_min <= dt_max <= 1; q_jerk, sd_r,
  * sd_ax, sd_ay, v_lat_min, sd_lowspeed, mu_default, sd_vydot, steer_ratio > 0;
- * every other sd, q, gate, threshold and margin (sd_model_rdot included: 0 is off) >= 0.
+ * every other sd, q, gate, threshold and margin (sd_model_rdot and sd_vy_lin
+ * included: 0 is off) >= 0.
  * @param[in] p  the parameters to check.
  * @return RFE_OK, RFE_ERR_NULL or RFE_ERR_PARAM.
  */

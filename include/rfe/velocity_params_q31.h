@@ -59,6 +59,10 @@ typedef struct {
     rfe_fix_t sd_bx0;         /**< initial sd of b_x [m/s^2], Q24 */
     rfe_fix_t sd_vy0;         /**< initial sd of vy [m/s], Q23 */
     rfe_fix_t sd_by0;         /**< initial sd of b_y [m/s^2], Q24 */
+    rfe_fix_t sd_vy_lin;      /**< sd of the linear range's vy [m/s], Q23; 0: off */
+    rfe_fix_t lin_r_tol;      /**< the linear range: |r - r_ref| within this [rad/s], Q27 */
+    rfe_fix_t lin_r_rel;      /**< ... plus this share of |r_ref| [1], Q30 */
+    rfe_fix_t lin_ay_max;     /**< ... and |ay| at most this [m/s^2], Q24 */
 } rfe_velocity_params_q31_t;
 
 /**
@@ -72,7 +76,8 @@ RFE_NODISCARD rfe_status_t rfe_velocity_params_default_q31(rfe_velocity_params_q
 /**
  * The checks of rfe_velocity_params_validate on the Q values: driven in 1..15;
  * 0 < dt_min <= dt_max <= 1 s; q_jerk, sd_r, sd_ax, sd_ay, v_lat_min, sd_lowspeed,
- * mu_default, sd_vydot, steer_ratio > 0; every other field >= 0 (sd_model_rdot 0: off).
+ * mu_default, sd_vydot, steer_ratio > 0; every other field >= 0 (sd_model_rdot, sd_vy_lin 0:
+ * off).
  * @param[in] p  the parameters to check.
  * @return RFE_OK, RFE_ERR_NULL or RFE_ERR_PARAM.
  */

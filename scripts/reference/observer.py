@@ -51,6 +51,10 @@ OBS_DEFAULTS: dict[str, float] = {
     "obs_sd_bx0": 0.3,          # initial sd of the longitudinal offset, m/s^2
     "obs_sd_vy0": 0.3,          # initial sd of vy, m/s
     "obs_sd_by0": 0.1,          # initial sd of the lateral offset, m/s^2
+    "obs_sd_vy_lin": 0.3,       # sd of the linear range's vy (§4.2b), m/s (0: off)
+    "obs_lin_r_tol": 0.01,      # the linear range: |r - vx delta / L| within this, rad/s
+    "obs_lin_r_rel": 0.05,      # ... plus this share of |vx delta / L|
+    "obs_lin_ay_max": 3.0,      # ... and |ay| at most this, m/s^2
 }
 
 
@@ -61,6 +65,7 @@ FLAG_DRIVING = 4         # driving state: driving
 FLAG_VY_MODEL = 8        # vy corrected by the single-track model
 FLAG_VY_LOWSPEED = 16    # vy corrected by the low-speed kinematics
 FLAG_MU_RAISED = 32      # the measured ay raised the model's friction
+FLAG_VY_LINEAR = 64      # vy corrected by the linear range (§4.2b)
 
 
 @dataclass
@@ -261,6 +266,15 @@ class Observer:
                 r1 = p["obs_sd_model_rdot"] ** 2 + e_rd ** 2 + self.yaw.P[1][1]
                 self.lat.update(h1, 0.0,
                                 self.yaw.x[1] - (rd_model + h1 * (self.lat.x[0] - vy_pred)), r1)
+            # §4.2b the linear range: the yaw rate of the neutral single-track model and a
+            # moderate ay: vy is the linear model's, whatever the friction
+            length = p["Lf"] + p["Lr"]
+            r_ref = vx * (s.delta / length)
+            yaw_linear = abs(s.yaw_rate - r_ref) <= p["obs_lin_r_tol"] + p["obs_lin_r_rel"] * abs(r_ref)
+            if p["obs_sd_vy_lin"] > 0.0 and yaw_linear and abs(s.ay) <= p["obs_lin_ay_max"]:
+                vy_lin = vx * ((p["Lr"] * s.delta) / length - s.ay / (p["cy"] * p["g"]))
+                self.lat.update(1.0, 0.0, vy_lin - self.lat.x[0], p["obs_sd_vy_lin"] ** 2)
+                flags |= FLAG_VY_LINEAR
         else:
             # §4.3 low speed: the rear axle rolls without side slip, vy = Lr r
             self.lat.update(1.0, 0.0, p["Lr"] * s.yaw_rate - vy_pred, p["obs_sd_lowspeed"] ** 2)

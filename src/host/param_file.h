@@ -107,7 +107,11 @@
     X(obs_sd_vx0, sd_vx0, "m/s", "initial sd of vx")                                                           \
     X(obs_sd_bx0, sd_bx0, "m/s^2", "initial sd of b_x")                                                        \
     X(obs_sd_vy0, sd_vy0, "m/s", "initial sd of vy")                                                           \
-    X(obs_sd_by0, sd_by0, "m/s^2", "initial sd of b_y")
+    X(obs_sd_by0, sd_by0, "m/s^2", "initial sd of b_y")                                                        \
+    X(obs_sd_vy_lin, sd_vy_lin, "m/s", "sd of the linear range's vy; 0 turns it off")                           \
+    X(obs_lin_r_tol, lin_r_tol, "rad/s", "linear range: the yaw rate this close to vx delta / L")               \
+    X(obs_lin_r_rel, lin_r_rel, "1", "linear range: plus this share of |vx delta / L|")                        \
+    X(obs_lin_ay_max, lin_ay_max, "m/s^2", "linear range: |ay| at most this")
 
 /** Index of each key: the friction estimator's numeric keys RFE_PK_m, RFE_PK_Lf, ...; its
  *  three word-valued keys; then the observer's keys, obs_driven first. */

@@ -218,6 +218,10 @@ rfe_status_t rfe_velocity_params_to_q31(const rfe_velocity_params_t *p,
     t.sd_bx0 = to_q(&c, (double)p->sd_bx0, RFE_FIX_Q_ACC, 0);
     t.sd_vy0 = to_q(&c, (double)p->sd_vy0, RFE_FIX_Q_SPEED, 0);
     t.sd_by0 = to_q(&c, (double)p->sd_by0, RFE_FIX_Q_ACC, 0);
+    t.sd_vy_lin = to_q(&c, (double)p->sd_vy_lin, RFE_FIX_Q_SPEED, 0);
+    t.lin_r_tol = to_q(&c, (double)p->lin_r_tol, RFE_FIX_Q_YAWRATE, 0);
+    t.lin_r_rel = to_q(&c, (double)p->lin_r_rel, RFE_FIX_Q_SD, 0);
+    t.lin_ay_max = to_q(&c, (double)p->lin_ay_max, RFE_FIX_Q_ACC, 0);
     /* dt_max = 1 s is Q30's 2^30 exactly: within int32 */
     if (c.bad != 0) {
         return RFE_ERR_RANGE;

@@ -9,6 +9,8 @@
 
 #include "rfe/component/meas.h"
 
+#include "estimators/velocity/velocity_logic.h"
+
 #include "numerics/internal.h"
 
 /* The model's rows ay and r-dot of h(mu, u) at vy and their derivatives by vy and by the
@@ -58,6 +60,30 @@ static int model_friction(const rfe_velocity_params_t *p, rfe_real_t g, rfe_real
     return raised;
 }
 
+/* §4.2b the linear range: where the yaw rate is the neutral single-track model's
+ * (r_ref = vx (delta / L)) and |ay| moderate, vy = vx (Lr delta / L - ay / (cy g)), the
+ * linear model's, with sd sd_vy_lin. Returns 1 (and the update's status in @p st) when
+ * taken. */
+static int linear_range(rfe_kf2_t *k, const rfe_velocity_t *obs, const rfe_velocity_input_t *in,
+                        rfe_real_t vx, rfe_status_t *st)
+{
+    const rfe_velocity_params_t *p = &obs->p;
+    const rfe_real_t len = obs->veh.Lf + obs->veh.Lr;
+    const rfe_real_t r_ref = vx * (in->delta / len);
+    const int yaw_linear = (RFE_FABS(in->yaw_rate - r_ref) <=
+                            (p->lin_r_tol + (p->lin_r_rel * RFE_FABS(r_ref)))) ? 1 : 0;
+    const int ay_moderate = (RFE_FABS(in->ay) <= p->lin_ay_max) ? 1 : 0;
+    const int on = rfe_vel_linear_range((p->sd_vy_lin > RFE_R(0.0)) ? 1 : 0, yaw_linear,
+                                        ay_moderate);
+    if (on != 0) {
+        const rfe_real_t vy_lin =
+            vx * (((obs->veh.Lr * in->delta) / len) - (in->ay / (obs->tyre.cy * obs->veh.g)));
+        *st = rfe_kf2_update(k, RFE_R(1.0), RFE_R(0.0), vy_lin - k->x[0],
+                             p->sd_vy_lin * p->sd_vy_lin);
+    }
+    return on;
+}
+
 rfe_status_t rfe_vel_lateral_step(rfe_kf2_t *f, const rfe_velocity_t *obs,
                                   const rfe_velocity_input_t *in, rfe_real_t vx,
                                   const rfe_velocity_mu_t *mu, uint32_t *flags)
@@ -102,6 +128,9 @@ rfe_status_t rfe_vel_lateral_step(rfe_kf2_t *f, const rfe_velocity_t *obs,
                                  obs->yaw.p11;
             st = rfe_kf2_update(&k, h1, RFE_R(0.0),
                                 obs->yaw.x[1] - (z.z[1] + (h1 * (k.x[0] - vy_pred))), r);
+        }
+        if ((st == RFE_OK) && (linear_range(&k, obs, in, vx, &st) != 0)) {
+            fl |= RFE_VEL_FLAG_VY_LINEAR;
         }
     } else {
         /* §4.3 low speed: the rear axle rolls without side slip, vy = Lr r */

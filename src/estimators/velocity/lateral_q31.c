@@ -13,6 +13,8 @@
 
 #include "numerics/internal_q31.h"
 
+#include "estimators/velocity/velocity_logic.h"
+
 /* The model's rows ay and r-dot of h(mu, u) at vy (Q23) and their derivatives by vy and by
  * the friction in the direction of its sd (Q30) (§4.2), Q24, from one set-up at vy. */
 static rfe_status_t model_rows_q31(const rfe_velocity_q31_t *obs,
@@ -125,6 +127,58 @@ static void rdot_row_q31(const rfe_velocity_q31_t *obs, const rfe_meas_lateral_q
     m->r = rfe_vel_pmax_q31(r, sat);
 }
 
+/* §4.2b the linear range, lateral_flt.c's linear_range in integers: r_ref = vx (delta / L)
+ * (Q29 / Q29 into Q27, times Q23 into Q27), the test on |r - r_ref| against lin_r_tol +
+ * lin_r_rel |r_ref| (Q27) and |ay| against lin_ay_max (Q24); vy_lin = vx ((Lr delta) / L -
+ * ay / (cy g)): Lr delta Q29 over L into Q29, cy g (Q24 Q24) in Q20, ay Q24 over it into
+ * Q29, times vx Q23 into Q23. L > 0, cy > 0 and g > 0 after the parameter checks, so no
+ * division fails; a quotient beyond its format saturates, counted. Returns 1 (and the
+ * update's status in @p st) when taken. */
+static int linear_range_q31(rfe_kf2_q31_t *k, const rfe_velocity_q31_t *obs,
+                            const rfe_velocity_input_q31_t *in, rfe_fix_t vx, rfe_status_t *st,
+                            uint32_t *sat)
+{
+    const rfe_velocity_params_q31_t *p = &obs->p;
+    const rfe_fix_t len = rfe_fix_add(obs->veh.Lf, obs->veh.Lr, sat);
+    rfe_fix_t dl = 0;
+    rfe_fix_t r_ref;
+    rfe_fix_t a = 0;
+    rfe_fix_t b = 0;
+    int yaw_linear;
+    int ay_moderate;
+    int on;
+    rfe_status_t s;
+    s = rfe_fix_div(in->delta, len, 27, &dl, sat);
+    r_ref = rfe_fix_mul(vx, dl, 23u, sat);
+    yaw_linear = (rfe_fix_abs(rfe_fix_sub(in->yaw_rate, r_ref, sat), sat) <=
+                  rfe_fix_add(p->lin_r_tol,
+                              rfe_fix_mul(p->lin_r_rel, rfe_fix_abs(r_ref, sat), 30u, sat), sat))
+                     ? 1
+                     : 0;
+    ay_moderate = (rfe_fix_abs(in->ay, sat) <= p->lin_ay_max) ? 1 : 0;
+    on = rfe_vel_linear_range((p->sd_vy_lin > 0) ? 1 : 0, yaw_linear, ay_moderate);
+    if (on != 0) {
+        rfe_kf2_meas_q31_t m;
+        const rfe_fix_t cg = rfe_fix_mul(obs->tyre.cy, obs->veh.g, 28u, sat);
+        if (s == RFE_OK) {
+            s = rfe_fix_div(rfe_fix_mul(obs->veh.Lr, in->delta, 29u, sat), len, 29, &a, sat);
+        }
+        if (s == RFE_OK) {
+            s = rfe_fix_div(in->ay, cg, 25, &b, sat);
+        }
+        (void)s; /* every divisor is positive (above) */
+        m.h0 = RFE_VEL_Q31_ONE;
+        m.h1 = 0;
+        m.qh0 = RFE_VEL_Q31_QONE;
+        m.qh1 = RFE_VEL_Q31_QONE;
+        m.qz = RFE_VEL_Q31_QV;
+        m.nu = rfe_fix_sub(rfe_fix_mul(vx, rfe_fix_sub(a, b, sat), 29u, sat), k->x[0], sat);
+        m.r = rfe_vel_var_q31(p->sd_vy_lin, sat);
+        *st = rfe_kf2_update_q31(k, &m, sat);
+    }
+    return on;
+}
+
 rfe_status_t rfe_vel_lateral_step_q31(rfe_kf2_q31_t *f, const rfe_velocity_q31_t *obs,
                                       const rfe_velocity_input_q31_t *in, rfe_fix_t vx,
                                       const rfe_velocity_mu_q31_t *mu, uint32_t *flags,
@@ -160,6 +214,9 @@ rfe_status_t rfe_vel_lateral_step_q31(rfe_kf2_q31_t *f, const rfe_velocity_q31_t
              * one, on the vy it left */
             rdot_row_q31(obs, &z, vy_pred, k.x[0], &m, &cnt);
             st = rfe_kf2_update_q31(&k, &m, &cnt);
+        }
+        if ((st == RFE_OK) && (linear_range_q31(&k, obs, in, vx, &st, &cnt) != 0)) {
+            fl |= RFE_VEL_FLAG_VY_LINEAR;
         }
     } else {
         /* §4.3 low speed: the rear axle rolls without side slip, vy = Lr r (Q29 Q27 -> Q23) */

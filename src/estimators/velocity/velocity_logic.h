@@ -12,6 +12,7 @@
  *  - the wheel votes (§3.5): which plausible wheel is free-rolling, and which reference the
  *    longitudinal filter takes;
  *  - the re-acquisition of the wheels and the drift while braking unchecked (§3.5);
+ *  - whether the lateral filter takes the linear range's vy (§4.2b);
  *  - the flags each decision sets (§5).
  */
 #ifndef RFE_VELOCITY_LOGIC_H
@@ -182,6 +183,14 @@ static inline rfe_vel_ref_t rfe_vel_reacquire(rfe_vel_ref_t ref, int agree, int 
 static inline int rfe_vel_brake_drift(rfe_vel_ref_t ref, const rfe_vel_drive_state_t *s)
 {
     return ((ref == RFE_VEL_REF_NONE) && (s->braking != 0)) ? 1 : 0;
+}
+
+/** §4.2b the linear range's update of vy: on (@p on: sd_vy_lin > 0), the yaw rate near the
+ *  neutral reference (@p yaw_linear: |r - r_ref| <= lin_r_tol + lin_r_rel |r_ref|) and the
+ *  lateral acceleration moderate (@p ay_moderate: |ay| <= lin_ay_max). */
+static inline int rfe_vel_linear_range(int on, int yaw_linear, int ay_moderate)
+{
+    return ((on != 0) && (yaw_linear != 0) && (ay_moderate != 0)) ? 1 : 0;
 }
 
 #endif /* RFE_VELOCITY_LOGIC_H */

@@ -152,12 +152,14 @@ static void test_first_sample_and_free_rolling(void **state)
         in = rolling(25.0f, 0.01f);
         assert_int_equal(rfe_velocity_step(&fx.obs, &in, NULL, &e), RFE_OK);
     }
-    /* free rolling, no acceleration: exactly 25 m/s, no sideslip, the wheels and the model
-     * correct every step; the sd falls from 1 m/s to about sd_wheel / 2 (four wheels) */
+    /* free rolling, no acceleration: exactly 25 m/s, no sideslip, the wheels, the model and
+     * the linear range (straight: r = r_ref = 0, ay = 0) correct every step; the sd falls
+     * from 1 m/s to about sd_wheel / 2 (four wheels) */
     assert_close(e.vx, 25.0, 1e-4, 0.0, "rolling vx");
     assert_close(e.vy, 0.0, 1e-6, 0.0, "rolling vy");
     assert_close(e.beta, 0.0, 1e-6, 0.0, "rolling beta");
-    assert_int_equal(e.flags, (uint32_t)RFE_VEL_FLAG_VX_WHEEL | (uint32_t)RFE_VEL_FLAG_VY_MODEL);
+    assert_int_equal(e.flags, (uint32_t)RFE_VEL_FLAG_VX_WHEEL | (uint32_t)RFE_VEL_FLAG_VY_MODEL |
+                                  (uint32_t)RFE_VEL_FLAG_VY_LINEAR);
     assert_true(e.sd_vx < 0.1f);
 }
 
@@ -421,6 +423,95 @@ static void test_the_yaw_row_moves_vy_towards_the_moment_balance(void **state)
     assert_int_equal(rfe_velocity_params_validate(&fx.vp), RFE_ERR_PARAM);
 }
 
+/* 2 s on a straight at 22 m/s from a vy 18 m/s off, with the friction input confidently at
+ * mu_min (0.05, sd 0.02): the soak's hour showed this state (ROBUSTNESS.md). Returns the
+ * final vy; @p flags gets the last step's flags. */
+static rfe_real_t vy_back_from_far_off(rfe_real_t sd_vy_lin, uint32_t *flags)
+{
+    rfe_velocity_estimate_t e;
+    rfe_velocity_input_t in;
+    const rfe_velocity_mu_t mu = {{0.05f, 0.05f, 0.05f, 0.05f}, {0.02f, 0.02f, 0.02f, 0.02f}};
+    size_t k;
+    setup_fixture();
+    fx.vp.sd_vy_lin = sd_vy_lin;
+    assert_int_equal(rfe_velocity_init(&fx.obs, &fx.vp, &fx.p), RFE_OK);
+    in = rolling(22.0f, 0.0f);
+    assert_int_equal(rfe_velocity_step(&fx.obs, &in, &mu, &e), RFE_OK);
+    fx.obs.lat.x[0] = -18.0f; /* the far-off state, set directly (the test owns the struct) */
+    for (k = 0u; k < 200u; ++k) {
+        in = rolling(22.0f, 0.01f);
+        assert_int_equal(rfe_velocity_step(&fx.obs, &in, &mu, &e), RFE_OK);
+    }
+    *flags = e.flags;
+    return e.vy;
+}
+
+/* REQ-OBS-011 */
+static void test_the_linear_range_brings_a_lost_vy_back(void **state)
+{
+    uint32_t fl_on = 0u;
+    uint32_t fl_off = 0u;
+    rfe_velocity_estimate_t e;
+    rfe_velocity_input_t in;
+    const rfe_velocity_mu_t mu = {{1.0f, 1.0f, 1.0f, 1.0f}, {0.1f, 0.1f, 0.1f, 0.1f}};
+    size_t k;
+    const rfe_real_t vy_on = vy_back_from_far_off(0.3f, &fl_on); /* the default */
+    const rfe_real_t vy_off = vy_back_from_far_off(0.0f, &fl_off);
+    (void)state;
+    /* off, the saturated model (H near 0 at mu 0.05 and 40 degrees of slip) and the offset's
+     * update leave vy where it was to within a few m/s; on, 200 updates of sd 0.3 m/s pull it
+     * to the linear model's 0 (their information 200 / 0.09 against the prior's ~1 / 1.4:
+     * the posterior is within 0.3 m/s of it with a wide margin) */
+    assert_true(fabsf((float)vy_off) > 10.0f);
+    assert_true(fabsf((float)vy_on) < 0.3f);
+    assert_true((fl_on & RFE_VEL_FLAG_VY_LINEAR) != 0u);
+    assert_true((fl_off & RFE_VEL_FLAG_VY_LINEAR) == 0u);
+    /* not taken where the yaw rate leaves the neutral reference (at the limit): delta
+     * 0.08 rad at 20 m/s asks r_ref = 0.52 rad/s, the car turns at 0.2 */
+    setup_fixture();
+    for (k = 0u; k <= 10u; ++k) {
+        in = rolling(20.0f, (k == 0u) ? 0.0f : 0.01f);
+        in.delta = 0.08f;
+        in.yaw_rate = 0.2f;
+        in.ay = 4.0f;
+        assert_int_equal(rfe_velocity_step(&fx.obs, &in, &mu, &e), RFE_OK);
+    }
+    assert_true((e.flags & RFE_VEL_FLAG_VY_LINEAR) == 0u);
+    /* nor where |ay| exceeds lin_ay_max, the yaw rate on its reference */
+    setup_fixture();
+    for (k = 0u; k <= 10u; ++k) {
+        in = rolling(20.0f, (k == 0u) ? 0.0f : 0.01f);
+        in.delta = 0.02f;
+        in.yaw_rate = 20.0f * (0.02f / (fx.p.vehicle.Lf + fx.p.vehicle.Lr));
+        in.ay = fx.vp.lin_ay_max + 0.5f;
+        assert_int_equal(rfe_velocity_step(&fx.obs, &in, &mu, &e), RFE_OK);
+    }
+    assert_true((e.flags & RFE_VEL_FLAG_VY_LINEAR) == 0u);
+    /* and below it, the same turn is taken */
+    setup_fixture();
+    for (k = 0u; k <= 10u; ++k) {
+        in = rolling(20.0f, (k == 0u) ? 0.0f : 0.01f);
+        in.delta = 0.02f;
+        in.yaw_rate = 20.0f * (0.02f / (fx.p.vehicle.Lf + fx.p.vehicle.Lr));
+        in.ay = 2.0f;
+        assert_int_equal(rfe_velocity_step(&fx.obs, &in, &mu, &e), RFE_OK);
+    }
+    assert_true((e.flags & RFE_VEL_FLAG_VY_LINEAR) != 0u);
+    /* a negative or non-finite sd or threshold is rejected */
+    setup_fixture();
+    fx.vp.sd_vy_lin = -0.1f;
+    assert_int_equal(rfe_velocity_params_validate(&fx.vp), RFE_ERR_PARAM);
+    fx.vp.sd_vy_lin = 0.3f;
+    fx.vp.lin_r_tol = (rfe_real_t)NAN;
+    assert_int_equal(rfe_velocity_params_validate(&fx.vp), RFE_ERR_PARAM);
+    fx.vp.lin_r_tol = 0.01f;
+    fx.vp.lin_r_rel = -1.0f;
+    assert_int_equal(rfe_velocity_params_validate(&fx.vp), RFE_ERR_PARAM);
+    fx.vp.lin_r_rel = 0.05f;
+    fx.vp.lin_ay_max = -1.0f;
+    assert_int_equal(rfe_velocity_params_validate(&fx.vp), RFE_ERR_PARAM);
+}
+
 /* REQ-OBS-004 */
 static void test_all_wheel_drive_wheels_only_bound_vx_from_above(void **state)
 {
@@ -537,6 +628,7 @@ int main(void)
         cmocka_unit_test(test_not_initialised_and_nonfinite_friction),
         cmocka_unit_test(test_a_too_low_friction_is_raised_by_the_measured_ay),
         cmocka_unit_test(test_the_yaw_row_moves_vy_towards_the_moment_balance),
+        cmocka_unit_test(test_the_linear_range_brings_a_lost_vy_back),
         cmocka_unit_test(test_all_wheel_drive_wheels_only_bound_vx_from_above),
         cmocka_unit_test(test_vx_never_goes_negative),
         cmocka_unit_test(test_steering_wheel_angle_through_the_ratio),

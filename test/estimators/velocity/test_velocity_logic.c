@@ -137,12 +137,28 @@ static void test_brake_drift_every_combination(void **state_)
     }
 }
 
+/* REQ-OBS-011 */
+static void test_linear_range_every_combination(void **state)
+{
+    /* §4.2b: taken only when on, the yaw rate linear and ay moderate (the truth table) */
+    int on, yaw, ay;
+    (void)state;
+    for (on = 0; on <= 1; ++on) {
+        for (yaw = 0; yaw <= 1; ++yaw) {
+            for (ay = 0; ay <= 1; ++ay) {
+                assert_int_equal(rfe_vel_linear_range(on, yaw, ay), (on && yaw && ay) ? 1 : 0);
+            }
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_reference_every_combination),
         cmocka_unit_test(test_reacquire_every_combination),
         cmocka_unit_test(test_brake_drift_every_combination),
+        cmocka_unit_test(test_linear_range_every_combination),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

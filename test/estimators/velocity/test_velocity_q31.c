@@ -424,7 +424,7 @@ static void test_params(void **state)
         rfe_fix_t *const pos[9] = {&bad.q_jerk, &bad.sd_r, &bad.sd_ax, &bad.sd_ay,
                                     &bad.v_lat_min, &bad.sd_lowspeed, &bad.mu_default,
                                     &bad.sd_vydot, &bad.steer_ratio};
-        rfe_fix_t *const nonneg[22] = {
+        rfe_fix_t *const nonneg[26] = {&bad.sd_vy_lin, &bad.lin_r_tol, &bad.lin_r_rel, &bad.lin_ay_max,
             &bad.sd_model_rdot, &bad.vydot_rdot, &bad.q_bx, &bad.q_by, &bad.sd_wheel, &bad.sd_wheel_rel,
             &bad.k_gate, &bad.k_agree, &bad.v_stand, &bad.q_vx_brake, &bad.ax_brake_on, &bad.ax_drive_on, &bad.p_brake_on, &bad.torque_on,
             &bad.sd_model_ay, &bad.model_ay_rel, &bad.sd_mu_default, &bad.mu_margin,
@@ -434,7 +434,7 @@ static void test_params(void **state)
             *pos[i] = 0;
             assert_int_equal(rfe_velocity_params_validate_q31(&bad), RFE_ERR_PARAM);
         }
-        for (i = 0u; i < 22u; ++i) {
+        for (i = 0u; i < 26u; ++i) {
             bad = def;
             *nonneg[i] = 0;
             assert_int_equal(rfe_velocity_params_validate_q31(&bad), RFE_OK);
