@@ -70,11 +70,10 @@ static int linear_range(rfe_kf2_t *k, const rfe_velocity_t *obs, const rfe_veloc
     const rfe_velocity_params_t *p = &obs->p;
     const rfe_real_t len = obs->veh.Lf + obs->veh.Lr;
     const rfe_real_t r_ref = vx * (in->delta / len);
-    const int yaw_linear = (RFE_FABS(in->yaw_rate - r_ref) <=
-                            (p->lin_r_tol + (p->lin_r_rel * RFE_FABS(r_ref)))) ? 1 : 0;
-    const int ay_moderate = (RFE_FABS(in->ay) <= p->lin_ay_max) ? 1 : 0;
-    const int on = rfe_vel_linear_range((p->sd_vy_lin > RFE_R(0.0)) ? 1 : 0, yaw_linear,
-                                        ay_moderate);
+    const rfe_real_t r_tol = p->lin_r_tol + (p->lin_r_rel * RFE_FABS(r_ref));
+    const int on = rfe_vel_linear_range((p->sd_vy_lin > RFE_R(0.0)) ? 1 : 0,
+                                        (RFE_FABS(in->yaw_rate - r_ref) <= r_tol) ? 1 : 0,
+                                        (RFE_FABS(in->ay) <= p->lin_ay_max) ? 1 : 0);
     if (on != 0) {
         const rfe_real_t vy_lin =
             vx * (((obs->veh.Lr * in->delta) / len) - (in->ay / (obs->tyre.cy * obs->veh.g)));

@@ -144,19 +144,17 @@ static int linear_range_q31(rfe_kf2_q31_t *k, const rfe_velocity_q31_t *obs,
     rfe_fix_t r_ref;
     rfe_fix_t a = 0;
     rfe_fix_t b = 0;
-    int yaw_linear;
-    int ay_moderate;
+    rfe_fix_t r_err;
+    rfe_fix_t r_tol;
     int on;
     rfe_status_t s;
     s = rfe_fix_div(in->delta, len, 27, &dl, sat);
     r_ref = rfe_fix_mul(vx, dl, 23u, sat);
-    yaw_linear = (rfe_fix_abs(rfe_fix_sub(in->yaw_rate, r_ref, sat), sat) <=
-                  rfe_fix_add(p->lin_r_tol,
-                              rfe_fix_mul(p->lin_r_rel, rfe_fix_abs(r_ref, sat), 30u, sat), sat))
-                     ? 1
-                     : 0;
-    ay_moderate = (rfe_fix_abs(in->ay, sat) <= p->lin_ay_max) ? 1 : 0;
-    on = rfe_vel_linear_range((p->sd_vy_lin > 0) ? 1 : 0, yaw_linear, ay_moderate);
+    r_err = rfe_fix_abs(rfe_fix_sub(in->yaw_rate, r_ref, sat), sat);
+    r_tol = rfe_fix_add(p->lin_r_tol, rfe_fix_mul(p->lin_r_rel, rfe_fix_abs(r_ref, sat), 30u, sat),
+                        sat);
+    on = rfe_vel_linear_range((p->sd_vy_lin > 0) ? 1 : 0, (r_err <= r_tol) ? 1 : 0,
+                              (rfe_fix_abs(in->ay, sat) <= p->lin_ay_max) ? 1 : 0);
     if (on != 0) {
         rfe_kf2_meas_q31_t m;
         const rfe_fix_t cg = rfe_fix_mul(obs->tyre.cy, obs->veh.g, 28u, sat);
