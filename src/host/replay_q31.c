@@ -37,10 +37,8 @@ rfe_status_t rfe_replay_params_q31(const rfe_param_set_t *ps, rfe_params_q31_t *
     return st;
 }
 
-/* The friction parameters as rfe_replay_params_q31, then the observer's (its obs_* keys over
- * rfe_velocity_params_default_f64, validated, rfe_velocity_params_to_q31_f64). */
-static rfe_status_t to_q31_observer_params(const rfe_param_set_t *ps, rfe_params_q31_t *q,
-                                           rfe_velocity_params_q31_t *vq, size_t *bad_key)
+rfe_status_t rfe_replay_observer_params_q31(const rfe_param_set_t *ps, rfe_params_q31_t *q,
+                                            rfe_velocity_params_q31_t *vq, size_t *bad_key)
 {
     rfe_velocity_params_t vp;
     rfe_status_t st = rfe_replay_params_q31(ps, q, bad_key);
@@ -76,7 +74,7 @@ static size_t diagnose_range(const rfe_param_set_t *ps, int observer)
         } else {
             one.obs[k - RFE_PK_OBS_FIRST] = ps->obs[k - RFE_PK_OBS_FIRST];
         }
-        st = (observer != 0) ? to_q31_observer_params(&one, &q, &vq, NULL)
+        st = (observer != 0) ? rfe_replay_observer_params_q31(&one, &q, &vq, NULL)
                              : rfe_replay_params_q31(&one, &q, NULL);
         if (st == RFE_ERR_RANGE) {
             return k;
@@ -254,7 +252,7 @@ rfe_status_t rfe_replay_run_observer_q31(const rfe_param_set_t *ps, const rfe_se
     if (log->omega_linear != 0) {
         return RFE_ERR_RANGE; /* wheel speeds not yet rad/s: rfe_sensor_log_wheel_radius */
     }
-    st = to_q31_observer_params(ps, &q, &vq, bad_key);
+    st = rfe_replay_observer_params_q31(ps, &q, &vq, bad_key);
     if ((st == RFE_ERR_RANGE) && (bad_key != NULL)) {
         *bad_key = diagnose_range(ps, 1);
     }

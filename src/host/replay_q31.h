@@ -70,6 +70,21 @@ RFE_NODISCARD rfe_status_t rfe_replay_params_q31(const rfe_param_set_t *ps, rfe_
                                                  size_t *bad_key);
 
 /**
+ * The fixed-point parameters of an observer run as rfe_replay_run_observer_q31 derives them
+ * (the one place: mu_replay --real q31 --velocity observer and the PIL data generator): the
+ * friction estimator's as rfe_replay_params_q31, then the observer's (its obs_* keys over
+ * rfe_velocity_params_default_f64: rfe_replay_velocity_params_f64, then
+ * rfe_velocity_params_to_q31_f64).
+ * @param bad_key on RFE_ERR_PARAM the key rejected (as rfe_replay_run_observer_f64); may be
+ *        NULL.
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_PARAM; RFE_ERR_RANGE (a value outside its Q format).
+ */
+RFE_NODISCARD rfe_status_t rfe_replay_observer_params_q31(const rfe_param_set_t *ps,
+                                                          rfe_params_q31_t *q,
+                                                          rfe_velocity_params_q31_t *vq,
+                                                          size_t *bad_key);
+
+/**
  * One sensor row in the Q formats of rfe_sample_q31_t, as rfe_replay_run_q31 steps it
  * (rfe_fix_from_double: rounded to nearest, saturated).
  * @return the number of values that saturated.
