@@ -22,10 +22,12 @@
 #                      writes build/firmware/pil.json; part of make test
 #                      Then the observer entries (PIL_OBS_ENTRIES): the composed pipeline
 #                      (velocity observer + friction estimator) on PIL_OBS_LOG on the
-#                      Cortex-M4F float32 build, compared with the same program built for
-#                      the host (float32 within a tolerance derived from the host's float32 vs
-#                      double difference; fixed point, later, bit for bit) and instructions
-#                      per pipeline, observer and friction step
+#                      Cortex-M4F float32 build and the fixed-point builds (M4F, M3, M0+),
+#                      compared with the same program built for the host (float32 within a
+#                      tolerance derived from the host's float32 vs double difference; fixed
+#                      point bit for bit, every word and discrete output) and with mu_replay
+#                      --velocity observer, and instructions per pipeline, observer and
+#                      friction step
 # make firmware-table  regenerates the firmware tables in docs/FIRMWARE.md ("Measured") from
 #                      both JSON files, and the observer's cost in docs/OBSERVER_RESULTS.md
 #                      and README.md (with the host's figure from make bench's bench.json
@@ -193,12 +195,18 @@ PIL_ELFS := $(foreach r,$(PIL_RUNS),$(foreach c,$(PIL_CONFIGS),$(FW_DIR)/$(call 
 
 # Observer entries: <tag>:<target>:<QEMU machine>:<steps counted>. The tag names the estimator
 # entry of firmware/pil/pil_main.c (PIL_OBS_DEFS_<tag>) and pil_gen's data for it
-# (PIL_OBS_GEN_<tag>). PIL_OBS_LOG: ABS braking on split mu with the driver counter-steering
-# (braking, yaw and lateral slip at once), 8 s; the first 200 steps counted: 1 s cruising and
-# the first second of ABS braking, so both observer states are in the count (about 30 s of
-# QEMU logging). The fixed-point observer is one more entry here (and a block in pil_main.c).
+# (PIL_OBS_GEN_<tag>; one data file per tag, float and fixed point). PIL_OBS_LOG: ABS braking
+# on split mu with the driver counter-steering (braking, yaw and lateral slip at once), 8 s,
+# every step compared on every entry. Steps counted: float32 on the Cortex-M4F the first
+# 200, 1 s cruising and the first second of ABS braking, so both observer states are in the
+# count (about 80 k instructions a step). The fixed-point pipeline costs ~0.43 M instructions a
+# step on the M4 and M3 and ~1.05 M on the M0+, and QEMU's execution log grows with that: the
+# same 200 steps on the Cortex-M4 (the 15 % target's core), the first 100 (the cruising
+# second) on the M3 and 20 on the M0+ (the observer's mean over the first 100 steps is within
+# 0.5 % of its mean over 200); about 40 s of QEMU logging for the three.
 PIL_OBS_LOG        ?= scenarios/observer/abs_brake_split_mu.csv
-PIL_OBS_ENTRIES    ?= pipeline:m4f-f32:mps2-an386:200
+PIL_OBS_ENTRIES    ?= pipeline:m4f-f32:mps2-an386:200 pipeline:m4f-q31:mps2-an386:200 \
+                      pipeline:m3-q31:mps2-an385:100 pipeline:m0p-q31:microbit:20
 PIL_OBS_GEN_pipeline  := --estimator pipeline --preset default
 PIL_OBS_DEFS_pipeline := -DPIL_PIPELINE
 PIL_OBS_STEM       := $(basename $(notdir $(PIL_OBS_LOG)))
@@ -211,11 +219,14 @@ PIL_HOST_DEFS_f32  :=
 PIL_HOST_DEFS_f64  := -DRFE_REAL_DOUBLE
 PIL_HOST_DEFS_q31  := -DPIL_Q31
 
-define PIL_OBS_RULES
-# $(1) = <tag>, $(2) = target
+define PIL_OBS_DATA_RULES
+# $(1) = <tag> (one data file per tag: its float and fixed-point arms, pil_data.h)
 $(FW_DIR)/pil/data/$(PIL_OBS_STEM).$(1).c: $(PIL_OBS_LOG) $(FW_DIR)/pil_gen
 	@mkdir -p $$(@D)
 	$(FW_DIR)/pil_gen --in $(PIL_OBS_LOG) --out $$@ $(PIL_OBS_GEN_$(1))
+endef
+define PIL_OBS_RULES
+# $(1) = <tag>, $(2) = target
 $(FW_DIR)/$(2)/pil/$(1).elf: firmware/pil/pil_main.c firmware/pil/pil_data.h $(FW_DIR)/pil/data/$(PIL_OBS_STEM).$(1).c \
                             $(FW_DIR)/$(2)/common/startup_pil.o $(call fw_lib,$(2)) $(PIL_LD_$(call fw_core,$(2))) firmware/ld/sections.ld
 	@mkdir -p $$(@D)
@@ -232,12 +243,16 @@ $(FW_DIR)/host-$(2)/pil/$(1): firmware/pil/pil_main.c firmware/pil/pil_data.h $(
 	$$(CC) $$(WARN) $$(OPT) -Wno-double-promotion $$(CPPFLAGS_LIB) -Ifirmware/pil -DPIL_HOST $(PIL_HOST_DEFS_$(2)) $(PIL_OBS_DEFS_$(1)) \
 	  firmware/pil/pil_main.c $(FW_DIR)/pil/data/$(PIL_OBS_STEM).$(1).c $(3) -lm -o $$@
 endef
+# One data file per tag and one host program per tag and host build, however many targets
+# run the tag (the float32 and fixed-point entries of "pipeline" share its data file).
+PIL_OBS_TAGS := $(sort $(foreach e,$(PIL_OBS_ENTRIES),$(call pil_obs_field,$(e),1)))
+PIL_OBS_HOSTS := $(sort $(foreach e,$(PIL_OBS_ENTRIES),\
+  $(foreach h,$(pil_host_libs_$(call fw_variant,$(call pil_obs_field,$(e),2))),$(call pil_obs_field,$(e),1):$(h))))
+$(foreach t,$(PIL_OBS_TAGS),$(eval $(call PIL_OBS_DATA_RULES,$(t))))
 $(foreach e,$(PIL_OBS_ENTRIES),$(eval $(call PIL_OBS_RULES,$(call pil_obs_field,$(e),1),$(call pil_obs_field,$(e),2))))
-$(foreach e,$(PIL_OBS_ENTRIES),$(foreach h,$(pil_host_libs_$(call fw_variant,$(call pil_obs_field,$(e),2))),\
-  $(eval $(call PIL_HOST_RULES,$(call pil_obs_field,$(e),1),$(word 1,$(subst :, ,$(h))),$(word 2,$(subst :, ,$(h)))))))
+$(foreach h,$(PIL_OBS_HOSTS),$(eval $(call PIL_HOST_RULES,$(call pil_obs_field,$(h),1),$(call pil_obs_field,$(h),2),$(call pil_obs_field,$(h),3))))
 PIL_OBS_ELFS := $(foreach e,$(PIL_OBS_ENTRIES),$(FW_DIR)/$(call pil_obs_field,$(e),2)/pil/$(call pil_obs_field,$(e),1).elf)
-PIL_OBS_HOST := $(foreach e,$(PIL_OBS_ENTRIES),$(foreach h,$(pil_host_libs_$(call fw_variant,$(call pil_obs_field,$(e),2))),\
-  $(FW_DIR)/host-$(word 1,$(subst :, ,$(h)))/pil/$(call pil_obs_field,$(e),1)))
+PIL_OBS_HOST := $(foreach h,$(PIL_OBS_HOSTS),$(FW_DIR)/host-$(call pil_obs_field,$(h),2)/pil/$(call pil_obs_field,$(h),1))
 
 ## processor in the loop on QEMU's Cortex-M4, M3 and M0: bit identity, instructions
 pil: deps-firmware firmware $(PIL_ELFS) $(PIL_OBS_ELFS) $(PIL_OBS_HOST) $(BUILD)/mu_replay

@@ -2,14 +2,20 @@
  * @file pil_data.h
  * @brief The generated data of a processor-in-the-loop image (pil_gen.c writes it): the
  *        estimator parameters and the sensor samples, fixed point with PIL_Q31, else float.
- *        With PIL_PIPELINE: the composed pipeline's parameters and ESC samples (float).
+ *        With PIL_PIPELINE: the composed pipeline's parameters, the observer's and the ESC
+ *        samples (fixed point with PIL_Q31, else float).
  */
 #ifndef PIL_DATA_H
 #define PIL_DATA_H
 
 #include <stdint.h>
 
-#if defined(PIL_PIPELINE)
+#if defined(PIL_PIPELINE) && defined(PIL_Q31)
+#include "rfe/pipeline_q31.h"
+extern const rfe_params_q31_t pil_params;
+extern const rfe_velocity_params_q31_t pil_velocity_params;
+extern const rfe_velocity_input_q31_t pil_inputs[];
+#elif defined(PIL_PIPELINE)
 #include "rfe/pipeline.h"
 extern const rfe_params_t pil_params;
 extern const rfe_velocity_params_t pil_velocity_params;

@@ -11,17 +11,21 @@
  *   default       the friction estimator, rfe_friction_*_f32;
  *   PIL_Q31       the friction estimator, rfe_friction_*_q31;
  *   PIL_PIPELINE  the composed pipeline, rfe_pipeline_*_f32 (the velocity observer, then the
- *                 friction estimator on its outputs; float only).
- * Another estimator (the fixed-point observer) is one more block giving pil_estimator_t,
- * pil_output_t, pil_init, PIL_STEP_CALL and put_output. PIL_HOST: the host build of the
+ *                 friction estimator on its outputs);
+ *   PIL_PIPELINE with PIL_Q31  the composed pipeline in fixed point, rfe_pipeline_*_q31.
+ * Another estimator is one more block giving pil_estimator_t, pil_output_t, pil_init,
+ * PIL_STEP_CALL and put_output. PIL_HOST: the host build of the
  * same program (no stack painting; rfe_real_t may be double, printed as 16 hex digits). The
  * command line (QEMU -append) may give the number of samples to run; default all.
  *
  * Output (stdout, one line each; scripts/firmware/firmware_pil.py parses it):
  *   R <row> <status> <valid bits> <sat> <mu x4> <sd x4>   every step; mu and sd as the raw
  *       words in hex (Q29 / Q30, or the bit patterns of rfe_real_t): exact
- *   V <row> <status> <flags> <vx> <vy> <beta> <yaw_acc> <sd_vx> <sd_vy> <sd_beta>
- *       <sd_yaw_acc>   every step of an entry with the velocity observer, after its R line
+ *   V <row> <status> <flags> <sat> <vx> <vy> <beta> <yaw_acc> <sd_vx> <sd_vy> <sd_beta>
+ *       <sd_yaw_acc>   every step of an entry with the velocity observer, after its R line:
+ *       the observer's status, flags and saturations (0 in float), its values as raw words
+ *       (Q23 / Q29 / Q24, or the bits of rfe_real_t); the R line's sat is the friction
+ *       estimator's (in the fixed-point pipeline with the input-noise norm's)
  *   S <bytes>   the deepest stack any step used, measured: before each step the 4 KB below
  *               the stack pointer are painted, after it the lowest overwritten word is found
  *               (0 on the host)
@@ -48,9 +52,35 @@ static void put_dec(uint32_t v);
 static void put_bits(const void *p, uint32_t bytes);
 static void put_friction(uint32_t row, rfe_status_t st, uint32_t sat, const void *mu,
                          const void *sd, const uint8_t *valid, uint32_t real_bytes);
+#if defined(PIL_PIPELINE)
+static void put_velocity(uint32_t row, rfe_status_t st, uint32_t flags, uint32_t sat);
+#endif
 
 #if defined(PIL_PIPELINE) && defined(PIL_Q31)
-#error "no fixed-point pipeline: the fixed-point observer is an entry of its own"
+typedef rfe_pipeline_q31_t pil_estimator_t;
+typedef rfe_pipeline_out_q31_t pil_output_t;
+static pil_estimator_t g_est;
+#define PIL_STEP_CALL(i, o) rfe_pipeline_step_q31(&g_est, &pil_inputs[(i)], (o))
+static rfe_status_t pil_init(void)
+{
+    return rfe_pipeline_init_q31(&g_est, &pil_params, &pil_velocity_params);
+}
+static void put_output(uint32_t i, rfe_status_t st, const pil_output_t *o)
+{
+    const rfe_velocity_estimate_q31_t *v = &o->velocity;
+    const uint32_t b = (uint32_t)sizeof(rfe_fix_t);
+    put_friction(i, st, o->friction.sat, o->friction.mu, o->friction.sd, o->friction.valid, b);
+    put_velocity(i, v->status, v->flags, v->sat);
+    put_bits(&v->vx, b);
+    put_bits(&v->vy, b);
+    put_bits(&v->beta, b);
+    put_bits(&v->yaw_acc, b);
+    put_bits(&v->sd_vx, b);
+    put_bits(&v->sd_vy, b);
+    put_bits(&v->sd_beta, b);
+    put_bits(&v->sd_yaw_acc, b);
+    put_char('\n');
+}
 #elif defined(PIL_PIPELINE)
 typedef rfe_pipeline_t pil_estimator_t;
 typedef rfe_pipeline_out_t pil_output_t;
@@ -65,10 +95,7 @@ static void put_output(uint32_t i, rfe_status_t st, const pil_output_t *o)
     const rfe_velocity_estimate_t *v = &o->velocity;
     const uint32_t b = (uint32_t)sizeof(rfe_real_t);
     put_friction(i, st, 0u, o->friction.mu, o->friction.sd, o->friction.valid, b);
-    put_char('V');
-    put_dec(i);
-    put_dec((uint32_t)v->status);
-    put_dec(v->flags);
+    put_velocity(i, v->status, v->flags, 0u);
     put_bits(&v->vx, b);
     put_bits(&v->vy, b);
     put_bits(&v->beta, b);
@@ -186,6 +213,19 @@ static void put_friction(uint32_t row, rfe_status_t st, uint32_t sat, const void
     }
     put_char('\n');
 }
+
+#if defined(PIL_PIPELINE)
+/* The head of a V line: row, the observer's status, flags and saturations (its values
+ * follow, put_bits each). */
+static void put_velocity(uint32_t row, rfe_status_t st, uint32_t flags, uint32_t sat)
+{
+    put_char('V');
+    put_dec(row);
+    put_dec((uint32_t)st);
+    put_dec(flags);
+    put_dec(sat);
+}
+#endif
 
 #if defined(PIL_HOST)
 /* The host build measures no stack (the host's frames are not the target's). */

@@ -32,11 +32,13 @@ Then the observer entries (--obs-entries <tag>:<target>:<machine>:<steps counted
  4. the whole log on the target as in 1 (R and V lines: the friction and the observer's
     estimate of every step);
  5. the same program built for the host (build/firmware/host-<build>/pil/<tag>, mk/firmware.mk)
-    with the host's library: a fixed-point entry must equal it bit for bit; a float32 entry
-    must stay within OBS_TOLERANCE's bound of the host's float32 build, and the discrete
-    outputs (status, valid flags, observer flags) must be equal. The host float32 program is
-    also held bit for bit to `mu_replay --velocity observer --real float` on the values the
-    replay logs (the generated inputs are the replay's);
+    with the host's library: a fixed-point entry must equal it bit for bit (every word and
+    every discrete output: statuses, valid flags, observer flags, saturation counts); a
+    float32 entry must stay within OBS_TOLERANCE's bound of the host's float32 build, and
+    the discrete outputs (status, valid flags, observer flags) must be equal. The host
+    program is also held bit for bit to `mu_replay --velocity observer --real float` (float32)
+    or `--real q31` (fixed point: the Q words converted exactly) on the values the replay
+    logs, so the generated inputs are the replay's;
  6. instructions as in 3, per step of the entry and per call of each of its parts (the
     observer and the friction step inside the pipeline: from a part's entry to the return
     address of its call, both from arm-none-eabi-nm / -objdump), and per function inside
@@ -68,13 +70,17 @@ FLOAT_FRACTION_OUT = {"default": 0.03}  # ... MAX_FRACTION_OUT_DEFAULT; 0 for th
 QEMU_TIMEOUT = 300
 # Observer entries of pil_main.c: the function one step calls (suffixed _f32 / _q31 by the
 # variant), the parts counted inside it, and the mu_replay options of the host replay whose
-# logged values the host float32 program must reproduce (None: no replay runs that entry).
-# The fixed-point observer becomes one more entry ("velocity": rfe_velocity_step, no parts).
+# logged values the host program (float32, or fixed point with --real q31) must reproduce
+# (None: no replay runs that entry). The observer alone would be one more entry ("velocity":
+# rfe_velocity_step, no parts).
 OBS_ENTRIES = {
     "pipeline": {"step": "rfe_pipeline_step", "parts": ["rfe_velocity_step", "rfe_friction_step"],
                  "replay": ["--velocity", "observer", "--preset", "default"]},
 }
 OBS_FIELDS = ["vx", "vy", "beta", "yaw_acc", "sd_vx", "sd_vy", "sd_beta", "sd_yaw_acc"]
+# Fractional bits of each printed Q word of a fixed-point entry (rfe/params_q31.h, velocity_q31.h).
+OBS_Q_BITS = {"mu": 29, "sd": 30, "vx": 23, "vy": 23, "beta": 29, "yaw_acc": 24, "sd_vx": 23,
+              "sd_vy": 23, "sd_beta": 29, "sd_yaw_acc": 24}
 # The float32 bound, per output field: the largest |host float32 - host double| of that field
 # over the log, both host builds of the same program on the same (float) inputs. Why that
 # bounds |target - host float32|: the two float32 builds execute the same IEEE single
@@ -193,7 +199,8 @@ def marker_addresses(elf):
 
 
 def _trace(machine, elf, steps, qemu_args):
-    """Runs the first `steps` samples with QEMU logging to a pipe; yields the log's lines."""
+    """Runs the first `steps` samples with QEMU logging to a pipe; yields the log's lines, a
+    list of them at a time (whole lines)."""
     rfd, wfd = os.pipe()
     cmd = qemu_cmd(machine, elf, ["-append", str(steps), *qemu_args, "-D", f"/dev/fd/{wfd}"])
     proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, pass_fds=(wfd,))
@@ -211,7 +218,7 @@ def _trace(machine, elf, steps, qemu_args):
             data = carry + chunk
             cut = data.rfind(b"\n") + 1
             data, carry = data[:cut], data[cut:]
-            yield from data.split(b"\n")
+            yield data.split(b"\n")
     rc = proc.wait()
     if rc != 0:
         sys.exit(f"pil: instruction count on {elf}: QEMU exit {rc}\n"
@@ -246,22 +253,44 @@ def count_instructions(machine, elf, steps, singlestep=False, parts=(), function
     calls = {name: {} for name in ("step", *inclusive)}
     starts, names = function_table(elf) if functions else ([], [])
     active = None
-    for line in _trace(machine, elf, steps, args):
-        if line.startswith(b"Trace "):
-            # "Trace 0: 0x<host> [<cs_base>/<pc>/<flags>/<cflags>] symbol"
-            parts = line.split(b" ", 4)
-            host, pc = parts[2], int(parts[3][10:18], 16)
-            if singlestep:
-                length = 1
-            else:
-                if pending_pc is not None:
-                    if pending_pc != pc:
-                        sys.exit(f"pil: {elf}: TB listed at {pending_pc:#x} but {pc:#x} executed next")
-                    tb_len[host] = pending_len
-                    pending_pc = None
-                length = tb_len.get(host)
-                if length is None:
-                    sys.exit(f"pil: {elf}: TB at {pc:#x} executed without its in_asm listing")
+    # A TB's exec line is the same text every time it runs: each distinct line is parsed once
+    # into (pc, length, id); a new in_asm listing (pending_pc) re-parses the next line and
+    # drops the cached line of that host address. The functions' tallies are kept per (TB
+    # id, active part) and attributed to functions once, after the run.
+    cache, host_line, tbs, hits = {}, {}, [], {}
+    for chunk in _trace(machine, elf, steps, args):
+        for line in chunk:
+            tb = cache.get(line)
+            if tb is None or pending_pc is not None:
+                if line.startswith(b"Trace "):
+                    # "Trace 0: 0x<host> [<cs_base>/<pc>/<flags>/<cflags>] symbol"
+                    fields = line.split(b" ", 4)
+                    host, pc = fields[2], int(fields[3][10:18], 16)
+                    if singlestep:
+                        length = 1
+                    else:
+                        if pending_pc is not None:
+                            if pending_pc != pc:
+                                sys.exit(f"pil: {elf}: TB listed at {pending_pc:#x} but {pc:#x} executed next")
+                            tb_len[host] = pending_len
+                            pending_pc = None
+                            cache.pop(host_line.get(host), None)
+                        length = tb_len.get(host)
+                        if length is None:
+                            sys.exit(f"pil: {elf}: TB at {pc:#x} executed without its in_asm listing")
+                    tb = (pc, length, len(tbs))
+                    tbs.append(tb)
+                    cache[line] = tb
+                    host_line[host] = line
+                else:
+                    if line.startswith(b"IN:"):
+                        pending_pc, pending_len = None, 0
+                    elif line.startswith(b"0x") and b":  " in line:
+                        if pending_pc is None:
+                            pending_pc = int(line[2:10], 16)
+                        pending_len += 1
+                    continue
+            pc, length, tb_id = tb
             if pc == begin:
                 inside, n = True, 0
                 for c in part_counts.values():
@@ -278,18 +307,17 @@ def count_instructions(machine, elf, steps, singlestep=False, parts=(), function
                 if active is not None:
                     part_counts[active][-1] += length
                 if functions:
-                    k = bisect.bisect_right(starts, pc) - 1
-                    fn = names[k]
-                    for key in ("step", active) if active is not None else ("step",):
-                        per_func[key][fn] = per_func[key].get(fn, 0) + length
-                        if pc == starts[k]:  # a TB at the function's first instruction: a call
-                            calls[key][fn] = calls[key].get(fn, 0) + 1
-        elif line.startswith(b"IN:"):
-            pending_pc, pending_len = None, 0
-        elif line.startswith(b"0x") and b":  " in line:
-            if pending_pc is None:
-                pending_pc = int(line[2:10], 16)
-            pending_len += 1
+                    key = (tb_id, active)
+                    hits[key] = hits.get(key, 0) + 1
+    # in the order of first execution, as the functions' first appearance
+    for (tb_id, act), h in hits.items():
+        pc, length, _ = tbs[tb_id]
+        k = bisect.bisect_right(starts, pc) - 1
+        fn = names[k]
+        for key in ("step", act) if act is not None else ("step",):
+            per_func[key][fn] = per_func[key].get(fn, 0) + length * h
+            if pc == starts[k]:  # a TB at the function's first instruction: a call
+                calls[key][fn] = calls[key].get(fn, 0) + h
     if len(counts) != steps:
         sys.exit(f"pil: instruction count on {elf}: {len(counts)} of {steps} steps traced")
     if inclusive or functions:
@@ -355,12 +383,12 @@ def parse_obs(text):
             continue
         if p[0] == "R" and len(p) == 13:
             r = rows.setdefault(int(p[1]), {})
-            r["status"], r["valid"] = int(p[2]), int(p[3])
+            r["status"], r["valid"], r["sat"] = int(p[2]), int(p[3]), int(p[4])
             r["mu"], r["sd"] = p[5:9], p[9:13]
-        elif p[0] == "V" and len(p) == 12:
+        elif p[0] == "V" and len(p) == 13:
             r = rows.setdefault(int(p[1]), {})
-            r["v_status"], r["flags"] = int(p[2]), int(p[3])
-            r.update(zip(OBS_FIELDS, p[4:12]))
+            r["v_status"], r["flags"], r["v_sat"] = int(p[2]), int(p[3]), int(p[4])
+            r.update(zip(OBS_FIELDS, p[5:13]))
         elif p[0] == "S":
             stack = int(p[1])
         elif p[0] == "E":
@@ -376,7 +404,10 @@ def obs_fields(row):
 
 
 def obs_discrete(row):
-    return (row.get("status"), row.get("valid"), row.get("v_status"), row.get("flags"))
+    """Status, valid bits, observer status and flags, and both saturation counts (0 in
+    float32)."""
+    return (row.get("status"), row.get("valid"), row.get("v_status"), row.get("flags"),
+            row.get("sat"), row.get("v_sat"))
 
 
 def obs_compare(rows, ref, dbl):
@@ -404,21 +435,34 @@ def obs_compare(rows, ref, dbl):
     return bad, first, fields
 
 
-def obs_check_replay(host_rows, replay_rows):
-    """The host float32 program against the replay's estimate log (%.9g: reads back as the
-    same float): every logged value equal."""
+def obs_check_replay(host_rows, replay_rows, variant="f32"):
+    """The host program against the replay's estimate log: every logged value equal. float32:
+    the log's %.9g reads back as the same float; fixed point (--real q31): the log holds each
+    Q word converted exactly to double in the shortest round-trip form, so the word times
+    2^-(its fractional bits) must equal the logged double exactly."""
     names = ("vx", "vy", "beta", "yaw_acc", "sd_vx", "sd_vy", "sd_beta")
     def as_f32(x):
         return struct.unpack("<f", struct.pack("<f", x))[0]
+
+    if variant == "q31":
+        def host(word, field):
+            return math.ldexp(s32(int(word, 16)), -OBS_Q_BITS[field])
+
+        def logged(x):
+            return x
+    else:
+        def host(word, field):
+            return obs_value(word)
+        logged = as_f32
 
     bad, first = abs(len(host_rows) - len(replay_rows)), None
     for i, (h, g) in enumerate(zip(host_rows, replay_rows)):
         err = h["status"] >= 16
         valid = [0 if err else (h["valid"] >> w) & 1 for w in range(4)]
-        n = sum(obs_value(h["mu"][w]) != as_f32(g["mu"][w]) or obs_value(h["sd"][w]) != as_f32(g["sd"][w])
+        n = sum(host(h["mu"][w], "mu") != logged(g["mu"][w]) or host(h["sd"][w], "sd") != logged(g["sd"][w])
                 for w in range(4))
         n += (valid != g["valid"]) + (h["status"] != g["status"])
-        n += sum(obs_value(h[k]) != as_f32(g[k]) for k in names)
+        n += sum(host(h[k], k) != logged(g[k]) for k in names)
         if n and first is None:
             first = f"row {i}: host program {h}; replay {g}"
         bad += n
@@ -542,33 +586,38 @@ def run_obs_entry(a, spec, report, tmp, failures):
         return parse_obs(h.stdout)[0]
 
     if variant == "q31":
-        bad, first, fields = obs_compare(rows, host("q31"), None)
-        verdict = "bit-identical to the host build" if not bad else f"{bad} values differ from the host build"
-        entry["compare"] = {"host": f"host-q31/pil/{tag}", "mismatches": bad, "fields": fields}
+        href = host("q31")
+        bad, first, fields = obs_compare(rows, href, None)
+        verdict = "bit-identical to the host build" if not bad else f"{bad} values DIFFER from the host build"
+        entry["compare"] = {"host": f"host-q31/pil/{tag}", "mismatches": bad, "fields": fields,
+                            "bit_identical_fraction": (sum(e["bit_identical"] for e in fields.values()) /
+                                                       max(1, sum(e["values"] for e in fields.values())))}
     else:
-        h32 = host("f32")
-        bad, first, fields = obs_compare(rows, h32, host("f64"))
+        href = host("f32")
+        bad, first, fields = obs_compare(rows, href, host("f64"))
         same = sum(e["bit_identical"] for e in fields.values())
         total = sum(e["values"] for e in fields.values())
         entry["compare"] = {"host": f"host-f32/pil/{tag}", "mismatches": bad, "fields": fields,
                             "tolerance": OBS_TOLERANCE, "bit_identical_fraction": same / total if total else 0.0}
         verdict = (f"{'within' if not bad else 'OUTSIDE'} the bound of host float32 vs double "
                    f"({same / total:.1%} of values bit-identical)")
-        if kind["replay"] is not None:
-            path = os.path.join(tmp, f"{tag}.replay.csv")
-            cmd = [a.replay, "--in", a.obs_log, "--out", path, *kind["replay"], "--real", "float", "--quiet"]
-            rr = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-            if rr.returncode != 0:
-                sys.exit(f"pil: {' '.join(cmd)} failed ({rr.returncode}):\n{rr.stdout}")
-            bad_r, first_r = obs_check_replay(h32, read_observer_estimates(path))
-            entry["compare"]["replay"] = {"command": "mu_replay " + " ".join(kind["replay"]) + " --real float",
-                                          "mismatches": bad_r}
-            if bad_r:
-                failures.append(f"{label}: the host float32 program differs from mu_replay in {bad_r} "
-                                f"values (the generated inputs are not the replay's): {first_r}")
-            verdict += "; host program = mu_replay" if not bad_r else "; host program DIFFERS from mu_replay"
+    if kind["replay"] is not None:
+        real = "q31" if variant == "q31" else "float"
+        path = os.path.join(tmp, f"{tag}.{variant}.replay.csv")
+        cmd = [a.replay, "--in", a.obs_log, "--out", path, *kind["replay"], "--real", real, "--quiet"]
+        rr = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        if rr.returncode != 0:
+            sys.exit(f"pil: {' '.join(cmd)} failed ({rr.returncode}):\n{rr.stdout}")
+        bad_r, first_r = obs_check_replay(href, read_observer_estimates(path), variant)
+        entry["compare"]["replay"] = {"command": "mu_replay " + " ".join(kind["replay"]) + f" --real {real}",
+                                      "mismatches": bad_r}
+        if bad_r:
+            failures.append(f"{label}: the host program differs from mu_replay --real {real} in {bad_r} "
+                            f"values (the generated inputs are not the replay's): {first_r}")
+        verdict += "; host program = mu_replay" if not bad_r else "; host program DIFFERS from mu_replay"
     if bad:
-        failures.append(f"{label}: {bad} values differ from the host build beyond the bound: {first}")
+        failures.append(f"{label}: {bad} values differ from the host build" +
+                        (" (bit for bit required)" if variant == "q31" else " beyond the bound") + f": {first}")
     step_fn = f"{kind['step']}_{variant}"
     static = report.get("targets", {}).get(target, {}).get("stack", {}).get(step_fn, {}).get("bytes")
     entry["stack_static"] = static

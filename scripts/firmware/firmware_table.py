@@ -10,7 +10,10 @@ With --obs-page / --readme-page it also writes the observer's cost (the observer
 pil.json: instructions per observer step against the default friction step, and where the
 observer's instructions go) between <!-- observer-cost:begin --> and <!-- observer-cost:end -->
 of those pages (docs/OBSERVER_RESULTS.md: the table; README.md: one line), with the host's
-figure from --bench (build/bench/bench.json of `make bench`) when it exists.
+figure from --bench (build/bench/bench.json of `make bench`) when it exists. One row per observer
+entry (float32 and fixed point, each core) with its ratio to the default friction step of the
+same build; the 15 % target is judged (met / missed) on the Cortex-M4 rows, and the breakdown of
+where the observer's instructions go is given for those.
 """
 import argparse
 import json
@@ -19,6 +22,7 @@ import sys
 BEGIN, END = "<!-- firmware:begin -->", "<!-- firmware:end -->"
 OBS_BEGIN, OBS_END = "<!-- observer-cost:begin -->", "<!-- observer-cost:end -->"
 TARGET_SHARE = 0.15   # issue 16: the observer adds at most 15 % to the default step (M4)
+TARGET_CORE = "m4f"   # ... on the Cortex-M4, float and fixed point
 TOP_FUNCTIONS = 12    # functions listed in the breakdown of the observer's instructions
 CORES = {"m4f": "Cortex-M4F", "m3": "Cortex-M3", "m0p": "Cortex-M0+"}
 VARIANTS = {"f32": "float32", "q31": "fixed point"}
@@ -106,9 +110,10 @@ def tables(report, pil):
     if obs:
         out.append("")
         out.append(f"Observer entries on `{pil.get('obs_log')}` (every step compared; float32 "
-                   f"bound per output: {pil.get('obs_tolerance')}); the observer and friction "
-                   f"columns count the instructions inside `rfe_velocity_step` and "
-                   f"`rfe_friction_step` of each pipeline step:")
+                   f"bound per output: {pil.get('obs_tolerance')}; fixed point: every word bit for "
+                   f"bit); the observer and friction columns count the instructions inside "
+                   f"`rfe_velocity_step` and `rfe_friction_step` (`_f32`, `_q31`) of each pipeline "
+                   f"step, the ratio is against the default friction step of the same build above:")
         out.append("")
         out.append("| core (QEMU machine) | variant | entry | outputs vs the host build "
                    "| instructions per step, mean (max) | observer, mean (max) | friction, mean (max) "
@@ -117,7 +122,10 @@ def tables(report, pil):
         for r in obs:
             c = r.get("compare", {})
             if r["variant"] == "q31":
-                cmp_ = "bit-identical" if c.get("mismatches") == 0 else f"{c.get('mismatches')} values differ"
+                values = sum(e.get("values", 0) for e in c.get("fields", {}).values())
+                cmp_ = ((f"bit-identical ({values:,} words); status, valid, flags, saturations equal"
+                         if c.get("mismatches") == 0 else f"{c.get('mismatches')} values differ") +
+                        ("; host program = `mu_replay`" if c.get("replay", {}).get("mismatches") == 0 else ""))
             else:
                 worst = max((e["max_abs_diff"] / e["bound"] for e in c.get("fields", {}).values()
                              if e["bound"] > 0), default=0.0)
@@ -192,17 +200,22 @@ def observer_cost(pil, bench, short):
                  "[`docs/OBSERVER_RESULTS.md`](docs/OBSERVER_RESULTS.md#cost-per-step))."
                  if parts else "The velocity observer's cost: not measured (`make pil`, `make firmware-table`).")]
     out = ["| where | observer step, instructions | default friction step | observer / default step "
-           f"| target ≤ {pct(TARGET_SHARE, 0)} |", "|---|---|---|---|---|"]
+           f"| target ≤ {pct(TARGET_SHARE, 0)} (Cortex-M4) |", "|---|---|---|---|---|"]
     for r, q in rows:
+        verdict = "met" if q[2] <= TARGET_SHARE else "missed"
+        if r["target"].split("-")[0] != TARGET_CORE:
+            verdict = f"– (the target's core is the M4; {verdict} here)"
         out.append(f"| {CORES.get(r['target'].split('-')[0], r['target'])} {VARIANTS[r['variant']]} "
                    f"({r['machine']}, `make pil`: in the pipeline on {r['scenario']}, first "
-                   f"{r['instructions_per_step']['steps']} steps; friction: default.sckf on "
-                   f"{pil.get('log', '?')}) | {q[0]:,.0f} | {q[1]:,.0f} | {pct(q[2], 1)} "
-                   f"| {'met' if q[2] <= TARGET_SHARE else 'missed'} |")
+                   f"{r['instructions_per_step']['steps']} steps; friction: default.sckf of the same "
+                   f"build on {pil.get('log', '?')}) | {q[0]:,.0f} | {q[1]:,.0f} | {pct(q[2], 1)} "
+                   f"| {verdict} |")
     if host:
         out.append(f"| host x86-64 float32 (`make bench`, callgrind, {bench.get('log', '?')}) "
                    f"| {host[0]:,.0f} | {host[1]:,.0f} | {pct(host[2], 1)} | – |")
     for r, q in rows:
+        if r["target"].split("-")[0] != TARGET_CORE:
+            continue  # the breakdown on the target's core (float32 and fixed point) only
         funcs = r.get("instructions_per_function", {})
         key = next((k for k in funcs if k.startswith("rfe_velocity_step")), None)
         if key is None:

@@ -492,6 +492,12 @@ static void test_rfe_replay_run_observer_q31_checks_its_arguments(void **state)
         rfe_params_q31_t pq;
         assert_int_equal(rfe_replay_params_q31(NULL, &pq, NULL), RFE_ERR_NULL);
         assert_int_equal(rfe_replay_params_q31(&ps, NULL, NULL), RFE_ERR_NULL);
+        {
+            rfe_velocity_params_q31_t vq;
+            assert_int_equal(rfe_replay_observer_params_q31(NULL, &pq, &vq, NULL), RFE_ERR_NULL);
+            assert_int_equal(rfe_replay_observer_params_q31(&ps, &pq, NULL, NULL), RFE_ERR_NULL);
+            assert_int_equal(rfe_replay_observer_params_q31(&ps, &pq, &vq, NULL), RFE_OK);
+        }
     }
     /* an invalid value: diagnosed as in the double run (the double path comes first) */
     ps.value[RFE_PK_mu0] = 2.0;

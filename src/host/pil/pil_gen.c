@@ -7,10 +7,12 @@
  *   pil_gen --in LOG.csv --out DATA.c [--preset paper|default] [--filter sckf|ckf]
  *           [--tyre paper|absolute] [--rows N] [--estimator friction|pipeline]
  *
- * --estimator pipeline (float only): the composed pipeline of a production car's sensors
- * (rfe/pipeline.h) instead of the friction estimator: the parameters, the observer's
- * parameters (rfe_replay_velocity_params: its obs_* keys) and the ESC samples exactly as
- * `mu_replay --velocity observer --real float` steps them (rfe_replay_esc_input).
+ * --estimator pipeline: the composed pipeline of a production car's sensors (rfe/pipeline.h,
+ * rfe/pipeline_q31.h) instead of the friction estimator: the parameters, the observer's
+ * parameters (its obs_* keys) and the ESC samples exactly as `mu_replay --velocity observer`
+ * steps them, float (`--real float`: rfe_replay_params_f32, rfe_replay_velocity_params_f32,
+ * rfe_replay_esc_input) and, under PIL_Q31, fixed point (`--real q31`:
+ * rfe_replay_observer_params_q31, rfe_replay_esc_input_q31).
  *
  * Parameters: the library preset, then the log's `# key = value` metadata, then --filter and
  * --tyre (mu_replay's order). Float: rfe_replay_params_f32 (the keys' doubles rounded to
@@ -112,6 +114,48 @@ static uint32_t put_friction(FILE *f, const rfe_params_t *p, const rfe_params_q3
     return in_sat;
 }
 
+/* The fixed-point data of the pipeline image (PIL_PIPELINE with PIL_Q31): parameters,
+ * observer parameters (rfe_velocity_params_q31_t: driven (uint32_t), then int32 words only;
+ * checked in main) and the ESC samples as rfe_replay_run_observer_q31 steps them
+ * (rfe_replay_esc_input_q31); returns how many values saturated in the Q formats. */
+static uint32_t put_pipeline_q31(FILE *f, const rfe_params_q31_t *q, const rfe_velocity_params_q31_t *vq,
+                                 const rfe_sensor_log_t *log, size_t rows)
+{
+    uint32_t in_sat = 0u;
+    size_t i, w, off;
+    fputs("#if defined(PIL_Q31)\nconst rfe_params_q31_t pil_params = {\n", f);
+    put_q31_block(f, q, offsetof(rfe_params_q31_t, vehicle), sizeof(rfe_vehicle_q31_t));
+    put_q31_block(f, q, offsetof(rfe_params_q31_t, tyre), sizeof(rfe_tyre_params_q31_t));
+    put_q31_block(f, q, offsetof(rfe_params_q31_t, filter), sizeof(rfe_filter_params_q31_t));
+    fprintf(f, "};\n\nconst rfe_velocity_params_q31_t pil_velocity_params = {%" PRIu32 "u", vq->driven);
+    for (off = sizeof vq->driven; off < sizeof *vq; off += sizeof(int32_t)) {
+        int32_t v;
+        memcpy(&v, (const char *)vq + off, sizeof v);
+        fprintf(f, ", %" PRId32, v);
+    }
+    fputs("};\n\nconst rfe_velocity_input_q31_t pil_inputs[] = {\n", f);
+    for (i = 0u; i < rows; ++i) {
+        rfe_velocity_input_q31_t in;
+        in_sat += rfe_replay_esc_input_q31(log, i, &in);
+        fprintf(f, "    {%" PRId32 ", %" PRId32 ", %" PRId32 ", %" PRId32 ", %" PRId32 ", %" PRId32 ", {",
+                in.dt, in.delta, in.steer_wheel, in.yaw_rate, in.ax, in.ay);
+        for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
+            fprintf(f, "%s%" PRId32, w == 0u ? "" : ", ", in.omega[w]);
+        }
+        fputs("}, {", f);
+        for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
+            fprintf(f, "%s%" PRId32, w == 0u ? "" : ", ", in.p_brake[w]);
+        }
+        fputs("}, {", f);
+        for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
+            fprintf(f, "%s%" PRId32, w == 0u ? "" : ", ", in.torque[w]);
+        }
+        fprintf(f, "}, %" PRId32 ", %" PRIu32 "u},\n", in.grade, in.has);
+    }
+    fputs("};\n", f);
+    return in_sat;
+}
+
 /* One float per element (hexadecimal literal: the exact bits). */
 static void put_floats(FILE *f, const float *v, size_t n)
 {
@@ -123,14 +167,14 @@ static void put_floats(FILE *f, const float *v, size_t n)
     fputs("}", f);
 }
 
-/* The float data of the pipeline image (PIL_PIPELINE): parameters, observer parameters and
- * the ESC samples; rfe_velocity_params_t is driven (uint32_t) followed by floats only
- * (checked in main). */
+/* The float data of the pipeline image (PIL_PIPELINE without PIL_Q31): parameters, observer
+ * parameters and the ESC samples; rfe_velocity_params_t is driven (uint32_t) followed by
+ * floats only (checked in main). */
 static void put_pipeline(FILE *f, const rfe_params_t *p, const rfe_velocity_params_t *vp,
                          const rfe_sensor_log_t *log, size_t rows)
 {
     size_t i, off;
-    fputs("#if !defined(PIL_Q31)\nconst rfe_params_t pil_params = {\n", f);
+    fputs("#else\nconst rfe_params_t pil_params = {\n", f);
     put_float_block(f, p, offsetof(rfe_params_t, vehicle), sizeof(rfe_vehicle_t));
     put_float_block(f, p, offsetof(rfe_params_t, tyre), sizeof(rfe_tyre_params_t));
     put_float_block(f, p, offsetof(rfe_params_t, filter), sizeof(rfe_filter_params_t));
@@ -170,6 +214,7 @@ int main(int argc, char **argv)
     const char *estimator = "friction";
     int pipeline;
     rfe_velocity_params_t vp;
+    rfe_velocity_params_q31_t vq;
     size_t rows = 0u;
     rfe_sensor_log_t log;
     rfe_param_set_t ps;
@@ -224,7 +269,8 @@ int main(int argc, char **argv)
         return 1;
     }
     if (rfe_replay_params_f32(&ps, &p, NULL) != RFE_OK ||
-        (pipeline ? rfe_replay_velocity_params_f32(&ps, &vp, NULL) : rfe_replay_params_q31(&ps, &q, NULL)) != RFE_OK) {
+        (pipeline ? rfe_replay_velocity_params_f32(&ps, &vp, NULL) : rfe_replay_params_q31(&ps, &q, NULL)) != RFE_OK ||
+        (pipeline && rfe_replay_observer_params_q31(&ps, &q, &vq, NULL) != RFE_OK)) {
         fprintf(stderr, "pil_gen: %s: the parameters are rejected\n", in);
         return 1;
     }
@@ -237,7 +283,9 @@ int main(int argc, char **argv)
         sizeof(rfe_params_q31_t) != sizeof(rfe_vehicle_q31_t) + sizeof(rfe_tyre_params_q31_t) + sizeof(rfe_filter_params_q31_t) ||
         sizeof(float) != 4u || sizeof(rfe_tyre_mode_t) != 4u || sizeof(rfe_params_t) % 4u != 0u ||
         sizeof(rfe_params_q31_t) % 4u != 0u || offsetof(rfe_velocity_params_t, driven) != 0u ||
-        sizeof vp.driven != sizeof(float) || sizeof vp % sizeof(float) != 0u) {
+        sizeof vp.driven != sizeof(float) || sizeof vp % sizeof(float) != 0u ||
+        offsetof(rfe_velocity_params_q31_t, driven) != 0u || sizeof vq.driven != sizeof(int32_t) ||
+        sizeof vq % sizeof(int32_t) != 0u) {
         fprintf(stderr, "pil_gen: unexpected parameter struct layout on the host\n");
         return 1;
     }
@@ -252,6 +300,7 @@ int main(int argc, char **argv)
     fputs("#include \"pil_data.h\"\n\n", f);
     fprintf(f, "const uint32_t pil_n_samples = %zuu;\n\n", rows);
     if (pipeline) {
+        in_sat = put_pipeline_q31(f, &q, &vq, &log, rows);
         put_pipeline(f, &p, &vp, &log, rows);
     } else {
         in_sat = put_friction(f, &p, &q, &log, rows);
