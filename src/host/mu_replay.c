@@ -32,7 +32,7 @@ static const char k_usage[] =
     "usage: " PROG " --in SENSOR.csv --out ESTIMATE.csv [--preset default|paper]\n"
     "                 [--params FILE] [--filter sckf|ckf] [--tyre paper|absolute|magic]\n"
     "                 [--real float|double|q31] [--velocity auto|observer|measured]\n"
-    "                 [--metrics FILE.json] [--quiet] [--help]\n"
+    "                 [--metrics FILE.json] [--strict] [--quiet] [--help]\n"
     "\n"
     "Runs the road-friction estimator over a sensor log (docs DATA.md) and writes the\n"
     "estimate log. Parameters: the --preset set < the log's '# key = value' metadata <\n"
@@ -59,6 +59,10 @@ static const char k_usage[] =
     "                   --real; the estimate log gains vx_est .. sd_beta), or auto\n"
     "                   (default): measured when the log has the columns, else observer\n"
     "  --metrics FILE   write run summary and accuracy as JSON\n"
+    "  --strict         stop at the first empty, nan/inf or out-of-range cell (exit 1);\n"
+    "                   by default such a cell goes to the estimator as NaN/Inf, which\n"
+    "                   rejects that sample (status 17) and holds its estimate, and the\n"
+    "                   run ends with a count per cause\n"
     "  --quiet, -q      print nothing on success\n"
     "  --help, -h       print this help and exit\n"
     "\n"
@@ -78,6 +82,7 @@ typedef struct {
     const char *velocity;
     int quiet;
     int help;
+    int strict; /**< --strict: a bad cell is an input error */
 } options_t;
 
 /** Everything one run produces. */
@@ -99,6 +104,8 @@ typedef rfe_status_t (*replay_fn_t)(const rfe_param_set_t *, const rfe_sensor_lo
 
 static int usage_error(const char *fmt, const char *arg);
 static const char **option_slot(options_t *o, const char *name);
+static int *flag_slot(options_t *o, const char *name);
+static void print_bad_cells(FILE *f, const run_t *r);
 static int parse_args(int argc, char **argv, options_t *o);
 static int check_option_words(options_t *o);
 static int same_file(const char *a, const char *b);
@@ -193,6 +200,21 @@ static const char **option_slot(options_t *o, const char *name)
     return NULL;
 }
 
+/* Where an option without a value goes, or NULL when @p name is not one. */
+static int *flag_slot(options_t *o, const char *name)
+{
+    if (strcmp(name, "help") == 0) {
+        return &o->help;
+    }
+    if (strcmp(name, "quiet") == 0) {
+        return &o->quiet;
+    }
+    if (strcmp(name, "strict") == 0) {
+        return &o->strict;
+    }
+    return NULL;
+}
+
 /* Accepts `--opt VALUE` and `--opt=VALUE`. Returns 0, or -1 after a one-line message. */
 static int parse_args(int argc, char **argv, options_t *o)
 {
@@ -213,11 +235,11 @@ static int parse_args(int argc, char **argv, options_t *o)
         }
         memcpy(name, arg + 2, n - 2u);
         name[n - 2u] = '\0';
-        if ((strcmp(name, "help") == 0) || (strcmp(name, "quiet") == 0)) {
+        if (flag_slot(o, name) != NULL) {
             if (eq != NULL) {
                 return usage_error("option '%s' takes no value", arg);
             }
-            *((name[0] == 'h') ? &o->help : &o->quiet) = 1;
+            *flag_slot(o, name) = 1;
             continue;
         }
         slot = option_slot(o, name);
@@ -296,8 +318,13 @@ static int fail(const rfe_io_error_t *err)
 static int load_params(const options_t *o, run_t *r)
 {
     rfe_io_error_t err;
-    if (rfe_sensor_log_read(o->in, &r->log, &err) != 0) {
+    if (rfe_sensor_log_read_cells(o->in, o->strict ? RFE_CELLS_STRICT : RFE_CELLS_KEEP, &r->log,
+                                  &err) != 0) {
         return fail(&err);
+    }
+    if (!o->quiet && (r->log.bad_rows != 0u)) {
+        fprintf(stderr, "%s: note: %s: ", PROG, o->in);
+        print_bad_cells(stderr, r);
     }
     (void)rfe_param_set_preset_f64(&r->ps, o->preset_id); /* cannot fail: parsed preset */
     if (rfe_param_set_apply_meta(&r->ps, &r->log, o->in, &err) != 0) {
@@ -616,7 +643,10 @@ static int write_metrics_json(const options_t *o, const run_t *r)
                 (unsigned long)r->q31.est_sat_max, (unsigned long long)r->q31.input_sat,
                 r->q31.input_sat_rows);
     }
-    fprintf(f, "  \"steps\": %zu,\n  \"status_counts\": {", r->stats.n_steps);
+    fprintf(f, "  \"steps\": %zu,\n  \"bad_cells\": {\"empty\": %zu, \"nonfinite\": %zu, "
+               "\"range\": %zu, \"rows\": %zu},\n  \"status_counts\": {",
+            r->stats.n_steps, r->log.bad_cells[RFE_CELL_EMPTY], r->log.bad_cells[RFE_CELL_NONFINITE],
+            r->log.bad_cells[RFE_CELL_RANGE], r->log.bad_rows);
     for (s = 0u; s < RFE_REPLAY_STATUS_SLOTS; ++s) {
         if (r->stats.status_count[s] != 0u) {
             fprintf(f, "%s\"%zu\": %zu", sep, s, r->stats.status_count[s]);
@@ -638,10 +668,27 @@ static int write_metrics_json(const options_t *o, const run_t *r)
     return 0;
 }
 
+/* The bad cells the run kept (csv_log.h RFE_CELLS_KEEP), per cause: one line, or nothing. */
+static void print_bad_cells(FILE *f, const run_t *r)
+{
+    size_t c;
+    if (r->log.bad_rows == 0u) {
+        return;
+    }
+    fprintf(f, "bad cells (given to the estimator as NaN/Inf, the row rejected):");
+    for (c = 0u; c < (size_t)RFE_CELL_CAUSES; ++c) {
+        fprintf(f, " %s %zu%s", rfe_cell_cause_str((rfe_cell_cause_t)c), r->log.bad_cells[c],
+                (c + 1u < (size_t)RFE_CELL_CAUSES) ? "," : "");
+    }
+    fprintf(f, "; in %zu row(s), the first at line %zu column %zu (--strict stops there)\n",
+            r->log.bad_rows, r->log.bad_first_line, r->log.bad_first_col);
+}
+
 static void print_status_counts(const run_t *r)
 {
     size_t s;
     printf("steps: %zu\n", r->stats.n_steps);
+    print_bad_cells(stdout, r);
     for (s = 0u; s < RFE_REPLAY_STATUS_SLOTS; ++s) {
         if (r->stats.status_count[s] != 0u) {
             const char *name = (s + 1u < RFE_REPLAY_STATUS_SLOTS)

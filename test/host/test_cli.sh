@@ -6,7 +6,7 @@
 # Prints one line per check and closes with "cli: N passed, N failed"; exits 1 on a failure.
 # Requirements (docs/REQUIREMENTS.md; the script is one test case "test_cli"):
 # REQ-CLI-001 REQ-CLI-003 REQ-CLI-004 REQ-CSV-002 REQ-CSV-005 REQ-CSV-006 REQ-PARF-002 REQ-PARF-003
-# REQ-PARF-004 REQ-MET-002 REQ-CLI-005
+# REQ-PARF-004 REQ-MET-002 REQ-CLI-005 REQ-CSV-007
 set -u
 
 BIN=${1:?usage: test_cli.sh path/to/mu_replay}
@@ -80,7 +80,10 @@ cmp -s "$DATA/good_small.csv" "$TMP/in.csv" && ok "out_is_in: input untouched" |
 # ---- malformed input (exit 1, one line naming FILE:LINE:COL)
 input_error bad_number "$DATA/bad_number.csv" "^mu_replay: .*bad_number\.csv:4:3: column 'vx': "
 input_error wrong_count "$DATA/wrong_count.csv" "^mu_replay: .*wrong_count\.csv:3:12: wrong column count"
-input_error nan_text "$DATA/nan_value.csv" "^mu_replay: .*nan_value\.csv:3:7: column 'ax': nan"
+# --strict: a nan cell stops the run at its line and column (as a broken file)
+run nan_strict 1 --in "$DATA/nan_value.csv" --out "$TMP/est.csv" --strict
+one_line nan_strict "^mu_replay: .*nan_value\.csv:3:7: column 'ax': nan"
+[ ! -e "$TMP/est.csv" ] && ok "nan_strict: nothing written" || { bad "nan_strict: estimate log written"; rm -f "$TMP/est.csv"; }
 input_error missing_column "$DATA/missing_column.csv" "^mu_replay: .*missing_column\.csv:2: velocity column 'vy' missing \(give all of vx, vy, yaw_acc or none\)$"
 input_error empty_file "$DATA/empty.csv" "^mu_replay: .*empty\.csv: empty file"
 input_error time_backwards "$DATA/time_backwards.csv" "^mu_replay: .*time_backwards\.csv:4:1: "
@@ -292,6 +295,35 @@ grep -q '^# obs_sd_r = 0.01$' "$TMP/v.csv" && grep -q '^# obs_driven = 12$' "$TM
     && ok "obs_keys: applied and written" || bad "obs_keys: metadata"
 run measured_no_obs_keys 0 --in "$DATA/good_small.csv" --out "$TMP/v.csv"
 grep -q '^# obs_' "$TMP/v.csv" && bad "measured_no_obs_keys: obs_* written" || ok "measured_no_obs_keys: none written"
+
+# ---- bad cells (REQ-CSV-007): by default an empty, nan/inf or out-of-range cell goes to the
+#      estimator as NaN/Inf; the library rejects that row (17), the estimate is held, the
+#      row is in the estimate log with its status, and the run counts the cells per cause.
+for real in float double q31; do
+    run "nan_kept_$real" 0 --in "$DATA/nan_value.csv" --out "$TMP/nk.csv" --metrics "$TMP/nk.json" --real $real
+    # row 2 (t = 0.01): status 17, not valid, mu and sd those of row 1 (held)
+    awk -F, '!/^#/ && $1 == "0" { r0 = $2 FS $3 FS $4 FS $5 FS $6 FS $7 FS $8 FS $9 }
+             !/^#/ && $1 == "0.01" { r1 = $2 FS $3 FS $4 FS $5 FS $6 FS $7 FS $8 FS $9; tail = $10 FS $11 FS $12 FS $13 FS $14 }
+             END { exit !(r0 != "" && r0 == r1 && tail == "0,0,0,0,17") }' "$TMP/nk.csv" \
+        && ok "nan_kept_$real: row held, not valid, status 17" || bad "nan_kept_$real: $(grep -v '^#' "$TMP/nk.csv" | head -3 | tr '\n' ' ')"
+    grep -q '^  status 17 non-finite input  *1$' "$TMP/out" && ok "nan_kept_$real: counted" || bad "nan_kept_$real: no status 17 count"
+    grep -q '^bad cells (given to the estimator as NaN/Inf, the row rejected): empty 0, nan/inf 1, out of range 0; in 1 row(s), the first at line 3 column 7' "$TMP/out" \
+        && ok "nan_kept_$real: count per cause" || bad "nan_kept_$real: summary $(grep '^bad' "$TMP/out")"
+    grep -q '"bad_cells": {"empty": 0, "nonfinite": 1, "range": 0, "rows": 1},' "$TMP/nk.json" \
+        && ok "nan_kept_$real: JSON" || bad "nan_kept_$real: JSON"
+done
+grep -q '^mu_replay: note: .*nan_value\.csv: bad cells' "$TMP/err" && ok "nan_kept: note on stderr" || bad "nan_kept: no note: $(cat "$TMP/err")"
+# an empty cell and one beyond a double, with the observer (float and q31)
+sed 's/^0\.01,0,19\.98,0,0,0,nan,0,59\.9,/0.01,0,19.98,0,,0,1e999,0,59.9,/' "$DATA/nan_value.csv" >"$TMP/cells.csv"
+for real in float q31; do
+    run "cells_observer_$real" 0 --in "$TMP/cells.csv" --out "$TMP/co.csv" --velocity observer --real $real
+    grep -q 'empty 1, nan/inf 0, out of range 1; in 1 row(s), the first at line 3 column 5' "$TMP/out" \
+        && ok "cells_observer_$real: both causes" || bad "cells_observer_$real: $(grep '^bad' "$TMP/out")"
+    grep -Eq '^0\.01,([^,]*,){8}0,0,0,0,17,' "$TMP/co.csv" && ok "cells_observer_$real: row rejected (17)" \
+        || bad "cells_observer_$real: $(grep '^0.01,' "$TMP/co.csv")"
+done
+run cells_quiet 0 --in "$TMP/cells.csv" --out "$TMP/co.csv" -q
+[ ! -s "$TMP/out" ] && [ ! -s "$TMP/err" ] && ok "cells_quiet: nothing printed" || bad "cells_quiet: printed"
 
 # ---- --real q31: the fixed-point estimator (docs/FIXED_POINT.md "Estimator")
 run good_q31 0 --in "$DATA/good_small.csv" --out "$TMP/q.csv" --metrics "$TMP/q.json" --real q31
