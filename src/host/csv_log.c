@@ -519,6 +519,36 @@ static int map_header_fields(reader_t *r, size_t n)
     return 0;
 }
 
+/* Every required input column the header lacks, all in one message (a log missing several
+ * names them all, each with its column_ alias when the metadata gave one); 0 when none. */
+static int missing_inputs(reader_t *r, const size_t *present)
+{
+    char list[RFE_IO_MSG_MAX];
+    size_t used = 0u;
+    size_t n = 0u;
+    size_t k;
+    list[0] = '\0';
+    for (k = 0u; k < N_COLS; ++k) {
+        if ((k_cols[k].kind == COL_INPUT) && (present[k] == 0u) && (used < sizeof list)) {
+            const int w = (r->want[k] != k_cols[k].name)
+                              ? snprintf(list + used, sizeof list - used,
+                                         "%s'%s' (named '%s' by its column_%s metadata)",
+                                         (n > 0u) ? ", " : "", k_cols[k].name, r->want[k],
+                                         k_cols[k].name)
+                              : snprintf(list + used, sizeof list - used, "%s'%s'",
+                                         (n > 0u) ? ", " : "", k_cols[k].name);
+            used += (w > 0) ? (size_t)w : 0u;
+            ++n;
+        }
+    }
+    if (n == 0u) {
+        return 0;
+    }
+    rfe_io_error_set(r->err, r->name, r->line, 0u, "missing column%s %s", (n > 1u) ? "s" : "",
+                     list);
+    return -1;
+}
+
 /* Every input column present, delta or swa (one of them), each optional group all or none. */
 static int check_columns(reader_t *r, rfe_sensor_log_t *log)
 {
@@ -538,19 +568,11 @@ static int check_columns(reader_t *r, rfe_sensor_log_t *log)
             present[r->field_col[j]] = 1u;
         }
     }
+    if (missing_inputs(r, present) != 0) {
+        return -1;
+    }
     for (k = 0u; k < N_COLS; ++k) {
         const col_kind_t g = k_cols[k].kind;
-        if ((g == COL_INPUT) && (present[k] == 0u)) {
-            if (r->want[k] != k_cols[k].name) {
-                rfe_io_error_set(r->err, r->name, r->line, 0u,
-                                 "missing column '%s' (named '%s' by its column_%s metadata)",
-                                 k_cols[k].name, r->want[k], k_cols[k].name);
-            } else {
-                rfe_io_error_set(r->err, r->name, r->line, 0u, "missing column '%s'",
-                                 k_cols[k].name);
-            }
-            return -1;
-        }
         n_present[g] += present[k];
         if ((present[k] == 0u) && (missing[g] == NULL)) {
             missing[g] = k_cols[k].name;

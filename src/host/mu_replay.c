@@ -32,7 +32,8 @@ static const char k_usage[] =
     "usage: " PROG " --in SENSOR.csv --out ESTIMATE.csv [--preset default|paper]\n"
     "                 [--params FILE] [--filter sckf|ckf] [--tyre paper|absolute|magic]\n"
     "                 [--real float|double|q31] [--velocity auto|observer|measured]\n"
-    "                 [--metrics FILE.json] [--strict] [--quiet] [--help]\n"
+    "                 [--metrics FILE.json] [--strict] [--require-params] [--quiet]\n"
+    "                 [--help]\n"
     "\n"
     "Runs the road-friction estimator over a sensor log (docs DATA.md) and writes the\n"
     "estimate log. Parameters: the --preset set < the log's '# key = value' metadata <\n"
@@ -63,6 +64,9 @@ static const char k_usage[] =
     "                   by default such a cell goes to the estimator as NaN/Inf, which\n"
     "                   rejects that sample (status 17) and holds its estimate, and the\n"
     "                   run ends with a count per cause\n"
+    "  --require-params make a log without vehicle parameters (m, Lf, Lr, Bf, Br, R, J,\n"
+    "                   hg in its metadata) and without --params an error; by default\n"
+    "                   the preset's values are used and a warning names them\n"
     "  --quiet, -q      print nothing on success\n"
     "  --help, -h       print this help and exit\n"
     "\n"
@@ -83,6 +87,7 @@ typedef struct {
     int quiet;
     int help;
     int strict; /**< --strict: a bad cell is an input error */
+    int require_params; /**< --require-params: no vehicle parameters is an input error */
 } options_t;
 
 /** Everything one run produces. */
@@ -95,6 +100,7 @@ typedef struct {
     int is_double;
     int is_q31;
     int use_observer;  /**< vx, vy, r-dot from the velocity observer (--velocity) */
+    int preset_vehicle; /**< no vehicle key from a file: the preset's car (check_vehicle) */
     int has_metrics;
     rfe_metrics_t metrics;
 } run_t;
@@ -112,6 +118,8 @@ static int same_file(const char *a, const char *b);
 static int load_params(const options_t *o, run_t *r);
 static int prepare_log(const options_t *o, run_t *r);
 static int check_period(const options_t *o, run_t *r);
+static int check_vehicle(const options_t *o, run_t *r);
+static void warn_preset_vehicle(const options_t *o, const run_t *r);
 static int run_estimator(const options_t *o, run_t *r);
 static int write_estimates(const options_t *o, const run_t *r);
 static void compute_metrics(run_t *r);
@@ -135,6 +143,9 @@ int main(int argc, char **argv)
     }
     rc = load_params(&o, &r);
     if (rc == 0) {
+        rc = check_vehicle(&o, &r);
+    }
+    if (rc == 0) {
         rc = prepare_log(&o, &r);
     }
     if (rc == 0) {
@@ -143,6 +154,7 @@ int main(int argc, char **argv)
     if (rc == 0) {
         rc = write_estimates(&o, &r);
     }
+
     if ((rc == 0) && r.log.has_truth) {
         compute_metrics(&r);
     }
@@ -159,6 +171,9 @@ int main(int argc, char **argv)
             fprintf(stderr, "%s: stdout: write failed\n", PROG);
             rc = -1;
         }
+    }
+    if (rc == 0) {
+        warn_preset_vehicle(&o, &r); /* once the run succeeded: errors stay one line */
     }
     free(r.rows);
     rfe_sensor_log_free(&r.log);
@@ -211,6 +226,9 @@ static int *flag_slot(options_t *o, const char *name)
     }
     if (strcmp(name, "strict") == 0) {
         return &o->strict;
+    }
+    if (strcmp(name, "require-params") == 0) {
+        return &o->require_params;
     }
     return NULL;
 }
@@ -272,6 +290,10 @@ static int check_option_words(options_t *o)
     }
     if ((o->filter != NULL) && (rfe_filter_kind_parse(o->filter, &fk) != 0)) {
         return usage_error("--filter must be sckf or ckf, not '%s'", o->filter);
+    }
+    if ((o->filter != NULL) && (fk == RFE_FILTER_CKF) && (o->preset_id != RFE_PRESET_PAPER)) {
+        return usage_error("%s", "--filter ckf: the CKF baseline needs --preset paper (it runs "
+                                 "only the paper subset of the parameters)");
     }
     if ((o->tyre != NULL) && (rfe_tyre_mode_parse(o->tyre, &tm) != 0)) {
         return usage_error("--tyre must be paper, absolute or magic, not '%s'", o->tyre);
@@ -354,6 +376,46 @@ static int load_params(const options_t *o, run_t *r)
                       (((o->velocity == NULL) || (strcmp(o->velocity, "auto") == 0)) &&
                        !r->log.has_velocity);
     return 0;
+}
+
+/* The vehicle keys (m .. hg of the key table; g is nature's) when neither the log's metadata
+ * nor a parameter file gives any of them: the preset's car stands in, which a user must know
+ * (a warning naming every value), or may forbid (--require-params: an input error). */
+static int check_vehicle(const options_t *o, run_t *r)
+{
+    rfe_io_error_t err;
+    size_t k;
+    for (k = (size_t)RFE_PK_m; k <= (size_t)RFE_PK_hg; ++k) {
+        if (r->ps.origin[k].file != NULL) {
+            return 0;
+        }
+    }
+    if (o->require_params) {
+        rfe_io_error_set(&err, o->in, 0u, 0u, "%s",
+                         "no vehicle parameters (m, Lf, Lr, Bf, Br, R, J, hg) in the log's "
+                         "metadata and no --params file (--require-params)");
+        return fail(&err);
+    }
+    r->preset_vehicle = 1;
+    return 0;
+}
+
+/* The warning of a run on the preset's car (check_vehicle), once the run succeeded. */
+static void warn_preset_vehicle(const options_t *o, const run_t *r)
+{
+    char val[RFE_NUM_BUF];
+    size_t k;
+    if (!r->preset_vehicle || o->quiet) {
+        return;
+    }
+    fprintf(stderr, "%s: warning: %s: no vehicle parameters in the metadata and no --params: "
+                    "the %s preset's car is used:", PROG, o->in, rfe_preset_str(r->ps.preset));
+    for (k = (size_t)RFE_PK_m; k <= (size_t)RFE_PK_hg; ++k) {
+        rfe_param_format(&r->ps, k, val);
+        fprintf(stderr, " %s = %s %s%s", rfe_param_info(k)->key, val, rfe_param_info(k)->unit,
+                (k < (size_t)RFE_PK_hg) ? "," : "");
+    }
+    fprintf(stderr, " (--require-params makes this an error)\n");
 }
 
 /* A recorded car's log in the library's terms, once the parameters are known: wheel speeds

@@ -6,7 +6,7 @@
 # Prints one line per check and closes with "cli: N passed, N failed"; exits 1 on a failure.
 # Requirements (docs/REQUIREMENTS.md; the script is one test case "test_cli"):
 # REQ-CLI-001 REQ-CLI-003 REQ-CLI-004 REQ-CSV-002 REQ-CSV-005 REQ-CSV-006 REQ-PARF-002 REQ-PARF-003
-# REQ-PARF-004 REQ-MET-002 REQ-CLI-005 REQ-CSV-007
+# REQ-PARF-004 REQ-MET-002 REQ-CLI-005 REQ-CSV-007 REQ-CLI-006
 set -u
 
 BIN=${1:?usage: test_cli.sh path/to/mu_replay}
@@ -163,8 +163,10 @@ grep -q '^# param_file = params_good.par$' "$TMP/p.csv" && ok "precedence: param
 
 # The CKF baseline runs only the paper subset (docs/ESTIMATOR.md): with the default preset
 # it is refused in one line that says what to do.
-run ckf_default_preset 1 --in "$DATA/good_small.csv" --out "$TMP/c.csv" --filter ckf
-one_line ckf_default_preset "^mu_replay: command line: filter = ckf: the CKF baseline needs --preset paper"
+# --filter ckf on the command line without --preset paper is a usage error (2), before any file
+run ckf_default_preset 2 --in "$DATA/good_small.csv" --out "$TMP/c.csv" --filter ckf
+grep -q "^mu_replay: --filter ckf: the CKF baseline needs --preset paper" "$TMP/err" \
+    && ok "ckf_default_preset: named" || bad "ckf_default_preset: $(head -1 "$TMP/err")"
 [ ! -e "$TMP/c.csv" ] && ok "ckf_default_preset: nothing written" || bad "ckf_default_preset: estimate log written"
 run ckf_default_preset_file 1 --in "$DATA/good_small.csv" --out "$TMP/c.csv" --params "$DATA/params_good.par"
 one_line ckf_default_preset_file "^mu_replay: .*params_good\.par:6: filter = ckf: the CKF baseline needs --preset paper"
@@ -271,10 +273,10 @@ one_line car_negative_R "^mu_replay: .*car_format_small\.csv: the wheel speeds a
 # a steering-wheel log with measured velocities (a test car): delta = swa / ratio on the host
 printf '# obs_steer_ratio = -2\nt,swa,vx,vy,yaw_rate,yaw_acc,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr\n0,0,20,0,0,0,0,0,61.5,61.5,61.5,61.5\n' >"$TMP/swa_neg.csv"
 input_error car_negative_ratio "$TMP/swa_neg.csv" "^mu_replay: .*swa_neg\.csv:1: obs_steer_ratio = -2: must be a positive number"
-printf 't,delta,yaw_rate,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr\n0,0,0,0,0,61.5,61.5,61.5,61.5\n' >"$TMP/one_row.csv"
+printf '# m = 1830\nt,delta,yaw_rate,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr\n0,0,0,0,0,61.5,61.5,61.5,61.5\n' >"$TMP/one_row.csv"
 run one_row 0 --in "$TMP/one_row.csv" --out "$TMP/o.csv"
 [ -s "$TMP/err" ] && bad "one_row: stderr not empty: $(cat "$TMP/err")" || ok "one_row: no period, no note"
-printf '# dt = 0.01\nt,delta,yaw_rate,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr\n0,0,0,0,0,61.5,61.5,61.5,61.5\n0.01,0,0,0,0,61.5,61.5,61.5,61.5\n0.02,0,0,0,0,61.5,61.5,61.5,61.5\n0.5,0,0,0,0,61.5,61.5,61.5,61.5\n0.51,0,0,0,0,61.5,61.5,61.5,61.5\n' >"$TMP/gap.csv"
+printf '# dt = 0.01\n# m = 1830\nt,delta,yaw_rate,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr\n0,0,0,0,0,61.5,61.5,61.5,61.5\n0.01,0,0,0,0,61.5,61.5,61.5,61.5\n0.02,0,0,0,0,61.5,61.5,61.5,61.5\n0.5,0,0,0,0,61.5,61.5,61.5,61.5\n0.51,0,0,0,0,61.5,61.5,61.5,61.5\n' >"$TMP/gap.csv"
 run gap 0 --in "$TMP/gap.csv" --out "$TMP/g.csv"
 one_line gap "^mu_replay: note: 1 period\(s\) longer than obs_dt_max = 0.1 s \(longest 0.48 s\): the observer rejects the sample after each gap$"
 grep -q 'status 18' "$TMP/out" && ok "gap: the rejected sample counted" || bad "gap: no status 18 in the summary"
@@ -324,6 +326,30 @@ for real in float q31; do
 done
 run cells_quiet 0 --in "$TMP/cells.csv" --out "$TMP/co.csv" -q
 [ ! -s "$TMP/out" ] && [ ! -s "$TMP/err" ] && ok "cells_quiet: nothing printed" || bad "cells_quiet: printed"
+
+# ---- several missing columns are named in one line (REQ-CLI-001)
+printf 't,delta,yaw_rate,omega_fl,omega_fr,omega_rl\n0,0,0,61.5,61.5,61.5\n' >"$TMP/cols.csv"
+input_error missing_columns "$TMP/cols.csv" "^mu_replay: .*cols\.csv:1: missing columns 'ax', 'ay', 'omega_rr'$"
+printf '# column_ax = AccX\nt,delta,yaw_rate,ay,omega_fl,omega_fr,omega_rl,omega_rr\n0,0,0,0,61.5,61.5,61.5,61.5\n' >"$TMP/col1.csv"
+input_error missing_alias "$TMP/col1.csv" "^mu_replay: .*col1\.csv:2: missing column 'ax' \(named 'AccX' by its column_ax metadata\)$"
+
+# ---- a log without vehicle parameters (REQ-CLI-006): a warning naming the preset's car,
+#      or with --require-params an input error; the estimate log records the values used
+printf 't,delta,vx,vy,yaw_rate,yaw_acc,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr\n0,0,20,0,0,0,0,0,61.5,61.5,61.5,61.5\n' >"$TMP/noveh.csv"
+run no_vehicle 0 --in "$TMP/noveh.csv" --out "$TMP/nv.csv"
+one_line no_vehicle "^mu_replay: warning: .*noveh\.csv: no vehicle parameters in the metadata and no --params: the default preset's car is used: m = 1830 kg, Lf = 1\.4 m, .* hg = 0\.54 m \(--require-params makes this an error\)$"
+grep -q '^# m = 1830$' "$TMP/nv.csv" && ok "no_vehicle: m recorded" || bad "no_vehicle: m not in the metadata"
+run no_vehicle_quiet 0 --in "$TMP/noveh.csv" --out "$TMP/nv.csv" -q
+[ ! -s "$TMP/err" ] && ok "no_vehicle_quiet: no warning" || bad "no_vehicle_quiet: $(cat "$TMP/err")"
+run require_params 1 --in "$TMP/noveh.csv" --out "$TMP/rp.csv" --require-params
+one_line require_params "^mu_replay: .*noveh\.csv: no vehicle parameters \(m, Lf, Lr, Bf, Br, R, J, hg\) in the log's metadata and no --params file \(--require-params\)$"
+[ ! -e "$TMP/rp.csv" ] && ok "require_params: nothing written" || bad "require_params: estimate log written"
+printf 'm = 1500\n' >"$TMP/m.par"
+run require_params_file 0 --in "$TMP/noveh.csv" --out "$TMP/rp.csv" --require-params --params "$TMP/m.par"
+[ ! -s "$TMP/err" ] && grep -q '^# m = 1500$' "$TMP/rp.csv" && ok "require_params_file: --params satisfies it" || bad "require_params_file: $(cat "$TMP/err")"
+printf '# m = 1700\n' | cat - "$TMP/noveh.csv" >"$TMP/veh.csv"
+run require_params_meta 0 --in "$TMP/veh.csv" --out "$TMP/rp.csv" --require-params
+[ ! -s "$TMP/err" ] && ok "require_params_meta: metadata satisfies it, no warning" || bad "require_params_meta: $(cat "$TMP/err")"
 
 # ---- --real q31: the fixed-point estimator (docs/FIXED_POINT.md "Estimator")
 run good_q31 0 --in "$DATA/good_small.csv" --out "$TMP/q.csv" --metrics "$TMP/q.json" --real q31
