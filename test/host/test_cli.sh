@@ -6,7 +6,7 @@
 # Prints one line per check and closes with "cli: N passed, N failed"; exits 1 on a failure.
 # Requirements (docs/REQUIREMENTS.md; the script is one test case "test_cli"):
 # REQ-CLI-001 REQ-CLI-003 REQ-CLI-004 REQ-CSV-002 REQ-CSV-005 REQ-CSV-006 REQ-PARF-002 REQ-PARF-003
-# REQ-PARF-004 REQ-MET-002 REQ-CLI-005 REQ-CSV-007 REQ-CLI-006
+# REQ-PARF-004 REQ-MET-002 REQ-CLI-005 REQ-CSV-007 REQ-CLI-006 REQ-DOC-001
 set -u
 
 BIN=${1:?usage: test_cli.sh path/to/mu_replay}
@@ -278,8 +278,20 @@ run one_row 0 --in "$TMP/one_row.csv" --out "$TMP/o.csv"
 [ -s "$TMP/err" ] && bad "one_row: stderr not empty: $(cat "$TMP/err")" || ok "one_row: no period, no note"
 printf '# dt = 0.01\n# m = 1830\nt,delta,yaw_rate,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr\n0,0,0,0,0,61.5,61.5,61.5,61.5\n0.01,0,0,0,0,61.5,61.5,61.5,61.5\n0.02,0,0,0,0,61.5,61.5,61.5,61.5\n0.5,0,0,0,0,61.5,61.5,61.5,61.5\n0.51,0,0,0,0,61.5,61.5,61.5,61.5\n' >"$TMP/gap.csv"
 run gap 0 --in "$TMP/gap.csv" --out "$TMP/g.csv"
-one_line gap "^mu_replay: note: 1 period\(s\) longer than obs_dt_max = 0.1 s \(longest 0.48 s\): the observer rejects the sample after each gap$"
+one_line gap "^mu_replay: note: 1 gap\(s\) longer than 2 periods \(2 x 0.01 s\), the longest 0.48 s before t = 0.5 s: the friction estimator steps over each as one period; the observer steps with the real period and rejects the sample after 1 gap\(s\) longer than obs_dt_max = 0.1 s$"
 grep -q 'status 18' "$TMP/out" && ok "gap: the rejected sample counted" || bad "gap: no status 18 in the summary"
+# REQ-CSV-006: a gap of 3 periods in a measured-velocity log is reported too; jitter is not
+printf '# dt = 0.01\n# m = 1830\nt,delta,vx,vy,yaw_rate,yaw_acc,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr\n0,0,20,0,0,0,0,0,61.5,61.5,61.5,61.5\n0.01,0,20,0,0,0,0,0,61.5,61.5,61.5,61.5\n0.0205,0,20,0,0,0,0,0,61.5,61.5,61.5,61.5\n0.0295,0,20,0,0,0,0,0,61.5,61.5,61.5,61.5\n0.06,0,20,0,0,0,0,0,61.5,61.5,61.5,61.5\n0.07,0,20,0,0,0,0,0,61.5,61.5,61.5,61.5\n' >"$TMP/gapm.csv"
+run gap_measured 0 --in "$TMP/gapm.csv" --out "$TMP/gm.csv"
+one_line gap_measured "^mu_replay: note: 1 gap\(s\) longer than 2 periods \(2 x 0.01 s\), the longest 0.0305 s before t = 0.06 s: the friction estimator steps over each as one period$"
+sed '/^0\.06,/d; s/^0\.07,/0.04,/' "$TMP/gapm.csv" >"$TMP/jitter.csv"
+run jitter 0 --in "$TMP/jitter.csv" --out "$TMP/j.csv"
+[ ! -s "$TMP/err" ] && ok "jitter: accepted without a word" || bad "jitter: $(cat "$TMP/err")"
+# dt within 1 %: accepted; 1.5 % off: an error naming both values
+sed 's/^# dt = 0.01$/# dt = 0.0101/' "$TMP/jitter.csv" >"$TMP/dt1.csv"
+run dt_within_1pct 0 --in "$TMP/dt1.csv" --out "$TMP/j.csv" -q
+sed 's/^# dt = 0.01$/# dt = 0.01015/' "$TMP/jitter.csv" >"$TMP/dt15.csv"
+input_error dt_off_1_5pct "$TMP/dt15.csv" "^mu_replay: .*dt15\.csv:1: dt = 0.01015 s, but the log's time stamps have a median period of 0.01 s"
 # q31: a 3.5 s gap does not fit the period's Q30 (< 2 s): counted as input saturation, and
 # the sample rejected (18) as in float and double
 sed 's/^0\.5,/3.5,/; s/^0\.51,/3.51,/' "$TMP/gap.csv" >"$TMP/gap3.csv"
@@ -326,6 +338,14 @@ for real in float q31; do
 done
 run cells_quiet 0 --in "$TMP/cells.csv" --out "$TMP/co.csv" -q
 [ ! -s "$TMP/out" ] && [ ! -s "$TMP/err" ] && ok "cells_quiet: nothing printed" || bad "cells_quiet: printed"
+
+# ---- the README's status table and the preset tables of DATA.md and ESTIMATOR.md agree with
+#      the code (REQ-DOC-001): the statuses of rfe/common.h, the presets as mu_replay records them
+if python3 "$(dirname "$0")/../../scripts/checks/check_doc_tables.py" "$BIN" >"$TMP/doc.txt" 2>&1; then
+    ok "$(tail -n 1 "$TMP/doc.txt")"
+else
+    bad "doc tables: $(tr '\n' ' ' <"$TMP/doc.txt" | head -c 600)"
+fi
 
 # ---- several missing columns are named in one line (REQ-CLI-001)
 printf 't,delta,yaw_rate,omega_fl,omega_fr,omega_rl\n0,0,0,61.5,61.5,61.5\n' >"$TMP/cols.csv"
