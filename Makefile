@@ -122,12 +122,27 @@ run_cli_test = if [ -f test/host/test_cli.sh ]; then mkdir -p $(RESULTS)/cli; l=
 ## the C tests: float, double, fixed point, host, and the CLI script
 test-c: deps-c $(foreach f,f32 f64,$(addprefix $(BUILD)/$(f)/test/,$(UNIT_TESTS))) \
         $(addprefix $(BUILD)/q31/test/,$(Q31_TESTS)) \
-        $(addprefix $(BUILD)/f64/test/host/,$(HOST_TESTS)) $(BUILD)/mu_replay
+        $(addprefix $(BUILD)/f64/test/host/,$(HOST_TESTS)) $(BUILD)/mu_replay \
+        $(BUILD)/abi/test_abi_mismatch_flt $(BUILD)/abi/test_abi_mismatch_q31
 	@$(call run_tests,f32)
 	@$(call run_tests,f64)
 	@$(call run_q31_tests,q31)
 	@$(call run_host_tests,f64,host)
+	@$(call run_cmocka,abi/test_abi_mismatch_flt,$(BUILD)/abi/test_abi_mismatch_flt,$(RESULTS)/host)
+	@$(call run_cmocka,abi/test_abi_mismatch_q31,$(BUILD)/abi/test_abi_mismatch_q31,$(RESULTS)/host)
 	@$(call run_cli_test,$(BUILD)/mu_replay)
+
+# The ABI guard (REQ-ABI-001, rfe/config.h RFE_CONFIG_*): a test compiled with other maxima
+# (the README's firmware build) and linked against the libraries built with the defaults, as
+# an application linking a prebuilt librfe.a; its results go with the host tests'.
+ABI_MISMATCH := -DRFE_N_MAX=4 -DRFE_M_MAX=3
+$(BUILD)/abi/test_abi_mismatch_flt: test/abi/test_abi_mismatch_flt.c $(BUILD)/f32/librfe.a
+	@mkdir -p $(@D)
+	$(CC) $(DEPFLAGS) $(TEST_WARN) $(ABI_MISMATCH) $(CPPFLAGS_HOST) $< $(BUILD)/f32/librfe.a $(LDLIBS_TEST) -o $@
+$(BUILD)/abi/test_abi_mismatch_q31: test/abi/test_abi_mismatch_q31.c $(BUILD)/q31/librfe_q31.a
+	@mkdir -p $(@D)
+	$(CC) $(DEPFLAGS) $(TEST_WARN) $(ABI_MISMATCH) $(CPPFLAGS_HOST) $< $(BUILD)/q31/librfe_q31.a $(LDLIBS_TEST) -o $@
+-include $(wildcard $(BUILD)/abi/*.d)
 
 # The same tests built with ASan + UBSan (build/asan-*); any report fails the run. ASan
 # aborts (exit 134); for the CLI script UBSan exits 98, so a report can never pass for one of

@@ -33,7 +33,9 @@ typedef enum {
     RFE_ERR_PARAM = 19,             /**< a parameter is invalid (see rfe_params_validate) */
     RFE_ERR_SIZE = 20,              /**< a dimension exceeds the compile-time maxima */
     RFE_ERR_NOT_POSITIVE_DEFINITE = 21, /**< Cholesky / triangular factor failed */
-    RFE_ERR_NOT_INITIALISED = 22    /**< state used before a successful init */
+    RFE_ERR_NOT_INITIALISED = 22,   /**< state used before a successful init */
+    RFE_ERR_ABI = 23                /**< init: the caller was compiled with other maxima or
+                                         another number type (rfe/config.h RFE_CONFIG_*) */
 } rfe_status_t;
 
 /** Wheel order everywhere (MODEL.md §1). */
@@ -78,6 +80,7 @@ static inline const char *rfe_status_str(rfe_status_t s)
     case RFE_ERR_SIZE: name = "dimension exceeds compile-time maximum"; break;
     case RFE_ERR_NOT_POSITIVE_DEFINITE: name = "matrix not positive definite"; break;
     case RFE_ERR_NOT_INITIALISED: name = "not initialised"; break;
+    case RFE_ERR_ABI: name = "caller built with other maxima or number type"; break;
     default: name = "unknown status"; break;
     }
     return name;

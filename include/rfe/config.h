@@ -5,6 +5,8 @@
 #ifndef RFE_CONFIG_H
 #define RFE_CONFIG_H
 
+#include <stdint.h>
+
 /** Largest state dimension the generic filters (SCKF, CKF) support. */
 #ifndef RFE_N_MAX
 #define RFE_N_MAX 8
@@ -17,6 +19,20 @@
 #define RFE_TRIA_COLS_MAX ((2 * RFE_N_MAX) + ((RFE_N_MAX > RFE_M_MAX) ? RFE_N_MAX : RFE_M_MAX))
 /** Number of cubature points at the largest state dimension. */
 #define RFE_CUB_MAX (2 * RFE_N_MAX)
+
+/** The configuration a translation unit was compiled with, in one word: the maxima above,
+ *  then the number type in the low byte (1 float, 2 double, 3 fixed point). Each init's
+ *  wrapper (rfe_friction_init, rfe_velocity_init, rfe_pipeline_init and their _q31 twins)
+ *  passes the caller's word and the caller's sizeof of the state; the library compares them
+ *  with its own and returns RFE_ERR_ABI, writing nothing, when they differ (an application
+ *  built with -DRFE_N_MAX=4 linked against a library built with the defaults). */
+#define RFE_CONFIG_MAXIMA ((((uint32_t)RFE_N_MAX) << 16u) | (((uint32_t)RFE_M_MAX) << 8u))
+#if defined(RFE_REAL_DOUBLE)
+#define RFE_CONFIG_REAL (RFE_CONFIG_MAXIMA | 2u) /**< a double translation unit's word */
+#else
+#define RFE_CONFIG_REAL (RFE_CONFIG_MAXIMA | 1u) /**< a float translation unit's word */
+#endif
+#define RFE_CONFIG_Q31 (RFE_CONFIG_MAXIMA | 3u)  /**< a fixed-point translation unit's word */
 
 /* Input limits of rfe_friction_step (absolute values, SI). A sample outside them is
  * rejected with RFE_ERR_RANGE and leaves the estimator untouched. They are physical

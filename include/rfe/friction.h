@@ -43,6 +43,7 @@
 #define RFE_FRICTION_H
 
 #include "rfe/component/ckf.h"
+#include "rfe/config.h"
 #include "rfe/component/conditioner.h"
 #include "rfe/component/meas.h"
 #include "rfe/params.h"
@@ -102,9 +103,28 @@ typedef struct {
  * @param[out] est     the caller's estimator state; written only on RFE_OK.
  * @param[in]  params  vehicle, tyre and filter parameters (rfe_params_default, then your
  *                     calibration); copied, so the caller may reuse it.
+ * @note The call goes through a macro of the full name that adds the caller's
+ *       sizeof of the state and its RFE_CONFIG_* word (rfe/config.h): RFE_ERR_ABI,
+ *       nothing written, when the caller was compiled with other maxima or another
+ *       number type than the library.
  */
 RFE_NODISCARD rfe_status_t rfe_friction_init(rfe_friction_t *est,
-                                             const rfe_params_t *params);
+                                             const rfe_params_t *params,
+                                             size_t size, uint32_t config);
+/* MISRA-DEV-08: the wrapper passes the caller's layout of the state and its compile-time
+ * configuration, which the init checks (RFE_ERR_ABI). Not in the source that defines the
+ * function (RFE_FRICTION_IMPL), where the name is the function's own. */
+#if !defined(RFE_FRICTION_IMPL)
+#if defined(RFE_REAL_DOUBLE)
+/* cppcheck-suppress misra-c2012-2.5 ; MISRA-DEV-08: the application's entry, unused by the library */
+#define rfe_friction_init_f64(est, params) \
+    rfe_friction_init_f64((est), (params), sizeof(rfe_friction_t), RFE_CONFIG_REAL)
+#else
+/* cppcheck-suppress misra-c2012-2.5 ; MISRA-DEV-08: the application's entry, unused by the library */
+#define rfe_friction_init_f32(est, params) \
+    rfe_friction_init_f32((est), (params), sizeof(rfe_friction_t), RFE_CONFIG_REAL)
+#endif
+#endif
 
 /**
  * One step (docs/ESTIMATOR.md): input check; input conditioning (tau_v > 0); time update;

@@ -107,9 +107,22 @@ typedef struct {
  * @param[out] est     the caller's estimator state; written only on RFE_OK.
  * @param[in]  params  parameters in Q formats (rfe_params_default_q31, or a table made on the
  *                     host from a real calibration); copied.
+ * @note The call goes through a macro of the full name that adds the caller's
+ *       sizeof of the state and its RFE_CONFIG_* word (rfe/config.h): RFE_ERR_ABI,
+ *       nothing written, when the caller was compiled with other maxima or another
+ *       number type than the library.
  */
 RFE_NODISCARD rfe_status_t rfe_friction_init_q31(rfe_friction_q31_t *est,
-                                                 const rfe_params_q31_t *params);
+                                                 const rfe_params_q31_t *params,
+                                                 size_t size, uint32_t config);
+/* MISRA-DEV-08: the wrapper passes the caller's layout of the state and its compile-time
+ * configuration, which the init checks (RFE_ERR_ABI). Not in the source that defines the
+ * function (RFE_FRICTION_Q31_IMPL), where the name is the function's own. */
+#if !defined(RFE_FRICTION_Q31_IMPL)
+/* cppcheck-suppress misra-c2012-2.5 ; MISRA-DEV-08: the application's entry, unused by the library */
+#define rfe_friction_init_q31(est, params) \
+    rfe_friction_init_q31((est), (params), sizeof(rfe_friction_q31_t), RFE_CONFIG_Q31)
+#endif
 
 /**
  * One step (docs/ESTIMATOR.md): input check; input conditioning (tau_v > 0); time update;

@@ -76,9 +76,28 @@ typedef struct {
  *                 your calibration); the observer uses the same vehicle and tyre.
  * @param[in]  vp  the observer's parameters (rfe_velocity_params_default, then tuning).
  * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_PARAM; rfe_friction_init's errors.
+ * @note The call goes through a macro of the full name that adds the caller's
+ *       sizeof of the state and its RFE_CONFIG_* word (rfe/config.h): RFE_ERR_ABI,
+ *       nothing written, when the caller was compiled with other maxima or another
+ *       number type than the library.
  */
 RFE_NODISCARD rfe_status_t rfe_pipeline_init(rfe_pipeline_t *pl, const rfe_params_t *p,
-                                             const rfe_velocity_params_t *vp);
+                                             const rfe_velocity_params_t *vp,
+                                             size_t size, uint32_t config);
+/* MISRA-DEV-08: the wrapper passes the caller's layout of the state and its compile-time
+ * configuration, which the init checks (RFE_ERR_ABI). Not in the source that defines the
+ * function (RFE_PIPELINE_IMPL), where the name is the function's own. */
+#if !defined(RFE_PIPELINE_IMPL)
+#if defined(RFE_REAL_DOUBLE)
+/* cppcheck-suppress misra-c2012-2.5 ; MISRA-DEV-08: the application's entry, unused by the library */
+#define rfe_pipeline_init_f64(pl, p, vp) \
+    rfe_pipeline_init_f64((pl), (p), (vp), sizeof(rfe_pipeline_t), RFE_CONFIG_REAL)
+#else
+/* cppcheck-suppress misra-c2012-2.5 ; MISRA-DEV-08: the application's entry, unused by the library */
+#define rfe_pipeline_init_f32(pl, p, vp) \
+    rfe_pipeline_init_f32((pl), (p), (vp), sizeof(rfe_pipeline_t), RFE_CONFIG_REAL)
+#endif
+#endif
 
 /**
  * One step: the observer, then the friction estimator on its outputs.

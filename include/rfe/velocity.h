@@ -42,6 +42,7 @@
 #define RFE_VELOCITY_H
 
 #include "rfe/component/kf2.h"
+#include "rfe/config.h"
 #include "rfe/params.h"
 #include "rfe/velocity_bits.h"
 #include "rfe/velocity_params.h"
@@ -120,10 +121,29 @@ typedef struct {
  *                  part is not used).
  * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_PARAM (rfe_velocity_params_validate or
  *         rfe_params_validate fails).
+ * @note The call goes through a macro of the full name that adds the caller's
+ *       sizeof of the state and its RFE_CONFIG_* word (rfe/config.h): RFE_ERR_ABI,
+ *       nothing written, when the caller was compiled with other maxima or another
+ *       number type than the library.
  */
 RFE_NODISCARD rfe_status_t rfe_velocity_init(rfe_velocity_t *obs,
                                              const rfe_velocity_params_t *vp,
-                                             const rfe_params_t *veh);
+                                             const rfe_params_t *veh,
+                                             size_t size, uint32_t config);
+/* MISRA-DEV-08: the wrapper passes the caller's layout of the state and its compile-time
+ * configuration, which the init checks (RFE_ERR_ABI). Not in the source that defines the
+ * function (RFE_VELOCITY_IMPL), where the name is the function's own. */
+#if !defined(RFE_VELOCITY_IMPL)
+#if defined(RFE_REAL_DOUBLE)
+/* cppcheck-suppress misra-c2012-2.5 ; MISRA-DEV-08: the application's entry, unused by the library */
+#define rfe_velocity_init_f64(obs, vp, veh) \
+    rfe_velocity_init_f64((obs), (vp), (veh), sizeof(rfe_velocity_t), RFE_CONFIG_REAL)
+#else
+/* cppcheck-suppress misra-c2012-2.5 ; MISRA-DEV-08: the application's entry, unused by the library */
+#define rfe_velocity_init_f32(obs, vp, veh) \
+    rfe_velocity_init_f32((obs), (vp), (veh), sizeof(rfe_velocity_t), RFE_CONFIG_REAL)
+#endif
+#endif
 
 /**
  * One step (OBSERVER.md §3-§5).

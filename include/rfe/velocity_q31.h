@@ -20,9 +20,11 @@
 #ifndef RFE_VELOCITY_Q31_H
 #define RFE_VELOCITY_Q31_H
 
+#include <stddef.h>
 #include <stdint.h>
 
 #include "rfe/component/kf2_q31.h"
+#include "rfe/config.h"
 #include "rfe/fixed.h"
 #include "rfe/friction_q31.h"
 #include "rfe/params_q31.h"
@@ -105,10 +107,23 @@ typedef struct {
  * @param[in]  veh  the vehicle and tyre (the friction estimator's rfe_params_q31_t; its
  *                  filter part is not used).
  * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_PARAM.
+ * @note The call goes through a macro of the full name that adds the caller's
+ *       sizeof of the state and its RFE_CONFIG_* word (rfe/config.h): RFE_ERR_ABI,
+ *       nothing written, when the caller was compiled with other maxima or another
+ *       number type than the library.
  */
 RFE_NODISCARD rfe_status_t rfe_velocity_init_q31(rfe_velocity_q31_t *obs,
                                                  const rfe_velocity_params_q31_t *vp,
-                                                 const rfe_params_q31_t *veh);
+                                                 const rfe_params_q31_t *veh,
+                                                 size_t size, uint32_t config);
+/* MISRA-DEV-08: the wrapper passes the caller's layout of the state and its compile-time
+ * configuration, which the init checks (RFE_ERR_ABI). Not in the source that defines the
+ * function (RFE_VELOCITY_Q31_IMPL), where the name is the function's own. */
+#if !defined(RFE_VELOCITY_Q31_IMPL)
+/* cppcheck-suppress misra-c2012-2.5 ; MISRA-DEV-08: the application's entry, unused by the library */
+#define rfe_velocity_init_q31(obs, vp, veh) \
+    rfe_velocity_init_q31((obs), (vp), (veh), sizeof(rfe_velocity_q31_t), RFE_CONFIG_Q31)
+#endif
 
 /**
  * One step (OBSERVER.md §3-§5).

@@ -98,6 +98,7 @@ typedef struct {
     double col_a[N_COLS];     /**< per column: SI value = col_a * text + col_b (unit_, scale_, */
     double col_b[N_COLS];     /**< offset_ metadata) */
     char **fields;        /**< n_fields pointers into buf, reused per row */
+    rfe_cells_t cells;    /**< what a bad cell of an estimator input is */
     size_t rows_cap;
     size_t meta_cap;
 } reader_t;
@@ -121,6 +122,28 @@ static void write_sanitised(FILE *f, const char *s);
 
 int rfe_sensor_log_read(const char *path, rfe_sensor_log_t *log, rfe_io_error_t *err)
 {
+    return rfe_sensor_log_read_cells(path, RFE_CELLS_STRICT, log, err);
+}
+
+int rfe_sensor_log_read_stream(FILE *f, const char *name, rfe_sensor_log_t *log,
+                               rfe_io_error_t *err)
+{
+    return rfe_sensor_log_read_stream_cells(f, name, RFE_CELLS_STRICT, log, err);
+}
+
+const char *rfe_cell_cause_str(rfe_cell_cause_t c)
+{
+    switch (c) {
+    case RFE_CELL_EMPTY: return "empty";
+    case RFE_CELL_NONFINITE: return "nan/inf";
+    case RFE_CELL_RANGE: return "out of range";
+    default: return "?";
+    }
+}
+
+int rfe_sensor_log_read_cells(const char *path, rfe_cells_t cells, rfe_sensor_log_t *log,
+                              rfe_io_error_t *err)
+{
     FILE *f;
     int rc;
     memset(log, 0, sizeof *log);
@@ -129,18 +152,19 @@ int rfe_sensor_log_read(const char *path, rfe_sensor_log_t *log, rfe_io_error_t 
         rfe_io_error_set(err, path, 0u, 0u, "cannot open: %s", strerror(errno));
         return -1;
     }
-    rc = rfe_sensor_log_read_stream(f, path, log, err);
+    rc = rfe_sensor_log_read_stream_cells(f, path, cells, log, err);
     (void)fclose(f); /* read-only: nothing to lose on close */
     return rc;
 }
 
-int rfe_sensor_log_read_stream(FILE *f, const char *name, rfe_sensor_log_t *log,
-                               rfe_io_error_t *err)
+int rfe_sensor_log_read_stream_cells(FILE *f, const char *name, rfe_cells_t cells,
+                                     rfe_sensor_log_t *log, rfe_io_error_t *err)
 {
     reader_t r;
     int rc;
     memset(&r, 0, sizeof r);
     memset(log, 0, sizeof *log);
+    r.cells = cells;
     r.f = f;
     r.name = name;
     r.err = err;
@@ -495,6 +519,36 @@ static int map_header_fields(reader_t *r, size_t n)
     return 0;
 }
 
+/* Every required input column the header lacks, all in one message (a log missing several
+ * names them all, each with its column_ alias when the metadata gave one); 0 when none. */
+static int missing_inputs(reader_t *r, const size_t *present)
+{
+    char list[RFE_IO_MSG_MAX];
+    size_t used = 0u;
+    size_t n = 0u;
+    size_t k;
+    list[0] = '\0';
+    for (k = 0u; k < N_COLS; ++k) {
+        if ((k_cols[k].kind == COL_INPUT) && (present[k] == 0u) && (used < sizeof list)) {
+            const int w = (r->want[k] != k_cols[k].name)
+                              ? snprintf(list + used, sizeof list - used,
+                                         "%s'%s' (named '%s' by its column_%s metadata)",
+                                         (n > 0u) ? ", " : "", k_cols[k].name, r->want[k],
+                                         k_cols[k].name)
+                              : snprintf(list + used, sizeof list - used, "%s'%s'",
+                                         (n > 0u) ? ", " : "", k_cols[k].name);
+            used += (w > 0) ? (size_t)w : 0u;
+            ++n;
+        }
+    }
+    if (n == 0u) {
+        return 0;
+    }
+    rfe_io_error_set(r->err, r->name, r->line, 0u, "missing column%s %s", (n > 1u) ? "s" : "",
+                     list);
+    return -1;
+}
+
 /* Every input column present, delta or swa (one of them), each optional group all or none. */
 static int check_columns(reader_t *r, rfe_sensor_log_t *log)
 {
@@ -514,19 +568,11 @@ static int check_columns(reader_t *r, rfe_sensor_log_t *log)
             present[r->field_col[j]] = 1u;
         }
     }
+    if (missing_inputs(r, present) != 0) {
+        return -1;
+    }
     for (k = 0u; k < N_COLS; ++k) {
         const col_kind_t g = k_cols[k].kind;
-        if ((g == COL_INPUT) && (present[k] == 0u)) {
-            if (r->want[k] != k_cols[k].name) {
-                rfe_io_error_set(r->err, r->name, r->line, 0u,
-                                 "missing column '%s' (named '%s' by its column_%s metadata)",
-                                 k_cols[k].name, r->want[k], k_cols[k].name);
-            } else {
-                rfe_io_error_set(r->err, r->name, r->line, 0u, "missing column '%s'",
-                                 k_cols[k].name);
-            }
-            return -1;
-        }
         n_present[g] += present[k];
         if ((present[k] == 0u) && (missing[g] == NULL)) {
             missing[g] = k_cols[k].name;
@@ -592,7 +638,48 @@ static int read_rows(reader_t *r, rfe_sensor_log_t *log)
     return 0;
 }
 
-/* One data row: field count, every needed field a finite number, time increasing. */
+/* A bad cell (parse status @p st, or RFE_NUM_OK for a value that left the doubles in SI
+ * units) of column @p c: kept as NaN / +-Inf in *v when the reader keeps bad cells and the
+ * column is an estimator input (not t, not truth); returns its cause, or -1 (an error). */
+static int keep_cell(const reader_t *r, const col_spec_t *c, rfe_num_status_t st,
+                     const char *text, double *v)
+{
+    const int input = (c->kind != COL_MU) && (c->kind != COL_UTIL) && (c->offset != ROW_OFF(t));
+    if ((r->cells != RFE_CELLS_KEEP) || !input || (st == RFE_NUM_SYNTAX)) {
+        return -1;
+    }
+    if (st == RFE_NUM_EMPTY) {
+        *v = (double)NAN;
+        return (int)RFE_CELL_EMPTY;
+    }
+    if (st == RFE_NUM_NONFINITE) {
+        /* the text's own value: nan, inf, -inf (the grammar check let only those words by) */
+        *v = strtod(text, NULL);
+        return (int)RFE_CELL_NONFINITE;
+    }
+    if (st == RFE_NUM_OVERFLOW) {
+        *v = strtod(text, NULL); /* +-HUGE_VAL, the infinity of the written sign */
+    }
+    return (int)RFE_CELL_RANGE;  /* *v already +-Inf for a value beyond the doubles in SI */
+}
+
+/* Counts a kept bad cell of @p cause at field @p j of the current line into row and log. */
+static void count_bad_cell(const reader_t *r, rfe_sensor_log_t *log, rfe_sensor_row_t *row,
+                           int cause, size_t j)
+{
+    if (row->bad == 0u) {
+        ++log->bad_rows;
+    }
+    if (log->bad_first_line == 0u) {
+        log->bad_first_line = r->line;
+        log->bad_first_col = j + 1u;
+    }
+    row->bad |= 1u << (unsigned)cause;
+    ++log->bad_cells[cause];
+}
+
+/* One data row: field count, every needed field a finite number (or a kept bad cell), time
+ * increasing. */
 static int parse_row(reader_t *r, rfe_sensor_log_t *log)
 {
     char q[QUOTE_MAX + 4u];
@@ -615,18 +702,23 @@ static int parse_row(reader_t *r, rfe_sensor_log_t *log)
         }
         c = &k_cols[r->field_col[j]];
         st = rfe_text_parse_double(r->fields[j], &v);
-        if (st != RFE_NUM_OK) {
-            rfe_text_quote(q, sizeof q, r->fields[j], QUOTE_MAX);
-            rfe_io_error_set(r->err, r->name, r->line, j + 1u, "column '%s': %s: '%s'", c->name,
-                             rfe_num_status_str(st), q);
-            return -1;
+        if (st == RFE_NUM_OK) {
+            v = r->col_a[r->field_col[j]] * v + r->col_b[r->field_col[j]];
         }
-        v = r->col_a[r->field_col[j]] * v + r->col_b[r->field_col[j]];
-        if (!isfinite(v)) {
-            rfe_text_quote(q, sizeof q, r->fields[j], QUOTE_MAX);
-            rfe_io_error_set(r->err, r->name, r->line, j + 1u,
-                             "column '%s': out of range in SI units: '%s'", c->name, q);
-            return -1;
+        if ((st != RFE_NUM_OK) || !isfinite(v)) {
+            const int cause = keep_cell(r, c, st, r->fields[j], &v);
+            if (cause < 0) {
+                rfe_text_quote(q, sizeof q, r->fields[j], QUOTE_MAX);
+                if (st != RFE_NUM_OK) {
+                    rfe_io_error_set(r->err, r->name, r->line, j + 1u, "column '%s': %s: '%s'",
+                                     c->name, rfe_num_status_str(st), q);
+                } else {
+                    rfe_io_error_set(r->err, r->name, r->line, j + 1u,
+                                     "column '%s': out of range in SI units: '%s'", c->name, q);
+                }
+                return -1;
+            }
+            count_bad_cell(r, log, &row, cause, j);
         }
         memcpy((char *)&row + c->offset, &v, sizeof v);
     }

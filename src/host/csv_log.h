@@ -5,7 +5,8 @@
  * Format: `# key = value` metadata lines, then one header row of column names, then one row
  * per sample. Columns are looked up by name (any order; extra columns are ignored and not
  * parsed). Fields may be padded with blanks. Every needed field must be a finite decimal
- * number; anything else is an error that names file, line and column (field index and name).
+ * number; anything else is an error that names file, line and column (field index and name),
+ * unless the caller keeps the bad cells of the estimator's inputs (rfe_sensor_log_read_cells).
  *
  * A recorded car's log declares its own units, scales and column names in the metadata
  * (DATA.md "Units, scales and names of a recorded log"): `unit_<column>` (deg, km/h, rpm,
@@ -41,7 +42,25 @@ typedef struct {
     double mu_true[RFE_WHEELS];  /**< mu_fl .. mu_rr; only meaningful when has_truth */
     double util_true[RFE_WHEELS]; /**< util_fl .. util_rr (true friction utilisation
                                        sqrt(Fx^2 + Fy^2) / (mu Fz)); only when has_util */
+    unsigned bad;                /**< bit (1 << rfe_cell_cause_t) per kind of bad cell this row
+                                      holds (RFE_CELLS_KEEP; 0 = every value finite) */
 } rfe_sensor_row_t;
+
+/** Why a cell of an estimator input holds no finite number. With RFE_CELLS_KEEP such a cell
+ *  is read as NaN or +-Inf, so the row goes to the library as it is and is rejected there
+ *  (RFE_ERR_NONFINITE) with the estimate held. */
+typedef enum {
+    RFE_CELL_EMPTY = 0,     /**< nothing but blanks: read as NaN */
+    RFE_CELL_NONFINITE = 1, /**< nan / inf text: read as NaN or +-Inf */
+    RFE_CELL_RANGE = 2,     /**< beyond a double, as written or once in SI units: +-Inf */
+    RFE_CELL_CAUSES = 3
+} rfe_cell_cause_t;
+
+/** What the reader does with a bad cell (rfe_cell_cause_t) of an estimator input. */
+typedef enum {
+    RFE_CELLS_STRICT = 0, /**< an error naming file, line and column (mu_replay --strict) */
+    RFE_CELLS_KEEP = 1    /**< kept as NaN / +-Inf and counted (mu_replay's default) */
+} rfe_cells_t;
 
 /** A whole sensor log in memory. Zero-initialise, read, then rfe_sensor_log_free. */
 typedef struct {
@@ -59,6 +78,10 @@ typedef struct {
                            not filled (rfe_sensor_log_steer_ratio fills it) */
     int omega_linear; /**< 1 while omega_* hold circumferential speeds [m/s] (a unit_omega_* of
                            km/h, m/s, mph): rfe_sensor_log_wheel_radius makes them rad/s */
+    size_t bad_cells[RFE_CELL_CAUSES]; /**< kept bad cells per cause (RFE_CELLS_KEEP) */
+    size_t bad_rows;       /**< rows holding at least one of them */
+    size_t bad_first_line; /**< line and column (1-based) of the first one; 0 when none */
+    size_t bad_first_col;
 } rfe_sensor_log_t;
 
 /**
@@ -77,6 +100,23 @@ RFE_NODISCARD int rfe_sensor_log_read(const char *path, rfe_sensor_log_t *log,
 /** As rfe_sensor_log_read, from an open stream; @p name is used in messages. */
 RFE_NODISCARD int rfe_sensor_log_read_stream(FILE *f, const char *name, rfe_sensor_log_t *log,
                                              rfe_io_error_t *err);
+
+/**
+ * As rfe_sensor_log_read, with the bad cells of the estimator's inputs (every column but t
+ * and the truth columns mu_*, util_*) handled as @p cells says: RFE_CELLS_STRICT is
+ * rfe_sensor_log_read; RFE_CELLS_KEEP reads an empty, nan/inf or out-of-range cell as NaN or
+ * +-Inf and counts it (bad_cells, bad_rows, bad_first_line/col; the row's bad bits). Text
+ * that is not a number ('0.1x') stays an error: it is a broken file, not a sample.
+ */
+RFE_NODISCARD int rfe_sensor_log_read_cells(const char *path, rfe_cells_t cells,
+                                            rfe_sensor_log_t *log, rfe_io_error_t *err);
+
+/** As rfe_sensor_log_read_cells, from an open stream; @p name is used in messages. */
+RFE_NODISCARD int rfe_sensor_log_read_stream_cells(FILE *f, const char *name, rfe_cells_t cells,
+                                                   rfe_sensor_log_t *log, rfe_io_error_t *err);
+
+/** Name of a cell cause ("empty", "nan/inf", "out of range"). */
+const char *rfe_cell_cause_str(rfe_cell_cause_t c);
 
 /** Frees everything the log owns and zeroes it (safe on a zeroed or freed log). */
 void rfe_sensor_log_free(rfe_sensor_log_t *log);

@@ -32,7 +32,8 @@ static const char k_usage[] =
     "usage: " PROG " --in SENSOR.csv --out ESTIMATE.csv [--preset default|paper]\n"
     "                 [--params FILE] [--filter sckf|ckf] [--tyre paper|absolute|magic]\n"
     "                 [--real float|double|q31] [--velocity auto|observer|measured]\n"
-    "                 [--metrics FILE.json] [--quiet] [--help]\n"
+    "                 [--metrics FILE.json] [--strict] [--require-params] [--quiet]\n"
+    "                 [--help]\n"
     "\n"
     "Runs the road-friction estimator over a sensor log (docs DATA.md) and writes the\n"
     "estimate log. Parameters: the --preset set < the log's '# key = value' metadata <\n"
@@ -59,6 +60,13 @@ static const char k_usage[] =
     "                   --real; the estimate log gains vx_est .. sd_beta), or auto\n"
     "                   (default): measured when the log has the columns, else observer\n"
     "  --metrics FILE   write run summary and accuracy as JSON\n"
+    "  --strict         stop at the first empty, nan/inf or out-of-range cell (exit 1);\n"
+    "                   by default such a cell goes to the estimator as NaN/Inf, which\n"
+    "                   rejects that sample (status 17) and holds its estimate, and the\n"
+    "                   run ends with a count per cause\n"
+    "  --require-params make a log without vehicle parameters (m, Lf, Lr, Bf, Br, R, J,\n"
+    "                   hg in its metadata) and without --params an error; by default\n"
+    "                   the preset's values are used and a warning names them\n"
     "  --quiet, -q      print nothing on success\n"
     "  --help, -h       print this help and exit\n"
     "\n"
@@ -78,6 +86,8 @@ typedef struct {
     const char *velocity;
     int quiet;
     int help;
+    int strict; /**< --strict: a bad cell is an input error */
+    int require_params; /**< --require-params: no vehicle parameters is an input error */
 } options_t;
 
 /** Everything one run produces. */
@@ -90,6 +100,7 @@ typedef struct {
     int is_double;
     int is_q31;
     int use_observer;  /**< vx, vy, r-dot from the velocity observer (--velocity) */
+    int preset_vehicle; /**< no vehicle key from a file: the preset's car (check_vehicle) */
     int has_metrics;
     rfe_metrics_t metrics;
 } run_t;
@@ -99,12 +110,16 @@ typedef rfe_status_t (*replay_fn_t)(const rfe_param_set_t *, const rfe_sensor_lo
 
 static int usage_error(const char *fmt, const char *arg);
 static const char **option_slot(options_t *o, const char *name);
+static int *flag_slot(options_t *o, const char *name);
+static void print_bad_cells(FILE *f, const run_t *r);
 static int parse_args(int argc, char **argv, options_t *o);
 static int check_option_words(options_t *o);
 static int same_file(const char *a, const char *b);
 static int load_params(const options_t *o, run_t *r);
 static int prepare_log(const options_t *o, run_t *r);
 static int check_period(const options_t *o, run_t *r);
+static int check_vehicle(const options_t *o, run_t *r);
+static void warn_preset_vehicle(const options_t *o, const run_t *r);
 static int run_estimator(const options_t *o, run_t *r);
 static int write_estimates(const options_t *o, const run_t *r);
 static void compute_metrics(run_t *r);
@@ -128,6 +143,9 @@ int main(int argc, char **argv)
     }
     rc = load_params(&o, &r);
     if (rc == 0) {
+        rc = check_vehicle(&o, &r);
+    }
+    if (rc == 0) {
         rc = prepare_log(&o, &r);
     }
     if (rc == 0) {
@@ -136,6 +154,7 @@ int main(int argc, char **argv)
     if (rc == 0) {
         rc = write_estimates(&o, &r);
     }
+
     if ((rc == 0) && r.log.has_truth) {
         compute_metrics(&r);
     }
@@ -152,6 +171,9 @@ int main(int argc, char **argv)
             fprintf(stderr, "%s: stdout: write failed\n", PROG);
             rc = -1;
         }
+    }
+    if (rc == 0) {
+        warn_preset_vehicle(&o, &r); /* once the run succeeded: errors stay one line */
     }
     free(r.rows);
     rfe_sensor_log_free(&r.log);
@@ -193,6 +215,24 @@ static const char **option_slot(options_t *o, const char *name)
     return NULL;
 }
 
+/* Where an option without a value goes, or NULL when @p name is not one. */
+static int *flag_slot(options_t *o, const char *name)
+{
+    if (strcmp(name, "help") == 0) {
+        return &o->help;
+    }
+    if (strcmp(name, "quiet") == 0) {
+        return &o->quiet;
+    }
+    if (strcmp(name, "strict") == 0) {
+        return &o->strict;
+    }
+    if (strcmp(name, "require-params") == 0) {
+        return &o->require_params;
+    }
+    return NULL;
+}
+
 /* Accepts `--opt VALUE` and `--opt=VALUE`. Returns 0, or -1 after a one-line message. */
 static int parse_args(int argc, char **argv, options_t *o)
 {
@@ -213,11 +253,11 @@ static int parse_args(int argc, char **argv, options_t *o)
         }
         memcpy(name, arg + 2, n - 2u);
         name[n - 2u] = '\0';
-        if ((strcmp(name, "help") == 0) || (strcmp(name, "quiet") == 0)) {
+        if (flag_slot(o, name) != NULL) {
             if (eq != NULL) {
                 return usage_error("option '%s' takes no value", arg);
             }
-            *((name[0] == 'h') ? &o->help : &o->quiet) = 1;
+            *flag_slot(o, name) = 1;
             continue;
         }
         slot = option_slot(o, name);
@@ -250,6 +290,10 @@ static int check_option_words(options_t *o)
     }
     if ((o->filter != NULL) && (rfe_filter_kind_parse(o->filter, &fk) != 0)) {
         return usage_error("--filter must be sckf or ckf, not '%s'", o->filter);
+    }
+    if ((o->filter != NULL) && (fk == RFE_FILTER_CKF) && (o->preset_id != RFE_PRESET_PAPER)) {
+        return usage_error("%s", "--filter ckf: the CKF baseline needs --preset paper (it runs "
+                                 "only the paper subset of the parameters)");
     }
     if ((o->tyre != NULL) && (rfe_tyre_mode_parse(o->tyre, &tm) != 0)) {
         return usage_error("--tyre must be paper, absolute or magic, not '%s'", o->tyre);
@@ -296,8 +340,13 @@ static int fail(const rfe_io_error_t *err)
 static int load_params(const options_t *o, run_t *r)
 {
     rfe_io_error_t err;
-    if (rfe_sensor_log_read(o->in, &r->log, &err) != 0) {
+    if (rfe_sensor_log_read_cells(o->in, o->strict ? RFE_CELLS_STRICT : RFE_CELLS_KEEP, &r->log,
+                                  &err) != 0) {
         return fail(&err);
+    }
+    if (!o->quiet && (r->log.bad_rows != 0u)) {
+        fprintf(stderr, "%s: note: %s: ", PROG, o->in);
+        print_bad_cells(stderr, r);
     }
     (void)rfe_param_set_preset_f64(&r->ps, o->preset_id); /* cannot fail: parsed preset */
     if (rfe_param_set_apply_meta(&r->ps, &r->log, o->in, &err) != 0) {
@@ -327,6 +376,46 @@ static int load_params(const options_t *o, run_t *r)
                       (((o->velocity == NULL) || (strcmp(o->velocity, "auto") == 0)) &&
                        !r->log.has_velocity);
     return 0;
+}
+
+/* The vehicle keys (m .. hg of the key table; g is nature's) when neither the log's metadata
+ * nor a parameter file gives any of them: the preset's car stands in, which a user must know
+ * (a warning naming every value), or may forbid (--require-params: an input error). */
+static int check_vehicle(const options_t *o, run_t *r)
+{
+    rfe_io_error_t err;
+    size_t k;
+    for (k = (size_t)RFE_PK_m; k <= (size_t)RFE_PK_hg; ++k) {
+        if (r->ps.origin[k].file != NULL) {
+            return 0;
+        }
+    }
+    if (o->require_params) {
+        rfe_io_error_set(&err, o->in, 0u, 0u, "%s",
+                         "no vehicle parameters (m, Lf, Lr, Bf, Br, R, J, hg) in the log's "
+                         "metadata and no --params file (--require-params)");
+        return fail(&err);
+    }
+    r->preset_vehicle = 1;
+    return 0;
+}
+
+/* The warning of a run on the preset's car (check_vehicle), once the run succeeded. */
+static void warn_preset_vehicle(const options_t *o, const run_t *r)
+{
+    char val[RFE_NUM_BUF];
+    size_t k;
+    if (!r->preset_vehicle || o->quiet) {
+        return;
+    }
+    fprintf(stderr, "%s: warning: %s: no vehicle parameters in the metadata and no --params: "
+                    "the %s preset's car is used:", PROG, o->in, rfe_preset_str(r->ps.preset));
+    for (k = (size_t)RFE_PK_m; k <= (size_t)RFE_PK_hg; ++k) {
+        rfe_param_format(&r->ps, k, val);
+        fprintf(stderr, " %s = %s %s%s", rfe_param_info(k)->key, val, rfe_param_info(k)->unit,
+                (k < (size_t)RFE_PK_hg) ? "," : "");
+    }
+    fprintf(stderr, " (--require-params makes this an error)\n");
 }
 
 /* A recorded car's log in the library's terms, once the parameters are known: wheel speeds
@@ -365,8 +454,10 @@ static int prepare_log(const options_t *o, run_t *r)
 
 /* The friction estimator's input filter assumes the period dt; a log at another rate (a car
  * logged at 50 Hz) must say so. dt not given: it becomes the time stamps' median period.
- * Given: it must match that median within 2 % (loggers' clocks drift < 0.1 %; the median
- * ignores jitter and gaps; a 50 Hz log read as 100 Hz is off by 100 %). */
+ * Given: it must match that median within 1 % (loggers' clocks drift < 0.1 %; the median
+ * ignores jitter and gaps; a 50 Hz log read as 100 Hz is off by 100 %). A period longer than
+ * two medians is a gap, reported with what the run does over it (DATA.md "The sample
+ * period"); shorter jitter is accepted without a word. */
 static int check_period(const options_t *o, run_t *r)
 {
     rfe_io_error_t err;
@@ -375,6 +466,8 @@ static int check_period(const options_t *o, run_t *r)
     const double dt = r->ps.value[RFE_PK_dt];
     const double dt_max = r->ps.obs[(size_t)RFE_PK_obs_dt_max - RFE_PK_OBS_FIRST];
     size_t gaps;
+    size_t i;
+    double t_gap = 0.0;
     if (rfe_log_period(&r->log, &per) != 0) {
         return 0; /* one row: no period to check */
     }
@@ -386,20 +479,34 @@ static int check_period(const options_t *o, run_t *r)
                             "preset's %.6g s does not match this log)\n",
                     PROG, per.median, dt);
         }
-    } else if (!(fabs(dt - per.median) <= 0.02 * per.median)) {
+    } else if (!(fabs(dt - per.median) <= 0.01 * per.median)) {
         rfe_io_error_set(&err, src->file, src->line, 0u,
                          "dt = %.6g s, but the log's time stamps have a median period of %.6g s "
-                         "(%.6g .. %.6g s): correct dt, or drop it to take the time stamps'",
+                         "(%.6g .. %.6g s; they may differ by 1 %%): correct dt, or drop it to "
+                         "take the time stamps'",
                          dt, per.median, per.min, per.max);
         return fail(&err);
     } else {
         /* dt as given: it matches */
     }
-    gaps = rfe_log_gaps(&r->log, dt_max);
-    if (!o->quiet && r->use_observer && (gaps != 0u)) {
-        fprintf(stderr, "%s: note: %zu period(s) longer than obs_dt_max = %.6g s (longest "
-                        "%.6g s): the observer rejects the sample after each gap\n",
-                PROG, gaps, dt_max, per.max);
+    gaps = rfe_log_gaps(&r->log, 2.0 * per.median);
+    for (i = 1u; i < r->log.n_rows; ++i) {
+        if ((r->log.rows[i].t - r->log.rows[i - 1u].t) == per.max) {
+            t_gap = r->log.rows[i].t;
+            break;
+        }
+    }
+    if (!o->quiet && (gaps != 0u)) {
+        fprintf(stderr, "%s: note: %zu gap(s) longer than 2 periods (2 x %.6g s), the longest "
+                        "%.6g s before t = %.6g s: the friction estimator steps over each as one "
+                        "period",
+                PROG, gaps, per.median, per.max, t_gap);
+        if (r->use_observer) {
+            fprintf(stderr, "; the observer steps with the real period and rejects the sample "
+                            "after %zu gap(s) longer than obs_dt_max = %.6g s",
+                    rfe_log_gaps(&r->log, dt_max), dt_max);
+        }
+        fputc('\n', stderr);
     }
     return 0;
 }
@@ -616,7 +723,10 @@ static int write_metrics_json(const options_t *o, const run_t *r)
                 (unsigned long)r->q31.est_sat_max, (unsigned long long)r->q31.input_sat,
                 r->q31.input_sat_rows);
     }
-    fprintf(f, "  \"steps\": %zu,\n  \"status_counts\": {", r->stats.n_steps);
+    fprintf(f, "  \"steps\": %zu,\n  \"bad_cells\": {\"empty\": %zu, \"nonfinite\": %zu, "
+               "\"range\": %zu, \"rows\": %zu},\n  \"status_counts\": {",
+            r->stats.n_steps, r->log.bad_cells[RFE_CELL_EMPTY], r->log.bad_cells[RFE_CELL_NONFINITE],
+            r->log.bad_cells[RFE_CELL_RANGE], r->log.bad_rows);
     for (s = 0u; s < RFE_REPLAY_STATUS_SLOTS; ++s) {
         if (r->stats.status_count[s] != 0u) {
             fprintf(f, "%s\"%zu\": %zu", sep, s, r->stats.status_count[s]);
@@ -638,10 +748,27 @@ static int write_metrics_json(const options_t *o, const run_t *r)
     return 0;
 }
 
+/* The bad cells the run kept (csv_log.h RFE_CELLS_KEEP), per cause: one line, or nothing. */
+static void print_bad_cells(FILE *f, const run_t *r)
+{
+    size_t c;
+    if (r->log.bad_rows == 0u) {
+        return;
+    }
+    fprintf(f, "bad cells (given to the estimator as NaN/Inf, the row rejected):");
+    for (c = 0u; c < (size_t)RFE_CELL_CAUSES; ++c) {
+        fprintf(f, " %s %zu%s", rfe_cell_cause_str((rfe_cell_cause_t)c), r->log.bad_cells[c],
+                (c + 1u < (size_t)RFE_CELL_CAUSES) ? "," : "");
+    }
+    fprintf(f, "; in %zu row(s), the first at line %zu column %zu (--strict stops there)\n",
+            r->log.bad_rows, r->log.bad_first_line, r->log.bad_first_col);
+}
+
 static void print_status_counts(const run_t *r)
 {
     size_t s;
     printf("steps: %zu\n", r->stats.n_steps);
+    print_bad_cells(stdout, r);
     for (s = 0u; s < RFE_REPLAY_STATUS_SLOTS; ++s) {
         if (r->stats.status_count[s] != 0u) {
             const char *name = (s + 1u < RFE_REPLAY_STATUS_SLOTS)

@@ -125,9 +125,17 @@ static uint32_t step_row(rfe_friction_q31_t *est, const rfe_sensor_row_t *row,
     rfe_status_t st;
     uint32_t in_sat;
     size_t w;
-    in_sat = rfe_replay_sample_q31(row, &s);
     memset(&e, 0, sizeof e);
-    st = rfe_friction_step_q31(est, &s, &e);
+    if (row->bad != 0u) {
+        /* a NaN / Inf cell (csv_log.h RFE_CELLS_KEEP) has no Q value: rejected here as the
+         * float library rejects it, the estimate held */
+        in_sat = 0u;
+        st = (rfe_friction_get_q31(est, &e) == RFE_OK) ? RFE_ERR_NONFINITE : RFE_ERR_NOT_INITIALISED;
+        e.sat = 0u;
+    } else {
+        in_sat = rfe_replay_sample_q31(row, &s);
+        st = rfe_friction_step_q31(est, &s, &e);
+    }
     out->t = row->t;
     for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
         out->mu[w] = rfe_fix_to_double(e.mu[w], RFE_FIX_Q_MU);
@@ -210,10 +218,20 @@ static uint32_t step_observer_row(rfe_pipeline_q31_t *pl, const rfe_sensor_log_t
     uint32_t in_sat;
     uint32_t sat;
     size_t w;
-    in_sat = rfe_replay_esc_input_q31(log, i, &in);
     memset(&o, 0, sizeof o);
-    /* pipeline_q31.h: on an error o holds the previous estimates, sat 0 */
-    st = rfe_pipeline_step_q31(pl, &in, &o);
+    if (log->rows[i].bad != 0u) {
+        /* a NaN / Inf cell has no Q value: rejected as in float, both estimates held */
+        in_sat = 0u;
+        st = ((rfe_friction_get_q31(&pl->friction, &o.friction) == RFE_OK) &&
+              (rfe_velocity_get_q31(&pl->velocity, &o.velocity) == RFE_OK)) ? RFE_ERR_NONFINITE
+                                                                            : RFE_ERR_NOT_INITIALISED;
+        o.friction.sat = 0u;
+        o.velocity.sat = 0u;
+    } else {
+        in_sat = rfe_replay_esc_input_q31(log, i, &in);
+        /* pipeline_q31.h: on an error o holds the previous estimates, sat 0 */
+        st = rfe_pipeline_step_q31(pl, &in, &o);
+    }
     out->t = log->rows[i].t;
     for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
         out->mu[w] = rfe_fix_to_double(o.friction.mu[w], RFE_FIX_Q_MU);

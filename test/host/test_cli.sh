@@ -6,7 +6,7 @@
 # Prints one line per check and closes with "cli: N passed, N failed"; exits 1 on a failure.
 # Requirements (docs/REQUIREMENTS.md; the script is one test case "test_cli"):
 # REQ-CLI-001 REQ-CLI-003 REQ-CLI-004 REQ-CSV-002 REQ-CSV-005 REQ-CSV-006 REQ-PARF-002 REQ-PARF-003
-# REQ-PARF-004 REQ-MET-002 REQ-CLI-005
+# REQ-PARF-004 REQ-MET-002 REQ-CLI-005 REQ-CSV-007 REQ-CLI-006 REQ-DOC-001
 set -u
 
 BIN=${1:?usage: test_cli.sh path/to/mu_replay}
@@ -80,7 +80,10 @@ cmp -s "$DATA/good_small.csv" "$TMP/in.csv" && ok "out_is_in: input untouched" |
 # ---- malformed input (exit 1, one line naming FILE:LINE:COL)
 input_error bad_number "$DATA/bad_number.csv" "^mu_replay: .*bad_number\.csv:4:3: column 'vx': "
 input_error wrong_count "$DATA/wrong_count.csv" "^mu_replay: .*wrong_count\.csv:3:12: wrong column count"
-input_error nan_text "$DATA/nan_value.csv" "^mu_replay: .*nan_value\.csv:3:7: column 'ax': nan"
+# --strict: a nan cell stops the run at its line and column (as a broken file)
+run nan_strict 1 --in "$DATA/nan_value.csv" --out "$TMP/est.csv" --strict
+one_line nan_strict "^mu_replay: .*nan_value\.csv:3:7: column 'ax': nan"
+[ ! -e "$TMP/est.csv" ] && ok "nan_strict: nothing written" || { bad "nan_strict: estimate log written"; rm -f "$TMP/est.csv"; }
 input_error missing_column "$DATA/missing_column.csv" "^mu_replay: .*missing_column\.csv:2: velocity column 'vy' missing \(give all of vx, vy, yaw_acc or none\)$"
 input_error empty_file "$DATA/empty.csv" "^mu_replay: .*empty\.csv: empty file"
 input_error time_backwards "$DATA/time_backwards.csv" "^mu_replay: .*time_backwards\.csv:4:1: "
@@ -160,8 +163,10 @@ grep -q '^# param_file = params_good.par$' "$TMP/p.csv" && ok "precedence: param
 
 # The CKF baseline runs only the paper subset (docs/ESTIMATOR.md): with the default preset
 # it is refused in one line that says what to do.
-run ckf_default_preset 1 --in "$DATA/good_small.csv" --out "$TMP/c.csv" --filter ckf
-one_line ckf_default_preset "^mu_replay: command line: filter = ckf: the CKF baseline needs --preset paper"
+# --filter ckf on the command line without --preset paper is a usage error (2), before any file
+run ckf_default_preset 2 --in "$DATA/good_small.csv" --out "$TMP/c.csv" --filter ckf
+grep -q "^mu_replay: --filter ckf: the CKF baseline needs --preset paper" "$TMP/err" \
+    && ok "ckf_default_preset: named" || bad "ckf_default_preset: $(head -1 "$TMP/err")"
 [ ! -e "$TMP/c.csv" ] && ok "ckf_default_preset: nothing written" || bad "ckf_default_preset: estimate log written"
 run ckf_default_preset_file 1 --in "$DATA/good_small.csv" --out "$TMP/c.csv" --params "$DATA/params_good.par"
 one_line ckf_default_preset_file "^mu_replay: .*params_good\.par:6: filter = ckf: the CKF baseline needs --preset paper"
@@ -268,13 +273,25 @@ one_line car_negative_R "^mu_replay: .*car_format_small\.csv: the wheel speeds a
 # a steering-wheel log with measured velocities (a test car): delta = swa / ratio on the host
 printf '# obs_steer_ratio = -2\nt,swa,vx,vy,yaw_rate,yaw_acc,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr\n0,0,20,0,0,0,0,0,61.5,61.5,61.5,61.5\n' >"$TMP/swa_neg.csv"
 input_error car_negative_ratio "$TMP/swa_neg.csv" "^mu_replay: .*swa_neg\.csv:1: obs_steer_ratio = -2: must be a positive number"
-printf 't,delta,yaw_rate,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr\n0,0,0,0,0,61.5,61.5,61.5,61.5\n' >"$TMP/one_row.csv"
+printf '# m = 1830\nt,delta,yaw_rate,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr\n0,0,0,0,0,61.5,61.5,61.5,61.5\n' >"$TMP/one_row.csv"
 run one_row 0 --in "$TMP/one_row.csv" --out "$TMP/o.csv"
 [ -s "$TMP/err" ] && bad "one_row: stderr not empty: $(cat "$TMP/err")" || ok "one_row: no period, no note"
-printf '# dt = 0.01\nt,delta,yaw_rate,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr\n0,0,0,0,0,61.5,61.5,61.5,61.5\n0.01,0,0,0,0,61.5,61.5,61.5,61.5\n0.02,0,0,0,0,61.5,61.5,61.5,61.5\n0.5,0,0,0,0,61.5,61.5,61.5,61.5\n0.51,0,0,0,0,61.5,61.5,61.5,61.5\n' >"$TMP/gap.csv"
+printf '# dt = 0.01\n# m = 1830\nt,delta,yaw_rate,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr\n0,0,0,0,0,61.5,61.5,61.5,61.5\n0.01,0,0,0,0,61.5,61.5,61.5,61.5\n0.02,0,0,0,0,61.5,61.5,61.5,61.5\n0.5,0,0,0,0,61.5,61.5,61.5,61.5\n0.51,0,0,0,0,61.5,61.5,61.5,61.5\n' >"$TMP/gap.csv"
 run gap 0 --in "$TMP/gap.csv" --out "$TMP/g.csv"
-one_line gap "^mu_replay: note: 1 period\(s\) longer than obs_dt_max = 0.1 s \(longest 0.48 s\): the observer rejects the sample after each gap$"
+one_line gap "^mu_replay: note: 1 gap\(s\) longer than 2 periods \(2 x 0.01 s\), the longest 0.48 s before t = 0.5 s: the friction estimator steps over each as one period; the observer steps with the real period and rejects the sample after 1 gap\(s\) longer than obs_dt_max = 0.1 s$"
 grep -q 'status 18' "$TMP/out" && ok "gap: the rejected sample counted" || bad "gap: no status 18 in the summary"
+# REQ-CSV-006: a gap of 3 periods in a measured-velocity log is reported too; jitter is not
+printf '# dt = 0.01\n# m = 1830\nt,delta,vx,vy,yaw_rate,yaw_acc,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr\n0,0,20,0,0,0,0,0,61.5,61.5,61.5,61.5\n0.01,0,20,0,0,0,0,0,61.5,61.5,61.5,61.5\n0.0205,0,20,0,0,0,0,0,61.5,61.5,61.5,61.5\n0.0295,0,20,0,0,0,0,0,61.5,61.5,61.5,61.5\n0.06,0,20,0,0,0,0,0,61.5,61.5,61.5,61.5\n0.07,0,20,0,0,0,0,0,61.5,61.5,61.5,61.5\n' >"$TMP/gapm.csv"
+run gap_measured 0 --in "$TMP/gapm.csv" --out "$TMP/gm.csv"
+one_line gap_measured "^mu_replay: note: 1 gap\(s\) longer than 2 periods \(2 x 0.01 s\), the longest 0.0305 s before t = 0.06 s: the friction estimator steps over each as one period$"
+sed '/^0\.06,/d; s/^0\.07,/0.04,/' "$TMP/gapm.csv" >"$TMP/jitter.csv"
+run jitter 0 --in "$TMP/jitter.csv" --out "$TMP/j.csv"
+[ ! -s "$TMP/err" ] && ok "jitter: accepted without a word" || bad "jitter: $(cat "$TMP/err")"
+# dt within 1 %: accepted; 1.5 % off: an error naming both values
+sed 's/^# dt = 0.01$/# dt = 0.0101/' "$TMP/jitter.csv" >"$TMP/dt1.csv"
+run dt_within_1pct 0 --in "$TMP/dt1.csv" --out "$TMP/j.csv" -q
+sed 's/^# dt = 0.01$/# dt = 0.01015/' "$TMP/jitter.csv" >"$TMP/dt15.csv"
+input_error dt_off_1_5pct "$TMP/dt15.csv" "^mu_replay: .*dt15\.csv:1: dt = 0.01015 s, but the log's time stamps have a median period of 0.01 s"
 # q31: a 3.5 s gap does not fit the period's Q30 (< 2 s): counted as input saturation, and
 # the sample rejected (18) as in float and double
 sed 's/^0\.5,/3.5,/; s/^0\.51,/3.51,/' "$TMP/gap.csv" >"$TMP/gap3.csv"
@@ -292,6 +309,67 @@ grep -q '^# obs_sd_r = 0.01$' "$TMP/v.csv" && grep -q '^# obs_driven = 12$' "$TM
     && ok "obs_keys: applied and written" || bad "obs_keys: metadata"
 run measured_no_obs_keys 0 --in "$DATA/good_small.csv" --out "$TMP/v.csv"
 grep -q '^# obs_' "$TMP/v.csv" && bad "measured_no_obs_keys: obs_* written" || ok "measured_no_obs_keys: none written"
+
+# ---- bad cells (REQ-CSV-007): by default an empty, nan/inf or out-of-range cell goes to the
+#      estimator as NaN/Inf; the library rejects that row (17), the estimate is held, the
+#      row is in the estimate log with its status, and the run counts the cells per cause.
+for real in float double q31; do
+    run "nan_kept_$real" 0 --in "$DATA/nan_value.csv" --out "$TMP/nk.csv" --metrics "$TMP/nk.json" --real $real
+    # row 2 (t = 0.01): status 17, not valid, mu and sd those of row 1 (held)
+    awk -F, '!/^#/ && $1 == "0" { r0 = $2 FS $3 FS $4 FS $5 FS $6 FS $7 FS $8 FS $9 }
+             !/^#/ && $1 == "0.01" { r1 = $2 FS $3 FS $4 FS $5 FS $6 FS $7 FS $8 FS $9; tail = $10 FS $11 FS $12 FS $13 FS $14 }
+             END { exit !(r0 != "" && r0 == r1 && tail == "0,0,0,0,17") }' "$TMP/nk.csv" \
+        && ok "nan_kept_$real: row held, not valid, status 17" || bad "nan_kept_$real: $(grep -v '^#' "$TMP/nk.csv" | head -3 | tr '\n' ' ')"
+    grep -q '^  status 17 non-finite input  *1$' "$TMP/out" && ok "nan_kept_$real: counted" || bad "nan_kept_$real: no status 17 count"
+    grep -q '^bad cells (given to the estimator as NaN/Inf, the row rejected): empty 0, nan/inf 1, out of range 0; in 1 row(s), the first at line 3 column 7' "$TMP/out" \
+        && ok "nan_kept_$real: count per cause" || bad "nan_kept_$real: summary $(grep '^bad' "$TMP/out")"
+    grep -q '"bad_cells": {"empty": 0, "nonfinite": 1, "range": 0, "rows": 1},' "$TMP/nk.json" \
+        && ok "nan_kept_$real: JSON" || bad "nan_kept_$real: JSON"
+done
+grep -q '^mu_replay: note: .*nan_value\.csv: bad cells' "$TMP/err" && ok "nan_kept: note on stderr" || bad "nan_kept: no note: $(cat "$TMP/err")"
+# an empty cell and one beyond a double, with the observer (float and q31)
+sed 's/^0\.01,0,19\.98,0,0,0,nan,0,59\.9,/0.01,0,19.98,0,,0,1e999,0,59.9,/' "$DATA/nan_value.csv" >"$TMP/cells.csv"
+for real in float q31; do
+    run "cells_observer_$real" 0 --in "$TMP/cells.csv" --out "$TMP/co.csv" --velocity observer --real $real
+    grep -q 'empty 1, nan/inf 0, out of range 1; in 1 row(s), the first at line 3 column 5' "$TMP/out" \
+        && ok "cells_observer_$real: both causes" || bad "cells_observer_$real: $(grep '^bad' "$TMP/out")"
+    grep -Eq '^0\.01,([^,]*,){8}0,0,0,0,17,' "$TMP/co.csv" && ok "cells_observer_$real: row rejected (17)" \
+        || bad "cells_observer_$real: $(grep '^0.01,' "$TMP/co.csv")"
+done
+run cells_quiet 0 --in "$TMP/cells.csv" --out "$TMP/co.csv" -q
+[ ! -s "$TMP/out" ] && [ ! -s "$TMP/err" ] && ok "cells_quiet: nothing printed" || bad "cells_quiet: printed"
+
+# ---- the README's status table and the preset tables of DATA.md and ESTIMATOR.md agree with
+#      the code (REQ-DOC-001): the statuses of rfe/common.h, the presets as mu_replay records them
+if python3 "$(dirname "$0")/../../scripts/checks/check_doc_tables.py" "$BIN" >"$TMP/doc.txt" 2>&1; then
+    ok "$(tail -n 1 "$TMP/doc.txt")"
+else
+    bad "doc tables: $(tr '\n' ' ' <"$TMP/doc.txt" | head -c 600)"
+fi
+
+# ---- several missing columns are named in one line (REQ-CLI-001)
+printf 't,delta,yaw_rate,omega_fl,omega_fr,omega_rl\n0,0,0,61.5,61.5,61.5\n' >"$TMP/cols.csv"
+input_error missing_columns "$TMP/cols.csv" "^mu_replay: .*cols\.csv:1: missing columns 'ax', 'ay', 'omega_rr'$"
+printf '# column_ax = AccX\nt,delta,yaw_rate,ay,omega_fl,omega_fr,omega_rl,omega_rr\n0,0,0,0,61.5,61.5,61.5,61.5\n' >"$TMP/col1.csv"
+input_error missing_alias "$TMP/col1.csv" "^mu_replay: .*col1\.csv:2: missing column 'ax' \(named 'AccX' by its column_ax metadata\)$"
+
+# ---- a log without vehicle parameters (REQ-CLI-006): a warning naming the preset's car,
+#      or with --require-params an input error; the estimate log records the values used
+printf 't,delta,vx,vy,yaw_rate,yaw_acc,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr\n0,0,20,0,0,0,0,0,61.5,61.5,61.5,61.5\n' >"$TMP/noveh.csv"
+run no_vehicle 0 --in "$TMP/noveh.csv" --out "$TMP/nv.csv"
+one_line no_vehicle "^mu_replay: warning: .*noveh\.csv: no vehicle parameters in the metadata and no --params: the default preset's car is used: m = 1830 kg, Lf = 1\.4 m, .* hg = 0\.54 m \(--require-params makes this an error\)$"
+grep -q '^# m = 1830$' "$TMP/nv.csv" && ok "no_vehicle: m recorded" || bad "no_vehicle: m not in the metadata"
+run no_vehicle_quiet 0 --in "$TMP/noveh.csv" --out "$TMP/nv.csv" -q
+[ ! -s "$TMP/err" ] && ok "no_vehicle_quiet: no warning" || bad "no_vehicle_quiet: $(cat "$TMP/err")"
+run require_params 1 --in "$TMP/noveh.csv" --out "$TMP/rp.csv" --require-params
+one_line require_params "^mu_replay: .*noveh\.csv: no vehicle parameters \(m, Lf, Lr, Bf, Br, R, J, hg\) in the log's metadata and no --params file \(--require-params\)$"
+[ ! -e "$TMP/rp.csv" ] && ok "require_params: nothing written" || bad "require_params: estimate log written"
+printf 'm = 1500\n' >"$TMP/m.par"
+run require_params_file 0 --in "$TMP/noveh.csv" --out "$TMP/rp.csv" --require-params --params "$TMP/m.par"
+[ ! -s "$TMP/err" ] && grep -q '^# m = 1500$' "$TMP/rp.csv" && ok "require_params_file: --params satisfies it" || bad "require_params_file: $(cat "$TMP/err")"
+printf '# m = 1700\n' | cat - "$TMP/noveh.csv" >"$TMP/veh.csv"
+run require_params_meta 0 --in "$TMP/veh.csv" --out "$TMP/rp.csv" --require-params
+[ ! -s "$TMP/err" ] && ok "require_params_meta: metadata satisfies it, no warning" || bad "require_params_meta: $(cat "$TMP/err")"
 
 # ---- --real q31: the fixed-point estimator (docs/FIXED_POINT.md "Estimator")
 run good_q31 0 --in "$DATA/good_small.csv" --out "$TMP/q.csv" --metrics "$TMP/q.json" --real q31

@@ -291,6 +291,78 @@ static void test_rfe_sensor_log_read_overflow_rejected(void **state)
     assert_non_null(strstr(err.msg, "out of range"));
 }
 
+/* Reads @p text with RFE_CELLS_KEEP (the stream code of a real file). */
+static int read_keep(const char *text, rfe_sensor_log_t *log, rfe_io_error_t *err)
+{
+    FILE *f = tmpfile();
+    int rc;
+    assert_non_null(f);
+    assert_int_equal(fwrite(text, 1u, strlen(text), f), strlen(text));
+    rewind(f);
+    rc = rfe_sensor_log_read_stream_cells(f, "mem.csv", RFE_CELLS_KEEP, log, err);
+    fclose(f);
+    return rc;
+}
+
+/* REQ-CSV-007 */
+static void test_rfe_sensor_log_read_cells_keep_bad_inputs(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    (void)state;
+    /* row 2: ax nan and omega_rr empty; row 3 clean; row 4: vx -inf and ay 1e999;
+     * row 5: delta 1e308 deg overflows in SI (x pi/180 fits, x 1e9 does not: scale) */
+    assert_int_equal(read_keep("# scale_delta = 1e9\n" HDR
+                               "0,0,20,0,0,0,nan,0,60,60,60,\n"
+                               ROW1
+                               "0.02,0,-inf,0,0,0,-2,1e999,60,60,60,60\n"
+                               "0.03,1e308,20,0,0,0,-2,0,60,60,60,60\n", &log, &err), 0);
+    assert_int_equal(log.n_rows, 4);
+    assert_true(isnan(log.rows[0].ax));
+    assert_true(isnan(log.rows[0].omega[RFE_RR]));
+    assert_int_equal(log.rows[0].bad, (1u << RFE_CELL_EMPTY) | (1u << RFE_CELL_NONFINITE));
+    assert_int_equal(log.rows[1].bad, 0u);
+    assert_true(isinf(log.rows[2].vx) && (log.rows[2].vx < 0.0));
+    assert_true(isinf(log.rows[2].ay) && (log.rows[2].ay > 0.0));
+    assert_int_equal(log.rows[2].bad, (1u << RFE_CELL_NONFINITE) | (1u << RFE_CELL_RANGE));
+    assert_true(isinf(log.rows[3].delta));
+    assert_int_equal(log.rows[3].bad, 1u << RFE_CELL_RANGE);
+    assert_int_equal(log.bad_cells[RFE_CELL_EMPTY], 1);
+    assert_int_equal(log.bad_cells[RFE_CELL_NONFINITE], 2);
+    assert_int_equal(log.bad_cells[RFE_CELL_RANGE], 2);
+    assert_int_equal(log.bad_rows, 3);
+    assert_int_equal(log.bad_first_line, 3); /* line 3, the first data row; ax = field 7 */
+    assert_int_equal(log.bad_first_col, 7);
+    assert_string_equal(rfe_cell_cause_str(RFE_CELL_RANGE), "out of range");
+    assert_string_equal(rfe_cell_cause_str(RFE_CELL_EMPTY), "empty");
+    assert_string_equal(rfe_cell_cause_str(RFE_CELL_NONFINITE), "nan/inf");
+    assert_string_equal(rfe_cell_cause_str(RFE_CELL_CAUSES), "?");
+    rfe_sensor_log_free(&log);
+}
+
+/* REQ-CSV-007 */
+static void test_rfe_sensor_log_read_cells_keep_still_rejects(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    (void)state;
+    /* text that is no number is a broken file, not a sample */
+    assert_int_equal(read_keep(HDR "0,0,20,0,0,0,-2x,0,60,60,60,60\n", &log, &err), -1);
+    assert_int_equal(err.col, 7);
+    assert_non_null(strstr(err.msg, "not a decimal number"));
+    /* the time stamp orders the rows: never kept */
+    assert_int_equal(read_keep(HDR ROW0 "nan,0,20,0,0,0,-2,0,60,60,60,60\n", &log, &err), -1);
+    assert_int_equal(err.col, 1);
+    assert_int_equal(read_keep(HDR ",0,20,0,0,0,-2,0,60,60,60,60\n", &log, &err), -1);
+    /* truth never reaches the estimator: a bad truth cell stays an error */
+    assert_int_equal(read_keep("t,delta,vx,vy,yaw_rate,yaw_acc,ax,ay,omega_fl,omega_fr,omega_rl,"
+                               "omega_rr,mu_fl,mu_fr,mu_rl,mu_rr\n"
+                               "0,0,20,0,0,0,-2,0,60,60,60,60,0.5,nan,0.5,0.5\n", &log, &err), -1);
+    assert_int_equal(err.col, 14);
+    /* and strict mode is the plain reader */
+    assert_int_equal(read_log_text(HDR "0,0,20,0,0,0,nan,0,60,60,60,60\n", &log, &err), -1);
+}
+
 /* REQ-CSV-001 REQ-CSV-002 */
 static void test_rfe_sensor_log_read_partial_truth(void **state)
 {
@@ -837,6 +909,8 @@ int main(void)
         cmocka_unit_test(test_rfe_sensor_log_read_inf_text_rejected),
         cmocka_unit_test(test_rfe_sensor_log_read_empty_field_rejected),
         cmocka_unit_test(test_rfe_sensor_log_read_overflow_rejected),
+        cmocka_unit_test(test_rfe_sensor_log_read_cells_keep_bad_inputs),
+        cmocka_unit_test(test_rfe_sensor_log_read_cells_keep_still_rejects),
         cmocka_unit_test(test_rfe_sensor_log_read_partial_truth),
         cmocka_unit_test(test_rfe_sensor_log_read_util_columns_parsed),
         cmocka_unit_test(test_rfe_sensor_log_read_no_util_columns),

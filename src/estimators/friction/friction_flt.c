@@ -4,6 +4,9 @@
  *        addition is off): conditioner -> SCKF/CKF time update -> meas, step noise -> SCKF gated
  *        update -> sd bounds -> projection -> per-wheel estimate.
  */
+/* This file defines the init: its header's wrapper macro stays out (MISRA-DEV-08). */
+/* cppcheck-suppress misra-c2012-2.5 ; MISRA-DEV-08: read by the header's #if */
+#define RFE_FRICTION_IMPL
 #include "rfe/friction.h"
 
 #include "rfe/component/chol.h"
@@ -114,12 +117,19 @@ static rfe_status_t init_ckf(rfe_friction_t *est, const rfe_filter_params_t *fp)
     return rfe_ckf_init(&est->filter.ckf, RFE_WHEELS, RFE_MEAS, x0, P0, Q, R);
 }
 
-rfe_status_t rfe_friction_init(rfe_friction_t *est, const rfe_params_t *params)
+rfe_status_t rfe_friction_init(rfe_friction_t *est, const rfe_params_t *params,
+                               size_t size, uint32_t config)
+/* cppcheck-suppress misra-c2012-5.5 ; MISRA-DEV-08: the function its wrapper macro calls */
 {
     const rfe_filter_params_t *fp;
     size_t n;
     rfe_status_t st;
 
+    /* A caller built with other maxima or another number type lays the state out
+     * differently: nothing may be written (RFE_ERR_ABI, rfe/common.h). */
+    if ((size != sizeof(*est)) || (config != RFE_CONFIG_REAL)) {
+        return RFE_ERR_ABI;
+    }
     if ((est == NULL) || (params == NULL)) {
         return RFE_ERR_NULL;
     }

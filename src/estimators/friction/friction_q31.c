@@ -20,6 +20,9 @@
  *    sd_max / sd_k exactly rounded; the floor f_k = sd_floor_rel max(x_k, 0) exact in int64
  *    (Q59), compared exactly with sd_k and divided by it with one rounding.
  */
+/* This file defines the init: its header's wrapper macro stays out (MISRA-DEV-08). */
+/* cppcheck-suppress misra-c2012-2.5 ; MISRA-DEV-08: read by the header's #if */
+#define RFE_FRICTION_Q31_IMPL
 #include "rfe/friction_q31.h"
 
 #include "rfe/component/chol_q31.h"
@@ -214,12 +217,19 @@ static rfe_status_t init_ckf_q31(rfe_friction_q31_t *est, const rfe_filter_param
     return st;
 }
 
-rfe_status_t rfe_friction_init_q31(rfe_friction_q31_t *est, const rfe_params_q31_t *params)
+rfe_status_t rfe_friction_init_q31(rfe_friction_q31_t *est, const rfe_params_q31_t *params,
+                                   size_t size, uint32_t config)
+/* cppcheck-suppress misra-c2012-5.5 ; MISRA-DEV-08: the function its wrapper macro calls */
 {
     const rfe_filter_params_q31_t *fp;
     size_t n;
     rfe_status_t st;
 
+    /* A caller built with other maxima or another number type lays the state out
+     * differently: nothing may be written (RFE_ERR_ABI, rfe/common.h). */
+    if ((size != sizeof(*est)) || (config != RFE_CONFIG_Q31)) {
+        return RFE_ERR_ABI;
+    }
     if ((est == NULL) || (params == NULL)) {
         return RFE_ERR_NULL;
     }

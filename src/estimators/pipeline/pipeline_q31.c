@@ -3,6 +3,9 @@
  * @brief The composed entry in fixed point (rfe/pipeline_q31.h; twin of pipeline_flt.c):
  *        observer, then friction on its outputs. Integer operations only.
  */
+/* This file defines the init: its header's wrapper macro stays out (MISRA-DEV-08). */
+/* cppcheck-suppress misra-c2012-2.5 ; MISRA-DEV-08: read by the header's #if */
+#define RFE_PIPELINE_Q31_IMPL
 #include "rfe/pipeline_q31.h"
 
 #include "rfe/component/fxmath.h"
@@ -10,15 +13,23 @@
 #include "numerics/internal_q31.h"
 
 rfe_status_t rfe_pipeline_init_q31(rfe_pipeline_q31_t *pl, const rfe_params_q31_t *p,
-                                   const rfe_velocity_params_q31_t *vp)
+                                   const rfe_velocity_params_q31_t *vp,
+                                   size_t size, uint32_t config)
+/* cppcheck-suppress misra-c2012-5.5 ; MISRA-DEV-08: the function its wrapper macro calls */
 {
     rfe_status_t st;
+    /* A caller built with other maxima or another number type lays the state out
+     * differently: nothing may be written (RFE_ERR_ABI, rfe/common.h). */
+    if ((size != sizeof(*pl)) || (config != RFE_CONFIG_Q31)) {
+        return RFE_ERR_ABI;
+    }
     if ((pl == NULL) || (p == NULL) || (vp == NULL)) {
         return RFE_ERR_NULL;
     }
-    st = rfe_velocity_init_q31(&pl->velocity, vp, p);
+    /* the library's own layout: the inits called directly, not through their wrappers */
+    st = (rfe_velocity_init_q31)(&pl->velocity, vp, p, sizeof(pl->velocity), RFE_CONFIG_Q31);
     if (st == RFE_OK) {
-        st = rfe_friction_init_q31(&pl->friction, p);
+        st = (rfe_friction_init_q31)(&pl->friction, p, sizeof(pl->friction), RFE_CONFIG_Q31);
     }
     if (st == RFE_OK) {
         st = rfe_friction_get_q31(&pl->friction, &pl->last);

@@ -3,6 +3,9 @@
  * @brief The velocity and sideslip observer (docs/OBSERVER.md): input checks, the first
  *        sample, the step order (yaw rate, longitudinal, lateral) and the outputs (§5).
  */
+/* This file defines the init: its header's wrapper macro stays out (MISRA-DEV-08). */
+/* cppcheck-suppress misra-c2012-2.5 ; MISRA-DEV-08: read by the header's #if */
+#define RFE_VELOCITY_IMPL
 #include "rfe/velocity.h"
 
 #include "estimators/velocity/velocity_internal.h"
@@ -10,8 +13,15 @@
 #include "numerics/internal.h"
 
 rfe_status_t rfe_velocity_init(rfe_velocity_t *obs, const rfe_velocity_params_t *vp,
-                               const rfe_params_t *veh)
+                               const rfe_params_t *veh,
+                               size_t size, uint32_t config)
+/* cppcheck-suppress misra-c2012-5.5 ; MISRA-DEV-08: the function its wrapper macro calls */
 {
+    /* A caller built with other maxima or another number type lays the state out
+     * differently: nothing may be written (RFE_ERR_ABI, rfe/common.h). */
+    if ((size != sizeof(*obs)) || (config != RFE_CONFIG_REAL)) {
+        return RFE_ERR_ABI;
+    }
     if ((obs == NULL) || (vp == NULL) || (veh == NULL)) {
         return RFE_ERR_NULL;
     }

@@ -4,6 +4,9 @@
  *        velocity_flt.c): input checks, the first sample, the step order (velocity_logic.h)
  *        and the outputs (§5). Integer operations only.
  */
+/* This file defines the init: its header's wrapper macro stays out (MISRA-DEV-08). */
+/* cppcheck-suppress misra-c2012-2.5 ; MISRA-DEV-08: read by the header's #if */
+#define RFE_VELOCITY_Q31_IMPL
 #include "rfe/velocity_q31.h"
 
 #include "rfe/component/fxmath.h"
@@ -13,8 +16,15 @@
 #include "numerics/internal_q31.h"
 
 rfe_status_t rfe_velocity_init_q31(rfe_velocity_q31_t *obs, const rfe_velocity_params_q31_t *vp,
-                                   const rfe_params_q31_t *veh)
+                                   const rfe_params_q31_t *veh,
+                                   size_t size, uint32_t config)
+/* cppcheck-suppress misra-c2012-5.5 ; MISRA-DEV-08: the function its wrapper macro calls */
 {
+    /* A caller built with other maxima or another number type lays the state out
+     * differently: nothing may be written (RFE_ERR_ABI, rfe/common.h). */
+    if ((size != sizeof(*obs)) || (config != RFE_CONFIG_Q31)) {
+        return RFE_ERR_ABI;
+    }
     if ((obs == NULL) || (vp == NULL) || (veh == NULL)) {
         return RFE_ERR_NULL;
     }

@@ -118,9 +118,35 @@ static void test_an_error_leaves_the_pipeline_untouched(void **state)
     assert_memory_equal(&pl, &before, sizeof(pl));
 }
 
+/* REQ-ABI-001 */
+static void test_inits_refuse_other_layout_or_word(void **state)
+{
+    /* Each init called as its wrapper would be from a caller compiled otherwise: another
+     * size of the state, or another configuration word (maxima, number type). */
+    static rfe_pipeline_t pl, pl0;
+    rfe_params_t p;
+    rfe_velocity_params_t vp;
+    const uint32_t other = RFE_CONFIG_REAL ^ 3u; /* float <-> double, or the q31 word */
+    (void)state;
+    assert_int_equal(rfe_params_default(&p), RFE_OK);
+    assert_int_equal(rfe_velocity_params_default(&vp), RFE_OK);
+    memset(&pl, 0x5A, sizeof pl);
+    pl0 = pl;
+    assert_int_equal((rfe_friction_init)(&pl.friction, &p, sizeof pl.friction - 8u, RFE_CONFIG_REAL), RFE_ERR_ABI);
+    assert_int_equal((rfe_friction_init)(&pl.friction, &p, sizeof pl.friction, other), RFE_ERR_ABI);
+    assert_int_equal((rfe_velocity_init)(&pl.velocity, &vp, &p, sizeof pl.velocity + 8u, RFE_CONFIG_REAL), RFE_ERR_ABI);
+    assert_int_equal((rfe_velocity_init)(&pl.velocity, &vp, &p, sizeof pl.velocity, other), RFE_ERR_ABI);
+    assert_int_equal((rfe_pipeline_init)(&pl, &p, &vp, sizeof pl - 8u, RFE_CONFIG_REAL), RFE_ERR_ABI);
+    assert_int_equal((rfe_pipeline_init)(&pl, &p, &vp, sizeof pl, other), RFE_ERR_ABI);
+    assert_memory_equal(&pl, &pl0, sizeof pl);
+    /* and through the wrappers, this file's own layout: accepted */
+    assert_int_equal(rfe_pipeline_init(&pl, &p, &vp), RFE_OK);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_inits_refuse_other_layout_or_word),
         cmocka_unit_test(test_set_input_noise),
         cmocka_unit_test(test_pipeline_steps_both_estimators),
         cmocka_unit_test(test_an_error_leaves_the_pipeline_untouched),

@@ -237,9 +237,33 @@ static void test_back_to_back(void **state)
     assert_true(n_valid > 1000u); /* the comparison saw settled estimates */
 }
 
+/* REQ-ABI-001 */
+static void test_inits_q31_refuse_other_layout_or_word(void **state)
+{
+    /* As the float test: another size of the state or another configuration word. */
+    static rfe_pipeline_q31_t pl, pl0;
+    rfe_params_q31_t p;
+    rfe_velocity_params_q31_t vp;
+    const uint32_t other = RFE_CONFIG_Q31 ^ 2u; /* the float word */
+    (void)state;
+    assert_int_equal(rfe_params_default_q31(&p), RFE_OK);
+    assert_int_equal(rfe_velocity_params_default_q31(&vp), RFE_OK);
+    memset(&pl, 0x5A, sizeof pl);
+    pl0 = pl;
+    assert_int_equal((rfe_friction_init_q31)(&pl.friction, &p, sizeof pl.friction - 8u, RFE_CONFIG_Q31), RFE_ERR_ABI);
+    assert_int_equal((rfe_friction_init_q31)(&pl.friction, &p, sizeof pl.friction, other), RFE_ERR_ABI);
+    assert_int_equal((rfe_velocity_init_q31)(&pl.velocity, &vp, &p, sizeof pl.velocity + 8u, RFE_CONFIG_Q31), RFE_ERR_ABI);
+    assert_int_equal((rfe_velocity_init_q31)(&pl.velocity, &vp, &p, sizeof pl.velocity, other), RFE_ERR_ABI);
+    assert_int_equal((rfe_pipeline_init_q31)(&pl, &p, &vp, sizeof pl - 8u, RFE_CONFIG_Q31), RFE_ERR_ABI);
+    assert_int_equal((rfe_pipeline_init_q31)(&pl, &p, &vp, sizeof pl, other), RFE_ERR_ABI);
+    assert_memory_equal(&pl, &pl0, sizeof pl);
+    assert_int_equal(rfe_pipeline_init_q31(&pl, &p, &vp), RFE_OK);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_inits_q31_refuse_other_layout_or_word),
         cmocka_unit_test(test_set_input_noise),
         cmocka_unit_test(test_pipeline_steps_both_estimators),
         cmocka_unit_test(test_an_error_leaves_the_pipeline_untouched),
