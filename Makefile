@@ -46,7 +46,7 @@ DEPS_EXTRA :=
 TEST_GATES :=
 include $(sort $(filter-out mk/lib.mk,$(wildcard mk/*.mk)))
 
-.PHONY: names car-format-logs observer-goldens observer-goldens-q31 observer-results all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind coverage demo goldens goldens-q31 scenarios observer-scenarios clean vectors shared-sync check-shared readme-table \
+.PHONY: names car-format-logs observer-goldens observer-goldens-q31 observer-results monitor-results all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind coverage demo goldens goldens-q31 scenarios observer-scenarios clean vectors shared-sync check-shared readme-table \
         check-kernels check-tools layers help-check goldens-ref check-nofloat help deps-analysis misra tidy complexity structural analysis
 ## the libraries and build/mu_replay (the default target)
 all: lib $(BUILD)/mu_replay
@@ -360,6 +360,12 @@ Q31_GOLDEN_LOGS = $(filter-out %.nf.csv %.mf.csv,$(wildcard scenarios/*.csv))
 ## measure the velocity observer and write docs/OBSERVER_RESULTS.md
 observer-results: $(BUILD)/mu_replay venv
 	$(PY) scripts/tools/observer_results.py --replay $(BUILD)/mu_replay --page docs/OBSERVER_RESULTS.md
+
+# The model-validity monitor measured with the float64 reference (docs/MONITOR.md; the runs
+# are cached in build/monitor/, about 10 min on 2 cores the first time).
+## measure the model-validity monitor and write the tables of docs/MONITOR.md
+monitor-results: venv
+	$(PY) scripts/tools/monitor_results.py --jobs 2 --page docs/MONITOR.md
 
 # The velocity observer's goldens (docs/OBSERVER.md) from its float64 reference.
 ## regenerate the velocity observer's goldens (scenarios/golden/observer/)

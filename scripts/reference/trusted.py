@@ -58,8 +58,14 @@ def h_point(p, u, mu4):
     return model.h_absolute(p, ti, 0, mu4[:, None])[:, 0]
 
 
-def run(log, p: dict):
-    """Run over a sensor log; returns dict t, mu (N,4), sd (N,4), valid (N,4), status, info."""
+def run(log, p: dict, adapt=None):
+    """Run over a sensor log; returns dict t, mu (N,4), sd (N,4), valid (N,4), status, info,
+    and nu (N,3), s_zz (N,3,3): the innovation y - z_hat and the lower factor of its
+    covariance at every step that evaluates the measurement, c_pers (N,3) the diagonal of that
+    covariance's persistent part (Zc Zc^T, the model error, the low-passed vx, vy; NaN at low
+    speed; the inputs of monitor.py). adapt (None: off; a measurement of monitor.py, not the specified estimator):
+    called as adapt(k, nu, s_zz, zc, s_r, c_pers) after the innovation, returns the S_R this step's
+    update uses instead of s_r (the gate and the recorded S_zz keep s_r)."""
     T = WHEELS_OF_SIDES if p["structure"] == "sides" else np.eye(4)
     n = T.shape[1]
     f = filters.SCKF(np.full(n, p["mu0"]), sqrt_prior(n, p["sd0"], p["sd0_common"]),
@@ -79,6 +85,9 @@ def run(log, p: dict):
     out["info"] = np.zeros((N, n))
     out["v_gate"] = np.zeros(N)                 # diagnostics (compare.py): the gate's vx and
     out["mu_unprojected"] = np.zeros((N, 4))    # the mean before projection
+    out["nu"] = np.full((N, 3), np.nan)         # innovation y - z_hat and its factor S_zz of
+    out["s_zz"] = np.full((N, 3, 3), np.nan)    # every step that evaluates h (monitor.py)
+    out["c_pers"] = np.full((N, 3), np.nan)     # diag of its persistent part (monitor.py)
     for k in range(N):
         delta, vx_m, vy_m, r, ax, ay = (c[k] for c in cols)
         vx, vy = cond.step(vx_m, vy_m, ax, ay, r)                       # 1
@@ -86,16 +95,21 @@ def run(log, p: dict):
         f.time_update()                                                 # 2
         status = 2                                                      # 3
         if vx >= p["v_est_min"]:
-            s_r = _step_noise(p, f, T, u, sd_u)                         # 4
+            s_r = _step_noise(p, f, T, u, sd_u, out["c_pers"][k])       # 4
             hfun = lambda pts: np.stack(  # noqa: E731
                 [h_point(p, u, T @ pts[:, j]) for j in range(pts.shape[1])], 1)
+            pts = f.points()
+            z_pts = hfun(pts)
+            zc = _innovation(f, pts, z_pts, s_r, ys[k], out, k)
+            s_r_used = s_r if adapt is None else adapt(k, out["nu"][k], out["s_zz"][k], zc, s_r,
+                                                       out["c_pers"][k])
             update = True
             if p["info_min"] > 0:                                       # 5
-                out["info"][k] = _information(f, hfun, s_r)
+                out["info"][k] = _information(f, pts, z_pts, s_r)
                 update = bool(out["info"][k].max() >= p["info_min"])
             status = 3
             if update:                                                  # 6
-                saved, f.s_r = f.s_r, s_r
+                saved, f.s_r = f.s_r, s_r_used
                 f.measurement_update(ys[k], hfun)
                 f.s_r = saved
                 status = 0
@@ -117,27 +131,49 @@ def run(log, p: dict):
     return out
 
 
-def _step_noise(p, f, T, u, sd_u):
+PERSISTENT_INPUTS = (1, 2)   # vx, vy: low-passed by the conditioner (monitor.py: persistent)
+
+
+def _step_noise(p, f, T, u, sd_u, persistent=None):
     """Step 4: S_R0 = diag(sqrt(r^2 + (r_model_rel |h(T x-)|)^2)), then Tria([S_R0, g_j]) with
-    g_j = (h(u + sd_j e_j) - h(u - sd_j e_j)) / 2. Untouched when both additions are off."""
+    g_j = (h(u + sd_j e_j) - h(u - sd_j e_j)) / 2. Untouched when both additions are off.
+    persistent (a 3-array or None): receives the diagonal of the parts of R that are not
+    white from step to step, (r_model_rel |h|)^2 + g_vx^2 + g_vy^2 (monitor.py)."""
+    if persistent is not None:
+        persistent[:] = 0.0
     if p["r_model_rel"] <= 0 and not np.any(sd_u > 0):
         return f.s_r
     xw = T @ f.x
     r_sd = np.diag(f.s_r)
-    s_r = np.diag(np.sqrt(r_sd ** 2 + (p["r_model_rel"] * np.abs(h_point(p, u, xw))) ** 2))
+    model_err = p["r_model_rel"] * np.abs(h_point(p, u, xw))
+    s_r = np.diag(np.sqrt(r_sd ** 2 + model_err ** 2))
     cols = []
     for j, sj in enumerate(sd_u):
         if sj > 0:
             du = np.zeros(u.size)
             du[j] = sj
             cols.append((h_point(p, u + du, xw) - h_point(p, u - du, xw)) / 2.0)
+            if persistent is not None and j in PERSISTENT_INPUTS:
+                persistent += cols[-1] ** 2
+    if persistent is not None:
+        persistent += model_err ** 2
     return filters.tria(np.hstack([s_r, np.stack(cols, 1)])) if cols else s_r
 
 
-def _information(f, hfun, s_r):
-    """Step 5: J = P_zx (S S^T)^-1 by two triangular solves, W = S_R \\ J, I_k = sum_r W_rk^2."""
-    pts = f.points()
-    z_pts = hfun(pts)
+def _innovation(f, pts, z_pts, s_r, y, out, k):
+    """nu = y - z_hat and S_zz = Tria([Zc, S_R]) of the predicted points (MODEL.md section 6,
+    the quantities the update would use), into out["nu"][k], out["s_zz"][k]. Returns Zc."""
+    z_hat = z_pts.mean(axis=1)
+    zc = (z_pts - z_hat[:, None]) / f.sqrt_2n
+    out["nu"][k] = np.asarray(y, dtype=float) - z_hat
+    out["c_pers"][k] += np.einsum("ij,ij->i", zc, zc)     # the state's share: persistent too
+    out["s_zz"][k] = filters.tria(np.hstack([zc, s_r]))
+    return zc
+
+
+def _information(f, pts, z_pts, s_r):
+    """Step 5: J = P_zx (S S^T)^-1 by two triangular solves, W = S_R \\ J, I_k = sum_r W_rk^2
+    (pts: the predicted cubature points, z_pts = h at each)."""
     xc = (pts - f.x[:, None]) / f.sqrt_2n
     zc = (z_pts - z_pts.mean(axis=1)[:, None]) / f.sqrt_2n
     p_zx = zc @ xc.T                                                     # (m, n)
