@@ -34,7 +34,8 @@
 /** Every flag the observer may set (rfe/velocity.h). */
 #define KNOWN_FLAGS                                                                        \
     (RFE_VEL_FLAG_VX_WHEEL | RFE_VEL_FLAG_BRAKING | RFE_VEL_FLAG_DRIVING |                 \
-     RFE_VEL_FLAG_VY_MODEL | RFE_VEL_FLAG_VY_LOWSPEED | RFE_VEL_FLAG_MU_RAISED)
+     RFE_VEL_FLAG_VY_MODEL | RFE_VEL_FLAG_VY_LOWSPEED | RFE_VEL_FLAG_MU_RAISED | \
+     RFE_VEL_FLAG_VY_LINEAR)
 
 typedef struct {
     rfe_velocity_t obs;

@@ -46,7 +46,8 @@
 /** Every flag the observer may set (rfe/velocity_bits.h). */
 #define KNOWN_FLAGS                                                                        \
     (RFE_VEL_FLAG_VX_WHEEL | RFE_VEL_FLAG_BRAKING | RFE_VEL_FLAG_DRIVING |                 \
-     RFE_VEL_FLAG_VY_MODEL | RFE_VEL_FLAG_VY_LOWSPEED | RFE_VEL_FLAG_MU_RAISED)
+     RFE_VEL_FLAG_VY_MODEL | RFE_VEL_FLAG_VY_LOWSPEED | RFE_VEL_FLAG_MU_RAISED | \
+     RFE_VEL_FLAG_VY_LINEAR)
 
 /** pi in Q29, rounded up: the largest |beta| an exactly rounded atan2 may give. */
 #define PI_Q29 1686629714
