@@ -14,6 +14,7 @@
 #include "test_light.h"
 #include "test_common.h"
 
+#include <math.h>
 #include <stdint.h>
 #include <string.h>
 
@@ -167,10 +168,55 @@ static void test_tyre_internal_q31(void **state)
     }
 }
 
+/* The real value of an rfe_xf_t (m 2^e). */
+static double xf_value(rfe_xf_t a) { return ldexp((double)a.m, a.e); }
+
+/* REQ: at no slip (kappa = 0, alpha = 0: S = 0) the absolute Dugoff tyre's derivatives are the
+ * linear tyre's (dFy = Fz cy d tan(alpha), dFx = Fz cx d kappa, no dependence on mu) when
+ * mu > 0, and zero at mu = 0 and below (no friction: no force at any slip, so none changes). The
+ * expectation is the tyre's linear limit (MODEL.md §4), not the code's formula; tolerance: the
+ * three products each round to 2^-30 relative (rfe_xf_t) after the inputs' own rounding (Fz and
+ * cy exact in Q15 / Q24 here, the direction exact in rfe_xf_t): 4 2^-30 < 1e-8 relative. */
+/* REQ-MEAS-003 REQ-FXP-003 */
+static void test_tyre_pre_jac_no_slip_q31(void **state)
+{
+    rfe_params_q31_t p = preset();
+    rfe_tyre_params_q31_t tp = p.tyre;
+    rfe_dugoff_pre_q31_t pre;
+    rfe_slip_dir_q31_t d;
+    const rfe_fix_t vwx = (rfe_fix_t)(20 * (1 << 23)); /* 20 m/s, Q23 */
+    const rfe_fix_t fz = (rfe_fix_t)(4000 * (1 << 15)); /* 4000 N, Q15 */
+    const rfe_fix_t mus[3] = {(rfe_fix_t)(1 << 28), 0, -(rfe_fix_t)(1 << 27)}; /* 0.5, 0, -0.25 */
+    size_t j;
+    (void)state;
+    tp.mode = RFE_TYRE_ABSOLUTE;
+    d.k = rfe_xf_make(1, -6);     /* d kappa / d vy = 2^-6 s/m: exact */
+    d.tan_a = rfe_xf_make(1, -4); /* d tan(alpha) / d vy = 2^-4 s/m (1 / 16 m/s): exact */
+    d.vwx = rfe_xf_make(0, 0);
+    rfe_tyre_dugoff_pre_q31(&tp, 0, 0, vwx, &pre);
+    assert_int_equal(pre.s, 0); /* the case under test: no slip */
+    for (j = 0u; j < 3u; ++j) {
+        rfe_tyre_jac_q31_t o;
+        rfe_tyre_pre_jac_q31(&tp, &pre, 0, vwx, fz, mus[j], &d, &o);
+        if (mus[j] > 0) {
+            const double wy = 4000.0 * ldexp((double)tp.cy, -RFE_FIX_Q_STIFF) / 16.0;
+            const double wx = 4000.0 * ldexp((double)tp.cx, -RFE_FIX_Q_STIFF) / 64.0;
+            assert_true(fabs(xf_value(o.dfy) - wy) <= (1e-8 * wy));
+            assert_true(fabs(xf_value(o.dfx) - wx) <= (1e-8 * wx));
+        } else {
+            assert_int_equal(o.dfy.m, 0);
+            assert_int_equal(o.dfx.m, 0);
+        }
+        assert_int_equal(o.mfx.m, 0); /* no slip: the force (0) does not depend on mu */
+        assert_int_equal(o.mfy.m, 0);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_tyre_internal_q31),
+        cmocka_unit_test(test_tyre_pre_jac_no_slip_q31),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
