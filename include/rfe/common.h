@@ -26,6 +26,8 @@ typedef enum {
     RFE_NO_UPDATE_LOW_SPEED = 2,    /**< vx < v_est_min: time update only */
     RFE_HELD_NOT_OBSERVABLE = 3,    /**< the step's information about the state is below the
                                          threshold (info_min): time update only */
+    RFE_MODEL_MISMATCH = 4,         /**< the model-validity monitor is fired: the innovations
+                                         contradict the model, nothing is valid (MONITOR.md) */
     RFE_ERR_FIRST = 16,
     RFE_ERR_NULL = 16,              /**< a required pointer is NULL */
     RFE_ERR_NONFINITE = 17,         /**< an input is NaN or infinite */
@@ -73,6 +75,7 @@ static inline const char *rfe_status_str(rfe_status_t s)
     case RFE_PROJECTED: name = "projected onto [mu_min, mu_max]"; break;
     case RFE_NO_UPDATE_LOW_SPEED: name = "no update: speed below v_est_min"; break;
     case RFE_HELD_NOT_OBSERVABLE: name = "held: not observable"; break;
+    case RFE_MODEL_MISMATCH: name = "model mismatch: the innovations contradict the model"; break;
     case RFE_ERR_NULL: name = "null pointer"; break;
     case RFE_ERR_NONFINITE: name = "non-finite input"; break;
     case RFE_ERR_RANGE: name = "input out of range"; break;

@@ -46,6 +46,7 @@
 #include "rfe/config.h"
 #include "rfe/component/conditioner.h"
 #include "rfe/component/meas.h"
+#include "rfe/component/monitor.h"
 #include "rfe/params.h"
 #include "rfe/component/sckf.h"
 
@@ -80,6 +81,8 @@ typedef struct {
     rfe_meas_t meas;                  /**< measurement model of the sample being processed */
     rfe_conditioner_t cond;           /**< input filter (docs/ESTIMATOR.md step 1) */
     rfe_conditioner_t backup_cond;    /**< its state before the step (restored on error) */
+    rfe_monitor_t mon;                /**< model-validity monitor (docs/MONITOR.md), SCKF */
+    rfe_monitor_t backup_mon;         /**< its state before the step (restored on error) */
     rfe_real_t backup_x[RFE_N_MAX];   /**< filter mean before the step (restored on error) */
     rfe_real_t backup_S[RFE_N_MAX * RFE_N_MAX]; /**< its S (SCKF) or P (CKF) */
     /* cppcheck-suppress misra-c2012-19.2 ; MISRA-DEV-03: one live filter, selected by kind */

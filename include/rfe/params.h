@@ -17,10 +17,12 @@
 #define rfe_params_default  rfe_params_default_f64
 #define rfe_params_paper    rfe_params_paper_f64
 #define rfe_params_validate rfe_params_validate_f64
+#define rfe_monitor_params_validate rfe_monitor_params_validate_f64
 #else
 #define rfe_params_default  rfe_params_default_f32
 #define rfe_params_paper    rfe_params_paper_f32
 #define rfe_params_validate rfe_params_validate_f32
+#define rfe_monitor_params_validate rfe_monitor_params_validate_f32
 #endif
 
 /** Vehicle geometry and mass (MODEL.md §2). */
@@ -88,11 +90,29 @@ typedef struct {
     rfe_real_t sd_valid;     /**< key sd_valid: valid when sd <= sd_valid; 0 = the paper rule (valid when updated): 0 / 0.15 */
 } rfe_filter_params_t;
 
+/**
+ * The model-validity monitor (docs/MONITOR.md §2, rfe/component/monitor.h): a windowed test of
+ * the innovations against the covariance the filter claims; while it is fired every valid flag
+ * is 0, the status is RFE_MODEL_MISMATCH and the reported sd is inflated. Values as
+ * "paper / default"; the default preset keeps it off until the fixed-point twin has it too.
+ */
+typedef struct {
+    rfe_real_t enable;   /**< key mon_enable: 1 acts on valid, status and sd (SCKF only); 0 off: 0 / 0 */
+    rfe_real_t tau_nis;  /**< key mon_tau_nis: time constant of the NIS average [s]: 0.5 */
+    rfe_real_t tau_mean; /**< key mon_tau_mean: time constant of the innovation means [s]: 0.5 */
+    rfe_real_t p_fire;   /**< key mon_p_fire: per-step probability, under the model, of exceeding a fire threshold: 1e-3 */
+    rfe_real_t p_clear;  /**< key mon_p_clear: the same for the clear thresholds (p_fire < p_clear < 1): 0.1 */
+    rfe_real_t hold;     /**< key mon_hold: shortest time fired after the last exceedance [s]: 0.5 */
+    rfe_real_t warmup;   /**< key mon_warmup: evaluated steps at the start that only count [s]: 1 */
+    rfe_real_t inflate;  /**< key mon_inflate: 1: sd x sqrt(max(1, D / 3)) while fired; 0: sd untouched: 1 */
+} rfe_monitor_params_t;
+
 /** Everything the friction estimator needs. */
 typedef struct {
     rfe_vehicle_t vehicle;
     rfe_tyre_params_t tyre;
     rfe_filter_params_t filter;
+    rfe_monitor_params_t monitor;
 } rfe_params_t;
 
 /**
@@ -122,10 +142,22 @@ RFE_NODISCARD rfe_status_t rfe_params_paper(rfe_params_t *p);
  * positive bound); enums in range.
  * The CKF (the paper's baseline) runs only the paper-compatible subset: with filter = ckf,
  * structure must be wheels and sd0_common, q_common, tau_v, every sd_in_*, r_model_rel,
- * info_min, sd_max and sd_floor_rel must be 0 (any tyre, any sd_valid, any dt).
+ * info_min, sd_max and sd_floor_rel must be 0 (any tyre, any sd_valid, any dt), and the
+ * monitor off (mon_enable = 0). The monitor's parameters: rfe_monitor_params_validate at dt.
  * @param[in] p  the parameters to check.
  * @return RFE_OK, RFE_ERR_NULL or RFE_ERR_PARAM.
  */
 RFE_NODISCARD rfe_status_t rfe_params_validate(const rfe_params_t *p);
+
+/**
+ * Checks the monitor's parameters at sample period @p dt (finite, > 0): enable and inflate
+ * 0 or 1; tau_nis, tau_mean finite and > 0; 0 < p_fire < p_clear < 1; hold, warmup finite,
+ * >= 0 and shorter than 2^31 periods. rfe_params_validate and rfe_monitor_init both use it.
+ * @param[in] mp  the monitor's parameters.
+ * @param[in] dt  the sample period [s].
+ * @return RFE_OK, RFE_ERR_NULL or RFE_ERR_PARAM.
+ */
+RFE_NODISCARD rfe_status_t rfe_monitor_params_validate(const rfe_monitor_params_t *mp,
+                                                      rfe_real_t dt);
 
 #endif /* RFE_PARAMS_H */

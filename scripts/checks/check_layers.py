@@ -46,7 +46,7 @@ PUBLIC = {
                "velocity_bits.h"),
     "models": ("tyre.h", "tyre_q31.h", "obsmat.h", "obsmat_q31.h", "meas.h", "meas_q31.h"),
     "estimators": ("step_noise.h", "step_noise_q31.h", "conditioner.h", "conditioner_q31.h",
-                   "friction.h", "friction_q31.h", "velocity.h", "velocity_q31.h", "pipeline.h",
+                   "monitor.h", "friction.h", "friction_q31.h", "velocity.h", "velocity_q31.h", "pipeline.h",
                    "pipeline_q31.h"),
 }
 # Headers of both number types: no real type in them.

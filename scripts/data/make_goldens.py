@@ -10,6 +10,10 @@ skipped, as are files in sub-directories) it writes, with stem = file name witho
 and for the noisy <name>.csv (not *.nf.csv) also
     <out>/<stem>.absolute.sckf.csv  (paper preset, absolute tyre)
     <out>/<stem>.default.sckf.csv   (default preset, docs/ESTIMATOR.md)
+and, for the model-validity monitor (docs/MONITOR.md), for every noisy Magic Formula log
+<name>.mf.csv and every fault log <scenarios>/faults/*.csv whose samples the library accepts
+(sim/faults.py REFUSED_BY_LIBRARY)
+    <out>/monitor/<stem>.monitor.sckf.csv  (default preset with mon_enable = 1)
 Parameters: defaults < the log's metadata (scripts/reference/params.py).  Deterministic:
 running it twice writes identical bytes.
 """
@@ -29,6 +33,7 @@ import time  # noqa: E402
 sys.path[:0] = [os.path.dirname(os.path.abspath(__file__)),  # this folder, and scripts/
                 os.path.dirname(os.path.dirname(os.path.abspath(__file__)))]  # (sim, reference)
 from reference import estimate  # noqa: E402
+from sim import faults as fault_defs  # noqa: E402
 
 
 def jobs_for(name: str):
@@ -42,6 +47,20 @@ def jobs_for(name: str):
         jobs.append(("paper", "absolute", "sckf", "absolute.sckf"))
         jobs.append(("default", None, "sckf", "default.sckf"))
     return jobs
+
+
+MONITOR_ON = {"mon_enable": 1.0}
+
+
+def monitor_logs(scenarios: str) -> list[str]:
+    """The logs of the monitor goldens: the noisy Magic Formula logs and the fault logs."""
+    mf = [os.path.join(scenarios, f) for f in sorted(os.listdir(scenarios))
+          if f.endswith(".mf.csv") and not f.endswith(".nf.mf.csv") and ".nf." not in f]
+    faults = os.path.join(scenarios, "faults")
+    fl = ([os.path.join(faults, f) for f in sorted(os.listdir(faults))
+           if f.endswith(".csv") and not f.startswith(fault_defs.REFUSED_BY_LIBRARY)]
+          if os.path.isdir(faults) else [])
+    return mf + fl
 
 
 def main(argv=None) -> int:
@@ -67,7 +86,18 @@ def main(argv=None) -> int:
             estimate.estimate_file(src, out, None, kind, tyre, preset)
             outs.append(os.path.basename(out))
         print(f"{name}: {', '.join(outs)} ({time.perf_counter() - t0:.2f} s)", flush=True)
-    print(f"make_goldens: {len(names)} logs in {time.perf_counter() - t_all:.1f} s", flush=True)
+    mon_out = os.path.join(a.out, "monitor")
+    os.makedirs(mon_out, exist_ok=True)
+    mon_logs = monitor_logs(a.scenarios)
+    for k, src in enumerate(mon_logs, 1):
+        stem = os.path.basename(src)[: -len(".csv")]
+        t0 = time.perf_counter()
+        out = os.path.join(mon_out, f"{stem}.monitor.sckf.csv")
+        estimate.estimate_file(src, out, None, "sckf", None, "default", MONITOR_ON)
+        print(f"[{k}/{len(mon_logs)}] {os.path.basename(out)} ({time.perf_counter() - t0:.2f} s)",
+              flush=True)
+    print(f"make_goldens: {len(names)} logs, {len(mon_logs)} monitor logs in "
+          f"{time.perf_counter() - t_all:.1f} s", flush=True)
     return 0
 
 

@@ -32,7 +32,7 @@ if __package__ in (None, ""):           # run as a script: make the package impo
 
 import numpy as np  # noqa: E402
 
-from . import filters, logs, model, params, runtime, trusted  # noqa: E402
+from . import filters, logs, model, monitor, params, runtime, trusted  # noqa: E402
 
 FILTERS = ("sckf", "ckf")
 TYRES = ("paper", "absolute", "magic")
@@ -107,19 +107,26 @@ def metadata(kind: str, tyre: str, input_path: str, p: dict, param_file: str | N
 
 
 def estimate_file(in_path: str, out_path: str, param_file: str | None = None,
-                  kind: str = "sckf", tyre: str | None = None, preset: str = "paper"):
+                  kind: str = "sckf", tyre: str | None = None, preset: str = "paper",
+                  overrides: dict | None = None):
     """Read a sensor log, resolve parameters, run, write the estimate log. Returns run()'s dict.
-    tyre None: the preset's tyre."""
+    tyre None: the preset's tyre; overrides: key = value pairs applied last. With mon_enable
+    1 the model-validity monitor (monitor.py) acts on the run's valid, status and sd."""
     log = logs.read_csv_log(in_path)
     p = params.resolve(log.meta, param_file, source=in_path, preset=preset)
+    p.update(overrides or {})
     if tyre is not None:
         p["tyre"] = tyre
+    if p["mon_enable"] > 0 and (preset == "paper" or kind != "sckf"):
+        raise params.ParamError("the monitor (mon_enable = 1) runs on the default preset's SCKF")
     if preset == "paper":
         res = run(log, p, kind, p["tyre"])
     else:
         if kind != "sckf":
             raise params.ParamError("the CKF baseline needs --preset paper")
         res = trusted.run(log, p)
+        if p["mon_enable"] > 0:
+            res = monitor.apply(res, p, p["dt"])
     logs.write_estimate_log(out_path, metadata(kind, p["tyre"], in_path, p, param_file, preset),
                             res["t"], res["mu"], res["sd"], res["valid"], res["status"])
     return res

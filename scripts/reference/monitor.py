@@ -45,21 +45,16 @@ import numpy as np
 from scipy.linalg import solve_triangular
 from scipy.special import ndtri
 
+from . import params
+
 M_CHANNELS = 3
 STATUS_MISMATCH = 4
 CHANNELS = ("ax", "ay", "yaw_acc")
 
-# Parameters (parameter-file keys, docs/MONITOR.md section "Parameters") and defaults.
-MON_DEFAULTS: dict[str, float] = {
-    "mon_enable": 1.0,      # 1: the monitor acts on valid, status, sd; 0: off (statistics only)
-    "mon_tau_nis": 0.5,     # s, time constant of the NIS average D
-    "mon_tau_mean": 0.5,    # s, time constant of the innovation means M_r
-    "mon_p_fire": 1e-3,     # per-step probability, under the model, that a fire threshold is exceeded
-    "mon_p_clear": 0.1,     # the same for the clear thresholds (mon_p_fire < mon_p_clear < 1)
-    "mon_hold": 0.5,        # s, shortest time the mismatch status is held after firing
-    "mon_warmup": 1.0,      # s of evaluated steps before the statistics start (input filter start-up)
-    "mon_inflate": 1.0,     # 1: reported sd x sqrt(max(1, D/m)) while fired; 0: sd untouched
-}
+# Parameters (parameter-file keys, docs/MONITOR.md section "Parameters"): the library's values
+# (params.py, where both presets keep the monitor off), switched on.
+MON_DEFAULTS: dict[str, float] = {**{k: v for k, v in params.DEFAULTS.items()
+                                     if k.startswith("mon_")}, "mon_enable": 1.0}
 
 
 def lam(tau: float, dt: float) -> float:
@@ -76,6 +71,14 @@ def chi2_quantile_wh(nu: float, q: float) -> float:
     """Wilson-Hilferty chi-square quantile: nu (1 - 2/(9 nu) + z(q) sqrt(2/(9 nu)))^3."""
     a = 2.0 / (9.0 * nu)
     return nu * (1.0 - a + z_quantile(q) * math.sqrt(a)) ** 3
+
+
+STEPS_SLACK = 1e-6  # a duration within 1e-6 (relative) of a whole number of periods is that number
+
+
+def steps(t: float, dt: float) -> int:
+    """ceil(t / dt) with STEPS_SLACK, as the C library counts (float: 0.5 / 0.01 = 50.0000007)."""
+    return int(math.ceil((t / dt) * (1.0 - STEPS_SLACK)))
 
 
 @dataclass(frozen=True)
@@ -99,8 +102,7 @@ def thresholds(p: dict, dt: float, m: int = M_CHANNELS) -> Thresholds:
                       z_quantile(1.0 - p["mon_p_clear"] / 2.0),
                       z_quantile(1.0 - p["mon_p_fire"] / (4.0 * m)),
                       z_quantile(1.0 - p["mon_p_clear"] / (4.0 * m)),
-                      int(math.ceil(p["mon_hold"] / dt - 1e-9)),
-                      int(math.ceil(p["mon_warmup"] / dt - 1e-9)), m)
+                      steps(p["mon_hold"], dt), steps(p["mon_warmup"], dt), m)
 
 
 def _chi2_wh_z(nu, z):

@@ -58,6 +58,15 @@ DEFAULTS: dict[str, float] = {
     "sd_max": 0.0,        # bound on every sd (0: off)
     "sd_floor_rel": 0.0,  # floor on sd as a fraction of mu (0: off)
     "sd_valid": 0.0,      # valid when sd <= sd_valid (0: valid when updated)
+    # model-validity monitor (docs/MONITOR.md section 2; monitor.py); off in both presets
+    "mon_enable": 0.0,    # 1: acts on valid, status, sd (SCKF); 0: off
+    "mon_tau_nis": 0.5,   # time constant of the NIS average D, s
+    "mon_tau_mean": 0.5,  # time constant of the innovation means M_r and shares, s
+    "mon_p_fire": 1e-3,   # per-step probability, under the model, of exceeding a fire threshold
+    "mon_p_clear": 0.1,   # the same for the clear thresholds (mon_p_fire < mon_p_clear < 1)
+    "mon_hold": 0.5,      # shortest time fired after the last exceedance, s
+    "mon_warmup": 1.0,    # evaluated steps at the start that only count, s
+    "mon_inflate": 1.0,   # 1: reported sd x sqrt(max(1, D/3)) while fired; 0: sd untouched
 }
 
 # The two presets (docs/ESTIMATOR.md): numeric values and the word-valued choices.

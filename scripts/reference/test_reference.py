@@ -427,6 +427,10 @@ def test_make_goldens_naming_and_determinism(tmp_path):
             write_sensor_log(str(sc / name), cols)
         else:
             (sc / name).write_text("x")
+    # the monitor's goldens: noisy Magic Formula logs and the fault logs the library accepts
+    (sc / "faults").mkdir()
+    for name in ("drop.a.mf.csv", "spike_ax_beyond_limit.a.mf.csv"):
+        write_sensor_log(str(sc / "faults" / name), cols)
     script = os.path.join(REPO, "scripts", "data", "make_goldens.py")
     digests = []
     for run in range(2):
@@ -435,8 +439,11 @@ def test_make_goldens_naming_and_determinism(tmp_path):
                        check=True, capture_output=True)
         files = sorted(os.listdir(out))
         assert files == ["a.absolute.sckf.csv", "a.default.sckf.csv", "a.nf.paper.ckf.csv",
-                         "a.nf.paper.sckf.csv", "a.paper.ckf.csv", "a.paper.sckf.csv"]
-        digests.append({f: (out / f).read_bytes() for f in files})
+                         "a.nf.paper.sckf.csv", "a.paper.ckf.csv", "a.paper.sckf.csv", "monitor"]
+        mon = sorted(os.listdir(out / "monitor"))
+        assert mon == ["a.mf.monitor.sckf.csv", "drop.a.mf.monitor.sckf.csv"]
+        digests.append({f: (out / f).read_bytes() for f in files[:-1]}
+                       | {f: (out / "monitor" / f).read_bytes() for f in mon})
     assert digests[0] == digests[1]
 
 

@@ -44,7 +44,7 @@ EXCITE_UTIL, CONSISTENCY_K = 0.5, 2.0                                 # mu_repla
 TARGET_ERR, TARGET_CONS = 0.25, 0.9                                   # issue 17's targets
 VARIANTS = ("base", "cm_always", "cm_fired")
 CM_GROUPS = ("mf", "fault", "bank")   # covariance matching measured on these (run time)
-SKIP_FAULTS = ("spike_ax_beyond_limit",)   # beyond the input limits: the library refuses them
+SKIP_FAULTS = faults.REFUSED_BY_LIBRARY   # beyond the input limits: the library refuses them
 OBSERVER_LOGS = ("bank_curve_neg5.mf.csv", "bank_curve_pos5.mf.csv", "bank_curve_neg5.csv")
 
 

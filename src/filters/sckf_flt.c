@@ -175,18 +175,15 @@ static rfe_real_t pxz_element(const rfe_cub_scratch_t *w, size_t r, size_t i, si
     return acc;
 }
 
-/* S_zz = Tria([Zc, S_R]) into w->Szz; then K^T = S_zz^-T (S_zz^-1 P_xz^T), P_xz = Xc Zc^T.
- * SR: this step's lower-triangular S_R, ld RFE_M_MAX. */
-static rfe_status_t gain(rfe_sckf_t *f, const rfe_real_t *SR)
+/* S_zz = Tria([Zc, S_R]) into w->Szz (needs the centred points; uses w->A). */
+static rfe_status_t innovation_factor(rfe_sckf_t *f, const rfe_real_t *SR)
 {
     rfe_cub_scratch_t *w = &f->w;
     const size_t n = f->n;
     const size_t m = f->m;
-    size_t i;
     size_t j;
     size_t r;
     rfe_status_t st;
-
     for (r = 0u; r < m; ++r) {
         for (j = 0u; j < (2u * n); ++j) {
             w->A[(r * TC) + j] = w->zpts[(j * MM) + r];
@@ -196,10 +193,49 @@ static rfe_status_t gain(rfe_sckf_t *f, const rfe_real_t *SR)
         }
     }
     st = rfe_qr_tria(w->A, m, (2u * n) + m, TC);
+    if (st == RFE_OK) {
+        copy_lower(w->A, TC, m, w->Szz, MM);
+    }
+    return st;
+}
+
+/* The innovation of the predicted points into *o: y - z_hat, S_zz (w->Szz, which the caller
+ * has computed) with its upper part 0, diag(Zc Zc^T). */
+static void innovation_out(const rfe_sckf_t *f, const rfe_real_t *y, rfe_sckf_innov_t *o)
+{
+    const rfe_cub_scratch_t *w = &f->w;
+    const size_t n = f->n;
+    const size_t m = f->m;
+    size_t j;
+    size_t r;
+    for (r = 0u; r < m; ++r) {
+        rfe_real_t acc = RFE_R(0.0);
+        o->nu[r] = y[r] - w->zhat[r];
+        for (j = 0u; j < (2u * n); ++j) {
+            acc += w->zpts[(j * MM) + r] * w->zpts[(j * MM) + r];
+        }
+        o->zz[r] = acc;
+        for (j = 0u; j < m; ++j) {
+            o->Szz[(r * MM) + j] = (j <= r) ? w->Szz[(r * MM) + j] : RFE_R(0.0);
+        }
+    }
+}
+
+/* S_zz = Tria([Zc, S_R]) into w->Szz; then K^T = S_zz^-T (S_zz^-1 P_xz^T), P_xz = Xc Zc^T.
+ * SR: this step's lower-triangular S_R, ld RFE_M_MAX. */
+static rfe_status_t gain(rfe_sckf_t *f, const rfe_real_t *SR)
+{
+    rfe_cub_scratch_t *w = &f->w;
+    const size_t n = f->n;
+    const size_t m = f->m;
+    size_t i;
+    size_t r;
+    rfe_status_t st;
+
+    st = innovation_factor(f, SR);
     if (st != RFE_OK) {
         return st;
     }
-    copy_lower(w->A, TC, m, w->Szz, MM);
     /* P_xz^T (m x n). */
     for (r = 0u; r < m; ++r) {
         for (i = 0u; i < n; ++i) {
@@ -337,7 +373,8 @@ static void posterior_tria_input(rfe_sckf_t *f, const rfe_real_t *SR)
  * want_info; *updated = 0 when held. Commits x and S only when everything succeeded. */
 static rfe_status_t update_core(rfe_sckf_t *f, rfe_measure_fn_t measure, void *ctx,
                                 const rfe_real_t *y, const rfe_real_t *SR, rfe_real_t info_min,
-                                int want_info, rfe_real_t *info, int *updated)
+                                int want_info, rfe_real_t *info, rfe_sckf_innov_t *innov,
+                                int *updated)
 {
     rfe_cub_scratch_t *w = &f->w;
     const size_t n = f->n;
@@ -359,13 +396,24 @@ static rfe_status_t update_core(rfe_sckf_t *f, rfe_measure_fn_t measure, void *c
             return st;
         }
         if (held != 0) {
-            *updated = 0; /* held: not observable; x-, S- stay */
+            /* held: not observable; x-, S- stay (S_zz computed only for the innovation) */
+            if (innov != NULL) {
+                st = innovation_factor(f, SR);
+                if (st != RFE_OK) {
+                    return st;
+                }
+                innovation_out(f, y, innov);
+            }
+            *updated = 0;
             return RFE_OK;
         }
     }
     st = gain(f, SR);
     if (st != RFE_OK) {
         return st;
+    }
+    if (innov != NULL) {
+        innovation_out(f, y, innov); /* before the update: the predicted points' */
     }
     /* x = x- + K (y - z); a huge innovation that overflows commits nothing. */
     st = rfe_cub_correct(f->x, w->Kt, y, w->zhat, n, m, w->xn);
@@ -405,13 +453,15 @@ rfe_status_t rfe_sckf_update(rfe_sckf_t *f, rfe_measure_fn_t measure, void *ctx,
     if (st != RFE_OK) {
         return st;
     }
-    return update_core(f, measure, ctx, y, f->SR, RFE_R(0.0), 0, info, &updated);
+    return update_core(f, measure, ctx, y, f->SR, RFE_R(0.0), 0, info, NULL, &updated);
 }
 
 rfe_status_t rfe_sckf_update_ex(rfe_sckf_t *f, rfe_measure_fn_t measure, void *ctx,
                                 const rfe_real_t *y, const rfe_real_t *SR,
-                                rfe_real_t info_min, rfe_real_t *info_out, int *updated)
+                                rfe_real_t info_min, rfe_real_t *info_out,
+                                rfe_sckf_innov_t *innov_out, int *updated)
 {
+    rfe_sckf_innov_t innov;
     rfe_real_t SRl[RFE_M_MAX * RFE_M_MAX];
     rfe_real_t info[RFE_N_MAX];
     const rfe_real_t *sr;
@@ -435,9 +485,13 @@ rfe_status_t rfe_sckf_update_ex(rfe_sckf_t *f, rfe_measure_fn_t measure, void *c
         copy_lower(SR, f->m, f->m, SRl, MM);
         sr = SRl;
     }
-    st = update_core(f, measure, ctx, y, sr, info_min, (info_out != NULL) ? 1 : 0, info, &upd);
+    st = update_core(f, measure, ctx, y, sr, info_min, (info_out != NULL) ? 1 : 0, info,
+                     (innov_out != NULL) ? &innov : NULL, &upd);
     if (st != RFE_OK) {
         return st;
+    }
+    if (innov_out != NULL) {
+        *innov_out = innov;
     }
     if (info_out != NULL) {
         size_t i;

@@ -169,6 +169,44 @@ static void innovation_array(rfe_sckf_q31_t *f, const rfe_fix_t *SR)
 /* S_zz = Tria([Zc, S_R]) into w->Szz (Q24); W = S_zz \ [Zc, S_R] into w->A (m rows, Q30);
  * the whitened gain G = Xc Y^T (Y: the first 2n columns of W) transposed into w->Kt (m x n,
  * Q30). SR: this step's lower-triangular S_R, ld RFE_M_MAX. */
+/* S_zz = Tria([Zc, S_R]) into w->Szz (Q24; needs the centred points, uses w->A). */
+static rfe_status_t innovation_factor_q31(rfe_sckf_q31_t *f, const rfe_fix_t *SR,
+                                          uint32_t *count)
+{
+    rfe_cub_scratch_q31_t *w = &f->w;
+    rfe_status_t st;
+    innovation_array(f, SR);
+    st = rfe_qr_tria_q31(w->A, f->m, (2u * f->n) + f->m, TC, count);
+    if (st == RFE_OK) {
+        copy_lower_q31(w->A, TC, f->m, w->Szz, MM);
+    }
+    return st;
+}
+
+/* The innovation of the predicted points into *o (sckf_flt.c's innovation_out): y - z_hat,
+ * S_zz (w->Szz, computed by the caller) with its upper part 0, diag(Zc Zc^T) (Q48 -> Q24). */
+static void innovation_out_q31(const rfe_sckf_q31_t *f, const rfe_fix_t *y,
+                               rfe_sckf_innov_q31_t *o, uint32_t *count)
+{
+    const rfe_cub_scratch_q31_t *w = &f->w;
+    const size_t n = f->n;
+    const size_t m = f->m;
+    size_t j;
+    size_t r;
+    for (r = 0u; r < m; ++r) {
+        int64_t acc = 0;
+        o->nu[r] = rfe_fix_sub(y[r], w->zhat[r], count);
+        for (j = 0u; j < (2u * n); ++j) {
+            const int64_t z = (int64_t)w->zpts[(j * MM) + r];
+            acc = rfe_fix_add64(acc, z * z, count);
+        }
+        o->zz[r] = rfe_fix_narrow(acc, RFE_Q31_QZ, count);
+        for (j = 0u; j < m; ++j) {
+            o->Szz[(r * MM) + j] = (j <= r) ? w->Szz[(r * MM) + j] : 0;
+        }
+    }
+}
+
 static rfe_status_t gain_q31(rfe_sckf_q31_t *f, const rfe_fix_t *SR, uint32_t *count)
 {
     rfe_cub_scratch_q31_t *w = &f->w;
@@ -179,12 +217,10 @@ static rfe_status_t gain_q31(rfe_sckf_q31_t *f, const rfe_fix_t *SR, uint32_t *c
     size_t r;
     rfe_status_t st;
 
-    innovation_array(f, SR);
-    st = rfe_qr_tria_q31(w->A, m, (2u * n) + m, TC, count);
+    st = innovation_factor_q31(f, SR, count);
     if (st != RFE_OK) {
         return st;
     }
-    copy_lower_q31(w->A, TC, m, w->Szz, MM);
     /* W = S_zz \ [Zc, S_R]: Q24 by Q24 into Q30, shift = 30 - 24 + 24. */
     innovation_array(f, SR);
     st = rfe_qr_solve_lower_q31(w->Szz, m, MM, w->A, (2u * n) + m, TC,
@@ -367,7 +403,8 @@ static rfe_status_t gate_q31(rfe_sckf_q31_t *f, const rfe_fix_t *SR, rfe_fix_t i
  * succeeded (a held step commits the count of the information alone). */
 static rfe_status_t update_core_q31(rfe_sckf_q31_t *f, rfe_measure_fn_q31_t measure, void *ctx,
                                     const rfe_fix_t *y, const rfe_fix_t *SR, rfe_fix_t info_min,
-                                    int want_info, rfe_fix_t *info, int *updated)
+                                    int want_info, rfe_fix_t *info, rfe_sckf_innov_q31_t *innov,
+                                    int *updated)
 {
     rfe_cub_scratch_q31_t *w = &f->w;
     const size_t n = f->n;
@@ -390,12 +427,23 @@ static rfe_status_t update_core_q31(rfe_sckf_q31_t *f, rfe_measure_fn_q31_t meas
             return st;
         }
         if (held != 0) {
+            /* held: not observable; x-, S- stay (S_zz computed only for the innovation) */
+            if (innov != NULL) {
+                st = innovation_factor_q31(f, SR, &count);
+                if (st != RFE_OK) {
+                    return st;
+                }
+                innovation_out_q31(f, y, innov, &count);
+            }
             rfe_q31_sat_add(&f->sat, count);
-            *updated = 0; /* held: not observable; x-, S- stay */
+            *updated = 0;
             return RFE_OK;
         }
     }
     st = gain_q31(f, SR, &count);
+    if ((st == RFE_OK) && (innov != NULL)) {
+        innovation_out_q31(f, y, innov, &count); /* before the update: the predicted points' */
+    }
     if (st == RFE_OK) {
         st = correct(f, y, &count);
     }
@@ -432,13 +480,15 @@ rfe_status_t rfe_sckf_update_q31(rfe_sckf_q31_t *f, rfe_measure_fn_q31_t measure
     if (st != RFE_OK) {
         return st;
     }
-    return update_core_q31(f, measure, ctx, y, f->SR, 0, 0, info, &updated);
+    return update_core_q31(f, measure, ctx, y, f->SR, 0, 0, info, NULL, &updated);
 }
 
 rfe_status_t rfe_sckf_update_ex_q31(rfe_sckf_q31_t *f, rfe_measure_fn_q31_t measure, void *ctx,
                                     const rfe_fix_t *y, const rfe_fix_t *SR, rfe_fix_t info_min,
-                                    rfe_fix_t *info_out, int *updated)
+                                    rfe_fix_t *info_out, rfe_sckf_innov_q31_t *innov_out,
+                                    int *updated)
 {
+    rfe_sckf_innov_q31_t innov;
     rfe_fix_t SRl[RFE_M_MAX * RFE_M_MAX];
     rfe_fix_t info[RFE_N_MAX];
     const rfe_fix_t *sr;
@@ -456,9 +506,13 @@ rfe_status_t rfe_sckf_update_ex_q31(rfe_sckf_q31_t *f, rfe_measure_fn_q31_t meas
         copy_lower_q31(SR, f->m, f->m, SRl, MM);
         sr = SRl;
     }
-    st = update_core_q31(f, measure, ctx, y, sr, info_min, (info_out != NULL) ? 1 : 0, info, &upd);
+    st = update_core_q31(f, measure, ctx, y, sr, info_min, (info_out != NULL) ? 1 : 0, info,
+                         (innov_out != NULL) ? &innov : NULL, &upd);
     if (st != RFE_OK) {
         return st;
+    }
+    if (innov_out != NULL) {
+        *innov_out = innov;
     }
     if (info_out != NULL) {
         size_t i;

@@ -67,7 +67,15 @@
     X(info_min, filter.info_min, "1/mu^2", "update only with this Fisher information (0 = off)") \
     X(sd_max, filter.sd_max, "1", "bound on every sd (0 = off)")                               \
     X(sd_floor_rel, filter.sd_floor_rel, "1", "floor on sd as a fraction of mu (0 = off)")      \
-    X(sd_valid, filter.sd_valid, "1", "valid when sd <= sd_valid (0 = valid when updated)")
+    X(sd_valid, filter.sd_valid, "1", "valid when sd <= sd_valid (0 = valid when updated)")     \
+    X(mon_enable, monitor.enable, "1", "model-validity monitor: 1 acts on valid, status, sd; 0 off") \
+    X(mon_tau_nis, monitor.tau_nis, "s", "monitor: time constant of the NIS average")           \
+    X(mon_tau_mean, monitor.tau_mean, "s", "monitor: time constant of the innovation means")    \
+    X(mon_p_fire, monitor.p_fire, "1", "monitor: per-step false-alarm probability of firing")   \
+    X(mon_p_clear, monitor.p_clear, "1", "monitor: the same for clearing (> mon_p_fire)")        \
+    X(mon_hold, monitor.hold, "s", "monitor: shortest time fired after the last exceedance")    \
+    X(mon_warmup, monitor.warmup, "s", "monitor: evaluated steps at the start that only count") \
+    X(mon_inflate, monitor.inflate, "1", "monitor: 1 inflates the sd while fired; 0 not")
 
 /**
  * The velocity observer's keys (docs/OBSERVER.md §2): X(key, rfe_velocity_params_t member,

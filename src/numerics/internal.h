@@ -27,6 +27,10 @@
 #define RFE_TAN(x) tan(x)
 #define RFE_FREXP(x, e) frexp((x), (e))
 #define RFE_LDEXP(x, e) ldexp((x), (e))
+#define RFE_LOG(x) log(x)
+#define RFE_EXP(x) exp(x)
+#define RFE_ERFC(x) erfc(x)
+#define RFE_CEIL(x) ceil(x)
 #else
 #define RFE_SQRT(x) sqrtf(x)
 #define RFE_FABS(x) fabsf(x)
@@ -36,6 +40,10 @@
 #define RFE_TAN(x) tanf(x)
 #define RFE_FREXP(x, e) frexpf((x), (e))
 #define RFE_LDEXP(x, e) ldexpf((x), (e))
+#define RFE_LOG(x) logf(x)
+#define RFE_EXP(x) expf(x)
+#define RFE_ERFC(x) erfcf(x)
+#define RFE_CEIL(x) ceilf(x)
 #endif
 
 /** Magic words marking an initialised state struct (guards use before init). */
@@ -44,9 +52,13 @@
 #define RFE_MAGIC_EST 0x45535431u  /* "EST1" */
 #define RFE_MAGIC_COND 0x434F4E44u /* "COND" */
 #define RFE_MAGIC_VEL 0x56454C31u  /* "VEL1" */
+#define RFE_MAGIC_MON 0x4D4F4E31u  /* "MON1" */
 
 /** True when x is neither NaN nor infinite. */
 static inline int rfe_is_finite(rfe_real_t x) { return isfinite(x) ? 1 : 0; }
+
+/* A 0/1 parameter (a flag carried as a real in the parameter structs) is set. */
+static inline int rfe_flag_on(rfe_real_t f) { return (f != RFE_R(0.0)) ? 1 : 0; }
 
 /** True when all k values are finite. */
 static inline int rfe_all_finite(const rfe_real_t *v, size_t k)

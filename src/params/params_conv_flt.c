@@ -160,6 +160,10 @@ rfe_status_t rfe_params_to_q31(const rfe_params_t *p, rfe_params_q31_t *q)
     if (st != RFE_OK) {
         return st;
     }
+    /* the fixed-point estimator has no model-validity monitor yet (docs/MONITOR.md) */
+    if (p->monitor.enable != RFE_R(0.0)) {
+        return RFE_ERR_PARAM;
+    }
     conv_vehicle(&c, &p->vehicle, &t.vehicle);
     conv_tyre(&c, &p->tyre, &t.tyre);
     conv_filter(&c, &p->filter, &t.filter);

@@ -94,6 +94,17 @@ rfe_status_t rfe_params_paper(rfe_params_t *p)
     p->filter.sd_max = RFE_R(0.0);
     p->filter.sd_floor_rel = RFE_R(0.0);
     p->filter.sd_valid = RFE_R(0.0);
+
+    /* docs/MONITOR.md §2 "Parameters": stated probabilities and time scales, not tuned;
+     * off in both presets until the fixed-point estimator has the monitor too. */
+    p->monitor.enable = RFE_R(0.0);
+    p->monitor.tau_nis = RFE_R(0.5);
+    p->monitor.tau_mean = RFE_R(0.5);
+    p->monitor.p_fire = RFE_R(1e-3);
+    p->monitor.p_clear = RFE_R(0.1);
+    p->monitor.hold = RFE_R(0.5);
+    p->monitor.warmup = RFE_R(1.0);
+    p->monitor.inflate = RFE_R(1.0);
     return RFE_OK;
 }
 
@@ -174,6 +185,28 @@ static int ckf_subset_ok(const rfe_filter_params_t *f)
             (f->sd_max == zero) && (f->sd_floor_rel == zero));
 }
 
+/* 0 or 1. */
+static int is_flag(rfe_real_t x) { return (x == RFE_R(0.0)) || (x == RFE_R(1.0)); }
+
+/* A duration t >= 0 shorter than 2^31 periods dt (a step count fits uint32_t). */
+static int is_steps(rfe_real_t t, rfe_real_t dt)
+{
+    return is_nonneg(t) && ((t / dt) < RFE_R(2147483648.0));
+}
+
+rfe_status_t rfe_monitor_params_validate(const rfe_monitor_params_t *mp, rfe_real_t dt)
+{
+    if (mp == NULL) {
+        return RFE_ERR_NULL;
+    }
+    if (!is_pos(dt) || !is_flag(mp->enable) || !is_flag(mp->inflate) || !is_pos(mp->tau_nis) ||
+        !is_pos(mp->tau_mean) || !(mp->p_fire > RFE_R(0.0)) || !(mp->p_fire < mp->p_clear) ||
+        !(mp->p_clear < RFE_R(1.0)) || !is_steps(mp->hold, dt) || !is_steps(mp->warmup, dt)) {
+        return RFE_ERR_PARAM;
+    }
+    return RFE_OK;
+}
+
 rfe_status_t rfe_params_validate(const rfe_params_t *p)
 {
     if (p == NULL) {
@@ -183,5 +216,9 @@ rfe_status_t rfe_params_validate(const rfe_params_t *p)
         !additions_ok(&p->filter) || !ckf_subset_ok(&p->filter)) {
         return RFE_ERR_PARAM;
     }
-    return RFE_OK;
+    /* the monitor reads the SCKF's innovations: the CKF baseline runs without it */
+    if ((p->filter.kind == RFE_FILTER_CKF) && (p->monitor.enable != RFE_R(0.0))) {
+        return RFE_ERR_PARAM;
+    }
+    return rfe_monitor_params_validate(&p->monitor, p->filter.dt);
 }

@@ -212,13 +212,13 @@ static void test_rfe_sckf_update_ex_equals_update_bitwise(void **state)
         for (k = 0; k < 3; ++k) {
             assert_int_equal(rfe_sckf_update(&a, lin_measure, &p.h, p.y), RFE_OK);
             assert_int_equal(rfe_sckf_update_ex(&b, lin_measure, &p.h, p.y, NULL,
-                                                        (rfe_real_t)0, NULL, &upd), RFE_OK);
+                                                        (rfe_real_t)0, NULL, NULL, &upd), RFE_OK);
             assert_int_equal(upd, 1);
             assert_int_equal(rfe_sckf_update_ex(&c, lin_measure, &p.h, p.y, p.SR,
-                                                        (rfe_real_t)-1, info, &upd), RFE_OK);
+                                                        (rfe_real_t)-1, info, NULL, &upd), RFE_OK);
             assert_int_equal(upd, 1);
             assert_int_equal(rfe_sckf_update_ex(&d, cubic_measure, NULL, p.y, NULL,
-                                                        (rfe_real_t)0, info, &upd), RFE_OK);
+                                                        (rfe_real_t)0, info, NULL, &upd), RFE_OK);
             assert_same_state(&a, &b);
             assert_same_state(&a, &c);
             assert_int_equal(rfe_sckf_predict(&a, NULL, NULL), RFE_OK);
@@ -244,7 +244,7 @@ static void test_rfe_sckf_update_ex_step_sr_replaces_filter_sr(void **state)
         init_filter(&b, &p, p.SR2);
         memcpy(SR_before, a.SR, sizeof SR_before);
         assert_int_equal(rfe_sckf_update_ex(&a, lin_measure, &p.h, p.y, p.SR2,
-                                                    (rfe_real_t)0, NULL, &upd), RFE_OK);
+                                                    (rfe_real_t)0, NULL, NULL, &upd), RFE_OK);
         assert_int_equal(rfe_sckf_update(&b, lin_measure, &p.h, p.y), RFE_OK);
         assert_same_state(&a, &b);
         assert_memory_equal(a.SR, SR_before, sizeof SR_before);
@@ -268,7 +268,7 @@ static void test_rfe_sckf_update_ex_information_linear_model(void **state)
         char what[64];
         init_filter(&f, &p, p.SR);
         assert_int_equal(rfe_sckf_update_ex(&f, lin_measure, &p.h, p.y, p.SR2,
-                                                    (rfe_real_t)0, info, &upd), RFE_OK);
+                                                    (rfe_real_t)0, info, NULL, &upd), RFE_OK);
         ref_information(&p, p.SR2, ref);
         for (i = 0u; i < p.n; ++i) {
             scale = (ref[i] > scale) ? ref[i] : scale;
@@ -296,25 +296,25 @@ static void test_rfe_sckf_update_ex_gate_threshold(void **state)
         init_filter(&pred, &p, p.SR);
         probe = pred;
         assert_int_equal(rfe_sckf_update_ex(&probe, lin_measure, &p.h, p.y, p.SR2,
-                                                    (rfe_real_t)0, info, &upd), RFE_OK);
+                                                    (rfe_real_t)0, info, NULL, &upd), RFE_OK);
         most = (rfe_real_t)max_of(info, p.n);
         assert_true(most > 0);
         /* Just below the largest information: updates, same bits as the ungated step. */
         a = pred;
         assert_int_equal(rfe_sckf_update_ex(&a, lin_measure, &p.h, p.y, p.SR2,
-                                                    most * (rfe_real_t)0.999, NULL, &upd), RFE_OK);
+                                                    most * (rfe_real_t)0.999, NULL, NULL, &upd), RFE_OK);
         assert_int_equal(upd, 1);
         assert_same_state(&a, &probe);
         /* Equal to it: updates (the gate holds only below info_min). */
         a = pred;
         assert_int_equal(rfe_sckf_update_ex(&a, lin_measure, &p.h, p.y, p.SR2, most,
-                                                    NULL, &upd), RFE_OK);
+                                                    NULL, NULL, &upd), RFE_OK);
         assert_int_equal(upd, 1);
         /* Just above: held. */
         b = pred;
         upd = -1;
         assert_int_equal(rfe_sckf_update_ex(&b, lin_measure, &p.h, p.y, p.SR2,
-                                                    most * (rfe_real_t)1.001, info_held, &upd),
+                                                    most * (rfe_real_t)1.001, info_held, NULL, &upd),
                          RFE_OK);
         assert_int_equal(upd, 0);
         assert_same_state(&b, &pred);
@@ -341,7 +341,7 @@ static void test_rfe_sckf_update_ex_gate_nonlinear(void **state)
     pred = f;
     /* z = x^3: J = E[x^4]/E[x^2] ~ S^2 = 1e-4, so I ~ (1e-4 / 0.1)^2 = 1e-6. */
     assert_int_equal(rfe_sckf_update_ex(&f, cubic_measure, NULL, y, NULL, (rfe_real_t)1e-3,
-                                                info, &upd), RFE_OK);
+                                                info, NULL, &upd), RFE_OK);
     assert_int_equal(upd, 0);
     assert_true(info[0] > 0 && info[0] < (rfe_real_t)1e-5);
     assert_same_state(&f, &pred);
@@ -367,24 +367,24 @@ static void test_rfe_sckf_update_ex_argument_errors(void **state)
         info[i] = (rfe_real_t)-3;
     }
     memcpy(info_copy, info, sizeof info);
-    assert_int_equal(rfe_sckf_update_ex(NULL, lin_measure, &p.h, p.y, NULL, 0, info, &upd), RFE_ERR_NULL);
-    assert_int_equal(rfe_sckf_update_ex(&f, NULL, &p.h, p.y, NULL, 0, info, &upd), RFE_ERR_NULL);
-    assert_int_equal(rfe_sckf_update_ex(&f, lin_measure, &p.h, NULL, NULL, 0, info, &upd), RFE_ERR_NULL);
-    assert_int_equal(rfe_sckf_update_ex(&f, lin_measure, &p.h, p.y, NULL, 0, info, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_sckf_update_ex(NULL, lin_measure, &p.h, p.y, NULL, 0, info, NULL, &upd), RFE_ERR_NULL);
+    assert_int_equal(rfe_sckf_update_ex(&f, NULL, &p.h, p.y, NULL, 0, info, NULL, &upd), RFE_ERR_NULL);
+    assert_int_equal(rfe_sckf_update_ex(&f, lin_measure, &p.h, NULL, NULL, 0, info, NULL, &upd), RFE_ERR_NULL);
+    assert_int_equal(rfe_sckf_update_ex(&f, lin_measure, &p.h, p.y, NULL, 0, info, NULL, NULL), RFE_ERR_NULL);
     memset(&blank, 0, sizeof blank);
-    assert_int_equal(rfe_sckf_update_ex(&blank, lin_measure, &p.h, p.y, NULL, 0, info, &upd),
+    assert_int_equal(rfe_sckf_update_ex(&blank, lin_measure, &p.h, p.y, NULL, 0, info, NULL, &upd),
                      RFE_ERR_NOT_INITIALISED);
     assert_int_equal(rfe_sckf_update_ex(&f, lin_measure, &p.h, p.y, NULL, (rfe_real_t)NAN,
-                                                info, &upd), RFE_ERR_NONFINITE);
+                                                info, NULL, &upd), RFE_ERR_NONFINITE);
     assert_int_equal(rfe_sckf_update_ex(&f, lin_measure, &p.h, p.y, NULL,
-                                                (rfe_real_t)INFINITY, info, &upd), RFE_ERR_NONFINITE);
+                                                (rfe_real_t)INFINITY, info, NULL, &upd), RFE_ERR_NONFINITE);
     memcpy(ybad, p.y, sizeof ybad);
     ybad[1] = (rfe_real_t)NAN;
-    assert_int_equal(rfe_sckf_update_ex(&f, lin_measure, &p.h, ybad, NULL, 0, info, &upd),
+    assert_int_equal(rfe_sckf_update_ex(&f, lin_measure, &p.h, ybad, NULL, 0, info, NULL, &upd),
                      RFE_ERR_NONFINITE);
     memcpy(SRbad, p.SR2, sizeof SRbad);
     SRbad[2] = (rfe_real_t)INFINITY; /* (1,0): lower triangle */
-    assert_int_equal(rfe_sckf_update_ex(&f, lin_measure, &p.h, p.y, SRbad, 0, info, &upd),
+    assert_int_equal(rfe_sckf_update_ex(&f, lin_measure, &p.h, p.y, SRbad, 0, info, NULL, &upd),
                      RFE_ERR_NONFINITE);
     /* The upper triangle is not read. */
     memcpy(SRbad, p.SR2, sizeof SRbad);
@@ -393,9 +393,9 @@ static void test_rfe_sckf_update_ex_argument_errors(void **state)
     {
         static rfe_sckf_t g;
         g = f;
-        assert_int_equal(rfe_sckf_update_ex(&g, lin_measure, &p.h, p.y, SRbad, 0, NULL, &upd),
+        assert_int_equal(rfe_sckf_update_ex(&g, lin_measure, &p.h, p.y, SRbad, 0, NULL, NULL, &upd),
                          RFE_OK);
-        assert_int_equal(rfe_sckf_update_ex(&copy, lin_measure, &p.h, p.y, p.SR2, 0, NULL, &upd),
+        assert_int_equal(rfe_sckf_update_ex(&copy, lin_measure, &p.h, p.y, p.SR2, 0, NULL, NULL, &upd),
                          RFE_OK);
         assert_same_state(&g, &copy);
     }
@@ -405,17 +405,17 @@ static void test_rfe_sckf_update_ex_argument_errors(void **state)
     memcpy(SRbad, p.SR2, sizeof SRbad);
     SRbad[3] = 0; /* (1,1) */
     assert_int_equal(rfe_sckf_update_ex(&f, lin_measure, &p.h, p.y, SRbad, (rfe_real_t)1,
-                                                info, &upd), RFE_ERR_NOT_POSITIVE_DEFINITE);
+                                                info, NULL, &upd), RFE_ERR_NOT_POSITIVE_DEFINITE);
     /* An information that overflows is an error, not "no information". */
     memcpy(SRbad, p.SR2, sizeof SRbad);
     SRbad[0] = (rfe_real_t)TINY_SR;
     SRbad[2] = 0;
     SRbad[3] = (rfe_real_t)TINY_SR;
     assert_int_equal(rfe_sckf_update_ex(&f, lin_measure, &p.h, p.y, SRbad, (rfe_real_t)1,
-                                                info, &upd), RFE_ERR_NONFINITE);
+                                                info, NULL, &upd), RFE_ERR_NONFINITE);
     /* Measurements whose mean overflows. */
     assert_int_equal(rfe_sckf_update_ex(&f, huge_measure, NULL, p.y, NULL, (rfe_real_t)1,
-                                                info, &upd), RFE_ERR_NONFINITE);
+                                                info, NULL, &upd), RFE_ERR_NONFINITE);
     assert_same_state(&f, &copy);
     assert_memory_equal(info, info_copy, sizeof info);
     assert_int_equal(upd, -7);
@@ -442,11 +442,11 @@ static void test_rfe_sckf_update_ex_singular_prior(void **state)
     h.H[1] = 2;
     assert_int_equal(rfe_sckf_init(&f, 2, 1, x0, S0, SQ, SR), RFE_OK);
     copy = f;
-    assert_int_equal(rfe_sckf_update_ex(&f, lin_measure, &h, y, NULL, (rfe_real_t)1, info, &upd),
+    assert_int_equal(rfe_sckf_update_ex(&f, lin_measure, &h, y, NULL, (rfe_real_t)1, info, NULL, &upd),
                      RFE_ERR_NOT_POSITIVE_DEFINITE);
     assert_same_state(&f, &copy);
     /* Without the information the (rank-deficient) update itself still runs. */
-    assert_int_equal(rfe_sckf_update_ex(&f, lin_measure, &h, y, NULL, 0, NULL, &upd), RFE_OK);
+    assert_int_equal(rfe_sckf_update_ex(&f, lin_measure, &h, y, NULL, 0, NULL, NULL, &upd), RFE_OK);
     assert_int_equal(upd, 1);
 }
 

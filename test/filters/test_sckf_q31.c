@@ -804,11 +804,11 @@ static void run_scenario(const char *path, int preset, scen_stats_t *st)
                 srq = SRqq;
             }
             assert_int_equal(rfe_sckf_update_ex_f64(&fd, scen_measure_f64, &cd, y, srd,
-                                                    info_min, info_d, &ud), RFE_OK);
+                                                    info_min, info_d, NULL, &ud), RFE_OK);
             assert_int_equal(rfe_sckf_update_ex_f64(&fs, scen_measure_f64, &cd, y, srs,
-                                                    info_min, info_s, &us), RFE_OK);
+                                                    info_min, info_s, NULL, &us), RFE_OK);
             assert_int_equal(rfe_sckf_update_ex_q31(&fq, scen_measure_q31, &cq, yq, srq,
-                                                    info_min_q, info_q, &uq), RFE_OK);
+                                                    info_min_q, info_q, NULL, &uq), RFE_OK);
             /* information and gate on the same state */
             for (i = 0u; i < n; ++i) {
                 const double di = fabs(d(info_q[i], QI) - info_s[i]);
@@ -1000,21 +1000,92 @@ static void test_rfe_sckf_q31_update_ex_equals_update(void **state)
                     }
                 }
                 assert_int_equal(rfe_sckf_update_q31(&a, measure_q31, &p.mdl, y), RFE_OK);
-                assert_int_equal(rfe_sckf_update_ex_q31(&b, measure_q31, &p.mdl, y, NULL, 0, NULL,
+                assert_int_equal(rfe_sckf_update_ex_q31(&b, measure_q31, &p.mdl, y, NULL, 0, NULL, NULL,
                                                         &upd), RFE_OK);
                 assert_int_equal(upd, 1);
                 assert_memory_equal(&a, &b, STATE_BYTES);
                 /* its own S_R passed explicitly (ld m), a negative threshold, info reported */
-                assert_int_equal(rfe_sckf_update_ex_q31(&c, measure_q31, &p.mdl, y, p.SRq, -5, info,
+                assert_int_equal(rfe_sckf_update_ex_q31(&c, measure_q31, &p.mdl, y, p.SRq, -5, info, NULL,
                                                         &upd), RFE_OK);
                 assert_memory_equal(&a, &c, STATE_BYTES);
                 /* a step S_R: the filter's S_R is unchanged, the result is filter e's */
-                assert_int_equal(rfe_sckf_update_ex_q31(&g, measure_q31, &p.mdl, y, p2.SRq, 0, NULL,
+                assert_int_equal(rfe_sckf_update_ex_q31(&g, measure_q31, &p.mdl, y, p2.SRq, 0, NULL, NULL,
                                                         &upd), RFE_OK);
                 assert_int_equal(rfe_sckf_update_q31(&e, measure_q31, &p.mdl, y), RFE_OK);
                 assert_memory_equal(g.x, e.x, sizeof g.x);
                 assert_memory_equal(g.S, e.S, sizeof g.S);
                 assert_memory_equal(g.SR, a.SR, sizeof g.SR);
+            }
+        }
+    }
+}
+
+/* REQ: the innovation output (the model-validity monitor's input) of an updated and of a
+ * held step is the same (the predicted points'), and matches the double twin's on the same
+ * state: nu = y - z_hat, S_zz and diag(Zc Zc^T). Bounds: z_hat is the mean of Q24 model
+ * outputs of Q29 points (0.5 LSB24 each, plus 0.5 LSB24 for the mean): |dnu| <= 2 LSB24
+ * with a factor 2 of margin; S_zz is Tria of Q24 data (1.5 LSB24 per entry of Zc, as for
+ * the update above, GAMMA relative from the Tria): |dS| <= 2 (1.5 sqrt(2n + m) LSB24 +
+ * GAMMA |S| + 0.5 LSB24); zz sums 2n squares of entries within 1.5 LSB24, so by
+ * Cauchy-Schwarz |dzz| <= 2 (3 sqrt(2n) sqrt(zz) LSB24 + 0.5 LSB24). */
+/* REQ-SCKF-004 REQ-MON-005 */
+static void test_rfe_sckf_q31_innovation_output(void **state)
+{
+    static problem_t p;
+    static rfe_sckf_q31_t pred, a, b;
+    static rfe_sckf_t fd;
+    int32_t y[MM];
+    double yd[MM];
+    size_t n, m, i, j;
+    int upd = -1;
+    int ud = -1;
+    (void)state;
+    for (n = 1u; n <= NM; ++n) {
+        for (m = 1u; m <= MM; ++m) {
+            rfe_sckf_innov_q31_t iq;
+            rfe_sckf_innov_q31_t ih;
+            rfe_sckf_innov_t idd;
+            const double gamma = 8.0 * (double)n / 536870912.0;
+            make_problem(&p, n, m, 0, 4500u + (10u * n) + m);
+            init_q31(&pred, &p);
+            assert_int_equal(rfe_sckf_predict_q31(&pred, lin_process_q31, &p.mdl), RFE_OK);
+            for (i = 0u; i < m; ++i) {
+                y[i] = q(rng_uniform(), QZ);
+                yd[i] = d(y[i], QZ);
+            }
+            a = pred;
+            b = pred;
+            memset(&iq, 0x5A, sizeof iq);
+            memset(&ih, 0x5A, sizeof ih);
+            assert_int_equal(rfe_sckf_update_ex_q31(&a, measure_q31, &p.mdl, y, NULL, 0, NULL, &iq,
+                                                    &upd), RFE_OK);
+            assert_int_equal(upd, 1);
+            assert_int_equal(rfe_sckf_update_ex_q31(&b, measure_q31, &p.mdl, y, NULL, INT32_MAX,
+                                                    NULL, &ih, &upd), RFE_OK);
+            assert_int_equal(upd, 0); /* held: the state is the predicted one */
+            assert_memory_equal(b.x, pred.x, sizeof b.x);
+            for (i = 0u; i < m; ++i) {
+                assert_int_equal(iq.nu[i], ih.nu[i]);
+                assert_int_equal(iq.zz[i], ih.zz[i]);
+                for (j = 0u; j < m; ++j) {
+                    assert_int_equal(iq.Szz[(i * MM) + j], ih.Szz[(i * MM) + j]);
+                }
+            }
+            assert_int_equal(rfe_sckf_init_f64(&fd, n, m, p.x0, p.S0, p.SQ, p.SR), RFE_OK);
+            sync_to(&fd, &pred);
+            assert_int_equal(rfe_sckf_update_ex_f64(&fd, measure_f64, &p.mdl, yd, NULL, 0.0, NULL,
+                                                    &idd, &ud), RFE_OK);
+            for (i = 0u; i < m; ++i) {
+                const double bz = 2.0 * ((3.0 * sqrt(2.0 * (double)n) * sqrt(idd.zz[i])) + 0.5) *
+                                  LSB24;
+                ASSERT_LE(fabs(d(iq.nu[i], QZ) - idd.nu[i]), 2.0 * LSB24, "innovation nu");
+                ASSERT_LE(fabs(d(iq.zz[i], QZ) - idd.zz[i]), bz, "innovation diag(Zc Zc^T)");
+                for (j = 0u; j < m; ++j) {
+                    const double sd = idd.Szz[(i * MM) + j];
+                    const double bs = 2.0 * ((1.5 * sqrt((double)((2u * n) + m))) + 0.5 +
+                                             (gamma * fabs(sd) / LSB24)) * LSB24;
+                    ASSERT_LE(fabs(d(iq.Szz[(i * MM) + j], QZ) - sd), bs, "innovation S_zz");
+                }
             }
         }
     }
@@ -1049,7 +1120,7 @@ static void test_rfe_sckf_q31_information_and_gate(void **state)
                 y[i] = q(0.5 * rng_uniform(), QZ);
             }
             a = pred;
-            assert_int_equal(rfe_sckf_update_ex_q31(&a, measure_q31, &p.mdl, y, NULL, 0, info,
+            assert_int_equal(rfe_sckf_update_ex_q31(&a, measure_q31, &p.mdl, y, NULL, 0, info, NULL,
                                                     &upd), RFE_OK);
             assert_int_equal(upd, 1);
             /* the double twin's information on the same state (exact on a linear model) */
@@ -1062,7 +1133,7 @@ static void test_rfe_sckf_q31_information_and_gate(void **state)
                     yd[i] = d(y[i], QZ);
                 }
                 assert_int_equal(rfe_sckf_update_ex_f64(&fd, measure_f64, &p.mdl, yd, NULL, 0.0,
-                                                        info_d, &ud), RFE_OK);
+                                                        info_d, NULL, &ud), RFE_OK);
             }
             for (i = 0u; i < n; ++i) {
                 const double di = fabs(d(info[i], QI) - info_d[i]);
@@ -1077,14 +1148,14 @@ static void test_rfe_sckf_q31_information_and_gate(void **state)
                 static rfe_sckf_q31_t b;
                 b = pred;
                 assert_int_equal(rfe_sckf_update_ex_q31(&b, measure_q31, &p.mdl, y, NULL, most,
-                                                        NULL, &upd), RFE_OK);
+                                                        NULL, NULL, &upd), RFE_OK);
                 assert_int_equal(upd, 1);
                 assert_memory_equal(&a, &b, STATE_BYTES);
                 /* one LSB above: held; x, S, SR as predicted; info still written */
                 b = pred;
                 upd = -1;
                 assert_int_equal(rfe_sckf_update_ex_q31(&b, measure_q31, &p.mdl, y, NULL, most + 1,
-                                                        info2, &upd), RFE_OK);
+                                                        info2, NULL, &upd), RFE_OK);
                 assert_int_equal(upd, 0);
                 assert_memory_equal(&b, &pred, STATE_BYTES);
                 assert_memory_equal(info, info2, n * sizeof info[0]);
@@ -1135,7 +1206,7 @@ static void test_rfe_sckf_q31_callback_errors_untouched(void **state)
     assert_int_equal(rfe_sckf_update_q31(&f, failing_measure, &p.mdl, y), RFE_ERR_PARAM);
     assert_memory_equal(before, &f, STATE_BYTES);
     cb_calls = 0;
-    assert_int_equal(rfe_sckf_update_ex_q31(&f, failing_measure, &p.mdl, y, NULL, 100, NULL, &upd),
+    assert_int_equal(rfe_sckf_update_ex_q31(&f, failing_measure, &p.mdl, y, NULL, 100, NULL, NULL, &upd),
                      RFE_ERR_PARAM);
     assert_int_equal(upd, -1);
     assert_memory_equal(before, &f, STATE_BYTES);
@@ -1181,7 +1252,7 @@ static void test_rfe_sckf_q31_not_positive_definite_untouched(void **state)
     memcpy(before, &f, STATE_BYTES);
     memcpy(SRbad, p.SRq, sizeof SRbad);
     SRbad[3] = 0; /* (1,1) of a 2 x 2, ld 2 */
-    assert_int_equal(rfe_sckf_update_ex_q31(&f, measure_q31, &p.mdl, y, SRbad, 0, info, &upd),
+    assert_int_equal(rfe_sckf_update_ex_q31(&f, measure_q31, &p.mdl, y, SRbad, 0, info, NULL, &upd),
                      RFE_ERR_NOT_POSITIVE_DEFINITE);
     assert_int_equal(upd, -1);
     assert_memory_equal(before, &f, STATE_BYTES);
@@ -1191,7 +1262,7 @@ static void test_rfe_sckf_q31_not_positive_definite_untouched(void **state)
     init_q31(&f, &p);
     assert_int_equal(rfe_sckf_predict_q31(&f, NULL, NULL), RFE_OK);
     memcpy(before, &f, STATE_BYTES);
-    assert_int_equal(rfe_sckf_update_ex_q31(&f, measure_q31, &p.mdl, y, NULL, 100, NULL, &upd),
+    assert_int_equal(rfe_sckf_update_ex_q31(&f, measure_q31, &p.mdl, y, NULL, 100, NULL, NULL, &upd),
                      RFE_ERR_NOT_POSITIVE_DEFINITE);
     assert_memory_equal(before, &f, STATE_BYTES);
 }
@@ -1227,7 +1298,7 @@ static void test_rfe_sckf_q31_argument_errors(void **state)
     memset(&blank, 0, sizeof blank);
     assert_int_equal(rfe_sckf_predict_q31(&blank, NULL, NULL), RFE_ERR_NOT_INITIALISED);
     assert_int_equal(rfe_sckf_update_q31(&blank, measure_q31, &p.mdl, y), RFE_ERR_NOT_INITIALISED);
-    assert_int_equal(rfe_sckf_update_ex_q31(&blank, measure_q31, &p.mdl, y, NULL, 0, NULL, &upd),
+    assert_int_equal(rfe_sckf_update_ex_q31(&blank, measure_q31, &p.mdl, y, NULL, 0, NULL, NULL, &upd),
                      RFE_ERR_NOT_INITIALISED);
     assert_int_equal(rfe_sckf_scale_q31(&blank, 1 << 24), RFE_ERR_NOT_INITIALISED);
     assert_int_equal(rfe_sckf_get_q31(&blank, x, sd), RFE_ERR_NOT_INITIALISED);
@@ -1239,9 +1310,9 @@ static void test_rfe_sckf_q31_argument_errors(void **state)
     assert_int_equal(rfe_sckf_update_q31(NULL, measure_q31, &p.mdl, y), RFE_ERR_NULL);
     assert_int_equal(rfe_sckf_update_q31(&f, NULL, &p.mdl, y), RFE_ERR_NULL);
     assert_int_equal(rfe_sckf_update_q31(&f, measure_q31, &p.mdl, NULL), RFE_ERR_NULL);
-    assert_int_equal(rfe_sckf_update_ex_q31(NULL, measure_q31, &p.mdl, y, NULL, 0, NULL, &upd),
+    assert_int_equal(rfe_sckf_update_ex_q31(NULL, measure_q31, &p.mdl, y, NULL, 0, NULL, NULL, &upd),
                      RFE_ERR_NULL);
-    assert_int_equal(rfe_sckf_update_ex_q31(&f, measure_q31, &p.mdl, y, NULL, 0, NULL, NULL),
+    assert_int_equal(rfe_sckf_update_ex_q31(&f, measure_q31, &p.mdl, y, NULL, 0, NULL, NULL, NULL),
                      RFE_ERR_NULL);
     assert_int_equal(rfe_sckf_scale_q31(NULL, 1 << 24), RFE_ERR_NULL);
     assert_int_equal(rfe_sckf_get_q31(NULL, x, sd), RFE_ERR_NULL);
@@ -1392,7 +1463,7 @@ static void test_rfe_sckf_q31_saturation_counted(void **state)
     }
     init_q31(&f, &p);
     y[0] = q(1.0, QZ);
-    assert_int_equal(rfe_sckf_update_ex_q31(&f, measure_q31, &p.mdl, y, NULL, 0, info, &upd),
+    assert_int_equal(rfe_sckf_update_ex_q31(&f, measure_q31, &p.mdl, y, NULL, 0, info, NULL, &upd),
                      RFE_OK);
     assert_true(f.sat > 0u);
     printf("  [saturation] innovation of ~1e7 sd and information ~1e14: %u events\n", f.sat);
@@ -1426,7 +1497,7 @@ static uint64_t run_hash(void)
             y[i] = (int32_t)(xs % (1u << 25)) - (1 << 24);
         }
         assert_int_equal(rfe_sckf_predict_q31(&f, lin_process_q31, &p.mdl), RFE_OK);
-        assert_int_equal(rfe_sckf_update_ex_q31(&f, measure_q31, &p.mdl, y, NULL, 50 << 10, info,
+        assert_int_equal(rfe_sckf_update_ex_q31(&f, measure_q31, &p.mdl, y, NULL, 50 << 10, info, NULL,
                                                 &upd), RFE_OK);
         if ((step % 7) == 0) {
             assert_int_equal(rfe_sckf_scale_q31(&f, (1 << 24) + 12345), RFE_OK);
@@ -1458,6 +1529,7 @@ int main(void)
         cmocka_unit_test(test_rfe_sckf_q31_scenarios_absolute_tyre),
         cmocka_unit_test(test_rfe_sckf_q31_scenarios_default_preset),
         cmocka_unit_test(test_rfe_sckf_q31_update_ex_equals_update),
+        cmocka_unit_test(test_rfe_sckf_q31_innovation_output),
         cmocka_unit_test(test_rfe_sckf_q31_information_and_gate),
         cmocka_unit_test(test_rfe_sckf_q31_callback_errors_untouched),
         cmocka_unit_test(test_rfe_sckf_q31_not_positive_definite_untouched),

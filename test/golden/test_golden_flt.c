@@ -74,9 +74,10 @@ static int n_compared;
 static const char *const WHEEL[4] = {"fl", "fr", "rl", "rr"};
 
 /* Runs the estimator (the same path as mu_replay) on a sensor log, from a library preset
- * with tyre and filter overridden. Returns rows (malloc). */
-static rfe_est_row_t *run(const char *sensor_path, rfe_preset_t preset, rfe_tyre_mode_t tyre,
-                          rfe_filter_kind_t kind, size_t *n_rows)
+ * with tyre and filter overridden, the model-validity monitor on when monitor_on. Returns
+ * rows (malloc). */
+static rfe_est_row_t *run_mon(const char *sensor_path, rfe_preset_t preset, rfe_tyre_mode_t tyre,
+                              rfe_filter_kind_t kind, int monitor_on, size_t *n_rows)
 {
     rfe_sensor_log_t log;
     rfe_param_set_t ps;
@@ -93,12 +94,21 @@ static rfe_est_row_t *run(const char *sensor_path, rfe_preset_t preset, rfe_tyre
     }
     ps.tyre = tyre;
     ps.filter = kind;
+    if (monitor_on) {
+        ps.value[RFE_PK_mon_enable] = 1.0;
+    }
     rows = calloc(log.n_rows, sizeof(*rows));
     assert_non_null(rows);
     assert_int_equal(rfe_replay_run(&ps, &log, rows, &stats, NULL), RFE_OK);
     *n_rows = log.n_rows;
     rfe_sensor_log_free(&log);
     return rows;
+}
+
+static rfe_est_row_t *run(const char *sensor_path, rfe_preset_t preset, rfe_tyre_mode_t tyre,
+                          rfe_filter_kind_t kind, size_t *n_rows)
+{
+    return run_mon(sensor_path, preset, tyre, kind, 0, n_rows);
 }
 
 /* A wheel whose estimate sits on a projection bound with (almost) no gain: whether the
@@ -124,14 +134,15 @@ static int is_ok_or_projected(double status) { return status == 0.0 || status ==
  * With max_fraction_out > 0, up to that share of (row, wheel) pairs may exceed the mu/sd
  * tolerance (see the float32 notes above); otherwise none may. With check_status and
  * sd_valid > 0 (the sd rule of the default preset) the valid flags must match too, except
- * where the sd ties with sd_valid. */
+ * where the sd ties with sd_valid. With sd_share > 0 a pair is also within tolerance when mu
+ * and sd differ by at most sd_share times the golden sd. */
 static double compare_with_golden(const char *golden_path, const rfe_est_row_t *rows,
                                   size_t n_rows, int check_status, double max_fraction_out,
-                                  double sd_valid)
+                                  double sd_valid, double sd_share)
 {
     test_table_t g;
     size_t r, i, n_out = 0;
-    double worst = 0.0;
+    double worst = 0.0, gsd;
     char name[16], what[256];
     assert_int_equal(test_table_load(golden_path, &g), 0);
     assert_int_equal(g.n_rows, n_rows);
@@ -143,7 +154,8 @@ static double compare_with_golden(const char *golden_path, const rfe_est_row_t *
             snprintf(name, sizeof(name), "sd_%s", WHEEL[i]);
             dsd = fabs(rows[r].sd[i] - test_table_get(&g, r, name));
             worst = dmu > worst ? dmu : worst;
-            if (!(dmu <= TOL_MU && dsd <= TOL_SD)) {
+            gsd = test_table_get(&g, r, name);
+            if (!(dmu <= fmax(TOL_MU, sd_share * gsd) && dsd <= fmax(TOL_SD, sd_share * gsd))) {
                 ++n_out;
                 if (max_fraction_out <= 0.0) {
                     fail_msg("%s row %zu wheel %s: |dmu| %.3g, |dsd| %.3g > %.3g", golden_path, r,
@@ -235,13 +247,13 @@ static void check_one(const char *stem, rfe_preset_t preset, rfe_tyre_mode_t tyr
         rfe_params_t lib;
         assert_int_equal(rfe_params_default(&lib), RFE_OK);
         worst = compare_with_golden(golden, rows, n, CHECK_STATUS, MAX_FRACTION_OUT_DEFAULT,
-                                    (double)lib.filter.sd_valid);
+                                    (double)lib.filter.sd_valid, 0.0);
     } else {
         worst = compare_with_golden(golden, rows, n, CHECK_STATUS,
                                     float_transient(stem, tyre, kind)
                                         ? MAX_FRACTION_OUT_ILL_CONDITIONED
                                         : 0.0,
-                                    -1.0);
+                                    -1.0, 0.0);
     }
     printf("  %-40s %-16s max |dmu| = %.3g\n", stem, tag, worst);
     free(rows);
@@ -290,6 +302,90 @@ static void test_rfe_friction_default_matches_goldens(void **state)
     assert_true(n_compared >= MIN_SCENARIOS); /* one default golden per noisy log */
 }
 
+/* The model-validity monitor (docs/MONITOR.md): the default preset with mon_enable = 1 on
+ * every noisy Magic Formula log and every fault log, against the reference's
+ * scenarios/golden/monitor/<stem>.monitor.sckf.csv (trusted.py + monitor.py). Tolerances as
+ * for the default preset (top): the monitor does not feed back into the filter, so mu is the
+ * default preset's; the reported sd while fired is multiplied by sqrt(max(1, D / 3)), an
+ * average of ~50 NIS values each computed to ~1e-15 relative in double, so 1e-9 holds for it
+ * too, and the statuses and valid flags (fire and clear are threshold decisions on D and M)
+ * are exact in double. Float32: D and M carry the float trajectory's innovations; a fire or
+ * clear decision can move by a step where a statistic crosses its threshold slowly, so
+ * statuses are not compared. The default preset's float32 trajectory separates from the
+ * double one where a gate flips (top); on the Magic Formula logs it does so once, in
+ * accel_low_mu.mf (traction control on mu 0.3, t 8.7-9.6 s: 5.8 % of estimates beyond 2e-3,
+ * at most 0.33 of the filter's own sd, then merging). A separation below half the filter's
+ * own standard deviation does not change what the estimate says, so in float32 every mu and
+ * sd must be within max(2e-3, 0.5 sd) of the reference (none may exceed it); measured worst
+ * 0.33 sd there, 2e-3 everywhere else. */
+#if defined(RFE_REAL_DOUBLE)
+#define MONITOR_SD_SHARE 0.0
+#else
+#define MONITOR_SD_SHARE 0.5
+#endif
+#define MONITOR_DIR GOLDEN_DIR "/monitor"
+#define MONITOR_SUFFIX ".monitor.sckf.csv"
+#define MIN_MONITOR_LOGS 27 /* 13 noisy Magic Formula logs + 14 fault logs the library accepts */
+
+static long n_mismatch_steps; /* steps the C run reported RFE_MODEL_MISMATCH (all logs) */
+
+static void check_monitor(const char *stem)
+{
+    char sensor[512], golden[512];
+    size_t n = 0, r;
+    rfe_est_row_t *rows;
+    rfe_params_t lib;
+    double worst;
+    FILE *probe;
+    snprintf(sensor, sizeof(sensor), SCENARIO_DIR "/%s.csv", stem);
+    probe = fopen(sensor, "r");
+    if (probe == NULL) {
+        snprintf(sensor, sizeof(sensor), SCENARIO_DIR "/faults/%s.csv", stem);
+    } else {
+        fclose(probe);
+    }
+    snprintf(golden, sizeof(golden), MONITOR_DIR "/%s" MONITOR_SUFFIX, stem);
+    rows = run_mon(sensor, RFE_PRESET_DEFAULT, RFE_TYRE_MAGIC, RFE_FILTER_SCKF, 1, &n);
+    assert_int_equal(rfe_params_default(&lib), RFE_OK);
+    worst = compare_with_golden(golden, rows, n, CHECK_STATUS, 0.0, (double)lib.filter.sd_valid,
+                                MONITOR_SD_SHARE);
+    for (r = 0; r < n; ++r) {
+        n_mismatch_steps += (rows[r].status == RFE_MODEL_MISMATCH) ? 1 : 0;
+    }
+    printf("  %-48s monitor   max |dmu| = %.3g\n", stem, worst);
+    free(rows);
+}
+
+/* REQ: with the model-validity monitor on, the default preset reproduces the reference's
+ * statuses, valid flags and (inflated) sd on every Magic Formula and fault log, and the
+ * monitor reports a mismatch somewhere (the fault logs make it fire). */
+/* REQ-MON-006 REQ-ACC-001 */
+static void test_rfe_friction_monitor_matches_goldens(void **state)
+{
+    DIR *d = opendir(MONITOR_DIR);
+    struct dirent *e;
+    int count = 0;
+    (void)state;
+    assert_non_null(d);
+    n_mismatch_steps = 0;
+    while ((e = readdir(d)) != NULL) {
+        const size_t len = strlen(e->d_name), sl = strlen(MONITOR_SUFFIX);
+        char stem[256];
+        if (len <= sl || strcmp(e->d_name + len - sl, MONITOR_SUFFIX) != 0 ||
+            len - sl >= sizeof(stem)) {
+            continue;
+        }
+        memcpy(stem, e->d_name, len - sl);
+        stem[len - sl] = '\0';
+        check_monitor(stem);
+        ++count;
+    }
+    closedir(d);
+    printf("  monitor: %d logs, %ld steps in RFE_MODEL_MISMATCH\n", count, n_mismatch_steps);
+    assert_true(count >= MIN_MONITOR_LOGS);
+    assert_true(n_mismatch_steps > 0);
+}
+
 #if defined(RFE_REAL_DOUBLE)
 static void sckf_vs_ckf(const char *stem)
 {
@@ -326,6 +422,7 @@ int main(void)
         cmocka_unit_test(test_rfe_friction_ckf_matches_goldens),
         cmocka_unit_test(test_rfe_friction_absolute_matches_goldens),
         cmocka_unit_test(test_rfe_friction_default_matches_goldens),
+        cmocka_unit_test(test_rfe_friction_monitor_matches_goldens),
 #if defined(RFE_REAL_DOUBLE)
         cmocka_unit_test(test_rfe_friction_sckf_equals_ckf_in_double),
 #endif

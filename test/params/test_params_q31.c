@@ -459,9 +459,10 @@ static void test_params_q31_validate_rejects(void **state)
 /* REQ: the converter: NULL -> RFE_ERR_NULL, an invalid real parameter set -> RFE_ERR_PARAM, a
  * value that does not fit its format (too large, a nonzero value rounding to 0, fewer than 16
  * significant bits where required, a derived constant out of range, alpha_max rounding to
- * 1.5 rad, a shape factor rounding onto an open bound) -> RFE_ERR_RANGE; the output untouched
- * on every error; the shape factors converted at their bounds. */
-/* REQ-PARAMS-004 */
+ * 1.5 rad, a shape factor rounding onto an open bound) -> RFE_ERR_RANGE; the model-validity
+ * monitor on (no q31 twin yet) -> RFE_ERR_PARAM; the output untouched on every error; the
+ * shape factors converted at their bounds. */
+/* REQ-PARAMS-004 REQ-MON-009 */
 static void test_params_q31_converter_errors(void **state)
 {
     rfe_params_t p0, p;
@@ -503,6 +504,7 @@ static void test_params_q31_converter_errors(void **state)
     CONV_(p.vehicle.J = 1e6, RFE_ERR_RANGE);                 /* beyond Q12 */
     CONV_(p.vehicle.hg = 3.9; p.vehicle.m = 9000.0, RFE_ERR_RANGE); /* k_roll beyond Q20 */
     CONV_(p.vehicle.m = 30000.0, RFE_ERR_RANGE);             /* static load beyond Q15 */
+    CONV_(p.monitor.enable = 1.0, RFE_ERR_PARAM);            /* no q31 monitor yet */
 #undef CONV_
     /* the edges that fit */
     p = p0;

@@ -54,9 +54,10 @@
 static inline int inv_status_known(rfe_status_t st)
 {
     return (st == RFE_OK) || (st == RFE_PROJECTED) || (st == RFE_NO_UPDATE_LOW_SPEED) ||
-           (st == RFE_HELD_NOT_OBSERVABLE) || (st == RFE_ERR_NULL) || (st == RFE_ERR_NONFINITE) ||
-           (st == RFE_ERR_RANGE) || (st == RFE_ERR_PARAM) || (st == RFE_ERR_SIZE) ||
-           (st == RFE_ERR_NOT_POSITIVE_DEFINITE) || (st == RFE_ERR_NOT_INITIALISED);
+           (st == RFE_HELD_NOT_OBSERVABLE) || (st == RFE_MODEL_MISMATCH) || (st == RFE_ERR_NULL) ||
+           (st == RFE_ERR_NONFINITE) || (st == RFE_ERR_RANGE) || (st == RFE_ERR_PARAM) ||
+           (st == RFE_ERR_SIZE) || (st == RFE_ERR_NOT_POSITIVE_DEFINITE) ||
+           (st == RFE_ERR_NOT_INITIALISED);
 }
 
 static inline int inv_fail(char *why, const char *fmt, double a, double b, double c)

@@ -28,7 +28,8 @@
  * both builds, then rounded once).
  * @return RFE_OK;
  *         RFE_ERR_NULL if a pointer is NULL;
- *         RFE_ERR_PARAM if rfe_params_validate(p) fails;
+ *         RFE_ERR_PARAM if rfe_params_validate(p) fails, or the monitor is on (mon_enable =
+ *         1: the fixed-point estimator does not have it yet);
  *         RFE_ERR_RANGE if a value (base or derived) does not fit its format: it rounds beyond
  *         +-INT32_MAX, a nonzero value rounds to 0 (an "off" switch must not be created by
  *         rounding), or a value that rfe_params_validate_q31 requires to carry 16 significant

@@ -54,6 +54,16 @@ typedef struct {
     rfe_real_t zhat[RFE_M_MAX];                  /**< predicted measurement */
 } rfe_cub_scratch_t;
 
+/** The innovation of one measurement update, before the update (rfe_sckf_update_ex's
+ *  innov_out): what the filter claims about y, for a test of that claim
+ *  (rfe/component/monitor.h). */
+typedef struct {
+    rfe_real_t nu[RFE_M_MAX];              /**< y - z_hat */
+    rfe_real_t Szz[RFE_M_MAX * RFE_M_MAX]; /**< its covariance's lower factor Tria([Zc, SR]),
+                                                row-major, ld RFE_M_MAX (upper part 0) */
+    rfe_real_t zz[RFE_M_MAX];              /**< diag(Zc Zc^T): the state's share of it */
+} rfe_sckf_innov_t;
+
 /** SCKF state (caller-owned). Fields are read-only for the caller. */
 typedef struct {
     uint32_t magic;                          /**< set by init; guards use before init */
@@ -111,6 +121,9 @@ RFE_NODISCARD rfe_status_t rfe_sckf_update(rfe_sckf_t *f, rfe_measure_fn_t measu
  *                  information needs diag(SR) > 0.
  * @param info_min  gate threshold; <= 0: no gate. Must be finite.
  * @param info_out  n values I_k (written on success, also when held), or NULL.
+ * @param innov_out the innovation y - z_hat, S_zz = Tria([Zc, SR]) and diag(Zc Zc^T) of the
+ *                  predicted points (written on success, also when held: S_zz is then
+ *                  computed for it), or NULL.
  * @param updated   required: 1 when the state was updated, 0 when held.
  * @return RFE_OK (updated or held); RFE_ERR_NULL; RFE_ERR_NOT_INITIALISED;
  *         RFE_ERR_NONFINITE (y, SR, info_min, a callback output, or an overflowing
@@ -121,7 +134,8 @@ RFE_NODISCARD rfe_status_t rfe_sckf_update(rfe_sckf_t *f, rfe_measure_fn_t measu
 RFE_NODISCARD rfe_status_t rfe_sckf_update_ex(rfe_sckf_t *f, rfe_measure_fn_t measure,
                                              void *ctx, const rfe_real_t *y,
                                              const rfe_real_t *SR, rfe_real_t info_min,
-                                             rfe_real_t *info_out, int *updated);
+                                             rfe_real_t *info_out, rfe_sckf_innov_t *innov_out,
+                                             int *updated);
 
 /**
  * Scales the square-root factor, S <- c S (P <- c^2 P: every standard deviation by c,

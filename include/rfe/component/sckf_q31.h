@@ -71,6 +71,14 @@ typedef struct {
     rfe_fix_t zhat[RFE_M_MAX];                  /**< predicted measurement (Q24) */
 } rfe_cub_scratch_q31_t;
 
+/** The innovation of one measurement update, before the update (rfe_sckf_update_ex_q31's
+ *  innov_out; sckf.h's rfe_sckf_innov_t). */
+typedef struct {
+    rfe_fix_t nu[RFE_M_MAX];              /**< y - z_hat (Q24, saturating) */
+    rfe_fix_t Szz[RFE_M_MAX * RFE_M_MAX]; /**< Tria([Zc, SR]) (Q24), ld RFE_M_MAX, upper part 0 */
+    rfe_fix_t zz[RFE_M_MAX];              /**< diag(Zc Zc^T) (Q24, saturating) */
+} rfe_sckf_innov_q31_t;
+
 /** SCKF state (caller-owned). Fields are read-only for the caller. */
 typedef struct {
     uint32_t magic;                       /**< set by init; guards use before init */
@@ -133,6 +141,9 @@ RFE_NODISCARD rfe_status_t rfe_sckf_update_q31(rfe_sckf_q31_t *f, rfe_measure_fn
  *                  information needs diag(SR) > 0.
  * @param info_min  gate threshold [1/mu^2] in Q10; <= 0: no gate.
  * @param info_out  n values I_k in Q10 (written on success, also when held), or NULL.
+ * @param innov_out the innovation, S_zz and diag(Zc Zc^T) of the predicted points (written on
+ *                  success, also when held: S_zz is then computed for it; its saturations
+ *                  counted in f->sat), or NULL.
  * @param updated   required: 1 when the state was updated, 0 when held.
  * @return RFE_OK (updated or held); RFE_ERR_NULL; RFE_ERR_NOT_INITIALISED;
  *         RFE_ERR_NOT_POSITIVE_DEFINITE (S- or SR with a zero diagonal when the information is
@@ -141,7 +152,8 @@ RFE_NODISCARD rfe_status_t rfe_sckf_update_q31(rfe_sckf_q31_t *f, rfe_measure_fn
 RFE_NODISCARD rfe_status_t rfe_sckf_update_ex_q31(rfe_sckf_q31_t *f, rfe_measure_fn_q31_t measure,
                                                   void *ctx, const rfe_fix_t *y,
                                                   const rfe_fix_t *SR, rfe_fix_t info_min,
-                                                  rfe_fix_t *info_out, int *updated);
+                                                  rfe_fix_t *info_out,
+                                                  rfe_sckf_innov_q31_t *innov_out, int *updated);
 
 /**
  * Scales the square-root factor, S <- c S (P <- c^2 P), c in Q24 (RFE_Q31_QC). @p c must be

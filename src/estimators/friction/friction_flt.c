@@ -145,12 +145,16 @@ rfe_status_t rfe_friction_init(rfe_friction_t *est, const rfe_params_t *params,
     if (st == RFE_OK) {
         st = rfe_conditioner_init(&est->cond);
     }
+    if (st == RFE_OK) {
+        st = rfe_monitor_init(&est->mon, &params->monitor, fp->dt);
+    }
     if (st != RFE_OK) {
         return st;
     }
     est->params = *params;
     est->n = n;
     est->backup_cond = est->cond;
+    est->backup_mon = est->mon;
     est->magic = RFE_MAGIC_EST;
     return RFE_OK;
 }
@@ -210,8 +214,10 @@ static void backup(rfe_friction_t *est, int restore)
     }
     if (restore != 0) {
         est->cond = est->backup_cond;
+        est->mon = est->backup_mon;
     } else {
         est->backup_cond = est->cond;
+        est->backup_mon = est->mon;
     }
 }
 
@@ -223,25 +229,50 @@ static int step_noise_active(const rfe_filter_params_t *fp)
            (fp->sd_in_vy > zero) || (fp->sd_in_yaw_rate > zero) || (fp->sd_in_omega > zero);
 }
 
-/* Steps 4-6 (SCKF): this step's S_R at the predicted mean, then the gated update.
- * *updated = 0 when the gate held the step. */
+/* The monitor's step on this step's innovation (docs/MONITOR.md §2): S_zz repacked to ld
+ * RFE_MEAS, the persistent diagonal = the step noise's (pers) + the state's (diag Zc Zc^T). */
+static rfe_status_t monitor_step(rfe_friction_t *est, const rfe_sckf_innov_t *in,
+                                 const rfe_real_t pers[RFE_MEAS])
+{
+    rfe_real_t Szz[RFE_MEAS * RFE_MEAS];
+    rfe_real_t c[RFE_MEAS];
+    size_t r;
+    size_t j;
+    for (r = 0u; r < (size_t)RFE_MEAS; ++r) {
+        for (j = 0u; j < (size_t)RFE_MEAS; ++j) {
+            Szz[(r * (size_t)RFE_MEAS) + j] = in->Szz[(r * (size_t)RFE_M_MAX) + j];
+        }
+        c[r] = pers[r] + in->zz[r];
+    }
+    return rfe_monitor_step(&est->mon, in->nu, Szz, c, NULL);
+}
+
+/* Steps 4-6 (SCKF): this step's S_R at the predicted mean, then the gated update, and the
+ * monitor on its innovation when it is on. *updated = 0 when the gate held the step. */
 static rfe_status_t sckf_measurement(rfe_friction_t *est, const rfe_sample_t *u,
                                      const rfe_real_t y[RFE_MEAS], int *updated)
 {
     const rfe_filter_params_t *fp = &est->params.filter;
+    const int mon_on = rfe_flag_on(est->params.monitor.enable);
     rfe_sckf_t *f = &est->filter.sckf;
     rfe_real_t SR[RFE_MEAS * RFE_MEAS];
+    rfe_real_t pers[RFE_MEAS] = {RFE_R(0.0), RFE_R(0.0), RFE_R(0.0)};
+    rfe_sckf_innov_t innov;
     const rfe_real_t *sr = NULL; /* the filter's diagonal S_R */
     rfe_status_t st = RFE_OK;
     if (step_noise_active(fp) != 0) {
         rfe_real_t mu[RFE_WHEELS];
         to_wheels(est, f->x, mu); /* T x- */
         /* the internal entry: params validated at init, est->meas set up from u just now */
-        st = rfe_step_noise_sqrt_core(&est->params, &est->meas, u, mu, SR);
+        st = rfe_step_noise_sqrt_core(&est->params, &est->meas, u, mu, SR, pers);
         sr = SR;
     }
     if (st == RFE_OK) {
-        st = rfe_sckf_update_ex(f, measure, est, y, sr, fp->info_min, NULL, updated);
+        st = rfe_sckf_update_ex(f, measure, est, y, sr, fp->info_min, NULL,
+                                (mon_on != 0) ? &innov : NULL, updated);
+    }
+    if ((st == RFE_OK) && (mon_on != 0)) {
+        st = monitor_step(est, &innov, pers);
     }
     return st;
 }
@@ -386,6 +417,31 @@ rfe_status_t rfe_friction_get(const rfe_friction_t *est, rfe_estimate_t *out)
     return st;
 }
 
+/* docs/MONITOR.md §2 item 7, after step 9: while the monitor is fired (and on), the status
+ * of a step that evaluated the model says so, every flag is 0 and the sd is inflated. */
+static void apply_monitor(const rfe_friction_t *est, rfe_estimate_t *out)
+{
+    rfe_real_t c = RFE_R(1.0);
+    rfe_status_t inflated;
+    int any_valid = 0;
+    size_t i;
+    if ((est->params.monitor.enable == RFE_R(0.0)) || (est->mon.fired == 0u) ||
+        (rfe_friction_monitor_applies(out->status) == 0)) {
+        return;
+    }
+    /* the monitor is initialised with the estimator: this cannot fail (c stays 1 if it did) */
+    inflated = rfe_monitor_inflation(&est->mon, &c);
+    (void)inflated;
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        if (out->valid[i] != 0u) {
+            any_valid = 1;
+        }
+        out->valid[i] = 0u;
+        out->sd[i] *= c;
+    }
+    out->status = rfe_friction_monitor_status(out->status, any_valid);
+}
+
 rfe_status_t rfe_friction_step(rfe_friction_t *est, const rfe_sample_t *sample,
                                rfe_estimate_t *out)
 {
@@ -420,5 +476,6 @@ rfe_status_t rfe_friction_step(rfe_friction_t *est, const rfe_sample_t *sample,
         out->valid[i] = rfe_friction_valid(st, sd_rule, out->valid[i]);
     }
     out->status = st;
-    return st;
+    apply_monitor(est, out);
+    return out->status;
 }

@@ -23,6 +23,14 @@ static inline size_t rfe_friction_state_index(rfe_structure_t structure, size_t 
     return w;
 }
 
+/* 1 for the inputs the conditioner low-passes (ESTIMATOR.md step 1: vx, vy): their error
+ * persists over tau_v, so the model monitor counts their step-noise columns as persistent
+ * (docs/MONITOR.md §1). */
+static inline int rfe_input_low_passed(size_t j)
+{
+    return ((j == (size_t)RFE_IN_VX) || (j == (size_t)RFE_IN_VY)) ? 1 : 0;
+}
+
 /* The status of a step that raised no error (steps 3, 6, 8): no measurement below v_est_min,
  * held when the gate kept the update out, projected when step 8 moved the mean. */
 static inline rfe_status_t rfe_friction_step_status(int measured, int updated, int clamped)
@@ -35,6 +43,26 @@ static inline rfe_status_t rfe_friction_step_status(int measured, int updated, i
         s = RFE_PROJECTED;
     }
     return s;
+}
+
+/* The status of a step while the model-validity monitor is fired, for a status its verdict
+ * applies to (0, 1, 3: rfe_friction_monitor_applies; docs/MONITOR.md §2 item 7): updated
+ * steps and a held one that would be valid (a flag 1) report the mismatch; a held step with
+ * every flag 0 keeps "not observable" (the status says why the estimate is not valid). */
+static inline rfe_status_t rfe_friction_monitor_status(rfe_status_t st, int any_valid)
+{
+    rfe_status_t out = RFE_MODEL_MISMATCH;
+    if ((st == RFE_HELD_NOT_OBSERVABLE) && (any_valid == 0)) {
+        out = st;
+    }
+    return out;
+}
+
+/* 1 when the monitor's verdict applies to a step of status st (it evaluated the model: 0, 1,
+ * 3; docs/MONITOR.md §2 item 7). */
+static inline int rfe_friction_monitor_applies(rfe_status_t st)
+{
+    return ((st == RFE_OK) || (st == RFE_PROJECTED) || (st == RFE_HELD_NOT_OBSERVABLE)) ? 1 : 0;
 }
 
 /* Step 9's valid flag of one wheel after a step with status st: never after an error; by the

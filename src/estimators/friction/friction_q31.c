@@ -341,7 +341,7 @@ static rfe_status_t sckf_measurement_q31(rfe_friction_q31_t *est, const rfe_samp
         sr = SR;
     }
     if (st == RFE_OK) {
-        st = rfe_sckf_update_ex_q31(f, measure_q31, est, y, sr, fp->info_min, NULL, updated);
+        st = rfe_sckf_update_ex_q31(f, measure_q31, est, y, sr, fp->info_min, NULL, NULL, updated);
     }
     return st;
 }

@@ -8,6 +8,7 @@
 #include "rfe/component/meas.h"
 #include "rfe/component/qr.h"
 
+#include "estimators/friction/friction_logic.h"
 #include "estimators/friction/step_noise_internal.h"
 #include "numerics/internal.h"
 
@@ -32,7 +33,7 @@ static rfe_real_t input_sd(const rfe_filter_params_t *fp, size_t j)
 /* S_R0 into the first RFE_MEAS columns of A (row stride CW): sensor noise and the model
  * error relative to each predicted acceleration h0. */
 static void sensor_block(const rfe_filter_params_t *fp, const rfe_real_t h0[RFE_MEAS],
-                         rfe_real_t *A)
+                         rfe_real_t *A, rfe_real_t pers[RFE_MEAS])
 {
     rfe_real_t r[RFE_MEAS];
     size_t i;
@@ -42,6 +43,7 @@ static void sensor_block(const rfe_filter_params_t *fp, const rfe_real_t h0[RFE_
     r[2] = fp->r_yaw_acc;
     for (i = 0u; i < (size_t)RFE_MEAS; ++i) {
         const rfe_real_t e = fp->r_model_rel * RFE_FABS(h0[i]);
+        pers[i] = e * e; /* a curve error: the same at the next step */
         for (j = 0u; j < (size_t)RFE_MEAS; ++j) {
             A[(i * CW) + j] = (i == j) ? RFE_SQRT((r[i] * r[i]) + (e * e)) : RFE_R(0.0);
         }
@@ -49,11 +51,13 @@ static void sensor_block(const rfe_filter_params_t *fp, const rfe_real_t h0[RFE_
 }
 
 /* g_j = (h(u + sd_j e_j) - h(u - sd_j e_j)) / 2 for each noisy input, in order, as columns
- * *cols, *cols + 1, ... of A (row stride CW); *cols ends one past the last. The model at
- * each perturbed input comes from the set-up h and its nominal terms (rfe_meas_eval_perturbed). */
+ * *cols, *cols + 1, ... of A (row stride CW); *cols ends one past the last; the squares of
+ * the low-passed inputs' columns added to pers. The model at each perturbed input comes from
+ * the set-up h and its nominal terms (rfe_meas_eval_perturbed). */
 static rfe_status_t input_columns(const rfe_params_t *p, const rfe_meas_t *h,
                                   const rfe_meas_terms_t *nom, const rfe_sample_t *u,
-                                  const rfe_real_t *mu, rfe_real_t *A, size_t *cols)
+                                  const rfe_real_t *mu, rfe_real_t *A, size_t *cols,
+                                  rfe_real_t pers[RFE_MEAS])
 {
     size_t i;
     size_t j;
@@ -73,24 +77,30 @@ static rfe_status_t input_columns(const rfe_params_t *p, const rfe_meas_t *h,
             return st;
         }
         for (i = 0u; i < (size_t)RFE_MEAS; ++i) {
-            A[(i * CW) + *cols] = (zp[i] - zm[i]) / RFE_R(2.0);
+            const rfe_real_t g = (zp[i] - zm[i]) / RFE_R(2.0);
+            A[(i * CW) + *cols] = g;
+            if (rfe_input_low_passed(j) != 0) {
+                pers[i] += g * g;
+            }
         }
         ++(*cols);
     }
     return RFE_OK;
 }
 
-/* [S_R0, g_1 ..] into A (row stride CW), *cols its columns: h0 and the nominal terms from the
- * set-up h (rfe_meas_nominal), then S_R0 and the input columns. */
+/* [S_R0, g_1 ..] into A (row stride CW), *cols its columns, and the diagonal of the part of
+ * A A^T that persists from step to step into pers: h0 and the nominal terms from the set-up h
+ * (rfe_meas_nominal), then S_R0 and the input columns. */
 static rfe_status_t fill(const rfe_params_t *p, const rfe_meas_t *h, const rfe_sample_t *u,
-                         const rfe_real_t *mu, rfe_real_t *A, size_t *cols)
+                         const rfe_real_t *mu, rfe_real_t *A, size_t *cols,
+                         rfe_real_t pers[RFE_MEAS])
 {
     rfe_meas_terms_t nom;
     rfe_real_t h0[RFE_MEAS];
     rfe_status_t st = rfe_meas_nominal(h, &p->vehicle, &p->tyre, mu, &nom, h0);
     if (st == RFE_OK) {
-        sensor_block(&p->filter, h0, A);
-        st = input_columns(p, h, &nom, u, mu, A, cols);
+        sensor_block(&p->filter, h0, A, pers);
+        st = input_columns(p, h, &nom, u, mu, A, cols, pers);
     }
     return st;
 }
@@ -98,11 +108,13 @@ static rfe_status_t fill(const rfe_params_t *p, const rfe_meas_t *h, const rfe_s
 rfe_status_t rfe_step_noise_sqrt_core(const rfe_params_t *p, const rfe_meas_t *h,
                                      const rfe_sample_t *u,
                                      const rfe_real_t mu[RFE_WHEELS],
-                                     rfe_real_t SR[RFE_MEAS * RFE_MEAS])
+                                     rfe_real_t SR[RFE_MEAS * RFE_MEAS],
+                                     rfe_real_t pers[RFE_MEAS])
 {
     rfe_real_t A[(size_t)RFE_MEAS * CW];
+    rfe_real_t pc[RFE_MEAS];
     size_t cols = (size_t)RFE_MEAS;
-    rfe_status_t st = fill(p, h, u, mu, A, &cols);
+    rfe_status_t st = fill(p, h, u, mu, A, &cols, pc);
 
     if (st == RFE_OK) {
         st = rfe_qr_tria(A, (size_t)RFE_MEAS, cols, CW);
@@ -113,6 +125,9 @@ rfe_status_t rfe_step_noise_sqrt_core(const rfe_params_t *p, const rfe_meas_t *h
         for (i = 0u; i < (size_t)RFE_MEAS; ++i) {
             for (j = 0u; j < (size_t)RFE_MEAS; ++j) {
                 SR[(i * (size_t)RFE_MEAS) + j] = (j <= i) ? A[(i * CW) + j] : RFE_R(0.0);
+            }
+            if (pers != NULL) {
+                pers[i] = pc[i];
             }
         }
     }
@@ -139,5 +154,5 @@ rfe_status_t rfe_step_noise_sqrt(const rfe_params_t *p, const rfe_sample_t *u,
     if (st != RFE_OK) {
         return st;
     }
-    return rfe_step_noise_sqrt_core(p, &h, u, mu, SR);
+    return rfe_step_noise_sqrt_core(p, &h, u, mu, SR, NULL);
 }

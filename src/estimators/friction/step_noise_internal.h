@@ -25,13 +25,17 @@
  * statuses after the checks. Preconditions (not checked): every pointer valid, @p p passed
  * rfe_params_validate (the estimator's, validated at init), rfe_meas_setup(h,
  * &p->vehicle, &p->tyre, u) returned RFE_OK. A non-finite @p mu gives RFE_ERR_NONFINITE (from
- * the evaluation).
- * @return RFE_OK; RFE_ERR_NONFINITE and the tyre's errors (@p SR then untouched).
+ * the evaluation). @p pers, when not NULL, receives the diagonal of the part of S_R S_R^T
+ * that does not change from one step to the next (the model monitor's persistent share,
+ * docs/MONITOR.md §1): (r_model_rel |h0_r|)^2 plus the squares of the low-passed inputs'
+ * columns (rfe_input_low_passed: vx, vy).
+ * @return RFE_OK; RFE_ERR_NONFINITE and the tyre's errors (@p SR, @p pers then untouched).
  */
 RFE_NODISCARD rfe_status_t rfe_step_noise_sqrt_core(const rfe_params_t *p,
                                                   const rfe_meas_t *h,
                                                   const rfe_sample_t *u,
                                                   const rfe_real_t mu[RFE_WHEELS],
-                                                  rfe_real_t SR[RFE_MEAS * RFE_MEAS]);
+                                                  rfe_real_t SR[RFE_MEAS * RFE_MEAS],
+                                                  rfe_real_t pers[RFE_MEAS]);
 
 #endif /* RFE_STEP_NOISE_INTERNAL_H */

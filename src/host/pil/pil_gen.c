@@ -99,6 +99,7 @@ static uint32_t put_friction(FILE *f, const rfe_params_t *p, const rfe_params_q3
     put_float_block(f, p, offsetof(rfe_params_t, vehicle), sizeof(rfe_vehicle_t));
     put_float_block(f, p, offsetof(rfe_params_t, tyre), sizeof(rfe_tyre_params_t));
     put_float_block(f, p, offsetof(rfe_params_t, filter), sizeof(rfe_filter_params_t));
+    put_float_block(f, p, offsetof(rfe_params_t, monitor), sizeof(rfe_monitor_params_t));
     fputs("};\n\nconst rfe_sample_t pil_samples[] = {\n", f);
     for (i = 0u; i < rows; ++i) {
         const rfe_sensor_row_t *r = &log->rows[i];
@@ -178,6 +179,7 @@ static void put_pipeline(FILE *f, const rfe_params_t *p, const rfe_velocity_para
     put_float_block(f, p, offsetof(rfe_params_t, vehicle), sizeof(rfe_vehicle_t));
     put_float_block(f, p, offsetof(rfe_params_t, tyre), sizeof(rfe_tyre_params_t));
     put_float_block(f, p, offsetof(rfe_params_t, filter), sizeof(rfe_filter_params_t));
+    put_float_block(f, p, offsetof(rfe_params_t, monitor), sizeof(rfe_monitor_params_t));
     fprintf(f, "};\n\nconst rfe_velocity_params_t pil_velocity_params = {%" PRIu32, vp->driven);
     for (off = sizeof vp->driven; off < sizeof *vp; off += sizeof(float)) {
         float v;
@@ -279,7 +281,8 @@ int main(int argc, char **argv)
     }
     /* Every member of both parameter structs is 4 bytes on the host (checked here), so the
      * structs are walked word by word, sub-struct by sub-struct. */
-    if (sizeof(rfe_params_t) != sizeof(rfe_vehicle_t) + sizeof(rfe_tyre_params_t) + sizeof(rfe_filter_params_t) ||
+    if (sizeof(rfe_params_t) != sizeof(rfe_vehicle_t) + sizeof(rfe_tyre_params_t) + sizeof(rfe_filter_params_t) +
+                                    sizeof(rfe_monitor_params_t) ||
         sizeof(rfe_params_q31_t) != sizeof(rfe_vehicle_q31_t) + sizeof(rfe_tyre_params_q31_t) + sizeof(rfe_filter_params_q31_t) ||
         sizeof(float) != 4u || sizeof(rfe_tyre_mode_t) != 4u || sizeof(rfe_params_t) % 4u != 0u ||
         sizeof(rfe_params_q31_t) % 4u != 0u || offsetof(rfe_velocity_params_t, driven) != 0u ||

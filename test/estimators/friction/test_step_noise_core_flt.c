@@ -87,7 +87,7 @@ static void test_step_noise_core(void **state)
             assert_true(e1 != RFE_OK);
             continue;
         }
-        assert_int_equal(rfe_step_noise_sqrt_core(&p, &h, &u, mu, S2), e1);
+        assert_int_equal(rfe_step_noise_sqrt_core(&p, &h, &u, mu, S2, NULL), e1);
         bits_equal(S1, S2, 9u);
         ok += (e1 == RFE_OK) ? 1 : 0;
         failed += (e1 != RFE_OK) ? 1 : 0;
@@ -191,7 +191,7 @@ static rfe_status_t check_three(const rfe_params_t *p, const rfe_sample_t *u,
     assert_int_equal(ref_step_noise(p, u, mu, S2), e1);
     bits_equal(S1, S2, 9u);
     if (rfe_meas_setup(&h, &p->vehicle, &p->tyre, u) == RFE_OK) {
-        assert_int_equal(rfe_step_noise_sqrt_core(p, &h, u, mu, S3), e1);
+        assert_int_equal(rfe_step_noise_sqrt_core(p, &h, u, mu, S3, NULL), e1);
         bits_equal(S1, S3, 9u);
     }
     return e1;
@@ -282,7 +282,7 @@ static void test_step_noise_overflow(void **state)
             p.tyre.mode = RFE_TYRE_PAPER;
         }
         assert_int_equal(rfe_meas_setup(&h, &p.vehicle, &p.tyre, &u), RFE_OK);
-        assert_int_equal(rfe_step_noise_sqrt_core(&p, &h, &u, mu, S), RFE_ERR_NONFINITE);
+        assert_int_equal(rfe_step_noise_sqrt_core(&p, &h, &u, mu, S, NULL), RFE_ERR_NONFINITE);
     }
 }
 
