@@ -28,7 +28,11 @@ WHEELS = ("fl", "fr", "rl", "rr")
 STYLES = (("tab:blue", "-", None, 1.3), ("tab:orange", "-", None, 2.8),
           ("tab:green", "--", "o", 1.1), ("tab:red", "-.", "x", 1.1))
 MARKS_PER_LINE = 12
+# Smallest y ranges of the manoeuvre panel: sensor noise on a steady run (0.05 m/s, 0.06 deg,
+# 0.05 m/s^2) then looks flat instead of filling the panel like a manoeuvre.
 DELTA_SPAN_MIN_DEG = 2.0
+ACC_SPAN_MIN = 2.0   # m/s^2, either side of zero
+VX_SPAN_MIN = 5.0    # m/s, around the mean
 LANE = 0.04  # height of one estimate's not-valid lane, as a fraction of the panel
 
 
@@ -105,11 +109,15 @@ def draw_manoeuvre(ax_v, ax_a, sensor: dict) -> None:
     if "vx" in sensor:
         ax_v.plot(t, sensor["vx"], color="black", lw=1.2, label="vx")
     ax_v.set_ylabel("vx [m/s]")
+    if sensor.get("vx"):
+        lo, hi = min(sensor["vx"]), max(sensor["vx"])
+        if hi - lo < VX_SPAN_MIN:
+            mid = (lo + hi) / 2
+            ax_v.set_ylim(mid - VX_SPAN_MIN / 2, mid + VX_SPAN_MIN / 2)
     if "delta" in sensor:
         ax_d = ax_v.twinx()
         deg = [math.degrees(d) for d in sensor["delta"]]
         ax_d.plot(t, deg, color="tab:purple", lw=0.8, alpha=0.7, label="δ")
-        # at least +-2 deg: sensor noise (0.06 deg) on a straight run should look flat
         span = max(max((abs(d) for d in deg), default=0.0) * 1.1, DELTA_SPAN_MIN_DEG)
         ax_d.set_ylim(-span, span)
         ax_d.set_ylabel("δ [deg]")
@@ -121,6 +129,8 @@ def draw_manoeuvre(ax_v, ax_a, sensor: dict) -> None:
         if name in sensor:
             ax_a.plot(t, sensor[name], color=color, lw=1.0, label=name)
     ax_a.set_ylabel("a [m/s²]")
+    lo, hi = ax_a.get_ylim()
+    ax_a.set_ylim(min(lo, -ACC_SPAN_MIN), max(hi, ACC_SPAN_MIN))
     ax_a.set_title("manoeuvre: accelerations")
     if ax_a.lines:
         ax_a.legend(loc="upper right", fontsize=8)
