@@ -187,8 +187,9 @@ valgrind: deps-c deps-valgrind $(foreach f,f32 f64,$(addprefix $(BUILD)/$(f)/tes
 	  if [ -s $(BUILD)/valgrind-cli.log ]; then cat $(BUILD)/valgrind-cli.log; exit 1; fi; fi
 	@echo "valgrind: all tests clean under memcheck"
 
+# (mu_replay: the demo's tests run it)
 ## the Python tests (simulator, reference, tools)
-test-py: venv
+test-py: venv $(BUILD)/mu_replay
 	@mkdir -p $(RESULTS)/py
 	$(PY) -m pytest -q -p no:cacheprovider scripts --junitxml=$(RESULTS)/py/pytest.xml
 
@@ -295,7 +296,7 @@ structural: lib
 analysis: misra tidy complexity structural
 
 # ---- demo, goldens ---------------------------------------------------------------------
-## run the estimator on every bundled scenario: tables and plots in build/demo/
+## run the estimator on every bundled scenario: tables, plots and their index.md in build/demo/
 demo: venv $(BUILD)/mu_replay
 	$(PY) scripts/tools/demo.py --replay $(BUILD)/mu_replay --out $(BUILD)/demo --trust
 

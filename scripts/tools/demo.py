@@ -3,8 +3,12 @@
 
 For each sensor log in scenarios/ (with default sensor noise, and noise-free `*.nf.csv`),
 runs build/mu_replay with the SCKF and the CKF (paper configuration), collects the accuracy
-the CLI computes (--metrics JSON), prints a table, and draws estimate-vs-truth plots per
-wheel (the paper's Fig. 4-6 style, SCKF vs CKF, with the SCKF's +-2 sd band).
+the CLI computes (--metrics JSON), writes a table, and draws estimate-vs-truth plots per
+wheel (plot_estimates.py: default preset, paper SCKF and CKF, the manoeuvre under them);
+the Magic Formula truth logs (`*.mf.csv`) are plotted with the default preset.
+Each table goes to <out>/<name>.md with its title and column legend and to the console
+split to at most 120 characters a line (demo_tables.py); <out>/index.md links every table
+and plot of the run (demo_index.py).
 The fixed-point estimator (`--real q31`) runs beside it: its deviation from the float64
 reference in the accuracy table, from the double run in the trust table, and a table of
 |mu_q31 - mu_double| per scenario and configuration (all 39 logs; settled samples as
@@ -37,6 +41,8 @@ WHEELS = ("fl", "fr", "rl", "rr")
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(Path(__file__).resolve().parent))   # scripts/tools: plot_estimates
 from plot_estimates import plot, read_csv  # noqa: E402  (one plotting/reading code path)
+from demo_tables import write_table  # noqa: E402
+from demo_index import summary_line, write_index  # noqa: E402
 SETTLE_START_S = 1.0  # same as mu_replay's default settle start
 SETTLE_AFTER_CHANGE_S = 0.5  # mu_replay's default: settled again 0.5 s after a truth change
 CHANGE_MIN = 1e-9  # mu_replay's smallest truth step that counts as a change
@@ -64,6 +70,11 @@ def scenario_logs(scen_dir: Path) -> list[Path]:
     """Noisy and noise-free sensor logs, Dugoff truth (skip other truth tyres)."""
     logs = [p for p in sorted(scen_dir.glob("*.csv")) if ".mf" not in p.name]
     return logs
+
+
+def mf_logs(scen_dir: Path) -> list[Path]:
+    """The Magic Formula truth logs (default noise)."""
+    return sorted(scen_dir.glob("*.mf.csv"))
 
 
 def run_replay(replay: Path, log: Path, out_dir: Path, filt: str, real: str,
@@ -323,7 +334,27 @@ def q31_table(replay: Path, scen_dir: Path, out_dir: Path) -> list[str]:
     return lines
 
 
-def main() -> int:
+def plot_mf_logs(args) -> list[tuple[str, Path]]:
+    """The Magic Formula truth logs (the realistic case: a tyre whose stiffness does not
+    scale with mu) with the default preset, the configuration made for them; (title, PNG)."""
+    plots = []
+    for log in mf_logs(args.scenarios):
+        stem = log.name[: -len(".csv")]
+        files = [run_replay(args.replay, log, args.out, "sckf", args.real, "default")
+                 ["estimate_file"]]
+        labels = ["default"]
+        if args.plot_q31:
+            files.append(run_replay(args.replay, log, args.out, "sckf", "q31", "default")
+                         ["estimate_file"])
+            labels.append("default q31")
+        title = f"{stem[: -len('.mf')]}: Magic Formula truth, default noise, {args.real}"
+        plot(log, files, labels, args.out / f"{stem}.png", title)
+        plots.append((title, args.out / f"{stem}.png"))
+        print(f"[MF] {stem}: plotted", flush=True)
+    return plots
+
+
+def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--replay", type=Path, default=ROOT / "build" / "mu_replay")
     ap.add_argument("--scenarios", type=Path, default=ROOT / "scenarios")
@@ -340,7 +371,7 @@ def main() -> int:
                     help="also the default-vs-paper trustworthiness table (both truth tyres)")
     ap.add_argument("--plot-q31", action="store_true",
                     help="add the fixed-point (q31) default-preset estimate to the plots")
-    args = ap.parse_args()
+    args = ap.parse_args(argv)
     if args.readme and not args.trust:
         ap.error("--readme (the headline table) needs --trust")
     # fail before minutes of replays, not after
@@ -354,7 +385,7 @@ def main() -> int:
     logs = scenario_logs(args.scenarios)
     if not logs:
         sys.exit(f"demo: no sensor logs in {args.scenarios}")
-    results = []
+    results, plots, tables = [], [], []
     t0 = time.time()
     for k, log in enumerate(logs, 1):
         stem = log.name[: -len(".csv")]
@@ -378,26 +409,25 @@ def main() -> int:
                 files.append(run_replay(args.replay, log, args.out, "sckf", "q31",
                                         "default")["estimate_file"])
                 labels.append("default q31")
-            plot(log, files, labels, args.out / f"{stem}.png",
-                 f"{scen} ({'noise-free' if noise == 'none' else 'default noise'}), {args.real}")
+            title = (f"{scen}: Dugoff truth, "
+                     f"{'noise-free' if noise == 'none' else 'default noise'}, {args.real}")
+            plot(log, files, labels, args.out / f"{stem}.png", title)
+            plots.append((title, args.out / f"{stem}.png"))
         print(f"[{k}/{len(logs)}] {stem}: done ({time.time() - t0:.1f} s)", flush=True)
+    if not args.no_plots:
+        plots += plot_mf_logs(args)
 
     results.sort(key=lambda r: (r[0], r[1] != "none"))
     lines = table_rows(results)
-    print()
-    print("\n".join(lines))
-    (args.out / "accuracy.md").write_text("\n".join(lines) + "\n")
-    print(f"\nestimate logs, metrics and plots: {args.out}/ (accuracy.md, <scenario>.png)")
+    write_table(args.out, "accuracy", lines, tables)
     if args.trust:
         truns = trust_runs(args.replay, args.scenarios, args.out, args.real)
         tl, hl = trust_rows(truns), headline_rows(truns)
-        print("\n".join(tl))
-        (args.out / "trust.md").write_text("\n".join(tl) + "\n")
-        print("\n".join(hl))
-        (args.out / "headline.md").write_text("\n".join(hl) + "\n")
+        write_table(args.out, "trust", tl, tables)
+        write_table(args.out, "headline", hl, tables)
     ql = q31_table(args.replay, args.scenarios, args.out)
-    print("\n".join(ql))
-    (args.out / "q31.md").write_text("\n".join(ql) + "\n")
+    write_table(args.out, "q31", ql, tables)
+    print()
     if args.results:
         update_page(args.results, lines)
         if args.trust:
@@ -407,6 +437,8 @@ def main() -> int:
     if args.readme:
         update_page(args.readme, hl, HEADLINE_BEGIN, HEADLINE_END)
         print(f"updated the headline table in {args.readme}")
+    index = write_index(args.out, tables, plots)
+    print(summary_line(args.out, index, len(plots), len(tables)))
     return 0
 
 

@@ -1,85 +1,188 @@
 #!/usr/bin/env python3
-"""Draw estimated vs true friction per wheel (the paper's Fig. 4-6 style) to a PNG.
+"""Draw estimated (and, when the log has it, true) friction per wheel to a PNG.
 
     .venv/bin/python scripts/tools/plot_estimates.py --sensor LOG.csv \\
         --estimate SCKF.csv --estimate CKF.csv [--label SCKF --label CKF] \\
         --out fig.png [--title TEXT]
 
-One panel per wheel (fl, fr, rl, rr): the true mu from the sensor log's truth columns when
-present, each estimate log's mu, and a +-2 sd band around the first estimate. Samples an
-estimate reports as not valid are shaded grey. Files are DATA.md CSVs.
+One panel per wheel (fl, fr, rl, rr, the paper's Fig. 4-6 style): the true mu from the
+sensor log's truth columns when present, each estimate log's mu, and a +-2 sd band around
+the first estimate. Samples an estimate reports as not valid are marked by a hatched lane
+in that estimate's colour along the bottom of each panel. Under them the manoeuvre (vx,
+delta, ax, ay from the sensor log), which shows when friction is observable at all.
+Files are DATA.md CSVs; columns that are not numbers are ignored.
 """
 from __future__ import annotations
 
 import argparse
 import csv
+import math
 import sys
 from pathlib import Path
 
 WHEELS = ("fl", "fr", "rl", "rr")
-STYLES = (("tab:blue", "-"), ("tab:orange", "--"), ("tab:green", ":"), ("tab:red", "-."))
+# (colour, line style, marker, width) per estimate. Estimates often coincide (the paper's
+# SCKF and CKF agree to 1e-5), so each differs in colour and dash, the second is drawn wide
+# under the others and the later ones carry sparse markers: a line hidden by another still
+# shows.
+STYLES = (("tab:blue", "-", None, 1.3), ("tab:orange", "-", None, 2.8),
+          ("tab:green", "--", "o", 1.1), ("tab:red", "-.", "x", 1.1))
+MARKS_PER_LINE = 12
+# Smallest y ranges of the manoeuvre panel: sensor noise on a steady run (0.05 m/s, 0.06 deg,
+# 0.05 m/s^2) then looks flat instead of filling the panel like a manoeuvre.
+DELTA_SPAN_MIN_DEG = 2.0
+ACC_SPAN_MIN = 2.0   # m/s^2, either side of zero
+VX_SPAN_MIN = 5.0    # m/s, around the mean
+LANE = 0.04  # height of one estimate's not-valid lane, as a fraction of the panel
 
 
 def read_csv(path: Path) -> dict[str, list[float]]:
-    """Columns of a DATA.md CSV ('#' metadata lines skipped) as float lists."""
-    with path.open() as f:
+    """Columns of a DATA.md CSV ('#' metadata lines skipped) as float lists. A column with a
+    value that is not a number is left out: DATA.md allows extra columns (a note, a driver
+    id) and the plots never need them."""
+    with path.open(encoding="utf-8-sig") as f:
         rows = [line for line in f if not line.startswith("#")]
     reader = csv.DictReader(rows)
     cols: dict[str, list[float]] = {name: [] for name in reader.fieldnames or []}
+    bad: set[str] = set()
     for row in reader:
         for k, v in row.items():
-            cols[k].append(float(v))
-    return cols
+            if k not in cols or k in bad:
+                continue
+            try:
+                cols[k].append(float(v))
+            except (TypeError, ValueError):
+                bad.add(k)
+    return {k: v for k, v in cols.items() if k not in bad}
 
 
-def plot(sensor: Path, estimates: list[Path], labels: list[str], out: Path, title: str) -> None:
+def has_truth(sensor: dict) -> bool:
+    return all(f"mu_{w}" in sensor for w in WHEELS)
+
+
+def default_title(sensor: dict) -> str:
+    """Say only what is drawn: without truth columns there is nothing to compare against."""
+    return "estimated vs true friction" if has_truth(sensor) else \
+        "estimated friction (the sensor log has no truth)"
+
+
+def shade_not_valid(ax, est: dict, w: str, k: int, color: str, label: str) -> None:
+    """Estimate k's not-valid samples of wheel w as a hatched lane (lane k from the bottom):
+    hatched and per estimate so it reads apart from the solid sd band and from the others."""
+    if f"valid_{w}" not in est:
+        return
+    invalid = [v == 0 for v in est[f"valid_{w}"]]
+    if not any(invalid):
+        return
+    from matplotlib.colors import to_rgba
+    ax.fill_between(est["t"], k * LANE, (k + 1) * LANE, where=invalid, step="mid",
+                    transform=ax.get_xaxis_transform(), facecolor=to_rgba(color, 0.2),
+                    edgecolor=color, hatch="////", lw=0, label=f"{label} not valid")
+
+
+def draw_wheel(ax, w: str, truth: dict, ests: list[dict], labels: list[str]) -> None:
+    if f"mu_{w}" in truth:
+        ax.plot(truth["t"], truth[f"mu_{w}"], color="black", lw=1.5, label="true μ", zorder=10)
+    for k, (est, label) in enumerate(zip(ests, labels)):
+        color, ls, marker, lw = STYLES[k % len(STYLES)]
+        n = len(est["t"])
+        every = max(n // MARKS_PER_LINE, 1)
+        # markers of different estimates offset from each other, so they do not stack
+        ax.plot(est["t"], est[f"mu_{w}"], color=color, ls=ls, lw=lw, marker=marker, ms=4,
+                markevery=(k * every // len(STYLES), every), label=f"{label} μ̂", zorder=3 + k)
+        if k == 0 and f"sd_{w}" in est:
+            lo = [m - 2 * s for m, s in zip(est[f"mu_{w}"], est[f"sd_{w}"])]
+            hi = [m + 2 * s for m, s in zip(est[f"mu_{w}"], est[f"sd_{w}"])]
+            ax.fill_between(est["t"], lo, hi, color=color, alpha=0.15, lw=0,
+                            label=f"{label} ±2 sd", zorder=1)
+        shade_not_valid(ax, est, w, k, color, label)
+    ax.set_title(w)
+    ax.set_ylim(0.0, 1.3)
+    ax.set_ylabel("μ")
+    ax.grid(alpha=0.3)
+
+
+def draw_manoeuvre(ax_v, ax_a, sensor: dict) -> None:
+    """Speed and steering (left), accelerations (right): friction is observable only where
+    the tyres work, i.e. where ax or ay is large."""
+    t = sensor.get("t", [])
+    if "vx" in sensor:
+        ax_v.plot(t, sensor["vx"], color="black", lw=1.2, label="vx")
+    ax_v.set_ylabel("vx [m/s]")
+    if sensor.get("vx"):
+        lo, hi = min(sensor["vx"]), max(sensor["vx"])
+        if hi - lo < VX_SPAN_MIN:
+            mid = (lo + hi) / 2
+            ax_v.set_ylim(mid - VX_SPAN_MIN / 2, mid + VX_SPAN_MIN / 2)
+    if "delta" in sensor:
+        ax_d = ax_v.twinx()
+        deg = [math.degrees(d) for d in sensor["delta"]]
+        ax_d.plot(t, deg, color="tab:purple", lw=0.8, alpha=0.7, label="δ")
+        span = max(max((abs(d) for d in deg), default=0.0) * 1.1, DELTA_SPAN_MIN_DEG)
+        ax_d.set_ylim(-span, span)
+        ax_d.set_ylabel("δ [deg]")
+        h1, l1 = ax_v.get_legend_handles_labels()
+        h2, l2 = ax_d.get_legend_handles_labels()
+        ax_v.legend(h1 + h2, l1 + l2, loc="upper right", fontsize=8)
+    ax_v.set_title("manoeuvre: speed and steering")
+    for name, color in (("ax", "tab:brown"), ("ay", "tab:cyan")):
+        if name in sensor:
+            ax_a.plot(t, sensor[name], color=color, lw=1.0, label=name)
+    ax_a.set_ylabel("a [m/s²]")
+    lo, hi = ax_a.get_ylim()
+    ax_a.set_ylim(min(lo, -ACC_SPAN_MIN), max(hi, ACC_SPAN_MIN))
+    ax_a.set_title("manoeuvre: accelerations")
+    if ax_a.lines:
+        ax_a.legend(loc="upper right", fontsize=8)
+    for ax in (ax_v, ax_a):
+        ax.grid(alpha=0.3)
+        ax.set_xlabel("t [s]")
+
+
+def figure(sensor: Path, estimates: list[Path], labels: list[str], title: str | None = None):
+    """The figure (for plot() to save and the tests to inspect)."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     truth = read_csv(sensor)
     ests = [read_csv(p) for p in estimates]
-    fig, axes = plt.subplots(2, 2, figsize=(11, 6.5), sharex=True, sharey=True)
-    for ax, w in zip(axes.flat, WHEELS):
-        if ests and f"valid_{w}" in ests[0]:
-            t, valid = ests[0]["t"], ests[0][f"valid_{w}"]
-            dt = (t[1] - t[0]) if len(t) > 1 else 0.01
-            for ti, v in zip(t, valid):
-                if v == 0:
-                    ax.axvspan(ti - dt / 2, ti + dt / 2, color="0.85", lw=0)
-        if f"mu_{w}" in truth:
-            ax.plot(truth["t"], truth[f"mu_{w}"], color="black", lw=1.5, label="true μ")
-        for k, (est, label) in enumerate(zip(ests, labels)):
-            color, ls = STYLES[k % len(STYLES)]
-            ax.plot(est["t"], est[f"mu_{w}"], color=color, ls=ls, lw=1.2, label=f"{label} μ̂")
-            if k == 0:
-                lo = [m - 2 * s for m, s in zip(est[f"mu_{w}"], est[f"sd_{w}"])]
-                hi = [m + 2 * s for m, s in zip(est[f"mu_{w}"], est[f"sd_{w}"])]
-                ax.fill_between(est["t"], lo, hi, color=color, alpha=0.15, lw=0,
-                                label=f"{label} ±2 sd")
-        ax.set_title(w)
-        ax.set_ylim(0.0, 1.3)
-        ax.grid(alpha=0.3)
-    for ax in axes[1]:
-        ax.set_xlabel("t [s]")
-    for ax in axes[:, 0]:
-        ax.set_ylabel("μ")
-    axes[0, 0].legend(loc="lower left", fontsize=8)
-    fig.suptitle(title + "   (grey: not valid)")
-    fig.tight_layout()
+    fig = plt.figure(figsize=(13, 9), layout="constrained")
+    grid = fig.add_gridspec(3, 2, height_ratios=(1, 1, 0.8))
+    first = fig.add_subplot(grid[0, 0])
+    mu_axes = [first] + [fig.add_subplot(grid[i // 2, i % 2], sharex=first, sharey=first)
+                         for i in range(1, 4)]
+    for ax, w in zip(mu_axes, WHEELS):
+        draw_wheel(ax, w, truth, ests, labels)
+    draw_manoeuvre(fig.add_subplot(grid[2, 0], sharex=first),
+                   fig.add_subplot(grid[2, 1], sharex=first), truth)
+    # one legend for the four wheels: every entry any panel drew, once
+    entries: dict[str, object] = {}
+    for ax in mu_axes:
+        for h, lab in zip(*ax.get_legend_handles_labels()):
+            entries.setdefault(lab, h)
+    fig.legend(list(entries.values()), list(entries), loc="outside right upper", fontsize=8)
+    fig.suptitle(title or default_title(truth))
+    return fig
+
+
+def plot(sensor: Path, estimates: list[Path], labels: list[str], out: Path,
+         title: str | None = None) -> None:
+    import matplotlib.pyplot as plt
+    fig = figure(sensor, estimates, labels, title)
     fig.savefig(out, dpi=90)
     plt.close(fig)
 
 
-def main() -> int:
+def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--sensor", type=Path, required=True, help="sensor log (truth columns optional)")
     ap.add_argument("--estimate", type=Path, action="append", required=True,
                     help="estimate log (repeat to overlay several)")
     ap.add_argument("--label", action="append", help="legend label per --estimate")
     ap.add_argument("--out", type=Path, required=True, help="PNG to write")
-    ap.add_argument("--title", default="estimated vs true friction")
-    args = ap.parse_args()
+    ap.add_argument("--title", help="figure title (default: what the logs hold)")
+    args = ap.parse_args(argv)
     labels = args.label or [p.stem for p in args.estimate]
     if len(labels) != len(args.estimate):
         ap.error("give one --label per --estimate")
