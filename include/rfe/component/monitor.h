@@ -40,25 +40,27 @@
 #define rfe_normal_quantile   rfe_normal_quantile_f32
 #endif
 
-/** Monitor state (caller-owned; fields read-only for the caller). */
+/** Monitor state (caller-owned; fields read-only for the caller). The eight 32-bit words
+ *  come first so that the struct has no padding in either real type (whole-state copies and
+ *  comparisons see defined bytes only). */
 typedef struct {
     uint32_t magic;             /**< set by init; guards use before init */
-    rfe_real_t l_d;             /**< EWMA weight of D, dt / (tau_nis + dt) */
-    rfe_real_t l_m;             /**< EWMA weight of M and C, dt / (tau_mean + dt) */
-    rfe_real_t z_d_fire;        /**< z(1 - p_fire / 2): the NIS test's normal quantile */
-    rfe_real_t z_d_clear;       /**< z(1 - p_clear / 2) */
-    rfe_real_t z_m_fire;        /**< z(1 - p_fire / (4 m)): each channel's two-sided test */
-    rfe_real_t z_m_clear;       /**< z(1 - p_clear / (4 m)) */
     uint32_t hold_steps;        /**< ceil(hold / dt) */
     uint32_t warmup_steps;      /**< ceil(warmup / dt) */
     uint32_t seen;              /**< steps seen (saturates): the warm-up counts them */
     uint32_t hold;              /**< hold counter while fired */
     uint32_t started;           /**< 0 until the first counted step set C */
     uint32_t fired;             /**< 1: the data contradict the model */
+    uint32_t inflate;           /**< 1: rfe_monitor_inflation gives sqrt(max(1, D / m)) */
+    rfe_real_t l_d;             /**< EWMA weight of D, dt / (tau_nis + dt) */
+    rfe_real_t l_m;             /**< EWMA weight of M and C, dt / (tau_mean + dt) */
+    rfe_real_t z_d_fire;        /**< z(1 - p_fire / 2): the NIS test's normal quantile */
+    rfe_real_t z_d_clear;       /**< z(1 - p_clear / 2) */
+    rfe_real_t z_m_fire;        /**< z(1 - p_fire / (4 m)): each channel's two-sided test */
+    rfe_real_t z_m_clear;       /**< z(1 - p_clear / (4 m)) */
     rfe_real_t D;               /**< NIS average */
     rfe_real_t M[RFE_MEAS];     /**< innovation means, normalised, per channel */
     rfe_real_t C[RFE_MEAS];     /**< persistent shares, averaged, per channel */
-    rfe_real_t inflate;         /**< 1: rfe_monitor_inflation gives sqrt(max(1, D / m)) */
 } rfe_monitor_t;
 
 /** The thresholds at given averaged persistent shares (rfe_monitor_limits). */

@@ -135,7 +135,10 @@ rfe_status_t rfe_monitor_init(rfe_monitor_t *mon, const rfe_monitor_params_t *p,
         m.M[r] = RFE_R(0.0);
         m.C[r] = RFE_R(0.0);
     }
-    m.inflate = p->inflate;
+    m.inflate = 0u;
+    if (p->inflate != RFE_R(0.0)) {
+        m.inflate = 1u;
+    }
     m.magic = RFE_MAGIC_MON;
     *mon = m;
     return RFE_OK;
@@ -338,7 +341,7 @@ rfe_status_t rfe_monitor_inflation(const rfe_monitor_t *mon, rfe_real_t *c)
     if (mon->magic != RFE_MAGIC_MON) {
         return RFE_ERR_NOT_INITIALISED;
     }
-    *c = ((mon->fired != 0u) && (mon->inflate != RFE_R(0.0)))
+    *c = ((mon->fired != 0u) && (mon->inflate != 0u))
              ? RFE_SQRT(rfe_max(RFE_R(1.0), mon->D / RFE_R(RFE_MEAS)))
              : RFE_R(1.0);
     return RFE_OK;
