@@ -30,6 +30,7 @@
 #include "rfe/config.h"
 #include "rfe/fixed.h"
 #include "rfe/component/meas_q31.h"
+#include "rfe/component/monitor_q31.h"
 #include "rfe/params_q31.h"
 #include "rfe/component/sckf_q31.h"
 #include "rfe/component/tyre_q31.h"
@@ -79,6 +80,8 @@ typedef struct {
     rfe_meas_q31_t meas;                    /**< measurement model of the sample being processed */
     rfe_conditioner_q31_t cond;             /**< input filter (docs/ESTIMATOR.md step 1) */
     rfe_conditioner_q31_t backup_cond;      /**< its state before the step (restored on error) */
+    rfe_monitor_q31_t mon;                  /**< model-validity monitor (docs/MONITOR.md), SCKF */
+    rfe_monitor_q31_t backup_mon;           /**< its state before the step (restored on error) */
     rfe_fix_t backup_x[RFE_N_MAX];          /**< filter mean before the step (Q29) */
     rfe_fix_t backup_S[RFE_N_MAX * RFE_N_MAX]; /**< its S (SCKF, Q30) or P (CKF, Q31) */
     uint32_t step_sat;                      /**< saturations of the step in progress (the

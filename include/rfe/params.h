@@ -18,11 +18,15 @@
 #define rfe_params_paper    rfe_params_paper_f64
 #define rfe_params_validate rfe_params_validate_f64
 #define rfe_monitor_params_validate rfe_monitor_params_validate_f64
+#define rfe_monitor_consts  rfe_monitor_consts_f64
+#define rfe_normal_quantile rfe_normal_quantile_f64
 #else
 #define rfe_params_default  rfe_params_default_f32
 #define rfe_params_paper    rfe_params_paper_f32
 #define rfe_params_validate rfe_params_validate_f32
 #define rfe_monitor_params_validate rfe_monitor_params_validate_f32
+#define rfe_monitor_consts  rfe_monitor_consts_f32
+#define rfe_normal_quantile rfe_normal_quantile_f32
 #endif
 
 /** Vehicle geometry and mass (MODEL.md §2). */
@@ -159,5 +163,38 @@ RFE_NODISCARD rfe_status_t rfe_params_validate(const rfe_params_t *p);
  */
 RFE_NODISCARD rfe_status_t rfe_monitor_params_validate(const rfe_monitor_params_t *mp,
                                                       rfe_real_t dt);
+
+/** The monitor's constants at a sample period (rfe_monitor_consts): what its statistics use
+ *  of the parameters, in every number type (the fixed-point ones are these, rounded). */
+typedef struct {
+    uint32_t hold_steps;   /**< ceil(hold / dt) */
+    uint32_t warmup_steps; /**< ceil(warmup / dt) */
+    rfe_real_t l_d;        /**< EWMA weight of D, dt / (tau_nis + dt) */
+    rfe_real_t l_m;        /**< EWMA weight of M and C, dt / (tau_mean + dt) */
+    rfe_real_t z_d_fire;   /**< z(1 - p_fire / 2): the NIS test's normal quantile */
+    rfe_real_t z_d_clear;  /**< z(1 - p_clear / 2) */
+    rfe_real_t z_m_fire;   /**< z(1 - p_fire / (4 m)): each channel's two-sided test */
+    rfe_real_t z_m_clear;  /**< z(1 - p_clear / (4 m)) */
+} rfe_monitor_consts_t;
+
+/**
+ * The monitor's constants from its parameters at sample period @p dt (docs/MONITOR.md §2):
+ * the weights, the normal quantiles (rfe_normal_quantile) and the step counts (a duration
+ * within 1e-6 relative of a whole number of periods is that number). rfe_monitor_init and
+ * rfe_params_to_q31 both use it.
+ * @param[in]  mp   as rfe_monitor_params_validate accepts at @p dt
+ * @param[out] out  written only on RFE_OK
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_PARAM (a parameter or dt invalid, or a probability
+ *         so small that 1 - p rounds to 1 in the real type).
+ */
+RFE_NODISCARD rfe_status_t rfe_monitor_consts(const rfe_monitor_params_t *mp, rfe_real_t dt,
+                                             rfe_monitor_consts_t *out);
+
+/**
+ * The standard-normal quantile z(q), 0 < q < 1 (Acklam's rational approximation: relative
+ * error below 1.2e-9 in double; the float build's rounding above that).
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_RANGE (q not in (0, 1), or not finite).
+ */
+RFE_NODISCARD rfe_status_t rfe_normal_quantile(rfe_real_t q, rfe_real_t *z);
 
 #endif /* RFE_PARAMS_H */

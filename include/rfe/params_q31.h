@@ -123,11 +123,37 @@ typedef struct {
     rfe_fix_t b_v;            /**< dt / (tau_v + dt): complementary-filter gain, Q30, in (0, 1] */
 } rfe_filter_params_q31_t;
 
+/** Fractional bits of the monitor's normal quantiles z: Q24, +-128 (z <= 8 is used). */
+#define RFE_FIX_Q_MON_Z 24
+/** Fractional bits of the monitor's EWMA weights: Q30 (RFE_FIX_Q_SD), in (0, 1). */
+#define RFE_FIX_Q_MON_L 30
+/** The largest quantile the monitor's integer thresholds take: 8 in Q24 (z(1 - 6e-16)). */
+#define RFE_FIX_MON_Z_MAX ((rfe_fix_t)134217728)
+
+/** The model-validity monitor (docs/MONITOR.md §2) as the constants its integer code uses:
+ *  rfe_params_to_q31 derives them from the keys mon_* (rfe_monitor_params_t) and dt exactly
+ *  as rfe_monitor_init does in double, then rounds each once. The quantiles need the inverse
+ *  normal distribution, which the integer library does not carry, so they are stored, not
+ *  recomputed. Within the ranges below, each field is checked by rfe_params_validate_q31. */
+typedef struct {
+    uint32_t enable;       /**< key mon_enable: 1 acts on valid, status and sd (SCKF only); 0 off */
+    uint32_t inflate;      /**< key mon_inflate: 1 multiplies the sd by sqrt(max(1, D / 3)) while fired */
+    uint32_t hold_steps;   /**< ceil(mon_hold / dt): shortest time fired after the last exceedance [steps], < 2^31 */
+    uint32_t warmup_steps; /**< ceil(mon_warmup / dt): evaluated steps that only count [steps], < 2^31 */
+    rfe_fix_t l_d;         /**< dt / (mon_tau_nis + dt): weight of the NIS average, Q30, in [2^-14, 1) */
+    rfe_fix_t l_m;         /**< dt / (mon_tau_mean + dt): weight of the means, Q30, in [2^-14, 1) */
+    rfe_fix_t z_d_fire;    /**< z(1 - mon_p_fire / 2), Q24, in (z_d_clear, 8] */
+    rfe_fix_t z_d_clear;   /**< z(1 - mon_p_clear / 2), Q24, > 0 */
+    rfe_fix_t z_m_fire;    /**< z(1 - mon_p_fire / 12), Q24, in (z_m_clear, 8] */
+    rfe_fix_t z_m_clear;   /**< z(1 - mon_p_clear / 12), Q24, > 0 */
+} rfe_monitor_params_q31_t;
+
 /** Everything the fixed-point friction estimator needs. */
 typedef struct {
     rfe_vehicle_q31_t vehicle;
     rfe_tyre_params_q31_t tyre;
     rfe_filter_params_q31_t filter;
+    rfe_monitor_params_q31_t monitor;
 } rfe_params_q31_t;
 
 /**
@@ -153,10 +179,22 @@ RFE_NODISCARD rfe_status_t rfe_params_paper_q31(rfe_params_q31_t *p);
  *  - each nonzero base field that a derived constant uses (m, Lf, Lr, Bf, Br, J, hg, g, dt,
  *    tau_v) and each nonzero derived constant at least 2^16 LSB (16 significant bits), so that
  *    the rounding of the converter (<= 5 * 2^-17 relative: at most five base fields per
- *    constant) always passes the 2^-13 check.
+ *    constant) always passes the 2^-13 check;
+ *  - the monitor's constants within the ranges of rfe_monitor_params_q31_t (enable and
+ *    inflate 0 or 1, 0 < z_clear < z_fire <= 8 per test), and enable = 1 only with the SCKF.
  * @param[in] p  the parameters to check.
  * @return RFE_OK, RFE_ERR_NULL or RFE_ERR_PARAM.
  */
 RFE_NODISCARD rfe_status_t rfe_params_validate_q31(const rfe_params_q31_t *p);
+
+/**
+ * Checks the monitor's integer constants against the ranges of rfe_monitor_params_q31_t:
+ * enable and inflate 0 or 1; hold_steps, warmup_steps < 2^31; each weight in [2^-14, 1);
+ * per test 0 < z_clear < z_fire <= 8 (RFE_FIX_MON_Z_MAX). rfe_params_validate_q31 and
+ * rfe_monitor_init_q31 both use it.
+ * @param[in] mp  the monitor's constants.
+ * @return RFE_OK, RFE_ERR_NULL or RFE_ERR_PARAM.
+ */
+RFE_NODISCARD rfe_status_t rfe_monitor_params_validate_q31(const rfe_monitor_params_q31_t *mp);
 
 #endif /* RFE_PARAMS_Q31_H */

@@ -46,7 +46,7 @@ PUBLIC = {
                "velocity_bits.h"),
     "models": ("tyre.h", "tyre_q31.h", "obsmat.h", "obsmat_q31.h", "meas.h", "meas_q31.h"),
     "estimators": ("step_noise.h", "step_noise_q31.h", "conditioner.h", "conditioner_q31.h",
-                   "monitor.h", "friction.h", "friction_q31.h", "velocity.h", "velocity_q31.h", "pipeline.h",
+                   "monitor.h", "monitor_q31.h", "friction.h", "friction_q31.h", "velocity.h", "velocity_q31.h", "pipeline.h",
                    "pipeline_q31.h"),
 }
 # Headers of both number types: no real type in them.
@@ -54,6 +54,7 @@ Q31_SHARED = ({"include/rfe/" + h for h in ("common.h", "config.h", "fixed.h", "
                                              "velocity_bits.h")}
               | {"include/rfe/component/fxmath.h", "src/numerics/sizes.h",
                  "src/models/meas_inputs.h", "src/estimators/friction/friction_logic.h",
+                 "src/estimators/friction/monitor_logic.h",
                  "src/estimators/velocity/velocity_logic.h"})
 Q31_SYSTEM = {"stddef.h", "stdint.h"}
 INCLUDE_RE = re.compile(r'^\s*#\s*include\s*([<"])([^>"]+)[>"]')

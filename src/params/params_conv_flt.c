@@ -147,6 +147,41 @@ static void conv_filter(conv_t *c, const rfe_filter_params_t *f, rfe_filter_para
     q->b_v = to_q(c, dt / (tau + dt), RFE_FIX_Q_DT, 1);
 }
 
+/* The monitor's integer constants: rfe_monitor_consts' weights, quantiles and step counts at
+ * dt (in the real type of this build, as rfe_monitor_init has them), each rounded to its format. A weight
+ * needs 16 significant bits (>= 2^-14: tau <= 16383 dt) and a quantile at most 8 (a
+ * probability >= ~1e-15): else RFE_ERR_RANGE (also when the init finds 1 - p equal to 1). */
+static void conv_monitor(conv_t *c, const rfe_monitor_params_t *mp, rfe_real_t dt,
+                         rfe_monitor_params_q31_t *q)
+{
+    rfe_monitor_consts_t k = {0};
+    /* mp was validated at this dt (rfe_params_validate); the constants are refused only for a
+     * probability so small that 1 - p rounds to 1 in the real type: beyond any quantile's
+     * format */
+    if (rfe_monitor_consts(mp, dt, &k) != RFE_OK) {
+        c->bad = 1;
+    }
+    q->enable = 0u;
+    if (mp->enable != RFE_R(0.0)) {
+        q->enable = 1u;
+    }
+    q->inflate = 0u;
+    if (mp->inflate != RFE_R(0.0)) {
+        q->inflate = 1u;
+    }
+    q->hold_steps = k.hold_steps;
+    q->warmup_steps = k.warmup_steps;
+    q->l_d = to_q(c, (double)k.l_d, RFE_FIX_Q_MON_L, 1);
+    q->l_m = to_q(c, (double)k.l_m, RFE_FIX_Q_MON_L, 1);
+    q->z_d_fire = to_q(c, (double)k.z_d_fire, RFE_FIX_Q_MON_Z, 0);
+    q->z_d_clear = to_q(c, (double)k.z_d_clear, RFE_FIX_Q_MON_Z, 0);
+    q->z_m_fire = to_q(c, (double)k.z_m_fire, RFE_FIX_Q_MON_Z, 0);
+    q->z_m_clear = to_q(c, (double)k.z_m_clear, RFE_FIX_Q_MON_Z, 0);
+    if ((q->z_d_fire > RFE_FIX_MON_Z_MAX) || (q->z_m_fire > RFE_FIX_MON_Z_MAX)) {
+        c->bad = 1;
+    }
+}
+
 rfe_status_t rfe_params_to_q31(const rfe_params_t *p, rfe_params_q31_t *q)
 {
     rfe_params_q31_t t;
@@ -160,13 +195,10 @@ rfe_status_t rfe_params_to_q31(const rfe_params_t *p, rfe_params_q31_t *q)
     if (st != RFE_OK) {
         return st;
     }
-    /* the fixed-point estimator has no model-validity monitor yet (docs/MONITOR.md) */
-    if (p->monitor.enable != RFE_R(0.0)) {
-        return RFE_ERR_PARAM;
-    }
     conv_vehicle(&c, &p->vehicle, &t.vehicle);
     conv_tyre(&c, &p->tyre, &t.tyre);
     conv_filter(&c, &p->filter, &t.filter);
+    conv_monitor(&c, &p->monitor, p->filter.dt, &t.monitor);
     if (c.bad != 0) {
         return RFE_ERR_RANGE;
     }

@@ -78,6 +78,18 @@ static const rfe_params_q31_t paper_q31 = {
         0,          /* sd_floor_rel = 0 (off), Q30 */
         0,          /* sd_valid = 0 (paper rule), Q30 */
         1073741824  /* b_v = 1 (tau_v = 0), Q30 */
+    },
+    {
+        0u,         /* enable = 0 (off) */
+        1u,         /* inflate = 1 */
+        50u,        /* hold_steps = ceil(0.5 s / 0.01 s) */
+        100u,       /* warmup_steps = ceil(1 s / 0.01 s) */
+        21053761,   /* l_d = 0.01 / 0.51, Q30 */
+        21053761,   /* l_m = 0.01 / 0.51, Q30 */
+        55205878,   /* z_d_fire = z(1 - 1e-3 / 2) = 3.2905, Q24 */
+        27596065,   /* z_d_clear = z(1 - 0.1 / 2) = 1.6449, Q24 */
+        63163260,   /* z_m_fire = z(1 - 1e-3 / 12) = 3.7648, Q24 */
+        40164316    /* z_m_clear = z(1 - 0.1 / 12) = 2.3940, Q24 */
     }};
 
 rfe_status_t rfe_params_paper_q31(rfe_params_q31_t *p)
@@ -352,6 +364,39 @@ static int ckf_subset_ok_q31(const rfe_filter_params_q31_t *f)
             (f->sd_floor_rel == 0));
 }
 
+/* One test's quantiles: 0 < z_clear < z_fire <= RFE_FIX_MON_Z_MAX. */
+static int quantiles_ok_q31(rfe_fix_t z_fire, rfe_fix_t z_clear)
+{
+    return (z_clear > 0) && (z_clear < z_fire) && (z_fire <= RFE_FIX_MON_Z_MAX);
+}
+
+/* An EWMA weight with 16 significant bits, below 1: [2^-14, 1) in Q30. */
+static int weight_ok_q31(rfe_fix_t l)
+{
+    return is_pos_q31(l) && sig16(l) && (l < RFE_FIX_ONE(RFE_FIX_Q_MON_L));
+}
+
+rfe_status_t rfe_monitor_params_validate_q31(const rfe_monitor_params_q31_t *mp)
+{
+    if (mp == NULL) {
+        return RFE_ERR_NULL;
+    }
+    if ((mp->enable > 1u) || (mp->inflate > 1u) || (mp->hold_steps > (uint32_t)INT32_MAX) ||
+        (mp->warmup_steps > (uint32_t)INT32_MAX) || !weight_ok_q31(mp->l_d) ||
+        !weight_ok_q31(mp->l_m) || !quantiles_ok_q31(mp->z_d_fire, mp->z_d_clear) ||
+        !quantiles_ok_q31(mp->z_m_fire, mp->z_m_clear)) {
+        return RFE_ERR_PARAM;
+    }
+    return RFE_OK;
+}
+
+/* The monitor's constants, and the SCKF when it is on (it reads the SCKF's innovations). */
+static int monitor_ok_q31(const rfe_monitor_params_q31_t *m, rfe_filter_kind_t kind)
+{
+    return (rfe_monitor_params_validate_q31(m) == RFE_OK) &&
+           ((m->enable == 0u) || (kind == RFE_FILTER_SCKF));
+}
+
 rfe_status_t rfe_params_validate_q31(const rfe_params_q31_t *p)
 {
     if (p == NULL) {
@@ -361,7 +406,7 @@ rfe_status_t rfe_params_validate_q31(const rfe_params_q31_t *p)
     if (!vehicle_base_ok(&p->vehicle) || !vehicle_derived_sign_ok(&p->vehicle) ||
         !vehicle_derived_agree(&p->vehicle) || !tyre_ok_q31(&p->tyre) ||
         !filter_ok_q31(&p->filter) || !additions_ok_q31(&p->filter) || !gain_agrees(&p->filter) ||
-        !ckf_subset_ok_q31(&p->filter)) {
+        !ckf_subset_ok_q31(&p->filter) || !monitor_ok_q31(&p->monitor, p->filter.kind)) {
         return RFE_ERR_PARAM;
     }
     return RFE_OK;

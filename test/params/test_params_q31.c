@@ -451,6 +451,25 @@ static void test_params_q31_validate_rejects(void **state)
     REJECT_(t.filter.info_min = 1);
     REJECT_(t.filter.sd_max = 1);
     REJECT_(t.filter.sd_floor_rel = 1);
+    REJECT_(t.monitor.enable = 1u); /* the monitor reads the SCKF's innovations */
+    /* the monitor's constants */
+    assert_int_equal(rfe_monitor_params_validate_q31(NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_params_default_q31(&q), RFE_OK);
+    q.monitor.enable = 1u;
+    assert_int_equal(rfe_params_validate_q31(&q), RFE_OK);
+    REJECT_(t.monitor.enable = 2u);
+    REJECT_(t.monitor.inflate = 2u);
+    REJECT_(t.monitor.hold_steps = 0x80000000u);
+    REJECT_(t.monitor.warmup_steps = 0x80000000u);
+    REJECT_(t.monitor.l_d = 0);
+    REJECT_(t.monitor.l_d = 65535); /* 2^-14 - 1 LSB: fewer than 16 significant bits */
+    REJECT_(t.monitor.l_m = RFE_FIX_ONE(30));
+    REJECT_(t.monitor.z_d_clear = 0);
+    REJECT_(t.monitor.z_d_clear = t.monitor.z_d_fire);
+    REJECT_(t.monitor.z_d_fire = RFE_FIX_MON_Z_MAX + 1);
+    REJECT_(t.monitor.z_m_clear = -1);
+    REJECT_(t.monitor.z_m_fire = t.monitor.z_m_clear);
+    REJECT_(t.monitor.z_m_fire = RFE_FIX_MON_Z_MAX + 1);
 #undef REJECT_
 }
 
@@ -459,9 +478,9 @@ static void test_params_q31_validate_rejects(void **state)
 /* REQ: the converter: NULL -> RFE_ERR_NULL, an invalid real parameter set -> RFE_ERR_PARAM, a
  * value that does not fit its format (too large, a nonzero value rounding to 0, fewer than 16
  * significant bits where required, a derived constant out of range, alpha_max rounding to
- * 1.5 rad, a shape factor rounding onto an open bound) -> RFE_ERR_RANGE; the model-validity
- * monitor on (no q31 twin yet) -> RFE_ERR_PARAM; the output untouched on every error; the
- * shape factors converted at their bounds. */
+ * 1.5 rad, a shape factor rounding onto an open bound, a monitor weight below 2^-14 or a
+ * quantile above 8) -> RFE_ERR_RANGE; the output untouched on every error; the shape factors
+ * and the monitor's constants converted at their bounds. */
 /* REQ-PARAMS-004 REQ-MON-009 */
 static void test_params_q31_converter_errors(void **state)
 {
@@ -504,7 +523,12 @@ static void test_params_q31_converter_errors(void **state)
     CONV_(p.vehicle.J = 1e6, RFE_ERR_RANGE);                 /* beyond Q12 */
     CONV_(p.vehicle.hg = 3.9; p.vehicle.m = 9000.0, RFE_ERR_RANGE); /* k_roll beyond Q20 */
     CONV_(p.vehicle.m = 30000.0, RFE_ERR_RANGE);             /* static load beyond Q15 */
-    CONV_(p.monitor.enable = 1.0, RFE_ERR_PARAM);            /* no q31 monitor yet */
+    CONV_(p.monitor.tau_nis = 200.0, RFE_ERR_RANGE);         /* l = 5.0e-5 < 2^-14 */
+    CONV_(p.monitor.tau_mean = 200.0, RFE_ERR_RANGE);        /* the same for the means */
+    CONV_(p.monitor.p_fire = 1e-15, RFE_ERR_RANGE);          /* z(1 - 5e-16) = 8.03 > 8 */
+    CONV_(p.monitor.p_fire = 1e-17, RFE_ERR_RANGE);          /* 1 - p / 2 rounds to 1 */
+    CONV_(p.monitor.enable = 1.0; p.filter.kind = RFE_FILTER_CKF; p.filter.structure =
+              RFE_STRUCT_WHEELS, RFE_ERR_PARAM);             /* the monitor needs the SCKF */
 #undef CONV_
     /* the edges that fit */
     p = p0;
@@ -523,6 +547,18 @@ static void test_params_q31_converter_errors(void **state)
     assert_int_equal(q.tyre.shape_Ey, (1 << 24) - 1);
     assert_int_equal(q.vehicle.k_pitch, 0);
     assert_int_equal(q.filter.b_v, RFE_FIX_ONE(30));
+    assert_int_equal(rfe_params_validate_q31(&q), RFE_OK);
+    /* the monitor on, at its smallest weight and largest quantile that fit */
+    p = p0;
+    p.monitor.enable = 1.0;
+    p.monitor.tau_nis = 163.0;  /* l = 0.01 / 163.01 = 6.13e-5 >= 2^-14 = 6.10e-5 */
+    p.monitor.p_fire = 1.2e-14; /* z(1 - p / 12) = z(1 - 1e-15) = 7.94 */
+    p.monitor.inflate = 0.0;
+    assert_int_equal(rfe_params_to_q31_f64(&p, &q), RFE_OK);
+    assert_int_equal(q.monitor.enable, 1u);
+    assert_int_equal(q.monitor.inflate, 0u);
+    assert_true(q.monitor.l_d >= (1 << 16));
+    assert_true(q.monitor.z_d_fire <= RFE_FIX_MON_Z_MAX);
     assert_int_equal(rfe_params_validate_q31(&q), RFE_OK);
 }
 

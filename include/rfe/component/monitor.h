@@ -31,13 +31,11 @@
 #define rfe_monitor_step      rfe_monitor_step_f64
 #define rfe_monitor_inflation rfe_monitor_inflation_f64
 #define rfe_monitor_limits    rfe_monitor_limits_f64
-#define rfe_normal_quantile   rfe_normal_quantile_f64
 #else
 #define rfe_monitor_init      rfe_monitor_init_f32
 #define rfe_monitor_step      rfe_monitor_step_f32
 #define rfe_monitor_inflation rfe_monitor_inflation_f32
 #define rfe_monitor_limits    rfe_monitor_limits_f32
-#define rfe_normal_quantile   rfe_normal_quantile_f32
 #endif
 
 /** Monitor state (caller-owned; fields read-only for the caller). The eight 32-bit words
@@ -73,7 +71,7 @@ typedef struct {
 
 /**
  * Initialises the monitor from its parameters and the sample period: D = m, M = 0, not
- * fired; the thresholds' normal quantiles computed here (rfe_normal_quantile).
+ * fired; the weights, quantiles and step counts from rfe_monitor_consts (rfe/params.h).
  * @param[out] mon  written only on RFE_OK
  * @param[in]  p    tau_nis, tau_mean > 0; 0 < p_fire < p_clear < 1; hold, warmup >= 0 and
  *                  below 2^31 dt; inflate 0 or 1 (enable is the caller's: it is not read)
@@ -114,12 +112,5 @@ RFE_NODISCARD rfe_status_t rfe_monitor_inflation(const rfe_monitor_t *mon, rfe_r
 RFE_NODISCARD rfe_status_t rfe_monitor_limits(const rfe_monitor_t *mon,
                                              const rfe_real_t c[RFE_MEAS],
                                              rfe_monitor_limits_t *out);
-
-/**
- * The standard-normal quantile z(q), 0 < q < 1 (Acklam's rational approximation: relative
- * error below 1.2e-9 in double; the float build's rounding above that).
- * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_RANGE (q not in (0, 1), or not finite).
- */
-RFE_NODISCARD rfe_status_t rfe_normal_quantile(rfe_real_t q, rfe_real_t *z);
 
 #endif /* RFE_MONITOR_H */

@@ -28,12 +28,13 @@
  * both builds, then rounded once).
  * @return RFE_OK;
  *         RFE_ERR_NULL if a pointer is NULL;
- *         RFE_ERR_PARAM if rfe_params_validate(p) fails, or the monitor is on (mon_enable =
- *         1: the fixed-point estimator does not have it yet);
+ *         RFE_ERR_PARAM if rfe_params_validate(p) fails;
  *         RFE_ERR_RANGE if a value (base or derived) does not fit its format: it rounds beyond
  *         +-INT32_MAX, a nonzero value rounds to 0 (an "off" switch must not be created by
  *         rounding), or a value that rfe_params_validate_q31 requires to carry 16 significant
- *         bits has fewer (see there), or alpha_max rounds to 1.5 rad or more.
+ *         bits has fewer (see there), or alpha_max rounds to 1.5 rad or more, or a monitor
+ *         weight is below 2^-14 (tau > 16383 dt) or a quantile above 8 (p < ~1e-15).
+ *         The monitor's constants are those of rfe_monitor_init at the filter's dt.
  *         On error @p q is untouched.
  */
 RFE_NODISCARD rfe_status_t rfe_params_to_q31(const rfe_params_t *p, rfe_params_q31_t *q);

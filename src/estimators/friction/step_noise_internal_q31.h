@@ -22,12 +22,17 @@
  * not reach; paper mode evaluates as the public function). Preconditions (not checked): every pointer valid, @p p passed
  * rfe_params_validate_q31 (the estimator's, validated at init), rfe_meas_setup_q31(h,
  * &p->vehicle, &p->tyre, u, .) returned RFE_OK.
- * @return RFE_OK; the errors of rfe_step_noise_sqrt_q31 after its checks (@p SR, *sat then
- *         untouched).
+ * @p pers, when not NULL, receives the diagonal of the part of S_R S_R^T that persists from
+ * step to step (Q24; step_noise_internal.h's twin: (r_model_rel |h0_r|)^2 plus the squares
+ * of the low-passed inputs' columns), each square rounded and every saturation counted;
+ * with pers NULL nothing of it is computed (the same S_R and count as without it).
+ * @return RFE_OK; the errors of rfe_step_noise_sqrt_q31 after its checks (@p SR, @p pers,
+ *         *sat then untouched).
  */
 rfe_status_t rfe_step_noise_sqrt_core_q31(const rfe_params_q31_t *p, const rfe_meas_q31_t *h,
                                          const rfe_sample_q31_t *u,
                                          const rfe_fix_t mu[RFE_WHEELS],
-                                         rfe_fix_t SR[RFE_MEAS * RFE_MEAS], uint32_t *sat);
+                                         rfe_fix_t SR[RFE_MEAS * RFE_MEAS],
+                                         rfe_fix_t pers[RFE_MEAS], uint32_t *sat);
 
 #endif /* RFE_STEP_NOISE_INTERNAL_Q31_H */

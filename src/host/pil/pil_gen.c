@@ -84,6 +84,7 @@ static uint32_t put_friction(FILE *f, const rfe_params_t *p, const rfe_params_q3
     put_q31_block(f, q, offsetof(rfe_params_q31_t, vehicle), sizeof(rfe_vehicle_q31_t));
     put_q31_block(f, q, offsetof(rfe_params_q31_t, tyre), sizeof(rfe_tyre_params_q31_t));
     put_q31_block(f, q, offsetof(rfe_params_q31_t, filter), sizeof(rfe_filter_params_q31_t));
+    put_q31_block(f, q, offsetof(rfe_params_q31_t, monitor), sizeof(rfe_monitor_params_q31_t));
     fputs("};\n\nconst rfe_sample_q31_t pil_samples[] = {\n", f);
     for (i = 0u; i < rows; ++i) {
         rfe_sample_q31_t s;
@@ -128,6 +129,7 @@ static uint32_t put_pipeline_q31(FILE *f, const rfe_params_q31_t *q, const rfe_v
     put_q31_block(f, q, offsetof(rfe_params_q31_t, vehicle), sizeof(rfe_vehicle_q31_t));
     put_q31_block(f, q, offsetof(rfe_params_q31_t, tyre), sizeof(rfe_tyre_params_q31_t));
     put_q31_block(f, q, offsetof(rfe_params_q31_t, filter), sizeof(rfe_filter_params_q31_t));
+    put_q31_block(f, q, offsetof(rfe_params_q31_t, monitor), sizeof(rfe_monitor_params_q31_t));
     fprintf(f, "};\n\nconst rfe_velocity_params_q31_t pil_velocity_params = {%" PRIu32 "u", vq->driven);
     for (off = sizeof vq->driven; off < sizeof *vq; off += sizeof(int32_t)) {
         int32_t v;
@@ -283,7 +285,8 @@ int main(int argc, char **argv)
      * structs are walked word by word, sub-struct by sub-struct. */
     if (sizeof(rfe_params_t) != sizeof(rfe_vehicle_t) + sizeof(rfe_tyre_params_t) + sizeof(rfe_filter_params_t) +
                                     sizeof(rfe_monitor_params_t) ||
-        sizeof(rfe_params_q31_t) != sizeof(rfe_vehicle_q31_t) + sizeof(rfe_tyre_params_q31_t) + sizeof(rfe_filter_params_q31_t) ||
+        sizeof(rfe_params_q31_t) != sizeof(rfe_vehicle_q31_t) + sizeof(rfe_tyre_params_q31_t) + sizeof(rfe_filter_params_q31_t) +
+                                        sizeof(rfe_monitor_params_q31_t) ||
         sizeof(float) != 4u || sizeof(rfe_tyre_mode_t) != 4u || sizeof(rfe_params_t) % 4u != 0u ||
         sizeof(rfe_params_q31_t) % 4u != 0u || offsetof(rfe_velocity_params_t, driven) != 0u ||
         sizeof vp.driven != sizeof(float) || sizeof vp % sizeof(float) != 0u ||

@@ -314,6 +314,13 @@ static void test_bad_input_untouched(void **state)
         assert_int_equal(rfe_monitor_init(&m, &mp, (rfe_real_t)0.0), RFE_ERR_PARAM);
         assert_int_equal(rfe_monitor_init(NULL, &mp, (rfe_real_t)0.01), RFE_ERR_NULL);
         assert_int_equal(rfe_monitor_init(&m, NULL, (rfe_real_t)0.01), RFE_ERR_NULL);
+        {
+            rfe_monitor_consts_t k;
+            assert_int_equal(rfe_monitor_consts(NULL, (rfe_real_t)0.01, &k), RFE_ERR_NULL);
+            assert_int_equal(rfe_monitor_consts(&mp, (rfe_real_t)0.01, NULL), RFE_ERR_NULL);
+            assert_int_equal(rfe_monitor_consts(&mp, (rfe_real_t)0.01, &k), RFE_OK);
+            assert_int_equal(k.hold_steps, m.hold_steps);
+        }
         assert_int_equal(rfe_monitor_params_validate(NULL, (rfe_real_t)0.01), RFE_ERR_NULL);
         assert_memory_equal(&m, &before, sizeof(m));
     }

@@ -176,7 +176,7 @@ static void test_step_noise_core_q31(void **state)
         assert_memory_equal(S1, S2, sizeof(S1));
         assert_int_equal(s1, s2);
         assert_int_equal(rfe_meas_setup_q31(&h, &p.vehicle, &p.tyre, &u, &scratch), RFE_OK);
-        assert_int_equal(rfe_step_noise_sqrt_core_q31(&p, &h, &u, mu, S3, &s3), RFE_OK);
+        assert_int_equal(rfe_step_noise_sqrt_core_q31(&p, &h, &u, mu, S3, NULL, &s3), RFE_OK);
         assert_memory_equal(S3, S2, sizeof(S3));
         assert_int_equal(s3, s2);
         ++checked;
