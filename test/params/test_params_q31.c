@@ -526,6 +526,7 @@ static void test_params_q31_converter_errors(void **state)
     CONV_(p.monitor.tau_nis = 200.0, RFE_ERR_RANGE);         /* l = 5.0e-5 < 2^-14 */
     CONV_(p.monitor.tau_mean = 200.0, RFE_ERR_RANGE);        /* the same for the means */
     CONV_(p.monitor.p_fire = 1e-15, RFE_ERR_RANGE);          /* z(1 - 5e-16) = 8.03 > 8 */
+    CONV_(p.monitor.p_fire = 4e-15, RFE_ERR_RANGE);          /* z_d 7.86, z_m = z(1 - p / 12) 8.08 */
     CONV_(p.monitor.p_fire = 1e-17, RFE_ERR_RANGE);          /* 1 - p / 2 rounds to 1 */
     CONV_(p.monitor.enable = 1.0; p.filter.kind = RFE_FILTER_CKF; p.filter.structure =
               RFE_STRUCT_WHEELS, RFE_ERR_PARAM);             /* the monitor needs the SCKF */

@@ -390,6 +390,89 @@ static void test_rfe_friction_q31_b2b_monitor(void **state)
     assert_true(faults_fired > 0u);
 }
 
+/* A steady sample: vx, the same slip on every wheel (R = 0.325 m, the presets'), ax. */
+static rfe_sample_t phase_sample(double vx, double slip, double ax)
+{
+    rfe_sample_t u;
+    size_t w;
+    memset(&u, 0, sizeof(u));
+    u.vx = vx;
+    u.ax = ax;
+    for (w = 0; w < RFE_WHEELS; ++w) {
+        u.omega[w] = (1.0 + slip) * vx / 0.325;
+    }
+    return u;
+}
+
+/* REQ: while the fixed-point monitor is fired, the statuses follow the shared rule as in
+ * double (an updated or projected step, or a held one with a flag set, reports
+ * RFE_MODEL_MISMATCH with every flag 0; low speed and held without a flag keep theirs) and
+ * mu is the monitor-off estimator's, on phases that give every status while fired. */
+/* REQ-MON-011 REQ-MON-010 */
+static void test_rfe_friction_q31_status_while_fired(void **state)
+{
+    static const double phases[6][4] = {
+        /* steps, vx [m/s], slip, ax [m/s^2] (test_monitor_flt.c's phases) */
+        {300.0, 20.0, 0.0, 3.0},   {300.0, 1.0, 0.0, 0.8},     {300.0, 20.0, 0.0, 0.8},
+        {60.0, 20.0, -0.05, -3.0}, {100.0, 20.0, 0.0, 0.0},    {0.0, 0.0, 0.0, 0.0}};
+    rfe_params_t pd;
+    rfe_params_q31_t pq;
+    static rfe_friction_q31_t on;
+    static rfe_friction_q31_t off;
+    unsigned seen[5] = {0u, 0u, 0u, 0u, 0u}; /* while fired: s_off 0, 1, 2, 3 valid, 3 not */
+    size_t ph;
+    (void)state;
+    assert_int_equal(rfe_params_default_f64(&pd), RFE_OK);
+    assert_int_equal(rfe_params_to_q31_f64(&pd, &pq), RFE_OK);
+    assert_int_equal(rfe_friction_init_q31(&off, &pq), RFE_OK);
+    pd.monitor.enable = 1.0;
+    pd.monitor.warmup = 0.0; /* judged from the first step: fires while the prior holds */
+    assert_int_equal(rfe_params_to_q31_f64(&pd, &pq), RFE_OK);
+    assert_int_equal(rfe_friction_init_q31(&on, &pq), RFE_OK);
+    for (ph = 0; phases[ph][0] > 0.0; ++ph) {
+        const rfe_sample_t ud = phase_sample(phases[ph][1], phases[ph][2], phases[ph][3]);
+        rfe_sample_q31_t u;
+        int k;
+        sample_q(&ud, &u, &conv_sat);
+        for (k = 0; k < (int)phases[ph][0]; ++k) {
+            rfe_estimate_q31_t e_on;
+            rfe_estimate_q31_t e_off;
+            const rfe_status_t s_on = rfe_friction_step_q31(&on, &u, &e_on);
+            const rfe_status_t s_off = rfe_friction_step_q31(&off, &u, &e_off);
+            const int any =
+                (e_off.valid[0] | e_off.valid[1] | e_off.valid[2] | e_off.valid[3]) != 0u;
+            rfe_status_t want = s_off;
+            size_t w;
+            for (w = 0; w < RFE_WHEELS; ++w) {
+                assert_int_equal(e_on.mu[w], e_off.mu[w]);
+                if (s_on == RFE_MODEL_MISMATCH) {
+                    assert_int_equal(e_on.valid[w], 0u);
+                }
+            }
+            if (on.mon.fired == 0u) {
+                assert_int_equal(s_on, s_off);
+                continue;
+            }
+            if ((s_off == RFE_OK) || (s_off == RFE_PROJECTED) ||
+                ((s_off == RFE_HELD_NOT_OBSERVABLE) && any)) {
+                want = RFE_MODEL_MISMATCH;
+            }
+            assert_int_equal(s_on, want);
+            if (s_off == RFE_HELD_NOT_OBSERVABLE) {
+                seen[any ? 3 : 4]++;
+            } else if ((unsigned)s_off < 3u) {
+                seen[(unsigned)s_off]++;
+            }
+        }
+    }
+    printf("  while fired: %u updated, %u projected, %u low speed, %u held valid, %u held\n",
+           seen[0], seen[1], seen[2], seen[3], seen[4]);
+    for (ph = 0; ph < 5; ++ph) {
+        assert_true(seen[ph] > 0u);
+    }
+    assert_int_equal(conv_sat, 0u);
+}
+
 /* ---- determinism ----------------------------------------------------------------------- */
 
 static uint64_t fnv1a(uint64_t h, const void *p, size_t n)
@@ -1265,6 +1348,7 @@ int main(void)
         cmocka_unit_test(test_rfe_friction_q31_b2b_paper_ckf),
         cmocka_unit_test(test_rfe_friction_q31_b2b_default),
         cmocka_unit_test(test_rfe_friction_q31_b2b_monitor),
+        cmocka_unit_test(test_rfe_friction_q31_status_while_fired),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
