@@ -136,7 +136,9 @@ RFE_NODISCARD rfe_status_t rfe_friction_init(rfe_friction_t *est,
  * @p out receives the posterior (or, on a rejected sample or a numerical error, the unchanged
  * previous estimate with valid = 0 and the error status; on RFE_ERR_NULL or
  * RFE_ERR_NOT_INITIALISED nothing is written).
- * @return RFE_OK, RFE_PROJECTED, RFE_NO_UPDATE_LOW_SPEED, RFE_HELD_NOT_OBSERVABLE; errors:
+ * @return RFE_OK, RFE_PROJECTED, RFE_NO_UPDATE_LOW_SPEED, RFE_HELD_NOT_OBSERVABLE,
+ *         RFE_MODEL_MISMATCH (the monitor is on and fired: every flag 0, the sd inflated;
+ *         docs/MONITOR.md §2); errors:
  *         RFE_ERR_NULL, RFE_ERR_NOT_INITIALISED, RFE_ERR_NONFINITE, RFE_ERR_RANGE (see
  *         config.h limits), RFE_ERR_NOT_POSITIVE_DEFINITE (CKF; an overflowing prior).
  * @param[in,out] est     an estimator set up by rfe_friction_init.

@@ -6,7 +6,8 @@
  * Composition of the q31 modules, one hop each: sample -> input conditioning
  * (conditioner_q31) -> time update (sckf_q31/ckf_q31) -> kinematics, loads, slips, forces
  * (meas_q31: tyre_q31, obsmat_q31) -> step noise S_R (step_noise_q31) -> cubature points, information
- * gate, measurement update (sckf_q31) -> sd bounds, projection -> estimate per wheel (T map).
+ * gate, measurement update (sckf_q31) -> sd bounds, projection -> model-validity monitor on the
+ * step's innovation (monitor_q31, when mon_enable = 1) -> estimate per wheel (T map).
  * The caller owns the rfe_friction_q31_t (no heap); init it once, then step at the sample
  * rate. A rejected sample or a failing step returns an error status and leaves the estimator
  * (filter, input filter, counters) exactly as it was.
@@ -80,8 +81,14 @@ typedef struct {
     rfe_meas_q31_t meas;                    /**< measurement model of the sample being processed */
     rfe_conditioner_q31_t cond;             /**< input filter (docs/ESTIMATOR.md step 1) */
     rfe_conditioner_q31_t backup_cond;      /**< its state before the step (restored on error) */
-    rfe_monitor_q31_t mon;                  /**< model-validity monitor (docs/MONITOR.md), SCKF */
-    rfe_monitor_q31_t backup_mon;           /**< its state before the step (restored on error) */
+    rfe_monitor_q31_t mon;                  /**< model-validity monitor (docs/MONITOR.md), SCKF;
+                                                 stepped last, after everything that can fail,
+                                                 so it needs no backup */
+    rfe_sckf_innov_q31_t innov;             /**< scratch: the step's innovation for the monitor
+                                                 (in the state, not on the stack: the step's
+                                                 deepest call path must fit 2 KiB on a
+                                                 Cortex-M0+; meaningless between steps) */
+    rfe_fix_t pers[RFE_MEAS];               /**< scratch: the step noise's persistent diagonal */
     rfe_fix_t backup_x[RFE_N_MAX];          /**< filter mean before the step (Q29) */
     rfe_fix_t backup_S[RFE_N_MAX * RFE_N_MAX]; /**< its S (SCKF, Q30) or P (CKF, Q31) */
     uint32_t step_sat;                      /**< saturations of the step in progress (the
@@ -134,7 +141,9 @@ RFE_NODISCARD rfe_status_t rfe_friction_init_q31(rfe_friction_q31_t *est,
  * @p out receives the posterior and the step's saturation count (or, on a rejected sample
  * or a numerical error, the unchanged previous estimate with valid = 0, sat = 0 and the error
  * status; on RFE_ERR_NULL or RFE_ERR_NOT_INITIALISED nothing is written).
- * @return RFE_OK, RFE_PROJECTED, RFE_NO_UPDATE_LOW_SPEED, RFE_HELD_NOT_OBSERVABLE; errors:
+ * @return RFE_OK, RFE_PROJECTED, RFE_NO_UPDATE_LOW_SPEED, RFE_HELD_NOT_OBSERVABLE,
+ *         RFE_MODEL_MISMATCH (the monitor is on and fired: every flag 0, the sd inflated;
+ *         docs/MONITOR.md §2); errors:
  *         RFE_ERR_NULL, RFE_ERR_NOT_INITIALISED, RFE_ERR_RANGE (a sample outside the limits
  *         RFE_FIX_LIMIT_* above, i.e. config.h's), RFE_ERR_NOT_POSITIVE_DEFINITE (the CKF's
  *         covariance or a factor that is not positive definite).

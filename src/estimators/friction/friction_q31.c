@@ -30,6 +30,7 @@
 #include "rfe/component/fxmath.h"
 
 #include "estimators/friction/friction_logic.h"
+#include "estimators/friction/friction_monitor_q31.h"
 #include "estimators/friction/step_noise_internal_q31.h"
 #include "numerics/internal_q31.h"
 
@@ -217,6 +218,22 @@ static rfe_status_t init_ckf_q31(rfe_friction_q31_t *est, const rfe_filter_param
     return st;
 }
 
+/* The monitor's scratch set to 0. */
+static void clear_scratch_q31(rfe_friction_q31_t *est)
+{
+    size_t i;
+    for (i = 0u; i < (size_t)RFE_M_MAX; ++i) {
+        est->innov.nu[i] = 0;
+        est->innov.zz[i] = 0;
+    }
+    for (i = 0u; i < ((size_t)RFE_M_MAX * (size_t)RFE_M_MAX); ++i) {
+        est->innov.Szz[i] = 0;
+    }
+    for (i = 0u; i < (size_t)RFE_MEAS; ++i) {
+        est->pers[i] = 0;
+    }
+}
+
 rfe_status_t rfe_friction_init_q31(rfe_friction_q31_t *est, const rfe_params_q31_t *params,
                                    size_t size, uint32_t config)
 /* cppcheck-suppress misra-c2012-5.5 ; MISRA-DEV-08: the function its wrapper macro calls */
@@ -254,7 +271,7 @@ rfe_status_t rfe_friction_init_q31(rfe_friction_q31_t *est, const rfe_params_q31
     est->params = *params;
     est->n = n;
     est->backup_cond = est->cond;
-    est->backup_mon = est->mon;
+    clear_scratch_q31(est); /* defined bytes in whole-state copies */
     est->step_sat = 0u;
     est->sat = 0u;
     est->magic = RFE_MAGIC_EST_Q31;
@@ -307,7 +324,6 @@ static void backup_q31(rfe_friction_q31_t *est, int restore)
     }
     if (restore != 0) {
         est->cond = est->backup_cond;
-        est->mon = est->backup_mon;
         if (kind == RFE_FILTER_CKF) {
             est->filter.ckf.sat = 0u;
         } else {
@@ -315,7 +331,6 @@ static void backup_q31(rfe_friction_q31_t *est, int restore)
         }
     } else {
         est->backup_cond = est->cond;
-        est->backup_mon = est->mon;
     }
     est->step_sat = 0u;
 }
@@ -329,52 +344,30 @@ static int step_noise_active_q31(const rfe_filter_params_q31_t *fp)
                : 0;
 }
 
-/* The monitor's step on this step's innovation (docs/MONITOR.md §2): S_zz repacked to ld
- * RFE_MEAS, the persistent diagonal = the step noise's (pers) + the state's (diag Zc Zc^T),
- * saturating (counted). */
-static rfe_status_t monitor_step_q31(rfe_friction_q31_t *est, const rfe_sckf_innov_q31_t *in,
-                                     const rfe_fix_t pers[RFE_MEAS])
-{
-    rfe_fix_t Szz[RFE_MEAS * RFE_MEAS];
-    rfe_fix_t c[RFE_MEAS];
-    size_t r;
-    size_t j;
-    for (r = 0u; r < (size_t)RFE_MEAS; ++r) {
-        for (j = 0u; j < (size_t)RFE_MEAS; ++j) {
-            Szz[(r * (size_t)RFE_MEAS) + j] = in->Szz[(r * (size_t)RFE_M_MAX) + j];
-        }
-        c[r] = rfe_fix_add(pers[r], in->zz[r], &est->step_sat);
-    }
-    return rfe_monitor_step_q31(&est->mon, in->nu, Szz, c, NULL, &est->step_sat);
-}
-
-/* Steps 4-6 (SCKF): this step's S_R at the predicted mean, then the gated update, and the
- * monitor on its innovation when it is on. *updated = 0 when the gate held the step. */
+/* Steps 4-6 (SCKF): this step's S_R at the predicted mean, then the gated update; with the
+ * monitor on, the step noise's persistent diagonal and the innovation go to the scratch
+ * est->pers, est->innov for monitor_step_q31. *updated = 0 when the gate held the step. */
 static rfe_status_t sckf_measurement_q31(rfe_friction_q31_t *est, const rfe_sample_q31_t *u,
                                          const rfe_fix_t y[RFE_MEAS], int *updated)
 {
     const rfe_filter_params_q31_t *fp = &est->params.filter;
-    const uint32_t mon_on = est->params.monitor.enable; /* 0 or 1 (validated) */
     rfe_sckf_q31_t *f = &est->filter.sckf;
     rfe_fix_t SR[RFE_MEAS * RFE_MEAS];
-    rfe_fix_t pers[RFE_MEAS] = {0, 0, 0};
-    rfe_sckf_innov_q31_t innov;
     const rfe_fix_t *sr = NULL; /* the filter's diagonal S_R */
     rfe_status_t st = RFE_OK;
+    /* the monitor's scratch (enable is 0 or 1, validated); est->pers stays 0 without S_R */
+    rfe_fix_t *pers = (est->params.monitor.enable != 0u) ? est->pers : NULL;
     if (step_noise_active_q31(fp) != 0) {
         rfe_fix_t mu[RFE_WHEELS];
         to_wheels_q31(est, f->x, mu); /* T x- */
         /* the internal entry: params validated at init, est->meas set up from u just now */
-        st = rfe_step_noise_sqrt_core_q31(&est->params, &est->meas, u, mu, SR,
-                                          (mon_on != 0u) ? pers : NULL, &est->step_sat);
+        st = rfe_step_noise_sqrt_core_q31(&est->params, &est->meas, u, mu, SR, pers,
+                                          &est->step_sat);
         sr = SR;
     }
     if (st == RFE_OK) {
         st = rfe_sckf_update_ex_q31(f, measure_q31, est, y, sr, fp->info_min, NULL,
-                                    (mon_on != 0u) ? &innov : NULL, updated);
-    }
-    if ((st == RFE_OK) && (mon_on != 0u)) {
-        st = monitor_step_q31(est, &innov, pers);
+                                    (pers != NULL) ? &est->innov : NULL, updated);
     }
     return st;
 }
@@ -533,6 +526,10 @@ static rfe_status_t filter_step_q31(rfe_friction_q31_t *est, const rfe_sample_q3
                  ? rfe_ckf_clamp_q31(&est->filter.ckf, fp->mu_min, fp->mu_max, &clamped)
                  : rfe_sckf_clamp_q31(&est->filter.sckf, fp->mu_min, fp->mu_max, &clamped);
     }
+    /* The monitor on the innovation of a step that evaluated the model (SCKF, monitor on). */
+    if ((st == RFE_OK) && (measured != 0) && (est->params.monitor.enable != 0u)) {
+        st = rfe_friction_monitor_step_q31(est);
+    }
     return (st != RFE_OK) ? st : rfe_friction_step_status(measured, updated, clamped);
 }
 
@@ -579,35 +576,6 @@ rfe_status_t rfe_friction_get_q31(const rfe_friction_q31_t *est, rfe_estimate_q3
     return st;
 }
 
-/* docs/MONITOR.md §2 item 7, after step 9: while the monitor is fired (and on), the status
- * of a step that evaluated the model says so, every flag is 0 and the sd is inflated (Q30,
- * saturating: an sd beyond 2 is counted in the step's and the running saturation counts). */
-static void apply_monitor_q31(rfe_friction_q31_t *est, rfe_estimate_q31_t *out)
-{
-    rfe_fix_t c = RFE_MON_Q31_ONE_F;
-    uint32_t count = 0u;
-    rfe_status_t inflated;
-    int any_valid = 0;
-    size_t i;
-    if ((est->params.monitor.enable == 0u) || (est->mon.fired == 0u) ||
-        (rfe_friction_monitor_applies(out->status) == 0)) {
-        return;
-    }
-    /* the monitor is initialised with the estimator: this cannot fail (c stays 1 if it did) */
-    inflated = rfe_monitor_inflation_q31(&est->mon, &c);
-    (void)inflated;
-    for (i = 0u; i < NW; ++i) {
-        if (out->valid[i] != 0u) {
-            any_valid = 1;
-        }
-        out->valid[i] = 0u;
-        out->sd[i] = rfe_fix_mul(out->sd[i], c, RFE_MON_Q31_QF, &count);
-    }
-    rfe_q31_sat_add(&out->sat, count);
-    rfe_q31_sat_add(&est->sat, count);
-    out->status = rfe_friction_monitor_status(out->status, any_valid);
-}
-
 rfe_status_t rfe_friction_step_q31(rfe_friction_q31_t *est, const rfe_sample_q31_t *sample,
                                    rfe_estimate_q31_t *out)
 {
@@ -646,6 +614,6 @@ rfe_status_t rfe_friction_step_q31(rfe_friction_q31_t *est, const rfe_sample_q31
     }
     out->status = st;
     out->sat = step_sat;
-    apply_monitor_q31(est, out);
+    rfe_friction_monitor_apply_q31(est, out);
     return out->status;
 }

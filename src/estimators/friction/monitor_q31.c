@@ -35,6 +35,10 @@
 #define ONE_T INT64_C(268435456)          /* 1 in Q28 */
 #define MASK_C UINT64_C(0x3FFFFFFF)       /* the low 30 bits */
 
+/* The inflation divides by m through its reciprocal (rfe_monitor_inflation_q31). */
+/* cppcheck-suppress misra-c2012-2.3 ; MISRA-DEV-04: static assertion, never used by design */
+typedef char rfe_assert_monitor_q31_three_channels[(RFE_MEAS == 3) ? 1 : -1];
+
 /* sqrt(2) / 3 in Q30, rounded (0.47140452079103168...). */
 #define SQRT2_OVER_3_Q30 UINT64_C(506166750)
 
@@ -339,10 +343,13 @@ rfe_status_t rfe_monitor_inflation_q31(const rfe_monitor_q31_t *mon, rfe_fix_t *
         return RFE_ERR_NOT_INITIALISED;
     }
     if ((mon->fired != 0u) && (mon->inflate != 0u)) {
-        const rfe_fix_t ratio = mon->D / (rfe_fix_t)RFE_MEAS; /* D >= 0: the floor */
-        if (ratio > ONE_D) {
+        /* D / m (D >= 0) by the reciprocal of m = 3, floor(2^32 / 3): within 1 LSB of the
+         * floor of the quotient, and no division helper on the Cortex-M0+ */
+        const uint64_t prod = (uint64_t)(uint32_t)mon->D * UINT64_C(1431655765);
+        const uint32_t ratio = (uint32_t)(prod >> 32);
+        if (ratio > (uint32_t)ONE_D) {
             uint32_t scratch = 0u; /* sqrt(32768 / 3) < 128: nothing saturates */
-            rfe_status_t st = rfe_fix_sqrt(ratio, QD, QF, &f, &scratch);
+            rfe_status_t st = rfe_fix_sqrt((rfe_fix_t)ratio, QD, QF, &f, &scratch);
             (void)st;
         }
     }

@@ -26,13 +26,26 @@
  * step to step (Q24; step_noise_internal.h's twin: (r_model_rel |h0_r|)^2 plus the squares
  * of the low-passed inputs' columns), each square rounded and every saturation counted;
  * with pers NULL nothing of it is computed (the same S_R and count as without it).
- * @return RFE_OK; the errors of rfe_step_noise_sqrt_q31 after its checks (@p SR, @p pers,
- *         *sat then untouched).
+ * @return RFE_OK; the errors of rfe_step_noise_sqrt_q31 after its checks (@p SR, *sat then
+ *         untouched; @p pers, filled in place, then unspecified).
  */
 rfe_status_t rfe_step_noise_sqrt_core_q31(const rfe_params_q31_t *p, const rfe_meas_q31_t *h,
                                          const rfe_sample_q31_t *u,
                                          const rfe_fix_t mu[RFE_WHEELS],
                                          rfe_fix_t SR[RFE_MEAS * RFE_MEAS],
                                          rfe_fix_t pers[RFE_MEAS], uint32_t *sat);
+
+/** The noise sd of input j (RFE_IN_*, rfe/common.h; j < RFE_INPUTS), in that input's format. */
+rfe_fix_t rfe_step_noise_input_sd_q31(const rfe_filter_params_q31_t *fp, size_t j);
+
+/**
+ * The diagonal of the part of A A^T that persists from step to step (Q24), from the step
+ * noise's array A = [S_R0, g_1 ..] before its Tria (row stride @p lda, the columns of the
+ * inputs with sd > 0 in input order): the model error's square e_i^2 = A_ii^2 - r_i^2 (A_ii
+ * = sqrt(r_i^2 + e_i^2) rounded, so within A_ii 2^-24 of e_i^2, and >= 0) plus the squares
+ * of the low-passed inputs' columns (step_noise_flt.c's pers); saturations into *count.
+ */
+void rfe_step_noise_pers_q31(const rfe_filter_params_q31_t *fp, const rfe_fix_t *A, size_t lda,
+                             rfe_fix_t pers[RFE_MEAS], uint32_t *count);
 
 #endif /* RFE_STEP_NOISE_INTERNAL_Q31_H */

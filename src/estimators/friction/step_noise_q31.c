@@ -29,16 +29,6 @@ typedef char rfe_assert_step_noise_q31_tria_fits[((RFE_MEAS + RFE_INPUTS) <= RFE
                                               ? 1
                                               : -1];
 
-/* The noise sd of input j (RFE_IN_*, rfe/common.h), in the format of that input. */
-static rfe_fix_t input_sd_q31(const rfe_filter_params_q31_t *fp, size_t j)
-{
-    const rfe_fix_t sd[RFE_INPUTS] = {fp->sd_in_delta,    fp->sd_in_vx,
-                                      fp->sd_in_vy,       fp->sd_in_yaw_rate,
-                                      fp->sd_in_omega,    fp->sd_in_omega,
-                                      fp->sd_in_omega,    fp->sd_in_omega};
-    return sd[j];
-}
-
 /* z = h(mu, u) (Q24) for sample u, its model set up again (paper mode's h0: the set-up's
  * saturations are counted once more here, as they always were; the committed goldens hold
  * these counts). */
@@ -53,17 +43,10 @@ static rfe_status_t h_at_q31(const rfe_params_q31_t *p, const rfe_sample_q31_t *
     return st;
 }
 
-/* e^2 rounded to Q24 (e in Q24), saturated (counted) beyond 128. */
-static rfe_fix_t square_q24(rfe_fix_t e, uint32_t *count)
-{
-    return rfe_fix_mul(e, e, RFE_FIX_Q_ACC, count);
-}
-
 /* S_R0 into the first RFE_MEAS columns of A (row stride CW, Q24): sensor noise and the model
- * error relative to each predicted acceleration h0; when pers is not NULL, the model
- * error's square into it (Q24: a curve error, the same at the next step). */
+ * error relative to each predicted acceleration h0. */
 static void sensor_block_q31(const rfe_filter_params_q31_t *fp, const rfe_fix_t h0[RFE_MEAS],
-                             rfe_fix_t *A, rfe_fix_t *pers, uint32_t *count)
+                             rfe_fix_t *A, uint32_t *count)
 {
     rfe_fix_t r[RFE_MEAS];
     size_t i;
@@ -81,9 +64,6 @@ static void sensor_block_q31(const rfe_filter_params_q31_t *fp, const rfe_fix_t 
         v[1] = rfe_fix_mul(fp->r_model_rel, rfe_fix_abs(h0[i], count), RFE_FIX_Q_SD, count);
         st = rfe_fix_norm(v, 2u, &norm, count);
         (void)st;
-        if (pers != NULL) {
-            pers[i] = square_q24(v[1], count);
-        }
         for (j = 0u; j < (size_t)RFE_MEAS; ++j) {
             A[(i * CW) + j] = (i == j) ? norm : 0;
         }
@@ -91,20 +71,18 @@ static void sensor_block_q31(const rfe_filter_params_q31_t *fp, const rfe_fix_t 
 }
 
 /* g_j = (h(u + sd_j e_j) - h(u - sd_j e_j)) / 2 (Q24) for each noisy input, in order, as
- * columns *cols, *cols + 1, ... of A (row stride CW); *cols ends one past the last; when
- * pers is not NULL, the squares of the low-passed inputs' columns added to it. The model
+ * columns *cols, *cols + 1, ... of A (row stride CW); *cols ends one past the last. The model
  * at each perturbed input comes from the set-up h and its nominal terms
  * (rfe_meas_eval_perturbed_q31). */
 static rfe_status_t input_columns_q31(const rfe_params_q31_t *p, const rfe_meas_q31_t *h,
                                       const rfe_meas_terms_q31_t *nom,
                                       const rfe_sample_q31_t *u, const rfe_fix_t *mu,
-                                      rfe_fix_t *A, size_t *cols, rfe_fix_t *pers,
-                                      uint32_t *count)
+                                      rfe_fix_t *A, size_t *cols, uint32_t *count)
 {
     size_t i;
     size_t j;
     for (j = 0u; j < (size_t)RFE_INPUTS; ++j) {
-        const rfe_fix_t sd = input_sd_q31(&p->filter, j);
+        const rfe_fix_t sd = rfe_step_noise_input_sd_q31(&p->filter, j);
         rfe_fix_t zp[RFE_MEAS];
         rfe_fix_t zm[RFE_MEAS];
         rfe_status_t st;
@@ -123,9 +101,6 @@ static rfe_status_t input_columns_q31(const rfe_params_q31_t *p, const rfe_meas_
         for (i = 0u; i < (size_t)RFE_MEAS; ++i) {
             /* the exact difference (< 2^32) halved, rounded half up: fits the int32 range */
             A[(i * CW) + *cols] = rfe_fix_narrow((int64_t)zp[i] - (int64_t)zm[i], 1u, count);
-            if ((pers != NULL) && (rfe_input_low_passed(j) != 0)) {
-                pers[i] = rfe_fix_add(pers[i], square_q24(A[(i * CW) + *cols], count), count);
-            }
         }
         ++(*cols);
     }
@@ -137,7 +112,7 @@ static rfe_status_t input_columns_q31(const rfe_params_q31_t *p, const rfe_meas_
  * h0 from the model set up again (h_at_q31); then S_R0 and the input columns. */
 static rfe_status_t fill_q31(const rfe_params_q31_t *p, const rfe_meas_q31_t *h,
                              const rfe_sample_q31_t *u, const rfe_fix_t *mu, rfe_fix_t *A,
-                             size_t *cols, rfe_fix_t *pers, uint32_t *count)
+                             size_t *cols, uint32_t *count)
 {
     rfe_meas_terms_q31_t nom; /* written in the load-scaled modes, read only there */
     rfe_fix_t h0[RFE_MEAS];
@@ -148,8 +123,8 @@ static rfe_status_t fill_q31(const rfe_params_q31_t *p, const rfe_meas_q31_t *h,
         st = h_at_q31(p, u, mu, h0, count);
     }
     if (st == RFE_OK) {
-        sensor_block_q31(&p->filter, h0, A, pers, count);
-        st = input_columns_q31(p, h, &nom, u, mu, A, cols, pers, count);
+        sensor_block_q31(&p->filter, h0, A, count);
+        st = input_columns_q31(p, h, &nom, u, mu, A, cols, count);
     }
     return st;
 }
@@ -161,12 +136,15 @@ rfe_status_t rfe_step_noise_sqrt_core_q31(const rfe_params_q31_t *p, const rfe_m
                                          rfe_fix_t pers[RFE_MEAS], uint32_t *sat)
 {
     rfe_fix_t A[(size_t)RFE_MEAS * CW];
-    rfe_fix_t pc[RFE_MEAS];
     size_t cols = (size_t)RFE_MEAS;
     uint32_t count = 0u;
     rfe_status_t st;
 
-    st = fill_q31(p, h, u, mu, A, &cols, (pers != NULL) ? pc : NULL, &count);
+    st = fill_q31(p, h, u, mu, A, &cols, &count);
+    if ((st == RFE_OK) && (pers != NULL)) {
+        /* in its own unit, so it is no part of this frame (the deepest path's) */
+        rfe_step_noise_pers_q31(&p->filter, A, CW, pers, &count);
+    }
     if (st == RFE_OK) {
         st = rfe_qr_tria_q31(A, (size_t)RFE_MEAS, cols, CW, &count);
     }
@@ -176,9 +154,6 @@ rfe_status_t rfe_step_noise_sqrt_core_q31(const rfe_params_q31_t *p, const rfe_m
         for (i = 0u; i < (size_t)RFE_MEAS; ++i) {
             for (j = 0u; j < (size_t)RFE_MEAS; ++j) {
                 SR[(i * (size_t)RFE_MEAS) + j] = (j <= i) ? A[(i * CW) + j] : 0;
-            }
-            if (pers != NULL) {
-                pers[i] = pc[i];
             }
         }
         rfe_q31_sat_add(sat, count);

@@ -1,0 +1,60 @@
+/**
+ * @file friction_monitor_q31.c
+ * @brief The model-validity monitor inside the fixed-point friction estimator
+ *        (friction_monitor_q31.h, docs/MONITOR.md §2): its step on the step's innovation and
+ *        its effect on the estimate. A unit of its own, so that its locals are no part of
+ *        rfe_friction_step_q31's frame, which lies on the estimator's deepest call path (the
+ *        Cortex-M0+ stack budget). Integer operations only.
+ */
+#include "estimators/friction/friction_monitor_q31.h"
+
+#include "estimators/friction/friction_logic.h"
+#include "numerics/internal_q31.h"
+
+/* The monitor's step on this step's innovation (docs/MONITOR.md §2), after steps 7-8 so that
+ * nothing fails after it: S_zz repacked in place to ld RFE_MEAS (each entry moves to a lower
+ * index, read before it is overwritten), the persistent diagonal = the step noise's + the
+ * state's (diag Zc Zc^T), saturating (counted). */
+rfe_status_t rfe_friction_monitor_step_q31(rfe_friction_q31_t *est)
+{
+    rfe_sckf_innov_q31_t *in = &est->innov;
+    size_t r;
+    size_t j;
+    for (r = 0u; r < (size_t)RFE_MEAS; ++r) {
+        for (j = 0u; j < (size_t)RFE_MEAS; ++j) {
+            in->Szz[(r * (size_t)RFE_MEAS) + j] = in->Szz[(r * (size_t)RFE_M_MAX) + j];
+        }
+        in->zz[r] = rfe_fix_add(est->pers[r], in->zz[r], &est->step_sat);
+    }
+    return rfe_monitor_step_q31(&est->mon, in->nu, in->Szz, in->zz, NULL, &est->step_sat);
+}
+
+/* docs/MONITOR.md §2 item 7, after step 9: while the monitor is fired (and on), the status
+ * of a step that evaluated the model says so, every flag is 0 and the sd is inflated (Q30,
+ * saturating: an sd beyond 2 is counted in the step's and the running saturation counts). */
+void rfe_friction_monitor_apply_q31(rfe_friction_q31_t *est, rfe_estimate_q31_t *out)
+{
+    rfe_fix_t c = RFE_MON_Q31_ONE_F;
+    uint32_t count = 0u;
+    rfe_status_t inflated;
+    int any_valid = 0;
+    size_t i;
+    if ((est->params.monitor.enable == 0u) || (est->mon.fired == 0u) ||
+        (rfe_friction_monitor_applies(out->status) == 0)) {
+        return;
+    }
+    /* the monitor is initialised with the estimator: this cannot fail (c stays 1 if it did) */
+    inflated = rfe_monitor_inflation_q31(&est->mon, &c);
+    (void)inflated;
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        if (out->valid[i] != 0u) {
+            any_valid = 1;
+        }
+        out->valid[i] = 0u;
+        out->sd[i] = rfe_fix_mul(out->sd[i], c, RFE_MON_Q31_QF, &count);
+    }
+    rfe_q31_sat_add(&out->sat, count);
+    rfe_q31_sat_add(&est->sat, count);
+    out->status = rfe_friction_monitor_status(out->status, any_valid);
+}
+

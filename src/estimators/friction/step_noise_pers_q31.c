@@ -1,0 +1,45 @@
+/**
+ * @file step_noise_pers_q31.c
+ * @brief The step noise's persistent diagonal and the input-noise table (step_noise_q31.c's
+ *        helpers, step_noise_internal_q31.h). A unit of its own so that the compiler cannot
+ *        fold the persistent diagonal into rfe_step_noise_sqrt_core_q31's frame: that function
+ *        is on the estimator's deepest call path, which must fit the Cortex-M0+ stack budget.
+ *        Integer operations only.
+ */
+#include "estimators/friction/friction_logic.h"
+#include "estimators/friction/step_noise_internal_q31.h"
+
+rfe_fix_t rfe_step_noise_input_sd_q31(const rfe_filter_params_q31_t *fp, size_t j)
+{
+    const rfe_fix_t sd[RFE_INPUTS] = {fp->sd_in_delta,    fp->sd_in_vx,
+                                      fp->sd_in_vy,       fp->sd_in_yaw_rate,
+                                      fp->sd_in_omega,    fp->sd_in_omega,
+                                      fp->sd_in_omega,    fp->sd_in_omega};
+    return sd[j];
+}
+
+void rfe_step_noise_pers_q31(const rfe_filter_params_q31_t *fp, const rfe_fix_t *A, size_t lda,
+                             rfe_fix_t pers[RFE_MEAS], uint32_t *count)
+{
+    rfe_fix_t r[RFE_MEAS];
+    size_t i;
+    size_t j;
+    r[0] = fp->r_ax;
+    r[1] = fp->r_ay;
+    r[2] = fp->r_yaw_acc;
+    for (i = 0u; i < (size_t)RFE_MEAS; ++i) {
+        const rfe_fix_t a = A[(i * lda) + i];
+        size_t col = (size_t)RFE_MEAS;
+        pers[i] = rfe_fix_narrow(((int64_t)a * (int64_t)a) - ((int64_t)r[i] * (int64_t)r[i]),
+                                 (unsigned int)RFE_FIX_Q_ACC, count);
+        for (j = 0u; j < (size_t)RFE_INPUTS; ++j) {
+            if (rfe_step_noise_input_sd_q31(fp, j) > 0) {
+                if (rfe_input_low_passed(j) != 0) {
+                    const rfe_fix_t g = A[(i * lda) + col];
+                    pers[i] = rfe_fix_add(pers[i], rfe_fix_mul(g, g, RFE_FIX_Q_ACC, count), count);
+                }
+                ++col;
+            }
+        }
+    }
+}
