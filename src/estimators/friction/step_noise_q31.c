@@ -141,11 +141,11 @@ rfe_status_t rfe_step_noise_sqrt_core_q31(const rfe_params_q31_t *p, const rfe_m
     rfe_status_t st;
 
     st = fill_q31(p, h, u, mu, A, &cols, &count);
-    if ((st == RFE_OK) && (pers != NULL)) {
-        /* in its own unit, so it is no part of this frame (the deepest path's) */
-        rfe_step_noise_pers_q31(&p->filter, A, CW, pers, &count);
-    }
     if (st == RFE_OK) {
+        if (pers != NULL) {
+            /* in its own unit, so it is no part of this frame (the deepest path's) */
+            rfe_step_noise_pers_q31(&p->filter, A, CW, pers, &count);
+        }
         st = rfe_qr_tria_q31(A, (size_t)RFE_MEAS, cols, CW, &count);
     }
     if (st == RFE_OK) {

@@ -16,6 +16,7 @@
 #include "test_light.h"
 #include "test_common.h"
 
+#include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <string.h>
@@ -62,7 +63,8 @@ static rfe_fix_t *slot(rfe_sample_q31_t *u, size_t j)
 /* docs/ESTIMATOR.md step 4 as written: S_R = Tria([S_R0, g_1 ..]), every h a full
  * evaluation (set-up and eval) of the public measurement model. */
 static rfe_status_t ref_step_noise(const rfe_params_q31_t *p, const rfe_sample_q31_t *u,
-                            const rfe_fix_t mu[4], rfe_fix_t SR[9], uint32_t *sat)
+                            const rfe_fix_t mu[4], rfe_fix_t SR[9], uint32_t *sat,
+                            double pers[3])
 {
     const rfe_filter_params_q31_t *fp = &p->filter;
     const rfe_fix_t sd[8] = {fp->sd_in_delta, fp->sd_in_vx,    fp->sd_in_vy,
@@ -85,6 +87,7 @@ static rfe_status_t ref_step_noise(const rfe_params_q31_t *p, const rfe_sample_q
         v[0] = r[i];
         v[1] = rfe_fix_mul(fp->r_model_rel, rfe_fix_abs(h0[i], &count), RFE_FIX_Q_SD, &count);
         assert_int_equal(rfe_fix_norm(v, 2u, &A[i * 11u + i], &count), RFE_OK);
+        pers[i] = (double)v[1] * (double)v[1] / 16777216.0; /* e^2 in Q24 LSB, exact */
     }
     for (j = 0; j < 8; ++j) {
         rfe_sample_q31_t up = *u;
@@ -105,6 +108,9 @@ static rfe_status_t ref_step_noise(const rfe_params_q31_t *p, const rfe_sample_q
         }
         for (i = 0; i < 3; ++i) {
             A[i * 11u + cols] = rfe_fix_narrow((int64_t)zp[i] - (int64_t)zm[i], 1u, &count);
+            if ((j == 1u) || (j == 2u)) { /* vx, vy: the low-passed inputs */
+                pers[i] += (double)A[i * 11u + cols] * (double)A[i * 11u + cols] / 16777216.0;
+            }
         }
         ++cols;
     }
@@ -124,12 +130,14 @@ static rfe_status_t ref_step_noise(const rfe_params_q31_t *p, const rfe_sample_q
 /* REQ: the estimator's step-noise entry (the set-up model reused, only the wheels an input
  * reaches evaluated again) gives the S_R and count of the public function and of the
  * reference with a full evaluation per perturbed input, in magic, absolute and paper tyre
- * mode, with every input switched on or off. */
-/* REQ-FXP-007 REQ-FXP-008 */
+ * mode, with every input switched on or off; asked for the persistent diagonal, the same
+ * S_R, and the diagonal within its bound of the reference's. */
+/* REQ-FXP-007 REQ-FXP-008 REQ-MON-011 */
 static void test_step_noise_core_q31(void **state)
 {
     int n;
     long checked = 0;
+    long pers_checked = 0;
     long with_sat = 0;
     (void)state;
     draw_seed(0xE1F5EEDull);
@@ -141,6 +149,10 @@ static void test_step_noise_core_q31(void **state)
         rfe_fix_t S1[9];
         rfe_fix_t S2[9];
         rfe_fix_t S3[9];
+        rfe_fix_t S4[9];
+        rfe_fix_t pers[3];
+        double pref[3];
+        uint32_t s4 = 3u;
         uint32_t s1 = 3u;
         uint32_t s2 = 3u;
         uint32_t s3 = 3u;
@@ -168,7 +180,7 @@ static void test_step_noise_core_q31(void **state)
             continue;
         }
         e1 = rfe_step_noise_sqrt_q31(&p, &u, mu, S1, &s1);
-        e2 = ref_step_noise(&p, &u, mu, S2, &s2);
+        e2 = ref_step_noise(&p, &u, mu, S2, &s2, pref);
         assert_int_equal(e1, e2);
         if (e1 != RFE_OK) {
             continue;
@@ -179,11 +191,31 @@ static void test_step_noise_core_q31(void **state)
         assert_int_equal(rfe_step_noise_sqrt_core_q31(&p, &h, &u, mu, S3, NULL, &s3), RFE_OK);
         assert_memory_equal(S3, S2, sizeof(S3));
         assert_int_equal(s3, s2);
+        /* with the persistent diagonal: the same S_R; where it adds no saturation, each
+         * entry within its derived bound of the exact e^2 + g_vx^2 + g_vy^2 (in Q24 LSB):
+         * e^2 read back as A_ii^2 - r^2 is off by <= A_ii + 1/4 LSB^2, i.e. A_ii 2^-24 + 2^-26
+         * LSB, plus half an LSB for each of the (at most three) rounded squares */
+        assert_int_equal(rfe_step_noise_sqrt_core_q31(&p, &h, &u, mu, S4, pers, &s4), RFE_OK);
+        assert_memory_equal(S4, S3, sizeof(S4));
+        if (s4 == s3) {
+            size_t i;
+            for (i = 0; i < 3; ++i) {
+                /* A_ii <= the row norm of A, which the Tria keeps: that of S_R's row i */
+                const double row = sqrt(((double)S2[i * 3u] * S2[i * 3u]) +
+                                        ((double)S2[i * 3u + 1u] * S2[i * 3u + 1u]) +
+                                        ((double)S2[i * 3u + 2u] * S2[i * 3u + 2u]));
+                const double tol = 1.5 + (row / 16777216.0) + 0.25;
+                ASSERT_LE(fabs((double)pers[i] - pref[i]), tol, "persistent diagonal");
+            }
+            ++pers_checked;
+        }
         ++checked;
         with_sat += (s1 != 3u) ? 1 : 0;
     }
-    printf("step noise: %ld cases bit for bit (%ld with saturations)\n", checked, with_sat);
+    printf("step noise: %ld cases bit for bit (%ld with saturations); persistent diagonal "
+           "within its bound on %ld\n", checked, with_sat, pers_checked);
     assert_true(checked > 1000);
+    assert_true(pers_checked > 1000);
     assert_true(with_sat > 10);
 }
 
