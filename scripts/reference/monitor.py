@@ -241,11 +241,13 @@ def apply(res: dict, p: dict, dt: float, use_c: bool = True) -> dict:
         out["fired"][k] = mon.fired
         c = mon.inflation()
         out["inflation"][k] = c
-        if enable and mon.fired and res["status"][k] in (0, 1, 3):
-            # the status says why the estimate is not valid: a held step whose flags are all 0
-            # already keeps "not observable"; an updated step, or a held one that would be
-            # valid, reports the mismatch
-            if res["status"][k] != 3 or np.any(res["valid"][k]):
+        if enable and mon.fired:
+            # every step while fired: no flag, the inflated sd (also at low speed, where the
+            # estimate carried over is the one the data contradicted). The status says why the
+            # estimate is not valid: an updated step, or a held one that would be valid,
+            # reports the mismatch; a held step whose flags are all 0 keeps "not observable",
+            # and low speed keeps its own
+            if res["status"][k] in (0, 1) or (res["status"][k] == 3 and np.any(res["valid"][k])):
                 out["status"][k] = STATUS_MISMATCH
             out["valid"][k] = 0
             out["sd"][k] = res["sd"][k] * c

@@ -276,8 +276,8 @@ def test_hysteresis_holds_then_clears():
 # REQ-MON-004
 def test_apply_acts_on_valid_status_and_sd():
     """apply(): while fired every valid flag is 0, status 0/1/3 becomes 4 and sd is multiplied
-    by sqrt(D / m); low-speed steps (status 2, no innovation) change nothing, neither the
-    statistics nor the outputs."""
+    by sqrt(D / m), at every step, low speed included (docs/MONITOR.md §2 item 7); a low-speed
+    step (status 2, no innovation) keeps its status and leaves the statistics as they were."""
     n = 300
     rng = np.random.default_rng(9)
     nu = rng.normal(size=(n, M))
@@ -285,6 +285,8 @@ def test_apply_acts_on_valid_status_and_sd():
     status = np.zeros(n, dtype=int)
     status[10:20] = 2
     nu[10:20] = np.nan
+    status[140:145] = 2                                 # low speed while fired
+    nu[140:145] = np.nan
     status[200:210] = 3
     res = {"t": np.arange(n) * DT, "mu": np.full((n, 4), 0.5), "sd": np.full((n, 4), 0.05),
            "valid": np.ones((n, 4), dtype=int), "status": status, "nu": nu,
@@ -293,7 +295,10 @@ def test_apply_acts_on_valid_status_and_sd():
     f = out["fired"]
     assert f[100:150].any() and not f[:100].any()
     assert np.all(out["valid"][f] == 0) and np.all(out["valid"][~f] == 1)
-    assert np.all(out["status"][f] == monitor.STATUS_MISMATCH)
+    low = status == 2
+    assert f[140:145].all()                             # the burst keeps it fired
+    assert np.all(out["status"][f & ~low] == monitor.STATUS_MISMATCH)
+    assert np.all(out["status"][low] == 2)              # low speed keeps its status
     assert np.all(out["status"][~f] == status[~f])
     c = np.sqrt(np.maximum(1.0, out["D"][f] / M))
     assert c.max() > 1.5                                # the burst's variance ratio shows

@@ -46,7 +46,8 @@ typedef struct {
 /** Decoded configuration (byte 0). */
 typedef struct {
     int preset_default; /**< 0 paper, 1 default */
-    int ckf;            /**< 1: CKF (only with the paper preset) */
+    int ckf;            /**< 1: CKF with the paper preset; with the default preset, the
+                             model-validity monitor on (mon_enable = 1) */
     int toggle_tyre;    /**< 1: the other tyre mode */
     int mu0_choice;     /**< 0 preset, 1 mu_min, 2 mu_max, 3 0.3 */
 } fz_config_t;

@@ -417,16 +417,16 @@ rfe_status_t rfe_friction_get(const rfe_friction_t *est, rfe_estimate_t *out)
     return st;
 }
 
-/* docs/MONITOR.md §2 item 7, after step 9: while the monitor is fired (and on), the status
- * of a step that evaluated the model says so, every flag is 0 and the sd is inflated. */
+/* docs/MONITOR.md §2 item 7, after step 9: while the monitor is fired (and on), every flag is
+ * 0 and the sd is inflated at every step (so a rejected sample still reports the previous
+ * estimate), and the status of a step that evaluated the model says so. */
 static void apply_monitor(const rfe_friction_t *est, rfe_estimate_t *out)
 {
     rfe_real_t c = RFE_R(1.0);
     rfe_status_t inflated;
     int any_valid = 0;
     size_t i;
-    if ((est->params.monitor.enable == RFE_R(0.0)) || (est->mon.fired == 0u) ||
-        (rfe_friction_monitor_applies(out->status) == 0)) {
+    if ((est->params.monitor.enable == RFE_R(0.0)) || (est->mon.fired == 0u)) {
         return;
     }
     /* the monitor is initialised with the estimator: this cannot fail (c stays 1 if it did) */
@@ -439,7 +439,9 @@ static void apply_monitor(const rfe_friction_t *est, rfe_estimate_t *out)
         out->valid[i] = 0u;
         out->sd[i] *= c;
     }
-    out->status = rfe_friction_monitor_status(out->status, any_valid);
+    if (rfe_friction_monitor_applies(out->status) != 0) {
+        out->status = rfe_friction_monitor_status(out->status, any_valid);
+    }
 }
 
 rfe_status_t rfe_friction_step(rfe_friction_t *est, const rfe_sample_t *sample,

@@ -29,9 +29,10 @@ rfe_status_t rfe_friction_monitor_step_q31(rfe_friction_q31_t *est)
     return rfe_monitor_step_q31(&est->mon, in->nu, in->Szz, in->zz, NULL, &est->step_sat);
 }
 
-/* docs/MONITOR.md §2 item 7, after step 9: while the monitor is fired (and on), the status
- * of a step that evaluated the model says so, every flag is 0 and the sd is inflated (Q30,
- * saturating: an sd beyond 2 is counted in the step's and the running saturation counts). */
+/* docs/MONITOR.md §2 item 7, after step 9: while the monitor is fired (and on), every flag is
+ * 0 and the sd is inflated at every step (Q30, saturating: an sd beyond 2 is counted in the
+ * step's and the running saturation counts; a rejected sample still reports the previous
+ * estimate), and the status of a step that evaluated the model says so. */
 void rfe_friction_monitor_apply_q31(rfe_friction_q31_t *est, rfe_estimate_q31_t *out)
 {
     rfe_fix_t c = RFE_MON_Q31_ONE_F;
@@ -39,8 +40,7 @@ void rfe_friction_monitor_apply_q31(rfe_friction_q31_t *est, rfe_estimate_q31_t 
     rfe_status_t inflated;
     int any_valid = 0;
     size_t i;
-    if ((est->params.monitor.enable == 0u) || (est->mon.fired == 0u) ||
-        (rfe_friction_monitor_applies(out->status) == 0)) {
+    if ((est->params.monitor.enable == 0u) || (est->mon.fired == 0u)) {
         return;
     }
     /* the monitor is initialised with the estimator: this cannot fail (c stays 1 if it did) */
@@ -53,8 +53,12 @@ void rfe_friction_monitor_apply_q31(rfe_friction_q31_t *est, rfe_estimate_q31_t 
         out->valid[i] = 0u;
         out->sd[i] = rfe_fix_mul(out->sd[i], c, RFE_MON_Q31_QF, &count);
     }
-    rfe_q31_sat_add(&out->sat, count);
-    rfe_q31_sat_add(&est->sat, count);
-    out->status = rfe_friction_monitor_status(out->status, any_valid);
+    if (rfe_friction_monitor_applies(out->status) != 0) {
+        out->status = rfe_friction_monitor_status(out->status, any_valid);
+    }
+    /* a rejected step reports sat 0: its inflation repeats the previous step's, counted there */
+    if (rfe_status_is_error(out->status) == 0) {
+        rfe_q31_sat_add(&out->sat, count);
+        rfe_q31_sat_add(&est->sat, count);
+    }
 }
-

@@ -18,9 +18,10 @@
 rfe_status_t rfe_friction_monitor_step_q31(rfe_friction_q31_t *est);
 
 /**
- * After step 9: while the monitor is on and fired, the status of a step that evaluated the
- * model says so (rfe_friction_monitor_status), every flag is 0 and the sd is inflated (Q30,
- * saturating and counted in out->sat and est->sat).
+ * After step 9: while the monitor is on and fired, every flag is 0 and the sd is inflated at
+ * every step (Q30, saturating; counted in out->sat and est->sat unless the step is an error,
+ * whose output repeats the previous estimate with sat 0), and the status of a step that
+ * evaluated the model says so (rfe_friction_monitor_status).
  */
 void rfe_friction_monitor_apply_q31(rfe_friction_q31_t *est, rfe_estimate_q31_t *out);
 

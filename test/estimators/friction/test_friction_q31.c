@@ -420,8 +420,10 @@ static void test_rfe_friction_q31_status_while_fired(void **state)
     static rfe_friction_q31_t on;
     static rfe_friction_q31_t off;
     unsigned seen[5] = {0u, 0u, 0u, 0u, 0u}; /* while fired: s_off 0, 1, 2, 3 valid, 3 not */
+    rfe_estimate_q31_t last_on;
     size_t ph;
     (void)state;
+    memset(&last_on, 0, sizeof last_on);
     assert_int_equal(rfe_params_default_f64(&pd), RFE_OK);
     assert_int_equal(rfe_params_to_q31_f64(&pd, &pq), RFE_OK);
     assert_int_equal(rfe_friction_init_q31(&off, &pq), RFE_OK);
@@ -449,9 +451,14 @@ static void test_rfe_friction_q31_status_while_fired(void **state)
                     assert_int_equal(e_on.valid[w], 0u);
                 }
             }
+            last_on = e_on;
             if (on.mon.fired == 0u) {
                 assert_int_equal(s_on, s_off);
                 continue;
+            }
+            for (w = 0; w < RFE_WHEELS; ++w) { /* every step while fired: inflated, no flag */
+                assert_int_equal(e_on.valid[w], 0u);
+                assert_true(e_on.sd[w] >= e_off.sd[w]);
             }
             if ((s_off == RFE_OK) || (s_off == RFE_PROJECTED) ||
                 ((s_off == RFE_HELD_NOT_OBSERVABLE) && any)) {
@@ -471,6 +478,21 @@ static void test_rfe_friction_q31_status_while_fired(void **state)
         assert_true(seen[ph] > 0u);
     }
     assert_int_equal(conv_sat, 0u);
+    /* a rejected sample while fired reports the previous estimate (inflated sd), sat 0 */
+    assert_int_equal(on.mon.fired, 1u);
+    {
+        rfe_sample_q31_t bad;
+        rfe_estimate_q31_t e;
+        const rfe_sample_t ud = phase_sample(20.0, 0.0, 0.0);
+        const uint32_t total = on.sat;
+        sample_q(&ud, &bad, &conv_sat);
+        bad.vx = RFE_FIX_LIMIT_VX + 1;
+        assert_int_equal(rfe_friction_step_q31(&on, &bad, &e), RFE_ERR_RANGE);
+        assert_memory_equal(e.mu, last_on.mu, sizeof e.mu);
+        assert_memory_equal(e.sd, last_on.sd, sizeof e.sd);
+        assert_int_equal(e.sat, 0u);
+        assert_int_equal(on.sat, total);
+    }
 }
 
 /* ---- determinism ----------------------------------------------------------------------- */

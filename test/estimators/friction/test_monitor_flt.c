@@ -441,8 +441,10 @@ static void test_estimator_status_while_fired(void **state)
     rfe_friction_t on;
     rfe_friction_t off;
     unsigned seen[5] = {0u, 0u, 0u, 0u, 0u}; /* while fired: s_off 0, 1, 2, 3 valid, 3 not */
+    rfe_estimate_t last_on;
     size_t ph;
     (void)state;
+    memset(&last_on, 0, sizeof last_on);
     assert_int_equal(rfe_params_default(&p), RFE_OK);
     assert_int_equal(rfe_friction_init(&off, &p), RFE_OK);
     p.monitor.enable = (rfe_real_t)1.0;
@@ -462,9 +464,14 @@ static void test_estimator_status_while_fired(void **state)
             for (w = 0; w < RFE_WHEELS; ++w) {
                 assert_true(e_on.mu[w] == e_off.mu[w]);
             }
+            last_on = e_on;
             if (on.mon.fired == 0u) {
                 assert_int_equal(s_on, s_off);
                 continue;
+            }
+            for (w = 0; w < RFE_WHEELS; ++w) { /* every step while fired: inflated, no flag */
+                assert_int_equal(e_on.valid[w], 0u);
+                assert_true(e_on.sd[w] >= e_off.sd[w]);
             }
             if ((s_off == RFE_OK) || (s_off == RFE_PROJECTED) ||
                 ((s_off == RFE_HELD_NOT_OBSERVABLE) && any)) {
@@ -482,6 +489,16 @@ static void test_estimator_status_while_fired(void **state)
            seen[0], seen[1], seen[2], seen[3], seen[4]);
     for (ph = 0; ph < 5; ++ph) {
         assert_true(seen[ph] > 0u);
+    }
+    /* a rejected sample while fired reports the previous estimate (inflated sd) */
+    assert_int_equal(on.mon.fired, 1u);
+    {
+        rfe_sample_t bad = phase_sample(20.0, 0.0, 0.0);
+        rfe_estimate_t e;
+        bad.vx = (rfe_real_t)1e3;
+        assert_int_equal(rfe_friction_step(&on, &bad, &e), RFE_ERR_RANGE);
+        assert_memory_equal(e.mu, last_on.mu, sizeof e.mu);
+        assert_memory_equal(e.sd, last_on.sd, sizeof e.sd);
     }
 }
 
