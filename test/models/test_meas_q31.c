@@ -1233,6 +1233,60 @@ static void test_meas_lateral_jac_q31(void **state)
     assert_true((double)kinks <= (0.01 * (double)(compared / 2 + kinks)));
 }
 
+/* REQ: at a slip angle beyond its bound (alpha clamped to alpha_max on every wheel: vy / vx
+ * = 7 > tan 1.4 = 5.8, far from the clamp's edge, so both twins clamp), the lateral rows'
+ * derivatives lose the slip angle's term in both twins and agree within the bound above. */
+/* REQ-MEAS-003 REQ-FXP-003 */
+static void test_meas_lateral_jac_q31_at_alpha_bound(void **state)
+{
+    size_t m;
+    (void)state;
+    for (m = 0; m < 3; ++m) {
+        const rfe_params_t *p = (m == 0) ? &pd_pap : ((m == 1) ? &pd : &pd_mag);
+        const rfe_params_q31_t *q = (m == 0) ? &pq_pap : ((m == 1) ? &pq : &pq_mag);
+        double om[4];
+        double sd[4];
+        rfe_fix_t muq[4];
+        rfe_fix_t sdq[4];
+        rfe_real_t mud[4];
+        rfe_real_t sdd[4];
+        rfe_sample_q31_t uq;
+        rfe_sample_t ud;
+        rfe_meas_q31_t hq;
+        rfe_meas_t hd;
+        rfe_meas_lateral_q31_t oq;
+        rfe_meas_lateral_t od;
+        uint32_t sat = 0u;
+        size_t i;
+        int r;
+        for (i = 0; i < 4; ++i) {
+            om[i] = 3.0 / p->vehicle.R;
+            muq[i] = toq(0.6, 29);
+            sdq[i] = toq(0.1, 30);
+            mud[i] = fromq(muq[i], 29);
+            sd[i] = fromq(sdq[i], 30);
+            sdd[i] = sd[i];
+        }
+        make_sample(0.0, 3.0, 21.0, 0.0, 0.0, 0.0, om, &uq, &ud);
+        assert_int_equal(rfe_meas_setup_q31(&hq, &q->vehicle, &q->tyre, &uq, &sat), RFE_OK);
+        assert_int_equal(rfe_meas_setup_f64(&hd, &p->vehicle, &p->tyre, &ud), RFE_OK);
+        for (i = 0; i < 4; ++i) {
+            assert_true(fabs(hd.kin.alpha[i]) >= p->tyre.alpha_max); /* clamped */
+            assert_true(rfe_q31_within(hq.kin.alpha[i], q->tyre.alpha_max - 1) == 0);
+            assert_true(hq.kin.vwx[i] != 0);
+        }
+        assert_int_equal(rfe_meas_lateral_jac_q31(&hq, &q->vehicle, &q->tyre, &uq, muq, sdq, &oq,
+                                                  &sat), RFE_OK);
+        assert_int_equal(rfe_meas_lateral_jac_f64(&hd, &p->vehicle, &p->tyre, &ud, mud, sdd, &od),
+                         RFE_OK);
+        for (r = 0; r < 2; ++r) {
+            const double bound = (JAC_REL * jac_scale(&hd, p, sd)) + ldexp(1.0, -24);
+            assert_true(fabs(fromq(oq.d_vy[r], 24) - od.d_vy[r]) <= bound);
+            assert_true(fabs(fromq(oq.d_mu[r], 24) - od.d_mu[r]) <= bound);
+        }
+    }
+}
+
 /* REQ: the lateral rows' derivatives reject missing arguments (RFE_ERR_NULL), tyre parameters
  * the tangent or the curve cannot use (RFE_ERR_PARAM: alpha_max, a Magic Formula shape factor
  * out of its domain), nothing written, the counter untouched. */
@@ -1297,6 +1351,7 @@ int main(void)
         cmocka_unit_test(test_meas_columns_q31),
         cmocka_unit_test(test_meas_pre_invalid_tyre_and_div_saturation_q31),
         cmocka_unit_test(test_meas_lateral_jac_q31),
+        cmocka_unit_test(test_meas_lateral_jac_q31_at_alpha_bound),
         cmocka_unit_test(test_meas_lateral_jac_q31_args),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
