@@ -151,7 +151,8 @@ RFE_NODISCARD rfe_status_t rfe_friction_step(rfe_friction_t *est,
 
 /**
  * Current estimate without stepping (status RFE_OK). valid: with sd_valid > 0 the sd rule;
- * under the paper rule 0 (no step made it).
+ * under the paper rule 0 (no step made it); while the model-validity monitor is fired, 0 and
+ * the sd inflated, as the last step reported them (docs/MONITOR.md §2 item 7).
  * @param[in]  est  an estimator set up by rfe_friction_init.
  * @param[out] out  the estimate of its last step.
  * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_NOT_INITIALISED.

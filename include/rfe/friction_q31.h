@@ -157,7 +157,8 @@ RFE_NODISCARD rfe_status_t rfe_friction_step_q31(rfe_friction_q31_t *est,
 
 /**
  * Current estimate without stepping (status RFE_OK, sat 0). valid: with sd_valid > 0 the sd
- * rule; under the paper rule 0 (no step made it).
+ * rule; under the paper rule 0 (no step made it); while the model-validity monitor is fired,
+ * 0 and the sd inflated, as the last step reported them (docs/MONITOR.md §2 item 7).
  * @param[in]  est  an estimator set up by rfe_friction_init_q31.
  * @param[out] out  the estimate of its last step.
  * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_NOT_INITIALISED.

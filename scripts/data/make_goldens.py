@@ -9,11 +9,11 @@ skipped, as are files in sub-directories) it writes, with stem = file name witho
     <out>/<stem>.paper.sckf.csv and <out>/<stem>.paper.ckf.csv
 and for the noisy <name>.csv (not *.nf.csv) also
     <out>/<stem>.absolute.sckf.csv  (paper preset, absolute tyre)
-    <out>/<stem>.default.sckf.csv   (default preset, docs/ESTIMATOR.md)
+    <out>/<stem>.default.sckf.csv   (default preset, docs/ESTIMATOR.md, monitor on)
 and, for the model-validity monitor (docs/MONITOR.md), for every noisy Magic Formula log
 <name>.mf.csv and every fault log <scenarios>/faults/*.csv whose samples the library accepts
 (sim/faults.py REFUSED_BY_LIBRARY)
-    <out>/monitor/<stem>.monitor.sckf.csv  (default preset with mon_enable = 1)
+    <out>/monitor/<stem>.monitor.sckf.csv  (default preset, whose mon_enable is 1)
 Parameters: defaults < the log's metadata (scripts/reference/params.py).  Deterministic:
 running it twice writes identical bytes.
 """
@@ -47,9 +47,6 @@ def jobs_for(name: str):
         jobs.append(("paper", "absolute", "sckf", "absolute.sckf"))
         jobs.append(("default", None, "sckf", "default.sckf"))
     return jobs
-
-
-MONITOR_ON = {"mon_enable": 1.0}
 
 
 def monitor_logs(scenarios: str) -> list[str]:
@@ -93,7 +90,7 @@ def main(argv=None) -> int:
         stem = os.path.basename(src)[: -len(".csv")]
         t0 = time.perf_counter()
         out = os.path.join(mon_out, f"{stem}.monitor.sckf.csv")
-        estimate.estimate_file(src, out, None, "sckf", None, "default", MONITOR_ON)
+        estimate.estimate_file(src, out, None, "sckf", None, "default")
         print(f"[{k}/{len(mon_logs)}] {os.path.basename(out)} ({time.perf_counter() - t0:.2f} s)",
               flush=True)
     print(f"make_goldens: {len(names)} logs, {len(mon_logs)} monitor logs in "

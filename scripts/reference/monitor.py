@@ -52,7 +52,7 @@ STATUS_MISMATCH = 4
 CHANNELS = ("ax", "ay", "yaw_acc")
 
 # Parameters (parameter-file keys, docs/MONITOR.md section "Parameters"): the library's values
-# (params.py, where both presets keep the monitor off), switched on.
+# (params.py; the default preset has it on, the paper preset off), switched on.
 MON_DEFAULTS: dict[str, float] = {**{k: v for k, v in params.DEFAULTS.items()
                                      if k.startswith("mon_")}, "mon_enable": 1.0}
 
@@ -226,8 +226,12 @@ class Monitor:
 def apply(res: dict, p: dict, dt: float, use_c: bool = True) -> dict:
     """The monitor over a recorded run (trusted.run's output): returns a copy with valid, sd
     and status as the monitor leaves them, plus the per-step D, M (N, 3), fired, inflation.
-    use_c False: every innovation treated as white (c = 0; the naive test, for comparison)."""
+    use_c False: every innovation treated as white (c = 0; the naive test, for comparison).
+    The inflated sd is capped at (mu_max - mu_min) / 2 (p's bounds, else the library's):
+    no distribution of friction inside the bounds has a larger sd (Popoviciu's inequality)."""
     mon = Monitor(p, dt)
+    sd_cap = 0.5 * (p.get("mu_max", params.DEFAULTS["mu_max"])
+                    - p.get("mu_min", params.DEFAULTS["mu_min"]))
     n = len(res["status"])
     out = {k: np.array(v, copy=True) for k, v in res.items() if isinstance(v, np.ndarray)}
     out["D"], out["M"] = np.full(n, np.nan), np.full((n, M_CHANNELS), np.nan)
@@ -250,7 +254,7 @@ def apply(res: dict, p: dict, dt: float, use_c: bool = True) -> dict:
             if res["status"][k] in (0, 1) or (res["status"][k] == 3 and np.any(res["valid"][k])):
                 out["status"][k] = STATUS_MISMATCH
             out["valid"][k] = 0
-            out["sd"][k] = res["sd"][k] * c
+            out["sd"][k] = np.minimum(res["sd"][k] * c, sd_cap)
     return out
 
 

@@ -305,6 +305,16 @@ def test_apply_acts_on_valid_status_and_sd():
     np.testing.assert_allclose(out["sd"][f], 0.05 * np.repeat(c[:, None], 4, 1), rtol=1e-12)
     np.testing.assert_array_equal(out["sd"][~f], 0.05)
     np.testing.assert_array_equal(out["D"][10:20], out["D"][9])   # frozen at low speed
+    # the cap: with sd 0.3 the inflated sd 0.3 c would pass (mu_max - mu_min) / 2 = 0.575
+    # (the library's bounds) where c > 1.92; there it is the cap, elsewhere 0.3 c
+    res["sd"] = np.full((n, 4), 0.3)
+    out = monitor.apply(res, monitor.MON_DEFAULTS, DT)
+    cap = 0.5 * (params.DEFAULTS["mu_max"] - params.DEFAULTS["mu_min"])
+    over = 0.3 * c > cap
+    assert over.any() and (~over).any()
+    np.testing.assert_allclose(out["sd"][f][over], cap, rtol=0, atol=0)
+    np.testing.assert_allclose(out["sd"][f][~over], 0.3 * np.repeat(c[~over, None], 4, 1),
+                               rtol=1e-12)
 
 
 # REQ-MON-005

@@ -31,6 +31,7 @@ rfe_status_t rfe_params_default(rfe_params_t *p)
     p->filter.sd_max = RFE_R(0.32);
     p->filter.sd_floor_rel = RFE_R(0.15);
     p->filter.sd_valid = RFE_R(0.15);
+    p->monitor.enable = RFE_R(1.0); /* docs/MONITOR.md: the model-validity monitor acts */
     return RFE_OK;
 }
 
@@ -96,7 +97,7 @@ rfe_status_t rfe_params_paper(rfe_params_t *p)
     p->filter.sd_valid = RFE_R(0.0);
 
     /* docs/MONITOR.md §2 "Parameters": stated probabilities and time scales, not tuned;
-     * off in both presets until the fixed-point estimator has the monitor too. */
+     * off in the paper preset (MODEL.md §6 has no monitor), on in the default preset. */
     p->monitor.enable = RFE_R(0.0);
     p->monitor.tau_nis = RFE_R(0.5);
     p->monitor.tau_mean = RFE_R(0.5);

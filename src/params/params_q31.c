@@ -80,7 +80,7 @@ static const rfe_params_q31_t paper_q31 = {
         1073741824  /* b_v = 1 (tau_v = 0), Q30 */
     },
     {
-        0u,         /* enable = 0 (off) */
+        0u,         /* enable = 0 (off in the paper preset; on in the default) */
         1u,         /* inflate = 1 */
         50u,        /* hold_steps = ceil(0.5 s / 0.01 s) */
         100u,       /* warmup_steps = ceil(1 s / 0.01 s) */
@@ -126,6 +126,7 @@ rfe_status_t rfe_params_default_q31(rfe_params_q31_t *p)
     p->filter.sd_floor_rel = 161061274; /* 0.15, Q30 */
     p->filter.sd_valid = 161061274;     /* 0.15, Q30 */
     p->filter.b_v = 34636833;           /* 0.01 / 0.31, Q30 */
+    p->monitor.enable = 1u;             /* docs/MONITOR.md: the model-validity monitor acts */
     return RFE_OK;
 }
 

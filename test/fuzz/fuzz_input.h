@@ -47,7 +47,7 @@ typedef struct {
 typedef struct {
     int preset_default; /**< 0 paper, 1 default */
     int ckf;            /**< 1: CKF with the paper preset; with the default preset, the
-                             model-validity monitor on (mon_enable = 1) */
+                             model-validity monitor off (mon_enable = 0; the preset has it on) */
     int toggle_tyre;    /**< 1: the other tyre mode */
     int mu0_choice;     /**< 0 preset, 1 mu_min, 2 mu_max, 3 0.3 */
 } fz_config_t;

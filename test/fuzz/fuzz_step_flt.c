@@ -119,7 +119,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         p.filter.kind = RFE_FILTER_CKF;
     }
     if (cfg.ckf && cfg.preset_default) {
-        p.monitor.enable = (rfe_real_t)1.0; /* the model-validity monitor on its innovations */
+        p.monitor.enable = (rfe_real_t)0.0; /* the preset has the monitor on: here off */
     }
     if (cfg.toggle_tyre) {
         p.tyre.mode = (p.tyre.mode == RFE_TYRE_PAPER) ? RFE_TYRE_ABSOLUTE : RFE_TYRE_PAPER;

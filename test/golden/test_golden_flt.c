@@ -74,10 +74,10 @@ static int n_compared;
 static const char *const WHEEL[4] = {"fl", "fr", "rl", "rr"};
 
 /* Runs the estimator (the same path as mu_replay) on a sensor log, from a library preset
- * with tyre and filter overridden, the model-validity monitor on when monitor_on. Returns
- * rows (malloc). */
-static rfe_est_row_t *run_mon(const char *sensor_path, rfe_preset_t preset, rfe_tyre_mode_t tyre,
-                              rfe_filter_kind_t kind, int monitor_on, size_t *n_rows)
+ * with tyre and filter overridden (the model-validity monitor as the preset has it: on in the
+ * default preset). Returns rows (malloc). */
+static rfe_est_row_t *run(const char *sensor_path, rfe_preset_t preset, rfe_tyre_mode_t tyre,
+                          rfe_filter_kind_t kind, size_t *n_rows)
 {
     rfe_sensor_log_t log;
     rfe_param_set_t ps;
@@ -94,21 +94,12 @@ static rfe_est_row_t *run_mon(const char *sensor_path, rfe_preset_t preset, rfe_
     }
     ps.tyre = tyre;
     ps.filter = kind;
-    if (monitor_on) {
-        ps.value[RFE_PK_mon_enable] = 1.0;
-    }
     rows = calloc(log.n_rows, sizeof(*rows));
     assert_non_null(rows);
     assert_int_equal(rfe_replay_run(&ps, &log, rows, &stats, NULL), RFE_OK);
     *n_rows = log.n_rows;
     rfe_sensor_log_free(&log);
     return rows;
-}
-
-static rfe_est_row_t *run(const char *sensor_path, rfe_preset_t preset, rfe_tyre_mode_t tyre,
-                          rfe_filter_kind_t kind, size_t *n_rows)
-{
-    return run_mon(sensor_path, preset, tyre, kind, 0, n_rows);
 }
 
 /* A wheel whose estimate sits on a projection bound with (almost) no gain: whether the
@@ -302,7 +293,7 @@ static void test_rfe_friction_default_matches_goldens(void **state)
     assert_true(n_compared >= MIN_SCENARIOS); /* one default golden per noisy log */
 }
 
-/* The model-validity monitor (docs/MONITOR.md): the default preset with mon_enable = 1 on
+/* The model-validity monitor (docs/MONITOR.md): the default preset (mon_enable = 1) on
  * every noisy Magic Formula log and every fault log, against the reference's
  * scenarios/golden/monitor/<stem>.monitor.sckf.csv (trusted.py + monitor.py). Tolerances as
  * for the default preset (top): the monitor does not feed back into the filter, so mu is the
@@ -345,7 +336,7 @@ static void check_monitor(const char *stem)
         fclose(probe);
     }
     snprintf(golden, sizeof(golden), MONITOR_DIR "/%s" MONITOR_SUFFIX, stem);
-    rows = run_mon(sensor, RFE_PRESET_DEFAULT, RFE_TYRE_MAGIC, RFE_FILTER_SCKF, 1, &n);
+    rows = run(sensor, RFE_PRESET_DEFAULT, RFE_TYRE_MAGIC, RFE_FILTER_SCKF, &n);
     assert_int_equal(rfe_params_default(&lib), RFE_OK);
     worst = compare_with_golden(golden, rows, n, CHECK_STATUS, 0.0, (double)lib.filter.sd_valid,
                                 MONITOR_SD_SHARE);

@@ -390,19 +390,15 @@ static rfe_status_t filter_step(rfe_friction_t *est, const rfe_sample_t *sample)
     return (st != RFE_OK) ? st : rfe_friction_step_status(measured, updated, clamped);
 }
 
-rfe_status_t rfe_friction_get(const rfe_friction_t *est, rfe_estimate_t *out)
+/* Step 9 on the filter's state: mu = T x, sd = T (row norms of S); validity by the sd when
+ * sd_valid > 0 (the monitor's effect not applied). */
+static rfe_status_t filter_estimate(const rfe_friction_t *est, rfe_estimate_t *out)
 {
     rfe_real_t x[RFE_N_MAX];
     rfe_real_t sd[RFE_N_MAX];
-    const rfe_real_t sd_valid = (est != NULL) ? est->params.filter.sd_valid : RFE_R(0.0);
+    const rfe_real_t sd_valid = est->params.filter.sd_valid;
     size_t w;
     rfe_status_t st;
-    if ((est == NULL) || (out == NULL)) {
-        return RFE_ERR_NULL;
-    }
-    if (est->magic != RFE_MAGIC_EST) {
-        return RFE_ERR_NOT_INITIALISED;
-    }
     st = (est->params.filter.kind == RFE_FILTER_CKF)
              ? rfe_ckf_get(&est->filter.ckf, x, sd)
              : rfe_sckf_get(&est->filter.sckf, x, sd);
@@ -417,17 +413,18 @@ rfe_status_t rfe_friction_get(const rfe_friction_t *est, rfe_estimate_t *out)
     return st;
 }
 
-/* docs/MONITOR.md §2 item 7, after step 9: while the monitor is fired (and on), every flag is
- * 0 and the sd is inflated at every step (so a rejected sample still reports the previous
- * estimate), and the status of a step that evaluated the model says so. */
-static void apply_monitor(const rfe_friction_t *est, rfe_estimate_t *out)
+/* docs/MONITOR.md §2 item 7: while the monitor is on and fired, every flag 0 and the sd
+ * inflated. -1 when it is off or not fired (out untouched); else whether a flag was 1. */
+static int monitor_effect(const rfe_friction_t *est, rfe_estimate_t *out)
 {
+    /* no friction distribution inside the bounds has a larger sd (Popoviciu's inequality) */
+    const rfe_real_t cap = RFE_R(0.5) * (est->params.filter.mu_max - est->params.filter.mu_min);
     rfe_real_t c = RFE_R(1.0);
     rfe_status_t inflated;
     int any_valid = 0;
     size_t i;
     if ((est->params.monitor.enable == RFE_R(0.0)) || (est->mon.fired == 0u)) {
-        return;
+        return -1;
     }
     /* the monitor is initialised with the estimator: this cannot fail (c stays 1 if it did) */
     inflated = rfe_monitor_inflation(&est->mon, &c);
@@ -436,10 +433,34 @@ static void apply_monitor(const rfe_friction_t *est, rfe_estimate_t *out)
         if (out->valid[i] != 0u) {
             any_valid = 1;
         }
+        const rfe_real_t s = out->sd[i] * c;
         out->valid[i] = 0u;
-        out->sd[i] *= c;
+        out->sd[i] = (s < cap) ? s : cap;
     }
-    if (rfe_friction_monitor_applies(out->status) != 0) {
+    return any_valid;
+}
+
+rfe_status_t rfe_friction_get(const rfe_friction_t *est, rfe_estimate_t *out)
+{
+    rfe_status_t st;
+    if ((est == NULL) || (out == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    if (est->magic != RFE_MAGIC_EST) {
+        return RFE_ERR_NOT_INITIALISED;
+    }
+    st = filter_estimate(est, out);
+    /* what the last step reported: no flag and the inflated sd while the monitor is fired */
+    (void)monitor_effect(est, out);
+    return st;
+}
+
+/* After step 9, at every step while fired (so a rejected sample still reports the previous
+ * estimate): the effect, and the status of a step that evaluated the model says so. */
+static void apply_monitor(const rfe_friction_t *est, rfe_estimate_t *out)
+{
+    const int any_valid = monitor_effect(est, out);
+    if ((any_valid >= 0) && (rfe_friction_monitor_applies(out->status) != 0)) {
         out->status = rfe_friction_monitor_status(out->status, any_valid);
     }
 }
@@ -470,7 +491,7 @@ rfe_status_t rfe_friction_step(rfe_friction_t *est, const rfe_sample_t *sample,
     if (est->params.filter.sd_valid > RFE_R(0.0)) {
         sd_rule = 1; /* the sd rule; else the paper's */
     }
-    got = rfe_friction_get(est, out);
+    got = filter_estimate(est, out);
     if (got != RFE_OK) {
         return got;
     }

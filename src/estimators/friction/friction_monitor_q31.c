@@ -29,19 +29,20 @@ rfe_status_t rfe_friction_monitor_step_q31(rfe_friction_q31_t *est)
     return rfe_monitor_step_q31(&est->mon, in->nu, in->Szz, in->zz, NULL, &est->step_sat);
 }
 
-/* docs/MONITOR.md §2 item 7, after step 9: while the monitor is fired (and on), every flag is
- * 0 and the sd is inflated at every step (Q30, saturating: an sd beyond 2 is counted in the
- * step's and the running saturation counts; a rejected sample still reports the previous
- * estimate), and the status of a step that evaluated the model says so. */
-void rfe_friction_monitor_apply_q31(rfe_friction_q31_t *est, rfe_estimate_q31_t *out)
+/* docs/MONITOR.md §2 item 7: while the monitor is on and fired, every flag 0 and the sd
+ * inflated (Q30, saturating: an sd beyond 2 is counted in *count). */
+int rfe_friction_monitor_effect_q31(const rfe_friction_q31_t *est, rfe_estimate_q31_t *out,
+                                    uint32_t *count)
 {
+    /* (mu_max - mu_min) / 2 in Q30 is mu_max - mu_min in Q29: no friction distribution
+     * inside the bounds has a larger sd (Popoviciu's inequality); below 2, so it fits Q30 */
+    const rfe_fix_t cap = est->params.filter.mu_max - est->params.filter.mu_min;
     rfe_fix_t c = RFE_MON_Q31_ONE_F;
-    uint32_t count = 0u;
     rfe_status_t inflated;
     int any_valid = 0;
     size_t i;
     if ((est->params.monitor.enable == 0u) || (est->mon.fired == 0u)) {
-        return;
+        return -1;
     }
     /* the monitor is initialised with the estimator: this cannot fail (c stays 1 if it did) */
     inflated = rfe_monitor_inflation_q31(&est->mon, &c);
@@ -50,8 +51,27 @@ void rfe_friction_monitor_apply_q31(rfe_friction_q31_t *est, rfe_estimate_q31_t 
         if (out->valid[i] != 0u) {
             any_valid = 1;
         }
+        /* sd c >= cap, compared before the product is narrowed: nothing saturates there */
+        const int64_t wide = (int64_t)out->sd[i] * (int64_t)c;
         out->valid[i] = 0u;
-        out->sd[i] = rfe_fix_mul(out->sd[i], c, RFE_MON_Q31_QF, &count);
+        if (wide >= ((int64_t)cap * (int64_t)RFE_MON_Q31_ONE_F)) {
+            out->sd[i] = cap;
+        } else {
+            out->sd[i] = rfe_fix_mul(out->sd[i], c, RFE_MON_Q31_QF, count);
+        }
+    }
+    return any_valid;
+}
+
+/* After step 9, at every step while fired (a rejected sample still reports the previous
+ * estimate): the effect, its saturations counted in the step's and the running counts, and
+ * the status of a step that evaluated the model says so. */
+void rfe_friction_monitor_apply_q31(rfe_friction_q31_t *est, rfe_estimate_q31_t *out)
+{
+    uint32_t count = 0u;
+    const int any_valid = rfe_friction_monitor_effect_q31(est, out, &count);
+    if (any_valid < 0) {
+        return;
     }
     if (rfe_friction_monitor_applies(out->status) != 0) {
         out->status = rfe_friction_monitor_status(out->status, any_valid);

@@ -547,20 +547,15 @@ static uint32_t settle_counts_q31(rfe_friction_q31_t *est)
     return step;
 }
 
-rfe_status_t rfe_friction_get_q31(const rfe_friction_q31_t *est, rfe_estimate_q31_t *out)
+/* Step 9 on the filter's state: mu = T x, sd = T (row norms of S); validity by the sd when
+ * sd_valid > 0 (the monitor's effect not applied). */
+static rfe_status_t filter_estimate_q31(const rfe_friction_q31_t *est, rfe_estimate_q31_t *out)
 {
     rfe_fix_t x[RFE_N_MAX];
     rfe_fix_t sd[RFE_N_MAX];
-    rfe_fix_t sd_valid;
+    const rfe_fix_t sd_valid = est->params.filter.sd_valid;
     size_t w;
     rfe_status_t st;
-    if ((est == NULL) || (out == NULL)) {
-        return RFE_ERR_NULL;
-    }
-    if (est->magic != RFE_MAGIC_EST_Q31) {
-        return RFE_ERR_NOT_INITIALISED;
-    }
-    sd_valid = est->params.filter.sd_valid;
     st = (est->params.filter.kind == RFE_FILTER_CKF)
              ? rfe_ckf_get_q31(&est->filter.ckf, x, sd)
              : rfe_sckf_get_q31(&est->filter.sckf, x, sd);
@@ -573,6 +568,22 @@ rfe_status_t rfe_friction_get_q31(const rfe_friction_q31_t *est, rfe_estimate_q3
     }
     out->status = st;
     out->sat = 0u;
+    return st;
+}
+
+rfe_status_t rfe_friction_get_q31(const rfe_friction_q31_t *est, rfe_estimate_q31_t *out)
+{
+    uint32_t count = 0u; /* sat is 0 from get: the inflation's saturations were the step's */
+    rfe_status_t st;
+    if ((est == NULL) || (out == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    if (est->magic != RFE_MAGIC_EST_Q31) {
+        return RFE_ERR_NOT_INITIALISED;
+    }
+    st = filter_estimate_q31(est, out);
+    /* what the last step reported: no flag and the inflated sd while the monitor is fired */
+    (void)rfe_friction_monitor_effect_q31(est, out, &count);
     return st;
 }
 
@@ -605,7 +616,7 @@ rfe_status_t rfe_friction_step_q31(rfe_friction_q31_t *est, const rfe_sample_q31
     if (est->params.filter.sd_valid > 0) {
         sd_rule = 1; /* the sd rule; else the paper's */
     }
-    got = rfe_friction_get_q31(est, out);
+    got = filter_estimate_q31(est, out);
     if (got != RFE_OK) {
         return got;
     }

@@ -425,6 +425,7 @@ static void test_rfe_friction_q31_status_while_fired(void **state)
     (void)state;
     memset(&last_on, 0, sizeof last_on);
     assert_int_equal(rfe_params_default_f64(&pd), RFE_OK);
+    pd.monitor.enable = 0.0; /* the default preset has it on */
     assert_int_equal(rfe_params_to_q31_f64(&pd, &pq), RFE_OK);
     assert_int_equal(rfe_friction_init_q31(&off, &pq), RFE_OK);
     pd.monitor.enable = 1.0;
@@ -490,6 +491,13 @@ static void test_rfe_friction_q31_status_while_fired(void **state)
         assert_int_equal(rfe_friction_step_q31(&on, &bad, &e), RFE_ERR_RANGE);
         assert_memory_equal(e.mu, last_on.mu, sizeof e.mu);
         assert_memory_equal(e.sd, last_on.sd, sizeof e.sd);
+        assert_int_equal(e.sat, 0u);
+        assert_int_equal(on.sat, total);
+        /* get reports what the step did: no flag, the inflated sd, sat 0 */
+        assert_int_equal(rfe_friction_get_q31(&on, &e), RFE_OK);
+        assert_memory_equal(e.mu, last_on.mu, sizeof e.mu);
+        assert_memory_equal(e.sd, last_on.sd, sizeof e.sd);
+        assert_memory_equal(e.valid, last_on.valid, sizeof e.valid);
         assert_int_equal(e.sat, 0u);
         assert_int_equal(on.sat, total);
     }

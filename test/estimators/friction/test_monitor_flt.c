@@ -373,6 +373,8 @@ static void test_estimator_reports_mismatch(void **state)
     int mismatch = 0;
     (void)state;
     assert_int_equal(rfe_params_default(&p), RFE_OK);
+    assert_true(p.monitor.enable == (rfe_real_t)1.0); /* on in the default preset */
+    p.monitor.enable = (rfe_real_t)0.0;
     assert_int_equal(rfe_friction_init(&off, &p), RFE_OK);
     p.monitor.enable = (rfe_real_t)1.0;
     assert_int_equal(rfe_friction_init(&on, &p), RFE_OK);
@@ -446,6 +448,8 @@ static void test_estimator_status_while_fired(void **state)
     (void)state;
     memset(&last_on, 0, sizeof last_on);
     assert_int_equal(rfe_params_default(&p), RFE_OK);
+    assert_true(p.monitor.enable == (rfe_real_t)1.0); /* on in the default preset */
+    p.monitor.enable = (rfe_real_t)0.0;
     assert_int_equal(rfe_friction_init(&off, &p), RFE_OK);
     p.monitor.enable = (rfe_real_t)1.0;
     p.monitor.warmup = (rfe_real_t)0.0; /* judged from the first step: fires while the prior holds */
@@ -499,6 +503,11 @@ static void test_estimator_status_while_fired(void **state)
         assert_int_equal(rfe_friction_step(&on, &bad, &e), RFE_ERR_RANGE);
         assert_memory_equal(e.mu, last_on.mu, sizeof e.mu);
         assert_memory_equal(e.sd, last_on.sd, sizeof e.sd);
+        /* get reports what the step did: no flag, the inflated sd */
+        assert_int_equal(rfe_friction_get(&on, &e), RFE_OK);
+        assert_memory_equal(e.mu, last_on.mu, sizeof e.mu);
+        assert_memory_equal(e.sd, last_on.sd, sizeof e.sd);
+        assert_memory_equal(e.valid, last_on.valid, sizeof e.valid);
     }
 }
 
