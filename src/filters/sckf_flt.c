@@ -208,6 +208,15 @@ static void innovation_out(const rfe_sckf_t *f, const rfe_real_t *y, rfe_sckf_in
     const size_t m = f->m;
     size_t j;
     size_t r;
+    /* All of *o is written (0 beyond m): the caller keeps it in its state, which must be
+     * fully defined to be copied and compared. */
+    for (r = 0u; r < MM; ++r) {
+        o->nu[r] = RFE_R(0.0);
+        o->zz[r] = RFE_R(0.0);
+        for (j = 0u; j < MM; ++j) {
+            o->Szz[(r * MM) + j] = RFE_R(0.0);
+        }
+    }
     for (r = 0u; r < m; ++r) {
         rfe_real_t acc = RFE_R(0.0);
         o->nu[r] = y[r] - w->zhat[r];
@@ -215,8 +224,8 @@ static void innovation_out(const rfe_sckf_t *f, const rfe_real_t *y, rfe_sckf_in
             acc += w->zpts[(j * MM) + r] * w->zpts[(j * MM) + r];
         }
         o->zz[r] = acc;
-        for (j = 0u; j < m; ++j) {
-            o->Szz[(r * MM) + j] = (j <= r) ? w->Szz[(r * MM) + j] : RFE_R(0.0);
+        for (j = 0u; j <= r; ++j) {
+            o->Szz[(r * MM) + j] = w->Szz[(r * MM) + j];
         }
     }
 }

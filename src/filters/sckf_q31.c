@@ -193,6 +193,15 @@ static void innovation_out_q31(const rfe_sckf_q31_t *f, const rfe_fix_t *y,
     const size_t m = f->m;
     size_t j;
     size_t r;
+    /* All of *o is written (0 beyond m): the caller keeps it in its state, which must be
+     * fully defined to be copied and compared. */
+    for (r = 0u; r < MM; ++r) {
+        o->nu[r] = 0;
+        o->zz[r] = 0;
+        for (j = 0u; j < MM; ++j) {
+            o->Szz[(r * MM) + j] = 0;
+        }
+    }
     for (r = 0u; r < m; ++r) {
         int64_t acc = 0;
         o->nu[r] = rfe_fix_sub(y[r], w->zhat[r], count);
@@ -201,8 +210,8 @@ static void innovation_out_q31(const rfe_sckf_q31_t *f, const rfe_fix_t *y,
             acc = rfe_fix_add64(acc, z * z, count);
         }
         o->zz[r] = rfe_fix_narrow(acc, RFE_Q31_QZ, count);
-        for (j = 0u; j < m; ++j) {
-            o->Szz[(r * MM) + j] = (j <= r) ? w->Szz[(r * MM) + j] : 0;
+        for (j = 0u; j <= r; ++j) {
+            o->Szz[(r * MM) + j] = w->Szz[(r * MM) + j];
         }
     }
 }

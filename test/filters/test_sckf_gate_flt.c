@@ -516,6 +516,65 @@ static void test_rfe_sckf_scale_errors(void **state)
     assert_same_state(&f, &copy);
 }
 
+/* REQ: the innovation output (the monitor's input) on a linear model: nu = y - H x- with x-
+ * the predicted mean (the cubature mean of a linear map is exact), and the whole struct
+ * written: every entry beyond m and S_zz's upper part 0 (the estimator keeps it in its
+ * state, copied and compared whole; the output is filled with 0x5A bytes before). Bound on
+ * nu: lin_measure rounds each point's output once to rfe_real_t and the filter averages 2n
+ * of them, so at most ~(2n + 1) roundings of size eps * scale, scale = 1 + sum_j |H_rj|
+ * (|x_j| + sum_k |S_jk|) (x, S predicted) bounding |z| at every point; 4 (2 N_MAX + 1) eps * scale covers it
+ * with a factor 4 of margin. */
+/* REQ-SCKF-004 REQ-MON-005 */
+static void test_rfe_sckf_update_ex_innovation_output(void **state)
+{
+    static rfe_sckf_t f;
+    problem_t p;
+#if defined(RFE_REAL_DOUBLE)
+    const double eps = DBL_EPSILON;
+#else
+    const double eps = (double)FLT_EPSILON;
+#endif
+    (void)state;
+    FOR_EACH_PROBLEM(p, {
+        rfe_sckf_innov_t in;
+        rfe_real_t xp[NM];
+        rfe_real_t Sp[NM * NM];
+        int upd = -1;
+        size_t r;
+        size_t j;
+        size_t k;
+        char what[64];
+        init_filter(&f, &p, p.SR);
+        memcpy(xp, f.x, sizeof xp); /* the predicted mean and factor */
+        memcpy(Sp, f.S, sizeof Sp);
+        memset(&in, 0x5A, sizeof in);
+        assert_int_equal(rfe_sckf_update_ex(&f, lin_measure, &p.h, p.y, p.SR2, (rfe_real_t)0,
+                                            NULL, &in, &upd), RFE_OK);
+        for (r = 0u; r < MM; ++r) {
+            double hx = 0.0;
+            double scale = 1.0;
+            if (r >= p.m) {
+                assert_true((in.nu[r] == (rfe_real_t)0) && (in.zz[r] == (rfe_real_t)0));
+            } else {
+                for (j = 0u; j < p.n; ++j) {
+                    double row = fabs((double)xp[j]);
+                    for (k = 0u; k <= j; ++k) {
+                        row += fabs((double)Sp[(j * NM) + k]);
+                    }
+                    hx += (double)p.h.H[(r * NM) + j] * (double)xp[j];
+                    scale += fabs((double)p.h.H[(r * NM) + j]) * row;
+                }
+                snprintf(what, sizeof what, "n %zu m %zu nu[%zu]", p.n, p.m, r);
+                ASSERT_LE(fabs((double)in.nu[r] - ((double)p.y[r] - hx)),
+                          4.0 * ((2.0 * (double)NM) + 1.0) * eps * scale, what);
+            }
+            for (j = 0u; j < MM; ++j) {
+                assert_true(((r < p.m) && (j <= r)) || (in.Szz[(r * MM) + j] == (rfe_real_t)0));
+            }
+        }
+    });
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -526,6 +585,7 @@ int main(void)
         cmocka_unit_test(test_rfe_sckf_update_ex_gate_nonlinear),
         cmocka_unit_test(test_rfe_sckf_update_ex_argument_errors),
         cmocka_unit_test(test_rfe_sckf_update_ex_singular_prior),
+        cmocka_unit_test(test_rfe_sckf_update_ex_innovation_output),
         cmocka_unit_test(test_rfe_sckf_scale_multiplies_factor),
         cmocka_unit_test(test_rfe_sckf_scale_errors),
     };
