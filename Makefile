@@ -46,7 +46,7 @@ DEPS_EXTRA :=
 TEST_GATES :=
 include $(sort $(filter-out mk/lib.mk,$(wildcard mk/*.mk)))
 
-.PHONY: names car-format-logs observer-goldens observer-goldens-q31 observer-results monitor-results all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind coverage demo goldens goldens-q31 scenarios observer-scenarios clean vectors shared-sync check-shared readme-table \
+.PHONY: trust-invariant names car-format-logs observer-goldens observer-goldens-q31 observer-results monitor-results all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind coverage demo goldens goldens-q31 scenarios observer-scenarios clean vectors shared-sync check-shared readme-table \
         check-kernels check-tools layers help-check goldens-ref check-nofloat help deps-analysis misra tidy complexity structural analysis
 ## the libraries and build/mu_replay (the default target)
 all: lib $(BUILD)/mu_replay
@@ -306,6 +306,12 @@ demo: venv $(BUILD)/mu_replay
 readme-table: venv $(BUILD)/mu_replay
 	$(PY) scripts/tools/demo.py --replay $(BUILD)/mu_replay --out $(BUILD)/demo --no-plots --trust \
 	  --results docs/RESULTS.md --readme README.md
+
+# Issue 17's trust invariant on every bundled log in float, double and Q31 (docs/RESULTS.md).
+## rewrite docs/RESULTS.md's trust-invariant table (every bundled log, three precisions)
+trust-invariant: venv $(BUILD)/mu_replay
+	$(PY) scripts/tools/trust_invariant.py --replay $(BUILD)/mu_replay --out $(BUILD)/trust \
+	  --page docs/RESULTS.md
 
 ## regenerate the sensor and fault logs with the simulator
 scenarios: venv

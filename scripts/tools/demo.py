@@ -42,6 +42,7 @@ ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(Path(__file__).resolve().parent))   # scripts/tools: plot_estimates
 from plot_estimates import plot, read_csv  # noqa: E402  (one plotting/reading code path)
 from demo_tables import write_table  # noqa: E402
+from md_tables import replace_region  # noqa: E402
 from demo_index import summary_line, write_index  # noqa: E402
 SETTLE_START_S = 1.0  # same as mu_replay's default settle start
 SETTLE_AFTER_CHANGE_S = 0.5  # mu_replay's default: settled again 0.5 s after a truth change
@@ -160,12 +161,7 @@ def table_rows(results: list[tuple[str, str, dict, dict]]) -> list[str]:
 
 def update_page(page: Path, lines: list[str], begin: str = BEGIN, end: str = END) -> None:
     """Replace the text between the markers begin ... end of a markdown page by lines."""
-    text = page.read_text()
-    if begin not in text or end not in text:
-        sys.exit(f"demo: {page} has no {begin} ... {end} section")
-    head, rest = text.split(begin, 1)
-    _, tail = rest.split(end, 1)
-    page.write_text(head + begin + "\n" + "\n".join(lines) + "\n" + end + tail)
+    replace_region(page, begin, end, lines, "demo")
 
 
 def check_markers(page: Path, pairs: list[tuple[str, str]]) -> None:
@@ -193,13 +189,23 @@ def pooled(m: dict, key: str, weight: str, square: bool = False):
     return (num / den) ** 0.5 if square else num / den
 
 
+def worst_valid(m: dict):
+    """The worst case when valid: the largest |error| of any wheel over its settled samples
+    reported valid (None when no wheel has one)."""
+    xs = [m[w]["max_abs_err_valid"] for w in WHEELS
+          if (m[w].get("n_valid") or 0) > 0 and m[w].get("max_abs_err_valid") is not None]
+    return max(xs) if xs else None
+
+
 def trust_rows(runs: list[tuple[str, str, str, dict]]) -> list[str]:
-    """The trustworthiness table: one row per (scenario, truth tyre, preset); the last column
-    the largest |mu_q31 - mu_double| of that configuration over the settled samples."""
+    """The trustworthiness table: one row per (scenario, truth tyre, preset); "worst valid" the
+    largest |error| while valid, "consistency valid" the share of the valid samples within
+    2 sd; the last column the largest |mu_q31 - mu_double| of that configuration over the
+    settled samples."""
     head = ("| scenario | class | truth | preset | RMSE fl/fr/rl/rr | max err fl/fr/rl/rr | "
-            "mean-μ RMSE | RMSE valid | valid | excited valid | consistency | re-conv [s] | "
-            "Δμ q31 |")
-    lines = [head, "|" + "|".join(["---"] * 13) + "|"]
+            "mean-μ RMSE | RMSE valid | worst valid | consistency valid | valid | "
+            "excited valid | consistency | re-conv [s] | Δμ q31 |")
+    lines = [head, "|" + "|".join(["---"] * 15) + "|"]
     for scen, truth, preset, info in runs:
         m = info["metrics"]
         rm = "/".join(fmt(m[w]["rmse"], ".2f") for w in WHEELS)
@@ -209,12 +215,13 @@ def trust_rows(runs: list[tuple[str, str, str, dict]]) -> list[str]:
         fv = pooled(m, "frac_valid", "n_settled")
         ex = pooled(m, "frac_valid_excited", "n_excited")
         co = pooled(m, "consistency", "n_settled")
+        cv = pooled(m, "consistency_valid", "n_valid")
         rc = [m[w]["reconverge_s"] for w in WHEELS if m[w]["n_changes"]]
         rcs = "–" if not rc else ("never" if any(x is None for x in rc) else f"{max(rc):.2f}")
         pct = lambda x: "–" if x is None else f"{100 * x:.0f} %"  # noqa: E731
         lines.append(f"| {scen} | {CLASSES.get(scen, '?')} | {truth} | {preset} | {rm} | {mx} | "
                      f"{fmt(m['mean']['rmse'], '.3f')} | {fmt(rv, '.3f') if sum(n_valid) else '–'} | "
-                     f"{pct(fv)} | {pct(ex)} | {pct(co)} | {rcs} | "
+                     f"{fmt(worst_valid(m), '.3f')} | {pct(cv)} | {pct(fv)} | {pct(ex)} | {pct(co)} | {rcs} | "
                      f"{fmt(info.get('q31_dev'), '.1e')} |")
     return lines
 
@@ -227,34 +234,38 @@ def headline_rows(runs: list[tuple[str, str, str, dict]]) -> list[str]:
     """The README's headline table, from the runs of the trust table (same metrics, same
     pooling over the wheels): the default preset on the Magic Formula truth, one row per
     excited manoeuvre (RMSE where valid, share of the excited samples and of the settled
-    samples reported valid), then one row for all never-excited logs together, each column
+    samples reported valid, and the worst case when valid: the largest |error| while valid),
+    then one row for all never-excited logs together, each column
     the worst of those logs (the highest figure: there every valid sample is a false claim).
     The last two columns: the same log run as a production car's (vx, vy, yaw_acc from the
     velocity observer, info["observer"])."""
     pct = lambda x: "–" if x is None else f"{100 * x:.0f} %"  # noqa: E731
-    lines = ["| manoeuvre | truth tyre | RMSE when valid | excited samples valid | "
-             "settled samples valid | RMSE when valid, observer | settled valid, observer |",
-             "|---|---|---|---|---|---|---|"]
+    lines = ["| manoeuvre | truth tyre | RMSE when valid | worst case when valid | "
+             "excited samples valid | settled samples valid | RMSE when valid, observer | "
+             "settled valid, observer |",
+             "|---|---|---|---|---|---|---|---|"]
     sel = [r for r in runs if r[1] == HEADLINE_TRUTH and r[2] == HEADLINE_PRESET]
     never = []
     def valid_figures(m):
         has_valid = sum(m[w]["n_valid"] or 0 for w in WHEELS) > 0
         return (pooled(m, "rmse_valid", "n_valid", square=True) if has_valid else None,
-                pooled(m, "frac_valid_excited", "n_excited"), pooled(m, "frac_valid", "n_settled"))
+                worst_valid(m), pooled(m, "frac_valid_excited", "n_excited"),
+                pooled(m, "frac_valid", "n_settled"))
 
     for scen, truth, _, info in sel:
-        rv, ex, fv = valid_figures(info["metrics"])
-        orv, _, ofv = valid_figures(info["observer"]["metrics"])
+        rv, wv, ex, fv = valid_figures(info["metrics"])
+        orv, _, _, ofv = valid_figures(info["observer"]["metrics"])
         if CLASSES.get(scen) == "excited":
-            lines.append(f"| {scen} | {TRUTH_NAMES.get(truth, truth)} | {fmt(rv)} | {pct(ex)} | "
-                         f"{pct(fv)} | {fmt(orv)} | {pct(ofv)} |")
+            lines.append(f"| {scen} | {TRUTH_NAMES.get(truth, truth)} | {fmt(rv)} | {fmt(wv)} | "
+                         f"{pct(ex)} | {pct(fv)} | {fmt(orv)} | {pct(ofv)} |")
         elif CLASSES.get(scen) == "never":
-            never.append((rv, ex, fv, orv, ofv))
+            never.append((rv, wv, ex, fv, orv, ofv))
     if never:
-        worst = [max((x[k] for x in never if x[k] is not None), default=None) for k in range(5)]
+        worst = [max((x[k] for x in never if x[k] is not None), default=None) for k in range(6)]
         lines.append(f"| never excited ({len(never)} log{'s' if len(never) > 1 else ''}, worst) | "
                      f"{TRUTH_NAMES.get(HEADLINE_TRUTH, HEADLINE_TRUTH)} | {fmt(worst[0])} | "
-                     f"{pct(worst[1])} | {pct(worst[2])} | {fmt(worst[3])} | {pct(worst[4])} |")
+                     f"{fmt(worst[1])} | {pct(worst[2])} | {pct(worst[3])} | {fmt(worst[4])} | "
+                     f"{pct(worst[5])} |")
     return lines
 
 

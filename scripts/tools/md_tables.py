@@ -1,4 +1,5 @@
-"""Markdown tables for a file (title and column legend) and for a console (width-bounded).
+"""Markdown tables for a file (title and column legend) and for a console (width-bounded),
+and the script-written regions of the docs pages (replace_region).
 
 The demo's tables are 15 columns wide; a terminal line of 200+ characters wraps into
 noise, so console_table() splits the columns into groups that fit, each group repeating
@@ -58,3 +59,14 @@ def console_table(title: str, lines: list[str], width: int = CONSOLE_WIDTH,
         if not ln.startswith("|") and ln.strip():
             out += [""] + textwrap.wrap(ln, width)
     return out
+
+
+def replace_region(page, begin: str, end: str, lines: list[str], who: str) -> None:
+    """Replace the text between the markers begin ... end of a markdown page by lines; exit
+    with a message naming the tool (who) when the page lacks the markers."""
+    text = page.read_text()
+    if begin not in text or end not in text:
+        raise SystemExit(f"{who}: {page} has no {begin} ... {end} section")
+    head, rest = text.split(begin, 1)
+    _, tail = rest.split(end, 1)
+    page.write_text(head + begin + "\n" + "\n".join(lines) + "\n" + end + tail)

@@ -37,6 +37,8 @@ ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "scripts"))
 from reference import logs, monitor, params, trusted  # noqa: E402
 from sim import faults  # noqa: E402
+sys.path.insert(0, str(ROOT / "scripts" / "tools"))
+from md_tables import replace_region  # noqa: E402
 
 WHEELS = ("fl", "fr", "rl", "rr")
 SETTLE_START_S, SETTLE_AFTER_CHANGE_S, CHANGE_MIN = 1.0, 0.5, 1e-9   # mu_replay's (metrics.c)
@@ -224,13 +226,8 @@ def limit_ratios(res, p, dt):
 
 
 def update_page(page: Path, name: str, lines: list[str]) -> None:
-    begin, end = f"<!-- monitor-{name}:begin -->", f"<!-- monitor-{name}:end -->"
-    text = page.read_text()
-    if begin not in text or end not in text:
-        sys.exit(f"monitor_results: {page} has no {begin} ... {end} section")
-    head, rest = text.split(begin, 1)
-    _, tail = rest.split(end, 1)
-    page.write_text(head + begin + "\n" + "\n".join(lines) + "\n" + end + tail)
+    replace_region(page, f"<!-- monitor-{name}:begin -->", f"<!-- monitor-{name}:end -->",
+                   lines, "monitor_results")
 
 
 def main(argv=None) -> int:

@@ -162,14 +162,17 @@ static void error_stats(const double *t, size_t n, const series_t *s,
     sq_sum_t exc_valid = {0u, 0.0};
     size_t n_rel = 0u;
     size_t n_consistent = 0u;
+    size_t n_consistent_valid = 0u;
     size_t k;
     out->max_abs = 0.0;
+    out->max_abs_valid = 0.0;
     out->max_rel = 0.0;
     out->n_excited = 0u;
     for (k = 0u; k < n; ++k) {
         double truth = col_mean(s->truth, s->width, k);
         double e = col_mean(s->est, s->width, k) - truth;
         int is_valid;
+        size_t consistent;
         if ((k > 0u) && truth_changed(s, k, cfg->change_min)) {
             t_change = t[k];
             seen_change = 1;
@@ -184,10 +187,13 @@ static void error_stats(const double *t, size_t n, const series_t *s,
             out->max_rel = max_nan(out->max_rel, fabs(e) / truth);
         }
         /* Written so that a NaN error or sd is inconsistent. */
-        n_consistent += (fabs(e) <= cfg->consistency_k * series_sd(s, k)) ? 1u : 0u;
+        consistent = (fabs(e) <= cfg->consistency_k * series_sd(s, k)) ? 1u : 0u;
+        n_consistent += consistent;
         is_valid = series_valid(s, k);
         if (is_valid) {
             sq_add(&valid, e);
+            out->max_abs_valid = max_nan(out->max_abs_valid, fabs(e));
+            n_consistent_valid += consistent;
         }
         if ((s->util != NULL) && series_excited(s, k, cfg->excite_util)) {
             ++out->n_excited;
@@ -202,8 +208,10 @@ static void error_stats(const double *t, size_t n, const series_t *s,
     out->max_rel = (n_rel > 0u) ? out->max_rel : NAN_D;
     out->n_valid = valid.n;
     out->rmse_valid = sq_rmse(&valid);
+    out->max_abs_valid = (valid.n > 0u) ? out->max_abs_valid : NAN_D;
     out->frac_valid = share(valid.n, all.n);
     out->consistency = share(n_consistent, all.n);
+    out->consistency_valid = share(n_consistent_valid, valid.n);
     out->has_util = (s->util != NULL) ? 1 : 0;
     out->frac_valid_excited = share(exc_valid.n, out->n_excited);
     out->rmse_excited_valid = sq_rmse(&exc_valid);
@@ -357,8 +365,10 @@ static void write_series_json(FILE *f, const char *name, const rfe_metric_t *m, 
     json_key(f, "t_converge_s", (m->t_converge >= 0.0) ? m->t_converge : NAN_D);
     fprintf(f, ", \"n_valid\": %zu", m->n_valid);
     json_key(f, "rmse_valid", m->rmse_valid);
+    json_key(f, "max_abs_err_valid", m->max_abs_valid);
     json_key(f, "frac_valid", m->frac_valid);
     json_key(f, "consistency", m->consistency);
+    json_key(f, "consistency_valid", m->consistency_valid);
     fprintf(f, ", \"n_changes\": %zu, \"n_reconverged\": %zu", m->n_changes, m->n_reconverged);
     json_key(f, "reconverge_s", m->reconverge);
     if (m->has_util) {

@@ -89,8 +89,10 @@ typedef struct {
     double t_converge;      /**< [s] time to converge, < 0 = never */
     size_t n_valid;         /**< settled samples flagged valid */
     double rmse_valid;      /**< RMSE over settled valid samples */
+    double max_abs_valid;   /**< max |error| over settled valid samples: the worst case when valid */
     double frac_valid;      /**< n_valid / n_settled */
     double consistency;     /**< share of settled samples with |error| <= k sd */
+    double consistency_valid; /**< the same share among the settled valid samples */
     size_t n_changes;       /**< truth changes */
     size_t n_reconverged;   /**< changes after which the estimate re-converged */
     double reconverge;      /**< [s] max time to re-converge over the changes */

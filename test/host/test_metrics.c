@@ -275,6 +275,8 @@ static void test_rfe_metric_series_rejects_empty_and_null(void **state)
  *   consistency, k = 2: |e| <= 2 sd?  k2: 0.02 <= 0.01 no; k3: 0.03 <= 0.04 yes;
  *   k4: 0.01 <= 0.008 no -> 1/3. The unsettled k = 0, 1 do not count.
  *   With consistency_k = 3: k2: 0.02 <= 0.015 no; k3 yes; k4: 0.01 <= 0.012 yes -> 2/3.
+ *   Among the valid k = 3, 4: max_abs_valid 0.03 (the larger error k = 0 is not settled, k = 2
+ *   not valid); consistency_valid 1/2 (k3 yes, k4 no), with consistency_k = 3: 2/2.
  */
 /* REQ-MET-001 */
 static void test_rfe_metric_series_valid_and_consistency(void **state)
@@ -296,9 +298,12 @@ static void test_rfe_metric_series_valid_and_consistency(void **state)
     assert_near(m.rmse_valid, sqrt(5e-4));
     assert_near(m.rmse, sqrt(14e-4 / 3.0)); /* unchanged: all settled samples */
     assert_near(m.consistency, 1.0 / 3.0);
+    assert_near(m.max_abs_valid, 0.03);
+    assert_near(m.consistency_valid, 0.5);
     cfg.consistency_k = 3.0;
     assert_int_equal(rfe_metric_series(&in, RFE_FL, &cfg, &m), 0);
     assert_near(m.consistency, 2.0 / 3.0);
+    assert_near(m.consistency_valid, 1.0);
 }
 
 /*
@@ -329,6 +334,8 @@ static void test_rfe_metric_series_consistency_bound_and_no_valid(void **state)
     assert_int_equal(m.n_valid, 0);
     assert_near(m.frac_valid, 0.0);
     assert_true(isnan(m.rmse_valid));
+    assert_true(isnan(m.max_abs_valid));     /* no worst case without a valid sample */
+    assert_true(isnan(m.consistency_valid));
 }
 
 /* No settled sample: the shares are undefined (NaN), not 0. */
@@ -784,9 +791,11 @@ static void test_rfe_metrics_write_json_and_table(void **state)
     assert_non_null(strstr(buf, "\"fr\": {\"n_settled\": 2, \"rmse\": "));
     assert_non_null(strstr(buf, "\"t_converge_s\": null, ")); /* fr never converges */
     assert_non_null(strstr(buf, "\"rr\": {\"n_settled\": 0, \"rmse\": null"));
-    /* fl: settled k = 1, 2; valid only k = 1 (error 0); consistent both (0.01 <= 0.2). */
-    assert_non_null(strstr(buf, "\"n_valid\": 1, \"rmse_valid\": 0, \"frac_valid\": 0.5, "
-                                "\"consistency\": 1, \"n_changes\": 0, \"n_reconverged\": 0, "
+    /* fl: settled k = 1, 2; valid only k = 1 (error 0: worst case 0, consistent); consistent
+     * both (0.01 <= 0.2). */
+    assert_non_null(strstr(buf, "\"n_valid\": 1, \"rmse_valid\": 0, \"max_abs_err_valid\": 0, "
+                                "\"frac_valid\": 0.5, \"consistency\": 1, "
+                                "\"consistency_valid\": 1, \"n_changes\": 0, \"n_reconverged\": 0, "
                                 "\"reconverge_s\": null, \"n_excited\": null, "
                                 "\"frac_valid_excited\": null, \"rmse_excited_valid\": null}"));
     assert_non_null(strstr(buf, "\"mean\": {"));

@@ -1,0 +1,93 @@
+"""Issue 17's trust invariant over every bundled log, in float, double and Q31 (trust_invariant.py).
+
+Runs build/mu_replay (make build/mu_replay; skipped without it) with the default preset on the
+54 logs of scenarios/ and scenarios/faults/ in the three precisions, about 10 s. A log meets the
+invariant when consistency when valid >= 0.9, RMSE when valid <= 0.10 and the worst case when
+valid <= 0.25 (issue 17's targets, exact: no tolerance is added to them), or when it is never
+valid.
+
+The invariant does not hold on every log yet (issue 17 stays open). KNOWN_FAILURES names each
+log where it fails today and why; the test asserts both ways, so it fails when a log outside
+the list breaks the invariant (a regression) and when a listed log starts to meet it (then the
+entry is removed: the list can only shrink honestly). The three precisions agree on every
+log's verdict (measured; they are asserted separately).
+
+Borderline, stated so nobody is surprised: on offset_ax.hard_brake_low_mu.mf the worst case
+when valid is exactly |mu_min - 0.3| = 0.25 (an estimate clamped at the projection bound, valid
+for 4 samples at t 1.00-1.02 s), which meets the bound with equality in every precision.
+"""
+
+import sys
+from pathlib import Path
+
+import pytest
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import trust_invariant as ti  # noqa: E402
+
+REPO = Path(__file__).resolve().parents[2]
+REPLAY = REPO / "build" / "mu_replay"
+
+DUGOFF = "normalised-Dugoff truth: the free mu absorbs the wrong curve, the innovations stay consistent"
+KNOWN_FAILURES = {
+    # the tyre-model mismatch no innovation test sees (docs/MONITOR.md §5)
+    **{f"{s}.csv": DUGOFF for s in (
+        "accel_low_mu", "brake_in_turn", "brake_in_turn.nf", "hard_brake_high_mu",
+        "hard_brake_high_mu.nf", "hard_brake_low_mu", "hard_brake_low_mu.nf",
+        "mu_step_hard_brake", "mu_step_hard_brake.nf", "paper_low_mu_brake",
+        "paper_low_mu_brake.nf", "paper_mu_step", "paper_mu_step.nf", "sine_steer_high_mu",
+        "sine_steer_low_mu", "sine_steer_low_mu.nf", "split_mu_brake", "split_mu_brake.nf",
+        "split_mu_hard_brake", "split_mu_hard_brake.nf")},
+    # Magic Formula truth
+    "accel_low_mu.mf.csv": "consistency when valid 89.97 % (traction control on mu 0.3)",
+    "brake_in_turn.mf.csv": "combined slip: worst case when valid 0.273",
+    "mu_step_hard_brake.mf.csv": "the mu step's transient: worst case when valid 0.326",
+    "split_mu_hard_brake.mf.csv": "split friction: worst case when valid 0.467",
+    # fault logs (docs/ROBUSTNESS.md)
+    "faults/freeze_omega_fl.hard_brake_low_mu.mf.csv": "frozen wheel speed: worst 0.676 before the monitor fires",
+    "faults/freeze_omega_fl.sine_steer_low_mu.mf.csv": "frozen wheel speed: worst 0.424",
+    "faults/offset_ax.cruise.mf.csv": "valid at mu_min (error 0.80) in the monitor's 1 s warm-up",
+    "faults/spike_ax.hard_brake_low_mu.mf.csv": "ax spikes: worst 0.451 at a spike",
+    "faults/spike_ay.sine_steer_low_mu.mf.csv": "ay spikes: worst 0.468",
+    "faults/spike_yaw_rate.sine_steer_low_mu.mf.csv": "yaw-rate spikes: worst 0.359",
+}
+
+
+@pytest.fixture(scope="module")
+def measured(tmp_path_factory):
+    if not REPLAY.is_file():
+        pytest.skip("needs build/mu_replay (make build/mu_replay)")
+    return ti.measure(REPLAY, REPO / "scenarios", tmp_path_factory.mktemp("trust"))
+
+
+def test_every_bundled_log_is_measured(measured):
+    names = {n for n, _ in measured}
+    assert len(names) == 54  # 13 manoeuvres x (Dugoff, noise-free Dugoff, MF) + 15 fault logs
+    assert set(KNOWN_FAILURES) <= names  # no entry for a log that is not bundled
+
+
+@pytest.mark.parametrize("real", ti.PRECISIONS)
+def test_trust_invariant_on_every_log(measured, real):
+    names = sorted({n for n, _ in measured})
+    broken = [n for n in names if n not in KNOWN_FAILURES and not ti.meets(measured[(n, real)])]
+    healed = [n for n in names if n in KNOWN_FAILURES and ti.meets(measured[(n, real)])]
+    assert not broken, f"{real}: the invariant broke on {broken}: " + "; ".join(
+        ti.row(n, measured) for n in broken)
+    assert not healed, f"{real}: now met, remove from KNOWN_FAILURES: {healed}"
+
+
+def test_figures_pool_the_wheels():
+    """figures() by hand on two wheels with valid samples and two without: RMSE pooled as RMS
+    by sample count, consistency by sample count, the worst case the larger maximum."""
+    w = {"n_settled": 10, "n_valid": 0, "rmse_valid": None, "consistency_valid": None,
+         "max_abs_err_valid": None}
+    m = {"fl": dict(w, n_valid=4, rmse_valid=0.1, consistency_valid=1.0, max_abs_err_valid=0.2),
+         "fr": dict(w, n_valid=1, rmse_valid=0.3, consistency_valid=0.0, max_abs_err_valid=0.3),
+         "rl": w, "rr": w}
+    f = ti.figures(m)
+    assert f["valid"] == pytest.approx(5 / 40)
+    assert f["rmse_valid"] == pytest.approx(((4 * 0.01 + 0.09) / 5) ** 0.5)
+    assert f["cons_valid"] == pytest.approx(0.8)
+    assert f["worst_valid"] == 0.3
+    assert not ti.meets(f)  # consistency 0.8 < 0.9
+    assert ti.meets(ti.figures({k: w for k in ti.WHEELS}))  # never valid: claims nothing
