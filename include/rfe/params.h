@@ -91,7 +91,7 @@ typedef struct {
     rfe_real_t info_min;     /**< key info_min: a step updates only with at least this Fisher information [1/mu^2], 0 = off: 0 / 25 */
     rfe_real_t sd_max;       /**< key sd_max: bound on every sd, 0 = off: 0 / 0.32 */
     rfe_real_t sd_floor_rel; /**< key sd_floor_rel: floor on sd_k as a fraction of mu_k, 0 = off: 0 / 0.15 */
-    rfe_real_t sd_valid;     /**< key sd_valid: valid when sd <= sd_valid; 0 = the paper rule (valid when updated): 0 / 0.15 */
+    rfe_real_t sd_valid;     /**< key sd_valid: valid when sd <= sd_valid, off the mu bounds; 0 = the paper rule (valid when updated): 0 / 0.15 */
 } rfe_filter_params_t;
 
 /**

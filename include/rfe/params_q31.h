@@ -118,7 +118,7 @@ typedef struct {
     rfe_fix_t info_min;       /**< minimum Fisher information [1/mu^2], Q10, 0 = off */
     rfe_fix_t sd_max;         /**< bound on every sd, Q30, 0 = off */
     rfe_fix_t sd_floor_rel;   /**< floor on sd as a fraction of mu, Q30, 0 = off */
-    rfe_fix_t sd_valid;       /**< valid when sd <= sd_valid, Q30, 0 = paper rule */
+    rfe_fix_t sd_valid;       /**< valid when sd <= sd_valid off the mu bounds, Q30, 0 = paper rule */
     /* Derived. */
     rfe_fix_t b_v;            /**< dt / (tau_v + dt): complementary-filter gain, Q30, in (0, 1] */
 } rfe_filter_params_q31_t;

@@ -166,8 +166,11 @@ def compare_logs(expected_path: str, actual_path: str, expected_diag: dict | Non
             listed += 1
             if sd_valid > 0:
                 se, sa = e.col("sd_" + w)[k], a.col("sd_" + w)[k]
+                me, ma = e.col("mu_" + w)[k], a.col("mu_" + w)[k]
                 why = (f"sd gate: sd_{w} = {_r(se)} (expected) / {_r(sa)} (actual) vs sd_valid = "
-                       f"{sd_valid} (margins {se - sd_valid:+.3g} / {sa - sd_valid:+.3g})")
+                       f"{sd_valid} (margins {se - sd_valid:+.3g} / {sa - sd_valid:+.3g}); "
+                       f"never on a bound: mu_{w} = {_r(me)} / {_r(ma)} vs [mu_min, mu_max] = "
+                       f"[{_param(e.meta, 'mu_min')}, {_param(e.meta, 'mu_max')}]")
             else:
                 why = "valid follows the status: " + _status_reason(
                     k, status_e[k], status_a[k], e.meta, diag)

@@ -57,7 +57,7 @@ DEFAULTS: dict[str, float] = {
     "info_min": 0.0,      # Fisher-information gate, 1/mu^2 (0: off)
     "sd_max": 0.0,        # bound on every sd (0: off)
     "sd_floor_rel": 0.0,  # floor on sd as a fraction of mu (0: off)
-    "sd_valid": 0.0,      # valid when sd <= sd_valid (0: valid when updated)
+    "sd_valid": 0.0,      # valid when sd <= sd_valid, off the mu bounds (0: valid when updated)
     # model-validity monitor (docs/MONITOR.md section 2; monitor.py); on in the default preset
     "mon_enable": 0.0,    # 1: acts on valid, status, sd (SCKF); 0: off
     "mon_tau_nis": 0.5,   # time constant of the NIS average D, s

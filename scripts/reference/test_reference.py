@@ -506,6 +506,29 @@ def test_goldens_up_to_date(golden, tmp_path):
 # 7: the observability-aware estimator (docs/ESTIMATOR.md, trusted.py)
 # ---------------------------------------------------------------------------------------------
 
+DEFAULT_GOLDENS = sorted(glob.glob(os.path.join(REPO, "scenarios", "golden", "*.default.sckf.csv"))
+                         + glob.glob(os.path.join(REPO, "scenarios", "golden", "monitor", "*.csv")))
+
+
+# REQ-EST-010
+@pytest.mark.skipif(not DEFAULT_GOLDENS, reason="no default goldens yet")
+def test_default_never_valid_on_a_bound():
+    """ESTIMATOR.md step 9: with the sd rule an estimate on a projection bound is not valid,
+    whatever its sd. Over every default-preset golden (the reference's output, which
+    test_goldens_up_to_date ties to the code): no row valid at mu_min or mu_max, and the case
+    occurs (rows on a bound with sd <= sd_valid exist), so the test is not vacuous. Exact
+    comparisons: the projection writes the bound itself."""
+    at_bound_small_sd = 0
+    for g in DEFAULT_GOLDENS:
+        e = logs.read_csv_log(g, required=())
+        lo, hi, sd_valid = (float(e.meta[k]) for k in ("mu_min", "mu_max", "sd_valid"))
+        assert sd_valid > 0, g
+        for w in ("fl", "fr", "rl", "rr"):
+            on = (e.col("mu_" + w) <= lo) | (e.col("mu_" + w) >= hi)
+            assert not np.any(e.col("valid_" + w)[on] > 0), f"{g}: valid_{w} on a bound"
+            at_bound_small_sd += int(np.sum(on & (e.col("sd_" + w) <= sd_valid)))
+    assert at_bound_small_sd > 0
+
 # REQ-REF-001 REQ-ACC-004
 def test_trusted_with_additions_off_is_the_paper_filter(synth_log):
     """docs/ESTIMATOR.md: with every addition off (paper preset values) the steps reduce to

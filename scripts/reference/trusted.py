@@ -122,8 +122,9 @@ def run(log, p: dict, adapt=None):
         sd = f.sd()                                                     # 9
         out["mu"][k] = T @ f.x
         out["sd"][k] = T @ sd
-        if p["sd_valid"] > 0:
-            out["valid"][k] = (T @ (sd <= p["sd_valid"]).astype(float)).astype(int)
+        if p["sd_valid"] > 0:   # by the sd, never on a projection bound (ESTIMATOR.md step 9)
+            ok = (sd <= p["sd_valid"]) & (f.x > p["mu_min"]) & (f.x < p["mu_max"])
+            out["valid"][k] = (T @ ok.astype(float)).astype(int)
         else:
             out["valid"][k] = 1 if status in (0, 1) else 0
         out["status"][k] = status

@@ -397,17 +397,22 @@ static rfe_status_t filter_estimate(const rfe_friction_t *est, rfe_estimate_t *o
     rfe_real_t x[RFE_N_MAX];
     rfe_real_t sd[RFE_N_MAX];
     const rfe_real_t sd_valid = est->params.filter.sd_valid;
+    const rfe_real_t lo = est->params.filter.mu_min;
+    const rfe_real_t hi = est->params.filter.mu_max;
     size_t w;
     rfe_status_t st;
     st = (est->params.filter.kind == RFE_FILTER_CKF)
              ? rfe_ckf_get(&est->filter.ckf, x, sd)
              : rfe_sckf_get(&est->filter.sckf, x, sd);
-    /* 9. mu = T x, sd = T (row norms of S); validity by sd when sd_valid > 0. */
+    /* 9. mu = T x, sd = T (row norms of S); validity by sd when sd_valid > 0, never on a
+     * projection bound. */
     for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
         const size_t k = state_of(est, w);
+        const uint8_t sd_ok = ((sd_valid > RFE_R(0.0)) && (sd[k] <= sd_valid)) ? 1u : 0u;
+        const uint8_t inside = ((x[k] > lo) && (x[k] < hi)) ? 1u : 0u;
         out->mu[w] = x[k];
         out->sd[w] = sd[k];
-        out->valid[w] = ((sd_valid > RFE_R(0.0)) && (sd[k] <= sd_valid)) ? 1u : 0u;
+        out->valid[w] = rfe_friction_by_sd(sd_ok, inside);
     }
     out->status = st;
     return st;

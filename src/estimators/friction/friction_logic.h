@@ -65,6 +65,15 @@ static inline int rfe_friction_monitor_applies(rfe_status_t st)
     return ((st == RFE_OK) || (st == RFE_PROJECTED) || (st == RFE_HELD_NOT_OBSERVABLE)) ? 1 : 0;
 }
 
+/* Step 9's sd rule for one wheel (sd_ok: sd_valid > 0 and sd <= sd_valid; inside: the mean
+ * strictly between mu_min and mu_max). A mean on a bound was put there by the projection
+ * (step 8): the data asked for a friction outside the physical range, so the filter's sd
+ * does not describe the error there (docs/ESTIMATOR.md step 9). */
+static inline uint8_t rfe_friction_by_sd(uint8_t sd_ok, uint8_t inside)
+{
+    return ((sd_ok != 0u) && (inside != 0u)) ? 1u : 0u;
+}
+
 /* Step 9's valid flag of one wheel after a step with status st: never after an error; by the
  * sd (by_sd, computed from the estimate) when the sd rule is on (sd_valid > 0); else the
  * paper's rule, valid when this step updated the estimate from data. */

@@ -548,23 +548,28 @@ static uint32_t settle_counts_q31(rfe_friction_q31_t *est)
 }
 
 /* Step 9 on the filter's state: mu = T x, sd = T (row norms of S); validity by the sd when
- * sd_valid > 0 (the monitor's effect not applied). */
+ * sd_valid > 0, never on a projection bound (the monitor's effect not applied). */
 static rfe_status_t filter_estimate_q31(const rfe_friction_q31_t *est, rfe_estimate_q31_t *out)
 {
     rfe_fix_t x[RFE_N_MAX];
     rfe_fix_t sd[RFE_N_MAX];
     const rfe_fix_t sd_valid = est->params.filter.sd_valid;
+    const rfe_fix_t lo = est->params.filter.mu_min;
+    const rfe_fix_t hi = est->params.filter.mu_max;
     size_t w;
     rfe_status_t st;
     st = (est->params.filter.kind == RFE_FILTER_CKF)
              ? rfe_ckf_get_q31(&est->filter.ckf, x, sd)
              : rfe_sckf_get_q31(&est->filter.sckf, x, sd);
-    /* 9. mu = T x, sd = T (row norms of S); validity by sd when sd_valid > 0. */
+    /* 9. mu = T x, sd = T (row norms of S); validity by sd when sd_valid > 0, never on a
+     * projection bound. */
     for (w = 0u; w < NW; ++w) {
         const size_t k = state_of_q31(est, w);
+        const uint8_t sd_ok = ((sd_valid > 0) && (sd[k] <= sd_valid)) ? 1u : 0u;
+        const uint8_t inside = ((x[k] > lo) && (x[k] < hi)) ? 1u : 0u;
         out->mu[w] = x[k];
         out->sd[w] = sd[k];
-        out->valid[w] = ((sd_valid > 0) && (sd[k] <= sd_valid)) ? 1u : 0u;
+        out->valid[w] = rfe_friction_by_sd(sd_ok, inside);
     }
     out->status = st;
     out->sat = 0u;

@@ -607,8 +607,8 @@ static void test_rfe_friction_sides_mapping(void **state)
     }
 }
 
-/* REQ: validity: sd_valid > 0 is the sd rule at every status (also for get and at low speed);
- * sd_valid = 0 is the paper rule (valid when updated). */
+/* REQ: validity: sd_valid > 0 is the sd rule at every status (also for get and at low speed),
+ * never on a projection bound; sd_valid = 0 is the paper rule (valid when updated). */
 /* REQ-EST-010 */
 static void test_rfe_friction_validity_rules(void **state)
 {
@@ -629,6 +629,25 @@ static void test_rfe_friction_validity_rules(void **state)
     assert_int_equal(out.valid[0], 1);
     assert_int_equal(rfe_friction_step(&est, &slow, &out), RFE_NO_UPDATE_LOW_SPEED);
     assert_int_equal(out.valid[2], 1);
+    /* Never valid on a projection bound (step 9): the same prior at mu_min or mu_max is not
+     * valid, a little inside either bound it is. */
+    {
+        const rfe_real_t mu0[4] = {p.filter.mu_min, p.filter.mu_max,
+                                   p.filter.mu_min + (rfe_real_t)0.01,
+                                   p.filter.mu_max - (rfe_real_t)0.01};
+        const rfe_real_t keep = p.filter.mu0;
+        size_t c;
+        for (c = 0u; c < 4u; ++c) {
+            p.filter.mu0 = mu0[c];
+            assert_int_equal(rfe_friction_init(&est, &p), RFE_OK);
+            assert_int_equal(rfe_friction_get(&est, &out), RFE_OK);
+            assert_true(out.mu[0] == mu0[c]);
+            assert_true(out.sd[0] <= p.filter.sd_valid);
+            assert_int_equal(out.valid[0], (c < 2u) ? 0 : 1);
+            assert_int_equal(out.valid[3], (c < 2u) ? 0 : 1);
+        }
+        p.filter.mu0 = keep;
+    }
     /* The paper rule with the default tuning: valid only on updating steps. */
     p.filter.sd_valid = 0;
     assert_int_equal(rfe_friction_init(&est, &p), RFE_OK);

@@ -789,6 +789,38 @@ static void test_rfe_friction_q31_init_and_get(void **state)
                  0.0, "S_10");
 }
 
+/* REQ: the sd rule is never valid on a projection bound (ESTIMATOR.md step 9), as in the
+ * double twin: a prior of sd 0.07 (below sd_valid) is valid one LSB inside either bound
+ * and not valid at mu_min or at mu_max. */
+/* REQ-EST-010 REQ-FXP-010 */
+static void test_rfe_friction_q31_not_valid_on_a_bound(void **state)
+{
+    static rfe_friction_q31_t est;
+    rfe_params_q31_t base;
+    rfe_params_t pd;
+    rfe_estimate_q31_t out;
+    size_t c;
+    size_t w;
+    (void)state;
+    assert_int_equal(rfe_params_default_f64(&pd), RFE_OK);
+    pd.filter.sd0 = 0.05; /* prior sd 0.07 < sd_valid */
+    pd.filter.sd0_common = 0.05;
+    assert_int_equal(rfe_params_to_q31_f64(&pd, &base), RFE_OK);
+    for (c = 0u; c < 4u; ++c) {
+        rfe_params_q31_t p = base;
+        const rfe_fix_t mu0[4] = {p.filter.mu_min, p.filter.mu_max, p.filter.mu_min + 1,
+                                  p.filter.mu_max - 1};
+        p.filter.mu0 = mu0[c];
+        assert_int_equal(rfe_friction_init_q31(&est, &p), RFE_OK);
+        assert_int_equal(rfe_friction_get_q31(&est, &out), RFE_OK);
+        for (w = 0u; w < 4u; ++w) {
+            assert_int_equal(out.mu[w], mu0[c]);
+            assert_true(out.sd[w] <= p.filter.sd_valid);
+            assert_int_equal(out.valid[w], (c < 2u) ? 0 : 1);
+        }
+    }
+}
+
 /* REQ: status codes: low speed (2), held (3), updated (0) and projected (1) as the double
  * estimator, on hand-made samples. */
 /* REQ-EST-006 REQ-EST-007 REQ-EST-008 */
@@ -1364,6 +1396,7 @@ int main(void)
         cmocka_unit_test(test_rfe_friction_q31_limits_match_config),
         cmocka_unit_test(test_rfe_friction_q31_api_errors),
         cmocka_unit_test(test_rfe_friction_q31_init_and_get),
+        cmocka_unit_test(test_rfe_friction_q31_not_valid_on_a_bound),
         cmocka_unit_test(test_rfe_friction_q31_input_validation),
         cmocka_unit_test(test_rfe_friction_q31_statuses),
         cmocka_unit_test(test_rfe_friction_q31_rollback),
