@@ -120,6 +120,32 @@ rfe_status_t rfe_ckf_predict(rfe_ckf_t *f, rfe_process_fn_t process, void *ctx)
     return RFE_OK;
 }
 
+rfe_status_t rfe_ckf_predict_steps(rfe_ckf_t *f, uint32_t k)
+{
+    const rfe_real_t c = (rfe_real_t)k;
+    size_t n;
+    size_t i;
+    size_t j;
+    if (f == NULL) {
+        return RFE_ERR_NULL;
+    }
+    if (f->magic != RFE_MAGIC_CKF) {
+        return RFE_ERR_NOT_INITIALISED;
+    }
+    n = f->n;
+    /* P- = P + k Q into Pn first: an overflow commits nothing. x- = x (random walk). */
+    for (i = 0u; i < n; ++i) {
+        for (j = 0u; j < n; ++j) {
+            f->Pn[(i * NM) + j] = f->P[(i * NM) + j] + (c * f->Q[(i * NM) + j]);
+        }
+    }
+    if (!rfe_lower_finite(f->Pn, n, NM)) {
+        return RFE_ERR_NONFINITE;
+    }
+    copy_square(f->Pn, NM, n, f->P, NM);
+    return RFE_OK;
+}
+
 /* dst (k x k, stride ld) += src (k x k, stride ld). */
 static void add_square(const rfe_real_t *src, size_t k, size_t ld, rfe_real_t *dst)
 {

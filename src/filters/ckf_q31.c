@@ -160,6 +160,31 @@ rfe_status_t rfe_ckf_predict_q31(rfe_ckf_q31_t *f, rfe_process_fn_q31_t process,
     return RFE_OK;
 }
 
+rfe_status_t rfe_ckf_predict_steps_q31(rfe_ckf_q31_t *f, uint32_t k)
+{
+    uint32_t count = 0u;
+    size_t n;
+    size_t i;
+    size_t j;
+    if (f == NULL) {
+        return RFE_ERR_NULL;
+    }
+    if (f->magic != RFE_MAGIC_CKF_Q31) {
+        return RFE_ERR_NOT_INITIALISED;
+    }
+    n = f->n;
+    /* P- = P + k Q: |k Q_ij| < 2^63 exactly in int64, then saturating to Q31; x- = x. */
+    for (i = 0u; i < n; ++i) {
+        for (j = 0u; j < n; ++j) {
+            const int64_t kq = (int64_t)f->Q[(i * NM) + j] * (int64_t)k;
+            f->P[(i * NM) + j] =
+                rfe_fix_add(f->P[(i * NM) + j], rfe_fix_narrow(kq, 0u, &count), &count);
+        }
+    }
+    rfe_q31_sat_add(&f->sat, count);
+    return RFE_OK;
+}
+
 /* The candidate covariance P = P- - K Pzz K^T into f->Pn (gain transposed in w.Kt, Q26; Pzz
  * in w.Szz, Q24): T = K Pzz (n x m, Q30, in w.A), then P- - T K^T in Q(30 + 26) -> Q31. */
 static void posterior_covariance_q31(rfe_ckf_q31_t *f, uint32_t *count)

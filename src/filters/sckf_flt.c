@@ -96,8 +96,9 @@ static rfe_status_t predict_points(rfe_sckf_t *f, rfe_process_fn_t process, void
 /* Time update of the random walk f(x) = x: its points X_j = x +- sqrt(n) S e_j are
  * symmetric about x, so x- = x exactly, and the centred points +-sqrt(n) S e_j / sqrt(2n)
  * = +-S e_j / sqrt(2) contribute exactly S S^T: S- = Tria([S, S_Q]) (n x 2n) needs no
- * cubature points. The Tria input into w->A, x- = x into w->xn. */
-static void predict_random_walk(rfe_sckf_t *f)
+ * cubature points; k steps at once: Tria([S, sqrt(k) S_Q]) (c = sqrt(k), 1 for one step:
+ * bit for bit the one-step product). The Tria input into w->A, x- = x into w->xn. */
+static void predict_random_walk(rfe_sckf_t *f, rfe_real_t c)
 {
     rfe_cub_scratch_t *w = &f->w;
     const size_t n = f->n;
@@ -106,7 +107,7 @@ static void predict_random_walk(rfe_sckf_t *f)
     for (i = 0u; i < n; ++i) {
         for (j = 0u; j < n; ++j) {
             w->A[(i * TC) + j] = f->S[(i * NM) + j];
-            w->A[(i * TC) + n + j] = f->SQ[(i * NM) + j];
+            w->A[(i * TC) + n + j] = c * f->SQ[(i * NM) + j];
         }
     }
     rfe_cub_hold_random_walk_mean(f->x, n, NULL, w->xn);
@@ -128,7 +129,7 @@ rfe_status_t rfe_sckf_predict(rfe_sckf_t *f, rfe_process_fn_t process, void *ctx
     /* S- = Tria([(X*_1 - x-, ..., X*_2n - x-)/sqrt(2n), S_Q]); for the random walk
      * S- = Tria([S, S_Q]). */
     if (process == NULL) {
-        predict_random_walk(f);
+        predict_random_walk(f, RFE_R(1.0));
         cols = 2u * n;
     } else {
         st = predict_points(f, process, ctx);
@@ -137,6 +138,27 @@ rfe_status_t rfe_sckf_predict(rfe_sckf_t *f, rfe_process_fn_t process, void *ctx
     if (st == RFE_OK) {
         st = rfe_qr_tria(f->w.A, n, cols, TC);
     }
+    if (st != RFE_OK) {
+        return st;
+    }
+    commit(f);
+    return RFE_OK;
+}
+
+rfe_status_t rfe_sckf_predict_steps(rfe_sckf_t *f, uint32_t k)
+{
+    rfe_status_t st;
+    if (f == NULL) {
+        return RFE_ERR_NULL;
+    }
+    if (f->magic != RFE_MAGIC_SCKF) {
+        return RFE_ERR_NOT_INITIALISED;
+    }
+    if (k == 0u) {
+        return RFE_OK;
+    }
+    predict_random_walk(f, RFE_SQRT((rfe_real_t)k));
+    st = rfe_qr_tria(f->w.A, f->n, 2u * f->n, TC);
     if (st != RFE_OK) {
         return st;
     }

@@ -127,6 +127,55 @@ rfe_status_t rfe_sckf_predict_q31(rfe_sckf_q31_t *f, rfe_process_fn_q31_t proces
     return RFE_OK;
 }
 
+rfe_status_t rfe_sckf_predict_steps_q31(rfe_sckf_q31_t *f, uint32_t k)
+{
+    rfe_cub_scratch_q31_t *w;
+    uint32_t count = 0u;
+    uint64_t root;
+    size_t n;
+    size_t i;
+    size_t j;
+    rfe_status_t st;
+    if (f == NULL) {
+        return RFE_ERR_NULL;
+    }
+    if (f->magic != RFE_MAGIC_SCKF_Q31) {
+        return RFE_ERR_NOT_INITIALISED;
+    }
+    if (k == 0u) {
+        return RFE_OK;
+    }
+    w = &f->w;
+    n = f->n;
+    /* sqrt(k) in Q16 (<= 2^32); |SQ_ij sqrt(k)| < 2^63 in int64, rounded once to Q30. The
+     * random walk's points are symmetric about x: S- = Tria([S, sqrt(k) S_Q]), x- = x. */
+    root = rfe_q31_sqrt_round(((uint64_t)k) << 32u);
+    for (i = 0u; i < n; ++i) {
+        /* Q30 holds sd < 2: no more than sqrt(k) sd(S_Q row) = 1 (root <= 2^46 / |row|) */
+        rfe_fix_t qn = 0;
+        uint32_t unused = 0u;
+        const rfe_status_t nst = rfe_fix_norm(&f->SQ[i * NM], i + 1u, &qn, &unused);
+        (void)nst; /* fails only for NULL arguments, which these are not */
+        if ((qn > 0) && (root > (((uint64_t)1u << 46u) / (uint64_t)qn))) {
+            root = ((uint64_t)1u << 46u) / (uint64_t)qn;
+        }
+    }
+    for (i = 0u; i < n; ++i) {
+        for (j = 0u; j < n; ++j) {
+            const int64_t prod = (int64_t)f->SQ[(i * NM) + j] * (int64_t)root;
+            w->A[(i * TC) + j] = f->S[(i * NM) + j];
+            w->A[(i * TC) + n + j] = rfe_fix_narrow(prod, 16u, &count);
+        }
+        w->xn[i] = f->x[i];
+    }
+    st = rfe_qr_tria_q31(w->A, n, 2u * n, TC, &count);
+    if (st != RFE_OK) {
+        return st;
+    }
+    commit_q31(f, w->A, count);
+    return RFE_OK;
+}
+
 /* Xc = (X_j - x-)/sqrt(2n) into B (n x 2n, Q30) and Zc = (Z_j - z)/sqrt(2n) in place in
  * zpts (Q24). */
 static void centre_points_q31(rfe_sckf_q31_t *f, uint32_t *count)

@@ -639,6 +639,92 @@ static void assert_sckf_equals_ckf(const rfe_sckf_t *s, const rfe_ckf_t *c, cons
     ASSERT_LE(ep / ps, TOL_SCKF, "SCKF S S^T vs CKF P");
 }
 
+/* ---- (b2) a gap: k time updates at once -------------------------------------------------- */
+
+/* REQ: rfe_ckf_predict_steps(k) and rfe_sckf_predict_steps(k) are k random-walk time updates:
+ * x unchanged bit for bit, P = P0 + k Q as the Kalman filter's k predicts give it (TOL_REF:
+ * elementwise P + k Q is one product and one sum per entry, far inside it; the SCKF's one
+ * Tria within TOL_SCKF of the CKF's P); k = 0 changes nothing; k = 1 is the SCKF's one-step
+ * random-walk predict bit for bit (the same Tria input, SQ times 1); NULL, a filter never
+ * initialised and a non-finite factor are refused (the factor untouched). */
+/* REQ-CKF-001 REQ-SCKF-003 REQ-EST-015 */
+static void test_rfe_predict_steps_is_k_time_updates(void **state)
+{
+    static problem_t p;
+    static rfe_ckf_t c;
+    static rfe_ckf_t c0;
+    static rfe_sckf_t s;
+    static rfe_sckf_t s1;
+    static kf_ref_t r;
+    const uint32_t ks[4] = {0u, 1u, 7u, 1000u};
+    const size_t ns[3] = {1u, 4u, NM};
+    size_t a;
+    size_t b;
+    uint32_t i;
+    (void)state;
+    for (a = 0u; a < 3u; ++a) {
+        for (b = 0u; b < 4u; ++b) {
+            make_problem(&p, ns[a], 2u, 0, 7100u + (10u * a) + b);
+            init_ckf(&c, &p);
+            init_sckf(&s, &p);
+            ref_init(&r, &p);
+            c0 = c;
+            assert_int_equal(rfe_ckf_predict_steps(&c, ks[b]), RFE_OK);
+            for (i = 0u; i < ks[b]; ++i) {
+                kf_predict(&r, NULL);
+            }
+            assert_ckf_matches(&c, &r, TOL_REF, "CKF k steps vs Kalman filter", "predict_steps");
+            assert_memory_equal(c.x, c0.x, sizeof c.x);
+            if (ks[b] == 0u) {
+                assert_memory_equal(&c, &c0, CKF_STATE_BYTES);
+            }
+            s1 = s;
+            assert_int_equal(rfe_sckf_predict_steps(&s, ks[b]), RFE_OK);
+            assert_sckf_equals_ckf(&s, &c, "predict_steps");
+            assert_memory_equal(s.x, s1.x, sizeof s.x);
+            if (ks[b] == 0u) {
+                assert_memory_equal(s.S, s1.S, sizeof s.S);
+            }
+            if (ks[b] == 1u) {
+                assert_int_equal(rfe_sckf_predict(&s1, NULL, NULL), RFE_OK);
+                assert_memory_equal(s.S, s1.S, sizeof s.S);
+            }
+        }
+    }
+    /* a factor that is not finite (a corrupted state): Tria refuses it, S untouched */
+    make_problem(&p, 2u, 1u, 0, 7150u);
+    init_sckf(&s, &p);
+    s.S[0] = (rfe_real_t)INFINITY;
+    s1 = s;
+    assert_int_equal(rfe_sckf_predict_steps(&s, 5u), RFE_ERR_NONFINITE);
+    assert_memory_equal(s.S, s1.S, sizeof s.S);
+    memset(&c0, 0, sizeof c0);
+    memset(&s1, 0, sizeof s1);
+    assert_int_equal(rfe_ckf_predict_steps(NULL, 1u), RFE_ERR_NULL);
+    assert_int_equal(rfe_sckf_predict_steps(NULL, 1u), RFE_ERR_NULL);
+    assert_int_equal(rfe_ckf_predict_steps(&c0, 1u), RFE_ERR_NOT_INITIALISED);
+    assert_int_equal(rfe_sckf_predict_steps(&s1, 1u), RFE_ERR_NOT_INITIALISED);
+}
+
+/* REQ: a CKF covariance whose k Q overflows is refused, the state untouched. */
+/* REQ-CKF-001 REQ-EST-015 */
+static void test_rfe_ckf_predict_steps_overflow_untouched(void **state)
+{
+    static problem_t p;
+    static rfe_ckf_t c;
+    static rfe_ckf_t c0;
+    (void)state;
+    make_problem(&p, 2u, 1u, 0, 7200u);
+    init_ckf(&c, &p);
+    c.Q[0] = (rfe_real_t)1e36; /* times 4e9 beyond float and, as a double, still finite */
+#if defined(RFE_REAL_DOUBLE)
+    c.Q[0] = 1e300;
+#endif
+    c0 = c;
+    assert_int_equal(rfe_ckf_predict_steps(&c, UINT32_MAX), RFE_ERR_NONFINITE);
+    assert_memory_equal(&c, &c0, CKF_STATE_BYTES);
+}
+
 /* REQ-CKF-002 REQ-SCKF-003 */
 static void test_rfe_ckf_nonlinear_matches_sckf(void **state)
 {
@@ -1166,6 +1252,8 @@ int main(void)
         cmocka_unit_test(test_rfe_ckf_update_nonfinite_y_untouched),
         cmocka_unit_test(test_rfe_ckf_clamp),
         cmocka_unit_test(test_rfe_ckf_get_outputs),
+        cmocka_unit_test(test_rfe_predict_steps_is_k_time_updates),
+        cmocka_unit_test(test_rfe_ckf_predict_steps_overflow_untouched),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -703,6 +703,50 @@ static void test_rfe_ckf_q31_high_information_loses_definiteness(void **state)
     assert_true(lmin < (64.0 / 2147483648.0));
 }
 
+/* REQ: rfe_ckf_predict_steps_q31(k) is P + k Q, exact: each k Q_ij formed in int64 and
+ * saturated to Q31 once, then added saturating (every saturation counted), so it must equal
+ * that sum computed here independently bit for bit; x unchanged; k = 0 changes nothing;
+ * NULL and an uninitialised filter are refused. */
+/* REQ-CKF-004 REQ-FXP-005 REQ-EST-015 */
+static void test_rfe_ckf_q31_predict_steps(void **state)
+{
+    static problem_t p;
+    static rfe_ckf_q31_t f;
+    static rfe_ckf_q31_t f0;
+    const uint32_t ks[4] = {0u, 1u, 250u, UINT32_MAX};
+    size_t b;
+    size_t i;
+    size_t j;
+    (void)state;
+    for (b = 0u; b < 4u; ++b) {
+        uint32_t sat = 0u;
+        make_problem(&p, 3u, 2u, 0.3, 0.01, 0.05, 1.0, 8100u + b);
+        assert_int_equal(rfe_ckf_init_q31(&f, 3u, 2u, p.x0q, p.P0q, p.Qq, p.Rq), RFE_OK);
+        f0 = f;
+        assert_int_equal(rfe_ckf_predict_steps_q31(&f, ks[b]), RFE_OK);
+        assert_memory_equal(f.x, f0.x, sizeof f.x);
+        for (i = 0u; i < 3u; ++i) {
+            for (j = 0u; j < 3u; ++j) {
+                const int64_t kq = (int64_t)f0.Q[(i * NM) + j] * (int64_t)ks[b];
+                const int64_t kq32 = (kq > INT32_MAX) ? INT32_MAX : ((kq < -INT32_MAX) ? -INT32_MAX : kq);
+                const int64_t sum = (int64_t)f0.P[(i * NM) + j] + kq32;
+                const int64_t want = (sum > INT32_MAX) ? INT32_MAX : ((sum < -INT32_MAX) ? -INT32_MAX : sum);
+                sat += (kq32 != kq) ? 1u : 0u;
+                sat += (want != sum) ? 1u : 0u;
+                assert_int_equal(f.P[(i * NM) + j], (int32_t)want);
+            }
+        }
+        assert_int_equal(f.sat, f0.sat + sat);
+        assert_true((ks[b] != UINT32_MAX) || (sat > 0u)); /* the largest k saturates */
+        if (ks[b] == 0u) {
+            assert_memory_equal(&f, &f0, sizeof f);
+        }
+    }
+    memset(&f0, 0, sizeof f0);
+    assert_int_equal(rfe_ckf_predict_steps_q31(NULL, 1u), RFE_ERR_NULL);
+    assert_int_equal(rfe_ckf_predict_steps_q31(&f0, 1u), RFE_ERR_NOT_INITIALISED);
+}
+
 /* ---- API contract ------------------------------------------------------------------------ */
 
 /* REQ-CKF-004 */
@@ -879,6 +923,7 @@ int main(void)
         cmocka_unit_test(test_rfe_ckf_q31_argument_errors),
         cmocka_unit_test(test_rfe_ckf_q31_failures_untouched),
         cmocka_unit_test(test_rfe_ckf_q31_get_clamp_saturation),
+        cmocka_unit_test(test_rfe_ckf_q31_predict_steps),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

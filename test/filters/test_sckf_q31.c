@@ -963,6 +963,114 @@ static void init_q31(rfe_sckf_q31_t *f, const problem_t *p)
                      RFE_OK);
 }
 
+/* REQ: rfe_sckf_predict_steps_q31(k) against the double twin on the same (dequantised) state:
+ * x unchanged bit for bit; sd within the bound of one random-walk Tria: the entries of
+ * sqrt(k) S_Q carry sqrt(k)'s Q16 rounding (0.5 / 2^16 absolute, times |S_Q|) and their own
+ * 0.5 LSB30, so a row of [S, sqrt(k) S_Q] moves by at most sqrt(n) (|S_Q|max 2^-17 + 0.5
+ * LSB30); Tria adds GAMMA sd_i + 0.5 sqrt(2n) LSB30 (the header's predict bound); asserted
+ * with TOL_ONE_STEP. k = 0 changes nothing; a k whose sqrt(k) S_Q would leave Q30 acts as the
+ * largest one that keeps the added sd at 1 (header); NULL and an uninitialised filter are
+ * refused. */
+/* REQ-SCKF-003 REQ-FXP-005 REQ-EST-015 */
+static void test_rfe_sckf_q31_predict_steps(void **state)
+{
+    static problem_t p;
+    static rfe_sckf_q31_t fq;
+    static rfe_sckf_q31_t f0;
+    static rfe_sckf_t fd;
+    const uint32_t ks[4] = {0u, 1u, 37u, 2000u}; /* sqrt(k) |row of S_Q| < 1: no limit */
+    size_t n;
+    size_t b;
+    size_t i;
+    (void)state;
+    for (n = 1u; n <= NM; ++n) {
+        for (b = 0u; b < 4u; ++b) {
+            int32_t xq[NM];
+            int32_t sq[NM];
+            double xd[NM];
+            double sdd[NM];
+            double sq_max = 0.0;
+            make_problem(&p, n, 1u, 0, 7300u + (10u * n) + b);
+            init_q31(&fq, &p);
+            assert_int_equal(rfe_sckf_init_f64(&fd, n, 1u, p.x0, p.S0, p.SQ, p.SR), RFE_OK);
+            sync_to(&fd, &fq);
+            for (i = 0u; i < (n * n); ++i) {
+                sq_max = fmax(sq_max, fabs(p.SQ[i]));
+            }
+            f0 = fq;
+            assert_int_equal(rfe_sckf_predict_steps_q31(&fq, ks[b]), RFE_OK);
+            assert_int_equal(rfe_sckf_predict_steps_f64(&fd, ks[b]), RFE_OK);
+            assert_memory_equal(fq.x, f0.x, sizeof fq.x);
+            assert_int_equal(fq.sat, 0u);
+            if (ks[b] == 0u) {
+                assert_memory_equal(&fq, &f0, sizeof fq);
+            }
+            assert_int_equal(rfe_sckf_get_q31(&fq, xq, sq), RFE_OK);
+            assert_int_equal(rfe_sckf_get_f64(&fd, xd, sdd), RFE_OK);
+            for (i = 0u; i < n; ++i) {
+                const double gamma = 8.0 * (double)n / 536870912.0;
+                const double bound = (sqrt((double)n) * ((sq_max * sqrt((double)ks[b]) / 131072.0) +
+                                                         (0.5 * LSB30))) +
+                                     (gamma * sdd[i]) + (0.5 * sqrt(2.0 * (double)n) * LSB30);
+                ASSERT_LE(fabs(d(sq[i], QS) - sdd[i]), TOL_ONE_STEP * bound, "predict_steps sd");
+            }
+        }
+    }
+    /* sqrt(2^32 - 1) S_Q ~ 65536 x 0.0125 would leave Q30: the count acts as the one at which
+     * sqrt(k) |row of S_Q| = 1 (root = floor(2^46 / |row|): relative 2^-15 at most in k |row|^2
+     * for these rows, 1e-4 asserted), so sd_i^2 = P0_ii + k |row_i|^2 <= P0_ii + 1, equality on
+     * the largest row, and nothing saturates */
+    for (n = 1u; n <= NM; ++n) {
+        int32_t sq[NM];
+        double qn2[NM];
+        double qmax = 0.0;
+        make_problem(&p, n, 1u, 0, 7390u + n);
+        init_q31(&fq, &p);
+        for (i = 0u; i < n; ++i) {
+            size_t j;
+            qn2[i] = 0.0;
+            for (j = 0u; j <= i; ++j) {
+                qn2[i] += p.SQ[(i * n) + j] * p.SQ[(i * n) + j];
+            }
+            qmax = fmax(qmax, qn2[i]);
+        }
+        assert_int_equal(rfe_sckf_get_q31(&fq, NULL, sq), RFE_OK);
+        for (i = 0u; i < n; ++i) {
+            qn2[i] = (d(sq[i], QS) * d(sq[i], QS)) + (qn2[i] / qmax); /* P0_ii + k |row_i|^2 */
+        }
+        assert_int_equal(rfe_sckf_predict_steps_q31(&fq, UINT32_MAX), RFE_OK);
+        assert_int_equal(fq.sat, 0u);
+        assert_int_equal(rfe_sckf_get_q31(&fq, NULL, sq), RFE_OK);
+        for (i = 0u; i < n; ++i) {
+            ASSERT_LE(fabs((d(sq[i], QS) * d(sq[i], QS)) - qn2[i]), 1e-4 * qn2[i],
+                      "a long gap: sd^2 = P0 + the limited k |row|^2");
+        }
+    }
+    /* S_Q = 0 (no process noise): no limit to compute, S stays (Tria of [S, 0]: the row
+     * norms within one Tria's rounding, GAMMA sd + 0.5 sqrt(2n) LSB30, of before) */
+    make_problem(&p, 3u, 1u, 0, 7398u);
+    init_q31(&fq, &p);
+    memset(fq.SQ, 0, sizeof fq.SQ);
+    f0 = fq;
+    assert_int_equal(rfe_sckf_predict_steps_q31(&fq, UINT32_MAX), RFE_OK);
+    assert_int_equal(fq.sat, 0u);
+    {
+        int32_t s_before[NM];
+        int32_t s_after[NM];
+        assert_int_equal(rfe_sckf_get_q31(&f0, NULL, s_before), RFE_OK);
+        assert_int_equal(rfe_sckf_get_q31(&fq, NULL, s_after), RFE_OK);
+        for (i = 0u; i < 3u; ++i) {
+            const double sdb = d(s_before[i], QS);
+            ASSERT_LE(fabs(d(s_after[i], QS) - sdb),
+                      TOL_ONE_STEP * (((24.0 / 536870912.0) * sdb) + (0.5 * sqrt(6.0) * LSB30)),
+                      "S_Q = 0: S kept");
+        }
+    }
+    memset(&f0, 0, sizeof f0);
+    assert_int_equal(rfe_sckf_predict_steps_q31(NULL, 1u), RFE_ERR_NULL);
+    assert_int_equal(rfe_sckf_predict_steps_q31(&f0, 1u), RFE_ERR_NOT_INITIALISED);
+}
+
 /* REQ: update_ex with the filter's S_R and no gate is update, bit for bit (also while it
  * reports the information); a step S_R is a filter whose own S_R is that factor. */
 /* REQ-SCKF-004 */
@@ -1548,6 +1656,7 @@ int main(void)
         cmocka_unit_test(test_rfe_sckf_q31_scale_get_clamp),
         cmocka_unit_test(test_rfe_sckf_q31_saturation_counted),
         cmocka_unit_test(test_rfe_sckf_q31_deterministic),
+        cmocka_unit_test(test_rfe_sckf_q31_predict_steps),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

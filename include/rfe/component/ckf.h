@@ -17,12 +17,14 @@
 #if defined(RFE_REAL_DOUBLE)
 #define rfe_ckf_init    rfe_ckf_init_f64
 #define rfe_ckf_predict rfe_ckf_predict_f64
+#define rfe_ckf_predict_steps rfe_ckf_predict_steps_f64
 #define rfe_ckf_update  rfe_ckf_update_f64
 #define rfe_ckf_get     rfe_ckf_get_f64
 #define rfe_ckf_clamp   rfe_ckf_clamp_f64
 #else
 #define rfe_ckf_init    rfe_ckf_init_f32
 #define rfe_ckf_predict rfe_ckf_predict_f32
+#define rfe_ckf_predict_steps rfe_ckf_predict_steps_f32
 #define rfe_ckf_update  rfe_ckf_update_f32
 #define rfe_ckf_get     rfe_ckf_get_f32
 #define rfe_ckf_clamp   rfe_ckf_clamp_f32
@@ -49,6 +51,9 @@ RFE_NODISCARD rfe_status_t rfe_ckf_init(rfe_ckf_t *f, size_t n, size_t m,
 /** Time update: points from chol(P), P- = sum w X* X*^T - x- x-^T + Q. */
 RFE_NODISCARD rfe_status_t rfe_ckf_predict(rfe_ckf_t *f, rfe_process_fn_t process,
                                           void *ctx);
+/** @p k time updates of the random walk at once (a gap of k sample periods): x- = x,
+ *  P- = P + k Q; k = 0 changes nothing. RFE_ERR_NONFINITE if P- overflows (state untouched). */
+RFE_NODISCARD rfe_status_t rfe_ckf_predict_steps(rfe_ckf_t *f, uint32_t k);
 /** Measurement update: Pzz = sum w Z Z^T - z z^T + R, Pxz = sum w X Z^T - x- z^T, K = Pxz Pzz^-1. */
 RFE_NODISCARD rfe_status_t rfe_ckf_update(rfe_ckf_t *f, rfe_measure_fn_t measure,
                                          void *ctx, const rfe_real_t *y);

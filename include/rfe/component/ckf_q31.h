@@ -54,6 +54,10 @@ RFE_NODISCARD rfe_status_t rfe_ckf_init_q31(rfe_ckf_q31_t *f, size_t n, size_t m
  *  the callback's error (state untouched). */
 RFE_NODISCARD rfe_status_t rfe_ckf_predict_q31(rfe_ckf_q31_t *f, rfe_process_fn_q31_t process,
                                                void *ctx);
+/** @p k time updates of the random walk at once (ckf.h's rfe_ckf_predict_steps): x- = x,
+ *  P- = P + k Q, exact in int64 then saturating to Q31 (counted); k = 0 changes nothing.
+ *  @return RFE_OK; RFE_ERR_NULL; RFE_ERR_NOT_INITIALISED. */
+RFE_NODISCARD rfe_status_t rfe_ckf_predict_steps_q31(rfe_ckf_q31_t *f, uint32_t k);
 /** Measurement update: Pzz = sum w Z Z^T - z z^T + R, Pxz = sum w X Z^T - x- z^T,
  *  K = Pxz Pzz^-1 (Cholesky of Pzz, two triangular solves), x = x- + K (y - z),
  *  P = P- - K Pzz K^T.

@@ -19,6 +19,7 @@
 #if defined(RFE_REAL_DOUBLE)
 #define rfe_sckf_init      rfe_sckf_init_f64
 #define rfe_sckf_predict   rfe_sckf_predict_f64
+#define rfe_sckf_predict_steps rfe_sckf_predict_steps_f64
 #define rfe_sckf_update    rfe_sckf_update_f64
 #define rfe_sckf_update_ex rfe_sckf_update_ex_f64
 #define rfe_sckf_scale     rfe_sckf_scale_f64
@@ -27,6 +28,7 @@
 #else
 #define rfe_sckf_init      rfe_sckf_init_f32
 #define rfe_sckf_predict   rfe_sckf_predict_f32
+#define rfe_sckf_predict_steps rfe_sckf_predict_steps_f32
 #define rfe_sckf_update    rfe_sckf_update_f32
 #define rfe_sckf_update_ex rfe_sckf_update_ex_f32
 #define rfe_sckf_scale     rfe_sckf_scale_f32
@@ -92,6 +94,14 @@ RFE_NODISCARD rfe_status_t rfe_sckf_init(rfe_sckf_t *f, size_t n, size_t m,
  */
 RFE_NODISCARD rfe_status_t rfe_sckf_predict(rfe_sckf_t *f, rfe_process_fn_t process,
                                            void *ctx);
+
+/**
+ * @p k time updates of the random walk f(x) = x at once (a gap of k sample periods):
+ * x- = x, S- = Tria([S, sqrt(k) SQ]), i.e. P- = P + k Q, in O(1) whatever k. k = 0 changes
+ * nothing. @return RFE_OK; RFE_ERR_NULL; RFE_ERR_NOT_INITIALISED; Tria's error (state
+ * untouched).
+ */
+RFE_NODISCARD rfe_status_t rfe_sckf_predict_steps(rfe_sckf_t *f, uint32_t k);
 
 /**
  * Measurement update with measurement y (m values): cubature points from S-, Z_j = h(X_j),

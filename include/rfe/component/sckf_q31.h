@@ -113,6 +113,16 @@ RFE_NODISCARD rfe_status_t rfe_sckf_predict_q31(rfe_sckf_q31_t *f, rfe_process_f
                                                 void *ctx);
 
 /**
+ * @p k time updates of the random walk at once (sckf.h's rfe_sckf_predict_steps): x- = x,
+ * S- = Tria([S, sqrt(k) SQ]), sqrt(k) exactly rounded in Q16, each sqrt(k) SQ_ij rounded
+ * once to Q30 (saturating, counted); k = 0 changes nothing. Q30 holds an sd below 2, so a k
+ * beyond the count at which sqrt(k) times a row norm of SQ reaches 1 (an sd of 1 added:
+ * more than any friction's range) acts as that count (the float twin has no such limit).
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_NOT_INITIALISED (state untouched).
+ */
+RFE_NODISCARD rfe_status_t rfe_sckf_predict_steps_q31(rfe_sckf_q31_t *f, uint32_t k);
+
+/**
  * Measurement update with measurement y (m values, Q24): cubature points from S-,
  * Z_j = h(X_j), S_zz = Tria([Zc, SR]), then, in whitened form (algebraically the float
  * twin's K = (P_xz / S_zz^T) / S_zz): W = S_zz \ [Zc, SR], G = [Xc 0] W^T (= K S_zz),
