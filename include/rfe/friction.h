@@ -57,11 +57,13 @@
 #define rfe_friction_step rfe_friction_step_f64
 #define rfe_friction_get  rfe_friction_get_f64
 #define rfe_friction_set_input_noise rfe_friction_set_input_noise_f64
+#define rfe_friction_skip rfe_friction_skip_f64
 #else
 #define rfe_friction_init rfe_friction_init_f32
 #define rfe_friction_step rfe_friction_step_f32
 #define rfe_friction_get  rfe_friction_get_f32
 #define rfe_friction_set_input_noise rfe_friction_set_input_noise_f32
+#define rfe_friction_skip rfe_friction_skip_f32
 #endif
 
 /** Output of one step (one row of the DATA.md estimate log). */
@@ -159,6 +161,21 @@ RFE_NODISCARD rfe_status_t rfe_friction_step(rfe_friction_t *est,
  */
 RFE_NODISCARD rfe_status_t rfe_friction_get(const rfe_friction_t *est,
                                             rfe_estimate_t *out);
+
+/**
+ * A gap in the data: @p missed sample periods passed without a sample (a dropped CAN frame,
+ * a logger's gap; the caller knows its period). Their time updates at once, in O(1): the
+ * random walk's process noise of @p missed steps (P += missed Q; the friction is held), but
+ * no further than the prior's variance (sd0^2 + sd0_common^2), then the sd bounds of step 7
+ * once (SCKF); the input filter restarts at the next sample (its integrated speeds cannot
+ * bridge the gap). The monitor keeps its window. docs/ESTIMATOR.md "Gaps". missed = 0
+ * changes nothing.
+ * @param[in,out] est     an estimator set up by rfe_friction_init.
+ * @param[in]     missed  the number of sample periods without a sample.
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_NOT_INITIALISED; a numeric error of the filter
+ *         (the estimator is then untouched).
+ */
+RFE_NODISCARD rfe_status_t rfe_friction_skip(rfe_friction_t *est, uint32_t missed);
 
 /**
  * Sets the input uncertainties of the next steps' errors-in-variables terms (docs/

@@ -167,6 +167,18 @@ RFE_NODISCARD rfe_status_t rfe_friction_get_q31(const rfe_friction_q31_t *est,
                                                 rfe_estimate_q31_t *out);
 
 /**
+ * A gap in the data: @p missed sample periods without a sample (the twin of
+ * rfe_friction_skip: the random walk's time updates of @p missed steps at once, no further
+ * than the prior's variance, the sd bounds once, the input filter restarted at the next
+ * sample). Saturations join the running total.
+ * @param[in,out] est     an estimator set up by rfe_friction_init_q31.
+ * @param[in]     missed  the number of sample periods without a sample.
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_NOT_INITIALISED; a numeric error of the filter
+ *         (the estimator is then untouched).
+ */
+RFE_NODISCARD rfe_status_t rfe_friction_skip_q31(rfe_friction_q31_t *est, uint32_t missed);
+
+/**
  * Sets the per-step input uncertainties of the errors-in-variables terms (the twin of
  * rfe_friction_set_input_noise), for inputs that are estimates themselves (the velocity
  * observer's sd each step, docs/OBSERVER.md §6).

@@ -65,6 +65,15 @@ class SCKF:
         self.x = self.x.copy()
         self.S = tria(np.hstack([self.S, self.s_q]))
 
+    def time_update_steps(self, k: int):
+        """k random-walk time updates at once (sckf_flt.c rfe_sckf_predict_steps):
+        S- = Tria([S, sqrt(k) S_Q]); k = 0 changes nothing."""
+        if k > 0:
+            self.S = tria(np.hstack([self.S, np.sqrt(float(k)) * self.s_q]))
+
+    def q_diag(self):
+        return np.sum(self.s_q ** 2, axis=1)
+
     def measurement_update(self, y, h):
         """MODEL.md section 6 measurement update:
         X_j = S- xi_j + x-; Z_j = h(X_j); z = mean Z_j; Xc = (X_j - x-)/sqrt(2n);
@@ -114,6 +123,13 @@ class CKF:
         self.P = self.w * (x_star @ x_star.T) - np.outer(x_mean, x_mean) + self.q
         self.x = self.x.copy()  # symmetric points: x- = x exactly (see SCKF.time_update)
 
+    def time_update_steps(self, k: int):
+        """k random-walk time updates at once (ckf_flt.c rfe_ckf_predict_steps): P + k Q."""
+        self.P = self.P + k * self.q
+
+    def q_diag(self):
+        return np.diag(self.q).copy()
+
     def measurement_update(self, y, h):
         """Z_j = h(X_j); z = mean; P_zz = sum w Z Z^T - z z^T + R; P_xz = sum w X Z^T - x- z^T;
         K = P_xz P_zz^-1 (linear solve); x = x- + K (y - z); P = P- - K P_zz K^T."""
@@ -129,3 +145,31 @@ class CKF:
 
     def sd(self):
         return np.sqrt(np.diag(self.P))
+
+
+UINT32_MAX = 2 ** 32 - 1
+
+
+GAP_STAMP_REL = 1e-6   # log_timing.c rfe_log_gap_limit: the time stamps' own rounding
+
+
+def gap_periods(period: float, dt: float) -> int:
+    """The sample periods a gap misses (src/host/log_timing.c rfe_log_missed): none up to
+    2 dt (jitter; one dropped sample is not a gap), else round(period / dt) - 1, at most
+    2^32 - 1; none for dt <= 0."""
+    if not (dt > 0) or not (period > 2.0 * dt * (1.0 + GAP_STAMP_REL)):
+        return 0
+    return int(min(np.floor(period / dt + 0.5) - 1.0, UINT32_MAX))
+
+
+def gap_steps(f, missed: int, prior_var: float) -> int:
+    """The gap's time updates made (friction_flt.c gap_steps, docs/ESTIMATOR.md "Gaps"):
+    missed, but at most until some state's variance reaches prior_var."""
+    k = missed
+    var = f.sd() ** 2
+    for v, q in zip(var, f.q_diag()):
+        if q > 0:
+            room = max(prior_var - v, 0.0) / q
+            if room < k:
+                k = int(room)
+    return k

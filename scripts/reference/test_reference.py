@@ -574,6 +574,56 @@ def test_trusted_holds_when_nothing_is_observable(tmp_path):
     np.testing.assert_array_equal(res["mu"][:, 0], res["mu"][:, 2])   # sides: fl == rl
 
 
+# REQ-EST-015 REQ-REF-001
+@pytest.mark.parametrize("preset,kind", [("default", "sckf"), ("paper", "sckf"), ("paper", "ckf")])
+def test_gaps_reference_and_library_agree(tmp_path, preset, kind):
+    """docs/ESTIMATOR.md "Gaps", independently twice: the reference (filters.gap_steps,
+    trusted.py / estimate.py) and the C library through mu_replay (rfe_friction_skip, the
+    double build) on a Magic Formula hard brake with three gaps in it (30 and 2 periods cut
+    out, a 30 s outage: long enough to reach the prior's variance before the next update).
+    Double against double: mu and sd within 1e-9 (compare.TOL_MU, the golden bound),
+    statuses and valid flags exact; and the gaps must show (the sd after the long one above
+    the sd before it, at most the prior's), so the test cannot pass on a run that ignores
+    them."""
+    replay = os.path.join(REPO, "build", "mu_replay")
+    if not os.path.isfile(replay):
+        pytest.skip("needs build/mu_replay (make build/mu_replay)")
+    src = os.path.join(REPO, "scenarios", "hard_brake_low_mu.mf.csv")
+    with open(src, encoding="utf-8") as fh:
+        lines = fh.read().splitlines()
+    head = next(i for i, ln in enumerate(lines) if not ln.startswith("#"))
+    rows = lines[head + 1:]
+    keep = []
+    for i, r in enumerate(rows):
+        if 300 <= i < 330 or 500 <= i < 502:
+            continue                                    # 30 and 2 periods cut out
+        if i >= 620:                                    # a 30 s outage before row 620
+            t_s, rest = r.split(",", 1)
+            r = f"{float(t_s) + 30.0:.10g},{rest}"
+        keep.append(r)
+    gapped = str(tmp_path / "gapped.csv")
+    with open(gapped, "w", encoding="utf-8") as fh:
+        fh.write("\n".join(lines[:head + 1] + keep) + "\n")
+    ref = estimate.estimate_file(gapped, str(tmp_path / "ref.csv"), None, kind, None, preset)
+    out = str(tmp_path / "c.csv")
+    res = subprocess.run([replay, "--in", gapped, "--out", out, "--preset", preset,
+                          "--filter", kind, "--real", "double", "--quiet"],
+                         capture_output=True, text=True)
+    assert res.returncode == 0, res.stderr
+    c = logs.read_csv_log(out, required=())
+    for i, w in enumerate(model.WHEELS):
+        np.testing.assert_allclose(c.col("mu_" + w), ref["mu"][:, i], atol=compare.TOL_MU, rtol=0)
+        np.testing.assert_allclose(c.col("sd_" + w), ref["sd"][:, i], atol=compare.TOL_SD, rtol=0)
+        np.testing.assert_array_equal(c.col("valid_" + w).astype(int), ref["valid"][:, i])
+    np.testing.assert_array_equal(c.col("status").astype(int), ref["status"])
+    p = params.resolve(None, None, preset=preset)
+    t = c.col("t")
+    after = int(np.flatnonzero(np.diff(t) > 1.0)[0]) + 1       # the sample after the long gap
+    assert c.col("sd_fl")[after] > c.col("sd_fl")[after - 1]
+    prior = p["sd0"] ** 2 + p["sd0_common"] ** 2
+    assert c.col("sd_fl")[after] ** 2 <= prior * (1 + 1e-9)
+
+
 # ---------------------------------------------------------------------------------------------
 # 8: golden comparison across machines (compare.py, runtime.py)
 # ---------------------------------------------------------------------------------------------

@@ -4,6 +4,7 @@
  */
 #include "log_timing.h"
 
+#include <math.h>
 #include <stdlib.h>
 
 #include "text_io.h"
@@ -46,4 +47,19 @@ size_t rfe_log_gaps(const rfe_sensor_log_t *log, double limit)
         gaps += ((log->rows[i].t - log->rows[i - 1u].t) > limit) ? 1u : 0u;
     }
     return gaps;
+}
+
+double rfe_log_gap_limit(double dt)
+{
+    return 2.0 * dt * (1.0 + 1e-6);
+}
+
+uint32_t rfe_log_missed(double period, double dt)
+{
+    double k;
+    if (!(dt > 0.0) || !(period > rfe_log_gap_limit(dt))) {
+        return 0u;
+    }
+    k = floor((period / dt) + 0.5) - 1.0; /* >= 1: period > 2 dt */
+    return (k >= (double)UINT32_MAX) ? UINT32_MAX : (uint32_t)k;
 }

@@ -8,6 +8,7 @@
 #define RFE_HOST_LOG_TIMING_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 #include "csv_log.h"
 
@@ -27,5 +28,20 @@ int rfe_log_period(const rfe_sensor_log_t *log, rfe_log_period_t *out);
 
 /** Number of periods longer than @p limit [s] (gaps in the recording). */
 size_t rfe_log_gaps(const rfe_sensor_log_t *log, double limit);
+
+/**
+ * The longest period at the nominal @p dt [s] that is not a gap: 2 dt, widened by the time
+ * stamps' own rounding (1e-6 relative: a log's decimal stamps differ from exact multiples of
+ * dt by ~1e-15 s; real jitter is 1e3 times larger), so one dropped sample (a period of 2 dt)
+ * is jitter, not a gap.
+ */
+double rfe_log_gap_limit(double dt);
+
+/**
+ * The sample periods missing in a period of @p period [s] at the nominal @p dt [s]: 0 up to
+ * rfe_log_gap_limit (jitter), else round(period / dt) - 1, at most UINT32_MAX (what
+ * rfe_friction_skip is given before the sample that ends the gap). 0 when dt <= 0.
+ */
+uint32_t rfe_log_missed(double period, double dt);
 
 #endif /* RFE_HOST_LOG_TIMING_H */

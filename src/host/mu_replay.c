@@ -489,7 +489,7 @@ static int check_period(const options_t *o, run_t *r)
     } else {
         /* dt as given: it matches */
     }
-    gaps = rfe_log_gaps(&r->log, 2.0 * per.median);
+    gaps = rfe_log_gaps(&r->log, rfe_log_gap_limit(per.median));
     for (i = 1u; i < r->log.n_rows; ++i) {
         if ((r->log.rows[i].t - r->log.rows[i - 1u].t) == per.max) {
             t_gap = r->log.rows[i].t;
@@ -498,13 +498,16 @@ static int check_period(const options_t *o, run_t *r)
     }
     if (!o->quiet && (gaps != 0u)) {
         fprintf(stderr, "%s: note: %zu gap(s) longer than 2 periods (2 x %.6g s), the longest "
-                        "%.6g s before t = %.6g s: the friction estimator steps over each as one "
-                        "period",
+                        "%.6g s before t = %.6g s: ",
                 PROG, gaps, per.median, per.max, t_gap);
         if (r->use_observer) {
-            fprintf(stderr, "; the observer steps with the real period and rejects the sample "
-                            "after %zu gap(s) longer than obs_dt_max = %.6g s",
+            fprintf(stderr, "the friction estimator behind the observer steps over each as one "
+                            "period; the observer steps with the real period and rejects the "
+                            "sample after %zu gap(s) longer than obs_dt_max = %.6g s",
                     rfe_log_gaps(&r->log, dt_max), dt_max);
+        } else {
+            fprintf(stderr, "the friction estimator makes the time updates of the missed "
+                            "periods at once and restarts its input filter (rfe_friction_skip)");
         }
         fputc('\n', stderr);
     }
@@ -697,8 +700,8 @@ static void compute_metrics(run_t *r)
     free(buf);
 }
 
-/* {"generator", "input", "preset", "filter", "tyre", "real", "steps", "status_counts",
- *  "metrics"} */
+/* {"generator", "input", "preset", "filter", "tyre", "real", "steps", "bad_cells", "gaps",
+ *  "status_counts", "metrics"} */
 static int write_metrics_json(const options_t *o, const run_t *r)
 {
     rfe_io_error_t err;
@@ -724,9 +727,11 @@ static int write_metrics_json(const options_t *o, const run_t *r)
                 r->q31.input_sat_rows);
     }
     fprintf(f, "  \"steps\": %zu,\n  \"bad_cells\": {\"empty\": %zu, \"nonfinite\": %zu, "
-               "\"range\": %zu, \"rows\": %zu},\n  \"status_counts\": {",
+               "\"range\": %zu, \"rows\": %zu},\n  \"gaps\": {\"count\": %zu, "
+               "\"missed_periods\": %llu},\n  \"status_counts\": {",
             r->stats.n_steps, r->log.bad_cells[RFE_CELL_EMPTY], r->log.bad_cells[RFE_CELL_NONFINITE],
-            r->log.bad_cells[RFE_CELL_RANGE], r->log.bad_rows);
+            r->log.bad_cells[RFE_CELL_RANGE], r->log.bad_rows, r->stats.n_gaps,
+            (unsigned long long)r->stats.n_skipped);
     for (s = 0u; s < RFE_REPLAY_STATUS_SLOTS; ++s) {
         if (r->stats.status_count[s] != 0u) {
             fprintf(f, "%s\"%zu\": %zu", sep, s, r->stats.status_count[s]);
@@ -776,6 +781,11 @@ static void print_status_counts(const run_t *r)
                                    : "other status values";
             printf("  status %2zu %-40s %zu\n", s, name, r->stats.status_count[s]);
         }
+    }
+    if (r->stats.n_gaps != 0u) {
+        printf("gaps: %zu longer than 2 dt, %llu missed sample periods time-updated "
+               "(rfe_friction_skip)\n",
+               r->stats.n_gaps, (unsigned long long)r->stats.n_skipped);
     }
     if (r->is_q31) {
         printf("saturation (q31): estimator %llu events in %zu steps (at most %lu in one step); "

@@ -20,6 +20,7 @@
 #include "rfe/friction_q31.h"
 #include "rfe/pipeline_q31.h"
 #include "host/fixed_conv.h"
+#include "log_timing.h"
 #include "rfe/component/params_conv.h"
 
 rfe_status_t rfe_replay_params_q31(const rfe_param_set_t *ps, rfe_params_q31_t *q,
@@ -174,7 +175,18 @@ rfe_status_t rfe_replay_run_q31(const rfe_param_set_t *ps, const rfe_sensor_log_
         return st;
     }
     for (i = 0u; i < log->n_rows; ++i) {
-        const uint32_t sat = step_row(&est, &log->rows[i], &out[i], stats);
+        /* a gap: the missed periods' time updates before the sample that ends it */
+        const uint32_t missed =
+            (i > 0u) ? rfe_log_missed(log->rows[i].t - log->rows[i - 1u].t, ps->value[RFE_PK_dt])
+                     : 0u;
+        uint32_t sat;
+        if (missed > 0u) {
+            ++stats->base.n_gaps;
+            if (rfe_friction_skip_q31(&est, missed) == RFE_OK) {
+                stats->base.n_skipped += missed;
+            }
+        }
+        sat = step_row(&est, &log->rows[i], &out[i], stats);
         if (row_sat != NULL) {
             row_sat[i] = sat;
         }

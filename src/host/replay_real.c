@@ -16,6 +16,8 @@
 #include "rfe/params.h"
 #include "rfe/velocity_params.h"
 
+#include "log_timing.h"
+
 static rfe_status_t preset_params(rfe_preset_t preset, rfe_params_t *p);
 static void set_key(rfe_params_t *p, const rfe_param_set_t *ps, size_t k);
 static rfe_status_t to_lib_params(const rfe_param_set_t *ps, rfe_params_t *p);
@@ -278,6 +280,16 @@ rfe_status_t rfe_replay_run(const rfe_param_set_t *ps, const rfe_sensor_log_t *l
         return st;
     }
     for (i = 0u; i < log->n_rows; ++i) {
+        /* a gap: the missed periods' time updates before the sample that ends it */
+        const uint32_t missed =
+            (i > 0u) ? rfe_log_missed(log->rows[i].t - log->rows[i - 1u].t, (double)p.filter.dt)
+                     : 0u;
+        if (missed > 0u) {
+            ++stats->n_gaps;
+            if (rfe_friction_skip(&est, missed) == RFE_OK) {
+                stats->n_skipped += missed;
+            }
+        }
         step_row(&est, &log->rows[i], &out[i]);
         ++stats->status_count[rfe_replay_status_slot(out[i].status)];
     }

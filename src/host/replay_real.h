@@ -10,6 +10,7 @@
 #define RFE_HOST_REPLAY_REAL_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 #include "csv_log.h"
 #include "param_file.h"
@@ -48,6 +49,8 @@
 typedef struct {
     size_t n_steps;
     size_t status_count[RFE_REPLAY_STATUS_SLOTS];  /**< index = rfe_status_t value */
+    size_t n_gaps;      /**< periods longer than 2 dt (rfe_log_missed), friction runs only */
+    uint64_t n_skipped; /**< the sample periods they miss, time-updated by rfe_friction_skip */
 } rfe_replay_stats_t;
 
 /** Slot of @p status in rfe_replay_stats_t.status_count (inline: this header is shared by

@@ -11,7 +11,9 @@
  *   then records, each starting with an op byte, op % 4:
  *     0  a new sample: 11 values (delta, vx, vy, yaw_rate, yaw_acc, ax, ay, omega fl..rr);
  *     1  the current sample again, (op >> 2) + 1 times (1..64 steps);
- *     2  one field (next byte % 11) of the current sample set to a new value, one step;
+ *     2  one field (next byte % 11) of the current sample set to a new value, one step; with
+ *        a gap callback (fz_run_gaps) and that byte >= 128 instead a gap: 4 bytes, the
+ *        number of periods missed before the next sample (any uint32, 0 included);
  *     3  a ramp: a target sample (11 values), then (op >> 2) + 1 steps interpolating
  *        linearly from the current sample to it (smooth runs, e.g. braking to standstill).
  *   a value starts with a class byte c, c % 8:
@@ -167,11 +169,13 @@ static inline void fz_read_sample(fz_reader_t *r, fz_sample_t *s)
     }
 }
 
-/** Calls step(ctx, sample) for every step the input describes; stops when step returns
- *  nonzero, at the end of the input, or after FZ_MAX_STEPS. Returns the number of steps. */
+/** Calls step(ctx, sample) for every step the input describes and gap(ctx, missed) for
+ *  every gap (gap NULL: none); stops when either returns nonzero, at the end of the input,
+ *  or after FZ_MAX_STEPS. Returns the number of steps. */
 typedef int (*fz_step_fn_t)(void *ctx, const fz_sample_t *s);
+typedef int (*fz_gap_fn_t)(void *ctx, uint32_t missed);
 
-static inline long fz_run(fz_reader_t *r, fz_step_fn_t step, void *ctx)
+static inline long fz_run_gaps(fz_reader_t *r, fz_step_fn_t step, fz_gap_fn_t gap, void *ctx)
 {
     fz_sample_t cur;
     long steps = 0;
@@ -199,7 +203,14 @@ static inline long fz_run(fz_reader_t *r, fz_step_fn_t step, void *ctx)
             }
             break;
         case 2: {
-            const int fld = fz_u8(r) % FZ_FIELDS;
+            const uint8_t fb = fz_u8(r);
+            const int fld = fb % FZ_FIELDS;
+            if ((fb >= 128u) && (gap != NULL)) {
+                if (gap(ctx, (uint32_t)fz_bytes(r, 4)) != 0) {
+                    return steps;
+                }
+                break;
+            }
             cur.v[fld] = fz_value(r, fld);
             if (step(ctx, &cur) != 0) {
                 return steps;
@@ -227,6 +238,12 @@ static inline long fz_run(fz_reader_t *r, fz_step_fn_t step, void *ctx)
         }
     }
     return steps;
+}
+
+/** fz_run_gaps without gaps (the velocity harnesses). */
+static inline long fz_run(fz_reader_t *r, fz_step_fn_t step, void *ctx)
+{
+    return fz_run_gaps(r, step, NULL, ctx);
 }
 
 #endif /* RFE_FUZZ_INPUT_H */

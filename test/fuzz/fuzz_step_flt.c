@@ -17,6 +17,9 @@
  *  - the invariants of test/support/invariants.h (S lower-triangular with positive
  *    diagonal, or P symmetric positive definite; x and mu in [mu_min, mu_max]; outputs
  *    finite; sd > 0; valid in {0, 1}).
+ * And after each gap (rfe_friction_skip, fuzz_input.h op 1): 0 periods change nothing; else
+ * the mean held bit for bit, the input filter restarted, the invariants above; a failure
+ * only as RFE_ERR_NONFINITE with the filter restored.
  * Run: build/fuzz/fuzz_step_f32 [corpus dirs] (make fuzz / make fuzz-smoke).
  */
 #include <stdio.h>
@@ -99,6 +102,46 @@ static int step(void *ctxp, const fz_sample_t *s)
     return 0;
 }
 
+static void gap_violation(const fz_ctx_t *c, const char *what, uint32_t missed, int st)
+{
+    fprintf(stderr, "fuzz_step (%s): after step %ld: a gap of %u periods: %s (status %d)\n",
+            FZ_BUILD, c->k, (unsigned)missed, what, st);
+    abort();
+}
+
+static int gap(void *ctxp, uint32_t missed)
+{
+    fz_ctx_t *c = (fz_ctx_t *)ctxp;
+    rfe_estimate_t out;
+    rfe_status_t st;
+    char why[INV_WHY];
+    const int ckf = (c->est.params.filter.kind == RFE_FILTER_CKF);
+    memcpy(&c->before, &c->est, sizeof c->est);
+    st = rfe_friction_skip(&c->est, missed);
+    if (st != RFE_OK) {
+        if (st != RFE_ERR_NONFINITE || !inv_filter_equal(&c->est, &c->before)) {
+            gap_violation(c, "failed, or failed without restoring the filter", missed, (int)st);
+        }
+    } else if (missed == 0u) {
+        if (memcmp(&c->est, &c->before, sizeof c->est) != 0) {
+            gap_violation(c, "0 periods changed the estimator", missed, (int)st);
+        }
+    } else if (memcmp(ckf ? c->est.filter.ckf.x : c->est.filter.sckf.x,
+                      ckf ? c->before.filter.ckf.x : c->before.filter.sckf.x,
+                      sizeof c->est.filter.sckf.x) != 0 ||
+               c->est.cond.started != 0u) {
+        gap_violation(c, "the mean moved or the input filter was not restarted", missed, (int)st);
+    }
+    if (rfe_friction_get(&c->est, &out) != RFE_OK) {
+        gap_violation(c, "get failed", missed, (int)st);
+    }
+    if (inv_check_step(&c->est, &out, RFE_OK, why)) {
+        gap_violation(c, why, missed, (int)st);
+    }
+    c->prev = out; /* what a rejected sample now reports */
+    return 0;
+}
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
@@ -137,6 +180,6 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         fprintf(stderr, "fuzz_step: init failed for a preset\n");
         abort();
     }
-    (void)fz_run(&r, step, &c);
+    (void)fz_run_gaps(&r, step, gap, &c);
     return 0;
 }

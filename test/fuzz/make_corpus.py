@@ -57,6 +57,11 @@ def set_field(field, value):
     return bytes([2, field]) + (value if isinstance(value, bytes) else f32(value))
 
 
+def gap(missed):
+    """op 2 with a field byte >= 128: a gap of `missed` periods (rfe_friction_skip)."""
+    return bytes([2, 128]) + int(missed).to_bytes(4, "little")
+
+
 def read_rows(path, first, count):
     with open(path, encoding="utf-8") as fh:
         lines = [ln for ln in fh if not ln.startswith("#")]
@@ -111,6 +116,11 @@ def step_seeds(scen):
         bad += sample(drive(20.0, -0.05, 0.0, -3.0)) + set_field(k % 11, special(idx))
     s["bad_values_between_good"] = cfg(1) + bad + sample(drive(20.0, -0.05, 0.0, -3.0)) + repeat(10)
     s["ckf_hard_samples"] = cfg(0, ckf=1) + sample(drive(19.8, -1.0, -0.95, -50.0, -50.0)) + repeat(64)
+    # Gaps while braking (a dropped frame, a logger's second, the longest count), both filters.
+    for pd, ck, tag in ((1, 0, "default"), (0, 1, "paper_ckf")):
+        s[f"gaps_braking_{tag}"] = (cfg(pd, ckf=ck) + sample(drive(20.0, -0.08, 0.0, -4.0))
+                                    + repeat(30) + gap(2) + repeat(10) + gap(100) + repeat(20)
+                                    + gap(0xFFFFFFFF) + repeat(64) + gap(0) + repeat(5))
     return s
 
 

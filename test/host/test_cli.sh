@@ -278,12 +278,29 @@ run one_row 0 --in "$TMP/one_row.csv" --out "$TMP/o.csv"
 [ -s "$TMP/err" ] && bad "one_row: stderr not empty: $(cat "$TMP/err")" || ok "one_row: no period, no note"
 printf '# dt = 0.01\n# m = 1830\nt,delta,yaw_rate,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr\n0,0,0,0,0,61.5,61.5,61.5,61.5\n0.01,0,0,0,0,61.5,61.5,61.5,61.5\n0.02,0,0,0,0,61.5,61.5,61.5,61.5\n0.5,0,0,0,0,61.5,61.5,61.5,61.5\n0.51,0,0,0,0,61.5,61.5,61.5,61.5\n' >"$TMP/gap.csv"
 run gap 0 --in "$TMP/gap.csv" --out "$TMP/g.csv"
-one_line gap "^mu_replay: note: 1 gap\(s\) longer than 2 periods \(2 x 0.01 s\), the longest 0.48 s before t = 0.5 s: the friction estimator steps over each as one period; the observer steps with the real period and rejects the sample after 1 gap\(s\) longer than obs_dt_max = 0.1 s$"
+one_line gap "^mu_replay: note: 1 gap\(s\) longer than 2 periods \(2 x 0.01 s\), the longest 0.48 s before t = 0.5 s: the friction estimator behind the observer steps over each as one period; the observer steps with the real period and rejects the sample after 1 gap\(s\) longer than obs_dt_max = 0.1 s$"
 grep -q 'status 18' "$TMP/out" && ok "gap: the rejected sample counted" || bad "gap: no status 18 in the summary"
 # REQ-CSV-006: a gap of 3 periods in a measured-velocity log is reported too; jitter is not
-printf '# dt = 0.01\n# m = 1830\nt,delta,vx,vy,yaw_rate,yaw_acc,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr\n0,0,20,0,0,0,0,0,61.5,61.5,61.5,61.5\n0.01,0,20,0,0,0,0,0,61.5,61.5,61.5,61.5\n0.0205,0,20,0,0,0,0,0,61.5,61.5,61.5,61.5\n0.0295,0,20,0,0,0,0,0,61.5,61.5,61.5,61.5\n0.06,0,20,0,0,0,0,0,61.5,61.5,61.5,61.5\n0.07,0,20,0,0,0,0,0,61.5,61.5,61.5,61.5\n' >"$TMP/gapm.csv"
+# (braking at 4 m/s^2 with 4 % slip: updating steps, so the sd is below the prior's and a gap
+# has room to grow it; then cruising, held: the sd after the gap is the time updates' alone)
+printf '# dt = 0.01\n# m = 1830\nt,delta,vx,vy,yaw_rate,yaw_acc,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr\n0,0,20,0,0,0,-4,0,59.08,59.08,59.08,59.08\n0.01,0,20,0,0,0,-4,0,59.08,59.08,59.08,59.08\n0.0205,0,20,0,0,0,-4,0,59.08,59.08,59.08,59.08\n0.0295,0,20,0,0,0,-4,0,59.08,59.08,59.08,59.08\n0.06,0,20,0,0,0,0,0,61.54,61.54,61.54,61.54\n0.07,0,20,0,0,0,0,0,61.54,61.54,61.54,61.54\n' >"$TMP/gapm.csv"
 run gap_measured 0 --in "$TMP/gapm.csv" --out "$TMP/gm.csv"
-one_line gap_measured "^mu_replay: note: 1 gap\(s\) longer than 2 periods \(2 x 0.01 s\), the longest 0.0305 s before t = 0.06 s: the friction estimator steps over each as one period$"
+one_line gap_measured "^mu_replay: note: 1 gap\(s\) longer than 2 periods \(2 x 0.01 s\), the longest 0.0305 s before t = 0.06 s: the friction estimator makes the time updates of the missed periods at once and restarts its input filter \(rfe_friction_skip\)$"
+# REQ-EST-015: the estimator is told: round(0.0305 / 0.01) - 1 = 2 missed periods, in the
+# summary and the JSON, in both precisions; its sd after the gap is larger than without it
+grep -q '^gaps: 1 longer than 2 dt, 2 missed sample periods time-updated (rfe_friction_skip)$' "$TMP/out" \
+    && ok "gap_measured: summary" || bad "gap_measured: $(grep gaps "$TMP/out")"
+for real in float q31; do
+    run "gap_json_$real" 0 --in "$TMP/gapm.csv" --out "$TMP/gm_$real.csv" --real $real -q --metrics "$TMP/gm_$real.json"
+    grep -q '"gaps": {"count": 1, "missed_periods": 2}' "$TMP/gm_$real.json" && ok "gap_json_$real: JSON" \
+        || bad "gap_json_$real: $(grep gaps "$TMP/gm_$real.json")"
+done
+sed 's/^0\.06,/0.04,/; s/^0\.07,/0.05,/' "$TMP/gapm.csv" >"$TMP/nogap.csv"
+run nogap 0 --in "$TMP/nogap.csv" --out "$TMP/ng.csv" -q
+sd_gap=$(grep -v '^#' "$TMP/gm.csv" | awk -F, 'NR == 6 {print $6}')
+sd_nogap=$(grep -v '^#' "$TMP/ng.csv" | awk -F, 'NR == 6 {print $6}')
+awk -v a="$sd_gap" -v b="$sd_nogap" 'BEGIN {exit !(a > b)}' && ok "gap_measured: sd grew over the gap ($sd_gap > $sd_nogap)" \
+    || bad "gap_measured: sd after the gap $sd_gap, without it $sd_nogap"
 sed '/^0\.06,/d; s/^0\.07,/0.04,/' "$TMP/gapm.csv" >"$TMP/jitter.csv"
 run jitter 0 --in "$TMP/jitter.csv" --out "$TMP/j.csv"
 [ ! -s "$TMP/err" ] && ok "jitter: accepted without a word" || bad "jitter: $(cat "$TMP/err")"

@@ -277,6 +277,27 @@ static void test_rfe_log_period_median_of_jittered_stamps(void **state)
     rfe_sensor_log_free(&log);
 }
 
+/* REQ: the periods a gap misses (rfe_log_missed): none up to 2 dt (jitter; widened by 1e-6
+ * relative for the stamps' own rounding, so one dropped sample is not a gap), else
+ * round(period / dt) - 1, capped at UINT32_MAX; none for a dt <= 0 or a NaN period. */
+/* REQ-CSV-006 REQ-EST-015 */
+static void test_rfe_log_missed_periods(void **state)
+{
+    (void)state;
+    assert_int_equal(rfe_log_missed(0.0199, 0.01), 0u);
+    assert_int_equal(rfe_log_missed(0.02, 0.01), 0u);    /* 2 periods: still jitter */
+    assert_int_equal(rfe_log_missed(0.13 - 0.11, 0.01), 0u); /* 2 periods in decimal stamps */
+    assert_int_equal(rfe_log_missed(0.0200001, 0.01), 1u); /* beyond the stamps' rounding */
+    assert_int_equal(rfe_log_missed(0.0305, 0.01), 2u);  /* 3.05 periods: 2 missing */
+    assert_int_equal(rfe_log_missed(0.0349, 0.01), 2u);
+    assert_int_equal(rfe_log_missed(0.0351, 0.01), 3u);
+    assert_int_equal(rfe_log_missed(0.31, 0.01), 30u);
+    assert_int_equal(rfe_log_missed(1e12, 0.01), UINT32_MAX);
+    assert_int_equal(rfe_log_missed(0.5, 0.0), 0u);
+    assert_int_equal(rfe_log_missed(0.5, -0.01), 0u);
+    assert_int_equal(rfe_log_missed(NAN, 0.01), 0u);
+}
+
 /* REQ-CSV-006 */
 static void test_rfe_log_period_one_row_has_none(void **state)
 {
@@ -305,6 +326,7 @@ int main(void)
         cmocka_unit_test(test_rfe_sensor_log_read_alias_wins_over_own_name),
         cmocka_unit_test(test_rfe_log_period_median_of_jittered_stamps),
         cmocka_unit_test(test_rfe_log_period_one_row_has_none),
+        cmocka_unit_test(test_rfe_log_missed_periods),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -470,6 +470,77 @@ static void apply_monitor(const rfe_friction_t *est, rfe_estimate_t *out)
     }
 }
 
+/* The periods of a gap whose time updates are made: at most until some state's variance
+ * reaches the prior's, sd0^2 + sd0_common^2 (none if it is there already): after a long gap
+ * the estimator knows as little as at init, its mean kept. A longer random walk means
+ * nothing and feeds the filter numbers it never runs on otherwise (the fuzzer: the CKF after
+ * 4e9 periods, the fixed-point CKF after a gap to the friction range's variance). */
+static uint32_t gap_steps(const rfe_friction_t *est, uint32_t missed)
+{
+    const rfe_filter_params_t *fp = &est->params.filter;
+    int ckf = 0;
+    const rfe_real_t prior = (fp->sd0 * fp->sd0) + (fp->sd0_common * fp->sd0_common);
+    rfe_real_t x[RFE_N_MAX];
+    rfe_real_t sd[RFE_N_MAX];
+    uint32_t k = missed;
+    size_t i;
+    size_t j;
+    rfe_status_t st;
+    if (fp->kind == RFE_FILTER_CKF) {
+        ckf = 1;
+    }
+    st = (ckf != 0) ? rfe_ckf_get(&est->filter.ckf, x, sd)
+                    : rfe_sckf_get(&est->filter.sckf, x, sd);
+    (void)st; /* the estimator's own initialised filter: cannot fail */
+    for (i = 0u; i < est->n; ++i) {
+        rfe_real_t q = RFE_R(0.0); /* Q_ii */
+        if (ckf != 0) {
+            q = est->filter.ckf.Q[(i * NM) + i];
+        } else {
+            for (j = 0u; j <= i; ++j) {
+                q += est->filter.sckf.SQ[(i * NM) + j] * est->filter.sckf.SQ[(i * NM) + j];
+            }
+        }
+        if (q > RFE_R(0.0)) {
+            const rfe_real_t room = rfe_max(prior - (sd[i] * sd[i]), RFE_R(0.0)) / q;
+            if (room < (rfe_real_t)k) {
+                k = (uint32_t)room;
+            }
+        }
+    }
+    return k;
+}
+
+rfe_status_t rfe_friction_skip(rfe_friction_t *est, uint32_t missed)
+{
+    rfe_status_t st;
+    uint32_t k;
+    if (est == NULL) {
+        return RFE_ERR_NULL;
+    }
+    if (est->magic != RFE_MAGIC_EST) {
+        return RFE_ERR_NOT_INITIALISED;
+    }
+    if (missed == 0u) {
+        return RFE_OK;
+    }
+    backup(est, 0);
+    k = gap_steps(est, missed);
+    st = (est->params.filter.kind == RFE_FILTER_CKF)
+             ? rfe_ckf_predict_steps(&est->filter.ckf, k)
+             : rfe_sckf_predict_steps(&est->filter.sckf, k);
+    if ((st == RFE_OK) && (est->params.filter.kind != RFE_FILTER_CKF)) {
+        st = bound_sd(est); /* step 7 once, as after one step's time update */
+    }
+    if (st == RFE_OK) {
+        st = rfe_conditioner_init(&est->cond); /* the next sample seeds it, as after init */
+    }
+    if (st != RFE_OK) {
+        backup(est, 1);
+    }
+    return st;
+}
+
 rfe_status_t rfe_friction_step(rfe_friction_t *est, const rfe_sample_t *sample,
                                rfe_estimate_t *out)
 {

@@ -592,6 +592,83 @@ rfe_status_t rfe_friction_get_q31(const rfe_friction_q31_t *est, rfe_estimate_q3
     return st;
 }
 
+/* The periods of a gap whose time updates are made (friction_flt.c gap_steps): at most until
+ * some state's variance reaches the prior's, sd0^2 + sd0_common^2. In Q60: the prior's and
+ * P_ii = sd_i^2 from Q30 sds, Q_ii = |row i of S_Q|^2 (Q30) or the CKF's Q_ii (Q31);
+ * non-negative, so unsigned. */
+static uint32_t gap_steps_q31(const rfe_friction_q31_t *est, uint32_t missed)
+{
+    const rfe_filter_params_q31_t *fp = &est->params.filter;
+    int ckf = 0;
+    const uint64_t s0 = (uint64_t)fp->sd0;        /* > 0, Q30 (validated) */
+    const uint64_t sc = (uint64_t)fp->sd0_common; /* >= 0, Q30 */
+    const uint64_t bound = (s0 * s0) + (sc * sc);
+    rfe_fix_t x[RFE_N_MAX];
+    rfe_fix_t sd[RFE_N_MAX];
+    uint32_t k = missed;
+    size_t i;
+    rfe_status_t st;
+    if (fp->kind == RFE_FILTER_CKF) {
+        ckf = 1;
+    }
+    st = (ckf != 0) ? rfe_ckf_get_q31(&est->filter.ckf, x, sd)
+                    : rfe_sckf_get_q31(&est->filter.sckf, x, sd);
+    (void)st; /* the estimator's own initialised filter: cannot fail */
+    for (i = 0u; i < est->n; ++i) {
+        const uint64_t p = (uint64_t)sd[i] * (uint64_t)sd[i];
+        uint64_t q = 0u;
+        if (ckf != 0) {
+            q = ((uint64_t)rfe_fix_max(est->filter.ckf.Q[(i * NM) + i], 0)) << 29u;
+        } else {
+            rfe_fix_t qn = 0; /* |row i of S_Q|, exactly rounded (Q30) */
+            uint32_t unused = 0u;
+            const rfe_status_t nst = rfe_fix_norm(&est->filter.sckf.SQ[i * NM], i + 1u, &qn,
+                                                  &unused);
+            (void)nst; /* fails only for NULL arguments, which these are not */
+            q = (uint64_t)qn * (uint64_t)qn;
+        }
+        if (q > 0u) {
+            const uint64_t room = (bound > p) ? ((bound - p) / q) : 0u;
+            if (room < (uint64_t)k) {
+                k = (uint32_t)room;
+            }
+        }
+    }
+    return k;
+}
+
+rfe_status_t rfe_friction_skip_q31(rfe_friction_q31_t *est, uint32_t missed)
+{
+    rfe_status_t st;
+    uint32_t k;
+    if (est == NULL) {
+        return RFE_ERR_NULL;
+    }
+    if (est->magic != RFE_MAGIC_EST_Q31) {
+        return RFE_ERR_NOT_INITIALISED;
+    }
+    if (missed == 0u) {
+        return RFE_OK;
+    }
+    backup_q31(est, 0);
+    k = gap_steps_q31(est, missed);
+    st = (est->params.filter.kind == RFE_FILTER_CKF)
+             ? rfe_ckf_predict_steps_q31(&est->filter.ckf, k)
+             : rfe_sckf_predict_steps_q31(&est->filter.sckf, k);
+    if ((st == RFE_OK) && (est->params.filter.kind != RFE_FILTER_CKF)) {
+        st = bound_sd_q31(est); /* step 7 once, as after one step's time update */
+    }
+    if (st == RFE_OK) {
+        st = rfe_conditioner_init_q31(&est->cond); /* the next sample seeds it */
+    }
+    if (st != RFE_OK) {
+        backup_q31(est, 1);
+    } else {
+        (void)settle_counts_q31(est);
+    }
+    return st;
+}
+
 rfe_status_t rfe_friction_step_q31(rfe_friction_q31_t *est, const rfe_sample_q31_t *sample,
                                    rfe_estimate_q31_t *out)
 {

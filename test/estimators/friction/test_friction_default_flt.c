@@ -909,6 +909,123 @@ static void test_rfe_friction_bounds_reject_overflowing_sd(void **state)
     assert_memory_equal(&est.cond, &copy.cond, sizeof est.cond);
 }
 
+/* (M M^T)_ij in double of a factor M with ld RFE_N_MAX (the SCKF's S: P; its S_Q: Q). */
+static double outer_ij(const rfe_real_t *M, size_t i, size_t j)
+{
+    double acc = 0.0;
+    size_t k;
+    for (k = 0u; k < (size_t)RFE_N_MAX; ++k) {
+        acc += (double)M[(i * RFE_N_MAX) + k] * (double)M[(j * RFE_N_MAX) + k];
+    }
+    return acc;
+}
+
+/* REQ: a gap (rfe_friction_skip, ESTIMATOR.md "Gaps"): missed = 0 changes nothing; with the
+ * sd bounds off, P = P0 + k Q (the random walk's k time updates; TOL_CF relative: one Tria
+ * of a 2n-column array) and the mean held bit for bit; a gap of any length ends at the
+ * prior's variance (default: not valid); the input filter restarts and the next sample
+ * seeds it; the paper CKF's P grows by k Q; NULL, an uninitialised estimator and a failing
+ * filter (a factor made non-finite by hand) are refused with the estimator untouched. */
+/* REQ-EST-015 */
+static void test_rfe_friction_skip(void **state)
+{
+    static rfe_friction_t est;
+    static rfe_friction_t copy;
+    rfe_params_t p = dflt;
+    rfe_estimate_t out;
+    rfe_sample_t brake = straight_sample(20.0, -0.1, -0.1);
+    const rfe_real_t mu[4] = {(rfe_real_t)0.6, (rfe_real_t)0.6, (rfe_real_t)0.6, (rfe_real_t)0.6};
+    double p0[2][2];
+    size_t i;
+    size_t j;
+    int k;
+    (void)state;
+    model_match(&dflt, &brake, mu);
+    p.filter.sd_max = 0; /* bounds off: the exact random walk */
+    p.filter.sd_floor_rel = 0;
+    assert_int_equal(rfe_friction_init(&est, &p), RFE_OK);
+    for (k = 0; k < 30; ++k) {
+        assert_false(rfe_status_is_error(rfe_friction_step(&est, &brake, &out)));
+    }
+    copy = est;
+    assert_int_equal(rfe_friction_skip(&est, 0u), RFE_OK);
+    assert_memory_equal(est.filter.sckf.S, copy.filter.sckf.S, sizeof est.filter.sckf.S);
+    assert_int_equal(est.cond.started, 1u);
+    for (i = 0u; i < 2u; ++i) {
+        for (j = 0u; j < 2u; ++j) {
+            p0[i][j] = outer_ij(est.filter.sckf.S, i, j);
+        }
+    }
+    assert_int_equal(rfe_friction_skip(&est, 50u), RFE_OK);
+    assert_memory_equal(est.filter.sckf.x, copy.filter.sckf.x, sizeof est.filter.sckf.x);
+    for (i = 0u; i < 2u; ++i) {
+        for (j = 0u; j < 2u; ++j) {
+            const double want = p0[i][j] + (50.0 * outer_ij(est.filter.sckf.SQ, i, j));
+            assert_close(outer_ij(est.filter.sckf.S, i, j), want, TOL_CF, 0.0, "P + k Q");
+        }
+    }
+    assert_int_equal(est.cond.started, 0u); /* restarted: the next sample seeds it */
+    assert_false(rfe_status_is_error(rfe_friction_step(&est, &brake, &out)));
+    assert_true(est.cond.vx == brake.vx);
+
+    /* a gap of any length stops where a state's variance reaches the prior's (sd0^2 +
+     * sd0_common^2), within one period's Q_ii below it (the count is floored; 16 eps: the
+     * sums of squares); a second gap then adds nothing; the default preset: not valid */
+    for (k = 0; k < 3; ++k) {
+        const rfe_params_t *base = (k == 0) ? &dflt : &paper;
+        const double prior = ((double)base->filter.sd0 * (double)base->filter.sd0) +
+                             ((double)base->filter.sd0_common * (double)base->filter.sd0_common);
+        const double q = ((double)base->filter.q_mu * (double)base->filter.q_mu) +
+                         ((double)base->filter.q_common * (double)base->filter.q_common);
+        rfe_estimate_t again;
+        p = *base;
+        p.filter.kind = (k == 2) ? RFE_FILTER_CKF : RFE_FILTER_SCKF;
+        assert_int_equal(rfe_friction_init(&est, &p), RFE_OK);
+        for (i = 0u; i < 30u; ++i) {
+            assert_false(rfe_status_is_error(rfe_friction_step(&est, &brake, &out)));
+        }
+        assert_int_equal(rfe_friction_skip(&est, UINT32_MAX), RFE_OK);
+        assert_int_equal(rfe_friction_get(&est, &out), RFE_OK);
+        {
+            double top = 0.0; /* the state that limits the count */
+            for (i = 0u; i < 4u; ++i) {
+                const double var = (double)out.sd[i] * (double)out.sd[i];
+                ASSERT_LE(var, prior * (1.0 + (16.0 * EPS_R)), "at most the prior's variance");
+                top = fmax(top, var);
+                assert_true((k != 0) || (out.valid[i] == 0));
+            }
+            ASSERT_LE(prior - top, (q * (1.0 + (16.0 * EPS_R))) + (16.0 * EPS_R * prior),
+                      "the limiting state within one period of it");
+        }
+        assert_int_equal(rfe_friction_skip(&est, UINT32_MAX), RFE_OK);
+        assert_int_equal(rfe_friction_get(&est, &again), RFE_OK);
+        assert_memory_equal(again.sd, out.sd, sizeof out.sd);
+    }
+
+    /* the paper CKF: P + k Q */
+    p = paper;
+    p.filter.kind = RFE_FILTER_CKF;
+    assert_int_equal(rfe_friction_init(&est, &p), RFE_OK);
+    for (i = 0u; i < 30u; ++i) { /* below the prior's variance first: room for the gap */
+        assert_false(rfe_status_is_error(rfe_friction_step(&est, &brake, &out)));
+    }
+    copy = est;
+    assert_int_equal(rfe_friction_skip(&est, 9u), RFE_OK);
+    assert_close(est.filter.ckf.P[0], copy.filter.ckf.P[0] + (9.0 * (double)est.filter.ckf.Q[0]),
+                 4.0 * EPS_R, 0.0, "CKF P + k Q");
+
+    /* refused, untouched */
+    assert_int_equal(rfe_friction_skip(NULL, 1u), RFE_ERR_NULL);
+    memset(&copy, 0, sizeof copy);
+    assert_int_equal(rfe_friction_skip(&copy, 1u), RFE_ERR_NOT_INITIALISED);
+    assert_int_equal(rfe_friction_init(&est, &dflt), RFE_OK);
+    est.filter.sckf.S[0] = (rfe_real_t)INFINITY; /* a corrupted factor: Tria refuses it */
+    copy = est;
+    assert_int_equal(rfe_friction_skip(&est, 3u), RFE_ERR_NONFINITE);
+    assert_memory_equal(est.filter.sckf.S, copy.filter.sckf.S, sizeof est.filter.sckf.S);
+    assert_memory_equal(&est.cond, &copy.cond, sizeof est.cond);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -931,6 +1048,7 @@ int main(void)
         cmocka_unit_test(test_rfe_friction_rollback_with_conditioner),
         cmocka_unit_test(test_rfe_friction_bounds_reject_overflowing_sd),
         cmocka_unit_test(test_rfe_friction_singular_prior_refused),
+        cmocka_unit_test(test_rfe_friction_skip),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }

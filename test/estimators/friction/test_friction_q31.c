@@ -821,6 +821,106 @@ static void test_rfe_friction_q31_not_valid_on_a_bound(void **state)
     }
 }
 
+/* REQ: rfe_friction_skip_q31 as the double twin after 30 braking steps (default preset; the
+ * paper preset's CKF): the mean held bit for bit, the sd grown, the input filter restarted,
+ * the sd's difference to the double's at most what it was plus 1e-6. Bound: one Tria (GAMMA
+ * sd ~ 1e-8) and the bound factor's Q24 rounding (2^-25 relative, ~1e-8): < 5e-8, a factor
+ * 20 of margin. missed = UINT32_MAX: the time updates stop at the prior's variance, nothing
+ * saturates, not valid. NULL and an uninitialised estimator refused. */
+/* REQ-EST-015 REQ-FXP-010 */
+static void test_rfe_friction_q31_skip(void **state)
+{
+    static rfe_friction_q31_t eq;
+    static rfe_friction_q31_t blank;
+    static rfe_friction_t ed;
+    rfe_params_t pd;
+    rfe_params_q31_t pq;
+    rfe_estimate_q31_t oq;
+    rfe_estimate_t od;
+    size_t c;
+    size_t w;
+    (void)state;
+    for (c = 0u; c < 2u; ++c) {
+        if (c == 0u) {
+            assert_int_equal(rfe_params_default_f64(&pd), RFE_OK);
+        } else {
+            assert_int_equal(rfe_params_paper_f64(&pd), RFE_OK);
+            pd.filter.kind = RFE_FILTER_CKF;
+        }
+        assert_int_equal(rfe_params_to_q31_f64(&pd, &pq), RFE_OK);
+        rfe_fix_t mu_before[4];
+        double sd_before[4];
+        double dsd_before = 0.0;
+        int k;
+        assert_int_equal(rfe_friction_init_q31(&eq, &pq), RFE_OK);
+        assert_int_equal(rfe_friction_init_f64(&ed, &pd), RFE_OK);
+        for (k = 0; k < 30; ++k) { /* below the prior's variance first: room for the gap */
+            rfe_sample_q31_t uq;
+            rfe_sample_t ud;
+            uint32_t qsat = 0u;
+            size_t j;
+            memset(&ud, 0, sizeof ud); /* braking_sample; the double twin unquantised */
+            ud.vx = 20.0;
+            ud.ax = -4.0;
+            for (j = 0u; j < 4u; ++j) {
+                ud.omega[j] = 20.0 * 0.96 / 0.325;
+            }
+            sample_q(&ud, &uq, &qsat);
+            assert_false(rfe_status_is_error(rfe_friction_step_q31(&eq, &uq, &oq)));
+            assert_false(rfe_status_is_error(rfe_friction_step_f64(&ed, &ud, &od)));
+        }
+        for (w = 0u; w < 4u; ++w) {
+            mu_before[w] = oq.mu[w];
+            sd_before[w] = od.sd[w];
+            dsd_before = fmax(dsd_before, fabs(rfe_fix_to_double(oq.sd[w], QSD) - od.sd[w]));
+        }
+        assert_int_equal(rfe_friction_skip_q31(&eq, 0u), RFE_OK);
+        assert_int_equal(rfe_friction_skip_q31(&eq, 40u), RFE_OK);
+        assert_int_equal(rfe_friction_skip_f64(&ed, 40u), RFE_OK);
+        assert_int_equal(eq.cond.started, 0u);
+        assert_int_equal(eq.sat, 0u);
+        assert_int_equal(rfe_friction_get_q31(&eq, &oq), RFE_OK);
+        assert_int_equal(rfe_friction_get_f64(&ed, &od), RFE_OK);
+        for (w = 0u; w < 4u; ++w) {
+            assert_int_equal(oq.mu[w], mu_before[w]);
+            assert_true(od.sd[w] > sd_before[w]); /* the gap's process noise */
+            ASSERT_LE(fabs(rfe_fix_to_double(oq.sd[w], QSD) - od.sd[w]), dsd_before + 1e-6,
+                      "skip sd");
+        }
+    }
+    assert_int_equal(rfe_params_default_f64(&pd), RFE_OK);
+    assert_int_equal(rfe_params_to_q31_f64(&pd, &pq), RFE_OK);
+    assert_int_equal(rfe_friction_init_q31(&eq, &pq), RFE_OK);
+    assert_int_equal(rfe_friction_skip_q31(&eq, UINT32_MAX), RFE_OK);
+    assert_int_equal(eq.sat, 0u);
+    assert_int_equal(rfe_friction_get_q31(&eq, &oq), RFE_OK);
+    for (w = 0u; w < 4u; ++w) {
+        assert_int_equal(oq.valid[w], 0); /* at the prior's sd 0.32 > sd_valid */
+    }
+    /* the paper preset (no cap), SCKF and CKF: a gap of any length stops where a state's
+     * variance reaches the prior's, as the double twin (the floored counts may differ by one
+     * period: q_mu^2 ~ 1e-5 in variance, plus the Q30 rounding of sd: 1e-5 asserted) */
+    for (c = 0u; c < 2u; ++c) {
+        assert_int_equal(rfe_params_paper_f64(&pd), RFE_OK);
+        pd.filter.kind = (c == 0u) ? RFE_FILTER_SCKF : RFE_FILTER_CKF;
+        assert_int_equal(rfe_params_to_q31_f64(&pd, &pq), RFE_OK);
+        assert_int_equal(rfe_friction_init_q31(&eq, &pq), RFE_OK);
+        assert_int_equal(rfe_friction_init_f64(&ed, &pd), RFE_OK);
+        assert_int_equal(rfe_friction_skip_q31(&eq, UINT32_MAX), RFE_OK);
+        assert_int_equal(rfe_friction_skip_f64(&ed, UINT32_MAX), RFE_OK);
+        assert_int_equal(rfe_friction_get_q31(&eq, &oq), RFE_OK);
+        assert_int_equal(rfe_friction_get_f64(&ed, &od), RFE_OK);
+        for (w = 0u; w < 4u; ++w) {
+            const double sq = rfe_fix_to_double(oq.sd[w], QSD);
+            ASSERT_LE(fabs((sq * sq) - (od.sd[w] * od.sd[w])), 1e-5, "the range's variance");
+        }
+        assert_int_equal(eq.sat, 0u);
+    }
+    memset(&blank, 0, sizeof blank);
+    assert_int_equal(rfe_friction_skip_q31(NULL, 1u), RFE_ERR_NULL);
+    assert_int_equal(rfe_friction_skip_q31(&blank, 1u), RFE_ERR_NOT_INITIALISED);
+}
+
 /* REQ: status codes: low speed (2), held (3), updated (0) and projected (1) as the double
  * estimator, on hand-made samples. */
 /* REQ-EST-006 REQ-EST-007 REQ-EST-008 */
@@ -1397,6 +1497,7 @@ int main(void)
         cmocka_unit_test(test_rfe_friction_q31_api_errors),
         cmocka_unit_test(test_rfe_friction_q31_init_and_get),
         cmocka_unit_test(test_rfe_friction_q31_not_valid_on_a_bound),
+        cmocka_unit_test(test_rfe_friction_q31_skip),
         cmocka_unit_test(test_rfe_friction_q31_input_validation),
         cmocka_unit_test(test_rfe_friction_q31_statuses),
         cmocka_unit_test(test_rfe_friction_q31_rollback),
