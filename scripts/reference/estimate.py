@@ -70,11 +70,8 @@ def run(log: logs.CsvLog, p: dict, kind: str = "sckf", tyre: str = "paper"):
     status = np.empty(n_rows, dtype=int)
     mu_unprojected = np.empty((n_rows, 4))      # diagnostics (compare.py): the mean before
     t = log.col("t")
-    prior_var = p["sd0"] ** 2 + p["sd0_common"] ** 2
     for k in range(n_rows):                     # projection, and vx, the low-speed gate's input
-        missed = filters.gap_periods(t[k] - t[k - 1], p["dt"]) if k > 0 else 0
-        if missed > 0:          # a gap (ESTIMATOR.md "Gaps", mu_replay: rfe_friction_skip)
-            f.time_update_steps(filters.gap_steps(f, missed, prior_var))
+        filters.gap_time_update(f, t, k, p)     # a gap (ESTIMATOR.md "Gaps")
         f.time_update()
         if vx[k] < p["v_est_min"]:
             status[k] = STATUS_LOW_SPEED

@@ -173,3 +173,14 @@ def gap_steps(f, missed: int, prior_var: float) -> int:
             if room < k:
                 k = int(room)
     return k
+
+
+def gap_time_update(f, t, k: int, p: dict) -> bool:
+    """The gap before row k of time stamps t (docs/ESTIMATOR.md "Gaps", mu_replay's
+    rfe_friction_skip): its time updates at once, up to the prior's variance. True when there
+    was a gap (the caller then bounds the sd and restarts its input filter, as the step does)."""
+    missed = gap_periods(t[k] - t[k - 1], p["dt"]) if k > 0 else 0
+    if missed == 0:
+        return False
+    f.time_update_steps(gap_steps(f, missed, p["sd0"] ** 2 + p["sd0_common"] ** 2))
+    return True

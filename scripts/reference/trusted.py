@@ -89,11 +89,8 @@ def run(log, p: dict, adapt=None):
     out["s_zz"] = np.full((N, 3, 3), np.nan)    # every step that evaluates h (monitor.py)
     out["c_pers"] = np.full((N, 3), np.nan)     # diag of its persistent part (monitor.py)
     t = log.col("t")
-    prior_var = p["sd0"] ** 2 + p["sd0_common"] ** 2
     for k in range(N):
-        missed = filters.gap_periods(t[k] - t[k - 1], p["dt"]) if k > 0 else 0
-        if missed > 0:          # a gap (ESTIMATOR.md "Gaps", mu_replay: rfe_friction_skip)
-            f.time_update_steps(filters.gap_steps(f, missed, prior_var))
+        if filters.gap_time_update(f, t, k, p):     # a gap (ESTIMATOR.md "Gaps")
             _bound_sd(p, f)
             cond.vx = cond.vy = None    # the input filter restarts at this sample
         delta, vx_m, vy_m, r, ax, ay = (c[k] for c in cols)

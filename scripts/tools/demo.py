@@ -37,12 +37,12 @@ import sys
 import time
 from pathlib import Path
 
-WHEELS = ("fl", "fr", "rl", "rr")
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(Path(__file__).resolve().parent))   # scripts/tools: plot_estimates
 from plot_estimates import plot, read_csv  # noqa: E402  (one plotting/reading code path)
 from demo_tables import write_table  # noqa: E402
 from md_tables import replace_region  # noqa: E402
+from wheel_figures import WHEELS, pooled, worst_valid  # noqa: E402  (re-exported)
 from demo_index import summary_line, write_index  # noqa: E402
 SETTLE_START_S = 1.0  # same as mu_replay's default settle start
 SETTLE_AFTER_CHANGE_S = 0.5  # mu_replay's default: settled again 0.5 s after a truth change
@@ -172,29 +172,6 @@ def check_markers(page: Path, pairs: list[tuple[str, str]]) -> None:
     for begin, end in pairs:
         if begin not in text or end not in text:
             sys.exit(f"demo: {page} has no {begin} ... {end} section")
-
-
-def pooled(m: dict, key: str, weight: str, square: bool = False):
-    """A per-wheel figure pooled over the four wheels, weighted by each wheel's sample count
-    (RMS figures pooled as RMS). None when no wheel has samples."""
-    num = den = 0.0
-    for w in WHEELS:
-        x, n = m[w].get(key), m[w].get(weight) or 0
-        if x is None or n == 0:
-            continue
-        num += n * (x * x if square else x)
-        den += n
-    if den == 0:
-        return None
-    return (num / den) ** 0.5 if square else num / den
-
-
-def worst_valid(m: dict):
-    """The worst case when valid: the largest |error| of any wheel over its settled samples
-    reported valid (None when no wheel has one)."""
-    xs = [m[w]["max_abs_err_valid"] for w in WHEELS
-          if (m[w].get("n_valid") or 0) > 0 and m[w].get("max_abs_err_valid") is not None]
-    return max(xs) if xs else None
 
 
 def trust_rows(runs: list[tuple[str, str, str, dict]]) -> list[str]:

@@ -27,8 +27,8 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))   # scripts/tools: md_tables
 from md_tables import replace_region  # noqa: E402
+from wheel_figures import WHEELS, pooled, worst_valid  # noqa: E402
 
-WHEELS = ("fl", "fr", "rl", "rr")
 PRECISIONS = ("float", "double", "q31")
 CONS_MIN, RMSE_MAX, WORST_MAX = 0.9, 0.10, 0.25  # issue 17's targets
 BEGIN, END = "<!-- trust-invariant:begin -->", "<!-- trust-invariant:end -->"
@@ -43,16 +43,10 @@ def figures(metrics: dict) -> dict:
     """Valid share, RMSE, consistency and worst case when valid, pooled over the wheels."""
     n_set = sum(metrics[w]["n_settled"] for w in WHEELS)
     n_val = sum(metrics[w]["n_valid"] for w in WHEELS)
-    out = {"valid": n_val / n_set if n_set else None, "n_valid": n_val,
-           "rmse_valid": None, "cons_valid": None, "worst_valid": None}
-    if n_val:
-        val = [w for w in WHEELS if metrics[w]["n_valid"]]
-        out["rmse_valid"] = (sum(metrics[w]["n_valid"] * metrics[w]["rmse_valid"] ** 2
-                                 for w in val) / n_val) ** 0.5
-        out["cons_valid"] = sum(metrics[w]["n_valid"] * metrics[w]["consistency_valid"]
-                                for w in val) / n_val
-        out["worst_valid"] = max(metrics[w]["max_abs_err_valid"] for w in val)
-    return out
+    return {"valid": n_val / n_set if n_set else None, "n_valid": n_val,
+            "rmse_valid": pooled(metrics, "rmse_valid", "n_valid", square=True),
+            "cons_valid": pooled(metrics, "consistency_valid", "n_valid"),
+            "worst_valid": worst_valid(metrics)}
 
 
 def meets(f: dict) -> bool:

@@ -281,9 +281,7 @@ rfe_status_t rfe_replay_run(const rfe_param_set_t *ps, const rfe_sensor_log_t *l
     }
     for (i = 0u; i < log->n_rows; ++i) {
         /* a gap: the missed periods' time updates before the sample that ends it */
-        const uint32_t missed =
-            (i > 0u) ? rfe_log_missed(log->rows[i].t - log->rows[i - 1u].t, (double)p.filter.dt)
-                     : 0u;
+        const uint32_t missed = rfe_log_missed_before(log, i, ps->value[RFE_PK_dt]);
         if (missed > 0u) {
             ++stats->n_gaps;
             if (rfe_friction_skip(&est, missed) == RFE_OK) {
