@@ -62,6 +62,14 @@ enum {
     RFE_INPUTS = 8
 };
 
+/** A gap in the data (docs/ESTIMATOR.md "Gaps"): a sample period longer than
+ *  RFE_GAP_PERIODS nominal periods dt, the limit widened by 2^-RFE_GAP_STAMP_SHIFT of itself
+ *  for the time stamps' own rounding (a period of exactly two dt, one dropped sample, is
+ *  jitter). It misses round(period / dt) - 1 periods. The library (rfe_friction_missed and
+ *  its twin), mu_replay and the reference use this one rule. */
+/* cppcheck-suppress misra-c2012-2.4 ; MISRA-FP-01: an anonymous enum has no tag */
+enum { RFE_GAP_PERIODS = 2, RFE_GAP_STAMP_SHIFT = 20 };
+
 /** True when the status is an error (the call changed nothing). */
 static inline int rfe_status_is_error(rfe_status_t s) { return (int)s >= (int)RFE_ERR_FIRST; }
 

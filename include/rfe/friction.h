@@ -58,12 +58,16 @@
 #define rfe_friction_get  rfe_friction_get_f64
 #define rfe_friction_set_input_noise rfe_friction_set_input_noise_f64
 #define rfe_friction_skip rfe_friction_skip_f64
+#define rfe_friction_missed rfe_friction_missed_f64
+#define rfe_friction_step_after rfe_friction_step_after_f64
 #else
 #define rfe_friction_init rfe_friction_init_f32
 #define rfe_friction_step rfe_friction_step_f32
 #define rfe_friction_get  rfe_friction_get_f32
 #define rfe_friction_set_input_noise rfe_friction_set_input_noise_f32
 #define rfe_friction_skip rfe_friction_skip_f32
+#define rfe_friction_missed rfe_friction_missed_f32
+#define rfe_friction_step_after rfe_friction_step_after_f32
 #endif
 
 /** Output of one step (one row of the DATA.md estimate log). */
@@ -176,6 +180,37 @@ RFE_NODISCARD rfe_status_t rfe_friction_get(const rfe_friction_t *est,
  *         (the estimator is then untouched).
  */
 RFE_NODISCARD rfe_status_t rfe_friction_skip(rfe_friction_t *est, uint32_t missed);
+
+/**
+ * The sample periods missed before a sample that comes @p period after the previous one
+ * (rfe/common.h, docs/ESTIMATOR.md "Gaps"): 0 up to RFE_GAP_PERIODS periods dt (jitter; one
+ * dropped sample), widened by 2^-RFE_GAP_STAMP_SHIFT for the time stamps' rounding; beyond,
+ * round(period / dt) - 1, at most UINT32_MAX. dt is the parameters' filter.dt.
+ * @param[in]  est     an estimator set up by rfe_friction_init.
+ * @param[in]  period  the time since the previous sample [s], finite and >= 0.
+ * @param[out] missed  the missed periods (what rfe_friction_skip or rfe_friction_step_after
+ *                     takes).
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_NOT_INITIALISED; RFE_ERR_RANGE (a period not finite
+ *         or < 0; @p missed untouched).
+ */
+RFE_NODISCARD rfe_status_t rfe_friction_missed(const rfe_friction_t *est, rfe_real_t period,
+                                               uint32_t *missed);
+
+/**
+ * One step after a gap: rfe_friction_skip(@p missed) and rfe_friction_step as one call, so
+ * that a rejected sample or a numeric error leaves the estimator as it was before the gap's
+ * time updates too (the composed pipeline's step, rfe/pipeline.h). missed = 0: exactly
+ * rfe_friction_step.
+ * @param[in,out] est     an estimator set up by rfe_friction_init.
+ * @param[in]     missed  the sample periods without a sample before this one
+ *                        (rfe_friction_missed).
+ * @param[in]     sample  one sensor sample, as rfe_friction_step.
+ * @param[out]    out     this step's estimate, as rfe_friction_step.
+ * @return as rfe_friction_step; a numeric error of the gap's time updates.
+ */
+RFE_NODISCARD rfe_status_t rfe_friction_step_after(rfe_friction_t *est, uint32_t missed,
+                                                   const rfe_sample_t *sample,
+                                                   rfe_estimate_t *out);
 
 /**
  * Sets the input uncertainties of the next steps' errors-in-variables terms (docs/

@@ -179,6 +179,35 @@ RFE_NODISCARD rfe_status_t rfe_friction_get_q31(const rfe_friction_q31_t *est,
 RFE_NODISCARD rfe_status_t rfe_friction_skip_q31(rfe_friction_q31_t *est, uint32_t missed);
 
 /**
+ * The sample periods missed before a sample that comes @p period after the previous one
+ * (the twin of rfe_friction_missed; rfe/common.h): 0 up to RFE_GAP_PERIODS periods dt,
+ * widened by 2^-RFE_GAP_STAMP_SHIFT; beyond, round(period / dt) - 1. Q30 holds periods below
+ * 2 s: a longer gap is given as the format's largest (2 s saturated), and counts as that.
+ * @param[in]  est     an estimator set up by rfe_friction_init_q31.
+ * @param[in]  period  the time since the previous sample [s], Q30, >= 0.
+ * @param[out] missed  the missed periods.
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_NOT_INITIALISED; RFE_ERR_RANGE (a period < 0;
+ *         @p missed untouched).
+ */
+RFE_NODISCARD rfe_status_t rfe_friction_missed_q31(const rfe_friction_q31_t *est,
+                                                   rfe_fix_t period, uint32_t *missed);
+
+/**
+ * One step after a gap (the twin of rfe_friction_step_after): rfe_friction_skip_q31(@p
+ * missed) and rfe_friction_step_q31 as one call; on any error neither happened. out->sat
+ * counts the gap's saturations too. missed = 0: exactly rfe_friction_step_q31.
+ * @param[in,out] est     an estimator set up by rfe_friction_init_q31.
+ * @param[in]     missed  the sample periods without a sample before this one.
+ * @param[in]     sample  one sensor sample in Q formats, as rfe_friction_step_q31.
+ * @param[out]    out     this step's estimate, as rfe_friction_step_q31.
+ * @return as rfe_friction_step_q31; a numeric error of the gap's time updates.
+ */
+RFE_NODISCARD rfe_status_t rfe_friction_step_after_q31(rfe_friction_q31_t *est,
+                                                       uint32_t missed,
+                                                       const rfe_sample_q31_t *sample,
+                                                       rfe_estimate_q31_t *out);
+
+/**
  * Sets the per-step input uncertainties of the errors-in-variables terms (the twin of
  * rfe_friction_set_input_noise), for inputs that are estimates themselves (the velocity
  * observer's sd each step, docs/OBSERVER.md §6).

@@ -7,8 +7,15 @@
  * previous estimate, hands the friction estimator (rfe/friction.h) the observer's vx, vy
  * and yaw acceleration as its inputs, and their sd as its per-step input noise
  * (rfe_friction_set_input_noise: sd_in_vx, sd_in_vy, and sqrt(r_yaw_acc^2 + sd(r-dot)^2)).
- * The parameters' filter.dt must be the sample period (the friction estimator's input
- * filter uses it).
+ * The parameters' filter.dt must be the nominal sample period (the friction estimator's
+ * input filter uses it); each sample's own period is its dt.
+ *
+ * Gaps (docs/OBSERVER.md §6): a sample whose dt is longer than two periods (rfe/common.h
+ * RFE_GAP_PERIODS) makes the friction estimator's time updates of the missed periods first
+ * (rfe_friction_missed, rfe_friction_step_after; out.missed says how many); a dt beyond the
+ * observer's obs_dt_max also starts the observer afresh at that sample (rfe_velocity_restart;
+ * out.restarted). A rejected sample changes nothing, its gap included: give dt as the time
+ * since the last accepted sample, so that the next one makes up for it.
  *
  * @code
  * #include "rfe/pipeline.h"
@@ -58,6 +65,10 @@
 typedef struct {
     rfe_estimate_t friction;          /**< mu, sd, valid per wheel and the friction status */
     rfe_velocity_estimate_t velocity; /**< vx, vy, beta, r-dot, their sd, flags, status */
+    uint32_t missed;    /**< the sample periods before this sample that the friction estimator
+                             time-updated at once (a gap: rfe_friction_missed), else 0 */
+    uint32_t restarted; /**< 1 when the observer started afresh at this sample (a period
+                             beyond obs_dt_max: rfe_velocity_restart), else 0 */
 } rfe_pipeline_out_t;
 
 /** Pipeline state (caller-owned; fields read-only for the caller). */
@@ -105,7 +116,8 @@ RFE_NODISCARD rfe_status_t rfe_pipeline_init(rfe_pipeline_t *pl, const rfe_param
  * @param[in]     in   one ESC sample (rfe_velocity_input_t).
  * @param[out]    out  both estimates.
  * @return the observer's error (then nothing changed), else the friction estimator's status
- *         (on its error the observer's step is undone too, so the pipeline is untouched).
+ *         (on its error the observer's step, its restart and the gap's time updates are
+ *         undone too, so the pipeline is untouched).
  */
 RFE_NODISCARD rfe_status_t rfe_pipeline_step(rfe_pipeline_t *pl, const rfe_velocity_input_t *in,
                                              rfe_pipeline_out_t *out);

@@ -8,7 +8,11 @@
  * previous estimate, hands the friction estimator (rfe/friction_q31.h) the observer's vx,
  * vy and yaw acceleration as its inputs, and their sd as its per-step input noise
  * (rfe_friction_set_input_noise_q31: sd_in_vx, sd_in_vy, and sqrt(r_yaw_acc^2 +
- * sd(r-dot)^2), Q24). The parameters' filter.dt must be the sample period.
+ * sd(r-dot)^2), Q24). The parameters' filter.dt must be the nominal sample period; each
+ * sample's own period is its dt. Gaps as rfe/pipeline.h: beyond two periods the friction
+ * estimator's time updates of the missed ones first (out.missed), beyond obs_dt_max the
+ * observer afresh (out.restarted). Q30 holds a dt below 2 s: give a longer gap as the
+ * format's largest value (it then counts as 2 s for the friction estimator).
  */
 #ifndef RFE_PIPELINE_Q31_H
 #define RFE_PIPELINE_Q31_H
@@ -23,6 +27,10 @@ typedef struct {
     rfe_estimate_q31_t friction;          /**< mu, sd, valid per wheel, status, sat */
     rfe_velocity_estimate_q31_t velocity; /**< vx, vy, beta, r-dot, their sd, flags, status,
                                                sat */
+    uint32_t missed;    /**< the sample periods before this sample that the friction estimator
+                             time-updated at once (rfe_friction_missed_q31), else 0 */
+    uint32_t restarted; /**< 1 when the observer started afresh at this sample (a period
+                             beyond obs_dt_max), else 0 */
 } rfe_pipeline_out_q31_t;
 
 /** Pipeline state (caller-owned; fields read-only for the caller). */
@@ -65,7 +73,8 @@ RFE_NODISCARD rfe_status_t rfe_pipeline_init_q31(rfe_pipeline_q31_t *pl,
  * @param[in]     in   one ESC sample (rfe_velocity_input_q31_t).
  * @param[out]    out  both estimates.
  * @return the observer's error (then nothing changed), else the friction estimator's status
- *         (on its error the observer's step is undone too, so the pipeline is untouched).
+ *         (on its error the observer's step, its restart and the gap's time updates are
+ *         undone too, so the pipeline is untouched).
  */
 RFE_NODISCARD rfe_status_t rfe_pipeline_step_q31(rfe_pipeline_q31_t *pl,
                                                  const rfe_velocity_input_q31_t *in,

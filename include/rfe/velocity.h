@@ -53,10 +53,12 @@
 #define rfe_velocity_init rfe_velocity_init_f64
 #define rfe_velocity_step rfe_velocity_step_f64
 #define rfe_velocity_get  rfe_velocity_get_f64
+#define rfe_velocity_restart rfe_velocity_restart_f64
 #else
 #define rfe_velocity_init rfe_velocity_init_f32
 #define rfe_velocity_step rfe_velocity_step_f32
 #define rfe_velocity_get  rfe_velocity_get_f32
+#define rfe_velocity_restart rfe_velocity_restart_f32
 #endif
 
 /* The bits of has and flags (RFE_VEL_HAS_*, RFE_VEL_FLAG_*): rfe/velocity_bits.h. */
@@ -148,7 +150,8 @@ RFE_NODISCARD rfe_status_t rfe_velocity_init(rfe_velocity_t *obs,
 /**
  * One step (OBSERVER.md §3-§5).
  * @param[in,out] obs  an observer set up by rfe_velocity_init.
- * @param[in]     in   the sample; dt within [dt_min, dt_max] (but on the first sample).
+ * @param[in]     in   the sample; dt within [dt_min, dt_max] (but on the first sample; after
+ *                     a longer gap, rfe_velocity_restart first).
  * @param[in]     mu   the friction estimator's last estimate, or NULL (then mu_default).
  * @param[out]    out  the estimate (on error: the previous one, with the error status).
  * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_NOT_INITIALISED; RFE_ERR_NONFINITE (an input);
@@ -160,6 +163,16 @@ RFE_NODISCARD rfe_status_t rfe_velocity_step(rfe_velocity_t *obs,
                                              const rfe_velocity_input_t *in,
                                              const rfe_velocity_mu_t *mu,
                                              rfe_velocity_estimate_t *out);
+
+/**
+ * A gap longer than dt_max (OBSERVER.md §1): the filters cannot bridge it (their ax
+ * integration and the yaw-rate differentiator assume a short period), so the next accepted
+ * sample starts them afresh, as the first after init (§3.0). The parameters stay; the last
+ * estimate stays until then. The composed pipeline calls it itself (rfe/pipeline.h).
+ * @param[in,out] obs  an observer set up by rfe_velocity_init.
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_NOT_INITIALISED.
+ */
+RFE_NODISCARD rfe_status_t rfe_velocity_restart(rfe_velocity_t *obs);
 
 /**
  * The estimate of the last step without stepping.

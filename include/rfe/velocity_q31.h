@@ -142,6 +142,14 @@ RFE_NODISCARD rfe_status_t rfe_velocity_step_q31(rfe_velocity_q31_t *obs,
                                                  rfe_velocity_estimate_q31_t *out);
 
 /**
+ * A gap longer than dt_max: the next accepted sample starts the filters afresh (the twin of
+ * rfe_velocity_restart).
+ * @param[in,out] obs  an observer set up by rfe_velocity_init_q31.
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_NOT_INITIALISED.
+ */
+RFE_NODISCARD rfe_status_t rfe_velocity_restart_q31(rfe_velocity_q31_t *obs);
+
+/**
  * The estimate of the last step without stepping (sat 0).
  * @param[in]  obs  an observer set up by rfe_velocity_init_q31.
  * @param[out] out  the estimate.

@@ -150,14 +150,15 @@ class CKF:
 UINT32_MAX = 2 ** 32 - 1
 
 
-GAP_STAMP_REL = 1e-6   # log_timing.c rfe_log_gap_limit: the time stamps' own rounding
+GAP_PERIODS = 2           # rfe/common.h RFE_GAP_PERIODS: a gap is longer than 2 periods,
+GAP_STAMP_REL = 2.0 ** -20  # widened by RFE_GAP_STAMP_SHIFT for the time stamps' own rounding
 
 
 def gap_periods(period: float, dt: float) -> int:
     """The sample periods a gap misses (src/host/log_timing.c rfe_log_missed): none up to
     2 dt (jitter; one dropped sample is not a gap), else round(period / dt) - 1, at most
     2^32 - 1; none for dt <= 0."""
-    if not (dt > 0) or not (period > 2.0 * dt * (1.0 + GAP_STAMP_REL)):
+    if not (dt > 0) or not (period > GAP_PERIODS * dt * (1.0 + GAP_STAMP_REL)):
         return 0
     return int(min(np.floor(period / dt + 0.5) - 1.0, UINT32_MAX))
 

@@ -7,6 +7,7 @@
 #include <math.h>
 #include <stdlib.h>
 
+#include "rfe/common.h"
 #include "text_io.h"
 
 static int cmp_double(const void *a, const void *b)
@@ -51,7 +52,7 @@ size_t rfe_log_gaps(const rfe_sensor_log_t *log, double limit)
 
 double rfe_log_gap_limit(double dt)
 {
-    return 2.0 * dt * (1.0 + 1e-6);
+    return (double)RFE_GAP_PERIODS * dt * (1.0 + ldexp(1.0, -RFE_GAP_STAMP_SHIFT));
 }
 
 uint32_t rfe_log_missed(double period, double dt)

@@ -30,10 +30,11 @@ int rfe_log_period(const rfe_sensor_log_t *log, rfe_log_period_t *out);
 size_t rfe_log_gaps(const rfe_sensor_log_t *log, double limit);
 
 /**
- * The longest period at the nominal @p dt [s] that is not a gap: 2 dt, widened by the time
- * stamps' own rounding (1e-6 relative: a log's decimal stamps differ from exact multiples of
- * dt by ~1e-15 s; real jitter is 1e3 times larger), so one dropped sample (a period of 2 dt)
- * is jitter, not a gap.
+ * The longest period at the nominal @p dt [s] that is not a gap (rfe/common.h
+ * RFE_GAP_PERIODS, RFE_GAP_STAMP_SHIFT, the library's rule): 2 dt, widened by the time
+ * stamps' own rounding (2^-20 relative: a log's decimal stamps differ from exact multiples
+ * of dt by ~1e-15 s; real jitter is 1e3 times larger), so one dropped sample (a period of
+ * 2 dt) is jitter, not a gap.
  */
 double rfe_log_gap_limit(double dt);
 

@@ -501,9 +501,10 @@ static int check_period(const options_t *o, run_t *r)
                         "%.6g s before t = %.6g s: ",
                 PROG, gaps, per.median, per.max, t_gap);
         if (r->use_observer) {
-            fprintf(stderr, "the friction estimator behind the observer steps over each as one "
-                            "period; the observer steps with the real period and rejects the "
-                            "sample after %zu gap(s) longer than obs_dt_max = %.6g s",
+            fprintf(stderr, "behind the observer the friction estimator makes the time updates "
+                            "of the missed periods at once and restarts its input filter; the "
+                            "observer steps with the real period and starts afresh after %zu "
+                            "gap(s) longer than obs_dt_max = %.6g s (rfe/pipeline.h)",
                     rfe_log_gaps(&r->log, dt_max), dt_max);
         } else {
             fprintf(stderr, "the friction estimator makes the time updates of the missed "
@@ -728,10 +729,14 @@ static int write_metrics_json(const options_t *o, const run_t *r)
     }
     fprintf(f, "  \"steps\": %zu,\n  \"bad_cells\": {\"empty\": %zu, \"nonfinite\": %zu, "
                "\"range\": %zu, \"rows\": %zu},\n  \"gaps\": {\"count\": %zu, "
-               "\"missed_periods\": %llu},\n  \"status_counts\": {",
+               "\"missed_periods\": %llu",
             r->stats.n_steps, r->log.bad_cells[RFE_CELL_EMPTY], r->log.bad_cells[RFE_CELL_NONFINITE],
             r->log.bad_cells[RFE_CELL_RANGE], r->log.bad_rows, r->stats.n_gaps,
             (unsigned long long)r->stats.n_skipped);
+    if (r->use_observer) {
+        fprintf(f, ", \"observer_restarts\": %zu", r->stats.n_restarts);
+    }
+    fputs("},\n  \"status_counts\": {", f);
     for (s = 0u; s < RFE_REPLAY_STATUS_SLOTS; ++s) {
         if (r->stats.status_count[s] != 0u) {
             fprintf(f, "%s\"%zu\": %zu", sep, s, r->stats.status_count[s]);
@@ -786,6 +791,10 @@ static void print_status_counts(const run_t *r)
         printf("gaps: %zu longer than 2 dt, %llu missed sample periods time-updated "
                "(rfe_friction_skip)\n",
                r->stats.n_gaps, (unsigned long long)r->stats.n_skipped);
+    }
+    if (r->stats.n_restarts != 0u) {
+        printf("observer: started afresh at %zu sample(s) after a period beyond obs_dt_max "
+               "(rfe_velocity_restart)\n", r->stats.n_restarts);
     }
     if (r->is_q31) {
         printf("saturation (q31): estimator %llu events in %zu steps (at most %lu in one step); "

@@ -194,13 +194,13 @@ rfe_status_t rfe_replay_run_q31(const rfe_param_set_t *ps, const rfe_sensor_log_
     return RFE_OK;
 }
 
-uint32_t rfe_replay_esc_input_q31(const rfe_sensor_log_t *log, size_t i,
+uint32_t rfe_replay_esc_input_q31(const rfe_sensor_log_t *log, size_t i, size_t prev,
                                   rfe_velocity_input_q31_t *in)
 {
     rfe_velocity_input_t d; /* the double run's sample: which columns, the period, the bits */
     uint32_t sat = 0u;
     size_t w;
-    rfe_replay_esc_input_f64(log, i, &d);
+    rfe_replay_esc_input_f64(log, i, prev, &d);
     memset(in, 0, sizeof *in);
     in->dt = rfe_fix_from_double(d.dt, RFE_FIX_Q_DT, &sat);
     in->delta = rfe_fix_from_double(d.delta, RFE_FIX_Q_ANGLE, &sat);
@@ -220,7 +220,8 @@ uint32_t rfe_replay_esc_input_q31(const rfe_sensor_log_t *log, size_t i,
 
 /* One pipeline step of row @p i; returns the step's saturations (observer and friction). */
 static uint32_t step_observer_row(rfe_pipeline_q31_t *pl, const rfe_sensor_log_t *log,
-                                  size_t i, rfe_est_row_t *out, rfe_replay_q31_stats_t *stats)
+                                  size_t i, size_t *last, rfe_est_row_t *out,
+                                  rfe_replay_q31_stats_t *stats)
 {
     rfe_velocity_input_q31_t in;
     rfe_pipeline_out_q31_t o;
@@ -238,9 +239,15 @@ static uint32_t step_observer_row(rfe_pipeline_q31_t *pl, const rfe_sensor_log_t
         o.friction.sat = 0u;
         o.velocity.sat = 0u;
     } else {
-        in_sat = rfe_replay_esc_input_q31(log, i, &in);
+        in_sat = rfe_replay_esc_input_q31(log, i, *last, &in);
         /* pipeline_q31.h: on an error o holds the previous estimates, sat 0 */
         st = rfe_pipeline_step_q31(pl, &in, &o);
+        if (!rfe_status_is_error(st)) {
+            *last = i; /* the next period starts here */
+            stats->base.n_gaps += (o.missed > 0u) ? 1u : 0u;
+            stats->base.n_skipped += o.missed;
+            stats->base.n_restarts += o.restarted;
+        }
     }
     out->t = log->rows[i].t;
     for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
@@ -273,6 +280,7 @@ rfe_status_t rfe_replay_run_observer_q31(const rfe_param_set_t *ps, const rfe_se
     static rfe_pipeline_q31_t pl; /* large; the replay is single-threaded host code */
     rfe_status_t st;
     size_t i;
+    size_t last = SIZE_MAX; /* the last accepted row: none yet */
     if ((ps == NULL) || (log == NULL) || (out == NULL) || (stats == NULL)) {
         return RFE_ERR_NULL;
     }
@@ -292,7 +300,7 @@ rfe_status_t rfe_replay_run_observer_q31(const rfe_param_set_t *ps, const rfe_se
         return st;
     }
     for (i = 0u; i < log->n_rows; ++i) {
-        const uint32_t sat = step_observer_row(&pl, log, i, &out[i], stats);
+        const uint32_t sat = step_observer_row(&pl, log, i, &last, &out[i], stats);
         if (row_sat != NULL) {
             row_sat[i] = sat;
         }

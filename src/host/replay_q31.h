@@ -93,13 +93,13 @@ uint32_t rfe_replay_sample_q31(const rfe_sensor_row_t *row, rfe_sample_q31_t *s)
 
 /**
  * The ESC sample of log row @p i in the Q formats of rfe_velocity_input_q31_t, as
- * rfe_replay_run_observer_q31 steps it: rfe_replay_esc_input_f64's sample (the period the
- * time stamps' difference in double; the optional columns when the log has them, else 0)
+ * rfe_replay_run_observer_q31 steps it: rfe_replay_esc_input_f64's sample (the period since
+ * row @p prev, the last accepted one, in double; the optional columns when the log has them, else 0)
  * with each value rounded by rfe_fix_from_double, its RFE_VEL_HAS_* bits as they are; for
  * tools that step the fixed-point observer themselves.
  * @return the number of values that saturated.
  */
-uint32_t rfe_replay_esc_input_q31(const rfe_sensor_log_t *log, size_t i,
+uint32_t rfe_replay_esc_input_q31(const rfe_sensor_log_t *log, size_t i, size_t prev,
                                   rfe_velocity_input_q31_t *in);
 
 /**

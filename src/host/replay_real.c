@@ -295,12 +295,13 @@ rfe_status_t rfe_replay_run(const rfe_param_set_t *ps, const rfe_sensor_log_t *l
     return RFE_OK;
 }
 
-void rfe_replay_esc_input(const rfe_sensor_log_t *log, size_t i, rfe_velocity_input_t *in)
+void rfe_replay_esc_input(const rfe_sensor_log_t *log, size_t i, size_t prev,
+                          rfe_velocity_input_t *in)
 {
     const rfe_sensor_row_t *row = &log->rows[i];
     size_t w;
     memset(in, 0, sizeof *in);
-    in->dt = (i > 0u) ? (rfe_real_t)(row->t - log->rows[i - 1u].t) : (rfe_real_t)0.0;
+    in->dt = (prev < i) ? (rfe_real_t)(row->t - log->rows[prev].t) : (rfe_real_t)0.0;
     in->delta = (rfe_real_t)row->delta;
     in->steer_wheel = log->has_swa ? (rfe_real_t)row->swa : (rfe_real_t)0.0;
     in->yaw_rate = (rfe_real_t)row->yaw_rate;
@@ -327,6 +328,7 @@ rfe_status_t rfe_replay_run_observer(const rfe_param_set_t *ps, const rfe_sensor
     rfe_status_t st;
     size_t i;
     size_t w;
+    size_t last = SIZE_MAX; /* the last accepted row: none yet */
     if ((ps == NULL) || (log == NULL) || (out == NULL) || (stats == NULL)) {
         return RFE_ERR_NULL;
     }
@@ -347,9 +349,15 @@ rfe_status_t rfe_replay_run_observer(const rfe_param_set_t *ps, const rfe_sensor
     for (i = 0u; i < log->n_rows; ++i) {
         rfe_velocity_input_t in;
         rfe_pipeline_out_t o;
-        rfe_replay_esc_input(log, i, &in);
+        rfe_replay_esc_input(log, i, last, &in);
         memset(&o, 0, sizeof o);
         st = rfe_pipeline_step(&pl, &in, &o);
+        if (!rfe_status_is_error(st)) {
+            last = i; /* the next period starts here */
+            stats->n_gaps += (o.missed > 0u) ? 1u : 0u;
+            stats->n_skipped += o.missed;
+            stats->n_restarts += o.restarted;
+        }
         out[i].t = log->rows[i].t;
         for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
             out[i].mu[w] = (double)o.friction.mu[w];

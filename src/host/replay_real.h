@@ -49,8 +49,12 @@
 typedef struct {
     size_t n_steps;
     size_t status_count[RFE_REPLAY_STATUS_SLOTS];  /**< index = rfe_status_t value */
-    size_t n_gaps;      /**< periods longer than 2 dt (rfe_log_missed), friction runs only */
-    uint64_t n_skipped; /**< the sample periods they miss, time-updated by rfe_friction_skip */
+    size_t n_gaps;      /**< periods longer than 2 dt (rfe_log_missed; behind the observer:
+                             the pipeline's rfe_friction_missed) */
+    uint64_t n_skipped; /**< the sample periods they miss, time-updated by rfe_friction_skip
+                             (behind the observer: the pipeline's out.missed) */
+    size_t n_restarts;  /**< behind the observer: samples it started afresh at (a period
+                             beyond obs_dt_max, the pipeline's out.restarted) */
 } rfe_replay_stats_t;
 
 /** Slot of @p status in rfe_replay_stats_t.status_count (inline: this header is shared by
@@ -90,8 +94,9 @@ RFE_NODISCARD rfe_status_t rfe_replay_run_f64(const rfe_param_set_t *ps,
  * log's steer, yaw rate, ax, ay and wheel speeds (and its brake pressures, drive torques
  * and grade when the log has them), with the observer's default parameters, and feeds
  * the friction estimator; measured vx, vy, yaw_acc columns are ignored. The period of
- * each step is the difference of the log's time stamps. Each row gets the observer's
- * estimate too (has_velocity = 1).
+ * each step is the time since the last accepted row (rfe/pipeline.h: a rejected sample
+ * changes nothing, so its period belongs to the next). Each row gets the observer's
+ * estimate too (has_velocity = 1); gaps and restarts are counted in @p stats.
  */
 RFE_NODISCARD rfe_status_t rfe_replay_run_observer_f32(const rfe_param_set_t *ps,
                                                        const rfe_sensor_log_t *log,
@@ -109,10 +114,12 @@ RFE_NODISCARD rfe_status_t rfe_replay_run_observer_f64(const rfe_param_set_t *ps
  *  replay steps it; for tests and tools that step the estimator themselves. */
 void rfe_replay_sample_from_row(const rfe_sensor_row_t *row, rfe_sample_t *s);
 
-/** The ESC sample of log row @p i as rfe_replay_run_observer steps it (the period from the
- *  time stamps' difference in double, then each field rounded to the build's real type);
- *  for tools that step the observer themselves (the PIL data generator). */
-void rfe_replay_esc_input(const rfe_sensor_log_t *log, size_t i, rfe_velocity_input_t *in);
+/** The ESC sample of log row @p i as rfe_replay_run_observer steps it (the period since row
+ *  @p prev, the last accepted sample, from the time stamps' difference in double; 0 when
+ *  @p prev >= @p i: none yet; then each field rounded to the build's real type); for tools
+ *  that step the observer themselves (the PIL data generator, the soak: @p prev = i - 1). */
+void rfe_replay_esc_input(const rfe_sensor_log_t *log, size_t i, size_t prev,
+                          rfe_velocity_input_t *in);
 
 /**
  * Fills @p ps from the library's preset @p preset (every key of the table, tyre, filter;

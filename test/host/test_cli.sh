@@ -278,8 +278,24 @@ run one_row 0 --in "$TMP/one_row.csv" --out "$TMP/o.csv"
 [ -s "$TMP/err" ] && bad "one_row: stderr not empty: $(cat "$TMP/err")" || ok "one_row: no period, no note"
 printf '# dt = 0.01\n# m = 1830\nt,delta,yaw_rate,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr\n0,0,0,0,0,61.5,61.5,61.5,61.5\n0.01,0,0,0,0,61.5,61.5,61.5,61.5\n0.02,0,0,0,0,61.5,61.5,61.5,61.5\n0.5,0,0,0,0,61.5,61.5,61.5,61.5\n0.51,0,0,0,0,61.5,61.5,61.5,61.5\n' >"$TMP/gap.csv"
 run gap 0 --in "$TMP/gap.csv" --out "$TMP/g.csv"
-one_line gap "^mu_replay: note: 1 gap\(s\) longer than 2 periods \(2 x 0.01 s\), the longest 0.48 s before t = 0.5 s: the friction estimator behind the observer steps over each as one period; the observer steps with the real period and rejects the sample after 1 gap\(s\) longer than obs_dt_max = 0.1 s$"
-grep -q 'status 18' "$TMP/out" && ok "gap: the rejected sample counted" || bad "gap: no status 18 in the summary"
+one_line gap "^mu_replay: note: 1 gap\(s\) longer than 2 periods \(2 x 0.01 s\), the longest 0.48 s before t = 0.5 s: behind the observer the friction estimator makes the time updates of the missed periods at once and restarts its input filter; the observer steps with the real period and starts afresh after 1 gap\(s\) longer than obs_dt_max = 0.1 s \(rfe/pipeline.h\)$"
+# REQ-OBS-023: behind the observer the gap is told to both estimators, in every precision:
+# round(0.48 / 0.01) - 1 = 47 missed periods, the observer restarted once, no sample refused
+for real in float double q31; do
+    run "gap_observer_$real" 0 --in "$TMP/gap.csv" --out "$TMP/g_$real.csv" --real $real --metrics "$TMP/g_$real.json"
+    grep -q '^gaps: 1 longer than 2 dt, 47 missed sample periods time-updated (rfe_friction_skip)$' "$TMP/out" \
+        && grep -q '^observer: started afresh at 1 sample(s) after a period beyond obs_dt_max (rfe_velocity_restart)$' "$TMP/out" \
+        && ! grep -q 'status 18' "$TMP/out" && ok "gap_observer_$real: summary" \
+        || bad "gap_observer_$real: $(cat "$TMP/out")"
+    grep -q '"gaps": {"count": 1, "missed_periods": 47, "observer_restarts": 1}' "$TMP/g_$real.json" \
+        && ok "gap_observer_$real: JSON" || bad "gap_observer_$real: $(grep gaps "$TMP/g_$real.json")"
+done
+# the restarted observer takes the row at t = 0.5 as its first: its vx is the wheels' mean,
+# as at t = 0 (the same wheel speeds), to the last digit
+vx0=$(grep -v '^#' "$TMP/g_double.csv" | awk -F, 'NR == 1 {for (i = 1; i <= NF; i++) if ($i == "vx_est") c = i} NR == 2 {print $c}')
+vx5=$(grep -v '^#' "$TMP/g_double.csv" | awk -F, 'NR == 1 {for (i = 1; i <= NF; i++) if ($i == "vx_est") c = i} $1 == "0.5" {print $c}')
+[ -n "$vx0" ] && [ "$vx0" = "$vx5" ] && ok "gap_observer: restarted at t = 0.5 (vx $vx5 as at t = 0)" \
+    || bad "gap_observer: vx at t = 0 '$vx0', at t = 0.5 '$vx5'"
 # REQ-CSV-006: a gap of 3 periods in a measured-velocity log is reported too; jitter is not
 # (braking at 4 m/s^2 with 4 % slip: updating steps, so the sd is below the prior's and a gap
 # has room to grow it; then cruising, held: the sd after the gap is the time updates' alone)
@@ -309,14 +325,22 @@ sed 's/^# dt = 0.01$/# dt = 0.0101/' "$TMP/jitter.csv" >"$TMP/dt1.csv"
 run dt_within_1pct 0 --in "$TMP/dt1.csv" --out "$TMP/j.csv" -q
 sed 's/^# dt = 0.01$/# dt = 0.01015/' "$TMP/jitter.csv" >"$TMP/dt15.csv"
 input_error dt_off_1_5pct "$TMP/dt15.csv" "^mu_replay: .*dt15\.csv:1: dt = 0.01015 s, but the log's time stamps have a median period of 0.01 s"
-# q31: a 3.5 s gap does not fit the period's Q30 (< 2 s): counted as input saturation, and
-# the sample rejected (18) as in float and double
 sed 's/^0\.5,/3.5,/; s/^0\.51,/3.51,/' "$TMP/gap.csv" >"$TMP/gap3.csv"
-run gap_q31 0 --in "$TMP/gap3.csv" --out "$TMP/g3.csv" --real q31 --quiet
+# q31: a 3.5 s gap does not fit the period's Q30 (< 2 s): counted as input saturation; the
+# saturated period (2 s less 1 LSB) is still beyond obs_dt_max, so the observer restarts and
+# the sample is taken as in float and double; the friction estimator counts the 2 s:
+# round(200) - 1 = 199 missed periods in q31, round(348) - 1 = 347 in float (docs:
+# rfe/pipeline_q31.h)
+run gap_q31 0 --in "$TMP/gap3.csv" --out "$TMP/g3.csv" --real q31 --quiet --metrics "$TMP/g3.json"
 grep -q '^# saturation_input_values = 1$' "$TMP/g3.csv" && ok "gap_q31: the period's saturation counted" \
     || bad "gap_q31: $(grep saturation_input_values "$TMP/g3.csv")"
-grep -Eq '^3\.5,.*,0,0,0,0,18,' "$TMP/g3.csv" && ok "gap_q31: the sample after the gap rejected (18)" \
+grep -Eq '^3\.5,.*,0,0,0,0,3,' "$TMP/g3.csv" && ok "gap_q31: the sample after the gap taken (3, held)" \
     || bad "gap_q31: $(grep '^3.5,' "$TMP/g3.csv")"
+grep -q '"gaps": {"count": 1, "missed_periods": 199, "observer_restarts": 1}' "$TMP/g3.json" \
+    && ok "gap_q31: 199 missed periods, one restart" || bad "gap_q31: $(grep gaps "$TMP/g3.json")"
+run gap_float_long 0 --in "$TMP/gap3.csv" --out "$TMP/g3f.csv" --quiet --metrics "$TMP/g3f.json"
+grep -q '"gaps": {"count": 1, "missed_periods": 347, "observer_restarts": 1}' "$TMP/g3f.json" \
+    && ok "gap_float_long: 347 missed periods, one restart" || bad "gap_float_long: $(grep gaps "$TMP/g3f.json")"
 printf 'obs_driven = 2.5\n' >"$TMP/driven.par"
 run obs_bad_driven 1 --in "$DATA/good_esc.csv" --out "$TMP/v.csv" --params "$TMP/driven.par"
 one_line obs_bad_driven "^mu_replay: .*driven\.par:1: invalid parameter obs_driven = 2.5 \(rejected by rfe_velocity_params_validate"

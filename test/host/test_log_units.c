@@ -22,6 +22,7 @@
 #include "csv_log.h"
 #include "log_text.h"
 #include "log_timing.h"
+#include "rfe/friction.h"
 #include "log_units.h"
 #include "text_io.h"
 
@@ -277,7 +278,7 @@ static void test_rfe_log_period_median_of_jittered_stamps(void **state)
     rfe_sensor_log_free(&log);
 }
 
-/* REQ: the periods a gap misses (rfe_log_missed): none up to 2 dt (jitter; widened by 1e-6
+/* REQ: the periods a gap misses (rfe_log_missed): none up to 2 dt (jitter; widened by 2^-20
  * relative for the stamps' own rounding, so one dropped sample is not a gap), else
  * round(period / dt) - 1, capped at UINT32_MAX; none for a dt <= 0 or a NaN period. */
 /* REQ-CSV-006 REQ-EST-015 */
@@ -313,6 +314,43 @@ static void test_rfe_log_period_one_row_has_none(void **state)
     rfe_sensor_log_free(&log);
 }
 
+/* REQ: mu_replay's gap rule (rfe_log_missed, double) and the library's (rfe_friction_missed,
+ * the double build, which the pipeline uses behind the observer) are one rule: equal counts
+ * on a sweep of periods from 0 to 2 s in steps of 1/7 ms, at dt = 0.01 s and 0.02 s, and at
+ * the edges (2 dt, just beyond the stamps' rounding, half periods). */
+/* REQ-EST-015 REQ-OBS-023 */
+static void test_rfe_log_missed_is_the_library_rule(void **state)
+{
+    static rfe_friction_t est;
+    rfe_params_t p;
+    const double dts[2] = {0.01, 0.02};
+    size_t d;
+    int k;
+    (void)state;
+    for (d = 0u; d < 2u; ++d) {
+        const double dt = dts[d];
+        const double edges[] = {2.0 * dt, 2.0 * dt * (1.0 + 2e-6), 2.5 * dt, 3.5 * dt, 1e12};
+        uint32_t lib = 0u;
+        size_t e;
+        memset(&p, 0, sizeof p);
+        assert_int_equal(rfe_params_default(&p), RFE_OK);
+        p.filter.dt = dt;
+        assert_int_equal(rfe_friction_init(&est, &p), RFE_OK);
+        for (k = 0; k < 14000; ++k) {
+            const double period = (double)k / 7000.0;
+            assert_int_equal(rfe_friction_missed(&est, period, &lib), RFE_OK);
+            if (lib != rfe_log_missed(period, dt)) {
+                fail_msg("dt %g, period %.9g: library %u, host %u", dt, period, (unsigned)lib,
+                         (unsigned)rfe_log_missed(period, dt));
+            }
+        }
+        for (e = 0u; e < sizeof edges / sizeof edges[0]; ++e) {
+            assert_int_equal(rfe_friction_missed(&est, edges[e], &lib), RFE_OK);
+            assert_int_equal(lib, rfe_log_missed(edges[e], dt));
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -327,6 +365,7 @@ int main(void)
         cmocka_unit_test(test_rfe_log_period_median_of_jittered_stamps),
         cmocka_unit_test(test_rfe_log_period_one_row_has_none),
         cmocka_unit_test(test_rfe_log_missed_periods),
+        cmocka_unit_test(test_rfe_log_missed_is_the_library_rule),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -118,7 +118,7 @@ int soak_run_pipeline(const rfe_sensor_log_t *log, const char *log_name, const s
         rfe_status_t st;
         char why[INV_WHY];
         int w, bad = 0;
-        rfe_replay_esc_input(log, i, &in);
+        rfe_replay_esc_input(log, i, i - 1u, &in); /* i = 0: SIZE_MAX, none */
         memcpy(&before, &pl, sizeof(pl));
         st = rfe_pipeline_step(&pl, &in, &out);
         ++res->steps;

@@ -150,7 +150,7 @@ int soak_run_pipeline_q31(const rfe_sensor_log_t *log, const char *log_name,
         rfe_status_t st;
         char why[INV_WHY];
         int bad = 0;
-        if (rfe_replay_esc_input_q31(log, i, &in) != 0u) {
+        if (rfe_replay_esc_input_q31(log, i, i - 1u, &in) != 0u) {
             ++res->input_sat_rows;
         }
         memcpy(&before, &pl, sizeof(pl));

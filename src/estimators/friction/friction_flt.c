@@ -511,10 +511,26 @@ static uint32_t gap_steps(const rfe_friction_t *est, uint32_t missed)
     return k;
 }
 
+/* The gap's time updates (ESTIMATOR.md "Gaps"): gap_steps of the missed periods, step 7's
+ * sd bounds once (SCKF), the input filter restarted. Its callers check and back up. */
+static rfe_status_t gap_update(rfe_friction_t *est, uint32_t missed)
+{
+    const uint32_t k = gap_steps(est, missed);
+    rfe_status_t st = (est->params.filter.kind == RFE_FILTER_CKF)
+                          ? rfe_ckf_predict_steps(&est->filter.ckf, k)
+                          : rfe_sckf_predict_steps(&est->filter.sckf, k);
+    if ((st == RFE_OK) && (est->params.filter.kind != RFE_FILTER_CKF)) {
+        st = bound_sd(est); /* step 7 once, as after one step's time update */
+    }
+    if (st == RFE_OK) {
+        st = rfe_conditioner_init(&est->cond); /* the next sample seeds it, as after init */
+    }
+    return st;
+}
+
 rfe_status_t rfe_friction_skip(rfe_friction_t *est, uint32_t missed)
 {
     rfe_status_t st;
-    uint32_t k;
     if (est == NULL) {
         return RFE_ERR_NULL;
     }
@@ -525,24 +541,41 @@ rfe_status_t rfe_friction_skip(rfe_friction_t *est, uint32_t missed)
         return RFE_OK;
     }
     backup(est, 0);
-    k = gap_steps(est, missed);
-    st = (est->params.filter.kind == RFE_FILTER_CKF)
-             ? rfe_ckf_predict_steps(&est->filter.ckf, k)
-             : rfe_sckf_predict_steps(&est->filter.sckf, k);
-    if ((st == RFE_OK) && (est->params.filter.kind != RFE_FILTER_CKF)) {
-        st = bound_sd(est); /* step 7 once, as after one step's time update */
-    }
-    if (st == RFE_OK) {
-        st = rfe_conditioner_init(&est->cond); /* the next sample seeds it, as after init */
-    }
+    st = gap_update(est, missed);
     if (st != RFE_OK) {
         backup(est, 1);
     }
     return st;
 }
 
-rfe_status_t rfe_friction_step(rfe_friction_t *est, const rfe_sample_t *sample,
-                               rfe_estimate_t *out)
+rfe_status_t rfe_friction_missed(const rfe_friction_t *est, rfe_real_t period, uint32_t *missed)
+{
+    rfe_real_t dt;
+    rfe_real_t lim;
+    rfe_real_t n;
+    if ((est == NULL) || (missed == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    if (est->magic != RFE_MAGIC_EST) {
+        return RFE_ERR_NOT_INITIALISED;
+    }
+    if ((rfe_is_finite(period) == 0) || (period < RFE_R(0.0))) {
+        return RFE_ERR_RANGE;
+    }
+    dt = est->params.filter.dt; /* > 0 (validated) */
+    lim = (RFE_R(RFE_GAP_PERIODS) * dt) *
+          (RFE_R(1.0) + RFE_LDEXP(RFE_R(1.0), -RFE_GAP_STAMP_SHIFT)); /* 2^-20: exact */
+    if (period <= lim) {
+        *missed = 0u; /* jitter */
+        return RFE_OK;
+    }
+    n = (period / dt) + RFE_R(0.5); /* > 2: its integer part is round(period / dt) */
+    *missed = (n >= RFE_R(4294967296.0)) ? UINT32_MAX : ((uint32_t)n - 1u);
+    return RFE_OK;
+}
+
+rfe_status_t rfe_friction_step_after(rfe_friction_t *est, uint32_t missed,
+                                     const rfe_sample_t *sample, rfe_estimate_t *out)
 {
     rfe_status_t st;
     rfe_status_t got;
@@ -555,11 +588,16 @@ rfe_status_t rfe_friction_step(rfe_friction_t *est, const rfe_sample_t *sample,
     if (est->magic != RFE_MAGIC_EST) {
         return RFE_ERR_NOT_INITIALISED;
     }
-    /* 0. Input check: a rejected sample changes nothing. */
+    /* 0. Input check: a rejected sample changes nothing, the gap's time updates included. */
     st = check_sample(sample);
     if (st == RFE_OK) {
         backup(est, 0);
-        st = filter_step(est, sample);
+        if (missed > 0u) {
+            st = gap_update(est, missed);
+        }
+        if (st == RFE_OK) {
+            st = filter_step(est, sample);
+        }
         if (rfe_status_is_error(st) != 0) {
             backup(est, 1);
         }
@@ -577,4 +615,10 @@ rfe_status_t rfe_friction_step(rfe_friction_t *est, const rfe_sample_t *sample,
     out->status = st;
     apply_monitor(est, out);
     return out->status;
+}
+
+rfe_status_t rfe_friction_step(rfe_friction_t *est, const rfe_sample_t *sample,
+                               rfe_estimate_t *out)
+{
+    return rfe_friction_step_after(est, 0u, sample, out);
 }

@@ -637,10 +637,27 @@ static uint32_t gap_steps_q31(const rfe_friction_q31_t *est, uint32_t missed)
     return k;
 }
 
+/* The gap's time updates (friction_flt.c gap_update): gap_steps_q31 of the missed periods,
+ * step 7's sd bounds once (SCKF), the input filter restarted. Its callers check, back up and
+ * settle the saturation counts. */
+static rfe_status_t gap_update_q31(rfe_friction_q31_t *est, uint32_t missed)
+{
+    const uint32_t k = gap_steps_q31(est, missed);
+    rfe_status_t st = (est->params.filter.kind == RFE_FILTER_CKF)
+                          ? rfe_ckf_predict_steps_q31(&est->filter.ckf, k)
+                          : rfe_sckf_predict_steps_q31(&est->filter.sckf, k);
+    if ((st == RFE_OK) && (est->params.filter.kind != RFE_FILTER_CKF)) {
+        st = bound_sd_q31(est); /* step 7 once, as after one step's time update */
+    }
+    if (st == RFE_OK) {
+        st = rfe_conditioner_init_q31(&est->cond); /* the next sample seeds it */
+    }
+    return st;
+}
+
 rfe_status_t rfe_friction_skip_q31(rfe_friction_q31_t *est, uint32_t missed)
 {
     rfe_status_t st;
-    uint32_t k;
     if (est == NULL) {
         return RFE_ERR_NULL;
     }
@@ -651,16 +668,7 @@ rfe_status_t rfe_friction_skip_q31(rfe_friction_q31_t *est, uint32_t missed)
         return RFE_OK;
     }
     backup_q31(est, 0);
-    k = gap_steps_q31(est, missed);
-    st = (est->params.filter.kind == RFE_FILTER_CKF)
-             ? rfe_ckf_predict_steps_q31(&est->filter.ckf, k)
-             : rfe_sckf_predict_steps_q31(&est->filter.sckf, k);
-    if ((st == RFE_OK) && (est->params.filter.kind != RFE_FILTER_CKF)) {
-        st = bound_sd_q31(est); /* step 7 once, as after one step's time update */
-    }
-    if (st == RFE_OK) {
-        st = rfe_conditioner_init_q31(&est->cond); /* the next sample seeds it */
-    }
+    st = gap_update_q31(est, missed);
     if (st != RFE_OK) {
         backup_q31(est, 1);
     } else {
@@ -669,8 +677,36 @@ rfe_status_t rfe_friction_skip_q31(rfe_friction_q31_t *est, uint32_t missed)
     return st;
 }
 
-rfe_status_t rfe_friction_step_q31(rfe_friction_q31_t *est, const rfe_sample_q31_t *sample,
-                                   rfe_estimate_q31_t *out)
+rfe_status_t rfe_friction_missed_q31(const rfe_friction_q31_t *est, rfe_fix_t period,
+                                     uint32_t *missed)
+{
+    uint64_t dt;
+    uint64_t lim;
+    if ((est == NULL) || (missed == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    if (est->magic != RFE_MAGIC_EST_Q31) {
+        return RFE_ERR_NOT_INITIALISED;
+    }
+    if (period < 0) {
+        return RFE_ERR_RANGE;
+    }
+    dt = (uint64_t)est->params.filter.dt; /* Q30, > 0 (validated) */
+    lim = (uint64_t)RFE_GAP_PERIODS * dt;
+    lim += lim >> (uint32_t)RFE_GAP_STAMP_SHIFT; /* widened by 2^-20, floored (< 1 LSB) */
+    if ((uint64_t)period <= lim) {
+        *missed = 0u; /* jitter */
+    } else {
+        /* round(period / dt), exactly (half up): < 2^31 (period < 2 s, dt >= 1 LSB), >= 2 */
+        const uint64_t n = ((2u * (uint64_t)period) + dt) / (2u * dt);
+        *missed = (uint32_t)n - 1u;
+    }
+    return RFE_OK;
+}
+
+rfe_status_t rfe_friction_step_after_q31(rfe_friction_q31_t *est, uint32_t missed,
+                                         const rfe_sample_q31_t *sample,
+                                         rfe_estimate_q31_t *out)
 {
     rfe_status_t st;
     rfe_status_t got;
@@ -684,11 +720,16 @@ rfe_status_t rfe_friction_step_q31(rfe_friction_q31_t *est, const rfe_sample_q31
     if (est->magic != RFE_MAGIC_EST_Q31) {
         return RFE_ERR_NOT_INITIALISED;
     }
-    /* 0. Input check: a rejected sample changes nothing. */
+    /* 0. Input check: a rejected sample changes nothing, the gap's time updates included. */
     st = check_sample_q31(sample);
     if (st == RFE_OK) {
         backup_q31(est, 0);
-        st = filter_step_q31(est, sample);
+        if (missed > 0u) {
+            st = gap_update_q31(est, missed);
+        }
+        if (st == RFE_OK) {
+            st = filter_step_q31(est, sample);
+        }
         if (rfe_status_is_error(st) != 0) {
             backup_q31(est, 1);
         } else {
@@ -709,4 +750,10 @@ rfe_status_t rfe_friction_step_q31(rfe_friction_q31_t *est, const rfe_sample_q31
     out->sat = step_sat;
     rfe_friction_monitor_apply_q31(est, out);
     return out->status;
+}
+
+rfe_status_t rfe_friction_step_q31(rfe_friction_q31_t *est, const rfe_sample_q31_t *sample,
+                                   rfe_estimate_q31_t *out)
+{
+    return rfe_friction_step_after_q31(est, 0u, sample, out);
 }

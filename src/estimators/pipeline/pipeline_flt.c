@@ -56,6 +56,20 @@ static void friction_sample(const rfe_velocity_input_t *in, const rfe_velocity_e
     }
 }
 
+/* A gap before this sample (OBSERVER.md §6 "Gaps"): a period beyond the observer's longest
+ * (obs_dt_max) restarts it, this sample its first; returns 1 then. */
+static uint32_t restart_after_gap(rfe_pipeline_t *pl, const rfe_velocity_input_t *in)
+{
+    rfe_status_t st;
+    if ((pl->started == 0u) || (rfe_is_finite(in->dt) == 0) ||
+        (in->dt <= pl->velocity.p.dt_max)) {
+        return 0u;
+    }
+    st = rfe_velocity_restart(&pl->velocity);
+    (void)st; /* the pipeline's own initialised observer: cannot fail */
+    return 1u;
+}
+
 rfe_status_t rfe_pipeline_step(rfe_pipeline_t *pl, const rfe_velocity_input_t *in,
                                rfe_pipeline_out_t *out)
 {
@@ -63,6 +77,8 @@ rfe_status_t rfe_pipeline_step(rfe_pipeline_t *pl, const rfe_velocity_input_t *i
     rfe_filter_params_t noise_before;
     rfe_velocity_mu_t mu;
     rfe_sample_t u;
+    uint32_t missed = 0u;
+    uint32_t restarted;
     size_t i;
     rfe_status_t st;
     if ((pl == NULL) || (in == NULL) || (out == NULL)) {
@@ -72,11 +88,21 @@ rfe_status_t rfe_pipeline_step(rfe_pipeline_t *pl, const rfe_velocity_input_t *i
         mu.mu[i] = rfe_max(pl->last.mu[i], RFE_R(0.0));
         mu.sd[i] = pl->last.sd[i];
     }
+    out->missed = 0u;
+    out->restarted = 0u;
     obs_before = pl->velocity;
+    restarted = restart_after_gap(pl, in);
     st = rfe_velocity_step(&pl->velocity, in, (pl->started != 0u) ? &mu : NULL, &out->velocity);
     if (st != RFE_OK) {
+        pl->velocity = obs_before; /* the restart undone */
         out->friction = pl->last;
         return st;
+    }
+    if (pl->started != 0u) {
+        /* the periods the friction estimator missed: in->dt is finite and > 0 here (the
+         * observer checked it), so this cannot fail */
+        const rfe_status_t gst = rfe_friction_missed(&pl->friction, in->dt, &missed);
+        (void)gst;
     }
     friction_sample(in, &out->velocity, &u);
     noise_before = pl->friction.params.filter;
@@ -87,7 +113,7 @@ rfe_status_t rfe_pipeline_step(rfe_pipeline_t *pl, const rfe_velocity_input_t *i
                                           RFE_SQRT((pl->r_yaw_acc * pl->r_yaw_acc) + (s * s)));
     }
     if (st == RFE_OK) {
-        st = rfe_friction_step(&pl->friction, &u, &out->friction);
+        st = rfe_friction_step_after(&pl->friction, missed, &u, &out->friction);
     }
     if (rfe_status_is_error(st) != 0) {
         pl->velocity = obs_before; /* undo the observer's step and the input noise: the */
@@ -96,6 +122,8 @@ rfe_status_t rfe_pipeline_step(rfe_pipeline_t *pl, const rfe_velocity_input_t *i
         out->friction.status = st;
         return st;
     }
+    out->missed = missed;
+    out->restarted = restarted;
     pl->last = out->friction;
     pl->started = 1u;
     return st;

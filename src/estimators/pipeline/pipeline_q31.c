@@ -59,6 +59,19 @@ static void friction_sample_q31(const rfe_velocity_input_q31_t *in,
     }
 }
 
+/* A gap before this sample (pipeline_flt.c restart_after_gap): a period beyond obs_dt_max
+ * restarts the observer, this sample its first; returns 1 then. */
+static uint32_t restart_after_gap_q31(rfe_pipeline_q31_t *pl, const rfe_velocity_input_q31_t *in)
+{
+    rfe_status_t st;
+    if ((pl->started == 0u) || (in->dt <= pl->velocity.p.dt_max)) {
+        return 0u;
+    }
+    st = rfe_velocity_restart_q31(&pl->velocity);
+    (void)st; /* the pipeline's own initialised observer: cannot fail */
+    return 1u;
+}
+
 rfe_status_t rfe_pipeline_step_q31(rfe_pipeline_q31_t *pl, const rfe_velocity_input_q31_t *in,
                                    rfe_pipeline_out_q31_t *out)
 {
@@ -67,6 +80,8 @@ rfe_status_t rfe_pipeline_step_q31(rfe_pipeline_q31_t *pl, const rfe_velocity_in
     rfe_velocity_mu_q31_t mu;
     rfe_sample_q31_t u;
     uint32_t sat = 0u;
+    uint32_t missed = 0u;
+    uint32_t restarted;
     size_t i;
     rfe_status_t st;
     if ((pl == NULL) || (in == NULL) || (out == NULL)) {
@@ -76,13 +91,23 @@ rfe_status_t rfe_pipeline_step_q31(rfe_pipeline_q31_t *pl, const rfe_velocity_in
         mu.mu[i] = rfe_fix_max(pl->last.mu[i], 0);
         mu.sd[i] = pl->last.sd[i];
     }
+    out->missed = 0u;
+    out->restarted = 0u;
     obs_before = pl->velocity;
+    restarted = restart_after_gap_q31(pl, in);
     st = rfe_velocity_step_q31(&pl->velocity, in, (pl->started != 0u) ? &mu : NULL,
                                &out->velocity);
     if (st != RFE_OK) {
+        pl->velocity = obs_before; /* the restart undone */
         out->friction = pl->last;
         out->friction.sat = 0u;
         return st;
+    }
+    if (pl->started != 0u) {
+        /* the periods the friction estimator missed: in->dt > 0 here (the observer checked
+         * it), so this cannot fail */
+        const rfe_status_t gst = rfe_friction_missed_q31(&pl->friction, in->dt, &missed);
+        (void)gst;
     }
     friction_sample_q31(in, &out->velocity, &u);
     noise_before = pl->friction.params.filter;
@@ -97,7 +122,7 @@ rfe_status_t rfe_pipeline_step_q31(rfe_pipeline_q31_t *pl, const rfe_velocity_in
         }
     }
     if (st == RFE_OK) {
-        st = rfe_friction_step_q31(&pl->friction, &u, &out->friction);
+        st = rfe_friction_step_after_q31(&pl->friction, missed, &u, &out->friction);
     }
     if (rfe_status_is_error(st) != 0) {
         pl->velocity = obs_before; /* undo the observer's step and the input noise: the */
@@ -108,6 +133,8 @@ rfe_status_t rfe_pipeline_step_q31(rfe_pipeline_q31_t *pl, const rfe_velocity_in
         return st;
     }
     rfe_q31_sat_add(&out->friction.sat, sat);
+    out->missed = missed;
+    out->restarted = restarted;
     pl->last = out->friction;
     pl->started = 1u;
     return st;

@@ -212,6 +212,18 @@ rfe_status_t rfe_velocity_step(rfe_velocity_t *obs, const rfe_velocity_input_t *
     return RFE_OK;
 }
 
+rfe_status_t rfe_velocity_restart(rfe_velocity_t *obs)
+{
+    if (obs == NULL) {
+        return RFE_ERR_NULL;
+    }
+    if (obs->magic != RFE_MAGIC_VEL) {
+        return RFE_ERR_NOT_INITIALISED;
+    }
+    obs->started = 0u; /* the next accepted sample is a first one (§3.0) */
+    return RFE_OK;
+}
+
 rfe_status_t rfe_velocity_get(const rfe_velocity_t *obs, rfe_velocity_estimate_t *out)
 {
     if ((obs == NULL) || (out == NULL)) {

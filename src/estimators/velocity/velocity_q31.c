@@ -275,6 +275,18 @@ rfe_status_t rfe_velocity_step_q31(rfe_velocity_q31_t *obs, const rfe_velocity_i
     return RFE_OK;
 }
 
+rfe_status_t rfe_velocity_restart_q31(rfe_velocity_q31_t *obs)
+{
+    if (obs == NULL) {
+        return RFE_ERR_NULL;
+    }
+    if (obs->magic != RFE_MAGIC_VEL_Q31) {
+        return RFE_ERR_NOT_INITIALISED;
+    }
+    obs->started = 0u; /* the next accepted sample is a first one (§3.0) */
+    return RFE_OK;
+}
+
 rfe_status_t rfe_velocity_get_q31(const rfe_velocity_q31_t *obs, rfe_velocity_estimate_q31_t *out)
 {
     if ((obs == NULL) || (out == NULL)) {

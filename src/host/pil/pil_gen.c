@@ -139,7 +139,7 @@ static uint32_t put_pipeline_q31(FILE *f, const rfe_params_q31_t *q, const rfe_v
     fputs("};\n\nconst rfe_velocity_input_q31_t pil_inputs[] = {\n", f);
     for (i = 0u; i < rows; ++i) {
         rfe_velocity_input_q31_t in;
-        in_sat += rfe_replay_esc_input_q31(log, i, &in);
+        in_sat += rfe_replay_esc_input_q31(log, i, i - 1u, &in); /* i = 0: SIZE_MAX */
         fprintf(f, "    {%" PRId32 ", %" PRId32 ", %" PRId32 ", %" PRId32 ", %" PRId32 ", %" PRId32 ", {",
                 in.dt, in.delta, in.steer_wheel, in.yaw_rate, in.ax, in.ay);
         for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
@@ -191,7 +191,7 @@ static void put_pipeline(FILE *f, const rfe_params_t *p, const rfe_velocity_para
     fputs("};\n\nconst rfe_velocity_input_t pil_inputs[] = {\n", f);
     for (i = 0u; i < rows; ++i) {
         rfe_velocity_input_t in;
-        rfe_replay_esc_input(log, i, &in);
+        rfe_replay_esc_input(log, i, i - 1u, &in); /* i = 0: SIZE_MAX, none */
         fprintf(f, "    {%af, %af, %af, %af, %af, %af, ", (double)in.dt, (double)in.delta,
                 (double)in.steer_wheel, (double)in.yaw_rate, (double)in.ax, (double)in.ay);
         put_floats(f, in.omega, (size_t)RFE_WHEELS);

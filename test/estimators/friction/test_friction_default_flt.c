@@ -1026,6 +1026,125 @@ static void test_rfe_friction_skip(void **state)
     assert_memory_equal(&est.cond, &copy.cond, sizeof est.cond);
 }
 
+/* REQ: the periods a gap misses (rfe_friction_missed, rfe/common.h): none up to 2 dt (jitter,
+ * one dropped sample; widened by 2^-20 for the stamps' rounding), else round(period / dt) - 1,
+ * capped at UINT32_MAX; a period not finite or negative is refused with the output untouched.
+ * The expected counts are worked out by hand from the rule at dt = 0.01 s (the default). */
+/* REQ-EST-015 */
+static void test_rfe_friction_missed(void **state)
+{
+    static rfe_friction_t est;
+    static rfe_friction_t blank;
+    const struct {
+        double period;
+        uint32_t want;
+    } cases[] = {
+        {0.0, 0u}, {0.01, 0u}, {0.0199, 0u}, {0.02, 0u}, /* 2 periods: still jitter */
+        {0.02 * (1.0 + 1e-4), 1u},                         /* beyond the stamps' rounding */
+        {0.0305, 2u}, {0.0349, 2u}, {0.0351, 3u}, {0.05, 4u}, {0.48, 47u}, {2.0, 199u},
+        {1e12, UINT32_MAX}, {1e30, UINT32_MAX},
+    };
+    uint32_t missed = 7u;
+    size_t i;
+    (void)state;
+    assert_int_equal(rfe_friction_init(&est, &dflt), RFE_OK);
+    for (i = 0u; i < sizeof cases / sizeof cases[0]; ++i) {
+        assert_int_equal(rfe_friction_missed(&est, (rfe_real_t)cases[i].period, &missed), RFE_OK);
+        if (missed != cases[i].want) {
+            fail_msg("period %g: %u missed, want %u", cases[i].period, (unsigned)missed,
+                     (unsigned)cases[i].want);
+        }
+    }
+    missed = 7u;
+    assert_int_equal(rfe_friction_missed(&est, (rfe_real_t)NAN, &missed), RFE_ERR_RANGE);
+    assert_int_equal(rfe_friction_missed(&est, (rfe_real_t)INFINITY, &missed), RFE_ERR_RANGE);
+    assert_int_equal(rfe_friction_missed(&est, (rfe_real_t)-0.01, &missed), RFE_ERR_RANGE);
+    assert_int_equal(missed, 7u);
+    assert_int_equal(rfe_friction_missed(NULL, (rfe_real_t)0.5, &missed), RFE_ERR_NULL);
+    assert_int_equal(rfe_friction_missed(&est, (rfe_real_t)0.5, NULL), RFE_ERR_NULL);
+    memset(&blank, 0, sizeof blank);
+    assert_int_equal(rfe_friction_missed(&blank, (rfe_real_t)0.5, &missed), RFE_ERR_NOT_INITIALISED);
+    assert_int_equal(missed, 7u);
+}
+
+/* The filter's mean and factor, the input filter and the monitor of two estimators agree bit
+ * for bit (their backups may differ: they hold the state before different calls). */
+static void assert_same_filter(const rfe_friction_t *a, const rfe_friction_t *b)
+{
+    assert_memory_equal(a->filter.sckf.x, b->filter.sckf.x, sizeof a->filter.sckf.x);
+    assert_memory_equal(a->filter.sckf.S, b->filter.sckf.S, sizeof a->filter.sckf.S);
+    assert_memory_equal(&a->cond, &b->cond, sizeof a->cond);
+    assert_memory_equal(&a->mon, &b->mon, sizeof a->mon);
+}
+
+/* REQ: one step after a gap (rfe_friction_step_after) is rfe_friction_skip then
+ * rfe_friction_step, bit for bit, in the default preset and the paper CKF; a rejected sample
+ * (NaN) or a failing filter (a factor made non-finite by hand) after a gap leaves the
+ * estimator as it was before the gap's time updates too; NULL and an uninitialised
+ * estimator are refused. */
+/* REQ-EST-015 */
+static void test_rfe_friction_step_after(void **state)
+{
+    static rfe_friction_t a;
+    static rfe_friction_t b;
+    static rfe_friction_t before;
+    rfe_estimate_t oa;
+    rfe_estimate_t ob;
+    rfe_params_t p = dflt;
+    rfe_sample_t brake = straight_sample(20.0, -0.1, -0.1);
+    rfe_sample_t bad;
+    const rfe_real_t mu[4] = {(rfe_real_t)0.6, (rfe_real_t)0.6, (rfe_real_t)0.6, (rfe_real_t)0.6};
+    int k;
+    int cfg;
+    (void)state;
+    model_match(&dflt, &brake, mu);
+    for (cfg = 0; cfg < 2; ++cfg) {
+        p = (cfg == 0) ? dflt : paper;
+        p.filter.kind = (cfg == 0) ? RFE_FILTER_SCKF : RFE_FILTER_CKF;
+        assert_int_equal(rfe_friction_init(&a, &p), RFE_OK);
+        for (k = 0; k < 30; ++k) {
+            assert_false(rfe_status_is_error(rfe_friction_step(&a, &brake, &oa)));
+        }
+        b = a;
+        assert_int_equal(rfe_friction_skip(&b, 12u), RFE_OK);
+        assert_int_equal(rfe_friction_step(&b, &brake, &ob), rfe_friction_step_after(&a, 12u, &brake, &oa));
+        assert_memory_equal(&oa, &ob, sizeof oa);
+        if (cfg == 0) {
+            assert_same_filter(&a, &b);
+        } else {
+            assert_memory_equal(a.filter.ckf.x, b.filter.ckf.x, sizeof a.filter.ckf.x);
+            assert_memory_equal(a.filter.ckf.P, b.filter.ckf.P, sizeof a.filter.ckf.P);
+        }
+        /* missed = 0: rfe_friction_step itself */
+        b = a;
+        assert_int_equal(rfe_friction_step(&b, &brake, &ob), rfe_friction_step_after(&a, 0u, &brake, &oa));
+        assert_memory_equal(&oa, &ob, sizeof oa);
+    }
+
+    /* a rejected sample after a gap: nothing changed, the gap's time updates included */
+    assert_int_equal(rfe_friction_init(&a, &dflt), RFE_OK);
+    for (k = 0; k < 30; ++k) {
+        assert_false(rfe_status_is_error(rfe_friction_step(&a, &brake, &oa)));
+    }
+    before = a;
+    bad = brake;
+    bad.ax = (rfe_real_t)NAN;
+    assert_int_equal(rfe_friction_step_after(&a, 40u, &bad, &oa), RFE_ERR_NONFINITE);
+    assert_memory_equal(&a, &before, sizeof a);
+    /* a filter that fails in the gap's time updates: undone */
+    a.filter.sckf.S[0] = (rfe_real_t)INFINITY;
+    before = a;
+    assert_int_equal(rfe_friction_step_after(&a, 40u, &brake, &oa), RFE_ERR_NONFINITE);
+    assert_same_filter(&a, &before);
+    assert_int_equal(oa.status, RFE_ERR_NONFINITE);
+
+    assert_int_equal(rfe_friction_step_after(NULL, 1u, &brake, &oa), RFE_ERR_NULL);
+    assert_int_equal(rfe_friction_step_after(&a, 1u, NULL, &oa), RFE_ERR_NULL);
+    assert_int_equal(rfe_friction_step_after(&a, 1u, &brake, NULL), RFE_ERR_NULL);
+    memset(&b, 0, sizeof b);
+    assert_int_equal(rfe_friction_step_after(&b, 1u, &brake, &oa), RFE_ERR_NOT_INITIALISED);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1049,6 +1168,8 @@ int main(void)
         cmocka_unit_test(test_rfe_friction_bounds_reject_overflowing_sd),
         cmocka_unit_test(test_rfe_friction_singular_prior_refused),
         cmocka_unit_test(test_rfe_friction_skip),
+        cmocka_unit_test(test_rfe_friction_missed),
+        cmocka_unit_test(test_rfe_friction_step_after),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }

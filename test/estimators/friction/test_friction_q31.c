@@ -1490,6 +1490,124 @@ static void test_rfe_replay_run_q31(void **state)
     assert_int_equal(rfe_replay_run_q31(&ps, &log, out, NULL, NULL, NULL), RFE_ERR_NULL);
 }
 
+/* REQ: rfe_friction_missed_q31 as the double twin's rule (rfe/common.h), on a sweep of
+ * periods from 0 to 1.99 s in steps of 1/7 ms and at the rule's edges: equal counts, except
+ * within 2 LSB (Q30, 2e-9 s) of a boundary, where the Q30 rounding of dt and of the period
+ * may decide otherwise (then they differ by one). A negative period is refused, the output
+ * untouched; NULL and an uninitialised estimator refused. */
+/* REQ-EST-015 REQ-FXP-010 */
+static void test_rfe_friction_q31_missed(void **state)
+{
+    static rfe_friction_q31_t eq;
+    static rfe_friction_q31_t blank;
+    static rfe_friction_t ed;
+    rfe_params_t pd;
+    rfe_params_q31_t pq;
+    uint32_t mq = 0u;
+    uint32_t md = 0u;
+    int k;
+    (void)state;
+    assert_int_equal(rfe_params_default_f64(&pd), RFE_OK);
+    assert_int_equal(rfe_params_to_q31_f64(&pd, &pq), RFE_OK);
+    assert_int_equal(rfe_friction_init_q31(&eq, &pq), RFE_OK);
+    assert_int_equal(rfe_friction_init_f64(&ed, &pd), RFE_OK);
+    for (k = 0; k < 13930; ++k) {
+        const double period = (double)k / 7000.0;
+        uint32_t sat = 0u;
+        const rfe_fix_t pq30 = rfe_fix_from_double(period, RFE_FIX_Q_DT, &sat);
+        const double lim = 2.0 * pd.filter.dt * (1.0 + ldexp(1.0, -20));
+        const double r = period / pd.filter.dt;
+        const double edge = 2.0 * ldexp(1.0, -30) / pd.filter.dt; /* 2 LSB in periods */
+        const int near = (fabs(period - lim) < 2.0 * ldexp(1.0, -30)) ||
+                         (fabs((r + 0.5) - nearbyint(r + 0.5)) < edge);
+        assert_int_equal(rfe_friction_missed_q31(&eq, pq30, &mq), RFE_OK);
+        assert_int_equal(rfe_friction_missed_f64(&ed, period, &md), RFE_OK);
+        if (near ? ((mq > md + 1u) || (md > mq + 1u)) : (mq != md)) {
+            fail_msg("period %.9g: q31 %u, double %u", period, (unsigned)mq, (unsigned)md);
+        }
+    }
+    assert_int_equal(rfe_friction_missed_q31(&eq, INT32_MAX, &mq), RFE_OK);
+    assert_int_equal(mq, 199u); /* Q30's largest period, 2 s less 1 LSB: round(200) - 1 */
+    assert_int_equal(rfe_friction_missed_q31(&eq, 2 * pq.filter.dt, &mq), RFE_OK);
+    assert_int_equal(mq, 0u); /* one dropped sample: jitter */
+    assert_int_equal(rfe_friction_missed_q31(&eq, (2 * pq.filter.dt) + 1, &mq), RFE_OK);
+    assert_int_equal(mq, 0u); /* within the stamps' rounding */
+    mq = 7u;
+    assert_int_equal(rfe_friction_missed_q31(&eq, -1, &mq), RFE_ERR_RANGE);
+    assert_int_equal(mq, 7u);
+    assert_int_equal(rfe_friction_missed_q31(NULL, 1, &mq), RFE_ERR_NULL);
+    assert_int_equal(rfe_friction_missed_q31(&eq, 1, NULL), RFE_ERR_NULL);
+    memset(&blank, 0, sizeof blank);
+    assert_int_equal(rfe_friction_missed_q31(&blank, 1, &mq), RFE_ERR_NOT_INITIALISED);
+}
+
+/* REQ: rfe_friction_step_after_q31 is rfe_friction_skip_q31 then rfe_friction_step_q31, bit
+ * for bit (estimate, mean, factor, input filter, saturation total), default SCKF and paper
+ * CKF; missed = 0 is the step itself; a rejected sample after a gap leaves the estimator as
+ * before the gap's time updates (the fixed-point time updates cannot fail:
+ * COVERAGE_JUSTIFICATION.md); NULL, uninitialised refused. */
+/* REQ-EST-015 REQ-FXP-010 */
+static void test_rfe_friction_q31_step_after(void **state)
+{
+    static rfe_friction_q31_t a;
+    static rfe_friction_q31_t b;
+    static rfe_friction_q31_t before;
+    rfe_params_t pd;
+    rfe_params_q31_t pq;
+    rfe_estimate_q31_t oa;
+    rfe_estimate_q31_t ob;
+    rfe_sample_t ud;
+    rfe_sample_q31_t uq;
+    rfe_sample_q31_t bad;
+    uint32_t qsat = 0u;
+    size_t c;
+    size_t j;
+    int k;
+    (void)state;
+    memset(&ud, 0, sizeof ud); /* braking */
+    ud.vx = 20.0;
+    ud.ax = -4.0;
+    for (j = 0u; j < 4u; ++j) {
+        ud.omega[j] = 20.0 * 0.96 / 0.325;
+    }
+    sample_q(&ud, &uq, &qsat);
+    for (c = 0u; c < 2u; ++c) {
+        if (c == 0u) {
+            assert_int_equal(rfe_params_default_f64(&pd), RFE_OK);
+        } else {
+            assert_int_equal(rfe_params_paper_f64(&pd), RFE_OK);
+            pd.filter.kind = RFE_FILTER_CKF;
+        }
+        assert_int_equal(rfe_params_to_q31_f64(&pd, &pq), RFE_OK);
+        assert_int_equal(rfe_friction_init_q31(&a, &pq), RFE_OK);
+        for (k = 0; k < 30; ++k) {
+            assert_false(rfe_status_is_error(rfe_friction_step_q31(&a, &uq, &oa)));
+        }
+        b = a;
+        assert_int_equal(rfe_friction_skip_q31(&b, 25u), RFE_OK);
+        assert_int_equal(rfe_friction_step_q31(&b, &uq, &ob),
+                         rfe_friction_step_after_q31(&a, 25u, &uq, &oa));
+        assert_memory_equal(&oa, &ob, sizeof oa);
+        assert_memory_equal(&a.filter, &b.filter, sizeof a.filter);
+        assert_memory_equal(&a.cond, &b.cond, sizeof a.cond);
+        assert_int_equal(a.sat, b.sat);
+        b = a;
+        assert_int_equal(rfe_friction_step_q31(&b, &uq, &ob),
+                         rfe_friction_step_after_q31(&a, 0u, &uq, &oa));
+        assert_memory_equal(&oa, &ob, sizeof oa);
+    }
+    before = a;
+    bad = uq;
+    bad.vx = rfe_fix_from_double(110.0, RFE_FIX_Q_SPEED, &qsat); /* beyond RFE_LIMIT_VX */
+    assert_int_equal(rfe_friction_step_after_q31(&a, 40u, &bad, &oa), RFE_ERR_RANGE);
+    assert_memory_equal(&a, &before, sizeof a);
+    assert_int_equal(rfe_friction_step_after_q31(NULL, 1u, &uq, &oa), RFE_ERR_NULL);
+    assert_int_equal(rfe_friction_step_after_q31(&a, 1u, NULL, &oa), RFE_ERR_NULL);
+    assert_int_equal(rfe_friction_step_after_q31(&a, 1u, &uq, NULL), RFE_ERR_NULL);
+    memset(&b, 0, sizeof b);
+    assert_int_equal(rfe_friction_step_after_q31(&b, 1u, &uq, &oa), RFE_ERR_NOT_INITIALISED);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1498,6 +1616,8 @@ int main(void)
         cmocka_unit_test(test_rfe_friction_q31_init_and_get),
         cmocka_unit_test(test_rfe_friction_q31_not_valid_on_a_bound),
         cmocka_unit_test(test_rfe_friction_q31_skip),
+        cmocka_unit_test(test_rfe_friction_q31_missed),
+        cmocka_unit_test(test_rfe_friction_q31_step_after),
         cmocka_unit_test(test_rfe_friction_q31_input_validation),
         cmocka_unit_test(test_rfe_friction_q31_statuses),
         cmocka_unit_test(test_rfe_friction_q31_rollback),

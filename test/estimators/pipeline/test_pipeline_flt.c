@@ -143,6 +143,181 @@ static void test_inits_refuse_other_layout_or_word(void **state)
     assert_int_equal(rfe_pipeline_init(&pl, &p, &vp), RFE_OK);
 }
 
+static void init_pipeline(rfe_pipeline_t *pl, rfe_params_t *p, rfe_velocity_params_t *vp)
+{
+    memset(p, 0, sizeof *p); /* the estimators copy it, padding included: keep it defined */
+    assert_int_equal(rfe_params_default(p), RFE_OK);
+    memset(vp, 0, sizeof *vp);
+    assert_int_equal(rfe_velocity_params_default(vp), RFE_OK);
+    memset(pl, 0, sizeof *pl); /* padding defined, so whole-struct compares are */
+    assert_int_equal(rfe_pipeline_init(pl, p, vp), RFE_OK);
+}
+
+/* 100 braking steps at 100 Hz: a friction estimate below the prior's sd, so a gap's time
+ * updates have room to grow it. */
+static rfe_velocity_input_t brake(const rfe_params_t *p, rfe_real_t dt)
+{
+    rfe_velocity_input_t in = rolling(p, 20.0f, dt);
+    size_t i;
+    in.ax = (rfe_real_t)-6.0;
+    for (i = 0u; i < 4u; ++i) {
+        in.omega[i] = (rfe_real_t)(20.0 * 0.95) / p->vehicle.R;
+    }
+    return in;
+}
+
+/* REQ: a gap before a sample (rfe/pipeline.h, OBSERVER.md §6 "Gaps"). Expected results
+ * come from the public parts composed by hand: the pipeline's step after a gap of k periods
+ * equals, bit for bit, the observer's step with the real period, then rfe_friction_skip(k)
+ * and rfe_friction_step on the observer's outputs with its sd as input noise; k =
+ * round(dt / filter.dt) - 1 beyond two periods (0.05 s: 4), none at two (jitter). Beyond
+ * obs_dt_max (0.5 s: 49 periods) the observer starts afresh: its estimate is a fresh
+ * observer's first. The first sample's dt is ignored. */
+/* REQ-OBS-023 REQ-EST-015 */
+static void test_a_gap_is_told_to_both_estimators(void **state)
+{
+    static rfe_pipeline_t pl;
+    static rfe_velocity_t obs;
+    static rfe_friction_t fr;
+    static rfe_velocity_t fresh;
+    rfe_params_t p;
+    rfe_velocity_params_t vp;
+    rfe_pipeline_out_t o;
+    rfe_velocity_estimate_t ve;
+    rfe_estimate_t fe;
+    rfe_velocity_input_t in;
+    const struct {
+        float dt;
+        uint32_t missed;
+        uint32_t restarted;
+    } gaps[] = {{0.02f, 0u, 0u}, {0.05f, 4u, 0u}, {0.09f, 8u, 0u}, {0.5f, 49u, 1u}};
+    size_t g;
+    size_t k;
+    (void)state;
+    for (g = 0u; g < sizeof gaps / sizeof gaps[0]; ++g) {
+        init_pipeline(&pl, &p, &vp);
+        in = brake(&p, 5.0f); /* the first sample's dt is ignored */
+        assert_false(rfe_status_is_error(rfe_pipeline_step(&pl, &in, &o)));
+        assert_int_equal(o.missed, 0u);
+        assert_int_equal(o.restarted, 0u);
+        for (k = 0u; k < 100u; ++k) {
+            in = brake(&p, 0.01f);
+            assert_false(rfe_status_is_error(rfe_pipeline_step(&pl, &in, &o)));
+        }
+        obs = pl.velocity;
+        fr = pl.friction;
+        in = brake(&p, gaps[g].dt);
+        in.ax = (rfe_real_t)-5.0;
+        {
+            rfe_velocity_mu_t mu;
+            rfe_status_t sv;
+            size_t i;
+            const rfe_real_t r = pl.r_yaw_acc;
+            for (i = 0u; i < 4u; ++i) {
+                mu.mu[i] = pl.last.mu[i];
+                mu.sd[i] = pl.last.sd[i];
+            }
+            if (gaps[g].restarted != 0u) {
+                assert_int_equal(rfe_velocity_restart(&obs), RFE_OK);
+            }
+            sv = rfe_velocity_step(&obs, &in, &mu, &ve);
+            assert_int_equal(sv, RFE_OK);
+            assert_int_equal(rfe_friction_set_input_noise(&fr, ve.sd_vx, ve.sd_vy,
+                                                          (rfe_real_t)sqrt((double)(r * r) + (double)(ve.sd_yaw_acc * ve.sd_yaw_acc))),
+                             RFE_OK);
+            {
+                rfe_sample_t u;
+                memset(&u, 0, sizeof u);
+                u.delta = ve.delta;
+                u.vx = ve.vx;
+                u.vy = ve.vy;
+                u.yaw_rate = in.yaw_rate;
+                u.yaw_acc = ve.yaw_acc;
+                u.ax = in.ax;
+                u.ay = in.ay;
+                for (i = 0u; i < 4u; ++i) {
+                    u.omega[i] = in.omega[i];
+                }
+                assert_int_equal(rfe_friction_skip(&fr, gaps[g].missed), RFE_OK);
+                assert_false(rfe_status_is_error(rfe_friction_step(&fr, &u, &fe)));
+            }
+        }
+        assert_false(rfe_status_is_error(rfe_pipeline_step(&pl, &in, &o)));
+        assert_int_equal(o.missed, gaps[g].missed);
+        assert_int_equal(o.restarted, gaps[g].restarted);
+        assert_memory_equal(&o.velocity, &ve, sizeof ve);
+        assert_memory_equal(&o.friction, &fe, sizeof fe);
+        assert_memory_equal(pl.friction.filter.sckf.S, fr.filter.sckf.S, sizeof fr.filter.sckf.S);
+        if (gaps[g].restarted != 0u) {
+            rfe_velocity_estimate_t first;
+            assert_int_equal(rfe_velocity_init(&fresh, &vp, &p), RFE_OK);
+            assert_int_equal(rfe_velocity_step(&fresh, &in, NULL, &first), RFE_OK);
+            assert_memory_equal(&o.velocity, &first, sizeof first);
+        }
+    }
+}
+
+/* Everything of two pipelines but the friction estimator's backup (scratch that each step
+ * writes before it updates, so that an error can restore what it held). */
+static void assert_same_pipeline(const rfe_pipeline_t *a, const rfe_pipeline_t *b)
+{
+    assert_memory_equal(&a->velocity, &b->velocity, sizeof a->velocity);
+    assert_memory_equal(&a->last, &b->last, sizeof a->last);
+    assert_int_equal(a->started, b->started);
+    assert_memory_equal(&a->friction.params, &b->friction.params, sizeof a->friction.params);
+    assert_memory_equal(&a->friction.filter, &b->friction.filter, sizeof a->friction.filter);
+    assert_memory_equal(&a->friction.cond, &b->friction.cond, sizeof a->friction.cond);
+    assert_memory_equal(&a->friction.mon, &b->friction.mon, sizeof a->friction.mon);
+}
+
+/* REQ: a sample after a gap that the friction estimator refuses leaves the pipeline as it
+ * was: the observer's restart and the gap's time updates are undone too, whether the gap's
+ * time update fails (a factor made non-finite by hand) or the sample is out of the friction
+ * estimator's range; a sample the observer refuses does not restart it. */
+/* REQ-OBS-023 */
+static void test_a_refused_sample_after_a_gap_changes_nothing(void **state)
+{
+    static rfe_pipeline_t pl;
+    static rfe_pipeline_t before;
+    rfe_params_t p;
+    rfe_velocity_params_t vp;
+    rfe_pipeline_out_t o;
+    rfe_velocity_input_t in;
+    rfe_real_t s00;
+    size_t k;
+    (void)state;
+    init_pipeline(&pl, &p, &vp);
+    for (k = 0u; k < 50u; ++k) {
+        in = brake(&p, (k == 0u) ? 0.0f : 0.01f);
+        assert_false(rfe_status_is_error(rfe_pipeline_step(&pl, &in, &o)));
+    }
+    s00 = pl.friction.filter.sckf.S[0];
+    pl.friction.filter.sckf.S[0] = (rfe_real_t)INFINITY;
+    memcpy(&before, &pl, sizeof before);
+    in = brake(&p, 0.5f);
+    assert_int_equal(rfe_pipeline_step(&pl, &in, &o), RFE_ERR_NONFINITE);
+    assert_same_pipeline(&pl, &before);
+    assert_int_equal(o.missed, 0u);
+    assert_int_equal(o.restarted, 0u);
+    /* a sample the observer takes but the friction estimator refuses (wheels at 110 m/s:
+     * the restarted observer's vx is beyond RFE_LIMIT_VX): the gap's time updates, which
+     * would succeed, are not made either */
+    pl.friction.filter.sckf.S[0] = s00;
+    memcpy(&before, &pl, sizeof before);
+    in = brake(&p, 0.5f);
+    for (k = 0u; k < 4u; ++k) {
+        in.omega[k] = (rfe_real_t)110.0 / p.vehicle.R;
+    }
+    assert_int_equal(rfe_pipeline_step(&pl, &in, &o), RFE_ERR_RANGE);
+    assert_same_pipeline(&pl, &before);
+    /* and a sample the observer refuses after a long gap: not restarted either */
+    memcpy(&before, &pl, sizeof before);
+    in = brake(&p, 0.5f);
+    in.ay = (rfe_real_t)NAN;
+    assert_int_equal(rfe_pipeline_step(&pl, &in, &o), RFE_ERR_NONFINITE);
+    assert_memory_equal(&pl, &before, sizeof pl);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -150,6 +325,8 @@ int main(void)
         cmocka_unit_test(test_set_input_noise),
         cmocka_unit_test(test_pipeline_steps_both_estimators),
         cmocka_unit_test(test_an_error_leaves_the_pipeline_untouched),
+        cmocka_unit_test(test_a_gap_is_told_to_both_estimators),
+        cmocka_unit_test(test_a_refused_sample_after_a_gap_changes_nothing),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -30,6 +30,7 @@
 #include "test_params_both.h"
 #include "rfe/pipeline.h"
 #include "rfe/pipeline_q31.h"
+#include "rfe/component/fxmath.h"
 
 #define TOL_MU 0.005  /* REQ-FXP-006 */
 #define TOL_VX 1e-4   /* test_velocity_q31.c */
@@ -260,6 +261,135 @@ static void test_inits_q31_refuse_other_layout_or_word(void **state)
     assert_int_equal(rfe_pipeline_init_q31(&pl, &p, &vp), RFE_OK);
 }
 
+/* A braking sample (ax -6 m/s^2, 5 % slip at 20 m/s) at period dt, in both number types. */
+static void brake_both(const both_t *b, double dt, double ax, double v_wheel,
+                       rfe_velocity_input_t *in, rfe_velocity_input_q31_t *iq)
+{
+    size_t w;
+    memset(in, 0, sizeof *in);
+    in->dt = dt;
+    in->ax = ax;
+    for (w = 0u; w < 4u; ++w) {
+        in->omega[w] = v_wheel / b->pd.vehicle.R;
+    }
+    memset(iq, 0, sizeof *iq);
+    iq->dt = fx(dt, RFE_FIX_Q_DT);
+    iq->ax = fx(ax, RFE_FIX_Q_ACC);
+    for (w = 0u; w < 4u; ++w) {
+        iq->omega[w] = fx(in->omega[w], RFE_FIX_Q_OMEGA);
+    }
+}
+
+/* REQ: gaps in fixed point (REQ-OBS-023) as the double pipeline: after 100 braking steps a
+ * gap of 0.05 s, 0.09 s (no restart) or 0.5 s (beyond obs_dt_max: restart); the same
+ * missed periods and restart as the double twin, the same status, and vx, vy and the valid
+ * mu within the back-to-back bounds above. Composed by hand from the public parts
+ * (rfe_velocity_restart_q31, rfe_velocity_step_q31, rfe_friction_set_input_noise_q31,
+ * rfe_friction_skip_q31, rfe_friction_step_q31) the pipeline's step is the same bit for
+ * bit. A sample the restarted observer takes but the friction estimator refuses (wheels at
+ * 110 m/s) leaves the pipeline as it was, the gap's time updates included. */
+/* REQ-OBS-023 REQ-FXP-016 */
+static void test_gaps_as_the_double_pipeline(void **state)
+{
+    both_t b;
+    static rfe_pipeline_t pd;
+    static rfe_pipeline_q31_t pq;
+    static rfe_velocity_q31_t obs;
+    static rfe_friction_q31_t fr;
+    static rfe_pipeline_q31_t before;
+    const double gaps[] = {0.05, 0.09, 0.5};
+    const uint32_t missed[] = {4u, 8u, 49u};
+    rfe_velocity_input_t in;
+    rfe_velocity_input_q31_t iq;
+    rfe_pipeline_out_t od;
+    rfe_pipeline_out_q31_t oq;
+    size_t g;
+    size_t k;
+    size_t w;
+    (void)state;
+    params_of(NULL, &b);
+    for (g = 0u; g < 3u; ++g) {
+        memset(&pd, 0, sizeof pd);
+        memset(&pq, 0, sizeof pq);
+        assert_int_equal(rfe_pipeline_init(&pd, &b.pd, &b.vd), RFE_OK);
+        assert_int_equal(rfe_pipeline_init_q31(&pq, &b.pq, &b.vq), RFE_OK);
+        for (k = 0u; k < 101u; ++k) {
+            brake_both(&b, (k == 0u) ? 0.0 : 0.01, -6.0, 19.0, &in, &iq);
+            assert_false(rfe_status_is_error(rfe_pipeline_step(&pd, &in, &od)));
+            assert_false(rfe_status_is_error(rfe_pipeline_step_q31(&pq, &iq, &oq)));
+        }
+        brake_both(&b, gaps[g], -5.0, 18.0, &in, &iq);
+        /* by hand, from the public parts */
+        obs = pq.velocity;
+        fr = pq.friction;
+        {
+            rfe_velocity_mu_q31_t mu;
+            rfe_velocity_estimate_q31_t ve;
+            rfe_estimate_q31_t fe;
+            rfe_sample_q31_t u;
+            const rfe_fix_t v[2] = {pq.r_yaw_acc, 0};
+            rfe_fix_t r = 0;
+            uint32_t sat = 0u;
+            rfe_fix_t vv[2];
+            for (w = 0u; w < 4u; ++w) {
+                mu.mu[w] = pq.last.mu[w];
+                mu.sd[w] = pq.last.sd[w];
+            }
+            if (gaps[g] > 0.1) {
+                assert_int_equal(rfe_velocity_restart_q31(&obs), RFE_OK);
+            }
+            assert_int_equal(rfe_velocity_step_q31(&obs, &iq, &mu, &ve), RFE_OK);
+            vv[0] = v[0];
+            vv[1] = ve.sd_yaw_acc;
+            assert_int_equal(rfe_fix_norm(vv, 2u, &r, &sat), RFE_OK);
+            assert_int_equal(rfe_friction_set_input_noise_q31(&fr, ve.sd_vx, ve.sd_vy, r), RFE_OK);
+            memset(&u, 0, sizeof u);
+            u.delta = ve.delta;
+            u.vx = ve.vx;
+            u.vy = ve.vy;
+            u.yaw_rate = iq.yaw_rate;
+            u.yaw_acc = ve.yaw_acc;
+            u.ax = iq.ax;
+            u.ay = iq.ay;
+            for (w = 0u; w < 4u; ++w) {
+                u.omega[w] = iq.omega[w];
+            }
+            assert_int_equal(rfe_friction_skip_q31(&fr, missed[g]), RFE_OK);
+            assert_false(rfe_status_is_error(rfe_friction_step_q31(&fr, &u, &fe)));
+            assert_false(rfe_status_is_error(rfe_pipeline_step_q31(&pq, &iq, &oq)));
+            assert_memory_equal(&oq.velocity, &ve, sizeof ve);
+            assert_memory_equal(oq.friction.mu, fe.mu, sizeof fe.mu);
+            assert_memory_equal(oq.friction.sd, fe.sd, sizeof fe.sd);
+            assert_memory_equal(oq.friction.valid, fe.valid, sizeof fe.valid);
+        }
+        assert_false(rfe_status_is_error(rfe_pipeline_step(&pd, &in, &od)));
+        assert_int_equal(oq.missed, missed[g]);
+        assert_int_equal(od.missed, missed[g]);
+        assert_int_equal(oq.restarted, (gaps[g] > 0.1) ? 1u : 0u);
+        assert_int_equal(od.restarted, oq.restarted);
+        assert_int_equal(oq.friction.status, od.friction.status);
+        ASSERT_LE(fabs(rfe_fix_to_double(oq.velocity.vx, 23u) - od.velocity.vx), TOL_VX, "gap vx");
+        ASSERT_LE(fabs(rfe_fix_to_double(oq.velocity.vy, 23u) - od.velocity.vy), TOL_VY, "gap vy");
+        for (w = 0u; w < 4u; ++w) {
+            if ((oq.friction.valid[w] != 0u) && (od.friction.valid[w] != 0u)) {
+                ASSERT_LE(fabs(rfe_fix_to_double(oq.friction.mu[w], 29u) - od.friction.mu[w]),
+                          TOL_MU, "gap mu");
+            }
+        }
+    }
+    /* refused after a gap: untouched but for the friction estimator's backup (scratch) */
+    memcpy(&before, &pq, sizeof before);
+    brake_both(&b, 0.5, -5.0, 110.0, &in, &iq);
+    assert_int_equal(rfe_pipeline_step_q31(&pq, &iq, &oq), RFE_ERR_RANGE);
+    assert_memory_equal(&pq.velocity, &before.velocity, sizeof pq.velocity);
+    assert_memory_equal(&pq.friction.filter, &before.friction.filter, sizeof pq.friction.filter);
+    assert_memory_equal(&pq.friction.cond, &before.friction.cond, sizeof pq.friction.cond);
+    assert_memory_equal(&pq.friction.params, &before.friction.params, sizeof pq.friction.params);
+    assert_memory_equal(&pq.last, &before.last, sizeof pq.last);
+    assert_int_equal(oq.missed, 0u);
+    assert_int_equal(oq.restarted, 0u);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -268,6 +398,7 @@ int main(void)
         cmocka_unit_test(test_pipeline_steps_both_estimators),
         cmocka_unit_test(test_an_error_leaves_the_pipeline_untouched),
         cmocka_unit_test(test_back_to_back),
+        cmocka_unit_test(test_gaps_as_the_double_pipeline),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -614,6 +614,48 @@ static void test_steering_wheel_angle_through_the_ratio(void **state)
     assert_int_equal(rfe_velocity_params_validate(&fx.vp), RFE_ERR_PARAM);
 }
 
+/* REQ: a gap longer than dt_max (rfe_velocity_restart, OBSERVER.md §1): the observer refuses
+ * the sample that ends it, and after a restart takes it as its first: the same estimate, bit
+ * for bit, as a freshly initialised observer's first step on that sample, and the same
+ * next step; NULL and an uninitialised observer are refused. */
+/* REQ-OBS-023 */
+static void test_restart_after_a_long_gap(void **state)
+{
+    static rfe_velocity_t fresh;
+    static rfe_velocity_t blank;
+    rfe_velocity_estimate_t e;
+    rfe_velocity_estimate_t f;
+    rfe_velocity_input_t in;
+    size_t k;
+    (void)state;
+    setup_fixture();
+    for (k = 0u; k < 100u; ++k) {
+        in = rolling(25.0f, (k == 0u) ? 0.0f : 0.01f);
+        assert_int_equal(rfe_velocity_step(&fx.obs, &in, NULL, &e), RFE_OK);
+    }
+    in = rolling(18.0f, 0.5f); /* half a second later, slower */
+    in.yaw_rate = (rfe_real_t)0.1;
+    in.delta = (rfe_real_t)0.02;
+    assert_int_equal(rfe_velocity_step(&fx.obs, &in, NULL, &e), RFE_ERR_RANGE);
+    assert_int_equal(rfe_velocity_restart(&fx.obs), RFE_OK);
+    memset(&e, 0, sizeof e);
+    memset(&f, 0, sizeof f);
+    assert_int_equal(rfe_velocity_step(&fx.obs, &in, NULL, &e), RFE_OK);
+    assert_int_equal(rfe_velocity_init(&fresh, &fx.vp, &fx.p), RFE_OK);
+    assert_int_equal(rfe_velocity_step(&fresh, &in, NULL, &f), RFE_OK);
+    assert_memory_equal(&e, &f, sizeof e);
+    /* vx from the wheels, not the 25 m/s before the gap (the steer's cosine and the yaw
+     * rate's lever arms move the wheel references by < 1e-2 m/s at delta 0.02, r 0.1) */
+    assert_close(e.vx, 18.0, 1e-2, 0.0, "vx after the restart");
+    in.dt = (rfe_real_t)0.01;
+    assert_int_equal(rfe_velocity_step(&fx.obs, &in, NULL, &e), RFE_OK);
+    assert_int_equal(rfe_velocity_step(&fresh, &in, NULL, &f), RFE_OK);
+    assert_memory_equal(&e, &f, sizeof e);
+    assert_int_equal(rfe_velocity_restart(NULL), RFE_ERR_NULL);
+    memset(&blank, 0, sizeof blank);
+    assert_int_equal(rfe_velocity_restart(&blank), RFE_ERR_NOT_INITIALISED);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -621,6 +663,7 @@ int main(void)
         cmocka_unit_test(test_init_and_get),
         cmocka_unit_test(test_bad_inputs_leave_the_observer_untouched),
         cmocka_unit_test(test_first_sample_and_free_rolling),
+        cmocka_unit_test(test_restart_after_a_long_gap),
         cmocka_unit_test(test_braking_wheels_only_bound_vx_from_below),
         cmocka_unit_test(test_a_stop),
         cmocka_unit_test(test_vx_regains_the_wheels_after_braking),

@@ -800,6 +800,47 @@ static void test_the_yaw_row_in_fixed_point(void **state)
     assert_true(fabs(on_q - off_q) > 20.0 * TOL_VY);
 }
 
+/* REQ: rfe_velocity_restart_q31 (REQ-OBS-023): the sample after a gap beyond dt_max is
+ * refused, and after a restart taken as the first: bit for bit a fresh observer's first
+ * step, and the same next step; NULL and an uninitialised observer are refused. */
+/* REQ-OBS-023 REQ-FXP-014 */
+static void test_restart_after_a_long_gap(void **state)
+{
+    both_t b;
+    static rfe_velocity_q31_t oq;
+    static rfe_velocity_q31_t fresh;
+    static rfe_velocity_q31_t blank;
+    rfe_velocity_input_t in;
+    rfe_velocity_input_q31_t iq;
+    rfe_velocity_estimate_q31_t e;
+    rfe_velocity_estimate_q31_t f;
+    size_t k;
+    (void)state;
+    params_of(NULL, &b);
+    assert_int_equal(rfe_velocity_init_q31(&oq, &b.vq, &b.pq), RFE_OK);
+    for (k = 0u; k < 100u; ++k) {
+        rolling(&b, 25.0, (k == 0u) ? 0.0 : 0.01, &in, &iq);
+        assert_int_equal(rfe_velocity_step_q31(&oq, &iq, NULL, &e), RFE_OK);
+    }
+    rolling(&b, 18.0, 0.5, &in, &iq);
+    iq.yaw_rate = fx(0.1, RFE_FIX_Q_YAWRATE);
+    assert_int_equal(rfe_velocity_step_q31(&oq, &iq, NULL, &e), RFE_ERR_RANGE);
+    assert_int_equal(rfe_velocity_restart_q31(&oq), RFE_OK);
+    memset(&e, 0, sizeof e);
+    memset(&f, 0, sizeof f);
+    assert_int_equal(rfe_velocity_step_q31(&oq, &iq, NULL, &e), RFE_OK);
+    assert_int_equal(rfe_velocity_init_q31(&fresh, &b.vq, &b.pq), RFE_OK);
+    assert_int_equal(rfe_velocity_step_q31(&fresh, &iq, NULL, &f), RFE_OK);
+    assert_memory_equal(&e, &f, sizeof e);
+    iq.dt = fx(0.01, RFE_FIX_Q_DT);
+    assert_int_equal(rfe_velocity_step_q31(&oq, &iq, NULL, &e), RFE_OK);
+    assert_int_equal(rfe_velocity_step_q31(&fresh, &iq, NULL, &f), RFE_OK);
+    assert_memory_equal(&e, &f, sizeof e);
+    assert_int_equal(rfe_velocity_restart_q31(NULL), RFE_ERR_NULL);
+    memset(&blank, 0, sizeof blank);
+    assert_int_equal(rfe_velocity_restart_q31(&blank), RFE_ERR_NOT_INITIALISED);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -808,6 +849,7 @@ int main(void)
         cmocka_unit_test(test_bad_inputs_leave_the_observer_untouched),
         cmocka_unit_test(test_model_error_leaves_the_observer_untouched),
         cmocka_unit_test(test_first_sample),
+        cmocka_unit_test(test_restart_after_a_long_gap),
         cmocka_unit_test(test_steering_wheel_input),
         cmocka_unit_test(test_a_huge_noise_parameter_saturates_and_is_counted),
         cmocka_unit_test(test_the_yaw_row_in_fixed_point),
