@@ -136,3 +136,62 @@ def test_manoeuvre_panel_shows_speed_steering_and_accelerations(tmp_path, three)
     assert man_ax.get_position().y1 < min(a.get_position().y0 for a in fig.axes[:4])
     assert man_ax.get_shared_x_axes().joined(man_ax, mu_ax)
     plt.close(fig)
+
+
+# ---- a car's logger's log (DATA.md "Units, scales and names of a recorded log") ----------
+CAR_LOG = Path(__file__).resolve().parents[2] / "scenarios" / "car_format" / "dlc_mu035.csv"
+
+
+def raw_rows(path: Path) -> tuple[dict, list[dict]]:
+    """(metadata, rows as {header: text}) with no interpretation, for the hand conversion."""
+    meta, body = {}, []
+    for line in path.read_text(encoding="utf-8").splitlines():
+        if line.startswith("#"):
+            key, _, value = line[1:].partition(" = ")
+            meta[key.strip()] = value.strip()
+        else:
+            body.append(line.split(","))
+    return meta, [dict(zip(body[0], r)) for r in body[1:]]
+
+
+def test_a_car_format_log_is_plotted_in_si(tmp_path):
+    meta, rows = raw_rows(CAR_LOG)
+    # the log declares ms, deg, g, km/h and the SAE lateral sense: the trap this guards
+    assert meta["unit_t"] == "ms" and meta["unit_ay"] == "g" and meta["scale_ay"] == "-1.0"
+    est = estimate_log(tmp_path, "est", 0.4)
+    out = tmp_path / "car.png"
+    assert pe.main(["--sensor", str(CAR_LOG), "--estimate", str(est), "--out", str(out)]) == 0
+    assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+    fig = pe.figure(CAR_LOG, [est], ["est"])
+    drawn = {ln.get_label(): ln for ax in fig.axes for ln in ax.lines}
+    g, kmh, ratio = 9.80665, 1 / 3.6, float(meta["obs_steer_ratio"])
+    for i in (1, 200):   # two rows, converted here by hand
+        r = rows[i]
+        t = float(r["Time_ms"]) * 1e-3
+        ax = float(r["LongAccel"]) * g
+        ay = -float(r["LatAccel_SAE"]) * g
+        v = sum(float(r[f"WheelSpeed_{w.upper()}"]) for w in WHEELS) / 4 * kmh
+        delta_deg = float(r["SteeringWheelAngle"]) / ratio
+        # 1e-12 relative: the reader computes (factor*scale)*x + factor*offset and divides
+        # a wheel speed by R to spin and multiplies it back, the hand conversion in another
+        # order; the two differ by a few ulps (1e-16 each), far below any unit error
+        # (the smallest, km/h against m/s, is a factor 3.6)
+        assert drawn["ax"].get_xdata()[i] == pytest.approx(t, rel=1e-12, abs=1e-15)
+        assert drawn["ax"].get_ydata()[i] == pytest.approx(ax, rel=1e-12, abs=1e-15)
+        assert drawn["ay"].get_ydata()[i] == pytest.approx(ay, rel=1e-12, abs=1e-15)
+        assert drawn["wheels ω̄·R"].get_ydata()[i] == pytest.approx(v, rel=1e-12)
+        assert drawn["δ"].get_ydata()[i] == pytest.approx(delta_deg, rel=1e-12, abs=1e-15)
+    # the row-200 values are not zero, so the comparisons above tell units apart
+    assert abs(float(rows[200]["LatAccel_SAE"])) > 0.05
+    assert abs(float(rows[200]["SteeringWheelAngle"])) > 5
+    plt.close("all")
+
+
+def test_a_unit_metadata_typo_is_an_error_not_a_wrong_plot(tmp_path):
+    bad = tmp_path / "typo.csv"
+    text = CAR_LOG.read_text(encoding="utf-8")
+    bad.write_text(text.replace("# unit_yaw_rate = deg/s", "# unit_yawrate = deg/s"),
+                   encoding="utf-8")
+    with pytest.raises(SystemExit, match="'yawrate' is not a sensor-log column"):
+        pe.read_csv(bad)
