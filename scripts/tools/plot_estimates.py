@@ -12,7 +12,7 @@ in that estimate's colour along the bottom of each panel. Under them the manoeuv
 delta, ax, ay from the sensor log), which shows when friction is observable at all.
 Files are DATA.md CSVs, read in SI by the names, units, scales and offsets their metadata
 declares (a car's logger's log as mu_replay reads it); columns that are not numbers are
-ignored.
+ignored, and an empty, nan or inf cell is a gap in its line.
 """
 from __future__ import annotations
 
@@ -41,12 +41,26 @@ VX_SPAN_MIN = 5.0    # m/s, around the mean
 LANE = 0.04  # height of one estimate's not-valid lane, as a fraction of the panel
 
 
+def parse_cell(text: str) -> float | None:
+    """A cell as a number: empty, nan and inf as NaN (the CLI takes such a cell as a bad
+    sample and goes on; one must not lose the whole trace); None when it is no number."""
+    text = text.strip()
+    if not text:
+        return math.nan
+    try:
+        v = float(text)
+    except ValueError:
+        return None
+    return v if math.isfinite(v) else math.nan
+
+
 def read_log(path: Path) -> tuple[dict[str, str], dict[str, list[float]]]:
     """(metadata, columns) of a DATA.md CSV, the columns as float lists in SI: the names,
     units, scales and offsets the metadata declares (column_*, unit_*, scale_*, offset_*)
-    applied as mu_replay applies them (reference/log_units.py). A column with a value that
-    is not a number is left out: DATA.md allows extra columns (a note, a driver id) and the
-    plots never need them."""
+    applied as mu_replay applies them (reference/log_units.py). A column is left out when
+    one of its non-empty cells is not a number: DATA.md allows extra columns (a note, a
+    driver id) and the plots never need them. Empty, nan and inf cells are NaN (a gap in
+    the line)."""
     meta: dict[str, str] = {}
     with path.open(encoding="utf-8-sig") as f:
         lines = list(f)
@@ -69,10 +83,11 @@ def read_log(path: Path) -> tuple[dict[str, str], dict[str, list[float]]]:
         for name, cell in zip(header, row):
             if name in bad:
                 continue
-            try:
-                cols[name].append(float(cell))
-            except ValueError:
+            v = parse_cell(cell)
+            if v is None:
                 bad.add(name)
+            else:
+                cols[name].append(v)
     cols = {k: v for k, v in cols.items() if k not in bad}
     try:
         return meta, log_units.to_si(meta, cols, R=rolling_radius(meta), where=str(path))

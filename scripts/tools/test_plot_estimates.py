@@ -1,7 +1,8 @@
 """Tests of scripts/tools/plot_estimates.py (pytest, a few seconds; matplotlib Agg).
 
 Small synthetic logs in tmp_path: a sensor log (with or without truth, optionally with a
-text column) and estimate logs whose valid flags are 0 for the first half.
+text column or bad cells) and estimate logs whose valid flags are 0 for the first half; and
+a bundled car-format log (scenarios/car_format/), converted to SI by hand here.
 """
 
 import sys
@@ -195,3 +196,43 @@ def test_a_unit_metadata_typo_is_an_error_not_a_wrong_plot(tmp_path):
                    encoding="utf-8")
     with pytest.raises(SystemExit, match="'yawrate' is not a sensor-log column"):
         pe.read_csv(bad)
+
+
+# ---- bad cells (issue 18): empty, nan and inf cells are gaps, not a reason to drop a column
+def test_empty_nan_and_inf_cells_are_nan_and_keep_their_column(tmp_path):
+    path = tmp_path / "cells.csv"
+    path.write_text("# generator = test\n"
+                    "t,ay,ax,note\n"
+                    "0,0.5,1,a\n"
+                    "0.01,,nan,\n"          # an empty ay cell (the CLI: a bad cell) and nan
+                    "0.02,inf,-inf,b\n"
+                    "0.03, 0.7 ,2,c\n", encoding="utf-8")
+    cols = pe.read_csv(path)
+    assert "note" not in cols                 # a text column stays out
+    assert cols["t"] == [0.0, 0.01, 0.02, 0.03]
+    ay, ax = cols["ay"], cols["ax"]
+    assert ay[0] == 0.5 and ay[3] == 0.7 and ax[0] == 1.0 and ax[3] == 2.0
+    assert all(v != v for v in (ay[1], ay[2], ax[1], ax[2]))   # NaN: not equal to itself
+
+
+def test_a_column_with_one_text_cell_is_still_left_out(tmp_path):
+    path = tmp_path / "mixed.csv"
+    path.write_text("t,ay,driver\n0,0.5,\n0.01,0.6,alice\n", encoding="utf-8")
+    cols = pe.read_csv(path)
+    assert "driver" not in cols and cols["ay"] == [0.5, 0.6]
+
+
+def test_an_empty_ay_cell_keeps_the_ay_trace(tmp_path, three):
+    files, labels = three
+    path = sensor_log(tmp_path)
+    lines = path.read_text().splitlines()
+    header = lines[1].split(",")
+    cells = lines[5].split(",")
+    cells[header.index("ay")] = ""
+    lines[5] = ",".join(cells)
+    path.write_text("\n".join(lines) + "\n")
+    fig = pe.figure(path, files, labels)
+    drawn = {ln.get_label(): ln for ax in fig.axes for ln in ax.lines}
+    y = list(drawn["ay"].get_ydata())
+    assert len(y) == N and y[3] != y[3] and y[0] == 0.5   # sample 3 (file line 6) is the gap
+    plt.close(fig)
