@@ -5,13 +5,13 @@ scales and names of a recorded log"):
    within one signal resolution: a value on a rounding boundary may fall either way when an
    ulp differs between machines);
 2. read back by DATA.md's rule (SI = factor(unit) * (scale * value + offset), names through
-   column_*), written independently here, each log gives its source scenario's SI signals
-   at the kept rows, within half a signal resolution (the quantisation) in SI.
+   column_*) with the Python tools' one reader of it (reference/log_units.py, independent
+   of the generator), each log gives its source scenario's SI signals at the kept rows,
+   within half a signal resolution (the quantisation) in SI.
 """
 
 from __future__ import annotations
 
-import math
 import os
 import sys
 
@@ -22,13 +22,12 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
 sys.path[:0] = [HERE, os.path.dirname(HERE)]
 import make_car_format_logs as gen  # noqa: E402
-from reference import logs  # noqa: E402
+from reference import log_units, logs  # noqa: E402
 
 OUT = os.path.join(ROOT, "scenarios", "car_format")
 SRC = os.path.join(ROOT, "scenarios", "observer")
-# DATA.md's unit table, the words these logs use.
-FACTOR = {"ms": 1e-3, "deg": math.pi / 180.0, "deg/s": math.pi / 180.0, "g": 9.80665,
-          "km/h": 1.0 / 3.6, "bar": 0.1}
+# DATA.md's unit words and their factors to SI (each word names one unit), for the tolerances.
+FACTOR = {word: f for units in log_units.UNITS.values() for word, f in units.items()}
 
 
 def read_raw(path):
@@ -80,13 +79,10 @@ def test_read_back_by_data_md_gives_the_source(name):
     idx = np.arange(0, len(src["t"]), 2)
     ratio = float(meta["obs_steer_ratio"])
     R = float(meta["R"])
+    cols = log_units.to_si(meta, {h: rows[:, j] for j, h in enumerate(header)}, where=path)
 
     def si(column):
-        vendor = meta.get("column_" + column, column)
-        x = rows[:, header.index(vendor)]
-        scale = float(meta.get("scale_" + column, 1.0))
-        offset = float(meta.get("offset_" + column, 0.0))
-        return FACTOR.get(meta.get("unit_" + column), 1.0) * (scale * x + offset)
+        return np.asarray(cols[column])
 
     def check(got, want, half_step_si):
         assert np.max(np.abs(got - want)) <= half_step_si * 1.0001 + 1e-9
@@ -98,7 +94,7 @@ def test_read_back_by_data_md_gives_the_source(name):
     check(si("ax"), src["ax"][idx], gen.RESOLUTION["acc"] / 2 * FACTOR["g"])
     check(si("ay"), src["ay"][idx], gen.RESOLUTION["acc"] / 2 * FACTOR["g"])
     for w in gen.WHEELS:
-        check(si("omega_" + w) / R, src["omega_" + w][idx],
+        check(si("omega_" + w), src["omega_" + w][idx],
               gen.RESOLUTION["wheel"] / 2 * FACTOR["km/h"] / R)
         check(si("p_" + w), src["p_" + w][idx], gen.RESOLUTION["p"] / 2 * FACTOR["bar"])
     assert "dt" not in meta  # the period must come from the stamps

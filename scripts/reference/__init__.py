@@ -11,6 +11,8 @@ params    parameter defaults, parameter files and sensor-log metadata (DATA.md)
 model     MODEL.md sections 3-5 (vectorised over samples with numpy)
 filters   MODEL.md section 6: SCKF (numpy.linalg.qr) and CKF (numpy.linalg.cholesky)
 logs      sensor-log reader and estimate-log writer (DATA.md)
+log_units a recorded log's column names, units, scales and offsets to SI (DATA.md; standard
+          library only: the plotting tools read car logs with it too)
 estimate  command line: run one filter on one sensor log
 
 Small matrices never use threads, but BLAS thread counts are pinned to one anyway so the

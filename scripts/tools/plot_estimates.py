@@ -10,7 +10,9 @@ sensor log's truth columns when present, each estimate log's mu, and a +-2 sd ba
 the first estimate. Samples an estimate reports as not valid are marked by a hatched lane
 in that estimate's colour along the bottom of each panel. Under them the manoeuvre (vx,
 delta, ax, ay from the sensor log), which shows when friction is observable at all.
-Files are DATA.md CSVs; columns that are not numbers are ignored.
+Files are DATA.md CSVs, read in SI by the names, units, scales and offsets their metadata
+declares (a car's logger's log as mu_replay reads it); columns that are not numbers are
+ignored, and an empty, nan or inf cell is a gap in its line.
 """
 from __future__ import annotations
 
@@ -19,6 +21,9 @@ import csv
 import math
 import sys
 from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))   # scripts/: reference
+from reference import log_units, params  # noqa: E402  (DATA.md's column rules, R's default)
 
 WHEELS = ("fl", "fr", "rl", "rr")
 # (colour, line style, marker, width) per estimate. Estimates often coincide (the paper's
@@ -36,24 +41,96 @@ VX_SPAN_MIN = 5.0    # m/s, around the mean
 LANE = 0.04  # height of one estimate's not-valid lane, as a fraction of the panel
 
 
-def read_csv(path: Path) -> dict[str, list[float]]:
-    """Columns of a DATA.md CSV ('#' metadata lines skipped) as float lists. A column with a
-    value that is not a number is left out: DATA.md allows extra columns (a note, a driver
-    id) and the plots never need them."""
+def parse_cell(text: str) -> float | None:
+    """A cell as a number: empty, nan and inf as NaN (the CLI takes such a cell as a bad
+    sample and goes on; one must not lose the whole trace); None when it is no number."""
+    text = text.strip()
+    if not text:
+        return math.nan
+    try:
+        v = float(text)
+    except ValueError:
+        return None
+    return v if math.isfinite(v) else math.nan
+
+
+def read_log(path: Path) -> tuple[dict[str, str], dict[str, list[float]]]:
+    """(metadata, columns) of a DATA.md CSV, the columns as float lists in SI: the names,
+    units, scales and offsets the metadata declares (column_*, unit_*, scale_*, offset_*)
+    applied as mu_replay applies them (reference/log_units.py). A column is left out when
+    one of its non-empty cells is not a number: DATA.md allows extra columns (a note, a
+    driver id) and the plots never need them. Empty, nan and inf cells are NaN (a gap in
+    the line)."""
+    meta: dict[str, str] = {}
     with path.open(encoding="utf-8-sig") as f:
-        rows = [line for line in f if not line.startswith("#")]
-    reader = csv.DictReader(rows)
-    cols: dict[str, list[float]] = {name: [] for name in reader.fieldnames or []}
+        lines = list(f)
+    body = []
+    for line in lines:
+        if line.startswith("#"):
+            if not body and "=" in line:
+                key, value = line[1:].split("=", 1)
+                meta[key.strip()] = value.strip()
+        elif line.strip() or body:
+            body.append(line)
+    reader = csv.reader(body)
+    header = [h.strip() for h in next(reader, [])]
+    cols: dict[str, list[float]] = {name: [] for name in header}
     bad: set[str] = set()
     for row in reader:
-        for k, v in row.items():
-            if k not in cols or k in bad:
+        if not row:
+            continue
+        row = row + [""] * (len(header) - len(row))   # a short row: its missing cells empty
+        for name, cell in zip(header, row):
+            if name in bad:
                 continue
-            try:
-                cols[k].append(float(v))
-            except (TypeError, ValueError):
-                bad.add(k)
-    return {k: v for k, v in cols.items() if k not in bad}
+            v = parse_cell(cell)
+            if v is None:
+                bad.add(name)
+            else:
+                cols[name].append(v)
+    cols = {k: v for k, v in cols.items() if k not in bad}
+    try:
+        return meta, log_units.to_si(meta, cols, R=rolling_radius(meta), where=str(path))
+    except log_units.UnitError as e:
+        sys.exit(f"plot_estimates: {e}")
+
+
+def rolling_radius(meta: dict) -> float:
+    """The log's R, else the library's default (as mu_replay without --params). The plots
+    use R only to turn a circumferential wheel speed into spin and back (speed_of), where
+    it cancels."""
+    try:
+        return float(meta["R"])
+    except (KeyError, ValueError):
+        return params.DEFAULTS["R"]
+
+
+def read_csv(path: Path) -> dict[str, list[float]]:
+    """The columns of read_log (for the tools that need no metadata)."""
+    return read_log(path)[1]
+
+
+def steer_angle(meta: dict, sensor: dict) -> list[float] | None:
+    """delta, or from a steering-wheel angle: swa / obs_steer_ratio (DATA.md); None when
+    the log has neither (or swa without the ratio)."""
+    if "delta" in sensor:
+        return sensor["delta"]
+    if "swa" in sensor and "obs_steer_ratio" in meta:
+        ratio = float(meta["obs_steer_ratio"])
+        return [a / ratio for a in sensor["swa"]]
+    return None
+
+
+def speed_of(meta: dict, sensor: dict) -> tuple[str, list[float]] | None:
+    """(label, values) for the speed panel: the log's vx, else the wheels' mean
+    circumferential speed (a production car logs no vx)."""
+    if "vx" in sensor:
+        return "vx", sensor["vx"]
+    wheels = [sensor.get(f"omega_{w}") for w in WHEELS]
+    if any(w is None for w in wheels):
+        return None
+    R = rolling_radius(meta)
+    return "wheels ω̄·R", [R * sum(ws) / len(ws) for ws in zip(*wheels)]
 
 
 def has_truth(sensor: dict) -> bool:
@@ -102,23 +179,31 @@ def draw_wheel(ax, w: str, truth: dict, ests: list[dict], labels: list[str]) -> 
     ax.grid(alpha=0.3)
 
 
-def draw_manoeuvre(ax_v, ax_a, sensor: dict) -> None:
+def finite(values) -> list[float]:
+    return [v for v in values if math.isfinite(v)]
+
+
+def draw_manoeuvre(ax_v, ax_a, sensor: dict, meta: dict | None = None) -> None:
     """Speed and steering (left), accelerations (right): friction is observable only where
     the tyres work, i.e. where ax or ay is large."""
+    meta = meta or {}
     t = sensor.get("t", [])
-    if "vx" in sensor:
-        ax_v.plot(t, sensor["vx"], color="black", lw=1.2, label="vx")
-    ax_v.set_ylabel("vx [m/s]")
-    if sensor.get("vx"):
-        lo, hi = min(sensor["vx"]), max(sensor["vx"])
-        if hi - lo < VX_SPAN_MIN:
-            mid = (lo + hi) / 2
+    speed = speed_of(meta, sensor)
+    if speed:
+        ax_v.plot(t, speed[1], color="black", lw=1.2, label=speed[0])
+        ax_v.set_ylabel(f"{speed[0]} [m/s]")
+        seen = finite(speed[1])
+        if seen and max(seen) - min(seen) < VX_SPAN_MIN:
+            mid = (min(seen) + max(seen)) / 2
             ax_v.set_ylim(mid - VX_SPAN_MIN / 2, mid + VX_SPAN_MIN / 2)
-    if "delta" in sensor:
+    else:
+        ax_v.set_ylabel("vx [m/s]")
+    delta = steer_angle(meta, sensor)
+    if delta is not None:
         ax_d = ax_v.twinx()
-        deg = [math.degrees(d) for d in sensor["delta"]]
+        deg = [math.degrees(d) for d in delta]
         ax_d.plot(t, deg, color="tab:purple", lw=0.8, alpha=0.7, label="δ")
-        span = max(max((abs(d) for d in deg), default=0.0) * 1.1, DELTA_SPAN_MIN_DEG)
+        span = max(max((abs(d) for d in finite(deg)), default=0.0) * 1.1, DELTA_SPAN_MIN_DEG)
         ax_d.set_ylim(-span, span)
         ax_d.set_ylabel("δ [deg]")
         h1, l1 = ax_v.get_legend_handles_labels()
@@ -145,7 +230,7 @@ def figure(sensor: Path, estimates: list[Path], labels: list[str], title: str | 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    truth = read_csv(sensor)
+    meta, truth = read_log(sensor)
     ests = [read_csv(p) for p in estimates]
     fig = plt.figure(figsize=(13, 9), layout="constrained")
     grid = fig.add_gridspec(3, 2, height_ratios=(1, 1, 0.8))
@@ -155,7 +240,7 @@ def figure(sensor: Path, estimates: list[Path], labels: list[str], title: str | 
     for ax, w in zip(mu_axes, WHEELS):
         draw_wheel(ax, w, truth, ests, labels)
     draw_manoeuvre(fig.add_subplot(grid[2, 0], sharex=first),
-                   fig.add_subplot(grid[2, 1], sharex=first), truth)
+                   fig.add_subplot(grid[2, 1], sharex=first), truth, meta)
     # one legend for the four wheels: every entry any panel drew, once
     entries: dict[str, object] = {}
     for ax in mu_axes:

@@ -380,8 +380,9 @@ done
 run cells_quiet 0 --in "$TMP/cells.csv" --out "$TMP/co.csv" -q
 [ ! -s "$TMP/out" ] && [ ! -s "$TMP/err" ] && ok "cells_quiet: nothing printed" || bad "cells_quiet: printed"
 
-# ---- the README's status table and the preset tables of DATA.md and ESTIMATOR.md agree with
-#      the code (REQ-DOC-001): the statuses of rfe/common.h, the presets as mu_replay records them
+# ---- the README's status table and the parameter tables of DATA.md, ESTIMATOR.md, MONITOR.md
+#      and OBSERVER.md agree with the code (REQ-DOC-001): the statuses of rfe/common.h, the
+#      presets as mu_replay records them, every key in its table
 if python3 "$(dirname "$0")/../../scripts/checks/check_doc_tables.py" "$BIN" >"$TMP/doc.txt" 2>&1; then
     ok "$(tail -n 1 "$TMP/doc.txt")"
 else
