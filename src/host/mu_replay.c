@@ -340,8 +340,15 @@ static int fail(const rfe_io_error_t *err)
 static int load_params(const options_t *o, run_t *r)
 {
     rfe_io_error_t err;
-    if (rfe_sensor_log_read_cells(o->in, o->strict ? RFE_CELLS_STRICT : RFE_CELLS_KEEP, &r->log,
-                                  &err) != 0) {
+    rfe_read_opts_t ro;
+    ro.cells = o->strict ? RFE_CELLS_STRICT : RFE_CELLS_KEEP;
+    /* the columns --velocity uses: the measured ones needed (named with any other missing
+     * column) */
+    ro.inputs = (o->velocity == NULL)                     ? RFE_INPUTS_AUTO
+                : (strcmp(o->velocity, "measured") == 0) ? RFE_INPUTS_MEASURED
+                : (strcmp(o->velocity, "observer") == 0) ? RFE_INPUTS_OBSERVER
+                                                          : RFE_INPUTS_AUTO;
+    if (rfe_sensor_log_read_opts(o->in, &ro, &r->log, &err) != 0) {
         return fail(&err);
     }
     if (!o->quiet && (r->log.bad_rows != 0u)) {

@@ -369,6 +369,36 @@ printf 't,delta,yaw_rate,omega_fl,omega_fr,omega_rl\n0,0,0,61.5,61.5,61.5\n' >"$
 input_error missing_columns "$TMP/cols.csv" "^mu_replay: .*cols\.csv:1: missing columns 'ax', 'ay', 'omega_rr'$"
 printf '# column_ax = AccX\nt,delta,yaw_rate,ay,omega_fl,omega_fr,omega_rl,omega_rr\n0,0,0,0,61.5,61.5,61.5,61.5\n' >"$TMP/col1.csv"
 input_error missing_alias "$TMP/col1.csv" "^mu_replay: .*col1\.csv:2: missing column 'ax' \(named 'AccX' by its column_ax metadata\)$"
+# every missing column of every rule in that one line, in DATA.md's order: the steering
+# angle (delta or swa), a truth group given in part, the velocities a measuring run needs
+# drop_cols FILE COL...: a one-row truth log of every input column but COL...
+drop_cols() {
+    local f=$1
+    shift
+    printf '%s\n' 't,delta,vx,vy,yaw_rate,yaw_acc,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr,mu_fl,mu_fr,mu_rl,mu_rr' \
+        '0,0,20,0,0,0,0,0,61.5,61.5,61.5,61.5,0.8,0.8,0.8,0.8' |
+    awk -v drop=" $* " 'BEGIN { FS = OFS = "," }
+        NR == 1 { for (i = 1; i <= NF; i++) keep[i] = index(drop, " " $i " ") == 0 }
+        { s = ""; for (i = 1; i <= NF; i++) if (keep[i]) s = s (s == "" ? "" : ",") $i; print s }' >"$f"
+}
+steer="'delta' \(the road-wheel angle\) or 'swa' \(the steering-wheel angle, with obs_steer_ratio\)"
+truth="\(truth: give all of mu_fl, mu_fr, mu_rl, mu_rr or none\)"
+drop_cols "$TMP/m1.csv" t delta omega_rr mu_fr
+input_error missing_all_rules "$TMP/m1.csv" "^mu_replay: .*m1\.csv:1: missing columns 't', $steer, 'omega_rr', 'mu_fr' $truth$"
+drop_cols "$TMP/m2.csv" delta ax
+input_error missing_steer_and_input "$TMP/m2.csv" "^mu_replay: .*m2\.csv:1: missing columns $steer, 'ax'$"
+drop_cols "$TMP/m3.csv" mu_fr ax mu_rr
+input_error missing_truth_and_input "$TMP/m3.csv" "^mu_replay: .*m3\.csv:1: missing columns 'ax', 'mu_fr', 'mu_rr' $truth$"
+drop_cols "$TMP/m4.csv" mu_fr mu_rr
+input_error missing_truth_only "$TMP/m4.csv" "^mu_replay: .*m4\.csv:1: truth columns 'mu_fr', 'mu_rr' missing \(give all of mu_fl, mu_fr, mu_rl, mu_rr or none\)$"
+drop_cols "$TMP/m5.csv" yaw_acc ax
+run missing_velocity_measured 1 --in "$TMP/m5.csv" --out "$TMP/est.csv" --velocity measured
+one_line missing_velocity_measured "^mu_replay: .*m5\.csv:1: missing columns 'yaw_acc' \(velocity: measured velocities need all of vx, vy, yaw_acc\), 'ax'$"
+drop_cols "$TMP/m6.csv" vx vy yaw_acc ax mu_fl mu_fr mu_rl mu_rr
+run missing_velocity_none 1 --in "$TMP/m6.csv" --out "$TMP/est.csv" --velocity measured
+one_line missing_velocity_none "^mu_replay: .*m6\.csv:1: missing columns 'vx', 'vy', 'yaw_acc' \(velocity: measured velocities need all of vx, vy, yaw_acc\), 'ax'$"
+run missing_velocity_auto 1 --in "$TMP/m6.csv" --out "$TMP/est.csv"
+one_line missing_velocity_auto "^mu_replay: .*m6\.csv:1: missing column 'ax'$"
 
 # ---- a log without vehicle parameters (REQ-CLI-006): a warning naming the preset's car,
 #      or with --require-params an input error; the estimate log records the values used
