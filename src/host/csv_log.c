@@ -99,6 +99,7 @@ typedef struct {
     double col_b[N_COLS];     /**< offset_ metadata) */
     char **fields;        /**< n_fields pointers into buf, reused per row */
     rfe_read_opts_t opts; /**< what a bad cell is, which input columns the run uses */
+    unsigned char unused[N_COLS]; /**< 1: an input column the run does not use */
     size_t rows_cap;
     size_t meta_cap;
 } reader_t;
@@ -657,6 +658,35 @@ static int missing_columns(reader_t *r, const size_t *present, const size_t *n_p
     return -1;
 }
 
+/* The optional inputs a measuring run does not use that a log has, by has_pressure
+ * + 2 has_torque + 4 has_grade (rfe_sensor_log_t.unused_cols). */
+static const char *const k_esc_cols[8] = {NULL,          "p_*",           "torque_*",
+                                          "p_*, torque_*", "grade",       "p_*, grade",
+                                          "torque_*, grade", "p_*, torque_*, grade"};
+
+/* The input columns the run does not use (rfe_inputs_t), once the groups given are known;
+ * unused_cols names those of them the log has. */
+static void mark_unused(reader_t *r, rfe_sensor_log_t *log)
+{
+    const rfe_inputs_t in = (r->opts.inputs != RFE_INPUTS_AUTO)
+                                ? r->opts.inputs
+                                : (log->has_velocity ? RFE_INPUTS_MEASURED : RFE_INPUTS_OBSERVER);
+    size_t k;
+    for (k = 0u; k < N_COLS; ++k) {
+        const col_kind_t g = k_cols[k].kind;
+        r->unused[k] = (unsigned char)(((in == RFE_INPUTS_OBSERVER) && (g == COL_VEL)) ||
+                                       ((in == RFE_INPUTS_MEASURED) &&
+                                        ((g == COL_PRES) || (g == COL_TORQ) || (g == COL_GRADE))));
+    }
+    log->unused_cols =
+        ((in == RFE_INPUTS_OBSERVER) && log->has_velocity)
+            ? "vx, vy, yaw_acc"
+            : ((in == RFE_INPUTS_MEASURED)
+                   ? k_esc_cols[(log->has_pressure ? 1 : 0) + (log->has_torque ? 2 : 0) +
+                                (log->has_grade ? 4 : 0)]
+                   : NULL);
+}
+
 /* Every needed column present (missing_columns), not both delta and swa; the groups given. */
 static int check_columns(reader_t *r, rfe_sensor_log_t *log)
 {
@@ -687,6 +717,7 @@ static int check_columns(reader_t *r, rfe_sensor_log_t *log)
     log->has_torque = (n_present[COL_TORQ] != 0u) ? 1 : 0;
     log->has_grade = (n_present[COL_GRADE] != 0u) ? 1 : 0;
     log->has_swa = present[find_col("swa")] != 0u ? 1 : 0;
+    mark_unused(r, log);
     return 0;
 }
 
@@ -764,6 +795,17 @@ static void count_bad_cell(const reader_t *r, rfe_sensor_log_t *log, rfe_sensor_
     ++log->bad_cells[cause];
 }
 
+/* Counts a kept bad cell at field @p j of a column the run does not use: apart, so that it
+ * rejects no row (its value, NaN / +-Inf, reaches no estimator). */
+static void count_ignored_cell(const reader_t *r, rfe_sensor_log_t *log, size_t j)
+{
+    if (log->bad_ignored_first_line == 0u) {
+        log->bad_ignored_first_line = r->line;
+        log->bad_ignored_first_col = j + 1u;
+    }
+    ++log->bad_ignored;
+}
+
 /* One data row: field count, every needed field a finite number (or a kept bad cell), time
  * increasing. */
 static int parse_row(reader_t *r, rfe_sensor_log_t *log)
@@ -804,7 +846,11 @@ static int parse_row(reader_t *r, rfe_sensor_log_t *log)
                 }
                 return -1;
             }
-            count_bad_cell(r, log, &row, cause, j);
+            if (r->unused[r->field_col[j]] != 0u) {
+                count_ignored_cell(r, log, j);
+            } else {
+                count_bad_cell(r, log, &row, cause, j);
+            }
         }
         memcpy((char *)&row + c->offset, &v, sizeof v);
     }

@@ -62,13 +62,16 @@ typedef enum {
     RFE_CELLS_KEEP = 1    /**< kept as NaN / +-Inf and counted (mu_replay's default) */
 } rfe_cells_t;
 
-/** Which input columns the run uses (rfe_read_opts_t.inputs), as mu_replay's --velocity. */
+/** Which input columns the run uses (rfe_read_opts_t.inputs), as mu_replay's --velocity:
+ *  a bad cell of a column the run does not use is not counted with the others (it cannot
+ *  reject a row) but apart, as ignored (bad_ignored). */
 typedef enum {
     RFE_INPUTS_ALL = 0,      /**< every estimator input (the plain readers) */
     RFE_INPUTS_MEASURED = 1, /**< measured velocities: vx, vy, yaw_acc needed (named among the
                                   missing columns when others are missing too; alone, the read
-                                  succeeds with has_velocity 0 for the caller to say why) */
-    RFE_INPUTS_OBSERVER = 2, /**< the velocity observer */
+                                  succeeds with has_velocity 0 for the caller to say why);
+                                  p_*, torque_*, grade unused */
+    RFE_INPUTS_OBSERVER = 2, /**< the velocity observer: vx, vy, yaw_acc unused */
     RFE_INPUTS_AUTO = 3      /**< MEASURED when the log has vx, vy, yaw_acc, else OBSERVER */
 } rfe_inputs_t;
 
@@ -98,6 +101,12 @@ typedef struct {
     size_t bad_rows;       /**< rows holding at least one of them */
     size_t bad_first_line; /**< line and column (1-based) of the first one; 0 when none */
     size_t bad_first_col;
+    size_t bad_ignored;    /**< kept bad cells of columns the run does not use (rfe_inputs_t):
+                                read as NaN / +-Inf too, in no count above, no row's bad bits */
+    size_t bad_ignored_first_line; /**< line and column of the first of those; 0 when none */
+    size_t bad_ignored_first_col;
+    const char *unused_cols; /**< the log's input columns the run does not use ("vx, vy,
+                                  yaw_acc"), static text; NULL when it uses all it has */
 } rfe_sensor_log_t;
 
 /**
@@ -134,7 +143,8 @@ RFE_NODISCARD int rfe_sensor_log_read_stream_cells(FILE *f, const char *name, rf
 
 /**
  * As rfe_sensor_log_read_cells, with @p opts: the bad cells as opts->cells says, and the
- * columns of opts->inputs needed (the missing ones named with all others in one message).
+ * columns of opts->inputs needed (the missing ones named with all others in one message)
+ * and the bad cells of the unused ones counted apart (bad_ignored).
  */
 RFE_NODISCARD int rfe_sensor_log_read_opts(const char *path, const rfe_read_opts_t *opts,
                                            rfe_sensor_log_t *log, rfe_io_error_t *err);

@@ -343,7 +343,7 @@ static int load_params(const options_t *o, run_t *r)
     rfe_read_opts_t ro;
     ro.cells = o->strict ? RFE_CELLS_STRICT : RFE_CELLS_KEEP;
     /* the columns --velocity uses: the measured ones needed (named with any other missing
-     * column) */
+     * column), the bad cells of the unused ones apart */
     ro.inputs = (o->velocity == NULL)                     ? RFE_INPUTS_AUTO
                 : (strcmp(o->velocity, "measured") == 0) ? RFE_INPUTS_MEASURED
                 : (strcmp(o->velocity, "observer") == 0) ? RFE_INPUTS_OBSERVER
@@ -351,7 +351,7 @@ static int load_params(const options_t *o, run_t *r)
     if (rfe_sensor_log_read_opts(o->in, &ro, &r->log, &err) != 0) {
         return fail(&err);
     }
-    if (!o->quiet && (r->log.bad_rows != 0u)) {
+    if (!o->quiet && ((r->log.bad_rows != 0u) || (r->log.bad_ignored != 0u))) {
         fprintf(stderr, "%s: note: %s: ", PROG, o->in);
         print_bad_cells(stderr, r);
     }
@@ -707,7 +707,8 @@ static void compute_metrics(run_t *r)
     free(buf);
 }
 
-/* {"generator", "input", "preset", "filter", "tyre", "real", "steps", "bad_cells", "gaps",
+/* {"generator", "input", "preset", "filter", "tyre", "real", ["saturation"],
+ *  "bad_cells_ignored", "steps", "bad_cells", "gaps",
  *  "status_counts", "metrics"} */
 static int write_metrics_json(const options_t *o, const run_t *r)
 {
@@ -733,6 +734,15 @@ static int write_metrics_json(const options_t *o, const run_t *r)
                 (unsigned long)r->q31.est_sat_max, (unsigned long long)r->q31.input_sat,
                 r->q31.input_sat_rows);
     }
+    /* bad_cells below: the cells given to the estimator (each rejects its row); these are
+     * the bad cells of the input columns this run does not use, which reject nothing */
+    fprintf(f, "  \"bad_cells_ignored\": {\"cells\": %zu, \"columns\": ", r->log.bad_ignored);
+    if (r->log.unused_cols != NULL) {
+        rfe_json_write_string(f, r->log.unused_cols);
+    } else {
+        fputs("null", f);
+    }
+    fputs("},\n", f);
     fprintf(f, "  \"steps\": %zu,\n  \"bad_cells\": {\"empty\": %zu, \"nonfinite\": %zu, "
                "\"range\": %zu, \"rows\": %zu},\n  \"gaps\": {\"count\": %zu, "
                "\"missed_periods\": %llu},\n  \"status_counts\": {",
@@ -760,20 +770,41 @@ static int write_metrics_json(const options_t *o, const run_t *r)
     return 0;
 }
 
-/* The bad cells the run kept (csv_log.h RFE_CELLS_KEEP), per cause: one line, or nothing. */
+/* The bad cells the run kept (csv_log.h RFE_CELLS_KEEP), per cause, those of the columns it
+ * uses (each rejects its row) apart from those of the columns it does not use (ignored:
+ * they reject nothing): one line, or nothing. */
 static void print_bad_cells(FILE *f, const run_t *r)
 {
+    const rfe_sensor_log_t *lg = &r->log;
+    /* --strict stops at the first bad cell of either kind */
+    const int used_first = (lg->bad_rows != 0u) &&
+                           ((lg->bad_ignored == 0u) ||
+                            (lg->bad_first_line < lg->bad_ignored_first_line) ||
+                            ((lg->bad_first_line == lg->bad_ignored_first_line) &&
+                             (lg->bad_first_col < lg->bad_ignored_first_col)));
     size_t c;
-    if (r->log.bad_rows == 0u) {
+    if ((lg->bad_rows == 0u) && (lg->bad_ignored == 0u)) {
         return;
     }
-    fprintf(f, "bad cells (given to the estimator as NaN/Inf, the row rejected):");
-    for (c = 0u; c < (size_t)RFE_CELL_CAUSES; ++c) {
-        fprintf(f, " %s %zu%s", rfe_cell_cause_str((rfe_cell_cause_t)c), r->log.bad_cells[c],
-                (c + 1u < (size_t)RFE_CELL_CAUSES) ? "," : "");
+    if (lg->bad_rows != 0u) {
+        fprintf(f, "bad cells (given to the estimator as NaN/Inf, the row rejected):");
+        for (c = 0u; c < (size_t)RFE_CELL_CAUSES; ++c) {
+            fprintf(f, " %s %zu%s", rfe_cell_cause_str((rfe_cell_cause_t)c), lg->bad_cells[c],
+                    (c + 1u < (size_t)RFE_CELL_CAUSES) ? "," : "");
+        }
+        fprintf(f, "; in %zu row(s), the first at line %zu column %zu%s", lg->bad_rows,
+                lg->bad_first_line, lg->bad_first_col, used_first ? " (--strict stops there)" : "");
+    } else {
+        fprintf(f, "bad cells: none in the columns this run uses");
     }
-    fprintf(f, "; in %zu row(s), the first at line %zu column %zu (--strict stops there)\n",
-            r->log.bad_rows, r->log.bad_first_line, r->log.bad_first_col);
+    if (lg->bad_ignored != 0u) {
+        fprintf(f, "; ignored: %zu in the columns this run does not use (%s), the first at line "
+                   "%zu column %zu%s",
+                lg->bad_ignored, (lg->unused_cols != NULL) ? lg->unused_cols : "?",
+                lg->bad_ignored_first_line, lg->bad_ignored_first_col,
+                used_first ? "" : " (--strict stops there)");
+    }
+    fputc('\n', f);
 }
 
 static void print_status_counts(const run_t *r)

@@ -355,6 +355,33 @@ for real in float q31; do
 done
 run cells_quiet 0 --in "$TMP/cells.csv" --out "$TMP/co.csv" -q
 [ ! -s "$TMP/out" ] && [ ! -s "$TMP/err" ] && ok "cells_quiet: nothing printed" || bad "cells_quiet: printed"
+# the bad cells of the columns a run does not use (vx, vy, yaw_acc behind the observer)
+# reject no row: they are counted apart, as ignored, so the count matches the rejected rows
+printf '# m = 1830\n# dt = 0.01\nt,delta,vx,vy,yaw_rate,yaw_acc,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr\n0,0,20,0,0,0,-2,0,60,60,60,60\n0.01,0,nan,0,0,0,0,0,59.9,59.9,59.9,59.9\n0.02,0,19.98,,0,0,nan,0,59.9,59.9,59.9,59.9\n0.03,0,19.98,0,0,0,0,0,59.9,59.9,59.9,59.9\n0.04,0,19.98,0,0,inf,0,0,59.9,59.9,59.9,59.9\n0.05,0,19.98,0,0,0,0,,59.9,59.9,59.9,59.9\n' >"$TMP/unused.csv"
+for real in float q31; do
+    run "cells_unused_$real" 0 --in "$TMP/unused.csv" --out "$TMP/cu.csv" --velocity observer --real $real --metrics "$TMP/cu.json"
+    grep -q '^bad cells (given to the estimator as NaN/Inf, the row rejected): empty 1, nan/inf 1, out of range 0; in 2 row(s), the first at line 6 column 7; ignored: 3 in the columns this run does not use (vx, vy, yaw_acc), the first at line 5 column 3 (--strict stops there)$' "$TMP/out" \
+        && ok "cells_unused_$real: used and ignored apart" || bad "cells_unused_$real: $(grep '^bad' "$TMP/out")"
+    grep -q '^  status 17 non-finite input  *2$' "$TMP/out" && ok "cells_unused_$real: 2 rows rejected, as counted" \
+        || bad "cells_unused_$real: $(grep 'status 17' "$TMP/out")"
+    [ "$(grep -v '^#' "$TMP/cu.csv" | awk -F, '$14 == 17' | wc -l)" -eq 2 ] && ok "cells_unused_$real: 2 rows with status 17" \
+        || bad "cells_unused_$real: rows with 17: $(grep -v '^#' "$TMP/cu.csv" | awk -F, '$14 == 17 {print $1}' | tr '\n' ' ')"
+    grep -q '"bad_cells": {"empty": 1, "nonfinite": 1, "range": 0, "rows": 2},' "$TMP/cu.json" \
+        && grep -q '"bad_cells_ignored": {"cells": 3, "columns": "vx, vy, yaw_acc"},' "$TMP/cu.json" \
+        && ok "cells_unused_$real: JSON" || bad "cells_unused_$real: JSON $(grep bad_cells "$TMP/cu.json" | tr '\n' ' ')"
+done
+# measured (auto): all of them used, none ignored
+run cells_used_measured 0 --in "$TMP/unused.csv" --out "$TMP/cu.csv" --metrics "$TMP/cu.json"
+grep -q 'empty 2, nan/inf 3, out of range 0; in 4 row(s), the first at line 5 column 3 (--strict stops there)$' "$TMP/out" \
+    && grep -q '"bad_cells_ignored": {"cells": 0, "columns": null},' "$TMP/cu.json" \
+    && ok "cells_used_measured: every cell counted" || bad "cells_used_measured: $(grep '^bad' "$TMP/out")"
+# only ignored cells: said so, nothing rejected
+sed '/^0\.02,/d; /^0\.05,/d' "$TMP/unused.csv" >"$TMP/unused2.csv"
+run cells_only_unused 0 --in "$TMP/unused2.csv" --out "$TMP/cu.csv" --velocity observer
+grep -q '^bad cells: none in the columns this run uses; ignored: 2 in the columns this run does not use (vx, vy, yaw_acc), the first at line 5 column 3 (--strict stops there)$' "$TMP/out" \
+    && ! grep -q 'status 17' "$TMP/out" && ok "cells_only_unused: said, none rejected" || bad "cells_only_unused: $(cat "$TMP/out")"
+grep -q '^mu_replay: note: .*unused2\.csv: bad cells: none in the columns this run uses; ignored: 2' "$TMP/err" \
+    && ok "cells_only_unused: note on stderr" || bad "cells_only_unused: $(cat "$TMP/err")"
 
 # ---- the README's status table and the preset tables of DATA.md and ESTIMATOR.md agree with
 #      the code (REQ-DOC-001): the statuses of rfe/common.h, the presets as mu_replay records them

@@ -392,6 +392,57 @@ static void test_rfe_sensor_log_read_every_missing_column(void **state)
     }
 }
 
+/* The bad cells of the input columns a run does not use (rfe_inputs_t) are read as NaN too
+ * but counted apart (bad_ignored): they reject no row (no bad bits), so bad_cells and
+ * bad_rows are those of the cells the estimator gets. */
+/* REQ-CSV-007 */
+static void test_rfe_sensor_log_read_cells_unused_columns(void **state)
+{
+    static const char text[] = HDR "0,0,nan,0,0,0,-2,0,60,60,60,60\n"
+                                   "0.01,0,20,,0,0,nan,0,60,60,60,60\n"
+                                   "0.02,0,20,0,0,inf,-2,0,60,60,60,60\n";
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    (void)state;
+    memset(&log, 0, sizeof log);
+    assert_int_equal(read_opts_text(text, RFE_CELLS_KEEP, RFE_INPUTS_OBSERVER, &log, &err), 0);
+    assert_true(isnan(log.rows[0].vx));
+    assert_int_equal(log.rows[0].bad, 0u);
+    assert_int_equal(log.rows[1].bad, 1u << RFE_CELL_NONFINITE); /* ax: used */
+    assert_int_equal(log.rows[2].bad, 0u);
+    assert_int_equal(log.bad_cells[RFE_CELL_EMPTY], 0);
+    assert_int_equal(log.bad_cells[RFE_CELL_NONFINITE], 1);
+    assert_int_equal(log.bad_rows, 1);
+    assert_int_equal(log.bad_first_line, 3);
+    assert_int_equal(log.bad_first_col, 7);
+    assert_int_equal(log.bad_ignored, 3);
+    assert_int_equal(log.bad_ignored_first_line, 2);
+    assert_int_equal(log.bad_ignored_first_col, 3);
+    assert_string_equal(log.unused_cols, "vx, vy, yaw_acc");
+    rfe_sensor_log_free(&log);
+    /* the same log measured (auto: it has vx, vy, yaw_acc): every cell counted */
+    assert_int_equal(read_opts_text(text, RFE_CELLS_KEEP, RFE_INPUTS_AUTO, &log, &err), 0);
+    assert_int_equal(log.bad_rows, 3);
+    assert_int_equal(log.bad_ignored, 0);
+    assert_null(log.unused_cols);
+    rfe_sensor_log_free(&log);
+    /* measured velocities: the brake pressures are not used */
+    assert_int_equal(read_opts_text("t,delta,vx,vy,yaw_rate,yaw_acc,ax,ay,omega_fl,omega_fr,"
+                                    "omega_rl,omega_rr,p_fl,p_fr,p_rl,p_rr\n"
+                                    "0,0,20,0,0,0,-2,0,60,60,60,60,nan,0,0,0\n",
+                                    RFE_CELLS_KEEP, RFE_INPUTS_AUTO, &log, &err), 0);
+    assert_int_equal(log.bad_rows, 0);
+    assert_int_equal(log.rows[0].bad, 0u);
+    assert_int_equal(log.bad_ignored, 1);
+    assert_string_equal(log.unused_cols, "p_*");
+    rfe_sensor_log_free(&log);
+    /* the plain reader: every input used */
+    assert_int_equal(read_keep(text, &log, &err), 0);
+    assert_int_equal(log.bad_rows, 3);
+    assert_int_equal(log.bad_ignored, 0);
+    rfe_sensor_log_free(&log);
+}
+
 /* REQ-CSV-007 */
 static void test_rfe_sensor_log_read_cells_keep_bad_inputs(void **state)
 {
@@ -999,6 +1050,7 @@ int main(void)
         cmocka_unit_test(test_rfe_sensor_log_read_empty_field_rejected),
         cmocka_unit_test(test_rfe_sensor_log_read_overflow_rejected),
         cmocka_unit_test(test_rfe_sensor_log_read_cells_keep_bad_inputs),
+        cmocka_unit_test(test_rfe_sensor_log_read_cells_unused_columns),
         cmocka_unit_test(test_rfe_sensor_log_read_cells_keep_still_rejects),
         cmocka_unit_test(test_rfe_sensor_log_read_partial_truth),
         cmocka_unit_test(test_rfe_sensor_log_read_util_columns_parsed),
