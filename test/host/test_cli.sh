@@ -276,6 +276,14 @@ input_error car_negative_ratio "$TMP/swa_neg.csv" "^mu_replay: .*swa_neg\.csv:1:
 printf '# m = 1830\nt,delta,yaw_rate,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr\n0,0,0,0,0,61.5,61.5,61.5,61.5\n' >"$TMP/one_row.csv"
 run one_row 0 --in "$TMP/one_row.csv" --out "$TMP/o.csv"
 [ -s "$TMP/err" ] && bad "one_row: stderr not empty: $(cat "$TMP/err")" || ok "one_row: no period, no note"
+# no dt line, 100 Hz: the median period is 0.01 only to the stamps' rounding (1.02 - 1.01 is
+# 0.010000000000000009): it matches the preset's 0.01 s within the 1 % of a given dt, no note
+printf '# m = 1830\nt,delta,yaw_rate,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr\n' >"$TMP/p100.csv"
+for t in 1 1.01 1.02 1.03 1.04 1.05 1.06 1.07 1.08 1.09; do
+    printf '%s,0,0,0,0,61.5,61.5,61.5,61.5\n' "$t" >>"$TMP/p100.csv"
+done
+run dt_100hz_no_line 0 --in "$TMP/p100.csv" --out "$TMP/o.csv"
+grep -q 'note: dt' "$TMP/err" && bad "dt_100hz_no_line: $(grep 'note: dt' "$TMP/err")" || ok "dt_100hz_no_line: no note"
 printf '# dt = 0.01\n# m = 1830\nt,delta,yaw_rate,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr\n0,0,0,0,0,61.5,61.5,61.5,61.5\n0.01,0,0,0,0,61.5,61.5,61.5,61.5\n0.02,0,0,0,0,61.5,61.5,61.5,61.5\n0.5,0,0,0,0,61.5,61.5,61.5,61.5\n0.51,0,0,0,0,61.5,61.5,61.5,61.5\n' >"$TMP/gap.csv"
 run gap 0 --in "$TMP/gap.csv" --out "$TMP/g.csv"
 one_line gap "^mu_replay: note: 1 gap\(s\) longer than 2 periods \(2 x 0.01 s\), the longest 0.48 s before t = 0.5 s: the friction estimator behind the observer steps over each as one period; the observer steps with the real period and rejects the sample after 1 gap\(s\) longer than obs_dt_max = 0.1 s$"
