@@ -64,9 +64,9 @@ static const char k_usage[] =
     "                   by default such a cell goes to the estimator as NaN/Inf, which\n"
     "                   rejects that sample (status 17) and holds its estimate, and the\n"
     "                   run ends with a count per cause\n"
-    "  --require-params make a log without vehicle parameters (m, Lf, Lr, Bf, Br, R, J,\n"
-    "                   hg in its metadata) and without --params an error; by default\n"
-    "                   the preset's values are used and a warning names them\n"
+    "  --require-params make every vehicle parameter (m, Lf, Lr, Bf, Br, R, J, hg) that\n"
+    "                   neither the log's metadata nor --params gives an error; by\n"
+    "                   default the preset's values are used and a warning names them\n"
     "  --quiet, -q      print nothing on success\n"
     "  --help, -h       print this help and exit\n"
     "\n"
@@ -100,7 +100,7 @@ typedef struct {
     int is_double;
     int is_q31;
     int use_observer;  /**< vx, vy, r-dot from the velocity observer (--velocity) */
-    int preset_vehicle; /**< no vehicle key from a file: the preset's car (check_vehicle) */
+    int preset_vehicle; /**< a vehicle key from no file: the preset's value (check_vehicle) */
     int has_metrics;
     rfe_metrics_t metrics;
 } run_t;
@@ -385,42 +385,82 @@ static int load_params(const options_t *o, run_t *r)
     return 0;
 }
 
-/* The vehicle keys (m .. hg of the key table; g is nature's) when neither the log's metadata
- * nor a parameter file gives any of them: the preset's car stands in, which a user must know
- * (a warning naming every value), or may forbid (--require-params: an input error). */
+/* Whether vehicle key @p k (m .. hg) came from no file: neither the log's metadata nor a
+ * --params file gave it, so the preset's value stands in. */
+static int vehicle_key_preset(const run_t *r, size_t k)
+{
+    return r->ps.origin[k].file == NULL;
+}
+
+/* The vehicle keys (m .. hg of the key table; g is nature's) that neither the log's metadata
+ * nor a parameter file gives: the preset's values stand in for them, which a user must know
+ * (a warning naming every one with its value), or may forbid (--require-params: an input
+ * error naming them). One key given does not stand for the others: a log with only m runs on
+ * the preset's wheelbase, track, radius, inertia and CoG height. */
 static int check_vehicle(const options_t *o, run_t *r)
 {
     rfe_io_error_t err;
+    char list[128];
+    size_t used = 0u;
+    size_t n = 0u;
     size_t k;
+    list[0] = '\0';
     for (k = (size_t)RFE_PK_m; k <= (size_t)RFE_PK_hg; ++k) {
-        if (r->ps.origin[k].file != NULL) {
-            return 0;
+        if (vehicle_key_preset(r, k) && (used < sizeof list)) {
+            const int w = snprintf(list + used, sizeof list - used, "%s%s", (n > 0u) ? ", " : "",
+                                   rfe_param_info(k)->key);
+            used += (w > 0) ? (size_t)w : 0u;
+            ++n;
         }
     }
-    if (o->require_params) {
+    if (n == 0u) {
+        return 0;
+    }
+    if (o->require_params && (n == (size_t)RFE_PK_hg - (size_t)RFE_PK_m + 1u)) {
         rfe_io_error_set(&err, o->in, 0u, 0u, "%s",
                          "no vehicle parameters (m, Lf, Lr, Bf, Br, R, J, hg) in the log's "
                          "metadata and no --params file (--require-params)");
+        return fail(&err);
+    }
+    if (o->require_params) {
+        rfe_io_error_set(&err, o->in, 0u, 0u,
+                         "vehicle parameter%s %s in neither the log's metadata nor a --params "
+                         "file (--require-params)", (n > 1u) ? "s" : "", list);
         return fail(&err);
     }
     r->preset_vehicle = 1;
     return 0;
 }
 
-/* The warning of a run on the preset's car (check_vehicle), once the run succeeded. */
+/* The warning of a run on the preset's vehicle values (check_vehicle), once the run
+ * succeeded: every one used, with its value. */
 static void warn_preset_vehicle(const options_t *o, const run_t *r)
 {
     char val[RFE_NUM_BUF];
     size_t k;
+    size_t n = 0u;
+    const char *sep = "";
     if (!r->preset_vehicle || o->quiet) {
         return;
     }
-    fprintf(stderr, "%s: warning: %s: no vehicle parameters in the metadata and no --params: "
-                    "the %s preset's car is used:", PROG, o->in, rfe_preset_str(r->ps.preset));
     for (k = (size_t)RFE_PK_m; k <= (size_t)RFE_PK_hg; ++k) {
-        rfe_param_format(&r->ps, k, val);
-        fprintf(stderr, " %s = %s %s%s", rfe_param_info(k)->key, val, rfe_param_info(k)->unit,
-                (k < (size_t)RFE_PK_hg) ? "," : "");
+        n += vehicle_key_preset(r, k) ? 1u : 0u;
+    }
+    if (n == (size_t)RFE_PK_hg - (size_t)RFE_PK_m + 1u) {
+        fprintf(stderr, "%s: warning: %s: no vehicle parameters in the metadata and no --params: "
+                        "the %s preset's car is used:", PROG, o->in, rfe_preset_str(r->ps.preset));
+    } else {
+        fprintf(stderr, "%s: warning: %s: vehicle parameter%s in neither the metadata nor "
+                        "--params: using the %s preset's", PROG, o->in, (n > 1u) ? "s" : "",
+                rfe_preset_str(r->ps.preset));
+    }
+    for (k = (size_t)RFE_PK_m; k <= (size_t)RFE_PK_hg; ++k) {
+        if (vehicle_key_preset(r, k)) {
+            rfe_param_format(&r->ps, k, val);
+            fprintf(stderr, "%s %s = %s %s", sep, rfe_param_info(k)->key, val,
+                    rfe_param_info(k)->unit);
+            sep = ",";
+        }
     }
     fprintf(stderr, " (--require-params makes this an error)\n");
 }

@@ -15,6 +15,8 @@ TMP=$(mktemp -d)
 trap 'rm -rf "$TMP"' EXIT
 PASS=0
 FAIL=0
+# a whole vehicle in a log's metadata (printf text): a run on it warns of no preset value
+VEH='# m = 1830\n# Lf = 1.4\n# Lr = 1.65\n# Bf = 1.6\n# Br = 1.6\n# R = 0.325\n# J = 3234\n# hg = 0.54\n'
 
 ok()  { PASS=$((PASS + 1)); echo "ok   $1"; }
 bad() { FAIL=$((FAIL + 1)); echo "FAIL $1"; }
@@ -273,7 +275,7 @@ one_line car_negative_R "^mu_replay: .*car_format_small\.csv: the wheel speeds a
 # a steering-wheel log with measured velocities (a test car): delta = swa / ratio on the host
 printf '# obs_steer_ratio = -2\nt,swa,vx,vy,yaw_rate,yaw_acc,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr\n0,0,20,0,0,0,0,0,61.5,61.5,61.5,61.5\n' >"$TMP/swa_neg.csv"
 input_error car_negative_ratio "$TMP/swa_neg.csv" "^mu_replay: .*swa_neg\.csv:1: obs_steer_ratio = -2: must be a positive number"
-printf '# m = 1830\nt,delta,yaw_rate,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr\n0,0,0,0,0,61.5,61.5,61.5,61.5\n' >"$TMP/one_row.csv"
+printf "$VEH"'t,delta,yaw_rate,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr\n0,0,0,0,0,61.5,61.5,61.5,61.5\n' >"$TMP/one_row.csv"
 run one_row 0 --in "$TMP/one_row.csv" --out "$TMP/o.csv"
 [ -s "$TMP/err" ] && bad "one_row: stderr not empty: $(cat "$TMP/err")" || ok "one_row: no period, no note"
 # no dt line, 100 Hz: the median period is 0.01 only to the stamps' rounding (1.02 - 1.01 is
@@ -284,14 +286,14 @@ for t in 1 1.01 1.02 1.03 1.04 1.05 1.06 1.07 1.08 1.09; do
 done
 run dt_100hz_no_line 0 --in "$TMP/p100.csv" --out "$TMP/o.csv"
 grep -q 'note: dt' "$TMP/err" && bad "dt_100hz_no_line: $(grep 'note: dt' "$TMP/err")" || ok "dt_100hz_no_line: no note"
-printf '# dt = 0.01\n# m = 1830\nt,delta,yaw_rate,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr\n0,0,0,0,0,61.5,61.5,61.5,61.5\n0.01,0,0,0,0,61.5,61.5,61.5,61.5\n0.02,0,0,0,0,61.5,61.5,61.5,61.5\n0.5,0,0,0,0,61.5,61.5,61.5,61.5\n0.51,0,0,0,0,61.5,61.5,61.5,61.5\n' >"$TMP/gap.csv"
+printf '# dt = 0.01\n'"$VEH"'t,delta,yaw_rate,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr\n0,0,0,0,0,61.5,61.5,61.5,61.5\n0.01,0,0,0,0,61.5,61.5,61.5,61.5\n0.02,0,0,0,0,61.5,61.5,61.5,61.5\n0.5,0,0,0,0,61.5,61.5,61.5,61.5\n0.51,0,0,0,0,61.5,61.5,61.5,61.5\n' >"$TMP/gap.csv"
 run gap 0 --in "$TMP/gap.csv" --out "$TMP/g.csv"
 one_line gap "^mu_replay: note: 1 gap\(s\) longer than 2 periods \(2 x 0.01 s\), the longest 0.48 s before t = 0.5 s: the friction estimator behind the observer steps over each as one period; the observer steps with the real period and rejects the sample after 1 gap\(s\) longer than obs_dt_max = 0.1 s$"
 grep -q 'status 18' "$TMP/out" && ok "gap: the rejected sample counted" || bad "gap: no status 18 in the summary"
 # REQ-CSV-006: a gap of 3 periods in a measured-velocity log is reported too; jitter is not
 # (braking at 4 m/s^2 with 4 % slip: updating steps, so the sd is below the prior's and a gap
 # has room to grow it; then cruising, held: the sd after the gap is the time updates' alone)
-printf '# dt = 0.01\n# m = 1830\nt,delta,vx,vy,yaw_rate,yaw_acc,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr\n0,0,20,0,0,0,-4,0,59.08,59.08,59.08,59.08\n0.01,0,20,0,0,0,-4,0,59.08,59.08,59.08,59.08\n0.0205,0,20,0,0,0,-4,0,59.08,59.08,59.08,59.08\n0.0295,0,20,0,0,0,-4,0,59.08,59.08,59.08,59.08\n0.06,0,20,0,0,0,0,0,61.54,61.54,61.54,61.54\n0.07,0,20,0,0,0,0,0,61.54,61.54,61.54,61.54\n' >"$TMP/gapm.csv"
+printf '# dt = 0.01\n'"$VEH"'t,delta,vx,vy,yaw_rate,yaw_acc,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr\n0,0,20,0,0,0,-4,0,59.08,59.08,59.08,59.08\n0.01,0,20,0,0,0,-4,0,59.08,59.08,59.08,59.08\n0.0205,0,20,0,0,0,-4,0,59.08,59.08,59.08,59.08\n0.0295,0,20,0,0,0,-4,0,59.08,59.08,59.08,59.08\n0.06,0,20,0,0,0,0,0,61.54,61.54,61.54,61.54\n0.07,0,20,0,0,0,0,0,61.54,61.54,61.54,61.54\n' >"$TMP/gapm.csv"
 run gap_measured 0 --in "$TMP/gapm.csv" --out "$TMP/gm.csv"
 one_line gap_measured "^mu_replay: note: 1 gap\(s\) longer than 2 periods \(2 x 0.01 s\), the longest 0.0305 s before t = 0.06 s: the friction estimator makes the time updates of the missed periods at once and restarts its input filter \(rfe_friction_skip\)$"
 # REQ-EST-015: the estimator is told: round(0.0305 / 0.01) - 1 = 2 missed periods, in the
@@ -446,12 +448,28 @@ run no_vehicle_quiet 0 --in "$TMP/noveh.csv" --out "$TMP/nv.csv" -q
 run require_params 1 --in "$TMP/noveh.csv" --out "$TMP/rp.csv" --require-params
 one_line require_params "^mu_replay: .*noveh\.csv: no vehicle parameters \(m, Lf, Lr, Bf, Br, R, J, hg\) in the log's metadata and no --params file \(--require-params\)$"
 [ ! -e "$TMP/rp.csv" ] && ok "require_params: nothing written" || bad "require_params: estimate log written"
+# every vehicle key counts on its own: a log with m alone runs on the preset's other values,
+# named in the warning (m not among them); --require-params names the keys missing
 printf 'm = 1500\n' >"$TMP/m.par"
-run require_params_file 0 --in "$TMP/noveh.csv" --out "$TMP/rp.csv" --require-params --params "$TMP/m.par"
+run require_params_partial_file 1 --in "$TMP/noveh.csv" --out "$TMP/rp.csv" --require-params --params "$TMP/m.par"
+one_line require_params_partial_file "^mu_replay: .*noveh\.csv: vehicle parameters Lf, Lr, Bf, Br, R, J, hg in neither the log's metadata nor a --params file \(--require-params\)$"
+[ ! -e "$TMP/rp.csv" ] && ok "require_params_partial_file: nothing written" || bad "require_params_partial_file: estimate log written"
+printf 'm = 1500\nLf = 1.2\nLr = 1.5\nBf = 1.55\nBr = 1.55\nR = 0.31\nJ = 2500\nhg = 0.5\n' >"$TMP/car.par"
+run require_params_file 0 --in "$TMP/noveh.csv" --out "$TMP/rp.csv" --require-params --params "$TMP/car.par"
 [ ! -s "$TMP/err" ] && grep -q '^# m = 1500$' "$TMP/rp.csv" && ok "require_params_file: --params satisfies it" || bad "require_params_file: $(cat "$TMP/err")"
 printf '# m = 1700\n' | cat - "$TMP/noveh.csv" >"$TMP/veh.csv"
-run require_params_meta 0 --in "$TMP/veh.csv" --out "$TMP/rp.csv" --require-params
-[ ! -s "$TMP/err" ] && ok "require_params_meta: metadata satisfies it, no warning" || bad "require_params_meta: $(cat "$TMP/err")"
+run partial_vehicle_meta 0 --in "$TMP/veh.csv" --out "$TMP/rp.csv"
+one_line partial_vehicle_meta "^mu_replay: warning: .*veh\.csv: vehicle parameters in neither the metadata nor --params: using the default preset's Lf = 1\.4 m, Lr = 1\.65 m, Bf = 1\.6 m, Br = 1\.6 m, R = 0\.325 m, J = 3234 kg m\^2, hg = 0\.54 m \(--require-params makes this an error\)$"
+grep -q '^# m = 1700$' "$TMP/rp.csv" && ok "partial_vehicle_meta: m from the metadata" || bad "partial_vehicle_meta: m"
+run require_params_partial_meta 1 --in "$TMP/veh.csv" --out "$TMP/rp.csv" --require-params
+one_line require_params_partial_meta "^mu_replay: .*veh\.csv: vehicle parameters Lf, Lr, Bf, Br, R, J, hg in neither"
+# metadata and --params together: every key from one of them satisfies it
+grep -v '^m = ' "$TMP/car.par" | sed '/^hg = /d' >"$TMP/car7.par"
+run require_params_split 1 --in "$TMP/veh.csv" --out "$TMP/rp.csv" --require-params --params "$TMP/car7.par"
+one_line require_params_split "^mu_replay: .*veh\.csv: vehicle parameter hg in neither the log's metadata nor a --params file \(--require-params\)$"
+printf 'hg = 0.5\n' >>"$TMP/car7.par"
+run require_params_meta 0 --in "$TMP/veh.csv" --out "$TMP/rp.csv" --require-params --params "$TMP/car7.par"
+[ ! -s "$TMP/err" ] && grep -q '^# m = 1700$' "$TMP/rp.csv" && ok "require_params_meta: metadata and --params satisfy it, no warning" || bad "require_params_meta: $(cat "$TMP/err")"
 
 # ---- --real q31: the fixed-point estimator (docs/FIXED_POINT.md "Estimator")
 run good_q31 0 --in "$DATA/good_small.csv" --out "$TMP/q.csv" --metrics "$TMP/q.json" --real q31
