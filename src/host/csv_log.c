@@ -98,7 +98,8 @@ typedef struct {
     double col_a[N_COLS];     /**< per column: SI value = col_a * text + col_b (unit_, scale_, */
     double col_b[N_COLS];     /**< offset_ metadata) */
     char **fields;        /**< n_fields pointers into buf, reused per row */
-    rfe_cells_t cells;    /**< what a bad cell of an estimator input is */
+    rfe_read_opts_t opts; /**< what a bad cell is, which input columns the run uses */
+    unsigned char unused[N_COLS]; /**< 1: an input column the run does not use */
     size_t rows_cap;
     size_t meta_cap;
 } reader_t;
@@ -144,6 +145,24 @@ const char *rfe_cell_cause_str(rfe_cell_cause_t c)
 int rfe_sensor_log_read_cells(const char *path, rfe_cells_t cells, rfe_sensor_log_t *log,
                               rfe_io_error_t *err)
 {
+    rfe_read_opts_t opts;
+    opts.cells = cells;
+    opts.inputs = RFE_INPUTS_ALL;
+    return rfe_sensor_log_read_opts(path, &opts, log, err);
+}
+
+int rfe_sensor_log_read_stream_cells(FILE *f, const char *name, rfe_cells_t cells,
+                                     rfe_sensor_log_t *log, rfe_io_error_t *err)
+{
+    rfe_read_opts_t opts;
+    opts.cells = cells;
+    opts.inputs = RFE_INPUTS_ALL;
+    return rfe_sensor_log_read_stream_opts(f, name, &opts, log, err);
+}
+
+int rfe_sensor_log_read_opts(const char *path, const rfe_read_opts_t *opts,
+                             rfe_sensor_log_t *log, rfe_io_error_t *err)
+{
     FILE *f;
     int rc;
     memset(log, 0, sizeof *log);
@@ -152,19 +171,19 @@ int rfe_sensor_log_read_cells(const char *path, rfe_cells_t cells, rfe_sensor_lo
         rfe_io_error_set(err, path, 0u, 0u, "cannot open: %s", strerror(errno));
         return -1;
     }
-    rc = rfe_sensor_log_read_stream_cells(f, path, cells, log, err);
+    rc = rfe_sensor_log_read_stream_opts(f, path, opts, log, err);
     (void)fclose(f); /* read-only: nothing to lose on close */
     return rc;
 }
 
-int rfe_sensor_log_read_stream_cells(FILE *f, const char *name, rfe_cells_t cells,
-                                     rfe_sensor_log_t *log, rfe_io_error_t *err)
+int rfe_sensor_log_read_stream_opts(FILE *f, const char *name, const rfe_read_opts_t *opts,
+                                    rfe_sensor_log_t *log, rfe_io_error_t *err)
 {
     reader_t r;
     int rc;
     memset(&r, 0, sizeof r);
     memset(log, 0, sizeof *log);
-    r.cells = cells;
+    r.opts = *opts;
     r.f = f;
     r.name = name;
     r.err = err;
@@ -519,48 +538,160 @@ static int map_header_fields(reader_t *r, size_t n)
     return 0;
 }
 
-/* Every required input column the header lacks, all in one message (a log missing several
- * names them all, each with its column_ alias when the metadata gave one); 0 when none. */
-static int missing_inputs(reader_t *r, const size_t *present)
+/* The word of each optional group in messages ("velocity column 'vy' missing"). */
+static const char *const k_group_word[COL_KINDS] = {"", "truth", "truth", "velocity",
+                                                    "pressure", "torque", "grade", ""};
+
+/* Appends @p s to the message list; what does not fit is cut to "..." (then *used = cap). */
+static void list_add(char *list, size_t cap, size_t *used, const char *s)
 {
-    char list[RFE_IO_MSG_MAX];
+    const size_t n = strlen(s);
+    if (*used >= cap) {
+        return;
+    }
+    if (*used + n + 4u > cap) { /* room for "..." and the NUL */
+        (void)snprintf(list + *used, cap - *used, "...");
+        *used = cap;
+        return;
+    }
+    memcpy(list + *used, s, n + 1u);
+    *used += n;
+}
+
+/* Whether column @p k must be in the header: a required input; delta, standing for the
+ * steering pair, when neither delta nor swa is; a member of an optional group (each all or
+ * none) of which some column is there; of the velocity group, when the run measures
+ * velocities (RFE_INPUTS_MEASURED). */
+static int col_needed(const reader_t *r, size_t k, const size_t *n_present)
+{
+    const col_kind_t g = k_cols[k].kind;
+    if (g == COL_STEER) {
+        return (n_present[COL_STEER] == 0u) && (k_cols[k].offset == ROW_OFF(delta));
+    }
+    return (g == COL_INPUT) || (n_present[g] != 0u) ||
+           ((g == COL_VEL) && (r->opts.inputs == RFE_INPUTS_MEASURED));
+}
+
+/* The rule a missing member of group @p g breaks (groups: "give all of ... or none"). */
+static const char *group_rule(const reader_t *r, col_kind_t g)
+{
+    static const char *const rule[COL_KINDS] = {
+        "", "give all of mu_fl, mu_fr, mu_rl, mu_rr or none",
+        "give all of util_fl, util_fr, util_rl, util_rr or none",
+        "give all of vx, vy, yaw_acc or none", "give all of p_fl, p_fr, p_rl, p_rr or none",
+        "give all of torque_fl, torque_fr, torque_rl, torque_rr or none", "", ""};
+    return ((g == COL_VEL) && (r->opts.inputs == RFE_INPUTS_MEASURED))
+               ? "measured velocities need all of vx, vy, yaw_acc"
+               : rule[g];
+}
+
+/* One missing column as the message names it: 'name', its column_ alias when the metadata
+ * gave one, the steering pair's choice, and after the last missing member of an optional
+ * group the group's rule (@p rule; NULL: none). */
+static void missing_item(const reader_t *r, size_t k, const char *rule, char *item, size_t cap)
+{
+    int w;
+    if (k_cols[k].kind == COL_STEER) {
+        (void)snprintf(item, cap, "'delta' (the road-wheel angle) or 'swa' (the steering-wheel "
+                                  "angle, with obs_steer_ratio)");
+        return;
+    }
+    w = (r->want[k] != k_cols[k].name)
+            ? snprintf(item, cap, "'%s' (named '%s' by its column_%s metadata)", k_cols[k].name,
+                       r->want[k], k_cols[k].name)
+            : snprintf(item, cap, "'%s'", k_cols[k].name);
+    if ((rule != NULL) && (w > 0) && ((size_t)w < cap)) {
+        (void)snprintf(item + w, cap - (size_t)w, " (%s: %s)", k_group_word[k_cols[k].kind], rule);
+    }
+}
+
+/* Every column the header lacks, of every rule (required inputs, the steering angle, the
+ * optional groups given in part, the velocities a measuring run needs), all in one message
+ * in k_cols' order (DATA.md's table); 0 when none. The message of one group given in part
+ * alone is "<group> column(s) ... missing (<rule>)". Measured velocities asked for and none
+ * given, alone: 0 (has_velocity stays 0 and the caller says why it needs them). */
+static int missing_columns(reader_t *r, const size_t *present, const size_t *n_present)
+{
+    char list[RFE_IO_MSG_MAX - 64u]; /* room for the words around it */
+    char item[RFE_IO_MSG_MAX];
+    size_t last[COL_KINDS];
     size_t used = 0u;
     size_t n = 0u;
+    size_t n_kinds = 0u;
+    col_kind_t g1 = COL_INPUT;
+    int one_group;
     size_t k;
-    list[0] = '\0';
+    for (k = 0u; k < (size_t)COL_KINDS; ++k) {
+        last[k] = NO_COL;
+    }
     for (k = 0u; k < N_COLS; ++k) {
-        if ((k_cols[k].kind == COL_INPUT) && (present[k] == 0u) && (used < sizeof list)) {
-            const int w = (r->want[k] != k_cols[k].name)
-                              ? snprintf(list + used, sizeof list - used,
-                                         "%s'%s' (named '%s' by its column_%s metadata)",
-                                         (n > 0u) ? ", " : "", k_cols[k].name, r->want[k],
-                                         k_cols[k].name)
-                              : snprintf(list + used, sizeof list - used, "%s'%s'",
-                                         (n > 0u) ? ", " : "", k_cols[k].name);
-            used += (w > 0) ? (size_t)w : 0u;
+        const col_kind_t g = k_cols[k].kind;
+        if ((present[k] == 0u) && col_needed(r, k, n_present)) {
+            n_kinds += (last[g] == NO_COL) ? 1u : 0u;
+            g1 = (n == 0u) ? g : g1;
+            last[g] = k;
             ++n;
         }
     }
-    if (n == 0u) {
+    if ((n == 0u) || ((n_kinds == 1u) && (g1 == COL_VEL) && (n_present[COL_VEL] == 0u))) {
         return 0;
     }
-    rfe_io_error_set(r->err, r->name, r->line, 0u, "missing column%s %s", (n > 1u) ? "s" : "",
-                     list);
+    /* one optional group given in part, and nothing else: that group's own message */
+    one_group = (n_kinds == 1u) && (g1 != COL_INPUT) && (g1 != COL_STEER);
+    list[0] = '\0';
+    for (k = 0u; k < N_COLS; ++k) {
+        const col_kind_t g = k_cols[k].kind;
+        if ((present[k] == 0u) && col_needed(r, k, n_present)) {
+            const int rule = !one_group && (g != COL_INPUT) && (g != COL_STEER) && (last[g] == k);
+            missing_item(r, k, rule ? group_rule(r, g) : NULL, item, sizeof item);
+            list_add(list, sizeof list, &used, (used > 0u) ? ", " : "");
+            list_add(list, sizeof list, &used, item);
+        }
+    }
+    if (one_group) {
+        rfe_io_error_set(r->err, r->name, r->line, 0u, "%s column%s %s missing (%s)", k_group_word[g1],
+                         (n > 1u) ? "s" : "", list, group_rule(r, g1));
+    } else {
+        rfe_io_error_set(r->err, r->name, r->line, 0u, "missing column%s %s", (n > 1u) ? "s" : "",
+                         list);
+    }
     return -1;
 }
 
-/* Every input column present, delta or swa (one of them), each optional group all or none. */
+/* The optional inputs a measuring run does not use that a log has, by has_pressure
+ * + 2 has_torque + 4 has_grade (rfe_sensor_log_t.unused_cols). */
+static const char *const k_esc_cols[8] = {NULL,          "p_*",           "torque_*",
+                                          "p_*, torque_*", "grade",       "p_*, grade",
+                                          "torque_*, grade", "p_*, torque_*, grade"};
+
+/* The input columns the run does not use (rfe_inputs_t), once the groups given are known;
+ * unused_cols names those of them the log has. */
+static void mark_unused(reader_t *r, rfe_sensor_log_t *log)
+{
+    const rfe_inputs_t in = (r->opts.inputs != RFE_INPUTS_AUTO)
+                                ? r->opts.inputs
+                                : (log->has_velocity ? RFE_INPUTS_MEASURED : RFE_INPUTS_OBSERVER);
+    size_t k;
+    for (k = 0u; k < N_COLS; ++k) {
+        const col_kind_t g = k_cols[k].kind;
+        r->unused[k] = (unsigned char)(((in == RFE_INPUTS_OBSERVER) && (g == COL_VEL)) ||
+                                       ((in == RFE_INPUTS_MEASURED) &&
+                                        ((g == COL_PRES) || (g == COL_TORQ) || (g == COL_GRADE))));
+    }
+    log->unused_cols =
+        ((in == RFE_INPUTS_OBSERVER) && log->has_velocity)
+            ? "vx, vy, yaw_acc"
+            : ((in == RFE_INPUTS_MEASURED)
+                   ? k_esc_cols[(log->has_pressure ? 1 : 0) + (log->has_torque ? 2 : 0) +
+                                (log->has_grade ? 4 : 0)]
+                   : NULL);
+}
+
+/* Every needed column present (missing_columns), not both delta and swa; the groups given. */
 static int check_columns(reader_t *r, rfe_sensor_log_t *log)
 {
-    static const char *const group_list[COL_KINDS] = {
-        "", "mu_fl, mu_fr, mu_rl, mu_rr", "util_fl, util_fr, util_rl, util_rr",
-        "vx, vy, yaw_acc", "p_fl, p_fr, p_rl, p_rr", "torque_fl, torque_fr, torque_rl, torque_rr",
-        "grade", ""};
-    static const char *const group_word[COL_KINDS] = {"", "truth", "truth", "velocity",
-                                                      "pressure", "torque", "grade", ""};
     size_t present[N_COLS] = {0u};
     size_t n_present[COL_KINDS] = {0u};
-    const char *missing[COL_KINDS] = {NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL};
     size_t j;
     size_t k;
     for (j = 0u; j < r->n_fields; ++j) {
@@ -568,31 +699,16 @@ static int check_columns(reader_t *r, rfe_sensor_log_t *log)
             present[r->field_col[j]] = 1u;
         }
     }
-    if (missing_inputs(r, present) != 0) {
-        return -1;
-    }
     for (k = 0u; k < N_COLS; ++k) {
-        const col_kind_t g = k_cols[k].kind;
-        n_present[g] += present[k];
-        if ((present[k] == 0u) && (missing[g] == NULL)) {
-            missing[g] = k_cols[k].name;
-        }
+        n_present[k_cols[k].kind] += present[k];
     }
-    if (n_present[COL_STEER] != 1u) {
-        rfe_io_error_set(r->err, r->name, r->line, 0u, "%s",
-                         (n_present[COL_STEER] == 0u)
-                             ? "missing column 'delta' (the road-wheel angle) or 'swa' (the "
-                               "steering-wheel angle, with obs_steer_ratio)"
-                             : "both 'delta' and 'swa' given: keep one steering angle");
+    if (missing_columns(r, present, n_present) != 0) {
         return -1;
     }
-    for (k = (size_t)COL_MU; k < (size_t)COL_STEER; ++k) {
-        if ((n_present[k] != 0u) && (missing[k] != NULL)) {
-            rfe_io_error_set(r->err, r->name, r->line, 0u,
-                             "%s column '%s' missing (give all of %s or none)", group_word[k],
-                             missing[k], group_list[k]);
-            return -1;
-        }
+    if (n_present[COL_STEER] > 1u) {
+        rfe_io_error_set(r->err, r->name, r->line, 0u, "%s",
+                         "both 'delta' and 'swa' given: keep one steering angle");
+        return -1;
     }
     log->has_truth = (n_present[COL_MU] != 0u) ? 1 : 0;
     log->has_util = (n_present[COL_UTIL] != 0u) ? 1 : 0;
@@ -601,6 +717,7 @@ static int check_columns(reader_t *r, rfe_sensor_log_t *log)
     log->has_torque = (n_present[COL_TORQ] != 0u) ? 1 : 0;
     log->has_grade = (n_present[COL_GRADE] != 0u) ? 1 : 0;
     log->has_swa = present[find_col("swa")] != 0u ? 1 : 0;
+    mark_unused(r, log);
     return 0;
 }
 
@@ -645,7 +762,7 @@ static int keep_cell(const reader_t *r, const col_spec_t *c, rfe_num_status_t st
                      const char *text, double *v)
 {
     const int input = (c->kind != COL_MU) && (c->kind != COL_UTIL) && (c->offset != ROW_OFF(t));
-    if ((r->cells != RFE_CELLS_KEEP) || !input || (st == RFE_NUM_SYNTAX)) {
+    if ((r->opts.cells != RFE_CELLS_KEEP) || !input || (st == RFE_NUM_SYNTAX)) {
         return -1;
     }
     if (st == RFE_NUM_EMPTY) {
@@ -676,6 +793,17 @@ static void count_bad_cell(const reader_t *r, rfe_sensor_log_t *log, rfe_sensor_
     }
     row->bad |= 1u << (unsigned)cause;
     ++log->bad_cells[cause];
+}
+
+/* Counts a kept bad cell at field @p j of a column the run does not use: apart, so that it
+ * rejects no row (its value, NaN / +-Inf, reaches no estimator). */
+static void count_ignored_cell(const reader_t *r, rfe_sensor_log_t *log, size_t j)
+{
+    if (log->bad_ignored_first_line == 0u) {
+        log->bad_ignored_first_line = r->line;
+        log->bad_ignored_first_col = j + 1u;
+    }
+    ++log->bad_ignored;
 }
 
 /* One data row: field count, every needed field a finite number (or a kept bad cell), time
@@ -718,7 +846,11 @@ static int parse_row(reader_t *r, rfe_sensor_log_t *log)
                 }
                 return -1;
             }
-            count_bad_cell(r, log, &row, cause, j);
+            if (r->unused[r->field_col[j]] != 0u) {
+                count_ignored_cell(r, log, j);
+            } else {
+                count_bad_cell(r, log, &row, cause, j);
+            }
         }
         memcpy((char *)&row + c->offset, &v, sizeof v);
     }

@@ -62,6 +62,25 @@ typedef enum {
     RFE_CELLS_KEEP = 1    /**< kept as NaN / +-Inf and counted (mu_replay's default) */
 } rfe_cells_t;
 
+/** Which input columns the run uses (rfe_read_opts_t.inputs), as mu_replay's --velocity:
+ *  a bad cell of a column the run does not use is not counted with the others (it cannot
+ *  reject a row) but apart, as ignored (bad_ignored). */
+typedef enum {
+    RFE_INPUTS_ALL = 0,      /**< every estimator input (the plain readers) */
+    RFE_INPUTS_MEASURED = 1, /**< measured velocities: vx, vy, yaw_acc needed (named among the
+                                  missing columns when others are missing too; alone, the read
+                                  succeeds with has_velocity 0 for the caller to say why);
+                                  p_*, torque_*, grade unused */
+    RFE_INPUTS_OBSERVER = 2, /**< the velocity observer: vx, vy, yaw_acc unused */
+    RFE_INPUTS_AUTO = 3      /**< MEASURED when the log has vx, vy, yaw_acc, else OBSERVER */
+} rfe_inputs_t;
+
+/** Options of rfe_sensor_log_read_opts (zero-initialised: strict, every input used). */
+typedef struct {
+    rfe_cells_t cells;   /**< what a bad cell of an estimator input is */
+    rfe_inputs_t inputs; /**< which input columns the run uses */
+} rfe_read_opts_t;
+
 /** A whole sensor log in memory. Zero-initialise, read, then rfe_sensor_log_free. */
 typedef struct {
     rfe_meta_entry_t *meta;
@@ -82,11 +101,18 @@ typedef struct {
     size_t bad_rows;       /**< rows holding at least one of them */
     size_t bad_first_line; /**< line and column (1-based) of the first one; 0 when none */
     size_t bad_first_col;
+    size_t bad_ignored;    /**< kept bad cells of columns the run does not use (rfe_inputs_t):
+                                read as NaN / +-Inf too, in no count above, no row's bad bits */
+    size_t bad_ignored_first_line; /**< line and column of the first of those; 0 when none */
+    size_t bad_ignored_first_col;
+    const char *unused_cols; /**< the log's input columns the run does not use ("vx, vy,
+                                  yaw_acc"), static text; NULL when it uses all it has */
 } rfe_sensor_log_t;
 
 /**
- * Reads @p path into @p log, every value in SI. Rejected: no header, a missing required
- * column, neither or both of delta and swa, a unit_/scale_/offset_/column_ key naming no
+ * Reads @p path into @p log, every value in SI. Rejected: no header, missing required
+ * columns (every missing column of every rule in one message, in the order of DATA.md's
+ * table), neither or both of delta and swa, a unit_/scale_/offset_/column_ key naming no
  * column, a unit that is not one of its column's quantity, a scale of 0, only some of
  * the columns of an optional group (each all or none: vx, vy, yaw_acc; p_fl..p_rr;
  * torque_fl..torque_rr; the truth groups mu_fl..mu_rr, util_fl..util_rr),
@@ -114,6 +140,19 @@ RFE_NODISCARD int rfe_sensor_log_read_cells(const char *path, rfe_cells_t cells,
 /** As rfe_sensor_log_read_cells, from an open stream; @p name is used in messages. */
 RFE_NODISCARD int rfe_sensor_log_read_stream_cells(FILE *f, const char *name, rfe_cells_t cells,
                                                    rfe_sensor_log_t *log, rfe_io_error_t *err);
+
+/**
+ * As rfe_sensor_log_read_cells, with @p opts: the bad cells as opts->cells says, and the
+ * columns of opts->inputs needed (the missing ones named with all others in one message)
+ * and the bad cells of the unused ones counted apart (bad_ignored).
+ */
+RFE_NODISCARD int rfe_sensor_log_read_opts(const char *path, const rfe_read_opts_t *opts,
+                                           rfe_sensor_log_t *log, rfe_io_error_t *err);
+
+/** As rfe_sensor_log_read_opts, from an open stream; @p name is used in messages. */
+RFE_NODISCARD int rfe_sensor_log_read_stream_opts(FILE *f, const char *name,
+                                                  const rfe_read_opts_t *opts,
+                                                  rfe_sensor_log_t *log, rfe_io_error_t *err);
 
 /** Name of a cell cause ("empty", "nan/inf", "out of range"). */
 const char *rfe_cell_cause_str(rfe_cell_cause_t c);

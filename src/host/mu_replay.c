@@ -64,9 +64,9 @@ static const char k_usage[] =
     "                   by default such a cell goes to the estimator as NaN/Inf, which\n"
     "                   rejects that sample (status 17) and holds its estimate, and the\n"
     "                   run ends with a count per cause\n"
-    "  --require-params make a log without vehicle parameters (m, Lf, Lr, Bf, Br, R, J,\n"
-    "                   hg in its metadata) and without --params an error; by default\n"
-    "                   the preset's values are used and a warning names them\n"
+    "  --require-params make every vehicle parameter (m, Lf, Lr, Bf, Br, R, J, hg) that\n"
+    "                   neither the log's metadata nor --params gives an error; by\n"
+    "                   default the preset's values are used and a warning names them\n"
     "  --quiet, -q      print nothing on success\n"
     "  --help, -h       print this help and exit\n"
     "\n"
@@ -100,7 +100,7 @@ typedef struct {
     int is_double;
     int is_q31;
     int use_observer;  /**< vx, vy, r-dot from the velocity observer (--velocity) */
-    int preset_vehicle; /**< no vehicle key from a file: the preset's car (check_vehicle) */
+    int preset_vehicle; /**< a vehicle key from no file: the preset's value (check_vehicle) */
     int has_metrics;
     rfe_metrics_t metrics;
 } run_t;
@@ -340,11 +340,18 @@ static int fail(const rfe_io_error_t *err)
 static int load_params(const options_t *o, run_t *r)
 {
     rfe_io_error_t err;
-    if (rfe_sensor_log_read_cells(o->in, o->strict ? RFE_CELLS_STRICT : RFE_CELLS_KEEP, &r->log,
-                                  &err) != 0) {
+    rfe_read_opts_t ro;
+    ro.cells = o->strict ? RFE_CELLS_STRICT : RFE_CELLS_KEEP;
+    /* the columns --velocity uses: the measured ones needed (named with any other missing
+     * column), the bad cells of the unused ones apart */
+    ro.inputs = (o->velocity == NULL)                     ? RFE_INPUTS_AUTO
+                : (strcmp(o->velocity, "measured") == 0) ? RFE_INPUTS_MEASURED
+                : (strcmp(o->velocity, "observer") == 0) ? RFE_INPUTS_OBSERVER
+                                                          : RFE_INPUTS_AUTO;
+    if (rfe_sensor_log_read_opts(o->in, &ro, &r->log, &err) != 0) {
         return fail(&err);
     }
-    if (!o->quiet && (r->log.bad_rows != 0u)) {
+    if (!o->quiet && ((r->log.bad_rows != 0u) || (r->log.bad_ignored != 0u))) {
         fprintf(stderr, "%s: note: %s: ", PROG, o->in);
         print_bad_cells(stderr, r);
     }
@@ -378,42 +385,82 @@ static int load_params(const options_t *o, run_t *r)
     return 0;
 }
 
-/* The vehicle keys (m .. hg of the key table; g is nature's) when neither the log's metadata
- * nor a parameter file gives any of them: the preset's car stands in, which a user must know
- * (a warning naming every value), or may forbid (--require-params: an input error). */
+/* Whether vehicle key @p k (m .. hg) came from no file: neither the log's metadata nor a
+ * --params file gave it, so the preset's value stands in. */
+static int vehicle_key_preset(const run_t *r, size_t k)
+{
+    return r->ps.origin[k].file == NULL;
+}
+
+/* The vehicle keys (m .. hg of the key table; g is nature's) that neither the log's metadata
+ * nor a parameter file gives: the preset's values stand in for them, which a user must know
+ * (a warning naming every one with its value), or may forbid (--require-params: an input
+ * error naming them). One key given does not stand for the others: a log with only m runs on
+ * the preset's wheelbase, track, radius, inertia and CoG height. */
 static int check_vehicle(const options_t *o, run_t *r)
 {
     rfe_io_error_t err;
+    char list[128];
+    size_t used = 0u;
+    size_t n = 0u;
     size_t k;
+    list[0] = '\0';
     for (k = (size_t)RFE_PK_m; k <= (size_t)RFE_PK_hg; ++k) {
-        if (r->ps.origin[k].file != NULL) {
-            return 0;
+        if (vehicle_key_preset(r, k) && (used < sizeof list)) {
+            const int w = snprintf(list + used, sizeof list - used, "%s%s", (n > 0u) ? ", " : "",
+                                   rfe_param_info(k)->key);
+            used += (w > 0) ? (size_t)w : 0u;
+            ++n;
         }
     }
-    if (o->require_params) {
+    if (n == 0u) {
+        return 0;
+    }
+    if (o->require_params && (n == (size_t)RFE_PK_hg - (size_t)RFE_PK_m + 1u)) {
         rfe_io_error_set(&err, o->in, 0u, 0u, "%s",
                          "no vehicle parameters (m, Lf, Lr, Bf, Br, R, J, hg) in the log's "
                          "metadata and no --params file (--require-params)");
+        return fail(&err);
+    }
+    if (o->require_params) {
+        rfe_io_error_set(&err, o->in, 0u, 0u,
+                         "vehicle parameter%s %s in neither the log's metadata nor a --params "
+                         "file (--require-params)", (n > 1u) ? "s" : "", list);
         return fail(&err);
     }
     r->preset_vehicle = 1;
     return 0;
 }
 
-/* The warning of a run on the preset's car (check_vehicle), once the run succeeded. */
+/* The warning of a run on the preset's vehicle values (check_vehicle), once the run
+ * succeeded: every one used, with its value. */
 static void warn_preset_vehicle(const options_t *o, const run_t *r)
 {
     char val[RFE_NUM_BUF];
     size_t k;
+    size_t n = 0u;
+    const char *sep = "";
     if (!r->preset_vehicle || o->quiet) {
         return;
     }
-    fprintf(stderr, "%s: warning: %s: no vehicle parameters in the metadata and no --params: "
-                    "the %s preset's car is used:", PROG, o->in, rfe_preset_str(r->ps.preset));
     for (k = (size_t)RFE_PK_m; k <= (size_t)RFE_PK_hg; ++k) {
-        rfe_param_format(&r->ps, k, val);
-        fprintf(stderr, " %s = %s %s%s", rfe_param_info(k)->key, val, rfe_param_info(k)->unit,
-                (k < (size_t)RFE_PK_hg) ? "," : "");
+        n += vehicle_key_preset(r, k) ? 1u : 0u;
+    }
+    if (n == (size_t)RFE_PK_hg - (size_t)RFE_PK_m + 1u) {
+        fprintf(stderr, "%s: warning: %s: no vehicle parameters in the metadata and no --params: "
+                        "the %s preset's car is used:", PROG, o->in, rfe_preset_str(r->ps.preset));
+    } else {
+        fprintf(stderr, "%s: warning: %s: vehicle parameter%s in neither the metadata nor "
+                        "--params: using the %s preset's", PROG, o->in, (n > 1u) ? "s" : "",
+                rfe_preset_str(r->ps.preset));
+    }
+    for (k = (size_t)RFE_PK_m; k <= (size_t)RFE_PK_hg; ++k) {
+        if (vehicle_key_preset(r, k)) {
+            rfe_param_format(&r->ps, k, val);
+            fprintf(stderr, "%s %s = %s %s", sep, rfe_param_info(k)->key, val,
+                    rfe_param_info(k)->unit);
+            sep = ",";
+        }
     }
     fprintf(stderr, " (--require-params makes this an error)\n");
 }
@@ -474,7 +521,9 @@ static int check_period(const options_t *o, run_t *r)
     if (src->file == NULL) {
         r->ps.value[RFE_PK_dt] = per.median;
         r->ps.origin[RFE_PK_dt].file = "the log's time stamps";
-        if (!o->quiet && (per.median != dt)) {
+        /* the preset's dt matching to the 1 % of a given one is no news (a 100 Hz log's
+         * median period is 0.01 only to the stamps' rounding) */
+        if (!o->quiet && !(fabs(dt - per.median) <= 0.01 * per.median)) {
             fprintf(stderr, "%s: note: dt = %.6g s, the median period of the time stamps (the "
                             "preset's %.6g s does not match this log)\n",
                     PROG, per.median, dt);
@@ -701,7 +750,8 @@ static void compute_metrics(run_t *r)
     free(buf);
 }
 
-/* {"generator", "input", "preset", "filter", "tyre", "real", "steps", "bad_cells", "gaps",
+/* {"generator", "input", "preset", "filter", "tyre", "real", ["saturation"],
+ *  "bad_cells_ignored", "steps", "bad_cells", "gaps",
  *  "status_counts", "metrics"} */
 static int write_metrics_json(const options_t *o, const run_t *r)
 {
@@ -727,6 +777,15 @@ static int write_metrics_json(const options_t *o, const run_t *r)
                 (unsigned long)r->q31.est_sat_max, (unsigned long long)r->q31.input_sat,
                 r->q31.input_sat_rows);
     }
+    /* bad_cells below: the cells given to the estimator (each rejects its row); these are
+     * the bad cells of the input columns this run does not use, which reject nothing */
+    fprintf(f, "  \"bad_cells_ignored\": {\"cells\": %zu, \"columns\": ", r->log.bad_ignored);
+    if (r->log.unused_cols != NULL) {
+        rfe_json_write_string(f, r->log.unused_cols);
+    } else {
+        fputs("null", f);
+    }
+    fputs("},\n", f);
     fprintf(f, "  \"steps\": %zu,\n  \"bad_cells\": {\"empty\": %zu, \"nonfinite\": %zu, "
                "\"range\": %zu, \"rows\": %zu},\n  \"gaps\": {\"count\": %zu, "
                "\"missed_periods\": %llu",
@@ -758,20 +817,41 @@ static int write_metrics_json(const options_t *o, const run_t *r)
     return 0;
 }
 
-/* The bad cells the run kept (csv_log.h RFE_CELLS_KEEP), per cause: one line, or nothing. */
+/* The bad cells the run kept (csv_log.h RFE_CELLS_KEEP), per cause, those of the columns it
+ * uses (each rejects its row) apart from those of the columns it does not use (ignored:
+ * they reject nothing): one line, or nothing. */
 static void print_bad_cells(FILE *f, const run_t *r)
 {
+    const rfe_sensor_log_t *lg = &r->log;
+    /* --strict stops at the first bad cell of either kind */
+    const int used_first = (lg->bad_rows != 0u) &&
+                           ((lg->bad_ignored == 0u) ||
+                            (lg->bad_first_line < lg->bad_ignored_first_line) ||
+                            ((lg->bad_first_line == lg->bad_ignored_first_line) &&
+                             (lg->bad_first_col < lg->bad_ignored_first_col)));
     size_t c;
-    if (r->log.bad_rows == 0u) {
+    if ((lg->bad_rows == 0u) && (lg->bad_ignored == 0u)) {
         return;
     }
-    fprintf(f, "bad cells (given to the estimator as NaN/Inf, the row rejected):");
-    for (c = 0u; c < (size_t)RFE_CELL_CAUSES; ++c) {
-        fprintf(f, " %s %zu%s", rfe_cell_cause_str((rfe_cell_cause_t)c), r->log.bad_cells[c],
-                (c + 1u < (size_t)RFE_CELL_CAUSES) ? "," : "");
+    if (lg->bad_rows != 0u) {
+        fprintf(f, "bad cells (given to the estimator as NaN/Inf, the row rejected):");
+        for (c = 0u; c < (size_t)RFE_CELL_CAUSES; ++c) {
+            fprintf(f, " %s %zu%s", rfe_cell_cause_str((rfe_cell_cause_t)c), lg->bad_cells[c],
+                    (c + 1u < (size_t)RFE_CELL_CAUSES) ? "," : "");
+        }
+        fprintf(f, "; in %zu row(s), the first at line %zu column %zu%s", lg->bad_rows,
+                lg->bad_first_line, lg->bad_first_col, used_first ? " (--strict stops there)" : "");
+    } else {
+        fprintf(f, "bad cells: none in the columns this run uses");
     }
-    fprintf(f, "; in %zu row(s), the first at line %zu column %zu (--strict stops there)\n",
-            r->log.bad_rows, r->log.bad_first_line, r->log.bad_first_col);
+    if (lg->bad_ignored != 0u) {
+        fprintf(f, "; ignored: %zu in the columns this run does not use (%s), the first at line "
+                   "%zu column %zu%s",
+                lg->bad_ignored, (lg->unused_cols != NULL) ? lg->unused_cols : "?",
+                lg->bad_ignored_first_line, lg->bad_ignored_first_col,
+                used_first ? "" : " (--strict stops there)");
+    }
+    fputc('\n', f);
 }
 
 static void print_status_counts(const run_t *r)

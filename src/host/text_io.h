@@ -14,8 +14,10 @@
 
 #include "rfe/types.h"
 
-/** Longest error message kept (the message is ours; file names are not copied). */
-#define RFE_IO_MSG_MAX 320
+/** Longest error message kept (the message is ours; file names are not copied): room for
+ *  every missing column of a log, column_ aliases included (csv_log.c cuts a longer list
+ *  with "..."). */
+#define RFE_IO_MSG_MAX 1024
 
 /**
  * Where and why reading failed. Printed as ONE line `FILE:LINE:COL: msg`; LINE and COL are

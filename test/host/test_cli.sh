@@ -15,6 +15,8 @@ TMP=$(mktemp -d)
 trap 'rm -rf "$TMP"' EXIT
 PASS=0
 FAIL=0
+# a whole vehicle in a log's metadata (printf text): a run on it warns of no preset value
+VEH='# m = 1830\n# Lf = 1.4\n# Lr = 1.65\n# Bf = 1.6\n# Br = 1.6\n# R = 0.325\n# J = 3234\n# hg = 0.54\n'
 
 ok()  { PASS=$((PASS + 1)); echo "ok   $1"; }
 bad() { FAIL=$((FAIL + 1)); echo "FAIL $1"; }
@@ -273,10 +275,18 @@ one_line car_negative_R "^mu_replay: .*car_format_small\.csv: the wheel speeds a
 # a steering-wheel log with measured velocities (a test car): delta = swa / ratio on the host
 printf '# obs_steer_ratio = -2\nt,swa,vx,vy,yaw_rate,yaw_acc,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr\n0,0,20,0,0,0,0,0,61.5,61.5,61.5,61.5\n' >"$TMP/swa_neg.csv"
 input_error car_negative_ratio "$TMP/swa_neg.csv" "^mu_replay: .*swa_neg\.csv:1: obs_steer_ratio = -2: must be a positive number"
-printf '# m = 1830\nt,delta,yaw_rate,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr\n0,0,0,0,0,61.5,61.5,61.5,61.5\n' >"$TMP/one_row.csv"
+printf "$VEH"'t,delta,yaw_rate,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr\n0,0,0,0,0,61.5,61.5,61.5,61.5\n' >"$TMP/one_row.csv"
 run one_row 0 --in "$TMP/one_row.csv" --out "$TMP/o.csv"
 [ -s "$TMP/err" ] && bad "one_row: stderr not empty: $(cat "$TMP/err")" || ok "one_row: no period, no note"
-printf '# dt = 0.01\n# m = 1830\nt,delta,yaw_rate,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr\n0,0,0,0,0,61.5,61.5,61.5,61.5\n0.01,0,0,0,0,61.5,61.5,61.5,61.5\n0.02,0,0,0,0,61.5,61.5,61.5,61.5\n0.5,0,0,0,0,61.5,61.5,61.5,61.5\n0.51,0,0,0,0,61.5,61.5,61.5,61.5\n' >"$TMP/gap.csv"
+# no dt line, 100 Hz: the median period is 0.01 only to the stamps' rounding (1.02 - 1.01 is
+# 0.010000000000000009): it matches the preset's 0.01 s within the 1 % of a given dt, no note
+printf '# m = 1830\nt,delta,yaw_rate,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr\n' >"$TMP/p100.csv"
+for t in 1 1.01 1.02 1.03 1.04 1.05 1.06 1.07 1.08 1.09; do
+    printf '%s,0,0,0,0,61.5,61.5,61.5,61.5\n' "$t" >>"$TMP/p100.csv"
+done
+run dt_100hz_no_line 0 --in "$TMP/p100.csv" --out "$TMP/o.csv"
+grep -q 'note: dt' "$TMP/err" && bad "dt_100hz_no_line: $(grep 'note: dt' "$TMP/err")" || ok "dt_100hz_no_line: no note"
+printf '# dt = 0.01\n'"$VEH"'t,delta,yaw_rate,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr\n0,0,0,0,0,61.5,61.5,61.5,61.5\n0.01,0,0,0,0,61.5,61.5,61.5,61.5\n0.02,0,0,0,0,61.5,61.5,61.5,61.5\n0.5,0,0,0,0,61.5,61.5,61.5,61.5\n0.51,0,0,0,0,61.5,61.5,61.5,61.5\n' >"$TMP/gap.csv"
 run gap 0 --in "$TMP/gap.csv" --out "$TMP/g.csv"
 one_line gap "^mu_replay: note: 1 gap\(s\) longer than 2 periods \(2 x 0.01 s\), the longest 0.48 s before t = 0.5 s: behind the observer the friction estimator makes the time updates of the missed periods at once and restarts its input filter; the observer steps with the real period and starts afresh after 1 gap\(s\) longer than obs_dt_max = 0.1 s \(rfe/pipeline.h\)$"
 # REQ-OBS-023: behind the observer the gap is told to both estimators, in every precision:
@@ -299,7 +309,7 @@ vx5=$(grep -v '^#' "$TMP/g_double.csv" | awk -F, 'NR == 1 {for (i = 1; i <= NF; 
 # REQ-CSV-006: a gap of 3 periods in a measured-velocity log is reported too; jitter is not
 # (braking at 4 m/s^2 with 4 % slip: updating steps, so the sd is below the prior's and a gap
 # has room to grow it; then cruising, held: the sd after the gap is the time updates' alone)
-printf '# dt = 0.01\n# m = 1830\nt,delta,vx,vy,yaw_rate,yaw_acc,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr\n0,0,20,0,0,0,-4,0,59.08,59.08,59.08,59.08\n0.01,0,20,0,0,0,-4,0,59.08,59.08,59.08,59.08\n0.0205,0,20,0,0,0,-4,0,59.08,59.08,59.08,59.08\n0.0295,0,20,0,0,0,-4,0,59.08,59.08,59.08,59.08\n0.06,0,20,0,0,0,0,0,61.54,61.54,61.54,61.54\n0.07,0,20,0,0,0,0,0,61.54,61.54,61.54,61.54\n' >"$TMP/gapm.csv"
+printf '# dt = 0.01\n'"$VEH"'t,delta,vx,vy,yaw_rate,yaw_acc,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr\n0,0,20,0,0,0,-4,0,59.08,59.08,59.08,59.08\n0.01,0,20,0,0,0,-4,0,59.08,59.08,59.08,59.08\n0.0205,0,20,0,0,0,-4,0,59.08,59.08,59.08,59.08\n0.0295,0,20,0,0,0,-4,0,59.08,59.08,59.08,59.08\n0.06,0,20,0,0,0,0,0,61.54,61.54,61.54,61.54\n0.07,0,20,0,0,0,0,0,61.54,61.54,61.54,61.54\n' >"$TMP/gapm.csv"
 run gap_measured 0 --in "$TMP/gapm.csv" --out "$TMP/gm.csv"
 one_line gap_measured "^mu_replay: note: 1 gap\(s\) longer than 2 periods \(2 x 0.01 s\), the longest 0.0305 s before t = 0.06 s: the friction estimator makes the time updates of the missed periods at once and restarts its input filter \(rfe_friction_skip\)$"
 # REQ-EST-015: the estimator is told: round(0.0305 / 0.01) - 1 = 2 missed periods, in the
@@ -379,6 +389,33 @@ for real in float q31; do
 done
 run cells_quiet 0 --in "$TMP/cells.csv" --out "$TMP/co.csv" -q
 [ ! -s "$TMP/out" ] && [ ! -s "$TMP/err" ] && ok "cells_quiet: nothing printed" || bad "cells_quiet: printed"
+# the bad cells of the columns a run does not use (vx, vy, yaw_acc behind the observer)
+# reject no row: they are counted apart, as ignored, so the count matches the rejected rows
+printf '# m = 1830\n# dt = 0.01\nt,delta,vx,vy,yaw_rate,yaw_acc,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr\n0,0,20,0,0,0,-2,0,60,60,60,60\n0.01,0,nan,0,0,0,0,0,59.9,59.9,59.9,59.9\n0.02,0,19.98,,0,0,nan,0,59.9,59.9,59.9,59.9\n0.03,0,19.98,0,0,0,0,0,59.9,59.9,59.9,59.9\n0.04,0,19.98,0,0,inf,0,0,59.9,59.9,59.9,59.9\n0.05,0,19.98,0,0,0,0,,59.9,59.9,59.9,59.9\n' >"$TMP/unused.csv"
+for real in float q31; do
+    run "cells_unused_$real" 0 --in "$TMP/unused.csv" --out "$TMP/cu.csv" --velocity observer --real $real --metrics "$TMP/cu.json"
+    grep -q '^bad cells (given to the estimator as NaN/Inf, the row rejected): empty 1, nan/inf 1, out of range 0; in 2 row(s), the first at line 6 column 7; ignored: 3 in the columns this run does not use (vx, vy, yaw_acc), the first at line 5 column 3 (--strict stops there)$' "$TMP/out" \
+        && ok "cells_unused_$real: used and ignored apart" || bad "cells_unused_$real: $(grep '^bad' "$TMP/out")"
+    grep -q '^  status 17 non-finite input  *2$' "$TMP/out" && ok "cells_unused_$real: 2 rows rejected, as counted" \
+        || bad "cells_unused_$real: $(grep 'status 17' "$TMP/out")"
+    [ "$(grep -v '^#' "$TMP/cu.csv" | awk -F, '$14 == 17' | wc -l)" -eq 2 ] && ok "cells_unused_$real: 2 rows with status 17" \
+        || bad "cells_unused_$real: rows with 17: $(grep -v '^#' "$TMP/cu.csv" | awk -F, '$14 == 17 {print $1}' | tr '\n' ' ')"
+    grep -q '"bad_cells": {"empty": 1, "nonfinite": 1, "range": 0, "rows": 2},' "$TMP/cu.json" \
+        && grep -q '"bad_cells_ignored": {"cells": 3, "columns": "vx, vy, yaw_acc"},' "$TMP/cu.json" \
+        && ok "cells_unused_$real: JSON" || bad "cells_unused_$real: JSON $(grep bad_cells "$TMP/cu.json" | tr '\n' ' ')"
+done
+# measured (auto): all of them used, none ignored
+run cells_used_measured 0 --in "$TMP/unused.csv" --out "$TMP/cu.csv" --metrics "$TMP/cu.json"
+grep -q 'empty 2, nan/inf 3, out of range 0; in 4 row(s), the first at line 5 column 3 (--strict stops there)$' "$TMP/out" \
+    && grep -q '"bad_cells_ignored": {"cells": 0, "columns": null},' "$TMP/cu.json" \
+    && ok "cells_used_measured: every cell counted" || bad "cells_used_measured: $(grep '^bad' "$TMP/out")"
+# only ignored cells: said so, nothing rejected
+sed '/^0\.02,/d; /^0\.05,/d' "$TMP/unused.csv" >"$TMP/unused2.csv"
+run cells_only_unused 0 --in "$TMP/unused2.csv" --out "$TMP/cu.csv" --velocity observer
+grep -q '^bad cells: none in the columns this run uses; ignored: 2 in the columns this run does not use (vx, vy, yaw_acc), the first at line 5 column 3 (--strict stops there)$' "$TMP/out" \
+    && ! grep -q 'status 17' "$TMP/out" && ok "cells_only_unused: said, none rejected" || bad "cells_only_unused: $(cat "$TMP/out")"
+grep -q '^mu_replay: note: .*unused2\.csv: bad cells: none in the columns this run uses; ignored: 2' "$TMP/err" \
+    && ok "cells_only_unused: note on stderr" || bad "cells_only_unused: $(cat "$TMP/err")"
 
 # ---- the README's status table and the parameter tables of DATA.md, ESTIMATOR.md, MONITOR.md
 #      and OBSERVER.md agree with the code (REQ-DOC-001): the statuses of rfe/common.h, the
@@ -394,6 +431,36 @@ printf 't,delta,yaw_rate,omega_fl,omega_fr,omega_rl\n0,0,0,61.5,61.5,61.5\n' >"$
 input_error missing_columns "$TMP/cols.csv" "^mu_replay: .*cols\.csv:1: missing columns 'ax', 'ay', 'omega_rr'$"
 printf '# column_ax = AccX\nt,delta,yaw_rate,ay,omega_fl,omega_fr,omega_rl,omega_rr\n0,0,0,0,61.5,61.5,61.5,61.5\n' >"$TMP/col1.csv"
 input_error missing_alias "$TMP/col1.csv" "^mu_replay: .*col1\.csv:2: missing column 'ax' \(named 'AccX' by its column_ax metadata\)$"
+# every missing column of every rule in that one line, in DATA.md's order: the steering
+# angle (delta or swa), a truth group given in part, the velocities a measuring run needs
+# drop_cols FILE COL...: a one-row truth log of every input column but COL...
+drop_cols() {
+    local f=$1
+    shift
+    printf '%s\n' 't,delta,vx,vy,yaw_rate,yaw_acc,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr,mu_fl,mu_fr,mu_rl,mu_rr' \
+        '0,0,20,0,0,0,0,0,61.5,61.5,61.5,61.5,0.8,0.8,0.8,0.8' |
+    awk -v drop=" $* " 'BEGIN { FS = OFS = "," }
+        NR == 1 { for (i = 1; i <= NF; i++) keep[i] = index(drop, " " $i " ") == 0 }
+        { s = ""; for (i = 1; i <= NF; i++) if (keep[i]) s = s (s == "" ? "" : ",") $i; print s }' >"$f"
+}
+steer="'delta' \(the road-wheel angle\) or 'swa' \(the steering-wheel angle, with obs_steer_ratio\)"
+truth="\(truth: give all of mu_fl, mu_fr, mu_rl, mu_rr or none\)"
+drop_cols "$TMP/m1.csv" t delta omega_rr mu_fr
+input_error missing_all_rules "$TMP/m1.csv" "^mu_replay: .*m1\.csv:1: missing columns 't', $steer, 'omega_rr', 'mu_fr' $truth$"
+drop_cols "$TMP/m2.csv" delta ax
+input_error missing_steer_and_input "$TMP/m2.csv" "^mu_replay: .*m2\.csv:1: missing columns $steer, 'ax'$"
+drop_cols "$TMP/m3.csv" mu_fr ax mu_rr
+input_error missing_truth_and_input "$TMP/m3.csv" "^mu_replay: .*m3\.csv:1: missing columns 'ax', 'mu_fr', 'mu_rr' $truth$"
+drop_cols "$TMP/m4.csv" mu_fr mu_rr
+input_error missing_truth_only "$TMP/m4.csv" "^mu_replay: .*m4\.csv:1: truth columns 'mu_fr', 'mu_rr' missing \(give all of mu_fl, mu_fr, mu_rl, mu_rr or none\)$"
+drop_cols "$TMP/m5.csv" yaw_acc ax
+run missing_velocity_measured 1 --in "$TMP/m5.csv" --out "$TMP/est.csv" --velocity measured
+one_line missing_velocity_measured "^mu_replay: .*m5\.csv:1: missing columns 'yaw_acc' \(velocity: measured velocities need all of vx, vy, yaw_acc\), 'ax'$"
+drop_cols "$TMP/m6.csv" vx vy yaw_acc ax mu_fl mu_fr mu_rl mu_rr
+run missing_velocity_none 1 --in "$TMP/m6.csv" --out "$TMP/est.csv" --velocity measured
+one_line missing_velocity_none "^mu_replay: .*m6\.csv:1: missing columns 'vx', 'vy', 'yaw_acc' \(velocity: measured velocities need all of vx, vy, yaw_acc\), 'ax'$"
+run missing_velocity_auto 1 --in "$TMP/m6.csv" --out "$TMP/est.csv"
+one_line missing_velocity_auto "^mu_replay: .*m6\.csv:1: missing column 'ax'$"
 
 # ---- a log without vehicle parameters (REQ-CLI-006): a warning naming the preset's car,
 #      or with --require-params an input error; the estimate log records the values used
@@ -406,12 +473,28 @@ run no_vehicle_quiet 0 --in "$TMP/noveh.csv" --out "$TMP/nv.csv" -q
 run require_params 1 --in "$TMP/noveh.csv" --out "$TMP/rp.csv" --require-params
 one_line require_params "^mu_replay: .*noveh\.csv: no vehicle parameters \(m, Lf, Lr, Bf, Br, R, J, hg\) in the log's metadata and no --params file \(--require-params\)$"
 [ ! -e "$TMP/rp.csv" ] && ok "require_params: nothing written" || bad "require_params: estimate log written"
+# every vehicle key counts on its own: a log with m alone runs on the preset's other values,
+# named in the warning (m not among them); --require-params names the keys missing
 printf 'm = 1500\n' >"$TMP/m.par"
-run require_params_file 0 --in "$TMP/noveh.csv" --out "$TMP/rp.csv" --require-params --params "$TMP/m.par"
+run require_params_partial_file 1 --in "$TMP/noveh.csv" --out "$TMP/rp.csv" --require-params --params "$TMP/m.par"
+one_line require_params_partial_file "^mu_replay: .*noveh\.csv: vehicle parameters Lf, Lr, Bf, Br, R, J, hg in neither the log's metadata nor a --params file \(--require-params\)$"
+[ ! -e "$TMP/rp.csv" ] && ok "require_params_partial_file: nothing written" || bad "require_params_partial_file: estimate log written"
+printf 'm = 1500\nLf = 1.2\nLr = 1.5\nBf = 1.55\nBr = 1.55\nR = 0.31\nJ = 2500\nhg = 0.5\n' >"$TMP/car.par"
+run require_params_file 0 --in "$TMP/noveh.csv" --out "$TMP/rp.csv" --require-params --params "$TMP/car.par"
 [ ! -s "$TMP/err" ] && grep -q '^# m = 1500$' "$TMP/rp.csv" && ok "require_params_file: --params satisfies it" || bad "require_params_file: $(cat "$TMP/err")"
 printf '# m = 1700\n' | cat - "$TMP/noveh.csv" >"$TMP/veh.csv"
-run require_params_meta 0 --in "$TMP/veh.csv" --out "$TMP/rp.csv" --require-params
-[ ! -s "$TMP/err" ] && ok "require_params_meta: metadata satisfies it, no warning" || bad "require_params_meta: $(cat "$TMP/err")"
+run partial_vehicle_meta 0 --in "$TMP/veh.csv" --out "$TMP/rp.csv"
+one_line partial_vehicle_meta "^mu_replay: warning: .*veh\.csv: vehicle parameters in neither the metadata nor --params: using the default preset's Lf = 1\.4 m, Lr = 1\.65 m, Bf = 1\.6 m, Br = 1\.6 m, R = 0\.325 m, J = 3234 kg m\^2, hg = 0\.54 m \(--require-params makes this an error\)$"
+grep -q '^# m = 1700$' "$TMP/rp.csv" && ok "partial_vehicle_meta: m from the metadata" || bad "partial_vehicle_meta: m"
+run require_params_partial_meta 1 --in "$TMP/veh.csv" --out "$TMP/rp.csv" --require-params
+one_line require_params_partial_meta "^mu_replay: .*veh\.csv: vehicle parameters Lf, Lr, Bf, Br, R, J, hg in neither"
+# metadata and --params together: every key from one of them satisfies it
+grep -v '^m = ' "$TMP/car.par" | sed '/^hg = /d' >"$TMP/car7.par"
+run require_params_split 1 --in "$TMP/veh.csv" --out "$TMP/rp.csv" --require-params --params "$TMP/car7.par"
+one_line require_params_split "^mu_replay: .*veh\.csv: vehicle parameter hg in neither the log's metadata nor a --params file \(--require-params\)$"
+printf 'hg = 0.5\n' >>"$TMP/car7.par"
+run require_params_meta 0 --in "$TMP/veh.csv" --out "$TMP/rp.csv" --require-params --params "$TMP/car7.par"
+[ ! -s "$TMP/err" ] && grep -q '^# m = 1700$' "$TMP/rp.csv" && ok "require_params_meta: metadata and --params satisfy it, no warning" || bad "require_params_meta: $(cat "$TMP/err")"
 
 # ---- --real q31: the fixed-point estimator (docs/FIXED_POINT.md "Estimator")
 run good_q31 0 --in "$DATA/good_small.csv" --out "$TMP/q.csv" --metrics "$TMP/q.json" --real q31

@@ -25,6 +25,8 @@
 
 #define HDR "t,delta,vx,vy,yaw_rate,yaw_acc,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr\n"
 #define ROW0 "0,0,20,0,0,0,-2,0,60,60,60,60\n"
+/* The inputs of a production car's log (no vx, vy, yaw_acc), without the line end. */
+#define HDR_NOVEL "t,delta,yaw_rate,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr"
 #define ROW1 "0.01,0,19.98,0,0,0,-2,0,59.9,59.9,59.9,59.9\n"
 
 /* ------------------------------------------------------------ reading: valid input */
@@ -172,7 +174,9 @@ static void test_rfe_sensor_log_read_production_car_log(void **state)
     rfe_sensor_log_free(&log);
     assert_int_equal(read_log_text("t,delta,yaw_rate,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr,p_fl\n"
                                "0,0,0,0,0,60,60,60,60,1\n", &log, &err), -1);
-    assert_non_null(strstr(err.msg, "pressure column 'p_fr' missing"));
+    /* every missing member of the group named, not only the first */
+    assert_string_equal(err.msg, "pressure columns 'p_fr', 'p_rl', 'p_rr' missing (give all of "
+                                 "p_fl, p_fr, p_rl, p_rr or none)");
     assert_int_equal(read_log_text("t,delta,yaw_rate,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr,grade,"
                                "torque_fl,torque_fr,torque_rl,torque_rr\n"
                                "0,0,0,0,0,60,60,60,60,0.05,100,100,0,0\n", &log, &err), 0);
@@ -302,6 +306,141 @@ static int read_keep(const char *text, rfe_sensor_log_t *log, rfe_io_error_t *er
     rc = rfe_sensor_log_read_stream_cells(f, "mem.csv", RFE_CELLS_KEEP, log, err);
     fclose(f);
     return rc;
+}
+
+/* Reads @p text with @p opts (rfe_sensor_log_read_stream_opts). */
+static int read_opts_text(const char *text, rfe_cells_t cells, rfe_inputs_t inputs,
+                          rfe_sensor_log_t *log, rfe_io_error_t *err)
+{
+    rfe_read_opts_t opts;
+    FILE *f = tmpfile();
+    int rc;
+    opts.cells = cells;
+    opts.inputs = inputs;
+    assert_non_null(f);
+    assert_int_equal(fwrite(text, 1u, strlen(text), f), strlen(text));
+    rewind(f);
+    rc = rfe_sensor_log_read_stream_opts(f, "mem.csv", &opts, log, err);
+    fclose(f);
+    return rc;
+}
+
+/* A log missing columns of several rules names every one of them in one message, in
+ * DATA.md's order: required inputs, the steering angle, each optional group given in part
+ * (its rule after its last missing column), with column_ aliases. */
+/* REQ-CLI-001 REQ-CSV-002 */
+static void test_rfe_sensor_log_read_every_missing_column(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    (void)state;
+    memset(&log, 0, sizeof log);
+    assert_int_equal(read_log_text("# column_p_rl = BrkRL\n"
+                                   "t,yaw_rate,ay,omega_fl,omega_fr,omega_rl,p_fl,p_rr,util_fl\n"
+                                   "0,0,0,60,60,60,1,1,0.1\n", &log, &err), -1);
+    assert_int_equal(err.line, 2);
+    assert_int_equal(err.col, 0);
+    assert_string_equal(err.msg,
+                        "missing columns 'delta' (the road-wheel angle) or 'swa' (the "
+                        "steering-wheel angle, with obs_steer_ratio), 'ax', 'omega_rr', "
+                        "'util_fr', 'util_rl', 'util_rr' (truth: give all of util_fl, util_fr, "
+                        "util_rl, util_rr or none), 'p_fr', 'p_rl' (named 'BrkRL' by its "
+                        "column_p_rl metadata) (pressure: give all of p_fl, p_fr, p_rl, p_rr or "
+                        "none)");
+    assert_null(log.rows);
+    /* one group alone keeps its message, every missing member named */
+    assert_int_equal(read_log_text(HDR_NOVEL ",torque_fl,torque_rr\n0,0,0,0,0,60,60,60,60,1,1\n",
+                                   &log, &err), -1);
+    assert_string_equal(err.msg, "torque columns 'torque_fr', 'torque_rl' missing (give all of "
+                                 "torque_fl, torque_fr, torque_rl, torque_rr or none)");
+    /* measured velocities: named with the others; alone, the caller's to say */
+    assert_int_equal(read_opts_text("t,delta,yaw_rate,ay,omega_fl,omega_fr,omega_rl,omega_rr\n"
+                                    "0,0,0,0,60,60,60,60\n", RFE_CELLS_STRICT,
+                                    RFE_INPUTS_MEASURED, &log, &err), -1);
+    assert_string_equal(err.msg, "missing columns 'vx', 'vy', 'yaw_acc' (velocity: measured "
+                                 "velocities need all of vx, vy, yaw_acc), 'ax'");
+    assert_int_equal(read_opts_text(HDR_NOVEL "\n0,0,0,0,0,60,60,60,60\n", RFE_CELLS_STRICT,
+                                    RFE_INPUTS_OBSERVER, &log, &err), 0);
+    rfe_sensor_log_free(&log);
+    assert_int_equal(read_opts_text(HDR_NOVEL "\n0,0,0,0,0,60,60,60,60\n", RFE_CELLS_STRICT,
+                                    RFE_INPUTS_MEASURED, &log, &err), 0);
+    assert_int_equal(log.has_velocity, 0);
+    rfe_sensor_log_free(&log);
+    assert_int_equal(read_opts_text("t,delta,vx,yaw_rate,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr\n"
+                                    "0,0,20,0,0,0,60,60,60,60\n", RFE_CELLS_STRICT,
+                                    RFE_INPUTS_MEASURED, &log, &err), -1);
+    assert_string_equal(err.msg, "velocity columns 'vy', 'yaw_acc' missing (measured velocities "
+                                 "need all of vx, vy, yaw_acc)");
+    {
+        /* a list longer than a message (four 300-character aliases) is cut with "..." */
+        static const char *const cols[4] = {"omega_fl", "omega_fr", "omega_rl", "omega_rr"};
+        char text[2048];
+        char alias[301];
+        size_t used = 0u;
+        size_t i;
+        memset(alias, 'W', 300u);
+        alias[300] = '\0';
+        for (i = 0u; i < 4u; ++i) {
+            used += (size_t)snprintf(text + used, sizeof text - used, "# column_%s = %s%zu\n",
+                                     cols[i], alias, i);
+        }
+        (void)snprintf(text + used, sizeof text - used, HDR "0,0,20,0,0,0,0,0,60,60,60,60\n");
+        assert_int_equal(read_log_text(text, &log, &err), -1);
+        assert_non_null(strstr(err.msg, "missing columns 'omega_fl' (named 'WWW"));
+        assert_non_null(strstr(err.msg, "..."));
+        assert_true(strlen(err.msg) < sizeof err.msg - 1u);
+    }
+}
+
+/* The bad cells of the input columns a run does not use (rfe_inputs_t) are read as NaN too
+ * but counted apart (bad_ignored): they reject no row (no bad bits), so bad_cells and
+ * bad_rows are those of the cells the estimator gets. */
+/* REQ-CSV-007 */
+static void test_rfe_sensor_log_read_cells_unused_columns(void **state)
+{
+    static const char text[] = HDR "0,0,nan,0,0,0,-2,0,60,60,60,60\n"
+                                   "0.01,0,20,,0,0,nan,0,60,60,60,60\n"
+                                   "0.02,0,20,0,0,inf,-2,0,60,60,60,60\n";
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    (void)state;
+    memset(&log, 0, sizeof log);
+    assert_int_equal(read_opts_text(text, RFE_CELLS_KEEP, RFE_INPUTS_OBSERVER, &log, &err), 0);
+    assert_true(isnan(log.rows[0].vx));
+    assert_int_equal(log.rows[0].bad, 0u);
+    assert_int_equal(log.rows[1].bad, 1u << RFE_CELL_NONFINITE); /* ax: used */
+    assert_int_equal(log.rows[2].bad, 0u);
+    assert_int_equal(log.bad_cells[RFE_CELL_EMPTY], 0);
+    assert_int_equal(log.bad_cells[RFE_CELL_NONFINITE], 1);
+    assert_int_equal(log.bad_rows, 1);
+    assert_int_equal(log.bad_first_line, 3);
+    assert_int_equal(log.bad_first_col, 7);
+    assert_int_equal(log.bad_ignored, 3);
+    assert_int_equal(log.bad_ignored_first_line, 2);
+    assert_int_equal(log.bad_ignored_first_col, 3);
+    assert_string_equal(log.unused_cols, "vx, vy, yaw_acc");
+    rfe_sensor_log_free(&log);
+    /* the same log measured (auto: it has vx, vy, yaw_acc): every cell counted */
+    assert_int_equal(read_opts_text(text, RFE_CELLS_KEEP, RFE_INPUTS_AUTO, &log, &err), 0);
+    assert_int_equal(log.bad_rows, 3);
+    assert_int_equal(log.bad_ignored, 0);
+    assert_null(log.unused_cols);
+    rfe_sensor_log_free(&log);
+    /* measured velocities: the brake pressures are not used */
+    assert_int_equal(read_opts_text("t,delta,vx,vy,yaw_rate,yaw_acc,ax,ay,omega_fl,omega_fr,"
+                                    "omega_rl,omega_rr,p_fl,p_fr,p_rl,p_rr\n"
+                                    "0,0,20,0,0,0,-2,0,60,60,60,60,nan,0,0,0\n",
+                                    RFE_CELLS_KEEP, RFE_INPUTS_AUTO, &log, &err), 0);
+    assert_int_equal(log.bad_rows, 0);
+    assert_int_equal(log.rows[0].bad, 0u);
+    assert_int_equal(log.bad_ignored, 1);
+    assert_string_equal(log.unused_cols, "p_*");
+    rfe_sensor_log_free(&log);
+    /* the plain reader: every input used */
+    assert_int_equal(read_keep(text, &log, &err), 0);
+    assert_int_equal(log.bad_rows, 3);
+    assert_int_equal(log.bad_ignored, 0);
+    rfe_sensor_log_free(&log);
 }
 
 /* REQ-CSV-007 */
@@ -899,6 +1038,7 @@ int main(void)
         cmocka_unit_test(test_rfe_sensor_log_read_very_long_number_not_truncated),
         cmocka_unit_test(test_rfe_sensor_log_read_missing_column),
         cmocka_unit_test(test_rfe_sensor_log_read_missing_required_column),
+        cmocka_unit_test(test_rfe_sensor_log_read_every_missing_column),
         cmocka_unit_test(test_rfe_sensor_log_read_production_car_log),
         cmocka_unit_test(test_rfe_sensor_log_read_bad_number_position),
         cmocka_unit_test(test_rfe_sensor_log_read_wrong_column_count),
@@ -910,6 +1050,7 @@ int main(void)
         cmocka_unit_test(test_rfe_sensor_log_read_empty_field_rejected),
         cmocka_unit_test(test_rfe_sensor_log_read_overflow_rejected),
         cmocka_unit_test(test_rfe_sensor_log_read_cells_keep_bad_inputs),
+        cmocka_unit_test(test_rfe_sensor_log_read_cells_unused_columns),
         cmocka_unit_test(test_rfe_sensor_log_read_cells_keep_still_rejects),
         cmocka_unit_test(test_rfe_sensor_log_read_partial_truth),
         cmocka_unit_test(test_rfe_sensor_log_read_util_columns_parsed),
