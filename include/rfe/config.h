@@ -22,10 +22,12 @@
 
 /** The configuration a translation unit was compiled with, in one word: the maxima above,
  *  then the number type in the low byte (1 float, 2 double, 3 fixed point). Each init's
- *  wrapper (rfe_friction_init, rfe_velocity_init, rfe_pipeline_init and their _q31 twins)
- *  passes the caller's word and the caller's sizeof of the state; the library compares them
- *  with its own and returns RFE_ERR_ABI, writing nothing, when they differ (an application
- *  built with -DRFE_N_MAX=4 linked against a library built with the defaults). */
+ *  wrapper (rfe_friction_init, rfe_velocity_init, rfe_pipeline_init and their _q31 twins;
+ *  the component inits rfe_sckf_init, rfe_ckf_init and their _q31 twins, rfe_kf2_init,
+ *  rfe_conditioner_init, rfe_monitor_init) passes the caller's word and the caller's sizeof
+ *  of the state; the library compares them with its own and returns RFE_ERR_ABI, writing
+ *  nothing, when they differ (an application built with -DRFE_N_MAX=4 linked against a
+ *  library built with the defaults). */
 #define RFE_CONFIG_MAXIMA ((((uint32_t)RFE_N_MAX) << 16u) | (((uint32_t)RFE_M_MAX) << 8u))
 #if defined(RFE_REAL_DOUBLE)
 #define RFE_CONFIG_REAL (RFE_CONFIG_MAXIMA | 2u) /**< a double translation unit's word */

@@ -13,6 +13,9 @@
  * Every step computes into scratch and commits x, P and the saturation count only when
  * everything succeeded.
  */
+/* This file defines the init: its header's wrapper macro stays out (MISRA-DEV-08). */
+/* cppcheck-suppress misra-c2012-2.5 ; MISRA-DEV-08: read by the header's #if */
+#define RFE_CKF_Q31_IMPL
 #include "rfe/component/ckf_q31.h"
 
 #include "rfe/component/chol_q31.h"
@@ -42,9 +45,16 @@ static void copy_square_q31(const rfe_fix_t *src, size_t lds, size_t k, rfe_fix_
 }
 
 rfe_status_t rfe_ckf_init_q31(rfe_ckf_q31_t *f, size_t n, size_t m, const rfe_fix_t *x0,
-                              const rfe_fix_t *P0, const rfe_fix_t *Q, const rfe_fix_t *R)
+                              const rfe_fix_t *P0, const rfe_fix_t *Q, const rfe_fix_t *R,
+                              size_t size, uint32_t config)
+/* cppcheck-suppress misra-c2012-5.5 ; MISRA-DEV-08: the function its wrapper macro calls */
 {
     size_t i;
+    /* A caller built with other maxima or another number type lays the state out
+     * differently: nothing may be written (RFE_ERR_ABI, rfe/common.h). */
+    if ((size != sizeof(*f)) || (config != RFE_CONFIG_Q31)) {
+        return RFE_ERR_ABI;
+    }
     if ((f == NULL) || (x0 == NULL) || (P0 == NULL) || (Q == NULL) || (R == NULL)) {
         return RFE_ERR_NULL;
     }

@@ -19,6 +19,9 @@
  * ~ +-1/sqrt(2) e_k), then J^T = S-^T \ (U Zc^T) (Q20, format QJ), S_R \ J (Q16, format QV),
  * I_k in Q10.
  */
+/* This file defines the init: its header's wrapper macro stays out (MISRA-DEV-08). */
+/* cppcheck-suppress misra-c2012-2.5 ; MISRA-DEV-08: read by the header's #if */
+#define RFE_SCKF_Q31_IMPL
 #include "rfe/component/sckf_q31.h"
 
 #include "rfe/component/qr_q31.h"
@@ -61,9 +64,16 @@ static void commit_q31(rfe_sckf_q31_t *f, const rfe_fix_t *M, uint32_t count)
 }
 
 rfe_status_t rfe_sckf_init_q31(rfe_sckf_q31_t *f, size_t n, size_t m, const rfe_fix_t *x0,
-                               const rfe_fix_t *S0, const rfe_fix_t *SQ, const rfe_fix_t *SR)
+                               const rfe_fix_t *S0, const rfe_fix_t *SQ, const rfe_fix_t *SR,
+                               size_t size, uint32_t config)
+/* cppcheck-suppress misra-c2012-5.5 ; MISRA-DEV-08: the function its wrapper macro calls */
 {
     size_t i;
+    /* A caller built with other maxima or another number type lays the state out
+     * differently: nothing may be written (RFE_ERR_ABI, rfe/common.h). */
+    if ((size != sizeof(*f)) || (config != RFE_CONFIG_Q31)) {
+        return RFE_ERR_ABI;
+    }
     if ((f == NULL) || (x0 == NULL) || (S0 == NULL) || (SQ == NULL) || (SR == NULL)) {
         return RFE_ERR_NULL;
     }

@@ -1024,6 +1024,34 @@ static void test_rfe_ckf_init_null(void **state)
     assert_memory_equal(&f, &ref, sizeof f);
 }
 
+/* The init as its wrapper would call it from a caller compiled otherwise (another size of
+ * the state, another configuration word: maxima, number type) writes nothing; through the
+ * wrapper, this file's own layout, it is accepted. */
+/* REQ-ABI-001 */
+static void test_rfe_ckf_init_refuses_other_layout_or_word(void **state)
+{
+    static problem_t p;
+    static rfe_ckf_t f;
+    static rfe_ckf_t ref;
+    const uint32_t other_type = RFE_CONFIG_REAL ^ 3u;         /* float <-> double */
+    const uint32_t other_max = RFE_CONFIG_REAL ^ (1u << 8u);  /* another RFE_M_MAX */
+    (void)state;
+    make_problem(&p, 4u, 3u, 0, 3201u);
+    memset(&f, 0xA5, sizeof f);
+    memcpy(&ref, &f, sizeof f);
+    assert_int_equal((rfe_ckf_init)(&f, 4u, 3u, p.x0, p.P0, p.Q, p.R, sizeof f + 8u,
+                                    RFE_CONFIG_REAL), RFE_ERR_ABI);
+    assert_int_equal((rfe_ckf_init)(&f, 4u, 3u, p.x0, p.P0, p.Q, p.R, sizeof f, other_type),
+                     RFE_ERR_ABI);
+    assert_int_equal((rfe_ckf_init)(&f, 4u, 3u, p.x0, p.P0, p.Q, p.R, sizeof f, other_max),
+                     RFE_ERR_ABI);
+    assert_int_equal((rfe_ckf_init)(NULL, 4u, 3u, NULL, NULL, NULL, NULL, sizeof f, other_type),
+                     RFE_ERR_ABI);
+    assert_memory_equal(&f, &ref, sizeof f);
+    assert_int_equal(rfe_ckf_init(&f, 4u, 3u, p.x0, p.P0, p.Q, p.R), RFE_OK);
+    assert_int_equal(rfe_ckf_predict(&f, NULL, NULL), RFE_OK);
+}
+
 /* REQ-CKF-004 */
 static void test_rfe_ckf_init_size_errors(void **state)
 {
@@ -1245,6 +1273,7 @@ int main(void)
         cmocka_unit_test(test_rfe_ckf_predict_overflow_untouched),
         cmocka_unit_test(test_rfe_ckf_update_mean_overflow_untouched),
         cmocka_unit_test(test_rfe_ckf_init_null),
+        cmocka_unit_test(test_rfe_ckf_init_refuses_other_layout_or_word),
         cmocka_unit_test(test_rfe_ckf_init_size_errors),
         cmocka_unit_test(test_rfe_ckf_init_nonfinite),
         cmocka_unit_test(test_rfe_ckf_use_before_init),

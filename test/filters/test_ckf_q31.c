@@ -749,7 +749,7 @@ static void test_rfe_ckf_q31_predict_steps(void **state)
 
 /* ---- API contract ------------------------------------------------------------------------ */
 
-/* REQ-CKF-004 */
+/* REQ-CKF-004 REQ-ABI-001 */
 static void test_rfe_ckf_q31_argument_errors(void **state)
 {
     static problem_t p;
@@ -774,6 +774,16 @@ static void test_rfe_ckf_q31_argument_errors(void **state)
         assert_int_equal(rfe_ckf_init_q31(&f, sizes[c][0], sizes[c][1], p.x0q, p.P0q, p.Qq, p.Rq),
                          RFE_ERR_SIZE);
     }
+    /* as the wrapper would call it from a caller compiled otherwise: another size of the
+     * state, the float word, other maxima (RFE_ERR_ABI, nothing written) */
+    assert_int_equal((rfe_ckf_init_q31)(&f, 3u, 2u, p.x0q, p.P0q, p.Qq, p.Rq, sizeof f + 8u,
+                                        RFE_CONFIG_Q31), RFE_ERR_ABI);
+    assert_int_equal((rfe_ckf_init_q31)(&f, 3u, 2u, p.x0q, p.P0q, p.Qq, p.Rq, sizeof f,
+                                        RFE_CONFIG_Q31 ^ 2u), RFE_ERR_ABI);
+    assert_int_equal((rfe_ckf_init_q31)(&f, 3u, 2u, p.x0q, p.P0q, p.Qq, p.Rq, sizeof f,
+                                        RFE_CONFIG_Q31 ^ (1u << 8u)), RFE_ERR_ABI);
+    assert_int_equal((rfe_ckf_init_q31)(NULL, 3u, 2u, NULL, NULL, NULL, NULL, sizeof f,
+                                        RFE_CONFIG_Q31 ^ 2u), RFE_ERR_ABI);
     assert_memory_equal(&f, &ref, sizeof f);
     memset(&blank, 0, sizeof blank);
     assert_int_equal(rfe_ckf_predict_q31(&blank, NULL, NULL), RFE_ERR_NOT_INITIALISED);

@@ -101,6 +101,29 @@ static void test_init(void **state)
     assert_int_equal(rfe_kf2_init(&f, 1.0f, 2.0f, 0.5f, -3.0f), RFE_ERR_RANGE);
 }
 
+/* The init as its wrapper would call it from a caller compiled otherwise (another size of
+ * the state, another configuration word) writes nothing; through the wrapper it is accepted. */
+/* REQ-ABI-001 */
+static void test_init_refuses_other_layout_or_word(void **state)
+{
+    rfe_kf2_t f;
+    rfe_kf2_t before;
+    (void)state;
+    memset(&f, 0x5A, sizeof f);
+    before = f;
+    assert_int_equal((rfe_kf2_init)(&f, 1.0f, 2.0f, 0.5f, 3.0f, sizeof f + 8u, RFE_CONFIG_REAL),
+                     RFE_ERR_ABI);
+    assert_int_equal((rfe_kf2_init)(&f, 1.0f, 2.0f, 0.5f, 3.0f, sizeof f, RFE_CONFIG_REAL ^ 3u),
+                     RFE_ERR_ABI);
+    assert_int_equal((rfe_kf2_init)(&f, 1.0f, 2.0f, 0.5f, 3.0f, sizeof f,
+                                    RFE_CONFIG_REAL ^ (1u << 16u)), RFE_ERR_ABI);
+    assert_int_equal((rfe_kf2_init)(NULL, 1.0f, 2.0f, 0.5f, 3.0f, sizeof f, RFE_CONFIG_REAL ^ 3u),
+                     RFE_ERR_ABI);
+    assert_memory_equal(&f, &before, sizeof f);
+    assert_int_equal(rfe_kf2_init(&f, 1.0f, 2.0f, 0.5f, 3.0f), RFE_OK);
+    assert_close(f.p11, 9.0, 0.0, 0.0, "p11");
+}
+
 /* REQ-OBS-001 */
 static void test_errors_leave_the_filter_untouched(void **state)
 {
@@ -134,6 +157,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_predict_and_update_match_matrix_algebra),
         cmocka_unit_test(test_init),
+        cmocka_unit_test(test_init_refuses_other_layout_or_word),
         cmocka_unit_test(test_errors_leave_the_filter_untouched),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

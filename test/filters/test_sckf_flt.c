@@ -672,6 +672,35 @@ static void test_rfe_sckf_init_null(void **state)
     assert_memory_equal(&f, &ref, sizeof f);
 }
 
+/* The init as its wrapper would call it from a caller compiled otherwise (another size of
+ * the state, another configuration word: maxima, number type) writes nothing; through the
+ * wrapper, this file's own layout, it is accepted. */
+/* REQ-ABI-001 */
+static void test_rfe_sckf_init_refuses_other_layout_or_word(void **state)
+{
+    static problem_t p;
+    static rfe_sckf_t f;
+    static rfe_sckf_t ref;
+    const uint32_t other_type = RFE_CONFIG_REAL ^ 3u;         /* float <-> double */
+    const uint32_t other_max = RFE_CONFIG_REAL ^ (1u << 16u); /* another RFE_N_MAX */
+    (void)state;
+    make_problem(&p, 4u, 3u, 1005u);
+    memset(&f, 0xA5, sizeof f);
+    memcpy(&ref, &f, sizeof f);
+    assert_int_equal((rfe_sckf_init)(&f, 4u, 3u, p.x0, p.S0, p.SQ, p.SR, sizeof f - 8u,
+                                     RFE_CONFIG_REAL), RFE_ERR_ABI);
+    assert_int_equal((rfe_sckf_init)(&f, 4u, 3u, p.x0, p.S0, p.SQ, p.SR, sizeof f, other_type),
+                     RFE_ERR_ABI);
+    assert_int_equal((rfe_sckf_init)(&f, 4u, 3u, p.x0, p.S0, p.SQ, p.SR, sizeof f, other_max),
+                     RFE_ERR_ABI);
+    /* refused before anything else is looked at */
+    assert_int_equal((rfe_sckf_init)(NULL, 4u, 3u, NULL, NULL, NULL, NULL, sizeof f, other_type),
+                     RFE_ERR_ABI);
+    assert_memory_equal(&f, &ref, sizeof f);
+    assert_int_equal(rfe_sckf_init(&f, 4u, 3u, p.x0, p.S0, p.SQ, p.SR), RFE_OK);
+    assert_int_equal(rfe_sckf_predict(&f, NULL, NULL), RFE_OK);
+}
+
 /* REQ-SCKF-008 */
 static void test_rfe_sckf_init_size_errors(void **state)
 {
@@ -985,6 +1014,7 @@ int main(void)
         cmocka_unit_test(test_rfe_sckf_update_measure_overflow_untouched),
         cmocka_unit_test(test_rfe_sckf_update_mean_overflow_untouched),
         cmocka_unit_test(test_rfe_sckf_init_null),
+        cmocka_unit_test(test_rfe_sckf_init_refuses_other_layout_or_word),
         cmocka_unit_test(test_rfe_sckf_init_size_errors),
         cmocka_unit_test(test_rfe_sckf_init_nonfinite),
         cmocka_unit_test(test_rfe_sckf_init_ignores_upper_triangles),

@@ -1385,7 +1385,7 @@ static void test_rfe_sckf_q31_not_positive_definite_untouched(void **state)
     assert_memory_equal(before, &f, STATE_BYTES);
 }
 
-/* REQ-SCKF-008 */
+/* REQ-SCKF-008 REQ-ABI-001 */
 static void test_rfe_sckf_q31_argument_errors(void **state)
 {
     static problem_t p;
@@ -1411,6 +1411,16 @@ static void test_rfe_sckf_q31_argument_errors(void **state)
         assert_int_equal(rfe_sckf_init_q31(&f, sizes[c][0], sizes[c][1], p.x0q, p.S0q, p.SQq,
                                            p.SRq), RFE_ERR_SIZE);
     }
+    /* as the wrapper would call it from a caller compiled otherwise: another size of the
+     * state, the float word, other maxima (RFE_ERR_ABI, nothing written) */
+    assert_int_equal((rfe_sckf_init_q31)(&f, 3u, 2u, p.x0q, p.S0q, p.SQq, p.SRq, sizeof f - 8u,
+                                         RFE_CONFIG_Q31), RFE_ERR_ABI);
+    assert_int_equal((rfe_sckf_init_q31)(&f, 3u, 2u, p.x0q, p.S0q, p.SQq, p.SRq, sizeof f,
+                                         RFE_CONFIG_Q31 ^ 2u), RFE_ERR_ABI);
+    assert_int_equal((rfe_sckf_init_q31)(&f, 3u, 2u, p.x0q, p.S0q, p.SQq, p.SRq, sizeof f,
+                                         RFE_CONFIG_Q31 ^ (1u << 16u)), RFE_ERR_ABI);
+    assert_int_equal((rfe_sckf_init_q31)(NULL, 3u, 2u, NULL, NULL, NULL, NULL, sizeof f,
+                                         RFE_CONFIG_Q31 ^ 2u), RFE_ERR_ABI);
     assert_memory_equal(&f, &ref, sizeof f);
     /* before init */
     memset(&blank, 0, sizeof blank);

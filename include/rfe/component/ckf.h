@@ -44,10 +44,33 @@ typedef struct {
     rfe_cub_scratch_t w;                  /**< scratch */
 } rfe_ckf_t;
 
-/** Initialises from x0 (n), P0 (n x n), Q (n x n), R (m x m), all full symmetric matrices. */
+/**
+ * Initialises from x0 (n), P0 (n x n), Q (n x n), R (m x m), all full symmetric matrices.
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_SIZE; RFE_ERR_NONFINITE; RFE_ERR_ABI (below). The
+ *         filter is untouched on every error.
+ * @note The call goes through a macro of the full name that adds the caller's
+ *       sizeof of the state and its RFE_CONFIG_* word (rfe/config.h): RFE_ERR_ABI,
+ *       nothing written, when the caller was compiled with other maxima or another
+ *       number type than the library.
+ */
 RFE_NODISCARD rfe_status_t rfe_ckf_init(rfe_ckf_t *f, size_t n, size_t m,
                                        const rfe_real_t *x0, const rfe_real_t *P0,
-                                       const rfe_real_t *Q, const rfe_real_t *R);
+                                       const rfe_real_t *Q, const rfe_real_t *R,
+                                       size_t size, uint32_t config);
+/* MISRA-DEV-08: the wrapper passes the caller's layout of the state and its compile-time
+ * configuration, which the init checks (RFE_ERR_ABI). Not in the source that defines the
+ * function (RFE_CKF_IMPL), where the name is the function's own. */
+#if !defined(RFE_CKF_IMPL)
+#if defined(RFE_REAL_DOUBLE)
+/* cppcheck-suppress misra-c2012-2.5 ; MISRA-DEV-08: the application's entry, unused by the library */
+#define rfe_ckf_init_f64(f, n, m, x0, P0, Q, R) \
+    rfe_ckf_init_f64((f), (n), (m), (x0), (P0), (Q), (R), sizeof(rfe_ckf_t), RFE_CONFIG_REAL)
+#else
+/* cppcheck-suppress misra-c2012-2.5 ; MISRA-DEV-08: the application's entry, unused by the library */
+#define rfe_ckf_init_f32(f, n, m, x0, P0, Q, R) \
+    rfe_ckf_init_f32((f), (n), (m), (x0), (P0), (Q), (R), sizeof(rfe_ckf_t), RFE_CONFIG_REAL)
+#endif
+#endif
 /** Time update: points from chol(P), P- = sum w X* X*^T - x- x-^T + Q. */
 RFE_NODISCARD rfe_status_t rfe_ckf_predict(rfe_ckf_t *f, rfe_process_fn_t process,
                                           void *ctx);

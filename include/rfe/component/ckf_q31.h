@@ -44,10 +44,25 @@ typedef struct {
 
 /** Initialises from x0 (n, Q29), P0 (n x n, Q31), Q (n x n, Q31), R (m x m, Q24), all full
  *  symmetric matrices (leading dimension = columns). The saturation counter starts at 0.
- *  @return RFE_OK; RFE_ERR_NULL; RFE_ERR_SIZE (as rfe_sckf_init_q31). */
+ *  @return RFE_OK; RFE_ERR_NULL; RFE_ERR_SIZE (as rfe_sckf_init_q31); RFE_ERR_ABI (below).
+ *  The filter is untouched on every error.
+ *  @note The call goes through a macro of the full name that adds the caller's
+ *        sizeof of the state and its RFE_CONFIG_* word (rfe/config.h): RFE_ERR_ABI,
+ *        nothing written, when the caller was compiled with other maxima or another
+ *        number type than the library. */
 RFE_NODISCARD rfe_status_t rfe_ckf_init_q31(rfe_ckf_q31_t *f, size_t n, size_t m,
                                             const rfe_fix_t *x0, const rfe_fix_t *P0,
-                                            const rfe_fix_t *Q, const rfe_fix_t *R);
+                                            const rfe_fix_t *Q, const rfe_fix_t *R,
+                                            size_t size, uint32_t config);
+/* MISRA-DEV-08: the wrapper passes the caller's layout of the state and its compile-time
+ * configuration, which the init checks (RFE_ERR_ABI). Not in the source that defines the
+ * function (RFE_CKF_Q31_IMPL), where the name is the function's own. */
+#if !defined(RFE_CKF_Q31_IMPL)
+/* cppcheck-suppress misra-c2012-2.5 ; MISRA-DEV-08: the application's entry, unused by the library */
+#define rfe_ckf_init_q31(f, n, m, x0, P0, Q, R) \
+    rfe_ckf_init_q31((f), (n), (m), (x0), (P0), (Q), (R), \
+                     sizeof(rfe_ckf_q31_t), RFE_CONFIG_Q31)
+#endif
 /** Time update: points from chol(P), P- = sum w X* X*^T - x- x-^T + Q (the moment sums
  *  in int64 on products rounded to Q54, one rounding to Q31).
  *  @return RFE_OK; RFE_ERR_NULL; RFE_ERR_NOT_INITIALISED; RFE_ERR_NOT_POSITIVE_DEFINITE;

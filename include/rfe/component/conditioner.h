@@ -13,6 +13,7 @@
 #ifndef RFE_CONDITIONER_H
 #define RFE_CONDITIONER_H
 
+#include "rfe/config.h"
 #include "rfe/types.h"
 
 /* Full names of the functions declared here: _f32 in the float build, _f64 with
@@ -33,8 +34,31 @@ typedef struct {
     rfe_real_t vy;    /**< filtered vy [m/s] (valid when started) */
 } rfe_conditioner_t;
 
-/** Resets the filter: the next accepted sample initialises it. @return RFE_OK; RFE_ERR_NULL. */
-RFE_NODISCARD rfe_status_t rfe_conditioner_init(rfe_conditioner_t *c);
+/**
+ * Resets the filter: the next accepted sample initialises it.
+ * @param[out] c  the filter; written only on RFE_OK.
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_ABI (below; nothing written).
+ * @note The call goes through a macro of the full name that adds the caller's
+ *       sizeof of the state and its RFE_CONFIG_* word (rfe/config.h): RFE_ERR_ABI,
+ *       nothing written, when the caller was compiled with other maxima or another
+ *       number type than the library (the state's layout depends on the number type).
+ */
+RFE_NODISCARD rfe_status_t rfe_conditioner_init(rfe_conditioner_t *c, size_t size,
+                                               uint32_t config);
+/* MISRA-DEV-08: the wrapper passes the caller's layout of the state and its compile-time
+ * configuration, which the init checks (RFE_ERR_ABI). Not in the source that defines the
+ * function (RFE_CONDITIONER_IMPL), where the name is the function's own. */
+#if !defined(RFE_CONDITIONER_IMPL)
+#if defined(RFE_REAL_DOUBLE)
+/* cppcheck-suppress misra-c2012-2.5 ; MISRA-DEV-08: the application's entry, unused by the library */
+#define rfe_conditioner_init_f64(c) \
+    rfe_conditioner_init_f64((c), sizeof(rfe_conditioner_t), RFE_CONFIG_REAL)
+#else
+/* cppcheck-suppress misra-c2012-2.5 ; MISRA-DEV-08: the application's entry, unused by the library */
+#define rfe_conditioner_init_f32(c) \
+    rfe_conditioner_init_f32((c), sizeof(rfe_conditioner_t), RFE_CONFIG_REAL)
+#endif
+#endif
 
 /**
  * One sample: updates the state (when tau_v > 0) and writes the conditioned sample to

@@ -31,7 +31,13 @@ typedef struct {
     rfe_fix_t vy;     /**< filtered vy [m/s], Q23 (valid when started) */
 } rfe_conditioner_q31_t;
 
-/** Resets the filter: the next accepted sample initialises it. @return RFE_OK; RFE_ERR_NULL. */
+/**
+ * Resets the filter: the next accepted sample initialises it.
+ * @param[out] c  the filter; written only on RFE_OK.
+ * @return RFE_OK; RFE_ERR_NULL.
+ * @note No ABI guard (RFE_ERR_ABI, rfe/config.h): unlike the float twin's, this state is
+ *       fixed-width integers only, laid out alike whatever the caller's maxima.
+ */
 RFE_NODISCARD rfe_status_t rfe_conditioner_init_q31(rfe_conditioner_q31_t *c);
 
 /**

@@ -9,6 +9,7 @@
 #ifndef RFE_KF2_H
 #define RFE_KF2_H
 
+#include "rfe/config.h"
 #include "rfe/types.h"
 
 /* Full names of the functions declared here: _f32 in the float build, _f64 with
@@ -36,10 +37,30 @@ typedef struct {
  * @param[out] f         the filter.
  * @param[in]  x0, x1    the initial mean.
  * @param[in]  sd0, sd1  the initial sds, finite and >= 0.
- * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_NONFINITE; RFE_ERR_RANGE (a negative sd).
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_NONFINITE; RFE_ERR_RANGE (a negative sd);
+ *         RFE_ERR_ABI (below). The filter is untouched on every error.
+ * @note The call goes through a macro of the full name that adds the caller's
+ *       sizeof of the state and its RFE_CONFIG_* word (rfe/config.h): RFE_ERR_ABI,
+ *       nothing written, when the caller was compiled with other maxima or another
+ *       number type than the library (the state's layout depends on the number type).
  */
 RFE_NODISCARD rfe_status_t rfe_kf2_init(rfe_kf2_t *f, rfe_real_t x0, rfe_real_t x1,
-                                        rfe_real_t sd0, rfe_real_t sd1);
+                                        rfe_real_t sd0, rfe_real_t sd1,
+                                        size_t size, uint32_t config);
+/* MISRA-DEV-08: the wrapper passes the caller's layout of the state and its compile-time
+ * configuration, which the init checks (RFE_ERR_ABI). Not in the source that defines the
+ * function (RFE_KF2_IMPL), where the name is the function's own. */
+#if !defined(RFE_KF2_IMPL)
+#if defined(RFE_REAL_DOUBLE)
+/* cppcheck-suppress misra-c2012-2.5 ; MISRA-DEV-08: the application's entry, unused by the library */
+#define rfe_kf2_init_f64(f, x0, x1, sd0, sd1) \
+    rfe_kf2_init_f64((f), (x0), (x1), (sd0), (sd1), sizeof(rfe_kf2_t), RFE_CONFIG_REAL)
+#else
+/* cppcheck-suppress misra-c2012-2.5 ; MISRA-DEV-08: the application's entry, unused by the library */
+#define rfe_kf2_init_f32(f, x0, x1, sd0, sd1) \
+    rfe_kf2_init_f32((f), (x0), (x1), (sd0), (sd1), sizeof(rfe_kf2_t), RFE_CONFIG_REAL)
+#endif
+#endif
 
 /**
  * Time update x <- F x + [u, 0], P <- F P F^T + Q with F = [[1, f01], [0, 1]],

@@ -59,6 +59,8 @@ typedef struct {
  * @param[in]  x0, x1    the initial mean, Q(q0), Q(q1).
  * @param[in]  sd0, sd1  the initial sds, Q(q0), Q(q1), >= 0.
  * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_RANGE (a negative sd, a format outside its range).
+ * @note No ABI guard (RFE_ERR_ABI, rfe/config.h): unlike the float twin's, this state is
+ *       fixed-width integers only, laid out alike whatever the caller's maxima.
  */
 RFE_NODISCARD rfe_status_t rfe_kf2_init_q31(rfe_kf2_q31_t *f, unsigned int q0, unsigned int q1,
                                             unsigned int qf, rfe_fix_t x0, rfe_fix_t x1,

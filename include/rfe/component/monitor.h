@@ -22,6 +22,7 @@
 #ifndef RFE_MONITOR_H
 #define RFE_MONITOR_H
 
+#include "rfe/config.h"
 #include "rfe/params.h"
 
 /* Full names of the functions declared here: _f32 in the float build, _f64 with
@@ -76,10 +77,29 @@ typedef struct {
  * @param[in]  p    tau_nis, tau_mean > 0; 0 < p_fire < p_clear < 1; hold, warmup >= 0 and
  *                  below 2^31 dt; inflate 0 or 1 (enable is the caller's: it is not read)
  * @param[in]  dt   sample period [s], finite and > 0
- * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_PARAM (a parameter or dt outside the above).
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_PARAM (a parameter or dt outside the above);
+ *         RFE_ERR_ABI (below; nothing written).
+ * @note The call goes through a macro of the full name that adds the caller's
+ *       sizeof of the state and its RFE_CONFIG_* word (rfe/config.h): RFE_ERR_ABI,
+ *       nothing written, when the caller was compiled with other maxima or another
+ *       number type than the library (the state's layout depends on the number type).
  */
 RFE_NODISCARD rfe_status_t rfe_monitor_init(rfe_monitor_t *mon, const rfe_monitor_params_t *p,
-                                           rfe_real_t dt);
+                                           rfe_real_t dt, size_t size, uint32_t config);
+/* MISRA-DEV-08: the wrapper passes the caller's layout of the state and its compile-time
+ * configuration, which the init checks (RFE_ERR_ABI). Not in the source that defines the
+ * function (RFE_MONITOR_IMPL), where the name is the function's own. */
+#if !defined(RFE_MONITOR_IMPL)
+#if defined(RFE_REAL_DOUBLE)
+/* cppcheck-suppress misra-c2012-2.5 ; MISRA-DEV-08: the application's entry, unused by the library */
+#define rfe_monitor_init_f64(mon, p, dt) \
+    rfe_monitor_init_f64((mon), (p), (dt), sizeof(rfe_monitor_t), RFE_CONFIG_REAL)
+#else
+/* cppcheck-suppress misra-c2012-2.5 ; MISRA-DEV-08: the application's entry, unused by the library */
+#define rfe_monitor_init_f32(mon, p, dt) \
+    rfe_monitor_init_f32((mon), (p), (dt), sizeof(rfe_monitor_t), RFE_CONFIG_REAL)
+#endif
+#endif
 
 /**
  * One step with an innovation: during the warm-up it only counts; after it, the averages

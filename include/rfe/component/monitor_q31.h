@@ -82,6 +82,8 @@ typedef struct {
  * @param[in]  p    within the ranges of rfe_monitor_params_q31_t (rfe_monitor_params_validate_q31;
  *                  enable is the caller's: it is not read)
  * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_PARAM.
+ * @note No ABI guard (RFE_ERR_ABI, rfe/config.h): unlike the float twin's, this state is
+ *       fixed-width integers only, laid out alike whatever the caller's maxima.
  */
 RFE_NODISCARD rfe_status_t rfe_monitor_init_q31(rfe_monitor_q31_t *mon,
                                                const rfe_monitor_params_q31_t *p);

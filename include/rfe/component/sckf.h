@@ -81,11 +81,31 @@ typedef struct {
 /**
  * Initialises the filter: x0 (n), S0 (n x n lower-triangular sqrt of P0), SQ (n x n),
  * SR (m x m). Only the lower triangles of S0, SQ, SR are read.
- * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_SIZE; RFE_ERR_NONFINITE.
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_SIZE; RFE_ERR_NONFINITE; RFE_ERR_ABI (below). The
+ *         filter is untouched on every error.
+ * @note The call goes through a macro of the full name that adds the caller's
+ *       sizeof of the state and its RFE_CONFIG_* word (rfe/config.h): RFE_ERR_ABI,
+ *       nothing written, when the caller was compiled with other maxima or another
+ *       number type than the library.
  */
 RFE_NODISCARD rfe_status_t rfe_sckf_init(rfe_sckf_t *f, size_t n, size_t m,
                                         const rfe_real_t *x0, const rfe_real_t *S0,
-                                        const rfe_real_t *SQ, const rfe_real_t *SR);
+                                        const rfe_real_t *SQ, const rfe_real_t *SR,
+                                        size_t size, uint32_t config);
+/* MISRA-DEV-08: the wrapper passes the caller's layout of the state and its compile-time
+ * configuration, which the init checks (RFE_ERR_ABI). Not in the source that defines the
+ * function (RFE_SCKF_IMPL), where the name is the function's own. */
+#if !defined(RFE_SCKF_IMPL)
+#if defined(RFE_REAL_DOUBLE)
+/* cppcheck-suppress misra-c2012-2.5 ; MISRA-DEV-08: the application's entry, unused by the library */
+#define rfe_sckf_init_f64(f, n, m, x0, S0, SQ, SR) \
+    rfe_sckf_init_f64((f), (n), (m), (x0), (S0), (SQ), (SR), sizeof(rfe_sckf_t), RFE_CONFIG_REAL)
+#else
+/* cppcheck-suppress misra-c2012-2.5 ; MISRA-DEV-08: the application's entry, unused by the library */
+#define rfe_sckf_init_f32(f, n, m, x0, S0, SQ, SR) \
+    rfe_sckf_init_f32((f), (n), (m), (x0), (S0), (SQ), (SR), sizeof(rfe_sckf_t), RFE_CONFIG_REAL)
+#endif
+#endif
 
 /**
  * Time update: X_j = S xi_j + x, X*_j = f(X_j), x- = mean X*_j,

@@ -97,11 +97,26 @@ typedef struct {
  * SQ (n x n, Q30), SR (m x m, Q24). Only the lower triangles of S0, SQ, SR are read.
  * The saturation counter starts at 0.
  * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_SIZE (n outside 1..RFE_N_MAX or above 8, the largest
- *         n the cubature constants are tabulated for; m outside 1..RFE_M_MAX).
+ *         n the cubature constants are tabulated for; m outside 1..RFE_M_MAX); RFE_ERR_ABI
+ *         (below). The filter is untouched on every error.
+ * @note The call goes through a macro of the full name that adds the caller's
+ *       sizeof of the state and its RFE_CONFIG_* word (rfe/config.h): RFE_ERR_ABI,
+ *       nothing written, when the caller was compiled with other maxima or another
+ *       number type than the library.
  */
 RFE_NODISCARD rfe_status_t rfe_sckf_init_q31(rfe_sckf_q31_t *f, size_t n, size_t m,
                                              const rfe_fix_t *x0, const rfe_fix_t *S0,
-                                             const rfe_fix_t *SQ, const rfe_fix_t *SR);
+                                             const rfe_fix_t *SQ, const rfe_fix_t *SR,
+                                             size_t size, uint32_t config);
+/* MISRA-DEV-08: the wrapper passes the caller's layout of the state and its compile-time
+ * configuration, which the init checks (RFE_ERR_ABI). Not in the source that defines the
+ * function (RFE_SCKF_Q31_IMPL), where the name is the function's own. */
+#if !defined(RFE_SCKF_Q31_IMPL)
+/* cppcheck-suppress misra-c2012-2.5 ; MISRA-DEV-08: the application's entry, unused by the library */
+#define rfe_sckf_init_q31(f, n, m, x0, S0, SQ, SR) \
+    rfe_sckf_init_q31((f), (n), (m), (x0), (S0), (SQ), (SR), \
+                      sizeof(rfe_sckf_q31_t), RFE_CONFIG_Q31)
+#endif
 
 /**
  * Time update: X_j = S xi_j + x, X*_j = f(X_j), x- = mean X*_j,

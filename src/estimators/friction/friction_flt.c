@@ -89,7 +89,9 @@ static rfe_status_t init_sckf(rfe_friction_t *est, const rfe_filter_params_t *fp
         st = sqrt_prior(fp->q_mu, fp->q_common, n, SQ);
     }
     if (st == RFE_OK) {
-        st = rfe_sckf_init(&est->filter.sckf, n, RFE_MEAS, x0, S0, SQ, SR);
+        /* the library's own layout: the init called directly, not through its wrapper */
+        st = (rfe_sckf_init)(&est->filter.sckf, n, RFE_MEAS, x0, S0, SQ, SR,
+                             sizeof(est->filter.sckf), RFE_CONFIG_REAL);
     }
     return st;
 }
@@ -114,7 +116,8 @@ static rfe_status_t init_ckf(rfe_friction_t *est, const rfe_filter_params_t *fp)
     R[0] = fp->r_ax * fp->r_ax;
     R[RFE_MEAS + 1] = fp->r_ay * fp->r_ay;
     R[(2 * RFE_MEAS) + 2] = fp->r_yaw_acc * fp->r_yaw_acc;
-    return rfe_ckf_init(&est->filter.ckf, RFE_WHEELS, RFE_MEAS, x0, P0, Q, R);
+    return (rfe_ckf_init)(&est->filter.ckf, RFE_WHEELS, RFE_MEAS, x0, P0, Q, R,
+                          sizeof(est->filter.ckf), RFE_CONFIG_REAL);
 }
 
 rfe_status_t rfe_friction_init(rfe_friction_t *est, const rfe_params_t *params,
@@ -143,10 +146,12 @@ rfe_status_t rfe_friction_init(rfe_friction_t *est, const rfe_params_t *params,
      * positive definite); a failure would leave the estimator not initialised. */
     st = (fp->kind == RFE_FILTER_CKF) ? init_ckf(est, fp) : init_sckf(est, fp, n);
     if (st == RFE_OK) {
-        st = rfe_conditioner_init(&est->cond);
+        /* the library's own layout: the inits called directly, not through their wrappers */
+        st = (rfe_conditioner_init)(&est->cond, sizeof(est->cond), RFE_CONFIG_REAL);
     }
     if (st == RFE_OK) {
-        st = rfe_monitor_init(&est->mon, &params->monitor, fp->dt);
+        st = (rfe_monitor_init)(&est->mon, &params->monitor, fp->dt, sizeof(est->mon),
+                                RFE_CONFIG_REAL);
     }
     if (st != RFE_OK) {
         return st;
@@ -523,7 +528,8 @@ static rfe_status_t gap_update(rfe_friction_t *est, uint32_t missed)
         st = bound_sd(est); /* step 7 once, as after one step's time update */
     }
     if (st == RFE_OK) {
-        st = rfe_conditioner_init(&est->cond); /* the next sample seeds it, as after init */
+        /* the next sample seeds it, as after init (the library's own layout: no wrapper) */
+        st = (rfe_conditioner_init)(&est->cond, sizeof(est->cond), RFE_CONFIG_REAL);
     }
     return st;
 }

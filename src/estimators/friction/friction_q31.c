@@ -176,7 +176,9 @@ static rfe_status_t init_sckf_q31(rfe_friction_q31_t *est, const rfe_filter_para
         st = sqrt_prior_q31(fp->q_mu, fp->q_common, n, SQ);
     }
     if (st == RFE_OK) {
-        st = rfe_sckf_init_q31(&est->filter.sckf, n, RFE_MEAS, x0, S0, SQ, SR);
+        /* the library's own layout: the init called directly, not through its wrapper */
+        st = (rfe_sckf_init_q31)(&est->filter.sckf, n, RFE_MEAS, x0, S0, SQ, SR,
+                                 sizeof(est->filter.sckf), RFE_CONFIG_Q31);
     }
     return st;
 }
@@ -213,7 +215,9 @@ static rfe_status_t init_ckf_q31(rfe_friction_q31_t *est, const rfe_filter_param
         Q[(i * NW) + i] = q;
     }
     if (st == RFE_OK) {
-        st = rfe_ckf_init_q31(&est->filter.ckf, NW, RFE_MEAS, x0, P0, Q, R);
+        /* the library's own layout: the init called directly, not through its wrapper */
+        st = (rfe_ckf_init_q31)(&est->filter.ckf, NW, RFE_MEAS, x0, P0, Q, R,
+                                sizeof(est->filter.ckf), RFE_CONFIG_Q31);
     }
     return st;
 }

@@ -142,13 +142,16 @@ static rfe_status_t start(rfe_velocity_t *o, const rfe_velocity_input_t *in)
     rfe_status_t st;
     rfe_vel_wheel_refs(&o->veh, in, RFE_R(0.0), refs);
     mean = (((refs[0] + refs[1]) + refs[2]) + refs[3]) / RFE_R(4.0);
-    st = rfe_kf2_init(&o->yaw, in->yaw_rate, RFE_R(0.0), o->p.sd_r, RFE_R(1.0));
+    /* the library's own layout: the inits called directly, not through their wrappers */
+    st = (rfe_kf2_init)(&o->yaw, in->yaw_rate, RFE_R(0.0), o->p.sd_r, RFE_R(1.0),
+                        sizeof(o->yaw), RFE_CONFIG_REAL);
     if (st == RFE_OK) {
-        st = rfe_kf2_init(&o->lon, rfe_max(mean, RFE_R(0.0)), RFE_R(0.0), o->p.sd_vx0,
-                          o->p.sd_bx0);
+        st = (rfe_kf2_init)(&o->lon, rfe_max(mean, RFE_R(0.0)), RFE_R(0.0), o->p.sd_vx0,
+                            o->p.sd_bx0, sizeof(o->lon), RFE_CONFIG_REAL);
     }
     if (st == RFE_OK) {
-        st = rfe_kf2_init(&o->lat, RFE_R(0.0), RFE_R(0.0), o->p.sd_vy0, o->p.sd_by0);
+        st = (rfe_kf2_init)(&o->lat, RFE_R(0.0), RFE_R(0.0), o->p.sd_vy0, o->p.sd_by0,
+                            sizeof(o->lat), RFE_CONFIG_REAL);
     }
     return st;
 }

@@ -130,13 +130,23 @@ static void test_rfe_conditioner_hand_example(void **state)
 }
 
 /* REQ: tau_v = 0 is off (sample passes, state untouched); errors change nothing. */
-/* REQ-COND-002 */
+/* REQ-COND-002 REQ-ABI-001 */
 static void test_rfe_conditioner_off_and_errors(void **state)
 {
     rfe_conditioner_t c, copy, blank;
     rfe_sample_t u, out, out_copy;
     (void)state;
     assert_int_equal(rfe_conditioner_init(NULL), RFE_ERR_NULL);
+    /* as the wrapper would call it from a caller compiled otherwise: another size of the
+     * state, another configuration word (RFE_ERR_ABI, nothing written) */
+    memset(&c, 0x5A, sizeof c);
+    copy = c;
+    assert_int_equal((rfe_conditioner_init)(&c, sizeof c + 8u, RFE_CONFIG_REAL), RFE_ERR_ABI);
+    assert_int_equal((rfe_conditioner_init)(&c, sizeof c, RFE_CONFIG_REAL ^ 3u), RFE_ERR_ABI);
+    assert_int_equal((rfe_conditioner_init)(&c, sizeof c, RFE_CONFIG_REAL ^ (1u << 16u)),
+                     RFE_ERR_ABI);
+    assert_int_equal((rfe_conditioner_init)(NULL, sizeof c, RFE_CONFIG_REAL ^ 3u), RFE_ERR_ABI);
+    assert_memory_equal(&c, &copy, sizeof c);
     assert_int_equal(rfe_conditioner_init(&c), RFE_OK);
     memset(&u, 0, sizeof u);
     u.vx = 10;

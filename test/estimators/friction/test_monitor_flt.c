@@ -336,6 +336,31 @@ static void test_bad_input_untouched(void **state)
 /* REQ: while fired, an updated step and a held step that would be valid report
  * RFE_MODEL_MISMATCH; a held step with every flag 0, low speed and errors keep their status;
  * the verdict applies to the steps that evaluated the model. */
+/* The init as its wrapper would call it from a caller compiled otherwise (another size of
+ * the state, another configuration word) writes nothing; through the wrapper it is accepted. */
+/* REQ-ABI-001 */
+static void test_init_refuses_other_layout_or_word(void **state)
+{
+    rfe_monitor_t m;
+    rfe_monitor_t before;
+    const rfe_monitor_params_t mp = defaults();
+    const rfe_real_t dt = (rfe_real_t)0.01;
+    (void)state;
+    memset(&m, 0x5A, sizeof m);
+    before = m;
+    assert_int_equal((rfe_monitor_init)(&m, &mp, dt, sizeof m - 4u, RFE_CONFIG_REAL),
+                     RFE_ERR_ABI);
+    assert_int_equal((rfe_monitor_init)(&m, &mp, dt, sizeof m, RFE_CONFIG_REAL ^ 3u),
+                     RFE_ERR_ABI);
+    assert_int_equal((rfe_monitor_init)(&m, &mp, dt, sizeof m, RFE_CONFIG_REAL ^ (1u << 8u)),
+                     RFE_ERR_ABI);
+    assert_int_equal((rfe_monitor_init)(NULL, NULL, dt, sizeof m, RFE_CONFIG_REAL ^ 3u),
+                     RFE_ERR_ABI);
+    assert_memory_equal(&m, &before, sizeof m);
+    assert_int_equal(rfe_monitor_init(&m, &mp, dt), RFE_OK);
+    assert_int_equal(m.fired, 0);
+}
+
 /* REQ-MON-010 */
 static void test_status_rule(void **state)
 {
@@ -519,6 +544,7 @@ int main(void)
         cmocka_unit_test(test_warmup_and_averages),
         cmocka_unit_test(test_fire_hold_clear_inflation),
         cmocka_unit_test(test_bad_input_untouched),
+        cmocka_unit_test(test_init_refuses_other_layout_or_word),
         cmocka_unit_test(test_status_rule),
         cmocka_unit_test(test_estimator_reports_mismatch),
         cmocka_unit_test(test_estimator_status_while_fired),
