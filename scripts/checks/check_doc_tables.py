@@ -11,7 +11,9 @@
   in DATA.md or ESTIMATOR.md, and in ESTIMATOR.md when the two presets differ in it (DATA.md
   gives the paper preset only);
 - the Python reference's observer defaults (scripts/reference/observer.py OBS_DEFAULTS)
-  are the library's.
+  are the library's;
+- the statements the presets decide: the README's intro names the default's and the paper
+  preset's tyre models and the default structure, and DATA.md never calls `dt` ignored.
 
 usage: check_doc_tables.py path/to/mu_replay [--root DIR]   (run by test/host/test_cli.sh;
 exit 1 on a difference, one line per difference; --root: read the docs and sources under DIR
@@ -132,6 +134,31 @@ def missing(problems, where, listed, wanted, why=""):
         problems.append(f"{where}: no row for '{key}'{why}")
 
 
+# The README's intro names each preset's tyre model and the default's structure the way the
+# presets' recorded keys say (issue 18: it once called Dugoff the default).
+TYRE_NAMES = {"magic": "Magic Formula", "paper": "Dugoff", "dugoff": "Dugoff"}
+STRUCTURE_WORDS = {"sides": "one μ per side", "wheels": "under each wheel"}
+
+
+def check_statements(problems, paper, default, root=ROOT):
+    """The prose statements the code decides: the README's intro (the text before its first
+    section) on the presets' tyre models and the default structure; DATA.md never calls the
+    `dt` metadata ignored (it is the parameter of "The sample period")."""
+    intro = read("README.md", root).split("\n## ", 1)[0]
+    wants = [f"{TYRE_NAMES.get(default.get('tyre'), default.get('tyre'))} tyre by default",
+             f"{TYRE_NAMES.get(paper.get('tyre'), paper.get('tyre'))} in the paper preset",
+             STRUCTURE_WORDS.get(default.get("structure"), str(default.get("structure")))]
+    for want in wants:
+        if want not in " ".join(intro.split()):
+            problems.append(f"README.md intro: does not say '{want}' (the library's presets: "
+                            f"default tyre {default.get('tyre')}, structure "
+                            f"{default.get('structure')}; paper tyre {paper.get('tyre')})")
+    for clause in re.split(r"[.;:]\s", " ".join(read("docs/spec/DATA.md", root).split())):
+        if "`dt`" in clause and "ignored" in clause:
+            problems.append(f"docs/spec/DATA.md: '{clause.strip()}': the dt metadata is the "
+                            f"sample period's parameter, not ignored")
+
+
 def check(binary, root=ROOT):
     """The differences, one line each (empty: the docs agree with the code)."""
     problems = []
@@ -143,6 +170,8 @@ def check(binary, root=ROOT):
     paper, default = preset_meta(binary, "paper"), preset_meta(binary, "default")
     obs_paper = preset_meta(binary, "paper", observer=True)
     obs_default = preset_meta(binary, "default", observer=True)
+
+    check_statements(problems, paper, default, root)
 
     # the friction estimator's keys: DATA.md (paper) and ESTIMATOR.md (both presets)
     where_data = "docs/spec/DATA.md \"Parameter file\""

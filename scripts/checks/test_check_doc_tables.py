@@ -136,3 +136,27 @@ def test_the_command_line_exits_1_and_names_the_difference(root):
                          capture_output=True, text=True, check=False)
     assert run.returncode == 1
     assert "mon_hold = 7.5" in run.stdout and "1 difference(s)" in run.stdout
+
+
+# REQ-DOC-001: the review's statements (issue 18) that contradicted the code
+def test_an_intro_calling_dugoff_the_default_is_caught(root):
+    doctor(root, "README.md", "Magic Formula tyre by default, Dugoff in the paper preset",
+           "Dugoff tyre by default, Magic Formula in the paper preset")
+    found = problems(root)
+    assert len(found) == 2 and all(p.startswith("README.md intro:") for p in found)
+    assert "'Magic Formula tyre by default'" in found[0]
+
+
+# REQ-DOC-001
+def test_an_intro_promising_each_of_the_four_wheels_is_caught(root):
+    doctor(root, "README.md", "(by default one μ per side,", "(each of the four wheels,")
+    found = problems(root)
+    assert len(found) == 1 and "'one μ per side'" in found[0]
+
+
+# REQ-DOC-001
+def test_data_md_calling_the_dt_metadata_ignored_is_caught(root):
+    doctor(root, "docs/spec/DATA.md", "`dt` there is the parameter of",
+           "`dt` there is ignored, not the parameter of")
+    found = problems(root)
+    assert len(found) == 1 and found[0].startswith("docs/spec/DATA.md:")
