@@ -14,8 +14,10 @@
  * RFE_GAP_PERIODS) makes the friction estimator's time updates of the missed periods first
  * (rfe_friction_missed, rfe_friction_step_after; out.missed says how many); a dt beyond the
  * observer's obs_dt_max also starts the observer afresh at that sample (rfe_velocity_restart;
- * out.restarted). A rejected sample changes nothing, its gap included: give dt as the time
- * since the last accepted sample, so that the next one makes up for it.
+ * out.restarted). A dt shorter than half of filter.dt is refused (RFE_ERR_RANGE: the caller
+ * runs faster than filter.dt says, and the friction step would take it as a whole period).
+ * A rejected sample changes nothing, its gap included: give dt as the time since the last
+ * accepted sample, so that the next one makes up for it.
  *
  * @code
  * #include "rfe/pipeline.h"

@@ -11,7 +11,7 @@
  * sd(r-dot)^2), Q24). The parameters' filter.dt must be the nominal sample period; each
  * sample's own period is its dt. Gaps as rfe/pipeline.h: beyond two periods the friction
  * estimator's time updates of the missed ones first (out.missed), beyond obs_dt_max the
- * observer afresh (out.restarted). Q30 holds a dt below 2 s: give a longer gap as the
+ * observer afresh (out.restarted); shorter than half of filter.dt refused (RFE_ERR_RANGE). Q30 holds a dt below 2 s: give a longer gap as the
  * format's largest value (it then counts as 2 s for the friction estimator).
  */
 #ifndef RFE_PIPELINE_Q31_H

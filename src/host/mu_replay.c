@@ -561,6 +561,18 @@ static int check_period(const options_t *o, run_t *r)
         }
         fputc('\n', stderr);
     }
+    if (!o->quiet && r->use_observer) {
+        size_t shorter = 0u;
+        for (i = 1u; i < r->log.n_rows; ++i) {
+            shorter += ((r->log.rows[i].t - r->log.rows[i - 1u].t) < 0.5 * per.median) ? 1u : 0u;
+        }
+        if (shorter != 0u) {
+            fprintf(stderr, "%s: note: %zu period(s) shorter than half of dt = %.6g s: behind "
+                            "the observer such a sample is refused (status 18; the friction "
+                            "estimator would take it as a whole period, rfe/pipeline.h)\n",
+                    PROG, shorter, per.median);
+        }
+    }
     return 0;
 }
 

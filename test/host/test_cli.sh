@@ -351,6 +351,15 @@ grep -q '"gaps": {"count": 1, "missed_periods": 199, "observer_restarts": 1}' "$
 run gap_float_long 0 --in "$TMP/gap3.csv" --out "$TMP/g3f.csv" --quiet --metrics "$TMP/g3f.json"
 grep -q '"gaps": {"count": 1, "missed_periods": 347, "observer_restarts": 1}' "$TMP/g3f.json" \
     && ok "gap_float_long: 347 missed periods, one restart" || bad "gap_float_long: $(grep gaps "$TMP/g3f.json")"
+# REQ-OBS-023: a period shorter than half of dt behind the observer: that sample refused
+# (18), a note counting such periods; the next one (its period since the last accepted) taken
+sed 's/^0\.51,/0.504,/' "$TMP/gap.csv" >"$TMP/short.csv"
+printf '0.514,0,0,0,0,61.5,61.5,61.5,61.5\n' >>"$TMP/short.csv"
+run short_period 0 --in "$TMP/short.csv" --out "$TMP/s.csv"
+grep -q "^mu_replay: note: 1 period(s) shorter than half of dt = 0.01 s: behind the observer such a sample is refused" "$TMP/err" \
+    && ok "short_period: note" || bad "short_period: $(cat "$TMP/err")"
+grep -Eq '^0\.504,.*,18,' "$TMP/s.csv" && ! grep -Eq '^0\.514,.*,18,' "$TMP/s.csv" \
+    && ok "short_period: that sample refused (18), the next taken" || bad "short_period: $(grep -E '^0\.5' "$TMP/s.csv")"
 printf 'obs_driven = 2.5\n' >"$TMP/driven.par"
 run obs_bad_driven 1 --in "$DATA/good_esc.csv" --out "$TMP/v.csv" --params "$TMP/driven.par"
 one_line obs_bad_driven "^mu_replay: .*driven\.par:1: invalid parameter obs_driven = 2.5 \(rejected by rfe_velocity_params_validate"

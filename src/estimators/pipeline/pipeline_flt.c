@@ -56,18 +56,26 @@ static void friction_sample(const rfe_velocity_input_t *in, const rfe_velocity_e
     }
 }
 
-/* A gap before this sample (OBSERVER.md §6 "Gaps"): a period beyond the observer's longest
- * (obs_dt_max) restarts it, this sample its first; returns 1 then. */
-static uint32_t restart_after_gap(rfe_pipeline_t *pl, const rfe_velocity_input_t *in)
+/* The sample's period against the friction estimator's fixed one (OBSERVER.md §6 "Gaps"):
+ * shorter than half of filter.dt it would count as a whole period (the caller runs faster
+ * than filter.dt says): RFE_ERR_RANGE. Beyond the observer's longest (obs_dt_max) the
+ * observer restarts, this sample its first (*restarted = 1). The first sample's is ignored. */
+static rfe_status_t check_period(rfe_pipeline_t *pl, const rfe_velocity_input_t *in,
+                                 uint32_t *restarted)
 {
-    rfe_status_t st;
-    if ((pl->started == 0u) || (rfe_is_finite(in->dt) == 0) ||
-        (in->dt <= pl->velocity.p.dt_max)) {
-        return 0u;
+    rfe_status_t st = RFE_OK;
+    *restarted = 0u;
+    if (pl->started == 0u) {
+        return RFE_OK;
     }
-    st = rfe_velocity_restart(&pl->velocity);
-    (void)st; /* the pipeline's own initialised observer: cannot fail */
-    return 1u;
+    if (in->dt < (RFE_R(0.5) * pl->friction.params.filter.dt)) {
+        return RFE_ERR_RANGE;
+    }
+    if ((rfe_is_finite(in->dt) != 0) && (in->dt > pl->velocity.p.dt_max)) {
+        st = rfe_velocity_restart(&pl->velocity);
+        *restarted = 1u; /* the pipeline's own initialised observer: st is RFE_OK */
+    }
+    return st;
 }
 
 rfe_status_t rfe_pipeline_step(rfe_pipeline_t *pl, const rfe_velocity_input_t *in,
@@ -91,7 +99,14 @@ rfe_status_t rfe_pipeline_step(rfe_pipeline_t *pl, const rfe_velocity_input_t *i
     out->missed = 0u;
     out->restarted = 0u;
     obs_before = pl->velocity;
-    restarted = restart_after_gap(pl, in);
+    st = check_period(pl, in, &restarted);
+    if (st != RFE_OK) {
+        out->velocity = pl->velocity.last; /* as the observer reports a refused sample */
+        out->velocity.status = st;
+        out->friction = pl->last;
+        out->friction.status = st;
+        return st;
+    }
     st = rfe_velocity_step(&pl->velocity, in, (pl->started != 0u) ? &mu : NULL, &out->velocity);
     if (st != RFE_OK) {
         pl->velocity = obs_before; /* the restart undone */

@@ -59,17 +59,25 @@ static void friction_sample_q31(const rfe_velocity_input_q31_t *in,
     }
 }
 
-/* A gap before this sample (pipeline_flt.c restart_after_gap): a period beyond obs_dt_max
- * restarts the observer, this sample its first; returns 1 then. */
-static uint32_t restart_after_gap_q31(rfe_pipeline_q31_t *pl, const rfe_velocity_input_q31_t *in)
+/* The sample's period against the fixed one (pipeline_flt.c check_period): shorter than
+ * half of filter.dt, RFE_ERR_RANGE; beyond obs_dt_max the observer restarts, this sample its
+ * first (*restarted = 1). The first sample's is ignored. */
+static rfe_status_t check_period_q31(rfe_pipeline_q31_t *pl, const rfe_velocity_input_q31_t *in,
+                                     uint32_t *restarted)
 {
-    rfe_status_t st;
-    if ((pl->started == 0u) || (in->dt <= pl->velocity.p.dt_max)) {
-        return 0u;
+    rfe_status_t st = RFE_OK;
+    *restarted = 0u;
+    if (pl->started == 0u) {
+        return RFE_OK;
     }
-    st = rfe_velocity_restart_q31(&pl->velocity);
-    (void)st; /* the pipeline's own initialised observer: cannot fail */
-    return 1u;
+    if (in->dt < (pl->friction.params.filter.dt / 2)) {
+        return RFE_ERR_RANGE;
+    }
+    if (in->dt > pl->velocity.p.dt_max) {
+        st = rfe_velocity_restart_q31(&pl->velocity);
+        *restarted = 1u; /* the pipeline's own initialised observer: st is RFE_OK */
+    }
+    return st;
 }
 
 rfe_status_t rfe_pipeline_step_q31(rfe_pipeline_q31_t *pl, const rfe_velocity_input_q31_t *in,
@@ -94,7 +102,16 @@ rfe_status_t rfe_pipeline_step_q31(rfe_pipeline_q31_t *pl, const rfe_velocity_in
     out->missed = 0u;
     out->restarted = 0u;
     obs_before = pl->velocity;
-    restarted = restart_after_gap_q31(pl, in);
+    st = check_period_q31(pl, in, &restarted);
+    if (st != RFE_OK) {
+        out->velocity = pl->velocity.last; /* as the observer reports a refused sample */
+        out->velocity.status = st;
+        out->velocity.sat = 0u;
+        out->friction = pl->last;
+        out->friction.status = st;
+        out->friction.sat = 0u;
+        return st;
+    }
     st = rfe_velocity_step_q31(&pl->velocity, in, (pl->started != 0u) ? &mu : NULL,
                                &out->velocity);
     if (st != RFE_OK) {

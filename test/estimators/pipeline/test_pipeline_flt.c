@@ -318,6 +318,48 @@ static void test_a_refused_sample_after_a_gap_changes_nothing(void **state)
     assert_memory_equal(&pl, &before, sizeof pl);
 }
 
+/* REQ: the period against the fixed one (rfe/pipeline.h): a period shorter than half of
+ * filter.dt (the caller runs faster than filter.dt says; the friction step would take it as
+ * a whole period) is refused with RFE_ERR_RANGE, the pipeline untouched and the previous
+ * estimates reported; half of it is taken; a non-finite period is the observer's refusal
+ * (RFE_ERR_NONFINITE), not a restart; the first sample's period is ignored. */
+/* REQ-OBS-023 */
+static void test_a_period_shorter_than_half_is_refused(void **state)
+{
+    static rfe_pipeline_t pl;
+    static rfe_pipeline_t before;
+    rfe_params_t p;
+    rfe_velocity_params_t vp;
+    rfe_pipeline_out_t o;
+    rfe_velocity_input_t in;
+    size_t k;
+    (void)state;
+    init_pipeline(&pl, &p, &vp);
+    in = brake(&p, 0.001f); /* first: ignored */
+    assert_false(rfe_status_is_error(rfe_pipeline_step(&pl, &in, &o)));
+    for (k = 0u; k < 20u; ++k) {
+        in = brake(&p, 0.01f);
+        assert_false(rfe_status_is_error(rfe_pipeline_step(&pl, &in, &o)));
+    }
+    memcpy(&before, &pl, sizeof before);
+    in = brake(&p, (rfe_real_t)0.0049);
+    assert_int_equal(rfe_pipeline_step(&pl, &in, &o), RFE_ERR_RANGE);
+    assert_memory_equal(&pl, &before, sizeof pl);
+    assert_int_equal(o.friction.status, RFE_ERR_RANGE);
+    assert_int_equal(o.velocity.status, RFE_ERR_RANGE);
+    assert_memory_equal(o.friction.mu, pl.last.mu, sizeof o.friction.mu);
+    assert_true(o.velocity.vx == pl.velocity.last.vx);
+    in = brake(&p, (rfe_real_t)NAN);
+    assert_int_equal(rfe_pipeline_step(&pl, &in, &o), RFE_ERR_NONFINITE);
+    assert_memory_equal(&pl, &before, sizeof pl);
+    in = brake(&p, (rfe_real_t)INFINITY);
+    assert_int_equal(rfe_pipeline_step(&pl, &in, &o), RFE_ERR_NONFINITE);
+    assert_memory_equal(&pl, &before, sizeof pl);
+    in = brake(&p, (rfe_real_t)0.005); /* half of 0.01, exactly in both types */
+    assert_false(rfe_status_is_error(rfe_pipeline_step(&pl, &in, &o)));
+    assert_int_equal(o.missed, 0u);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -327,6 +369,7 @@ int main(void)
         cmocka_unit_test(test_an_error_leaves_the_pipeline_untouched),
         cmocka_unit_test(test_a_gap_is_told_to_both_estimators),
         cmocka_unit_test(test_a_refused_sample_after_a_gap_changes_nothing),
+        cmocka_unit_test(test_a_period_shorter_than_half_is_refused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

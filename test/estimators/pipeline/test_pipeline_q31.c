@@ -390,6 +390,43 @@ static void test_gaps_as_the_double_pipeline(void **state)
     assert_int_equal(oq.restarted, 0u);
 }
 
+/* REQ: the period against the fixed one in fixed point (REQ-OBS-023): shorter than half of
+ * filter.dt refused (RFE_ERR_RANGE, untouched, the previous estimates reported, sat 0); half
+ * of it (Q30: filter.dt / 2, floored) taken; the first sample's period ignored. */
+/* REQ-OBS-023 REQ-FXP-016 */
+static void test_a_period_shorter_than_half_is_refused_q31(void **state)
+{
+    both_t b;
+    static rfe_pipeline_q31_t pl;
+    static rfe_pipeline_q31_t before;
+    rfe_velocity_input_t in;
+    rfe_velocity_input_q31_t iq;
+    rfe_pipeline_out_q31_t o;
+    size_t k;
+    (void)state;
+    params_of(NULL, &b);
+    memset(&pl, 0, sizeof pl);
+    assert_int_equal(rfe_pipeline_init_q31(&pl, &b.pq, &b.vq), RFE_OK);
+    brake_both(&b, 0.001, -6.0, 19.0, &in, &iq); /* first: ignored */
+    assert_false(rfe_status_is_error(rfe_pipeline_step_q31(&pl, &iq, &o)));
+    for (k = 0u; k < 20u; ++k) {
+        brake_both(&b, 0.01, -6.0, 19.0, &in, &iq);
+        assert_false(rfe_status_is_error(rfe_pipeline_step_q31(&pl, &iq, &o)));
+    }
+    memcpy(&before, &pl, sizeof before);
+    iq.dt = (b.pq.filter.dt / 2) - 1;
+    assert_int_equal(rfe_pipeline_step_q31(&pl, &iq, &o), RFE_ERR_RANGE);
+    assert_memory_equal(&pl, &before, sizeof pl);
+    assert_int_equal(o.friction.status, RFE_ERR_RANGE);
+    assert_int_equal(o.velocity.status, RFE_ERR_RANGE);
+    assert_int_equal(o.friction.sat, 0u);
+    assert_int_equal(o.velocity.sat, 0u);
+    assert_memory_equal(o.friction.mu, pl.last.mu, sizeof o.friction.mu);
+    assert_int_equal(o.velocity.vx, pl.velocity.last.vx);
+    iq.dt = b.pq.filter.dt / 2;
+    assert_false(rfe_status_is_error(rfe_pipeline_step_q31(&pl, &iq, &o)));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -399,6 +436,7 @@ int main(void)
         cmocka_unit_test(test_an_error_leaves_the_pipeline_untouched),
         cmocka_unit_test(test_back_to_back),
         cmocka_unit_test(test_gaps_as_the_double_pipeline),
+        cmocka_unit_test(test_a_period_shorter_than_half_is_refused_q31),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
