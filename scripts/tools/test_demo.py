@@ -123,3 +123,12 @@ def test_index_lists_only_this_runs_files(tmp_path):
     table.write_text("x")
     index = write_index(tmp_path, [("T", table)], []).read_text()
     assert "(<t.md>)" in index and "old.png" not in index
+
+
+# issue 18: the Magic Formula truth plot of a scenario beside its paper-truth (Dugoff) plots
+def test_index_groups_each_scenarios_plots_magic_formula_first(run):
+    out, _ = run
+    index = (out / "index.md").read_text()
+    section = index.split(f"### {SCENARIO}\n\n", 1)[1].split("\n\n", 1)[0].splitlines()
+    assert [line.split("(<", 1)[1].split(">)")[0] for line in section] == [
+        f"{SCENARIO}.mf.png", f"{SCENARIO}.png", f"{SCENARIO}.nf.png"]
