@@ -444,21 +444,38 @@ static void jac_pre_q31(const rfe_meas_q31_t *h, const rfe_tyre_params_q31_t *tp
     }
 }
 
-/* Wheel i's body terms (rows ay, r-dot) of a force pair (wheel axes, real values): the map of
- * wheel_terms_q31 (x_i / J, y_i / J, 1 / m: Q38), added to acc[0..1]. */
-static void body_add_q31(const rfe_vehicle_q31_t *veh, int32_t c, int32_t s, size_t i,
-                         rfe_xf_t fx, rfe_xf_t fy, rfe_xf_t acc[2])
+/* Wheel i's map of a force pair (wheel axes) into its body terms (rows ay, r-dot): the
+ * geometry of wheel_terms_q31 (x_i / J, y_i / J, 1 / m: Q38) in rfe_xf_t, formed once per
+ * wheel for its two force pairs. */
+typedef struct {
+    rfe_xf_t ci;
+    rfe_xf_t si;
+    rfe_xf_t inv_m;
+    rfe_xf_t px_J;
+    rfe_xf_t py_J;
+} body_map_q31_t;
+
+static body_map_q31_t body_map_q31(const rfe_vehicle_q31_t *veh, int32_t c, int32_t s, size_t i)
 {
-    const rfe_xf_t ci = rfe_xf_of((i < (size_t)RFE_RL) ? c : ONE_Q30, 30);
-    const rfe_xf_t si = rfe_xf_of((i < (size_t)RFE_RL) ? s : 0, 30);
     const int32_t px_J = (i < (size_t)RFE_RL) ? veh->lf_J : -veh->lr_J;
     const int32_t y_J = (i < (size_t)RFE_RL) ? veh->yf_J : veh->yr_J;
     const int32_t py_J = ((i == (size_t)RFE_FL) || (i == (size_t)RFE_RL)) ? y_J : -y_J;
-    const rfe_xf_t fbx = rfe_xf_sub(rfe_xf_mul(fx, ci), rfe_xf_mul(fy, si));
-    const rfe_xf_t fby = rfe_xf_add(rfe_xf_mul(fx, si), rfe_xf_mul(fy, ci));
-    acc[0] = rfe_xf_add(acc[0], rfe_xf_mul(fby, rfe_xf_of(veh->inv_m, 38)));
-    acc[1] = rfe_xf_add(acc[1], rfe_xf_sub(rfe_xf_mul(fby, rfe_xf_of(px_J, 38)),
-                                           rfe_xf_mul(fbx, rfe_xf_of(py_J, 38))));
+    body_map_q31_t b;
+    b.ci = rfe_xf_of((i < (size_t)RFE_RL) ? c : ONE_Q30, 30);
+    b.si = rfe_xf_of((i < (size_t)RFE_RL) ? s : 0, 30);
+    b.inv_m = rfe_xf_of(veh->inv_m, 38);
+    b.px_J = rfe_xf_of(px_J, 38);
+    b.py_J = rfe_xf_of(py_J, 38);
+    return b;
+}
+
+/* The body terms of a force pair (fx, fy) by the map b, added to acc[0..1]. */
+static void body_add_q31(const body_map_q31_t *b, rfe_xf_t fx, rfe_xf_t fy, rfe_xf_t acc[2])
+{
+    const rfe_xf_t fbx = rfe_xf_sub(rfe_xf_mul(fx, b->ci), rfe_xf_mul(fy, b->si));
+    const rfe_xf_t fby = rfe_xf_add(rfe_xf_mul(fx, b->si), rfe_xf_mul(fy, b->ci));
+    acc[0] = rfe_xf_add(acc[0], rfe_xf_mul(fby, b->inv_m));
+    acc[1] = rfe_xf_add(acc[1], rfe_xf_sub(rfe_xf_mul(fby, b->px_J), rfe_xf_mul(fbx, b->py_J)));
 }
 
 /* The derivatives' sums over the wheels (rfe_xf_t): by vy in dv, by mu along dmu in dm. */
@@ -480,13 +497,14 @@ static void lateral_sums_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *v
         rfe_dugoff_pre_q31_t pre;
         rfe_slip_dir_q31_t d;
         rfe_tyre_jac_q31_t f;
+        body_map_q31_t bm;
         jac_pre_q31(h, tp, cached, i, &pre);
         d = vy_direction_q31(h, veh, tp, u, i, ci, si, pre.tan_a);
         rfe_tyre_pre_jac_q31(tp, &pre, h->kin.kappa[i], h->kin.vwx[i], h->kin.fz[i], mu[i], &d,
                              &f);
-        body_add_q31(veh, h->cos_delta, h->sin_delta, i, f.dfx, f.dfy, dv);
-        body_add_q31(veh, h->cos_delta, h->sin_delta, i, rfe_xf_mul(f.mfx, sd),
-                     rfe_xf_mul(f.mfy, sd), dm);
+        bm = body_map_q31(veh, h->cos_delta, h->sin_delta, i);
+        body_add_q31(&bm, f.dfx, f.dfy, dv);
+        body_add_q31(&bm, rfe_xf_mul(f.mfx, sd), rfe_xf_mul(f.mfy, sd), dm);
     }
 }
 
@@ -523,6 +541,7 @@ static rfe_status_t lateral_magic_q31(const rfe_meas_q31_t *h, const rfe_vehicle
         rfe_dugoff_pre_q31_t pre;
         rfe_slip_dir_q31_t d;
         rfe_tyre_jac_q31_t f;
+        body_map_q31_t bm;
         rfe_fix_t fx = 0;
         rfe_fix_t fy = 0;
         jac_pre_q31(h, tp, cached, i, &pre);
@@ -530,9 +549,9 @@ static rfe_status_t lateral_magic_q31(const rfe_meas_q31_t *h, const rfe_vehicle
         rfe_tyre_magic_pre_jac_q31(tp, &pre, h->kin.fz[i], mu[i], &d, &fx, &fy, count, &f);
         body_terms_q31(veh, fx, fy, h->cos_delta, h->sin_delta, i, &col[i * (size_t)RFE_MEAS],
                        count);
-        body_add_q31(veh, h->cos_delta, h->sin_delta, i, f.dfx, f.dfy, dv);
-        body_add_q31(veh, h->cos_delta, h->sin_delta, i, rfe_xf_mul(f.mfx, sd),
-                     rfe_xf_mul(f.mfy, sd), dm);
+        bm = body_map_q31(veh, h->cos_delta, h->sin_delta, i);
+        body_add_q31(&bm, f.dfx, f.dfy, dv);
+        body_add_q31(&bm, rfe_xf_mul(f.mfx, sd), rfe_xf_mul(f.mfy, sd), dm);
     }
     sum_terms_q31(col, z, count);
     return RFE_OK;
