@@ -990,8 +990,10 @@ void rfe_tyre_magic_pre_jac_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugof
     *fy = 0;
     if ((pre->s != 0) && (m != 0)) {
         /* magic_forces_q31 with its two sines from dir */
-        const uint64_t wx = ((uint64_t)((int64_t)m * (int64_t)dir[0].g) + HALF_Q30) >> 30;
-        const uint64_t wy = ((uint64_t)((int64_t)m * (int64_t)dir[1].g) + HALF_Q30) >> 30;
+        const int64_t px = (int64_t)m * (int64_t)dir[0].g;
+        const int64_t py = (int64_t)m * (int64_t)dir[1].g;
+        const uint64_t wx = ((uint64_t)px + HALF_Q30) >> 30;
+        const uint64_t wy = ((uint64_t)py + HALF_Q30) >> 30;
         *fx = rfe_fix_sat32(rfe_q31_mul64x32((int64_t)fz * (int64_t)wx, pre->ux, 59u), sat);
         *fy = rfe_fix_sat32(rfe_q31_mul64x32((int64_t)fz * (int64_t)wy, pre->uy, 59u), sat);
     }

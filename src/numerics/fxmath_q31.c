@@ -459,7 +459,7 @@ rfe_status_t rfe_fix_sincos(rfe_fix_t angle, rfe_fix_t *s, rfe_fix_t *c)
     if (angle == 0) {
         /* what the CORDIC rounds to at 0 (a road's grade is mostly 0): its 40 steps saved */
         *s = 0;
-        *c = RFE_FIX_ONE(RFE_FIX_Q_TRIG);
+        *c = (rfe_fix_t)1073741824; /* 2^30: 1 in Q30 (RFE_FIX_Q_TRIG) */
         return RFE_OK;
     }
     sincos_q61(angle, &c61, &s61);
