@@ -39,13 +39,18 @@ static int64_t clamp_p_q31(int64_t v, uint32_t *sat)
  * PMAX; in between the product rounded by two more bits (below 2^61) decides. */
 static int64_t mul_p_q31(int64_t v, rfe_fix_t c, unsigned int s, uint32_t *sat)
 {
-    const unsigned int lv = rfe_q31_bitlen64(rfe_q31_mag64_any(v));
-    const unsigned int lc = rfe_q31_bitlen64(rfe_q31_mag64_any((int64_t)c));
-    const int64_t sat_value = ((v < 0) != (c < 0)) ? -RFE_KF2_Q31_PMAX : RFE_KF2_Q31_PMAX;
+    unsigned int lv;
+    unsigned int lc;
+    int64_t sat_value;
     int64_t r;
     if ((v == 0) || (c == 0)) {
-        r = 0;
-    } else if ((lv + lc) <= (s + 61u)) {
+        /* before the bit lengths: half the observer's products are by an h1 of 0 */
+        return 0;
+    }
+    lv = rfe_q31_bitlen64(rfe_q31_mag64_any(v));
+    lc = rfe_q31_bitlen32((uint32_t)rfe_q31_mag64_any((int64_t)c)); /* |c| <= 2^31 */
+    sat_value = ((v < 0) != (c < 0)) ? -RFE_KF2_Q31_PMAX : RFE_KF2_Q31_PMAX;
+    if ((lv + lc) <= (s + 61u)) {
         r = clamp_p_q31(rfe_q31_mul64x32(v, (int64_t)c, s), sat);
     } else if ((lv + lc) > (s + 63u)) {
         rfe_fix_count_sat(sat);
@@ -166,8 +171,10 @@ rfe_status_t rfe_kf2_predict_q31(rfe_kf2_q31_t *f, rfe_fix_t f01, rfe_fix_t u, i
                                  int64_t q11, int64_t q01, uint32_t *sat)
 {
     uint32_t cnt = 0u;
+    uint32_t cnt1 = 0u;
     unsigned int s;
     int64_t t;
+    int64_t fp01;
     int64_t p00;
     int64_t p01;
     int64_t x0;
@@ -184,8 +191,12 @@ rfe_status_t rfe_kf2_predict_q31(rfe_kf2_q31_t *f, rfe_fix_t f01, rfe_fix_t u, i
          (int64_t)u;
     /* f01 p11 in Q(q0 + q1); p00 + 2 f01 p01 + f01 (f01 p11) + q00; p01 + f01 p11 + q01 */
     t = mul_p_q31(f->p11, f01, s, &cnt);
-    p00 = clamp_p_q31(f->p00 + mul_p_q31(f->p01, f01, s, &cnt), &cnt);
-    p00 = clamp_p_q31(p00 + mul_p_q31(f->p01, f01, s, &cnt), &cnt);
+    /* f01 p01 once, added twice (its saturation counted twice, as two products would be) */
+    fp01 = mul_p_q31(f->p01, f01, s, &cnt1);
+    rfe_q31_sat_add(&cnt, cnt1);
+    rfe_q31_sat_add(&cnt, cnt1);
+    p00 = clamp_p_q31(f->p00 + fp01, &cnt);
+    p00 = clamp_p_q31(p00 + fp01, &cnt);
     p00 = clamp_p_q31(p00 + mul_p_q31(t, f01, s, &cnt), &cnt);
     p00 = clamp_p_q31(p00 + q00, &cnt);
     p01 = clamp_p_q31(clamp_p_q31(f->p01 + t, &cnt) + q01, &cnt);

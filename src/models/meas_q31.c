@@ -38,10 +38,24 @@
  * forces of tp->mode's curve (rfe_tyre_dugoff_abs_pre_q31, as rfe_tyre_forces_abs_q31 chooses
  * it; tp passed rfe_tyre_abs_params_ok_q31); saturations
  * (forces, entries) counted in *sat. */
+static void body_terms_q31(const rfe_vehicle_q31_t *veh, rfe_fix_t fx, rfe_fix_t fy, int32_t c,
+                           int32_t s, size_t i, rfe_fix_t col[RFE_MEAS], uint32_t *sat);
+
 static void wheel_terms_q31(const rfe_vehicle_q31_t *veh, const rfe_tyre_params_q31_t *tp,
                             const rfe_dugoff_pre_q31_t *pre, rfe_fix_t mu, rfe_fix_t fz,
                             int32_t c, int32_t s, size_t i, rfe_fix_t col[RFE_MEAS],
                             uint32_t *sat)
+{
+    rfe_fix_t fx = 0;
+    rfe_fix_t fy = 0;
+    /* the curve of tp's mode, as rfe_tyre_forces_abs_q31 chooses it */
+    rfe_tyre_dugoff_abs_pre_q31(tp, pre, mu, fz, &fx, &fy, sat);
+    body_terms_q31(veh, fx, fy, c, s, i, col, sat);
+}
+
+/* Wheel i's terms (Q24) of its forces fx, fy (Q15, wheel axes): wheel_terms_q31's geometry. */
+static void body_terms_q31(const rfe_vehicle_q31_t *veh, rfe_fix_t fx, rfe_fix_t fy, int32_t c,
+                           int32_t s, size_t i, rfe_fix_t col[RFE_MEAS], uint32_t *sat)
 {
     /* Front wheels are rotated by delta into body axes, rear wheels are not; x_i / J and
      * y_i / J (MODEL.md §1 positions), Q38. As rfe_obsmat_build_q31's column i. */
@@ -50,14 +64,10 @@ static void wheel_terms_q31(const rfe_vehicle_q31_t *veh, const rfe_tyre_params_
     const int64_t px_J = (i < (size_t)RFE_RL) ? (int64_t)veh->lf_J : -(int64_t)veh->lr_J;
     const int64_t y_J = (i < (size_t)RFE_RL) ? (int64_t)veh->yf_J : (int64_t)veh->yr_J;
     const int64_t py_J = ((i == (size_t)RFE_FL) || (i == (size_t)RFE_RL)) ? y_J : -y_J;
-    rfe_fix_t fx = 0;
-    rfe_fix_t fy = 0;
     int64_t fbx;
     int64_t fby;
     int64_t m3;
 
-    /* the curve of tp's mode, as rfe_tyre_forces_abs_q31 chooses it */
-    rfe_tyre_dugoff_abs_pre_q31(tp, pre, mu, fz, &fx, &fy, sat);
     /* Exact Q45: |fx c - fy s| <= |(fx, fy)| |(c, s)| <= 2^31.5 2^30 (1 + 2^-30) < 2^62. */
     fbx = ((int64_t)fx * ci) - ((int64_t)fy * si);
     fby = ((int64_t)fx * si) + ((int64_t)fy * ci);
@@ -434,21 +444,38 @@ static void jac_pre_q31(const rfe_meas_q31_t *h, const rfe_tyre_params_q31_t *tp
     }
 }
 
-/* Wheel i's body terms (rows ay, r-dot) of a force pair (wheel axes, real values): the map of
- * wheel_terms_q31 (x_i / J, y_i / J, 1 / m: Q38), added to acc[0..1]. */
-static void body_add_q31(const rfe_vehicle_q31_t *veh, int32_t c, int32_t s, size_t i,
-                         rfe_xf_t fx, rfe_xf_t fy, rfe_xf_t acc[2])
+/* Wheel i's map of a force pair (wheel axes) into its body terms (rows ay, r-dot): the
+ * geometry of wheel_terms_q31 (x_i / J, y_i / J, 1 / m: Q38) in rfe_xf_t, formed once per
+ * wheel for its two force pairs. */
+typedef struct {
+    rfe_xf_t ci;
+    rfe_xf_t si;
+    rfe_xf_t inv_m;
+    rfe_xf_t px_J;
+    rfe_xf_t py_J;
+} body_map_q31_t;
+
+static body_map_q31_t body_map_q31(const rfe_vehicle_q31_t *veh, int32_t c, int32_t s, size_t i)
 {
-    const rfe_xf_t ci = rfe_xf_of((i < (size_t)RFE_RL) ? c : ONE_Q30, 30);
-    const rfe_xf_t si = rfe_xf_of((i < (size_t)RFE_RL) ? s : 0, 30);
     const int32_t px_J = (i < (size_t)RFE_RL) ? veh->lf_J : -veh->lr_J;
     const int32_t y_J = (i < (size_t)RFE_RL) ? veh->yf_J : veh->yr_J;
     const int32_t py_J = ((i == (size_t)RFE_FL) || (i == (size_t)RFE_RL)) ? y_J : -y_J;
-    const rfe_xf_t fbx = rfe_xf_sub(rfe_xf_mul(fx, ci), rfe_xf_mul(fy, si));
-    const rfe_xf_t fby = rfe_xf_add(rfe_xf_mul(fx, si), rfe_xf_mul(fy, ci));
-    acc[0] = rfe_xf_add(acc[0], rfe_xf_mul(fby, rfe_xf_of(veh->inv_m, 38)));
-    acc[1] = rfe_xf_add(acc[1], rfe_xf_sub(rfe_xf_mul(fby, rfe_xf_of(px_J, 38)),
-                                           rfe_xf_mul(fbx, rfe_xf_of(py_J, 38))));
+    body_map_q31_t b;
+    b.ci = rfe_xf_of((i < (size_t)RFE_RL) ? c : ONE_Q30, 30);
+    b.si = rfe_xf_of((i < (size_t)RFE_RL) ? s : 0, 30);
+    b.inv_m = rfe_xf_of(veh->inv_m, 38);
+    b.px_J = rfe_xf_of(px_J, 38);
+    b.py_J = rfe_xf_of(py_J, 38);
+    return b;
+}
+
+/* The body terms of a force pair (fx, fy) by the map b, added to acc[0..1]. */
+static void body_add_q31(const body_map_q31_t *b, rfe_xf_t fx, rfe_xf_t fy, rfe_xf_t acc[2])
+{
+    const rfe_xf_t fbx = rfe_xf_sub(rfe_xf_mul(fx, b->ci), rfe_xf_mul(fy, b->si));
+    const rfe_xf_t fby = rfe_xf_add(rfe_xf_mul(fx, b->si), rfe_xf_mul(fy, b->ci));
+    acc[0] = rfe_xf_add(acc[0], rfe_xf_mul(fby, b->inv_m));
+    acc[1] = rfe_xf_add(acc[1], rfe_xf_sub(rfe_xf_mul(fby, b->px_J), rfe_xf_mul(fbx, b->py_J)));
 }
 
 /* The derivatives' sums over the wheels (rfe_xf_t): by vy in dv, by mu along dmu in dm. */
@@ -470,14 +497,64 @@ static void lateral_sums_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *v
         rfe_dugoff_pre_q31_t pre;
         rfe_slip_dir_q31_t d;
         rfe_tyre_jac_q31_t f;
+        body_map_q31_t bm;
         jac_pre_q31(h, tp, cached, i, &pre);
         d = vy_direction_q31(h, veh, tp, u, i, ci, si, pre.tan_a);
         rfe_tyre_pre_jac_q31(tp, &pre, h->kin.kappa[i], h->kin.vwx[i], h->kin.fz[i], mu[i], &d,
                              &f);
-        body_add_q31(veh, h->cos_delta, h->sin_delta, i, f.dfx, f.dfy, dv);
-        body_add_q31(veh, h->cos_delta, h->sin_delta, i, rfe_xf_mul(f.mfx, sd),
-                     rfe_xf_mul(f.mfy, sd), dm);
+        bm = body_map_q31(veh, h->cos_delta, h->sin_delta, i);
+        body_add_q31(&bm, f.dfx, f.dfy, dv);
+        body_add_q31(&bm, rfe_xf_mul(f.mfx, sd), rfe_xf_mul(f.mfy, sd), dm);
     }
+}
+
+/* Load-scaled set-up, Magic Formula curve: z = h(mu, u) of rfe_meas_eval_q31 and the sums of
+ * lateral_sums_q31 in one pass over the wheels, each wheel's curve (per direction two atan2
+ * and a sine) evaluated once for its forces and their derivatives: the same integers. The
+ * checks of eval_abs_q31, in its order. */
+static rfe_status_t lateral_magic_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh,
+                                      const rfe_tyre_params_q31_t *tp, const rfe_sample_q31_t *u,
+                                      const rfe_fix_t *mu, const rfe_fix_t *dmu,
+                                      rfe_fix_t z[RFE_MEAS], rfe_xf_t dv[2], rfe_xf_t dm[2],
+                                      uint32_t *count)
+{
+    rfe_fix_t col[COLS];
+    int cached;
+    size_t i;
+    if (rfe_tyre_abs_params_ok_q31(tp) == 0) {
+        return RFE_ERR_PARAM;
+    }
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        if (h->kin.fz[i] < 0) {
+            return RFE_ERR_RANGE;
+        }
+    }
+    cached = pre_matches_q31(h, tp);
+    for (i = 0u; i < 2u; ++i) {
+        dv[i] = rfe_xf_make(0, 0);
+        dm[i] = rfe_xf_make(0, 0);
+    }
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        const int32_t ci = (i < (size_t)RFE_RL) ? h->cos_delta : ONE_Q30;
+        const int32_t si = (i < (size_t)RFE_RL) ? h->sin_delta : 0;
+        const rfe_xf_t sd = rfe_xf_of(dmu[i], 30);
+        rfe_dugoff_pre_q31_t pre;
+        rfe_slip_dir_q31_t d;
+        rfe_tyre_jac_q31_t f;
+        body_map_q31_t bm;
+        rfe_fix_t fx = 0;
+        rfe_fix_t fy = 0;
+        jac_pre_q31(h, tp, cached, i, &pre);
+        d = vy_direction_q31(h, veh, tp, u, i, ci, si, pre.tan_a);
+        rfe_tyre_magic_pre_jac_q31(tp, &pre, h->kin.fz[i], mu[i], &d, &fx, &fy, count, &f);
+        body_terms_q31(veh, fx, fy, h->cos_delta, h->sin_delta, i, &col[i * (size_t)RFE_MEAS],
+                       count);
+        bm = body_map_q31(veh, h->cos_delta, h->sin_delta, i);
+        body_add_q31(&bm, f.dfx, f.dfy, dv);
+        body_add_q31(&bm, rfe_xf_mul(f.mfx, sd), rfe_xf_mul(f.mfy, sd), dm);
+    }
+    sum_terms_q31(col, z, count);
+    return RFE_OK;
 }
 
 rfe_status_t rfe_meas_lateral_jac_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh,
@@ -499,11 +576,17 @@ rfe_status_t rfe_meas_lateral_jac_q31(const rfe_meas_q31_t *h, const rfe_vehicle
     if (rfe_tyre_dugoff_params_ok_q31(tp) == 0) {
         return RFE_ERR_PARAM; /* paper mode's tangents need alpha_max; eval checks the rest */
     }
-    st = rfe_meas_eval_q31(h, veh, tp, mu, z, &count);
+    if ((h->mode != RFE_TYRE_PAPER) && (tp->mode == RFE_TYRE_MAGIC)) {
+        st = lateral_magic_q31(h, veh, tp, u, mu, dmu, z, dv, dm, &count);
+    } else {
+        st = rfe_meas_eval_q31(h, veh, tp, mu, z, &count);
+        if (st == RFE_OK) {
+            lateral_sums_q31(h, veh, tp, u, mu, dmu, dv, dm);
+        }
+    }
     if (st != RFE_OK) {
         return st;
     }
-    lateral_sums_q31(h, veh, tp, u, mu, dmu, dv, dm);
     for (r = 0u; r < 2u; ++r) {
         out->z[r] = z[r + 1u];
         out->d_vy[r] = rfe_xf_to_fix(dv[r], 24, &count);

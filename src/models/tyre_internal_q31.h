@@ -116,4 +116,14 @@ void rfe_tyre_pre_jac_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugoff_pre_
                           rfe_fix_t kappa, rfe_fix_t vwx, rfe_fix_t fz, rfe_fix_t mu,
                           const rfe_slip_dir_q31_t *d, rfe_tyre_jac_q31_t *out);
 
+/** Magic Formula mode (tp passed rfe_tyre_abs_params_ok_q31): the forces Fx, Fy (Q15) of
+ *  rfe_tyre_dugoff_abs_pre_q31 and the derivatives of rfe_tyre_pre_jac_q31 at friction @p mu
+ *  (Q29) and load @p fz (Q15, >= 0) from @p pre (rfe_tyre_dugoff_pre_q31), bit for bit, with
+ *  each direction's two atan2 and sine evaluated once for both (the observer's lateral rows);
+ *  one count in *sat per clamped force. */
+void rfe_tyre_magic_pre_jac_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugoff_pre_q31_t *pre,
+                                rfe_fix_t fz, rfe_fix_t mu, const rfe_slip_dir_q31_t *d,
+                                rfe_fix_t *fx, rfe_fix_t *fy, uint32_t *sat,
+                                rfe_tyre_jac_q31_t *out);
+
 #endif /* RFE_TYRE_INTERNAL_Q31_H */

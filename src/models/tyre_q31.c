@@ -851,6 +851,24 @@ static void dugoff_jac_q31(const rfe_dugoff_pre_q31_t *pre, int32_t kq, int32_t 
 /* pi/2 in Q55, round(pi/2 2^55). */
 #define HALF_PI_Q55 ((int64_t)56593902016227522)
 
+/* One direction's curve at m > 0, S > 0 (magic_phi_q31): phi (Q55), n = z 2^(l - 107) and
+ * G = sin phi (Q30), which the forces and their derivatives share. */
+typedef struct {
+    int64_t phi;
+    int64_t z;
+    int l;
+    int32_t g;
+} magic_dir_q31_t;
+
+static void magic_dir_q31(const rfe_dugoff_pre_q31_t *pre, int32_t m, int32_t C, int32_t E,
+                          magic_dir_q31_t *dir)
+{
+    dir->z = 0;
+    dir->l = 0;
+    dir->phi = magic_phi_q31(pre->s, (unsigned int)pre->qs, m, C, E, &dir->z, &dir->l);
+    dir->g = rfe_q31_sin_q55(dir->phi);
+}
+
 /* G / s of one direction (S > 0, m > 0) from G (Q30): G holds 30 bits of its value only where
  * it is not small, so below x = s / (m C) = 2^-8 the series G / s = (1 - ((1 + E) / 3 + C^2 /
  * 6) x^2) / m + O(x^4) (atan and sin to third order: relative error < x^4 < 2.4e-10) replaces
@@ -876,11 +894,12 @@ static rfe_xf_t magic_g_over_s_q31(rfe_xf_t g, rfe_xf_t s, rfe_xf_t mc, rfe_xf_t
  * magic_shape_jac): dG/ds = cos(C b) C (1 - E + E (mC)^2 / ((mC)^2 + s^2)) mC / ((mC)^2 +
  * n^2), cos(phi) = sin(pi/2 - phi) or -sin(phi - pi/2) (phi in [0, pi)), the sine's domain. */
 static rfe_xf_t magic_shape_jac_q31(const rfe_dugoff_pre_q31_t *pre, int32_t m, int32_t Cq,
-                                    int32_t Eq, rfe_xf_t *g_over_s, rfe_xf_t *g_s)
+                                    int32_t Eq, const magic_dir_q31_t *dir, rfe_xf_t *g_over_s,
+                                    rfe_xf_t *g_s)
 {
-    int64_t z = 0;
-    int l = 0;
-    const int64_t phi = magic_phi_q31(pre->s, (unsigned int)pre->qs, m, Cq, Eq, &z, &l);
+    const int64_t phi = dir->phi;
+    const int64_t z = dir->z;
+    const int l = dir->l;
     const int32_t c30 = (phi <= HALF_PI_Q55) ? rfe_q31_sin_q55(HALF_PI_Q55 - phi)
                                              : -rfe_q31_sin_q55(phi - HALF_PI_Q55);
     const rfe_xf_t one = rfe_xf_make(1, 0);
@@ -890,7 +909,7 @@ static rfe_xf_t magic_shape_jac_q31(const rfe_dugoff_pre_q31_t *pre, int32_t m, 
     const rfe_xf_t mc2 = rfe_xf_mul(mc, mc);
     const rfe_xf_t s = rfe_xf_of(pre->s, (int)pre->qs);
     const rfe_xf_t n = rfe_xf_make(z, l - 107);
-    const rfe_xf_t g = rfe_xf_of(rfe_q31_sin_q55(phi), 30);
+    const rfe_xf_t g = rfe_xf_of(dir->g, 30);
     const rfe_xf_t shape = rfe_xf_add(rfe_xf_sub(one, E),
                                       rfe_xf_div(rfe_xf_mul(E, mc2),
                                                  rfe_xf_add(mc2, rfe_xf_mul(s, s))));
@@ -906,7 +925,7 @@ static rfe_xf_t magic_shape_jac_q31(const rfe_dugoff_pre_q31_t *pre, int32_t m, 
  * dF/dmu = fz u (G - s G_s), with G du = (G / s) ((cx dk, cy dt) - u ds) (magic_g_over_s_q31). */
 static void magic_jac_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugoff_pre_q31_t *pre,
                           int32_t m, int32_t fz, const rfe_slip_dir_q31_t *d,
-                          rfe_tyre_jac_q31_t *o)
+                          const magic_dir_q31_t dir[2], rfe_tyre_jac_q31_t *o)
 {
     const rfe_xf_t zero = rfe_xf_make(0, 0);
     const rfe_xf_t fzx = rfe_xf_of(fz, 15);
@@ -931,8 +950,10 @@ static void magic_jac_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugoff_pre_
         rfe_xf_t gys;
         rfe_xf_t rx;
         rfe_xf_t ry;
-        const rfe_xf_t gx = magic_shape_jac_q31(pre, m, tp->shape_Cx, tp->shape_Ex, &rx, &gxs);
-        const rfe_xf_t gy = magic_shape_jac_q31(pre, m, tp->shape_Cy, tp->shape_Ey, &ry, &gys);
+        const rfe_xf_t gx =
+            magic_shape_jac_q31(pre, m, tp->shape_Cx, tp->shape_Ex, &dir[0], &rx, &gxs);
+        const rfe_xf_t gy =
+            magic_shape_jac_q31(pre, m, tp->shape_Cy, tp->shape_Ey, &dir[1], &ry, &gys);
         const rfe_xf_t ds = rfe_xf_add(rfe_xf_mul(ux, cdk), rfe_xf_mul(uy, cdt));
         o->dfx = rfe_xf_mul(fm, rfe_xf_add(rfe_xf_mul(rfe_xf_mul(gxs, ds), ux),
                                            rfe_xf_mul(rx, rfe_xf_sub(cdk, rfe_xf_mul(ux, ds)))));
@@ -943,6 +964,42 @@ static void magic_jac_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugoff_pre_
     }
 }
 
+/* Both directions' curves at m (Q29, >= 0), where the forces and derivatives use them (S > 0,
+ * m > 0); else zeros, unused. */
+static void magic_dirs_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugoff_pre_q31_t *pre,
+                           int32_t m, magic_dir_q31_t dir[2])
+{
+    const magic_dir_q31_t zero = {0, 0, 0, 0};
+    dir[0] = zero;
+    dir[1] = zero;
+    if ((pre->s != 0) && (m > 0)) {
+        magic_dir_q31(pre, m, tp->shape_Cx, tp->shape_Ex, &dir[0]);
+        magic_dir_q31(pre, m, tp->shape_Cy, tp->shape_Ey, &dir[1]);
+    }
+}
+
+void rfe_tyre_magic_pre_jac_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugoff_pre_q31_t *pre,
+                                rfe_fix_t fz, rfe_fix_t mu, const rfe_slip_dir_q31_t *d,
+                                rfe_fix_t *fx, rfe_fix_t *fy, uint32_t *sat,
+                                rfe_tyre_jac_q31_t *out)
+{
+    const int32_t m = (mu > 0) ? mu : 0;
+    magic_dir_q31_t dir[2];
+    magic_dirs_q31(tp, pre, m, dir);
+    *fx = 0;
+    *fy = 0;
+    if ((pre->s != 0) && (m != 0)) {
+        /* magic_forces_q31 with its two sines from dir */
+        const int64_t px = (int64_t)m * (int64_t)dir[0].g;
+        const int64_t py = (int64_t)m * (int64_t)dir[1].g;
+        const uint64_t wx = ((uint64_t)px + HALF_Q30) >> 30;
+        const uint64_t wy = ((uint64_t)py + HALF_Q30) >> 30;
+        *fx = rfe_fix_sat32(rfe_q31_mul64x32((int64_t)fz * (int64_t)wx, pre->ux, 59u), sat);
+        *fy = rfe_fix_sat32(rfe_q31_mul64x32((int64_t)fz * (int64_t)wy, pre->uy, 59u), sat);
+    }
+    magic_jac_q31(tp, pre, m, fz, d, dir, out);
+}
+
 void rfe_tyre_pre_jac_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugoff_pre_q31_t *pre,
                           rfe_fix_t kappa, rfe_fix_t vwx, rfe_fix_t fz, rfe_fix_t mu,
                           const rfe_slip_dir_q31_t *d, rfe_tyre_jac_q31_t *out)
@@ -951,7 +1008,9 @@ void rfe_tyre_pre_jac_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugoff_pre_
     const int32_t m = (mu > 0) ? mu : 0;
     rfe_xf_t f0[2];
     if (tp->mode == RFE_TYRE_MAGIC) {
-        magic_jac_q31(tp, pre, m, fz, d, out);
+        magic_dir_q31_t dir[2];
+        magic_dirs_q31(tp, pre, m, dir);
+        magic_jac_q31(tp, pre, m, fz, d, dir, out);
     } else if (tp->mode == RFE_TYRE_PAPER) {
         /* F = mu F0: dF = mu dF0, dF/dmu = F0 */
         const rfe_xf_t mux = rfe_xf_of(mu, (int)RFE_FIX_Q_MU);

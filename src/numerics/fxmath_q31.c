@@ -456,6 +456,12 @@ rfe_status_t rfe_fix_sincos(rfe_fix_t angle, rfe_fix_t *s, rfe_fix_t *c)
     if ((s == NULL) || (c == NULL)) {
         return RFE_ERR_NULL;
     }
+    if (angle == 0) {
+        /* what the CORDIC rounds to at 0 (a road's grade is mostly 0): its 40 steps saved */
+        *s = 0;
+        *c = (rfe_fix_t)1073741824; /* 2^30: 1 in Q30 (RFE_FIX_Q_TRIG) */
+        return RFE_OK;
+    }
     sincos_q61(angle, &c61, &s61);
     *s = q61_to_trig(s61);
     *c = q61_to_trig(c61);
@@ -473,6 +479,10 @@ rfe_status_t rfe_fix_tan(rfe_fix_t angle, rfe_fix_t *t)
     }
     if ((angle > RFE_FIX_TAN_LIMIT_Q29) || (angle < -RFE_FIX_TAN_LIMIT_Q29)) {
         return RFE_ERR_RANGE;
+    }
+    if (angle == 0) {
+        *t = 0; /* what the CORDIC's quotient rounds to at 0 (below): its 40 steps saved */
+        return RFE_OK;
     }
     /* |angle| <= 1.5 rad: cos >= 0.0707, so c61 >= 1.6e17 > 0 and s / c <= 14.2 (Q26 fits). */
     /* (sin can come out as -1e-12 instead of 0 at angle 0; its magnitude then rounds to 0.)

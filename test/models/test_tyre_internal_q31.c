@@ -212,11 +212,79 @@ static void test_tyre_pre_jac_no_slip_q31(void **state)
     }
 }
 
+/* The same xf value: mantissa and exponent. */
+static void assert_xf_equal(rfe_xf_t a, rfe_xf_t b)
+{
+    assert_int_equal(a.m, b.m);
+    assert_int_equal(a.e, b.e);
+}
+
+/* REQ: the Magic Formula's forces and derivatives from one evaluation of each direction's
+ * curve (rfe_tyre_magic_pre_jac_q31, the observer's lateral rows) are those of the two
+ * separate functions (rfe_tyre_dugoff_abs_pre_q31, rfe_tyre_pre_jac_q31), bit for bit, with
+ * the same saturation count: across slips, no slip (S = 0), friction above, at and below 0,
+ * and loads that saturate the forces. */
+/* REQ-MEAS-003 REQ-FXP-003 */
+static void test_tyre_magic_pre_jac_fused_q31(void **state)
+{
+    rfe_params_q31_t p = preset();
+    rfe_tyre_params_q31_t tp = p.tyre;
+    const rfe_fix_t kappas[5] = {0, (rfe_fix_t)(1 << 24), -(rfe_fix_t)(1 << 27),
+                                 (rfe_fix_t)(3 << 28), -(rfe_fix_t)(1 << 30)};
+    const rfe_fix_t alphas[4] = {0, (rfe_fix_t)(1 << 22), -(rfe_fix_t)(1 << 25),
+                                 (rfe_fix_t)(5 << 26)};
+    const rfe_fix_t mus[4] = {(rfe_fix_t)(1 << 28), (rfe_fix_t)(3 << 28), 0,
+                              -(rfe_fix_t)(1 << 27)};
+    const rfe_fix_t fzs[2] = {(rfe_fix_t)(4000 * (1 << 15)), RFE_FIX_MAX};
+    const rfe_fix_t vwx = (rfe_fix_t)(20 * (1 << 23));
+    rfe_slip_dir_q31_t d;
+    size_t a;
+    size_t b;
+    size_t j;
+    size_t k;
+    (void)state;
+    tp.mode = RFE_TYRE_MAGIC;
+    assert_int_equal(rfe_tyre_abs_params_ok_q31(&tp), 1);
+    d.k = rfe_xf_make(3, -7);
+    d.tan_a = rfe_xf_make(-5, -6);
+    d.vwx = rfe_xf_make(1, -1);
+    for (a = 0u; a < 5u; ++a) {
+        for (b = 0u; b < 4u; ++b) {
+            rfe_dugoff_pre_q31_t pre;
+            rfe_tyre_dugoff_pre_q31(&tp, kappas[a], alphas[b], vwx, &pre);
+            for (j = 0u; j < 4u; ++j) {
+                for (k = 0u; k < 2u; ++k) {
+                    rfe_tyre_jac_q31_t o1;
+                    rfe_tyre_jac_q31_t o2;
+                    rfe_fix_t fx1 = 1;
+                    rfe_fix_t fy1 = 1;
+                    rfe_fix_t fx2 = 2;
+                    rfe_fix_t fy2 = 2;
+                    uint32_t s1 = 0u;
+                    uint32_t s2 = 0u;
+                    rfe_tyre_dugoff_abs_pre_q31(&tp, &pre, mus[j], fzs[k], &fx1, &fy1, &s1);
+                    rfe_tyre_pre_jac_q31(&tp, &pre, kappas[a], vwx, fzs[k], mus[j], &d, &o1);
+                    rfe_tyre_magic_pre_jac_q31(&tp, &pre, fzs[k], mus[j], &d, &fx2, &fy2, &s2,
+                                               &o2);
+                    assert_int_equal(fx1, fx2);
+                    assert_int_equal(fy1, fy2);
+                    assert_int_equal(s1, s2);
+                    assert_xf_equal(o1.dfx, o2.dfx);
+                    assert_xf_equal(o1.dfy, o2.dfy);
+                    assert_xf_equal(o1.mfx, o2.mfx);
+                    assert_xf_equal(o1.mfy, o2.mfy);
+                }
+            }
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_tyre_internal_q31),
         cmocka_unit_test(test_tyre_pre_jac_no_slip_q31),
+        cmocka_unit_test(test_tyre_magic_pre_jac_fused_q31),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
