@@ -107,12 +107,26 @@ def test_differentiator_noise():
     assert abs(np.std(rd) - 0.053) <= 0.05 * 0.053
 
 
+# Bundled logs outside the premise of issue 16's targets below (the observer given the
+# simulator's own tyre, below the limit while steering), measured beta RMSE: asserted to fail
+# (strict), so a change that meets the targets there is seen.
+OUTSIDE_TARGETS = {
+    "ramp_steer_low_mu": "the ramp steer runs the tyres saturated on mu 0.3 for its last "
+                         "third while cornering: beta RMSE 0.61 deg",
+    "wrong_tyre_data": "the observer's tyre is the parameter file's, 30 % off the car's by "
+                       "construction: beta RMSE 0.36 deg",
+}
+
+
 def _pairs():
     out = []
     for f in sorted(glob.glob(os.path.join(SCEN, "*.nf.csv"))):
         noisy = f.replace(".nf.csv", ".csv")
         if os.path.exists(noisy):
-            out.append(pytest.param(noisy, f, id=os.path.basename(noisy)[:-4]))
+            name = os.path.basename(noisy)[:-4]
+            marks = ([pytest.mark.xfail(strict=True, reason=OUTSIDE_TARGETS[name])]
+                     if name in OUTSIDE_TARGETS else [])
+            out.append(pytest.param(noisy, f, id=name, marks=marks))
     return out
 
 

@@ -38,7 +38,7 @@ DEFAULT_RATE = 4000    # Hz, RK4 integration rate (40 sub-steps per log step)
 
 def run(sc: Scenario, tyre="dugoff", params=None, rate=DEFAULT_RATE, duration=None):
     """Simulate a scenario; returns the simulator output dict (vehicle.simulate)."""
-    params = Params() if params is None else params
+    params = sc.truth_params(Params() if params is None else params)  # truth tyre (scenarios.py)
     return simulate(sc.make_inputs(params), sc.mu, sc.v0, sc.duration if duration is None else duration,
                     params, tyre, DT, rate)
 
@@ -74,7 +74,8 @@ def add_noise(table, seed):
 
 
 def metadata(sc: Scenario, noise, tyre, params=None, rate=DEFAULT_RATE):
-    """(key, value) metadata pairs of a log, DATA.md `# key = value` lines."""
+    """(key, value) metadata pairs of a log, DATA.md `# key = value` lines.  params: the
+    vehicle's parameter file (default Params()), never the scenario's truth-tyre overrides."""
     params = Params() if params is None else params
     meta = [("scenario", sc.name), ("description", sc.description), ("dt", DT),
             ("seed", sc.seed if noise == "default" else "none"), ("noise", noise),
@@ -87,6 +88,9 @@ def metadata(sc: Scenario, noise, tyre, params=None, rate=DEFAULT_RATE):
              for c in NOISY_COLUMNS]
     meta += [("sim_integrator", "rk4"), ("sim_rate", rate), ("v0", sc.v0),
              ("duration", sc.duration)]
+    # A truth tyre unlike the parameter file (scenarios.py, wrong_tyre_data): the keys above
+    # keep the file's values; the truth's follow as information the estimator ignores.
+    meta += [(f"truth_{k}", v) for k, v in sc.truth]
     return meta
 
 

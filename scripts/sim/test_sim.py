@@ -222,9 +222,11 @@ def test_committed_logs(path):
     """Generated logs: model-matched, vx > 4 m/s, 100 Hz, noisy twin has the stated noise."""
     meta, cols = read_log_text(path.read_text())
     assert meta["truth_tyre"] == "dugoff" and meta["noise"] == "none"
-    p = Params(**{k: float(meta[k]) for k in ("m", "Lf", "Lr", "Bf", "Br", "R", "J", "hg",
-                                               "g", "Cx_n", "Cy_n", "eps", "v_min",
-                                               "alpha_max")})
+    # the truth tyre: the metadata's (parameter file's) values, or truth_* where the log's
+    # tyre is not its parameter file's (wrong_tyre_data)
+    p = Params(**{k: float(meta.get(f"truth_{k}", meta[k]))
+                  for k in ("m", "Lf", "Lr", "Bf", "Br", "R", "J", "hg", "g", "Cx_n", "Cy_n",
+                            "eps", "v_min", "alpha_max")})
     res = check_model_match(cols, p)
     # util = |mu F0| / (mu Fz) = |F0| / Fz for the Dugoff truth (every row)
     util = np.stack([cols[f"util_{w}"] for w in WHEELS], axis=1)
@@ -295,12 +297,38 @@ def test_scenario_definitions():
         "paper_low_mu_brake", "paper_high_mu_brake", "paper_mu_step", "split_mu_brake",
         "sine_steer_high_mu", "sine_steer_low_mu", "accel_low_mu", "brake_in_turn", "cruise",
         "hard_brake_high_mu", "hard_brake_low_mu", "mu_step_hard_brake",
-        "split_mu_hard_brake"]
+        "split_mu_hard_brake",
+        # issue 17
+        "double_lane_change_high_mu", "double_lane_change_low_mu", "ramp_steer_high_mu",
+        "ramp_steer_low_mu", "brake_in_turn_low_mu", "wrong_tyre_data"]
     assert len({s.seed for s in SCENARIOS}) == len(SCENARIOS)
     for s in SCENARIOS:
         assert "\n" not in s.description and s.duration == 10.0
         assert ("ABS active" in s.description) == (s.abs is not None)
-        assert s.closed_loop == ("hard_brake" in s.name)
+        assert s.closed_loop == ("hard_brake" in s.name or s.name.startswith("ramp_steer")
+                                 or s.name == "wrong_tyre_data")
+        assert bool(s.truth) == (s.name == "wrong_tyre_data")
+
+
+# REQ-SIM-002
+def test_wrong_tyre_data_metadata_is_the_parameter_file():
+    """The wrong-tyre-data log's metadata gives the parameter file's tyre (what the estimator
+    reads), every truth value 30 % off it, in truth_* lines the estimator ignores."""
+    sc = BY_NAME["wrong_tyre_data"]
+    truth = dict(sc.truth)
+    assert set(truth) == {"Cx_n", "cx", "Cy_n", "cy", "eps", "mf_Cx", "mf_Cy"}
+    for k, v in truth.items():
+        assert abs(abs(v / getattr(P, k) - 1.0) - 0.30) < 1e-12, k
+    for tyre in ("dugoff", "mf"):
+        meta = dict(sensors.metadata(sc, "default", tyre))
+        for k, v in truth.items():
+            if k in meta:
+                assert meta[k] == getattr(P, k), k
+            assert meta[f"truth_{k}"] == v
+    # the simulator runs the truth tyre: the MF shape keeps 1 < C < 2 (peak force mu*Fz)
+    tp = sc.truth_params(P)
+    assert 1.0 < tp.mf_Cx < 2.0 and 1.0 < tp.mf_Cy < 2.0
+    assert sc.truth_params(P).cx == 26.0 and BY_NAME["cruise"].truth_params(P) is P
 
 
 # ---------------------------------------------------------------------------------------

@@ -55,7 +55,8 @@ Q31_TOL = 0.005  # the requirement on |mu_q31 - mu_double| at settled samples (i
 
 # Scenario classes of the trustworthiness targets (docs/RESULTS.md): excited = the tyres
 # work near their limit; steering = cornering; never = friction is not observable (mild
-# braking, cruising, the moderate split-mu braking whose high side stays linear).
+# braking, cruising, the moderate split-mu braking whose high side stays linear); wrong tyre =
+# the car's tyre is not its parameter file's (stiffness and shape 30 % off, scenarios.py).
 CLASSES = {
     "hard_brake_high_mu": "excited", "hard_brake_low_mu": "excited",
     "mu_step_hard_brake": "excited", "split_mu_hard_brake": "excited",
@@ -64,6 +65,11 @@ CLASSES = {
     "brake_in_turn": "steering",
     "paper_low_mu_brake": "never", "paper_high_mu_brake": "never", "paper_mu_step": "never",
     "cruise": "never", "split_mu_brake": "never",
+    # issue 17's scenarios
+    "double_lane_change_high_mu": "steering", "double_lane_change_low_mu": "steering",
+    "ramp_steer_high_mu": "steering", "ramp_steer_low_mu": "steering",
+    "brake_in_turn_low_mu": "steering",
+    "wrong_tyre_data": "wrong tyre",
 }
 
 

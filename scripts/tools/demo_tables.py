@@ -24,7 +24,8 @@ TABLE_DOCS = {
          "float64 reference estimate logs (– without one)"),
         ("Δref q31 SCKF / CKF", "the same for the fixed-point estimator (--real q31)")]),
     "trust": ("Trustworthiness: default vs paper preset, both truth tyres", 4, [
-        ("class", "excited (tyres near their limit), steering, never (friction not observable)"),
+        ("class", "excited (tyres near their limit), steering, never (friction not observable), "
+         "wrong tyre (the car's tyre is not its parameter file's)"),
         ("truth", "the simulator's truth tyre: MF (Magic Formula) or Dugoff"),
         ("RMSE / max err fl/fr/rl/rr", "per wheel over the settled samples"),
         ("mean-μ RMSE", "RMSE of the four-wheel mean"),

@@ -6,7 +6,8 @@
 
 Runs the float64 reference of the default preset (scripts/reference/trusted.py, equal to the
 C double build to 1e-9) on every bundled log of both truth tyres (scenarios/*.csv: Dugoff
-truth, *.mf.csv Magic Formula truth, *.nf.csv noise-free Dugoff truth), on the fault logs
+truth, *.mf.csv Magic Formula truth, *.nf.csv noise-free Dugoff truth; a log whose metadata
+has truth_* lines, wrong_tyre_data, is a group of its own, never a clean one), on the fault logs
 (scenarios/faults/, except spike_ax_beyond_limit, whose samples the library refuses) and on
 the banked curves of scenarios/observer/ (measured velocities), recording each step's
 innovation; applies the monitor to the recorded run (it does not feed back), and runs the
@@ -45,16 +46,33 @@ SETTLE_START_S, SETTLE_AFTER_CHANGE_S, CHANGE_MIN = 1.0, 0.5, 1e-9   # mu_replay
 EXCITE_UTIL, CONSISTENCY_K = 0.5, 2.0                                 # mu_replay's
 TARGET_ERR, TARGET_CONS = 0.25, 0.9                                   # issue 17's targets
 VARIANTS = ("base", "cm_always", "cm_fired")
-CM_GROUPS = ("mf", "fault", "bank")   # covariance matching measured on these (run time)
+CM_GROUPS = ("mf", "wrong", "fault", "bank")   # covariance matching measured on these (run time)
 SKIP_FAULTS = faults.REFUSED_BY_LIBRARY   # beyond the input limits: the library refuses them
 OBSERVER_LOGS = ("bank_curve_neg5.mf.csv", "bank_curve_pos5.mf.csv", "bank_curve_neg5.csv")
 
 
+def wrong_tyre(path: Path) -> bool:
+    """Whether the log's truth tyre is not its parameter file's: `# truth_<key>` metadata
+    lines other than truth_tyre (scripts/sim/scenarios.py, wrong_tyre_data). Such a log is
+    never a clean one."""
+    with open(path, encoding="utf-8") as fh:
+        for line in fh:
+            if not line.startswith("#"):
+                return False
+            key = line[1:].partition("=")[0].strip()
+            if key.startswith("truth_") and key != "truth_tyre":
+                return True
+    return False
+
+
 def log_set(scen: Path) -> list[tuple[str, str, Path]]:
-    """(group, name, path): clean MF, Dugoff, noise-free Dugoff, faults, banked curves."""
+    """(group, name, path): clean MF, Dugoff, noise-free Dugoff, wrong tyre data (both truth
+    tyres, noisy and noise-free), faults, banked curves."""
     out = []
     for p in sorted(scen.glob("*.csv")):
         g = "mf" if p.name.endswith(".mf.csv") else "nf" if p.name.endswith(".nf.csv") else "dugoff"
+        if wrong_tyre(p):
+            g = "wrong"
         out.append((g, p.name[: -len(".csv")], p))
     for p in sorted((scen / "faults").glob("*.csv")):
         if not p.name.startswith(SKIP_FAULTS):
@@ -287,6 +305,7 @@ def main(argv=None) -> int:
         "clean": nis_table(clean_runs),
         "mf": trust_table([r for r in rows if r[0] == "mf"], ("without", "monitor")),
         "dugoff": trust_table([r for r in rows if r[0] in ("dugoff", "nf")], ("without", "monitor")),
+        "wrong": trust_table([r for r in rows if r[0] == "wrong"], ("without", "monitor")),
         "faults": trust_table([r for r in rows if r[0] in ("fault", "bank")], ("without", "monitor"),
                               onset=True),
         "cm": trust_table([r for r in rows], ("monitor + CM always", "monitor + CM fired")),
@@ -295,14 +314,15 @@ def main(argv=None) -> int:
     labels = ("without", "monitor", "monitor, white", "monitor, no warm-up", "monitor, no inflation",
               "monitor + CM always", "monitor + CM fired")
     for lab in labels:
-        for group in ("mf", "dugoff", "nf", "fault", "bank"):
+        for group in ("mf", "dugoff", "nf", "wrong", "fault", "bank"):
             fl = [dict(f)[lab] for f in summary.get(group, []) if lab in dict(f)]
             tot[(lab, group)] = (sum(meets(f) for f in fl), len(fl),
                                  max((f["mismatch"] for f in fl), default=0.0),
                                  max((f["fired_share"] for f in fl), default=0.0),
                                  sum(f["n_bad"] for f in fl))
-    groups = ("mf", "dugoff", "nf", "fault", "bank")
-    lines = ["| run | logs meeting both targets: MF / Dugoff / noise-free Dugoff / faults / banked | "
+    groups = ("mf", "dugoff", "nf", "wrong", "fault", "bank")
+    lines = ["| run | logs meeting both targets: MF / Dugoff / noise-free Dugoff / wrong tyre data / "
+             "faults / banked | "
              "(wheel, sample) pairs valid with error > 0.25, same order | largest share of steps "
              "in mismatch status on a clean MF log | largest share fired |",
              "|---|---|---|---|---|"]

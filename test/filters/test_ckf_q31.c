@@ -493,7 +493,10 @@ static void run_all_scenarios(rfe_tyre_mode_t tyre, const char *label)
         "accel_low_mu",      "brake_in_turn",   "cruise",        "hard_brake_high_mu",
         "hard_brake_low_mu", "mu_step_hard_brake", "paper_high_mu_brake", "paper_low_mu_brake",
         "paper_mu_step",     "sine_steer_high_mu", "sine_steer_low_mu", "split_mu_brake",
-        "split_mu_hard_brake"};
+        "split_mu_hard_brake",
+        /* issue 17 */
+        "double_lane_change_high_mu", "double_lane_change_low_mu", "ramp_steer_high_mu",
+        "ramp_steer_low_mu", "brake_in_turn_low_mu", "wrong_tyre_data"};
     static const char *const kinds[] = {".csv", ".mf.csv", ".nf.csv"};
     double min_var = 1.0;
     long fails = 0;

@@ -23,6 +23,21 @@
  *   paper's point) separates for ~0.5 s after the mu step while braking: up to 0.011 (0.017
  *   noise-free) where the filter's own sd is 0.04-0.05, 2.2 % (1.0 %) of estimates beyond
  *   2e-3, median 3e-5; the SCKF stays within 2e-3 there. The 97 % rule applies.
+ * - Issue 17's scenarios, measured when their goldens were written (float32 vs the reference):
+ *   - Float32 CKF, double_lane_change_high_mu (noisy): a known limit of the full-covariance
+ *     filter in float32, not a bug: in double the CKF equals the SCKF to 1e-9 on this log (the
+ *     SCKF-vs-CKF test below) and the float32 SCKF stays within 1.6e-5 of the reference, but
+ *     the float32 CKF, which forms and re-factors the covariance, separates during the first
+ *     lane change (t 1.26-2.09 s): up to 3.6e-3, 0.066 of the filter's own sd, 2.1 % of
+ *     estimates beyond 2e-3, median 9e-5, and merges again (1e-7 at the end). The 97 % rule
+ *     applies to that one comparison. The noise-free copy stays within 3.3e-5; the largest
+ *     CKF separation elsewhere is 1.65e-3 on wrong_tyre_data.nf (0.03 sd), which stays
+ *     frozen after the braking because nothing excites the filter any more: within 2e-3.
+ *   - Float32, absolute tyre mode (SCKF), as for the logs above: ramp_steer_low_mu (up to
+ *     9.1e-3 = 0.15 sd at t 3.5-3.8 s where the ramp crosses mu 0.3's limit, 0.32 % beyond
+ *     2e-3), wrong_tyre_data (2.8e-3 = 0.07 sd at t 0.9-1.0 s, 0.17 %) and
+ *     double_lane_change_low_mu (3.3e-3 = 0.05 sd, one estimate of 4004), each merging
+ *     again (median <= 3e-5): the 97 % rule.
  * - Default preset (docs/ESTIMATOR.md; goldens <stem>.default.sckf.csv, noisy logs): double
  *   1e-9 on mu and sd, exact statuses and valid flags (measured: <= 2e-14, no mismatch, on
  *   all 13 bundled scenarios). Float32: the information gate and the sd cap/floor are
@@ -50,7 +65,7 @@
 #define GOLDEN_DIR "scenarios/golden"
 #define SCENARIO_DIR "scenarios"
 #define SUFFIX ".paper.sckf.csv"
-#define MIN_SCENARIOS 13 /* the 13 bundled scenarios; fewer means files went missing */
+#define MIN_SCENARIOS 19 /* the 19 bundled scenarios; fewer means files went missing */
 
 /* Golden files actually compared by the last for_each_scenario() pass (optional goldens
  * exist for the noisy logs only, so the count is checked rather than each file). */
@@ -202,16 +217,19 @@ static int for_each_scenario(void (*fn)(const char *stem))
 }
 
 /* Logs where float32 separates transiently from the reference (see the tolerance notes at
- * the top): absolute mode where it cannot observe mu, or on the edge of ABS braking; the CKF
- * across a mu step while braking. */
+ * the top): absolute mode where it cannot observe mu, or on the edge of ABS braking or of
+ * the tyres' limit; the CKF across a mu step while braking and in a lane change on mu 0.9. */
 static int float_transient(const char *stem, rfe_tyre_mode_t tyre, rfe_filter_kind_t kind)
 {
     if (kind == RFE_FILTER_CKF) {
-        return strncmp(stem, "mu_step_hard_brake", 18) == 0;
+        return strncmp(stem, "mu_step_hard_brake", 18) == 0 ||
+               strcmp(stem, "double_lane_change_high_mu") == 0;
     }
     return (tyre == RFE_TYRE_ABSOLUTE) &&
            (strncmp(stem, "paper_high_mu_brake", 19) == 0 || strncmp(stem, "paper_mu_step", 13) == 0 ||
-            strncmp(stem, "hard_brake_low_mu", 17) == 0);
+            strncmp(stem, "hard_brake_low_mu", 17) == 0 ||
+            strcmp(stem, "ramp_steer_low_mu") == 0 || strcmp(stem, "wrong_tyre_data") == 0 ||
+            strcmp(stem, "double_lane_change_low_mu") == 0);
 }
 
 static void check_one(const char *stem, rfe_preset_t preset, rfe_tyre_mode_t tyre,
@@ -316,7 +334,7 @@ static void test_rfe_friction_default_matches_goldens(void **state)
 #endif
 #define MONITOR_DIR GOLDEN_DIR "/monitor"
 #define MONITOR_SUFFIX ".monitor.sckf.csv"
-#define MIN_MONITOR_LOGS 27 /* 13 noisy Magic Formula logs + 14 fault logs the library accepts */
+#define MIN_MONITOR_LOGS 33 /* 19 noisy Magic Formula logs + 14 fault logs the library accepts */
 
 static long n_mismatch_steps; /* steps the C run reported RFE_MODEL_MISMATCH (all logs) */
 

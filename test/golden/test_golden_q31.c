@@ -37,7 +37,10 @@ static const char *const STEMS[] = {
     "hard_brake_high_mu",  "hard_brake_low_mu",  "mu_step_hard_brake",
     "paper_high_mu_brake", "paper_low_mu_brake", "paper_mu_step",
     "sine_steer_high_mu",  "sine_steer_low_mu",  "split_mu_brake",
-    "split_mu_hard_brake"};
+    "split_mu_hard_brake",
+    /* issue 17's scenarios */
+    "double_lane_change_high_mu", "double_lane_change_low_mu", "ramp_steer_high_mu",
+    "ramp_steer_low_mu",   "brake_in_turn_low_mu", "wrong_tyre_data"};
 #define N_STEMS (sizeof STEMS / sizeof STEMS[0])
 
 static const char *const WHEEL[4] = {"fl", "fr", "rl", "rr"};

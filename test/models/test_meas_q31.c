@@ -62,11 +62,14 @@
 #define N_RANDOM 100000
 #define N_COLUMN_CASES 20000 /* per-wheel column cases */
 
-static const char *const SCENARIO[13] = {
+static const char *const SCENARIO[19] = {
     "accel_low_mu",       "brake_in_turn",      "cruise",          "hard_brake_high_mu",
     "hard_brake_low_mu",  "mu_step_hard_brake", "paper_high_mu_brake", "paper_low_mu_brake",
     "paper_mu_step",      "sine_steer_high_mu", "sine_steer_low_mu", "split_mu_brake",
-    "split_mu_hard_brake"};
+    "split_mu_hard_brake",
+    /* issue 17 */
+    "double_lane_change_high_mu", "double_lane_change_low_mu", "ramp_steer_high_mu",
+    "ramp_steer_low_mu", "brake_in_turn_low_mu", "wrong_tyre_data"};
 static const char *const VARIANT[3] = {"", ".mf", ".nf"};
 
 static rfe_params_t pd, pd_pap, pd_mag;     /* default (absolute mode), paper, default (magic) */
@@ -421,7 +424,7 @@ static void check_sample(const rfe_sample_q31_t *uq, const rfe_sample_t *ud, con
     }
 }
 
-/* REQ: every sample of every bundled log (13 scenarios x 3 truth variants): paper mode at the
+/* REQ: every sample of every bundled log (19 scenarios x 3 truth variants): paper mode at the
  * true mu, absolute and magic mode at the true mu and on the grid mu = 0, 0.1, ..., 1.2,
  * within the composed bounds; magic mode bit for bit the uncached chain. */
 /* REQ-FXP-003 REQ-MEAS-001 */
@@ -432,7 +435,7 @@ static void test_meas_q31_scenarios(void **state)
     reset(&w_paper);
     reset(&w_abs);
     reset(&w_mag);
-    for (s = 0; s < 13; ++s) {
+    for (s = 0; s < 19; ++s) {
         for (v = 0; v < 3; ++v) {
             char path[256], ctx[300];
             rfe_sensor_log_t log;
@@ -456,7 +459,7 @@ static void test_meas_q31_scenarios(void **state)
             rfe_sensor_log_free(&log);
         }
     }
-    printf("scenario samples: %zu (39 logs; load-scaled modes at the true mu and 13 grid values)\n",
+    printf("scenario samples: %zu (57 logs; load-scaled modes at the true mu and 13 grid values)\n",
            n);
     report(&w_paper);
     report(&w_abs);

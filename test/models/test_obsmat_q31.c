@@ -39,11 +39,14 @@
 #define LSB(q) ldexp(1.0, -(q))
 #define HMAX (2147483647.0 / 16777216.0) /* largest Q24 value */
 
-static const char *const SCENARIO[13] = {
+static const char *const SCENARIO[19] = {
     "accel_low_mu",       "brake_in_turn",      "cruise",          "hard_brake_high_mu",
     "hard_brake_low_mu",  "mu_step_hard_brake", "paper_high_mu_brake", "paper_low_mu_brake",
     "paper_mu_step",      "sine_steer_high_mu", "sine_steer_low_mu", "split_mu_brake",
-    "split_mu_hard_brake"};
+    "split_mu_hard_brake",
+    /* issue 17 */
+    "double_lane_change_high_mu", "double_lane_change_low_mu", "ramp_steer_high_mu",
+    "ramp_steer_low_mu", "brake_in_turn_low_mu", "wrong_tyre_data"};
 static const char *const VARIANT[3] = {"", ".mf", ".nf"};
 
 static rfe_params_t pd;
@@ -186,7 +189,7 @@ static void test_obsmat_q31_build_scenarios(void **state)
     reset(&w_h12);
     reset(&w_h3);
     assert_int_equal(rfe_params_paper_q31(&pap), RFE_OK);
-    for (s = 0; s < 13; ++s) {
+    for (s = 0; s < 19; ++s) {
         for (v = 0; v < 3; ++v) {
             char path[256], ctx[300];
             rfe_sensor_log_t log;
@@ -214,7 +217,7 @@ static void test_obsmat_q31_build_scenarios(void **state)
             rfe_sensor_log_free(&log);
         }
     }
-    printf("scenario samples: %zu (39 logs)\n", n);
+    printf("scenario samples: %zu (57 logs)\n", n);
     report(&w_h12);
     report(&w_h3);
 }

@@ -420,14 +420,17 @@ static void test_magic_q31_random(void **state)
 
 /* ---- the bundled logs against the double twin ----------------------------------------------- */
 
-static const char *const SCENARIO[13] = {
+static const char *const SCENARIO[19] = {
     "accel_low_mu",       "brake_in_turn",      "cruise",          "hard_brake_high_mu",
     "hard_brake_low_mu",  "mu_step_hard_brake", "paper_high_mu_brake", "paper_low_mu_brake",
     "paper_mu_step",      "sine_steer_high_mu", "sine_steer_low_mu", "split_mu_brake",
-    "split_mu_hard_brake"};
+    "split_mu_hard_brake",
+    /* issue 17 */
+    "double_lane_change_high_mu", "double_lane_change_low_mu", "ramp_steer_high_mu",
+    "ramp_steer_low_mu", "brake_in_turn_low_mu", "wrong_tyre_data"};
 static const char *const VARIANT[3] = {"", ".mf", ".nf"};
 
-/* REQ: on every sample of every bundled log (13 scenarios x 3 truth variants), at the log's
+/* REQ: on every sample of every bundled log (19 scenarios x 3 truth variants), at the log's
  * true mu and at mu = 0.2 and 1.0, the four-wheel q31 forces in magic mode (from the q31
  * kinematics) agree with the double twin rfe_tyre_magic_abs_f64 on the same inputs and
  * parameter values within the derived bound. */
@@ -447,7 +450,7 @@ static void test_magic_q31_scenarios_twin(void **state)
     td.shape_Ex = t.E[0];
     td.shape_Cy = t.C[1];
     td.shape_Ey = t.E[1];
-    for (s = 0; s < 13; ++s) {
+    for (s = 0; s < 19; ++s) {
         for (v = 0; v < 3; v += rfe_test_stride(3u)) {
             char path[256], ctx[300];
             rfe_sensor_log_t log;

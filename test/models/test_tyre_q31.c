@@ -79,12 +79,15 @@
 
 static const char *const WHEEL[4] = {"fl", "fr", "rl", "rr"};
 
-/* The 13 bundled scenarios, each as model truth, Magic-Formula truth and noise-free. */
-static const char *const SCENARIO[13] = {
+/* The 19 bundled scenarios, each as model truth, Magic-Formula truth and noise-free. */
+static const char *const SCENARIO[19] = {
     "accel_low_mu",       "brake_in_turn",      "cruise",          "hard_brake_high_mu",
     "hard_brake_low_mu",  "mu_step_hard_brake", "paper_high_mu_brake", "paper_low_mu_brake",
     "paper_mu_step",      "sine_steer_high_mu", "sine_steer_low_mu", "split_mu_brake",
-    "split_mu_hard_brake"};
+    "split_mu_hard_brake",
+    /* issue 17 */
+    "double_lane_change_high_mu", "double_lane_change_low_mu", "ramp_steer_high_mu",
+    "ramp_steer_low_mu", "brake_in_turn_low_mu", "wrong_tyre_data"};
 static const char *const VARIANT[3] = {"", ".mf", ".nf"};
 
 static rfe_params_t pd;     /* default preset in absolute tyre mode, double */
@@ -365,7 +368,7 @@ static void check_forces(const rfe_wheel_kin_q31_t *kq, const double mu[4], cons
     assert_int_equal(sat, 0u);
 }
 
-/* REQ: on every sample of every bundled log (13 scenarios x 3 truth variants) the q31
+/* REQ: on every sample of every bundled log (19 scenarios x 3 truth variants) the q31
  * kinematics and both tyre modes (at the log's true mu) agree with the double twin within the
  * derived bounds. */
 /* REQ-FXP-003 */
@@ -374,7 +377,7 @@ static void test_tyre_q31_scenarios(void **state)
     size_t s, v, r, n_logs = 0, n_rows = 0;
     (void)state;
     reset_all();
-    for (s = 0; s < 13; ++s) {
+    for (s = 0; s < 19; ++s) {
         for (v = 0; v < 3; ++v) {
             char path[256], ctx[300];
             rfe_sensor_log_t log;
@@ -402,7 +405,7 @@ static void test_tyre_q31_scenarios(void **state)
             rfe_sensor_log_free(&log);
         }
     }
-    assert_int_equal(n_logs, 39);
+    assert_int_equal(n_logs, 57);
     printf("scenario logs: %zu logs, %zu samples, 4 wheels each\n", n_logs, n_rows);
     report_all();
 }

@@ -587,7 +587,7 @@ static void sweep_file(const char *path, const cfg_t *c, size_t max_rows, sweep_
     rfe_sensor_log_free(&log);
 }
 
-/* REQ: after every step of every bundled scenario (39 logs: default noise, noise-free,
+/* REQ: after every step of every bundled scenario (57 logs: default noise, noise-free,
  * Magic Formula truth) and every fault-injection log, in the paper preset (SCKF, CKF) and
  * the default preset: the invariants hold, valid rows never fail, out-of-limits rows are
  * rejected without a trace. */
@@ -599,7 +599,7 @@ static void test_rfe_robust_every_step_of_every_scenario(void **state)
     const int vg = under_valgrind();
     (void)state;
     n = list_logs("scenarios", names, 128);
-    assert_true(n >= 39);
+    assert_true(n >= 57);
     n += list_logs("scenarios/faults", names + n, 160 - n);
     if (vg || ASAN_BUILD) {
         n = VG_FILES; /* see the file comment */

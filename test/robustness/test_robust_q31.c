@@ -4,7 +4,7 @@
  *        step (rfe_friction_step_q31) under every input class a Q format can carry, in the
  *        operating corners, with a huge prior, and the q31 invariants of
  *        test/support/invariants.h (the INV_Q31 block) after every step of every bundled log
- *        (the .csv of scenarios/, 39) and every fault log (the .csv of scenarios/faults/, 15).
+ *        (the .csv of scenarios/, 57) and every fault log (the .csv of scenarios/faults/, 15).
  *
  * Configurations (test/support/robust_gen.h, shared with the float twin): "paper.sckf",
  * "paper.ckf", "default.sckf" and, for the synthetic classes, "paper-absolute.sckf"; each
@@ -28,7 +28,7 @@
  * INV_Q31_CKF_SYM_LSB after an update) with Cholesky succeeding, sd > 0, valid in {0, 1};
  * the running saturation total grows by the step's count. Saturations are not failures (the
  * library counts them, docs/FIXED_POINT.md), they are printed per class; where a class must
- * have none (the 39 bundled logs, docs/FIXED_POINT.md "on all 39 bundled logs ... the count
+ * have none (the 57 bundled logs, docs/FIXED_POINT.md "on all 57 bundled logs ... the count
  * is 0"), that is asserted, and where the double twin's sd leaves the Q30 range (sd >= 2) the
  * q31 step must report a saturation (never silent).
  *
@@ -42,7 +42,7 @@
  *    TOL_SD_LSB = 4 LSB of Q30;
  *  - q31 vs the double twin (double estimator on the unrounded rows, as
  *    test_friction_q31.c) on the sweep: |mu_q31 - mu_double| <= TOL_B2B = 0.005 (the issue's
- *    requirement, which test_friction_q31.c asserts on the settled samples of the 39 logs;
+ *    requirement, which test_friction_q31.c asserts on the settled samples of the 57 logs;
  *    here on every row of every log, fault logs included, whose q31 run has no saturation;
  *    documented worst over all samples 4.6e-4, paper CKF) and statuses agreeing on >= 99 % of
  *    the rows. A run with saturations (e.g. an sd driven beyond Q30's 2) departs from the
@@ -99,14 +99,14 @@
 
 #define N_FIELDS 11
 #define VG_ROWS 300
-#define LIGHT_FILE_STRIDE 13 /* logs 0, 13, 26 (bundled), 39, 52 (fault logs) */
+#define LIGHT_FILE_STRIDE 13 /* logs 0, 13, 26, 39, 52 (bundled), 65 (a fault log) */
 #define VG_CORNER_STEPS 120
 #define SETTLE 300           /* as the float twin: the input filter's v-hat settles first */
 #define TOL_SD_CAP 1e-5
 #define TOL_SD_LSB 4.0
 #define TOL_B2B 0.005
 #define MIN_STATUS_AGREE 0.99
-#define N_BUNDLED 39
+#define N_BUNDLED 57
 #define N_FAULT_LOGS 15
 #define Q30_SD_MAX 2.0 /* sd beyond this does not fit Q30 */
 
@@ -887,7 +887,7 @@ static double sweep_file(const char *path, const cfg_t *c, size_t max_rows, swee
         s->dev_max = dev;
         snprintf(s->dev_log, sizeof(s->dev_log), "%s", path);
     }
-    if (is_bundled) { /* docs/FIXED_POINT.md: no saturation on the 39 bundled logs */
+    if (is_bundled) { /* docs/FIXED_POINT.md: no saturation on the 57 bundled logs */
         if (sat_log != 0u) {
             fail_msg("%s [%s]: %llu saturations on a bundled log", path, c->name,
                      (unsigned long long)sat_log);
@@ -914,7 +914,7 @@ static double sweep_file(const char *path, const cfg_t *c, size_t max_rows, swee
     return dev;
 }
 
-/* REQ: after every step of every bundled log (39) and every fault log (15), in the paper
+/* REQ: after every step of every bundled log (57) and every fault log (15), in the paper
  * preset (SCKF, CKF) and the default preset: the q31 invariants hold, valid rows never fail,
  * out-of-limits rows are rejected without a trace; no saturation on the bundled logs, every
  * sd beyond Q30 reported; q31 within TOL_B2B of the double twin where nothing saturated. */
