@@ -413,6 +413,16 @@ for real in float q31; do
         && grep -q '"bad_cells_ignored": {"cells": 3, "columns": "vx, vy, yaw_acc"},' "$TMP/cu.json" \
         && ok "cells_unused_$real: JSON" || bad "cells_unused_$real: JSON $(grep bad_cells "$TMP/cu.json" | tr '\n' ' ')"
 done
+# a used and an ignored bad cell on one line: --strict stops at the one further left (vx,
+# column 3, ignored; delta, column 2, used)
+printf "$VEH"'# dt = 0.01\nt,delta,vx,vy,yaw_rate,yaw_acc,ax,ay,omega_fl,omega_fr,omega_rl,omega_rr\n0,0,20,0,0,0,-2,0,60,60,60,60\n0.01,0,nan,0,0,0,nan,0,59.9,59.9,59.9,59.9\n0.02,0,19.98,0,0,0,0,0,59.9,59.9,59.9,59.9\n' >"$TMP/same_line.csv"
+run cells_same_line_ignored_first 0 --in "$TMP/same_line.csv" --out "$TMP/cu.csv" --velocity observer
+grep -q 'the first at line 12 column 7; ignored: 1 in the columns this run does not use (vx, vy, yaw_acc), the first at line 12 column 3 (--strict stops there)$' "$TMP/out" \
+    && ok "cells_same_line_ignored_first: strict at column 3" || bad "cells_same_line_ignored_first: $(grep '^bad' "$TMP/out")"
+sed 's/^0\.01,0,nan,0,0,0,nan,/0.01,nan,nan,0,0,0,0,/' "$TMP/same_line.csv" >"$TMP/same_line2.csv"
+run cells_same_line_used_first 0 --in "$TMP/same_line2.csv" --out "$TMP/cu.csv" --velocity observer
+grep -q 'the first at line 12 column 2 (--strict stops there); ignored: 1 in the columns this run does not use (vx, vy, yaw_acc), the first at line 12 column 3$' "$TMP/out" \
+    && ok "cells_same_line_used_first: strict at column 2" || bad "cells_same_line_used_first: $(grep '^bad' "$TMP/out")"
 # measured (auto): all of them used, none ignored
 run cells_used_measured 0 --in "$TMP/unused.csv" --out "$TMP/cu.csv" --metrics "$TMP/cu.json"
 grep -q 'empty 2, nan/inf 3, out of range 0; in 4 row(s), the first at line 5 column 3 (--strict stops there)$' "$TMP/out" \

@@ -1326,6 +1326,14 @@ static void test_meas_lateral_jac_q31_args(void **state)
     bad = q->tyre;
     bad.shape_Cx = 0;
     assert_int_equal(rfe_meas_lateral_jac_q31(&h, &q->vehicle, &bad, &uq, mu, sd, &o, &sat), RFE_ERR_PARAM);
+    /* a negative wheel load (a set-up corrupted by hand): refused as rfe_meas_eval_q31
+     * refuses it, in the Magic Formula's one-pass path too */
+    {
+        rfe_meas_q31_t neg = h;
+        neg.kin.fz[2] = -5;
+        assert_int_equal(rfe_meas_lateral_jac_q31(&neg, &q->vehicle, &q->tyre, &uq, mu, sd, &o, &sat),
+                         RFE_ERR_RANGE);
+    }
     assert_memory_equal(&o, &o0, sizeof(o));
     assert_int_equal(sat, 0u);
     /* other tyre parameters than the set-up's: the terms are recomputed, as a set-up with them */
