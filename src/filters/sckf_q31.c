@@ -643,23 +643,15 @@ rfe_status_t rfe_sckf_get_q31(const rfe_sckf_q31_t *f, rfe_fix_t *x, rfe_fix_t *
 
 rfe_status_t rfe_sckf_clamp_q31(rfe_sckf_q31_t *f, rfe_fix_t lo, rfe_fix_t hi, int *clamped)
 {
-    int moved = 0;
-    size_t i;
     if ((f == NULL) || (clamped == NULL)) {
         return RFE_ERR_NULL;
     }
     if (f->magic != RFE_MAGIC_SCKF_Q31) {
         return RFE_ERR_NOT_INITIALISED;
     }
-    if (lo > hi) {
+    if (lo > hi) { /* every Q value is finite */
         return RFE_ERR_RANGE;
     }
-    for (i = 0u; i < f->n; ++i) {
-        if ((f->x[i] < lo) || (f->x[i] > hi)) {
-            f->x[i] = rfe_fix_clamp(f->x[i], lo, hi);
-            moved = 1;
-        }
-    }
-    *clamped = moved;
+    *clamped = rfe_clamp_vec_q31(f->x, f->n, lo, hi);
     return RFE_OK;
 }

@@ -32,6 +32,22 @@ static inline int rfe_q31_within(rfe_fix_t v, rfe_fix_t lim)
     return ((v <= lim) && (v >= -lim)) ? 1 : 0;
 }
 
+/** Projects v[0..k) onto [lo, hi] (lo <= hi); returns 1 if any element moved. The twin of
+ *  numerics/internal.h's rfe_clamp_vec, so that the filters' mean projection
+ *  (rfe_sckf_clamp_q31, rfe_ckf_clamp_q31) is the float one's sequence on Q values. */
+static inline int rfe_clamp_vec_q31(rfe_fix_t *v, size_t k, rfe_fix_t lo, rfe_fix_t hi)
+{
+    size_t i;
+    int moved = 0;
+    for (i = 0u; i < k; ++i) {
+        if ((v[i] < lo) || (v[i] > hi)) {
+            v[i] = rfe_fix_clamp(v[i], lo, hi);
+            moved = 1;
+        }
+    }
+    return moved;
+}
+
 /** 2^s as an int64 multiplier (0 <= s <= 62): a left shift is a multiplication by it (no
  *  shift of a signed value). */
 static inline int64_t rfe_q31_pow2(unsigned int s)
