@@ -31,7 +31,8 @@ static size_t state_of(const rfe_friction_t *est, size_t w)
 }
 
 /* mu per wheel = T x. */
-static void to_wheels(const rfe_friction_t *est, const rfe_real_t *x, rfe_real_t mu[RFE_WHEELS])
+static void to_wheels(const rfe_friction_t *est, const rfe_real_t *x,
+                      rfe_real_t mu[RFE_WHEELS])
 {
     size_t w;
     for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
@@ -39,8 +40,8 @@ static void to_wheels(const rfe_friction_t *est, const rfe_real_t *x, rfe_real_t
     }
 }
 
-/* h(T x, u) for one cubature point; a point with mu < 0 is evaluated at mu = 0 by the
- * absolute tyre (MODEL.md §4). */
+/* h(T x, u) for one cubature point; a point with mu < 0 is evaluated at mu = 0
+ * by the load-scaled tyres (absolute Dugoff, MODEL.md §4; Magic Formula, docs/ESTIMATOR.md). */
 static rfe_status_t measure(void *ctx, const rfe_real_t *x, rfe_real_t *z, size_t n, size_t m)
 {
     /* cppcheck-suppress misra-c2012-11.5 ; MISRA-DEV-05: ctx is the est this file passes */
@@ -70,7 +71,10 @@ static rfe_status_t sqrt_prior(rfe_real_t d, rfe_real_t c, size_t n, rfe_real_t 
     return (c == RFE_R(0.0)) ? RFE_OK : rfe_chol_factor(P, n, n, F, n);
 }
 
-static rfe_status_t init_sckf(rfe_friction_t *est, const rfe_filter_params_t *fp, size_t n)
+/* The SCKF's prior: x0 = mu0, S0 and S_Q from sqrt_prior (sd0, q_mu with their common
+ * parts), S_R = diag(r_ax, r_ay, r_yaw_acc). */
+static rfe_status_t init_sckf(rfe_friction_t *est, const rfe_filter_params_t *fp,
+                              size_t n)
 {
     rfe_real_t x0[RFE_WHEELS];
     rfe_real_t S0[RFE_WHEELS * RFE_WHEELS];
@@ -195,8 +199,8 @@ static rfe_status_t check_sample(const rfe_sample_t *u)
     return sample_in_range(u);
 }
 
-/* Saves / restores what a step changes (filter mean and factor, input filter) so a failing
- * step changes nothing. */
+/* Saves / restores what a step changes (filter mean and factor, input filter; in float the
+ * monitor, in fixed point the saturation counters) so a failing step changes nothing. */
 static void backup(rfe_friction_t *est, int restore)
 {
     const rfe_filter_kind_t kind = est->params.filter.kind;
@@ -230,8 +234,10 @@ static void backup(rfe_friction_t *est, int restore)
 static int step_noise_active(const rfe_filter_params_t *fp)
 {
     const rfe_real_t zero = RFE_R(0.0);
-    return (fp->r_model_rel > zero) || (fp->sd_in_delta > zero) || (fp->sd_in_vx > zero) ||
-           (fp->sd_in_vy > zero) || (fp->sd_in_yaw_rate > zero) || (fp->sd_in_omega > zero);
+    return ((fp->r_model_rel > zero) || (fp->sd_in_delta > zero) || (fp->sd_in_vx > zero) ||
+            (fp->sd_in_vy > zero) || (fp->sd_in_yaw_rate > zero) || (fp->sd_in_omega > zero))
+               ? 1
+               : 0;
 }
 
 /* The monitor's step on this step's innovation (docs/MONITOR.md §2): S_zz repacked to ld
@@ -345,6 +351,30 @@ static rfe_status_t bound_sd(rfe_friction_t *est)
     return (scale != 0) ? rfe_sckf_scale(&est->filter.sckf, c) : RFE_OK;
 }
 
+/* Steps 3-6 when vx >= v_est_min: the measurement model of the sample, then the update
+ * (CKF) or the gated update with the step's S_R (SCKF). */
+static rfe_status_t measurement_step(rfe_friction_t *est, const rfe_sample_t *u,
+                                     int *updated)
+{
+    rfe_real_t y[RFE_MEAS];
+    rfe_status_t st;
+    y[0] = u->ax;
+    y[1] = u->ay;
+    y[2] = u->yaw_acc;
+    st = rfe_meas_setup(&est->meas, &est->params.vehicle, &est->params.tyre, u);
+    if (st == RFE_OK) {
+        if (est->params.filter.kind == RFE_FILTER_CKF) {
+            /* read only after a successful update; set before the call, which keeps the
+             * float step's stack on the Cortex-M4F as it was before this function */
+            *updated = 1;
+            st = rfe_ckf_update(&est->filter.ckf, measure, est, y);
+        } else {
+            st = sckf_measurement(est, u, y, updated);
+        }
+    }
+    return st;
+}
+
 /* Steps 1-8 after the input check. Returns the step's status or an error (the caller
  * rolls back). */
 static rfe_status_t filter_step(rfe_friction_t *est, const rfe_sample_t *sample)
@@ -362,24 +392,12 @@ static rfe_status_t filter_step(rfe_friction_t *est, const rfe_sample_t *sample)
     /* 2. Time update of the random walk: process callback NULL (identity). */
     if (st == RFE_OK) {
         st = (kind == RFE_FILTER_CKF) ? rfe_ckf_predict(&est->filter.ckf, NULL, NULL)
-                        : rfe_sckf_predict(&est->filter.sckf, NULL, NULL);
+                                      : rfe_sckf_predict(&est->filter.sckf, NULL, NULL);
     }
     /* 3. Below v_est_min (standstill, creeping, reversing) tyre forces carry no usable
      * friction information: time update only. 4-6 otherwise. */
     if ((st == RFE_OK) && (u.vx >= fp->v_est_min)) {
-        rfe_real_t y[RFE_MEAS];
-        y[0] = u.ax;
-        y[1] = u.ay;
-        y[2] = u.yaw_acc;
-        st = rfe_meas_setup(&est->meas, &est->params.vehicle, &est->params.tyre, &u);
-        if (st == RFE_OK) {
-            if (kind == RFE_FILTER_CKF) {
-                st = rfe_ckf_update(&est->filter.ckf, measure, est, y);
-                updated = 1;
-            } else {
-                st = sckf_measurement(est, &u, y, &updated);
-            }
-        }
+        st = measurement_step(est, &u, &updated);
         measured = 1;
     }
     /* 7. Bounds on the sd (SCKF; the CKF runs without them). */
@@ -396,7 +414,7 @@ static rfe_status_t filter_step(rfe_friction_t *est, const rfe_sample_t *sample)
 }
 
 /* Step 9 on the filter's state: mu = T x, sd = T (row norms of S); validity by the sd when
- * sd_valid > 0 (the monitor's effect not applied). */
+ * sd_valid > 0, never on a projection bound (the monitor's effect not applied). */
 static rfe_status_t filter_estimate(const rfe_friction_t *est, rfe_estimate_t *out)
 {
     rfe_real_t x[RFE_N_MAX];
@@ -517,7 +535,8 @@ static uint32_t gap_steps(const rfe_friction_t *est, uint32_t missed)
 }
 
 /* The gap's time updates (ESTIMATOR.md "Gaps"): gap_steps of the missed periods, step 7's
- * sd bounds once (SCKF), the input filter restarted. Its callers check and back up. */
+ * sd bounds once (SCKF), the input filter restarted. Its callers check, back up and (fixed
+ * point) settle the saturation counts. */
 static rfe_status_t gap_update(rfe_friction_t *est, uint32_t missed)
 {
     const uint32_t k = gap_steps(est, missed);

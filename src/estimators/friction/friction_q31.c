@@ -67,14 +67,13 @@ static void to_wheels_q31(const rfe_friction_q31_t *est, const rfe_fix_t *x,
                           rfe_fix_t mu[RFE_WHEELS])
 {
     size_t w;
-    for (w = 0u; w < NW; ++w) {
+    for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
         mu[w] = x[state_of_q31(est, w)];
     }
 }
 
 /* h(T x, u) for one cubature point (x Q29, z Q24); a point with mu < 0 is evaluated at mu = 0
- * by the load-scaled tyres (absolute Dugoff, MODEL.md §4; Magic Formula, docs/ESTIMATOR.md).
- * Its saturations go to the step's count. */
+ * by the load-scaled tyres (absolute Dugoff, MODEL.md §4; Magic Formula, docs/ESTIMATOR.md). */
 static rfe_status_t measure_q31(void *ctx, const rfe_fix_t *x, rfe_fix_t *z, size_t n, size_t m)
 {
     /* cppcheck-suppress misra-c2012-11.5 ; MISRA-DEV-05: ctx is the est this file passes */
@@ -83,6 +82,7 @@ static rfe_status_t measure_q31(void *ctx, const rfe_fix_t *x, rfe_fix_t *z, siz
     (void)n;
     (void)m;
     to_wheels_q31(est, x, mu);
+    /* its saturations go to the step's count (so est is not const here) */
     return rfe_meas_eval_q31(&est->meas, &est->params.vehicle, &est->params.tyre, mu, z,
                              &est->step_sat);
 }
@@ -156,6 +156,8 @@ static rfe_status_t square_into_q31(rfe_fix_t v, unsigned int s, rfe_fix_t *out)
     return (count != 0u) ? RFE_ERR_RANGE : RFE_OK;
 }
 
+/* The SCKF's prior: x0 = mu0, S0 and S_Q from sqrt_prior_q31 (sd0, q_mu with their common
+ * parts), S_R = diag(r_ax, r_ay, r_yaw_acc). */
 static rfe_status_t init_sckf_q31(rfe_friction_q31_t *est, const rfe_filter_params_q31_t *fp,
                                   size_t n)
 {
@@ -304,8 +306,8 @@ static rfe_status_t check_sample_q31(const rfe_sample_q31_t *u)
     return RFE_OK;
 }
 
-/* Saves / restores what a step changes (filter mean and factor, input filter) so a failing
- * step changes nothing; the filter's counter is 0 between steps, so restoring sets it to 0. */
+/* Saves / restores what a step changes (filter mean and factor, input filter; in float the
+ * monitor, in fixed point the saturation counters) so a failing step changes nothing. */
 static void backup_q31(rfe_friction_q31_t *est, int restore)
 {
     const rfe_filter_kind_t kind = est->params.filter.kind;
@@ -328,6 +330,7 @@ static void backup_q31(rfe_friction_q31_t *est, int restore)
     }
     if (restore != 0) {
         est->cond = est->backup_cond;
+        /* the filter's counter is 0 between steps, so restoring sets it to 0 */
         if (kind == RFE_FILTER_CKF) {
             est->filter.ckf.sat = 0u;
         } else {
@@ -342,8 +345,9 @@ static void backup_q31(rfe_friction_q31_t *est, int restore)
 /* Step 4 runs when any part of it is switched on. */
 static int step_noise_active_q31(const rfe_filter_params_q31_t *fp)
 {
-    return ((fp->r_model_rel > 0) || (fp->sd_in_delta > 0) || (fp->sd_in_vx > 0) ||
-            (fp->sd_in_vy > 0) || (fp->sd_in_yaw_rate > 0) || (fp->sd_in_omega > 0))
+    const rfe_fix_t zero = 0;
+    return ((fp->r_model_rel > zero) || (fp->sd_in_delta > zero) || (fp->sd_in_vx > zero) ||
+            (fp->sd_in_vy > zero) || (fp->sd_in_yaw_rate > zero) || (fp->sd_in_omega > zero))
                ? 1
                : 0;
 }
@@ -485,8 +489,10 @@ static rfe_status_t measurement_step_q31(rfe_friction_q31_t *est, const rfe_samp
                             &est->step_sat);
     if (st == RFE_OK) {
         if (est->params.filter.kind == RFE_FILTER_CKF) {
-            st = rfe_ckf_update_q31(&est->filter.ckf, measure_q31, est, y);
+            /* read only after a successful update; set before the call, which keeps the
+             * float step's stack on the Cortex-M4F as it was before this function */
             *updated = 1;
+            st = rfe_ckf_update_q31(&est->filter.ckf, measure_q31, est, y);
         } else {
             st = sckf_measurement_q31(est, u, y, updated);
         }
@@ -530,7 +536,8 @@ static rfe_status_t filter_step_q31(rfe_friction_q31_t *est, const rfe_sample_q3
                  ? rfe_ckf_clamp_q31(&est->filter.ckf, fp->mu_min, fp->mu_max, &clamped)
                  : rfe_sckf_clamp_q31(&est->filter.sckf, fp->mu_min, fp->mu_max, &clamped);
     }
-    /* The monitor on the innovation of a step that evaluated the model (SCKF, monitor on). */
+    /* The monitor on the innovation of a step that evaluated the model (SCKF, monitor on);
+     * the float twin runs it inside sckf_measurement, on the innovation it keeps there. */
     if ((st == RFE_OK) && (measured != 0) && (est->params.monitor.enable != 0u)) {
         st = rfe_friction_monitor_step_q31(est);
     }
@@ -567,7 +574,7 @@ static rfe_status_t filter_estimate_q31(const rfe_friction_q31_t *est, rfe_estim
              : rfe_sckf_get_q31(&est->filter.sckf, x, sd);
     /* 9. mu = T x, sd = T (row norms of S); validity by sd when sd_valid > 0, never on a
      * projection bound. */
-    for (w = 0u; w < NW; ++w) {
+    for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
         const size_t k = state_of_q31(est, w);
         const uint8_t sd_ok = ((sd_valid > 0) && (sd[k] <= sd_valid)) ? 1u : 0u;
         const uint8_t inside = ((x[k] > lo) && (x[k] < hi)) ? 1u : 0u;
@@ -641,9 +648,9 @@ static uint32_t gap_steps_q31(const rfe_friction_q31_t *est, uint32_t missed)
     return k;
 }
 
-/* The gap's time updates (friction_flt.c gap_update): gap_steps_q31 of the missed periods,
- * step 7's sd bounds once (SCKF), the input filter restarted. Its callers check, back up and
- * settle the saturation counts. */
+/* The gap's time updates (ESTIMATOR.md "Gaps"): gap_steps_q31 of the missed periods, step 7's
+ * sd bounds once (SCKF), the input filter restarted. Its callers check, back up and (fixed
+ * point) settle the saturation counts. */
 static rfe_status_t gap_update_q31(rfe_friction_q31_t *est, uint32_t missed)
 {
     const uint32_t k = gap_steps_q31(est, missed);
@@ -709,8 +716,7 @@ rfe_status_t rfe_friction_missed_q31(const rfe_friction_q31_t *est, rfe_fix_t pe
 }
 
 rfe_status_t rfe_friction_step_after_q31(rfe_friction_q31_t *est, uint32_t missed,
-                                         const rfe_sample_q31_t *sample,
-                                         rfe_estimate_q31_t *out)
+                                         const rfe_sample_q31_t *sample, rfe_estimate_q31_t *out)
 {
     rfe_status_t st;
     rfe_status_t got;
@@ -747,7 +753,7 @@ rfe_status_t rfe_friction_step_after_q31(rfe_friction_q31_t *est, uint32_t misse
     if (got != RFE_OK) {
         return got;
     }
-    for (i = 0u; i < NW; ++i) {
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
         out->valid[i] = rfe_friction_valid(st, sd_rule, out->valid[i]);
     }
     out->status = st;
