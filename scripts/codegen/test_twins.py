@@ -37,6 +37,14 @@ def write(root, rel, text):
         fh.write(text)
 
 
+def edit(root, rel, old, new):
+    """Replaces the one occurrence of old in root/rel (a C file or a template) by new."""
+    text = read(root, rel)
+    assert text.count(old) == 1, (rel, old)
+    write(root, rel, text.replace(old, new))
+    return text
+
+
 def test_committed_files_match_the_templates():
     assert twins.run() == []
     assert twins.main(["--check"]) == 0
@@ -61,10 +69,8 @@ def test_each_region_is_one_twin_of_a_pair():
 def test_a_hand_edit_inside_a_region_is_reported_and_make_twins_repairs_it(tmp_path, capsys):
     root, templates = copy_tree(tmp_path)
     rel = "src/estimators/friction/friction_q31.c"
-    text = read(root, rel)
     old = "    backup_q31(est, 0);\n    st = gap_update_q31(est, missed);\n"
-    assert text.count(old) == 1
-    write(root, rel, text.replace(old, "    st = gap_update_q31(est, missed);\n"))
+    text = edit(root, rel, old, "    st = gap_update_q31(est, missed);\n")
     problems = twins.run(root, templates)
     assert len(problems) == 1
     msg = problems[0]
@@ -81,21 +87,15 @@ def test_a_hand_edit_inside_a_region_is_reported_and_make_twins_repairs_it(tmp_p
 
 def test_an_edit_outside_the_regions_is_not_the_generators_business(tmp_path):
     root, templates = copy_tree(tmp_path)
-    rel = "src/estimators/friction/friction_flt.c"
-    text = read(root, rel)
-    write(root, rel, text.replace("#define NM ((size_t)RFE_N_MAX)",
-                                  "#define NM ((size_t)RFE_N_MAX) /* edited */"))
+    edit(root, "src/estimators/friction/friction_flt.c", "#define NM ((size_t)RFE_N_MAX)\n",
+         "#define NM ((size_t)RFE_N_MAX) /* edited */\n")
     assert twins.run(root, templates) == []
 
 
 def test_a_template_change_reaches_both_twins(tmp_path):
     root, templates = copy_tree(tmp_path)
-    path = os.path.join(templates, "friction_backup.c.in")
-    with open(path, encoding="utf-8") as fh:
-        text = fh.read()
     marker = "    size_t i;\n"
-    with open(path, "w", encoding="utf-8") as fh:
-        fh.write(text.replace(marker, marker + "    /* a new line, written once */\n", 1))
+    edit(templates, "friction_backup.c.in", marker, marker + "    /* a new line, written once */\n")
     problems = twins.run(root, templates)
     assert sorted(p.split(":")[0] for p in problems) == [
         "src/estimators/friction/friction_flt.c", "src/estimators/friction/friction_q31.c"]
@@ -110,11 +110,8 @@ def test_a_template_change_reaches_both_twins(tmp_path):
 
 def test_the_clamp_template_serves_four_functions(tmp_path):
     root, templates = copy_tree(tmp_path)
-    path = os.path.join(templates, "filter_clamp.c.in")
-    with open(path, encoding="utf-8") as fh:
-        text = fh.read()
-    with open(path, "w", encoding="utf-8") as fh:
-        fh.write(text.replace("    return RFE_OK;\n}", "    /* once */\n    return RFE_OK;\n}"))
+    edit(templates, "filter_clamp.c.in", "    return RFE_OK;\n}",
+         "    /* once */\n    return RFE_OK;\n}")
     assert twins.run(root, templates, write=True) == []
     for kind in ("sckf", "ckf"):
         for tw in ("flt", "q31"):
@@ -124,9 +121,8 @@ def test_the_clamp_template_serves_four_functions(tmp_path):
 def test_missing_and_stale_regions_are_reported(tmp_path):
     root, templates = copy_tree(tmp_path)
     rel = "src/models/meas_flt.c"
-    text = read(root, rel)
     begin = twins.begin_line("meas_input_slot.c.in")
-    write(root, rel, text.replace(begin, begin.replace("meas_input_slot", "meas_old_slot")))
+    edit(root, rel, begin, begin.replace("meas_input_slot", "meas_old_slot"))
     problems = twins.run(root, templates)
     assert any("region meas_old_slot is not in" in p for p in problems)
     assert any(p.startswith(rel + ": no region for meas_input_slot.c.in (input_slot)")
