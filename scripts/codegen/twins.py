@@ -127,6 +127,11 @@ TWINS = (
     + _pair("friction_step_after.c.in", FRICTION_FILES, FRICTION)
     + _pair("friction_step.c.in", FRICTION_FILES, FRICTION)
     + _pair("meas_input_slot.c.in", MEAS_FILES, MEAS)
+    + [("numerics_clamp_vec.c.in", path, twin, values) for twin, path, values in (
+        ("flt", "src/numerics/internal.h", {"sfx": "", "val_t": "rfe_real_t",
+                                            "clamp": "rfe_clamp"}),
+        ("q31", "src/numerics/internal_q31.h", {"sfx": "_q31", "val_t": "rfe_fix_t",
+                                                "clamp": "rfe_fix_clamp"}))]
     + [("filter_clamp.c.in", "src/filters/%s_%s.c" % (kind, twin), twin, _filter(kind, twin))
        for kind in ("sckf", "ckf") for twin in ("flt", "q31")]
 )
