@@ -47,7 +47,8 @@ TEST_GATES :=
 include $(sort $(filter-out mk/lib.mk,$(wildcard mk/*.mk)))
 
 .PHONY: trust-invariant names car-format-logs observer-goldens observer-goldens-q31 observer-results monitor-results all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind coverage demo goldens goldens-q31 scenarios observer-scenarios clean vectors shared-sync check-shared readme-table \
-        check-kernels check-tools layers help-check goldens-ref check-nofloat help deps-analysis misra tidy complexity structural analysis
+        check-kernels check-tools layers help-check goldens-ref check-nofloat help deps-analysis misra tidy complexity structural analysis \
+        twins check-twins
 ## the libraries and build/mu_replay (the default target)
 all: lib $(BUILD)/mu_replay
 ## the float, double and fixed-point libraries (build/{f32,f64,q31}/)
@@ -224,7 +225,7 @@ coverage: deps $(foreach f,cov-f32 cov-f64,$(addprefix $(BUILD)/$(f)/test/,$(UNI
 # make test: the installers first, then every check, TEST_JOBS of them side by side (they
 # share nothing but their common prerequisites, which make builds once); --output-sync
 # prints each check's output whole when it ends, so a long one (valgrind) is quiet a while.
-TEST_STEPS = lib check-tools layers names help-check check-shared check-nofloat misra tidy complexity structural test-c $(TEST_GATES) \
+TEST_STEPS = lib check-tools layers names help-check check-shared check-twins check-nofloat misra tidy complexity structural test-c $(TEST_GATES) \
              sanitize valgrind test-py check-kernels coverage
 TEST_JOBS ?= $(shell nproc 2>/dev/null || echo 1)
 ## every check, TEST_JOBS at a time (the README's test command)
@@ -336,6 +337,16 @@ goldens-ref: venv
 ## the dependency rules of src/ and include/rfe/ (docs/LAYOUT.md)
 layers:
 	@python3 scripts/checks/check_layers.py
+
+# The twins' shared sequences (docs/LAYOUT.md "What is generated from one source"): each is one
+# template in scripts/codegen/templates/, written into a marked region of the *_flt.c and
+# *_q31.c files; the committed C is what the compilers and the analysers read.
+## regenerate the twins' generated regions from scripts/codegen/templates/
+twins:
+	@python3 scripts/codegen/twins.py
+## every generated region of the twins equals its template's output (else: which, and make twins)
+check-twins:
+	@python3 scripts/codegen/twins.py --check
 
 # Every public symbol carries its type's suffix and is written out in a header, so grep finds
 # it (docs/LAYOUT.md "Names"): nm on the three libraries.
