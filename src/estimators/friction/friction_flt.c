@@ -216,24 +216,23 @@ static void backup(rfe_friction_t *est, int restore)
     rfe_real_t *x = (kind == RFE_FILTER_CKF) ? est->filter.ckf.x : est->filter.sckf.x;
     rfe_real_t *F = (kind == RFE_FILTER_CKF) ? est->filter.ckf.P : est->filter.sckf.S;
     size_t i;
-    for (i = 0u; i < NM; ++i) {
-        if (restore != 0) {
-            x[i] = est->backup_x[i];
-        } else {
-            est->backup_x[i] = x[i];
-        }
-    }
-    for (i = 0u; i < (NM * NM); ++i) {
-        if (restore != 0) {
-            F[i] = est->backup_S[i];
-        } else {
-            est->backup_S[i] = F[i];
-        }
-    }
+    /* one branch, then plain copies: the loops stay cheap where the step does not inline it */
     if (restore != 0) {
+        for (i = 0u; i < NM; ++i) {
+            x[i] = est->backup_x[i];
+        }
+        for (i = 0u; i < (NM * NM); ++i) {
+            F[i] = est->backup_S[i];
+        }
         est->cond = est->backup_cond;
         est->mon = est->backup_mon;
     } else {
+        for (i = 0u; i < NM; ++i) {
+            est->backup_x[i] = x[i];
+        }
+        for (i = 0u; i < (NM * NM); ++i) {
+            est->backup_S[i] = F[i];
+        }
         est->backup_cond = est->cond;
         est->backup_mon = est->mon;
     }
