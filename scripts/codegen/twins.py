@@ -101,6 +101,13 @@ def _filter(kind, twin):
     }
 
 
+VELOCITY = {
+    "flt": {"sfx": "", "obs_t": "rfe_velocity_t", "magic": "RFE_MAGIC_VEL"},
+    "q31": {"sfx": "_q31", "obs_t": "rfe_velocity_q31_t", "magic": "RFE_MAGIC_VEL_Q31"},
+}
+
+VELOCITY_FILES = {"flt": "src/estimators/velocity/velocity_flt.c",
+                  "q31": "src/estimators/velocity/velocity_q31.c"}
 FRICTION_FILES = {"flt": "src/estimators/friction/friction_flt.c",
                   "q31": "src/estimators/friction/friction_q31.c"}
 MEAS_FILES = {"flt": "src/models/meas_flt.c", "q31": "src/models/meas_q31.c"}
@@ -127,6 +134,7 @@ TWINS = (
     + _pair("friction_step_after.c.in", FRICTION_FILES, FRICTION)
     + _pair("friction_step.c.in", FRICTION_FILES, FRICTION)
     + _pair("meas_input_slot.c.in", MEAS_FILES, MEAS)
+    + _pair("velocity_restart.c.in", VELOCITY_FILES, VELOCITY)
     + [("numerics_clamp_vec.c.in", path, twin, values) for twin, path, values in (
         ("flt", "src/numerics/internal.h", {"sfx": "", "val_t": "rfe_real_t",
                                             "clamp": "rfe_clamp"}),
