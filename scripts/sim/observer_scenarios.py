@@ -44,7 +44,8 @@ from typing import Callable, Optional
 
 from .control import (DRIVE_SPLIT, AbsConfig, ObserverInputs, PathConfig, SpeedConfig,
                       TcsConfig, YawConfig)
-from .scenarios import KMH, ZERO4, Scenario, const, pulse, ramp, uniform_mu
+from .scenarios import (DLC_P, DLC_T, KMH, ZERO4, Scenario, const, double_lane_change, pulse,
+                        ramp, uniform_mu)
 
 __all__ = ["Road", "ObserverScenario", "OBSERVER_SCENARIOS", "OBS_BY_NAME", "SEED_BASE"]
 
@@ -194,21 +195,8 @@ def sine_with_dwell(amp, f=SWD_F, dwell=SWD_DWELL, t0=SWD_T0):
     return steer
 
 
-def double_lane_change(amp, period, t1, t2):
-    """Two one-period sine steering pulses (out at t1, back at t2, mirrored): the lateral
-    offset of a lane change each (ISO 3888-1-like, open loop)."""
-    def steer(t):
-        if t1 < t <= t1 + period:
-            return amp * sin(2.0 * pi * (t - t1) / period)
-        if t2 < t <= t2 + period:
-            return -amp * sin(2.0 * pi * (t - t2) / period)
-        return 0.0
-    return steer
-
-
 SWD_A_HIGH, SWD_A_LOW = 0.07, 0.03          # rad road-wheel angle (tuned: |beta| > 3 deg)
-DLC_A_HIGH, DLC_A_LOW, DLC_P = 0.08, 0.08, 1.6   # rad, rad, s
-DLC_T = (1.0, 3.4)
+DLC_A_HIGH, DLC_A_LOW = 0.08, 0.08            # rad (the period and pulse times: DLC_P, DLC_T)
 V_DLC_LOW = 60.0 * KMH
 
 

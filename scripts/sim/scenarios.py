@@ -102,6 +102,18 @@ def pulse(t, t_on, t_off, t_ramp, value):
     return ramp(t, t_on, t_ramp, value) - ramp(t, t_off, t_ramp, value)
 
 
+def double_lane_change(amp, period, t1, t2):
+    """Two one-period sine steering pulses (out at t1, back at t2, mirrored): the lateral
+    offset of a lane change each (ISO 3888-1-like, open loop)."""
+    def steer(t):
+        if t1 < t <= t1 + period:
+            return amp * sin(2.0 * pi * (t - t1) / period)
+        if t2 < t <= t2 + period:
+            return -amp * sin(2.0 * pi * (t - t2) / period)
+        return 0.0
+    return steer
+
+
 def const(value):
     return lambda t: value
 
@@ -215,18 +227,6 @@ WRONG_TYRE = (("Cx_n", 26.0), ("cx", 26.0), ("Cy_n", 10.5), ("cy", 10.5), ("eps"
 WT_V0, WT_MU, WT_A, WT_STEER_T, WT_T = 100.0 * KMH, 0.85, 0.03, (0.5, 4.5), (5.5, 8.0)
 
 
-def _dlc_steer(amp):
-    t1, t2 = DLC_T
-
-    def steer(t):
-        if t1 < t <= t1 + DLC_P:
-            return amp * sin(2.0 * pi * (t - t1) / DLC_P)
-        if t2 < t <= t2 + DLC_P:
-            return -amp * sin(2.0 * pi * (t - t2) / DLC_P)
-        return 0.0
-    return steer
-
-
 def _dlc(name, index, cfg):
     v0, mu, amp = cfg
     return Scenario(
@@ -235,7 +235,7 @@ def _dlc(name, index, cfg):
         f"delta = {_fmt(amp)} rad * sin(2*pi*(t-t1)/{_fmt(DLC_P)}) over one period from "
         f"t1 = {_fmt(DLC_T[0])} s, the mirror image from t2 = {_fmt(DLC_T[1])} s "
         f"(ISO 3888-1-like, open loop), no brake, no drive torque",
-        v0, 10.0, _dlc_steer(amp), const(ZERO4), const(ZERO4), uniform_mu(mu))
+        v0, 10.0, double_lane_change(amp, DLC_P, *DLC_T), const(ZERO4), const(ZERO4), uniform_mu(mu))
 
 
 def _ramp_steer(name, index, key):
