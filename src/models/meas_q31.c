@@ -180,6 +180,22 @@ static int pre_matches_q31(const rfe_meas_q31_t *h, const rfe_tyre_params_q31_t 
                : 0;
 }
 
+/* The load-scaled evaluation's checks, in their order: the tyre parameters, then no wheel
+ * with a negative load. */
+static rfe_status_t abs_inputs_ok_q31(const rfe_meas_q31_t *h, const rfe_tyre_params_q31_t *tp)
+{
+    size_t i;
+    if (rfe_tyre_abs_params_ok_q31(tp) == 0) {
+        return RFE_ERR_PARAM;
+    }
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        if (h->kin.fz[i] < 0) {
+            return RFE_ERR_RANGE;
+        }
+    }
+    return RFE_OK;
+}
+
 /* Load-scaled modes: forces at this mu (nonlinear in mu; the curve of tp->mode, as
  * rfe_tyre_forces_abs_q31 chooses it), then the same geometry as H's columns:
  * z_r = sum_i H_r,i(F(mu_i)) (MODEL.md §4-5). The checks of rfe_tyre_forces_abs_q31, in its
@@ -193,14 +209,11 @@ static rfe_status_t eval_abs_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_
     uint32_t count = 0u;
     int cached;
     size_t i;
+    rfe_status_t st;
 
-    if (rfe_tyre_abs_params_ok_q31(tp) == 0) {
-        return RFE_ERR_PARAM;
-    }
-    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
-        if (h->kin.fz[i] < 0) {
-            return RFE_ERR_RANGE;
-        }
+    st = abs_inputs_ok_q31(h, tp);
+    if (st != RFE_OK) {
+        return st;
     }
     cached = pre_matches_q31(h, tp);
     for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
@@ -480,6 +493,40 @@ static void body_add_q31(const body_map_q31_t *b, rfe_xf_t fx, rfe_xf_t fy, rfe_
     acc[1] = rfe_xf_add(acc[1], rfe_xf_sub(rfe_xf_mul(fby, b->px_J), rfe_xf_mul(fbx, b->py_J)));
 }
 
+/* Wheel i's Dugoff/Magic Formula pre-computed terms and its slip's direction of change by vy,
+ * for the lateral rows' derivatives. */
+static void wheel_dir_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh,
+                          const rfe_tyre_params_q31_t *tp, const rfe_sample_q31_t *u, int cached,
+                          size_t i, rfe_dugoff_pre_q31_t *pre, rfe_slip_dir_q31_t *d)
+{
+    const int32_t ci = (i < (size_t)RFE_RL) ? h->cos_delta : ONE_Q30;
+    const int32_t si = (i < (size_t)RFE_RL) ? h->sin_delta : 0;
+    jac_pre_q31(h, tp, cached, i, pre);
+    *d = vy_direction_q31(h, veh, tp, u, i, ci, si, pre->tan_a);
+}
+
+/* Adds wheel i's force derivatives, mapped to the body once, to the sums by vy (dv) and by
+ * its friction along dmu_i (dm). */
+static void wheel_add_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh, size_t i,
+                          const rfe_tyre_jac_q31_t *f, rfe_fix_t dmu_i, rfe_xf_t dv[2],
+                          rfe_xf_t dm[2])
+{
+    const rfe_xf_t sd = rfe_xf_of(dmu_i, 30);
+    const body_map_q31_t bm = body_map_q31(veh, h->cos_delta, h->sin_delta, i);
+    body_add_q31(&bm, f->dfx, f->dfy, dv);
+    body_add_q31(&bm, rfe_xf_mul(f->mfx, sd), rfe_xf_mul(f->mfy, sd), dm);
+}
+
+/* Both sums at 0. */
+static void zero_sums_q31(rfe_xf_t dv[2], rfe_xf_t dm[2])
+{
+    size_t i;
+    for (i = 0u; i < 2u; ++i) {
+        dv[i] = rfe_xf_make(0, 0);
+        dm[i] = rfe_xf_make(0, 0);
+    }
+}
+
 /* The derivatives' sums over the wheels (rfe_xf_t): by vy in dv, by mu along dmu in dm. */
 static void lateral_sums_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh,
                              const rfe_tyre_params_q31_t *tp, const rfe_sample_q31_t *u,
@@ -488,25 +535,15 @@ static void lateral_sums_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *v
 {
     const int cached = pre_matches_q31(h, tp);
     size_t i;
-    for (i = 0u; i < 2u; ++i) {
-        dv[i] = rfe_xf_make(0, 0);
-        dm[i] = rfe_xf_make(0, 0);
-    }
+    zero_sums_q31(dv, dm);
     for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
-        const int32_t ci = (i < (size_t)RFE_RL) ? h->cos_delta : ONE_Q30;
-        const int32_t si = (i < (size_t)RFE_RL) ? h->sin_delta : 0;
-        const rfe_xf_t sd = rfe_xf_of(dmu[i], 30);
         rfe_dugoff_pre_q31_t pre;
         rfe_slip_dir_q31_t d;
         rfe_tyre_jac_q31_t f;
-        body_map_q31_t bm;
-        jac_pre_q31(h, tp, cached, i, &pre);
-        d = vy_direction_q31(h, veh, tp, u, i, ci, si, pre.tan_a);
+        wheel_dir_q31(h, veh, tp, u, cached, i, &pre, &d);
         rfe_tyre_pre_jac_q31(tp, &pre, h->kin.kappa[i], h->kin.vwx[i], h->kin.fz[i], mu[i], &d,
                              &f);
-        bm = body_map_q31(veh, h->cos_delta, h->sin_delta, i);
-        body_add_q31(&bm, f.dfx, f.dfy, dv);
-        body_add_q31(&bm, rfe_xf_mul(f.mfx, sd), rfe_xf_mul(f.mfy, sd), dm);
+        wheel_add_q31(h, veh, i, &f, dmu[i], dv, dm);
     }
 }
 
@@ -523,37 +560,23 @@ static rfe_status_t lateral_magic_q31(const rfe_meas_q31_t *h, const rfe_vehicle
     rfe_fix_t col[COLS];
     int cached;
     size_t i;
-    if (rfe_tyre_abs_params_ok_q31(tp) == 0) {
-        return RFE_ERR_PARAM;
-    }
-    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
-        if (h->kin.fz[i] < 0) {
-            return RFE_ERR_RANGE;
-        }
+    const rfe_status_t st = abs_inputs_ok_q31(h, tp);
+    if (st != RFE_OK) {
+        return st;
     }
     cached = pre_matches_q31(h, tp);
-    for (i = 0u; i < 2u; ++i) {
-        dv[i] = rfe_xf_make(0, 0);
-        dm[i] = rfe_xf_make(0, 0);
-    }
+    zero_sums_q31(dv, dm);
     for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
-        const int32_t ci = (i < (size_t)RFE_RL) ? h->cos_delta : ONE_Q30;
-        const int32_t si = (i < (size_t)RFE_RL) ? h->sin_delta : 0;
-        const rfe_xf_t sd = rfe_xf_of(dmu[i], 30);
         rfe_dugoff_pre_q31_t pre;
         rfe_slip_dir_q31_t d;
         rfe_tyre_jac_q31_t f;
-        body_map_q31_t bm;
         rfe_fix_t fx = 0;
         rfe_fix_t fy = 0;
-        jac_pre_q31(h, tp, cached, i, &pre);
-        d = vy_direction_q31(h, veh, tp, u, i, ci, si, pre.tan_a);
+        wheel_dir_q31(h, veh, tp, u, cached, i, &pre, &d);
         rfe_tyre_magic_pre_jac_q31(tp, &pre, h->kin.fz[i], mu[i], &d, &fx, &fy, count, &f);
         body_terms_q31(veh, fx, fy, h->cos_delta, h->sin_delta, i, &col[i * (size_t)RFE_MEAS],
                        count);
-        bm = body_map_q31(veh, h->cos_delta, h->sin_delta, i);
-        body_add_q31(&bm, f.dfx, f.dfy, dv);
-        body_add_q31(&bm, rfe_xf_mul(f.mfx, sd), rfe_xf_mul(f.mfy, sd), dm);
+        wheel_add_q31(h, veh, i, &f, dmu[i], dv, dm);
     }
     sum_terms_q31(col, z, count);
     return RFE_OK;
