@@ -15,6 +15,7 @@
 
 #include "rfe/component/fxmath.h"
 
+#include "numerics/fxmath_internal_q31.h"
 #include "numerics/internal_q31.h"
 #include "numerics/xf_q31.h"
 #include "models/meas_inputs.h"
@@ -351,8 +352,7 @@ static void perturbed_sum_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *
     size_t i;
     size_t r;
     if (j == (size_t)RFE_IN_DELTA) {
-        const rfe_status_t st = rfe_fix_sincos(up->delta, &s, &c); /* every angle: no error */
-        (void)st;
+        rfe_q31_sincos_q29(up->delta, &s, &c); /* every angle */
     }
     for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
         rfe_fix_t *ci = &col[i * (size_t)RFE_MEAS];

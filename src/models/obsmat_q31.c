@@ -11,6 +11,7 @@
 
 #include "rfe/component/fxmath.h"
 
+#include "numerics/fxmath_internal_q31.h"
 #include "numerics/internal_q31.h"
 
 /* 1.0 in Q30, 2^30 (cos of an unsteered wheel). */
@@ -31,10 +32,7 @@ rfe_status_t rfe_obsmat_build_q31(const rfe_vehicle_q31_t *veh, rfe_fix_t delta,
     if ((veh == NULL) || (fx == NULL) || (fy == NULL) || (H == NULL) || (sat == NULL)) {
         return RFE_ERR_NULL;
     }
-    {
-        const rfe_status_t st = rfe_fix_sincos(delta, &s, &c); /* every angle: no error */
-        (void)st;
-    }
+    rfe_q31_sincos_q29(delta, &s, &c); /* every angle */
     /* x_i / J and y_i / J (MODEL.md §1 positions), Q38; |.| <= 2^31 as int64. */
     px_J[RFE_FL] = veh->lf_J;
     px_J[RFE_FR] = veh->lf_J;

@@ -68,22 +68,11 @@ static int32_t norm2(int32_t x, int32_t y, uint32_t *sat)
     return r;
 }
 
-/* atan2(y, x), Q29: every pair is in the domain. */
-static int32_t atan2_q(int32_t y, int32_t x)
-{
-    int32_t a = 0;
-    const rfe_status_t st = rfe_fix_atan2(y, x, &a);
-    (void)st;
-    return a;
-}
-
-/* tan(angle), Q26: |angle| <= alpha_max < 1.5 rad at the only call. */
+/* tan(angle), Q26: |angle| <= alpha_max < 1.5 rad at the only call (the domain of
+ * rfe_q31_tan_q29, whose ~2^-27 the tyre curves need, not the CORDIC's 2^-40). */
 static int32_t tan_q(int32_t angle)
 {
-    int32_t t = 0;
-    const rfe_status_t st = rfe_fix_tan(angle, &t);
-    (void)st;
-    return t;
+    return rfe_q31_tan_q29(angle);
 }
 
 /* ---- parameter checks ------------------------------------------------------------------- */
@@ -96,16 +85,11 @@ static int alpha_max_ok(const rfe_tyre_params_q31_t *tp)
 /* ---- kinematics (MODEL.md §3) ----------------------------------------------------------- */
 
 /* alpha = -atan2(v_wy, |v_wx|) of the Q51 wheel-centre velocity, clamped to +-alpha_max.
- * Both components are scaled by one common power of two to <= 2^30 (rounding: relative error
- * <= 2^-31 on the larger one), so the angle keeps its accuracy at any speed. */
+ * rfe_q31_atan2_q29 scales both components by one common power of two, so the angle keeps its
+ * accuracy (<= 3.59e-9 rad) at any speed. */
 static int32_t slip_angle(int64_t vwx, int64_t vwy, int32_t alpha_max)
 {
-    const uint64_t mx = rfe_q31_mag64(vwx);
-    const uint64_t my = rfe_q31_mag64(vwy);
-    const unsigned int sh = rfe_q31_norm_shift((mx > my) ? mx : my, 30u);
-    const int32_t xm = rfe_q31_shr_to32((int64_t)mx, sh);
-    const int32_t ym = rfe_q31_shr_to32(vwy, sh);
-    const int32_t a = atan2_q(ym, xm);
+    const int32_t a = rfe_q31_atan2_q29(vwy, (int64_t)rfe_q31_mag64(vwx)); /* |.| < 2^61 */
 
     /* |a| <= pi/2 in Q29 (x >= 0), so the negation cannot overflow. */
     return rfe_fix_clamp(-a, -alpha_max, alpha_max);
@@ -224,8 +208,7 @@ rfe_status_t rfe_tyre_kinematics_ex_q31(const rfe_vehicle_q31_t *veh,
         return RFE_ERR_PARAM;
     }
     {
-        const rfe_status_t st = rfe_fix_sincos(u->delta, &s, &c); /* every angle: no error */
-        (void)st;
+        rfe_q31_sincos_q29(u->delta, &s, &c); /* every angle */
     }
     for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
         extra->sat_vwx[i] = 0u;

@@ -737,3 +737,72 @@ int32_t rfe_q31_sin_q55(int64_t phi)
     /* g + 2^31 > 0 (G > -2^-32.64): rounded to Q30 */
     return (int32_t)(((uint64_t)g + ((uint64_t)1 << 31)) >> 32);
 }
+
+/* ---- the estimators' angle functions (fxmath_internal_q31.h) ------------------------------ */
+
+/* pi in Q31, round(pi 2^31) = round(6746518852.26). */
+#define PI_Q31 INT64_C(6746518852)
+
+/*
+ * atan2(y, x) in Q29 over the whole plane, from rfe_q31_atan2_quad1 on the magnitudes.
+ * Scaling: the magnitudes (|.| <= 2^62) are brought by one common shift to <= 2^30 (exact when
+ * both are already; otherwise each is rounded by <= 1/2 with the larger >= 2^29, which turns
+ * the vector by <= (sqrt(2)/2) 2^-29 = 1.317e-9 rad). The first-quadrant angle a (Q31, error
+ * <= 1.211e-9 rad) is mirrored to pi - a for x < 0 (pi in Q31, 0.26 2^-31 off), rounded half up
+ * to Q29 (<= 2^-30 = 9.31e-10) and signed by y. Total <= 1.317e-9 + 1.211e-9 + 9.31e-10 +
+ * 1.3e-10 = 3.59e-9 rad (1.93 LSB of Q29); 2.27e-9 when both |x|, |y| <= 2^30. The result is in
+ * [-round(pi 2^29), round(pi 2^29)]; (0, 0) -> 0, (0, x < 0) -> +pi.
+ */
+int32_t rfe_q31_atan2_q29(int64_t y, int64_t x)
+{
+    const uint64_t mx = rfe_q31_mag64(x);
+    const uint64_t my = rfe_q31_mag64(y);
+    const unsigned int sh = rfe_q31_norm_shift((mx > my) ? mx : my, 30u);
+    const uint32_t xs = (uint32_t)rfe_q31_shr_to32((int64_t)mx, sh); /* <= 2^30 */
+    const uint32_t ys = (uint32_t)rfe_q31_shr_to32((int64_t)my, sh);
+    int64_t a = (int64_t)rfe_q31_atan2_quad1(ys, xs); /* Q31, [0, pi/2] */
+
+    if (x < 0) {
+        a = PI_Q31 - a;
+    }
+    a = (a + 2) / 4; /* a >= 0: half up to Q29, <= round(pi 2^29) */
+    return (int32_t)((y < 0) ? -a : a);
+}
+
+/*
+ * sin and cos of every int32 angle in Q29 (|a| <= 4 rad), in Q30, from rfe_q31_sin_q55 on
+ * [0, pi]: with p = |a| in Q55 (exact),
+ *   sin p = sin_q55(p) for p <= pi, else -sin_q55(p - pi)  (p - pi <= 0.86 rad);
+ *   cos p = sin_q55(pi/2 - p) for p <= pi/2, else -sin_q55(p - pi/2)  (<= 2.43 rad <= pi);
+ * then sin takes the sign of a. pi and pi/2 in Q55 are 2^-56 off. Error <= 6.15e-10 + 2^-56
+ * < 6.16e-10 (0.66 LSB of Q30) each.
+ */
+void rfe_q31_sincos_q29(int32_t a, int32_t *s, int32_t *c)
+{
+    const int64_t p = ((a < 0) ? -(int64_t)a : (int64_t)a) * rfe_q31_pow2(26u); /* Q55, <= 2^57 */
+    const int32_t sm = (p <= PI_Q55) ? rfe_q31_sin_q55(p) : -rfe_q31_sin_q55(p - PI_Q55);
+
+    *c = (p <= HALF_PI_Q55) ? rfe_q31_sin_q55(HALF_PI_Q55 - p)
+                            : -rfe_q31_sin_q55(p - HALF_PI_Q55);
+    *s = (a < 0) ? -sm : sm;
+}
+
+/*
+ * tan(a) in Q26 for |a| <= 1.5 rad (Q29): s / c of the Q30 sine and cosine of |a| (each off by
+ * eps <= 6.16e-10, c >= cos 1.5 - eps > 0), exactly rounded (rfe_q31_div_round), signed by a.
+ * With s = sin + e1, c = cos + e2: s/c - tan = (e1 - tan e2) / c, so the error is
+ *   <= 2^-27 + eps (1 + |tan a|) / (cos a - eps),
+ * 8.1e-9 (0.54 LSB) at 0, 9.7e-9 at 0.9 rad, 3.2e-8 at 1.4 rad (tan 5.8), 1.39e-7 at 1.5 rad
+ * (tan 14.1); half a step of the Q29 input moves tan by (1 + tan^2) 2^-30, about as much
+ * (3.2e-8 at 1.4 rad, 1.86e-7 at 1.5 rad). |tan| <= 14.11 < 2^4: no saturation.
+ */
+int32_t rfe_q31_tan_q29(int32_t a)
+{
+    const int64_t p = ((a < 0) ? -(int64_t)a : (int64_t)a) * rfe_q31_pow2(26u); /* Q55 */
+    const int32_t s = rfe_q31_sin_q55(p);
+    const int32_t c = rfe_q31_sin_q55(HALF_PI_Q55 - p); /* >= 75.9e6 for |a| <= 1.5 rad */
+    uint32_t scratch = 0u;
+    const int32_t t = rfe_q31_div_round((int64_t)s * rfe_q31_pow2(26u), c, &scratch);
+
+    return (a < 0) ? -t : t;
+}

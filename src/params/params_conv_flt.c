@@ -103,7 +103,7 @@ static void conv_tyre(conv_t *c, const rfe_tyre_params_t *t, rfe_tyre_params_q31
     q->shape_Cy = to_q(c, (double)t->shape_Cy, RFE_FIX_Q_STIFF, 0);
     q->shape_Ey = to_q(c, (double)t->shape_Ey, RFE_FIX_Q_STIFF, 0);
     /* rfe_params_validate keeps alpha_max < 1.5 rad; the rounded value must stay below too
-     * (rfe_fix_tan's domain ends at 1.5 rad). */
+     * (the fixed-point tan's domain, RFE_FIX_TAN_LIMIT_Q29, ends at 1.5 rad). */
     if (q->alpha_max >= RFE_FIX_TAN_LIMIT_Q29) {
         c->bad = 1;
     }

@@ -305,7 +305,7 @@ static int tyre_mode_shape_ok_q31(const rfe_tyre_params_q31_t *t)
 
 static int tyre_ok_q31(const rfe_tyre_params_q31_t *t)
 {
-    /* alpha_max < 1.5 rad keeps tan(alpha) bounded and inside rfe_fix_tan's domain. */
+    /* alpha_max < 1.5 rad keeps tan(alpha) bounded and inside the fixed-point tan's domain (RFE_FIX_TAN_LIMIT_Q29). */
     return tyre_mode_shape_ok_q31(t) && is_pos_q31(t->Cx_n) && is_pos_q31(t->Cy_n) &&
            is_pos_q31(t->cx) && is_pos_q31(t->cy) && is_nonneg_q31(t->eps) &&
            is_pos_q31(t->v_min) && is_pos_q31(t->alpha_max) &&

@@ -53,11 +53,12 @@
 #include "rfe/component/params_conv.h"
 #include "models/tyre_internal_q31.h"
 #include "test_draws_q31.h"
+#include "q31_trig_bounds.h"
 #include "test_rng.h"
 
-#define TRIG 4.7e-10
-#define ATAN2 9.4e-10
-#define TAN 7.9e-9
+#define TRIG Q31B_TRIG
+#define ATAN2 Q31B_ATAN2
+#define TAN(a) q31b_tan(a)
 #define LSB(q) ldexp(1.0, -(q))
 #define N_RANDOM 100000
 #define N_COLUMN_CASES 20000 /* per-wheel column cases */
@@ -235,7 +236,7 @@ static double dugoff_bound(int paper, double kappa, double alpha, double fz, dou
     const double P = t->eps * v * slip;
     const double dE = (P < 2.0) ? deps * v * slip : 0.0;
     const double G = 2.0 + mue / C1;
-    double dt = TAN;
+    double dt = TAN(ac);
     if (fabs(alpha) >= amax - LSB(29)) {
         dt += (1.0 + tn * tn) * damax;
     }
@@ -281,7 +282,7 @@ static double magic_force_bound(const rfe_sample_t *u, const rfe_wheel_kin_t *kd
     const double tn = tan(fmin(fabs(kd->alpha[i]) + kb.alpha, t->alpha_max));
     const double eb = Kb * 0.71 * U + 0.505 * U + ((E != 0.0) ? (fabs(E) * 0.505 + 1.21) * U : 0.0);
     const double eG = C * eb + 0.7525 * U;
-    const double B = 0.5 * LSB(15) + fz * t->cy * TAN + fz * (1.0 + LSB(30)) * (m * eG + 0.5 * U) +
+    const double B = 0.5 * LSB(15) + fz * t->cy * TAN(atan(tn)) + fz * (1.0 + LSB(30)) * (m * eG + 0.5 * U) +
                      fz * (m * (0.88 * C * Kb + 3.75) * U + 10.0 * LSB(50)) + 1e-14 * fz * m;
     return B + 1.001 * (fz * t->cx * kb.kappa + fz * t->cy * (1.0 + tn * tn) * kb.alpha + m * kb.fz);
 }

@@ -6,7 +6,7 @@
  *        integer reference; determinism, saturation counting, argument checks.
  *
  * Setup: q31 with the converted default preset, double with the original one; both get the
- * same inputs (Q values converted exactly). LSBn = 2^-n; TRIG = 4.7e-10 (sin/cos, fxmath.h).
+ * same inputs (Q values converted exactly). LSBn = 2^-n; TRIG = 6.16e-10 (sin/cos, rfe_q31_sincos_q29: q31_trig_bounds.h).
  *
  * Bounds (obsmat_q31.c: the body-axis forces Fbx = Fx c - Fy s, Fby are exact int64 products
  * of the Q30 cos/sin; each entry is rounded once, row 3 after two Q30 roundings):
@@ -33,9 +33,10 @@
 #include "rfe/component/obsmat_q31.h"
 #include "rfe/component/params_conv.h"
 #include "rfe/component/tyre_q31.h"
+#include "q31_trig_bounds.h"
 #include "test_rng.h"
 
-#define TRIG 4.7e-10
+#define TRIG Q31B_TRIG
 #define LSB(q) ldexp(1.0, -(q))
 #define HMAX (2147483647.0 / 16777216.0) /* largest Q24 value */
 

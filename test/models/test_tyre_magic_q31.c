@@ -46,9 +46,10 @@
  *    psi |du| <= K_E s 2.71 2^-50 / S + m 2^-31 <= 7.35 K_E 2^-50 + 0.25 m U. Both cases:
  *    Fz (m (0.88 C K_b + 3.75) U + 10 K_E 2^-50);
  *  - the force rounded once to Q15: 0.5 LSB15.
- * Against the exact tan(alpha) the Q26 tangent (7.9e-9, fxmath.h) adds Fz K_E cy TAN.
+ * Against the exact tan(alpha) the Q26 tangent (rfe_q31_tan_q29, q31_trig_bounds.h: TAN(a) =
+ * 2^-27 + 6.16e-10 (1 + |tan a|) / (cos a - 6.16e-10)) adds Fz K_E cy TAN(a).
  * So, per direction,
- *   B_d = 0.5 LSB15 + Fz [K_E cy TAN] + Fz (1 + 2^-30)(m e_G + 0.5 U)
+ *   B_d = 0.5 LSB15 + Fz [K_E cy TAN(a)] + Fz (1 + 2^-30)(m e_G + 0.5 U)
  *         + Fz (m (0.88 C K_b + 3.75) U + 10 K_E 2^-50) + 1e-14 Fz m (the reference's own
  *         double rounding).
  * For the default tyre (cx = 20, cy = 15, C = 1.65 / 1.3, E = 0) at mu = 1, Fz = 5 kN, above
@@ -79,11 +80,11 @@
 #include "rfe/component/tyre_q31.h"
 #include "numerics/fxmath_internal_q31.h"
 #include "numerics/internal_q31.h"
+#include "q31_trig_bounds.h"
 #include "test_rng.h"
 #include "models/tyre_internal_q31.h"
 
 #define U_ ldexp(1.0, -29)
-#define TAN 7.9e-9
 #define EAT (5.2 * ldexp(1.0, -32)) /* rfe_q31_atan2_quad1 [rad] */
 #define ESIN 6.15e-10               /* rfe_q31_sin_q55 */
 #define LSB15 ldexp(1.0, -15)
@@ -152,7 +153,9 @@ static double k_b(double E) { return (E < 0.0) ? 1.0 - E : 1.0 / (1.0 - E); }
 
 /* The bound of direction d (file comment); exact_tan: against tan(alpha) (else at the Q26
  * tangent). */
-static double magic_bound(const mtp_t *t, int d, double fz, double mu, int exact_tan)
+/* tan_err: the Q26 tangent's error against the exact one (q31b_tan of the clamped angle), or 0
+ * against the Q26 tangent itself. */
+static double magic_bound(const mtp_t *t, int d, double fz, double mu, double tan_err)
 {
     const double m = fmax(mu, 0.0);
     const double C = t->C[d], E = t->E[d];
@@ -161,10 +164,7 @@ static double magic_bound(const mtp_t *t, int d, double fz, double mu, int exact
     const double eG = C * eb + ESIN;
     double b = 0.5 * LSB15 + fz * (1.0 + ldexp(1.0, -30)) * (m * eG + 0.5 * U_) +
                fz * (m * (0.88 * C * Kb + 3.75) * U_ + 10.0 * KE * ldexp(1.0, -50)) + 1e-14 * fz * m;
-    if (exact_tan) {
-        b += fz * KE * t->cy * TAN;
-    }
-    return b;
+    return b + fz * KE * t->cy * tan_err;
 }
 
 /* ---- worst-case tracking ---------------------------------------------------------------- */
@@ -240,11 +240,9 @@ static unsigned check_force(worst_t *w, int32_t got_q, double want, double bound
 /* The q31 tangent the tyre uses for alpha (Q29) clamped to +-alpha_max, as a double. */
 static double q_tan(const rfe_tyre_params_q31_t *tp, int32_t alpha)
 {
-    int32_t t = 0;
     const int32_t a = (alpha > tp->alpha_max) ? tp->alpha_max
                                               : ((alpha < -tp->alpha_max) ? -tp->alpha_max : alpha);
-    assert_int_equal(rfe_fix_tan(a, &t), RFE_OK);
-    return fromq(t, 26);
+    return fromq(rfe_q31_tan_q29(a), 26);
 }
 
 /* One wheel case through rfe_tyre_magic_abs_q31 against the formula (exact and Q26 tangent),
@@ -255,6 +253,7 @@ static void check_case(const rfe_tyre_params_q31_t *tp, int32_t kappa, int32_t a
 {
     const mtp_t t = mtp_of(tp);
     const double k = fromq(kappa, 30), a = fromq(alpha, 29), f = fromq(fz, 15), m = fromq(mu, 29);
+    const double a_err = q31b_tan(fmin(fabs(a), fromq(tp->alpha_max, 29)));
     double Fe[2], Fq[2];
     int32_t fq[2] = {SENT, SENT};
     uint32_t sat = 0u;
@@ -269,8 +268,8 @@ static void check_case(const rfe_tyre_params_q31_t *tp, int32_t kappa, int32_t a
         unsigned r;
         snprintf(ctx, sizeof(ctx), "%s k %.6g a %.6g fz %.6g mu %.6g C %.8g E %.8g", d ? "Fy" : "Fx",
                  k, a, f, m, t.C[d], t.E[d]);
-        r = check_force(&w_exact, fq[d], Fe[d], magic_bound(&t, d, f, m, 1), ctx);
-        (void)check_force(&w_qtan, fq[d], Fq[d], magic_bound(&t, d, f, m, 0), ctx);
+        r = check_force(&w_exact, fq[d], Fe[d], magic_bound(&t, d, f, m, a_err), ctx);
+        (void)check_force(&w_qtan, fq[d], Fq[d], magic_bound(&t, d, f, m, 0.0), ctx);
         may += r & 1u;
         must += (r >> 1) & 1u;
         /* |F_d| <= m Fz exactly (w <= m, |u_d| <= 1), plus the final rounding */
@@ -485,8 +484,8 @@ static void test_magic_q31_scenarios_twin(void **state)
                                                                 &F[1]),
                                          RFE_OK);
                         snprintf(ctx, sizeof(ctx), "%s row %zu wheel %zu mu %.3f", path, r, i, m);
-                        (void)check_force(&w_twin, fx[i], F[0], magic_bound(&t, 0, fz, m, 1), ctx);
-                        (void)check_force(&w_twin, fy[i], F[1], magic_bound(&t, 1, fz, m, 1), ctx);
+                        (void)check_force(&w_twin, fx[i], F[0], magic_bound(&t, 0, fz, m, q31b_tan(fmin(fabs(a), td.alpha_max))), ctx);
+                        (void)check_force(&w_twin, fy[i], F[1], magic_bound(&t, 1, fz, m, q31b_tan(fmin(fabs(a), td.alpha_max))), ctx);
                     }
                 }
                 assert_int_equal(sat, 0u);
@@ -525,10 +524,10 @@ static void test_magic_q31_mirror(void **state)
         assert_int_equal(rfe_tyre_magic_abs_q31(&tp, k, a, fz, 0, mu, &p[0], &p[1], &sat), RFE_OK);
         assert_int_equal(rfe_tyre_magic_abs_q31(&tp, k, -a, fz, 0, mu, &q[0], &q[1], &sat), RFE_OK);
         assert_int_equal(rfe_tyre_magic_abs_q31(&tp, -k, a, fz, 0, mu, &r[0], &r[1], &sat), RFE_OK);
-        assert_true(fabs(fromq(q[0], 15) - fromq(p[0], 15)) <= 2.0 * magic_bound(&t, 0, f, m, 0));
-        assert_true(fabs(fromq(q[1], 15) + fromq(p[1], 15)) <= 2.0 * magic_bound(&t, 1, f, m, 0));
-        assert_true(fabs(fromq(r[0], 15) + fromq(p[0], 15)) <= 2.0 * magic_bound(&t, 0, f, m, 0));
-        assert_true(fabs(fromq(r[1], 15) - fromq(p[1], 15)) <= 2.0 * magic_bound(&t, 1, f, m, 0));
+        assert_true(fabs(fromq(q[0], 15) - fromq(p[0], 15)) <= 2.0 * magic_bound(&t, 0, f, m, 0.0));
+        assert_true(fabs(fromq(q[1], 15) + fromq(p[1], 15)) <= 2.0 * magic_bound(&t, 1, f, m, 0.0));
+        assert_true(fabs(fromq(r[0], 15) + fromq(p[0], 15)) <= 2.0 * magic_bound(&t, 0, f, m, 0.0));
+        assert_true(fabs(fromq(r[1], 15) - fromq(p[1], 15)) <= 2.0 * magic_bound(&t, 1, f, m, 0.0));
         exact += (q[0] == p[0] && q[1] == -p[1] && r[0] == -p[0] && r[1] == p[1]) ? 1 : 0;
         ++total;
         assert_int_equal(sat, 0u);

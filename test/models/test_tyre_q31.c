@@ -14,8 +14,9 @@
  * two structs) and of the integer arithmetic. LSBn = 2^-n.
  *
  * Bounds (first order; the second-order terms are below 1e-13 of the values and are covered
- * by rounding each constant up). Primitive errors (fxmath.h, measured by test_fxmath_q31):
- * sin/cos 4.7e-10 (TRIG), atan2 9.4e-10 (ATAN2), tan 7.9e-9 (TAN).
+ * by rounding each constant up). Primitive errors (q31_trig_bounds.h: fxmath_internal_q31.h,
+ * measured by test_fxmath_q31): sin/cos 6.16e-10 (TRIG), atan2 2.27e-9 (ATAN2), tan at the
+ * angle a: 2^-27 + TRIG (1 + |tan a|) / (cos a - TRIG) (TAN(a)).
  *
  * Kinematics (tyre_q31.c keeps the body / wheel velocities in int64 Q51):
  *  - wheel velocity error dv = TRIG (|vbx| + |vby|) (front wheels: the rotation by delta)
@@ -36,7 +37,7 @@
  *    S = |(C1 k, C2 t)|, g = F/(Fz C k), and L < 1: g <= mu E / S <= G because S > mu (1-|k|)
  *    E / 2 and S >= C1 |k|; each of the three terms of d(C t g)/dt is bounded by C2 G or by
  *    mu eps v; L >= 1: C2 / (1 - |k|) <= C2 (1 + mu / (2 C1)) <= C2 G), times
- *    dt = TAN + (1 + t^2) d(alpha_max) when alpha is clamped;
+ *    dt = TAN(alpha) + (1 + t^2) d(alpha_max) when alpha is clamped;
  *  - the integer evaluation (tyre_q31.c): direction cosines C k / S, C t / S within 4 2^-30;
  *    E within 4 2^-30 plus the eps rounding d(eps) v slip (while eps v slip < 2); the magnitude
  *    w = mu E (1 - L/2) within (8.5 mu_e + 1) 2^-30 + 1.5 mu_e dE (L >= 1: smaller); so
@@ -66,11 +67,12 @@
 #include "rfe/component/params_conv.h"
 #include "rfe/component/tyre.h"
 #include "rfe/component/tyre_q31.h"
+#include "q31_trig_bounds.h"
 #include "test_rng.h"
 
-#define TRIG 4.7e-10
-#define ATAN2 9.4e-10
-#define TAN 7.9e-9
+#define TRIG Q31B_TRIG
+#define ATAN2 Q31B_ATAN2
+#define TAN(a) q31b_tan(a)
 #define LSB(q) ldexp(1.0, -(q))
 #define FMAX_N (2147483647.0 / 32768.0) /* largest Q15 force [N] */
 
@@ -275,7 +277,7 @@ static double dugoff_bound(int paper, double kappa, double alpha, double fz, dou
     const double P = t->eps * v * slip;
     const double dE = (P < 2.0) ? dp.eps * v * slip : 0.0;
     const double G = 2.0 + mue / C1;
-    double dt = TAN;
+    double dt = TAN(ac);
     if (fabs(alpha) >= amax - LSB(29)) {
         dt += (1.0 + tn * tn) * dp.alpha_max;
     }

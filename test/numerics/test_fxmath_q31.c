@@ -21,6 +21,16 @@
  *  - rfe_q31_sin_q55, Q30: 2^-31 final rounding + 2^-33 (table) + < 2^-35 (polynomial,
  *    arithmetic) = 6.15e-10, + ~1e-16 for libm sin (and the rounding of the Q55 angle to a
  *    double, < 2^-51 rad): TOL_SIN_Q55 = 6.15e-10 + 1e-15.
+ * The estimators' angle functions built on those two (fxmath_internal_q31.h):
+ *  - rfe_q31_atan2_q29, Q29: 1.211e-9 (rfe_q31_atan2_quad1) + 2^-30 (rounding to Q29) + 1.3e-10
+ *    (pi in Q31), + 1.317e-9 when an input exceeds 2^30 (the common scaling to 30 bits turns
+ *    the vector by <= (sqrt 2 / 2) 2^-29), + ~1e-15 for libm atan2 and the int64 -> double
+ *    conversion (relative 2^-53): TOL_ATAN2_Q29_SMALL = 2.27e-9, TOL_ATAN2_Q29 = 3.59e-9;
+ *  - rfe_q31_sincos_q29, Q30: rfe_q31_sin_q55's 6.15e-10 + 2^-56 (pi, pi/2 in Q55) + 1e-15:
+ *    TOL_SINCOS_Q29 = 6.16e-10;
+ *  - rfe_q31_tan_q29, Q26: 2^-27 (rounding) + eps (1 + |tan a|) / (cos a - eps) with
+ *    eps = 6.16e-10 (the quotient of a sine and a cosine each off by eps), + 1e-14 (libm):
+ *    tol_tan_q29(a), a bound per angle.
  * The measured worst cases are printed (docs/FIXED_POINT.md quotes them).
  */
 #include "test_common.h"
@@ -40,6 +50,9 @@
 #define TOL_TAN 7.9e-9
 #define TOL_ATAN2_Q1 (5.2 / 4294967296.0 + 1e-15)
 #define TOL_SIN_Q55 (6.15e-10 + 1e-15)
+#define TOL_ATAN2_Q29_SMALL 2.27e-9
+#define TOL_ATAN2_Q29 3.59e-9
+#define TOL_SINCOS_Q29 6.16e-10
 
 #define TEST_PI 3.14159265358979323846
 
@@ -1115,6 +1128,190 @@ static void test_sin_q55(void **state)
            sinq_worst, sinq_worst / LSB30, sinq_count, TOL_SIN_Q55);
 }
 
+/* ---- the estimators' atan2, sin/cos and tan (fxmath_internal_q31.h) -------------------------- */
+
+#define Q29_PI 1686629713    /* round(pi 2^29) = round(1686629713.07) */
+#define Q29_HALF_PI 843314857 /* round(pi/2 2^29) = round(843314856.53) */
+
+static double at29_worst = 0.0;
+static long at29_count = 0;
+
+static int32_t check_atan2_q29(int64_t y, int64_t x)
+{
+    const int32_t a = rfe_q31_atan2_q29(y, x);
+    const double want = ((x == 0) && (y == 0)) ? 0.0 : atan2((double)y, (double)x);
+    const double err = fabs((double)a * LSB29 - want);
+    const int small = (x <= (int64_t)TWO30) && (x >= -(int64_t)TWO30) && (y <= (int64_t)TWO30) &&
+                      (y >= -(int64_t)TWO30);
+    at29_worst = fmax(at29_worst, err);
+    ++at29_count;
+    ASSERT_LE(err, small ? TOL_ATAN2_Q29_SMALL : TOL_ATAN2_Q29, "atan2_q29");
+    assert_true((a >= -Q29_PI) && (a <= Q29_PI));
+    return a;
+}
+
+/* An int64 of random sign and bit length 0 .. 63 (|.| <= 2^62). */
+static int64_t rand_i62_log(void)
+{
+    const unsigned bits = rand_below(63u);
+    const int64_t v = (bits == 0u) ? 0 : (int64_t)(rand_u64() >> (64u - bits));
+    return (rand_u64() & 1u) ? -v : v;
+}
+
+/* REQ: rfe_q31_atan2_q29 (the kinematics' and the observer's atan2, Q29, whole plane) is
+ * within TOL_ATAN2_Q29_SMALL of libm when |x|, |y| <= 2^30 and TOL_ATAN2_Q29 up to 2^62: the
+ * axes exactly ((0, 0) -> 0, (0, x < 0) -> +pi, (y, 0) -> +-pi/2), odd in y, every pair in
+ * [-40, 40]^2, a dense angle grid around the circle at random radii, the edges of the
+ * scaling (2^30, 2^30 + 1, 2^62) and random pairs of log-uniform magnitudes; the result never
+ * leaves [-pi, pi]. */
+/* REQ-FXP-002 */
+static void test_atan2_q29(void **state)
+{
+    static const int64_t edge[] = {0, 1, -1, 2, 1000, -1000, (int64_t)1 << 29, (int64_t)TWO30,
+                                   -(int64_t)TWO30, (int64_t)TWO30 + 1, -((int64_t)TWO30 + 1),
+                                   INT32_MAX, INT32_MIN, (int64_t)1 << 62, -((int64_t)1 << 62),
+                                   ((int64_t)1 << 62) - 1};
+    const size_t ne = sizeof(edge) / sizeof(edge[0]);
+    size_t i;
+    size_t j;
+    long k;
+    int64_t x;
+    int64_t y;
+    (void)state;
+    at29_worst = 0.0;
+    at29_count = 0;
+    assert_int_equal(check_atan2_q29(0, 0), 0);
+    assert_int_equal(check_atan2_q29(0, 5), 0);
+    assert_int_equal(check_atan2_q29(0, -5), Q29_PI);
+    assert_int_equal(check_atan2_q29(0, -((int64_t)1 << 62)), Q29_PI);
+    assert_int_equal(check_atan2_q29(7, 0), Q29_HALF_PI);
+    assert_int_equal(check_atan2_q29(-7, 0), -Q29_HALF_PI);
+    for (i = 0; i < ne; ++i) {
+        for (j = 0; j < ne; ++j) {
+            const int32_t a = check_atan2_q29(edge[i], edge[j]);
+            if (edge[i] != 0) { /* odd in y off the negative x axis */
+                assert_int_equal(check_atan2_q29(-edge[i], edge[j]), -a);
+            }
+        }
+    }
+    for (y = -40; y <= 40; ++y) {
+        for (x = -40; x <= 40; ++x) {
+            (void)check_atan2_q29(y, x);
+        }
+    }
+    rng_seed(1313u);
+    for (k = 0; k < 262144; ++k) {
+        const double th = (2.0 * TEST_PI * (double)k) / 262144.0 - TEST_PI;
+        const double rad = ldexp(1.0, (int)rand_below(62u)) * (1.0 + 0.999 * fabs(rng_uniform()));
+        (void)check_atan2_q29((int64_t)fmax(fmin(rad * sin(th), 4.6e18), -4.6e18),
+                              (int64_t)fmax(fmin(rad * cos(th), 4.6e18), -4.6e18));
+    }
+    for (k = 0; k < 200000; ++k) {
+        (void)check_atan2_q29(rand_i62_log(), rand_i62_log());
+    }
+    printf("[fxmath] atan2_q29: max |err| = %.3e rad (%.4f LSB Q29) over %ld pairs, bound %.3e "
+           "(%.3e with |x|, |y| <= 2^30)\n",
+           at29_worst, at29_worst / LSB29, at29_count, TOL_ATAN2_Q29, TOL_ATAN2_Q29_SMALL);
+}
+
+static double sc29_worst = 0.0;
+static long sc29_count = 0;
+
+static void check_sincos_q29(int32_t a)
+{
+    int32_t s = 0;
+    int32_t c = 0;
+    const double ang = (double)a * LSB29;
+    double err;
+    rfe_q31_sincos_q29(a, &s, &c);
+    err = fmax(fabs((double)s * LSB30 - sin(ang)), fabs((double)c * LSB30 - cos(ang)));
+    sc29_worst = fmax(sc29_worst, err);
+    ++sc29_count;
+    ASSERT_LE(err, TOL_SINCOS_Q29, "sincos_q29");
+    assert_true((s >= -(1 << 30)) && (s <= (1 << 30)) && (c >= -(1 << 30)) && (c <= (1 << 30)));
+}
+
+/* REQ: rfe_q31_sincos_q29 (the kinematics' and the observer's sin and cos, Q30) is within
+ * TOL_SINCOS_Q29 of libm over every int32 angle: 0 (0 and 1 exactly), around each multiple of
+ * pi/2 (the branches of the reduction), the ends INT32_MIN and INT32_MAX, a dense grid over the
+ * whole range and random angles; the results never leave [-1, 1]. */
+/* REQ-FXP-002 */
+static void test_sincos_q29(void **state)
+{
+    /* the multiples of pi/2 inside +-4 rad */
+    static const int32_t mult[] = {0, Q29_HALF_PI, Q29_PI, -Q29_HALF_PI, -Q29_PI};
+    int32_t s = 1;
+    int32_t c = 0;
+    size_t i;
+    long k;
+    int d;
+    (void)state;
+    sc29_worst = 0.0;
+    sc29_count = 0;
+    rfe_q31_sincos_q29(0, &s, &c);
+    assert_int_equal(s, 0);
+    assert_int_equal(c, 1 << 30);
+    check_sincos_q29(INT32_MIN);
+    check_sincos_q29(INT32_MAX);
+    check_sincos_q29(INT32_MIN + 1);
+    for (i = 0; i < sizeof(mult) / sizeof(mult[0]); ++i) {
+        for (d = -4; d <= 4; ++d) {
+            check_sincos_q29(mult[i] + d);
+        }
+    }
+    for (k = -(1L << 19); k < (1L << 19); ++k) { /* every 2^12-th Q29 step over all int32 */
+        check_sincos_q29((int32_t)(k * 4096L + (long)rand_below(4096u)));
+    }
+    rng_seed(1414u);
+    for (k = 0; k < 200000; ++k) {
+        check_sincos_q29(rand_i32());
+    }
+    printf("[fxmath] sincos_q29: max |err| = %.3e (%.4f LSB Q30) over %ld angles, bound %.3e\n",
+           sc29_worst, sc29_worst / LSB30, sc29_count, TOL_SINCOS_Q29);
+}
+
+static double tan29_worst = 0.0; /* the largest error as a share of its bound */
+static long tan29_count = 0;
+
+static void check_tan_q29(int32_t a)
+{
+    const double ang = (double)a * LSB29;
+    const double t = tan(ang);
+    const double eps = TOL_SINCOS_Q29;
+    const double tol = ldexp(1.0, -27) + eps * (1.0 + fabs(t)) / (cos(ang) - eps) + 1e-14;
+    const int32_t q = rfe_q31_tan_q29(a);
+    const double err = fabs((double)q * LSB26 - t);
+    tan29_worst = fmax(tan29_worst, err / tol);
+    ++tan29_count;
+    ASSERT_LE(err, tol, "tan_q29");
+    assert_int_equal(rfe_q31_tan_q29(-a), -q); /* odd, bit for bit */
+}
+
+/* REQ: rfe_q31_tan_q29 (the kinematics' tan of a slip angle, Q26) is within its bound per
+ * angle, 2^-27 + eps (1 + |tan a|) / (cos a - eps), of libm over |a| <= 1.5 rad: 0 exactly, the
+ * ends of the domain, a dense grid and random angles; odd bit for bit. */
+/* REQ-FXP-002 */
+static void test_tan_q29(void **state)
+{
+    long k;
+    (void)state;
+    tan29_worst = 0.0;
+    tan29_count = 0;
+    assert_int_equal(rfe_q31_tan_q29(0), 0);
+    check_tan_q29(RFE_FIX_TAN_LIMIT_Q29);
+    check_tan_q29(RFE_FIX_TAN_LIMIT_Q29 - 1);
+    check_tan_q29(1);
+    for (k = 0; k <= (1L << 18); ++k) {
+        check_tan_q29((int32_t)(((int64_t)RFE_FIX_TAN_LIMIT_Q29 * k) >> 18));
+    }
+    rng_seed(1515u);
+    for (k = 0; k < 200000; ++k) {
+        check_tan_q29((int32_t)rand_below((unsigned)RFE_FIX_TAN_LIMIT_Q29 + 1u));
+    }
+    printf("[fxmath] tan_q29: max |err| / bound = %.3f over %ld angles\n", tan29_worst,
+           tan29_count);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1134,6 +1331,9 @@ int main(void)
         cmocka_unit_test(test_tan),
         cmocka_unit_test(test_atan2_quad1),
         cmocka_unit_test(test_sin_q55),
+        cmocka_unit_test(test_atan2_q29),
+        cmocka_unit_test(test_sincos_q29),
+        cmocka_unit_test(test_tan_q29),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

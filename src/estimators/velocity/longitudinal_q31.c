@@ -9,6 +9,7 @@
 
 #include "rfe/component/fxmath.h"
 
+#include "numerics/fxmath_internal_q31.h"
 #include "numerics/internal_q31.h"
 
 /* Wheel positions (MODEL.md §2), Q29: the twin of models/vehicle.h's rfe_wheel_positions. */
@@ -33,9 +34,7 @@ void rfe_vel_wheel_refs_q31(const rfe_vehicle_q31_t *veh, const rfe_velocity_inp
     rfe_fix_t sd = 0;
     rfe_fix_t cd = RFE_FIX_ONE(30);
     size_t i;
-    /* every int32 angle is in rfe_fix_sincos's domain; the pointers are not NULL */
-    const rfe_status_t st = rfe_fix_sincos(in->delta, &sd, &cd);
-    (void)st;
+    rfe_q31_sincos_q29(in->delta, &sd, &cd); /* every int32 angle */
     wheel_positions_q31(veh, px, py);
     for (i = 0u; i < RFE_WHEELS; ++i) {
         /* omega Q22 R Q29 -> Q23; r Q27 x Q29 -> Q23 */
@@ -173,9 +172,9 @@ static rfe_fix_t net_acc_q31(const rfe_vehicle_q31_t *veh, const rfe_velocity_in
 {
     rfe_fix_t sg = 0;
     rfe_fix_t cg = 0;
-    const rfe_status_t st = rfe_fix_sincos(in->grade, &sg, &cg); /* every angle: defined */
-    const rfe_fix_t a = rfe_fix_sub(in->ax, rfe_fix_mul(veh->g, sg, 30u, sat), sat);
-    (void)st;
+    rfe_fix_t a;
+    rfe_q31_sincos_q29(in->grade, &sg, &cg); /* every int32 angle */
+    a = rfe_fix_sub(in->ax, rfe_fix_mul(veh->g, sg, 30u, sat), sat);
     return rfe_fix_add(a, rfe_fix_mul(in->yaw_rate, vy_prev, 26u, sat), sat);
 }
 

@@ -13,6 +13,7 @@
 
 #include "estimators/velocity/velocity_internal_q31.h"
 #include "estimators/velocity/velocity_logic.h"
+#include "numerics/fxmath_internal_q31.h"
 #include "numerics/internal_q31.h"
 
 rfe_status_t rfe_velocity_init_q31(rfe_velocity_q31_t *obs, const rfe_velocity_params_q31_t *vp,
@@ -170,8 +171,7 @@ static void outputs_q31(const rfe_velocity_q31_t *obs, const rfe_velocity_input_
     const rfe_fix_t svy = sd_of_q31(obs->lat.p00, &sat);
     rfe_fix_t beta = 0;
     if (vx >= vmin) {
-        const rfe_status_t st = rfe_fix_atan2(vy, vx, &beta); /* every pair: defined */
-        (void)st;
+        beta = rfe_q31_atan2_q29(vy, vx); /* every pair */
     }
     e->vx = vx;
     e->vy = vy;
