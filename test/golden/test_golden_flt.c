@@ -33,6 +33,16 @@
  *     applies to that one comparison. The noise-free copy stays within 3.3e-5; the largest
  *     CKF separation elsewhere is 1.65e-3 on wrong_tyre_data.nf (0.03 sd), which stays
  *     frozen after the braking because nothing excites the filter any more: within 2e-3.
+ *     Since the float32 build's atan2 became rfe_atan2_f32 (numerics/internal.h; within
+ *     4.5e-7 rad of the exact angle, newlib's atan2f about 2.4e-7) the noisy wrong_tyre_data
+ *     CKF reaches 2.4e-3 (was 1.35e-3; 0.1 of the filter's sd 0.023 at t = 8.27 s), frozen the
+ *     same way; its SCKF stays within 2.5e-5. Which rounding the frozen CKF keeps is chance,
+ *     not accuracy: the 97 % rule applies to it too. The same change moved the absolute-mode
+ *     brake_in_turn_low_mu (ABS braking in a turn on mu 0.3, at the tyres' limit) from
+ *     1.6e-3 to 2.0e-3 at one step (t = 1.83 s, rear left, 0.02 of its sd 0.105) and the CKF's
+ *     double_lane_change_high_mu the other way (3.6e-3 -> 2.2e-3); across the 147 compared
+ *     runs the median change of the worst |dmu| is 0 %. brake_in_turn_low_mu's absolute run
+ *     takes the 97 % rule as well.
  *   - Float32, absolute tyre mode (SCKF), as for the logs above: ramp_steer_low_mu (up to
  *     9.1e-3 = 0.15 sd at t 3.5-3.8 s where the ramp crosses mu 0.3's limit, 0.32 % beyond
  *     2e-3), wrong_tyre_data (2.8e-3 = 0.07 sd at t 0.9-1.0 s, 0.17 %) and
@@ -223,13 +233,15 @@ static int float_transient(const char *stem, rfe_tyre_mode_t tyre, rfe_filter_ki
 {
     if (kind == RFE_FILTER_CKF) {
         return strncmp(stem, "mu_step_hard_brake", 18) == 0 ||
-               strcmp(stem, "double_lane_change_high_mu") == 0;
+               strcmp(stem, "double_lane_change_high_mu") == 0 ||
+               strcmp(stem, "wrong_tyre_data") == 0;
     }
     return (tyre == RFE_TYRE_ABSOLUTE) &&
            (strncmp(stem, "paper_high_mu_brake", 19) == 0 || strncmp(stem, "paper_mu_step", 13) == 0 ||
             strncmp(stem, "hard_brake_low_mu", 17) == 0 ||
             strcmp(stem, "ramp_steer_low_mu") == 0 || strcmp(stem, "wrong_tyre_data") == 0 ||
-            strcmp(stem, "double_lane_change_low_mu") == 0);
+            strcmp(stem, "double_lane_change_low_mu") == 0 ||
+            strcmp(stem, "brake_in_turn_low_mu") == 0);
 }
 
 static void check_one(const char *stem, rfe_preset_t preset, rfe_tyre_mode_t tyre,
