@@ -79,7 +79,7 @@ OUTPUT_NAMES = ("beta", "r", "vy", "Fy_f", "Fy_r") + PARAM_NAMES + \
     ("B_f", "B_r", "mu_f", "mu_r")
 
 # §6.3 purposes (counter word c2)
-P_INIT, P_PROCESS, P_RESAMPLE, P_AUX, P_ROUGH = 0, 1, 2, 3, 4
+P_INIT, P_PROCESS, P_RESAMPLE, P_ROUGH = 0, 1, 2, 4    # 3 reserved
 
 # §7 status bits
 ST_UPDATED, ST_RESAMPLED, ST_HELD, ST_FIRST, ST_LOST = 1, 2, 4, 8, 16
