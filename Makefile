@@ -48,7 +48,7 @@ include $(sort $(filter-out mk/lib.mk,$(wildcard mk/*.mk)))
 
 .PHONY: trust-invariant names car-format-logs observer-goldens observer-goldens-q31 observer-results monitor-results all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind coverage demo goldens goldens-q31 scenarios observer-scenarios clean vectors shared-sync check-shared readme-table \
         check-kernels check-tools layers help-check goldens-ref check-nofloat help deps-analysis misra tidy complexity structural analysis \
-        twins check-twins
+        twins check-twins tyre-id-scenarios tyre-id-results
 ## the libraries and build/mu_replay (the default target)
 all: lib $(BUILD)/mu_replay
 ## the float, double and fixed-point libraries (build/{f32,f64,q31}/)
@@ -321,6 +321,12 @@ scenarios: venv
 ## regenerate the velocity / sideslip observer logs (scenarios/observer/) with the simulator
 observer-scenarios: venv
 	$(PY) scripts/data/make_observer_scenarios.py --out scenarios/observer
+## regenerate the tyre identification logs (scenarios/tyre_id/, docs/TYRE_ID.md) with the simulator
+tyre-id-scenarios: venv
+	$(PY) scripts/data/make_tyre_id_scenarios.py --out scenarios/tyre_id
+## measure the reference tyre identifier and write the tables of docs/TYRE_ID_RESULTS.md
+tyre-id-results: venv
+	$(PY) scripts/tools/tyre_id_results.py --jobs 2 --page docs/TYRE_ID_RESULTS.md
 ## rewrite observer scenarios in a car logger's format (scenarios/car_format/, DATA.md)
 car-format-logs: venv
 	$(PY) scripts/data/make_car_format_logs.py --src scenarios/observer --out scenarios/car_format

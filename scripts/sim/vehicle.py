@@ -62,6 +62,14 @@ checked by one plain fixed-point evaluation.  The logged ax, ay are sum F/m eval
 the converged loads, so an estimator that computes loads from the logged ax, ay with the
 MODEL.md formula reproduces the forces (and ax, ay, r_dot) to rounding.
 
+Tyre per wheel and over time (optional, ``tyre_map``; off by default, and then every wheel
+uses ``p``'s tyre parameters as always).  tyre_map(t) returns four Params, one per wheel
+(fl, fr, rl, rr), whose tyre keys (cx, cy, mf_*, ...) the truth tyre of that wheel uses at
+time t: front and rear tyres that differ, or a tyre whose curve changes mid-log (issue 20's
+tyre identification scenarios, scripts/data/make_tyre_id_scenarios.py).  The vehicle keys
+(m, Lf, ..., v_min, alpha_max) are always ``p``'s.  A change in time is a step of the
+right-hand side; a scenario puts it on a log instant.
+
 Integration: classical RK4 with a fixed sub-step (Params-independent setting `rate`,
 default 4 kHz = 40 sub-steps per 0.01 s log step).  The wheel-spin mode has an
 eigenvalue of about -R^2*Cx*Fz/(Iw*v) (~ -1900 1/s at 4 m/s on mu 0.85), which RK4 at
@@ -181,12 +189,14 @@ class Vehicle:
     """Derivative function of the 11-element state
     [vx, vy, r, omega_fl, omega_fr, omega_rl, omega_rr, s, psi, X, Y]."""
 
-    def __init__(self, p, tyre, inputs, mu_map, road=None, v_low=None):
+    def __init__(self, p, tyre, inputs, mu_map, road=None, v_low=None, tyre_map=None):
         """inputs(t) -> (delta, (p_fl..p_rr) MPa, (T_fl..T_rr) N m);
         mu_map(x_road, left) -> mu under a wheel at road position x_road (CoG path
         distance + the wheel's x offset) on the left (True) or right (False) side;
         road: None (flat) or an object with grade(s), bank(s) [rad] of the CoG path
-        distance s (module docstring for the signs); v_low: low-speed slip floor or None."""
+        distance s (module docstring for the signs); v_low: low-speed slip floor or None;
+        tyre_map: None (p's tyre on every wheel) or t -> four Params (module docstring)."""
+        self.tyre_map = tyre_map
         self.road = road
         self.v_low = v_low
         self.p = p
@@ -242,8 +252,9 @@ class Vehicle:
         vwx, kappa, alpha = wheel_slips(p, delta, vx, vy, r, omega, self.v_low)
         c, sn = cos(delta), sin(delta)
         fx, fy, bx, by = [], [], [], []
+        tp = (p, p, p, p) if self.tyre_map is None else self.tyre_map(t)
         for i in range(4):
-            ux, uy = self.tyre_fn(kappa[i], alpha[i], abs(vwx[i]), mu[i], p)
+            ux, uy = self.tyre_fn(kappa[i], alpha[i], abs(vwx[i]), mu[i], tp[i])
             fx.append(ux)
             fy.append(uy)
             if i < 2:
@@ -301,7 +312,7 @@ LOG_WHEEL = ("omega", "mu", "kappa", "alpha", "vwx", "Fz", "Fx", "Fy", "pressure
 
 
 def simulate(inputs, mu_map, v0, duration, p=None, tyre="dugoff", dt_log=0.01, rate=4000,
-             road=None, v_low=None):
+             road=None, v_low=None, tyre_map=None):
     """Integrate from straight running at v0 (free-rolling wheels, kappa = 0) and return a
     dict of numpy arrays sampled every dt_log: scalars of LOG_SCALARS (shape (N,)) and
     per-wheel arrays of LOG_WHEEL (shape (N, 4)), all instantaneous values of the same
@@ -311,11 +322,11 @@ def simulate(inputs, mu_map, v0, duration, p=None, tyre="dugoff", dt_log=0.01, r
     anything with an ``update(t, y)`` method and a ``rate`` in Hz); a controller is updated
     at every multiple of 1/rate (before that instant's derivative evaluation, so also
     before each logged evaluation) and holds its outputs in between.  road, v_low: see
-    Vehicle (both off by default).  vx_dot, vy_dot are the body-axis velocity derivatives
+    Vehicle (both off by default); tyre_map: per-wheel tyre over time (Vehicle, off by default).  vx_dot, vy_dot are the body-axis velocity derivatives
     (kinematic, gravity included), grade and bank the road's at the CoG."""
     import numpy as np
     p = Params() if p is None else p
-    veh = Vehicle(p, tyre, inputs, mu_map, road, v_low)
+    veh = Vehicle(p, tyre, inputs, mu_map, road, v_low, tyre_map)
     n_log = int(round(duration / dt_log)) + 1
     nsub = int(round(rate * dt_log))
     if nsub < 1 or abs(nsub - rate * dt_log) > 1e-9:

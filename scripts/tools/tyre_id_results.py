@@ -1,0 +1,205 @@
+#!/usr/bin/env python3
+"""Measure the reference tyre identifier (docs/TYRE_ID.md) on the tyre identification logs
+(scenarios/tyre_id/) and write the tables of docs/TYRE_ID_RESULTS.md between their markers.
+
+    .venv/bin/python scripts/tools/tyre_id_results.py [--page docs/TYRE_ID_RESULTS.md]
+        [--logs scenarios/tyre_id] [--n 64 256 1024 2048] [--seeds 1 2 3] [--jobs 2]
+
+Every (log, filter, particle count, seed) is one run of scripts/reference/tyre_id.py with its
+defaults.  Figures (docs/TYRE_ID_RESULTS.md says how each is defined):
+  curve    RMSE of the identified lateral force curve against the truth's, per axle, in % of
+           the truth's peak D, over the slip range the log excited: tan(alpha) from 0 to the
+           largest |tan(alpha_true)| of the axle (after the tyre change on tid_tyre_change),
+           the curves from the final means of D, C, K, E (B = K / (C D));
+  mu@lim   |mu_id - mu| where |ay| > 0.6 mu g (the tyre near its limit), RMSE over those
+           samples, per axle;
+  sd_lin   the smallest sd of mu_id per axle while that axle's tyre has stayed linear (its
+           truth utilisation has not yet passed 0.5), from 0.5 s;
+  beta     RMSE of beta [deg] from 0.5 s.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import multiprocessing
+import os
+import sys
+import time
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+sys.path[:0] = [str(HERE), str(HERE.parent)]
+
+import numpy as np  # noqa: E402
+
+from md_tables import replace_region  # noqa: E402
+from reference import tyre_id as T  # noqa: E402
+from reference.logs import read_csv_log  # noqa: E402
+
+ROOT = HERE.parent.parent
+LOGS = ("tid_ramp_steer_high_mu", "tid_ramp_steer_low_mu", "tid_sine_steer", "tid_dlc_high_mu",
+        "tid_dlc_low_mu", "tid_tyre_change", "tid_straight")
+MARK = {k: (f"<!-- tyre-id-{k}:begin -->", f"<!-- tyre-id-{k}:end -->")
+        for k in ("accuracy", "count", "ident")}
+T_SKIP = 0.5          # s, the start not scored (prior)
+
+
+def curve_rmse(c, out, axle, k0):
+    """RMSE in % of D_true of the final identified curve vs the truth over [0, t_max]."""
+    a = "f" if axle == 0 else "r"
+    t_abs = np.abs(np.tan(c[f"alpha_{a}_true"][k0:]))
+    t_max = float(t_abs.max())
+    if t_max < 1e-3:
+        return math.nan, t_max
+    grid = np.linspace(0.0, t_max, 201)
+    D, C, B, E = (float(c[f"{k}_{a}_true"][-1]) for k in "DCBE")
+    truth = T.mf_force(grid, D, C, B, E)
+    Di, Ci, Ki, Ei = (out[f"{k}_{a}"][-1] for k in "DCKE")
+    ident = T.mf_force(grid, Di, Ci, Ki / (Ci * Di), Ei)
+    return 100.0 * math.sqrt(float(np.mean((ident - truth) ** 2))) / D, t_max
+
+
+def measure(job):
+    log, filt, n, seed = job
+    c = read_csv_log(str(ROOT / "scenarios" / "tyre_id" / f"{log}.csv")).columns
+    t0 = time.perf_counter()
+    out = T.run(c, {"tid_n": float(n), "tid_filter": filt}, seed=seed)
+    cost = (time.perf_counter() - t0) / len(c["t"])
+    t = c["t"]
+    k_sk = int(np.searchsorted(t, T_SKIP))
+    k0 = int(np.searchsorted(t, 8.0)) if log == "tid_tyre_change" else 0
+    res = {"log": log, "filter": filt, "n": n, "seed": seed, "ms": 1e3 * cost}
+    g = 9.81
+    ay = np.abs(c["ay"])
+    for axle, a, w in ((0, "f", ("fl", "fr")), (1, "r", ("rl", "rr"))):
+        res[f"curve_{a}"], res[f"tmax_{a}"] = curve_rmse(c, out, axle, k0)
+        mu = 0.5 * (c[f"mu_{w[0]}"] + c[f"mu_{w[1]}"])
+        lim = ay > 0.6 * mu * g
+        lim[:k_sk] = False
+        err = out[f"mu_{a}"][lim] - mu[lim]
+        res[f"mulim_{a}"] = math.sqrt(float(np.mean(err ** 2))) if lim.any() else math.nan
+        res[f"nlim_{a}"] = int(lim.sum())
+        util = np.maximum(c[f"util_{w[0]}"], c[f"util_{w[1]}"])
+        passed = np.nonzero(util > 0.5)[0]
+        k_end = int(passed[0]) if passed.size else len(t)
+        sd = out[f"sd_mu_{a}"][k_sk:k_end]
+        res[f"sdlin_{a}"] = float(sd.min()) if sd.size else math.nan
+        # identifiability: final posterior sd / prior sd and final error of K and D
+        for p in ("D", "C", "K", "E"):
+            res[f"sdfin_{p}_{a}"] = float(out[f"sd_{p}_{a}"][-1])
+            res[f"mean_{p}_{a}"] = float(out[f"{p}_{a}"][-1])
+        res[f"Ktrue_{a}"] = float(c[f"B_{a}_true"][-1] * c[f"C_{a}_true"][-1]
+                                  * c[f"D_{a}_true"][-1])
+        res[f"Dtrue_{a}"] = float(c[f"D_{a}_true"][-1])
+    res["beta"] = math.degrees(math.sqrt(float(np.mean(
+        (out["beta"][k_sk:] - c["beta_true"][k_sk:]) ** 2))))
+    return res
+
+
+def fmt(v, spec):
+    return "–" if v is None or (isinstance(v, float) and math.isnan(v)) else format(v, spec)
+
+
+def agg(rows, key, how=np.median):
+    v = [r[key] for r in rows if not math.isnan(r[key])]
+    return float(how(v)) if v else math.nan
+
+
+def tables(results, n_main, seeds):
+    by = {}
+    for r in results:
+        by.setdefault((r["log"], r["filter"], r["n"]), []).append(r)
+    acc = [f"{n_main} particles, median over seeds {', '.join(map(str, seeds))} (the worst "
+           "seed in brackets for the curve and mu at the limit). Curve: % of the peak; "
+           "t_max: the largest |tan(alpha)| the axle saw.", "",
+           "| log | filter | curve f % (t_max) | curve r % (t_max) | mu@lim f | mu@lim r "
+           "| min sd_mu linear f / r | beta RMSE deg | ms/step |",
+           "|---|---|---|---|---|---|---|---|---|"]
+    for log in LOGS:
+        for filt in ("apf", "sir"):
+            rows = by.get((log, filt, n_main), [])
+            if not rows:
+                continue
+            cell = []
+            for a in "fr":
+                cell.append(f"{fmt(agg(rows, 'curve_' + a), '.1f')} "
+                            f"[{fmt(agg(rows, 'curve_' + a, np.max), '.1f')}] "
+                            f"({fmt(rows[0]['tmax_' + a], '.3f')})")
+            for a in "fr":
+                cell.append(f"{fmt(agg(rows, 'mulim_' + a), '.3f')} "
+                            f"[{fmt(agg(rows, 'mulim_' + a, np.max), '.3f')}]")
+            cell.append(f"{fmt(agg(rows, 'sdlin_f', np.min), '.2f')} / "
+                        f"{fmt(agg(rows, 'sdlin_r', np.min), '.2f')}")
+            cell.append(fmt(agg(rows, "beta"), ".3f"))
+            cell.append(fmt(agg(rows, "ms"), ".2f"))
+            acc.append(f"| {log} | {filt.upper()} | " + " | ".join(cell) + " |")
+    cnt = ["Median over the steering logs (all but tid_straight) and seeds; curve and mu at the "
+           "limit of both axles pooled.", "",
+           "| filter | particles | curve % median | curve % worst | mu@lim median | "
+           "mu@lim worst | beta RMSE deg median | ms/step (Python) |",
+           "|---|---|---|---|---|---|---|---|"]
+    ns = sorted({r["n"] for r in results})
+    for filt in ("apf", "sir"):
+        for n in ns:
+            rows = [r for r in results if r["filter"] == filt and r["n"] == n
+                    and r["log"] != "tid_straight"]
+            if not rows:
+                continue
+            cv = [r[f"curve_{a}"] for r in rows for a in "fr" if not math.isnan(r[f"curve_{a}"])]
+            ml = [r[f"mulim_{a}"] for r in rows for a in "fr" if not math.isnan(r[f"mulim_{a}"])]
+            cnt.append(f"| {filt.upper()} | {n} | {fmt(float(np.median(cv)), '.1f')} | "
+                       f"{fmt(float(np.max(cv)), '.1f')} | {fmt(float(np.median(ml)), '.3f')} | "
+                       f"{fmt(float(np.max(ml)), '.3f')} | "
+                       f"{fmt(float(np.median([r['beta'] for r in rows])), '.3f')} | "
+                       f"{fmt(float(np.median([r['ms'] for r in rows])), '.2f')} |")
+    p = T.TID_DEFAULTS
+    prior = {"D": p["tid_sd0_mu"], "C": p["tid_sd0_C"], "K": p["tid_sd0_cy_rel"],
+             "E": p["tid_sd0_E"]}
+    idt = [f"APF, {n_main} particles, seed {seeds[0]}: the final sd of each parameter over its "
+           "prior sd (D as D/Fz0 against tid_sd0_mu, K as K/(cy Fz0) against tid_sd0_cy_rel; "
+           "below 0.3: identified), and the final errors of K and D in % of the truth.", "",
+           "| log | axle | sd D | sd C | sd K | sd E | K error % | D error % |",
+           "|---|---|---|---|---|---|---|---|"]
+    params = {"m": 1830.0, "g": 9.81, "Lf": 1.40, "Lr": 1.65, "cy": 15.0}
+    La = params["Lf"] + params["Lr"]
+    fz0 = {"f": params["m"] * params["g"] * params["Lr"] / La,
+           "r": params["m"] * params["g"] * params["Lf"] / La}
+    for log in LOGS:
+        rows = [r for r in by.get((log, "apf", n_main), []) if r["seed"] == seeds[0]]
+        if not rows:
+            continue
+        r = rows[0]
+        for a in "fr":
+            scale = {"D": fz0[a], "C": 1.0, "K": params["cy"] * fz0[a], "E": 1.0}
+            ratios = [r[f"sdfin_{q}_{a}"] / scale[q] / prior[q] for q in "DCKE"]
+            ek = 100.0 * (r[f"mean_K_{a}"] / r[f"Ktrue_{a}"] - 1.0)
+            ed = 100.0 * (r[f"mean_D_{a}"] / r[f"Dtrue_{a}"] - 1.0)
+            idt.append(f"| {log} | {a} | " + " | ".join(fmt(x, ".2f") for x in ratios)
+                       + f" | {ek:+.0f} | {ed:+.0f} |")
+    return acc, cnt, idt
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--page", default=str(ROOT / "docs" / "TYRE_ID_RESULTS.md"))
+    ap.add_argument("--n", type=int, nargs="+", default=[64, 256, 1024, 2048])
+    ap.add_argument("--main-n", type=int, default=1024)
+    ap.add_argument("--seeds", type=int, nargs="+", default=[1, 2, 3])
+    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
+    args = ap.parse_args(argv)
+    jobs = [(log, filt, n, s) for n in sorted(args.n, reverse=True) for log in LOGS
+            for filt in ("apf", "sir") for s in args.seeds]
+    t0 = time.perf_counter()
+    with multiprocessing.Pool(args.jobs) as pool:
+        results = pool.map(measure, jobs, chunksize=1)
+    print(f"{len(jobs)} runs in {time.perf_counter() - t0:.0f} s")
+    acc, cnt, idt = tables(results, args.main_n, args.seeds)
+    page = Path(args.page)
+    for key, lines in (("accuracy", acc), ("count", cnt), ("ident", idt)):
+        replace_region(page, *MARK[key], lines, "tyre_id_results")
+        print("\n".join(lines))
+
+
+if __name__ == "__main__":
+    main()
