@@ -46,7 +46,7 @@ DEPS_EXTRA :=
 TEST_GATES :=
 include $(sort $(filter-out mk/lib.mk,$(wildcard mk/*.mk)))
 
-.PHONY: trust-invariant names car-format-logs observer-goldens observer-goldens-q31 observer-results monitor-results all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind coverage demo goldens goldens-q31 scenarios observer-scenarios clean vectors shared-sync check-shared readme-table \
+.PHONY: mass-grade-scenarios trust-invariant names car-format-logs observer-goldens observer-goldens-q31 observer-results monitor-results all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind coverage demo goldens goldens-q31 scenarios observer-scenarios clean vectors shared-sync check-shared readme-table \
         check-kernels check-tools layers help-check goldens-ref check-nofloat help deps-analysis misra tidy complexity structural analysis \
         twins check-twins
 ## the libraries and build/mu_replay (the default target)
@@ -321,6 +321,9 @@ scenarios: venv
 ## regenerate the velocity / sideslip observer logs (scenarios/observer/) with the simulator
 observer-scenarios: venv
 	$(PY) scripts/data/make_observer_scenarios.py --out scenarios/observer
+## regenerate the mass and grade logs (scenarios/mass_grade/) with the simulator
+mass-grade-scenarios: venv
+	$(PY) scripts/data/make_mass_grade_scenarios.py --out scenarios/mass_grade
 ## rewrite observer scenarios in a car logger's format (scenarios/car_format/, DATA.md)
 car-format-logs: venv
 	$(PY) scripts/data/make_car_format_logs.py --src scenarios/observer --out scenarios/car_format
