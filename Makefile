@@ -46,7 +46,7 @@ DEPS_EXTRA :=
 TEST_GATES :=
 include $(sort $(filter-out mk/lib.mk,$(wildcard mk/*.mk)))
 
-.PHONY: trust-invariant names car-format-logs observer-goldens observer-goldens-q31 observer-results monitor-results all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind coverage demo goldens goldens-q31 scenarios observer-scenarios clean vectors shared-sync check-shared readme-table \
+.PHONY: mass-grade-scenarios mass-grade-results trust-invariant names car-format-logs observer-goldens observer-goldens-q31 observer-results monitor-results all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind coverage demo goldens goldens-q31 scenarios observer-scenarios clean vectors shared-sync check-shared readme-table \
         check-kernels check-tools layers help-check goldens-ref check-nofloat help deps-analysis misra tidy complexity structural analysis \
         twins check-twins tyre-id-scenarios tyre-id-results
 ## the libraries and build/mu_replay (the default target)
@@ -327,6 +327,9 @@ tyre-id-scenarios: venv
 ## measure the reference tyre identifier and write the tables of docs/TYRE_ID_RESULTS.md
 tyre-id-results: venv
 	$(PY) scripts/tools/tyre_id_results.py --jobs 2 --page docs/TYRE_ID_RESULTS.md
+## regenerate the mass and grade logs (scenarios/mass_grade/) with the simulator
+mass-grade-scenarios: venv
+	$(PY) scripts/data/make_mass_grade_scenarios.py --out scenarios/mass_grade
 ## rewrite observer scenarios in a car logger's format (scenarios/car_format/, DATA.md)
 car-format-logs: venv
 	$(PY) scripts/data/make_car_format_logs.py --src scenarios/observer --out scenarios/car_format
@@ -384,6 +387,13 @@ Q31_GOLDEN_LOGS = $(filter-out %.nf.csv %.mf.csv,$(wildcard scenarios/*.csv))
 ## measure the velocity observer and write docs/OBSERVER_RESULTS.md
 observer-results: $(BUILD)/mu_replay venv
 	$(PY) scripts/tools/observer_results.py --replay $(BUILD)/mu_replay --page docs/OBSERVER_RESULTS.md
+
+# The mass and grade estimator measured with its float64 reference (docs/MASS_GRADE_RESULTS.md;
+# about 1.5 min on 2 cores); the truck's mass error vs time into build/mass_grade/.
+## measure the mass and grade estimator and write docs/MASS_GRADE_RESULTS.md
+mass-grade-results: venv
+	$(PY) scripts/tools/mass_grade_results.py --page docs/MASS_GRADE_RESULTS.md \
+	  --plot $(BUILD)/mass_grade/mass_error.png
 
 # The model-validity monitor measured with the float64 reference (docs/MONITOR.md; the runs
 # are cached in build/monitor/, about 10 min on 2 cores the first time).

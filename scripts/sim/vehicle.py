@@ -77,6 +77,17 @@ eigenvalue of about -R^2*Cx*Fz/(Iw*v) (~ -1900 1/s at 4 m/s on mu 0.85), which R
 floats, no threads, no randomness.  Closed-loop inputs (ABS, driver steering; control.py)
 are discrete controllers updated at sub-step boundaries and held in between, so RK4 only
 ever integrates smooth right-hand sides.
+
+Driving resistances (optional, ``ext``; off by default, and then the code path and every
+number are those above).  The mass and grade scenarios (mass_grade_scenarios.py) add the
+forces of a longitudinal model that the tyres do not carry: rolling resistance and
+aerodynamic drag, with a wind.  ``ext(t, vx, theta)`` returns one body-x force [N] (negative
+resists) acting at the CoG; it enters the fixed point of the accelerations as a constant
+term, m*ax = sum Fz_i(a)*b_x,i + F_ext, so ax stays the specific force (the drag is a
+non-gravitational force, an accelerometer measures it) and the loads see it through ax.
+The rolling resistance is applied to the body, not as a moment at each wheel: the wheel
+slips are then those of the drive torque alone (MODEL.md's tyres have no rolling
+resistance), and the longitudinal balance is the same.
 """
 
 from dataclasses import dataclass, fields
@@ -189,15 +200,17 @@ class Vehicle:
     """Derivative function of the 11-element state
     [vx, vy, r, omega_fl, omega_fr, omega_rl, omega_rr, s, psi, X, Y]."""
 
-    def __init__(self, p, tyre, inputs, mu_map, road=None, v_low=None, tyre_map=None):
+    def __init__(self, p, tyre, inputs, mu_map, road=None, v_low=None, tyre_map=None, ext=None):
         """inputs(t) -> (delta, (p_fl..p_rr) MPa, (T_fl..T_rr) N m);
         mu_map(x_road, left) -> mu under a wheel at road position x_road (CoG path
         distance + the wheel's x offset) on the left (True) or right (False) side;
         road: None (flat) or an object with grade(s), bank(s) [rad] of the CoG path
         distance s (module docstring for the signs); v_low: low-speed slip floor or None;
-        tyre_map: None (p's tyre on every wheel) or t -> four Params (module docstring)."""
+        tyre_map: None (p's tyre on every wheel) or t -> four Params (module docstring);
+        ext: None or ext(t, vx, theta) -> external body-x force [N] (driving resistances)."""
         self.tyre_map = tyre_map
         self.road = road
+        self.ext = ext
         self.v_low = v_low
         self.p = p
         self.tyre_fn = TRUTH_TYRES[tyre]
@@ -211,9 +224,10 @@ class Vehicle:
     def mu_at(self, s):
         return [self.mu_map(s + xi, yi > 0.0) for (xi, yi) in self.geom]
 
-    def solve_accelerations(self, bx, by, Fz0=None):
+    def solve_accelerations(self, bx, by, Fz0=None, fx_ext=None):
         """Fixed point a = sum_i Fz_i(a) * b_i / m (b_i = body-axis force per unit load);
-        Fz0: static loads (default the flat road's)."""
+        Fz0: static loads (default the flat road's); fx_ext: external body-x force [N]
+        added to m*ax (None: none, the arithmetic of the model without it)."""
         p = self.p
         Gx, Gy = self.Gx, self.Gy
         if Fz0 is None:
@@ -230,6 +244,8 @@ class Vehicle:
                     A22 -= Gy[i] * by[i]
                     b1 += Fz0[i] * bx[i]
                     b2 += Fz0[i] * by[i]
+            if fx_ext is not None:
+                b1 += fx_ext
             det = A11 * A22 - A12 * A21
             nax = (b1 * A22 - A12 * b2) / det
             nay = (A11 * b2 - A21 * b1) / det
@@ -263,15 +279,20 @@ class Vehicle:
             else:
                 bx.append(ux)
                 by.append(uy)
+        fx_ext = None
         if self.road is None:
             theta = phi = 0.0
             Fz0 = self.Fz0
-            ax_s, ay_s = self.solve_accelerations(bx, by)
+            if self.ext is not None:
+                fx_ext = self.ext(t, vx, theta)
+            ax_s, ay_s = self.solve_accelerations(bx, by, None, fx_ext)
         else:
             theta, phi = self.road.grade(s), self.road.bank(s)
             cn = cos(theta) * cos(phi)
             Fz0 = [cn * f for f in self.Fz0]
-            ax_s, ay_s = self.solve_accelerations(bx, by, Fz0)
+            if self.ext is not None:
+                fx_ext = self.ext(t, vx, theta)
+            ax_s, ay_s = self.solve_accelerations(bx, by, Fz0, fx_ext)
         Fz = [max(0.0, Fz0[i] + self.Gx[i] * ax_s + self.Gy[i] * ay_s) for i in range(4)]
         sum_x = sum_y = mz = 0.0
         for i, (xi, yi) in enumerate(self.geom):
@@ -280,6 +301,8 @@ class Vehicle:
             sum_x += fbx
             sum_y += fby
             mz += xi * fby - yi * fbx
+        if fx_ext is not None:
+            sum_x += fx_ext
         ax = sum_x / p.m
         ay = sum_y / p.m
         if abs(ax - ax_s) > 1e-9 * max(1.0, abs(ax)) or abs(ay - ay_s) > 1e-9 * max(1.0, abs(ay)):
@@ -302,7 +325,8 @@ class Vehicle:
         info = dict(delta=delta, ax=ax, ay=ay, yaw_acc=r_dot, mu=mu, kappa=kappa,
                     alpha=alpha, vwx=vwx, Fz=Fz, Fx=[Fz[i] * fx[i] for i in range(4)],
                     Fy=[Fz[i] * fy[i] for i in range(4)], pressure=list(pres),
-                    drive=list(tdrive), vx_dot=dy[0], vy_dot=dy[1], grade=theta, bank=phi)
+                    drive=list(tdrive), vx_dot=dy[0], vy_dot=dy[1], grade=theta, bank=phi,
+                    fx_ext=0.0 if fx_ext is None else fx_ext)
         return dy, info
 
 
@@ -312,7 +336,7 @@ LOG_WHEEL = ("omega", "mu", "kappa", "alpha", "vwx", "Fz", "Fx", "Fy", "pressure
 
 
 def simulate(inputs, mu_map, v0, duration, p=None, tyre="dugoff", dt_log=0.01, rate=4000,
-             road=None, v_low=None, tyre_map=None):
+             road=None, v_low=None, tyre_map=None, ext=None):
     """Integrate from straight running at v0 (free-rolling wheels, kappa = 0) and return a
     dict of numpy arrays sampled every dt_log: scalars of LOG_SCALARS (shape (N,)) and
     per-wheel arrays of LOG_WHEEL (shape (N, 4)), all instantaneous values of the same
@@ -322,11 +346,13 @@ def simulate(inputs, mu_map, v0, duration, p=None, tyre="dugoff", dt_log=0.01, r
     anything with an ``update(t, y)`` method and a ``rate`` in Hz); a controller is updated
     at every multiple of 1/rate (before that instant's derivative evaluation, so also
     before each logged evaluation) and holds its outputs in between.  road, v_low: see
-    Vehicle (both off by default); tyre_map: per-wheel tyre over time (Vehicle, off by default).  vx_dot, vy_dot are the body-axis velocity derivatives
-    (kinematic, gravity included), grade and bank the road's at the CoG."""
+    Vehicle (both off by default); tyre_map: per-wheel tyre over time (Vehicle, off by
+    default); ext: the driving resistances (Vehicle, off by default; when given, the output
+    also has "fx_ext", the force at each logged instant).  vx_dot, vy_dot are the body-axis
+    velocity derivatives (kinematic, gravity included), grade and bank the road's at the CoG."""
     import numpy as np
     p = Params() if p is None else p
-    veh = Vehicle(p, tyre, inputs, mu_map, road, v_low, tyre_map)
+    veh = Vehicle(p, tyre, inputs, mu_map, road, v_low, tyre_map, ext)
     n_log = int(round(duration / dt_log)) + 1
     nsub = int(round(rate * dt_log))
     if nsub < 1 or abs(nsub - rate * dt_log) > 1e-9:
@@ -344,6 +370,8 @@ def simulate(inputs, mu_map, v0, duration, p=None, tyre="dugoff", dt_log=0.01, r
     y = [v0, 0.0, 0.0] + [v / p.R for v in vwx0] + [0.0, 0.0, 0.0, 0.0]
     out = {k: np.empty(n_log) for k in LOG_SCALARS}
     out.update({k: np.empty((n_log, 4)) for k in LOG_WHEEL})
+    if ext is not None:
+        out["fx_ext"] = np.empty(n_log)
     n = len(y)
     for k in range(n_log):
         t0 = k / log_rate if exact_rate else k * dt_log  # 0.030000000000000002
@@ -358,6 +386,8 @@ def simulate(inputs, mu_map, v0, duration, p=None, tyre="dugoff", dt_log=0.01, r
             out[key][k] = info[key]
         for key in LOG_WHEEL[1:]:
             out[key][k] = info[key]
+        if ext is not None:
+            out["fx_ext"][k] = info["fx_ext"]
         if k == n_log - 1:
             break
         for j in range(nsub):

@@ -1,0 +1,479 @@
+"""Reference mass and road-grade estimator (docs/MASS_GRADE.md), float64.
+
+The seed's adaptive unscented Kalman filter (AUKF) on the longitudinal model, its plain UKF
+baseline, and the accelerometer row (MASS_GRADE.md §5).  Written from the page only, in plain
+Python floats with every sum in the page's order (no BLAS), so a C double port can be
+compared with it to 1e-9.
+
+    est = MassGrade(params)        # params: a dict over MG_DEFAULTS (preset(name) gives one)
+    out = est.step(sample)         # sample: MgSample; out: MgEstimate (mass, grade, sd, status)
+    tab = run(columns, params)     # a whole mass-and-grade log -> dict of output arrays
+
+Section numbers in the comments are the page's.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+# §6 Parameters: keys, defaults (the passenger-car preset), units in MASS_GRADE.md §6.
+MG_DEFAULTS: dict[str, float] = {
+    "R": 0.325,             # rolling radius, m (the vehicle key of DATA.md)
+    "g": 9.81,              # gravity, m/s^2 (the vehicle key of DATA.md)
+    "mg_fc": 0.010,         # rolling-resistance coefficient, constant part
+    "mg_fr": 0.00015,       # rolling-resistance coefficient, speed part, s/m
+    "mg_rho": 1.2,          # air density, kg/m^3
+    "mg_cd": 0.30,          # drag coefficient
+    "mg_area": 2.2,         # frontal area, m^2
+    "mg_m_rot": 45.4,       # equivalent mass of the rotating parts, kg (0: the seed's model)
+    "mg_m0": 1830.0,        # initial mass, kg
+    "mg_theta0": 0.0,       # initial grade, rad
+    "mg_sd_m0": 500.0,      # initial sd of the mass, kg
+    "mg_sd_theta0": 0.05,   # initial sd of the grade, rad
+    "mg_q_v": 0.02,         # process noise of v, m/s per sqrt(s)
+    "mg_q_mc": 1.0,         # constant part of the mass process noise, kg per sqrt(s)
+    "mg_q_mv0": 300.0,      # initial adaptive part, kg per sqrt(s)
+    "mg_q_theta": 0.004,    # process noise of the grade, rad per sqrt(s)
+    "mg_r_v": 0.05,         # speed measurement noise sd, m/s
+    "mg_r_ax": 0.1,         # ax measurement noise sd (sensor and model), m/s^2
+    "mg_ut_alpha": 1.0,     # sigma-point spread alpha
+    "mg_ut_beta": 2.0,      # prior-distribution parameter beta
+    "mg_ut_kappa": 0.0,     # secondary scaling kappa
+    "mg_adaptive": 1.0,     # 1: AUKF (eqs. 22-25), 0: plain UKF
+    "mg_t_adapt": 1.0,      # period of the adaptation, s (0: every step)
+    "mg_mv_stop": 1e-3,     # the adaptation ends when q_mv <= mg_mv_stop * q_mc
+    "mg_use_ax": 0.0,       # 1: the accelerometer row (§5); 0: the seed's speed only
+    "mg_v_min": 3.0,        # below this speed the filter pauses, m/s
+    "mg_t_brake": 1.0,      # pause after the last braked sample, s
+    "mg_t_shift": 1.0,      # pause after a gear change, s
+    "mg_p_brake_on": 1.0e5,  # brake pressure above which the brake is on, Pa
+    "mg_m_min": 300.0,      # mass bounds: the mean is projected onto them, kg
+    "mg_m_max": 60000.0,
+    "mg_theta_max": 0.35,   # grade bound |theta|, rad
+    "mg_dt_max": 1.0,       # a longer sample period restarts the filter, s
+}
+
+# Vehicle presets (§6): the passenger car is MG_DEFAULTS; the truck the seed's 5758 kg truck
+# with the simulator's truck data (scripts/sim/mass_grade_scenarios.py).
+MG_PRESETS: dict[str, dict[str, float]] = {
+    "car": {},
+    "truck": {"R": 0.45, "mg_fc": 0.0065, "mg_fr": 0.00005, "mg_cd": 0.60, "mg_area": 6.0,
+              "mg_m_rot": 158.0, "mg_m0": 4000.0, "mg_sd_m0": 2000.0, "mg_q_mc": 3.0,
+              "mg_q_mv0": 1000.0},
+}
+
+# §7 Status codes (the library's enum, include/rfe/common.h, and the codes this page adds)
+OK = 0
+NO_UPDATE_LOW_SPEED = 2
+PAUSED_BRAKE = 5
+PAUSED_SHIFT = 6
+ERR_NONFINITE = 17
+ERR_RANGE = 18
+ERR_PARAM = 19
+ERR_NOT_POSITIVE_DEFINITE = 21
+
+N = 3           # state [v, M, theta]
+V_MAX = 100.0   # input limits (include/rfe/config.h: |vx| <= 100 m/s)
+T_MAX = 1.0e5   # |drive torque| <= 1e5 N m
+AX_MAX = 50.0   # |ax| <= 50 m/s^2
+
+
+class ParamError(ValueError):
+    """An invalid parameter (status 19); the message names the key."""
+
+
+def preset(name="car", **overrides):
+    """A full parameter dict: MG_DEFAULTS, then the vehicle preset, then overrides."""
+    p = dict(MG_DEFAULTS)
+    p.update(MG_PRESETS[name])
+    for k, v in overrides.items():
+        if k not in p:
+            raise ParamError(f"unknown key {k}")
+        p[k] = float(v)
+    return p
+
+
+def validate(p):
+    """§6 rules; raises ParamError naming the first key that breaks one."""
+    for k in MG_DEFAULTS:
+        if k not in p:
+            raise ParamError(f"{k}: missing")
+        if not math.isfinite(p[k]):
+            raise ParamError(f"{k}: not finite")
+    positive = ("R", "g", "mg_m0", "mg_sd_m0", "mg_sd_theta0", "mg_q_mc", "mg_r_v", "mg_r_ax",
+                "mg_ut_alpha", "mg_m_min", "mg_theta_max", "mg_dt_max", "mg_q_v", "mg_q_theta")
+    for k in positive:
+        if not p[k] > 0.0:
+            raise ParamError(f"{k}: must be > 0")
+    nonneg = ("mg_fc", "mg_fr", "mg_rho", "mg_cd", "mg_area", "mg_m_rot", "mg_q_mv0",
+              "mg_t_adapt", "mg_mv_stop", "mg_v_min", "mg_t_brake", "mg_t_shift",
+              "mg_p_brake_on", "mg_ut_beta")
+    for k in nonneg:
+        if not p[k] >= 0.0:
+            raise ParamError(f"{k}: must be >= 0")
+    for k in ("mg_adaptive", "mg_use_ax"):
+        if p[k] not in (0.0, 1.0):
+            raise ParamError(f"{k}: must be 0 or 1")
+    if not p["mg_m_min"] < p["mg_m0"] < p["mg_m_max"]:
+        raise ParamError("mg_m0: must lie inside (mg_m_min, mg_m_max)")
+    if not abs(p["mg_theta0"]) < p["mg_theta_max"] < 1.5:
+        raise ParamError("mg_theta_max: must exceed |mg_theta0| and stay below 1.5 rad")
+    lam = lambda_ut(p)
+    if not N + lam > 0.0:
+        raise ParamError("mg_ut_kappa: n + lambda must be > 0")
+    if p["mg_adaptive"] == 1.0 and p["mg_mv_stop"] * p["mg_q_mc"] ** 2 >= p["mg_q_mv0"] ** 2:
+        raise ParamError("mg_q_mv0: the adaptation would end before it starts")
+
+
+def lambda_ut(p):
+    """§3 lambda = alpha^2 (n + kappa) - n."""
+    a = p["mg_ut_alpha"]
+    return a * a * (N + p["mg_ut_kappa"]) - N
+
+
+def weights(p):
+    """§3 eqs. (12)-(14), eq. (14) corrected: w_m,i = w_c,i = 1 / (2 (n + lambda))."""
+    lam = lambda_ut(p)
+    c = N + lam
+    wm = [lam / c] + [1.0 / (2.0 * c)] * (2 * N)
+    wc = [lam / c + (1.0 - p["mg_ut_alpha"] ** 2 + p["mg_ut_beta"])] + [1.0 / (2.0 * c)] * (2 * N)
+    return wm, wc
+
+
+def cholesky(a):
+    """§3 lower factor L of a symmetric 3x3 a (L L^T = a), row by row, column by column;
+    a pivot exactly 0 gives a zero column (a state known exactly: its row and column of a
+    are 0); a negative pivot returns None."""
+    L = [[0.0] * N for _ in range(N)]
+    for j in range(N):
+        d = a[j][j]
+        for k in range(j):
+            d -= L[j][k] * L[j][k]
+        if d < 0.0:
+            return None
+        if d == 0.0:
+            continue            # column j stays 0 (every a[i][j] - sum is 0 for a PSD a)
+        L[j][j] = math.sqrt(d)
+        for i in range(j + 1, N):
+            s = a[i][j]
+            for k in range(j):
+                s -= L[i][k] * L[j][k]
+            L[i][j] = s / L[j][j]
+    return L
+
+
+def sigma_points(x, P, c):
+    """§3 eqs. (8)/(15): chi_0 = x, chi_i = x + L[:, i-1], chi_{n+i} = x - L[:, i-1],
+    L the lower Cholesky factor of c*P (c = n + lambda, P scaled element by element)."""
+    L = cholesky([[c * P[i][j] for j in range(N)] for i in range(N)])
+    if L is None:
+        return None
+    pts = [list(x)]
+    for i in range(N):
+        pts.append([x[r] + L[r][i] for r in range(N)])
+    for i in range(N):
+        pts.append([x[r] - L[r][i] for r in range(N)])
+    return pts
+
+
+def accel(p, v, m, theta, torque):
+    """§1 model: v-dot = (T/R - M g ((fc + fr v) cos theta + sin theta) - rho cd S v^2 / 2)
+    / (M + m_rot), with M clamped to [mg_m_min, mg_m_max] (a sigma point may leave them)."""
+    m = min(max(m, p["mg_m_min"]), p["mg_m_max"])
+    f = p["mg_fc"] + p["mg_fr"] * v
+    drag = 0.5 * p["mg_rho"] * p["mg_cd"] * p["mg_area"] * v * v
+    force = torque / p["R"] - m * p["g"] * (f * math.cos(theta) + math.sin(theta)) - drag
+    return force / (m + p["mg_m_rot"])
+
+
+def f_state(p, x, torque, dt):
+    """§2 eq. (4): Euler step of the model with the previous sample's torque."""
+    return [x[0] + dt * accel(p, x[0], x[1], x[2], torque), x[1], x[2]]
+
+
+def h_meas(p, x, torque, use_ax):
+    """§2 eq. (6) and §5: z = [v] or [v, a_x] with a_x = v-dot(x, T_k) + g sin theta."""
+    if not use_ax:
+        return [x[0]]
+    return [x[0], accel(p, x[0], x[1], x[2], torque) + p["g"] * math.sin(x[2])]
+
+
+@dataclass
+class MgSample:
+    """One sample (§1): time, speed, drive torque at the wheels; optional brake flag, brake
+    pressure, gear and accelerometer (None: not on the bus)."""
+    t: float
+    v: float
+    torque: float
+    brake: float | None = None
+    brake_pressure: float | None = None
+    gear: float | None = None
+    ax: float | None = None
+
+
+@dataclass
+class MgEstimate:
+    mass: float
+    sd_mass: float
+    grade: float
+    sd_grade: float
+    v: float
+    sd_v: float
+    q_mv: float        # the adaptive part of the mass process noise, kg^2/s
+    status: int
+
+
+class MassGrade:
+    """§4 the estimator's state and step."""
+
+    def __init__(self, params):
+        p = {k: float(v) for k, v in params.items()}
+        validate(p)
+        self.p = p
+        self.wm, self.wc = weights(p)
+        self.c = N + lambda_ut(p)
+        self.use_ax = p["mg_use_ax"] == 1.0
+        self.started = False
+
+    # -- §4.1 start and restart -------------------------------------------------------------
+    def _start(self, s):
+        p = self.p
+        self.x = [s.v, p["mg_m0"], p["mg_theta0"]]
+        self.P = [[p["mg_r_v"] ** 2, 0.0, 0.0], [0.0, p["mg_sd_m0"] ** 2, 0.0],
+                  [0.0, 0.0, p["mg_sd_theta0"] ** 2]]
+        self.q_mv = p["mg_q_mv0"] ** 2 if p["mg_adaptive"] == 1.0 else 0.0
+        self.t_adapt = s.t          # start of the current adaptation period
+        self.m_adapt = self.x[1]    # the mass at its start
+        self.brake_until = -math.inf
+        self.shift_until = -math.inf
+        self.gear = s.gear
+        self.started = True
+
+    def _estimate(self, status):
+        P = self.P
+        return MgEstimate(self.x[1], math.sqrt(P[1][1]), self.x[2], math.sqrt(P[2][2]),
+                          self.x[0], math.sqrt(P[0][0]), self.q_mv, status)
+
+    def _check(self, s):
+        vals = [s.t, s.v, s.torque] + [v for v in (s.brake, s.brake_pressure, s.gear, s.ax)
+                                       if v is not None]
+        if not all(math.isfinite(v) for v in vals):
+            return ERR_NONFINITE
+        if abs(s.v) > V_MAX or abs(s.torque) > T_MAX:
+            return ERR_RANGE
+        if s.ax is not None and abs(s.ax) > AX_MAX:
+            return ERR_RANGE
+        if self.use_ax and s.ax is None:
+            return ERR_RANGE
+        if self.started and not s.t > self.t_prev:
+            return ERR_RANGE
+        return OK
+
+    def step(self, s: MgSample) -> MgEstimate:
+        """One sample; an error status leaves the state as it was."""
+        err = self._check(s)
+        if err != OK:
+            if not self.started:
+                return MgEstimate(math.nan, math.nan, math.nan, math.nan, math.nan, math.nan,
+                                  math.nan, err)
+            return self._estimate(err)
+        p = self.p
+        if not self.started or s.t - self.t_prev > p["mg_dt_max"]:
+            self._start(s)
+            status = self._pause_status(s)
+            self.t_prev, self.torque_prev = s.t, s.torque
+            return self._estimate(status)
+        saved = (self.brake_until, self.shift_until, self.gear)
+        status = self._pause_status(s)
+        dt = s.t - self.t_prev
+        if status != OK:
+            self._hold(s, dt)
+        else:
+            st = self._update(s, dt)
+            if st != OK:
+                self.brake_until, self.shift_until, self.gear = saved
+                return self._estimate(st)
+        self.t_prev, self.torque_prev = s.t, s.torque
+        return self._estimate(status)
+
+    # -- §4.2 pause logic ---------------------------------------------------------------------
+    def _pause_status(self, s):
+        p = self.p
+        brake = (s.brake is not None and s.brake >= 0.5) or (
+            s.brake_pressure is not None and s.brake_pressure > p["mg_p_brake_on"])
+        if brake:
+            self.brake_until = s.t + p["mg_t_brake"]
+        if s.gear is not None:
+            if self.gear is not None and s.gear != self.gear:
+                self.shift_until = s.t + p["mg_t_shift"]
+            self.gear = s.gear
+        if brake or s.t < self.brake_until:
+            return PAUSED_BRAKE
+        if s.t < self.shift_until:
+            return PAUSED_SHIFT
+        if s.v < p["mg_v_min"]:
+            return NO_UPDATE_LOW_SPEED
+        return OK
+
+    def _hold(self, s, dt):
+        """§4.2: M, theta held; theta's variance grows by its random walk; v restarts at the
+        measured speed, uncorrelated; the adaptation's clock restarts."""
+        p, P = self.p, self.P
+        P[2][2] += p["mg_q_theta"] ** 2 * dt
+        self.x[0] = s.v
+        P[0][0] = p["mg_r_v"] ** 2
+        for j in (1, 2):
+            P[0][j] = 0.0
+            P[j][0] = 0.0
+        self.t_adapt = s.t
+        self.m_adapt = self.x[1]
+
+    # -- §3 and §4.3: one UKF step, then the adaptation ---------------------------------------
+    def _update(self, s, dt):
+        p, wm, wc, c = self.p, self.wm, self.wc, self.c
+        # time update, eqs. (8)-(11): Q = diag(q_v^2, q_mc^2 + q_mv, q_theta^2) dt
+        pts = sigma_points(self.x, self.P, c)
+        if pts is None:
+            return ERR_NOT_POSITIVE_DEFINITE
+        prop = [f_state(p, x, self.torque_prev, dt) for x in pts]
+        xm = [0.0] * N
+        for i in range(2 * N + 1):
+            for r in range(N):
+                xm[r] += wm[i] * prop[i][r]
+        Pm = cov(prop, xm, prop, xm, wc)
+        q = (p["mg_q_v"] ** 2 * dt, (p["mg_q_mc"] ** 2 + self.q_mv) * dt, p["mg_q_theta"] ** 2 * dt)
+        for r in range(N):
+            Pm[r][r] += q[r]
+        # measurement update, eqs. (15)-(21), on points redrawn from (x_{t|t-1}, P_{t|t-1})
+        pts = sigma_points(xm, Pm, c)
+        if pts is None:
+            return ERR_NOT_POSITIVE_DEFINITE
+        Z = [h_meas(p, x, s.torque, self.use_ax) for x in pts]
+        nz = len(Z[0])
+        zm = [0.0] * nz
+        for i in range(2 * N + 1):
+            for r in range(nz):
+                zm[r] += wm[i] * Z[i][r]
+        S = cov(Z, zm, Z, zm, wc)
+        S[0][0] += p["mg_r_v"] ** 2
+        y = [s.v]
+        if self.use_ax:
+            S[1][1] += p["mg_r_ax"] ** 2
+            y.append(s.ax)
+        Pxz = cov(pts, xm, Z, zm, wc)
+        Si = inverse(S)
+        K = [[sum_ordered(Pxz[r][a] * Si[a][b] for a in range(nz)) for b in range(nz)]
+             for r in range(N)]
+        x = [xm[r] + sum_ordered(K[r][b] * (y[b] - zm[b]) for b in range(nz)) for r in range(N)]
+        # eq. (21) P = P_{t|t-1} - K S K^T, upper triangle computed, then mirrored
+        KS = [[sum_ordered(K[r][a] * S[a][b] for a in range(nz)) for b in range(nz)]
+              for r in range(N)]
+        P = [[0.0] * N for _ in range(N)]
+        for r in range(N):
+            for col in range(r, N):
+                P[r][col] = Pm[r][col] - sum_ordered(KS[r][b] * K[col][b] for b in range(nz))
+                P[col][r] = P[r][col]
+        # §4.3 projection of the mean onto the bounds
+        x[1] = min(max(x[1], p["mg_m_min"]), p["mg_m_max"])
+        x[2] = min(max(x[2], -p["mg_theta_max"]), p["mg_theta_max"])
+        self.x, self.P = x, P
+        if p["mg_adaptive"] == 1.0 and self.q_mv > 0.0:
+            self._adapt(s.t)
+        return OK
+
+    def _adapt(self, t):
+        """§4.4 eqs. (22)-(25), once per adaptation period mg_t_adapt (every step when 0)."""
+        p, P = self.p, self.P
+        span = t - self.t_adapt
+        if span < p["mg_t_adapt"]:
+            return
+        d = (self.x[1] - self.m_adapt) ** 2      # (M_t - M_{t-1})^2 over the period
+        qs = self.q_mv * span                    # q_mv over the same period, kg^2
+        lam = 0.5 * abs(qs - d) / (qs + d)       # eq. (24) as corrected (§4.4)
+        self.q_mv *= lam                         # eq. (23)
+        for e in range(N):                       # eq. (25): p_2e = p_e2 <- lambda_u p_2e
+            if e != 1:
+                P[1][e] *= lam
+                P[e][1] = P[1][e]
+        P[1][1] *= lam
+        if self.q_mv <= p["mg_mv_stop"] * p["mg_q_mc"] ** 2:
+            self.q_mv = 0.0                      # q_22 has converged to q_mc: adaptation ends
+        self.t_adapt = t
+        self.m_adapt = self.x[1]
+
+
+def sum_ordered(terms):
+    """A sum in the order given (left to right), as the C port writes it."""
+    s = 0.0
+    for t in terms:
+        s += t
+    return s
+
+
+def cov(A, am, B, bm, wc):
+    """sum_i wc_i (A_i - am)(B_i - bm)^T, i = 0..2n in order."""
+    out = [[0.0] * len(bm) for _ in range(len(am))]
+    for i in range(2 * N + 1):
+        da = [A[i][r] - am[r] for r in range(len(am))]
+        db = [B[i][r] - bm[r] for r in range(len(bm))]
+        for r in range(len(am)):
+            for col in range(len(bm)):
+                out[r][col] += wc[i] * da[r] * db[col]
+    return out
+
+
+def inverse(S):
+    """1x1: 1/s; 2x2: the adjugate over the determinant."""
+    if len(S) == 1:
+        return [[1.0 / S[0][0]]]
+    det = S[0][0] * S[1][1] - S[0][1] * S[1][0]
+    return [[S[1][1] / det, -S[0][1] / det], [-S[1][0] / det, S[0][0] / det]]
+
+
+# ---- logs ---------------------------------------------------------------------------------
+def speed_from_wheels(cols, R):
+    """§1 the speed input from a DATA.md log: the mean of the four wheel speeds times R."""
+    import numpy as np
+    om = np.column_stack([cols[f"omega_{w}"] for w in ("fl", "fr", "rl", "rr")])
+    return (om[:, 0] + om[:, 1] + om[:, 2] + om[:, 3]) / 4.0 * R
+
+
+def samples(cols, p):
+    """MgSample per row of a log (dict column -> array): v from the wheels (speed_from_wheels),
+    drive_torque, and brake, brake_pressure, gear, ax where the log has them."""
+    v = speed_from_wheels(cols, p["R"])
+    n = len(v)
+    opt = {k: cols.get(k) for k in ("brake", "brake_pressure", "gear", "ax")}
+    for i in range(n):
+        yield MgSample(float(cols["t"][i]), float(v[i]), float(cols["drive_torque"][i]),
+                       *(None if opt[k] is None else float(opt[k][i])
+                         for k in ("brake", "brake_pressure", "gear", "ax")))
+
+
+def run(cols, params):
+    """Run a whole log; returns arrays t, mass, sd_mass, grade, sd_grade, v, sd_v, q_mv, status."""
+    import numpy as np
+    est = MassGrade(params)
+    outs = [est.step(s) for s in samples(cols, est.p)]
+    res = {"t": np.asarray(cols["t"], dtype=float)}
+    for k in ("mass", "sd_mass", "grade", "sd_grade", "v", "sd_v", "q_mv", "status"):
+        res[k] = np.array([getattr(o, k) for o in outs])
+    return res
+
+
+def read_log(path):
+    """A DATA.md log: (columns dict of float arrays, metadata dict of strings)."""
+    import numpy as np
+    meta, header, rows = {}, None, []
+    with open(path, encoding="utf-8") as fh:
+        for line in fh:
+            if line.startswith("#"):
+                k, _, v = line[1:].partition("=")
+                meta[k.strip()] = v.strip()
+            elif header is None:
+                header = line.strip().split(",")
+            else:
+                rows.append(line)
+    data = np.loadtxt(rows, delimiter=",", ndmin=2)
+    return {c: data[:, j] for j, c in enumerate(header)}, meta

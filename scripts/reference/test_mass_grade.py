@@ -1,0 +1,177 @@
+"""Tests of the mass and grade reference (scripts/reference/mass_grade.py, docs/MASS_GRADE.md).
+
+Fast (a few seconds): one run of a 560 s log, the rest on a few synthetic steps."""
+
+import math
+import os
+
+import numpy as np
+import pytest
+
+from reference import mass_grade as mg
+
+REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+LOGS = os.path.join(REPO, "scenarios", "mass_grade")
+
+
+def test_weights_sum_to_one():
+    # §3: sum w_m = lambda/(n+lambda) + 2n/(2(n+lambda)) = 1 exactly in arithmetic; the sum of
+    # 7 doubles of size <= |lambda/(n+lambda)| is within a few ulp of it (1e-12 relative).
+    for a, k in ((1.0, 0.0), (0.5, 1.0), (1e-3, 0.0), (2.0, -1.0)):
+        p = mg.preset(mg_ut_alpha=a, mg_ut_kappa=k)
+        wm, wc = mg.weights(p)
+        scale = max(1.0, abs(wm[0]))
+        assert abs(sum(wm) - 1.0) <= 1e-12 * scale
+        # w_c differs from w_m only in w_c,0, by 1 - alpha^2 + beta
+        assert abs(sum(wc) - (2.0 - a * a + p["mg_ut_beta"])) <= 1e-12 * scale
+
+
+def test_cholesky_factor_zero_pivot_and_negative():
+    A = [[4.0, 2.0, 0.4], [2.0, 5.0, 1.0], [0.4, 1.0, 3.0]]
+    L = mg.cholesky(A)
+    for i in range(3):
+        for j in range(3):
+            s = sum(L[i][k] * L[j][k] for k in range(3))
+            assert abs(s - A[i][j]) <= 1e-15 * 8  # a few ulp of entries <= 5
+    # a state known exactly: its row and column 0 -> a zero column, the rest factored
+    Z = [[4.0, 0.0, 0.4], [0.0, 0.0, 0.0], [0.4, 0.0, 3.0]]
+    Lz = mg.cholesky(Z)
+    assert Lz[1] == [0.0, 0.0, 0.0] and Lz[2][1] == 0.0
+    assert mg.cholesky([[1.0, 0.0, 0.0], [0.0, -1e-9, 0.0], [0.0, 0.0, 1.0]]) is None
+
+
+def test_ukf_is_the_kalman_filter_on_a_linear_model(monkeypatch):
+    # The unscented transform propagates mean and covariance exactly through a linear map
+    # (the sigma points match the first two moments; chi_0 - mean = 0, so the beta term adds
+    # nothing), so with a linear f and h the UKF is the Kalman filter.  Compared after 50
+    # steps; entries up to ~1e5 (P_MM), ~1e3 operations each: 1e-9 relative is far above the
+    # rounding (~1e-13) and far below any algorithmic difference.
+    F = np.array([[1.0, -1e-5, -0.2], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
+    monkeypatch.setattr(mg, "f_state", lambda p, x, T, dt: list(F @ np.array(x)))
+    monkeypatch.setattr(mg, "h_meas", lambda p, x, T, use_ax: [x[0]])
+    # bounds far away, so that the projection (§4.3 step 8, not a Kalman step) never acts
+    p = mg.preset(mg_adaptive=0.0, mg_v_min=0.0, mg_m_min=1.0, mg_m_max=1e6,
+                  mg_theta_max=1.4)
+    est = mg.MassGrade(p)
+    rng = np.random.default_rng(3)
+    dt = 0.02
+    xt = np.array([20.0, 2000.0, 0.02])       # measurements of a true linear system
+    zs = []
+    for _ in range(51):
+        zs.append(xt[0] + 0.05 * rng.standard_normal())
+        xt = F @ xt
+    est_bounds = (p["mg_m_min"], p["mg_m_max"])
+    est.step(mg.MgSample(0.0, zs[0], 0.0))
+    x = np.array([zs[0], p["mg_m0"], 0.0])
+    P = np.diag([p["mg_r_v"] ** 2, p["mg_sd_m0"] ** 2, p["mg_sd_theta0"] ** 2])
+    Q = np.diag([p["mg_q_v"] ** 2, p["mg_q_mc"] ** 2, p["mg_q_theta"] ** 2]) * dt
+    H = np.array([[1.0, 0.0, 0.0]])
+    for k in range(1, 51):
+        out = est.step(mg.MgSample(k * dt, zs[k], 0.0))
+        assert out.status == mg.OK
+        x = F @ x
+        P = F @ P @ F.T + Q
+        S = H @ P @ H.T + p["mg_r_v"] ** 2
+        K = P @ H.T / S
+        x = x + (K * (zs[k] - x[0])).ravel()
+        P = P - K @ S @ K.T
+    assert est_bounds[0] < x[1] < est_bounds[1]
+    assert np.allclose(est.x, x, rtol=1e-9, atol=1e-9)
+    assert np.allclose(np.array(est.P), P, rtol=1e-9, atol=1e-12)
+
+
+def _adapting(q_mv, m_now, m_a, span=1.0):
+    p = mg.preset()
+    est = mg.MassGrade(p)
+    est.step(mg.MgSample(0.0, 20.0, 300.0))
+    est.q_mv = q_mv
+    est.x[1], est.m_adapt, est.t_adapt = m_now, m_a, 0.0
+    est.P = [[0.01, 2.0, 0.001], [2.0, 400.0, 0.1], [0.001, 0.1, 1e-4]]
+    return p, est
+
+
+def test_adaptation_shrinks_q_mv_and_the_mass_row_as_specified():
+    # §4.4: lambda_u = 1/2 |q_s - D| / (q_s + D); q_mv and the mass row and column of P scale
+    # by lambda_u, P_22 once; the other entries untouched.  Same operations as the spec on
+    # exactly representable inputs: compared to 1e-15 relative.
+    p, est = _adapting(q_mv=900.0, m_now=1810.0, m_a=1800.0)
+    P0 = [row[:] for row in est.P]
+    est._adapt(1.0)
+    lam = 0.5 * abs(900.0 - 100.0) / (900.0 + 100.0)   # D = 10^2, q_s = 900 * 1 s
+    assert est.q_mv == pytest.approx(lam * 900.0, rel=1e-15)
+    assert est.P[1][1] == pytest.approx(lam * P0[1][1], rel=1e-15)
+    assert est.P[0][1] == est.P[1][0] == pytest.approx(lam * P0[0][1], rel=1e-15)
+    assert est.P[2][1] == est.P[1][2] == pytest.approx(lam * P0[1][2], rel=1e-15)
+    assert est.P[0][0] == P0[0][0] and est.P[2][2] == P0[2][2] and est.P[0][2] == P0[0][2]
+    assert est.m_adapt == 1810.0 and est.t_adapt == 1.0
+    # 0 <= lambda_u <= 1/2 whatever D: the shrink factor the seed calls < 1
+    for d in (0.0, 1.0, 900.0, 1e6):
+        _, e = _adapting(q_mv=900.0, m_now=1800.0 + math.sqrt(d), m_a=1800.0)
+        e._adapt(1.0)
+        assert 0.0 <= e.q_mv <= 0.5 * 900.0 * (1.0 + 1e-15)
+
+
+def test_adaptation_waits_for_its_period_and_ends_at_the_stop_threshold():
+    p, est = _adapting(q_mv=900.0, m_now=1810.0, m_a=1800.0)
+    est._adapt(0.5)                           # mg_t_adapt = 1 s not yet over: nothing
+    assert est.q_mv == 900.0
+    stop = p["mg_mv_stop"] * p["mg_q_mc"] ** 2
+    p, est = _adapting(q_mv=stop * 1.5, m_now=1800.0, m_a=1800.0)  # D = 0: lambda_u = 1/2
+    est._adapt(1.0)
+    assert est.q_mv == 0.0                    # 0.75 * stop <= stop: the adaptation ended
+
+
+def test_bad_parameters_are_rejected():
+    for key, val in (("mg_m0", 0.0), ("mg_m0", 1e9), ("R", -0.3), ("mg_r_v", 0.0),
+                     ("mg_adaptive", 0.5), ("mg_ut_kappa", -3.0), ("mg_q_mc", float("nan")),
+                     ("mg_fc", -0.01), ("mg_theta_max", 2.0)):
+        with pytest.raises(mg.ParamError):
+            mg.MassGrade(mg.preset(**{key: val}))
+    with pytest.raises(mg.ParamError):
+        mg.preset(mg_unknown=1.0)
+
+
+def test_refused_samples_leave_the_state_unchanged():
+    est = mg.MassGrade(mg.preset(mg_use_ax=1.0))
+    est.step(mg.MgSample(0.0, 20.0, 300.0, ax=0.1))
+    est.step(mg.MgSample(0.02, 20.0, 300.0, ax=0.1))
+    before = (list(est.x), [r[:] for r in est.P], est.q_mv, est.t_prev)
+    for s, code in ((mg.MgSample(0.04, float("nan"), 300.0, ax=0.1), mg.ERR_NONFINITE),
+                    (mg.MgSample(0.04, 20.0, 300.0), mg.ERR_RANGE),          # no ax
+                    (mg.MgSample(0.02, 20.0, 300.0, ax=0.1), mg.ERR_RANGE),  # t not rising
+                    (mg.MgSample(0.04, 150.0, 300.0, ax=0.1), mg.ERR_RANGE)):
+        assert est.step(s).status == code
+        assert (list(est.x), est.P, est.q_mv, est.t_prev) == before
+
+
+def test_pause_holds_mass_and_grade_while_braking():
+    # §4.2 on the stop-and-go log: while paused M and theta keep their values exactly, the
+    # grade's variance grows, and the filter resumes (status 0) after each stop.
+    cols, _ = mg.read_log(os.path.join(LOGS, "car_stop_and_go.csv"))
+    r = mg.run(cols, mg.preset(mg_m0=1650.0 * 0.8, mg_use_ax=1.0))
+    st = r["status"]
+    paused = st == mg.PAUSED_BRAKE
+    assert paused.any() and (st == mg.NO_UPDATE_LOW_SPEED).any()
+    idx = np.flatnonzero(paused[1:] & paused[:-1]) + 1
+    assert np.all(r["mass"][idx] == r["mass"][idx - 1])
+    assert np.all(r["grade"][idx] == r["grade"][idx - 1])
+    assert np.all(r["sd_grade"][idx] > r["sd_grade"][idx - 1])
+    # the brake flag of the log is 1 exactly where the pedal is pressed; every such sample
+    # is paused
+    assert np.all(paused[cols["brake"] == 1.0])
+    assert st[-1] == mg.OK
+
+
+def test_ukf_with_ax_meets_the_mass_target_on_the_truck_drive():
+    # Issue 19's target, 2 % within 10 s of the first excitation from a 20 % error, on the
+    # seed-like truck drive; measured 0.6 % worst over four starts (MASS_GRADE_RESULTS.md),
+    # so 2 % holds with margin without being a tuned bound.  Also: P symmetric by
+    # construction and its diagonal positive all the way.
+    cols, _ = mg.read_log(os.path.join(LOGS, "truck_graded_drive.csv"))
+    mt = cols["mass_true"][0]
+    r = mg.run(cols, mg.preset("truck", mg_m0=0.8 * mt, mg_adaptive=0.0, mg_use_ax=1.0))
+    t = r["t"]
+    err = np.abs(r["mass"] - mt) / mt
+    assert np.all(err[t >= 10.0] <= 0.02)
+    assert np.all(r["sd_mass"] > 0.0) and np.all(r["sd_grade"] > 0.0)
+    assert np.all(r["status"] == mg.OK)
