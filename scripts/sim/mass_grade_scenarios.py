@@ -145,7 +145,7 @@ def run(sc, duration=None):
     """Simulate a scenario (vehicle.simulate with its road and resistances)."""
     return simulate(sc.make_inputs(), uniform_mu(0.9), sc.v0,
                     sc.duration if duration is None else duration, sc.params, "dugoff", sc.dt,
-                    sc.rate, sc.road, sc.v_low, sc.res.ext(sc.params))
+                    sc.rate, sc.road, sc.v_low, ext=sc.res.ext(sc.params))
 
 
 # ---- log columns -------------------------------------------------------------------------

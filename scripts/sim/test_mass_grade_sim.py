@@ -23,7 +23,7 @@ def test_external_force_decelerates_the_car_and_the_wheels_and_reaches_ax():
     p = Params()
     th = radians(3.0)
     sim = simulate(lambda t: (0.0, ZERO4, ZERO4), uniform_mu(0.9), 20.0, 1.0, p, "dugoff",
-                   0.01, 1000, Road(grade=const(th)), None, lambda t, vx, theta: -500.0)
+                   0.01, 1000, Road(grade=const(th)), None, ext=lambda t, vx, theta: -500.0)
     want = (-500.0 - p.m * p.g * sin(th)) / (p.m + m_rot(p))
     k = np.searchsorted(sim["t"], 0.5)
     assert abs(sim["vx_dot"][k] - want) <= 1e-4 * abs(want)
