@@ -79,6 +79,15 @@ typedef struct {
     rfe_status_t status;          /**< status of the step (same as the return value) */
 } rfe_estimate_t;
 
+/** The rear wheels' hold, per side (structure sides; docs/ESTIMATOR.md step 9). */
+typedef struct {
+    rfe_real_t mbar[2]; /**< the side's estimate smoothed over one wheelbase of travel */
+    rfe_real_t dist[2]; /**< distance its rear wheels still hold [m], 0 = not held */
+    uint8_t held[2];    /**< 1 while dist > 0: the side's rear wheels are not valid */
+    uint32_t pending;   /**< periods rfe_friction_skip made since the last step: their
+                             distance enters the next step's hold (saturating) */
+} rfe_rear_hold_t;
+
 /** Estimator state (caller-owned; fields are read-only for the caller). */
 typedef struct {
     uint32_t magic;
@@ -89,6 +98,9 @@ typedef struct {
     rfe_conditioner_t backup_cond;    /**< its state before the step (restored on error) */
     rfe_monitor_t mon;                /**< model-validity monitor (docs/MONITOR.md), SCKF */
     rfe_monitor_t backup_mon;         /**< its state before the step (restored on error) */
+    rfe_rear_hold_t hold;             /**< the rear wheels' hold (docs/ESTIMATOR.md step 9):
+                                           updated last in a step, after everything that can
+                                           fail, so it needs no backup */
     rfe_real_t backup_x[RFE_N_MAX];   /**< filter mean before the step (restored on error) */
     rfe_real_t backup_S[RFE_N_MAX * RFE_N_MAX]; /**< its S (SCKF) or P (CKF) */
     /* cppcheck-suppress misra-c2012-19.2 ; MISRA-DEV-03: one live filter, selected by kind */

@@ -73,6 +73,15 @@ typedef struct {
                                     it ran (0 on an error and from rfe_friction_get_q31) */
 } rfe_estimate_q31_t;
 
+/** The rear wheels' hold, per side (structure sides; docs/ESTIMATOR.md step 9). */
+typedef struct {
+    rfe_fix_t mbar[2]; /**< the side's estimate smoothed over one wheelbase of travel, Q29 */
+    rfe_fix_t dist[2]; /**< distance its rear wheels still hold [m], Q27 (<= 8 m), 0 = not held */
+    uint8_t held[2];   /**< 1 while dist > 0: the side's rear wheels are not valid */
+    uint32_t pending;  /**< periods rfe_friction_skip_q31 made since the last step: their
+                            distance enters the next step's hold (saturating) */
+} rfe_rear_hold_q31_t;
+
 /** Estimator state (caller-owned; fields are read-only for the caller). */
 typedef struct {
     uint32_t magic;
@@ -89,6 +98,9 @@ typedef struct {
                                                  deepest call path must fit 2 KiB on a
                                                  Cortex-M0+; meaningless between steps) */
     rfe_fix_t pers[RFE_MEAS];               /**< scratch: the step noise's persistent diagonal */
+    rfe_rear_hold_q31_t hold;               /**< the rear wheels' hold (docs/ESTIMATOR.md step 9):
+                                                 updated last in a step, after everything that
+                                                 can fail, so it needs no backup */
     rfe_fix_t backup_x[RFE_N_MAX];          /**< filter mean before the step (Q29) */
     rfe_fix_t backup_S[RFE_N_MAX * RFE_N_MAX]; /**< its S (SCKF, Q30) or P (CKF, Q31) */
     uint32_t step_sat;                      /**< saturations of the step in progress (the

@@ -58,6 +58,32 @@ def h_point(p, u, mu4):
     return model.h_absolute(p, ti, 0, mu4[:, None])[:, 0]
 
 
+class RearHold:
+    """Step 9's rear-wheel hold (docs/ESTIMATOR.md; structure sides, rear_hold_k > 0): each
+    side's estimate smoothed over one wheelbase L of travel (mbar) and the distance its rear
+    wheels still hold (dist). A side whose estimate lies more than rear_hold_k sd from mbar has
+    just moved on what its front wheels reached first; its rear wheels reach it one wheelbase
+    later, so they hold for L. The library's rear_hold_update, operation for operation."""
+
+    def __init__(self, p: dict):
+        self.k = p["rear_hold_k"]
+        self.len = p["Lf"] + p["Lr"]
+        self.dt = p["dt"]
+        self.mbar = [p["mu0"], p["mu0"]]
+        self.dist = [0.0, 0.0]
+        self.held = [False, False]
+
+    def update(self, x, sd, vx: float, missed: int) -> None:
+        ds = max(vx, 0.0) * (self.dt * (missed + 1.0))
+        a = ds / self.len if ds < self.len else 1.0
+        for j in range(2):
+            self.mbar[j] += a * (x[j] - self.mbar[j])
+            self.dist[j] = self.dist[j] - ds if self.dist[j] > ds else 0.0
+            if abs(x[j] - self.mbar[j]) > self.k * sd[j]:
+                self.dist[j] = self.len
+            self.held[j] = self.dist[j] > 0.0
+
+
 def run(log, p: dict, adapt=None):
     """Run over a sensor log; returns dict t, mu (N,4), sd (N,4), valid (N,4), status, info,
     and nu (N,3), s_zz (N,3,3): the innovation y - z_hat and the lower factor of its
@@ -89,7 +115,9 @@ def run(log, p: dict, adapt=None):
     out["s_zz"] = np.full((N, 3, 3), np.nan)    # every step that evaluates h (monitor.py)
     out["c_pers"] = np.full((N, 3), np.nan)     # diag of its persistent part (monitor.py)
     t = log.col("t")
+    hold = RearHold(p) if (p["structure"] == "sides" and p["rear_hold_k"] > 0) else None
     for k in range(N):
+        missed = filters.gap_periods(t[k] - t[k - 1], p["dt"]) if k > 0 else 0
         if filters.gap_time_update(f, t, k, p):     # a gap (ESTIMATOR.md "Gaps")
             _bound_sd(p, f)
             cond.vx = cond.vy = None    # the input filter restarts at this sample
@@ -124,6 +152,8 @@ def run(log, p: dict, adapt=None):
         if clamped and status == 0:
             status = 1
         sd = f.sd()                                                     # 9
+        if hold is not None:        # the rear wheels' hold, updated last in the step
+            hold.update(f.x, sd, vx, missed)
         out["mu"][k] = T @ f.x
         out["sd"][k] = T @ sd
         if p["sd_valid"] > 0:   # by the sd, never on a projection bound (ESTIMATOR.md step 9)
@@ -131,6 +161,10 @@ def run(log, p: dict, adapt=None):
             out["valid"][k] = (T @ ok.astype(float)).astype(int)
         else:
             out["valid"][k] = 1 if status in (0, 1) else 0
+        if hold is not None:        # a held side's rear wheel (rl: side 0, rr: side 1)
+            for w, side in ((2, 0), (3, 1)):
+                if hold.held[side]:
+                    out["valid"][k][w] = 0
         out["status"][k] = status
     out["t"] = log.col("t")
     return out

@@ -68,6 +68,7 @@
     X(sd_max, filter.sd_max, "1", "bound on every sd (0 = off)")                               \
     X(sd_floor_rel, filter.sd_floor_rel, "1", "floor on sd as a fraction of mu (0 = off)")      \
     X(sd_valid, filter.sd_valid, "1", "valid when sd <= sd_valid (0 = valid when updated)")     \
+    X(rear_hold_k, filter.rear_hold_k, "sd", "sides: hold the rear wheels after a move (0 = off)") \
     X(mon_enable, monitor.enable, "1", "model-validity monitor: 1 acts on valid, status, sd; 0 off") \
     X(mon_tau_nis, monitor.tau_nis, "s", "monitor: time constant of the NIS average")           \
     X(mon_tau_mean, monitor.tau_mean, "s", "monitor: time constant of the innovation means")    \

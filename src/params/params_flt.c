@@ -31,6 +31,7 @@ rfe_status_t rfe_params_default(rfe_params_t *p)
     p->filter.sd_max = RFE_R(0.32);
     p->filter.sd_floor_rel = RFE_R(0.15);
     p->filter.sd_valid = RFE_R(0.15);
+    p->filter.rear_hold_k = RFE_R(2.0); /* docs/ESTIMATOR.md step 9: the rear wheels' hold */
     p->monitor.enable = RFE_R(1.0); /* docs/MONITOR.md: the model-validity monitor acts */
     return RFE_OK;
 }
@@ -95,6 +96,7 @@ rfe_status_t rfe_params_paper(rfe_params_t *p)
     p->filter.sd_max = RFE_R(0.0);
     p->filter.sd_floor_rel = RFE_R(0.0);
     p->filter.sd_valid = RFE_R(0.0);
+    p->filter.rear_hold_k = RFE_R(0.0);
 
     /* docs/MONITOR.md §2 "Parameters": stated probabilities and time scales, not tuned;
      * off in the paper preset (MODEL.md §6 has no monitor), on in the default preset. */
@@ -169,7 +171,7 @@ static int additions_ok(const rfe_filter_params_t *f)
            is_nonneg(f->tau_v) && is_nonneg(f->sd_in_delta) && is_nonneg(f->sd_in_vx) &&
            is_nonneg(f->sd_in_vy) && is_nonneg(f->sd_in_yaw_rate) && is_nonneg(f->sd_in_omega) &&
            is_nonneg(f->r_model_rel) && is_nonneg(f->info_min) && is_nonneg(f->sd_max) &&
-           is_nonneg(f->sd_floor_rel) && is_nonneg(f->sd_valid);
+           is_nonneg(f->sd_floor_rel) && is_nonneg(f->sd_valid) && is_nonneg(f->rear_hold_k);
 }
 
 /* The CKF is the paper's baseline: it runs only what MODEL.md §6 has (four independent mu,

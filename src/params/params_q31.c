@@ -77,6 +77,7 @@ static const rfe_params_q31_t paper_q31 = {
         0,          /* sd_max = 0 (off), Q30 */
         0,          /* sd_floor_rel = 0 (off), Q30 */
         0,          /* sd_valid = 0 (paper rule), Q30 */
+        0,          /* rear_hold_k = 0 (off), Q24 */
         1073741824  /* b_v = 1 (tau_v = 0), Q30 */
     },
     {
@@ -125,6 +126,7 @@ rfe_status_t rfe_params_default_q31(rfe_params_q31_t *p)
     p->filter.sd_max = 343597384;       /* 0.32, Q30 */
     p->filter.sd_floor_rel = 161061274; /* 0.15, Q30 */
     p->filter.sd_valid = 161061274;     /* 0.15, Q30 */
+    p->filter.rear_hold_k = 33554432;   /* 2 sd, Q24 */
     p->filter.b_v = 34636833;           /* 0.01 / 0.31, Q30 */
     p->monitor.enable = 1u;             /* docs/MONITOR.md: the model-validity monitor acts */
     return RFE_OK;
@@ -331,7 +333,8 @@ static int additions_nonneg_ok(const rfe_filter_params_q31_t *f)
            is_nonneg_q31(f->sd_in_vy) && is_nonneg_q31(f->sd_in_yaw_rate) &&
            is_nonneg_q31(f->sd_in_omega) && is_nonneg_q31(f->r_model_rel) &&
            is_nonneg_q31(f->info_min) && is_nonneg_q31(f->sd_max) &&
-           is_nonneg_q31(f->sd_floor_rel) && is_nonneg_q31(f->sd_valid);
+           is_nonneg_q31(f->sd_floor_rel) && is_nonneg_q31(f->sd_valid) &&
+           is_nonneg_q31(f->rear_hold_k);
 }
 
 /* The additions, then dt and tau_v with 16 significant bits and the gain b_v in (0, 1] (split

@@ -43,14 +43,17 @@ typedef struct {
 /* Bounds (see the file comment); the measured float values in the comment of each line. */
 static const expect_t EXPECT[] = {
     /* ABS braking on mu 0.3 (MF truth): each spike is felt for 1-3 samples */
-    {"spike_ax.hard_brake_low_mu.mf.csv", "hard_brake_low_mu.mf.csv", 0.52, 0.05, 0, 0.02, 0.21},
-    /* with the monitor on (docs/MONITOR.md): valid share -18.7 % */
+    {"spike_ax.hard_brake_low_mu.mf.csv", "hard_brake_low_mu.mf.csv", 0.52, 0.05, 0, 0.02, 0.25},
+    /* with the monitor on (docs/MONITOR.md): valid share -18.7 %; with the rear wheels' hold
+     * (ESTIMATOR.md step 9: each spike jerks the estimate, which holds the rear wheels for a
+     * wheelbase) -22.7 % */
     /* measured: dmu 0.466 (median over spikes 0.335), rec 0.03 s, end 0, valid 90 / 90 % */
     {"spike_ay.hard_brake_low_mu.mf.csv", "hard_brake_low_mu.mf.csv", 0.13, 0.04, 0, 0.02, 0.85},
     /* with the monitor on (docs/MONITOR.md): valid share -77.3 % */
     /* 0.110 (median 0.087), 0.02 s */
-    {"spike_yaw_rate.hard_brake_low_mu.mf.csv", "hard_brake_low_mu.mf.csv", 0.24, 0.04, 0, 0.02, 0.02},
-    /* 0.211, 0.02 s (Dugoff tyre: 0.170) */
+    {"spike_yaw_rate.hard_brake_low_mu.mf.csv", "hard_brake_low_mu.mf.csv", 0.24, 0.04, 0, 0.02, 0.075},
+    /* 0.211, 0.02 s (Dugoff tyre: 0.170); valid share -5.5 % with the rear wheels' hold (each
+     * spike holds the rear wheels for a wheelbase; 0 before it) */
     {"spike_ax_beyond_limit.hard_brake_low_mu.mf.csv", "hard_brake_low_mu.mf.csv", 0.056, 0.02, 0, 0.02, 0.024},
     /* rejected (status 18): only the 4 missed updates show, 0.035, recovered at once */
     {"drop.hard_brake_low_mu.mf.csv", "hard_brake_low_mu.mf.csv", 0.026, 0.02, 0, 0.02, 0.02},

@@ -88,4 +88,11 @@ static inline uint8_t rfe_friction_valid(rfe_status_t st, int sd_rule, uint8_t b
     return ((st == RFE_OK) || (st == RFE_PROJECTED)) ? 1u : 0u;
 }
 
+/* Step 9's rear-wheel hold: a rear wheel (RL, RR) of a side whose hold is on (held != 0) is not
+ * valid; every other flag as it was. */
+static inline uint8_t rfe_friction_rear_valid(size_t w, uint8_t held, uint8_t valid)
+{
+    return ((w >= (size_t)RFE_RL) && (held != 0u)) ? 0u : valid;
+}
+
 #endif /* RFE_FRICTION_LOGIC_H */

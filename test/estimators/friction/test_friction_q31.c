@@ -1616,6 +1616,122 @@ static void test_rfe_friction_q31_step_after(void **state)
     assert_int_equal(rfe_friction_step_after_q31(&b, 1u, &uq, &oa), RFE_ERR_NOT_INITIALISED);
 }
 
+/* ---- step 9's rear-wheel hold in fixed point ---------------------------------------------- */
+
+/* The hold recomputed in double from the fixed-point estimator's own outputs (its front wheels'
+ * mu and sd are the two side states with the monitor and the input filter off), the Q31
+ * parameters and samples converted exactly: docs/ESTIMATOR.md step 9. The integer recursion
+ * rounds mbar to Q29 and the distances to Q27 each step (~1e-9 and ~1e-8 m, a few LSB over a
+ * wheelbase of steps), so a comparison |x - mbar| > k sd within 1e-7 of equality may go either
+ * way: rows with one are not compared (none seen). */
+static void q31_hold_run(const rfe_params_q31_t *pq, const rfe_sensor_log_t *log, size_t gap_at,
+                         unsigned gap_missed, size_t stand, size_t *held_off)
+{
+    rfe_friction_q31_t est;
+    rfe_estimate_q31_t e;
+    rfe_sample_q31_t uq;
+    rfe_sample_t ud;
+    const double k = rfe_fix_to_double(pq->filter.rear_hold_k, RFE_FIX_Q_HOLD);
+    const double len = rfe_fix_to_double(pq->vehicle.Lf, RFE_FIX_Q_LEN) + rfe_fix_to_double(pq->vehicle.Lr, RFE_FIX_Q_LEN);
+    const double dt = rfe_fix_to_double(pq->filter.dt, RFE_FIX_Q_DT);
+    double mbar[2], dist[2] = {0.0, 0.0};
+    size_t i, j;
+    mbar[0] = mbar[1] = rfe_fix_to_double(pq->filter.mu0, RFE_FIX_Q_MU);
+    assert_int_equal(rfe_friction_init_q31(&est, pq), RFE_OK);
+    for (i = 0; i < log->n_rows + stand; ++i) {
+        const unsigned missed = (i == gap_at) ? gap_missed : 0u;
+        uint32_t sat = 0u;
+        int tie = 0;
+        if (i < log->n_rows) {
+            sample_d(&log->rows[i], &ud);
+            sample_q(&ud, &uq, &sat);
+        } else {
+            memset(&uq, 0, sizeof uq); /* standing still */
+        }
+        assert_false(rfe_status_is_error(rfe_friction_step_after_q31(&est, missed, &uq, &e)));
+        {
+            const double v = rfe_fix_to_double(uq.vx, RFE_FIX_Q_SPEED);
+            const double ds = (v > 0.0 ? v : 0.0) * (dt * ((double)missed + 1.0));
+            const double a = (ds < len) ? ds / len : 1.0;
+            for (j = 0; j < 2; ++j) {
+                const double x = rfe_fix_to_double(e.mu[j], RFE_FIX_Q_MU);
+                const double sd = rfe_fix_to_double(e.sd[j], RFE_FIX_Q_SD);
+                double dev;
+                mbar[j] += a * (x - mbar[j]);
+                dist[j] = (dist[j] > ds) ? dist[j] - ds : 0.0;
+                dev = fabs(x - mbar[j]);
+                tie |= (fabs(dev - k * sd) <= 1e-7);
+                if (dev > k * sd) {
+                    dist[j] = len;
+                }
+            }
+        }
+        for (j = 0; j < 2; ++j) {
+            const int held = dist[j] > 0.0;
+            const uint8_t want = held ? 0u : e.valid[j];
+            if ((e.valid[j + 2] != want) && (tie == 0)) {
+                fail_msg("row %zu side %zu: rear valid %u, the rule says %u", i, j,
+                         (unsigned)e.valid[j + 2], (unsigned)want);
+            }
+            *held_off += (size_t)((e.valid[j] != 0u) && held);
+        }
+    }
+}
+
+/* REQ: the fixed-point estimator holds its rear wheels as docs/ESTIMATOR.md step 9 says,
+ * recomputed from its own outputs, on the bundled mu step, through a gap longer than a
+ * wheelbase and a standstill (the hold turns valid rear flags off: not vacuous). */
+/* REQ-EST-016 REQ-FXP-010 */
+static void test_rfe_friction_q31_rear_hold(void **state)
+{
+    const char *path = SCENARIO_DIR "/mu_step_hard_brake.mf.csv";
+    rfe_sensor_log_t log;
+    both_params_t bp;
+    size_t held = 0;
+    (void)state;
+    read_log(path, &log);
+    monitor_on = 0;
+    params_for(&log, path, RFE_PRESET_DEFAULT, RFE_FILTER_SCKF, &bp);
+    bp.pd.filter.tau_v = 0.0;
+    assert_int_equal(rfe_params_to_q31_f64(&bp.pd, &bp.pq), RFE_OK);
+    assert_true(bp.pq.filter.rear_hold_k > 0);
+    q31_hold_run(&bp.pq, &log, (size_t)-1, 0u, 0u, &held);
+    print_message("[q31 rear hold] %zu rear flags held on %s\n", held, path);
+    assert_true(held > 10u);
+    q31_hold_run(&bp.pq, &log, 322u, 400u, 50u, &held);
+    /* skip(n) then step = step_after(n) while held; the pending periods saturate */
+    {
+        static rfe_friction_q31_t a;
+        static rfe_friction_q31_t b;
+        rfe_estimate_q31_t ea, eb;
+        rfe_sample_t ud;
+        rfe_sample_q31_t uq;
+        uint32_t sat = 0u;
+        size_t i;
+        assert_int_equal(rfe_friction_init_q31(&a, &bp.pq), RFE_OK);
+        for (i = 0; i <= 325u; ++i) {
+            sample_d(&log.rows[i], &ud);
+            sample_q(&ud, &uq, &sat);
+            if (i < 325u) {
+                assert_false(rfe_status_is_error(rfe_friction_step_q31(&a, &uq, &ea)));
+            }
+        }
+        assert_true((a.hold.held[0] != 0u) || (a.hold.held[1] != 0u));
+        b = a;
+        assert_int_equal(rfe_friction_skip_q31(&b, 3u), RFE_OK);
+        assert_int_equal(rfe_friction_step_q31(&b, &uq, &eb),
+                         rfe_friction_step_after_q31(&a, 3u, &uq, &ea));
+        assert_memory_equal(&ea, &eb, sizeof ea);
+        assert_memory_equal(&a.hold, &b.hold, sizeof a.hold);
+        assert_int_equal(rfe_friction_skip_q31(&b, UINT32_MAX), RFE_OK);
+        assert_int_equal(rfe_friction_skip_q31(&b, 7u), RFE_OK);
+        assert_int_equal(b.hold.pending, UINT32_MAX);
+        assert_false(rfe_status_is_error(rfe_friction_step_after_q31(&b, 9u, &uq, &eb)));
+        assert_true(b.hold.held[0] == 0u && b.hold.held[1] == 0u && b.hold.pending == 0u);
+    }
+    rfe_sensor_log_free(&log);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1639,6 +1755,7 @@ int main(void)
         cmocka_unit_test(test_rfe_friction_q31_b2b_paper_sckf),
         cmocka_unit_test(test_rfe_friction_q31_b2b_paper_ckf),
         cmocka_unit_test(test_rfe_friction_q31_b2b_default),
+        cmocka_unit_test(test_rfe_friction_q31_rear_hold),
         cmocka_unit_test(test_rfe_friction_q31_b2b_monitor),
         cmocka_unit_test(test_rfe_friction_q31_status_while_fired),
     };
