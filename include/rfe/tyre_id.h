@@ -50,6 +50,11 @@
 #include "rfe/params.h"
 #include "rfe/tyre_id_params.h"
 
+/* The particle count fits the 16-bit parent indices and is at least 2. */
+#if (RFE_TID_N < 2) || (RFE_TID_N > 65535)
+#error "RFE_TID_N must lie in 2..65535"
+#endif
+
 /* Full names of the functions declared here: _f32 in the float build, _f64 with
  * RFE_REAL_DOUBLE (rfe/types.h). Sources define and call them by the short name. */
 #if defined(RFE_REAL_DOUBLE)

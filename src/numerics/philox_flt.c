@@ -124,7 +124,8 @@ rfe_status_t rfe_philox_word(rfe_philox_t *s, uint64_t n, uint64_t *w)
 /* u = ((w >> shift) + 0.5) 2^-bits: the top bits, centred, exact in the type. */
 static rfe_real_t uniform_of(uint64_t w)
 {
-    return ((rfe_real_t)(w >> UNIFORM_SHIFT) + RFE_R(0.5)) * RFE_R(UNIFORM_SCALE);
+    const uint64_t top = w >> UNIFORM_SHIFT;
+    return ((rfe_real_t)top + RFE_R(0.5)) * RFE_R(UNIFORM_SCALE);
 }
 
 rfe_status_t rfe_philox_uniform(rfe_philox_t *s, uint64_t n, rfe_real_t *u)

@@ -23,9 +23,6 @@
 #define PAIRS_DIM (RFE_TID_DIM / 2)
 #define PAIRS_PAR (RFE_TID_PAR / 2)
 
-/* C99 static assertion: the particle count fits the 16-bit parent indices and is at least 2. */
-typedef char rfe_tid_n_fits[((RFE_TID_N >= 2) && (RFE_TID_N <= 65535)) ? 1 : -1];
-
 /* The prior's centre, spread, bounds and walk of the axle with static load fz, into the four
  * parameter slots from j (§2, §4.2, §4.3). */
 static void axle_constants(rfe_tid_consts_t *c, size_t j, rfe_real_t fz,
@@ -416,7 +413,7 @@ static void estimate(rfe_tyre_id_t *t, const rfe_tyre_id_sample_t *smp,
 
 /* §1 the sample: finite; inside config.h's limits, with positive axle loads (§3.4);
  * after the first, dt in (0, dt_max]. */
-static rfe_status_t check_sample(const rfe_tyre_id_t *t, const rfe_tyre_id_sample_t *smp)
+static rfe_status_t check_tid_sample(const rfe_tyre_id_t *t, const rfe_tyre_id_sample_t *smp)
 {
     const rfe_real_t v[6] = {smp->dt, smp->delta, smp->vx, smp->yaw_rate, smp->ay, smp->ax};
     if (rfe_all_finite(v, 6u) == 0) {
@@ -451,7 +448,7 @@ rfe_status_t rfe_tyre_id_step(rfe_tyre_id_t *tid, const rfe_tyre_id_sample_t *s,
     if (tid->magic != RFE_MAGIC_TID) {
         return RFE_ERR_NOT_INITIALISED;
     }
-    st = check_sample(tid, s);
+    st = check_tid_sample(tid, s);
     if (st != RFE_OK) {
         *out = tid->last;
         out->status = st;

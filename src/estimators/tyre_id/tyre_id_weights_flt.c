@@ -12,10 +12,10 @@ int rfe_tid_normalise(const rfe_real_t *l, size_t n, rfe_real_t *w, rfe_real_t *
     rfe_real_t mx = l[0];
     rfe_real_t s = RFE_R(0.0);
     rfe_real_t log_s;
-    int nan_seen = rfe_is_finite(l[0]) ? 0 : (isnan(l[0]) ? 1 : 0);
+    int nan_seen = 0;
     size_t i;
-    for (i = 1u; i < n; ++i) {
-        if (isnan(l[i])) {
+    for (i = 0u; i < n; ++i) {
+        if (isnan(l[i]) != 0) {
             nan_seen = 1;
         } else if (l[i] > mx) {
             mx = l[i];
@@ -107,15 +107,20 @@ void rfe_tid_draw(const rfe_real_t *cum, size_t n, rfe_philox_t *s, rfe_tid_resa
     }
 }
 
+static size_t smaller(size_t a, size_t b)
+{
+    return (a < b) ? a : b;
+}
+
 /* One pass of the bottom-up merge: runs of `width` from src merged into dst, the left run
  * first on equal weights (stable). */
 static void merge_pass(const rfe_real_t *w, size_t n, size_t width, const uint16_t *src,
                        uint16_t *dst)
 {
     size_t lo;
-    for (lo = 0u; lo < n; lo += 2u * width) {
-        const size_t mid = ((lo + width) < n) ? (lo + width) : n;
-        const size_t end = ((mid + width) < n) ? (mid + width) : n;
+    for (lo = 0u; lo < n; lo += (2u * width)) {
+        const size_t mid = smaller(lo + width, n);
+        const size_t end = smaller(mid + width, n);
         size_t a = lo;
         size_t b = mid;
         size_t k;
@@ -145,7 +150,7 @@ void rfe_tid_order(const rfe_real_t *w, size_t n, uint16_t *order, uint16_t *tmp
         } else {
             merge_pass(w, n, width, tmp, order);
         }
-        in_order = (in_order != 0) ? 0 : 1;
+        in_order = 1 - in_order;
     }
     if (in_order == 0) {
         for (i = 0u; i < n; ++i) {
