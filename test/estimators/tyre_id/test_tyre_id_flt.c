@@ -26,9 +26,11 @@
 
 #if defined(RFE_REAL_DOUBLE)
 #define TOL_W 1e-14
+#define TOL_CLIP 1e-12
 #define SD_R_OVERFLOW 1e-160 /* (1e-3 / sd_r)^2 overflows the double */
 #else
 #define TOL_W 1e-6
+#define TOL_CLIP 1e-5
 #define SD_R_OVERFLOW 1e-30  /* (1e-3 / sd_r)^2 overflows the float */
 #endif
 
@@ -605,6 +607,48 @@ static void test_substeps(void **state)
     }
 }
 
+/* F = D sin(C atan(x - E (x - atan x))), x = B tan(alpha), B = K / (C D): §3.2 in double. */
+static double mf_ref(const rfe_real_t *th, double alpha)
+{
+    const double d = th[0];
+    const double c = th[1];
+    const double b = (double)th[2] / (c * d);
+    const double e = th[3];
+    const double x = b * tan(alpha);
+    return d * sin(c * atan(x - e * (x - atan(x))));
+}
+
+/* REQ-TID-006: a slip angle beyond alpha_max (a particle sliding sideways) is clipped to
+ * +-alpha_max before the curve, on both axles, both signs. Tolerance: the float build's
+ * tan, atan and sin at tan(1.4) = 5.8 and B t ~ 100 round to a few float ulps of D:
+ * 1e-5 D; the double build 1e-12 D. */
+static void test_slip_beyond_alpha_max_is_clipped(void **state)
+{
+    rfe_params_t veh;
+    rfe_tyre_id_params_t tp;
+    rfe_real_t x[RFE_TID_DIM];
+    rfe_tid_input_t u;
+    rfe_real_t ff;
+    rfe_real_t fr;
+    double sign;
+    (void)state;
+    setup_defaults(&veh, &tp);
+    assert_int_equal(rfe_tyre_id_init(&tid, &tp, &veh, 1u), RFE_OK);
+    memset(x, 0, sizeof(x));
+    memcpy(&x[RFE_TID_STATES], tid.c.mean0, sizeof(tid.c.mean0));
+    u.delta = 0;
+    u.cd = 1;
+    u.sd = 0;
+    u.vx = 1;
+    for (sign = -1.0; sign <= 1.0; sign += 2.0) {
+        const double a = -sign * (double)veh.tyre.alpha_max; /* alpha = -atan2(vy, vx) */
+        x[RFE_TID_VY] = (rfe_real_t)(sign * 1000.0);
+        rfe_tid_forces(&tid, x, &u, &ff, &fr);
+        assert_close(ff, mf_ref(&x[RFE_TID_D_F], a), TOL_CLIP * tid.c.mean0[0], 0.0, "front");
+        assert_close(fr, mf_ref(&x[RFE_TID_D_R], a), TOL_CLIP * tid.c.mean0[4], 0.0, "rear");
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -620,6 +664,7 @@ int main(void)
         cmocka_unit_test(test_held_below_v_min),
         cmocka_unit_test(test_lost_draws_the_prior_again),
         cmocka_unit_test(test_substeps),
+        cmocka_unit_test(test_slip_beyond_alpha_max_is_clipped),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
