@@ -19,6 +19,7 @@
  * per particle count); the figures on the results page were measured once this way.
  */
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
