@@ -40,7 +40,14 @@
 
 /* Seen (PRINT_DIFF, 25 samples per case, N = 256): the float means within 2.2e-4 sds of the
  * reference's on three cases (the paths still the same) and 0.28 sds on the SIR with
- * systematic resampling (a path diverged); the status bits equal on every sample. */
+ * systematic resampling (a path diverged); the status bits equal on every sample.
+ * Measured once over the whole of each log (351 to 1001 samples, against the reference's
+ * libm run; not committed, the goldens stay small): the double build stays bit for bit on
+ * every sample; the float APF stays a sample of the same posterior (RMS of
+ * (mean - reference) / sd 0.56-0.65 on the worst output, at most 1.9 sds, the median sd ratio
+ * within a factor 1.5), but the bootstrap filter's spread collapses (the degeneracy
+ * TYRE_ID_RESULTS.md reports), so there the difference in collapsed sds means nothing and
+ * the per-sample bounds below hold only while the paths are still close: hence short cases. */
 #if !defined(RFE_REAL_DOUBLE)
 #define TOL_K 1.0
 #define TOL_PRIOR 1e-3
