@@ -48,7 +48,7 @@ include $(sort $(filter-out mk/lib.mk,$(wildcard mk/*.mk)))
 
 .PHONY: mass-grade-scenarios mass-grade-results trust-invariant names car-format-logs observer-goldens observer-goldens-q31 observer-results monitor-results all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind coverage demo goldens goldens-q31 scenarios observer-scenarios clean vectors shared-sync check-shared readme-table \
         check-kernels check-tools layers help-check goldens-ref check-nofloat help deps-analysis misra tidy complexity structural analysis \
-        twins check-twins tyre-id-scenarios tyre-id-results
+        twins check-twins tyre-id-scenarios tyre-id-results tyre-id-goldens
 ## the libraries and build/mu_replay (the default target)
 all: lib $(BUILD)/mu_replay
 ## the float, double and fixed-point libraries (build/{f32,f64,q31}/)
@@ -405,6 +405,12 @@ monitor-results: venv
 ## regenerate the velocity observer's goldens (scenarios/golden/observer/)
 observer-goldens: venv
 	$(PY) scripts/data/make_observer_goldens.py --scenarios scenarios --out scenarios/golden/observer
+
+# The tyre identifier's goldens (docs/TYRE_ID.md) from its float64 reference, libm backend (the
+# C library's double build agrees bit for bit); the particle count is the C build's.
+## regenerate the tyre identifier's goldens and its stream check (scenarios/golden/tyre_id/)
+tyre-id-goldens: venv
+	$(PY) scripts/data/make_tyre_id_goldens.py --n 256 --out scenarios/golden/tyre_id
 
 ## regenerate the fixed-point goldens with mu_replay --real q31
 goldens-q31: $(BUILD)/mu_replay

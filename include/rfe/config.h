@@ -20,6 +20,18 @@
 /** Number of cubature points at the largest state dimension. */
 #define RFE_CUB_MAX (2 * RFE_N_MAX)
 
+/** Particle count of the tyre identifier (rfe/tyre_id.h, docs/TYRE_ID.md §2 tid_n), at least 2
+ *  and at most 65535 (the parent indices are 16-bit). Its state holds 26 reals and three
+ *  16-bit indices per particle: with the default 256, 28.7 kB in float and 55.7 kB in double
+ *  (sizeof(rfe_tyre_id_t); test_tyre_id_flt.c checks the figure). */
+#ifndef RFE_TID_N
+#define RFE_TID_N 256
+#endif
+/** Most RK4 steps per sample period the tyre identifier accepts (tid_substeps). */
+#ifndef RFE_TID_SUBSTEPS_MAX
+#define RFE_TID_SUBSTEPS_MAX 16
+#endif
+
 /** The configuration a translation unit was compiled with, in one word: the maxima above,
  *  then the number type in the low byte (1 float, 2 double, 3 fixed point). Each init's
  *  wrapper (rfe_friction_init, rfe_velocity_init, rfe_pipeline_init and their _q31 twins;

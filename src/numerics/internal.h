@@ -75,6 +75,8 @@ static inline float rfe_atan2_f32(float y, float x)
 #define RFE_EXP(x) exp(x)
 #define RFE_ERFC(x) erfc(x)
 #define RFE_CEIL(x) ceil(x)
+#define RFE_ATAN(x) atan(x)
+#define RFE_POW(x, y) pow((x), (y))
 #else
 #define RFE_SQRT(x) sqrtf(x)
 #define RFE_FABS(x) fabsf(x)
@@ -88,6 +90,8 @@ static inline float rfe_atan2_f32(float y, float x)
 #define RFE_EXP(x) expf(x)
 #define RFE_ERFC(x) erfcf(x)
 #define RFE_CEIL(x) ceilf(x)
+#define RFE_ATAN(x) atanf(x)
+#define RFE_POW(x, y) powf((x), (y))
 #endif
 
 /** Magic words marking an initialised state struct (guards use before init). */
@@ -97,6 +101,7 @@ static inline float rfe_atan2_f32(float y, float x)
 #define RFE_MAGIC_COND 0x434F4E44u /* "COND" */
 #define RFE_MAGIC_VEL 0x56454C31u  /* "VEL1" */
 #define RFE_MAGIC_MON 0x4D4F4E31u  /* "MON1" */
+#define RFE_MAGIC_TID 0x54494431u  /* "TID1" */
 
 /** True when x is neither NaN nor infinite. */
 static inline int rfe_is_finite(rfe_real_t x) { return isfinite(x) ? 1 : 0; }

@@ -1,0 +1,108 @@
+"""Generate the goldens of the tyre identifier (docs/TYRE_ID.md) with the float64 reference
+(scripts/reference/tyre_id.py, backend libm: the platform's C library, element by element,
+so that the C library's double build reproduces it bit for bit), for the C tests.
+
+Usage (from the repository root):
+
+    .venv/bin/python scripts/data/make_tyre_id_goldens.py [--n 256] \
+        [--out scenarios/golden/tyre_id]
+
+Writes <out>/<case>.csv for each case of CASES: a few samples of one log of
+scenarios/tyre_id/ from row `start` on (the first of them initialises the filter), with one
+filter and one resampling scheme, the reference's defaults otherwise (params.DEFAULTS and
+TID_DEFAULTS: the C library's rfe_params_default and rfe_tyre_id_params_default), tid_n =
+--n (the C build's RFE_TID_N), seed SEED. Columns: t, status, n_eff and each output's mean
+(name) and sd (sd_name). The configuration is in the file's metadata.
+
+And <out>/stream.csv: words, uniforms and normals of the random stream (§6) at a few
+(seed, c1, c2) and word indices, the words split in 32-bit halves (exact in a double).
+
+Deterministic: running it twice writes identical bytes (plain Python floats; the libm
+backend has no SIMD kernel on its path).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import time
+
+sys.path[:0] = [os.path.dirname(os.path.dirname(os.path.abspath(__file__)))]
+import numpy as np  # noqa: E402
+
+from reference import philox, tyre_id  # noqa: E402
+from reference.logs import read_csv_log  # noqa: E402
+
+SEED = 7
+# (case, log, filter, resample, first row, samples): both filters and both schemes, the
+# start of a log (the prior, the first draws) and the middle of a manoeuvre at the limit
+CASES = (
+    ("sine_apf_multinomial", "tid_sine_steer", "apf", "multinomial", 0, 25),
+    ("ramp_apf_systematic", "tid_ramp_steer_high_mu", "apf", "systematic", 650, 25),
+    ("dlc_sir_multinomial", "tid_dlc_high_mu", "sir", "multinomial", 150, 25),
+    ("change_sir_systematic", "tid_tyre_change", "sir", "systematic", 790, 25),
+)
+# (seed, c1, c2, first word, words) of the stream check
+STREAM = ((1, 0, 0, 0, 16), (7, 3, 1, 40, 12), (2 ** 64 - 1, 2 ** 40 + 5, 4, 1000, 8))
+
+
+def golden(log, filt, scheme, start, count, n):
+    c = read_csv_log(os.path.join("scenarios", "tyre_id", log + ".csv")).columns
+    cols = {k: np.asarray(c[k][start:start + count], dtype=float) for k in tyre_id.SAMPLE_KEYS}
+    params = {"tid_n": float(n), "tid_filter": filt, "tid_resample": scheme}
+    out = tyre_id.run(cols, params, seed=SEED, backend="libm")
+    meta = [("source", f"scenarios/tyre_id/{log}.csv"), ("generator", "scripts/reference/tyre_id.py"),
+            ("backend", "libm"), ("first_row", start), ("samples", count), ("seed", SEED),
+            ("tid_n", n), ("tid_filter", filt), ("tid_resample", scheme),
+            ("params", "params.DEFAULTS and TID_DEFAULTS")]
+    names = ["t", "status", "n_eff"]
+    for k in tyre_id.OUTPUT_NAMES:
+        names += [k, "sd_" + k]
+    rows = zip(*(out[k] for k in names))
+    return meta, names, rows
+
+
+def stream_rows():
+    names = ["seed_hi", "seed_lo", "c1_hi", "c1_lo", "c2", "n", "w_hi", "w_lo", "uniform",
+             "normal"]
+    rows = []
+    for seed, c1, c2, first, count in STREAM:
+        m = first + count
+        w = philox.words((seed, 0), c1, c2, 0, m)
+        u = philox.uniforms_from_words(w)
+        z = philox.normals_from_words(w, tyre_id.LIBM)
+        for i in range(first, m):
+            wi = int(w[i])
+            rows.append((seed >> 32, seed & 0xFFFFFFFF, c1 >> 32, c1 & 0xFFFFFFFF, c2, i,
+                         wi >> 32, wi & 0xFFFFFFFF, float(u[i]), float(z[i])))
+    meta = [("generator", "scripts/reference/philox.py"), ("backend", "libm"),
+            ("what", "word n of key (seed, 0), counter (n // 4, c1, c2, 0); uniform n; normal n")]
+    return meta, names, rows
+
+
+def write(path, meta, cols, rows):
+    with open(path, "w", encoding="utf-8", newline="\n") as fh:
+        for k, v in meta:
+            fh.write(f"# {k} = {v}\n")
+        fh.write(",".join(cols) + "\n")
+        for row in rows:
+            fh.write(",".join(repr(float(v)) for v in row) + "\n")
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--n", type=int, default=256, help="particles (the C build's RFE_TID_N)")
+    ap.add_argument("--out", default=os.path.join("scenarios", "golden", "tyre_id"))
+    a = ap.parse_args(argv)
+    os.makedirs(a.out, exist_ok=True)
+    t0 = time.time()
+    write(os.path.join(a.out, "stream.csv"), *stream_rows())
+    for i, (case, log, filt, scheme, start, count) in enumerate(CASES, 1):
+        write(os.path.join(a.out, case + ".csv"), *golden(log, filt, scheme, start, count, a.n))
+        print(f"[{i}/{len(CASES)}] {case} ({time.time() - t0:.0f} s)", flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,45 @@
+"""Tests of the tyre identifier's goldens (scripts/data/make_tyre_id_goldens.py): the committed
+files of scenarios/golden/tyre_id/ are exactly what the generator writes from the reference
+today, byte for byte (the libm backend calls the platform's C library element by element, so
+the figures do not depend on NumPy's SIMD kernels; the C tests compare the library with
+these files bit for bit in double, so a hand edit or a change of the reference must show here
+first). One case and the stream file, so the test stays near a second.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+sys.path[:0] = [HERE, os.path.dirname(HERE)]
+import make_tyre_id_goldens as gen  # noqa: E402
+
+GOLDEN = os.path.join(ROOT, "scenarios", "golden", "tyre_id")
+
+
+def _read(path):
+    with open(path, encoding="utf-8") as fh:
+        return fh.read()
+
+
+# REQ-TID-002
+def test_committed_golden_is_what_the_reference_writes(tmp_path, monkeypatch):
+    monkeypatch.chdir(ROOT)
+    case, log, filt, scheme, start, count = gen.CASES[0]
+    out = tmp_path / (case + ".csv")
+    gen.write(str(out), *gen.golden(log, filt, scheme, start, count, 256))
+    assert _read(str(out)) == _read(os.path.join(GOLDEN, case + ".csv"))
+
+
+# REQ-TID-001
+def test_committed_stream_is_what_the_reference_writes(tmp_path):
+    out = tmp_path / "stream.csv"
+    gen.write(str(out), *gen.stream_rows())
+    assert _read(str(out)) == _read(os.path.join(GOLDEN, "stream.csv"))
+
+
+def test_every_case_has_a_committed_golden():
+    for case, *_ in gen.CASES:
+        assert os.path.isfile(os.path.join(GOLDEN, case + ".csv")), case

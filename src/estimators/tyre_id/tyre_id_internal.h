@@ -1,0 +1,90 @@
+/**
+ * @file tyre_id_internal.h
+ * @brief The tyre identifier's parts (docs/TYRE_ID.md), one module each: the single-track
+ *        model with the Magic Formula per axle, its RK4 step and the likelihood
+ *        (tyre_id_model_flt.c, §3-4, §5.1); the weights and the resampling
+ *        (tyre_id_weights_flt.c, §5.1, §5.3-5.5). tyre_id_flt.c composes them. Every sum over
+ *        particles runs in particle order and every expression is rounded as the page
+ *        parenthesises it (§9): the double build is the reference's twin bit for bit.
+ */
+#ifndef RFE_TYRE_ID_INTERNAL_H
+#define RFE_TYRE_ID_INTERNAL_H
+
+#include "rfe/tyre_id.h"
+
+/* Full names of the functions declared here: _f32 in the float build, _f64 with
+ * RFE_REAL_DOUBLE (rfe/types.h). Sources define and call them by the short name. */
+#if defined(RFE_REAL_DOUBLE)
+#define rfe_tid_forces    rfe_tid_forces_f64
+#define rfe_tid_rk4       rfe_tid_rk4_f64
+#define rfe_tid_loglik    rfe_tid_loglik_f64
+#define rfe_tid_normalise rfe_tid_normalise_f64
+#define rfe_tid_neff      rfe_tid_neff_f64
+#define rfe_tid_cumsum    rfe_tid_cumsum_f64
+#define rfe_tid_search    rfe_tid_search_f64
+#define rfe_tid_draw      rfe_tid_draw_f64
+#define rfe_tid_order     rfe_tid_order_f64
+#define rfe_tid_reflect   rfe_tid_reflect_f64
+#else
+#define rfe_tid_forces    rfe_tid_forces_f32
+#define rfe_tid_rk4       rfe_tid_rk4_f32
+#define rfe_tid_loglik    rfe_tid_loglik_f32
+#define rfe_tid_normalise rfe_tid_normalise_f32
+#define rfe_tid_neff      rfe_tid_neff_f32
+#define rfe_tid_cumsum    rfe_tid_cumsum_f32
+#define rfe_tid_search    rfe_tid_search_f32
+#define rfe_tid_draw      rfe_tid_draw_f32
+#define rfe_tid_order     rfe_tid_order_f32
+#define rfe_tid_reflect   rfe_tid_reflect_f32
+#endif
+
+/** The inputs of one evaluation of the model: delta, cos(delta), sin(delta), vx. */
+typedef struct {
+    rfe_real_t delta;
+    rfe_real_t cd;
+    rfe_real_t sd;
+    rfe_real_t vx;
+} rfe_tid_input_t;
+
+/** §3.1-3.2 the axle lateral forces of particle @p x (its columns) at inputs @p u. */
+void rfe_tid_forces(const rfe_tyre_id_t *tid, const rfe_real_t x[RFE_TID_DIM],
+                    const rfe_tid_input_t *u, rfe_real_t *fy_f, rfe_real_t *fy_r);
+
+/** §4.1 the noise-free step of (vy, r) of particle @p x over @p h: substeps RK4 steps with
+ *  the inputs @p u held and the parameters fixed. */
+void rfe_tid_rk4(const rfe_tyre_id_t *tid, const rfe_real_t x[RFE_TID_DIM],
+                 const rfe_tid_input_t *u, rfe_real_t h, rfe_real_t out[RFE_TID_STATES]);
+
+/** §5.1 the log-likelihood of (yaw_rate, ay) for states (vy, r) and the parameters @p th
+ *  (RFE_TID_PAR of them) at the sample's inputs @p u; -infinity when it is not finite. */
+rfe_real_t rfe_tid_loglik(const rfe_tyre_id_t *tid, rfe_real_t vy, rfe_real_t r,
+                          const rfe_real_t *th, const rfe_tid_input_t *u, rfe_real_t yaw_rate,
+                          rfe_real_t ay);
+
+/** §5.1 log-sum-exp: w_i = exp(l_i - M) / S, and (when @p lw is not NULL; it may be @p l)
+ *  lw_i = (l_i - M) - log S. Returns 0, writing nothing, when no weight is positive and
+ *  finite (the maximum M is -infinity, +infinity or NaN), else 1. */
+int rfe_tid_normalise(const rfe_real_t *l, size_t n, rfe_real_t *w, rfe_real_t *lw);
+
+/** §5.1 N_eff = 1 / (w_0 w_0 + w_1 w_1 + ...), in that order. */
+rfe_real_t rfe_tid_neff(const rfe_real_t *w, size_t n);
+
+/** §5.3 C_i = w_0 + ... + w_i, in that order. */
+void rfe_tid_cumsum(const rfe_real_t *w, size_t n, rfe_real_t *cum);
+
+/** §5.3 the smallest i with x < cum[i], n - 1 if none. */
+size_t rfe_tid_search(const rfe_real_t *cum, size_t n, rfe_real_t x);
+
+/** §5.3 @p m parents from the cumulative weights @p cum (n of them) into @p idx, with the
+ *  uniforms of stream @p s: multinomial (uniform j for parent j) or systematic (uniform 0). */
+void rfe_tid_draw(const rfe_real_t *cum, size_t n, rfe_philox_t *s, rfe_tid_resample_t scheme,
+                  size_t m, uint16_t *idx);
+
+/** §5.4 @p order = the particles by descending weight, ties by ascending index (a stable
+ *  bottom-up merge sort; @p tmp is its second buffer, n entries). */
+void rfe_tid_order(const rfe_real_t *w, size_t n, uint16_t *order, uint16_t *tmp);
+
+/** §5.5 reflect into [lo, hi]: one reflection at each bound, then a clip. */
+rfe_real_t rfe_tid_reflect(rfe_real_t x, rfe_real_t lo, rfe_real_t hi);
+
+#endif /* RFE_TYRE_ID_INTERNAL_H */

@@ -1,0 +1,670 @@
+/**
+ * @file test_tyre_id_flt.c
+ * @brief The tyre identifier's API, weights and resampling (docs/TYRE_ID.md): parameters,
+ *        argument checks (the state untouched, memcmp), log-sum-exp with extreme
+ *        log-likelihoods, the parent search and both draws on hand-derived weights, the
+ *        order by weight, the reflection, the bounds after every step of a log, the
+ *        status bits (FIRST, HELD, UPDATED, RESAMPLED, LOST) and the spread on straight
+ *        driving. Agreement with the reference: test_tyre_id_golden_flt.c.
+ *
+ * Tolerances.
+ * - Hand-derived weights (log-sum-exp): w = 1 / (1 + e) and e / (1 + e) for log weights 1
+ *   apart, a few float ulps of rounding in exp, the sum and the division: 1e-6 relative in
+ *   float, 1e-14 in double.
+ * - Everything else is exact: indices, orders, the reflection's hand cases (each is one
+ *   subtraction of values exact in binary), bounds (the reflection ends with a clip onto
+ *   [lo, hi], so no rounding may cross them).
+ */
+#include "test_common.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "csv_log.h"
+#include "estimators/tyre_id/tyre_id_internal.h"
+#include "rfe/tyre_id.h"
+
+#if defined(RFE_REAL_DOUBLE)
+#define TOL_W 1e-14
+#define TOL_CLIP 1e-12
+#define SD_R_OVERFLOW 1e-160 /* (1e-3 / sd_r)^2 overflows the double */
+#else
+#define TOL_W 1e-6
+#define TOL_CLIP 1e-5
+#define SD_R_OVERFLOW 1e-30  /* (1e-3 / sd_r)^2 overflows the float */
+#endif
+
+static rfe_tyre_id_t tid;    /* off the stack: tens of kB */
+static rfe_tyre_id_t before; /* a copy for the untouched checks */
+
+static void setup_defaults(rfe_params_t *veh, rfe_tyre_id_params_t *tp)
+{
+    assert_int_equal(rfe_params_default(veh), RFE_OK);
+    assert_int_equal(rfe_tyre_id_params_default(tp), RFE_OK);
+}
+
+static rfe_tyre_id_sample_t sample(rfe_real_t dt, rfe_real_t delta, rfe_real_t vx, rfe_real_t r,
+                                   rfe_real_t ay)
+{
+    rfe_tyre_id_sample_t s;
+    s.dt = dt;
+    s.delta = delta;
+    s.vx = vx;
+    s.yaw_rate = r;
+    s.ay = ay;
+    s.ax = 0;
+    return s;
+}
+
+/* REQ-TID-007 */
+static void test_params_defaults_and_validation(void **state)
+{
+    rfe_tyre_id_params_t p;
+    rfe_tyre_id_params_t q;
+    rfe_real_t *reals[] = {&q.v_min, &q.dt_max, &q.sd_r, &q.sd_ay, &q.sd_delta, &q.q_vy,
+                           &q.q_r, &q.q_mu, &q.q_C, &q.q_cy, &q.q_E, &q.sd0_mu, &q.sd0_C,
+                           &q.sd0_E, &q.sd0_cy_rel, &q.sd0_vy, &q.sd0_r, &q.rough_k,
+                           &q.mu0, &q.neff_frac, &q.mu_lo, &q.mu_hi, &q.C_lo, &q.C_hi,
+                           &q.cy_lo, &q.cy_hi, &q.E_lo, &q.E_hi};
+    size_t i;
+    (void)state;
+    assert_int_equal(rfe_tyre_id_params_default(NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_tyre_id_params_validate(NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_tyre_id_params_default(&p), RFE_OK);
+    /* TYRE_ID.md §2 */
+    assert_int_equal(p.filter, RFE_TID_APF);
+    assert_int_equal(p.resample, RFE_TID_MULTINOMIAL);
+    assert_int_equal(p.substeps, 1u);
+    assert_true(p.v_min == (rfe_real_t)5.0 && p.sd_r == (rfe_real_t)0.01);
+    assert_true(p.sd_ay == (rfe_real_t)0.2 && p.sd_delta == (rfe_real_t)0.001);
+    assert_true(p.q_cy == (rfe_real_t)0.3 && p.mu0 == (rfe_real_t)0.7);
+    assert_true(p.cy_lo == (rfe_real_t)4.0 && p.cy_hi == (rfe_real_t)40.0);
+    assert_true(p.E_lo == (rfe_real_t)-3.0 && p.E_hi == (rfe_real_t)0.95);
+    assert_true(p.neff_frac == (rfe_real_t)(1.0 / 3.0) && p.rough_k == (rfe_real_t)0.2);
+    assert_int_equal(rfe_tyre_id_params_validate(&p), RFE_OK);
+    /* every real field non-finite */
+    for (i = 0u; i < sizeof(reals) / sizeof(reals[0]); ++i) {
+        q = p;
+        *reals[i] = (rfe_real_t)NAN;
+        assert_int_equal(rfe_tyre_id_params_validate(&q), RFE_ERR_PARAM);
+        q = p;
+        *reals[i] = (rfe_real_t)INFINITY;
+        assert_int_equal(rfe_tyre_id_params_validate(&q), RFE_ERR_PARAM);
+    }
+    /* the first four must be > 0, the next fourteen >= 0 */
+    for (i = 0u; i < 18u; ++i) {
+        q = p;
+        *reals[i] = (rfe_real_t)-1e-3;
+        assert_int_equal(rfe_tyre_id_params_validate(&q), RFE_ERR_PARAM);
+        q = p;
+        *reals[i] = 0;
+        assert_int_equal(rfe_tyre_id_params_validate(&q), (i < 4u) ? RFE_ERR_PARAM : RFE_OK);
+    }
+    q = p;
+    q.neff_frac = (rfe_real_t)1.5;
+    assert_int_equal(rfe_tyre_id_params_validate(&q), RFE_ERR_PARAM);
+    q = p;
+    q.neff_frac = (rfe_real_t)-0.1;
+    assert_int_equal(rfe_tyre_id_params_validate(&q), RFE_ERR_PARAM);
+    q = p;
+    q.C_lo = q.C_hi; /* lo < hi */
+    assert_int_equal(rfe_tyre_id_params_validate(&q), RFE_ERR_PARAM);
+    q = p;
+    q.E_hi = q.E_lo - 1;
+    assert_int_equal(rfe_tyre_id_params_validate(&q), RFE_ERR_PARAM);
+    q = p;
+    q.mu_lo = 0; /* D > 0 */
+    assert_int_equal(rfe_tyre_id_params_validate(&q), RFE_ERR_PARAM);
+    q = p;
+    q.C_lo = 0;
+    assert_int_equal(rfe_tyre_id_params_validate(&q), RFE_ERR_PARAM);
+    q = p;
+    q.cy_lo = 0;
+    assert_int_equal(rfe_tyre_id_params_validate(&q), RFE_ERR_PARAM);
+    q = p;
+    q.E_lo = -10; /* E may be negative */
+    assert_int_equal(rfe_tyre_id_params_validate(&q), RFE_OK);
+    q = p;
+    q.filter = (rfe_tid_filter_t)2;
+    assert_int_equal(rfe_tyre_id_params_validate(&q), RFE_ERR_PARAM);
+    q = p;
+    q.resample = (rfe_tid_resample_t)2;
+    assert_int_equal(rfe_tyre_id_params_validate(&q), RFE_ERR_PARAM);
+    q = p;
+    q.substeps = 0u;
+    assert_int_equal(rfe_tyre_id_params_validate(&q), RFE_ERR_PARAM);
+    q.substeps = (uint32_t)RFE_TID_SUBSTEPS_MAX + 1u;
+    assert_int_equal(rfe_tyre_id_params_validate(&q), RFE_ERR_PARAM);
+    q.substeps = (uint32_t)RFE_TID_SUBSTEPS_MAX;
+    assert_int_equal(rfe_tyre_id_params_validate(&q), RFE_OK);
+}
+
+/* REQ-TID-003: the init writes nothing when it refuses. */
+static void test_init_refusals_write_nothing(void **state)
+{
+    rfe_params_t veh;
+    rfe_tyre_id_params_t tp;
+    rfe_tyre_id_params_t bad;
+    rfe_params_t bad_veh;
+    (void)state;
+    setup_defaults(&veh, &tp);
+    memset(&tid, 0xA5, sizeof(tid));
+    before = tid;
+    assert_int_equal((rfe_tyre_id_init)(&tid, &tp, &veh, 1u, sizeof(tid) - 1u, RFE_CONFIG_REAL),
+                     RFE_ERR_ABI);
+    assert_int_equal((rfe_tyre_id_init)(&tid, &tp, &veh, 1u, sizeof(tid), RFE_CONFIG_REAL ^ 3u),
+                     RFE_ERR_ABI);
+    assert_int_equal(rfe_tyre_id_init(NULL, &tp, &veh, 1u), RFE_ERR_NULL);
+    assert_int_equal(rfe_tyre_id_init(&tid, NULL, &veh, 1u), RFE_ERR_NULL);
+    assert_int_equal(rfe_tyre_id_init(&tid, &tp, NULL, 1u), RFE_ERR_NULL);
+    bad = tp;
+    bad.sd_r = 0;
+    assert_int_equal(rfe_tyre_id_init(&tid, &bad, &veh, 1u), RFE_ERR_PARAM);
+    bad_veh = veh;
+    bad_veh.vehicle.m = -1;
+    assert_int_equal(rfe_tyre_id_init(&tid, &tp, &bad_veh, 1u), RFE_ERR_PARAM);
+    /* a prior mean outside its bounds: the tyre data's C below C_lo, then cy above cy_hi */
+    bad = tp;
+    bad.C_lo = (rfe_real_t)1.5;
+    assert_int_equal(rfe_tyre_id_init(&tid, &bad, &veh, 1u), RFE_ERR_PARAM);
+    bad = tp;
+    bad.cy_hi = (rfe_real_t)10.0;
+    assert_int_equal(rfe_tyre_id_init(&tid, &bad, &veh, 1u), RFE_ERR_PARAM);
+    assert_memory_equal(&tid, &before, sizeof(tid));
+    /* the memory statement of rfe/config.h: 26 reals and three 16-bit indices per particle,
+     * and less than 1 kB besides */
+    assert_true(sizeof(rfe_tyre_id_t) >= (size_t)RFE_TID_N * (26u * sizeof(rfe_real_t) + 6u));
+    assert_true(sizeof(rfe_tyre_id_t) <
+                (size_t)RFE_TID_N * (26u * sizeof(rfe_real_t) + 6u) + 1024u);
+}
+
+/* REQ-TID-003: every refused step leaves the state bit for bit as it was and returns the
+ * previous estimate with the error status. */
+static void test_step_refusals_leave_the_state_untouched(void **state)
+{
+    rfe_params_t veh;
+    rfe_tyre_id_params_t tp;
+    rfe_tyre_id_estimate_t e;
+    rfe_tyre_id_estimate_t last;
+    rfe_tyre_id_sample_t s = sample(0, (rfe_real_t)0.01, 20, (rfe_real_t)0.02, (rfe_real_t)0.5);
+    rfe_tyre_id_sample_t b;
+    rfe_real_t *field[6];
+    size_t i;
+    (void)state;
+    setup_defaults(&veh, &tp);
+    memset(&tid, 0, sizeof(tid));
+    assert_int_equal(rfe_tyre_id_step(&tid, &s, &e), RFE_ERR_NOT_INITIALISED);
+    assert_int_equal(rfe_tyre_id_get(&tid, &e), RFE_ERR_NOT_INITIALISED);
+    assert_int_equal(rfe_tyre_id_init(&tid, &tp, &veh, 3u), RFE_OK);
+    assert_int_equal(rfe_tyre_id_step(&tid, &s, &e), RFE_OK);
+    s.dt = (rfe_real_t)0.01;
+    assert_int_equal(rfe_tyre_id_step(&tid, &s, &e), RFE_OK);
+    last = e;
+    before = tid;
+    assert_int_equal(rfe_tyre_id_step(NULL, &s, &e), RFE_ERR_NULL);
+    assert_int_equal(rfe_tyre_id_step(&tid, NULL, &e), RFE_ERR_NULL);
+    assert_int_equal(rfe_tyre_id_step(&tid, &s, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_tyre_id_get(NULL, &e), RFE_ERR_NULL);
+    assert_int_equal(rfe_tyre_id_get(&tid, NULL), RFE_ERR_NULL);
+    field[0] = &b.dt;
+    field[1] = &b.delta;
+    field[2] = &b.vx;
+    field[3] = &b.yaw_rate;
+    field[4] = &b.ay;
+    field[5] = &b.ax;
+    for (i = 0u; i < 6u; ++i) {
+        b = s;
+        *field[i] = (rfe_real_t)NAN;
+        assert_int_equal(rfe_tyre_id_step(&tid, &b, &e), RFE_ERR_NONFINITE);
+        assert_int_equal(e.status, RFE_ERR_NONFINITE);
+        assert_memory_equal(e.mean, last.mean, sizeof(e.mean));
+        b = s;
+        *field[i] = (rfe_real_t)-INFINITY;
+        assert_int_equal(rfe_tyre_id_step(&tid, &b, &e), RFE_ERR_NONFINITE);
+        if (i > 0u) {
+            /* beyond config.h's limits */
+            b = s;
+            *field[i] = (rfe_real_t)(-1e3);
+            assert_int_equal(rfe_tyre_id_step(&tid, &b, &e), RFE_ERR_RANGE);
+            assert_int_equal(e.status, RFE_ERR_RANGE);
+        }
+    }
+    /* the period: 0, negative, beyond dt_max */
+    b = s;
+    b.dt = 0;
+    assert_int_equal(rfe_tyre_id_step(&tid, &b, &e), RFE_ERR_RANGE);
+    b.dt = (rfe_real_t)-0.01;
+    assert_int_equal(rfe_tyre_id_step(&tid, &b, &e), RFE_ERR_RANGE);
+    b.dt = tp.dt_max * (rfe_real_t)1.01;
+    assert_int_equal(rfe_tyre_id_step(&tid, &b, &e), RFE_ERR_RANGE);
+    /* an ax within the limits that lifts an axle: braking lifts the rear (ax < -g Lf / hg,
+     * about -25 m/s^2), accelerating the front (ax > g Lr / hg, about 30 m/s^2) */
+    b = s;
+    b.ax = (rfe_real_t)-26.0;
+    assert_int_equal(rfe_tyre_id_step(&tid, &b, &e), RFE_ERR_RANGE);
+    b.ax = (rfe_real_t)31.0;
+    assert_int_equal(rfe_tyre_id_step(&tid, &b, &e), RFE_ERR_RANGE);
+    assert_memory_equal(&tid, &before, sizeof(tid));
+    assert_int_equal(rfe_tyre_id_get(&tid, &e), RFE_OK);
+    assert_memory_equal(&e, &last, sizeof(e));
+}
+
+/* REQ-TID-004 */
+static void test_log_sum_exp_with_extreme_log_likelihoods(void **state)
+{
+    const rfe_real_t ninf = -(rfe_real_t)INFINITY;
+    /* 1e6 below the exponent range; -1e6 + 1 is exact in float */
+    rfe_real_t l[3] = {(rfe_real_t)-1e6, (rfe_real_t)(-1e6 + 1.0), ninf};
+    rfe_real_t w[4];
+    rfe_real_t lw[3];
+    const double e1 = exp(1.0);
+    (void)state;
+    assert_int_equal(rfe_tid_normalise(l, 3u, w, lw), 1);
+    assert_close(w[0], 1.0 / (1.0 + e1), 0.0, TOL_W, "w0");
+    assert_close(w[1], e1 / (1.0 + e1), 0.0, TOL_W, "w1");
+    assert_true(w[2] == 0);
+    assert_close(lw[1], -log1p(1.0 / e1), TOL_W, 0.0, "lw1"); /* -log S with S = 1 + 1/e */
+    assert_true(lw[2] == ninf);
+    assert_close(rfe_tid_neff(w, 3u), 1.0 / ((1.0 + e1 * e1) / ((1.0 + e1) * (1.0 + e1))), 0.0,
+                 TOL_W, "neff");
+    /* in place: lw may be l */
+    assert_int_equal(rfe_tid_normalise(l, 3u, w, l), 1);
+    assert_close(l[0], -1.0 - log1p(1.0 / e1), TOL_W, 0.0, "in place");
+    {
+        /* one finite weight among impossible ones takes all the weight */
+        rfe_real_t one[4] = {ninf, ninf, (rfe_real_t)-3e38, ninf};
+        assert_int_equal(rfe_tid_normalise(one, 4u, w, NULL), 1);
+        assert_true(w[0] == 0 && w[1] == 0 && w[2] == 1 && w[3] == 0);
+    }
+    {
+        /* every weight impossible, a NaN, a +inf: nothing normalised, nothing written */
+        rfe_real_t none[3] = {ninf, ninf, ninf};
+        rfe_real_t nan1[3] = {0, (rfe_real_t)NAN, 0};
+        rfe_real_t nan0[3] = {(rfe_real_t)NAN, 0, 0};
+        rfe_real_t pinf[3] = {0, (rfe_real_t)INFINITY, 0};
+        rfe_real_t keep[3] = {7, 7, 7};
+        assert_int_equal(rfe_tid_normalise(none, 3u, keep, NULL), 0);
+        assert_int_equal(rfe_tid_normalise(nan1, 3u, keep, NULL), 0);
+        assert_int_equal(rfe_tid_normalise(nan0, 3u, keep, NULL), 0);
+        assert_int_equal(rfe_tid_normalise(pinf, 3u, keep, NULL), 0);
+        assert_true(keep[0] == 7 && keep[1] == 7 && keep[2] == 7);
+    }
+}
+
+/* The smallest i with x < cum[i] (n - 1 if none), by a plain scan: the definition of §5.3,
+ * independent of the library's bisection. */
+static size_t scan(const rfe_real_t *cum, size_t n, rfe_real_t x)
+{
+    size_t i;
+    for (i = 0u; i < n; ++i) {
+        if (x < cum[i]) {
+            return i;
+        }
+    }
+    return n - 1u;
+}
+
+/* REQ-TID-005 */
+static void test_parent_search_and_draws_on_hand_weights(void **state)
+{
+    /* weights 1/8, 0, 3/8, 1/2 (exact in binary): cumulative 1/8, 1/8, 1/2, 1 */
+    const rfe_real_t w[4] = {(rfe_real_t)0.125, 0, (rfe_real_t)0.375, (rfe_real_t)0.5};
+    rfe_real_t cum[4];
+    uint16_t idx[64];
+    rfe_philox_t s;
+    size_t j;
+    (void)state;
+    rfe_tid_cumsum(w, 4u, cum);
+    assert_true(cum[0] == (rfe_real_t)0.125 && cum[1] == (rfe_real_t)0.125);
+    assert_true(cum[2] == (rfe_real_t)0.5 && cum[3] == 1);
+    assert_int_equal(rfe_tid_search(cum, 4u, (rfe_real_t)0.05), 0u);
+    /* on the boundary C_0 = C_1 = 1/8 the next particle of positive weight: 2, never 1 */
+    assert_int_equal(rfe_tid_search(cum, 4u, (rfe_real_t)0.125), 2u);
+    assert_int_equal(rfe_tid_search(cum, 4u, (rfe_real_t)0.3), 2u);
+    assert_int_equal(rfe_tid_search(cum, 4u, (rfe_real_t)0.5), 3u);
+    assert_int_equal(rfe_tid_search(cum, 4u, (rfe_real_t)0.99), 3u);
+    /* at or past S: the guard for rounding, N - 1 */
+    assert_int_equal(rfe_tid_search(cum, 4u, 1), 3u);
+    assert_int_equal(rfe_tid_search(cum, 4u, 2), 3u);
+    assert_int_equal(rfe_tid_search(cum, 4u, 0), 0u);
+    /* multinomial: parent j of uniform j, u_j S, S = 1 */
+    assert_int_equal(rfe_philox_stream(&s, 11u, 4u, 2u), RFE_OK);
+    rfe_tid_draw(cum, 4u, &s, RFE_TID_MULTINOMIAL, 64u, idx);
+    {
+        size_t count[4] = {0u, 0u, 0u, 0u};
+        for (j = 0u; j < 64u; ++j) {
+            rfe_real_t u = 0;
+            assert_int_equal(rfe_philox_uniform(&s, (uint64_t)j, &u), RFE_OK);
+            assert_int_equal(idx[j], scan(cum, 4u, u * cum[3]));
+            ++count[idx[j]];
+        }
+        assert_int_equal(count[1], 0u); /* zero weight: never a parent */
+        assert_true(count[3] > count[0]);
+    }
+    /* systematic with 4 positions (j + u0) / 4: one in [0, 1/4) (0 below 1/8, else 2), one in
+     * [1/4, 1/2): 2, two in [1/2, 1): 3 */
+    rfe_tid_draw(cum, 4u, &s, RFE_TID_SYSTEMATIC, 4u, idx);
+    {
+        rfe_real_t u0 = 0;
+        assert_int_equal(rfe_philox_uniform(&s, 0u, &u0), RFE_OK);
+        assert_int_equal(idx[0], (u0 < (rfe_real_t)0.5) ? 0u : 2u);
+        assert_int_equal(idx[1], 2u);
+        assert_int_equal(idx[2], 3u);
+        assert_int_equal(idx[3], 3u);
+    }
+    {
+        /* even weights, systematic: every particle exactly once, in order */
+        const rfe_real_t even[5] = {(rfe_real_t)0.2, (rfe_real_t)0.2, (rfe_real_t)0.2,
+                                    (rfe_real_t)0.2, (rfe_real_t)0.2};
+        rfe_real_t c5[5];
+        rfe_tid_cumsum(even, 5u, c5);
+        rfe_tid_draw(c5, 5u, &s, RFE_TID_SYSTEMATIC, 5u, idx);
+        for (j = 0u; j < 5u; ++j) {
+            assert_int_equal(idx[j], j);
+        }
+    }
+}
+
+/* REQ-TID-005 */
+static void test_order_by_weight_is_stable(void **state)
+{
+    const rfe_real_t w[7] = {1, 3, 3, 2, 1, 3, 0};
+    const uint16_t want[7] = {1, 2, 5, 3, 0, 4, 6}; /* descending, ties by index */
+    uint16_t order[7];
+    uint16_t tmp[7];
+    size_t i;
+    (void)state;
+    rfe_tid_order(w, 7u, order, tmp);
+    for (i = 0u; i < 7u; ++i) {
+        assert_int_equal(order[i], want[i]);
+    }
+    {
+        /* a power-of-two length (the runs end in the other buffer) and one element */
+        const rfe_real_t w4[4] = {(rfe_real_t)0.1, (rfe_real_t)0.4, (rfe_real_t)0.1,
+                                  (rfe_real_t)0.4};
+        const uint16_t want4[4] = {1, 3, 0, 2};
+        rfe_tid_order(w4, 4u, order, tmp);
+        for (i = 0u; i < 4u; ++i) {
+            assert_int_equal(order[i], want4[i]);
+        }
+        rfe_tid_order(w4, 1u, order, tmp);
+        assert_int_equal(order[0], 0u);
+    }
+}
+
+/* REQ-TID-006 */
+static void test_reflect_hand_cases(void **state)
+{
+    (void)state;
+    assert_true(rfe_tid_reflect((rfe_real_t)0.5, 0, 1) == (rfe_real_t)0.5);
+    assert_true(rfe_tid_reflect((rfe_real_t)-0.25, 0, 1) == (rfe_real_t)0.25);
+    assert_true(rfe_tid_reflect((rfe_real_t)1.25, 0, 1) == (rfe_real_t)0.75);
+    assert_true(rfe_tid_reflect(0, 0, 1) == 0);
+    assert_true(rfe_tid_reflect(1, 0, 1) == 1);
+    /* wider than the interval: reflected at lo to 2.5, at hi to -0.5, clipped to lo */
+    assert_true(rfe_tid_reflect((rfe_real_t)-2.5, 0, 1) == 0);
+    /* above: reflected at hi to -1.5, clipped to lo */
+    assert_true(rfe_tid_reflect((rfe_real_t)3.5, 0, 1) == 0);
+    assert_true(rfe_tid_reflect((rfe_real_t)-3.5, -3, (rfe_real_t)0.95) == (rfe_real_t)-2.5);
+}
+
+static void check_bounds_and_finite(const rfe_tyre_id_t *t, const rfe_tyre_id_estimate_t *e,
+                                    size_t k)
+{
+    size_t i;
+    size_t j;
+    for (i = 0u; i < (size_t)RFE_TID_N; ++i) {
+        for (j = 0u; j < (size_t)RFE_TID_PAR; ++j) {
+            const rfe_real_t v = t->x[i][RFE_TID_STATES + j];
+            if (!(v >= t->c.lo[j]) || !(v <= t->c.hi[j])) {
+                fail_msg("sample %zu particle %zu parameter %zu: %g outside [%g, %g]", k, i, j,
+                         (double)v, (double)t->c.lo[j], (double)t->c.hi[j]);
+            }
+        }
+    }
+    for (j = 0u; j < (size_t)RFE_TID_OUTPUTS; ++j) {
+        assert_true(isfinite(e->mean[j]) && isfinite(e->sd[j]));
+    }
+    assert_true(e->n_eff >= (rfe_real_t)0.99 && e->n_eff <= (rfe_real_t)RFE_TID_N * 1.01f);
+}
+
+/* Runs `count` samples of a tyre-identification log from `first`, checking the bounds and the
+ * outputs after every step; returns the OR of the status bits and the smallest sd of mu. */
+static uint32_t run_log(const char *name, size_t first, size_t count, rfe_tid_filter_t f,
+                        rfe_tid_resample_t scheme, rfe_real_t *min_sd_mu)
+{
+    char path[256];
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    rfe_params_t veh;
+    rfe_tyre_id_params_t tp;
+    uint32_t seen = 0u;
+    size_t k;
+    memset(&log, 0, sizeof(log));
+    snprintf(path, sizeof(path), "scenarios/tyre_id/%s.csv", name);
+    assert_int_equal(rfe_sensor_log_read(path, &log, &err), 0);
+    assert_true(log.n_rows >= first + count);
+    setup_defaults(&veh, &tp);
+    tp.filter = f;
+    tp.resample = scheme;
+    assert_int_equal(rfe_tyre_id_init(&tid, &tp, &veh, 5u), RFE_OK);
+    *min_sd_mu = (rfe_real_t)1e9;
+    for (k = first; k < first + count; ++k) {
+        const rfe_sensor_row_t *r = &log.rows[k];
+        rfe_tyre_id_sample_t s;
+        rfe_tyre_id_estimate_t e;
+        s.dt = (k > first) ? (rfe_real_t)(r->t - log.rows[k - 1u].t) : (rfe_real_t)0;
+        s.delta = (rfe_real_t)r->delta;
+        s.vx = (rfe_real_t)r->vx;
+        s.yaw_rate = (rfe_real_t)r->yaw_rate;
+        s.ay = (rfe_real_t)r->ay;
+        s.ax = (rfe_real_t)r->ax;
+        assert_int_equal(rfe_tyre_id_step(&tid, &s, &e), RFE_OK);
+        check_bounds_and_finite(&tid, &e, k);
+        seen |= e.flags;
+        if (e.sd[RFE_TID_OUT_MU_F] < *min_sd_mu) {
+            *min_sd_mu = e.sd[RFE_TID_OUT_MU_F];
+        }
+        if (e.sd[RFE_TID_OUT_MU_R] < *min_sd_mu) {
+            *min_sd_mu = e.sd[RFE_TID_OUT_MU_R];
+        }
+    }
+    rfe_sensor_log_free(&log);
+    return seen;
+}
+
+/* REQ-TID-006 REQ-TID-008: the ramp steer from the start to the limit (4 s to 7 s of it is
+ * where the front axle saturates), with both filters. */
+static void test_bounds_hold_on_a_ramp_to_the_limit(void **state)
+{
+    rfe_real_t sd_mu;
+    uint32_t seen;
+    (void)state;
+    seen = run_log("tid_ramp_steer_high_mu", 400u, 300u, RFE_TID_APF, RFE_TID_MULTINOMIAL,
+                   &sd_mu);
+    assert_true((seen & RFE_TID_FIRST) != 0u);
+    assert_true((seen & RFE_TID_UPDATED) != 0u);
+    assert_true((seen & RFE_TID_RESAMPLED) != 0u);
+    assert_true((seen & (RFE_TID_HELD | RFE_TID_LOST)) == 0u);
+    seen = run_log("tid_ramp_steer_high_mu", 400u, 150u, RFE_TID_SIR, RFE_TID_SYSTEMATIC, &sd_mu);
+    assert_true((seen & RFE_TID_RESAMPLED) != 0u);
+}
+
+/* REQ-TID-008: straight driving identifies no peak: the spread of mu from D stays at the
+ * prior's (0.3; at least 0.2 per axle over the first second, TYRE_ID_RESULTS.md). */
+static void test_straight_driving_keeps_the_spread_of_mu(void **state)
+{
+    rfe_real_t sd_mu;
+    (void)state;
+    (void)run_log("tid_straight", 0u, 100u, RFE_TID_APF, RFE_TID_MULTINOMIAL, &sd_mu);
+    assert_true(sd_mu >= (rfe_real_t)0.2);
+}
+
+/* REQ-TID-008: below v_min nothing changes but the stored inputs. */
+static void test_held_below_v_min(void **state)
+{
+    rfe_params_t veh;
+    rfe_tyre_id_params_t tp;
+    rfe_tyre_id_estimate_t e;
+    rfe_tyre_id_sample_t s = sample(0, (rfe_real_t)0.02, 20, (rfe_real_t)0.05, 1);
+    (void)state;
+    setup_defaults(&veh, &tp);
+    assert_int_equal(rfe_tyre_id_init(&tid, &tp, &veh, 9u), RFE_OK);
+    assert_int_equal(rfe_tyre_id_step(&tid, &s, &e), RFE_OK);
+    assert_int_equal(e.flags, RFE_TID_FIRST);
+    assert_true(e.n_eff == (rfe_real_t)RFE_TID_N); /* even weights */
+    before = tid;
+    s.dt = (rfe_real_t)0.01;
+    s.vx = tp.v_min * (rfe_real_t)0.9;
+    assert_int_equal(rfe_tyre_id_step(&tid, &s, &e), RFE_OK);
+    assert_int_equal(e.flags, RFE_TID_HELD);
+    assert_memory_equal(tid.x, before.x, sizeof(tid.x));
+    assert_memory_equal(tid.logw, before.logw, sizeof(tid.logw));
+    assert_true(tid.k == before.k + 1u);
+    /* the previous vx was below v_min: held once more, then it steps */
+    s.vx = 20;
+    assert_int_equal(rfe_tyre_id_step(&tid, &s, &e), RFE_OK);
+    assert_int_equal(e.flags, RFE_TID_HELD);
+    assert_int_equal(rfe_tyre_id_step(&tid, &s, &e), RFE_OK);
+    assert_true((e.flags & RFE_TID_UPDATED) != 0u);
+}
+
+/* Runs first-sample-at-rest then a sample whose yaw rate (r_next) the particles cannot
+ * explain at sd_r = SD_R_OVERFLOW; returns the flags of the second step. */
+static uint32_t lost_case(rfe_tid_filter_t f, rfe_real_t r_next)
+{
+    rfe_params_t veh;
+    rfe_tyre_id_params_t tp;
+    rfe_tyre_id_estimate_t e;
+    rfe_tyre_id_sample_t s = sample(0, 0, 20, 0, 0);
+    size_t j;
+    setup_defaults(&veh, &tp);
+    tp.filter = f;
+    tp.sd_r = (rfe_real_t)SD_R_OVERFLOW;
+    tp.sd0_vy = 0; /* every particle at vy = 0, r = 0: no force, no motion */
+    tp.sd0_r = 0;
+    assert_int_equal(rfe_tyre_id_init(&tid, &tp, &veh, 2u), RFE_OK);
+    assert_int_equal(rfe_tyre_id_step(&tid, &s, &e), RFE_OK);
+    s.dt = (rfe_real_t)0.01;
+    s.yaw_rate = r_next;
+    assert_int_equal(rfe_tyre_id_step(&tid, &s, &e), RFE_OK);
+    for (j = 0u; j < (size_t)RFE_TID_OUTPUTS; ++j) {
+        assert_true(isfinite(e.mean[j]) && isfinite(e.sd[j]));
+    }
+    assert_true(e.n_eff == (rfe_real_t)RFE_TID_N); /* the prior again: even weights */
+    return e.flags;
+}
+
+/* REQ-TID-004 REQ-TID-008: every particle impossible: the prior is drawn again (LOST),
+ * at the APF's first stage (r_m 0.01 away from every auxiliary point), at its second stage
+ * (r_m = 0 = every auxiliary point, but the process noise moves each r by ~1e-3) and in
+ * the bootstrap filter. */
+static void test_lost_draws_the_prior_again(void **state)
+{
+    (void)state;
+    assert_int_equal(lost_case(RFE_TID_APF, (rfe_real_t)0.01), RFE_TID_LOST);
+    assert_int_equal(lost_case(RFE_TID_APF, 0), RFE_TID_LOST);
+    assert_int_equal(lost_case(RFE_TID_SIR, 0), RFE_TID_LOST);
+}
+
+/* REQ-TID-002: the step of §4.1 with two RK4 substeps runs and stays within the bounds
+ * (its agreement with the reference is that of one substep of half the period). */
+static void test_substeps(void **state)
+{
+    rfe_params_t veh;
+    rfe_tyre_id_params_t tp;
+    rfe_tyre_id_estimate_t e;
+    rfe_tyre_id_sample_t s = sample(0, (rfe_real_t)0.02, 20, (rfe_real_t)0.05, 1);
+    rfe_real_t one[RFE_TID_STATES];
+    rfe_real_t two[RFE_TID_STATES];
+    rfe_real_t half[RFE_TID_STATES];
+    rfe_real_t xh[RFE_TID_DIM];
+    rfe_tid_input_t u;
+    size_t j;
+    (void)state;
+    setup_defaults(&veh, &tp);
+    tp.substeps = 2u;
+    assert_int_equal(rfe_tyre_id_init(&tid, &tp, &veh, 4u), RFE_OK);
+    assert_int_equal(rfe_tyre_id_step(&tid, &s, &e), RFE_OK);
+    u.delta = (rfe_real_t)0.02;
+    u.cd = (rfe_real_t)cos(0.02);
+    u.sd = 0;
+    u.vx = 20;
+    /* two substeps of h/2 = one substep of h/2 applied twice */
+    rfe_tid_rk4(&tid, tid.x[0], &u, (rfe_real_t)0.02, two);
+    tid.p.substeps = 1u;
+    rfe_tid_rk4(&tid, tid.x[0], &u, (rfe_real_t)0.01, half);
+    memcpy(xh, tid.x[0], sizeof(xh));
+    xh[RFE_TID_VY] = half[0];
+    xh[RFE_TID_R] = half[1];
+    rfe_tid_rk4(&tid, xh, &u, (rfe_real_t)0.01, one);
+    assert_true(one[0] == two[0] && one[1] == two[1]);
+    tid.p.substeps = 2u;
+    s.dt = (rfe_real_t)0.01;
+    for (j = 0u; j < 5u; ++j) {
+        assert_int_equal(rfe_tyre_id_step(&tid, &s, &e), RFE_OK);
+        check_bounds_and_finite(&tid, &e, j);
+    }
+}
+
+/* F = D sin(C atan(x - E (x - atan x))), x = B tan(alpha), B = K / (C D): §3.2 in double. */
+static double mf_ref(const rfe_real_t *th, double alpha)
+{
+    const double d = th[0];
+    const double c = th[1];
+    const double b = (double)th[2] / (c * d);
+    const double e = th[3];
+    const double x = b * tan(alpha);
+    return d * sin(c * atan(x - e * (x - atan(x))));
+}
+
+/* REQ-TID-006: a slip angle beyond alpha_max (a particle sliding sideways) is clipped to
+ * +-alpha_max before the curve, on both axles, both signs. Tolerance: the float build's
+ * tan, atan and sin at tan(1.4) = 5.8 and B t ~ 100 round to a few float ulps of D:
+ * 1e-5 D; the double build 1e-12 D. */
+static void test_slip_beyond_alpha_max_is_clipped(void **state)
+{
+    rfe_params_t veh;
+    rfe_tyre_id_params_t tp;
+    rfe_real_t x[RFE_TID_DIM];
+    rfe_tid_input_t u;
+    rfe_real_t ff;
+    rfe_real_t fr;
+    double sign;
+    (void)state;
+    setup_defaults(&veh, &tp);
+    assert_int_equal(rfe_tyre_id_init(&tid, &tp, &veh, 1u), RFE_OK);
+    memset(x, 0, sizeof(x));
+    memcpy(&x[RFE_TID_STATES], tid.c.mean0, sizeof(tid.c.mean0));
+    u.delta = 0;
+    u.cd = 1;
+    u.sd = 0;
+    u.vx = 1;
+    for (sign = -1.0; sign <= 1.0; sign += 2.0) {
+        const double a = -sign * (double)veh.tyre.alpha_max; /* alpha = -atan2(vy, vx) */
+        x[RFE_TID_VY] = (rfe_real_t)(sign * 1000.0);
+        rfe_tid_forces(&tid, x, &u, &ff, &fr);
+        assert_close(ff, mf_ref(&x[RFE_TID_D_F], a), TOL_CLIP * tid.c.mean0[0], 0.0, "front");
+        assert_close(fr, mf_ref(&x[RFE_TID_D_R], a), TOL_CLIP * tid.c.mean0[4], 0.0, "rear");
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_params_defaults_and_validation),
+        cmocka_unit_test(test_init_refusals_write_nothing),
+        cmocka_unit_test(test_step_refusals_leave_the_state_untouched),
+        cmocka_unit_test(test_log_sum_exp_with_extreme_log_likelihoods),
+        cmocka_unit_test(test_parent_search_and_draws_on_hand_weights),
+        cmocka_unit_test(test_order_by_weight_is_stable),
+        cmocka_unit_test(test_reflect_hand_cases),
+        cmocka_unit_test(test_bounds_hold_on_a_ramp_to_the_limit),
+        cmocka_unit_test(test_straight_driving_keeps_the_spread_of_mu),
+        cmocka_unit_test(test_held_below_v_min),
+        cmocka_unit_test(test_lost_draws_the_prior_again),
+        cmocka_unit_test(test_substeps),
+        cmocka_unit_test(test_slip_beyond_alpha_max_is_clipped),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
