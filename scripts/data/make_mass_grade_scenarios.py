@@ -12,15 +12,16 @@ first; deterministic either way: the same command writes the same bytes.
 """
 
 import argparse
-import multiprocessing
 import os
 import sys
 import time
 
-sys.path[:0] = [os.path.dirname(os.path.dirname(os.path.abspath(__file__)))]  # scripts/
+sys.path[:0] = [os.path.dirname(os.path.abspath(__file__)),  # this folder, and scripts/
+                 os.path.dirname(os.path.dirname(os.path.abspath(__file__)))]
 
 import numpy as np  # noqa: E402
 
+from job_pool import print_jobs  # noqa: E402
 from sim import mass_grade_scenarios as mg  # noqa: E402
 
 
@@ -57,15 +58,8 @@ def main(argv=None):
     # longest simulations first (sub-steps), so the worker pool ends together
     sel.sort(key=lambda sc: -sc.duration * sc.rate)
     jobs = [(sc.name, args.out) for sc in sel]
-    t_all = time.perf_counter()
-    if args.jobs > 1 and len(jobs) > 1:
-        with multiprocessing.Pool(min(args.jobs, len(jobs))) as pool:
-            for line in pool.imap_unordered(run_one, jobs):
-                print(line, flush=True)
-    else:
-        for job in jobs:
-            print(run_one(job), flush=True)
-    print(f"{len(jobs)} log(s) in {time.perf_counter() - t_all:.1f} s -> {args.out}")
+    seconds = print_jobs(run_one, jobs, args.jobs)
+    print(f"{len(jobs)} log(s) in {seconds:.1f} s -> {args.out}")
 
 
 if __name__ == "__main__":

@@ -15,7 +15,6 @@ the longest first; deterministic either way: the same command writes the same by
 """
 
 import argparse
-import multiprocessing
 import os
 import sys
 import time
@@ -25,6 +24,7 @@ sys.path[:0] = [os.path.dirname(os.path.abspath(__file__)),  # this folder, and 
 
 import numpy as np  # noqa: E402
 
+from job_pool import print_jobs  # noqa: E402
 from sim import sensors  # noqa: E402
 from sim.observer_scenarios import OBS_BY_NAME, OBSERVER_SCENARIOS  # noqa: E402
 
@@ -76,17 +76,9 @@ def main(argv=None):
     jobs = [(sc.name, tyre, args.out) for sc in selected for tyre in sc.tyres]
     # longest simulations first, so the worker pool ends together
     jobs.sort(key=lambda j: -OBS_BY_NAME[j[0]].duration)
-    t_all = time.perf_counter()
-    if args.jobs > 1 and len(jobs) > 1:
-        with multiprocessing.Pool(min(args.jobs, len(jobs))) as pool:
-            for line in pool.imap_unordered(run_one, jobs):
-                print(line, flush=True)
-    else:
-        for job in jobs:
-            print(run_one(job), flush=True)
+    seconds = print_jobs(run_one, jobs, args.jobs)
     n_files = sum(len(VARIANTS[j[1]]) for j in jobs)
-    print(f"{len(jobs)} simulation(s), {n_files} file(s) in "
-          f"{time.perf_counter() - t_all:.1f} s -> {args.out}")
+    print(f"{len(jobs)} simulation(s), {n_files} file(s) in {seconds:.1f} s -> {args.out}")
 
 
 if __name__ == "__main__":

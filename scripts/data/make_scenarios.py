@@ -20,7 +20,6 @@ deterministic either way: the same command writes the same bytes.
 """
 
 import argparse
-import multiprocessing
 import os
 import sys
 import time
@@ -28,6 +27,7 @@ import time
 sys.path[:0] = [os.path.dirname(os.path.abspath(__file__)),  # this folder, and scripts/
                 os.path.dirname(os.path.dirname(os.path.abspath(__file__)))]  # (sim, reference)
 
+from job_pool import print_jobs  # noqa: E402
 from sim import sensors  # noqa: E402
 from sim.scenarios import BY_NAME, SCENARIOS  # noqa: E402
 
@@ -98,17 +98,9 @@ def main(argv=None):
     selected = [sc for sc in SCENARIOS if not args.only or sc.name in args.only]
     jobs = [(sc.name, tyre, variants, args.out, args.rate)
             for sc in selected for tyre, variants in plan(args.tyre, args.noise).items()]
-    t_all = time.perf_counter()
     n_files = sum(len(j[2]) for j in jobs)
-    if args.jobs > 1 and len(jobs) > 1:
-        with multiprocessing.Pool(min(args.jobs, len(jobs))) as pool:
-            for line in pool.imap(run_one, jobs):
-                print(line, flush=True)
-    else:
-        for job in jobs:
-            print(run_one(job), flush=True)
-    print(f"{len(jobs)} simulation(s), {n_files} file(s) in "
-          f"{time.perf_counter() - t_all:.1f} s -> {args.out}")
+    seconds = print_jobs(run_one, jobs, args.jobs, ordered=True)
+    print(f"{len(jobs)} simulation(s), {n_files} file(s) in {seconds:.1f} s -> {args.out}")
 
 
 if __name__ == "__main__":

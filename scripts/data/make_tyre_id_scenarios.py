@@ -13,7 +13,6 @@ the same command writes the same bytes.
 """
 
 import argparse
-import multiprocessing
 import os
 import sys
 import time
@@ -23,6 +22,7 @@ sys.path[:0] = [os.path.dirname(os.path.abspath(__file__)),
 
 import numpy as np  # noqa: E402
 
+from job_pool import print_jobs  # noqa: E402
 from sim import sensors  # noqa: E402
 from sim.tyre_id_scenarios import TID_BY_NAME, TID_SCENARIOS  # noqa: E402
 from sim.vehicle import ESTIMATOR_KEYS, MF_KEYS, SIM_KEYS, Params, simulate  # noqa: E402
@@ -117,15 +117,8 @@ def main(argv=None):
     jobs = [(sc.name, args.out, args.rate) for sc in TID_SCENARIOS
             if not args.only or sc.name in args.only]
     jobs.sort(key=lambda j: -TID_BY_NAME[j[0]].duration)  # longest first
-    t_all = time.perf_counter()
-    if args.jobs > 1 and len(jobs) > 1:
-        with multiprocessing.Pool(min(args.jobs, len(jobs))) as pool:
-            for line in pool.imap(run_one, jobs):
-                print(line, flush=True)
-    else:
-        for job in jobs:
-            print(run_one(job), flush=True)
-    print(f"{len(jobs)} log(s) in {time.perf_counter() - t_all:.1f} s -> {args.out}")
+    seconds = print_jobs(run_one, jobs, args.jobs, ordered=True)
+    print(f"{len(jobs)} log(s) in {seconds:.1f} s -> {args.out}")
 
 
 if __name__ == "__main__":
