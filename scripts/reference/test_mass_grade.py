@@ -85,7 +85,7 @@ def _adapting(q_mv, m_now, m_a, span=1.0):
     est = mg.MassGrade(p)
     est.step(mg.MgSample(0.0, 20.0, 300.0))
     est.q_mv = q_mv
-    est.x[1], est.m_adapt, est.t_adapt = m_now, m_a, 0.0
+    est.x[1], est.m_adapt, est.adapt_elapsed = m_now, m_a, 0.0
     est.P = [[0.01, 2.0, 0.001], [2.0, 400.0, 0.1], [0.001, 0.1, 1e-4]]
     return p, est
 
@@ -103,7 +103,7 @@ def test_adaptation_shrinks_q_mv_and_the_mass_row_as_specified():
     assert est.P[0][1] == est.P[1][0] == pytest.approx(lam * P0[0][1], rel=1e-15)
     assert est.P[2][1] == est.P[1][2] == pytest.approx(lam * P0[1][2], rel=1e-15)
     assert est.P[0][0] == P0[0][0] and est.P[2][2] == P0[2][2] and est.P[0][2] == P0[0][2]
-    assert est.m_adapt == 1810.0 and est.t_adapt == 1.0
+    assert est.m_adapt == 1810.0 and est.adapt_elapsed == 0.0
     # 0 <= lambda_u <= 1/2 whatever D: the shrink factor the seed calls < 1
     for d in (0.0, 1.0, 900.0, 1e6):
         _, e = _adapting(q_mv=900.0, m_now=1800.0 + math.sqrt(d), m_a=1800.0)
