@@ -300,7 +300,9 @@ class MassGrade:
     # -- §4.2 pause logic ---------------------------------------------------------------------
     def _pause_status(self, s, dt):
         """§4.2; the delays count down by the sample period dt (0 on a start), so they stay
-        as exact as the period in float32 however long the drive."""
+        as exact as the period in float32 however long the drive. A delay ends at the sample
+        where less than half a period of it is left: a delay of whole periods then holds the
+        same samples whatever the rounding of the periods' sum."""
         p = self.p
         self.brake_left = max(self.brake_left - dt, 0.0)
         self.shift_left = max(self.shift_left - dt, 0.0)
@@ -312,9 +314,9 @@ class MassGrade:
             if self.gear is not None and s.gear != self.gear:
                 self.shift_left = p["mg_t_shift"]
             self.gear = s.gear
-        if brake or self.brake_left > 0.0:
+        if brake or self.brake_left > 0.5 * dt:
             return PAUSED_BRAKE
-        if self.shift_left > 0.0:
+        if self.shift_left > 0.5 * dt:
             return PAUSED_SHIFT
         if s.v < p["mg_v_min"]:
             return NO_UPDATE_LOW_SPEED
@@ -388,11 +390,13 @@ class MassGrade:
 
     def _adapt(self, dt):
         """§4.4 eqs. (22)-(25), once per adaptation period mg_t_adapt (every step when 0);
-        dt is this sample's period, added to the time since the period began."""
+        dt is this sample's period, added to the time since the period began. The period is
+        over at the sample where less than half a sample period of it is left (as the pause
+        delays, §4.2)."""
         p, P = self.p, self.P
         self.adapt_elapsed += dt
         span = self.adapt_elapsed
-        if span < p["mg_t_adapt"]:
+        if span < p["mg_t_adapt"] - 0.5 * dt:
             return
         d = (self.x[1] - self.m_adapt) ** 2      # (M_t - M_{t-1})^2 over the period
         qs = self.q_mv * span                    # q_mv over the same period, kg^2
