@@ -28,6 +28,10 @@ typedef enum {
                                          threshold (info_min): time update only */
     RFE_MODEL_MISMATCH = 4,         /**< the model-validity monitor is fired: the innovations
                                          contradict the model, nothing is valid (MONITOR.md) */
+    RFE_MG_PAUSED_BRAKE = 5,        /**< mass and grade: the brake is on, or was less than
+                                         t_brake ago: held (MASS_GRADE.md §4.2) */
+    RFE_MG_PAUSED_SHIFT = 6,        /**< mass and grade: less than t_shift since a gear
+                                         change: held (MASS_GRADE.md §4.2) */
     RFE_ERR_FIRST = 16,
     RFE_ERR_NULL = 16,              /**< a required pointer is NULL */
     RFE_ERR_NONFINITE = 17,         /**< an input is NaN or infinite */
@@ -84,6 +88,8 @@ static inline const char *rfe_status_str(rfe_status_t s)
     case RFE_NO_UPDATE_LOW_SPEED: name = "no update: speed below v_est_min"; break;
     case RFE_HELD_NOT_OBSERVABLE: name = "held: not observable"; break;
     case RFE_MODEL_MISMATCH: name = "model mismatch: the innovations contradict the model"; break;
+    case RFE_MG_PAUSED_BRAKE: name = "held: braking"; break;
+    case RFE_MG_PAUSED_SHIFT: name = "held: gear shift"; break;
     case RFE_ERR_NULL: name = "null pointer"; break;
     case RFE_ERR_NONFINITE: name = "non-finite input"; break;
     case RFE_ERR_RANGE: name = "input out of range"; break;
