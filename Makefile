@@ -46,7 +46,7 @@ DEPS_EXTRA :=
 TEST_GATES :=
 include $(sort $(filter-out mk/lib.mk,$(wildcard mk/*.mk)))
 
-.PHONY: mass-grade-scenarios mass-grade-results trust-invariant names car-format-logs observer-goldens observer-goldens-q31 observer-results monitor-results all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind coverage demo goldens goldens-q31 scenarios observer-scenarios clean vectors shared-sync check-shared readme-table \
+.PHONY: mass-grade-scenarios mass-grade-results mass-grade-goldens trust-invariant names car-format-logs observer-goldens observer-goldens-q31 observer-results monitor-results all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind coverage demo goldens goldens-q31 scenarios observer-scenarios clean vectors shared-sync check-shared readme-table \
         check-kernels check-tools layers help-check goldens-ref check-nofloat help deps-analysis misra tidy complexity structural analysis \
         twins check-twins tyre-id-scenarios tyre-id-results
 ## the libraries and build/mu_replay (the default target)
@@ -405,6 +405,12 @@ monitor-results: venv
 ## regenerate the velocity observer's goldens (scenarios/golden/observer/)
 observer-goldens: venv
 	$(PY) scripts/data/make_observer_goldens.py --scenarios scenarios --out scenarios/golden/observer
+
+# The mass and grade estimator's goldens (docs/MASS_GRADE.md) from its float64 reference.
+## regenerate the mass and grade estimator's goldens (scenarios/golden/mass_grade/)
+mass-grade-goldens: venv
+	$(PY) scripts/data/make_mass_grade_goldens.py --scenarios scenarios/mass_grade \
+	  --out scenarios/golden/mass_grade
 
 ## regenerate the fixed-point goldens with mu_replay --real q31
 goldens-q31: $(BUILD)/mu_replay
