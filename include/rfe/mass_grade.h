@@ -55,8 +55,7 @@
 #endif
 
 /** The state's size n: [v, M, theta]. */
-/* cppcheck-suppress misra-c2012-2.4 ; MISRA-FP-01: an anonymous enum has no tag */
-enum { RFE_MG_N = 3 };
+#define RFE_MG_N 3
 
 /** One sample (MASS_GRADE.md §1), SI units. The optional inputs count only when their
  *  RFE_MG_HAS_* bit is set in `has`. */
@@ -105,7 +104,7 @@ typedef struct {
     rfe_real_t shift_left;            /**< hold left after the last gear change [s] */
     rfe_real_t torque_prev;           /**< the last accepted sample's torque [N m] */
     int32_t gear;                     /**< the last gear given */
-    uint32_t has_gear;                /**< 1 once a sample gave a gear */
+    uint32_t has_gear;                /**< nonzero once a sample gave a gear */
     rfe_mass_grade_estimate_t last;   /**< the output of the last step */
 } rfe_mass_grade_t;
 

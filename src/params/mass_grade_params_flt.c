@@ -6,7 +6,8 @@
 
 #include "numerics/internal.h"
 
-/* The state's size n in the unscented transform's lambda (§3). */
+/* The state's size n = 3 ([v, M, theta], rfe/mass_grade.h RFE_MG_N, a layer above) in the
+ * unscented transform's lambda (§3). */
 #define MG_N RFE_R(3.0)
 
 /* §6 the car's values and the recommended configuration. */
@@ -97,7 +98,7 @@ rfe_status_t rfe_mass_grade_params_preset(rfe_mass_grade_params_t *p, rfe_mg_veh
 }
 
 /* §6 the values that must be finite and > 0. */
-static int positive_ok(const rfe_mass_grade_params_t *p)
+static int positive_fields_ok(const rfe_mass_grade_params_t *p)
 {
     const rfe_real_t v[14] = {p->R,    p->g,        p->m0,    p->sd_m0,    p->sd_theta0,
                               p->q_v,  p->q_mc,     p->q_theta, p->r_v,    p->r_ax,
@@ -112,7 +113,7 @@ static int positive_ok(const rfe_mass_grade_params_t *p)
 }
 
 /* §6 the values that must be finite and >= 0. */
-static int non_negative_ok(const rfe_mass_grade_params_t *p)
+static int non_negative_fields_ok(const rfe_mass_grade_params_t *p)
 {
     const rfe_real_t v[14] = {p->fc,      p->fr,      p->rho,     p->cd,      p->area,
                               p->m_rot,   p->q_mv0,   p->t_adapt, p->mv_stop, p->v_min,
@@ -158,7 +159,7 @@ rfe_status_t rfe_mass_grade_params_validate(const rfe_mass_grade_params_t *p)
     if ((p->adaptive > 1u) || (p->use_ax > 1u)) {
         return RFE_ERR_PARAM;
     }
-    if ((positive_ok(p) == 0) || (non_negative_ok(p) == 0) || (relations_ok(p) == 0)) {
+    if ((positive_fields_ok(p) == 0) || (non_negative_fields_ok(p) == 0) || (relations_ok(p) == 0)) {
         return RFE_ERR_PARAM;
     }
     return RFE_OK;

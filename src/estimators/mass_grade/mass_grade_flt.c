@@ -18,6 +18,7 @@ rfe_status_t rfe_mass_grade_init(rfe_mass_grade_t *mg, const rfe_mass_grade_para
                                  size_t size, uint32_t config)
 /* cppcheck-suppress misra-c2012-5.5 ; MISRA-DEV-08: the function its wrapper macro calls */
 {
+    const rfe_real_t n = (rfe_real_t)RFE_MG_N;
     rfe_real_t lam;
     /* A caller built with another number type lays the state out differently: nothing may
      * be written (RFE_ERR_ABI, rfe/common.h). */
@@ -33,8 +34,8 @@ rfe_status_t rfe_mass_grade_init(rfe_mass_grade_t *mg, const rfe_mass_grade_para
     *mg = (rfe_mass_grade_t){0};
     mg->p = *p;
     /* §3 lambda = alpha^2 (n + kappa) - n and the weights (eq. 14 corrected, §8 C4) */
-    lam = ((p->ut_alpha * p->ut_alpha) * (RFE_R(3.0) + p->ut_kappa)) - RFE_R(3.0);
-    mg->c = RFE_R(3.0) + lam;
+    lam = ((p->ut_alpha * p->ut_alpha) * (n + p->ut_kappa)) - n;
+    mg->c = n + lam;
     mg->wm0 = lam / mg->c;
     mg->wc0 = (lam / mg->c) + ((RFE_R(1.0) - (p->ut_alpha * p->ut_alpha)) + p->ut_beta);
     mg->wi = RFE_R(1.0) / (RFE_R(2.0) * mg->c);
@@ -43,7 +44,7 @@ rfe_status_t rfe_mass_grade_init(rfe_mass_grade_t *mg, const rfe_mass_grade_para
 }
 
 /* §4.1 every value the sample carries finite. */
-static int inputs_finite(const rfe_mass_grade_input_t *in)
+static int sample_values_finite(const rfe_mass_grade_input_t *in)
 {
     const rfe_real_t v[3] = {in->dt, in->v, in->torque};
     if (rfe_all_finite(v, 3u) == 0) {
@@ -57,10 +58,11 @@ static int inputs_finite(const rfe_mass_grade_input_t *in)
 
 /* §4.1 the sample's checks: finite, inside the limits, ax when the row needs it, a period
  * after the first sample. */
-static rfe_status_t check_input(const rfe_mass_grade_t *mg, const rfe_mass_grade_input_t *in)
+static rfe_status_t check_torque_sample(const rfe_mass_grade_t *mg,
+                                       const rfe_mass_grade_input_t *in)
 {
     const uint32_t has_ax = in->has & RFE_MG_HAS_AX;
-    if (inputs_finite(in) == 0) {
+    if (sample_values_finite(in) == 0) {
         return RFE_ERR_NONFINITE;
     }
     if (((in->has & ~RFE_MG_HAS_ALL) != 0u) || (RFE_FABS(in->v) > RFE_R(RFE_LIMIT_VX)) ||
@@ -91,7 +93,7 @@ static rfe_real_t accel(const rfe_mass_grade_params_t *p, const rfe_real_t *x, r
 }
 
 /* §4.1 (re)start at the sample: x = [v, m0, theta0], P diagonal, the adaptation armed. */
-static void start(rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in)
+static void start_filter(rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in)
 {
     size_t i;
     for (i = 0u; i < (N * N); ++i) {
@@ -108,8 +110,17 @@ static void start(rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in)
     o->m_adapt = o->x[1];
     o->brake_left = RFE_R(0.0);
     o->shift_left = RFE_R(0.0);
-    o->has_gear = ((in->has & RFE_MG_HAS_GEAR) != 0u) ? 1u : 0u;
+    o->has_gear = in->has & RFE_MG_HAS_GEAR;
     o->gear = in->gear;
+}
+
+/* §4.2 the brake: the pedal flag, or the pressure above p_brake_on. */
+static int braking(const rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in)
+{
+    return ((((in->has & RFE_MG_HAS_BRAKE) != 0u) && (in->brake != 0u)) ||
+            (((in->has & RFE_MG_HAS_PRESSURE) != 0u) && (in->p_brake > o->p.p_brake_on)))
+               ? 1
+               : 0;
 }
 
 /* §4.2 the pause logic; the delays count down by the period dt (0 on a start), so they stay
@@ -119,9 +130,7 @@ static void start(rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in)
 static rfe_status_t pause_status(rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in,
                                  rfe_real_t dt)
 {
-    const int brake = (((in->has & RFE_MG_HAS_BRAKE) != 0u) && (in->brake != 0u)) ||
-                      (((in->has & RFE_MG_HAS_PRESSURE) != 0u) &&
-                       (in->p_brake > o->p.p_brake_on));
+    const int brake = braking(o, in);
     o->brake_left = rfe_max(o->brake_left - dt, RFE_R(0.0));
     o->shift_left = rfe_max(o->shift_left - dt, RFE_R(0.0));
     if (brake != 0) {
@@ -215,9 +224,9 @@ static rfe_status_t measurement_update(const rfe_mass_grade_t *o, const rfe_mass
                                        rfe_real_t x[RFE_MG_N], rfe_real_t P[RFE_MG_N * RFE_MG_N])
 {
     const rfe_mg_weights_t w = {o->wm0, o->wc0, o->wi, o->c};
-    const size_t nz = (o->p.use_ax == 1u) ? 2u : 1u;
+    size_t nz = 1u;
     rfe_real_t chi[RFE_MG_PTS * RFE_MG_N];
-    rfe_real_t Z[RFE_MG_PTS * RFE_MG_Z_MAX] = {RFE_R(0.0)};
+    rfe_real_t Z[RFE_MG_PTS * RFE_MG_Z_MAX];
     rfe_real_t r2[RFE_MG_Z_MAX];
     rfe_real_t y[RFE_MG_Z_MAX];
     size_t i;
@@ -225,9 +234,13 @@ static rfe_status_t measurement_update(const rfe_mass_grade_t *o, const rfe_mass
     if (st != RFE_OK) {
         return st;
     }
+    if (o->p.use_ax == 1u) {
+        nz = 2u;
+    }
     for (i = 0u; i < (size_t)RFE_MG_PTS; ++i) {
         const rfe_real_t *pt = &chi[i * N];
         Z[i * 2u] = pt[0];
+        Z[(i * 2u) + 1u] = RFE_R(0.0);
         if (nz == 2u) {
             Z[(i * 2u) + 1u] = accel(&o->p, pt, in->torque) + (o->p.g * RFE_SIN(pt[2]));
         }
@@ -272,7 +285,8 @@ static rfe_status_t update(rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in
 }
 
 /* §1 the outputs: the state, the sd of its diagonal. */
-static void outputs(const rfe_mass_grade_t *o, rfe_status_t status, rfe_mass_grade_estimate_t *e)
+static void estimate_of(const rfe_mass_grade_t *o, rfe_status_t status,
+                        rfe_mass_grade_estimate_t *e)
 {
     e->mass = o->x[1];
     e->sd_mass = RFE_SQRT(rfe_max(o->P[4], RFE_R(0.0)));
@@ -296,10 +310,10 @@ rfe_status_t rfe_mass_grade_step(rfe_mass_grade_t *mg, const rfe_mass_grade_inpu
     if (mg->magic != RFE_MAGIC_MG) {
         return RFE_ERR_NOT_INITIALISED;
     }
-    st = check_input(mg, in);
+    st = check_torque_sample(mg, in);
     o = *mg; /* work on a copy: an error leaves the estimator as it was */
     if ((st == RFE_OK) && ((o.started == 0u) || (in->dt > o.p.dt_max))) {
-        start(&o, in); /* §4.1: a first sample or a gap the model cannot bridge */
+        start_filter(&o, in); /* §4.1: a first sample or a gap the model cannot bridge */
         status = pause_status(&o, in, RFE_R(0.0));
     } else if (st == RFE_OK) {
         status = pause_status(&o, in, in->dt);
@@ -318,7 +332,7 @@ rfe_status_t rfe_mass_grade_step(rfe_mass_grade_t *mg, const rfe_mass_grade_inpu
     }
     o.started = 1u;
     o.torque_prev = in->torque;
-    outputs(&o, status, &o.last);
+    estimate_of(&o, status, &o.last);
     *mg = o;
     *out = o.last;
     return status;

@@ -25,8 +25,8 @@
 #endif
 
 /** The number of sigma points 2n + 1 and the largest measurement (speed and ax). */
-/* cppcheck-suppress misra-c2012-2.4 ; MISRA-FP-01: an anonymous enum has no tag */
-enum { RFE_MG_PTS = 7, RFE_MG_Z_MAX = 2 };
+#define RFE_MG_PTS 7
+#define RFE_MG_Z_MAX 2
 
 /** The weights of §3 (state fields wm0, wc0, wi and the spread c = n + lambda). */
 typedef struct {

@@ -214,7 +214,6 @@ rfe_status_t rfe_mg_correct(const rfe_real_t chi[RFE_MG_PTS * RFE_MG_N],
     rfe_real_t S[RFE_MG_Z_MAX * RFE_MG_Z_MAX];
     rfe_real_t Si[RFE_MG_Z_MAX * RFE_MG_Z_MAX];
     rfe_real_t Pxz[RFE_MG_N * RFE_MG_Z_MAX];
-    rfe_real_t K[RFE_MG_N * RFE_MG_Z_MAX];
     rfe_real_t innov[RFE_MG_Z_MAX];
     size_t b;
     rfe_status_t st;
@@ -227,6 +226,7 @@ rfe_status_t rfe_mg_correct(const rfe_real_t chi[RFE_MG_PTS * RFE_MG_N],
     cov_of(chi, N, N, x, Z, ZM, nz, zm, w, Pxz);   /* eq. 19 */
     st = inverse_of(S, nz, Si);
     if (st == RFE_OK) {
+        rfe_real_t K[RFE_MG_N * RFE_MG_Z_MAX];
         gain_of(Pxz, Si, nz, K);                   /* eq. 19 */
         apply_gain(K, S, nz, innov, x, P);         /* eqs. 20-21 */
     }
