@@ -175,3 +175,35 @@ def test_ukf_with_ax_meets_the_mass_target_on_the_truck_drive():
     assert np.all(err[t >= 10.0] <= 0.02)
     assert np.all(r["sd_mass"] > 0.0) and np.all(r["sd_grade"] > 0.0)
     assert np.all(r["status"] == mg.OK)
+
+
+GOLDEN_MG = os.path.join(REPO, "scenarios", "golden", "mass_grade")
+
+
+# REQ-MG-001
+@pytest.mark.skipif(not os.path.isdir(GOLDEN_MG), reason="no mass and grade goldens")
+@pytest.mark.parametrize("name,config", [("car_gear_shift", "aukf_ax"),
+                                         ("car_stop_and_go", "recommended")])
+def test_mass_grade_goldens_are_up_to_date(name, config):
+    # The committed goldens (make mass-grade-goldens) are what the reference writes now: the
+    # same rows (index, status), the values within 1e-9 relative (plain Python floats on
+    # the estimator's path; only glibc's sin, cos and pow could differ by an ulp on another
+    # machine, ~1e-16, far below), and the configuration it records.
+    import sys
+    sys.path.insert(0, os.path.join(REPO, "scripts", "data"))
+    import make_mass_grade_goldens as mmg
+    meta, cols, rows = mmg.golden(os.path.join(LOGS, name + ".csv"), config)
+    now = np.array(rows)
+    path = os.path.join(GOLDEN_MG, f"{name}.{config}.csv")
+    with open(path, encoding="utf-8") as fh:
+        lines = fh.read().splitlines()
+    old_meta = dict(ln[2:].split(" = ", 1) for ln in lines if ln.startswith("# "))
+    body = [ln for ln in lines if not ln.startswith("#")]
+    assert body[0].split(",") == list(cols)
+    old = np.array([[float(v) for v in ln.split(",")] for ln in body[1:]])
+    assert now.shape == old.shape
+    k, st = cols.index("k"), cols.index("status")
+    assert np.array_equal(now[:, k], old[:, k]) and np.array_equal(now[:, st], old[:, st])
+    assert np.allclose(now, old, rtol=1e-9, atol=1e-12)
+    for key, val in meta:
+        assert old_meta[key] == (repr(val) if isinstance(val, float) else str(val))
