@@ -115,8 +115,8 @@ typedef struct {
  * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_PARAM (rfe_mass_grade_params_validate fails).
  * @note The call goes through a macro of the full name that adds the caller's
  *       sizeof of the state and its RFE_CONFIG_* word (rfe/config.h): RFE_ERR_ABI,
- *       nothing written, when the caller was compiled with another number type than the
- *       library.
+ *       nothing written, when the caller was compiled with other maxima or another number
+ *       type than the library (the configuration word carries both, as for every init).
  */
 RFE_NODISCARD rfe_status_t rfe_mass_grade_init(rfe_mass_grade_t *mg,
                                                const rfe_mass_grade_params_t *p,
