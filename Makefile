@@ -46,7 +46,7 @@ DEPS_EXTRA :=
 TEST_GATES :=
 include $(sort $(filter-out mk/lib.mk,$(wildcard mk/*.mk)))
 
-.PHONY: mass-grade-scenarios mass-grade-results trust-invariant names car-format-logs observer-goldens observer-goldens-q31 observer-results monitor-results all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind coverage demo goldens goldens-q31 scenarios observer-scenarios clean vectors shared-sync check-shared readme-table \
+.PHONY: mass-grade-scenarios mass-grade-results mass-grade-goldens trust-invariant names car-format-logs observer-goldens observer-goldens-q31 observer-results monitor-results all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind coverage demo goldens goldens-q31 scenarios observer-scenarios clean vectors shared-sync check-shared readme-table \
         check-kernels check-tools layers help-check goldens-ref check-nofloat help deps-analysis misra tidy complexity structural analysis \
         twins check-twins tyre-id-scenarios tyre-id-results tyre-id-goldens
 ## the libraries and build/mu_replay (the default target)
@@ -411,6 +411,11 @@ observer-goldens: venv
 ## regenerate the tyre identifier's goldens and its stream check (scenarios/golden/tyre_id/)
 tyre-id-goldens: venv
 	$(PY) scripts/data/make_tyre_id_goldens.py --n 256 --out scenarios/golden/tyre_id
+# The mass and grade estimator's goldens (docs/MASS_GRADE.md) from its float64 reference.
+## regenerate the mass and grade estimator's goldens (scenarios/golden/mass_grade/)
+mass-grade-goldens: venv
+	$(PY) scripts/data/make_mass_grade_goldens.py --scenarios scenarios/mass_grade \
+	  --out scenarios/golden/mass_grade
 
 ## regenerate the fixed-point goldens with mu_replay --real q31
 goldens-q31: $(BUILD)/mu_replay

@@ -13,7 +13,8 @@ DEPFLAGS := -MMD -MP
 # The library's folders (docs/LAYOUT.md): shared numerics, filters, models, parameters,
 # estimators; src/host/ is host code, never part of it.
 LIB_DIRS      := src/numerics src/filters src/models src/params src/estimators/friction \
-                 src/estimators/velocity src/estimators/pipeline src/estimators/tyre_id
+                 src/estimators/velocity src/estimators/pipeline src/estimators/tyre_id \
+                 src/estimators/mass_grade
 LIB_ALL_SRC   := $(foreach d,$(LIB_DIRS),$(wildcard $(d)/*.c))
 LIB_HDRS      := $(wildcard include/rfe/*.h include/rfe/component/*.h $(addsuffix /*.h,$(LIB_DIRS)))
 Q31_SRC       := $(filter %_q31.c,$(LIB_ALL_SRC))
@@ -25,6 +26,7 @@ HOST_SRC      := $(filter-out src/host/mu_replay.c src/host/replay_real.c src/ho
 # (golden, robustness, mcdc); named <folder>/test_<name> (binaries build/<tree>/test/<folder>/).
 TEST_DIRS     := test/numerics test/filters test/models test/params test/estimators/friction \
                  test/estimators/velocity test/estimators/pipeline test/estimators/tyre_id \
+                 test/estimators/mass_grade \
                  test/golden test/robustness test/mcdc
 TEST_ALL      := $(patsubst test/%.c,%,$(foreach d,$(TEST_DIRS),$(wildcard $(d)/test_*.c)))
 Q31_TESTS     := $(filter %_q31,$(TEST_ALL))

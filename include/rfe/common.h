@@ -28,6 +28,10 @@ typedef enum {
                                          threshold (info_min): time update only */
     RFE_MODEL_MISMATCH = 4,         /**< the model-validity monitor is fired: the innovations
                                          contradict the model, nothing is valid (MONITOR.md) */
+    RFE_MG_PAUSED_BRAKE = 5,        /**< mass and grade: the brake is on, or was less than
+                                         t_brake ago: held (MASS_GRADE.md §4.2) */
+    RFE_MG_PAUSED_SHIFT = 6,        /**< mass and grade: less than t_shift since a gear
+                                         change: held (MASS_GRADE.md §4.2) */
     RFE_ERR_FIRST = 16,
     RFE_ERR_NULL = 16,              /**< a required pointer is NULL */
     RFE_ERR_NONFINITE = 17,         /**< an input is NaN or infinite */
@@ -74,25 +78,38 @@ enum { RFE_GAP_PERIODS = 2, RFE_GAP_STAMP_SHIFT = 20 };
 static inline int rfe_status_is_error(rfe_status_t s) { return (int)s >= (int)RFE_ERR_FIRST; }
 
 /** Short human-readable name of a status code (never NULL). Inline because it does not
- *  depend on the number type: one definition serves the _f32, _f64 and _q31 libraries. */
+ *  depend on the number type: one definition serves the _f32, _f64 and _q31 libraries. A
+ *  table per range of codes (information 0-6, errors 16-23), so that a new status adds a
+ *  name and not a branch. */
 static inline const char *rfe_status_str(rfe_status_t s)
 {
-    const char *name;
-    switch (s) {
-    case RFE_OK: name = "ok"; break;
-    case RFE_PROJECTED: name = "projected onto [mu_min, mu_max]"; break;
-    case RFE_NO_UPDATE_LOW_SPEED: name = "no update: speed below v_est_min"; break;
-    case RFE_HELD_NOT_OBSERVABLE: name = "held: not observable"; break;
-    case RFE_MODEL_MISMATCH: name = "model mismatch: the innovations contradict the model"; break;
-    case RFE_ERR_NULL: name = "null pointer"; break;
-    case RFE_ERR_NONFINITE: name = "non-finite input"; break;
-    case RFE_ERR_RANGE: name = "input out of range"; break;
-    case RFE_ERR_PARAM: name = "invalid parameter"; break;
-    case RFE_ERR_SIZE: name = "dimension exceeds compile-time maximum"; break;
-    case RFE_ERR_NOT_POSITIVE_DEFINITE: name = "matrix not positive definite"; break;
-    case RFE_ERR_NOT_INITIALISED: name = "not initialised"; break;
-    case RFE_ERR_ABI: name = "caller built with other maxima or number type"; break;
-    default: name = "unknown status"; break;
+    static const char *const info[7] = {
+        "ok",                                                   /* RFE_OK */
+        "projected onto [mu_min, mu_max]",                      /* RFE_PROJECTED */
+        "no update: speed below v_est_min",                     /* RFE_NO_UPDATE_LOW_SPEED */
+        "held: not observable",                                 /* RFE_HELD_NOT_OBSERVABLE */
+        "model mismatch: the innovations contradict the model", /* RFE_MODEL_MISMATCH */
+        "held: braking",                                        /* RFE_MG_PAUSED_BRAKE */
+        "held: gear shift"                                      /* RFE_MG_PAUSED_SHIFT */
+    };
+    static const char *const err[8] = {
+        "null pointer",                                  /* RFE_ERR_NULL */
+        "non-finite input",                              /* RFE_ERR_NONFINITE */
+        "input out of range",                            /* RFE_ERR_RANGE */
+        "invalid parameter",                             /* RFE_ERR_PARAM */
+        "dimension exceeds compile-time maximum",        /* RFE_ERR_SIZE */
+        "matrix not positive definite",                  /* RFE_ERR_NOT_POSITIVE_DEFINITE */
+        "not initialised",                               /* RFE_ERR_NOT_INITIALISED */
+        "caller built with other maxima or number type"  /* RFE_ERR_ABI */
+    };
+    const int c = (int)s;
+    const char *name = "unknown status";
+    if ((c >= (int)RFE_OK) && (c <= (int)RFE_MG_PAUSED_SHIFT)) {
+        name = info[c];
+    } else if ((c >= (int)RFE_ERR_FIRST) && (c <= (int)RFE_ERR_ABI)) {
+        name = err[c - (int)RFE_ERR_FIRST];
+    } else {
+        /* not a status of this library */
     }
     return name;
 }

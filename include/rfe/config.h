@@ -78,6 +78,9 @@
 #ifndef RFE_LIMIT_TORQUE
 #define RFE_LIMIT_TORQUE 20000.0 /**< |drive torque at a wheel| [N m] (velocity observer) */
 #endif
+#ifndef RFE_LIMIT_DRIVE_TORQUE
+#define RFE_LIMIT_DRIVE_TORQUE 1.0e5 /**< |total drive torque at the wheels| [N m] (mass and grade) */
+#endif
 #ifndef RFE_LIMIT_GRADE
 #define RFE_LIMIT_GRADE 0.6      /**< |road grade| [rad] (about 35 degrees) */
 #endif

@@ -43,15 +43,15 @@ PUBLIC = {
     "filters": ("sckf.h", "sckf_q31.h", "ckf.h", "ckf_q31.h", "kf2.h", "kf2_q31.h"),
     "params": ("modes.h", "params.h", "params_q31.h", "params_conv.h", "velocity_params.h",
                "velocity_params_q31.h",
-               "velocity_bits.h", "tyre_id_params.h"),
+               "velocity_bits.h", "tyre_id_params.h", "mass_grade_params.h", "mass_grade_bits.h"),
     "models": ("tyre.h", "tyre_q31.h", "obsmat.h", "obsmat_q31.h", "meas.h", "meas_q31.h"),
     "estimators": ("step_noise.h", "step_noise_q31.h", "conditioner.h", "conditioner_q31.h",
                    "monitor.h", "monitor_q31.h", "friction.h", "friction_q31.h", "velocity.h", "velocity_q31.h", "pipeline.h",
-                   "pipeline_q31.h", "tyre_id.h"),
+                   "pipeline_q31.h", "tyre_id.h", "mass_grade.h"),
 }
 # Headers of both number types: no real type in them.
 Q31_SHARED = ({"include/rfe/" + h for h in ("common.h", "config.h", "fixed.h", "modes.h",
-                                             "velocity_bits.h")}
+                                             "velocity_bits.h", "mass_grade_bits.h")}
               | {"include/rfe/component/fxmath.h", "src/numerics/sizes.h",
                  "src/models/meas_inputs.h", "src/estimators/friction/friction_logic.h",
                  "src/estimators/friction/monitor_logic.h",

@@ -243,10 +243,10 @@ class MassGrade:
         self.P = [[p["mg_r_v"] ** 2, 0.0, 0.0], [0.0, p["mg_sd_m0"] ** 2, 0.0],
                   [0.0, 0.0, p["mg_sd_theta0"] ** 2]]
         self.q_mv = p["mg_q_mv0"] ** 2 if p["mg_adaptive"] == 1.0 else 0.0
-        self.t_adapt = s.t          # start of the current adaptation period
+        self.adapt_elapsed = 0.0    # time since the start of the current adaptation period
         self.m_adapt = self.x[1]    # the mass at its start
-        self.brake_until = -math.inf
-        self.shift_until = -math.inf
+        self.brake_left = 0.0       # pause left after the last braked sample, s
+        self.shift_left = 0.0       # pause left after the last gear change, s
         self.gear = s.gear
         self.started = True
 
@@ -281,36 +281,42 @@ class MassGrade:
         p = self.p
         if not self.started or s.t - self.t_prev > p["mg_dt_max"]:
             self._start(s)
-            status = self._pause_status(s)
+            status = self._pause_status(s, 0.0)
             self.t_prev, self.torque_prev = s.t, s.torque
             return self._estimate(status)
-        saved = (self.brake_until, self.shift_until, self.gear)
-        status = self._pause_status(s)
+        saved = (self.brake_left, self.shift_left, self.gear)
         dt = s.t - self.t_prev
+        status = self._pause_status(s, dt)
         if status != OK:
             self._hold(s, dt)
         else:
             st = self._update(s, dt)
             if st != OK:
-                self.brake_until, self.shift_until, self.gear = saved
+                self.brake_left, self.shift_left, self.gear = saved
                 return self._estimate(st)
         self.t_prev, self.torque_prev = s.t, s.torque
         return self._estimate(status)
 
     # -- §4.2 pause logic ---------------------------------------------------------------------
-    def _pause_status(self, s):
+    def _pause_status(self, s, dt):
+        """§4.2; the delays count down by the sample period dt (0 on a start), so they stay
+        as exact as the period in float32 however long the drive. A delay ends at the sample
+        where less than half a period of it is left: a delay of whole periods then holds the
+        same samples whatever the rounding of the periods' sum."""
         p = self.p
+        self.brake_left = max(self.brake_left - dt, 0.0)
+        self.shift_left = max(self.shift_left - dt, 0.0)
         brake = (s.brake is not None and s.brake >= 0.5) or (
             s.brake_pressure is not None and s.brake_pressure > p["mg_p_brake_on"])
         if brake:
-            self.brake_until = s.t + p["mg_t_brake"]
+            self.brake_left = p["mg_t_brake"]
         if s.gear is not None:
             if self.gear is not None and s.gear != self.gear:
-                self.shift_until = s.t + p["mg_t_shift"]
+                self.shift_left = p["mg_t_shift"]
             self.gear = s.gear
-        if brake or s.t < self.brake_until:
+        if brake or self.brake_left > 0.5 * dt:
             return PAUSED_BRAKE
-        if s.t < self.shift_until:
+        if self.shift_left > 0.5 * dt:
             return PAUSED_SHIFT
         if s.v < p["mg_v_min"]:
             return NO_UPDATE_LOW_SPEED
@@ -326,7 +332,7 @@ class MassGrade:
         for j in (1, 2):
             P[0][j] = 0.0
             P[j][0] = 0.0
-        self.t_adapt = s.t
+        self.adapt_elapsed = 0.0
         self.m_adapt = self.x[1]
 
     # -- §3 and §4.3: one UKF step, then the adaptation ---------------------------------------
@@ -379,18 +385,23 @@ class MassGrade:
         x[2] = min(max(x[2], -p["mg_theta_max"]), p["mg_theta_max"])
         self.x, self.P = x, P
         if p["mg_adaptive"] == 1.0 and self.q_mv > 0.0:
-            self._adapt(s.t)
+            self._adapt(dt)
         return OK
 
-    def _adapt(self, t):
-        """§4.4 eqs. (22)-(25), once per adaptation period mg_t_adapt (every step when 0)."""
+    def _adapt(self, dt):
+        """§4.4 eqs. (22)-(25), once per adaptation period mg_t_adapt (every step when 0);
+        dt is this sample's period, added to the time since the period began. The period is
+        over at the sample where less than half a sample period of it is left (as the pause
+        delays, §4.2)."""
         p, P = self.p, self.P
-        span = t - self.t_adapt
-        if span < p["mg_t_adapt"]:
+        self.adapt_elapsed += dt
+        span = self.adapt_elapsed
+        if span < p["mg_t_adapt"] - 0.5 * dt:
             return
         d = (self.x[1] - self.m_adapt) ** 2      # (M_t - M_{t-1})^2 over the period
         qs = self.q_mv * span                    # q_mv over the same period, kg^2
-        lam = 0.5 * abs(qs - d) / (qs + d)       # eq. (24) as corrected (§4.4)
+        # eq. (24) as corrected (§4.4); 1/2, its limit at D = 0, where q_s underflowed to 0
+        lam = 0.5 * abs(qs - d) / (qs + d) if qs + d > 0.0 else 0.5
         self.q_mv *= lam                         # eq. (23)
         for e in range(N):                       # eq. (25): p_2e = p_e2 <- lambda_u p_2e
             if e != 1:
@@ -399,7 +410,7 @@ class MassGrade:
         P[1][1] *= lam
         if self.q_mv <= p["mg_mv_stop"] * p["mg_q_mc"] ** 2:
             self.q_mv = 0.0                      # q_22 has converged to q_mc: adaptation ends
-        self.t_adapt = t
+        self.adapt_elapsed = 0.0
         self.m_adapt = self.x[1]
 
 

@@ -102,6 +102,7 @@ static inline float rfe_atan2_f32(float y, float x)
 #define RFE_MAGIC_VEL 0x56454C31u  /* "VEL1" */
 #define RFE_MAGIC_MON 0x4D4F4E31u  /* "MON1" */
 #define RFE_MAGIC_TID 0x54494431u  /* "TID1" */
+#define RFE_MAGIC_MG 0x4D475231u   /* "MGR1" */
 
 /** True when x is neither NaN nor infinite. */
 static inline int rfe_is_finite(rfe_real_t x) { return isfinite(x) ? 1 : 0; }

@@ -1,0 +1,32 @@
+/**
+ * @file mass_grade_bits.h
+ * @brief What the mass and grade estimator's float/double and fixed-point faces share
+ *        (docs/MASS_GRADE.md): which optional inputs a sample carries and the presets. No
+ *        real type in it.
+ */
+#ifndef RFE_MASS_GRADE_BITS_H
+#define RFE_MASS_GRADE_BITS_H
+
+/** Bits of the input's `has`: which optional inputs the sample carries (§1). */
+#define RFE_MG_HAS_BRAKE 1u    /**< brake (the pedal flag) is given */
+#define RFE_MG_HAS_PRESSURE 2u /**< p_brake (the brake pressure) is given */
+#define RFE_MG_HAS_GEAR 4u     /**< gear is given */
+#define RFE_MG_HAS_AX 8u       /**< ax (the accelerometer) is given */
+/** Every bit a sample may set. */
+#define RFE_MG_HAS_ALL 15u
+
+/** The vehicle of a preset (MASS_GRADE.md §6). */
+typedef enum {
+    RFE_MG_CAR = 0,  /**< the simulator's passenger car (1 500-2 100 kg) */
+    RFE_MG_TRUCK = 1 /**< the seed's 5 758 kg two-axle truck */
+} rfe_mg_vehicle_t;
+
+/** The configuration of a preset (MASS_GRADE.md §6, "Presets"). */
+typedef enum {
+    RFE_MG_RECOMMENDED = 0, /**< plain UKF with the accelerometer row, rotating mass modelled:
+                                 what measured best (MASS_GRADE_RESULTS.md) */
+    RFE_MG_SEED = 1         /**< the seed's AUKF on speed and torque only, adaptation every
+                                 step, no rotating mass */
+} rfe_mg_config_t;
+
+#endif /* RFE_MASS_GRADE_BITS_H */

@@ -1,0 +1,363 @@
+/**
+ * @file mass_grade_flt.c
+ * @brief The mass and road-grade estimator (docs/MASS_GRADE.md): input checks, the start,
+ *        the pause logic (§4.2), the longitudinal model (§1-2) through the unscented filter
+ *        (mass_grade_ukf_flt.c, §4.3), the projection and the adaptation (§4.4).
+ */
+/* This file defines the init: its header's wrapper macro stays out (MISRA-DEV-08). */
+/* cppcheck-suppress misra-c2012-2.5 ; MISRA-DEV-08: read by the header's #if */
+#define RFE_MASS_GRADE_IMPL
+#include "rfe/mass_grade.h"
+
+#include "estimators/mass_grade/mass_grade_internal.h"
+#include "numerics/internal.h"
+
+#define N ((size_t)RFE_MG_N)
+
+rfe_status_t rfe_mass_grade_init(rfe_mass_grade_t *mg, const rfe_mass_grade_params_t *p,
+                                 size_t size, uint32_t config)
+/* cppcheck-suppress misra-c2012-5.5 ; MISRA-DEV-08: the function its wrapper macro calls */
+{
+    const rfe_real_t n = (rfe_real_t)RFE_MG_N;
+    rfe_real_t lam;
+    /* A caller built with another number type lays the state out differently: nothing may
+     * be written (RFE_ERR_ABI, rfe/common.h). */
+    if ((size != sizeof(*mg)) || (config != RFE_CONFIG_REAL)) {
+        return RFE_ERR_ABI;
+    }
+    if ((mg == NULL) || (p == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    if (rfe_mass_grade_params_validate(p) != RFE_OK) {
+        return RFE_ERR_PARAM;
+    }
+    *mg = (rfe_mass_grade_t){0};
+    mg->p = *p;
+    /* §3 lambda = alpha^2 (n + kappa) - n and the weights (eq. 14 corrected, §8 C4) */
+    lam = ((p->ut_alpha * p->ut_alpha) * (n + p->ut_kappa)) - n;
+    mg->c = n + lam;
+    mg->wm0 = lam / mg->c;
+    mg->wc0 = (lam / mg->c) + ((RFE_R(1.0) - (p->ut_alpha * p->ut_alpha)) + p->ut_beta);
+    mg->wi = RFE_R(1.0) / (RFE_R(2.0) * mg->c);
+    mg->magic = RFE_MAGIC_MG;
+    return RFE_OK;
+}
+
+/* §4.1 every value the sample carries finite. */
+static int sample_values_finite(const rfe_mass_grade_input_t *in)
+{
+    const rfe_real_t v[3] = {in->dt, in->v, in->torque};
+    if (rfe_all_finite(v, 3u) == 0) {
+        return 0;
+    }
+    if (((in->has & RFE_MG_HAS_PRESSURE) != 0u) && !rfe_is_finite(in->p_brake)) {
+        return 0;
+    }
+    return (((in->has & RFE_MG_HAS_AX) == 0u) || rfe_is_finite(in->ax)) ? 1 : 0;
+}
+
+/* §4.1 the sample's checks: finite, inside the limits, ax when the row needs it, a period
+ * after the first sample. */
+static rfe_status_t check_torque_sample(const rfe_mass_grade_t *mg,
+                                       const rfe_mass_grade_input_t *in)
+{
+    const uint32_t has_ax = in->has & RFE_MG_HAS_AX;
+    if (sample_values_finite(in) == 0) {
+        return RFE_ERR_NONFINITE;
+    }
+    if (((in->has & ~RFE_MG_HAS_ALL) != 0u) || (RFE_FABS(in->v) > RFE_R(RFE_LIMIT_VX)) ||
+        (RFE_FABS(in->torque) > RFE_R(RFE_LIMIT_DRIVE_TORQUE))) {
+        return RFE_ERR_RANGE;
+    }
+    if (((has_ax != 0u) && (RFE_FABS(in->ax) > RFE_R(RFE_LIMIT_ACC))) ||
+        ((mg->p.use_ax == 1u) && (has_ax == 0u))) {
+        return RFE_ERR_RANGE;
+    }
+    if ((mg->started != 0u) && !(in->dt > RFE_R(0.0))) {
+        return RFE_ERR_RANGE;
+    }
+    return RFE_OK;
+}
+
+/* §1 v-dot = (T/r - M g ((f_c + f_r v) cos theta + sin theta) - rho C_d S v^2 / 2)
+ * / (M + m_rot), M clamped to [m_min, m_max] (a sigma point may leave them). */
+static rfe_real_t accel(const rfe_mass_grade_params_t *p, const rfe_real_t *x, rfe_real_t torque)
+{
+    const rfe_real_t v = x[0];
+    const rfe_real_t m = rfe_clamp(x[1], p->m_min, p->m_max);
+    const rfe_real_t f = p->fc + (p->fr * v);
+    const rfe_real_t drag = ((((RFE_R(0.5) * p->rho) * p->cd) * p->area) * v) * v;
+    const rfe_real_t force = ((torque / p->R) -
+                              ((m * p->g) * ((f * RFE_COS(x[2])) + RFE_SIN(x[2])))) - drag;
+    return force / (m + p->m_rot);
+}
+
+/* §4.1 (re)start at the sample: x = [v, m0, theta0], P diagonal, the adaptation armed. */
+static void start_filter(rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in)
+{
+    size_t i;
+    for (i = 0u; i < (N * N); ++i) {
+        o->P[i] = RFE_R(0.0);
+    }
+    o->x[0] = in->v;
+    o->x[1] = o->p.m0;
+    o->x[2] = o->p.theta0;
+    o->P[0] = o->p.r_v * o->p.r_v;
+    o->P[4] = o->p.sd_m0 * o->p.sd_m0;
+    o->P[8] = o->p.sd_theta0 * o->p.sd_theta0;
+    o->q_mv = (o->p.adaptive == 1u) ? (o->p.q_mv0 * o->p.q_mv0) : RFE_R(0.0);
+    o->adapt_elapsed = RFE_R(0.0);
+    o->m_adapt = o->x[1];
+    o->brake_left = RFE_R(0.0);
+    o->shift_left = RFE_R(0.0);
+    o->has_gear = in->has & RFE_MG_HAS_GEAR;
+    o->gear = in->gear;
+}
+
+/* §4.2 the brake: the pedal flag, or the pressure above p_brake_on. */
+static int braking(const rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in)
+{
+    return ((((in->has & RFE_MG_HAS_BRAKE) != 0u) && (in->brake != 0u)) ||
+            (((in->has & RFE_MG_HAS_PRESSURE) != 0u) && (in->p_brake > o->p.p_brake_on)))
+               ? 1
+               : 0;
+}
+
+/* §4.2 the pause logic; the delays count down by the period dt (0 on a start), so they stay
+ * as exact as the period in float32 however long the drive; a delay ends at the sample where
+ * less than half a period of it is left, so a delay of whole periods holds the same samples
+ * in float and double whatever the rounding of the periods' sum. */
+static rfe_status_t pause_status(rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in,
+                                 rfe_real_t dt)
+{
+    const int brake = braking(o, in);
+    o->brake_left = rfe_max(o->brake_left - dt, RFE_R(0.0));
+    o->shift_left = rfe_max(o->shift_left - dt, RFE_R(0.0));
+    if (brake != 0) {
+        o->brake_left = o->p.t_brake;
+    }
+    if ((in->has & RFE_MG_HAS_GEAR) != 0u) {
+        if ((o->has_gear != 0u) && (in->gear != o->gear)) {
+            o->shift_left = o->p.t_shift;
+        }
+        o->gear = in->gear;
+        o->has_gear = 1u;
+    }
+    if ((brake != 0) || (o->brake_left > (RFE_R(0.5) * dt))) {
+        return RFE_MG_PAUSED_BRAKE;
+    }
+    if (o->shift_left > (RFE_R(0.5) * dt)) {
+        return RFE_MG_PAUSED_SHIFT;
+    }
+    return (in->v < o->p.v_min) ? RFE_NO_UPDATE_LOW_SPEED : RFE_OK;
+}
+
+/* §4.2 the hold: M, theta kept; theta's variance grows by its walk; v restarts at the
+ * measured speed, uncorrelated; the adaptation's clock restarts at the held mass. */
+static void hold(rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in, rfe_real_t dt)
+{
+    o->P[8] += (o->p.q_theta * o->p.q_theta) * dt;
+    o->x[0] = in->v;
+    o->P[0] = o->p.r_v * o->p.r_v;
+    o->P[1] = RFE_R(0.0);
+    o->P[2] = RFE_R(0.0);
+    o->P[3] = RFE_R(0.0);
+    o->P[6] = RFE_R(0.0);
+    o->adapt_elapsed = RFE_R(0.0);
+    o->m_adapt = o->x[1];
+}
+
+/* §4.4 eqs. 22-25 once per adaptation period: lambda_u = 1/2 |q_s - D| / (q_s + D) scales
+ * q_mv and the mass row and column of P (P_MM once); the adaptation ends at the stop
+ * threshold. */
+static void adapt(rfe_mass_grade_t *o, rfe_real_t dt)
+{
+    rfe_real_t d;
+    rfe_real_t qs;
+    rfe_real_t lam;
+    o->adapt_elapsed += dt;
+    if (o->adapt_elapsed < (o->p.t_adapt - (RFE_R(0.5) * dt))) {
+        return; /* the period ends within half a sample period of t_adapt, as the delays */
+    }
+    d = (o->x[1] - o->m_adapt) * (o->x[1] - o->m_adapt); /* (M_t - M_a)^2 */
+    qs = o->q_mv * o->adapt_elapsed;                      /* q_mv over the period, kg^2 */
+    /* 1/2, the limit at D = 0, where q_s underflowed to 0 */
+    lam = ((qs + d) > RFE_R(0.0)) ? ((RFE_R(0.5) * RFE_FABS(qs - d)) / (qs + d)) : RFE_R(0.5);
+    o->q_mv *= lam;
+    o->P[1] *= lam;
+    o->P[3] = o->P[1];
+    o->P[5] *= lam;
+    o->P[7] = o->P[5];
+    o->P[4] *= lam;
+    if (o->q_mv <= (o->p.mv_stop * (o->p.q_mc * o->p.q_mc))) {
+        o->q_mv = RFE_R(0.0); /* q_22 has converged to q_mc^2: the AUKF is the UKF now */
+    }
+    o->adapt_elapsed = RFE_R(0.0);
+    o->m_adapt = o->x[1];
+}
+
+/* §4.3 steps 1-2: the points of (x, P) through f(x) = [v + dt v-dot(T_prev), M, theta]. */
+static rfe_status_t time_update(const rfe_mass_grade_t *o, rfe_real_t dt, rfe_real_t xm[RFE_MG_N],
+                                rfe_real_t Pm[RFE_MG_N * RFE_MG_N])
+{
+    const rfe_mg_weights_t w = {o->wm0, o->wc0, o->wi, o->c};
+    rfe_real_t chi[RFE_MG_PTS * RFE_MG_N];
+    rfe_real_t q[RFE_MG_N];
+    size_t i;
+    const rfe_status_t st = rfe_mg_sigma_points(o->x, o->P, o->c, chi);
+    if (st != RFE_OK) {
+        return st;
+    }
+    for (i = 0u; i < (size_t)RFE_MG_PTS; ++i) {
+        rfe_real_t *pt = &chi[i * N];
+        pt[0] += dt * accel(&o->p, pt, o->torque_prev);
+    }
+    q[0] = (o->p.q_v * o->p.q_v) * dt;
+    q[1] = ((o->p.q_mc * o->p.q_mc) + o->q_mv) * dt;
+    q[2] = (o->p.q_theta * o->p.q_theta) * dt;
+    rfe_mg_predict(chi, &w, q, xm, Pm);
+    return RFE_OK;
+}
+
+/* §4.3 steps 3-7: new points of (x-, P-), z = [v] or [v, v-dot(T) + g sin theta]. */
+static rfe_status_t measurement_update(const rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in,
+                                       rfe_real_t x[RFE_MG_N], rfe_real_t P[RFE_MG_N * RFE_MG_N])
+{
+    const rfe_mg_weights_t w = {o->wm0, o->wc0, o->wi, o->c};
+    size_t nz = 1u;
+    rfe_real_t chi[RFE_MG_PTS * RFE_MG_N];
+    rfe_real_t Z[RFE_MG_PTS * RFE_MG_Z_MAX];
+    rfe_real_t r2[RFE_MG_Z_MAX];
+    rfe_real_t y[RFE_MG_Z_MAX];
+    size_t i;
+    rfe_status_t st = rfe_mg_sigma_points(x, P, o->c, chi);
+    if (st != RFE_OK) {
+        return st;
+    }
+    if (o->p.use_ax == 1u) {
+        nz = 2u;
+    }
+    for (i = 0u; i < (size_t)RFE_MG_PTS; ++i) {
+        const rfe_real_t *pt = &chi[i * N];
+        Z[i * 2u] = pt[0];
+        Z[(i * 2u) + 1u] = RFE_R(0.0);
+        if (nz == 2u) {
+            Z[(i * 2u) + 1u] = accel(&o->p, pt, in->torque) + (o->p.g * RFE_SIN(pt[2]));
+        }
+    }
+    r2[0] = o->p.r_v * o->p.r_v;
+    r2[1] = o->p.r_ax * o->p.r_ax;
+    y[0] = in->v;
+    y[1] = in->ax;
+    st = rfe_mg_correct(chi, Z, nz, &w, r2, y, x, P);
+    return st;
+}
+
+/* §4.3 one filter step, the projection of the mean and the adaptation; o is the caller's
+ * copy, so an error leaves the estimator untouched. */
+static rfe_status_t update(rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in, rfe_real_t dt)
+{
+    rfe_real_t x[RFE_MG_N];
+    rfe_real_t P[RFE_MG_N * RFE_MG_N];
+    rfe_status_t st = time_update(o, dt, x, P);
+    if (st == RFE_OK) {
+        st = measurement_update(o, in, x, P);
+    }
+    if ((st == RFE_OK) &&
+        ((rfe_all_finite(x, N) == 0) || (rfe_all_finite(P, N * N) == 0))) {
+        st = RFE_ERR_NONFINITE; /* an overflow: never a NaN out */
+    }
+    if (st == RFE_OK) {
+        size_t i;
+        x[1] = rfe_clamp(x[1], o->p.m_min, o->p.m_max); /* step 8 */
+        x[2] = rfe_clamp(x[2], -o->p.theta_max, o->p.theta_max);
+        for (i = 0u; i < N; ++i) {
+            o->x[i] = x[i];
+        }
+        for (i = 0u; i < (N * N); ++i) {
+            o->P[i] = P[i];
+        }
+        if ((o->p.adaptive == 1u) && (o->q_mv > RFE_R(0.0))) {
+            adapt(o, dt);
+        }
+    }
+    return st;
+}
+
+/* §1 the outputs: the state, the sd of its diagonal. */
+static void estimate_of(const rfe_mass_grade_t *o, rfe_status_t status,
+                        rfe_mass_grade_estimate_t *e)
+{
+    e->mass = o->x[1];
+    e->sd_mass = RFE_SQRT(rfe_max(o->P[4], RFE_R(0.0)));
+    e->grade = o->x[2];
+    e->sd_grade = RFE_SQRT(rfe_max(o->P[8], RFE_R(0.0)));
+    e->v = o->x[0];
+    e->sd_v = RFE_SQRT(rfe_max(o->P[0], RFE_R(0.0)));
+    e->q_mv = o->q_mv;
+    e->status = status;
+}
+
+rfe_status_t rfe_mass_grade_step(rfe_mass_grade_t *mg, const rfe_mass_grade_input_t *in,
+                                 rfe_mass_grade_estimate_t *out)
+{
+    rfe_mass_grade_t o;
+    rfe_status_t st;
+    rfe_status_t status = RFE_OK;
+    if ((mg == NULL) || (in == NULL) || (out == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    if (mg->magic != RFE_MAGIC_MG) {
+        return RFE_ERR_NOT_INITIALISED;
+    }
+    st = check_torque_sample(mg, in);
+    o = *mg; /* work on a copy: an error leaves the estimator as it was */
+    if ((st == RFE_OK) && ((o.started == 0u) || (in->dt > o.p.dt_max))) {
+        start_filter(&o, in); /* §4.1: a first sample or a gap the model cannot bridge */
+        status = pause_status(&o, in, RFE_R(0.0));
+    } else if (st == RFE_OK) {
+        status = pause_status(&o, in, in->dt);
+        if (status != RFE_OK) {
+            hold(&o, in, in->dt);
+        } else {
+            st = update(&o, in, in->dt);
+        }
+    } else {
+        /* the checks failed: nothing to compute */
+    }
+    if (st != RFE_OK) {
+        *out = mg->last;
+        out->status = st;
+        return st;
+    }
+    o.started = 1u;
+    o.torque_prev = in->torque;
+    estimate_of(&o, status, &o.last);
+    *mg = o;
+    *out = o.last;
+    return status;
+}
+
+rfe_status_t rfe_mass_grade_restart(rfe_mass_grade_t *mg)
+{
+    if (mg == NULL) {
+        return RFE_ERR_NULL;
+    }
+    if (mg->magic != RFE_MAGIC_MG) {
+        return RFE_ERR_NOT_INITIALISED;
+    }
+    mg->started = 0u; /* the next accepted sample starts afresh (§4.1) */
+    return RFE_OK;
+}
+
+rfe_status_t rfe_mass_grade_get(const rfe_mass_grade_t *mg, rfe_mass_grade_estimate_t *out)
+{
+    if ((mg == NULL) || (out == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    if (mg->magic != RFE_MAGIC_MG) {
+        return RFE_ERR_NOT_INITIALISED;
+    }
+    *out = mg->last;
+    return RFE_OK;
+}

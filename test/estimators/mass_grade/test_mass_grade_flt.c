@@ -1,0 +1,692 @@
+/**
+ * @file test_mass_grade_flt.c
+ * @brief The mass and grade estimator's interface (rfe/mass_grade.h) and its behaviour on
+ *        cases whose answer is known without the reference: parameters and presets, every
+ *        argument check with the state untouched, the start and restart, the pause logic
+ *        (MASS_GRADE.md §4.2), the adaptation (§4.4), the factorisation's failures, and the
+ *        unscented filter equal to the Kalman filter on a linear problem.
+ *
+ * Tolerances. TOL_EXACT: the same operations as the code under test on the same numbers,
+ * so equal up to the one rounding a differently grouped expression in the test may add (2
+ * ulp of the number type). TOL_KF: the linear problem, see test_ukf_is_the_kalman_filter.
+ */
+#include "test_common.h"
+
+#include <string.h>
+
+#include "estimators/mass_grade/mass_grade_internal.h"
+#include "kalman_ref.h"
+#include "rfe/mass_grade.h"
+
+#if defined(RFE_REAL_DOUBLE)
+#define TOL_EXACT 4.5e-16
+#else
+#define TOL_EXACT 2.4e-7
+#endif
+
+#define DT 0.02
+
+#if defined(RFE_REAL_DOUBLE)
+#define HUGE_REAL 1e308
+#else
+#define HUGE_REAL 3e38f
+#endif
+
+static rfe_mass_grade_params_t prm;
+static rfe_mass_grade_t mg;
+
+static void setup_with(uint32_t adaptive, uint32_t use_ax)
+{
+    assert_int_equal(rfe_mass_grade_params_default(&prm), RFE_OK);
+    prm.adaptive = adaptive;
+    prm.use_ax = use_ax;
+    assert_int_equal(rfe_mass_grade_init(&mg, &prm), RFE_OK);
+}
+
+/* A car cruising at v with some torque and the accelerometer reading a flat road. */
+static rfe_mass_grade_input_t cruise(rfe_real_t v, rfe_real_t dt)
+{
+    rfe_mass_grade_input_t in;
+    memset(&in, 0, sizeof(in));
+    in.dt = dt;
+    in.v = v;
+    in.torque = (rfe_real_t)300.0;
+    in.ax = (rfe_real_t)0.1;
+    in.has = RFE_MG_HAS_AX;
+    return in;
+}
+
+static rfe_status_t step(const rfe_mass_grade_input_t *in, rfe_mass_grade_estimate_t *e)
+{
+    return rfe_mass_grade_step(&mg, in, e);
+}
+
+/* REQ-MG-003 */
+static void test_params_presets_and_validation(void **state)
+{
+    rfe_mass_grade_params_t p;
+    rfe_mass_grade_params_t q;
+    (void)state;
+    assert_int_equal(rfe_mass_grade_params_default(NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_mass_grade_params_preset(NULL, RFE_MG_CAR, RFE_MG_SEED), RFE_ERR_NULL);
+    assert_int_equal(rfe_mass_grade_params_validate(NULL), RFE_ERR_NULL);
+    /* the default is the car's recommended preset: the plain UKF with the ax row */
+    assert_int_equal(rfe_mass_grade_params_default(&p), RFE_OK);
+    assert_int_equal(rfe_mass_grade_params_preset(&q, RFE_MG_CAR, RFE_MG_RECOMMENDED), RFE_OK);
+    assert_memory_equal(&p, &q, sizeof(p));
+    assert_int_equal(p.adaptive, 0u);
+    assert_int_equal(p.use_ax, 1u);
+    assert_int_equal(rfe_mass_grade_params_validate(&p), RFE_OK);
+    /* every preset valid; an unknown vehicle or configuration refused, p untouched */
+    assert_int_equal(rfe_mass_grade_params_preset(&q, RFE_MG_TRUCK, RFE_MG_SEED), RFE_OK);
+    assert_int_equal(rfe_mass_grade_params_validate(&q), RFE_OK);
+    assert_int_equal(q.adaptive, 1u);
+    assert_true(q.m_rot == (rfe_real_t)0.0);
+    assert_true(q.m0 == (rfe_real_t)4000.0);
+    p = q;
+    assert_int_equal(rfe_mass_grade_params_preset(&q, (rfe_mg_vehicle_t)2, RFE_MG_SEED),
+                     RFE_ERR_PARAM);
+    assert_int_equal(rfe_mass_grade_params_preset(&q, RFE_MG_CAR, (rfe_mg_config_t)2),
+                     RFE_ERR_PARAM);
+    assert_memory_equal(&p, &q, sizeof(p));
+}
+
+/* One broken value per rule of MASS_GRADE.md §6. */
+static void expect_bad(void (*breaker)(rfe_mass_grade_params_t *), const char *what)
+{
+    rfe_mass_grade_params_t p;
+    assert_int_equal(rfe_mass_grade_params_default(&p), RFE_OK);
+    breaker(&p);
+    if (rfe_mass_grade_params_validate(&p) != RFE_ERR_PARAM) {
+        fail_msg("%s accepted", what);
+    }
+}
+static void b_r(rfe_mass_grade_params_t *p) { p->R = (rfe_real_t)0.0; }
+static void b_rv(rfe_mass_grade_params_t *p) { p->r_v = (rfe_real_t)NAN; }
+static void b_fc(rfe_mass_grade_params_t *p) { p->fc = (rfe_real_t)-0.01; }
+static void b_beta(rfe_mass_grade_params_t *p) { p->ut_beta = (rfe_real_t)INFINITY; }
+static void b_adaptive(rfe_mass_grade_params_t *p) { p->adaptive = 2u; }
+static void b_use_ax(rfe_mass_grade_params_t *p) { p->use_ax = 2u; }
+static void b_m0_low(rfe_mass_grade_params_t *p) { p->m0 = p->m_min; }
+static void b_m0_high(rfe_mass_grade_params_t *p) { p->m0 = p->m_max; }
+static void b_m_max(rfe_mass_grade_params_t *p) { p->m_max = (rfe_real_t)NAN; }
+static void b_theta0(rfe_mass_grade_params_t *p) { p->theta0 = p->theta_max; }
+static void b_theta0_nan(rfe_mass_grade_params_t *p) { p->theta0 = (rfe_real_t)NAN; }
+static void b_theta_max(rfe_mass_grade_params_t *p) { p->theta_max = (rfe_real_t)1.5; }
+static void b_kappa(rfe_mass_grade_params_t *p) { p->ut_kappa = (rfe_real_t)-3.0; }
+static void b_kappa_nan(rfe_mass_grade_params_t *p) { p->ut_kappa = (rfe_real_t)NAN; }
+static void b_alpha_huge(rfe_mass_grade_params_t *p) { p->ut_alpha = (rfe_real_t)1e300; }
+static void b_stop(rfe_mass_grade_params_t *p)
+{
+    p->adaptive = 1u;
+    p->mv_stop = (p->q_mv0 * p->q_mv0) / (p->q_mc * p->q_mc); /* ends before it starts */
+}
+
+/* REQ-MG-003 */
+static void test_params_rules(void **state)
+{
+    rfe_mass_grade_params_t p;
+    (void)state;
+    expect_bad(b_r, "R = 0");
+    expect_bad(b_rv, "r_v NaN");
+    expect_bad(b_fc, "fc < 0");
+    expect_bad(b_beta, "beta Inf");
+    expect_bad(b_adaptive, "adaptive 2");
+    expect_bad(b_use_ax, "use_ax 2");
+    expect_bad(b_m0_low, "m0 = m_min");
+    expect_bad(b_m0_high, "m0 = m_max");
+    expect_bad(b_m_max, "m_max NaN");
+    expect_bad(b_theta0, "|theta0| = theta_max");
+    expect_bad(b_theta0_nan, "theta0 NaN");
+    expect_bad(b_theta_max, "theta_max = 1.5");
+    expect_bad(b_kappa, "n + lambda = 0");
+    expect_bad(b_kappa_nan, "kappa NaN");
+    expect_bad(b_alpha_huge, "alpha^2 overflowing");
+    expect_bad(b_stop, "adaptation ending before it starts");
+    /* the same stop threshold is fine in the plain UKF, which never adapts */
+    assert_int_equal(rfe_mass_grade_params_default(&p), RFE_OK);
+    b_stop(&p);
+    p.adaptive = 0u;
+    assert_int_equal(rfe_mass_grade_params_validate(&p), RFE_OK);
+}
+
+/* REQ-MG-004 */
+static void test_init_get_restart_arguments(void **state)
+{
+    rfe_mass_grade_t m;
+    rfe_mass_grade_t copy;
+    rfe_mass_grade_estimate_t e;
+    rfe_mass_grade_params_t bad;
+    (void)state;
+    setup_with(0u, 1u);
+    memset(&m, 0x5A, sizeof(m));
+    copy = m;
+    assert_int_equal(rfe_mass_grade_init(NULL, &prm), RFE_ERR_NULL);
+    assert_int_equal(rfe_mass_grade_init(&m, NULL), RFE_ERR_NULL);
+    bad = prm;
+    bad.r_v = (rfe_real_t)-1.0;
+    assert_int_equal(rfe_mass_grade_init(&m, &bad), RFE_ERR_PARAM);
+    /* another caller's layout or number type: refused, nothing written */
+    assert_int_equal((rfe_mass_grade_init)(&m, &prm, sizeof(m) + 8u, RFE_CONFIG_REAL),
+                     RFE_ERR_ABI);
+    assert_int_equal((rfe_mass_grade_init)(&m, &prm, sizeof(m), RFE_CONFIG_REAL ^ 3u),
+                     RFE_ERR_ABI);
+    assert_memory_equal(&m, &copy, sizeof(m));
+    /* not initialised (no magic word) */
+    assert_int_equal(rfe_mass_grade_get(&m, &e), RFE_ERR_NOT_INITIALISED);
+    assert_int_equal(rfe_mass_grade_restart(&m), RFE_ERR_NOT_INITIALISED);
+    {
+        const rfe_mass_grade_input_t in = cruise((rfe_real_t)20.0, (rfe_real_t)DT);
+        assert_int_equal(rfe_mass_grade_step(&m, &in, &e), RFE_ERR_NOT_INITIALISED);
+        assert_int_equal(rfe_mass_grade_step(NULL, &in, &e), RFE_ERR_NULL);
+        assert_int_equal(rfe_mass_grade_step(&mg, NULL, &e), RFE_ERR_NULL);
+        assert_int_equal(rfe_mass_grade_step(&mg, &in, NULL), RFE_ERR_NULL);
+    }
+    assert_memory_equal(&m, &copy, sizeof(m));
+    assert_int_equal(rfe_mass_grade_get(NULL, &e), RFE_ERR_NULL);
+    assert_int_equal(rfe_mass_grade_get(&mg, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_mass_grade_restart(NULL), RFE_ERR_NULL);
+    /* before any sample: every value 0, the status RFE_OK of init */
+    assert_int_equal(rfe_mass_grade_get(&mg, &e), RFE_OK);
+    assert_true((e.mass == (rfe_real_t)0.0) && (e.sd_mass == (rfe_real_t)0.0));
+}
+
+/* Every refused sample: its status, the estimator bit for bit as before, the previous
+ * estimate out with that status. */
+static void expect_refused(rfe_mass_grade_input_t in, rfe_status_t want)
+{
+    rfe_mass_grade_t before = mg;
+    rfe_mass_grade_estimate_t e;
+    rfe_mass_grade_estimate_t last;
+    assert_int_equal(rfe_mass_grade_get(&mg, &last), RFE_OK);
+    assert_int_equal(step(&in, &e), want);
+    assert_memory_equal(&mg, &before, sizeof(mg));
+    assert_int_equal(e.status, want);
+    assert_true((e.mass == last.mass) && (e.grade == last.grade) && (e.sd_mass == last.sd_mass));
+}
+
+/* REQ-MG-004 */
+static void test_refused_samples_leave_the_state_untouched(void **state)
+{
+    rfe_mass_grade_estimate_t e;
+    rfe_mass_grade_input_t in;
+    int k;
+    (void)state;
+    setup_with(1u, 1u);
+    /* before the first sample an error gives zeros, never a NaN */
+    in = cruise((rfe_real_t)NAN, (rfe_real_t)0.0);
+    assert_int_equal(step(&in, &e), RFE_ERR_NONFINITE);
+    assert_true((e.mass == (rfe_real_t)0.0) && (e.status == RFE_ERR_NONFINITE));
+    for (k = 0; k < 5; ++k) {
+        in = cruise((rfe_real_t)20.0, (rfe_real_t)DT);
+        assert_false(rfe_status_is_error(step(&in, &e)));
+    }
+    in = cruise((rfe_real_t)NAN, (rfe_real_t)DT);
+    expect_refused(in, RFE_ERR_NONFINITE);
+    in = cruise((rfe_real_t)20.0, (rfe_real_t)INFINITY);
+    expect_refused(in, RFE_ERR_NONFINITE);
+    in = cruise((rfe_real_t)20.0, (rfe_real_t)DT);
+    in.torque = (rfe_real_t)-INFINITY;
+    expect_refused(in, RFE_ERR_NONFINITE);
+    in = cruise((rfe_real_t)20.0, (rfe_real_t)DT);
+    in.ax = (rfe_real_t)NAN;
+    expect_refused(in, RFE_ERR_NONFINITE);
+    in = cruise((rfe_real_t)20.0, (rfe_real_t)DT);
+    in.p_brake = (rfe_real_t)NAN;
+    in.has |= RFE_MG_HAS_PRESSURE;
+    expect_refused(in, RFE_ERR_NONFINITE);
+    in = cruise((rfe_real_t)101.0, (rfe_real_t)DT); /* |v| > RFE_LIMIT_VX */
+    expect_refused(in, RFE_ERR_RANGE);
+    in = cruise((rfe_real_t)20.0, (rfe_real_t)DT);
+    in.torque = (rfe_real_t)-1.01e5; /* |T| > RFE_LIMIT_DRIVE_TORQUE */
+    expect_refused(in, RFE_ERR_RANGE);
+    in = cruise((rfe_real_t)20.0, (rfe_real_t)DT);
+    in.ax = (rfe_real_t)51.0; /* |ax| > RFE_LIMIT_ACC */
+    expect_refused(in, RFE_ERR_RANGE);
+    in = cruise((rfe_real_t)20.0, (rfe_real_t)DT);
+    in.has = 16u | RFE_MG_HAS_AX; /* an unknown bit */
+    expect_refused(in, RFE_ERR_RANGE);
+    in = cruise((rfe_real_t)20.0, (rfe_real_t)DT);
+    in.has = 0u; /* the ax row needs ax */
+    expect_refused(in, RFE_ERR_RANGE);
+    in = cruise((rfe_real_t)20.0, (rfe_real_t)0.0); /* time not moving */
+    expect_refused(in, RFE_ERR_RANGE);
+    in = cruise((rfe_real_t)20.0, (rfe_real_t)-DT);
+    expect_refused(in, RFE_ERR_RANGE);
+    /* an ax out of range counts only when given (speed-only filter, no ax bit) */
+    setup_with(1u, 0u);
+    in = cruise((rfe_real_t)20.0, (rfe_real_t)0.0);
+    in.ax = (rfe_real_t)NAN;
+    in.has = 0u;
+    assert_int_equal(step(&in, &e), RFE_OK);
+}
+
+/* REQ-MG-005 */
+static void test_start_and_restart(void **state)
+{
+    rfe_mass_grade_estimate_t e;
+    rfe_mass_grade_estimate_t fresh;
+    rfe_mass_grade_input_t in;
+    rfe_mass_grade_t other;
+    int k;
+    (void)state;
+    setup_with(1u, 1u);
+    in = cruise((rfe_real_t)20.0, (rfe_real_t)123.0); /* the first sample's dt is ignored */
+    assert_int_equal(step(&in, &e), RFE_OK);
+    /* §4.1: x = [v, m0, theta0], P diagonal, q_mv = q_mv0^2 */
+    assert_true(e.mass == prm.m0);
+    assert_true(e.grade == prm.theta0);
+    assert_true(e.v == (rfe_real_t)20.0);
+    assert_close(e.sd_mass, prm.sd_m0, 0.0, TOL_EXACT, "sd_mass at the start");
+    assert_close(e.sd_grade, prm.sd_theta0, 0.0, TOL_EXACT, "sd_grade at the start");
+    assert_close(e.q_mv, prm.q_mv0 * prm.q_mv0, 0.0, TOL_EXACT, "q_mv at the start");
+    for (k = 0; k < 100; ++k) {
+        in = cruise((rfe_real_t)20.0 + (rfe_real_t)0.01 * (rfe_real_t)k, (rfe_real_t)DT);
+        assert_int_equal(step(&in, &e), RFE_OK);
+    }
+    assert_true(e.mass != prm.m0); /* it learned */
+    other = mg;
+    /* a period longer than dt_max starts afresh, as does a restart: both equal the first
+     * step of a fresh estimator on the same sample */
+    in = cruise((rfe_real_t)25.0, prm.dt_max * (rfe_real_t)1.5);
+    assert_int_equal(step(&in, &e), RFE_OK);
+    mg = other;
+    assert_int_equal(rfe_mass_grade_restart(&mg), RFE_OK);
+    assert_int_equal(rfe_mass_grade_get(&mg, &fresh), RFE_OK);
+    assert_true(fresh.mass != prm.m0); /* the last estimate stays until the next sample */
+    in.dt = (rfe_real_t)DT;
+    assert_int_equal(step(&in, &fresh), RFE_OK);
+    assert_memory_equal(&e, &fresh, sizeof(e));
+    other = mg;
+    assert_int_equal(rfe_mass_grade_init(&mg, &prm), RFE_OK);
+    assert_int_equal(step(&in, &fresh), RFE_OK);
+    assert_memory_equal(&e, &fresh, sizeof(e));
+    assert_memory_equal(&mg, &other, sizeof(mg));
+}
+
+/* REQ-MG-006 */
+static void test_brake_holds_mass_and_grade(void **state)
+{
+    rfe_mass_grade_estimate_t e;
+    rfe_mass_grade_estimate_t before;
+    rfe_mass_grade_input_t in;
+    rfe_real_t p33;
+    int k;
+    (void)state;
+    setup_with(0u, 1u);
+    for (k = 0; k < 50; ++k) {
+        in = cruise((rfe_real_t)20.0, (rfe_real_t)DT);
+        assert_int_equal(step(&in, &before), RFE_OK);
+    }
+    /* the pedal: held (§4.2): M, theta and P_MM kept, P_thth += q_theta^2 dt, v restarts at
+     * the measured speed with variance r_v^2, uncorrelated */
+    p33 = mg.P[8];
+    in = cruise((rfe_real_t)19.0, (rfe_real_t)DT);
+    in.brake = 1u;
+    in.has |= RFE_MG_HAS_BRAKE;
+    in.torque = (rfe_real_t)-2000.0; /* would teach the mass a lot, were it used */
+    assert_int_equal(step(&in, &e), RFE_MG_PAUSED_BRAKE);
+    assert_true((e.mass == before.mass) && (e.grade == before.grade) &&
+                (e.sd_mass == before.sd_mass));
+    assert_close(mg.P[8], p33 + (prm.q_theta * prm.q_theta) * (rfe_real_t)DT, 0.0, TOL_EXACT,
+                 "P_thth grows by its random walk");
+    assert_true(e.v == (rfe_real_t)19.0);
+    assert_true((mg.P[1] == (rfe_real_t)0.0) && (mg.P[2] == (rfe_real_t)0.0) &&
+                (mg.P[3] == (rfe_real_t)0.0) && (mg.P[6] == (rfe_real_t)0.0));
+    assert_close(e.sd_v, prm.r_v, 0.0, TOL_EXACT, "sd_v restarts at r_v");
+    /* released: held t_brake = 1 s = 50 periods after the last braked sample (the 50th,
+     * exactly t_brake later, is the first free one), then updates */
+    for (k = 1; k <= 50; ++k) {
+        in = cruise((rfe_real_t)19.0, (rfe_real_t)DT);
+        assert_int_equal(step(&in, &e), (k < 50) ? RFE_MG_PAUSED_BRAKE : RFE_OK);
+    }
+    assert_true(e.mass != before.mass);
+    /* the pressure alone: on above p_brake_on, not at it */
+    in = cruise((rfe_real_t)19.0, (rfe_real_t)DT);
+    in.has |= RFE_MG_HAS_PRESSURE;
+    in.p_brake = prm.p_brake_on;
+    assert_int_equal(step(&in, &e), RFE_OK);
+    in.p_brake = prm.p_brake_on * (rfe_real_t)1.01;
+    assert_int_equal(step(&in, &e), RFE_MG_PAUSED_BRAKE);
+    /* a pedal flag of 0 is no brake */
+    setup_with(0u, 1u);
+    in = cruise((rfe_real_t)19.0, (rfe_real_t)DT);
+    in.has |= RFE_MG_HAS_BRAKE;
+    assert_int_equal(step(&in, &e), RFE_OK);
+}
+
+/* REQ-MG-006 */
+static void test_shift_and_low_speed_hold(void **state)
+{
+    rfe_mass_grade_estimate_t e;
+    rfe_mass_grade_input_t in;
+    int k;
+    (void)state;
+    setup_with(0u, 1u);
+    in = cruise((rfe_real_t)20.0, (rfe_real_t)DT);
+    in.has |= RFE_MG_HAS_GEAR;
+    in.gear = 2;
+    assert_int_equal(step(&in, &e), RFE_OK); /* the first gear given is no change */
+    assert_int_equal(step(&in, &e), RFE_OK);
+    in.gear = 3;
+    assert_int_equal(step(&in, &e), RFE_MG_PAUSED_SHIFT);
+    for (k = 1; k <= 50; ++k) {
+        assert_int_equal(step(&in, &e), (k < 50) ? RFE_MG_PAUSED_SHIFT : RFE_OK);
+    }
+    /* a sample without a gear changes nothing; the next gear is compared with the last */
+    in.has = RFE_MG_HAS_AX;
+    assert_int_equal(step(&in, &e), RFE_OK);
+    in.has |= RFE_MG_HAS_GEAR;
+    assert_int_equal(step(&in, &e), RFE_OK);
+    /* precedence: brake before shift before low speed */
+    in.gear = 4;
+    in.v = (rfe_real_t)1.0;
+    in.brake = 1u;
+    in.has |= RFE_MG_HAS_BRAKE;
+    assert_int_equal(step(&in, &e), RFE_MG_PAUSED_BRAKE);
+    setup_with(0u, 1u);
+    in = cruise((rfe_real_t)20.0, (rfe_real_t)DT);
+    in.has |= RFE_MG_HAS_GEAR;
+    in.gear = 1;
+    assert_int_equal(step(&in, &e), RFE_OK);
+    in.gear = 2;
+    in.v = (rfe_real_t)1.0;
+    assert_int_equal(step(&in, &e), RFE_MG_PAUSED_SHIFT);
+    /* below v_min: held with status 2; at v_min: updated */
+    setup_with(0u, 1u);
+    in = cruise(prm.v_min * (rfe_real_t)0.99, (rfe_real_t)DT);
+    assert_int_equal(step(&in, &e), RFE_NO_UPDATE_LOW_SPEED); /* also on the first sample */
+    assert_true(e.mass == prm.m0);
+    assert_int_equal(step(&in, &e), RFE_NO_UPDATE_LOW_SPEED);
+    assert_true(e.mass == prm.m0);
+    in.v = prm.v_min;
+    assert_int_equal(step(&in, &e), RFE_OK);
+}
+
+/* REQ-MG-007 */
+static void test_adaptation_as_specified(void **state)
+{
+    rfe_mass_grade_estimate_t e;
+    rfe_mass_grade_input_t in;
+    rfe_mass_grade_t plain;
+    rfe_mass_grade_t before;
+    double d;
+    double qs;
+    double lam;
+    int k;
+    (void)state;
+    setup_with(1u, 0u);
+    prm.t_adapt = (rfe_real_t)0.0; /* every step */
+    assert_int_equal(rfe_mass_grade_init(&mg, &prm), RFE_OK);
+    for (k = 0; k < 3; ++k) {
+        in = cruise((rfe_real_t)20.0 + (rfe_real_t)0.02 * (rfe_real_t)k, (rfe_real_t)DT);
+        assert_int_equal(step(&in, &e), RFE_OK);
+    }
+    /* the same step without the adaptation (its q_mv still in Q) is the posterior the
+     * adaptation scales: lambda_u = 1/2 |q_s - D| / (q_s + D), q_s = q_mv dt,
+     * D = (M - M_a)^2; q_mv, P_MM and the mass row scale by lambda_u (P_MM once) */
+    before = mg;
+    plain = mg;
+    plain.p.adaptive = 0u;
+    in = cruise((rfe_real_t)20.1, (rfe_real_t)DT);
+    assert_int_equal(step(&in, &e), RFE_OK);
+    assert_int_equal(rfe_mass_grade_step(&plain, &in, &e), RFE_OK);
+    d = ((double)plain.x[1] - (double)before.m_adapt) * ((double)plain.x[1] - (double)before.m_adapt);
+    qs = (double)before.q_mv * DT;
+    lam = 0.5 * fabs(qs - d) / (qs + d);
+    assert_true((lam >= 0.0) && (lam <= 0.5));
+    assert_close(mg.q_mv, lam * (double)before.q_mv, 0.0, 1e3 * TOL_EXACT, "q_mv");
+    assert_close(mg.P[4], lam * (double)plain.P[4], 0.0, 1e3 * TOL_EXACT, "P_MM");
+    assert_close(mg.P[1], lam * (double)plain.P[1], 0.0, 1e3 * TOL_EXACT, "P_vM");
+    assert_close(mg.P[5], lam * (double)plain.P[5], 0.0, 1e3 * TOL_EXACT, "P_Mth");
+    assert_true((mg.P[3] == mg.P[1]) && (mg.P[7] == mg.P[5]));
+    assert_true((mg.P[0] == plain.P[0]) && (mg.P[8] == plain.P[8]) && (mg.P[2] == plain.P[2]));
+    assert_true(mg.m_adapt == mg.x[1]);
+    /* the end: q_mv at most mv_stop q_mc^2 after the shrink becomes 0, for good */
+    mg.q_mv = prm.mv_stop * (prm.q_mc * prm.q_mc) * (rfe_real_t)1.9;
+    in = cruise((rfe_real_t)20.12, (rfe_real_t)DT);
+    assert_int_equal(step(&in, &e), RFE_OK);
+    assert_true(e.q_mv == (rfe_real_t)0.0);
+    before = mg;
+    in = cruise((rfe_real_t)20.14, (rfe_real_t)DT);
+    assert_int_equal(step(&in, &e), RFE_OK);
+    assert_true((e.q_mv == (rfe_real_t)0.0) && (mg.m_adapt == before.m_adapt));
+    /* q_s and D both 0 (q_mv underflowed, the mass did not move): lambda_u = 1/2, its
+     * limit, not 0/0 */
+    mg.p.mv_stop = (rfe_real_t)0.0;
+    mg.q_mv = (rfe_real_t)1e-40;
+    mg.adapt_elapsed = (rfe_real_t)-DT; /* the period's sum is 0 after this step's dt */
+    mg.p.t_adapt = (rfe_real_t)-1.0;
+    mg.m_adapt = (rfe_real_t)-1.0;      /* replaced below by the posterior mass */
+    before = mg;
+    plain = mg;
+    plain.p.adaptive = 0u;
+    in = cruise((rfe_real_t)20.16, (rfe_real_t)DT);
+    assert_int_equal(rfe_mass_grade_step(&plain, &in, &e), RFE_OK);
+    mg.m_adapt = plain.x[1]; /* D = 0 */
+    assert_int_equal(step(&in, &e), RFE_OK);
+    assert_true(mg.P[4] == (rfe_real_t)0.5 * plain.P[4]);
+    assert_true(mg.q_mv == (rfe_real_t)0.5 * (rfe_real_t)1e-40);
+    (void)before;
+}
+
+/* REQ-MG-007 */
+static void test_adaptation_period(void **state)
+{
+    rfe_mass_grade_estimate_t e;
+    rfe_mass_grade_input_t in;
+    rfe_real_t q0;
+    int k;
+    (void)state;
+    setup_with(1u, 0u); /* t_adapt = 1 s: the 50th update at 50 Hz adapts */
+    in = cruise((rfe_real_t)20.0, (rfe_real_t)DT);
+    assert_int_equal(step(&in, &e), RFE_OK);
+    q0 = e.q_mv;
+    for (k = 1; k <= 50; ++k) {
+        in = cruise((rfe_real_t)20.0 + (rfe_real_t)0.01 * (rfe_real_t)k, (rfe_real_t)DT);
+        assert_int_equal(step(&in, &e), RFE_OK);
+        if (k < 50) {
+            assert_true(e.q_mv == q0);
+        }
+    }
+    assert_true(e.q_mv <= (rfe_real_t)0.5 * q0);
+    /* a hold restarts the period */
+    in.brake = 1u;
+    in.has |= RFE_MG_HAS_BRAKE;
+    assert_int_equal(step(&in, &e), RFE_MG_PAUSED_BRAKE);
+    assert_true(mg.adapt_elapsed == (rfe_real_t)0.0);
+    assert_true(mg.m_adapt == e.mass);
+}
+
+/* REQ-MG-008 */
+static void test_factorisation_failures_leave_the_state_untouched(void **state)
+{
+    rfe_mass_grade_estimate_t e;
+    rfe_mass_grade_input_t in;
+    rfe_mass_grade_t before;
+    int k;
+    (void)state;
+    setup_with(0u, 1u);
+    for (k = 0; k < 3; ++k) {
+        in = cruise((rfe_real_t)20.0, (rfe_real_t)DT);
+        assert_int_equal(step(&in, &e), RFE_OK);
+    }
+    /* a covariance with a negative pivot (a corrupted state): no sigma points */
+    mg.P[4] = (rfe_real_t)-1.0;
+    before = mg;
+    assert_int_equal(step(&in, &e), RFE_ERR_NOT_POSITIVE_DEFINITE);
+    assert_memory_equal(&mg, &before, sizeof(mg));
+    /* a covariance whose points overflow the model: an error, never a NaN */
+    setup_with(0u, 1u);
+    assert_int_equal(step(&in, &e), RFE_OK);
+    mg.P[4] = HUGE_REAL; /* (n + lambda) P_MM overflows: points at +-Inf kg */
+    before = mg;
+    assert_int_equal(step(&in, &e), RFE_ERR_NONFINITE);
+    assert_memory_equal(&mg, &before, sizeof(mg));
+    /* a negative centre weight (alpha < 1) can leave the predicted P indefinite: the
+     * measurement's points fail */
+    setup_with(0u, 1u);
+    assert_int_equal(step(&in, &e), RFE_OK);
+    mg.wc0 = (rfe_real_t)-1e6;
+    before = mg;
+    assert_int_equal(step(&in, &e), RFE_ERR_NOT_POSITIVE_DEFINITE);
+    assert_memory_equal(&mg, &before, sizeof(mg));
+}
+
+/* REQ-MG-008 */
+static void test_innovation_covariance_not_positive(void **state)
+{
+    const rfe_mg_weights_t w = {(rfe_real_t)0.0, (rfe_real_t)2.0, (rfe_real_t)(1.0 / 6.0),
+                                (rfe_real_t)3.0};
+    rfe_real_t chi[RFE_MG_PTS * RFE_MG_N] = {(rfe_real_t)0.0};
+    rfe_real_t Z[RFE_MG_PTS * RFE_MG_Z_MAX] = {(rfe_real_t)0.0};
+    const rfe_real_t r2[RFE_MG_Z_MAX] = {(rfe_real_t)0.0, (rfe_real_t)0.0};
+    const rfe_real_t y[RFE_MG_Z_MAX] = {(rfe_real_t)1.0, (rfe_real_t)1.0};
+    rfe_real_t x[RFE_MG_N] = {(rfe_real_t)1.0, (rfe_real_t)2.0, (rfe_real_t)3.0};
+    rfe_real_t P[RFE_MG_N * RFE_MG_N] = {(rfe_real_t)1.0};
+    rfe_real_t x0[RFE_MG_N];
+    rfe_real_t P0[RFE_MG_N * RFE_MG_N];
+    size_t i;
+    (void)state;
+    memcpy(x0, x, sizeof(x));
+    memcpy(P0, P, sizeof(P));
+    /* every point measures the same: S = 0 (1 x 1), then S singular (2 x 2, rows equal) */
+    assert_int_equal(rfe_mg_correct(chi, Z, 1u, &w, r2, y, x, P), RFE_ERR_NOT_POSITIVE_DEFINITE);
+    for (i = 0u; i < (size_t)RFE_MG_PTS; ++i) {
+        Z[i * 2u] = (rfe_real_t)i;
+        Z[(i * 2u) + 1u] = (rfe_real_t)i;
+    }
+    assert_int_equal(rfe_mg_correct(chi, Z, 2u, &w, r2, y, x, P), RFE_ERR_NOT_POSITIVE_DEFINITE);
+    assert_memory_equal(x, x0, sizeof(x));
+    assert_memory_equal(P, P0, sizeof(P));
+}
+
+/* A sigma point through the linear f(x) = F x. */
+static void linear_f(const double F[][RFE_N_MAX], const rfe_real_t *in, rfe_real_t *out)
+{
+    size_t r;
+    size_t c;
+    for (r = 0u; r < 3u; ++r) {
+        double s = 0.0;
+        for (c = 0u; c < 3u; ++c) {
+            s += F[r][c] * (double)in[c];
+        }
+        out[r] = (rfe_real_t)s;
+    }
+}
+
+/* REQ-MG-009 */
+static void test_ukf_is_the_kalman_filter_on_a_linear_problem(void **state)
+{
+    /* The unscented transform propagates mean and covariance exactly through a linear map
+     * (the points match the first two moments, and chi_0 - mean = 0 so the beta term adds
+     * nothing): with linear f and h the UKF is the Kalman filter. The problem looks like the
+     * estimator's (speed, mass in kg, grade in rad: a speed that falls with the mass and
+     * the grade), with the ax row's measurement a linear mix of the three. 40 steps, each
+     * compared. Tolerance TOL_KF relative to each element's scale sqrt(P_ii P_jj) (x: sqrt
+     * P_ii): double, the textbook filter (Joseph form) and the UKF differ in rounding only,
+     * ~1e-13 after 40 steps of O(10) operations on condition ~1e8 -> 1e-10 (seen 3e-14);
+     * float32: the UKF's rounding of 6e-8 on entries up to 2.5e5 with a correlation between
+     * the mass and the speed near 1 (condition ~1e8): the covariance form P- - K S K^T
+     * cancels most of P_MM as the mass is learned, ~1e3 ulp of the scale -> 1e-3 (seen
+     * 3.1e-4). */
+#if defined(RFE_REAL_DOUBLE)
+    const double tol_kf = 1e-10;
+#else
+    const double tol_kf = 1e-3;
+#endif
+    static const double F[RFE_N_MAX][RFE_N_MAX] = {
+        {1.0, -1e-5, -0.2}, {0.0, 1.0, 0.0}, {0.0, 0.0, 1.0}};
+    static const double H[RFE_N_MAX][RFE_N_MAX] = {{1.0, 0.0, 0.0}, {0.0, 2e-4, 9.81}};
+    const rfe_mg_weights_t w = {(rfe_real_t)0.0, (rfe_real_t)2.0, (rfe_real_t)(1.0 / 6.0),
+                                (rfe_real_t)3.0}; /* alpha 1, beta 2, kappa 0 (§3) */
+    const double q[3] = {4e-4 * DT, 1.0 * DT, 1.6e-5 * DT};
+    const double r2[2] = {0.0025, 0.01};
+    kf_ref_t ref;
+    rfe_real_t x[RFE_MG_N] = {(rfe_real_t)20.0, (rfe_real_t)1500.0, (rfe_real_t)0.0};
+    rfe_real_t P[RFE_MG_N * RFE_MG_N] = {(rfe_real_t)0.0};
+    double xt[3] = {20.0, 2000.0, 0.03};
+    size_t i;
+    size_t j;
+    int k;
+    (void)state;
+    memset(&ref, 0, sizeof(ref));
+    ref.n = 3u;
+    ref.m = 2u;
+    P[0] = (rfe_real_t)0.0025;
+    P[4] = (rfe_real_t)250000.0;
+    P[8] = (rfe_real_t)0.0025;
+    for (i = 0u; i < 3u; ++i) {
+        ref.x[i] = (double)x[i];
+        ref.P[i][i] = (double)P[(i * 3u) + i];
+        ref.Q[i][i] = q[i];
+    }
+    ref.R[0][0] = r2[0];
+    ref.R[1][1] = r2[1];
+    for (k = 0; k < 40; ++k) {
+        rfe_real_t chi[RFE_MG_PTS * RFE_MG_N];
+        rfe_real_t X[RFE_MG_PTS * RFE_MG_N];
+        rfe_real_t Z[RFE_MG_PTS * RFE_MG_Z_MAX];
+        rfe_real_t qr[RFE_MG_N] = {(rfe_real_t)q[0], (rfe_real_t)q[1], (rfe_real_t)q[2]};
+        rfe_real_t rr[RFE_MG_Z_MAX] = {(rfe_real_t)r2[0], (rfe_real_t)r2[1]};
+        rfe_real_t y[RFE_MG_Z_MAX];
+        const size_t nz = (k % 2 == 0) ? 2u : 1u; /* both the 2-row and the 1-row update */
+        double xn[3];
+        /* a deterministic "truth" with a wobble, measured */
+        for (i = 0u; i < 3u; ++i) {
+            xn[i] = F[i][0] * xt[0] + F[i][1] * xt[1] + F[i][2] * xt[2];
+        }
+        memcpy(xt, xn, sizeof(xn));
+        y[0] = (rfe_real_t)(xt[0] + 0.03 * sin(0.7 * k));
+        y[1] = (rfe_real_t)(H[1][1] * xt[1] + H[1][2] * xt[2] + 0.05 * cos(1.3 * k));
+        /* the UKF: points through f, moments, new points through h, correction */
+        assert_int_equal(rfe_mg_sigma_points(x, P, w.c, chi), RFE_OK);
+        for (i = 0u; i < (size_t)RFE_MG_PTS; ++i) {
+            linear_f(F, &chi[i * 3u], &X[i * 3u]);
+        }
+        rfe_mg_predict(X, &w, qr, x, P);
+        assert_int_equal(rfe_mg_sigma_points(x, P, w.c, chi), RFE_OK);
+        for (i = 0u; i < (size_t)RFE_MG_PTS; ++i) {
+            const rfe_real_t *c = &chi[i * 3u];
+            Z[i * 2u] = c[0];
+            Z[(i * 2u) + 1u] =
+                (rfe_real_t)(H[1][1] * (double)c[1] + H[1][2] * (double)c[2]);
+        }
+        assert_int_equal(rfe_mg_correct(chi, Z, nz, &w, rr, y, x, P), RFE_OK);
+        /* the Kalman filter */
+        ref.m = nz;
+        kf_ref_predict(&ref, F);
+        kf_ref_update(&ref, H, y);
+        for (i = 0u; i < 3u; ++i) {
+            char what[64];
+            snprintf(what, sizeof(what), "x[%zu] step %d", i, k);
+            assert_close(x[i], ref.x[i], tol_kf * sqrt(ref.P[i][i]), 0.0, what);
+            for (j = 0u; j < 3u; ++j) {
+                snprintf(what, sizeof(what), "P[%zu][%zu] step %d", i, j, k);
+                assert_close(P[(i * 3u) + j], ref.P[i][j],
+                             tol_kf * sqrt(ref.P[i][i] * ref.P[j][j]), 0.0, what);
+            }
+        }
+    }
+    /* it learned something: the mass's sd fell by more than half */
+    assert_true(ref.P[1][1] < 0.25 * 250000.0);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_params_presets_and_validation),
+        cmocka_unit_test(test_params_rules),
+        cmocka_unit_test(test_init_get_restart_arguments),
+        cmocka_unit_test(test_refused_samples_leave_the_state_untouched),
+        cmocka_unit_test(test_start_and_restart),
+        cmocka_unit_test(test_brake_holds_mass_and_grade),
+        cmocka_unit_test(test_shift_and_low_speed_hold),
+        cmocka_unit_test(test_adaptation_as_specified),
+        cmocka_unit_test(test_adaptation_period),
+        cmocka_unit_test(test_factorisation_failures_leave_the_state_untouched),
+        cmocka_unit_test(test_innovation_covariance_not_positive),
+        cmocka_unit_test(test_ukf_is_the_kalman_filter_on_a_linear_problem),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
