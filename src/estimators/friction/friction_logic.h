@@ -95,4 +95,10 @@ static inline uint8_t rfe_friction_rear_valid(size_t w, uint8_t held, uint8_t va
     return ((w >= (size_t)RFE_RL) && (held != 0u)) ? 0u : valid;
 }
 
+/* Periods of a gap added to those pending, saturating (far beyond any wheelbase's distance). */
+static inline uint32_t rfe_friction_periods_add(uint32_t pending, uint32_t missed)
+{
+    return (missed > (UINT32_MAX - pending)) ? UINT32_MAX : (pending + missed);
+}
+
 #endif /* RFE_FRICTION_LOGIC_H */

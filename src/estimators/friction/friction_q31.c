@@ -626,10 +626,7 @@ static rfe_status_t filter_step_q31(rfe_friction_q31_t *est, const rfe_sample_q3
     /* Last, after everything that can fail (it cannot): the hold needs no backup. The periods
      * of earlier rfe_friction_skip calls count as missed ones of this step. */
     if (st == RFE_OK) {
-        const uint32_t all = (missed > (UINT32_MAX - est->hold.pending))
-                                 ? UINT32_MAX
-                                 : (missed + est->hold.pending);
-        rear_hold_update_q31(est, u.vx, all);
+        rear_hold_update_q31(est, u.vx, rfe_friction_periods_add(est->hold.pending, missed));
         est->hold.pending = 0u;
     }
     return (st != RFE_OK) ? st : rfe_friction_step_status(measured, updated, clamped);
@@ -787,9 +784,7 @@ rfe_status_t rfe_friction_skip_q31(rfe_friction_q31_t *est, uint32_t missed)
     } else {
         /* the gap's distance enters the next step's rear-wheel hold (step 9), as in
          * rfe_friction_step_after's: saturating, far beyond any wheelbase */
-        est->hold.pending = (missed > (UINT32_MAX - est->hold.pending))
-                                ? UINT32_MAX
-                                : (est->hold.pending + missed);
+        est->hold.pending = rfe_friction_periods_add(est->hold.pending, missed);
         (void)settle_counts_q31(est);
     }
     return st;
