@@ -1729,6 +1729,28 @@ static void test_rfe_friction_q31_rear_hold(void **state)
         assert_false(rfe_status_is_error(rfe_friction_step_after_q31(&b, 9u, &uq, &eb)));
         assert_true(b.hold.held[0] == 0u && b.hold.held[1] == 0u && b.hold.pending == 0u);
     }
+    /* four states (structure wheels): the hold is off whatever rear_hold_k says */
+    {
+        static rfe_friction_q31_t w;
+        rfe_estimate_q31_t ew;
+        rfe_sample_t ud;
+        rfe_sample_q31_t uq;
+        uint32_t sat = 0u;
+        size_t i;
+        both_params_t bw = bp;
+        bw.pd.filter.structure = RFE_STRUCT_WHEELS;
+        bw.pd.filter.sd0_common = 0.0;
+        bw.pd.filter.q_common = 0.0;
+        assert_int_equal(rfe_params_to_q31_f64(&bw.pd, &bw.pq), RFE_OK);
+        assert_true(bw.pq.filter.rear_hold_k > 0);
+        assert_int_equal(rfe_friction_init_q31(&w, &bw.pq), RFE_OK);
+        for (i = 300u; i < 360u; ++i) { /* across the mu step */
+            sample_d(&log.rows[i], &ud);
+            sample_q(&ud, &uq, &sat);
+            assert_false(rfe_status_is_error(rfe_friction_step_q31(&w, &uq, &ew)));
+            assert_true(w.hold.held[0] == 0u && w.hold.held[1] == 0u);
+        }
+    }
     rfe_sensor_log_free(&log);
 }
 
