@@ -29,8 +29,8 @@
  *   double decide alike (measured: no status differs).
  */
 #include "test_common.h"
+#include "csv_dir.h"
 
-#include <dirent.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -197,20 +197,8 @@ static void compare_one(const char *name)
 /* REQ-MG-001 */
 static void test_every_golden(void **state)
 {
-    DIR *d = opendir(GOLDEN_DIR);
-    struct dirent *e;
-    int n = 0;
     (void)state;
-    assert_non_null(d);
-    while ((e = readdir(d)) != NULL) {
-        const size_t len = strlen(e->d_name);
-        if ((len > 4u) && (strcmp(e->d_name + len - 4u, ".csv") == 0)) {
-            compare_one(e->d_name);
-            ++n;
-        }
-    }
-    closedir(d);
-    assert_true(n >= MIN_GOLDENS);
+    assert_true(test_each_csv(GOLDEN_DIR, compare_one) >= MIN_GOLDENS);
 }
 
 /* The library's presets are the reference's configurations the goldens ran (their
