@@ -69,9 +69,14 @@ static rfe_status_t check_torque_sample(const rfe_mass_grade_t *mg,
         (RFE_FABS(in->torque) > RFE_R(RFE_LIMIT_DRIVE_TORQUE))) {
         return RFE_ERR_RANGE;
     }
-    if (((has_ax != 0u) && (RFE_FABS(in->ax) > RFE_R(RFE_LIMIT_ACC))) ||
-        ((mg->p.use_ax == 1u) && (has_ax == 0u))) {
-        return RFE_ERR_RANGE;
+    if (has_ax != 0u) {
+        if (RFE_FABS(in->ax) > RFE_R(RFE_LIMIT_ACC)) {
+            return RFE_ERR_RANGE;
+        }
+    } else if (mg->p.use_ax == 1u) {
+        return RFE_ERR_RANGE; /* the accelerometer option needs ax in every sample */
+    } else {
+        /* no ax, and none needed */
     }
     if ((mg->started != 0u) && !(in->dt > RFE_R(0.0))) {
         return RFE_ERR_RANGE;

@@ -392,6 +392,15 @@ static void test_shift_and_low_speed_hold(void **state)
     in.gear = 2;
     in.v = (rfe_real_t)1.0;
     assert_int_equal(step(&in, &e), RFE_MG_PAUSED_SHIFT);
+    /* a gear that first appears after the start is no change either */
+    setup_with(0u, 1u);
+    in = cruise((rfe_real_t)20.0, (rfe_real_t)DT);
+    assert_int_equal(step(&in, &e), RFE_OK);
+    in.has |= RFE_MG_HAS_GEAR;
+    in.gear = 3;
+    assert_int_equal(step(&in, &e), RFE_OK);
+    in.gear = 4;
+    assert_int_equal(step(&in, &e), RFE_MG_PAUSED_SHIFT);
     /* below v_min: held with status 2; at v_min: updated */
     setup_with(0u, 1u);
     in = cruise(prm.v_min * (rfe_real_t)0.99, (rfe_real_t)DT);
@@ -550,8 +559,10 @@ static void test_innovation_covariance_not_positive(void **state)
     (void)state;
     memcpy(x0, x, sizeof(x));
     memcpy(P0, P, sizeof(P));
-    /* every point measures the same: S = 0 (1 x 1), then S singular (2 x 2, rows equal) */
+    /* every point measures the same: S = 0 (1 x 1 and 2 x 2), then S singular with a
+     * positive first pivot (2 x 2, rows equal) */
     assert_int_equal(rfe_mg_correct(chi, Z, 1u, &w, r2, y, x, P), RFE_ERR_NOT_POSITIVE_DEFINITE);
+    assert_int_equal(rfe_mg_correct(chi, Z, 2u, &w, r2, y, x, P), RFE_ERR_NOT_POSITIVE_DEFINITE);
     for (i = 0u; i < (size_t)RFE_MG_PTS; ++i) {
         Z[i * 2u] = (rfe_real_t)i;
         Z[(i * 2u) + 1u] = (rfe_real_t)i;
