@@ -6,7 +6,7 @@
 # Prints one line per check and closes with "cli: N passed, N failed"; exits 1 on a failure.
 # Requirements (docs/REQUIREMENTS.md; the script is one test case "test_cli"):
 # REQ-CLI-001 REQ-CLI-003 REQ-CLI-004 REQ-CSV-002 REQ-CSV-005 REQ-CSV-006 REQ-PARF-002 REQ-PARF-003
-# REQ-PARF-004 REQ-MET-002 REQ-CLI-005 REQ-CSV-007 REQ-CLI-006 REQ-DOC-001
+# REQ-PARF-004 REQ-MET-002 REQ-CLI-005 REQ-CSV-007 REQ-CLI-006 REQ-DOC-001 REQ-CLI-007
 set -u
 
 BIN=${1:?usage: test_cli.sh path/to/mu_replay}
@@ -785,6 +785,15 @@ awk -v r="$rel" 'BEGIN { exit !(r <= 1e-9) }' && ok "mg_units: bar and kN m read
 
 # q31: not run, said once; off with q31 says nothing
 awk '/^#/ || n++ < 101' "$MG/car_grade_step.csv" >"$TMP/short.csv"
+# every drive_torque cell empty: every sample refused (17), no estimate ever, nothing counted
+awk -F, 'BEGIN { OFS = "," } /^#/ { print; next } !h { for (i = 1; i <= NF; i++) c[$i] = i; h = 1; print; next }
+    { $c["drive_torque"] = ""; print }' "$TMP/short.csv" >"$TMP/no_torque_values.csv"
+run mg_never_started 0 --in "$TMP/no_torque_values.csv" --out "$TMP/mg_ns.csv" --metrics "$TMP/mg_ns.json"
+grep -q '"status_counts": {"17": 100}' "$TMP/mg_ns.json" \
+    && grep -q '"accuracy": {"from_t_s": null, "n": 0, "mass_err_end": null, "mass_err_end_rel": null, "grade_rmse": null, "grade_max_abs_err": null}' "$TMP/mg_ns.json" \
+    && ok "mg_never_started: no accuracy without an estimate" || bad "mg_never_started: $(grep -A1 '"mass_grade"' "$TMP/mg_ns.json")"
+grep -q 'grade RMSE\|mass error at the end' "$TMP/out" && bad "mg_never_started: accuracy printed" \
+    || ok "mg_never_started: no accuracy printed"
 run mg_q31 0 --in "$TMP/short.csv" --out "$TMP/mg_q.csv" --real q31 -q
 grep -q 'mass_est' "$TMP/mg_q.csv" && bad "mg_q31: mass and grade columns" || ok "mg_q31: no mass and grade columns"
 run mg_q31_note 0 --in "$TMP/short.csv" --out "$TMP/mg_q.csv" --real q31
