@@ -642,6 +642,37 @@ awk -v w="$want" -v g="$got" -v j="$(grep -o '"mass_err_end": [^,]*' "$TMP/mg_d.
     'BEGIN { exit !((g - w) == j + 0) }' && ok "mg_default: mass_err_end = last mass_est - mass_true" \
     || bad "mg_default: mass_err_end $got - $want vs JSON"
 
+# The float run (the CLI's default --real): the float module on the same float inputs as
+# test_mass_grade_golden_flt.c (the speed computed in double from the doubles read with the
+# float R, the period in double, each then rounded to float), so within that test's bounds,
+# derived there: mass within 0.2 sd_mass + 0.1 kg, grade within 0.05 sd_grade + 1e-6 rad,
+# their sd within 2e-3 relative (the recommended preset is the plain UKF), statuses exact. The
+# log prints each float to 9 digits (%.9g), which reads back as the same float: no error added.
+run mg_float 0 --in "$MG/car_grade_step.csv" --out "$TMP/mg_fl.csv" -q
+res=$(awk -F, '
+    FNR == 1 { file++ }
+    /^#/ { next }
+    file == 1 && !gh { for (i = 1; i <= NF; i++) g[$i] = i; gh = 1; next }
+    file == 1 { want[$g["k"] + 0] = $0; n++; next }
+    file == 2 && !eh { for (i = 1; i <= NF; i++) e[$i] = i; eh = 1; row = 0; next }
+    function ab(x) { return x < 0 ? -x : x }
+    file == 2 {
+        if (row in want) {
+            split(want[row], w, ",")
+            m = w[g["mass"]]; sm = w[g["sd_mass"]]; th = w[g["grade"]]; st = w[g["sd_grade"]]
+            if (ab($e["mass_est"] - m) > 0.2 * sm + 0.1 || ab($e["grade_est"] - th) > 0.05 * st + 1e-6 ||
+                ab($e["sd_mass"] - sm) > 2e-3 * sm || ab($e["sd_grade"] - st) > 2e-3 * st ||
+                w[g["status"]] + 0 != $e["mg_status"] + 0) { if (!bad) first = row; bad++ }
+            seen++
+        }
+        row++
+    }
+    END { printf "%d %d %d %s", seen, n, bad, first }' "$MGG/car_grade_step.recommended.csv" "$TMP/mg_fl.csv")
+set -- $res
+[ "$1" -eq "$2" ] && [ "$3" -eq 0 ] && grep -q '^# real = float$' "$TMP/mg_fl.csv" \
+    && ok "mg_float: within the float module's bounds on all $1 golden rows" \
+    || bad "mg_float: $1/$2 rows compared, $3 outside (the first at log row ${4:-?})"
+
 # aukf: the seed's preset (adaptive, speed and torque, no rotating mass, adaptation every step)
 run mg_aukf 0 --in "$MG/car_gear_shift.csv" --out "$TMP/mg_a.csv" --real double --mass-grade aukf -q
 golden_equal mg_aukf "$MGG/car_gear_shift.seed.csv" "$TMP/mg_a.csv"
