@@ -58,7 +58,9 @@ static const char k_usage[] =
     "                   (estimated from steer, yaw rate, ax, ay, wheel speeds and the\n"
     "                   optional p_*, torque_*, grade columns: docs/OBSERVER.md, in every\n"
     "                   --real; the estimate log gains vx_est .. sd_beta), or auto\n"
-    "                   (default): measured when the log has the columns, else observer\n"
+    "                   (default): measured when the log has the columns, else observer\n";
+/* the rest of the usage (one string would exceed the 4095 characters C99 guarantees) */
+static const char k_usage_rest[] =
     "  --mass-grade CFG the vehicle mass and road-grade estimator (docs/MASS_GRADE.md),\n"
     "                   run on a log with a drive_torque column (N m at the wheels;\n"
     "                   optional brake 0/1, brake_pressure Pa, gear) from the speed\n"
@@ -71,8 +73,10 @@ static const char k_usage[] =
     "                   metadata and --params set mg_* keys, and the flag, when given,\n"
     "                   sets mg_adaptive last. The estimate log gains mass_est, sd_mass,\n"
     "                   grade_est, sd_grade, mg_status; with the observer and no grade\n"
-    "                   column the observer takes each sample's estimated grade. off:\n"
-    "                   not run (the columns are ignored). Not with --real q31 (no\n"
+    "                   column the observer takes each sample's estimated grade (that\n"
+    "                   sample's); with mass_true, grade_true the summary and --metrics\n"
+    "                   give the mass error at the end and the grade's RMSE. off: not\n"
+    "                   run (the columns are ignored). Not with --real q31 (no\n"
     "                   fixed-point twin yet: there it is off, with a note)\n"
     "  --metrics FILE   write run summary and accuracy as JSON\n"
     "  --strict         stop at the first empty, nan/inf or out-of-range cell (exit 1);\n"
@@ -161,6 +165,7 @@ int main(int argc, char **argv)
     rc = parse_args(argc, argv, &o);
     if ((rc != 0) || o.help) {
         fputs(k_usage, (rc != 0) ? stderr : stdout);
+        fputs(k_usage_rest, (rc != 0) ? stderr : stdout);
         return (rc != 0) ? EXIT_USAGE : EXIT_OK;
     }
     rc = load_params(&o, &r);
