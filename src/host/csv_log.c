@@ -17,7 +17,8 @@
 
 /** Column roles: required input, or one of the optional groups (each all or none): true
  *  friction, true friction utilisation, measured velocities (a test car), brake
- *  pressures, drive torques, the known grade. */
+ *  pressures, drive torques, the known grade; the steering pair; the mass and grade
+ *  estimator's columns and their truth (each on its own). */
 typedef enum {
     COL_INPUT = 0,
     COL_MU = 1,
@@ -27,7 +28,10 @@ typedef enum {
     COL_TORQ = 5,
     COL_GRADE = 6,
     COL_STEER = 7, /**< delta or swa: exactly one of them */
-    COL_KINDS = 8
+    COL_MG = 8,    /**< an input of the mass and grade estimator, each optional on its own;
+                        read only with drive_torque (and not mass_grade_off) */
+    COL_MG_TRUTH = 9, /**< its truth, each optional on its own, read as COL_MG */
+    COL_KINDS = 10
 } col_kind_t;
 
 /** A sensor-log column: its DATA.md name, where its value goes in a row, its role and its
@@ -72,6 +76,12 @@ static const col_spec_t k_cols[] = {
     {"torque_rl", ROW_OFF(torque[RFE_RL]), COL_TORQ, RFE_DIM_TORQUE},
     {"torque_rr", ROW_OFF(torque[RFE_RR]), COL_TORQ, RFE_DIM_TORQUE},
     {"grade", ROW_OFF(grade), COL_GRADE, RFE_DIM_ANGLE},
+    {"drive_torque", ROW_OFF(drive_torque), COL_MG, RFE_DIM_TORQUE},
+    {"brake", ROW_OFF(brake), COL_MG, RFE_DIM_NONE},
+    {"brake_pressure", ROW_OFF(brake_pressure), COL_MG, RFE_DIM_PRESSURE_PA},
+    {"gear", ROW_OFF(gear), COL_MG, RFE_DIM_NONE},
+    {"mass_true", ROW_OFF(mass_true), COL_MG_TRUTH, RFE_DIM_MASS},
+    {"grade_true", ROW_OFF(grade_true), COL_MG_TRUTH, RFE_DIM_ANGLE},
 };
 #define N_COLS (sizeof k_cols / sizeof k_cols[0])
 
@@ -540,7 +550,7 @@ static int map_header_fields(reader_t *r, size_t n)
 
 /* The word of each optional group in messages ("velocity column 'vy' missing"). */
 static const char *const k_group_word[COL_KINDS] = {"", "truth", "truth", "velocity",
-                                                    "pressure", "torque", "grade", ""};
+                                                    "pressure", "torque", "grade", "", "", ""};
 
 /* Appends @p s to the message list; what does not fit is cut to "..." (then *used = cap). */
 static void list_add(char *list, size_t cap, size_t *used, const char *s)
@@ -568,6 +578,9 @@ static int col_needed(const reader_t *r, size_t k, const size_t *n_present)
     if (g == COL_STEER) {
         return (n_present[COL_STEER] == 0u) && (k_cols[k].offset == ROW_OFF(delta));
     }
+    if ((g == COL_MG) || (g == COL_MG_TRUTH)) {
+        return 0; /* each optional on its own */
+    }
     return (g == COL_INPUT) || (n_present[g] != 0u) ||
            ((g == COL_VEL) && (r->opts.inputs == RFE_INPUTS_MEASURED));
 }
@@ -579,7 +592,7 @@ static const char *group_rule(const reader_t *r, col_kind_t g)
         "", "give all of mu_fl, mu_fr, mu_rl, mu_rr or none",
         "give all of util_fl, util_fr, util_rl, util_rr or none",
         "give all of vx, vy, yaw_acc or none", "give all of p_fl, p_fr, p_rl, p_rr or none",
-        "give all of torque_fl, torque_fr, torque_rl, torque_rr or none", "", ""};
+        "give all of torque_fl, torque_fr, torque_rl, torque_rr or none", "", "", "", ""};
     return ((g == COL_VEL) && (r->opts.inputs == RFE_INPUTS_MEASURED))
                ? "measured velocities need all of vx, vy, yaw_acc"
                : rule[g];
@@ -687,6 +700,31 @@ static void mark_unused(reader_t *r, rfe_sensor_log_t *log)
                    : NULL);
 }
 
+/* The mass and grade estimator's columns are read only when the log has drive_torque and the
+ * run does not turn the estimator off: else they are extra columns, neither parsed nor
+ * counted, so such a log reads exactly as before they existed. Sets the has_* flags. */
+static void mass_grade_columns(reader_t *r, rfe_sensor_log_t *log, size_t *present)
+{
+    const int given = present[find_col("drive_torque")] != 0u;
+    const int on = given && (r->opts.mass_grade_off == 0);
+    size_t j;
+    for (j = 0u; j < r->n_fields; ++j) {
+        const size_t k = r->field_col[j];
+        if ((k != NO_COL) && ((k_cols[k].kind == COL_MG) || (k_cols[k].kind == COL_MG_TRUTH)) &&
+            !on) {
+            r->field_col[j] = NO_COL;
+            present[k] = 0u;
+        }
+    }
+    log->has_drive_torque = on ? 1 : 0;
+    log->drive_torque_ignored = (given && !on) ? 1 : 0;
+    log->has_brake = (present[find_col("brake")] != 0u) ? 1 : 0;
+    log->has_brake_pressure = (present[find_col("brake_pressure")] != 0u) ? 1 : 0;
+    log->has_gear = (present[find_col("gear")] != 0u) ? 1 : 0;
+    log->has_mass_true = (present[find_col("mass_true")] != 0u) ? 1 : 0;
+    log->has_grade_true = (present[find_col("grade_true")] != 0u) ? 1 : 0;
+}
+
 /* Every needed column present (missing_columns), not both delta and swa; the groups given. */
 static int check_columns(reader_t *r, rfe_sensor_log_t *log)
 {
@@ -699,6 +737,7 @@ static int check_columns(reader_t *r, rfe_sensor_log_t *log)
             present[r->field_col[j]] = 1u;
         }
     }
+    mass_grade_columns(r, log, present);
     for (k = 0u; k < N_COLS; ++k) {
         n_present[k_cols[k].kind] += present[k];
     }
@@ -761,7 +800,8 @@ static int read_rows(reader_t *r, rfe_sensor_log_t *log)
 static int keep_cell(const reader_t *r, const col_spec_t *c, rfe_num_status_t st,
                      const char *text, double *v)
 {
-    const int input = (c->kind != COL_MU) && (c->kind != COL_UTIL) && (c->offset != ROW_OFF(t));
+    const int input = (c->kind != COL_MU) && (c->kind != COL_UTIL) && (c->kind != COL_MG_TRUTH) &&
+                      (c->offset != ROW_OFF(t));
     if ((r->opts.cells != RFE_CELLS_KEEP) || !input || (st == RFE_NUM_SYNTAX)) {
         return -1;
     }
@@ -883,6 +923,8 @@ static const char *const k_est_header =
 /* The velocity observer's columns, written when it ran (DATA.md "Estimate log"). */
 static const char *const k_est_velocity_header =
     ",vx_est,vy_est,beta_est,yaw_acc_est,sd_vx,sd_vy,sd_beta";
+/* The mass and grade estimator's columns, written when it ran (DATA.md "Estimate log"). */
+static const char *const k_est_mass_grade_header = ",mass_est,sd_mass,grade_est,sd_grade,mg_status";
 
 /* Metadata value on one line: control characters (a newline in a file name) become '?'. */
 static void write_sanitised(FILE *f, const char *s)
@@ -907,8 +949,9 @@ int rfe_estimate_log_write_stream(FILE *f, const rfe_kv_t *meta, size_t n_meta,
         write_sanitised(f, meta[i].value);
         fputc('\n', f);
     }
-    fprintf(f, "%s%s\n", k_est_header,
-            ((n_rows > 0u) && (rows[0].has_velocity != 0)) ? k_est_velocity_header : "");
+    fprintf(f, "%s%s%s\n", k_est_header,
+            ((n_rows > 0u) && (rows[0].has_velocity != 0)) ? k_est_velocity_header : "",
+            ((n_rows > 0u) && (rows[0].has_mass_grade != 0)) ? k_est_mass_grade_header : "");
     for (i = 0u; i < n_rows; ++i) {
         const rfe_est_row_t *e = &rows[i];
         /* t is the input time, copied exactly whatever the run precision. */
@@ -932,6 +975,14 @@ int rfe_estimate_log_write_stream(FILE *f, const rfe_kv_t *meta, size_t n_meta,
                 format(num, v[w]);
                 fprintf(f, ",%s", num);
             }
+        }
+        if (rows[0].has_mass_grade != 0) {
+            const double m[4] = {e->mass, e->sd_mass, e->grade, e->sd_grade};
+            for (w = 0u; w < 4u; ++w) {
+                format(num, m[w]);
+                fprintf(f, ",%s", num);
+            }
+            fprintf(f, ",%d", e->mg_status);
         }
         fputc('\n', f);
     }

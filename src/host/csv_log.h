@@ -42,6 +42,14 @@ typedef struct {
     double mu_true[RFE_WHEELS];  /**< mu_fl .. mu_rr; only meaningful when has_truth */
     double util_true[RFE_WHEELS]; /**< util_fl .. util_rr (true friction utilisation
                                        sqrt(Fx^2 + Fy^2) / (mu Fz)); only when has_util */
+    double drive_torque;         /**< total drive torque at the wheels [N m]; only when
+                                      has_drive_torque (the mass and grade estimator's input) */
+    double brake;                /**< brake pedal, 0 released / 1 pressed; only when has_brake */
+    double brake_pressure;       /**< driver's brake pressure [Pa]; only when has_brake_pressure */
+    double gear;                 /**< engaged gear; only when has_gear */
+    double mass_true;            /**< vehicle mass [kg] (truth); only when has_mass_true */
+    double grade_true;           /**< road grade [rad], uphill positive (truth); only when
+                                      has_grade_true */
     unsigned bad;                /**< bit (1 << rfe_cell_cause_t) per kind of bad cell this row
                                       holds (RFE_CELLS_KEEP; 0 = every value finite) */
 } rfe_sensor_row_t;
@@ -79,6 +87,10 @@ typedef enum {
 typedef struct {
     rfe_cells_t cells;   /**< what a bad cell of an estimator input is */
     rfe_inputs_t inputs; /**< which input columns the run uses */
+    int mass_grade_off;  /**< nonzero: the mass and grade columns (drive_torque, brake,
+                              brake_pressure, gear, mass_true, grade_true) are read as extra
+                              columns (not parsed), as they always are in a log without
+                              drive_torque */
 } rfe_read_opts_t;
 
 /** A whole sensor log in memory. Zero-initialise, read, then rfe_sensor_log_free. */
@@ -93,6 +105,15 @@ typedef struct {
     int has_pressure; /**< 1 when the four p_* brake pressures are present */
     int has_torque;   /**< 1 when the four torque_* drive torques are present */
     int has_grade;    /**< 1 when the grade column is present */
+    int has_drive_torque;   /**< 1 when drive_torque is present (and not mass_grade_off): the
+                                 mass and grade columns below are read */
+    int has_brake;          /**< 1 when brake is present (with drive_torque) */
+    int has_brake_pressure; /**< 1 when brake_pressure is present (with drive_torque) */
+    int has_gear;           /**< 1 when gear is present (with drive_torque) */
+    int has_mass_true;      /**< 1 when mass_true is present (with drive_torque) */
+    int has_grade_true;     /**< 1 when grade_true is present (with drive_torque) */
+    int drive_torque_ignored; /**< 1 when drive_torque is present but mass_grade_off left the
+                                   mass and grade columns out */
     int has_swa;      /**< 1 while the steering angle is the steering wheel's (swa) and delta is
                            not filled (rfe_sensor_log_steer_ratio fills it) */
     int omega_linear; /**< 1 while omega_* hold circumferential speeds [m/s] (a unit_omega_* of
@@ -187,6 +208,10 @@ typedef struct {
     int status;  /**< rfe_status_t of that step */
     int has_velocity; /**< 1 when the velocity observer ran: the fields below are written */
     double vx, vy, beta, yaw_acc, sd_vx, sd_vy, sd_beta; /**< the observer's estimate */
+    int has_mass_grade; /**< 1 when the mass and grade estimator ran: the fields below are
+                             written (mass_est, sd_mass, grade_est, sd_grade, mg_status) */
+    double mass, sd_mass, grade, sd_grade; /**< its estimate [kg], [rad] */
+    int mg_status;      /**< rfe_status_t of its step */
 } rfe_est_row_t;
 
 /** A metadata pair to write (strings not owned). */

@@ -52,6 +52,13 @@ static const unit_t k_units[] = {
     {RFE_DIM_TORQUE, "kN m", 1e3},
     {RFE_DIM_TORQUE, "kNm", 1e3},
     {RFE_DIM_NONE, "1", 1.0},
+    {RFE_DIM_PRESSURE_PA, "Pa", 1.0},
+    {RFE_DIM_PRESSURE_PA, "kPa", 1e3},
+    {RFE_DIM_PRESSURE_PA, "bar", 1e5},
+    {RFE_DIM_PRESSURE_PA, "MPa", 1e6},
+    {RFE_DIM_PRESSURE_PA, "psi", 6.894757293168361e3},
+    {RFE_DIM_MASS, "kg", 1.0},
+    {RFE_DIM_MASS, "t", 1e3},
 };
 #define N_UNITS (sizeof k_units / sizeof k_units[0])
 
@@ -105,6 +112,8 @@ const char *rfe_unit_words(rfe_dim_t dim)
         "N m (Nm), kN m (kNm)",
         "1",
         "rad/s, deg/s, rpm (spin) or m/s, km/h (kph), mph (circumferential speed)",
+        "Pa, kPa, bar, MPa, psi",
+        "kg, t",
     };
     return ((size_t)dim < (sizeof words / sizeof words[0])) ? words[dim] : "?";
 }

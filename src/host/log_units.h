@@ -18,8 +18,11 @@ typedef enum {
     RFE_DIM_PRESSURE = 6, /**< MPa; kPa, bar, Pa, psi */
     RFE_DIM_TORQUE = 7,   /**< N m; kN m */
     RFE_DIM_NONE = 8,     /**< dimensionless: 1 */
-    RFE_DIM_WHEEL = 9     /**< a wheel speed: a RATE unit (spin), or a SPEED unit (the wheel's
+    RFE_DIM_WHEEL = 9,    /**< a wheel speed: a RATE unit (spin), or a SPEED unit (the wheel's
                                circumferential speed, divided by the rolling radius later) */
+    RFE_DIM_PRESSURE_PA = 10, /**< a pressure in Pa (the mass and grade estimator's
+                                   brake_pressure); kPa, bar, MPa, psi */
+    RFE_DIM_MASS = 11     /**< kg; t */
 } rfe_dim_t;
 
 /**

@@ -32,8 +32,8 @@ static const char k_usage[] =
     "usage: " PROG " --in SENSOR.csv --out ESTIMATE.csv [--preset default|paper]\n"
     "                 [--params FILE] [--filter sckf|ckf] [--tyre paper|absolute|magic]\n"
     "                 [--real float|double|q31] [--velocity auto|observer|measured]\n"
-    "                 [--metrics FILE.json] [--strict] [--require-params] [--quiet]\n"
-    "                 [--help]\n"
+    "                 [--mass-grade ukf|aukf|off] [--metrics FILE.json] [--strict]\n"
+    "                 [--require-params] [--quiet] [--help]\n"
     "\n"
     "Runs the road-friction estimator over a sensor log (docs DATA.md) and writes the\n"
     "estimate log. Parameters: the --preset set < the log's '# key = value' metadata <\n"
@@ -58,7 +58,26 @@ static const char k_usage[] =
     "                   (estimated from steer, yaw rate, ax, ay, wheel speeds and the\n"
     "                   optional p_*, torque_*, grade columns: docs/OBSERVER.md, in every\n"
     "                   --real; the estimate log gains vx_est .. sd_beta), or auto\n"
-    "                   (default): measured when the log has the columns, else observer\n"
+    "                   (default): measured when the log has the columns, else observer\n";
+/* the rest of the usage (one string would exceed the 4095 characters C99 guarantees) */
+static const char k_usage_rest[] =
+    "  --mass-grade CFG the vehicle mass and road-grade estimator (docs/MASS_GRADE.md),\n"
+    "                   run on a log with a drive_torque column (N m at the wheels;\n"
+    "                   optional brake 0/1, brake_pressure Pa, gear) from the speed\n"
+    "                   (omega_fl + omega_fr + omega_rl + omega_rr) / 4 * R, the torque\n"
+    "                   and ax: ukf (default) starts its mg_* keys from the library's\n"
+    "                   car preset RFE_MG_RECOMMENDED (plain UKF, accelerometer row:\n"
+    "                   mg_adaptive = 0, mg_use_ax = 1), aukf from RFE_MG_SEED (the\n"
+    "                   seed's adaptive UKF on speed and torque: mg_adaptive = 1,\n"
+    "                   mg_use_ax = 0, mg_m_rot = 0, mg_t_adapt = 0); then the log's\n"
+    "                   metadata and --params set mg_* keys, and the flag, when given,\n"
+    "                   sets mg_adaptive last. The estimate log gains mass_est, sd_mass,\n"
+    "                   grade_est, sd_grade, mg_status; with the observer and no grade\n"
+    "                   column the observer takes each sample's estimated grade (that\n"
+    "                   sample's); with mass_true, grade_true the summary and --metrics\n"
+    "                   give the mass error at the end and the grade's RMSE. off: not\n"
+    "                   run (the columns are ignored). Not with --real q31 (no\n"
+    "                   fixed-point twin yet: there it is off, with a note)\n"
     "  --metrics FILE   write run summary and accuracy as JSON\n"
     "  --strict         stop at the first empty, nan/inf or out-of-range cell (exit 1);\n"
     "                   by default such a cell goes to the estimator as NaN/Inf, which\n"
@@ -84,6 +103,7 @@ typedef struct {
     const char *tyre;
     const char *real;
     const char *velocity;
+    const char *mass_grade; /**< --mass-grade ukf|aukf|off */
     int quiet;
     int help;
     int strict; /**< --strict: a bad cell is an input error */
@@ -100,6 +120,7 @@ typedef struct {
     int is_double;
     int is_q31;
     int use_observer;  /**< vx, vy, r-dot from the velocity observer (--velocity) */
+    int mg_ran;        /**< the mass and grade estimator ran (the rows carry its columns) */
     int preset_vehicle; /**< a vehicle key from no file: the preset's value (check_vehicle) */
     int has_metrics;
     rfe_metrics_t metrics;
@@ -126,9 +147,14 @@ static void compute_metrics(run_t *r);
 static int write_metrics_json(const options_t *o, const run_t *r);
 static void print_status_counts(const run_t *r);
 static const char *base_name(const char *path);
+static const char *validator_name(size_t k);
 static const char *real_name(const run_t *r);
+static const char *mg_config_name(const run_t *r);
 static size_t saturation_meta(const run_t *r, rfe_kv_t *meta, char vals[][RFE_NUM_BUF]);
 static int fail(const rfe_io_error_t *err);
+static int mass_grade_flags(const options_t *o, run_t *r);
+static void print_mass_grade(const run_t *r);
+static void write_mass_grade_json(FILE *f, const run_t *r);
 
 int main(int argc, char **argv)
 {
@@ -139,6 +165,7 @@ int main(int argc, char **argv)
     rc = parse_args(argc, argv, &o);
     if ((rc != 0) || o.help) {
         fputs(k_usage, (rc != 0) ? stderr : stdout);
+        fputs(k_usage_rest, (rc != 0) ? stderr : stdout);
         return (rc != 0) ? EXIT_USAGE : EXIT_OK;
     }
     rc = load_params(&o, &r);
@@ -194,8 +221,8 @@ static int usage_error(const char *fmt, const char *arg)
 /* Where the value of a value-taking option goes, or NULL for an unknown name. */
 static const char **option_slot(options_t *o, const char *name)
 {
-    static const char *const names[] = {"in",     "out",  "params", "metrics",
-                                        "filter", "tyre", "real",   "preset", "velocity"};
+    static const char *const names[] = {"in",     "out",  "params", "metrics",  "filter",
+                                        "tyre",   "real", "preset", "velocity", "mass-grade"};
     const char **slots[sizeof names / sizeof names[0]];
     size_t i;
     slots[0] = &o->in;
@@ -207,6 +234,7 @@ static const char **option_slot(options_t *o, const char *name)
     slots[6] = &o->real;
     slots[7] = &o->preset;
     slots[8] = &o->velocity;
+    slots[9] = &o->mass_grade;
     for (i = 0u; i < sizeof names / sizeof names[0]; ++i) {
         if (strcmp(names[i], name) == 0) {
             return slots[i];
@@ -306,6 +334,16 @@ static int check_option_words(options_t *o)
         (strcmp(o->velocity, "observer") != 0) && (strcmp(o->velocity, "measured") != 0)) {
         return usage_error("--velocity must be auto, observer or measured, not '%s'", o->velocity);
     }
+    if ((o->mass_grade != NULL) && (strcmp(o->mass_grade, "ukf") != 0) &&
+        (strcmp(o->mass_grade, "aukf") != 0) && (strcmp(o->mass_grade, "off") != 0)) {
+        return usage_error("--mass-grade must be ukf, aukf or off, not '%s'", o->mass_grade);
+    }
+    if ((o->mass_grade != NULL) && (strcmp(o->mass_grade, "off") != 0) && (o->real != NULL) &&
+        (strcmp(o->real, "q31") == 0)) {
+        return usage_error("--mass-grade %s: the mass and grade estimator has no fixed-point "
+                           "twin yet; use --real float or double, or --mass-grade off",
+                           o->mass_grade);
+    }
     if (same_file(o->out, o->in) || ((o->params != NULL) && same_file(o->out, o->params)) ||
         ((o->metrics != NULL) && (same_file(o->metrics, o->in) || same_file(o->metrics, o->out)))) {
         return usage_error("%s", "an output file (--out, --metrics) is also an input or the other output");
@@ -342,6 +380,9 @@ static int load_params(const options_t *o, run_t *r)
     rfe_io_error_t err;
     rfe_read_opts_t ro;
     ro.cells = o->strict ? RFE_CELLS_STRICT : RFE_CELLS_KEEP;
+    /* off, or q31 (no fixed-point twin): its columns are extra columns, not read */
+    ro.mass_grade_off = ((o->mass_grade != NULL) && (strcmp(o->mass_grade, "off") == 0)) ||
+                        ((o->real != NULL) && (strcmp(o->real, "q31") == 0));
     /* the columns --velocity uses: the measured ones needed (named with any other missing
      * column), the bad cells of the unused ones apart */
     ro.inputs = (o->velocity == NULL)                     ? RFE_INPUTS_AUTO
@@ -356,6 +397,9 @@ static int load_params(const options_t *o, run_t *r)
         print_bad_cells(stderr, r);
     }
     (void)rfe_param_set_preset_f64(&r->ps, o->preset_id); /* cannot fail: parsed preset */
+    if ((o->mass_grade != NULL) && (strcmp(o->mass_grade, "aukf") == 0)) {
+        (void)rfe_param_set_mass_grade_f64(&r->ps, RFE_MG_SEED); /* cannot fail: a config */
+    }
     if (rfe_param_set_apply_meta(&r->ps, &r->log, o->in, &err) != 0) {
         return fail(&err);
     }
@@ -373,6 +417,9 @@ static int load_params(const options_t *o, run_t *r)
     }
     r->is_double = (o->real != NULL) && (strcmp(o->real, "double") == 0);
     r->is_q31 = (o->real != NULL) && (strcmp(o->real, "q31") == 0);
+    if (mass_grade_flags(o, r) != 0) {
+        return -1;
+    }
     if ((o->velocity != NULL) && (strcmp(o->velocity, "measured") == 0) && !r->log.has_velocity) {
         rfe_io_error_set(&err, o->in, 0u, 0u, "%s",
                          "--velocity measured needs the columns vx, vy, yaw_acc; this log has "
@@ -382,6 +429,38 @@ static int load_params(const options_t *o, run_t *r)
     r->use_observer = ((o->velocity != NULL) && (strcmp(o->velocity, "observer") == 0)) ||
                       (((o->velocity == NULL) || (strcmp(o->velocity, "auto") == 0)) &&
                        !r->log.has_velocity);
+    return 0;
+}
+
+/* The mass and grade estimator runs on a log with drive_torque unless off (then, and with
+ * q31, the reader left its columns out: has_drive_torque 0). An explicit ukf or aukf sets
+ * mg_adaptive over every file, as --filter does. A drive_torque that is not at the wheels
+ * (driveline_torque_at other than wheels) is an input error. q31 on such a log without --mass-grade: a
+ * note (once) that it does not run; an explicit ukf or aukf with q31 is a usage error
+ * (check_option_words). */
+static int mass_grade_flags(const options_t *o, run_t *r)
+{
+    const char *at = rfe_sensor_log_meta(&r->log, "driveline_torque_at");
+    rfe_io_error_t err;
+    r->ps.mass_grade = r->log.has_drive_torque;
+    if (r->ps.mass_grade && (at != NULL) && (strcmp(at, "wheels") != 0)) {
+        rfe_io_error_set(&err, o->in, 0u, 0u,
+                         "driveline_torque_at = %s: the mass and grade estimator takes the torque "
+                         "at the wheels, which the replay does not compute from the drive line; "
+                         "convert drive_torque first, or --mass-grade off", at);
+        return fail(&err);
+    }
+    if ((o->mass_grade != NULL) && (strcmp(o->mass_grade, "off") != 0)) {
+        r->ps.mg[RFE_PK_mg_adaptive - RFE_PK_MG_FIRST] =
+            (strcmp(o->mass_grade, "aukf") == 0) ? 1.0 : 0.0;
+        r->ps.origin[RFE_PK_mg_adaptive].file = "command line";
+        r->ps.origin[RFE_PK_mg_adaptive].line = 0u;
+    }
+    if (r->is_q31 && !o->quiet && (o->mass_grade == NULL) && r->log.drive_torque_ignored) {
+        fprintf(stderr, "%s: note: %s has drive_torque, but the mass and grade estimator has no "
+                        "fixed-point twin yet: not run with --real q31 (docs/MASS_GRADE.md)\n",
+                PROG, o->in);
+    }
     return 0;
 }
 
@@ -594,6 +673,7 @@ static int run_estimator(const options_t *o, run_t *r)
     } else {
         st = run(&r->ps, &r->log, r->rows, &r->stats, &bad);
     }
+    r->mg_ran = (st == RFE_OK) && (r->log.n_rows > 0u) && (r->rows[0].has_mass_grade != 0);
     if (st == RFE_OK) {
         return 0;
     }
@@ -620,23 +700,41 @@ static int run_estimator(const options_t *o, run_t *r)
         rfe_param_format(&r->ps, bad, val);
         rfe_io_error_set(&err, (src->file != NULL) ? src->file : "preset", src->line, 0u,
                          "invalid parameter %s = %s (rejected by %s, %s run)",
-                         rfe_param_info(bad)->key, val,
-                         rfe_param_is_obs(bad) ? "rfe_velocity_params_validate"
-                                               : "rfe_params_validate",
+                         rfe_param_info(bad)->key, val, validator_name(bad),
                          real_name(r));
     } else {
         rfe_io_error_set(&err, o->in, 0u, 0u,
                          "estimator init failed: %s (check the parameter combination: "
-                         "mu_min < mu_max, mu0 within them)",
-                         rfe_status_str(st));
+                         "mu_min < mu_max, mu0 within them%s)",
+                         rfe_status_str(st),
+                         r->ps.mass_grade ? "; mass and grade: mg_m_min < mg_m0 < mg_m_max, "
+                                            "|mg_theta0| < mg_theta_max, mg_ut_* with n + lambda "
+                                            "> 0, docs/MASS_GRADE.md §6"
+                                          : "");
     }
     return fail(&err);
+}
+
+/* The library function that refused key @p k. (R and g, which the mass and grade estimator
+ * takes too, are checked by rfe_params_validate first, on the same conditions.) */
+static const char *validator_name(size_t k)
+{
+    if (rfe_param_is_mg(k) != 0) {
+        return "rfe_mass_grade_params_validate";
+    }
+    return (rfe_param_is_obs(k) != 0) ? "rfe_velocity_params_validate" : "rfe_params_validate";
 }
 
 static const char *base_name(const char *path)
 {
     const char *slash = strrchr(path, '/');
     return (slash != NULL) ? slash + 1 : path;
+}
+
+/* The mass and grade configuration that ran, by its mg_adaptive: "aukf" or "ukf". */
+static const char *mg_config_name(const run_t *r)
+{
+    return (r->ps.mg[RFE_PK_mg_adaptive - RFE_PK_MG_FIRST] != 0.0) ? "aukf" : "ukf";
 }
 
 static const char *real_name(const run_t *r)
@@ -671,7 +769,7 @@ static size_t saturation_meta(const run_t *r, rfe_kv_t *meta, char vals[][RFE_NU
  * [param_file], then every numeric key (the obs_* keys when the observer ran). */
 static int write_estimates(const options_t *o, const run_t *r)
 {
-    rfe_kv_t meta[14u + RFE_PK_COUNT];
+    rfe_kv_t meta[15u + RFE_PK_COUNT];
     char vals[RFE_PK_COUNT][RFE_NUM_BUF];
     char sat_vals[5][RFE_NUM_BUF];
     size_t n = 0u;
@@ -689,6 +787,10 @@ static int write_estimates(const options_t *o, const run_t *r)
         meta[n].key = "velocity";
         meta[n++].value = "observer";
     }
+    if (r->mg_ran) { /* only then: other estimate logs stay as they were */
+        meta[n].key = "mass_grade";
+        meta[n++].value = mg_config_name(r);
+    }
     meta[n].key = "structure";
     meta[n++].value = rfe_structure_str(r->ps.structure);
     meta[n].key = "real";
@@ -701,7 +803,8 @@ static int write_estimates(const options_t *o, const run_t *r)
     }
     for (k = 0u; k < (size_t)RFE_PK_COUNT; ++k) {
         /* numbers only (the words are above); the observer's keys when it ran */
-        if ((rfe_param_is_word(k) == 0) && (r->use_observer || (rfe_param_is_obs(k) == 0))) {
+        if ((rfe_param_is_word(k) == 0) && (r->use_observer || (rfe_param_is_obs(k) == 0)) &&
+            (r->mg_ran || (rfe_param_is_mg(k) == 0))) {
             rfe_param_format(&r->ps, k, vals[k]);
             meta[n].key = rfe_param_info(k)->key;
             meta[n++].value = vals[k];
@@ -814,7 +917,9 @@ static int write_metrics_json(const options_t *o, const run_t *r)
             sep = ", ";
         }
     }
-    fputs("},\n  \"metrics\": ", f);
+    fputs("},\n", f);
+    write_mass_grade_json(f, r);
+    fputs("  \"metrics\": ", f);
     if (r->has_metrics) {
         rfe_metrics_write_json(f, &r->metrics, 2);
     } else {
@@ -888,11 +993,141 @@ static void print_status_counts(const run_t *r)
         printf("observer: started afresh at %zu sample(s) after a period beyond obs_dt_max "
                "(rfe_velocity_restart)\n", r->stats.n_restarts);
     }
+    print_mass_grade(r);
     if (r->is_q31) {
         printf("saturation (q31): estimator %llu events in %zu steps (at most %lu in one step); "
                "input %llu values in %zu rows\n",
                (unsigned long long)r->q31.est_sat, r->q31.est_sat_rows,
                (unsigned long)r->q31.est_sat_max, (unsigned long long)r->q31.input_sat,
                r->q31.input_sat_rows);
+    }
+}
+
+/* ------------------------------------------------------------ mass and grade */
+
+/** Accuracy of the mass and grade estimate against the log's truth (DATA.md "Mass and grade
+ *  logs"); NaN where a truth column is missing or no sample counts. */
+typedef struct {
+    size_t first;      /**< the first sample counted: the estimator's first accepted one */
+    size_t n;          /**< samples counted: from it to the end of the log */
+    double mass_err_end;     /**< mass_est - mass_true at the last sample [kg] */
+    double mass_err_end_rel; /**< the same over mass_true */
+    double grade_rmse;       /**< RMSE of grade_est - grade_true over the samples counted [rad] */
+    double grade_max_abs;    /**< max |grade_est - grade_true| over them [rad] */
+} mg_accuracy_t;
+
+/* The figures of mg_accuracy_t: every sample from the estimator's first accepted one (before
+ * it there is no estimate, the rows hold 0) to the end, held ones included: what a user of
+ * the estimate would have read. */
+static void mass_grade_accuracy(const run_t *r, mg_accuracy_t *a)
+{
+    const size_t n = r->log.n_rows;
+    double sum = 0.0;
+    size_t i;
+    a->first = n;
+    for (i = 0u; (i < n) && (a->first == n); ++i) {
+        a->first = rfe_status_is_error((rfe_status_t)r->rows[i].mg_status) ? n : i;
+    }
+    a->n = n - a->first;
+    a->mass_err_end = (double)NAN;
+    a->mass_err_end_rel = (double)NAN;
+    a->grade_rmse = (double)NAN;
+    a->grade_max_abs = (double)NAN;
+    if (a->n == 0u) {
+        return;
+    }
+    if (r->log.has_mass_true) {
+        a->mass_err_end = r->rows[n - 1u].mass - r->log.rows[n - 1u].mass_true;
+        a->mass_err_end_rel = a->mass_err_end / r->log.rows[n - 1u].mass_true;
+    }
+    if (r->log.has_grade_true) {
+        a->grade_max_abs = 0.0;
+        for (i = a->first; i < n; ++i) {
+            const double e = r->rows[i].grade - r->log.rows[i].grade_true;
+            sum += e * e;
+            a->grade_max_abs = (fabs(e) > a->grade_max_abs) ? fabs(e) : a->grade_max_abs;
+        }
+        a->grade_rmse = sqrt(sum / (double)a->n);
+    }
+}
+
+/* "mass_grade": {...}, when the estimator ran: its configuration, the last estimate, the
+ * status counts and the accuracy against the truth columns (null without them). */
+static void write_mass_grade_json(FILE *f, const run_t *r)
+{
+    const rfe_est_row_t *last = &r->rows[r->log.n_rows - 1u];
+    mg_accuracy_t a;
+    const char *sep = "";
+    size_t s;
+    if (!r->mg_ran) {
+        return;
+    }
+    mass_grade_accuracy(r, &a);
+    fprintf(f, "  \"mass_grade\": {\"config\": \"%s\", \"use_ax\": %d, \"end\": {\"mass\": ",
+            mg_config_name(r), (r->ps.mg[RFE_PK_mg_use_ax - RFE_PK_MG_FIRST] != 0.0) ? 1 : 0);
+    rfe_json_write_number(f, last->mass);
+    fputs(", \"sd_mass\": ", f);
+    rfe_json_write_number(f, last->sd_mass);
+    fputs(", \"grade\": ", f);
+    rfe_json_write_number(f, last->grade);
+    fputs(", \"sd_grade\": ", f);
+    rfe_json_write_number(f, last->sd_grade);
+    fputs("}, \"status_counts\": {", f);
+    for (s = 0u; s < RFE_REPLAY_STATUS_SLOTS; ++s) {
+        if (r->stats.mg_status_count[s] != 0u) {
+            fprintf(f, "%s\"%zu\": %zu", sep, s, r->stats.mg_status_count[s]);
+            sep = ", ";
+        }
+    }
+    fputs("},\n    \"accuracy\": ", f);
+    if (r->log.has_mass_true || r->log.has_grade_true) {
+        fprintf(f, "{\"from_t_s\": ");
+        rfe_json_write_number(f, (a.n > 0u) ? r->rows[a.first].t : (double)NAN);
+        fprintf(f, ", \"n\": %zu, \"mass_err_end\": ", a.n);
+        rfe_json_write_number(f, a.mass_err_end);
+        fputs(", \"mass_err_end_rel\": ", f);
+        rfe_json_write_number(f, a.mass_err_end_rel);
+        fputs(", \"grade_rmse\": ", f);
+        rfe_json_write_number(f, a.grade_rmse);
+        fputs(", \"grade_max_abs_err\": ", f);
+        rfe_json_write_number(f, a.grade_max_abs);
+        fputs("}", f);
+    } else {
+        fputs("null", f);
+    }
+    fputs("},\n", f);
+}
+
+/* The summary's mass and grade lines, when the estimator ran. */
+static void print_mass_grade(const run_t *r)
+{
+    const rfe_est_row_t *last = &r->rows[r->log.n_rows - 1u];
+    mg_accuracy_t a;
+    size_t s;
+    if (!r->mg_ran) {
+        return;
+    }
+    mass_grade_accuracy(r, &a);
+    printf("mass and grade (%s, %s): at the end mass %.1f kg (sd %.1f), grade %.4f rad "
+           "(sd %.4f)\n",
+           mg_config_name(r),
+           (r->ps.mg[RFE_PK_mg_use_ax - RFE_PK_MG_FIRST] != 0.0) ? "speed, torque and ax"
+                                                                : "speed and torque",
+           last->mass, last->sd_mass, last->grade, last->sd_grade);
+    for (s = 0u; s < RFE_REPLAY_STATUS_SLOTS; ++s) {
+        if (r->stats.mg_status_count[s] != 0u) {
+            const char *name = (s + 1u < RFE_REPLAY_STATUS_SLOTS)
+                                   ? rfe_status_str((rfe_status_t)s)
+                                   : "other status values";
+            printf("  mg status %2zu %-37s %zu\n", s, name, r->stats.mg_status_count[s]);
+        }
+    }
+    if (r->log.has_mass_true && (a.n > 0u)) {
+        printf("  mass error at the end %+.1f kg (%+.2f %%)\n", a.mass_err_end,
+               100.0 * a.mass_err_end_rel);
+    }
+    if (r->log.has_grade_true && (a.n > 0u)) {
+        printf("  grade RMSE %.5f rad, max error %.5f rad, over %zu samples from t = %.3f s\n",
+               a.grade_rmse, a.grade_max_abs, a.n, r->rows[a.first].t);
     }
 }

@@ -24,6 +24,9 @@ static const rfe_param_info_t k_info[RFE_PK_COUNT] = {
     {"structure", "-", "state: wheels (four independent mu) or sides (mu_left, mu_right)"},
     {"obs_driven", "-", "driven wheels, a bit mask fl 1, fr 2, rl 4, rr 8 (3 front, 12 rear, 15 all)"},
     RFE_OBS_KEYS(RFE_PK_INFO_)
+    {"mg_adaptive", "-", "mass and grade: 1 the seed's adaptive UKF (AUKF), 0 the plain UKF"},
+    {"mg_use_ax", "-", "mass and grade: 1 the accelerometer row, 0 speed and torque only"},
+    RFE_MG_KEYS(RFE_PK_INFO_)
 #undef RFE_PK_INFO_
 };
 
@@ -60,6 +63,8 @@ void rfe_param_format(const rfe_param_set_t *ps, size_t k, char buf[RFE_NUM_BUF]
         rfe_text_format_double(buf, ps->value[k]);
     } else if (rfe_param_is_obs(k) != 0) {
         rfe_text_format_double(buf, ps->obs[k - RFE_PK_OBS_FIRST]);
+    } else if (rfe_param_is_mg(k) != 0) {
+        rfe_text_format_double(buf, ps->mg[k - RFE_PK_MG_FIRST]);
     } else {
         const char *w = (k == (size_t)RFE_PK_TYRE)     ? rfe_tyre_mode_str(ps->tyre)
                         : (k == (size_t)RFE_PK_FILTER) ? rfe_filter_kind_str(ps->filter)
@@ -87,8 +92,10 @@ rfe_num_status_t rfe_param_set_text(rfe_param_set_t *ps, size_t k, const char *v
     st = rfe_text_parse_double(value, &v);
     if ((st == RFE_NUM_OK) && (k < RFE_PK_NUMERIC)) {
         ps->value[k] = v;
-    } else if (st == RFE_NUM_OK) {
+    } else if ((st == RFE_NUM_OK) && (rfe_param_is_obs(k) != 0)) {
         ps->obs[k - RFE_PK_OBS_FIRST] = v;
+    } else if (st == RFE_NUM_OK) {
+        ps->mg[k - RFE_PK_MG_FIRST] = v;
     } else {
         /* st names what is wrong with the text */
     }

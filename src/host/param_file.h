@@ -14,6 +14,7 @@
 #include <stddef.h>
 
 #include "csv_log.h"
+#include "rfe/mass_grade_bits.h"
 #include "rfe/params.h"
 #include "text_io.h"
 
@@ -122,8 +123,46 @@
     X(obs_lin_r_rel, lin_r_rel, "1", "linear range: plus this share of |vx delta / L|")                        \
     X(obs_lin_ay_max, lin_ay_max, "m/s^2", "linear range: |ay| at most this")
 
+/**
+ * The mass and grade estimator's keys (docs/MASS_GRADE.md §6): X(key, rfe_mass_grade_params_t
+ * member, unit, doc), each an rfe_real_t; mg_adaptive and mg_use_ax (0 or 1) come before
+ * them. R and g are the vehicle keys above. No values: they start from the library preset
+ * the run's --mass-grade names (rfe_mass_grade_params_preset, the car).
+ */
+#define RFE_MG_KEYS(X) \
+    X(mg_fc, fc, "1", "rolling resistance, constant part f_c")                                   \
+    X(mg_fr, fr, "s/m", "rolling resistance, speed part f_r")                                    \
+    X(mg_rho, rho, "kg/m^3", "air density")                                                      \
+    X(mg_cd, cd, "1", "drag coefficient")                                                        \
+    X(mg_area, area, "m^2", "frontal area")                                                      \
+    X(mg_m_rot, m_rot, "kg", "equivalent mass of the parts the drive torque spins up")           \
+    X(mg_m0, m0, "kg", "initial mass")                                                           \
+    X(mg_theta0, theta0, "rad", "initial grade")                                                 \
+    X(mg_sd_m0, sd_m0, "kg", "initial sd of the mass")                                           \
+    X(mg_sd_theta0, sd_theta0, "rad", "initial sd of the grade")                                 \
+    X(mg_q_v, q_v, "m/s/sqrt(s)", "process noise density of v")                                  \
+    X(mg_q_mc, q_mc, "kg/sqrt(s)", "constant part of the mass process noise")                    \
+    X(mg_q_mv0, q_mv0, "kg/sqrt(s)", "initial adaptive part of the mass process noise (AUKF)")   \
+    X(mg_q_theta, q_theta, "rad/sqrt(s)", "process noise density of the grade")                  \
+    X(mg_r_v, r_v, "m/s", "speed measurement noise sd")                                          \
+    X(mg_r_ax, r_ax, "m/s^2", "accelerometer row noise sd (sensor and model)")                   \
+    X(mg_ut_alpha, ut_alpha, "1", "unscented transform: spread alpha")                           \
+    X(mg_ut_beta, ut_beta, "1", "unscented transform: prior parameter beta")                     \
+    X(mg_ut_kappa, ut_kappa, "1", "unscented transform: secondary scaling kappa")                \
+    X(mg_t_adapt, t_adapt, "s", "adaptation period (0: every step)")                             \
+    X(mg_mv_stop, mv_stop, "1", "the adaptation ends at q_mv <= mg_mv_stop q_mc^2")              \
+    X(mg_v_min, v_min, "m/s", "below this speed the filter holds")                               \
+    X(mg_t_brake, t_brake, "s", "hold after the last braked sample")                             \
+    X(mg_t_shift, t_shift, "s", "hold after a gear change")                                      \
+    X(mg_p_brake_on, p_brake_on, "Pa", "brake pressure that means braking")                      \
+    X(mg_m_min, m_min, "kg", "lower mass bound")                                                 \
+    X(mg_m_max, m_max, "kg", "upper mass bound")                                                 \
+    X(mg_theta_max, theta_max, "rad", "grade bound")                                             \
+    X(mg_dt_max, dt_max, "s", "a longer sample period restarts the filter")
+
 /** Index of each key: the friction estimator's numeric keys RFE_PK_m, RFE_PK_Lf, ...; its
- *  three word-valued keys; then the observer's keys, obs_driven first. */
+ *  three word-valued keys; then the observer's keys, obs_driven first; then the mass and
+ *  grade estimator's, mg_adaptive and mg_use_ax first. */
 typedef enum {
 #define RFE_PK_ENUM_(key, member, unit, doc) RFE_PK_##key,
     RFE_PARAM_KEYS(RFE_PK_ENUM_)
@@ -132,20 +171,33 @@ typedef enum {
     RFE_PK_STRUCTURE,   /**< key structure = wheels|sides */
     RFE_PK_obs_driven,  /**< key obs_driven: driven wheels, bit mask fl 1, fr 2, rl 4, rr 8 */
     RFE_OBS_KEYS(RFE_PK_ENUM_)
+    RFE_PK_mg_adaptive, /**< key mg_adaptive: 1 the seed's AUKF, 0 the plain UKF */
+    RFE_PK_mg_use_ax,   /**< key mg_use_ax: 1 the accelerometer row, 0 speed only */
+    RFE_MG_KEYS(RFE_PK_ENUM_)
 #undef RFE_PK_ENUM_
     RFE_PK_COUNT        /**< number of keys */
 } rfe_param_key_t;
 
 /** Number of the friction estimator's numeric keys (the first RFE_PK_NUMERIC indices). */
 #define RFE_PK_NUMERIC ((size_t)RFE_PK_TYRE)
-/** The observer's keys: indices RFE_PK_OBS_FIRST .. RFE_PK_COUNT - 1, all numeric. */
+/** The observer's keys: indices RFE_PK_OBS_FIRST .. RFE_PK_MG_FIRST - 1, all numeric. */
 #define RFE_PK_OBS_FIRST ((size_t)RFE_PK_obs_driven)
-#define RFE_PK_OBS_COUNT ((size_t)RFE_PK_COUNT - RFE_PK_OBS_FIRST)
+/** The mass and grade estimator's keys: indices RFE_PK_MG_FIRST .. RFE_PK_COUNT - 1, all
+ *  numeric. */
+#define RFE_PK_MG_FIRST ((size_t)RFE_PK_mg_adaptive)
+#define RFE_PK_OBS_COUNT (RFE_PK_MG_FIRST - RFE_PK_OBS_FIRST)
+#define RFE_PK_MG_COUNT ((size_t)RFE_PK_COUNT - RFE_PK_MG_FIRST)
 
 /** 1 when key @p k is an observer key (obs_*). */
 static inline int rfe_param_is_obs(size_t k)
 {
-    return ((k >= RFE_PK_OBS_FIRST) && (k < (size_t)RFE_PK_COUNT)) ? 1 : 0;
+    return ((k >= RFE_PK_OBS_FIRST) && (k < RFE_PK_MG_FIRST)) ? 1 : 0;
+}
+
+/** 1 when key @p k is a mass and grade key (mg_*). */
+static inline int rfe_param_is_mg(size_t k)
+{
+    return ((k >= RFE_PK_MG_FIRST) && (k < (size_t)RFE_PK_COUNT)) ? 1 : 0;
 }
 
 /** 1 when key @p k takes a word (tyre, filter, structure), not a number. */
@@ -183,10 +235,16 @@ typedef struct {
     rfe_preset_t preset;
     double value[RFE_PK_NUMERIC];
     double obs[RFE_PK_OBS_COUNT]; /**< the observer's keys, index k - RFE_PK_OBS_FIRST */
+    double mg[RFE_PK_MG_COUNT];   /**< the mass and grade keys, index k - RFE_PK_MG_FIRST */
     rfe_tyre_mode_t tyre;
     rfe_filter_kind_t filter;
     rfe_structure_t structure;
     rfe_param_origin_t origin[RFE_PK_COUNT];
+    int mass_grade;            /**< nonzero: the replay runs the mass and grade estimator on a
+                                    log with drive_torque (mu_replay --mass-grade; 0 in every
+                                    preset, so a plain replay runs as before) */
+    rfe_mg_config_t mg_config; /**< the library preset the mg_* values started from (for the
+                                    diagnosis of an invalid one) */
 } rfe_param_set_t;
 
 /** Info for key index @p k (< RFE_PK_COUNT), or NULL. */

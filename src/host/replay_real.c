@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "rfe/friction.h"
+#include "rfe/mass_grade.h"
 #include "rfe/pipeline.h"
 #include "rfe/params.h"
 #include "rfe/velocity_params.h"
@@ -50,6 +51,20 @@ static const size_t k_obs_offset[RFE_PK_OBS_COUNT - 1u] = {
 #define RFE_IS_REAL_(key, member, unit, doc)                                               \
     typedef char rfe_key_is_real_##key[(sizeof(((rfe_velocity_params_t *)0)->member) == sizeof(rfe_real_t)) ? 1 : -1];
 RFE_OBS_KEYS(RFE_IS_REAL_)
+#undef RFE_IS_REAL_
+
+/* Where each mass and grade key after mg_use_ax lives in rfe_mass_grade_params_t
+ * (RFE_MG_KEYS). */
+static const size_t k_mg_offset[RFE_PK_MG_COUNT - 2u] = {
+#define RFE_OFFSET_(key, member, unit, doc) offsetof(rfe_mass_grade_params_t, member),
+    RFE_MG_KEYS(RFE_OFFSET_)
+#undef RFE_OFFSET_
+};
+
+/* As above: every mass and grade key after mg_use_ax is an rfe_real_t. */
+#define RFE_IS_REAL_(key, member, unit, doc)                                               \
+    typedef char rfe_key_is_real_##key[(sizeof(((rfe_mass_grade_params_t *)0)->member) == sizeof(rfe_real_t)) ? 1 : -1];
+RFE_MG_KEYS(RFE_IS_REAL_)
 #undef RFE_IS_REAL_
 
 rfe_replay_preset_fn_t rfe_replay_preset_fn(rfe_preset_t preset)
@@ -96,6 +111,30 @@ int rfe_param_set_preset(rfe_param_set_t *ps, rfe_preset_t preset)
         memcpy(&v, (const char *)&vp + k_obs_offset[k - 1u], sizeof v);
         ps->obs[k] = (double)v;
     }
+    return rfe_param_set_mass_grade(ps, RFE_MG_RECOMMENDED);
+}
+
+int rfe_param_set_mass_grade(rfe_param_set_t *ps, rfe_mg_config_t config)
+{
+    rfe_mass_grade_params_t mp;
+    size_t k;
+    if ((ps == NULL) || (rfe_mass_grade_params_preset(&mp, RFE_MG_CAR, config) != RFE_OK)) {
+        return -1;
+    }
+    ps->mg_config = config;
+    ps->mg[0] = (double)mp.adaptive;
+    ps->mg[1] = (double)mp.use_ax;
+    for (k = 2u; k < RFE_PK_MG_COUNT; ++k) {
+        rfe_real_t v;
+        memcpy(&v, (const char *)&mp + k_mg_offset[k - 2u], sizeof v);
+        ps->mg[k] = (double)v;
+        ps->origin[RFE_PK_MG_FIRST + k].file = NULL;
+        ps->origin[RFE_PK_MG_FIRST + k].line = 0u;
+    }
+    ps->origin[RFE_PK_mg_adaptive].file = NULL;
+    ps->origin[RFE_PK_mg_adaptive].line = 0u;
+    ps->origin[RFE_PK_mg_use_ax].file = NULL;
+    ps->origin[RFE_PK_mg_use_ax].line = 0u;
     return 0;
 }
 
@@ -170,6 +209,142 @@ static size_t diagnose_params(const rfe_param_set_t *ps)
     return RFE_PK_NONE;
 }
 
+/* Mass and grade key @p k of the set into @p mp; 0, or -1 when mg_adaptive or mg_use_ax is
+ * not 0 or 1 (a double would otherwise be truncated without a word). R and g are the
+ * vehicle keys. */
+static int set_mg_key(rfe_mass_grade_params_t *mp, const rfe_param_set_t *ps, size_t k)
+{
+    const double v = (k < RFE_PK_MG_FIRST) ? ps->value[k] : ps->mg[k - RFE_PK_MG_FIRST];
+    if ((k == (size_t)RFE_PK_mg_adaptive) || (k == (size_t)RFE_PK_mg_use_ax)) {
+        if (!((v == 0.0) || (v == 1.0))) {
+            return -1;
+        }
+        *((k == (size_t)RFE_PK_mg_adaptive) ? &mp->adaptive : &mp->use_ax) = (uint32_t)v;
+    } else if (k == (size_t)RFE_PK_R) {
+        mp->R = (rfe_real_t)v;
+    } else if (k == (size_t)RFE_PK_g) {
+        mp->g = (rfe_real_t)v;
+    } else {
+        const rfe_real_t r = (rfe_real_t)v;
+        memcpy((char *)mp + k_mg_offset[k - RFE_PK_MG_FIRST - 2u], &r, sizeof r);
+    }
+    return 0;
+}
+
+/* The keys the mass and grade parameters take, in the order they are applied: R, g, then
+ * the mg_* keys; index i of RFE_PK_MG_COUNT + 2. */
+static size_t mg_key(size_t i)
+{
+    return (i == 0u) ? (size_t)RFE_PK_R : ((i == 1u) ? (size_t)RFE_PK_g : RFE_PK_MG_FIRST + i - 2u);
+}
+
+rfe_status_t rfe_replay_mass_grade_params(const rfe_param_set_t *ps, rfe_mass_grade_params_t *mp,
+                                          size_t *bad_key)
+{
+    size_t i;
+    int bad;
+    if ((ps == NULL) || (mp == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    if (bad_key != NULL) {
+        *bad_key = RFE_PK_NONE;
+    }
+    bad = (rfe_mass_grade_params_preset(mp, RFE_MG_CAR, ps->mg_config) != RFE_OK) ? -1 : 0;
+    for (i = 0u; (bad == 0) && (i < RFE_PK_MG_COUNT + 2u); ++i) {
+        bad |= set_mg_key(mp, ps, mg_key(i));
+    }
+    if ((bad == 0) && (rfe_mass_grade_params_validate(mp) == RFE_OK)) {
+        return RFE_OK;
+    }
+    /* Which key alone makes it fail, from the (valid) preset the set started from. */
+    for (i = 0u; (bad_key != NULL) && (i < RFE_PK_MG_COUNT + 2u); ++i) {
+        rfe_mass_grade_params_t one;
+        if ((rfe_mass_grade_params_preset(&one, RFE_MG_CAR, ps->mg_config) != RFE_OK) ||
+            (set_mg_key(&one, ps, mg_key(i)) != 0) ||
+            (rfe_mass_grade_params_validate(&one) != RFE_OK)) {
+            *bad_key = mg_key(i);
+            break;
+        }
+    }
+    return RFE_ERR_PARAM;
+}
+
+/* The mass and grade sample of log row @p i: the speed from the four wheels,
+ * (omega_fl + omega_fr + omega_rl + omega_rr) / 4 * R in double and in that order
+ * (MASS_GRADE.md §1, as the reference), the period since row @p prev (the last sample the
+ * estimator accepted; none: @p prev >= @p i), the torque, the accelerometer, and the optional
+ * brake, brake pressure and gear the log has. Returns RFE_OK, or the status of a row whose
+ * brake or gear cell the library's integer inputs cannot hold: not finite (17), a gear
+ * beyond +-RFE_REPLAY_GEAR_MAX (18). */
+static rfe_status_t mass_grade_input(const rfe_sensor_log_t *log, size_t i, size_t prev, double R,
+                                     rfe_mass_grade_input_t *in)
+{
+    const rfe_sensor_row_t *row = &log->rows[i];
+    const double v = ((((row->omega[RFE_FL] + row->omega[RFE_FR]) + row->omega[RFE_RL]) +
+                       row->omega[RFE_RR]) /
+                      4.0) *
+                     R;
+    memset(in, 0, sizeof *in);
+    in->dt = (prev < i) ? (rfe_real_t)(row->t - log->rows[prev].t) : (rfe_real_t)0.0;
+    in->v = (rfe_real_t)v;
+    in->torque = (rfe_real_t)row->drive_torque;
+    in->ax = (rfe_real_t)row->ax;
+    in->p_brake = log->has_brake_pressure ? (rfe_real_t)row->brake_pressure : (rfe_real_t)0.0;
+    in->has = RFE_MG_HAS_AX | (log->has_brake_pressure ? RFE_MG_HAS_PRESSURE : 0u) |
+              (log->has_brake ? RFE_MG_HAS_BRAKE : 0u) | (log->has_gear ? RFE_MG_HAS_GEAR : 0u);
+    if ((log->has_brake && !isfinite(row->brake)) || (log->has_gear && !isfinite(row->gear))) {
+        return RFE_ERR_NONFINITE;
+    }
+    if (log->has_gear && (fabs(row->gear) > RFE_REPLAY_GEAR_MAX)) {
+        return RFE_ERR_RANGE;
+    }
+    in->brake = (log->has_brake && (row->brake >= 0.5)) ? 1u : 0u;
+    in->gear = log->has_gear ? (int32_t)floor(row->gear + 0.5) : 0; /* the nearest gear */
+    return RFE_OK;
+}
+
+/* One mass and grade step on row @p i into @p out; a row the library (or mass_grade_input)
+ * refuses gets the held estimate and its error status. *last: the last accepted row. */
+static void mass_grade_row(rfe_mass_grade_t *mg, const rfe_sensor_log_t *log, size_t i,
+                           size_t *last, rfe_est_row_t *out, rfe_replay_stats_t *stats)
+{
+    rfe_mass_grade_input_t in;
+    /* the estimate of the last step (rfe_mass_grade_t.last: zero before the first accepted
+     * sample), held should the row be refused here; the library's step refusing it gives
+     * the same (mass_grade.h) */
+    rfe_mass_grade_estimate_t e = mg->last;
+    rfe_status_t st = mass_grade_input(log, i, *last, (double)mg->p.R, &in);
+    if (st == RFE_OK) {
+        st = rfe_mass_grade_step(mg, &in, &e);
+    }
+    if (!rfe_status_is_error(st)) {
+        *last = i;
+    }
+    out->has_mass_grade = 1;
+    out->mass = (double)e.mass;
+    out->sd_mass = (double)e.sd_mass;
+    out->grade = (double)e.grade;
+    out->sd_grade = (double)e.sd_grade;
+    out->mg_status = (int)st;
+    ++stats->mg_status_count[rfe_replay_status_slot(out->mg_status)];
+}
+
+/* Whether this run steps the mass and grade estimator, and if so its init (RFE_OK: *on set). */
+static rfe_status_t mass_grade_init(const rfe_param_set_t *ps, const rfe_sensor_log_t *log,
+                                    rfe_mass_grade_t *mg, int *on, size_t *bad_key)
+{
+    rfe_mass_grade_params_t mp;
+    rfe_status_t st = RFE_OK;
+    *on = (ps->mass_grade != 0) && (log->has_drive_torque != 0);
+    if (*on) {
+        st = rfe_replay_mass_grade_params(ps, &mp, bad_key);
+    }
+    if (*on && (st == RFE_OK)) {
+        st = rfe_mass_grade_init(mg, &mp);
+    }
+    return st;
+}
+
 rfe_status_t rfe_replay_velocity_params(const rfe_param_set_t *ps, rfe_velocity_params_t *vp,
                                         size_t *bad_key)
 {
@@ -182,14 +357,14 @@ rfe_status_t rfe_replay_velocity_params(const rfe_param_set_t *ps, rfe_velocity_
         *bad_key = RFE_PK_NONE;
     }
     bad = (rfe_velocity_params_default(vp) != RFE_OK) ? -1 : 0; /* cannot fail: vp is set */
-    for (k = RFE_PK_OBS_FIRST; k < (size_t)RFE_PK_COUNT; ++k) {
+    for (k = RFE_PK_OBS_FIRST; k < RFE_PK_MG_FIRST; ++k) {
         bad |= set_obs_key(vp, ps, k);
     }
     if ((bad == 0) && (rfe_velocity_params_validate(vp) == RFE_OK)) {
         return RFE_OK;
     }
     /* Which key alone makes it fail, from the (valid) defaults. */
-    for (k = RFE_PK_OBS_FIRST; (bad_key != NULL) && (k < (size_t)RFE_PK_COUNT); ++k) {
+    for (k = RFE_PK_OBS_FIRST; (bad_key != NULL) && (k < RFE_PK_MG_FIRST); ++k) {
         rfe_velocity_params_t one;
         if ((rfe_velocity_params_default(&one) != RFE_OK) || (set_obs_key(&one, ps, k) != 0) ||
             (rfe_velocity_params_validate(&one) != RFE_OK)) {
@@ -235,6 +410,7 @@ static void step_row(rfe_friction_t *est, const rfe_sensor_row_t *row, rfe_est_r
     }
     out->status = (int)st;
     out->has_velocity = 0;
+    out->has_mass_grade = 0; /* mass_grade_row sets it when that estimator runs */
 }
 
 rfe_status_t rfe_replay_params(const rfe_param_set_t *ps, rfe_params_t *p,
@@ -263,8 +439,11 @@ rfe_status_t rfe_replay_run(const rfe_param_set_t *ps, const rfe_sensor_log_t *l
 {
     rfe_params_t p;
     rfe_friction_t est;
+    static rfe_mass_grade_t mg; /* the replay is single-threaded host code */
     rfe_status_t st;
     size_t i;
+    size_t mg_last = SIZE_MAX; /* the mass and grade estimator's last accepted row */
+    int mg_on = 0;
     if ((ps == NULL) || (log == NULL) || (out == NULL) || (stats == NULL)) {
         return RFE_ERR_NULL;
     }
@@ -275,6 +454,9 @@ rfe_status_t rfe_replay_run(const rfe_param_set_t *ps, const rfe_sensor_log_t *l
     st = rfe_replay_params(ps, &p, bad_key);
     if (st == RFE_OK) {
         st = rfe_friction_init(&est, &p);
+    }
+    if (st == RFE_OK) {
+        st = mass_grade_init(ps, log, &mg, &mg_on, bad_key);
     }
     if (st != RFE_OK) {
         return st;
@@ -289,6 +471,10 @@ rfe_status_t rfe_replay_run(const rfe_param_set_t *ps, const rfe_sensor_log_t *l
             }
         }
         step_row(&est, &log->rows[i], &out[i]);
+        if (mg_on) {
+            /* measured velocities: the estimated grade feeds nothing (no observer) */
+            mass_grade_row(&mg, log, i, &mg_last, &out[i], stats);
+        }
         ++stats->status_count[rfe_replay_status_slot(out[i].status)];
     }
     stats->n_steps = log->n_rows;
@@ -325,10 +511,13 @@ rfe_status_t rfe_replay_run_observer(const rfe_param_set_t *ps, const rfe_sensor
     rfe_params_t p;
     rfe_velocity_params_t vp;
     static rfe_pipeline_t pl; /* large; the replay is single-threaded host code */
+    static rfe_mass_grade_t mg;
     rfe_status_t st;
     size_t i;
     size_t w;
     size_t last = SIZE_MAX; /* the last accepted row: none yet */
+    size_t mg_last = SIZE_MAX; /* the mass and grade estimator's own */
+    int mg_on = 0;
     if ((ps == NULL) || (log == NULL) || (out == NULL) || (stats == NULL)) {
         return RFE_ERR_NULL;
     }
@@ -343,6 +532,9 @@ rfe_status_t rfe_replay_run_observer(const rfe_param_set_t *ps, const rfe_sensor
     if (st == RFE_OK) {
         st = rfe_pipeline_init(&pl, &p, &vp);
     }
+    if (st == RFE_OK) {
+        st = mass_grade_init(ps, log, &mg, &mg_on, bad_key);
+    }
     if (st != RFE_OK) {
         return st;
     }
@@ -350,6 +542,14 @@ rfe_status_t rfe_replay_run_observer(const rfe_param_set_t *ps, const rfe_sensor
         rfe_velocity_input_t in;
         rfe_pipeline_out_t o;
         rfe_replay_esc_input(log, i, last, &in);
+        out[i].has_mass_grade = 0;
+        if (mg_on) {
+            /* first, so the observer integrates ax with this sample's estimated grade when
+             * the log has no measured one: one way (the estimator takes nothing of the
+             * observer's) and causal (the grade of samples up to this one) */
+            mass_grade_row(&mg, log, i, &mg_last, &out[i], stats);
+            in.grade = log->has_grade ? in.grade : (rfe_real_t)out[i].grade;
+        }
         memset(&o, 0, sizeof o);
         st = rfe_pipeline_step(&pl, &in, &o);
         if (!rfe_status_is_error(st)) {

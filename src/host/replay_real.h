@@ -14,6 +14,7 @@
 
 #include "csv_log.h"
 #include "param_file.h"
+#include "rfe/mass_grade_params.h"
 #include "rfe/params.h"
 #include "rfe/types.h"
 #include "rfe/velocity.h"
@@ -30,6 +31,8 @@
 #define rfe_replay_params          rfe_replay_params_f64
 #define rfe_replay_velocity_params rfe_replay_velocity_params_f64
 #define rfe_replay_preset_fn       rfe_replay_preset_fn_f64
+#define rfe_param_set_mass_grade   rfe_param_set_mass_grade_f64
+#define rfe_replay_mass_grade_params rfe_replay_mass_grade_params_f64
 #else
 #define rfe_replay_run             rfe_replay_run_f32
 #define rfe_replay_run_observer    rfe_replay_run_observer_f32
@@ -39,6 +42,8 @@
 #define rfe_replay_params          rfe_replay_params_f32
 #define rfe_replay_velocity_params rfe_replay_velocity_params_f32
 #define rfe_replay_preset_fn       rfe_replay_preset_fn_f32
+#define rfe_param_set_mass_grade   rfe_param_set_mass_grade_f32
+#define rfe_replay_mass_grade_params rfe_replay_mass_grade_params_f32
 #endif
 
 /** Status codes counted individually (0 .. RFE_REPLAY_STATUS_SLOTS-2); the last slot is
@@ -55,7 +60,12 @@ typedef struct {
                              (behind the observer: the pipeline's out.missed) */
     size_t n_restarts;  /**< behind the observer: samples it started afresh at (a period
                              beyond obs_dt_max, the pipeline's out.restarted) */
+    size_t mg_status_count[RFE_REPLAY_STATUS_SLOTS]; /**< the mass and grade estimator's
+                                                          statuses (when it ran) */
 } rfe_replay_stats_t;
+
+/** A gear cell beyond +-this is refused (status 18): the library's gear is an int32_t. */
+#define RFE_REPLAY_GEAR_MAX 1e6
 
 /** Slot of @p status in rfe_replay_stats_t.status_count (inline: this header is shared by
  *  both precisions, so no out-of-line precision-independent code lives in replay_real.c). */
@@ -168,6 +178,32 @@ RFE_NODISCARD rfe_status_t rfe_replay_params(const rfe_param_set_t *ps, rfe_para
 RFE_NODISCARD rfe_status_t rfe_replay_velocity_params(const rfe_param_set_t *ps,
                                                      rfe_velocity_params_t *vp,
                                                      size_t *bad_key);
+
+/**
+ * Fills the set's mass and grade keys (mg_*) from the library's car preset of @p config
+ * (rfe_mass_grade_params_preset(.., RFE_MG_CAR, config); origins: the preset) and records
+ * the config; R and g stay the vehicle keys'. rfe_param_set_preset does it with
+ * RFE_MG_RECOMMENDED.
+ * @return 0, or -1 (nothing changed) when ps is NULL or config is not an rfe_mg_config_t.
+ */
+int rfe_param_set_mass_grade_f32(rfe_param_set_t *ps, rfe_mg_config_t config);
+/** Double-precision twin of rfe_param_set_mass_grade_f32 (mu_replay uses this one). */
+int rfe_param_set_mass_grade_f64(rfe_param_set_t *ps, rfe_mg_config_t config);
+
+/**
+ * The mass and grade estimator's parameters of the set: the library's car preset of
+ * ps->mg_config, then R, g and every mg_* key, validated (rfe_mass_grade_params_validate).
+ * The replays run the estimator with them when ps->mass_grade is set and the log has
+ * drive_torque: the estimate rows then carry mass_est .. mg_status, and behind the observer
+ * the estimated grade of each sample is the observer's grade input when the log has no
+ * grade column.
+ * @param[out] bad_key  when not NULL: the key (R, g or mg_*) whose value alone fails (or is
+ *                      not 0 or 1 for mg_adaptive, mg_use_ax), else RFE_PK_NONE.
+ * @return RFE_OK, RFE_ERR_NULL or RFE_ERR_PARAM.
+ */
+RFE_NODISCARD rfe_status_t rfe_replay_mass_grade_params(const rfe_param_set_t *ps,
+                                                       rfe_mass_grade_params_t *mp,
+                                                       size_t *bad_key);
 
 /** A library preset function of the including TU's precision (rfe_params_default_fXX, ...). */
 typedef rfe_status_t (*rfe_replay_preset_fn_t)(rfe_params_t *p);

@@ -97,6 +97,18 @@ static void test_rfe_unit_factor_definitions(void **state)
     assert_int_equal(rfe_unit_factor(RFE_DIM_WHEEL, "km/h", &f, &lin), 0);
     assert_int_equal(lin, 1);
     assert_close(f * 3.6, 1.0);
+    /* the mass and grade logs' brake pressure is in Pa (the p_* columns' unit is MPa) */
+    assert_int_equal(rfe_unit_factor(RFE_DIM_PRESSURE_PA, "Pa", &f, &lin), 0);
+    assert_close(f, 1.0);
+    assert_int_equal(rfe_unit_factor(RFE_DIM_PRESSURE_PA, "bar", &f, &lin), 0);
+    assert_close(f, 1e5);
+    assert_int_equal(rfe_unit_factor(RFE_DIM_PRESSURE_PA, "psi", &f, &lin), 0);
+    assert_close(f, 0.45359237 * 9.80665 / (0.0254 * 0.0254)); /* lbf/in^2 in Pa */
+    assert_int_equal(rfe_unit_factor(RFE_DIM_MASS, "t", &f, &lin), 0);
+    assert_close(f, 1e3);
+    assert_int_equal(rfe_unit_factor(RFE_DIM_MASS, "lb", &f, &lin), -1);
+    assert_string_equal(rfe_unit_words(RFE_DIM_PRESSURE_PA), "Pa, kPa, bar, MPa, psi");
+    assert_string_equal(rfe_unit_words(RFE_DIM_MASS), "kg, t");
 }
 
 /* REQ-CSV-005 */

@@ -25,7 +25,9 @@
 #include "rfe/config.h"
 #include "rfe/pipeline_q31.h"
 #include "rfe/friction.h"
+#include "rfe/mass_grade.h"
 #include "rfe/params.h"
+#include "rfe/pipeline.h"
 #include "rfe/velocity.h"
 
 #define DATA "test/host/data/"
@@ -783,6 +785,246 @@ static void test_rfe_replay_status_slot_bounds(void **state)
     assert_int_equal(rfe_replay_status_slot(1000), RFE_REPLAY_STATUS_SLOTS - 1);
 }
 
+/* ------------------------------------------------------------ mass and grade */
+
+/* The set's mg_* keys are the library's car preset of the config, each value exactly (read
+ * through the key table's member column), origins the preset; the default set's are the
+ * recommended preset's. NULL or an unknown config: -1, nothing changed. */
+/* REQ-PARF-004 */
+static void check_mg_set_equals_library(const rfe_param_set_t *ps, rfe_mg_config_t config)
+{
+    rfe_mass_grade_params_t p;
+    assert_int_equal(rfe_mass_grade_params_preset_f64(&p, RFE_MG_CAR, config), RFE_OK);
+    assert_int_equal(ps->mg_config, config);
+    assert_true(ps->mg[RFE_PK_mg_adaptive - RFE_PK_MG_FIRST] == (double)p.adaptive);
+    assert_true(ps->mg[RFE_PK_mg_use_ax - RFE_PK_MG_FIRST] == (double)p.use_ax);
+#define CHECK_MG_(key, member, unit, doc)                                                    \
+    if (!(ps->mg[(size_t)RFE_PK_##key - RFE_PK_MG_FIRST] == p.member)) {                     \
+        fail_msg("config %d, key %s: set %.17g, library %.17g", (int)config, #key,          \
+                 ps->mg[(size_t)RFE_PK_##key - RFE_PK_MG_FIRST], p.member);                  \
+    }                                                                                        \
+    assert_null(ps->origin[RFE_PK_##key].file);
+    RFE_MG_KEYS(CHECK_MG_)
+#undef CHECK_MG_
+}
+
+/* REQ-CLI-007 */
+static void test_rfe_param_set_mass_grade_is_the_library_preset(void **state)
+{
+    rfe_param_set_t ps;
+    rfe_param_set_t before;
+    (void)state;
+    assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_DEFAULT), 0);
+    check_mg_set_equals_library(&ps, RFE_MG_RECOMMENDED);
+    assert_int_equal(ps.mass_grade, 0); /* a preset never runs it */
+    assert_int_equal(rfe_param_set_mass_grade_f64(&ps, RFE_MG_SEED), 0);
+    check_mg_set_equals_library(&ps, RFE_MG_SEED);
+    assert_true(ps.mg[RFE_PK_mg_adaptive - RFE_PK_MG_FIRST] == 1.0);
+    assert_int_equal(rfe_param_set_mass_grade_f64(NULL, RFE_MG_SEED), -1);
+    memcpy(&before, &ps, sizeof ps);
+    assert_int_equal(rfe_param_set_mass_grade_f64(&ps, (rfe_mg_config_t)7), -1);
+    assert_memory_equal(&ps, &before, sizeof ps);
+}
+
+/* Every mg_* key reaches its member (each nonzero value times 1.5 stays valid: the masses stay
+ * ordered, n + lambda > 0, theta_max < 1.5), R and g come from the vehicle keys, and the key
+ * that alone fails is named; a combination names none. */
+/* REQ-CLI-007 */
+static void test_rfe_replay_mass_grade_params_keys_and_diagnosis(void **state)
+{
+    rfe_param_set_t ps;
+    rfe_mass_grade_params_t def;
+    rfe_mass_grade_params_t mp;
+    size_t bad = 0u;
+    (void)state;
+    memset(&def, 0, sizeof def);
+    memset(&mp, 0, sizeof mp);
+    assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_DEFAULT), 0);
+    assert_int_equal(rfe_mass_grade_params_default_f64(&def), RFE_OK);
+    assert_int_equal(rfe_replay_mass_grade_params_f64(&ps, &mp, &bad), RFE_OK);
+    assert_int_equal(bad, RFE_PK_NONE);
+    assert_memory_equal(&mp, &def, sizeof mp);
+#define CHECK_MG_(key, member, unit, doc)                                                    \
+    ps.mg[(size_t)RFE_PK_##key - RFE_PK_MG_FIRST] = def.member * 1.5;                        \
+    assert_int_equal(rfe_replay_mass_grade_params_f64(&ps, &mp, NULL), RFE_OK);              \
+    if (!(mp.member == def.member * 1.5)) {                                                  \
+        fail_msg("key %s did not reach its member", #key);                                   \
+    }                                                                                        \
+    ps.mg[(size_t)RFE_PK_##key - RFE_PK_MG_FIRST] = def.member;
+    RFE_MG_KEYS(CHECK_MG_)
+#undef CHECK_MG_
+    ps.value[RFE_PK_R] = 0.45;
+    ps.value[RFE_PK_g] = 9.8;
+    ps.mg[RFE_PK_mg_adaptive - RFE_PK_MG_FIRST] = 1.0;
+    ps.mg[RFE_PK_mg_use_ax - RFE_PK_MG_FIRST] = 0.0;
+    assert_int_equal(rfe_replay_mass_grade_params_f64(&ps, &mp, NULL), RFE_OK);
+    assert_true((mp.R == 0.45) && (mp.g == 9.8) && (mp.adaptive == 1u) && (mp.use_ax == 0u));
+    ps.mg[RFE_PK_mg_use_ax - RFE_PK_MG_FIRST] = 0.5; /* not a switch */
+    assert_int_equal(rfe_replay_mass_grade_params_f64(&ps, &mp, &bad), RFE_ERR_PARAM);
+    assert_int_equal(bad, RFE_PK_mg_use_ax);
+    ps.mg[RFE_PK_mg_use_ax - RFE_PK_MG_FIRST] = 1.0;
+    ps.mg[RFE_PK_mg_m0 - RFE_PK_MG_FIRST] = -5.0;
+    assert_int_equal(rfe_replay_mass_grade_params_f64(&ps, &mp, &bad), RFE_ERR_PARAM);
+    assert_int_equal(bad, RFE_PK_mg_m0);
+    assert_int_equal(rfe_replay_mass_grade_params_f64(&ps, &mp, NULL), RFE_ERR_PARAM);
+    ps.mg[RFE_PK_mg_m0 - RFE_PK_MG_FIRST] = 5000.0; /* valid alone, as is m_max 4000 */
+    ps.mg[RFE_PK_mg_m_max - RFE_PK_MG_FIRST] = 4000.0;
+    assert_int_equal(rfe_replay_mass_grade_params_f64(&ps, &mp, &bad), RFE_ERR_PARAM);
+    assert_int_equal(bad, RFE_PK_NONE);
+    assert_int_equal(rfe_replay_mass_grade_params_f64(NULL, &mp, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_replay_mass_grade_params_f64(&ps, NULL, NULL), RFE_ERR_NULL);
+}
+
+#define N_MG 40u
+
+/* A drive on a 3 % climb at ~20 m/s, 50 Hz: torque and ax as the car's model gives them, so
+ * the estimator's grade moves away from its start of 0 sample by sample. */
+static void make_mg_log(rfe_sensor_log_t *log, rfe_sensor_row_t rows[N_MG])
+{
+    size_t i;
+    size_t w;
+    memset(log, 0, sizeof *log);
+    memset(rows, 0, N_MG * sizeof rows[0]);
+    for (i = 0u; i < N_MG; ++i) {
+        const double v = 20.0 + 0.01 * (double)i;
+        rows[i].t = 0.02 * (double)i;
+        rows[i].vx = v;
+        rows[i].ax = 0.5 + 9.81 * sin(0.03);
+        rows[i].drive_torque = 0.325 * (1875.0 * 0.5 + 1830.0 * 9.81 * (0.03 + 0.01));
+        rows[i].gear = 3.0;
+        rows[i].brake = 0.0;
+        rows[i].brake_pressure = 0.0;
+        for (w = 0u; w < RFE_WHEELS; ++w) {
+            rows[i].omega[w] = v / 0.325;
+        }
+    }
+    log->rows = rows;
+    log->n_rows = N_MG;
+    log->has_drive_torque = 1;
+    log->has_gear = 1;
+    log->has_brake = 1;
+    log->has_brake_pressure = 1;
+}
+
+/* Behind the observer, each sample first steps the mass and grade estimator, then the
+ * pipeline with that sample's estimated grade (the current step's, not the previous one's):
+ * the replay equals this loop bit for bit. A measured grade column wins. The estimate is the
+ * same with measured velocities (its speed is the wheels'). */
+/* REQ-CLI-007 */
+static void test_rfe_replay_run_observer_takes_the_current_estimated_grade(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_sensor_row_t rows[N_MG];
+    rfe_param_set_t ps;
+    static rfe_est_row_t out[N_MG];
+    static rfe_est_row_t meas[N_MG];
+    rfe_replay_stats_t st;
+    rfe_params_t p;
+    rfe_velocity_params_t vp;
+    rfe_mass_grade_params_t mp;
+    static rfe_pipeline_t pl;
+    static rfe_mass_grade_t mg;
+    size_t i;
+    size_t moved = 0u;
+    (void)state;
+    make_mg_log(&log, rows);
+    assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_DEFAULT), 0);
+    ps.mass_grade = 1;
+    assert_int_equal(rfe_replay_run_observer_f64(&ps, &log, out, &st, NULL), RFE_OK);
+    assert_int_equal(rfe_replay_params_f64(&ps, &p, NULL), RFE_OK);
+    assert_int_equal(rfe_replay_velocity_params_f64(&ps, &vp, NULL), RFE_OK);
+    assert_int_equal(rfe_replay_mass_grade_params_f64(&ps, &mp, NULL), RFE_OK);
+    assert_int_equal(rfe_pipeline_init(&pl, &p, &vp), RFE_OK);
+    assert_int_equal(rfe_mass_grade_init(&mg, &mp), RFE_OK);
+    for (i = 0u; i < N_MG; ++i) {
+        rfe_mass_grade_input_t mi;
+        rfe_mass_grade_estimate_t e;
+        rfe_velocity_input_t in;
+        rfe_pipeline_out_t o;
+        memset(&mi, 0, sizeof mi);
+        mi.dt = (i > 0u) ? rows[i].t - rows[i - 1u].t : 0.0;
+        mi.v = ((((rows[i].omega[0] + rows[i].omega[1]) + rows[i].omega[2]) + rows[i].omega[3]) / 4.0) *
+               0.325;
+        mi.torque = rows[i].drive_torque;
+        mi.ax = rows[i].ax;
+        mi.gear = 3;
+        mi.has = RFE_MG_HAS_AX | RFE_MG_HAS_BRAKE | RFE_MG_HAS_PRESSURE | RFE_MG_HAS_GEAR;
+        assert_int_equal(rfe_mass_grade_step(&mg, &mi, &e), RFE_OK);
+        rfe_replay_esc_input_f64(&log, i, (i > 0u) ? i - 1u : SIZE_MAX, &in);
+        in.grade = e.grade;
+        assert_false(rfe_status_is_error(rfe_pipeline_step(&pl, &in, &o)));
+        assert_int_equal(out[i].has_mass_grade, 1);
+        assert_int_equal(out[i].mg_status, RFE_OK);
+        assert_true((out[i].mass == e.mass) && (out[i].sd_mass == e.sd_mass));
+        assert_true((out[i].grade == e.grade) && (out[i].sd_grade == e.sd_grade));
+        assert_true((out[i].vx == o.velocity.vx) && (out[i].sd_vx == o.velocity.sd_vx));
+        assert_true(out[i].mu[0] == o.friction.mu[0]);
+        moved += ((i > 0u) && (out[i].grade != out[i - 1u].grade)) ? 1u : 0u;
+    }
+    /* the grade changes from each sample to the next, so the previous sample's would differ */
+    assert_int_equal(moved, N_MG - 1u);
+    assert_int_equal(st.mg_status_count[RFE_OK], N_MG);
+    /* the measured grade column wins over the estimate: the observer as with grade 0 */
+    log.has_grade = 1;
+    assert_int_equal(rfe_replay_run_observer_f64(&ps, &log, meas, &st, NULL), RFE_OK);
+    ps.mass_grade = 0;
+    assert_int_equal(rfe_replay_run_observer_f64(&ps, &log, out, &st, NULL), RFE_OK);
+    for (i = 0u; i < N_MG; ++i) {
+        assert_true(meas[i].vx == out[i].vx);
+        assert_int_equal(out[i].has_mass_grade, 0);
+        assert_int_equal(meas[i].has_mass_grade, 1);
+    }
+    /* measured velocities: the same mass and grade (rows copied from the observer run) */
+    ps.mass_grade = 1;
+    assert_int_equal(rfe_replay_run_f64(&ps, &log, out, &st, NULL), RFE_OK);
+    for (i = 0u; i < N_MG; ++i) {
+        assert_int_equal(out[i].has_velocity, 0);
+        assert_true((out[i].mass == meas[i].mass) && (out[i].grade == meas[i].grade));
+        assert_true((out[i].sd_mass == meas[i].sd_mass) && (out[i].sd_grade == meas[i].sd_grade));
+    }
+    /* no drive_torque: not run, whatever the set says */
+    log.has_drive_torque = 0;
+    assert_int_equal(rfe_replay_run_f64(&ps, &log, out, &st, NULL), RFE_OK);
+    assert_int_equal(out[0].has_mass_grade, 0);
+    assert_int_equal(st.mg_status_count[RFE_OK], 0u);
+}
+
+/* An invalid mass and grade parameter refuses the run before any row, naming the key; a
+ * brake or gear cell the library's integers cannot hold refuses only that sample (the
+ * estimate held; the friction side goes on). */
+/* REQ-CLI-007 */
+static void test_rfe_replay_mass_grade_refusals(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_sensor_row_t rows[N_MG];
+    rfe_param_set_t ps;
+    static rfe_est_row_t out[N_MG];
+    rfe_replay_stats_t st;
+    size_t bad = 0u;
+    (void)state;
+    make_mg_log(&log, rows);
+    assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_DEFAULT), 0);
+    ps.mass_grade = 1;
+    ps.mg[RFE_PK_mg_sd_m0 - RFE_PK_MG_FIRST] = 0.0;
+    assert_int_equal(rfe_replay_run_f64(&ps, &log, out, &st, &bad), RFE_ERR_PARAM);
+    assert_int_equal(bad, RFE_PK_mg_sd_m0);
+    assert_int_equal(rfe_replay_run_observer_f64(&ps, &log, out, &st, &bad), RFE_ERR_PARAM);
+    assert_int_equal(bad, RFE_PK_mg_sd_m0);
+    ps.mg[RFE_PK_mg_sd_m0 - RFE_PK_MG_FIRST] = 500.0;
+    rows[1].gear = NAN;
+    rows[2].gear = -2e6;
+    rows[3].brake = INFINITY;
+    rows[4].gear = 2.6; /* the nearest gear, 3: no change, no pause */
+    assert_int_equal(rfe_replay_run_observer_f64(&ps, &log, out, &st, NULL), RFE_OK);
+    assert_int_equal(out[1].mg_status, RFE_ERR_NONFINITE);
+    assert_int_equal(out[2].mg_status, RFE_ERR_RANGE);
+    assert_int_equal(out[3].mg_status, RFE_ERR_NONFINITE);
+    assert_int_equal(out[4].mg_status, RFE_OK);
+    assert_true((out[3].mass == out[0].mass) && (out[3].grade == out[0].grade));
+    assert_false(rfe_status_is_error((rfe_status_t)out[2].status));
+    assert_int_equal(st.mg_status_count[RFE_ERR_NONFINITE], 2u);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -808,6 +1050,10 @@ int main(void)
         cmocka_unit_test(test_rfe_replay_run_observer_q31_counts_saturation_and_goes_on),
         cmocka_unit_test(test_rfe_replay_run_observer_q31_agrees_with_double),
         cmocka_unit_test(test_rfe_replay_status_slot_bounds),
+        cmocka_unit_test(test_rfe_param_set_mass_grade_is_the_library_preset),
+        cmocka_unit_test(test_rfe_replay_mass_grade_params_keys_and_diagnosis),
+        cmocka_unit_test(test_rfe_replay_run_observer_takes_the_current_estimated_grade),
+        cmocka_unit_test(test_rfe_replay_mass_grade_refusals),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
