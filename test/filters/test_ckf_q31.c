@@ -53,6 +53,7 @@
 #include "rfe/component/sckf.h"
 #include "rfe/component/sckf_q31.h"
 #include "test_rng.h"
+#include "test_light.h"
 
 #define NM ((size_t)RFE_N_MAX)
 #define MM ((size_t)RFE_M_MAX)
@@ -502,7 +503,7 @@ static void run_all_scenarios(rfe_tyre_mode_t tyre, const char *label)
     long fails = 0;
     size_t s;
     size_t k;
-    for (s = 0u; s < (sizeof stems / sizeof stems[0]); ++s) {
+    for (s = 0u; s < (sizeof stems / sizeof stems[0]); s += rfe_test_stride(5u)) { /* light mode (valgrind): every 5th log */
         for (k = 0u; k < 3u; ++k) {
             char path[256];
             scen_stats_t st;

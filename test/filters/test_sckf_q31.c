@@ -63,6 +63,7 @@
 #include "rfe/component/sckf.h"
 #include "rfe/component/sckf_q31.h"
 #include "test_rng.h"
+#include "test_light.h"
 
 #define NM ((size_t)RFE_N_MAX)
 #define MM ((size_t)RFE_M_MAX)
@@ -903,7 +904,7 @@ static void run_all_scenarios(int preset, const char *label)
     long flips = 0;
     long near = 0;
     long logs = 0;
-    for (s = 0u; s < (sizeof stems / sizeof stems[0]); ++s) {
+    for (s = 0u; s < (sizeof stems / sizeof stems[0]); s += rfe_test_stride(5u)) { /* light mode (valgrind): every 5th log */
         for (k = 0u; k < 3u; ++k) {
             char path[256];
             scen_stats_t st;

@@ -43,7 +43,11 @@
 #include "host/fixed_conv.h"
 #include "rfe/component/fxmath.h"
 #include "numerics/fxmath_internal_q31.h"
+#include "test_light.h"
 #include "test_rng.h"
+
+/* Light mode (valgrind): every 10th value of the long sweeps and random loops. */
+#define LIGHT_STEP ((int)rfe_test_stride(10u))
 
 #define TOL_ATAN2 9.4e-10
 #define TOL_SINCOS 4.7e-10
@@ -202,7 +206,7 @@ static void test_add_sub_neg_abs(void **state)
     long k;
     (void)state;
     rng_seed(101u);
-    for (k = 0; k < 200000; ++k) {
+    for (k = 0; k < 200000; k += LIGHT_STEP) {
         const int32_t a = (k < 121) ? edge[(size_t)k % ne] : rand_i32();
         const int32_t b =
             (k < 121) ? edge[(size_t)k / ne] : ((k & 1) ? rand_i32() : rand_i32_log());
@@ -269,7 +273,7 @@ static void test_shifts(void **state)
         }
     }
     rng_seed(202u);
-    for (k = 0; k < 300000; ++k) {
+    for (k = 0; k < 300000; k += LIGHT_STEP) {
         const int64_t a = u2s(rand_u64());
         const int64_t b = (int64_t)(rand_u64() >> (1u + rand_below(63u))) * ((k & 1) ? -1 : 1);
         s = rand_below(66u);
@@ -313,7 +317,7 @@ static void test_shl_rescale_mul_narrow(void **state)
     assert_int_equal(sat, 1u);
     rng_seed(303u);
     sat = 0u;
-    for (k = 0; k < 300000; ++k) {
+    for (k = 0; k < 300000; k += LIGHT_STEP) {
         const int32_t a = (k & 1) ? rand_i32() : rand_i32_log();
         const int32_t b = (k & 2) ? rand_i32() : rand_i32_log();
         const unsigned s = rand_below(64u);
@@ -419,7 +423,7 @@ static void test_isqrt64(void **state)
         check_isqrt(big * big + 2u * big); /* (big + 1)^2 - 1 */
     }
     rng_seed(404u);
-    for (i = 0; i < 300000; ++i) {
+    for (i = 0; i < 300000; i += LIGHT_STEP) {
         check_isqrt(rand_u64() >> rand_below(64u));
     }
     printf("[fxmath] isqrt64: exact (floor) over %d cases\n", 300000 + 5000 + 7 * 4999);
@@ -501,7 +505,7 @@ static void test_sqrt(void **state)
         }
     }
     rng_seed(505u);
-    for (i = 0; i < 200000; ++i) {
+    for (i = 0; i < 200000; i += LIGHT_STEP) {
         int32_t x = rand_i32_log();
         const double d =
             check_sqrt((x < 0) ? ((x == INT32_MIN) ? INT32_MAX : -x) : x, rand_below(32u),
@@ -594,7 +598,7 @@ static void test_norm(void **state)
     v[3] = 0;
     worst = check_norm(v, 4u);
     /* A long vector of small values (QR column of a large filter). */
-    for (i = 0; i < 100000u; ++i) {
+    for (i = 0; i < 100000u; i += LIGHT_STEP) {
         big[i] = (int32_t)((i % 7u) + 1u) * ((i & 1u) ? -1 : 1);
     }
     {
@@ -602,7 +606,7 @@ static void test_norm(void **state)
         worst = (d > worst) ? d : worst;
     }
     rng_seed(606u);
-    for (i = 0; i < 200000u; ++i) {
+    for (i = 0; i < 200000u; i += LIGHT_STEP) {
         const size_t n = rand_below(13u);
         const unsigned mode = rand_below(4u);
         for (j = 0; j < n; ++j) {
@@ -753,7 +757,7 @@ static void test_div(void **state)
         }
     }
     rng_seed(707u);
-    for (k = 0; k < 400000; ++k) {
+    for (k = 0; k < 400000; k += LIGHT_STEP) {
         const int32_t a = (k & 1) ? rand_i32() : rand_i32_log();
         int32_t b = (k & 2) ? rand_i32() : rand_i32_log();
         /* Mostly shifts that keep the quotient in range, some anywhere in [-62, 62]. */
@@ -833,7 +837,7 @@ static void test_atan2(void **state)
     }
     /* Dense angle grid at random radii (1 .. 2^31), every quadrant. */
     rng_seed(808u);
-    for (k = 0; k < 262144; ++k) {
+    for (k = 0; k < 262144; k += LIGHT_STEP) {
         const double th = -TEST_PI + (2.0 * TEST_PI * (double)k) / 262144.0;
         const double rad = ldexp(1.0, (int)rand_below(31u)) * (1.0 + 0.999 * fabs(rng_uniform()));
         const double xd = rad * cos(th);
@@ -841,7 +845,7 @@ static void test_atan2(void **state)
         (void)check_atan2((int32_t)fmax(fmin(yd, 2147483647.0), -2147483648.0),
                           (int32_t)fmax(fmin(xd, 2147483647.0), -2147483648.0));
     }
-    for (k = 0; k < 400000; ++k) {
+    for (k = 0; k < 400000; k += LIGHT_STEP) {
         (void)check_atan2((k & 1) ? rand_i32() : rand_i32_log(),
                           (k & 2) ? rand_i32() : rand_i32_log());
     }
@@ -907,7 +911,7 @@ static void test_sincos(void **state)
         check_sincos((int32_t)(INT32_MIN + k * 4096L + 1234L));
     }
     rng_seed(909u);
-    for (k = 0; k < 200000; ++k) {
+    for (k = 0; k < 200000; k += LIGHT_STEP) {
         check_sincos((k & 1) ? rand_i32() : rand_i32_log());
     }
     printf("[fxmath] sincos: max |err| = %.3e (%.4f LSB Q30) over %ld angles, bound %.1e\n",
@@ -961,7 +965,7 @@ static void test_tan(void **state)
         check_tan((int32_t)(-lim + k * 2048L));
     }
     rng_seed(1010u);
-    for (k = 0; k < 200000; ++k) {
+    for (k = 0; k < 200000; k += LIGHT_STEP) {
         const int32_t a = (int32_t)((k & 1) ? rand_i32() % (lim + 1) : rand_i32_log() % (lim + 1));
         check_tan(a);
     }
@@ -1057,7 +1061,7 @@ static void test_atan2_quad1(void **state)
         (void)check_atan2_quad1(big - small, big);
         (void)check_atan2_quad1(big, big - small);
     }
-    for (k = 0; k < 400000; ++k) {
+    for (k = 0; k < 400000; k += LIGHT_STEP) {
         const uint32_t yy = (k & 1) ? (uint32_t)rand_below(TWO30 + 1u) : rand_u30_log();
         const uint32_t xx = (k & 2) ? (uint32_t)rand_below(TWO30 + 1u) : rand_u30_log();
         (void)check_atan2_quad1(yy, xx);
@@ -1121,7 +1125,7 @@ static void test_sin_q55(void **state)
         (void)check_sin_q55((int64_t)floor(ldexp((double)Q55_PI, -20) * (double)k));
     }
     rng_seed(1212u);
-    for (k = 0; k < 200000; ++k) {
+    for (k = 0; k < 200000; k += LIGHT_STEP) {
         (void)check_sin_q55((int64_t)(rand_u64() % (uint64_t)(Q55_PI + 1)));
     }
     printf("[fxmath] sin_q55: max |err| = %.3e (%.4f LSB Q30) over %ld angles, bound %.3e\n",
@@ -1200,13 +1204,13 @@ static void test_atan2_q29(void **state)
         }
     }
     rng_seed(1313u);
-    for (k = 0; k < 262144; ++k) {
+    for (k = 0; k < 262144; k += LIGHT_STEP) {
         const double th = (2.0 * TEST_PI * (double)k) / 262144.0 - TEST_PI;
         const double rad = ldexp(1.0, (int)rand_below(62u)) * (1.0 + 0.999 * fabs(rng_uniform()));
         (void)check_atan2_q29((int64_t)fmax(fmin(rad * sin(th), 4.6e18), -4.6e18),
                               (int64_t)fmax(fmin(rad * cos(th), 4.6e18), -4.6e18));
     }
-    for (k = 0; k < 200000; ++k) {
+    for (k = 0; k < 200000; k += LIGHT_STEP) {
         (void)check_atan2_q29(rand_i62_log(), rand_i62_log());
     }
     printf("[fxmath] atan2_q29: max |err| = %.3e rad (%.4f LSB Q29) over %ld pairs, bound %.3e "
@@ -1263,7 +1267,7 @@ static void test_sincos_q29(void **state)
         check_sincos_q29((int32_t)(k * 4096L + (long)rand_below(4096u)));
     }
     rng_seed(1414u);
-    for (k = 0; k < 200000; ++k) {
+    for (k = 0; k < 200000; k += LIGHT_STEP) {
         check_sincos_q29(rand_i32());
     }
     printf("[fxmath] sincos_q29: max |err| = %.3e (%.4f LSB Q30) over %ld angles, bound %.3e\n",
@@ -1305,7 +1309,7 @@ static void test_tan_q29(void **state)
         check_tan_q29((int32_t)(((int64_t)RFE_FIX_TAN_LIMIT_Q29 * k) >> 18));
     }
     rng_seed(1515u);
-    for (k = 0; k < 200000; ++k) {
+    for (k = 0; k < 200000; k += LIGHT_STEP) {
         check_tan_q29((int32_t)rand_below((unsigned)RFE_FIX_TAN_LIMIT_Q29 + 1u));
     }
     printf("[fxmath] tan_q29: max |err| / bound = %.3f over %ld angles\n", tan29_worst,
