@@ -46,7 +46,7 @@ DEPS_EXTRA :=
 TEST_GATES :=
 include $(sort $(filter-out mk/lib.mk,$(wildcard mk/*.mk)))
 
-.PHONY: mass-grade-scenarios mass-grade-results mass-grade-goldens trust-invariant names car-format-logs observer-goldens observer-goldens-q31 observer-results monitor-results all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind coverage demo goldens goldens-q31 scenarios observer-scenarios clean vectors shared-sync check-shared readme-table \
+.PHONY: mass-grade-scenarios mass-grade-results mass-grade-goldens trust-invariant names car-format-logs observer-goldens observer-goldens-q31 observer-results monitor-results all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind valgrind-unit valgrind-cli coverage demo goldens goldens-q31 scenarios observer-scenarios clean vectors shared-sync check-shared readme-table \
         check-kernels check-tools layers help-check goldens-ref check-nofloat help deps-analysis misra tidy complexity structural analysis \
         twins check-twins tyre-id-scenarios tyre-id-results tyre-id-goldens
 ## the libraries and build/mu_replay (the default target)
@@ -171,10 +171,15 @@ VALGRIND := valgrind --error-exitcode=99 --leak-check=full --errors-for-leak-kin
 # RFE_TEST_LIGHT=1: the long back-to-back tests walk a subset of their logs and random
 # inputs (test/support/test_light.h); the full sets run natively, under ASan and in coverage.
 VALGRIND_JOBS ?= $(shell nproc 2>/dev/null || echo 1)
+# Two halves, so that make test can run the CLI script's memcheck (serial, minutes) beside
+# the unit tests' instead of after them.
 ## the C tests and the CLI under valgrind memcheck
-valgrind: deps-c deps-valgrind $(foreach f,f32 f64,$(addprefix $(BUILD)/$(f)/test/,$(UNIT_TESTS))) \
+valgrind: valgrind-unit valgrind-cli
+	@echo "valgrind: all tests clean under memcheck"
+## the unit and host tests under valgrind memcheck
+valgrind-unit: deps-c deps-valgrind $(foreach f,f32 f64,$(addprefix $(BUILD)/$(f)/test/,$(UNIT_TESTS))) \
           $(addprefix $(BUILD)/q31/test/,$(Q31_TESTS)) \
-          $(addprefix $(BUILD)/f64/test/host/,$(HOST_TESTS)) $(BUILD)/mu_replay
+          $(addprefix $(BUILD)/f64/test/host/,$(HOST_TESTS))
 	@mkdir -p $(BUILD)/valgrind; \
 	{ for t in $(Q31_TESTS); do echo $(BUILD)/q31/test/$$t; done; \
 	  for f in f32 f64; do for t in $(UNIT_TESTS); do echo $(BUILD)/$$f/test/$$t; done; done; } | \
@@ -182,11 +187,12 @@ valgrind: deps-c deps-valgrind $(foreach f,f32 f64,$(addprefix $(BUILD)/$(f)/tes
 	  if $(VALGRIND) {} > $$log 2>&1; then echo "== valgrind {}: clean"; \
 	  else cat $$log; echo "== valgrind {}: FAILED (log $$log)"; exit 255; fi'
 	@set -e; for t in $(HOST_TESTS); do echo "== valgrind host/$$t"; $(VALGRIND) $(BUILD)/f64/test/host/$$t; done
+## the CLI script with every mu_replay run under valgrind memcheck
+valgrind-cli: deps-c deps-valgrind $(BUILD)/mu_replay
 	@if [ -f test/host/test_cli.sh ]; then echo "== valgrind cli"; rm -f $(BUILD)/valgrind-cli.log; \
 	  VALGRIND_WRAP_BIN=$(abspath $(BUILD)/mu_replay) VALGRIND_WRAP_LOG=$(abspath $(BUILD)/valgrind-cli.log) \
 	  bash test/host/test_cli.sh test/support/valgrind_wrap.sh; \
 	  if [ -s $(BUILD)/valgrind-cli.log ]; then cat $(BUILD)/valgrind-cli.log; exit 1; fi; fi
-	@echo "valgrind: all tests clean under memcheck"
 
 # (mu_replay: the demo's tests run it)
 ## the Python tests (simulator, reference, tools)
@@ -201,11 +207,16 @@ coverage: deps $(foreach f,cov-f32 cov-f64,$(addprefix $(BUILD)/$(f)/test/,$(UNI
           $(addprefix $(BUILD)/cov-q31/test/,$(Q31_TESTS)) \
           $(addprefix $(BUILD)/cov-f64/test/host/,$(HOST_TESTS)) $(BUILD)/cov-mu_replay
 	@find $(BUILD) -name '*.gcda' -delete
-	@$(call run_tests,cov-f32) >/dev/null
-	@$(call run_tests,cov-f64) >/dev/null
-	@$(call run_q31_tests,cov-q31) >/dev/null
-	@set -e; for t in $(HOST_TESTS); do $(BUILD)/cov-f64/test/host/$$t >/dev/null; done
-	@if [ -f test/host/test_cli.sh ]; then bash test/host/test_cli.sh $(BUILD)/cov-mu_replay >/dev/null; fi
+	@# every binary and the CLI script side by side, TEST_JOBS at a time (libgcov merges the
+	@# counters of concurrent processes into each .gcda under a file lock); a failure prints
+	@# its output and stops the run
+	@mkdir -p $(BUILD)/cov-logs; \
+	{ for t in $(Q31_TESTS); do echo $(BUILD)/cov-q31/test/$$t; done; \
+	  for f in cov-f32 cov-f64; do for t in $(UNIT_TESTS); do echo $(BUILD)/$$f/test/$$t; done; done; \
+	  for t in $(HOST_TESTS); do echo $(BUILD)/cov-f64/test/host/$$t; done; \
+	  if [ -f test/host/test_cli.sh ]; then echo "bash test/host/test_cli.sh $(BUILD)/cov-mu_replay"; fi; } | \
+	xargs -P $(TEST_JOBS) -I{} sh -c 'log=$(BUILD)/cov-logs/$$(echo "{}" | tr "/ " "__").log; \
+	  if {} > $$log 2>&1; then :; else cat $$log; echo "== coverage run {}: FAILED (log $$log)"; exit 255; fi'
 	@mkdir -p $(BUILD)/coverage
 	@# (hit counts above 2^32 are real here: the q31 back-to-back tests execute the bit-length
 	@# loop of internal_q31.h ~6e9 times; gcovr's default 2^32 "suspicious" threshold, meant for
@@ -226,7 +237,7 @@ coverage: deps $(foreach f,cov-f32 cov-f64,$(addprefix $(BUILD)/$(f)/test/,$(UNI
 # share nothing but their common prerequisites, which make builds once); --output-sync
 # prints each check's output whole when it ends, so a long one (valgrind) is quiet a while.
 TEST_STEPS = lib check-tools layers names help-check check-shared check-twins check-nofloat misra tidy complexity structural test-c $(TEST_GATES) \
-             sanitize valgrind test-py check-kernels coverage
+             sanitize valgrind-unit valgrind-cli test-py check-kernels coverage
 TEST_JOBS ?= $(shell nproc 2>/dev/null || echo 1)
 ## every check, TEST_JOBS at a time (the README's test command)
 test: deps
