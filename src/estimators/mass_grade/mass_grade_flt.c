@@ -284,6 +284,17 @@ static rfe_status_t update(rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in
     return st;
 }
 
+/* §4.1 the state after a start, a hold or an update: x, P and q_mv finite. Valid parameters
+ * may still overflow a square (r_v = 1e30 in float: r_v^2 = Inf), and the hold adds to the
+ * grade's variance at every held sample. */
+static int state_finite(const rfe_mass_grade_t *o)
+{
+    return ((rfe_all_finite(o->x, N) != 0) && (rfe_all_finite(o->P, N * N) != 0) &&
+            (rfe_is_finite(o->q_mv) != 0))
+               ? 1
+               : 0;
+}
+
 /* §1 the outputs: the state, the sd of its diagonal. */
 static void estimate_of(const rfe_mass_grade_t *o, rfe_status_t status,
                         rfe_mass_grade_estimate_t *e)
@@ -324,6 +335,9 @@ rfe_status_t rfe_mass_grade_step(rfe_mass_grade_t *mg, const rfe_mass_grade_inpu
         }
     } else {
         /* the checks failed: nothing to compute */
+    }
+    if ((st == RFE_OK) && (state_finite(&o) == 0)) {
+        st = RFE_ERR_NONFINITE; /* a start or hold overflowed (e.g. r_v^2): never a NaN out */
     }
     if (st != RFE_OK) {
         *out = mg->last;
