@@ -591,6 +591,47 @@ static void test_start_and_hold_overflow_refused(void **state)
     assert_true(isfinite((double)e.sd_grade));
 }
 
+/* REQ-MG-008. Found by fuzz_mass_grade_f32: with a rolling radius of 4.5e-12 m (valid: > 0)
+ * the torque term T/r spreads the predicted speeds by ~1e10 m/s, and P- - K S K^T left
+ * P_vv = -2.7e8 with status 0 (sd_v reported 0); the next factorisation would have failed.
+ * Such an update is now refused (21), the estimator untouched. */
+static void test_update_losing_a_variance_refused(void **state)
+{
+    rfe_mass_grade_estimate_t e;
+    rfe_mass_grade_input_t in;
+    rfe_mass_grade_t before;
+    rfe_status_t st;
+    int k;
+    (void)state;
+    memset(&prm, 0, sizeof(prm));
+    assert_int_equal(rfe_mass_grade_params_preset(&prm, RFE_MG_TRUCK, RFE_MG_SEED), RFE_OK);
+    prm.R = (rfe_real_t)4.5e-12;
+    memset(&mg, 0, sizeof(mg));
+    assert_int_equal(rfe_mass_grade_init(&mg, &prm), RFE_OK);
+    memset(&in, 0, sizeof(in));
+    in.dt = (rfe_real_t)0.2;
+    in.v = (rfe_real_t)11.6;
+    in.torque = (rfe_real_t)-3.125;
+    assert_int_equal(step(&in, &e), RFE_OK);
+    for (k = 0; k < 20; ++k) {
+        in.v = (rfe_real_t)(11.6 - 0.01 * k);
+        before = mg;
+        st = step(&in, &e);
+        if (st == RFE_OK) {
+            /* an accepted update never holds a negative variance */
+            assert_true(mg.P[0] >= 0 && mg.P[4] >= 0 && mg.P[8] >= 0);
+        } else {
+            assert_true(st == RFE_ERR_NOT_POSITIVE_DEFINITE || st == RFE_ERR_NONFINITE);
+            assert_memory_equal(&mg, &before, sizeof(mg));
+        }
+#if !defined(RFE_REAL_DOUBLE)
+        if (k == 0) {
+            assert_int_equal(st, RFE_ERR_NOT_POSITIVE_DEFINITE); /* the fuzzer's case */
+        }
+#endif
+    }
+}
+
 /* REQ-MG-008 */
 static void test_innovation_covariance_not_positive(void **state)
 {
@@ -744,6 +785,7 @@ int main(void)
         cmocka_unit_test(test_adaptation_period),
         cmocka_unit_test(test_factorisation_failures_leave_the_state_untouched),
         cmocka_unit_test(test_start_and_hold_overflow_refused),
+        cmocka_unit_test(test_update_losing_a_variance_refused),
         cmocka_unit_test(test_innovation_covariance_not_positive),
         cmocka_unit_test(test_ukf_is_the_kalman_filter_on_a_linear_problem),
     };
