@@ -677,7 +677,7 @@ static void test_init_refuses_unusable_derived_bounds(void **state)
     assert_memory_equal(&tid, &before, sizeof(tid));
 }
 
-/* REQ-TID-002. Found by fuzz_tyre_id_f32: with a mass of 1.8e23 kg (valid) the spread of D
+/* REQ-TID-004. Found by fuzz_tyre_id_f32: with a mass of 1.8e23 kg (valid) the spread of D
  * and K passes the square root of the float's range, and the sds came out +Inf with status
  * 0. They are now the same sums over values scaled by the largest first: finite. */
 static void test_huge_vehicle_gives_finite_sds(void **state)
