@@ -28,8 +28,8 @@
  *    accepted sample) dt outside (0, dt_max] gives RFE_ERR_RANGE; else RFE_OK;
  *  - an error leaves the identifier byte-identical (memcmp) and reports the previous
  *    estimate with the error's status;
- *  - RFE_OK: known flags, exactly one of FIRST, HELD, UPDATED (LOST and RESAMPLED only with
- *    UPDATED); every mean and sd finite, sd >= 0; n_eff in [1, N]; every particle's
+ *  - RFE_OK: known flags, exactly one of FIRST, HELD, UPDATED, LOST (§7: a lost step draws
+ *    the prior again and says only that), RESAMPLED only with UPDATED; every mean and sd finite, sd >= 0; n_eff in [1, N]; every particle's
  *    parameters inside their bounds [lo, hi] exactly (the reflection of §5.5), so the means
  *    of D, C, K, E inside them to the rounding of a weighted sum; every log weight <= 0 or
  *    -Inf (normalised: the largest is 0), never NaN; rfe_tyre_id_get returns the estimate.
@@ -134,18 +134,20 @@ static void check_output(const fz_ctx_t *c, const rfe_tyre_id_sample_t *u,
                                                 RFE_TID_OUT_D_R, RFE_TID_OUT_C_R,
                                                 RFE_TID_OUT_K_R, RFE_TID_OUT_E_R};
     const rfe_tid_consts_t *k = &c->tid.c;
-    const uint32_t phase = e->flags & (RFE_TID_FIRST | RFE_TID_HELD | RFE_TID_UPDATED);
+    const uint32_t phase =
+        e->flags & (RFE_TID_FIRST | RFE_TID_HELD | RFE_TID_UPDATED | RFE_TID_LOST);
     rfe_tyre_id_estimate_t got;
     int i;
     int j;
     if ((e->flags & ~(uint32_t)KNOWN_FLAGS) != 0u) {
         violation(c, "an unknown flag", u, 0);
     }
-    if (phase != RFE_TID_FIRST && phase != RFE_TID_HELD && phase != RFE_TID_UPDATED) {
-        violation(c, "not exactly one of FIRST, HELD, UPDATED", u, 0);
+    if (phase != RFE_TID_FIRST && phase != RFE_TID_HELD && phase != RFE_TID_UPDATED &&
+        phase != RFE_TID_LOST) {
+        violation(c, "not exactly one of FIRST, HELD, UPDATED, LOST", u, 0);
     }
-    if (phase != RFE_TID_UPDATED && (e->flags & (RFE_TID_LOST | RFE_TID_RESAMPLED)) != 0u) {
-        violation(c, "LOST or RESAMPLED without UPDATED", u, 0);
+    if (phase != RFE_TID_UPDATED && (e->flags & RFE_TID_RESAMPLED) != 0u) {
+        violation(c, "RESAMPLED without UPDATED", u, 0);
     }
     for (i = 0; i < RFE_TID_OUTPUTS; ++i) {
         if (!finite(e->mean[i]) || !finite(e->sd[i])) {

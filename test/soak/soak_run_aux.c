@@ -27,7 +27,8 @@
  * Invariants at every step: no error on a row inside the limits (every row of the drive);
  * the estimate finite, every sd >= 0; mass and grade: the mass in [m_min, m_max], |grade| <=
  * theta_max, q_mv >= 0, the state x and P finite with a non-negative diagonal; tyre
- * identifier: known flags, exactly one of FIRST, HELD, UPDATED, n_eff in [1, N], every
+ * identifier: known flags, exactly one of FIRST, HELD, UPDATED, LOST (RESAMPLED only with
+ * UPDATED), n_eff in [1, N], every
  * particle's parameters inside their bounds exactly and the means of D, C, K, E inside them
  * to the rounding of a weighted sum, every log weight <= 0 and never NaN.
  */
@@ -220,12 +221,15 @@ static void check_tid(const rfe_tyre_id_t *t, const rfe_tyre_id_estimate_t *e, c
                                                 RFE_TID_OUT_K_R, RFE_TID_OUT_E_R};
     const uint32_t known = RFE_TID_UPDATED | RFE_TID_RESAMPLED | RFE_TID_HELD | RFE_TID_FIRST |
                            RFE_TID_LOST;
-    const uint32_t phase = e->flags & (RFE_TID_FIRST | RFE_TID_HELD | RFE_TID_UPDATED);
+    const uint32_t phase =
+        e->flags & (RFE_TID_FIRST | RFE_TID_HELD | RFE_TID_UPDATED | RFE_TID_LOST);
     int i;
     int j;
     why[0] = '\0';
     if ((e->flags & ~known) != 0u ||
-        (phase != RFE_TID_FIRST && phase != RFE_TID_HELD && phase != RFE_TID_UPDATED)) {
+        (phase != RFE_TID_FIRST && phase != RFE_TID_HELD && phase != RFE_TID_UPDATED &&
+         phase != RFE_TID_LOST) ||
+        (phase != RFE_TID_UPDATED && (e->flags & RFE_TID_RESAMPLED) != 0u)) {
         snprintf(why, n_why, "flags %#x", (unsigned)e->flags);
         return;
     }
