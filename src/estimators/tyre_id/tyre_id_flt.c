@@ -60,13 +60,14 @@ static int consts_usable(const rfe_tid_consts_t *c)
     const rfe_real_t cd_lo = c->lo[RFE_TID_C_F - RFE_TID_STATES] * c->lo[RFE_TID_D_F - RFE_TID_STATES];
     const rfe_real_t cd_lo_r = c->lo[RFE_TID_C_R - RFE_TID_STATES] * c->lo[RFE_TID_D_R - RFE_TID_STATES];
     const rfe_real_t v[3] = {c->fz0[0], c->fz0[1], c->gx};
-    int ok = ((rfe_all_finite(v, 3u) != 0) && (rfe_all_finite(c->lo, (size_t)RFE_TID_PAR) != 0) &&
-              (rfe_all_finite(c->hi, (size_t)RFE_TID_PAR) != 0) &&
-              (rfe_all_finite(c->q, (size_t)RFE_TID_PAR) != 0) &&
-              (rfe_all_finite(c->sd0, (size_t)RFE_TID_PAR) != 0))
-                 ? 1
-                 : 0;
+    int ok = 1;
     size_t e;
+    if ((rfe_all_finite(v, 3u) == 0) || (rfe_all_finite(c->lo, (size_t)RFE_TID_PAR) == 0) ||
+        (rfe_all_finite(c->hi, (size_t)RFE_TID_PAR) == 0) ||
+        (rfe_all_finite(c->q, (size_t)RFE_TID_PAR) == 0) ||
+        (rfe_all_finite(c->sd0, (size_t)RFE_TID_PAR) == 0)) {
+        ok = 0;
+    }
     for (e = 0u; e < (size_t)RFE_TID_PAR; ++e) {
         if (!(c->lo[e] < c->hi[e])) {
             ok = 0;
