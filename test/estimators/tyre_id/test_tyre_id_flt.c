@@ -675,6 +675,16 @@ static void test_init_refuses_unusable_derived_bounds(void **state)
     before = tid;
     assert_int_equal(rfe_tyre_id_init(&tid, &tp, &veh, 1u), RFE_ERR_PARAM);
     assert_memory_equal(&tid, &before, sizeof(tid));
+    /* the other end: a mass whose axle load times cy_hi overflows (K's upper bound +Inf) */
+    setup_defaults(&veh, &tp);
+#if defined(RFE_REAL_DOUBLE)
+    veh.vehicle.m = (rfe_real_t)1e307;
+#else
+    veh.vehicle.m = (rfe_real_t)1e37f;
+#endif
+    assert_int_equal(rfe_params_validate(&veh), RFE_OK);
+    assert_int_equal(rfe_tyre_id_init(&tid, &tp, &veh, 1u), RFE_ERR_PARAM);
+    assert_memory_equal(&tid, &before, sizeof(tid));
 }
 
 /* REQ-TID-004. Found by fuzz_tyre_id_f32: with a mass of 1.8e23 kg (valid) the spread of D
