@@ -259,7 +259,7 @@ static void check_bounds(const rfe_tyre_id_t *t, const rfe_tyre_id_params_t *tp,
     }
 }
 
-#define TP_REAL 27
+#define TP_REAL 28
 #define VEH_REAL 10
 
 static void tp_fields(rfe_tyre_id_params_t *p, rfe_real_t *real[TP_REAL])
@@ -268,7 +268,8 @@ static void tp_fields(rfe_tyre_id_params_t *p, rfe_real_t *real[TP_REAL])
         &p->v_min,  &p->dt_max, &p->sd_r,   &p->sd_ay,  &p->sd_delta,   &p->q_vy,   &p->q_r,
         &p->q_mu,   &p->q_C,    &p->q_cy,   &p->q_E,    &p->mu0,        &p->sd0_mu, &p->sd0_C,
         &p->sd0_E,  &p->sd0_cy_rel, &p->sd0_vy, &p->sd0_r, &p->mu_lo,   &p->mu_hi,  &p->C_lo,
-        &p->C_hi,   &p->cy_lo,  &p->cy_hi,  &p->E_lo,   &p->E_hi,       &p->neff_frac};
+        &p->C_hi,   &p->cy_lo,  &p->cy_hi,  &p->E_lo,   &p->E_hi,       &p->neff_frac,
+        &p->rough_k};
     memcpy(real, r, sizeof r);
 }
 

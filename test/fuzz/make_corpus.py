@@ -274,10 +274,10 @@ def tyre_id_seeds(scen):
     for b in range(32):
         s[f"config_{b:02d}"] = tid_head(b, b) + tid_sample(0.01, 0.02, 20.0, 0.1, 2.0) + repeat(16)
     drive = tid_sample(0.01, 0.03, 18.0, 0.15, 2.5, -0.5)
-    for field in range(30):  # the identifier's 27 reals and 3 integers
+    for field in range(31):  # the identifier's 28 reals and 3 integers
         for tag, value in (("x16", bytes([0, 64])), ("neg", bytes([2])), ("zero", bytes([6])),
                            ("huge", bytes([7, 40]))):
-            p = bytes([1, 0, field]) + (value if field < 27 else bytes([3]) + (7).to_bytes(4, "little"))
+            p = bytes([1, 0, field]) + (value if field < 28 else bytes([3]) + (7).to_bytes(4, "little"))
             s[f"param_{field:02d}_{tag}"] = tid_head(tp=p) + drive + repeat(8)
     for field in range(10):  # the vehicle's
         for tag, value in (("tiny", bytes([7, 0])), ("huge", bytes([7, 40]))):
