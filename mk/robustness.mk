@@ -2,7 +2,8 @@
 #
 # make fuzz [FUZZ_SECONDS=60]  every libFuzzer harness (test/fuzz/: the step of the float,
 #                              double and fixed-point estimator and velocity observer, the
-#                              CLI's readers) FUZZ_SECONDS each, clang
+#                              mass and grade estimator and the tyre identifier in float and
+#                              double, the CLI's readers) FUZZ_SECONDS each, clang
 #                              -fsanitize=fuzzer,address,undefined;
 #                              the corpus grows in build/fuzz/corpus/, crashes land in
 #                              build/fuzz/artifacts/
@@ -13,7 +14,10 @@
 #                              driving (scripts/data/soak_drive.py) through the float, double and
 #                              fixed-point estimator and the composed pipeline (observer +
 #                              friction, float and double), invariants at every step, saturation
-#                              counts (test/soak/soak.c); the short one is part of make test
+#                              counts (test/soak/soak.c); then the mass and grade estimator and
+#                              the tyre identifier, float and double (test/soak/soak_run_aux.c;
+#                              the identifier on SOAK_SHORT_TID's stretch in the short one);
+#                              the short one is part of make test
 # INV_FLAGS=-DINV_MU_TOL=1e-3 relaxes the [mu_min, mu_max] invariant by 1e-3 in the fuzz
 # and soak builds (to look past a known rounding excursion); by default it is exact.
 FUZZ_LLVM          ?= 19
@@ -25,10 +29,21 @@ FUZZ_CFLAGS := -std=c99 -g -O1 -fno-omit-frame-pointer -fsanitize=address,undefi
                -fno-sanitize-recover=all $(INV_FLAGS)
 FUZZ_OPTS   := -max_len=16384 -print_final_stats=1
 FUZZ_BINS   := fuzz_step_f32 fuzz_step_f64 $(if $(Q31_SRC),fuzz_step_q31) fuzz_velocity_f32 \
-               fuzz_velocity_f64 $(if $(Q31_SRC),fuzz_velocity_q31) fuzz_csv
+               fuzz_velocity_f64 $(if $(Q31_SRC),fuzz_velocity_q31) fuzz_mass_grade_f32 \
+               fuzz_mass_grade_f64 fuzz_tyre_id_f32 fuzz_tyre_id_f64 fuzz_csv
+# The tyre identifier's harnesses build its sources with FUZZ_TID_N particles (RFE_TID_N,
+# rfe/config.h; every loop over the particles runs to it): a step costs N particles' RK4
+# and likelihoods, so a small N gives the fuzzer more steps per second on the same code.
+# The soak runs the shipped N (256); FUZZ_TID_N=256 fuzzes it too.
+FUZZ_TID_N  ?= 32
 FUZZ_LIB_F32 := $(patsubst src/%.c,$(BUILD)/fuzz-f32/lib/%.o,$(LIB_SRC))
 FUZZ_LIB_F64 := $(patsubst src/%.c,$(BUILD)/fuzz-f64/lib/%.o,$(LIB_SRC))
 FUZZ_LIB_Q31 := $(patsubst src/%.c,$(BUILD)/fuzz-q31/lib/%.o,$(Q31_SRC))
+FUZZ_TID_SRC := $(filter src/estimators/tyre_id/%,$(LIB_SRC))
+FUZZ_TID_F32 := $(patsubst src/%.c,$(BUILD)/fuzz-tid-f32/lib/%.o,$(FUZZ_TID_SRC)) \
+                $(filter-out $(BUILD)/fuzz-f32/lib/estimators/tyre_id/%,$(FUZZ_LIB_F32))
+FUZZ_TID_F64 := $(patsubst src/%.c,$(BUILD)/fuzz-tid-f64/lib/%.o,$(FUZZ_TID_SRC)) \
+                $(filter-out $(BUILD)/fuzz-f64/lib/estimators/tyre_id/%,$(FUZZ_LIB_F64))
 FUZZ_HOST    := $(patsubst src/host/%.c,$(BUILD)/fuzz-f32/host/%.o,$(HOST_SRC) src/host/replay_real.c)
 
 .PHONY: deps-fuzz fuzz fuzz-smoke fault-scenarios soak soak-short
@@ -53,6 +68,13 @@ $(BUILD)/fuzz-f64/lib/%.o: src/%.c | deps-fuzz
 $(BUILD)/fuzz-q31/lib/%.o: src/%.c | deps-fuzz
 	@mkdir -p $(@D)
 	$(FUZZ_CC) $(DEPFLAGS) $(FUZZ_CFLAGS) -fsanitize=fuzzer-no-link $(CPPFLAGS_LIB) -c $< -o $@
+# The tyre identifier's sources at FUZZ_TID_N particles (its harnesses link these instead).
+$(BUILD)/fuzz-tid-f32/lib/%.o: src/%.c | deps-fuzz
+	@mkdir -p $(@D)
+	$(FUZZ_CC) $(DEPFLAGS) $(FUZZ_CFLAGS) -fsanitize=fuzzer-no-link -DRFE_TID_N=$(FUZZ_TID_N) $(CPPFLAGS_LIB) -c $< -o $@
+$(BUILD)/fuzz-tid-f64/lib/%.o: src/%.c | deps-fuzz
+	@mkdir -p $(@D)
+	$(FUZZ_CC) $(DEPFLAGS) $(FUZZ_CFLAGS) -fsanitize=fuzzer-no-link -DRFE_TID_N=$(FUZZ_TID_N) -DRFE_REAL_DOUBLE $(CPPFLAGS_LIB) -c $< -o $@
 $(BUILD)/fuzz-f32/host/%.o: src/host/%.c | deps-fuzz
 	@mkdir -p $(@D)
 	$(FUZZ_CC) $(DEPFLAGS) $(FUZZ_CFLAGS) -fsanitize=fuzzer-no-link $(CPPFLAGS_HOST) -c $< -o $@
@@ -75,6 +97,22 @@ $(BUILD)/fuzz/fuzz_velocity_f32: $(FUZZ_VEL_DEPS) $(FUZZ_LIB_F32)
 $(BUILD)/fuzz/fuzz_velocity_f64: $(FUZZ_VEL_DEPS) $(FUZZ_LIB_F64)
 	@mkdir -p $(@D)
 	$(FUZZ_CC) $(FUZZ_CFLAGS) -fsanitize=fuzzer -DRFE_REAL_DOUBLE $(CPPFLAGS_LIB) -Itest/fuzz $< $(FUZZ_LIB_F64) -lm -o $@
+# The mass and grade estimator's and the tyre identifier's harnesses (float, double): the same
+# record decoding, their parameters through test/fuzz/fuzz_params.h.
+FUZZ_MG_DEPS := test/fuzz/fuzz_mass_grade_flt.c test/fuzz/fuzz_input.h test/fuzz/fuzz_real.h test/fuzz/fuzz_params.h
+$(BUILD)/fuzz/fuzz_mass_grade_f32: $(FUZZ_MG_DEPS) $(FUZZ_LIB_F32)
+	@mkdir -p $(@D)
+	$(FUZZ_CC) $(FUZZ_CFLAGS) -fsanitize=fuzzer $(CPPFLAGS_LIB) -Itest/fuzz $< $(FUZZ_LIB_F32) -lm -o $@
+$(BUILD)/fuzz/fuzz_mass_grade_f64: $(FUZZ_MG_DEPS) $(FUZZ_LIB_F64)
+	@mkdir -p $(@D)
+	$(FUZZ_CC) $(FUZZ_CFLAGS) -fsanitize=fuzzer -DRFE_REAL_DOUBLE $(CPPFLAGS_LIB) -Itest/fuzz $< $(FUZZ_LIB_F64) -lm -o $@
+FUZZ_TID_DEPS := test/fuzz/fuzz_tyre_id_flt.c test/fuzz/fuzz_input.h test/fuzz/fuzz_real.h test/fuzz/fuzz_params.h
+$(BUILD)/fuzz/fuzz_tyre_id_f32: $(FUZZ_TID_DEPS) $(FUZZ_TID_F32)
+	@mkdir -p $(@D)
+	$(FUZZ_CC) $(FUZZ_CFLAGS) -fsanitize=fuzzer -DRFE_TID_N=$(FUZZ_TID_N) $(CPPFLAGS_LIB) -Itest/fuzz $< $(FUZZ_TID_F32) -lm -o $@
+$(BUILD)/fuzz/fuzz_tyre_id_f64: $(FUZZ_TID_DEPS) $(FUZZ_TID_F64)
+	@mkdir -p $(@D)
+	$(FUZZ_CC) $(FUZZ_CFLAGS) -fsanitize=fuzzer -DRFE_TID_N=$(FUZZ_TID_N) -DRFE_REAL_DOUBLE $(CPPFLAGS_LIB) -Itest/fuzz $< $(FUZZ_TID_F64) -lm -o $@
 # The fixed-point observer's harness: the double library gives the defaults and their conversion.
 $(BUILD)/fuzz/fuzz_velocity_q31: test/fuzz/fuzz_velocity_q31.c test/fuzz/fuzz_input.h $(FUZZ_LIB_Q31) $(FUZZ_LIB_F64)
 	@mkdir -p $(@D)
@@ -114,11 +152,16 @@ fault-scenarios: venv
 	$(PY) scripts/data/make_fault_scenarios.py --scenarios scenarios --out scenarios/faults
 
 # Soak: the drive is simulated once per length and seed (cached in build/soak/), the runner
-# is one program linking the float, double and q31 libraries (test/soak/soak_run.c and
-# soak_run_pipeline.c twice, test/soak/soak_run_q31.c and soak_run_pipeline_q31.c).
+# is one program linking the float, double and q31 libraries (test/soak/soak_run.c,
+# soak_run_pipeline.c and soak_run_aux.c twice, test/soak/soak_run_q31.c and
+# soak_run_pipeline_q31.c).
 SOAK_SECONDS       ?= 3600
 SOAK_SHORT_SECONDS ?= 300
 SOAK_SEED          ?= 1
+# The tyre identifier runs over the rows with SOAK_TID_FROM <= t < SOAK_TID_TO [s] in the
+# short soak (60 s of the drive: accelerating, sine steer, braking in a turn, ABS, a stop;
+# ~3.3 s on one core for float and double), over the whole drive in make soak.
+SOAK_SHORT_TID     ?= --tid-from 20 --tid-to 80
 SOAK_JOBS          ?= $(shell nproc 2>/dev/null || echo 1)
 $(BUILD)/soak/drive_%s.csv: scripts/data/soak_drive.py $(wildcard scripts/sim/*.py) | venv
 	@mkdir -p $(@D)
@@ -129,6 +172,10 @@ $(BUILD)/soak/run_%.o: test/soak/soak_run.c test/soak/soak.h test/support/invari
 $(BUILD)/soak/pipeline_%.o: test/soak/soak_run_pipeline.c test/soak/soak.h test/support/invariants.h $(wildcard include/rfe/*.h include/rfe/component/*.h src/host/*.h)
 	@mkdir -p $(@D)
 	$(CC) $(TEST_WARN) $(OPT) $(INV_FLAGS) $(if $(filter f64,$*),-DRFE_REAL_DOUBLE) $(CPPFLAGS_HOST) -Itest/support -Itest/soak -c $< -o $@
+# The mass and grade estimator and the tyre identifier (float, double).
+$(BUILD)/soak/aux_%.o: test/soak/soak_run_aux.c test/soak/soak.h $(wildcard include/rfe/*.h include/rfe/component/*.h src/host/*.h)
+	@mkdir -p $(@D)
+	$(CC) $(TEST_WARN) $(OPT) $(INV_FLAGS) $(if $(filter f64,$*),-DRFE_REAL_DOUBLE) $(CPPFLAGS_HOST) -Itest/support -Itest/soak -c $< -o $@
 # The fixed-point variant joins when the q31 library exists (*_q31.c sources).
 $(BUILD)/soak/run_q31.o: test/soak/soak_run_q31.c test/soak/soak.h test/support/invariants.h $(wildcard include/rfe/*.h include/rfe/component/*.h src/host/*.h)
 	@mkdir -p $(@D)
@@ -137,7 +184,8 @@ $(BUILD)/soak/run_q31.o: test/soak/soak_run_q31.c test/soak/soak.h test/support/
 $(BUILD)/soak/pipeline_q31.o: test/soak/soak_run_pipeline_q31.c test/soak/soak.h test/support/invariants.h $(wildcard include/rfe/*.h include/rfe/component/*.h src/host/*.h)
 	@mkdir -p $(@D)
 	$(CC) $(TEST_WARN) $(OPT) $(INV_FLAGS) $(CPPFLAGS_HOST) -Itest/support -Itest/soak -c $< -o $@
-SOAK_LINK := $(BUILD)/soak/run_f32.o $(BUILD)/soak/run_f64.o $(BUILD)/soak/pipeline_f32.o $(BUILD)/soak/pipeline_f64.o $(if $(Q31_SRC),$(BUILD)/soak/run_q31.o $(BUILD)/soak/pipeline_q31.o $(BUILD)/f64/host/replay_q31.o) \
+SOAK_LINK := $(BUILD)/soak/run_f32.o $(BUILD)/soak/run_f64.o $(BUILD)/soak/pipeline_f32.o $(BUILD)/soak/pipeline_f64.o \
+             $(BUILD)/soak/aux_f32.o $(BUILD)/soak/aux_f64.o $(if $(Q31_SRC),$(BUILD)/soak/run_q31.o $(BUILD)/soak/pipeline_q31.o $(BUILD)/f64/host/replay_q31.o) \
              $(BUILD)/f32/host/replay_real.o $(BUILD)/f64/host/replay_real.o $(BUILD)/f64/hostlib.a \
              $(BUILD)/f32/librfe.a $(if $(Q31_SRC),$(BUILD)/q31/librfe_q31.a) $(BUILD)/f64/librfe.a
 $(BUILD)/soak/soak: test/soak/soak.c test/soak/soak.h $(SOAK_LINK)
@@ -147,4 +195,4 @@ soak: $(BUILD)/soak/soak $(BUILD)/soak/drive_$(SOAK_SECONDS)s.csv
 	$(BUILD)/soak/soak --in $(BUILD)/soak/drive_$(SOAK_SECONDS)s.csv --json $(BUILD)/soak/summary_$(SOAK_SECONDS)s.json
 ## the short soak (SOAK_SHORT_SECONDS), part of make test
 soak-short: $(BUILD)/soak/soak $(BUILD)/soak/drive_$(SOAK_SHORT_SECONDS)s.csv
-	$(BUILD)/soak/soak --in $(BUILD)/soak/drive_$(SOAK_SHORT_SECONDS)s.csv --json $(BUILD)/soak/summary_$(SOAK_SHORT_SECONDS)s.json
+	$(BUILD)/soak/soak --in $(BUILD)/soak/drive_$(SOAK_SHORT_SECONDS)s.csv --json $(BUILD)/soak/summary_$(SOAK_SHORT_SECONDS)s.json $(SOAK_SHORT_TID)

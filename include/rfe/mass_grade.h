@@ -149,8 +149,9 @@ RFE_NODISCARD rfe_status_t rfe_mass_grade_init(rfe_mass_grade_t *mg,
  *         RFE_ERR_RANGE (|v| > RFE_LIMIT_VX, |torque| > RFE_LIMIT_DRIVE_TORQUE,
  *         |ax| > RFE_LIMIT_ACC, a `has` bit not RFE_MG_HAS_*, no ax while use_ax, dt <= 0
  *         after the first sample); RFE_ERR_NOT_POSITIVE_DEFINITE (a negative pivot or
- *         innovation determinant in the filter); RFE_ERR_NONFINITE also when the update
- *         overflows. On error the estimator is untouched.
+ *         innovation determinant in the filter, or a variance the update made negative); RFE_ERR_NONFINITE also when the start, a
+ *         hold or the update overflows (valid parameters whose squares overflow the number
+ *         type, e.g. r_v = 1e30 in float). On error the estimator is untouched.
  */
 RFE_NODISCARD rfe_status_t rfe_mass_grade_step(rfe_mass_grade_t *mg,
                                                const rfe_mass_grade_input_t *in,

@@ -186,7 +186,9 @@ typedef struct {
  *                   Lr, J, hg, g, alpha_max; cy, shape_Cy, shape_Ey as the prior's centre).
  * @param[in]  seed  key word k0 of the random stream (tid_seed).
  * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_PARAM (rfe_tyre_id_params_validate or
- *         rfe_params_validate fails, or a prior mean lies outside its bounds).
+ *         rfe_params_validate fails, a prior mean lies outside its bounds, or a constant
+ *         derived from the axle loads is not finite or leaves a pair of bounds not lo < hi,
+ *         TYRE_ID.md §12).
  * @note The call goes through a macro of the full name that adds the caller's sizeof of
  *       the state (which RFE_TID_N sets) and its RFE_CONFIG_* word (rfe/config.h):
  *       RFE_ERR_ABI, nothing written, when the caller was compiled with another particle

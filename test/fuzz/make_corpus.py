@@ -7,6 +7,10 @@ fuzz_step/ (both step harnesses; format in fuzz_input.h): stretches of real scen
 (every field as its float32 bit pattern), each configuration byte, the operating corners
 (standstill from mu_min, braking to a stop and reversing, locked and spinning wheels,
 every field at its limit) and bad values between good samples.
+fuzz_mass_grade/, fuzz_tyre_id/ (their harnesses; parameters as fuzz_params.h decodes them):
+stretches of the bundled mass-and-grade and tyre-identification logs mapped onto the
+harness's fields, every configuration byte, perturbed and garbage parameters, restarts, gaps
+and bad values, and the inputs of every finding.
 fuzz_csv/ (fuzz_csv.c): byte 0 '0' sensor log, '1' parameter file, '2' number; the head
 of a real log and the malformed-input cases of test/host/test_cli.sh, parameter files,
 numbers.  Regenerate after changing the input format; the files are small (< 20 kB each).
@@ -175,6 +179,120 @@ def csv_seeds(scen):
     return s
 
 
+def log_rows(path, first, count, step=1):
+    """Rows of a DATA.md log as dicts of floats (every step-th from first)."""
+    with open(path, encoding="utf-8") as fh:
+        lines = [ln for ln in fh if not ln.startswith("#")]
+    head = lines[0].strip().split(",")
+    out = []
+    for ln in lines[1 + first:1 + first + count * step:step]:
+        out.append(dict(zip(head, (float(c) for c in ln.strip().split(",")))))
+    return out
+
+
+# fuzz_mass_grade_flt.c's fields: dt = 0.01 v1, v = 0.2 omega_fl, torque = 1e4 yaw_rate,
+# p_brake = 1e4 yaw_acc, ax, gear = omega_fr / 50, brake = omega_rl - 58, has ^= omega_rr - 58,
+# vy >= 25 restarts.
+def mg_sample(dt, v, torque=0.0, p_brake=0.0, ax=0.0, gear=1, brake=0, has_xor=0, restart=False):
+    return sample([0.0, dt / 0.01, 30.0 if restart else 0.0, torque / 1e4, p_brake / 1e4, ax, 0.0,
+                   v / 0.2, gear * 50.0 + 1.0, 58.0 + brake, 58.0 + has_xor])
+
+
+def mg_params(mode, perturb=()):
+    """fuzz_params.h: mode 0 preset, 1 (field, class, byte...) perturbations, 2 garbage."""
+    if mode != 1:
+        return bytes([mode])
+    out = bytes([1, len(perturb) - 1])
+    for field, value in perturb:
+        out += bytes([field]) + value
+    return out
+
+
+def f32_value(v):
+    return bytes([4]) + struct.pack("<f", v)
+
+
+def mass_grade_seeds(scen):
+    s = {}
+    # cfg: bit 0 truck, bit 1 seed configuration, bits 2-3 the optional inputs (2: ax, brake, pressure)
+    for name, log, cfg in (("log_stop_and_go_car", "car_stop_and_go.csv", 2 << 2),
+                           ("log_grade_step_seed", "car_grade_step.csv", 2 | 2 << 2),
+                           ("log_gear_shift_all", "car_gear_shift.csv", 3 << 2),
+                           ("log_truck_seed", "truck_graded_drive.csv", 1 | 2 | 2 << 2)):
+        rows = log_rows(os.path.join(scen, "mass_grade", log), 0, 300, 5)
+        body = b""
+        for k, r in enumerate(rows):
+            dt = 0.0 if k == 0 else r["t"] - rows[k - 1]["t"]
+            v = 0.325 * (r["omega_fl"] + r["omega_fr"] + r["omega_rl"] + r["omega_rr"]) / 4.0
+            body += mg_sample(dt, v, r["drive_torque"], r["brake_pressure"], r["ax"],
+                              int(r["gear"]), int(r["brake"]))
+        s[name] = bytes([cfg]) + mg_params(0) + body
+    for b in range(16):
+        s[f"config_{b:02d}"] = bytes([b]) + mg_params(0) + mg_sample(0.02, 15.0, 500.0, 0.0, 0.3) + repeat(64)
+    cruise = mg_sample(0.02, 20.0, 400.0, 0.0, 0.2)
+    # perturbed parameters: each real field (0..30) halved, negated, 0, NaN, huge; the flags
+    for field in range(33):
+        for tag, value in (("x16", bytes([0, 64])), ("neg", bytes([2])), ("zero", bytes([6])),
+                           ("nan", special(6)), ("huge", bytes([7, 40]))):
+            s[f"param_{field:02d}_{tag}"] = bytes([4]) + mg_params(1, [(field, value)]) + cruise + repeat(32)
+    s["param_garbage"] = bytes([4]) + bytes([2]) + b"".join(f32_value(1.0) for _ in range(31)) + b"\x01\x00" + cruise
+    # holds, restarts, a gap beyond dt_max, unknown has bits, bad values between good ones
+    s["brake_shift_restart"] = (bytes([3 << 2]) + mg_params(0) + cruise + repeat(20)
+                                + mg_sample(0.02, 18.0, 0.0, 2e5, -3.0, 1, 1) + repeat(30)
+                                + mg_sample(0.02, 18.0, 300.0, 0.0, 0.1, 2) + repeat(60)
+                                + mg_sample(0.02, 18.0, 300.0, 0.0, 0.1, 2, restart=True)
+                                + mg_sample(2.0, 1.0, 0.0) + mg_sample(0.02, 15.0, 300.0) + repeat(40))
+    bad = b""
+    for k, idx in enumerate((6, 7, 8, 4, 5, 9, 11, 13)):
+        bad += cruise + set_field((1, 3, 5, 7, 10)[k % 5], special(idx))
+    s["bad_values_between_good"] = bytes([4]) + mg_params(0) + bad + cruise + repeat(10)
+    s["unknown_has_bits"] = bytes([4]) + mg_params(0) + cruise + mg_sample(0.02, 20.0, 400.0, 0.0, 0.2, has_xor=16) + cruise
+    return s
+
+
+# fuzz_tyre_id_flt.c's fields: delta, dt = 0.001 vx-field, yaw_rate, ax, ay, vx = 0.2 omega_fl.
+def tid_sample(dt, delta, vx, r, ay, ax=0.0):
+    return sample([delta, dt / 0.001, 0.0, r, 0.0, ax, ay, vx / 0.2, 58.0, 58.0, 58.0])
+
+
+def tid_head(cfg=0, seed=1, tp=b"\x00", veh=b"\x00"):
+    return bytes([cfg]) + int(seed).to_bytes(8, "little") + tp + veh
+
+
+def tyre_id_seeds(scen):
+    s = {}
+    for name, log, cfg, first in (("log_sine_steer_apf", "tid_sine_steer.csv", 0, 100),
+                                  ("log_ramp_high_mu_sir", "tid_ramp_steer_high_mu.csv", 1, 500),
+                                  ("log_dlc_low_mu_systematic", "tid_dlc_low_mu.csv", 2, 200),
+                                  ("log_straight_substeps", "tid_straight.csv", 4, 0)):
+        rows = log_rows(os.path.join(scen, "tyre_id", log), first, 120)
+        body = b""
+        for k, r in enumerate(rows):
+            dt = 0.01 if k == 0 else r["t"] - rows[k - 1]["t"]
+            body += tid_sample(dt, r["delta"], r["vx"], r["yaw_rate"], r["ay"], r["ax"])
+        s[name] = tid_head(cfg, 7) + body
+    for b in range(32):
+        s[f"config_{b:02d}"] = tid_head(b, b) + tid_sample(0.01, 0.02, 20.0, 0.1, 2.0) + repeat(16)
+    drive = tid_sample(0.01, 0.03, 18.0, 0.15, 2.5, -0.5)
+    for field in range(31):  # the identifier's 28 reals and 3 integers
+        for tag, value in (("x16", bytes([0, 64])), ("neg", bytes([2])), ("zero", bytes([6])),
+                           ("huge", bytes([7, 40]))):
+            p = bytes([1, 0, field]) + (value if field < 28 else bytes([3]) + (7).to_bytes(4, "little"))
+            s[f"param_{field:02d}_{tag}"] = tid_head(tp=p) + drive + repeat(8)
+    for field in range(10):  # the vehicle's
+        for tag, value in (("tiny", bytes([7, 0])), ("huge", bytes([7, 40]))):
+            s[f"vehicle_{field:02d}_{tag}"] = tid_head(veh=bytes([1, 0, field]) + value) + drive + repeat(8)
+    s["held_then_driving"] = (tid_head() + tid_sample(0.01, 0.0, 2.0, 0.0, 0.0) + repeat(10)
+                              + ramp(40, [0.0, 10.0, 0.0, 0.1, 0.0, 0.0, 1.0, 90.0, 58.0, 58.0, 58.0])
+                              + repeat(30))
+    bad = b""
+    for k, idx in enumerate((6, 7, 8, 4, 5, 9, 11, 13)):
+        bad += drive + set_field((0, 1, 3, 5, 6, 7)[k % 6], special(idx))
+    s["bad_values_between_good"] = tid_head() + bad + drive + repeat(4)
+    s["axle_lifted_ax"] = tid_head() + drive + set_field(5, f32_value(49.0)) + set_field(5, f32_value(-49.0)) + drive
+    return s
+
+
 def main(argv=None):
     here = os.path.dirname(os.path.abspath(__file__))
     repo = os.path.dirname(os.path.dirname(here))
@@ -182,11 +300,14 @@ def main(argv=None):
     ap.add_argument("--scenarios", default=os.path.join(repo, "scenarios"))
     ap.add_argument("--out", default=os.path.join(here, "corpus"))
     a = ap.parse_args(argv)
-    for sub, seeds in (("fuzz_step", step_seeds(a.scenarios)), ("fuzz_csv", csv_seeds(a.scenarios))):
+    for sub, seeds in (("fuzz_step", step_seeds(a.scenarios)), ("fuzz_csv", csv_seeds(a.scenarios)),
+                       ("fuzz_mass_grade", mass_grade_seeds(a.scenarios)),
+                       ("fuzz_tyre_id", tyre_id_seeds(a.scenarios))):
         d = os.path.join(a.out, sub)
         os.makedirs(d, exist_ok=True)
         for old in os.listdir(d):
-            os.remove(os.path.join(d, old))
+            if not old.startswith("found_"):  # the inputs of findings stay (see ROBUSTNESS.md)
+                os.remove(os.path.join(d, old))
         for name, data in seeds.items():
             with open(os.path.join(d, name), "wb") as fh:
                 fh.write(data if isinstance(data, bytes) else data.encode("latin-1"))

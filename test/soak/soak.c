@@ -9,12 +9,18 @@
  *        counts, for the pipeline the observer's vx, vy against the log) and writes it as
  *        JSON.
  *
- *     build/soak/soak --in DRIVE.csv [--json SUMMARY.json]
+ *     build/soak/soak --in DRIVE.csv [--json SUMMARY.json] [--tid-from S] [--tid-to S]
+ *
+ * Then the mass and grade estimator (float, double; the recommended and the seed's
+ * configuration) over the whole drive and the tyre identifier (float, double; APF) over the
+ * rows with S_from <= t < S_to (default: all), each with its invariants at every step
+ * (test/soak/soak_run_aux.c).
  *
  * Exit status 0 when no step of any run broke an invariant and no row inside the input
  * limits was refused; 1 otherwise (the first violation of each run is printed); 2 on a
  * usage or input error.
  */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -54,6 +60,25 @@ static const struct {
 };
 static const soak_cfg_t PIPELINE_CFG = {"pipeline", 1, 0};
 
+/* The mass and grade estimator and the tyre identifier (soak_run_aux.c). */
+typedef int (*soak_aux_fn_t)(const rfe_sensor_log_t *, const char *, const soak_aux_cfg_t *,
+                             soak_aux_result_t *);
+static const struct {
+    const char *variant;
+    const char *what;
+    soak_aux_fn_t run;
+    int seed_config;
+    const char *cfg;
+} AUX[] = {
+    {"float", "mass_grade", soak_run_mass_grade_f32, 0, "car.recommended"},
+    {"double", "mass_grade", soak_run_mass_grade_f64, 0, "car.recommended"},
+    {"float", "mass_grade", soak_run_mass_grade_f32, 1, "car.seed"},
+    {"double", "mass_grade", soak_run_mass_grade_f64, 1, "car.seed"},
+    {"float", "tyre_id", soak_run_tyre_id_f32, 0, "apf"},
+    {"double", "tyre_id", soak_run_tyre_id_f64, 0, "apf"},
+};
+#define N_AUX (sizeof AUX / sizeof AUX[0])
+
 #define N_VARIANTS (sizeof VARIANTS / sizeof VARIANTS[0])
 #define N_PIPELINES (sizeof PIPELINES / sizeof PIPELINES[0])
 #define N_CFGS (sizeof CFGS / sizeof CFGS[0])
@@ -65,6 +90,8 @@ int main(int argc, char **argv)
     rfe_io_error_t err;
     soak_result_t res[N_VARIANTS][N_CFGS];
     soak_result_t res_pl[N_PIPELINES];
+    soak_aux_result_t res_aux[N_AUX];
+    double tid_from = -INFINITY, tid_to = INFINITY;
     size_t v, c;
     int i, failed = 0;
     FILE *jf = NULL;
@@ -73,8 +100,13 @@ int main(int argc, char **argv)
             in = argv[++i];
         } else if (strcmp(argv[i], "--json") == 0 && i + 1 < argc) {
             json = argv[++i];
+        } else if (strcmp(argv[i], "--tid-from") == 0 && i + 1 < argc) {
+            tid_from = atof(argv[++i]);
+        } else if (strcmp(argv[i], "--tid-to") == 0 && i + 1 < argc) {
+            tid_to = atof(argv[++i]);
         } else {
-            fprintf(stderr, "usage: soak --in DRIVE.csv [--json SUMMARY.json]\n");
+            fprintf(stderr, "usage: soak --in DRIVE.csv [--json SUMMARY.json] [--tid-from S] "
+                            "[--tid-to S]\n");
             return 2;
         }
     }
@@ -144,6 +176,42 @@ int main(int argc, char **argv)
             failed = 1;
         }
     }
+    printf("%-7s %-10s %-15s %8s %6s %6s %6s %6s %8s %8s %17s %17s %17s %7s\n", "variant",
+           "estimator", "config", "steps", "ok%", "held%", "upd%", "resmp%", "lost", "err",
+           "mass|mu_f min..max", "grade|neff min..max", "final mass|K_f (sd)", "us/st");
+    for (v = 0; v < N_AUX; ++v) {
+        soak_aux_result_t *r = &res_aux[v];
+        soak_aux_cfg_t cfg;
+        double n;
+        long errors = 0;
+        int s;
+        cfg.name = AUX[v].cfg;
+        cfg.seed_config = AUX[v].seed_config;
+        cfg.from = tid_from;
+        cfg.to = tid_to;
+        if (AUX[v].run(&log, in, &cfg, r) != 0) {
+            rfe_sensor_log_free(&log);
+            return 2;
+        }
+        for (s = 16; s < SOAK_STATUS_SLOTS; ++s) {
+            errors += r->status[s];
+        }
+        n = (double)(r->steps ? r->steps : 1);
+        printf("%-7s %-10s %-15s %8ld %5.1f%% %5.1f%% %5.1f%% %5.1f%% %8ld %8ld %8.4g..%-8.4g "
+               "%8.4g..%-8.4g %9.5g (%.3g) %7.1f\n",
+               AUX[v].variant, AUX[v].what, AUX[v].cfg, r->steps,
+               100.0 * (double)r->status[0] / n,
+               100.0 * (strcmp(AUX[v].what, "tyre_id") == 0
+                            ? (double)r->held
+                            : (double)(r->status[2] + r->status[5] + r->status[6])) / n,
+               100.0 * (double)r->updated / n, 100.0 * (double)r->resampled / n, r->lost, errors,
+               r->lo, r->hi, r->lo2, r->hi2, r->final, r->final_sd, r->us_per_step);
+        if (r->violations > 0) {
+            printf("  FAILED: %ld step(s) broke an invariant; first at step %ld, %s\n",
+                   r->violations, r->first_violation_step, r->first_violation);
+            failed = 1;
+        }
+    }
     if (json != NULL && (jf = fopen(json, "w")) != NULL) {
         fprintf(jf, "{\n \"input\": \"%s\",\n \"steps\": %zu,\n \"runs\": [\n", in, log.n_rows);
         for (v = 0; v < N_VARIANTS; ++v) {
@@ -191,6 +259,26 @@ int main(int argc, char **argv)
                     r->obs_max_err_vx, r->obs_cons_vx, r->obs_far_vx, r->obs_rmse_vy, r->obs_max_err_vy, r->obs_cons_vy,
                     r->us_per_step, r->input_sat_rows, r->sat_steps, r->sat_total, r->sat_max,
                     v + 1 == N_PIPELINES ? "" : ",");
+        }
+        fprintf(jf, " ],\n \"aux_runs\": [\n");
+        for (v = 0; v < N_AUX; ++v) {
+            const soak_aux_result_t *r = &res_aux[v];
+            int s;
+            fprintf(jf, "  {\"variant\": \"%s\", \"estimator\": \"%s\", \"config\": \"%s\", "
+                        "\"steps\": %ld, \"statuses\": {",
+                    AUX[v].variant, AUX[v].what, AUX[v].cfg, r->steps);
+            for (s = 0, i = 0; s < SOAK_STATUS_SLOTS; ++s) {
+                if (r->status[s] != 0) {
+                    fprintf(jf, "%s\"%d\": %ld", i++ ? ", " : "", s, r->status[s]);
+                }
+            }
+            fprintf(jf, "}, \"updated\": %ld, \"held\": %ld, \"resampled\": %ld, \"lost\": %ld, "
+                        "\"violations\": %ld, \"lo\": %.9g, \"hi\": %.9g, \"lo2\": %.9g, "
+                        "\"hi2\": %.9g, \"final\": %.9g, \"final_sd\": %.9g, \"truth\": %.9g, "
+                        "\"us_per_step\": %.3f}%s\n",
+                    r->updated, r->held, r->resampled, r->lost, r->violations, r->lo, r->hi,
+                    r->lo2, r->hi2, r->final, r->final_sd, r->truth, r->us_per_step,
+                    v + 1 == N_AUX ? "" : ",");
         }
         fprintf(jf, " ]\n}\n");
         fclose(jf);

@@ -5,7 +5,8 @@
  *
  * soak_run.c is compiled once per number type and defines soak_run_f32 / soak_run_f64
  * (as soak_run, named below); soak_run_pipeline.c likewise runs the composed pipeline
- * (observer + friction estimator); soak_run_q31.c and soak_run_pipeline_q31.c run the fixed-point estimator and pipeline; soak.c reads the log once and
+ * (observer + friction estimator); soak_run_q31.c and soak_run_pipeline_q31.c run the fixed-point estimator and pipeline;
+ * soak_run_aux.c (float, double) the mass and grade estimator and the tyre identifier; soak.c reads the log once and
  * calls each variant for each configuration.
  */
 #ifndef RFE_SOAK_H
@@ -84,5 +85,47 @@ int soak_run_q31(const rfe_sensor_log_t *log, const char *log_name, const soak_c
  *  mu_replay --real q31 --velocity observer derives them. */
 int soak_run_pipeline_q31(const rfe_sensor_log_t *log, const char *log_name,
                           const soak_cfg_t *cfg, soak_result_t *res);
+
+/** A run of the mass and grade estimator or the tyre identifier (soak_run_aux.c). */
+typedef struct {
+    const char *name;   /**< "car.recommended", "car.seed"; "apf", "sir" */
+    int seed_config;    /**< mass and grade: the seed's configuration (AUKF, speed only);
+                             tyre identifier: the bootstrap filter (else the APF) */
+    double from, to;    /**< the tyre identifier steps the rows with from <= t < to [s] */
+} soak_aux_cfg_t;
+
+/** What one such run saw. */
+typedef struct {
+    long steps;
+    long status[SOAK_STATUS_SLOTS];
+    long updated, held, resampled, lost; /**< tyre identifier: steps with each flag */
+    long violations;
+    long first_violation_step;
+    char first_violation[SOAK_WHY];
+    double lo, hi;          /**< mass [kg] / the tyre identifier's mu_f mean */
+    double lo2, hi2;        /**< grade [rad] / n_eff */
+    double final, final_sd; /**< the last mass and its sd / the last K_f and its sd */
+    double truth;           /**< the log's mass (mass and grade) */
+    double us_per_step;
+} soak_aux_result_t;
+
+#if defined(RFE_REAL_DOUBLE)
+#define soak_run_mass_grade soak_run_mass_grade_f64
+#define soak_run_tyre_id soak_run_tyre_id_f64
+#else
+#define soak_run_mass_grade soak_run_mass_grade_f32
+#define soak_run_tyre_id soak_run_tyre_id_f32
+#endif
+/** The mass and grade estimator over the log, the torque derived from its dynamics
+ *  (soak_run_aux.c); 0, or -1 when it cannot start (message on stderr). */
+int soak_run_mass_grade_f32(const rfe_sensor_log_t *log, const char *log_name,
+                            const soak_aux_cfg_t *cfg, soak_aux_result_t *res);
+int soak_run_mass_grade_f64(const rfe_sensor_log_t *log, const char *log_name,
+                            const soak_aux_cfg_t *cfg, soak_aux_result_t *res);
+/** The tyre identifier over the rows of [cfg->from, cfg->to). */
+int soak_run_tyre_id_f32(const rfe_sensor_log_t *log, const char *log_name,
+                         const soak_aux_cfg_t *cfg, soak_aux_result_t *res);
+int soak_run_tyre_id_f64(const rfe_sensor_log_t *log, const char *log_name,
+                         const soak_aux_cfg_t *cfg, soak_aux_result_t *res);
 
 #endif /* RFE_SOAK_H */

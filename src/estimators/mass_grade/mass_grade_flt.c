@@ -258,6 +258,23 @@ static rfe_status_t measurement_update(const rfe_mass_grade_t *o, const rfe_mass
     return st;
 }
 
+/* §4.3 the updated state: an overflow is refused (never a NaN out, status 17), and so is a
+ * variance that P- - K S K^T lost to cancellation (status 21: the next factorisation would
+ * fail; seen with a model far outside its range, e.g. R = 1e-11 m in float). */
+static rfe_status_t updated_state_status(const rfe_real_t x[RFE_MG_N],
+                                         const rfe_real_t P[RFE_MG_N * RFE_MG_N])
+{
+    rfe_status_t st = RFE_OK;
+    if ((rfe_all_finite(x, N) == 0) || (rfe_all_finite(P, N * N) == 0)) {
+        st = RFE_ERR_NONFINITE;
+    } else if ((P[0] < RFE_R(0.0)) || (P[4] < RFE_R(0.0)) || (P[8] < RFE_R(0.0))) {
+        st = RFE_ERR_NOT_POSITIVE_DEFINITE;
+    } else {
+        /* finite, variances >= 0 */
+    }
+    return st;
+}
+
 /* §4.3 one filter step, the projection of the mean and the adaptation; o is the caller's
  * copy, so an error leaves the estimator untouched. */
 static rfe_status_t update(rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in, rfe_real_t dt)
@@ -268,9 +285,8 @@ static rfe_status_t update(rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in
     if (st == RFE_OK) {
         st = measurement_update(o, in, x, P);
     }
-    if ((st == RFE_OK) &&
-        ((rfe_all_finite(x, N) == 0) || (rfe_all_finite(P, N * N) == 0))) {
-        st = RFE_ERR_NONFINITE; /* an overflow: never a NaN out */
+    if (st == RFE_OK) {
+        st = updated_state_status(x, P);
     }
     if (st == RFE_OK) {
         size_t i;
@@ -287,6 +303,17 @@ static rfe_status_t update(rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in
         }
     }
     return st;
+}
+
+/* §4.1 the state after a start, a hold or an update: x, P and q_mv finite. Valid parameters
+ * may still overflow a square (r_v = 1e30 in float: r_v^2 = Inf), and the hold adds to the
+ * grade's variance at every held sample. */
+static int state_finite(const rfe_mass_grade_t *o)
+{
+    return ((rfe_all_finite(o->x, N) != 0) && (rfe_all_finite(o->P, N * N) != 0) &&
+            (rfe_is_finite(o->q_mv) != 0))
+               ? 1
+               : 0;
 }
 
 /* §1 the outputs: the state, the sd of its diagonal. */
@@ -329,6 +356,9 @@ rfe_status_t rfe_mass_grade_step(rfe_mass_grade_t *mg, const rfe_mass_grade_inpu
         }
     } else {
         /* the checks failed: nothing to compute */
+    }
+    if ((st == RFE_OK) && (state_finite(&o) == 0)) {
+        st = RFE_ERR_NONFINITE; /* a start or hold overflowed (e.g. r_v^2): never a NaN out */
     }
     if (st != RFE_OK) {
         *out = mg->last;

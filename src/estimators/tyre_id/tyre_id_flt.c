@@ -50,8 +50,40 @@ static void axle_constants(rfe_tid_consts_t *c, size_t j, rfe_real_t fz,
     c->sd0[j + 3u] = p->sd0_E;
 }
 
+/* 1 when the derived constants can be used: every one finite, each parameter's bounds
+ * lo < hi, and the smallest C D above 0 with K / (C D) finite (B, §7). Valid parameters and
+ * vehicle data may still give none of this: the products with the axle loads underflow or
+ * overflow where their factors did not (found by fuzz_tyre_id: m = 1.8e-27 kg, Lf = 1.4e-20 m
+ * in float made D's bounds [0, 0], and B = 0 / 0). */
+static int consts_usable(const rfe_tid_consts_t *c)
+{
+    const rfe_real_t cd_lo = c->lo[RFE_TID_C_F - RFE_TID_STATES] * c->lo[RFE_TID_D_F - RFE_TID_STATES];
+    const rfe_real_t cd_lo_r = c->lo[RFE_TID_C_R - RFE_TID_STATES] * c->lo[RFE_TID_D_R - RFE_TID_STATES];
+    const rfe_real_t v[3] = {c->fz0[0], c->fz0[1], c->gx};
+    int ok = 1;
+    size_t e;
+    if ((rfe_all_finite(v, 3u) == 0) || (rfe_all_finite(c->lo, (size_t)RFE_TID_PAR) == 0) ||
+        (rfe_all_finite(c->hi, (size_t)RFE_TID_PAR) == 0) ||
+        (rfe_all_finite(c->q, (size_t)RFE_TID_PAR) == 0) ||
+        (rfe_all_finite(c->sd0, (size_t)RFE_TID_PAR) == 0)) {
+        ok = 0;
+    }
+    for (e = 0u; e < (size_t)RFE_TID_PAR; ++e) {
+        if (!(c->lo[e] < c->hi[e])) {
+            ok = 0;
+        }
+    }
+    if (!(cd_lo > RFE_R(0.0)) || !(cd_lo_r > RFE_R(0.0)) ||
+        (rfe_is_finite(c->hi[RFE_TID_K_F - RFE_TID_STATES] / cd_lo) == 0) ||
+        (rfe_is_finite(c->hi[RFE_TID_K_R - RFE_TID_STATES] / cd_lo_r) == 0)) {
+        ok = 0;
+    }
+    return ok;
+}
+
 /* The constants of §2-§5.5 from the parameters and the vehicle; 0 when a prior mean lies
- * outside its bounds (lo < hi is the parameters' own check). */
+ * outside its bounds (lo < hi is the parameters' own check) or they cannot be used
+ * (consts_usable). */
 static int derive(rfe_tid_consts_t *c, const rfe_tyre_id_params_t *p, const rfe_params_t *veh)
 {
     const rfe_vehicle_t *v = &veh->vehicle;
@@ -75,7 +107,7 @@ static int derive(rfe_tid_consts_t *c, const rfe_tyre_id_params_t *p, const rfe_
             return 0;
         }
     }
-    return 1;
+    return consts_usable(c);
 }
 
 rfe_status_t rfe_tyre_id_init(rfe_tyre_id_t *tid, const rfe_tyre_id_params_t *tp,
@@ -363,6 +395,37 @@ static void outputs_of(const rfe_tyre_id_t *t, size_t i, const rfe_real_t fz[2],
     q[RFE_TID_OUT_MU_R] = x[RFE_TID_D_R] / fz[1];
 }
 
+/* §7 the sd of output k when the plain sum of squares overflowed (a spread beyond the
+ * square root of the type's range, with data scaled far beyond a car's: found by
+ * fuzz_tyre_id, m = 1.8e23 kg in float): the same sum with every value divided by the
+ * largest magnitude first. Never reached on a car's data, so the double build's plain sums
+ * stay the reference's bit for bit. */
+static void rescaled_sd(rfe_tyre_id_t *t, const rfe_real_t fz[2], size_t k)
+{
+    rfe_tyre_id_estimate_t *e = &t->last;
+    rfe_real_t q[RFE_TID_OUTPUTS];
+    rfe_real_t s = RFE_FABS(e->mean[k]);
+    rfe_real_t acc = RFE_R(0.0);
+    size_t i;
+    for (i = 0u; i < (size_t)RFE_TID_N; ++i) {
+        if (t->w[i] != RFE_R(0.0)) {
+            outputs_of(t, i, fz, q);
+            s = rfe_max(s, RFE_FABS(q[k]));
+        }
+    }
+    if ((s > RFE_R(0.0)) && (rfe_is_finite(s) != 0)) {
+        for (i = 0u; i < (size_t)RFE_TID_N; ++i) {
+            if (t->w[i] != RFE_R(0.0)) {
+                rfe_real_t d;
+                outputs_of(t, i, fz, q);
+                d = (q[k] / s) - (e->mean[k] / s);
+                acc += t->w[i] * (d * d);
+            }
+        }
+        e->sd[k] = s * RFE_SQRT(acc);
+    }
+}
+
 /* §7 weighted means and sds at this sample's inputs (sums in particle order; a particle of
  * weight 0 adds exactly 0 and is skipped, so a diverged one cannot turn a sum into NaN). */
 static void estimate(rfe_tyre_id_t *t, const rfe_tyre_id_sample_t *smp,
@@ -405,6 +468,9 @@ static void estimate(rfe_tyre_id_t *t, const rfe_tyre_id_sample_t *smp,
     }
     for (k = 0u; k < (size_t)RFE_TID_OUTPUTS; ++k) {
         e->sd[k] = RFE_SQRT(e->sd[k]);
+        if (rfe_is_finite(e->sd[k]) == 0) {
+            rescaled_sd(t, fz, k);
+        }
     }
     e->n_eff = rfe_tid_neff(t->w, n);
     e->flags = flags;

@@ -138,5 +138,7 @@ rfe_real_t rfe_tid_loglik(const rfe_tyre_id_t *tid, rfe_real_t vy, rfe_real_t r,
     e2 = ay - ay_p;
     /* l = -0.5 (e1 e1 + (e2 e2) / v) - 0.5 log v */
     ll = (RFE_R(-0.5) * ((e1 * e1) + ((e2 * e2) / v))) - (RFE_R(0.5) * RFE_LOG(v));
-    return rfe_is_finite(ll) ? ll : -(rfe_real_t)INFINITY;
+    /* a diverged particle weighs 0: a non-finite l, or an infinite vy (its slip angles and
+     * forces stay finite, so l would not show it) */
+    return ((rfe_is_finite(ll) != 0) && (rfe_is_finite(vy) != 0)) ? ll : -(rfe_real_t)INFINITY;
 }

@@ -542,6 +542,105 @@ static void test_factorisation_failures_leave_the_state_untouched(void **state)
     assert_memory_equal(&mg, &before, sizeof(mg));
 }
 
+/* REQ-MG-008. Found by fuzz_mass_grade_f32: valid parameters (finite, > 0) whose squares
+ * overflow the number type made the start report sd_v = Inf with status 0. A start or a hold
+ * that overflows is now refused like an update that does. */
+static void test_start_and_hold_overflow_refused(void **state)
+{
+    /* the square of OVER_SQ overflows the type (sqrt(REAL_MAX) is 1.8e19 / 1.3e154) */
+#if defined(RFE_REAL_DOUBLE)
+    const rfe_real_t over_sq = (rfe_real_t)1e160;
+#else
+    const rfe_real_t over_sq = (rfe_real_t)1e30f;
+#endif
+    rfe_mass_grade_estimate_t e;
+    rfe_mass_grade_estimate_t e0;
+    rfe_mass_grade_input_t in;
+    rfe_mass_grade_t before;
+    int k;
+    (void)state;
+    /* the start: P_vv = r_v^2, P_MM = sd_m0^2, P_thth = sd_theta0^2, q_mv = q_mv0^2 */
+    for (k = 0; k < 4; ++k) {
+        memset(&prm, 0, sizeof(prm));
+        assert_int_equal(rfe_mass_grade_params_default(&prm), RFE_OK);
+        prm.adaptive = 1u;
+        if (k == 0) {
+            prm.r_v = over_sq;
+        } else if (k == 1) {
+            prm.sd_m0 = over_sq;
+        } else if (k == 2) {
+            prm.sd_theta0 = over_sq;
+        } else {
+            prm.q_mv0 = over_sq;
+        }
+        assert_int_equal(rfe_mass_grade_params_validate(&prm), RFE_OK);
+        memset(&mg, 0, sizeof(mg));
+        assert_int_equal(rfe_mass_grade_init(&mg, &prm), RFE_OK);
+        assert_int_equal(rfe_mass_grade_get(&mg, &e0), RFE_OK);
+        in = cruise((rfe_real_t)20.0, (rfe_real_t)DT);
+        before = mg;
+        assert_int_equal(step(&in, &e), RFE_ERR_NONFINITE);
+        assert_memory_equal(&mg, &before, sizeof(mg));
+        assert_int_equal(e.status, RFE_ERR_NONFINITE);
+        assert_true(e.mass == e0.mass && e.sd_v == e0.sd_v && e.sd_mass == e0.sd_mass);
+    }
+    /* the hold: P_thth grows by q_theta^2 dt at every held sample */
+    memset(&prm, 0, sizeof(prm));
+    assert_int_equal(rfe_mass_grade_params_default(&prm), RFE_OK);
+    prm.q_theta = over_sq;
+    memset(&mg, 0, sizeof(mg));
+    assert_int_equal(rfe_mass_grade_init(&mg, &prm), RFE_OK);
+    in = cruise((rfe_real_t)20.0, (rfe_real_t)DT);
+    assert_int_equal(step(&in, &e), RFE_OK);
+    in.has |= RFE_MG_HAS_BRAKE;
+    in.brake = 1u;
+    before = mg;
+    assert_int_equal(step(&in, &e), RFE_ERR_NONFINITE);
+    assert_memory_equal(&mg, &before, sizeof(mg));
+    assert_true(isfinite((double)e.sd_grade));
+}
+
+/* REQ-MG-008. Found by fuzz_mass_grade_f32: with a rolling radius of 4.5e-12 m (valid: > 0)
+ * the torque term T/r spreads the predicted speeds by ~1e10 m/s, and P- - K S K^T left
+ * P_vv = -2.7e8 with status 0 (sd_v reported 0); the next factorisation would have failed.
+ * Such an update is now refused (21), the estimator untouched. */
+static void test_update_losing_a_variance_refused(void **state)
+{
+    rfe_mass_grade_estimate_t e;
+    rfe_mass_grade_input_t in;
+    rfe_mass_grade_t before;
+    rfe_status_t st;
+    int k;
+    (void)state;
+    memset(&prm, 0, sizeof(prm));
+    assert_int_equal(rfe_mass_grade_params_preset(&prm, RFE_MG_TRUCK, RFE_MG_SEED), RFE_OK);
+    prm.R = (rfe_real_t)4.5e-12;
+    memset(&mg, 0, sizeof(mg));
+    assert_int_equal(rfe_mass_grade_init(&mg, &prm), RFE_OK);
+    memset(&in, 0, sizeof(in));
+    in.dt = (rfe_real_t)0.2;
+    in.v = (rfe_real_t)11.6;
+    in.torque = (rfe_real_t)-3.125;
+    assert_int_equal(step(&in, &e), RFE_OK);
+    for (k = 0; k < 20; ++k) {
+        in.v = (rfe_real_t)(11.6 - 0.01 * k);
+        before = mg;
+        st = step(&in, &e);
+        if (st == RFE_OK) {
+            /* an accepted update never holds a negative variance */
+            assert_true(mg.P[0] >= 0 && mg.P[4] >= 0 && mg.P[8] >= 0);
+        } else {
+            assert_true(st == RFE_ERR_NOT_POSITIVE_DEFINITE || st == RFE_ERR_NONFINITE);
+            assert_memory_equal(&mg, &before, sizeof(mg));
+        }
+#if !defined(RFE_REAL_DOUBLE)
+        if (k == 0) {
+            assert_int_equal(st, RFE_ERR_NOT_POSITIVE_DEFINITE); /* the fuzzer's case */
+        }
+#endif
+    }
+}
+
 /* REQ-MG-008 */
 static void test_innovation_covariance_not_positive(void **state)
 {
@@ -696,6 +795,8 @@ int main(void)
         cmocka_unit_test(test_adaptation_as_specified),
         cmocka_unit_test(test_adaptation_period),
         cmocka_unit_test(test_factorisation_failures_leave_the_state_untouched),
+        cmocka_unit_test(test_start_and_hold_overflow_refused),
+        cmocka_unit_test(test_update_losing_a_variance_refused),
         cmocka_unit_test(test_innovation_covariance_not_positive),
         cmocka_unit_test(test_ukf_is_the_kalman_filter_on_a_linear_problem),
     };

@@ -654,6 +654,95 @@ static void test_slip_beyond_alpha_max_is_clipped(void **state)
     }
 }
 
+/* REQ-TID-003. Found by fuzz_tyre_id_f32: a vehicle the parameter checks accept (every value
+ * finite and > 0) whose axle load times mu_lo underflows gave D the bounds [0, 0], and B =
+ * K / (C D) = 0 / 0 out. Init now refuses constants it cannot use, writing nothing. */
+static void test_init_refuses_unusable_derived_bounds(void **state)
+{
+    rfe_params_t veh;
+    rfe_tyre_id_params_t tp;
+    (void)state;
+    setup_defaults(&veh, &tp);
+#if defined(RFE_REAL_DOUBLE)
+    veh.vehicle.m = (rfe_real_t)1e-305; /* (m g) Lf = 1e-324: 0 */
+#else
+    veh.vehicle.m = (rfe_real_t)1.83e-27; /* (m g) Lf = 2.5e-47: 0 */
+#endif
+    veh.vehicle.Lf = (rfe_real_t)1.4e-20;
+    assert_int_equal(rfe_params_validate(&veh), RFE_OK);
+    assert_int_equal(rfe_tyre_id_params_validate(&tp), RFE_OK);
+    memset(&tid, 0xA5, sizeof(tid));
+    before = tid;
+    assert_int_equal(rfe_tyre_id_init(&tid, &tp, &veh, 1u), RFE_ERR_PARAM);
+    assert_memory_equal(&tid, &before, sizeof(tid));
+    /* the other end: a mass whose axle load times cy_hi overflows (K's upper bound +Inf) */
+    setup_defaults(&veh, &tp);
+#if defined(RFE_REAL_DOUBLE)
+    veh.vehicle.m = (rfe_real_t)1e307;
+#else
+    veh.vehicle.m = (rfe_real_t)1e37f;
+#endif
+    assert_int_equal(rfe_params_validate(&veh), RFE_OK);
+    assert_int_equal(rfe_tyre_id_init(&tid, &tp, &veh, 1u), RFE_ERR_PARAM);
+    assert_memory_equal(&tid, &before, sizeof(tid));
+}
+
+/* REQ-TID-004. Found by fuzz_tyre_id_f32: with a mass of 1.8e23 kg (valid) the spread of D
+ * and K passes the square root of the float's range, and the sds came out +Inf with status
+ * 0. They are now the same sums over values scaled by the largest first: finite. */
+static void test_huge_vehicle_gives_finite_sds(void **state)
+{
+    rfe_params_t veh;
+    rfe_tyre_id_params_t tp;
+    rfe_tyre_id_estimate_t e;
+    rfe_tyre_id_sample_t s;
+    int k;
+    int i;
+    (void)state;
+    setup_defaults(&veh, &tp);
+#if defined(RFE_REAL_DOUBLE)
+    veh.vehicle.m = (rfe_real_t)1.83e155;
+#else
+    veh.vehicle.m = (rfe_real_t)1.83e23;
+#endif
+    assert_int_equal(rfe_tyre_id_init(&tid, &tp, &veh, 1u), RFE_OK);
+    for (k = 0; k < 5; ++k) {
+        s = sample((rfe_real_t)0.02, (rfe_real_t)0.01, (rfe_real_t)11.6, 0, 0);
+        assert_int_equal(rfe_tyre_id_step(&tid, &s, &e), RFE_OK);
+        for (i = 0; i < RFE_TID_OUTPUTS; ++i) {
+            assert_true(isfinite((double)e.mean[i]));
+            assert_true(isfinite((double)e.sd[i]) && e.sd[i] >= 0);
+        }
+        if (k == 0) {
+            /* the prior's spread of D, 0.3 Fz0 (reflected into its bounds): not 0, not Inf */
+            assert_true(e.sd[RFE_TID_OUT_D_F] > 0.05 * tid.c.fz0[0]);
+        }
+    }
+}
+
+/* REQ-TID-004: a particle with an infinite vy weighs 0 (its slip angles, forces and so its
+ * l would stay finite, and its vy would turn every mean it enters into Inf or NaN). */
+static void test_infinite_vy_weighs_zero(void **state)
+{
+    rfe_params_t veh;
+    rfe_tyre_id_params_t tp;
+    rfe_tid_input_t u;
+    rfe_real_t ll;
+    (void)state;
+    setup_defaults(&veh, &tp);
+    assert_int_equal(rfe_tyre_id_init(&tid, &tp, &veh, 1u), RFE_OK);
+    u.delta = 0;
+    u.cd = 1;
+    u.sd = 0;
+    u.vx = 10;
+    ll = rfe_tid_loglik(&tid, 0, 0, tid.c.mean0, &u, 0, 0);
+    assert_true(isfinite((double)ll));
+    ll = rfe_tid_loglik(&tid, (rfe_real_t)INFINITY, 0, tid.c.mean0, &u, 0, 0);
+    assert_true(isinf((double)ll) && ll < 0);
+    ll = rfe_tid_loglik(&tid, -(rfe_real_t)INFINITY, 0, tid.c.mean0, &u, 0, 0);
+    assert_true(isinf((double)ll) && ll < 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -670,6 +759,9 @@ int main(void)
         cmocka_unit_test(test_lost_draws_the_prior_again),
         cmocka_unit_test(test_substeps),
         cmocka_unit_test(test_slip_beyond_alpha_max_is_clipped),
+        cmocka_unit_test(test_init_refuses_unusable_derived_bounds),
+        cmocka_unit_test(test_huge_vehicle_gives_finite_sds),
+        cmocka_unit_test(test_infinite_vy_weighs_zero),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
