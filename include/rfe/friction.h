@@ -57,6 +57,7 @@
 #define rfe_friction_step rfe_friction_step_f64
 #define rfe_friction_get  rfe_friction_get_f64
 #define rfe_friction_set_input_noise rfe_friction_set_input_noise_f64
+#define rfe_friction_set_mass        rfe_friction_set_mass_f64
 #define rfe_friction_skip rfe_friction_skip_f64
 #define rfe_friction_missed rfe_friction_missed_f64
 #define rfe_friction_step_after rfe_friction_step_after_f64
@@ -65,6 +66,7 @@
 #define rfe_friction_step rfe_friction_step_f32
 #define rfe_friction_get  rfe_friction_get_f32
 #define rfe_friction_set_input_noise rfe_friction_set_input_noise_f32
+#define rfe_friction_set_mass        rfe_friction_set_mass_f32
 #define rfe_friction_skip rfe_friction_skip_f32
 #define rfe_friction_missed rfe_friction_missed_f32
 #define rfe_friction_step_after rfe_friction_step_after_f32
@@ -242,5 +244,18 @@ RFE_NODISCARD rfe_status_t rfe_friction_set_input_noise(rfe_friction_t *est,
                                                         rfe_real_t sd_in_vx,
                                                         rfe_real_t sd_in_vy,
                                                         rfe_real_t r_yaw_acc);
+
+/**
+ * Sets the vehicle mass of the next steps (issue 19: the mass and grade estimator's estimate,
+ * docs/MASS_GRADE.md §10) through rfe_params_set_mass. The mass is a parameter of the model
+ * (the loads and h = F/m), not a state: the estimate and its covariance stay as they are, a
+ * valid prior for the new model, and a large change shows in the next innovations, which the
+ * monitor and the information gate already judge (docs/ESTIMATOR.md).
+ * @param[in,out] est  an estimator set up by rfe_friction_init.
+ * @param[in]     m    the vehicle mass [kg], finite and > 0.
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_NOT_INITIALISED; RFE_ERR_NONFINITE (m not finite);
+ *         RFE_ERR_RANGE (m <= 0). The estimator is untouched on every error.
+ */
+RFE_NODISCARD rfe_status_t rfe_friction_set_mass(rfe_friction_t *est, rfe_real_t m);
 
 #endif /* RFE_FRICTION_H */

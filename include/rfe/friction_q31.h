@@ -235,4 +235,16 @@ RFE_NODISCARD rfe_status_t rfe_friction_set_input_noise_q31(rfe_friction_q31_t *
                                                             rfe_fix_t sd_in_vy,
                                                             rfe_fix_t r_yaw_acc);
 
+/**
+ * Sets the vehicle mass of the next steps (the twin of rfe_friction_set_mass) through
+ * rfe_params_set_mass_q31, which recomputes the constants that depend on it in integer
+ * arithmetic. The estimate and its covariance stay as they are.
+ * @param[in,out] est  an estimator set up by rfe_friction_init_q31.
+ * @param[in]     m    the vehicle mass [kg], Q16 (RFE_FIX_Q_MASS), > 0.
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_NOT_INITIALISED; RFE_ERR_RANGE (m <= 0, or a mass
+ *         whose constants leave their Q formats: rfe_params_set_mass_q31). The estimator is
+ *         untouched on every error.
+ */
+RFE_NODISCARD rfe_status_t rfe_friction_set_mass_q31(rfe_friction_q31_t *est, rfe_fix_t m);
+
 #endif /* RFE_FRICTION_Q31_H */

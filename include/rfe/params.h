@@ -17,6 +17,7 @@
 #define rfe_params_default  rfe_params_default_f64
 #define rfe_params_paper    rfe_params_paper_f64
 #define rfe_params_validate rfe_params_validate_f64
+#define rfe_params_set_mass rfe_params_set_mass_f64
 #define rfe_monitor_params_validate rfe_monitor_params_validate_f64
 #define rfe_monitor_consts  rfe_monitor_consts_f64
 #define rfe_normal_quantile rfe_normal_quantile_f64
@@ -24,6 +25,7 @@
 #define rfe_params_default  rfe_params_default_f32
 #define rfe_params_paper    rfe_params_paper_f32
 #define rfe_params_validate rfe_params_validate_f32
+#define rfe_params_set_mass rfe_params_set_mass_f32
 #define rfe_monitor_params_validate rfe_monitor_params_validate_f32
 #define rfe_monitor_consts  rfe_monitor_consts_f32
 #define rfe_normal_quantile rfe_normal_quantile_f32
@@ -153,6 +155,16 @@ RFE_NODISCARD rfe_status_t rfe_params_paper(rfe_params_t *p);
  * @return RFE_OK, RFE_ERR_NULL or RFE_ERR_PARAM.
  */
 RFE_NODISCARD rfe_status_t rfe_params_validate(const rfe_params_t *p);
+
+/**
+ * Sets the vehicle mass of a parameter set at run time (issue 19: the mass and grade
+ * estimator's mass), atomically: the set is changed only when it stays valid.
+ * @param[in,out] p  a parameter set rfe_params_validate accepts.
+ * @param[in]     m  the new mass [kg], finite and > 0.
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_PARAM (@p p, or @p p with mass @p m, invalid: then
+ *         @p p is untouched).
+ */
+RFE_NODISCARD rfe_status_t rfe_params_set_mass(rfe_params_t *p, rfe_real_t m);
 
 /**
  * Checks the monitor's parameters at sample period @p dt (finite, > 0): enable and inflate

@@ -191,6 +191,20 @@ RFE_NODISCARD rfe_status_t rfe_params_paper_q31(rfe_params_q31_t *p);
 RFE_NODISCARD rfe_status_t rfe_params_validate_q31(const rfe_params_q31_t *p);
 
 /**
+ * Sets the vehicle mass of a fixed-point parameter set at run time (the twin of
+ * rfe_params_set_mass), atomically. The constants that depend on the mass (inv_m,
+ * fz_static_f, fz_static_r, k_pitch, k_roll_f, k_roll_r) are recomputed in integer arithmetic,
+ * by the recomputation rfe_params_validate_q31 checks them against (30-bit mantissas, below
+ * 2^-26 relative), rounded to their Q formats: they may differ by a few LSB from those
+ * rfe_params_to_q31 rounds from double (both within the validation's 2^-13).
+ * @param[in,out] p  a parameter set rfe_params_validate_q31 accepts.
+ * @param[in]     m  the new mass [kg], Q16 (RFE_FIX_Q_MASS), > 0.
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_PARAM (@p p invalid, or a mass whose constants leave
+ *         their formats or their 16 significant bits: then @p p is untouched).
+ */
+RFE_NODISCARD rfe_status_t rfe_params_set_mass_q31(rfe_params_q31_t *p, rfe_fix_t m);
+
+/**
  * Checks the monitor's integer constants against the ranges of rfe_monitor_params_q31_t:
  * enable and inflate 0 or 1; hold_steps, warmup_steps < 2^31; each weight in [2^-14, 1);
  * per test 0 < z_clear < z_fire <= 8 (RFE_FIX_MON_Z_MAX). rfe_params_validate_q31 and

@@ -225,3 +225,17 @@ rfe_status_t rfe_params_validate(const rfe_params_t *p)
     }
     return rfe_monitor_params_validate(&p->monitor, p->filter.dt);
 }
+
+rfe_status_t rfe_params_set_mass(rfe_params_t *p, rfe_real_t m)
+{
+    rfe_status_t st = RFE_ERR_NULL;
+    if (p != NULL) {
+        const rfe_real_t m_was = p->vehicle.m;
+        p->vehicle.m = m;
+        st = rfe_params_validate(p);
+        if (st != RFE_OK) {
+            p->vehicle.m = m_was; /* an invalid result leaves p as it was */
+        }
+    }
+    return st;
+}

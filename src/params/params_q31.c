@@ -256,36 +256,62 @@ static int vehicle_derived_sign_ok(const rfe_vehicle_q31_t *v)
     return derived_signs_ok(v) && derived_sig16_ok(v);
 }
 
-/* Each derived constant against its recomputation from the (positive) base fields. */
-static int vehicle_derived_agree(const rfe_vehicle_q31_t *v)
+/* The recomputation of the constants that depend on the mass (inv_m, fz_static_f,
+ * fz_static_r, k_pitch, k_roll_f, k_roll_r) from the (positive) base fields; shared by the
+ * validation and rfe_params_set_mass_q31, so a mass set at run time always passes it. */
+typedef struct {
+    pf_t inv_m;
+    pf_t fz_static_f;
+    pf_t fz_static_r;
+    pf_t k_pitch;
+    pf_t k_roll_f;
+    pf_t k_roll_r;
+} mass_terms_t;
+
+static mass_terms_t mass_terms(const rfe_vehicle_q31_t *v)
 {
     const pf_t m = pf_make(v->m, RFE_FIX_Q_MASS);
     const pf_t lf = pf_make(v->Lf, RFE_FIX_Q_LEN);
     const pf_t lr = pf_make(v->Lr, RFE_FIX_Q_LEN);
     const pf_t bf = pf_make(v->Bf, RFE_FIX_Q_LEN);
     const pf_t br = pf_make(v->Br, RFE_FIX_Q_LEN);
-    const pf_t J = pf_make(v->J, RFE_FIX_Q_INERTIA);
     const pf_t hg = pf_make(v->hg, RFE_FIX_Q_LEN);
     const pf_t g = pf_make(v->g, RFE_FIX_Q_ACC);
-    const pf_t one = pf_make(1, 0);
     /* 2 La in Q29 as 2 (Lf + Lr) = Q28 of the sum; La itself in Q29 */
     const pf_t la = pf_make((int64_t)v->Lf + (int64_t)v->Lr, RFE_FIX_Q_LEN);
     const pf_t la2 = pf_make((int64_t)v->Lf + (int64_t)v->Lr, RFE_FIX_Q_LEN - 1);
     const pf_t mg = pf_mul(m, g);
     const pf_t mh = pf_mul(m, hg);
+    mass_terms_t t;
+    t.inv_m = pf_div(pf_make(1, 0), m);
+    t.fz_static_f = pf_div(pf_mul(mg, lr), la2);
+    t.fz_static_r = pf_div(pf_mul(mg, lf), la2);
+    t.k_pitch = pf_div(mh, la2);
+    t.k_roll_f = pf_div(pf_mul(mh, lr), pf_mul(la, bf));
+    t.k_roll_r = pf_div(pf_mul(mh, lf), pf_mul(la, br));
+    return t;
+}
+
+/* Each derived constant against its recomputation from the (positive) base fields. */
+static int vehicle_derived_agree(const rfe_vehicle_q31_t *v)
+{
+    const pf_t lf = pf_make(v->Lf, RFE_FIX_Q_LEN);
+    const pf_t lr = pf_make(v->Lr, RFE_FIX_Q_LEN);
+    const pf_t J = pf_make(v->J, RFE_FIX_Q_INERTIA);
+    const mass_terms_t t = mass_terms(v);
 
     return agrees(v->yf, pf_make(v->Bf, RFE_FIX_Q_LEN + 1), RFE_FIX_Q_LEN) &&
            agrees(v->yr, pf_make(v->Br, RFE_FIX_Q_LEN + 1), RFE_FIX_Q_LEN) &&
-           agrees(v->inv_m, pf_div(one, m), RFE_FIX_Q_INV) &&
+           agrees(v->inv_m, t.inv_m, RFE_FIX_Q_INV) &&
            agrees(v->lf_J, pf_div(lf, J), RFE_FIX_Q_INV) &&
            agrees(v->lr_J, pf_div(lr, J), RFE_FIX_Q_INV) &&
            agrees(v->yf_J, pf_div(pf_make(v->Bf, RFE_FIX_Q_LEN + 1), J), RFE_FIX_Q_INV) &&
            agrees(v->yr_J, pf_div(pf_make(v->Br, RFE_FIX_Q_LEN + 1), J), RFE_FIX_Q_INV) &&
-           agrees(v->fz_static_f, pf_div(pf_mul(mg, lr), la2), RFE_FIX_Q_FORCE) &&
-           agrees(v->fz_static_r, pf_div(pf_mul(mg, lf), la2), RFE_FIX_Q_FORCE) &&
-           agrees(v->k_pitch, pf_div(mh, la2), RFE_FIX_Q_KLOAD) &&
-           agrees(v->k_roll_f, pf_div(pf_mul(mh, lr), pf_mul(la, bf)), RFE_FIX_Q_KLOAD) &&
-           agrees(v->k_roll_r, pf_div(pf_mul(mh, lf), pf_mul(la, br)), RFE_FIX_Q_KLOAD);
+           agrees(v->fz_static_f, t.fz_static_f, RFE_FIX_Q_FORCE) &&
+           agrees(v->fz_static_r, t.fz_static_r, RFE_FIX_Q_FORCE) &&
+           agrees(v->k_pitch, t.k_pitch, RFE_FIX_Q_KLOAD) &&
+           agrees(v->k_roll_f, t.k_roll_f, RFE_FIX_Q_KLOAD) &&
+           agrees(v->k_roll_r, t.k_roll_r, RFE_FIX_Q_KLOAD);
 }
 
 /* A Magic Formula shape (Q24): 1 < C < 2 (a peak, and a positive force beyond it),
@@ -414,4 +440,35 @@ rfe_status_t rfe_params_validate_q31(const rfe_params_q31_t *p)
         return RFE_ERR_PARAM;
     }
     return RFE_OK;
+}
+
+/* A constant in Q(qt) from its recomputation; -1 (refused by the validation's sign checks)
+ * when it leaves int32 there. */
+static rfe_fix_t mass_term_q(pf_t a, int qt)
+{
+    const int64_t v = pf_to_q(a, qt);
+    return (v < 0) ? -1 : (rfe_fix_t)v;
+}
+
+rfe_status_t rfe_params_set_mass_q31(rfe_params_q31_t *p, rfe_fix_t m)
+{
+    rfe_status_t st = RFE_ERR_NULL;
+    if (p != NULL) {
+        const rfe_vehicle_q31_t was = p->vehicle;
+        p->vehicle.m = m;
+        if (vehicle_base_ok(&p->vehicle) != 0) { /* the recomputation divides by base fields */
+            const mass_terms_t t = mass_terms(&p->vehicle);
+            p->vehicle.inv_m = mass_term_q(t.inv_m, RFE_FIX_Q_INV);
+            p->vehicle.fz_static_f = mass_term_q(t.fz_static_f, RFE_FIX_Q_FORCE);
+            p->vehicle.fz_static_r = mass_term_q(t.fz_static_r, RFE_FIX_Q_FORCE);
+            p->vehicle.k_pitch = mass_term_q(t.k_pitch, RFE_FIX_Q_KLOAD);
+            p->vehicle.k_roll_f = mass_term_q(t.k_roll_f, RFE_FIX_Q_KLOAD);
+            p->vehicle.k_roll_r = mass_term_q(t.k_roll_r, RFE_FIX_Q_KLOAD);
+        }
+        st = rfe_params_validate_q31(p);
+        if (st != RFE_OK) {
+            p->vehicle = was; /* an invalid result leaves p as it was */
+        }
+    }
+    return st;
 }
