@@ -58,9 +58,11 @@
 #if defined(RFE_REAL_DOUBLE)
 #define rfe_pipeline_init rfe_pipeline_init_f64
 #define rfe_pipeline_step rfe_pipeline_step_f64
+#define rfe_pipeline_set_mass rfe_pipeline_set_mass_f64
 #else
 #define rfe_pipeline_init rfe_pipeline_init_f32
 #define rfe_pipeline_step rfe_pipeline_step_f32
+#define rfe_pipeline_set_mass rfe_pipeline_set_mass_f32
 #endif
 
 /** Output of one step. */
@@ -123,5 +125,15 @@ RFE_NODISCARD rfe_status_t rfe_pipeline_init(rfe_pipeline_t *pl, const rfe_param
  */
 RFE_NODISCARD rfe_status_t rfe_pipeline_step(rfe_pipeline_t *pl, const rfe_velocity_input_t *in,
                                              rfe_pipeline_out_t *out);
+
+/**
+ * Sets the vehicle mass of both estimators between steps (rfe_friction_set_mass, then the
+ * observer's copy of the same vehicle), e.g. the mass and grade estimator's (docs/
+ * MASS_GRADE.md §10).
+ * @param[in,out] pl  a pipeline set up by rfe_pipeline_init.
+ * @param[in]     m   the vehicle mass [kg], finite and > 0.
+ * @return rfe_friction_set_mass's status; on an error the pipeline is untouched.
+ */
+RFE_NODISCARD rfe_status_t rfe_pipeline_set_mass(rfe_pipeline_t *pl, rfe_real_t m);
 
 #endif /* RFE_PIPELINE_H */

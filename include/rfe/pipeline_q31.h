@@ -80,4 +80,14 @@ RFE_NODISCARD rfe_status_t rfe_pipeline_step_q31(rfe_pipeline_q31_t *pl,
                                                  const rfe_velocity_input_q31_t *in,
                                                  rfe_pipeline_out_q31_t *out);
 
+/**
+ * Sets the vehicle mass of both estimators between steps (the twin of rfe_pipeline_set_mass:
+ * rfe_friction_set_mass_q31, then the observer's copy of the same vehicle, its constants
+ * that depend on the mass included).
+ * @param[in,out] pl  a pipeline set up by rfe_pipeline_init_q31.
+ * @param[in]     m   the vehicle mass [kg], Q16 (RFE_FIX_Q_MASS), > 0.
+ * @return rfe_friction_set_mass_q31's status; on an error the pipeline is untouched.
+ */
+RFE_NODISCARD rfe_status_t rfe_pipeline_set_mass_q31(rfe_pipeline_q31_t *pl, rfe_fix_t m);
+
 #endif /* RFE_PIPELINE_Q31_H */

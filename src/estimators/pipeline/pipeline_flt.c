@@ -143,3 +143,16 @@ rfe_status_t rfe_pipeline_step(rfe_pipeline_t *pl, const rfe_velocity_input_t *i
     pl->started = 1u;
     return st;
 }
+
+rfe_status_t rfe_pipeline_set_mass(rfe_pipeline_t *pl, rfe_real_t m)
+{
+    rfe_status_t st = RFE_ERR_NULL;
+    if (pl != NULL) {
+        st = rfe_friction_set_mass(&pl->friction, m);
+        if (st == RFE_OK) {
+            /* the observer took the same vehicle at init: it keeps being the same */
+            pl->velocity.veh = pl->friction.params.vehicle;
+        }
+    }
+    return st;
+}

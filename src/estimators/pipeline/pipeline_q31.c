@@ -156,3 +156,16 @@ rfe_status_t rfe_pipeline_step_q31(rfe_pipeline_q31_t *pl, const rfe_velocity_in
     pl->started = 1u;
     return st;
 }
+
+rfe_status_t rfe_pipeline_set_mass_q31(rfe_pipeline_q31_t *pl, rfe_fix_t m)
+{
+    rfe_status_t st = RFE_ERR_NULL;
+    if (pl != NULL) {
+        st = rfe_friction_set_mass_q31(&pl->friction, m);
+        if (st == RFE_OK) {
+            /* the observer took the same vehicle at init: it keeps being the same */
+            pl->velocity.veh = pl->friction.params.vehicle;
+        }
+    }
+    return st;
+}

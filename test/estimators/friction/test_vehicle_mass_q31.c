@@ -1,7 +1,7 @@
 /**
  * @file test_vehicle_mass_q31.c
  * @brief The fixed-point vehicle mass set at run time (rfe_params_set_mass_q31,
- *        rfe_friction_set_mass_q31): statuses and the untouched state on error, the
+ *        rfe_friction_set_mass_q31, rfe_pipeline_set_mass_q31): statuses and the untouched state on error, the
  *        recomputed constants against their values computed here in double, and that the
  *        estimator keeps nothing else derived from the mass.
  *
@@ -16,6 +16,7 @@
 
 #include "host/fixed_conv.h"
 #include "rfe/friction_q31.h"
+#include "rfe/pipeline_q31.h"
 
 static rfe_params_q31_t preset(void)
 {
@@ -164,12 +165,85 @@ static void test_friction_set_mass_q31(void **state)
     assert_true(differs); /* the mass reaches the model: 1500 kg is not the preset's */
 }
 
+/* An ESC sample: braking at about 20 m/s, the wheels 4 % slower, a little steering. */
+static rfe_velocity_input_q31_t esc(size_t k)
+{
+    rfe_velocity_input_q31_t in;
+    uint32_t sat = 0u;
+    size_t w;
+    memset(&in, 0, sizeof in);
+    in.dt = rfe_fix_from_double(0.01, RFE_FIX_Q_DT, &sat);
+    in.delta = rfe_fix_from_double(0.01, RFE_FIX_Q_ANGLE, &sat);
+    in.ax = rfe_fix_from_double(-4.0 - (0.01 * (double)(k % 7u)), RFE_FIX_Q_ACC, &sat);
+    in.yaw_rate = rfe_fix_from_double(0.05, RFE_FIX_Q_YAWRATE, &sat);
+    for (w = 0u; w < 4u; ++w) {
+        in.omega[w] = rfe_fix_from_double((20.0 - (0.04 * (double)k)) * 0.96 / 0.325,
+                                          RFE_FIX_Q_OMEGA, &sat);
+    }
+    assert_int_equal(sat, 0u);
+    return in;
+}
+
+static void pipeline_at(rfe_pipeline_q31_t *pl, const rfe_params_q31_t *p)
+{
+    rfe_velocity_params_q31_t vp;
+    memset(&vp, 0, sizeof vp);
+    assert_int_equal(rfe_velocity_params_default_q31(&vp), RFE_OK);
+    memset(pl, 0, sizeof *pl); /* padding defined: compared as bytes */
+    assert_int_equal(rfe_pipeline_init_q31(pl, p, &vp), RFE_OK);
+}
+
+/* Both estimators take the mass and its constants: the pipeline set to 1500 kg after K steps
+ * equals, from then on, the same state with the parameters rfe_params_set_mass_q31 gives. */
+/* REQ-EST-017 */
+static void test_pipeline_set_mass_q31(void **state)
+{
+    static rfe_pipeline_q31_t a;
+    static rfe_pipeline_q31_t b;
+    static rfe_pipeline_q31_t before;
+    rfe_pipeline_out_q31_t oa;
+    rfe_pipeline_out_q31_t ob;
+    rfe_params_q31_t p = preset();
+    rfe_params_q31_t p2;
+    size_t k;
+    const size_t K = 100u;
+    (void)state;
+    memset(&oa, 0, sizeof oa);
+    memset(&ob, 0, sizeof ob);
+    assert_int_equal(rfe_pipeline_set_mass_q31(NULL, mass_q(1500.0)), RFE_ERR_NULL);
+    memset(&a, 0, sizeof a);
+    assert_int_equal(rfe_pipeline_set_mass_q31(&a, mass_q(1500.0)), RFE_ERR_NOT_INITIALISED);
+    pipeline_at(&a, &p);
+    for (k = 0u; k < K; ++k) {
+        const rfe_velocity_input_q31_t in = esc(k);
+        assert_false(rfe_status_is_error(rfe_pipeline_step_q31(&a, &in, &oa)));
+    }
+    memcpy(&before, &a, sizeof before);
+    assert_int_equal(rfe_pipeline_set_mass_q31(&a, -1), RFE_ERR_RANGE);
+    assert_int_equal(rfe_pipeline_set_mass_q31(&a, mass_q(30000.0)), RFE_ERR_RANGE);
+    assert_memory_equal(&a, &before, sizeof a);
+    p2 = p;
+    assert_int_equal(rfe_params_set_mass_q31(&p2, mass_q(1500.0)), RFE_OK);
+    memcpy(&b, &a, sizeof b); /* the rest (the input noise the steps set) a's */
+    b.friction.params.vehicle = p2.vehicle;
+    b.velocity.veh = p2.vehicle;
+    assert_int_equal(rfe_pipeline_set_mass_q31(&a, mass_q(1500.0)), RFE_OK);
+    assert_memory_equal(&a, &b, sizeof a);
+    for (k = K; k < (2u * K); ++k) {
+        const rfe_velocity_input_q31_t in = esc(k);
+        assert_false(rfe_status_is_error(rfe_pipeline_step_q31(&a, &in, &oa)));
+        assert_false(rfe_status_is_error(rfe_pipeline_step_q31(&b, &in, &ob)));
+        assert_memory_equal(&oa, &ob, sizeof oa);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_params_set_mass_q31_constants),
         cmocka_unit_test(test_params_set_mass_q31_refused),
         cmocka_unit_test(test_friction_set_mass_q31),
+        cmocka_unit_test(test_pipeline_set_mass_q31),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
