@@ -305,15 +305,14 @@ static rfe_status_t update(rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in
     return st;
 }
 
-/* §4.1 the state after a start, a hold or an update: x, P and q_mv finite. Valid parameters
+/* §4.1 the state after a start, a hold or an update: P and q_mv finite. Valid parameters
  * may still overflow a square (r_v = 1e30 in float: r_v^2 = Inf), and the hold adds to the
- * grade's variance at every held sample. */
+ * grade's variance at every held sample. x needs no check: a start takes the sample's
+ * checked v and the parameters' m0 and theta0, a hold keeps M and theta and takes the checked
+ * v, an update checked it (updated_state_status). */
 static int state_finite(const rfe_mass_grade_t *o)
 {
-    return ((rfe_all_finite(o->x, N) != 0) && (rfe_all_finite(o->P, N * N) != 0) &&
-            (rfe_is_finite(o->q_mv) != 0))
-               ? 1
-               : 0;
+    return ((rfe_all_finite(o->P, N * N) != 0) && (rfe_is_finite(o->q_mv) != 0)) ? 1 : 0;
 }
 
 /* §1 the outputs: the state, the sd of its diagonal. */

@@ -687,6 +687,55 @@ static void test_init_refuses_unusable_derived_bounds(void **state)
     assert_memory_equal(&tid, &before, sizeof(tid));
 }
 
+/* Init refuses each kind of unusable derived constant on its own (consts_usable): an axle
+ * load that overflows, a walk or a prior spread that overflows while the bounds are finite, a
+ * front C D bound that underflows to 0 while the rear's is fine, and a rear K / (C D) that
+ * overflows while the front's is finite. Every vehicle and parameter set here passes its own
+ * checks. */
+/* REQ-TID-003 */
+static void test_init_refuses_each_unusable_constant(void **state)
+{
+    rfe_params_t veh;
+    rfe_tyre_id_params_t tp;
+#if defined(RFE_REAL_DOUBLE)
+    const rfe_real_t huge = (rfe_real_t)1e308;
+    const rfe_real_t big_m = (rfe_real_t)1e307;   /* m g finite, 40 m g not */
+    const rfe_real_t short_lr = (rfe_real_t)1e-300;
+    const rfe_real_t tiny_m = (rfe_real_t)1e-30;  /* m g Lr / L * mu_lo underflows to 0 */
+#else
+    const rfe_real_t huge = (rfe_real_t)3e38f;
+    const rfe_real_t big_m = (rfe_real_t)1e37f;
+    const rfe_real_t short_lr = (rfe_real_t)1e-30f;
+    const rfe_real_t tiny_m = (rfe_real_t)1e-20f;
+#endif
+    size_t k;
+    (void)state;
+    memset(&tid, 0xA5, sizeof(tid));
+    before = tid;
+    for (k = 0u; k < 5u; ++k) {
+        setup_defaults(&veh, &tp);
+        if (k == 0u) {
+            veh.vehicle.m = huge; /* m g = Inf: the axle loads themselves */
+        } else if (k == 1u) {
+            tp.q_cy = huge; /* the walk of K = q_cy Fz overflows; its bounds do not */
+        } else if (k == 2u) {
+            tp.sd0_mu = huge; /* the prior spread of D overflows */
+        } else if (k == 3u) {
+            veh.vehicle.m = tiny_m; /* the front axle's load underflows: C D's bound 0 */
+            veh.vehicle.Lr = short_lr;
+        } else {
+            veh.vehicle.m = big_m; /* the rear axle's K bound overflows, the front's not */
+            veh.vehicle.Lr = short_lr;
+        }
+        assert_int_equal(rfe_params_validate(&veh), RFE_OK);
+        assert_int_equal(rfe_tyre_id_params_validate(&tp), RFE_OK);
+        if (rfe_tyre_id_init(&tid, &tp, &veh, 1u) != RFE_ERR_PARAM) {
+            fail_msg("case %zu: init accepted", k);
+        }
+        assert_memory_equal(&tid, &before, sizeof(tid));
+    }
+}
+
 /* REQ-TID-004. Found by fuzz_tyre_id_f32: with a mass of 1.8e23 kg (valid) the spread of D
  * and K passes the square root of the float's range, and the sds came out +Inf with status
  * 0. They are now the same sums over values scaled by the largest first: finite. */
@@ -760,6 +809,7 @@ int main(void)
         cmocka_unit_test(test_substeps),
         cmocka_unit_test(test_slip_beyond_alpha_max_is_clipped),
         cmocka_unit_test(test_init_refuses_unusable_derived_bounds),
+        cmocka_unit_test(test_init_refuses_each_unusable_constant),
         cmocka_unit_test(test_huge_vehicle_gives_finite_sds),
         cmocka_unit_test(test_infinite_vy_weighs_zero),
     };
