@@ -39,6 +39,9 @@ LIB_DIRS = make_var("mk/lib.mk", "LIB_DIRS")
 # The Makefile's strict flags (WARN, and the -Werror=vla it appends) and optimisation (OPT).
 WARN = make_var("Makefile", "WARN") + ["-Werror=vla"]
 OPT = ["-O2", "-g"]
+# What Python's own compile flags (sysconfig CFLAGS, before ours) add that the Makefile's build
+# does not have: -DNDEBUG and -fwrapv undone (their -O3 is overridden by OPT).
+PY_UNDO = ["-UNDEBUG", "-fno-wrapv"]
 LIB_ALL = sorted(str(p.relative_to(ROOT)) for d in LIB_DIRS for p in (ROOT / d).glob("*.c"))
 Q31_SRC = [s for s in LIB_ALL if s.endswith("_q31.c")]
 FLT_SRC = [s for s in LIB_ALL if s not in Q31_SRC]
@@ -94,7 +97,7 @@ class BuildExt(build_ext):
             tree, src, macros, inc = task
             return self.compiler.compile([src], output_dir=str(temp / tree), macros=macros,
                                          include_dirs=inc,
-                                         extra_postargs=WARN + OPT + ["-UNDEBUG"])
+                                         extra_postargs=WARN + OPT + PY_UNDO)
 
         with ThreadPoolExecutor(max_workers=max(1, jobs)) as pool:
             objects = [o for objs in pool.map(compile_one, tasks) for o in objs]
