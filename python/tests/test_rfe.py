@@ -226,3 +226,29 @@ def test_run_releases_the_gil(tmp_path: Path) -> None:
     want = rfe.replay(ROOT / "scenarios/paper_high_mu_brake.csv", real="double", quiet=True)
     assert np.array_equal(result["df"].to_numpy(np.float64).view(np.int64),  # type: ignore[union-attr]
                           want.to_numpy(np.float64).view(np.int64))
+
+
+def test_plot_estimates_draws_what_the_script_draws(tmp_path: Path) -> None:
+    """rfe.plot_estimates and scripts/tools/plot_estimates.py draw the same figure (one
+    drawing code, python/rfe/plot.py): the same axes, lines and their data, for a log with
+    truth and two estimates."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    sys.path.insert(0, str(ROOT / "scripts" / "tools"))
+    import plot_estimates as script
+
+    log = ROOT / "scenarios/brake_in_turn.csv"
+    a = rfe.replay(log, real="double", quiet=True, out=tmp_path / "a.csv")
+    b = rfe.replay(log, real="q31", quiet=True, out=tmp_path / "b.csv")
+    got = rfe.plot_estimates(log, [a, b], labels=["double", "q31"], out=tmp_path / "p.png")
+    want = script.figure(log, [tmp_path / "a.csv", tmp_path / "b.csv"], ["double", "q31"])
+    assert (tmp_path / "p.png").stat().st_size > 0
+    assert got._suptitle.get_text() == want._suptitle.get_text()
+    assert len(got.axes) == len(want.axes)
+    for ga, wa in zip(got.axes, want.axes):
+        assert ga.get_title() == wa.get_title()
+        assert [ln.get_label() for ln in ga.lines] == [ln.get_label() for ln in wa.lines]
+        for gl, wl in zip(ga.lines, wa.lines):
+            assert np.array_equal(np.asarray(gl.get_xydata()), np.asarray(wl.get_xydata()))
+    plt.close("all")
