@@ -7,6 +7,15 @@ accelerations). Matplotlib only: no part of it needs the compiled extension.
 from __future__ import annotations
 
 import math
+import os
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    import pandas as pd
+    from matplotlib.figure import Figure
+
+    Log = str | os.PathLike | pd.DataFrame
 
 WHEELS = ("fl", "fr", "rl", "rr")
 # (colour, line style, marker, width) per estimate. Estimates often coincide (the paper's
@@ -140,7 +149,7 @@ def draw_manoeuvre(ax_v, ax_a, sensor: dict, meta: dict | None = None,
 
 
 def compose(meta: dict, truth: dict, ests: list[dict], labels: list[str],
-            title: str | None = None, R: float = math.nan):
+            title: str | None = None, R: float = math.nan) -> Figure:
     """The figure of a sensor log's columns (``truth``: name -> values in SI, with its
     metadata ``meta``) and of estimate logs' columns (``ests``), one label each: a panel
     per wheel (the true mu when the log has it, each estimate's mu, the first one's +-2 sd
@@ -166,7 +175,7 @@ def compose(meta: dict, truth: dict, ests: list[dict], labels: list[str],
     return fig
 
 
-def _columns(log) -> tuple[dict, dict]:
+def _columns(log: Log) -> tuple[dict[str, str], dict[str, Any]]:
     """(metadata, name -> float array) of a DataFrame or a DATA.md CSV path; the columns that
     are not numbers are left out."""
     import numpy as np
@@ -183,8 +192,9 @@ def _columns(log) -> tuple[dict, dict]:
     return dict(log.attrs.get("meta", {}) or {}), cols
 
 
-def plot_estimates(sensor, estimates, labels=None, title: str | None = None,
-                   out=None):
+def plot_estimates(sensor: Log, estimates: Log | Sequence[Log],
+                   labels: Sequence[str] | None = None, title: str | None = None,
+                   out: str | os.PathLike | None = None) -> Figure:
     """The figure of scripts/tools/plot_estimates.py for a sensor log and estimates.
 
     Args:
