@@ -46,7 +46,7 @@ DEPS_EXTRA :=
 TEST_GATES :=
 include $(sort $(filter-out mk/lib.mk,$(wildcard mk/*.mk)))
 
-.PHONY: mass-grade-scenarios mass-grade-results mass-sensitivity mass-grade-goldens trust-invariant names car-format-logs observer-goldens observer-goldens-q31 observer-results monitor-results all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind valgrind-unit valgrind-cli coverage demo goldens goldens-q31 scenarios observer-scenarios clean vectors shared-sync check-shared readme-table \
+.PHONY: mass-grade-scenarios mass-grade-results mass-sensitivity mass-grade-goldens trust-invariant names car-format-logs observer-goldens observer-goldens-q31 observer-results monitor-results test-pkg all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind valgrind-unit valgrind-cli coverage demo goldens goldens-q31 scenarios observer-scenarios clean vectors shared-sync check-shared readme-table \
         check-kernels check-tools layers help-check goldens-ref check-nofloat help deps-analysis misra tidy complexity structural analysis \
         twins check-twins tyre-id-scenarios tyre-id-results tyre-id-goldens
 ## the libraries and build/mu_replay (the default target)
@@ -200,6 +200,22 @@ test-py: venv $(BUILD)/mu_replay
 	@mkdir -p $(RESULTS)/py
 	$(PY) -m pytest -q -p no:cacheprovider scripts --junitxml=$(RESULTS)/py/pytest.xml
 
+# The Python package (docs/PYTHON.md): pip builds it from pyproject.toml and setup.py (the C
+# sources of LIB_DIRS and src/host/, compiled as mu_replay's) into $(BUILD)/py, not into the
+# venv; without build isolation, from the venv's pinned setuptools and cffi, so the build
+# needs no network and no version but the pinned ones. Its tests then compare it with
+# $(BUILD)/mu_replay.
+PKG_DIR := $(BUILD)/py
+## the Python package rfe built into build/py, and its tests against mu_replay
+test-pkg: venv $(BUILD)/mu_replay
+	@rm -rf $(PKG_DIR) && mkdir -p $(RESULTS)/pkg
+	@RFE_BUILD_JOBS=$(TEST_JOBS) $(VENV)/bin/pip install -q --no-build-isolation --no-deps \
+	  --no-cache-dir --target $(PKG_DIR) . >$(BUILD)/pkg-build.log 2>&1 || \
+	  { cat $(BUILD)/pkg-build.log; echo "test-pkg: the package build failed"; exit 1; }
+	@echo "test-pkg: rfe built into $(PKG_DIR)"
+	PYTHONPATH=$(abspath $(PKG_DIR)) MU_REPLAY=$(abspath $(BUILD)/mu_replay) $(PY) -m pytest -q \
+	  -p no:cacheprovider python/tests --junitxml=$(RESULTS)/pkg/pytest.xml
+
 COV_MIN_LINES    := 95
 COV_MIN_BRANCHES := 85
 ## gcov line and branch coverage of src/ with its gate and justifications
@@ -237,7 +253,7 @@ coverage: deps $(foreach f,cov-f32 cov-f64,$(addprefix $(BUILD)/$(f)/test/,$(UNI
 # share nothing but their common prerequisites, which make builds once); --output-sync
 # prints each check's output whole when it ends, so a long one (valgrind) is quiet a while.
 TEST_STEPS = lib check-tools layers names help-check check-shared check-twins check-nofloat misra tidy complexity structural test-c $(TEST_GATES) \
-             sanitize valgrind-unit valgrind-cli test-py check-kernels coverage
+             sanitize valgrind-unit valgrind-cli test-py test-pkg check-kernels coverage
 TEST_JOBS ?= $(shell nproc 2>/dev/null || echo 1)
 ## every check, TEST_JOBS at a time (the README's test command)
 test: deps

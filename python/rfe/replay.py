@@ -1,0 +1,244 @@
+"""rfe.replay, rfe.metrics and rfe.Estimator: mu_replay's run from Python.
+
+Every run is one call of mu_replay's C main (rfe.cli) with the options as its flags, the
+estimate log written by the C writer and read back exactly (each value is written as the
+shortest text that reads back as the same double, and read with a correctly rounded parser),
+so a DataFrame holds what ``mu_replay`` writes, bit for bit, in float, double and q31.
+"""
+from __future__ import annotations
+
+import csv
+import json
+import math
+import os
+import tempfile
+import warnings
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any, Literal, Union
+
+import numpy as np
+import pandas as pd
+
+from . import cli, errors
+from ._rfe import ffi, lib
+
+Source = Union[str, os.PathLike, pd.DataFrame]
+Real = Literal["float", "double", "q31"]
+
+STATUS_TEXT: dict[int, str] = {
+    s: ffi.string(lib.rfe_py_status_str(s)).decode() for s in range(32)}
+
+# keyword -> mu_replay flag; None = the CLI's default (the flag is not given).
+_VALUE_OPTIONS = {"preset": "--preset", "filter": "--filter", "tyre": "--tyre",
+                  "real": "--real", "velocity": "--velocity", "mass_grade": "--mass-grade"}
+_FLAG_OPTIONS = {"strict": "--strict", "require_params": "--require-params", "quiet": "--quiet"}
+
+
+def _fmt(v: Any) -> str:
+    """A cell or parameter value as text that reads back as the same double."""
+    if isinstance(v, (bool, np.bool_)):
+        return "1" if v else "0"
+    if isinstance(v, (int, np.integer)):
+        return str(int(v))
+    if isinstance(v, (float, np.floating)):
+        f = float(v)
+        return repr(f) if math.isfinite(f) else ("nan" if math.isnan(f) else
+                                                 ("inf" if f > 0 else "-inf"))
+    return str(v)
+
+
+def write_log(df: pd.DataFrame, path: str | os.PathLike) -> None:
+    """Writes a DataFrame as a DATA.md sensor log: ``df.attrs["meta"]`` (a mapping) as
+    ``# key = value`` lines, the header, one row per sample; every number in the shortest
+    text that reads back as the same double (NaN as ``nan``)."""
+    meta = df.attrs.get("meta", {}) or {}
+    with open(path, "w", encoding="utf-8", newline="\n") as f:
+        for k, v in meta.items():
+            f.write(f"# {k} = {_fmt(v)}\n")
+        f.write(",".join(str(c) for c in df.columns) + "\n")
+        cols = [df[c].to_numpy() for c in df.columns]
+        for i in range(len(df)):
+            f.write(",".join(_fmt(col[i]) for col in cols) + "\n")
+
+
+def read_log(path: str | os.PathLike) -> pd.DataFrame:
+    """Reads a DATA.md CSV (sensor or estimate log) as it is written: the ``# key = value``
+    metadata into ``attrs["meta"]`` (strings), each column as int64 when every cell is an
+    integer, else float64, each number correctly rounded (numpy's parser, or float()), so the
+    shortest-round-trip text of an estimate log gives back its doubles bit for bit (an
+    empty cell is NaN). No unit conversion: a recorded car's log keeps its unit_*/scale_*
+    keys, which the C reader applies when the frame is replayed."""
+    meta: dict[str, str] = {}
+    with open(path, encoding="utf-8", newline="") as f:
+        lines = iter(f)
+        header = ""
+        for line in lines:
+            if line.startswith("#"):
+                key, sep, value = line[1:].partition("=")
+                if sep:
+                    meta[key.strip()] = value.strip()
+                continue
+            header = line
+            break
+        names = [c.strip() for c in next(csv.reader([header]))] if header else []
+        body = list(lines)
+    try:  # numpy's parser rounds correctly too (Python's own dtoa), and fast
+        table = np.loadtxt(body, delimiter=",", dtype=np.float64, ndmin=2)
+        cells = [table[:, j] for j in range(len(names))] if len(body) else [[] for _ in names]
+    except ValueError:  # empty cells, text columns: cell by cell
+        cells = [[] for _ in names]
+        for row in csv.reader(body):
+            for j, text in enumerate(row[:len(names)]):
+                cells[j].append(text.strip())
+    data: dict[str, np.ndarray] = {}
+    for name, col in zip(names, cells):
+        data[name] = _column(col)
+    df = pd.DataFrame(data)
+    df.attrs["meta"] = meta
+    return df
+
+
+def _column(col: Any) -> np.ndarray:
+    """One column: int64 when every value is an integer, else float64 (empty text: NaN),
+    else the text."""
+    if isinstance(col, np.ndarray):
+        values = col
+    else:
+        try:
+            values = np.array([float(x) if x else math.nan for x in col], dtype=np.float64)
+        except ValueError:
+            return np.array(col, dtype=object)
+    if values.size and np.all(np.isfinite(values)) and np.all(values == np.round(values)) \
+            and np.all(np.abs(values) < 2.0**53):
+        return values.astype(np.int64)
+    return values
+
+
+def _args(options: Mapping[str, Any]) -> list[str]:
+    args: list[str] = []
+    for key, value in options.items():
+        if key in _VALUE_OPTIONS:
+            if value is not None:
+                args += [_VALUE_OPTIONS[key], str(value)]
+        elif key in _FLAG_OPTIONS:
+            if value:
+                args.append(_FLAG_OPTIONS[key])
+        else:
+            raise TypeError(f"replay() got an unexpected keyword argument '{key}'")
+    return args
+
+
+def _run(source: Source, params: Mapping[str, float] | str | os.PathLike | None,
+         options: Mapping[str, Any], out: str | os.PathLike | None,
+         tmp: Path) -> tuple[Path, dict[str, Any], str]:
+    """One mu_replay run in ``tmp``: (estimate log path, the --metrics JSON, stdout)."""
+    if isinstance(source, pd.DataFrame):
+        in_path = tmp / "dataframe.csv"
+        write_log(source, in_path)
+    else:
+        in_path = Path(os.fspath(source))
+    out_path = Path(os.fspath(out)) if out is not None else tmp / "estimate.csv"
+    json_path = tmp / "metrics.json"
+    args = ["--in", str(in_path), "--out", str(out_path), "--metrics", str(json_path)]
+    if isinstance(params, Mapping):
+        p = tmp / "params.txt"
+        p.write_text("".join(f"{k} = {_fmt(v)}\n" for k, v in params.items()),
+                     encoding="utf-8")
+        args += ["--params", str(p)]
+    elif params is not None:
+        args += ["--params", os.fspath(params)]
+    args += _args(options)
+    rc, stdout, stderr = cli.run_captured(args)
+    if rc != 0:
+        raise errors.from_cli(rc, stderr, STATUS_TEXT)
+    for line in stderr.splitlines():
+        warnings.warn(line, errors.RfeWarning, stacklevel=3)
+    summary = json.loads(json_path.read_text(encoding="utf-8"))
+    return out_path, summary, stdout
+
+
+def replay(source: Source, *, params: Mapping[str, float] | str | os.PathLike | None = None,
+           out: str | os.PathLike | None = None, preset: str | None = None,
+           filter: str | None = None, tyre: str | None = None, real: Real | None = None,
+           velocity: str | None = None, mass_grade: str | None = None,
+           strict: bool = False, require_params: bool = False,
+           quiet: bool = False) -> pd.DataFrame:
+    """Runs the estimator over a sensor log as ``mu_replay`` does, with its defaults.
+
+    Args:
+        source: a sensor log (path), or a DataFrame of its columns with the metadata in
+            ``attrs["meta"]`` (as :func:`read_log` gives it).
+        params: a parameter file, or a mapping key -> value written as one (--params).
+        out: also keep the estimate log at this path (byte for byte mu_replay's --out).
+        preset, filter, tyre, real, velocity, mass_grade, strict, require_params, quiet:
+            mu_replay's options of the same names (None / False: the CLI's default).
+
+    Returns:
+        The estimate log's columns (t, mu_*, sd_*, valid_*, status, and the observer's and
+        the mass and grade estimator's when they ran), exactly as mu_replay writes them;
+        ``attrs``: ``meta`` (the estimate log's metadata), ``summary`` (the --metrics JSON:
+        steps, status counts, bad cells, gaps, accuracy) and ``report`` (the table
+        mu_replay prints).
+
+    Raises:
+        UsageError: an option mu_replay refuses (exit status 2).
+        InputError: malformed input or a failed run (exit status 1); a subclass per
+            library status (ParamError, RangeError, NonFiniteError, ...).
+    Notes and warnings mu_replay prints are issued as :class:`RfeWarning`.
+    """
+    options = dict(preset=preset, filter=filter, tyre=tyre, real=real, velocity=velocity,
+                   mass_grade=mass_grade, strict=strict, require_params=require_params,
+                   quiet=quiet)
+    with tempfile.TemporaryDirectory(prefix="rfe-") as d:
+        out_path, summary, stdout = _run(source, params, options, out, Path(d))
+        df = read_log(out_path)
+    df.attrs["summary"] = summary
+    df.attrs["report"] = stdout
+    return df
+
+
+def metrics(source: Source | pd.DataFrame, **options: Any) -> dict[str, Any]:
+    """The accuracy of a run against the log's truth columns, by the CLI's definitions
+    (src/host/metrics.h, computed by its C code): mu_replay's --metrics JSON ``metrics``
+    object (per wheel fl..rr and the mean), or None when the log has no truth columns.
+    ``source`` and ``options`` as :func:`replay`; an estimate DataFrame returned by
+    :func:`replay` gives its run's metrics without running again."""
+    if isinstance(source, pd.DataFrame) and "summary" in source.attrs and not options:
+        return source.attrs["summary"]["metrics"]
+    return replay(source, **options).attrs["summary"]["metrics"]
+
+
+class Estimator:
+    """A configured estimator: the preset, parameters, precision and velocity source of a
+    run, applied to logs or to columns of samples.
+
+    Args:
+        preset: "default" or "paper" (the library's parameter sets).
+        params: a mapping key -> value or a parameter file (docs/spec/DATA.md keys).
+        real: "float" (default), "double" or "q31".
+        velocity: "auto" (default), "observer" or "measured".
+        **options: the other options of :func:`replay` (filter, tyre, mass_grade, ...).
+    """
+
+    def __init__(self, preset: str = "default",
+                 params: Mapping[str, float] | str | os.PathLike | None = None,
+                 real: Real = "float", velocity: str = "auto", **options: Any) -> None:
+        _args(options)  # unknown keywords: TypeError now, not at the first run
+        self.preset = preset
+        self.params = params
+        self.real = real
+        self.velocity = velocity
+        self.options = options
+
+    def run(self, data: Source | Mapping[str, Any],
+            meta: Mapping[str, Any] | None = None) -> pd.DataFrame:
+        """Runs over a whole log: a path, a DataFrame, or a mapping column -> array (with
+        the log's metadata in ``meta``). Returns :func:`replay`'s DataFrame."""
+        if isinstance(data, Mapping):
+            data = pd.DataFrame({k: np.asarray(v) for k, v in data.items()})
+        if meta is not None and isinstance(data, pd.DataFrame):
+            data = data.copy()
+            data.attrs["meta"] = dict(meta)
+        return replay(data, params=self.params, preset=self.preset, real=self.real,
+                      velocity=self.velocity, **self.options)
