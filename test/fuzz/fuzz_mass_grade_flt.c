@@ -68,18 +68,6 @@ static void violation(const fz_ctx_t *c, const char *what, const rfe_mass_grade_
     abort();
 }
 
-static int finite(rfe_real_t x)
-{
-    return isfinite((double)x);
-}
-
-/* |x| beyond the limit @p lim of config.h, the limit rounded to the build's type. */
-static int beyond(rfe_real_t x, double lim)
-{
-    const rfe_real_t l = (rfe_real_t)lim;
-    return (x > l) || (x < -l);
-}
-
 /* The input class rfe/mass_grade.h gives the sample: RFE_OK or the error it must return. */
 static rfe_status_t input_class(const fz_ctx_t *c, const rfe_mass_grade_input_t *u)
 {

@@ -1,7 +1,8 @@
 /**
  * @file fuzz_real.h
  * @brief The float/double harnesses' decoded double -> rfe_real_t, as a sensor driver would
- *        convert: out of range becomes +-Inf (a plain cast would be undefined behaviour).
+ *        convert: out of range becomes +-Inf (a plain cast would be undefined behaviour);
+ *        and the two checks every harness's invariants use.
  *        The build's number type decides: float, or double with -DRFE_REAL_DOUBLE.
  */
 #ifndef RFE_FUZZ_REAL_H
@@ -32,6 +33,19 @@ static inline rfe_real_t fz_to_real(double d)
         return (rfe_real_t)-INFINITY;
     }
     return (rfe_real_t)d;
+}
+
+/* 1 when x is finite (the invariants' check of every estimate). */
+static inline int finite(rfe_real_t x)
+{
+    return isfinite((double)x);
+}
+
+/* |x| beyond the limit @p lim of config.h, the limit rounded to the build's type. */
+static inline int beyond(rfe_real_t x, double lim)
+{
+    const rfe_real_t l = (rfe_real_t)lim;
+    return (x > l) || (x < -l);
 }
 
 #endif /* RFE_FUZZ_REAL_H */

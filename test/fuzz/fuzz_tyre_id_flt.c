@@ -81,18 +81,6 @@ static void violation(const fz_ctx_t *c, const char *what, const rfe_tyre_id_sam
     abort();
 }
 
-static int finite(rfe_real_t x)
-{
-    return isfinite((double)x);
-}
-
-/* |x| beyond the limit @p lim of config.h, the limit rounded to the build's type. */
-static int beyond(rfe_real_t x, double lim)
-{
-    const rfe_real_t l = (rfe_real_t)lim;
-    return (x > l) || (x < -l);
-}
-
 /* The status rfe/tyre_id.h and TYRE_ID.md §12 give the sample. */
 static rfe_status_t expected(const fz_ctx_t *c, const rfe_tyre_id_sample_t *u)
 {

@@ -60,18 +60,6 @@ static void violation(const fz_ctx_t *c, const char *what, const rfe_velocity_in
     abort();
 }
 
-static int finite(rfe_real_t x)
-{
-    return isfinite((double)x);
-}
-
-/* |x| beyond the limit @p lim of config.h, the limit rounded to the build's type. */
-static int beyond(rfe_real_t x, double lim)
-{
-    const rfe_real_t l = (rfe_real_t)lim;
-    return (x > l) || (x < -l);
-}
-
 /* The status rfe/velocity.h promises for this sample (the road-wheel angle already taken
  * from the steering wheel when that is what the sample gives). */
 static rfe_status_t expected(const fz_ctx_t *c, const rfe_velocity_input_t *u, rfe_real_t delta)
