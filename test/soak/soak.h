@@ -15,6 +15,7 @@
 #include <stddef.h>
 
 #include "csv_log.h"
+#include "param_file.h"
 
 #define SOAK_STATUS_SLOTS 32
 #define SOAK_WHY 200
@@ -108,6 +109,19 @@ typedef struct {
     double truth;           /**< the log's mass (mass and grade) */
     double us_per_step;
 } soak_aux_result_t;
+
+#if defined(RFE_REAL_DOUBLE)
+#define soak_params_of soak_params_of_f64
+#else
+#define soak_params_of soak_params_of_f32
+#endif
+/** The library preset's parameters with the log's metadata applied, as mu_replay forms them
+ *  (soak_run.c; the struct zeroed first, padding included: states are compared with memcmp);
+ *  0, or -1 with a message on stderr. */
+int soak_params_of_f32(const rfe_sensor_log_t *log, const char *name, rfe_preset_t preset,
+                       rfe_params_t *p);
+int soak_params_of_f64(const rfe_sensor_log_t *log, const char *name, rfe_preset_t preset,
+                       rfe_params_t *p);
 
 #if defined(RFE_REAL_DOUBLE)
 #define soak_run_mass_grade soak_run_mass_grade_f64

@@ -15,15 +15,13 @@
 #include "rfe/friction.h"
 #include "soak.h"
 
-static int params_for(const rfe_sensor_log_t *log, const char *name, const soak_cfg_t *cfg,
-                      rfe_params_t *p)
+int soak_params_of(const rfe_sensor_log_t *log, const char *name, rfe_preset_t preset,
+                   rfe_params_t *p)
 {
     rfe_param_set_t ps;
     rfe_io_error_t err;
-    const rfe_preset_t preset = cfg->preset_default ? RFE_PRESET_DEFAULT : RFE_PRESET_PAPER;
     memset(p, 0, sizeof(*p)); /* padding included: rejected rows are compared with memcmp */
-    if (rfe_param_set_preset(&ps, preset) != 0 ||
-        rfe_replay_preset_fn(preset)(p) != RFE_OK) {
+    if (rfe_param_set_preset(&ps, preset) != 0 || rfe_replay_preset_fn(preset)(p) != RFE_OK) {
         return -1;
     }
     if (rfe_param_set_apply_meta(&ps, log, name, &err) != 0) {
@@ -35,6 +33,16 @@ static int params_for(const rfe_sensor_log_t *log, const char *name, const soak_
 #undef RFE_SET_
     p->tyre.mode = ps.tyre;
     p->filter.structure = ps.structure;
+    return 0;
+}
+
+static int params_for(const rfe_sensor_log_t *log, const char *name, const soak_cfg_t *cfg,
+                      rfe_params_t *p)
+{
+    const rfe_preset_t preset = cfg->preset_default ? RFE_PRESET_DEFAULT : RFE_PRESET_PAPER;
+    if (soak_params_of(log, name, preset, p) != 0) {
+        return -1;
+    }
     p->filter.kind = cfg->ckf ? RFE_FILTER_CKF : RFE_FILTER_SCKF;
     return 0;
 }

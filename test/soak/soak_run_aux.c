@@ -62,27 +62,6 @@ static int fin(rfe_real_t x)
     return isfinite((double)x);
 }
 
-/* The vehicle's parameters from the default preset and the log's metadata (as mu_replay). */
-static int vehicle_of(const rfe_sensor_log_t *log, const char *name, rfe_params_t *p)
-{
-    rfe_param_set_t ps;
-    rfe_io_error_t err;
-    memset(p, 0, sizeof(*p)); /* padding included: states are compared with memcmp */
-    if (rfe_param_set_preset(&ps, RFE_PRESET_DEFAULT) != 0 ||
-        rfe_replay_preset_fn(RFE_PRESET_DEFAULT)(p) != RFE_OK) {
-        return -1;
-    }
-    if (rfe_param_set_apply_meta(&ps, log, name, &err) != 0) {
-        fprintf(stderr, "soak: %s: %s\n", name, err.msg);
-        return -1;
-    }
-#define RFE_SET_(key, member, unit, doc) p->member = (rfe_real_t)ps.value[RFE_PK_##key];
-    RFE_PARAM_KEYS(RFE_SET_)
-#undef RFE_SET_
-    p->tyre.mode = ps.tyre;
-    p->filter.structure = ps.structure;
-    return 0;
-}
 
 /* Half the window of the speed's derivative [rows]: the log's vx carries sensor noise
  * (~0.05 m/s), which a one-row difference would turn into +-5 m/s^2 at 100 Hz; over +-0.25 s
@@ -153,7 +132,7 @@ int soak_run_mass_grade(const rfe_sensor_log_t *log, const char *log_name,
     res->lo = res->lo2 = INFINITY;
     res->hi = res->hi2 = -INFINITY;
     memset(&mp, 0, sizeof(mp));
-    if (vehicle_of(log, log_name, &veh) != 0 ||
+    if (soak_params_of(log, log_name, RFE_PRESET_DEFAULT, &veh) != 0 ||
         rfe_mass_grade_params_preset(&mp, RFE_MG_CAR,
                                      cfg->seed_config ? RFE_MG_SEED : RFE_MG_RECOMMENDED) != RFE_OK ||
         log->n_rows < 2 || !log->has_velocity) {
@@ -285,7 +264,7 @@ int soak_run_tyre_id(const rfe_sensor_log_t *log, const char *log_name,
     res->lo = res->lo2 = INFINITY;
     res->hi = res->hi2 = -INFINITY;
     memset(&tp, 0, sizeof(tp));
-    if (vehicle_of(log, log_name, &veh) != 0 || rfe_tyre_id_params_default(&tp) != RFE_OK ||
+    if (soak_params_of(log, log_name, RFE_PRESET_DEFAULT, &veh) != 0 || rfe_tyre_id_params_default(&tp) != RFE_OK ||
         !log->has_velocity) {
         fprintf(stderr, "soak: tyre identifier %s: no parameters or no vx column\n", cfg->name);
         return -1;
