@@ -85,6 +85,9 @@ DOUBLE_BY_DESIGN = {"params_conv_flt.o": "rfe_params_to_q31_f32: host-side conve
                                          "double by design (include/rfe/component/params_conv.h)"}
 
 PUBLIC = ("rfe_friction_init", "rfe_friction_step", "rfe_friction_get")
+# The float-only estimators' calls, sized in the float32 build too (same stack budget): the
+# mass and grade estimator and the tyre identifier (docs/FIRMWARE.md "Other estimators").
+PUBLIC_F32 = ("rfe_mass_grade_init", "rfe_mass_grade_step", "rfe_tyre_id_init", "rfe_tyre_id_step")
 
 
 def sh(cmd):
@@ -469,7 +472,7 @@ def main():
         suffix = "_q31" if variant == "q31" else "_f32"
         entry["stack"] = {}
         entry["address_taken"] = addr_taken
-        for pub in PUBLIC:
+        for pub in PUBLIC + (PUBLIC_F32 if variant == "f32" else ()):
             fn = pub + suffix
             problems = []
             if fn not in frames:
