@@ -28,8 +28,15 @@
 #                      point bit for bit, every word and discrete output) and with mu_replay
 #                      --velocity observer, and instructions per pipeline, observer and
 #                      friction step
+# make pil-aux         the mass and grade estimator (UKF + ax, the seed's AUKF) and the tyre
+#                      identifier on the Cortex-M4F float32 build (PIL_AUX_ENTRIES, below):
+#                      compared with the same program built for the host (float32 within twice
+#                      the host's float32 vs double difference per output), instructions per
+#                      step, stack, flash, state; writes build/firmware/pil_aux.json. Not part
+#                      of make pil / make test (~25 s of QEMU, most of it the tyre identifier's
+#                      ~2.5 M instructions a step under the execution log)
 # make firmware-table  regenerates the firmware tables in docs/FIRMWARE.md ("Measured") from
-#                      both JSON files, and the observer's cost in docs/OBSERVER_RESULTS.md
+#                      both JSON files (and pil_aux.json when make pil-aux wrote it), and the observer's cost in docs/OBSERVER_RESULTS.md
 #                      and README.md (with the host's figure from make bench's bench.json
 #                      when it exists)
 # make deps-firmware   installs gcc-arm-none-eabi, libnewlib-arm-none-eabi and
@@ -323,4 +330,5 @@ firmware-table:
 	@test -f $(FW_DIR)/report.json || $(MAKE) --no-print-directory firmware
 	@test -f $(FW_DIR)/pil.json || $(MAKE) --no-print-directory pil
 	python3 scripts/firmware/firmware_table.py --report $(FW_DIR)/report.json --pil $(FW_DIR)/pil.json --page docs/FIRMWARE.md \
-	  --obs-page docs/OBSERVER_RESULTS.md --readme-page README.md --bench $(BUILD)/bench/bench.json
+	  --obs-page docs/OBSERVER_RESULTS.md --readme-page README.md --bench $(BUILD)/bench/bench.json \
+	  --pil-aux $(FW_DIR)/pil_aux.json

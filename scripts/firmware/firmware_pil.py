@@ -109,17 +109,20 @@ OBS_Q_BITS = {"mu": 29, "sd": 30, "vx": 23, "vy": 23, "beta": 29, "yaw_acc": 24,
 OBS_TOLERANCE = "max |host f32 - host f64| per field over the log"
 # Entries of the other estimators (float32 only, pil_main.c's PIL_MASS_GRADE / PIL_TYRE_ID):
 # the step function (suffixed _f32), the names of the real outputs of an A line in order, and
-# the rate the estimator runs at (its log's sample rate), for the share of the core.
+# the rate the estimator runs at (its log's sample rate), for the share of the core, and the
+# library objects that are the module (their linked flash: entry["flash"]["module"]).
 TID_OUTS = ["beta", "r", "vy", "fy_f", "fy_r", "d_f", "c_f", "k_f", "e_f", "d_r", "c_r", "k_r", "e_r",
             "b_f", "b_r", "mu_f", "mu_r"]
 AUX_ENTRIES = {
     "mg_ukf": {"step": "rfe_mass_grade_step", "what": "mass and grade, UKF + ax (recommended car preset)",
-               "fields": ["mass", "sd_mass", "grade", "sd_grade", "v", "sd_v", "q_mv"], "rate_hz": 50.0},
+               "fields": ["mass", "sd_mass", "grade", "sd_grade", "v", "sd_v", "q_mv"], "rate_hz": 50.0,
+               "objects": ("mass_grade",)},
     "mg_aukf": {"step": "rfe_mass_grade_step", "what": "mass and grade, the seed's AUKF (speed only)",
-                "fields": ["mass", "sd_mass", "grade", "sd_grade", "v", "sd_v", "q_mv"], "rate_hz": 50.0},
+                "fields": ["mass", "sd_mass", "grade", "sd_grade", "v", "sd_v", "q_mv"], "rate_hz": 50.0,
+                "objects": ("mass_grade",)},
     "tid": {"step": "rfe_tyre_id_step", "what": "tyre identifier, APF, 256 particles",
             "fields": [f"mean_{o}" for o in TID_OUTS] + [f"sd_{o}" for o in TID_OUTS] + ["n_eff"],
-            "rate_hz": 100.0},
+            "rate_hz": 100.0, "objects": ("tyre_id", "philox")},
 }
 AUX_TOLERANCE = "2 x max |host f32 - host f64| per field over the rows"
 CORE_HZ = 100e6                  # docs/FIRMWARE.md's reference core: 100 MHz, 100 Hz step rate
@@ -739,6 +742,40 @@ def aux_compare(rows, ref, dbl, names):
     return bad, first, fields
 
 
+def image_flash(elf):
+    """Flash (text + rodata) the image links per source: {object of librfe.a: bytes,
+    "newlib libm": bytes, ...}, from the linker map beside the image (make firmware-check's
+    linked_share, per object)."""
+    lines = open(elf[:-4] + ".map").read().split("Linker script and memory map", 1)[-1].splitlines()
+    out, name = {}, None
+    for ln in lines:
+        m = re.match(r"^ (\.\S+)\s*$", ln)
+        if m:
+            name = m.group(1)
+            continue
+        m = re.match(r"^ (\.\S+)?\s+0x[0-9a-f]+\s+0x([0-9a-f]+)\s+(\S+)$", ln)
+        if m:
+            sec, name = m.group(1) or name, None
+            lib = re.match(r".*/(lib[a-z_]+)\.a\((.*)\)$", m.group(3))
+            if sec is None or not sec.startswith((".text", ".rodata")) or not lib:
+                continue
+            key = lib.group(2) if lib.group(1) == "librfe" else "newlib " + lib.group(1)
+            out[key] = out.get(key, 0) + int(m.group(2), 16)
+        else:
+            name = None
+    return out
+
+
+def state_size(elf):
+    """sizeof the estimator state: the size of pil_main.c's g_est (arm-none-eabi-nm -S)."""
+    nm = subprocess.run([CROSS + "nm", "-S", elf], stdout=subprocess.PIPE, text=True, check=True).stdout
+    for ln in nm.splitlines():
+        p = ln.split()
+        if len(p) == 4 and p[3] == "g_est":
+            return int(p[1], 16)
+    return None
+
+
 def run_aux_entry(a, spec, report, failures):
     """One entry of --aux-entries: <tag>:<log>:<rows>:<steps counted> on the Cortex-M4F."""
     tag, log, _, steps = spec.split(":")
@@ -785,6 +822,11 @@ def run_aux_entry(a, spec, report, failures):
     step_fn = f"{kind['step']}_f32"
     static = report.get("targets", {}).get(target, {}).get("stack", {}).get(step_fn, {}).get("bytes")
     entry["stack_static"] = static
+    flash = image_flash(elf)
+    entry["flash"] = {"module": sum(v for k, v in flash.items() if k.startswith(kind["objects"])),
+                      "library": sum(v for k, v in flash.items() if not k.startswith("newlib")),
+                      "newlib_libm": flash.get("newlib libm", 0), "per_object": flash}
+    entry["state"] = state_size(elf)
     if static is not None and stack is not None and stack > static:
         failures.append(f"{label}: a step used {stack} B of stack, more than the static {static} B")
     n = min(int(steps), len(rows))
@@ -810,7 +852,8 @@ def run_aux_entry(a, spec, report, failures):
         entry["count_seconds"] = round(time.time() - t0, 1)
         verdict += (f"; {sum(counts) / n:.0f} instructions/step (max {max(counts)}) over {n} steps, "
                     f"{100 * entry['core_share_mean']:.2f} % of {CORE_HZ / 1e6:.0f} MHz at {kind['rate_hz']:.0f} Hz")
-    print(f"pil: {label}: {len(rows)} steps, {verdict}; stack {stack} B measured (static {static})")
+    print(f"pil: {label}: {len(rows)} steps, {verdict}; stack {stack} B measured (static {static}); "
+          f"state {entry['state']} B; module flash {entry['flash']['module']} B, library {entry['flash']['library']} B")
     return entry
 
 
