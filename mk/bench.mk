@@ -57,4 +57,5 @@ bench: deps-valgrind venv bench-build
 	$(PY) scripts/bench/bench_run.py --bin-dir $(BUILD)/bench --replay $(BUILD)/mu_replay \
 	  --log $(BENCH_LOG) --reps $(BENCH_REPS) --out $(BUILD)/bench --page docs/BENCHMARKS.md $(BENCH_ARGS)
 	$(PY) scripts/bench/bench_aux.py --bin-dir $(BUILD)/bench --mg-log $(BENCH_AUX_MG_LOG) \
-	  --tid-log $(BENCH_AUX_TID_LOG) --pil $(FW_DIR)/pil_aux.json --out $(BUILD)/bench --page docs/BENCHMARKS.md
+	  --tid-log $(BENCH_AUX_TID_LOG) --pil $(FW_DIR)/pil_aux.json --out $(BUILD)/bench --page docs/BENCHMARKS.md \
+	  --mg-page docs/MASS_GRADE_RESULTS.md --tid-page docs/TYRE_ID_RESULTS.md
