@@ -128,7 +128,9 @@ firmware: $(FW_LIBS) $(FW_EXAMPLE_ELFS)
 	@$(MAKE) --no-print-directory firmware-check
 
 # Budgets (make firmware fails beyond them).
-# Stack: 2 KB per public call (init, step, get), what an RTOS task running the estimator can
+# Stack: 2 KB per public call (init, step, get; in the float32 build the mass and grade
+#   estimator's and the tyre identifier's init and step too: 1.1-1.2 KB static for their
+#   steps), what an RTOS task running the estimator can
 #   spare on a 32-64 KB-RAM part; static worst case 1.4-1.6 KB (the default configuration's
 #   step; the M0+ needs most), so ~25 % more stack in a change fails.
 # Flash: the library's linked share (example image, --gc-sections) <= 40 KB: measured 16 KB

@@ -18,7 +18,9 @@ example image (build/firmware/<target>/example.elf, linked with --gc-sections):
               double), and none at all in the linked example image;
   fixed deps  fixed-point objects: every undefined symbol is a library function, an integer
               libgcc helper or memcpy/memmove/memset/memcmp;
-  stack       worst-case stack of each public estimator function (init, step, get): the call
+  stack       worst-case stack of each public estimator function (init, step, get; in the
+              float32 build also the mass and grade estimator's and the tyre identifier's
+              init and step, PUBLIC_F32): the call
               graph of -fcallgraph-info=su (indirect calls reach every address-taken library
               function, as scripts/checks/check_structural.py resolves them), each library
               function's frame from -fstack-usage, and for functions outside the library
