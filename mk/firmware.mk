@@ -28,8 +28,15 @@
 #                      point bit for bit, every word and discrete output) and with mu_replay
 #                      --velocity observer, and instructions per pipeline, observer and
 #                      friction step
+# make pil-aux         the mass and grade estimator (UKF + ax, the seed's AUKF) and the tyre
+#                      identifier on the Cortex-M4F float32 build (PIL_AUX_ENTRIES, below):
+#                      compared with the same program built for the host (float32 within twice
+#                      the host's float32 vs double difference per output), instructions per
+#                      step, stack, flash, state; writes build/firmware/pil_aux.json. Not part
+#                      of make pil / make test (~25 s of QEMU, most of it the tyre identifier's
+#                      ~2.5 M instructions a step under the execution log)
 # make firmware-table  regenerates the firmware tables in docs/FIRMWARE.md ("Measured") from
-#                      both JSON files, and the observer's cost in docs/OBSERVER_RESULTS.md
+#                      both JSON files (and pil_aux.json when make pil-aux wrote it), and the observer's cost in docs/OBSERVER_RESULTS.md
 #                      and README.md (with the host's figure from make bench's bench.json
 #                      when it exists)
 # make deps-firmware   installs gcc-arm-none-eabi, libnewlib-arm-none-eabi and
@@ -65,7 +72,7 @@ FW_LDLIBS_f32 := -lm
 FW_LDLIBS_q31 :=
 FW_LDFLAGS  = --specs=nano.specs -nostartfiles -Wl,--gc-sections -Wl,--no-warn-rwx-segments
 
-.PHONY: deps-firmware firmware firmware-libs firmware-check firmware-table pil
+.PHONY: deps-firmware firmware firmware-libs firmware-check firmware-table pil pil-aux
 DEPS_EXTRA += deps-firmware
 TEST_GATES += firmware pil
 
@@ -121,7 +128,9 @@ firmware: $(FW_LIBS) $(FW_EXAMPLE_ELFS)
 	@$(MAKE) --no-print-directory firmware-check
 
 # Budgets (make firmware fails beyond them).
-# Stack: 2 KB per public call (init, step, get), what an RTOS task running the estimator can
+# Stack: 2 KB per public call (init, step, get; in the float32 build the mass and grade
+#   estimator's and the tyre identifier's init and step too: 1.1-1.2 KB static for their
+#   steps), what an RTOS task running the estimator can
 #   spare on a 32-64 KB-RAM part; static worst case 1.4-1.6 KB (the default configuration's
 #   step; the M0+ needs most), so ~25 % more stack in a change fails.
 # Flash: the library's linked share (example image, --gc-sections) <= 40 KB: measured 16 KB
@@ -254,6 +263,58 @@ $(foreach h,$(PIL_OBS_HOSTS),$(eval $(call PIL_HOST_RULES,$(call pil_obs_field,$
 PIL_OBS_ELFS := $(foreach e,$(PIL_OBS_ENTRIES),$(FW_DIR)/$(call pil_obs_field,$(e),2)/pil/$(call pil_obs_field,$(e),1).elf)
 PIL_OBS_HOST := $(foreach h,$(PIL_OBS_HOSTS),$(FW_DIR)/host-$(call pil_obs_field,$(h),2)/pil/$(call pil_obs_field,$(h),1))
 
+# Entries of the estimators beside the friction estimator (make pil-aux): the mass and grade
+# estimator and the tyre identifier, float32 only (neither has a fixed-point twin; the
+# Cortex-M3 and M0+ are fixed-point targets), on the Cortex-M4F (mps2-an386, as the float32
+# runs above). <tag>:<log>:<rows run and compared>:<steps counted>. The tag names the entry of
+# firmware/pil/pil_main.c (PIL_AUX_DEFS_<tag>) and pil_gen's options (PIL_AUX_GEN_<tag>).
+#   mg_ukf    UKF + ax, the recommended car preset (mu_replay's default) on car_hilly_road
+#             (50 Hz, cruising on hills: every sample is above v_min, every step updates):
+#             the first 1500 samples (30 s) compared, the first 500 counted;
+#   mg_aukf   the seed's AUKF (speed only, adaptive mass noise), the same log and counts;
+#   tid       the tyre identifier (RFE_TID_N = 256, seed 1) on tid_ramp_steer_high_mu (100 Hz):
+#             ~4 M instructions a step on the M4F, so only the first 40 samples run, compared,
+#             and the first 20 are counted (the log's first 0.2 s at 80 km/h; the cost per
+#             step hardly depends on the manoeuvre: every particle runs the same RK4 and
+#             likelihood each step).
+PIL_AUX_ENTRIES ?= mg_ukf:scenarios/mass_grade/car_hilly_road.csv:1500:500 \
+                   mg_aukf:scenarios/mass_grade/car_hilly_road.csv:1500:500 \
+                   tid:scenarios/tyre_id/tid_ramp_steer_high_mu.csv:40:20
+PIL_AUX_GEN_mg_ukf   := --estimator mass_grade --mg-config recommended
+PIL_AUX_GEN_mg_aukf  := --estimator mass_grade --mg-config seed
+PIL_AUX_GEN_tid      := --estimator tyre_id --preset default
+PIL_AUX_DEFS_mg_ukf  := -DPIL_MASS_GRADE
+PIL_AUX_DEFS_mg_aukf := -DPIL_MASS_GRADE
+PIL_AUX_DEFS_tid     := -DPIL_TYRE_ID
+PIL_AUX_TARGET       := m4f-f32
+PIL_AUX_MACHINE      := mps2-an386
+
+define PIL_AUX_RULES
+# $(1) = <tag>, $(2) = log, $(3) = rows
+$(FW_DIR)/pil/data/aux.$(1).c: $(2) $(FW_DIR)/pil_gen
+	@mkdir -p $$(@D)
+	$(FW_DIR)/pil_gen --in $(2) --out $$@ --rows $(3) $(PIL_AUX_GEN_$(1))
+$(FW_DIR)/$(PIL_AUX_TARGET)/pil/$(1).elf: firmware/pil/pil_main.c firmware/pil/pil_data.h $(FW_DIR)/pil/data/aux.$(1).c \
+                            $(FW_DIR)/$(PIL_AUX_TARGET)/common/startup_pil.o $(call fw_lib,$(PIL_AUX_TARGET)) $(PIL_LD_m4f) firmware/ld/sections.ld
+	@mkdir -p $$(@D)
+	$$(FW_CC) $$(FW_ARCH_m4f) $$(FW_OPT_m4f) $$(FW_CFLAGS) $$(CPPFLAGS_LIB) -Ifirmware/pil -Ifirmware/common \
+	  $(PIL_AUX_DEFS_$(1)) --specs=rdimon.specs -Wl,--gc-sections \
+	  -Wl,--no-warn-rwx-segments -Lfirmware/ld -T$(PIL_LD_m4f) -Wl,-Map=$$(@:.elf=.map) \
+	  firmware/pil/pil_main.c $(FW_DIR)/pil/data/aux.$(1).c $(FW_DIR)/$(PIL_AUX_TARGET)/common/startup_pil.o \
+	  $(call fw_lib,$(PIL_AUX_TARGET)) $$(FW_LDLIBS_f32) -o $$@
+$(FW_DIR)/host-f32/pil/$(1): firmware/pil/pil_main.c firmware/pil/pil_data.h $(FW_DIR)/pil/data/aux.$(1).c $(BUILD)/f32/librfe.a
+	@mkdir -p $$(@D)
+	$$(CC) $$(WARN) $$(OPT) -Wno-double-promotion $$(CPPFLAGS_LIB) -Ifirmware/pil -DPIL_HOST $(PIL_AUX_DEFS_$(1)) \
+	  firmware/pil/pil_main.c $(FW_DIR)/pil/data/aux.$(1).c $(BUILD)/f32/librfe.a -lm -o $$@
+$(FW_DIR)/host-f64/pil/$(1): firmware/pil/pil_main.c firmware/pil/pil_data.h $(FW_DIR)/pil/data/aux.$(1).c $(BUILD)/f64/librfe.a
+	@mkdir -p $$(@D)
+	$$(CC) $$(WARN) $$(OPT) -Wno-double-promotion $$(CPPFLAGS_LIB) -Ifirmware/pil -DPIL_HOST -DRFE_REAL_DOUBLE $(PIL_AUX_DEFS_$(1)) \
+	  firmware/pil/pil_main.c $(FW_DIR)/pil/data/aux.$(1).c $(BUILD)/f64/librfe.a -lm -o $$@
+endef
+$(foreach e,$(PIL_AUX_ENTRIES),$(eval $(call PIL_AUX_RULES,$(call pil_obs_field,$(e),1),$(call pil_obs_field,$(e),2),$(call pil_obs_field,$(e),3))))
+PIL_AUX_TAGS := $(foreach e,$(PIL_AUX_ENTRIES),$(call pil_obs_field,$(e),1))
+PIL_AUX_FILES := $(foreach t,$(PIL_AUX_TAGS),$(FW_DIR)/$(PIL_AUX_TARGET)/pil/$(t).elf $(FW_DIR)/host-f32/pil/$(t) $(FW_DIR)/host-f64/pil/$(t))
+
 ## processor in the loop on QEMU's Cortex-M4, M3 and M0: bit identity, instructions
 pil: deps-firmware firmware $(PIL_ELFS) $(PIL_OBS_ELFS) $(PIL_OBS_HOST) $(BUILD)/mu_replay
 	@python3 scripts/firmware/firmware_pil.py --build $(FW_DIR) --log $(PIL_LOG) --runs "$(PIL_RUNS)" \
@@ -261,9 +322,15 @@ pil: deps-firmware firmware $(PIL_ELFS) $(PIL_OBS_ELFS) $(PIL_OBS_HOST) $(BUILD)
 	  --obs-log $(PIL_OBS_LOG) --obs-entries "$(PIL_OBS_ENTRIES)" \
 	  --example m3-q31:mps2-an385 --out $(FW_DIR)/pil.json
 
+## PIL of the mass and grade estimator and the tyre identifier (float32, Cortex-M4F)
+pil-aux: deps-firmware firmware $(PIL_AUX_FILES)
+	@python3 scripts/firmware/firmware_pil.py --build $(FW_DIR) --aux-entries "$(PIL_AUX_ENTRIES)" \
+	  --out $(FW_DIR)/pil_aux.json
+
 ## regenerate the firmware tables of docs/FIRMWARE.md
 firmware-table:
 	@test -f $(FW_DIR)/report.json || $(MAKE) --no-print-directory firmware
 	@test -f $(FW_DIR)/pil.json || $(MAKE) --no-print-directory pil
 	python3 scripts/firmware/firmware_table.py --report $(FW_DIR)/report.json --pil $(FW_DIR)/pil.json --page docs/FIRMWARE.md \
-	  --obs-page docs/OBSERVER_RESULTS.md --readme-page README.md --bench $(BUILD)/bench/bench.json
+	  --obs-page docs/OBSERVER_RESULTS.md --readme-page README.md --bench $(BUILD)/bench/bench.json \
+	  --pil-aux $(FW_DIR)/pil_aux.json

@@ -13,6 +13,9 @@
  *   PIL_PIPELINE  the composed pipeline, rfe_pipeline_*_f32 (the velocity observer, then the
  *                 friction estimator on its outputs);
  *   PIL_PIPELINE with PIL_Q31  the composed pipeline in fixed point, rfe_pipeline_*_q31.
+ *   PIL_MASS_GRADE  the mass and grade estimator, rfe_mass_grade_*_f32 (float only);
+ *   PIL_TYRE_ID     the tyre identifier, rfe_tyre_id_*_f32 with its default parameters and
+ *                   seed 1 (float only; RFE_TID_N particles).
  * Another estimator is one more block giving pil_estimator_t, pil_output_t, pil_init,
  * PIL_STEP_CALL and put_output. PIL_HOST: the host build of the
  * same program (no stack painting; rfe_real_t may be double, printed as 16 hex digits). The
@@ -26,6 +29,10 @@
  *       the observer's status, flags and saturations (0 in float), its values as raw words
  *       (Q23 / Q29 / Q24, or the bits of rfe_real_t); the R line's sat is the friction
  *       estimator's (in the fixed-point pipeline with the input-noise norm's)
+ *   A <row> <status> <flags> <value>...   every step of PIL_MASS_GRADE or PIL_TYRE_ID instead
+ *       of R: the step's status, its flags (the tyre identifier's RFE_TID_* bits; 0 for mass
+ *       and grade) and every real output as raw bits: mass, sd_mass, grade, sd_grade, v,
+ *       sd_v, q_mv; or the 17 means, the 17 sds and n_eff
  *   S <bytes>   the deepest stack any step used, measured: before each step the 4 KB below
  *               the stack pointer are painted, after it the lowest overwritten word is found
  *               (0 on the host)
@@ -50,13 +57,51 @@ int main(int argc, char **argv);
 static void put_char(char c);
 static void put_dec(uint32_t v);
 static void put_bits(const void *p, uint32_t bytes);
+#if !defined(PIL_MASS_GRADE) && !defined(PIL_TYRE_ID)
 static void put_friction(uint32_t row, rfe_status_t st, uint32_t sat, const void *mu,
                          const void *sd, const uint8_t *valid, uint32_t real_bytes);
+#endif
 #if defined(PIL_PIPELINE)
 static void put_velocity(uint32_t row, rfe_status_t st, uint32_t flags, uint32_t sat);
 #endif
+#if defined(PIL_MASS_GRADE) || defined(PIL_TYRE_ID)
+static void put_aux(uint32_t row, rfe_status_t st, uint32_t flags, const rfe_real_t *v, uint32_t n);
+#endif
 
-#if defined(PIL_PIPELINE) && defined(PIL_Q31)
+#if defined(PIL_MASS_GRADE)
+typedef rfe_mass_grade_t pil_estimator_t;
+typedef rfe_mass_grade_estimate_t pil_output_t;
+static pil_estimator_t g_est;
+#define PIL_STEP_CALL(i, o) rfe_mass_grade_step(&g_est, &pil_mg_inputs[(i)], (o))
+static rfe_status_t pil_init(void)
+{
+    return rfe_mass_grade_init(&g_est, &pil_mg_params);
+}
+static void put_output(uint32_t i, rfe_status_t st, const pil_output_t *o)
+{
+    const rfe_real_t v[7] = {o->mass, o->sd_mass, o->grade, o->sd_grade, o->v, o->sd_v, o->q_mv};
+    put_aux(i, st, 0u, v, 7u);
+}
+#elif defined(PIL_TYRE_ID)
+typedef rfe_tyre_id_t pil_estimator_t;
+typedef rfe_tyre_id_estimate_t pil_output_t;
+static pil_estimator_t g_est;
+#define PIL_STEP_CALL(i, o) rfe_tyre_id_step(&g_est, &pil_tid_samples[(i)], (o))
+static rfe_status_t pil_init(void)
+{
+    rfe_tyre_id_params_t tp;
+    const rfe_status_t st = rfe_tyre_id_params_default(&tp);
+    return (st != RFE_OK) ? st : rfe_tyre_id_init(&g_est, &tp, &pil_params, 1u);
+}
+static void put_output(uint32_t i, rfe_status_t st, const pil_output_t *o)
+{
+    rfe_real_t v[2u * (uint32_t)RFE_TID_OUTPUTS + 1u];
+    memcpy(v, o->mean, sizeof o->mean);
+    memcpy(&v[RFE_TID_OUTPUTS], o->sd, sizeof o->sd);
+    v[2u * (uint32_t)RFE_TID_OUTPUTS] = o->n_eff;
+    put_aux(i, st, o->flags, v, 2u * (uint32_t)RFE_TID_OUTPUTS + 1u);
+}
+#elif defined(PIL_PIPELINE) && defined(PIL_Q31)
 typedef rfe_pipeline_q31_t pil_estimator_t;
 typedef rfe_pipeline_out_q31_t pil_output_t;
 static pil_estimator_t g_est;
@@ -192,6 +237,7 @@ static void put_dec(uint32_t v)
     }
 }
 
+#if !defined(PIL_MASS_GRADE) && !defined(PIL_TYRE_ID)
 /* One R line: status, valid bits, saturations, mu and sd per wheel (each real_bytes long). */
 static void put_friction(uint32_t row, rfe_status_t st, uint32_t sat, const void *mu,
                          const void *sd, const uint8_t *valid, uint32_t real_bytes)
@@ -213,6 +259,7 @@ static void put_friction(uint32_t row, rfe_status_t st, uint32_t sat, const void
     }
     put_char('\n');
 }
+#endif
 
 #if defined(PIL_PIPELINE)
 /* The head of a V line: row, the observer's status, flags and saturations (its values
@@ -224,6 +271,22 @@ static void put_velocity(uint32_t row, rfe_status_t st, uint32_t flags, uint32_t
     put_dec((uint32_t)st);
     put_dec(flags);
     put_dec(sat);
+}
+#endif
+
+#if defined(PIL_MASS_GRADE) || defined(PIL_TYRE_ID)
+/* One A line: row, status, flags, then the n outputs as the bits of rfe_real_t. */
+static void put_aux(uint32_t row, rfe_status_t st, uint32_t flags, const rfe_real_t *v, uint32_t n)
+{
+    uint32_t k;
+    put_char('A');
+    put_dec(row);
+    put_dec((uint32_t)st);
+    put_dec(flags);
+    for (k = 0u; k < n; ++k) {
+        put_bits(&v[k], (uint32_t)sizeof(rfe_real_t));
+    }
+    put_char('\n');
 }
 #endif
 

@@ -18,7 +18,9 @@ example image (build/firmware/<target>/example.elf, linked with --gc-sections):
               double), and none at all in the linked example image;
   fixed deps  fixed-point objects: every undefined symbol is a library function, an integer
               libgcc helper or memcpy/memmove/memset/memcmp;
-  stack       worst-case stack of each public estimator function (init, step, get): the call
+  stack       worst-case stack of each public estimator function (init, step, get; in the
+              float32 build also the mass and grade estimator's and the tyre identifier's
+              init and step, PUBLIC_F32): the call
               graph of -fcallgraph-info=su (indirect calls reach every address-taken library
               function, as scripts/checks/check_structural.py resolves them), each library
               function's frame from -fstack-usage, and for functions outside the library
@@ -85,6 +87,9 @@ DOUBLE_BY_DESIGN = {"params_conv_flt.o": "rfe_params_to_q31_f32: host-side conve
                                          "double by design (include/rfe/component/params_conv.h)"}
 
 PUBLIC = ("rfe_friction_init", "rfe_friction_step", "rfe_friction_get")
+# The float-only estimators' calls, sized in the float32 build too (same stack budget): the
+# mass and grade estimator and the tyre identifier (docs/FIRMWARE.md "Other estimators").
+PUBLIC_F32 = ("rfe_mass_grade_init", "rfe_mass_grade_step", "rfe_tyre_id_init", "rfe_tyre_id_step")
 
 
 def sh(cmd):
@@ -469,7 +474,7 @@ def main():
         suffix = "_q31" if variant == "q31" else "_f32"
         entry["stack"] = {}
         entry["address_taken"] = addr_taken
-        for pub in PUBLIC:
+        for pub in PUBLIC + (PUBLIC_F32 if variant == "f32" else ()):
             fn = pub + suffix
             problems = []
             if fn not in frames:

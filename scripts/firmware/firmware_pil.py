@@ -44,6 +44,19 @@ Then the observer entries (--obs-entries <tag>:<target>:<machine>:<steps counted
     address of its call, both from arm-none-eabi-nm / -objdump), and per function inside
     each part (the instructions of the translation blocks that start in the function:
     where a part's instructions go).
+Then the entries of the other estimators (--aux-entries <tag>:<log>:<rows>:<steps counted>,
+make pil-aux; AUX_ENTRIES below says what each tag runs), float32 on the Cortex-M4F only:
+
+ 7. the image (build/firmware/m4f-f32/pil/<tag>.elf: the estimator over the log's first <rows>
+    samples) on mps2-an386; one A line per step (status, flags, every real output's bits);
+ 8. the same program built for the host in float32 and in double: the target must equal the
+    host float32 build's discrete outputs (status, flags) exactly and every real output
+    within that field's bound, the largest |host float32 - host double| of the field over
+    the rows, twice (AUX_TOLERANCE: aux_compare says why; a field the double build reproduces
+    exactly must be bit-identical); the share of bit-identical values is reported;
+ 9. instructions per step over the first <steps counted> samples as in 6 (with the
+    -singlestep check of the first step), the share of a CORE_HZ core at the estimator's
+    rate (AUX_ENTRIES: the log's sample rate), and where they go per function.
 Writes --out (JSON: per run and configuration the comparison and the instructions per step,
 mean/max/min), read by scripts/firmware/firmware_table.py and the benchmark script.
 """
@@ -94,6 +107,24 @@ OBS_Q_BITS = {"mu": 29, "sd": 30, "vx": 23, "vy": 23, "beta": 29, "yaw_acc": 24,
 # stays within the effect of float32 rounding as a whole, which the double build measures.
 # A field the double build reproduces exactly (bound 0) must then be bit-identical.
 OBS_TOLERANCE = "max |host f32 - host f64| per field over the log"
+# Entries of the other estimators (float32 only, pil_main.c's PIL_MASS_GRADE / PIL_TYRE_ID):
+# the step function (suffixed _f32), the names of the real outputs of an A line in order, and
+# the rate the estimator runs at (its log's sample rate), for the share of the core, and the
+# library objects that are the module (their linked flash: entry["flash"]["module"]).
+TID_OUTS = ["beta", "r", "vy", "fy_f", "fy_r", "d_f", "c_f", "k_f", "e_f", "d_r", "c_r", "k_r", "e_r",
+            "b_f", "b_r", "mu_f", "mu_r"]
+AUX_ENTRIES = {
+    "mg_ukf": {"step": "rfe_mass_grade_step", "what": "mass and grade, UKF + ax (recommended car preset)",
+               "fields": ["mass", "sd_mass", "grade", "sd_grade", "v", "sd_v", "q_mv"], "rate_hz": 50.0,
+               "objects": ("mass_grade",)},
+    "mg_aukf": {"step": "rfe_mass_grade_step", "what": "mass and grade, the seed's AUKF (speed only)",
+                "fields": ["mass", "sd_mass", "grade", "sd_grade", "v", "sd_v", "q_mv"], "rate_hz": 50.0,
+                "objects": ("mass_grade",)},
+    "tid": {"step": "rfe_tyre_id_step", "what": "tyre identifier, APF, 256 particles",
+            "fields": [f"mean_{o}" for o in TID_OUTS] + [f"sd_{o}" for o in TID_OUTS] + ["n_eff"],
+            "rate_hz": 100.0, "objects": ("tyre_id", "philox")},
+}
+AUX_TOLERANCE = "2 x max |host f32 - host f64| per field over the rows"
 CORE_HZ = 100e6                  # docs/FIRMWARE.md's reference core: 100 MHz, 100 Hz step rate
 STEP_HZ = 100.0
 
@@ -661,13 +692,178 @@ def run_obs_entry(a, spec, report, tmp, failures):
     return entry
 
 
+def parse_aux(text):
+    """A lines of an aux entry: per row (status, flags) and the raw words."""
+    rows, stack, end = {}, None, None
+    for ln in text.splitlines():
+        p = ln.split()
+        if not p:
+            continue
+        if p[0] == "A" and len(p) >= 4:
+            rows[int(p[1])] = {"discrete": (int(p[2]), int(p[3])), "words": p[4:]}
+        elif p[0] == "S":
+            stack = int(p[1])
+        elif p[0] == "E":
+            end = int(p[1])
+    return [rows[i] for i in sorted(rows)], stack, end
+
+
+def aux_compare(rows, ref, dbl, names):
+    """Target rows against the host float32 build, each field within twice its bound, the
+    largest |host float32 - host double| of that field over the rows (AUX_TOLERANCE; why,
+    in the loop below). The discrete outputs must be equal. Returns
+    (mismatch count, first mismatch, per field {bound, max_abs_diff, values, bit_identical})."""
+    fields = {n: {"bound": 0.0, "max_abs_diff": 0.0, "values": 0, "bit_identical": 0} for n in names}
+    bad, first = abs(len(rows) - len(ref)) + abs(len(ref) - len(dbl)), None
+    for h, d in zip(ref, dbl):
+        for n, a, b in zip(names, h["words"], d["words"]):
+            diff = abs(obs_value(a) - obs_value(b))
+            fields[n]["bound"] = max(fields[n]["bound"], diff if not math.isnan(diff) else math.inf)
+    for i, (t, h) in enumerate(zip(rows, ref)):
+        n_bad = int(t["discrete"] != h["discrete"]) + int(len(t["words"]) != len(names))
+        for n, a, b in zip(names, t["words"], h["words"]):
+            e = fields[n]
+            diff = abs(obs_value(a) - obs_value(b)) if a != b else 0.0
+            e["max_abs_diff"] = max(e["max_abs_diff"], diff if not math.isnan(diff) else math.inf)
+            e["values"] += 1
+            e["bit_identical"] += a == b
+            # Twice the bound: |target - host f32| <= |target - double| + |double - host f32|
+            # (triangle inequality); the second term is at most the bound by its definition,
+            # the first is the target's own float32 error, the same computation rounded by
+            # the same IEEE operations but for newlib's functions, of the size the host's is.
+            # The bare bound (OBS_TOLERANCE's argument) is one sample of that error per row,
+            # thin over a short run: on the tyre identifier's 40 rows sd_d_f and sd_mu_f went
+            # an ulp or two of their sums beyond it. A field the double build reproduces
+            # exactly (bound 0) must still be bit-identical.
+            n_bad += a != b and not diff <= 2.0 * e["bound"]
+        if n_bad and first is None:
+            first = f"row {i}: target {t}; host float32 {h}"
+        bad += n_bad
+    return bad, first, fields
+
+
+def image_flash(elf):
+    """Flash (text + rodata) the image links per source: {object of librfe.a: bytes,
+    "newlib libm": bytes, ...}, from the linker map beside the image (make firmware-check's
+    linked_share, per object)."""
+    lines = open(elf[:-4] + ".map").read().split("Linker script and memory map", 1)[-1].splitlines()
+    out, name = {}, None
+    for ln in lines:
+        m = re.match(r"^ (\.\S+)\s*$", ln)
+        if m:
+            name = m.group(1)
+            continue
+        m = re.match(r"^ (\.\S+)?\s+0x[0-9a-f]+\s+0x([0-9a-f]+)\s+(\S+)$", ln)
+        if m:
+            sec, name = m.group(1) or name, None
+            lib = re.match(r".*/(lib[a-z_]+)\.a\((.*)\)$", m.group(3))
+            if sec is None or not sec.startswith((".text", ".rodata")) or not lib:
+                continue
+            key = lib.group(2) if lib.group(1) == "librfe" else "newlib " + lib.group(1)
+            out[key] = out.get(key, 0) + int(m.group(2), 16)
+        else:
+            name = None
+    return out
+
+
+def state_size(elf):
+    """sizeof the estimator state: the size of pil_main.c's g_est (arm-none-eabi-nm -S)."""
+    nm = subprocess.run([CROSS + "nm", "-S", elf], stdout=subprocess.PIPE, text=True, check=True).stdout
+    for ln in nm.splitlines():
+        p = ln.split()
+        if len(p) == 4 and p[3] == "g_est":
+            return int(p[1], 16)
+    return None
+
+
+def run_aux_entry(a, spec, report, failures):
+    """One entry of --aux-entries: <tag>:<log>:<rows>:<steps counted> on the Cortex-M4F."""
+    tag, log, _, steps = spec.split(":")
+    kind = AUX_ENTRIES[tag]
+    target, machine = "m4f-f32", "mps2-an386"
+    elf = os.path.join(a.build, target, "pil", tag + ".elf")
+    t0 = time.time()
+    r = subprocess.run(qemu_cmd(machine, elf), stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                       text=True, timeout=QEMU_TIMEOUT)
+    rows, stack, end = parse_aux(r.stdout)
+    label = f"{target} on {machine}, {os.path.basename(log)} {tag}"
+    entry = {"entry": tag, "what": kind["what"], "target": target, "core": MACHINE_CORE[machine],
+             "machine": machine, "variant": "f32", "log": log, "steps": len(rows), "exit": r.returncode,
+             "rate_hz": kind["rate_hz"], "qemu_seconds": round(time.time() - t0, 2), "stack_measured": stack}
+    if r.returncode != 0 or end != len(rows) or not rows:
+        failures.append(f"{label}: QEMU exit {r.returncode}, {len(rows)} rows, end marker {end}\n"
+                        f"{r.stderr[-1500:]}")
+        return entry
+
+    def host(build):
+        prog = os.path.join(a.build, f"host-{build}", "pil", tag)
+        h = subprocess.run([prog], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        if h.returncode != 0:
+            sys.exit(f"pil: {prog} failed ({h.returncode}): {h.stderr[-800:]}")
+        return parse_aux(h.stdout)[0]
+
+    href = host("f32")
+    if os.environ.get("PIL_AUX_PERTURB"):
+        # The check checked by hand (PIL_AUX_PERTURB=1 make pil-aux must fail):
+        # one float of the target's middle row, its mantissa moved by 2^-10 of the value
+        # (bit 13): more than any bound here
+        w = rows[len(rows) // 2]["words"]
+        w[0] = f"{int(w[0], 16) ^ (1 << 13):08x}"
+    bad, first, fields = aux_compare(rows, href, host("f64"), kind["fields"])
+    same = sum(e["bit_identical"] for e in fields.values())
+    total = sum(e["values"] for e in fields.values())
+    entry["compare"] = {"host": f"host-f32/pil/{tag}", "mismatches": bad, "fields": fields,
+                        "tolerance": AUX_TOLERANCE, "bit_identical_fraction": same / total if total else 0.0,
+                        "discrete_equal": all(t["discrete"] == h["discrete"] for t, h in zip(rows, href))}
+    verdict = (f"{'within' if not bad else 'OUTSIDE'} the bound of host float32 vs double "
+               f"({same / total:.1%} of values bit-identical)")
+    if bad:
+        failures.append(f"{label}: {bad} values differ from the host float32 build beyond the bound: {first}")
+    step_fn = f"{kind['step']}_f32"
+    static = report.get("targets", {}).get(target, {}).get("stack", {}).get(step_fn, {}).get("bytes")
+    entry["stack_static"] = static
+    flash = image_flash(elf)
+    entry["flash"] = {"module": sum(v for k, v in flash.items() if k.startswith(kind["objects"])),
+                      "library": sum(v for k, v in flash.items() if not k.startswith("newlib")),
+                      "newlib_libm": flash.get("newlib libm", 0), "per_object": flash}
+    entry["state"] = state_size(elf)
+    if static is not None and stack is not None and stack > static:
+        failures.append(f"{label}: a step used {stack} B of stack, more than the static {static} B")
+    n = min(int(steps), len(rows))
+    if n > 0:
+        t0 = time.time()
+        counts, _, per_func = count_instructions(machine, elf, n, parts=(), functions=True)
+        k = min(1, n)
+        if count_instructions(machine, elf, k, singlestep=True) != counts[:k]:
+            failures.append(f"{label}: instruction counts of the TB method differ from -singlestep "
+                            f"over the first {k} steps")
+
+        entry["instructions_per_step"] = {"mean": round(sum(counts) / n, 1), "max": max(counts),
+                                          "min": min(counts), "steps": n, "first_steps_of_log": True}
+        objects = code_objects(elf)
+        starts, names = function_table(elf)
+        where = {nm_: object_of(objects, a_) for a_, nm_ in zip(starts, names)}
+        entry["instructions_per_function"] = {
+            key: sorted(([f, round(v / n, 1), round(c / n, 2), where.get(f, "?")] for f, (v, c) in d.items()),
+                        key=lambda x: -x[1])[:25]
+            for key, d in per_func.items()}
+        entry["core_share_mean"] = sum(counts) / n * kind["rate_hz"] / CORE_HZ
+        entry["core_share_max"] = max(counts) * kind["rate_hz"] / CORE_HZ
+        entry["count_seconds"] = round(time.time() - t0, 1)
+        verdict += (f"; {sum(counts) / n:.0f} instructions/step (max {max(counts)}) over {n} steps, "
+                    f"{100 * entry['core_share_mean']:.2f} % of {CORE_HZ / 1e6:.0f} MHz at {kind['rate_hz']:.0f} Hz")
+    print(f"pil: {label}: {len(rows)} steps, {verdict}; stack {stack} B measured (static {static}); "
+          f"state {entry['state']} B; module flash {entry['flash']['module']} B, library {entry['flash']['library']} B")
+    return entry
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--build", default="build/firmware")
-    ap.add_argument("--log", required=True)
-    ap.add_argument("--runs", required=True)
-    ap.add_argument("--configs", required=True)
-    ap.add_argument("--replay", required=True)
+    ap.add_argument("--log", default="")
+    ap.add_argument("--runs", default="")
+    ap.add_argument("--configs", default="")
+    ap.add_argument("--replay", default="")
     ap.add_argument("--count-steps", type=int, default=0,
                     help="steps to count in every configuration (0: each configuration's own)")
     ap.add_argument("--singlestep-check", type=int, default=2,
@@ -680,9 +876,11 @@ def main():
     ap.add_argument("--obs-log", default="", help="the observer entries' log")
     ap.add_argument("--obs-entries", default="",
                     help="<tag>:<target>:<machine>:<steps counted> (tags: OBS_ENTRIES)")
+    ap.add_argument("--aux-entries", default="",
+                    help="<tag>:<log>:<rows>:<steps counted> (tags: AUX_ENTRIES), on the Cortex-M4F")
     ap.add_argument("--out", required=True)
     a = ap.parse_args()
-    stem = os.path.splitext(os.path.basename(a.log))[0]
+    stem = os.path.splitext(os.path.basename(a.log))[0] if a.log else ""
     # <tag>:<mu_replay options, comma separated>[:<steps to count>]
     configs = []
     for c in a.configs.split():
@@ -785,6 +983,10 @@ def main():
         for spec in a.obs_entries.split():
             entry = run_obs_entry(a, spec, report, tmp, failures)
             result.setdefault("observer_runs", []).append(entry)
+        for spec in a.aux_entries.split():
+            result.setdefault("aux_runs", []).append(run_aux_entry(a, spec, report, failures))
+    if a.aux_entries:
+        result["aux_tolerance"] = AUX_TOLERANCE
     if a.obs_entries:
         result["obs_log"] = a.obs_log
         result["obs_tolerance"] = OBS_TOLERANCE

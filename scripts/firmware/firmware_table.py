@@ -16,11 +16,13 @@ same build; the 15 % target is judged (met / missed) on the Cortex-M4 rows, and 
 where the observer's instructions go is given for those.
 """
 import argparse
+import os
 import json
 import sys
 
 BEGIN, END = "<!-- firmware:begin -->", "<!-- firmware:end -->"
 OBS_BEGIN, OBS_END = "<!-- observer-cost:begin -->", "<!-- observer-cost:end -->"
+AUX_BEGIN, AUX_END = "<!-- firmware-aux:begin -->", "<!-- firmware-aux:end -->"
 TARGET_SHARE = 0.15   # issue 16: the observer adds at most 15 % to the default step (M4)
 TARGET_CORE = "m4f"   # ... on the Cortex-M4, float and fixed point
 TOP_FUNCTIONS = 12    # functions listed in the breakdown of the observer's instructions
@@ -247,6 +249,36 @@ def observer_cost(pil, bench, short):
     return out
 
 
+def aux_table(aux):
+    """The mass and grade estimator and the tyre identifier on the Cortex-M4F (make pil-aux,
+    build/firmware/pil_aux.json)."""
+    runs = aux.get("aux_runs", [])
+    if not runs:
+        return ["Not measured yet: run `make pil-aux`."]
+    L = [f"Emulated runs ({aux.get('qemu', 'QEMU')}), float32 on the Cortex-M4F (`mps2-an386`); outputs "
+         f"vs the host float32 build within {aux.get('aux_tolerance', '?')} (status and flags equal); "
+         "instructions per step over the log's first steps, the share of a 100 MHz core at the "
+         "estimator's rate (the log's sample rate) at one instruction per cycle; flash: what the PIL "
+         "image links (text + rodata) of the module's objects, of the whole library, of newlib's libm; "
+         "state: `sizeof` the estimator's state.", "",
+         "| entry | log, rows compared | outputs vs the host float32 build | instructions per step, mean (max) | "
+         "share of 100 MHz, mean (max) | steps counted | stack static / measured | flash: module / library / libm | state |",
+         "|---|---|---|---|---|---|---|---|---|"]
+    for r in runs:
+        c, i, fl = r.get("compare", {}), r.get("instructions_per_step", {}), r.get("flash", {})
+        worst = max((e["max_abs_diff"] / e["bound"] for e in c.get("fields", {}).values() if e["bound"] > 0),
+                    default=0.0)
+        outs = (f"{'within' if not c.get('mismatches') else 'OUTSIDE'} the bound (largest difference "
+                f"{100 * worst:.0f} % of the host's float32-vs-double difference, 200 % allowed), {100 * c.get('bit_identical_fraction', 0):.1f} % of values "
+                f"bit-identical; status, flags {'equal' if c.get('discrete_equal') else 'DIFFER'}")
+        L.append(f"| {r['what']} | `{os.path.basename(r['log'])}` ({r['rate_hz']:.0f} Hz), {r['steps']} | {outs} | "
+                 f"{i.get('mean', 0):,.0f} ({i.get('max', 0):,}) | {pct(r.get('core_share_mean', 0), 2)} at "
+                 f"{r['rate_hz']:.0f} Hz ({pct(r.get('core_share_max', 0), 2)}) | {i.get('steps', '-')} | "
+                 f"{r.get('stack_static')} / {r.get('stack_measured')} B | {kb(fl.get('module', 0))} / "
+                 f"{kb(fl.get('library', 0))} / {kb(fl.get('newlib_libm', 0))} | {r.get('state')} B |")
+    return L
+
+
 def replace_section(path, begin, end, lines):
     text = open(path).read()
     if begin not in text or end not in text:
@@ -267,6 +299,7 @@ def main():
     ap.add_argument("--obs-page", default=None, help="the page of the observer's cost table")
     ap.add_argument("--readme-page", default=None, help="the page of the observer's cost line")
     ap.add_argument("--bench", default=None, help="bench.json of make bench (host figure)")
+    ap.add_argument("--pil-aux", default=None, help="make pil-aux's pil_aux.json (the other estimators)")
     a = ap.parse_args()
     report = json.load(open(a.report))
     try:
@@ -274,6 +307,12 @@ def main():
     except OSError:
         pil = {}
     replace_section(a.page, BEGIN, END, tables(report, pil))
+    if a.pil_aux:
+        try:
+            aux = json.load(open(a.pil_aux))
+        except OSError:
+            aux = {}
+        replace_section(a.page, AUX_BEGIN, AUX_END, aux_table(aux))
     bench = None
     if a.bench:
         try:

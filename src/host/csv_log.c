@@ -156,6 +156,7 @@ int rfe_sensor_log_read_cells(const char *path, rfe_cells_t cells, rfe_sensor_lo
                               rfe_io_error_t *err)
 {
     rfe_read_opts_t opts;
+    memset(&opts, 0, sizeof opts); /* every option not set here off (mass_grade_off 0) */
     opts.cells = cells;
     opts.inputs = RFE_INPUTS_ALL;
     return rfe_sensor_log_read_opts(path, &opts, log, err);
@@ -165,6 +166,7 @@ int rfe_sensor_log_read_stream_cells(FILE *f, const char *name, rfe_cells_t cell
                                      rfe_sensor_log_t *log, rfe_io_error_t *err)
 {
     rfe_read_opts_t opts;
+    memset(&opts, 0, sizeof opts); /* every option not set here off (mass_grade_off 0) */
     opts.cells = cells;
     opts.inputs = RFE_INPUTS_ALL;
     return rfe_sensor_log_read_stream_opts(f, name, &opts, log, err);

@@ -5,7 +5,8 @@
  *        and in the Q formats, exactly as `mu_replay` derives them for the same options.
  *
  *   pil_gen --in LOG.csv --out DATA.c [--preset paper|default] [--filter sckf|ckf]
- *           [--tyre paper|absolute] [--rows N] [--estimator friction|pipeline]
+ *           [--tyre paper|absolute] [--rows N] [--estimator friction|pipeline|mass_grade|tyre_id]
+ *           [--mg-config recommended|seed]
  *
  * --estimator pipeline: the composed pipeline of a production car's sensors (rfe/pipeline.h,
  * rfe/pipeline_q31.h) instead of the friction estimator: the parameters, the observer's
@@ -13,6 +14,13 @@
  * steps them, float (`--real float`: rfe_replay_params_f32, rfe_replay_velocity_params_f32,
  * rfe_replay_esc_input) and, under PIL_Q31, fixed point (`--real q31`:
  * rfe_replay_observer_params_q31, rfe_replay_esc_input_q31).
+ *
+ * --estimator mass_grade / tyre_id (float32 only: the two have no fixed-point twin; the data
+ * file holds nothing under PIL_Q31): the mass and grade estimator's parameters as mu_replay
+ * derives them (rfe_param_set_mass_grade with --mg-config, the log's metadata,
+ * rfe_replay_mass_grade_params_f32), or the tyre identifier's vehicle (rfe_replay_params_f32
+ * of --preset and the log's metadata; the identifier's own parameters are its defaults, set
+ * on the target), and the samples of host/pil/aux_input.h (shared with bench/bench_aux.c).
  *
  * Parameters: the library preset, then the log's `# key = value` metadata, then --filter and
  * --tyre (mu_replay's order). Float: rfe_replay_params_f32 (the keys' doubles rounded to
@@ -33,6 +41,7 @@
 #include "host/param_file.h"
 #include "host/replay_q31.h"
 #include "host/replay_real.h"
+#include "host/pil/aux_input.h"
 #include "rfe/params.h"
 
 /* The enum members of rfe_params_t: written as integers, every other 4-byte word as a float. */
@@ -204,19 +213,69 @@ static void put_pipeline(FILE *f, const rfe_params_t *p, const rfe_velocity_para
     fputs("};\n#endif\n", f);
 }
 
+/* The mass and grade image's data (PIL_MASS_GRADE): its parameters (every member a float
+ * but the two uint32_t flags adaptive and use_ax, 4 bytes each: checked in main) and the
+ * samples. */
+static void put_mass_grade(FILE *f, const rfe_mass_grade_params_t *mp, const rfe_sensor_log_t *log,
+                           size_t rows)
+{
+    size_t i, off;
+    fputs("#if defined(PIL_MASS_GRADE) && !defined(PIL_Q31)\nconst rfe_mass_grade_params_t pil_mg_params = {", f);
+    for (off = 0u; off < sizeof *mp; off += 4u) {
+        if (off == offsetof(rfe_mass_grade_params_t, adaptive) || off == offsetof(rfe_mass_grade_params_t, use_ax)) {
+            uint32_t u;
+            memcpy(&u, (const char *)mp + off, sizeof u);
+            fprintf(f, "%s%" PRIu32 "u", off == 0u ? "" : ", ", u);
+        } else {
+            float v;
+            memcpy(&v, (const char *)mp + off, sizeof v);
+            fprintf(f, "%s%af", off == 0u ? "" : ", ", (double)v);
+        }
+    }
+    fputs("};\n\nconst rfe_mass_grade_input_t pil_mg_inputs[] = {\n", f);
+    for (i = 0u; i < rows; ++i) {
+        rfe_mass_grade_input_t in;
+        rfe_aux_mg_input(log, i, (double)mp->R, &in);
+        fprintf(f, "    {%af, %af, %af, %af, %af, %" PRId32 ", %" PRIu32 "u, %" PRIu32 "u},\n", (double)in.dt,
+                (double)in.v, (double)in.torque, (double)in.p_brake, (double)in.ax, in.gear, in.brake, in.has);
+    }
+    fputs("};\n#endif\n", f);
+}
+
+/* The tyre identifier's image's data (PIL_TYRE_ID): the vehicle's parameters and the
+ * samples. */
+static void put_tyre_id(FILE *f, const rfe_params_t *p, const rfe_sensor_log_t *log, size_t rows)
+{
+    size_t i;
+    fputs("#if defined(PIL_TYRE_ID) && !defined(PIL_Q31)\nconst rfe_params_t pil_params = {\n", f);
+    put_float_block(f, p, offsetof(rfe_params_t, vehicle), sizeof(rfe_vehicle_t));
+    put_float_block(f, p, offsetof(rfe_params_t, tyre), sizeof(rfe_tyre_params_t));
+    put_float_block(f, p, offsetof(rfe_params_t, filter), sizeof(rfe_filter_params_t));
+    put_float_block(f, p, offsetof(rfe_params_t, monitor), sizeof(rfe_monitor_params_t));
+    fputs("};\n\nconst rfe_tyre_id_sample_t pil_tid_samples[] = {\n", f);
+    for (i = 0u; i < rows; ++i) {
+        rfe_tyre_id_sample_t s;
+        rfe_aux_tid_sample(log, i, &s);
+        fprintf(f, "    {%af, %af, %af, %af, %af, %af},\n", (double)s.dt, (double)s.delta, (double)s.vx,
+                (double)s.yaw_rate, (double)s.ay, (double)s.ax);
+    }
+    fputs("};\n#endif\n", f);
+}
+
 static int usage(const char *msg)
 {
     fprintf(stderr, "pil_gen: %s\nusage: pil_gen --in LOG.csv --out DATA.c [--preset paper|default] "
                     "[--filter sckf|ckf] [--tyre paper|absolute] [--rows N] "
-                    "[--estimator friction|pipeline]\n", msg);
+                    "[--estimator friction|pipeline|mass_grade|tyre_id] [--mg-config recommended|seed]\n", msg);
     return 2;
 }
 
 int main(int argc, char **argv)
 {
     const char *in = NULL, *out = NULL, *preset = "paper", *filter = NULL, *tyre = NULL;
-    const char *estimator = "friction";
-    int pipeline;
+    const char *estimator = "friction", *mg_config = "recommended";
+    int pipeline, mass_grade, tyre_id;
+    rfe_mass_grade_params_t mp;
     rfe_velocity_params_t vp;
     rfe_velocity_params_q31_t vq;
     size_t rows = 0u;
@@ -237,6 +296,7 @@ int main(int argc, char **argv)
         else if (strcmp(argv[a], "--filter") == 0) { filter = argv[a + 1]; }
         else if (strcmp(argv[a], "--tyre") == 0) { tyre = argv[a + 1]; }
         else if (strcmp(argv[a], "--estimator") == 0) { estimator = argv[a + 1]; }
+        else if (strcmp(argv[a], "--mg-config") == 0) { mg_config = argv[a + 1]; }
         else if (strcmp(argv[a], "--rows") == 0) { rows = (size_t)strtoul(argv[a + 1], NULL, 10); }
         else { return usage("unknown option"); }
     }
@@ -244,8 +304,13 @@ int main(int argc, char **argv)
         return usage("--in and --out are required");
     }
     pipeline = strcmp(estimator, "pipeline") == 0;
-    if (!pipeline && strcmp(estimator, "friction") != 0) {
+    mass_grade = strcmp(estimator, "mass_grade") == 0;
+    tyre_id = strcmp(estimator, "tyre_id") == 0;
+    if (!pipeline && !mass_grade && !tyre_id && strcmp(estimator, "friction") != 0) {
         return usage("bad --estimator");
+    }
+    if (strcmp(mg_config, "recommended") != 0 && strcmp(mg_config, "seed") != 0) {
+        return usage("bad --mg-config");
     }
     if (rfe_preset_parse(preset, &pid) != 0) {
         return usage("bad --preset");
@@ -256,6 +321,10 @@ int main(int argc, char **argv)
         return 1;
     }
     (void)rfe_param_set_preset_f64(&ps, pid);
+    if (mass_grade) {
+        /* mu_replay --mass-grade aukf: the seed's configuration before the metadata */
+        (void)rfe_param_set_mass_grade_f64(&ps, strcmp(mg_config, "seed") == 0 ? RFE_MG_SEED : RFE_MG_RECOMMENDED);
+    }
     if (rfe_param_set_apply_meta(&ps, &log, in, &err) != 0) {
         fprintf(stderr, "pil_gen: %s: %s\n", in, err.msg);
         return 1;
@@ -270,6 +339,11 @@ int main(int argc, char **argv)
         /* mu_replay converts these from the parameters first; the PIL logs need not */
         fprintf(stderr, "pil_gen: %s: wheel speeds in km/h or a steering-wheel angle: not "
                         "supported for --estimator pipeline\n", in);
+        return 1;
+    }
+    if (mass_grade && (!log.has_drive_torque || rfe_replay_mass_grade_params_f32(&ps, &mp, NULL) != RFE_OK ||
+                       sizeof mp.adaptive != 4u || sizeof mp % 4u != 0u)) {
+        fprintf(stderr, "pil_gen: %s: no drive_torque, or the mass and grade parameters are rejected\n", in);
         return 1;
     }
     if (rfe_replay_params_f32(&ps, &p, NULL) != RFE_OK ||
@@ -305,7 +379,11 @@ int main(int argc, char **argv)
             in, preset, rfe_filter_kind_str(ps.filter), rfe_tyre_mode_str(ps.tyre));
     fputs("#include \"pil_data.h\"\n\n", f);
     fprintf(f, "const uint32_t pil_n_samples = %zuu;\n\n", rows);
-    if (pipeline) {
+    if (mass_grade) {
+        put_mass_grade(f, &mp, &log, rows);
+    } else if (tyre_id) {
+        put_tyre_id(f, &p, &log, rows);
+    } else if (pipeline) {
         in_sat = put_pipeline_q31(f, &q, &vq, &log, rows);
         put_pipeline(f, &p, &vp, &log, rows);
     } else {
