@@ -77,6 +77,9 @@ def test_mdf_replay_equals_the_csv_of_its_samples(recording, tmp_path):
     ref = quiet_replay(tmp_path / "resampled.csv", real="double")
     pd.testing.assert_frame_equal(est, ref, check_exact=True)
     assert est.attrs["summary"]["steps"] == len(frame)
+    rfe.write_parquet(frame, tmp_path / "resampled.parquet")  # the metadata's numbers as JSON
+    pd.testing.assert_frame_equal(quiet_replay(tmp_path / "resampled.parquet", real="double"),
+                                  est, check_exact=True)
 
 
 def test_mdf_replay_is_as_accurate_as_the_scenario(recording, scenario):
