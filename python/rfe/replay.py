@@ -20,7 +20,7 @@ from typing import Any, Literal, Union
 import numpy as np
 import pandas as pd
 
-from . import cli, errors
+from . import cli, errors, parquet
 from ._rfe import ffi, lib
 
 Source = Union[str, os.PathLike, pd.DataFrame]
@@ -163,16 +163,21 @@ def replay(source: Source, *, params: Mapping[str, float] | str | os.PathLike | 
            filter: str | None = None, tyre: str | None = None, real: Real | None = None,
            velocity: str | None = None, mass_grade: str | None = None,
            strict: bool = False, require_params: bool = False,
-           quiet: bool = False) -> pd.DataFrame:
+           quiet: bool = False,
+           mapping: str | os.PathLike | Mapping[str, Any] | None = None) -> pd.DataFrame:
     """Runs the estimator over a sensor log as ``mu_replay`` does, with its defaults.
 
     Args:
         source: a sensor log (path), or a DataFrame of its columns with the metadata in
-            ``attrs["meta"]`` (as :func:`read_log` gives it).
+            ``attrs["meta"]`` (as :func:`read_log` gives it); an MDF4 file (``.mf4``,
+            ``.mdf``) with ``mapping``, read by :func:`rfe.read_mdf`; a Parquet file
+            (``.parquet``, ``.pq``: :func:`rfe.read_parquet`).
         params: a parameter file, or a mapping key -> value written as one (--params).
-        out: also keep the estimate log at this path (byte for byte mu_replay's --out).
+        out: also keep the estimate log at this path (byte for byte mu_replay's --out);
+            a ``.parquet`` (``.pq``) path: as Parquet (:func:`rfe.write_parquet`).
         preset, filter, tyre, real, velocity, mass_grade, strict, require_params, quiet:
             mu_replay's options of the same names (None / False: the CLI's default).
+        mapping: the mapping file (or dict) of an MDF4 source (docs/PYTHON.md "MDF4 input").
 
     Returns:
         The estimate log's columns (t, mu_*, sd_*, valid_*, status, and the observer's and
@@ -190,12 +195,38 @@ def replay(source: Source, *, params: Mapping[str, float] | str | os.PathLike | 
     options = dict(preset=preset, filter=filter, tyre=tyre, real=real, velocity=velocity,
                    mass_grade=mass_grade, strict=strict, require_params=require_params,
                    quiet=quiet)
+    source = _sensor_source(source, mapping)
+    out_parquet = out is not None and Path(os.fspath(out)).suffix.lower() in parquet.SUFFIXES
     with tempfile.TemporaryDirectory(prefix="rfe-") as d:
-        out_path, summary, stdout = _run(source, params, options, out, Path(d))
+        out_path, summary, stdout = _run(source, params, options,
+                                         None if out_parquet else out, Path(d))
         df = read_log(out_path)
+    if out_parquet:
+        parquet.write_parquet(df, out)
     df.attrs["summary"] = summary
     df.attrs["report"] = stdout
     return df
+
+
+MDF_SUFFIXES = (".mf4", ".mdf")
+
+
+def _sensor_source(source: Source, mapping: Any) -> Source:
+    """An MDF4 path read through its mapping into a DataFrame; other sources as they are."""
+    is_mdf = not isinstance(source, pd.DataFrame) and \
+        Path(os.fspath(source)).suffix.lower() in MDF_SUFFIXES
+    if is_mdf:
+        if mapping is None:
+            raise errors.UsageError("an MDF4 source needs mapping= (docs/PYTHON.md "
+                                    "\"MDF4 input\")", exit_code=2)
+        from .mdf import read_mdf
+        return read_mdf(source, mapping)
+    if mapping is not None:
+        raise errors.UsageError("mapping= is for an MDF4 source (.mf4) only", exit_code=2)
+    if not isinstance(source, pd.DataFrame) and \
+            Path(os.fspath(source)).suffix.lower() in parquet.SUFFIXES:
+        return parquet.read_parquet(source)
+    return source
 
 
 def metrics(source: Source | pd.DataFrame, **options: Any) -> dict[str, Any]:
