@@ -82,16 +82,19 @@ def test_mdf_replay_equals_the_csv_of_its_samples(recording, tmp_path):
                                   est, check_exact=True)
 
 
-def test_mdf_replay_is_as_accurate_as_the_scenario(recording, scenario):
+def test_mdf_replay_is_no_less_accurate_than_the_scenario(recording, scenario):
     """The 20 ms channels, interpolated, move single estimates (by up to 0.2 here: the
-    estimator follows the noise it is given), not the accuracy: the RMSE against the truth
-    stays within 0.03 of the scenario's own (0.278 against 0.292 in double)."""
+    estimator follows the noise it is given), so no per-sample bound can be derived. What
+    a user needs is that the recorded path is no worse: its RMSE against the truth may rise
+    by at most 0.02 over the scenario's own, the threshold the project uses for an input
+    path being "no worse" (issue 16's targets for observer inputs). Measured: 0.278
+    against 0.292 in double."""
     mf4, mapping, _ = recording
     got = quiet_replay(mf4, mapping=mapping, real="double").attrs["summary"]["metrics"]
     log = scenario.copy()
     log.attrs["meta"] = {**scenario.attrs["meta"], "R": mdf4_log.R}
     want = rfe.metrics(quiet_replay(log, real="double"))
-    assert abs(got["mean"]["rmse"] - want["mean"]["rmse"]) < 0.03
+    assert got["mean"]["rmse"] <= want["mean"]["rmse"] + 0.02
 
 
 def test_mdf_at_the_scenario_rate_gives_its_estimates(scenario, tmp_path):
