@@ -421,9 +421,11 @@ observer-results: $(BUILD)/mu_replay venv
 mass-grade-results: venv
 	$(PY) scripts/tools/mass_grade_results.py --page docs/MASS_GRADE_RESULTS.md \
 	  --plot $(BUILD)/mass_grade/mass_error.png
-## what a +-20 % mass error costs the friction estimator (table in docs/MASS_GRADE_RESULTS.md)
+## what a +-20 % mass error costs the friction estimator, and how far the fed online mass is
+## from the truth (tables in docs/MASS_GRADE_RESULTS.md)
 mass-sensitivity: venv $(BUILD)/mu_replay
 	$(PY) scripts/tools/mass_sensitivity.py --page docs/MASS_GRADE_RESULTS.md
+	$(PY) scripts/tools/mass_feed_results.py --page docs/MASS_GRADE_RESULTS.md
 
 # The model-validity monitor measured with the float64 reference (docs/MONITOR.md; the runs
 # are cached in build/monitor/, about 10 min on 2 cores the first time).

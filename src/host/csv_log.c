@@ -926,7 +926,7 @@ static const char *const k_est_header =
 static const char *const k_est_velocity_header =
     ",vx_est,vy_est,beta_est,yaw_acc_est,sd_vx,sd_vy,sd_beta";
 /* The mass and grade estimator's columns, written when it ran (DATA.md "Estimate log"). */
-static const char *const k_est_mass_grade_header = ",mass_est,sd_mass,grade_est,sd_grade,mg_status";
+static const char *const k_est_mass_grade_header = ",mass_est,sd_mass,grade_est,sd_grade,mg_status,mass_used";
 
 /* Metadata value on one line: control characters (a newline in a file name) become '?'. */
 static void write_sanitised(FILE *f, const char *s)
@@ -985,6 +985,8 @@ int rfe_estimate_log_write_stream(FILE *f, const rfe_kv_t *meta, size_t n_meta,
                 fprintf(f, ",%s", num);
             }
             fprintf(f, ",%d", e->mg_status);
+            format(num, e->mass_used);
+            fprintf(f, ",%s", num);
         }
         fputc('\n', f);
     }

@@ -212,6 +212,8 @@ typedef struct {
                              written (mass_est, sd_mass, grade_est, sd_grade, mg_status) */
     double mass, sd_mass, grade, sd_grade; /**< its estimate [kg], [rad] */
     int mg_status;      /**< rfe_status_t of its step */
+    double mass_used;   /**< the friction estimator's mass at this sample [kg] (mg_feed_sd_rel:
+                             the last mass_est fed, else the parameter m) */
 } rfe_est_row_t;
 
 /** A metadata pair to write (strings not owned). */

@@ -72,9 +72,13 @@ static const char k_usage_rest[] =
     "                   mg_use_ax = 0, mg_m_rot = 0, mg_t_adapt = 0); then the log's\n"
     "                   metadata and --params set mg_* keys, and the flag, when given,\n"
     "                   sets mg_adaptive last. The estimate log gains mass_est, sd_mass,\n"
-    "                   grade_est, sd_grade, mg_status; with the observer and no grade\n"
-    "                   column the observer takes each sample's estimated grade (that\n"
-    "                   sample's); with mass_true, grade_true the summary and --metrics\n"
+    "                   grade_est, sd_grade, mg_status and mass_used, the friction\n"
+    "                   estimator's mass: after an update (mg_status 0) with sd_mass <=\n"
+    "                   mg_feed_sd_rel * mass_est (key; default 0.02, 0: never) it\n"
+    "                   takes that mass_est before that sample's step, and keeps it\n"
+    "                   until the next such update (the observer too); with the\n"
+    "                   observer and no grade column the observer takes each sample's\n"
+    "                   estimated grade (that sample's); with mass_true, grade_true the summary and --metrics\n"
     "                   give the mass error at the end and the grade's RMSE. off: not\n"
     "                   run (the columns are ignored). Not with --real q31 (no\n"
     "                   fixed-point twin yet: there it is off, with a note)\n"
@@ -719,6 +723,9 @@ static int run_estimator(const options_t *o, run_t *r)
  * takes too, are checked by rfe_params_validate first, on the same conditions.) */
 static const char *validator_name(size_t k)
 {
+    if (k == (size_t)RFE_PK_mg_feed_sd_rel) {
+        return "mu_replay: a relative sd >= 0";
+    }
     if (rfe_param_is_mg(k) != 0) {
         return "rfe_mass_grade_params_validate";
     }
@@ -1012,6 +1019,8 @@ typedef struct {
     size_t n;          /**< samples counted: from it to the end of the log */
     double mass_err_end;     /**< mass_est - mass_true at the last sample [kg] */
     double mass_err_end_rel; /**< the same over mass_true */
+    double mass_used_err_end_rel; /**< (mass_used - mass_true) / mass_true at the last sample:
+                                       the friction estimator's mass (mg_feed_sd_rel) */
     double grade_rmse;       /**< RMSE of grade_est - grade_true over the samples counted [rad] */
     double grade_max_abs;    /**< max |grade_est - grade_true| over them [rad] */
 } mg_accuracy_t;
@@ -1031,6 +1040,7 @@ static void mass_grade_accuracy(const run_t *r, mg_accuracy_t *a)
     a->n = n - a->first;
     a->mass_err_end = (double)NAN;
     a->mass_err_end_rel = (double)NAN;
+    a->mass_used_err_end_rel = (double)NAN;
     a->grade_rmse = (double)NAN;
     a->grade_max_abs = (double)NAN;
     if (a->n == 0u) {
@@ -1039,6 +1049,8 @@ static void mass_grade_accuracy(const run_t *r, mg_accuracy_t *a)
     if (r->log.has_mass_true) {
         a->mass_err_end = r->rows[n - 1u].mass - r->log.rows[n - 1u].mass_true;
         a->mass_err_end_rel = a->mass_err_end / r->log.rows[n - 1u].mass_true;
+        a->mass_used_err_end_rel =
+            (r->rows[n - 1u].mass_used - r->log.rows[n - 1u].mass_true) / r->log.rows[n - 1u].mass_true;
     }
     if (r->log.has_grade_true) {
         a->grade_max_abs = 0.0;
@@ -1079,6 +1091,10 @@ static void write_mass_grade_json(FILE *f, const run_t *r)
             sep = ", ";
         }
     }
+    fprintf(f, "},\n    \"feed\": {\"sd_rel\": ");
+    rfe_json_write_number(f, r->ps.mg[RFE_PK_mg_feed_sd_rel - RFE_PK_MG_FIRST]);
+    fprintf(f, ", \"n_fed\": %zu, \"mass_used_end\": ", r->stats.n_mass_fed);
+    rfe_json_write_number(f, r->stats.mass_used_last);
     fputs("},\n    \"accuracy\": ", f);
     if (r->log.has_mass_true || r->log.has_grade_true) {
         fprintf(f, "{\"from_t_s\": ");
@@ -1087,6 +1103,8 @@ static void write_mass_grade_json(FILE *f, const run_t *r)
         rfe_json_write_number(f, a.mass_err_end);
         fputs(", \"mass_err_end_rel\": ", f);
         rfe_json_write_number(f, a.mass_err_end_rel);
+        fputs(", \"mass_used_err_end_rel\": ", f);
+        rfe_json_write_number(f, a.mass_used_err_end_rel);
         fputs(", \"grade_rmse\": ", f);
         rfe_json_write_number(f, a.grade_rmse);
         fputs(", \"grade_max_abs_err\": ", f);
@@ -1122,6 +1140,10 @@ static void print_mass_grade(const run_t *r)
             printf("  mg status %2zu %-37s %zu\n", s, name, r->stats.mg_status_count[s]);
         }
     }
+    printf("  mass fed to the friction estimator at %zu samples (mg_feed_sd_rel = %g); "
+           "its mass at the end %.1f kg\n",
+           r->stats.n_mass_fed, r->ps.mg[RFE_PK_mg_feed_sd_rel - RFE_PK_MG_FIRST],
+           r->stats.mass_used_last);
     if (r->log.has_mass_true && (a.n > 0u)) {
         printf("  mass error at the end %+.1f kg (%+.2f %%)\n", a.mass_err_end,
                100.0 * a.mass_err_end_rel);

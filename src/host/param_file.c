@@ -26,6 +26,7 @@ static const rfe_param_info_t k_info[RFE_PK_COUNT] = {
     RFE_OBS_KEYS(RFE_PK_INFO_)
     {"mg_adaptive", "-", "mass and grade: 1 the seed's adaptive UKF (AUKF), 0 the plain UKF"},
     {"mg_use_ax", "-", "mass and grade: 1 the accelerometer row, 0 speed and torque only"},
+    {"mg_feed_sd_rel", "1", "replay: feed mass_est to the friction estimator after an update with sd_mass <= this * mass_est (0 = never)"},
     RFE_MG_KEYS(RFE_PK_INFO_)
 #undef RFE_PK_INFO_
 };

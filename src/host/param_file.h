@@ -125,8 +125,9 @@
 
 /**
  * The mass and grade estimator's keys (docs/MASS_GRADE.md §6): X(key, rfe_mass_grade_params_t
- * member, unit, doc), each an rfe_real_t; mg_adaptive and mg_use_ax (0 or 1) come before
- * them. R and g are the vehicle keys above. No values: they start from the library preset
+ * member, unit, doc), each an rfe_real_t; mg_adaptive and mg_use_ax (0 or 1) and the
+ * replay's mg_feed_sd_rel come before them (RFE_PK_MG_SPECIAL). R and g are the vehicle keys
+ * above. No values: they start from the library preset
  * the run's --mass-grade names (rfe_mass_grade_params_preset, the car).
  */
 #define RFE_MG_KEYS(X) \
@@ -162,7 +163,7 @@
 
 /** Index of each key: the friction estimator's numeric keys RFE_PK_m, RFE_PK_Lf, ...; its
  *  three word-valued keys; then the observer's keys, obs_driven first; then the mass and
- *  grade estimator's, mg_adaptive and mg_use_ax first. */
+ *  grade estimator's, mg_adaptive, mg_use_ax and mg_feed_sd_rel first. */
 typedef enum {
 #define RFE_PK_ENUM_(key, member, unit, doc) RFE_PK_##key,
     RFE_PARAM_KEYS(RFE_PK_ENUM_)
@@ -173,6 +174,12 @@ typedef enum {
     RFE_OBS_KEYS(RFE_PK_ENUM_)
     RFE_PK_mg_adaptive, /**< key mg_adaptive: 1 the seed's AUKF, 0 the plain UKF */
     RFE_PK_mg_use_ax,   /**< key mg_use_ax: 1 the accelerometer row, 0 speed only */
+    /** key mg_feed_sd_rel: a replay key, not a library parameter (no member of
+     *  rfe_mass_grade_params_t): the replay feeds the friction estimator the estimated mass
+     *  after an update with sd_mass <= mg_feed_sd_rel * mass_est (0 = never; MASS_GRADE.md
+     *  §10). Kept with the mg_* keys so files, metadata and the estimate log's metadata treat
+     *  it as every mass and grade key. */
+    RFE_PK_mg_feed_sd_rel,
     RFE_MG_KEYS(RFE_PK_ENUM_)
 #undef RFE_PK_ENUM_
     RFE_PK_COUNT        /**< number of keys */
@@ -187,6 +194,13 @@ typedef enum {
 #define RFE_PK_MG_FIRST ((size_t)RFE_PK_mg_adaptive)
 #define RFE_PK_OBS_COUNT (RFE_PK_MG_FIRST - RFE_PK_OBS_FIRST)
 #define RFE_PK_MG_COUNT ((size_t)RFE_PK_COUNT - RFE_PK_MG_FIRST)
+
+/** The mass and grade keys before the RFE_MG_KEYS table: mg_adaptive, mg_use_ax,
+ *  mg_feed_sd_rel. */
+#define RFE_PK_MG_SPECIAL 3u
+
+/** mg_feed_sd_rel of every preset: fed once sd_mass / mass_est <= 2 % (MASS_GRADE.md §10). */
+#define RFE_MG_FEED_SD_REL_DEFAULT 0.02
 
 /** 1 when key @p k is an observer key (obs_*). */
 static inline int rfe_param_is_obs(size_t k)

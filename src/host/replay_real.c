@@ -53,15 +53,15 @@ static const size_t k_obs_offset[RFE_PK_OBS_COUNT - 1u] = {
 RFE_OBS_KEYS(RFE_IS_REAL_)
 #undef RFE_IS_REAL_
 
-/* Where each mass and grade key after mg_use_ax lives in rfe_mass_grade_params_t
- * (RFE_MG_KEYS). */
-static const size_t k_mg_offset[RFE_PK_MG_COUNT - 2u] = {
+/* Where each mass and grade key after the special ones (mg_adaptive, mg_use_ax,
+ * mg_feed_sd_rel) lives in rfe_mass_grade_params_t (RFE_MG_KEYS). */
+static const size_t k_mg_offset[RFE_PK_MG_COUNT - RFE_PK_MG_SPECIAL] = {
 #define RFE_OFFSET_(key, member, unit, doc) offsetof(rfe_mass_grade_params_t, member),
     RFE_MG_KEYS(RFE_OFFSET_)
 #undef RFE_OFFSET_
 };
 
-/* As above: every mass and grade key after mg_use_ax is an rfe_real_t. */
+/* As above: every mass and grade key of RFE_MG_KEYS is an rfe_real_t. */
 #define RFE_IS_REAL_(key, member, unit, doc)                                               \
     typedef char rfe_key_is_real_##key[(sizeof(((rfe_mass_grade_params_t *)0)->member) == sizeof(rfe_real_t)) ? 1 : -1];
 RFE_MG_KEYS(RFE_IS_REAL_)
@@ -124,9 +124,10 @@ int rfe_param_set_mass_grade(rfe_param_set_t *ps, rfe_mg_config_t config)
     ps->mg_config = config;
     ps->mg[0] = (double)mp.adaptive;
     ps->mg[1] = (double)mp.use_ax;
-    for (k = 2u; k < RFE_PK_MG_COUNT; ++k) {
+    ps->mg[2] = RFE_MG_FEED_SD_REL_DEFAULT; /* the replay's, not the library's */
+    for (k = RFE_PK_MG_SPECIAL; k < RFE_PK_MG_COUNT; ++k) {
         rfe_real_t v;
-        memcpy(&v, (const char *)&mp + k_mg_offset[k - 2u], sizeof v);
+        memcpy(&v, (const char *)&mp + k_mg_offset[k - RFE_PK_MG_SPECIAL], sizeof v);
         ps->mg[k] = (double)v;
         ps->origin[RFE_PK_MG_FIRST + k].file = NULL;
         ps->origin[RFE_PK_MG_FIRST + k].line = 0u;
@@ -135,6 +136,8 @@ int rfe_param_set_mass_grade(rfe_param_set_t *ps, rfe_mg_config_t config)
     ps->origin[RFE_PK_mg_adaptive].line = 0u;
     ps->origin[RFE_PK_mg_use_ax].file = NULL;
     ps->origin[RFE_PK_mg_use_ax].line = 0u;
+    ps->origin[RFE_PK_mg_feed_sd_rel].file = NULL;
+    ps->origin[RFE_PK_mg_feed_sd_rel].line = 0u;
     return 0;
 }
 
@@ -210,8 +213,9 @@ static size_t diagnose_params(const rfe_param_set_t *ps)
 }
 
 /* Mass and grade key @p k of the set into @p mp; 0, or -1 when mg_adaptive or mg_use_ax is
- * not 0 or 1 (a double would otherwise be truncated without a word). R and g are the
- * vehicle keys. */
+ * not 0 or 1 (a double would otherwise be truncated without a word) or mg_feed_sd_rel is
+ * negative (it has no member: the replay reads it from the set). R and g are the vehicle
+ * keys. */
 static int set_mg_key(rfe_mass_grade_params_t *mp, const rfe_param_set_t *ps, size_t k)
 {
     const double v = (k < RFE_PK_MG_FIRST) ? ps->value[k] : ps->mg[k - RFE_PK_MG_FIRST];
@@ -220,13 +224,17 @@ static int set_mg_key(rfe_mass_grade_params_t *mp, const rfe_param_set_t *ps, si
             return -1;
         }
         *((k == (size_t)RFE_PK_mg_adaptive) ? &mp->adaptive : &mp->use_ax) = (uint32_t)v;
+    } else if (k == (size_t)RFE_PK_mg_feed_sd_rel) {
+        if (!(v >= 0.0)) {
+            return -1;
+        }
     } else if (k == (size_t)RFE_PK_R) {
         mp->R = (rfe_real_t)v;
     } else if (k == (size_t)RFE_PK_g) {
         mp->g = (rfe_real_t)v;
     } else {
         const rfe_real_t r = (rfe_real_t)v;
-        memcpy((char *)mp + k_mg_offset[k - RFE_PK_MG_FIRST - 2u], &r, sizeof r);
+        memcpy((char *)mp + k_mg_offset[k - RFE_PK_MG_FIRST - RFE_PK_MG_SPECIAL], &r, sizeof r);
     }
     return 0;
 }
@@ -329,6 +337,27 @@ static void mass_grade_row(rfe_mass_grade_t *mg, const rfe_sensor_log_t *log, si
     ++stats->mg_status_count[rfe_replay_status_slot(out->mg_status)];
 }
 
+/* The feed rule (MASS_GRADE.md §10): 1 when this sample's mass and grade step @p out is an
+ * update (status RFE_OK: not paused, held or refused) with sd_mass <= mg_feed_sd_rel *
+ * mass_est (in double, of the estimate's values); never with mg_feed_sd_rel = 0. */
+static int mass_feed_due(const rfe_param_set_t *ps, const rfe_est_row_t *out)
+{
+    const double rel = ps->mg[RFE_PK_mg_feed_sd_rel - RFE_PK_MG_FIRST];
+    return ((out->mg_status == (int)RFE_OK) && (rel > 0.0) && (out->sd_mass <= rel * out->mass))
+               ? 1
+               : 0;
+}
+
+/* Records the friction estimator's mass of this sample in @p out and the run's counters:
+ * @p fed_st is the status of this sample's feed (RFE_OK: fed), or -1 when none was due. */
+static void mass_used_row(rfe_real_t m_used, int fed_st, rfe_est_row_t *out,
+                          rfe_replay_stats_t *stats)
+{
+    out->mass_used = (double)m_used;
+    stats->n_mass_fed += (fed_st == (int)RFE_OK) ? 1u : 0u;
+    stats->mass_used_last = out->mass_used;
+}
+
 /* Whether this run steps the mass and grade estimator, and if so its init (RFE_OK: *on set). */
 static rfe_status_t mass_grade_init(const rfe_param_set_t *ps, const rfe_sensor_log_t *log,
                                     rfe_mass_grade_t *mg, int *on, size_t *bad_key)
@@ -409,8 +438,7 @@ static void step_row(rfe_friction_t *est, const rfe_sensor_row_t *row, rfe_est_r
         out->valid[w] = rfe_status_is_error(st) ? 0u : e.valid[w];
     }
     out->status = (int)st;
-    out->has_velocity = 0;
-    out->has_mass_grade = 0; /* mass_grade_row sets it when that estimator runs */
+    out->has_velocity = 0; /* has_mass_grade: the caller's (mass_grade_row sets it) */
 }
 
 rfe_status_t rfe_replay_params(const rfe_param_set_t *ps, rfe_params_t *p,
@@ -470,11 +498,22 @@ rfe_status_t rfe_replay_run(const rfe_param_set_t *ps, const rfe_sensor_log_t *l
                 stats->n_skipped += missed;
             }
         }
-        step_row(&est, &log->rows[i], &out[i]);
+        out[i].has_mass_grade = 0;
         if (mg_on) {
-            /* measured velocities: the estimated grade feeds nothing (no observer) */
+            /* first, so this sample's friction step takes the mass fed from this sample's
+             * update (causal; one way: the estimator takes nothing of the friction
+             * estimator's). Measured velocities: the estimated grade feeds nothing (no
+             * observer). */
+            int fed = -1;
             mass_grade_row(&mg, log, i, &mg_last, &out[i], stats);
+            if (mass_feed_due(ps, &out[i]) != 0) {
+                /* a mass rfe_params_set_mass refuses (not finite, <= 0: not an estimate in
+                 * [mg_m_min, mg_m_max]) leaves the last one */
+                fed = (int)rfe_friction_set_mass(&est, (rfe_real_t)out[i].mass);
+            }
+            mass_used_row(est.params.vehicle.m, fed, &out[i], stats);
         }
+        step_row(&est, &log->rows[i], &out[i]);
         ++stats->status_count[rfe_replay_status_slot(out[i].status)];
     }
     stats->n_steps = log->n_rows;
@@ -547,8 +586,15 @@ rfe_status_t rfe_replay_run_observer(const rfe_param_set_t *ps, const rfe_sensor
             /* first, so the observer integrates ax with this sample's estimated grade when
              * the log has no measured one: one way (the estimator takes nothing of the
              * observer's) and causal (the grade of samples up to this one) */
+            int fed = -1;
             mass_grade_row(&mg, log, i, &mg_last, &out[i], stats);
             in.grade = log->has_grade ? in.grade : (rfe_real_t)out[i].grade;
+            /* and this sample's mass, when the rule trusts it, to both estimators (the
+             * observer keeps the friction estimator's vehicle) */
+            if (mass_feed_due(ps, &out[i]) != 0) {
+                fed = (int)rfe_pipeline_set_mass(&pl, (rfe_real_t)out[i].mass);
+            }
+            mass_used_row(pl.friction.params.vehicle.m, fed, &out[i], stats);
         }
         memset(&o, 0, sizeof o);
         st = rfe_pipeline_step(&pl, &in, &o);

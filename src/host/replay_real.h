@@ -62,6 +62,10 @@ typedef struct {
                              beyond obs_dt_max, the pipeline's out.restarted) */
     size_t mg_status_count[RFE_REPLAY_STATUS_SLOTS]; /**< the mass and grade estimator's
                                                           statuses (when it ran) */
+    size_t n_mass_fed;     /**< samples whose mass_est the friction estimator took
+                                (mg_feed_sd_rel, MASS_GRADE.md §10) */
+    double mass_used_last; /**< the friction estimator's mass at the last sample [kg] (when
+                                the mass and grade estimator ran) */
 } rfe_replay_stats_t;
 
 /** A gear cell beyond +-this is refused (status 18): the library's gear is an int32_t. */

@@ -626,14 +626,14 @@ golden_equal mg_default "$MGG/car_grade_step.recommended.csv" "$TMP/mg_d.csv"
 grep -q '^# mass_grade = ukf$' "$TMP/mg_d.csv" && grep -q '^# mg_adaptive = 0$' "$TMP/mg_d.csv" \
     && grep -q '^# mg_use_ax = 1$' "$TMP/mg_d.csv" && grep -q '^# mg_m_rot = 45.4$' "$TMP/mg_d.csv" \
     && ok "mg_default: configuration and keys in the metadata" || bad "mg_default: metadata"
-grep -q ',mass_est,sd_mass,grade_est,sd_grade,mg_status$' "$TMP/mg_d.csv" \
+grep -q ',mass_est,sd_mass,grade_est,sd_grade,mg_status,mass_used$' "$TMP/mg_d.csv" \
     && ok "mg_default: columns" || bad "mg_default: header $(grep -m1 '^t,' "$TMP/mg_d.csv")"
 grep -q '^mass and grade (ukf, speed, torque and ax): at the end mass ' "$TMP/out" \
     && grep -Eq '^  mass error at the end [-+][0-9.]+ kg \([-+][0-9.]+ %\)$' "$TMP/out" \
     && grep -Eq '^  grade RMSE [0-9.]+ rad, max error [0-9.]+ rad, over 3251 samples from t = 0\.000 s$' "$TMP/out" \
     && ok "mg_default: summary" || bad "mg_default: summary $(grep -A4 '^mass and grade' "$TMP/out")"
 grep -q '"mass_grade": {"config": "ukf", "use_ax": 1, "end": {"mass": ' "$TMP/mg_d.json" \
-    && grep -Eq '"accuracy": \{"from_t_s": 0, "n": 3251, "mass_err_end": -?[0-9.e-]+, "mass_err_end_rel": -?[0-9.e-]+, "grade_rmse": [0-9.e-]+, "grade_max_abs_err": [0-9.e-]+\}' "$TMP/mg_d.json" \
+    && grep -Eq '"accuracy": \{"from_t_s": 0, "n": 3251, "mass_err_end": -?[0-9.e-]+, "mass_err_end_rel": -?[0-9.e-]+, "mass_used_err_end_rel": -?[0-9.e-]+, "grade_rmse": [0-9.e-]+, "grade_max_abs_err": [0-9.e-]+\}' "$TMP/mg_d.json" \
     && ok "mg_default: JSON" || bad "mg_default: JSON $(grep -A1 mass_grade "$TMP/mg_d.json")"
 # the JSON's end-of-log error is the estimate log's last row against the truth's
 want=$(awk -F, '/^#/ {next} !h {for (i = 1; i <= NF; i++) c[$i] = i; h = 1; next} {m = $c["mass_true"]} END {print m}' "$MG/car_grade_step.csv")
@@ -702,7 +702,7 @@ grep -q '^# mass_grade = aukf$' "$TMP/mg_f2.csv" && ok "mg_file_without_flag: th
 # the log's metadata sets mg_* keys too (below --params)
 { echo '# mg_m0 = 2000'; cat "$TMP/hilly.csv"; } >"$TMP/hilly_m0.csv"
 run mg_meta_key 0 --in "$TMP/hilly_m0.csv" --out "$TMP/mg_m.csv" --real double -q
-grep -q '^# mg_m0 = 2000$' "$TMP/mg_m.csv" && grep -Eq '^0,.*,2000,500,0,0\.05,0$' "$TMP/mg_m.csv" \
+grep -q '^# mg_m0 = 2000$' "$TMP/mg_m.csv" && grep -Eq '^0,.*,2000,500,0,0\.05,0,[0-9.]+$' "$TMP/mg_m.csv" \
     && ok "mg_meta_key: the start from mg_m0 = 2000" || bad "mg_meta_key: $(grep -m1 '^0,' "$TMP/mg_m.csv")"
 # invalid keys: named with the function that refused them; a combination: its rule
 printf 'mg_m0 = -5\n' >"$TMP/mg_bad.par"
@@ -722,6 +722,43 @@ run mg_engine_torque 1 --in "$TMP/engine.csv" --out "$TMP/mg_x.csv"
 one_line mg_engine_torque "^mu_replay: .*engine\.csv: driveline_torque_at = engine: the mass and grade estimator takes the torque at the wheels"
 run mg_engine_torque_off 0 --in "$TMP/engine.csv" --out "$TMP/mg_eo.csv" --mass-grade off -q
 [ ! -e "$TMP/mg_x.csv" ] && ok "mg invalid parameters: nothing written" || bad "mg invalid parameters: estimate log written"
+
+# The mass into the friction estimator (mg_feed_sd_rel, MASS_GRADE.md §10), on the double run
+# above: the key in the metadata; mass_used is the log's m until the first update (mg_status 0)
+# with sd_mass <= 0.02 mass_est, then that sample's mass_est at each such update and the last
+# one held in between (exact: the double run writes each value so it reads back bit for bit);
+# the summary and the JSON count the samples fed and give the last mass used.
+grep -q '^# mg_feed_sd_rel = 0\.02$' "$TMP/mg_d.csv" && ok "mg_feed: the key in the metadata" \
+    || bad "mg_feed: metadata $(grep mg_feed "$TMP/mg_d.csv")"
+res=$(awk -F, '
+    /^# m = / { used = $0; sub(/^# m = /, "", used); used += 0; next }
+    /^#/ { next }
+    !h { for (i = 1; i <= NF; i++) c[$i] = i; h = 1; next }
+    {
+        if ($c["mg_status"] + 0 == 0 && $c["sd_mass"] + 0 <= 0.02 * $c["mass_est"]) { used = $c["mass_est"] + 0; fed++ }
+        if ($c["mass_used"] + 0 != used) { if (!bad) first = NR; bad++ }
+        last = $c["mass_used"]
+    }
+    END { printf "%d %d %s %s", fed, bad, last, first }' "$TMP/mg_d.csv")
+set -- $res
+[ "$1" -gt 0 ] && [ "$2" -eq 0 ] && ok "mg_feed: mass_used follows the rule on every row ($1 fed)" \
+    || bad "mg_feed: $1 fed, $2 rows differ (the first at line ${4:-?})"
+grep -qF "\"feed\": {\"sd_rel\": 0.02, \"n_fed\": $1, \"mass_used_end\": $3}" "$TMP/mg_d.json" \
+    && ok "mg_feed: JSON" || bad "mg_feed: JSON $(grep -o '"feed": [^}]*}' "$TMP/mg_d.json"), want $1 $3"
+# 0: never fed, mass_used the log's m throughout
+printf 'mg_feed_sd_rel = 0\n' >"$TMP/feed0.par"
+run mg_feed_off 0 --in "$TMP/hilly.csv" --out "$TMP/mg_f0.csv" --real double --params "$TMP/feed0.par"
+grep -Eq '^  mass fed to the friction estimator at 0 samples \(mg_feed_sd_rel = 0\); its mass at the end 2000\.0 kg$' "$TMP/out" \
+    && ok "mg_feed_off: summary" || bad "mg_feed_off: summary $(grep 'mass fed' "$TMP/out")"
+m=$(sed -n 's/^# m = //p' "$TMP/hilly.csv" | head -1)
+awk -F, -v m="$m" '/^#/ {next} !h {for (i = 1; i <= NF; i++) c[$i] = i; h = 1; next} $c["mass_used"] + 0 != m + 0 {b++} END {exit b > 0}' "$TMP/mg_f0.csv" \
+    && grep -q '^# mg_feed_sd_rel = 0$' "$TMP/mg_f0.csv" && ok "mg_feed_off: mass_used = m on every row" \
+    || bad "mg_feed_off: mass_used moved"
+# a negative value: an error naming the key
+printf 'mg_feed_sd_rel = -0.5\n' >"$TMP/feed_bad.par"
+run mg_feed_bad 1 --in "$TMP/hilly.csv" --out "$TMP/mg_x.csv" --params "$TMP/feed_bad.par"
+one_line mg_feed_bad "^mu_replay: .*feed_bad\.par:1: invalid parameter mg_feed_sd_rel = -0\.5 \(rejected by mu_replay: a relative sd >= 0, float run\)$"
+[ ! -e "$TMP/mg_x.csv" ] && ok "mg_feed_bad: nothing written" || bad "mg_feed_bad: estimate log written"
 
 # off: the columns ignored, the run as on a log without them
 run mg_off 0 --in "$TMP/hilly.csv" --out "$TMP/mg_o.csv" --mass-grade off --metrics "$TMP/mg_o.json" -q
@@ -744,26 +781,29 @@ cmp -s "$TMP/v_mg.csv" "$TMP/v_nomg.csv" && ok "esc_mg_flag: unchanged" || bad "
 
 # The wiring: without a grade column the observer integrates ax with the estimated grade (its
 # vx differs from the off run's, where it takes 0); with one (here all 0) it takes the column,
-# so the observer's and the friction estimator's columns equal the off run's.
+# so the observer's and the friction estimator's columns equal the off run's. Both runs without
+# the mass feed (mg_feed_sd_rel = 0): a fed mass changes both estimators, tested above.
 obs_cols() { grep -v '^#' "$1" | cut -d, -f1-21; }
-run mg_on 0 --in "$TMP/hilly.csv" --out "$TMP/mg_on.csv" -q
+run mg_on 0 --in "$TMP/hilly.csv" --out "$TMP/mg_on.csv" --params "$TMP/feed0.par" -q
 obs_cols "$TMP/mg_on.csv" >"$TMP/on.cols"; obs_cols "$TMP/mg_o.csv" >"$TMP/off.cols"
 cmp -s "$TMP/on.cols" "$TMP/off.cols" && bad "mg_on: the observer did not take the estimated grade" \
     || ok "mg_on: the observer takes the estimated grade"
 awk -F, 'BEGIN { OFS = "," } /^#/ { print "# grade_known = yes"; print; next } !h { h = 1; print $0 ",grade"; next } { print $0 ",0" }' \
     "$TMP/hilly.csv" | awk '!(/^# grade_known = yes$/ && seen++)' >"$TMP/hilly_grade.csv"
-run mg_grade_column 0 --in "$TMP/hilly_grade.csv" --out "$TMP/mg_g.csv" -q
+run mg_grade_column 0 --in "$TMP/hilly_grade.csv" --out "$TMP/mg_g.csv" --params "$TMP/feed0.par" -q
 obs_cols "$TMP/mg_g.csv" >"$TMP/grade.cols"
 cmp -s "$TMP/grade.cols" "$TMP/off.cols" && ok "mg_grade_column: the measured grade, not the estimate" \
     || bad "mg_grade_column: the observer did not take the grade column"
 cmp -s <(grep -v '^#' "$TMP/mg_g.csv" | cut -d, -f22-) <(grep -v '^#' "$TMP/mg_on.csv" | cut -d, -f22-) \
     && ok "mg_grade_column: the mass and grade estimate unchanged (one way)" || bad "mg_grade_column: estimate changed"
 # Measured velocities (a test car's vx, vy, yaw_acc): the estimator runs all the same, on the
-# wheels' speed, not on vx (MASS_GRADE.md §1): its columns equal the observer run's.
+# wheels' speed, not on vx (MASS_GRADE.md §1): its columns equal the observer run's (both
+# unfed, so mass_used too).
 awk -F, 'BEGIN { OFS = "," } /^#/ { print; next }
     !h { for (i = 1; i <= NF; i++) c[$i] = i; h = 1; print $0 ",vx,vy,yaw_acc"; next }
     { print $0 "," ($c["vx_true"] + 0.3) ",0,0" }' "$TMP/hilly.csv" >"$TMP/hilly_vx.csv"
-run mg_measured 0 --in "$TMP/hilly_vx.csv" --out "$TMP/mg_v.csv" --velocity measured -q
+run mg_measured 0 --in "$TMP/hilly_vx.csv" --out "$TMP/mg_v.csv" --velocity measured \
+    --params "$TMP/feed0.par" -q
 cmp -s <(grep -v '^#' "$TMP/mg_v.csv" | cut -d, -f15-) <(grep -v '^#' "$TMP/mg_on.csv" | cut -d, -f22-) \
     && ok "mg_measured: the same mass and grade estimate (speed from the wheels)" || bad "mg_measured: estimate differs"
 
@@ -823,7 +863,7 @@ awk -F, 'BEGIN { OFS = "," } /^#/ { print; next } !h { for (i = 1; i <= NF; i++)
     { $c["drive_torque"] = ""; print }' "$TMP/short.csv" >"$TMP/no_torque_values.csv"
 run mg_never_started 0 --in "$TMP/no_torque_values.csv" --out "$TMP/mg_ns.csv" --metrics "$TMP/mg_ns.json"
 grep -q '"status_counts": {"17": 100}' "$TMP/mg_ns.json" \
-    && grep -q '"accuracy": {"from_t_s": null, "n": 0, "mass_err_end": null, "mass_err_end_rel": null, "grade_rmse": null, "grade_max_abs_err": null}' "$TMP/mg_ns.json" \
+    && grep -q '"accuracy": {"from_t_s": null, "n": 0, "mass_err_end": null, "mass_err_end_rel": null, "mass_used_err_end_rel": null, "grade_rmse": null, "grade_max_abs_err": null}' "$TMP/mg_ns.json" \
     && ok "mg_never_started: no accuracy without an estimate" || bad "mg_never_started: $(grep -A1 '"mass_grade"' "$TMP/mg_ns.json")"
 grep -q 'grade RMSE\|mass error at the end' "$TMP/out" && bad "mg_never_started: accuracy printed" \
     || ok "mg_never_started: no accuracy printed"

@@ -1025,6 +1025,197 @@ static void test_rfe_replay_mass_grade_refusals(void **state)
     assert_int_equal(st.mg_status_count[RFE_ERR_NONFINITE], 2u);
 }
 
+/* make_mg_log with the front wheels 3 % faster than the body: a drive slip, so the friction
+ * estimator's ax row carries information and its mu depends on the mass it is given. */
+static void make_mg_slip_log(rfe_sensor_log_t *log, rfe_sensor_row_t rows[N_MG])
+{
+    size_t i;
+    make_mg_log(log, rows);
+    for (i = 0u; i < N_MG; ++i) {
+        rows[i].omega[RFE_FL] *= 1.03;
+        rows[i].omega[RFE_FR] *= 1.03;
+    }
+}
+
+/* The mass and grade input of row @p i of make_mg_log's rows, written out as the replay
+ * builds it (MASS_GRADE.md §10). */
+static void mg_input_of(const rfe_sensor_row_t *rows, size_t i, rfe_mass_grade_input_t *mi)
+{
+    memset(mi, 0, sizeof *mi);
+    mi->dt = (i > 0u) ? rows[i].t - rows[i - 1u].t : 0.0;
+    mi->v = ((((rows[i].omega[0] + rows[i].omega[1]) + rows[i].omega[2]) + rows[i].omega[3]) / 4.0) *
+            0.325;
+    mi->torque = rows[i].drive_torque;
+    mi->ax = rows[i].ax;
+    mi->gear = 3;
+    mi->has = RFE_MG_HAS_AX | RFE_MG_HAS_BRAKE | RFE_MG_HAS_PRESSURE | RFE_MG_HAS_GEAR;
+}
+
+/* The feed rule, written out: an update (status RFE_OK) whose sd is within rel of its mass. */
+static int feed_due(rfe_status_t st, const rfe_mass_grade_estimate_t *e, double rel)
+{
+    return (st == RFE_OK) && (rel > 0.0) && ((double)e->sd_mass <= rel * (double)e->mass);
+}
+
+/* The replay's friction columns (and mass_used) equal a hand-written loop over the library:
+ * each sample the mass and grade step, then the feed rule on that step's estimate, then the
+ * friction step (measured velocities: rfe_friction_set_mass; behind the observer:
+ * rfe_pipeline_set_mass), bit for bit. mg_feed_sd_rel is set between two samples' sd_mass /
+ * mass_est, so the samples before it keep the parameter m (the sd rule) and each one after
+ * takes its own sample's mass_est: the mass changes from sample to sample, so a feed of the
+ * previous sample's mass gives other bits, and so does a feed that ignores the sd rule. The
+ * feed shows in mu (the run without it differs). */
+/* REQ-CLI-007 */
+static void test_rfe_replay_feeds_the_current_mass_by_the_sd_rule(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_sensor_row_t rows[N_MG];
+    rfe_param_set_t ps;
+    static rfe_est_row_t out[N_MG];
+    static rfe_est_row_t nofeed[N_MG];
+    rfe_replay_stats_t st;
+    rfe_params_t p;
+    rfe_velocity_params_t vp;
+    rfe_mass_grade_params_t mp;
+    static rfe_pipeline_t pl;
+    static rfe_friction_t est;
+    static rfe_mass_grade_t mg;
+    double rel;
+    int observer;
+    (void)state;
+    make_mg_slip_log(&log, rows);
+    assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_DEFAULT), 0);
+    ps.mass_grade = 1;
+    ps.value[RFE_PK_dt] = 0.02; /* the log's period: no gaps */
+    for (observer = 0; observer <= 1; ++observer) {
+        size_t i;
+        size_t n_fed = 0u;
+        size_t differs = 0u;
+        rfe_real_t m_used;
+        rfe_status_t (*run)(const rfe_param_set_t *, const rfe_sensor_log_t *, rfe_est_row_t *,
+                            rfe_replay_stats_t *, size_t *) =
+            observer ? rfe_replay_run_observer_f64 : rfe_replay_run_f64;
+        ps.mg[RFE_PK_mg_feed_sd_rel - RFE_PK_MG_FIRST] = 0.0;
+        assert_int_equal(run(&ps, &log, nofeed, &st, NULL), RFE_OK);
+        assert_int_equal(st.n_mass_fed, 0u);
+        /* between samples N_MG / 2 - 1 and N_MG / 2 (sd_mass / mass_est falls as it learns) */
+        rel = nofeed[N_MG / 2u].sd_mass / nofeed[N_MG / 2u].mass;
+        assert_true(nofeed[N_MG / 2u - 1u].sd_mass > rel * nofeed[N_MG / 2u - 1u].mass);
+        ps.mg[RFE_PK_mg_feed_sd_rel - RFE_PK_MG_FIRST] = rel;
+        assert_int_equal(run(&ps, &log, out, &st, NULL), RFE_OK);
+        assert_int_equal(rfe_replay_params_f64(&ps, &p, NULL), RFE_OK);
+        assert_int_equal(rfe_replay_velocity_params_f64(&ps, &vp, NULL), RFE_OK);
+        assert_int_equal(rfe_replay_mass_grade_params_f64(&ps, &mp, NULL), RFE_OK);
+        assert_int_equal(rfe_mass_grade_init(&mg, &mp), RFE_OK);
+        if (observer) {
+            assert_int_equal(rfe_pipeline_init(&pl, &p, &vp), RFE_OK);
+        } else {
+            assert_int_equal(rfe_friction_init(&est, &p), RFE_OK);
+        }
+        m_used = p.vehicle.m;
+        for (i = 0u; i < N_MG; ++i) {
+            rfe_mass_grade_input_t mi;
+            rfe_mass_grade_estimate_t e;
+            rfe_estimate_t fe;
+            rfe_status_t mst;
+            size_t w;
+            mg_input_of(rows, i, &mi);
+            mst = rfe_mass_grade_step(&mg, &mi, &e);
+            assert_int_equal(mst, RFE_OK);
+            if (feed_due(mst, &e, rel)) {
+                assert_int_equal(observer ? rfe_pipeline_set_mass(&pl, e.mass)
+                                          : rfe_friction_set_mass(&est, e.mass),
+                                 RFE_OK);
+                m_used = e.mass;
+                ++n_fed;
+            }
+            if (observer) {
+                rfe_velocity_input_t in;
+                rfe_pipeline_out_t o;
+                rfe_replay_esc_input_f64(&log, i, (i > 0u) ? i - 1u : SIZE_MAX, &in);
+                in.grade = e.grade;
+                assert_false(rfe_status_is_error(rfe_pipeline_step(&pl, &in, &o)));
+                fe = o.friction;
+                assert_true(out[i].vx == o.velocity.vx);
+            } else {
+                rfe_sample_t s;
+                rfe_replay_sample_from_row_f64(&rows[i], &s);
+                assert_false(rfe_status_is_error(rfe_friction_step(&est, &s, &fe)));
+            }
+            for (w = 0u; w < RFE_WHEELS; ++w) {
+                assert_true((out[i].mu[w] == fe.mu[w]) && (out[i].sd[w] == fe.sd[w]));
+                assert_int_equal(out[i].valid[w], fe.valid[w]);
+                differs += (out[i].mu[w] != nofeed[i].mu[w]) ? 1u : 0u;
+            }
+            assert_int_equal(out[i].status, fe.status);
+            assert_true(out[i].mass_used == m_used);
+            /* before the rule trusts the estimate: the parameter m, not a mass_est */
+            assert_true((i >= N_MG / 2u) ? (out[i].mass_used == out[i].mass)
+                                         : (out[i].mass_used == p.vehicle.m));
+            assert_true(nofeed[i].mass_used == p.vehicle.m);
+        }
+        assert_int_equal(n_fed, N_MG - N_MG / 2u);
+        assert_int_equal(st.n_mass_fed, n_fed);
+        assert_true(st.mass_used_last == out[N_MG - 1u].mass);
+        /* the mass moves each sample, so the previous sample's would differ */
+        assert_true(out[N_MG - 1u].mass != out[N_MG - 2u].mass);
+        assert_true(differs > 0u);
+    }
+}
+
+/* mg_feed_sd_rel = 0 never feeds: the friction columns equal those of a run without the mass
+ * and grade estimator (--mass-grade off), bit for bit, in both paths. Behind the observer the
+ * log has a grade column, so the estimated grade does not reach it either (that is the other
+ * way the estimator acts, tested above). */
+/* REQ-CLI-007 */
+static void test_rfe_replay_feed_off_is_mass_grade_off(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_sensor_row_t rows[N_MG];
+    rfe_param_set_t ps;
+    static rfe_est_row_t on[N_MG];
+    static rfe_est_row_t off[N_MG];
+    rfe_replay_stats_t st;
+    int observer;
+    (void)state;
+    make_mg_slip_log(&log, rows);
+    log.has_grade = 1; /* every row's grade 0 */
+    assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_DEFAULT), 0);
+    assert_true(ps.mg[RFE_PK_mg_feed_sd_rel - RFE_PK_MG_FIRST] == RFE_MG_FEED_SD_REL_DEFAULT);
+    ps.mg[RFE_PK_mg_feed_sd_rel - RFE_PK_MG_FIRST] = 0.0;
+    ps.value[RFE_PK_dt] = 0.02;
+    for (observer = 0; observer <= 1; ++observer) {
+        size_t i;
+        size_t w;
+        rfe_status_t (*run)(const rfe_param_set_t *, const rfe_sensor_log_t *, rfe_est_row_t *,
+                            rfe_replay_stats_t *, size_t *) =
+            observer ? rfe_replay_run_observer_f64 : rfe_replay_run_f64;
+        ps.mass_grade = 1;
+        assert_int_equal(run(&ps, &log, on, &st, NULL), RFE_OK);
+        assert_int_equal(st.n_mass_fed, 0u);
+        ps.mass_grade = 0;
+        assert_int_equal(run(&ps, &log, off, &st, NULL), RFE_OK);
+        for (i = 0u; i < N_MG; ++i) {
+            assert_int_equal(on[i].has_mass_grade, 1);
+            assert_int_equal(off[i].has_mass_grade, 0);
+            for (w = 0u; w < RFE_WHEELS; ++w) {
+                assert_true((on[i].mu[w] == off[i].mu[w]) && (on[i].sd[w] == off[i].sd[w]));
+                assert_int_equal(on[i].valid[w], off[i].valid[w]);
+            }
+            assert_int_equal(on[i].status, off[i].status);
+            assert_true((on[i].vx == off[i].vx) && (on[i].vy == off[i].vy));
+        }
+    }
+    /* a negative value is refused before any row, naming the key */
+    {
+        size_t bad = 0u;
+        ps.mass_grade = 1;
+        ps.mg[RFE_PK_mg_feed_sd_rel - RFE_PK_MG_FIRST] = -0.01;
+        assert_int_equal(rfe_replay_run_f64(&ps, &log, on, &st, &bad), RFE_ERR_PARAM);
+        assert_int_equal(bad, RFE_PK_mg_feed_sd_rel);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1054,6 +1245,8 @@ int main(void)
         cmocka_unit_test(test_rfe_replay_mass_grade_params_keys_and_diagnosis),
         cmocka_unit_test(test_rfe_replay_run_observer_takes_the_current_estimated_grade),
         cmocka_unit_test(test_rfe_replay_mass_grade_refusals),
+        cmocka_unit_test(test_rfe_replay_feeds_the_current_mass_by_the_sd_rule),
+        cmocka_unit_test(test_rfe_replay_feed_off_is_mass_grade_off),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,0 +1,102 @@
+#!/usr/bin/env python3
+"""How far the friction estimator's mass is from the truth once the replay feeds it the mass and
+grade estimator's mass (mg_feed_sd_rel, docs/MASS_GRADE.md section 10).
+
+    .venv/bin/python scripts/tools/mass_feed_results.py [--page docs/MASS_GRADE_RESULTS.md]
+                     [--mu-replay build/mu_replay]
+
+Every mass and grade log (scenarios/mass_grade/*.csv) is replayed by the C library
+(`mu_replay`, float, the default `--mass-grade ukf`, the default mg_feed_sd_rel) with a wrong
+vehicle mass given by a parameter file: the log's m x 0.8 and x 1.2 (the estimator's own
+start, mg_m0, is the preset's either way). Per run, from the estimate log and the JSON:
+    first fed      the time of the first sample whose mass_est the friction estimator took
+    fed            the share of samples fed
+    m error start  (m given - mass_true) / mass_true: the friction estimator's error unfed
+    mass_used end  (mass_used - mass_true) / mass_true at the last sample
+    mass_est end   (mass_est - mass_true) / mass_true at the last sample
+With --page the table goes between <!-- mass-feed:begin/end --> of the page.
+"""
+
+import argparse
+import csv
+import json
+import os
+import subprocess
+import sys
+import tempfile
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, os.path.join(ROOT, "scripts", "tools"))
+
+from mass_sensitivity import log_mass  # noqa: E402
+
+FACTORS = (0.8, 1.2)
+
+
+def one(exe, path, factor):
+    """(first fed t or None, samples fed, samples, mass_true at the end, the JSON's object)."""
+    with tempfile.TemporaryDirectory() as tmp:
+        params = os.path.join(tmp, "mass.params")
+        with open(params, "w", encoding="utf-8") as fh:
+            fh.write(f"m = {log_mass(path) * factor!r}\n")
+        out, js = os.path.join(tmp, "est.csv"), os.path.join(tmp, "m.json")
+        r = subprocess.run([exe, "--in", path, "--out", out, "--params", params,
+                            "--metrics", js, "--quiet"], capture_output=True, text=True,
+                           check=False)
+        if r.returncode != 0:
+            raise SystemExit(f"mass_feed_results: {path} x{factor}: exit {r.returncode}: "
+                             f"{r.stderr.strip()}")
+        with open(out, encoding="utf-8") as fh:
+            rows = list(csv.DictReader(line for line in fh if not line.startswith("#")))
+        with open(js, encoding="utf-8") as fh:
+            mg = json.load(fh)["mass_grade"]
+    m0 = float(rows[0]["mass_used"])
+    first = next((float(x["t"]) for x in rows if float(x["mass_used"]) != m0), None)
+    return first, mg["feed"]["n_fed"], len(rows), mg
+
+
+def true_mass_end(path):
+    with open(path, encoding="utf-8") as fh:
+        rows = csv.DictReader(line for line in fh if not line.startswith("#"))
+        last = None
+        for last in rows:
+            pass
+    return float(last["mass_true"])
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--mu-replay", default=os.path.join(ROOT, "build", "mu_replay"))
+    ap.add_argument("--page", default="")
+    a = ap.parse_args()
+    if not os.access(a.mu_replay, os.X_OK):
+        raise SystemExit(f"mass_feed_results: {a.mu_replay} not found: run make first")
+    d = os.path.join(ROOT, "scenarios", "mass_grade")
+    rows = ["| log | m given | first fed at | samples fed | m error unfed | mass_used error at the end "
+            "| mass_est error at the end |", "|---|---|---|---|---|---|---|"]
+    for name in sorted(f for f in os.listdir(d) if f.endswith(".csv")):
+        path = os.path.join(d, name)
+        mt = true_mass_end(path)
+        for factor in FACTORS:
+            first, fed, n, mg = one(a.mu_replay, path, factor)
+            used = mg["feed"]["mass_used_end"]
+            est = mg["end"]["mass"]
+            rows.append(f"| {name[:-4]} | m × {factor:.1f} | "
+                        f"{'never' if first is None else f'{first:.2f} s'} | {fed / n:.1%} | "
+                        f"{(log_mass(path) * factor - mt) / mt:+.1%} | {(used - mt) / mt:+.2%} | "
+                        f"{(est - mt) / mt:+.2%} |")
+    text = "\n".join(rows)
+    print(text)
+    if a.page:
+        with open(a.page, encoding="utf-8") as fh:
+            page = fh.read()
+        begin, end = "<!-- mass-feed:begin -->", "<!-- mass-feed:end -->"
+        if begin not in page or end not in page:
+            raise SystemExit(f"mass_feed_results: {a.page} lacks the markers {begin} {end}")
+        page = page[:page.index(begin) + len(begin)] + "\n" + text + "\n" + page[page.index(end):]
+        with open(a.page, "w", encoding="utf-8") as fh:
+            fh.write(page)
+
+
+if __name__ == "__main__":
+    main()
