@@ -24,11 +24,13 @@ import os
 import subprocess
 import sys
 import tempfile
+from pathlib import Path
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "scripts", "tools"))
 
 from mass_sensitivity import log_mass  # noqa: E402
+from md_tables import replace_region  # noqa: E402
 
 FACTORS = (0.8, 1.2)
 
@@ -88,14 +90,8 @@ def main():
     text = "\n".join(rows)
     print(text)
     if a.page:
-        with open(a.page, encoding="utf-8") as fh:
-            page = fh.read()
-        begin, end = "<!-- mass-feed:begin -->", "<!-- mass-feed:end -->"
-        if begin not in page or end not in page:
-            raise SystemExit(f"mass_feed_results: {a.page} lacks the markers {begin} {end}")
-        page = page[:page.index(begin) + len(begin)] + "\n" + text + "\n" + page[page.index(end):]
-        with open(a.page, "w", encoding="utf-8") as fh:
-            fh.write(page)
+        replace_region(Path(a.page), "<!-- mass-feed:begin -->", "<!-- mass-feed:end -->",
+                       text.splitlines(), "mass_feed_results")
 
 
 if __name__ == "__main__":

@@ -29,8 +29,12 @@ import re
 import subprocess
 import sys
 import tempfile
+from pathlib import Path
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, os.path.join(ROOT, "scripts", "tools"))
+
+from md_tables import replace_region  # noqa: E402
 FACTORS = (0.8, 1.0, 1.2)
 PRESETS = ("default", "paper")
 WHEELS = ("fl", "fr", "rl", "rr")
@@ -141,14 +145,8 @@ def main():
     text = table(results, names)
     print(text)
     if a.page:
-        with open(a.page, encoding="utf-8") as fh:
-            page = fh.read()
-        begin, end = "<!-- mass-sensitivity:begin -->", "<!-- mass-sensitivity:end -->"
-        if begin not in page or end not in page:
-            raise SystemExit(f"mass_sensitivity: {a.page} lacks the markers {begin} {end}")
-        page = page[:page.index(begin) + len(begin)] + "\n" + text + "\n" + page[page.index(end):]
-        with open(a.page, "w", encoding="utf-8") as fh:
-            fh.write(page)
+        replace_region(Path(a.page), "<!-- mass-sensitivity:begin -->",
+                       "<!-- mass-sensitivity:end -->", text.splitlines(), "mass_sensitivity")
 
 
 if __name__ == "__main__":
