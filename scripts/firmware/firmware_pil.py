@@ -590,6 +590,16 @@ def part_addresses(elf, name):
     return entry, rets
 
 
+def host_rows(build_dir, build, tag, parse):
+    """Rows of the PIL program built for the host (build f32, f64 or q31), parsed by parse;
+    exits the run when the program fails (the reference of every PIL comparison)."""
+    prog = os.path.join(build_dir, f"host-{build}", "pil", tag)
+    h = subprocess.run([prog], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    if h.returncode != 0:
+        sys.exit(f"pil: {prog} failed ({h.returncode}): {h.stderr[-800:]}")
+    return parse(h.stdout)[0]
+
+
 def run_obs_entry(a, spec, report, tmp, failures):
     """Step 4-6 of the module's description for one observer entry; returns its JSON."""
     tag, target, machine, steps = spec.split(":")
@@ -612,11 +622,7 @@ def run_obs_entry(a, spec, report, tmp, failures):
         return entry
 
     def host(build):
-        prog = os.path.join(a.build, f"host-{build}", "pil", tag)
-        h = subprocess.run([prog], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-        if h.returncode != 0:
-            sys.exit(f"pil: {prog} failed ({h.returncode}): {h.stderr[-800:]}")
-        return parse_obs(h.stdout)[0]
+        return host_rows(a.build, build, tag, parse_obs)
 
     if variant == "q31":
         href = host("q31")
@@ -796,11 +802,7 @@ def run_aux_entry(a, spec, report, failures):
         return entry
 
     def host(build):
-        prog = os.path.join(a.build, f"host-{build}", "pil", tag)
-        h = subprocess.run([prog], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-        if h.returncode != 0:
-            sys.exit(f"pil: {prog} failed ({h.returncode}): {h.stderr[-800:]}")
-        return parse_aux(h.stdout)[0]
+        return host_rows(a.build, build, tag, parse_aux)
 
     href = host("f32")
     if os.environ.get("PIL_AUX_PERTURB"):
