@@ -70,6 +70,16 @@ static void put_float_block(FILE *f, const rfe_params_t *p, size_t start, size_t
     fputs("},\n", f);
 }
 
+/* The four sub-structs of rfe_params_t, each a positional initialiser (the images' float
+ * parameters: friction, pipeline, tyre identifier). */
+static void put_float_params(FILE *f, const rfe_params_t *p)
+{
+    put_float_block(f, p, offsetof(rfe_params_t, vehicle), sizeof(rfe_vehicle_t));
+    put_float_block(f, p, offsetof(rfe_params_t, tyre), sizeof(rfe_tyre_params_t));
+    put_float_block(f, p, offsetof(rfe_params_t, filter), sizeof(rfe_filter_params_t));
+    put_float_block(f, p, offsetof(rfe_params_t, monitor), sizeof(rfe_monitor_params_t));
+}
+
 static void put_q31_block(FILE *f, const rfe_params_q31_t *q, size_t start, size_t size)
 {
     size_t off;
@@ -106,10 +116,7 @@ static uint32_t put_friction(FILE *f, const rfe_params_t *p, const rfe_params_q3
         fputs("}},\n", f);
     }
     fputs("};\n#else\nconst rfe_params_t pil_params = {\n", f);
-    put_float_block(f, p, offsetof(rfe_params_t, vehicle), sizeof(rfe_vehicle_t));
-    put_float_block(f, p, offsetof(rfe_params_t, tyre), sizeof(rfe_tyre_params_t));
-    put_float_block(f, p, offsetof(rfe_params_t, filter), sizeof(rfe_filter_params_t));
-    put_float_block(f, p, offsetof(rfe_params_t, monitor), sizeof(rfe_monitor_params_t));
+    put_float_params(f, p);
     fputs("};\n\nconst rfe_sample_t pil_samples[] = {\n", f);
     for (i = 0u; i < rows; ++i) {
         const rfe_sensor_row_t *r = &log->rows[i];
@@ -187,10 +194,7 @@ static void put_pipeline(FILE *f, const rfe_params_t *p, const rfe_velocity_para
 {
     size_t i, off;
     fputs("#else\nconst rfe_params_t pil_params = {\n", f);
-    put_float_block(f, p, offsetof(rfe_params_t, vehicle), sizeof(rfe_vehicle_t));
-    put_float_block(f, p, offsetof(rfe_params_t, tyre), sizeof(rfe_tyre_params_t));
-    put_float_block(f, p, offsetof(rfe_params_t, filter), sizeof(rfe_filter_params_t));
-    put_float_block(f, p, offsetof(rfe_params_t, monitor), sizeof(rfe_monitor_params_t));
+    put_float_params(f, p);
     fprintf(f, "};\n\nconst rfe_velocity_params_t pil_velocity_params = {%" PRIu32, vp->driven);
     for (off = sizeof vp->driven; off < sizeof *vp; off += sizeof(float)) {
         float v;
@@ -248,10 +252,7 @@ static void put_tyre_id(FILE *f, const rfe_params_t *p, const rfe_sensor_log_t *
 {
     size_t i;
     fputs("#if defined(PIL_TYRE_ID) && !defined(PIL_Q31)\nconst rfe_params_t pil_params = {\n", f);
-    put_float_block(f, p, offsetof(rfe_params_t, vehicle), sizeof(rfe_vehicle_t));
-    put_float_block(f, p, offsetof(rfe_params_t, tyre), sizeof(rfe_tyre_params_t));
-    put_float_block(f, p, offsetof(rfe_params_t, filter), sizeof(rfe_filter_params_t));
-    put_float_block(f, p, offsetof(rfe_params_t, monitor), sizeof(rfe_monitor_params_t));
+    put_float_params(f, p);
     fputs("};\n\nconst rfe_tyre_id_sample_t pil_tid_samples[] = {\n", f);
     for (i = 0u; i < rows; ++i) {
         rfe_tyre_id_sample_t s;
