@@ -84,6 +84,24 @@ static inline uint64_t fz_bytes(fz_reader_t *r, int k)
     return v;
 }
 
+/* The next 4 bytes as a float's bits, any of them (NaNs, subnormals, infinities). */
+static inline double fz_raw_float(fz_reader_t *r)
+{
+    const uint32_t bits = (uint32_t)fz_bytes(r, 4);
+    float f;
+    memcpy(&f, &bits, sizeof f);
+    return (double)f;
+}
+
+/* The next 8 bytes as a double's bits. */
+static inline double fz_raw_double(fz_reader_t *r)
+{
+    const uint64_t bits = fz_bytes(r, 8);
+    double d;
+    memcpy(&d, &bits, sizeof d);
+    return d;
+}
+
 static inline fz_config_t fz_config(fz_reader_t *r)
 {
     const uint8_t b = fz_u8(r);
@@ -139,18 +157,10 @@ static inline double fz_value(fz_reader_t *r, int field)
     }
     case 3:
         return fz_special(field, fz_u8(r));
-    case 4: {
-        const uint32_t bits = (uint32_t)fz_bytes(r, 4);
-        float f;
-        memcpy(&f, &bits, sizeof f);
-        return (double)f;
-    }
-    case 5: {
-        const uint64_t bits = fz_bytes(r, 8);
-        double d;
-        memcpy(&d, &bits, sizeof d);
-        return d;
-    }
+    case 4:
+        return fz_raw_float(r);
+    case 5:
+        return fz_raw_double(r);
     default:
         return FZ_NOMINAL[field] + (double)(int8_t)fz_u8(r) * FZ_STEP[field];
     }

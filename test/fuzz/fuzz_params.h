@@ -56,18 +56,10 @@ static inline double fzp_real_value(fz_reader_t *r, double x0)
         const double lim = fmax(fabs(x0), 1.0);
         return fz_special(0, fz_u8(r)) * lim / FZ_LIMIT[0];
     }
-    case 4: {
-        const uint32_t bits = (uint32_t)fz_bytes(r, 4);
-        float f;
-        memcpy(&f, &bits, sizeof f);
-        return (double)f;
-    }
-    case 5: {
-        const uint64_t bits = fz_bytes(r, 8);
-        double d;
-        memcpy(&d, &bits, sizeof d);
-        return d;
-    }
+    case 4:
+        return fz_raw_float(r);
+    case 5:
+        return fz_raw_double(r);
     case 6:
         return 0.0;
     default:
