@@ -134,13 +134,16 @@ firmware: $(FW_LIBS) $(FW_EXAMPLE_ELFS)
 #   steps), what an RTOS task running the estimator can
 #   spare on a 32-64 KB-RAM part; static worst case 1.4-1.6 KB (the default configuration's
 #   step; the M0+ needs most), so ~25 % more stack in a change fails.
-# Flash: the library's linked share (example image, --gc-sections) <= 40 KB: measured 16 KB
-#   (float32) to 30 KB (fixed point, -O2), so ~30 % growth fails, and the library keeps under a
-#   third of the 128 KB Cortex-M0+ part (firmware/ld/stm32g071xb.ld).
+# Flash: the library's linked share (example image, --gc-sections) <= 48 KB. Set at 40 KB when
+#   it measured 16 KB (float32) to 30 KB (fixed point, -O2); the observer, the monitor and the
+#   holds took it to 26.5 KB (float32), 34 KB (fixed point, -Os, Cortex-M0+) and 41 KB (fixed
+#   point, -O2, Cortex-M4 and M3) and the jump hold passed 40 KB by 36 B, so it was raised to
+#   48 KB: ~17 % growth fails, and the library keeps under 3/8 of the 128 KB Cortex-M0+ part
+#   (firmware/ld/stm32g071xb.ld).
 # State: sizeof of the estimator state <= 2 KB with RFE_N_MAX=4, RFE_M_MAX=3 (measured
 #   1480-1544 B; it grows only with the filter's maxima).
 FW_BUDGET_STACK ?= 2048
-FW_BUDGET_FLASH ?= 40960
+FW_BUDGET_FLASH ?= 49152
 FW_BUDGET_STATE ?= 2048
 
 ## no heap, no soft float, stack, flash and state budgets

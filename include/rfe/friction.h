@@ -81,14 +81,18 @@ typedef struct {
     rfe_status_t status;          /**< status of the step (same as the return value) */
 } rfe_estimate_t;
 
-/** The rear wheels' hold, per side (structure sides; docs/ESTIMATOR.md step 9). */
+/** The holds, per side (structure sides; docs/ESTIMATOR.md step 9): the rear wheels' hold
+ *  and the jump hold. */
 typedef struct {
     rfe_real_t mbar[2]; /**< the side's estimate smoothed over one wheelbase of travel */
     rfe_real_t dist[2]; /**< distance its rear wheels still hold [m], 0 = not held */
-    uint8_t held[2];    /**< 1 while dist > 0: the side's rear wheels are not valid */
+    rfe_real_t prev[2]; /**< the side's estimate after the last step (the jump hold's reference) */
+    rfe_real_t jdist[2]; /**< distance both its wheels still hold after a jump [m], 0 = not held */
+    uint8_t held[2];    /**< bit 0 while dist > 0 (its rear wheels are not valid), bit 1 while
+                             jdist > 0 (both its wheels are not valid) */
     uint32_t pending;   /**< periods rfe_friction_skip made since the last step: their
                              distance enters the next step's hold (saturating) */
-} rfe_rear_hold_t;
+} rfe_friction_hold_t;
 
 /** Estimator state (caller-owned; fields are read-only for the caller). */
 typedef struct {
@@ -100,7 +104,7 @@ typedef struct {
     rfe_conditioner_t backup_cond;    /**< its state before the step (restored on error) */
     rfe_monitor_t mon;                /**< model-validity monitor (docs/MONITOR.md), SCKF */
     rfe_monitor_t backup_mon;         /**< its state before the step (restored on error) */
-    rfe_rear_hold_t hold;             /**< the rear wheels' hold (docs/ESTIMATOR.md step 9):
+    rfe_friction_hold_t hold;         /**< the holds (docs/ESTIMATOR.md step 9):
                                            updated last in a step, after everything that can
                                            fail, so it needs no backup */
     rfe_real_t backup_x[RFE_N_MAX];   /**< filter mean before the step (restored on error) */

@@ -73,14 +73,18 @@ typedef struct {
                                     it ran (0 on an error and from rfe_friction_get_q31) */
 } rfe_estimate_q31_t;
 
-/** The rear wheels' hold, per side (structure sides; docs/ESTIMATOR.md step 9). */
+/** The holds, per side (structure sides; docs/ESTIMATOR.md step 9): the rear wheels' hold
+ *  and the jump hold. */
 typedef struct {
     rfe_fix_t mbar[2]; /**< the side's estimate smoothed over one wheelbase of travel, Q29 */
     rfe_fix_t dist[2]; /**< distance its rear wheels still hold [m], Q27 (<= 8 m), 0 = not held */
-    uint8_t held[2];   /**< 1 while dist > 0: the side's rear wheels are not valid */
+    rfe_fix_t prev[2]; /**< the side's estimate after the last step, Q29 (the jump's reference) */
+    rfe_fix_t jdist[2]; /**< distance both its wheels still hold after a jump [m], Q27, 0 = not held */
+    uint8_t held[2];   /**< bit 0 while dist > 0 (its rear wheels are not valid), bit 1 while
+                            jdist > 0 (both its wheels are not valid) */
     uint32_t pending;  /**< periods rfe_friction_skip_q31 made since the last step: their
                             distance enters the next step's hold (saturating) */
-} rfe_rear_hold_q31_t;
+} rfe_friction_hold_q31_t;
 
 /** Estimator state (caller-owned; fields are read-only for the caller). */
 typedef struct {
@@ -98,7 +102,7 @@ typedef struct {
                                                  deepest call path must fit 2 KiB on a
                                                  Cortex-M0+; meaningless between steps) */
     rfe_fix_t pers[RFE_MEAS];               /**< scratch: the step noise's persistent diagonal */
-    rfe_rear_hold_q31_t hold;               /**< the rear wheels' hold (docs/ESTIMATOR.md step 9):
+    rfe_friction_hold_q31_t hold;           /**< the holds (docs/ESTIMATOR.md step 9):
                                                  updated last in a step, after everything that
                                                  can fail, so it needs no backup */
     rfe_fix_t backup_x[RFE_N_MAX];          /**< filter mean before the step (Q29) */

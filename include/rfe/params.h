@@ -95,6 +95,8 @@ typedef struct {
     rfe_real_t sd_floor_rel; /**< key sd_floor_rel: floor on sd_k as a fraction of mu_k, 0 = off: 0 / 0.15 */
     rfe_real_t sd_valid;     /**< key sd_valid: valid when sd <= sd_valid, off the mu bounds; 0 = the paper rule (valid when updated): 0 / 0.15 */
     rfe_real_t rear_hold_k;  /**< key rear_hold_k: structure sides: a move of a side's estimate by more than this many sd from its value one wheelbase back holds its rear wheels not valid for one wheelbase [1], 0 = off: 0 / 2 */
+    rfe_real_t jump_hold_k;  /**< key jump_hold_k: structure sides: a step that moves a side's estimate by more than this many (new) sd holds both its wheels not valid for jump_hold_len of travel [1], 0 = off: 0 / 2 */
+    rfe_real_t jump_hold_len; /**< key jump_hold_len: the distance a jump holds a side's wheels [m], below 16: 0 / 1.5 */
 } rfe_filter_params_t;
 
 /**

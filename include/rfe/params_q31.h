@@ -49,6 +49,8 @@
 #define RFE_FIX_Q_INFO 10
 /** The rear wheels' hold threshold rear_hold_k [sd]: Q24, +-128 */
 #define RFE_FIX_Q_HOLD 24
+/** The jump hold's distance jump_hold_len [m]: Q27, +-16 (the hold's distances, friction_q31.h) */
+#define RFE_FIX_Q_HOLD_LEN 27
 
 /** Vehicle geometry and mass (MODEL.md §2) with the derived constants of the loads (§3) and
  *  of H (§5). Field names and meaning as rfe_vehicle_t. */
@@ -122,6 +124,8 @@ typedef struct {
     rfe_fix_t sd_floor_rel;   /**< floor on sd as a fraction of mu, Q30, 0 = off */
     rfe_fix_t sd_valid;       /**< valid when sd <= sd_valid off the mu bounds, Q30, 0 = paper rule */
     rfe_fix_t rear_hold_k;    /**< the rear wheels' hold threshold [sd], Q24, 0 = off */
+    rfe_fix_t jump_hold_k;    /**< the jump hold's threshold [sd], Q24, 0 = off */
+    rfe_fix_t jump_hold_len;  /**< the distance a jump holds a side's wheels [m], Q27 */
     /* Derived. */
     rfe_fix_t b_v;            /**< dt / (tau_v + dt): complementary-filter gain, Q30, in (0, 1] */
 } rfe_filter_params_q31_t;

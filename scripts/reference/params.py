@@ -59,6 +59,8 @@ DEFAULTS: dict[str, float] = {
     "sd_floor_rel": 0.0,  # floor on sd as a fraction of mu (0: off)
     "sd_valid": 0.0,      # valid when sd <= sd_valid, off the mu bounds (0: valid when updated)
     "rear_hold_k": 0.0,   # sides: a move beyond this many sd holds the rear wheels (0: off)
+    "jump_hold_k": 0.0,   # sides: a step moving beyond this many sd holds both wheels (0: off)
+    "jump_hold_len": 0.0,  # the distance that jump hold lasts, m
     # model-validity monitor (docs/MONITOR.md section 2; monitor.py); on in the default preset
     "mon_enable": 0.0,    # 1: acts on valid, status, sd (SCKF); 0: off
     "mon_tau_nis": 0.5,   # time constant of the NIS average D, s
@@ -79,7 +81,7 @@ PRESETS: dict[str, dict] = {
         "tau_v": 0.3, "sd_in_delta": 0.001, "sd_in_vx": 0.01, "sd_in_vy": 0.01,
         "sd_in_yaw_rate": 0.005, "sd_in_omega": 0.05, "r_model_rel": 0.05,
         "info_min": 25.0, "sd_max": 0.32, "sd_floor_rel": 0.15, "sd_valid": 0.15,
-        "rear_hold_k": 2.0, "mon_enable": 1.0,
+        "rear_hold_k": 2.0, "jump_hold_k": 2.0, "jump_hold_len": 1.5, "mon_enable": 1.0,
     },
 }
 

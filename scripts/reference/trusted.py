@@ -58,12 +58,14 @@ def h_point(p, u, mu4):
     return model.h_absolute(p, ti, 0, mu4[:, None])[:, 0]
 
 
-class RearHold:
+class Hold:
     """Step 9's rear-wheel hold (docs/ESTIMATOR.md; structure sides, rear_hold_k > 0): each
     side's estimate smoothed over one wheelbase L of travel (mbar) and the distance its rear
     wheels still hold (dist). A side whose estimate lies more than rear_hold_k sd from mbar has
     just moved on what its front wheels reached first; its rear wheels reach it one wheelbase
-    later, so they hold for L. The library's rear_hold_update, operation for operation."""
+    later, so they hold for L. And the jump hold (jump_hold_k > 0): a side whose estimate moved
+    in this step by more than jump_hold_k sd from the last step's holds both its wheels for
+    jump_hold_len of travel (jdist, jheld). The library's hold_update, operation for operation."""
 
     def __init__(self, p: dict):
         self.k = p["rear_hold_k"]
@@ -72,16 +74,28 @@ class RearHold:
         self.mbar = [p["mu0"], p["mu0"]]
         self.dist = [0.0, 0.0]
         self.held = [False, False]
+        self.k_jump = p["jump_hold_k"]
+        self.jump_len = p["jump_hold_len"]
+        self.prev = [p["mu0"], p["mu0"]]
+        self.jdist = [0.0, 0.0]
+        self.jheld = [False, False]
 
     def update(self, x, sd, vx: float, missed: int) -> None:
         ds = max(vx, 0.0) * (self.dt * (missed + 1.0))
         a = ds / self.len if ds < self.len else 1.0
         for j in range(2):
-            self.mbar[j] += a * (x[j] - self.mbar[j])
-            self.dist[j] = self.dist[j] - ds if self.dist[j] > ds else 0.0
-            if abs(x[j] - self.mbar[j]) > self.k * sd[j]:
-                self.dist[j] = self.len
-            self.held[j] = self.dist[j] > 0.0
+            if self.k > 0:
+                self.mbar[j] += a * (x[j] - self.mbar[j])
+                self.dist[j] = self.dist[j] - ds if self.dist[j] > ds else 0.0
+                if abs(x[j] - self.mbar[j]) > self.k * sd[j]:
+                    self.dist[j] = self.len
+                self.held[j] = self.dist[j] > 0.0
+            if self.k_jump > 0:
+                self.jdist[j] = self.jdist[j] - ds if self.jdist[j] > ds else 0.0
+                if abs(x[j] - self.prev[j]) > self.k_jump * sd[j]:
+                    self.jdist[j] = self.jump_len
+                self.prev[j] = x[j]
+                self.jheld[j] = self.jdist[j] > 0.0
 
 
 def run(log, p: dict, adapt=None):
@@ -115,7 +129,8 @@ def run(log, p: dict, adapt=None):
     out["s_zz"] = np.full((N, 3, 3), np.nan)    # every step that evaluates h (monitor.py)
     out["c_pers"] = np.full((N, 3), np.nan)     # diag of its persistent part (monitor.py)
     t = log.col("t")
-    hold = RearHold(p) if (p["structure"] == "sides" and p["rear_hold_k"] > 0) else None
+    hold = Hold(p) if (p["structure"] == "sides"
+                           and (p["rear_hold_k"] > 0 or p["jump_hold_k"] > 0)) else None
     for k in range(N):
         missed = filters.gap_periods(t[k] - t[k - 1], p["dt"]) if k > 0 else 0
         if filters.gap_time_update(f, t, k, p):     # a gap (ESTIMATOR.md "Gaps")
@@ -161,9 +176,9 @@ def run(log, p: dict, adapt=None):
             out["valid"][k] = (T @ ok.astype(float)).astype(int)
         else:
             out["valid"][k] = 1 if status in (0, 1) else 0
-        if hold is not None:        # a held side's rear wheel (rl: side 0, rr: side 1)
-            for w, side in ((2, 0), (3, 1)):
-                if hold.held[side]:
+        if hold is not None:        # a held side's rear wheel (rl: side 0, rr: side 1), and
+            for w, side in ((0, 0), (1, 1), (2, 0), (3, 1)):   # both wheels of a jumped side
+                if (w >= 2 and hold.held[side]) or hold.jheld[side]:
                     out["valid"][k][w] = 0
         out["status"][k] = status
     out["t"] = log.col("t")

@@ -14,7 +14,10 @@ log's verdict (measured; they are asserted separately).
 
 Healed by the rule "never valid on a projection bound" (ESTIMATOR.md step 9): hard_brake_low_mu
 (Dugoff truth: consistency when valid 80 % -> 99 %) and faults/offset_ax.cruise.mf (valid at
-mu_min, error 0.80, in the monitor's warm-up: now never valid).
+mu_min, error 0.80, in the monitor's warm-up: now never valid). Healed by the jump hold
+(ESTIMATOR.md step 9): split_mu_hard_brake.mf and .nf (a jump at the brake onset, worst 0.467 ->
+0.071 and 0.563 -> 0.141), faults/spike_ax.hard_brake_low_mu.mf (0.451 -> 0.076) and
+faults/spike_ay.sine_steer_low_mu.mf (0.468 -> 0.237).
 """
 
 import sys
@@ -37,7 +40,7 @@ KNOWN_FAILURES = {
         "mu_step_hard_brake", "mu_step_hard_brake.nf", "paper_low_mu_brake",
         "paper_low_mu_brake.nf", "paper_mu_step", "paper_mu_step.nf", "sine_steer_high_mu",
         "sine_steer_low_mu", "sine_steer_low_mu.nf", "split_mu_brake", "split_mu_brake.nf",
-        "split_mu_hard_brake", "split_mu_hard_brake.nf",
+        "split_mu_hard_brake",
         # issue 17's new manoeuvres (measured: valid / RMSE / consistency / worst when valid,
         # the same in float, double and Q31)
         "double_lane_change_high_mu", "double_lane_change_high_mu.nf",   # 42 % / 0.156 / 95 % / 0.241
@@ -48,7 +51,6 @@ KNOWN_FAILURES = {
     # Magic Formula truth (accel_low_mu.mf and mu_step_hard_brake.mf meet it since the rear
     # wheels' hold, docs/ESTIMATOR.md step 9: consistency 88.8 % -> 92 %, worst 0.326 -> 0.112)
     "brake_in_turn.mf.csv": "combined slip: worst case when valid 0.273",
-    "split_mu_hard_brake.mf.csv": "split friction: worst case when valid 0.467",
     "ramp_steer_high_mu.mf.csv": "ramp steer on mu 0.9: below the limit (utilisation 0.3-0.5) the "
         "truth's lateral curvature (E -1, the estimator's 0) reads as a lower mu, valid at 0.6 with "
         "sd 0.13: consistency when valid 78 %, RMSE 0.175, worst 0.308",
@@ -62,8 +64,6 @@ KNOWN_FAILURES = {
     # fault logs (docs/ROBUSTNESS.md)
     "faults/freeze_omega_fl.hard_brake_low_mu.mf.csv": "frozen wheel speed: worst 0.676 before the monitor fires",
     "faults/freeze_omega_fl.sine_steer_low_mu.mf.csv": "frozen wheel speed: worst 0.424",
-    "faults/spike_ax.hard_brake_low_mu.mf.csv": "ax spikes: worst 0.451 at a spike",
-    "faults/spike_ay.sine_steer_low_mu.mf.csv": "ay spikes: worst 0.468",
     "faults/spike_yaw_rate.sine_steer_low_mu.mf.csv": "yaw-rate spikes: worst 0.359",
 }
 

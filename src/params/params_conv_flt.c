@@ -145,6 +145,8 @@ static void conv_filter(conv_t *c, const rfe_filter_params_t *f, rfe_filter_para
     q->sd_floor_rel = to_q(c, (double)f->sd_floor_rel, RFE_FIX_Q_SD, 0);
     q->sd_valid = to_q(c, (double)f->sd_valid, RFE_FIX_Q_SD, 0);
     q->rear_hold_k = to_q(c, (double)f->rear_hold_k, RFE_FIX_Q_HOLD, 0);
+    q->jump_hold_k = to_q(c, (double)f->jump_hold_k, RFE_FIX_Q_HOLD, 0);
+    q->jump_hold_len = to_q(c, (double)f->jump_hold_len, RFE_FIX_Q_HOLD_LEN, 0);
     q->b_v = to_q(c, dt / (tau + dt), RFE_FIX_Q_DT, 1);
 }
 

@@ -32,6 +32,8 @@ rfe_status_t rfe_params_default(rfe_params_t *p)
     p->filter.sd_floor_rel = RFE_R(0.15);
     p->filter.sd_valid = RFE_R(0.15);
     p->filter.rear_hold_k = RFE_R(2.0); /* docs/ESTIMATOR.md step 9: the rear wheels' hold */
+    p->filter.jump_hold_k = RFE_R(2.0); /* docs/ESTIMATOR.md step 9: the jump hold */
+    p->filter.jump_hold_len = RFE_R(1.5);
     p->monitor.enable = RFE_R(1.0); /* docs/MONITOR.md: the model-validity monitor acts */
     return RFE_OK;
 }
@@ -97,6 +99,8 @@ rfe_status_t rfe_params_paper(rfe_params_t *p)
     p->filter.sd_floor_rel = RFE_R(0.0);
     p->filter.sd_valid = RFE_R(0.0);
     p->filter.rear_hold_k = RFE_R(0.0);
+    p->filter.jump_hold_k = RFE_R(0.0);
+    p->filter.jump_hold_len = RFE_R(0.0);
 
     /* docs/MONITOR.md §2 "Parameters": stated probabilities and time scales, not tuned;
      * off in the paper preset (MODEL.md §6 has no monitor), on in the default preset. */
@@ -165,13 +169,19 @@ static int filter_ok(const rfe_filter_params_t *f)
 
 /* The docs/ESTIMATOR.md additions: each finite and >= 0 (0 = off), dt > 0. sd_max is
  * "0 = off, else a positive bound", which is the same test. */
+/* Step 9's holds (docs/ESTIMATOR.md): thresholds and the jump hold's length, finite and >= 0. */
+static int holds_ok(const rfe_filter_params_t *f)
+{
+    return is_nonneg(f->rear_hold_k) && is_nonneg(f->jump_hold_k) && is_nonneg(f->jump_hold_len);
+}
+
 static int additions_ok(const rfe_filter_params_t *f)
 {
     return is_nonneg(f->sd0_common) && is_nonneg(f->q_common) && is_pos(f->dt) &&
            is_nonneg(f->tau_v) && is_nonneg(f->sd_in_delta) && is_nonneg(f->sd_in_vx) &&
            is_nonneg(f->sd_in_vy) && is_nonneg(f->sd_in_yaw_rate) && is_nonneg(f->sd_in_omega) &&
            is_nonneg(f->r_model_rel) && is_nonneg(f->info_min) && is_nonneg(f->sd_max) &&
-           is_nonneg(f->sd_floor_rel) && is_nonneg(f->sd_valid) && is_nonneg(f->rear_hold_k);
+           is_nonneg(f->sd_floor_rel) && is_nonneg(f->sd_valid) && holds_ok(f);
 }
 
 /* The CKF is the paper's baseline: it runs only what MODEL.md §6 has (four independent mu,

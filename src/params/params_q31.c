@@ -78,6 +78,8 @@ static const rfe_params_q31_t paper_q31 = {
         0,          /* sd_floor_rel = 0 (off), Q30 */
         0,          /* sd_valid = 0 (paper rule), Q30 */
         0,          /* rear_hold_k = 0 (off), Q24 */
+        0,          /* jump_hold_k = 0 (off), Q24 */
+        0,          /* jump_hold_len = 0, Q27 */
         1073741824  /* b_v = 1 (tau_v = 0), Q30 */
     },
     {
@@ -127,6 +129,8 @@ rfe_status_t rfe_params_default_q31(rfe_params_q31_t *p)
     p->filter.sd_floor_rel = 161061274; /* 0.15, Q30 */
     p->filter.sd_valid = 161061274;     /* 0.15, Q30 */
     p->filter.rear_hold_k = 33554432;   /* 2 sd, Q24 */
+    p->filter.jump_hold_k = 33554432;   /* 2 sd, Q24 */
+    p->filter.jump_hold_len = 201326592; /* 1.5 m, Q27 */
     p->filter.b_v = 34636833;           /* 0.01 / 0.31, Q30 */
     p->monitor.enable = 1u;             /* docs/MONITOR.md: the model-validity monitor acts */
     return RFE_OK;
@@ -352,6 +356,13 @@ static int filter_ok_q31(const rfe_filter_params_q31_t *f)
 }
 
 /* The docs/ESTIMATOR.md additions: each >= 0 (0 = off), dt > 0. */
+/* Step 9's holds (docs/ESTIMATOR.md): thresholds and the jump hold's length >= 0. */
+static int holds_ok_q31(const rfe_filter_params_q31_t *f)
+{
+    return is_nonneg_q31(f->rear_hold_k) && is_nonneg_q31(f->jump_hold_k) &&
+           is_nonneg_q31(f->jump_hold_len);
+}
+
 static int additions_nonneg_ok(const rfe_filter_params_q31_t *f)
 {
     return is_nonneg_q31(f->sd0_common) && is_nonneg_q31(f->q_common) && is_pos_q31(f->dt) &&
@@ -359,8 +370,7 @@ static int additions_nonneg_ok(const rfe_filter_params_q31_t *f)
            is_nonneg_q31(f->sd_in_vy) && is_nonneg_q31(f->sd_in_yaw_rate) &&
            is_nonneg_q31(f->sd_in_omega) && is_nonneg_q31(f->r_model_rel) &&
            is_nonneg_q31(f->info_min) && is_nonneg_q31(f->sd_max) &&
-           is_nonneg_q31(f->sd_floor_rel) && is_nonneg_q31(f->sd_valid) &&
-           is_nonneg_q31(f->rear_hold_k);
+           is_nonneg_q31(f->sd_floor_rel) && is_nonneg_q31(f->sd_valid) && holds_ok_q31(f);
 }
 
 /* The additions, then dt and tau_v with 16 significant bits and the gain b_v in (0, 1] (split

@@ -88,11 +88,17 @@ static inline uint8_t rfe_friction_valid(rfe_status_t st, int sd_rule, uint8_t b
     return ((st == RFE_OK) || (st == RFE_PROJECTED)) ? 1u : 0u;
 }
 
-/* Step 9's rear-wheel hold: a rear wheel (RL, RR) of a side whose hold is on (held != 0) is not
- * valid; every other flag as it was. */
-static inline uint8_t rfe_friction_rear_valid(size_t w, uint8_t held, uint8_t valid)
+/* Step 9's holds, the bits of a side's held flags: its rear wheels hold (RFE_HOLD_REAR), or
+ * both its wheels hold after a jump (RFE_HOLD_JUMP). */
+#define RFE_HOLD_REAR 1u
+#define RFE_HOLD_JUMP 2u
+
+/* Step 9's holds: a wheel of a side held after a jump, or a rear wheel (RL, RR) of a side whose
+ * rear hold is on, is not valid; every other flag as it was. */
+static inline uint8_t rfe_friction_held_valid(size_t w, uint8_t held, uint8_t valid)
 {
-    return ((w >= (size_t)RFE_RL) && (held != 0u)) ? 0u : valid;
+    const uint8_t rear = ((w >= (size_t)RFE_RL) && ((held & RFE_HOLD_REAR) != 0u)) ? 1u : 0u;
+    return ((rear != 0u) || ((held & RFE_HOLD_JUMP) != 0u)) ? 0u : valid;
 }
 
 /* Periods of a gap added to those pending, saturating (far beyond any wheelbase's distance). */

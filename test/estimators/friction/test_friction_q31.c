@@ -1616,32 +1616,39 @@ static void test_rfe_friction_q31_step_after(void **state)
     assert_int_equal(rfe_friction_step_after_q31(&b, 1u, &uq, &oa), RFE_ERR_NOT_INITIALISED);
 }
 
-/* ---- step 9's rear-wheel hold in fixed point ---------------------------------------------- */
+/* ---- step 9's holds in fixed point --------------------------------------------------------- */
 
-/* The hold recomputed in double from the fixed-point estimator's own outputs (its front wheels'
+/* The holds recomputed in double from the fixed-point estimator's own outputs (its front wheels'
  * mu and sd are the two side states with the monitor and the input filter off), the Q31
  * parameters and samples converted exactly: docs/ESTIMATOR.md step 9. The integer recursion
  * rounds mbar to Q29 and the distances to Q27 each step (~1e-9 and ~1e-8 m, a few LSB over a
- * wheelbase of steps), so a comparison |x - mbar| > k sd within 1e-7 of equality may go either
- * way: rows with one are not compared (none seen). */
+ * wheelbase of steps), so a comparison |x - ref| > k sd within 1e-7 of equality may go either
+ * way: rows with one are not compared (none seen). Every flag is the sd rule's (integer
+ * comparisons on the outputs) unless held: a rear wheel by either hold, a front one by the jump
+ * hold. held_off[0] counts the flags the rear wheels' hold alone turned off, [1] the jump
+ * hold's. */
 static void q31_hold_run(const rfe_params_q31_t *pq, const rfe_sensor_log_t *log, size_t gap_at,
-                         unsigned gap_missed, size_t stand, size_t *held_off)
+                         unsigned gap_missed, size_t stand, size_t held_off[2])
 {
     rfe_friction_q31_t est;
     rfe_estimate_q31_t e;
     rfe_sample_q31_t uq;
     rfe_sample_t ud;
     const double k = rfe_fix_to_double(pq->filter.rear_hold_k, RFE_FIX_Q_HOLD);
+    const double kj = rfe_fix_to_double(pq->filter.jump_hold_k, RFE_FIX_Q_HOLD);
+    const double jlen = rfe_fix_to_double(pq->filter.jump_hold_len, RFE_FIX_Q_HOLD_LEN);
     const double len = rfe_fix_to_double(pq->vehicle.Lf, RFE_FIX_Q_LEN) + rfe_fix_to_double(pq->vehicle.Lr, RFE_FIX_Q_LEN);
     const double dt = rfe_fix_to_double(pq->filter.dt, RFE_FIX_Q_DT);
-    double mbar[2], dist[2] = {0.0, 0.0};
+    double mbar[2], prev[2], dist[2] = {0.0, 0.0}, jdist[2] = {0.0, 0.0};
     size_t i, j;
     mbar[0] = mbar[1] = rfe_fix_to_double(pq->filter.mu0, RFE_FIX_Q_MU);
+    prev[0] = prev[1] = mbar[0];
     assert_int_equal(rfe_friction_init_q31(&est, pq), RFE_OK);
     for (i = 0; i < log->n_rows + stand; ++i) {
         const unsigned missed = (i == gap_at) ? gap_missed : 0u;
         uint32_t sat = 0u;
         int tie = 0;
+        size_t w;
         if (i < log->n_rows) {
             sample_d(&log->rows[i], &ud);
             sample_q(&ud, &uq, &sat);
@@ -1656,24 +1663,44 @@ static void q31_hold_run(const rfe_params_q31_t *pq, const rfe_sensor_log_t *log
             for (j = 0; j < 2; ++j) {
                 const double x = rfe_fix_to_double(e.mu[j], RFE_FIX_Q_MU);
                 const double sd = rfe_fix_to_double(e.sd[j], RFE_FIX_Q_SD);
-                double dev;
-                mbar[j] += a * (x - mbar[j]);
-                dist[j] = (dist[j] > ds) ? dist[j] - ds : 0.0;
-                dev = fabs(x - mbar[j]);
-                tie |= (fabs(dev - k * sd) <= 1e-7);
-                if (dev > k * sd) {
-                    dist[j] = len;
+                if (k > 0.0) {
+                    double dev;
+                    mbar[j] += a * (x - mbar[j]);
+                    dist[j] = (dist[j] > ds) ? dist[j] - ds : 0.0;
+                    dev = fabs(x - mbar[j]);
+                    tie |= (fabs(dev - k * sd) <= 1e-7);
+                    if (dev > k * sd) {
+                        dist[j] = len;
+                    }
+                }
+                if (kj > 0.0) {
+                    const double jump = fabs(x - prev[j]);
+                    jdist[j] = (jdist[j] > ds) ? jdist[j] - ds : 0.0;
+                    tie |= (fabs(jump - kj * sd) <= 1e-7);
+                    if (jump > kj * sd) {
+                        jdist[j] = jlen;
+                    }
+                    prev[j] = x;
                 }
             }
         }
-        for (j = 0; j < 2; ++j) {
-            const int held = dist[j] > 0.0;
-            const uint8_t want = held ? 0u : e.valid[j];
-            if ((e.valid[j + 2] != want) && (tie == 0)) {
-                fail_msg("row %zu side %zu: rear valid %u, the rule says %u", i, j,
-                         (unsigned)e.valid[j + 2], (unsigned)want);
+        for (w = 0; w < 4u; ++w) {
+            const size_t side = w % 2u;
+            const int rear = (w >= 2u) && (dist[side] > 0.0);
+            const int jumped = jdist[side] > 0.0;
+            const uint8_t by_sd = ((e.sd[w] <= pq->filter.sd_valid) &&
+                                   (e.mu[w] > pq->filter.mu_min) && (e.mu[w] < pq->filter.mu_max))
+                                      ? 1u
+                                      : 0u;
+            const uint8_t want = (rear || jumped) ? 0u : by_sd;
+            if ((e.valid[w] != want) && (tie == 0)) {
+                fail_msg("row %zu wheel %zu: valid %u, the rules say %u", i, w,
+                         (unsigned)e.valid[w], (unsigned)want);
             }
-            *held_off += (size_t)((e.valid[j] != 0u) && held);
+            if (by_sd != 0u) {
+                held_off[0] += (size_t)(rear && !jumped);
+                held_off[1] += (size_t)jumped;
+            }
         }
     }
 }
@@ -1687,7 +1714,7 @@ static void test_rfe_friction_q31_rear_hold(void **state)
     const char *path = SCENARIO_DIR "/mu_step_hard_brake.mf.csv";
     rfe_sensor_log_t log;
     both_params_t bp;
-    size_t held = 0;
+    size_t held[2] = {0u, 0u};
     (void)state;
     read_log(path, &log);
     monitor_on = 0;
@@ -1695,10 +1722,11 @@ static void test_rfe_friction_q31_rear_hold(void **state)
     bp.pd.filter.tau_v = 0.0;
     assert_int_equal(rfe_params_to_q31_f64(&bp.pd, &bp.pq), RFE_OK);
     assert_true(bp.pq.filter.rear_hold_k > 0);
-    q31_hold_run(&bp.pq, &log, (size_t)-1, 0u, 0u, &held);
-    print_message("[q31 rear hold] %zu rear flags held on %s\n", held, path);
-    assert_true(held > 10u);
-    q31_hold_run(&bp.pq, &log, 322u, 400u, 50u, &held);
+    q31_hold_run(&bp.pq, &log, (size_t)-1, 0u, 0u, held);
+    print_message("[q31 holds] %zu rear flags held, %zu by a jump on %s\n", held[0], held[1],
+                  path);
+    assert_true(held[0] > 10u);
+    q31_hold_run(&bp.pq, &log, 322u, 400u, 50u, held);
     /* skip(n) then step = step_after(n) while held; the pending periods saturate */
     {
         static rfe_friction_q31_t a;
@@ -1754,6 +1782,43 @@ static void test_rfe_friction_q31_rear_hold(void **state)
     rfe_sensor_log_free(&log);
 }
 
+/* REQ: the fixed-point estimator's jump hold as docs/ESTIMATOR.md step 9 says, recomputed from
+ * its own outputs, on the ax spike fault log (each spike jerks the estimate: the hold turns
+ * valid flags off, not vacuous), with the rear wheels' hold off too, through a gap and a
+ * standstill, and with a jump_hold_len longer than the wheelbase. */
+/* REQ-EST-018 REQ-FXP-010 */
+static void test_rfe_friction_q31_jump_hold(void **state)
+{
+    const char *path = SCENARIO_DIR "/faults/spike_ax.hard_brake_low_mu.mf.csv";
+    rfe_sensor_log_t log;
+    both_params_t bp;
+    both_params_t bq;
+    size_t held[2] = {0u, 0u};
+    (void)state;
+    read_log(path, &log);
+    monitor_on = 0;
+    params_for(&log, path, RFE_PRESET_DEFAULT, RFE_FILTER_SCKF, &bp);
+    bp.pd.filter.tau_v = 0.0;
+    assert_int_equal(rfe_params_to_q31_f64(&bp.pd, &bp.pq), RFE_OK);
+    assert_true(bp.pq.filter.jump_hold_k > 0 && bp.pq.filter.jump_hold_len > 0);
+    q31_hold_run(&bp.pq, &log, (size_t)-1, 0u, 0u, held);
+    print_message("[q31 holds] %zu rear flags held, %zu by a jump on %s\n", held[0], held[1],
+                  path);
+    assert_true(held[1] > 10u);
+    bq = bp;
+    bq.pd.filter.rear_hold_k = 0.0;
+    assert_int_equal(rfe_params_to_q31_f64(&bq.pd, &bq.pq), RFE_OK);
+    held[0] = held[1] = 0u;
+    q31_hold_run(&bq.pq, &log, (size_t)-1, 0u, 0u, held);
+    assert_true(held[0] == 0u && held[1] > 10u);
+    q31_hold_run(&bp.pq, &log, 300u, 400u, 50u, held);
+    bq = bp;
+    bq.pd.filter.jump_hold_len = 6.0;
+    assert_int_equal(rfe_params_to_q31_f64(&bq.pd, &bq.pq), RFE_OK);
+    q31_hold_run(&bq.pq, &log, 300u, 7u, 50u, held);
+    rfe_sensor_log_free(&log);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1778,6 +1843,7 @@ int main(void)
         cmocka_unit_test(test_rfe_friction_q31_b2b_paper_ckf),
         cmocka_unit_test(test_rfe_friction_q31_b2b_default),
         cmocka_unit_test(test_rfe_friction_q31_rear_hold),
+        cmocka_unit_test(test_rfe_friction_q31_jump_hold),
         cmocka_unit_test(test_rfe_friction_q31_b2b_monitor),
         cmocka_unit_test(test_rfe_friction_q31_status_while_fired),
     };
