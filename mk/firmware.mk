@@ -36,6 +36,13 @@
 #                      make test (every estimator meets PIL), a gate of its own beside make pil
 #                      (~25 s of QEMU, most of it the tyre identifier's ~2.5 M instructions a
 #                      step under the execution log)
+#                      make pil and make pil-aux end with the regression gate of issue 21:
+#                      each mean count of instructions per step against its budget in
+#                      PIL_BUDGETS (firmware/pil_budgets.json): more than 2 % over fails,
+#                      more than 5 % under prints a note that the budget can be lowered
+# make pil-budgets     runs make pil and make pil-aux without the gate and sets every budget
+#                      of PIL_BUDGETS to the measured count (commit it with the change that
+#                      moved the counts)
 # make firmware-table  regenerates the firmware tables in docs/FIRMWARE.md ("Measured") from
 #                      both JSON files (and pil_aux.json when make pil-aux wrote it), and the observer's cost in docs/OBSERVER_RESULTS.md
 #                      and README.md (with the host's figure from make bench's bench.json
@@ -73,7 +80,7 @@ FW_LDLIBS_f32 := -lm
 FW_LDLIBS_q31 :=
 FW_LDFLAGS  = --specs=nano.specs -nostartfiles -Wl,--gc-sections -Wl,--no-warn-rwx-segments
 
-.PHONY: deps-firmware firmware firmware-libs firmware-check firmware-table pil pil-aux
+.PHONY: deps-firmware firmware firmware-libs firmware-check firmware-table pil pil-aux pil-budgets
 DEPS_EXTRA += deps-firmware
 TEST_GATES += firmware pil pil-aux
 
@@ -159,6 +166,9 @@ firmware-check: $(FW_LIBS) $(FW_EXAMPLE_ELFS)
 PIL_LOG         ?= scenarios/brake_in_turn.csv
 PIL_CONFIGS     ?= paper.sckf:--preset,paper,--filter,sckf:100 default.sckf:--preset,default:100
 PIL_COUNT_STEPS ?= 0
+# The committed budgets of the instruction counts (scripts/firmware/pil_budgets.py); a run on
+# another log or step count has none, so it fails the gate: PIL_BUDGETS= runs without it.
+PIL_BUDGETS     ?= firmware/pil_budgets.json
 # <core>-<variant>:<QEMU machine>
 PIL_RUNS        := m4f-f32:mps2-an386 m4f-q31:mps2-an386 m3-q31:mps2-an385 m0p-q31:microbit
 # Memory map of each PIL core's QEMU board.
@@ -321,12 +331,18 @@ pil: deps-firmware firmware $(PIL_ELFS) $(PIL_OBS_ELFS) $(PIL_OBS_HOST) $(BUILD)
 	@python3 scripts/firmware/firmware_pil.py --build $(FW_DIR) --log $(PIL_LOG) --runs "$(PIL_RUNS)" \
 	  --configs "$(PIL_CONFIGS)" --replay $(BUILD)/mu_replay --count-steps $(PIL_COUNT_STEPS) \
 	  --obs-log $(PIL_OBS_LOG) --obs-entries "$(PIL_OBS_ENTRIES)" \
-	  --example m3-q31:mps2-an385 --out $(FW_DIR)/pil.json
+	  --example m3-q31:mps2-an385 --budgets "$(PIL_BUDGETS)" --out $(FW_DIR)/pil.json
 
 ## PIL of the mass and grade estimator and the tyre identifier (float32, Cortex-M4F)
 pil-aux: deps-firmware firmware $(PIL_AUX_FILES)
 	@python3 scripts/firmware/firmware_pil.py --build $(FW_DIR) --aux-entries "$(PIL_AUX_ENTRIES)" \
-	  --out $(FW_DIR)/pil_aux.json
+	  --budgets "$(PIL_BUDGETS)" --out $(FW_DIR)/pil_aux.json
+
+## set the PIL instruction budgets (PIL_BUDGETS) to a fresh make pil and make pil-aux
+pil-budgets:
+	@$(MAKE) --no-print-directory pil PIL_BUDGETS=
+	@$(MAKE) --no-print-directory pil-aux PIL_BUDGETS=
+	python3 scripts/firmware/pil_budgets.py --write $(PIL_BUDGETS) $(FW_DIR)/pil.json $(FW_DIR)/pil_aux.json
 
 ## regenerate the firmware tables of docs/FIRMWARE.md
 firmware-table:

@@ -57,6 +57,8 @@ make pil-aux; AUX_ENTRIES below says what each tag runs), float32 on the Cortex-
  9. instructions per step over the first <steps counted> samples as in 6 (with the
     -singlestep check of the first step), the share of a CORE_HZ core at the estimator's
     rate (AUX_ENTRIES: the log's sample rate), and where they go per function.
+Finally (--budgets) every mean count against its committed budget (scripts/firmware/pil_budgets.py:
+more than 2 % over fails, more than 5 % under is noted).
 Writes --out (JSON: per run and configuration the comparison and the instructions per step,
 mean/max/min), read by scripts/firmware/firmware_table.py and the benchmark script.
 """
@@ -72,6 +74,8 @@ import sys
 import re
 import tempfile
 import time
+
+import pil_budgets
 
 CROSS = "arm-none-eabi-"
 BUILD_CORE = {"m4f": "cortex-m4", "m3": "cortex-m3", "m0p": "cortex-m0plus"}
@@ -880,6 +884,8 @@ def main():
                     help="<tag>:<target>:<machine>:<steps counted> (tags: OBS_ENTRIES)")
     ap.add_argument("--aux-entries", default="",
                     help="<tag>:<log>:<rows>:<steps counted> (tags: AUX_ENTRIES), on the Cortex-M4F")
+    ap.add_argument("--budgets", default="",
+                    help="the committed instruction budgets (firmware/pil_budgets.json; empty: no gate)")
     ap.add_argument("--out", required=True)
     a = ap.parse_args()
     stem = os.path.splitext(os.path.basename(a.log))[0] if a.log else ""
@@ -999,6 +1005,15 @@ def main():
         print("pil: " + msg)
         if not ok:
             failures.append(msg)
+    if a.budgets:
+        # The regression gate of issue 21: every count against its committed budget.
+        over, notes = pil_budgets.check(pil_budgets.measured(result), pil_budgets.load(a.budgets))
+        result["budget_check"] = {"file": a.budgets, "failures": over, "notes": notes}
+        for m in notes:
+            print("pil: note: " + m)
+        failures += over
+        if not over:
+            print(f"pil: every instruction count within {pil_budgets.OVER:.0%} of its budget in {a.budgets}")
     result["seconds"] = round(time.time() - t_start, 1)
     os.makedirs(os.path.dirname(a.out) or ".", exist_ok=True)
     with open(a.out, "w") as f:
