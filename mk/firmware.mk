@@ -80,7 +80,7 @@ FW_LDLIBS_f32 := -lm
 FW_LDLIBS_q31 :=
 FW_LDFLAGS  = --specs=nano.specs -nostartfiles -Wl,--gc-sections -Wl,--no-warn-rwx-segments
 
-.PHONY: deps-firmware firmware firmware-libs firmware-check firmware-table pil pil-aux pil-budgets
+.PHONY: deps-firmware firmware firmware-libs firmware-check firmware-table pil pil-aux pil-budgets pil-profile
 DEPS_EXTRA += deps-firmware
 TEST_GATES += firmware pil pil-aux
 
@@ -337,6 +337,30 @@ pil: deps-firmware firmware $(PIL_ELFS) $(PIL_OBS_ELFS) $(PIL_OBS_HOST) $(BUILD)
 pil-aux: deps-firmware firmware $(PIL_AUX_FILES)
 	@python3 scripts/firmware/firmware_pil.py --build $(FW_DIR) --aux-entries "$(PIL_AUX_ENTRIES)" \
 	  --budgets "$(PIL_BUDGETS)" --out $(FW_DIR)/pil_aux.json
+
+# ---- per-function profile of a friction step (make pil-profile) --------------------------
+# PIL_PROFILE_CONFIG of PIL_CONFIGS on PIL_PROFILE_RUNS (<target>:<QEMU machine>), the log's
+# first PIL_PROFILE_STEPS steps, next to callgrind on the same program built for the host.
+PIL_PROFILE_CONFIG ?= default.sckf
+PIL_PROFILE_RUNS   ?= m4f-f32:mps2-an386 m4f-q31:mps2-an386 m0p-q31:microbit
+PIL_PROFILE_STEPS  ?= 100
+PIL_PROFILE_VARIANTS := $(sort $(foreach r,$(PIL_PROFILE_RUNS),$(call fw_variant,$(call pil_obs_field,$(r),1))))
+define PIL_PROFILE_HOST_RULES
+# $(1) = host build (f32, q31), $(2) = its library
+$(FW_DIR)/host-$(1)/pil/$(PIL_PROFILE_CONFIG): firmware/pil/pil_main.c firmware/pil/pil_data.h \
+                            $(FW_DIR)/pil/data/$(PIL_STEM).$(PIL_PROFILE_CONFIG).c $(2)
+	@mkdir -p $$(@D)
+	$$(CC) $$(WARN) $$(OPT) -Wno-double-promotion $$(CPPFLAGS_LIB) -Ifirmware/pil -DPIL_HOST $(PIL_HOST_DEFS_$(1)) \
+	  firmware/pil/pil_main.c $(FW_DIR)/pil/data/$(PIL_STEM).$(PIL_PROFILE_CONFIG).c $(2) -lm -o $$@
+endef
+$(eval $(call PIL_PROFILE_HOST_RULES,f32,$(BUILD)/f32/librfe.a))
+$(eval $(call PIL_PROFILE_HOST_RULES,q31,$(BUILD)/q31/librfe_q31.a))
+
+## per-function instruction profile of a friction step on the PIL cores and callgrind (docs/FIRMWARE.md)
+pil-profile: deps-firmware $(foreach r,$(PIL_PROFILE_RUNS),$(FW_DIR)/$(call pil_obs_field,$(r),1)/pil/$(PIL_PROFILE_CONFIG).elf) \
+             $(foreach v,$(PIL_PROFILE_VARIANTS),$(FW_DIR)/host-$(v)/pil/$(PIL_PROFILE_CONFIG))
+	python3 scripts/firmware/pil_profile.py --build $(FW_DIR) --log $(PIL_LOG) --config $(PIL_PROFILE_CONFIG) \
+	  --runs "$(PIL_PROFILE_RUNS)" --steps $(PIL_PROFILE_STEPS) --json $(FW_DIR)/pil_profile.json --page docs/FIRMWARE.md
 
 ## set the PIL instruction budgets (PIL_BUDGETS) to a fresh make pil and make pil-aux
 pil-budgets:
