@@ -1,18 +1,19 @@
 #!/usr/bin/env python3
 """Where a friction step's instructions go on the PIL cores (make pil-profile, issue 21 "measure
-first"): per function, the instructions executed in it per step (self, its callees not
-included) and its calls per step, on QEMU's cores, next to callgrind's profile of the same
-program on the host.
+first"): per function, the instructions per step with its callees (inclusive) and in the
+function itself (own), and its calls per step, on QEMU's cores, next to callgrind's profile of
+the same program on the host.
 
 Target: firmware_pil.count_instructions on the PIL image of one configuration (default:
 default.sckf of make pil, brake_in_turn), the first --steps samples: every executed translation
 block is attributed to the function it starts in (arm-none-eabi-nm; a call ends a block, so a
 block never spans two functions), a call is an execution of the block at a function's first
-instruction, and the object each function comes from is the linker map's. Host: the same
-program built for the host (firmware/pil/pil_main.c with -DPIL_HOST, mk/firmware.mk) under
-valgrind --tool=callgrind, collecting inside rfe_friction_step_<f32|q31> only, exclusive
-instructions per function from callgrind_annotate. The host's compiler inlines other
-functions than the target's, so a function missing from one column was inlined there.
+instruction, the inclusive counts come from the call stack kept over the blocks (callees=), and
+the object each function comes from is the linker map's. Host: the same program built for the
+host (firmware/pil/pil_main.c with -DPIL_HOST, mk/firmware.mk) under valgrind
+--tool=callgrind, collecting inside rfe_friction_step_<f32|q31> only, inclusive and own
+instructions per function from callgrind_annotate. The host's compiler inlines other functions
+than the target's, so a function missing from one column was inlined there.
 
 Writes --json and the tables between <!-- firmware-profile:begin --> and
 <!-- firmware-profile:end --> of --page (docs/FIRMWARE.md). Not part of make test: a
@@ -34,27 +35,30 @@ import firmware_pil as fp  # noqa: E402
 from md_tables import replace_region  # noqa: E402
 
 BEGIN, END = "<!-- firmware-profile:begin -->", "<!-- firmware-profile:end -->"
-TOP = 15   # functions per table: the rest of the step is summed in one row
+TOP = 16   # functions per run by inclusive instructions (a table lists the union of its runs')
+WHOLE = 0.999  # a function with this share of the step or more wraps the whole step
 CORES = {"m4f": "Cortex-M4F", "m3": "Cortex-M3", "m0p": "Cortex-M0+"}
 VARIANTS = {"f32": "float32", "q31": "fixed point"}
 
 
 def target_profile(build, target, machine, config, steps):
-    """{total, functions: [[name, instructions per step, calls per step, object]], most first}."""
+    """{total, functions: [[name, self instructions per step, calls per step, object,
+    inclusive instructions per step]], most inclusive first}."""
     elf = os.path.join(build, target, "pil", config + ".elf")
-    counts, _, per_func = fp.count_instructions(machine, elf, steps, functions=True)
+    incl = {}
+    counts, _, per_func = fp.count_instructions(machine, elf, steps, functions=True, callees=incl)
     objects = fp.code_objects(elf)
     starts, names = fp.function_table(elf)
     # librfe_q31.a(fxmath_q31.o) -> fxmath_q31.o, as the float32 image's map already names it
     where = {n: re.sub(r"^lib\w+\.a\((.*)\)$", r"\1", fp.object_of(objects, a)) for a, n in zip(starts, names)}
-    funcs = sorted(([f, v / steps, c / steps, where.get(f, "?")] for f, (v, c) in per_func["step"].items()),
-                   key=lambda x: -x[1])
+    funcs = sorted(([f, v / steps, c / steps, where.get(f, "?"), incl.get(f, v) / steps]
+                    for f, (v, c) in per_func["step"].items()), key=lambda x: (-x[4], -x[1]))
     return {"total": sum(counts) / steps, "functions": funcs}
 
 
 def host_profile(build, variant, config, steps):
     """The host program of the configuration under callgrind, collecting inside the step
-    function: {total, functions: [[name, instructions per step]]}, most first."""
+    function: {total, self: {name: instructions per step}, inclusive: {...}}."""
     prog = os.path.join(build, f"host-{variant}", "pil", config)
     step = f"rfe_friction_step_{variant}"
     with tempfile.TemporaryDirectory() as tmp:
@@ -64,17 +68,25 @@ def host_profile(build, variant, config, steps):
                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
         if r.returncode != 0:
             sys.exit(f"pil-profile: callgrind on {prog} failed: {r.stderr[-1500:]}")
-        ann = subprocess.run(["callgrind_annotate", "--auto=no", "--threshold=100", out], stdout=subprocess.PIPE,
-                             text=True, check=True).stdout
-    prof = parse_annotate(ann, steps)
-    if prof is None:
-        sys.exit(f"pil-profile: no totals in callgrind_annotate's output for {prog}")
+        prof = {}
+        for kind in ("self", "inclusive"):
+            ann = subprocess.run(["callgrind_annotate", "--auto=no", "--threshold=100",
+                                  f"--inclusive={'yes' if kind == 'inclusive' else 'no'}", out],
+                                 stdout=subprocess.PIPE, text=True, check=True).stdout
+            p = parse_annotate(ann, steps, inclusive=kind == "inclusive")
+            if p is None:
+                sys.exit(f"pil-profile: no totals in callgrind_annotate's output for {prog}")
+            prof["total"], prof[kind] = p["total"], dict(p["functions"])
     return prof
 
 
-def parse_annotate(text, steps):
-    """callgrind_annotate's totals and its per-function lines ("1,234 (5.6%)  file.c:name [exe]";
-    a recursive call's "name'2" counted with the name) per step; None without totals."""
+def parse_annotate(text, steps, inclusive=False):
+    """callgrind_annotate's totals and its per-function lines ("1,234 (5.6%)  file.c:name [exe]")
+    per step; None without totals. A name on several lines (a recursive call's "name'2", code of
+    the function under another source file: an inlined header, the path spelt otherwise) is
+    summed for own counts, which are disjoint, and the largest taken for inclusive ones, which
+    overlap (--inclusive=yes lists a function once per spelling of its file, each line with
+    all of its callees)."""
     total, funcs = None, {}
     for ln in text.splitlines():
         m = re.match(r"^\s*([\d,]+)\s+(?:\([^)]*\)\s+)?(?:PROGRAM TOTALS|(\S+):(\S+))", ln)
@@ -85,7 +97,7 @@ def parse_annotate(text, steps):
             total = n / steps
         else:
             name = m.group(3).split("'")[0]
-            funcs[name] = funcs.get(name, 0.0) + n / steps
+            funcs[name] = max(funcs.get(name, 0.0), n / steps) if inclusive else funcs.get(name, 0.0) + n / steps
     if total is None:
         return None
     return {"total": total, "functions": sorted(([f, v] for f, v in funcs.items()), key=lambda x: -x[1])}
@@ -96,43 +108,38 @@ def fmt(x):
 
 
 def table(runs, host):
-    """One markdown table for one variant: the union of each run's top functions, ordered by
-    the first run; per run instructions per step (share of its step) and calls per step; the
-    host's instructions per step last."""
+    """One markdown table for one variant: the union of each run's TOP functions by inclusive
+    instructions, in the first run's order; per run the inclusive instructions per step (share
+    of the step), the function's own and its calls per step; the host's inclusive and own."""
     top = []
     for r in runs:
-        for f in r["profile"]["functions"][:TOP]:
+        # the wrappers of the whole step (PIL's main, the public step) say no more than its total
+        inner = [f for f in r["profile"]["functions"] if f[4] < WHOLE * r["profile"]["total"]]
+        for f in inner[:TOP]:
             if f[0] not in top:
                 top.append(f[0])
-    top = top[:TOP + 5]
     head = ["function", "object"]
     for r in runs:
-        head += [f"{CORES[r['core']]}: instr/step (share)", "calls/step"]
-    head.append("host x86-64 (callgrind): instr/step")
+        c = CORES[r["core"]]
+        head += [f"{c}: with callees (share)", f"{c}: own", f"{c}: calls"]
+    head += ["host x86-64: with callees", "host: own"]
     out = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
-    hmap = {f: v for f, v in host["functions"]}
     for name in top:
         row = [f"`{name}`", "?"]
         for r in runs:
             d = {f[0]: f for f in r["profile"]["functions"]}
             if name in d:
-                row[1] = d[name][3] if row[1] == "?" else row[1]
-                v, c = d[name][1], d[name][2]
-                row += [f"{fmt(v)} ({100 * v / r['profile']['total']:.1f} %)", f"{c:.1f}"]
+                _, own, calls, obj, incl = d[name]
+                row[1] = obj if row[1] == "?" else row[1]
+                row += [f"{fmt(incl)} ({100 * incl / r['profile']['total']:.1f} %)", fmt(own), f"{calls:.1f}"]
             else:
-                row += ["–", "–"]
-        row.append(fmt(hmap[name]) if name in hmap else "–")
+                row += ["–", "–", "–"]
+        row += [fmt(host[k][name]) if name in host[k] else "–" for k in ("inclusive", "self")]
         out.append("| " + " | ".join(row) + " |")
-    rest = ["every other function", ""]
-    for r in runs:
-        v = r["profile"]["total"] - sum(f[1] for f in r["profile"]["functions"] if f[0] in top)
-        rest += [f"{fmt(v)} ({100 * v / r['profile']['total']:.1f} %)", ""]
-    rest.append(fmt(host["total"] - sum(v for f, v in host["functions"] if f in top)))
-    out.append("| " + " | ".join(rest) + " |")
     total = ["**the step**", ""]
     for r in runs:
-        total += [f"**{fmt(r['profile']['total'])}**", ""]
-    total.append(f"**{fmt(host['total'])}**")
+        total += [f"**{fmt(r['profile']['total'])}**", "", ""]
+    total += [f"**{fmt(host['total'])}**", ""]
     out.append("| " + " | ".join(total) + " |")
     return out
 
@@ -140,8 +147,8 @@ def table(runs, host):
 def markdown(res):
     L = [f"Measured by `make pil-profile` (QEMU: {res['qemu']}; valgrind's callgrind on the host "
          f"program built with the host's `-O2`), `{res['log']}`, configuration `{res['config']}`, "
-         f"the log's first {res['steps']} steps; instructions per step executed in each function "
-         "itself (self, callees not included), the share of the core's step, calls per step; the "
+         f"the log's first {res['steps']} steps, per function: instructions per step with its callees "
+         "(inclusive) and their share of the step, in the function itself (own), calls per step; the "
          "object is the linker map's (`libgcc`: the compiler's helpers, e.g. the 64-bit multiply "
          "`__muldi3` and division `__udivmoddi4` of the Cortex-M0+, which has no 32x32->64 "
          "multiply). A dash: no such function in that build (inlined into its caller, or, on the "
