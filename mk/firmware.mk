@@ -43,6 +43,12 @@
 # make pil-budgets     runs make pil and make pil-aux without the gate and sets every budget
 #                      of PIL_BUDGETS to the measured count (commit it with the change that
 #                      moved the counts)
+# make pil-profile     per-function instructions of a friction step (PIL_PROFILE_CONFIG) on
+#                      the Cortex-M4F float32 and fixed-point and the M0+ PIL images, next to
+#                      callgrind on the host: a table in docs/FIRMWARE.md (not in make test)
+# make firmware-opt    the PIL images at -Os, -O2, -O3, with and without -flto: flash and
+#                      instructions per step per core, a table in docs/FIRMWARE.md (not in
+#                      make test; the shipped FW_OPT_* stay)
 # make firmware-table  regenerates the firmware tables in docs/FIRMWARE.md ("Measured") from
 #                      both JSON files (and pil_aux.json when make pil-aux wrote it), and the observer's cost in docs/OBSERVER_RESULTS.md
 #                      and README.md (with the host's figure from make bench's bench.json
@@ -80,7 +86,7 @@ FW_LDLIBS_f32 := -lm
 FW_LDLIBS_q31 :=
 FW_LDFLAGS  = --specs=nano.specs -nostartfiles -Wl,--gc-sections -Wl,--no-warn-rwx-segments
 
-.PHONY: deps-firmware firmware firmware-libs firmware-check firmware-table pil pil-aux pil-budgets pil-profile
+.PHONY: deps-firmware firmware firmware-libs firmware-check firmware-table pil pil-aux pil-budgets pil-profile pil-images firmware-opt
 DEPS_EXTRA += deps-firmware
 TEST_GATES += firmware pil pil-aux
 
@@ -361,6 +367,34 @@ pil-profile: deps-firmware $(foreach r,$(PIL_PROFILE_RUNS),$(FW_DIR)/$(call pil_
              $(foreach v,$(PIL_PROFILE_VARIANTS),$(FW_DIR)/host-$(v)/pil/$(PIL_PROFILE_CONFIG))
 	python3 scripts/firmware/pil_profile.py --build $(FW_DIR) --log $(PIL_LOG) --config $(PIL_PROFILE_CONFIG) \
 	  --runs "$(PIL_PROFILE_RUNS)" --steps $(PIL_PROFILE_STEPS) --json $(FW_DIR)/pil_profile.json --page docs/FIRMWARE.md
+
+# ---- optimisation levels (make firmware-opt) ---------------------------------------------
+# The PIL images of make pil rebuilt at each FW_OPT_SETTINGS entry on every core (Os, O2, O3;
+# <level>-lto adds link-time optimisation, with fat objects so that the archive's index still
+# lists the library's symbols), one tree each under FW_OPT_DIR, then measured against the
+# shipped FW_OPT_* (scripts/firmware/firmware_opt.py). The shipped flags are not changed here:
+# the budgets and the PIL goldens depend on them. At -O3, GCC 12 warns
+# (-Waggressive-loop-optimizations) that filter_estimate in friction_flt.c could read
+# est->hold.held[2]: only if the structure and est->n disagreed, which rfe_friction_init
+# rules out; the sweep keeps the warning but not as an error, so -O3 can be measured.
+FW_OPT_SETTINGS ?= Os O2 O3 Os-lto O2-lto O3-lto
+FW_OPT_DIR      := $(BUILD)/firmware-opt
+fw_opt_flags     = -$(patsubst %-lto,%,$(1))$(if $(filter %-lto,$(1)), -flto -ffat-lto-objects) \
+                   -Wno-error=aggressive-loop-optimizations
+
+## the PIL images of make pil, built only (make firmware-opt builds them per setting)
+pil-images: $(PIL_ELFS)
+
+## flash and instructions per step of the PIL images at -Os, -O2, -O3, with and without LTO (docs/FIRMWARE.md)
+firmware-opt: deps-firmware $(PIL_ELFS)
+	@mkdir -p $(FW_OPT_DIR)
+	@$(foreach s,$(FW_OPT_SETTINGS),$(MAKE) --no-print-directory FW_DIR=$(FW_OPT_DIR)/$(s) \
+	  FW_OPT_m4f="$(call fw_opt_flags,$(s))" FW_OPT_m3="$(call fw_opt_flags,$(s))" FW_OPT_m0p="$(call fw_opt_flags,$(s))" \
+	  pil-images >$(FW_OPT_DIR)/$(s).log 2>&1 || { tail -20 $(FW_OPT_DIR)/$(s).log; exit 1; } ;)
+	python3 scripts/firmware/firmware_opt.py --build $(FW_OPT_DIR) --shipped-build $(FW_DIR) \
+	  --shipped "m4f=$(FW_OPT_m4f) m3=$(FW_OPT_m3) m0p=$(FW_OPT_m0p)" --settings "$(FW_OPT_SETTINGS)" \
+	  --runs "$(PIL_RUNS)" --configs "$(foreach c,$(PIL_CONFIGS),$(call pil_tag,$(c)))" --log $(PIL_LOG) \
+	  --steps 100 --json $(FW_OPT_DIR)/opt.json --page docs/FIRMWARE.md
 
 ## set the PIL instruction budgets (PIL_BUDGETS) to a fresh make pil and make pil-aux
 pil-budgets:
