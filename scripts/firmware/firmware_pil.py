@@ -57,6 +57,8 @@ make pil-aux; AUX_ENTRIES below says what each tag runs), float32 on the Cortex-
  9. instructions per step over the first <steps counted> samples as in 6 (with the
     -singlestep check of the first step), the share of a CORE_HZ core at the estimator's
     rate (AUX_ENTRIES: the log's sample rate), and where they go per function.
+Finally (--budgets) every mean count against its committed budget (scripts/firmware/pil_budgets.py:
+more than 2 % over fails, more than 5 % under is noted).
 Writes --out (JSON: per run and configuration the comparison and the instructions per step,
 mean/max/min), read by scripts/firmware/firmware_table.py and the benchmark script.
 """
@@ -72,6 +74,8 @@ import sys
 import re
 import tempfile
 import time
+
+import pil_budgets
 
 CROSS = "arm-none-eabi-"
 BUILD_CORE = {"m4f": "cortex-m4", "m3": "cortex-m3", "m0p": "cortex-m0plus"}
@@ -258,7 +262,19 @@ def _trace(machine, elf, steps, qemu_args):
                  f"{proc.stderr.read().decode(errors='replace')[-2000:]}")
 
 
-def count_instructions(machine, elf, steps, singlestep=False, parts=(), functions=False):
+def next_stack(stack, k, entry):
+    """The call stack (a tuple of function indices) after a TB of function k executes; entry:
+    the TB starts at k's first instruction. A call (or tail call) pushes k; a return to a
+    function lower in the stack pops back to its innermost frame; a TB in a function not on
+    the stack (entered other than by its first instruction) pushes it."""
+    if entry or k not in stack:
+        return stack + (k,)
+    if stack[-1] != k:
+        return stack[:len(stack) - stack[::-1].index(k)]
+    return stack
+
+
+def count_instructions(machine, elf, steps, singlestep=False, parts=(), functions=False, callees=None):
     inclusive = tuple(parts)
     """Instructions per step over the first `steps` samples.
 
@@ -273,7 +289,10 @@ def count_instructions(machine, elf, steps, singlestep=False, parts=(), function
     slow reference the default is checked against: make pil PIL_SINGLESTEP=1).
     parts: function names counted inclusively per step too (from the TB at the function's
     entry to the TB at the return address of its call); returns then (counts, {part: counts
-    per step}, {part or "step": {function: instructions over all steps}}) when functions."""
+    per step}, {part or "step": {function: instructions over all steps}}) when functions.
+    callees: a dict, filled with every function's instructions over all steps including those
+    of the functions it calls (make pil-profile): a call stack is kept over the executed TBs
+    (next_stack) and each TB counts once for every distinct function on it."""
     marks = marker_addresses(elf)
     begin, end = marks["pil_step_begin"], marks["pil_step_end"]
     args = ["-singlestep", "-d", "exec,nochain"] if singlestep else ["-d", "in_asm,exec,nochain"]
@@ -284,8 +303,11 @@ def count_instructions(machine, elf, steps, singlestep=False, parts=(), function
     part_counts = {name: [] for name in inclusive}
     per_func = {name: {} for name in ("step", *inclusive)}
     calls = {name: {} for name in ("step", *inclusive)}
-    starts, names = function_table(elf) if functions else ([], [])
+    starts, names = function_table(elf) if functions or callees is not None else ([], [])
     active = None
+    # the call stack as a tuple of function indices; instructions summed per stack, the
+    # functions' inclusive counts derived from those sums after the run
+    stack, fn_of, per_stack = (), {}, {}
     # A TB's exec line is the same text every time it runs: each distinct line is parsed once
     # into (pc, length, id); a new in_asm listing (pending_pc) re-parses the next line and
     # drops the cached line of that host address. The functions' tallies are kept per (TB
@@ -325,7 +347,7 @@ def count_instructions(machine, elf, steps, singlestep=False, parts=(), function
                     continue
             pc, length, tb_id = tb
             if pc == begin:
-                inside, n = True, 0
+                inside, n, stack = True, 0, ()
                 for c in part_counts.values():
                     c.append(0)
             elif pc == end and inside:
@@ -342,6 +364,13 @@ def count_instructions(machine, elf, steps, singlestep=False, parts=(), function
                 if functions:
                     key = (tb_id, active)
                     hits[key] = hits.get(key, 0) + 1
+                if callees is not None:
+                    at = fn_of.get(tb_id)
+                    if at is None:
+                        k = bisect.bisect_right(starts, pc) - 1
+                        at = fn_of[tb_id] = (k, pc == starts[k])
+                    stack = next_stack(stack, *at)
+                    per_stack[stack] = per_stack.get(stack, 0) + length
     # in the order of first execution, as the functions' first appearance
     for (tb_id, act), h in hits.items():
         pc, length, _ = tbs[tb_id]
@@ -351,6 +380,9 @@ def count_instructions(machine, elf, steps, singlestep=False, parts=(), function
             per_func[key][fn] = per_func[key].get(fn, 0) + length * h
             if pc == starts[k]:  # a TB at the function's first instruction: a call
                 calls[key][fn] = calls[key].get(fn, 0) + h
+    for st, v in per_stack.items():
+        for k in set(st):
+            callees[names[k]] = callees.get(names[k], 0) + v
     if len(counts) != steps:
         sys.exit(f"pil: instruction count on {elf}: {len(counts)} of {steps} steps traced")
     if inclusive or functions:
@@ -880,6 +912,8 @@ def main():
                     help="<tag>:<target>:<machine>:<steps counted> (tags: OBS_ENTRIES)")
     ap.add_argument("--aux-entries", default="",
                     help="<tag>:<log>:<rows>:<steps counted> (tags: AUX_ENTRIES), on the Cortex-M4F")
+    ap.add_argument("--budgets", default="",
+                    help="the committed instruction budgets (firmware/pil_budgets.json; empty: no gate)")
     ap.add_argument("--out", required=True)
     a = ap.parse_args()
     stem = os.path.splitext(os.path.basename(a.log))[0] if a.log else ""
@@ -999,6 +1033,15 @@ def main():
         print("pil: " + msg)
         if not ok:
             failures.append(msg)
+    if a.budgets:
+        # The regression gate of issue 21: every count against its committed budget.
+        over, notes = pil_budgets.check(pil_budgets.measured(result), pil_budgets.load(a.budgets))
+        result["budget_check"] = {"file": a.budgets, "failures": over, "notes": notes}
+        for m in notes:
+            print("pil: note: " + m)
+        failures += over
+        if not over:
+            print(f"pil: every instruction count within {pil_budgets.OVER:.0%} of its budget in {a.budgets}")
     result["seconds"] = round(time.time() - t_start, 1)
     os.makedirs(os.path.dirname(a.out) or ".", exist_ok=True)
     with open(a.out, "w") as f:
