@@ -35,7 +35,7 @@ import numpy as np
 import pandas as pd
 
 from . import errors, parquet
-from .replay import MDF_SUFFIXES, read_log, replay
+from .replay import MDF_SUFFIXES, replay
 
 LOG_SUFFIXES = (".csv", *MDF_SUFFIXES, *parquet.SUFFIXES)
 WHEELS = ("fl", "fr", "rl", "rr")
@@ -91,7 +91,7 @@ def _truth(path: Path, mapping: Any) -> pd.DataFrame | None:
     elif suffix in parquet.SUFFIXES:
         sensor = parquet.read_parquet(path)
     else:
-        sensor = read_log(path)
+        sensor = _csv_truth(path)
     meta = sensor.attrs.get("meta", {}) or {}
     cols = {}
     for w in WHEELS:
@@ -102,6 +102,26 @@ def _truth(path: Path, mapping: Any) -> pd.DataFrame | None:
         offset = float(meta.get(f"offset_mu_{w}", 0.0))
         cols[w] = scale * sensor[name].to_numpy(dtype=np.float64) + offset
     return pd.DataFrame(cols)
+
+
+def _csv_truth(path: Path) -> pd.DataFrame:
+    """The truth columns of a DATA.md CSV and its metadata, read by pandas' C parser
+    (correctly rounded) and only those columns: rfe.read_log of the whole log would cost a
+    task a third of the C replay's time again."""
+    meta: dict[str, str] = {}
+    with open(path, encoding="utf-8") as f:
+        for line in f:
+            if not line.startswith("#"):
+                break
+            key, sep, value = line[1:].partition("=")
+            if sep:
+                meta[key.strip()] = value.strip()
+    names = {str(meta.get(f"column_mu_{w}", f"mu_{w}")) for w in WHEELS}
+    sensor = pd.read_csv(path, comment="#", skipinitialspace=True,
+                         usecols=lambda c: c.strip() in names)
+    sensor.columns = [c.strip() for c in sensor.columns]
+    sensor.attrs["meta"] = meta
+    return sensor
 
 
 def surface_histograms(est: pd.DataFrame, truth: pd.DataFrame) -> dict[str, list[int]]:
