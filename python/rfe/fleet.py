@@ -125,21 +125,22 @@ def _csv_truth(path: Path) -> pd.DataFrame:
 
 
 def surface_histograms(est: pd.DataFrame, truth: pd.DataFrame) -> dict[str, list[int]]:
-    """Counts of the valid estimates of every wheel in MU_BINS, per surface (the wheel's
-    true mu rounded to SURFACE_STEP, as text "0.85"); samples with a NaN on either side and
-    estimates outside the bins are left out."""
-    hist: dict[str, np.ndarray] = {}
-    for w in WHEELS:
-        mu = est[f"mu_{w}"].to_numpy(dtype=np.float64)
-        valid = est[f"valid_{w}"].to_numpy() != 0
-        true = truth[w].to_numpy()
-        keep = valid & np.isfinite(mu) & np.isfinite(true)
-        surface = np.round(true[keep] / SURFACE_STEP) * SURFACE_STEP
-        for s in np.unique(surface):
-            counts, _ = np.histogram(mu[keep][surface == s], bins=MU_BINS)
-            key = f"{s:.2f}"
-            hist[key] = hist.get(key, np.zeros(len(MU_BINS) - 1, dtype=np.int64)) + counts
-    return {k: v.tolist() for k, v in hist.items()}
+    """Counts of the valid estimates of every wheel in MU_BINS (np.histogram's bins: the
+    last one closed), per surface (the wheel's true mu rounded to SURFACE_STEP, as text
+    "0.85"); samples with a NaN on either side and estimates outside the bins are left out.
+    One bincount over (surface, bin) pairs: a histogram call per surface and wheel cost a task
+    a third of its replay on a log whose truth ramps through many surfaces."""
+    nbins = len(MU_BINS) - 1
+    mu = np.concatenate([est[f"mu_{w}"].to_numpy(dtype=np.float64) for w in WHEELS])
+    valid = np.concatenate([est[f"valid_{w}"].to_numpy() != 0 for w in WHEELS])
+    true = np.concatenate([truth[w].to_numpy(dtype=np.float64) for w in WHEELS])
+    keep = valid & np.isfinite(mu) & np.isfinite(true) & (mu >= MU_BINS[0]) & (mu <= MU_BINS[-1])
+    mu, true = mu[keep], true[keep]
+    idx = np.minimum(np.searchsorted(MU_BINS, mu, side="right") - 1, nbins - 1)
+    surfaces, which = np.unique(np.round(true / SURFACE_STEP), return_inverse=True)
+    counts = np.bincount(which.ravel() * nbins + idx,
+                         minlength=len(surfaces) * nbins).reshape(len(surfaces), nbins)
+    return {f"{s * SURFACE_STEP:.2f}": c.tolist() for s, c in zip(surfaces, counts)}
 
 
 def replay_one(log: str, estimates: str, options: Mapping[str, Any],
@@ -278,6 +279,8 @@ def worst_first(rows: pd.DataFrame) -> pd.DataFrame:
     descending (a log without truth after those with)."""
     logs = rows[rows["log"] != OVERALL].copy()
     logs["_failed"] = logs["error"] != ""
+    if "valid_share" not in logs:  # every log failed
+        logs["valid_share"] = math.nan
     logs["_rmse"] = -logs["rmse_valid"].fillna(-math.inf) if "rmse_valid" in logs else 0.0
     logs = logs.sort_values(["_failed", "valid_share", "_rmse", "log"],
                             ascending=[False, True, True, True], na_position="first",
@@ -453,7 +456,7 @@ def parser() -> argparse.ArgumentParser:
     ap.add_argument("--out", required=True, metavar="DIR", help="output folder (created)")
     ap.add_argument("--workers", type=int, default=None, metavar="N",
                     help="LocalCluster worker processes, one thread each "
-                         "(default: the cores, %(default)s = all)")
+                         "(default: the machine's cores)")
     ap.add_argument("--scheduler", metavar="ADDR",
                     help="a running dask scheduler (tcp://host:8786) instead of a LocalCluster")
     ap.add_argument("--mapping", metavar="FILE", help="the MDF4 mapping of the .mf4 logs")
@@ -466,7 +469,8 @@ def parser() -> argparse.ArgumentParser:
                             help=f"mu_replay's {flag}")
         else:
             ap.add_argument(flag, dest=name, choices=CHOICES.get(name),
-                            metavar=None if name in CHOICES else "VALUE",
+                            metavar=None if name in CHOICES else
+                            ("FILE" if name == "params" else "VALUE"),
                             help=f"mu_replay's {flag} (python -m rfe --help)")
     return ap
 

@@ -37,7 +37,8 @@ def valid_share_plot(table: pd.DataFrame) -> str:
     import matplotlib.pyplot as plt
     logs = table[(table["log"] != "ALL") & (table["error"] == "")]
     fig, ax = plt.subplots(figsize=(6.0, 3.0))
-    ax.hist(logs["valid_share"].dropna(), bins=np.linspace(0.0, 1.0, 21), color="#4878a8",
+    shares = logs["valid_share"].dropna() if "valid_share" in logs else []
+    ax.hist(shares, bins=np.linspace(0.0, 1.0, 21), color="#4878a8",
             edgecolor="white")
     ax.set_xlabel("valid share (steps with all four wheels valid)")
     ax.set_ylabel("logs")

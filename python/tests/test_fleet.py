@@ -191,6 +191,23 @@ def test_surface_histograms_count_every_valid_sample():
     assert list(hist) == ["0.85"]
     valid = int((est[["valid_fl", "valid_fr", "valid_rl", "valid_rr"]] != 0).to_numpy().sum())
     assert sum(hist["0.85"]) == valid > 0
+    want = sum(np.histogram(est.loc[est[f"valid_{w}"] != 0, f"mu_{w}"], bins=fleet.MU_BINS)[0]
+               for w in fleet.WHEELS)
+    assert hist["0.85"] == want.tolist()
+
+
+def test_surface_histograms_split_the_surfaces():
+    """Two surfaces, the bins' edges included (np.histogram's rule: the last bin closed)."""
+    est = pd.DataFrame({**{f"mu_{w}": [0.0, 1.3, 0.3125, 0.34] for w in fleet.WHEELS},
+                        **{f"valid_{w}": [1, 1, 1, 0] for w in fleet.WHEELS}})
+    truth = pd.DataFrame({w: [0.2, 0.2, 0.87, 0.87] for w in fleet.WHEELS})
+    hist = fleet.surface_histograms(est, truth)
+    assert sorted(hist) == ["0.20", "0.85"]
+    n = len(fleet.MU_BINS) - 1
+    assert hist["0.20"] == [4] + [0] * (n - 2) + [4]   # 0.0 in the first bin, 1.3 the last
+    low = [0] * n
+    low[12] = 4                                        # 0.3125: mid-bin [0.3, 0.325)
+    assert hist["0.85"] == low                         # 0.34 is not valid
 
 
 def test_usage_errors_exit_2(drives, tmp_path, capsys):
@@ -210,3 +227,18 @@ def test_find_logs_takes_folders_and_globs(drives):
     paths = fleet.estimate_paths([ROOT / LOGS[0], ROOT / LOGS[2]], Path("/o"))
     assert paths == [Path("/o/estimates/brake_in_turn.parquet"),
                      Path("/o/estimates/car_format/dlc_mu035.parquet")]
+
+
+def test_every_log_failed_still_gives_summary_and_report(tmp_path):
+    """With no log replayed the table has the errors and the overall row, and the report is
+    written (an empty distribution, no surfaces) instead of failing on absent columns."""
+    rows = [fleet.summary_row(f"/d/{n}.csv", "", {"error": f"InputError: {n}"})
+            for n in ("a", "b")]
+    table = fleet.summary_table(rows)
+    assert table["log"].tolist() == ["/d/a.csv", "/d/b.csv", fleet.OVERALL]
+    assert table["error"].iloc[-1] == "2 of 2 logs failed"
+    from rfe.fleet_report import write_report
+    write_report(tmp_path / "report.html", table, fleet.worst_first(table), {}, fleet.MU_BINS,
+                 options={})
+    page = (tmp_path / "report.html").read_text(encoding="utf-8")
+    assert "InputError: a" in page and "No log has truth columns" in page
