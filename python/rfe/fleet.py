@@ -26,6 +26,7 @@ import os
 import sys
 import time
 import traceback
+import uuid
 import warnings
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from pathlib import Path
@@ -336,8 +337,13 @@ def _client(workers: int | None, scheduler: str | None) -> tuple[Any, Any]:
                           "pip install rfe[fleet]") from e
     if scheduler:
         return Client(scheduler), None
-    cluster = LocalCluster(n_workers=workers or os.cpu_count() or 1, threads_per_worker=1,
-                           processes=True, dashboard_address=None)
+    import dask
+    # A worker that dies on a log (a crash in C) would die again on it: no retry on another
+    # worker (distributed's default of 3 is for workers lost at random); _gather runs the
+    # other logs it held again by themselves.
+    with dask.config.set({"distributed.scheduler.allowed-failures": 0}):
+        cluster = LocalCluster(n_workers=workers or os.cpu_count() or 1, threads_per_worker=1,
+                               processes=True, dashboard_address=None)
     return Client(cluster), cluster
 
 
@@ -401,29 +407,46 @@ def run(logs: Sequence[str | os.PathLike], out: str | os.PathLike, *,
 
 
 def _gather(client: Any, logs: Sequence[Path], est: Sequence[Path],
-            options: Mapping[str, Any], mapping: Any,
-            progress: Progress) -> dict[int, dict[str, Any]]:
-    """Submits one task per log and collects the results as they come; a task that raises
-    on the cluster's side (a worker that died with its log, KilledWorker) is that log's
-    failure. Stops early on a usage error, which every log would repeat."""
+            options: Mapping[str, Any], mapping: Any, progress: Progress,
+            task: Callable[..., dict[str, Any]] = replay_one) -> dict[int, dict[str, Any]]:
+    """Submits one task per log and collects the results as they come. A task that raises
+    on the cluster's side is that log's failure, except a worker's death (KilledWorker):
+    distributed blames every task the dying worker held, so a log that crashes its worker
+    can take the logs queued behind it along; those run again at the end, one at a time, and
+    only a log that kills its worker alone is reported so. Stops early on a usage error,
+    which every log would repeat. ``task`` is replay_one (another function in the tests)."""
     from dask.distributed import as_completed
-    futures = {client.submit(replay_one, str(p), str(e), dict(options), mapping,
-                             key=f"rfe-fleet-{i}-{p.name}", pure=False): i
-               for i, (p, e) in enumerate(zip(logs, est))}
-    results: dict[int, dict[str, Any]] = {}
-    done = as_completed(list(futures))
-    for fut in done:
-        i = futures[fut]
+    run_id = uuid.uuid4().hex[:8]  # keys unique per fleet run: a reused client caches none
+
+    def submit(i: int, tag: str = "") -> Any:
+        return client.submit(task, str(logs[i]), str(est[i]), dict(options), mapping,
+                             key=f"rfe-fleet-{run_id}-{i}{tag}-{logs[i].name}", pure=False)
+
+    def outcome(fut: Any, i: int) -> dict[str, Any]:
         try:
-            res = fut.result()
+            return fut.result()
         except Exception as e:  # noqa: BLE001 - the cluster's failure of this log's task
-            res = {"log": str(logs[i]), "error": f"{type(e).__name__}: {e}", "usage": False}
+            return {"log": str(logs[i]), "error": f"{type(e).__name__}: {e}", "usage": False,
+                    "killed": type(e).__name__ == "KilledWorker"}
+
+    futures = {submit(i): i for i in range(len(logs))}
+    results: dict[int, dict[str, Any]] = {}
+    killed: list[int] = []
+    for fut in as_completed(list(futures)):
+        i = futures[fut]
+        res = outcome(fut, i)
+        if res.get("killed"):
+            killed.append(i)
+            continue
         results[i] = res
         progress.update(str(logs[i]), res.get("error"))
         if res.get("usage"):
             for other in futures:
                 other.cancel()
-            break
+            return results
+    for i in sorted(killed):  # alone now: nothing else on the worker to take down
+        results[i] = outcome(submit(i, "-alone"), i)
+        progress.update(str(logs[i]), results[i].get("error"))
     return results
 
 

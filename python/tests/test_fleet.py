@@ -12,6 +12,7 @@ to reach the workers.
 """
 from __future__ import annotations
 
+import io
 import math
 import os
 import subprocess
@@ -242,3 +243,39 @@ def test_every_log_failed_still_gives_summary_and_report(tmp_path):
                  options={})
     page = (tmp_path / "report.html").read_text(encoding="utf-8")
     assert "InputError: a" in page and "No log has truth columns" in page
+
+
+def crash_on_crash_csv(log, estimates, options, mapping):
+    """replay_one, except that a log named crash.csv ends its worker process at once, as a
+    crash in C would."""
+    if Path(log).name == "crash.csv":
+        os._exit(3)
+    return fleet.replay_one(log, estimates, options, mapping)
+
+
+def test_a_log_that_kills_its_worker_takes_no_other_log_along(tmp_path):
+    """One worker, so the logs queued on it die with it (distributed blames each of them);
+    they run again alone and complete, and only the crashing log is reported."""
+    import cloudpickle
+    import dask
+    from dask.distributed import Client, LocalCluster
+    cloudpickle.register_pickle_by_value(sys.modules[__name__])  # the workers lack this file
+    crash = tmp_path / "crash.csv"
+    crash.write_text((ROOT / "scenarios/cruise.csv").read_text(encoding="utf-8"), encoding="utf-8")
+    logs = [crash, ROOT / "scenarios/brake_in_turn.csv", ROOT / "scenarios/cruise.csv"]
+    est = fleet.estimate_paths(logs, tmp_path / "out")
+    for p in est:
+        p.parent.mkdir(parents=True, exist_ok=True)
+    stream = io.StringIO()
+    # a dead worker's tasks fail at once instead of after three more deaths (distributed's
+    # default, for workers lost at random): the same path, a fraction of the worker restarts
+    with dask.config.set({"distributed.scheduler.allowed-failures": 0}), \
+            LocalCluster(n_workers=1, threads_per_worker=1, processes=True,
+                         dashboard_address=None) as cluster, Client(cluster) as client:
+        results = fleet._gather(client, logs, est, {}, None,
+                                fleet.Progress(len(logs), quiet=True, stream=stream),
+                                task=crash_on_crash_csv)
+    assert results[0]["error"].startswith("KilledWorker")
+    assert results[1]["error"] is None and results[2]["error"] is None
+    assert est[1].is_file() and est[2].is_file()
+    assert stream.getvalue().count("rfe.fleet: ") == 1   # the crashing log alone
