@@ -163,7 +163,6 @@ def replay_one(log: str, estimates: str, options: Mapping[str, Any],
                               if issubclass(w.category, errors.RfeWarning)]
         summary = df.attrs["summary"]
         result["summary"] = summary
-        result["rows"] = len(df)
         result["valid_steps"] = int((df[[f"valid_{w}" for w in WHEELS]] != 0).all(axis=1).sum())
         result["histograms"] = {}
         if summary.get("metrics") is not None:
@@ -218,6 +217,7 @@ def summary_row(log: str, estimates: str, result: Mapping[str, Any]) -> dict[str
     row["bad_rows"] = summary["bad_cells"]["rows"]
     row["gaps"] = summary["gaps"]["count"]
     row["warnings"] = len(result.get("warnings", []))
+    row["seconds"] = result.get("seconds", math.nan)
     return row
 
 
@@ -264,7 +264,7 @@ def summary_table(rows: Sequence[Mapping[str, Any]]) -> pd.DataFrame:
                       key=lambda c: int(c[len(STATUS_PREFIX):]))
     order = ["log", "error", "real", "steps", "valid_steps", "valid_share", "n_settled",
              "n_valid", "frac_valid", "consistency_valid", "rmse_valid", *statuses,
-             *COUNT_COLUMNS, "estimates"]
+             *COUNT_COLUMNS, "seconds", "estimates"]
     df = df.reindex(columns=[c for c in order if c in df.columns])
     table = pd.concat([df, pd.DataFrame([overall_row(df)])], ignore_index=True)
     table = table.reindex(columns=df.columns)
@@ -302,12 +302,16 @@ class Progress:
         self.tty = hasattr(self.stream, "isatty") and self.stream.isatty()
         self.start = time.perf_counter()
 
-    def update(self, log: str, error: str | None) -> None:
+    def update(self, log: str, error: str | None, detail: str | None = None) -> None:
+        """One more log done; ``error`` its failure, ``detail`` a traceback worth showing
+        (a failure that is not the library's)."""
         self.done += 1
         if error:
             self.failed += 1
             self._clear()
             print(f"rfe.fleet: {log}: {error}", file=self.stream)
+            if detail:
+                print(detail, file=self.stream, end="")
         if self.quiet:
             return
         rate = self.done / max(time.perf_counter() - self.start, 1e-9)
@@ -327,6 +331,11 @@ class Progress:
             self.stream.write("\r" + " " * 79 + "\r")
 
 
+# No dashboard (it needs bokeh), and the scheduler's HTTP endpoints on a free port rather than
+# 8787, which a second cluster on the machine would find taken (and warn).
+QUIET_CLUSTER = {"dashboard_address": None, "scheduler_kwargs": {"dashboard_address": ":0"}}
+
+
 def _client(workers: int | None, scheduler: str | None) -> tuple[Any, Any]:
     """A dask.distributed client: on the scheduler at ``scheduler``, or on a LocalCluster of
     ``workers`` processes with one thread each (one replay at a time per process)."""
@@ -343,13 +352,14 @@ def _client(workers: int | None, scheduler: str | None) -> tuple[Any, Any]:
     # other logs it held again by themselves.
     with dask.config.set({"distributed.scheduler.allowed-failures": 0}):
         cluster = LocalCluster(n_workers=workers or os.cpu_count() or 1, threads_per_worker=1,
-                               processes=True, dashboard_address=None)
+                               processes=True, **QUIET_CLUSTER)
     return Client(cluster), cluster
 
 
 def run(logs: Sequence[str | os.PathLike], out: str | os.PathLike, *,
         workers: int | None = None, scheduler: str | None = None, client: Any = None,
-        mapping: str | os.PathLike | None = None, quiet: bool = False, report: bool = True,
+        mapping: str | os.PathLike | Mapping[str, Any] | None = None, quiet: bool = False,
+        report: bool = True,
         progress_stream: Any = None, **options: Any) -> pd.DataFrame:
     """Replays every log on Dask into ``out`` and returns the summary table (also written
     as ``out/summary.csv``; ``out/report.html`` unless ``report=False``).
@@ -362,7 +372,7 @@ def run(logs: Sequence[str | os.PathLike], out: str | os.PathLike, *,
         scheduler: a dask scheduler's address instead of a LocalCluster (its workers must
             import rfe and see the logs and ``out`` at the same paths).
         client: an existing dask.distributed Client to use instead of either.
-        mapping: the MDF4 mapping file of the .mf4 logs.
+        mapping: the MDF4 mapping (a file, or the dict rfe.read_mdf takes) of the .mf4 logs.
         quiet: no progress bar (failures are still printed on stderr).
         **options: rfe.replay's options (preset, params, real, velocity, ...).
     Raises:
@@ -376,7 +386,8 @@ def run(logs: Sequence[str | os.PathLike], out: str | os.PathLike, *,
     est = estimate_paths(found, out_dir)
     for p in {e.parent for e in est}:
         p.mkdir(parents=True, exist_ok=True)
-    mapping_arg = os.path.abspath(mapping) if mapping is not None else None
+    mapping_arg = mapping if mapping is None or isinstance(mapping, Mapping) else \
+        os.path.abspath(mapping)  # a path the workers find whatever their folder
     own, cluster = (client, None) if client is not None else _client(workers, scheduler)
     results: dict[int, dict[str, Any]] = {}
     try:
@@ -439,14 +450,14 @@ def _gather(client: Any, logs: Sequence[Path], est: Sequence[Path],
             killed.append(i)
             continue
         results[i] = res
-        progress.update(str(logs[i]), res.get("error"))
+        progress.update(str(logs[i]), res.get("error"), res.get("traceback"))
         if res.get("usage"):
             for other in futures:
                 other.cancel()
             return results
     for i in sorted(killed):  # alone now: nothing else on the worker to take down
         results[i] = outcome(submit(i, "-alone"), i)
-        progress.update(str(logs[i]), results[i].get("error"))
+        progress.update(str(logs[i]), results[i].get("error"), results[i].get("traceback"))
     return results
 
 

@@ -271,7 +271,7 @@ def test_a_log_that_kills_its_worker_takes_no_other_log_along(tmp_path):
     # default, for workers lost at random): the same path, a fraction of the worker restarts
     with dask.config.set({"distributed.scheduler.allowed-failures": 0}), \
             LocalCluster(n_workers=1, threads_per_worker=1, processes=True,
-                         dashboard_address=None) as cluster, Client(cluster) as client:
+                         **fleet.QUIET_CLUSTER) as cluster, Client(cluster) as client:
         results = fleet._gather(client, logs, est, {}, None,
                                 fleet.Progress(len(logs), quiet=True, stream=stream),
                                 task=crash_on_crash_csv)

@@ -59,7 +59,7 @@ def fleet_running(logs: list[Path], out: Path, workers: int, reps: int) -> list[
     from dask.distributed import Client, LocalCluster
     times = []
     with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                      dashboard_address=None) as cluster, Client(cluster) as client:
+                      **fleet.QUIET_CLUSTER) as cluster, Client(cluster) as client:
         fleet.run(logs[:workers], out, client=client, quiet=True)  # workers import rfe
         for _ in range(reps):
             start = time.perf_counter()
