@@ -378,11 +378,15 @@ def run(logs: Sequence[str | os.PathLike], out: str | os.PathLike, *,
     Raises:
         UsageError: no log found, an .mf4 without mapping, or options every run refuses.
     """
-    found = find_logs([os.fspath(p) for p in logs])
+    out_dir = Path(out).resolve()
+    # not the estimates of an earlier run into the same folder (drives/ --out drives/fleet)
+    found = [p for p in find_logs([os.fspath(p) for p in logs]) if out_dir not in p.parents]
+    if not found:
+        raise errors.UsageError(f"every log found is inside the output folder {out_dir}",
+                                exit_code=2)
     if mapping is None and any(p.suffix.lower() in MDF_SUFFIXES for p in found):
         raise errors.UsageError("MDF4 logs need --mapping (docs/PYTHON.md \"MDF4 input\")",
                                 exit_code=2)
-    out_dir = Path(out).resolve()
     est = estimate_paths(found, out_dir)
     for p in {e.parent for e in est}:
         p.mkdir(parents=True, exist_ok=True)

@@ -221,6 +221,16 @@ def test_usage_errors_exit_2(drives, tmp_path, capsys):
     assert e.value.code == 2
 
 
+def test_the_output_folder_is_no_input(tmp_path, capsys):
+    """Replaying a folder into a folder inside it again does not take the first run's
+    estimates (Parquet) for sensor logs."""
+    old = tmp_path / "drives" / "fleet" / "estimates" / "drive.parquet"
+    old.parent.mkdir(parents=True)
+    old.write_bytes(b"")
+    assert fleet.main([str(tmp_path / "drives"), "--out", str(tmp_path / "drives" / "fleet")]) == 2
+    assert "inside the output folder" in capsys.readouterr().err
+
+
 def test_find_logs_takes_folders_and_globs(drives):
     by_folder = fleet.find_logs([str(drives["dir"])])
     assert [p.name for p in by_folder] == ["cut.csv", "no_wheels.csv", "recorded.mf4"]
