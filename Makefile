@@ -216,6 +216,17 @@ test-pkg: venv $(BUILD)/mu_replay
 	PYTHONPATH=$(abspath $(PKG_DIR)) MU_REPLAY=$(abspath $(BUILD)/mu_replay) $(PY) -m pytest -q \
 	  -p no:cacheprovider python/tests --junitxml=$(RESULTS)/pkg/pytest.xml
 
+# The fleet replay's speed (docs/PYTHON.md "Fleet replay"): a benchmark, not a test. The package
+# is built into $(PKG_DIR) as test-pkg builds it.
+.PHONY: fleet-bench
+## logs per second of python -m rfe.fleet with 1 and 2 workers against a plain loop (docs/PYTHON.md)
+fleet-bench: venv
+	@mkdir -p $(BUILD)
+	@RFE_BUILD_JOBS=$(TEST_JOBS) $(VENV)/bin/pip install -q --no-build-isolation --no-deps \
+	  --no-cache-dir --target $(PKG_DIR) --upgrade . >$(BUILD)/pkg-build.log 2>&1 || \
+	  { cat $(BUILD)/pkg-build.log; echo "fleet-bench: the package build failed"; exit 1; }
+	PYTHONPATH=$(abspath $(PKG_DIR)) $(PY) scripts/bench/fleet_bench.py $(FLEET_BENCH_ARGS)
+
 COV_MIN_LINES    := 95
 COV_MIN_BRANCHES := 85
 ## gcov line and branch coverage of src/ with its gate and justifications
