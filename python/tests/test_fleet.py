@@ -12,6 +12,7 @@ to reach the workers.
 """
 from __future__ import annotations
 
+import faulthandler
 import io
 import math
 import os
@@ -277,6 +278,10 @@ def test_a_log_that_kills_its_worker_takes_no_other_log_along(tmp_path):
     for p in est:
         p.parent.mkdir(parents=True, exist_ok=True)
     stream = io.StringIO()
+    # A hang guard, not a timing: an early version of this test (distributed's default of
+    # three retries) hung once; should it ever hang again, the run ends with every thread's
+    # traceback after 10 minutes instead of using up CI's 90.
+    faulthandler.dump_traceback_later(600, exit=True)
     # a dead worker's tasks fail at once instead of after three more deaths (distributed's
     # default, for workers lost at random): the same path, a fraction of the worker restarts
     with dask.config.set({"distributed.scheduler.allowed-failures": 0}), \
@@ -285,6 +290,7 @@ def test_a_log_that_kills_its_worker_takes_no_other_log_along(tmp_path):
         results = fleet._gather(client, logs, est, {}, None,
                                 fleet.Progress(len(logs), quiet=True, stream=stream),
                                 task=crash_on_crash_csv)
+    faulthandler.cancel_dump_traceback_later()
     assert results[0]["error"].startswith("KilledWorker")
     assert results[1]["error"] is None and results[2]["error"] is None
     assert est[1].is_file() and est[2].is_file()
