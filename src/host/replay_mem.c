@@ -11,15 +11,14 @@
 
 /* The estimate log's columns (DATA.md "Estimate log"), in est_values' order. */
 static const char *const k_mem_cols[RFE_MEM_COLS] = {
-    "t",         "mu_fl",      "mu_fr",   "mu_rl",    "mu_rr",    "sd_fl",       "sd_fr",
-    "sd_rl",     "sd_rr",      "valid_fl", "valid_fr", "valid_rl", "valid_rr",   "status",
-    "vx_est",    "vy_est",     "beta_est", "yaw_acc_est", "sd_vx", "sd_vy",       "sd_beta",
-    "mass_est",  "sd_mass",    "grade_est", "sd_grade", "mg_status", "mass_used", "",
-    "",          ""};
+    "t",         "mu_fl",     "mu_fr",     "mu_rl",    "mu_rr",     "sd_fl",       "sd_fr",
+    "sd_rl",     "sd_rr",     "valid_fl",  "valid_fr", "valid_rl",  "valid_rr",    "status",
+    "vx_est",    "vy_est",    "beta_est",  "yaw_acc_est", "sd_vx",  "sd_vy",       "sd_beta",
+    "mass_est",  "sd_mass",   "grade_est", "sd_grade", "mg_status", "mass_used"};
 
 const char *rfe_replay_mem_col(size_t i)
 {
-    return ((i < RFE_MEM_COLS) && (k_mem_cols[i][0] != '\0')) ? k_mem_cols[i] : NULL;
+    return (i < RFE_MEM_COLS) ? k_mem_cols[i] : NULL;
 }
 
 size_t rfe_replay_mem_state_size(int real)
@@ -30,11 +29,11 @@ size_t rfe_replay_mem_state_size(int real)
                                            : 0u;
 }
 
-/* One estimate row as RFE_MEM_COLS values (the unused tail 0). */
+/* One estimate row as RFE_MEM_COLS values (k_mem_cols' order; the observer's and the mass
+ * and grade estimator's as the row holds them, 0 when they did not run). */
 static void est_values(const rfe_est_row_t *e, double *v)
 {
     size_t w;
-    memset(v, 0, RFE_MEM_COLS * sizeof *v);
     v[0] = e->t;
     for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
         v[1u + w] = e->mu[w];

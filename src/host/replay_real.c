@@ -566,9 +566,9 @@ static void mass_grade_first(rfe_replay_state_t *st, const rfe_sensor_row_t *row
         /* a mass rfe_params_set_mass refuses (not finite, <= 0: not an estimate in
          * [mg_m_min, mg_m_max]) leaves the last one; the observer keeps the friction
          * estimator's vehicle */
-        fed = (int)((st->observer != 0) ? rfe_pipeline_set_mass(&st->pl, (rfe_real_t)out->mass)
-                                        : rfe_friction_set_mass(&st->pl.friction,
-                                                                (rfe_real_t)out->mass));
+        const rfe_real_t m = (rfe_real_t)out->mass;
+        fed = (int)((st->observer != 0) ? rfe_pipeline_set_mass(&st->pl, m)
+                                        : rfe_friction_set_mass(&st->pl.friction, m));
     }
     mass_used_row(st->pl.friction.params.vehicle.m, fed, out, &st->stats);
 }

@@ -1240,12 +1240,14 @@ static void test_rfe_replay_state_steps_as_the_run(void **state)
     assert_int_equal(rfe_sensor_log_read(DATA "good_esc.csv", &log, &err), 0);
     assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_DEFAULT), 0);
     for (observer = 0; observer <= 1; ++observer) {
+        /* the fields a step does not write (vx .. of a measuring run) equal too */
+        memset(run, 0, sizeof run);
+        memset(one, 0, sizeof one);
         assert_int_equal(observer ? rfe_replay_run_observer_f64(&ps, &log, run, &st_run, NULL)
                                   : rfe_replay_run_f64(&ps, &log, run, &st_run, NULL),
                          RFE_OK);
         assert_int_equal(rfe_replay_begin_f64(s, &ps, &log, observer, NULL), RFE_OK);
         for (i = 0u; i < log.n_rows; ++i) {
-            memset(&one[i], 0, sizeof one[i]);
             assert_int_equal(rfe_replay_step_f64(s, &log.rows[i], &one[i]), RFE_OK);
             if (i == 1u) { /* the same row again: refused, nothing changed */
                 rfe_est_row_t again = one[i];
@@ -1259,6 +1261,8 @@ static void test_rfe_replay_state_steps_as_the_run(void **state)
         }
         assert_int_equal(rfe_replay_get_stats_f64(s, &st_one), RFE_OK);
         assert_memory_equal(&st_one, &st_run, sizeof st_one);
+        memset(run, 0, sizeof run);
+        memset(one, 0, sizeof one);
         assert_int_equal(observer ? rfe_replay_run_observer_q31(&ps, &log, run, &q_run, NULL, NULL)
                                   : rfe_replay_run_q31(&ps, &log, run, &q_run, NULL, NULL),
                          RFE_OK);
@@ -1320,6 +1324,33 @@ static void test_rfe_replay_state_refusals(void **state)
     free(q);
 }
 
+/* The ESC sample of log row i for tools that step the observer themselves (the PIL data
+ * generator, the soak): the period since row prev (none: prev >= i, dt 0), the optional
+ * columns the log has, and in q31 those values rounded to their Q formats. REQ-CLI-003 */
+static void test_rfe_replay_esc_input_of_a_log_row(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    rfe_velocity_input_t in;
+    rfe_velocity_input_q31_t q;
+    uint32_t sat;
+    (void)state;
+    assert_int_equal(rfe_sensor_log_read(DATA "good_esc.csv", &log, &err), 0);
+    rfe_replay_esc_input_f64(&log, 2u, 1u, &in);
+    assert_true(in.dt == log.rows[2].t - log.rows[1].t);
+    assert_true(in.omega[RFE_FL] == log.rows[2].omega[RFE_FL]);
+    assert_true(in.p_brake[RFE_RR] == log.rows[2].p_brake[RFE_RR]);
+    assert_int_equal(in.has, RFE_VEL_HAS_PRESSURE);
+    rfe_replay_esc_input_f64(&log, 0u, SIZE_MAX, &in);
+    assert_true(in.dt == 0.0);
+    sat = rfe_replay_esc_input_q31(&log, 2u, 1u, &q);
+    assert_int_equal(sat, 0);
+    /* 0.01 s in the period's Q format, rounded to nearest */
+    assert_int_equal(q.dt, (int32_t)lround(ldexp(log.rows[2].t - log.rows[1].t, RFE_FIX_Q_DT)));
+    assert_int_equal(q.has, RFE_VEL_HAS_PRESSURE);
+    rfe_sensor_log_free(&log);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1353,6 +1384,7 @@ int main(void)
         cmocka_unit_test(test_rfe_replay_feed_off_is_mass_grade_off),
         cmocka_unit_test(test_rfe_replay_state_steps_as_the_run),
         cmocka_unit_test(test_rfe_replay_state_refusals),
+        cmocka_unit_test(test_rfe_replay_esc_input_of_a_log_row),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -266,9 +266,122 @@ static void test_rfe_replay_mem_errors(void **state)
     assert_int_equal(rfe_mu_replay_open(&mem, 9, argv, "mu0 = x\n", meta, 1u, m.cols,
                                         m.t.n_cols, m.t.n_rows, s, &err), RFE_MEM_INPUT);
     assert_string_equal(err.file, "params");
+    assert_int_equal(rfe_mu_replay_open(&mem, 9, argv, "", meta, 1u, m.cols, m.t.n_cols,
+                                        m.t.n_rows, s, &err), 0); /* no lines: the file's */
+    assert_true(mem.ps.value[RFE_PK_mu0] == 0.7);
+    assert_int_equal(rfe_mu_replay_open(&mem, 9, argv, NULL, meta, 1u, m.cols, 1u, m.t.n_rows,
+                                        s, &err), RFE_MEM_INPUT); /* t alone */
+    assert_non_null(strstr(err.msg, "missing column"));
     assert_int_equal(rfe_replay_mem_state_size(3), 0);
     assert_null(rfe_replay_mem_col(RFE_MEM_COLS));
     free(s);
+    mem_cols_free(&m);
+}
+
+/** A file's `# key = value` metadata (trimmed), as the reader keeps it. */
+typedef struct {
+    char text[32][2][128];
+    rfe_kv_t kv[32];
+    size_t n;
+} mem_meta_t;
+
+static char *trim_text(char *s)
+{
+    char *e = s + strlen(s);
+    while ((*s == ' ') || (*s == '\t')) {
+        ++s;
+    }
+    while ((e > s) && ((e[-1] == ' ') || (e[-1] == '\n') || (e[-1] == '\r'))) {
+        *--e = '\0';
+    }
+    return s;
+}
+
+static void mem_meta_load(const char *path, mem_meta_t *m)
+{
+    char line[512];
+    FILE *f = fopen(path, "r");
+    assert_non_null(f);
+    m->n = 0u;
+    while ((fgets(line, sizeof line, f) != NULL) && (line[0] == '#')) {
+        char *eq = strchr(line, '=');
+        if (eq == NULL) {
+            continue;
+        }
+        *eq = '\0';
+        assert_true(m->n < 32u);
+        (void)snprintf(m->text[m->n][0], 128, "%s", trim_text(line + 1));
+        (void)snprintf(m->text[m->n][1], 128, "%s", trim_text(eq + 1));
+        m->kv[m->n].key = m->text[m->n][0];
+        m->kv[m->n].value = m->text[m->n][1];
+        ++m->n;
+    }
+    (void)fclose(f);
+}
+
+/* A car logger's columns in its own units and names (km/h wheel speeds through R, the
+ * steering-wheel angle: the observer) run in memory equal mu_replay on the file, in blocks
+ * too. REQ-CLI-003 */
+static void test_rfe_replay_mem_car_units_equal_mu_replay(void **state)
+{
+    static mem_meta_t meta;
+    mem_cols_t m;
+    test_table_t est;
+    rfe_replay_mem_t mem;
+    rfe_io_error_t err;
+    void *s;
+    double *out;
+    (void)state;
+    mem_cols_load(DATA "car_format_small.csv", &m);
+    mem_meta_load(DATA "car_format_small.csv", &meta);
+    out = calloc(m.t.n_rows * RFE_MEM_COLS, sizeof *out);
+    assert_non_null(out);
+    cli_estimates(DATA "car_format_small.csv", "double", NULL, &est);
+    assert_int_equal(mem_run(&m, meta.kv, meta.n, "double", NULL, 3u, out, &mem, &s, &err), 0);
+    assert_int_equal(mem.observer, 1);
+    assert_equals_cli(&est, out, 0);
+    test_table_free(&est);
+    free(out);
+    free(s);
+    mem_cols_free(&m);
+}
+
+/* A measuring log's steering-wheel angle with its ratio (obs_steer_ratio = 2) runs as the
+ * same log with delta = swa / 2 (both exact: a doubling and a halving). REQ-CLI-003 */
+static void test_rfe_replay_mem_steer_ratio_as_delta(void **state)
+{
+    static const rfe_kv_t meta[3] = {{"mu0", "0.6"}, {"tyre", "absolute"}, {"dt", "0.01"}};
+    static const rfe_kv_t meta_swa[4] = {{"mu0", "0.6"}, {"tyre", "absolute"}, {"dt", "0.01"},
+                                         {"obs_steer_ratio", "2"}};
+    mem_cols_t m;
+    rfe_replay_mem_t mem;
+    rfe_io_error_t err;
+    void *s1;
+    void *s2;
+    size_t j;
+    size_t i;
+    double *a;
+    double *b;
+    (void)state;
+    mem_cols_load(DATA "good_small.csv", &m);
+    a = calloc(m.t.n_rows * RFE_MEM_COLS, sizeof *a);
+    b = calloc(m.t.n_rows * RFE_MEM_COLS, sizeof *b);
+    assert_non_null(a);
+    assert_non_null(b);
+    assert_int_equal(mem_run(&m, meta, 3u, "double", NULL, m.t.n_rows, a, &mem, &s1, &err), 0);
+    for (j = 0u; strcmp(m.cols[j].name, "delta") != 0; ++j) {
+    }
+    m.cols[j].name = "swa";
+    for (i = 0u; i < m.t.n_rows; ++i) {
+        m.values[j * m.t.n_rows + i] *= 2.0;
+    }
+    assert_int_equal(mem_run(&m, meta_swa, 4u, "double", NULL, 2u, b, &mem, &s2, &err), 0);
+    assert_int_equal(mem.observer, 0);
+    assert_memory_equal(a, b, m.t.n_rows * RFE_MEM_COLS * sizeof *a);
+    free(a);
+    free(b);
+    free(s1);
+    free(s2);
     mem_cols_free(&m);
 }
 
@@ -277,6 +390,8 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_rfe_replay_mem_equals_mu_replay),
         cmocka_unit_test(test_rfe_replay_mem_errors),
+        cmocka_unit_test(test_rfe_replay_mem_car_units_equal_mu_replay),
+        cmocka_unit_test(test_rfe_replay_mem_steer_ratio_as_delta),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
