@@ -69,10 +69,35 @@ CDEF = """
 int rfe_mu_replay_main(int argc, char **argv);
 const char *rfe_py_status_str(int status);
 int fflush(FILE *stream);
+
+/* the in-memory replay (src/host/replay_mem.h); "...;": the rest as the C header has it */
+#define RFE_MEM_COLS ...
+#define RFE_MEM_INPUT ...
+#define RFE_MEM_USAGE ...
+typedef struct { const char *key; const char *value; } rfe_kv_t;
+typedef struct { const char *name; const double *values; } rfe_column_t;
+typedef struct { const char *file; size_t line; size_t col; char msg[]; ...; } rfe_io_error_t;
+typedef struct { size_t n_steps; size_t status_count[]; size_t n_gaps; uint64_t n_skipped;
+                 size_t n_restarts; ...; } rfe_replay_stats_t;
+typedef struct { rfe_replay_stats_t base; uint64_t input_sat; size_t input_sat_rows;
+                 uint64_t est_sat; uint32_t est_sat_max; size_t est_sat_rows; ...; }
+    rfe_replay_q31_stats_t;
+typedef struct { int real; int observer; int mass_grade; int dt_given; int preset_vehicle;
+                 int ready; ...; } rfe_replay_mem_t;
+size_t rfe_replay_mem_state_size(int real);
+int rfe_mu_replay_open(rfe_replay_mem_t *m, int argc, char **argv, const char *params_text,
+                       const rfe_kv_t *meta, size_t n_meta, const rfe_column_t *cols,
+                       size_t n_cols, size_t n_rows, void *state, rfe_io_error_t *err);
+int rfe_replay_mem_feed(rfe_replay_mem_t *m, const rfe_kv_t *meta, size_t n_meta,
+                        const rfe_column_t *cols, size_t n_cols, size_t n_rows, double *out,
+                        rfe_io_error_t *err);
+int rfe_replay_mem_stats(const rfe_replay_mem_t *m, rfe_replay_q31_stats_t *stats);
+const char *rfe_replay_mem_col(size_t i);
 """
 CSRC = """
 #include <stdio.h>
 #include "rfe/common.h"
+#include "replay_mem.h"
 int rfe_mu_replay_main(int argc, char **argv);
 static const char *rfe_py_status_str(int status) { return rfe_status_str((rfe_status_t)status); }
 """

@@ -20,8 +20,11 @@ LIB_HDRS      := $(wildcard include/rfe/*.h include/rfe/component/*.h $(addsuffi
 Q31_SRC       := $(filter %_q31.c,$(LIB_ALL_SRC))
 LIB_SRC       := $(filter-out $(Q31_SRC),$(LIB_ALL_SRC))
 # replay_q31.c (the `--real q31` replay) needs the q31 library: linked only into mu_replay and
-# the q31 tests, never into hostlib.a (whose objects the fuzz harnesses link one by one).
-HOST_SRC      := $(filter-out src/host/mu_replay.c src/host/replay_real.c src/host/replay_q31.c,$(wildcard src/host/*.c))
+# the q31 tests, never into hostlib.a (whose objects the fuzz harnesses link one by one);
+# replay_mem.c (the in-memory replay of the Python package) needs all three replays, and
+# mu_replay.c's set-up: compiled with mu_replay.
+HOST_SRC      := $(filter-out src/host/mu_replay.c src/host/replay_real.c src/host/replay_q31.c \
+                   src/host/replay_mem.c,$(wildcard src/host/*.c))
 # The C tests (test/README.md): per module in the folder of its layer, and by concern
 # (golden, robustness, mcdc); named <folder>/test_<name> (binaries build/<tree>/test/<folder>/).
 TEST_DIRS     := test/numerics test/filters test/models test/params test/estimators/friction \
@@ -104,6 +107,22 @@ $(BUILD)/$(1)/test/host/%: test/host/%.c $(BUILD)/$(1)/librfe.a $(patsubst test/
 	  $(patsubst test/support/%.c,$(BUILD)/$(1)/support/%.o,$(TEST_SUPPORT)) \
 	  $(BUILD)/$(1)/host/replay_q31.o $(BUILD)/$(1)/host/replay_real.o $(BUILD)/$(1)/hostlib.a \
 	  $(BUILD)/$(2)/librfe_q31.a $(BUILD)/$(1)/librfe.a $$(LDLIBS_TEST) -o $$@
+# test_replay_mem: the in-memory replay (replay_mem.c) with mu_replay's set-up (mu_replay.c,
+# main renamed as the Python package builds it) and the float replay (its f32 twin tree) too.
+$(BUILD)/$(1)/test/host/test_replay_mem: test/host/test_replay_mem.c $(BUILD)/$(1)/host/mu_replay_lib.o \
+    $(BUILD)/$(1)/host/replay_mem.o $(BUILD)/$(subst f64,f32,$(1))/host/replay_real.o \
+    $(BUILD)/$(subst f64,f32,$(1))/librfe.a $(BUILD)/$(1)/librfe.a $(BUILD)/$(1)/hostlib.a \
+    $(BUILD)/$(1)/host/replay_real.o $(BUILD)/$(1)/host/replay_q31.o $(BUILD)/$(2)/librfe_q31.a \
+    $(patsubst test/support/%.c,$(BUILD)/$(1)/support/%.o,$(TEST_SUPPORT))
+	@mkdir -p $$(@D)
+	$$(CC) $$(DEPFLAGS) $$(TEST_WARN) $(3) -DRFE_REAL_DOUBLE $$(CPPFLAGS_HOST) -Itest/support -Isrc $$< \
+	  $(patsubst test/support/%.c,$(BUILD)/$(1)/support/%.o,$(TEST_SUPPORT)) \
+	  $(BUILD)/$(1)/host/mu_replay_lib.o $(BUILD)/$(1)/host/replay_mem.o \
+	  $(BUILD)/$(subst f64,f32,$(1))/host/replay_real.o $(BUILD)/$(1)/host/replay_q31.o \
+	  $(BUILD)/$(1)/host/replay_real.o $(BUILD)/$(1)/hostlib.a $(BUILD)/$(2)/librfe_q31.a \
+	  $(BUILD)/$(subst f64,f32,$(1))/librfe.a $(BUILD)/$(1)/librfe.a $$(LDLIBS_TEST) -o $$@
+$(BUILD)/$(1)/host/mu_replay_lib.o: src/host/mu_replay.c | $(BUILD)/$(1)/host
+	$$(CC) $$(DEPFLAGS) $$(WARN) $(3) -Dmain=rfe_mu_replay_main $$(CPPFLAGS_HOST) -c $$< -o $$@
 endef
 $(eval $(call HOST_TEST_RULES,f64,q31,$(OPT)))
 $(eval $(call HOST_TEST_RULES,cov-f64,cov-q31,$(COVFLAGS)))
@@ -113,7 +132,7 @@ $(eval $(call HOST_TEST_RULES,asan-f64,asan-q31,$(SANFLAGS)))
 # and the fixed-point replay (replay_q31.o, a double unit) with the q31 library.
 define REPLAY_RULE
 # $(1) = output, $(2) = f32 tree, $(3) = f64 tree, $(4) = flags, $(5) = q31 tree
-$(1): src/host/mu_replay.c $(BUILD)/$(2)/host/replay_real.o $(BUILD)/$(3)/host/replay_real.o \
+$(1): src/host/mu_replay.c src/host/replay_mem.c $(BUILD)/$(2)/host/replay_real.o $(BUILD)/$(3)/host/replay_real.o \
       $(BUILD)/$(3)/host/replay_q31.o $(BUILD)/$(3)/hostlib.a $(BUILD)/$(5)/librfe_q31.a \
       $(BUILD)/$(2)/librfe.a $(BUILD)/$(3)/librfe.a
 	$$(CC) $$(DEPFLAGS) $$(WARN) $(4) $$(CPPFLAGS_HOST) $$(filter %.c %.o %.a,$$^) -lm -o $$@

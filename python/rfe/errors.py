@@ -5,6 +5,8 @@ failed run, 2 bad usage) and one line ``mu_replay: FILE:LINE:COL: message``. The
 is chosen by the library status the message names (its rfe_status_str text, taken from the
 C library, or the fixed-point range check's wording); ``status`` is that rfe_status_t value,
 or None when the error is not the library's (a file that cannot be read, a malformed cell).
+A run in memory (rfe.inmem) returns its status as a code instead, which picks the class
+(BY_STATUS) without reading the message.
 """
 from __future__ import annotations
 

@@ -1,9 +1,10 @@
 """rfe.replay, rfe.metrics and rfe.Estimator: mu_replay's run from Python.
 
-Every run is one call of mu_replay's C main (rfe.cli) with the options as its flags, the
+A replay is one call of mu_replay's C main (rfe.cli) with the options as its flags, the
 estimate log written by the C writer and read back exactly (each value is written as the
 shortest text that reads back as the same double, and read with a correctly rounded parser),
 so a DataFrame holds what ``mu_replay`` writes, bit for bit, in float, double and q31.
+Estimator.run and .step on columns in memory take no file: rfe.inmem.
 """
 from __future__ import annotations
 
@@ -242,14 +243,23 @@ def metrics(source: Source | pd.DataFrame, **options: Any) -> dict[str, Any]:
 
 class Estimator:
     """A configured estimator: the preset, parameters, precision and velocity source of a
-    run, applied to logs or to columns of samples.
+    run, applied to logs, to columns of samples in memory (:meth:`run`) or to one sample at a
+    time (:meth:`step`).
 
     Args:
         preset: "default" or "paper" (the library's parameter sets).
         params: a mapping key -> value or a parameter file (docs/spec/DATA.md keys).
         real: "float" (default), "double" or "q31".
         velocity: "auto" (default), "observer" or "measured".
-        **options: the other options of :func:`replay` (filter, tyre, mass_grade, ...).
+        **options: the other options of :func:`replay` (filter, tyre, mass_grade, strict,
+            require_params).
+
+    A DataFrame or a mapping of columns runs in memory (no file, nothing printed, the GIL
+    released while the C code steps), with the estimates of :func:`replay` bit for bit (a
+    float run's values are its floats exactly, which ``replay`` reads back from their
+    ``%.9g`` text: equal as float32). Each run, and each Estimator's :meth:`step` state, is
+    its own C memory, so Estimators may run in several threads at once; one Estimator's
+    :meth:`step` is not for two threads at a time.
     """
 
     def __init__(self, preset: str = "default",
@@ -261,15 +271,98 @@ class Estimator:
         self.real = real
         self.velocity = velocity
         self.options = options
+        self._stepper: Any = None
+
+    def _mem_args(self, name: str) -> tuple[list[str], str | None]:
+        """mu_replay's arguments of this configuration for a run in memory, and the
+        parameters given as a mapping as `key = value` text (None: none or a file)."""
+        if "quiet" in self.options:
+            raise TypeError("quiet is for replay(): a run in memory prints nothing")
+        args = ["--in", name, "--out", "(memory)", "--preset", str(self.preset),
+                "--real", str(self.real), "--velocity", str(self.velocity)] + _args(self.options)
+        text = None
+        if isinstance(self.params, Mapping):
+            text = "".join(f"{k} = {_fmt(v)}\n" for k, v in self.params.items())
+        elif self.params is not None:
+            args += ["--params", os.fspath(self.params)]
+        return args, text
+
+    def _open(self, columns: Mapping[str, Any], meta: Mapping[str, Any], name: str) -> Any:
+        from .inmem import Run
+        args, text = self._mem_args(name)
+        run = Run(args, text, columns, meta)
+        if run.preset_vehicle:
+            warnings.warn(f"{name}: vehicle parameters (m, Lf, Lr, Bf, Br, R, J, hg) in "
+                          "neither the metadata nor params: the preset's values stand in "
+                          "(require_params=True makes this an error)", errors.RfeWarning,
+                          stacklevel=3)
+        return run
 
     def run(self, data: Source | Mapping[str, Any],
             meta: Mapping[str, Any] | None = None) -> pd.DataFrame:
-        """Runs over a whole log: a path, a DataFrame, or a mapping column -> array (with
-        the log's metadata in ``meta``). Returns :func:`replay`'s DataFrame."""
-        if isinstance(data, Mapping):
-            data = pd.DataFrame({k: np.asarray(v) for k, v in data.items()})
-        if meta is not None and isinstance(data, pd.DataFrame):
-            data = data.copy()
-            data.attrs["meta"] = dict(meta)
-        return replay(data, params=self.params, preset=self.preset, real=self.real,
-                      velocity=self.velocity, **self.options)
+        """Runs over a whole log.
+
+        Args:
+            data: a DataFrame (metadata in ``attrs["meta"]``) or a mapping column -> array
+                (NumPy arrays, lists): run in memory, every sample stepped in C in one call;
+                a path: :func:`replay` of that file.
+            meta: the log's metadata (replaces ``attrs["meta"]``).
+
+        Returns:
+            The estimate log's columns (t, mu_*, sd_*, valid_*, status, and the observer's and
+            the mass and grade estimator's when they ran), equal to :func:`replay`'s; in memory
+            ``attrs["stats"]`` holds the run's counters (steps, status counts, gaps, q31
+            saturations).
+
+        Raises:
+            UsageError, InputError and its per-status subclasses, as :func:`replay`; in memory
+            the class is chosen by the status the C code returns.
+        """
+        if not isinstance(data, (pd.DataFrame, Mapping)):
+            return replay(data, params=self.params, preset=self.preset, real=self.real,
+                          velocity=self.velocity, **self.options)
+        from .inmem import columns_of
+        columns, frame_meta = columns_of(data)
+        run = self._open(columns, dict(meta) if meta is not None else frame_meta, "DataFrame")
+        df = run.frame(run.feed(columns))
+        df.attrs["stats"] = run.stats()
+        return df
+
+    def step(self, sample: Mapping[str, Any],
+             meta: Mapping[str, Any] | None = None) -> dict[str, float | int]:
+        """Steps one sample, the state kept in this Estimator: n calls give the rows
+        :meth:`run` gives for the same n samples, bit for bit.
+
+        Args:
+            sample: column -> value (the columns of a sensor log, ``t`` included); every
+                sample must have the columns of the first.
+            meta: the log's metadata (vehicle keys, units), taken at the first sample (after
+                construction or :meth:`reset`).
+
+        Returns:
+            The sample's estimate row: column -> value (integers for valid_*, status).
+
+        Raises:
+            UsageError: dt given neither in ``params`` nor in ``meta`` (a whole run takes it
+                from the time stamps' median, which one sample cannot give).
+            InputError and its subclasses: as :meth:`run`; a time not after the last one's.
+        """
+        columns = {k: [v] for k, v in sample.items()}
+        if self._stepper is None:
+            run = self._open(columns, dict(meta or {}), "sample")
+            if not run.dt_given:
+                raise errors.UsageError("step(): give dt (params or meta): a run over samples "
+                                        "one at a time cannot take it from the time stamps",
+                                        exit_code=2)
+            self._stepper = run
+        row = self._stepper.feed(columns)
+        df = self._stepper.frame(row)
+        return {c: df[c].iloc[0].item() for c in df.columns}
+
+    def reset(self) -> None:
+        """Forgets the state of :meth:`step`: the next sample starts a new run."""
+        self._stepper = None
+
+    def stats(self) -> dict[str, Any]:
+        """The counters of the samples :meth:`step` has stepped (as ``attrs["stats"]``)."""
+        return self._stepper.stats() if self._stepper is not None else {"steps": 0}

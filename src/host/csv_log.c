@@ -112,6 +112,7 @@ typedef struct {
     unsigned char unused[N_COLS]; /**< 1: an input column the run does not use */
     size_t rows_cap;
     size_t meta_cap;
+    int bad_cell;         /**< the error is a bad cell refused (not text that is no number) */
 } reader_t;
 
 static int next_line(reader_t *r);
@@ -798,9 +799,9 @@ static int read_rows(reader_t *r, rfe_sensor_log_t *log)
 
 /* A bad cell (parse status @p st, or RFE_NUM_OK for a value that left the doubles in SI
  * units) of column @p c: kept as NaN / +-Inf in *v when the reader keeps bad cells and the
- * column is an estimator input (not t, not truth); returns its cause, or -1 (an error). */
-static int keep_cell(const reader_t *r, const col_spec_t *c, rfe_num_status_t st,
-                     const char *text, double *v)
+ * column is an estimator input (not t, not truth); returns its cause, or -1 (an error).
+ * *v holds the cell's own value (nan, inf, -inf as written; +-Inf beyond the doubles). */
+static int keep_cell(const reader_t *r, const col_spec_t *c, rfe_num_status_t st, double *v)
 {
     const int input = (c->kind != COL_MU) && (c->kind != COL_UTIL) && (c->kind != COL_MG_TRUTH) &&
                       (c->offset != ROW_OFF(t));
@@ -811,15 +812,7 @@ static int keep_cell(const reader_t *r, const col_spec_t *c, rfe_num_status_t st
         *v = (double)NAN;
         return (int)RFE_CELL_EMPTY;
     }
-    if (st == RFE_NUM_NONFINITE) {
-        /* the text's own value: nan, inf, -inf (the grammar check let only those words by) */
-        *v = strtod(text, NULL);
-        return (int)RFE_CELL_NONFINITE;
-    }
-    if (st == RFE_NUM_OVERFLOW) {
-        *v = strtod(text, NULL); /* +-HUGE_VAL, the infinity of the written sign */
-    }
-    return (int)RFE_CELL_RANGE;  /* *v already +-Inf for a value beyond the doubles in SI */
+    return (st == RFE_NUM_NONFINITE) ? (int)RFE_CELL_NONFINITE : (int)RFE_CELL_RANGE;
 }
 
 /* Counts a kept bad cell of @p cause at field @p j of the current line into row and log. */
@@ -848,11 +841,59 @@ static void count_ignored_cell(const reader_t *r, rfe_sensor_log_t *log, size_t 
     ++log->bad_ignored;
 }
 
+/* Field @p j of the current row into @p row: @p v as read (parse status @p st; the cell's own
+ * value when it is not finite), converted to SI; a bad cell kept and counted, or an error
+ * quoting @p text. The one rule for a cell, whether it came as text or as a double. */
+static int store_cell(reader_t *r, rfe_sensor_log_t *log, rfe_sensor_row_t *row, size_t j,
+                      rfe_num_status_t st, double v, const char *text)
+{
+    char q[QUOTE_MAX + 4u];
+    const col_spec_t *c = &k_cols[r->field_col[j]];
+    if (st == RFE_NUM_OK) {
+        v = r->col_a[r->field_col[j]] * v + r->col_b[r->field_col[j]];
+    }
+    if ((st != RFE_NUM_OK) || !isfinite(v)) {
+        const int cause = keep_cell(r, c, st, &v);
+        if (cause < 0) {
+            r->bad_cell = (st != RFE_NUM_SYNTAX) ? 1 : 0;
+            rfe_text_quote(q, sizeof q, text, QUOTE_MAX);
+            if (st != RFE_NUM_OK) {
+                rfe_io_error_set(r->err, r->name, r->line, j + 1u, "column '%s': %s: '%s'",
+                                 c->name, rfe_num_status_str(st), q);
+            } else {
+                rfe_io_error_set(r->err, r->name, r->line, j + 1u,
+                                 "column '%s': out of range in SI units: '%s'", c->name, q);
+            }
+            return -1;
+        }
+        if (r->unused[r->field_col[j]] != 0u) {
+            count_ignored_cell(r, log, j);
+        } else {
+            count_bad_cell(r, log, row, cause, j);
+        }
+    }
+    memcpy((char *)row + c->offset, &v, sizeof v);
+    return 0;
+}
+
+/* Appends @p row, its time after the last row's. */
+static int append_row(reader_t *r, rfe_sensor_log_t *log, const rfe_sensor_row_t *row)
+{
+    if ((log->n_rows > 0u) && !(row->t > log->rows[log->n_rows - 1u].t)) {
+        rfe_io_error_set(r->err, r->name, r->line, r->t_field + 1u,
+                         "column 't': time not increasing (%.17g after %.17g)", row->t,
+                         log->rows[log->n_rows - 1u].t);
+        return -1;
+    }
+    log->rows = grow(log->rows, &r->rows_cap, sizeof *row, log->n_rows + 1u);
+    log->rows[log->n_rows++] = *row;
+    return 0;
+}
+
 /* One data row: field count, every needed field a finite number (or a kept bad cell), time
  * increasing. */
 static int parse_row(reader_t *r, rfe_sensor_log_t *log)
 {
-    char q[QUOTE_MAX + 4u];
     rfe_sensor_row_t row;
     size_t n = split_fields(r->buf, r->fields, r->n_fields);
     size_t j;
@@ -864,47 +905,130 @@ static int parse_row(reader_t *r, rfe_sensor_log_t *log)
         return -1;
     }
     for (j = 0u; j < n; ++j) {
-        const col_spec_t *c;
         double v = 0.0;
         rfe_num_status_t st;
         if (r->field_col[j] == NO_COL) {
             continue; /* extra columns are ignored, not parsed */
         }
-        c = &k_cols[r->field_col[j]];
         st = rfe_text_parse_double(r->fields[j], &v);
-        if (st == RFE_NUM_OK) {
-            v = r->col_a[r->field_col[j]] * v + r->col_b[r->field_col[j]];
+        if ((st == RFE_NUM_NONFINITE) || (st == RFE_NUM_OVERFLOW)) {
+            /* the text's own value: nan, inf, -inf (the grammar check let only those words
+             * by), or +-HUGE_VAL, the infinity of the written sign */
+            v = strtod(r->fields[j], NULL);
         }
-        if ((st != RFE_NUM_OK) || !isfinite(v)) {
-            const int cause = keep_cell(r, c, st, r->fields[j], &v);
-            if (cause < 0) {
-                rfe_text_quote(q, sizeof q, r->fields[j], QUOTE_MAX);
-                if (st != RFE_NUM_OK) {
-                    rfe_io_error_set(r->err, r->name, r->line, j + 1u, "column '%s': %s: '%s'",
-                                     c->name, rfe_num_status_str(st), q);
-                } else {
-                    rfe_io_error_set(r->err, r->name, r->line, j + 1u,
-                                     "column '%s': out of range in SI units: '%s'", c->name, q);
-                }
+        if (store_cell(r, log, &row, j, st, v, r->fields[j]) != 0) {
+            return -1;
+        }
+    }
+    return append_row(r, log, &row);
+}
+
+/* ------------------------------------------------------- from columns in memory */
+
+/* The metadata pairs as the reader keeps `# key = value` lines (trimmed copies; "line" the
+ * pair's index, 1-based). */
+static void columns_meta(rfe_sensor_log_t *log, reader_t *r, const rfe_kv_t *meta, size_t n)
+{
+    size_t i;
+    for (i = 0u; i < n; ++i) {
+        char *key = rfe_xstrdup(meta[i].key);
+        char *value = rfe_xstrdup(meta[i].value);
+        const char *k = rfe_text_trim(key);
+        if (*k != '\0') {
+            rfe_meta_entry_t *e;
+            log->meta = grow(log->meta, &r->meta_cap, sizeof *log->meta, log->n_meta + 1u);
+            e = &log->meta[log->n_meta++];
+            e->key = rfe_xstrdup(k);
+            e->value = rfe_xstrdup(rfe_text_trim(value));
+            e->line = i + 1u;
+        }
+        free(key);
+        free(value);
+    }
+}
+
+/* The rows of the columns: row i's cells as a text row's, "line" i + 1. A column without
+ * values (not numbers) that names an input is an error, as text that is no number. */
+static int columns_rows(reader_t *r, rfe_sensor_log_t *log, const rfe_column_t *cols,
+                        size_t n_rows)
+{
+    size_t i;
+    size_t j;
+    for (i = 0u; i < n_rows; ++i) {
+        rfe_sensor_row_t row;
+        memset(&row, 0, sizeof row);
+        r->line = i + 1u;
+        for (j = 0u; j < r->n_fields; ++j) {
+            char text[RFE_NUM_BUF];
+            const double x = (cols[j].values != NULL) ? cols[j].values[i] : (double)NAN;
+            const rfe_num_status_t st = (cols[j].values == NULL) ? RFE_NUM_SYNTAX
+                                        : isfinite(x)             ? RFE_NUM_OK
+                                                                  : RFE_NUM_NONFINITE;
+            if (r->field_col[j] == NO_COL) {
+                continue; /* extra columns are ignored */
+            }
+            rfe_text_format_double(text, x);
+            if (store_cell(r, log, &row, j, st, x, (cols[j].values != NULL) ? text : "(not a number)") != 0) {
                 return -1;
             }
-            if (r->unused[r->field_col[j]] != 0u) {
-                count_ignored_cell(r, log, j);
-            } else {
-                count_bad_cell(r, log, &row, cause, j);
-            }
         }
-        memcpy((char *)&row + c->offset, &v, sizeof v);
+        if (append_row(r, log, &row) != 0) {
+            return -1;
+        }
     }
-    if ((log->n_rows > 0u) && !(row.t > log->rows[log->n_rows - 1u].t)) {
-        rfe_io_error_set(r->err, r->name, r->line, r->t_field + 1u,
-                         "column 't': time not increasing (%.17g after %.17g)", row.t,
-                         log->rows[log->n_rows - 1u].t);
+    if (n_rows == 0u) {
+        rfe_io_error_set(r->err, r->name, 0u, 0u, "no data rows");
         return -1;
     }
-    log->rows = grow(log->rows, &r->rows_cap, sizeof row, log->n_rows + 1u);
-    log->rows[log->n_rows++] = row;
     return 0;
+}
+
+int rfe_sensor_log_from_columns(const char *name, const rfe_kv_t *meta, size_t n_meta,
+                                const rfe_column_t *cols, size_t n_cols, size_t n_rows,
+                                const rfe_read_opts_t *opts, rfe_sensor_log_t *log,
+                                rfe_io_error_t *err)
+{
+    reader_t r;
+    int rc = 0;
+    size_t j;
+    if ((name == NULL) || ((meta == NULL) && (n_meta > 0u)) || (cols == NULL) ||
+        (opts == NULL) || (log == NULL) || (err == NULL)) {
+        return -1;
+    }
+    memset(&r, 0, sizeof r);
+    memset(log, 0, sizeof *log);
+    r.opts = *opts;
+    r.name = name;
+    r.err = err;
+    columns_meta(log, &r, meta, n_meta);
+    r.n_fields = n_cols;
+    r.field_col = rfe_xrealloc(NULL, n_cols + 1u, sizeof *r.field_col);
+    r.fields = rfe_xrealloc(NULL, n_cols + 1u, sizeof *r.fields);
+    for (j = 0u; j < n_cols; ++j) {
+        r.fields[j] = rfe_xstrdup((cols[j].name != NULL) ? cols[j].name : "");
+    }
+    rc = check_column_meta(&r, log);
+    for (j = 0u; (rc == 0) && (j < N_COLS); ++j) {
+        rc = column_meta(&r, log, j);
+    }
+    if (rc == 0) {
+        rc = map_header_fields(&r, n_cols);
+    }
+    if (rc == 0) {
+        rc = check_columns(&r, log);
+    }
+    if (rc == 0) {
+        rc = columns_rows(&r, log, cols, n_rows);
+    }
+    for (j = 0u; j < n_cols; ++j) {
+        free(r.fields[j]);
+    }
+    free(r.field_col);
+    free(r.fields);
+    if (rc != 0) {
+        rfe_sensor_log_free(log);
+    }
+    return ((rc != 0) && (r.bad_cell != 0)) ? (int)RFE_ERR_NONFINITE : rc;
 }
 
 /* Room for @p need elements, doubling the capacity (amortised O(1) appends). */

@@ -175,6 +175,38 @@ RFE_NODISCARD int rfe_sensor_log_read_stream_opts(FILE *f, const char *name,
                                                   const rfe_read_opts_t *opts,
                                                   rfe_sensor_log_t *log, rfe_io_error_t *err);
 
+/** A metadata pair (strings not owned): written to an estimate log, or a log in memory's. */
+typedef struct {
+    const char *key;
+    const char *value;
+} rfe_kv_t;
+
+/** One column of a log in memory: its header name and its n_rows values (NULL: a column
+ *  whose cells are no numbers, an error when it names an input). */
+typedef struct {
+    const char *name;
+    const double *values;
+} rfe_column_t;
+
+/**
+ * As rfe_sensor_log_read_opts, from columns in memory instead of a file: the metadata pairs
+ * (each trimmed, as a `# key = value` line), the column names (the header) and their values
+ * go through the reader's own rules (column names and groups, unit_, scale_, offset_,
+ * column_ metadata, bad cells as opts->cells says, time increasing), so the log equals the
+ * one read from these columns written as a CSV with every double in its shortest round-trip
+ * text. A NaN or +-Inf value is such a CSV's nan/inf cell. Messages name @p name, and as the
+ * "line" a pair's index (metadata) or a row's (data), 1-based.
+ * @return 0; RFE_ERR_NONFINITE with @p err filled for a bad cell refused (an empty, nan/inf
+ *         or out-of-range cell with RFE_CELLS_STRICT, or of t or a truth column: what the
+ *         estimator would reject with that status); else -1 with @p err filled (log then
+ *         empty; nothing filled when an argument is NULL).
+ */
+RFE_NODISCARD int rfe_sensor_log_from_columns(const char *name, const rfe_kv_t *meta,
+                                              size_t n_meta, const rfe_column_t *cols,
+                                              size_t n_cols, size_t n_rows,
+                                              const rfe_read_opts_t *opts, rfe_sensor_log_t *log,
+                                              rfe_io_error_t *err);
+
 /** Name of a cell cause ("empty", "nan/inf", "out of range"). */
 const char *rfe_cell_cause_str(rfe_cell_cause_t c);
 
@@ -215,12 +247,6 @@ typedef struct {
     double mass_used;   /**< the friction estimator's mass at this sample [kg] (mg_feed_sd_rel:
                              the last mass_est fed, else the parameter m) */
 } rfe_est_row_t;
-
-/** A metadata pair to write (strings not owned). */
-typedef struct {
-    const char *key;
-    const char *value;
-} rfe_kv_t;
 
 /** Number format of estimate-log values. */
 typedef enum {

@@ -64,8 +64,3 @@ uint32_t rfe_log_missed(double period, double dt)
     k = floor((period / dt) + 0.5) - 1.0; /* >= 1: period > 2 dt */
     return (k >= (double)UINT32_MAX) ? UINT32_MAX : (uint32_t)k;
 }
-
-uint32_t rfe_log_missed_before(const rfe_sensor_log_t *log, size_t i, double dt)
-{
-    return (i > 0u) ? rfe_log_missed(log->rows[i].t - log->rows[i - 1u].t, dt) : 0u;
-}

@@ -45,7 +45,4 @@ double rfe_log_gap_limit(double dt);
  */
 uint32_t rfe_log_missed(double period, double dt);
 
-/** rfe_log_missed for the period ending at row @p i of @p log (0 for the first row). */
-uint32_t rfe_log_missed_before(const rfe_sensor_log_t *log, size_t i, double dt);
-
 #endif /* RFE_HOST_LOG_TIMING_H */

@@ -20,6 +20,7 @@
 #include "metrics.h"
 #include "param_file.h"
 #include "replay_q31.h"
+#include "replay_mem.h"
 #include "replay_real.h"
 #include "text_io.h"
 
@@ -112,6 +113,10 @@ typedef struct {
     int help;
     int strict; /**< --strict: a bad cell is an input error */
     int require_params; /**< --require-params: no vehicle parameters is an input error */
+    const char *params_text; /**< the in-memory run's parameters, `key = value` lines applied
+                                  where a --params file is (after it); NULL: none */
+    rfe_io_error_t *err_out; /**< the in-memory run (rfe_mu_replay_open): errors go here,
+                                  not to stderr; NULL: printed */
 } options_t;
 
 /** Everything one run produces. */
@@ -133,7 +138,7 @@ typedef struct {
 typedef rfe_status_t (*replay_fn_t)(const rfe_param_set_t *, const rfe_sensor_log_t *,
                                     rfe_est_row_t *, rfe_replay_stats_t *, size_t *);
 
-static int usage_error(const char *fmt, const char *arg);
+static int usage_error(const options_t *o, const char *fmt, const char *arg);
 static const char **option_slot(options_t *o, const char *name);
 static int *flag_slot(options_t *o, const char *name);
 static void print_bad_cells(FILE *f, const run_t *r);
@@ -155,7 +160,11 @@ static const char *validator_name(size_t k);
 static const char *real_name(const run_t *r);
 static const char *mg_config_name(const run_t *r);
 static size_t saturation_meta(const run_t *r, rfe_kv_t *meta, char vals[][RFE_NUM_BUF]);
-static int fail(const rfe_io_error_t *err);
+static int fail(const options_t *o, const rfe_io_error_t *err);
+static void read_opts(const options_t *o, rfe_read_opts_t *ro);
+static int resolve_params(const options_t *o, run_t *r);
+static int start_error(const options_t *o, const run_t *r, rfe_status_t st, size_t bad);
+static int apply_params_text(rfe_param_set_t *ps, const char *text, rfe_io_error_t *err);
 static int mass_grade_flags(const options_t *o, run_t *r);
 static void print_mass_grade(const run_t *r);
 static void write_mass_grade_json(FILE *f, const run_t *r);
@@ -166,6 +175,7 @@ int main(int argc, char **argv)
     run_t r;
     int rc;
     memset(&r, 0, sizeof r);
+    memset(&o, 0, sizeof o);
     rc = parse_args(argc, argv, &o);
     if ((rc != 0) || o.help) {
         fputs(k_usage, (rc != 0) ? stderr : stdout);
@@ -213,9 +223,13 @@ int main(int argc, char **argv)
 
 /* ------------------------------------------------------------ command line */
 
-/* One-line reason on stderr; the caller then prints the usage. */
-static int usage_error(const char *fmt, const char *arg)
+/* One-line reason on stderr (or into o->err_out); the caller then prints the usage. */
+static int usage_error(const options_t *o, const char *fmt, const char *arg)
 {
+    if (o->err_out != NULL) {
+        rfe_io_error_set(o->err_out, NULL, 0u, 0u, fmt, arg);
+        return -1;
+    }
     fprintf(stderr, "%s: ", PROG);
     fprintf(stderr, fmt, arg);
     fputc('\n', stderr);
@@ -269,8 +283,7 @@ static int *flag_slot(options_t *o, const char *name)
 static int parse_args(int argc, char **argv, options_t *o)
 {
     int i;
-    memset(o, 0, sizeof *o);
-    for (i = 1; i < argc; ++i) {
+    for (i = 1; i < argc; ++i) { /* o zeroed by the caller (and err_out set) */
         char name[16];
         const char *arg = argv[i];
         const char *eq = strchr(arg, '=');
@@ -281,27 +294,27 @@ static int parse_args(int argc, char **argv, options_t *o)
             continue;
         }
         if ((strncmp(arg, "--", 2u) != 0) || (n < 3u) || (n - 2u >= sizeof name)) {
-            return usage_error("unexpected argument '%s'", arg);
+            return usage_error(o, "unexpected argument '%s'", arg);
         }
         memcpy(name, arg + 2, n - 2u);
         name[n - 2u] = '\0';
         if (flag_slot(o, name) != NULL) {
             if (eq != NULL) {
-                return usage_error("option '%s' takes no value", arg);
+                return usage_error(o, "option '%s' takes no value", arg);
             }
             *flag_slot(o, name) = 1;
             continue;
         }
         slot = option_slot(o, name);
         if (slot == NULL) {
-            return usage_error("unknown option '%s'", arg);
+            return usage_error(o, "unknown option '%s'", arg);
         }
         if (*slot != NULL) {
-            return usage_error("option '--%s' given twice", name);
+            return usage_error(o, "option '--%s' given twice", name);
         }
         *slot = (eq != NULL) ? eq + 1 : ((i + 1 < argc) ? argv[++i] : NULL);
         if ((*slot == NULL) || (**slot == '\0') || (strncmp(*slot, "--", 2u) == 0)) {
-            return usage_error("option '--%s' needs a value", name);
+            return usage_error(o, "option '--%s' needs a value", name);
         }
     }
     return o->help ? 0 : check_option_words(o);
@@ -314,43 +327,43 @@ static int check_option_words(options_t *o)
     rfe_filter_kind_t fk;
     rfe_tyre_mode_t tm;
     if ((o->in == NULL) || (o->out == NULL)) {
-        return usage_error("%s", "--in and --out are required");
+        return usage_error(o, "%s", "--in and --out are required");
     }
     o->preset_id = RFE_PRESET_DEFAULT;
     if ((o->preset != NULL) && (rfe_preset_parse(o->preset, &o->preset_id) != 0)) {
-        return usage_error("--preset must be default or paper, not '%s'", o->preset);
+        return usage_error(o, "--preset must be default or paper, not '%s'", o->preset);
     }
     if ((o->filter != NULL) && (rfe_filter_kind_parse(o->filter, &fk) != 0)) {
-        return usage_error("--filter must be sckf or ckf, not '%s'", o->filter);
+        return usage_error(o, "--filter must be sckf or ckf, not '%s'", o->filter);
     }
     if ((o->filter != NULL) && (fk == RFE_FILTER_CKF) && (o->preset_id != RFE_PRESET_PAPER)) {
-        return usage_error("%s", "--filter ckf: the CKF baseline needs --preset paper (it runs "
+        return usage_error(o, "%s", "--filter ckf: the CKF baseline needs --preset paper (it runs "
                                  "only the paper subset of the parameters)");
     }
     if ((o->tyre != NULL) && (rfe_tyre_mode_parse(o->tyre, &tm) != 0)) {
-        return usage_error("--tyre must be paper, absolute or magic, not '%s'", o->tyre);
+        return usage_error(o, "--tyre must be paper, absolute or magic, not '%s'", o->tyre);
     }
     if ((o->real != NULL) && (strcmp(o->real, "float") != 0) && (strcmp(o->real, "double") != 0) &&
         (strcmp(o->real, "q31") != 0)) {
-        return usage_error("--real must be float, double or q31, not '%s'", o->real);
+        return usage_error(o, "--real must be float, double or q31, not '%s'", o->real);
     }
     if ((o->velocity != NULL) && (strcmp(o->velocity, "auto") != 0) &&
         (strcmp(o->velocity, "observer") != 0) && (strcmp(o->velocity, "measured") != 0)) {
-        return usage_error("--velocity must be auto, observer or measured, not '%s'", o->velocity);
+        return usage_error(o, "--velocity must be auto, observer or measured, not '%s'", o->velocity);
     }
     if ((o->mass_grade != NULL) && (strcmp(o->mass_grade, "ukf") != 0) &&
         (strcmp(o->mass_grade, "aukf") != 0) && (strcmp(o->mass_grade, "off") != 0)) {
-        return usage_error("--mass-grade must be ukf, aukf or off, not '%s'", o->mass_grade);
+        return usage_error(o, "--mass-grade must be ukf, aukf or off, not '%s'", o->mass_grade);
     }
     if ((o->mass_grade != NULL) && (strcmp(o->mass_grade, "off") != 0) && (o->real != NULL) &&
         (strcmp(o->real, "q31") == 0)) {
-        return usage_error("--mass-grade %s: the mass and grade estimator has no fixed-point "
+        return usage_error(o, "--mass-grade %s: the mass and grade estimator has no fixed-point "
                            "twin yet; use --real float or double, or --mass-grade off",
                            o->mass_grade);
     }
     if (same_file(o->out, o->in) || ((o->params != NULL) && same_file(o->out, o->params)) ||
         ((o->metrics != NULL) && (same_file(o->metrics, o->in) || same_file(o->metrics, o->out)))) {
-        return usage_error("%s", "an output file (--out, --metrics) is also an input or the other output");
+        return usage_error(o, "%s", "an output file (--out, --metrics) is also an input or the other output");
     }
     return 0;
 }
@@ -371,9 +384,13 @@ static int same_file(const char *a, const char *b)
 
 /* ------------------------------------------------------------ the run */
 
-static int fail(const rfe_io_error_t *err)
+static int fail(const options_t *o, const rfe_io_error_t *err)
 {
-    rfe_io_error_print(stderr, PROG, err);
+    if (o->err_out != NULL) {
+        *o->err_out = *err;
+    } else {
+        rfe_io_error_print(stderr, PROG, err);
+    }
     return -1;
 }
 
@@ -383,32 +400,50 @@ static int load_params(const options_t *o, run_t *r)
 {
     rfe_io_error_t err;
     rfe_read_opts_t ro;
-    ro.cells = o->strict ? RFE_CELLS_STRICT : RFE_CELLS_KEEP;
-    /* off, or q31 (no fixed-point twin): its columns are extra columns, not read */
-    ro.mass_grade_off = ((o->mass_grade != NULL) && (strcmp(o->mass_grade, "off") == 0)) ||
-                        ((o->real != NULL) && (strcmp(o->real, "q31") == 0));
-    /* the columns --velocity uses: the measured ones needed (named with any other missing
-     * column), the bad cells of the unused ones apart */
-    ro.inputs = (o->velocity == NULL)                     ? RFE_INPUTS_AUTO
-                : (strcmp(o->velocity, "measured") == 0) ? RFE_INPUTS_MEASURED
-                : (strcmp(o->velocity, "observer") == 0) ? RFE_INPUTS_OBSERVER
-                                                          : RFE_INPUTS_AUTO;
+    read_opts(o, &ro);
     if (rfe_sensor_log_read_opts(o->in, &ro, &r->log, &err) != 0) {
-        return fail(&err);
+        return fail(o, &err);
     }
     if (!o->quiet && ((r->log.bad_rows != 0u) || (r->log.bad_ignored != 0u))) {
         fprintf(stderr, "%s: note: %s: ", PROG, o->in);
         print_bad_cells(stderr, r);
     }
+    return resolve_params(o, r);
+}
+
+/* How the options read a log: bad cells, the mass and grade columns, the inputs used. */
+static void read_opts(const options_t *o, rfe_read_opts_t *ro)
+{
+    memset(ro, 0, sizeof *ro);
+    ro->cells = o->strict ? RFE_CELLS_STRICT : RFE_CELLS_KEEP;
+    /* off, or q31 (no fixed-point twin): its columns are extra columns, not read */
+    ro->mass_grade_off = ((o->mass_grade != NULL) && (strcmp(o->mass_grade, "off") == 0)) ||
+                        ((o->real != NULL) && (strcmp(o->real, "q31") == 0));
+    /* the columns --velocity uses: the measured ones needed (named with any other missing
+     * column), the bad cells of the unused ones apart */
+    ro->inputs = (o->velocity == NULL)                     ? RFE_INPUTS_AUTO
+                : (strcmp(o->velocity, "measured") == 0) ? RFE_INPUTS_MEASURED
+                : (strcmp(o->velocity, "observer") == 0) ? RFE_INPUTS_OBSERVER
+                                                          : RFE_INPUTS_AUTO;
+}
+
+/* The parameters of the log read: preset < metadata < --params < flags; the run's precision
+ * and velocity source. */
+static int resolve_params(const options_t *o, run_t *r)
+{
+    rfe_io_error_t err;
     (void)rfe_param_set_preset_f64(&r->ps, o->preset_id); /* cannot fail: parsed preset */
     if ((o->mass_grade != NULL) && (strcmp(o->mass_grade, "aukf") == 0)) {
         (void)rfe_param_set_mass_grade_f64(&r->ps, RFE_MG_SEED); /* cannot fail: a config */
     }
     if (rfe_param_set_apply_meta(&r->ps, &r->log, o->in, &err) != 0) {
-        return fail(&err);
+        return fail(o, &err);
     }
     if ((o->params != NULL) && (rfe_param_set_apply_file(&r->ps, o->params, &err) != 0)) {
-        return fail(&err);
+        return fail(o, &err);
+    }
+    if ((o->params_text != NULL) && (apply_params_text(&r->ps, o->params_text, &err) != 0)) {
+        return fail(o, &err);
     }
     /* Words were checked in parse_args; the flags win over every file. */
     if ((o->filter != NULL) && (rfe_filter_kind_parse(o->filter, &r->ps.filter) == 0)) {
@@ -428,7 +463,7 @@ static int load_params(const options_t *o, run_t *r)
         rfe_io_error_set(&err, o->in, 0u, 0u, "%s",
                          "--velocity measured needs the columns vx, vy, yaw_acc; this log has "
                          "none (a production car's log: use --velocity observer)");
-        return fail(&err);
+        return fail(o, &err);
     }
     r->use_observer = ((o->velocity != NULL) && (strcmp(o->velocity, "observer") == 0)) ||
                       (((o->velocity == NULL) || (strcmp(o->velocity, "auto") == 0)) &&
@@ -452,7 +487,7 @@ static int mass_grade_flags(const options_t *o, run_t *r)
                          "driveline_torque_at = %s: the mass and grade estimator takes the torque "
                          "at the wheels, which the replay does not compute from the drive line; "
                          "convert drive_torque first, or --mass-grade off", at);
-        return fail(&err);
+        return fail(o, &err);
     }
     if ((o->mass_grade != NULL) && (strcmp(o->mass_grade, "off") != 0)) {
         r->ps.mg[RFE_PK_mg_adaptive - RFE_PK_MG_FIRST] =
@@ -503,13 +538,13 @@ static int check_vehicle(const options_t *o, run_t *r)
         rfe_io_error_set(&err, o->in, 0u, 0u, "%s",
                          "no vehicle parameters (m, Lf, Lr, Bf, Br, R, J, hg) in the log's "
                          "metadata and no --params file (--require-params)");
-        return fail(&err);
+        return fail(o, &err);
     }
     if (o->require_params) {
         rfe_io_error_set(&err, o->in, 0u, 0u,
                          "vehicle parameter%s %s in neither the log's metadata nor a --params "
                          "file (--require-params)", (n > 1u) ? "s" : "", list);
-        return fail(&err);
+        return fail(o, &err);
     }
     r->preset_vehicle = 1;
     return 0;
@@ -560,7 +595,7 @@ static int prepare_log(const options_t *o, run_t *r)
         (rfe_sensor_log_wheel_radius(&r->log, r->ps.value[RFE_PK_R]) != 0)) {
         rfe_io_error_set(&err, o->in, 0u, 0u, "the wheel speeds are circumferential speeds and "
                          "need a positive rolling radius R (R = %.17g)", r->ps.value[RFE_PK_R]);
-        return fail(&err);
+        return fail(o, &err);
     }
     if (r->log.has_swa != 0) {
         /* The default ratio is only a typical car's: a log of the steering-wheel angle must
@@ -569,14 +604,14 @@ static int prepare_log(const options_t *o, run_t *r)
             rfe_io_error_set(&err, o->in, 0u, 0u, "%s",
                              "the log gives the steering-wheel angle (swa): declare the "
                              "car's obs_steer_ratio in its metadata or a --params file");
-            return fail(&err);
+            return fail(o, &err);
         }
         if (!r->use_observer && (rfe_sensor_log_steer_ratio(&r->log, ratio) != 0)) {
             rfe_io_error_set(&err, (r->ps.origin[k_ratio].file != NULL) ? r->ps.origin[k_ratio].file
                                                                        : o->in,
                              r->ps.origin[k_ratio].line, 0u,
                              "obs_steer_ratio = %.17g: must be a positive number", ratio);
-            return fail(&err);
+            return fail(o, &err);
         }
     }
     return check_period(o, r);
@@ -617,7 +652,7 @@ static int check_period(const options_t *o, run_t *r)
                          "(%.6g .. %.6g s; they may differ by 1 %%): correct dt, or drop it to "
                          "take the time stamps'",
                          dt, per.median, per.min, per.max);
-        return fail(&err);
+        return fail(o, &err);
     } else {
         /* dt as given: it matches */
     }
@@ -665,10 +700,8 @@ static int run_estimator(const options_t *o, run_t *r)
     replay_fn_t run = r->use_observer
                           ? (r->is_double ? rfe_replay_run_observer_f64 : rfe_replay_run_observer_f32)
                           : (r->is_double ? rfe_replay_run_f64 : rfe_replay_run_f32);
-    rfe_io_error_t err;
     size_t bad = RFE_PK_NONE;
     rfe_status_t st;
-    char val[RFE_NUM_BUF];
     r->rows = rfe_xrealloc(NULL, r->log.n_rows, sizeof *r->rows);
     if (r->is_q31) {
         st = r->use_observer ? rfe_replay_run_observer_q31(&r->ps, &r->log, r->rows, &r->q31, NULL, &bad)
@@ -678,9 +711,15 @@ static int run_estimator(const options_t *o, run_t *r)
         st = run(&r->ps, &r->log, r->rows, &r->stats, &bad);
     }
     r->mg_ran = (st == RFE_OK) && (r->log.n_rows > 0u) && (r->rows[0].has_mass_grade != 0);
-    if (st == RFE_OK) {
-        return 0;
-    }
+    return (st == RFE_OK) ? 0 : start_error(o, r, st, bad);
+}
+
+/* The message of a run that could not start (@p st, the key @p bad blamed): an invalid
+ * parameter set is reported where its value came from. */
+static int start_error(const options_t *o, const run_t *r, rfe_status_t st, size_t bad)
+{
+    rfe_io_error_t err;
+    char val[RFE_NUM_BUF];
     if ((st == RFE_ERR_RANGE) && (bad != RFE_PK_NONE)) {
         const rfe_param_origin_t *src = &r->ps.origin[bad];
         rfe_param_format(&r->ps, bad, val);
@@ -716,7 +755,7 @@ static int run_estimator(const options_t *o, run_t *r)
                                             "> 0, docs/MASS_GRADE.md §6"
                                           : "");
     }
-    return fail(&err);
+    return fail(o, &err);
 }
 
 /* The library function that refused key @p k. (R and g, which the mass and grade estimator
@@ -823,7 +862,7 @@ static int write_estimates(const options_t *o, const run_t *r)
     if (rfe_estimate_log_write(o->out, meta, n, r->rows, r->log.n_rows,
                                (r->is_double || r->is_q31) ? RFE_NUMFMT_DOUBLE : RFE_NUMFMT_FLOAT,
                                &err) != 0) {
-        return fail(&err);
+        return fail(o, &err);
     }
     return 0;
 }
@@ -884,7 +923,7 @@ static int write_metrics_json(const options_t *o, const run_t *r)
     int bad;
     if (f == NULL) {
         rfe_io_error_set(&err, o->metrics, 0u, 0u, "cannot open for writing: %s", strerror(errno));
-        return fail(&err);
+        return fail(o, &err);
     }
     fputs("{\n  \"generator\": \"" PROG "\",\n  \"input\": ", f);
     rfe_json_write_string(f, base_name(o->in));
@@ -936,7 +975,7 @@ static int write_metrics_json(const options_t *o, const run_t *r)
     bad = ferror(f);
     if ((fclose(f) != 0) || (bad != 0)) {
         rfe_io_error_set(&err, o->metrics, 0u, 0u, "write failed");
-        return fail(&err);
+        return fail(o, &err);
     }
     return 0;
 }
@@ -1152,4 +1191,108 @@ static void print_mass_grade(const run_t *r)
         printf("  grade RMSE %.5f rad, max error %.5f rad, over %zu samples from t = %.3f s\n",
                a.grade_rmse, a.grade_max_abs, a.n, r->rows[a.first].t);
     }
+}
+
+/* ------------------------------------------------------------ the run in memory */
+
+/* `key = value` lines from memory, read as a parameter file named "params" (its own reader:
+ * the same keys, errors and origins). */
+static int apply_params_text(rfe_param_set_t *ps, const char *text, rfe_io_error_t *err)
+{
+    const size_t n = strlen(text);
+    char *buf = rfe_xrealloc(NULL, n + 1u, 1u);
+    FILE *f;
+    int rc = -1;
+    memcpy(buf, text, n + 1u);
+    f = (n > 0u) ? fmemopen(buf, n, "r") : NULL;
+    if (n == 0u) {
+        rc = 0; /* no lines: nothing to apply */
+    } else if (f == NULL) {
+        rfe_io_error_set(err, "params", 0u, 0u, "cannot read: %s", strerror(errno));
+    } else {
+        rc = rfe_param_set_apply_stream(ps, f, "params", err);
+        (void)fclose(f); /* read-only: nothing to lose on close */
+    }
+    free(buf);
+    return rc;
+}
+
+/* Starts the replay state of the run's precision in @p state; on an error its message. */
+static int open_state(const options_t *o, const run_t *r, rfe_replay_mem_t *m, void *state)
+{
+    size_t bad = RFE_PK_NONE;
+    rfe_status_t st;
+    if (m->real == (int)RFE_MEM_Q31) {
+        m->q31 = state;
+        st = rfe_replay_begin_q31(m->q31, &r->ps, &r->log, r->use_observer, &bad);
+    } else if (m->real == (int)RFE_MEM_DOUBLE) {
+        m->f64 = state;
+        st = rfe_replay_begin_f64(m->f64, &r->ps, &r->log, r->use_observer, &bad);
+    } else {
+        m->f32 = state;
+        st = rfe_replay_begin_f32(m->f32, &r->ps, &r->log, r->use_observer, &bad);
+    }
+    if (st != RFE_OK) {
+        (void)start_error(o, r, st, bad);
+        return (int)st;
+    }
+    return 0;
+}
+
+int rfe_mu_replay_open(rfe_replay_mem_t *m, int argc, char **argv, const char *params_text,
+                       const rfe_kv_t *meta, size_t n_meta, const rfe_column_t *cols,
+                       size_t n_cols, size_t n_rows, void *state, rfe_io_error_t *err)
+{
+    options_t o;
+    run_t r;
+    int rc;
+    if ((m == NULL) || (argv == NULL) || (cols == NULL) || (state == NULL) || (err == NULL)) {
+        return (int)RFE_ERR_NULL;
+    }
+    memset(m, 0, sizeof *m);
+    memset(&o, 0, sizeof o);
+    memset(&r, 0, sizeof r);
+    o.err_out = err;
+    if ((parse_args(argc, argv, &o) != 0) || o.help) {
+        if (o.help) {
+            rfe_io_error_set(err, NULL, 0u, 0u, "%s", "--help: no run");
+        }
+        return RFE_MEM_USAGE;
+    }
+    o.quiet = 1;             /* notes are not errors: nothing printed */
+    o.params_text = params_text;
+    (void)snprintf(m->name, sizeof m->name, "%s", o.in);
+    read_opts(&o, &m->ro);
+    rc = rfe_sensor_log_from_columns(m->name, meta, n_meta, cols, n_cols, n_rows, &m->ro, &r.log,
+                                     err);
+    if (rc != 0) {
+        return (rc > 0) ? rc : RFE_MEM_INPUT;
+    }
+    /* the columns as given, before prepare_log converts them (a later block is compared to
+     * them, then converted the same way) */
+    m->shape = r.log;
+    m->shape.rows = NULL;
+    m->shape.n_rows = 0u;
+    m->shape.meta = NULL;
+    m->shape.n_meta = 0u;
+    rc = resolve_params(&o, &r);
+    if (rc == 0) {
+        rc = check_vehicle(&o, &r);
+    }
+    if (rc == 0) {
+        rc = prepare_log(&o, &r);
+    }
+    m->real = r.is_q31 ? (int)RFE_MEM_Q31 : (r.is_double ? (int)RFE_MEM_DOUBLE : (int)RFE_MEM_FLOAT);
+    rc = (rc == 0) ? open_state(&o, &r, m, state) : RFE_MEM_INPUT;
+    if (rc == 0) {
+        m->ps = r.ps;
+        m->observer = r.use_observer;
+        m->mass_grade = r.ps.mass_grade;
+        m->dt_given = (r.ps.origin[RFE_PK_dt].file != NULL) &&
+                      (strcmp(r.ps.origin[RFE_PK_dt].file, "the log's time stamps") != 0);
+        m->preset_vehicle = r.preset_vehicle;
+        m->ready = 1;
+    }
+    rfe_sensor_log_free(&r.log);
+    return rc;
 }

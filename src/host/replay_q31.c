@@ -23,6 +23,21 @@
 #include "log_timing.h"
 #include "rfe/component/params_conv.h"
 
+/** The per-log state of a fixed-point replay (replay_q31.h). Opaque outside this file. */
+struct rfe_replay_q31_state {
+    rfe_pipeline_q31_t pl;        /**< the observer and friction estimator; measured
+                                       velocities: pl.friction alone */
+    rfe_sensor_log_t shape;       /**< the log's has_* flags (no rows, no metadata) */
+    rfe_replay_q31_stats_t stats;
+    double dt;                    /**< key dt: the gaps of a measuring run */
+    double t_prev;                /**< the previous row's time (have_prev) */
+    double t_last;                /**< the observer's last accepted row's time (have_last) */
+    int have_prev;
+    int have_last;
+    int observer;                 /**< the pipeline runs (else the friction estimator alone) */
+    int ready;                    /**< rfe_replay_begin_q31 succeeded */
+};
+
 rfe_status_t rfe_replay_params_q31(const rfe_param_set_t *ps, rfe_params_q31_t *q,
                                    size_t *bad_key)
 {
@@ -150,58 +165,14 @@ static uint32_t step_row(rfe_friction_q31_t *est, const rfe_sensor_row_t *row,
     return e.sat;
 }
 
-rfe_status_t rfe_replay_run_q31(const rfe_param_set_t *ps, const rfe_sensor_log_t *log,
-                                rfe_est_row_t *out, rfe_replay_q31_stats_t *stats,
-                                uint32_t *row_sat, size_t *bad_key)
-{
-    rfe_params_q31_t q;
-    rfe_friction_q31_t est;
-    rfe_status_t st;
-    size_t i;
-    if ((ps == NULL) || (log == NULL) || (out == NULL) || (stats == NULL)) {
-        return RFE_ERR_NULL;
-    }
-    memset(stats, 0, sizeof *stats);
-    if ((log->omega_linear != 0) || (log->has_swa != 0)) {
-        return RFE_ERR_RANGE; /* not yet rad/s and road-wheel angle: csv_log.h */
-    }
-    st = rfe_replay_params_q31(ps, &q, bad_key);
-    if ((st == RFE_ERR_RANGE) && (bad_key != NULL)) {
-        *bad_key = diagnose_range(ps, 0);
-    }
-    if (st == RFE_OK) {
-        st = rfe_friction_init_q31(&est, &q);
-    }
-    if (st != RFE_OK) {
-        return st;
-    }
-    for (i = 0u; i < log->n_rows; ++i) {
-        /* a gap: the missed periods' time updates before the sample that ends it */
-        const uint32_t missed = rfe_log_missed_before(log, i, ps->value[RFE_PK_dt]);
-        uint32_t sat;
-        if (missed > 0u) {
-            ++stats->base.n_gaps;
-            if (rfe_friction_skip_q31(&est, missed) == RFE_OK) {
-                stats->base.n_skipped += missed;
-            }
-        }
-        sat = step_row(&est, &log->rows[i], &out[i], stats);
-        if (row_sat != NULL) {
-            row_sat[i] = sat;
-        }
-        ++stats->base.status_count[rfe_replay_status_slot(out[i].status)];
-    }
-    stats->base.n_steps = log->n_rows;
-    return RFE_OK;
-}
-
-uint32_t rfe_replay_esc_input_q31(const rfe_sensor_log_t *log, size_t i, size_t prev,
-                                  rfe_velocity_input_q31_t *in)
+/* rfe_replay_esc_input_q31 on @p row, the period since @p t_prev (NULL: none yet). */
+static uint32_t esc_input_row_q31(const rfe_sensor_log_t *log, const rfe_sensor_row_t *row,
+                                  const double *t_prev, rfe_velocity_input_q31_t *in)
 {
     rfe_velocity_input_t d; /* the double run's sample: which columns, the period, the bits */
     uint32_t sat = 0u;
     size_t w;
-    rfe_replay_esc_input_f64(log, i, prev, &d);
+    rfe_replay_esc_input_row(log, row, t_prev, &d);
     memset(in, 0, sizeof *in);
     in->dt = rfe_fix_from_double(d.dt, RFE_FIX_Q_DT, &sat);
     in->delta = rfe_fix_from_double(d.delta, RFE_FIX_Q_ANGLE, &sat);
@@ -219,44 +190,51 @@ uint32_t rfe_replay_esc_input_q31(const rfe_sensor_log_t *log, size_t i, size_t 
     return sat;
 }
 
-/* One pipeline step of row @p i; returns the step's saturations (observer and friction). */
-static uint32_t step_observer_row(rfe_pipeline_q31_t *pl, const rfe_sensor_log_t *log,
-                                  size_t i, size_t *last, rfe_est_row_t *out,
-                                  rfe_replay_q31_stats_t *stats)
+uint32_t rfe_replay_esc_input_q31(const rfe_sensor_log_t *log, size_t i, size_t prev,
+                                  rfe_velocity_input_q31_t *in)
 {
+    return esc_input_row_q31(log, &log->rows[i], (prev < i) ? &log->rows[prev].t : NULL, in);
+}
+
+/* One pipeline step of @p row; returns the step's saturations (observer and friction). */
+static uint32_t step_observer_row(rfe_replay_q31_state_t *st, const rfe_sensor_row_t *row,
+                                  rfe_est_row_t *out)
+{
+    rfe_pipeline_q31_t *pl = &st->pl;
     rfe_velocity_input_q31_t in;
     rfe_pipeline_out_q31_t o;
-    rfe_status_t st;
+    rfe_status_t s;
     uint32_t in_sat;
     uint32_t sat;
     size_t w;
     memset(&o, 0, sizeof o);
-    if (log->rows[i].bad != 0u) {
+    if (row->bad != 0u) {
         /* a NaN / Inf cell has no Q value: rejected as in float, both estimates held */
         in_sat = 0u;
-        st = ((rfe_friction_get_q31(&pl->friction, &o.friction) == RFE_OK) &&
-              (rfe_velocity_get_q31(&pl->velocity, &o.velocity) == RFE_OK)) ? RFE_ERR_NONFINITE
-                                                                            : RFE_ERR_NOT_INITIALISED;
+        s = ((rfe_friction_get_q31(&pl->friction, &o.friction) == RFE_OK) &&
+             (rfe_velocity_get_q31(&pl->velocity, &o.velocity) == RFE_OK)) ? RFE_ERR_NONFINITE
+                                                                           : RFE_ERR_NOT_INITIALISED;
         o.friction.sat = 0u;
         o.velocity.sat = 0u;
     } else {
-        in_sat = rfe_replay_esc_input_q31(log, i, *last, &in);
+        in_sat = esc_input_row_q31(&st->shape, row, st->have_last ? &st->t_last : NULL, &in);
         /* pipeline_q31.h: on an error o holds the previous estimates, sat 0 */
-        st = rfe_pipeline_step_q31(pl, &in, &o);
-        if (!rfe_status_is_error(st)) {
-            *last = i; /* the next period starts here */
-            stats->base.n_gaps += (o.missed > 0u) ? 1u : 0u;
-            stats->base.n_skipped += o.missed;
-            stats->base.n_restarts += o.restarted;
+        s = rfe_pipeline_step_q31(pl, &in, &o);
+        if (!rfe_status_is_error(s)) {
+            st->t_last = row->t; /* the next period starts here */
+            st->have_last = 1;
+            st->stats.base.n_gaps += (o.missed > 0u) ? 1u : 0u;
+            st->stats.base.n_skipped += o.missed;
+            st->stats.base.n_restarts += o.restarted;
         }
     }
-    out->t = log->rows[i].t;
+    out->t = row->t;
     for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
         out->mu[w] = rfe_fix_to_double(o.friction.mu[w], RFE_FIX_Q_MU);
         out->sd[w] = rfe_fix_to_double(o.friction.sd[w], RFE_FIX_Q_SD);
-        out->valid[w] = rfe_status_is_error(st) ? 0u : o.friction.valid[w];
+        out->valid[w] = rfe_status_is_error(s) ? 0u : o.friction.valid[w];
     }
-    out->status = (int)st;
+    out->status = (int)s;
     out->has_velocity = 1;
     out->has_mass_grade = 0; /* no mass and grade estimator in fixed point yet */
     out->vx = rfe_fix_to_double(o.velocity.vx, RFE_FIX_Q_SPEED);
@@ -269,45 +247,138 @@ static uint32_t step_observer_row(rfe_pipeline_q31_t *pl, const rfe_sensor_log_t
     /* a saturating sum, as each count is */
     sat = (o.velocity.sat > UINT32_MAX - o.friction.sat) ? UINT32_MAX
                                                           : o.velocity.sat + o.friction.sat;
-    count_sat(stats, in_sat, sat);
+    count_sat(&st->stats, in_sat, sat);
     return sat;
+}
+
+/* One friction step on measured velocities: a gap's missed periods time-updated before the
+ * sample that ends it. */
+static uint32_t step_measured_row(rfe_replay_q31_state_t *st, const rfe_sensor_row_t *row,
+                                  rfe_est_row_t *out)
+{
+    const uint32_t missed = st->have_prev ? rfe_log_missed(row->t - st->t_prev, st->dt) : 0u;
+    if (missed > 0u) {
+        ++st->stats.base.n_gaps;
+        if (rfe_friction_skip_q31(&st->pl.friction, missed) == RFE_OK) {
+            st->stats.base.n_skipped += missed;
+        }
+    }
+    return step_row(&st->pl.friction, row, out, &st->stats);
+}
+
+size_t rfe_replay_state_size_q31(void)
+{
+    return sizeof(rfe_replay_q31_state_t);
+}
+
+rfe_status_t rfe_replay_begin_q31(rfe_replay_q31_state_t *st, const rfe_param_set_t *ps,
+                                  const rfe_sensor_log_t *log, int observer, size_t *bad_key)
+{
+    rfe_params_q31_t q;
+    rfe_velocity_params_q31_t vq;
+    rfe_status_t s;
+    if ((st == NULL) || (ps == NULL) || (log == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    /* not yet rad/s (and, measuring, a road-wheel angle): csv_log.h; the state untouched */
+    if ((log->omega_linear != 0) || ((observer == 0) && (log->has_swa != 0))) {
+        return RFE_ERR_RANGE;
+    }
+    memset(st, 0, sizeof *st); /* padding defined: a run is a function of its input */
+    st->shape = *log;
+    st->shape.rows = NULL; /* the columns it has, not its rows nor its metadata */
+    st->shape.n_rows = 0u;
+    st->shape.meta = NULL;
+    st->shape.n_meta = 0u;
+    st->observer = (observer != 0) ? 1 : 0;
+    st->dt = ps->value[RFE_PK_dt];
+    s = (observer != 0) ? rfe_replay_observer_params_q31(ps, &q, &vq, bad_key)
+                        : rfe_replay_params_q31(ps, &q, bad_key);
+    if ((s == RFE_ERR_RANGE) && (bad_key != NULL)) {
+        *bad_key = diagnose_range(ps, st->observer);
+    }
+    if (s == RFE_OK) {
+        s = (observer != 0) ? rfe_pipeline_init_q31(&st->pl, &q, &vq)
+                            : rfe_friction_init_q31(&st->pl.friction, &q);
+    }
+    st->ready = (s == RFE_OK) ? 1 : 0;
+    return s;
+}
+
+rfe_status_t rfe_replay_step_q31(rfe_replay_q31_state_t *st, const rfe_sensor_row_t *row,
+                                 rfe_est_row_t *out, uint32_t *sat)
+{
+    uint32_t n_sat;
+    if ((st == NULL) || (row == NULL) || (out == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    if (st->ready == 0) {
+        return RFE_ERR_NOT_INITIALISED;
+    }
+    if (st->have_prev && !(row->t > st->t_prev)) {
+        return RFE_ERR_RANGE; /* time must increase (the reader's rule for a log) */
+    }
+    n_sat = (st->observer != 0) ? step_observer_row(st, row, out) : step_measured_row(st, row, out);
+    if (sat != NULL) {
+        *sat = n_sat;
+    }
+    st->t_prev = row->t;
+    st->have_prev = 1;
+    ++st->stats.base.status_count[rfe_replay_status_slot(out->status)];
+    ++st->stats.base.n_steps;
+    return RFE_OK;
+}
+
+rfe_status_t rfe_replay_feed_q31(rfe_replay_q31_state_t *st, const rfe_sensor_row_t *rows,
+                                 size_t n, rfe_est_row_t *out, uint32_t *row_sat)
+{
+    size_t i;
+    rfe_status_t s = ((rows == NULL) || (out == NULL)) ? RFE_ERR_NULL : RFE_OK;
+    for (i = 0u; (s == RFE_OK) && (i < n); ++i) {
+        s = rfe_replay_step_q31(st, &rows[i], &out[i], (row_sat != NULL) ? &row_sat[i] : NULL);
+    }
+    return s;
+}
+
+rfe_status_t rfe_replay_get_stats_q31(const rfe_replay_q31_state_t *st,
+                                      rfe_replay_q31_stats_t *stats)
+{
+    if ((st == NULL) || (stats == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    *stats = st->stats;
+    return RFE_OK;
+}
+
+/* A whole log: begin, then every row (the one loop, rfe_replay_feed_q31). */
+static rfe_status_t run_log_q31(const rfe_param_set_t *ps, const rfe_sensor_log_t *log,
+                                rfe_est_row_t *out, rfe_replay_q31_stats_t *stats,
+                                uint32_t *row_sat, size_t *bad_key, int observer)
+{
+    static rfe_replay_q31_state_t st; /* large; a whole-log run is single-threaded host code */
+    rfe_status_t s;
+    if ((ps == NULL) || (log == NULL) || (out == NULL) || (stats == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    memset(stats, 0, sizeof *stats);
+    s = rfe_replay_begin_q31(&st, ps, log, observer, bad_key);
+    if (s == RFE_OK) {
+        s = rfe_replay_feed_q31(&st, log->rows, log->n_rows, out, row_sat);
+        *stats = st.stats;
+    }
+    return s;
+}
+
+rfe_status_t rfe_replay_run_q31(const rfe_param_set_t *ps, const rfe_sensor_log_t *log,
+                                rfe_est_row_t *out, rfe_replay_q31_stats_t *stats,
+                                uint32_t *row_sat, size_t *bad_key)
+{
+    return run_log_q31(ps, log, out, stats, row_sat, bad_key, 0);
 }
 
 rfe_status_t rfe_replay_run_observer_q31(const rfe_param_set_t *ps, const rfe_sensor_log_t *log,
                                          rfe_est_row_t *out, rfe_replay_q31_stats_t *stats,
                                          uint32_t *row_sat, size_t *bad_key)
 {
-    rfe_params_q31_t q;
-    rfe_velocity_params_q31_t vq;
-    static rfe_pipeline_q31_t pl; /* large; the replay is single-threaded host code */
-    rfe_status_t st;
-    size_t i;
-    size_t last = SIZE_MAX; /* the last accepted row: none yet */
-    if ((ps == NULL) || (log == NULL) || (out == NULL) || (stats == NULL)) {
-        return RFE_ERR_NULL;
-    }
-    memset(stats, 0, sizeof *stats);
-    if (log->omega_linear != 0) {
-        return RFE_ERR_RANGE; /* wheel speeds not yet rad/s: rfe_sensor_log_wheel_radius */
-    }
-    st = rfe_replay_observer_params_q31(ps, &q, &vq, bad_key);
-    if ((st == RFE_ERR_RANGE) && (bad_key != NULL)) {
-        *bad_key = diagnose_range(ps, 1);
-    }
-    if (st == RFE_OK) {
-        memset(&pl, 0, sizeof pl); /* padding defined: a run is a function of its input */
-        st = rfe_pipeline_init_q31(&pl, &q, &vq);
-    }
-    if (st != RFE_OK) {
-        return st;
-    }
-    for (i = 0u; i < log->n_rows; ++i) {
-        const uint32_t sat = step_observer_row(&pl, log, i, &last, &out[i], stats);
-        if (row_sat != NULL) {
-            row_sat[i] = sat;
-        }
-        ++stats->base.status_count[rfe_replay_status_slot(out[i].status)];
-    }
-    stats->base.n_steps = log->n_rows;
-    return RFE_OK;
+    return run_log_q31(ps, log, out, stats, row_sat, bad_key, 1);
 }

@@ -122,4 +122,47 @@ RFE_NODISCARD rfe_status_t rfe_replay_run_observer_q31(const rfe_param_set_t *ps
                                                        rfe_replay_q31_stats_t *stats,
                                                        uint32_t *row_sat, size_t *bad_key);
 
+/**
+ * The per-log state of a fixed-point replay (members private to replay_q31.c), as
+ * rfe_replay_state_t of replay_real.h: the caller owns it; rfe_replay_begin_q31, then
+ * rfe_replay_step_q31 per row; rfe_replay_run_q31 and rfe_replay_run_observer_q31 are that
+ * over a whole log.
+ */
+typedef struct rfe_replay_q31_state rfe_replay_q31_state_t;
+
+/** sizeof the state, for a caller that allocates it without its definition (Python). */
+size_t rfe_replay_state_size_q31(void);
+
+/**
+ * Starts a fixed-point replay in @p st: the parameters as rfe_replay_run_q31 (@p observer 0)
+ * or rfe_replay_run_observer_q31 (1) derives them, the estimator or pipeline initialised;
+ * @p log gives which columns the log has (its rows are not read).
+ * @return as those runs (RFE_ERR_NULL, RFE_ERR_RANGE with @p st untouched for the units;
+ *         else the parameters' or init's error, after which steps are refused).
+ */
+RFE_NODISCARD rfe_status_t rfe_replay_begin_q31(rfe_replay_q31_state_t *st,
+                                                const rfe_param_set_t *ps,
+                                                const rfe_sensor_log_t *log, int observer,
+                                                size_t *bad_key);
+
+/**
+ * One row: its estimate row into @p out as rfe_replay_run_q31 writes it; @p sat (may be
+ * NULL) the step's saturation count.
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_NOT_INITIALISED; RFE_ERR_RANGE when row->t does not
+ *         exceed the previous row's (state untouched).
+ */
+RFE_NODISCARD rfe_status_t rfe_replay_step_q31(rfe_replay_q31_state_t *st,
+                                               const rfe_sensor_row_t *row, rfe_est_row_t *out,
+                                               uint32_t *sat);
+
+/** rfe_replay_step_q31 on @p n rows in order (the replay's one loop); @p row_sat per row or
+ *  NULL. @return RFE_OK, or the first step's error. */
+RFE_NODISCARD rfe_status_t rfe_replay_feed_q31(rfe_replay_q31_state_t *st,
+                                               const rfe_sensor_row_t *rows, size_t n,
+                                               rfe_est_row_t *out, uint32_t *row_sat);
+
+/** The counters of the rows stepped so far. @return RFE_OK or RFE_ERR_NULL. */
+RFE_NODISCARD rfe_status_t rfe_replay_get_stats_q31(const rfe_replay_q31_state_t *st,
+                                                    rfe_replay_q31_stats_t *stats);
+
 #endif /* RFE_HOST_REPLAY_Q31_H */

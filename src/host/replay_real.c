@@ -19,6 +19,27 @@
 
 #include "log_timing.h"
 
+/** The per-log state of a replay (replay_real.h): the estimators, which columns the log has,
+ *  the times a period is measured from, the counters. Opaque outside this file. */
+struct rfe_replay_state {
+    rfe_pipeline_t pl;        /**< the observer and friction estimator; measured velocities:
+                                   pl.friction alone */
+    rfe_mass_grade_t mg;      /**< when mg_on */
+    rfe_sensor_log_t shape;   /**< the log's has_* flags (no rows, no metadata) */
+    rfe_replay_stats_t stats;
+    double dt;                /**< key dt: the gaps of a measuring run */
+    double feed_sd_rel;       /**< key mg_feed_sd_rel */
+    double t_prev;            /**< the previous row's time (have_prev) */
+    double t_last;            /**< the observer's last accepted row's time (have_last) */
+    double t_mg_last;         /**< the mass and grade estimator's (have_mg_last) */
+    int have_prev;
+    int have_last;
+    int have_mg_last;
+    int observer;             /**< the pipeline runs (else the friction estimator alone) */
+    int mg_on;                /**< the mass and grade estimator runs */
+    int ready;                /**< rfe_replay_begin succeeded */
+};
+
 static rfe_status_t preset_params(rfe_preset_t preset, rfe_params_t *p);
 static void set_key(rfe_params_t *p, const rfe_param_set_t *ps, size_t k);
 static rfe_status_t to_lib_params(const rfe_param_set_t *ps, rfe_params_t *p);
@@ -277,23 +298,22 @@ rfe_status_t rfe_replay_mass_grade_params(const rfe_param_set_t *ps, rfe_mass_gr
     return RFE_ERR_PARAM;
 }
 
-/* The mass and grade sample of log row @p i: the speed from the four wheels,
- * (omega_fl + omega_fr + omega_rl + omega_rr) / 4 * R in double and in that order
- * (MASS_GRADE.md §1, as the reference), the period since row @p prev (the last sample the
- * estimator accepted; none: @p prev >= @p i), the torque, the accelerometer, and the optional
- * brake, brake pressure and gear the log has. Returns RFE_OK, or the status of a row whose
- * brake or gear cell the library's integer inputs cannot hold: not finite (17), a gear
+/* The mass and grade sample of @p row of a log with the columns of @p log (its rows unused): the speed from the four
+ * wheels, (omega_fl + omega_fr + omega_rl + omega_rr) / 4 * R in double and in that order
+ * (MASS_GRADE.md §1, as the reference), the period since @p t_prev (the time of the last
+ * sample the estimator accepted; NULL: none yet), the torque, the accelerometer, and the
+ * optional brake, brake pressure and gear the log has. Returns RFE_OK, or the status of a row
+ * whose brake or gear cell the library's integer inputs cannot hold: not finite (17), a gear
  * beyond +-RFE_REPLAY_GEAR_MAX (18). */
-static rfe_status_t mass_grade_input(const rfe_sensor_log_t *log, size_t i, size_t prev, double R,
-                                     rfe_mass_grade_input_t *in)
+static rfe_status_t mass_grade_input(const rfe_sensor_log_t *log, const rfe_sensor_row_t *row,
+                                     const double *t_prev, double R, rfe_mass_grade_input_t *in)
 {
-    const rfe_sensor_row_t *row = &log->rows[i];
     const double v = ((((row->omega[RFE_FL] + row->omega[RFE_FR]) + row->omega[RFE_RL]) +
                        row->omega[RFE_RR]) /
                       4.0) *
                      R;
     memset(in, 0, sizeof *in);
-    in->dt = (prev < i) ? (rfe_real_t)(row->t - log->rows[prev].t) : (rfe_real_t)0.0;
+    in->dt = (t_prev != NULL) ? (rfe_real_t)(row->t - *t_prev) : (rfe_real_t)0.0;
     in->v = (rfe_real_t)v;
     in->torque = (rfe_real_t)row->drive_torque;
     in->ax = (rfe_real_t)row->ax;
@@ -311,38 +331,39 @@ static rfe_status_t mass_grade_input(const rfe_sensor_log_t *log, size_t i, size
     return RFE_OK;
 }
 
-/* One mass and grade step on row @p i into @p out; a row the library (or mass_grade_input)
- * refuses gets the held estimate and its error status. *last: the last accepted row. */
-static void mass_grade_row(rfe_mass_grade_t *mg, const rfe_sensor_log_t *log, size_t i,
-                           size_t *last, rfe_est_row_t *out, rfe_replay_stats_t *stats)
+/* One mass and grade step on @p row into @p out; a row the library (or mass_grade_input)
+ * refuses gets the held estimate and its error status. */
+static void mass_grade_row(rfe_replay_state_t *st, const rfe_sensor_row_t *row, rfe_est_row_t *out)
 {
     rfe_mass_grade_input_t in;
+    rfe_mass_grade_t *mg = &st->mg;
     /* the estimate of the last step (rfe_mass_grade_t.last: zero before the first accepted
      * sample), held should the row be refused here; the library's step refusing it gives
      * the same (mass_grade.h) */
     rfe_mass_grade_estimate_t e = mg->last;
-    rfe_status_t st = mass_grade_input(log, i, *last, (double)mg->p.R, &in);
-    if (st == RFE_OK) {
-        st = rfe_mass_grade_step(mg, &in, &e);
+    rfe_status_t s = mass_grade_input(&st->shape, row, st->have_mg_last ? &st->t_mg_last : NULL,
+                                      (double)mg->p.R, &in);
+    if (s == RFE_OK) {
+        s = rfe_mass_grade_step(mg, &in, &e);
     }
-    if (!rfe_status_is_error(st)) {
-        *last = i;
+    if (!rfe_status_is_error(s)) {
+        st->t_mg_last = row->t;
+        st->have_mg_last = 1;
     }
     out->has_mass_grade = 1;
     out->mass = (double)e.mass;
     out->sd_mass = (double)e.sd_mass;
     out->grade = (double)e.grade;
     out->sd_grade = (double)e.sd_grade;
-    out->mg_status = (int)st;
-    ++stats->mg_status_count[rfe_replay_status_slot(out->mg_status)];
+    out->mg_status = (int)s;
+    ++st->stats.mg_status_count[rfe_replay_status_slot(out->mg_status)];
 }
 
 /* The feed rule (MASS_GRADE.md §10): 1 when this sample's mass and grade step @p out is an
  * update (status RFE_OK: not paused, held or refused) with sd_mass <= mg_feed_sd_rel *
  * mass_est (in double, of the estimate's values); never with mg_feed_sd_rel = 0. */
-static int mass_feed_due(const rfe_param_set_t *ps, const rfe_est_row_t *out)
+static int mass_feed_due(double rel, const rfe_est_row_t *out)
 {
-    const double rel = ps->mg[RFE_PK_mg_feed_sd_rel - RFE_PK_MG_FIRST];
     return ((out->mg_status == (int)RFE_OK) && (rel > 0.0) && (out->sd_mass <= rel * out->mass))
                ? 1
                : 0;
@@ -419,28 +440,6 @@ void rfe_replay_sample_from_row(const rfe_sensor_row_t *row, rfe_sample_t *s)
     }
 }
 
-/* One step. On a rejected sample the estimator is unchanged: log its current estimate,
- * not valid, with the error status, and carry on. */
-static void step_row(rfe_friction_t *est, const rfe_sensor_row_t *row, rfe_est_row_t *out)
-{
-    rfe_sample_t s;
-    rfe_estimate_t e;
-    rfe_status_t st;
-    size_t w;
-    rfe_replay_sample_from_row(row, &s);
-    memset(&e, 0, sizeof e);
-    /* friction.h: on a rejected sample e holds the previous estimate, valid = 0. */
-    st = rfe_friction_step(est, &s, &e);
-    out->t = row->t;
-    for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
-        out->mu[w] = (double)e.mu[w];
-        out->sd[w] = (double)e.sd[w];
-        out->valid[w] = rfe_status_is_error(st) ? 0u : e.valid[w];
-    }
-    out->status = (int)st;
-    out->has_velocity = 0; /* has_mass_grade: the caller's (mass_grade_row sets it) */
-}
-
 rfe_status_t rfe_replay_params(const rfe_param_set_t *ps, rfe_params_t *p,
                                size_t *bad_key)
 {
@@ -461,72 +460,34 @@ rfe_status_t rfe_replay_params(const rfe_param_set_t *ps, rfe_params_t *p,
     return st;
 }
 
-rfe_status_t rfe_replay_run(const rfe_param_set_t *ps, const rfe_sensor_log_t *log,
-                            rfe_est_row_t *out, rfe_replay_stats_t *stats,
-                            size_t *bad_key)
+/* The friction estimator's step on @p row. On a rejected sample the estimator is unchanged:
+ * log its current estimate, not valid, with the error status, and carry on. */
+static void step_row(rfe_friction_t *est, const rfe_sensor_row_t *row, rfe_est_row_t *out)
 {
-    rfe_params_t p;
-    rfe_friction_t est;
-    static rfe_mass_grade_t mg; /* the replay is single-threaded host code */
+    rfe_sample_t s;
+    rfe_estimate_t e;
     rfe_status_t st;
-    size_t i;
-    size_t mg_last = SIZE_MAX; /* the mass and grade estimator's last accepted row */
-    int mg_on = 0;
-    if ((ps == NULL) || (log == NULL) || (out == NULL) || (stats == NULL)) {
-        return RFE_ERR_NULL;
+    size_t w;
+    rfe_replay_sample_from_row(row, &s);
+    memset(&e, 0, sizeof e);
+    /* friction.h: on a rejected sample e holds the previous estimate, valid = 0. */
+    st = rfe_friction_step(est, &s, &e);
+    out->t = row->t;
+    for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
+        out->mu[w] = (double)e.mu[w];
+        out->sd[w] = (double)e.sd[w];
+        out->valid[w] = rfe_status_is_error(st) ? 0u : e.valid[w];
     }
-    memset(stats, 0, sizeof *stats);
-    if ((log->omega_linear != 0) || (log->has_swa != 0)) {
-        return RFE_ERR_RANGE; /* not yet rad/s and road-wheel angle: csv_log.h */
-    }
-    st = rfe_replay_params(ps, &p, bad_key);
-    if (st == RFE_OK) {
-        st = rfe_friction_init(&est, &p);
-    }
-    if (st == RFE_OK) {
-        st = mass_grade_init(ps, log, &mg, &mg_on, bad_key);
-    }
-    if (st != RFE_OK) {
-        return st;
-    }
-    for (i = 0u; i < log->n_rows; ++i) {
-        /* a gap: the missed periods' time updates before the sample that ends it */
-        const uint32_t missed = rfe_log_missed_before(log, i, ps->value[RFE_PK_dt]);
-        if (missed > 0u) {
-            ++stats->n_gaps;
-            if (rfe_friction_skip(&est, missed) == RFE_OK) {
-                stats->n_skipped += missed;
-            }
-        }
-        out[i].has_mass_grade = 0;
-        if (mg_on) {
-            /* first, so this sample's friction step takes the mass fed from this sample's
-             * update (causal; one way: the estimator takes nothing of the friction
-             * estimator's). Measured velocities: the estimated grade feeds nothing (no
-             * observer). */
-            int fed = -1;
-            mass_grade_row(&mg, log, i, &mg_last, &out[i], stats);
-            if (mass_feed_due(ps, &out[i]) != 0) {
-                /* a mass rfe_params_set_mass refuses (not finite, <= 0: not an estimate in
-                 * [mg_m_min, mg_m_max]) leaves the last one */
-                fed = (int)rfe_friction_set_mass(&est, (rfe_real_t)out[i].mass);
-            }
-            mass_used_row(est.params.vehicle.m, fed, &out[i], stats);
-        }
-        step_row(&est, &log->rows[i], &out[i]);
-        ++stats->status_count[rfe_replay_status_slot(out[i].status)];
-    }
-    stats->n_steps = log->n_rows;
-    return RFE_OK;
+    out->status = (int)st;
+    out->has_velocity = 0; /* has_mass_grade: the caller's (mass_grade_row sets it) */
 }
 
-void rfe_replay_esc_input(const rfe_sensor_log_t *log, size_t i, size_t prev,
-                          rfe_velocity_input_t *in)
+void rfe_replay_esc_input_row(const rfe_sensor_log_t *log, const rfe_sensor_row_t *row,
+                              const double *t_prev, rfe_velocity_input_t *in)
 {
-    const rfe_sensor_row_t *row = &log->rows[i];
     size_t w;
     memset(in, 0, sizeof *in);
-    in->dt = (prev < i) ? (rfe_real_t)(row->t - log->rows[prev].t) : (rfe_real_t)0.0;
+    in->dt = (t_prev != NULL) ? (rfe_real_t)(row->t - *t_prev) : (rfe_real_t)0.0;
     in->delta = (rfe_real_t)row->delta;
     in->steer_wheel = log->has_swa ? (rfe_real_t)row->swa : (rfe_real_t)0.0;
     in->yaw_rate = (rfe_real_t)row->yaw_rate;
@@ -543,84 +504,207 @@ void rfe_replay_esc_input(const rfe_sensor_log_t *log, size_t i, size_t prev,
               (log->has_swa ? RFE_VEL_HAS_STEER_WHEEL : 0u);
 }
 
-rfe_status_t rfe_replay_run_observer(const rfe_param_set_t *ps, const rfe_sensor_log_t *log,
-                                     rfe_est_row_t *out, rfe_replay_stats_t *stats,
-                                     size_t *bad_key)
+void rfe_replay_esc_input(const rfe_sensor_log_t *log, size_t i, size_t prev,
+                          rfe_velocity_input_t *in)
+{
+    rfe_replay_esc_input_row(log, &log->rows[i], (prev < i) ? &log->rows[prev].t : NULL, in);
+}
+
+size_t rfe_replay_state_size(void)
+{
+    return sizeof(rfe_replay_state_t);
+}
+
+rfe_status_t rfe_replay_begin(rfe_replay_state_t *st, const rfe_param_set_t *ps,
+                              const rfe_sensor_log_t *log, int observer, size_t *bad_key)
 {
     rfe_params_t p;
     rfe_velocity_params_t vp;
-    static rfe_pipeline_t pl; /* large; the replay is single-threaded host code */
-    static rfe_mass_grade_t mg;
-    rfe_status_t st;
-    size_t i;
+    rfe_status_t s;
+    if ((st == NULL) || (ps == NULL) || (log == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    /* not yet rad/s (and, measuring, a road-wheel angle): csv_log.h; the state untouched */
+    if ((log->omega_linear != 0) || ((observer == 0) && (log->has_swa != 0))) {
+        return RFE_ERR_RANGE;
+    }
+    memset(st, 0, sizeof *st); /* padding defined: a run is a function of its input */
+    st->shape = *log;
+    st->shape.rows = NULL; /* the columns it has, not its rows nor its metadata */
+    st->shape.n_rows = 0u;
+    st->shape.meta = NULL;
+    st->shape.n_meta = 0u;
+    st->observer = (observer != 0) ? 1 : 0;
+    st->dt = ps->value[RFE_PK_dt];
+    st->feed_sd_rel = ps->mg[RFE_PK_mg_feed_sd_rel - RFE_PK_MG_FIRST];
+    s = rfe_replay_params(ps, &p, bad_key);
+    if ((s == RFE_OK) && (observer != 0)) {
+        s = rfe_replay_velocity_params(ps, &vp, bad_key);
+    }
+    if (s == RFE_OK) {
+        s = (observer != 0) ? rfe_pipeline_init(&st->pl, &p, &vp)
+                            : rfe_friction_init(&st->pl.friction, &p);
+    }
+    if (s == RFE_OK) {
+        s = mass_grade_init(ps, log, &st->mg, &st->mg_on, bad_key);
+    }
+    st->ready = (s == RFE_OK) ? 1 : 0;
+    return s;
+}
+
+/* The mass and grade step first, so this sample's friction step takes the mass fed from
+ * this sample's update (causal; one way: the estimator takes nothing of the friction
+ * estimator's or the observer's); behind the observer, the observer's grade input when the
+ * log has none. */
+static void mass_grade_first(rfe_replay_state_t *st, const rfe_sensor_row_t *row,
+                             rfe_est_row_t *out, rfe_real_t *grade)
+{
+    int fed = -1;
+    mass_grade_row(st, row, out);
+    *grade = st->shape.has_grade ? *grade : (rfe_real_t)out->grade;
+    if (mass_feed_due(st->feed_sd_rel, out) != 0) {
+        /* a mass rfe_params_set_mass refuses (not finite, <= 0: not an estimate in
+         * [mg_m_min, mg_m_max]) leaves the last one; the observer keeps the friction
+         * estimator's vehicle */
+        const rfe_real_t m = (rfe_real_t)out->mass;
+        fed = (int)((st->observer != 0) ? rfe_pipeline_set_mass(&st->pl, m)
+                                        : rfe_friction_set_mass(&st->pl.friction, m));
+    }
+    mass_used_row(st->pl.friction.params.vehicle.m, fed, out, &st->stats);
+}
+
+/* One pipeline step (the observer feeding the friction estimator) on @p row. The period is
+ * the time since the last accepted row (rfe/pipeline.h). */
+static void step_observer_row(rfe_replay_state_t *st, const rfe_sensor_row_t *row,
+                              rfe_est_row_t *out)
+{
+    rfe_velocity_input_t in;
+    rfe_pipeline_out_t o;
+    rfe_status_t s;
     size_t w;
-    size_t last = SIZE_MAX; /* the last accepted row: none yet */
-    size_t mg_last = SIZE_MAX; /* the mass and grade estimator's own */
-    int mg_on = 0;
+    rfe_replay_esc_input_row(&st->shape, row, st->have_last ? &st->t_last : NULL, &in);
+    if (st->mg_on != 0) {
+        mass_grade_first(st, row, out, &in.grade);
+    }
+    memset(&o, 0, sizeof o);
+    s = rfe_pipeline_step(&st->pl, &in, &o);
+    if (!rfe_status_is_error(s)) {
+        st->t_last = row->t; /* the next period starts here */
+        st->have_last = 1;
+        st->stats.n_gaps += (o.missed > 0u) ? 1u : 0u;
+        st->stats.n_skipped += o.missed;
+        st->stats.n_restarts += o.restarted;
+    }
+    out->t = row->t;
+    for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
+        out->mu[w] = (double)o.friction.mu[w];
+        out->sd[w] = (double)o.friction.sd[w];
+        out->valid[w] = rfe_status_is_error(s) ? 0u : o.friction.valid[w];
+    }
+    out->status = (int)s;
+    out->has_velocity = 1;
+    out->vx = (double)o.velocity.vx;
+    out->vy = (double)o.velocity.vy;
+    out->beta = (double)o.velocity.beta;
+    out->yaw_acc = (double)o.velocity.yaw_acc;
+    out->sd_vx = (double)o.velocity.sd_vx;
+    out->sd_vy = (double)o.velocity.sd_vy;
+    out->sd_beta = (double)o.velocity.sd_beta;
+}
+
+/* One friction step on measured velocities: a gap's missed periods time-updated before the
+ * sample that ends it. */
+static void step_measured_row(rfe_replay_state_t *st, const rfe_sensor_row_t *row,
+                              rfe_est_row_t *out)
+{
+    const uint32_t missed = st->have_prev ? rfe_log_missed(row->t - st->t_prev, st->dt) : 0u;
+    if (missed > 0u) {
+        ++st->stats.n_gaps;
+        if (rfe_friction_skip(&st->pl.friction, missed) == RFE_OK) {
+            st->stats.n_skipped += missed;
+        }
+    }
+    if (st->mg_on != 0) {
+        rfe_real_t unused = (rfe_real_t)0.0; /* measured velocities: the grade feeds nothing */
+        mass_grade_first(st, row, out, &unused);
+    }
+    step_row(&st->pl.friction, row, out);
+}
+
+rfe_status_t rfe_replay_step(rfe_replay_state_t *st, const rfe_sensor_row_t *row,
+                             rfe_est_row_t *out)
+{
+    if ((st == NULL) || (row == NULL) || (out == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    if (st->ready == 0) {
+        return RFE_ERR_NOT_INITIALISED;
+    }
+    if (st->have_prev && !(row->t > st->t_prev)) {
+        return RFE_ERR_RANGE; /* time must increase (the reader's rule for a log) */
+    }
+    out->has_mass_grade = 0;
+    if (st->observer != 0) {
+        step_observer_row(st, row, out);
+    } else {
+        step_measured_row(st, row, out);
+    }
+    st->t_prev = row->t;
+    st->have_prev = 1;
+    ++st->stats.status_count[rfe_replay_status_slot(out->status)];
+    ++st->stats.n_steps;
+    return RFE_OK;
+}
+
+rfe_status_t rfe_replay_feed(rfe_replay_state_t *st, const rfe_sensor_row_t *rows, size_t n,
+                             rfe_est_row_t *out)
+{
+    size_t i;
+    rfe_status_t s = ((rows == NULL) || (out == NULL)) ? RFE_ERR_NULL : RFE_OK;
+    for (i = 0u; (s == RFE_OK) && (i < n); ++i) {
+        s = rfe_replay_step(st, &rows[i], &out[i]);
+    }
+    return s;
+}
+
+rfe_status_t rfe_replay_get_stats(const rfe_replay_state_t *st, rfe_replay_stats_t *stats)
+{
+    if ((st == NULL) || (stats == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    *stats = st->stats;
+    return RFE_OK;
+}
+
+/* A whole log: begin, then every row (the one loop, rfe_replay_feed). */
+static rfe_status_t run_log(const rfe_param_set_t *ps, const rfe_sensor_log_t *log,
+                            rfe_est_row_t *out, rfe_replay_stats_t *stats, size_t *bad_key,
+                            int observer)
+{
+    static rfe_replay_state_t st; /* large; a whole-log run is single-threaded host code */
+    rfe_status_t s;
     if ((ps == NULL) || (log == NULL) || (out == NULL) || (stats == NULL)) {
         return RFE_ERR_NULL;
     }
     memset(stats, 0, sizeof *stats);
-    if (log->omega_linear != 0) {
-        return RFE_ERR_RANGE; /* wheel speeds not yet rad/s: rfe_sensor_log_wheel_radius */
+    s = rfe_replay_begin(&st, ps, log, observer, bad_key);
+    if (s == RFE_OK) {
+        s = rfe_replay_feed(&st, log->rows, log->n_rows, out);
+        *stats = st.stats;
     }
-    st = rfe_replay_params(ps, &p, bad_key);
-    if (st == RFE_OK) {
-        st = rfe_replay_velocity_params(ps, &vp, bad_key);
-    }
-    if (st == RFE_OK) {
-        st = rfe_pipeline_init(&pl, &p, &vp);
-    }
-    if (st == RFE_OK) {
-        st = mass_grade_init(ps, log, &mg, &mg_on, bad_key);
-    }
-    if (st != RFE_OK) {
-        return st;
-    }
-    for (i = 0u; i < log->n_rows; ++i) {
-        rfe_velocity_input_t in;
-        rfe_pipeline_out_t o;
-        rfe_replay_esc_input(log, i, last, &in);
-        out[i].has_mass_grade = 0;
-        if (mg_on) {
-            /* first, so the observer integrates ax with this sample's estimated grade when
-             * the log has no measured one: one way (the estimator takes nothing of the
-             * observer's) and causal (the grade of samples up to this one) */
-            int fed = -1;
-            mass_grade_row(&mg, log, i, &mg_last, &out[i], stats);
-            in.grade = log->has_grade ? in.grade : (rfe_real_t)out[i].grade;
-            /* and this sample's mass, when the rule trusts it, to both estimators (the
-             * observer keeps the friction estimator's vehicle) */
-            if (mass_feed_due(ps, &out[i]) != 0) {
-                fed = (int)rfe_pipeline_set_mass(&pl, (rfe_real_t)out[i].mass);
-            }
-            mass_used_row(pl.friction.params.vehicle.m, fed, &out[i], stats);
-        }
-        memset(&o, 0, sizeof o);
-        st = rfe_pipeline_step(&pl, &in, &o);
-        if (!rfe_status_is_error(st)) {
-            last = i; /* the next period starts here */
-            stats->n_gaps += (o.missed > 0u) ? 1u : 0u;
-            stats->n_skipped += o.missed;
-            stats->n_restarts += o.restarted;
-        }
-        out[i].t = log->rows[i].t;
-        for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
-            out[i].mu[w] = (double)o.friction.mu[w];
-            out[i].sd[w] = (double)o.friction.sd[w];
-            out[i].valid[w] = rfe_status_is_error(st) ? 0u : o.friction.valid[w];
-        }
-        out[i].status = (int)st;
-        out[i].has_velocity = 1;
-        out[i].vx = (double)o.velocity.vx;
-        out[i].vy = (double)o.velocity.vy;
-        out[i].beta = (double)o.velocity.beta;
-        out[i].yaw_acc = (double)o.velocity.yaw_acc;
-        out[i].sd_vx = (double)o.velocity.sd_vx;
-        out[i].sd_vy = (double)o.velocity.sd_vy;
-        out[i].sd_beta = (double)o.velocity.sd_beta;
-        ++stats->status_count[rfe_replay_status_slot(out[i].status)];
-    }
-    stats->n_steps = log->n_rows;
-    return RFE_OK;
+    return s;
+}
+
+rfe_status_t rfe_replay_run(const rfe_param_set_t *ps, const rfe_sensor_log_t *log,
+                            rfe_est_row_t *out, rfe_replay_stats_t *stats,
+                            size_t *bad_key)
+{
+    return run_log(ps, log, out, stats, bad_key, 0);
+}
+
+rfe_status_t rfe_replay_run_observer(const rfe_param_set_t *ps, const rfe_sensor_log_t *log,
+                                     rfe_est_row_t *out, rfe_replay_stats_t *stats,
+                                     size_t *bad_key)
+{
+    return run_log(ps, log, out, stats, bad_key, 1);
 }

@@ -27,6 +27,13 @@
 #define rfe_replay_run_observer    rfe_replay_run_observer_f64
 #define rfe_replay_sample_from_row rfe_replay_sample_from_row_f64
 #define rfe_replay_esc_input       rfe_replay_esc_input_f64
+#define rfe_replay_esc_input_row   rfe_replay_esc_input_row_f64
+#define rfe_replay_state           rfe_replay_state_f64
+#define rfe_replay_state_size      rfe_replay_state_size_f64
+#define rfe_replay_begin           rfe_replay_begin_f64
+#define rfe_replay_step            rfe_replay_step_f64
+#define rfe_replay_feed            rfe_replay_feed_f64
+#define rfe_replay_get_stats       rfe_replay_get_stats_f64
 #define rfe_param_set_preset       rfe_param_set_preset_f64
 #define rfe_replay_params          rfe_replay_params_f64
 #define rfe_replay_velocity_params rfe_replay_velocity_params_f64
@@ -38,6 +45,13 @@
 #define rfe_replay_run_observer    rfe_replay_run_observer_f32
 #define rfe_replay_sample_from_row rfe_replay_sample_from_row_f32
 #define rfe_replay_esc_input       rfe_replay_esc_input_f32
+#define rfe_replay_esc_input_row   rfe_replay_esc_input_row_f32
+#define rfe_replay_state           rfe_replay_state_f32
+#define rfe_replay_state_size      rfe_replay_state_size_f32
+#define rfe_replay_begin           rfe_replay_begin_f32
+#define rfe_replay_step            rfe_replay_step_f32
+#define rfe_replay_feed            rfe_replay_feed_f32
+#define rfe_replay_get_stats       rfe_replay_get_stats_f32
 #define rfe_param_set_preset       rfe_param_set_preset_f32
 #define rfe_replay_params          rfe_replay_params_f32
 #define rfe_replay_velocity_params rfe_replay_velocity_params_f32
@@ -78,6 +92,79 @@ static inline size_t rfe_replay_status_slot(int status)
     return ((status >= 0) && (status < RFE_REPLAY_STATUS_SLOTS - 1)) ? (size_t)status
                                                                     : (size_t)(RFE_REPLAY_STATUS_SLOTS - 1);
 }
+
+/**
+ * The per-log state of a replay, one precision's (the struct tag is rfe_replay_state_f32 or
+ * _f64; its members are private to replay_real.c): the friction estimator, or the pipeline
+ * of the observer feeding it, the mass and grade estimator, which columns the log has, the
+ * time of the previous row and of the last accepted one (the periods), the counters. The
+ * caller owns it, so runs need no heap and several may run side by side (one state each):
+ * rfe_replay_begin, then rfe_replay_step per row (or rfe_replay_feed per block of rows).
+ * rfe_replay_run and rfe_replay_run_observer are that over a whole log, with a state of
+ * their own.
+ */
+struct rfe_replay_state_f32;
+struct rfe_replay_state_f64;
+/** The state of the including translation unit's precision. */
+typedef struct rfe_replay_state rfe_replay_state_t;
+
+/** sizeof the state, for a caller that allocates it without its definition (Python). */
+size_t rfe_replay_state_size_f32(void);
+/** Double-precision twin of rfe_replay_state_size_f32. */
+size_t rfe_replay_state_size_f64(void);
+
+/**
+ * Starts a replay in @p st: the parameters of @p ps converted (as rfe_replay_run), the
+ * friction estimator (@p observer 0: measured velocities) or the pipeline (@p observer 1)
+ * and, when ps->mass_grade is set and @p log has drive_torque, the mass and grade estimator
+ * initialised; @p log gives which columns the log has (its rows are not read).
+ * @param bad_key as rfe_replay_run (may be NULL).
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_RANGE (wheel speeds not in rad/s, or a steering-wheel
+ *         angle without the observer: @p st untouched); RFE_ERR_PARAM or an init's error
+ *         (then rfe_replay_step refuses with RFE_ERR_NOT_INITIALISED).
+ */
+RFE_NODISCARD rfe_status_t rfe_replay_begin_f32(struct rfe_replay_state_f32 *st,
+                                                const rfe_param_set_t *ps,
+                                                const rfe_sensor_log_t *log, int observer,
+                                                size_t *bad_key);
+/** Double-precision twin of rfe_replay_begin_f32. */
+RFE_NODISCARD rfe_status_t rfe_replay_begin_f64(struct rfe_replay_state_f64 *st,
+                                                const rfe_param_set_t *ps,
+                                                const rfe_sensor_log_t *log, int observer,
+                                                size_t *bad_key);
+
+/**
+ * One row of the log: its estimate row into @p out, as rfe_replay_run writes it (a row the
+ * library rejects: the held estimate, valid 0, its error status in out->status).
+ * @return RFE_OK (whatever the row's own status); RFE_ERR_NULL; RFE_ERR_NOT_INITIALISED (no
+ *         successful rfe_replay_begin); RFE_ERR_RANGE when row->t does not exceed the
+ *         previous row's (state and @p out untouched).
+ */
+RFE_NODISCARD rfe_status_t rfe_replay_step_f32(struct rfe_replay_state_f32 *st,
+                                               const rfe_sensor_row_t *row, rfe_est_row_t *out);
+/** Double-precision twin of rfe_replay_step_f32. */
+RFE_NODISCARD rfe_status_t rfe_replay_step_f64(struct rfe_replay_state_f64 *st,
+                                               const rfe_sensor_row_t *row, rfe_est_row_t *out);
+
+/**
+ * rfe_replay_step on @p n rows in order (the replay's one loop: a whole log and the Python
+ * package's blocks of samples both go through it).
+ * @return RFE_OK, or the first step's error (the rows before it stepped).
+ */
+RFE_NODISCARD rfe_status_t rfe_replay_feed_f32(struct rfe_replay_state_f32 *st,
+                                               const rfe_sensor_row_t *rows, size_t n,
+                                               rfe_est_row_t *out);
+/** Double-precision twin of rfe_replay_feed_f32. */
+RFE_NODISCARD rfe_status_t rfe_replay_feed_f64(struct rfe_replay_state_f64 *st,
+                                               const rfe_sensor_row_t *rows, size_t n,
+                                               rfe_est_row_t *out);
+
+/** The counters of the rows stepped so far. @return RFE_OK or RFE_ERR_NULL. */
+RFE_NODISCARD rfe_status_t rfe_replay_get_stats_f32(const struct rfe_replay_state_f32 *st,
+                                                    rfe_replay_stats_t *stats);
+/** Double-precision twin of rfe_replay_get_stats_f32. */
+RFE_NODISCARD rfe_status_t rfe_replay_get_stats_f64(const struct rfe_replay_state_f64 *st,
+                                                    rfe_replay_stats_t *stats);
 
 /**
  * Converts the parameter set, initialises the estimator and steps it on every row of
@@ -134,6 +221,13 @@ void rfe_replay_sample_from_row(const rfe_sensor_row_t *row, rfe_sample_t *s);
  *  that step the observer themselves (the PIL data generator, the soak: @p prev = i - 1). */
 void rfe_replay_esc_input(const rfe_sensor_log_t *log, size_t i, size_t prev,
                           rfe_velocity_input_t *in);
+
+/** The ESC sample of @p row of a log with the columns of @p log (its rows unused), the period
+ *  since @p t_prev (the last accepted sample's time; NULL: none yet); rfe_replay_esc_input is
+ *  this on log row @p i, and the fixed-point replay (a double translation unit) rounds the
+ *  _f64 one's. */
+void rfe_replay_esc_input_row(const rfe_sensor_log_t *log, const rfe_sensor_row_t *row,
+                              const double *t_prev, rfe_velocity_input_t *in);
 
 /**
  * Fills @p ps from the library's preset @p preset (every key of the table, tyre, filter;

@@ -1028,6 +1028,184 @@ static void test_rfe_xrealloc_zero_size_not_null(void **state)
     free(s);
 }
 
+/* ---------------------------------------------------------------- from columns in memory */
+
+#define MEM_MAX_COLS 64u
+#define MEM_MAX_ROWS 64u
+#define MEM_MAX_META 32u
+#define MEM_LINE 4096u
+
+/** A small CSV parsed by this test on its own (strtok, strchr, strtod; no unit conversion): the
+ *  raw columns and metadata pairs rfe_sensor_log_from_columns takes. */
+typedef struct {
+    char meta_text[MEM_MAX_META][2][256];
+    rfe_kv_t meta[MEM_MAX_META];
+    size_t n_meta;
+    char names[MEM_MAX_COLS][64];
+    double values[MEM_MAX_COLS][MEM_MAX_ROWS];
+    rfe_column_t cols[MEM_MAX_COLS];
+    size_t n_cols;
+    size_t n_rows;
+} mem_log_t;
+
+static char *trim(char *s)
+{
+    char *e;
+    while ((*s == ' ') || (*s == '\t')) {
+        ++s;
+    }
+    e = s + strlen(s);
+    while ((e > s) && ((e[-1] == ' ') || (e[-1] == '\n') || (e[-1] == '\r') || (e[-1] == '\t'))) {
+        *--e = '\0';
+    }
+    return s;
+}
+
+static void mem_log_load(const char *path, mem_log_t *m)
+{
+    char line[MEM_LINE];
+    FILE *f = fopen(path, "r");
+    int header = 0;
+    assert_non_null(f);
+    memset(m, 0, sizeof *m);
+    while (fgets(line, sizeof line, f) != NULL) {
+        if (trim(line)[0] == '\0') {
+            continue; /* a blank line */
+        }
+        if (line[0] == '#') {
+            char *eq = strchr(line, '=');
+            if (eq == NULL) {
+                continue; /* a comment */
+            }
+            *eq = '\0';
+            (void)snprintf(m->meta_text[m->n_meta][0], 256, "%s", trim(line + 1));
+            (void)snprintf(m->meta_text[m->n_meta][1], 256, "%s", trim(eq + 1));
+            m->meta[m->n_meta].key = m->meta_text[m->n_meta][0];
+            m->meta[m->n_meta].value = m->meta_text[m->n_meta][1];
+            ++m->n_meta;
+        } else if (!header) {
+            char *tok = strtok(line, ",");
+            for (; tok != NULL; tok = strtok(NULL, ",")) {
+                (void)snprintf(m->names[m->n_cols], 64, "%s", trim(tok));
+                ++m->n_cols;
+            }
+            header = 1;
+        } else {
+            char *p = line;
+            size_t j = 0u;
+            for (;;) { /* fields may be empty (strtok would skip them) */
+                char *comma = strchr(p, ',');
+                m->values[j++][m->n_rows] = strtod(p, NULL);
+                if (comma == NULL) {
+                    break;
+                }
+                p = comma + 1;
+            }
+            assert_int_equal(j, m->n_cols);
+            ++m->n_rows;
+        }
+    }
+    (void)fclose(f);
+    for (size_t j = 0u; j < m->n_cols; ++j) {
+        m->cols[j].name = m->names[j];
+        m->cols[j].values = m->values[j];
+    }
+}
+
+/* Every value of two logs' rows the same, bit for bit, and the same columns. */
+static void assert_same_log(const rfe_sensor_log_t *a, const rfe_sensor_log_t *b)
+{
+    assert_int_equal(a->n_rows, b->n_rows);
+    assert_int_equal(a->omega_linear, b->omega_linear);
+    assert_int_equal(a->has_swa, b->has_swa);
+    assert_int_equal(a->has_velocity, b->has_velocity);
+    assert_int_equal(a->has_truth, b->has_truth);
+    assert_int_equal(a->bad_rows, b->bad_rows);
+    for (size_t i = 0u; i < a->n_rows; ++i) {
+        assert_memory_equal(&a->rows[i], &b->rows[i], offsetof(rfe_sensor_row_t, bad));
+        assert_int_equal(a->rows[i].bad, b->rows[i].bad);
+    }
+}
+
+/* The columns of a car logger's file (units, scales, names in the metadata) give the log the
+ * reader makes of the file: the same rules, the same SI values. REQ-CLI-003 */
+static void test_rfe_sensor_log_from_columns_equals_file(void **state)
+{
+    static mem_log_t m;
+    rfe_sensor_log_t a;
+    rfe_sensor_log_t b;
+    rfe_io_error_t err;
+    rfe_read_opts_t ro;
+    (void)state;
+    memset(&ro, 0, sizeof ro);
+    ro.cells = RFE_CELLS_KEEP;
+    ro.inputs = RFE_INPUTS_AUTO;
+    mem_log_load(DATA "car_format_small.csv", &m);
+    assert_int_equal(rfe_sensor_log_read_opts(DATA "car_format_small.csv", &ro, &a, &err), 0);
+    assert_int_equal(rfe_sensor_log_from_columns("mem", m.meta, m.n_meta, m.cols, m.n_cols,
+                                                 m.n_rows, &ro, &b, &err), 0);
+    assert_int_equal(a.omega_linear, 1); /* the units were applied: km/h wheel speeds */
+    assert_same_log(&a, &b);
+    assert_string_equal(rfe_sensor_log_meta(&b, "obs_steer_ratio"), "16");
+    rfe_sensor_log_free(&a);
+    rfe_sensor_log_free(&b);
+    mem_log_load(DATA "good_small.csv", &m);
+    assert_int_equal(rfe_sensor_log_read_opts(DATA "good_small.csv", &ro, &a, &err), 0);
+    assert_int_equal(rfe_sensor_log_from_columns("mem", m.meta, m.n_meta, m.cols, m.n_cols,
+                                                 m.n_rows, &ro, &b, &err), 0);
+    assert_same_log(&a, &b);
+    rfe_sensor_log_free(&a);
+    rfe_sensor_log_free(&b);
+}
+
+/* A NaN value is a CSV's nan cell: kept and counted (row rejected later), or, strict, the
+ * error RFE_ERR_NONFINITE at its row and column; a text column naming an input, no rows,
+ * time not increasing, NULL arguments: -1. REQ-CLI-003 */
+static void test_rfe_sensor_log_from_columns_errors(void **state)
+{
+    static mem_log_t m;
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    rfe_read_opts_t ro;
+    size_t ax = 0u;
+    (void)state;
+    memset(&ro, 0, sizeof ro);
+    mem_log_load(DATA "good_small.csv", &m);
+    while (strcmp(m.names[ax], "ax") != 0) {
+        ++ax;
+    }
+    m.values[ax][1] = (double)NAN;
+    ro.cells = RFE_CELLS_KEEP;
+    assert_int_equal(rfe_sensor_log_from_columns("mem", m.meta, m.n_meta, m.cols, m.n_cols,
+                                                 m.n_rows, &ro, &log, &err), 0);
+    assert_int_equal(log.bad_rows, 1);
+    assert_int_equal(log.bad_cells[RFE_CELL_NONFINITE], 1);
+    assert_true(isnan(log.rows[1].ax));
+    rfe_sensor_log_free(&log);
+    ro.cells = RFE_CELLS_STRICT;
+    assert_int_equal(rfe_sensor_log_from_columns("mem", m.meta, m.n_meta, m.cols, m.n_cols,
+                                                 m.n_rows, &ro, &log, &err), RFE_ERR_NONFINITE);
+    assert_int_equal(err.line, 2); /* the row, 1-based */
+    assert_int_equal(err.col, ax + 1u);
+    assert_int_equal(log.n_rows, 0);
+    m.values[ax][1] = 0.0;
+    m.cols[ax].values = NULL; /* a column of text */
+    assert_int_equal(rfe_sensor_log_from_columns("mem", m.meta, m.n_meta, m.cols, m.n_cols,
+                                                 m.n_rows, &ro, &log, &err), -1);
+    assert_non_null(strstr(err.msg, "column 'ax'"));
+    m.cols[ax].values = m.values[ax];
+    assert_int_equal(rfe_sensor_log_from_columns("mem", m.meta, m.n_meta, m.cols, m.n_cols, 0u,
+                                                 &ro, &log, &err), -1);
+    assert_non_null(strstr(err.msg, "no data rows"));
+    assert_string_equal(m.names[1], "t"); /* good_small.csv: ay, t, ... */
+    m.values[1][1] = m.values[1][0];      /* time not increasing at row 2 */
+    assert_int_equal(rfe_sensor_log_from_columns("mem", m.meta, m.n_meta, m.cols, m.n_cols,
+                                                 m.n_rows, &ro, &log, &err), -1);
+    assert_non_null(strstr(err.msg, "time not increasing"));
+    assert_int_equal(rfe_sensor_log_from_columns(NULL, m.meta, m.n_meta, m.cols, m.n_cols,
+                                                 m.n_rows, &ro, &log, &err), -1);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1083,6 +1261,8 @@ int main(void)
         cmocka_unit_test(test_rfe_num_status_str_every_value),
         cmocka_unit_test(test_rfe_json_write_string_escapes),
         cmocka_unit_test(test_rfe_xrealloc_zero_size_not_null),
+        cmocka_unit_test(test_rfe_sensor_log_from_columns_equals_file),
+        cmocka_unit_test(test_rfe_sensor_log_from_columns_errors),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

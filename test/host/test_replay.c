@@ -1216,6 +1216,141 @@ static void test_rfe_replay_feed_off_is_mass_grade_off(void **state)
     }
 }
 
+/* The per-log state: rows stepped one by one (the same state, begun once) give the whole-log
+ * run's rows and counters, in double and in q31, measured and behind the observer; a step
+ * refused (time not after the last row's) changes nothing. REQ-CLI-003 */
+static void test_rfe_replay_state_steps_as_the_run(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_param_set_t ps;
+    rfe_io_error_t err;
+    rfe_est_row_t run[3];
+    rfe_est_row_t one[3];
+    rfe_replay_stats_t st_run;
+    rfe_replay_stats_t st_one;
+    rfe_replay_q31_stats_t q_run;
+    rfe_replay_q31_stats_t q_one;
+    struct rfe_replay_state_f64 *s = calloc(1u, rfe_replay_state_size_f64());
+    rfe_replay_q31_state_t *q = calloc(1u, rfe_replay_state_size_q31());
+    size_t i;
+    int observer;
+    (void)state;
+    assert_non_null(s);
+    assert_non_null(q);
+    assert_int_equal(rfe_sensor_log_read(DATA "good_esc.csv", &log, &err), 0);
+    assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_DEFAULT), 0);
+    for (observer = 0; observer <= 1; ++observer) {
+        /* the fields a step does not write (vx .. of a measuring run) equal too */
+        memset(run, 0, sizeof run);
+        memset(one, 0, sizeof one);
+        assert_int_equal(observer ? rfe_replay_run_observer_f64(&ps, &log, run, &st_run, NULL)
+                                  : rfe_replay_run_f64(&ps, &log, run, &st_run, NULL),
+                         RFE_OK);
+        assert_int_equal(rfe_replay_begin_f64(s, &ps, &log, observer, NULL), RFE_OK);
+        for (i = 0u; i < log.n_rows; ++i) {
+            assert_int_equal(rfe_replay_step_f64(s, &log.rows[i], &one[i]), RFE_OK);
+            if (i == 1u) { /* the same row again: refused, nothing changed */
+                rfe_est_row_t again = one[i];
+                assert_int_equal(rfe_replay_step_f64(s, &log.rows[i], &again), RFE_ERR_RANGE);
+                assert_memory_equal(&again, &one[i], sizeof again);
+            }
+            assert_true(one[i].mu[RFE_FL] == run[i].mu[RFE_FL]);
+            assert_true(one[i].sd[RFE_RR] == run[i].sd[RFE_RR]);
+            assert_true(one[i].vx == run[i].vx);
+            assert_int_equal(one[i].status, run[i].status);
+        }
+        assert_int_equal(rfe_replay_get_stats_f64(s, &st_one), RFE_OK);
+        assert_memory_equal(&st_one, &st_run, sizeof st_one);
+        memset(run, 0, sizeof run);
+        memset(one, 0, sizeof one);
+        assert_int_equal(observer ? rfe_replay_run_observer_q31(&ps, &log, run, &q_run, NULL, NULL)
+                                  : rfe_replay_run_q31(&ps, &log, run, &q_run, NULL, NULL),
+                         RFE_OK);
+        assert_int_equal(rfe_replay_begin_q31(q, &ps, &log, observer, NULL), RFE_OK);
+        assert_int_equal(rfe_replay_feed_q31(q, log.rows, 1u, one, NULL), RFE_OK);
+        assert_int_equal(rfe_replay_step_q31(q, &log.rows[0], &one[1], NULL), RFE_ERR_RANGE);
+        assert_int_equal(rfe_replay_feed_q31(q, &log.rows[1], log.n_rows - 1u, &one[1], NULL),
+                         RFE_OK);
+        for (i = 0u; i < log.n_rows; ++i) {
+            assert_true(one[i].mu[RFE_FL] == run[i].mu[RFE_FL]);
+            assert_true(one[i].vx == run[i].vx);
+            assert_int_equal(one[i].status, run[i].status);
+        }
+        assert_int_equal(rfe_replay_get_stats_q31(q, &q_one), RFE_OK);
+        assert_memory_equal(&q_one, &q_run, sizeof q_one);
+    }
+    rfe_sensor_log_free(&log);
+    free(s);
+    free(q);
+}
+
+/* The state's entries validate their inputs: NULL, a step before a successful begin, wheel
+ * speeds not in rad/s (the state untouched). REQ-CLI-003 */
+static void test_rfe_replay_state_refusals(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_sensor_row_t rows[N_ROWS];
+    rfe_param_set_t ps;
+    rfe_est_row_t out;
+    rfe_replay_stats_t st;
+    rfe_replay_q31_stats_t qst;
+    struct rfe_replay_state_f64 *s = calloc(1u, rfe_replay_state_size_f64());
+    rfe_replay_q31_state_t *q = calloc(1u, rfe_replay_state_size_q31());
+    (void)state;
+    assert_non_null(s);
+    assert_non_null(q);
+    make_log(&log, rows);
+    assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_PAPER), 0);
+    assert_int_equal(rfe_replay_step_f64(s, &rows[0], &out), RFE_ERR_NOT_INITIALISED);
+    assert_int_equal(rfe_replay_step_q31(q, &rows[0], &out, NULL), RFE_ERR_NOT_INITIALISED);
+    assert_int_equal(rfe_replay_begin_f64(NULL, &ps, &log, 0, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_replay_begin_q31(q, &ps, NULL, 0, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_replay_step_f64(s, NULL, &out), RFE_ERR_NULL);
+    assert_int_equal(rfe_replay_step_q31(q, &rows[0], NULL, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_replay_feed_f64(s, NULL, 1u, &out), RFE_ERR_NULL);
+    assert_int_equal(rfe_replay_feed_q31(q, rows, 1u, NULL, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_replay_get_stats_f64(s, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_replay_get_stats_q31(NULL, &qst), RFE_ERR_NULL);
+    log.omega_linear = 1;
+    assert_int_equal(rfe_replay_begin_f64(s, &ps, &log, 1, NULL), RFE_ERR_RANGE);
+    assert_int_equal(rfe_replay_begin_q31(q, &ps, &log, 0, NULL), RFE_ERR_RANGE);
+    assert_int_equal(rfe_replay_step_f64(s, &rows[0], &out), RFE_ERR_NOT_INITIALISED);
+    log.omega_linear = 0;
+    assert_int_equal(rfe_replay_begin_f64(s, &ps, &log, 0, NULL), RFE_OK);
+    assert_int_equal(rfe_replay_feed_f64(s, rows, N_ROWS, (rfe_est_row_t[N_ROWS]){0}), RFE_OK);
+    assert_int_equal(rfe_replay_get_stats_f64(s, &st), RFE_OK);
+    assert_int_equal(st.n_steps, N_ROWS);
+    free(s);
+    free(q);
+}
+
+/* The ESC sample of log row i for tools that step the observer themselves (the PIL data
+ * generator, the soak): the period since row prev (none: prev >= i, dt 0), the optional
+ * columns the log has, and in q31 those values rounded to their Q formats. REQ-CLI-003 */
+static void test_rfe_replay_esc_input_of_a_log_row(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    rfe_velocity_input_t in;
+    rfe_velocity_input_q31_t q;
+    uint32_t sat;
+    (void)state;
+    assert_int_equal(rfe_sensor_log_read(DATA "good_esc.csv", &log, &err), 0);
+    rfe_replay_esc_input_f64(&log, 2u, 1u, &in);
+    assert_true(in.dt == log.rows[2].t - log.rows[1].t);
+    assert_true(in.omega[RFE_FL] == log.rows[2].omega[RFE_FL]);
+    assert_true(in.p_brake[RFE_RR] == log.rows[2].p_brake[RFE_RR]);
+    assert_int_equal(in.has, RFE_VEL_HAS_PRESSURE);
+    rfe_replay_esc_input_f64(&log, 0u, SIZE_MAX, &in);
+    assert_true(in.dt == 0.0);
+    sat = rfe_replay_esc_input_q31(&log, 2u, 1u, &q);
+    assert_int_equal(sat, 0);
+    /* 0.01 s in the period's Q format, rounded to nearest */
+    assert_int_equal(q.dt, (int32_t)lround(ldexp(log.rows[2].t - log.rows[1].t, RFE_FIX_Q_DT)));
+    assert_int_equal(q.has, RFE_VEL_HAS_PRESSURE);
+    rfe_sensor_log_free(&log);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1247,6 +1382,9 @@ int main(void)
         cmocka_unit_test(test_rfe_replay_mass_grade_refusals),
         cmocka_unit_test(test_rfe_replay_feeds_the_current_mass_by_the_sd_rule),
         cmocka_unit_test(test_rfe_replay_feed_off_is_mass_grade_off),
+        cmocka_unit_test(test_rfe_replay_state_steps_as_the_run),
+        cmocka_unit_test(test_rfe_replay_state_refusals),
+        cmocka_unit_test(test_rfe_replay_esc_input_of_a_log_row),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
