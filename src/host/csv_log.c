@@ -228,6 +228,16 @@ void rfe_sensor_log_free(rfe_sensor_log_t *log)
     memset(log, 0, sizeof *log);
 }
 
+rfe_sensor_log_t rfe_sensor_log_shape(const rfe_sensor_log_t *log)
+{
+    rfe_sensor_log_t shape = *log;
+    shape.rows = NULL;
+    shape.n_rows = 0u;
+    shape.meta = NULL;
+    shape.n_meta = 0u;
+    return shape;
+}
+
 int rfe_sensor_log_wheel_radius(rfe_sensor_log_t *log, double R)
 {
     size_t i;

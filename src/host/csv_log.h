@@ -213,6 +213,10 @@ const char *rfe_cell_cause_str(rfe_cell_cause_t c);
 /** Frees everything the log owns and zeroes it (safe on a zeroed or freed log). */
 void rfe_sensor_log_free(rfe_sensor_log_t *log);
 
+/** The columns a log has without its rows and its metadata (pointers NULL, counts 0): the
+ *  shape a replay keeps to read later blocks of the same log. Owns nothing. */
+rfe_sensor_log_t rfe_sensor_log_shape(const rfe_sensor_log_t *log);
+
 /**
  * Turns circumferential wheel speeds [m/s] into spin speeds [rad/s] with the effective
  * rolling radius @p R [m] (the vehicle parameter R), once; a log in rad/s is untouched.

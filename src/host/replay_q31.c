@@ -285,11 +285,7 @@ rfe_status_t rfe_replay_begin_q31(rfe_replay_q31_state_t *st, const rfe_param_se
         return RFE_ERR_RANGE;
     }
     memset(st, 0, sizeof *st); /* padding defined: a run is a function of its input */
-    st->shape = *log;
-    st->shape.rows = NULL; /* the columns it has, not its rows nor its metadata */
-    st->shape.n_rows = 0u;
-    st->shape.meta = NULL;
-    st->shape.n_meta = 0u;
+    st->shape = rfe_sensor_log_shape(log); /* the columns it has, not its rows nor metadata */
     st->observer = (observer != 0) ? 1 : 0;
     st->dt = ps->value[RFE_PK_dt];
     s = (observer != 0) ? rfe_replay_observer_params_q31(ps, &q, &vq, bad_key)

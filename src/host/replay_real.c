@@ -529,11 +529,7 @@ rfe_status_t rfe_replay_begin(rfe_replay_state_t *st, const rfe_param_set_t *ps,
         return RFE_ERR_RANGE;
     }
     memset(st, 0, sizeof *st); /* padding defined: a run is a function of its input */
-    st->shape = *log;
-    st->shape.rows = NULL; /* the columns it has, not its rows nor its metadata */
-    st->shape.n_rows = 0u;
-    st->shape.meta = NULL;
-    st->shape.n_meta = 0u;
+    st->shape = rfe_sensor_log_shape(log); /* the columns it has, not its rows nor metadata */
     st->observer = (observer != 0) ? 1 : 0;
     st->dt = ps->value[RFE_PK_dt];
     st->feed_sd_rel = ps->mg[RFE_PK_mg_feed_sd_rel - RFE_PK_MG_FIRST];
