@@ -82,6 +82,8 @@
     X(filter.sd_floor_rel, 30, p->filter.sd_floor_rel)                                           \
     X(filter.sd_valid, 30, p->filter.sd_valid)                                                   \
     X(filter.rear_hold_k, 24, p->filter.rear_hold_k)                                             \
+    X(filter.jump_hold_k, 24, p->filter.jump_hold_k)                                             \
+    X(filter.jump_hold_len, 27, p->filter.jump_hold_len)                                         \
     X(filter.b_v, 30, p->filter.dt / (p->filter.tau_v + p->filter.dt))
 
 #define MG (p->vehicle.m * p->vehicle.g)
@@ -430,6 +432,8 @@ static void test_params_q31_validate_rejects(void **state)
     REJECT_(t.filter.sd_floor_rel = -1);
     REJECT_(t.filter.sd_valid = -1);
     REJECT_(t.filter.rear_hold_k = -1);
+    REJECT_(t.filter.jump_hold_k = -1);
+    REJECT_(t.filter.jump_hold_len = -1);
     REJECT_(t.filter.b_v = 0);
     REJECT_(t.filter.b_v = 100);
     REJECT_(t.filter.b_v = RFE_FIX_ONE(30) + 1);
