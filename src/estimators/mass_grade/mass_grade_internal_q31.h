@@ -52,17 +52,22 @@ rfe_status_t rfe_mg_predict_q31(const rfe_fix_t X[RFE_MG_PTS_Q31 * RFE_MG_N_Q31]
                                 rfe_fix_t Sm[RFE_MG_N_Q31 * RFE_MG_N_Q31], uint32_t *sat);
 
 /**
- * §4.3 steps 4-7 in square-root form, with the points @p chi of (x-, S-) and their
- * measurements @p Z (nz = 1 or 2 rows, Q24): z = Z_0 + sum_{i>=1} w_i (Z_i - Z_0); the
- * array [[Zc, diag(r)], [Xc, 0]] (Zc, Xc the points' deviations times sqrt(w_c,i)) is
- * triangularised to [[Sz, 0], [G, S+]]: Sz Sz^T = S (the innovation covariance), G Sz^T =
- * P_xz, S+ S+^T = P- - P_xz S^-1 P_xz^T = P- - K S K^T; then x = x- + G (Sz \ (y - z)).
+ * §4.3 steps 4-7 in square-root form, one measurement row at a time, each a 4-row
+ * triangularisation (so the library's RFE_N_MAX = 4 suffices): with nz = 2 first the ax row
+ * by the points @p chi of (x-, S-) and their measurements @p Z (Q24): z = Z_0 + sum_{i>=1}
+ * w_i (Z_i - Z_0), the array [[Zc, r_ax], [Xc, 0]] (Zc, Xc the deviations times
+ * sqrt(w_c,i)) triangularised to [[s, 0], [g, S']]; then the speed row, linear in the state
+ * (h = v: its points' deviations are Xc's v row, ẑ = x-_v), whose array [[S' row v, r_v],
+ * [S', 0]] has two nonzero entries in its first row: its triangularisation is one Givens
+ * rotation of S' column 0 with r_v (closed form); each x += g (y - z) / s. With R diagonal this is the joint update of
+ * MASS_GRADE.md §4.3 (S = cov(Z) + R, K = P_xz S^-1, P = P- - K S K^T) in exact arithmetic:
+ * conditioning on ax, then on v given ax.
  * @param[in,out] x  x- in, the posterior mean out.
  * @param[in,out] S  S- in, the posterior factor out.
- * @return RFE_OK; RFE_ERR_NOT_POSITIVE_DEFINITE (a zero diagonal in Sz; x, S untouched).
+ * @return RFE_OK; RFE_ERR_NOT_POSITIVE_DEFINITE (a zero innovation sd; x, S untouched).
  */
 rfe_status_t rfe_mg_correct_q31(const rfe_fix_t chi[RFE_MG_PTS_Q31 * RFE_MG_N_Q31],
-                                const rfe_fix_t Z[RFE_MG_PTS_Q31 * RFE_MG_Z_MAX_Q31], size_t nz,
+                                const rfe_fix_t Z[RFE_MG_PTS_Q31], size_t nz,
                                 const rfe_mg_weights_q31_t *w,
                                 const rfe_fix_t r[RFE_MG_Z_MAX_Q31],
                                 const rfe_fix_t y[RFE_MG_Z_MAX_Q31], rfe_fix_t x[RFE_MG_N_Q31],

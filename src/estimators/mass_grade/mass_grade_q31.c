@@ -76,33 +76,48 @@ static rfe_status_t check_torque_sample_q31(const rfe_mass_grade_q31_t *mg,
     return RFE_OK;
 }
 
-/* §1 v-dot of the point pt = [v Q24, M Q14, theta Q29] at the torque T (Q14), M clamped to
- * [m_min, m_max], in the page's grouping; @p sin_th receives sin theta (Q30) for the ax row. */
-static rfe_xf_t accel_q31(const rfe_mass_grade_params_q31_t *p, const rfe_fix_t *pt,
-                          rfe_fix_t torque, rfe_fix_t *sin_th)
+/* The model's terms that do not depend on the point, in rfe_xf_t: formed once per set of
+ * points (the same operations, in the same order, as for each point). */
+typedef struct {
+    rfe_xf_t fc;     /* f_c */
+    rfe_xf_t fr;     /* f_r */
+    rfe_xf_t g;      /* g */
+    rfe_xf_t drag;   /* ((1/2 rho) C_d) S */
+    rfe_xf_t thrust; /* T / r */
+} model_q31_t;
+
+/* §1 the point-independent terms at the torque T (Q14). */
+static void model_of_q31(const rfe_mass_grade_params_q31_t *p, rfe_fix_t torque, model_q31_t *k)
+{
+    k->fc = rfe_xf_of(p->fc, RFE_MG_Q_FC);
+    k->fr = rfe_xf_of(p->fr, RFE_MG_Q_FR);
+    k->g = rfe_xf_of(p->g, RFE_MG_Q_G);
+    k->drag = rfe_xf_mul(rfe_xf_mul(rfe_xf_make((int64_t)p->rho, -(RFE_MG_Q_COEF + 1)),
+                                    rfe_xf_of(p->cd, RFE_MG_Q_COEF)),
+                         rfe_xf_of(p->area, RFE_MG_Q_COEF));
+    k->thrust = rfe_xf_div(rfe_xf_of(torque, RFE_MG_Q_TORQUE), rfe_xf_of(p->R, RFE_MG_Q_R));
+}
+
+/* §1 v-dot of the point pt = [v Q24, M Q14, theta Q29], M clamped to [m_min, m_max], in the
+ * page's grouping: (T/r - (M g) ((f_c + f_r v) cos theta + sin theta) - ((1/2 rho C_d S) v) v)
+ * / (M + m_rot); @p sin_th receives sin theta (Q30) for the ax row. */
+static rfe_xf_t accel_q31(const rfe_mass_grade_params_q31_t *p, const model_q31_t *k,
+                          const rfe_fix_t *pt, rfe_fix_t *sin_th)
 {
     const rfe_fix_t m = rfe_fix_clamp(pt[1], p->m_min, p->m_max);
     const rfe_xf_t v = rfe_xf_of(pt[0], RFE_MG_Q_V);
-    const rfe_xf_t mx = rfe_xf_of(m, RFE_MG_Q_M);
     int32_t s = 0;
     int32_t c = 0;
     rfe_xf_t f;
-    rfe_xf_t k;
-    rfe_xf_t drag;
     rfe_xf_t force;
     rfe_q31_sincos_q29(pt[2], &s, &c);
     *sin_th = s;
-    /* f = f_c + f_r v; k = f cos theta + sin theta */
-    f = rfe_xf_add(rfe_xf_of(p->fc, RFE_MG_Q_FC), rfe_xf_mul(rfe_xf_of(p->fr, RFE_MG_Q_FR), v));
-    k = rfe_xf_add(rfe_xf_mul(f, rfe_xf_of(c, 30)), rfe_xf_of(s, 30));
-    /* drag = (((1/2 rho) C_d) S v) v */
-    drag = rfe_xf_mul(rfe_xf_make((int64_t)p->rho, -(RFE_MG_Q_COEF + 1)),
-                      rfe_xf_of(p->cd, RFE_MG_Q_COEF));
-    drag = rfe_xf_mul(rfe_xf_mul(rfe_xf_mul(drag, rfe_xf_of(p->area, RFE_MG_Q_COEF)), v), v);
+    /* f = f_c + f_r v; (f cos theta + sin theta) */
+    f = rfe_xf_add(k->fc, rfe_xf_mul(k->fr, v));
+    f = rfe_xf_add(rfe_xf_mul(f, rfe_xf_of(c, 30)), rfe_xf_of(s, 30));
     /* force = T / r - (M g) k - drag */
-    force = rfe_xf_div(rfe_xf_of(torque, RFE_MG_Q_TORQUE), rfe_xf_of(p->R, RFE_MG_Q_R));
-    force = rfe_xf_sub(rfe_xf_sub(force, rfe_xf_mul(rfe_xf_mul(mx, rfe_xf_of(p->g, RFE_MG_Q_G)), k)),
-                       drag);
+    force = rfe_xf_sub(k->thrust, rfe_xf_mul(rfe_xf_mul(rfe_xf_of(m, RFE_MG_Q_M), k->g), f));
+    force = rfe_xf_sub(force, rfe_xf_mul(rfe_xf_mul(k->drag, v), v));
     /* / (M + m_rot): the sum exact in Q14 (int64) */
     return rfe_xf_div(force, rfe_xf_make((int64_t)m + (int64_t)p->m_rot, -RFE_MG_Q_M));
 }
@@ -287,11 +302,13 @@ static rfe_status_t time_update_q31(const rfe_mass_grade_q31_t *o, rfe_fix_t dt,
     int64_t qm2;
     uint64_t qm;
     size_t i;
+    model_q31_t k;
+    model_of_q31(&o->p, o->torque_prev, &k);
     rfe_mg_sigma_points_q31(o->x, o->S, o->sqrt_c, chi, sat);
     for (i = 0u; i < PTS; ++i) {
         rfe_fix_t *pt = &chi[i * N];
         rfe_fix_t s = 0;
-        const rfe_xf_t a = accel_q31(&o->p, pt, o->torque_prev, &s);
+        const rfe_xf_t a = accel_q31(&o->p, &k, pt, &s);
         pt[0] = rfe_fix_add(pt[0], rfe_xf_to_fix(rfe_xf_mul(xdt, a), RFE_MG_Q_V, sat), sat);
     }
     qm2 = rfe_fix_add64((int64_t)o->p.q_mc * (int64_t)o->p.q_mc, o->q_mv, sat); /* Q28 */
@@ -302,7 +319,8 @@ static rfe_status_t time_update_q31(const rfe_mass_grade_q31_t *o, rfe_fix_t dt,
     return rfe_mg_predict_q31(chi, &w, sq, xm, Sm, sat);
 }
 
-/* §4.3 steps 3-7: new points of (x-, S-), z = [v] or [v, v-dot(T) + g sin theta]. */
+/* §4.3 steps 3-7: with the ax row, new points of (x-, S-) and their z_ax = v-dot(T) +
+ * g sin theta; the speed row needs none (linear in the state). */
 static rfe_status_t measurement_update_q31(const rfe_mass_grade_q31_t *o,
                                            const rfe_mass_grade_input_q31_t *in,
                                            rfe_fix_t x[RFE_MG_N_Q31],
@@ -310,24 +328,21 @@ static rfe_status_t measurement_update_q31(const rfe_mass_grade_q31_t *o,
 {
     const rfe_mg_weights_q31_t w = {o->wm0, o->wi, o->sqrt_wc0, o->sqrt_wi, o->sqrt_c};
     size_t nz = 1u;
-    rfe_fix_t chi[RFE_MG_PTS_Q31 * RFE_MG_N_Q31];
-    rfe_fix_t Z[RFE_MG_PTS_Q31 * RFE_MG_Z_MAX_Q31];
+    rfe_fix_t chi[RFE_MG_PTS_Q31 * RFE_MG_N_Q31]; /* read only with the ax row */
+    rfe_fix_t Z[RFE_MG_PTS_Q31];
     rfe_fix_t r[RFE_MG_Z_MAX_Q31];
     rfe_fix_t y[RFE_MG_Z_MAX_Q31];
     size_t i;
     if (o->p.use_ax == 1u) {
+        model_q31_t k;
+        model_of_q31(&o->p, in->torque, &k);
         nz = 2u;
-    }
-    rfe_mg_sigma_points_q31(x, S, o->sqrt_c, chi, sat);
-    for (i = 0u; i < PTS; ++i) {
-        const rfe_fix_t *pt = &chi[i * N];
-        Z[i * 2u] = pt[0];
-        Z[(i * 2u) + 1u] = 0;
-        if (nz == 2u) {
+        rfe_mg_sigma_points_q31(x, S, o->sqrt_c, chi, sat);
+        for (i = 0u; i < PTS; ++i) {
             rfe_fix_t s = 0;
-            const rfe_xf_t a = accel_q31(&o->p, pt, in->torque, &s);
-            const rfe_xf_t gs = rfe_xf_mul(rfe_xf_of(o->p.g, RFE_MG_Q_G), rfe_xf_of(s, 30));
-            Z[(i * 2u) + 1u] = rfe_xf_to_fix(rfe_xf_add(a, gs), RFE_MG_Q_V, sat);
+            const rfe_xf_t a = accel_q31(&o->p, &k, &chi[i * N], &s);
+            const rfe_xf_t gs = rfe_xf_mul(k.g, rfe_xf_of(s, 30));
+            Z[i] = rfe_xf_to_fix(rfe_xf_add(a, gs), RFE_MG_Q_V, sat);
         }
     }
     r[0] = o->p.r_v;

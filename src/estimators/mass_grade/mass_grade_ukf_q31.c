@@ -8,8 +8,8 @@
  *
  * Accumulators: a deviation of two values of one format is int64 (< 2^32); a weighted
  * deviation w (X_i - X_0) is formed exactly in int64 (w < 2^30, so < 2^62) and summed
- * saturating (rfe_fix_add64); a root weight times a deviation is exactly rounded by
- * rfe_q31_mul64x32 and saturated to int32 (counted).
+ * saturating (rfe_fix_add64); a root weight times a deviation is exact in int64 (< 2^63),
+ * rounded half up and saturated to int32 (rfe_fix_narrow, counted).
  */
 #include "estimators/mass_grade/mass_grade_internal_q31.h"
 
@@ -18,11 +18,10 @@
 
 #define N ((size_t)RFE_MG_N_Q31)
 #define PTS ((size_t)RFE_MG_PTS_Q31)
-#define ZM ((size_t)RFE_MG_Z_MAX_Q31)
-/* Columns of the predict array (7 points, 3 noise columns) and the largest correct array
- * (7 points, 2 noise columns). */
+/* Columns of the predict array (7 points, 3 noise columns) and of the ax row's array (7
+ * points, its noise column). */
 #define PRED_COLS (PTS + N)
-#define CORR_COLS (PTS + ZM)
+#define CORR_COLS (PTS + 1u)
 /* The whitened innovation Sz \ (y - z): Q24 (+-128 sd), as the library's SCKF. */
 #define Q_WHITE 24u
 
@@ -73,8 +72,9 @@ static void centred_q31(const rfe_fix_t *X, size_t ld, size_t k, const rfe_fix_t
     for (i = 0u; i < PTS; ++i) {
         const rfe_fix_t sw = (i == 0u) ? w->sqrt_wc0 : w->sqrt_wi;
         for (r = 0u; r < k; ++r) {
-            const int64_t dev = (int64_t)X[(i * ld) + r] - (int64_t)m[r]; /* < 2^32 */
-            A[((row0 + r) * lda) + i] = rfe_fix_sat32(rfe_q31_mul64x32(dev, (int64_t)sw, 30u), sat);
+            /* |dev| <= 2^32 - 2, 0 <= sw < 2^31: the product < 2^63, exact */
+            const int64_t dev = (int64_t)X[(i * ld) + r] - (int64_t)m[r];
+            A[((row0 + r) * lda) + i] = rfe_fix_narrow(dev * (int64_t)sw, 30u, sat);
         }
     }
 }
@@ -104,47 +104,113 @@ rfe_status_t rfe_mg_predict_q31(const rfe_fix_t X[RFE_MG_PTS_Q31 * RFE_MG_N_Q31]
     return st;
 }
 
+/* One scalar measurement in square-root form: the array [[zc, r], [xc, 0]] (row 0 the
+ * measurement's deviations, rows 1-3 the state's, over @p cols columns with the noise r in
+ * the last) is triangularised to [[s, 0], [g, S+]] (s^2 = the innovation variance, g s =
+ * P_xz, S+ S+^T = P- - P_xz P_xz^T / s^2), then x += g (y - z) / s, the whitened innovation
+ * (y - z) / s in Q24 by the exactly rounded solve. A (4 x cols, width lda) is overwritten. */
+static rfe_status_t scalar_update_q31(rfe_fix_t *A, size_t cols, size_t lda, rfe_fix_t innov,
+                                      rfe_fix_t x[RFE_MG_N_Q31],
+                                      rfe_fix_t S[RFE_MG_N_Q31 * RFE_MG_N_Q31], uint32_t *sat)
+{
+    rfe_fix_t e = innov;
+    size_t i;
+    rfe_status_t st = rfe_qr_tria_q31(A, 1u + N, cols, lda, sat);
+    if (st == RFE_OK) {
+        st = rfe_qr_solve_lower_q31(A, 1u, lda, &e, 1u, 1u, (int)Q_WHITE, sat);
+    }
+    if (st == RFE_OK) {
+        for (i = 0u; i < N; ++i) {
+            size_t c;
+            /* x = x- + g e: g's entry in state i's format times Q24 */
+            x[i] = rfe_fix_add(x[i], rfe_fix_mul(A[(1u + i) * lda], e, Q_WHITE, sat), sat);
+            for (c = 0u; c < N; ++c) {
+                S[(i * N) + c] = A[((1u + i) * lda) + 1u + c];
+            }
+        }
+    }
+    return st;
+}
+
+/* The speed row, linear in the state (z = v, so H S = [S_00, 0, 0]): the array
+ * [[S_00, 0, 0, r_v], [S, 0]] has two nonzero entries in its first row, so its
+ * triangularisation is one Givens rotation of S's first column with the column (r_v, 0):
+ * s = |(S_00, r_v)| (the innovation sd, exactly rounded: rfe_fix_norm), g = (S_00 / s)
+ * S[:, 0] (= P_xz / s), and S+ = S with its first column scaled by r_v / s, already lower
+ * triangular with a nonnegative diagonal (S+ S+^T = P - P_xz P_xz^T / s^2). Then x += g (y -
+ * v) / s, the whitened innovation in Q24. The ratios in Q30 (<= 1) by exactly rounded
+ * divisions. */
+static rfe_status_t speed_update_q31(rfe_fix_t r_v, rfe_fix_t innov, rfe_fix_t x[RFE_MG_N_Q31],
+                                     rfe_fix_t S[RFE_MG_N_Q31 * RFE_MG_N_Q31], uint32_t *sat)
+{
+    const rfe_fix_t col[2] = {S[0], r_v};
+    rfe_fix_t s = 0;
+    rfe_fix_t cs = 0;
+    rfe_fix_t sn = 0;
+    rfe_fix_t e = 0;
+    size_t i;
+    rfe_status_t st = rfe_fix_norm(col, 2u, &s, sat);
+    if ((st == RFE_OK) && (s <= 0)) {
+        st = RFE_ERR_NOT_POSITIVE_DEFINITE; /* r_v > 0: never */
+    }
+    if (st == RFE_OK) {
+        st = rfe_fix_div(S[0], s, 30, &cs, sat);  /* S_00 / s, Q30 */
+    }
+    if (st == RFE_OK) {
+        st = rfe_fix_div(r_v, s, 30, &sn, sat);   /* r_v / s, Q30 */
+    }
+    if (st == RFE_OK) {
+        st = rfe_fix_div(innov, s, (int)Q_WHITE, &e, sat); /* (y - v) / s, Q24 */
+    }
+    if (st == RFE_OK) {
+        for (i = 0u; i < N; ++i) {
+            const rfe_fix_t g = rfe_fix_mul(S[i * N], cs, 30u, sat);
+            x[i] = rfe_fix_add(x[i], rfe_fix_mul(g, e, Q_WHITE, sat), sat);
+            S[i * N] = rfe_fix_mul(S[i * N], sn, 30u, sat);
+        }
+    }
+    return st;
+}
+
 rfe_status_t rfe_mg_correct_q31(const rfe_fix_t chi[RFE_MG_PTS_Q31 * RFE_MG_N_Q31],
-                                const rfe_fix_t Z[RFE_MG_PTS_Q31 * RFE_MG_Z_MAX_Q31], size_t nz,
+                                const rfe_fix_t Z[RFE_MG_PTS_Q31], size_t nz,
                                 const rfe_mg_weights_q31_t *w,
                                 const rfe_fix_t r[RFE_MG_Z_MAX_Q31],
                                 const rfe_fix_t y[RFE_MG_Z_MAX_Q31], rfe_fix_t x[RFE_MG_N_Q31],
                                 rfe_fix_t S[RFE_MG_N_Q31 * RFE_MG_N_Q31], uint32_t *sat)
 {
-    rfe_fix_t A[(ZM + N) * CORR_COLS] = {0};
-    rfe_fix_t zm[RFE_MG_Z_MAX_Q31];
-    rfe_fix_t e[RFE_MG_Z_MAX_Q31];
+    rfe_fix_t xn[RFE_MG_N_Q31];
+    rfe_fix_t Sn[RFE_MG_N_Q31 * RFE_MG_N_Q31];
     uint32_t s = 0u;
-    size_t b;
     size_t i;
-    size_t c;
-    rfe_status_t st;
-    mean_of_q31(Z, ZM, nz, w->wi, zm, &s);                /* eq. 17 */
-    centred_q31(Z, ZM, nz, zm, w, A, 0u, CORR_COLS, &s);   /* rows of Zc */
-    centred_q31(chi, N, N, x, w, A, nz, CORR_COLS, &s);    /* rows of Xc */
-    for (b = 0u; b < nz; ++b) {
-        A[(b * CORR_COLS) + PTS + b] = r[b];               /* + R (eq. 18) */
-        e[b] = rfe_fix_sub(y[b], zm[b], &s);
+    rfe_status_t st = RFE_OK;
+    for (i = 0u; i < N; ++i) {
+        xn[i] = x[i];
     }
-    /* [[Zc, R^1/2], [Xc, 0]] -> [[Sz, 0], [G, S+]] (eqs. 18-21) */
-    st = rfe_qr_tria_q31(A, nz + N, PTS + nz, CORR_COLS, &s);
+    for (i = 0u; i < (N * N); ++i) {
+        Sn[i] = S[i];
+    }
+    if (nz == 2u) {
+        /* the ax row by the points: [[Zc, r_ax], [Xc, 0]], 4 x 8 (eqs. 17-21) */
+        rfe_fix_t A[(1u + N) * CORR_COLS] = {0};
+        rfe_fix_t zm = 0;
+        mean_of_q31(Z, 1u, 1u, w->wi, &zm, &s);                    /* eq. 17 */
+        centred_q31(Z, 1u, 1u, &zm, w, A, 0u, PTS + 1u, &s);        /* row of Zc */
+        centred_q31(chi, N, N, xn, w, A, 1u, PTS + 1u, &s);         /* rows of Xc */
+        A[PTS] = r[1];
+        st = scalar_update_q31(A, PTS + 1u, PTS + 1u, rfe_fix_sub(y[1], zm, &s), xn, Sn, &s);
+    }
     if (st == RFE_OK) {
-        /* the whitened innovation Sz \ (y - z), Q24 */
-        st = rfe_qr_solve_lower_q31(A, nz, CORR_COLS, e, 1u, 1u, (int)Q_WHITE, &s);
+        st = speed_update_q31(r[0], rfe_fix_sub(y[0], xn[0], &s), xn, Sn, &s);
     }
     if (st != RFE_OK) {
         return st;
     }
     for (i = 0u; i < N; ++i) {
-        /* x = x- + G e: G's row in state i's format times Q24 */
-        int64_t acc = 0;
-        for (b = 0u; b < nz; ++b) {
-            acc = rfe_fix_add64(acc, (int64_t)A[((nz + i) * CORR_COLS) + b] * (int64_t)e[b], &s);
-        }
-        x[i] = rfe_fix_add(x[i], rfe_fix_narrow(acc, Q_WHITE, &s), &s);
-        for (c = 0u; c < N; ++c) {
-            S[(i * N) + c] = A[((nz + i) * CORR_COLS) + nz + c];
-        }
+        x[i] = xn[i];
+    }
+    for (i = 0u; i < (N * N); ++i) {
+        S[i] = Sn[i];
     }
     rfe_q31_sat_add(sat, s);
     return RFE_OK;
