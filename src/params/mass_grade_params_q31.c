@@ -61,9 +61,10 @@ rfe_status_t rfe_mass_grade_weights_q31(const rfe_mass_grade_params_q31_t *p,
     if (st == RFE_OK) {
         st = rfe_fix_div(HALF_Q27, c27, 30, &t.wi, &sat);
     }
-    /* w_c,0 = w_m,0 + 1 - alpha^2 + beta, Q30 in int64 (every term < 2^36) */
+    /* w_c,0 = w_m,0 + 1 - alpha^2 + beta, Q30 in int64 (every term < 2^36); below 4 by more
+     * than 1 LSB, so that its Q29 rounding below fits an int32 */
     wc0 = (((int64_t)t.wm0 + ONE_Q30) - (a2 * 4)) + ((int64_t)p->ut_beta * 4);
-    if ((st != RFE_OK) || (wc0 < 0) || (wc0 >= (4 * ONE_Q30))) {
+    if ((st != RFE_OK) || (wc0 < 0) || (wc0 >= ((4 * ONE_Q30) - 1))) {
         return RFE_ERR_PARAM;
     }
     /* the roots: w_c,0 rounded to Q29 (< 2^31), sqrt to Q30; w_i in Q30; c Q27 -> Q29 */

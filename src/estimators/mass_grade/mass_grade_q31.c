@@ -332,9 +332,9 @@ static rfe_status_t measurement_update_q31(const rfe_mass_grade_q31_t *o,
     rfe_fix_t Z[RFE_MG_PTS_Q31];
     rfe_fix_t r[RFE_MG_Z_MAX_Q31];
     rfe_fix_t y[RFE_MG_Z_MAX_Q31];
-    size_t i;
     if (o->p.use_ax == 1u) {
         model_q31_t k;
+        size_t i;
         model_of_q31(&o->p, in->torque, &k);
         nz = 2u;
         rfe_mg_sigma_points_q31(x, S, o->sqrt_c, chi, sat);

@@ -114,12 +114,12 @@ static rfe_status_t scalar_update_q31(rfe_fix_t *A, size_t cols, size_t lda, rfe
                                       rfe_fix_t S[RFE_MG_N_Q31 * RFE_MG_N_Q31], uint32_t *sat)
 {
     rfe_fix_t e = innov;
-    size_t i;
     rfe_status_t st = rfe_qr_tria_q31(A, 1u + N, cols, lda, sat);
     if (st == RFE_OK) {
         st = rfe_qr_solve_lower_q31(A, 1u, lda, &e, 1u, 1u, (int)Q_WHITE, sat);
     }
     if (st == RFE_OK) {
+        size_t i;
         for (i = 0u; i < N; ++i) {
             size_t c;
             /* x = x- + g e: g's entry in state i's format times Q24 */
@@ -148,10 +148,10 @@ static rfe_status_t speed_update_q31(rfe_fix_t r_v, rfe_fix_t innov, rfe_fix_t x
     rfe_fix_t cs = 0;
     rfe_fix_t sn = 0;
     rfe_fix_t e = 0;
-    size_t i;
+    /* non-NULL arguments: the norm cannot fail, and s stays 0 if it did */
     rfe_status_t st = rfe_fix_norm(col, 2u, &s, sat);
-    if ((st == RFE_OK) && (s <= 0)) {
-        st = RFE_ERR_NOT_POSITIVE_DEFINITE; /* r_v > 0: never */
+    if (s <= 0) {
+        st = RFE_ERR_NOT_POSITIVE_DEFINITE; /* r_v > 0: never through the public API */
     }
     if (st == RFE_OK) {
         st = rfe_fix_div(S[0], s, 30, &cs, sat);  /* S_00 / s, Q30 */
@@ -163,6 +163,7 @@ static rfe_status_t speed_update_q31(rfe_fix_t r_v, rfe_fix_t innov, rfe_fix_t x
         st = rfe_fix_div(innov, s, (int)Q_WHITE, &e, sat); /* (y - v) / s, Q24 */
     }
     if (st == RFE_OK) {
+        size_t i;
         for (i = 0u; i < N; ++i) {
             const rfe_fix_t g = rfe_fix_mul(S[i * N], cs, 30u, sat);
             x[i] = rfe_fix_add(x[i], rfe_fix_mul(g, e, Q_WHITE, sat), sat);

@@ -243,6 +243,9 @@ static void test_weights_domain(void **state)
         {1.2, 0.0, 0.0, RFE_ERR_PARAM},  /* c = 4.32: w_c,0 = 1.32/4.32 + 1 - 1.44 = -0.134 */
         {1.2, 0.2, 0.0, RFE_OK},         /* w_c,0 = 0.0656 */
         {1.0, 2.0, 1.0, RFE_OK},         /* c = 4 */
+        {2.0, 2.0, 1.0, RFE_ERR_PARAM},  /* c = 16 exactly: alpha^2 (n + kappa) = 2^60 in Q56 */
+        {1.0, 4.0, 0.0, RFE_ERR_PARAM},  /* w_c,0 = 4 */
+        {1.0, 3.9, 0.0, RFE_OK},         /* w_c,0 = 3.9 */
     };
     size_t i;
     (void)state;
@@ -269,6 +272,14 @@ static void test_weights_domain(void **state)
             assert_true(fabs((double)w.wi - (0.5 / c) * 1073741824.0) <= ((0.5 / (c * c)) * dc * 1073741824.0) + 0.5);
         }
     }
+    /* the weights alone (callable without the validation): alpha rounding to 0 in alpha^2,
+     * n + kappa <= 0 */
+    default_q31(&q);
+    q.ut_alpha = 1; /* 2^-28: alpha^2 rounds to 0 in Q28 */
+    assert_int_equal(rfe_mass_grade_weights_q31(&q, &w), RFE_ERR_PARAM);
+    default_q31(&q);
+    q.ut_kappa = -(3 << 28); /* n + kappa = 0 */
+    assert_int_equal(rfe_mass_grade_weights_q31(&q, &w), RFE_ERR_PARAM);
 }
 
 /* Each field's check on the Q values: a nonpositive value where > 0 is needed, a negative
@@ -375,6 +386,22 @@ static void test_step_errors_leave_state(void **state)
     bad = in; bad.dt = 0;
     assert_int_equal(rfe_mass_grade_step_q31(&mg, &bad, &e), RFE_ERR_RANGE);
     assert_memory_equal(&mg, &before, sizeof(mg));
+    /* speed only: an ax not given is not checked, however large */
+    {
+        rfe_mass_grade_params_t p;
+        rfe_mass_grade_params_q31_t q0;
+        rfe_mass_grade_q31_t m0;
+        rfe_mass_grade_input_q31_t s0 = in;
+        assert_int_equal(rfe_mass_grade_params_default(&p), RFE_OK);
+        p.use_ax = 0u;
+        assert_int_equal(rfe_mass_grade_params_to_q31(&p, &q0), RFE_OK);
+        assert_int_equal(rfe_mass_grade_init_q31(&m0, &q0), RFE_OK);
+        s0.has = 0u;
+        s0.ax = INT32_MAX;
+        assert_int_equal(rfe_mass_grade_step_q31(&m0, &s0, &e), RFE_OK);
+        s0.has = RFE_MG_HAS_AX; /* given: checked */
+        assert_int_equal(rfe_mass_grade_step_q31(&m0, &s0, &e), RFE_ERR_RANGE);
+    }
     /* at the limits exactly: accepted */
     bad = in; bad.v = RFE_MG_LIMIT_V_Q31; bad.ax = -RFE_MG_LIMIT_AX_Q31;
     assert_false(rfe_status_is_error(rfe_mass_grade_step_q31(&mg, &bad, &e)));
@@ -484,6 +511,34 @@ static void test_pauses(void **state)
     /* low speed */
     b = cruise_sample(2.0);
     assert_int_equal(rfe_mass_grade_step_q31(&mg, &b, &e), RFE_NO_UPDATE_LOW_SPEED);
+}
+
+/* The measurement update refuses a zero innovation sd (r = 0 and a zero factor: not positive
+ * definite), leaving x and S untouched; the public API cannot reach it (r_v > 0). */
+/* REQ-MG-010 */
+static void test_correct_zero_innovation_sd(void **state)
+{
+    rfe_mass_grade_params_q31_t q;
+    rfe_mg_weights_q31_t w;
+    rfe_fix_t chi[RFE_MG_PTS_Q31 * RFE_MG_N_Q31] = {0};
+    rfe_fix_t Z[RFE_MG_PTS_Q31] = {0};
+    const rfe_fix_t r[RFE_MG_Z_MAX_Q31] = {0, 0};
+    const rfe_fix_t y[RFE_MG_Z_MAX_Q31] = {1 << 24, 0};
+    rfe_fix_t x[RFE_MG_N_Q31] = {20 << 24, 1800 << 14, 0};
+    rfe_fix_t S[RFE_MG_N_Q31 * RFE_MG_N_Q31] = {0, 0, 0, 0, 100 << 14, 0, 0, 0, 1 << 20};
+    rfe_fix_t x0[RFE_MG_N_Q31];
+    rfe_fix_t S0[RFE_MG_N_Q31 * RFE_MG_N_Q31];
+    uint32_t sat = 0u;
+    (void)state;
+    default_q31(&q);
+    assert_int_equal(rfe_mass_grade_weights_q31(&q, &w), RFE_OK);
+    memcpy(x0, x, sizeof x);
+    memcpy(S0, S, sizeof S);
+    assert_int_equal(rfe_mg_correct_q31(chi, Z, 1u, &w, r, y, x, S, &sat),
+                     RFE_ERR_NOT_POSITIVE_DEFINITE);
+    assert_memory_equal(x, x0, sizeof x);
+    assert_memory_equal(S, S0, sizeof S);
+    assert_int_equal(sat, 0u);
 }
 
 /* ---- the square-root form against the textbook form -------------------------------------- */
@@ -684,6 +739,7 @@ int main(void)
         cmocka_unit_test(test_step_errors_leave_state),
         cmocka_unit_test(test_start_and_restart),
         cmocka_unit_test(test_pauses),
+        cmocka_unit_test(test_correct_zero_innovation_sd),
         cmocka_unit_test(test_square_root_form_stays_definite),
         cmocka_unit_test(test_every_log_against_double),
     };
