@@ -86,7 +86,7 @@ FW_LDLIBS_f32 := -lm
 FW_LDLIBS_q31 :=
 FW_LDFLAGS  = --specs=nano.specs -nostartfiles -Wl,--gc-sections -Wl,--no-warn-rwx-segments
 
-.PHONY: deps-firmware firmware firmware-libs firmware-check firmware-table pil pil-aux pil-budgets pil-profile pil-images firmware-opt
+.PHONY: deps-firmware firmware firmware-libs firmware-check firmware-table firmware-table-aux pil pil-aux pil-budgets pil-profile pil-images firmware-opt
 DEPS_EXTRA += deps-firmware
 TEST_GATES += firmware pil pil-aux
 
@@ -284,9 +284,9 @@ PIL_OBS_ELFS := $(foreach e,$(PIL_OBS_ENTRIES),$(FW_DIR)/$(call pil_obs_field,$(
 PIL_OBS_HOST := $(foreach h,$(PIL_OBS_HOSTS),$(FW_DIR)/host-$(call pil_obs_field,$(h),2)/pil/$(call pil_obs_field,$(h),1))
 
 # Entries of the estimators beside the friction estimator (make pil-aux): the mass and grade
-# estimator and the tyre identifier, float32 only (neither has a fixed-point twin; the
+# estimator and the tyre identifier in float32 (the identifier has no fixed-point twin; the
 # Cortex-M3 and M0+ are fixed-point targets), on the Cortex-M4F (mps2-an386, as the float32
-# runs above). <tag>:<log>:<rows run and compared>:<steps counted>. The tag names the entry of
+# runs above); the mass and grade estimator's Q31 twin below (PIL_AUX_Q31_ENTRIES). <tag>:<log>:<rows run and compared>:<steps counted>. The tag names the entry of
 # firmware/pil/pil_main.c (PIL_AUX_DEFS_<tag>) and pil_gen's options (PIL_AUX_GEN_<tag>).
 #   mg_ukf    UKF + ax, the recommended car preset (mu_replay's default) on car_hilly_road
 #             (50 Hz, cruising on hills: every sample is above v_min, every step updates):
@@ -332,6 +332,39 @@ $(FW_DIR)/host-f64/pil/$(1): firmware/pil/pil_main.c firmware/pil/pil_data.h $(F
 	  firmware/pil/pil_main.c $(FW_DIR)/pil/data/aux.$(1).c $(BUILD)/f64/librfe.a -lm -o $$@
 endef
 $(foreach e,$(PIL_AUX_ENTRIES),$(eval $(call PIL_AUX_RULES,$(call pil_obs_field,$(e),1),$(call pil_obs_field,$(e),2),$(call pil_obs_field,$(e),3))))
+# The mass and grade estimator's fixed-point twin on the fixed-point targets:
+# <tag>:<target>:<QEMU machine>:<steps counted>, on the data file of the tag's float entry
+# above (pil_gen writes its PIL_Q31 arm too: the same rows, 1500 run and compared on every
+# target). Compared bit for bit with the same program built for the host (host-q31/pil/<tag>).
+# Steps counted: 500 on the Cortex-M4 (the issue's cost target's core, as the float entries),
+# 100 on the M3 and 50 on the M0+ (QEMU's execution log grows with the instructions; the
+# log's first second is cruising on hills, every step an update).
+PIL_AUX_Q31_ENTRIES ?= mg_ukf:m4f-q31:mps2-an386:500 mg_aukf:m4f-q31:mps2-an386:500 \
+                       mg_ukf:m3-q31:mps2-an385:100 mg_ukf:m0p-q31:microbit:50 \
+                       mg_aukf:m0p-q31:microbit:50
+define PIL_AUX_Q31_RULES
+# $(1) = <tag>, $(2) = target
+$(FW_DIR)/$(2)/pil/$(1).elf: firmware/pil/pil_main.c firmware/pil/pil_data.h $(FW_DIR)/pil/data/aux.$(1).c \
+                            $(FW_DIR)/$(2)/common/startup_pil.o $(call fw_lib,$(2)) $(PIL_LD_$(call fw_core,$(2))) firmware/ld/sections.ld
+	@mkdir -p $$(@D)
+	$$(FW_CC) $$(FW_ARCH_$(call fw_core,$(2))) $$(FW_OPT_$(call fw_core,$(2))) $$(FW_CFLAGS) $$(CPPFLAGS_LIB) -Ifirmware/pil -Ifirmware/common \
+	  $(PIL_AUX_DEFS_$(1)) -DPIL_Q31 --specs=rdimon.specs -Wl,--gc-sections \
+	  -Wl,--no-warn-rwx-segments -Lfirmware/ld -T$(PIL_LD_$(call fw_core,$(2))) -Wl,-Map=$$(@:.elf=.map) \
+	  firmware/pil/pil_main.c $(FW_DIR)/pil/data/aux.$(1).c $(FW_DIR)/$(2)/common/startup_pil.o \
+	  $(call fw_lib,$(2)) $$(FW_LDLIBS_q31) -o $$@
+endef
+define PIL_AUX_Q31_HOST_RULES
+# $(1) = <tag>
+$(FW_DIR)/host-q31/pil/$(1): firmware/pil/pil_main.c firmware/pil/pil_data.h $(FW_DIR)/pil/data/aux.$(1).c $(BUILD)/q31/librfe_q31.a
+	@mkdir -p $$(@D)
+	$$(CC) $$(WARN) $$(OPT) $$(CPPFLAGS_LIB) -Ifirmware/pil -DPIL_HOST -DPIL_Q31 $(PIL_AUX_DEFS_$(1)) \
+	  firmware/pil/pil_main.c $(FW_DIR)/pil/data/aux.$(1).c $(BUILD)/q31/librfe_q31.a -o $$@
+endef
+$(foreach e,$(PIL_AUX_Q31_ENTRIES),$(eval $(call PIL_AUX_Q31_RULES,$(call pil_obs_field,$(e),1),$(call pil_obs_field,$(e),2))))
+PIL_AUX_Q31_TAGS := $(sort $(foreach e,$(PIL_AUX_Q31_ENTRIES),$(call pil_obs_field,$(e),1)))
+$(foreach t,$(PIL_AUX_Q31_TAGS),$(eval $(call PIL_AUX_Q31_HOST_RULES,$(t))))
+PIL_AUX_Q31_FILES := $(foreach e,$(PIL_AUX_Q31_ENTRIES),$(FW_DIR)/$(call pil_obs_field,$(e),2)/pil/$(call pil_obs_field,$(e),1).elf) \
+                     $(foreach t,$(PIL_AUX_Q31_TAGS),$(FW_DIR)/host-q31/pil/$(t))
 PIL_AUX_TAGS := $(foreach e,$(PIL_AUX_ENTRIES),$(call pil_obs_field,$(e),1))
 PIL_AUX_FILES := $(foreach t,$(PIL_AUX_TAGS),$(FW_DIR)/$(PIL_AUX_TARGET)/pil/$(t).elf $(FW_DIR)/host-f32/pil/$(t) $(FW_DIR)/host-f64/pil/$(t))
 
@@ -342,10 +375,10 @@ pil: deps-firmware firmware $(PIL_ELFS) $(PIL_OBS_ELFS) $(PIL_OBS_HOST) $(BUILD)
 	  --obs-log $(PIL_OBS_LOG) --obs-entries "$(PIL_OBS_ENTRIES)" \
 	  --example m3-q31:mps2-an385 --budgets "$(PIL_BUDGETS)" --out $(FW_DIR)/pil.json
 
-## PIL of the mass and grade estimator and the tyre identifier (float32, Cortex-M4F)
-pil-aux: deps-firmware firmware $(PIL_AUX_FILES)
+## PIL of the mass and grade estimator (float32 on the M4F, Q31 on the M4, M3, M0+) and the tyre identifier
+pil-aux: deps-firmware firmware $(PIL_AUX_FILES) $(PIL_AUX_Q31_FILES)
 	@python3 scripts/firmware/firmware_pil.py --build $(FW_DIR) --aux-entries "$(PIL_AUX_ENTRIES)" \
-	  --budgets "$(PIL_BUDGETS)" --out $(FW_DIR)/pil_aux.json
+	  --aux-q31-entries "$(PIL_AUX_Q31_ENTRIES)" --budgets "$(PIL_BUDGETS)" --out $(FW_DIR)/pil_aux.json
 
 # ---- per-function profile of a friction step (make pil-profile) --------------------------
 # PIL_PROFILE_CONFIG of PIL_CONFIGS on PIL_PROFILE_RUNS (<target>:<QEMU machine>), the log's
@@ -404,6 +437,11 @@ pil-budgets:
 	@$(MAKE) --no-print-directory pil PIL_BUDGETS=
 	@$(MAKE) --no-print-directory pil-aux PIL_BUDGETS=
 	python3 scripts/firmware/pil_budgets.py --write $(PIL_BUDGETS) $(FW_DIR)/pil.json $(FW_DIR)/pil_aux.json
+
+## regenerate only the other estimators' PIL table of docs/FIRMWARE.md (from make pil-aux)
+firmware-table-aux:
+	@test -f $(FW_DIR)/pil_aux.json || $(MAKE) --no-print-directory pil-aux
+	python3 scripts/firmware/firmware_table.py --aux-only --page docs/FIRMWARE.md --pil-aux $(FW_DIR)/pil_aux.json
 
 ## regenerate the firmware tables of docs/FIRMWARE.md
 firmware-table:

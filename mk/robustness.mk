@@ -15,7 +15,8 @@
 #                              fixed-point estimator and the composed pipeline (observer +
 #                              friction, float and double), invariants at every step, saturation
 #                              counts (test/soak/soak.c); then the mass and grade estimator and
-#                              the tyre identifier, float and double (test/soak/soak_run_aux.c;
+#                              the tyre identifier, float and double, the mass and grade one also
+#                              in Q31 (test/soak/soak_run_aux.c;
 #                              the identifier on SOAK_SHORT_TID's stretch in the short one);
 #                              the short one is part of make test
 # INV_FLAGS=-DINV_MU_TOL=1e-3 relaxes the [mu_min, mu_max] invariant by 1e-3 in the fuzz
@@ -30,7 +31,7 @@ FUZZ_CFLAGS := -std=c99 -g -O1 -fno-omit-frame-pointer -fsanitize=address,undefi
 FUZZ_OPTS   := -max_len=16384 -print_final_stats=1
 FUZZ_BINS   := fuzz_step_f32 fuzz_step_f64 $(if $(Q31_SRC),fuzz_step_q31) fuzz_velocity_f32 \
                fuzz_velocity_f64 $(if $(Q31_SRC),fuzz_velocity_q31) fuzz_mass_grade_f32 \
-               fuzz_mass_grade_f64 fuzz_tyre_id_f32 fuzz_tyre_id_f64 fuzz_csv
+               fuzz_mass_grade_f64 $(if $(Q31_SRC),fuzz_mass_grade_q31) fuzz_tyre_id_f32 fuzz_tyre_id_f64 fuzz_csv
 # The tyre identifier's harnesses build its sources with FUZZ_TID_N particles (RFE_TID_N,
 # rfe/config.h; every loop over the particles runs to it): a step costs N particles' RK4
 # and likelihoods, so a small N gives the fuzzer more steps per second on the same code.
@@ -117,6 +118,11 @@ $(BUILD)/fuzz/fuzz_tyre_id_f64: $(FUZZ_TID_DEPS) $(FUZZ_TID_F64)
 $(BUILD)/fuzz/fuzz_velocity_q31: test/fuzz/fuzz_velocity_q31.c test/fuzz/fuzz_input.h $(FUZZ_LIB_Q31) $(FUZZ_LIB_F64)
 	@mkdir -p $(@D)
 	$(FUZZ_CC) $(FUZZ_CFLAGS) -fsanitize=fuzzer $(CPPFLAGS_LIB) -Itest/fuzz $< $(FUZZ_LIB_Q31) $(FUZZ_LIB_F64) -lm -o $@
+# The fixed-point mass and grade estimator's harness: the double library gives the presets and
+# their conversion.
+$(BUILD)/fuzz/fuzz_mass_grade_q31: test/fuzz/fuzz_mass_grade_q31.c test/fuzz/fuzz_input.h test/fuzz/fuzz_params.h $(FUZZ_LIB_Q31) $(FUZZ_LIB_F64)
+	@mkdir -p $(@D)
+	$(FUZZ_CC) $(FUZZ_CFLAGS) -fsanitize=fuzzer $(CPPFLAGS_LIB) -Itest/fuzz $< $(FUZZ_LIB_Q31) $(FUZZ_LIB_F64) -lm -o $@
 $(BUILD)/fuzz/fuzz_csv: test/fuzz/fuzz_csv.c $(FUZZ_HOST) $(FUZZ_LIB_F32)
 	@mkdir -p $(@D)
 	$(FUZZ_CC) $(FUZZ_CFLAGS) -fsanitize=fuzzer $(CPPFLAGS_HOST) $< $(FUZZ_HOST) $(FUZZ_LIB_F32) -lm -o $@
@@ -172,10 +178,11 @@ $(BUILD)/soak/run_%.o: test/soak/soak_run.c test/soak/soak.h test/support/invari
 $(BUILD)/soak/pipeline_%.o: test/soak/soak_run_pipeline.c test/soak/soak.h test/support/invariants.h $(wildcard include/rfe/*.h include/rfe/component/*.h src/host/*.h)
 	@mkdir -p $(@D)
 	$(CC) $(TEST_WARN) $(OPT) $(INV_FLAGS) $(if $(filter f64,$*),-DRFE_REAL_DOUBLE) $(CPPFLAGS_HOST) -Itest/support -Itest/soak -c $< -o $@
-# The mass and grade estimator and the tyre identifier (float, double).
+# The mass and grade estimator and the tyre identifier (float, double; the double unit also
+# runs the mass and grade estimator's fixed-point twin when the q31 library exists).
 $(BUILD)/soak/aux_%.o: test/soak/soak_run_aux.c test/soak/soak.h $(wildcard include/rfe/*.h include/rfe/component/*.h src/host/*.h)
 	@mkdir -p $(@D)
-	$(CC) $(TEST_WARN) $(OPT) $(INV_FLAGS) $(if $(filter f64,$*),-DRFE_REAL_DOUBLE) $(CPPFLAGS_HOST) -Itest/support -Itest/soak -c $< -o $@
+	$(CC) $(TEST_WARN) $(OPT) $(INV_FLAGS) $(if $(filter f64,$*),-DRFE_REAL_DOUBLE $(if $(Q31_SRC),-DSOAK_Q31)) $(CPPFLAGS_HOST) -Itest/support -Itest/soak -c $< -o $@
 # The fixed-point variant joins when the q31 library exists (*_q31.c sources).
 $(BUILD)/soak/run_q31.o: test/soak/soak_run_q31.c test/soak/soak.h test/support/invariants.h $(wildcard include/rfe/*.h include/rfe/component/*.h src/host/*.h)
 	@mkdir -p $(@D)

@@ -3,15 +3,20 @@
  * @brief The generated data of a processor-in-the-loop image (pil_gen.c writes it): the
  *        estimator parameters and the sensor samples, fixed point with PIL_Q31, else float.
  *        With PIL_PIPELINE: the composed pipeline's parameters, the observer's and the ESC
- *        samples (fixed point with PIL_Q31, else float). With PIL_MASS_GRADE or PIL_TYRE_ID
- *        (float only): that estimator's parameters and samples.
+ *        samples (fixed point with PIL_Q31, else float). With PIL_MASS_GRADE (fixed point with
+ *        PIL_Q31, else float) or PIL_TYRE_ID (float only): that estimator's parameters and
+ *        samples.
  */
 #ifndef PIL_DATA_H
 #define PIL_DATA_H
 
 #include <stdint.h>
 
-#if defined(PIL_MASS_GRADE)
+#if defined(PIL_MASS_GRADE) && defined(PIL_Q31)
+#include "rfe/mass_grade_q31.h"
+extern const rfe_mass_grade_params_q31_t pil_mg_params;
+extern const rfe_mass_grade_input_q31_t pil_mg_inputs[];
+#elif defined(PIL_MASS_GRADE)
 #include "rfe/mass_grade.h"
 extern const rfe_mass_grade_params_t pil_mg_params;
 extern const rfe_mass_grade_input_t pil_mg_inputs[];

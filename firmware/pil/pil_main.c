@@ -13,7 +13,8 @@
  *   PIL_PIPELINE  the composed pipeline, rfe_pipeline_*_f32 (the velocity observer, then the
  *                 friction estimator on its outputs);
  *   PIL_PIPELINE with PIL_Q31  the composed pipeline in fixed point, rfe_pipeline_*_q31.
- *   PIL_MASS_GRADE  the mass and grade estimator, rfe_mass_grade_*_f32 (float only);
+ *   PIL_MASS_GRADE  the mass and grade estimator, rfe_mass_grade_*_f32;
+ *   PIL_MASS_GRADE with PIL_Q31  its fixed-point twin, rfe_mass_grade_*_q31;
  *   PIL_TYRE_ID     the tyre identifier, rfe_tyre_id_*_f32 with its default parameters and
  *                   seed 1 (float only; RFE_TID_N particles).
  * Another estimator is one more block giving pil_estimator_t, pil_output_t, pil_init,
@@ -31,8 +32,9 @@
  *       estimator's (in the fixed-point pipeline with the input-noise norm's)
  *   A <row> <status> <flags> <value>...   every step of PIL_MASS_GRADE or PIL_TYRE_ID instead
  *       of R: the step's status, its flags (the tyre identifier's RFE_TID_* bits; 0 for mass
- *       and grade) and every real output as raw bits: mass, sd_mass, grade, sd_grade, v,
- *       sd_v, q_mv; or the 17 means, the 17 sds and n_eff
+ *       and grade; its saturation count in fixed point) and every output as raw bits: mass,
+ *       sd_mass, grade, sd_grade, v, sd_v, q_mv (in fixed point Q14, Q14, Q29, Q29, Q24, Q24
+ *       and the int64 Q28); or the 17 means, the 17 sds and n_eff
  *   S <bytes>   the deepest stack any step used, measured: before each step the 4 KB below
  *               the stack pointer are painted, after it the lowest overwritten word is found
  *               (0 on the host)
@@ -66,11 +68,36 @@ static void put_friction(uint32_t row, rfe_status_t st, uint32_t sat, const void
 #if defined(PIL_PIPELINE)
 static void put_velocity(uint32_t row, rfe_status_t st, uint32_t flags, uint32_t sat);
 #endif
-#if defined(PIL_MASS_GRADE) || defined(PIL_TYRE_ID)
+#if (defined(PIL_MASS_GRADE) && !defined(PIL_Q31)) || defined(PIL_TYRE_ID)
 static void put_aux(uint32_t row, rfe_status_t st, uint32_t flags, const rfe_real_t *v, uint32_t n);
 #endif
 
-#if defined(PIL_MASS_GRADE)
+#if defined(PIL_MASS_GRADE) && defined(PIL_Q31)
+typedef rfe_mass_grade_q31_t pil_estimator_t;
+typedef rfe_mass_grade_estimate_q31_t pil_output_t;
+static pil_estimator_t g_est;
+#define PIL_STEP_CALL(i, o) rfe_mass_grade_step_q31(&g_est, &pil_mg_inputs[(i)], (o))
+static rfe_status_t pil_init(void)
+{
+    return rfe_mass_grade_init_q31(&g_est, &pil_mg_params);
+}
+static void put_output(uint32_t i, rfe_status_t st, const pil_output_t *o)
+{
+    const uint32_t b = (uint32_t)sizeof(rfe_fix_t);
+    put_char('A');
+    put_dec(i);
+    put_dec((uint32_t)st);
+    put_dec(o->sat);
+    put_bits(&o->mass, b);
+    put_bits(&o->sd_mass, b);
+    put_bits(&o->grade, b);
+    put_bits(&o->sd_grade, b);
+    put_bits(&o->v, b);
+    put_bits(&o->sd_v, b);
+    put_bits(&o->q_mv, (uint32_t)sizeof o->q_mv);
+    put_char('\n');
+}
+#elif defined(PIL_MASS_GRADE)
 typedef rfe_mass_grade_t pil_estimator_t;
 typedef rfe_mass_grade_estimate_t pil_output_t;
 static pil_estimator_t g_est;
@@ -276,7 +303,7 @@ static void put_velocity(uint32_t row, rfe_status_t st, uint32_t flags, uint32_t
 }
 #endif
 
-#if defined(PIL_MASS_GRADE) || defined(PIL_TYRE_ID)
+#if (defined(PIL_MASS_GRADE) && !defined(PIL_Q31)) || defined(PIL_TYRE_ID)
 /* One A line: row, status, flags, then the n outputs as the bits of rfe_real_t. */
 static void put_aux(uint32_t row, rfe_status_t st, uint32_t flags, const rfe_real_t *v, uint32_t n)
 {

@@ -43,11 +43,12 @@ PUBLIC = {
     "filters": ("sckf.h", "sckf_q31.h", "ckf.h", "ckf_q31.h", "kf2.h", "kf2_q31.h"),
     "params": ("modes.h", "params.h", "params_q31.h", "params_conv.h", "velocity_params.h",
                "velocity_params_q31.h",
-               "velocity_bits.h", "tyre_id_params.h", "mass_grade_params.h", "mass_grade_bits.h"),
+               "velocity_bits.h", "tyre_id_params.h", "mass_grade_params.h", "mass_grade_params_q31.h",
+               "mass_grade_bits.h"),
     "models": ("tyre.h", "tyre_q31.h", "obsmat.h", "obsmat_q31.h", "meas.h", "meas_q31.h"),
     "estimators": ("step_noise.h", "step_noise_q31.h", "conditioner.h", "conditioner_q31.h",
                    "monitor.h", "monitor_q31.h", "friction.h", "friction_q31.h", "velocity.h", "velocity_q31.h", "pipeline.h",
-                   "pipeline_q31.h", "tyre_id.h", "mass_grade.h"),
+                   "pipeline_q31.h", "tyre_id.h", "mass_grade.h", "mass_grade_q31.h"),
 }
 # Headers of both number types: no real type in them.
 Q31_SHARED = ({"include/rfe/" + h for h in ("common.h", "config.h", "fixed.h", "modes.h",
@@ -55,7 +56,8 @@ Q31_SHARED = ({"include/rfe/" + h for h in ("common.h", "config.h", "fixed.h", "
               | {"include/rfe/component/fxmath.h", "src/numerics/sizes.h",
                  "src/models/meas_inputs.h", "src/estimators/friction/friction_logic.h",
                  "src/estimators/friction/monitor_logic.h",
-                 "src/estimators/velocity/velocity_logic.h"})
+                 "src/estimators/velocity/velocity_logic.h",
+                 "src/estimators/mass_grade/mass_grade_logic.h"})
 Q31_SYSTEM = {"stddef.h", "stdint.h"}
 INCLUDE_RE = re.compile(r'^\s*#\s*include\s*([<"])([^>"]+)[>"]')
 

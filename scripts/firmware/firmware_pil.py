@@ -56,7 +56,12 @@ make pil-aux; AUX_ENTRIES below says what each tag runs), float32 on the Cortex-
     exactly must be bit-identical); the share of bit-identical values is reported;
  9. instructions per step over the first <steps counted> samples as in 6 (with the
     -singlestep check of the first step), the share of a CORE_HZ core at the estimator's
-    rate (AUX_ENTRIES: the log's sample rate), and where they go per function.
+    rate (AUX_ENTRIES: the log's sample rate), and where they go per function;
+10. the mass and grade tags again in fixed point (--aux-q31-entries <tag>:<target>:<machine>:
+    <steps counted>, on the same data file's PIL_Q31 arm) on the Cortex-M4, M3 and M0+: every
+    A line bit-identical to the host q31 build of the same program (status, saturations,
+    every Q word), and the instructions per step as in 9, also as the share of a CORE_HZ
+    core at STEP_HZ (the issue's cost target: 5 % of 100 MHz at 100 Hz).
 Finally (--budgets) every mean count against its committed budget (scripts/firmware/pil_budgets.py:
 more than 2 % over fails, more than 5 % under is noted).
 Writes --out (JSON: per run and configuration the comparison and the instructions per step,
@@ -794,10 +799,10 @@ def image_flash(elf):
         m = re.match(r"^ (\.\S+)?\s+0x[0-9a-f]+\s+0x([0-9a-f]+)\s+(\S+)$", ln)
         if m:
             sec, name = m.group(1) or name, None
-            lib = re.match(r".*/(lib[a-z_]+)\.a\((.*)\)$", m.group(3))
+            lib = re.match(r".*/(lib[a-z0-9_]+)\.a\((.*)\)$", m.group(3))
             if sec is None or not sec.startswith((".text", ".rodata")) or not lib:
                 continue
-            key = lib.group(2) if lib.group(1) == "librfe" else "newlib " + lib.group(1)
+            key = lib.group(2) if lib.group(1) in ("librfe", "librfe_q31") else "newlib " + lib.group(1)
             out[key] = out.get(key, 0) + int(m.group(2), 16)
         else:
             name = None
@@ -891,6 +896,82 @@ def run_aux_entry(a, spec, report, failures):
     return entry
 
 
+def run_aux_q31_entry(a, spec, report, failures):
+    """One entry of --aux-q31-entries: <tag>:<target>:<machine>:<steps counted>, the mass and
+    grade estimator's fixed-point twin on a fixed-point target (step 10 of the description)."""
+    tag, target, machine, steps = spec.split(":")
+    kind = AUX_ENTRIES[tag]
+    core = target.split("-")[0]
+    elf = os.path.join(a.build, target, "pil", tag + ".elf")
+    t0 = time.time()
+    r = subprocess.run(qemu_cmd(machine, elf), stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                       text=True, timeout=QEMU_TIMEOUT)
+    rows, stack, end = parse_aux(r.stdout)
+    label = f"{target} on {machine}, {tag} (q31)"
+    entry = {"entry": tag, "what": kind["what"] + ", Q31", "target": target,
+             "core": MACHINE_CORE.get(machine, machine), "build_core": BUILD_CORE[core],
+             "machine": machine, "variant": "q31", "steps": len(rows), "exit": r.returncode,
+             "rate_hz": kind["rate_hz"], "qemu_seconds": round(time.time() - t0, 2),
+             "stack_measured": stack}
+    if r.returncode != 0 or end != len(rows) or not rows:
+        failures.append(f"{label}: QEMU exit {r.returncode}, {len(rows)} rows, end marker {end}\n"
+                        f"{r.stderr[-1500:]}")
+        return entry
+    href = host_rows(a.build, "q31", tag, parse_aux)
+    if os.environ.get("PIL_AUX_PERTURB"):
+        # The check checked by hand (PIL_AUX_PERTURB=1 make pil-aux must fail): the last bit
+        # of the mass of the target's middle row
+        w = rows[len(rows) // 2]["words"]
+        w[0] = f"{int(w[0], 16) ^ 1:08x}"
+    # Integers: every row's status, saturation count and words bit for bit
+    bad = abs(len(rows) - len(href)) + sum(t != h for t, h in zip(rows, href))
+    first = next((f"row {i}: target {t}; host {h}" for i, (t, h) in enumerate(zip(rows, href)) if t != h), None)
+    entry["compare"] = {"host": f"host-q31/pil/{tag}", "mismatches": bad, "bit_identical": bad == 0,
+                        "saturations": sum(t["discrete"][1] for t in rows)}
+    verdict = "bit-identical to the host q31 build" if not bad else f"{bad} rows differ from the host q31 build"
+    if bad:
+        failures.append(f"{label}: {bad} rows differ from the host q31 build: {first}")
+    static = report.get("targets", {}).get(target, {}).get("stack", {}).get(
+        f"{kind['step']}_q31", {}).get("bytes")
+    entry["stack_static"] = static
+    flash = image_flash(elf)
+    entry["flash"] = {"module": sum(v for k, v in flash.items() if k.startswith(kind["objects"])),
+                      "library": sum(v for k, v in flash.items() if not k.startswith("newlib")),
+                      "per_object": flash}
+    entry["state"] = state_size(elf)
+    if static is not None and stack is not None and stack > static:
+        failures.append(f"{label}: a step used {stack} B of stack, more than the static {static} B")
+    n = min(int(steps), len(rows))
+    if n > 0:
+        t0 = time.time()
+        counts, _, per_func = count_instructions(machine, elf, n, parts=(), functions=True)
+        k = min(1, n)
+        if count_instructions(machine, elf, k, singlestep=True) != counts[:k]:
+            failures.append(f"{label}: instruction counts of the TB method differ from -singlestep "
+                            f"over the first {k} steps")
+        entry["instructions_per_step"] = {"mean": round(sum(counts) / n, 1), "max": max(counts),
+                                          "min": min(counts), "steps": n, "first_steps_of_log": True}
+        objects = code_objects(elf)
+        starts, names = function_table(elf)
+        where = {nm_: object_of(objects, a_) for a_, nm_ in zip(starts, names)}
+        entry["instructions_per_function"] = {
+            key: sorted(([f, round(v / n, 1), round(c / n, 2), where.get(f, "?")] for f, (v, c) in d.items()),
+                        key=lambda x: -x[1])[:25]
+            for key, d in per_func.items()}
+        # the log's rate, and the issue's reference: 100 Hz on a 100 MHz core
+        entry["core_share_mean"] = sum(counts) / n * kind["rate_hz"] / CORE_HZ
+        entry["core_share_max"] = max(counts) * kind["rate_hz"] / CORE_HZ
+        entry["core_share_mean_100hz"] = sum(counts) / n * STEP_HZ / CORE_HZ
+        entry["core_share_max_100hz"] = max(counts) * STEP_HZ / CORE_HZ
+        entry["count_seconds"] = round(time.time() - t0, 1)
+        verdict += (f"; {sum(counts) / n:.0f} instructions/step (max {max(counts)}) over {n} steps, "
+                    f"{100 * entry['core_share_mean_100hz']:.2f} % (max {100 * entry['core_share_max_100hz']:.2f} %) "
+                    f"of {CORE_HZ / 1e6:.0f} MHz at {STEP_HZ:.0f} Hz")
+    print(f"pil: {label}: {len(rows)} steps, {verdict}; stack {stack} B measured (static {static}); "
+          f"state {entry['state']} B; module flash {entry['flash']['module']} B")
+    return entry
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--build", default="build/firmware")
@@ -910,6 +991,9 @@ def main():
     ap.add_argument("--obs-log", default="", help="the observer entries' log")
     ap.add_argument("--obs-entries", default="",
                     help="<tag>:<target>:<machine>:<steps counted> (tags: OBS_ENTRIES)")
+    ap.add_argument("--aux-q31-entries", default="",
+                    help="<tag>:<target>:<machine>:<steps counted> (the mass and grade tags of "
+                         "AUX_ENTRIES, their fixed-point twin, compared bit for bit with host-q31)")
     ap.add_argument("--aux-entries", default="",
                     help="<tag>:<log>:<rows>:<steps counted> (tags: AUX_ENTRIES), on the Cortex-M4F")
     ap.add_argument("--budgets", default="",
@@ -1021,6 +1105,8 @@ def main():
             result.setdefault("observer_runs", []).append(entry)
         for spec in a.aux_entries.split():
             result.setdefault("aux_runs", []).append(run_aux_entry(a, spec, report, failures))
+        for spec in a.aux_q31_entries.split():
+            result.setdefault("aux_q31_runs", []).append(run_aux_q31_entry(a, spec, report, failures))
     if a.aux_entries:
         result["aux_tolerance"] = AUX_TOLERANCE
     if a.obs_entries:

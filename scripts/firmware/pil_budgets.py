@@ -56,7 +56,9 @@ def measured(result):
     out = []
     groups = [(result.get("runs", []), "config", lambda r: stem(result["log"])),
               (result.get("observer_runs", []), "tag", lambda r: stem(result["obs_log"])),
-              (result.get("aux_runs", []), "entry", lambda r: stem(r["log"]))]
+              (result.get("aux_runs", []), "entry", lambda r: stem(r["log"])),
+              # the fixed-point aux runs step the float ones' data file (no log of their own)
+              (result.get("aux_q31_runs", []), "entry", lambda r: stem(r.get("log", "")))]
     for runs, name, log in groups:
         for r in runs:
             ips = r.get("instructions_per_step")

@@ -69,10 +69,12 @@ def test_measured_reads_every_kind_of_run():
            "observer_runs": [{"target": "m0p-q31", "tag": "pipeline",
                               "instructions_per_step": {"mean": 814400.4, "steps": 20}}]}
     aux = {"aux_runs": [{"target": "m4f-f32", "entry": "tid", "log": "scenarios/tyre_id/tid.csv",
-                         "instructions_per_step": {"mean": 2.5e6, "steps": 20}}]}
+                         "instructions_per_step": {"mean": 2.5e6, "steps": 20}}],
+           "aux_q31_runs": [{"target": "m0p-q31", "entry": "mg_ukf",   # no log of its own
+                             "instructions_per_step": {"mean": 134023.0, "steps": 50}}]}
     assert pil_budgets.measured(pil) + pil_budgets.measured(aux) == [
         run(16030.4, "m4f-f32", "paper.sckf"), run(814400.4, "m0p-q31", "pipeline", "abs", 20),
-        run(2.5e6, "m4f-f32", "tid", "tid", 20)]
+        run(2.5e6, "m4f-f32", "tid", "tid", 20), run(134023.0, "m0p-q31", "mg_ukf", "", 50)]
 
 
 def test_write_sets_measured_runs_and_keeps_the_others(tmp_path):

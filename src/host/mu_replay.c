@@ -81,8 +81,8 @@ static const char k_usage_rest[] =
     "                   observer and no grade column the observer takes each sample's\n"
     "                   estimated grade (that sample's); with mass_true, grade_true the summary and --metrics\n"
     "                   give the mass error at the end and the grade's RMSE. off: not\n"
-    "                   run (the columns are ignored). Not with --real q31 (no\n"
-    "                   fixed-point twin yet: there it is off, with a note)\n"
+    "                   run (the columns are ignored). Not with --real q31 (the\n"
+    "                   replay does not run its fixed-point twin yet: off, with a note)\n"
     "  --metrics FILE   write run summary and accuracy as JSON\n"
     "  --strict         stop at the first empty, nan/inf or out-of-range cell (exit 1);\n"
     "                   by default such a cell goes to the estimator as NaN/Inf, which\n"
@@ -357,8 +357,9 @@ static int check_option_words(options_t *o)
     }
     if ((o->mass_grade != NULL) && (strcmp(o->mass_grade, "off") != 0) && (o->real != NULL) &&
         (strcmp(o->real, "q31") == 0)) {
-        return usage_error(o, "--mass-grade %s: the mass and grade estimator has no fixed-point "
-                           "twin yet; use --real float or double, or --mass-grade off",
+        return usage_error(o, "--mass-grade %s: the replay does not run the mass and grade "
+                           "estimator's fixed-point twin yet; use --real float or double, or "
+                           "--mass-grade off",
                            o->mass_grade);
     }
     if (same_file(o->out, o->in) || ((o->params != NULL) && same_file(o->out, o->params)) ||
@@ -416,7 +417,8 @@ static void read_opts(const options_t *o, rfe_read_opts_t *ro)
 {
     memset(ro, 0, sizeof *ro);
     ro->cells = o->strict ? RFE_CELLS_STRICT : RFE_CELLS_KEEP;
-    /* off, or q31 (no fixed-point twin): its columns are extra columns, not read */
+    /* off, or q31 (the replay does not run the fixed-point twin): its columns are extra
+     * columns, not read */
     ro->mass_grade_off = ((o->mass_grade != NULL) && (strcmp(o->mass_grade, "off") == 0)) ||
                         ((o->real != NULL) && (strcmp(o->real, "q31") == 0));
     /* the columns --velocity uses: the measured ones needed (named with any other missing
@@ -496,8 +498,9 @@ static int mass_grade_flags(const options_t *o, run_t *r)
         r->ps.origin[RFE_PK_mg_adaptive].line = 0u;
     }
     if (r->is_q31 && !o->quiet && (o->mass_grade == NULL) && r->log.drive_torque_ignored) {
-        fprintf(stderr, "%s: note: %s has drive_torque, but the mass and grade estimator has no "
-                        "fixed-point twin yet: not run with --real q31 (docs/MASS_GRADE.md)\n",
+        fprintf(stderr, "%s: note: %s has drive_torque, but the replay does not run the mass and "
+                        "grade estimator's fixed-point twin yet: not run with --real q31 "
+                        "(docs/MASS_GRADE.md)\n",
                 PROG, o->in);
     }
     return 0;

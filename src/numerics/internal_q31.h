@@ -24,6 +24,7 @@
 /** Magic words marking an initialised fixed-point state (distinct from the float twins'). */
 #define RFE_MAGIC_EST_Q31 0x45513331u /* "EQ31" */
 #define RFE_MAGIC_VEL_Q31 0x56513331u /* "VQ31" */
+#define RFE_MAGIC_MG_Q31 0x4D475133u  /* "MGQ3" */
 #define RFE_MAGIC_MON_Q31 0x4D513331u /* "MQ31" */
 
 /** 1 when |v| <= lim (lim >= 0), without forming |v| (INT32_MIN is a valid input), else 0. */

@@ -268,3 +268,57 @@ rfe_status_t rfe_velocity_params_to_q31(const rfe_velocity_params_t *p,
     *q = t;
     return RFE_OK;
 }
+
+rfe_status_t rfe_mass_grade_params_to_q31(const rfe_mass_grade_params_t *p,
+                                          rfe_mass_grade_params_q31_t *q)
+{
+    rfe_mass_grade_params_q31_t t;
+    conv_t c = {0};
+    rfe_status_t st;
+
+    if ((p == NULL) || (q == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    st = rfe_mass_grade_params_validate(p);
+    if (st != RFE_OK) {
+        return st;
+    }
+    t.R = to_q(&c, (double)p->R, RFE_MG_Q_R, 0);
+    t.g = to_q(&c, (double)p->g, RFE_MG_Q_G, 0);
+    t.fc = to_q(&c, (double)p->fc, RFE_MG_Q_FC, 0);
+    t.fr = to_q(&c, (double)p->fr, RFE_MG_Q_FR, 0);
+    t.rho = to_q(&c, (double)p->rho, RFE_MG_Q_COEF, 0);
+    t.cd = to_q(&c, (double)p->cd, RFE_MG_Q_COEF, 0);
+    t.area = to_q(&c, (double)p->area, RFE_MG_Q_COEF, 0);
+    t.m_rot = to_q(&c, (double)p->m_rot, RFE_MG_Q_M, 0);
+    t.m0 = to_q(&c, (double)p->m0, RFE_MG_Q_M, 0);
+    t.theta0 = to_q(&c, (double)p->theta0, RFE_MG_Q_TH, 0);
+    t.sd_m0 = to_q(&c, (double)p->sd_m0, RFE_MG_Q_M, 0);
+    t.sd_theta0 = to_q(&c, (double)p->sd_theta0, RFE_MG_Q_TH, 0);
+    t.q_v = to_q(&c, (double)p->q_v, RFE_MG_Q_V, 0);
+    t.q_mc = to_q(&c, (double)p->q_mc, RFE_MG_Q_M, 0);
+    t.q_mv0 = to_q(&c, (double)p->q_mv0, RFE_MG_Q_M, 0);
+    t.q_theta = to_q(&c, (double)p->q_theta, RFE_MG_Q_TH, 0);
+    t.r_v = to_q(&c, (double)p->r_v, RFE_MG_Q_V, 0);
+    t.r_ax = to_q(&c, (double)p->r_ax, RFE_MG_Q_V, 0);
+    t.ut_alpha = to_q(&c, (double)p->ut_alpha, RFE_MG_Q_UT, 0);
+    t.ut_beta = to_q(&c, (double)p->ut_beta, RFE_MG_Q_UT, 0);
+    t.ut_kappa = to_q(&c, (double)p->ut_kappa, RFE_MG_Q_UT, 0);
+    t.adaptive = p->adaptive;
+    t.use_ax = p->use_ax;
+    t.t_adapt = to_q(&c, (double)p->t_adapt, RFE_MG_Q_TIME, 0);
+    t.mv_stop = to_q(&c, (double)p->mv_stop, RFE_MG_Q_COEF, 0);
+    t.v_min = to_q(&c, (double)p->v_min, RFE_MG_Q_V, 0);
+    t.t_brake = to_q(&c, (double)p->t_brake, RFE_MG_Q_TIME, 0);
+    t.t_shift = to_q(&c, (double)p->t_shift, RFE_MG_Q_TIME, 0);
+    t.p_brake_on = to_q(&c, (double)p->p_brake_on * 1e-6, RFE_MG_Q_PRESSURE, 0); /* Pa -> MPa */
+    t.m_min = to_q(&c, (double)p->m_min, RFE_MG_Q_M, 0);
+    t.m_max = to_q(&c, (double)p->m_max, RFE_MG_Q_M, 0);
+    t.theta_max = to_q(&c, (double)p->theta_max, RFE_MG_Q_TH, 0);
+    t.dt_max = to_q(&c, (double)p->dt_max, RFE_MG_Q_DT, 0);
+    if (c.bad != 0) {
+        return RFE_ERR_RANGE;
+    }
+    *q = t;
+    return RFE_OK;
+}

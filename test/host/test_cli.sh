@@ -572,9 +572,10 @@ grep -q "^mu_replay: --mass-grade must be ukf, aukf or off, not 'ekf'$" "$TMP/er
 run mg_bad_case 2 --in "$MG/car_grade_step.csv" --out "$TMP/mg.csv" --mass-grade=UKF
 run mg_no_value 2 --in "$MG/car_grade_step.csv" --out "$TMP/mg.csv" --mass-grade
 run mg_twice 2 --in "$MG/car_grade_step.csv" --out "$TMP/mg.csv" --mass-grade ukf --mass-grade off
-# no fixed-point twin yet: asking for it with q31 is a usage error, before any file is read
+# the replay does not run the fixed-point twin yet: asking for it with q31 is a usage error,
+# before any file is read
 run mg_q31_usage 2 --in "$MG/car_grade_step.csv" --out "$TMP/mg.csv" --mass-grade aukf --real q31
-grep -q "^mu_replay: --mass-grade aukf: the mass and grade estimator has no fixed-point twin yet" "$TMP/err" \
+grep -q "^mu_replay: --mass-grade aukf: the replay does not run the mass and grade estimator's fixed-point twin yet" "$TMP/err" \
     && ok "mg_q31_usage: named" || bad "mg_q31_usage: $(head -1 "$TMP/err")"
 grep -q -- '--mass-grade ukf|aukf|off' <("$BIN" --help) && grep -q 'RFE_MG_RECOMMENDED' <("$BIN" --help) \
     && ok "help: --mass-grade and its presets" || bad "help: no --mass-grade"
@@ -870,7 +871,7 @@ grep -q 'grade RMSE\|mass error at the end' "$TMP/out" && bad "mg_never_started:
 run mg_q31 0 --in "$TMP/short.csv" --out "$TMP/mg_q.csv" --real q31 -q
 grep -q 'mass_est' "$TMP/mg_q.csv" && bad "mg_q31: mass and grade columns" || ok "mg_q31: no mass and grade columns"
 run mg_q31_note 0 --in "$TMP/short.csv" --out "$TMP/mg_q.csv" --real q31
-[ "$(grep -c 'no fixed-point twin yet: not run with --real q31' "$TMP/err")" -eq 1 ] \
+[ "$(grep -c "fixed-point twin yet: not run with --real q31" "$TMP/err")" -eq 1 ] \
     && ok "mg_q31_note: said once" || bad "mg_q31_note: $(cat "$TMP/err")"
 run mg_q31_off 0 --in "$TMP/short.csv" --out "$TMP/mg_q.csv" --real q31 --mass-grade off
 grep -q 'fixed-point twin' "$TMP/err" && bad "mg_q31_off: note despite off" || ok "mg_q31_off: no note"

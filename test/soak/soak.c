@@ -74,6 +74,10 @@ static const struct {
     {"double", "mass_grade", soak_run_mass_grade_f64, 0, "car.recommended"},
     {"float", "mass_grade", soak_run_mass_grade_f32, 1, "car.seed"},
     {"double", "mass_grade", soak_run_mass_grade_f64, 1, "car.seed"},
+#if defined(SOAK_Q31)
+    {"q31", "mass_grade", soak_run_mass_grade_q31, 0, "car.recommended"},
+    {"q31", "mass_grade", soak_run_mass_grade_q31, 1, "car.seed"},
+#endif
     {"float", "tyre_id", soak_run_tyre_id_f32, 0, "apf"},
     {"double", "tyre_id", soak_run_tyre_id_f64, 0, "apf"},
 };

@@ -136,6 +136,10 @@ int soak_run_mass_grade_f32(const rfe_sensor_log_t *log, const char *log_name,
                             const soak_aux_cfg_t *cfg, soak_aux_result_t *res);
 int soak_run_mass_grade_f64(const rfe_sensor_log_t *log, const char *log_name,
                             const soak_aux_cfg_t *cfg, soak_aux_result_t *res);
+/** The fixed-point twin on the same samples rounded to their formats (soak_run_aux.c's
+ *  double unit, with SOAK_Q31). */
+int soak_run_mass_grade_q31(const rfe_sensor_log_t *log, const char *log_name,
+                            const soak_aux_cfg_t *cfg, soak_aux_result_t *res);
 /** The tyre identifier over the rows of [cfg->from, cfg->to). */
 int soak_run_tyre_id_f32(const rfe_sensor_log_t *log, const char *log_name,
                          const soak_aux_cfg_t *cfg, soak_aux_result_t *res);

@@ -41,6 +41,11 @@
 #include "replay_real.h"
 #include "rfe/mass_grade.h"
 #include "rfe/tyre_id.h"
+#if defined(RFE_REAL_DOUBLE) && defined(SOAK_Q31)
+#include "fixed_conv.h"
+#include "rfe/component/params_conv.h"
+#include "rfe/mass_grade_q31.h"
+#endif
 #include "soak.h"
 
 #if defined(RFE_REAL_DOUBLE)
@@ -83,6 +88,25 @@ static void torque_of(const rfe_sensor_log_t *log, size_t i, const rfe_mass_grad
                      0.5 * (double)mp->rho * (double)mp->cd * (double)mp->area * v * v;
     *brake = f < -0.1 * m * g;
     *torque = *brake ? 0.0 : (double)mp->R * f;
+}
+
+/* Sample i of the log for the estimator: the wheels' mean speed, the derived torque and
+ * brake, ax. */
+static void mg_sample(const rfe_sensor_log_t *log, size_t i, const rfe_mass_grade_params_t *mp,
+                      double m, rfe_mass_grade_input_t *u)
+{
+    const rfe_sensor_row_t *row = &log->rows[i];
+    double torque;
+    int brake;
+    memset(u, 0, sizeof(*u));
+    torque_of(log, i, mp, m, &torque, &brake);
+    u->dt = (rfe_real_t)((i > 0) ? row->t - log->rows[i - 1].t : 0.0);
+    u->v = (rfe_real_t)((double)mp->R *
+                        (((row->omega[0] + row->omega[1]) + row->omega[2]) + row->omega[3]) / 4.0);
+    u->torque = (rfe_real_t)torque;
+    u->ax = (rfe_real_t)row->ax;
+    u->brake = brake ? 1u : 0u;
+    u->has = RFE_MG_HAS_AX | RFE_MG_HAS_BRAKE;
 }
 
 static void check_mg(const rfe_mass_grade_t *mg, const rfe_mass_grade_estimate_t *e, char *why,
@@ -154,18 +178,8 @@ int soak_run_mass_grade(const rfe_sensor_log_t *log, const char *log_name,
         rfe_mass_grade_input_t u;
         rfe_mass_grade_estimate_t e;
         rfe_status_t st;
-        double torque;
-        int brake;
         char why[SOAK_WHY];
-        memset(&u, 0, sizeof(u));
-        torque_of(log, i, &mp, m, &torque, &brake);
-        u.dt = (rfe_real_t)((i > 0) ? row->t - log->rows[i - 1].t : 0.0);
-        u.v = (rfe_real_t)((double)mp.R *
-                           (((row->omega[0] + row->omega[1]) + row->omega[2]) + row->omega[3]) / 4.0);
-        u.torque = (rfe_real_t)torque;
-        u.ax = (rfe_real_t)row->ax;
-        u.brake = brake ? 1u : 0u;
-        u.has = RFE_MG_HAS_AX | RFE_MG_HAS_BRAKE;
+        mg_sample(log, i, &mp, m, &u);
         st = rfe_mass_grade_step(&mg, &u, &e);
         ++res->steps;
         ++res->status[(st >= 0 && st < SOAK_STATUS_SLOTS) ? st : SOAK_STATUS_SLOTS - 1];
@@ -190,6 +204,107 @@ int soak_run_mass_grade(const rfe_sensor_log_t *log, const char *log_name,
                        (double)(res->steps ? res->steps : 1);
     return 0;
 }
+
+#if defined(RFE_REAL_DOUBLE) && defined(SOAK_Q31)
+/* The fixed-point twin on the same samples rounded to their formats (rfe_fix_from_double;
+ * a saturated sample is counted as a violation: the drive stays inside every format). */
+static void check_mg_q31(const rfe_mass_grade_q31_t *mg, const rfe_mass_grade_estimate_q31_t *e,
+                         char *why, size_t n_why)
+{
+    const rfe_mass_grade_params_q31_t *p = &mg->p;
+    rfe_mass_grade_estimate_q31_t got;
+    why[0] = '\0';
+    if (e->sd_mass < 0 || e->sd_grade < 0 || e->sd_v < 0 || e->q_mv < 0 || mg->S[0] < 0 ||
+        mg->S[4] < 0 || mg->S[8] < 0) {
+        snprintf(why, n_why, "a negative sd, factor diagonal or q_mv");
+    } else if (e->mass < p->m_min || e->mass > p->m_max) {
+        snprintf(why, n_why, "mass %ld (Q14) outside [m_min, m_max]", (long)e->mass);
+    } else if (e->grade < -p->theta_max || e->grade > p->theta_max) {
+        snprintf(why, n_why, "|grade| %ld (Q29) beyond theta_max", (long)e->grade);
+    } else if (e->sat != 0u) {
+        snprintf(why, n_why, "%lu saturations in a step", (unsigned long)e->sat);
+    } else if (rfe_mass_grade_get_q31(mg, &got) != RFE_OK ||
+               memcmp(&got, e, sizeof(got)) != 0) {
+        snprintf(why, n_why, "get does not return the last estimate");
+    }
+}
+
+int soak_run_mass_grade_q31(const rfe_sensor_log_t *log, const char *log_name,
+                            const soak_aux_cfg_t *cfg, soak_aux_result_t *res)
+{
+    static rfe_mass_grade_q31_t mg;
+    rfe_params_t veh;
+    rfe_mass_grade_params_t mp;
+    rfe_mass_grade_params_q31_t q;
+    double m;
+    size_t i;
+    clock_t c0;
+    memset(res, 0, sizeof(*res));
+    res->first_violation_step = -1;
+    res->lo = res->lo2 = INFINITY;
+    res->hi = res->hi2 = -INFINITY;
+    memset(&mp, 0, sizeof(mp));
+    if (soak_params_of(log, log_name, RFE_PRESET_DEFAULT, &veh) != 0 ||
+        rfe_mass_grade_params_preset(&mp, RFE_MG_CAR,
+                                     cfg->seed_config ? RFE_MG_SEED : RFE_MG_RECOMMENDED) != RFE_OK ||
+        log->n_rows < 2 || !log->has_velocity) {
+        fprintf(stderr, "soak: mass and grade %s: no parameters or no vx column\n", cfg->name);
+        return -1;
+    }
+    mp.R = veh.vehicle.R;
+    mp.g = veh.vehicle.g;
+    m = (double)veh.vehicle.m;
+    memset(&mg, 0, sizeof(mg));
+    if (rfe_mass_grade_params_to_q31(&mp, &q) != RFE_OK || rfe_mass_grade_init_q31(&mg, &q) != RFE_OK) {
+        fprintf(stderr, "soak: mass and grade %s (q31): init failed\n", cfg->name);
+        return -1;
+    }
+    res->truth = m;
+    c0 = clock();
+    for (i = 0; i < log->n_rows; ++i) {
+        const rfe_sensor_row_t *row = &log->rows[i];
+        rfe_mass_grade_input_t u;
+        rfe_mass_grade_input_q31_t uq;
+        rfe_mass_grade_estimate_q31_t e;
+        rfe_status_t st;
+        uint32_t sat = 0u;
+        char why[SOAK_WHY];
+        mg_sample(log, i, &mp, m, &u);
+        memset(&uq, 0, sizeof(uq));
+        uq.dt = rfe_fix_from_double(u.dt, RFE_MG_Q_DT, &sat);
+        uq.v = rfe_fix_from_double(u.v, RFE_MG_Q_V, &sat);
+        uq.torque = rfe_fix_from_double(u.torque, RFE_MG_Q_TORQUE, &sat);
+        uq.ax = rfe_fix_from_double(u.ax, RFE_MG_Q_V, &sat);
+        uq.brake = u.brake;
+        uq.has = u.has;
+        st = rfe_mass_grade_step_q31(&mg, &uq, &e);
+        ++res->steps;
+        ++res->status[(st >= 0 && st < SOAK_STATUS_SLOTS) ? st : SOAK_STATUS_SLOTS - 1];
+        if (sat != 0u) {
+            aux_violation(res, i, row->t, "a sample beyond its Q format");
+        }
+        if (rfe_status_is_error(st)) {
+            snprintf(why, sizeof(why), "a row inside the limits failed with status %d (%s)",
+                     (int)st, rfe_status_str(st));
+            aux_violation(res, i, row->t, why);
+            continue;
+        }
+        check_mg_q31(&mg, &e, why, sizeof(why));
+        if (why[0] != '\0') {
+            aux_violation(res, i, row->t, why);
+        }
+        res->lo = fmin(res->lo, rfe_fix_to_double(e.mass, RFE_MG_Q_M));
+        res->hi = fmax(res->hi, rfe_fix_to_double(e.mass, RFE_MG_Q_M));
+        res->lo2 = fmin(res->lo2, rfe_fix_to_double(e.grade, RFE_MG_Q_TH));
+        res->hi2 = fmax(res->hi2, rfe_fix_to_double(e.grade, RFE_MG_Q_TH));
+        res->final = rfe_fix_to_double(e.mass, RFE_MG_Q_M);
+        res->final_sd = rfe_fix_to_double(e.sd_mass, RFE_MG_Q_M);
+    }
+    res->us_per_step = 1e6 * (double)(clock() - c0) / CLOCKS_PER_SEC /
+                       (double)(res->steps ? res->steps : 1);
+    return 0;
+}
+#endif
 
 static void check_tid(const rfe_tyre_id_t *t, const rfe_tyre_id_estimate_t *e, char *why,
                       size_t n_why)

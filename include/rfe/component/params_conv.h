@@ -7,6 +7,8 @@
 #ifndef RFE_PARAMS_CONV_H
 #define RFE_PARAMS_CONV_H
 
+#include "rfe/mass_grade_params.h"
+#include "rfe/mass_grade_params_q31.h"
 #include "rfe/params.h"
 #include "rfe/params_q31.h"
 #include "rfe/velocity_params.h"
@@ -17,9 +19,11 @@
 #if defined(RFE_REAL_DOUBLE)
 #define rfe_params_to_q31 rfe_params_to_q31_f64
 #define rfe_velocity_params_to_q31 rfe_velocity_params_to_q31_f64
+#define rfe_mass_grade_params_to_q31 rfe_mass_grade_params_to_q31_f64
 #else
 #define rfe_params_to_q31 rfe_params_to_q31_f32
 #define rfe_velocity_params_to_q31 rfe_velocity_params_to_q31_f32
+#define rfe_mass_grade_params_to_q31 rfe_mass_grade_params_to_q31_f32
 #endif
 
 /**
@@ -48,5 +52,20 @@ RFE_NODISCARD rfe_status_t rfe_params_to_q31(const rfe_params_t *p, rfe_params_q
  */
 RFE_NODISCARD rfe_status_t rfe_velocity_params_to_q31(const rfe_velocity_params_t *p,
                                                       rfe_velocity_params_q31_t *q);
+
+/**
+ * Converts the mass and grade estimator's parameters @p p to Q formats
+ * (mass_grade_params_q31.h; pressures from Pa to MPa), each value rounded to nearest like
+ * rfe_params_to_q31.
+ * The fixed-point domain beyond the formats (n + lambda in (1, 16), w_c,0 in [0, 4)) is
+ * rfe_mass_grade_params_validate_q31's, in the fixed-point library: rfe_mass_grade_init_q31
+ * refuses a converted set outside it.
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_PARAM if rfe_mass_grade_params_validate(p) fails;
+ *         RFE_ERR_RANGE if a value rounds beyond +-INT32_MAX or a nonzero value rounds to 0
+ *         (m_max >= 131072 kg, dt_max >= 2 s, t_brake >= 128 s, f_r >= 0.031 s/m, ...).
+ *         On error @p q is untouched.
+ */
+RFE_NODISCARD rfe_status_t rfe_mass_grade_params_to_q31(const rfe_mass_grade_params_t *p,
+                                                        rfe_mass_grade_params_q31_t *q);
 
 #endif /* RFE_PARAMS_CONV_H */

@@ -10,6 +10,7 @@
 #include "rfe/mass_grade.h"
 
 #include "estimators/mass_grade/mass_grade_internal.h"
+#include "estimators/mass_grade/mass_grade_logic.h"
 #include "numerics/internal.h"
 
 #define N ((size_t)RFE_MG_N)
@@ -61,22 +62,16 @@ static int sample_values_finite(const rfe_mass_grade_input_t *in)
 static rfe_status_t check_torque_sample(const rfe_mass_grade_t *mg,
                                        const rfe_mass_grade_input_t *in)
 {
-    const uint32_t has_ax = in->has & RFE_MG_HAS_AX;
     if (sample_values_finite(in) == 0) {
         return RFE_ERR_NONFINITE;
     }
-    if (((in->has & ~RFE_MG_HAS_ALL) != 0u) || (RFE_FABS(in->v) > RFE_R(RFE_LIMIT_VX)) ||
+    if ((rfe_mg_has_status(in->has, mg->p.use_ax) != RFE_OK) ||
+        (RFE_FABS(in->v) > RFE_R(RFE_LIMIT_VX)) ||
         (RFE_FABS(in->torque) > RFE_R(RFE_LIMIT_DRIVE_TORQUE))) {
         return RFE_ERR_RANGE;
     }
-    if (has_ax != 0u) {
-        if (RFE_FABS(in->ax) > RFE_R(RFE_LIMIT_ACC)) {
-            return RFE_ERR_RANGE;
-        }
-    } else if (mg->p.use_ax == 1u) {
-        return RFE_ERR_RANGE; /* the accelerometer option needs ax in every sample */
-    } else {
-        /* no ax, and none needed */
+    if (((in->has & RFE_MG_HAS_AX) != 0u) && (RFE_FABS(in->ax) > RFE_R(RFE_LIMIT_ACC))) {
+        return RFE_ERR_RANGE;
     }
     if ((mg->started != 0u) && !(in->dt > RFE_R(0.0))) {
         return RFE_ERR_RANGE;
@@ -119,15 +114,6 @@ static void start_filter(rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in)
     o->gear = in->gear;
 }
 
-/* §4.2 the brake: the pedal flag, or the pressure above p_brake_on. */
-static int braking(const rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in)
-{
-    return ((((in->has & RFE_MG_HAS_BRAKE) != 0u) && (in->brake != 0u)) ||
-            (((in->has & RFE_MG_HAS_PRESSURE) != 0u) && (in->p_brake > o->p.p_brake_on)))
-               ? 1
-               : 0;
-}
-
 /* §4.2 the pause logic; the delays count down by the period dt (0 on a start), so they stay
  * as exact as the period in float32 however long the drive; a delay ends at the sample where
  * less than half a period of it is left, so a delay of whole periods holds the same samples
@@ -135,26 +121,28 @@ static int braking(const rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in)
 static rfe_status_t pause_status(rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in,
                                  rfe_real_t dt)
 {
-    const int brake = braking(o, in);
+    int above = 0;
+    int brake;
+    /* §4.2 step 1: the pedal flag, or the pressure above p_brake_on (read only when given) */
+    if (((in->has & RFE_MG_HAS_PRESSURE) != 0u) && (in->p_brake > o->p.p_brake_on)) {
+        above = 1;
+    }
+    brake = rfe_mg_braking(in->has, in->brake, above);
     o->brake_left = rfe_max(o->brake_left - dt, RFE_R(0.0));
     o->shift_left = rfe_max(o->shift_left - dt, RFE_R(0.0));
     if (brake != 0) {
         o->brake_left = o->p.t_brake;
     }
+    if (rfe_mg_gear_changed(in->has, o->has_gear, in->gear, o->gear) != 0) {
+        o->shift_left = o->p.t_shift;
+    }
     if ((in->has & RFE_MG_HAS_GEAR) != 0u) {
-        if ((o->has_gear != 0u) && (in->gear != o->gear)) {
-            o->shift_left = o->p.t_shift;
-        }
         o->gear = in->gear;
         o->has_gear = 1u;
     }
-    if ((brake != 0) || (o->brake_left > (RFE_R(0.5) * dt))) {
-        return RFE_MG_PAUSED_BRAKE;
-    }
-    if (o->shift_left > (RFE_R(0.5) * dt)) {
-        return RFE_MG_PAUSED_SHIFT;
-    }
-    return (in->v < o->p.v_min) ? RFE_NO_UPDATE_LOW_SPEED : RFE_OK;
+    return rfe_mg_pause_status(brake, (o->brake_left > (RFE_R(0.5) * dt)) ? 1 : 0,
+                               (o->shift_left > (RFE_R(0.5) * dt)) ? 1 : 0,
+                               (in->v < o->p.v_min) ? 1 : 0);
 }
 
 /* §4.2 the hold: M, theta kept; theta's variance grows by its walk; v restarts at the
@@ -343,7 +331,8 @@ rfe_status_t rfe_mass_grade_step(rfe_mass_grade_t *mg, const rfe_mass_grade_inpu
     }
     st = check_torque_sample(mg, in);
     o = *mg; /* work on a copy: an error leaves the estimator as it was */
-    if ((st == RFE_OK) && ((o.started == 0u) || (in->dt > o.p.dt_max))) {
+    if ((st == RFE_OK) &&
+        (rfe_mg_plan(o.started, (in->dt > o.p.dt_max) ? 1 : 0) == RFE_MG_PLAN_START)) {
         start_filter(&o, in); /* §4.1: a first sample or a gap the model cannot bridge */
         status = pause_status(&o, in, RFE_R(0.0));
     } else if (st == RFE_OK) {

@@ -20,7 +20,9 @@
 #include <string.h>
 
 #include "host/csv_log.h"
+#include "host/fixed_conv.h"
 #include "rfe/mass_grade.h"
+#include "rfe/mass_grade_q31.h"
 #include "rfe/tyre_id.h"
 
 static inline void rfe_aux_mg_input(const rfe_sensor_log_t *log, size_t i, double R,
@@ -37,6 +39,29 @@ static inline void rfe_aux_mg_input(const rfe_sensor_log_t *log, size_t i, doubl
     in->torque = (rfe_real_t)row->drive_torque;
     in->ax = (rfe_real_t)row->ax;
     in->p_brake = log->has_brake_pressure ? (rfe_real_t)row->brake_pressure : (rfe_real_t)0.0;
+    in->gear = log->has_gear ? (int32_t)floor(row->gear + 0.5) : 0; /* the nearest gear */
+    in->brake = (log->has_brake && (row->brake >= 0.5)) ? 1u : 0u;
+    in->has = RFE_MG_HAS_AX | (log->has_brake_pressure ? RFE_MG_HAS_PRESSURE : 0u) |
+              (log->has_brake ? RFE_MG_HAS_BRAKE : 0u) | (log->has_gear ? RFE_MG_HAS_GEAR : 0u);
+}
+
+/* The same sample in the fixed-point twin's formats (rfe/mass_grade_q31.h): each value of
+ * the double computation above rounded by rfe_fix_from_double (the pressure in MPa); the
+ * saturations counted in *sat. */
+static inline void rfe_aux_mg_input_q31(const rfe_sensor_log_t *log, size_t i, double R,
+                                        rfe_mass_grade_input_q31_t *in, uint32_t *sat)
+{
+    const rfe_sensor_row_t *row = &log->rows[i];
+    const double v = ((((row->omega[RFE_FL] + row->omega[RFE_FR]) + row->omega[RFE_RL]) +
+                       row->omega[RFE_RR]) /
+                      4.0) *
+                     R;
+    memset(in, 0, sizeof *in);
+    in->dt = rfe_fix_from_double((i > 0u) ? (row->t - log->rows[i - 1u].t) : 0.0, RFE_MG_Q_DT, sat);
+    in->v = rfe_fix_from_double(v, RFE_MG_Q_V, sat);
+    in->torque = rfe_fix_from_double(row->drive_torque, RFE_MG_Q_TORQUE, sat);
+    in->ax = rfe_fix_from_double(row->ax, RFE_MG_Q_V, sat);
+    in->p_brake = log->has_brake_pressure ? rfe_fix_from_double(row->brake_pressure * 1e-6, RFE_MG_Q_PRESSURE, sat) : 0;
     in->gear = log->has_gear ? (int32_t)floor(row->gear + 0.5) : 0; /* the nearest gear */
     in->brake = (log->has_brake && (row->brake >= 0.5)) ? 1u : 0u;
     in->has = RFE_MG_HAS_AX | (log->has_brake_pressure ? RFE_MG_HAS_PRESSURE : 0u) |

@@ -15,12 +15,15 @@
  * rfe_replay_esc_input) and, under PIL_Q31, fixed point (`--real q31`:
  * rfe_replay_observer_params_q31, rfe_replay_esc_input_q31).
  *
- * --estimator mass_grade / tyre_id (float32 only: the two have no fixed-point twin; the data
- * file holds nothing under PIL_Q31): the mass and grade estimator's parameters as mu_replay
+ * --estimator mass_grade / tyre_id (the tyre identifier float32 only: it has no fixed-point
+ * twin, its data file holds nothing under PIL_Q31): the mass and grade estimator's parameters as mu_replay
  * derives them (rfe_param_set_mass_grade with --mg-config, the log's metadata,
  * rfe_replay_mass_grade_params_f32), or the tyre identifier's vehicle (rfe_replay_params_f32
  * of --preset and the log's metadata; the identifier's own parameters are its defaults, set
- * on the target), and the samples of host/pil/aux_input.h (shared with bench/bench_aux.c).
+ * on the target), and the samples of host/pil/aux_input.h (shared with bench/bench_aux.c);
+ * for the mass and grade estimator also the fixed-point arm (PIL_Q31): those float
+ * parameters converted by rfe_mass_grade_params_to_q31_f32 and the samples rounded to their
+ * Q formats (rfe_aux_mg_input_q31).
  *
  * Parameters: the library preset, then the log's `# key = value` metadata, then --filter and
  * --tyre (mu_replay's order). Float: rfe_replay_params_f32 (the keys' doubles rounded to
@@ -42,6 +45,7 @@
 #include "host/replay_q31.h"
 #include "host/replay_real.h"
 #include "host/pil/aux_input.h"
+#include "rfe/component/params_conv.h"
 #include "rfe/params.h"
 
 /* The enum members of rfe_params_t: written as integers, every other 4-byte word as a float. */
@@ -246,6 +250,39 @@ static void put_mass_grade(FILE *f, const rfe_mass_grade_params_t *mp, const rfe
     fputs("};\n#endif\n", f);
 }
 
+/* The fixed-point arm of the mass and grade image's data (PIL_MASS_GRADE with PIL_Q31): the
+ * float parameters converted by rfe_mass_grade_params_to_q31 (every member a 4-byte word:
+ * checked in main) and the samples of rfe_aux_mg_input_q31; returns the samples' saturations. */
+static uint32_t put_mass_grade_q31(FILE *f, const rfe_mass_grade_params_q31_t *q, double R,
+                                   const rfe_sensor_log_t *log, size_t rows)
+{
+    size_t i, off;
+    uint32_t sat = 0u;
+    fputs("#if defined(PIL_MASS_GRADE) && defined(PIL_Q31)\nconst rfe_mass_grade_params_q31_t pil_mg_params = {", f);
+    for (off = 0u; off < sizeof *q; off += 4u) {
+        if (off == offsetof(rfe_mass_grade_params_q31_t, adaptive) ||
+            off == offsetof(rfe_mass_grade_params_q31_t, use_ax)) {
+            uint32_t u;
+            memcpy(&u, (const char *)q + off, sizeof u);
+            fprintf(f, "%s%" PRIu32 "u", off == 0u ? "" : ", ", u);
+        } else {
+            int32_t v;
+            memcpy(&v, (const char *)q + off, sizeof v);
+            fprintf(f, "%s%" PRId32, off == 0u ? "" : ", ", v);
+        }
+    }
+    fputs("};\n\nconst rfe_mass_grade_input_q31_t pil_mg_inputs[] = {\n", f);
+    for (i = 0u; i < rows; ++i) {
+        rfe_mass_grade_input_q31_t in;
+        rfe_aux_mg_input_q31(log, i, R, &in, &sat);
+        fprintf(f, "    {%" PRId32 ", %" PRId32 ", %" PRId32 ", %" PRId32 ", %" PRId32 ", %" PRId32 ", %" PRIu32
+                   "u, %" PRIu32 "u},\n",
+                in.dt, in.v, in.torque, in.p_brake, in.ax, in.gear, in.brake, in.has);
+    }
+    fputs("};\n#endif\n", f);
+    return sat;
+}
+
 /* The tyre identifier's image's data (PIL_TYRE_ID): the vehicle's parameters and the
  * samples. */
 static void put_tyre_id(FILE *f, const rfe_params_t *p, const rfe_sensor_log_t *log, size_t rows)
@@ -277,6 +314,7 @@ int main(int argc, char **argv)
     const char *estimator = "friction", *mg_config = "recommended";
     int pipeline, mass_grade, tyre_id;
     rfe_mass_grade_params_t mp;
+    rfe_mass_grade_params_q31_t mq;
     rfe_velocity_params_t vp;
     rfe_velocity_params_q31_t vq;
     size_t rows = 0u;
@@ -343,7 +381,9 @@ int main(int argc, char **argv)
         return 1;
     }
     if (mass_grade && (!log.has_drive_torque || rfe_replay_mass_grade_params_f32(&ps, &mp, NULL) != RFE_OK ||
-                       sizeof mp.adaptive != 4u || sizeof mp % 4u != 0u)) {
+                       sizeof mp.adaptive != 4u || sizeof mp % 4u != 0u ||
+                       rfe_mass_grade_params_to_q31(&mp, &mq) != RFE_OK ||
+                       sizeof mq != 33u * 4u)) {
         fprintf(stderr, "pil_gen: %s: no drive_torque, or the mass and grade parameters are rejected\n", in);
         return 1;
     }
@@ -382,6 +422,7 @@ int main(int argc, char **argv)
     fprintf(f, "const uint32_t pil_n_samples = %zuu;\n\n", rows);
     if (mass_grade) {
         put_mass_grade(f, &mp, &log, rows);
+        in_sat = put_mass_grade_q31(f, &mq, (double)mp.R, &log, rows);
     } else if (tyre_id) {
         put_tyre_id(f, &p, &log, rows);
     } else if (pipeline) {

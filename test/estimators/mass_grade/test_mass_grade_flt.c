@@ -12,10 +12,12 @@
  */
 #include "test_common.h"
 
+#include <stdlib.h>
 #include <string.h>
 
 #include "estimators/mass_grade/mass_grade_internal.h"
 #include "kalman_ref.h"
+#include "rfe/component/params_conv.h"
 #include "rfe/mass_grade.h"
 
 #if defined(RFE_REAL_DOUBLE)
@@ -782,11 +784,44 @@ static void test_ukf_is_the_kalman_filter_on_a_linear_problem(void **state)
     assert_true(ref.P[1][1] < 0.25 * 250000.0);
 }
 
+/* The conversion to the fixed-point twin's formats from this build's reals
+ * (rfe/component/params_conv.h): each value times 2^q rounded (values of the car preset
+ * exact in float as in double: integers, halves, powers of two times small integers, or
+ * rounded to within 1 LSB), the pressure in MPa; a value beyond its format refused
+ * (RFE_ERR_RANGE), an invalid set (RFE_ERR_PARAM), NULL; the output untouched on error. */
+/* REQ-MG-010 */
+static void test_params_to_q31(void **state)
+{
+    rfe_mass_grade_params_t p;
+    rfe_mass_grade_params_q31_t q;
+    rfe_mass_grade_params_q31_t before;
+    (void)state;
+    assert_int_equal(rfe_mass_grade_params_default(&p), RFE_OK);
+    assert_int_equal(rfe_mass_grade_params_to_q31(&p, &q), RFE_OK);
+    assert_int_equal(q.m0, (rfe_fix_t)(1830 * 16384));   /* Q14 */
+    assert_int_equal(q.sd_m0, (rfe_fix_t)(500 * 16384));
+    assert_int_equal(q.theta_max, (rfe_fix_t)((double)p.theta_max * 536870912.0 + 0.5)); /* Q29 */
+    assert_int_equal(q.dt_max, (rfe_fix_t)1073741824);   /* 1 s, Q30 */
+    assert_int_equal(q.ut_beta, (rfe_fix_t)(2 << 28));   /* Q28 */
+    assert_true(labs((long)q.p_brake_on - 3355443L) <= 1L); /* 0.1 MPa, Q25 */
+    assert_int_equal(q.use_ax, p.use_ax);
+    memset(&q, 0x5A, sizeof q);
+    before = q;
+    p.m_max = (rfe_real_t)200000.0; /* beyond Q14's 131072 kg */
+    assert_int_equal(rfe_mass_grade_params_to_q31(&p, &q), RFE_ERR_RANGE);
+    p.m_max = (rfe_real_t)-1.0;
+    assert_int_equal(rfe_mass_grade_params_to_q31(&p, &q), RFE_ERR_PARAM);
+    assert_memory_equal(&q, &before, sizeof q);
+    assert_int_equal(rfe_mass_grade_params_to_q31(NULL, &q), RFE_ERR_NULL);
+    assert_int_equal(rfe_mass_grade_params_to_q31(&p, NULL), RFE_ERR_NULL);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_params_presets_and_validation),
         cmocka_unit_test(test_params_rules),
+        cmocka_unit_test(test_params_to_q31),
         cmocka_unit_test(test_init_get_restart_arguments),
         cmocka_unit_test(test_refused_samples_leave_the_state_untouched),
         cmocka_unit_test(test_start_and_restart),

@@ -35,6 +35,7 @@
 #include <string.h>
 
 #include "rfe/mass_grade.h"
+#include "mg_logs.h"
 #include "table.h"
 
 #define GOLDEN_DIR "scenarios/golden/mass_grade"
@@ -59,86 +60,6 @@
 #define TOL_REL_AUKF 0.5
 #endif
 
-/* The parameter keys a golden's metadata records and the field each sets. */
-typedef struct {
-    const char *key;
-    rfe_real_t *field;
-} key_field_t;
-
-static int read_params(const char *path, rfe_mass_grade_params_t *p, char *config, size_t len)
-{
-    key_field_t map[] = {
-        {"R", &p->R},           {"g", &p->g},               {"mg_fc", &p->fc},
-        {"mg_fr", &p->fr},      {"mg_rho", &p->rho},        {"mg_cd", &p->cd},
-        {"mg_area", &p->area},  {"mg_m_rot", &p->m_rot},    {"mg_m0", &p->m0},
-        {"mg_theta0", &p->theta0}, {"mg_sd_m0", &p->sd_m0}, {"mg_sd_theta0", &p->sd_theta0},
-        {"mg_q_v", &p->q_v},    {"mg_q_mc", &p->q_mc},      {"mg_q_mv0", &p->q_mv0},
-        {"mg_q_theta", &p->q_theta}, {"mg_r_v", &p->r_v},   {"mg_r_ax", &p->r_ax},
-        {"mg_ut_alpha", &p->ut_alpha}, {"mg_ut_beta", &p->ut_beta},
-        {"mg_ut_kappa", &p->ut_kappa}, {"mg_t_adapt", &p->t_adapt},
-        {"mg_mv_stop", &p->mv_stop}, {"mg_v_min", &p->v_min}, {"mg_t_brake", &p->t_brake},
-        {"mg_t_shift", &p->t_shift}, {"mg_p_brake_on", &p->p_brake_on},
-        {"mg_m_min", &p->m_min}, {"mg_m_max", &p->m_max}, {"mg_theta_max", &p->theta_max},
-        {"mg_dt_max", &p->dt_max},
-    };
-    const size_t n_map = sizeof(map) / sizeof(map[0]);
-    size_t found = 0u;
-    char line[256];
-    FILE *f = fopen(path, "r");
-    if (f == NULL) {
-        return -1;
-    }
-    memset(p, 0, sizeof(*p));
-    while ((fgets(line, sizeof(line), f) != NULL) && (line[0] == '#')) {
-        char key[64];
-        char val[128];
-        size_t i;
-        if (sscanf(line, "# %63s = %127s", key, val) != 2) {
-            continue;
-        }
-        if (strcmp(key, "config") == 0) {
-            snprintf(config, len, "%s", val);
-        } else if (strcmp(key, "mg_adaptive") == 0) {
-            p->adaptive = (strtod(val, NULL) == 1.0) ? 1u : 0u;
-            ++found;
-        } else if (strcmp(key, "mg_use_ax") == 0) {
-            p->use_ax = (strtod(val, NULL) == 1.0) ? 1u : 0u;
-            ++found;
-        } else {
-            for (i = 0u; i < n_map; ++i) {
-                if (strcmp(key, map[i].key) == 0) {
-                    *map[i].field = (rfe_real_t)strtod(val, NULL);
-                    ++found;
-                }
-            }
-        }
-    }
-    fclose(f);
-    return (found == n_map + 2u) ? 0 : -1;
-}
-
-/* Sample k of the log: the speed from the four wheels (MASS_GRADE.md §1, in double and in
- * the reference's order), the period from the time stamps in double, every optional input
- * the log has (the reference hands them all over; ax too when the row is off). */
-static void input_of(const test_table_t *log, size_t k, double R, rfe_mass_grade_input_t *in)
-{
-    const double v = ((((test_table_get(log, k, "omega_fl") + test_table_get(log, k, "omega_fr")) +
-                        test_table_get(log, k, "omega_rl")) +
-                       test_table_get(log, k, "omega_rr")) /
-                      4.0) *
-                     R;
-    memset(in, 0, sizeof(*in));
-    in->dt = (k > 0u) ? (rfe_real_t)(test_table_get(log, k, "t") - test_table_get(log, k - 1u, "t"))
-                      : (rfe_real_t)0.0;
-    in->v = (rfe_real_t)v;
-    in->torque = (rfe_real_t)test_table_get(log, k, "drive_torque");
-    in->ax = (rfe_real_t)test_table_get(log, k, "ax");
-    in->p_brake = (rfe_real_t)test_table_get(log, k, "brake_pressure");
-    in->gear = (int32_t)test_table_get(log, k, "gear");
-    in->brake = (test_table_get(log, k, "brake") >= 0.5) ? 1u : 0u;
-    in->has = RFE_MG_HAS_BRAKE | RFE_MG_HAS_PRESSURE | RFE_MG_HAS_GEAR | RFE_MG_HAS_AX;
-}
-
 static void compare_one(const char *name)
 {
     char golden_path[512];
@@ -160,7 +81,7 @@ static void compare_one(const char *name)
     assert_non_null(dot);
     snprintf(log_name, sizeof(log_name), "%.*s", (int)(dot - name), name);
     snprintf(log_path, sizeof(log_path), "%s/%s.csv", LOG_DIR, log_name);
-    assert_int_equal(read_params(golden_path, &p, config, sizeof(config)), 0);
+    assert_int_equal(mg_read_params(golden_path, &p, config, sizeof(config)), 0);
     assert_int_equal(test_table_load(golden_path, &g), 0);
     assert_int_equal(test_table_load(log_path, &log), 0);
     assert_int_equal(rfe_mass_grade_init(&mg, &p), RFE_OK);
@@ -170,7 +91,7 @@ static void compare_one(const char *name)
         rfe_mass_grade_estimate_t e;
         char what[160];
         rfe_status_t st;
-        input_of(&log, k, (double)p.R, &in);
+        mg_input_of(&log, k, (double)p.R, &in);
         st = rfe_mass_grade_step(&mg, &in, &e);
         assert_false(rfe_status_is_error(st));
         if ((row >= g.n_rows) || ((size_t)test_table_get(&g, row, "k") != k)) {
@@ -210,7 +131,7 @@ static void check_preset(const char *golden, rfe_mg_vehicle_t vehicle, rfe_mg_co
     rfe_mass_grade_params_t want;
     rfe_mass_grade_params_t got;
     snprintf(path, sizeof(path), "%s/%s", GOLDEN_DIR, golden);
-    assert_int_equal(read_params(path, &want, cfg, sizeof(cfg)), 0);
+    assert_int_equal(mg_read_params(path, &want, cfg, sizeof(cfg)), 0);
     assert_int_equal(rfe_mass_grade_params_preset(&got, vehicle, config), RFE_OK);
     assert_memory_equal(&got, &want, sizeof(got));
 }

@@ -1,0 +1,76 @@
+/**
+ * @file mass_grade_logic.h
+ * @brief Private, shared by both number types (mass_grade_flt.c and mass_grade_q31.c; no
+ *        real type in it): the mass and grade estimator's decisions that are not
+ *        arithmetic (docs/MASS_GRADE.md §4.1, §4.2). Each twin makes the comparisons on its
+ *        own numbers and hands their outcomes (0 or 1) here. Not installed.
+ */
+#ifndef RFE_MASS_GRADE_LOGIC_H
+#define RFE_MASS_GRADE_LOGIC_H
+
+#include <stdint.h>
+
+#include "rfe/common.h"
+#include "rfe/mass_grade_bits.h"
+
+/** What a step that passed the checks does (§4.1). */
+typedef enum {
+    RFE_MG_PLAN_START = 0, /**< the first sample, or a period beyond dt_max: (re)start */
+    RFE_MG_PLAN_STEP = 1   /**< the pause logic, then a hold or the filter's update */
+} rfe_mg_plan_t;
+
+/** §4.1 the plan from `started` and whether the period exceeds dt_max. */
+static inline rfe_mg_plan_t rfe_mg_plan(uint32_t started, int dt_beyond_max)
+{
+    return ((started == 0u) || (dt_beyond_max != 0)) ? RFE_MG_PLAN_START : RFE_MG_PLAN_STEP;
+}
+
+/** §4.1 the sample's `has` bits and the accelerometer the row needs: RFE_OK, or
+ *  RFE_ERR_RANGE for an unknown bit or a missing ax while use_ax (the value checks are each
+ *  twin's). */
+static inline rfe_status_t rfe_mg_has_status(uint32_t has, uint32_t use_ax)
+{
+    rfe_status_t st = RFE_OK;
+    /* an unknown bit; no ax while the accelerometer option needs it in every sample */
+    if (((has & ~RFE_MG_HAS_ALL) != 0u) || (((has & RFE_MG_HAS_AX) == 0u) && (use_ax == 1u))) {
+        st = RFE_ERR_RANGE;
+    }
+    return st;
+}
+
+/** §4.2 step 1: braking = the pedal flag given and pressed, or the pressure given and above
+ *  p_brake_on (@p pressure_above: that comparison's outcome). */
+static inline int rfe_mg_braking(uint32_t has, uint32_t brake, int pressure_above)
+{
+    return ((((has & RFE_MG_HAS_BRAKE) != 0u) && (brake != 0u)) ||
+            (((has & RFE_MG_HAS_PRESSURE) != 0u) && (pressure_above != 0)))
+               ? 1
+               : 0;
+}
+
+/** §4.2 step 2: a gear given that differs from the last given one starts the shift delay. */
+static inline int rfe_mg_gear_changed(uint32_t has, uint32_t has_gear, int32_t gear,
+                                      int32_t last_gear)
+{
+    return (((has & RFE_MG_HAS_GEAR) != 0u) && (has_gear != 0u) && (gear != last_gear)) ? 1 : 0;
+}
+
+/** §4.2 step 3: the status from braking, the delays left beyond half a period and the
+ *  low speed, in that order. */
+static inline rfe_status_t rfe_mg_pause_status(int brake, int brake_pending, int shift_pending,
+                                               int low_speed)
+{
+    rfe_status_t st = RFE_OK;
+    if ((brake != 0) || (brake_pending != 0)) {
+        st = RFE_MG_PAUSED_BRAKE;
+    } else if (shift_pending != 0) {
+        st = RFE_MG_PAUSED_SHIFT;
+    } else if (low_speed != 0) {
+        st = RFE_NO_UPDATE_LOW_SPEED;
+    } else {
+        /* update */
+    }
+    return st;
+}
+
+#endif /* RFE_MASS_GRADE_LOGIC_H */

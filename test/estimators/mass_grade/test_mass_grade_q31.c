@@ -1,0 +1,747 @@
+/**
+ * @file test_mass_grade_q31.c
+ * @brief The fixed-point mass and grade estimator (rfe_mass_grade_*_q31) and its parameters:
+ *        the API contract (input validation, untouched state on every error status), the
+ *        conversion and the fixed-point domain of the weights, the square-root form against
+ *        the textbook covariance form, and back to back against the double twin (_f64) on
+ *        every mass and grade log in every configuration the goldens ran.
+ *
+ * How the two are fed: the q31 estimator gets the parameters converted by
+ * rfe_mass_grade_params_to_q31_f64 and the samples rounded to their formats
+ * (rfe_fix_from_double); the double twin gets exactly those values back in double (the
+ * parameters and samples dequantised), so the comparison measures the fixed-point
+ * arithmetic alone, not the rounding of the inputs.
+ *
+ * Bounds (TOL_* below; docs/FIXED_POINT.md "Mass and grade" quotes the measured worst cases,
+ * printed by this test).
+ *  - Per step, the fixed-point filter differs from the double one by (a) the model:
+ *    ~20 rfe_xf_t operations of 2^-30 relative and sin/cos within 6.2e-10, so v-dot within
+ *    ~3e-8 relative, times dt (0.02 s) and |v-dot| < 5 m/s^2: < 1e-8 m/s in a point's v,
+ *    rounded to Q24 (3e-8 m/s); (b) the triangularisations: S S^T of Tria(A) is (A + E)(A +
+ *    E)^T with |row i of E| <= 8 rows 2^-29 |a_i| (rfe_qr_tria_q31; rows <= 5: 7.5e-8 of the
+ *    row's norm, i.e. of the state's sd), plus half an LSB per entry; (c) the whitened
+ *    innovation, the solve's exactly rounded quotients: 1.5 sqrt(2n + m) LSB24 / sd_z (a
+ *    relative 1e-6 at sd_z = 0.05 m/s) on the gain's effect, ~1e-6 of the correction; (d)
+ *    the weights, exactly rounded to Q30 (5e-10).
+ *  - Each is a perturbation of at most eps = 1e-6 of the state's sd per step (c dominates).
+ *    The filter carries a perturbation of the mass and the grade forward with weight <= 1
+ *    (a random walk learned only as fast as the excitation allows: no contraction can be
+ *    assumed on a flat cruise), so over K steps the deviation is at most K eps sd in the
+ *    worst case of aligned signs. The longest log has 11 259 steps: 0.0113 sd. The bound
+ *    taken: TOL_SD = 0.02 of the filter's own sd (the double's, at that step) plus the
+ *    formats' 4 LSB (M: 2.4e-4 kg; theta: 7.5e-9 rad); v: 0.02 sd_v + 4 LSB24.
+ *  - The sds: the same perturbations in S (relative, per step; not accumulating: P is
+ *    contracted by every measurement update, which forgets a relative error in P at the
+ *    filter's rate, and the sd's own quantisation is 0.5 LSB): relative 0.02 plus 4 LSB.
+ *  - The AUKF: lambda_u = 1/2 |q_s - D| / (q_s + D) has a relative derivative in D without
+ *    bound where D nears q_s (test_mass_grade_golden_flt.c: float32 against double moved
+ *    P_MM and q_mv by up to 27 % there), and it multiplies P_MM and q_mv: in the adaptive
+ *    configurations sd_mass and q_mv are compared at 50 % relative (the float32 golden
+ *    test's bound, for the same reason), the mass at 0.2 sd_mass (its float32 bound).
+ *  - Statuses exactly: the pause delays end half a sample period before their length
+ *    (MASS_GRADE.md §4.2), and the speed compared with v_min is the same dequantised value
+ *    on both sides.
+ */
+#include "test_common.h"
+#include "csv_dir.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "fixed_conv.h"
+#include "mg_logs.h"
+#include "rfe/component/params_conv.h"
+#include "rfe/mass_grade.h"
+#include "rfe/mass_grade_q31.h"
+#include "table.h"
+
+#include "estimators/mass_grade/mass_grade_internal_q31.h"
+
+#define GOLDEN_DIR "scenarios/golden/mass_grade"
+#define LOG_DIR "scenarios/mass_grade"
+#define MIN_GOLDENS 18 /* 7 logs x 2 presets + 4 other configurations */
+
+#define TOL_SD 0.02       /* share of the filter's sd: mass, grade, v (derivation above) */
+#define TOL_SD_AUKF 0.2   /* the mass's share in the adaptive configurations */
+#define TOL_REL 0.02      /* sd_v, sd_mass, sd_grade, relative */
+#define TOL_REL_AUKF 0.5  /* sd_mass, q_mv in the adaptive configurations */
+#define LSB(q) (4.0 * ldexp(1.0, -(q))) /* 4 LSB of Q(q) */
+
+static const unsigned int QV = RFE_MG_Q_V;
+static const unsigned int QM = RFE_MG_Q_M;
+static const unsigned int QT = RFE_MG_Q_TH;
+
+/* ---- conversions between the two faces ---------------------------------------------- */
+
+/* The q31 parameters back in double (each field exactly its Q value). */
+static void dequantise_params(const rfe_mass_grade_params_q31_t *q, rfe_mass_grade_params_t *p)
+{
+    memset(p, 0, sizeof(*p));
+    p->R = rfe_fix_to_double(q->R, RFE_MG_Q_R);
+    p->g = rfe_fix_to_double(q->g, RFE_MG_Q_G);
+    p->fc = rfe_fix_to_double(q->fc, RFE_MG_Q_FC);
+    p->fr = rfe_fix_to_double(q->fr, RFE_MG_Q_FR);
+    p->rho = rfe_fix_to_double(q->rho, RFE_MG_Q_COEF);
+    p->cd = rfe_fix_to_double(q->cd, RFE_MG_Q_COEF);
+    p->area = rfe_fix_to_double(q->area, RFE_MG_Q_COEF);
+    p->m_rot = rfe_fix_to_double(q->m_rot, QM);
+    p->m0 = rfe_fix_to_double(q->m0, QM);
+    p->theta0 = rfe_fix_to_double(q->theta0, QT);
+    p->sd_m0 = rfe_fix_to_double(q->sd_m0, QM);
+    p->sd_theta0 = rfe_fix_to_double(q->sd_theta0, QT);
+    p->q_v = rfe_fix_to_double(q->q_v, QV);
+    p->q_mc = rfe_fix_to_double(q->q_mc, QM);
+    p->q_mv0 = rfe_fix_to_double(q->q_mv0, QM);
+    p->q_theta = rfe_fix_to_double(q->q_theta, QT);
+    p->r_v = rfe_fix_to_double(q->r_v, QV);
+    p->r_ax = rfe_fix_to_double(q->r_ax, QV);
+    p->ut_alpha = rfe_fix_to_double(q->ut_alpha, RFE_MG_Q_UT);
+    p->ut_beta = rfe_fix_to_double(q->ut_beta, RFE_MG_Q_UT);
+    p->ut_kappa = rfe_fix_to_double(q->ut_kappa, RFE_MG_Q_UT);
+    p->adaptive = q->adaptive;
+    p->use_ax = q->use_ax;
+    p->t_adapt = rfe_fix_to_double(q->t_adapt, RFE_MG_Q_TIME);
+    p->mv_stop = rfe_fix_to_double(q->mv_stop, RFE_MG_Q_COEF);
+    p->v_min = rfe_fix_to_double(q->v_min, QV);
+    p->t_brake = rfe_fix_to_double(q->t_brake, RFE_MG_Q_TIME);
+    p->t_shift = rfe_fix_to_double(q->t_shift, RFE_MG_Q_TIME);
+    p->p_brake_on = rfe_fix_to_double(q->p_brake_on, RFE_MG_Q_PRESSURE) * 1e6;
+    p->m_min = rfe_fix_to_double(q->m_min, QM);
+    p->m_max = rfe_fix_to_double(q->m_max, QM);
+    p->theta_max = rfe_fix_to_double(q->theta_max, QT);
+    p->dt_max = rfe_fix_to_double(q->dt_max, RFE_MG_Q_DT);
+}
+
+/* The sample rounded to the Q formats (q) and back (d, what the double twin gets). */
+static void quantise_input(const rfe_mass_grade_input_t *in, rfe_mass_grade_input_q31_t *q,
+                           rfe_mass_grade_input_t *d)
+{
+    uint32_t sat = 0u;
+    memset(q, 0, sizeof(*q));
+    q->dt = rfe_fix_from_double(in->dt, RFE_MG_Q_DT, &sat);
+    q->v = rfe_fix_from_double(in->v, QV, &sat);
+    q->torque = rfe_fix_from_double(in->torque, RFE_MG_Q_TORQUE, &sat);
+    q->p_brake = rfe_fix_from_double(in->p_brake * 1e-6, RFE_MG_Q_PRESSURE, &sat);
+    q->ax = rfe_fix_from_double(in->ax, QV, &sat);
+    q->gear = in->gear;
+    q->brake = in->brake;
+    q->has = in->has;
+    assert_int_equal(sat, 0u); /* every bundled sample fits its format */
+    *d = *in;
+    d->dt = rfe_fix_to_double(q->dt, RFE_MG_Q_DT);
+    d->v = rfe_fix_to_double(q->v, QV);
+    d->torque = rfe_fix_to_double(q->torque, RFE_MG_Q_TORQUE);
+    d->p_brake = rfe_fix_to_double(q->p_brake, RFE_MG_Q_PRESSURE) * 1e6;
+    d->ax = rfe_fix_to_double(q->ax, QV);
+}
+
+static void default_q31(rfe_mass_grade_params_q31_t *q)
+{
+    rfe_mass_grade_params_t p;
+    assert_int_equal(rfe_mass_grade_params_default(&p), RFE_OK);
+    assert_int_equal(rfe_mass_grade_params_to_q31(&p, q), RFE_OK);
+}
+
+/* A plausible sample at speed v [m/s] (cruise torque, level road, ax = 0). */
+static rfe_mass_grade_input_q31_t cruise_sample(double v)
+{
+    rfe_mass_grade_input_q31_t in;
+    uint32_t sat = 0u;
+    memset(&in, 0, sizeof(in));
+    in.dt = rfe_fix_from_double(0.01, RFE_MG_Q_DT, &sat);
+    in.v = rfe_fix_from_double(v, QV, &sat);
+    in.torque = rfe_fix_from_double(150.0, RFE_MG_Q_TORQUE, &sat);
+    in.ax = 0;
+    in.has = RFE_MG_HAS_AX;
+    return in;
+}
+
+/* ---- parameters ------------------------------------------------------------------------- */
+
+/* The conversion: each field the value times 2^q, rounded (values of the car preset). */
+static void test_params_to_q31_formats(void **state)
+{
+    rfe_mass_grade_params_q31_t q;
+    (void)state;
+    default_q31(&q);
+    assert_int_equal(q.m0, (rfe_fix_t)(1830 * 16384));             /* 1830 kg, Q14 */
+    assert_int_equal(q.sd_m0, (rfe_fix_t)(500 * 16384));           /* 500 kg */
+    assert_int_equal(q.R, (rfe_fix_t)llround(0.325 * 268435456.0)); /* Q28 */
+    assert_int_equal(q.g, (rfe_fix_t)llround(9.81 * 67108864.0));   /* Q26 */
+    assert_int_equal(q.p_brake_on, (rfe_fix_t)llround(0.1 * 33554432.0)); /* 1e5 Pa in MPa, Q25 */
+    assert_int_equal(q.dt_max, (rfe_fix_t)1073741824);             /* 1 s, Q30 */
+    assert_int_equal(q.t_brake, (rfe_fix_t)16777216);              /* 1 s, Q24 */
+    assert_int_equal(q.use_ax, 1u);
+    assert_int_equal(q.adaptive, 0u);
+    assert_int_equal(rfe_mass_grade_params_validate_q31(&q), RFE_OK);
+}
+
+/* Values beyond a format are refused (RFE_ERR_RANGE), q untouched; NULL and invalid sets. */
+static void test_params_to_q31_errors(void **state)
+{
+    rfe_mass_grade_params_t p;
+    rfe_mass_grade_params_q31_t q;
+    rfe_mass_grade_params_q31_t before;
+    (void)state;
+    assert_int_equal(rfe_mass_grade_params_default(&p), RFE_OK);
+    memset(&q, 0x5A, sizeof(q));
+    before = q;
+    p.m_max = 200000.0; /* beyond Q14's 131072 kg */
+    assert_int_equal(rfe_mass_grade_params_to_q31(&p, &q), RFE_ERR_RANGE);
+    assert_memory_equal(&q, &before, sizeof(q));
+    assert_int_equal(rfe_mass_grade_params_default(&p), RFE_OK);
+    p.dt_max = 2.5; /* beyond Q30's 2 s */
+    assert_int_equal(rfe_mass_grade_params_to_q31(&p, &q), RFE_ERR_RANGE);
+    p.dt_max = -1.0;
+    assert_int_equal(rfe_mass_grade_params_to_q31(&p, &q), RFE_ERR_PARAM);
+    assert_memory_equal(&q, &before, sizeof(q));
+    assert_int_equal(rfe_mass_grade_params_to_q31(NULL, &q), RFE_ERR_NULL);
+    assert_int_equal(rfe_mass_grade_params_to_q31(&p, NULL), RFE_ERR_NULL);
+}
+
+/* The weights of the defaults (alpha 1, beta 2, kappa 0: c = 3, lambda = 0): w_m,0 = 0,
+ * w_i = 1/6, w_c,0 = 2, each exactly rounded to Q30 (sqrt(c) to Q29) from exact inputs. */
+static void test_weights_of_the_defaults(void **state)
+{
+    rfe_mass_grade_params_q31_t q;
+    rfe_mg_weights_q31_t w;
+    (void)state;
+    default_q31(&q);
+    assert_int_equal(rfe_mass_grade_weights_q31(&q, &w), RFE_OK);
+    assert_int_equal(w.wm0, 0);
+    assert_int_equal(w.wi, (rfe_fix_t)llround(1073741824.0 / 6.0));
+    assert_int_equal(w.sqrt_wc0, (rfe_fix_t)llround(sqrt(2.0) * 1073741824.0));
+    /* sqrt of the rounded w_i: within 1 LSB of the exact root */
+    assert_true(fabs((double)w.sqrt_wi - sqrt(1.0 / 6.0) * 1073741824.0) <= 1.0);
+    assert_int_equal(w.sqrt_c, (rfe_fix_t)llround(sqrt(3.0) * 536870912.0));
+    assert_int_equal(rfe_mass_grade_weights_q31(NULL, &w), RFE_ERR_NULL);
+    assert_int_equal(rfe_mass_grade_weights_q31(&q, NULL), RFE_ERR_NULL);
+}
+
+/* The fixed-point domain: sets the float twin accepts but Q31 refuses (c <= 1: w_m,0 <= -2;
+ * c >= 16; w_c,0 < 0, whose root the square-root form needs), and a set just inside. */
+/* REQ-MG-010 */
+static void test_weights_domain(void **state)
+{
+    rfe_mass_grade_params_t p;
+    rfe_mass_grade_params_q31_t q;
+    rfe_mass_grade_q31_t mg;
+    rfe_mg_weights_q31_t w;
+    static const struct {
+        double alpha;
+        double beta;
+        double kappa;
+        rfe_status_t want;
+    } cases[] = {
+        {0.5, 2.0, 0.0, RFE_ERR_PARAM},  /* c = 0.75 */
+        {0.57, 2.0, 0.0, RFE_ERR_PARAM}, /* c = 0.9747 */
+        {0.6, 2.0, 0.0, RFE_OK},         /* c = 1.08 */
+        {2.3, 5.0, 0.0, RFE_OK},         /* c = 15.87, w_c,0 = 1.52 */
+        {2.3, 2.0, 0.0, RFE_ERR_PARAM},  /* w_c,0 = 0.811 + 1 - 5.29 + 2 = -1.48 */
+        {2.31, 2.0, 0.0, RFE_ERR_PARAM}, /* c = 16.008 */
+        {1.2, 0.0, 0.0, RFE_ERR_PARAM},  /* c = 4.32: w_c,0 = 1.32/4.32 + 1 - 1.44 = -0.134 */
+        {1.2, 0.2, 0.0, RFE_OK},         /* w_c,0 = 0.0656 */
+        {1.0, 2.0, 1.0, RFE_OK},         /* c = 4 */
+        {2.0, 2.0, 1.0, RFE_ERR_PARAM},  /* c = 16 exactly: alpha^2 (n + kappa) = 2^60 in Q56 */
+        {1.0, 4.0, 0.0, RFE_ERR_PARAM},  /* w_c,0 = 4 */
+        {1.0, 3.9, 0.0, RFE_OK},         /* w_c,0 = 3.9 */
+    };
+    size_t i;
+    (void)state;
+    for (i = 0u; i < sizeof(cases) / sizeof(cases[0]); ++i) {
+        assert_int_equal(rfe_mass_grade_params_default(&p), RFE_OK);
+        p.ut_alpha = cases[i].alpha;
+        p.ut_beta = cases[i].beta;
+        p.ut_kappa = cases[i].kappa;
+        assert_int_equal(rfe_mass_grade_params_validate(&p), RFE_OK); /* the float accepts */
+        assert_int_equal(rfe_mass_grade_params_to_q31(&p, &q), RFE_OK);
+        assert_int_equal(rfe_mass_grade_weights_q31(&q, &w), cases[i].want);
+        assert_int_equal(rfe_mass_grade_params_validate_q31(&q), cases[i].want);
+        assert_int_equal(rfe_mass_grade_init_q31(&mg, &q), cases[i].want);
+        if (cases[i].want == RFE_OK) {
+            /* w_m,0 against double on the Q28 alpha and kappa the integers see: alpha^2
+             * rounded to Q28 (2^-29) and c to Q27 (2^-28) move c by dc <= (3 + kappa) 2^-29 +
+             * 2^-28, w_m,0 = 1 - 3/c by 3/c^2 dc, plus its own rounding (0.5 LSB30) */
+            const double a = rfe_fix_to_double(q.ut_alpha, RFE_MG_Q_UT);
+            const double k3 = 3.0 + rfe_fix_to_double(q.ut_kappa, RFE_MG_Q_UT);
+            const double c = (a * a) * k3;
+            const double dc = (k3 * ldexp(1.0, -29)) + ldexp(1.0, -28);
+            const double tol = ((3.0 / (c * c)) * dc * 1073741824.0) + 0.5;
+            assert_true(fabs((double)w.wm0 - (1.0 - 3.0 / c) * 1073741824.0) <= tol);
+            assert_true(fabs((double)w.wi - (0.5 / c) * 1073741824.0) <= ((0.5 / (c * c)) * dc * 1073741824.0) + 0.5);
+        }
+    }
+    /* the weights alone (callable without the validation): alpha rounding to 0 in alpha^2,
+     * n + kappa <= 0 */
+    default_q31(&q);
+    q.ut_alpha = 1; /* 2^-28: alpha^2 rounds to 0 in Q28 */
+    assert_int_equal(rfe_mass_grade_weights_q31(&q, &w), RFE_ERR_PARAM);
+    default_q31(&q);
+    q.ut_kappa = -(3 << 28); /* n + kappa = 0 */
+    assert_int_equal(rfe_mass_grade_weights_q31(&q, &w), RFE_ERR_PARAM);
+}
+
+/* Each field's check on the Q values: a nonpositive value where > 0 is needed, a negative
+ * one where >= 0, the relations, the switches. */
+/* REQ-MG-010 */
+static void test_validate_q31(void **state)
+{
+    rfe_mass_grade_params_q31_t q;
+    rfe_mass_grade_params_q31_t t;
+    (void)state;
+    default_q31(&q);
+    assert_int_equal(rfe_mass_grade_params_validate_q31(NULL), RFE_ERR_NULL);
+    t = q; t.R = 0;
+    assert_int_equal(rfe_mass_grade_params_validate_q31(&t), RFE_ERR_PARAM);
+    t = q; t.dt_max = -1;
+    assert_int_equal(rfe_mass_grade_params_validate_q31(&t), RFE_ERR_PARAM);
+    t = q; t.fr = -1;
+    assert_int_equal(rfe_mass_grade_params_validate_q31(&t), RFE_ERR_PARAM);
+    t = q; t.p_brake_on = -1;
+    assert_int_equal(rfe_mass_grade_params_validate_q31(&t), RFE_ERR_PARAM);
+    t = q; t.adaptive = 2u;
+    assert_int_equal(rfe_mass_grade_params_validate_q31(&t), RFE_ERR_PARAM);
+    t = q; t.use_ax = 2u;
+    assert_int_equal(rfe_mass_grade_params_validate_q31(&t), RFE_ERR_PARAM);
+    t = q; t.m0 = t.m_min;
+    assert_int_equal(rfe_mass_grade_params_validate_q31(&t), RFE_ERR_PARAM);
+    t = q; t.m0 = t.m_max;
+    assert_int_equal(rfe_mass_grade_params_validate_q31(&t), RFE_ERR_PARAM);
+    t = q; t.theta0 = -t.theta_max;
+    assert_int_equal(rfe_mass_grade_params_validate_q31(&t), RFE_ERR_PARAM);
+    t = q; t.theta_max = (rfe_fix_t)805306368; /* 1.5 rad */
+    assert_int_equal(rfe_mass_grade_params_validate_q31(&t), RFE_ERR_PARAM);
+    /* the AUKF: mv_stop q_mc^2 < q_mv0^2; equality refused, just below accepted */
+    t = q; t.adaptive = 1u; t.q_mc = 1 << 14; t.mv_stop = 1 << 24; t.q_mv0 = 1 << 14;
+    assert_int_equal(rfe_mass_grade_params_validate_q31(&t), RFE_ERR_PARAM);
+    t.q_mv0 = (1 << 14) + 1;
+    assert_int_equal(rfe_mass_grade_params_validate_q31(&t), RFE_OK);
+    t.adaptive = 0u; t.q_mv0 = 0; /* the UKF ignores q_mv0 */
+    assert_int_equal(rfe_mass_grade_params_validate_q31(&t), RFE_OK);
+}
+
+/* ---- the API contract ------------------------------------------------------------------- */
+
+/* REQ-MG-010 */
+static void test_init_errors(void **state)
+{
+    rfe_mass_grade_params_q31_t q;
+    rfe_mass_grade_q31_t mg;
+    rfe_mass_grade_q31_t before;
+    (void)state;
+    default_q31(&q);
+    memset(&mg, 0x3C, sizeof(mg));
+    before = mg;
+    assert_int_equal(rfe_mass_grade_init_q31(NULL, &q), RFE_ERR_NULL);
+    assert_int_equal(rfe_mass_grade_init_q31(&mg, NULL), RFE_ERR_NULL);
+    q.R = -1;
+    assert_int_equal(rfe_mass_grade_init_q31(&mg, &q), RFE_ERR_PARAM);
+    default_q31(&q);
+    /* the wrapper's size and configuration word checked: another layout is refused */
+    assert_int_equal((rfe_mass_grade_init_q31)(&mg, &q, sizeof(mg) - 4u, RFE_CONFIG_Q31),
+                     RFE_ERR_ABI);
+    assert_int_equal((rfe_mass_grade_init_q31)(&mg, &q, sizeof(mg), RFE_CONFIG_REAL),
+                     RFE_ERR_ABI);
+    assert_memory_equal(&mg, &before, sizeof(mg));
+}
+
+/* Every error status leaves the state as it was and returns the previous estimate. */
+/* REQ-MG-010 */
+static void test_step_errors_leave_state(void **state)
+{
+    rfe_mass_grade_params_q31_t q;
+    rfe_mass_grade_q31_t mg;
+    rfe_mass_grade_q31_t before;
+    rfe_mass_grade_estimate_q31_t e;
+    rfe_mass_grade_input_q31_t in = cruise_sample(20.0);
+    rfe_mass_grade_input_q31_t bad;
+    int k;
+    (void)state;
+    default_q31(&q);
+    assert_int_equal(rfe_mass_grade_init_q31(&mg, &q), RFE_OK);
+    assert_int_equal(rfe_mass_grade_get_q31(&mg, &e), RFE_OK);
+    assert_int_equal(e.mass, 0); /* before the first sample every value is 0 */
+    for (k = 0; k < 50; ++k) {
+        assert_int_equal(rfe_mass_grade_step_q31(&mg, &in, &e), RFE_OK);
+    }
+    before = mg;
+    assert_int_equal(rfe_mass_grade_step_q31(NULL, &in, &e), RFE_ERR_NULL);
+    assert_int_equal(rfe_mass_grade_step_q31(&mg, NULL, &e), RFE_ERR_NULL);
+    assert_int_equal(rfe_mass_grade_step_q31(&mg, &in, NULL), RFE_ERR_NULL);
+    bad = in; bad.v = RFE_MG_LIMIT_V_Q31 + 1;
+    assert_int_equal(rfe_mass_grade_step_q31(&mg, &bad, &e), RFE_ERR_RANGE);
+    assert_int_equal(e.status, RFE_ERR_RANGE);
+    assert_int_equal(e.mass, before.last.mass);
+    bad = in; bad.v = INT32_MIN;
+    assert_int_equal(rfe_mass_grade_step_q31(&mg, &bad, &e), RFE_ERR_RANGE);
+    bad = in; bad.torque = -RFE_MG_LIMIT_TORQUE_Q31 - 1;
+    assert_int_equal(rfe_mass_grade_step_q31(&mg, &bad, &e), RFE_ERR_RANGE);
+    bad = in; bad.ax = RFE_MG_LIMIT_AX_Q31 + 1;
+    assert_int_equal(rfe_mass_grade_step_q31(&mg, &bad, &e), RFE_ERR_RANGE);
+    bad = in; bad.has = 0u; /* no ax while use_ax */
+    assert_int_equal(rfe_mass_grade_step_q31(&mg, &bad, &e), RFE_ERR_RANGE);
+    bad = in; bad.has = RFE_MG_HAS_AX | 16u; /* an unknown bit */
+    assert_int_equal(rfe_mass_grade_step_q31(&mg, &bad, &e), RFE_ERR_RANGE);
+    bad = in; bad.dt = 0;
+    assert_int_equal(rfe_mass_grade_step_q31(&mg, &bad, &e), RFE_ERR_RANGE);
+    assert_memory_equal(&mg, &before, sizeof(mg));
+    /* speed only: an ax not given is not checked, however large */
+    {
+        rfe_mass_grade_params_t p;
+        rfe_mass_grade_params_q31_t q0;
+        rfe_mass_grade_q31_t m0;
+        rfe_mass_grade_input_q31_t s0 = in;
+        assert_int_equal(rfe_mass_grade_params_default(&p), RFE_OK);
+        p.use_ax = 0u;
+        assert_int_equal(rfe_mass_grade_params_to_q31(&p, &q0), RFE_OK);
+        assert_int_equal(rfe_mass_grade_init_q31(&m0, &q0), RFE_OK);
+        s0.has = 0u;
+        s0.ax = INT32_MAX;
+        assert_int_equal(rfe_mass_grade_step_q31(&m0, &s0, &e), RFE_OK);
+        s0.has = RFE_MG_HAS_AX; /* given: checked */
+        assert_int_equal(rfe_mass_grade_step_q31(&m0, &s0, &e), RFE_ERR_RANGE);
+    }
+    /* at the limits exactly: accepted */
+    bad = in; bad.v = RFE_MG_LIMIT_V_Q31; bad.ax = -RFE_MG_LIMIT_AX_Q31;
+    assert_false(rfe_status_is_error(rfe_mass_grade_step_q31(&mg, &bad, &e)));
+    /* not initialised */
+    memset(&mg, 0, sizeof(mg));
+    assert_int_equal(rfe_mass_grade_step_q31(&mg, &in, &e), RFE_ERR_NOT_INITIALISED);
+    assert_int_equal(rfe_mass_grade_get_q31(&mg, &e), RFE_ERR_NOT_INITIALISED);
+    assert_int_equal(rfe_mass_grade_restart_q31(&mg), RFE_ERR_NOT_INITIALISED);
+    assert_int_equal(rfe_mass_grade_get_q31(NULL, &e), RFE_ERR_NULL);
+    assert_int_equal(rfe_mass_grade_get_q31(&mg, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_mass_grade_restart_q31(NULL), RFE_ERR_NULL);
+}
+
+/* The start (§4.1): the first sample gives x = [v, m0, theta0], sd = (r_v, sd_m0,
+ * sd_theta0) exactly; a restart and a period beyond dt_max start again. */
+/* REQ-MG-010 */
+static void test_start_and_restart(void **state)
+{
+    rfe_mass_grade_params_q31_t q;
+    rfe_mass_grade_q31_t mg;
+    rfe_mass_grade_estimate_q31_t e;
+    rfe_mass_grade_input_q31_t in = cruise_sample(20.0);
+    int k;
+    (void)state;
+    default_q31(&q);
+    assert_int_equal(rfe_mass_grade_init_q31(&mg, &q), RFE_OK);
+    assert_int_equal(rfe_mass_grade_step_q31(&mg, &in, &e), RFE_OK);
+    assert_int_equal(e.v, in.v);
+    assert_int_equal(e.mass, q.m0);
+    assert_int_equal(e.grade, q.theta0);
+    assert_int_equal(e.sd_v, q.r_v);
+    assert_int_equal(e.sd_mass, q.sd_m0);
+    assert_int_equal(e.sd_grade, q.sd_theta0);
+    for (k = 0; k < 100; ++k) {
+        assert_int_equal(rfe_mass_grade_step_q31(&mg, &in, &e), RFE_OK);
+    }
+    assert_true(e.sd_mass < q.sd_m0); /* it learned */
+    assert_int_equal(rfe_mass_grade_restart_q31(&mg), RFE_OK);
+    assert_int_equal(rfe_mass_grade_step_q31(&mg, &in, &e), RFE_OK);
+    assert_int_equal(e.sd_mass, q.sd_m0);
+    for (k = 0; k < 10; ++k) {
+        assert_int_equal(rfe_mass_grade_step_q31(&mg, &in, &e), RFE_OK);
+    }
+    in.dt = q.dt_max + 1;
+    assert_int_equal(rfe_mass_grade_step_q31(&mg, &in, &e), RFE_OK);
+    assert_int_equal(e.sd_mass, q.sd_m0);
+    assert_int_equal(e.mass, q.m0);
+}
+
+/* The pauses (§4.2) with the statuses of the float twin: brake flag, pressure, its delay,
+ * a gear change, low speed; a hold keeps M and theta and restarts v at the measurement. */
+/* REQ-MG-010 */
+static void test_pauses(void **state)
+{
+    rfe_mass_grade_params_q31_t q;
+    rfe_mass_grade_q31_t mg;
+    rfe_mass_grade_estimate_q31_t e;
+    rfe_mass_grade_estimate_q31_t held;
+    rfe_mass_grade_input_q31_t in = cruise_sample(20.0);
+    rfe_mass_grade_input_q31_t b;
+    int k;
+    (void)state;
+    default_q31(&q);
+    assert_int_equal(rfe_mass_grade_init_q31(&mg, &q), RFE_OK);
+    for (k = 0; k < 100; ++k) {
+        assert_int_equal(rfe_mass_grade_step_q31(&mg, &in, &e), RFE_OK);
+    }
+    held = e;
+    b = in;
+    b.has |= RFE_MG_HAS_BRAKE;
+    b.brake = 1u;
+    b.v = in.v - 1000;
+    assert_int_equal(rfe_mass_grade_step_q31(&mg, &b, &e), RFE_MG_PAUSED_BRAKE);
+    assert_int_equal(e.mass, held.mass);
+    assert_int_equal(e.grade, held.grade);
+    assert_int_equal(e.v, b.v);       /* v restarts at the measurement */
+    assert_int_equal(e.sd_v, q.r_v);  /* with sd r_v */
+    assert_int_equal(e.sd_mass, held.sd_mass);
+    assert_true(e.sd_grade > held.sd_grade); /* the grade's walk */
+    /* t_brake = 1 s of 0.01 s periods: held while more than half a period is left, i.e.
+     * the 99 samples after the braked one; the 100th updates */
+    for (k = 0; k < 99; ++k) {
+        assert_int_equal(rfe_mass_grade_step_q31(&mg, &in, &e), RFE_MG_PAUSED_BRAKE);
+    }
+    assert_int_equal(rfe_mass_grade_step_q31(&mg, &in, &e), RFE_OK);
+    /* the pressure above p_brake_on; at it exactly not */
+    b = in;
+    b.has |= RFE_MG_HAS_PRESSURE;
+    b.p_brake = q.p_brake_on;
+    assert_int_equal(rfe_mass_grade_step_q31(&mg, &b, &e), RFE_OK);
+    b.p_brake = q.p_brake_on + 1;
+    assert_int_equal(rfe_mass_grade_step_q31(&mg, &b, &e), RFE_MG_PAUSED_BRAKE);
+    for (k = 0; k < 99; ++k) {
+        assert_int_equal(rfe_mass_grade_step_q31(&mg, &in, &e), RFE_MG_PAUSED_BRAKE);
+    }
+    /* a gear change: the shift delay */
+    b = in;
+    b.has |= RFE_MG_HAS_GEAR;
+    b.gear = 3;
+    assert_int_equal(rfe_mass_grade_step_q31(&mg, &b, &e), RFE_OK); /* the first gear given */
+    b.gear = 4;
+    assert_int_equal(rfe_mass_grade_step_q31(&mg, &b, &e), RFE_MG_PAUSED_SHIFT);
+    for (k = 0; k < 99; ++k) {
+        assert_int_equal(rfe_mass_grade_step_q31(&mg, &b, &e), RFE_MG_PAUSED_SHIFT);
+    }
+    assert_int_equal(rfe_mass_grade_step_q31(&mg, &b, &e), RFE_OK);
+    /* low speed */
+    b = cruise_sample(2.0);
+    assert_int_equal(rfe_mass_grade_step_q31(&mg, &b, &e), RFE_NO_UPDATE_LOW_SPEED);
+}
+
+/* The measurement update refuses a zero innovation sd (r = 0 and a zero factor: not positive
+ * definite), leaving x and S untouched; the public API cannot reach it (r_v > 0). */
+/* REQ-MG-010 */
+static void test_correct_zero_innovation_sd(void **state)
+{
+    rfe_mass_grade_params_q31_t q;
+    rfe_mg_weights_q31_t w;
+    rfe_fix_t chi[RFE_MG_PTS_Q31 * RFE_MG_N_Q31] = {0};
+    rfe_fix_t Z[RFE_MG_PTS_Q31] = {0};
+    const rfe_fix_t r[RFE_MG_Z_MAX_Q31] = {0, 0};
+    const rfe_fix_t y[RFE_MG_Z_MAX_Q31] = {1 << 24, 0};
+    rfe_fix_t x[RFE_MG_N_Q31] = {20 << 24, 1800 << 14, 0};
+    rfe_fix_t S[RFE_MG_N_Q31 * RFE_MG_N_Q31] = {0, 0, 0, 0, 100 << 14, 0, 0, 0, 1 << 20};
+    rfe_fix_t x0[RFE_MG_N_Q31];
+    rfe_fix_t S0[RFE_MG_N_Q31 * RFE_MG_N_Q31];
+    uint32_t sat = 0u;
+    (void)state;
+    default_q31(&q);
+    assert_int_equal(rfe_mass_grade_weights_q31(&q, &w), RFE_OK);
+    memcpy(x0, x, sizeof x);
+    memcpy(S0, S, sizeof S);
+    assert_int_equal(rfe_mg_correct_q31(chi, Z, 1u, &w, r, y, x, S, &sat),
+                     RFE_ERR_NOT_POSITIVE_DEFINITE);
+    assert_memory_equal(x, x0, sizeof x);
+    assert_memory_equal(S, S0, sizeof S);
+    assert_int_equal(sat, 0u);
+}
+
+/* ---- the square-root form against the textbook form -------------------------------------- */
+
+/* The linear random-walk filter where the UKF is the Kalman filter: v measured, M and
+ * theta unobserved random walks coupled to v only through the model. With the model's
+ * v-dot the points' v moves with M and theta, so the filter correlates them; the check
+ * here is the invariant the square-root form guarantees and the textbook one does not:
+ * over a long run with a tiny process noise, P = S S^T stays positive semidefinite (every
+ * factor diagonal >= 0 and the sds nonnegative and finite by construction), every step
+ * updates (never RFE_ERR_NOT_POSITIVE_DEFINITE), and the mass's sd keeps decreasing
+ * monotonically under constant excitation. */
+/* REQ-MG-010 */
+static void test_square_root_form_stays_definite(void **state)
+{
+    rfe_mass_grade_params_t p;
+    rfe_mass_grade_params_q31_t q;
+    rfe_mass_grade_q31_t mg;
+    rfe_mass_grade_estimate_q31_t e;
+    rfe_mass_grade_input_q31_t in = cruise_sample(20.0);
+    rfe_fix_t sd_prev = INT32_MAX;
+    int k;
+    (void)state;
+    assert_int_equal(rfe_mass_grade_params_default(&p), RFE_OK);
+    p.q_mc = 1e-3;    /* 16 LSB of Q14: the mass almost a constant */
+    p.q_theta = 1e-7; /* 54 LSB of Q29 */
+    p.q_v = 1e-6;     /* 17 LSB of Q24 */
+    assert_int_equal(rfe_mass_grade_params_to_q31(&p, &q), RFE_OK);
+    assert_int_equal(rfe_mass_grade_init_q31(&mg, &q), RFE_OK);
+    for (k = 0; k < 20000; ++k) {
+        /* a torque that alternates every second: the mass is excited throughout */
+        in.torque = (((k / 100) % 2) == 0) ? (300 << 14) : (100 << 14);
+        assert_int_equal(rfe_mass_grade_step_q31(&mg, &in, &e), RFE_OK);
+        assert_true(mg.S[0] >= 0);
+        assert_true(mg.S[4] >= 0);
+        assert_true(mg.S[8] >= 0);
+        if ((k > 0) && ((k % 1000) == 0)) {
+            assert_true(e.sd_mass <= sd_prev);
+            sd_prev = e.sd_mass;
+        }
+    }
+    assert_int_equal(mg.sat, 0u);
+}
+
+/* ---- back to back against the double twin ---------------------------------------------- */
+
+static double worst_mass_sd;  /* |dM| / sd_M, the largest */
+static double worst_grade_sd; /* |dtheta| / sd_theta */
+static double worst_v_sd;     /* |dv| / sd_v */
+static double worst_sd_rel;   /* the sds, relative (UKF configurations) */
+static double worst_mass_kg;
+static double worst_grade_rad;
+static double worst_mass_sd_aukf; /* |dM| / sd_M in the adaptive configurations */
+static double worst_rel_aukf;     /* sd_mass and q_mv, relative, adaptive */
+/* What a textbook covariance form in int32 would face (the double twin's P, every update):
+ * the range of each variance and the smallest normalised determinant det P / (P11 P22 P33)
+ * (1 for uncorrelated states; near 0 where P is near singular). */
+static double var_min[3] = {1e300, 1e300, 1e300};
+static double var_max[3];
+static double det_norm_min = 1.0;
+static size_t n_steps; /* steps compared */
+
+static void track_textbook(const rfe_mass_grade_t *md)
+{
+    const double *P = md->P;
+    const double det = P[0] * (P[4] * P[8] - P[5] * P[7]) - P[1] * (P[3] * P[8] - P[5] * P[6]) +
+                       P[2] * (P[3] * P[7] - P[4] * P[6]);
+    size_t i;
+    for (i = 0u; i < 3u; ++i) {
+        const double v = P[i * 4u];
+        var_min[i] = (v < var_min[i]) ? v : var_min[i];
+        var_max[i] = (v > var_max[i]) ? v : var_max[i];
+    }
+    if ((det / (P[0] * P[4] * P[8])) < det_norm_min) {
+        det_norm_min = det / (P[0] * P[4] * P[8]);
+    }
+}
+
+static void track(double *worst, double value)
+{
+    if (value > *worst) {
+        *worst = value;
+    }
+}
+
+static void compare_one(const char *name)
+{
+    char golden_path[512];
+    char log_path[512];
+    char config[64] = "";
+    char log_name[256];
+    test_table_t log;
+    rfe_mass_grade_params_t p;
+    rfe_mass_grade_params_t pd;
+    rfe_mass_grade_params_q31_t q;
+    rfe_mass_grade_t md;
+    rfe_mass_grade_q31_t mq;
+    size_t k;
+    const char *dot = strchr(name, '.');
+    double tol_mass;
+    double tol_rel;
+    memset(&log, 0, sizeof(log));
+    assert_non_null(dot);
+    snprintf(golden_path, sizeof(golden_path), "%s/%s", GOLDEN_DIR, name);
+    snprintf(log_name, sizeof(log_name), "%.*s", (int)(dot - name), name);
+    snprintf(log_path, sizeof(log_path), "%s/%s.csv", LOG_DIR, log_name);
+    assert_int_equal(mg_read_params(golden_path, &p, config, sizeof(config)), 0);
+    assert_int_equal(test_table_load(log_path, &log), 0);
+    assert_int_equal(rfe_mass_grade_params_to_q31(&p, &q), RFE_OK);
+    dequantise_params(&q, &pd);
+    assert_int_equal(rfe_mass_grade_init(&md, &pd), RFE_OK);
+    assert_int_equal(rfe_mass_grade_init_q31(&mq, &q), RFE_OK);
+    tol_mass = (p.adaptive == 1u) ? TOL_SD_AUKF : TOL_SD;
+    tol_rel = (p.adaptive == 1u) ? TOL_REL_AUKF : TOL_REL;
+    for (k = 0u; k < log.n_rows; ++k) {
+        rfe_mass_grade_input_t in;
+        rfe_mass_grade_input_t ind;
+        rfe_mass_grade_input_q31_t inq;
+        rfe_mass_grade_estimate_t ed;
+        rfe_mass_grade_estimate_q31_t eq;
+        char what[160];
+        rfe_status_t sd_st;
+        rfe_status_t sq_st;
+        double d;
+        mg_input_of(&log, k, p.R, &in);
+        quantise_input(&in, &inq, &ind);
+        sd_st = rfe_mass_grade_step(&md, &ind, &ed);
+        sq_st = rfe_mass_grade_step_q31(&mq, &inq, &eq);
+        snprintf(what, sizeof(what), "%s row %zu", name, k);
+        assert_false(rfe_status_is_error(sd_st));
+        assert_int_equal(sq_st, sd_st);
+        ++n_steps;
+        assert_int_equal(eq.sat, 0u);
+        d = fabs(rfe_fix_to_double(eq.mass, QM) - ed.mass);
+        track(&worst_mass_kg, d);
+        if (p.adaptive == 0u) {
+            track(&worst_mass_sd, d / ed.sd_mass);
+        } else {
+            track(&worst_mass_sd_aukf, d / ed.sd_mass);
+            track(&worst_rel_aukf, fabs(rfe_fix_to_double(eq.sd_mass, QM) / ed.sd_mass - 1.0));
+            if (ed.q_mv > 0.0) {
+                track(&worst_rel_aukf,
+                      fabs(rfe_fix64_to_double(eq.q_mv, RFE_MG_Q_QMV) / ed.q_mv - 1.0));
+            }
+        }
+        if (sd_st == RFE_OK) {
+            track_textbook(&md);
+        }
+        assert_close(rfe_fix_to_double(eq.mass, QM), ed.mass, tol_mass * ed.sd_mass + LSB(QM),
+                     0.0, what);
+        d = fabs(rfe_fix_to_double(eq.grade, QT) - ed.grade);
+        track(&worst_grade_rad, d);
+        track(&worst_grade_sd, d / ed.sd_grade);
+        assert_close(rfe_fix_to_double(eq.grade, QT), ed.grade, TOL_SD * ed.sd_grade + LSB(QT),
+                     0.0, what);
+        d = fabs(rfe_fix_to_double(eq.v, QV) - ed.v);
+        track(&worst_v_sd, d / ed.sd_v);
+        assert_close(rfe_fix_to_double(eq.v, QV), ed.v, TOL_SD * ed.sd_v + LSB(QV), 0.0, what);
+        assert_close(rfe_fix_to_double(eq.sd_v, QV), ed.sd_v, LSB(QV), TOL_REL, what);
+        assert_close(rfe_fix_to_double(eq.sd_grade, QT), ed.sd_grade, LSB(QT), TOL_REL, what);
+        assert_close(rfe_fix_to_double(eq.sd_mass, QM), ed.sd_mass, LSB(QM), tol_rel, what);
+        assert_close(rfe_fix64_to_double(eq.q_mv, RFE_MG_Q_QMV), ed.q_mv, LSB(RFE_MG_Q_QMV),
+                     tol_rel, what);
+        if (p.adaptive == 0u) {
+            track(&worst_sd_rel, fabs(rfe_fix_to_double(eq.sd_mass, QM) / ed.sd_mass - 1.0));
+            track(&worst_sd_rel, fabs(rfe_fix_to_double(eq.sd_grade, QT) / ed.sd_grade - 1.0));
+            track(&worst_sd_rel, fabs(rfe_fix_to_double(eq.sd_v, QV) / ed.sd_v - 1.0));
+        }
+    }
+    test_table_free(&log);
+}
+
+/* REQ-MG-011 */
+static void test_every_log_against_double(void **state)
+{
+    (void)state;
+    assert_true(test_each_csv(GOLDEN_DIR, compare_one) >= MIN_GOLDENS);
+    printf("%zu steps; q31 vs double, every log and configuration: mass %.3g kg (UKF %.3g sd_mass), "
+           "grade %.3g rad (%.3g sd_grade), v %.3g sd_v, UKF sds %.3g relative\n",
+           n_steps, worst_mass_kg, worst_mass_sd, worst_grade_rad, worst_grade_sd, worst_v_sd,
+           worst_sd_rel);
+    printf("q31 vs double, AUKF: mass %.3g sd_mass, sd_mass and q_mv %.3g relative\n",
+           worst_mass_sd_aukf, worst_rel_aukf);
+    printf("double P over every update: var v [%.3g, %.3g], var M [%.3g, %.3g], var theta "
+           "[%.3g, %.3g]; min det P / (P11 P22 P33) %.3g\n",
+           var_min[0], var_max[0], var_min[1], var_max[1], var_min[2], var_max[2], det_norm_min);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_params_to_q31_formats),
+        cmocka_unit_test(test_params_to_q31_errors),
+        cmocka_unit_test(test_weights_of_the_defaults),
+        cmocka_unit_test(test_weights_domain),
+        cmocka_unit_test(test_validate_q31),
+        cmocka_unit_test(test_init_errors),
+        cmocka_unit_test(test_step_errors_leave_state),
+        cmocka_unit_test(test_start_and_restart),
+        cmocka_unit_test(test_pauses),
+        cmocka_unit_test(test_correct_zero_innovation_sd),
+        cmocka_unit_test(test_square_root_form_stays_definite),
+        cmocka_unit_test(test_every_log_against_double),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
