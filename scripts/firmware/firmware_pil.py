@@ -819,6 +819,43 @@ def state_size(elf):
     return None
 
 
+def measure_aux_image(entry, kind, machine, elf, n, stack, static, label, failures):
+    """What every aux entry measures of its image, float or fixed point, into entry: the static
+    stack and the painted one against it, flash (the module's objects, the library's, per
+    object), the state's size, and over the first n steps the instructions per step (checked
+    against -singlestep on the first), per function and as the share of a CORE_HZ core at the
+    log's rate. Returns the per-step counts ([] when n is 0)."""
+    entry["stack_static"] = static
+    flash = image_flash(elf)
+    entry["flash"] = {"module": sum(v for k, v in flash.items() if k.startswith(kind["objects"])),
+                      "library": sum(v for k, v in flash.items() if not k.startswith("newlib")),
+                      "per_object": flash}
+    entry["state"] = state_size(elf)
+    if static is not None and stack is not None and stack > static:
+        failures.append(f"{label}: a step used {stack} B of stack, more than the static {static} B")
+    if n <= 0:
+        return []
+    t0 = time.time()
+    counts, _, per_func = count_instructions(machine, elf, n, parts=(), functions=True)
+    k = min(1, n)
+    if count_instructions(machine, elf, k, singlestep=True) != counts[:k]:
+        failures.append(f"{label}: instruction counts of the TB method differ from -singlestep "
+                        f"over the first {k} steps")
+    entry["instructions_per_step"] = {"mean": round(sum(counts) / n, 1), "max": max(counts),
+                                      "min": min(counts), "steps": n, "first_steps_of_log": True}
+    objects = code_objects(elf)
+    starts, names = function_table(elf)
+    where = {nm_: object_of(objects, a_) for a_, nm_ in zip(starts, names)}
+    entry["instructions_per_function"] = {
+        key: sorted(([f, round(v / n, 1), round(c / n, 2), where.get(f, "?")] for f, (v, c) in d.items()),
+                    key=lambda x: -x[1])[:25]
+        for key, d in per_func.items()}
+    entry["core_share_mean"] = sum(counts) / n * kind["rate_hz"] / CORE_HZ
+    entry["core_share_max"] = max(counts) * kind["rate_hz"] / CORE_HZ
+    entry["count_seconds"] = round(time.time() - t0, 1)
+    return counts
+
+
 def run_aux_entry(a, spec, report, failures):
     """One entry of --aux-entries: <tag>:<log>:<rows>:<steps counted> on the Cortex-M4F."""
     tag, log, _, steps = spec.split(":")
@@ -860,35 +897,11 @@ def run_aux_entry(a, spec, report, failures):
         failures.append(f"{label}: {bad} values differ from the host float32 build beyond the bound: {first}")
     step_fn = f"{kind['step']}_f32"
     static = report.get("targets", {}).get(target, {}).get("stack", {}).get(step_fn, {}).get("bytes")
-    entry["stack_static"] = static
-    flash = image_flash(elf)
-    entry["flash"] = {"module": sum(v for k, v in flash.items() if k.startswith(kind["objects"])),
-                      "library": sum(v for k, v in flash.items() if not k.startswith("newlib")),
-                      "newlib_libm": flash.get("newlib libm", 0), "per_object": flash}
-    entry["state"] = state_size(elf)
-    if static is not None and stack is not None and stack > static:
-        failures.append(f"{label}: a step used {stack} B of stack, more than the static {static} B")
-    n = min(int(steps), len(rows))
-    if n > 0:
-        t0 = time.time()
-        counts, _, per_func = count_instructions(machine, elf, n, parts=(), functions=True)
-        k = min(1, n)
-        if count_instructions(machine, elf, k, singlestep=True) != counts[:k]:
-            failures.append(f"{label}: instruction counts of the TB method differ from -singlestep "
-                            f"over the first {k} steps")
-
-        entry["instructions_per_step"] = {"mean": round(sum(counts) / n, 1), "max": max(counts),
-                                          "min": min(counts), "steps": n, "first_steps_of_log": True}
-        objects = code_objects(elf)
-        starts, names = function_table(elf)
-        where = {nm_: object_of(objects, a_) for a_, nm_ in zip(starts, names)}
-        entry["instructions_per_function"] = {
-            key: sorted(([f, round(v / n, 1), round(c / n, 2), where.get(f, "?")] for f, (v, c) in d.items()),
-                        key=lambda x: -x[1])[:25]
-            for key, d in per_func.items()}
-        entry["core_share_mean"] = sum(counts) / n * kind["rate_hz"] / CORE_HZ
-        entry["core_share_max"] = max(counts) * kind["rate_hz"] / CORE_HZ
-        entry["count_seconds"] = round(time.time() - t0, 1)
+    counts = measure_aux_image(entry, kind, machine, elf, min(int(steps), len(rows)), stack, static,
+                               label, failures)
+    entry["flash"]["newlib_libm"] = entry["flash"]["per_object"].get("newlib libm", 0)
+    if counts:
+        n = len(counts)
         verdict += (f"; {sum(counts) / n:.0f} instructions/step (max {max(counts)}) over {n} steps, "
                     f"{100 * entry['core_share_mean']:.2f} % of {CORE_HZ / 1e6:.0f} MHz at {kind['rate_hz']:.0f} Hz")
     print(f"pil: {label}: {len(rows)} steps, {verdict}; stack {stack} B measured (static {static}); "
@@ -933,37 +946,13 @@ def run_aux_q31_entry(a, spec, report, failures):
         failures.append(f"{label}: {bad} rows differ from the host q31 build: {first}")
     static = report.get("targets", {}).get(target, {}).get("stack", {}).get(
         f"{kind['step']}_q31", {}).get("bytes")
-    entry["stack_static"] = static
-    flash = image_flash(elf)
-    entry["flash"] = {"module": sum(v for k, v in flash.items() if k.startswith(kind["objects"])),
-                      "library": sum(v for k, v in flash.items() if not k.startswith("newlib")),
-                      "per_object": flash}
-    entry["state"] = state_size(elf)
-    if static is not None and stack is not None and stack > static:
-        failures.append(f"{label}: a step used {stack} B of stack, more than the static {static} B")
-    n = min(int(steps), len(rows))
-    if n > 0:
-        t0 = time.time()
-        counts, _, per_func = count_instructions(machine, elf, n, parts=(), functions=True)
-        k = min(1, n)
-        if count_instructions(machine, elf, k, singlestep=True) != counts[:k]:
-            failures.append(f"{label}: instruction counts of the TB method differ from -singlestep "
-                            f"over the first {k} steps")
-        entry["instructions_per_step"] = {"mean": round(sum(counts) / n, 1), "max": max(counts),
-                                          "min": min(counts), "steps": n, "first_steps_of_log": True}
-        objects = code_objects(elf)
-        starts, names = function_table(elf)
-        where = {nm_: object_of(objects, a_) for a_, nm_ in zip(starts, names)}
-        entry["instructions_per_function"] = {
-            key: sorted(([f, round(v / n, 1), round(c / n, 2), where.get(f, "?")] for f, (v, c) in d.items()),
-                        key=lambda x: -x[1])[:25]
-            for key, d in per_func.items()}
-        # the log's rate, and the issue's reference: 100 Hz on a 100 MHz core
-        entry["core_share_mean"] = sum(counts) / n * kind["rate_hz"] / CORE_HZ
-        entry["core_share_max"] = max(counts) * kind["rate_hz"] / CORE_HZ
+    counts = measure_aux_image(entry, kind, machine, elf, min(int(steps), len(rows)), stack, static,
+                               label, failures)
+    if counts:
+        n = len(counts)
+        # the log's rate (measure_aux_image), and the issue's reference: 100 Hz on a 100 MHz core
         entry["core_share_mean_100hz"] = sum(counts) / n * STEP_HZ / CORE_HZ
         entry["core_share_max_100hz"] = max(counts) * STEP_HZ / CORE_HZ
-        entry["count_seconds"] = round(time.time() - t0, 1)
         verdict += (f"; {sum(counts) / n:.0f} instructions/step (max {max(counts)}) over {n} steps, "
                     f"{100 * entry['core_share_mean_100hz']:.2f} % (max {100 * entry['core_share_max_100hz']:.2f} %) "
                     f"of {CORE_HZ / 1e6:.0f} MHz at {STEP_HZ:.0f} Hz")
