@@ -142,30 +142,42 @@ static void check_mg(const rfe_mass_grade_t *mg, const rfe_mass_grade_estimate_t
     }
 }
 
-int soak_run_mass_grade(const rfe_sensor_log_t *log, const char *log_name,
-                        const soak_aux_cfg_t *cfg, soak_aux_result_t *res)
+/* The mass and grade runs' start, float and fixed point alike: the result emptied, the
+ * configuration's preset with the log's R and g, and the log's mass m. 0, or -1 (said on
+ * stderr) without parameters or a vx column. */
+static int mg_setup(const rfe_sensor_log_t *log, const char *log_name, const soak_aux_cfg_t *cfg,
+                    soak_aux_result_t *res, rfe_mass_grade_params_t *mp, double *m)
 {
-    static rfe_mass_grade_t mg;
     rfe_params_t veh;
-    rfe_mass_grade_params_t mp;
-    double m;
-    size_t i;
-    clock_t c0;
     memset(res, 0, sizeof(*res));
     res->first_violation_step = -1;
     res->lo = res->lo2 = INFINITY;
     res->hi = res->hi2 = -INFINITY;
-    memset(&mp, 0, sizeof(mp));
+    memset(mp, 0, sizeof(*mp));
     if (soak_params_of(log, log_name, RFE_PRESET_DEFAULT, &veh) != 0 ||
-        rfe_mass_grade_params_preset(&mp, RFE_MG_CAR,
+        rfe_mass_grade_params_preset(mp, RFE_MG_CAR,
                                      cfg->seed_config ? RFE_MG_SEED : RFE_MG_RECOMMENDED) != RFE_OK ||
         log->n_rows < 2 || !log->has_velocity) {
         fprintf(stderr, "soak: mass and grade %s: no parameters or no vx column\n", cfg->name);
         return -1;
     }
-    mp.R = veh.vehicle.R;
-    mp.g = veh.vehicle.g;
-    m = (double)veh.vehicle.m;
+    mp->R = veh.vehicle.R;
+    mp->g = veh.vehicle.g;
+    *m = (double)veh.vehicle.m;
+    return 0;
+}
+
+int soak_run_mass_grade(const rfe_sensor_log_t *log, const char *log_name,
+                        const soak_aux_cfg_t *cfg, soak_aux_result_t *res)
+{
+    static rfe_mass_grade_t mg;
+    rfe_mass_grade_params_t mp;
+    double m;
+    size_t i;
+    clock_t c0;
+    if (mg_setup(log, log_name, cfg, res, &mp, &m) != 0) {
+        return -1;
+    }
     memset(&mg, 0, sizeof(mg));
     if (rfe_mass_grade_init(&mg, &mp) != RFE_OK) {
         fprintf(stderr, "soak: mass and grade %s: init failed\n", cfg->name);
@@ -233,27 +245,14 @@ int soak_run_mass_grade_q31(const rfe_sensor_log_t *log, const char *log_name,
                             const soak_aux_cfg_t *cfg, soak_aux_result_t *res)
 {
     static rfe_mass_grade_q31_t mg;
-    rfe_params_t veh;
     rfe_mass_grade_params_t mp;
     rfe_mass_grade_params_q31_t q;
     double m;
     size_t i;
     clock_t c0;
-    memset(res, 0, sizeof(*res));
-    res->first_violation_step = -1;
-    res->lo = res->lo2 = INFINITY;
-    res->hi = res->hi2 = -INFINITY;
-    memset(&mp, 0, sizeof(mp));
-    if (soak_params_of(log, log_name, RFE_PRESET_DEFAULT, &veh) != 0 ||
-        rfe_mass_grade_params_preset(&mp, RFE_MG_CAR,
-                                     cfg->seed_config ? RFE_MG_SEED : RFE_MG_RECOMMENDED) != RFE_OK ||
-        log->n_rows < 2 || !log->has_velocity) {
-        fprintf(stderr, "soak: mass and grade %s: no parameters or no vx column\n", cfg->name);
+    if (mg_setup(log, log_name, cfg, res, &mp, &m) != 0) {
         return -1;
     }
-    mp.R = veh.vehicle.R;
-    mp.g = veh.vehicle.g;
-    m = (double)veh.vehicle.m;
     memset(&mg, 0, sizeof(mg));
     if (rfe_mass_grade_params_to_q31(&mp, &q) != RFE_OK || rfe_mass_grade_init_q31(&mg, &q) != RFE_OK) {
         fprintf(stderr, "soak: mass and grade %s (q31): init failed\n", cfg->name);
