@@ -16,6 +16,7 @@
 #include "param_file.h"
 #include "rfe/mass_grade_params.h"
 #include "rfe/params.h"
+#include "rfe/tyre_id_params.h"
 #include "rfe/types.h"
 #include "rfe/velocity.h"
 #include "rfe/velocity_params.h"
@@ -33,6 +34,8 @@
 #define rfe_replay_preset_fn       rfe_replay_preset_fn_f64
 #define rfe_param_set_mass_grade   rfe_param_set_mass_grade_f64
 #define rfe_replay_mass_grade_params rfe_replay_mass_grade_params_f64
+#define rfe_replay_tyre_id_params  rfe_replay_tyre_id_params_f64
+#define rfe_param_set_tyre_id      rfe_param_set_tyre_id_f64
 #else
 #define rfe_replay_run             rfe_replay_run_f32
 #define rfe_replay_run_observer    rfe_replay_run_observer_f32
@@ -44,11 +47,16 @@
 #define rfe_replay_preset_fn       rfe_replay_preset_fn_f32
 #define rfe_param_set_mass_grade   rfe_param_set_mass_grade_f32
 #define rfe_replay_mass_grade_params rfe_replay_mass_grade_params_f32
+#define rfe_replay_tyre_id_params  rfe_replay_tyre_id_params_f32
+#define rfe_param_set_tyre_id      rfe_param_set_tyre_id_f32
 #endif
 
 /** Status codes counted individually (0 .. RFE_REPLAY_STATUS_SLOTS-2); the last slot is
  *  "any other value". */
 #define RFE_REPLAY_STATUS_SLOTS 32
+
+/** The tyre identifier's status bits counted (RFE_TID_UPDATED 1 .. RFE_TID_LOST 16). */
+#define RFE_REPLAY_TID_FLAGS 5u
 
 /** Per-run counters. */
 typedef struct {
@@ -66,6 +74,13 @@ typedef struct {
                                 (mg_feed_sd_rel, MASS_GRADE.md §10) */
     double mass_used_last; /**< the friction estimator's mass at the last sample [kg] (when
                                 the mass and grade estimator ran) */
+    size_t tid_status_count[RFE_REPLAY_STATUS_SLOTS]; /**< the tyre identifier's statuses
+                                                           (when it ran) */
+    size_t tid_flag_count[RFE_REPLAY_TID_FLAGS]; /**< samples with each of its RFE_TID_* bits,
+                                                      bit b at index b (updated, resampled,
+                                                      held, first, lost) */
+    size_t tid_restarts;   /**< samples it started afresh at: a period beyond tid_dt_max
+                                since its last accepted one (the prior drawn again) */
 } rfe_replay_stats_t;
 
 /** A gear cell beyond +-this is refused (status 18): the library's gear is an int32_t. */
@@ -208,6 +223,34 @@ int rfe_param_set_mass_grade_f64(rfe_param_set_t *ps, rfe_mg_config_t config);
 RFE_NODISCARD rfe_status_t rfe_replay_mass_grade_params(const rfe_param_set_t *ps,
                                                        rfe_mass_grade_params_t *mp,
                                                        size_t *bad_key);
+
+/**
+ * Fills the set's tyre identifier keys (tid_*) from rfe_tyre_id_params_default and tid_seed
+ * from RFE_TID_SEED_DEFAULT (origins: the preset); rfe_param_set_preset does it. The vehicle
+ * and the prior's tyre data stay the friction estimator's keys.
+ * @return 0, or -1 (nothing changed) when ps is NULL.
+ */
+int rfe_param_set_tyre_id_f32(rfe_param_set_t *ps);
+/** Double-precision twin of rfe_param_set_tyre_id_f32 (mu_replay uses this one). */
+int rfe_param_set_tyre_id_f64(rfe_param_set_t *ps);
+
+/**
+ * The tyre identifier's parameters of the set (rfe_tyre_id_params_default, then every tid_*
+ * key but tid_seed), validated with rfe_tyre_id_params_validate, and its seed. The replays
+ * run the identifier with them and the friction estimator's vehicle and tyre data
+ * (rfe_tyre_id_init) when ps->tyre_id is set: each sample after the friction step, on the
+ * log's delta, yaw_rate, ay, ax and the vx of that step (the log's vx with measured
+ * velocities; behind the observer its vx and the road-wheel angle it used); the estimate rows
+ * then carry mu_id_f .. tid_flags.
+ * @param[out] seed     the stream's seed (tid_seed).
+ * @param[out] bad_key  when not NULL: the tid_* key whose value alone fails (tid_substeps not
+ *                      an integer, tid_seed not an integer 0 .. 2^53, or a value
+ *                      rfe_tyre_id_params_validate refuses), else RFE_PK_NONE.
+ * @return RFE_OK, RFE_ERR_NULL or RFE_ERR_PARAM.
+ */
+RFE_NODISCARD rfe_status_t rfe_replay_tyre_id_params(const rfe_param_set_t *ps,
+                                                    rfe_tyre_id_params_t *tp, uint64_t *seed,
+                                                    size_t *bad_key);
 
 /** A library preset function of the including TU's precision (rfe_params_default_fXX, ...). */
 typedef rfe_status_t (*rfe_replay_preset_fn_t)(rfe_params_t *p);
