@@ -222,6 +222,9 @@ typedef struct {
                                                     D [N], E (weighted means) */
     int tid_status;     /**< rfe_status_t of its step */
     unsigned tid_flags; /**< its RFE_TID_* bits (rfe/tyre_id.h) */
+    int has_tyre_feed;  /**< 1 when the identified curve is fed (tid_feed_sd_rel > 0): the
+                             friction estimator's curve of this sample's step is written */
+    double cy_used, shape_Cy_used, shape_Ey_used, r_model_rel_used; /**< [1/rad], 1, 1, 1 */
 } rfe_est_row_t;
 
 /** A metadata pair to write (strings not owned). */

@@ -783,6 +783,10 @@ static const char *validator_name(size_t k)
     if (k == (size_t)RFE_PK_tid_seed) {
         return "mu_replay: an integer 0 .. 2^53";
     }
+    if (k == (size_t)RFE_PK_tid_feed_sd_rel) {
+        return "mu_replay: a relative sd >= 0, and 0 behind the velocity observer, whose "
+               "pipeline has no lateral tyre setter";
+    }
     if (rfe_param_is_tid(k) != 0) {
         return "rfe_tyre_id_params_validate";
     }
@@ -1266,7 +1270,9 @@ static void write_tyre_id_json(FILE *f, const run_t *r)
         fprintf(f, "%s\"%s\": ", (s > 0u) ? ", " : "", end_names[s]);
         rfe_json_write_number(f, end[s]);
     }
-    fputs("}},\n", f);
+    fputs("},\n    \"feed\": {\"sd_rel\": ", f);
+    rfe_json_write_number(f, r->ps.tid[RFE_PK_tid_feed_sd_rel - RFE_PK_TID_FIRST]);
+    fprintf(f, ", \"n_fed\": %zu}},\n", r->stats.n_tyre_fed);
 }
 
 /* The summary's tyre identifier lines, when it ran. */
@@ -1294,4 +1300,10 @@ static void print_tyre_id(const run_t *r)
            "after a period beyond tid_dt_max: %zu\n",
            r->stats.tid_flag_count[0], r->stats.tid_flag_count[1], r->stats.tid_flag_count[2],
            r->stats.tid_flag_count[3], r->stats.tid_flag_count[4], r->stats.tid_restarts);
+    if (last->has_tyre_feed != 0) {
+        printf("  lateral curve fed to the friction estimator at %zu samples (tid_feed_sd_rel = %g); "
+               "its curve at the end cy %.2f /rad, C %.3f, E %.3f, r_model_rel %.4f\n",
+               r->stats.n_tyre_fed, r->ps.tid[RFE_PK_tid_feed_sd_rel - RFE_PK_TID_FIRST],
+               last->cy_used, last->shape_Cy_used, last->shape_Ey_used, last->r_model_rel_used);
+    }
 }

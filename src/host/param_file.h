@@ -202,7 +202,7 @@
 /** Index of each key: the friction estimator's numeric keys RFE_PK_m, RFE_PK_Lf, ...; its
  *  three word-valued keys; then the observer's keys, obs_driven first; then the mass and
  *  grade estimator's, mg_adaptive, mg_use_ax and mg_feed_sd_rel first; then the tyre
- *  identifier's, tid_filter, tid_resample, tid_substeps and tid_seed first. */
+ *  identifier's, tid_filter, tid_resample, tid_substeps, tid_seed and tid_feed_sd_rel first. */
 typedef enum {
 #define RFE_PK_ENUM_(key, member, unit, doc) RFE_PK_##key,
     RFE_PARAM_KEYS(RFE_PK_ENUM_)
@@ -227,6 +227,10 @@ typedef enum {
      *  rfe_tyre_id_init (no member of rfe_tyre_id_params_t); an integer 0 .. 2^53, which a
      *  double holds exactly. */
     RFE_PK_tid_seed,
+    /** key tid_feed_sd_rel: a replay key (no member): the friction estimator takes the
+     *  identified lateral curve after an update whose summed cornering stiffness has a
+     *  relative sd <= tid_feed_sd_rel (0 = never, the default; TYRE_ID.md §14). */
+    RFE_PK_tid_feed_sd_rel,
     RFE_TID_KEYS(RFE_PK_ENUM_)
 #undef RFE_PK_ENUM_
     RFE_PK_COUNT        /**< number of keys */
@@ -254,8 +258,11 @@ typedef enum {
 #define RFE_MG_FEED_SD_REL_DEFAULT 0.02
 
 /** The tyre identifier's keys before the RFE_TID_KEYS table: tid_filter, tid_resample,
- *  tid_substeps, tid_seed. */
-#define RFE_PK_TID_SPECIAL 4u
+ *  tid_substeps, tid_seed, tid_feed_sd_rel. */
+#define RFE_PK_TID_SPECIAL 5u
+
+/** tid_feed_sd_rel of every preset: 0, the identified curve is not fed (TYRE_ID.md §14). */
+#define RFE_TID_FEED_SD_REL_DEFAULT 0.0
 
 /** tid_seed of every preset (docs/TYRE_ID.md §2). */
 #define RFE_TID_SEED_DEFAULT 1.0

@@ -183,6 +183,7 @@ int rfe_param_set_tyre_id(rfe_param_set_t *ps)
     ps->tid[1] = (double)tp.resample;
     ps->tid[2] = (double)tp.substeps;
     ps->tid[3] = RFE_TID_SEED_DEFAULT; /* the init's argument, not a member */
+    ps->tid[4] = RFE_TID_FEED_SD_REL_DEFAULT; /* the replay's */
     for (k = RFE_PK_TID_SPECIAL; k < RFE_PK_TID_COUNT; ++k) {
         rfe_real_t v;
         memcpy(&v, (const char *)&tp + k_tid_offset[k - RFE_PK_TID_SPECIAL], sizeof v);
@@ -360,8 +361,9 @@ rfe_status_t rfe_replay_mass_grade_params(const rfe_param_set_t *ps, rfe_mass_gr
 
 /* Tyre identifier key @p k of the set into @p tp; 0, or -1 when a word key holds no enum
  * value, tid_substeps is not an integer 0 .. 2^32 - 1 (a double would otherwise be
- * truncated without a word; the library checks its range) or tid_seed is not an integer
- * 0 .. 2^53 (it has no member: rfe_replay_tyre_id_params reads it from the set). */
+ * truncated without a word; the library checks its range), tid_seed is not an integer
+ * 0 .. 2^53 (it has no member: rfe_replay_tyre_id_params reads it from the set) or
+ * tid_feed_sd_rel is not a finite number >= 0 (the replay's). */
 static int set_tid_key(rfe_tyre_id_params_t *tp, const rfe_param_set_t *ps, size_t k)
 {
     const double v = ps->tid[k - RFE_PK_TID_FIRST];
@@ -382,6 +384,10 @@ static int set_tid_key(rfe_tyre_id_params_t *tp, const rfe_param_set_t *ps, size
         tp->substeps = (uint32_t)v;
     } else if (k == (size_t)RFE_PK_tid_seed) {
         if (!whole || (v > RFE_TID_SEED_MAX)) {
+            return -1;
+        }
+    } else if (k == (size_t)RFE_PK_tid_feed_sd_rel) {
+        if (!((v >= 0.0) && isfinite(v))) {
             return -1;
         }
     } else {
@@ -646,6 +652,51 @@ static void tyre_id_row(tid_run_t *t, const rfe_sensor_log_t *log, size_t i, rfe
     tyre_id_out(&e, st, out, stats);
 }
 
+/* The feed rule (TYRE_ID.md §14), called with tid_feed_sd_rel > 0: 1, with the curve to feed
+ * in @p v (cy, shape_Cy, shape_Ey, r_model_rel), when this sample's identifier step (@p out)
+ * updated (its flags are 0 on a refused sample) and the relative sd of the summed cornering
+ * stiffness, rel = sqrt(sd_Kf^2 + sd_Kr^2) / (K_f + K_r) (the axles' spreads taken as
+ * independent), is at most tid_feed_sd_rel. The curve: cy =
+ * (K_f + K_r) / (Fz0_f + Fz0_r) (the identifier's static axle loads), shape_Cy and shape_Ey
+ * the axles' C and E weighted by those loads, r_model_rel = sqrt(r^2 + rel^2) with r the
+ * parameter set's: the curve's uncertainty joins the model error. In double, each rounded to
+ * the build's real type. */
+static int tyre_feed_due(const tid_run_t *t, const rfe_param_set_t *ps, const rfe_est_row_t *out,
+                         rfe_real_t v[4])
+{
+    const rfe_tyre_id_estimate_t *e = &t->tid.last;
+    const double feed = ps->tid[RFE_PK_tid_feed_sd_rel - RFE_PK_TID_FIRST];
+    const double r = ps->value[RFE_PK_r_model_rel];
+    const double fz_f = (double)t->tid.c.fz0[0];
+    const double fz_r = (double)t->tid.c.fz0[1];
+    const double k = (double)e->mean[RFE_TID_OUT_K_F] + (double)e->mean[RFE_TID_OUT_K_R];
+    const double sd_f = (double)e->sd[RFE_TID_OUT_K_F];
+    const double sd_r = (double)e->sd[RFE_TID_OUT_K_R];
+    const double rel = sqrt((sd_f * sd_f) + (sd_r * sd_r)) / k;
+    if (!(((out->tid_flags & RFE_TID_UPDATED) != 0u) && (rel <= feed))) {
+        return 0;
+    }
+    v[0] = (rfe_real_t)(k / (fz_f + fz_r));
+    v[1] = (rfe_real_t)(((fz_f * (double)e->mean[RFE_TID_OUT_C_F]) +
+                         (fz_r * (double)e->mean[RFE_TID_OUT_C_R])) /
+                        (fz_f + fz_r));
+    v[2] = (rfe_real_t)(((fz_f * (double)e->mean[RFE_TID_OUT_E_F]) +
+                         (fz_r * (double)e->mean[RFE_TID_OUT_E_R])) /
+                        (fz_f + fz_r));
+    v[3] = (rfe_real_t)sqrt((r * r) + (rel * rel));
+    return 1;
+}
+
+/* The friction estimator's lateral curve of this sample's step into @p out (when fed). */
+static void tyre_used_row(const rfe_params_t *p, rfe_est_row_t *out)
+{
+    out->has_tyre_feed = 1;
+    out->cy_used = (double)p->tyre.cy;
+    out->shape_Cy_used = (double)p->tyre.shape_Cy;
+    out->shape_Ey_used = (double)p->tyre.shape_Ey;
+    out->r_model_rel_used = (double)p->filter.r_model_rel;
+}
+
 void rfe_replay_sample_from_row(const rfe_sensor_row_t *row, rfe_sample_t *s)
 {
     size_t w;
@@ -715,6 +766,7 @@ rfe_status_t rfe_replay_run(const rfe_param_set_t *ps, const rfe_sensor_log_t *l
     size_t i;
     size_t mg_last = SIZE_MAX; /* the mass and grade estimator's last accepted row */
     int mg_on = 0;
+    int feed_on;
     if ((ps == NULL) || (log == NULL) || (out == NULL) || (stats == NULL)) {
         return RFE_ERR_NULL;
     }
@@ -735,6 +787,7 @@ rfe_status_t rfe_replay_run(const rfe_param_set_t *ps, const rfe_sensor_log_t *l
     if (st != RFE_OK) {
         return st;
     }
+    feed_on = tid.on && (ps->tid[RFE_PK_tid_feed_sd_rel - RFE_PK_TID_FIRST] > 0.0);
     for (i = 0u; i < log->n_rows; ++i) {
         /* a gap: the missed periods' time updates before the sample that ends it */
         const uint32_t missed = rfe_log_missed_before(log, i, ps->value[RFE_PK_dt]);
@@ -759,14 +812,24 @@ rfe_status_t rfe_replay_run(const rfe_param_set_t *ps, const rfe_sensor_log_t *l
             }
             mass_used_row(est.params.vehicle.m, fed, &out[i], stats);
         }
+        out[i].has_tyre_feed = 0;
+        if (feed_on) {
+            tyre_used_row(&est.params, &out[i]); /* the curve of this sample's step */
+        }
         step_row(&est, &log->rows[i], &out[i]);
         ++stats->status_count[rfe_replay_status_slot(out[i].status)];
         out[i].has_tyre_id = 0;
         if (tid.on) {
             /* beside the friction estimator, on the log's vx and delta: it takes nothing of
-             * the estimator's and gives it nothing */
+             * the estimator's; with tid_feed_sd_rel > 0 it gives it its curve for the next
+             * sample's step (causal: this sample's step has run) */
+            rfe_real_t v[4];
             tyre_id_row(&tid, log, i, (rfe_real_t)log->rows[i].vx, (rfe_real_t)log->rows[i].delta,
                         &out[i], stats);
+            if (feed_on && (tyre_feed_due(&tid, ps, &out[i], v) != 0) &&
+                (rfe_friction_set_lateral_tyre(&est, v[0], v[1], v[2], v[3]) == RFE_OK)) {
+                ++stats->n_tyre_fed; /* a curve it refuses (C at a bound of (1, 2)) is not fed */
+            }
         }
     }
     stats->n_steps = log->n_rows;
@@ -831,6 +894,13 @@ rfe_status_t rfe_replay_run_observer(const rfe_param_set_t *ps, const rfe_sensor
     if (st == RFE_OK) {
         st = tyre_id_init(ps, &p, &tid, bad_key);
     }
+    if ((st == RFE_OK) && tid.on && (ps->tid[RFE_PK_tid_feed_sd_rel - RFE_PK_TID_FIRST] > 0.0)) {
+        /* the pipeline has no lateral tyre setter: the feed runs with measured velocities */
+        st = RFE_ERR_PARAM;
+        if (bad_key != NULL) {
+            *bad_key = (size_t)RFE_PK_tid_feed_sd_rel;
+        }
+    }
     if (st != RFE_OK) {
         return st;
     }
@@ -878,6 +948,7 @@ rfe_status_t rfe_replay_run_observer(const rfe_param_set_t *ps, const rfe_sensor
         out[i].sd_beta = (double)o.velocity.sd_beta;
         ++stats->status_count[rfe_replay_status_slot(out[i].status)];
         out[i].has_tyre_id = 0;
+        out[i].has_tyre_feed = 0;
         if (tid.on && !rfe_status_is_error(st)) {
             /* after the pipeline, on this sample's observer vx and the road-wheel angle it
              * used (swa / obs_steer_ratio on a steering-wheel log) */

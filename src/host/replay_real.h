@@ -81,6 +81,8 @@ typedef struct {
                                                       held, first, lost) */
     size_t tid_restarts;   /**< samples it started afresh at: a period beyond tid_dt_max
                                 since its last accepted one (the prior drawn again) */
+    size_t n_tyre_fed;     /**< samples whose identified lateral curve the friction estimator
+                                took (tid_feed_sd_rel, TYRE_ID.md §14) */
 } rfe_replay_stats_t;
 
 /** A gear cell beyond +-this is refused (status 18): the library's gear is an int32_t. */

@@ -975,6 +975,36 @@ printf 'tid_C_hi = 1.2\n' >"$TMP/tid_bad.par"
 run tid_combination 1 --in "$TID" --out "$TMP/tid_x.csv" --tyre-id apf --params "$TMP/tid_bad.par"
 one_line tid_combination "^mu_replay: .*estimator init failed: .*tyre identifier: tid_mu0, shape_Cy, cy and shape_Ey within their tid_\* bounds"
 [ ! -e "$TMP/tid_x.csv" ] && ok "tid invalid parameters: nothing written" || bad "tid invalid parameters: estimate log written"
+# the feed of the identified curve (tid_feed_sd_rel, TYRE_ID.md §14): off by default (the
+# runs above have no cy_used); when on, the curve of each sample's step after the identifier's
+# columns, the first row's the parameter file's (nothing identified yet), counted in the
+# summary and the JSON; behind the observer, and negative, refused naming the key
+grep -q 'cy_used' "$TMP/tid_a.csv" && bad "tid_feed: columns without the key" || ok "tid_feed: off by default"
+grep -qF '"feed": {"sd_rel": 0, "n_fed": 0}}' "$TMP/tid_a.json" && ok "tid_feed: JSON off" \
+    || bad "tid_feed: JSON $(grep -o '"feed": [^}]*}' "$TMP/tid_a.json")"
+printf 'tid_feed_sd_rel = 0.05\n' >"$TMP/feed.par"
+run tid_feed 0 --in "$TID" --out "$TMP/tid_fd.csv" --tyre-id apf --params "$TMP/feed.par" --metrics "$TMP/tid_fd.json" --real double
+[ "$(grep -v '^#' "$TMP/tid_fd.csv" | head -1)" = "$H,$HT,cy_used,shape_Cy_used,shape_Ey_used,r_model_rel_used" ] \
+    && ok "tid_feed: the columns" || bad "tid_feed: header $(grep -v '^#' "$TMP/tid_fd.csv" | head -1)"
+res=$(awk -F, '/^#/ {next} !h {for (i = 1; i <= NF; i++) c[$i] = i; h = 1; next}
+    NR > 0 && !first {first = $c["cy_used"] "," $c["shape_Cy_used"] "," $c["shape_Ey_used"] "," $c["r_model_rel_used"]}
+    {if (prev != "" && $c["cy_used"] != prev) ch++; prev = $c["cy_used"]}
+    END {printf "%s %d", first, ch}' "$TMP/tid_fd.csv")
+set -- $res
+[ "$1" = "15,1.3,0,0.05" ] && [ "$2" -gt 0 ] && ok "tid_feed: the file's curve first, then $2 changes" \
+    || bad "tid_feed: first curve $1, $2 changes"
+fed=$(grep -o '"n_fed": [0-9]*}}' "$TMP/tid_fd.json" | grep -o '[0-9]*')
+[ -n "$fed" ] && [ "$fed" -gt 0 ] && grep -qF '"feed": {"sd_rel": 0.05, "n_fed": ' "$TMP/tid_fd.json" \
+    && grep -Eq "^  lateral curve fed to the friction estimator at $fed samples \(tid_feed_sd_rel = 0\.05\); its curve at the end cy " "$TMP/out" \
+    && ok "tid_feed: $fed samples fed, JSON and summary" || bad "tid_feed: JSON/summary $(grep 'lateral curve' "$TMP/out")"
+cmp -s <(grep -v '^#' "$TMP/tid_d.csv" | cut -d, -f1-14) <(grep -v '^#' "$TMP/tid_fd.csv" | cut -d, -f1-14) \
+    && bad "tid_feed: the friction columns did not change" || ok "tid_feed: the friction columns change"
+run tid_feed_observer 1 --in "$DATA/good_esc.csv" --out "$TMP/tid_x.csv" --tyre-id apf --params "$TMP/feed.par"
+one_line tid_feed_observer "^mu_replay: .*feed\.par:1: invalid parameter tid_feed_sd_rel = 0\.05 \(rejected by mu_replay: a relative sd >= 0, and 0 behind the velocity observer, whose pipeline has no lateral tyre setter, float run\)$"
+printf 'tid_feed_sd_rel = -1\n' >"$TMP/feed_bad.par"
+run tid_feed_negative 1 --in "$TID" --out "$TMP/tid_x.csv" --tyre-id apf --params "$TMP/feed_bad.par"
+one_line tid_feed_negative "^mu_replay: .*feed_bad\.par:1: invalid parameter tid_feed_sd_rel = -1 "
+[ ! -e "$TMP/tid_x.csv" ] && ok "tid_feed refusals: nothing written" || bad "tid_feed refusals: estimate log written"
 
 if [ -w /dev/full ]; then
     "$BIN" --in "$DATA/good_small.csv" --out "$TMP/s.csv" >/dev/full 2>"$TMP/err"

@@ -1236,6 +1236,7 @@ static void test_rfe_param_set_tyre_id_is_the_library_default(void **state)
     assert_true(ps.tid[RFE_PK_tid_resample - RFE_PK_TID_FIRST] == (double)p.resample);
     assert_true(ps.tid[RFE_PK_tid_substeps - RFE_PK_TID_FIRST] == (double)p.substeps);
     assert_true(ps.tid[RFE_PK_tid_seed - RFE_PK_TID_FIRST] == 1.0); /* TYRE_ID.md §2 */
+    assert_true(ps.tid[RFE_PK_tid_feed_sd_rel - RFE_PK_TID_FIRST] == 0.0); /* not fed */
 #define CHECK_TID_(key, member, unit, doc)                                                   \
     if (!(ps.tid[(size_t)RFE_PK_##key - RFE_PK_TID_FIRST] == p.member)) {                    \
         fail_msg("key %s: set %.17g, library %.17g", #key,                                   \
@@ -1528,6 +1529,116 @@ static void test_rfe_replay_tyre_id_refusals_and_restart(void **state)
     rfe_sensor_log_free(&log);
 }
 
+
+/* The feed rule written out (TYRE_ID.md §14): after an update with status RFE_OK whose summed
+ * cornering stiffness has a relative sd (the axles' sds combined as independent) of at most
+ * @p feed, the load-weighted curve and r_model_rel = sqrt(r^2 + rel^2). */
+static int feed_curve(const rfe_tyre_id_t *tid, const rfe_tyre_id_estimate_t *e, rfe_status_t st,
+                      double feed, double r, double v[4])
+{
+    const double ff = tid->c.fz0[0];
+    const double fr = tid->c.fz0[1];
+    const double k = e->mean[RFE_TID_OUT_K_F] + e->mean[RFE_TID_OUT_K_R];
+    const double rel = sqrt(e->sd[RFE_TID_OUT_K_F] * e->sd[RFE_TID_OUT_K_F] +
+                            e->sd[RFE_TID_OUT_K_R] * e->sd[RFE_TID_OUT_K_R]) / k;
+    if (!((st == RFE_OK) && ((e->flags & RFE_TID_UPDATED) != 0u) && (rel <= feed))) {
+        return 0;
+    }
+    v[0] = k / (ff + fr);
+    v[1] = (ff * e->mean[RFE_TID_OUT_C_F] + fr * e->mean[RFE_TID_OUT_C_R]) / (ff + fr);
+    v[2] = (ff * e->mean[RFE_TID_OUT_E_F] + fr * e->mean[RFE_TID_OUT_E_R]) / (ff + fr);
+    v[3] = sqrt(r * r + rel * rel);
+    return 1;
+}
+
+/* With tid_feed_sd_rel > 0 the friction columns equal a hand-written loop over the library, bit
+ * for bit: each sample the friction step, then the identifier's, then the feed rule on that
+ * step's estimate and rfe_friction_set_lateral_tyre, so the next sample's step takes the curve
+ * (cy_used .. r_model_rel_used: the curve of each sample's step). tid_feed_sd_rel = 0.05 lies
+ * within the spread of the log's relative sds, so some updates feed and some do not, and the
+ * estimate differs from the run without the feed. Behind the observer (no pipeline setter) and
+ * negative, the key is refused before any row, named. */
+/* REQ-CLI-008 */
+static void test_rfe_replay_tyre_feed_is_the_library_loop(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    rfe_param_set_t ps;
+    rfe_replay_stats_t st;
+    rfe_params_t p;
+    rfe_tyre_id_params_t tp;
+    uint64_t seed = 0u;
+    static rfe_friction_t est;
+    static rfe_tyre_id_t tid;
+    rfe_est_row_t *on;
+    rfe_est_row_t *off;
+    size_t i;
+    size_t n_fed = 0u;
+    size_t differs = 0u;
+    size_t bad = 0u;
+    (void)state;
+    memset(&log, 0, sizeof log);
+    assert_int_equal(rfe_sensor_log_read(TID_LOG, &log, &err), 0);
+    on = calloc(log.n_rows, sizeof *on);
+    off = calloc(log.n_rows, sizeof *off);
+    assert_non_null(on);
+    assert_non_null(off);
+    assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_DEFAULT), 0);
+    ps.value[RFE_PK_dt] = 0.01;
+    assert_int_equal(rfe_replay_run_f64(&ps, &log, off, &st, NULL), RFE_OK);
+    ps.tyre_id = 1;
+    ps.tid[RFE_PK_tid_feed_sd_rel - RFE_PK_TID_FIRST] = 0.05;
+    assert_int_equal(rfe_replay_run_f64(&ps, &log, on, &st, NULL), RFE_OK);
+    assert_int_equal(rfe_replay_params_f64(&ps, &p, NULL), RFE_OK);
+    assert_int_equal(rfe_replay_tyre_id_params_f64(&ps, &tp, &seed, NULL), RFE_OK);
+    memset(&est, 0, sizeof est);
+    assert_int_equal(rfe_friction_init(&est, &p), RFE_OK);
+    assert_int_equal(rfe_tyre_id_init(&tid, &tp, &p, seed), RFE_OK);
+    for (i = 0u; i < log.n_rows; ++i) {
+        const rfe_sensor_row_t *row = &log.rows[i];
+        rfe_sample_t smp;
+        rfe_estimate_t fe;
+        rfe_tyre_id_estimate_t e;
+        rfe_status_t fst;
+        rfe_status_t tst;
+        double v[4];
+        const rfe_tyre_id_sample_t ts = {(i > 0u) ? row->t - log.rows[i - 1u].t : 0.0, row->delta,
+                                         row->vx, row->yaw_rate, row->ay, row->ax};
+        assert_int_equal(on[i].has_tyre_feed, 1);
+        assert_true((on[i].cy_used == est.params.tyre.cy) &&
+                    (on[i].shape_Cy_used == est.params.tyre.shape_Cy) &&
+                    (on[i].shape_Ey_used == est.params.tyre.shape_Ey) &&
+                    (on[i].r_model_rel_used == est.params.filter.r_model_rel));
+        rfe_replay_sample_from_row(row, &smp);
+        fst = rfe_friction_step(&est, &smp, &fe);
+        assert_int_equal(on[i].status, fst);
+        assert_true((on[i].mu[0] == fe.mu[0]) && (on[i].sd[0] == fe.sd[0]) &&
+                    (on[i].mu[3] == fe.mu[3]) && (on[i].sd[3] == fe.sd[3]));
+        differs += ((on[i].mu[0] != off[i].mu[0]) || (on[i].sd[0] != off[i].sd[0])) ? 1u : 0u;
+        tst = rfe_tyre_id_step(&tid, &ts, &e);
+        check_tid_row(&on[i], &e, tst);
+        if (feed_curve(&tid, &e, tst, 0.05, p.filter.r_model_rel, v) != 0) {
+            assert_int_equal(rfe_friction_set_lateral_tyre(&est, v[0], v[1], v[2], v[3]), RFE_OK);
+            ++n_fed;
+        }
+    }
+    assert_int_equal(st.n_tyre_fed, n_fed);
+    assert_true((n_fed > 0u) && (n_fed < log.n_rows - 1u));
+    assert_true(differs > 0u);
+    /* refused before any row, naming the key */
+    assert_int_equal(rfe_replay_run_observer_f64(&ps, &log, on, &st, &bad), RFE_ERR_PARAM);
+    assert_int_equal(bad, RFE_PK_tid_feed_sd_rel);
+    ps.tid[RFE_PK_tid_feed_sd_rel - RFE_PK_TID_FIRST] = -0.05;
+    assert_int_equal(rfe_replay_run_f64(&ps, &log, on, &st, &bad), RFE_ERR_PARAM);
+    assert_int_equal(bad, RFE_PK_tid_feed_sd_rel);
+    ps.tid[RFE_PK_tid_feed_sd_rel - RFE_PK_TID_FIRST] = INFINITY;
+    assert_int_equal(rfe_replay_run_f64(&ps, &log, on, &st, &bad), RFE_ERR_PARAM);
+    assert_int_equal(bad, RFE_PK_tid_feed_sd_rel);
+    free(off);
+    free(on);
+    rfe_sensor_log_free(&log);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1563,6 +1674,7 @@ int main(void)
         cmocka_unit_test(test_rfe_replay_tyre_id_params_keys_and_diagnosis),
         cmocka_unit_test(test_rfe_replay_tyre_id_is_the_library_loop),
         cmocka_unit_test(test_rfe_replay_tyre_id_refusals_and_restart),
+        cmocka_unit_test(test_rfe_replay_tyre_feed_is_the_library_loop),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
