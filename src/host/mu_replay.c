@@ -867,7 +867,7 @@ static int write_estimates(const options_t *o, const run_t *r)
     }
     if (r->tid_ran) { /* as the mass and grade estimator's */
         meta[n].key = "tyre_id";
-        meta[n++].value = rfe_tid_filter_str((rfe_tid_filter_t)r->ps.tid[0]);
+        meta[n++].value = rfe_tid_filter_str((rfe_tid_filter_t)r->ps.tid[RFE_PK_tid_filter - RFE_PK_TID_FIRST]);
         meta[n].key = "tid_n"; /* RFE_TID_N: information, not a key */
         meta[n++].value = RFE_TID_N_TEXT;
     }
@@ -1255,8 +1255,8 @@ static void write_tyre_id_json(FILE *f, const run_t *r)
     rfe_param_format(&r->ps, (size_t)RFE_PK_tid_seed, seed);
     fprintf(f, "  \"tyre_id\": {\"filter\": \"%s\", \"resample\": \"%s\", \"n\": %s, "
                "\"seed\": %s, \"status_counts\": {",
-            rfe_tid_filter_str((rfe_tid_filter_t)r->ps.tid[0]),
-            rfe_tid_resample_str((rfe_tid_resample_t)r->ps.tid[1]), RFE_TID_N_TEXT, seed);
+            rfe_tid_filter_str((rfe_tid_filter_t)r->ps.tid[RFE_PK_tid_filter - RFE_PK_TID_FIRST]),
+            rfe_tid_resample_str((rfe_tid_resample_t)r->ps.tid[RFE_PK_tid_resample - RFE_PK_TID_FIRST]), RFE_TID_N_TEXT, seed);
     for (s = 0u; s < RFE_REPLAY_STATUS_SLOTS; ++s) {
         if (r->stats.tid_status_count[s] != 0u) {
             fprintf(f, "%s\"%zu\": %zu", sep, s, r->stats.tid_status_count[s]);
@@ -1288,8 +1288,8 @@ static void print_tyre_id(const run_t *r)
     }
     printf("tyre identifier (%s, %s, %s particles): at the end mu_id_f %.3f (sd %.3f), mu_id_r "
            "%.3f (sd %.3f)\n",
-           rfe_tid_filter_str((rfe_tid_filter_t)r->ps.tid[0]),
-           rfe_tid_resample_str((rfe_tid_resample_t)r->ps.tid[1]), RFE_TID_N_TEXT, last->mu_id[0],
+           rfe_tid_filter_str((rfe_tid_filter_t)r->ps.tid[RFE_PK_tid_filter - RFE_PK_TID_FIRST]),
+           rfe_tid_resample_str((rfe_tid_resample_t)r->ps.tid[RFE_PK_tid_resample - RFE_PK_TID_FIRST]), RFE_TID_N_TEXT, last->mu_id[0],
            last->sd_mu_id[0], last->mu_id[1], last->sd_mu_id[1]);
     for (s = 0u; s < RFE_REPLAY_STATUS_SLOTS; ++s) {
         if (r->stats.tid_status_count[s] != 0u) {

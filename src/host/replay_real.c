@@ -69,7 +69,7 @@ RFE_MG_KEYS(RFE_IS_REAL_)
 #undef RFE_IS_REAL_
 
 /* Where each tyre identifier key after the special ones (tid_filter, tid_resample,
- * tid_substeps, tid_seed) lives in rfe_tyre_id_params_t (RFE_TID_KEYS). */
+ * tid_substeps, tid_seed, tid_feed_sd_rel) lives in rfe_tyre_id_params_t (RFE_TID_KEYS). */
 static const size_t k_tid_offset[RFE_PK_TID_COUNT - RFE_PK_TID_SPECIAL] = {
 #define RFE_OFFSET_(key, member, unit, doc) offsetof(rfe_tyre_id_params_t, member),
     RFE_TID_KEYS(RFE_OFFSET_)
@@ -179,11 +179,11 @@ int rfe_param_set_tyre_id(rfe_param_set_t *ps)
     if ((ps == NULL) || (rfe_tyre_id_params_default(&tp) != RFE_OK)) {
         return -1;
     }
-    ps->tid[0] = (double)tp.filter;
-    ps->tid[1] = (double)tp.resample;
-    ps->tid[2] = (double)tp.substeps;
-    ps->tid[3] = RFE_TID_SEED_DEFAULT; /* the init's argument, not a member */
-    ps->tid[4] = RFE_TID_FEED_SD_REL_DEFAULT; /* the replay's */
+    ps->tid[RFE_PK_tid_filter - RFE_PK_TID_FIRST] = (double)tp.filter;
+    ps->tid[RFE_PK_tid_resample - RFE_PK_TID_FIRST] = (double)tp.resample;
+    ps->tid[RFE_PK_tid_substeps - RFE_PK_TID_FIRST] = (double)tp.substeps;
+    ps->tid[RFE_PK_tid_seed - RFE_PK_TID_FIRST] = RFE_TID_SEED_DEFAULT; /* the init's argument */
+    ps->tid[RFE_PK_tid_feed_sd_rel - RFE_PK_TID_FIRST] = RFE_TID_FEED_SD_REL_DEFAULT; /* the replay's */
     for (k = RFE_PK_TID_SPECIAL; k < RFE_PK_TID_COUNT; ++k) {
         rfe_real_t v;
         memcpy(&v, (const char *)&tp + k_tid_offset[k - RFE_PK_TID_SPECIAL], sizeof v);
