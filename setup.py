@@ -135,6 +135,10 @@ class BuildExt(build_ext):
             objects = [o for objs in pool.map(compile_one, tasks) for o in objs]
         ext.sources = [str(wrapper)]
         ext.extra_objects = objects
+        # build_ext relinks only when a source or a dependency is newer than the extension:
+        # the wrapper is unchanged when only the C code changed, so without the objects here
+        # a rebuild in the same build/python kept the extension of the previous C code
+        ext.depends = objects
         ext.include_dirs = INC_HOST
         ext.libraries = ["m"]
         super().build_extension(ext)
