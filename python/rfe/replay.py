@@ -254,8 +254,8 @@ class Estimator:
         params: a mapping key -> value or a parameter file (docs/spec/DATA.md keys).
         real: "float" (default), "double" or "q31".
         velocity: "auto" (default), "observer" or "measured".
-        **options: the other options of :func:`replay` (filter, tyre, mass_grade, strict,
-            require_params).
+        **options: the other options of :func:`replay` (filter, tyre, mass_grade, tyre_id,
+            strict, require_params).
 
     A DataFrame or a mapping of columns runs in memory (no file, nothing printed, the GIL
     released while the C code steps), with the estimates of :func:`replay` bit for bit (a
@@ -312,10 +312,10 @@ class Estimator:
             meta: the log's metadata (replaces ``attrs["meta"]``).
 
         Returns:
-            The estimate log's columns (t, mu_*, sd_*, valid_*, status, and the observer's and
-            the mass and grade estimator's when they ran), equal to :func:`replay`'s; in memory
-            ``attrs["stats"]`` holds the run's counters (steps, status counts, gaps, q31
-            saturations).
+            The estimate log's columns (t, mu_*, sd_*, valid_*, status, and the observer's,
+            the mass and grade estimator's and the tyre identifier's when they ran), equal to
+            :func:`replay`'s; in memory ``attrs["stats"]`` holds the run's counters (steps,
+            status counts, gaps, q31 saturations).
 
         Raises:
             UsageError, InputError and its per-status subclasses, as :func:`replay`; in memory

@@ -1445,6 +1445,8 @@ int rfe_mu_replay_open(rfe_replay_mem_t *m, int argc, char **argv, const char *p
         m->ps = r.ps;
         m->observer = r.use_observer;
         m->mass_grade = r.ps.mass_grade;
+        m->tyre_id = r.ps.tyre_id;
+        m->tyre_feed = r.ps.tyre_id && (r.ps.tid[RFE_PK_tid_feed_sd_rel - RFE_PK_TID_FIRST] > 0.0);
         m->dt_given = (r.ps.origin[RFE_PK_dt].file != NULL) &&
                       (strcmp(r.ps.origin[RFE_PK_dt].file, "the log's time stamps") != 0);
         m->preset_vehicle = r.preset_vehicle;
