@@ -46,7 +46,7 @@ DEPS_EXTRA :=
 TEST_GATES :=
 include $(sort $(filter-out mk/lib.mk,$(wildcard mk/*.mk)))
 
-.PHONY: mass-grade-scenarios mass-grade-results mass-sensitivity mass-grade-goldens trust-invariant names car-format-logs observer-goldens observer-goldens-q31 observer-results monitor-results test-pkg all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind valgrind-unit valgrind-cli coverage demo goldens goldens-q31 scenarios observer-scenarios clean vectors shared-sync check-shared readme-table \
+.PHONY: mass-grade-scenarios mass-grade-results mass-sensitivity tyre-id-feed-results mass-grade-goldens trust-invariant names car-format-logs observer-goldens observer-goldens-q31 observer-results monitor-results test-pkg all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind valgrind-unit valgrind-cli coverage demo goldens goldens-q31 scenarios observer-scenarios clean vectors shared-sync check-shared readme-table \
         check-kernels check-tools layers help-check goldens-ref check-nofloat help deps-analysis misra tidy complexity structural analysis \
         twins check-twins tyre-id-scenarios tyre-id-results tyre-id-goldens
 ## the libraries and build/mu_replay (the default target)
@@ -432,6 +432,10 @@ observer-results: $(BUILD)/mu_replay venv
 mass-grade-results: venv
 	$(PY) scripts/tools/mass_grade_results.py --page docs/MASS_GRADE_RESULTS.md \
 	  --plot $(BUILD)/mass_grade/mass_error.png
+## the friction estimator with and without the tyre identifier's curve fed, every steering scenario (docs/TYRE_ID_RESULTS.md)
+tyre-id-feed-results: venv $(BUILD)/mu_replay
+	$(PY) scripts/tools/tyre_id_feed_results.py --page docs/TYRE_ID_RESULTS.md --jobs $(TEST_JOBS)
+
 ## what a +-20 % mass error costs the friction estimator, and how far the fed online mass is
 ## from the truth (tables in docs/MASS_GRADE_RESULTS.md)
 mass-sensitivity: venv $(BUILD)/mu_replay

@@ -82,7 +82,8 @@ typedef struct { size_t n_steps; size_t status_count[]; size_t n_gaps; uint64_t 
 typedef struct { rfe_replay_stats_t base; uint64_t input_sat; size_t input_sat_rows;
                  uint64_t est_sat; uint32_t est_sat_max; size_t est_sat_rows; ...; }
     rfe_replay_q31_stats_t;
-typedef struct { int real; int observer; int mass_grade; int dt_given; int preset_vehicle;
+typedef struct { int real; int observer; int mass_grade; int tyre_id; int tyre_feed;
+                 int dt_given; int preset_vehicle;
                  int ready; ...; } rfe_replay_mem_t;
 size_t rfe_replay_mem_state_size(int real);
 int rfe_mu_replay_open(rfe_replay_mem_t *m, int argc, char **argv, const char *params_text,
@@ -135,6 +136,10 @@ class BuildExt(build_ext):
             objects = [o for objs in pool.map(compile_one, tasks) for o in objs]
         ext.sources = [str(wrapper)]
         ext.extra_objects = objects
+        # build_ext relinks only when a source or a dependency is newer than the extension:
+        # the wrapper is unchanged when only the C code changed, so without the objects here
+        # a rebuild in the same build/python kept the extension of the previous C code
+        ext.depends = objects
         ext.include_dirs = INC_HOST
         ext.libraries = ["m"]
         super().build_extension(ext)

@@ -58,6 +58,7 @@
 #define rfe_friction_get  rfe_friction_get_f64
 #define rfe_friction_set_input_noise rfe_friction_set_input_noise_f64
 #define rfe_friction_set_mass        rfe_friction_set_mass_f64
+#define rfe_friction_set_lateral_tyre rfe_friction_set_lateral_tyre_f64
 #define rfe_friction_skip rfe_friction_skip_f64
 #define rfe_friction_missed rfe_friction_missed_f64
 #define rfe_friction_step_after rfe_friction_step_after_f64
@@ -67,6 +68,7 @@
 #define rfe_friction_get  rfe_friction_get_f32
 #define rfe_friction_set_input_noise rfe_friction_set_input_noise_f32
 #define rfe_friction_set_mass        rfe_friction_set_mass_f32
+#define rfe_friction_set_lateral_tyre rfe_friction_set_lateral_tyre_f32
 #define rfe_friction_skip rfe_friction_skip_f32
 #define rfe_friction_missed rfe_friction_missed_f32
 #define rfe_friction_step_after rfe_friction_step_after_f32
@@ -261,5 +263,25 @@ RFE_NODISCARD rfe_status_t rfe_friction_set_input_noise(rfe_friction_t *est,
  *         RFE_ERR_RANGE (m <= 0). The estimator is untouched on every error.
  */
 RFE_NODISCARD rfe_status_t rfe_friction_set_mass(rfe_friction_t *est, rfe_real_t m);
+
+/**
+ * Sets the lateral tyre curve of the next steps (issue 20: the tyre identifier's cornering
+ * stiffness and shape, docs/TYRE_ID.md §14) through rfe_params_set_lateral_tyre, with the
+ * tyre-model error r_model_rel that carries the curve's uncertainty into the step's
+ * measurement noise. Parameters of the model, not states: the estimate and its covariance
+ * stay as they are, as with rfe_friction_set_mass.
+ * @param[in,out] est          an estimator set up by rfe_friction_init.
+ * @param[in]     cy           cornering stiffness per unit load [1/rad], > 0.
+ * @param[in]     shape_Cy     the lateral Magic Formula's shape C, 1 < C < 2.
+ * @param[in]     shape_Ey     its curvature E, -4 <= E < 1.
+ * @param[in]     r_model_rel  the tyre-model error relative to each predicted acceleration,
+ *                             >= 0 (0 with the paper preset's CKF).
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_NOT_INITIALISED; RFE_ERR_NONFINITE (a value not
+ *         finite); RFE_ERR_RANGE (a value rfe_params_validate refuses). The estimator is
+ *         untouched on every error.
+ */
+RFE_NODISCARD rfe_status_t rfe_friction_set_lateral_tyre(rfe_friction_t *est, rfe_real_t cy,
+                                                         rfe_real_t shape_Cy, rfe_real_t shape_Ey,
+                                                         rfe_real_t r_model_rel);
 
 #endif /* RFE_FRICTION_H */

@@ -251,4 +251,19 @@ RFE_NODISCARD rfe_status_t rfe_friction_set_input_noise_q31(rfe_friction_q31_t *
  */
 RFE_NODISCARD rfe_status_t rfe_friction_set_mass_q31(rfe_friction_q31_t *est, rfe_fix_t m);
 
+/**
+ * Sets the lateral tyre curve of the next steps (the twin of rfe_friction_set_lateral_tyre)
+ * through rfe_params_set_lateral_tyre_q31.
+ * @param[in,out] est          an estimator set up by rfe_friction_init_q31.
+ * @param[in]     cy           cornering stiffness per unit load [1/rad], Q24, > 0.
+ * @param[in]     shape_Cy     the lateral shape C, Q24, 1 < C < 2.
+ * @param[in]     shape_Ey     the lateral curvature E, Q24, -4 <= E < 1.
+ * @param[in]     r_model_rel  the tyre-model error relative to each acceleration, Q30, >= 0.
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_NOT_INITIALISED; RFE_ERR_RANGE (values
+ *         rfe_params_set_lateral_tyre_q31 refuses). The estimator is untouched on every error.
+ */
+RFE_NODISCARD rfe_status_t rfe_friction_set_lateral_tyre_q31(rfe_friction_q31_t *est, rfe_fix_t cy,
+                                                             rfe_fix_t shape_Cy, rfe_fix_t shape_Ey,
+                                                             rfe_fix_t r_model_rel);
+
 #endif /* RFE_FRICTION_Q31_H */

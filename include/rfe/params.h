@@ -18,6 +18,7 @@
 #define rfe_params_paper    rfe_params_paper_f64
 #define rfe_params_validate rfe_params_validate_f64
 #define rfe_params_set_mass rfe_params_set_mass_f64
+#define rfe_params_set_lateral_tyre rfe_params_set_lateral_tyre_f64
 #define rfe_monitor_params_validate rfe_monitor_params_validate_f64
 #define rfe_monitor_consts  rfe_monitor_consts_f64
 #define rfe_normal_quantile rfe_normal_quantile_f64
@@ -26,6 +27,7 @@
 #define rfe_params_paper    rfe_params_paper_f32
 #define rfe_params_validate rfe_params_validate_f32
 #define rfe_params_set_mass rfe_params_set_mass_f32
+#define rfe_params_set_lateral_tyre rfe_params_set_lateral_tyre_f32
 #define rfe_monitor_params_validate rfe_monitor_params_validate_f32
 #define rfe_monitor_consts  rfe_monitor_consts_f32
 #define rfe_normal_quantile rfe_normal_quantile_f32
@@ -167,6 +169,23 @@ RFE_NODISCARD rfe_status_t rfe_params_validate(const rfe_params_t *p);
  *         @p p is untouched).
  */
 RFE_NODISCARD rfe_status_t rfe_params_set_mass(rfe_params_t *p, rfe_real_t m);
+
+/**
+ * Sets the lateral tyre curve of a parameter set at run time (issue 20: the tyre identifier's
+ * cornering stiffness and shape, docs/TYRE_ID.md §14), atomically: the set is changed only
+ * when it stays valid.
+ * @param[in,out] p            a parameter set rfe_params_validate accepts.
+ * @param[in]     cy           cornering stiffness per unit load [1/rad] (key cy), > 0.
+ * @param[in]     shape_Cy     the lateral Magic Formula's shape C (key shape_Cy), 1 < C < 2.
+ * @param[in]     shape_Ey     its curvature E (key shape_Ey), -4 <= E < 1.
+ * @param[in]     r_model_rel  the tyre-model error relative to each predicted acceleration
+ *                             (key r_model_rel), >= 0: where the curve's uncertainty goes.
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_PARAM (@p p, or @p p with these values, invalid: then
+ *         @p p is untouched).
+ */
+RFE_NODISCARD rfe_status_t rfe_params_set_lateral_tyre(rfe_params_t *p, rfe_real_t cy,
+                                                       rfe_real_t shape_Cy, rfe_real_t shape_Ey,
+                                                       rfe_real_t r_model_rel);
 
 /**
  * Checks the monitor's parameters at sample period @p dt (finite, > 0): enable and inflate

@@ -209,6 +209,22 @@ RFE_NODISCARD rfe_status_t rfe_params_validate_q31(const rfe_params_q31_t *p);
 RFE_NODISCARD rfe_status_t rfe_params_set_mass_q31(rfe_params_q31_t *p, rfe_fix_t m);
 
 /**
+ * Sets the lateral tyre curve of a fixed-point parameter set at run time (the twin of
+ * rfe_params_set_lateral_tyre), atomically. No constant derives from these fields: they are
+ * set and the whole set validated.
+ * @param[in,out] p            a parameter set rfe_params_validate_q31 accepts.
+ * @param[in]     cy           cornering stiffness per unit load [1/rad], Q24 (RFE_FIX_Q_STIFF), > 0.
+ * @param[in]     shape_Cy     the lateral shape C, Q24, 1 < C < 2.
+ * @param[in]     shape_Ey     the lateral curvature E, Q24, -4 <= E < 1.
+ * @param[in]     r_model_rel  the tyre-model error relative to each acceleration, Q30, >= 0.
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_PARAM (@p p, or @p p with these values, invalid: then
+ *         @p p is untouched).
+ */
+RFE_NODISCARD rfe_status_t rfe_params_set_lateral_tyre_q31(rfe_params_q31_t *p, rfe_fix_t cy,
+                                                           rfe_fix_t shape_Cy, rfe_fix_t shape_Ey,
+                                                           rfe_fix_t r_model_rel);
+
+/**
  * Checks the monitor's integer constants against the ranges of rfe_monitor_params_q31_t:
  * enable and inflate 0 or 1; hold_steps, warmup_steps < 2^31; each weight in [2^-14, 1);
  * per test 0 < z_clear < z_fire <= 8 (RFE_FIX_MON_Z_MAX). rfe_params_validate_q31 and

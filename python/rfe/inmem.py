@@ -22,9 +22,12 @@ from .replay import _fmt
 
 COLS: list[str] = [ffi.string(lib.rfe_replay_mem_col(i)).decode()
                    for i in range(lib.RFE_MEM_COLS) if lib.rfe_replay_mem_col(i) != ffi.NULL]
-_INT_COLS = {"valid_fl", "valid_fr", "valid_rl", "valid_rr", "status", "mg_status"}
+_INT_COLS = {"valid_fl", "valid_fr", "valid_rl", "valid_rr", "status", "mg_status",
+             "tid_status", "tid_flags"}
 _VELOCITY = COLS[COLS.index("vx_est"):COLS.index("sd_beta") + 1]
-_MASS_GRADE = COLS[COLS.index("mass_est"):]
+_MASS_GRADE = COLS[COLS.index("mass_est"):COLS.index("mass_used") + 1]
+_TYRE_ID = COLS[COLS.index("mu_id_f"):COLS.index("tid_flags") + 1]
+_TYRE_FEED = COLS[COLS.index("cy_used"):]
 _BASE = COLS[:COLS.index("vx_est")]
 REAL_WORDS = {"float": 0, "double": 1, "q31": 2}
 
@@ -104,7 +107,8 @@ class Run:
         if code != 0:
             raise _error(code, err)
         names = _BASE + (_VELOCITY if self.mem.observer else []) + \
-            (_MASS_GRADE if self.mem.mass_grade else [])
+            (_MASS_GRADE if self.mem.mass_grade else []) + \
+            (_TYRE_ID if self.mem.tyre_id else []) + (_TYRE_FEED if self.mem.tyre_feed else [])
         self.columns = names
         self._index = [COLS.index(c) for c in names]
 

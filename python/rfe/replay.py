@@ -32,7 +32,8 @@ STATUS_TEXT: dict[int, str] = {
 
 # keyword -> mu_replay flag; None = the CLI's default (the flag is not given).
 _VALUE_OPTIONS = {"preset": "--preset", "filter": "--filter", "tyre": "--tyre",
-                  "real": "--real", "velocity": "--velocity", "mass_grade": "--mass-grade"}
+                  "real": "--real", "velocity": "--velocity", "mass_grade": "--mass-grade",
+                  "tyre_id": "--tyre-id"}
 _FLAG_OPTIONS = {"strict": "--strict", "require_params": "--require-params", "quiet": "--quiet"}
 
 
@@ -163,7 +164,7 @@ def replay(source: Source, *, params: Mapping[str, float] | str | os.PathLike | 
            out: str | os.PathLike | None = None, preset: str | None = None,
            filter: str | None = None, tyre: str | None = None, real: Real | None = None,
            velocity: str | None = None, mass_grade: str | None = None,
-           strict: bool = False, require_params: bool = False,
+           tyre_id: str | None = None, strict: bool = False, require_params: bool = False,
            quiet: bool = False,
            mapping: str | os.PathLike | Mapping[str, Any] | None = None) -> pd.DataFrame:
     """Runs the estimator over a sensor log as ``mu_replay`` does, with its defaults.
@@ -176,13 +177,15 @@ def replay(source: Source, *, params: Mapping[str, float] | str | os.PathLike | 
         params: a parameter file, or a mapping key -> value written as one (--params).
         out: also keep the estimate log at this path (byte for byte mu_replay's --out);
             a ``.parquet`` (``.pq``) path: as Parquet (:func:`rfe.write_parquet`).
-        preset, filter, tyre, real, velocity, mass_grade, strict, require_params, quiet:
-            mu_replay's options of the same names (None / False: the CLI's default).
+        preset, filter, tyre, real, velocity, mass_grade, tyre_id, strict, require_params,
+            quiet: mu_replay's options of the same names (``tyre_id="apf"`` is
+            ``--tyre-id apf``; None / False: the CLI's default).
         mapping: the mapping file (or dict) of an MDF4 source (docs/PYTHON.md "MDF4 input").
 
     Returns:
-        The estimate log's columns (t, mu_*, sd_*, valid_*, status, and the observer's and
-        the mass and grade estimator's when they ran), exactly as mu_replay writes them;
+        The estimate log's columns (t, mu_*, sd_*, valid_*, status, and the observer's, the
+        mass and grade estimator's and the tyre identifier's when they ran), exactly as
+        mu_replay writes them;
         ``attrs``: ``meta`` (the estimate log's metadata), ``summary`` (the --metrics JSON:
         steps, status counts, bad cells, gaps, accuracy) and ``report`` (the table
         mu_replay prints).
@@ -194,7 +197,7 @@ def replay(source: Source, *, params: Mapping[str, float] | str | os.PathLike | 
     Notes and warnings mu_replay prints are issued as :class:`RfeWarning`.
     """
     options = dict(preset=preset, filter=filter, tyre=tyre, real=real, velocity=velocity,
-                   mass_grade=mass_grade, strict=strict, require_params=require_params,
+                   mass_grade=mass_grade, tyre_id=tyre_id, strict=strict, require_params=require_params,
                    quiet=quiet)
     source = _sensor_source(source, mapping)
     out_parquet = out is not None and Path(os.fspath(out)).suffix.lower() in parquet.SUFFIXES
@@ -251,8 +254,8 @@ class Estimator:
         params: a mapping key -> value or a parameter file (docs/spec/DATA.md keys).
         real: "float" (default), "double" or "q31".
         velocity: "auto" (default), "observer" or "measured".
-        **options: the other options of :func:`replay` (filter, tyre, mass_grade, strict,
-            require_params).
+        **options: the other options of :func:`replay` (filter, tyre, mass_grade, tyre_id,
+            strict, require_params).
 
     A DataFrame or a mapping of columns runs in memory (no file, nothing printed, the GIL
     released while the C code steps), with the estimates of :func:`replay` bit for bit (a
@@ -309,10 +312,10 @@ class Estimator:
             meta: the log's metadata (replaces ``attrs["meta"]``).
 
         Returns:
-            The estimate log's columns (t, mu_*, sd_*, valid_*, status, and the observer's and
-            the mass and grade estimator's when they ran), equal to :func:`replay`'s; in memory
-            ``attrs["stats"]`` holds the run's counters (steps, status counts, gaps, q31
-            saturations).
+            The estimate log's columns (t, mu_*, sd_*, valid_*, status, and the observer's,
+            the mass and grade estimator's and the tyre identifier's when they ran), equal to
+            :func:`replay`'s; in memory ``attrs["stats"]`` holds the run's counters (steps,
+            status counts, gaps, q31 saturations).
 
         Raises:
             UsageError, InputError and its per-status subclasses, as :func:`replay`; in memory

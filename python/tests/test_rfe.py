@@ -140,6 +140,28 @@ def test_metrics_equal_cli_json(tmp_path: Path) -> None:
     assert est.attrs["summary"]["status_counts"] == want["status_counts"]
 
 
+def test_tyre_id_passes_through(tmp_path: Path) -> None:
+    """tyre_id="apf" is mu_replay's --tyre-id apf: the same file byte for byte, the issue's
+    columns in the DataFrame and the identifier's counts in the summary; tyre_id="off" is the
+    run without it."""
+    log = "scenarios/tyre_id/tid_sine_steer.csv"
+    ref = tmp_path / "cli.csv"
+    js = tmp_path / "cli.json"
+    assert cli("--in", log, "--out", str(ref), "--metrics", str(js), "--tyre-id", "apf",
+               "--quiet").returncode == 0
+    out = tmp_path / "pkg.csv"
+    df = rfe.replay(ROOT / log, tyre_id="apf", out=out, quiet=True)
+    assert out.read_bytes() == ref.read_bytes()
+    assert list(df.columns[-14:]) == ["mu_id_f", "mu_id_r", "sd_mu_id_f", "sd_mu_id_r",
+                                      "B_f", "C_f", "D_f", "E_f", "B_r", "C_r", "D_r", "E_r",
+                                      "tid_status", "tid_flags"]
+    assert df.attrs["summary"]["tyre_id"] == json.loads(js.read_text(encoding="utf-8"))["tyre_id"]
+    off = rfe.replay(ROOT / log, tyre_id="off", quiet=True)
+    assert "mu_id_f" not in off.columns and "tyre_id" not in off.attrs["summary"]
+    with pytest.raises(rfe.UsageError):
+        rfe.replay(ROOT / log, tyre_id="ukf", quiet=True)
+
+
 def test_python_m_rfe_is_mu_replay(tmp_path: Path) -> None:
     """python -m rfe: the same stdout, stderr, exit status and files as mu_replay."""
     env = dict(os.environ)

@@ -1061,6 +1061,12 @@ static const char *const k_est_velocity_header =
     ",vx_est,vy_est,beta_est,yaw_acc_est,sd_vx,sd_vy,sd_beta";
 /* The mass and grade estimator's columns, written when it ran (DATA.md "Estimate log"). */
 static const char *const k_est_mass_grade_header = ",mass_est,sd_mass,grade_est,sd_grade,mg_status,mass_used";
+/* The tyre identifier's columns, written when it ran (DATA.md "Estimate log"; names fixed by
+ * issue 20). */
+static const char *const k_est_tyre_id_header =
+    ",mu_id_f,mu_id_r,sd_mu_id_f,sd_mu_id_r,B_f,C_f,D_f,E_f,B_r,C_r,D_r,E_r,tid_status,tid_flags";
+/* The friction estimator's lateral curve, written when the identified one is fed. */
+static const char *const k_est_tyre_feed_header = ",cy_used,shape_Cy_used,shape_Ey_used,r_model_rel_used";
 
 /* Metadata value on one line: control characters (a newline in a file name) become '?'. */
 static void write_sanitised(FILE *f, const char *s)
@@ -1085,9 +1091,11 @@ int rfe_estimate_log_write_stream(FILE *f, const rfe_kv_t *meta, size_t n_meta,
         write_sanitised(f, meta[i].value);
         fputc('\n', f);
     }
-    fprintf(f, "%s%s%s\n", k_est_header,
+    fprintf(f, "%s%s%s%s%s\n", k_est_header,
             ((n_rows > 0u) && (rows[0].has_velocity != 0)) ? k_est_velocity_header : "",
-            ((n_rows > 0u) && (rows[0].has_mass_grade != 0)) ? k_est_mass_grade_header : "");
+            ((n_rows > 0u) && (rows[0].has_mass_grade != 0)) ? k_est_mass_grade_header : "",
+            ((n_rows > 0u) && (rows[0].has_tyre_id != 0)) ? k_est_tyre_id_header : "",
+            ((n_rows > 0u) && (rows[0].has_tyre_feed != 0)) ? k_est_tyre_feed_header : "");
     for (i = 0u; i < n_rows; ++i) {
         const rfe_est_row_t *e = &rows[i];
         /* t is the input time, copied exactly whatever the run precision. */
@@ -1121,6 +1129,23 @@ int rfe_estimate_log_write_stream(FILE *f, const rfe_kv_t *meta, size_t n_meta,
             fprintf(f, ",%d", e->mg_status);
             format(num, e->mass_used);
             fprintf(f, ",%s", num);
+        }
+        if (rows[0].has_tyre_id != 0) {
+            const double v[12] = {e->mu_id[0], e->mu_id[1], e->sd_mu_id[0], e->sd_mu_id[1],
+                                  e->mf_B[0],  e->mf_C[0],  e->mf_D[0],     e->mf_E[0],
+                                  e->mf_B[1],  e->mf_C[1],  e->mf_D[1],     e->mf_E[1]};
+            for (w = 0u; w < 12u; ++w) {
+                format(num, v[w]);
+                fprintf(f, ",%s", num);
+            }
+            fprintf(f, ",%d,%u", e->tid_status, e->tid_flags);
+        }
+        if (rows[0].has_tyre_feed != 0) {
+            const double c[4] = {e->cy_used, e->shape_Cy_used, e->shape_Ey_used, e->r_model_rel_used};
+            for (w = 0u; w < 4u; ++w) {
+                format(num, c[w]);
+                fprintf(f, ",%s", num);
+            }
         }
         fputc('\n', f);
     }

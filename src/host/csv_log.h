@@ -250,6 +250,17 @@ typedef struct {
     int mg_status;      /**< rfe_status_t of its step */
     double mass_used;   /**< the friction estimator's mass at this sample [kg] (mg_feed_sd_rel:
                              the last mass_est fed, else the parameter m) */
+    int has_tyre_id;    /**< 1 when the tyre identifier ran: the fields below are written
+                             (mu_id_f .. E_r, tid_status, tid_flags; DATA.md "Estimate log") */
+    double mu_id[2];    /**< mu = D / Fz of the front [0] and rear [1] axle [1] */
+    double sd_mu_id[2]; /**< their sd [1] */
+    double mf_B[2], mf_C[2], mf_D[2], mf_E[2]; /**< the Magic Formula per axle: B [1/rad], C,
+                                                    D [N], E (weighted means) */
+    int tid_status;     /**< rfe_status_t of its step */
+    unsigned tid_flags; /**< its RFE_TID_* bits (rfe/tyre_id.h) */
+    int has_tyre_feed;  /**< 1 when the identified curve is fed (tid_feed_sd_rel > 0): the
+                             friction estimator's curve of this sample's step is written */
+    double cy_used, shape_Cy_used, shape_Ey_used, r_model_rel_used; /**< [1/rad], 1, 1, 1 */
 } rfe_est_row_t;
 
 /** Number format of estimate-log values. */

@@ -17,6 +17,7 @@
 
 #include "csv_log.h"
 #include "log_timing.h"
+#include "rfe/config.h"
 #include "metrics.h"
 #include "param_file.h"
 #include "replay_q31.h"
@@ -26,6 +27,12 @@
 
 #define PROG "mu_replay"
 
+/* The tyre identifier's particle count RFE_TID_N (rfe/config.h) as text, for the metadata,
+ * the summary and the JSON. */
+#define TEXT2_(x) #x
+#define TEXT_(x) TEXT2_(x)
+#define RFE_TID_N_TEXT TEXT_(RFE_TID_N)
+
 /** Exit statuses. */
 enum { EXIT_OK = 0, EXIT_INPUT = 1, EXIT_USAGE = 2 };
 
@@ -33,7 +40,8 @@ static const char k_usage[] =
     "usage: " PROG " --in SENSOR.csv --out ESTIMATE.csv [--preset default|paper]\n"
     "                 [--params FILE] [--filter sckf|ckf] [--tyre paper|absolute|magic]\n"
     "                 [--real float|double|q31] [--velocity auto|observer|measured]\n"
-    "                 [--mass-grade ukf|aukf|off] [--metrics FILE.json] [--strict]\n"
+    "                 [--mass-grade ukf|aukf|off] [--tyre-id apf|sir|off]\n"
+    "                 [--metrics FILE.json] [--strict]\n"
     "                 [--require-params] [--quiet] [--help]\n"
     "\n"
     "Runs the road-friction estimator over a sensor log (docs DATA.md) and writes the\n"
@@ -83,6 +91,19 @@ static const char k_usage_rest[] =
     "                   give the mass error at the end and the grade's RMSE. off: not\n"
     "                   run (the columns are ignored). Not with --real q31 (the\n"
     "                   replay does not run its fixed-point twin yet: off, with a note)\n"
+    "  --tyre-id FILTER the online tyre identifier (docs/TYRE_ID.md) beside the\n"
+    "                   friction estimator: apf (the auxiliary particle filter) or sir\n"
+    "                   (the bootstrap filter) sets tid_filter; off (default): not run.\n"
+    "                   It takes delta, yaw_rate, ay, ax and the velocity's vx (the\n"
+    "                   observer's behind it), the friction estimator's vehicle and tyre\n"
+    "                   data and the tid_* keys (tid_seed its stream's seed; the particle\n"
+    "                   count is fixed at compile time). The estimate log gains mu_id_f,\n"
+    "                   mu_id_r, sd_mu_id_f, sd_mu_id_r, B_f .. E_r, tid_status and\n"
+    "                   tid_flags; the summary and --metrics its status counts. Float\n"
+    "                   and double only: not with --real q31. The key tid_feed_sd_rel\n"
+    "                   (default 0: never) feeds its curve to the friction estimator\n"
+    "                   after an update whose cornering stiffness is known within that\n"
+    "                   relative sd (docs/TYRE_ID.md §14; measured velocities only)\n"
     "  --metrics FILE   write run summary and accuracy as JSON\n"
     "  --strict         stop at the first empty, nan/inf or out-of-range cell (exit 1);\n"
     "                   by default such a cell goes to the estimator as NaN/Inf, which\n"
@@ -109,6 +130,7 @@ typedef struct {
     const char *real;
     const char *velocity;
     const char *mass_grade; /**< --mass-grade ukf|aukf|off */
+    const char *tyre_id;    /**< --tyre-id apf|sir|off */
     int quiet;
     int help;
     int strict; /**< --strict: a bad cell is an input error */
@@ -130,6 +152,7 @@ typedef struct {
     int is_q31;
     int use_observer;  /**< vx, vy, r-dot from the velocity observer (--velocity) */
     int mg_ran;        /**< the mass and grade estimator ran (the rows carry its columns) */
+    int tid_ran;       /**< the tyre identifier ran (the rows carry its columns) */
     int preset_vehicle; /**< a vehicle key from no file: the preset's value (check_vehicle) */
     int has_metrics;
     rfe_metrics_t metrics;
@@ -168,6 +191,9 @@ static int apply_params_text(rfe_param_set_t *ps, const char *text, rfe_io_error
 static int mass_grade_flags(const options_t *o, run_t *r);
 static void print_mass_grade(const run_t *r);
 static void write_mass_grade_json(FILE *f, const run_t *r);
+static void tyre_id_flag(const options_t *o, run_t *r);
+static void print_tyre_id(const run_t *r);
+static void write_tyre_id_json(FILE *f, const run_t *r);
 
 int main(int argc, char **argv)
 {
@@ -239,8 +265,8 @@ static int usage_error(const options_t *o, const char *fmt, const char *arg)
 /* Where the value of a value-taking option goes, or NULL for an unknown name. */
 static const char **option_slot(options_t *o, const char *name)
 {
-    static const char *const names[] = {"in",     "out",  "params", "metrics",  "filter",
-                                        "tyre",   "real", "preset", "velocity", "mass-grade"};
+    static const char *const names[] = {"in",   "out",    "params",   "metrics",    "filter", "tyre",
+                                        "real", "preset", "velocity", "mass-grade", "tyre-id"};
     const char **slots[sizeof names / sizeof names[0]];
     size_t i;
     slots[0] = &o->in;
@@ -253,6 +279,7 @@ static const char **option_slot(options_t *o, const char *name)
     slots[7] = &o->preset;
     slots[8] = &o->velocity;
     slots[9] = &o->mass_grade;
+    slots[10] = &o->tyre_id;
     for (i = 0u; i < sizeof names / sizeof names[0]; ++i) {
         if (strcmp(names[i], name) == 0) {
             return slots[i];
@@ -362,6 +389,17 @@ static int check_option_words(options_t *o)
                            "--mass-grade off",
                            o->mass_grade);
     }
+    if ((o->tyre_id != NULL) && (strcmp(o->tyre_id, "apf") != 0) &&
+        (strcmp(o->tyre_id, "sir") != 0) && (strcmp(o->tyre_id, "off") != 0)) {
+        return usage_error(o, "--tyre-id must be apf, sir or off, not '%s'", o->tyre_id);
+    }
+    if ((o->tyre_id != NULL) && (strcmp(o->tyre_id, "off") != 0) && (o->real != NULL) &&
+        (strcmp(o->real, "q31") == 0)) {
+        return usage_error(o, "--tyre-id %s: the tyre identifier is float and double only (no "
+                           "fixed-point twin: docs/TYRE_ID.md §12); use --real float or double, "
+                           "or --tyre-id off",
+                           o->tyre_id);
+    }
     if (same_file(o->out, o->in) || ((o->params != NULL) && same_file(o->out, o->params)) ||
         ((o->metrics != NULL) && (same_file(o->metrics, o->in) || same_file(o->metrics, o->out)))) {
         return usage_error(o, "%s", "an output file (--out, --metrics) is also an input or the other output");
@@ -461,6 +499,7 @@ static int resolve_params(const options_t *o, run_t *r)
     if (mass_grade_flags(o, r) != 0) {
         return -1;
     }
+    tyre_id_flag(o, r);
     if ((o->velocity != NULL) && (strcmp(o->velocity, "measured") == 0) && !r->log.has_velocity) {
         rfe_io_error_set(&err, o->in, 0u, 0u, "%s",
                          "--velocity measured needs the columns vx, vy, yaw_acc; this log has "
@@ -504,6 +543,20 @@ static int mass_grade_flags(const options_t *o, run_t *r)
                 PROG, o->in);
     }
     return 0;
+}
+
+/* The tyre identifier runs only when --tyre-id names a filter (off by default, until it
+ * earns its place in a preset); the flag sets tid_filter over every file, as --mass-grade
+ * sets mg_adaptive. */
+static void tyre_id_flag(const options_t *o, run_t *r)
+{
+    rfe_tid_filter_t f;
+    r->ps.tyre_id = (o->tyre_id != NULL) && (rfe_tid_filter_parse(o->tyre_id, &f) == 0);
+    if (r->ps.tyre_id) {
+        r->ps.tid[RFE_PK_tid_filter - RFE_PK_TID_FIRST] = (double)f;
+        r->ps.origin[RFE_PK_tid_filter].file = "command line";
+        r->ps.origin[RFE_PK_tid_filter].line = 0u;
+    }
 }
 
 /* Whether vehicle key @p k (m .. hg) came from no file: neither the log's metadata nor a
@@ -714,6 +767,7 @@ static int run_estimator(const options_t *o, run_t *r)
         st = run(&r->ps, &r->log, r->rows, &r->stats, &bad);
     }
     r->mg_ran = (st == RFE_OK) && (r->log.n_rows > 0u) && (r->rows[0].has_mass_grade != 0);
+    r->tid_ran = (st == RFE_OK) && (r->log.n_rows > 0u) && (r->rows[0].has_tyre_id != 0);
     return (st == RFE_OK) ? 0 : start_error(o, r, st, bad);
 }
 
@@ -751,12 +805,15 @@ static int start_error(const options_t *o, const run_t *r, rfe_status_t st, size
     } else {
         rfe_io_error_set(&err, o->in, 0u, 0u,
                          "estimator init failed: %s (check the parameter combination: "
-                         "mu_min < mu_max, mu0 within them%s)",
+                         "mu_min < mu_max, mu0 within them%s%s)",
                          rfe_status_str(st),
                          r->ps.mass_grade ? "; mass and grade: mg_m_min < mg_m0 < mg_m_max, "
                                             "|mg_theta0| < mg_theta_max, mg_ut_* with n + lambda "
                                             "> 0, docs/MASS_GRADE.md §6"
-                                          : "");
+                                          : "",
+                         r->ps.tyre_id ? "; tyre identifier: tid_mu0, shape_Cy, cy and shape_Ey "
+                                         "within their tid_* bounds, docs/TYRE_ID.md §2"
+                                       : "");
     }
     return fail(o, &err);
 }
@@ -767,6 +824,16 @@ static const char *validator_name(size_t k)
 {
     if (k == (size_t)RFE_PK_mg_feed_sd_rel) {
         return "mu_replay: a relative sd >= 0";
+    }
+    if (k == (size_t)RFE_PK_tid_seed) {
+        return "mu_replay: an integer 0 .. 2^53";
+    }
+    if (k == (size_t)RFE_PK_tid_feed_sd_rel) {
+        return "mu_replay: a relative sd >= 0, and 0 behind the velocity observer, whose "
+               "pipeline has no lateral tyre setter";
+    }
+    if (rfe_param_is_tid(k) != 0) {
+        return "rfe_tyre_id_params_validate";
     }
     if (rfe_param_is_mg(k) != 0) {
         return "rfe_mass_grade_params_validate";
@@ -818,7 +885,7 @@ static size_t saturation_meta(const run_t *r, rfe_kv_t *meta, char vals[][RFE_NU
  * [param_file], then every numeric key (the obs_* keys when the observer ran). */
 static int write_estimates(const options_t *o, const run_t *r)
 {
-    rfe_kv_t meta[15u + RFE_PK_COUNT];
+    rfe_kv_t meta[17u + RFE_PK_COUNT];
     char vals[RFE_PK_COUNT][RFE_NUM_BUF];
     char sat_vals[5][RFE_NUM_BUF];
     size_t n = 0u;
@@ -840,6 +907,12 @@ static int write_estimates(const options_t *o, const run_t *r)
         meta[n].key = "mass_grade";
         meta[n++].value = mg_config_name(r);
     }
+    if (r->tid_ran) { /* as the mass and grade estimator's */
+        meta[n].key = "tyre_id";
+        meta[n++].value = rfe_tid_filter_str((rfe_tid_filter_t)r->ps.tid[RFE_PK_tid_filter - RFE_PK_TID_FIRST]);
+        meta[n].key = "tid_n"; /* RFE_TID_N: information, not a key */
+        meta[n++].value = RFE_TID_N_TEXT;
+    }
     meta[n].key = "structure";
     meta[n++].value = rfe_structure_str(r->ps.structure);
     meta[n].key = "real";
@@ -853,7 +926,7 @@ static int write_estimates(const options_t *o, const run_t *r)
     for (k = 0u; k < (size_t)RFE_PK_COUNT; ++k) {
         /* numbers only (the words are above); the observer's keys when it ran */
         if ((rfe_param_is_word(k) == 0) && (r->use_observer || (rfe_param_is_obs(k) == 0)) &&
-            (r->mg_ran || (rfe_param_is_mg(k) == 0))) {
+            (r->mg_ran || (rfe_param_is_mg(k) == 0)) && (r->tid_ran || (rfe_param_is_tid(k) == 0))) {
             rfe_param_format(&r->ps, k, vals[k]);
             meta[n].key = rfe_param_info(k)->key;
             meta[n++].value = vals[k];
@@ -968,6 +1041,7 @@ static int write_metrics_json(const options_t *o, const run_t *r)
     }
     fputs("},\n", f);
     write_mass_grade_json(f, r);
+    write_tyre_id_json(f, r);
     fputs("  \"metrics\": ", f);
     if (r->has_metrics) {
         rfe_metrics_write_json(f, &r->metrics, 2);
@@ -1043,6 +1117,7 @@ static void print_status_counts(const run_t *r)
                "(rfe_velocity_restart)\n", r->stats.n_restarts);
     }
     print_mass_grade(r);
+    print_tyre_id(r);
     if (r->is_q31) {
         printf("saturation (q31): estimator %llu events in %zu steps (at most %lu in one step); "
                "input %llu values in %zu rows\n",
@@ -1196,6 +1271,88 @@ static void print_mass_grade(const run_t *r)
     }
 }
 
+/* ------------------------------------------------------------ tyre identifier */
+
+/* The names of the tyre identifier's status bits, RFE_TID_UPDATED (bit 0) .. RFE_TID_LOST. */
+static const char *const k_tid_flag_names[RFE_REPLAY_TID_FLAGS] = {"updated", "resampled", "held",
+                                                                   "first", "lost"};
+
+/* "tyre_id": {...}, when the identifier ran: its configuration, the status and flag counts,
+ * the restarts and the last estimate. */
+static void write_tyre_id_json(FILE *f, const run_t *r)
+{
+    const rfe_est_row_t *last = &r->rows[r->log.n_rows - 1u];
+    const double end[12] = {last->mu_id[0], last->sd_mu_id[0], last->mu_id[1], last->sd_mu_id[1],
+                            last->mf_B[0],  last->mf_C[0],     last->mf_D[0],  last->mf_E[0],
+                            last->mf_B[1],  last->mf_C[1],     last->mf_D[1],  last->mf_E[1]};
+    static const char *const end_names[12] = {"mu_id_f", "sd_mu_id_f", "mu_id_r", "sd_mu_id_r",
+                                              "B_f",     "C_f",        "D_f",     "E_f",
+                                              "B_r",     "C_r",        "D_r",     "E_r"};
+    const char *sep = "";
+    char seed[RFE_NUM_BUF];
+    size_t s;
+    if (!r->tid_ran) {
+        return;
+    }
+    rfe_param_format(&r->ps, (size_t)RFE_PK_tid_seed, seed);
+    fprintf(f, "  \"tyre_id\": {\"filter\": \"%s\", \"resample\": \"%s\", \"n\": %s, "
+               "\"seed\": %s, \"status_counts\": {",
+            rfe_tid_filter_str((rfe_tid_filter_t)r->ps.tid[RFE_PK_tid_filter - RFE_PK_TID_FIRST]),
+            rfe_tid_resample_str((rfe_tid_resample_t)r->ps.tid[RFE_PK_tid_resample - RFE_PK_TID_FIRST]), RFE_TID_N_TEXT, seed);
+    for (s = 0u; s < RFE_REPLAY_STATUS_SLOTS; ++s) {
+        if (r->stats.tid_status_count[s] != 0u) {
+            fprintf(f, "%s\"%zu\": %zu", sep, s, r->stats.tid_status_count[s]);
+            sep = ", ";
+        }
+    }
+    fputs("},\n    \"flag_counts\": {", f);
+    for (s = 0u; s < RFE_REPLAY_TID_FLAGS; ++s) {
+        fprintf(f, "%s\"%s\": %zu", (s > 0u) ? ", " : "", k_tid_flag_names[s],
+                r->stats.tid_flag_count[s]);
+    }
+    fprintf(f, "}, \"restarts\": %zu, \"end\": {", r->stats.tid_restarts);
+    for (s = 0u; s < 12u; ++s) {
+        fprintf(f, "%s\"%s\": ", (s > 0u) ? ", " : "", end_names[s]);
+        rfe_json_write_number(f, end[s]);
+    }
+    fputs("},\n    \"feed\": {\"sd_rel\": ", f);
+    rfe_json_write_number(f, r->ps.tid[RFE_PK_tid_feed_sd_rel - RFE_PK_TID_FIRST]);
+    fprintf(f, ", \"n_fed\": %zu}},\n", r->stats.n_tyre_fed);
+}
+
+/* The summary's tyre identifier lines, when it ran. */
+static void print_tyre_id(const run_t *r)
+{
+    const rfe_est_row_t *last = &r->rows[r->log.n_rows - 1u];
+    size_t s;
+    if (!r->tid_ran) {
+        return;
+    }
+    printf("tyre identifier (%s, %s, %s particles): at the end mu_id_f %.3f (sd %.3f), mu_id_r "
+           "%.3f (sd %.3f)\n",
+           rfe_tid_filter_str((rfe_tid_filter_t)r->ps.tid[RFE_PK_tid_filter - RFE_PK_TID_FIRST]),
+           rfe_tid_resample_str((rfe_tid_resample_t)r->ps.tid[RFE_PK_tid_resample - RFE_PK_TID_FIRST]), RFE_TID_N_TEXT, last->mu_id[0],
+           last->sd_mu_id[0], last->mu_id[1], last->sd_mu_id[1]);
+    for (s = 0u; s < RFE_REPLAY_STATUS_SLOTS; ++s) {
+        if (r->stats.tid_status_count[s] != 0u) {
+            const char *name = (s + 1u < RFE_REPLAY_STATUS_SLOTS)
+                                   ? rfe_status_str((rfe_status_t)s)
+                                   : "other status values";
+            printf("  tid status %2zu %-36s %zu\n", s, name, r->stats.tid_status_count[s]);
+        }
+    }
+    printf("  samples updated %zu, resampled %zu, held %zu, first %zu, lost %zu; started afresh "
+           "after a period beyond tid_dt_max: %zu\n",
+           r->stats.tid_flag_count[0], r->stats.tid_flag_count[1], r->stats.tid_flag_count[2],
+           r->stats.tid_flag_count[3], r->stats.tid_flag_count[4], r->stats.tid_restarts);
+    if (last->has_tyre_feed != 0) {
+        printf("  lateral curve fed to the friction estimator at %zu samples (tid_feed_sd_rel = %g); "
+               "its curve at the end cy %.2f /rad, C %.3f, E %.3f, r_model_rel %.4f\n",
+               r->stats.n_tyre_fed, r->ps.tid[RFE_PK_tid_feed_sd_rel - RFE_PK_TID_FIRST],
+               last->cy_used, last->shape_Cy_used, last->shape_Ey_used, last->r_model_rel_used);
+    }
+}
+
 /* ------------------------------------------------------------ the run in memory */
 
 /* `key = value` lines from memory, read as a parameter file named "params" (its own reader:
@@ -1291,6 +1448,8 @@ int rfe_mu_replay_open(rfe_replay_mem_t *m, int argc, char **argv, const char *p
         m->ps = r.ps;
         m->observer = r.use_observer;
         m->mass_grade = r.ps.mass_grade;
+        m->tyre_id = r.ps.tyre_id;
+        m->tyre_feed = r.ps.tyre_id && (r.ps.tid[RFE_PK_tid_feed_sd_rel - RFE_PK_TID_FIRST] > 0.0);
         m->dt_given = (r.ps.origin[RFE_PK_dt].file != NULL) &&
                       (strcmp(r.ps.origin[RFE_PK_dt].file, "the log's time stamps") != 0);
         m->preset_vehicle = r.preset_vehicle;

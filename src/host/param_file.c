@@ -28,6 +28,12 @@ static const rfe_param_info_t k_info[RFE_PK_COUNT] = {
     {"mg_use_ax", "-", "mass and grade: 1 the accelerometer row, 0 speed and torque only"},
     {"mg_feed_sd_rel", "1", "replay: feed mass_est to the friction estimator after an update with sd_mass <= this * mass_est (0 = never)"},
     RFE_MG_KEYS(RFE_PK_INFO_)
+    {"tid_filter", "-", "tyre identifier: apf (the auxiliary particle filter) or sir (the bootstrap filter)"},
+    {"tid_resample", "-", "tyre identifier: how parents are drawn, multinomial or systematic"},
+    {"tid_substeps", "-", "tyre identifier: RK4 steps per sample period (an integer)"},
+    {"tid_seed", "-", "tyre identifier: seed of its random stream (an integer 0 .. 2^53)"},
+    {"tid_feed_sd_rel", "1", "replay: feed the identified lateral curve to the friction estimator after an update with sd(K) <= this * K (0 = never)"},
+    RFE_TID_KEYS(RFE_PK_INFO_)
 #undef RFE_PK_INFO_
 };
 
@@ -35,8 +41,12 @@ static const char *const k_tyre_words[] = {"paper", "absolute", "magic"}; /* rfe
 static const char *const k_filter_words[] = {"sckf", "ckf"};         /* rfe_filter_kind_t order */
 static const char *const k_structure_words[] = {"wheels", "sides"};  /* rfe_structure_t order */
 static const char *const k_preset_words[] = {"default", "paper"};    /* rfe_preset_t order */
+static const char *const k_tid_filter_words[] = {"apf", "sir"};     /* rfe_tid_filter_t order */
+static const char *const k_tid_resample_words[] = {"multinomial", "systematic"}; /* rfe_tid_resample_t */
 
 static int word_index(const char *s, const char *const *words, size_t n);
+static int takes_word(size_t k);
+static rfe_num_status_t tid_word(rfe_param_set_t *ps, size_t k, const char *value);
 static int apply_line(rfe_param_set_t *ps, char *line, const char *name, size_t line_no,
                       size_t first_seen[RFE_PK_COUNT], rfe_io_error_t *err);
 static int report_unknown_key(const char *key, const char *name, size_t line_no, size_t col,
@@ -66,6 +76,14 @@ void rfe_param_format(const rfe_param_set_t *ps, size_t k, char buf[RFE_NUM_BUF]
         rfe_text_format_double(buf, ps->obs[k - RFE_PK_OBS_FIRST]);
     } else if (rfe_param_is_mg(k) != 0) {
         rfe_text_format_double(buf, ps->mg[k - RFE_PK_MG_FIRST]);
+    } else if (k == (size_t)RFE_PK_tid_filter) {
+        (void)snprintf(buf, RFE_NUM_BUF, "%s",
+                       rfe_tid_filter_str((rfe_tid_filter_t)ps->tid[k - RFE_PK_TID_FIRST]));
+    } else if (k == (size_t)RFE_PK_tid_resample) {
+        (void)snprintf(buf, RFE_NUM_BUF, "%s",
+                       rfe_tid_resample_str((rfe_tid_resample_t)ps->tid[k - RFE_PK_TID_FIRST]));
+    } else if (rfe_param_is_tid(k) != 0) {
+        rfe_text_format_double(buf, ps->tid[k - RFE_PK_TID_FIRST]);
     } else {
         const char *w = (k == (size_t)RFE_PK_TYRE)     ? rfe_tyre_mode_str(ps->tyre)
                         : (k == (size_t)RFE_PK_FILTER) ? rfe_filter_kind_str(ps->filter)
@@ -87,6 +105,9 @@ rfe_num_status_t rfe_param_set_text(rfe_param_set_t *ps, size_t k, const char *v
     if (k == (size_t)RFE_PK_STRUCTURE) {
         return (rfe_structure_parse(value, &ps->structure) == 0) ? RFE_NUM_OK : RFE_NUM_SYNTAX;
     }
+    if (rfe_param_is_tid_word(k) != 0) {
+        return tid_word(ps, k, value);
+    }
     if ((k >= (size_t)RFE_PK_COUNT) || (rfe_param_is_word(k) != 0)) {
         return RFE_NUM_SYNTAX;
     }
@@ -95,12 +116,41 @@ rfe_num_status_t rfe_param_set_text(rfe_param_set_t *ps, size_t k, const char *v
         ps->value[k] = v;
     } else if ((st == RFE_NUM_OK) && (rfe_param_is_obs(k) != 0)) {
         ps->obs[k - RFE_PK_OBS_FIRST] = v;
-    } else if (st == RFE_NUM_OK) {
+    } else if ((st == RFE_NUM_OK) && (rfe_param_is_mg(k) != 0)) {
         ps->mg[k - RFE_PK_MG_FIRST] = v;
+    } else if (st == RFE_NUM_OK) {
+        ps->tid[k - RFE_PK_TID_FIRST] = v;
     } else {
         /* st names what is wrong with the text */
     }
     return st;
+}
+
+/* 1 when key @p k takes a word, not a number: tyre, filter, structure, tid_filter,
+ * tid_resample. */
+static int takes_word(size_t k)
+{
+    return (rfe_param_is_word(k) != 0) || (rfe_param_is_tid_word(k) != 0);
+}
+
+/* tid_filter or tid_resample from its word, stored as the enum's value. */
+static rfe_num_status_t tid_word(rfe_param_set_t *ps, size_t k, const char *value)
+{
+    rfe_tid_filter_t f;
+    rfe_tid_resample_t r;
+    double *slot = &ps->tid[k - RFE_PK_TID_FIRST];
+    if (k == (size_t)RFE_PK_tid_filter) {
+        if (rfe_tid_filter_parse(value, &f) != 0) {
+            return RFE_NUM_SYNTAX;
+        }
+        *slot = (double)f;
+    } else {
+        if (rfe_tid_resample_parse(value, &r) != 0) {
+            return RFE_NUM_SYNTAX;
+        }
+        *slot = (double)r;
+    }
+    return RFE_NUM_OK;
 }
 
 /* ------------------------------------------------------------ parameter files */
@@ -194,7 +244,7 @@ static int apply_line(rfe_param_set_t *ps, char *line, const char *name, size_t 
         rfe_text_quote(q, sizeof q, value, QUOTE_MAX);
         rfe_io_error_set(err, name, line_no, (size_t)(value - line) + 1u, "value of '%s': %s: '%s'",
                          k_info[k].key,
-                         (rfe_param_is_word(k) != 0) ? "not one of the allowed words"
+                         takes_word(k) ? "not one of the allowed words"
                                                : rfe_num_status_str(st),
                          q);
         return -1;
@@ -241,7 +291,7 @@ int rfe_param_set_apply_meta(rfe_param_set_t *ps, const rfe_sensor_log_t *log,
         if (st != RFE_NUM_OK) {
             rfe_text_quote(q, sizeof q, e->value, QUOTE_MAX);
             rfe_io_error_set(err, log_name, e->line, 0u, "metadata '%s': %s: '%s'", e->key,
-                             (rfe_param_is_word(k) != 0) ? "not one of the allowed words"
+                             takes_word(k) ? "not one of the allowed words"
                                                    : rfe_num_status_str(st),
                              q);
             return -1;
@@ -325,5 +375,35 @@ int rfe_preset_parse(const char *s, rfe_preset_t *out)
         return -1;
     }
     *out = (i == 0) ? RFE_PRESET_DEFAULT : RFE_PRESET_PAPER;
+    return 0;
+}
+
+const char *rfe_tid_filter_str(rfe_tid_filter_t f)
+{
+    return ((unsigned)f < 2u) ? k_tid_filter_words[f] : "?";
+}
+
+const char *rfe_tid_resample_str(rfe_tid_resample_t r)
+{
+    return ((unsigned)r < 2u) ? k_tid_resample_words[r] : "?";
+}
+
+int rfe_tid_filter_parse(const char *s, rfe_tid_filter_t *out)
+{
+    int i = word_index(s, k_tid_filter_words, 2u);
+    if (i < 0) {
+        return -1;
+    }
+    *out = (i == 0) ? RFE_TID_APF : RFE_TID_SIR;
+    return 0;
+}
+
+int rfe_tid_resample_parse(const char *s, rfe_tid_resample_t *out)
+{
+    int i = word_index(s, k_tid_resample_words, 2u);
+    if (i < 0) {
+        return -1;
+    }
+    *out = (i == 0) ? RFE_TID_MULTINOMIAL : RFE_TID_SYSTEMATIC;
     return 0;
 }

@@ -16,6 +16,7 @@
 #include "csv_log.h"
 #include "rfe/mass_grade_bits.h"
 #include "rfe/params.h"
+#include "rfe/tyre_id_params.h"
 #include "text_io.h"
 
 /**
@@ -163,9 +164,47 @@
     X(mg_theta_max, theta_max, "rad", "grade bound")                                             \
     X(mg_dt_max, dt_max, "s", "a longer sample period restarts the filter")
 
+/**
+ * The tyre identifier's keys (docs/TYRE_ID.md §2): X(key, rfe_tyre_id_params_t member, unit,
+ * doc), each an rfe_real_t; tid_filter and tid_resample (words), tid_substeps (an integer) and
+ * tid_seed (the init's seed, no member) come before them (RFE_PK_TID_SPECIAL). The vehicle and
+ * the prior's tyre data are the friction estimator's keys. No values: they start from
+ * rfe_tyre_id_params_default. The particle count is RFE_TID_N, fixed at compile time: no key.
+ */
+#define RFE_TID_KEYS(X) \
+    X(tid_v_min, v_min, "m/s", "below this vx (this or the previous sample) the identifier holds") \
+    X(tid_dt_max, dt_max, "s", "longest sample period; a longer one starts the identifier afresh") \
+    X(tid_sd_r, sd_r, "rad/s", "likelihood sd of the yaw rate")                                  \
+    X(tid_sd_ay, sd_ay, "m/s^2", "likelihood sd of ay")                                          \
+    X(tid_sd_delta, sd_delta, "rad", "steering-angle noise through each particle's front slope") \
+    X(tid_q_vy, q_vy, "m/s/sqrt(s)", "process noise density of vy")                              \
+    X(tid_q_r, q_r, "rad/s/sqrt(s)", "process noise density of r")                               \
+    X(tid_q_mu, q_mu, "1/sqrt(s)", "random walk of D/Fz0")                                       \
+    X(tid_q_C, q_C, "1/sqrt(s)", "random walk of C")                                             \
+    X(tid_q_cy, q_cy, "1/rad/sqrt(s)", "random walk of K/Fz0")                                   \
+    X(tid_q_E, q_E, "1/sqrt(s)", "random walk of E")                                             \
+    X(tid_mu0, mu0, "1", "prior mean of D/Fz0")                                                  \
+    X(tid_sd0_mu, sd0_mu, "1", "prior sd of D/Fz0")                                              \
+    X(tid_sd0_C, sd0_C, "1", "prior sd of C (mean shape_Cy)")                                    \
+    X(tid_sd0_E, sd0_E, "1", "prior sd of E (mean shape_Ey)")                                    \
+    X(tid_sd0_cy_rel, sd0_cy_rel, "1", "prior sd of K/Fz0 relative to its mean cy")              \
+    X(tid_sd0_vy, sd0_vy, "m/s", "prior sd of vy (mean 0)")                                      \
+    X(tid_sd0_r, sd0_r, "rad/s", "prior sd of r (mean: the first yaw rate)")                     \
+    X(tid_mu_lo, mu_lo, "1", "lower bound of D/Fz0")                                             \
+    X(tid_mu_hi, mu_hi, "1", "upper bound of D/Fz0")                                             \
+    X(tid_C_lo, C_lo, "1", "lower bound of C")                                                   \
+    X(tid_C_hi, C_hi, "1", "upper bound of C")                                                   \
+    X(tid_cy_lo, cy_lo, "1/rad", "lower bound of K/Fz0")                                         \
+    X(tid_cy_hi, cy_hi, "1/rad", "upper bound of K/Fz0")                                         \
+    X(tid_E_lo, E_lo, "1", "lower bound of E")                                                   \
+    X(tid_E_hi, E_hi, "1", "upper bound of E")                                                   \
+    X(tid_neff_frac, neff_frac, "1", "resample when N_eff < tid_neff_frac N")                    \
+    X(tid_rough_k, rough_k, "1", "roughening constant K")
+
 /** Index of each key: the friction estimator's numeric keys RFE_PK_m, RFE_PK_Lf, ...; its
  *  three word-valued keys; then the observer's keys, obs_driven first; then the mass and
- *  grade estimator's, mg_adaptive, mg_use_ax and mg_feed_sd_rel first. */
+ *  grade estimator's, mg_adaptive, mg_use_ax and mg_feed_sd_rel first; then the tyre
+ *  identifier's, tid_filter, tid_resample, tid_substeps, tid_seed and tid_feed_sd_rel first. */
 typedef enum {
 #define RFE_PK_ENUM_(key, member, unit, doc) RFE_PK_##key,
     RFE_PARAM_KEYS(RFE_PK_ENUM_)
@@ -183,6 +222,18 @@ typedef enum {
      *  it as every mass and grade key. */
     RFE_PK_mg_feed_sd_rel,
     RFE_MG_KEYS(RFE_PK_ENUM_)
+    RFE_PK_tid_filter,   /**< key tid_filter = apf|sir (rfe_tid_filter_t; mu_replay --tyre-id) */
+    RFE_PK_tid_resample, /**< key tid_resample = multinomial|systematic (rfe_tid_resample_t) */
+    RFE_PK_tid_substeps, /**< key tid_substeps: RK4 steps per sample period, an integer */
+    /** key tid_seed: the key word k0 of the identifier's random stream, the argument of
+     *  rfe_tyre_id_init (no member of rfe_tyre_id_params_t); an integer 0 .. 2^53, which a
+     *  double holds exactly. */
+    RFE_PK_tid_seed,
+    /** key tid_feed_sd_rel: a replay key (no member): the friction estimator takes the
+     *  identified lateral curve after an update whose summed cornering stiffness has a
+     *  relative sd <= tid_feed_sd_rel (0 = never, the default; TYRE_ID.md §14). */
+    RFE_PK_tid_feed_sd_rel,
+    RFE_TID_KEYS(RFE_PK_ENUM_)
 #undef RFE_PK_ENUM_
     RFE_PK_COUNT        /**< number of keys */
 } rfe_param_key_t;
@@ -191,11 +242,15 @@ typedef enum {
 #define RFE_PK_NUMERIC ((size_t)RFE_PK_TYRE)
 /** The observer's keys: indices RFE_PK_OBS_FIRST .. RFE_PK_MG_FIRST - 1, all numeric. */
 #define RFE_PK_OBS_FIRST ((size_t)RFE_PK_obs_driven)
-/** The mass and grade estimator's keys: indices RFE_PK_MG_FIRST .. RFE_PK_COUNT - 1, all
+/** The mass and grade estimator's keys: indices RFE_PK_MG_FIRST .. RFE_PK_TID_FIRST - 1, all
  *  numeric. */
 #define RFE_PK_MG_FIRST ((size_t)RFE_PK_mg_adaptive)
+/** The tyre identifier's keys: indices RFE_PK_TID_FIRST .. RFE_PK_COUNT - 1 (tid_filter and
+ *  tid_resample take words, stored as their enum values; the others numbers). */
+#define RFE_PK_TID_FIRST ((size_t)RFE_PK_tid_filter)
 #define RFE_PK_OBS_COUNT (RFE_PK_MG_FIRST - RFE_PK_OBS_FIRST)
-#define RFE_PK_MG_COUNT ((size_t)RFE_PK_COUNT - RFE_PK_MG_FIRST)
+#define RFE_PK_MG_COUNT (RFE_PK_TID_FIRST - RFE_PK_MG_FIRST)
+#define RFE_PK_TID_COUNT ((size_t)RFE_PK_COUNT - RFE_PK_TID_FIRST)
 
 /** The mass and grade keys before the RFE_MG_KEYS table: mg_adaptive, mg_use_ax,
  *  mg_feed_sd_rel. */
@@ -203,6 +258,19 @@ typedef enum {
 
 /** mg_feed_sd_rel of every preset: fed once sd_mass / mass_est <= 2 % (MASS_GRADE.md §10). */
 #define RFE_MG_FEED_SD_REL_DEFAULT 0.02
+
+/** The tyre identifier's keys before the RFE_TID_KEYS table: tid_filter, tid_resample,
+ *  tid_substeps, tid_seed, tid_feed_sd_rel. */
+#define RFE_PK_TID_SPECIAL 5u
+
+/** tid_feed_sd_rel of every preset: 0, the identified curve is not fed (TYRE_ID.md §14). */
+#define RFE_TID_FEED_SD_REL_DEFAULT 0.0
+
+/** tid_seed of every preset (docs/TYRE_ID.md §2). */
+#define RFE_TID_SEED_DEFAULT 1.0
+
+/** Largest tid_seed: 2^53, up to which a double holds every integer. */
+#define RFE_TID_SEED_MAX 9007199254740992.0
 
 /** 1 when key @p k is an observer key (obs_*). */
 static inline int rfe_param_is_obs(size_t k)
@@ -213,7 +281,19 @@ static inline int rfe_param_is_obs(size_t k)
 /** 1 when key @p k is a mass and grade key (mg_*). */
 static inline int rfe_param_is_mg(size_t k)
 {
-    return ((k >= RFE_PK_MG_FIRST) && (k < (size_t)RFE_PK_COUNT)) ? 1 : 0;
+    return ((k >= RFE_PK_MG_FIRST) && (k < RFE_PK_TID_FIRST)) ? 1 : 0;
+}
+
+/** 1 when key @p k is a tyre identifier key (tid_*). */
+static inline int rfe_param_is_tid(size_t k)
+{
+    return ((k >= RFE_PK_TID_FIRST) && (k < (size_t)RFE_PK_COUNT)) ? 1 : 0;
+}
+
+/** 1 when key @p k takes a word of the tyre identifier (tid_filter, tid_resample). */
+static inline int rfe_param_is_tid_word(size_t k)
+{
+    return ((k == (size_t)RFE_PK_tid_filter) || (k == (size_t)RFE_PK_tid_resample)) ? 1 : 0;
 }
 
 /** 1 when key @p k takes a word (tyre, filter, structure), not a number. */
@@ -252,6 +332,8 @@ typedef struct {
     double value[RFE_PK_NUMERIC];
     double obs[RFE_PK_OBS_COUNT]; /**< the observer's keys, index k - RFE_PK_OBS_FIRST */
     double mg[RFE_PK_MG_COUNT];   /**< the mass and grade keys, index k - RFE_PK_MG_FIRST */
+    double tid[RFE_PK_TID_COUNT]; /**< the tyre identifier's keys, index k - RFE_PK_TID_FIRST
+                                       (its words as their enum values) */
     rfe_tyre_mode_t tyre;
     rfe_filter_kind_t filter;
     rfe_structure_t structure;
@@ -261,6 +343,9 @@ typedef struct {
                                     preset, so a plain replay runs as before) */
     rfe_mg_config_t mg_config; /**< the library preset the mg_* values started from (for the
                                     diagnosis of an invalid one) */
+    int tyre_id;               /**< nonzero: the replay runs the tyre identifier beside the
+                                    friction estimator (mu_replay --tyre-id apf|sir; 0 in every
+                                    preset) */
 } rfe_param_set_t;
 
 /** Info for key index @p k (< RFE_PK_COUNT), or NULL. */
@@ -313,5 +398,15 @@ RFE_NODISCARD int rfe_tyre_mode_parse(const char *s, rfe_tyre_mode_t *out);
 RFE_NODISCARD int rfe_filter_kind_parse(const char *s, rfe_filter_kind_t *out);
 RFE_NODISCARD int rfe_structure_parse(const char *s, rfe_structure_t *out);
 RFE_NODISCARD int rfe_preset_parse(const char *s, rfe_preset_t *out);
+
+/** Word of the tyre identifier's filter ("apf", "sir") and resampling ("multinomial",
+ *  "systematic"); "?" when out of range. */
+const char *rfe_tid_filter_str(rfe_tid_filter_t f);
+const char *rfe_tid_resample_str(rfe_tid_resample_t r);
+
+/** Parses "apf"/"sir" and "multinomial"/"systematic" (case-sensitive); 0 on success, -1
+ *  otherwise (@p out then untouched). */
+RFE_NODISCARD int rfe_tid_filter_parse(const char *s, rfe_tid_filter_t *out);
+RFE_NODISCARD int rfe_tid_resample_parse(const char *s, rfe_tid_resample_t *out);
 
 #endif /* RFE_HOST_PARAM_FILE_H */

@@ -25,7 +25,7 @@
 /** An option mu_replay refuses (its exit status 2). */
 #define RFE_MEM_USAGE (-2)
 /** Values per estimate row in rfe_replay_mem_feed's output (rfe_replay_mem_col names them). */
-#define RFE_MEM_COLS 27u
+#define RFE_MEM_COLS 45u
 
 /** The number type of a run (mu_replay --real). */
 typedef enum { RFE_MEM_FLOAT = 0, RFE_MEM_DOUBLE = 1, RFE_MEM_Q31 = 2 } rfe_mem_real_t;
@@ -39,6 +39,8 @@ typedef struct {
     int real;               /**< rfe_mem_real_t */
     int observer;           /**< the velocity observer runs */
     int mass_grade;         /**< the mass and grade estimator runs */
+    int tyre_id;            /**< the tyre identifier runs (--tyre-id apf|sir) */
+    int tyre_feed;          /**< its curve is fed to the friction estimator (tid_feed_sd_rel) */
     int dt_given;           /**< dt came from the metadata or the parameters, not the stamps */
     int preset_vehicle;     /**< a vehicle key came from no file: the preset's value stands */
     struct rfe_replay_state_f32 *f32; /**< the state of the run's precision (the caller's) */
@@ -71,7 +73,7 @@ int rfe_mu_replay_open(rfe_replay_mem_t *m, int argc, char **argv, const char *p
  * Steps the run on a block of @p n_rows rows (the columns and metadata read as at the open,
  * the wheel speeds and steering-wheel angle converted as mu_replay converts them; the same
  * columns as the first block), writing RFE_MEM_COLS values per row into @p out (row-major;
- * valid_*, status, mg_status as exact small integers).
+ * valid_*, status, mg_status, tid_status, tid_flags as exact small integers).
  * @return 0; RFE_MEM_INPUT (a malformed block, other columns than the first block's, time
  *         not after the last row's: nothing stepped); RFE_ERR_NONFINITE (a bad cell with
  *         --strict); RFE_ERR_NOT_INITIALISED (not opened); RFE_ERR_NULL.

@@ -161,6 +161,8 @@ static uint32_t step_row(rfe_friction_q31_t *est, const rfe_sensor_row_t *row,
     out->status = (int)st;
     out->has_velocity = 0;
     out->has_mass_grade = 0; /* no mass and grade estimator in fixed point yet */
+    out->has_tyre_id = 0;    /* nor a tyre identifier (float and double only) */
+    out->has_tyre_feed = 0;
     count_sat(stats, in_sat, e.sat);
     return e.sat;
 }
@@ -237,6 +239,8 @@ static uint32_t step_observer_row(rfe_replay_q31_state_t *st, const rfe_sensor_r
     out->status = (int)s;
     out->has_velocity = 1;
     out->has_mass_grade = 0; /* no mass and grade estimator in fixed point yet */
+    out->has_tyre_id = 0;    /* nor a tyre identifier (float and double only) */
+    out->has_tyre_feed = 0;
     out->vx = rfe_fix_to_double(o.velocity.vx, RFE_FIX_Q_SPEED);
     out->vy = rfe_fix_to_double(o.velocity.vy, RFE_FIX_Q_SPEED);
     out->beta = rfe_fix_to_double(o.velocity.beta, RFE_FIX_Q_ANGLE);

@@ -15,9 +15,26 @@
 #include "rfe/mass_grade.h"
 #include "rfe/pipeline.h"
 #include "rfe/params.h"
+#include "rfe/tyre_id.h"
 #include "rfe/velocity_params.h"
 
 #include "log_timing.h"
+
+/* The tyre identifier of a run (ps->tyre_id): its parameters, the vehicle it was set up with
+ * and its seed (a restart sets it up again with them), the time of the last row it accepted,
+ * the feed's keys. */
+typedef struct {
+    rfe_tyre_id_t tid;
+    rfe_tyre_id_params_t tp;
+    rfe_params_t veh;
+    uint64_t seed;
+    double t_last;    /* the last accepted row's time (have_last) */
+    double feed;      /* key tid_feed_sd_rel */
+    double r_model;   /* key r_model_rel: the model error the curve's joins */
+    int have_last;
+    int on;
+    int feed_on;      /* on and tid_feed_sd_rel > 0 */
+} tid_run_t;
 
 /** The per-log state of a replay (replay_real.h): the estimators, which columns the log has,
  *  the times a period is measured from, the counters. Opaque outside this file. */
@@ -25,6 +42,7 @@ struct rfe_replay_state {
     rfe_pipeline_t pl;        /**< the observer and friction estimator; measured velocities:
                                    pl.friction alone */
     rfe_mass_grade_t mg;      /**< when mg_on */
+    tid_run_t tid;            /**< the tyre identifier (tid.on) */
     rfe_sensor_log_t shape;   /**< the log's has_* flags (no rows, no metadata) */
     rfe_replay_stats_t stats;
     double dt;                /**< key dt: the gaps of a measuring run */
@@ -88,6 +106,62 @@ static const size_t k_mg_offset[RFE_PK_MG_COUNT - RFE_PK_MG_SPECIAL] = {
 RFE_MG_KEYS(RFE_IS_REAL_)
 #undef RFE_IS_REAL_
 
+/* Where each tyre identifier key after the special ones (tid_filter, tid_resample,
+ * tid_substeps, tid_seed, tid_feed_sd_rel) lives in rfe_tyre_id_params_t (RFE_TID_KEYS). */
+static const size_t k_tid_offset[RFE_PK_TID_COUNT - RFE_PK_TID_SPECIAL] = {
+#define RFE_OFFSET_(key, member, unit, doc) offsetof(rfe_tyre_id_params_t, member),
+    RFE_TID_KEYS(RFE_OFFSET_)
+#undef RFE_OFFSET_
+};
+
+/* As above: every tyre identifier key of RFE_TID_KEYS is an rfe_real_t. */
+#define RFE_IS_REAL_(key, member, unit, doc)                                               \
+    typedef char rfe_key_is_real_##key[(sizeof(((rfe_tyre_id_params_t *)0)->member) == sizeof(rfe_real_t)) ? 1 : -1];
+RFE_TID_KEYS(RFE_IS_REAL_)
+#undef RFE_IS_REAL_
+
+/* A group of keys beside the friction estimator's (the observer's, the mass and grade
+ * estimator's, the tyre identifier's) and the library struct they fill: how the struct
+ * starts (the library's defaults or preset), how one key of the set goes into it (-1: a
+ * value its member cannot take, such as a switch that is not 0 or 1), and the library's
+ * validation of the whole. group_params runs it; one sequence for every group. */
+typedef struct {
+    size_t n;                                           /* keys applied */
+    size_t (*key)(size_t i);                            /* the i-th, in the order applied */
+    int (*start)(const rfe_param_set_t *ps, void *p);   /* 0, or -1 */
+    int (*set)(void *p, const rfe_param_set_t *ps, size_t k); /* 0, or -1 */
+    int (*check)(const void *p);                        /* 0 when the library accepts it */
+} key_group_t;
+
+/* The group's struct of the set in @p p: started, every key applied, checked. On
+ * RFE_ERR_PARAM, *bad_key (when not NULL) is the key that alone, applied to the start, fails
+ * (RFE_PK_NONE: only a combination does); @p one is scratch of the struct's type. */
+static rfe_status_t group_params(const key_group_t *g, const rfe_param_set_t *ps, void *p,
+                                 void *one, size_t *bad_key)
+{
+    size_t i;
+    int bad;
+    if (bad_key != NULL) {
+        *bad_key = RFE_PK_NONE;
+    }
+    bad = g->start(ps, p);
+    for (i = 0u; (bad == 0) && (i < g->n); ++i) {
+        bad |= g->set(p, ps, g->key(i));
+    }
+    if ((bad == 0) && (g->check(p) == 0)) {
+        return RFE_OK;
+    }
+    /* Which key alone makes it fail, from the (valid) start. */
+    for (i = 0u; (bad_key != NULL) && (i < g->n); ++i) {
+        if ((g->start(ps, one) != 0) || (g->set(one, ps, g->key(i)) != 0) ||
+            (g->check(one) != 0)) {
+            *bad_key = g->key(i);
+            break;
+        }
+    }
+    return RFE_ERR_PARAM;
+}
+
 rfe_replay_preset_fn_t rfe_replay_preset_fn(rfe_preset_t preset)
 {
     switch (preset) {
@@ -132,7 +206,32 @@ int rfe_param_set_preset(rfe_param_set_t *ps, rfe_preset_t preset)
         memcpy(&v, (const char *)&vp + k_obs_offset[k - 1u], sizeof v);
         ps->obs[k] = (double)v;
     }
-    return rfe_param_set_mass_grade(ps, RFE_MG_RECOMMENDED);
+    return (rfe_param_set_tyre_id(ps) == 0) ? rfe_param_set_mass_grade(ps, RFE_MG_RECOMMENDED)
+                                             : -1;
+}
+
+int rfe_param_set_tyre_id(rfe_param_set_t *ps)
+{
+    rfe_tyre_id_params_t tp;
+    size_t k;
+    if ((ps == NULL) || (rfe_tyre_id_params_default(&tp) != RFE_OK)) {
+        return -1;
+    }
+    ps->tid[RFE_PK_tid_filter - RFE_PK_TID_FIRST] = (double)tp.filter;
+    ps->tid[RFE_PK_tid_resample - RFE_PK_TID_FIRST] = (double)tp.resample;
+    ps->tid[RFE_PK_tid_substeps - RFE_PK_TID_FIRST] = (double)tp.substeps;
+    ps->tid[RFE_PK_tid_seed - RFE_PK_TID_FIRST] = RFE_TID_SEED_DEFAULT; /* the init's argument */
+    ps->tid[RFE_PK_tid_feed_sd_rel - RFE_PK_TID_FIRST] = RFE_TID_FEED_SD_REL_DEFAULT; /* the replay's */
+    for (k = RFE_PK_TID_SPECIAL; k < RFE_PK_TID_COUNT; ++k) {
+        rfe_real_t v;
+        memcpy(&v, (const char *)&tp + k_tid_offset[k - RFE_PK_TID_SPECIAL], sizeof v);
+        ps->tid[k] = (double)v;
+    }
+    for (k = 0u; k < RFE_PK_TID_COUNT; ++k) {
+        ps->origin[RFE_PK_TID_FIRST + k].file = NULL;
+        ps->origin[RFE_PK_TID_FIRST + k].line = 0u;
+    }
+    return 0;
 }
 
 int rfe_param_set_mass_grade(rfe_param_set_t *ps, rfe_mg_config_t config)
@@ -267,35 +366,112 @@ static size_t mg_key(size_t i)
     return (i == 0u) ? (size_t)RFE_PK_R : ((i == 1u) ? (size_t)RFE_PK_g : RFE_PK_MG_FIRST + i - 2u);
 }
 
+/* The mass and grade group (key_group_t): the car preset of the set's config, then R, g and
+ * the mg_* keys. */
+static int mg_start(const rfe_param_set_t *ps, void *p)
+{
+    return (rfe_mass_grade_params_preset((rfe_mass_grade_params_t *)p, RFE_MG_CAR, ps->mg_config) ==
+            RFE_OK)
+               ? 0
+               : -1;
+}
+
+static int mg_set(void *p, const rfe_param_set_t *ps, size_t k)
+{
+    return set_mg_key((rfe_mass_grade_params_t *)p, ps, k);
+}
+
+static int mg_check(const void *p)
+{
+    return (rfe_mass_grade_params_validate((const rfe_mass_grade_params_t *)p) == RFE_OK) ? 0 : -1;
+}
+
 rfe_status_t rfe_replay_mass_grade_params(const rfe_param_set_t *ps, rfe_mass_grade_params_t *mp,
                                           size_t *bad_key)
 {
-    size_t i;
-    int bad;
+    static const key_group_t group = {RFE_PK_MG_COUNT + 2u, mg_key, mg_start, mg_set, mg_check};
+    rfe_mass_grade_params_t one;
     if ((ps == NULL) || (mp == NULL)) {
         return RFE_ERR_NULL;
     }
-    if (bad_key != NULL) {
-        *bad_key = RFE_PK_NONE;
-    }
-    bad = (rfe_mass_grade_params_preset(mp, RFE_MG_CAR, ps->mg_config) != RFE_OK) ? -1 : 0;
-    for (i = 0u; (bad == 0) && (i < RFE_PK_MG_COUNT + 2u); ++i) {
-        bad |= set_mg_key(mp, ps, mg_key(i));
-    }
-    if ((bad == 0) && (rfe_mass_grade_params_validate(mp) == RFE_OK)) {
-        return RFE_OK;
-    }
-    /* Which key alone makes it fail, from the (valid) preset the set started from. */
-    for (i = 0u; (bad_key != NULL) && (i < RFE_PK_MG_COUNT + 2u); ++i) {
-        rfe_mass_grade_params_t one;
-        if ((rfe_mass_grade_params_preset(&one, RFE_MG_CAR, ps->mg_config) != RFE_OK) ||
-            (set_mg_key(&one, ps, mg_key(i)) != 0) ||
-            (rfe_mass_grade_params_validate(&one) != RFE_OK)) {
-            *bad_key = mg_key(i);
-            break;
+    return group_params(&group, ps, mp, &one, bad_key);
+}
+
+/* Tyre identifier key @p k of the set into @p tp; 0, or -1 when a word key holds no enum
+ * value, tid_substeps is not an integer 0 .. 2^32 - 1 (a double would otherwise be
+ * truncated without a word; the library checks its range), tid_seed is not an integer
+ * 0 .. 2^53 (it has no member: rfe_replay_tyre_id_params reads it from the set) or
+ * tid_feed_sd_rel is not a finite number >= 0 (the replay's). */
+static int set_tid_key(rfe_tyre_id_params_t *tp, const rfe_param_set_t *ps, size_t k)
+{
+    const double v = ps->tid[k - RFE_PK_TID_FIRST];
+    const int whole = (v >= 0.0) && (v == floor(v));
+    if ((k == (size_t)RFE_PK_tid_filter) || (k == (size_t)RFE_PK_tid_resample)) {
+        if (!((v == 0.0) || (v == 1.0))) {
+            return -1;
         }
+        if (k == (size_t)RFE_PK_tid_filter) {
+            tp->filter = (v == 0.0) ? RFE_TID_APF : RFE_TID_SIR;
+        } else {
+            tp->resample = (v == 0.0) ? RFE_TID_MULTINOMIAL : RFE_TID_SYSTEMATIC;
+        }
+    } else if (k == (size_t)RFE_PK_tid_substeps) {
+        if (!whole || (v > 4294967295.0)) {
+            return -1;
+        }
+        tp->substeps = (uint32_t)v;
+    } else if (k == (size_t)RFE_PK_tid_seed) {
+        if (!whole || (v > RFE_TID_SEED_MAX)) {
+            return -1;
+        }
+    } else if (k == (size_t)RFE_PK_tid_feed_sd_rel) {
+        if (!((v >= 0.0) && isfinite(v))) {
+            return -1;
+        }
+    } else {
+        const rfe_real_t r = (rfe_real_t)v;
+        memcpy((char *)tp + k_tid_offset[k - RFE_PK_TID_FIRST - RFE_PK_TID_SPECIAL], &r, sizeof r);
     }
-    return RFE_ERR_PARAM;
+    return 0;
+}
+
+/* The tyre identifier's group (key_group_t): its defaults, then every tid_* key. */
+static size_t tid_key(size_t i)
+{
+    return RFE_PK_TID_FIRST + i;
+}
+
+static int tid_start(const rfe_param_set_t *ps, void *p)
+{
+    (void)ps;
+    return (rfe_tyre_id_params_default((rfe_tyre_id_params_t *)p) == RFE_OK) ? 0 : -1;
+}
+
+static int tid_set(void *p, const rfe_param_set_t *ps, size_t k)
+{
+    return set_tid_key((rfe_tyre_id_params_t *)p, ps, k);
+}
+
+static int tid_check(const void *p)
+{
+    return (rfe_tyre_id_params_validate((const rfe_tyre_id_params_t *)p) == RFE_OK) ? 0 : -1;
+}
+
+rfe_status_t rfe_replay_tyre_id_params(const rfe_param_set_t *ps, rfe_tyre_id_params_t *tp,
+                                       uint64_t *seed, size_t *bad_key)
+{
+    static const key_group_t group = {RFE_PK_TID_COUNT, tid_key, tid_start, tid_set, tid_check};
+    rfe_tyre_id_params_t one;
+    rfe_status_t st;
+    if ((ps == NULL) || (tp == NULL) || (seed == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    st = group_params(&group, ps, tp, &one, bad_key);
+    if (st == RFE_OK) {
+        /* an integer 0 .. 2^53 (set_tid_key): exact in uint64_t */
+        *seed = (uint64_t)ps->tid[RFE_PK_tid_seed - RFE_PK_TID_FIRST];
+    }
+    return st;
 }
 
 /* The mass and grade sample of @p row of a log with the columns of @p log (its rows unused): the speed from the four
@@ -395,34 +571,159 @@ static rfe_status_t mass_grade_init(const rfe_param_set_t *ps, const rfe_sensor_
     return st;
 }
 
+/* The observer's group (key_group_t): its defaults, then obs_driven .. the last obs_* key. */
+static size_t obs_key(size_t i)
+{
+    return RFE_PK_OBS_FIRST + i;
+}
+
+static int obs_start(const rfe_param_set_t *ps, void *p)
+{
+    (void)ps;
+    return (rfe_velocity_params_default((rfe_velocity_params_t *)p) == RFE_OK) ? 0 : -1;
+}
+
+static int obs_set(void *p, const rfe_param_set_t *ps, size_t k)
+{
+    return set_obs_key((rfe_velocity_params_t *)p, ps, k);
+}
+
+static int obs_check(const void *p)
+{
+    return (rfe_velocity_params_validate((const rfe_velocity_params_t *)p) == RFE_OK) ? 0 : -1;
+}
+
 rfe_status_t rfe_replay_velocity_params(const rfe_param_set_t *ps, rfe_velocity_params_t *vp,
                                         size_t *bad_key)
 {
-    size_t k;
-    int bad;
+    static const key_group_t group = {RFE_PK_OBS_COUNT, obs_key, obs_start, obs_set, obs_check};
+    rfe_velocity_params_t one;
     if ((ps == NULL) || (vp == NULL)) {
         return RFE_ERR_NULL;
     }
-    if (bad_key != NULL) {
-        *bad_key = RFE_PK_NONE;
+    return group_params(&group, ps, vp, &one, bad_key);
+}
+
+/* Whether this run steps the tyre identifier, and if so its init with the friction
+ * estimator's vehicle and tyre data @p p (RFE_OK: t->on set). */
+static rfe_status_t tyre_id_init(const rfe_param_set_t *ps, const rfe_params_t *p, tid_run_t *t,
+                                 size_t *bad_key)
+{
+    rfe_status_t st = RFE_OK;
+    t->on = (ps->tyre_id != 0);
+    t->have_last = 0;
+    t->feed = ps->tid[RFE_PK_tid_feed_sd_rel - RFE_PK_TID_FIRST];
+    t->r_model = ps->value[RFE_PK_r_model_rel];
+    t->feed_on = t->on && (t->feed > 0.0);
+    if (t->on) {
+        st = rfe_replay_tyre_id_params(ps, &t->tp, &t->seed, bad_key);
     }
-    bad = (rfe_velocity_params_default(vp) != RFE_OK) ? -1 : 0; /* cannot fail: vp is set */
-    for (k = RFE_PK_OBS_FIRST; k < RFE_PK_MG_FIRST; ++k) {
-        bad |= set_obs_key(vp, ps, k);
+    if (t->on && (st == RFE_OK)) {
+        t->veh = *p;
+        st = rfe_tyre_id_init(&t->tid, &t->tp, &t->veh, t->seed);
     }
-    if ((bad == 0) && (rfe_velocity_params_validate(vp) == RFE_OK)) {
-        return RFE_OK;
+    return st;
+}
+
+/* Row @p out's tyre identifier columns from its estimate @p e and the status @p st of this
+ * sample, and the run's counters. */
+static void tyre_id_out(const rfe_tyre_id_estimate_t *e, rfe_status_t st, rfe_est_row_t *out,
+                        rfe_replay_stats_t *stats)
+{
+    uint32_t b;
+    out->has_tyre_id = 1;
+    out->mu_id[0] = (double)e->mean[RFE_TID_OUT_MU_F];
+    out->mu_id[1] = (double)e->mean[RFE_TID_OUT_MU_R];
+    out->sd_mu_id[0] = (double)e->sd[RFE_TID_OUT_MU_F];
+    out->sd_mu_id[1] = (double)e->sd[RFE_TID_OUT_MU_R];
+    out->mf_B[0] = (double)e->mean[RFE_TID_OUT_B_F];
+    out->mf_C[0] = (double)e->mean[RFE_TID_OUT_C_F];
+    out->mf_D[0] = (double)e->mean[RFE_TID_OUT_D_F];
+    out->mf_E[0] = (double)e->mean[RFE_TID_OUT_E_F];
+    out->mf_B[1] = (double)e->mean[RFE_TID_OUT_B_R];
+    out->mf_C[1] = (double)e->mean[RFE_TID_OUT_C_R];
+    out->mf_D[1] = (double)e->mean[RFE_TID_OUT_D_R];
+    out->mf_E[1] = (double)e->mean[RFE_TID_OUT_E_R];
+    out->tid_status = (int)st;
+    /* a refused sample's estimate is the held one: its flags are not this sample's */
+    out->tid_flags = rfe_status_is_error(st) ? 0u : (unsigned)e->flags;
+    ++stats->tid_status_count[rfe_replay_status_slot(out->tid_status)];
+    for (b = 0u; b < RFE_REPLAY_TID_FLAGS; ++b) {
+        stats->tid_flag_count[b] += ((out->tid_flags >> b) & 1u);
     }
-    /* Which key alone makes it fail, from the (valid) defaults. */
-    for (k = RFE_PK_OBS_FIRST; (bad_key != NULL) && (k < RFE_PK_MG_FIRST); ++k) {
-        rfe_velocity_params_t one;
-        if ((rfe_velocity_params_default(&one) != RFE_OK) || (set_obs_key(&one, ps, k) != 0) ||
-            (rfe_velocity_params_validate(&one) != RFE_OK)) {
-            *bad_key = k;
-            break;
-        }
+}
+
+/* One tyre identifier step on @p row with the vx and road-wheel angle of this sample's
+ * velocity (the log's, or the observer's), into @p out. The period is the time since the last
+ * row it accepted; beyond tid_dt_max the identifier starts afresh at this row (its prior drawn
+ * again from the same seed), as the observer does after obs_dt_max. A row it refuses gets the
+ * held estimate and the error status. */
+static void tyre_id_row(tid_run_t *t, const rfe_sensor_row_t *row, rfe_real_t vx,
+                        rfe_real_t delta, rfe_est_row_t *out, rfe_replay_stats_t *stats)
+{
+    rfe_tyre_id_sample_t s;
+    rfe_tyre_id_estimate_t e;
+    rfe_status_t st;
+    s.dt = t->have_last ? (rfe_real_t)(row->t - t->t_last) : (rfe_real_t)0.0;
+    s.delta = delta;
+    s.vx = vx;
+    s.yaw_rate = (rfe_real_t)row->yaw_rate;
+    s.ay = (rfe_real_t)row->ay;
+    s.ax = (rfe_real_t)row->ax;
+    if (t->have_last && (s.dt > t->tp.dt_max) &&
+        (rfe_tyre_id_init(&t->tid, &t->tp, &t->veh, t->seed) == RFE_OK)) {
+        ++stats->tid_restarts; /* the init took these parameters before: it cannot fail */
     }
-    return RFE_ERR_PARAM;
+    st = rfe_tyre_id_step(&t->tid, &s, &e);
+    if (!rfe_status_is_error(st)) {
+        t->t_last = row->t;
+        t->have_last = 1;
+    }
+    tyre_id_out(&e, st, out, stats);
+}
+
+/* The feed rule (TYRE_ID.md §14), called with tid_feed_sd_rel > 0: 1, with the curve to feed
+ * in @p v (cy, shape_Cy, shape_Ey, r_model_rel), when this sample's identifier step (@p out)
+ * updated (its flags are 0 on a refused sample) and the relative sd of the summed cornering
+ * stiffness, rel = sqrt(sd_Kf^2 + sd_Kr^2) / (K_f + K_r) (the axles' spreads taken as
+ * independent), is at most tid_feed_sd_rel. The curve: cy =
+ * (K_f + K_r) / (Fz0_f + Fz0_r) (the identifier's static axle loads), shape_Cy and shape_Ey
+ * the axles' C and E weighted by those loads, r_model_rel = sqrt(r^2 + rel^2) with r the
+ * parameter set's (key r_model_rel): the curve's uncertainty joins the model error. In double, each rounded to
+ * the build's real type. */
+static int tyre_feed_due(const tid_run_t *t, const rfe_est_row_t *out, rfe_real_t v[4])
+{
+    const rfe_tyre_id_estimate_t *e = &t->tid.last;
+    const double feed = t->feed;
+    const double r = t->r_model;
+    const double fz_f = (double)t->tid.c.fz0[0];
+    const double fz_r = (double)t->tid.c.fz0[1];
+    const double k = (double)e->mean[RFE_TID_OUT_K_F] + (double)e->mean[RFE_TID_OUT_K_R];
+    const double sd_f = (double)e->sd[RFE_TID_OUT_K_F];
+    const double sd_r = (double)e->sd[RFE_TID_OUT_K_R];
+    const double rel = sqrt((sd_f * sd_f) + (sd_r * sd_r)) / k;
+    if (!(((out->tid_flags & RFE_TID_UPDATED) != 0u) && (rel <= feed))) {
+        return 0;
+    }
+    v[0] = (rfe_real_t)(k / (fz_f + fz_r));
+    v[1] = (rfe_real_t)(((fz_f * (double)e->mean[RFE_TID_OUT_C_F]) +
+                         (fz_r * (double)e->mean[RFE_TID_OUT_C_R])) /
+                        (fz_f + fz_r));
+    v[2] = (rfe_real_t)(((fz_f * (double)e->mean[RFE_TID_OUT_E_F]) +
+                         (fz_r * (double)e->mean[RFE_TID_OUT_E_R])) /
+                        (fz_f + fz_r));
+    v[3] = (rfe_real_t)sqrt((r * r) + (rel * rel));
+    return 1;
+}
+
+/* The friction estimator's lateral curve of this sample's step into @p out (when fed). */
+static void tyre_used_row(const rfe_params_t *p, rfe_est_row_t *out)
+{
+    out->has_tyre_feed = 1;
+    out->cy_used = (double)p->tyre.cy;
+    out->shape_Cy_used = (double)p->tyre.shape_Cy;
+    out->shape_Ey_used = (double)p->tyre.shape_Ey;
+    out->r_model_rel_used = (double)p->filter.r_model_rel;
 }
 
 void rfe_replay_sample_from_row(const rfe_sensor_row_t *row, rfe_sample_t *s)
@@ -544,6 +845,16 @@ rfe_status_t rfe_replay_begin(rfe_replay_state_t *st, const rfe_param_set_t *ps,
     if (s == RFE_OK) {
         s = mass_grade_init(ps, log, &st->mg, &st->mg_on, bad_key);
     }
+    if (s == RFE_OK) {
+        s = tyre_id_init(ps, &p, &st->tid, bad_key);
+    }
+    if ((s == RFE_OK) && (observer != 0) && (st->tid.feed_on != 0)) {
+        /* the pipeline has no lateral tyre setter: the feed runs with measured velocities */
+        s = RFE_ERR_PARAM;
+        if (bad_key != NULL) {
+            *bad_key = (size_t)RFE_PK_tid_feed_sd_rel;
+        }
+    }
     st->ready = (s == RFE_OK) ? 1 : 0;
     return s;
 }
@@ -606,6 +917,17 @@ static void step_observer_row(rfe_replay_state_t *st, const rfe_sensor_row_t *ro
     out->sd_vx = (double)o.velocity.sd_vx;
     out->sd_vy = (double)o.velocity.sd_vy;
     out->sd_beta = (double)o.velocity.sd_beta;
+    if ((st->tid.on != 0) && !rfe_status_is_error(s)) {
+        /* after the pipeline, on this sample's observer vx and the road-wheel angle it
+         * used (swa / obs_steer_ratio on a steering-wheel log) */
+        tyre_id_row(&st->tid, row, o.velocity.vx, o.velocity.delta, out, &st->stats);
+    } else if (st->tid.on != 0) {
+        /* a sample the pipeline refused has no observer vx: the identifier is not
+         * stepped, its estimate held with the pipeline's status */
+        tyre_id_out(&st->tid.tid.last, s, out, &st->stats);
+    } else {
+        /* not run */
+    }
 }
 
 /* One friction step on measured velocities: a gap's missed periods time-updated before the
@@ -624,7 +946,23 @@ static void step_measured_row(rfe_replay_state_t *st, const rfe_sensor_row_t *ro
         rfe_real_t unused = (rfe_real_t)0.0; /* measured velocities: the grade feeds nothing */
         mass_grade_first(st, row, out, &unused);
     }
+    if (st->tid.feed_on != 0) {
+        tyre_used_row(&st->pl.friction.params, out); /* the curve of this sample's step */
+    }
     step_row(&st->pl.friction, row, out);
+    if (st->tid.on != 0) {
+        /* beside the friction estimator, on the log's vx and delta: it takes nothing of
+         * the estimator's; with tid_feed_sd_rel > 0 it gives it its curve for the next
+         * sample's step (causal: this sample's step has run) */
+        rfe_real_t v[4];
+        tyre_id_row(&st->tid, row, (rfe_real_t)row->vx, (rfe_real_t)row->delta, out,
+                    &st->stats);
+        if ((st->tid.feed_on != 0) && (tyre_feed_due(&st->tid, out, v) != 0) &&
+            (rfe_friction_set_lateral_tyre(&st->pl.friction, v[0], v[1], v[2], v[3]) ==
+             RFE_OK)) {
+            ++st->stats.n_tyre_fed; /* a curve it refuses (C at a bound of (1, 2)) is not fed */
+        }
+    }
 }
 
 rfe_status_t rfe_replay_step(rfe_replay_state_t *st, const rfe_sensor_row_t *row,
@@ -640,6 +978,8 @@ rfe_status_t rfe_replay_step(rfe_replay_state_t *st, const rfe_sensor_row_t *row
         return RFE_ERR_RANGE; /* time must increase (the reader's rule for a log) */
     }
     out->has_mass_grade = 0;
+    out->has_tyre_id = 0;
+    out->has_tyre_feed = 0;
     if (st->observer != 0) {
         step_observer_row(st, row, out);
     } else {

@@ -16,6 +16,7 @@
 #include "param_file.h"
 #include "rfe/mass_grade_params.h"
 #include "rfe/params.h"
+#include "rfe/tyre_id_params.h"
 #include "rfe/types.h"
 #include "rfe/velocity.h"
 #include "rfe/velocity_params.h"
@@ -40,6 +41,8 @@
 #define rfe_replay_preset_fn       rfe_replay_preset_fn_f64
 #define rfe_param_set_mass_grade   rfe_param_set_mass_grade_f64
 #define rfe_replay_mass_grade_params rfe_replay_mass_grade_params_f64
+#define rfe_replay_tyre_id_params  rfe_replay_tyre_id_params_f64
+#define rfe_param_set_tyre_id      rfe_param_set_tyre_id_f64
 #else
 #define rfe_replay_run             rfe_replay_run_f32
 #define rfe_replay_run_observer    rfe_replay_run_observer_f32
@@ -58,11 +61,16 @@
 #define rfe_replay_preset_fn       rfe_replay_preset_fn_f32
 #define rfe_param_set_mass_grade   rfe_param_set_mass_grade_f32
 #define rfe_replay_mass_grade_params rfe_replay_mass_grade_params_f32
+#define rfe_replay_tyre_id_params  rfe_replay_tyre_id_params_f32
+#define rfe_param_set_tyre_id      rfe_param_set_tyre_id_f32
 #endif
 
 /** Status codes counted individually (0 .. RFE_REPLAY_STATUS_SLOTS-2); the last slot is
  *  "any other value". */
 #define RFE_REPLAY_STATUS_SLOTS 32
+
+/** The tyre identifier's status bits counted (RFE_TID_UPDATED 1 .. RFE_TID_LOST 16). */
+#define RFE_REPLAY_TID_FLAGS 5u
 
 /** Per-run counters. */
 typedef struct {
@@ -80,6 +88,15 @@ typedef struct {
                                 (mg_feed_sd_rel, MASS_GRADE.md §10) */
     double mass_used_last; /**< the friction estimator's mass at the last sample [kg] (when
                                 the mass and grade estimator ran) */
+    size_t tid_status_count[RFE_REPLAY_STATUS_SLOTS]; /**< the tyre identifier's statuses
+                                                           (when it ran) */
+    size_t tid_flag_count[RFE_REPLAY_TID_FLAGS]; /**< samples with each of its RFE_TID_* bits,
+                                                      bit b at index b (updated, resampled,
+                                                      held, first, lost) */
+    size_t tid_restarts;   /**< samples it started afresh at: a period beyond tid_dt_max
+                                since its last accepted one (the prior drawn again) */
+    size_t n_tyre_fed;     /**< samples whose identified lateral curve the friction estimator
+                                took (tid_feed_sd_rel, TYRE_ID.md §14) */
 } rfe_replay_stats_t;
 
 /** A gear cell beyond +-this is refused (status 18): the library's gear is an int32_t. */
@@ -96,8 +113,9 @@ static inline size_t rfe_replay_status_slot(int status)
 /**
  * The per-log state of a replay, one precision's (the struct tag is rfe_replay_state_f32 or
  * _f64; its members are private to replay_real.c): the friction estimator, or the pipeline
- * of the observer feeding it, the mass and grade estimator, which columns the log has, the
- * time of the previous row and of the last accepted one (the periods), the counters. The
+ * of the observer feeding it, the mass and grade estimator, the tyre identifier, which
+ * columns the log has, the time of the previous row and of the last accepted one (the
+ * periods), the counters. The
  * caller owns it, so runs need no heap and several may run side by side (one state each):
  * rfe_replay_begin, then rfe_replay_step per row (or rfe_replay_feed per block of rows).
  * rfe_replay_run and rfe_replay_run_observer are that over a whole log, with a state of
@@ -115,9 +133,11 @@ size_t rfe_replay_state_size_f64(void);
 
 /**
  * Starts a replay in @p st: the parameters of @p ps converted (as rfe_replay_run), the
- * friction estimator (@p observer 0: measured velocities) or the pipeline (@p observer 1)
- * and, when ps->mass_grade is set and @p log has drive_torque, the mass and grade estimator
- * initialised; @p log gives which columns the log has (its rows are not read).
+ * friction estimator (@p observer 0: measured velocities) or the pipeline (@p observer 1),
+ * when ps->mass_grade is set and @p log has drive_torque the mass and grade estimator, and
+ * when ps->tyre_id is set the tyre identifier initialised (tid_feed_sd_rel > 0 behind the
+ * observer: RFE_ERR_PARAM naming it); @p log gives which columns the log has (its rows are
+ * not read).
  * @param bad_key as rfe_replay_run (may be NULL).
  * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_RANGE (wheel speeds not in rad/s, or a steering-wheel
  *         angle without the observer: @p st untouched); RFE_ERR_PARAM or an init's error
@@ -302,6 +322,34 @@ int rfe_param_set_mass_grade_f64(rfe_param_set_t *ps, rfe_mg_config_t config);
 RFE_NODISCARD rfe_status_t rfe_replay_mass_grade_params(const rfe_param_set_t *ps,
                                                        rfe_mass_grade_params_t *mp,
                                                        size_t *bad_key);
+
+/**
+ * Fills the set's tyre identifier keys (tid_*) from rfe_tyre_id_params_default and tid_seed
+ * from RFE_TID_SEED_DEFAULT (origins: the preset); rfe_param_set_preset does it. The vehicle
+ * and the prior's tyre data stay the friction estimator's keys.
+ * @return 0, or -1 (nothing changed) when ps is NULL.
+ */
+int rfe_param_set_tyre_id_f32(rfe_param_set_t *ps);
+/** Double-precision twin of rfe_param_set_tyre_id_f32 (mu_replay uses this one). */
+int rfe_param_set_tyre_id_f64(rfe_param_set_t *ps);
+
+/**
+ * The tyre identifier's parameters of the set (rfe_tyre_id_params_default, then every tid_*
+ * key but tid_seed), validated with rfe_tyre_id_params_validate, and its seed. The replays
+ * run the identifier with them and the friction estimator's vehicle and tyre data
+ * (rfe_tyre_id_init) when ps->tyre_id is set: each sample after the friction step, on the
+ * log's delta, yaw_rate, ay, ax and the vx of that step (the log's vx with measured
+ * velocities; behind the observer its vx and the road-wheel angle it used); the estimate rows
+ * then carry mu_id_f .. tid_flags.
+ * @param[out] seed     the stream's seed (tid_seed).
+ * @param[out] bad_key  when not NULL: the tid_* key whose value alone fails (tid_substeps not
+ *                      an integer, tid_seed not an integer 0 .. 2^53, or a value
+ *                      rfe_tyre_id_params_validate refuses), else RFE_PK_NONE.
+ * @return RFE_OK, RFE_ERR_NULL or RFE_ERR_PARAM.
+ */
+RFE_NODISCARD rfe_status_t rfe_replay_tyre_id_params(const rfe_param_set_t *ps,
+                                                    rfe_tyre_id_params_t *tp, uint64_t *seed,
+                                                    size_t *bad_key);
 
 /** A library preset function of the including TU's precision (rfe_params_default_fXX, ...). */
 typedef rfe_status_t (*rfe_replay_preset_fn_t)(rfe_params_t *p);

@@ -236,6 +236,26 @@ rfe_status_t rfe_params_validate(const rfe_params_t *p)
     return rfe_monitor_params_validate(&p->monitor, p->filter.dt);
 }
 
+rfe_status_t rfe_params_set_lateral_tyre(rfe_params_t *p, rfe_real_t cy, rfe_real_t shape_Cy,
+                                         rfe_real_t shape_Ey, rfe_real_t r_model_rel)
+{
+    rfe_status_t st = RFE_ERR_NULL;
+    if (p != NULL) {
+        const rfe_tyre_params_t tyre_was = p->tyre;
+        const rfe_real_t r_was = p->filter.r_model_rel;
+        p->tyre.cy = cy;
+        p->tyre.shape_Cy = shape_Cy;
+        p->tyre.shape_Ey = shape_Ey;
+        p->filter.r_model_rel = r_model_rel;
+        st = rfe_params_validate(p);
+        if (st != RFE_OK) {
+            p->tyre = tyre_was; /* an invalid result leaves p as it was */
+            p->filter.r_model_rel = r_was;
+        }
+    }
+    return st;
+}
+
 rfe_status_t rfe_params_set_mass(rfe_params_t *p, rfe_real_t m)
 {
     rfe_status_t st = RFE_ERR_NULL;

@@ -460,6 +460,26 @@ static rfe_fix_t mass_term_q(pf_t a, int qt)
     return (v < 0) ? -1 : (rfe_fix_t)v;
 }
 
+rfe_status_t rfe_params_set_lateral_tyre_q31(rfe_params_q31_t *p, rfe_fix_t cy, rfe_fix_t shape_Cy,
+                                             rfe_fix_t shape_Ey, rfe_fix_t r_model_rel)
+{
+    rfe_status_t st = RFE_ERR_NULL;
+    if (p != NULL) {
+        const rfe_tyre_params_q31_t tyre_was = p->tyre;
+        const rfe_fix_t r_was = p->filter.r_model_rel;
+        p->tyre.cy = cy;
+        p->tyre.shape_Cy = shape_Cy;
+        p->tyre.shape_Ey = shape_Ey;
+        p->filter.r_model_rel = r_model_rel;
+        st = rfe_params_validate_q31(p);
+        if (st != RFE_OK) {
+            p->tyre = tyre_was; /* an invalid result leaves p as it was */
+            p->filter.r_model_rel = r_was;
+        }
+    }
+    return st;
+}
+
 rfe_status_t rfe_params_set_mass_q31(rfe_params_q31_t *p, rfe_fix_t m)
 {
     rfe_status_t st = RFE_ERR_NULL;

@@ -6,7 +6,7 @@
 # Prints one line per check and closes with "cli: N passed, N failed"; exits 1 on a failure.
 # Requirements (docs/REQUIREMENTS.md; the script is one test case "test_cli"):
 # REQ-CLI-001 REQ-CLI-003 REQ-CLI-004 REQ-CSV-002 REQ-CSV-005 REQ-CSV-006 REQ-PARF-002 REQ-PARF-003
-# REQ-PARF-004 REQ-MET-002 REQ-CLI-005 REQ-CSV-007 REQ-CLI-006 REQ-DOC-001 REQ-CLI-007
+# REQ-PARF-004 REQ-MET-002 REQ-CLI-005 REQ-CSV-007 REQ-CLI-006 REQ-DOC-001 REQ-CLI-007 REQ-CLI-008
 set -u
 
 BIN=${1:?usage: test_cli.sh path/to/mu_replay}
@@ -875,6 +875,137 @@ run mg_q31_note 0 --in "$TMP/short.csv" --out "$TMP/mg_q.csv" --real q31
     && ok "mg_q31_note: said once" || bad "mg_q31_note: $(cat "$TMP/err")"
 run mg_q31_off 0 --in "$TMP/short.csv" --out "$TMP/mg_q.csv" --real q31 --mass-grade off
 grep -q 'fixed-point twin' "$TMP/err" && bad "mg_q31_off: note despite off" || ok "mg_q31_off: no note"
+
+# ---- --tyre-id: the online tyre identifier (docs/TYRE_ID.md) beside the friction estimator
+TID="$ROOT/scenarios/tyre_id/tid_sine_steer.csv"
+run tid_bad_value 2 --in "$TID" --out "$TMP/tid.csv" --tyre-id ukf
+grep -q "^mu_replay: --tyre-id must be apf, sir or off, not 'ukf'$" "$TMP/err" \
+    && ok "tid_bad_value: named" || bad "tid_bad_value: $(cat "$TMP/err")"
+run tid_bad_case 2 --in "$TID" --out "$TMP/tid.csv" --tyre-id=APF
+run tid_no_value 2 --in "$TID" --out "$TMP/tid.csv" --tyre-id
+run tid_twice 2 --in "$TID" --out "$TMP/tid.csv" --tyre-id apf --tyre-id off
+run tid_q31_usage 2 --in "$TID" --out "$TMP/tid.csv" --tyre-id sir --real q31
+grep -q "^mu_replay: --tyre-id sir: the tyre identifier is float and double only" "$TMP/err" \
+    && ok "tid_q31_usage: named" || bad "tid_q31_usage: $(cat "$TMP/err")"
+[ ! -e "$TMP/tid.csv" ] && ok "tid usage errors: nothing written" || bad "tid usage errors: estimate log written"
+run tid_q31_off 0 --in "$TID" --out "$TMP/tid_q.csv" --tyre-id off --real q31 -q
+grep -q 'mu_id_f' "$TMP/tid_q.csv" && bad "tid_q31_off: columns" || ok "tid_q31_off: no tyre identifier columns"
+grep -q -- '--tyre-id apf|sir|off' <("$BIN" --help) && grep -q 'mu_id_f' <("$BIN" --help) \
+    && ok "help: --tyre-id and its columns" || bad "help: no --tyre-id"
+# off (the default) leaves the estimate log as it was: --tyre-id off is byte for byte the run
+# without the option, and neither has a tyre identifier column, key or JSON object
+run tid_default 0 --in "$TID" --out "$TMP/tid_none.csv" --metrics "$TMP/tid_none.json" -q
+run tid_off 0 --in "$TID" --out "$TMP/tid_off.csv" --tyre-id off -q
+cmp -s "$TMP/tid_none.csv" "$TMP/tid_off.csv" && ok "tid_off: byte-identical to the run without --tyre-id" \
+    || bad "tid_off: differs from the run without --tyre-id"
+grep -q 'mu_id_f\|^# tid_\|^# tyre_id' "$TMP/tid_off.csv" && bad "tid_off: tyre identifier columns or keys" \
+    || ok "tid_off: no tyre identifier columns, keys"
+grep -q '"tyre_id"' "$TMP/tid_none.json" && bad "tid_default: JSON has tyre_id" || ok "tid_default: no tyre_id in the JSON"
+# apf: the issue's columns after the friction estimator's (and the observer's, when it runs),
+# the friction columns and every metadata line of the off run unchanged (it feeds nothing)
+run tid_apf 0 --in "$TID" --out "$TMP/tid_a.csv" --tyre-id apf --metrics "$TMP/tid_a.json"
+H='t,mu_fl,mu_fr,mu_rl,mu_rr,sd_fl,sd_fr,sd_rl,sd_rr,valid_fl,valid_fr,valid_rl,valid_rr,status'
+HT='mu_id_f,mu_id_r,sd_mu_id_f,sd_mu_id_r,B_f,C_f,D_f,E_f,B_r,C_r,D_r,E_r,tid_status,tid_flags'
+[ "$(grep -v '^#' "$TMP/tid_a.csv" | head -1)" = "$H,$HT" ] && ok "tid_apf: the columns" \
+    || bad "tid_apf: header $(grep -v '^#' "$TMP/tid_a.csv" | head -1)"
+cmp -s <(grep -v '^#' "$TMP/tid_a.csv" | cut -d, -f1-14) <(grep -v '^#' "$TMP/tid_off.csv") \
+    && ok "tid_apf: the friction columns as without it" || bad "tid_apf: the friction columns differ"
+[ -z "$(grep '^#' "$TMP/tid_off.csv" | grep -vxFf <(grep '^#' "$TMP/tid_a.csv"))" ] \
+    && ok "tid_apf: every metadata line of the off run kept" || bad "tid_apf: metadata lines lost"
+grep -q '^# tyre_id = apf$' "$TMP/tid_a.csv" && grep -q '^# tid_n = 256$' "$TMP/tid_a.csv" \
+    && grep -q '^# tid_seed = 1$' "$TMP/tid_a.csv" && grep -q '^# tid_resample = multinomial$' "$TMP/tid_a.csv" \
+    && ok "tid_apf: configuration in the metadata" || bad "tid_apf: metadata $(grep 'tid\|tyre_id' "$TMP/tid_a.csv" | head -5)"
+n=$(grep -vc '^#' "$TID"); n=$((n - 1))
+# every sample accepted (status 0); the first draws the prior (flag 8), every other one is
+# above tid_v_min = 5 m/s (the log drives at 20 m/s) and updates (flag 1, 3 when it resampled)
+res=$(awk -F, '/^#/ {next} !h {for (i = 1; i <= NF; i++) c[$i] = i; h = 1; next}
+    {st[$c["tid_status"]]++; f = $c["tid_flags"] + 0; if (NR > 0 && f % 2 == 1) up++; if (int(f / 2) % 2 == 1) rs++;
+     if (f == 8) first++; if ($c["sd_mu_id_f"] + 0 <= 0 || $c["D_f"] + 0 <= 0) badv++}
+    END {printf "%d %d %d %d %d", st[0], up, rs, first, badv}' "$TMP/tid_a.csv")
+set -- $res
+[ "$1" -eq "$n" ] && [ "$2" -eq $((n - 1)) ] && [ "$4" -eq 1 ] && [ "$5" -eq 0 ] \
+    && ok "tid_apf: status 0 on all $n rows, the first draws the prior, $2 updates ($3 resampled)" \
+    || bad "tid_apf: status 0 on $1 of $n rows, $2 updates, $4 first, $5 non-positive sd or D"
+grep -qF "\"tyre_id\": {\"filter\": \"apf\", \"resample\": \"multinomial\", \"n\": 256, \"seed\": 1, \"status_counts\": {\"0\": $n}," "$TMP/tid_a.json" \
+    && grep -qF "\"flag_counts\": {\"updated\": $2, \"resampled\": $3, \"held\": 0, \"first\": 1, \"lost\": 0}, \"restarts\": 0, \"end\": {\"mu_id_f\": " "$TMP/tid_a.json" \
+    && ok "tid_apf: JSON status and flag counts" || bad "tid_apf: JSON $(grep -A1 '"tyre_id"' "$TMP/tid_a.json" | head -c 400)"
+grep -Eq '^tyre identifier \(apf, multinomial, 256 particles\): at the end mu_id_f [0-9.]+ \(sd [0-9.]+\), mu_id_r ' "$TMP/out" \
+    && grep -Eq "^  samples updated $2, resampled $3, held 0, first 1, lost 0; started afresh after a period beyond tid_dt_max: 0$" "$TMP/out" \
+    && ok "tid_apf: summary" || bad "tid_apf: summary $(grep -A3 'tyre identifier' "$TMP/out")"
+# the stream is seeded: the same seed gives the same file, another seed another estimate
+run tid_again 0 --in "$TID" --out "$TMP/tid_a2.csv" --tyre-id apf -q
+cmp -s "$TMP/tid_a.csv" "$TMP/tid_a2.csv" && ok "tid_again: byte-identical (seeded)" || bad "tid_again: differs"
+printf 'tid_seed = 2\n' >"$TMP/seed2.par"
+run tid_seed 0 --in "$TID" --out "$TMP/tid_s.csv" --tyre-id apf --params "$TMP/seed2.par" -q
+grep -q '^# tid_seed = 2$' "$TMP/tid_s.csv" && ! cmp -s <(grep -v '^#' "$TMP/tid_a.csv") <(grep -v '^#' "$TMP/tid_s.csv") \
+    && ok "tid_seed: tid_seed = 2 another estimate" || bad "tid_seed: same estimate or no key"
+# sir; the flag sets tid_filter over a file; a file's tid_filter alone does not run it
+run tid_sir 0 --in "$TID" --out "$TMP/tid_b.csv" --tyre-id sir -q
+grep -q '^# tid_filter = sir$' "$TMP/tid_b.csv" && ! cmp -s <(grep -v '^#' "$TMP/tid_a.csv") <(grep -v '^#' "$TMP/tid_b.csv") \
+    && ok "tid_sir: the bootstrap filter" || bad "tid_sir: $(grep tid_filter "$TMP/tid_b.csv")"
+printf 'tid_filter = sir\ntid_resample = systematic\n' >"$TMP/sir.par"
+run tid_flag_beats_file 0 --in "$TID" --out "$TMP/tid_f.csv" --tyre-id apf --params "$TMP/sir.par" -q
+grep -q '^# tid_filter = apf$' "$TMP/tid_f.csv" && grep -q '^# tid_resample = systematic$' "$TMP/tid_f.csv" \
+    && ok "tid_flag_beats_file: apf, the file's resampling" || bad "tid_flag_beats_file: $(grep 'tid_filter\|tid_resample' "$TMP/tid_f.csv")"
+run tid_file_without_flag 0 --in "$TID" --out "$TMP/tid_f2.csv" --params "$TMP/sir.par" -q
+cmp -s "$TMP/tid_off.csv" <(sed '/^# param_file = /d' "$TMP/tid_f2.csv") \
+    && ok "tid_file_without_flag: not run (off by default)" || bad "tid_file_without_flag: differs from the off run"
+# double: round-trip values; behind the observer (a log without vx, vy, yaw_acc) after its columns
+run tid_double 0 --in "$TID" --out "$TMP/tid_d.csv" --tyre-id apf --real double -q
+grep -q '^# real = double$' "$TMP/tid_d.csv" && ok "tid_double: runs" || bad "tid_double: no double run"
+run tid_observer 0 --in "$DATA/good_esc.csv" --out "$TMP/tid_v.csv" --tyre-id apf -q
+grep -v '^#' "$TMP/tid_v.csv" | head -1 | grep -q ',sd_beta,mu_id_f,' && ok "tid_observer: after the observer's columns" \
+    || bad "tid_observer: $(grep -v '^#' "$TMP/tid_v.csv" | head -1)"
+# invalid keys: named with what refused them; a word not allowed; a combination: its rule
+printf 'tid_seed = 1.5\n' >"$TMP/tid_bad.par"
+run tid_bad_seed 1 --in "$TID" --out "$TMP/tid_x.csv" --tyre-id apf --params "$TMP/tid_bad.par"
+one_line tid_bad_seed "^mu_replay: .*tid_bad\.par:1: invalid parameter tid_seed = 1\.5 \(rejected by mu_replay: an integer 0 \.\. 2\^53, float run\)$"
+printf 'tid_sd_r = 0\n' >"$TMP/tid_bad.par"
+run tid_bad_key 1 --in "$TID" --out "$TMP/tid_x.csv" --tyre-id apf --params "$TMP/tid_bad.par"
+one_line tid_bad_key "^mu_replay: .*tid_bad\.par:1: invalid parameter tid_sd_r = 0 \(rejected by rfe_tyre_id_params_validate, float run\)$"
+printf 'tid_filter = ekf\n' >"$TMP/tid_bad.par"
+run tid_bad_word 1 --in "$TID" --out "$TMP/tid_x.csv" --params "$TMP/tid_bad.par"
+one_line tid_bad_word "^mu_replay: .*tid_bad\.par:1:14: value of 'tid_filter': not one of the allowed words: 'ekf'$"
+printf '# the resampling\ntid_resample = stratified\n' >"$TMP/tid_bad.par"
+run tid_bad_resample 1 --in "$TID" --out "$TMP/tid_x.csv" --params "$TMP/tid_bad.par"
+one_line tid_bad_resample "^mu_replay: .*tid_bad\.par:2:16: value of 'tid_resample': not one of the allowed words: 'stratified'$"
+printf 'tid_n = 512\n' >"$TMP/tid_bad.par"
+run tid_n_not_a_key 1 --in "$TID" --out "$TMP/tid_x.csv" --tyre-id apf --params "$TMP/tid_bad.par"
+one_line tid_n_not_a_key "^mu_replay: .*tid_bad\.par:1:1: unknown parameter key 'tid_n'$"
+printf 'tid_C_hi = 1.2\n' >"$TMP/tid_bad.par"
+run tid_combination 1 --in "$TID" --out "$TMP/tid_x.csv" --tyre-id apf --params "$TMP/tid_bad.par"
+one_line tid_combination "^mu_replay: .*estimator init failed: .*tyre identifier: tid_mu0, shape_Cy, cy and shape_Ey within their tid_\* bounds"
+[ ! -e "$TMP/tid_x.csv" ] && ok "tid invalid parameters: nothing written" || bad "tid invalid parameters: estimate log written"
+# the feed of the identified curve (tid_feed_sd_rel, TYRE_ID.md §14): off by default (the
+# runs above have no cy_used); when on, the curve of each sample's step after the identifier's
+# columns, the first row's the parameter file's (nothing identified yet), counted in the
+# summary and the JSON; behind the observer, and negative, refused naming the key
+grep -q 'cy_used' "$TMP/tid_a.csv" && bad "tid_feed: columns without the key" || ok "tid_feed: off by default"
+grep -qF '"feed": {"sd_rel": 0, "n_fed": 0}}' "$TMP/tid_a.json" && ok "tid_feed: JSON off" \
+    || bad "tid_feed: JSON $(grep -o '"feed": [^}]*}' "$TMP/tid_a.json")"
+printf 'tid_feed_sd_rel = 0.05\n' >"$TMP/feed.par"
+run tid_feed 0 --in "$TID" --out "$TMP/tid_fd.csv" --tyre-id apf --params "$TMP/feed.par" --metrics "$TMP/tid_fd.json" --real double
+[ "$(grep -v '^#' "$TMP/tid_fd.csv" | head -1)" = "$H,$HT,cy_used,shape_Cy_used,shape_Ey_used,r_model_rel_used" ] \
+    && ok "tid_feed: the columns" || bad "tid_feed: header $(grep -v '^#' "$TMP/tid_fd.csv" | head -1)"
+res=$(awk -F, '/^#/ {next} !h {for (i = 1; i <= NF; i++) c[$i] = i; h = 1; next}
+    NR > 0 && !first {first = $c["cy_used"] "," $c["shape_Cy_used"] "," $c["shape_Ey_used"] "," $c["r_model_rel_used"]}
+    {if (prev != "" && $c["cy_used"] != prev) ch++; prev = $c["cy_used"]}
+    END {printf "%s %d", first, ch}' "$TMP/tid_fd.csv")
+set -- $res
+[ "$1" = "15,1.3,0,0.05" ] && [ "$2" -gt 0 ] && ok "tid_feed: the file's curve first, then $2 changes" \
+    || bad "tid_feed: first curve $1, $2 changes"
+fed=$(grep -o '"n_fed": [0-9]*}}' "$TMP/tid_fd.json" | grep -o '[0-9]*')
+[ -n "$fed" ] && [ "$fed" -gt 0 ] && grep -qF '"feed": {"sd_rel": 0.05, "n_fed": ' "$TMP/tid_fd.json" \
+    && grep -Eq "^  lateral curve fed to the friction estimator at $fed samples \(tid_feed_sd_rel = 0\.05\); its curve at the end cy " "$TMP/out" \
+    && ok "tid_feed: $fed samples fed, JSON and summary" || bad "tid_feed: JSON/summary $(grep 'lateral curve' "$TMP/out")"
+cmp -s <(grep -v '^#' "$TMP/tid_d.csv" | cut -d, -f1-14) <(grep -v '^#' "$TMP/tid_fd.csv" | cut -d, -f1-14) \
+    && bad "tid_feed: the friction columns did not change" || ok "tid_feed: the friction columns change"
+run tid_feed_observer 1 --in "$DATA/good_esc.csv" --out "$TMP/tid_x.csv" --tyre-id apf --params "$TMP/feed.par"
+one_line tid_feed_observer "^mu_replay: .*feed\.par:1: invalid parameter tid_feed_sd_rel = 0\.05 \(rejected by mu_replay: a relative sd >= 0, and 0 behind the velocity observer, whose pipeline has no lateral tyre setter, float run\)$"
+printf 'tid_feed_sd_rel = -1\n' >"$TMP/feed_bad.par"
+run tid_feed_negative 1 --in "$TID" --out "$TMP/tid_x.csv" --tyre-id apf --params "$TMP/feed_bad.par"
+one_line tid_feed_negative "^mu_replay: .*feed_bad\.par:1: invalid parameter tid_feed_sd_rel = -1 "
+[ ! -e "$TMP/tid_x.csv" ] && ok "tid_feed refusals: nothing written" || bad "tid_feed refusals: estimate log written"
 
 if [ -w /dev/full ]; then
     "$BIN" --in "$DATA/good_small.csv" --out "$TMP/s.csv" >/dev/full 2>"$TMP/err"

@@ -28,6 +28,7 @@
 #include "rfe/mass_grade.h"
 #include "rfe/params.h"
 #include "rfe/pipeline.h"
+#include "rfe/tyre_id.h"
 #include "rfe/velocity.h"
 
 #define DATA "test/host/data/"
@@ -1351,6 +1352,506 @@ static void test_rfe_replay_esc_input_of_a_log_row(void **state)
     rfe_sensor_log_free(&log);
 }
 
+/* ------------------------------------------------------------ tyre identifier */
+
+/* The set's tid_* keys are the library's defaults, each value exactly (read through the key
+ * table's member column), the seed RFE_TID_SEED_DEFAULT, origins the preset; a preset never
+ * runs the identifier. NULL: -1. */
+/* REQ-CLI-008 */
+static void test_rfe_param_set_tyre_id_is_the_library_default(void **state)
+{
+    rfe_param_set_t ps;
+    rfe_tyre_id_params_t p;
+    (void)state;
+    assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_DEFAULT), 0);
+    assert_int_equal(rfe_tyre_id_params_default_f64(&p), RFE_OK);
+    assert_int_equal(ps.tyre_id, 0);
+    assert_true(ps.tid[RFE_PK_tid_filter - RFE_PK_TID_FIRST] == (double)p.filter);
+    assert_true(ps.tid[RFE_PK_tid_resample - RFE_PK_TID_FIRST] == (double)p.resample);
+    assert_true(ps.tid[RFE_PK_tid_substeps - RFE_PK_TID_FIRST] == (double)p.substeps);
+    assert_true(ps.tid[RFE_PK_tid_seed - RFE_PK_TID_FIRST] == 1.0); /* TYRE_ID.md §2 */
+    assert_true(ps.tid[RFE_PK_tid_feed_sd_rel - RFE_PK_TID_FIRST] == 0.0); /* not fed */
+#define CHECK_TID_(key, member, unit, doc)                                                   \
+    if (!(ps.tid[(size_t)RFE_PK_##key - RFE_PK_TID_FIRST] == p.member)) {                    \
+        fail_msg("key %s: set %.17g, library %.17g", #key,                                   \
+                 ps.tid[(size_t)RFE_PK_##key - RFE_PK_TID_FIRST], p.member);                 \
+    }                                                                                        \
+    assert_null(ps.origin[RFE_PK_##key].file);
+    RFE_TID_KEYS(CHECK_TID_)
+#undef CHECK_TID_
+    assert_int_equal(rfe_param_set_tyre_id_f64(NULL), -1);
+}
+
+/* Every real tid_* key reaches its member (each value times 1.5 stays valid: the bounds stay
+ * ordered, neff_frac 0.5 <= 1), the words and tid_substeps theirs, tid_seed the seed; the key
+ * that alone fails is named (a value its member cannot hold, or one the library refuses); a
+ * combination names none. */
+/* REQ-CLI-008 */
+static void test_rfe_replay_tyre_id_params_keys_and_diagnosis(void **state)
+{
+    rfe_param_set_t ps;
+    rfe_tyre_id_params_t def;
+    rfe_tyre_id_params_t tp;
+    uint64_t seed = 0u;
+    size_t bad = 0u;
+    (void)state;
+    memset(&def, 0, sizeof def);
+    memset(&tp, 0, sizeof tp);
+    assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_DEFAULT), 0);
+    assert_int_equal(rfe_tyre_id_params_default_f64(&def), RFE_OK);
+    assert_int_equal(rfe_replay_tyre_id_params_f64(&ps, &tp, &seed, &bad), RFE_OK);
+    assert_int_equal(bad, RFE_PK_NONE);
+    assert_memory_equal(&tp, &def, sizeof tp);
+    assert_true(seed == 1u);
+#define CHECK_TID_(key, member, unit, doc)                                                   \
+    ps.tid[(size_t)RFE_PK_##key - RFE_PK_TID_FIRST] = def.member * 1.5;                      \
+    assert_int_equal(rfe_replay_tyre_id_params_f64(&ps, &tp, &seed, NULL), RFE_OK);          \
+    if (!(tp.member == def.member * 1.5)) {                                                  \
+        fail_msg("key %s did not reach its member", #key);                                   \
+    }                                                                                        \
+    ps.tid[(size_t)RFE_PK_##key - RFE_PK_TID_FIRST] = def.member;
+    RFE_TID_KEYS(CHECK_TID_)
+#undef CHECK_TID_
+    ps.tid[RFE_PK_tid_filter - RFE_PK_TID_FIRST] = (double)RFE_TID_SIR;
+    ps.tid[RFE_PK_tid_resample - RFE_PK_TID_FIRST] = (double)RFE_TID_SYSTEMATIC;
+    ps.tid[RFE_PK_tid_substeps - RFE_PK_TID_FIRST] = 4.0;
+    ps.tid[RFE_PK_tid_seed - RFE_PK_TID_FIRST] = 9007199254740992.0; /* 2^53, the largest */
+    assert_int_equal(rfe_replay_tyre_id_params_f64(&ps, &tp, &seed, NULL), RFE_OK);
+    assert_true((tp.filter == RFE_TID_SIR) && (tp.resample == RFE_TID_SYSTEMATIC));
+    assert_true((tp.substeps == 4u) && (seed == ((uint64_t)1u << 53)));
+    /* one bad key at a time, each named */
+    {
+        static const struct {
+            size_t key;
+            double bad;
+            double good;
+        } cases[] = {
+            {RFE_PK_tid_filter, 2.0, 0.0},        /* no rfe_tid_filter_t */
+            {RFE_PK_tid_resample, 0.5, 1.0},      /* no rfe_tid_resample_t */
+            {RFE_PK_tid_substeps, 2.5, 1.0},      /* not an integer */
+            {RFE_PK_tid_substeps, 0.0, 1.0},      /* an integer the library refuses */
+            {RFE_PK_tid_substeps, 5e9, 1.0},      /* beyond a uint32_t */
+            {RFE_PK_tid_seed, -1.0, 7.0},         /* not 0 .. 2^53 */
+            {RFE_PK_tid_seed, 9007199254740994.0, 7.0},
+            {RFE_PK_tid_seed, 1.5, 7.0},
+            {RFE_PK_tid_sd_r, 0.0, 0.01},         /* rfe_tyre_id_params_validate: > 0 */
+            {RFE_PK_tid_neff_frac, 1.5, 0.5},     /* in [0, 1] */
+        };
+        size_t c;
+        for (c = 0u; c < sizeof cases / sizeof cases[0]; ++c) {
+            ps.tid[cases[c].key - RFE_PK_TID_FIRST] = cases[c].bad;
+            assert_int_equal(rfe_replay_tyre_id_params_f64(&ps, &tp, &seed, &bad), RFE_ERR_PARAM);
+            assert_int_equal(bad, cases[c].key);
+            ps.tid[cases[c].key - RFE_PK_TID_FIRST] = cases[c].good;
+        }
+    }
+    assert_int_equal(rfe_replay_tyre_id_params_f64(&ps, &tp, &seed, NULL), RFE_OK);
+    assert_true(seed == 7u);
+    /* each valid alone (0.1 < 1.0 < 1.3, 0.1 < 0.9), not together: no key to blame */
+    ps.tid[RFE_PK_tid_mu_lo - RFE_PK_TID_FIRST] = 1.0;
+    ps.tid[RFE_PK_tid_mu_hi - RFE_PK_TID_FIRST] = 0.9;
+    assert_int_equal(rfe_replay_tyre_id_params_f64(&ps, &tp, &seed, &bad), RFE_ERR_PARAM);
+    assert_int_equal(bad, RFE_PK_NONE);
+    assert_int_equal(rfe_replay_tyre_id_params_f64(NULL, &tp, &seed, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_replay_tyre_id_params_f64(&ps, NULL, &seed, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_replay_tyre_id_params_f64(&ps, &tp, NULL, NULL), RFE_ERR_NULL);
+}
+
+/* The sine-steer log of the tyre identification scenarios (TYRE_ID.md §8): 10 s at 100 Hz,
+ * the steering excites the lateral curve, so the particles move and resample. */
+#define TID_LOG "scenarios/tyre_id/tid_sine_steer.csv"
+
+/* The replay's tyre identifier columns of row @p i equal the library's estimate @p e with
+ * status @p st, bit for bit. */
+static void check_tid_row(const rfe_est_row_t *row, const rfe_tyre_id_estimate_t *e,
+                          rfe_status_t st)
+{
+    assert_int_equal(row->has_tyre_id, 1);
+    assert_int_equal(row->tid_status, st);
+    assert_int_equal(row->tid_flags, rfe_status_is_error(st) ? 0u : e->flags);
+    assert_true(row->mu_id[0] == e->mean[RFE_TID_OUT_MU_F]);
+    assert_true(row->mu_id[1] == e->mean[RFE_TID_OUT_MU_R]);
+    assert_true(row->sd_mu_id[0] == e->sd[RFE_TID_OUT_MU_F]);
+    assert_true(row->sd_mu_id[1] == e->sd[RFE_TID_OUT_MU_R]);
+    assert_true((row->mf_B[0] == e->mean[RFE_TID_OUT_B_F]) && (row->mf_B[1] == e->mean[RFE_TID_OUT_B_R]));
+    assert_true((row->mf_C[0] == e->mean[RFE_TID_OUT_C_F]) && (row->mf_C[1] == e->mean[RFE_TID_OUT_C_R]));
+    assert_true((row->mf_D[0] == e->mean[RFE_TID_OUT_D_F]) && (row->mf_D[1] == e->mean[RFE_TID_OUT_D_R]));
+    assert_true((row->mf_E[0] == e->mean[RFE_TID_OUT_E_F]) && (row->mf_E[1] == e->mean[RFE_TID_OUT_E_R]));
+}
+
+/* The replay's tyre identifier equals a hand-written loop over the library, bit for bit:
+ * with measured velocities each sample's log vx and delta, behind the observer (after the
+ * pipeline's step) the observer's vx and the road-wheel angle it used; the period is the
+ * difference of the time stamps. The friction and observer columns are those of the run
+ * without it (it takes nothing of them and gives nothing). The two runs differ (the observer's
+ * vx is not the log's), and the estimate moves (the particles resample), so a replay that fed
+ * the wrong vx or did not step would fail. */
+/* REQ-CLI-008 */
+static void test_rfe_replay_tyre_id_is_the_library_loop(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    rfe_param_set_t ps;
+    rfe_replay_stats_t st;
+    rfe_params_t p;
+    rfe_velocity_params_t vp;
+    rfe_tyre_id_params_t tp;
+    uint64_t seed = 0u;
+    static rfe_pipeline_t pl;
+    static rfe_tyre_id_t tid;
+    rfe_est_row_t *on;
+    rfe_est_row_t *off;
+    rfe_est_row_t *meas;
+    int observer;
+    size_t differs = 0u;
+    (void)state;
+    memset(&log, 0, sizeof log);
+    assert_int_equal(rfe_sensor_log_read(TID_LOG, &log, &err), 0);
+    on = calloc(log.n_rows, sizeof *on);
+    off = calloc(log.n_rows, sizeof *off);
+    meas = calloc(log.n_rows, sizeof *meas);
+    assert_non_null(on);
+    assert_non_null(off);
+    assert_non_null(meas);
+    assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_DEFAULT), 0);
+    ps.value[RFE_PK_dt] = 0.01; /* the log's period */
+    for (observer = 0; observer <= 1; ++observer) {
+        rfe_status_t (*run)(const rfe_param_set_t *, const rfe_sensor_log_t *, rfe_est_row_t *,
+                            rfe_replay_stats_t *, size_t *) =
+            observer ? rfe_replay_run_observer_f64 : rfe_replay_run_f64;
+        size_t i;
+        size_t w;
+        ps.tyre_id = 0;
+        assert_int_equal(run(&ps, &log, off, &st, NULL), RFE_OK);
+        ps.tyre_id = 1;
+        assert_int_equal(run(&ps, &log, on, &st, NULL), RFE_OK);
+        assert_int_equal(rfe_replay_params_f64(&ps, &p, NULL), RFE_OK);
+        assert_int_equal(rfe_replay_velocity_params_f64(&ps, &vp, NULL), RFE_OK);
+        assert_int_equal(rfe_replay_tyre_id_params_f64(&ps, &tp, &seed, NULL), RFE_OK);
+        assert_int_equal(rfe_pipeline_init(&pl, &p, &vp), RFE_OK);
+        assert_int_equal(rfe_tyre_id_init(&tid, &tp, &p, seed), RFE_OK);
+        for (i = 0u; i < log.n_rows; ++i) {
+            const rfe_sensor_row_t *row = &log.rows[i];
+            rfe_tyre_id_sample_t s;
+            rfe_tyre_id_estimate_t e;
+            rfe_status_t sst;
+            s.dt = (i > 0u) ? row->t - log.rows[i - 1u].t : 0.0;
+            s.delta = row->delta;
+            s.vx = row->vx;
+            s.yaw_rate = row->yaw_rate;
+            s.ay = row->ay;
+            s.ax = row->ax;
+            if (observer) {
+                rfe_velocity_input_t in;
+                rfe_pipeline_out_t o;
+                rfe_replay_esc_input_f64(&log, i, (i > 0u) ? i - 1u : SIZE_MAX, &in);
+                assert_false(rfe_status_is_error(rfe_pipeline_step(&pl, &in, &o)));
+                s.vx = o.velocity.vx;
+                s.delta = o.velocity.delta;
+            }
+            sst = rfe_tyre_id_step(&tid, &s, &e);
+            assert_int_equal(sst, RFE_OK);
+            check_tid_row(&on[i], &e, sst);
+            assert_int_equal(off[i].has_tyre_id, 0);
+            for (w = 0u; w < RFE_WHEELS; ++w) {
+                assert_true((on[i].mu[w] == off[i].mu[w]) && (on[i].sd[w] == off[i].sd[w]));
+                assert_int_equal(on[i].valid[w], off[i].valid[w]);
+            }
+            assert_int_equal(on[i].status, off[i].status);
+            assert_true((on[i].vx == off[i].vx) && (on[i].sd_beta == off[i].sd_beta));
+            if (observer) {
+                differs += (on[i].mu_id[0] != meas[i].mu_id[0]) ? 1u : 0u;
+            } else {
+                meas[i] = on[i];
+            }
+        }
+        /* the counters are the rows' */
+        assert_int_equal(st.tid_status_count[RFE_OK], log.n_rows);
+        assert_int_equal(st.tid_flag_count[3], 1u);                 /* first */
+        assert_int_equal(st.tid_flag_count[0], log.n_rows - 1u);    /* updated: every other */
+        assert_true(st.tid_flag_count[1] > 0u);                     /* resampled */
+        assert_int_equal(st.tid_restarts, 0u);
+        assert_true(on[log.n_rows - 1u].mu_id[0] != on[0].mu_id[0]);
+    }
+    assert_true(differs > 0u);
+    free(meas);
+    free(off);
+    free(on);
+    rfe_sensor_log_free(&log);
+}
+
+/* A sample the identifier refuses (a NaN ay) holds its estimate with the library's status and
+ * no flags, and the next period runs from the last accepted sample; a period beyond
+ * tid_dt_max starts it afresh (the prior drawn again: flag first), counted; behind the
+ * observer a sample the pipeline refuses (a NaN wheel speed) is not stepped and holds the
+ * estimate with the pipeline's status. An invalid tid_* key or a prior outside its bounds
+ * refuses the run before any row. */
+/* REQ-CLI-008 */
+static void test_rfe_replay_tyre_id_refusals_and_restart(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    rfe_param_set_t ps;
+    rfe_replay_stats_t st;
+    rfe_est_row_t *out;
+    size_t i;
+    size_t bad = 0u;
+    (void)state;
+    memset(&log, 0, sizeof log);
+    assert_int_equal(rfe_sensor_log_read(TID_LOG, &log, &err), 0);
+    out = calloc(log.n_rows, sizeof *out);
+    assert_non_null(out);
+    assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_DEFAULT), 0);
+    ps.value[RFE_PK_dt] = 0.01;
+    ps.tyre_id = 1;
+    log.rows[100].ay = NAN;
+    for (i = 500u; i < log.n_rows; ++i) {
+        log.rows[i].t += 0.5; /* a gap of 0.51 s before row 500 */
+    }
+    assert_int_equal(rfe_replay_run_f64(&ps, &log, out, &st, NULL), RFE_OK);
+    assert_int_equal(out[100].tid_status, RFE_ERR_NONFINITE);
+    assert_int_equal(out[100].tid_flags, 0u);
+    assert_true((out[100].mu_id[0] == out[99].mu_id[0]) && (out[100].mf_D[1] == out[99].mf_D[1]));
+    assert_int_equal(out[101].tid_status, RFE_OK); /* 0.02 s since row 99: accepted */
+    {
+        /* rows 0 .. 101 by hand, row 100 skipped: row 101's period is 0.02 s, from row 99 */
+        static rfe_tyre_id_t tid;
+        rfe_params_t p;
+        rfe_tyre_id_params_t tp;
+        uint64_t seed = 0u;
+        rfe_tyre_id_estimate_t e;
+        size_t prev = 0u;
+        assert_int_equal(rfe_replay_params_f64(&ps, &p, NULL), RFE_OK);
+        assert_int_equal(rfe_replay_tyre_id_params_f64(&ps, &tp, &seed, NULL), RFE_OK);
+        assert_int_equal(rfe_tyre_id_init(&tid, &tp, &p, seed), RFE_OK);
+        for (i = 0u; i <= 101u; ++i) {
+            const rfe_sensor_row_t *row = &log.rows[i];
+            const rfe_tyre_id_sample_t s = {(i > 0u) ? row->t - log.rows[prev].t : 0.0, row->delta,
+                                            row->vx, row->yaw_rate, row->ay, row->ax};
+            if (i == 100u) {
+                continue;
+            }
+            assert_int_equal(rfe_tyre_id_step(&tid, &s, &e), RFE_OK);
+            prev = i;
+        }
+        check_tid_row(&out[101], &e, RFE_OK);
+    }
+    assert_int_equal(out[500].tid_flags, RFE_TID_FIRST);
+    assert_int_equal(out[501].tid_flags & RFE_TID_UPDATED, RFE_TID_UPDATED);
+    assert_int_equal(st.tid_restarts, 1u);
+    assert_int_equal(st.tid_flag_count[3], 2u); /* first: row 0 and row 500 */
+    assert_int_equal(st.tid_status_count[RFE_ERR_NONFINITE], 1u);
+    /* behind the observer: the pipeline refuses row 200 (and row 100: the observer takes ay) */
+    log.rows[200].omega[RFE_RL] = NAN;
+    assert_int_equal(rfe_replay_run_observer_f64(&ps, &log, out, &st, NULL), RFE_OK);
+    assert_true(rfe_status_is_error((rfe_status_t)out[200].status));
+    assert_int_equal(out[200].tid_status, out[200].status);
+    assert_true(out[200].mu_id[0] == out[199].mu_id[0]);
+    assert_int_equal(out[201].tid_status, RFE_OK);
+    assert_int_equal(out[100].tid_status, out[100].status);
+    /* an invalid key: named, before any row; a prior mean outside its bounds: no key alone */
+    ps.tid[RFE_PK_tid_sd_ay - RFE_PK_TID_FIRST] = -0.2;
+    assert_int_equal(rfe_replay_run_f64(&ps, &log, out, &st, &bad), RFE_ERR_PARAM);
+    assert_int_equal(bad, RFE_PK_tid_sd_ay);
+    assert_int_equal(rfe_replay_run_observer_f64(&ps, &log, out, &st, &bad), RFE_ERR_PARAM);
+    assert_int_equal(bad, RFE_PK_tid_sd_ay);
+    ps.tid[RFE_PK_tid_sd_ay - RFE_PK_TID_FIRST] = 0.2;
+    ps.tid[RFE_PK_tid_C_hi - RFE_PK_TID_FIRST] = 1.2; /* shape_Cy 1.3 outside [1, 1.2] */
+    assert_int_equal(rfe_replay_run_f64(&ps, &log, out, &st, &bad), RFE_ERR_PARAM);
+    assert_int_equal(bad, RFE_PK_NONE);
+    free(out);
+    rfe_sensor_log_free(&log);
+}
+
+
+/* The feed rule written out (TYRE_ID.md §14): after an update with status RFE_OK whose summed
+ * cornering stiffness has a relative sd (the axles' sds combined as independent) of at most
+ * @p feed, the load-weighted curve and r_model_rel = sqrt(r^2 + rel^2). */
+static int feed_curve(const rfe_tyre_id_t *tid, const rfe_tyre_id_estimate_t *e, rfe_status_t st,
+                      double feed, double r, double v[4])
+{
+    const double ff = tid->c.fz0[0];
+    const double fr = tid->c.fz0[1];
+    const double k = e->mean[RFE_TID_OUT_K_F] + e->mean[RFE_TID_OUT_K_R];
+    const double rel = sqrt(e->sd[RFE_TID_OUT_K_F] * e->sd[RFE_TID_OUT_K_F] +
+                            e->sd[RFE_TID_OUT_K_R] * e->sd[RFE_TID_OUT_K_R]) / k;
+    if (!((st == RFE_OK) && ((e->flags & RFE_TID_UPDATED) != 0u) && (rel <= feed))) {
+        return 0;
+    }
+    v[0] = k / (ff + fr);
+    v[1] = (ff * e->mean[RFE_TID_OUT_C_F] + fr * e->mean[RFE_TID_OUT_C_R]) / (ff + fr);
+    v[2] = (ff * e->mean[RFE_TID_OUT_E_F] + fr * e->mean[RFE_TID_OUT_E_R]) / (ff + fr);
+    v[3] = sqrt(r * r + rel * rel);
+    return 1;
+}
+
+/* With tid_feed_sd_rel > 0 the friction columns equal a hand-written loop over the library, bit
+ * for bit: each sample the friction step, then the identifier's, then the feed rule on that
+ * step's estimate and rfe_friction_set_lateral_tyre, so the next sample's step takes the curve
+ * (cy_used .. r_model_rel_used: the curve of each sample's step). tid_feed_sd_rel = 0.05 lies
+ * within the spread of the log's relative sds, so some updates feed and some do not, and the
+ * estimate differs from the run without the feed. Behind the observer (no pipeline setter) and
+ * negative, the key is refused before any row, named. */
+/* REQ-CLI-008 */
+static void test_rfe_replay_tyre_feed_is_the_library_loop(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    rfe_param_set_t ps;
+    rfe_replay_stats_t st;
+    rfe_params_t p;
+    rfe_tyre_id_params_t tp;
+    uint64_t seed = 0u;
+    static rfe_friction_t est;
+    static rfe_tyre_id_t tid;
+    rfe_est_row_t *on;
+    rfe_est_row_t *off;
+    size_t i;
+    size_t n_fed = 0u;
+    size_t differs = 0u;
+    size_t bad = 0u;
+    (void)state;
+    memset(&log, 0, sizeof log);
+    assert_int_equal(rfe_sensor_log_read(TID_LOG, &log, &err), 0);
+    on = calloc(log.n_rows, sizeof *on);
+    off = calloc(log.n_rows, sizeof *off);
+    assert_non_null(on);
+    assert_non_null(off);
+    assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_DEFAULT), 0);
+    ps.value[RFE_PK_dt] = 0.01;
+    assert_int_equal(rfe_replay_run_f64(&ps, &log, off, &st, NULL), RFE_OK);
+    ps.tyre_id = 1;
+    ps.tid[RFE_PK_tid_feed_sd_rel - RFE_PK_TID_FIRST] = 0.05;
+    assert_int_equal(rfe_replay_run_f64(&ps, &log, on, &st, NULL), RFE_OK);
+    assert_int_equal(rfe_replay_params_f64(&ps, &p, NULL), RFE_OK);
+    assert_int_equal(rfe_replay_tyre_id_params_f64(&ps, &tp, &seed, NULL), RFE_OK);
+    memset(&est, 0, sizeof est);
+    assert_int_equal(rfe_friction_init(&est, &p), RFE_OK);
+    assert_int_equal(rfe_tyre_id_init(&tid, &tp, &p, seed), RFE_OK);
+    for (i = 0u; i < log.n_rows; ++i) {
+        const rfe_sensor_row_t *row = &log.rows[i];
+        rfe_sample_t smp;
+        rfe_estimate_t fe;
+        rfe_tyre_id_estimate_t e;
+        rfe_status_t fst;
+        rfe_status_t tst;
+        double v[4];
+        const rfe_tyre_id_sample_t ts = {(i > 0u) ? row->t - log.rows[i - 1u].t : 0.0, row->delta,
+                                         row->vx, row->yaw_rate, row->ay, row->ax};
+        assert_int_equal(on[i].has_tyre_feed, 1);
+        assert_true((on[i].cy_used == est.params.tyre.cy) &&
+                    (on[i].shape_Cy_used == est.params.tyre.shape_Cy) &&
+                    (on[i].shape_Ey_used == est.params.tyre.shape_Ey) &&
+                    (on[i].r_model_rel_used == est.params.filter.r_model_rel));
+        rfe_replay_sample_from_row(row, &smp);
+        fst = rfe_friction_step(&est, &smp, &fe);
+        assert_int_equal(on[i].status, fst);
+        assert_true((on[i].mu[0] == fe.mu[0]) && (on[i].sd[0] == fe.sd[0]) &&
+                    (on[i].mu[3] == fe.mu[3]) && (on[i].sd[3] == fe.sd[3]));
+        differs += ((on[i].mu[0] != off[i].mu[0]) || (on[i].sd[0] != off[i].sd[0])) ? 1u : 0u;
+        tst = rfe_tyre_id_step(&tid, &ts, &e);
+        check_tid_row(&on[i], &e, tst);
+        if (feed_curve(&tid, &e, tst, 0.05, p.filter.r_model_rel, v) != 0) {
+            assert_int_equal(rfe_friction_set_lateral_tyre(&est, v[0], v[1], v[2], v[3]), RFE_OK);
+            ++n_fed;
+        }
+    }
+    assert_int_equal(st.n_tyre_fed, n_fed);
+    assert_true((n_fed > 0u) && (n_fed < log.n_rows - 1u));
+    assert_true(differs > 0u);
+    /* refused before any row, naming the key */
+    assert_int_equal(rfe_replay_run_observer_f64(&ps, &log, on, &st, &bad), RFE_ERR_PARAM);
+    assert_int_equal(bad, RFE_PK_tid_feed_sd_rel);
+    ps.tid[RFE_PK_tid_feed_sd_rel - RFE_PK_TID_FIRST] = -0.05;
+    assert_int_equal(rfe_replay_run_f64(&ps, &log, on, &st, &bad), RFE_ERR_PARAM);
+    assert_int_equal(bad, RFE_PK_tid_feed_sd_rel);
+    ps.tid[RFE_PK_tid_feed_sd_rel - RFE_PK_TID_FIRST] = INFINITY;
+    assert_int_equal(rfe_replay_run_f64(&ps, &log, on, &st, &bad), RFE_ERR_PARAM);
+    assert_int_equal(bad, RFE_PK_tid_feed_sd_rel);
+    free(off);
+    free(on);
+    rfe_sensor_log_free(&log);
+}
+
+/* The identifier's state is the replay state's: two states stepped row by row in turn (one
+ * measuring with the curve fed, one behind the observer with the other filter and seed) give
+ * each its whole-log run's rows and counters, bit for bit, so nothing of a run lives outside
+ * its state. */
+/* REQ-CLI-008 REQ-CLI-003 */
+static void test_rfe_replay_tyre_id_state_steps_as_the_run(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    rfe_param_set_t ps[2];
+    rfe_replay_stats_t st_run[2];
+    rfe_replay_stats_t st_one;
+    struct rfe_replay_state_f64 *s[2];
+    rfe_est_row_t *run[2];
+    rfe_est_row_t *one[2];
+    size_t i;
+    int k;
+    (void)state;
+    memset(&log, 0, sizeof log);
+    assert_int_equal(rfe_sensor_log_read(TID_LOG, &log, &err), 0);
+    for (k = 0; k < 2; ++k) {
+        s[k] = calloc(1u, rfe_replay_state_size_f64());
+        run[k] = calloc(log.n_rows, sizeof *run[k]);
+        one[k] = calloc(log.n_rows, sizeof *one[k]);
+        assert_non_null(s[k]);
+        assert_non_null(run[k]);
+        assert_non_null(one[k]);
+        assert_int_equal(rfe_param_set_preset_f64(&ps[k], RFE_PRESET_DEFAULT), 0);
+        ps[k].value[RFE_PK_dt] = 0.01;
+        ps[k].tyre_id = 1;
+    }
+    ps[0].tid[RFE_PK_tid_feed_sd_rel - RFE_PK_TID_FIRST] = 0.05;
+    ps[1].tid[RFE_PK_tid_filter - RFE_PK_TID_FIRST] = (double)RFE_TID_SIR;
+    ps[1].tid[RFE_PK_tid_seed - RFE_PK_TID_FIRST] = 7.0;
+    assert_int_equal(rfe_replay_run_f64(&ps[0], &log, run[0], &st_run[0], NULL), RFE_OK);
+    assert_int_equal(rfe_replay_run_observer_f64(&ps[1], &log, run[1], &st_run[1], NULL), RFE_OK);
+    assert_int_equal(rfe_replay_begin_f64(s[0], &ps[0], &log, 0, NULL), RFE_OK);
+    assert_int_equal(rfe_replay_begin_f64(s[1], &ps[1], &log, 1, NULL), RFE_OK);
+    for (i = 0u; i < log.n_rows; ++i) {
+        for (k = 0; k < 2; ++k) {
+            assert_int_equal(rfe_replay_step_f64(s[k], &log.rows[i], &one[k][i]), RFE_OK);
+        }
+    }
+    assert_true(st_run[0].n_tyre_fed > 0u); /* the feed acted */
+    for (k = 0; k < 2; ++k) {
+        for (i = 0u; i < log.n_rows; ++i) {
+            const rfe_est_row_t *a = &one[k][i];
+            const rfe_est_row_t *b = &run[k][i];
+            assert_int_equal(a->has_tyre_id, 1);
+            assert_int_equal(a->has_tyre_feed, (k == 0) ? 1 : 0);
+            assert_memory_equal(a->mu, b->mu, sizeof a->mu);
+            assert_memory_equal(a->mu_id, b->mu_id, sizeof a->mu_id);
+            assert_memory_equal(a->sd_mu_id, b->sd_mu_id, sizeof a->sd_mu_id);
+            assert_memory_equal(a->mf_D, b->mf_D, sizeof a->mf_D);
+            assert_true((a->vx == b->vx) && (a->cy_used == b->cy_used) &&
+                        (a->r_model_rel_used == b->r_model_rel_used));
+            assert_int_equal(a->tid_status, b->tid_status);
+            assert_int_equal(a->tid_flags, b->tid_flags);
+        }
+        assert_int_equal(rfe_replay_get_stats_f64(s[k], &st_one), RFE_OK);
+        assert_memory_equal(&st_one, &st_run[k], sizeof st_one);
+        free(one[k]);
+        free(run[k]);
+        free(s[k]);
+    }
+    /* behind the observer the feed is refused at the start, naming the key; no step then */
+    {
+        struct rfe_replay_state_f64 *t = calloc(1u, rfe_replay_state_size_f64());
+        rfe_est_row_t out;
+        size_t bad = 0u;
+        assert_non_null(t);
+        assert_int_equal(rfe_replay_begin_f64(t, &ps[0], &log, 1, &bad), RFE_ERR_PARAM);
+        assert_int_equal(bad, RFE_PK_tid_feed_sd_rel);
+        assert_int_equal(rfe_replay_step_f64(t, &log.rows[0], &out), RFE_ERR_NOT_INITIALISED);
+        free(t);
+    }
+    rfe_sensor_log_free(&log);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1385,6 +1886,12 @@ int main(void)
         cmocka_unit_test(test_rfe_replay_state_steps_as_the_run),
         cmocka_unit_test(test_rfe_replay_state_refusals),
         cmocka_unit_test(test_rfe_replay_esc_input_of_a_log_row),
+        cmocka_unit_test(test_rfe_param_set_tyre_id_is_the_library_default),
+        cmocka_unit_test(test_rfe_replay_tyre_id_params_keys_and_diagnosis),
+        cmocka_unit_test(test_rfe_replay_tyre_id_is_the_library_loop),
+        cmocka_unit_test(test_rfe_replay_tyre_id_refusals_and_restart),
+        cmocka_unit_test(test_rfe_replay_tyre_feed_is_the_library_loop),
+        cmocka_unit_test(test_rfe_replay_tyre_id_state_steps_as_the_run),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

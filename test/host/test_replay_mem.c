@@ -28,7 +28,7 @@
 int rfe_mu_replay_main(int argc, char **argv);
 
 #define DATA "test/host/data/"
-#define MAX_COLS 32u
+#define MAX_COLS 40u
 
 /** A sensor log's columns in memory, column-major, from test_table (its own parser). */
 typedef struct {
@@ -280,8 +280,8 @@ static void test_rfe_replay_mem_errors(void **state)
 
 /** A file's `# key = value` metadata (trimmed), as the reader keeps it. */
 typedef struct {
-    char text[32][2][128];
-    rfe_kv_t kv[32];
+    char text[64][2][256];
+    rfe_kv_t kv[64];
     size_t n;
 } mem_meta_t;
 
@@ -309,9 +309,9 @@ static void mem_meta_load(const char *path, mem_meta_t *m)
             continue;
         }
         *eq = '\0';
-        assert_true(m->n < 32u);
-        (void)snprintf(m->text[m->n][0], 128, "%s", trim_text(line + 1));
-        (void)snprintf(m->text[m->n][1], 128, "%s", trim_text(eq + 1));
+        assert_true(m->n < 64u);
+        (void)snprintf(m->text[m->n][0], 256, "%s", trim_text(line + 1));
+        (void)snprintf(m->text[m->n][1], 256, "%s", trim_text(eq + 1));
         m->kv[m->n].key = m->text[m->n][0];
         m->kv[m->n].value = m->text[m->n][1];
         ++m->n;
@@ -385,6 +385,53 @@ static void test_rfe_replay_mem_steer_ratio_as_delta(void **state)
     mem_cols_free(&m);
 }
 
+/* The tyre identifier in memory (--tyre-id=apf, a tyre identification log with its metadata,
+ * in blocks): every column of mu_replay's estimate log, mu_id_f .. tid_flags included, equals
+ * the in-memory value, in float and double; the run says it ran (no feed without
+ * tid_feed_sd_rel). With --real q31 it is refused as mu_replay refuses it. REQ-CLI-008 */
+static void test_rfe_replay_mem_tyre_id_equals_mu_replay(void **state)
+{
+    static const char *const log = "scenarios/tyre_id/tid_sine_steer.csv";
+    static const char *const reals[2] = {"float", "double"};
+    static mem_meta_t meta;
+    mem_cols_t m;
+    rfe_replay_mem_t mem;
+    rfe_io_error_t err;
+    void *s;
+    size_t r;
+    size_t j;
+    (void)state;
+    mem_cols_load(log, &m);
+    mem_meta_load(log, &meta);
+    for (r = 0u; r < 2u; ++r) {
+        test_table_t est;
+        int has_mu_id = 0;
+        double *out = calloc(m.t.n_rows * RFE_MEM_COLS, sizeof *out);
+        assert_non_null(out);
+        cli_estimates(log, reals[r], "--tyre-id=apf", &est);
+        for (j = 0u; j < est.n_cols; ++j) {
+            has_mu_id |= (strcmp(est.names[j], "mu_id_f") == 0) ? 1 : 0;
+        }
+        assert_true(has_mu_id);
+        assert_int_equal(mem_run(&m, meta.kv, meta.n, reals[r], "--tyre-id=apf", 250u, out, &mem,
+                                 &s, &err), 0);
+        assert_int_equal(mem.tyre_id, 1);
+        assert_int_equal(mem.tyre_feed, 0);
+        assert_equals_cli(&est, out, r == 0u);
+        test_table_free(&est);
+        free(out);
+        free(s);
+    }
+    {
+        double out[RFE_MEM_COLS];
+        assert_int_equal(mem_run(&m, meta.kv, meta.n, "q31", "--tyre-id=apf", 1u, out, &mem, &s,
+                                 &err),
+                         RFE_MEM_USAGE);
+        free(s);
+    }
+    mem_cols_free(&m);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -392,6 +439,7 @@ int main(void)
         cmocka_unit_test(test_rfe_replay_mem_errors),
         cmocka_unit_test(test_rfe_replay_mem_car_units_equal_mu_replay),
         cmocka_unit_test(test_rfe_replay_mem_steer_ratio_as_delta),
+        cmocka_unit_test(test_rfe_replay_mem_tyre_id_equals_mu_replay),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

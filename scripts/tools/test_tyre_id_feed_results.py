@@ -1,0 +1,36 @@
+"""The rule and the log list of tyre_id_feed_results.py, on figures decided by hand.
+
+A run is (RMSE when valid, consistency when valid, valid share, share fed). "Helps": a lower
+RMSE, a consistency no lower and a valid share at most 5 points lower than without the feed;
+no verdict (None) when either run has no valid sample.
+"""
+
+import os
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import tyre_id_feed_results as fr  # noqa: E402
+
+BASE = (0.20, 0.90, 0.50, 0.0)
+
+
+def test_helps_needs_all_three():
+    assert fr.helps(BASE, (0.10, 0.95, 0.50, 0.5)) is True
+    assert fr.helps(BASE, (0.10, 0.90, 0.46, 0.5)) is True       # 4 points fewer valid: allowed
+    assert fr.helps(BASE, (0.20, 0.95, 0.50, 0.5)) is False      # RMSE not lower
+    assert fr.helps(BASE, (0.10, 0.89, 0.50, 0.5)) is False      # consistency lower
+    assert fr.helps(BASE, (0.10, 0.95, 0.44, 0.5)) is False      # 6 points fewer valid
+
+
+def test_no_verdict_without_valid_samples():
+    assert fr.helps((None, None, 0.0, 0.0), (0.10, 0.95, 0.50, 0.5)) is None
+    assert fr.helps(BASE, (None, None, 0.0, 0.5)) is None
+
+
+def test_logs_are_the_steering_scenarios_and_exist():
+    logs = fr.logs()
+    assert len(logs) == 3 * len(fr.STEERING) + len(os.listdir(Path(fr.ROOT) / "scenarios" / "tyre_id"))
+    assert "scenarios/brake_in_turn.mf.csv" in logs and "scenarios/wrong_tyre_data.csv" in logs
+    for log in logs:
+        assert (Path(fr.ROOT) / log).is_file(), log

@@ -1,0 +1,132 @@
+#!/usr/bin/env python3
+"""What the tyre identifier's lateral curve does to the friction estimator when the replay feeds
+it (tid_feed_sd_rel, docs/TYRE_ID.md section 14), on every steering scenario.
+
+    .venv/bin/python scripts/tools/tyre_id_feed_results.py [--page docs/TYRE_ID_RESULTS.md]
+                     [--mu-replay build/mu_replay] [--jobs 2]
+
+Every steering log (the scenarios whose driver steers: brake in turn, double lane change, ramp
+steer, sine steer, the wrong tyre data, each with the Dugoff truth, the Magic Formula truth .mf
+and the noise-free .nf; and the tyre identification logs scenarios/tyre_id/) is replayed by the
+C library (`mu_replay`, float, the default preset) without the identifier and with
+`--tyre-id apf` feeding at each tid_feed_sd_rel of FEEDS. Per run, from the --metrics JSON, the
+figures pooled over the four wheels as the README's trust table pools them
+(scripts/tools/wheel_figures.py):
+    RMSE when valid         over the settled samples reported valid
+    consistency when valid  the share of those with |error| <= 2 sd
+    valid                   the share of the settled samples reported valid
+    fed                     the share of samples whose curve the estimator took
+A run "helps" when its RMSE when valid is lower and its consistency when valid no lower than
+without the feed, and its valid share no more than 5 points lower (a feed that only silences
+the estimate does not help). With --page the table goes between
+<!-- tyre-feed:begin/end --> of the page.
+"""
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, os.path.join(ROOT, "scripts", "tools"))
+
+from md_tables import replace_region  # noqa: E402
+from wheel_figures import pooled  # noqa: E402
+
+STEERING = ("brake_in_turn", "brake_in_turn_low_mu", "double_lane_change_high_mu",
+            "double_lane_change_low_mu", "ramp_steer_high_mu", "ramp_steer_low_mu",
+            "sine_steer_high_mu", "sine_steer_low_mu", "wrong_tyre_data")
+VARIANTS = ("", ".mf", ".nf")
+FEEDS = (0.05, 0.1)
+VALID_DROP = 0.05  # the largest fall of the valid share a run that helps may have
+
+
+def logs():
+    out = [f"scenarios/{s}{v}.csv" for s in STEERING for v in VARIANTS]
+    out += sorted(f"scenarios/tyre_id/{f}" for f in os.listdir(os.path.join(ROOT, "scenarios",
+                                                                             "tyre_id"))
+                  if f.endswith(".csv"))
+    return out
+
+
+def run(exe, log, feed):
+    """(RMSE when valid, consistency when valid, valid share, share fed) of one run; feed None:
+    without the identifier."""
+    with tempfile.TemporaryDirectory() as tmp:
+        js = os.path.join(tmp, "m.json")
+        args = [exe, "--in", os.path.join(ROOT, log), "--out", os.path.join(tmp, "e.csv"),
+                "--metrics", js, "--quiet"]
+        if feed is not None:
+            par = os.path.join(tmp, "feed.params")
+            with open(par, "w", encoding="utf-8") as fh:
+                fh.write(f"tid_feed_sd_rel = {feed!r}\n")
+            args += ["--tyre-id", "apf", "--params", par]
+        r = subprocess.run(args, capture_output=True, text=True, check=False)
+        if r.returncode != 0:
+            raise SystemExit(f"tyre_id_feed_results: {log} feed {feed}: exit {r.returncode}: "
+                             f"{r.stderr.strip()}")
+        with open(js, encoding="utf-8") as fh:
+            j = json.load(fh)
+    m = j["metrics"]
+    fed = (j["tyre_id"]["feed"]["n_fed"] / j["steps"]) if feed is not None else 0.0
+    return (pooled(m, "rmse_valid", "n_valid", square=True),
+            pooled(m, "consistency_valid", "n_valid"), pooled(m, "frac_valid", "n_settled"), fed)
+
+
+def helps(base, fed):
+    """The rule of the docstring; None when either run has no valid sample."""
+    if base[0] is None or fed[0] is None:
+        return None
+    return fed[0] < base[0] and fed[1] >= base[1] and fed[2] >= base[2] - VALID_DROP
+
+
+def cell(x, fmt):
+    return "–" if x is None else format(x, fmt)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--mu-replay", default=os.path.join(ROOT, "build", "mu_replay"))
+    ap.add_argument("--page", default="")
+    ap.add_argument("--jobs", type=int, default=2)
+    a = ap.parse_args()
+    if not os.access(a.mu_replay, os.X_OK):
+        raise SystemExit(f"tyre_id_feed_results: {a.mu_replay} not found: run make first")
+    names = logs()
+    jobs = [(log, feed) for log in names for feed in (None,) + FEEDS]
+    with ThreadPoolExecutor(max_workers=max(1, a.jobs)) as ex:
+        res = dict(zip(jobs, ex.map(lambda j: run(a.mu_replay, *j), jobs)))
+    feeds = " / ".join(f"{f:g}" for f in FEEDS)
+    rows = [f"| log | RMSE when valid: off / {feeds} | consistency when valid: off / {feeds} "
+            f"| valid: off / {feeds} | fed: {feeds} | helps: {feeds} |",
+            "|---|---|---|---|---|---|"]
+    count = {f: [0, 0] for f in FEEDS}
+    for log in names:
+        runs = [res[(log, None)]] + [res[(log, f)] for f in FEEDS]
+        h = [helps(runs[0], r) for r in runs[1:]]
+        for f, x in zip(FEEDS, h):
+            count[f][0] += 1 if x else 0
+            count[f][1] += 1 if x is not None else 0
+        name = log[len("scenarios/"):-len(".csv")]
+        rows.append(f"| {name} | " + " / ".join(cell(r[0], ".3f") for r in runs) + " | "
+                    + " / ".join(cell(r[1], ".2f") for r in runs) + " | "
+                    + " / ".join(cell(r[2], ".0%") for r in runs) + " | "
+                    + " / ".join(f"{r[3]:.0%}" for r in runs[1:]) + " | "
+                    + " / ".join("–" if x is None else ("yes" if x else "no") for x in h) + " |")
+    rows.append("")
+    rows.append("Helps (of the logs with valid samples both ways): "
+                + "; ".join(f"tid_feed_sd_rel = {f:g}: {count[f][0]} of {count[f][1]}"
+                            for f in FEEDS) + ".")
+    text = "\n".join(rows)
+    print(text)
+    if a.page:
+        replace_region(Path(a.page), "<!-- tyre-feed:begin -->", "<!-- tyre-feed:end -->",
+                       text.splitlines(), "tyre_id_feed_results")
+
+
+if __name__ == "__main__":
+    main()
