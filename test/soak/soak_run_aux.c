@@ -167,6 +167,38 @@ static int mg_setup(const rfe_sensor_log_t *log, const char *log_name, const soa
     return 0;
 }
 
+/* A mass and grade step counted by its status; an error inside the limits is a violation.
+ * 1 when the step failed (nothing more to check). */
+static int mg_counted(soak_aux_result_t *res, size_t i, double t, rfe_status_t st)
+{
+    char why[SOAK_WHY];
+    ++res->steps;
+    ++res->status[(st >= 0 && st < SOAK_STATUS_SLOTS) ? st : SOAK_STATUS_SLOTS - 1];
+    if (!rfe_status_is_error(st)) {
+        return 0;
+    }
+    snprintf(why, sizeof(why), "a row inside the limits failed with status %d (%s)", (int)st,
+             rfe_status_str(st));
+    aux_violation(res, i, t, why);
+    return 1;
+}
+
+/* After a successful step: its invariant check's verdict (why, empty when it held) and the
+ * ranges and the end of the mass [kg], the grade [rad] and the mass's sd, float or Q31 alike. */
+static void mg_tracked(soak_aux_result_t *res, size_t i, double t, const char *why, double mass,
+                       double grade, double sd_mass)
+{
+    if (why[0] != '\0') {
+        aux_violation(res, i, t, why);
+    }
+    res->lo = fmin(res->lo, mass);
+    res->hi = fmax(res->hi, mass);
+    res->lo2 = fmin(res->lo2, grade);
+    res->hi2 = fmax(res->hi2, grade);
+    res->final = mass;
+    res->final_sd = sd_mass;
+}
+
 int soak_run_mass_grade(const rfe_sensor_log_t *log, const char *log_name,
                         const soak_aux_cfg_t *cfg, soak_aux_result_t *res)
 {
@@ -193,24 +225,11 @@ int soak_run_mass_grade(const rfe_sensor_log_t *log, const char *log_name,
         char why[SOAK_WHY];
         mg_sample(log, i, &mp, m, &u);
         st = rfe_mass_grade_step(&mg, &u, &e);
-        ++res->steps;
-        ++res->status[(st >= 0 && st < SOAK_STATUS_SLOTS) ? st : SOAK_STATUS_SLOTS - 1];
-        if (rfe_status_is_error(st)) {
-            snprintf(why, sizeof(why), "a row inside the limits failed with status %d (%s)",
-                     (int)st, rfe_status_str(st));
-            aux_violation(res, i, row->t, why);
+        if (mg_counted(res, i, row->t, st) != 0) {
             continue;
         }
         check_mg(&mg, &e, why, sizeof(why));
-        if (why[0] != '\0') {
-            aux_violation(res, i, row->t, why);
-        }
-        res->lo = fmin(res->lo, (double)e.mass);
-        res->hi = fmax(res->hi, (double)e.mass);
-        res->lo2 = fmin(res->lo2, (double)e.grade);
-        res->hi2 = fmax(res->hi2, (double)e.grade);
-        res->final = (double)e.mass;
-        res->final_sd = (double)e.sd_mass;
+        mg_tracked(res, i, row->t, why, (double)e.mass, (double)e.grade, (double)e.sd_mass);
     }
     res->us_per_step = 1e6 * (double)(clock() - c0) / CLOCKS_PER_SEC /
                        (double)(res->steps ? res->steps : 1);
@@ -277,27 +296,15 @@ int soak_run_mass_grade_q31(const rfe_sensor_log_t *log, const char *log_name,
         uq.brake = u.brake;
         uq.has = u.has;
         st = rfe_mass_grade_step_q31(&mg, &uq, &e);
-        ++res->steps;
-        ++res->status[(st >= 0 && st < SOAK_STATUS_SLOTS) ? st : SOAK_STATUS_SLOTS - 1];
         if (sat != 0u) {
             aux_violation(res, i, row->t, "a sample beyond its Q format");
         }
-        if (rfe_status_is_error(st)) {
-            snprintf(why, sizeof(why), "a row inside the limits failed with status %d (%s)",
-                     (int)st, rfe_status_str(st));
-            aux_violation(res, i, row->t, why);
+        if (mg_counted(res, i, row->t, st) != 0) {
             continue;
         }
         check_mg_q31(&mg, &e, why, sizeof(why));
-        if (why[0] != '\0') {
-            aux_violation(res, i, row->t, why);
-        }
-        res->lo = fmin(res->lo, rfe_fix_to_double(e.mass, RFE_MG_Q_M));
-        res->hi = fmax(res->hi, rfe_fix_to_double(e.mass, RFE_MG_Q_M));
-        res->lo2 = fmin(res->lo2, rfe_fix_to_double(e.grade, RFE_MG_Q_TH));
-        res->hi2 = fmax(res->hi2, rfe_fix_to_double(e.grade, RFE_MG_Q_TH));
-        res->final = rfe_fix_to_double(e.mass, RFE_MG_Q_M);
-        res->final_sd = rfe_fix_to_double(e.sd_mass, RFE_MG_Q_M);
+        mg_tracked(res, i, row->t, why, rfe_fix_to_double(e.mass, RFE_MG_Q_M),
+                   rfe_fix_to_double(e.grade, RFE_MG_Q_TH), rfe_fix_to_double(e.sd_mass, RFE_MG_Q_M));
     }
     res->us_per_step = 1e6 * (double)(clock() - c0) / CLOCKS_PER_SEC /
                        (double)(res->steps ? res->steps : 1);
