@@ -166,8 +166,10 @@ sanitize: deps-c $(foreach f,asan-f32 asan-f64,$(addprefix $(BUILD)/$(f)/test/,$
 # records every such run in $(BUILD)/valgrind-cli.log, which must stay empty.
 VALGRIND := valgrind --error-exitcode=99 --leak-check=full --errors-for-leak-kinds=definite,indirect -q
 # The unit tests run under valgrind side by side, one per core (each is single-threaded and
-# valgrind is ~50x slower than native; the q31 back-to-back tests are the long ones, so they
-# start first). A failing test's log is printed and stops the run (xargs: exit 255).
+# valgrind is ~50x slower than native; the q31 back-to-back tests and the host replay tests
+# are the long ones, so they start first; the host tests read their files relative to the
+# repository root, where make runs). A failing test's log is printed and stops the run
+# (xargs: exit 255).
 # RFE_TEST_LIGHT=1: the long back-to-back tests walk a subset of their logs and random
 # inputs (test/support/test_light.h); the full sets run natively, under ASan and in coverage.
 VALGRIND_JOBS ?= $(shell nproc 2>/dev/null || echo 1)
@@ -182,15 +184,15 @@ valgrind-unit: deps-c deps-valgrind $(foreach f,f32 f64,$(addprefix $(BUILD)/$(f
           $(addprefix $(BUILD)/f64/test/host/,$(HOST_TESTS))
 	@mkdir -p $(BUILD)/valgrind; \
 	{ for t in $(Q31_TESTS); do echo $(BUILD)/q31/test/$$t; done; \
+	  for t in $(HOST_TESTS); do echo $(BUILD)/f64/test/host/$$t; done; \
 	  for f in f32 f64; do for t in $(UNIT_TESTS); do echo $(BUILD)/$$f/test/$$t; done; done; } | \
 	RFE_TEST_LIGHT=1 xargs -P $(VALGRIND_JOBS) -I{} sh -c 'log=$(BUILD)/valgrind/$$(echo {} | tr / _).log; \
 	  if $(VALGRIND) {} > $$log 2>&1; then echo "== valgrind {}: clean"; \
 	  else cat $$log; echo "== valgrind {}: FAILED (log $$log)"; exit 255; fi'
-	@set -e; for t in $(HOST_TESTS); do echo "== valgrind host/$$t"; $(VALGRIND) $(BUILD)/f64/test/host/$$t; done
 ## the CLI script with every mu_replay run under valgrind memcheck
 valgrind-cli: deps-c deps-valgrind $(BUILD)/mu_replay
 	@if [ -f test/host/test_cli.sh ]; then echo "== valgrind cli"; rm -f $(BUILD)/valgrind-cli.log; \
-	  VALGRIND_WRAP_BIN=$(abspath $(BUILD)/mu_replay) VALGRIND_WRAP_LOG=$(abspath $(BUILD)/valgrind-cli.log) \
+	  RFE_TEST_LIGHT=1 VALGRIND_WRAP_BIN=$(abspath $(BUILD)/mu_replay) VALGRIND_WRAP_LOG=$(abspath $(BUILD)/valgrind-cli.log) \
 	  bash test/host/test_cli.sh test/support/valgrind_wrap.sh; \
 	  if [ -s $(BUILD)/valgrind-cli.log ]; then cat $(BUILD)/valgrind-cli.log; exit 1; fi; fi
 

@@ -24,6 +24,7 @@
 
 #include "replay_mem.h"
 #include "table.h"
+#include "test_light.h"
 
 int rfe_mu_replay_main(int argc, char **argv);
 
@@ -385,13 +386,43 @@ static void test_rfe_replay_mem_steer_ratio_as_delta(void **state)
     mem_cols_free(&m);
 }
 
+/* A copy of the log at @p path with its metadata, header and first @p n rows, in the file
+ * @p tmpl (a mkstemp template, filled in); returns tmpl. */
+static const char *log_prefix(const char *path, size_t n, char *tmpl)
+{
+    char line[1024];
+    size_t rows = 0u;
+    int header = 0;
+    FILE *in = fopen(path, "r");
+    const int fd = mkstemp(tmpl);
+    FILE *out = (fd >= 0) ? fdopen(fd, "w") : NULL;
+    assert_non_null(in);
+    assert_non_null(out);
+    while ((rows < n) && (fgets(line, sizeof line, in) != NULL)) {
+        assert_non_null(strchr(line, '\n')); /* whole lines */
+        if ((line[0] != '#') && header) {
+            ++rows;
+        }
+        header |= (line[0] != '#') ? 1 : 0;
+        assert_true(fputs(line, out) >= 0);
+    }
+    assert_int_equal(rows, n);
+    (void)fclose(in);
+    assert_int_equal(fclose(out), 0);
+    return tmpl;
+}
+
 /* The tyre identifier in memory (--tyre-id=apf, a tyre identification log with its metadata,
  * in blocks): every column of mu_replay's estimate log, mu_id_f .. tid_flags included, equals
  * the in-memory value, in float and double; the run says it ran (no feed without
  * tid_feed_sd_rel). With --real q31 it is refused as mu_replay refuses it. REQ-CLI-008 */
 static void test_rfe_replay_mem_tyre_id_equals_mu_replay(void **state)
 {
-    static const char *const log = "scenarios/tyre_id/tid_sine_steer.csv";
+    static const char *const full = "scenarios/tyre_id/tid_sine_steer.csv";
+    char prefix[] = "test_replay_mem_tid_XXXXXX";
+    /* light mode (under valgrind, ~45x slower): the log's first 200 of 1000 rows, which
+     * resample from row 2 (test_replay.c's TID_LIGHT_ROWS) */
+    const char *const log = rfe_test_light() ? log_prefix(full, 200u, prefix) : full;
     static const char *const reals[2] = {"float", "double"};
     static mem_meta_t meta;
     mem_cols_t m;
@@ -430,6 +461,9 @@ static void test_rfe_replay_mem_tyre_id_equals_mu_replay(void **state)
         free(s);
     }
     mem_cols_free(&m);
+    if (log != full) {
+        (void)unlink(prefix);
+    }
 }
 
 int main(void)
