@@ -2,7 +2,8 @@
 
 A run is (RMSE when valid, consistency when valid, valid share, share fed). "Helps": a lower
 RMSE, a consistency no lower and a valid share at most 5 points lower than without the feed;
-no verdict (None) when either run has no valid sample.
+"hurts": an RMSE higher by more than 0.02 or a consistency lower by more than 0.05; no verdict
+(None) when either run has no valid sample.
 """
 
 import os
@@ -23,9 +24,21 @@ def test_helps_needs_all_three():
     assert fr.helps(BASE, (0.10, 0.95, 0.44, 0.5)) is False      # 6 points fewer valid
 
 
+def test_hurts_on_either_figure():
+    assert fr.hurts(BASE, (0.22, 0.85, 0.50, 0.5)) is False      # both on their limits
+    assert fr.hurts(BASE, (0.221, 0.95, 0.50, 0.5)) is True      # RMSE 0.021 higher
+    assert fr.hurts(BASE, (0.10, 0.84, 0.50, 0.5)) is True       # consistency 0.06 lower
+    assert fr.hurts(BASE, (0.10, 0.95, 0.10, 0.5)) is False      # fewer valid alone: no
+
+
 def test_no_verdict_without_valid_samples():
     assert fr.helps((None, None, 0.0, 0.0), (0.10, 0.95, 0.50, 0.5)) is None
     assert fr.helps(BASE, (None, None, 0.0, 0.5)) is None
+    assert fr.hurts(BASE, (None, None, 0.0, 0.5)) is None
+
+
+def test_labels_say_the_evidence():
+    assert [fr.label(f) for f in ((0.05, 0.0), (0.1, 0.25))] == ["0.05", "0.1 e0.25"]
 
 
 def test_logs_are_the_steering_scenarios_and_exist():

@@ -9,7 +9,9 @@ Every steering log (the scenarios whose driver steers: brake in turn, double lan
 steer, sine steer, the wrong tyre data, each with the Dugoff truth, the Magic Formula truth .mf
 and the noise-free .nf; and the tyre identification logs scenarios/tyre_id/) is replayed by the
 C library (`mu_replay`, float, the default preset) without the identifier and with
-`--tyre-id apf` feeding at each tid_feed_sd_rel of FEEDS. Per run, from the --metrics JSON, the
+`--tyre-id apf` feeding at each (tid_feed_sd_rel, tid_feed_evidence) of FEEDS: from the start,
+and only after 0.25 s of the friction estimator's own evidence that its curve is wrong (time
+at a mu bound or in model mismatch). Per run, from the --metrics JSON, the
 figures pooled over the four wheels as the README's trust table pools them
 (scripts/tools/wheel_figures.py):
     RMSE when valid         over the settled samples reported valid
@@ -18,7 +20,9 @@ figures pooled over the four wheels as the README's trust table pools them
     fed                     the share of samples whose curve the estimator took
 A run "helps" when its RMSE when valid is lower and its consistency when valid no lower than
 without the feed, and its valid share no more than 5 points lower (a feed that only silences
-the estimate does not help). With --page the table goes between
+the estimate does not help). It "hurts" when its RMSE when valid is higher by more than 0.02
+(issue 16's threshold for "no worse") or its consistency when valid lower by more than 0.05.
+With --page the table goes between
 <!-- tyre-feed:begin/end --> of the page.
 """
 
@@ -41,8 +45,15 @@ STEERING = ("brake_in_turn", "brake_in_turn_low_mu", "double_lane_change_high_mu
             "double_lane_change_low_mu", "ramp_steer_high_mu", "ramp_steer_low_mu",
             "sine_steer_high_mu", "sine_steer_low_mu", "wrong_tyre_data")
 VARIANTS = ("", ".mf", ".nf")
-FEEDS = (0.05, 0.1)
+FEEDS = ((0.05, 0.0), (0.1, 0.0), (0.05, 0.25), (0.1, 0.25))  # (tid_feed_sd_rel, tid_feed_evidence)
 VALID_DROP = 0.05  # the largest fall of the valid share a run that helps may have
+RMSE_WORSE = 0.02  # a rise of the RMSE when valid that hurts (issue 16's "no worse")
+CONS_WORSE = 0.05  # a fall of the consistency when valid that hurts
+
+
+def label(feed):
+    """The column label of a feed: its tid_feed_sd_rel, and the evidence asked for."""
+    return f"{feed[0]:g}" + (f" e{feed[1]:g}" if feed[1] > 0 else "")
 
 
 def logs():
@@ -54,8 +65,8 @@ def logs():
 
 
 def run(exe, log, feed):
-    """(RMSE when valid, consistency when valid, valid share, share fed) of one run; feed None:
-    without the identifier."""
+    """(RMSE when valid, consistency when valid, valid share, share fed) of one run; feed
+    (tid_feed_sd_rel, tid_feed_evidence), None: without the identifier."""
     with tempfile.TemporaryDirectory() as tmp:
         js = os.path.join(tmp, "m.json")
         args = [exe, "--in", os.path.join(ROOT, log), "--out", os.path.join(tmp, "e.csv"),
@@ -63,7 +74,7 @@ def run(exe, log, feed):
         if feed is not None:
             par = os.path.join(tmp, "feed.params")
             with open(par, "w", encoding="utf-8") as fh:
-                fh.write(f"tid_feed_sd_rel = {feed!r}\n")
+                fh.write(f"tid_feed_sd_rel = {feed[0]!r}\ntid_feed_evidence = {feed[1]!r}\n")
             args += ["--tyre-id", "apf", "--params", par]
         r = subprocess.run(args, capture_output=True, text=True, check=False)
         if r.returncode != 0:
@@ -84,6 +95,13 @@ def helps(base, fed):
     return fed[0] < base[0] and fed[1] >= base[1] and fed[2] >= base[2] - VALID_DROP
 
 
+def hurts(base, fed):
+    """The rule of the docstring; None when either run has no valid sample."""
+    if base[0] is None or fed[0] is None:
+        return None
+    return fed[0] > base[0] + RMSE_WORSE or fed[1] < base[1] - CONS_WORSE
+
+
 def cell(x, fmt):
     return "–" if x is None else format(x, fmt)
 
@@ -100,17 +118,18 @@ def main():
     jobs = [(log, feed) for log in names for feed in (None,) + FEEDS]
     with ThreadPoolExecutor(max_workers=max(1, a.jobs)) as ex:
         res = dict(zip(jobs, ex.map(lambda j: run(a.mu_replay, *j), jobs)))
-    feeds = " / ".join(f"{f:g}" for f in FEEDS)
+    feeds = " / ".join(label(f) for f in FEEDS)
     rows = [f"| log | RMSE when valid: off / {feeds} | consistency when valid: off / {feeds} "
             f"| valid: off / {feeds} | fed: {feeds} | helps: {feeds} |",
             "|---|---|---|---|---|---|"]
-    count = {f: [0, 0] for f in FEEDS}
+    count = {f: [0, 0, 0] for f in FEEDS}
     for log in names:
         runs = [res[(log, None)]] + [res[(log, f)] for f in FEEDS]
         h = [helps(runs[0], r) for r in runs[1:]]
-        for f, x in zip(FEEDS, h):
+        for f, x, r in zip(FEEDS, h, runs[1:]):
             count[f][0] += 1 if x else 0
             count[f][1] += 1 if x is not None else 0
+            count[f][2] += 1 if hurts(runs[0], r) else 0
         name = log[len("scenarios/"):-len(".csv")]
         rows.append(f"| {name} | " + " / ".join(cell(r[0], ".3f") for r in runs) + " | "
                     + " / ".join(cell(r[1], ".2f") for r in runs) + " | "
@@ -118,9 +137,9 @@ def main():
                     + " / ".join(f"{r[3]:.0%}" for r in runs[1:]) + " | "
                     + " / ".join("–" if x is None else ("yes" if x else "no") for x in h) + " |")
     rows.append("")
-    rows.append("Helps (of the logs with valid samples both ways): "
-                + "; ".join(f"tid_feed_sd_rel = {f:g}: {count[f][0]} of {count[f][1]}"
-                            for f in FEEDS) + ".")
+    rows.append("Helps / hurts (of the logs with valid samples both ways; eX: after X s of "
+                "evidence): " + "; ".join(f"{label(f)}: {count[f][0]} / {count[f][2]} of "
+                                          f"{count[f][1]}" for f in FEEDS) + ".")
     text = "\n".join(rows)
     print(text)
     if a.page:

@@ -103,7 +103,9 @@ static const char k_usage_rest[] =
     "                   and double only: not with --real q31. The key tid_feed_sd_rel\n"
     "                   (default 0: never) feeds its curve to the friction estimator\n"
     "                   after an update whose cornering stiffness is known within that\n"
-    "                   relative sd (docs/TYRE_ID.md §14; measured velocities only)\n"
+    "                   relative sd, once the friction estimator has spent\n"
+    "                   tid_feed_evidence seconds (default 0) at a mu bound or in model\n"
+    "                   mismatch (docs/TYRE_ID.md §14; measured velocities only)\n"
     "  --metrics FILE   write run summary and accuracy as JSON\n"
     "  --strict         stop at the first empty, nan/inf or out-of-range cell (exit 1);\n"
     "                   by default such a cell goes to the estimator as NaN/Inf, which\n"
@@ -828,6 +830,9 @@ static const char *validator_name(size_t k)
     if (k == (size_t)RFE_PK_tid_seed) {
         return "mu_replay: an integer 0 .. 2^53";
     }
+    if (k == (size_t)RFE_PK_tid_feed_evidence) {
+        return "mu_replay: a time >= 0 s";
+    }
     if (k == (size_t)RFE_PK_tid_feed_sd_rel) {
         return "mu_replay: a relative sd >= 0, and 0 behind the velocity observer, whose "
                "pipeline has no lateral tyre setter";
@@ -1317,6 +1322,8 @@ static void write_tyre_id_json(FILE *f, const run_t *r)
     }
     fputs("},\n    \"feed\": {\"sd_rel\": ", f);
     rfe_json_write_number(f, r->ps.tid[RFE_PK_tid_feed_sd_rel - RFE_PK_TID_FIRST]);
+    fputs(", \"evidence\": ", f);
+    rfe_json_write_number(f, r->ps.tid[RFE_PK_tid_feed_evidence - RFE_PK_TID_FIRST]);
     fprintf(f, ", \"n_fed\": %zu}},\n", r->stats.n_tyre_fed);
 }
 
@@ -1346,9 +1353,11 @@ static void print_tyre_id(const run_t *r)
            r->stats.tid_flag_count[0], r->stats.tid_flag_count[1], r->stats.tid_flag_count[2],
            r->stats.tid_flag_count[3], r->stats.tid_flag_count[4], r->stats.tid_restarts);
     if (last->has_tyre_feed != 0) {
-        printf("  lateral curve fed to the friction estimator at %zu samples (tid_feed_sd_rel = %g); "
-               "its curve at the end cy %.2f /rad, C %.3f, E %.3f, r_model_rel %.4f\n",
+        printf("  lateral curve fed to the friction estimator at %zu samples (tid_feed_sd_rel = %g, "
+               "tid_feed_evidence = %g s); its curve at the end cy %.2f /rad, C %.3f, E %.3f, "
+               "r_model_rel %.4f\n",
                r->stats.n_tyre_fed, r->ps.tid[RFE_PK_tid_feed_sd_rel - RFE_PK_TID_FIRST],
+               r->ps.tid[RFE_PK_tid_feed_evidence - RFE_PK_TID_FIRST],
                last->cy_used, last->shape_Cy_used, last->shape_Ey_used, last->r_model_rel_used);
     }
 }

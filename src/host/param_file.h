@@ -204,7 +204,8 @@
 /** Index of each key: the friction estimator's numeric keys RFE_PK_m, RFE_PK_Lf, ...; its
  *  three word-valued keys; then the observer's keys, obs_driven first; then the mass and
  *  grade estimator's, mg_adaptive, mg_use_ax and mg_feed_sd_rel first; then the tyre
- *  identifier's, tid_filter, tid_resample, tid_substeps, tid_seed and tid_feed_sd_rel first. */
+ *  identifier's, tid_filter, tid_resample, tid_substeps, tid_seed, tid_feed_sd_rel and
+ *  tid_feed_evidence first. */
 typedef enum {
 #define RFE_PK_ENUM_(key, member, unit, doc) RFE_PK_##key,
     RFE_PARAM_KEYS(RFE_PK_ENUM_)
@@ -233,6 +234,11 @@ typedef enum {
      *  identified lateral curve after an update whose summed cornering stiffness has a
      *  relative sd <= tid_feed_sd_rel (0 = never, the default; TYRE_ID.md §14). */
     RFE_PK_tid_feed_sd_rel,
+    /** key tid_feed_evidence (s): a replay key (no member): the feed starts only once the
+     *  friction estimator has spent this long, summed, with status 1 (its mean projected onto
+     *  a μ bound) or 4 (model mismatch), its own evidence that its curve is wrong (0, the
+     *  default: from the start; TYRE_ID.md §14). */
+    RFE_PK_tid_feed_evidence,
     RFE_TID_KEYS(RFE_PK_ENUM_)
 #undef RFE_PK_ENUM_
     RFE_PK_COUNT        /**< number of keys */
@@ -260,11 +266,14 @@ typedef enum {
 #define RFE_MG_FEED_SD_REL_DEFAULT 0.02
 
 /** The tyre identifier's keys before the RFE_TID_KEYS table: tid_filter, tid_resample,
- *  tid_substeps, tid_seed, tid_feed_sd_rel. */
-#define RFE_PK_TID_SPECIAL 5u
+ *  tid_substeps, tid_seed, tid_feed_sd_rel, tid_feed_evidence. */
+#define RFE_PK_TID_SPECIAL 6u
 
 /** tid_feed_sd_rel of every preset: 0, the identified curve is not fed (TYRE_ID.md §14). */
 #define RFE_TID_FEED_SD_REL_DEFAULT 0.0
+
+/** tid_feed_evidence of every preset: 0 s, the feed (when on) needs no evidence first. */
+#define RFE_TID_FEED_EVIDENCE_DEFAULT 0.0
 
 /** tid_seed of every preset (docs/TYRE_ID.md §2). */
 #define RFE_TID_SEED_DEFAULT 1.0

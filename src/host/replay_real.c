@@ -30,6 +30,10 @@ typedef struct {
     uint64_t seed;
     double t_last;    /* the last accepted row's time (have_last) */
     double feed;      /* key tid_feed_sd_rel */
+    double evidence;  /* key tid_feed_evidence (s) */
+    double t_wrong;   /* time so far at a mu bound or in model mismatch (s) */
+    double t_row;     /* the previous row's time (have_row), for t_wrong */
+    int have_row;
     double r_model;   /* key r_model_rel: the model error the curve's joins */
     int have_last;
     int on;
@@ -222,6 +226,7 @@ int rfe_param_set_tyre_id(rfe_param_set_t *ps)
     ps->tid[RFE_PK_tid_substeps - RFE_PK_TID_FIRST] = (double)tp.substeps;
     ps->tid[RFE_PK_tid_seed - RFE_PK_TID_FIRST] = RFE_TID_SEED_DEFAULT; /* the init's argument */
     ps->tid[RFE_PK_tid_feed_sd_rel - RFE_PK_TID_FIRST] = RFE_TID_FEED_SD_REL_DEFAULT; /* the replay's */
+    ps->tid[RFE_PK_tid_feed_evidence - RFE_PK_TID_FIRST] = RFE_TID_FEED_EVIDENCE_DEFAULT;
     for (k = RFE_PK_TID_SPECIAL; k < RFE_PK_TID_COUNT; ++k) {
         rfe_real_t v;
         memcpy(&v, (const char *)&tp + k_tid_offset[k - RFE_PK_TID_SPECIAL], sizeof v);
@@ -401,7 +406,7 @@ rfe_status_t rfe_replay_mass_grade_params(const rfe_param_set_t *ps, rfe_mass_gr
  * value, tid_substeps is not an integer 0 .. 2^32 - 1 (a double would otherwise be
  * truncated without a word; the library checks its range), tid_seed is not an integer
  * 0 .. 2^53 (it has no member: rfe_replay_tyre_id_params reads it from the set) or
- * tid_feed_sd_rel is not a finite number >= 0 (the replay's). */
+ * tid_feed_sd_rel or tid_feed_evidence is not a finite number >= 0 (the replay's). */
 static int set_tid_key(rfe_tyre_id_params_t *tp, const rfe_param_set_t *ps, size_t k)
 {
     const double v = ps->tid[k - RFE_PK_TID_FIRST];
@@ -424,7 +429,7 @@ static int set_tid_key(rfe_tyre_id_params_t *tp, const rfe_param_set_t *ps, size
         if (!whole || (v > RFE_TID_SEED_MAX)) {
             return -1;
         }
-    } else if (k == (size_t)RFE_PK_tid_feed_sd_rel) {
+    } else if ((k == (size_t)RFE_PK_tid_feed_sd_rel) || (k == (size_t)RFE_PK_tid_feed_evidence)) {
         if (!((v >= 0.0) && isfinite(v))) {
             return -1;
         }
@@ -613,6 +618,9 @@ static rfe_status_t tyre_id_init(const rfe_param_set_t *ps, const rfe_params_t *
     t->on = (ps->tyre_id != 0);
     t->have_last = 0;
     t->feed = ps->tid[RFE_PK_tid_feed_sd_rel - RFE_PK_TID_FIRST];
+    t->evidence = ps->tid[RFE_PK_tid_feed_evidence - RFE_PK_TID_FIRST];
+    t->t_wrong = 0.0;
+    t->have_row = 0;
     t->r_model = ps->value[RFE_PK_r_model_rel];
     t->feed_on = t->on && (t->feed > 0.0);
     if (t->on) {
@@ -682,8 +690,23 @@ static void tyre_id_row(tid_run_t *t, const rfe_sensor_row_t *row, rfe_real_t vx
     tyre_id_out(&e, st, out, stats);
 }
 
+/* The friction estimator's evidence that its curve is wrong (TYRE_ID.md §14), called after
+ * each sample's friction step (@p out, at time @p t): the time between this row and the
+ * previous one is added to t_wrong when this sample's status is 1 (its mean projected onto a
+ * mu bound) or 4 (model mismatch). */
+static void tyre_feed_evidence(tid_run_t *t, double time, const rfe_est_row_t *out)
+{
+    if (t->have_row && ((out->status == (int)RFE_PROJECTED) ||
+                        (out->status == (int)RFE_MODEL_MISMATCH))) {
+        t->t_wrong += time - t->t_row;
+    }
+    t->t_row = time;
+    t->have_row = 1;
+}
+
 /* The feed rule (TYRE_ID.md §14), called with tid_feed_sd_rel > 0: 1, with the curve to feed
- * in @p v (cy, shape_Cy, shape_Ey, r_model_rel), when this sample's identifier step (@p out)
+ * in @p v (cy, shape_Cy, shape_Ey, r_model_rel), when the friction estimator's evidence
+ * (t_wrong) has reached tid_feed_evidence, this sample's identifier step (@p out)
  * updated (its flags are 0 on a refused sample) and the relative sd of the summed cornering
  * stiffness, rel = sqrt(sd_Kf^2 + sd_Kr^2) / (K_f + K_r) (the axles' spreads taken as
  * independent), is at most tid_feed_sd_rel. The curve: cy =
@@ -702,7 +725,8 @@ static int tyre_feed_due(const tid_run_t *t, const rfe_est_row_t *out, rfe_real_
     const double sd_f = (double)e->sd[RFE_TID_OUT_K_F];
     const double sd_r = (double)e->sd[RFE_TID_OUT_K_R];
     const double rel = sqrt((sd_f * sd_f) + (sd_r * sd_r)) / k;
-    if (!(((out->tid_flags & RFE_TID_UPDATED) != 0u) && (rel <= feed))) {
+    if (!((t->t_wrong >= t->evidence) && ((out->tid_flags & RFE_TID_UPDATED) != 0u) &&
+          (rel <= feed))) {
         return 0;
     }
     v[0] = (rfe_real_t)(k / (fz_f + fz_r));
@@ -957,6 +981,9 @@ static void step_measured_row(rfe_replay_state_t *st, const rfe_sensor_row_t *ro
         rfe_real_t v[4];
         tyre_id_row(&st->tid, row, (rfe_real_t)row->vx, (rfe_real_t)row->delta, out,
                     &st->stats);
+        if (st->tid.feed_on != 0) {
+            tyre_feed_evidence(&st->tid, row->t, out);
+        }
         if ((st->tid.feed_on != 0) && (tyre_feed_due(&st->tid, out, v) != 0) &&
             (rfe_friction_set_lateral_tyre(&st->pl.friction, v[0], v[1], v[2], v[3]) ==
              RFE_OK)) {

@@ -1700,17 +1700,26 @@ static int feed_curve(const rfe_tyre_id_t *tid, const rfe_tyre_id_estimate_t *e,
     return 1;
 }
 
-/* With tid_feed_sd_rel > 0 the friction columns equal a hand-written loop over the library, bit
- * for bit: each sample the friction step, then the identifier's, then the feed rule on that
- * step's estimate and rfe_friction_set_lateral_tyre, so the next sample's step takes the curve
- * (cy_used .. r_model_rel_used: the curve of each sample's step). tid_feed_sd_rel = 0.05 lies
- * within the spread of the log's relative sds, so some updates feed and some do not, and the
- * estimate differs from the run without the feed. Behind the observer (no pipeline setter) and
- * negative, the key is refused before any row, named. */
-/* REQ-CLI-008 */
-static void test_rfe_replay_tyre_feed_is_the_library_loop(void **state)
+/* The friction estimator's evidence that its curve is wrong, written out (TYRE_ID.md §14):
+ * the period since the previous row added while the sample's status is 1 or 4. */
+static double evidence_after(double t_wrong, const rfe_sensor_log_t *log, size_t i,
+                             rfe_status_t fst)
 {
-    rfe_sensor_log_t log;
+    const int wrong = (fst == RFE_PROJECTED) || (fst == RFE_MODEL_MISMATCH);
+    return ((i > 0u) && wrong) ? t_wrong + (log->rows[i].t - log->rows[i - 1u].t) : t_wrong;
+}
+
+/* The replay of @p log with the feed at tid_feed_sd_rel 0.05 and tid_feed_evidence
+ * @p evidence (s) against a hand-written loop over the library, bit for bit: each sample the
+ * friction step, then the identifier's, then the evidence and feed rules on that step's
+ * estimate and rfe_friction_set_lateral_tyre, so the next sample's step takes the curve
+ * (cy_used .. r_model_rel_used: the curve of each sample's step). Returns the samples fed
+ * (the replay's count, checked against the loop's), *differs the samples whose friction
+ * estimate differs from the run without the feed, *t_first the evidence when the first curve
+ * was fed (-1: none). */
+static size_t feed_loop_check(rfe_sensor_log_t *log, double evidence, size_t *differs,
+                              double *t_first)
+{
     rfe_param_set_t ps;
     rfe_replay_stats_t st;
     rfe_params_t p;
@@ -1718,38 +1727,36 @@ static void test_rfe_replay_tyre_feed_is_the_library_loop(void **state)
     uint64_t seed = 0u;
     static rfe_friction_t est;
     static rfe_tyre_id_t tid;
-    rfe_est_row_t *on;
-    rfe_est_row_t *off;
+    rfe_est_row_t *on = calloc(log->n_rows, sizeof *on);
+    rfe_est_row_t *off = calloc(log->n_rows, sizeof *off);
+    double t_wrong = 0.0;
     size_t i;
     size_t n_fed = 0u;
-    size_t differs = 0u;
-    size_t bad = 0u;
-    (void)state;
-    tid_log_read(&log);
-    on = calloc(log.n_rows, sizeof *on);
-    off = calloc(log.n_rows, sizeof *off);
     assert_non_null(on);
     assert_non_null(off);
+    *differs = 0u;
+    *t_first = -1.0;
     assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_DEFAULT), 0);
     ps.value[RFE_PK_dt] = 0.01;
-    assert_int_equal(rfe_replay_run_f64(&ps, &log, off, &st, NULL), RFE_OK);
+    assert_int_equal(rfe_replay_run_f64(&ps, log, off, &st, NULL), RFE_OK);
     ps.tyre_id = 1;
     ps.tid[RFE_PK_tid_feed_sd_rel - RFE_PK_TID_FIRST] = 0.05;
-    assert_int_equal(rfe_replay_run_f64(&ps, &log, on, &st, NULL), RFE_OK);
+    ps.tid[RFE_PK_tid_feed_evidence - RFE_PK_TID_FIRST] = evidence;
+    assert_int_equal(rfe_replay_run_f64(&ps, log, on, &st, NULL), RFE_OK);
     assert_int_equal(rfe_replay_params_f64(&ps, &p, NULL), RFE_OK);
     assert_int_equal(rfe_replay_tyre_id_params_f64(&ps, &tp, &seed, NULL), RFE_OK);
     memset(&est, 0, sizeof est);
     assert_int_equal(rfe_friction_init(&est, &p), RFE_OK);
     assert_int_equal(rfe_tyre_id_init(&tid, &tp, &p, seed), RFE_OK);
-    for (i = 0u; i < log.n_rows; ++i) {
-        const rfe_sensor_row_t *row = &log.rows[i];
+    for (i = 0u; i < log->n_rows; ++i) {
+        const rfe_sensor_row_t *row = &log->rows[i];
         rfe_sample_t smp;
         rfe_estimate_t fe;
         rfe_tyre_id_estimate_t e;
         rfe_status_t fst;
         rfe_status_t tst;
         double v[4];
-        const rfe_tyre_id_sample_t ts = {(i > 0u) ? row->t - log.rows[i - 1u].t : 0.0, row->delta,
+        const rfe_tyre_id_sample_t ts = {(i > 0u) ? row->t - log->rows[i - 1u].t : 0.0, row->delta,
                                          row->vx, row->yaw_rate, row->ay, row->ax};
         assert_int_equal(on[i].has_tyre_feed, 1);
         assert_true((on[i].cy_used == est.params.tyre.cy) &&
@@ -1761,17 +1768,48 @@ static void test_rfe_replay_tyre_feed_is_the_library_loop(void **state)
         assert_int_equal(on[i].status, fst);
         assert_true((on[i].mu[0] == fe.mu[0]) && (on[i].sd[0] == fe.sd[0]) &&
                     (on[i].mu[3] == fe.mu[3]) && (on[i].sd[3] == fe.sd[3]));
-        differs += ((on[i].mu[0] != off[i].mu[0]) || (on[i].sd[0] != off[i].sd[0])) ? 1u : 0u;
+        *differs += ((on[i].mu[0] != off[i].mu[0]) || (on[i].sd[0] != off[i].sd[0])) ? 1u : 0u;
+        t_wrong = evidence_after(t_wrong, log, i, fst);
         tst = rfe_tyre_id_step(&tid, &ts, &e);
         check_tid_row(&on[i], &e, tst);
-        if (feed_curve(&tid, &e, tst, 0.05, p.filter.r_model_rel, v) != 0) {
+        if ((t_wrong >= evidence) && (feed_curve(&tid, &e, tst, 0.05, p.filter.r_model_rel, v) != 0)) {
             assert_int_equal(rfe_friction_set_lateral_tyre(&est, v[0], v[1], v[2], v[3]), RFE_OK);
+            *t_first = (n_fed == 0u) ? t_wrong : *t_first;
             ++n_fed;
         }
     }
     assert_int_equal(st.n_tyre_fed, n_fed);
+    free(off);
+    free(on);
+    return n_fed;
+}
+
+/* With tid_feed_sd_rel > 0 (and no evidence asked for) the replay is the library loop
+ * (feed_loop_check); 0.05 lies within the spread of the log's relative sds, so some updates
+ * feed and some do not, and the estimate differs from the run without the feed. Behind the
+ * observer (no pipeline setter) and negative, the key is refused before any row, named. */
+/* REQ-CLI-008 */
+static void test_rfe_replay_tyre_feed_is_the_library_loop(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_param_set_t ps;
+    rfe_replay_stats_t st;
+    rfe_est_row_t *on;
+    size_t n_fed;
+    size_t differs = 0u;
+    size_t bad = 0u;
+    double t_first;
+    (void)state;
+    tid_log_read(&log);
+    n_fed = feed_loop_check(&log, 0.0, &differs, &t_first);
     assert_true((n_fed > 0u) && (n_fed < log.n_rows - 1u));
     assert_true(differs > 0u);
+    on = calloc(log.n_rows, sizeof *on);
+    assert_non_null(on);
+    assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_DEFAULT), 0);
+    ps.value[RFE_PK_dt] = 0.01;
+    ps.tyre_id = 1;
+    ps.tid[RFE_PK_tid_feed_sd_rel - RFE_PK_TID_FIRST] = 0.05;
     /* refused before any row, naming the key */
     assert_int_equal(rfe_replay_run_observer_f64(&ps, &log, on, &st, &bad), RFE_ERR_PARAM);
     assert_int_equal(bad, RFE_PK_tid_feed_sd_rel);
@@ -1781,8 +1819,48 @@ static void test_rfe_replay_tyre_feed_is_the_library_loop(void **state)
     ps.tid[RFE_PK_tid_feed_sd_rel - RFE_PK_TID_FIRST] = INFINITY;
     assert_int_equal(rfe_replay_run_f64(&ps, &log, on, &st, &bad), RFE_ERR_PARAM);
     assert_int_equal(bad, RFE_PK_tid_feed_sd_rel);
-    free(off);
+    ps.tid[RFE_PK_tid_feed_sd_rel - RFE_PK_TID_FIRST] = 0.05;
+    ps.tid[RFE_PK_tid_feed_evidence - RFE_PK_TID_FIRST] = -0.25;
+    assert_int_equal(rfe_replay_run_f64(&ps, &log, on, &st, &bad), RFE_ERR_PARAM);
+    assert_int_equal(bad, RFE_PK_tid_feed_evidence);
+    ps.tid[RFE_PK_tid_feed_evidence - RFE_PK_TID_FIRST] = NAN;
+    assert_int_equal(rfe_replay_run_f64(&ps, &log, on, &st, &bad), RFE_ERR_PARAM);
+    assert_int_equal(bad, RFE_PK_tid_feed_evidence);
     free(on);
+    rfe_sensor_log_free(&log);
+}
+
+/* With tid_feed_evidence > 0 the feed waits for the friction estimator's own evidence that
+ * its curve is wrong, and the replay is still the library loop (feed_loop_check). On the
+ * wrong-tyre-data log (true cy -30 %, C +30 %: the estimator reports mismatch and bound
+ * statuses) with 0.25 s asked for, the first curve is fed once the evidence reached 0.25 s
+ * and some are fed; on the sine steer, whose estimator reports neither in the rows read
+ * (checked through the loop: no feed with any evidence asked for), nothing is fed and the
+ * estimate is the unfed run's. Light mode: the first 400 rows of the wrong-tyre log (the
+ * first curve is fed at row 159 in double). */
+/* REQ-CLI-008 */
+static void test_rfe_replay_tyre_feed_waits_for_evidence(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    size_t n_fed;
+    size_t differs = 0u;
+    double t_first;
+    (void)state;
+    memset(&log, 0, sizeof log);
+    assert_int_equal(rfe_sensor_log_read("scenarios/wrong_tyre_data.mf.csv", &log, &err), 0);
+    if (rfe_test_light()) {
+        log.n_rows = (log.n_rows < 400u) ? log.n_rows : 400u;
+    }
+    n_fed = feed_loop_check(&log, 0.25, &differs, &t_first);
+    assert_true(n_fed > 0u);
+    assert_true(t_first >= 0.25);
+    assert_true(differs > 0u);
+    rfe_sensor_log_free(&log);
+    tid_log_read(&log);
+    n_fed = feed_loop_check(&log, 1e-9, &differs, &t_first);
+    assert_int_equal(n_fed, 0u);
+    assert_int_equal(differs, 0u);
     rfe_sensor_log_free(&log);
 }
 
@@ -1902,6 +1980,7 @@ int main(void)
         cmocka_unit_test(test_rfe_replay_tyre_id_is_the_library_loop),
         cmocka_unit_test(test_rfe_replay_tyre_id_refusals_and_restart),
         cmocka_unit_test(test_rfe_replay_tyre_feed_is_the_library_loop),
+        cmocka_unit_test(test_rfe_replay_tyre_feed_waits_for_evidence),
         cmocka_unit_test(test_rfe_replay_tyre_id_state_steps_as_the_run),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
