@@ -176,7 +176,7 @@ static rfe_status_t run_stage(rfe_velocity_t *o, rfe_vel_stage_t stage,
 rfe_status_t rfe_velocity_step(rfe_velocity_t *obs, const rfe_velocity_input_t *sample,
                                const rfe_velocity_mu_t *mu, rfe_velocity_estimate_t *out)
 {
-    rfe_velocity_t o;
+    rfe_kf2_t keep[3]; /* the filters before the step, put back on an error */
     rfe_velocity_input_t u;
     const rfe_velocity_input_t *in = &u;
     uint32_t flags = 0u;
@@ -191,27 +191,34 @@ rfe_status_t rfe_velocity_step(rfe_velocity_t *obs, const rfe_velocity_input_t *
     if (st == RFE_OK) {
         st = check_input(obs, in, mu);
     }
-    o = *obs; /* work on a copy: an error leaves the observer as it was */
-    if ((st == RFE_OK) && (rfe_vel_plan(o.started) == RFE_VEL_PLAN_START)) {
-        st = start(&o, in);
+    /* The step changes only the three filters until it has succeeded: they are kept and put
+     * back on an error, so the observer is left as it was without copying its parameters
+     * twice per step (a whole-state copy was 6 % of the step on the Cortex-M4). */
+    keep[0] = obs->yaw;
+    keep[1] = obs->lon;
+    keep[2] = obs->lat;
+    if ((st == RFE_OK) && (rfe_vel_plan(obs->started) == RFE_VEL_PLAN_START)) {
+        st = start(obs, in);
     } else if (st == RFE_OK) {
-        const rfe_real_t vy_prev = o.lat.x[0];
+        const rfe_real_t vy_prev = obs->lat.x[0];
         size_t k;
         for (k = 0u; (k < (size_t)RFE_VEL_STAGES) && (st == RFE_OK); ++k) {
-            st = run_stage(&o, rfe_vel_stage(k), in, vy_prev, mu, &flags);
+            st = run_stage(obs, rfe_vel_stage(k), in, vy_prev, mu, &flags);
         }
     } else {
         /* the checks failed: nothing to compute */
     }
     if (st != RFE_OK) {
+        obs->yaw = keep[0];
+        obs->lon = keep[1];
+        obs->lat = keep[2];
         *out = obs->last;
         out->status = st;
         return st;
     }
-    o.started = 1u;
-    outputs(&o, in, flags, &o.last);
-    *obs = o;
-    *out = o.last;
+    obs->started = 1u;
+    outputs(obs, in, flags, &obs->last);
+    *out = obs->last;
     return RFE_OK;
 }
 

@@ -235,7 +235,7 @@ rfe_status_t rfe_velocity_step_q31(rfe_velocity_q31_t *obs, const rfe_velocity_i
                                    const rfe_velocity_mu_q31_t *mu,
                                    rfe_velocity_estimate_q31_t *out)
 {
-    rfe_velocity_q31_t o;
+    rfe_kf2_q31_t keep[3]; /* the filters before the step, put back on an error */
     rfe_velocity_input_q31_t u;
     const rfe_velocity_input_q31_t *in = &u;
     uint32_t flags = 0u;
@@ -249,29 +249,34 @@ rfe_status_t rfe_velocity_step_q31(rfe_velocity_q31_t *obs, const rfe_velocity_i
     }
     road_wheel_input_q31(obs, sample, &u, &sat);
     st = check_input_q31(obs, in, mu);
-    o = *obs; /* work on a copy: an error leaves the observer as it was */
-    if ((st == RFE_OK) && (rfe_vel_plan(o.started) == RFE_VEL_PLAN_START)) {
-        st = start_q31(&o, in, &sat);
+    /* only the three filters change until the step has succeeded (velocity_flt.c) */
+    keep[0] = obs->yaw;
+    keep[1] = obs->lon;
+    keep[2] = obs->lat;
+    if ((st == RFE_OK) && (rfe_vel_plan(obs->started) == RFE_VEL_PLAN_START)) {
+        st = start_q31(obs, in, &sat);
     } else if (st == RFE_OK) {
-        const rfe_fix_t vy_prev = o.lat.x[0];
+        const rfe_fix_t vy_prev = obs->lat.x[0];
         size_t k;
         for (k = 0u; (k < (size_t)RFE_VEL_STAGES) && (st == RFE_OK); ++k) {
-            st = run_stage_q31(&o, rfe_vel_stage(k), in, vy_prev, mu, &flags, &sat);
+            st = run_stage_q31(obs, rfe_vel_stage(k), in, vy_prev, mu, &flags, &sat);
         }
     } else {
         /* the checks failed: nothing to compute */
     }
     if (st != RFE_OK) {
+        obs->yaw = keep[0];
+        obs->lon = keep[1];
+        obs->lat = keep[2];
         *out = obs->last;
         out->status = st;
         out->sat = 0u;
         return st;
     }
-    o.started = 1u;
-    outputs_q31(&o, in, flags, sat, &o.last);
-    rfe_q31_sat_add(&o.sat, o.last.sat);
-    *obs = o;
-    *out = o.last;
+    obs->started = 1u;
+    outputs_q31(obs, in, flags, sat, &obs->last);
+    rfe_q31_sat_add(&obs->sat, obs->last.sat);
+    *out = obs->last;
     return RFE_OK;
 }
 
