@@ -46,7 +46,7 @@ DEPS_EXTRA :=
 TEST_GATES :=
 include $(sort $(filter-out mk/lib.mk,$(wildcard mk/*.mk)))
 
-.PHONY: mass-grade-scenarios mass-grade-results mass-sensitivity tyre-id-feed-results mass-grade-goldens trust-invariant names car-format-logs observer-goldens observer-goldens-q31 observer-results monitor-results test-pkg all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind valgrind-unit valgrind-cli coverage demo goldens goldens-q31 scenarios observer-scenarios clean vectors shared-sync check-shared readme-table \
+.PHONY: mass-grade-scenarios mass-grade-results mass-grade-textbook mass-sensitivity tyre-id-feed-results mass-grade-goldens trust-invariant names car-format-logs observer-goldens observer-goldens-q31 observer-results monitor-results test-pkg all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind valgrind-unit valgrind-cli coverage demo goldens goldens-q31 scenarios observer-scenarios clean vectors shared-sync check-shared readme-table \
         check-kernels check-tools layers help-check goldens-ref check-nofloat help deps-analysis misra tidy complexity structural analysis \
         twins check-twins tyre-id-scenarios tyre-id-results tyre-id-goldens
 ## the libraries and build/mu_replay (the default target)
@@ -434,6 +434,14 @@ observer-results: $(BUILD)/mu_replay venv
 mass-grade-results: venv
 	$(PY) scripts/tools/mass_grade_results.py --page docs/MASS_GRADE_RESULTS.md \
 	  --plot $(BUILD)/mass_grade/mass_error.png
+# The textbook (full-covariance) form in float32 and with an int32 P, beside the library's float
+# and Q31 (square-root) runs, on every mass and grade log and the stress runs: where each loses
+# positive definiteness (docs/MASS_GRADE_RESULTS.md "Why the square-root form"; about 3 min on
+# 2 cores). The two drivers are test/tools/mg_run_{flt,q31}.c, built by the test rules.
+## the textbook covariance form in float32 and int32 vs the library's float and Q31 runs (docs/MASS_GRADE_RESULTS.md)
+mass-grade-textbook: venv $(BUILD)/f32/test/tools/mg_run_flt $(BUILD)/q31/test/tools/mg_run_q31
+	$(PY) scripts/tools/mass_grade_textbook.py --page docs/MASS_GRADE_RESULTS.md --jobs $(TEST_JOBS) \
+	  --lib-f32 $(BUILD)/f32/test/tools/mg_run_flt --lib-q31 $(BUILD)/q31/test/tools/mg_run_q31
 ## the friction estimator with and without the tyre identifier's curve fed, every steering scenario (docs/TYRE_ID_RESULTS.md)
 tyre-id-feed-results: venv $(BUILD)/mu_replay
 	$(PY) scripts/tools/tyre_id_feed_results.py --page docs/TYRE_ID_RESULTS.md --jobs $(TEST_JOBS)

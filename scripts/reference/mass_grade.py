@@ -79,6 +79,20 @@ T_MAX = 1.0e5   # |drive torque| <= 1e5 N m
 AX_MAX = 50.0   # |ax| <= 50 m/s^2
 
 
+class Arith:
+    """The arithmetic the filter runs in: real(v) makes a number of it, sqrt/sin/cos its
+    functions, store_cov(P) what becomes of a covariance when the filter stores it. F64 below
+    (Python floats, P stored as computed) is the page's and every caller's here; the hook lets
+    scripts/tools/mass_grade_textbook.py run the same steps in float32 or with an int32 P."""
+
+    def __init__(self, real=float, sqrt=math.sqrt, sin=math.sin, cos=math.cos, store_cov=None):
+        self.real, self.sqrt, self.sin, self.cos = real, sqrt, sin, cos
+        self.store_cov = store_cov if store_cov is not None else (lambda P: P)
+
+
+F64 = Arith()
+
+
 class ParamError(ValueError):
     """An invalid parameter (status 19); the message names the key."""
 
@@ -141,7 +155,7 @@ def weights(p):
     return wm, wc
 
 
-def cholesky(a):
+def cholesky(a, ar=F64):
     """§3 lower factor L of a symmetric 3x3 a (L L^T = a), row by row, column by column;
     a pivot exactly 0 gives a zero column (a state known exactly: its row and column of a
     are 0); a negative pivot returns None."""
@@ -154,7 +168,7 @@ def cholesky(a):
             return None
         if d == 0.0:
             continue            # column j stays 0 (every a[i][j] - sum is 0 for a PSD a)
-        L[j][j] = math.sqrt(d)
+        L[j][j] = ar.sqrt(d)
         for i in range(j + 1, N):
             s = a[i][j]
             for k in range(j):
@@ -163,10 +177,10 @@ def cholesky(a):
     return L
 
 
-def sigma_points(x, P, c):
+def sigma_points(x, P, c, ar=F64):
     """§3 eqs. (8)/(15): chi_0 = x, chi_i = x + L[:, i-1], chi_{n+i} = x - L[:, i-1],
     L the lower Cholesky factor of c*P (c = n + lambda, P scaled element by element)."""
-    L = cholesky([[c * P[i][j] for j in range(N)] for i in range(N)])
+    L = cholesky([[c * P[i][j] for j in range(N)] for i in range(N)], ar)
     if L is None:
         return None
     pts = [list(x)]
@@ -177,26 +191,26 @@ def sigma_points(x, P, c):
     return pts
 
 
-def accel(p, v, m, theta, torque):
+def accel(p, v, m, theta, torque, ar=F64):
     """§1 model: v-dot = (T/R - M g ((fc + fr v) cos theta + sin theta) - rho cd S v^2 / 2)
     / (M + m_rot), with M clamped to [mg_m_min, mg_m_max] (a sigma point may leave them)."""
     m = min(max(m, p["mg_m_min"]), p["mg_m_max"])
     f = p["mg_fc"] + p["mg_fr"] * v
     drag = 0.5 * p["mg_rho"] * p["mg_cd"] * p["mg_area"] * v * v
-    force = torque / p["R"] - m * p["g"] * (f * math.cos(theta) + math.sin(theta)) - drag
+    force = torque / p["R"] - m * p["g"] * (f * ar.cos(theta) + ar.sin(theta)) - drag
     return force / (m + p["mg_m_rot"])
 
 
-def f_state(p, x, torque, dt):
+def f_state(p, x, torque, dt, ar=F64):
     """§2 eq. (4): Euler step of the model with the previous sample's torque."""
-    return [x[0] + dt * accel(p, x[0], x[1], x[2], torque), x[1], x[2]]
+    return [x[0] + dt * accel(p, x[0], x[1], x[2], torque, ar), x[1], x[2]]
 
 
-def h_meas(p, x, torque, use_ax):
+def h_meas(p, x, torque, use_ax, ar=F64):
     """§2 eq. (6) and §5: z = [v] or [v, a_x] with a_x = v-dot(x, T_k) + g sin theta."""
     if not use_ax:
         return [x[0]]
-    return [x[0], accel(p, x[0], x[1], x[2], torque) + p["g"] * math.sin(x[2])]
+    return [x[0], accel(p, x[0], x[1], x[2], torque, ar) + p["g"] * ar.sin(x[2])]
 
 
 @dataclass
@@ -227,8 +241,9 @@ class MgEstimate:
 class MassGrade:
     """§4 the estimator's state and step."""
 
-    def __init__(self, params):
-        p = {k: float(v) for k, v in params.items()}
+    def __init__(self, params, ar=F64):
+        self.ar = ar
+        p = {k: ar.real(v) for k, v in params.items()}
         validate(p)
         self.p = p
         self.wm, self.wc = weights(p)
@@ -240,8 +255,8 @@ class MassGrade:
     def _start(self, s):
         p = self.p
         self.x = [s.v, p["mg_m0"], p["mg_theta0"]]
-        self.P = [[p["mg_r_v"] ** 2, 0.0, 0.0], [0.0, p["mg_sd_m0"] ** 2, 0.0],
-                  [0.0, 0.0, p["mg_sd_theta0"] ** 2]]
+        self.P = self.ar.store_cov([[p["mg_r_v"] ** 2, 0.0, 0.0], [0.0, p["mg_sd_m0"] ** 2, 0.0],
+                                    [0.0, 0.0, p["mg_sd_theta0"] ** 2]])
         self.q_mv = p["mg_q_mv0"] ** 2 if p["mg_adaptive"] == 1.0 else 0.0
         self.adapt_elapsed = 0.0    # time since the start of the current adaptation period
         self.m_adapt = self.x[1]    # the mass at its start
@@ -251,9 +266,9 @@ class MassGrade:
         self.started = True
 
     def _estimate(self, status):
-        P = self.P
-        return MgEstimate(self.x[1], math.sqrt(P[1][1]), self.x[2], math.sqrt(P[2][2]),
-                          self.x[0], math.sqrt(P[0][0]), self.q_mv, status)
+        P, sqrt = self.P, self.ar.sqrt
+        return MgEstimate(self.x[1], sqrt(P[1][1]), self.x[2], sqrt(P[2][2]),
+                          self.x[0], sqrt(P[0][0]), self.q_mv, status)
 
     def _check(self, s):
         vals = [s.t, s.v, s.torque] + [v for v in (s.brake, s.brake_pressure, s.gear, s.ax)
@@ -285,7 +300,7 @@ class MassGrade:
             self.t_prev, self.torque_prev = s.t, s.torque
             return self._estimate(status)
         saved = (self.brake_left, self.shift_left, self.gear)
-        dt = s.t - self.t_prev
+        dt = self.ar.real(s.t - self.t_prev)   # the period: the time stamps are not state
         status = self._pause_status(s, dt)
         if status != OK:
             self._hold(s, dt)
@@ -334,15 +349,17 @@ class MassGrade:
             P[j][0] = 0.0
         self.adapt_elapsed = 0.0
         self.m_adapt = self.x[1]
+        self.P = self.ar.store_cov(P)
 
     # -- §3 and §4.3: one UKF step, then the adaptation ---------------------------------------
     def _update(self, s, dt):
         p, wm, wc, c = self.p, self.wm, self.wc, self.c
         # time update, eqs. (8)-(11): Q = diag(q_v^2, q_mc^2 + q_mv, q_theta^2) dt
-        pts = sigma_points(self.x, self.P, c)
+        ar = self.ar
+        pts = sigma_points(self.x, self.P, c, ar)
         if pts is None:
             return ERR_NOT_POSITIVE_DEFINITE
-        prop = [f_state(p, x, self.torque_prev, dt) for x in pts]
+        prop = [f_state(p, x, self.torque_prev, dt, ar) for x in pts]
         xm = [0.0] * N
         for i in range(2 * N + 1):
             for r in range(N):
@@ -351,11 +368,12 @@ class MassGrade:
         q = (p["mg_q_v"] ** 2 * dt, (p["mg_q_mc"] ** 2 + self.q_mv) * dt, p["mg_q_theta"] ** 2 * dt)
         for r in range(N):
             Pm[r][r] += q[r]
+        Pm = ar.store_cov(Pm)
         # measurement update, eqs. (15)-(21), on points redrawn from (x_{t|t-1}, P_{t|t-1})
-        pts = sigma_points(xm, Pm, c)
+        pts = sigma_points(xm, Pm, c, ar)
         if pts is None:
             return ERR_NOT_POSITIVE_DEFINITE
-        Z = [h_meas(p, x, s.torque, self.use_ax) for x in pts]
+        Z = [h_meas(p, x, s.torque, self.use_ax, ar) for x in pts]
         nz = len(Z[0])
         zm = [0.0] * nz
         for i in range(2 * N + 1):
@@ -383,7 +401,7 @@ class MassGrade:
         # §4.3 projection of the mean onto the bounds
         x[1] = min(max(x[1], p["mg_m_min"]), p["mg_m_max"])
         x[2] = min(max(x[2], -p["mg_theta_max"]), p["mg_theta_max"])
-        self.x, self.P = x, P
+        self.x, self.P = x, ar.store_cov(P)
         if p["mg_adaptive"] == 1.0 and self.q_mv > 0.0:
             self._adapt(dt)
         return OK
@@ -408,6 +426,7 @@ class MassGrade:
                 P[1][e] *= lam
                 P[e][1] = P[1][e]
         P[1][1] *= lam
+        self.P = self.ar.store_cov(P)
         if self.q_mv <= p["mg_mv_stop"] * p["mg_q_mc"] ** 2:
             self.q_mv = 0.0                      # q_22 has converged to q_mc: adaptation ends
         self.adapt_elapsed = 0.0

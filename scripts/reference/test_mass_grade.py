@@ -47,8 +47,8 @@ def test_ukf_is_the_kalman_filter_on_a_linear_model(monkeypatch):
     # steps; entries up to ~1e5 (P_MM), ~1e3 operations each: 1e-9 relative is far above the
     # rounding (~1e-13) and far below any algorithmic difference.
     F = np.array([[1.0, -1e-5, -0.2], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
-    monkeypatch.setattr(mg, "f_state", lambda p, x, T, dt: list(F @ np.array(x)))
-    monkeypatch.setattr(mg, "h_meas", lambda p, x, T, use_ax: [x[0]])
+    monkeypatch.setattr(mg, "f_state", lambda p, x, T, dt, ar=None: list(F @ np.array(x)))
+    monkeypatch.setattr(mg, "h_meas", lambda p, x, T, use_ax, ar=None: [x[0]])
     # bounds far away, so that the projection (§4.3 step 8, not a Kalman step) never acts
     p = mg.preset(mg_adaptive=0.0, mg_v_min=0.0, mg_m_min=1.0, mg_m_max=1e6,
                   mg_theta_max=1.4)
