@@ -89,8 +89,8 @@ static const char k_usage_rest[] =
     "                   observer and no grade column the observer takes each sample's\n"
     "                   estimated grade (that sample's); with mass_true, grade_true the summary and --metrics\n"
     "                   give the mass error at the end and the grade's RMSE. off: not\n"
-    "                   run (the columns are ignored). Not with --real q31 (the\n"
-    "                   replay does not run its fixed-point twin yet: off, with a note)\n"
+    "                   run (the columns are ignored). With --real q31 its fixed-point\n"
+    "                   twin runs (docs/FIXED_POINT.md \"Mass and grade\")\n"
     "  --tyre-id FILTER the online tyre identifier (docs/TYRE_ID.md) beside the\n"
     "                   friction estimator: apf (the auxiliary particle filter) or sir\n"
     "                   (the bootstrap filter) sets tid_filter; off (default): not run.\n"
@@ -382,13 +382,6 @@ static int check_option_words(options_t *o)
         (strcmp(o->mass_grade, "aukf") != 0) && (strcmp(o->mass_grade, "off") != 0)) {
         return usage_error(o, "--mass-grade must be ukf, aukf or off, not '%s'", o->mass_grade);
     }
-    if ((o->mass_grade != NULL) && (strcmp(o->mass_grade, "off") != 0) && (o->real != NULL) &&
-        (strcmp(o->real, "q31") == 0)) {
-        return usage_error(o, "--mass-grade %s: the replay does not run the mass and grade "
-                           "estimator's fixed-point twin yet; use --real float or double, or "
-                           "--mass-grade off",
-                           o->mass_grade);
-    }
     if ((o->tyre_id != NULL) && (strcmp(o->tyre_id, "apf") != 0) &&
         (strcmp(o->tyre_id, "sir") != 0) && (strcmp(o->tyre_id, "off") != 0)) {
         return usage_error(o, "--tyre-id must be apf, sir or off, not '%s'", o->tyre_id);
@@ -455,10 +448,8 @@ static void read_opts(const options_t *o, rfe_read_opts_t *ro)
 {
     memset(ro, 0, sizeof *ro);
     ro->cells = o->strict ? RFE_CELLS_STRICT : RFE_CELLS_KEEP;
-    /* off, or q31 (the replay does not run the fixed-point twin): its columns are extra
-     * columns, not read */
-    ro->mass_grade_off = ((o->mass_grade != NULL) && (strcmp(o->mass_grade, "off") == 0)) ||
-                        ((o->real != NULL) && (strcmp(o->real, "q31") == 0));
+    /* off: its columns are extra columns, not read */
+    ro->mass_grade_off = (o->mass_grade != NULL) && (strcmp(o->mass_grade, "off") == 0);
     /* the columns --velocity uses: the measured ones needed (named with any other missing
      * column), the bad cells of the unused ones apart */
     ro->inputs = (o->velocity == NULL)                     ? RFE_INPUTS_AUTO
@@ -512,12 +503,10 @@ static int resolve_params(const options_t *o, run_t *r)
     return 0;
 }
 
-/* The mass and grade estimator runs on a log with drive_torque unless off (then, and with
- * q31, the reader left its columns out: has_drive_torque 0). An explicit ukf or aukf sets
- * mg_adaptive over every file, as --filter does. A drive_torque that is not at the wheels
- * (driveline_torque_at other than wheels) is an input error. q31 on such a log without --mass-grade: a
- * note (once) that it does not run; an explicit ukf or aukf with q31 is a usage error
- * (check_option_words). */
+/* The mass and grade estimator runs on a log with drive_torque unless off (then the reader
+ * left its columns out: has_drive_torque 0), in every --real (q31: its fixed-point twin). An
+ * explicit ukf or aukf sets mg_adaptive over every file, as --filter does. A drive_torque that
+ * is not at the wheels (driveline_torque_at other than wheels) is an input error. */
 static int mass_grade_flags(const options_t *o, run_t *r)
 {
     const char *at = rfe_sensor_log_meta(&r->log, "driveline_torque_at");
@@ -535,12 +524,6 @@ static int mass_grade_flags(const options_t *o, run_t *r)
             (strcmp(o->mass_grade, "aukf") == 0) ? 1.0 : 0.0;
         r->ps.origin[RFE_PK_mg_adaptive].file = "command line";
         r->ps.origin[RFE_PK_mg_adaptive].line = 0u;
-    }
-    if (r->is_q31 && !o->quiet && (o->mass_grade == NULL) && r->log.drive_torque_ignored) {
-        fprintf(stderr, "%s: note: %s has drive_torque, but the replay does not run the mass and "
-                        "grade estimator's fixed-point twin yet: not run with --real q31 "
-                        "(docs/MASS_GRADE.md)\n",
-                PROG, o->in);
     }
     return 0;
 }
@@ -784,7 +767,9 @@ static int start_error(const options_t *o, const run_t *r, rfe_status_t st, size
                          "parameter %s = %s does not fit the fixed-point formats "
                          "(%s, q31 run; docs/FIXED_POINT.md)",
                          rfe_param_info(bad)->key, val,
-                         rfe_param_is_obs(bad) ? "rfe_velocity_params_to_q31" : "rfe_params_to_q31");
+                         rfe_param_is_obs(bad)  ? "rfe_velocity_params_to_q31"
+                         : rfe_param_is_mg(bad) ? "rfe_mass_grade_params_to_q31"
+                                                : "rfe_params_to_q31");
     } else if (st == RFE_ERR_RANGE) {
         rfe_io_error_set(&err, o->in, 0u, 0u,
                          "estimator init failed: %s (q31 run: the parameter set or the prior "
@@ -807,10 +792,14 @@ static int start_error(const options_t *o, const run_t *r, rfe_status_t st, size
                          "estimator init failed: %s (check the parameter combination: "
                          "mu_min < mu_max, mu0 within them%s%s)",
                          rfe_status_str(st),
-                         r->ps.mass_grade ? "; mass and grade: mg_m_min < mg_m0 < mg_m_max, "
-                                            "|mg_theta0| < mg_theta_max, mg_ut_* with n + lambda "
-                                            "> 0, docs/MASS_GRADE.md §6"
-                                          : "",
+                         !r->ps.mass_grade ? ""
+                         : r->is_q31       ? "; mass and grade: mg_m_min < mg_m0 < mg_m_max, "
+                                             "|mg_theta0| < mg_theta_max, mg_ut_* with 1 < n + "
+                                             "lambda < 16 and w_c,0 >= 0 in fixed point, "
+                                             "docs/FIXED_POINT.md \"Mass and grade\""
+                                           : "; mass and grade: mg_m_min < mg_m0 < mg_m_max, "
+                                             "|mg_theta0| < mg_theta_max, mg_ut_* with n + lambda "
+                                             "> 0, docs/MASS_GRADE.md §6",
                          r->ps.tyre_id ? "; tyre identifier: tid_mu0, shape_Cy, cy and shape_Ey "
                                          "within their tid_* bounds, docs/TYRE_ID.md §2"
                                        : "");
