@@ -744,6 +744,16 @@ for cfg in ukf aukf; do
         && ok "mg_q31_$cfg: within the twin's bounds of the double run on all $1 rows (worst: mass $4 sd, grade $5 sd)" \
         || bad "mg_q31_$cfg: $1 rows, $2 outside (the first at row $3)"
 done
+# q31 refusals before any row: a key beyond its Q format (Q14 holds 131072 kg) named with the
+# converter; a set the float accepts outside the fixed-point domain (n + lambda = 0.75) with
+# the domain's rule
+printf 'mg_m_max = 2e5\n' >"$TMP/mg_q14.par"
+run mg_q31_format 1 --in "$TMP/mgq.csv" --out "$TMP/mg_x.csv" --real q31 --params "$TMP/mg_q14.par"
+one_line mg_q31_format "^mu_replay: .*mg_q14\.par:1: parameter mg_m_max = 200000 does not fit the fixed-point formats \(rfe_mass_grade_params_to_q31, q31 run"
+printf 'mg_ut_alpha = 0.5\n' >"$TMP/mg_alpha.par"
+run mg_q31_domain_double 0 --in "$TMP/mgq.csv" --out "$TMP/mg_alpha_d.csv" --real double --params "$TMP/mg_alpha.par" -q
+run mg_q31_domain 1 --in "$TMP/mgq.csv" --out "$TMP/mg_x.csv" --real q31 --params "$TMP/mg_alpha.par"
+one_line mg_q31_domain "^mu_replay: .*mgq\.csv: estimator init failed: .*mg_ut_\* with 1 < n \+ lambda < 16 and w_c,0 >= 0 in fixed point"
 # the flag, when given, sets mg_adaptive over a file, as --filter does
 printf 'mg_adaptive = 1\n' >"$TMP/adaptive.par"
 run mg_flag_beats_file 0 --in "$TMP/hilly.csv" --out "$TMP/mg_f.csv" --mass-grade ukf --params "$TMP/adaptive.par" -q
