@@ -179,6 +179,7 @@ static void compute_metrics(run_t *r);
 static int write_metrics_json(const options_t *o, const run_t *r);
 static void print_status_counts(const run_t *r);
 static const char *base_name(const char *path);
+static const char *q31_converter_name(const run_t *r, size_t k);
 static const char *validator_name(size_t k);
 static const char *real_name(const run_t *r);
 static const char *mg_config_name(const run_t *r);
@@ -767,9 +768,7 @@ static int start_error(const options_t *o, const run_t *r, rfe_status_t st, size
                          "parameter %s = %s does not fit the fixed-point formats "
                          "(%s, q31 run; docs/FIXED_POINT.md)",
                          rfe_param_info(bad)->key, val,
-                         rfe_param_is_obs(bad)  ? "rfe_velocity_params_to_q31"
-                         : rfe_param_is_mg(bad) ? "rfe_mass_grade_params_to_q31"
-                                                : "rfe_params_to_q31");
+                         q31_converter_name(r, bad));
     } else if (st == RFE_ERR_RANGE) {
         rfe_io_error_set(&err, o->in, 0u, 0u,
                          "estimator init failed: %s (q31 run: the parameter set or the prior "
@@ -805,6 +804,21 @@ static int start_error(const options_t *o, const run_t *r, rfe_status_t st, size
                                        : "");
     }
     return fail(o, &err);
+}
+
+/* The converter that found key @p k beyond its Q format (q31 runs): R and g, which the mass
+ * and grade estimator takes too, in either of two when it runs. */
+static const char *q31_converter_name(const run_t *r, size_t k)
+{
+    if (rfe_param_is_obs(k) != 0) {
+        return "rfe_velocity_params_to_q31";
+    }
+    if (rfe_param_is_mg(k) != 0) {
+        return "rfe_mass_grade_params_to_q31";
+    }
+    return (r->ps.mass_grade && ((k == (size_t)RFE_PK_R) || (k == (size_t)RFE_PK_g)))
+               ? "rfe_params_to_q31 or rfe_mass_grade_params_to_q31"
+               : "rfe_params_to_q31";
 }
 
 /* The library function that refused key @p k. (R and g, which the mass and grade estimator

@@ -386,18 +386,27 @@ size_t rfe_replay_state_size_q31(void)
     return sizeof(rfe_replay_q31_state_t);
 }
 
-/* The mass and grade key that alone, on top of the set's config preset (its other mg_* keys
- * reset), makes rfe_mass_grade_params_to_q31_f64 fail with RFE_ERR_RANGE, or RFE_PK_NONE
- * (R or g, or a combination). */
+/* The key of the mass and grade parameters (R, g, an mg_* key) that alone, on top of the
+ * set's presets (the friction preset's R and g, the mass and grade config's mg_* keys), makes
+ * rfe_mass_grade_params_to_q31_f64 fail with RFE_ERR_RANGE, or RFE_PK_NONE (only a
+ * combination does: values the validation refuses alone). */
 static size_t diagnose_mg_range(const rfe_param_set_t *ps)
 {
-    size_t k;
-    for (k = RFE_PK_MG_FIRST; k < RFE_PK_MG_FIRST + RFE_PK_MG_COUNT; ++k) {
-        rfe_param_set_t one = *ps;
+    rfe_param_set_t base;
+    size_t i;
+    (void)rfe_param_set_preset_f64(&base, ps->preset); /* cannot fail: the set's presets */
+    (void)rfe_param_set_mass_grade_f64(&base, ps->mg_config);
+    for (i = 0u; i < 2u + (size_t)RFE_PK_MG_COUNT; ++i) {
+        const size_t k = (i == 0u) ? (size_t)RFE_PK_R
+                                   : ((i == 1u) ? (size_t)RFE_PK_g : RFE_PK_MG_FIRST + i - 2u);
+        rfe_param_set_t one = base;
         rfe_mass_grade_params_t mp;
         rfe_mass_grade_params_q31_t mq;
-        (void)rfe_param_set_mass_grade_f64(&one, ps->mg_config); /* cannot fail: its config */
-        one.mg[k - RFE_PK_MG_FIRST] = ps->mg[k - RFE_PK_MG_FIRST];
+        if (k < RFE_PK_MG_FIRST) {
+            one.value[k] = ps->value[k];
+        } else {
+            one.mg[k - RFE_PK_MG_FIRST] = ps->mg[k - RFE_PK_MG_FIRST];
+        }
         if ((rfe_replay_mass_grade_params_f64(&one, &mp, NULL) == RFE_OK) &&
             (rfe_mass_grade_params_to_q31_f64(&mp, &mq) == RFE_ERR_RANGE)) {
             return k;

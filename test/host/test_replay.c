@@ -1455,8 +1455,9 @@ static void test_rfe_replay_q31_fed_mass_reaches_the_friction_estimator(void **s
 }
 
 /* The refusals of the fixed-point mass and grade run: a parameter the double path refuses is
- * named as in double; one beyond its Q format (mg_m_max 2e5 kg > Q14's 131072) is
- * RFE_ERR_RANGE naming it; a set the float accepts outside the fixed-point domain
+ * named as in double; one beyond its Q format (mg_m_max 2e5 kg > Q14's 131072; g 40 m/s^2
+ * > Q26's 32, which the friction estimator's Q24 holds) is RFE_ERR_RANGE naming it, and a
+ * combination (each key alone refused by the validation) names none; a set the float accepts outside the fixed-point domain
  * (mg_ut_alpha 0.5: n + lambda = 0.75) is RFE_ERR_PARAM from the init, no key blamed. A cell
  * the sample cannot hold refuses that sample alone: the brake and gear cells as in double
  * (17, 18), a NaN torque or ax (no Q value: 17, as the float library), the estimate held,
@@ -1465,6 +1466,7 @@ static void test_rfe_replay_q31_fed_mass_reaches_the_friction_estimator(void **s
 /* REQ-CLI-007 */
 static void test_rfe_replay_q31_mass_grade_refusals(void **state)
 {
+    double g0;
     rfe_sensor_log_t log;
     rfe_sensor_row_t rows[N_MG];
     rfe_param_set_t ps;
@@ -1485,6 +1487,22 @@ static void test_rfe_replay_q31_mass_grade_refusals(void **state)
     assert_int_equal(bad, RFE_PK_mg_m_max);
     assert_int_equal(rfe_replay_run_f64(&ps, &log, out, &st.base, NULL), RFE_OK); /* double: fine */
     ps.mg[RFE_PK_mg_m_max - RFE_PK_MG_FIRST] = 4000.0;
+    g0 = ps.value[RFE_PK_g];
+    ps.value[RFE_PK_g] = 40.0; /* the friction estimator's Q24 holds it, the estimator's Q26 not */
+    assert_int_equal(rfe_replay_run_q31(&ps, &log, out, &st, NULL, &bad), RFE_ERR_RANGE);
+    assert_int_equal(bad, RFE_PK_g);
+    ps.mass_grade = 0;
+    assert_int_equal(rfe_replay_run_q31(&ps, &log, out, &st, NULL, NULL), RFE_OK);
+    ps.mass_grade = 1;
+    ps.value[RFE_PK_g] = g0;
+    /* the AUKF's mv_stop beyond Q24 (+-128), valid only with a larger q_mv0: no key alone */
+    assert_int_equal(rfe_param_set_mass_grade_f64(&ps, RFE_MG_SEED), 0);
+    ps.mg[RFE_PK_mg_mv_stop - RFE_PK_MG_FIRST] = 2e5;
+    ps.mg[RFE_PK_mg_q_mv0 - RFE_PK_MG_FIRST] = 1e5;
+    assert_int_equal(rfe_replay_run_f64(&ps, &log, out, &st.base, NULL), RFE_OK);
+    assert_int_equal(rfe_replay_run_q31(&ps, &log, out, &st, NULL, &bad), RFE_ERR_RANGE);
+    assert_int_equal(bad, RFE_PK_NONE);
+    assert_int_equal(rfe_param_set_mass_grade_f64(&ps, RFE_MG_RECOMMENDED), 0);
     ps.mg[RFE_PK_mg_ut_alpha - RFE_PK_MG_FIRST] = 0.5;
     assert_int_equal(rfe_replay_run_f64(&ps, &log, out, &st.base, NULL), RFE_OK);
     bad = 0u;
