@@ -750,6 +750,9 @@ done
 printf 'mg_m_max = 2e5\n' >"$TMP/mg_q14.par"
 run mg_q31_format 1 --in "$TMP/mgq.csv" --out "$TMP/mg_x.csv" --real q31 --params "$TMP/mg_q14.par"
 one_line mg_q31_format "^mu_replay: .*mg_q14\.par:1: parameter mg_m_max = 200000 does not fit the fixed-point formats \(rfe_mass_grade_params_to_q31, q31 run"
+printf 'g = 40\n' >"$TMP/mg_g40.par" # the friction estimator's Q24 holds it, the estimator's Q26 not
+run mg_q31_format_g 1 --in "$TMP/mgq.csv" --out "$TMP/mg_x.csv" --real q31 --params "$TMP/mg_g40.par"
+one_line mg_q31_format_g "^mu_replay: .*mg_g40\.par:1: parameter g = 40 does not fit the fixed-point formats \(rfe_params_to_q31 or rfe_mass_grade_params_to_q31, q31 run"
 printf 'mg_ut_alpha = 0.5\n' >"$TMP/mg_alpha.par"
 run mg_q31_domain_double 0 --in "$TMP/mgq.csv" --out "$TMP/mg_alpha_d.csv" --real double --params "$TMP/mg_alpha.par" -q
 run mg_q31_domain 1 --in "$TMP/mgq.csv" --out "$TMP/mg_x.csv" --real q31 --params "$TMP/mg_alpha.par"
