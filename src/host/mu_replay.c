@@ -59,9 +59,9 @@ static const char k_usage[] =
     "  --tyre MODE      paper, absolute (Dugoff) or magic (Magic Formula; default:\n"
     "                   the preset's)\n"
     "  --real TYPE      float (default) or double arithmetic, or q31: the fixed-point\n"
-    "                   estimator and observer (samples rounded to their Q formats;\n"
-    "                   saturation counts in the estimate log's metadata, the JSON and\n"
-    "                   the summary)\n"
+    "                   estimator, observer and mass and grade estimator (samples\n"
+    "                   rounded to their Q formats; saturation counts in the estimate\n"
+    "                   log's metadata, the JSON and the summary)\n"
     "  --velocity WHERE where vx, vy and the yaw acceleration come from: measured (the\n"
     "                   log's vx, vy, yaw_acc columns, a test car's sensors), observer\n"
     "                   (estimated from steer, yaw rate, ax, ay, wheel speeds and the\n"
@@ -89,8 +89,8 @@ static const char k_usage_rest[] =
     "                   observer and no grade column the observer takes each sample's\n"
     "                   estimated grade (that sample's); with mass_true, grade_true the summary and --metrics\n"
     "                   give the mass error at the end and the grade's RMSE. off: not\n"
-    "                   run (the columns are ignored). Not with --real q31 (the\n"
-    "                   replay does not run its fixed-point twin yet: off, with a note)\n"
+    "                   run (the columns are ignored). With --real q31 its fixed-point\n"
+    "                   twin runs (docs/FIXED_POINT.md \"Mass and grade\")\n"
     "  --tyre-id FILTER the online tyre identifier (docs/TYRE_ID.md) beside the\n"
     "                   friction estimator: apf (the auxiliary particle filter) or sir\n"
     "                   (the bootstrap filter) sets tid_filter; off (default): not run.\n"
@@ -181,6 +181,7 @@ static void compute_metrics(run_t *r);
 static int write_metrics_json(const options_t *o, const run_t *r);
 static void print_status_counts(const run_t *r);
 static const char *base_name(const char *path);
+static const char *q31_converter_name(const run_t *r, size_t k);
 static const char *validator_name(size_t k);
 static const char *real_name(const run_t *r);
 static const char *mg_config_name(const run_t *r);
@@ -384,13 +385,6 @@ static int check_option_words(options_t *o)
         (strcmp(o->mass_grade, "aukf") != 0) && (strcmp(o->mass_grade, "off") != 0)) {
         return usage_error(o, "--mass-grade must be ukf, aukf or off, not '%s'", o->mass_grade);
     }
-    if ((o->mass_grade != NULL) && (strcmp(o->mass_grade, "off") != 0) && (o->real != NULL) &&
-        (strcmp(o->real, "q31") == 0)) {
-        return usage_error(o, "--mass-grade %s: the replay does not run the mass and grade "
-                           "estimator's fixed-point twin yet; use --real float or double, or "
-                           "--mass-grade off",
-                           o->mass_grade);
-    }
     if ((o->tyre_id != NULL) && (strcmp(o->tyre_id, "apf") != 0) &&
         (strcmp(o->tyre_id, "sir") != 0) && (strcmp(o->tyre_id, "off") != 0)) {
         return usage_error(o, "--tyre-id must be apf, sir or off, not '%s'", o->tyre_id);
@@ -457,10 +451,8 @@ static void read_opts(const options_t *o, rfe_read_opts_t *ro)
 {
     memset(ro, 0, sizeof *ro);
     ro->cells = o->strict ? RFE_CELLS_STRICT : RFE_CELLS_KEEP;
-    /* off, or q31 (the replay does not run the fixed-point twin): its columns are extra
-     * columns, not read */
-    ro->mass_grade_off = ((o->mass_grade != NULL) && (strcmp(o->mass_grade, "off") == 0)) ||
-                        ((o->real != NULL) && (strcmp(o->real, "q31") == 0));
+    /* off: its columns are extra columns, not read */
+    ro->mass_grade_off = (o->mass_grade != NULL) && (strcmp(o->mass_grade, "off") == 0);
     /* the columns --velocity uses: the measured ones needed (named with any other missing
      * column), the bad cells of the unused ones apart */
     ro->inputs = (o->velocity == NULL)                     ? RFE_INPUTS_AUTO
@@ -514,12 +506,10 @@ static int resolve_params(const options_t *o, run_t *r)
     return 0;
 }
 
-/* The mass and grade estimator runs on a log with drive_torque unless off (then, and with
- * q31, the reader left its columns out: has_drive_torque 0). An explicit ukf or aukf sets
- * mg_adaptive over every file, as --filter does. A drive_torque that is not at the wheels
- * (driveline_torque_at other than wheels) is an input error. q31 on such a log without --mass-grade: a
- * note (once) that it does not run; an explicit ukf or aukf with q31 is a usage error
- * (check_option_words). */
+/* The mass and grade estimator runs on a log with drive_torque unless off (then the reader
+ * left its columns out: has_drive_torque 0), in every --real (q31: its fixed-point twin). An
+ * explicit ukf or aukf sets mg_adaptive over every file, as --filter does. A drive_torque that
+ * is not at the wheels (driveline_torque_at other than wheels) is an input error. */
 static int mass_grade_flags(const options_t *o, run_t *r)
 {
     const char *at = rfe_sensor_log_meta(&r->log, "driveline_torque_at");
@@ -537,12 +527,6 @@ static int mass_grade_flags(const options_t *o, run_t *r)
             (strcmp(o->mass_grade, "aukf") == 0) ? 1.0 : 0.0;
         r->ps.origin[RFE_PK_mg_adaptive].file = "command line";
         r->ps.origin[RFE_PK_mg_adaptive].line = 0u;
-    }
-    if (r->is_q31 && !o->quiet && (o->mass_grade == NULL) && r->log.drive_torque_ignored) {
-        fprintf(stderr, "%s: note: %s has drive_torque, but the replay does not run the mass and "
-                        "grade estimator's fixed-point twin yet: not run with --real q31 "
-                        "(docs/MASS_GRADE.md)\n",
-                PROG, o->in);
     }
     return 0;
 }
@@ -786,7 +770,7 @@ static int start_error(const options_t *o, const run_t *r, rfe_status_t st, size
                          "parameter %s = %s does not fit the fixed-point formats "
                          "(%s, q31 run; docs/FIXED_POINT.md)",
                          rfe_param_info(bad)->key, val,
-                         rfe_param_is_obs(bad) ? "rfe_velocity_params_to_q31" : "rfe_params_to_q31");
+                         q31_converter_name(r, bad));
     } else if (st == RFE_ERR_RANGE) {
         rfe_io_error_set(&err, o->in, 0u, 0u,
                          "estimator init failed: %s (q31 run: the parameter set or the prior "
@@ -809,15 +793,34 @@ static int start_error(const options_t *o, const run_t *r, rfe_status_t st, size
                          "estimator init failed: %s (check the parameter combination: "
                          "mu_min < mu_max, mu0 within them%s%s)",
                          rfe_status_str(st),
-                         r->ps.mass_grade ? "; mass and grade: mg_m_min < mg_m0 < mg_m_max, "
-                                            "|mg_theta0| < mg_theta_max, mg_ut_* with n + lambda "
-                                            "> 0, docs/MASS_GRADE.md §6"
-                                          : "",
+                         !r->ps.mass_grade ? ""
+                         : r->is_q31       ? "; mass and grade: mg_m_min < mg_m0 < mg_m_max, "
+                                             "|mg_theta0| < mg_theta_max, mg_ut_* with 1 < n + "
+                                             "lambda < 16 and w_c,0 >= 0 in fixed point, "
+                                             "docs/FIXED_POINT.md \"Mass and grade\""
+                                           : "; mass and grade: mg_m_min < mg_m0 < mg_m_max, "
+                                             "|mg_theta0| < mg_theta_max, mg_ut_* with n + lambda "
+                                             "> 0, docs/MASS_GRADE.md §6",
                          r->ps.tyre_id ? "; tyre identifier: tid_mu0, shape_Cy, cy and shape_Ey "
                                          "within their tid_* bounds, docs/TYRE_ID.md §2"
                                        : "");
     }
     return fail(o, &err);
+}
+
+/* The converter that found key @p k beyond its Q format (q31 runs): R and g, which the mass
+ * and grade estimator takes too, in either of two when it runs. */
+static const char *q31_converter_name(const run_t *r, size_t k)
+{
+    if (rfe_param_is_obs(k) != 0) {
+        return "rfe_velocity_params_to_q31";
+    }
+    if (rfe_param_is_mg(k) != 0) {
+        return "rfe_mass_grade_params_to_q31";
+    }
+    return (r->ps.mass_grade && ((k == (size_t)RFE_PK_R) || (k == (size_t)RFE_PK_g)))
+               ? "rfe_params_to_q31 or rfe_mass_grade_params_to_q31"
+               : "rfe_params_to_q31";
 }
 
 /* The library function that refused key @p k. (R and g, which the mass and grade estimator

@@ -18,6 +18,16 @@
  * does (the period from the time stamps' difference in double), rounds every value as above
  * into the formats of rfe_velocity_input_q31_t, and converts the observer's estimate back
  * exactly too (vx, vy, sd Q23; beta, sd_beta Q29; yaw acceleration Q24).
+ *
+ * The mass and grade estimator (MASS_GRADE.md §10) runs as in the float and double replay:
+ * when the set says so (ps->mass_grade) and the log has drive_torque, each sample steps the
+ * fixed-point twin (rfe_mass_grade_*_q31) first, on its parameters by the double path
+ * (rfe_replay_mass_grade_params_f64, then rfe_mass_grade_params_to_q31_f64) and the sample of
+ * rfe_replay_mass_grade_input_q31; its estimate goes back exactly (mass, sd_mass Q14; grade,
+ * sd_grade Q29); then the feed rule (rfe_replay_mass_feed_due) gives the friction estimator
+ * that mass (rfe_friction_set_mass_q31, behind the observer rfe_pipeline_set_mass_q31; Q14 to
+ * Q16, exact), and behind the observer without a grade column the observer takes that
+ * sample's estimated grade. Its saturations count with the estimator's and the input's.
  */
 #ifndef RFE_HOST_REPLAY_Q31_H
 #define RFE_HOST_REPLAY_Q31_H
@@ -29,6 +39,7 @@
 #include "param_file.h"
 #include "replay_real.h"
 #include "rfe/component/tyre_q31.h"
+#include "rfe/mass_grade_q31.h"
 #include "rfe/params_q31.h"
 #include "rfe/velocity_q31.h"
 #include "rfe/types.h"
@@ -47,12 +58,16 @@ typedef struct {
  * The fixed-point twin of rfe_replay_run_f64: parameters as described above, one estimate row
  * per input row (a rejected row: the unchanged previous estimate, valid = 0, its error
  * status), and the saturation counters.
- * @param row_sat per-row saturation count of the estimator (log->n_rows entries), or NULL
+ * @param row_sat per-row saturation count of the estimator (log->n_rows entries; the mass
+ *        and grade estimator's included when it runs), or NULL
  * @param bad_key on RFE_ERR_PARAM as rfe_replay_run_f64; on RFE_ERR_RANGE the key that alone
- *        (starting from the preset) does not fit its Q format, or RFE_PK_NONE when none does
- *        alone or the estimator's prior does not fit (rfe_friction_init_q31); may be NULL.
- * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_PARAM; RFE_ERR_RANGE (rfe_params_to_q31_f64 or
- *         rfe_friction_init_q31); the init's other errors (nothing written then).
+ *        (starting from the preset) does not fit its Q format (an mg_* key: from the set's
+ *        mass and grade preset), or RFE_PK_NONE when none does alone or the estimator's prior
+ *        does not fit (rfe_friction_init_q31); may be NULL.
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_PARAM (also a mass and grade set outside the
+ *         fixed-point domain: rfe_mass_grade_init_q31); RFE_ERR_RANGE (rfe_params_to_q31_f64,
+ *         rfe_mass_grade_params_to_q31_f64 or rfe_friction_init_q31); the init's other errors
+ *         (nothing written then).
  */
 RFE_NODISCARD rfe_status_t rfe_replay_run_q31(const rfe_param_set_t *ps,
                                               const rfe_sensor_log_t *log, rfe_est_row_t *out,
@@ -101,6 +116,26 @@ uint32_t rfe_replay_sample_q31(const rfe_sensor_row_t *row, rfe_sample_q31_t *s)
  */
 uint32_t rfe_replay_esc_input_q31(const rfe_sensor_log_t *log, size_t i, size_t prev,
                                   rfe_velocity_input_q31_t *in);
+
+/**
+ * The mass and grade sample of @p row in the Q formats of rfe_mass_grade_input_q31_t, as the
+ * fixed-point replay steps it: rfe_replay_mass_grade_input_row_f64's sample (the wheels'
+ * speed times @p R and the period since @p t_prev, the last sample the estimator accepted,
+ * in double; its checks of the brake and gear cells) with each value rounded by
+ * rfe_fix_from_double (the brake pressure from Pa to MPa); the gear, brake and RFE_MG_HAS_*
+ * bits as they are. The one conversion of the replay and the PIL data generator
+ * (host/pil/aux_input.h).
+ * @param sat  the saturations of the rounding are added to it.
+ * @return RFE_OK; the double sample's status; RFE_ERR_NONFINITE for a value the float library
+ *         checks (dt, v, torque, ax, and the pressure with RFE_MG_HAS_PRESSURE) that is not
+ *         finite (it has no Q value: refused as the float library refuses it). @p in is all
+ *         zero unless RFE_OK.
+ */
+RFE_NODISCARD rfe_status_t rfe_replay_mass_grade_input_q31(const rfe_sensor_log_t *log,
+                                                           const rfe_sensor_row_t *row,
+                                                           const double *t_prev, double R,
+                                                           rfe_mass_grade_input_q31_t *in,
+                                                           uint32_t *sat);
 
 /**
  * The fixed-point twin of rfe_replay_run_observer_f64 (the parameters, samples and estimates

@@ -479,15 +479,10 @@ rfe_status_t rfe_replay_tyre_id_params(const rfe_param_set_t *ps, rfe_tyre_id_pa
     return st;
 }
 
-/* The mass and grade sample of @p row of a log with the columns of @p log (its rows unused): the speed from the four
- * wheels, (omega_fl + omega_fr + omega_rl + omega_rr) / 4 * R in double and in that order
- * (MASS_GRADE.md §1, as the reference), the period since @p t_prev (the time of the last
- * sample the estimator accepted; NULL: none yet), the torque, the accelerometer, and the
- * optional brake, brake pressure and gear the log has. Returns RFE_OK, or the status of a row
- * whose brake or gear cell the library's integer inputs cannot hold: not finite (17), a gear
- * beyond +-RFE_REPLAY_GEAR_MAX (18). */
-static rfe_status_t mass_grade_input(const rfe_sensor_log_t *log, const rfe_sensor_row_t *row,
-                                     const double *t_prev, double R, rfe_mass_grade_input_t *in)
+/* The mass and grade sample (replay_real.h). */
+rfe_status_t rfe_replay_mass_grade_input_row(const rfe_sensor_log_t *log,
+                                             const rfe_sensor_row_t *row, const double *t_prev,
+                                             double R, rfe_mass_grade_input_t *in)
 {
     const double v = ((((row->omega[RFE_FL] + row->omega[RFE_FR]) + row->omega[RFE_RL]) +
                        row->omega[RFE_RR]) /
@@ -512,7 +507,7 @@ static rfe_status_t mass_grade_input(const rfe_sensor_log_t *log, const rfe_sens
     return RFE_OK;
 }
 
-/* One mass and grade step on @p row into @p out; a row the library (or mass_grade_input)
+/* One mass and grade step on @p row into @p out; a row the library (or the sample's checks)
  * refuses gets the held estimate and its error status. */
 static void mass_grade_row(rfe_replay_state_t *st, const rfe_sensor_row_t *row, rfe_est_row_t *out)
 {
@@ -522,8 +517,9 @@ static void mass_grade_row(rfe_replay_state_t *st, const rfe_sensor_row_t *row, 
      * sample), held should the row be refused here; the library's step refusing it gives
      * the same (mass_grade.h) */
     rfe_mass_grade_estimate_t e = mg->last;
-    rfe_status_t s = mass_grade_input(&st->shape, row, st->have_mg_last ? &st->t_mg_last : NULL,
-                                      (double)mg->p.R, &in);
+    rfe_status_t s = rfe_replay_mass_grade_input_row(&st->shape, row,
+                                                     st->have_mg_last ? &st->t_mg_last : NULL,
+                                                     (double)mg->p.R, &in);
     if (s == RFE_OK) {
         s = rfe_mass_grade_step(mg, &in, &e);
     }
@@ -538,16 +534,6 @@ static void mass_grade_row(rfe_replay_state_t *st, const rfe_sensor_row_t *row, 
     out->sd_grade = (double)e.sd_grade;
     out->mg_status = (int)s;
     ++st->stats.mg_status_count[rfe_replay_status_slot(out->mg_status)];
-}
-
-/* The feed rule (MASS_GRADE.md §10): 1 when this sample's mass and grade step @p out is an
- * update (status RFE_OK: not paused, held or refused) with sd_mass <= mg_feed_sd_rel *
- * mass_est (in double, of the estimate's values); never with mg_feed_sd_rel = 0. */
-static int mass_feed_due(double rel, const rfe_est_row_t *out)
-{
-    return ((out->mg_status == (int)RFE_OK) && (rel > 0.0) && (out->sd_mass <= rel * out->mass))
-               ? 1
-               : 0;
 }
 
 /* Records the friction estimator's mass of this sample in @p out and the run's counters:
@@ -893,7 +879,7 @@ static void mass_grade_first(rfe_replay_state_t *st, const rfe_sensor_row_t *row
     int fed = -1;
     mass_grade_row(st, row, out);
     *grade = st->shape.has_grade ? *grade : (rfe_real_t)out->grade;
-    if (mass_feed_due(st->feed_sd_rel, out) != 0) {
+    if (rfe_replay_mass_feed_due(st->feed_sd_rel, out) != 0) {
         /* a mass rfe_params_set_mass refuses (not finite, <= 0: not an estimate in
          * [mg_m_min, mg_m_max]) leaves the last one; the observer keeps the friction
          * estimator's vehicle */

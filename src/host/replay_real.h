@@ -14,6 +14,7 @@
 
 #include "csv_log.h"
 #include "param_file.h"
+#include "rfe/mass_grade.h"
 #include "rfe/mass_grade_params.h"
 #include "rfe/params.h"
 #include "rfe/tyre_id_params.h"
@@ -29,6 +30,7 @@
 #define rfe_replay_sample_from_row rfe_replay_sample_from_row_f64
 #define rfe_replay_esc_input       rfe_replay_esc_input_f64
 #define rfe_replay_esc_input_row   rfe_replay_esc_input_row_f64
+#define rfe_replay_mass_grade_input_row rfe_replay_mass_grade_input_row_f64
 #define rfe_replay_state           rfe_replay_state_f64
 #define rfe_replay_state_size      rfe_replay_state_size_f64
 #define rfe_replay_begin           rfe_replay_begin_f64
@@ -49,6 +51,7 @@
 #define rfe_replay_sample_from_row rfe_replay_sample_from_row_f32
 #define rfe_replay_esc_input       rfe_replay_esc_input_f32
 #define rfe_replay_esc_input_row   rfe_replay_esc_input_row_f32
+#define rfe_replay_mass_grade_input_row rfe_replay_mass_grade_input_row_f32
 #define rfe_replay_state           rfe_replay_state_f32
 #define rfe_replay_state_size      rfe_replay_state_size_f32
 #define rfe_replay_begin           rfe_replay_begin_f32
@@ -248,6 +251,37 @@ void rfe_replay_esc_input(const rfe_sensor_log_t *log, size_t i, size_t prev,
  *  _f64 one's. */
 void rfe_replay_esc_input_row(const rfe_sensor_log_t *log, const rfe_sensor_row_t *row,
                               const double *t_prev, rfe_velocity_input_t *in);
+
+/**
+ * The mass and grade sample of @p row of a log with the columns of @p log (its rows unused),
+ * as the replay steps it (MASS_GRADE.md §10): the speed (omega_fl + omega_fr + omega_rl +
+ * omega_rr) / 4 * @p R in double and in that order, the period since @p t_prev (the last
+ * sample the estimator accepted; NULL: none yet), drive_torque, ax, and the optional brake
+ * (pressed at >= 0.5), brake_pressure [Pa] and gear (the nearest) the log has; each value
+ * rounded to the build's real type. The fixed-point replay (a double translation unit) rounds
+ * the _f64 one's (rfe_replay_mass_grade_input_q31).
+ * @return RFE_OK, or the status of a row whose brake or gear cell the library's integer
+ *         inputs cannot hold: RFE_ERR_NONFINITE (not finite), RFE_ERR_RANGE (a gear beyond
+ *         +-RFE_REPLAY_GEAR_MAX); the sample is not to be stepped then.
+ */
+RFE_NODISCARD rfe_status_t rfe_replay_mass_grade_input_row(const rfe_sensor_log_t *log,
+                                                           const rfe_sensor_row_t *row,
+                                                           const double *t_prev, double R,
+                                                           rfe_mass_grade_input_t *in);
+
+/**
+ * The mass feed rule of the replay (MASS_GRADE.md §10), on a row whose mass and grade columns
+ * this sample's step wrote: 1 when that step is an update (mg_status RFE_OK: not paused,
+ * held or refused) with sd_mass <= @p rel * mass_est, compared in double on the row's values;
+ * never with @p rel = 0 (key mg_feed_sd_rel). The one rule of every replay (float, double,
+ * q31).
+ */
+static inline int rfe_replay_mass_feed_due(double rel, const rfe_est_row_t *out)
+{
+    return ((out->mg_status == (int)RFE_OK) && (rel > 0.0) && (out->sd_mass <= rel * out->mass))
+               ? 1
+               : 0;
+}
 
 /**
  * Fills @p ps from the library's preset @p preset (every key of the table, tyre, filter;

@@ -26,6 +26,7 @@
 #include "rfe/pipeline_q31.h"
 #include "rfe/friction.h"
 #include "rfe/mass_grade.h"
+#include "rfe/mass_grade_q31.h"
 #include "rfe/params.h"
 #include "rfe/pipeline.h"
 #include "rfe/tyre_id.h"
@@ -1218,6 +1219,342 @@ static void test_rfe_replay_feed_off_is_mass_grade_off(void **state)
     }
 }
 
+/* ------------------------------------------------------------ mass and grade in q31 */
+
+/* A bundled mass and grade log with gear shifts (50 Hz; shifts at 5, 11, 19, 30 s): its
+ * first MGQ_ROWS rows, MGQ_LIGHT_ROWS in light mode (test_light.h: under valgrind). Light:
+ * 6 s, the first shift's pause (status 6) at 5 s and the feed from row ~230 inside, so each
+ * count asserted below can fail either way; full: 30 s, three shifts. */
+#define MGQ_LOG "scenarios/mass_grade/car_gear_shift.csv"
+#define MGQ_ROWS 1500u
+#define MGQ_LIGHT_ROWS 300u
+
+/* The log (its metadata applied to @p ps over the default preset, the estimator on) and, for
+ * the measured path, velocities made up in memory: vx the rear wheels' speed times R, vy and
+ * the yaw acceleration 0 (the comparison below is bit for bit, not about accuracy). */
+static void mgq_log_read(rfe_sensor_log_t *log, rfe_param_set_t *ps)
+{
+    rfe_io_error_t err;
+    size_t i;
+    memset(log, 0, sizeof *log);
+    assert_int_equal(rfe_sensor_log_read(MGQ_LOG, log, &err), 0);
+    assert_int_equal(log->has_drive_torque, 1);
+    assert_int_equal(log->has_grade, 0); /* the observer takes the estimated grade */
+    assert_true(log->n_rows > MGQ_ROWS);
+    log->n_rows = rfe_test_light() ? MGQ_LIGHT_ROWS : MGQ_ROWS;
+    assert_int_equal(rfe_param_set_preset_f64(ps, RFE_PRESET_DEFAULT), 0);
+    assert_int_equal(rfe_param_set_apply_meta(ps, log, MGQ_LOG, &err), 0);
+    assert_true(ps->value[RFE_PK_dt] == 0.02); /* the log's period: no gaps */
+    ps->mass_grade = 1;
+    for (i = 0u; i < log->n_rows; ++i) {
+        log->rows[i].vx = 0.5 * (log->rows[i].omega[RFE_RL] + log->rows[i].omega[RFE_RR]) *
+                          ps->value[RFE_PK_R];
+    }
+}
+
+/* The fixed-point mass and grade sample of row @p i, written out from MASS_GRADE.md §10 and
+ * the Q formats of mass_grade_q31.h (q_of: rounded to nearest, ties up): the wheels' mean
+ * speed times R, the period since @p t_last (NULL: the first sample), the pressure in MPa,
+ * the nearest gear, brake pressed at >= 0.5, every column's bit. */
+static void mgq_input_of(const rfe_sensor_row_t *row, const double *t_last, double R,
+                         rfe_mass_grade_input_q31_t *mi)
+{
+    memset(mi, 0, sizeof *mi);
+    mi->dt = q_of((t_last != NULL) ? row->t - *t_last : 0.0, 30);
+    mi->v = q_of(((((row->omega[0] + row->omega[1]) + row->omega[2]) + row->omega[3]) / 4.0) * R, 24);
+    mi->torque = q_of(row->drive_torque, 14);
+    mi->ax = q_of(row->ax, 24);
+    mi->p_brake = q_of(row->brake_pressure * 1e-6, 25);
+    mi->gear = (int32_t)floor(row->gear + 0.5);
+    mi->brake = (row->brake >= 0.5) ? 1u : 0u;
+    mi->has = RFE_MG_HAS_AX | RFE_MG_HAS_PRESSURE | RFE_MG_HAS_BRAKE | RFE_MG_HAS_GEAR;
+}
+
+/* --real q31 runs the mass and grade estimator's fixed-point twin as the float replay runs
+ * the float one: the replay equals a hand-written loop over the Q31 library API bit for bit
+ * (measured velocities and behind the observer): each sample the mass and grade step on the
+ * sample written out above (its columns the Q values: mass, sd Q14, grade, sd Q29), then the
+ * feed rule on that step's values (an update with sd_mass <= mg_feed_sd_rel * mass_est) giving
+ * the friction estimator that mass in its Q16 (rfe_friction_set_mass_q31, behind the observer
+ * rfe_pipeline_set_mass_q31), then the friction (pipeline) step, behind the observer with
+ * that sample's estimated grade. With mg_feed_sd_rel = 0 the friction estimator keeps the
+ * parameter m and the mass and grade estimate is the same (one way). On this log the friction
+ * estimator is held (not observable) over the light rows, so whether the fed mass changes
+ * its estimate is the next test's, on a log with drive slip. */
+/* REQ-CLI-007 */
+static void test_rfe_replay_q31_mass_grade_is_the_library_loop(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_param_set_t ps;
+    rfe_est_row_t *out;
+    rfe_est_row_t *nofeed;
+    rfe_replay_q31_stats_t st;
+    rfe_mass_grade_params_t mp;
+    rfe_mass_grade_params_q31_t mq;
+    rfe_params_q31_t pq;
+    rfe_velocity_params_q31_t vq;
+    static rfe_mass_grade_q31_t mg;
+    static rfe_pipeline_q31_t pl;
+    static rfe_friction_q31_t est;
+    int observer;
+    (void)state;
+    mgq_log_read(&log, &ps);
+    out = calloc(log.n_rows, sizeof *out);
+    nofeed = calloc(log.n_rows, sizeof *nofeed);
+    assert_non_null(out);
+    assert_non_null(nofeed);
+    assert_int_equal(RFE_MG_Q_TH, RFE_FIX_Q_ANGLE); /* the grade goes to the observer as is */
+    assert_int_equal(RFE_MG_Q_M + 2, RFE_FIX_Q_MASS); /* the mass to the friction estimator */
+    for (observer = 0; observer <= 1; ++observer) {
+        const double rel = ps.mg[RFE_PK_mg_feed_sd_rel - RFE_PK_MG_FIRST];
+        size_t i;
+        size_t n_fed = 0u;
+        size_t n_ok = 0u;
+        size_t n_shift = 0u;
+        double t_last = 0.0;
+        int have_last = 0;
+        rfe_fix_t m_used;
+        rfe_status_t (*run)(const rfe_param_set_t *, const rfe_sensor_log_t *, rfe_est_row_t *,
+                            rfe_replay_q31_stats_t *, uint32_t *, size_t *) =
+            observer ? rfe_replay_run_observer_q31 : rfe_replay_run_q31;
+        assert_true(rel == RFE_MG_FEED_SD_REL_DEFAULT);
+        assert_int_equal(run(&ps, &log, out, &st, NULL, NULL), RFE_OK);
+        assert_int_equal(rfe_replay_mass_grade_params_f64(&ps, &mp, NULL), RFE_OK);
+        assert_int_equal(rfe_mass_grade_params_to_q31_f64(&mp, &mq), RFE_OK);
+        assert_int_equal(rfe_mass_grade_init_q31(&mg, &mq), RFE_OK);
+        q31_params_of(&ps, &pq, &vq);
+        if (observer) {
+            assert_int_equal(rfe_pipeline_init_q31(&pl, &pq, &vq), RFE_OK);
+        } else {
+            assert_int_equal(rfe_friction_init_q31(&est, &pq), RFE_OK);
+        }
+        m_used = pq.vehicle.m;
+        for (i = 0u; i < log.n_rows; ++i) {
+            const rfe_sensor_row_t *row = &log.rows[i];
+            rfe_mass_grade_input_q31_t mi;
+            rfe_mass_grade_estimate_q31_t e;
+            rfe_estimate_q31_t fe;
+            rfe_status_t mst;
+            size_t w;
+            mgq_input_of(row, have_last ? &t_last : NULL, mp.R, &mi);
+            mst = rfe_mass_grade_step_q31(&mg, &mi, &e);
+            assert_false(rfe_status_is_error(mst)); /* every sample taken (or paused) */
+            t_last = row->t;
+            have_last = 1;
+            n_ok += (mst == RFE_OK) ? 1u : 0u;
+            n_shift += (mst == RFE_MG_PAUSED_SHIFT) ? 1u : 0u;
+            assert_int_equal(out[i].has_mass_grade, 1);
+            assert_int_equal(out[i].mg_status, mst);
+            assert_true(out[i].mass == ldexp((double)e.mass, -14));
+            assert_true(out[i].sd_mass == ldexp((double)e.sd_mass, -14));
+            assert_true(out[i].grade == ldexp((double)e.grade, -29));
+            assert_true(out[i].sd_grade == ldexp((double)e.sd_grade, -29));
+            if ((mst == RFE_OK) &&
+                (ldexp((double)e.sd_mass, -14) <= rel * ldexp((double)e.mass, -14))) {
+                m_used = e.mass * 4; /* Q14 -> Q16, exact below 32768 kg */
+                assert_int_equal(observer ? rfe_pipeline_set_mass_q31(&pl, m_used)
+                                          : rfe_friction_set_mass_q31(&est, m_used),
+                                 RFE_OK);
+                ++n_fed;
+            }
+            assert_true(out[i].mass_used == ldexp((double)m_used, -16));
+            if (observer) {
+                rfe_velocity_input_q31_t in;
+                rfe_pipeline_out_q31_t o;
+                (void)rfe_replay_esc_input_q31(&log, i, (i > 0u) ? i - 1u : SIZE_MAX, &in);
+                in.grade = e.grade; /* this sample's estimate, no grade column */
+                assert_false(rfe_status_is_error(rfe_pipeline_step_q31(&pl, &in, &o)));
+                fe = o.friction;
+                assert_true(out[i].vx == ldexp((double)o.velocity.vx, -(int)RFE_FIX_Q_SPEED));
+            } else {
+                rfe_sample_q31_t s;
+                assert_int_equal(rfe_replay_sample_q31(row, &s), 0u);
+                assert_false(rfe_status_is_error(rfe_friction_step_q31(&est, &s, &fe)));
+            }
+            for (w = 0u; w < RFE_WHEELS; ++w) {
+                assert_true(out[i].mu[w] == ldexp((double)fe.mu[w], -(int)RFE_FIX_Q_MU));
+                assert_true(out[i].sd[w] == ldexp((double)fe.sd[w], -(int)RFE_FIX_Q_SD));
+                assert_int_equal(out[i].valid[w], fe.valid[w]);
+            }
+            assert_int_equal(out[i].status, fe.status);
+        }
+        /* the rule both ways: the first samples (sd_mass ~27 % of the mass) are not fed */
+        assert_true((n_fed > 0u) && (n_fed < n_ok));
+        assert_true(n_shift > 0u);
+        assert_int_equal(st.base.n_mass_fed, n_fed);
+        assert_int_equal(st.base.mg_status_count[RFE_OK], n_ok);
+        assert_int_equal(st.base.mg_status_count[RFE_MG_PAUSED_SHIFT], n_shift);
+        assert_true(st.base.mass_used_last == out[log.n_rows - 1u].mass_used);
+        assert_int_equal(st.est_sat + st.input_sat, 0u);
+        /* without the feed: the parameter m throughout, the same estimate (one way) */
+        ps.mg[RFE_PK_mg_feed_sd_rel - RFE_PK_MG_FIRST] = 0.0;
+        assert_int_equal(run(&ps, &log, nofeed, &st, NULL, NULL), RFE_OK);
+        ps.mg[RFE_PK_mg_feed_sd_rel - RFE_PK_MG_FIRST] = rel;
+        assert_int_equal(st.base.n_mass_fed, 0u);
+        for (i = 0u; i < log.n_rows; ++i) {
+            assert_true(nofeed[i].mass_used == ldexp((double)pq.vehicle.m, -16));
+            assert_true(nofeed[i].mass == out[i].mass);
+        }
+    }
+    free(out);
+    free(nofeed);
+    rfe_sensor_log_free(&log);
+}
+
+/* The fed mass reaches the fixed-point friction estimator's model: on the drive-slip log (its
+ * ax row informative, so mu depends on the mass) with mg_feed_sd_rel between two samples'
+ * sd_mass / mass_est (as the float test), the rows before the first feed equal those of the
+ * run without the feed bit for bit and later ones differ, measured and behind the observer
+ * (there the log has a grade column, so the estimated grade does not reach the observer and
+ * the mass alone makes the difference). */
+/* REQ-CLI-007 */
+static void test_rfe_replay_q31_fed_mass_reaches_the_friction_estimator(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_sensor_row_t rows[N_MG];
+    rfe_param_set_t ps;
+    static rfe_est_row_t out[N_MG];
+    static rfe_est_row_t nofeed[N_MG];
+    rfe_replay_q31_stats_t st;
+    int observer;
+    (void)state;
+    make_mg_slip_log(&log, rows);
+    log.has_grade = 1; /* every row's grade 0 */
+    assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_DEFAULT), 0);
+    ps.mass_grade = 1;
+    ps.value[RFE_PK_dt] = 0.02;
+    for (observer = 0; observer <= 1; ++observer) {
+        size_t i;
+        size_t w;
+        size_t differs = 0u;
+        rfe_status_t (*run)(const rfe_param_set_t *, const rfe_sensor_log_t *, rfe_est_row_t *,
+                            rfe_replay_q31_stats_t *, uint32_t *, size_t *) =
+            observer ? rfe_replay_run_observer_q31 : rfe_replay_run_q31;
+        ps.mg[RFE_PK_mg_feed_sd_rel - RFE_PK_MG_FIRST] = 0.0;
+        assert_int_equal(run(&ps, &log, nofeed, &st, NULL, NULL), RFE_OK);
+        ps.mg[RFE_PK_mg_feed_sd_rel - RFE_PK_MG_FIRST] = nofeed[N_MG / 2u].sd_mass / nofeed[N_MG / 2u].mass;
+        assert_true(nofeed[N_MG / 2u - 1u].sd_mass >
+                    ps.mg[RFE_PK_mg_feed_sd_rel - RFE_PK_MG_FIRST] * nofeed[N_MG / 2u - 1u].mass);
+        assert_int_equal(run(&ps, &log, out, &st, NULL, NULL), RFE_OK);
+        assert_int_equal(st.base.n_mass_fed, N_MG - N_MG / 2u);
+        for (i = 0u; i < N_MG; ++i) {
+            size_t d = 0u;
+            for (w = 0u; w < RFE_WHEELS; ++w) {
+                d += ((out[i].mu[w] != nofeed[i].mu[w]) || (out[i].sd[w] != nofeed[i].sd[w])) ? 1u : 0u;
+            }
+            if (i < N_MG / 2u) {
+                assert_int_equal(d, 0u);
+                assert_true(out[i].mass_used == nofeed[i].mass_used);
+            } else {
+                assert_true(out[i].mass_used == out[i].mass);
+            }
+            differs += d;
+        }
+        assert_true(differs > 0u);
+    }
+}
+
+/* The refusals of the fixed-point mass and grade run: a parameter the double path refuses is
+ * named as in double; one beyond its Q format (mg_m_max 2e5 kg > Q14's 131072; g 40 m/s^2
+ * > Q26's 32, which the friction estimator's Q24 holds) is RFE_ERR_RANGE naming it, and a
+ * combination (each key alone refused by the validation) names none; a set the float accepts outside the fixed-point domain
+ * (mg_ut_alpha 0.5: n + lambda = 0.75) is RFE_ERR_PARAM from the init, no key blamed. A cell
+ * the sample cannot hold refuses that sample alone: the brake and gear cells as in double
+ * (17, 18), a NaN torque or ax (no Q value: 17, as the float library), the estimate held,
+ * the friction side going on. A mass beyond the friction estimator's Q16 (>= 32768 kg) is
+ * not fed (its mass stays the parameter m). */
+/* REQ-CLI-007 */
+static void test_rfe_replay_q31_mass_grade_refusals(void **state)
+{
+    double g0;
+    rfe_sensor_log_t log;
+    rfe_sensor_row_t rows[N_MG];
+    rfe_param_set_t ps;
+    static rfe_est_row_t out[N_MG];
+    rfe_replay_q31_stats_t st;
+    size_t bad = 0u;
+    size_t i;
+    (void)state;
+    make_mg_log(&log, rows);
+    assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_DEFAULT), 0);
+    ps.mass_grade = 1;
+    ps.mg[RFE_PK_mg_sd_m0 - RFE_PK_MG_FIRST] = 0.0;
+    assert_int_equal(rfe_replay_run_q31(&ps, &log, out, &st, NULL, &bad), RFE_ERR_PARAM);
+    assert_int_equal(bad, RFE_PK_mg_sd_m0);
+    ps.mg[RFE_PK_mg_sd_m0 - RFE_PK_MG_FIRST] = 500.0;
+    ps.mg[RFE_PK_mg_m_max - RFE_PK_MG_FIRST] = 2e5;
+    assert_int_equal(rfe_replay_run_observer_q31(&ps, &log, out, &st, NULL, &bad), RFE_ERR_RANGE);
+    assert_int_equal(bad, RFE_PK_mg_m_max);
+    assert_int_equal(rfe_replay_run_f64(&ps, &log, out, &st.base, NULL), RFE_OK); /* double: fine */
+    ps.mg[RFE_PK_mg_m_max - RFE_PK_MG_FIRST] = 4000.0;
+    g0 = ps.value[RFE_PK_g];
+    ps.value[RFE_PK_g] = 40.0; /* the friction estimator's Q24 holds it, the estimator's Q26 not */
+    assert_int_equal(rfe_replay_run_q31(&ps, &log, out, &st, NULL, &bad), RFE_ERR_RANGE);
+    assert_int_equal(bad, RFE_PK_g);
+    ps.mass_grade = 0;
+    assert_int_equal(rfe_replay_run_q31(&ps, &log, out, &st, NULL, NULL), RFE_OK);
+    ps.mass_grade = 1;
+    ps.value[RFE_PK_g] = g0;
+    /* the AUKF's mv_stop beyond Q24 (+-128), valid only with a larger q_mv0: no key alone */
+    assert_int_equal(rfe_param_set_mass_grade_f64(&ps, RFE_MG_SEED), 0);
+    ps.mg[RFE_PK_mg_mv_stop - RFE_PK_MG_FIRST] = 2e5;
+    ps.mg[RFE_PK_mg_q_mv0 - RFE_PK_MG_FIRST] = 1e5;
+    assert_int_equal(rfe_replay_run_f64(&ps, &log, out, &st.base, NULL), RFE_OK);
+    assert_int_equal(rfe_replay_run_q31(&ps, &log, out, &st, NULL, &bad), RFE_ERR_RANGE);
+    assert_int_equal(bad, RFE_PK_NONE);
+    assert_int_equal(rfe_param_set_mass_grade_f64(&ps, RFE_MG_RECOMMENDED), 0);
+    ps.mg[RFE_PK_mg_ut_alpha - RFE_PK_MG_FIRST] = 0.5;
+    assert_int_equal(rfe_replay_run_f64(&ps, &log, out, &st.base, NULL), RFE_OK);
+    bad = 0u;
+    assert_int_equal(rfe_replay_run_q31(&ps, &log, out, &st, NULL, &bad), RFE_ERR_PARAM);
+    assert_int_equal(bad, RFE_PK_NONE);
+    assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_DEFAULT), 0);
+    ps.mass_grade = 1;
+    rows[1].gear = NAN;
+    rows[2].gear = -2e6;
+    rows[3].brake = INFINITY;
+    rows[4].drive_torque = NAN;
+    rows[5].ax = NAN; /* an input of the friction side too: the row's bad bit, as read */
+    rows[5].bad = 1u << RFE_CELL_NONFINITE;
+    rows[6].gear = 2.6; /* the nearest gear, 3: no change, no pause */
+    assert_int_equal(rfe_replay_run_observer_q31(&ps, &log, out, &st, NULL, NULL), RFE_OK);
+    assert_int_equal(out[1].mg_status, RFE_ERR_NONFINITE);
+    assert_int_equal(out[2].mg_status, RFE_ERR_RANGE);
+    assert_int_equal(out[3].mg_status, RFE_ERR_NONFINITE);
+    assert_int_equal(out[4].mg_status, RFE_ERR_NONFINITE);
+    assert_int_equal(out[5].mg_status, RFE_ERR_NONFINITE);
+    assert_int_equal(out[6].mg_status, RFE_OK);
+    for (i = 1u; i <= 5u; ++i) {
+        assert_true((out[i].mass == out[0].mass) && (out[i].grade == out[0].grade));
+        assert_true(out[i].sd_mass == out[0].sd_mass);
+    }
+    assert_true(out[6].sd_mass < out[0].sd_mass); /* it learns again */
+    assert_false(rfe_status_is_error((rfe_status_t)out[4].status));
+    assert_int_equal(out[5].status, RFE_ERR_NONFINITE);
+    assert_int_equal(st.base.mg_status_count[RFE_ERR_NONFINITE], 4u);
+    assert_int_equal(st.input_sat, 0u); /* a NaN is refused, not rounded to 0 */
+    /* a truck's mass: beyond Q16, never fed, though every update passes the rule */
+    make_mg_log(&log, rows);
+    ps.value[RFE_PK_dt] = 0.02;
+    ps.mg[RFE_PK_mg_feed_sd_rel - RFE_PK_MG_FIRST] = 1.0;
+    ps.mg[RFE_PK_mg_m0 - RFE_PK_MG_FIRST] = 40000.0;
+    ps.mg[RFE_PK_mg_m_min - RFE_PK_MG_FIRST] = 33000.0;
+    ps.mg[RFE_PK_mg_m_max - RFE_PK_MG_FIRST] = 60000.0;
+    assert_int_equal(rfe_replay_run_q31(&ps, &log, out, &st, NULL, NULL), RFE_OK);
+    assert_int_equal(st.base.mg_status_count[RFE_OK], N_MG);
+    assert_int_equal(st.base.n_mass_fed, 0u);
+    for (i = 0u; i < N_MG; ++i) {
+        assert_true(out[i].mass >= 32768.0);
+        assert_true(out[i].mass_used == ps.value[RFE_PK_m]);
+    }
+    /* the same with a car's mass: fed at every sample */
+    ps.mg[RFE_PK_mg_m0 - RFE_PK_MG_FIRST] = 1830.0;
+    ps.mg[RFE_PK_mg_m_min - RFE_PK_MG_FIRST] = 500.0;
+    ps.mg[RFE_PK_mg_m_max - RFE_PK_MG_FIRST] = 4000.0;
+    assert_int_equal(rfe_replay_run_q31(&ps, &log, out, &st, NULL, NULL), RFE_OK);
+    assert_int_equal(st.base.n_mass_fed, N_MG);
+}
+
 /* The per-log state: rows stepped one by one (the same state, begun once) give the whole-log
  * run's rows and counters, in double and in q31, measured and behind the observer; a step
  * refused (time not after the last row's) changes nothing. REQ-CLI-003 */
@@ -1972,6 +2309,9 @@ int main(void)
         cmocka_unit_test(test_rfe_replay_mass_grade_refusals),
         cmocka_unit_test(test_rfe_replay_feeds_the_current_mass_by_the_sd_rule),
         cmocka_unit_test(test_rfe_replay_feed_off_is_mass_grade_off),
+        cmocka_unit_test(test_rfe_replay_q31_mass_grade_is_the_library_loop),
+        cmocka_unit_test(test_rfe_replay_q31_fed_mass_reaches_the_friction_estimator),
+        cmocka_unit_test(test_rfe_replay_q31_mass_grade_refusals),
         cmocka_unit_test(test_rfe_replay_state_steps_as_the_run),
         cmocka_unit_test(test_rfe_replay_state_refusals),
         cmocka_unit_test(test_rfe_replay_esc_input_of_a_log_row),

@@ -10,7 +10,8 @@
  * and in that order, the period from the time stamps in double, torque, ax and the optional
  * brake, pressure and gear the log has: what replay_real.c's mass_grade_input gives
  * mu_replay (MASS_GRADE.md §1; the replay's checks of non-finite or huge gear cells are
- * not repeated: the bundled logs have none). Tyre identifier: dt, delta, vx, yaw rate, ay,
+ * not repeated: the bundled logs have none); in fixed point the replay's own conversion
+ * (rfe_replay_mass_grade_input_q31, linked from replay_q31.o). Tyre identifier: dt, delta, vx, yaw rate, ay,
  * ax of the row, as bench/tyre_id_cost.c and the soak feed it (TYRE_ID.md §1).
  */
 #ifndef RFE_HOST_PIL_AUX_INPUT_H
@@ -21,6 +22,7 @@
 
 #include "host/csv_log.h"
 #include "host/fixed_conv.h"
+#include "host/replay_q31.h"
 #include "rfe/mass_grade.h"
 #include "rfe/mass_grade_q31.h"
 #include "rfe/tyre_id.h"
@@ -45,27 +47,17 @@ static inline void rfe_aux_mg_input(const rfe_sensor_log_t *log, size_t i, doubl
               (log->has_brake ? RFE_MG_HAS_BRAKE : 0u) | (log->has_gear ? RFE_MG_HAS_GEAR : 0u);
 }
 
-/* The same sample in the fixed-point twin's formats (rfe/mass_grade_q31.h): each value of
- * the double computation above rounded by rfe_fix_from_double (the pressure in MPa); the
- * saturations counted in *sat. */
+/* The same sample in the fixed-point twin's formats (rfe/mass_grade_q31.h): the fixed-point
+ * replay's conversion (rfe_replay_mass_grade_input_q31: each value of the double computation
+ * above rounded by rfe_fix_from_double, the pressure in MPa), the period since the previous
+ * row; the saturations counted in *sat. Its status is not returned: the replay's checks of
+ * bad cells never fire on the bundled logs (an input it refuses would be all zero). */
 static inline void rfe_aux_mg_input_q31(const rfe_sensor_log_t *log, size_t i, double R,
                                         rfe_mass_grade_input_q31_t *in, uint32_t *sat)
 {
-    const rfe_sensor_row_t *row = &log->rows[i];
-    const double v = ((((row->omega[RFE_FL] + row->omega[RFE_FR]) + row->omega[RFE_RL]) +
-                       row->omega[RFE_RR]) /
-                      4.0) *
-                     R;
-    memset(in, 0, sizeof *in);
-    in->dt = rfe_fix_from_double((i > 0u) ? (row->t - log->rows[i - 1u].t) : 0.0, RFE_MG_Q_DT, sat);
-    in->v = rfe_fix_from_double(v, RFE_MG_Q_V, sat);
-    in->torque = rfe_fix_from_double(row->drive_torque, RFE_MG_Q_TORQUE, sat);
-    in->ax = rfe_fix_from_double(row->ax, RFE_MG_Q_V, sat);
-    in->p_brake = log->has_brake_pressure ? rfe_fix_from_double(row->brake_pressure * 1e-6, RFE_MG_Q_PRESSURE, sat) : 0;
-    in->gear = log->has_gear ? (int32_t)floor(row->gear + 0.5) : 0; /* the nearest gear */
-    in->brake = (log->has_brake && (row->brake >= 0.5)) ? 1u : 0u;
-    in->has = RFE_MG_HAS_AX | (log->has_brake_pressure ? RFE_MG_HAS_PRESSURE : 0u) |
-              (log->has_brake ? RFE_MG_HAS_BRAKE : 0u) | (log->has_gear ? RFE_MG_HAS_GEAR : 0u);
+    const rfe_status_t st = rfe_replay_mass_grade_input_q31(
+        log, &log->rows[i], (i > 0u) ? &log->rows[i - 1u].t : NULL, R, in, sat);
+    (void)st; /* RFE_OK on every bundled log */
 }
 
 static inline void rfe_aux_tid_sample(const rfe_sensor_log_t *log, size_t i,
