@@ -6,7 +6,8 @@ grade estimator's mass (mg_feed_sd_rel, docs/MASS_GRADE.md section 10).
                      [--mu-replay build/mu_replay]
 
 Every mass and grade log (scenarios/mass_grade/*.csv) is replayed by the C library
-(`mu_replay`, float, the default `--mass-grade ukf`, the default mg_feed_sd_rel) with a wrong
+(`mu_replay`, float, the default `--mass-grade ukf`, the default mg_feed_sd_rel; the truck
+logs, truck_*, with `--mass-grade-vehicle truck`, the others with the car's keys) with a wrong
 vehicle mass given by a parameter file: the log's m x 0.8 and x 1.2 (the estimator's own
 start, mg_m0, is the preset's either way). Per run, from the estimate log and the JSON:
     first fed      the time of the first sample whose mass_est the friction estimator took
@@ -35,6 +36,11 @@ from md_tables import replace_region  # noqa: E402
 FACTORS = (0.8, 1.2)
 
 
+def vehicle(path):
+    """The mass and grade preset a log is run with: truck for the truck logs, else car."""
+    return "truck" if os.path.basename(path).startswith("truck_") else "car"
+
+
 def one(exe, path, factor):
     """(first fed t or None, samples fed, samples, mass_true at the end, the JSON's object)."""
     with tempfile.TemporaryDirectory() as tmp:
@@ -43,7 +49,8 @@ def one(exe, path, factor):
             fh.write(f"m = {log_mass(path) * factor!r}\n")
         out, js = os.path.join(tmp, "est.csv"), os.path.join(tmp, "m.json")
         r = subprocess.run([exe, "--in", path, "--out", out, "--params", params,
-                            "--metrics", js, "--quiet"], capture_output=True, text=True,
+                            "--metrics", js, "--quiet", "--mass-grade-vehicle", vehicle(path)],
+                           capture_output=True, text=True,
                            check=False)
         if r.returncode != 0:
             raise SystemExit(f"mass_feed_results: {path} x{factor}: exit {r.returncode}: "

@@ -40,7 +40,8 @@ static const char k_usage[] =
     "usage: " PROG " --in SENSOR.csv --out ESTIMATE.csv [--preset default|paper]\n"
     "                 [--params FILE] [--filter sckf|ckf] [--tyre paper|absolute|magic]\n"
     "                 [--real float|double|q31] [--velocity auto|observer|measured]\n"
-    "                 [--mass-grade ukf|aukf|off] [--tyre-id apf|sir|off]\n"
+    "                 [--mass-grade ukf|aukf|off] [--mass-grade-vehicle car|truck]\n"
+    "                 [--tyre-id apf|sir|off]\n"
     "                 [--metrics FILE.json] [--strict]\n"
     "                 [--require-params] [--quiet] [--help]\n"
     "\n"
@@ -91,6 +92,10 @@ static const char k_usage_rest[] =
     "                   give the mass error at the end and the grade's RMSE. off: not\n"
     "                   run (the columns are ignored). With --real q31 its fixed-point\n"
     "                   twin runs (docs/FIXED_POINT.md \"Mass and grade\")\n"
+    "  --mass-grade-vehicle V  car (default) or truck: the vehicle whose preset the mg_*\n"
+    "                   keys start from (docs/MASS_GRADE.md §6: the simulator's car, or\n"
+    "                   the seed's 5 758 kg truck); the log's metadata and --params\n"
+    "                   still set each key. R and g stay vehicle keys\n"
     "  --tyre-id FILTER the online tyre identifier (docs/TYRE_ID.md) beside the\n"
     "                   friction estimator: apf (the auxiliary particle filter) or sir\n"
     "                   (the bootstrap filter) sets tid_filter; off (default): not run.\n"
@@ -133,6 +138,7 @@ typedef struct {
     const char *velocity;
     const char *mass_grade; /**< --mass-grade ukf|aukf|off */
     const char *tyre_id;    /**< --tyre-id apf|sir|off */
+    const char *mg_vehicle; /**< --mass-grade-vehicle car|truck */
     int quiet;
     int help;
     int strict; /**< --strict: a bad cell is an input error */
@@ -268,8 +274,10 @@ static int usage_error(const options_t *o, const char *fmt, const char *arg)
 /* Where the value of a value-taking option goes, or NULL for an unknown name. */
 static const char **option_slot(options_t *o, const char *name)
 {
-    static const char *const names[] = {"in",   "out",    "params",   "metrics",    "filter", "tyre",
-                                        "real", "preset", "velocity", "mass-grade", "tyre-id"};
+    static const char *const names[] = {"in",         "out",     "params",  "metrics",
+                                        "filter",     "tyre",    "real",    "preset",
+                                        "velocity",   "mass-grade", "tyre-id",
+                                        "mass-grade-vehicle"};
     const char **slots[sizeof names / sizeof names[0]];
     size_t i;
     slots[0] = &o->in;
@@ -283,6 +291,7 @@ static const char **option_slot(options_t *o, const char *name)
     slots[8] = &o->velocity;
     slots[9] = &o->mass_grade;
     slots[10] = &o->tyre_id;
+    slots[11] = &o->mg_vehicle;
     for (i = 0u; i < sizeof names / sizeof names[0]; ++i) {
         if (strcmp(names[i], name) == 0) {
             return slots[i];
@@ -314,7 +323,7 @@ static int parse_args(int argc, char **argv, options_t *o)
 {
     int i;
     for (i = 1; i < argc; ++i) { /* o zeroed by the caller (and err_out set) */
-        char name[16];
+        char name[24]; /* the longest option, mass-grade-vehicle, and its NUL */
         const char *arg = argv[i];
         const char *eq = strchr(arg, '=');
         size_t n = (eq != NULL) ? (size_t)(eq - arg) : strlen(arg);
@@ -384,6 +393,11 @@ static int check_option_words(options_t *o)
     if ((o->mass_grade != NULL) && (strcmp(o->mass_grade, "ukf") != 0) &&
         (strcmp(o->mass_grade, "aukf") != 0) && (strcmp(o->mass_grade, "off") != 0)) {
         return usage_error(o, "--mass-grade must be ukf, aukf or off, not '%s'", o->mass_grade);
+    }
+    if ((o->mg_vehicle != NULL) && (strcmp(o->mg_vehicle, "car") != 0) &&
+        (strcmp(o->mg_vehicle, "truck") != 0)) {
+        return usage_error(o, "--mass-grade-vehicle must be car or truck, not '%s'",
+                           o->mg_vehicle);
     }
     if ((o->tyre_id != NULL) && (strcmp(o->tyre_id, "apf") != 0) &&
         (strcmp(o->tyre_id, "sir") != 0) && (strcmp(o->tyre_id, "off") != 0)) {
@@ -467,8 +481,15 @@ static int resolve_params(const options_t *o, run_t *r)
 {
     rfe_io_error_t err;
     (void)rfe_param_set_preset_f64(&r->ps, o->preset_id); /* cannot fail: parsed preset */
-    if ((o->mass_grade != NULL) && (strcmp(o->mass_grade, "aukf") == 0)) {
-        (void)rfe_param_set_mass_grade_f64(&r->ps, RFE_MG_SEED); /* cannot fail: a config */
+    {
+        /* the mg_* keys' base: the vehicle's preset of the configuration (MASS_GRADE.md §6) */
+        const rfe_mg_vehicle_t v = ((o->mg_vehicle != NULL) && (strcmp(o->mg_vehicle, "truck") == 0))
+                                       ? RFE_MG_TRUCK
+                                       : RFE_MG_CAR;
+        const rfe_mg_config_t c = ((o->mass_grade != NULL) && (strcmp(o->mass_grade, "aukf") == 0))
+                                      ? RFE_MG_SEED
+                                      : RFE_MG_RECOMMENDED;
+        (void)rfe_param_set_mass_grade_f64(&r->ps, v, c); /* cannot fail: checked words */
     }
     if (rfe_param_set_apply_meta(&r->ps, &r->log, o->in, &err) != 0) {
         return fail(o, &err);
@@ -914,6 +935,8 @@ static int write_estimates(const options_t *o, const run_t *r)
     if (r->mg_ran) { /* only then: other estimate logs stay as they were */
         meta[n].key = "mass_grade";
         meta[n++].value = mg_config_name(r);
+        meta[n].key = "mass_grade_vehicle";
+        meta[n++].value = (r->ps.mg_vehicle == RFE_MG_TRUCK) ? "truck" : "car";
     }
     if (r->tid_ran) { /* as the mass and grade estimator's */
         meta[n].key = "tyre_id";
@@ -1200,8 +1223,10 @@ static void write_mass_grade_json(FILE *f, const run_t *r)
         return;
     }
     mass_grade_accuracy(r, &a);
-    fprintf(f, "  \"mass_grade\": {\"config\": \"%s\", \"use_ax\": %d, \"end\": {\"mass\": ",
-            mg_config_name(r), (r->ps.mg[RFE_PK_mg_use_ax - RFE_PK_MG_FIRST] != 0.0) ? 1 : 0);
+    fprintf(f, "  \"mass_grade\": {\"config\": \"%s\", \"vehicle\": \"%s\", \"use_ax\": %d, "
+               "\"end\": {\"mass\": ",
+            mg_config_name(r), (r->ps.mg_vehicle == RFE_MG_TRUCK) ? "truck" : "car",
+            (r->ps.mg[RFE_PK_mg_use_ax - RFE_PK_MG_FIRST] != 0.0) ? 1 : 0);
     rfe_json_write_number(f, last->mass);
     fputs(", \"sd_mass\": ", f);
     rfe_json_write_number(f, last->sd_mass);
@@ -1251,9 +1276,9 @@ static void print_mass_grade(const run_t *r)
         return;
     }
     mass_grade_accuracy(r, &a);
-    printf("mass and grade (%s, %s): at the end mass %.1f kg (sd %.1f), grade %.4f rad "
-           "(sd %.4f)\n",
-           mg_config_name(r),
+    printf("mass and grade (%s, %s preset, %s): at the end mass %.1f kg (sd %.1f), grade %.4f "
+           "rad (sd %.4f)\n",
+           mg_config_name(r), (r->ps.mg_vehicle == RFE_MG_TRUCK) ? "truck" : "car",
            (r->ps.mg[RFE_PK_mg_use_ax - RFE_PK_MG_FIRST] != 0.0) ? "speed, torque and ax"
                                                                 : "speed and torque",
            last->mass, last->sd_mass, last->grade, last->sd_grade);

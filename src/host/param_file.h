@@ -350,6 +350,8 @@ typedef struct {
     int mass_grade;            /**< nonzero: the replay runs the mass and grade estimator on a
                                     log with drive_torque (mu_replay --mass-grade; 0 in every
                                     preset, so a plain replay runs as before) */
+    rfe_mg_vehicle_t mg_vehicle; /**< the vehicle of that preset (mu_replay
+                                      --mass-grade-vehicle car|truck; car by default) */
     rfe_mg_config_t mg_config; /**< the library preset the mg_* values started from (for the
                                     diagnosis of an invalid one) */
     int tyre_id;               /**< nonzero: the replay runs the tyre identifier beside the

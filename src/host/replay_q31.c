@@ -395,7 +395,7 @@ static size_t diagnose_mg_range(const rfe_param_set_t *ps)
     rfe_param_set_t base;
     size_t i;
     (void)rfe_param_set_preset_f64(&base, ps->preset); /* cannot fail: the set's presets */
-    (void)rfe_param_set_mass_grade_f64(&base, ps->mg_config);
+    (void)rfe_param_set_mass_grade_f64(&base, ps->mg_vehicle, ps->mg_config);
     for (i = 0u; i < 2u + (size_t)RFE_PK_MG_COUNT; ++i) {
         const size_t k = (i == 0u) ? (size_t)RFE_PK_R
                                    : ((i == 1u) ? (size_t)RFE_PK_g : RFE_PK_MG_FIRST + i - 2u);

@@ -210,7 +210,7 @@ int rfe_param_set_preset(rfe_param_set_t *ps, rfe_preset_t preset)
         memcpy(&v, (const char *)&vp + k_obs_offset[k - 1u], sizeof v);
         ps->obs[k] = (double)v;
     }
-    return (rfe_param_set_tyre_id(ps) == 0) ? rfe_param_set_mass_grade(ps, RFE_MG_RECOMMENDED)
+    return (rfe_param_set_tyre_id(ps) == 0) ? rfe_param_set_mass_grade(ps, RFE_MG_CAR, RFE_MG_RECOMMENDED)
                                              : -1;
 }
 
@@ -239,13 +239,14 @@ int rfe_param_set_tyre_id(rfe_param_set_t *ps)
     return 0;
 }
 
-int rfe_param_set_mass_grade(rfe_param_set_t *ps, rfe_mg_config_t config)
+int rfe_param_set_mass_grade(rfe_param_set_t *ps, rfe_mg_vehicle_t vehicle, rfe_mg_config_t config)
 {
     rfe_mass_grade_params_t mp;
     size_t k;
-    if ((ps == NULL) || (rfe_mass_grade_params_preset(&mp, RFE_MG_CAR, config) != RFE_OK)) {
+    if ((ps == NULL) || (rfe_mass_grade_params_preset(&mp, vehicle, config) != RFE_OK)) {
         return -1;
     }
+    ps->mg_vehicle = vehicle;
     ps->mg_config = config;
     ps->mg[0] = (double)mp.adaptive;
     ps->mg[1] = (double)mp.use_ax;
@@ -371,11 +372,12 @@ static size_t mg_key(size_t i)
     return (i == 0u) ? (size_t)RFE_PK_R : ((i == 1u) ? (size_t)RFE_PK_g : RFE_PK_MG_FIRST + i - 2u);
 }
 
-/* The mass and grade group (key_group_t): the car preset of the set's config, then R, g and
- * the mg_* keys. */
+/* The mass and grade group (key_group_t): the preset of the set's vehicle and config, then R,
+ * g and the mg_* keys. */
 static int mg_start(const rfe_param_set_t *ps, void *p)
 {
-    return (rfe_mass_grade_params_preset((rfe_mass_grade_params_t *)p, RFE_MG_CAR, ps->mg_config) ==
+    return (rfe_mass_grade_params_preset((rfe_mass_grade_params_t *)p, ps->mg_vehicle,
+                                         ps->mg_config) ==
             RFE_OK)
                ? 0
                : -1;

@@ -332,19 +332,21 @@ RFE_NODISCARD rfe_status_t rfe_replay_velocity_params(const rfe_param_set_t *ps,
                                                      size_t *bad_key);
 
 /**
- * Fills the set's mass and grade keys (mg_*) from the library's car preset of @p config
- * (rfe_mass_grade_params_preset(.., RFE_MG_CAR, config); origins: the preset) and records
- * the config; R and g stay the vehicle keys'. rfe_param_set_preset does it with
- * RFE_MG_RECOMMENDED.
- * @return 0, or -1 (nothing changed) when ps is NULL or config is not an rfe_mg_config_t.
+ * Fills the set's mass and grade keys (mg_*) from the library's preset of @p vehicle and
+ * @p config (rfe_mass_grade_params_preset; origins: the preset) and records both; R and g
+ * stay the vehicle keys'. rfe_param_set_preset does it with RFE_MG_CAR, RFE_MG_RECOMMENDED.
+ * @return 0, or -1 (nothing changed) when ps is NULL or vehicle or config is not one of its
+ *         enum's values.
  */
-int rfe_param_set_mass_grade_f32(rfe_param_set_t *ps, rfe_mg_config_t config);
+int rfe_param_set_mass_grade_f32(rfe_param_set_t *ps, rfe_mg_vehicle_t vehicle,
+                                 rfe_mg_config_t config);
 /** Double-precision twin of rfe_param_set_mass_grade_f32 (mu_replay uses this one). */
-int rfe_param_set_mass_grade_f64(rfe_param_set_t *ps, rfe_mg_config_t config);
+int rfe_param_set_mass_grade_f64(rfe_param_set_t *ps, rfe_mg_vehicle_t vehicle,
+                                 rfe_mg_config_t config);
 
 /**
- * The mass and grade estimator's parameters of the set: the library's car preset of
- * ps->mg_config, then R, g and every mg_* key, validated (rfe_mass_grade_params_validate).
+ * The mass and grade estimator's parameters of the set: the library's preset of
+ * ps->mg_vehicle and ps->mg_config, then R, g and every mg_* key, validated (rfe_mass_grade_params_validate).
  * The replays run the estimator with them when ps->mass_grade is set and the log has
  * drive_torque: the estimate rows then carry mass_est .. mg_status, and behind the observer
  * the estimated grade of each sample is the observer's grade input when the log has no

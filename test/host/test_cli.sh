@@ -624,11 +624,11 @@ grep -q '^# mass_grade = ukf$' "$TMP/mg_d.csv" && grep -q '^# mg_adaptive = 0$' 
     && ok "mg_default: configuration and keys in the metadata" || bad "mg_default: metadata"
 grep -q ',mass_est,sd_mass,grade_est,sd_grade,mg_status,mass_used$' "$TMP/mg_d.csv" \
     && ok "mg_default: columns" || bad "mg_default: header $(grep -m1 '^t,' "$TMP/mg_d.csv")"
-grep -q '^mass and grade (ukf, speed, torque and ax): at the end mass ' "$TMP/out" \
+grep -q '^mass and grade (ukf, car preset, speed, torque and ax): at the end mass ' "$TMP/out" \
     && grep -Eq '^  mass error at the end [-+][0-9.]+ kg \([-+][0-9.]+ %\)$' "$TMP/out" \
     && grep -Eq '^  grade RMSE [0-9.]+ rad, max error [0-9.]+ rad, over 3251 samples from t = 0\.000 s$' "$TMP/out" \
     && ok "mg_default: summary" || bad "mg_default: summary $(grep -A4 '^mass and grade' "$TMP/out")"
-grep -q '"mass_grade": {"config": "ukf", "use_ax": 1, "end": {"mass": ' "$TMP/mg_d.json" \
+grep -q '"mass_grade": {"config": "ukf", "vehicle": "car", "use_ax": 1, "end": {"mass": ' "$TMP/mg_d.json" \
     && grep -Eq '"accuracy": \{"from_t_s": 0, "n": 3251, "mass_err_end": -?[0-9.e-]+, "mass_err_end_rel": -?[0-9.e-]+, "mass_used_err_end_rel": -?[0-9.e-]+, "grade_rmse": [0-9.e-]+, "grade_max_abs_err": [0-9.e-]+\}' "$TMP/mg_d.json" \
     && ok "mg_default: JSON" || bad "mg_default: JSON $(grep -A1 mass_grade "$TMP/mg_d.json")"
 # the JSON's end-of-log error is the estimate log's last row against the truth's
@@ -689,6 +689,29 @@ awk '/^#/ || n++ < 2001' "$MG/car_hilly_road.csv" >"$TMP/hilly.csv"
 printf 'mg_use_ax = 0   # speed and torque only\n' >"$TMP/ukf.par"
 run mg_ukf_speed 0 --in "$TMP/hilly.csv" --out "$TMP/mg_u.csv" --real double --params "$TMP/ukf.par" -q
 golden_equal mg_ukf_speed "$MGG/car_hilly_road.ukf.csv" "$TMP/mg_u.csv"
+
+# --mass-grade-vehicle truck: the mg_* keys start from the library's truck preset, so the
+# truck drive (its first 1000 samples, 50 s) equals the reference's truck golden, which the
+# car's keys do not (the truck log carries its vehicle keys R and m, no mg_* key); named in
+# the metadata, the JSON and the summary; a bad value is a usage error
+awk '/^#/ || n++ < 1001' "$MG/truck_graded_drive.csv" >"$TMP/truck.csv"
+run mg_truck 0 --in "$TMP/truck.csv" --out "$TMP/mg_tr.csv" --real double --mass-grade-vehicle truck \
+    --metrics "$TMP/mg_tr.json"
+golden_equal mg_truck "$MGG/truck_graded_drive.recommended.csv" "$TMP/mg_tr.csv"
+grep -q '^# mass_grade_vehicle = truck$' "$TMP/mg_tr.csv" && grep -q '^# mg_cd = 0.6$' "$TMP/mg_tr.csv" \
+    && grep -qF '"mass_grade": {"config": "ukf", "vehicle": "truck", ' "$TMP/mg_tr.json" \
+    && grep -q '^mass and grade (ukf, truck preset, ' "$TMP/out" \
+    && ok "mg_truck: the truck preset in the metadata, the JSON and the summary" \
+    || bad "mg_truck: $(grep 'mass_grade_vehicle\|mg_cd' "$TMP/mg_tr.csv")"
+run mg_truck_as_car 0 --in "$TMP/truck.csv" --out "$TMP/mg_tc.csv" --real double -q
+grep -q '^# mass_grade_vehicle = car$' "$TMP/mg_tc.csv" \
+    && ! cmp -s <(grep -v '^#' "$TMP/mg_tr.csv") <(grep -v '^#' "$TMP/mg_tc.csv") \
+    && ok "mg_truck_as_car: the car's keys (the default) give another estimate" \
+    || bad "mg_truck_as_car: same estimate or no vehicle line"
+run mg_bad_vehicle 2 --in "$TMP/truck.csv" --out "$TMP/mg_x.csv" --mass-grade-vehicle bus
+grep -q "^mu_replay: --mass-grade-vehicle must be car or truck, not 'bus'$" "$TMP/err" \
+    && [ ! -e "$TMP/mg_x.csv" ] && ok "mg_bad_vehicle: named, nothing written" \
+    || bad "mg_bad_vehicle: $(head -1 "$TMP/err")"
 
 # --real q31: the mass and grade estimator's fixed-point twin (rfe_mass_grade_*_q31), ukf and
 # aukf, against the double run on the same log: the four columns within the twin's own bounds

@@ -790,14 +790,16 @@ static void test_rfe_replay_status_slot_bounds(void **state)
 
 /* ------------------------------------------------------------ mass and grade */
 
-/* The set's mg_* keys are the library's car preset of the config, each value exactly (read
- * through the key table's member column), origins the preset; the default set's are the
- * recommended preset's. NULL or an unknown config: -1, nothing changed. */
+/* The set's mg_* keys are the library's preset of the vehicle and config, each value exactly
+ * (read through the key table's member column), origins the preset; the default set's are
+ * the car's recommended preset's. NULL or an unknown vehicle or config: -1, nothing changed. */
 /* REQ-PARF-004 */
-static void check_mg_set_equals_library(const rfe_param_set_t *ps, rfe_mg_config_t config)
+static void check_mg_set_equals_library(const rfe_param_set_t *ps, rfe_mg_vehicle_t vehicle,
+                                        rfe_mg_config_t config)
 {
     rfe_mass_grade_params_t p;
-    assert_int_equal(rfe_mass_grade_params_preset_f64(&p, RFE_MG_CAR, config), RFE_OK);
+    assert_int_equal(rfe_mass_grade_params_preset_f64(&p, vehicle, config), RFE_OK);
+    assert_int_equal(ps->mg_vehicle, vehicle);
     assert_int_equal(ps->mg_config, config);
     assert_true(ps->mg[RFE_PK_mg_adaptive - RFE_PK_MG_FIRST] == (double)p.adaptive);
     assert_true(ps->mg[RFE_PK_mg_use_ax - RFE_PK_MG_FIRST] == (double)p.use_ax);
@@ -818,14 +820,20 @@ static void test_rfe_param_set_mass_grade_is_the_library_preset(void **state)
     rfe_param_set_t before;
     (void)state;
     assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_DEFAULT), 0);
-    check_mg_set_equals_library(&ps, RFE_MG_RECOMMENDED);
+    check_mg_set_equals_library(&ps, RFE_MG_CAR, RFE_MG_RECOMMENDED);
     assert_int_equal(ps.mass_grade, 0); /* a preset never runs it */
-    assert_int_equal(rfe_param_set_mass_grade_f64(&ps, RFE_MG_SEED), 0);
-    check_mg_set_equals_library(&ps, RFE_MG_SEED);
+    assert_int_equal(rfe_param_set_mass_grade_f64(&ps, RFE_MG_CAR, RFE_MG_SEED), 0);
+    check_mg_set_equals_library(&ps, RFE_MG_CAR, RFE_MG_SEED);
     assert_true(ps.mg[RFE_PK_mg_adaptive - RFE_PK_MG_FIRST] == 1.0);
-    assert_int_equal(rfe_param_set_mass_grade_f64(NULL, RFE_MG_SEED), -1);
+    /* the truck (mu_replay --mass-grade-vehicle truck): its own values, e.g. m0 and C_d */
+    assert_int_equal(rfe_param_set_mass_grade_f64(&ps, RFE_MG_TRUCK, RFE_MG_RECOMMENDED), 0);
+    check_mg_set_equals_library(&ps, RFE_MG_TRUCK, RFE_MG_RECOMMENDED);
+    assert_true(ps.mg[RFE_PK_mg_cd - RFE_PK_MG_FIRST] == 0.6); /* MASS_GRADE.md §6 */
+    assert_int_equal(rfe_param_set_mass_grade_f64(NULL, RFE_MG_CAR, RFE_MG_SEED), -1);
     memcpy(&before, &ps, sizeof ps);
-    assert_int_equal(rfe_param_set_mass_grade_f64(&ps, (rfe_mg_config_t)7), -1);
+    assert_int_equal(rfe_param_set_mass_grade_f64(&ps, RFE_MG_CAR, (rfe_mg_config_t)7), -1);
+    assert_memory_equal(&ps, &before, sizeof ps);
+    assert_int_equal(rfe_param_set_mass_grade_f64(&ps, (rfe_mg_vehicle_t)7, RFE_MG_SEED), -1);
     assert_memory_equal(&ps, &before, sizeof ps);
 }
 
@@ -1496,13 +1504,13 @@ static void test_rfe_replay_q31_mass_grade_refusals(void **state)
     ps.mass_grade = 1;
     ps.value[RFE_PK_g] = g0;
     /* the AUKF's mv_stop beyond Q24 (+-128), valid only with a larger q_mv0: no key alone */
-    assert_int_equal(rfe_param_set_mass_grade_f64(&ps, RFE_MG_SEED), 0);
+    assert_int_equal(rfe_param_set_mass_grade_f64(&ps, RFE_MG_CAR, RFE_MG_SEED), 0);
     ps.mg[RFE_PK_mg_mv_stop - RFE_PK_MG_FIRST] = 2e5;
     ps.mg[RFE_PK_mg_q_mv0 - RFE_PK_MG_FIRST] = 1e5;
     assert_int_equal(rfe_replay_run_f64(&ps, &log, out, &st.base, NULL), RFE_OK);
     assert_int_equal(rfe_replay_run_q31(&ps, &log, out, &st, NULL, &bad), RFE_ERR_RANGE);
     assert_int_equal(bad, RFE_PK_NONE);
-    assert_int_equal(rfe_param_set_mass_grade_f64(&ps, RFE_MG_RECOMMENDED), 0);
+    assert_int_equal(rfe_param_set_mass_grade_f64(&ps, RFE_MG_CAR, RFE_MG_RECOMMENDED), 0);
     ps.mg[RFE_PK_mg_ut_alpha - RFE_PK_MG_FIRST] = 0.5;
     assert_int_equal(rfe_replay_run_f64(&ps, &log, out, &st.base, NULL), RFE_OK);
     bad = 0u;

@@ -362,7 +362,7 @@ int main(int argc, char **argv)
     (void)rfe_param_set_preset_f64(&ps, pid);
     if (mass_grade) {
         /* mu_replay --mass-grade aukf: the seed's configuration before the metadata */
-        (void)rfe_param_set_mass_grade_f64(&ps, strcmp(mg_config, "seed") == 0 ? RFE_MG_SEED : RFE_MG_RECOMMENDED);
+        (void)rfe_param_set_mass_grade_f64(&ps, RFE_MG_CAR, strcmp(mg_config, "seed") == 0 ? RFE_MG_SEED : RFE_MG_RECOMMENDED);
     }
     if (rfe_param_set_apply_meta(&ps, &log, in, &err) != 0) {
         fprintf(stderr, "pil_gen: %s: %s\n", in, err.msg);
