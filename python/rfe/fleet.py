@@ -470,7 +470,8 @@ def _gather(client: Any, logs: Sequence[Path], est: Sequence[Path],
 # Choices of mu_replay's options (its --help), checked before the cluster starts.
 CHOICES = {"preset": ("default", "paper"), "filter": ("sckf", "ckf"),
            "tyre": ("paper", "absolute", "magic"), "real": ("float", "double", "q31"),
-           "velocity": ("auto", "observer", "measured"), "mass_grade": ("ukf", "aukf", "off")}
+           "velocity": ("auto", "observer", "measured"), "mass_grade": ("ukf", "aukf", "off"),
+           "mass_grade_vehicle": ("car", "truck")}
 
 
 def replay_options() -> dict[str, inspect.Parameter]:

@@ -33,7 +33,7 @@ STATUS_TEXT: dict[int, str] = {
 # keyword -> mu_replay flag; None = the CLI's default (the flag is not given).
 _VALUE_OPTIONS = {"preset": "--preset", "filter": "--filter", "tyre": "--tyre",
                   "real": "--real", "velocity": "--velocity", "mass_grade": "--mass-grade",
-                  "tyre_id": "--tyre-id"}
+                  "tyre_id": "--tyre-id", "mass_grade_vehicle": "--mass-grade-vehicle"}
 _FLAG_OPTIONS = {"strict": "--strict", "require_params": "--require-params", "quiet": "--quiet"}
 
 
@@ -164,8 +164,8 @@ def replay(source: Source, *, params: Mapping[str, float] | str | os.PathLike | 
            out: str | os.PathLike | None = None, preset: str | None = None,
            filter: str | None = None, tyre: str | None = None, real: Real | None = None,
            velocity: str | None = None, mass_grade: str | None = None,
-           tyre_id: str | None = None, strict: bool = False, require_params: bool = False,
-           quiet: bool = False,
+           tyre_id: str | None = None, mass_grade_vehicle: str | None = None,
+           strict: bool = False, require_params: bool = False, quiet: bool = False,
            mapping: str | os.PathLike | Mapping[str, Any] | None = None) -> pd.DataFrame:
     """Runs the estimator over a sensor log as ``mu_replay`` does, with its defaults.
 
@@ -177,9 +177,10 @@ def replay(source: Source, *, params: Mapping[str, float] | str | os.PathLike | 
         params: a parameter file, or a mapping key -> value written as one (--params).
         out: also keep the estimate log at this path (byte for byte mu_replay's --out);
             a ``.parquet`` (``.pq``) path: as Parquet (:func:`rfe.write_parquet`).
-        preset, filter, tyre, real, velocity, mass_grade, tyre_id, strict, require_params,
-            quiet: mu_replay's options of the same names (``tyre_id="apf"`` is
-            ``--tyre-id apf``; None / False: the CLI's default).
+        preset, filter, tyre, real, velocity, mass_grade, tyre_id, mass_grade_vehicle, strict,
+            require_params, quiet: mu_replay's options of the same names
+            (``tyre_id="apf"`` is ``--tyre-id apf``, ``mass_grade_vehicle="truck"``
+            ``--mass-grade-vehicle truck``; None / False: the CLI's default).
         mapping: the mapping file (or dict) of an MDF4 source (docs/PYTHON.md "MDF4 input").
 
     Returns:
@@ -197,8 +198,8 @@ def replay(source: Source, *, params: Mapping[str, float] | str | os.PathLike | 
     Notes and warnings mu_replay prints are issued as :class:`RfeWarning`.
     """
     options = dict(preset=preset, filter=filter, tyre=tyre, real=real, velocity=velocity,
-                   mass_grade=mass_grade, tyre_id=tyre_id, strict=strict, require_params=require_params,
-                   quiet=quiet)
+                   mass_grade=mass_grade, tyre_id=tyre_id, mass_grade_vehicle=mass_grade_vehicle,
+                   strict=strict, require_params=require_params, quiet=quiet)
     source = _sensor_source(source, mapping)
     out_parquet = out is not None and Path(os.fspath(out)).suffix.lower() in parquet.SUFFIXES
     with tempfile.TemporaryDirectory(prefix="rfe-") as d:

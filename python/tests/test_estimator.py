@@ -64,13 +64,16 @@ def test_run_in_memory_equals_replay(log: str, real: str) -> None:
 def test_run_with_options_equals_replay() -> None:
     """Options and parameters reach the in-memory run as mu_replay's flags: the paper preset
     with the CKF, a parameter mapping, the observer forced on a measuring log, the adaptive
-    mass and grade estimator, the tyre identifier (its columns) and with its curve fed (the
+    mass and grade estimator, the truck's mass and grade preset in fixed point, the tyre
+    identifier (its columns) and with its curve fed (the
     friction estimator's curve columns too)."""
     mg = "scenarios/mass_grade/" + sorted(os.listdir(ROOT / "scenarios/mass_grade"))[0]
     cases = [("scenarios/brake_in_turn.csv", dict(preset="paper", filter="ckf"), "double"),
              ("scenarios/brake_in_turn.csv", dict(params={"mu0": 0.6, "tau_v": 0.05}), "q31"),
              ("scenarios/cruise.csv", dict(velocity="observer"), "float"),
              (mg, dict(mass_grade="aukf"), "double"),
+             ("scenarios/mass_grade/truck_graded_drive.csv", dict(mass_grade_vehicle="truck"),
+              "q31"),
              ("scenarios/tyre_id/tid_sine_steer.csv", dict(tyre_id="apf"), "float"),
              ("scenarios/tyre_id/tid_sine_steer.csv",
               dict(tyre_id="sir", params={"tid_feed_sd_rel": 0.05}), "double")]
@@ -79,6 +82,9 @@ def test_run_with_options_equals_replay() -> None:
         got = est.run(rfe.read_log(ROOT / log))
         want = rfe.replay(ROOT / log, real=real, quiet=True, **options)
         assert_same_estimates(got, want, real, f"{log} {options}")
+        if "mass_grade_vehicle" in options:
+            assert want.attrs["meta"]["mass_grade_vehicle"] == "truck"
+            assert float(want.attrs["meta"]["mg_cd"]) == 0.6  # the truck's (MASS_GRADE.md §6)
         if "tyre_id" in options:
             assert "tid_flags" in got.columns
             assert ("cy_used" in got.columns) == ("params" in options)
