@@ -71,6 +71,10 @@
 #define ILL_ABS 5e-2
 #define SCENARIO_DIR "scenarios"
 #define STEPS 1200
+/* light mode (test_light.h: under valgrind, ~45x slower): each model run's first 300 steps,
+ * every one still checked (the checks are per step; the full runs natively, under ASan and
+ * in coverage) */
+#define STEPS_LIGHT 300
 #define R_SD_STRESS 0.03 /* the high-information run's measurement noise sd */
 
 
@@ -297,7 +301,7 @@ static void test_rfe_ckf_q31_linear_models_vs_double(void **state)
             for (i = 0u; i < n; ++i) {
                 xt[i] = 0.6 + (0.3 * rng_uniform());
             }
-            for (step = 0; step < STEPS; ++step) {
+            for (step = 0; step < (rfe_test_light() ? STEPS_LIGHT : STEPS); ++step) {
                 double xn[NM];
                 double y[MM];
                 int32_t yq[MM];

@@ -55,10 +55,13 @@
 #include "rfe/mass_grade.h"
 #include "rfe/mass_grade_q31.h"
 #include "table.h"
+#include "test_light.h"
 
 #include "estimators/mass_grade/mass_grade_internal_q31.h"
 
 #define GOLDEN_DIR "scenarios/golden/mass_grade"
+/* light mode: the rows of each log it walks (30 s at 50 Hz: the first excitation, pauses) */
+#define MG_LIGHT_ROWS 1500u
 #define LOG_DIR "scenarios/mass_grade"
 #define MIN_GOLDENS 18 /* 7 logs x 2 presets + 4 other configurations */
 
@@ -653,6 +656,12 @@ static void compare_one(const char *name)
     assert_int_equal(rfe_mass_grade_init_q31(&mq, &q), RFE_OK);
     tol_mass = (p.adaptive == 1u) ? TOL_SD_AUKF : TOL_SD;
     tol_rel = (p.adaptive == 1u) ? TOL_REL_AUKF : TOL_REL;
+    /* light mode (test_light.h: under valgrind, ~45x slower): the first MG_LIGHT_ROWS rows of
+     * each log, each step still checked against the double one (a prefix of a causal filter's
+     * run is the run of the prefix); the full logs run natively, under ASan and in coverage */
+    if (rfe_test_light() && (log.n_rows > MG_LIGHT_ROWS)) {
+        log.n_rows = MG_LIGHT_ROWS;
+    }
     for (k = 0u; k < log.n_rows; ++k) {
         rfe_mass_grade_input_t in;
         rfe_mass_grade_input_t ind;
