@@ -172,6 +172,9 @@ VALGRIND := valgrind --error-exitcode=99 --leak-check=full --errors-for-leak-kin
 # (xargs: exit 255).
 # RFE_TEST_LIGHT=1: the long back-to-back tests walk a subset of their logs and random
 # inputs (test/support/test_light.h); the full sets run natively, under ASan and in coverage.
+# The float tests run under memcheck in their double build only: the float and double
+# libraries are one source compiled twice (rfe_real_t), so memcheck of the double build walks
+# the same code; the float build runs under ASan + UBSan (make sanitize), in full.
 VALGRIND_JOBS ?= $(shell nproc 2>/dev/null || echo 1)
 # Two halves, so that make test can run the CLI script's memcheck (serial, minutes) beside
 # the unit tests' instead of after them.
@@ -179,13 +182,13 @@ VALGRIND_JOBS ?= $(shell nproc 2>/dev/null || echo 1)
 valgrind: valgrind-unit valgrind-cli
 	@echo "valgrind: all tests clean under memcheck"
 ## the unit and host tests under valgrind memcheck
-valgrind-unit: deps-c deps-valgrind $(foreach f,f32 f64,$(addprefix $(BUILD)/$(f)/test/,$(UNIT_TESTS))) \
+valgrind-unit: deps-c deps-valgrind $(addprefix $(BUILD)/f64/test/,$(UNIT_TESTS)) \
           $(addprefix $(BUILD)/q31/test/,$(Q31_TESTS)) \
           $(addprefix $(BUILD)/f64/test/host/,$(HOST_TESTS))
 	@mkdir -p $(BUILD)/valgrind; \
 	{ for t in $(Q31_TESTS); do echo $(BUILD)/q31/test/$$t; done; \
 	  for t in $(HOST_TESTS); do echo $(BUILD)/f64/test/host/$$t; done; \
-	  for f in f32 f64; do for t in $(UNIT_TESTS); do echo $(BUILD)/$$f/test/$$t; done; done; } | \
+	  for t in $(UNIT_TESTS); do echo $(BUILD)/f64/test/$$t; done; } | \
 	RFE_TEST_LIGHT=1 xargs -P $(VALGRIND_JOBS) -I{} sh -c 'log=$(BUILD)/valgrind/$$(echo {} | tr / _).log; \
 	  if $(VALGRIND) {} > $$log 2>&1; then echo "== valgrind {}: clean"; \
 	  else cat $$log; echo "== valgrind {}: FAILED (log $$log)"; exit 255; fi'

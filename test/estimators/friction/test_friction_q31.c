@@ -281,7 +281,7 @@ static void b2b_all(rfe_preset_t preset, rfe_filter_kind_t kind, const char *lab
     size_t n_logs = 0;
     printf("  [%s] per log: max |dmu| settled / all samples, max |dsd|, valid and status "
            "agreement, saturations (estimator, input)\n", label);
-    for (s = 0; s < N_STEMS; s += rfe_test_stride(5u)) {
+    for (s = 0; s < N_STEMS; s += rfe_test_stride(10u)) {
         for (k = 0; k < 3; ++k) {
             char path[256];
             b2b_t r;
@@ -364,7 +364,7 @@ static void test_rfe_friction_q31_b2b_monitor(void **state)
     monitor_on = 1;
     printf("  [monitor on] per log: max |dmu| settled, valid and status agreement, "
            "saturations\n");
-    for (s = 0; s < (N_STEMS + N_FAULT_LOGS); s += rfe_test_stride(3u)) {
+    for (s = 0; s < (N_STEMS + N_FAULT_LOGS); s += rfe_test_stride(6u)) {
         char path[256];
         b2b_t r;
         double va;
