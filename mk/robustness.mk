@@ -24,7 +24,7 @@
 FUZZ_LLVM          ?= 19
 FUZZ_CC            ?= clang-$(FUZZ_LLVM)
 FUZZ_SECONDS       ?= 60
-FUZZ_SMOKE_SECONDS ?= 3
+FUZZ_SMOKE_SECONDS ?= 2
 INV_FLAGS          ?=
 FUZZ_CFLAGS := -std=c99 -g -O1 -fno-omit-frame-pointer -fsanitize=address,undefined \
                -fno-sanitize-recover=all $(INV_FLAGS)
