@@ -457,6 +457,7 @@ tyre-id-feed-results: venv $(BUILD)/mu_replay
 mass-sensitivity: venv $(BUILD)/mu_replay
 	$(PY) scripts/tools/mass_sensitivity.py --page docs/MASS_GRADE_RESULTS.md
 	$(PY) scripts/tools/mass_feed_results.py --page docs/MASS_GRADE_RESULTS.md
+	$(PY) scripts/tools/mass_online_friction.py --jobs $(TEST_JOBS) --page docs/MASS_GRADE_RESULTS.md
 
 # The model-validity monitor measured with the float64 reference (docs/MONITOR.md; the runs
 # are cached in build/monitor/, about 10 min on 2 cores the first time).

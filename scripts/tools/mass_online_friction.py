@@ -1,0 +1,152 @@
+#!/usr/bin/env python3
+"""What the online mass does for the friction estimator when the mass it was given is wrong
+(issue 19, deliverable 4: "what a +-20 % mass error does to the friction estimate with and
+without the online mass"), on the logs that carry what the mass and grade estimator needs.
+
+    .venv/bin/python scripts/tools/mass_online_friction.py [--page docs/MASS_GRADE_RESULTS.md]
+                     [--mu-replay build/mu_replay] [--jobs N]
+
+The friction scenarios (scenarios/*.csv) have no drive torque; the observer scenarios
+(scenarios/observer/*.csv) carry the simulator's drive torque per wheel (torque_*, N m at the
+wheel) and brake pressure per wheel (p_*, MPa) beside the friction truth. Each is written with
+two more columns, drive_torque = torque_fl + torque_fr + torque_rl + torque_rr (DATA.md: the
+total at the wheels) and brake_pressure = max(p_*) in Pa, and replayed by the C library
+(`mu_replay`, float, default preset, measured velocities) with the log's mass m x 0.8, 1.0
+and 1.2 in a parameter file, with the mass and grade estimator off and on (`ukf`, the
+default: it feeds its mass to the friction estimator by the mg_feed_sd_rel rule, MASS_GRADE.md
+section 10). Figures pooled over the four wheels and every log as mass_sensitivity.py pools
+them (valid share, RMSE when valid, consistency when valid, largest error when valid); the
+last columns count logs whose RMSE when valid rose / fell by more than 0.02 against the same
+log with its own mass and the estimator off.
+With --page the table goes between <!-- mass-online:begin/end --> of the page.
+"""
+
+import argparse
+import json
+import math
+import multiprocessing
+import os
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, os.path.join(ROOT, "scripts", "tools"))
+
+from mass_sensitivity import WHEELS, WORSE, log_mass, pooled  # noqa: E402
+from md_tables import replace_region  # noqa: E402
+
+FACTORS = (0.8, 1.0, 1.2)
+MODES = ("off", "ukf")
+TORQUES = ("torque_fl", "torque_fr", "torque_rl", "torque_rr")
+PRESSURES = ("p_fl", "p_fr", "p_rl", "p_rr")
+
+
+def logs():
+    """The observer scenarios with friction truth, wheel torques and brake pressures."""
+    d = os.path.join(ROOT, "scenarios", "observer")
+    out = []
+    for f in sorted(os.listdir(d)):
+        if f.endswith(".csv"):
+            with open(os.path.join(d, f), encoding="utf-8") as fh:
+                header = next(line for line in fh if not line.startswith("#")).strip().split(",")
+            if {"mu_fl", *TORQUES, *PRESSURES} <= set(header):
+                out.append(f)
+    return out
+
+
+def with_drive_torque(src, dst):
+    """Copies the log @src to @dst with drive_torque (the sum of torque_*, N m) and
+    brake_pressure (max of p_*, MPa -> Pa) appended to every row; metadata unchanged."""
+    with open(src, encoding="utf-8") as fi, open(dst, "w", encoding="utf-8") as fo:
+        idx = None
+        for line in fi:
+            if line.startswith("#"):
+                fo.write(line)
+                continue
+            cells = line.rstrip("\n").split(",")
+            if idx is None:
+                idx = ([cells.index(c) for c in TORQUES], [cells.index(c) for c in PRESSURES])
+                fo.write(",".join(cells + ["drive_torque", "brake_pressure"]) + "\n")
+                continue
+            torque = sum(float(cells[i]) for i in idx[0])
+            pressure = max(float(cells[i]) for i in idx[1]) * 1e6
+            fo.write(",".join(cells + [repr(torque), repr(pressure)]) + "\n")
+
+
+def one(job):
+    exe, name, factor, mode = job
+    src = os.path.join(ROOT, "scenarios", "observer", name)
+    with tempfile.TemporaryDirectory() as tmp:
+        log = os.path.join(tmp, name)
+        with_drive_torque(src, log)
+        params = os.path.join(tmp, "mass.params")
+        with open(params, "w", encoding="utf-8") as fh:
+            fh.write(f"m = {log_mass(src) * factor!r}\n")
+        out, js = os.path.join(tmp, "est.csv"), os.path.join(tmp, "m.json")
+        r = subprocess.run([exe, "--in", log, "--out", out, "--params", params,
+                            "--velocity", "measured", "--mass-grade", mode, "--metrics", js,
+                            "--quiet"], capture_output=True, text=True, check=False)
+        if r.returncode != 0:
+            raise SystemExit(f"mass_online_friction: {name} x{factor} {mode}: exit "
+                             f"{r.returncode}: {r.stderr.strip()}")
+        with open(js, encoding="utf-8") as fh:
+            met = json.load(fh)["metrics"]
+    return job[1:], [met[w] for w in WHEELS]
+
+
+def table(results, names):
+    rows = ["| mass given | mass and grade estimator | valid | RMSE valid | consistency | "
+            f"max valid | logs worse by > {WORSE} | better by > {WORSE} |",
+            "|---|---|---|---|---|---|---|---|"]
+    base = {n: pooled(results[(n, 1.0, "off")]) for n in names}
+    for factor in FACTORS:
+        for mode in MODES:
+            tot = [0, 0, 0.0, 0, 0.0]
+            worse = better = 0
+            for n in names:
+                p = pooled(results[(n, factor, mode)])
+                for i in range(4):
+                    tot[i] += p[i]
+                tot[4] = max(tot[4], p[4])
+                if p[1] and base[n][1]:
+                    change = math.sqrt(p[2] / p[1]) - math.sqrt(base[n][2] / base[n][1])
+                    worse += change > WORSE
+                    better += change < -WORSE
+            settled, valid, sse, cons, worst = tot
+            rmse = math.sqrt(sse / valid) if valid else float("nan")
+            ref = factor == 1.0 and mode == "off"
+            rows.append(f"| m × {factor:.1f} | {'off' if mode == 'off' else 'on (ukf), mass fed'} | "
+                        f"{valid / settled:.1%} | {rmse:.3f} | "
+                        f"{cons / valid if valid else float('nan'):.3f} | {worst:.3f} | "
+                        f"{'–' if ref else f'{worse} of {len(names)}'} | "
+                        f"{'–' if ref else f'{better} of {len(names)}'} |")
+    return "\n".join(rows)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--mu-replay", default=os.path.join(ROOT, "build", "mu_replay"))
+    ap.add_argument("--page", default="")
+    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
+    a = ap.parse_args()
+    if not os.access(a.mu_replay, os.X_OK):
+        raise SystemExit(f"mass_online_friction: {a.mu_replay} not found: run make first")
+    names = logs()
+    jobs = [(a.mu_replay, n, f, m) for n in names for f in FACTORS for m in MODES]
+    results = {}
+    with multiprocessing.Pool(a.jobs) as pool:
+        for i, (key, wheels) in enumerate(pool.imap_unordered(one, jobs), 1):
+            results[key] = wheels
+            print(f"\rmass_online_friction: {i}/{len(jobs)} runs", end="", file=sys.stderr)
+    print(file=sys.stderr)
+    text = table(results, names)
+    print(text)
+    if a.page:
+        replace_region(Path(a.page), "<!-- mass-online:begin -->", "<!-- mass-online:end -->",
+                       text.splitlines(), "mass_online_friction")
+
+
+if __name__ == "__main__":
+    main()
