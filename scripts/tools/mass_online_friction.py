@@ -139,8 +139,8 @@ def main():
     with multiprocessing.Pool(a.jobs) as pool:
         for i, (key, wheels) in enumerate(pool.imap_unordered(one, jobs), 1):
             results[key] = wheels
-            print(f"\rmass_online_friction: {i}/{len(jobs)} runs", end="", file=sys.stderr)
-    print(file=sys.stderr)
+            if i % 50 == 0 or i == len(jobs):  # progress, a line per 50 runs
+                print(f"mass_online_friction: {i}/{len(jobs)} runs", file=sys.stderr)
     text = table(results, names)
     print(text)
     if a.page:
