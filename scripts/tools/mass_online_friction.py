@@ -23,7 +23,6 @@ With --page the table goes between <!-- mass-online:begin/end --> of the page.
 
 import argparse
 import json
-import math
 import multiprocessing
 import os
 import subprocess
@@ -34,7 +33,7 @@ from pathlib import Path
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "scripts", "tools"))
 
-from mass_sensitivity import WHEELS, WORSE, log_mass, pooled  # noqa: E402
+from mass_sensitivity import WHEELS, WORSE, log_mass, pooled, pooled_cells  # noqa: E402
 from md_tables import replace_region  # noqa: E402
 
 FACTORS = (0.8, 1.0, 1.2)
@@ -100,27 +99,14 @@ def table(results, names):
     rows = ["| mass given | mass and grade estimator | valid | RMSE valid | consistency | "
             f"max valid | logs worse by > {WORSE} | better by > {WORSE} |",
             "|---|---|---|---|---|---|---|---|"]
-    base = {n: pooled(results[(n, 1.0, "off")]) for n in names}
+    base = [pooled(results[(n, 1.0, "off")]) for n in names]
     for factor in FACTORS:
         for mode in MODES:
-            tot = [0, 0, 0.0, 0, 0.0]
-            worse = better = 0
-            for n in names:
-                p = pooled(results[(n, factor, mode)])
-                for i in range(4):
-                    tot[i] += p[i]
-                tot[4] = max(tot[4], p[4])
-                if p[1] and base[n][1]:
-                    change = math.sqrt(p[2] / p[1]) - math.sqrt(base[n][2] / base[n][1])
-                    worse += change > WORSE
-                    better += change < -WORSE
-            settled, valid, sse, cons, worst = tot
-            rmse = math.sqrt(sse / valid) if valid else float("nan")
+            text, worse, better = pooled_cells(
+                [pooled(results[(n, factor, mode)]) for n in names], base)
             ref = factor == 1.0 and mode == "off"
             rows.append(f"| m × {factor:.1f} | {'off' if mode == 'off' else 'on (ukf), mass fed'} | "
-                        f"{valid / settled:.1%} | {rmse:.3f} | "
-                        f"{cons / valid if valid else float('nan'):.3f} | {worst:.3f} | "
-                        f"{'–' if ref else f'{worse} of {len(names)}'} | "
+                        f"{text} | {'–' if ref else f'{worse} of {len(names)}'} | "
                         f"{'–' if ref else f'{better} of {len(names)}'} |")
     return "\n".join(rows)
 

@@ -100,27 +100,38 @@ def pooled(wheels):
     return settled, valid, sse, cons, worst
 
 
+def pooled_cells(runs, bases):
+    """The figures of one table row over the logs: @runs the pooled() tuples of the row's runs,
+    @bases those of the same logs' reference runs (None: no comparison). Returns the cells
+    "valid | RMSE valid | consistency | max valid" and the logs whose RMSE when valid rose /
+    fell by more than WORSE against their reference (logs without valid samples either way
+    are not counted)."""
+    tot = [0, 0, 0.0, 0, 0.0]
+    worse = better = 0
+    for p, b in zip(runs, bases if bases is not None else [None] * len(runs)):
+        for i in range(4):
+            tot[i] += p[i]
+        tot[4] = max(tot[4], p[4])
+        if b is not None and p[1] and b[1]:
+            change = math.sqrt(p[2] / p[1]) - math.sqrt(b[2] / b[1])
+            worse += change > WORSE
+            better += change < -WORSE
+    settled, valid, sse, cons, worst = tot
+    rmse = math.sqrt(sse / valid) if valid else float("nan")
+    text = (f"{valid / settled:.1%} | {rmse:.3f} | "
+            f"{cons / valid if valid else float('nan'):.3f} | {worst:.3f}")
+    return text, worse, better
+
+
 def table(results, names):
     rows = ["| preset | mass given | valid | RMSE valid | consistency | max valid | "
             f"logs worse by > {WORSE} | better by > {WORSE} |", "|---|---|---|---|---|---|---|---|"]
     for preset in PRESETS:
-        base = {n: pooled(results[(n, preset, 1.0)]) for n in names}
+        base = [pooled(results[(n, preset, 1.0)]) for n in names]
         for factor in FACTORS:
-            tot = [0, 0, 0.0, 0, 0.0]
-            worse = better = 0
-            for n in names:
-                p = pooled(results[(n, preset, factor)])
-                for i in range(4):
-                    tot[i] += p[i]
-                tot[4] = max(tot[4], p[4])
-                if factor != 1.0 and p[1] and base[n][1]:
-                    change = math.sqrt(p[2] / p[1]) - math.sqrt(base[n][2] / base[n][1])
-                    worse += change > WORSE
-                    better += change < -WORSE
-            settled, valid, sse, cons, worst = tot
-            rmse = math.sqrt(sse / valid) if valid else float("nan")
-            rows.append(f"| {preset} | m × {factor:.1f} | {valid / settled:.1%} | {rmse:.3f} | "
-                        f"{cons / valid if valid else float('nan'):.3f} | {worst:.3f} | "
+            text, worse, better = pooled_cells([pooled(results[(n, preset, factor)]) for n in names],
+                                               None if factor == 1.0 else base)
+            rows.append(f"| {preset} | m × {factor:.1f} | {text} | "
                         f"{'–' if factor == 1.0 else f'{worse} of {len(names)}'} | "
                         f"{'–' if factor == 1.0 else f'{better} of {len(names)}'} |")
     return "\n".join(rows)
