@@ -71,6 +71,15 @@ class SCKF:
         if k > 0:
             self.S = tria(np.hstack([self.S, np.sqrt(float(k)) * self.s_q]))
 
+    def propagate(self, f):
+        """The general cubature time update (MODEL.md section 6 with a nonlinear process, the
+        tyre identifier's augmented state, TYRE_ID.md section 15): X_j = S xi_j + x;
+        X*_j = f(X)_j (f maps all points at once, shape (n, 2n)); x- = mean X*_j;
+        S- = Tria([(X*_1 - x-, ..., X*_2n - x-)/sqrt(2n), S_Q])."""
+        x_star = np.asarray(f(self.points()), dtype=float)
+        self.x = x_star.mean(axis=1)
+        self.S = tria(np.hstack([(x_star - self.x[:, None]) / self.sqrt_2n, self.s_q]))
+
     def q_diag(self):
         return np.sum(self.s_q ** 2, axis=1)
 
