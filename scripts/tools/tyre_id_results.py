@@ -6,7 +6,9 @@
         [--logs scenarios/tyre_id] [--n 64 256 1024 2048] [--seeds 1 2 3] [--jobs 2]
 
 Every (log, filter, particle count, seed) is one run of scripts/reference/tyre_id.py with its
-defaults.  Figures (docs/TYRE_ID_RESULTS.md says how each is defined):
+defaults; the augmented-state SCKF (scripts/reference/tyre_id_sckf.py, the same defaults) is
+deterministic and has no particles: one run per log, its row "SCKF" with 2n = 20 cubature
+points in place of a particle count.  Figures (docs/TYRE_ID_RESULTS.md says how each is defined):
   curve    RMSE of the identified lateral force curve against the truth's, per axle, in % of
            the truth's peak D, over the slip range the log excited: tan(alpha) from 0 to the
            largest |tan(alpha_true)| of the axle (after the tyre change on tid_tyre_change),
@@ -35,6 +37,7 @@ import numpy as np  # noqa: E402
 
 from md_tables import replace_region  # noqa: E402
 from reference import tyre_id as T  # noqa: E402
+from reference import tyre_id_sckf as TS  # noqa: E402
 from reference.logs import read_csv_log  # noqa: E402
 
 ROOT = HERE.parent.parent
@@ -43,6 +46,8 @@ LOGS = ("tid_ramp_steer_high_mu", "tid_ramp_steer_low_mu", "tid_sine_steer", "ti
 MARK = {k: (f"<!-- tyre-id-{k}:begin -->", f"<!-- tyre-id-{k}:end -->")
         for k in ("accuracy", "count", "ident")}
 T_SKIP = 0.5          # s, the start not scored (prior)
+FILTERS = ("apf", "sir", "sckf")
+SCKF_POINTS = f"– ({TS.N_POINTS} points)"
 
 
 def curve_rmse(c, out, axle, k0):
@@ -64,7 +69,10 @@ def measure(job):
     log, filt, n, seed = job
     c = read_csv_log(str(ROOT / "scenarios" / "tyre_id" / f"{log}.csv")).columns
     t0 = time.perf_counter()
-    out = T.run(c, {"tid_n": float(n), "tid_filter": filt}, seed=seed)
+    if filt == "sckf":
+        out = TS.run(c, {})
+    else:
+        out = T.run(c, {"tid_n": float(n), "tid_filter": filt}, seed=seed)
     cost = (time.perf_counter() - t0) / len(c["t"])
     t = c["t"]
     k_sk = int(np.searchsorted(t, T_SKIP))
@@ -111,13 +119,14 @@ def tables(results, n_main, seeds):
     for r in results:
         by.setdefault((r["log"], r["filter"], r["n"]), []).append(r)
     acc = [f"{n_main} particles, median over seeds {', '.join(map(str, seeds))} (the worst "
-           "seed in brackets for the curve and mu at the limit). Curve: % of the peak; "
+           "seed in brackets for the curve and mu at the limit); SCKF: deterministic, one run "
+           f"({TS.N_POINTS} cubature points). Curve: % of the peak; "
            "t_max: the largest |tan(alpha)| the axle saw.", "",
            "| log | filter | curve f % (t_max) | curve r % (t_max) | mu@lim f | mu@lim r "
            "| min sd_mu linear f / r | beta RMSE deg | ms/step |",
            "|---|---|---|---|---|---|---|---|---|"]
     for log in LOGS:
-        for filt in ("apf", "sir"):
+        for filt in FILTERS:
             rows = by.get((log, filt, n_main), [])
             if not rows:
                 continue
@@ -140,15 +149,16 @@ def tables(results, n_main, seeds):
            "mu@lim worst | beta RMSE deg median | ms/step (Python) |",
            "|---|---|---|---|---|---|---|---|"]
     ns = sorted({r["n"] for r in results})
-    for filt in ("apf", "sir"):
+    for filt in FILTERS:
         for n in ns:
             rows = [r for r in results if r["filter"] == filt and r["n"] == n
                     and r["log"] != "tid_straight"]
             if not rows:
                 continue
+            label = SCKF_POINTS if filt == "sckf" else str(n)
             cv = [r[f"curve_{a}"] for r in rows for a in "fr" if not math.isnan(r[f"curve_{a}"])]
             ml = [r[f"mulim_{a}"] for r in rows for a in "fr" if not math.isnan(r[f"mulim_{a}"])]
-            cnt.append(f"| {filt.upper()} | {n} | {fmt(float(np.median(cv)), '.1f')} | "
+            cnt.append(f"| {filt.upper()} | {label} | {fmt(float(np.median(cv)), '.1f')} | "
                        f"{fmt(float(np.max(cv)), '.1f')} | {fmt(float(np.median(ml)), '.3f')} | "
                        f"{fmt(float(np.max(ml)), '.3f')} | "
                        f"{fmt(float(np.median([r['beta'] for r in rows])), '.3f')} | "
@@ -156,27 +166,28 @@ def tables(results, n_main, seeds):
     p = T.TID_DEFAULTS
     prior = {"D": p["tid_sd0_mu"], "C": p["tid_sd0_C"], "K": p["tid_sd0_cy_rel"],
              "E": p["tid_sd0_E"]}
-    idt = [f"APF, {n_main} particles, seed {seeds[0]}: the final sd of each parameter over its "
+    idt = [f"APF, {n_main} particles, seed {seeds[0]}, and the SCKF: the final sd of each "
+           "parameter over its "
            "prior sd (D as D/Fz0 against tid_sd0_mu, K as K/(cy Fz0) against tid_sd0_cy_rel; "
            "below 0.3: identified), and the final errors of K and D in % of the truth.", "",
-           "| log | axle | sd D | sd C | sd K | sd E | K error % | D error % |",
-           "|---|---|---|---|---|---|---|---|"]
+           "| log | axle | filter | sd D | sd C | sd K | sd E | K error % | D error % |",
+           "|---|---|---|---|---|---|---|---|---|"]
     params = {"m": 1830.0, "g": 9.81, "Lf": 1.40, "Lr": 1.65, "cy": 15.0}
     La = params["Lf"] + params["Lr"]
     fz0 = {"f": params["m"] * params["g"] * params["Lr"] / La,
            "r": params["m"] * params["g"] * params["Lf"] / La}
-    for log in LOGS:
-        rows = [r for r in by.get((log, "apf", n_main), []) if r["seed"] == seeds[0]]
+    for log, a, filt in ((lg, ax, f) for lg in LOGS for ax in "fr" for f in ("apf", "sckf")):
+        rows = [r for r in by.get((log, filt, n_main), []) if r["seed"] == seeds[0]]
         if not rows:
             continue
         r = rows[0]
-        for a in "fr":
-            scale = {"D": fz0[a], "C": 1.0, "K": params["cy"] * fz0[a], "E": 1.0}
-            ratios = [r[f"sdfin_{q}_{a}"] / scale[q] / prior[q] for q in "DCKE"]
-            ek = 100.0 * (r[f"mean_K_{a}"] / r[f"Ktrue_{a}"] - 1.0)
-            ed = 100.0 * (r[f"mean_D_{a}"] / r[f"Dtrue_{a}"] - 1.0)
-            idt.append(f"| {log} | {a} | " + " | ".join(fmt(x, ".2f") for x in ratios)
-                       + f" | {ek:+.0f} | {ed:+.0f} |")
+        scale = {"D": fz0[a], "C": 1.0, "K": params["cy"] * fz0[a], "E": 1.0}
+        ratios = [r[f"sdfin_{q}_{a}"] / scale[q] / prior[q] for q in "DCKE"]
+        ek = 100.0 * (r[f"mean_K_{a}"] / r[f"Ktrue_{a}"] - 1.0)
+        ed = 100.0 * (r[f"mean_D_{a}"] / r[f"Dtrue_{a}"] - 1.0)
+        idt.append(f"| {log} | {a} | {filt.upper()} | "
+                   + " | ".join(fmt(x, ".2f") for x in ratios)
+                   + f" | {ek:+.0f} | {ed:+.0f} |")
     return acc, cnt, idt
 
 
@@ -190,6 +201,7 @@ def main(argv=None):
     args = ap.parse_args(argv)
     jobs = [(log, filt, n, s) for n in sorted(args.n, reverse=True) for log in LOGS
             for filt in ("apf", "sir") for s in args.seeds]
+    jobs += [(log, "sckf", args.main_n, args.seeds[0]) for log in LOGS]
     t0 = time.perf_counter()
     with multiprocessing.Pool(args.jobs) as pool:
         results = pool.map(measure, jobs, chunksize=1)
