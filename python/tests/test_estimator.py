@@ -90,6 +90,26 @@ def test_run_with_options_equals_replay() -> None:
             assert ("cy_used" in got.columns) == ("params" in options)
 
 
+def test_mass_feed_gate_keys_reach_the_run() -> None:
+    """The mass feed's excitation gate (mg_feed_excitation, MASS_GRADE.md §10) is the C
+    replay's, keys and all: in memory as in mu_replay, with the gate (the default 1 m/s) the
+    friction estimator's mass first changes later than without it (0: the sd rule alone) on
+    car_grade_step, whose sd rule passes 26 updates before its |ax| sums 1 m/s (test_cli.sh),
+    and every row equals the replay's with the same keys."""
+    log = ROOT / "scenarios/mass_grade/car_grade_step.csv"
+    sensor = rfe.read_log(log)
+    first = {}
+    for gate in (None, 0.0):
+        options = {} if gate is None else dict(params={"mg_feed_excitation": gate})
+        got = rfe.Estimator(real="double", **options).run(sensor)
+        want = rfe.replay(log, real="double", quiet=True, **options)
+        assert_same_estimates(got, want, "double", f"gate {gate}")
+        used = got["mass_used"].to_numpy()
+        first[gate] = int((used != used[0]).argmax())
+        assert first[gate] > 0
+    assert first[None] > first[0.0]
+
+
 def test_mapping_of_arrays_equals_dataframe() -> None:
     """{column: array} with meta= runs as the DataFrame with attrs["meta"] (lists too)."""
     sensor = rfe.read_log(ROOT / "scenarios/hard_brake_low_mu.csv")

@@ -9,7 +9,9 @@ Every mass and grade log (scenarios/mass_grade/*.csv) is replayed by the C libra
 (`mu_replay`, float, the default `--mass-grade ukf`, the default mg_feed_sd_rel; the truck
 logs, truck_*, with `--mass-grade-vehicle truck`, the others with the car's keys) with a wrong
 vehicle mass given by a parameter file: the log's m x 0.8 and x 1.2 (the estimator's own
-start, mg_m0, is the preset's either way). Per run, from the estimate log and the JSON:
+start, mg_m0, is the preset's either way), each twice: without the excitation gate
+(mg_feed_excitation = 0, the sd rule alone) and with it (the default keys); the columns with
+an arrow give the run without the gate -> with it. Per run, from the estimate log and the JSON:
     first fed      the time of the first sample whose mass_est the friction estimator took
     fed            the share of samples fed
     m error start  (m given - mass_true) / mass_true: the friction estimator's error unfed
@@ -41,12 +43,15 @@ def vehicle(path):
     return "truck" if os.path.basename(path).startswith("truck_") else "car"
 
 
-def one(exe, path, factor):
-    """(first fed t or None, samples fed, samples, mass_true at the end, the JSON's object)."""
+def one(exe, path, factor, gate):
+    """(first fed t or None, samples fed, samples, the JSON's object); gate False: the run
+    with mg_feed_excitation = 0."""
     with tempfile.TemporaryDirectory() as tmp:
         params = os.path.join(tmp, "mass.params")
         with open(params, "w", encoding="utf-8") as fh:
             fh.write(f"m = {log_mass(path) * factor!r}\n")
+            if not gate:
+                fh.write("mg_feed_excitation = 0\n")
         out, js = os.path.join(tmp, "est.csv"), os.path.join(tmp, "m.json")
         r = subprocess.run([exe, "--in", path, "--out", out, "--params", params,
                             "--metrics", js, "--quiet", "--mass-grade-vehicle", vehicle(path)],
@@ -81,19 +86,21 @@ def main():
     if not os.access(a.mu_replay, os.X_OK):
         raise SystemExit(f"mass_feed_results: {a.mu_replay} not found: run make first")
     d = os.path.join(ROOT, "scenarios", "mass_grade")
-    rows = ["| log | m given | first fed at | samples fed | m error unfed | mass_used error at the end "
-            "| mass_est error at the end |", "|---|---|---|---|---|---|---|"]
+    rows = ["| log | m given | first fed at: no gate → gate | samples fed | m error unfed "
+            "| mass_used error at the end | mass_est error at the end |",
+            "|---|---|---|---|---|---|---|"]
     for name in sorted(f for f in os.listdir(d) if f.endswith(".csv")):
         path = os.path.join(d, name)
         mt = true_mass_end(path)
         for factor in FACTORS:
-            first, fed, n, mg = one(a.mu_replay, path, factor)
-            used = mg["feed"]["mass_used_end"]
-            est = mg["end"]["mass"]
-            rows.append(f"| {name[:-4]} | m × {factor:.1f} | "
-                        f"{'never' if first is None else f'{first:.2f} s'} | {fed / n:.1%} | "
-                        f"{(log_mass(path) * factor - mt) / mt:+.1%} | {(used - mt) / mt:+.2%} | "
-                        f"{(est - mt) / mt:+.2%} |")
+            runs = [one(a.mu_replay, path, factor, gate) for gate in (False, True)]
+            firsts = ["never" if r[0] is None else f"{r[0]:.2f} s" for r in runs]
+            fed = [f"{r[1] / r[2]:.1%}" for r in runs]
+            used = [f"{(r[3]['feed']['mass_used_end'] - mt) / mt:+.2%}" for r in runs]
+            est = runs[1][3]["end"]["mass"]
+            rows.append(f"| {name[:-4]} | m × {factor:.1f} | {firsts[0]} → {firsts[1]} | "
+                        f"{fed[0]} → {fed[1]} | {(log_mass(path) * factor - mt) / mt:+.1%} | "
+                        f"{used[0]} → {used[1]} | {(est - mt) / mt:+.2%} |")
     text = "\n".join(rows)
     print(text)
     if a.page:

@@ -14,14 +14,20 @@ total at the wheels) and brake_pressure = max(p_*) in Pa, and replayed by the C 
 (`mu_replay`, float, default preset, measured velocities) with the log's mass m x 0.8, 1.0
 and 1.2 in a parameter file, with the mass and grade estimator off and on (`ukf`, the
 default: it feeds its mass to the friction estimator by the mg_feed_sd_rel rule, MASS_GRADE.md
-section 10). Figures pooled over the four wheels and every log as mass_sensitivity.py pools
+section 10), on twice: without the excitation gate (mg_feed_excitation = 0, the rule before
+it) and with it (the default mg_feed_excitation, mg_feed_ax_min). Figures pooled over the four wheels and every log as mass_sensitivity.py pools
 them (valid share, RMSE when valid, consistency when valid, largest error when valid); the
 last columns count logs whose RMSE when valid rose / fell by more than 0.02 against the same
 log with its own mass and the estimator off.
-With --page the table goes between <!-- mass-online:begin/end --> of the page.
+A second table, from the runs with the log's own mass, lists each log where either run fed
+the mass: the first sample fed, the share of samples fed, the friction estimator's mass at the
+end against the log's m, and the gate's sum at the end (the JSON's excitation_end, m/s).
+With --page the tables go between <!-- mass-online:begin/end --> and
+<!-- mass-online-gate:begin/end --> of the page.
 """
 
 import argparse
+import csv
 import json
 import multiprocessing
 import os
@@ -37,7 +43,9 @@ from mass_sensitivity import WHEELS, WORSE, log_mass, pooled, pooled_cells  # no
 from md_tables import replace_region  # noqa: E402
 
 FACTORS = (0.8, 1.0, 1.2)
-MODES = ("off", "ukf")
+MODES = ("off", "ukf-nogate", "ukf")
+LABELS = {"off": "off", "ukf-nogate": "on (ukf), mass fed, no gate",
+          "ukf": "on (ukf), mass fed through the gate"}
 TORQUES = ("torque_fl", "torque_fr", "torque_rl", "torque_rr")
 PRESSURES = ("p_fl", "p_fr", "p_rl", "p_rr")
 
@@ -83,31 +91,74 @@ def one(job):
         params = os.path.join(tmp, "mass.params")
         with open(params, "w", encoding="utf-8") as fh:
             fh.write(f"m = {log_mass(src) * factor!r}\n")
+            if mode == "ukf-nogate":
+                fh.write("mg_feed_excitation = 0\n")
         out, js = os.path.join(tmp, "est.csv"), os.path.join(tmp, "m.json")
         r = subprocess.run([exe, "--in", log, "--out", out, "--params", params,
-                            "--velocity", "measured", "--mass-grade", mode, "--metrics", js,
-                            "--quiet"], capture_output=True, text=True, check=False)
+                            "--velocity", "measured", "--mass-grade", mode.split("-")[0],
+                            "--metrics", js, "--quiet"], capture_output=True, text=True,
+                           check=False)
         if r.returncode != 0:
             raise SystemExit(f"mass_online_friction: {name} x{factor} {mode}: exit "
                              f"{r.returncode}: {r.stderr.strip()}")
         with open(js, encoding="utf-8") as fh:
-            met = json.load(fh)["metrics"]
-    return job[1:], [met[w] for w in WHEELS]
+            doc = json.load(fh)
+        feed = None
+        if mode != "off":
+            feed = dict(doc["mass_grade"]["feed"])
+            feed["first"] = first_fed(out)
+    return job[1:], ([doc["metrics"][w] for w in WHEELS], feed)
+
+
+def first_fed(est):
+    """(time of the first sample whose mass_used differs from the first row's or None,
+    the number of rows) of the estimate log @est."""
+    with open(est, encoding="utf-8") as fh:
+        rows = csv.DictReader(line for line in fh if not line.startswith("#"))
+        first, n, m0 = None, 0, None
+        for r in rows:
+            n += 1
+            m0 = r["mass_used"] if m0 is None else m0
+            if first is None and r["mass_used"] != m0:
+                first = float(r["t"])
+    return first, n
 
 
 def table(results, names):
     rows = ["| mass given | mass and grade estimator | valid | RMSE valid | consistency | "
             f"max valid | logs worse by > {WORSE} | better by > {WORSE} |",
             "|---|---|---|---|---|---|---|---|"]
-    base = [pooled(results[(n, 1.0, "off")]) for n in names]
+    base = [pooled(results[(n, 1.0, "off")][0]) for n in names]
     for factor in FACTORS:
         for mode in MODES:
             text, worse, better = pooled_cells(
-                [pooled(results[(n, factor, mode)]) for n in names], base)
+                [pooled(results[(n, factor, mode)][0]) for n in names], base)
             ref = factor == 1.0 and mode == "off"
-            rows.append(f"| m × {factor:.1f} | {'off' if mode == 'off' else 'on (ukf), mass fed'} | "
+            rows.append(f"| m × {factor:.1f} | {LABELS[mode]} | "
                         f"{text} | {'–' if ref else f'{worse} of {len(names)}'} | "
                         f"{'–' if ref else f'{better} of {len(names)}'} |")
+    return "\n".join(rows)
+
+
+def gate_table(results, names):
+    """Per log that feeds with or without the gate (own mass): before -> after."""
+    def cells(feed, m):
+        (first, n) = feed["first"]
+        if first is None:
+            return "never", "0%", "m kept"
+        return (f"{first:.1f} s", f"{feed['n_fed'] / n:.0%}",
+                f"{(feed['mass_used_end'] - m) / m:+.1%}")
+    rows = ["| log | m | first fed: no gate → gate | samples fed | mass_used at the end vs m "
+            "| excitation at the end |", "|---|---|---|---|---|---|"]
+    src = os.path.join(ROOT, "scenarios", "observer")
+    for n in names:
+        before, after = results[(n, 1.0, "ukf-nogate")][1], results[(n, 1.0, "ukf")][1]
+        if before["n_fed"] == 0 and after["n_fed"] == 0:
+            continue
+        m = log_mass(os.path.join(src, n))
+        b, a = cells(before, m), cells(after, m)
+        rows.append(f"| {n[:-4]} | {m:.0f} kg | {b[0]} → {a[0]} | {b[1]} → {a[1]} | "
+                    f"{b[2]} → {a[2]} | {after['excitation_end']:.2f} m/s |")
     return "\n".join(rows)
 
 
@@ -128,10 +179,14 @@ def main():
             if i % 50 == 0 or i == len(jobs):  # progress, a line per 50 runs
                 print(f"mass_online_friction: {i}/{len(jobs)} runs", file=sys.stderr)
     text = table(results, names)
+    gate = gate_table(results, names)
     print(text)
+    print(gate)
     if a.page:
         replace_region(Path(a.page), "<!-- mass-online:begin -->", "<!-- mass-online:end -->",
                        text.splitlines(), "mass_online_friction")
+        replace_region(Path(a.page), "<!-- mass-online-gate:begin -->",
+                       "<!-- mass-online-gate:end -->", gate.splitlines(), "mass_online_friction")
 
 
 if __name__ == "__main__":

@@ -29,3 +29,30 @@ def test_logs_are_the_observer_scenarios_with_torques():
     logs = mo.logs()
     assert len(logs) >= 50      # the bundled observer scenarios
     assert "traction_awd_mu03.csv" in logs and all(n.endswith(".csv") for n in logs)
+
+
+def test_first_fed_is_the_first_change_of_mass_used(tmp_path):
+    """first_fed: the time of the first row whose mass_used differs from the first row's, and
+    the number of rows; None when it never changes."""
+    est = tmp_path / "est.csv"
+    est.write_text("# mg_feed_excitation = 1\n"
+                   "t,mass_used\n0,1830\n0.02,1830\n0.04,1701.5\n0.06,1830\n")
+    assert mo.first_fed(est) == (0.04, 4)
+    est.write_text("t,mass_used\n0,1830\n0.02,1830\n")
+    assert mo.first_fed(est) == (None, 2)
+
+
+def test_gate_table_lists_the_logs_fed_either_way():
+    """One row per log fed with or without the gate, before -> after; a log fed neither way is
+    left out; a run that never feeds keeps the parameter m."""
+    m = mo.log_mass(str(Path(mo.ROOT) / "scenarios" / "observer" / "long_straight_bias.csv"))
+    never = {"n_fed": 0, "mass_used_end": m, "excitation_end": 0.01, "first": (None, 100)}
+    fed = {"n_fed": 50, "mass_used_end": 2.0 * m, "excitation_end": 0.01, "first": (1.5, 100)}
+    results = {("long_straight_bias.csv", 1.0, "ukf-nogate"): (None, fed),
+               ("long_straight_bias.csv", 1.0, "ukf"): (None, never),
+               ("creep_stop.csv", 1.0, "ukf-nogate"): (None, never),
+               ("creep_stop.csv", 1.0, "ukf"): (None, never)}
+    rows = mo.gate_table(results, ["creep_stop.csv", "long_straight_bias.csv"]).splitlines()
+    assert len(rows) == 3       # header, rule, one log
+    assert rows[2] == (f"| long_straight_bias | {m:.0f} kg | 1.5 s → never | 50% → 0% | "
+                       "+100.0% → m kept | 0.01 m/s |")

@@ -84,7 +84,8 @@ static const char k_usage_rest[] =
     "                   sets mg_adaptive last. The estimate log gains mass_est, sd_mass,\n"
     "                   grade_est, sd_grade, mg_status and mass_used, the friction\n"
     "                   estimator's mass: after an update (mg_status 0) with sd_mass <=\n"
-    "                   mg_feed_sd_rel * mass_est (key; default 0.02, 0: never) it\n"
+    "                   mg_feed_sd_rel * mass_est (key; default 0.02, 0: never) and\n"
+    "                   enough |ax| since its start (mg_feed_excitation) it\n"
     "                   takes that mass_est before that sample's step, and keeps it\n"
     "                   until the next such update (the observer too); with the\n"
     "                   observer and no grade column the observer takes each sample's\n"
@@ -851,6 +852,12 @@ static const char *validator_name(size_t k)
     if (k == (size_t)RFE_PK_mg_feed_sd_rel) {
         return "mu_replay: a relative sd >= 0";
     }
+    if (k == (size_t)RFE_PK_mg_feed_excitation) {
+        return "mu_replay: a finite excitation >= 0 m/s";
+    }
+    if (k == (size_t)RFE_PK_mg_feed_ax_min) {
+        return "mu_replay: a finite acceleration >= 0 m/s^2";
+    }
     if (k == (size_t)RFE_PK_tid_seed) {
         return "mu_replay: an integer 0 .. 2^53";
     }
@@ -1243,6 +1250,12 @@ static void write_mass_grade_json(FILE *f, const run_t *r)
     }
     fprintf(f, "},\n    \"feed\": {\"sd_rel\": ");
     rfe_json_write_number(f, r->ps.mg[RFE_PK_mg_feed_sd_rel - RFE_PK_MG_FIRST]);
+    fputs(", \"excitation\": ", f);
+    rfe_json_write_number(f, r->ps.mg[RFE_PK_mg_feed_excitation - RFE_PK_MG_FIRST]);
+    fputs(", \"ax_min\": ", f);
+    rfe_json_write_number(f, r->ps.mg[RFE_PK_mg_feed_ax_min - RFE_PK_MG_FIRST]);
+    fputs(", \"excitation_end\": ", f);
+    rfe_json_write_number(f, r->stats.mg_excitation);
     fprintf(f, ", \"n_fed\": %zu, \"mass_used_end\": ", r->stats.n_mass_fed);
     rfe_json_write_number(f, r->stats.mass_used_last);
     fputs("},\n    \"accuracy\": ", f);
@@ -1290,9 +1303,12 @@ static void print_mass_grade(const run_t *r)
             printf("  mg status %2zu %-37s %zu\n", s, name, r->stats.mg_status_count[s]);
         }
     }
-    printf("  mass fed to the friction estimator at %zu samples (mg_feed_sd_rel = %g); "
+    printf("  mass fed to the friction estimator at %zu samples (mg_feed_sd_rel = %g, "
+           "mg_feed_excitation = %g m/s of |ax| >= %g m/s^2, %.2f m/s at the end); "
            "its mass at the end %.1f kg\n",
            r->stats.n_mass_fed, r->ps.mg[RFE_PK_mg_feed_sd_rel - RFE_PK_MG_FIRST],
+           r->ps.mg[RFE_PK_mg_feed_excitation - RFE_PK_MG_FIRST],
+           r->ps.mg[RFE_PK_mg_feed_ax_min - RFE_PK_MG_FIRST], r->stats.mg_excitation,
            r->stats.mass_used_last);
     if (r->log.has_mass_true && (a.n > 0u)) {
         printf("  mass error at the end %+.1f kg (%+.2f %%)\n", a.mass_err_end,

@@ -27,6 +27,8 @@ static const rfe_param_info_t k_info[RFE_PK_COUNT] = {
     {"mg_adaptive", "-", "mass and grade: 1 the seed's adaptive UKF (AUKF), 0 the plain UKF"},
     {"mg_use_ax", "-", "mass and grade: 1 the accelerometer row, 0 speed and torque only"},
     {"mg_feed_sd_rel", "1", "replay: feed mass_est to the friction estimator after an update with sd_mass <= this * mass_est (0 = never)"},
+    {"mg_feed_excitation", "m/s", "replay: feed mass_est only once the sum of |ax| dt over the estimator's updates with |ax| >= mg_feed_ax_min since its start reaches this (0 = no gate)"},
+    {"mg_feed_ax_min", "m/s^2", "replay: the smallest |ax| counted by mg_feed_excitation"},
     RFE_MG_KEYS(RFE_PK_INFO_)
     {"tid_filter", "-", "tyre identifier: apf (the auxiliary particle filter) or sir (the bootstrap filter)"},
     {"tid_resample", "-", "tyre identifier: how parents are drawn, multinomial or systematic"},

@@ -129,7 +129,8 @@
 /**
  * The mass and grade estimator's keys (docs/MASS_GRADE.md §6): X(key, rfe_mass_grade_params_t
  * member, unit, doc), each an rfe_real_t; mg_adaptive and mg_use_ax (0 or 1) and the
- * replay's mg_feed_sd_rel come before them (RFE_PK_MG_SPECIAL). R and g are the vehicle keys
+ * replay's mg_feed_sd_rel, mg_feed_excitation and mg_feed_ax_min come before them
+ * (RFE_PK_MG_SPECIAL). R and g are the vehicle keys
  * above. No values: they start from the library preset
  * the run's --mass-grade names (rfe_mass_grade_params_preset, the car).
  */
@@ -203,8 +204,8 @@
 
 /** Index of each key: the friction estimator's numeric keys RFE_PK_m, RFE_PK_Lf, ...; its
  *  three word-valued keys; then the observer's keys, obs_driven first; then the mass and
- *  grade estimator's, mg_adaptive, mg_use_ax and mg_feed_sd_rel first; then the tyre
- *  identifier's, tid_filter, tid_resample, tid_substeps, tid_seed, tid_feed_sd_rel and
+ *  grade estimator's, mg_adaptive, mg_use_ax and the replay's three mg_feed_* first; then
+ *  the tyre identifier's, tid_filter, tid_resample, tid_substeps, tid_seed, tid_feed_sd_rel and
  *  tid_feed_evidence first. */
 typedef enum {
 #define RFE_PK_ENUM_(key, member, unit, doc) RFE_PK_##key,
@@ -222,6 +223,15 @@ typedef enum {
      *  §10). Kept with the mg_* keys so files, metadata and the estimate log's metadata treat
      *  it as every mass and grade key. */
     RFE_PK_mg_feed_sd_rel,
+    /** key mg_feed_excitation (m/s): a replay key (no member): the feed waits until the
+     *  longitudinal excitation since the estimator's start (the sum of |ax| dt over its updates
+     *  with |ax| >= mg_feed_ax_min) reaches this: a mass identified from the accelerometer's
+     *  specific force (inertia and grade), not from the rolling and drag resistances alone
+     *  (0 = no gate; MASS_GRADE.md §10). */
+    RFE_PK_mg_feed_excitation,
+    /** key mg_feed_ax_min (m/s^2): a replay key (no member): the smallest |ax| that counts as
+     *  excitation for mg_feed_excitation. */
+    RFE_PK_mg_feed_ax_min,
     RFE_MG_KEYS(RFE_PK_ENUM_)
     RFE_PK_tid_filter,   /**< key tid_filter = apf|sir (rfe_tid_filter_t; mu_replay --tyre-id) */
     RFE_PK_tid_resample, /**< key tid_resample = multinomial|systematic (rfe_tid_resample_t) */
@@ -259,11 +269,22 @@ typedef enum {
 #define RFE_PK_TID_COUNT ((size_t)RFE_PK_COUNT - RFE_PK_TID_FIRST)
 
 /** The mass and grade keys before the RFE_MG_KEYS table: mg_adaptive, mg_use_ax,
- *  mg_feed_sd_rel. */
-#define RFE_PK_MG_SPECIAL 3u
+ *  mg_feed_sd_rel, mg_feed_excitation, mg_feed_ax_min. */
+#define RFE_PK_MG_SPECIAL 5u
 
 /** mg_feed_sd_rel of every preset: fed once sd_mass / mass_est <= 2 % (MASS_GRADE.md §10). */
 #define RFE_MG_FEED_SD_REL_DEFAULT 0.02
+
+/** mg_feed_excitation of every preset: 1 m/s of |ax| dt since the start (MASS_GRADE.md §10:
+ *  the mass and grade logs reach it 0-1.3 s after their first feed by the sd rule, the observer
+ *  logs' steady cruise and banked curves, which fed a wrong mass, never). */
+#define RFE_MG_FEED_EXCITATION_DEFAULT 1.0
+
+/** mg_feed_ax_min of every preset: 0.2 m/s^2, above the accelerometer's noise on a steady
+ *  cruise and above the rolling resistance's g (f_c + f_r v) of a car (0.10-0.14 m/s^2), so
+ *  an update counted is one whose force balance the resistances do not dominate
+ *  (MASS_GRADE.md §10). */
+#define RFE_MG_FEED_AX_MIN_DEFAULT 0.2
 
 /** The tyre identifier's keys before the RFE_TID_KEYS table: tid_filter, tid_resample,
  *  tid_substeps, tid_seed, tid_feed_sd_rel, tid_feed_evidence. */

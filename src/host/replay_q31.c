@@ -40,6 +40,7 @@ struct rfe_replay_q31_state {
     double t_mg_last;             /**< the mass and grade estimator's (have_mg_last) */
     double mg_R;                  /**< the double parameters' R: the wheels' speed */
     double feed_sd_rel;           /**< key mg_feed_sd_rel */
+    rfe_replay_mass_gate_t gate;  /**< the feed's excitation gate (mg_feed_excitation) */
     int have_prev;
     int have_last;
     int have_mg_last;
@@ -256,6 +257,10 @@ static uint32_t mass_grade_row(rfe_replay_q31_state_t *st, const rfe_sensor_row_
     rfe_status_t s = rfe_replay_mass_grade_input_q31(&st->shape, row,
                                                      st->have_mg_last ? &st->t_mg_last : NULL,
                                                      st->mg_R, &in, in_sat);
+    /* the library's start (mass_grade_q31.h: not started, or a period beyond dt_max), in its
+     * Q30, for the feed's gate (replay_real.c's) */
+    const int start = ((st->mg.started == 0u) || (in.dt > st->mg.p.dt_max)) ? 1 : 0;
+    const double dt = st->have_mg_last ? (row->t - st->t_mg_last) : 0.0;
     if (s == RFE_OK) {
         s = rfe_mass_grade_step_q31(&st->mg, &in, &e);
     }
@@ -263,6 +268,8 @@ static uint32_t mass_grade_row(rfe_replay_q31_state_t *st, const rfe_sensor_row_
         st->t_mg_last = row->t;
         st->have_mg_last = 1;
     }
+    rfe_replay_mass_gate_step(&st->gate, rfe_status_is_error(s) ? 0 : start, (int)s, row->ax, dt);
+    st->stats.base.mg_excitation = st->gate.excitation;
     out->has_mass_grade = 1;
     out->mass = rfe_fix_to_double(e.mass, RFE_MG_Q_M);
     out->sd_mass = rfe_fix_to_double(e.sd_mass, RFE_MG_Q_M);
@@ -283,7 +290,7 @@ static uint32_t mass_grade_first(rfe_replay_q31_state_t *st, const rfe_sensor_ro
 {
     int fed = -1;
     const uint32_t sat = mass_grade_row(st, row, out, in_sat);
-    if (rfe_replay_mass_feed_due(st->feed_sd_rel, out) != 0) {
+    if (rfe_replay_mass_feed_due(st->feed_sd_rel, &st->gate, out) != 0) {
         uint32_t over = 0u;
         const rfe_fix_t m = rfe_fix_from_double(out->mass, RFE_FIX_Q_MASS, &over);
         if (over != 0u) {
@@ -428,6 +435,7 @@ static rfe_status_t mass_grade_init(rfe_replay_q31_state_t *st, const rfe_param_
     rfe_status_t s = RFE_OK;
     st->mg_on = ((ps->mass_grade != 0) && (log->has_drive_torque != 0)) ? 1 : 0;
     st->feed_sd_rel = ps->mg[RFE_PK_mg_feed_sd_rel - RFE_PK_MG_FIRST];
+    st->gate = rfe_replay_mass_gate_of(ps);
     if (st->mg_on != 0) {
         s = rfe_replay_mass_grade_params_f64(ps, &mp, bad_key);
     }

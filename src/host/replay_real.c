@@ -51,6 +51,7 @@ struct rfe_replay_state {
     rfe_replay_stats_t stats;
     double dt;                /**< key dt: the gaps of a measuring run */
     double feed_sd_rel;       /**< key mg_feed_sd_rel */
+    rfe_replay_mass_gate_t gate; /**< the feed's excitation gate (mg_feed_excitation) */
     double t_prev;            /**< the previous row's time (have_prev) */
     double t_last;            /**< the observer's last accepted row's time (have_last) */
     double t_mg_last;         /**< the mass and grade estimator's (have_mg_last) */
@@ -250,7 +251,9 @@ int rfe_param_set_mass_grade(rfe_param_set_t *ps, rfe_mg_vehicle_t vehicle, rfe_
     ps->mg_config = config;
     ps->mg[0] = (double)mp.adaptive;
     ps->mg[1] = (double)mp.use_ax;
-    ps->mg[2] = RFE_MG_FEED_SD_REL_DEFAULT; /* the replay's, not the library's */
+    ps->mg[2] = RFE_MG_FEED_SD_REL_DEFAULT; /* the replay's three, not the library's */
+    ps->mg[3] = RFE_MG_FEED_EXCITATION_DEFAULT;
+    ps->mg[4] = RFE_MG_FEED_AX_MIN_DEFAULT;
     for (k = RFE_PK_MG_SPECIAL; k < RFE_PK_MG_COUNT; ++k) {
         rfe_real_t v;
         memcpy(&v, (const char *)&mp + k_mg_offset[k - RFE_PK_MG_SPECIAL], sizeof v);
@@ -264,6 +267,10 @@ int rfe_param_set_mass_grade(rfe_param_set_t *ps, rfe_mg_vehicle_t vehicle, rfe_
     ps->origin[RFE_PK_mg_use_ax].line = 0u;
     ps->origin[RFE_PK_mg_feed_sd_rel].file = NULL;
     ps->origin[RFE_PK_mg_feed_sd_rel].line = 0u;
+    ps->origin[RFE_PK_mg_feed_excitation].file = NULL;
+    ps->origin[RFE_PK_mg_feed_excitation].line = 0u;
+    ps->origin[RFE_PK_mg_feed_ax_min].file = NULL;
+    ps->origin[RFE_PK_mg_feed_ax_min].line = 0u;
     return 0;
 }
 
@@ -339,9 +346,9 @@ static size_t diagnose_params(const rfe_param_set_t *ps)
 }
 
 /* Mass and grade key @p k of the set into @p mp; 0, or -1 when mg_adaptive or mg_use_ax is
- * not 0 or 1 (a double would otherwise be truncated without a word) or mg_feed_sd_rel is
- * negative (it has no member: the replay reads it from the set). R and g are the vehicle
- * keys. */
+ * not 0 or 1 (a double would otherwise be truncated without a word), mg_feed_sd_rel is
+ * negative or mg_feed_excitation or mg_feed_ax_min is not a finite number >= 0 (the replay's
+ * three have no member: the replay reads them from the set). R and g are the vehicle keys. */
 static int set_mg_key(rfe_mass_grade_params_t *mp, const rfe_param_set_t *ps, size_t k)
 {
     const double v = (k < RFE_PK_MG_FIRST) ? ps->value[k] : ps->mg[k - RFE_PK_MG_FIRST];
@@ -352,6 +359,10 @@ static int set_mg_key(rfe_mass_grade_params_t *mp, const rfe_param_set_t *ps, si
         *((k == (size_t)RFE_PK_mg_adaptive) ? &mp->adaptive : &mp->use_ax) = (uint32_t)v;
     } else if (k == (size_t)RFE_PK_mg_feed_sd_rel) {
         if (!(v >= 0.0)) {
+            return -1;
+        }
+    } else if ((k == (size_t)RFE_PK_mg_feed_excitation) || (k == (size_t)RFE_PK_mg_feed_ax_min)) {
+        if (!((v >= 0.0) && isfinite(v))) {
             return -1;
         }
     } else if (k == (size_t)RFE_PK_R) {
@@ -522,6 +533,10 @@ static void mass_grade_row(rfe_replay_state_t *st, const rfe_sensor_row_t *row, 
     rfe_status_t s = rfe_replay_mass_grade_input_row(&st->shape, row,
                                                      st->have_mg_last ? &st->t_mg_last : NULL,
                                                      (double)mg->p.R, &in);
+    /* the library's start (mass_grade.h: not started, or a period beyond dt_max), in its
+     * arithmetic, for the feed's gate */
+    const int start = ((mg->started == 0u) || (in.dt > mg->p.dt_max)) ? 1 : 0;
+    const double dt = st->have_mg_last ? (row->t - st->t_mg_last) : 0.0;
     if (s == RFE_OK) {
         s = rfe_mass_grade_step(mg, &in, &e);
     }
@@ -529,6 +544,8 @@ static void mass_grade_row(rfe_replay_state_t *st, const rfe_sensor_row_t *row, 
         st->t_mg_last = row->t;
         st->have_mg_last = 1;
     }
+    rfe_replay_mass_gate_step(&st->gate, rfe_status_is_error(s) ? 0 : start, (int)s, row->ax, dt);
+    st->stats.mg_excitation = st->gate.excitation;
     out->has_mass_grade = 1;
     out->mass = (double)e.mass;
     out->sd_mass = (double)e.sd_mass;
@@ -846,6 +863,7 @@ rfe_status_t rfe_replay_begin(rfe_replay_state_t *st, const rfe_param_set_t *ps,
     st->observer = (observer != 0) ? 1 : 0;
     st->dt = ps->value[RFE_PK_dt];
     st->feed_sd_rel = ps->mg[RFE_PK_mg_feed_sd_rel - RFE_PK_MG_FIRST];
+    st->gate = rfe_replay_mass_gate_of(ps);
     s = rfe_replay_params(ps, &p, bad_key);
     if ((s == RFE_OK) && (observer != 0)) {
         s = rfe_replay_velocity_params(ps, &vp, bad_key);
@@ -881,7 +899,7 @@ static void mass_grade_first(rfe_replay_state_t *st, const rfe_sensor_row_t *row
     int fed = -1;
     mass_grade_row(st, row, out);
     *grade = st->shape.has_grade ? *grade : (rfe_real_t)out->grade;
-    if (rfe_replay_mass_feed_due(st->feed_sd_rel, out) != 0) {
+    if (rfe_replay_mass_feed_due(st->feed_sd_rel, &st->gate, out) != 0) {
         /* a mass rfe_params_set_mass refuses (not finite, <= 0: not an estimate in
          * [mg_m_min, mg_m_max]) leaves the last one; the observer keeps the friction
          * estimator's vehicle */

@@ -9,6 +9,7 @@
 #ifndef RFE_HOST_REPLAY_REAL_H
 #define RFE_HOST_REPLAY_REAL_H
 
+#include <math.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -91,6 +92,8 @@ typedef struct {
                                 (mg_feed_sd_rel, MASS_GRADE.md §10) */
     double mass_used_last; /**< the friction estimator's mass at the last sample [kg] (when
                                 the mass and grade estimator ran) */
+    double mg_excitation;  /**< the feed gate's excitation at the last sample [m/s] (its
+                                sum since the estimator's last start, mg_feed_excitation) */
     size_t tid_status_count[RFE_REPLAY_STATUS_SLOTS]; /**< the tyre identifier's statuses
                                                            (when it ran) */
     size_t tid_flag_count[RFE_REPLAY_TID_FLAGS]; /**< samples with each of its RFE_TID_* bits,
@@ -270,15 +273,63 @@ RFE_NODISCARD rfe_status_t rfe_replay_mass_grade_input_row(const rfe_sensor_log_
                                                            rfe_mass_grade_input_t *in);
 
 /**
+ * The excitation gate of the mass feed (MASS_GRADE.md §10): the longitudinal excitation
+ * since the mass and grade estimator's last start (the first accepted sample, or a period
+ * beyond mg_dt_max), the sum of |ax| dt over its updates (mg_status RFE_OK) whose |ax| >=
+ * mg_feed_ax_min, from the log's ax and times in double: the same in every replay (float,
+ * double, q31). ax is the accelerometer's specific force, v' + g sin(theta): the inertia and
+ * the grade force, which identify the mass; a steady cruise, whose mass is seen only through
+ * the rolling and drag resistances the model may not match, adds nothing.
+ */
+typedef struct {
+    double need;       /**< key mg_feed_excitation [m/s]; 0: no gate */
+    double ax_min;     /**< key mg_feed_ax_min [m/s^2] */
+    double excitation; /**< the sum so far [m/s] */
+} rfe_replay_mass_gate_t;
+
+/** The gate of a run from @p ps's keys, nothing summed. */
+static inline rfe_replay_mass_gate_t rfe_replay_mass_gate_of(const rfe_param_set_t *ps)
+{
+    rfe_replay_mass_gate_t g;
+    g.need = ps->mg[RFE_PK_mg_feed_excitation - RFE_PK_MG_FIRST];
+    g.ax_min = ps->mg[RFE_PK_mg_feed_ax_min - RFE_PK_MG_FIRST];
+    g.excitation = 0.0;
+    return g;
+}
+
+/**
+ * After each mass and grade step: @p start 1 when the step started the filter afresh (the
+ * library's rule: not started yet or a period beyond mg_dt_max; the caller tests it in the
+ * step's own arithmetic before the step), @p status the step's, @p ax [m/s^2] the row's,
+ * @p dt [s] the row's time since the estimator's last accepted one (ignored on a start). A
+ * start empties the sum; an update with |ax| >= ax_min and dt > 0 adds |ax| dt; a pause, hold
+ * or refused row adds nothing (a refused row cannot be a start: the caller passes 0).
+ */
+static inline void rfe_replay_mass_gate_step(rfe_replay_mass_gate_t *g, int start, int status,
+                                             double ax, double dt)
+{
+    if (start != 0) {
+        g->excitation = 0.0;
+    } else if ((status == (int)RFE_OK) && (fabs(ax) >= g->ax_min) && (dt > 0.0)) {
+        g->excitation += fabs(ax) * dt;
+    } else {
+        /* no update, or too little |ax| to count */
+    }
+}
+
+/**
  * The mass feed rule of the replay (MASS_GRADE.md §10), on a row whose mass and grade columns
  * this sample's step wrote: 1 when that step is an update (mg_status RFE_OK: not paused,
- * held or refused) with sd_mass <= @p rel * mass_est, compared in double on the row's values;
- * never with @p rel = 0 (key mg_feed_sd_rel). The one rule of every replay (float, double,
- * q31).
+ * held or refused) with sd_mass <= @p rel * mass_est, compared in double on the row's values,
+ * and the gate @p g open (need 0, or its excitation, this step's included, >= need); never
+ * with @p rel = 0 (key mg_feed_sd_rel). The one rule of every replay (float, double, q31).
  */
-static inline int rfe_replay_mass_feed_due(double rel, const rfe_est_row_t *out)
+static inline int rfe_replay_mass_feed_due(double rel, const rfe_replay_mass_gate_t *g,
+                                           const rfe_est_row_t *out)
 {
-    return ((out->mg_status == (int)RFE_OK) && (rel > 0.0) && (out->sd_mass <= rel * out->mass))
+    return ((out->mg_status == (int)RFE_OK) && (rel > 0.0) &&
+            (out->sd_mass <= rel * out->mass) &&
+            ((g->need <= 0.0) || (g->excitation >= g->need)))
                ? 1
                : 0;
 }

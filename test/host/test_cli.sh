@@ -811,31 +811,85 @@ run mg_engine_torque_off 0 --in "$TMP/engine.csv" --out "$TMP/mg_eo.csv" --mass-
 [ ! -e "$TMP/mg_x.csv" ] && ok "mg invalid parameters: nothing written" || bad "mg invalid parameters: estimate log written"
 
 # The mass into the friction estimator (mg_feed_sd_rel, MASS_GRADE.md §10), on the double run
-# above: the key in the metadata; mass_used is the log's m until the first update (mg_status 0)
-# with sd_mass <= 0.02 mass_est, then that sample's mass_est at each such update and the last
-# one held in between (exact: the double run writes each value so it reads back bit for bit);
-# the summary and the JSON count the samples fed and give the last mass used.
-grep -q '^# mg_feed_sd_rel = 0\.02$' "$TMP/mg_d.csv" && ok "mg_feed: the key in the metadata" \
+# above: the keys in the metadata; mass_used is the log's m until the first update (mg_status 0)
+# with sd_mass <= 0.02 mass_est once the excitation gate is open (mg_feed_excitation 1 m/s of
+# |ax| >= mg_feed_ax_min 0.2 m/s^2, summed over the updates after the first sample: this log
+# has no period beyond mg_dt_max, so its only start is the first sample; ax and the periods
+# from the input log, row by row), then that sample's mass_est at each such update and the
+# last one held in between (exact: the double run writes each value so it reads back bit for
+# bit); the summary and the JSON count the samples fed and give the last mass used. The gate
+# must hold at least one update that the sd rule alone would feed (this log's excitation
+# reaches 1 m/s after its sd_mass reaches 2 %: a rule without the gate fails the row check).
+grep -q '^# mg_feed_sd_rel = 0\.02$' "$TMP/mg_d.csv" && grep -q '^# mg_feed_excitation = 1$' "$TMP/mg_d.csv" \
+    && grep -q '^# mg_feed_ax_min = 0\.2$' "$TMP/mg_d.csv" && ok "mg_feed: the keys in the metadata" \
     || bad "mg_feed: metadata $(grep mg_feed "$TMP/mg_d.csv")"
+res=$(awk -F, '
+    function ab(x) { return x < 0 ? -x : x }
+    FNR == 1 { file++ }
+    file == 2 && /^# m = / { used = $0; sub(/^# m = /, "", used); used += 0; next }
+    /^#/ { next }
+    !h[file] { for (i = 1; i <= NF; i++) c[file, $i] = i; h[file] = 1; row = 0; next }
+    file == 1 { ax[row] = $c[1, "ax"] + 0; t[row] = $c[1, "t"] + 0; row++; next }
+    {
+        if (row > 0 && $c[2, "mg_status"] + 0 == 0 && ab(ax[row]) >= 0.2) ex += ab(ax[row]) * (t[row] - t[row - 1])
+        due = ($c[2, "mg_status"] + 0 == 0 && $c[2, "sd_mass"] + 0 <= 0.02 * $c[2, "mass_est"])
+        if (due && ex >= 1) { used = $c[2, "mass_est"] + 0; fed++ }
+        if (due && ex < 1) held++
+        if ($c[2, "mass_used"] + 0 != used) { if (!bad) first = row; bad++ }
+        last = $c[2, "mass_used"]; row++
+    }
+    END { printf "%d %d %s %d %d", fed, bad, last, held, first }' "$MG/car_grade_step.csv" "$TMP/mg_d.csv")
+set -- $res
+[ "$1" -gt 0 ] && [ "$2" -eq 0 ] && [ "$4" -gt 0 ] \
+    && ok "mg_feed: mass_used follows the rule and the gate on every row ($1 fed, $4 held by the gate)" \
+    || bad "mg_feed: $1 fed, $2 rows differ (the first at row $5), $4 held by the gate"
+grep -qF "\"feed\": {\"sd_rel\": 0.02, \"excitation\": 1, \"ax_min\": 0.2, \"excitation_end\": " "$TMP/mg_d.json" \
+    && grep -qF ", \"n_fed\": $1, \"mass_used_end\": $3}" "$TMP/mg_d.json" \
+    && ok "mg_feed: JSON" || bad "mg_feed: JSON $(grep -o '"feed": [^}]*}' "$TMP/mg_d.json"), want $1 $3"
+# every arithmetic opens the gate at the same row (the sum is of the log's double values; on
+# this log the gate, not the sd rule, decides the first feed: 26 updates held above); the
+# log's first 500 rows (10 s) hold it, so the runs below take those (cheap under memcheck)
+awk '/^#/ || n++ <= 500' "$MG/car_grade_step.csv" >"$TMP/gs.csv"
+first_fed() { awk -F, '/^#/ { next } !h { for (i = 1; i <= NF; i++) c[$i] = i; h = 1; next }
+    { n++; if (n == 1) m0 = $c["mass_used"]; if ($c["mass_used"] != m0) { print n; exit } }' "$1"; }
+run mg_feed_float 0 --in "$TMP/gs.csv" --out "$TMP/mg_gfl.csv" --real float -q
+run mg_feed_q31 0 --in "$TMP/gs.csv" --out "$TMP/mg_gq.csv" --real q31 -q
+fd=$(first_fed "$TMP/mg_d.csv"); ff=$(first_fed "$TMP/mg_gfl.csv"); fq=$(first_fed "$TMP/mg_gq.csv")
+[ -n "$fd" ] && [ "$fd" = "$ff" ] && [ "$fd" = "$fq" ] \
+    && ok "mg_feed_gate_reals: first fed at row $fd in double, float and q31" \
+    || bad "mg_feed_gate_reals: first fed at row double ${fd:-never}, float ${ff:-never}, q31 ${fq:-never}"
+# mg_feed_excitation = 0: no gate, the sd rule alone (the feed before the gate)
+printf 'mg_feed_excitation = 0\n' >"$TMP/nogate.par"
+run mg_feed_nogate 0 --in "$TMP/gs.csv" --out "$TMP/mg_ng.csv" --real double --params "$TMP/nogate.par" -q
 res=$(awk -F, '
     /^# m = / { used = $0; sub(/^# m = /, "", used); used += 0; next }
     /^#/ { next }
     !h { for (i = 1; i <= NF; i++) c[$i] = i; h = 1; next }
     {
         if ($c["mg_status"] + 0 == 0 && $c["sd_mass"] + 0 <= 0.02 * $c["mass_est"]) { used = $c["mass_est"] + 0; fed++ }
-        if ($c["mass_used"] + 0 != used) { if (!bad) first = NR; bad++ }
-        last = $c["mass_used"]
+        if ($c["mass_used"] + 0 != used) bad++
     }
-    END { printf "%d %d %s %s", fed, bad, last, first }' "$TMP/mg_d.csv")
+    END { printf "%d %d", fed, bad }' "$TMP/mg_ng.csv")
 set -- $res
-[ "$1" -gt 0 ] && [ "$2" -eq 0 ] && ok "mg_feed: mass_used follows the rule on every row ($1 fed)" \
-    || bad "mg_feed: $1 fed, $2 rows differ (the first at line ${4:-?})"
-grep -qF "\"feed\": {\"sd_rel\": 0.02, \"n_fed\": $1, \"mass_used_end\": $3}" "$TMP/mg_d.json" \
-    && ok "mg_feed: JSON" || bad "mg_feed: JSON $(grep -o '"feed": [^}]*}' "$TMP/mg_d.json"), want $1 $3"
+[ "$1" -gt 0 ] && [ "$2" -eq 0 ] && grep -q '^# mg_feed_excitation = 0$' "$TMP/mg_ng.csv" \
+    && ok "mg_feed_nogate: the sd rule alone on every row ($1 fed)" || bad "mg_feed_nogate: $1 fed, $2 rows differ"
+# a gate no drive reaches: never fed
+printf 'mg_feed_excitation = 1e6\n' >"$TMP/gate_far.par"
+run mg_feed_gate_far 0 --in "$TMP/hilly.csv" --out "$TMP/mg_gf.csv" --real double --params "$TMP/gate_far.par"
+grep -Eq '^  mass fed to the friction estimator at 0 samples \(mg_feed_sd_rel = 0\.02, mg_feed_excitation = 1e\+06 m/s of \|ax\| >= 0\.2 m/s\^2, [0-9.]+ m/s at the end\); its mass at the end 2000\.0 kg$' "$TMP/out" \
+    && ok "mg_feed_gate_far: nothing fed" || bad "mg_feed_gate_far: summary $(grep 'mass fed' "$TMP/out")"
+# bad gate values: an error naming the key, in every arithmetic (the parameter file itself
+# refuses a value that is not finite)
+printf 'mg_feed_excitation = -1\n' >"$TMP/gate_bad.par"
+run mg_feed_excitation_bad 1 --in "$TMP/hilly.csv" --out "$TMP/mg_x.csv" --params "$TMP/gate_bad.par"
+one_line mg_feed_excitation_bad "^mu_replay: .*gate_bad\.par:1: invalid parameter mg_feed_excitation = -1 \(rejected by mu_replay: a finite excitation >= 0 m/s, float run\)$"
+printf 'mg_feed_ax_min = -0.1\n' >"$TMP/axmin_bad.par"
+run mg_feed_ax_min_bad 1 --in "$TMP/hilly.csv" --out "$TMP/mg_x.csv" --params "$TMP/axmin_bad.par" --real q31
+one_line mg_feed_ax_min_bad "^mu_replay: .*axmin_bad\.par:1: invalid parameter mg_feed_ax_min = -0\.1 \(rejected by mu_replay: a finite acceleration >= 0 m/s\^2, q31 run\)$"
 # 0: never fed, mass_used the log's m throughout
 printf 'mg_feed_sd_rel = 0\n' >"$TMP/feed0.par"
 run mg_feed_off 0 --in "$TMP/hilly.csv" --out "$TMP/mg_f0.csv" --real double --params "$TMP/feed0.par"
-grep -Eq '^  mass fed to the friction estimator at 0 samples \(mg_feed_sd_rel = 0\); its mass at the end 2000\.0 kg$' "$TMP/out" \
+grep -Eq '^  mass fed to the friction estimator at 0 samples \(mg_feed_sd_rel = 0, mg_feed_excitation = 1 m/s of \|ax\| >= 0\.2 m/s\^2, [0-9.]+ m/s at the end\); its mass at the end 2000\.0 kg$' "$TMP/out" \
     && ok "mg_feed_off: summary" || bad "mg_feed_off: summary $(grep 'mass fed' "$TMP/out")"
 m=$(sed -n 's/^# m = //p' "$TMP/hilly.csv" | head -1)
 awk -F, -v m="$m" '/^#/ {next} !h {for (i = 1; i <= NF; i++) c[$i] = i; h = 1; next} $c["mass_used"] + 0 != m + 0 {b++} END {exit b > 0}' "$TMP/mg_f0.csv" \

@@ -1068,7 +1068,8 @@ static int feed_due(rfe_status_t st, const rfe_mass_grade_estimate_t *e, double 
     return (st == RFE_OK) && (rel > 0.0) && ((double)e->sd_mass <= rel * (double)e->mass);
 }
 
-/* The replay's friction columns (and mass_used) equal a hand-written loop over the library:
+/* The replay's friction columns (and mass_used) equal a hand-written loop over the library,
+ * without the excitation gate (mg_feed_excitation = 0; the gate is the next tests'):
  * each sample the mass and grade step, then the feed rule on that step's estimate, then the
  * friction step (measured velocities: rfe_friction_set_mass; behind the observer:
  * rfe_pipeline_set_mass), bit for bit. mg_feed_sd_rel is set between two samples' sd_mass /
@@ -1098,6 +1099,7 @@ static void test_rfe_replay_feeds_the_current_mass_by_the_sd_rule(void **state)
     assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_DEFAULT), 0);
     ps.mass_grade = 1;
     ps.value[RFE_PK_dt] = 0.02; /* the log's period: no gaps */
+    ps.mg[RFE_PK_mg_feed_excitation - RFE_PK_MG_FIRST] = 0.0; /* the sd rule alone: no gate */
     for (observer = 0; observer <= 1; ++observer) {
         size_t i;
         size_t n_fed = 0u;
@@ -1227,6 +1229,111 @@ static void test_rfe_replay_feed_off_is_mass_grade_off(void **state)
     }
 }
 
+/* make_mg_log's rows 0 .. 39 with the rows from GATE_RESTART on 1.5 s later: a period beyond
+ * mg_dt_max (1 s), so the mass and grade estimator starts afresh there (MASS_GRADE.md §4.1). */
+#define GATE_RESTART 20u
+/* Updates after a start the gate needs: the excitation key is set to GATE_OPEN - 0.5 updates'
+ * worth of |ax| dt, so it opens at the GATE_OPEN-th update after the start (the sums of
+ * GATE_OPEN - 1 and GATE_OPEN equal terms differ from that key by half a term, far more than
+ * their rounding, a few 1e-16 relative). */
+#define GATE_OPEN 10u
+
+/* The gate of the mass feed (mg_feed_excitation, mg_feed_ax_min; MASS_GRADE.md §10), in
+ * double, q31 and behind the observer alike: with the sd rule passing every update
+ * (mg_feed_sd_rel = 1: sd_mass <= mass_est from the start, mg_sd_m0 500 kg on 1830 kg) the
+ * friction estimator keeps the parameter m until the GATE_OPEN-th update after the start
+ * (|ax| dt summed from the second sample: every sample is an update, the constant ax of
+ * make_mg_log, 0.794 m/s^2, over 0.02 s), takes each sample's mass_est from there, keeps the
+ * last one through the restart at GATE_RESTART (the sum starts again from 0 there) until the
+ * GATE_OPEN-th update after it, and takes each again from there. Written out from the rule,
+ * not from the replay; a gate that is not reset at the restart feeds rows 20 .. 29, one that
+ * is not there feeds rows 0 .. 9. Every arithmetic opens it at the same row (the sum is of
+ * the log's double values). With mg_feed_ax_min above |ax| nothing counts and nothing is fed;
+ * a negative, NaN or infinite key is refused before any row, naming it. */
+/* REQ-CLI-007 */
+static void test_rfe_replay_gate_holds_the_feed_until_the_excitation(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_sensor_row_t rows[N_MG];
+    rfe_param_set_t ps;
+    static rfe_est_row_t out[N_MG];
+    rfe_replay_stats_t st;
+    rfe_replay_q31_stats_t sq;
+    const double ax = 0.5 + 9.81 * sin(0.03); /* make_mg_log's */
+    const double bad_values[3] = {-0.1, NAN, INFINITY};
+    size_t i;
+    int path;
+    (void)state;
+    make_mg_log(&log, rows);
+    for (i = GATE_RESTART; i < N_MG; ++i) {
+        rows[i].t += 1.5;
+    }
+    assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_DEFAULT), 0);
+    assert_true(ps.mg[RFE_PK_mg_dt_max - RFE_PK_MG_FIRST] < 1.5 + 0.02);
+    assert_true(ps.mg[RFE_PK_mg_feed_ax_min - RFE_PK_MG_FIRST] <= ax);
+    ps.mass_grade = 1;
+    ps.value[RFE_PK_dt] = 0.02;
+    ps.mg[RFE_PK_mg_feed_sd_rel - RFE_PK_MG_FIRST] = 1.0;
+    ps.mg[RFE_PK_mg_feed_excitation - RFE_PK_MG_FIRST] = ((double)GATE_OPEN - 0.5) * 0.02 * ax;
+    for (path = 0; path < 4; ++path) { /* double, double observer, q31, q31 observer */
+        const double m = ps.value[RFE_PK_m];
+        size_t n_fed = 0u;
+        double exc_end;
+        if (path < 2) {
+            assert_int_equal((path == 0) ? rfe_replay_run_f64(&ps, &log, out, &st, NULL)
+                                         : rfe_replay_run_observer_f64(&ps, &log, out, &st, NULL),
+                             RFE_OK);
+        } else {
+            assert_int_equal((path == 2) ? rfe_replay_run_q31(&ps, &log, out, &sq, NULL, NULL)
+                                         : rfe_replay_run_observer_q31(&ps, &log, out, &sq, NULL, NULL),
+                             RFE_OK);
+            st = sq.base;
+        }
+        assert_int_equal(st.mg_status_count[RFE_OK], N_MG); /* every sample an update */
+        for (i = 0u; i < N_MG; ++i) {
+            const int after_restart = (i >= GATE_RESTART) ? 1 : 0;
+            const size_t since = after_restart ? i - GATE_RESTART : i; /* updates after the start */
+            if (since >= GATE_OPEN) {
+                assert_true(out[i].mass_used == out[i].mass); /* fed this sample's */
+                ++n_fed;
+            } else if (after_restart) {
+                assert_true(out[i].mass_used == out[GATE_RESTART - 1u].mass); /* the last fed */
+            } else {
+                assert_true(out[i].mass_used == m); /* the parameter m */
+            }
+        }
+        assert_int_equal(st.n_mass_fed, n_fed);
+        assert_int_equal(n_fed, 2u * (GATE_RESTART - GATE_OPEN)); /* 10 + 10 */
+        /* the restart's mass differs from the one held, so holding shows */
+        assert_true(out[GATE_RESTART].mass != out[GATE_RESTART - 1u].mass);
+        /* the sum at the end: the N_MG - GATE_RESTART - 1 updates after the restart's start;
+         * that many roundings of a few 1e-16 relative each, so 1e-13 relative */
+        exc_end = (double)(N_MG - GATE_RESTART - 1u) * 0.02 * ax;
+        assert_true(fabs(st.mg_excitation - exc_end) <= 1e-13 * exc_end);
+    }
+    /* mg_feed_ax_min above |ax|: nothing counts, nothing fed */
+    ps.mg[RFE_PK_mg_feed_ax_min - RFE_PK_MG_FIRST] = ax + 0.01;
+    assert_int_equal(rfe_replay_run_f64(&ps, &log, out, &st, NULL), RFE_OK);
+    assert_int_equal(st.n_mass_fed, 0u);
+    assert_true(st.mg_excitation == 0.0);
+    assert_int_equal(rfe_replay_run_q31(&ps, &log, out, &sq, NULL, NULL), RFE_OK);
+    assert_int_equal(sq.base.n_mass_fed, 0u);
+    ps.mg[RFE_PK_mg_feed_ax_min - RFE_PK_MG_FIRST] = RFE_MG_FEED_AX_MIN_DEFAULT;
+    /* a bad key: refused before any row, naming it, in double and q31 */
+    for (i = 0u; i < 6u; ++i) {
+        const size_t k = (i < 3u) ? (size_t)RFE_PK_mg_feed_excitation : (size_t)RFE_PK_mg_feed_ax_min;
+        const double keep = ps.mg[k - RFE_PK_MG_FIRST];
+        size_t bad = 0u;
+        ps.mg[k - RFE_PK_MG_FIRST] = bad_values[i % 3u];
+        assert_int_equal(rfe_replay_run_f64(&ps, &log, out, &st, &bad), RFE_ERR_PARAM);
+        assert_int_equal(bad, k);
+        bad = 0u;
+        assert_int_equal(rfe_replay_run_q31(&ps, &log, out, &sq, NULL, &bad), RFE_ERR_PARAM);
+        assert_int_equal(bad, k);
+        ps.mg[k - RFE_PK_MG_FIRST] = keep;
+    }
+}
+
 /* ------------------------------------------------------------ mass and grade in q31 */
 
 /* A bundled mass and grade log with gear shifts (50 Hz; shifts at 5, 11, 19, 30 s): its
@@ -1315,8 +1422,12 @@ static void test_rfe_replay_q31_mass_grade_is_the_library_loop(void **state)
     assert_int_equal(RFE_MG_Q_M + 2, RFE_FIX_Q_MASS); /* the mass to the friction estimator */
     for (observer = 0; observer <= 1; ++observer) {
         const double rel = ps.mg[RFE_PK_mg_feed_sd_rel - RFE_PK_MG_FIRST];
+        const double need = ps.mg[RFE_PK_mg_feed_excitation - RFE_PK_MG_FIRST];
+        const double ax_min = ps.mg[RFE_PK_mg_feed_ax_min - RFE_PK_MG_FIRST];
+        double excitation = 0.0;
         size_t i;
         size_t n_fed = 0u;
+        size_t n_held = 0u;
         size_t n_ok = 0u;
         size_t n_shift = 0u;
         double t_last = 0.0;
@@ -1326,6 +1437,7 @@ static void test_rfe_replay_q31_mass_grade_is_the_library_loop(void **state)
                             rfe_replay_q31_stats_t *, uint32_t *, size_t *) =
             observer ? rfe_replay_run_observer_q31 : rfe_replay_run_q31;
         assert_true(rel == RFE_MG_FEED_SD_REL_DEFAULT);
+        assert_true((need == RFE_MG_FEED_EXCITATION_DEFAULT) && (ax_min == RFE_MG_FEED_AX_MIN_DEFAULT));
         assert_int_equal(run(&ps, &log, out, &st, NULL, NULL), RFE_OK);
         assert_int_equal(rfe_replay_mass_grade_params_f64(&ps, &mp, NULL), RFE_OK);
         assert_int_equal(rfe_mass_grade_params_to_q31_f64(&mp, &mq), RFE_OK);
@@ -1347,6 +1459,11 @@ static void test_rfe_replay_q31_mass_grade_is_the_library_loop(void **state)
             mgq_input_of(row, have_last ? &t_last : NULL, mp.R, &mi);
             mst = rfe_mass_grade_step_q31(&mg, &mi, &e);
             assert_false(rfe_status_is_error(mst)); /* every sample taken (or paused) */
+            /* the gate: |ax| dt over the updates after the first sample (no gaps: the only
+             * start), those with |ax| >= mg_feed_ax_min */
+            if (have_last && (mst == RFE_OK) && (fabs(row->ax) >= ax_min)) {
+                excitation += fabs(row->ax) * (row->t - t_last);
+            }
             t_last = row->t;
             have_last = 1;
             n_ok += (mst == RFE_OK) ? 1u : 0u;
@@ -1358,6 +1475,10 @@ static void test_rfe_replay_q31_mass_grade_is_the_library_loop(void **state)
             assert_true(out[i].grade == ldexp((double)e.grade, -29));
             assert_true(out[i].sd_grade == ldexp((double)e.sd_grade, -29));
             if ((mst == RFE_OK) &&
+                (ldexp((double)e.sd_mass, -14) <= rel * ldexp((double)e.mass, -14)) &&
+                (excitation < need)) {
+                ++n_held; /* the sd rule alone would feed it */
+            } else if ((mst == RFE_OK) &&
                 (ldexp((double)e.sd_mass, -14) <= rel * ldexp((double)e.mass, -14))) {
                 m_used = e.mass * 4; /* Q14 -> Q16, exact below 32768 kg */
                 assert_int_equal(observer ? rfe_pipeline_set_mass_q31(&pl, m_used)
@@ -1386,8 +1507,12 @@ static void test_rfe_replay_q31_mass_grade_is_the_library_loop(void **state)
             }
             assert_int_equal(out[i].status, fe.status);
         }
-        /* the rule both ways: the first samples (sd_mass ~27 % of the mass) are not fed */
+        /* the rule both ways: the first samples (sd_mass ~27 % of the mass) are not fed; the
+         * gate holds some the sd rule passes (this log's |ax| reaches 1 m/s after its sd_mass
+         * 2 %: MASS_GRADE_RESULTS.md, 1.6 -> 2.2 s), so a replay without it fails above */
         assert_true((n_fed > 0u) && (n_fed < n_ok));
+        assert_true(n_held > 0u);
+        assert_true(st.base.mg_excitation == excitation);
         assert_true(n_shift > 0u);
         assert_int_equal(st.base.n_mass_fed, n_fed);
         assert_int_equal(st.base.mg_status_count[RFE_OK], n_ok);
@@ -1411,7 +1536,7 @@ static void test_rfe_replay_q31_mass_grade_is_the_library_loop(void **state)
 
 /* The fed mass reaches the fixed-point friction estimator's model: on the drive-slip log (its
  * ax row informative, so mu depends on the mass) with mg_feed_sd_rel between two samples'
- * sd_mass / mass_est (as the float test), the rows before the first feed equal those of the
+ * sd_mass / mass_est (as the float test, without the gate), the rows before the first feed equal those of the
  * run without the feed bit for bit and later ones differ, measured and behind the observer
  * (there the log has a grade column, so the estimated grade does not reach the observer and
  * the mass alone makes the difference). */
@@ -1431,6 +1556,7 @@ static void test_rfe_replay_q31_fed_mass_reaches_the_friction_estimator(void **s
     assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_DEFAULT), 0);
     ps.mass_grade = 1;
     ps.value[RFE_PK_dt] = 0.02;
+    ps.mg[RFE_PK_mg_feed_excitation - RFE_PK_MG_FIRST] = 0.0; /* the sd rule alone: no gate */
     for (observer = 0; observer <= 1; ++observer) {
         size_t i;
         size_t w;
@@ -1545,6 +1671,7 @@ static void test_rfe_replay_q31_mass_grade_refusals(void **state)
     make_mg_log(&log, rows);
     ps.value[RFE_PK_dt] = 0.02;
     ps.mg[RFE_PK_mg_feed_sd_rel - RFE_PK_MG_FIRST] = 1.0;
+    ps.mg[RFE_PK_mg_feed_excitation - RFE_PK_MG_FIRST] = 0.0; /* every update: no gate */
     ps.mg[RFE_PK_mg_m0 - RFE_PK_MG_FIRST] = 40000.0;
     ps.mg[RFE_PK_mg_m_min - RFE_PK_MG_FIRST] = 33000.0;
     ps.mg[RFE_PK_mg_m_max - RFE_PK_MG_FIRST] = 60000.0;
@@ -2317,6 +2444,7 @@ int main(void)
         cmocka_unit_test(test_rfe_replay_mass_grade_refusals),
         cmocka_unit_test(test_rfe_replay_feeds_the_current_mass_by_the_sd_rule),
         cmocka_unit_test(test_rfe_replay_feed_off_is_mass_grade_off),
+        cmocka_unit_test(test_rfe_replay_gate_holds_the_feed_until_the_excitation),
         cmocka_unit_test(test_rfe_replay_q31_mass_grade_is_the_library_loop),
         cmocka_unit_test(test_rfe_replay_q31_fed_mass_reaches_the_friction_estimator),
         cmocka_unit_test(test_rfe_replay_q31_mass_grade_refusals),
