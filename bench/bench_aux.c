@@ -100,7 +100,7 @@ int main(int argc, char **argv)
     }
     (void)rfe_param_set_preset(&ps, RFE_PRESET_DEFAULT);
     if (!tid) {
-        (void)rfe_param_set_mass_grade(&ps, strcmp(c, "mg_aukf") == 0 ? RFE_MG_SEED : RFE_MG_RECOMMENDED);
+        (void)rfe_param_set_mass_grade(&ps, RFE_MG_CAR, strcmp(c, "mg_aukf") == 0 ? RFE_MG_SEED : RFE_MG_RECOMMENDED);
     }
     if (rfe_param_set_apply_meta(&ps, &log, path, &err) != 0 ||
         (tid ? (rfe_replay_params(&ps, &vp, NULL) != RFE_OK || rfe_tyre_id_params_default(&tp) != RFE_OK)
