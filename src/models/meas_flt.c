@@ -533,3 +533,217 @@ rfe_status_t rfe_meas_lateral_jac(const rfe_meas_t *h, const rfe_vehicle_t *veh,
     }
     return st;
 }
+
+/* ---- the derivatives of h by the inputs (for the step noise, docs/ESTIMATOR.md step 4) ------ */
+
+/* Wheel i's slip direction for a change dvwx, dvwy of its velocity in wheel axes and dvr of
+ * its rolling speed omega R, with t = tan(alpha) = -v_wy / |v_wx| (alpha inside its bound):
+ *   d tan(alpha) = -(dvwy + t sgn(v_wx) dvwx) / |v_wx|   (0 where |alpha| >= alpha_max or v_wx = 0),
+ *   d kappa = (dvr (1 - [den = |omega R|] kappa sgn(omega R))
+ *              - dvwx (1 + [den = |v_wx|] kappa sgn(v_wx))) / den   (0 where |kappa| >= 1),
+ * den = max(|omega R|, |v_wx|, v_min): the quotient rule where den follows one of the two speeds
+ * (vy_direction is the case dvwx = si, dvwy = ci, dvr = 0). */
+static rfe_slip_dir_t input_direction(const rfe_meas_t *h, const rfe_vehicle_t *veh,
+                                      const rfe_tyre_params_t *tp, const rfe_sample_t *u,
+                                      size_t i, rfe_real_t tan_a, const rfe_real_t dv[3])
+{
+    const rfe_real_t vwx = h->kin.vwx[i];
+    const rfe_real_t avx = RFE_FABS(vwx);
+    const rfe_real_t kappa = h->kin.kappa[i];
+    rfe_slip_dir_t d;
+    d.vwx = dv[0];
+    d.tan_a = RFE_R(0.0);
+    d.k = RFE_R(0.0);
+    if ((RFE_FABS(h->kin.alpha[i]) < tp->alpha_max) && (avx > RFE_R(0.0))) {
+        d.tan_a = -(dv[1] + ((tan_a * rfe_sgn(vwx)) * dv[0])) / avx;
+    }
+    if (RFE_FABS(kappa) < RFE_R(1.0)) {
+        const rfe_real_t vr = u->omega[i] * veh->R;
+        const rfe_real_t avr = RFE_FABS(vr);
+        const rfe_real_t den = rfe_max(rfe_max(avr, avx), tp->v_min);
+        const rfe_real_t own_x =
+            ((avx > avr) && (avx > tp->v_min)) ? (kappa * rfe_sgn(vwx)) : RFE_R(0.0);
+        const rfe_real_t own_r =
+            ((avr >= avx) && (avr > tp->v_min)) ? (kappa * rfe_sgn(vr)) : RFE_R(0.0);
+        d.k = ((dv[2] * (RFE_R(1.0) - own_r)) - (dv[0] * (RFE_R(1.0) + own_x))) / den;
+    }
+    return d;
+}
+
+/* Wheel i's velocity change (dv: d v_wx, d v_wy in wheel axes, d(omega R)) per unit of input j
+ * (RFE_IN_*, one that reaches the wheel); ci, si: cos, sin of its steer angle; vwx, vwy its
+ * velocity in wheel axes. Returns 1 for delta, whose change also turns the wheel's forces into
+ * the body axes (d(ci, si)/d delta = (-si, ci)). Body velocity v_i = (vx - r y_i, vy + r x_i). */
+static int input_change(const rfe_vehicle_t *veh, size_t j, rfe_real_t px, rfe_real_t py,
+                        rfe_real_t ci, rfe_real_t si, rfe_real_t vwx, rfe_real_t vwy,
+                        rfe_real_t dv[3])
+{
+    int turns = 0;
+    dv[0] = RFE_R(0.0);
+    dv[1] = RFE_R(0.0);
+    dv[2] = RFE_R(0.0);
+    if (j == (size_t)RFE_IN_DELTA) {
+        /* the wheel axes turn by d delta: d v_w = (v_wy, -v_wx) */
+        dv[0] = vwy;
+        dv[1] = -vwx;
+        turns = 1;
+    } else if (j >= (size_t)RFE_IN_OMEGA) {
+        dv[2] = veh->R;
+    } else if (j == (size_t)RFE_IN_YAW_RATE) {
+        /* the body velocity's change (-y_i, x_i), rotated into wheel axes */
+        dv[0] = (-py * ci) + (px * si);
+        dv[1] = (py * si) + (px * ci);
+    } else {
+        /* vx: the body velocity's change (1, 0); vy: (0, 1) */
+        const rfe_real_t dbx = (j == (size_t)RFE_IN_VX) ? RFE_R(1.0) : RFE_R(0.0);
+        const rfe_real_t dby = (j == (size_t)RFE_IN_VY) ? RFE_R(1.0) : RFE_R(0.0);
+        dv[0] = (dbx * ci) + (dby * si);
+        dv[1] = (-dbx * si) + (dby * ci);
+    }
+    return turns;
+}
+
+/* Wheel i's forces' derivatives along unit changes of kappa (fj[0]), tan(alpha) (fj[1]) and
+ * v_wx (fj[2]): the forces are differentiable in the three, so any direction is their linear
+ * combination. The Magic Formula curve does not depend on v_wx (magic_jac reads no d->vwx):
+ * its fj[2] is zero without evaluating it. */
+static rfe_status_t wheel_basis(const rfe_meas_t *h, const rfe_tyre_params_t *tp,
+                                const rfe_dugoff_pre_t *pre, size_t i, rfe_real_t mu,
+                                rfe_tyre_jac_t fj[3])
+{
+    size_t nb = 3u;
+    size_t b;
+    if (tp->mode == RFE_TYRE_MAGIC) {
+        nb = 2u;
+    }
+    fj[2].dfx = RFE_R(0.0);
+    fj[2].dfy = RFE_R(0.0);
+    for (b = 0u; b < nb; ++b) {
+        rfe_slip_dir_t e;
+        rfe_status_t st;
+        e.k = (b == 0u) ? RFE_R(1.0) : RFE_R(0.0);
+        e.tan_a = (b == 1u) ? RFE_R(1.0) : RFE_R(0.0);
+        e.vwx = (b == 2u) ? RFE_R(1.0) : RFE_R(0.0);
+        st = rfe_tyre_pre_jac(tp, pre, h->kin.kappa[i], h->kin.alpha[i], h->kin.fz[i],
+                              h->kin.vwx[i], mu, &e, &fj[b]);
+        if (st != RFE_OK) {
+            return st;
+        }
+    }
+    return RFE_OK;
+}
+
+/* Wheel i's terms of dh/du_j for every input j into t (input j's terms of wheel i at
+ * j COLS + i RFE_MEAS; zeros for the inputs that do not reach it). */
+static rfe_status_t wheel_input_terms(const rfe_meas_t *h, const rfe_vehicle_t *veh,
+                                      const rfe_tyre_params_t *tp, const rfe_sample_t *u,
+                                      int cached, size_t i, rfe_real_t c, rfe_real_t s,
+                                      rfe_real_t mu, rfe_real_t *t)
+{
+    rfe_real_t px[RFE_WHEELS];
+    rfe_real_t py[RFE_WHEELS];
+    const rfe_real_t ci = (i < (size_t)RFE_RL) ? c : RFE_R(1.0);
+    const rfe_real_t si = (i < (size_t)RFE_RL) ? s : RFE_R(0.0);
+    rfe_dugoff_pre_t pre;
+    rfe_tyre_jac_t fj[3];
+    rfe_real_t vbx;
+    rfe_real_t vby;
+    size_t j;
+    rfe_status_t st;
+    rfe_wheel_positions(veh, px, py);
+    jac_pre(h, tp, cached, i, &pre);
+    st = wheel_basis(h, tp, &pre, i, mu, fj);
+    if (st != RFE_OK) {
+        return st;
+    }
+    vbx = u->vx - (u->yaw_rate * py[i]);
+    vby = u->vy + (u->yaw_rate * px[i]);
+    for (j = 0u; j < (size_t)RFE_INPUTS; ++j) {
+        rfe_real_t *tj = &t[(j * COLS) + (i * (size_t)RFE_MEAS)];
+        rfe_real_t dv[3];
+        rfe_slip_dir_t d;
+        rfe_real_t dfx;
+        rfe_real_t dfy;
+        int turns;
+        if (rfe_input_reaches(j, i) == 0) {
+            tj[0] = RFE_R(0.0);
+            tj[1] = RFE_R(0.0);
+            tj[2] = RFE_R(0.0);
+            continue;
+        }
+        turns = input_change(veh, j, px[i], py[i], ci, si, (vbx * ci) + (vby * si),
+                             (-vbx * si) + (vby * ci), dv);
+        d = input_direction(h, veh, tp, u, i, pre.tan_a, dv);
+        dfx = ((d.k * fj[0].dfx) + (d.tan_a * fj[1].dfx)) + (d.vwx * fj[2].dfx);
+        dfy = ((d.k * fj[0].dfy) + (d.tan_a * fj[1].dfy)) + (d.vwx * fj[2].dfy);
+        if (turns != 0) {
+            /* the body terms rotate the forces by delta: d(R(delta) F) = R(delta) (dF + (-Fy, Fx)) */
+            dfx -= fj[0].fy;
+            dfy += fj[0].fx;
+        }
+        /* the body terms are linear in the forces: the same map for the derivative */
+        wheel_terms(veh, c, s, i, px[i], py[i], dfx, dfy, tj);
+    }
+    return RFE_OK;
+}
+
+/* G[r RFE_INPUTS + j] = sd_j times the sum over the wheels of input j's terms (t, input j's at
+ * j COLS), each sum checked as sum_terms checks it; RFE_ERR_NONFINITE when a sum or a scaled
+ * column is not finite (a huge sd times a finite derivative), G then untouched. */
+static rfe_status_t scaled_columns(const rfe_real_t *t, const rfe_real_t sd[RFE_INPUTS],
+                                   rfe_real_t G[(size_t)RFE_MEAS * (size_t)RFE_INPUTS])
+{
+    rfe_real_t zj[(size_t)RFE_INPUTS * (size_t)RFE_MEAS];
+    size_t i;
+    size_t j;
+    for (j = 0u; j < (size_t)RFE_INPUTS; ++j) {
+        const rfe_status_t st = sum_terms(&t[j * COLS], &zj[j * (size_t)RFE_MEAS]);
+        if (st != RFE_OK) {
+            return st;
+        }
+        for (i = 0u; i < (size_t)RFE_MEAS; ++i) {
+            zj[(j * (size_t)RFE_MEAS) + i] *= sd[j];
+        }
+    }
+    if (!rfe_all_finite(zj, (size_t)RFE_INPUTS * (size_t)RFE_MEAS)) {
+        return RFE_ERR_NONFINITE; /* a huge sd times a finite derivative */
+    }
+    for (j = 0u; j < (size_t)RFE_INPUTS; ++j) {
+        for (i = 0u; i < (size_t)RFE_MEAS; ++i) {
+            G[(i * (size_t)RFE_INPUTS) + j] = zj[(j * (size_t)RFE_MEAS) + i];
+        }
+    }
+    return RFE_OK;
+}
+
+rfe_status_t rfe_meas_input_jac(const rfe_meas_t *h, const rfe_vehicle_t *veh,
+                                const rfe_tyre_params_t *tp, const rfe_sample_t *u,
+                                const rfe_real_t mu[RFE_WHEELS],
+                                const rfe_real_t sd[RFE_INPUTS],
+                                rfe_real_t G[(size_t)RFE_MEAS * (size_t)RFE_INPUTS])
+{
+    rfe_real_t t[(size_t)RFE_INPUTS * COLS];
+    rfe_real_t c;
+    rfe_real_t s;
+    int cached;
+    size_t i;
+
+    if ((h == NULL) || (veh == NULL) || (tp == NULL) || (u == NULL) || (mu == NULL) ||
+        (sd == NULL) || (G == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    c = h->cos_delta;
+    s = h->sin_delta;
+    if (h->mode == RFE_TYRE_PAPER) {
+        c = RFE_COS(h->delta);
+        s = RFE_SIN(h->delta);
+    }
+    cached = pre_matches(h, tp);
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        const rfe_status_t st = wheel_input_terms(h, veh, tp, u, cached, i, c, s, mu[i], t);
+        if (st != RFE_OK) {
+            return st;
+        }
+    }
+    return scaled_columns(t, sd, G);
+}

@@ -620,3 +620,285 @@ rfe_status_t rfe_meas_lateral_jac_q31(const rfe_meas_q31_t *h, const rfe_vehicle
     rfe_q31_sat_add(sat, count);
     return RFE_OK;
 }
+
+/* ---- the derivatives of h by the inputs (for the step noise, docs/ESTIMATOR.md step 4) ------ */
+
+/* The Q format of each input (RFE_IN_*) of the sample: its sd's too. */
+static int input_q_q31(size_t j)
+{
+    int q = (int)RFE_FIX_Q_OMEGA;
+    if (j == (size_t)RFE_IN_DELTA) {
+        q = (int)RFE_FIX_Q_ANGLE;
+    } else if ((j == (size_t)RFE_IN_VX) || (j == (size_t)RFE_IN_VY)) {
+        q = (int)RFE_FIX_Q_SPEED;
+    } else if (j == (size_t)RFE_IN_YAW_RATE) {
+        q = (int)RFE_FIX_Q_YAWRATE;
+    } else {
+        /* a wheel speed */
+    }
+    return q;
+}
+
+/* Wheel i's slip direction (meas_flt.c input_direction) for a change dv = (d v_wx, d v_wy,
+ * d(omega R)) in rfe_xf_t; tan_a its tan(alpha) (Q26). den = max(|omega R|, |v_wx|, v_min)
+ * in Q51, as the kinematics form it (vy_direction_q31). */
+static rfe_slip_dir_q31_t input_direction_q31(const rfe_meas_q31_t *h,
+                                              const rfe_vehicle_q31_t *veh,
+                                              const rfe_tyre_params_q31_t *tp,
+                                              const rfe_sample_q31_t *u, size_t i,
+                                              int32_t tan_a, const rfe_xf_t dv[3])
+{
+    const int32_t vwx = h->kin.vwx[i];
+    const int32_t kappa = h->kin.kappa[i];
+    const int sv = rfe_q31_sign(vwx);
+    const rfe_xf_t one = rfe_xf_make(1, 0);
+    rfe_slip_dir_q31_t d;
+    d.vwx = dv[0];
+    d.tan_a = rfe_xf_make(0, 0);
+    d.k = rfe_xf_make(0, 0);
+    if ((rfe_q31_within(h->kin.alpha[i], tp->alpha_max - 1) != 0) && (vwx != 0)) {
+        /* -(d v_wy + t sgn(v_wx) d v_wx) / |v_wx| */
+        const rfe_xf_t ts = rfe_xf_mul(rfe_xf_of((sv > 0) ? tan_a : -tan_a, 26), dv[0]);
+        const rfe_xf_t avx = rfe_xf_of((vwx < 0) ? -vwx : vwx, (int)RFE_FIX_Q_SPEED);
+        d.tan_a = rfe_xf_neg(rfe_xf_div(rfe_xf_add(dv[1], ts), avx));
+    }
+    if (rfe_q31_within(kappa, ONE_Q30 - 1) != 0) {
+        /* (d(omega R) (1 - [den = |omega R|] kappa sgn(omega R))
+         *  - d v_wx (1 + [den = |v_wx|] kappa sgn(v_wx))) / den, the speeds in Q51 */
+        const int64_t vr = (int64_t)u->omega[i] * (int64_t)veh->R;
+        const uint64_t avr = rfe_q31_mag64(vr);
+        const uint64_t avx = (uint64_t)((vwx < 0) ? -(int64_t)vwx : (int64_t)vwx) << 28;
+        const uint64_t vmin = (uint64_t)tp->v_min << 28;
+        const uint64_t big = (avr > avx) ? avr : avx;
+        const uint64_t den = (big > vmin) ? big : vmin;
+        rfe_xf_t own_x = rfe_xf_make(0, 0);
+        rfe_xf_t own_r = rfe_xf_make(0, 0);
+        if ((avx > avr) && (avx > vmin)) {
+            own_x = rfe_xf_of((sv > 0) ? kappa : -kappa, 30);
+        }
+        if ((avr >= avx) && (avr > vmin)) {
+            own_r = rfe_xf_of((vr > 0) ? kappa : -kappa, 30);
+        }
+        d.k = rfe_xf_div(rfe_xf_sub(rfe_xf_mul(dv[2], rfe_xf_sub(one, own_r)),
+                                    rfe_xf_mul(dv[0], rfe_xf_add(one, own_x))),
+                         rfe_xf_make((int64_t)den, -51));
+    }
+    return d;
+}
+
+/* Wheel i's velocity in wheel axes (vw[0] = v_wx, vw[1] = v_wy) and its position (pos[0] = x,
+ * pos[1] = y, m) in rfe_xf_t; ci, si the cos, sin of its steer angle. */
+static void wheel_velocity_q31(const rfe_vehicle_q31_t *veh, const rfe_sample_q31_t *u,
+                               size_t i, rfe_xf_t ci, rfe_xf_t si, rfe_xf_t vw[2],
+                               rfe_xf_t pos[2])
+{
+    const int32_t y = (i < (size_t)RFE_RL) ? veh->yf : veh->yr;
+    const rfe_xf_t r = rfe_xf_of(u->yaw_rate, (int)RFE_FIX_Q_YAWRATE);
+    rfe_xf_t vbx;
+    rfe_xf_t vby;
+    pos[0] = rfe_xf_of((i < (size_t)RFE_RL) ? veh->Lf : -veh->Lr, (int)RFE_FIX_Q_LEN);
+    pos[1] = rfe_xf_of(((i == (size_t)RFE_FL) || (i == (size_t)RFE_RL)) ? y : -y,
+                       (int)RFE_FIX_Q_LEN);
+    /* v_i = (vx - r y_i, vy + r x_i), rotated into wheel axes */
+    vbx = rfe_xf_sub(rfe_xf_of(u->vx, (int)RFE_FIX_Q_SPEED), rfe_xf_mul(r, pos[1]));
+    vby = rfe_xf_add(rfe_xf_of(u->vy, (int)RFE_FIX_Q_SPEED), rfe_xf_mul(r, pos[0]));
+    vw[0] = rfe_xf_add(rfe_xf_mul(vbx, ci), rfe_xf_mul(vby, si));
+    vw[1] = rfe_xf_sub(rfe_xf_mul(vby, ci), rfe_xf_mul(vbx, si));
+}
+
+/* Wheel i's velocity change dv per unit of input j (meas_flt.c input_change): returns 1 for
+ * delta, which also turns the wheel's forces into the body axes. */
+static int input_change_q31(const rfe_vehicle_q31_t *veh, size_t j, const rfe_xf_t pos[2],
+                            rfe_xf_t ci, rfe_xf_t si, const rfe_xf_t vw[2], rfe_xf_t dv[3])
+{
+    const rfe_xf_t zero = rfe_xf_make(0, 0);
+    const rfe_xf_t one = rfe_xf_make(1, 0);
+    rfe_xf_t dbx = zero;
+    rfe_xf_t dby = zero;
+    int turns = 0;
+    dv[0] = zero;
+    dv[1] = zero;
+    dv[2] = zero;
+    if (j == (size_t)RFE_IN_DELTA) {
+        dv[0] = vw[1];
+        dv[1] = rfe_xf_neg(vw[0]);
+        turns = 1;
+    } else if (j >= (size_t)RFE_IN_OMEGA) {
+        dv[2] = rfe_xf_of(veh->R, (int)RFE_FIX_Q_LEN);
+    } else {
+        if (j == (size_t)RFE_IN_VX) {
+            dbx = one;
+        } else if (j == (size_t)RFE_IN_VY) {
+            dby = one;
+        } else {
+            dbx = rfe_xf_neg(pos[1]);
+            dby = pos[0];
+        }
+        dv[0] = rfe_xf_add(rfe_xf_mul(dbx, ci), rfe_xf_mul(dby, si));
+        dv[1] = rfe_xf_sub(rfe_xf_mul(dby, ci), rfe_xf_mul(dbx, si));
+    }
+    return turns;
+}
+
+/* Wheel i's forces (wheel axes, rfe_xf_t, N) at mu_i, for the turn of the front forces by
+ * delta: the curve's (load-scaled modes; its saturations are the nominal evaluation's, not
+ * counted again), mu F0 in paper mode (fj0: a derivative of rfe_tyre_pre_jac_q31, whose mfx,
+ * mfy are F0 there). */
+static void wheel_forces_q31(const rfe_meas_q31_t *h, const rfe_tyre_params_q31_t *tp,
+                             const rfe_dugoff_pre_q31_t *pre, size_t i, rfe_fix_t mu,
+                             const rfe_tyre_jac_q31_t *fj0, rfe_xf_t f[2])
+{
+    if (h->mode == RFE_TYRE_PAPER) {
+        const rfe_xf_t mux = rfe_xf_of(mu, (int)RFE_FIX_Q_MU);
+        f[0] = rfe_xf_mul(mux, fj0->mfx);
+        f[1] = rfe_xf_mul(mux, fj0->mfy);
+    } else {
+        rfe_fix_t fx = 0;
+        rfe_fix_t fy = 0;
+        uint32_t scratch = 0u;
+        rfe_tyre_dugoff_abs_pre_q31(tp, pre, mu, h->kin.fz[i], &fx, &fy, &scratch);
+        f[0] = rfe_xf_of(fx, (int)RFE_FIX_Q_FORCE);
+        f[1] = rfe_xf_of(fy, (int)RFE_FIX_Q_FORCE);
+    }
+}
+
+/* The body terms (all three rows) of a force pair by the map b, added to acc[0..2]. */
+static void body_add3_q31(const body_map_q31_t *b, rfe_xf_t fx, rfe_xf_t fy, rfe_xf_t acc[3])
+{
+    const rfe_xf_t fbx = rfe_xf_sub(rfe_xf_mul(fx, b->ci), rfe_xf_mul(fy, b->si));
+    const rfe_xf_t fby = rfe_xf_add(rfe_xf_mul(fx, b->si), rfe_xf_mul(fy, b->ci));
+    acc[0] = rfe_xf_add(acc[0], rfe_xf_mul(fbx, b->inv_m));
+    acc[1] = rfe_xf_add(acc[1], rfe_xf_mul(fby, b->inv_m));
+    acc[2] = rfe_xf_add(acc[2], rfe_xf_sub(rfe_xf_mul(fby, b->px_J), rfe_xf_mul(fbx, b->py_J)));
+}
+
+/* Wheel i's forces' derivatives along unit changes of kappa, tan(alpha) and v_wx (meas_flt.c
+ * wheel_basis; the Magic Formula's fj[2] is zero: its curve does not depend on v_wx). */
+static void wheel_basis_q31(const rfe_meas_q31_t *h, const rfe_tyre_params_q31_t *tp,
+                            const rfe_dugoff_pre_q31_t *pre, size_t i, rfe_fix_t mu,
+                            rfe_tyre_jac_q31_t fj[3])
+{
+    size_t nb = 3u;
+    const rfe_xf_t zero = rfe_xf_make(0, 0);
+    const rfe_xf_t one = rfe_xf_make(1, 0);
+    size_t b;
+    if (tp->mode == RFE_TYRE_MAGIC) {
+        nb = 2u;
+    }
+    fj[2].dfx = zero;
+    fj[2].dfy = zero;
+    for (b = 0u; b < nb; ++b) {
+        rfe_slip_dir_q31_t e;
+        e.k = (b == 0u) ? one : zero;
+        e.tan_a = (b == 1u) ? one : zero;
+        e.vwx = (b == 2u) ? one : zero;
+        rfe_tyre_pre_jac_q31(tp, pre, h->kin.kappa[i], h->kin.vwx[i], h->kin.fz[i], mu, &e,
+                             &fj[b]);
+    }
+}
+
+/* Adds wheel i's terms of dh/du_j for every noisy input j (sd[j] > 0) to D (input j's three
+ * rows at D[j RFE_MEAS ..]). */
+static void wheel_input_sums_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh,
+                                 const rfe_tyre_params_q31_t *tp, const rfe_sample_q31_t *u,
+                                 int cached, size_t i, rfe_fix_t mu, const rfe_fix_t *sd,
+                                 rfe_xf_t *D)
+{
+    const body_map_q31_t bm = body_map_q31(veh, h->cos_delta, h->sin_delta, i);
+    rfe_dugoff_pre_q31_t pre;
+    rfe_tyre_jac_q31_t fj[3];
+    rfe_xf_t vw[2];
+    rfe_xf_t pos[2];
+    rfe_xf_t f[2];
+    size_t j;
+    jac_pre_q31(h, tp, cached, i, &pre);
+    wheel_basis_q31(h, tp, &pre, i, mu, fj);
+    wheel_velocity_q31(veh, u, i, bm.ci, bm.si, vw, pos);
+    f[0] = rfe_xf_make(0, 0);
+    f[1] = rfe_xf_make(0, 0);
+    if ((i < (size_t)RFE_RL) && (sd[RFE_IN_DELTA] > 0)) {
+        wheel_forces_q31(h, tp, &pre, i, mu, &fj[0], f);
+    }
+    for (j = 0u; j < (size_t)RFE_INPUTS; ++j) {
+        if ((sd[j] > 0) && (rfe_input_reaches(j, i) != 0)) {
+            rfe_xf_t dv[3];
+            rfe_slip_dir_q31_t d;
+            rfe_xf_t dfx;
+            rfe_xf_t dfy;
+            const int turns = input_change_q31(veh, j, pos, bm.ci, bm.si, vw, dv);
+            d = input_direction_q31(h, veh, tp, u, i, pre.tan_a, dv);
+            dfx = rfe_xf_add(rfe_xf_add(rfe_xf_mul(d.k, fj[0].dfx), rfe_xf_mul(d.tan_a, fj[1].dfx)),
+                             rfe_xf_mul(d.vwx, fj[2].dfx));
+            dfy = rfe_xf_add(rfe_xf_add(rfe_xf_mul(d.k, fj[0].dfy), rfe_xf_mul(d.tan_a, fj[1].dfy)),
+                             rfe_xf_mul(d.vwx, fj[2].dfy));
+            if (turns != 0) {
+                /* d(R(delta) F) = R(delta) (dF + (-Fy, Fx)) */
+                dfx = rfe_xf_sub(dfx, f[1]);
+                dfy = rfe_xf_add(dfy, f[0]);
+            }
+            body_add3_q31(&bm, dfx, dfy, &D[j * (size_t)RFE_MEAS]);
+        }
+    }
+}
+
+/* G[r RFE_INPUTS + j] (Q24) = sd_j (in input j's format) times D[j RFE_MEAS + r], rounded once,
+ * saturating (counted in *count). */
+static void scaled_columns_q31(const rfe_xf_t *D, const rfe_fix_t sd[RFE_INPUTS],
+                               rfe_fix_t G[(size_t)RFE_MEAS * (size_t)RFE_INPUTS], uint32_t *count)
+{
+    size_t i;
+    size_t j;
+    for (j = 0u; j < (size_t)RFE_INPUTS; ++j) {
+        const rfe_xf_t s = rfe_xf_of((sd[j] > 0) ? sd[j] : 0, input_q_q31(j));
+        for (i = 0u; i < (size_t)RFE_MEAS; ++i) {
+            G[(i * (size_t)RFE_INPUTS) + j] = rfe_xf_to_fix(
+                rfe_xf_mul(s, D[(j * (size_t)RFE_MEAS) + i]), (int)RFE_FIX_Q_ACC, count);
+        }
+    }
+}
+
+/* The argument checks of rfe_meas_input_jac_q31 after the NULLs: the tangents' bound (paper
+ * mode too), then the load-scaled evaluation's. */
+static rfe_status_t input_jac_ok_q31(const rfe_meas_q31_t *h, const rfe_tyre_params_q31_t *tp)
+{
+    rfe_status_t st = RFE_OK;
+    if (rfe_tyre_dugoff_params_ok_q31(tp) == 0) {
+        st = RFE_ERR_PARAM; /* paper mode's tangents need alpha_max */
+    } else if (h->mode != RFE_TYRE_PAPER) {
+        st = abs_inputs_ok_q31(h, tp);
+    } else {
+        /* paper mode: nothing more */
+    }
+    return st;
+}
+
+rfe_status_t rfe_meas_input_jac_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh,
+                                    const rfe_tyre_params_q31_t *tp, const rfe_sample_q31_t *u,
+                                    const rfe_fix_t mu[RFE_WHEELS],
+                                    const rfe_fix_t sd[RFE_INPUTS],
+                                    rfe_fix_t G[(size_t)RFE_MEAS * (size_t)RFE_INPUTS], uint32_t *sat)
+{
+    rfe_xf_t D[(size_t)RFE_INPUTS * (size_t)RFE_MEAS];
+    uint32_t count = 0u;
+    int cached;
+    size_t i;
+    rfe_status_t st;
+    if ((h == NULL) || (veh == NULL) || (tp == NULL) || (u == NULL) || (mu == NULL) ||
+        (sd == NULL) || (G == NULL) || (sat == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    st = input_jac_ok_q31(h, tp);
+    if (st != RFE_OK) {
+        return st;
+    }
+    for (i = 0u; i < ((size_t)RFE_INPUTS * (size_t)RFE_MEAS); ++i) {
+        D[i] = rfe_xf_make(0, 0);
+    }
+    cached = pre_matches_q31(h, tp);
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        wheel_input_sums_q31(h, veh, tp, u, cached, i, mu[i], sd, D);
+    }
+    scaled_columns_q31(D, sd, G, &count);
+    rfe_q31_sat_add(sat, count);
+    return RFE_OK;
+}

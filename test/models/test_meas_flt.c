@@ -8,7 +8,8 @@
  *    rfe_tyre_forces_abs -> rfe_obsmat_build -> rfe_obsmat_apply(H, ones), also when eval is
  *    given other tyre parameters than the set-up (the cached terms are then not used);
  *  - the lateral rows' analytic derivatives (rfe_meas_lateral_jac, docs/OBSERVER.md §4.2)
- *    against central differences of full set-ups and evaluations, in every tyre mode.
+ *    and the derivatives by every input (rfe_meas_input_jac, for the step noise, docs/ESTIMATOR.md
+ *    step 4) against central differences of full set-ups and evaluations, in every tyre mode.
  * Inputs from a fixed-seed generator (test_draws.h), some beyond the limits.
  */
 #include "test_light.h"
@@ -61,6 +62,22 @@
 #endif
 #define MIN_TIGHT 0.9
 #define MAX_KINKED 0.01
+/* test_meas_input_jac, float32 only: the analytic derivative's own rounding, relative to the
+ * rows' term scale (its ~30 chained operations carry terms up to that scale into a sum that
+ * may cancel; measured: 6 % of a yaw-row derivative of 0.008 at delta 0.48 rad, paper tyre),
+ * and the speed below which the differences are not compared: the step noise runs from
+ * v_est_min (3 m/s, ESTIMATOR.md step 3) up, and below it a float32 central difference of
+ * 1e-2 m/s is not a derivative (measured at 0.2-2.7 m/s: 9 % off, converging linearly in the
+ * step; the double build compares every speed). */
+#if defined(RFE_REAL_DOUBLE)
+#define TERM_REL 0.0
+#define JAC_V_MIN 0.0
+#define MIN_TIGHT_IN 0.9 /* measured 0.96 */
+#else
+#define TERM_REL 1e-3
+#define JAC_V_MIN 3.0
+#define MIN_TIGHT_IN 0.7 /* measured 0.75: TERM_REL is most of the bound of small derivatives */
+#endif
 #define RFE_R(x) ((rfe_real_t)(x))
 
 /* u with input j changed by d, as a caller would write it. */
@@ -535,6 +552,276 @@ static void test_meas_lateral_jac_args(void **state)
     assert_memory_equal(&out, &out0, sizeof(out));
 }
 
+/* ---- the derivatives by the inputs (rfe_meas_input_jac, docs/ESTIMATOR.md step 4) ----------- */
+
+/* h(mu, u + d e_j): a full set-up and evaluation (all three rows). */
+static rfe_status_t rows3_at(const rfe_params_t *p, const rfe_sample_t *u, size_t j, double d,
+                             const rfe_real_t mu[4], double z[3])
+{
+    rfe_sample_t up = *u;
+    rfe_real_t *slot = &up.delta;
+    rfe_real_t zz[3];
+    rfe_meas_t h;
+    rfe_status_t st;
+    int r;
+    switch (j) {
+    case RFE_IN_DELTA: slot = &up.delta; break;
+    case RFE_IN_VX: slot = &up.vx; break;
+    case RFE_IN_VY: slot = &up.vy; break;
+    case RFE_IN_YAW_RATE: slot = &up.yaw_rate; break;
+    default: slot = &up.omega[j - RFE_IN_OMEGA]; break;
+    }
+    *slot = (rfe_real_t)((double)*slot + d);
+    st = rfe_meas_setup(&h, &p->vehicle, &p->tyre, &up);
+    if (st == RFE_OK) {
+        st = rfe_meas_eval(&h, &p->vehicle, &p->tyre, mu, zz);
+    }
+    for (r = 0; r < 3; ++r) {
+        z[r] = (double)zz[r];
+    }
+    return st;
+}
+
+/* The step of input j's differences: JAC_H in its unit (m/s, rad/s), a tenth of it for delta
+ * (rad), whose slip angles' curves bend on a scale ten times shorter than the speeds'. */
+static double input_step(size_t j)
+{
+    return (j == (size_t)RFE_IN_DELTA) ? (0.1 * JAC_H) : JAC_H;
+}
+
+/* central()'s differences for input j, all three rows: D(h), D(2h), D(4h) in d, the one-sided
+ * gaps in gap, h = input_step(j); 0 when an evaluation failed. */
+static int central3(const rfe_params_t *p, const rfe_sample_t *u, const rfe_real_t mu[4],
+                    size_t j, double d[3][3], double gap[2][3])
+{
+    const double hj = input_step(j);
+    double z[7][3];
+    int k;
+    int r;
+    for (k = 0; k < 7; ++k) {
+        const double st =
+            (k == 6) ? 0.0 : (double)(1 << (k / 2)) * (((k % 2) == 0) ? hj : -hj);
+        if (rows3_at(p, u, j, st, mu, z[k]) != RFE_OK) {
+            return 0;
+        }
+    }
+    for (r = 0; r < 3; ++r) {
+        for (k = 0; k < 3; ++k) {
+            d[k][r] = (z[2 * k][r] - z[(2 * k) + 1][r]) / (2.0 * hj * (double)(1 << k));
+        }
+        for (k = 0; k < 2; ++k) {
+            gap[k][r] = ((z[2 * k][r] - z[6][r]) - (z[6][r] - z[(2 * k) + 1][r])) /
+                        (hj * (double)(1 << k));
+        }
+    }
+    return 1;
+}
+
+/* One of the operating points of test_meas_input_jac: every 50 cases, a free-rolling sample
+ * (no slip: S = 0), a locked wheel (kappa clipped at -1: saturated, its slip derivative 0), a
+ * wheel spinning (kappa +0.6, far beyond the curves' peaks), a drift (|alpha| beyond
+ * alpha_max on the rear wheels: the clamp) and a hard turn at low friction (the forces on the
+ * saturated part of the curves: Dugoff's L < 1, the Magic Formula past its peak); the rest
+ * random (test_draws.h). */
+static void input_jac_point(const rfe_params_t *p, int n, rfe_sample_t *u, rfe_real_t mu[4])
+{
+    const int c = n % 50;
+    size_t i;
+    draw_sample(u, mu, 1);
+    if (c < 5) {
+        u->delta = RFE_R(0.0);
+        u->vy = RFE_R(0.0);
+        u->yaw_rate = RFE_R(0.0);
+        u->vx = RFE_R(20.0);
+        for (i = 0u; i < 4u; ++i) {
+            u->omega[i] = u->vx / p->vehicle.R;
+        }
+    }
+    if (c == 1) {
+        u->omega[2] = RFE_R(0.0); /* locked */
+        u->delta = RFE_R(0.05);
+    } else if (c == 2) {
+        u->omega[1] = RFE_R(2.5) * u->vx / p->vehicle.R; /* spinning: kappa 0.6 */
+        u->delta = RFE_R(0.05);
+    } else if (c == 3) {
+        u->vy = RFE_R(-20.0); /* drift: the rear slip angles beyond alpha_max */
+        u->yaw_rate = RFE_R(0.3);
+    } else if (c == 4) {
+        u->delta = RFE_R(0.12); /* hard turn on mu 0.2 */
+        u->vy = RFE_R(-1.5);
+        u->yaw_rate = RFE_R(0.5);
+        u->omega[0] = RFE_R(0.9) * u->vx / p->vehicle.R;
+        for (i = 0u; i < 4u; ++i) {
+            mu[i] = RFE_R(0.2);
+        }
+    } else {
+        /* random */
+    }
+}
+
+/* REQ: the derivatives of h by the inputs are the model's (central differences of full set-ups
+ * and evaluations within their truncation and rounding error, the tolerance of
+ * test_meas_lateral_jac), for every input and row, in every tyre mode (paper, absolute Dugoff,
+ * Magic Formula), on random samples and on free-rolling, locked, spinning, drifting and
+ * saturated ones; each column scaled by its sd. */
+/* REQ-MEAS-004 */
+static void test_meas_input_jac(void **state)
+{
+    long checked = 0;
+    long tight = 0;
+    long kinked = 0;
+    long worse[3] = {0, 0, 0};
+    double worst = 0.0;
+    int n;
+    (void)state;
+    draw_seed(0x1A9E7ull);
+    for (n = 0; n < N_JAC_CASES; n += (int)rfe_test_stride(10u)) {
+        rfe_params_t p;
+        rfe_sample_t u;
+        rfe_real_t mu[4];
+        rfe_real_t sd[RFE_INPUTS];
+        rfe_real_t G[3 * RFE_INPUTS];
+        rfe_meas_t h;
+        size_t j;
+        assert_int_equal(rfe_params_default(&p), RFE_OK);
+        p.tyre.mode = MODES[n % 3];
+        input_jac_point(&p, n, &u, mu);
+        for (j = 0u; j < (size_t)RFE_INPUTS; ++j) {
+            sd[j] = (j == (size_t)RFE_IN_VY) ? RFE_R(0.5) : RFE_R(1.0);
+        }
+        if ((fabs((double)u.vx) < JAC_V_MIN) ||
+            (rfe_meas_setup(&h, &p.vehicle, &p.tyre, &u) != RFE_OK)) {
+            continue;
+        }
+        if (rfe_meas_input_jac(&h, &p.vehicle, &p.tyre, &u, mu, sd, G) != RFE_OK) {
+            continue;
+        }
+        for (j = 0u; j < (size_t)RFE_INPUTS; ++j) {
+            double d[3][3];
+            double gap[2][3];
+            double sc[2];
+            int r;
+            if (central3(&p, &u, mu, j, d, gap) == 0) {
+                continue;
+            }
+            {
+                const rfe_real_t zero[4] = {RFE_R(0.0), RFE_R(0.0), RFE_R(0.0), RFE_R(0.0)};
+                term_scale(&p, &h, mu, zero, sc); /* ax's terms are at most ay's scale */
+            }
+            for (r = 0; r < 3; ++r) {
+                const double a = (double)G[((size_t)r * RFE_INPUTS) + j] / (double)sd[j];
+                const double noise = 8.0 * EPS_F * sc[(r == 2) ? 1 : 0] / input_step(j);
+                const double d12 = fabs(d[1][r] - d[0][r]);
+                const double g1 = fabs(gap[0][r]);
+                /* 2 d12, not d12: a kink of the second derivative within the stencil (kappa's
+                 * den switching speeds at kappa = 0, Dugoff's L = 1: C1 points) leaves
+                 * D(h) - f' ~ c h, so D(2h) - D(h) ~ c h is the error itself, not 3 times it;
+                 * measured at low speed, where such a point is within 4h: float32 errors up to
+                 * 0.9 d12 */
+                const double tol = (2.0 * d12) + (0.5 * g1) + noise + (REL_FLOOR * fabs(a)) +
+                                   (TERM_REL * sc[(r == 2) ? 1 : 0]);
+                const double err = fabs(a - d[0][r]);
+                if (((d12 > (2.0 * noise)) && (fabs(d[2][r] - d[1][r]) < (2.0 * d12))) ||
+                    ((g1 > (4.0 * noise)) && (fabs(gap[1][r]) < (1.5 * g1)))) {
+                    ++kinked; /* not smooth within 4h */
+                    continue;
+                }
+                if (err > tol) {
+                    print_message("case %d mode %d input %zu row %d: analytic %.12g, difference "
+                                  "%.12g (2h: %.12g), bound %.3g\n",
+                                  n, (int)p.tyre.mode, j, r, a, d[0][r], d[1][r], tol);
+                    ++worse[n % 3];
+                }
+                if (tol <= (TIGHT * fmax(fabs(a), 1.0))) {
+                    ++tight;
+                }
+                worst = fmax(worst, err / fmax(fabs(a), 1.0));
+                ++checked;
+            }
+        }
+    }
+    print_message("meas input jac: %ld derivatives against central differences, %ld with a "
+                  "tight bound, worst error %.3g (relative to max(|f'|, 1)); %ld not smooth "
+                  "within 4h, not compared\n",
+                  checked, tight, worst, kinked);
+    assert_int_equal(worse[0], 0);
+    assert_int_equal(worse[1], 0);
+    assert_int_equal(worse[2], 0);
+    assert_true(checked > 1000);
+    assert_true((double)tight >= (MIN_TIGHT_IN * (double)checked));
+    assert_true((double)kinked <= (MAX_KINKED * (double)(checked + kinked)));
+}
+
+/* REQ: rfe_meas_input_jac rejects bad arguments and a non-finite friction with
+ * rfe_meas_eval's statuses, G untouched; a column's scale multiplies it (sd 0: a zero column);
+ * other tyre parameters than the set-up's give a set-up's with them. */
+/* REQ-MEAS-004 */
+static void test_meas_input_jac_args(void **state)
+{
+    rfe_params_t p;
+    rfe_sample_t u;
+    rfe_real_t mu[4];
+    rfe_real_t sd[RFE_INPUTS];
+    rfe_real_t G[3 * RFE_INPUTS];
+    rfe_real_t G2[3 * RFE_INPUTS];
+    rfe_real_t G0[3 * RFE_INPUTS];
+    rfe_meas_t h;
+    size_t j;
+    int m;
+    (void)state;
+    draw_seed(0x5EED5ull);
+    assert_int_equal(rfe_params_default(&p), RFE_OK);
+    draw_sample(&u, mu, 1);
+    u.vx = RFE_R(20.0);
+    u.delta = RFE_R(0.05);
+    for (m = 0; m < 3; ++m) {
+        rfe_tyre_params_t other = p.tyre;
+        rfe_meas_t h2;
+        rfe_real_t bad[4];
+        p.tyre.mode = MODES[m];
+        other.mode = MODES[m];
+        other.cy *= RFE_R(1.3);
+        other.Cy_n *= RFE_R(1.3);
+        for (j = 0u; j < (size_t)RFE_INPUTS; ++j) {
+            sd[j] = RFE_R(1.0);
+        }
+        assert_int_equal(rfe_meas_setup(&h, &p.vehicle, &p.tyre, &u), RFE_OK);
+        assert_int_equal(rfe_meas_setup(&h2, &p.vehicle, &other, &u), RFE_OK);
+        assert_int_equal(rfe_meas_input_jac(&h, &p.vehicle, &other, &u, mu, sd, G), RFE_OK);
+        assert_int_equal(rfe_meas_input_jac(&h2, &p.vehicle, &other, &u, mu, sd, G2), RFE_OK);
+        assert_memory_equal(G, G2, sizeof(G));
+        /* an input that does not reach any wheel's slip cannot exist, and every column of a
+         * steered, moving sample is nonzero somewhere; a scale multiplies its column */
+        assert_int_equal(rfe_meas_input_jac(&h, &p.vehicle, &p.tyre, &u, mu, sd, G), RFE_OK);
+        sd[RFE_IN_VX] = RFE_R(0.0);
+        sd[RFE_IN_DELTA] = RFE_R(0.5);
+        assert_int_equal(rfe_meas_input_jac(&h, &p.vehicle, &p.tyre, &u, mu, sd, G2), RFE_OK);
+        for (j = 0u; j < 3u; ++j) {
+            assert_true(G2[(j * RFE_INPUTS) + RFE_IN_VX] == RFE_R(0.0));
+            assert_true(G2[(j * RFE_INPUTS) + RFE_IN_DELTA] ==
+                        RFE_R(0.5) * G[(j * RFE_INPUTS) + RFE_IN_DELTA]);
+            assert_memory_equal(&G2[(j * RFE_INPUTS) + RFE_IN_VY],
+                                &G[(j * RFE_INPUTS) + RFE_IN_VY],
+                                (RFE_INPUTS - RFE_IN_VY) * sizeof(rfe_real_t));
+        }
+        memset(G, 0x5A, sizeof(G));
+        memcpy(G0, G, sizeof(G));
+        memcpy(bad, mu, sizeof(bad));
+        bad[2] = (rfe_real_t)NAN;
+        assert_int_equal(rfe_meas_input_jac(&h, &p.vehicle, &p.tyre, &u, bad, sd, G),
+                         RFE_ERR_NONFINITE);
+        assert_memory_equal(G, G0, sizeof(G));
+    }
+    assert_int_equal(rfe_meas_input_jac(NULL, &p.vehicle, &p.tyre, &u, mu, sd, G), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_input_jac(&h, NULL, &p.tyre, &u, mu, sd, G), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_input_jac(&h, &p.vehicle, NULL, &u, mu, sd, G), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_input_jac(&h, &p.vehicle, &p.tyre, NULL, mu, sd, G), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_input_jac(&h, &p.vehicle, &p.tyre, &u, NULL, sd, G), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_input_jac(&h, &p.vehicle, &p.tyre, &u, mu, NULL, G), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_input_jac(&h, &p.vehicle, &p.tyre, &u, mu, sd, NULL), RFE_ERR_NULL);
+    assert_memory_equal(G, G0, sizeof(G));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -543,6 +830,8 @@ int main(void)
         cmocka_unit_test(test_meas_cached),
         cmocka_unit_test(test_meas_cached_each_field),
         cmocka_unit_test(test_meas_lateral_jac),
+        cmocka_unit_test(test_meas_input_jac),
+        cmocka_unit_test(test_meas_input_jac_args),
         cmocka_unit_test(test_meas_lateral_jac_args),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -1351,6 +1351,193 @@ static void test_meas_lateral_jac_q31_args(void **state)
     }
 }
 
+/* ---- the derivatives by the inputs (rfe_meas_input_jac_q31, for the step noise) -----------
+ * Bound: the same analysis as the lateral rows' above (the double formulas in rfe_xf_t, ~120
+ * operations per wheel and input, 2^-29 each of the largest term passed through; the inputs
+ * rounded as the kinematics round them), JAC_REL of the input's term scale times its sd, plus
+ * 1 LSB24 (the final rounding and the sd's own). The term scale of input j: per wheel it
+ * reaches, its load times the stiffest curve's slope per unit slip (max of cx, cy, Cx_n, Cy_n:
+ * the linear tyre, which no mode or friction exceeds), times the slip change per unit input
+ * ((1 + |t|) (1 + |kappa|) times the wheel's speed change over max(|vwx|, v_min): 1 for vx and
+ * vy, the distance to the CoG for r, R for its wheel speed, the wheel's speed |v_w| for delta),
+ * plus for delta the turned force, <= |mu| Fz; mapped by 1/m + |r_i|/J. */
+static double input_scale(const rfe_meas_t *h, const rfe_params_t *p, const double mu[4],
+                          size_t j)
+{
+    const double x[4] = {p->vehicle.Lf, p->vehicle.Lf, -p->vehicle.Lr, -p->vehicle.Lr};
+    const double y[4] = {p->vehicle.Bf / 2, p->vehicle.Bf / 2, p->vehicle.Br / 2,
+                         p->vehicle.Br / 2};
+    const double c = fmax(fmax(p->tyre.cx, p->tyre.cy), fmax(p->tyre.Cx_n, p->tyre.Cy_n));
+    double sc = 0.0;
+    size_t i;
+    for (i = 0; i < 4; ++i) {
+        const double ri = sqrt((x[i] * x[i]) + (y[i] * y[i]));
+        const double t = fabs(tan(h->kin.alpha[i]));
+        const double vw = fabs(h->kin.vwx[i]) * (1.0 + t);
+        double dv = 0.0;
+        double turn = 0.0;
+        if ((j == (size_t)RFE_IN_DELTA) && (i < 2u)) {
+            dv = vw;
+            turn = fabs(mu[i]);
+        } else if ((j == (size_t)RFE_IN_VX) || (j == (size_t)RFE_IN_VY)) {
+            dv = 1.0;
+        } else if (j == (size_t)RFE_IN_YAW_RATE) {
+            dv = ri;
+        } else if (j == (size_t)RFE_IN_OMEGA + i) {
+            dv = p->vehicle.R;
+        } else {
+            /* not reached */
+        }
+        sc += h->kin.fz[i] *
+              ((c * (1.0 + t) * (1.0 + fabs(h->kin.kappa[i])) * dv /
+                fmax(fabs(h->kin.vwx[i]), p->tyre.v_min)) + turn) *
+              ((1.0 / p->vehicle.m) + (ri / p->vehicle.J));
+    }
+    return sc;
+}
+
+/* REQ: the input columns sd_j dh/du_j in fixed point against the double twin within the
+ * derived bound (above), every input and row, in every tyre mode, on driving samples (vx 3 .. 45
+ * m/s: the step noise runs from v_est_min), at no slip, on a locked and a spinning wheel and in
+ * hard turns; a column of sd 0 is 0. */
+/* REQ-MEAS-004 REQ-FXP-003 */
+static void test_meas_input_jac_q31(void **state)
+{
+    double worst[3] = {0.0, 0.0, 0.0};
+    long compared = 0;
+    long kinks = 0;
+    int n;
+    (void)state;
+    rng_seed(0x1A9E7Aull);
+    for (n = 0; n < N_JAC; n += (int)rfe_test_stride(10u)) {
+        const int m = n % 3;
+        const rfe_params_t *p = (m == 0) ? &pd_pap : ((m == 1) ? &pd : &pd_mag);
+        const rfe_params_q31_t *q = (m == 0) ? &pq_pap : ((m == 1) ? &pq : &pq_mag);
+        const double vx = uni(3.0, 45.0);
+        const int qf[8] = {29, 23, 23, 27, 22, 22, 22, 22};
+        double om[4];
+        double mu[4];
+        rfe_fix_t muq[4];
+        rfe_real_t mud[4];
+        rfe_fix_t sdq[8];
+        rfe_real_t sdd[8];
+        rfe_fix_t Gq[24];
+        rfe_real_t Gd[24];
+        rfe_sample_q31_t uq;
+        rfe_sample_t ud;
+        rfe_meas_q31_t hq;
+        rfe_meas_t hd;
+        uint32_t sat = 0u;
+        size_t i;
+        size_t j;
+        for (i = 0; i < 4; ++i) {
+            om[i] = vx * (1.0 + uni(-0.2, 0.1)) / p->vehicle.R;
+            muq[i] = toq(uni(0.05, 1.3), 29);
+            mu[i] = fromq(muq[i], 29);
+            mud[i] = mu[i];
+        }
+        for (j = 0; j < 8; ++j) {
+            /* sds up to ten times the default preset's; input 2 (vy) off every fourth case */
+            const double top[8] = {0.01, 0.1, 0.1, 0.05, 0.5, 0.5, 0.5, 0.5};
+            sdq[j] = ((j == 2u) && ((n % 4) == 3)) ? 0 : toq(uni(0.0, top[j]), qf[j]);
+            sdd[j] = fromq(sdq[j], qf[j]);
+        }
+        if ((n % 50) < 3) {
+            for (i = 0; i < 4; ++i) {
+                om[i] = 20.0 / p->vehicle.R; /* free rolling: no slip */
+            }
+            if ((n % 50) == 1) {
+                om[2] = 0.0; /* locked: kappa -1, saturated */
+            } else if ((n % 50) == 2) {
+                om[1] = 40.0 / p->vehicle.R; /* spinning: kappa 0.5 */
+            } else {
+                /* none */
+            }
+            make_sample(0.05, 20.0, 0.0, 0.0, 0.0, 0.0, om, &uq, &ud);
+        } else if ((n % 50) == 3) {
+            make_sample(0.12, vx, -0.08 * vx, 9.0 / vx, -2.0, 8.0, om, &uq, &ud); /* hard turn */
+        } else {
+            make_sample(uni(-0.3, 0.3), vx, uni(-2.5, 2.5), uni(-0.8, 0.8), uni(-9, 5),
+                        uni(-9, 9), om, &uq, &ud);
+        }
+        assert_int_equal(rfe_meas_setup_q31(&hq, &q->vehicle, &q->tyre, &uq, &sat), RFE_OK);
+        assert_int_equal(rfe_meas_setup_f64(&hd, &p->vehicle, &p->tyre, &ud), RFE_OK);
+        assert_int_equal(rfe_meas_input_jac_q31(&hq, &q->vehicle, &q->tyre, &uq, muq, sdq, Gq, &sat), RFE_OK);
+        assert_int_equal(rfe_meas_input_jac_f64(&hd, &p->vehicle, &p->tyre, &ud, mud, sdd, Gd), RFE_OK);
+        for (j = 0; j < 8; ++j) {
+            if (sdq[j] == 0) {
+                assert_int_equal(Gq[j], 0);
+                assert_int_equal(Gq[8 + j], 0);
+                assert_int_equal(Gq[16 + j], 0);
+            }
+        }
+        /* the locked wheel's kappa is exactly -1 in both twins ((0 - v) / v, clipped): both
+         * on the clip's side, compared */
+        if (((n % 50) != 1) && (near_kink(&hd, p, mu) != 0)) {
+            ++kinks;
+            continue;
+        }
+        for (j = 0; j < 8; ++j) {
+            const double bound = (JAC_REL * input_scale(&hd, p, mu, j) * sdd[j]) + ldexp(1.0, -24);
+            int r;
+            for (r = 0; r < 3; ++r) {
+                const double e = fabs(fromq(Gq[(size_t)r * 8u + j], 24) - Gd[(size_t)r * 8u + j]);
+                if (e > bound) {
+                    printf("case %d mode %d input %zu row %d: q31 %.9g f64 %.9g, bound %.3g\n", n,
+                           m, j, r, fromq(Gq[(size_t)r * 8u + j], 24), Gd[(size_t)r * 8u + j],
+                           bound);
+                }
+                assert_true(e <= bound);
+                worst[m] = fmax(worst[m], e / bound);
+                ++compared;
+            }
+        }
+    }
+    printf("input jac q31 vs f64: %ld entries compared, %ld cases near a kink skipped; worst "
+           "|error| / bound: paper %.3g, absolute %.3g, magic %.3g\n",
+           compared, kinks, worst[0], worst[1], worst[2]);
+    assert_true(compared > 10000);
+    assert_true((double)kinks <= (0.01 * (double)(compared / 24 + kinks)));
+}
+
+/* REQ: rfe_meas_input_jac_q31's argument checks: NULLs, invalid tyre parameters (RFE_ERR_PARAM),
+ * nothing written and nothing counted. */
+/* REQ-MEAS-004 */
+static void test_meas_input_jac_q31_args(void **state)
+{
+    const double om[4] = {70.0, 70.0, 70.0, 70.0};
+    rfe_fix_t muq[4] = {toq(0.8, 29), toq(0.8, 29), toq(0.8, 29), toq(0.8, 29)};
+    rfe_fix_t sdq[8] = {toq(0.001, 29), toq(0.01, 23), toq(0.01, 23), toq(0.005, 27),
+                        toq(0.05, 22), toq(0.05, 22), toq(0.05, 22), toq(0.05, 22)};
+    rfe_fix_t G[24];
+    rfe_fix_t G0[24];
+    rfe_sample_q31_t uq;
+    rfe_sample_t ud;
+    rfe_meas_q31_t hq;
+    rfe_tyre_params_q31_t bad = pq_mag.tyre;
+    uint32_t sat = 0u;
+    (void)state;
+    make_sample(0.05, 20.0, 0.3, 0.1, -2.0, 3.0, om, &uq, &ud);
+    assert_int_equal(rfe_meas_setup_q31(&hq, &pq_mag.vehicle, &pq_mag.tyre, &uq, &sat), RFE_OK);
+    memset(G, 0x5A, sizeof(G));
+    memcpy(G0, G, sizeof(G));
+    sat = 0u;
+    assert_int_equal(rfe_meas_input_jac_q31(NULL, &pq_mag.vehicle, &pq_mag.tyre, &uq, muq, sdq, G, &sat), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_input_jac_q31(&hq, NULL, &pq_mag.tyre, &uq, muq, sdq, G, &sat), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_input_jac_q31(&hq, &pq_mag.vehicle, NULL, &uq, muq, sdq, G, &sat), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_input_jac_q31(&hq, &pq_mag.vehicle, &pq_mag.tyre, NULL, muq, sdq, G, &sat), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_input_jac_q31(&hq, &pq_mag.vehicle, &pq_mag.tyre, &uq, NULL, sdq, G, &sat), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_input_jac_q31(&hq, &pq_mag.vehicle, &pq_mag.tyre, &uq, muq, NULL, G, &sat), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_input_jac_q31(&hq, &pq_mag.vehicle, &pq_mag.tyre, &uq, muq, sdq, NULL, &sat), RFE_ERR_NULL);
+    assert_int_equal(rfe_meas_input_jac_q31(&hq, &pq_mag.vehicle, &pq_mag.tyre, &uq, muq, sdq, G, NULL), RFE_ERR_NULL);
+    bad.alpha_max = 0; /* the tangents' bound must be positive */
+    assert_int_equal(rfe_meas_input_jac_q31(&hq, &pq_mag.vehicle, &bad, &uq, muq, sdq, G, &sat), RFE_ERR_PARAM);
+    assert_memory_equal(G, G0, sizeof(G));
+    assert_int_equal(sat, 0u);
+    assert_int_equal(rfe_meas_input_jac_q31(&hq, &pq_mag.vehicle, &pq_mag.tyre, &uq, muq, sdq, G, &sat), RFE_OK);
+    assert_true(G[0] != G0[0]);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1364,6 +1551,8 @@ int main(void)
         cmocka_unit_test(test_meas_columns_q31),
         cmocka_unit_test(test_meas_pre_invalid_tyre_and_div_saturation_q31),
         cmocka_unit_test(test_meas_lateral_jac_q31),
+        cmocka_unit_test(test_meas_input_jac_q31),
+        cmocka_unit_test(test_meas_input_jac_q31_args),
         cmocka_unit_test(test_meas_lateral_jac_q31_at_alpha_bound),
         cmocka_unit_test(test_meas_lateral_jac_q31_args),
     };

@@ -26,12 +26,14 @@
 #define rfe_meas_nominal         rfe_meas_nominal_f64
 #define rfe_meas_eval_perturbed  rfe_meas_eval_perturbed_f64
 #define rfe_meas_lateral_jac     rfe_meas_lateral_jac_f64
+#define rfe_meas_input_jac       rfe_meas_input_jac_f64
 #else
 #define rfe_meas_setup           rfe_meas_setup_f32
 #define rfe_meas_eval            rfe_meas_eval_f32
 #define rfe_meas_nominal         rfe_meas_nominal_f32
 #define rfe_meas_eval_perturbed  rfe_meas_eval_perturbed_f32
 #define rfe_meas_lateral_jac     rfe_meas_lateral_jac_f32
+#define rfe_meas_input_jac       rfe_meas_input_jac_f32
 #endif
 
 /** One sample's measurement model (caller-owned; fields read-only for the caller). */
@@ -123,6 +125,34 @@ RFE_NODISCARD rfe_status_t rfe_meas_eval_perturbed(const rfe_meas_t *h, const rf
                                                   const rfe_sample_t *u, size_t j, rfe_real_t d,
                                                   const rfe_real_t mu[RFE_WHEELS],
                                                   rfe_real_t z[RFE_MEAS]);
+
+/**
+ * G = dh/du diag(sd): the derivatives of h(mu, u) by the sample's inputs (RFE_IN_*: delta, vx, vy, r,
+ * omega_fl .. omega_rr; ax, ay are not inputs of the step noise), analytically from one
+ * set-up: the step noise's input columns in analytic form (docs/ESTIMATOR.md step 4 and its
+ * design record, where their effect is measured; the step noise does not use them yet): per wheel the forces' derivatives along kappa, tan(alpha)
+ * and v_wx (rfe_tyre_pre_jac), chained with each input's change of the wheel's slips, and for
+ * delta the turn of the front forces into the body axes. Where a slip is at its bound
+ * (|kappa| = 1, |alpha| = alpha_max) its derivative is 0 (the clamp's); at a kink of the model
+ * (den of kappa switching speeds, Dugoff's L = 1) the derivative of the branch the sample is
+ * on. In every tyre mode (paper: dH(u)/du mu).
+ * @param[in]  h   the model set up by rfe_meas_setup(h, veh, tp, u)
+ * @param[in]  veh vehicle parameters of the set-up
+ * @param[in]  tp  tyre parameters (the set-up's, or others: their terms are recomputed)
+ * @param[in]  u   the set-up's sample
+ * @param[in]  mu  friction per wheel (fl, fr, rl, rr)
+ * @param[in]  sd  the scale of each input's column (for the step noise the input noise sds
+ *                 sd_in_*, in the input's unit; 1 gives the derivatives themselves)
+ * @param[out] G   row-major RFE_MEAS x RFE_INPUTS: G[r RFE_INPUTS + j] = sd_j dh_r/du_j
+ *                 (m/s^2 or rad/s^2 per unit of input j: rad, m/s, rad/s, times sd_j)
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_NONFINITE (mu, or a sum, not finite); the tyre's
+ *         errors (@p G then untouched).
+ */
+RFE_NODISCARD rfe_status_t rfe_meas_input_jac(const rfe_meas_t *h, const rfe_vehicle_t *veh,
+                                             const rfe_tyre_params_t *tp, const rfe_sample_t *u,
+                                             const rfe_real_t mu[RFE_WHEELS],
+                                             const rfe_real_t sd[RFE_INPUTS],
+                                             rfe_real_t G[(size_t)RFE_MEAS * (size_t)RFE_INPUTS]);
 
 /** The lateral rows of h(mu, u) and their first derivatives (rfe_meas_lateral_jac): index 0
  *  the lateral acceleration ay (row 1 of h), index 1 the yaw acceleration r-dot (row 2). */

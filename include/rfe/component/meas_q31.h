@@ -167,4 +167,32 @@ RFE_NODISCARD rfe_status_t rfe_meas_lateral_jac_q31(const rfe_meas_q31_t *h,
                                                     const rfe_fix_t dmu[RFE_WHEELS],
                                                     rfe_meas_lateral_q31_t *out, uint32_t *sat);
 
+/**
+ * Fixed-point twin of rfe_meas_input_jac (rfe/component/meas.h): G = dh/du diag(sd), the
+ * step noise's input columns in analytic form (not used by the step noise yet:
+ * docs/FIXED_POINT.md "Analytic input derivatives"), analytically from one set-up:
+ * the float formulas in rfe_xf_t (numerics/xf_q31.h: 30 significant bits and a power of two,
+ * 2^-30 relative per operation; docs/FIXED_POINT.md "Analytic input derivatives" gives the error) rounded once
+ * to Q24, saturating (counted) beyond +-128. A column whose sd is <= 0 is 0 (not formed).
+ * @param[in]  h   the model set up by rfe_meas_setup_q31(h, veh, tp, u, .)
+ * @param[in]  veh vehicle parameters of the set-up
+ * @param[in]  tp  tyre parameters of the set-up
+ * @param[in]  u   the set-up's sample
+ * @param[in]  mu  friction per wheel, Q29
+ * @param[in]  sd  the scale of each input's column, in that input's format (the sample's:
+ *                 delta Q29, vx, vy Q23, r Q27, omega Q22; for the step noise sd_in_*)
+ * @param[out] G   row-major RFE_MEAS x RFE_INPUTS, Q24: G[r RFE_INPUTS + j] = sd_j dh_r/du_j
+ * @param[in,out] sat saturation counter (required), added to on success
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_PARAM (tyre parameters); RFE_ERR_RANGE (load-scaled
+ *         modes: a negative load) (@p G, *sat then untouched).
+ */
+RFE_NODISCARD rfe_status_t rfe_meas_input_jac_q31(const rfe_meas_q31_t *h,
+                                                  const rfe_vehicle_q31_t *veh,
+                                                  const rfe_tyre_params_q31_t *tp,
+                                                  const rfe_sample_q31_t *u,
+                                                  const rfe_fix_t mu[RFE_WHEELS],
+                                                  const rfe_fix_t sd[RFE_INPUTS],
+                                                  rfe_fix_t G[(size_t)RFE_MEAS * (size_t)RFE_INPUTS],
+                                                  uint32_t *sat);
+
 #endif /* RFE_MEAS_Q31_H */
