@@ -112,6 +112,8 @@ typedef struct {
     rfe_kf2_t yaw;                    /**< [r, r-dot] */
     rfe_kf2_t lon;                    /**< [vx, b_x] */
     rfe_kf2_t lat;                    /**< [vy, b_y] */
+    rfe_real_t r_on_ref;              /**< time the yaw rate has stayed on its neutral
+                                           reference, at most p.lin_dwell [s] (§4.2b) */
     rfe_velocity_estimate_t last;     /**< the output of the last step */
 } rfe_velocity_t;
 

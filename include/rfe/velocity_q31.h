@@ -96,6 +96,8 @@ typedef struct {
     rfe_kf2_q31_t yaw;                /**< [r Q27, r-dot Q24] */
     rfe_kf2_q31_t lon;                /**< [vx Q23, b_x Q24] */
     rfe_kf2_q31_t lat;                /**< [vy Q23, b_y Q24] */
+    rfe_fix_t r_on_ref;               /**< time the yaw rate has stayed on its neutral
+                                           reference, at most p.lin_dwell [s], Q30 */
     rfe_velocity_estimate_q31_t last; /**< the output of the last step */
     uint32_t sat;                     /**< saturations since init (saturating) */
 } rfe_velocity_q31_t;

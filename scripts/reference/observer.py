@@ -55,6 +55,8 @@ OBS_DEFAULTS: dict[str, float] = {
     "obs_lin_r_tol": 0.01,      # the linear range: |r - vx delta / L| within this, rad/s
     "obs_lin_r_rel": 0.05,      # ... plus this share of |vx delta / L|
     "obs_lin_ay_max": 3.0,      # ... and |ay| at most this, m/s^2
+    "obs_lin_ay_steady": 4.0,   # ... or at most this in a steady turn, m/s^2
+    "obs_lin_dwell": 0.125,     # a steady turn: r on vx delta / L this long, s (at most 1)
 }
 
 
@@ -135,6 +137,7 @@ class Observer:
         self.yaw = Kf2()
         self.lon = Kf2()
         self.lat = Kf2()
+        self.r_on_ref = 0.0                       # §4.2b time r has stayed on r_ref, s
 
     # §3.1 the wheel references
     def wheel_refs(self, s: Sample, vy):
@@ -157,6 +160,7 @@ class Observer:
         self.lon.P = [[p["obs_sd_vx0"] ** 2, 0.0], [0.0, p["obs_sd_bx0"] ** 2]]
         self.lat.x = [0.0, 0.0]
         self.lat.P = [[p["obs_sd_vy0"] ** 2, 0.0], [0.0, p["obs_sd_by0"] ** 2]]
+        self.r_on_ref = 0.0
         self.t = s.t
         self.started = True
         return self.output(0)
@@ -242,6 +246,7 @@ class Observer:
         self.lat.predict(-dt, dt * (s.ay - s.yaw_rate * vx), sy * sy,
                          (p["obs_q_by"] * p["obs_q_by"]) * dt)
         vy_pred = self.lat.x[0]
+        on_ref = 0.0                              # below v_lat_min the time on r_ref restarts
         if vx >= p["obs_v_lat_min"]:
             # §4.2 the lateral acceleration of the friction estimator's model (MODEL.md §3-5)
             # at vy, at this step's friction (raised to what the measured ay proves)
@@ -267,11 +272,20 @@ class Observer:
                 self.lat.update(h1, 0.0,
                                 self.yaw.x[1] - (rd_model + h1 * (self.lat.x[0] - vy_pred)), r1)
             # §4.2b the linear range: the yaw rate of the neutral single-track model and a
-            # moderate ay: vy is the linear model's, whatever the friction
+            # moderate ay (or a higher one in a steady turn: r on r_ref for obs_lin_dwell):
+            # vy is the linear model's, whatever the friction
             length = p["Lf"] + p["Lr"]
             r_ref = vx * (s.delta / length)
             yaw_linear = abs(s.yaw_rate - r_ref) <= p["obs_lin_r_tol"] + p["obs_lin_r_rel"] * abs(r_ref)
-            if p["obs_sd_vy_lin"] > 0.0 and yaw_linear and abs(s.ay) <= p["obs_lin_ay_max"]:
+            if not yaw_linear:
+                on_ref = 0.0
+            elif self.r_on_ref >= p["obs_lin_dwell"]:
+                on_ref = self.r_on_ref
+            else:
+                on_ref = min(self.r_on_ref + dt, p["obs_lin_dwell"])
+            steady = abs(s.ay) <= p["obs_lin_ay_steady"] and on_ref >= p["obs_lin_dwell"]
+            if p["obs_sd_vy_lin"] > 0.0 and yaw_linear and (abs(s.ay) <= p["obs_lin_ay_max"]
+                                                            or steady):
                 vy_lin = vx * ((p["Lr"] * s.delta) / length - s.ay / (p["cy"] * p["g"]))
                 self.lat.update(1.0, 0.0, vy_lin - self.lat.x[0], p["obs_sd_vy_lin"] ** 2)
                 flags |= FLAG_VY_LINEAR
@@ -283,6 +297,7 @@ class Observer:
         # noise, holds b_y where the model cannot (a saturated tyre tells nothing about vy)
         sv = p["obs_sd_vydot"] + p["obs_vydot_rdot"] * abs(self.yaw.x[1])
         self.lat.update(0.0, 1.0, (s.ay - s.yaw_rate * vx) - self.lat.x[1], sv * sv)
+        self.r_on_ref = on_ref
         return self.output(flags)
 
     def model_rows(self, s, vx, vy, mu):

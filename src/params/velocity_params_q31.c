@@ -52,6 +52,8 @@ rfe_status_t rfe_velocity_params_default_q31(rfe_velocity_params_q31_t *p)
     p->lin_r_tol = 1342177; /* 0.01 rad/s, Q27 */
     p->lin_r_rel = 53687091; /* 0.05, Q30 */
     p->lin_ay_max = 50331648; /* 3 m/s^2, Q24 */
+    p->lin_ay_steady = 67108864; /* 4 m/s^2, Q24 */
+    p->lin_dwell = 134217728; /* 0.125 s, Q30 */
     return RFE_OK;
 }
 
@@ -72,12 +74,12 @@ static int positive_ok_q31(const rfe_velocity_params_q31_t *p)
 
 static int non_negative_ok_q31(const rfe_velocity_params_q31_t *p)
 {
-    const rfe_fix_t v[26] = {p->sd_vy_lin, p->lin_r_tol, p->lin_r_rel, p->lin_ay_max, p->sd_model_rdot, p->vydot_rdot, p->q_bx, p->q_by, p->sd_wheel, p->sd_wheel_rel,
+    const rfe_fix_t v[28] = {p->sd_vy_lin, p->lin_r_tol, p->lin_r_rel, p->lin_ay_max, p->lin_ay_steady, p->lin_dwell, p->sd_model_rdot, p->vydot_rdot, p->q_bx, p->q_by, p->sd_wheel, p->sd_wheel_rel,
                              p->k_gate, p->k_agree, p->v_stand, p->q_vx_brake, p->ax_brake_on, p->ax_drive_on, p->p_brake_on,
                              p->torque_on, p->sd_model_ay, p->model_ay_rel, p->sd_mu_default,
                              p->mu_margin, p->sd_vx0, p->sd_bx0, p->sd_vy0, p->sd_by0};
     size_t i;
-    for (i = 0u; i < 26u; ++i) {
+    for (i = 0u; i < 28u; ++i) {
         if (v[i] < 0) {
             return 0;
         }
@@ -98,6 +100,9 @@ rfe_status_t rfe_velocity_params_validate_q31(const rfe_velocity_params_q31_t *p
     }
     if ((positive_ok_q31(p) == 0) || (non_negative_ok_q31(p) == 0)) {
         return RFE_ERR_PARAM;
+    }
+    if (p->lin_dwell > RFE_FIX_ONE(30)) {
+        return RFE_ERR_PARAM; /* at most 1 s: the dwell plus a period stays within Q30 */
     }
     return RFE_OK;
 }

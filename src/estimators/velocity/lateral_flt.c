@@ -61,19 +61,33 @@ static int model_friction(const rfe_velocity_params_t *p, rfe_real_t g, rfe_real
 }
 
 /* §4.2b the linear range: where the yaw rate is the neutral single-track model's
- * (r_ref = vx (delta / L)) and |ay| moderate, vy = vx (Lr delta / L - ay / (cy g)), the
- * linear model's, with sd sd_vy_lin. Returns 1 (and the update's status in @p st) when
- * taken. */
+ * (r_ref = vx (delta / L)) and |ay| moderate (or, in a steady turn, the yaw rate on r_ref
+ * for lin_dwell, below the higher cap), vy = vx (Lr delta / L - ay / (cy g)), the linear
+ * model's, with sd sd_vy_lin. @p on_ref: the time r has stayed on r_ref, updated. Returns 1
+ * (and the update's status in @p st) when taken. */
 static int linear_range(rfe_kf2_t *k, const rfe_velocity_t *obs, const rfe_velocity_input_t *in,
-                        rfe_real_t vx, rfe_status_t *st)
+                        rfe_real_t vx, rfe_real_t *on_ref, rfe_status_t *st)
 {
     const rfe_velocity_params_t *p = &obs->p;
     const rfe_real_t len = obs->veh.Lf + obs->veh.Lr;
     const rfe_real_t r_ref = vx * (in->delta / len);
     const rfe_real_t r_tol = p->lin_r_tol + (p->lin_r_rel * RFE_FABS(r_ref));
-    const int on = rfe_vel_linear_range((p->sd_vy_lin > RFE_R(0.0)) ? 1 : 0,
-                                        (RFE_FABS(in->yaw_rate - r_ref) <= r_tol) ? 1 : 0,
-                                        (RFE_FABS(in->ay) <= p->lin_ay_max) ? 1 : 0);
+    /* RESET exactly when the yaw rate is off r_ref: the decision below takes that */
+    const rfe_vel_on_ref_t a = rfe_vel_on_ref((RFE_FABS(in->yaw_rate - r_ref) <= r_tol) ? 1 : 0,
+                                              (obs->r_on_ref >= p->lin_dwell) ? 1 : 0);
+    int on;
+    if (a == RFE_VEL_ON_REF_RESET) {
+        *on_ref = RFE_R(0.0);
+    } else if (a == RFE_VEL_ON_REF_ADD) {
+        *on_ref = rfe_min(obs->r_on_ref + in->dt, p->lin_dwell);
+    } else {
+        *on_ref = obs->r_on_ref;
+    }
+    on = rfe_vel_linear_range((p->sd_vy_lin > RFE_R(0.0)) ? 1 : 0,
+                              (a != RFE_VEL_ON_REF_RESET) ? 1 : 0,
+                              (RFE_FABS(in->ay) <= p->lin_ay_max) ? 1 : 0,
+                              (RFE_FABS(in->ay) <= p->lin_ay_steady) ? 1 : 0,
+                              (*on_ref >= p->lin_dwell) ? 1 : 0);
     if (on != 0) {
         const rfe_real_t vy_lin =
             vx * (((obs->veh.Lr * in->delta) / len) - (in->ay / (obs->tyre.cy * obs->veh.g)));
@@ -83,12 +97,13 @@ static int linear_range(rfe_kf2_t *k, const rfe_velocity_t *obs, const rfe_veloc
     return on;
 }
 
-rfe_status_t rfe_vel_lateral_step(rfe_kf2_t *f, const rfe_velocity_t *obs,
+rfe_status_t rfe_vel_lateral_step(rfe_kf2_t *f, rfe_real_t *on_ref, const rfe_velocity_t *obs,
                                   const rfe_velocity_input_t *in, rfe_real_t vx,
                                   const rfe_velocity_mu_t *mu, uint32_t *flags)
 {
     const rfe_velocity_params_t *p = &obs->p;
     rfe_kf2_t k;
+    rfe_real_t t_ref = RFE_R(0.0); /* below v_lat_min the time on r_ref restarts */
     uint32_t fl = 0u;
     const rfe_real_t dt = in->dt;
     const rfe_real_t sy = dt * p->sd_ay;
@@ -128,7 +143,7 @@ rfe_status_t rfe_vel_lateral_step(rfe_kf2_t *f, const rfe_velocity_t *obs,
             st = rfe_kf2_update(&k, h1, RFE_R(0.0),
                                 obs->yaw.x[1] - (z.z[1] + (h1 * (k.x[0] - vy_pred))), r);
         }
-        if ((st == RFE_OK) && (linear_range(&k, obs, in, vx, &st) != 0)) {
+        if ((st == RFE_OK) && (linear_range(&k, obs, in, vx, &t_ref, &st) != 0)) {
             fl |= RFE_VEL_FLAG_VY_LINEAR;
         }
     } else {
@@ -147,6 +162,7 @@ rfe_status_t rfe_vel_lateral_step(rfe_kf2_t *f, const rfe_velocity_t *obs,
     }
     if (st == RFE_OK) {
         *f = k;
+        *on_ref = t_ref;
         *flags |= fl;
     }
     return st;

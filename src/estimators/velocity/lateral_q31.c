@@ -132,11 +132,13 @@ static void rdot_row_q31(const rfe_velocity_q31_t *obs, const rfe_meas_lateral_q
  * lin_r_rel |r_ref| (Q27) and |ay| against lin_ay_max (Q24); vy_lin = vx ((Lr delta) / L -
  * ay / (cy g)): Lr delta Q29 over L into Q29, cy g (Q24 Q24) in Q20, ay Q24 over it into
  * Q29, times vx Q23 into Q23. L > 0, cy > 0 and g > 0 after the parameter checks, so no
- * division fails; a quotient beyond its format saturates, counted. Returns 1 (and the
+ * division fails; a quotient beyond its format saturates, counted. The time on r_ref
+ * (@p on_ref, updated) and lin_dwell are Q30: it grows only while below lin_dwell <= 1 s,
+ * by dt <= dt_max <= 1 s, so the sum stays below 2 s, within Q30. Returns 1 (and the
  * update's status in @p st) when taken. */
 static int linear_range_q31(rfe_kf2_q31_t *k, const rfe_velocity_q31_t *obs,
-                            const rfe_velocity_input_q31_t *in, rfe_fix_t vx, rfe_status_t *st,
-                            uint32_t *sat)
+                            const rfe_velocity_input_q31_t *in, rfe_fix_t vx, rfe_fix_t *on_ref,
+                            rfe_status_t *st, uint32_t *sat)
 {
     const rfe_velocity_params_q31_t *p = &obs->p;
     const rfe_fix_t len = rfe_fix_add(obs->veh.Lf, obs->veh.Lr, sat);
@@ -146,6 +148,8 @@ static int linear_range_q31(rfe_kf2_q31_t *k, const rfe_velocity_q31_t *obs,
     rfe_fix_t b = 0;
     rfe_fix_t r_err;
     rfe_fix_t r_tol;
+    rfe_fix_t ay_abs;
+    rfe_vel_on_ref_t act;
     int on;
     rfe_status_t s;
     s = rfe_fix_div(in->delta, len, 27, &dl, sat);
@@ -153,8 +157,20 @@ static int linear_range_q31(rfe_kf2_q31_t *k, const rfe_velocity_q31_t *obs,
     r_err = rfe_fix_abs(rfe_fix_sub(in->yaw_rate, r_ref, sat), sat);
     r_tol = rfe_fix_add(p->lin_r_tol, rfe_fix_mul(p->lin_r_rel, rfe_fix_abs(r_ref, sat), 30u, sat),
                         sat);
-    on = rfe_vel_linear_range((p->sd_vy_lin > 0) ? 1 : 0, (r_err <= r_tol) ? 1 : 0,
-                              (rfe_fix_abs(in->ay, sat) <= p->lin_ay_max) ? 1 : 0);
+    /* RESET exactly when the yaw rate is off r_ref: the decision below takes that */
+    act = rfe_vel_on_ref((r_err <= r_tol) ? 1 : 0, (obs->r_on_ref >= p->lin_dwell) ? 1 : 0);
+    if (act == RFE_VEL_ON_REF_RESET) {
+        *on_ref = 0;
+    } else if (act == RFE_VEL_ON_REF_ADD) {
+        *on_ref = rfe_fix_min(rfe_fix_add(obs->r_on_ref, in->dt, sat), p->lin_dwell);
+    } else {
+        *on_ref = obs->r_on_ref;
+    }
+    ay_abs = rfe_fix_abs(in->ay, sat);
+    on = rfe_vel_linear_range((p->sd_vy_lin > 0) ? 1 : 0, (act != RFE_VEL_ON_REF_RESET) ? 1 : 0,
+                              (ay_abs <= p->lin_ay_max) ? 1 : 0,
+                              (ay_abs <= p->lin_ay_steady) ? 1 : 0,
+                              (*on_ref >= p->lin_dwell) ? 1 : 0);
     if (on != 0) {
         rfe_kf2_meas_q31_t m;
         const rfe_fix_t cg = rfe_fix_mul(obs->tyre.cy, obs->veh.g, 28u, sat);
@@ -177,7 +193,8 @@ static int linear_range_q31(rfe_kf2_q31_t *k, const rfe_velocity_q31_t *obs,
     return on;
 }
 
-rfe_status_t rfe_vel_lateral_step_q31(rfe_kf2_q31_t *f, const rfe_velocity_q31_t *obs,
+rfe_status_t rfe_vel_lateral_step_q31(rfe_kf2_q31_t *f, rfe_fix_t *on_ref,
+                                      const rfe_velocity_q31_t *obs,
                                       const rfe_velocity_input_q31_t *in, rfe_fix_t vx,
                                       const rfe_velocity_mu_q31_t *mu, uint32_t *flags,
                                       uint32_t *sat)
@@ -185,6 +202,7 @@ rfe_status_t rfe_vel_lateral_step_q31(rfe_kf2_q31_t *f, const rfe_velocity_q31_t
     const rfe_velocity_params_q31_t *p = &obs->p;
     rfe_kf2_q31_t k;
     rfe_kf2_meas_q31_t m;
+    rfe_fix_t t_ref = 0; /* below v_lat_min the time on r_ref restarts */
     uint32_t fl = 0u;
     uint32_t cnt = 0u;
     const rfe_fix_t dt = in->dt;
@@ -213,7 +231,7 @@ rfe_status_t rfe_vel_lateral_step_q31(rfe_kf2_q31_t *f, const rfe_velocity_q31_t
             rdot_row_q31(obs, &z, vy_pred, k.x[0], &m, &cnt);
             st = rfe_kf2_update_q31(&k, &m, &cnt);
         }
-        if ((st == RFE_OK) && (linear_range_q31(&k, obs, in, vx, &st, &cnt) != 0)) {
+        if ((st == RFE_OK) && (linear_range_q31(&k, obs, in, vx, &t_ref, &st, &cnt) != 0)) {
             fl |= RFE_VEL_FLAG_VY_LINEAR;
         }
     } else {
@@ -245,6 +263,7 @@ rfe_status_t rfe_vel_lateral_step_q31(rfe_kf2_q31_t *f, const rfe_velocity_q31_t
     }
     if (st == RFE_OK) {
         *f = k;
+        *on_ref = t_ref;
         *flags |= fl;
         rfe_q31_sat_add(sat, cnt);
     }

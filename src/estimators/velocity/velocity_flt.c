@@ -35,6 +35,7 @@ rfe_status_t rfe_velocity_init(rfe_velocity_t *obs, const rfe_velocity_params_t 
     obs->yaw = (rfe_kf2_t){{RFE_R(0.0), RFE_R(0.0)}, RFE_R(0.0), RFE_R(0.0), RFE_R(0.0)};
     obs->lon = obs->yaw;
     obs->lat = obs->yaw;
+    obs->r_on_ref = RFE_R(0.0);
     obs->last = (rfe_velocity_estimate_t){0};
     obs->magic = RFE_MAGIC_VEL;
     return RFE_OK;
@@ -153,6 +154,9 @@ static rfe_status_t start(rfe_velocity_t *o, const rfe_velocity_input_t *in)
         st = (rfe_kf2_init)(&o->lat, RFE_R(0.0), RFE_R(0.0), o->p.sd_vy0, o->p.sd_by0,
                             sizeof(o->lat), RFE_CONFIG_REAL);
     }
+    if (st == RFE_OK) {
+        o->r_on_ref = RFE_R(0.0);
+    }
     return st;
 }
 
@@ -168,7 +172,7 @@ static rfe_status_t run_stage(rfe_velocity_t *o, rfe_vel_stage_t stage,
     } else if (stage == RFE_VEL_STAGE_LONGITUDINAL) {
         st = rfe_vel_longitudinal_step(&o->lon, &o->p, &o->veh, in, vy_prev, flags);
     } else {
-        st = rfe_vel_lateral_step(&o->lat, o, in, o->lon.x[0], mu, flags);
+        st = rfe_vel_lateral_step(&o->lat, &o->r_on_ref, o, in, o->lon.x[0], mu, flags);
     }
     return st;
 }

@@ -40,8 +40,10 @@ rfe_status_t rfe_vel_longitudinal_step(rfe_kf2_t *f, const rfe_velocity_params_t
                                        rfe_real_t vy_prev, uint32_t *flags);
 
 /** §4 one step of [vy, b_y] at this step's @p vx, with the friction @p mu (NULL: the
- *  default). Sets the model / low-speed / raised-friction flags in @p flags. */
-rfe_status_t rfe_vel_lateral_step(rfe_kf2_t *f, const rfe_velocity_t *obs,
+ *  default), and of the time the yaw rate has stayed on its reference (@p on_ref, §4.2b);
+ *  both written only on RFE_OK. Sets the model / low-speed / raised-friction / linear-range
+ *  flags in @p flags. */
+rfe_status_t rfe_vel_lateral_step(rfe_kf2_t *f, rfe_real_t *on_ref, const rfe_velocity_t *obs,
                                   const rfe_velocity_input_t *in, rfe_real_t vx,
                                   const rfe_velocity_mu_t *mu, uint32_t *flags);
 

@@ -78,8 +78,10 @@ rfe_status_t rfe_vel_longitudinal_step_q31(rfe_kf2_q31_t *f, const rfe_velocity_
                                            rfe_fix_t vy_prev, uint32_t *flags, uint32_t *sat);
 
 /** §4 one step of [vy, b_y] at this step's @p vx, with the friction @p mu (NULL: the
- *  default). */
-rfe_status_t rfe_vel_lateral_step_q31(rfe_kf2_q31_t *f, const rfe_velocity_q31_t *obs,
+ *  default), and of the time the yaw rate has stayed on its reference (@p on_ref, Q30,
+ *  §4.2b); both written only on RFE_OK. */
+rfe_status_t rfe_vel_lateral_step_q31(rfe_kf2_q31_t *f, rfe_fix_t *on_ref,
+                                      const rfe_velocity_q31_t *obs,
                                       const rfe_velocity_input_q31_t *in, rfe_fix_t vx,
                                       const rfe_velocity_mu_q31_t *mu, uint32_t *flags,
                                       uint32_t *sat);

@@ -12,7 +12,8 @@
  *  - the wheel votes (§3.5): which plausible wheel is free-rolling, and which reference the
  *    longitudinal filter takes;
  *  - the re-acquisition of the wheels and the drift while braking unchecked (§3.5);
- *  - whether the lateral filter takes the linear range's vy (§4.2b);
+ *  - the time the yaw rate has stayed on its neutral reference, and whether the lateral
+ *    filter takes the linear range's vy (§4.2b);
  *  - the flags each decision sets (§5).
  */
 #ifndef RFE_VELOCITY_LOGIC_H
@@ -185,12 +186,39 @@ static inline int rfe_vel_brake_drift(rfe_vel_ref_t ref, const rfe_vel_drive_sta
     return ((ref == RFE_VEL_REF_NONE) && (s->braking != 0)) ? 1 : 0;
 }
 
+/** §4.2b what the time the yaw rate has stayed on its reference does this step. */
+typedef enum {
+    RFE_VEL_ON_REF_RESET = 0, /**< r is off r_ref (or vx below v_lat_min): back to 0 */
+    RFE_VEL_ON_REF_ADD = 1,   /**< r on r_ref: plus this period, held at lin_dwell */
+    RFE_VEL_ON_REF_HOLD = 2   /**< r on r_ref and the time has reached lin_dwell: kept */
+} rfe_vel_on_ref_t;
+
+/** §4.2b the time on r_ref: reset when the yaw rate is off it (@p yaw_linear 0), kept once
+ *  it has reached lin_dwell (@p reached: time >= lin_dwell; the sum stays bounded), else
+ *  grown by the period. */
+static inline rfe_vel_on_ref_t rfe_vel_on_ref(int yaw_linear, int reached)
+{
+    rfe_vel_on_ref_t a = RFE_VEL_ON_REF_RESET;
+    if ((yaw_linear != 0) && (reached != 0)) {
+        a = RFE_VEL_ON_REF_HOLD;
+    } else if (yaw_linear != 0) {
+        a = RFE_VEL_ON_REF_ADD;
+    } else {
+        /* off the reference */
+    }
+    return a;
+}
+
 /** §4.2b the linear range's update of vy: on (@p on: sd_vy_lin > 0), the yaw rate near the
  *  neutral reference (@p yaw_linear: |r - r_ref| <= lin_r_tol + lin_r_rel |r_ref|) and the
- *  lateral acceleration moderate (@p ay_moderate: |ay| <= lin_ay_max). */
-static inline int rfe_vel_linear_range(int on, int yaw_linear, int ay_moderate)
+ *  lateral acceleration moderate (@p ay_moderate: |ay| <= lin_ay_max), or in a steady turn
+ *  below the higher cap (@p ay_steady: |ay| <= lin_ay_steady, and @p dwelled: the yaw rate
+ *  has stayed on r_ref for lin_dwell, this step included). */
+static inline int rfe_vel_linear_range(int on, int yaw_linear, int ay_moderate, int ay_steady,
+                                       int dwelled)
 {
-    return ((on != 0) && (yaw_linear != 0) && (ay_moderate != 0)) ? 1 : 0;
+    return ((on != 0) && (yaw_linear != 0) &&
+            ((ay_moderate != 0) || ((ay_steady != 0) && (dwelled != 0)))) ? 1 : 0;
 }
 
 #endif /* RFE_VELOCITY_LOGIC_H */

@@ -37,6 +37,7 @@ rfe_status_t rfe_velocity_init_q31(rfe_velocity_q31_t *obs, const rfe_velocity_p
     obs->veh = veh->vehicle;
     obs->tyre = veh->tyre;
     obs->started = 0u;
+    obs->r_on_ref = 0;
     {
         /* the filters' formats, their states at 0 until the first sample (constant formats
          * and sds: these cannot fail); member writes keep the caller's padding bytes */
@@ -210,6 +211,9 @@ static rfe_status_t start_q31(rfe_velocity_q31_t *o, const rfe_velocity_input_q3
         st = rfe_kf2_init_q31(&o->lat, RFE_VEL_Q31_QV, RFE_VEL_Q31_QB, RFE_VEL_Q31_QDT, 0, 0,
                               o->p.sd_vy0, o->p.sd_by0);
     }
+    if (st == RFE_OK) {
+        o->r_on_ref = 0;
+    }
     return st;
 }
 
@@ -226,7 +230,7 @@ static rfe_status_t run_stage_q31(rfe_velocity_q31_t *o, rfe_vel_stage_t stage,
     } else if (stage == RFE_VEL_STAGE_LONGITUDINAL) {
         st = rfe_vel_longitudinal_step_q31(&o->lon, &o->p, &o->veh, in, vy_prev, flags, sat);
     } else {
-        st = rfe_vel_lateral_step_q31(&o->lat, o, in, o->lon.x[0], mu, flags, sat);
+        st = rfe_vel_lateral_step_q31(&o->lat, &o->r_on_ref, o, in, o->lon.x[0], mu, flags, sat);
     }
     return st;
 }

@@ -477,7 +477,8 @@ static void test_the_linear_range_brings_a_lost_vy_back(void **state)
         assert_int_equal(rfe_velocity_step(&fx.obs, &in, &mu, &e), RFE_OK);
     }
     assert_true((e.flags & RFE_VEL_FLAG_VY_LINEAR) == 0u);
-    /* nor where |ay| exceeds lin_ay_max, the yaw rate on its reference */
+    /* nor where |ay| exceeds lin_ay_max, the yaw rate on its reference for 0.1 s (shorter
+     * than lin_dwell, 0.125 s: not yet a steady turn, test below) */
     setup_fixture();
     for (k = 0u; k <= 10u; ++k) {
         in = rolling(20.0f, (k == 0u) ? 0.0f : 0.01f);
@@ -510,6 +511,83 @@ static void test_the_linear_range_brings_a_lost_vy_back(void **state)
     fx.vp.lin_r_rel = 0.05f;
     fx.vp.lin_ay_max = -1.0f;
     assert_int_equal(rfe_velocity_params_validate(&fx.vp), RFE_ERR_PARAM);
+}
+
+/* A steady turn at 20 m/s, delta 0.02 rad, the yaw rate on its neutral reference, at @p ay,
+ * 100 Hz: steps it from a fresh observer (the default parameters, then @p dwell as lin_dwell)
+ * for @p n steps after the first, the yaw rate off its reference on step @p off (0: never);
+ * returns the first later step whose flags have the linear range (0: none). */
+static size_t first_linear_step(rfe_real_t ay, rfe_real_t dwell, size_t n, size_t off)
+{
+    rfe_velocity_estimate_t e;
+    rfe_velocity_input_t in;
+    const rfe_velocity_mu_t mu = {{1.0f, 1.0f, 1.0f, 1.0f}, {0.1f, 0.1f, 0.1f, 0.1f}};
+    size_t first = 0u;
+    size_t k;
+    setup_fixture();
+    fx.vp.lin_dwell = dwell;
+    assert_int_equal(rfe_velocity_init(&fx.obs, &fx.vp, &fx.p), RFE_OK);
+    for (k = 0u; k <= n; ++k) {
+        in = rolling(20.0f, (k == 0u) ? 0.0f : 0.01f);
+        in.delta = 0.02f;
+        in.yaw_rate = 20.0f * (0.02f / (fx.p.vehicle.Lf + fx.p.vehicle.Lr));
+        if (k == off) {
+            in.yaw_rate += 0.1f; /* 0.1 rad/s off: beyond 0.01 + 0.05 * 0.13 rad/s */
+        }
+        in.ay = ay;
+        assert_int_equal(rfe_velocity_step(&fx.obs, &in, &mu, &e), RFE_OK);
+        if ((k > 0u) && (first == 0u) && ((e.flags & RFE_VEL_FLAG_VY_LINEAR) != 0u)) {
+            first = k;
+        }
+    }
+    return first;
+}
+
+/* REQ-OBS-012 */
+static void test_a_steady_turn_takes_the_linear_range_to_the_higher_cap(void **state)
+{
+    rfe_velocity_t before;
+    rfe_real_t ay_max, ay_steady, mid;
+    (void)state;
+    setup_fixture();
+    ay_max = fx.vp.lin_ay_max;       /* the defaults, 3 and 4 m/s^2 */
+    ay_steady = fx.vp.lin_ay_steady;
+    mid = 0.5f * (ay_max + ay_steady);
+    assert_true(ay_max < mid);
+    assert_true(mid < ay_steady);
+    /* between the caps: the time on r_ref counts the periods from the second sample on
+     * (the first only initialises), 0.01 s each; it reaches lin_dwell = 0.125 s on the step
+     * whose sum first is >= 0.125: step 13 (0.13 s; step 12 has 0.12 s, 0.005 s short, far
+     * more than float's rounding of 13 sums of 0.01) */
+    assert_int_equal(first_linear_step(mid, 0.125f, 40u, 0u), 13u);
+    /* one step off the reference restarts the count: off at step 10, back on from step 11,
+     * the 13th step on it is step 23 */
+    assert_int_equal(first_linear_step(mid, 0.125f, 40u, 10u), 23u);
+    /* lin_dwell 0 is the higher cap alone: taken on the first later step */
+    assert_int_equal(first_linear_step(mid, 0.0f, 40u, 0u), 1u);
+    /* above the higher cap never, however long the turn (1 s) */
+    assert_int_equal(first_linear_step(ay_steady + 0.5f, 0.125f, 100u, 0u), 0u);
+    /* below lin_ay_max at once, steady or not */
+    assert_int_equal(first_linear_step(ay_max - 0.5f, 0.125f, 40u, 0u), 1u);
+    /* the parameters: lin_ay_steady finite and >= 0, lin_dwell in [0, 1] s; a bad one is
+     * RFE_ERR_PARAM and init leaves the observer as it was */
+    setup_fixture();
+    memcpy(&before, &fx.obs, sizeof(before));
+    fx.vp.lin_ay_steady = -1.0f;
+    assert_int_equal(rfe_velocity_params_validate(&fx.vp), RFE_ERR_PARAM);
+    assert_int_equal(rfe_velocity_init(&fx.obs, &fx.vp, &fx.p), RFE_ERR_PARAM);
+    fx.vp.lin_ay_steady = (rfe_real_t)NAN;
+    assert_int_equal(rfe_velocity_init(&fx.obs, &fx.vp, &fx.p), RFE_ERR_PARAM);
+    fx.vp.lin_ay_steady = 4.0f;
+    fx.vp.lin_dwell = -0.01f;
+    assert_int_equal(rfe_velocity_init(&fx.obs, &fx.vp, &fx.p), RFE_ERR_PARAM);
+    fx.vp.lin_dwell = 1.5f;
+    assert_int_equal(rfe_velocity_init(&fx.obs, &fx.vp, &fx.p), RFE_ERR_PARAM);
+    fx.vp.lin_dwell = (rfe_real_t)INFINITY;
+    assert_int_equal(rfe_velocity_init(&fx.obs, &fx.vp, &fx.p), RFE_ERR_PARAM);
+    assert_memory_equal(&fx.obs, &before, sizeof(before));
+    fx.vp.lin_dwell = 1.0f; /* the limit itself is valid */
+    assert_int_equal(rfe_velocity_params_validate(&fx.vp), RFE_OK);
 }
 
 /* REQ-OBS-004 */
@@ -672,6 +750,7 @@ int main(void)
         cmocka_unit_test(test_a_too_low_friction_is_raised_by_the_measured_ay),
         cmocka_unit_test(test_the_yaw_row_moves_vy_towards_the_moment_balance),
         cmocka_unit_test(test_the_linear_range_brings_a_lost_vy_back),
+        cmocka_unit_test(test_a_steady_turn_takes_the_linear_range_to_the_higher_cap),
         cmocka_unit_test(test_all_wheel_drive_wheels_only_bound_vx_from_above),
         cmocka_unit_test(test_vx_never_goes_negative),
         cmocka_unit_test(test_steering_wheel_angle_through_the_ratio),

@@ -137,19 +137,37 @@ static void test_brake_drift_every_combination(void **state_)
     }
 }
 
-/* REQ-OBS-011 */
+/* REQ-OBS-011 REQ-OBS-012 */
 static void test_linear_range_every_combination(void **state)
 {
-    /* §4.2b: taken only when on, the yaw rate linear and ay moderate (the truth table) */
-    int on, yaw, ay;
+    /* §4.2b: taken only when on and the yaw rate linear, and ay moderate or, in a steady
+     * turn (the yaw rate on r_ref for lin_dwell), below the higher cap (the truth table) */
+    int on, yaw, ay, ays, dw;
     (void)state;
     for (on = 0; on <= 1; ++on) {
         for (yaw = 0; yaw <= 1; ++yaw) {
             for (ay = 0; ay <= 1; ++ay) {
-                assert_int_equal(rfe_vel_linear_range(on, yaw, ay), (on && yaw && ay) ? 1 : 0);
+                for (ays = 0; ays <= 1; ++ays) {
+                    for (dw = 0; dw <= 1; ++dw) {
+                        assert_int_equal(rfe_vel_linear_range(on, yaw, ay, ays, dw),
+                                         (on && yaw && (ay || (ays && dw))) ? 1 : 0);
+                    }
+                }
             }
         }
     }
+}
+
+/* REQ-OBS-012 */
+static void test_time_on_reference_every_combination(void **state)
+{
+    /* §4.2b: off r_ref the time restarts; on it, it grows until it has reached lin_dwell,
+     * then it is kept */
+    (void)state;
+    assert_int_equal(rfe_vel_on_ref(0, 0), RFE_VEL_ON_REF_RESET);
+    assert_int_equal(rfe_vel_on_ref(0, 1), RFE_VEL_ON_REF_RESET);
+    assert_int_equal(rfe_vel_on_ref(1, 0), RFE_VEL_ON_REF_ADD);
+    assert_int_equal(rfe_vel_on_ref(1, 1), RFE_VEL_ON_REF_HOLD);
 }
 
 int main(void)
@@ -159,6 +177,7 @@ int main(void)
         cmocka_unit_test(test_reacquire_every_combination),
         cmocka_unit_test(test_brake_drift_every_combination),
         cmocka_unit_test(test_linear_range_every_combination),
+        cmocka_unit_test(test_time_on_reference_every_combination),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -432,6 +432,12 @@ static void test_params(void **state)
     bad = def;
     bad.dt_max = RFE_FIX_ONE(30) + 1;
     assert_int_equal(rfe_velocity_params_validate_q31(&bad), RFE_ERR_PARAM);
+    /* lin_dwell at most 1 s (Q30 2^30: the time on r_ref plus a period stays in Q30) */
+    bad = def;
+    bad.lin_dwell = RFE_FIX_ONE(30);
+    assert_int_equal(rfe_velocity_params_validate_q31(&bad), RFE_OK);
+    bad.lin_dwell = RFE_FIX_ONE(30) + 1;
+    assert_int_equal(rfe_velocity_params_validate_q31(&bad), RFE_ERR_PARAM);
     /* every field that must be > 0 rejects 0, every other one a negative value; in the
      * order of the struct after dt_max (steer_ratio is checked positive too; sd_model_rdot
      * is 0 when off) */
@@ -439,7 +445,8 @@ static void test_params(void **state)
         rfe_fix_t *const pos[9] = {&bad.q_jerk, &bad.sd_r, &bad.sd_ax, &bad.sd_ay,
                                     &bad.v_lat_min, &bad.sd_lowspeed, &bad.mu_default,
                                     &bad.sd_vydot, &bad.steer_ratio};
-        rfe_fix_t *const nonneg[26] = {&bad.sd_vy_lin, &bad.lin_r_tol, &bad.lin_r_rel, &bad.lin_ay_max,
+        rfe_fix_t *const nonneg[28] = {&bad.sd_vy_lin, &bad.lin_r_tol, &bad.lin_r_rel, &bad.lin_ay_max,
+            &bad.lin_ay_steady, &bad.lin_dwell,
             &bad.sd_model_rdot, &bad.vydot_rdot, &bad.q_bx, &bad.q_by, &bad.sd_wheel, &bad.sd_wheel_rel,
             &bad.k_gate, &bad.k_agree, &bad.v_stand, &bad.q_vx_brake, &bad.ax_brake_on, &bad.ax_drive_on, &bad.p_brake_on, &bad.torque_on,
             &bad.sd_model_ay, &bad.model_ay_rel, &bad.sd_mu_default, &bad.mu_margin,
@@ -449,7 +456,7 @@ static void test_params(void **state)
             *pos[i] = 0;
             assert_int_equal(rfe_velocity_params_validate_q31(&bad), RFE_ERR_PARAM);
         }
-        for (i = 0u; i < 26u; ++i) {
+        for (i = 0u; i < 28u; ++i) {
             bad = def;
             *nonneg[i] = 0;
             assert_int_equal(rfe_velocity_params_validate_q31(&bad), RFE_OK);
@@ -815,6 +822,68 @@ static void test_the_yaw_row_in_fixed_point(void **state)
     assert_true(fabs(on_q - off_q) > 20.0 * TOL_VY);
 }
 
+/* REQ-OBS-012 (REQ-FXP-014): the steady turn of test_velocity_flt.c through both twins: 20 m/s,
+ * delta 0.02 rad, the yaw rate on its neutral reference, ay 3.5 m/s^2 (between lin_ay_max 3
+ * and lin_ay_steady 4), 100 Hz, the friction input 1.0 (sd 0.1) as in test_velocity_flt.c;
+ * the yaw rate 0.1 rad/s off it on step @p off (0: never). Both take the same flags on every
+ * step; returns the first later step with the linear range (0: none). */
+static size_t steady_turn_both(double ay, size_t off)
+{
+    both_t b;
+    rfe_velocity_t od;
+    rfe_velocity_q31_t oq;
+    rfe_velocity_input_t in;
+    rfe_velocity_input_q31_t iq;
+    rfe_velocity_estimate_t e;
+    rfe_velocity_estimate_q31_t q;
+    rfe_velocity_mu_t mu;
+    rfe_velocity_mu_q31_t mq;
+    size_t first = 0u;
+    size_t k;
+    params_of(NULL, &b);
+    assert_int_equal(rfe_velocity_init(&od, &b.vd, &b.pd), RFE_OK);
+    assert_int_equal(rfe_velocity_init_q31(&oq, &b.vq, &b.pq), RFE_OK);
+    conv_sat = 0u;
+    for (k = 0u; k < 4u; ++k) {
+        mu.mu[k] = 1.0;
+        mu.sd[k] = 0.1;
+        mq.mu[k] = fx(1.0, RFE_FIX_Q_MU);
+        mq.sd[k] = fx(0.1, RFE_FIX_Q_SD);
+    }
+    for (k = 0u; k <= 40u; ++k) {
+        rolling(&b, 20.0, (k == 0u) ? 0.0 : 0.01, &in, &iq);
+        in.delta = 0.02;
+        in.yaw_rate = 20.0 * (0.02 / (b.pd.vehicle.Lf + b.pd.vehicle.Lr)) + ((k == off) ? 0.1 : 0.0);
+        in.ay = ay;
+        iq.delta = fx(in.delta, RFE_FIX_Q_ANGLE);
+        iq.yaw_rate = fx(in.yaw_rate, RFE_FIX_Q_YAWRATE);
+        iq.ay = fx(in.ay, RFE_FIX_Q_ACC);
+        assert_int_equal(rfe_velocity_step(&od, &in, &mu, &e), RFE_OK);
+        assert_int_equal(rfe_velocity_step_q31(&oq, &iq, &mq, &q), RFE_OK);
+        /* the first step after starting in the turn saturates twice, the same before the
+         * time on r_ref existed (measured on the parent commit with this sequence; not in
+         * this test's subject); none after it */
+        assert_true(q.sat <= ((k == 1u) ? 2u : 0u));
+        assert_int_equal(q.flags, e.flags);
+        if ((k > 0u) && (first == 0u) && ((e.flags & RFE_VEL_FLAG_VY_LINEAR) != 0u)) {
+            first = k;
+        }
+    }
+    assert_int_equal(conv_sat, 0u);
+    return first;
+}
+
+/* REQ-OBS-012 REQ-FXP-014: the time on r_ref (Q30) reaches lin_dwell = 0.125 s on the 13th
+ * period of 0.01 s (step 12 is 0.005 s short, far more than the Q30 rounding of 13 periods,
+ * 13 LSB); an off step restarts it (on from step 11: step 23); above lin_ay_steady never. */
+static void test_a_steady_turn_in_fixed_point(void **state)
+{
+    (void)state;
+    assert_int_equal(steady_turn_both(3.5, 0u), 13u);
+    assert_int_equal(steady_turn_both(3.5, 10u), 23u);
+    assert_int_equal(steady_turn_both(4.5, 0u), 0u);
+}
+
 /* REQ: rfe_velocity_restart_q31 (REQ-OBS-023): the sample after a gap beyond dt_max is
  * refused, and after a restart taken as the first: bit for bit a fresh observer's first
  * step, and the same next step; NULL and an uninitialised observer are refused. */
@@ -868,6 +937,7 @@ int main(void)
         cmocka_unit_test(test_steering_wheel_input),
         cmocka_unit_test(test_a_huge_noise_parameter_saturates_and_is_counted),
         cmocka_unit_test(test_the_yaw_row_in_fixed_point),
+        cmocka_unit_test(test_a_steady_turn_in_fixed_point),
         cmocka_unit_test(test_back_to_back_through_a_lockout),
         cmocka_unit_test(test_back_to_back_on_every_observer_scenario),
     };
