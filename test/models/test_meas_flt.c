@@ -15,6 +15,7 @@
 #include "test_light.h"
 #include "test_common.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdint.h>
 #include <string.h>
@@ -25,6 +26,13 @@
 #include "rfe/component/tyre.h"
 
 #include "test_draws.h"
+
+/* The largest finite real of the build (float or double). */
+#if defined(RFE_REAL_DOUBLE)
+#define HUGE_REAL ((rfe_real_t)DBL_MAX)
+#else
+#define HUGE_REAL ((rfe_real_t)FLT_MAX)
+#endif
 
 #define N_CASES 4000         /* perturbed-input cases */
 #define N_CACHED_CASES 20000 /* cached-terms cases */
@@ -811,6 +819,25 @@ static void test_meas_input_jac_args(void **state)
         assert_int_equal(rfe_meas_input_jac(&h, &p.vehicle, &p.tyre, &u, bad, sd, G),
                          RFE_ERR_NONFINITE);
         assert_memory_equal(G, G0, sizeof(G));
+        /* finite arguments whose product is not: the largest real as every column's scale.
+         * A steered sample with its wheels rolling at the body's speed has derivatives beyond
+         * 1 in magnitude (ay by delta is of the order of an axle's cornering stiffness over
+         * the mass, ~1e2 m/s^2 per rad), so a scaled entry overflows: RFE_ERR_NONFINITE, G
+         * untouched. */
+        {
+            rfe_sample_t rolling = u;
+            rfe_meas_t hr;
+            for (j = 0u; j < (size_t)RFE_WHEELS; ++j) {
+                rolling.omega[j] = rolling.vx / p.vehicle.R;
+            }
+            for (j = 0u; j < (size_t)RFE_INPUTS; ++j) {
+                sd[j] = HUGE_REAL;
+            }
+            assert_int_equal(rfe_meas_setup(&hr, &p.vehicle, &p.tyre, &rolling), RFE_OK);
+            assert_int_equal(rfe_meas_input_jac(&hr, &p.vehicle, &p.tyre, &rolling, mu, sd, G),
+                             RFE_ERR_NONFINITE);
+            assert_memory_equal(G, G0, sizeof(G));
+        }
     }
     assert_int_equal(rfe_meas_input_jac(NULL, &p.vehicle, &p.tyre, &u, mu, sd, G), RFE_ERR_NULL);
     assert_int_equal(rfe_meas_input_jac(&h, NULL, &p.tyre, &u, mu, sd, G), RFE_ERR_NULL);
