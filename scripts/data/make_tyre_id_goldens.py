@@ -21,7 +21,10 @@ And <out>/stream.csv: words, uniforms and normals of the random stream (§6) at 
 (seed, c1, c2) and word indices, the words split in 32-bit halves (exact in a double).
 
 Deterministic: running it twice writes identical bytes (plain Python floats; the libm
-backend has no SIMD kernel on its path).
+backend has no SIMD kernel on its path). The sigma-point filter's goldens go through NumPy's
+BLAS and LAPACK (its QR, products), whose kernels depend on the CPU (OPENBLAS_CORETYPE): on
+another machine their last bits may change, within the bound test_tyre_id_golden_flt.c derives
+(never compare them byte for byte across CPUs).
 """
 
 from __future__ import annotations
