@@ -892,6 +892,41 @@ static void test_sckf_prior_held_and_deterministic(void **state)
     assert_true((e.flags & RFE_TID_UPDATED) != 0u);
 }
 
+/* REQ-TID-004 REQ-TID-008: §15.3 lost: a mean that is not finite (set by hand here: no
+ * finite input reaches it) makes the step's Tria refuse; the step reports LOST alone and sets
+ * the prior of §15.2 at this sample (x = (0, r_m, mean0), S = diag(sd0)) exactly, every output
+ * finite; the next step updates from it. */
+static void test_sckf_lost_sets_the_prior_again(void **state)
+{
+    rfe_params_t veh;
+    rfe_tyre_id_params_t tp;
+    rfe_tyre_id_estimate_t e;
+    rfe_tyre_id_sample_t s = sample(0, (rfe_real_t)0.02, 20, (rfe_real_t)0.05, 1);
+    size_t j;
+    (void)state;
+    setup_defaults(&veh, &tp);
+    tp.filter = RFE_TID_SCKF;
+    assert_int_equal(rfe_tyre_id_init(&tid, &tp, &veh, 1u), RFE_OK);
+    assert_int_equal(rfe_tyre_id_step(&tid, &s, &e), RFE_OK);
+    tid.sk.x[RFE_TID_VY] = (rfe_real_t)NAN;
+    s.dt = (rfe_real_t)0.01;
+    s.yaw_rate = (rfe_real_t)0.07;
+    assert_int_equal(rfe_tyre_id_step(&tid, &s, &e), RFE_OK);
+    assert_int_equal(e.flags, RFE_TID_LOST);
+    assert_true(tid.sk.x[RFE_TID_VY] == 0 && tid.sk.x[RFE_TID_R] == (rfe_real_t)0.07);
+    assert_true(tid.sk.S[0] == tp.sd0_vy && tid.sk.S[RFE_TID_DIM + 1] == tp.sd0_r);
+    for (j = 0u; j < (size_t)RFE_TID_PAR; ++j) {
+        const size_t d = (size_t)RFE_TID_STATES + j;
+        assert_true(tid.sk.x[d] == tid.c.mean0[j]);
+        assert_true(tid.sk.S[(d * (size_t)RFE_TID_DIM) + d] == tid.c.sd0[j]);
+    }
+    for (j = 0u; j < (size_t)RFE_TID_OUTPUTS; ++j) {
+        assert_true(isfinite(e.mean[j]) && isfinite(e.sd[j]));
+    }
+    assert_int_equal(rfe_tyre_id_step(&tid, &s, &e), RFE_OK);
+    assert_int_equal(e.flags, RFE_TID_UPDATED);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -901,6 +936,7 @@ int main(void)
         cmocka_unit_test(test_sckf_step_refusals_leave_the_state_untouched),
         cmocka_unit_test(test_sckf_bounds_hold_and_straight_keeps_the_spread),
         cmocka_unit_test(test_sckf_prior_held_and_deterministic),
+        cmocka_unit_test(test_sckf_lost_sets_the_prior_again),
         cmocka_unit_test(test_log_sum_exp_with_extreme_log_likelihoods),
         cmocka_unit_test(test_parent_search_and_draws_on_hand_weights),
         cmocka_unit_test(test_order_by_weight_is_stable),
