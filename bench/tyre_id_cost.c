@@ -7,11 +7,16 @@
  *        count is its own build of the identifier's sources:
  *
  *   for n in 64 256 1024; do
- *     gcc -std=c99 -O2 -DRFE_TID_N=$n -Iinclude -Isrc -Isrc/host bench/tyre_id_cost.c \
+ *     gcc -std=c99 -O2 -D_POSIX_C_SOURCE=200809L -DRFE_TID_N=$n -Iinclude -Isrc -Isrc/host \
+ *       bench/tyre_id_cost.c \
  *       src/numerics/philox_flt.c src/params/tyre_id_params_flt.c src/estimators/tyre_id/*.c \
  *       build/f32/hostlib.a build/f32/librfe.a -lm -o build/tid_cost_$n
  *     build/tid_cost_$n scenarios/tyre_id/tid_ramp_steer_high_mu.csv 5
  *   done
+ *
+ * A third argument names the filter (apf, the default, sir or sckf): the sigma-point filter
+ * of TYRE_ID.md §15 needs no particles, so its own build is -DRFE_TID_N=2 (the smallest state),
+ *   build/tid_cost_2 scenarios/tyre_id/tid_ramp_steer_high_mu.csv 5 sckf
  *
  * and the instructions per step with
  *   valgrind --tool=callgrind --toggle-collect='rfe_tyre_id_step_f32' build/tid_cost_$n <log> 1
@@ -52,6 +57,11 @@ int main(int argc, char **argv)
     if ((rfe_params_default(&veh) != RFE_OK) || (rfe_tyre_id_params_default(&tp) != RFE_OK)) {
         return 1;
     }
+    if (argc > 3) {
+        tp.filter = (strcmp(argv[3], "sckf") == 0)  ? RFE_TID_SCKF
+                    : (strcmp(argv[3], "sir") == 0) ? RFE_TID_SIR
+                                                    : RFE_TID_APF;
+    }
     for (r = 0; r < reps; ++r) {
         double t0;
         double t1;
@@ -79,8 +89,9 @@ int main(int argc, char **argv)
             best = t1 - t0;
         }
     }
-    printf("N = %d, %zu steps, %.1f us per step (fastest of %d), state %zu bytes\n", RFE_TID_N,
-           log.n_rows, 1e6 * best / (double)log.n_rows, reps, sizeof(rfe_tyre_id_t));
+    printf("filter %d, N = %d, %zu steps, %.1f us per step (fastest of %d), state %zu bytes\n",
+           (int)tp.filter, RFE_TID_N, log.n_rows, 1e6 * best / (double)log.n_rows, reps,
+           sizeof(rfe_tyre_id_t));
     rfe_sensor_log_free(&log);
     return 0;
 }

@@ -82,7 +82,10 @@ enum {
     RFE_TID_E_R = 9,
     RFE_TID_DIM = 10,  /**< columns of a particle */
     RFE_TID_STATES = 2, /**< vy, r */
-    RFE_TID_PAR = 8     /**< the parameters, roughened (§5.5) */
+    RFE_TID_PAR = 8,    /**< the parameters, roughened (§5.5) */
+    RFE_TID_CUB = 20,   /**< the SCKF's cubature points, 2 RFE_TID_DIM (§15.3) */
+    RFE_TID_MEAS = 2,   /**< the measurements (yaw rate, ay) */
+    RFE_TID_TRIA_COLS = 30 /**< the SCKF's widest Tria input [points | S_Q], 3 RFE_TID_DIM */
 };
 
 /** The outputs (TYRE_ID.md §7), the index of each in rfe_tyre_id_estimate_t's mean and sd;
@@ -152,6 +155,21 @@ typedef struct {
     rfe_real_t rough;                  /**< rough_k N^(-1/8) (§5.5) */
 } rfe_tid_consts_t;
 
+/** The sigma-point filter's mean, square-root covariance and scratch (filter RFE_TID_SCKF,
+ *  TYRE_ID.md §15; 5.8 kB in double). Matrices row-major, the leading dimension after "ld". */
+typedef struct {
+    rfe_real_t x[RFE_TID_DIM];                      /**< the mean (a particle's columns) */
+    rfe_real_t S[RFE_TID_DIM * RFE_TID_DIM];        /**< lower-triangular S, P = S S^T, ld DIM */
+    rfe_real_t pts[RFE_TID_CUB * RFE_TID_DIM];      /**< cubature points, one per row, ld DIM */
+    rfe_real_t zp[RFE_TID_CUB * RFE_TID_MEAS];      /**< their measurements, ld MEAS */
+    rfe_real_t A[RFE_TID_DIM * RFE_TID_TRIA_COLS];  /**< Tria input and output, ld TRIA_COLS */
+    rfe_real_t Z[RFE_TID_MEAS * (RFE_TID_CUB + RFE_TID_MEAS)]; /**< [Zc | S_R], ld CUB + MEAS */
+    rfe_real_t Kt[RFE_TID_MEAS * RFE_TID_DIM];      /**< the gain, transposed, ld DIM */
+    rfe_real_t xn[RFE_TID_DIM];                     /**< the predicted mean */
+    rfe_real_t sr[RFE_TID_MEAS];                    /**< diagonal of S_R */
+    rfe_real_t zhat[RFE_TID_MEAS];                  /**< the predicted measurement */
+} rfe_tid_sckf_t;
+
 /** Identifier state (caller-owned; fields read-only for the caller). The part after `last`
  *  is the step's scratch, kept here so that no particle array sits on the stack. */
 typedef struct {
@@ -166,6 +184,8 @@ typedef struct {
     rfe_real_t x[RFE_TID_N][RFE_TID_DIM]; /**< the particles */
     rfe_real_t logw[RFE_TID_N];        /**< their normalised log weights */
     rfe_tyre_id_estimate_t last;       /**< the output of the last step */
+    rfe_tid_sckf_t sk;                 /**< the sigma-point filter (filter RFE_TID_SCKF; the
+                                            particles then unused: RFE_TID_N = 2 saves them) */
     /* scratch of one step */
     rfe_real_t aux[RFE_TID_N][RFE_TID_STATES]; /**< the noise-free RK4 step (the APF's
                                                     auxiliary points) */

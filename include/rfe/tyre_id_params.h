@@ -19,10 +19,12 @@
 #define rfe_tyre_id_params_validate rfe_tyre_id_params_validate_f32
 #endif
 
-/** The filter (key tid_filter; TYRE_ID.md §5.2, §5.6). */
+/** The filter (key tid_filter; TYRE_ID.md §5.2, §5.6, §15). */
 typedef enum {
     RFE_TID_APF = 0, /**< apf: the auxiliary particle filter (the patent's) */
-    RFE_TID_SIR = 1  /**< sir: the plain bootstrap filter (the baseline) */
+    RFE_TID_SIR = 1, /**< sir: the plain bootstrap filter (the baseline) */
+    RFE_TID_SCKF = 2 /**< sckf: the augmented-state square-root cubature Kalman filter
+                          (deterministic: the seed, resample, neff_frac, rough_k unused) */
 } rfe_tid_filter_t;
 
 /** How parents are drawn (key tid_resample; TYRE_ID.md §5.3). */

@@ -75,6 +75,7 @@ def test_run_with_options_equals_replay() -> None:
              ("scenarios/mass_grade/truck_graded_drive.csv", dict(mass_grade_vehicle="truck"),
               "q31"),
              ("scenarios/tyre_id/tid_sine_steer.csv", dict(tyre_id="apf"), "float"),
+             ("scenarios/tyre_id/tid_sine_steer.csv", dict(tyre_id="sckf"), "double"),
              ("scenarios/tyre_id/tid_sine_steer.csv",
               dict(tyre_id="sir", params={"tid_feed_sd_rel": 0.05}), "double")]
     for log, options, real in cases:

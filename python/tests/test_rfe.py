@@ -160,6 +160,13 @@ def test_tyre_id_passes_through(tmp_path: Path) -> None:
     assert "mu_id_f" not in off.columns and "tyre_id" not in off.attrs["summary"]
     with pytest.raises(rfe.UsageError):
         rfe.replay(ROOT / log, tyre_id="ukf", quiet=True)
+    # the sigma-point filter (docs/TYRE_ID.md §15) likewise: --tyre-id sckf byte for byte
+    assert cli("--in", log, "--out", str(ref), "--metrics", str(js), "--tyre-id", "sckf",
+               "--quiet").returncode == 0
+    df = rfe.replay(ROOT / log, tyre_id="sckf", out=out, quiet=True)
+    assert out.read_bytes() == ref.read_bytes()
+    assert df.attrs["meta"]["tid_filter"] == "sckf"
+    assert df.attrs["summary"]["tyre_id"]["filter"] == "sckf"
 
 
 def test_python_m_rfe_is_mu_replay(tmp_path: Path) -> None:

@@ -14,11 +14,17 @@ TID_DEFAULTS: the C library's rfe_params_default and rfe_tyre_id_params_default)
 --n (the C build's RFE_TID_N), seed SEED. Columns: t, status, n_eff and each output's mean
 (name) and sd (sd_name). The configuration is in the file's metadata.
 
+And <out>/<case>.csv for each case of SCKF_CASES: the sigma-point filter of §15
+(scripts/reference/tyre_id_sckf.py, backend libm), the same columns (n_eff NaN).
+
 And <out>/stream.csv: words, uniforms and normals of the random stream (§6) at a few
 (seed, c1, c2) and word indices, the words split in 32-bit halves (exact in a double).
 
 Deterministic: running it twice writes identical bytes (plain Python floats; the libm
-backend has no SIMD kernel on its path).
+backend has no SIMD kernel on its path). The sigma-point filter's goldens go through NumPy's
+BLAS and LAPACK (its QR, products), whose kernels depend on the CPU (OPENBLAS_CORETYPE): on
+another machine their last bits may change, within the bound test_tyre_id_golden_flt.c derives
+(never compare them byte for byte across CPUs).
 """
 
 from __future__ import annotations
@@ -31,7 +37,7 @@ import time
 sys.path[:0] = [os.path.dirname(os.path.dirname(os.path.abspath(__file__)))]
 import numpy as np  # noqa: E402
 
-from reference import philox, tyre_id  # noqa: E402
+from reference import philox, tyre_id, tyre_id_sckf  # noqa: E402
 from reference.logs import read_csv_log  # noqa: E402
 
 SEED = 7
@@ -42,6 +48,13 @@ CASES = (
     ("ramp_apf_systematic", "tid_ramp_steer_high_mu", "apf", "systematic", 650, 25),
     ("dlc_sir_multinomial", "tid_dlc_high_mu", "sir", "multinomial", 150, 25),
     ("change_sir_systematic", "tid_tyre_change", "sir", "systematic", 790, 25),
+)
+# The sigma-point filter of §15 (tyre_id_sckf.py; deterministic, no seed): (case, log, first
+# row, samples): the start of the sine steer (the prior, the stiffness found) and the ramp
+# steer from its straight run into the limit (the peak found, the bounds reached)
+SCKF_CASES = (
+    ("sine_sckf", "tid_sine_steer", 0, 200),
+    ("ramp_sckf", "tid_ramp_steer_high_mu", 500, 200),
 )
 # (seed, c1, c2, first word, words) of the stream check
 STREAM = ((1, 0, 0, 0, 16), (7, 3, 1, 40, 12), (2 ** 64 - 1, 2 ** 40 + 5, 4, 1000, 8))
@@ -55,6 +68,21 @@ def golden(log, filt, scheme, start, count, n):
     meta = [("source", f"scenarios/tyre_id/{log}.csv"), ("generator", "scripts/reference/tyre_id.py"),
             ("backend", "libm"), ("first_row", start), ("samples", count), ("seed", SEED),
             ("tid_n", n), ("tid_filter", filt), ("tid_resample", scheme),
+            ("params", "params.DEFAULTS and TID_DEFAULTS")]
+    names = ["t", "status", "n_eff"]
+    for k in tyre_id.OUTPUT_NAMES:
+        names += [k, "sd_" + k]
+    rows = zip(*(out[k] for k in names))
+    return meta, names, rows
+
+
+def golden_sckf(log, start, count):
+    c = read_csv_log(os.path.join("scenarios", "tyre_id", log + ".csv")).columns
+    cols = {k: np.asarray(c[k][start:start + count], dtype=float) for k in tyre_id.SAMPLE_KEYS}
+    out = tyre_id_sckf.run(cols, {}, backend="libm")  # tid_filter does not apply (§15.1)
+    meta = [("source", f"scenarios/tyre_id/{log}.csv"),
+            ("generator", "scripts/reference/tyre_id_sckf.py"), ("backend", "libm"),
+            ("first_row", start), ("samples", count), ("tid_filter", "sckf"),
             ("params", "params.DEFAULTS and TID_DEFAULTS")]
     names = ["t", "status", "n_eff"]
     for k in tyre_id.OUTPUT_NAMES:
@@ -101,6 +129,9 @@ def main(argv=None):
     for i, (case, log, filt, scheme, start, count) in enumerate(CASES, 1):
         write(os.path.join(a.out, case + ".csv"), *golden(log, filt, scheme, start, count, a.n))
         print(f"[{i}/{len(CASES)}] {case} ({time.time() - t0:.0f} s)", flush=True)
+    for case, log, start, count in SCKF_CASES:
+        write(os.path.join(a.out, case + ".csv"), *golden_sckf(log, start, count))
+        print(f"[sckf] {case} ({time.time() - t0:.0f} s)", flush=True)
     return 0
 
 

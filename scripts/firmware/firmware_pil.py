@@ -132,6 +132,9 @@ AUX_ENTRIES = {
     "tid": {"step": "rfe_tyre_id_step", "what": "tyre identifier, APF, 256 particles",
             "fields": [f"mean_{o}" for o in TID_OUTS] + [f"sd_{o}" for o in TID_OUTS] + ["n_eff"],
             "rate_hz": 100.0, "objects": ("tyre_id", "philox")},
+    "tid_sckf": {"step": "rfe_tyre_id_step", "what": "tyre identifier, SCKF, 20 cubature points",
+                 "fields": [f"mean_{o}" for o in TID_OUTS] + [f"sd_{o}" for o in TID_OUTS] + ["n_eff"],
+                 "rate_hz": 100.0, "objects": ("tyre_id",)},
 }
 AUX_TOLERANCE = "2 x max |host f32 - host f64| per field over the rows"
 CORE_HZ = 100e6                  # docs/FIRMWARE.md's reference core: 100 MHz, 100 Hz step rate

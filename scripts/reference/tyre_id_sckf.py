@@ -33,12 +33,15 @@ N_POINTS = 2 * T.DIM           # cubature points per step: 20
 class TyreIdSCKF:
     """One augmented-state SCKF identifier (init, then step per sample)."""
 
-    def __init__(self, params: dict):
+    def __init__(self, params: dict, backend: str = "numpy"):
         p = dict(VEHICLE_DEFAULTS)
         p.update(T.TID_DEFAULTS)
         p.update(params)
         self.p = p
-        self.fn = T.NUMPY
+        # the elementary functions (tyre_id.py's backends; libm: the C library's, as its goldens)
+        self.fn = T.NUMPY if backend == "numpy" else T.LIBM if backend == "libm" else None
+        if self.fn is None:
+            raise ValueError(f"unknown backend {backend!r}")
         self.model = T._Model(p, self.fn)
         # the particle filter's scales, priors, bounds and noise (tyre_id.TyreId.__init__)
         ref = T.TyreId(params)
@@ -156,13 +159,14 @@ class TyreIdSCKF:
         return T.Estimate(float(s["t"]), status, math.nan, mean, sd)
 
 
-def init(params: dict) -> TyreIdSCKF:
-    return TyreIdSCKF(params)
+def init(params: dict, backend: str = "numpy") -> TyreIdSCKF:
+    return TyreIdSCKF(params, backend)
 
 
-def run(columns: dict, params: dict, n_steps: int | None = None) -> dict:
+def run(columns: dict, params: dict, n_steps: int | None = None,
+        backend: str = "numpy") -> dict:
     """A whole log -> dict of arrays with tyre_id.run's keys (n_eff: NaN, no particles)."""
-    tid = init(params)
+    tid = init(params, backend)
     n = len(columns["t"]) if n_steps is None else n_steps
     out = {k: np.empty(n) for k in ("t", "status", "n_eff")}
     for k in T.OUTPUT_NAMES:

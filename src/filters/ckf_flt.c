@@ -105,7 +105,7 @@ rfe_status_t rfe_ckf_predict(rfe_ckf_t *f, rfe_process_fn_t process, void *ctx)
     if (st != RFE_OK) {
         return st;
     }
-    rfe_cub_points(f->x, f->L, n, w->pts);
+    rfe_cub_points(f->x, f->L, n, NM, w->pts);
     st = rfe_cub_propagate(w->pts, n, process, ctx, w->xn);
     if (st != RFE_OK) {
         return st;
@@ -218,7 +218,7 @@ rfe_status_t rfe_ckf_update(rfe_ckf_t *f, rfe_measure_fn_t measure, void *ctx,
     if (st != RFE_OK) {
         return st;
     }
-    rfe_cub_points(f->x, f->L, n, w->pts);
+    rfe_cub_points(f->x, f->L, n, NM, w->pts);
     st = rfe_cub_measure(w->pts, n, m, measure, ctx, w->zpts);
     if (st != RFE_OK) {
         return st;
@@ -240,7 +240,7 @@ rfe_status_t rfe_ckf_update(rfe_ckf_t *f, rfe_measure_fn_t measure, void *ctx,
         return st;
     }
     /* x = x- + K (y - z). */
-    st = rfe_cub_correct(f->x, w->Kt, y, w->zhat, n, m, w->xn);
+    st = rfe_cub_correct(f->x, w->Kt, y, w->zhat, n, m, NM, w->xn);
     if (st != RFE_OK) {
         return st;
     }

@@ -29,8 +29,10 @@
 #define rfe_cub_dims_ok               rfe_cub_dims_ok_f32
 #endif
 
-/** X_j = x + sqrt(n) F e_j and X_{n+j} = x - sqrt(n) F e_j (F: lower factor, ld RFE_N_MAX). */
-void rfe_cub_points(const rfe_real_t *x, const rfe_real_t *F, size_t n, rfe_real_t *pts);
+/** X_j = x + sqrt(n) F e_j and X_{n+j} = x - sqrt(n) F e_j (F: lower factor; F and the
+ *  points, one per row, both with row stride ld: RFE_N_MAX in the generic filters). */
+void rfe_cub_points(const rfe_real_t *x, const rfe_real_t *F, size_t n, size_t ld,
+                    rfe_real_t *pts);
 
 /** X*_j = f(X_j) in place for all 2n points; NULL f is the identity. Checks finiteness. */
 rfe_status_t rfe_cub_propagate(rfe_real_t *pts, size_t n, rfe_process_fn_t process,
@@ -53,12 +55,13 @@ void rfe_cub_hold_random_walk_mean(const rfe_real_t *x, size_t n,
                                    rfe_process_fn_t process, rfe_real_t *mean);
 
 /**
- * x_new = x + K (y - z), with the gain given transposed (Kt: m x n, row stride RFE_N_MAX).
+ * x_new = x + K (y - z), with the gain given transposed (Kt: m x n, row stride ld;
+ * RFE_N_MAX in the generic filters).
  * @return RFE_OK, or RFE_ERR_NONFINITE when a huge innovation overflowed (x_new unusable).
  */
 rfe_status_t rfe_cub_correct(const rfe_real_t *x, const rfe_real_t *Kt,
                              const rfe_real_t *y, const rfe_real_t *zhat, size_t n,
-                             size_t m, rfe_real_t *x_new);
+                             size_t m, size_t ld, rfe_real_t *x_new);
 
 /** True when the filter dimensions are within 1..RFE_N_MAX and 1..RFE_M_MAX. */
 int rfe_cub_dims_ok(size_t n, size_t m);

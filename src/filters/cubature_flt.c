@@ -6,7 +6,8 @@
 
 #include "numerics/internal.h"
 
-void rfe_cub_points(const rfe_real_t *x, const rfe_real_t *F, size_t n, rfe_real_t *pts)
+void rfe_cub_points(const rfe_real_t *x, const rfe_real_t *F, size_t n, size_t ld,
+                    rfe_real_t *pts)
 {
     /* xi_j = +-sqrt(n) e_j, equal weights 1/(2n). */
     const rfe_real_t r = RFE_SQRT((rfe_real_t)n);
@@ -14,9 +15,9 @@ void rfe_cub_points(const rfe_real_t *x, const rfe_real_t *F, size_t n, rfe_real
     size_t i;
     for (j = 0u; j < n; ++j) {
         for (i = 0u; i < n; ++i) {
-            const rfe_real_t d = r * F[(i * (size_t)RFE_N_MAX) + j];
-            pts[(j * (size_t)RFE_N_MAX) + i] = x[i] + d;
-            pts[((n + j) * (size_t)RFE_N_MAX) + i] = x[i] - d;
+            const rfe_real_t d = r * F[(i * ld) + j];
+            pts[(j * ld) + i] = x[i] + d;
+            pts[((n + j) * ld) + i] = x[i] - d;
         }
     }
 }
@@ -90,14 +91,14 @@ void rfe_cub_hold_random_walk_mean(const rfe_real_t *x, size_t n,
 
 rfe_status_t rfe_cub_correct(const rfe_real_t *x, const rfe_real_t *Kt,
                              const rfe_real_t *y, const rfe_real_t *zhat, size_t n,
-                             size_t m, rfe_real_t *x_new)
+                             size_t m, size_t ld, rfe_real_t *x_new)
 {
     size_t i;
     size_t r;
     for (i = 0u; i < n; ++i) {
         rfe_real_t acc = x[i];
         for (r = 0u; r < m; ++r) {
-            acc += Kt[(r * (size_t)RFE_N_MAX) + i] * (y[r] - zhat[r]);
+            acc += Kt[(r * ld) + i] * (y[r] - zhat[r]);
         }
         x_new[i] = acc;
     }

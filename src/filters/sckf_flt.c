@@ -85,7 +85,7 @@ static rfe_status_t predict_points(rfe_sckf_t *f, rfe_process_fn_t process, void
     size_t i;
     size_t j;
     rfe_status_t st;
-    rfe_cub_points(f->x, f->S, n, w->pts);
+    rfe_cub_points(f->x, f->S, n, NM, w->pts);
     st = rfe_cub_propagate(w->pts, n, process, ctx, w->xn);
     if (st != RFE_OK) {
         return st;
@@ -422,7 +422,7 @@ static rfe_status_t update_core(rfe_sckf_t *f, rfe_measure_fn_t measure, void *c
     rfe_status_t st;
 
     /* X_j = S- xi_j + x-;  Z_j = h(X_j, u);  z = mean_j Z_j. */
-    rfe_cub_points(f->x, f->S, n, w->pts);
+    rfe_cub_points(f->x, f->S, n, NM, w->pts);
     st = rfe_cub_measure(w->pts, n, m, measure, ctx, w->zpts);
     if (st != RFE_OK) {
         return st;
@@ -456,7 +456,7 @@ static rfe_status_t update_core(rfe_sckf_t *f, rfe_measure_fn_t measure, void *c
         innovation_out(f, y, innov); /* before the update: the predicted points' */
     }
     /* x = x- + K (y - z); a huge innovation that overflows commits nothing. */
-    st = rfe_cub_correct(f->x, w->Kt, y, w->zhat, n, m, w->xn);
+    st = rfe_cub_correct(f->x, w->Kt, y, w->zhat, n, m, NM, w->xn);
     if (st != RFE_OK) {
         return st;
     }

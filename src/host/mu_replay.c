@@ -41,7 +41,7 @@ static const char k_usage[] =
     "                 [--params FILE] [--filter sckf|ckf] [--tyre paper|absolute|magic]\n"
     "                 [--real float|double|q31] [--velocity auto|observer|measured]\n"
     "                 [--mass-grade ukf|aukf|off] [--mass-grade-vehicle car|truck]\n"
-    "                 [--tyre-id apf|sir|off]\n"
+    "                 [--tyre-id apf|sir|sckf|off]\n"
     "                 [--metrics FILE.json] [--strict]\n"
     "                 [--require-params] [--quiet] [--help]\n"
     "\n"
@@ -98,8 +98,9 @@ static const char k_usage_rest[] =
     "                   the seed's 5 758 kg truck); the log's metadata and --params\n"
     "                   still set each key. R and g stay vehicle keys\n"
     "  --tyre-id FILTER the online tyre identifier (docs/TYRE_ID.md) beside the\n"
-    "                   friction estimator: apf (the auxiliary particle filter) or sir\n"
-    "                   (the bootstrap filter) sets tid_filter; off (default): not run.\n"
+    "                   friction estimator: apf (the auxiliary particle filter), sir\n"
+    "                   (the bootstrap filter) or sckf (the sigma-point filter, §15)\n"
+    "                   sets tid_filter; off (default): not run.\n"
     "                   It takes delta, yaw_rate, ay, ax and the velocity's vx (the\n"
     "                   observer's behind it), the friction estimator's vehicle and tyre\n"
     "                   data and the tid_* keys (tid_seed its stream's seed; the particle\n"
@@ -138,7 +139,7 @@ typedef struct {
     const char *real;
     const char *velocity;
     const char *mass_grade; /**< --mass-grade ukf|aukf|off */
-    const char *tyre_id;    /**< --tyre-id apf|sir|off */
+    const char *tyre_id;    /**< --tyre-id apf|sir|sckf|off */
     const char *mg_vehicle; /**< --mass-grade-vehicle car|truck */
     int quiet;
     int help;
@@ -401,8 +402,9 @@ static int check_option_words(options_t *o)
                            o->mg_vehicle);
     }
     if ((o->tyre_id != NULL) && (strcmp(o->tyre_id, "apf") != 0) &&
-        (strcmp(o->tyre_id, "sir") != 0) && (strcmp(o->tyre_id, "off") != 0)) {
-        return usage_error(o, "--tyre-id must be apf, sir or off, not '%s'", o->tyre_id);
+        (strcmp(o->tyre_id, "sir") != 0) && (strcmp(o->tyre_id, "sckf") != 0) &&
+        (strcmp(o->tyre_id, "off") != 0)) {
+        return usage_error(o, "--tyre-id must be apf, sir, sckf or off, not '%s'", o->tyre_id);
     }
     if ((o->tyre_id != NULL) && (strcmp(o->tyre_id, "off") != 0) && (o->real != NULL) &&
         (strcmp(o->real, "q31") == 0)) {
@@ -1379,11 +1381,18 @@ static void print_tyre_id(const run_t *r)
     if (!r->tid_ran) {
         return;
     }
-    printf("tyre identifier (%s, %s, %s particles): at the end mu_id_f %.3f (sd %.3f), mu_id_r "
-           "%.3f (sd %.3f)\n",
-           rfe_tid_filter_str((rfe_tid_filter_t)r->ps.tid[RFE_PK_tid_filter - RFE_PK_TID_FIRST]),
-           rfe_tid_resample_str((rfe_tid_resample_t)r->ps.tid[RFE_PK_tid_resample - RFE_PK_TID_FIRST]), RFE_TID_N_TEXT, last->mu_id[0],
-           last->sd_mu_id[0], last->mu_id[1], last->sd_mu_id[1]);
+    if ((rfe_tid_filter_t)r->ps.tid[RFE_PK_tid_filter - RFE_PK_TID_FIRST] == RFE_TID_SCKF) {
+        /* the sigma-point filter: no particles, no resampling (TYRE_ID.md §15) */
+        printf("tyre identifier (sckf, 20 cubature points): at the end mu_id_f %.3f (sd %.3f), "
+               "mu_id_r %.3f (sd %.3f)\n",
+               last->mu_id[0], last->sd_mu_id[0], last->mu_id[1], last->sd_mu_id[1]);
+    } else {
+        printf("tyre identifier (%s, %s, %s particles): at the end mu_id_f %.3f (sd %.3f), mu_id_r "
+               "%.3f (sd %.3f)\n",
+               rfe_tid_filter_str((rfe_tid_filter_t)r->ps.tid[RFE_PK_tid_filter - RFE_PK_TID_FIRST]),
+               rfe_tid_resample_str((rfe_tid_resample_t)r->ps.tid[RFE_PK_tid_resample - RFE_PK_TID_FIRST]), RFE_TID_N_TEXT, last->mu_id[0],
+               last->sd_mu_id[0], last->mu_id[1], last->sd_mu_id[1]);
+    }
     for (s = 0u; s < RFE_REPLAY_STATUS_SLOTS; ++s) {
         if (r->stats.tid_status_count[s] != 0u) {
             const char *name = (s + 1u < RFE_REPLAY_STATUS_SLOTS)

@@ -44,7 +44,7 @@ static const char *const k_tyre_words[] = {"paper", "absolute", "magic"}; /* rfe
 static const char *const k_filter_words[] = {"sckf", "ckf"};         /* rfe_filter_kind_t order */
 static const char *const k_structure_words[] = {"wheels", "sides"};  /* rfe_structure_t order */
 static const char *const k_preset_words[] = {"default", "paper"};    /* rfe_preset_t order */
-static const char *const k_tid_filter_words[] = {"apf", "sir"};     /* rfe_tid_filter_t order */
+static const char *const k_tid_filter_words[] = {"apf", "sir", "sckf"}; /* rfe_tid_filter_t order */
 static const char *const k_tid_resample_words[] = {"multinomial", "systematic"}; /* rfe_tid_resample_t */
 
 static int word_index(const char *s, const char *const *words, size_t n);
@@ -383,7 +383,7 @@ int rfe_preset_parse(const char *s, rfe_preset_t *out)
 
 const char *rfe_tid_filter_str(rfe_tid_filter_t f)
 {
-    return ((unsigned)f < 2u) ? k_tid_filter_words[f] : "?";
+    return ((unsigned)f < 3u) ? k_tid_filter_words[f] : "?";
 }
 
 const char *rfe_tid_resample_str(rfe_tid_resample_t r)
@@ -393,11 +393,11 @@ const char *rfe_tid_resample_str(rfe_tid_resample_t r)
 
 int rfe_tid_filter_parse(const char *s, rfe_tid_filter_t *out)
 {
-    int i = word_index(s, k_tid_filter_words, 2u);
+    int i = word_index(s, k_tid_filter_words, 3u);
     if (i < 0) {
         return -1;
     }
-    *out = (i == 0) ? RFE_TID_APF : RFE_TID_SIR;
+    *out = (i == 0) ? RFE_TID_APF : ((i == 1) ? RFE_TID_SIR : RFE_TID_SCKF);
     return 0;
 }
 

@@ -424,15 +424,16 @@ static int set_tid_key(rfe_tyre_id_params_t *tp, const rfe_param_set_t *ps, size
 {
     const double v = ps->tid[k - RFE_PK_TID_FIRST];
     const int whole = (v >= 0.0) && (v == floor(v));
-    if ((k == (size_t)RFE_PK_tid_filter) || (k == (size_t)RFE_PK_tid_resample)) {
+    if (k == (size_t)RFE_PK_tid_filter) {
+        if (!((v == 0.0) || (v == 1.0) || (v == 2.0))) {
+            return -1;
+        }
+        tp->filter = (v == 0.0) ? RFE_TID_APF : ((v == 1.0) ? RFE_TID_SIR : RFE_TID_SCKF);
+    } else if (k == (size_t)RFE_PK_tid_resample) {
         if (!((v == 0.0) || (v == 1.0))) {
             return -1;
         }
-        if (k == (size_t)RFE_PK_tid_filter) {
-            tp->filter = (v == 0.0) ? RFE_TID_APF : RFE_TID_SIR;
-        } else {
-            tp->resample = (v == 0.0) ? RFE_TID_MULTINOMIAL : RFE_TID_SYSTEMATIC;
-        }
+        tp->resample = (v == 0.0) ? RFE_TID_MULTINOMIAL : RFE_TID_SYSTEMATIC;
     } else if (k == (size_t)RFE_PK_tid_substeps) {
         if (!whole || (v > 4294967295.0)) {
             return -1;

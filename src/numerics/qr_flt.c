@@ -11,7 +11,7 @@
 #if defined(RFE_REAL_DOUBLE)
 #define RFE_REAL_MIN_EXP DBL_MIN_EXP
 #define RFE_REAL_MAX_EXP DBL_MAX_EXP
-/* Row maxima Tria() reduces unscaled: squares and sums of up to RFE_TRIA_COLS_MAX of them
+/* Row maxima Tria() reduces unscaled: squares and sums of up to RFE_TRIA_COLS_LIMIT of them
  * stay far inside the normal range (2^+-256 of 2^+-1022). */
 #define TRIA_SAFE_LO RFE_R(8.6361685550944446e-78) /* 2^-256 */
 #define TRIA_SAFE_HI RFE_R(1.1579208923731620e+77) /* 2^256 */
@@ -149,8 +149,8 @@ static void make_diagonal_nonnegative(rfe_real_t *A, size_t rows, size_t lda)
 
 rfe_status_t rfe_qr_tria(rfe_real_t *A, size_t rows, size_t cols, size_t lda)
 {
-    rfe_real_t bigs[RFE_N_MAX];
-    int exps[RFE_N_MAX];
+    rfe_real_t bigs[RFE_TRIA_ROWS_SZ];
+    int exps[RFE_TRIA_ROWS_SZ];
     int scaled = 0;
     size_t i;
     size_t k;
@@ -158,8 +158,8 @@ rfe_status_t rfe_qr_tria(rfe_real_t *A, size_t rows, size_t cols, size_t lda)
     if (A == NULL) {
         return RFE_ERR_NULL;
     }
-    if ((rows == 0u) || (rows > (size_t)RFE_N_MAX) || (cols < rows) ||
-        (cols > RFE_TRIA_COLS_SZ) || (lda < cols)) {
+    if ((rows == 0u) || (rows > RFE_TRIA_ROWS_SZ) || (cols < rows) ||
+        (cols > RFE_TRIA_COLS_LIMIT_SZ) || (lda < cols)) {
         return RFE_ERR_SIZE;
     }
     if (row_maxima(A, rows, cols, lda, bigs, &scaled) != 0) {

@@ -19,4 +19,17 @@
     ((2u * (size_t)RFE_N_MAX) +                                                                \
      (((size_t)RFE_N_MAX > (size_t)RFE_M_MAX) ? (size_t)RFE_N_MAX : (size_t)RFE_M_MAX))
 
+/** RFE_TRIA_ROWS_MAX and RFE_TRIA_COLS_LIMIT (config.h) as size_t, from casts of the single
+ *  constants as above; the same formulas, checked: */
+#if (RFE_TRIA_ROWS_MAX != ((RFE_N_MAX > RFE_TID_SCKF_N) ? RFE_N_MAX : RFE_TID_SCKF_N)) ||      \
+    (RFE_TRIA_COLS_LIMIT !=                                                                    \
+     ((2 * RFE_TRIA_ROWS_MAX) + ((RFE_TRIA_ROWS_MAX > RFE_M_MAX) ? RFE_TRIA_ROWS_MAX : RFE_M_MAX)))
+#error "RFE_TRIA_ROWS_SZ / RFE_TRIA_COLS_LIMIT_SZ restate config.h: keep the formulas equal"
+#endif
+#define RFE_TRIA_ROWS_SZ                                                                       \
+    (((size_t)RFE_N_MAX > (size_t)RFE_TID_SCKF_N) ? (size_t)RFE_N_MAX : (size_t)RFE_TID_SCKF_N)
+#define RFE_TRIA_COLS_LIMIT_SZ                                                                 \
+    ((2u * RFE_TRIA_ROWS_SZ) +                                                                 \
+     ((RFE_TRIA_ROWS_SZ > (size_t)RFE_M_MAX) ? RFE_TRIA_ROWS_SZ : (size_t)RFE_M_MAX))
+
 #endif /* RFE_NUMERICS_SIZES_H */

@@ -91,7 +91,7 @@ rfe_status_t rfe_tyre_id_params_validate(const rfe_tyre_id_params_t *p)
     if (p == NULL) {
         return RFE_ERR_NULL;
     }
-    if (((p->filter != RFE_TID_APF) && (p->filter != RFE_TID_SIR)) ||
+    if (((p->filter != RFE_TID_APF) && (p->filter != RFE_TID_SIR) && (p->filter != RFE_TID_SCKF)) ||
         ((p->resample != RFE_TID_MULTINOMIAL) && (p->resample != RFE_TID_SYSTEMATIC)) ||
         (p->substeps < 1u) || (p->substeps > (uint32_t)RFE_TID_SUBSTEPS_MAX)) {
         return RFE_ERR_PARAM;

@@ -10,7 +10,8 @@
  *        may crash it, corrupt it or make it report NaN.
  *
  * Byte 0: bit 0 the bootstrap filter (else the APF), bit 1 systematic resampling (else
- * multinomial), bits 2-4 substeps - 1 (1..8). Bytes 1-8: the seed. Then the identifier's
+ * multinomial), bits 2-4 substeps - 1 (1..8), bit 5 the sigma-point filter of §15 (over
+ * bit 0). Bytes 1-8: the seed. Then the identifier's
  * parameters, then the vehicle's (fuzz_params.h each; the filter and resampling may be
  * replaced by any integer there); when their init fails the defaults are used, so the
  * samples are still stepped. Then the records of fuzz_input.h; the 11 decoded values become
@@ -29,7 +30,8 @@
  *  - an error leaves the identifier byte-identical (memcmp) and reports the previous
  *    estimate with the error's status;
  *  - RFE_OK: known flags, exactly one of FIRST, HELD, UPDATED, LOST (§7: a lost step draws
- *    the prior again and says only that), RESAMPLED only with UPDATED; every mean and sd finite, sd >= 0; n_eff in [1, N]; every particle's
+ *    the prior again and says only that), RESAMPLED only with UPDATED; every mean and sd finite, sd >= 0; n_eff in [1, N]
+ *    (the sigma-point filter: NaN, its mean's parameters inside [lo, hi] exactly, S finite); every particle's
  *    parameters inside their bounds [lo, hi] exactly (the reflection of §5.5), so the means
  *    of D, C, K, E inside them to the rounding of a weighted sum; every log weight <= 0 or
  *    -Inf (normalised: the largest is 0), never NaN; rfe_tyre_id_get returns the estimate.
@@ -145,8 +147,25 @@ static void check_output(const fz_ctx_t *c, const rfe_tyre_id_sample_t *u,
             violation(c, "a negative sd", u, 0);
         }
     }
-    if (!finite(e->n_eff) || (double)e->n_eff < 1.0 - MEAN_TOL ||
-        (double)e->n_eff > RFE_TID_N * (1.0 + MEAN_TOL)) {
+    if (c->tid.p.filter == RFE_TID_SCKF) {
+        /* §15.3-15.4: no particles (n_eff NaN); the mean's parameters projected into their
+         * bounds exactly, the parameter outputs that mean, S finite */
+        if (!isnan((double)e->n_eff)) {
+            violation(c, "the sigma-point filter's n_eff not NaN", u, 0);
+        }
+        for (j = 0; j < RFE_TID_PAR; ++j) {
+            const rfe_real_t x = c->tid.sk.x[RFE_TID_STATES + j];
+            if (!(x >= k->lo[j] && x <= k->hi[j]) || e->mean[out_of_par[j]] != x) {
+                violation(c, "the sigma-point filter's mean outside its bounds", u, 0);
+            }
+        }
+        for (i = 0; i < RFE_TID_DIM * RFE_TID_DIM; ++i) {
+            if (!finite(c->tid.sk.S[i])) {
+                violation(c, "the sigma-point filter's S not finite", u, 0);
+            }
+        }
+    } else if (!finite(e->n_eff) || (double)e->n_eff < 1.0 - MEAN_TOL ||
+               (double)e->n_eff > RFE_TID_N * (1.0 + MEAN_TOL)) {
         violation(c, "n_eff outside [1, N]", u, 0);
     }
     for (j = 0; j < RFE_TID_PAR; ++j) {
@@ -154,7 +173,8 @@ static void check_output(const fz_ctx_t *c, const rfe_tyre_id_sample_t *u,
             violation(c, "a parameter's mean outside its bounds", u, 0);
         }
     }
-    for (i = 0; i < RFE_TID_N; ++i) {
+    for (i = 0; (c->tid.p.filter != RFE_TID_SCKF) && (i < RFE_TID_N); ++i) {
+        /* the particles (unused by the sigma-point filter) */
         const rfe_real_t lw = c->tid.logw[i];
         if (isnan((double)lw) || lw > 0) {
             violation(c, "a log weight NaN or above 0", u, 0);
@@ -305,6 +325,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     tp = tp_def;
     veh = veh_def;
     tp.filter = (cfg & 1u) ? RFE_TID_SIR : RFE_TID_APF;
+    if ((cfg & 32u) != 0u) {
+        tp.filter = RFE_TID_SCKF; /* the sigma-point filter (§15) */
+    }
     tp.resample = (cfg & 2u) ? RFE_TID_SYSTEMATIC : RFE_TID_MULTINOMIAL;
     tp.substeps = 1u + ((cfg >> 2) & 7u);
     tp_def.filter = tp.filter;

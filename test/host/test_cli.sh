@@ -1026,7 +1026,7 @@ if [ -n "${RFE_TEST_LIGHT:-}" ] && [ "${RFE_TEST_LIGHT}" != 0 ]; then
     TID="$TMP/tid_light.csv"
 fi
 run tid_bad_value 2 --in "$TID" --out "$TMP/tid.csv" --tyre-id ukf
-grep -q "^mu_replay: --tyre-id must be apf, sir or off, not 'ukf'$" "$TMP/err" \
+grep -q "^mu_replay: --tyre-id must be apf, sir, sckf or off, not 'ukf'$" "$TMP/err" \
     && ok "tid_bad_value: named" || bad "tid_bad_value: $(cat "$TMP/err")"
 run tid_bad_case 2 --in "$TID" --out "$TMP/tid.csv" --tyre-id=APF
 run tid_no_value 2 --in "$TID" --out "$TMP/tid.csv" --tyre-id
@@ -1037,7 +1037,7 @@ grep -q "^mu_replay: --tyre-id sir: the tyre identifier is float and double only
 [ ! -e "$TMP/tid.csv" ] && ok "tid usage errors: nothing written" || bad "tid usage errors: estimate log written"
 run tid_q31_off 0 --in "$TID" --out "$TMP/tid_q.csv" --tyre-id off --real q31 -q
 grep -q 'mu_id_f' "$TMP/tid_q.csv" && bad "tid_q31_off: columns" || ok "tid_q31_off: no tyre identifier columns"
-grep -q -- '--tyre-id apf|sir|off' <("$BIN" --help) && grep -q 'mu_id_f' <("$BIN" --help) \
+grep -q -- '--tyre-id apf|sir|sckf|off' <("$BIN" --help) && grep -q 'mu_id_f' <("$BIN" --help) \
     && ok "help: --tyre-id and its columns" || bad "help: no --tyre-id"
 # off (the default) leaves the estimate log as it was: --tyre-id off is byte for byte the run
 # without the option, and neither has a tyre identifier column, key or JSON object
@@ -1090,6 +1090,47 @@ grep -q '^# tid_seed = 2$' "$TMP/tid_s.csv" && ! cmp -s <(grep -v '^#' "$TMP/tid
 run tid_sir 0 --in "$TID" --out "$TMP/tid_b.csv" --tyre-id sir -q
 grep -q '^# tid_filter = sir$' "$TMP/tid_b.csv" && ! cmp -s <(grep -v '^#' "$TMP/tid_a.csv") <(grep -v '^#' "$TMP/tid_b.csv") \
     && ok "tid_sir: the bootstrap filter" || bad "tid_sir: $(grep tid_filter "$TMP/tid_b.csv")"
+# sckf: the sigma-point filter (TYRE_ID.md §15): the same columns, the friction columns as
+# without it, every sample accepted and updated (flag 1) but the first, named in the metadata,
+# the JSON and the summary; deterministic (no seed)
+run tid_sckf 0 --in "$TID" --out "$TMP/tid_k.csv" --tyre-id sckf --metrics "$TMP/tid_k.json"
+[ "$(grep -v '^#' "$TMP/tid_k.csv" | head -1)" = "$H,$HT" ] && grep -q '^# tid_filter = sckf$' "$TMP/tid_k.csv" \
+    && cmp -s <(grep -v '^#' "$TMP/tid_k.csv" | cut -d, -f1-14) <(grep -v '^#' "$TMP/tid_off.csv") \
+    && ok "tid_sckf: the columns, tid_filter, the friction columns as without it" \
+    || bad "tid_sckf: header or metadata $(grep 'tid_filter' "$TMP/tid_k.csv")"
+res=$(awk -F, '/^#/ {next} !h {for (i = 1; i <= NF; i++) c[$i] = i; h = 1; next}
+    {st[$c["tid_status"]]++; f = $c["tid_flags"] + 0; if (f == 1) up++; if (f == 8) first++;
+     if ($c["sd_mu_id_f"] + 0 <= 0 || $c["D_f"] + 0 <= 0) badv++}
+    END {printf "%d %d %d %d", st[0], up, first, badv}' "$TMP/tid_k.csv")
+set -- $res
+[ "$1" -eq "$n" ] && [ "$2" -eq $((n - 1)) ] && [ "$3" -eq 1 ] && [ "$4" -eq 0 ] \
+    && ok "tid_sckf: status 0 on all $n rows, the first the prior, $2 updates" \
+    || bad "tid_sckf: status 0 on $1 of $n rows, $2 updates, $3 first, $4 non-positive sd or D"
+grep -qF "\"tyre_id\": {\"filter\": \"sckf\"," "$TMP/tid_k.json" \
+    && grep -qF "\"flag_counts\": {\"updated\": $2, \"resampled\": 0, \"held\": 0, \"first\": 1, \"lost\": 0}" "$TMP/tid_k.json" \
+    && grep -Eq '^tyre identifier \(sckf, 20 cubature points\): at the end mu_id_f [0-9.]+ \(sd [0-9.]+\)' "$TMP/out" \
+    && ok "tid_sckf: JSON and summary" || bad "tid_sckf: $(grep -A1 'tyre identifier' "$TMP/out")"
+printf 'tid_seed = 2\n' >"$TMP/seed2.par"
+run tid_sckf_seed 0 --in "$TID" --out "$TMP/tid_k2.csv" --tyre-id sckf --params "$TMP/seed2.par" -q
+cmp -s <(grep -v '^#' "$TMP/tid_k.csv") <(grep -v '^#' "$TMP/tid_k2.csv") \
+    && ok "tid_sckf_seed: deterministic, the seed unused" || bad "tid_sckf_seed: another seed, another estimate"
+# the double replay is the library's: on the sine steer's first 200 rows it meets the
+# reference's golden (scenarios/golden/tyre_id/sine_sckf.csv) within the bound
+# test_tyre_id_golden_flt.c derives (1e-10 of |value| + sd) in mu and its sd per axle
+run tid_sckf_double 0 --in "$TID" --out "$TMP/tid_kd.csv" --tyre-id sckf --real double -q
+G="$ROOT/scenarios/golden/tyre_id/sine_sckf.csv"
+res=$(awk -F, 'FNR == 1 {h = 0} /^#/ {next}
+    !h {for (i = 1; i <= NF; i++) c[FILENAME, $i] = i; h = 1; next}
+    FILENAME == ARGV[1] {k = FNR; t[++ng] = $c[FILENAME, "t"]; m[ng, 0] = $c[FILENAME, "mu_f"]; m[ng, 1] = $c[FILENAME, "mu_r"];
+        s[ng, 0] = $c[FILENAME, "sd_mu_f"]; s[ng, 1] = $c[FILENAME, "sd_mu_r"]; next}
+    { ++nr; if (nr > ng) next; if ($c[FILENAME, "t"] != t[nr]) tbad++;
+      v[0] = $c[FILENAME, "mu_id_f"]; v[1] = $c[FILENAME, "mu_id_r"]; w[0] = $c[FILENAME, "sd_mu_id_f"]; w[1] = $c[FILENAME, "sd_mu_id_r"];
+      for (a = 0; a < 2; a++) { sc = (m[nr, a] < 0 ? -m[nr, a] : m[nr, a]) + s[nr, a]; d = v[a] - m[nr, a]; if (d < 0) d = -d;
+        e = w[a] - s[nr, a]; if (e < 0) e = -e; if (d > 1e-10 * sc || e > 1e-10 * s[nr, a]) over++; n2++ } }
+    END {printf "%d %d %d", n2 + 0, over + 0, tbad + 0}' "$G" "$TMP/tid_kd.csv")
+set -- $res
+[ "$1" -ge 200 ] && [ "$2" -eq 0 ] && [ "$3" -eq 0 ] && ok "tid_sckf_double: the reference's golden within 1e-10 ($1 values)" \
+    || bad "tid_sckf_double: $2 of $1 values beyond the bound, $3 times differ"
 printf 'tid_filter = sir\ntid_resample = systematic\n' >"$TMP/sir.par"
 run tid_flag_beats_file 0 --in "$TID" --out "$TMP/tid_f.csv" --tyre-id apf --params "$TMP/sir.par" -q
 grep -q '^# tid_filter = apf$' "$TMP/tid_f.csv" && grep -q '^# tid_resample = systematic$' "$TMP/tid_f.csv" \

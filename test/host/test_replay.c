@@ -1892,6 +1892,9 @@ static void test_rfe_replay_tyre_id_params_keys_and_diagnosis(void **state)
     assert_int_equal(rfe_replay_tyre_id_params_f64(&ps, &tp, &seed, NULL), RFE_OK);
     assert_true((tp.filter == RFE_TID_SIR) && (tp.resample == RFE_TID_SYSTEMATIC));
     assert_true((tp.substeps == 4u) && (seed == ((uint64_t)1u << 53)));
+    ps.tid[RFE_PK_tid_filter - RFE_PK_TID_FIRST] = (double)RFE_TID_SCKF; /* TYRE_ID.md §15 */
+    assert_int_equal(rfe_replay_tyre_id_params_f64(&ps, &tp, &seed, NULL), RFE_OK);
+    assert_true(tp.filter == RFE_TID_SCKF);
     /* one bad key at a time, each named */
     {
         static const struct {
@@ -1899,7 +1902,8 @@ static void test_rfe_replay_tyre_id_params_keys_and_diagnosis(void **state)
             double bad;
             double good;
         } cases[] = {
-            {RFE_PK_tid_filter, 2.0, 0.0},        /* no rfe_tid_filter_t */
+            {RFE_PK_tid_filter, 3.0, 2.0},        /* no rfe_tid_filter_t (2: sckf) */
+            {RFE_PK_tid_filter, 1.5, 0.0},
             {RFE_PK_tid_resample, 0.5, 1.0},      /* no rfe_tid_resample_t */
             {RFE_PK_tid_substeps, 2.5, 1.0},      /* not an integer */
             {RFE_PK_tid_substeps, 0.0, 1.0},      /* an integer the library refuses */

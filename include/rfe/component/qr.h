@@ -3,8 +3,10 @@
  * @brief Householder triangularisation Tria() and triangular solves (MODEL.md §6).
  *
  * Matrices are row-major with an explicit leading dimension (elements between rows).
- * Sizes are bounded by RFE_N_MAX rows and RFE_TRIA_COLS_MAX columns; no memory is
- * allocated and nothing large sits on the stack (the input is reduced in place).
+ * Tria takes up to RFE_TRIA_ROWS_MAX rows and RFE_TRIA_COLS_LIMIT columns (rfe/config.h: the
+ * generic filters' sizes or the tyre identifier's 10-state filter), the solves up to RFE_N_MAX
+ * rows; no memory is allocated and nothing large sits on the stack (the input is reduced in
+ * place).
  */
 #ifndef RFE_QR_H
 #define RFE_QR_H
@@ -28,8 +30,8 @@
  * Tria(A), in place: A (rows x cols, cols >= rows) is reduced by Householder reflections
  * applied from the right (a QR of A^T) to [S 0], with S lower-triangular,
  * S S^T = A A^T and diag(S) >= 0. Rank-deficient input gives zero diagonal entries.
- * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_SIZE if rows > RFE_N_MAX, cols > RFE_TRIA_COLS_MAX,
- *         cols < rows or lda < cols; RFE_ERR_NONFINITE if A holds NaN/Inf (A then untouched).
+ * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_SIZE if rows > RFE_TRIA_ROWS_MAX,
+ *         cols > RFE_TRIA_COLS_LIMIT, cols < rows or lda < cols; RFE_ERR_NONFINITE if A holds NaN/Inf (A then untouched).
  */
 RFE_NODISCARD rfe_status_t rfe_qr_tria(rfe_real_t *A, size_t rows, size_t cols, size_t lda);
 

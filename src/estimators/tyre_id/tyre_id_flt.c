@@ -2,7 +2,8 @@
  * @file tyre_id_flt.c
  * @brief The tyre identifier (docs/TYRE_ID.md): the input checks, the prior (§4.2), the
  *        auxiliary particle filter (§5.2) and the bootstrap filter (§5.6) with the patent's
- *        resampling (§5.4-5.5), and the outputs (§7).
+ *        resampling (§5.4-5.5), and the outputs (§7); the sigma-point filter of §15 is
+ *        tyre_id_sckf_flt.c's.
  */
 /* This file defines the init: its header's wrapper macro stays out (MISRA-DEV-08). */
 /* cppcheck-suppress misra-c2012-2.5 ; MISRA-DEV-08: read by the header's #if */
@@ -144,6 +145,7 @@ rfe_status_t rfe_tyre_id_init(rfe_tyre_id_t *tid, const rfe_tyre_id_params_t *tp
         tid->logw[i] = RFE_R(0.0);
     }
     tid->last = (rfe_tyre_id_estimate_t){0};
+    tid->sk = (rfe_tid_sckf_t){0};
     tid->magic = RFE_MAGIC_TID;
     return RFE_OK;
 }
@@ -525,19 +527,29 @@ rfe_status_t rfe_tyre_id_step(rfe_tyre_id_t *tid, const rfe_tyre_id_sample_t *s,
     u.sd = RFE_SIN(s->delta);
     u.vx = s->vx;
     if (tid->started == 0u) {
-        draw_prior(tid, s->yaw_rate);
+        if (tid->p.filter == RFE_TID_SCKF) {
+            rfe_tid_sckf_prior(tid, s->yaw_rate);
+        } else {
+            draw_prior(tid, s->yaw_rate);
+        }
         tid->started = 1u;
         flags = RFE_TID_FIRST;
     } else if ((s->vx < tid->p.v_min) || (tid->prev_vx < tid->p.v_min)) {
         flags = RFE_TID_HELD;
     } else if (tid->p.filter == RFE_TID_APF) {
         flags = apf_step(tid, s, &u);
-    } else {
+    } else if (tid->p.filter == RFE_TID_SIR) {
         flags = sir_step(tid, s, &u);
+    } else {
+        flags = rfe_tid_sckf_step(tid, s, &u);
     }
     tid->prev_delta = s->delta;
     tid->prev_vx = s->vx;
-    estimate(tid, s, &u, flags);
+    if (tid->p.filter == RFE_TID_SCKF) {
+        rfe_tid_sckf_estimate(tid, s, &u, flags);
+    } else {
+        estimate(tid, s, &u, flags);
+    }
     tid->k += 1u;
     *out = tid->last;
     return RFE_OK;

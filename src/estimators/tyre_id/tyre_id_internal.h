@@ -18,6 +18,10 @@
 #define rfe_tid_forces    rfe_tid_forces_f64
 #define rfe_tid_rk4       rfe_tid_rk4_f64
 #define rfe_tid_loglik    rfe_tid_loglik_f64
+#define rfe_tid_ay        rfe_tid_ay_f64
+#define rfe_tid_sckf_prior rfe_tid_sckf_prior_f64
+#define rfe_tid_sckf_step rfe_tid_sckf_step_f64
+#define rfe_tid_sckf_estimate rfe_tid_sckf_estimate_f64
 #define rfe_tid_normalise rfe_tid_normalise_f64
 #define rfe_tid_neff      rfe_tid_neff_f64
 #define rfe_tid_cumsum    rfe_tid_cumsum_f64
@@ -29,6 +33,10 @@
 #define rfe_tid_forces    rfe_tid_forces_f32
 #define rfe_tid_rk4       rfe_tid_rk4_f32
 #define rfe_tid_loglik    rfe_tid_loglik_f32
+#define rfe_tid_ay        rfe_tid_ay_f32
+#define rfe_tid_sckf_prior rfe_tid_sckf_prior_f32
+#define rfe_tid_sckf_step rfe_tid_sckf_step_f32
+#define rfe_tid_sckf_estimate rfe_tid_sckf_estimate_f32
 #define rfe_tid_normalise rfe_tid_normalise_f32
 #define rfe_tid_neff      rfe_tid_neff_f32
 #define rfe_tid_cumsum    rfe_tid_cumsum_f32
@@ -61,6 +69,20 @@ rfe_real_t rfe_tid_loglik(const rfe_tyre_id_t *tid, rfe_real_t vy, rfe_real_t r,
                           const rfe_real_t *th, const rfe_tid_input_t *u, rfe_real_t yaw_rate,
                           rfe_real_t ay);
 
+/** §5.1 the predicted lateral acceleration ay_p = ((F_f c) + F_r) / m of states (vy, r) and
+ *  parameters @p th at inputs @p u, and (when @p g is not NULL) its slope in delta,
+ *  g = ((dF_f/dalpha c) - (F_f s)) / m. */
+void rfe_tid_ay(const rfe_tyre_id_t *tid, rfe_real_t vy, rfe_real_t r, const rfe_real_t *th,
+                const rfe_tid_input_t *u, rfe_real_t *ay_p, rfe_real_t *g);
+/** §15.2 the sigma-point filter's prior: x = (0, r_m, mean0), S = diag(sd0). */
+void rfe_tid_sckf_prior(rfe_tyre_id_t *tid, rfe_real_t r_meas);
+/** §15.3 the sigma-point filter's step over the sample @p smp (inputs @p u): its flags
+ *  (UPDATED, or LOST when the prior was set again). */
+uint32_t rfe_tid_sckf_step(rfe_tyre_id_t *tid, const rfe_tyre_id_sample_t *smp,
+                           const rfe_tid_input_t *u);
+/** §15.4 the sigma-point filter's outputs at the sample's inputs into tid->last. */
+void rfe_tid_sckf_estimate(rfe_tyre_id_t *tid, const rfe_tyre_id_sample_t *smp,
+                           const rfe_tid_input_t *u, uint32_t flags);
 /** §5.1 log-sum-exp: w_i = exp(l_i - M) / S, and (when @p lw is not NULL; it may be @p l)
  *  lw_i = (l_i - M) - log S. Returns 0, writing nothing, when no weight is positive and
  *  finite (the maximum M is -infinity, +infinity or NaN), else 1. */

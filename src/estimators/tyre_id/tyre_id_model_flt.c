@@ -109,16 +109,29 @@ void rfe_tid_rk4(const rfe_tyre_id_t *tid, const rfe_real_t x[RFE_TID_DIM],
     out[1] = b;
 }
 
-rfe_real_t rfe_tid_loglik(const rfe_tyre_id_t *tid, rfe_real_t vy, rfe_real_t r,
-                          const rfe_real_t *th, const rfe_tid_input_t *u, rfe_real_t yaw_rate,
-                          rfe_real_t ay)
+void rfe_tid_ay(const rfe_tyre_id_t *tid, rfe_real_t vy, rfe_real_t r, const rfe_real_t *th,
+                const rfe_tid_input_t *u, rfe_real_t *ay_p, rfe_real_t *g)
 {
-    const rfe_tyre_id_params_t *p = &tid->p;
     rfe_real_t t_f;
     rfe_real_t t_r;
     rfe_real_t slope = RFE_R(0.0);
     rfe_real_t f;
     rfe_real_t fr;
+    slips(tid, vy, r, u, &t_f, &t_r);
+    f = mf(&th[0], t_f, (g != NULL) ? &slope : NULL);
+    fr = mf(&th[RFE_TID_D_R - RFE_TID_STATES], t_r, NULL);
+    /* ay_p = ((F_f c) + F_r) / m,  g = d ay_p / d delta = ((dF_f/dalpha c) - (F_f s)) / m */
+    *ay_p = ((f * u->cd) + fr) / tid->c.m;
+    if (g != NULL) {
+        *g = ((slope * u->cd) - (f * u->sd)) / tid->c.m;
+    }
+}
+
+rfe_real_t rfe_tid_loglik(const rfe_tyre_id_t *tid, rfe_real_t vy, rfe_real_t r,
+                          const rfe_real_t *th, const rfe_tid_input_t *u, rfe_real_t yaw_rate,
+                          rfe_real_t ay)
+{
+    const rfe_tyre_id_params_t *p = &tid->p;
     rfe_real_t ay_p;
     rfe_real_t g;
     rfe_real_t gs;
@@ -126,12 +139,7 @@ rfe_real_t rfe_tid_loglik(const rfe_tyre_id_t *tid, rfe_real_t vy, rfe_real_t r,
     rfe_real_t e1;
     rfe_real_t e2;
     rfe_real_t ll;
-    slips(tid, vy, r, u, &t_f, &t_r);
-    f = mf(&th[0], t_f, &slope);
-    fr = mf(&th[RFE_TID_D_R - RFE_TID_STATES], t_r, NULL);
-    /* ay_p = ((F_f c) + F_r) / m,  g = d ay_p / d delta = ((dF_f/dalpha c) - (F_f s)) / m */
-    ay_p = ((f * u->cd) + fr) / tid->c.m;
-    g = ((slope * u->cd) - (f * u->sd)) / tid->c.m;
+    rfe_tid_ay(tid, vy, r, th, u, &ay_p, &g);
     gs = g * p->sd_delta;
     v = (p->sd_ay * p->sd_ay) + (gs * gs);
     e1 = (yaw_rate - r) / p->sd_r;

@@ -130,7 +130,9 @@ static void test_params_defaults_and_validation(void **state)
     q.E_lo = -10; /* E may be negative */
     assert_int_equal(rfe_tyre_id_params_validate(&q), RFE_OK);
     q = p;
-    q.filter = (rfe_tid_filter_t)2;
+    q.filter = RFE_TID_SCKF; /* the sigma-point filter of §15 */
+    assert_int_equal(rfe_tyre_id_params_validate(&q), RFE_OK);
+    q.filter = (rfe_tid_filter_t)3;
     assert_int_equal(rfe_tyre_id_params_validate(&q), RFE_ERR_PARAM);
     q = p;
     q.resample = (rfe_tid_resample_t)2;
@@ -177,15 +179,17 @@ static void test_init_refusals_write_nothing(void **state)
     assert_int_equal(rfe_tyre_id_init(&tid, &bad, &veh, 1u), RFE_ERR_PARAM);
     assert_memory_equal(&tid, &before, sizeof(tid));
     /* the memory statement of rfe/config.h: 26 reals and three 16-bit indices per particle,
-     * and less than 1 kB besides */
-    assert_true(sizeof(rfe_tyre_id_t) >= (size_t)RFE_TID_N * (26u * sizeof(rfe_real_t) + 6u));
-    assert_true(sizeof(rfe_tyre_id_t) <
-                (size_t)RFE_TID_N * (26u * sizeof(rfe_real_t) + 6u) + 1024u);
+     * the sigma-point filter's 728 reals (rfe_tid_sckf_t) and less than 1 kB besides */
+    assert_int_equal(sizeof(rfe_tid_sckf_t), 728u * sizeof(rfe_real_t));
+    assert_true(sizeof(rfe_tyre_id_t) >= (size_t)RFE_TID_N * (26u * sizeof(rfe_real_t) + 6u) +
+                                             sizeof(rfe_tid_sckf_t));
+    assert_true(sizeof(rfe_tyre_id_t) < (size_t)RFE_TID_N * (26u * sizeof(rfe_real_t) + 6u) +
+                                            sizeof(rfe_tid_sckf_t) + 1024u);
 }
 
-/* REQ-TID-003: every refused step leaves the state bit for bit as it was and returns the
- * previous estimate with the error status. */
-static void test_step_refusals_leave_the_state_untouched(void **state)
+/* REQ-TID-003: every refused step of filter f leaves the state bit for bit as it was and
+ * returns the previous estimate with the error status. */
+static void step_refusals(rfe_tid_filter_t f)
 {
     rfe_params_t veh;
     rfe_tyre_id_params_t tp;
@@ -195,8 +199,8 @@ static void test_step_refusals_leave_the_state_untouched(void **state)
     rfe_tyre_id_sample_t b;
     rfe_real_t *field[6];
     size_t i;
-    (void)state;
     setup_defaults(&veh, &tp);
+    tp.filter = f;
     memset(&tid, 0, sizeof(tid));
     assert_int_equal(rfe_tyre_id_step(&tid, &s, &e), RFE_ERR_NOT_INITIALISED);
     assert_int_equal(rfe_tyre_id_get(&tid, &e), RFE_ERR_NOT_INITIALISED);
@@ -252,6 +256,20 @@ static void test_step_refusals_leave_the_state_untouched(void **state)
     assert_memory_equal(&tid, &before, sizeof(tid));
     assert_int_equal(rfe_tyre_id_get(&tid, &e), RFE_OK);
     assert_memory_equal(&e, &last, sizeof(e));
+}
+
+/* REQ-TID-003 */
+static void test_step_refusals_leave_the_state_untouched(void **state)
+{
+    (void)state;
+    step_refusals(RFE_TID_APF);
+}
+
+/* REQ-TID-003: the same for the sigma-point filter (§15), whose state is tid.sk. */
+static void test_sckf_step_refusals_leave_the_state_untouched(void **state)
+{
+    (void)state;
+    step_refusals(RFE_TID_SCKF);
 }
 
 /* REQ-TID-004 */
@@ -416,11 +434,15 @@ static void test_reflect_hand_cases(void **state)
 static void check_bounds_and_finite(const rfe_tyre_id_t *t, const rfe_tyre_id_estimate_t *e,
                                     size_t k)
 {
+    const size_t n = (t->p.filter == RFE_TID_SCKF) ? 1u : (size_t)RFE_TID_N;
     size_t i;
     size_t j;
-    for (i = 0u; i < (size_t)RFE_TID_N; ++i) {
+    for (i = 0u; i < n; ++i) {
+        /* the particles, or the sigma-point filter's mean (§15.3: projected after each update;
+         * its parameter outputs are this mean, checked below) */
+        const rfe_real_t *x = (t->p.filter == RFE_TID_SCKF) ? t->sk.x : t->x[i];
         for (j = 0u; j < (size_t)RFE_TID_PAR; ++j) {
-            const rfe_real_t v = t->x[i][RFE_TID_STATES + j];
+            const rfe_real_t v = x[RFE_TID_STATES + j];
             if (!(v >= t->c.lo[j]) || !(v <= t->c.hi[j])) {
                 fail_msg("sample %zu particle %zu parameter %zu: %g outside [%g, %g]", k, i, j,
                          (double)v, (double)t->c.lo[j], (double)t->c.hi[j]);
@@ -430,7 +452,14 @@ static void check_bounds_and_finite(const rfe_tyre_id_t *t, const rfe_tyre_id_es
     for (j = 0u; j < (size_t)RFE_TID_OUTPUTS; ++j) {
         assert_true(isfinite(e->mean[j]) && isfinite(e->sd[j]));
     }
-    assert_true(e->n_eff >= (rfe_real_t)0.99 && e->n_eff <= (rfe_real_t)RFE_TID_N * 1.01f);
+    if (t->p.filter == RFE_TID_SCKF) {
+        for (j = 0u; j < (size_t)RFE_TID_PAR; ++j) {
+            assert_true(e->mean[RFE_TID_OUT_D_F + j] == t->sk.x[RFE_TID_STATES + j]);
+        }
+        assert_true(isnan(e->n_eff)); /* no particles (§15.4) */
+    } else {
+        assert_true(e->n_eff >= (rfe_real_t)0.99 && e->n_eff <= (rfe_real_t)RFE_TID_N * 1.01f);
+    }
 }
 
 /* Runs `count` samples of a tyre-identification log from `first`, checking the bounds and the
@@ -792,12 +821,122 @@ static void test_infinite_vy_weighs_zero(void **state)
     assert_true(isinf((double)ll) && ll < 0);
 }
 
+/* REQ-TID-006 REQ-TID-008: the sigma-point filter (§15) on the ramp steer to the limit: its
+ * mean inside the bounds after every step (the projection), the outputs finite, never LOST
+ * nor RESAMPLED; on straight driving the spread of mu stays at least the prior's 0.2 (D is
+ * not identified; its sd grows by the walk, TYRE_ID_RESULTS.md). */
+static void test_sckf_bounds_hold_and_straight_keeps_the_spread(void **state)
+{
+    rfe_real_t sd_mu;
+    uint32_t seen;
+    (void)state;
+    seen = run_log("tid_ramp_steer_high_mu", 400u, 300u, RFE_TID_SCKF, RFE_TID_MULTINOMIAL,
+                   &sd_mu);
+    assert_true((seen & RFE_TID_FIRST) != 0u);
+    assert_true((seen & RFE_TID_UPDATED) != 0u);
+    assert_true((seen & (RFE_TID_RESAMPLED | RFE_TID_HELD | RFE_TID_LOST)) == 0u);
+    (void)run_log("tid_straight", 0u, 100u, RFE_TID_SCKF, RFE_TID_MULTINOMIAL, &sd_mu);
+    assert_true(sd_mu >= (rfe_real_t)0.2);
+}
+
+/* REQ-TID-002: the prior of §15.2 exactly: x = (0, r_m, mean0), S = diag(sd0); the outputs of
+ * the parameters are x and the row norms of a diagonal S, sqrt(s * s) = s exactly (correctly
+ * rounded square and root, no underflow); mu = D / Fz0 at ax = 0. Then a held step (vx below
+ * v_min) leaves x and S bit for bit, and the filter is deterministic: a second init and the
+ * same samples give the same state bit for bit. */
+static void test_sckf_prior_held_and_deterministic(void **state)
+{
+    static rfe_tyre_id_t again;
+    rfe_params_t veh;
+    rfe_tyre_id_params_t tp;
+    rfe_tyre_id_estimate_t e;
+    rfe_tyre_id_estimate_t e2;
+    rfe_tyre_id_sample_t s = sample(0, (rfe_real_t)0.02, 20, (rfe_real_t)0.05, 1);
+    size_t j;
+    size_t k;
+    (void)state;
+    setup_defaults(&veh, &tp);
+    tp.filter = RFE_TID_SCKF;
+    assert_int_equal(rfe_tyre_id_init(&tid, &tp, &veh, 9u), RFE_OK);
+    assert_int_equal(rfe_tyre_id_step(&tid, &s, &e), RFE_OK);
+    assert_int_equal(e.flags, RFE_TID_FIRST);
+    assert_true(e.mean[RFE_TID_OUT_VY] == 0 && e.sd[RFE_TID_OUT_VY] == tp.sd0_vy);
+    assert_true(e.mean[RFE_TID_OUT_R] == (rfe_real_t)0.05 && e.sd[RFE_TID_OUT_R] == tp.sd0_r);
+    for (j = 0u; j < (size_t)RFE_TID_PAR; ++j) {
+        assert_true(e.mean[RFE_TID_OUT_D_F + j] == tid.c.mean0[j]);
+        assert_true(e.sd[RFE_TID_OUT_D_F + j] == tid.c.sd0[j]);
+    }
+    assert_true(e.mean[RFE_TID_OUT_MU_F] == tid.c.mean0[0] / tid.c.fz0[0]);
+    assert_true(e.sd[RFE_TID_OUT_MU_R] == tid.c.sd0[4] / tid.c.fz0[1]);
+    before = tid;
+    s.dt = (rfe_real_t)0.01;
+    s.vx = tp.v_min * (rfe_real_t)0.9;
+    assert_int_equal(rfe_tyre_id_step(&tid, &s, &e), RFE_OK);
+    assert_int_equal(e.flags, RFE_TID_HELD);
+    assert_memory_equal(tid.sk.x, before.sk.x, sizeof(tid.sk.x));
+    assert_memory_equal(tid.sk.S, before.sk.S, sizeof(tid.sk.S));
+    /* determinism: two inits, 50 steering samples each */
+    setup_defaults(&veh, &tp);
+    tp.filter = RFE_TID_SCKF;
+    assert_int_equal(rfe_tyre_id_init(&tid, &tp, &veh, 1u), RFE_OK);
+    assert_int_equal(rfe_tyre_id_init(&again, &tp, &veh, 2u), RFE_OK); /* seed unused */
+    for (k = 0u; k < 50u; ++k) {
+        s = sample((k > 0u) ? (rfe_real_t)0.01 : 0, (rfe_real_t)(0.001 * (double)k), 20,
+                   (rfe_real_t)(0.002 * (double)k), (rfe_real_t)(0.04 * (double)k));
+        assert_int_equal(rfe_tyre_id_step(&tid, &s, &e), RFE_OK);
+        assert_int_equal(rfe_tyre_id_step(&again, &s, &e2), RFE_OK);
+        assert_memory_equal(e.mean, e2.mean, sizeof(e.mean));
+        assert_memory_equal(e.sd, e2.sd, sizeof(e.sd));
+    }
+    assert_memory_equal(&tid.sk, &again.sk, sizeof(tid.sk));
+    assert_true((e.flags & RFE_TID_UPDATED) != 0u);
+}
+
+/* REQ-TID-004 REQ-TID-008: §15.3 lost: a mean that is not finite (set by hand here: no
+ * finite input reaches it) makes the step's Tria refuse; the step reports LOST alone and sets
+ * the prior of §15.2 at this sample (x = (0, r_m, mean0), S = diag(sd0)) exactly, every output
+ * finite; the next step updates from it. */
+static void test_sckf_lost_sets_the_prior_again(void **state)
+{
+    rfe_params_t veh;
+    rfe_tyre_id_params_t tp;
+    rfe_tyre_id_estimate_t e;
+    rfe_tyre_id_sample_t s = sample(0, (rfe_real_t)0.02, 20, (rfe_real_t)0.05, 1);
+    size_t j;
+    (void)state;
+    setup_defaults(&veh, &tp);
+    tp.filter = RFE_TID_SCKF;
+    assert_int_equal(rfe_tyre_id_init(&tid, &tp, &veh, 1u), RFE_OK);
+    assert_int_equal(rfe_tyre_id_step(&tid, &s, &e), RFE_OK);
+    tid.sk.x[RFE_TID_VY] = (rfe_real_t)NAN;
+    s.dt = (rfe_real_t)0.01;
+    s.yaw_rate = (rfe_real_t)0.07;
+    assert_int_equal(rfe_tyre_id_step(&tid, &s, &e), RFE_OK);
+    assert_int_equal(e.flags, RFE_TID_LOST);
+    assert_true(tid.sk.x[RFE_TID_VY] == 0 && tid.sk.x[RFE_TID_R] == (rfe_real_t)0.07);
+    assert_true(tid.sk.S[0] == tp.sd0_vy && tid.sk.S[RFE_TID_DIM + 1] == tp.sd0_r);
+    for (j = 0u; j < (size_t)RFE_TID_PAR; ++j) {
+        const size_t d = (size_t)RFE_TID_STATES + j;
+        assert_true(tid.sk.x[d] == tid.c.mean0[j]);
+        assert_true(tid.sk.S[(d * (size_t)RFE_TID_DIM) + d] == tid.c.sd0[j]);
+    }
+    for (j = 0u; j < (size_t)RFE_TID_OUTPUTS; ++j) {
+        assert_true(isfinite(e.mean[j]) && isfinite(e.sd[j]));
+    }
+    assert_int_equal(rfe_tyre_id_step(&tid, &s, &e), RFE_OK);
+    assert_int_equal(e.flags, RFE_TID_UPDATED);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_params_defaults_and_validation),
         cmocka_unit_test(test_init_refusals_write_nothing),
         cmocka_unit_test(test_step_refusals_leave_the_state_untouched),
+        cmocka_unit_test(test_sckf_step_refusals_leave_the_state_untouched),
+        cmocka_unit_test(test_sckf_bounds_hold_and_straight_keeps_the_spread),
+        cmocka_unit_test(test_sckf_prior_held_and_deterministic),
+        cmocka_unit_test(test_sckf_lost_sets_the_prior_again),
         cmocka_unit_test(test_log_sum_exp_with_extreme_log_likelihoods),
         cmocka_unit_test(test_parent_search_and_draws_on_hand_weights),
         cmocka_unit_test(test_order_by_weight_is_stable),

@@ -25,6 +25,8 @@
  *   must agree as rounding allows: each mean within TOL_PRIOR of the reference's sd (the
  *   float normals are within ~2e-6 rho of the double's, test_philox_flt.c, and a sum over
  *   256 particles adds ~256 float ulps, 1.5e-5 relative: 1e-3 leaves a margin).
+ * - The sigma-point filter (§15, tyre_id_sckf.py): within the derived bounds SCKF_TOL_*, the
+ *   status bits exactly, N_eff NaN in both.
  */
 #include "test_common.h"
 
@@ -54,6 +56,28 @@
 #define TOL_REL 1e-5
 #define SD_FACTOR 2.0
 #define STATUS_SHARE 0.8
+#endif
+
+/* The sigma-point filter (§15; goldens of 200 samples each): the reference computes its means
+ * with NumPy's pairwise sums and / (2n) (the C: in order, times 1 / (2n)), its products with
+ * BLAS and its Tria with LAPACK's blocked Householder QR (the C: the library's row by row), so
+ * the two round differently: not bit for bit. Each of these is backward stable with a relative
+ * error of at most about rows * cols * eps per step (Higham, Accuracy and Stability, Thm 19.4:
+ * gamma_(c m n) for Householder QR; rows 10, cols 30): 300 eps, measured relative to the
+ * quantity plus its sd (an output near 0 carries its spread's rounding; an sd relative to
+ * itself). Summed over 200 steps with no contraction assumed: 200 * 300 * eps.
+ * - double, eps 2.2e-16: 1.3e-11; the bound 1e-10 (a wrong term in the algebra shows at 1e-4
+ *   or more). Seen: means 7.7e-14, sds 5.3e-13.
+ * - float against the double reference, eps 6.0e-8 (2^-24): 3.6e-3, the bound 4e-3. Seen:
+ *   means 6.3e-5, sds 5.6e-4.
+ * NumPy's BLAS and LAPACK kernels depend on the CPU (OPENBLAS_CORETYPE), so these goldens may
+ * differ in their last bits from one machine to another: within the same bound. */
+#if defined(RFE_REAL_DOUBLE)
+#define SCKF_TOL_MEAN 1e-10
+#define SCKF_TOL_SD 1e-10
+#else
+#define SCKF_TOL_MEAN 4e-3
+#define SCKF_TOL_SD 4e-3
 #endif
 
 typedef struct {
@@ -89,7 +113,7 @@ static size_t first_row(const rfe_sensor_log_t *log, double t0)
     return 0u;
 }
 
-static rfe_tyre_id_t tid; /* 55 kB in double: off the stack */
+static rfe_tyre_id_t tid; /* 62 kB in double: off the stack */
 
 static void run_case(const golden_case_t *c)
 {
@@ -177,6 +201,100 @@ static void run_case(const golden_case_t *c)
     rfe_sensor_log_free(&log);
 }
 
+/* ---- the sigma-point filter (§15): SCKF_TOL_* above -------------------------------------- */
+
+/* make_tyre_id_goldens.py SCKF_CASES */
+static const golden_case_t SCKF_CASES[] = {
+    {"sine_sckf", "tid_sine_steer", RFE_TID_SCKF, RFE_TID_MULTINOMIAL},
+    {"ramp_sckf", "tid_ramp_steer_high_mu", RFE_TID_SCKF, RFE_TID_MULTINOMIAL},
+};
+
+/* |a - b| in units of (|b| + sd_b): the rounding of a quantity and of its spread */
+static double rel_err(double a, double b, double sd_b)
+{
+    const double scale = fabs(b) + sd_b;
+    return (scale > 0.0) ? (fabs(a - b) / scale) : fabs(a - b);
+}
+
+static void sckf_case(const golden_case_t *c, double tol_mean, double tol_sd)
+{
+    char path[256];
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    test_table_t g;
+    rfe_params_t veh;
+    rfe_tyre_id_params_t tp;
+    size_t k;
+    size_t k0;
+    double worst_m = 0.0;
+    double worst_s = 0.0;
+    memset(&log, 0, sizeof(log));
+    memset(&g, 0, sizeof(g));
+    snprintf(path, sizeof(path), "scenarios/tyre_id/%s.csv", c->log);
+    assert_int_equal(rfe_sensor_log_read(path, &log, &err), 0);
+    snprintf(path, sizeof(path), "%s/%s.csv", GOLDEN_DIR, c->name);
+    assert_int_equal(test_table_load(path, &g), 0);
+    assert_true(g.n_rows >= 100u);
+    k0 = first_row(&log, test_table_get(&g, 0u, "t"));
+    assert_int_equal(rfe_params_default(&veh), RFE_OK);
+    assert_int_equal(rfe_tyre_id_params_default(&tp), RFE_OK);
+    tp.filter = RFE_TID_SCKF;
+    assert_int_equal(rfe_tyre_id_init(&tid, &tp, &veh, SEED), RFE_OK);
+    for (k = 0u; k < g.n_rows; ++k) {
+        const rfe_sensor_row_t *r = &log.rows[k0 + k];
+        rfe_tyre_id_sample_t s;
+        rfe_tyre_id_estimate_t e;
+        size_t o;
+        s.dt = (k > 0u) ? (rfe_real_t)(r->t - log.rows[k0 + k - 1u].t) : (rfe_real_t)0;
+        s.delta = (rfe_real_t)r->delta;
+        s.vx = (rfe_real_t)r->vx;
+        s.yaw_rate = (rfe_real_t)r->yaw_rate;
+        s.ay = (rfe_real_t)r->ay;
+        s.ax = (rfe_real_t)r->ax;
+        assert_int_equal(rfe_tyre_id_step(&tid, &s, &e), RFE_OK);
+        assert_int_equal(e.flags, (uint32_t)test_table_get(&g, k, "status"));
+        assert_true(isnan(e.n_eff) && isnan(test_table_get(&g, k, "n_eff")));
+        for (o = 0u; o < (size_t)RFE_TID_OUTPUTS; ++o) {
+            char sd_name[16];
+            const double m_ref = test_table_get(&g, k, OUT_NAME[o]);
+            double sd_ref;
+            double em;
+            double es;
+            snprintf(sd_name, sizeof(sd_name), "sd_%s", OUT_NAME[o]);
+            sd_ref = test_table_get(&g, k, sd_name);
+            em = rel_err((double)e.mean[o], m_ref, sd_ref);
+            es = rel_err((double)e.sd[o], sd_ref, 0.0);
+            worst_m = fmax(worst_m, em);
+            worst_s = fmax(worst_s, es);
+            if (!(em <= tol_mean) || !(es <= tol_sd)) {
+                fail_msg("%s row %zu %s: mean %.17g sd %.17g against the reference's %.17g %.17g",
+                         c->name, k, OUT_NAME[o], (double)e.mean[o], (double)e.sd[o], m_ref,
+                         sd_ref);
+            }
+        }
+    }
+#if defined(PRINT_DIFF)
+    printf("%s: worst mean error %.3g, worst sd error %.3g (relative)\n", c->name, worst_m,
+           worst_s);
+#endif
+    test_table_free(&g);
+    rfe_sensor_log_free(&log);
+}
+
+/* REQ-TID-002 */
+static void test_sckf_sine_golden(void **state)
+{
+    (void)state;
+    sckf_case(&SCKF_CASES[0], SCKF_TOL_MEAN, SCKF_TOL_SD);
+}
+
+/* REQ-TID-002 */
+static void test_sckf_ramp_golden(void **state)
+{
+    (void)state;
+    sckf_case(&SCKF_CASES[1], SCKF_TOL_MEAN, SCKF_TOL_SD);
+}
+
 /* REQ-TID-002 */
 static void test_apf_multinomial_golden(void **state)
 {
@@ -212,6 +330,8 @@ int main(void)
         cmocka_unit_test(test_apf_systematic_golden),
         cmocka_unit_test(test_sir_multinomial_golden),
         cmocka_unit_test(test_sir_systematic_golden),
+        cmocka_unit_test(test_sckf_sine_golden),
+        cmocka_unit_test(test_sckf_ramp_golden),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
