@@ -3,10 +3,14 @@
 A run is (RMSE when valid, consistency when valid, valid share, share fed). "Helps": a lower
 RMSE, a consistency no lower and a valid share at most 5 points lower than without the feed;
 "hurts": an RMSE higher by more than 0.02 or a consistency lower by more than 0.05; no verdict
-(None) when either run has no valid sample.
+(None) when either run has no valid sample. "Meets" (issue 20's targets): an RMSE when valid
+<= 0.08 and a consistency when valid >= 0.9. Each fed column is one filter (APF, SCKF) at one
+feed, and a run hands its filter to mu_replay (checked with a stand-in for mu_replay).
 """
 
+import json
 import os
+import stat
 import sys
 from pathlib import Path
 
@@ -39,6 +43,72 @@ def test_no_verdict_without_valid_samples():
 
 def test_labels_say_the_evidence():
     assert [fr.label(f) for f in ((0.05, 0.0), (0.1, 0.25))] == ["0.05", "0.1 e0.25"]
+    assert [fr.label(f, "S") for f in ((0.05, 0.0), (0.1, 0.25))] == ["S0.05", "S0.1 e0.25"]
+
+
+def test_columns_are_every_feed_of_each_filter():
+    cols = fr.columns()
+    assert {c[0] for c in cols} == {"apf", "sckf"}
+    assert len(cols) == len(fr.FILTERS) * len(fr.FEEDS)
+    for flt, letter in fr.FILTERS:
+        assert [c[2] for c in cols if c[0] == flt] == list(fr.FEEDS)
+        assert {c[1] for c in cols if c[0] == flt} == {letter}
+    labels = [fr.label(c[2], c[1]) for c in cols]
+    assert len(set(labels)) == len(labels)             # no two columns read the same
+
+
+def test_meets_issue_20_targets_on_their_limits():
+    assert fr.meets((0.08, 0.90, 0.5, 0.5)) is True
+    assert fr.meets((0.081, 0.95, 0.5, 0.5)) is False    # RMSE above 0.08
+    assert fr.meets((0.05, 0.89, 0.5, 0.5)) is False     # consistency below 0.9
+    assert fr.meets((None, None, 0.0, 0.5)) is None
+
+
+def _stand_in(tmp_path):
+    """An executable that records its arguments and writes a --metrics JSON: wheels fl, fr
+    with 100 and 300 valid of 400 settled samples, RMSE when valid 0.1 and 0.2, consistency
+    when valid 1.0 and 0.8, rr and rl without samples; 25 of 100 steps fed."""
+    exe = tmp_path / "mu_replay"
+    rec = tmp_path / "args.json"
+
+    def wheel(nv, r, c):
+        return {"n_settled": 400, "n_valid": nv, "rmse_valid": r, "consistency_valid": c,
+                "frac_valid": nv / 400}
+
+    empty = {"n_settled": 0, "n_valid": 0, "rmse_valid": None, "consistency_valid": None,
+             "frac_valid": None}
+    j = {"steps": 100, "metrics": {"fl": wheel(100, 0.1, 1.0), "fr": wheel(300, 0.2, 0.8),
+                                   "rl": empty, "rr": empty},
+         "tyre_id": {"feed": {"n_fed": 25}}}
+    exe.write_text(f"""#!{sys.executable}
+import json, sys
+a = sys.argv[1:]
+json.dump(a, open({str(rec)!r}, "w"))
+json.dump({j!r}, open(a[a.index("--metrics") + 1], "w"))
+""")
+    exe.chmod(exe.stat().st_mode | stat.S_IXUSR)
+    return str(exe), rec
+
+
+def test_run_hands_the_filter_and_feed_to_the_replay(tmp_path):
+    exe, rec = _stand_in(tmp_path)
+    r = fr.run(exe, "scenarios/brake_in_turn.mf.csv", "sckf", (0.1, 0.25))
+    args = json.loads(rec.read_text())
+    assert args[args.index("--tyre-id") + 1] == "sckf"
+    assert "--params" in args
+    # pooled as wheel_figures does: RMS weighted by n_valid, shares by their counts
+    assert abs(r[0] - ((100 * 0.1 ** 2 + 300 * 0.2 ** 2) / 400) ** 0.5) < 1e-12
+    assert abs(r[1] - (100 * 1.0 + 300 * 0.8) / 400) < 1e-12
+    assert abs(r[2] - 0.5) < 1e-12                     # 400 valid of 800 settled
+    assert r[3] == 0.25
+
+
+def test_run_without_the_identifier_names_no_filter(tmp_path):
+    exe, rec = _stand_in(tmp_path)
+    r = fr.run(exe, "scenarios/brake_in_turn.mf.csv", None, None)
+    args = json.loads(rec.read_text())
+    assert "--tyre-id" not in args and "--params" not in args
+    assert r[3] == 0.0
 
 
 def test_logs_are_the_steering_scenarios_and_exist():

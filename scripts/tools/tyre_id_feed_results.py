@@ -8,12 +8,15 @@ it (tid_feed_sd_rel, docs/TYRE_ID.md section 14), on every steering scenario.
 Every steering log (the scenarios whose driver steers: brake in turn, double lane change, ramp
 steer, sine steer, the wrong tyre data, each with the Dugoff truth, the Magic Formula truth .mf
 and the noise-free .nf; and the tyre identification logs scenarios/tyre_id/) is replayed by the
-C library (`mu_replay`, float, the default preset) without the identifier and with
-`--tyre-id apf` feeding at each (tid_feed_sd_rel, tid_feed_evidence) of FEEDS: from the start,
-and only after 0.25 s of the friction estimator's own evidence that its curve is wrong (time
-at a mu bound or in model mismatch). Per run, from the --metrics JSON, the
-figures pooled over the four wheels as the README's trust table pools them
-(scripts/tools/wheel_figures.py):
+C library (`mu_replay`, float, the default preset) without the identifier and with each
+identifier of FILTERS (`--tyre-id apf`, the auxiliary particle filter, and `--tyre-id sckf`,
+the sigma-point filter of docs/TYRE_ID.md section 15) feeding at each (tid_feed_sd_rel,
+tid_feed_evidence) of FEEDS: from the start, and only after 0.25 s of the friction
+estimator's own evidence that its curve is wrong (time at a mu bound or in model mismatch).
+Both filters feed by the same rule (the relative sd of the summed cornering stiffness, the
+particles' spread for the APF, the row norms of the square-root covariance for the SCKF).
+Per run, from the --metrics JSON, the figures pooled over the four wheels as the README's
+trust table pools them (scripts/tools/wheel_figures.py):
     RMSE when valid         over the settled samples reported valid
     consistency when valid  the share of those with |error| <= 2 sd
     valid                   the share of the settled samples reported valid
@@ -22,6 +25,9 @@ A run "helps" when its RMSE when valid is lower and its consistency when valid n
 without the feed, and its valid share no more than 5 points lower (a feed that only silences
 the estimate does not help). It "hurts" when its RMSE when valid is higher by more than 0.02
 (issue 16's threshold for "no worse") or its consistency when valid lower by more than 0.05.
+A run "meets" issue 20's targets when its RMSE when valid is <= 0.08 and its consistency when
+valid >= 0.9 (no verdict without a valid sample); the count of logs that meet them is given
+per column, "off" included.
 With --page the table goes between
 <!-- tyre-feed:begin/end --> of the page.
 """
@@ -49,11 +55,21 @@ FEEDS = ((0.05, 0.0), (0.1, 0.0), (0.05, 0.25), (0.1, 0.25))  # (tid_feed_sd_rel
 VALID_DROP = 0.05  # the largest fall of the valid share a run that helps may have
 RMSE_WORSE = 0.02  # a rise of the RMSE when valid that hurts (issue 16's "no worse")
 CONS_WORSE = 0.05  # a fall of the consistency when valid that hurts
+FILTERS = (("apf", "A"), ("sckf", "S"))  # (--tyre-id FILTER, its letter in the column labels)
+RMSE_TARGET = 0.08  # issue 20: RMSE when valid with identified parameters at most this
+CONS_TARGET = 0.9  # issue 20: consistency when valid at least this
 
 
-def label(feed):
-    """The column label of a feed: its tid_feed_sd_rel, and the evidence asked for."""
-    return f"{feed[0]:g}" + (f" e{feed[1]:g}" if feed[1] > 0 else "")
+def label(feed, letter=""):
+    """The column label of a feed: the filter's letter, its tid_feed_sd_rel, and the evidence
+    asked for."""
+    return f"{letter}{feed[0]:g}" + (f" e{feed[1]:g}" if feed[1] > 0 else "")
+
+
+def columns():
+    """The fed runs of a log, in column order: (filter, letter, feed), every feed of FEEDS for
+    each filter of FILTERS in turn."""
+    return [(flt, letter, feed) for flt, letter in FILTERS for feed in FEEDS]
 
 
 def logs():
@@ -64,9 +80,10 @@ def logs():
     return out
 
 
-def run(exe, log, feed):
-    """(RMSE when valid, consistency when valid, valid share, share fed) of one run; feed
-    (tid_feed_sd_rel, tid_feed_evidence), None: without the identifier."""
+def run(exe, log, flt, feed):
+    """(RMSE when valid, consistency when valid, valid share, share fed) of one run; flt the
+    --tyre-id filter, feed (tid_feed_sd_rel, tid_feed_evidence), None: without the
+    identifier."""
     with tempfile.TemporaryDirectory() as tmp:
         js = os.path.join(tmp, "m.json")
         args = [exe, "--in", os.path.join(ROOT, log), "--out", os.path.join(tmp, "e.csv"),
@@ -75,11 +92,11 @@ def run(exe, log, feed):
             par = os.path.join(tmp, "feed.params")
             with open(par, "w", encoding="utf-8") as fh:
                 fh.write(f"tid_feed_sd_rel = {feed[0]!r}\ntid_feed_evidence = {feed[1]!r}\n")
-            args += ["--tyre-id", "apf", "--params", par]
+            args += ["--tyre-id", flt, "--params", par]
         r = subprocess.run(args, capture_output=True, text=True, check=False)
         if r.returncode != 0:
-            raise SystemExit(f"tyre_id_feed_results: {log} feed {feed}: exit {r.returncode}: "
-                             f"{r.stderr.strip()}")
+            raise SystemExit(f"tyre_id_feed_results: {log} {flt} feed {feed}: "
+                             f"exit {r.returncode}: {r.stderr.strip()}")
         with open(js, encoding="utf-8") as fh:
             j = json.load(fh)
     m = j["metrics"]
@@ -102,6 +119,13 @@ def hurts(base, fed):
     return fed[0] > base[0] + RMSE_WORSE or fed[1] < base[1] - CONS_WORSE
 
 
+def meets(r):
+    """Issue 20's targets on one run; None when it has no valid sample."""
+    if r[0] is None:
+        return None
+    return r[0] <= RMSE_TARGET and r[1] >= CONS_TARGET
+
+
 def cell(x, fmt):
     return "–" if x is None else format(x, fmt)
 
@@ -115,21 +139,39 @@ def main():
     if not os.access(a.mu_replay, os.X_OK):
         raise SystemExit(f"tyre_id_feed_results: {a.mu_replay} not found: run make first")
     names = logs()
-    jobs = [(log, feed) for log in names for feed in (None,) + FEEDS]
+    cols = columns()
+    jobs = [(log, None, None) for log in names] + [(log, c[0], c[2]) for log in names
+                                                   for c in cols]
+    done = [0]
+
+    def one(job):
+        out = run(a.mu_replay, *job)
+        done[0] += 1
+        if done[0] % 20 == 0 or done[0] == len(jobs):
+            print(f"tyre_id_feed_results: {done[0]} / {len(jobs)} runs", file=sys.stderr,
+                  flush=True)
+        return out
+
     with ThreadPoolExecutor(max_workers=max(1, a.jobs)) as ex:
-        res = dict(zip(jobs, ex.map(lambda j: run(a.mu_replay, *j), jobs)))
-    feeds = " / ".join(label(f) for f in FEEDS)
+        res = dict(zip(jobs, ex.map(one, jobs)))
+    labels = [label(c[2], c[1]) for c in cols]
+    feeds = " / ".join(labels)
     rows = [f"| log | RMSE when valid: off / {feeds} | consistency when valid: off / {feeds} "
             f"| valid: off / {feeds} | fed: {feeds} | helps: {feeds} |",
             "|---|---|---|---|---|---|"]
-    count = {f: [0, 0, 0] for f in FEEDS}
+    count = {c: [0, 0, 0] for c in cols}
+    met = [[0, 0] for _ in range(len(cols) + 1)]
     for log in names:
-        runs = [res[(log, None)]] + [res[(log, f)] for f in FEEDS]
+        runs = [res[(log, None, None)]] + [res[(log, c[0], c[2])] for c in cols]
         h = [helps(runs[0], r) for r in runs[1:]]
-        for f, x, r in zip(FEEDS, h, runs[1:]):
-            count[f][0] += 1 if x else 0
-            count[f][1] += 1 if x is not None else 0
-            count[f][2] += 1 if hurts(runs[0], r) else 0
+        for c, x, r in zip(cols, h, runs[1:]):
+            count[c][0] += 1 if x else 0
+            count[c][1] += 1 if x is not None else 0
+            count[c][2] += 1 if hurts(runs[0], r) else 0
+        for k, r in enumerate(runs):
+            m = meets(r)
+            met[k][0] += 1 if m else 0
+            met[k][1] += 1 if m is not None else 0
         name = log[len("scenarios/"):-len(".csv")]
         rows.append(f"| {name} | " + " / ".join(cell(r[0], ".3f") for r in runs) + " | "
                     + " / ".join(cell(r[1], ".2f") for r in runs) + " | "
@@ -137,9 +179,17 @@ def main():
                     + " / ".join(f"{r[3]:.0%}" for r in runs[1:]) + " | "
                     + " / ".join("–" if x is None else ("yes" if x else "no") for x in h) + " |")
     rows.append("")
-    rows.append("Helps / hurts (of the logs with valid samples both ways; eX: after X s of "
-                "evidence): " + "; ".join(f"{label(f)}: {count[f][0]} / {count[f][2]} of "
-                                          f"{count[f][1]}" for f in FEEDS) + ".")
+    rows.append("Columns: A the APF's curve fed, S the SCKF's; the number its tid_feed_sd_rel, "
+                "eX: after X s of evidence.")
+    rows.append("")
+    rows.append("Helps / hurts (of the logs with valid samples both ways): "
+                + "; ".join(f"{lab}: {count[c][0]} / {count[c][2]} of {count[c][1]}"
+                            for lab, c in zip(labels, cols)) + ".")
+    rows.append("")
+    rows.append(f"Meets issue 20's targets (RMSE when valid <= {RMSE_TARGET:g}, consistency "
+                f"when valid >= {CONS_TARGET:g}; of the logs with valid samples): "
+                + "; ".join(f"{lab}: {m[0]} of {m[1]}" for lab, m in zip(["off"] + labels, met))
+                + ".")
     text = "\n".join(rows)
     print(text)
     if a.page:
