@@ -30,7 +30,7 @@ static const rfe_param_info_t k_info[RFE_PK_COUNT] = {
     {"mg_feed_excitation", "m/s", "replay: feed mass_est only once the sum of |ax| dt over the estimator's updates with |ax| >= mg_feed_ax_min since its start reaches this (0 = no gate)"},
     {"mg_feed_ax_min", "m/s^2", "replay: the smallest |ax| counted by mg_feed_excitation"},
     RFE_MG_KEYS(RFE_PK_INFO_)
-    {"tid_filter", "-", "tyre identifier: apf (the auxiliary particle filter) or sir (the bootstrap filter)"},
+    {"tid_filter", "-", "tyre identifier: apf (the auxiliary particle filter), sir (the bootstrap filter) or sckf (the augmented-state sigma-point filter)"},
     {"tid_resample", "-", "tyre identifier: how parents are drawn, multinomial or systematic"},
     {"tid_substeps", "-", "tyre identifier: RK4 steps per sample period (an integer)"},
     {"tid_seed", "-", "tyre identifier: seed of its random stream (an integer 0 .. 2^53)"},
