@@ -448,6 +448,8 @@ class MassGrade:
         innov = s.v - x[0]
         if not sz > 0.0:
             return ERR_NOT_POSITIVE_DEFINITE
+        if not math.isfinite(sz):
+            return ERR_NONFINITE               # S_00^2 overflowed (the C float build's check)
         cs, sn, e = S[0][0] / sz, rv / sz, innov / sz
         for i in range(N):
             g = S[i][0] * cs

@@ -73,8 +73,8 @@ rfe_status_t rfe_mg_predict(const rfe_real_t X[RFE_MG_PTS * RFE_MG_N], const rfe
  * @param[in,out] x  x- in, the posterior mean out.
  * @param[in,out] S  S- in, the posterior factor out.
  * @return RFE_OK; RFE_ERR_NOT_POSITIVE_DEFINITE (a zero innovation sd, or the downdate of a
- *         negative w_c,0 fails); RFE_ERR_NONFINITE (a point or measurement not finite); x, S
- *         untouched on an error.
+ *         negative w_c,0 fails); RFE_ERR_NONFINITE (a point or measurement not finite, or the
+ *         speed row's innovation sd overflows); x, S untouched on an error.
  */
 rfe_status_t rfe_mg_correct(const rfe_real_t chi[RFE_MG_PTS * RFE_MG_N],
                             const rfe_real_t Z[RFE_MG_PTS], size_t nz, const rfe_mg_weights_t *w,

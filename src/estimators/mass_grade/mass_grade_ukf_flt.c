@@ -188,6 +188,9 @@ static rfe_status_t speed_update(rfe_real_t r_v, rfe_real_t y, rfe_real_t *x, rf
     if (!(s > RFE_R(0.0))) {
         return RFE_ERR_NOT_POSITIVE_DEFINITE; /* r_v > 0: never through the public API */
     }
+    if (!rfe_is_finite(s)) {
+        return RFE_ERR_NONFINITE; /* S_00^2 overflowed: the rotation would zero column 0 */
+    }
     cs = S[0] / s;
     sn = r_v / s;
     e = innov / s;

@@ -639,6 +639,21 @@ static void test_start_and_hold_overflow_refused(void **state)
     assert_int_equal(step(&in, &e), RFE_ERR_NONFINITE);
     assert_memory_equal(&mg, &before, sizeof(mg));
     assert_true(isfinite((double)e.sd_grade));
+    /* the update: a speed noise whose factor's square overflows in the speed row's rotation
+     * (sqrt(S_00^2 + r_v^2) = Inf would scale S's column 0 to 0 and report sd_v = 0 with
+     * status 0): refused */
+    memset(&prm, 0, sizeof(prm));
+    assert_int_equal(rfe_mass_grade_params_default(&prm), RFE_OK);
+    prm.q_v = over_sq;
+    prm.use_ax = 0u; /* the speed row alone (with ax the points' drag overflows first) */
+    memset(&mg, 0, sizeof(mg));
+    assert_int_equal(rfe_mass_grade_init(&mg, &prm), RFE_OK);
+    in = cruise((rfe_real_t)20.0, (rfe_real_t)DT);
+    assert_int_equal(step(&in, &e), RFE_OK);
+    before = mg;
+    assert_int_equal(step(&in, &e), RFE_ERR_NONFINITE);
+    assert_memory_equal(&mg, &before, sizeof(mg));
+    assert_true(e.sd_v == prm.r_v);
 }
 
 /* REQ-MG-008. Found by fuzz_mass_grade_f32: with a rolling radius of 4.5e-12 m (valid: > 0)
