@@ -46,7 +46,7 @@ rfe_status_t rfe_mass_grade_init(rfe_mass_grade_t *mg, const rfe_mass_grade_para
     mg->wm0 = lam / c;
     mg->wc0 = (lam / c) + ((RFE_R(1.0) - (p->ut_alpha * p->ut_alpha)) + p->ut_beta);
     mg->wi = RFE_R(1.0) / (RFE_R(2.0) * c);
-    mg->sqrt_wc0 = RFE_SQRT(RFE_FABS(mg->wc0)); /* a negative w_c,0 is a downdate (§4.3) */
+    mg->sqrt_wc0 = RFE_SQRT(RFE_FABS(mg->wc0)); /* a negative w_c,0 is a downdate (§4.6) */
     mg->sqrt_wi = RFE_SQRT(mg->wi);
     mg->sqrt_c = RFE_SQRT(c);
     mg->magic = RFE_MAGIC_MG;
