@@ -92,11 +92,14 @@ typedef struct {
                                            a restart */
     rfe_mass_grade_params_t p;        /**< the parameters */
     rfe_real_t wm0;                   /**< mean weight of the centre point (§3) */
-    rfe_real_t wc0;                   /**< covariance weight of the centre point */
+    rfe_real_t wc0;                   /**< covariance weight of the centre point (its sign) */
     rfe_real_t wi;                    /**< weight of every other point */
-    rfe_real_t c;                     /**< n + lambda: the points' spread factor */
+    rfe_real_t sqrt_wc0;              /**< sqrt(|w_c,0|) */
+    rfe_real_t sqrt_wi;               /**< sqrt(w_i) */
+    rfe_real_t sqrt_c;                /**< sqrt(n + lambda): the points' spread factor */
     rfe_real_t x[RFE_MG_N];           /**< [v, M, theta] */
-    rfe_real_t P[RFE_MG_N * RFE_MG_N]; /**< its covariance, row-major */
+    rfe_real_t S[RFE_MG_N * RFE_MG_N]; /**< the lower factor of its covariance P = S S^T,
+                                           row-major (the square-root form, §4.3) */
     rfe_real_t q_mv;                  /**< adaptive mass process noise [kg^2/s] */
     rfe_real_t adapt_elapsed;         /**< time since the adaptation period began [s] */
     rfe_real_t m_adapt;               /**< the mass when it began [kg] */

@@ -2,8 +2,22 @@
 
 The seed's adaptive unscented Kalman filter (AUKF) on the longitudinal model, its plain UKF
 baseline, and the accelerometer row (MASS_GRADE.md §5).  Written from the page only, in plain
-Python floats with every sum in the page's order (no BLAS), so a C double port can be
-compared with it to 1e-9.
+Python floats with every sum in the page's order (no BLAS, no NumPy on the filter's path), so
+a C double port can be compared with it bit for bit.
+
+Two covariance forms, chosen by the argument `form` (not a parameter: the library has one
+form, the parameters are the vehicle's and the filter's, and a golden's metadata lists
+parameters only):
+
+- "sqrt" (the default): the square-root form of the C library (float, double: src/estimators/
+  mass_grade/mass_grade_ukf_flt.c; Q31: mass_grade_ukf_q31.c). The state carries the lower
+  factor S of P = S S^T; the time update, the ax row, the hold and the adaptation are each one
+  Householder triangularisation (tria(), the operations of src/numerics/qr_flt.c in their
+  order), the speed row one Givens rotation. The reference of the C float/double build and of
+  its goldens (scenarios/golden/mass_grade/).
+- "textbook": the full-covariance form of the page's equations (P- = sum w_c D D^T + Q,
+  P = P- - K S K^T), which scripts/tools/mass_grade_textbook.py runs in float32 and with an
+  int32 P to show where it loses positive definiteness.
 
     est = MassGrade(params)        # params: a dict over MG_DEFAULTS (preset(name) gives one)
     out = est.step(sample)         # sample: MgSample; out: MgEstimate (mass, grade, sd, status)
@@ -238,16 +252,30 @@ class MgEstimate:
     status: int
 
 
-class MassGrade:
-    """§4 the estimator's state and step."""
+FORMS = ("sqrt", "textbook")
 
-    def __init__(self, params, ar=F64):
+
+class MassGrade:
+    """§4 the estimator's state and step; form "sqrt" (the library's) or "textbook" (module
+    docstring). The textbook form runs in any Arith; the square-root form in F64 only."""
+
+    def __init__(self, params, ar=F64, form="sqrt"):
+        if form not in FORMS:
+            raise ValueError(f"form: {form!r} is not one of {FORMS}")
+        if form == "sqrt" and ar is not F64:
+            raise ValueError("form 'sqrt': the reference runs it in float64 only")
         self.ar = ar
+        self.form = form
         p = {k: ar.real(v) for k, v in params.items()}
         validate(p)
         self.p = p
         self.wm, self.wc = weights(p)
         self.c = N + lambda_ut(p)
+        if form == "sqrt":
+            # its roots (the C init's): sqrt(|w_c,0|), sqrt(w_i), sqrt(n + lambda)
+            self.sqrt_wc0 = math.sqrt(abs(self.wc[0]))
+            self.sqrt_wi = math.sqrt(self.wc[1])
+            self.sqrt_c = math.sqrt(self.c)
         self.use_ax = p["mg_use_ax"] == 1.0
         self.started = False
 
@@ -255,6 +283,8 @@ class MassGrade:
     def _start(self, s):
         p = self.p
         self.x = [s.v, p["mg_m0"], p["mg_theta0"]]
+        # the square-root form: S = diag(r_v, sd_m0, sd_theta0)
+        self.S = [[p["mg_r_v"], 0.0, 0.0], [0.0, p["mg_sd_m0"], 0.0], [0.0, 0.0, p["mg_sd_theta0"]]]
         self.P = self.ar.store_cov([[p["mg_r_v"] ** 2, 0.0, 0.0], [0.0, p["mg_sd_m0"] ** 2, 0.0],
                                     [0.0, 0.0, p["mg_sd_theta0"] ** 2]])
         self.q_mv = p["mg_q_mv0"] ** 2 if p["mg_adaptive"] == 1.0 else 0.0
@@ -266,6 +296,9 @@ class MassGrade:
         self.started = True
 
     def _estimate(self, status):
+        if self.form == "sqrt":
+            return MgEstimate(self.x[1], self.sd[1], self.x[2], self.sd[2], self.x[0], self.sd[0],
+                              self.q_mv, status)
         P, sqrt = self.P, self.ar.sqrt
         return MgEstimate(self.x[1], sqrt(P[1][1]), self.x[2], sqrt(P[2][2]),
                           self.x[0], sqrt(P[0][0]), self.q_mv, status)
@@ -293,6 +326,8 @@ class MassGrade:
                 return MgEstimate(math.nan, math.nan, math.nan, math.nan, math.nan, math.nan,
                                   math.nan, err)
             return self._estimate(err)
+        if self.form == "sqrt":
+            return self._step_sqrt(s)
         p = self.p
         if not self.started or s.t - self.t_prev > p["mg_dt_max"]:
             self._start(s)
@@ -311,6 +346,149 @@ class MassGrade:
                 return self._estimate(st)
         self.t_prev, self.torque_prev = s.t, s.torque
         return self._estimate(status)
+
+    # -- the square-root form (the C library's steps, mass_grade_flt.c) ------------------------
+    _SAVED = ("x", "S", "q_mv", "adapt_elapsed", "m_adapt", "brake_left", "shift_left", "gear",
+              "started")
+
+    def _step_sqrt(self, s):
+        """As step(), in the square-root form: the work on a copy of the state, restored on an
+        error (C: rfe_mass_grade_step works on a copy); a start, hold or update whose S, q_mv
+        or sds are not finite is refused (17)."""
+        p = self.p
+        saved = {k: getattr(self, k, None) for k in self._SAVED}
+        saved["x"] = list(saved["x"]) if saved["x"] is not None else None
+        saved["S"] = [list(r) for r in saved["S"]] if saved["S"] is not None else None
+        if not self.started or s.t - self.t_prev > p["mg_dt_max"]:
+            self._start(s)
+            status = self._pause_status(s, 0.0)
+            st = OK
+        else:
+            dt = s.t - self.t_prev             # the period: the time stamps are not state
+            status = self._pause_status(s, dt)
+            st = self._hold_sqrt(s, dt) if status != OK else self._update_sqrt(s, dt)
+        if st == OK:
+            S = self.S
+            sd = (math.sqrt(S[0][0] * S[0][0]), math.sqrt(S[1][0] * S[1][0] + S[1][1] * S[1][1]),
+                  math.sqrt((S[2][0] * S[2][0] + S[2][1] * S[2][1]) + S[2][2] * S[2][2]))
+            if not (all(math.isfinite(v) for r in S for v in r) and math.isfinite(self.q_mv)
+                    and all(math.isfinite(v) for v in sd)):
+                st = ERR_NONFINITE
+        if st != OK:
+            for k, v in saved.items():
+                setattr(self, k, v)
+            if not self.started:
+                return MgEstimate(math.nan, math.nan, math.nan, math.nan, math.nan, math.nan,
+                                  math.nan, st)
+            return self._estimate(st)
+        self.sd = sd
+        self.t_prev, self.torque_prev = s.t, s.torque
+        return self._estimate(status)
+
+    def _hold_sqrt(self, s, dt):
+        """§4.2 the hold: S = [[r_v, 0, 0], [0, T]], T T^T = S_23 S_23^T + diag(0, q_theta^2 dt)
+        by a 2 x 4 triangularisation of the mass and grade rows with the noise column."""
+        p, S = self.p, self.S
+        A = [[S[1][0], S[1][1], 0.0, 0.0],
+             [S[2][0], S[2][1], S[2][2], p["mg_q_theta"] * math.sqrt(dt)]]
+        if tria(A, 2, 4) is None:
+            return ERR_NONFINITE
+        self.x[0] = s.v
+        self.S = [[p["mg_r_v"], 0.0, 0.0], [0.0, A[0][0], 0.0], [0.0, A[1][0], A[1][1]]]
+        self.adapt_elapsed = 0.0
+        self.m_adapt = self.x[1]
+        return OK
+
+    def _update_sqrt(self, s, dt):
+        """§4.3 in square-root form (mass_grade_ukf_flt.c), then the projection and the
+        adaptation."""
+        p, wm = self.p, self.wm
+        w = (self.wc[0], self.sqrt_wc0, self.sqrt_wi)
+        # time update: the points of (x, S) through f; Q's roots
+        pts = sigma_points_sqrt(self.x, self.S, self.sqrt_c)
+        X = [f_state(p, x, self.torque_prev, dt) for x in pts]
+        sdt = math.sqrt(dt)
+        sq = (p["mg_q_v"] * sdt, math.sqrt(p["mg_q_mc"] * p["mg_q_mc"] + self.q_mv) * sdt,
+              p["mg_q_theta"] * sdt)
+        xm = mean(X, wm)
+        A = [[0.0] * (2 * N + 1 + N) for _ in range(N)]
+        centred(X, xm, w, A, 0)
+        for r in range(N):
+            A[r][2 * N + 1 + r] = sq[r]
+        if tria(A, N, 2 * N + 1 + N) is None:
+            return ERR_NONFINITE
+        if w[0] < 0.0 and downdate(A, N, [w[1] * (X[0][r] - xm[r]) for r in range(N)]) != OK:
+            return ERR_NOT_POSITIVE_DEFINITE
+        x = list(xm)
+        S = [[A[r][c] if c <= r else 0.0 for c in range(N)] for r in range(N)]
+        # the ax row by the points of (x-, S-)
+        if self.use_ax:
+            pts = sigma_points_sqrt(x, S, self.sqrt_c)
+            Z = [accel(p, q[0], q[1], q[2], s.torque) + p["g"] * math.sin(q[2]) for q in pts]
+            zm = mean([[z] for z in Z], wm)
+            A = [[0.0] * (2 * N + 2) for _ in range(1 + N)]
+            centred([[z] for z in Z], zm, w, A, 0)
+            centred(pts, x, w, A, 1)
+            A[0][2 * N + 1] = p["mg_r_ax"]
+            if tria(A, 1 + N, 2 * N + 2) is None:
+                return ERR_NONFINITE
+            if w[0] < 0.0:
+                v = [w[1] * (Z[0] - zm[0])] + [w[1] * (pts[0][i] - x[i]) for i in range(N)]
+                if downdate(A, 1 + N, v) != OK:
+                    return ERR_NOT_POSITIVE_DEFINITE
+            if not A[0][0] > 0.0:
+                return ERR_NOT_POSITIVE_DEFINITE
+            e = (s.ax - zm[0]) / A[0][0]
+            for i in range(N):
+                x[i] += A[1 + i][0] * e
+            S = [[A[1 + i][1 + c] for c in range(N)] for i in range(N)]
+        # the speed row: one Givens rotation of S's column 0 with r_v
+        rv = p["mg_r_v"]
+        sz = math.sqrt(S[0][0] * S[0][0] + rv * rv)
+        innov = s.v - x[0]
+        if not sz > 0.0:
+            return ERR_NOT_POSITIVE_DEFINITE
+        if not math.isfinite(sz):
+            return ERR_NONFINITE               # S_00^2 overflowed (the C float build's check)
+        cs, sn, e = S[0][0] / sz, rv / sz, innov / sz
+        for i in range(N):
+            g = S[i][0] * cs
+            x[i] += g * e
+            S[i][0] *= sn
+        if not (all(math.isfinite(v) for v in x) and all(math.isfinite(v) for r in S for v in r)):
+            return ERR_NONFINITE
+        # §4.3 projection of the mean onto the bounds
+        x[1] = min(max(x[1], p["mg_m_min"]), p["mg_m_max"])
+        x[2] = min(max(x[2], -p["mg_theta_max"]), p["mg_theta_max"])
+        self.x, self.S = x, S
+        if p["mg_adaptive"] == 1.0 and self.q_mv > 0.0:
+            return self._adapt_sqrt(dt)
+        return OK
+
+    def _adapt_sqrt(self, dt):
+        """§4.4 as _adapt, P's mass row and column scaled in square-root form: S' = Tria([D S,
+        sqrt(lambda - lambda^2) |S row M| e2]), D = diag(1, lambda, 1)."""
+        p, S = self.p, self.S
+        self.adapt_elapsed += dt
+        span = self.adapt_elapsed
+        if span < p["mg_t_adapt"] - 0.5 * dt:
+            return OK
+        d = (self.x[1] - self.m_adapt) * (self.x[1] - self.m_adapt)
+        qs = self.q_mv * span
+        lam = 0.5 * abs(qs - d) / (qs + d) if qs + d > 0.0 else 0.5
+        self.q_mv *= lam
+        sd_m = math.sqrt(S[1][0] * S[1][0] + S[1][1] * S[1][1])
+        A = [[S[0][0], 0.0, 0.0, 0.0],
+             [lam * S[1][0], lam * S[1][1], 0.0, math.sqrt(lam - lam * lam) * sd_m],
+             [S[2][0], S[2][1], S[2][2], 0.0]]
+        if tria(A, N, 4) is None:
+            return ERR_NONFINITE
+        self.S = [[A[r][c] if c <= r else 0.0 for c in range(N)] for r in range(N)]
+        if self.q_mv <= p["mg_mv_stop"] * (p["mg_q_mc"] * p["mg_q_mc"]):
+            self.q_mv = 0.0
+        self.adapt_elapsed = 0.0
+        self.m_adapt = self.x[1]
+        return OK
 
     # -- §4.2 pause logic ---------------------------------------------------------------------
     def _pause_status(self, s, dt):
@@ -433,6 +611,119 @@ class MassGrade:
         self.m_adapt = self.x[1]
 
 
+# ---- the square-root form's arithmetic (the C library's operations, in its order) ----------
+TRIA_SAFE_LO = 2.0 ** -256  # qr_flt.c (double): rows with maxima inside are reduced unscaled
+TRIA_SAFE_HI = 2.0 ** 256
+DBL_MIN_EXP, DBL_MAX_EXP = -1021, 1024
+
+
+def sigma_points_sqrt(x, S, sqrt_c):
+    """§3 chi_0 = x, chi_i = x + d_i, chi_{n+i} = x - d_i, d_i = sqrt(n + lambda) S[:, i-1]."""
+    d = [[sqrt_c * S[r][i] for r in range(N)] for i in range(N)]
+    return ([list(x)] + [[x[r] + d[i][r] for r in range(N)] for i in range(N)]
+            + [[x[r] - d[i][r] for r in range(N)] for i in range(N)])
+
+
+def mean(X, wm):
+    """sum_i w_m,i X_i, i = 0..2n in order."""
+    m = [0.0] * len(X[0])
+    for i in range(2 * N + 1):
+        for r in range(len(m)):
+            m[r] += wm[i] * X[i][r]
+    return m
+
+
+def centred(X, m, w, A, row0):
+    """Columns 0..2n of A's rows row0..: sqrt(w_c,i) (X_i - m); the centre's 0 when w_c,0 < 0
+    (w = (w_c,0, sqrt|w_c,0|, sqrt w_i))."""
+    for i in range(2 * N + 1):
+        sw = w[2] if i > 0 else (0.0 if w[0] < 0.0 else w[1])
+        for r in range(len(m)):
+            A[row0 + r][i] = sw * (X[i][r] - m[r])
+
+
+def _scale_row(row, cols, e):
+    """row[:cols] *= 2^e as qr_flt.c's scale_row: one factor while 2^e is normal."""
+    if DBL_MIN_EXP - 1 <= e < DBL_MAX_EXP:
+        if e != 0:
+            f = math.ldexp(1.0, e)
+            for j in range(cols):
+                row[j] *= f
+    else:
+        for j in range(cols):
+            row[j] = math.ldexp(row[j], e)
+
+
+def tria(A, rows, cols):
+    """The lower triangle S (rows x rows) of A Q = [S 0], S S^T = A A^T, in place: the
+    Householder Tria of src/numerics/qr_flt.c (rfe_qr_tria) operation for operation (rows
+    scaled by powers of two when a row maximum lies outside [2^-256, 2^256], each row's tail
+    reflected onto its diagonal, the diagonal made nonnegative). None when A is not finite."""
+    bigs, scaled = [], False
+    for i in range(rows):
+        big = 0.0
+        for j in range(cols):
+            if not math.isfinite(A[i][j]):
+                return None
+            a = abs(A[i][j])
+            big = big if big > a else a      # rfe_max(big, |a|)
+        if big > 0.0 and (big < TRIA_SAFE_LO or big > TRIA_SAFE_HI):
+            scaled = True
+        bigs.append(big)
+    exps = [math.frexp(b)[1] if b > 0.0 else 0 for b in bigs]
+    if scaled:
+        for i in range(rows):
+            _scale_row(A[i], cols, -exps[i])
+    for k in range(rows):
+        ss = 0.0
+        for j in range(k, cols):
+            ss += A[k][j] * A[k][j]
+        norm = math.sqrt(ss)
+        if norm > 0.0:
+            x0 = A[k][k]
+            sgn = -1.0 if x0 < 0.0 else 1.0
+            vtv = 2.0 * norm * (norm + abs(x0))
+            A[k][k] = x0 + sgn * norm
+            for i in range(k + 1, rows):
+                dot = 0.0
+                for j in range(k, cols):
+                    dot += A[i][j] * A[k][j]
+                scale = 2.0 * dot / vtv
+                for j in range(k, cols):
+                    A[i][j] -= scale * A[k][j]
+            A[k][k] = -sgn * norm
+            for j in range(k + 1, cols):
+                A[k][j] = 0.0
+    for k in range(rows):
+        if A[k][k] < 0.0:
+            for i in range(k, rows):
+                A[i][k] = -A[i][k]
+    if scaled:
+        for i in range(rows):
+            _scale_row(A[i], i + 1, exps[i])
+    return A
+
+
+def downdate(L, k, v):
+    """L' L'^T = L L^T - v v^T for the lower k x k L (nonnegative diagonal) in place, by
+    hyperbolic rotations (mass_grade_ukf_flt.c downdate): OK, or ERR_NOT_POSITIVE_DEFINITE."""
+    v = list(v)
+    for j in range(k):
+        ljj = L[j][j]
+        r2 = (ljj - v[j]) * (ljj + v[j])
+        if not r2 > 0.0:
+            if ljj != 0.0 or v[j] != 0.0:
+                return ERR_NOT_POSITIVE_DEFINITE
+            continue
+        rr = math.sqrt(r2)
+        c, s = rr / ljj, v[j] / ljj
+        L[j][j] = rr
+        for i in range(j + 1, k):
+            L[i][j] = (L[i][j] - s * v[i]) / c
+            v[i] = c * v[i] - s * L[i][j]
+    return OK
+
+
 def sum_ordered(terms):
     """A sum in the order given (left to right), as the C port writes it."""
     s = 0.0
@@ -481,10 +772,10 @@ def samples(cols, p):
                          for k in ("brake", "brake_pressure", "gear", "ax")))
 
 
-def run(cols, params):
+def run(cols, params, form="sqrt"):
     """Run a whole log; returns arrays t, mass, sd_mass, grade, sd_grade, v, sd_v, q_mv, status."""
     import numpy as np
-    est = MassGrade(params)
+    est = MassGrade(params, form=form)
     outs = [est.step(s) for s in samples(cols, est.p)]
     res = {"t": np.asarray(cols["t"], dtype=float)}
     for k in ("mass", "sd_mass", "grade", "sd_grade", "v", "sd_v", "q_mv", "status"):

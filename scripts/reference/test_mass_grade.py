@@ -40,7 +40,16 @@ def test_cholesky_factor_zero_pivot_and_negative():
     assert mg.cholesky([[1.0, 0.0, 0.0], [0.0, -1e-9, 0.0], [0.0, 0.0, 1.0]]) is None
 
 
-def test_ukf_is_the_kalman_filter_on_a_linear_model(monkeypatch):
+def _cov(est):
+    """The estimator's P: stored (textbook form) or S S^T (square-root form)."""
+    if est.form == "textbook":
+        return np.array(est.P)
+    S = np.array(est.S)
+    return S @ S.T
+
+
+@pytest.mark.parametrize("form", mg.FORMS)
+def test_ukf_is_the_kalman_filter_on_a_linear_model(monkeypatch, form):
     # The unscented transform propagates mean and covariance exactly through a linear map
     # (the sigma points match the first two moments; chi_0 - mean = 0, so the beta term adds
     # nothing), so with a linear f and h the UKF is the Kalman filter.  Compared after 50
@@ -52,7 +61,7 @@ def test_ukf_is_the_kalman_filter_on_a_linear_model(monkeypatch):
     # bounds far away, so that the projection (§4.3 step 8, not a Kalman step) never acts
     p = mg.preset(mg_adaptive=0.0, mg_v_min=0.0, mg_m_min=1.0, mg_m_max=1e6,
                   mg_theta_max=1.4)
-    est = mg.MassGrade(p)
+    est = mg.MassGrade(p, form=form)
     rng = np.random.default_rng(3)
     dt = 0.02
     xt = np.array([20.0, 2000.0, 0.02])       # measurements of a true linear system
@@ -77,12 +86,12 @@ def test_ukf_is_the_kalman_filter_on_a_linear_model(monkeypatch):
         P = P - K @ S @ K.T
     assert est_bounds[0] < x[1] < est_bounds[1]
     assert np.allclose(est.x, x, rtol=1e-9, atol=1e-9)
-    assert np.allclose(np.array(est.P), P, rtol=1e-9, atol=1e-12)
+    assert np.allclose(_cov(est), P, rtol=1e-9, atol=1e-12)
 
 
 def _adapting(q_mv, m_now, m_a, span=1.0):
     p = mg.preset()
-    est = mg.MassGrade(p)
+    est = mg.MassGrade(p, form="textbook")
     est.step(mg.MgSample(0.0, 20.0, 300.0))
     est.q_mv = q_mv
     est.x[1], est.m_adapt, est.adapt_elapsed = m_now, m_a, 0.0
@@ -111,6 +120,89 @@ def test_adaptation_shrinks_q_mv_and_the_mass_row_as_specified():
         assert 0.0 <= e.q_mv <= 0.5 * 900.0 * (1.0 + 1e-15)
 
 
+def test_square_root_adaptation_is_the_textbook_scaling():
+    # §4.4 in square-root form: S' = Tria([D S, sqrt(lambda - lambda^2) |S row M| e2]) has
+    # S' S'^T = D P D + (lambda - lambda^2) P_MM e2 e2^T, i.e. the mass row and column of P
+    # scaled by lambda, P_MM once, the rest unchanged: a few roundings of entries of P's
+    # scale (the reflections), so 1e-14 of sqrt(P_ii P_jj).
+    P0 = np.array([[0.01, 1.5, 2e-4], [1.5, 400.0, 0.1], [2e-4, 0.1, 1e-4]])
+    est = mg.MassGrade(mg.preset())
+    est.step(mg.MgSample(0.0, 20.0, 300.0))
+    est.q_mv, est.x[1], est.m_adapt, est.adapt_elapsed = 900.0, 1810.0, 1800.0, 0.0
+    est.S = np.linalg.cholesky(P0).tolist()
+    assert est._adapt_sqrt(1.0) == mg.OK
+    lam = 0.5 * abs(900.0 - 100.0) / (900.0 + 100.0)
+    D = np.diag([1.0, lam, 1.0])
+    want = D @ P0 @ D
+    want[1, 1] = lam * P0[1, 1]
+    S = np.array(est.S)
+    scale = np.sqrt(np.outer(np.diag(P0), np.diag(P0)))
+    assert np.all(np.abs(S @ S.T - want) <= 1e-14 * scale)
+    assert np.all(np.triu(S, 1) == 0.0) and np.all(np.diag(S) >= 0.0)
+    assert est.q_mv == pytest.approx(lam * 900.0, rel=1e-15)
+
+
+def test_tria_is_the_lower_factor_of_a_a_transpose():
+    # tria(A) (the port of qr_flt.c) returns S lower triangular with a nonnegative diagonal and
+    # S S^T = A A^T: compared to numpy at 1e-14 of the scale (a few dozen roundings of sums
+    # of <= 10 products); also through the power-of-two scaling (a row of 1e-300, whose
+    # squares would underflow: the same S divided by 1e300 in that row, 1e-14 relative).
+    rng = np.random.default_rng(7)
+    for rows, cols in ((2, 4), (3, 4), (3, 10), (4, 8)):
+        A = rng.standard_normal((rows, cols)) * np.array([1e-2, 1e3, 1.0, 1e-4])[:rows, None]
+        S = np.array(mg.tria(A.tolist(), rows, cols))[:, :rows]
+        want = A @ A.T
+        scale = np.sqrt(np.outer(np.diag(want), np.diag(want)))
+        assert np.all(np.abs(S @ S.T - want) <= 1e-14 * scale)
+        assert np.all(np.triu(S, 1) == 0.0) and np.all(np.diag(S) >= 0.0)
+    A = rng.standard_normal((3, 5))
+    tiny = A.copy()
+    tiny[1] *= 1e-300
+    S = np.array(mg.tria(A.tolist(), 3, 5))[:, :3]
+    St = np.array(mg.tria(tiny.tolist(), 3, 5))[:, :3]
+    assert np.allclose(St[1] * 1e300, S[1], rtol=1e-14, atol=0.0)
+    assert mg.tria([[1.0, math.inf]], 1, 2) is None
+
+
+def test_downdate_removes_a_rank_one_term_or_fails():
+    # L' L'^T = L L^T - v v^T (1e-13 of the scale: hyperbolic rotations lose digits as the
+    # difference nears singular; here it stays well conditioned); an indefinite difference
+    # is refused.
+    P = np.array([[4.0, 2.0, 0.4], [2.0, 5.0, 1.0], [0.4, 1.0, 3.0]])
+    v = np.array([0.5, 1.0, -0.3])
+    L = np.linalg.cholesky(P).tolist()
+    assert mg.downdate(L, 3, v.tolist()) == mg.OK
+    L = np.array(L)
+    assert np.all(np.abs(L @ L.T - (P - np.outer(v, v))) <= 1e-13 * 5.0)
+    L = np.linalg.cholesky(P).tolist()
+    assert mg.downdate(L, 3, [3.0, 0.0, 0.0]) == mg.ERR_NOT_POSITIVE_DEFINITE
+
+
+@pytest.mark.parametrize("config", ({"mg_adaptive": 0.0, "mg_use_ax": 1.0},
+                                    {"mg_adaptive": 1.0, "mg_use_ax": 0.0}))
+def test_square_root_form_is_the_textbook_form_in_double(config):
+    # The two covariance forms are the same filter in exact arithmetic (the joint update with
+    # a diagonal R equals the sequential ax-then-v one); in double they differ by rounding
+    # carried through the run: on the gear-shift log the mass and grade within 1e-6 of their
+    # sd (measured 1.4e-11: rounding 1e-16 carried by a condition of P up to 1e8), every
+    # status equal.
+    cols, _ = mg.read_log(os.path.join(LOGS, "car_gear_shift.csv"))
+    p = mg.preset(**config)
+    a = mg.run(cols, p)
+    b = mg.run(cols, p, form="textbook")
+    assert np.array_equal(a["status"], b["status"])
+    assert np.all(np.abs(a["mass"] - b["mass"]) <= 1e-6 * b["sd_mass"])
+    assert np.all(np.abs(a["grade"] - b["grade"]) <= 1e-6 * b["sd_grade"])
+    assert np.all(np.abs(a["sd_mass"] - b["sd_mass"]) <= 1e-6 * b["sd_mass"])
+
+
+def test_forms_are_chosen_by_argument():
+    with pytest.raises(ValueError):
+        mg.MassGrade(mg.preset(), form="joseph")
+    with pytest.raises(ValueError):   # the square-root form is the float64 reference only
+        mg.MassGrade(mg.preset(), ar=mg.Arith(real=float), form="sqrt")
+
+
 def test_adaptation_waits_for_its_period_and_ends_at_the_stop_threshold():
     p, est = _adapting(q_mv=900.0, m_now=1810.0, m_a=1800.0)
     est._adapt(0.5)                           # mg_t_adapt = 1 s not yet over: nothing
@@ -135,13 +227,13 @@ def test_refused_samples_leave_the_state_unchanged():
     est = mg.MassGrade(mg.preset(mg_use_ax=1.0))
     est.step(mg.MgSample(0.0, 20.0, 300.0, ax=0.1))
     est.step(mg.MgSample(0.02, 20.0, 300.0, ax=0.1))
-    before = (list(est.x), [r[:] for r in est.P], est.q_mv, est.t_prev)
+    before = (list(est.x), [r[:] for r in est.S], est.q_mv, est.t_prev)
     for s, code in ((mg.MgSample(0.04, float("nan"), 300.0, ax=0.1), mg.ERR_NONFINITE),
                     (mg.MgSample(0.04, 20.0, 300.0), mg.ERR_RANGE),          # no ax
                     (mg.MgSample(0.02, 20.0, 300.0, ax=0.1), mg.ERR_RANGE),  # t not rising
                     (mg.MgSample(0.04, 150.0, 300.0, ax=0.1), mg.ERR_RANGE)):
         assert est.step(s).status == code
-        assert (list(est.x), est.P, est.q_mv, est.t_prev) == before
+        assert (list(est.x), est.S, est.q_mv, est.t_prev) == before
 
 
 def test_pause_holds_mass_and_grade_while_braking():

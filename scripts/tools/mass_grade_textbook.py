@@ -8,8 +8,8 @@ covariance, and say where its covariance stops being positive definite (issue 19
 
 (`make mass-grade-textbook` runs it with the library's drivers and writes the page.)
 
-The filter is the float64 reference's own step (scripts/reference/mass_grade.py, through its
-Arith hook), not a copy:
+The filter is the float64 reference's own textbook step (scripts/reference/mass_grade.py,
+form="textbook", through its Arith hook), not a copy:
   f64   the reference as it is (Python floats);
   f32   every arithmetic result a numpy float32 (parameters and samples rounded to float32 once,
         the period dt from the double time stamps rounded once, as the C float build gets it);
@@ -34,7 +34,8 @@ smallest definiteness margin min_j L_jj^2 / P_jj (1 for a diagonal P, 0 at singu
 A failed step keeps the reference's state and its time stamp, so the period to the next sample
 grows and after mg_dt_max (1 s) the filter restarts from mg_m0 (§4.1). With --lib-f32/--lib-q31
 the library's own estimator runs the same samples and parameters (test/tools/mg_run_flt.c: the
-float build, the same textbook form; mg_run_q31.c: the Q31 twin, the square-root form), its
+float build, the square-root form since issue 19's fix (it ran the textbook form before);
+mg_run_q31.c: the Q31 twin, the square-root form), its
 period from row to row as in the C golden tests: a float run that fails stays frozen to the end.
 Configurations: UKF and AUKF, each on speed alone and with the accelerometer row, on the log's
 vehicle preset (truck for truck_*), the keys of MASS_GRADE.md §6 otherwise; plus stress runs
@@ -152,7 +153,7 @@ def samples(cols, p, kind, rows=None):
 def run(cols, p, kind, rows=None):
     """One run: arrays mass, sd_mass, status, margin per step, and the saturation count."""
     ar = arith(kind)
-    est = mg.MassGrade(p, ar)
+    est = mg.MassGrade(p, ar, form="textbook")
     n = len(cols["t"]) if rows is None else min(rows, len(cols["t"]))
     mass, sd, status, marg = (np.empty(n) for _ in range(4))
     with np.errstate(all="ignore"):
@@ -284,7 +285,7 @@ def table(res):
             "f32: first failure (failed steps; status 21)", "f32: worst \\|Δmass\\|",
             "int32-P: first failure (failed; status 21)", "int32-P: worst \\|Δmass\\|"]
     if lib:
-        head += ["library float (textbook)", "library Q31 (square root)"]
+        head += ["library float (square root)", "library Q31 (square root)"]
     head += ["mass at the end: f64 / f32 / int32-P" + (" / library float / Q31" if lib else "")]
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     for (name, cfg, stress), o in res.items():

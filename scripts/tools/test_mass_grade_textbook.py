@@ -31,8 +31,8 @@ def test_the_hook_through_numpy_float64_is_the_reference_bit_for_bit():
                      cos=lambda x: np.float64(math.cos(x)), store_cov=lambda P: [r[:] for r in P])
     cols, p = tb.job_params(("car_gear_shift", "AUKF + ax", None))
     cols = {k: v[:1200] for k, v in cols.items()}
-    ref = mg.run(cols, p)
-    est = mg.MassGrade(p, f64np)
+    ref = mg.run(cols, p, form="textbook")
+    est = mg.MassGrade(p, f64np, form="textbook")
     for k, s in enumerate(mg.samples(cols, est.p)):
         o = est.step(s)
         got = [o.mass, o.sd_mass, o.grade, o.sd_grade, o.v, o.sd_v, o.q_mv, o.status]

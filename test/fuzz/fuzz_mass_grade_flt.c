@@ -116,13 +116,13 @@ static void check_state(const fz_ctx_t *c, const rfe_mass_grade_input_t *u,
         violation(c, "|grade| beyond theta_max", u, st);
     }
     for (i = 0; i < RFE_MG_N * RFE_MG_N; ++i) {
-        if (!finite(c->mg.P[i])) {
-            violation(c, "a non-finite covariance", u, st);
+        if (!finite(c->mg.S[i])) {
+            violation(c, "a non-finite covariance factor", u, st);
         }
     }
     for (i = 0; i < RFE_MG_N; ++i) {
-        if (!finite(c->mg.x[i]) || c->mg.P[i * (RFE_MG_N + 1)] < 0) {
-            violation(c, "a non-finite state or a negative variance", u, st);
+        if (!finite(c->mg.x[i]) || c->mg.S[i * (RFE_MG_N + 1)] < 0) {
+            violation(c, "a non-finite state or a negative diagonal of the factor", u, st);
         }
     }
     if (rfe_mass_grade_get(&c->mg, &got) != RFE_OK || !same_estimate(&got, e)) {

@@ -642,7 +642,7 @@ awk -v w="$want" -v g="$got" -v j="$(grep -o '"mass_err_end": [^,]*' "$TMP/mg_d.
 # test_mass_grade_golden_flt.c (the speed computed in double from the doubles read with the
 # float R, the period in double, each then rounded to float), so within that test's bounds,
 # derived there: mass within 0.2 sd_mass + 0.1 kg, grade within 0.05 sd_grade + 1e-6 rad,
-# their sd within 2e-3 relative (the recommended preset is the plain UKF), statuses exact. The
+# their sd within 5e-3 relative (the recommended preset is the plain UKF), statuses exact. The
 # log prints each float to 9 digits (%.9g), which reads back as the same float: no error added.
 run mg_float 0 --in "$MG/car_grade_step.csv" --out "$TMP/mg_fl.csv" -q
 res=$(awk -F, '
@@ -657,7 +657,7 @@ res=$(awk -F, '
             split(want[row], w, ",")
             m = w[g["mass"]]; sm = w[g["sd_mass"]]; th = w[g["grade"]]; st = w[g["sd_grade"]]
             if (ab($e["mass_est"] - m) > 0.2 * sm + 0.1 || ab($e["grade_est"] - th) > 0.05 * st + 1e-6 ||
-                ab($e["sd_mass"] - sm) > 2e-3 * sm || ab($e["sd_grade"] - st) > 2e-3 * st ||
+                ab($e["sd_mass"] - sm) > 5e-3 * sm || ab($e["sd_grade"] - st) > 5e-3 * st ||
                 w[g["status"]] + 0 != $e["mg_status"] + 0) { if (!bad) first = row; bad++ }
             seen++
         }

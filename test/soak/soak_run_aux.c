@@ -124,14 +124,14 @@ static void check_mg(const rfe_mass_grade_t *mg, const rfe_mass_grade_estimate_t
         }
     }
     for (k = 0; k < RFE_MG_N * RFE_MG_N; ++k) {
-        if (!fin(mg->P[k]) || (k < RFE_MG_N && !fin(mg->x[k]))) {
+        if (!fin(mg->S[k]) || (k < RFE_MG_N && !fin(mg->x[k]))) {
             snprintf(why, n_why, "a non-finite state");
             return;
         }
     }
-    if (e->sd_mass < 0 || e->sd_grade < 0 || e->sd_v < 0 || e->q_mv < 0 || mg->P[0] < 0 ||
-        mg->P[4] < 0 || mg->P[8] < 0) {
-        snprintf(why, n_why, "a negative sd, variance or q_mv");
+    if (e->sd_mass < 0 || e->sd_grade < 0 || e->sd_v < 0 || e->q_mv < 0 || mg->S[0] < 0 ||
+        mg->S[4] < 0 || mg->S[8] < 0) {
+        snprintf(why, n_why, "a negative sd, factor diagonal or q_mv");
     } else if (e->mass < p->m_min || e->mass > p->m_max) {
         snprintf(why, n_why, "mass %.6g outside [m_min, m_max]", (double)e->mass);
     } else if (e->grade < -p->theta_max || e->grade > p->theta_max) {

@@ -1,9 +1,10 @@
 /**
  * @file mg_run_flt.c
- * @brief Runs the library's mass and grade estimator (float build: the textbook covariance
- *        form of MASS_GRADE.md §3-4) over a log and prints mg_run_common.h's summary; each
- *        step's P is checked for positive definiteness by a Cholesky in double (exact for
- *        float entries up to the rounding of the check).
+ * @brief Runs the library's mass and grade estimator (float build: the square-root form of
+ *        MASS_GRADE.md §3-4, the state carrying the lower factor S of P) over a log and prints
+ *        mg_run_common.h's summary; each step's P = S S^T is formed in double (each product
+ *        of two float entries exact, the sums rounded to 1e-16) and checked for positive
+ *        definiteness by a Cholesky in double.
  */
 #include <string.h>
 
@@ -12,7 +13,7 @@
 #include "rfe/mass_grade.h"
 #include "table.h"
 
-static int pd3(const rfe_real_t *Pr)
+static int pd3(const rfe_real_t *Sr)
 {
     double a[9];
     double L[9] = {0};
@@ -20,9 +21,17 @@ static int pd3(const rfe_real_t *Pr)
     int j;
     int k;
     for (i = 0; i < 9; ++i) {
-        a[i] = (double)Pr[i];
-        if (!isfinite(a[i])) {
+        if (!isfinite((double)Sr[i])) {
             return 0;
+        }
+    }
+    for (i = 0; i < 3; ++i) {
+        for (j = 0; j < 3; ++j) {
+            double s = 0.0;
+            for (k = 0; k < 3; ++k) {
+                s += (double)Sr[(i * 3) + k] * (double)Sr[(j * 3) + k]; /* P = S S^T */
+            }
+            a[(i * 3) + j] = s;
         }
     }
     for (j = 0; j < 3; ++j) {
@@ -74,7 +83,7 @@ int main(int argc, char **argv)
         rfe_status_t st;
         mg_input_of(&log, k, (double)p.R, &in);
         st = rfe_mass_grade_step(&mg, &in, &e);
-        mg_run_note(&r, k, (int)st, (mg.started == 0u) || pd3(mg.P), (double)e.mass,
+        mg_run_note(&r, k, (int)st, (mg.started == 0u) || pd3(mg.S), (double)e.mass,
                     (double)e.sd_mass);
     }
     mg_run_print(&r);

@@ -1,14 +1,19 @@
 /**
  * @file mass_grade_flt.c
  * @brief The mass and road-grade estimator (docs/MASS_GRADE.md): input checks, the start,
- *        the pause logic (§4.2), the longitudinal model (§1-2) through the unscented filter
- *        (mass_grade_ukf_flt.c, §4.3), the projection and the adaptation (§4.4).
+ *        the pause logic (§4.2, its decisions shared with the Q31 twin: mass_grade_logic.h),
+ *        the longitudinal model (§1-2) through the square-root unscented filter
+ *        (mass_grade_ukf_flt.c, §4.3), the projection and the adaptation (§4.4). The state
+ *        carries the lower factor S of P = S S^T; the start, the hold and the adaptation
+ *        write S (each covariance step a triangularisation, rfe_qr_tria): the steps of
+ *        mass_grade_q31.c.
  */
 /* This file defines the init: its header's wrapper macro stays out (MISRA-DEV-08). */
 /* cppcheck-suppress misra-c2012-2.5 ; MISRA-DEV-08: read by the header's #if */
 #define RFE_MASS_GRADE_IMPL
 #include "rfe/mass_grade.h"
 
+#include "rfe/component/qr.h"
 #include "estimators/mass_grade/mass_grade_internal.h"
 #include "estimators/mass_grade/mass_grade_logic.h"
 #include "numerics/internal.h"
@@ -21,6 +26,7 @@ rfe_status_t rfe_mass_grade_init(rfe_mass_grade_t *mg, const rfe_mass_grade_para
 {
     const rfe_real_t n = (rfe_real_t)RFE_MG_N;
     rfe_real_t lam;
+    rfe_real_t c;
     /* A caller built with another number type lays the state out differently: nothing may
      * be written (RFE_ERR_ABI, rfe/common.h). */
     if ((size != sizeof(*mg)) || (config != RFE_CONFIG_REAL)) {
@@ -36,10 +42,13 @@ rfe_status_t rfe_mass_grade_init(rfe_mass_grade_t *mg, const rfe_mass_grade_para
     mg->p = *p;
     /* §3 lambda = alpha^2 (n + kappa) - n and the weights (eq. 14 corrected, §8 C4) */
     lam = ((p->ut_alpha * p->ut_alpha) * (n + p->ut_kappa)) - n;
-    mg->c = n + lam;
-    mg->wm0 = lam / mg->c;
-    mg->wc0 = (lam / mg->c) + ((RFE_R(1.0) - (p->ut_alpha * p->ut_alpha)) + p->ut_beta);
-    mg->wi = RFE_R(1.0) / (RFE_R(2.0) * mg->c);
+    c = n + lam;
+    mg->wm0 = lam / c;
+    mg->wc0 = (lam / c) + ((RFE_R(1.0) - (p->ut_alpha * p->ut_alpha)) + p->ut_beta);
+    mg->wi = RFE_R(1.0) / (RFE_R(2.0) * c);
+    mg->sqrt_wc0 = RFE_SQRT(RFE_FABS(mg->wc0)); /* a negative w_c,0 is a downdate (§4.6) */
+    mg->sqrt_wi = RFE_SQRT(mg->wi);
+    mg->sqrt_c = RFE_SQRT(c);
     mg->magic = RFE_MAGIC_MG;
     return RFE_OK;
 }
@@ -92,19 +101,20 @@ static rfe_real_t accel(const rfe_mass_grade_params_t *p, const rfe_real_t *x, r
     return force / (m + p->m_rot);
 }
 
-/* §4.1 (re)start at the sample: x = [v, m0, theta0], P diagonal, the adaptation armed. */
+/* §4.1 (re)start at the sample: x = [v, m0, theta0], S = diag(r_v, sd_m0, sd_theta0), the
+ * adaptation armed. */
 static void start_filter(rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in)
 {
     size_t i;
     for (i = 0u; i < (N * N); ++i) {
-        o->P[i] = RFE_R(0.0);
+        o->S[i] = RFE_R(0.0);
     }
     o->x[0] = in->v;
     o->x[1] = o->p.m0;
     o->x[2] = o->p.theta0;
-    o->P[0] = o->p.r_v * o->p.r_v;
-    o->P[4] = o->p.sd_m0 * o->p.sd_m0;
-    o->P[8] = o->p.sd_theta0 * o->p.sd_theta0;
+    o->S[0] = o->p.r_v;
+    o->S[4] = o->p.sd_m0;
+    o->S[8] = o->p.sd_theta0;
     o->q_mv = (o->p.adaptive == 1u) ? (o->p.q_mv0 * o->p.q_mv0) : RFE_R(0.0);
     o->adapt_elapsed = RFE_R(0.0);
     o->m_adapt = o->x[1];
@@ -145,122 +155,131 @@ static rfe_status_t pause_status(rfe_mass_grade_t *o, const rfe_mass_grade_input
                                (in->v < o->p.v_min) ? 1 : 0);
 }
 
-/* §4.2 the hold: M, theta kept; theta's variance grows by its walk; v restarts at the
- * measured speed, uncorrelated; the adaptation's clock restarts at the held mass. */
-static void hold(rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in, rfe_real_t dt)
+/* §4.2 the hold: M, theta kept; P_thth += q_theta^2 dt; v restarts at the measured speed,
+ * uncorrelated: S = [[r_v, 0, 0], [0, T]], T T^T = S_23 S_23^T + diag(0, q_theta^2 dt) by a
+ * 2 x 4 triangularisation of the mass and grade rows with the noise column; the adaptation's
+ * clock restarts at the held mass. */
+static rfe_status_t hold(rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in, rfe_real_t dt)
 {
-    o->P[8] += (o->p.q_theta * o->p.q_theta) * dt;
-    o->x[0] = in->v;
-    o->P[0] = o->p.r_v * o->p.r_v;
-    o->P[1] = RFE_R(0.0);
-    o->P[2] = RFE_R(0.0);
-    o->P[3] = RFE_R(0.0);
-    o->P[6] = RFE_R(0.0);
-    o->adapt_elapsed = RFE_R(0.0);
-    o->m_adapt = o->x[1];
+    rfe_real_t A[8] = {0};
+    rfe_status_t st;
+    A[0] = o->S[3];
+    A[1] = o->S[4];
+    A[4] = o->S[6];
+    A[5] = o->S[7];
+    A[6] = o->S[8];
+    A[7] = o->p.q_theta * RFE_SQRT(dt);
+    st = rfe_qr_tria(A, 2u, 4u, 4u);
+    if (st == RFE_OK) {
+        o->x[0] = in->v;
+        o->S[0] = o->p.r_v;
+        o->S[1] = RFE_R(0.0);
+        o->S[2] = RFE_R(0.0);
+        o->S[3] = RFE_R(0.0);
+        o->S[4] = A[0];
+        o->S[5] = RFE_R(0.0);
+        o->S[6] = RFE_R(0.0);
+        o->S[7] = A[4];
+        o->S[8] = A[5];
+        o->adapt_elapsed = RFE_R(0.0);
+        o->m_adapt = o->x[1];
+    }
+    return st;
 }
 
 /* §4.4 eqs. 22-25 once per adaptation period: lambda_u = 1/2 |q_s - D| / (q_s + D) scales
- * q_mv and the mass row and column of P (P_MM once); the adaptation ends at the stop
- * threshold. */
-static void adapt(rfe_mass_grade_t *o, rfe_real_t dt)
+ * q_mv; P's mass row and column by lambda_u and P_MM once: P' = D P D + (lambda - lambda^2)
+ * P_MM e2 e2^T, D = diag(1, lambda, 1), in square-root form S' = Tria([D S, sqrt(lambda -
+ * lambda^2) |S row M| e2]); the adaptation ends at the stop threshold. */
+static rfe_status_t adapt(rfe_mass_grade_t *o, rfe_real_t dt)
 {
+    rfe_real_t A[12] = {0};
     rfe_real_t d;
     rfe_real_t qs;
     rfe_real_t lam;
+    rfe_real_t sd_m;
+    rfe_status_t st;
     o->adapt_elapsed += dt;
     if (o->adapt_elapsed < (o->p.t_adapt - (RFE_R(0.5) * dt))) {
-        return; /* the period ends within half a sample period of t_adapt, as the delays */
+        return RFE_OK; /* the period ends within half a sample period of t_adapt, as the delays */
     }
     d = (o->x[1] - o->m_adapt) * (o->x[1] - o->m_adapt); /* (M_t - M_a)^2 */
     qs = o->q_mv * o->adapt_elapsed;                      /* q_mv over the period, kg^2 */
     /* 1/2, the limit at D = 0, where q_s underflowed to 0 */
     lam = ((qs + d) > RFE_R(0.0)) ? ((RFE_R(0.5) * RFE_FABS(qs - d)) / (qs + d)) : RFE_R(0.5);
     o->q_mv *= lam;
-    o->P[1] *= lam;
-    o->P[3] = o->P[1];
-    o->P[5] *= lam;
-    o->P[7] = o->P[5];
-    o->P[4] *= lam;
-    if (o->q_mv <= (o->p.mv_stop * (o->p.q_mc * o->p.q_mc))) {
-        o->q_mv = RFE_R(0.0); /* q_22 has converged to q_mc^2: the AUKF is the UKF now */
+    sd_m = RFE_SQRT((o->S[3] * o->S[3]) + (o->S[4] * o->S[4])); /* |S row M| = sqrt(P_MM) */
+    A[0] = o->S[0];
+    A[4] = lam * o->S[3];
+    A[5] = lam * o->S[4];
+    A[7] = RFE_SQRT(lam - (lam * lam)) * sd_m; /* lambda in [0, 1/2]: lambda - lambda^2 >= 0 */
+    A[8] = o->S[6];
+    A[9] = o->S[7];
+    A[10] = o->S[8];
+    st = rfe_qr_tria(A, N, 4u, 4u);
+    if (st == RFE_OK) {
+        size_t r;
+        size_t c;
+        for (r = 0u; r < N; ++r) {
+            for (c = 0u; c < N; ++c) {
+                o->S[(r * N) + c] = (c <= r) ? A[(r * 4u) + c] : RFE_R(0.0);
+            }
+        }
+        if (o->q_mv <= (o->p.mv_stop * (o->p.q_mc * o->p.q_mc))) {
+            o->q_mv = RFE_R(0.0); /* q_22 has converged to q_mc^2: the AUKF is the UKF now */
+        }
+        o->adapt_elapsed = RFE_R(0.0);
+        o->m_adapt = o->x[1];
     }
-    o->adapt_elapsed = RFE_R(0.0);
-    o->m_adapt = o->x[1];
+    return st;
 }
 
-/* §4.3 steps 1-2: the points of (x, P) through f(x) = [v + dt v-dot(T_prev), M, theta]. */
+/* §4.3 steps 1-2: the points of (x, S) through f(x) = [v + dt v-dot(T_prev), M, theta]; Q's
+ * roots q_v sqrt(dt), sqrt(q_mc^2 + q_mv) sqrt(dt), q_theta sqrt(dt). */
 static rfe_status_t time_update(const rfe_mass_grade_t *o, rfe_real_t dt, rfe_real_t xm[RFE_MG_N],
-                                rfe_real_t Pm[RFE_MG_N * RFE_MG_N])
+                                rfe_real_t Sm[RFE_MG_N * RFE_MG_N])
 {
-    const rfe_mg_weights_t w = {o->wm0, o->wc0, o->wi, o->c};
+    const rfe_mg_weights_t w = {o->wm0, o->wc0, o->wi, o->sqrt_wc0, o->sqrt_wi, o->sqrt_c};
+    const rfe_real_t sdt = RFE_SQRT(dt);
     rfe_real_t chi[RFE_MG_PTS * RFE_MG_N];
-    rfe_real_t q[RFE_MG_N];
+    rfe_real_t sq[RFE_MG_N];
     size_t i;
-    const rfe_status_t st = rfe_mg_sigma_points(o->x, o->P, o->c, chi);
-    if (st != RFE_OK) {
-        return st;
-    }
+    rfe_mg_sigma_points(o->x, o->S, o->sqrt_c, chi);
     for (i = 0u; i < (size_t)RFE_MG_PTS; ++i) {
         rfe_real_t *pt = &chi[i * N];
         pt[0] += dt * accel(&o->p, pt, o->torque_prev);
     }
-    q[0] = (o->p.q_v * o->p.q_v) * dt;
-    q[1] = ((o->p.q_mc * o->p.q_mc) + o->q_mv) * dt;
-    q[2] = (o->p.q_theta * o->p.q_theta) * dt;
-    rfe_mg_predict(chi, &w, q, xm, Pm);
-    return RFE_OK;
+    sq[0] = o->p.q_v * sdt;
+    sq[1] = RFE_SQRT((o->p.q_mc * o->p.q_mc) + o->q_mv) * sdt;
+    sq[2] = o->p.q_theta * sdt;
+    return rfe_mg_predict(chi, &w, sq, xm, Sm);
 }
 
-/* §4.3 steps 3-7: new points of (x-, P-), z = [v] or [v, v-dot(T) + g sin theta]. */
+/* §4.3 steps 3-7: with the ax row, new points of (x-, S-) and their z_ax = v-dot(T) +
+ * g sin theta; the speed row needs none (linear in the state). */
 static rfe_status_t measurement_update(const rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in,
-                                       rfe_real_t x[RFE_MG_N], rfe_real_t P[RFE_MG_N * RFE_MG_N])
+                                       rfe_real_t x[RFE_MG_N], rfe_real_t S[RFE_MG_N * RFE_MG_N])
 {
-    const rfe_mg_weights_t w = {o->wm0, o->wc0, o->wi, o->c};
+    const rfe_mg_weights_t w = {o->wm0, o->wc0, o->wi, o->sqrt_wc0, o->sqrt_wi, o->sqrt_c};
     size_t nz = 1u;
-    rfe_real_t chi[RFE_MG_PTS * RFE_MG_N];
-    rfe_real_t Z[RFE_MG_PTS * RFE_MG_Z_MAX];
-    rfe_real_t r2[RFE_MG_Z_MAX];
+    rfe_real_t chi[RFE_MG_PTS * RFE_MG_N] = {0}; /* read only with the ax row */
+    rfe_real_t Z[RFE_MG_PTS] = {0};
+    rfe_real_t r[RFE_MG_Z_MAX];
     rfe_real_t y[RFE_MG_Z_MAX];
-    size_t i;
-    rfe_status_t st = rfe_mg_sigma_points(x, P, o->c, chi);
-    if (st != RFE_OK) {
-        return st;
-    }
     if (o->p.use_ax == 1u) {
+        size_t i;
         nz = 2u;
-    }
-    for (i = 0u; i < (size_t)RFE_MG_PTS; ++i) {
-        const rfe_real_t *pt = &chi[i * N];
-        Z[i * 2u] = pt[0];
-        Z[(i * 2u) + 1u] = RFE_R(0.0);
-        if (nz == 2u) {
-            Z[(i * 2u) + 1u] = accel(&o->p, pt, in->torque) + (o->p.g * RFE_SIN(pt[2]));
+        rfe_mg_sigma_points(x, S, o->sqrt_c, chi);
+        for (i = 0u; i < (size_t)RFE_MG_PTS; ++i) {
+            const rfe_real_t *pt = &chi[i * N];
+            Z[i] = accel(&o->p, pt, in->torque) + (o->p.g * RFE_SIN(pt[2]));
         }
     }
-    r2[0] = o->p.r_v * o->p.r_v;
-    r2[1] = o->p.r_ax * o->p.r_ax;
+    r[0] = o->p.r_v;
+    r[1] = o->p.r_ax;
     y[0] = in->v;
-    y[1] = in->ax;
-    st = rfe_mg_correct(chi, Z, nz, &w, r2, y, x, P);
-    return st;
-}
-
-/* §4.3 the updated state: an overflow is refused (never a NaN out, status 17), and so is a
- * variance that P- - K S K^T lost to cancellation (status 21: the next factorisation would
- * fail; seen with a model far outside its range, e.g. R = 1e-11 m in float). */
-static rfe_status_t updated_state_status(const rfe_real_t x[RFE_MG_N],
-                                         const rfe_real_t P[RFE_MG_N * RFE_MG_N])
-{
-    rfe_status_t st = RFE_OK;
-    if ((rfe_all_finite(x, N) == 0) || (rfe_all_finite(P, N * N) == 0)) {
-        st = RFE_ERR_NONFINITE;
-    } else if ((P[0] < RFE_R(0.0)) || (P[4] < RFE_R(0.0)) || (P[8] < RFE_R(0.0))) {
-        st = RFE_ERR_NOT_POSITIVE_DEFINITE;
-    } else {
-        /* finite, variances >= 0 */
-    }
-    return st;
+    y[1] = (nz == 2u) ? in->ax : RFE_R(0.0);
+    return rfe_mg_correct(chi, Z, nz, &w, r, y, x, S);
 }
 
 /* §4.3 one filter step, the projection of the mean and the adaptation; o is the caller's
@@ -268,13 +287,13 @@ static rfe_status_t updated_state_status(const rfe_real_t x[RFE_MG_N],
 static rfe_status_t update(rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in, rfe_real_t dt)
 {
     rfe_real_t x[RFE_MG_N];
-    rfe_real_t P[RFE_MG_N * RFE_MG_N];
-    rfe_status_t st = time_update(o, dt, x, P);
+    rfe_real_t S[RFE_MG_N * RFE_MG_N];
+    rfe_status_t st = time_update(o, dt, x, S);
     if (st == RFE_OK) {
-        st = measurement_update(o, in, x, P);
+        st = measurement_update(o, in, x, S);
     }
-    if (st == RFE_OK) {
-        st = updated_state_status(x, P);
+    if ((st == RFE_OK) && ((rfe_all_finite(x, N) == 0) || (rfe_all_finite(S, N * N) == 0))) {
+        st = RFE_ERR_NONFINITE; /* an overflow is refused: never a NaN out */
     }
     if (st == RFE_OK) {
         size_t i;
@@ -284,35 +303,39 @@ static rfe_status_t update(rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in
             o->x[i] = x[i];
         }
         for (i = 0u; i < (N * N); ++i) {
-            o->P[i] = P[i];
+            o->S[i] = S[i];
         }
         if ((o->p.adaptive == 1u) && (o->q_mv > RFE_R(0.0))) {
-            adapt(o, dt);
+            st = adapt(o, dt);
         }
     }
     return st;
 }
 
-/* §4.1 the state after a start, a hold or an update: P and q_mv finite. Valid parameters
- * may still overflow a square (r_v = 1e30 in float: r_v^2 = Inf), and the hold adds to the
- * grade's variance at every held sample. x needs no check: a start takes the sample's
- * checked v and the parameters' m0 and theta0, a hold keeps M and theta and takes the checked
- * v, an update checked it (updated_state_status). */
-static int state_finite(const rfe_mass_grade_t *o)
+/* §4.1 the state after a start, a hold, an update or an adaptation: S, q_mv and the sds
+ * finite. Valid parameters may still overflow a square (q_mv0 = 1e30 in float: q_mv0^2 =
+ * Inf; a row of S whose norm, the sd, overflows). x needs no check: a start takes the
+ * sample's checked v and the parameters' m0 and theta0, a hold keeps M and theta and takes
+ * the checked v, an update checked it. */
+static int state_finite(const rfe_mass_grade_t *o, const rfe_mass_grade_estimate_t *e)
 {
-    return ((rfe_all_finite(o->P, N * N) != 0) && (rfe_is_finite(o->q_mv) != 0)) ? 1 : 0;
+    const rfe_real_t sd[3] = {e->sd_v, e->sd_mass, e->sd_grade};
+    return ((rfe_all_finite(o->S, N * N) != 0) && (rfe_is_finite(o->q_mv) != 0) &&
+            (rfe_all_finite(sd, 3u) != 0))
+               ? 1
+               : 0;
 }
 
-/* §1 the outputs: the state, the sd of its diagonal. */
+/* §1 the outputs: the state, the sd as the norms of S's rows (sqrt of P's diagonal). */
 static void estimate_of(const rfe_mass_grade_t *o, rfe_status_t status,
                         rfe_mass_grade_estimate_t *e)
 {
     e->mass = o->x[1];
-    e->sd_mass = RFE_SQRT(rfe_max(o->P[4], RFE_R(0.0)));
+    e->sd_mass = RFE_SQRT((o->S[3] * o->S[3]) + (o->S[4] * o->S[4]));
     e->grade = o->x[2];
-    e->sd_grade = RFE_SQRT(rfe_max(o->P[8], RFE_R(0.0)));
+    e->sd_grade = RFE_SQRT(((o->S[6] * o->S[6]) + (o->S[7] * o->S[7])) + (o->S[8] * o->S[8]));
     e->v = o->x[0];
-    e->sd_v = RFE_SQRT(rfe_max(o->P[0], RFE_R(0.0)));
+    e->sd_v = RFE_SQRT(o->S[0] * o->S[0]); /* |S_00|, overflowing as the other rows do */
     e->q_mv = o->q_mv;
     e->status = status;
 }
@@ -321,6 +344,7 @@ rfe_status_t rfe_mass_grade_step(rfe_mass_grade_t *mg, const rfe_mass_grade_inpu
                                  rfe_mass_grade_estimate_t *out)
 {
     rfe_mass_grade_t o;
+    rfe_mass_grade_estimate_t e;
     rfe_status_t st;
     rfe_status_t status = RFE_OK;
     if ((mg == NULL) || (in == NULL) || (out == NULL)) {
@@ -338,15 +362,18 @@ rfe_status_t rfe_mass_grade_step(rfe_mass_grade_t *mg, const rfe_mass_grade_inpu
     } else if (st == RFE_OK) {
         status = pause_status(&o, in, in->dt);
         if (status != RFE_OK) {
-            hold(&o, in, in->dt);
+            st = hold(&o, in, in->dt);
         } else {
             st = update(&o, in, in->dt);
         }
     } else {
         /* the checks failed: nothing to compute */
     }
-    if ((st == RFE_OK) && (state_finite(&o) == 0)) {
-        st = RFE_ERR_NONFINITE; /* a start or hold overflowed (e.g. r_v^2): never a NaN out */
+    if (st == RFE_OK) {
+        estimate_of(&o, status, &e);
+        if (state_finite(&o, &e) == 0) {
+            st = RFE_ERR_NONFINITE; /* an overflow (e.g. q_mv0^2): never a NaN out */
+        }
     }
     if (st != RFE_OK) {
         *out = mg->last;
@@ -355,7 +382,7 @@ rfe_status_t rfe_mass_grade_step(rfe_mass_grade_t *mg, const rfe_mass_grade_inpu
     }
     o.started = 1u;
     o.torque_prev = in->torque;
-    estimate_of(&o, status, &o.last);
+    o.last = e;
     *mg = o;
     *out = o.last;
     return status;

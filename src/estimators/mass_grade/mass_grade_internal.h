@@ -1,11 +1,14 @@
 /**
  * @file mass_grade_internal.h
- * @brief The mass and grade estimator's unscented Kalman filter (docs/MASS_GRADE.md §3,
- *        §4.3 steps 1-7), apart from the model: the sigma points of (x, P), the moments of
- *        propagated points and the measurement update from measured points
- *        (mass_grade_ukf_flt.c). mass_grade_flt.c propagates the points through the
+ * @brief The mass and grade estimator's unscented Kalman filter in the square-root form
+ *        (docs/MASS_GRADE.md §3, §4.3 steps 1-7), apart from the model: the sigma points of
+ *        (x, S), the moments of propagated points and the measurement update from measured
+ *        points (mass_grade_ukf_flt.c), each covariance step one triangularisation
+ *        (rfe_qr_tria) of the lower factor S of P = S S^T, the steps of the Q31 twin
+ *        (mass_grade_internal_q31.h). mass_grade_flt.c propagates the points through the
  *        longitudinal model; the tests through a linear one, where the filter must be the
- *        Kalman filter. Every sum runs in the order the page writes.
+ *        Kalman filter. Every sum runs in the order the reference writes
+ *        (scripts/reference/mass_grade.py, form "sqrt").
  */
 #ifndef RFE_MASS_GRADE_INTERNAL_H
 #define RFE_MASS_GRADE_INTERNAL_H
@@ -28,41 +31,54 @@
 #define RFE_MG_PTS 7
 #define RFE_MG_Z_MAX 2
 
-/** The weights of §3 (state fields wm0, wc0, wi and the spread c = n + lambda). */
+/** The weights of §3 (state fields wm0, wc0, wi, their roots and the spread's root). */
 typedef struct {
-    rfe_real_t wm0; /**< mean weight of the centre point */
-    rfe_real_t wc0; /**< covariance weight of the centre point */
-    rfe_real_t wi;  /**< weight of every other point */
-    rfe_real_t c;   /**< n + lambda */
+    rfe_real_t wm0;      /**< mean weight of the centre point */
+    rfe_real_t wc0;      /**< covariance weight of the centre point (read for its sign) */
+    rfe_real_t wi;       /**< weight of every other point */
+    rfe_real_t sqrt_wc0; /**< sqrt(|w_c,0|) */
+    rfe_real_t sqrt_wi;  /**< sqrt(w_i) */
+    rfe_real_t sqrt_c;   /**< sqrt(n + lambda) */
 } rfe_mg_weights_t;
 
 /**
- * §3 chi_0 = x, chi_i = x + L[:, i-1], chi_{n+i} = x - L[:, i-1], L the lower Cholesky
- * factor of c P (element by element), a zero pivot giving a zero column.
- * @return RFE_OK; RFE_ERR_NOT_POSITIVE_DEFINITE (a negative pivot; chi partly written).
+ * §3 chi_0 = x, chi_i = x + d_i, chi_{n+i} = x - d_i, d_i = sqrt(n + lambda) S[:, i-1]
+ * (element by element; the same d_i on both sides).
  */
-rfe_status_t rfe_mg_sigma_points(const rfe_real_t x[RFE_MG_N],
-                                 const rfe_real_t P[RFE_MG_N * RFE_MG_N], rfe_real_t c,
-                                 rfe_real_t chi[RFE_MG_PTS * RFE_MG_N]);
+void rfe_mg_sigma_points(const rfe_real_t x[RFE_MG_N], const rfe_real_t S[RFE_MG_N * RFE_MG_N],
+                         rfe_real_t sqrt_c, rfe_real_t chi[RFE_MG_PTS * RFE_MG_N]);
 
 /**
- * §4.3 step 2: x- = sum wm_i X_i, P- = sum wc_i (X_i - x-)(X_i - x-)^T + diag(q).
+ * §4.3 step 2 in square-root form: x- = sum w_m,i X_i, S- = Tria([sqrt(w_c,i) (X_i - x-)]_i,
+ * diag(sq)), so S- S-^T = cov(X, X) + diag(sq)^2 = P-. A negative w_c,0 leaves the centre's
+ * column out of the array and downdates S- by sqrt(-w_c,0) (X_0 - x-) after it.
+ * @return RFE_OK; RFE_ERR_NONFINITE (a point not finite); RFE_ERR_NOT_POSITIVE_DEFINITE (the
+ *         downdate of a negative w_c,0 leaves P- indefinite). xm, Sm are written either way.
  */
-void rfe_mg_predict(const rfe_real_t X[RFE_MG_PTS * RFE_MG_N], const rfe_mg_weights_t *w,
-                    const rfe_real_t q[RFE_MG_N], rfe_real_t xm[RFE_MG_N],
-                    rfe_real_t Pm[RFE_MG_N * RFE_MG_N]);
+rfe_status_t rfe_mg_predict(const rfe_real_t X[RFE_MG_PTS * RFE_MG_N], const rfe_mg_weights_t *w,
+                            const rfe_real_t sq[RFE_MG_N], rfe_real_t xm[RFE_MG_N],
+                            rfe_real_t Sm[RFE_MG_N * RFE_MG_N]);
 
 /**
- * §4.3 steps 4-7 with the points @p chi of (x-, P-) and their measurements @p Z (nz = 1 or
- * 2 rows): S = cov(Z) + diag(r2), P_xz, K = P_xz S^-1, x = x- + K (y - z), P = P- - K S K^T.
+ * §4.3 steps 4-7 in square-root form, one measurement row at a time (the Q31 twin's steps):
+ * with nz = 2 first the ax row by the points @p chi of (x-, S-) and their measurements @p Z:
+ * z = sum w_m,i Z_i, the array [[Zc, r_ax], [Xc, 0]] (Zc, Xc the deviations times
+ * sqrt(w_c,i)) triangularised to [[s, 0], [g, S']], x += g (y - z) / s; then the speed row,
+ * linear in the state (its points' deviations are Xc's v row, z = x_v): one Givens rotation
+ * of S' column 0 with r_v, s = sqrt(S'_00^2 + r_v^2), g = S'[:, 0] S'_00 / s, S'[:, 0] *=
+ * r_v / s, x += g (y_v - x_v) / s. With R diagonal this is the joint update S = cov(Z) + R,
+ * K = P_xz S^-1, P = P- - K S K^T in exact arithmetic: conditioning on ax, then on v.
+ * @param[in] Z  the ax row's measurements of the points (read with nz = 2).
+ * @param[in] r  the measurement sds [r_v, r_ax].
  * @param[in,out] x  x- in, the posterior mean out.
- * @param[in,out] P  P- in, the posterior covariance out.
- * @return RFE_OK; RFE_ERR_NOT_POSITIVE_DEFINITE (S not positive definite; x, P untouched).
+ * @param[in,out] S  S- in, the posterior factor out.
+ * @return RFE_OK; RFE_ERR_NOT_POSITIVE_DEFINITE (a zero innovation sd, or the downdate of a
+ *         negative w_c,0 fails); RFE_ERR_NONFINITE (a point or measurement not finite, or the
+ *         speed row's innovation sd overflows); x, S untouched on an error.
  */
 rfe_status_t rfe_mg_correct(const rfe_real_t chi[RFE_MG_PTS * RFE_MG_N],
-                            const rfe_real_t Z[RFE_MG_PTS * RFE_MG_Z_MAX], size_t nz,
-                            const rfe_mg_weights_t *w, const rfe_real_t r2[RFE_MG_Z_MAX],
-                            const rfe_real_t y[RFE_MG_Z_MAX], rfe_real_t x[RFE_MG_N],
-                            rfe_real_t P[RFE_MG_N * RFE_MG_N]);
+                            const rfe_real_t Z[RFE_MG_PTS], size_t nz, const rfe_mg_weights_t *w,
+                            const rfe_real_t r[RFE_MG_Z_MAX], const rfe_real_t y[RFE_MG_Z_MAX],
+                            rfe_real_t x[RFE_MG_N], rfe_real_t S[RFE_MG_N * RFE_MG_N]);
 
 #endif /* RFE_MASS_GRADE_INTERNAL_H */

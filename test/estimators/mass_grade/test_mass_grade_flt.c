@@ -3,8 +3,9 @@
  * @brief The mass and grade estimator's interface (rfe/mass_grade.h) and its behaviour on
  *        cases whose answer is known without the reference: parameters and presets, every
  *        argument check with the state untouched, the start and restart, the pause logic
- *        (MASS_GRADE.md §4.2), the adaptation (§4.4), the factorisation's failures, and the
- *        unscented filter equal to the Kalman filter on a linear problem.
+ *        (MASS_GRADE.md §4.2), the adaptation (§4.4), the square-root form's failures, the
+ *        unscented filter equal to the Kalman filter on a linear problem, and the square-root
+ *        form staying positive definite in float32 where the textbook form failed.
  *
  * Tolerances. TOL_EXACT: the same operations as the code under test on the same numbers,
  * so equal up to the one rounding a differently grouped expression in the test may add (2
@@ -17,6 +18,8 @@
 
 #include "estimators/mass_grade/mass_grade_internal.h"
 #include "kalman_ref.h"
+#include "mg_logs.h"
+#include "table.h"
 #include "rfe/component/params_conv.h"
 #include "rfe/mass_grade.h"
 
@@ -61,6 +64,24 @@ static rfe_mass_grade_input_t cruise(rfe_real_t v, rfe_real_t dt)
 static rfe_status_t step(const rfe_mass_grade_input_t *in, rfe_mass_grade_estimate_t *e)
 {
     return rfe_mass_grade_step(&mg, in, e);
+}
+
+/* P = S S^T of the state's factor, in double (each product of two entries exact in double
+ * for a float32 S; rounded to 1e-16 in the double build). */
+static void cov_of_factor(const rfe_real_t *S, double P[9])
+{
+    size_t i;
+    size_t j;
+    size_t k;
+    for (i = 0u; i < 3u; ++i) {
+        for (j = 0u; j < 3u; ++j) {
+            double acc = 0.0;
+            for (k = 0u; k < 3u; ++k) {
+                acc += (double)S[(i * 3u) + k] * (double)S[(j * 3u) + k];
+            }
+            P[(i * 3u) + j] = acc;
+        }
+    }
 }
 
 /* REQ-MG-003 */
@@ -312,7 +333,8 @@ static void test_brake_holds_mass_and_grade(void **state)
     rfe_mass_grade_estimate_t e;
     rfe_mass_grade_estimate_t before;
     rfe_mass_grade_input_t in;
-    rfe_real_t p33;
+    double P[9];
+    double p33;
     int k;
     (void)state;
     setup_with(0u, 1u);
@@ -322,7 +344,8 @@ static void test_brake_holds_mass_and_grade(void **state)
     }
     /* the pedal: held (§4.2): M, theta and P_MM kept, P_thth += q_theta^2 dt, v restarts at
      * the measured speed with variance r_v^2, uncorrelated */
-    p33 = mg.P[8];
+    cov_of_factor(mg.S, P);
+    p33 = P[8];
     in = cruise((rfe_real_t)19.0, (rfe_real_t)DT);
     in.brake = 1u;
     in.has |= RFE_MG_HAS_BRAKE;
@@ -330,11 +353,14 @@ static void test_brake_holds_mass_and_grade(void **state)
     assert_int_equal(step(&in, &e), RFE_MG_PAUSED_BRAKE);
     assert_true((e.mass == before.mass) && (e.grade == before.grade) &&
                 (e.sd_mass == before.sd_mass));
-    assert_close(mg.P[8], p33 + (prm.q_theta * prm.q_theta) * (rfe_real_t)DT, 0.0, TOL_EXACT,
+    /* P_thth from the 2 x 4 triangularisation: the norm of a 4-element row and one
+     * reflection of the mass row, a few roundings of the type: 8 TOL_EXACT */
+    cov_of_factor(mg.S, P);
+    assert_close(P[8], p33 + (double)(prm.q_theta * prm.q_theta) * DT, 0.0, 8.0 * TOL_EXACT,
                  "P_thth grows by its random walk");
     assert_true(e.v == (rfe_real_t)19.0);
-    assert_true((mg.P[1] == (rfe_real_t)0.0) && (mg.P[2] == (rfe_real_t)0.0) &&
-                (mg.P[3] == (rfe_real_t)0.0) && (mg.P[6] == (rfe_real_t)0.0));
+    assert_true((mg.S[1] == (rfe_real_t)0.0) && (mg.S[2] == (rfe_real_t)0.0) &&
+                (mg.S[3] == (rfe_real_t)0.0) && (mg.S[6] == (rfe_real_t)0.0)); /* v uncorrelated */
     assert_close(e.sd_v, prm.r_v, 0.0, TOL_EXACT, "sd_v restarts at r_v");
     /* released: held t_brake = 1 s = 50 periods after the last braked sample (the 50th,
      * exactly t_brake later, is the first free one), then updates */
@@ -424,6 +450,8 @@ static void test_adaptation_as_specified(void **state)
     double d;
     double qs;
     double lam;
+    double Pm[9];
+    double Pp[9];
     int k;
     (void)state;
     setup_with(1u, 0u);
@@ -447,11 +475,18 @@ static void test_adaptation_as_specified(void **state)
     lam = 0.5 * fabs(qs - d) / (qs + d);
     assert_true((lam >= 0.0) && (lam <= 0.5));
     assert_close(mg.q_mv, lam * (double)before.q_mv, 0.0, 1e3 * TOL_EXACT, "q_mv");
-    assert_close(mg.P[4], lam * (double)plain.P[4], 0.0, 1e3 * TOL_EXACT, "P_MM");
-    assert_close(mg.P[1], lam * (double)plain.P[1], 0.0, 1e3 * TOL_EXACT, "P_vM");
-    assert_close(mg.P[5], lam * (double)plain.P[5], 0.0, 1e3 * TOL_EXACT, "P_Mth");
-    assert_true((mg.P[3] == mg.P[1]) && (mg.P[7] == mg.P[5]));
-    assert_true((mg.P[0] == plain.P[0]) && (mg.P[8] == plain.P[8]) && (mg.P[2] == plain.P[2]));
+    /* P' = S' S'^T of the 3 x 4 triangularisation against lambda_u times plain's P (D from
+     * the rounded posterior mass: 1e3 TOL_EXACT, as the textbook form's scaling was); the
+     * entries off the mass row unchanged up to the reflections' roundings (scaled by the
+     * elements' sds sqrt(P_ii P_jj): 8 TOL_EXACT) */
+    cov_of_factor(mg.S, Pm);
+    cov_of_factor(plain.S, Pp);
+    assert_close(Pm[4], lam * Pp[4], 0.0, 1e3 * TOL_EXACT, "P_MM");
+    assert_close(Pm[1], lam * Pp[1], 0.0, 1e3 * TOL_EXACT, "P_vM");
+    assert_close(Pm[5], lam * Pp[5], 1e3 * TOL_EXACT * sqrt(Pp[4] * Pp[8]), 0.0, "P_Mth");
+    assert_close(Pm[0], Pp[0], 8.0 * TOL_EXACT * Pp[0], 0.0, "P_vv");
+    assert_close(Pm[8], Pp[8], 8.0 * TOL_EXACT * Pp[8], 0.0, "P_thth");
+    assert_close(Pm[2], Pp[2], 8.0 * TOL_EXACT * sqrt(Pp[0] * Pp[8]), 0.0, "P_vth");
     assert_true(mg.m_adapt == mg.x[1]);
     /* the end: q_mv at most mv_stop q_mc^2 after the shrink becomes 0, for good */
     mg.q_mv = prm.mv_stop * (prm.q_mc * prm.q_mc) * (rfe_real_t)1.9;
@@ -476,7 +511,9 @@ static void test_adaptation_as_specified(void **state)
     assert_int_equal(rfe_mass_grade_step(&plain, &in, &e), RFE_OK);
     mg.m_adapt = plain.x[1]; /* D = 0 */
     assert_int_equal(step(&in, &e), RFE_OK);
-    assert_true(mg.P[4] == (rfe_real_t)0.5 * plain.P[4]);
+    cov_of_factor(mg.S, Pm);
+    cov_of_factor(plain.S, Pp);
+    assert_close(Pm[4], 0.5 * Pp[4], 0.0, 8.0 * TOL_EXACT, "P_MM halved");
     assert_true(mg.q_mv == (rfe_real_t)0.5 * (rfe_real_t)1e-40);
     (void)before;
 }
@@ -522,23 +559,25 @@ static void test_factorisation_failures_leave_the_state_untouched(void **state)
         in = cruise((rfe_real_t)20.0, (rfe_real_t)DT);
         assert_int_equal(step(&in, &e), RFE_OK);
     }
-    /* a covariance with a negative pivot (a corrupted state): no sigma points */
-    mg.P[4] = (rfe_real_t)-1.0;
-    before = mg;
-    assert_int_equal(step(&in, &e), RFE_ERR_NOT_POSITIVE_DEFINITE);
-    assert_memory_equal(&mg, &before, sizeof(mg));
-    /* a covariance whose points overflow the model: an error, never a NaN */
-    setup_with(0u, 1u);
-    assert_int_equal(step(&in, &e), RFE_OK);
-    mg.P[4] = HUGE_REAL; /* (n + lambda) P_MM overflows: points at +-Inf kg */
+    /* a factor holding a NaN (a corrupted state): its points are not finite, the
+     * triangularisation refuses them */
+    mg.S[4] = (rfe_real_t)NAN;
     before = mg;
     assert_int_equal(step(&in, &e), RFE_ERR_NONFINITE);
     assert_memory_equal(&mg, &before, sizeof(mg));
-    /* a negative centre weight (alpha < 1) can leave the predicted P indefinite: the
-     * measurement's points fail */
+    /* a factor whose points overflow the model: an error, never a NaN */
+    setup_with(0u, 1u);
+    assert_int_equal(step(&in, &e), RFE_OK);
+    mg.S[4] = HUGE_REAL; /* sqrt(n + lambda) S_MM overflows: points at +-Inf kg */
+    before = mg;
+    assert_int_equal(step(&in, &e), RFE_ERR_NONFINITE);
+    assert_memory_equal(&mg, &before, sizeof(mg));
+    /* a negative centre weight (alpha < 1) is a downdate of the factor: -1e6 leaves the
+     * predicted P indefinite, the downdate fails */
     setup_with(0u, 1u);
     assert_int_equal(step(&in, &e), RFE_OK);
     mg.wc0 = (rfe_real_t)-1e6;
+    mg.sqrt_wc0 = (rfe_real_t)1e3;
     before = mg;
     assert_int_equal(step(&in, &e), RFE_ERR_NOT_POSITIVE_DEFINITE);
     assert_memory_equal(&mg, &before, sizeof(mg));
@@ -600,12 +639,28 @@ static void test_start_and_hold_overflow_refused(void **state)
     assert_int_equal(step(&in, &e), RFE_ERR_NONFINITE);
     assert_memory_equal(&mg, &before, sizeof(mg));
     assert_true(isfinite((double)e.sd_grade));
+    /* the update: a speed noise whose factor's square overflows in the speed row's rotation
+     * (sqrt(S_00^2 + r_v^2) = Inf would scale S's column 0 to 0 and report sd_v = 0 with
+     * status 0): refused */
+    memset(&prm, 0, sizeof(prm));
+    assert_int_equal(rfe_mass_grade_params_default(&prm), RFE_OK);
+    prm.q_v = over_sq;
+    prm.use_ax = 0u; /* the speed row alone (with ax the points' drag overflows first) */
+    memset(&mg, 0, sizeof(mg));
+    assert_int_equal(rfe_mass_grade_init(&mg, &prm), RFE_OK);
+    in = cruise((rfe_real_t)20.0, (rfe_real_t)DT);
+    assert_int_equal(step(&in, &e), RFE_OK);
+    before = mg;
+    assert_int_equal(step(&in, &e), RFE_ERR_NONFINITE);
+    assert_memory_equal(&mg, &before, sizeof(mg));
+    assert_true(e.sd_v == prm.r_v);
 }
 
 /* REQ-MG-008. Found by fuzz_mass_grade_f32: with a rolling radius of 4.5e-12 m (valid: > 0)
- * the torque term T/r spreads the predicted speeds by ~1e10 m/s, and P- - K S K^T left
- * P_vv = -2.7e8 with status 0 (sd_v reported 0); the next factorisation would have failed.
- * Such an update is now refused (21), the estimator untouched. */
+ * the torque term T/r spreads the predicted speeds by ~1e10 m/s, and the textbook form's
+ * P- - K S K^T left P_vv = -2.7e8 with status 0 (sd_v reported 0). The square-root form
+ * cannot lose a variance: every accepted update leaves a factor with a nonnegative diagonal
+ * (P = S S^T), and a refused one leaves the estimator untouched. */
 static void test_update_losing_a_variance_refused(void **state)
 {
     rfe_mass_grade_estimate_t e;
@@ -629,48 +684,107 @@ static void test_update_losing_a_variance_refused(void **state)
         before = mg;
         st = step(&in, &e);
         if (st == RFE_OK) {
-            /* an accepted update never holds a negative variance */
-            assert_true(mg.P[0] >= 0 && mg.P[4] >= 0 && mg.P[8] >= 0);
+            /* an accepted update: a factor with a nonnegative diagonal, finite sds */
+            assert_true(mg.S[0] >= 0 && mg.S[4] >= 0 && mg.S[8] >= 0);
+            assert_true(isfinite((double)e.sd_v) && isfinite((double)e.sd_mass));
         } else {
             assert_true(st == RFE_ERR_NOT_POSITIVE_DEFINITE || st == RFE_ERR_NONFINITE);
             assert_memory_equal(&mg, &before, sizeof(mg));
         }
-#if !defined(RFE_REAL_DOUBLE)
-        if (k == 0) {
-            assert_int_equal(st, RFE_ERR_NOT_POSITIVE_DEFINITE); /* the fuzzer's case */
-        }
-#endif
     }
 }
 
 /* REQ-MG-008 */
 static void test_innovation_covariance_not_positive(void **state)
 {
+    /* alpha 1, beta 2, kappa 0 (§3) and their roots */
     const rfe_mg_weights_t w = {(rfe_real_t)0.0, (rfe_real_t)2.0, (rfe_real_t)(1.0 / 6.0),
-                                (rfe_real_t)3.0};
+                                (rfe_real_t)1.4142135623730951, (rfe_real_t)0.408248290463863,
+                                (rfe_real_t)1.7320508075688772};
+    const rfe_mg_weights_t wneg = {(rfe_real_t)0.0, (rfe_real_t)-1e6, (rfe_real_t)(1.0 / 6.0),
+                                   (rfe_real_t)1e3, (rfe_real_t)0.408248290463863,
+                                   (rfe_real_t)1.7320508075688772};
     rfe_real_t chi[RFE_MG_PTS * RFE_MG_N] = {(rfe_real_t)0.0};
-    rfe_real_t Z[RFE_MG_PTS * RFE_MG_Z_MAX] = {(rfe_real_t)0.0};
-    const rfe_real_t r2[RFE_MG_Z_MAX] = {(rfe_real_t)0.0, (rfe_real_t)0.0};
+    rfe_real_t Z[RFE_MG_PTS] = {(rfe_real_t)0.0};
+    const rfe_real_t r[RFE_MG_Z_MAX] = {(rfe_real_t)0.0, (rfe_real_t)0.0};
     const rfe_real_t y[RFE_MG_Z_MAX] = {(rfe_real_t)1.0, (rfe_real_t)1.0};
     rfe_real_t x[RFE_MG_N] = {(rfe_real_t)1.0, (rfe_real_t)2.0, (rfe_real_t)3.0};
-    rfe_real_t P[RFE_MG_N * RFE_MG_N] = {(rfe_real_t)1.0};
+    rfe_real_t S[RFE_MG_N * RFE_MG_N] = {(rfe_real_t)0.0};
     rfe_real_t x0[RFE_MG_N];
-    rfe_real_t P0[RFE_MG_N * RFE_MG_N];
+    rfe_real_t S0[RFE_MG_N * RFE_MG_N];
     size_t i;
     (void)state;
     memcpy(x0, x, sizeof(x));
-    memcpy(P0, P, sizeof(P));
-    /* every point measures the same: S = 0 (1 x 1 and 2 x 2), then S singular with a
-     * positive first pivot (2 x 2, rows equal) */
-    assert_int_equal(rfe_mg_correct(chi, Z, 1u, &w, r2, y, x, P), RFE_ERR_NOT_POSITIVE_DEFINITE);
-    assert_int_equal(rfe_mg_correct(chi, Z, 2u, &w, r2, y, x, P), RFE_ERR_NOT_POSITIVE_DEFINITE);
+    memcpy(S0, S, sizeof(S));
+    /* no noise and every point measures the same: the speed row's innovation sd
+     * sqrt(S_00^2 + r_v^2) = 0, and the ax row's (its array's first row all 0) */
+    assert_int_equal(rfe_mg_correct(chi, Z, 1u, &w, r, y, x, S), RFE_ERR_NOT_POSITIVE_DEFINITE);
+    assert_int_equal(rfe_mg_correct(chi, Z, 2u, &w, r, y, x, S), RFE_ERR_NOT_POSITIVE_DEFINITE);
+    /* the ax row's points spread, its centre weight -1e6: the downdate by 1e3 (Z_0 - z)
+     * leaves the innovation variance negative */
     for (i = 0u; i < (size_t)RFE_MG_PTS; ++i) {
-        Z[i * 2u] = (rfe_real_t)i;
-        Z[(i * 2u) + 1u] = (rfe_real_t)i;
+        Z[i] = (rfe_real_t)i;
     }
-    assert_int_equal(rfe_mg_correct(chi, Z, 2u, &w, r2, y, x, P), RFE_ERR_NOT_POSITIVE_DEFINITE);
+    assert_int_equal(rfe_mg_correct(chi, Z, 2u, &wneg, r, y, x, S),
+                     RFE_ERR_NOT_POSITIVE_DEFINITE);
     assert_memory_equal(x, x0, sizeof(x));
-    assert_memory_equal(P, P0, sizeof(P));
+    assert_memory_equal(S, S0, sizeof(S));
+}
+
+/* REQ-MG-008. The failure the square-root form avoids (MASS_GRADE_RESULTS.md "Why the
+ * square-root form", make mass-grade-textbook): car_flat_cruise's cruise (from row 1500, 30 s
+ * at constant speed) played four times back to back, 600 s without excitation, with the
+ * process noise 1/1000 to 1/40 000 of the preset's (q_mc = 1e-3 kg/sqrt(s), q_theta = 1e-7
+ * rad/sqrt(s), q_v = 1e-6 m/s/sqrt(s), the Q31 twin's test_square_root_form_stays_definite).
+ * The speed then fixes one combination of M and theta, so P's (M, theta) block tends to
+ * singular: the textbook form in float32 lost definiteness at step 10,774 (UKF + ax) and
+ * 15,719 (UKF) and stayed frozen (status 21). The square-root form must run every step to the
+ * end, in both builds, with P = S S^T positive definite (its Cholesky in double succeeds:
+ * S's diagonal > 0 is the same statement) and the mass's sd no larger than at the start
+ * (P_MM <= sd_m0^2 + q_mc^2 t = 500^2 + 6e-4 kg^2: with this noise the filter can only learn). */
+static void test_square_root_form_stays_definite(void **state)
+{
+    static const uint32_t use_ax[2] = {1u, 0u};
+    test_table_t log;
+    size_t c;
+    (void)state;
+    memset(&log, 0, sizeof(log));
+    assert_int_equal(test_table_load("scenarios/mass_grade/car_flat_cruise.csv", &log), 0);
+    assert_true(log.n_rows > 1600u);
+    for (c = 0u; c < 2u; ++c) {
+        size_t steps = 0u;
+        int rep;
+        assert_int_equal(rfe_mass_grade_params_default(&prm), RFE_OK);
+        prm.adaptive = 0u;
+        prm.use_ax = use_ax[c];
+        prm.q_mc = (rfe_real_t)1e-3;
+        prm.q_theta = (rfe_real_t)1e-7;
+        prm.q_v = (rfe_real_t)1e-6;
+        assert_int_equal(rfe_mass_grade_init(&mg, &prm), RFE_OK);
+        for (rep = 0; rep < 4; ++rep) {
+            size_t k;
+            for (k = 1500u; k < log.n_rows; ++k) {
+                rfe_mass_grade_input_t in;
+                rfe_mass_grade_estimate_t e;
+                rfe_status_t st;
+                mg_input_of(&log, k, (double)prm.R, &in);
+                if (k == 1500u) { /* the seam: the log's own period, the speed continuous */
+                    in.dt = (rfe_real_t)(test_table_get(&log, 1u, "t") -
+                                         test_table_get(&log, 0u, "t"));
+                }
+                st = step(&in, &e);
+                if (st != RFE_OK) {
+                    fail_msg("use_ax %u: status %d at step %zu", (unsigned)use_ax[c], (int)st,
+                             steps);
+                }
+                assert_true((mg.S[0] > 0) && (mg.S[4] > 0) && (mg.S[8] > 0));
+                assert_true(e.sd_mass <= prm.sd_m0 * (rfe_real_t)1.000001);
+                ++steps;
+            }
+        }
+        assert_true(steps > 30000u); /* every step of the 600 s ran */
+    }
+    test_table_free(&log);
 }
 
 /* A sigma point through the linear f(x) = F x. */
@@ -695,13 +809,13 @@ static void test_ukf_is_the_kalman_filter_on_a_linear_problem(void **state)
      * nothing): with linear f and h the UKF is the Kalman filter. The problem looks like the
      * estimator's (speed, mass in kg, grade in rad: a speed that falls with the mass and
      * the grade), with the ax row's measurement a linear mix of the three. 40 steps, each
-     * compared. Tolerance TOL_KF relative to each element's scale sqrt(P_ii P_jj) (x: sqrt
-     * P_ii): double, the textbook filter (Joseph form) and the UKF differ in rounding only,
-     * ~1e-13 after 40 steps of O(10) operations on condition ~1e8 -> 1e-10 (seen 3e-14);
-     * float32: the UKF's rounding of 6e-8 on entries up to 2.5e5 with a correlation between
-     * the mass and the speed near 1 (condition ~1e8): the covariance form P- - K S K^T
-     * cancels most of P_MM as the mass is learned, ~1e3 ulp of the scale -> 1e-3 (seen
-     * 3.1e-4). */
+     * compared, the UKF's P = S S^T formed in double. Tolerance TOL_KF relative to each
+     * element's scale sqrt(P_ii P_jj) (x: sqrt P_ii): double, the textbook filter (Joseph
+     * form) and the square-root UKF differ in rounding only, ~1e-13 after 40 steps of O(10)
+     * operations on condition ~1e8 -> 1e-10 (seen 1.9e-13); float32: the UKF's rounding of
+     * 6e-8 on a factor with entries up to 500 and a correlation between the mass and the
+     * speed near 1 (condition ~1e8 of P, 1e4 of S): ~1e3 ulp of the scale -> 1e-3 (seen
+     * 1.2e-4; the textbook form's P- - K S K^T showed 3.1e-4). */
 #if defined(RFE_REAL_DOUBLE)
     const double tol_kf = 1e-10;
 #else
@@ -710,13 +824,16 @@ static void test_ukf_is_the_kalman_filter_on_a_linear_problem(void **state)
     static const double F[RFE_N_MAX][RFE_N_MAX] = {
         {1.0, -1e-5, -0.2}, {0.0, 1.0, 0.0}, {0.0, 0.0, 1.0}};
     static const double H[RFE_N_MAX][RFE_N_MAX] = {{1.0, 0.0, 0.0}, {0.0, 2e-4, 9.81}};
+    /* alpha 1, beta 2, kappa 0 (§3) and their roots */
     const rfe_mg_weights_t w = {(rfe_real_t)0.0, (rfe_real_t)2.0, (rfe_real_t)(1.0 / 6.0),
-                                (rfe_real_t)3.0}; /* alpha 1, beta 2, kappa 0 (§3) */
+                                (rfe_real_t)1.4142135623730951, (rfe_real_t)0.408248290463863,
+                                (rfe_real_t)1.7320508075688772};
     const double q[3] = {4e-4 * DT, 1.0 * DT, 1.6e-5 * DT};
     const double r2[2] = {0.0025, 0.01};
     kf_ref_t ref;
     rfe_real_t x[RFE_MG_N] = {(rfe_real_t)20.0, (rfe_real_t)1500.0, (rfe_real_t)0.0};
-    rfe_real_t P[RFE_MG_N * RFE_MG_N] = {(rfe_real_t)0.0};
+    rfe_real_t S[RFE_MG_N * RFE_MG_N] = {(rfe_real_t)0.0};
+    double P[9];
     double xt[3] = {20.0, 2000.0, 0.03};
     size_t i;
     size_t j;
@@ -725,12 +842,12 @@ static void test_ukf_is_the_kalman_filter_on_a_linear_problem(void **state)
     memset(&ref, 0, sizeof(ref));
     ref.n = 3u;
     ref.m = 2u;
-    P[0] = (rfe_real_t)0.0025;
-    P[4] = (rfe_real_t)250000.0;
-    P[8] = (rfe_real_t)0.0025;
+    S[0] = (rfe_real_t)0.05;
+    S[4] = (rfe_real_t)500.0;
+    S[8] = (rfe_real_t)0.05;
     for (i = 0u; i < 3u; ++i) {
         ref.x[i] = (double)x[i];
-        ref.P[i][i] = (double)P[(i * 3u) + i];
+        ref.P[i][i] = (double)S[(i * 3u) + i] * (double)S[(i * 3u) + i];
         ref.Q[i][i] = q[i];
     }
     ref.R[0][0] = r2[0];
@@ -738,9 +855,10 @@ static void test_ukf_is_the_kalman_filter_on_a_linear_problem(void **state)
     for (k = 0; k < 40; ++k) {
         rfe_real_t chi[RFE_MG_PTS * RFE_MG_N];
         rfe_real_t X[RFE_MG_PTS * RFE_MG_N];
-        rfe_real_t Z[RFE_MG_PTS * RFE_MG_Z_MAX];
-        rfe_real_t qr[RFE_MG_N] = {(rfe_real_t)q[0], (rfe_real_t)q[1], (rfe_real_t)q[2]};
-        rfe_real_t rr[RFE_MG_Z_MAX] = {(rfe_real_t)r2[0], (rfe_real_t)r2[1]};
+        rfe_real_t Z[RFE_MG_PTS];
+        rfe_real_t sq[RFE_MG_N] = {(rfe_real_t)sqrt(q[0]), (rfe_real_t)sqrt(q[1]),
+                                   (rfe_real_t)sqrt(q[2])};
+        rfe_real_t rr[RFE_MG_Z_MAX] = {(rfe_real_t)sqrt(r2[0]), (rfe_real_t)sqrt(r2[1])};
         rfe_real_t y[RFE_MG_Z_MAX];
         const size_t nz = (k % 2 == 0) ? 2u : 1u; /* both the 2-row and the 1-row update */
         double xn[3];
@@ -752,19 +870,18 @@ static void test_ukf_is_the_kalman_filter_on_a_linear_problem(void **state)
         y[0] = (rfe_real_t)(xt[0] + 0.03 * sin(0.7 * k));
         y[1] = (rfe_real_t)(H[1][1] * xt[1] + H[1][2] * xt[2] + 0.05 * cos(1.3 * k));
         /* the UKF: points through f, moments, new points through h, correction */
-        assert_int_equal(rfe_mg_sigma_points(x, P, w.c, chi), RFE_OK);
+        rfe_mg_sigma_points(x, S, w.sqrt_c, chi);
         for (i = 0u; i < (size_t)RFE_MG_PTS; ++i) {
             linear_f(F, &chi[i * 3u], &X[i * 3u]);
         }
-        rfe_mg_predict(X, &w, qr, x, P);
-        assert_int_equal(rfe_mg_sigma_points(x, P, w.c, chi), RFE_OK);
+        assert_int_equal(rfe_mg_predict(X, &w, sq, x, S), RFE_OK);
+        rfe_mg_sigma_points(x, S, w.sqrt_c, chi);
         for (i = 0u; i < (size_t)RFE_MG_PTS; ++i) {
             const rfe_real_t *c = &chi[i * 3u];
-            Z[i * 2u] = c[0];
-            Z[(i * 2u) + 1u] =
-                (rfe_real_t)(H[1][1] * (double)c[1] + H[1][2] * (double)c[2]);
+            Z[i] = (rfe_real_t)(H[1][1] * (double)c[1] + H[1][2] * (double)c[2]); /* the ax row */
         }
-        assert_int_equal(rfe_mg_correct(chi, Z, nz, &w, rr, y, x, P), RFE_OK);
+        assert_int_equal(rfe_mg_correct(chi, Z, nz, &w, rr, y, x, S), RFE_OK);
+        cov_of_factor(S, P);
         /* the Kalman filter */
         ref.m = nz;
         kf_ref_predict(&ref, F);
@@ -834,6 +951,7 @@ int main(void)
         cmocka_unit_test(test_update_losing_a_variance_refused),
         cmocka_unit_test(test_innovation_covariance_not_positive),
         cmocka_unit_test(test_ukf_is_the_kalman_filter_on_a_linear_problem),
+        cmocka_unit_test(test_square_root_form_stays_definite),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

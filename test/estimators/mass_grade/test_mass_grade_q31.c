@@ -596,9 +596,9 @@ static double worst_mass_kg;
 static double worst_grade_rad;
 static double worst_mass_sd_aukf; /* |dM| / sd_M in the adaptive configurations */
 static double worst_rel_aukf;     /* sd_mass and q_mv, relative, adaptive */
-/* What a textbook covariance form in int32 would face (the double twin's P, every update):
- * the range of each variance and the smallest normalised determinant det P / (P11 P22 P33)
- * (1 for uncorrelated states; near 0 where P is near singular). */
+/* What a textbook covariance form in int32 would face (the double twin's P = S S^T, every
+ * update): the range of each variance and the smallest normalised determinant det P / (P11
+ * P22 P33) (1 for uncorrelated states; near 0 where P is near singular). */
 static double var_min[3] = {1e300, 1e300, 1e300};
 static double var_max[3];
 static double det_norm_min = 1.0;
@@ -606,7 +606,19 @@ static size_t n_steps; /* steps compared */
 
 static void track_textbook(const rfe_mass_grade_t *md)
 {
-    const double *P = md->P;
+    double P[9];
+    size_t r;
+    size_t c;
+    size_t k;
+    for (r = 0u; r < 3u; ++r) {
+        for (c = 0u; c < 3u; ++c) {
+            double acc = 0.0;
+            for (k = 0u; k < 3u; ++k) {
+                acc += md->S[(r * 3u) + k] * md->S[(c * 3u) + k];
+            }
+            P[(r * 3u) + c] = acc;
+        }
+    }
     const double det = P[0] * (P[4] * P[8] - P[5] * P[7]) - P[1] * (P[3] * P[8] - P[5] * P[6]) +
                        P[2] * (P[3] * P[7] - P[4] * P[6]);
     size_t i;
