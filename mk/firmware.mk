@@ -42,7 +42,8 @@
 #                      more than 5 % under prints a note that the budget can be lowered
 # make pil-budgets     runs make pil and make pil-aux without the gate and sets every budget
 #                      of PIL_BUDGETS to the measured count (commit it with the change that
-#                      moved the counts)
+#                      moved the counts); PIL_BUDGETS_RUNS / PIL_BUDGETS_ONLY (below) measure
+#                      and set only some entries, the other budgets kept as they are
 # make pil-profile     per-function instructions of a friction step (PIL_PROFILE_CONFIG) on
 #                      the Cortex-M4F float32 and fixed-point and the M0+ PIL images, next to
 #                      callgrind on the host: a table in docs/FIRMWARE.md (not in make test)
@@ -441,11 +442,17 @@ firmware-opt: deps-firmware $(PIL_ELFS)
 	  --runs "$(PIL_RUNS)" --configs "$(foreach c,$(PIL_CONFIGS),$(call pil_tag,$(c)))" --log $(PIL_LOG) \
 	  --steps 100 --json $(FW_OPT_DIR)/opt.json --page docs/FIRMWARE.md
 
+# PIL_BUDGETS_RUNS: the targets measured (pil, pil-aux; each writes $(FW_DIR)/<target>.json,
+# - as _); PIL_BUDGETS_ONLY: the entries whose budgets are set, every other budget kept with
+# its source (empty: every run measured). A new entry's row alone:
+# make pil-budgets PIL_BUDGETS_RUNS=pil-aux PIL_BUDGETS_ONLY=tid_sckf
+PIL_BUDGETS_RUNS ?= pil pil-aux
+PIL_BUDGETS_ONLY ?=
 ## set the PIL instruction budgets (PIL_BUDGETS) to a fresh make pil and make pil-aux
 pil-budgets:
-	@$(MAKE) --no-print-directory pil PIL_BUDGETS=
-	@$(MAKE) --no-print-directory pil-aux PIL_BUDGETS=
-	python3 scripts/firmware/pil_budgets.py --write $(PIL_BUDGETS) $(FW_DIR)/pil.json $(FW_DIR)/pil_aux.json
+	@for t in $(PIL_BUDGETS_RUNS); do $(MAKE) --no-print-directory $$t PIL_BUDGETS= || exit 1; done
+	python3 scripts/firmware/pil_budgets.py --write $(if $(strip $(PIL_BUDGETS_ONLY)),--only $(PIL_BUDGETS_ONLY)) \
+	  $(PIL_BUDGETS) $(foreach t,$(PIL_BUDGETS_RUNS),$(FW_DIR)/$(subst -,_,$(t)).json)
 
 ## regenerate only the other estimators' PIL table of docs/FIRMWARE.md (from make pil-aux)
 firmware-table-aux:
