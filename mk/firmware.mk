@@ -451,7 +451,7 @@ PIL_BUDGETS_ONLY ?=
 ## set the PIL instruction budgets (PIL_BUDGETS) to a fresh make pil and make pil-aux
 pil-budgets:
 	@for t in $(PIL_BUDGETS_RUNS); do $(MAKE) --no-print-directory $$t PIL_BUDGETS= || exit 1; done
-	python3 scripts/firmware/pil_budgets.py --write $(if $(strip $(PIL_BUDGETS_ONLY)),--only $(PIL_BUDGETS_ONLY)) \
+	python3 scripts/firmware/pil_budgets.py --write $(if $(strip $(PIL_BUDGETS_ONLY)),--only "$(strip $(PIL_BUDGETS_ONLY))") \
 	  $(PIL_BUDGETS) $(foreach t,$(PIL_BUDGETS_RUNS),$(FW_DIR)/$(subst -,_,$(t)).json)
 
 ## regenerate only the other estimators' PIL table of docs/FIRMWARE.md (from make pil-aux)

@@ -128,17 +128,20 @@ def main(argv=None):
     ap.add_argument("budgets", help="the budget file (firmware/pil_budgets.json)")
     ap.add_argument("results", nargs="+", help="firmware_pil.py JSON files (pil.json, pil_aux.json)")
     ap.add_argument("--write", action="store_true", help="set the budgets to the measured counts")
-    ap.add_argument("--only", nargs="+", default=None, metavar="ENTRY",
-                    help="set or check only the runs of these entries")
+    # one argument (entries separated by spaces or commas), so that it may stand before the
+    # positional arguments, as make pil-budgets puts it
+    ap.add_argument("--only", default=None, metavar="ENTRIES",
+                    help="set or check only the runs of these entries ('tid_sckf', 'tid,tid_sckf')")
     a = ap.parse_args(argv)
     runs = []
     for p in a.results:
         with open(p) as f:
             runs += measured(json.load(f))
     if a.only is not None:
-        runs = [r for r in runs if r["entry"] in a.only]
+        only = a.only.replace(",", " ").split()
+        runs = [r for r in runs if r["entry"] in only]
         if not runs:
-            sys.exit(f"pil-budgets: no measured run of {' '.join(a.only)} in {', '.join(a.results)}")
+            sys.exit(f"pil-budgets: no measured run of {' '.join(only)} in {', '.join(a.results)}")
     if a.write:
         n, kept = write(a.budgets, runs, origin())
         print(f"pil-budgets: {n} budgets set from {', '.join(a.results)}, {kept} kept; {a.budgets}")

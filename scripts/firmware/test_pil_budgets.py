@@ -105,7 +105,8 @@ def test_write_only_sets_the_named_entry_and_keeps_every_other_budget(tmp_path, 
         {"target": "m4f-f32", "entry": "tid", "log": "x/tid.csv", "instructions_per_step": {"mean": 6_000.0, "steps": 20}},
         {"target": "m4f-f32", "entry": "tid_sckf", "log": "x/tid.csv",
          "instructions_per_step": {"mean": 143_920.0, "steps": 200}}]}))
-    assert pil_budgets.main([str(budgets), str(result), "--write", "--only", "tid_sckf"]) == 0
+    # the option before the positional arguments, as make pil-budgets passes it
+    assert pil_budgets.main(["--write", "--only", "tid_sckf", str(budgets), str(result)]) == 0
     got = {(b["entry"], b["instructions_per_step"], b["source"] == "old") for b in pil_budgets.load(str(budgets))}
     assert got == {("default.sckf", BUDGET, True), ("tid", 5_000.0, True), ("tid_sckf", 143_920.0, False)}
     # an entry the results do not hold writes nothing
