@@ -256,21 +256,31 @@ def aux_table(aux):
     if not runs:
         return ["Not measured yet: run `make pil-aux`."]
     L = [f"Emulated runs ({aux.get('qemu', 'QEMU')}), float32 on the Cortex-M4F (`mps2-an386`); outputs "
-         f"vs the host float32 build within {aux.get('aux_tolerance', '?')} (status and flags equal); "
+         f"vs the host float32 build within {aux.get('aux_tolerance', '?')} (status and flags equal; "
+         f"the tyre identifier's SCKF vs the host double build instead, {aux.get('aux_double_tolerance', '?')}, "
+         "the host float32 build for information); "
          "instructions per step over the log's first steps, the share of a 100 MHz core at the "
          "estimator's rate (the log's sample rate) at one instruction per cycle; flash: what the PIL "
          "image links (text + rodata) of the module's objects, of the whole library, of newlib's libm; "
          "state: `sizeof` the estimator's state.", "",
-         "| entry | log, rows compared | outputs vs the host float32 build | instructions per step, mean (max) | "
+         "| entry | log, rows compared | outputs vs the host build | instructions per step, mean (max) | "
          "share of 100 MHz, mean (max) | steps counted | stack static / measured | flash: module / library / libm | state |",
          "|---|---|---|---|---|---|---|---|---|"]
     for r in runs:
         c, i, fl = r.get("compare", {}), r.get("instructions_per_step", {}), r.get("flash", {})
-        worst = max((e["max_abs_diff"] / e["bound"] for e in c.get("fields", {}).values() if e["bound"] > 0),
-                    default=0.0)
-        outs = (f"{'within' if not c.get('mismatches') else 'OUTSIDE'} the bound (largest difference "
-                f"{100 * worst:.0f} % of the host's float32-vs-double difference, 200 % allowed), {100 * c.get('bit_identical_fraction', 0):.1f} % of values "
-                f"bit-identical; status, flags {'equal' if c.get('discrete_equal') else 'DIFFER'}")
+        if c.get("reference") == "double":
+            h = c.get("host_f32", {})
+            outs = (f"{'within' if not c.get('mismatches') else 'OUTSIDE'} {c.get('bound', 0):.2g} of the host "
+                    f"double build (largest difference {c.get('max_rel_diff', 0):.2g} of value plus sd); status, "
+                    f"flags {'equal' if c.get('discrete_equal') else 'DIFFER'}; vs the host float32 build "
+                    f"(information): {h.get('mismatches', '?')} values beyond twice its float32-vs-double "
+                    f"difference, {100 * h.get('bit_identical_fraction', 0):.1f} % bit-identical")
+        else:
+            worst = max((e["max_abs_diff"] / e["bound"] for e in c.get("fields", {}).values() if e["bound"] > 0),
+                        default=0.0)
+            outs = (f"{'within' if not c.get('mismatches') else 'OUTSIDE'} the bound (largest difference "
+                    f"{100 * worst:.0f} % of the host's float32-vs-double difference, 200 % allowed), {100 * c.get('bit_identical_fraction', 0):.1f} % of values "
+                    f"bit-identical; status, flags {'equal' if c.get('discrete_equal') else 'DIFFER'}")
         L.append(f"| {r['what']} | `{os.path.basename(r['log'])}` ({r['rate_hz']:.0f} Hz), {r['steps']} | {outs} | "
                  f"{i.get('mean', 0):,.0f} ({i.get('max', 0):,}) | {pct(r.get('core_share_mean', 0), 2)} at "
                  f"{r['rate_hz']:.0f} Hz ({pct(r.get('core_share_max', 0), 2)}) | {i.get('steps', '-')} | "

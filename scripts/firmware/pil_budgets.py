@@ -19,7 +19,9 @@ compiler flags or the data; 2 % is the issue's allowance for a change that costs
 
 `python3 scripts/firmware/pil_budgets.py --write firmware/pil_budgets.json build/firmware/pil.json
 build/firmware/pil_aux.json` (make pil-budgets) sets the budgets of every run those files
-measured to its count, keeping the budgets of runs they do not hold.
+measured to its count, keeping the budgets of runs they do not hold. With `--only <entry> ...`
+it sets only the runs of those entries (a new entry's budget: `make pil-budgets
+PIL_BUDGETS_RUNS=pil-aux PIL_BUDGETS_ONLY=tid_sckf`), every other budget kept with its source.
 """
 import argparse
 import datetime
@@ -126,11 +128,20 @@ def main(argv=None):
     ap.add_argument("budgets", help="the budget file (firmware/pil_budgets.json)")
     ap.add_argument("results", nargs="+", help="firmware_pil.py JSON files (pil.json, pil_aux.json)")
     ap.add_argument("--write", action="store_true", help="set the budgets to the measured counts")
+    # one argument (entries separated by spaces or commas), so that it may stand before the
+    # positional arguments, as make pil-budgets puts it
+    ap.add_argument("--only", default=None, metavar="ENTRIES",
+                    help="set or check only the runs of these entries ('tid_sckf', 'tid,tid_sckf')")
     a = ap.parse_args(argv)
     runs = []
     for p in a.results:
         with open(p) as f:
             runs += measured(json.load(f))
+    if a.only is not None:
+        only = a.only.replace(",", " ").split()
+        runs = [r for r in runs if r["entry"] in only]
+        if not runs:
+            sys.exit(f"pil-budgets: no measured run of {' '.join(only)} in {', '.join(a.results)}")
     if a.write:
         n, kept = write(a.budgets, runs, origin())
         print(f"pil-budgets: {n} budgets set from {', '.join(a.results)}, {kept} kept; {a.budgets}")

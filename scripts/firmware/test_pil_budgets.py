@@ -98,6 +98,26 @@ def test_main_fails_over_budget(tmp_path, capsys):
     assert "FAIL" in capsys.readouterr().out
 
 
+def test_write_only_sets_the_named_entry_and_keeps_every_other_budget(tmp_path, capsys):
+    budgets, result = tmp_path / "b.json", tmp_path / "pil_aux.json"
+    pil_budgets.write(str(budgets), [run(BUDGET), run(5_000.0, "m4f-f32", "tid", "tid", 20)], "old")
+    result.write_text(json.dumps({"aux_runs": [
+        {"target": "m4f-f32", "entry": "tid", "log": "x/tid.csv", "instructions_per_step": {"mean": 6_000.0, "steps": 20}},
+        {"target": "m4f-f32", "entry": "tid_sckf", "log": "x/tid.csv",
+         "instructions_per_step": {"mean": 143_920.0, "steps": 200}}]}))
+    # the option before the positional arguments, as make pil-budgets passes it
+    assert pil_budgets.main(["--write", "--only", "tid_sckf", str(budgets), str(result)]) == 0
+    got = {(b["entry"], b["instructions_per_step"], b["source"] == "old") for b in pil_budgets.load(str(budgets))}
+    assert got == {("default.sckf", BUDGET, True), ("tid", 5_000.0, True), ("tid_sckf", 143_920.0, False)}
+    # an entry the results do not hold writes nothing
+    try:
+        pil_budgets.main([str(budgets), str(result), "--write", "--only", "mg_ukf"])
+        assert False, "no run of mg_ukf: must exit"
+    except SystemExit as e:
+        assert "no measured run of mg_ukf" in str(e)
+    assert len(pil_budgets.load(str(budgets))) == 3
+
+
 def test_the_committed_budgets_are_well_formed():
     path = os.path.join(os.path.dirname(__file__), "..", "..", "firmware", "pil_budgets.json")
     budgets = pil_budgets.load(path)
