@@ -92,6 +92,23 @@ static void take_lower(rfe_tid_sckf_t *k, size_t lda)
     }
 }
 
+/* The end of both updates: S = the lower triangle of Tria(A) over its first @p cols columns,
+ * x = x_new projected onto the bounds (§15.3, §15.4); RFE_ERR_NONFINITE when Tria fails. */
+static rfe_status_t factor_and_commit(rfe_tyre_id_t *t, size_t cols)
+{
+    rfe_tid_sckf_t *k = &t->sk;
+    size_t i;
+    if (rfe_qr_tria(k->A, NX, cols, TC) != RFE_OK) {
+        return RFE_ERR_NONFINITE;
+    }
+    take_lower(k, TC);
+    for (i = 0u; i < NX; ++i) {
+        k->x[i] = k->xn[i];
+    }
+    sckf_project(t, k->x);
+    return RFE_OK;
+}
+
 /* §15.3 time update: the points through RK4 at the period's mean inputs (parameters clipped,
  * a random walk), x- = their mean, S- = Tria([(X*_j - x-) / sqrt(2n), S_Q]), projected. */
 static rfe_status_t sckf_time_update(rfe_tyre_id_t *t, const rfe_tyre_id_sample_t *smp,
@@ -124,15 +141,7 @@ static rfe_status_t sckf_time_update(rfe_tyre_id_t *t, const rfe_tyre_id_sample_
     for (i = 0u; i < NPAR; ++i) {
         k->A[((NS + i) * TC) + NP + NS + i] = t->c.q[i] * sq;
     }
-    if (rfe_qr_tria(k->A, NX, TC, TC) != RFE_OK) {
-        return RFE_ERR_NONFINITE;
-    }
-    take_lower(k, TC);
-    for (i = 0u; i < NX; ++i) {
-        k->x[i] = k->xn[i];
-    }
-    sckf_project(t, k->x);
-    return RFE_OK;
+    return factor_and_commit(t, TC);
 }
 
 /* §15.3 S_R's diagonal: sd_r and sqrt(sd_ay^2 + (g sd_delta)^2), g = d ay / d delta at the
@@ -234,15 +243,7 @@ static rfe_status_t meas_update(rfe_tyre_id_t *t, const rfe_tyre_id_sample_t *sm
         k->A[(i * TC) + NP] = k->Kt[i] * k->sr[0];
         k->A[(i * TC) + NP + 1u] = k->Kt[NX + i] * k->sr[1];
     }
-    if (rfe_qr_tria(k->A, NX, ZC, TC) != RFE_OK) {
-        return RFE_ERR_NONFINITE;
-    }
-    take_lower(k, TC);
-    for (i = 0u; i < NX; ++i) {
-        k->x[i] = k->xn[i];
-    }
-    sckf_project(t, k->x);
-    return RFE_OK;
+    return factor_and_commit(t, ZC);
 }
 
 uint32_t rfe_tid_sckf_step(rfe_tyre_id_t *tid, const rfe_tyre_id_sample_t *smp,
