@@ -68,8 +68,8 @@ void rfe_tid_sckf_prior(rfe_tyre_id_t *tid, rfe_real_t r_meas)
 }
 
 /* Column j of the centred points (X_j - x) / sqrt(2n) into column j of M (row stride ld). */
-static void centred(const rfe_real_t *pts, const rfe_real_t *x, rfe_real_t s2n, rfe_real_t *M,
-                    size_t ld)
+static void sckf_centred(const rfe_real_t *pts, const rfe_real_t *x, rfe_real_t s2n, rfe_real_t *M,
+                         size_t ld)
 {
     size_t i;
     size_t j;
@@ -134,7 +134,7 @@ static rfe_status_t sckf_time_update(rfe_tyre_id_t *t, const rfe_tyre_id_sample_
     for (i = 0u; i < (NX * TC); ++i) {
         k->A[i] = RFE_R(0.0);
     }
-    centred(k->pts, k->xn, s2n, k->A, TC);
+    sckf_centred(k->pts, k->xn, s2n, k->A, TC);
     /* S_Q = diag(q_vy s, q_r s, q s), s = sqrt(h) (§4.3) */
     k->A[NP] = t->p.q_vy * sq;
     k->A[TC + NP + 1u] = t->p.q_r * sq;
@@ -226,7 +226,7 @@ static rfe_status_t meas_update(rfe_tyre_id_t *t, const rfe_tyre_id_sample_t *sm
     for (i = 0u; i < (NX * TC); ++i) {
         k->A[i] = RFE_R(0.0);
     }
-    centred(k->pts, k->x, s2n, k->A, TC);
+    sckf_centred(k->pts, k->x, s2n, k->A, TC);
     if (sckf_gain(k, s2n) != RFE_OK) {
         return RFE_ERR_NONFINITE;
     }
