@@ -344,7 +344,6 @@ rfe_status_t rfe_mass_grade_step(rfe_mass_grade_t *mg, const rfe_mass_grade_inpu
                                  rfe_mass_grade_estimate_t *out)
 {
     rfe_mass_grade_t o;
-    rfe_mass_grade_estimate_t e;
     rfe_status_t st;
     rfe_status_t status = RFE_OK;
     if ((mg == NULL) || (in == NULL) || (out == NULL)) {
@@ -370,8 +369,10 @@ rfe_status_t rfe_mass_grade_step(rfe_mass_grade_t *mg, const rfe_mass_grade_inpu
         /* the checks failed: nothing to compute */
     }
     if (st == RFE_OK) {
-        estimate_of(&o, status, &e);
-        if (state_finite(&o, &e) == 0) {
+        /* into the copy's own estimate, not a local: its padding (double build) is then the
+         * state's, zeroed by init, and never the stack's */
+        estimate_of(&o, status, &o.last);
+        if (state_finite(&o, &o.last) == 0) {
             st = RFE_ERR_NONFINITE; /* an overflow (e.g. q_mv0^2): never a NaN out */
         }
     }
@@ -382,7 +383,6 @@ rfe_status_t rfe_mass_grade_step(rfe_mass_grade_t *mg, const rfe_mass_grade_inpu
     }
     o.started = 1u;
     o.torque_prev = in->torque;
-    o.last = e;
     *mg = o;
     *out = o.last;
     return status;
