@@ -583,6 +583,32 @@ static void test_factorisation_failures_leave_the_state_untouched(void **state)
     assert_memory_equal(&mg, &before, sizeof(mg));
 }
 
+/* REQ-MG-008: an update whose factorisations succeed but whose mean overflows is refused.
+ * A factor (set by hand: a corrupted state) correlating the mass with the speed by a
+ * quarter of the largest real and a speed innovation of 10 m/s: the speed row's gain moves
+ * the mass by about ten times S_Mv, past the largest real, while every factorisation meets
+ * finite entries; the update refuses the non-finite mean (mass_grade_flt.c update). The
+ * step's check of the outputs' sds would refuse this case too (the huge S_Mv leaves sd_mass
+ * past the square root of the largest real): the mean's check is the one that does not
+ * depend on that. */
+static void test_update_overflowing_the_mean_refused(void **state)
+{
+    rfe_mass_grade_estimate_t e;
+    rfe_mass_grade_input_t in;
+    rfe_mass_grade_t before;
+    (void)state;
+    setup_with(0u, 0u);
+    in = cruise((rfe_real_t)20.0, (rfe_real_t)DT);
+    in.has = 0u; /* the speed row only */
+    assert_int_equal(step(&in, &e), RFE_OK);
+    mg.S[0] = (rfe_real_t)1.0;
+    mg.S[3] = (rfe_real_t)(HUGE_REAL / 4.0); /* S_Mv */
+    before = mg;
+    in.v = (rfe_real_t)30.0;
+    assert_int_equal(step(&in, &e), RFE_ERR_NONFINITE);
+    assert_memory_equal(&mg, &before, sizeof(mg));
+}
+
 /* REQ-MG-008. Found by fuzz_mass_grade_f32: valid parameters (finite, > 0) whose squares
  * overflow the number type made the start report sd_v = Inf with status 0. A start or a hold
  * that overflows is now refused like an update that does. */
@@ -947,6 +973,7 @@ int main(void)
         cmocka_unit_test(test_adaptation_as_specified),
         cmocka_unit_test(test_adaptation_period),
         cmocka_unit_test(test_factorisation_failures_leave_the_state_untouched),
+        cmocka_unit_test(test_update_overflowing_the_mean_refused),
         cmocka_unit_test(test_start_and_hold_overflow_refused),
         cmocka_unit_test(test_update_losing_a_variance_refused),
         cmocka_unit_test(test_innovation_covariance_not_positive),

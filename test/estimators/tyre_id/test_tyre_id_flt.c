@@ -798,6 +798,85 @@ static void test_huge_vehicle_gives_finite_sds(void **state)
     }
 }
 
+/* REQ-TID-004: the sigma-point filter (§15) with the same huge vehicle: the prior's sd of D
+ * (0.3 Fz0, about 5e23 N in float) is a row norm of S whose plain sum of squares overflows;
+ * the spread is the same sum over the row scaled by its largest entry first, so on the first
+ * sample (S = diag(sd0)) it is sd0 exactly and not +Inf; every later output finite. In the
+ * float build each update's corrected mean x + K (y - z) overflows (rfe_cub_correct refuses
+ * it; the posterior Tria would refuse it next), so those steps are LOST with the prior, whose
+ * outputs are finite too; the double build updates. */
+static void test_sckf_huge_vehicle_gives_finite_sds(void **state)
+{
+    rfe_params_t veh;
+    rfe_tyre_id_params_t tp;
+    rfe_tyre_id_estimate_t e;
+    rfe_tyre_id_sample_t s;
+    int k;
+    int i;
+    (void)state;
+    setup_defaults(&veh, &tp);
+    tp.filter = RFE_TID_SCKF;
+#if defined(RFE_REAL_DOUBLE)
+    veh.vehicle.m = (rfe_real_t)1.83e155;
+#else
+    veh.vehicle.m = (rfe_real_t)1.83e23;
+#endif
+    assert_int_equal(rfe_tyre_id_init(&tid, &tp, &veh, 1u), RFE_OK);
+    assert_false(isfinite((double)(tid.c.sd0[0] * tid.c.sd0[0]))); /* the plain sum overflows */
+    for (k = 0; k < 5; ++k) {
+        s = sample((k > 0) ? (rfe_real_t)0.02 : 0, (rfe_real_t)0.01, (rfe_real_t)11.6, 0, 0);
+        assert_int_equal(rfe_tyre_id_step(&tid, &s, &e), RFE_OK);
+        for (i = 0; i < RFE_TID_OUTPUTS; ++i) {
+            assert_true(isfinite((double)e.mean[i]));
+            assert_true(isfinite((double)e.sd[i]) && e.sd[i] >= 0);
+        }
+        if (k == 0) {
+            assert_int_equal(e.flags, RFE_TID_FIRST);
+            assert_true(e.sd[RFE_TID_OUT_D_F] == tid.c.sd0[0]);
+            assert_true(e.sd[RFE_TID_OUT_D_R] == tid.c.sd0[4]);
+        }
+    }
+}
+
+/* REQ-TID-004 REQ-TID-008: a valid sd_ay (> 0, no upper bound) whose square overflows makes
+ * S_R's second entry +Inf, so the innovation factor's Tria refuses (the first of the update's
+ * checks to meet it; the posterior Tria, whose K S_R holds it too, would refuse as well): the
+ * update is lost (§15.3), the step reports LOST with the prior at the sample, every output
+ * finite. */
+static void test_sckf_overflowing_ay_noise_is_lost(void **state)
+{
+    rfe_params_t veh;
+    rfe_tyre_id_params_t tp;
+    rfe_tyre_id_estimate_t e;
+    rfe_tyre_id_sample_t s = sample(0, (rfe_real_t)0.02, 20, (rfe_real_t)0.05, 1);
+    size_t j;
+    (void)state;
+    setup_defaults(&veh, &tp);
+    tp.filter = RFE_TID_SCKF;
+#if defined(RFE_REAL_DOUBLE)
+    tp.sd_ay = (rfe_real_t)1e160;
+#else
+    tp.sd_ay = (rfe_real_t)1e20;
+#endif
+    assert_int_equal(rfe_tyre_id_params_validate(&tp), RFE_OK);
+    assert_int_equal(rfe_tyre_id_init(&tid, &tp, &veh, 1u), RFE_OK);
+    assert_int_equal(rfe_tyre_id_step(&tid, &s, &e), RFE_OK);
+    assert_int_equal(e.flags, RFE_TID_FIRST);
+    s.dt = (rfe_real_t)0.01;
+    s.yaw_rate = (rfe_real_t)0.07;
+    assert_int_equal(rfe_tyre_id_step(&tid, &s, &e), RFE_OK);
+    assert_int_equal(e.flags, RFE_TID_LOST);
+    assert_true(tid.sk.x[RFE_TID_VY] == 0 && tid.sk.x[RFE_TID_R] == (rfe_real_t)0.07);
+    for (j = 0u; j < (size_t)RFE_TID_PAR; ++j) {
+        const size_t d = (size_t)RFE_TID_STATES + j;
+        assert_true(tid.sk.x[d] == tid.c.mean0[j]);
+        assert_true(tid.sk.S[(d * (size_t)RFE_TID_DIM) + d] == tid.c.sd0[j]);
+    }
+    for (j = 0u; j < (size_t)RFE_TID_OUTPUTS; ++j) {
+        assert_true(isfinite(e.mean[j]) && isfinite(e.sd[j]));
+    }
+}
+
 /* REQ-TID-004: a particle with an infinite vy weighs 0 (its slip angles, forces and so its
  * l would stay finite, and its vy would turn every mean it enters into Inf or NaN). */
 static void test_infinite_vy_weighs_zero(void **state)
@@ -951,6 +1030,8 @@ int main(void)
         cmocka_unit_test(test_init_refuses_each_unusable_constant),
         cmocka_unit_test(test_huge_vehicle_gives_finite_sds),
         cmocka_unit_test(test_infinite_vy_weighs_zero),
+        cmocka_unit_test(test_sckf_huge_vehicle_gives_finite_sds),
+        cmocka_unit_test(test_sckf_overflowing_ay_noise_is_lost),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
