@@ -849,6 +849,40 @@ static void test_meas_input_jac_args(void **state)
     assert_memory_equal(G, G0, sizeof(G));
 }
 
+/* REQ: rfe_meas_input_jac of a car at rest (the function takes any speed; the step noise does
+ * not call it yet): every wheel's v_wx = 0, so no slip angle's tangent term (the division by
+ * |v_wx| is not formed) and the slip's over v_min; every entry finite, the column of vy (which
+ * reaches the slips only through the tangents) 0. */
+/* REQ-MEAS-004 */
+static void test_meas_input_jac_at_rest(void **state)
+{
+    rfe_params_t p;
+    rfe_sample_t u;
+    rfe_real_t mu[4] = {RFE_R(0.8), RFE_R(0.8), RFE_R(0.8), RFE_R(0.8)};
+    rfe_real_t sd[RFE_INPUTS];
+    rfe_real_t G[3 * RFE_INPUTS];
+    rfe_meas_t h;
+    size_t j;
+    int m;
+    (void)state;
+    assert_int_equal(rfe_params_default(&p), RFE_OK);
+    memset(&u, 0, sizeof(u));
+    for (j = 0u; j < (size_t)RFE_INPUTS; ++j) {
+        sd[j] = RFE_R(1.0);
+    }
+    for (m = 0; m < 3; ++m) {
+        p.tyre.mode = MODES[m];
+        assert_int_equal(rfe_meas_setup(&h, &p.vehicle, &p.tyre, &u), RFE_OK);
+        assert_int_equal(rfe_meas_input_jac(&h, &p.vehicle, &p.tyre, &u, mu, sd, G), RFE_OK);
+        for (j = 0u; j < (3u * (size_t)RFE_INPUTS); ++j) {
+            assert_true(isfinite((double)G[j]));
+        }
+        for (j = 0u; j < 3u; ++j) {
+            assert_true(G[(j * RFE_INPUTS) + RFE_IN_VY] == RFE_R(0.0));
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -859,6 +893,7 @@ int main(void)
         cmocka_unit_test(test_meas_lateral_jac),
         cmocka_unit_test(test_meas_input_jac),
         cmocka_unit_test(test_meas_input_jac_args),
+        cmocka_unit_test(test_meas_input_jac_at_rest),
         cmocka_unit_test(test_meas_lateral_jac_args),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -1538,6 +1538,43 @@ static void test_meas_input_jac_q31_args(void **state)
     assert_true(G[0] != G0[0]);
 }
 
+/* REQ: rfe_meas_input_jac_q31 at and near standstill (the function itself takes any speed; the
+ * step noise does not call it yet): a car at rest (every v_wx = 0: no tangent term, den = v_min
+ * for the slip), a slow car whose wheels are below v_min (front |v_wx| > |omega R|, rear
+ * |omega R| >= |v_wx|: den = v_min, neither speed's own term), with no steering column
+ * (sd_delta = 0: no turned forces); every column finite and that of delta 0. */
+/* REQ-MEAS-004 */
+static void test_meas_input_jac_q31_slow(void **state)
+{
+    const double still[4] = {0.0, 0.0, 0.0, 0.0};
+    double slow[4];
+    rfe_fix_t muq[4] = {toq(0.8, 29), toq(0.8, 29), toq(0.8, 29), toq(0.8, 29)};
+    rfe_fix_t sdq[8] = {0, toq(0.01, 23), toq(0.01, 23), toq(0.005, 27),
+                        toq(0.05, 22), toq(0.05, 22), toq(0.05, 22), toq(0.05, 22)};
+    rfe_fix_t G[24];
+    rfe_sample_q31_t uq;
+    rfe_sample_t ud;
+    rfe_meas_q31_t hq;
+    uint32_t sat = 0u;
+    int c;
+    (void)state;
+    slow[0] = 0.1 / pd_mag.vehicle.R; /* front: omega R 0.1 < v_wx 0.2 < v_min 0.5 */
+    slow[1] = slow[0];
+    slow[2] = 0.3 / pd_mag.vehicle.R; /* rear: v_wx 0.2 <= omega R 0.3 < v_min */
+    slow[3] = slow[2];
+    for (c = 0; c < 2; ++c) {
+        size_t r;
+        make_sample(0.0, (c == 0) ? 0.0 : 0.2, 0.0, 0.0, 0.0, 0.0, (c == 0) ? still : slow, &uq,
+                    &ud);
+        assert_int_equal(rfe_meas_setup_q31(&hq, &pq_mag.vehicle, &pq_mag.tyre, &uq, &sat), RFE_OK);
+        memset(G, 0x5A, sizeof(G));
+        assert_int_equal(rfe_meas_input_jac_q31(&hq, &pq_mag.vehicle, &pq_mag.tyre, &uq, muq, sdq, G, &sat), RFE_OK);
+        for (r = 0; r < 3u; ++r) {
+            assert_int_equal(G[r * 8u], 0);
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1553,6 +1590,7 @@ int main(void)
         cmocka_unit_test(test_meas_lateral_jac_q31),
         cmocka_unit_test(test_meas_input_jac_q31),
         cmocka_unit_test(test_meas_input_jac_q31_args),
+        cmocka_unit_test(test_meas_input_jac_q31_slow),
         cmocka_unit_test(test_meas_lateral_jac_q31_at_alpha_bound),
         cmocka_unit_test(test_meas_lateral_jac_q31_args),
     };
