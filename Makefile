@@ -46,7 +46,7 @@ DEPS_EXTRA :=
 TEST_GATES :=
 include $(sort $(filter-out mk/lib.mk,$(wildcard mk/*.mk)))
 
-.PHONY: mass-grade-scenarios mass-grade-results mass-grade-textbook mass-sensitivity tyre-id-feed-results mass-grade-goldens trust-invariant names car-format-logs observer-goldens observer-goldens-q31 observer-results monitor-results test-pkg all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind valgrind-unit valgrind-cli coverage demo goldens goldens-q31 scenarios observer-scenarios clean vectors shared-sync check-shared readme-table \
+.PHONY: mass-grade-scenarios mass-grade-results mass-grade-textbook mass-sensitivity tyre-id-feed-results mass-grade-goldens trust-invariant names car-format-logs observer-goldens observer-goldens-q31 observer-results monitor-results shape-results test-pkg all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind valgrind-unit valgrind-cli coverage demo goldens goldens-q31 scenarios observer-scenarios clean vectors shared-sync check-shared readme-table \
         check-kernels check-tools layers help-check goldens-ref check-nofloat help deps-analysis misra tidy complexity structural analysis \
         twins check-twins tyre-id-scenarios tyre-id-results tyre-id-goldens
 ## the libraries and build/mu_replay (the default target)
@@ -464,6 +464,12 @@ mass-sensitivity: venv $(BUILD)/mu_replay
 ## measure the model-validity monitor and write the tables of docs/MONITOR.md
 monitor-results: venv
 	$(PY) scripts/tools/monitor_results.py --jobs 2 --page docs/MONITOR.md
+# The shape-ambiguity study (docs/MONITOR.md section 6): the reference and a shadow estimator
+# per second tyre hypothesis on the 72 bundled logs (cached in build/shape/, about 25 min on
+# 2 cores the first time).
+## measure the second tyre-shape hypotheses and write section 6's tables of docs/MONITOR.md
+shape-results: venv
+	$(PY) scripts/tools/shape_results.py --jobs 2 --page docs/MONITOR.md
 
 # The velocity observer's goldens (docs/OBSERVER.md) from its float64 reference.
 ## regenerate the velocity observer's goldens (scenarios/golden/observer/)
