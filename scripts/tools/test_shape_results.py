@@ -6,8 +6,8 @@ log where the estimate is right (more than issue 17's 5 points of the excited-va
 And the one rule that keeps the Magic Formula logs' valid share (the likelihood-gated agreement
 with the tolerance hypothesis) gains only where that hypothesis is the truth tyre.
 The rules are checked on constructed inputs whose answer follows from the definitions. The
-claim is checked on three bundled logs through the reference itself (no cache: about a minute
-on one core); the full 72-log figures are the page's tables (make shape-results).
+claim is checked on three bundled logs through the reference itself (no cache: nine runs,
+about 80 s on this machine's shared core); the full 72-log figures are the page's tables (make shape-results).
 """
 import math
 import sys
