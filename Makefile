@@ -470,6 +470,7 @@ monitor-results: venv
 ## measure the second tyre-shape hypotheses and write section 6's tables of docs/MONITOR.md
 shape-results: venv
 	$(PY) scripts/tools/shape_results.py --jobs 2 --page docs/MONITOR.md
+	RFE_SHAPE_CLAIM=1 $(PY) -m pytest -q -p no:cacheprovider scripts/tools/test_shape_results.py
 
 # The velocity observer's goldens (docs/OBSERVER.md) from its float64 reference.
 ## regenerate the velocity observer's goldens (scenarios/golden/observer/)

@@ -5,11 +5,15 @@ log where the estimate is right (more than issue 17's 5 points of the excited-va
 
 And the one rule that keeps the Magic Formula logs' valid share (the likelihood-gated agreement
 with the tolerance hypothesis) gains only where that hypothesis is the truth tyre.
-The rules are checked on constructed inputs whose answer follows from the definitions. The
-claim is checked on three bundled logs through the reference itself (no cache: nine runs,
-about 80 s on this machine's shared core); the full 72-log figures are the page's tables (make shape-results).
+The rules are checked on constructed inputs whose answer follows from the definitions, in
+every test run. The claim is checked on three bundled logs through the reference itself (no
+cache: nine runs, about 80 s of one core), so it runs where the claim is made: `make
+shape-results` sets RFE_SHAPE_CLAIM=1 and runs these tests after writing the tables. `make
+test` skips the three (a negative study result: no library behaviour depends on it, and
+80 s is a tenth of make test's budget); the full 72-log figures are the page's tables.
 """
 import math
+import os
 import sys
 from pathlib import Path
 
@@ -86,6 +90,9 @@ def test_likelihood_ratio_and_agree_lr():
         shape.combine(a, b, "agree_lr", sd_valid=0.15)
 
 
+claim = pytest.mark.skipif(os.environ.get("RFE_SHAPE_CLAIM") != "1",
+                           reason="the study's claim runs with make shape-results (RFE_SHAPE_CLAIM=1)")
+
 CLAIM_LOGS = ("paper_low_mu_brake.csv", "sine_steer_low_mu.mf.csv", "wrong_tyre_data.mf.csv")
 
 
@@ -95,6 +102,7 @@ def measured(tmp_path_factory):
     return sr.measure(paths, jobs=1, cache=tmp_path_factory.mktemp("shape"))
 
 
+@claim
 def test_second_hypothesis_heals_a_dugoff_log(measured):
     # normalised-Dugoff truth, mild braking on mu 0.2: valid ~99 % at an error ~0.33 today
     # (docs/RESULTS.md "Trust invariant"); the normalised-Dugoff shadow disagrees and the
@@ -106,6 +114,7 @@ def test_second_hypothesis_heals_a_dugoff_log(measured):
     assert not sr.meets(f["mf_tol/agree"])
 
 
+@claim
 def test_second_hypothesis_costs_a_magic_formula_log(measured):
     # Magic Formula truth, where the estimate is right today: the same shadow disagrees with
     # it (its stiffness scales with mu) and the rule withdraws the flags there too, far beyond
@@ -115,6 +124,7 @@ def test_second_hypothesis_costs_a_magic_formula_log(measured):
     assert f["today"]["excited_valid"] - f["paper/agree"]["excited_valid"] > sr.MAX_DROP
 
 
+@claim
 def test_likelihood_gate_keeps_the_share_and_heals_only_its_own_truth(measured):
     # mf_tol/agree_lr: on the Magic Formula log the innovations favour the primary, the flags
     # stay (drop within the 5 points); on wrong_tyre_data.mf, whose truth tyre is exactly the
