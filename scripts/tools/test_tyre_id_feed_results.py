@@ -57,6 +57,18 @@ def test_columns_are_every_feed_of_each_filter():
     assert len(set(labels)) == len(labels)             # no two columns read the same
 
 
+def test_hold_columns_pair_no_hold_with_the_default():
+    """The before -> after table: each filter's ungated feeds once with tid_feed_ax_max 0 (a
+    third entry, named in the label) and once without the key (its default)."""
+    pairs = fr.hold_columns()
+    assert len(pairs) == len(fr.FILTERS) * len(fr.HOLD_FEEDS)
+    for flt, letter, before, after in pairs:
+        assert before == (after[0], after[1], 0.0) and len(after) == 2
+        assert after in fr.HOLD_FEEDS
+    assert fr.label((0.05, 0.0, 0.0), "S") == "S0.05 a0"
+    assert fr.label((0.05, 0.0), "S") == "S0.05"
+
+
 def test_meets_issue_20_targets_on_their_limits():
     assert fr.meets((0.08, 0.90, 0.5, 0.5)) is True
     assert fr.meets((0.081, 0.95, 0.5, 0.5)) is False    # RMSE above 0.08
@@ -65,7 +77,8 @@ def test_meets_issue_20_targets_on_their_limits():
 
 
 def _stand_in(tmp_path):
-    """An executable that records its arguments and writes a --metrics JSON: wheels fl, fr
+    """An executable that records its arguments (and its --params file's text in
+    params.txt) and writes a --metrics JSON: wheels fl, fr
     with 100 and 300 valid of 400 settled samples, RMSE when valid 0.1 and 0.2, consistency
     when valid 1.0 and 0.8, rr and rl without samples; 25 of 100 steps fed."""
     exe = tmp_path / "mu_replay"
@@ -84,6 +97,8 @@ def _stand_in(tmp_path):
 import json, sys
 a = sys.argv[1:]
 json.dump(a, open({str(rec)!r}, "w"))
+if "--params" in a:
+    open({str(tmp_path / "params.txt")!r}, "w").write(open(a[a.index("--params") + 1]).read())
 json.dump({j!r}, open(a[a.index("--metrics") + 1], "w"))
 """)
     exe.chmod(exe.stat().st_mode | stat.S_IXUSR)
@@ -101,6 +116,17 @@ def test_run_hands_the_filter_and_feed_to_the_replay(tmp_path):
     assert abs(r[1] - (100 * 1.0 + 300 * 0.8) / 400) < 1e-12
     assert abs(r[2] - 0.5) < 1e-12                     # 400 valid of 800 settled
     assert r[3] == 0.25
+
+
+def test_run_writes_the_hold_only_when_the_feed_sets_it(tmp_path):
+    exe, rec = _stand_in(tmp_path)
+    par = tmp_path / "params.txt"
+    fr.run(exe, "scenarios/brake_in_turn.mf.csv", "sckf", (0.1, 0.0, 0.0))
+    assert "tid_feed_ax_max = 0.0" in par.read_text().splitlines()
+    fr.run(exe, "scenarios/brake_in_turn.mf.csv", "sckf", (0.1, 0.25))
+    lines = par.read_text().splitlines()
+    assert "tid_feed_evidence = 0.25" in lines
+    assert not any(x.startswith("tid_feed_ax_max") for x in lines)   # the key's default
 
 
 def test_run_without_the_identifier_names_no_filter(tmp_path):

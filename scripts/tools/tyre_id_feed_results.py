@@ -28,8 +28,13 @@ the estimate does not help). It "hurts" when its RMSE when valid is higher by mo
 A run "meets" issue 20's targets when its RMSE when valid is <= 0.08 and its consistency when
 valid >= 0.9 (no verdict without a valid sample); the count of logs that meet them is given
 per column, "off" included.
-With --page the table goes between
-<!-- tyre-feed:begin/end --> of the page.
+Every fed run of that table has tid_feed_ax_max at its default (0.5 m/s^2: no curve fed after
+a sample whose |ax| exceeds it, braking or driving). A second table, "before -> after", sets
+each filter's ungated feeds of HOLD_FEEDS once with tid_feed_ax_max = 0 (no hold: before) and
+once at the default (after), with the same rules and, per log, the verdict of the hold against
+the run without it ("helps" / "hurts" as above with the unheld run as the base).
+With --page the tables go between
+<!-- tyre-feed:begin/end --> and <!-- tyre-feed-hold:begin/end --> of the page.
 """
 
 import argparse
@@ -58,12 +63,15 @@ CONS_WORSE = 0.05  # a fall of the consistency when valid that hurts
 FILTERS = (("apf", "A"), ("sckf", "S"))  # (--tyre-id FILTER, its letter in the column labels)
 RMSE_TARGET = 0.08  # issue 20: RMSE when valid with identified parameters at most this
 CONS_TARGET = 0.9  # issue 20: consistency when valid at least this
+HOLD_FEEDS = ((0.05, 0.0), (0.1, 0.0))  # the feeds of the before -> after table
+HOLD_OFF = 0.0  # tid_feed_ax_max of the "before" runs: no hold
 
 
 def label(feed, letter=""):
-    """The column label of a feed: the filter's letter, its tid_feed_sd_rel, and the evidence
-    asked for."""
-    return f"{letter}{feed[0]:g}" + (f" e{feed[1]:g}" if feed[1] > 0 else "")
+    """The column label of a feed: the filter's letter, its tid_feed_sd_rel, the evidence
+    asked for, and tid_feed_ax_max when the feed sets it (a third entry; else the default)."""
+    return (f"{letter}{feed[0]:g}" + (f" e{feed[1]:g}" if feed[1] > 0 else "")
+            + (f" a{feed[2]:g}" if len(feed) > 2 else ""))
 
 
 def columns():
@@ -82,8 +90,8 @@ def logs():
 
 def run(exe, log, flt, feed):
     """(RMSE when valid, consistency when valid, valid share, share fed) of one run; flt the
-    --tyre-id filter, feed (tid_feed_sd_rel, tid_feed_evidence), None: without the
-    identifier."""
+    --tyre-id filter, feed (tid_feed_sd_rel, tid_feed_evidence[, tid_feed_ax_max]; without
+    the third, the key's default), None: without the identifier."""
     with tempfile.TemporaryDirectory() as tmp:
         js = os.path.join(tmp, "m.json")
         args = [exe, "--in", os.path.join(ROOT, log), "--out", os.path.join(tmp, "e.csv"),
@@ -92,6 +100,8 @@ def run(exe, log, flt, feed):
             par = os.path.join(tmp, "feed.params")
             with open(par, "w", encoding="utf-8") as fh:
                 fh.write(f"tid_feed_sd_rel = {feed[0]!r}\ntid_feed_evidence = {feed[1]!r}\n")
+                if len(feed) > 2:
+                    fh.write(f"tid_feed_ax_max = {feed[2]!r}\n")
             args += ["--tyre-id", flt, "--params", par]
         r = subprocess.run(args, capture_output=True, text=True, check=False)
         if r.returncode != 0:
@@ -126,6 +136,55 @@ def meets(r):
     return r[0] <= RMSE_TARGET and r[1] >= CONS_TARGET
 
 
+def hold_columns():
+    """The before -> after pairs: (filter, letter, feed without the hold, feed at the default),
+    each filter of FILTERS with each feed of HOLD_FEEDS."""
+    return [(flt, letter, (f[0], f[1], HOLD_OFF), f) for flt, letter in FILTERS
+            for f in HOLD_FEEDS]
+
+
+def hold_table(names, res):
+    """The before -> after table's lines (the docstring's second table) from the runs @p res."""
+    pairs = hold_columns()
+    heads = " / ".join(f"{label(b, letter)} → {label(f, letter)}" for _, letter, b, f in pairs)
+    rows = [f"| log | RMSE when valid: off / {heads} | consistency when valid: off / {heads} "
+            f"| valid: off / {heads} | fed: {heads} | the hold helps / hurts against no hold |",
+            "|---|---|---|---|---|---|"]
+    vs_off = {p: [[0, 0], [0, 0]] for p in pairs}  # per pair, before and after: helps, hurts
+    met = {p: [0, 0] for p in pairs}
+    hold = {p: [0, 0] for p in pairs}
+    for log in names:
+        base = res[(log, None, None)]
+        cells = [[cell(base[0], ".3f")], [cell(base[1], ".2f")], [cell(base[2], ".0%")], [], []]
+        for p in pairs:
+            b, a = res[(log, p[0], p[2])], res[(log, p[0], p[3])]
+            cells[0].append(f"{cell(b[0], '.3f')} → {cell(a[0], '.3f')}")
+            cells[1].append(f"{cell(b[1], '.2f')} → {cell(a[1], '.2f')}")
+            cells[2].append(f"{cell(b[2], '.0%')} → {cell(a[2], '.0%')}")
+            cells[3].append(f"{b[3]:.0%} → {a[3]:.0%}")
+            h, u = helps(b, a), hurts(b, a)
+            hold[p][0] += 1 if h else 0
+            hold[p][1] += 1 if u else 0
+            cells[4].append("–" if h is None else ("helps" if h else ("hurts" if u else "=")))
+            for k, r in enumerate((b, a)):
+                vs_off[p][k][0] += 1 if helps(base, r) else 0
+                vs_off[p][k][1] += 1 if hurts(base, r) else 0
+                met[p][k] += 1 if meets(r) else 0
+        name = log[len("scenarios/"):-len(".csv")]
+        rows.append(f"| {name} | " + " | ".join(" / ".join(c) for c in cells) + " |")
+    rows.append("")
+    rows.append(f"Before → after: tid_feed_ax_max {HOLD_OFF:g} (no hold, aX: its value) → "
+                "the default. Helps / hurts against off: "
+                + "; ".join(f"{label(p[3], p[1])}: {vs_off[p][0][0]} / {vs_off[p][0][1]} → "
+                            f"{vs_off[p][1][0]} / {vs_off[p][1][1]}" for p in pairs)
+                + ". Meets issue 20's targets: "
+                + "; ".join(f"{label(p[3], p[1])}: {met[p][0]} → {met[p][1]}" for p in pairs)
+                + ". The hold against no hold, helps / hurts: "
+                + "; ".join(f"{label(p[3], p[1])}: {hold[p][0]} / {hold[p][1]}" for p in pairs)
+                + ".")
+    return rows
+
+
 def cell(x, fmt):
     return "–" if x is None else format(x, fmt)
 
@@ -142,6 +201,7 @@ def main():
     cols = columns()
     jobs = [(log, None, None) for log in names] + [(log, c[0], c[2]) for log in names
                                                    for c in cols]
+    jobs += [(log, p[0], p[2]) for log in names for p in hold_columns()]
     done = [0]
 
     def one(job):
@@ -192,9 +252,13 @@ def main():
                 + ".")
     text = "\n".join(rows)
     print(text)
+    held = hold_table(names, res)
+    print("\n".join(held))
     if a.page:
         replace_region(Path(a.page), "<!-- tyre-feed:begin -->", "<!-- tyre-feed:end -->",
                        text.splitlines(), "tyre_id_feed_results")
+        replace_region(Path(a.page), "<!-- tyre-feed-hold:begin -->",
+                       "<!-- tyre-feed-hold:end -->", held, "tyre_id_feed_results")
 
 
 if __name__ == "__main__":

@@ -866,6 +866,9 @@ static const char *validator_name(size_t k)
     if (k == (size_t)RFE_PK_tid_feed_evidence) {
         return "mu_replay: a time >= 0 s";
     }
+    if (k == (size_t)RFE_PK_tid_feed_ax_max) {
+        return "mu_replay: a finite acceleration >= 0 m/s^2";
+    }
     if (k == (size_t)RFE_PK_tid_feed_sd_rel) {
         return "mu_replay: a relative sd >= 0, and 0 behind the velocity observer, whose "
                "pipeline has no lateral tyre setter";
@@ -1370,6 +1373,8 @@ static void write_tyre_id_json(FILE *f, const run_t *r)
     rfe_json_write_number(f, r->ps.tid[RFE_PK_tid_feed_sd_rel - RFE_PK_TID_FIRST]);
     fputs(", \"evidence\": ", f);
     rfe_json_write_number(f, r->ps.tid[RFE_PK_tid_feed_evidence - RFE_PK_TID_FIRST]);
+    fputs(", \"ax_max\": ", f);
+    rfe_json_write_number(f, r->ps.tid[RFE_PK_tid_feed_ax_max - RFE_PK_TID_FIRST]);
     fprintf(f, ", \"n_fed\": %zu}},\n", r->stats.n_tyre_fed);
 }
 
@@ -1407,10 +1412,11 @@ static void print_tyre_id(const run_t *r)
            r->stats.tid_flag_count[3], r->stats.tid_flag_count[4], r->stats.tid_restarts);
     if (last->has_tyre_feed != 0) {
         printf("  lateral curve fed to the friction estimator at %zu samples (tid_feed_sd_rel = %g, "
-               "tid_feed_evidence = %g s); its curve at the end cy %.2f /rad, C %.3f, E %.3f, "
-               "r_model_rel %.4f\n",
+               "tid_feed_evidence = %g s, tid_feed_ax_max = %g m/s^2); its curve at the end cy "
+               "%.2f /rad, C %.3f, E %.3f, r_model_rel %.4f\n",
                r->stats.n_tyre_fed, r->ps.tid[RFE_PK_tid_feed_sd_rel - RFE_PK_TID_FIRST],
                r->ps.tid[RFE_PK_tid_feed_evidence - RFE_PK_TID_FIRST],
+               r->ps.tid[RFE_PK_tid_feed_ax_max - RFE_PK_TID_FIRST],
                last->cy_used, last->shape_Cy_used, last->shape_Ey_used, last->r_model_rel_used);
     }
 }

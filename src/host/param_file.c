@@ -36,6 +36,7 @@ static const rfe_param_info_t k_info[RFE_PK_COUNT] = {
     {"tid_seed", "-", "tyre identifier: seed of its random stream (an integer 0 .. 2^53)"},
     {"tid_feed_sd_rel", "1", "replay: feed the identified lateral curve to the friction estimator after an update with sd(K) <= this * K (0 = never)"},
     {"tid_feed_evidence", "s", "replay: feed only once the friction estimator has spent this long (summed) at a mu bound or in model mismatch (0 = from the start)"},
+    {"tid_feed_ax_max", "m/s^2", "replay: feed no curve after a sample whose |ax| exceeds this, braking or driving (0 = no hold)"},
     RFE_TID_KEYS(RFE_PK_INFO_)
 #undef RFE_PK_INFO_
 };

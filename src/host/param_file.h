@@ -207,8 +207,8 @@
 /** Index of each key: the friction estimator's numeric keys RFE_PK_m, RFE_PK_Lf, ...; its
  *  three word-valued keys; then the observer's keys, obs_driven first; then the mass and
  *  grade estimator's, mg_adaptive, mg_use_ax and the replay's three mg_feed_* first; then
- *  the tyre identifier's, tid_filter, tid_resample, tid_substeps, tid_seed, tid_feed_sd_rel and
- *  tid_feed_evidence first. */
+ *  the tyre identifier's, tid_filter, tid_resample, tid_substeps, tid_seed, tid_feed_sd_rel,
+ *  tid_feed_evidence and tid_feed_ax_max first. */
 typedef enum {
 #define RFE_PK_ENUM_(key, member, unit, doc) RFE_PK_##key,
     RFE_PARAM_KEYS(RFE_PK_ENUM_)
@@ -251,6 +251,11 @@ typedef enum {
      *  a μ bound) or 4 (model mismatch), its own evidence that its curve is wrong (0, the
      *  default: from the start; TYRE_ID.md §14). */
     RFE_PK_tid_feed_evidence,
+    /** key tid_feed_ax_max (m/s^2): a replay key (no member): no curve is fed after a sample
+     *  whose |ax| exceeds this (braking or driving: the tyres' combined slip lowers the lateral
+     *  force the identifier's lateral-only model reads, TYRE_ID.md §3.3), the friction
+     *  estimator keeping the curve it has (0 = no hold; TYRE_ID.md §14). */
+    RFE_PK_tid_feed_ax_max,
     RFE_TID_KEYS(RFE_PK_ENUM_)
 #undef RFE_PK_ENUM_
     RFE_PK_COUNT        /**< number of keys */
@@ -289,14 +294,20 @@ typedef enum {
 #define RFE_MG_FEED_AX_MIN_DEFAULT 0.2
 
 /** The tyre identifier's keys before the RFE_TID_KEYS table: tid_filter, tid_resample,
- *  tid_substeps, tid_seed, tid_feed_sd_rel, tid_feed_evidence. */
-#define RFE_PK_TID_SPECIAL 6u
+ *  tid_substeps, tid_seed, tid_feed_sd_rel, tid_feed_evidence, tid_feed_ax_max. */
+#define RFE_PK_TID_SPECIAL 7u
 
 /** tid_feed_sd_rel of every preset: 0, the identified curve is not fed (TYRE_ID.md §14). */
 #define RFE_TID_FEED_SD_REL_DEFAULT 0.0
 
 /** tid_feed_evidence of every preset: 0 s, the feed (when on) needs no evidence first. */
 #define RFE_TID_FEED_EVIDENCE_DEFAULT 0.0
+
+/** tid_feed_ax_max of every preset: 0.5 m/s^2. The steering logs' braking reaches 0.9-1.1
+ *  m/s^2 on low mu and 2.5 m/s^2 on high mu, their cornering at a steady speed at most
+ *  0.56 m/s^2 (drag and noise, on 1 % of the samples); a fed curve identified under braking
+ *  raised brake_in_turn.mf's RMSE when valid from 0.139 to 0.325 (TYRE_ID_RESULTS.md). */
+#define RFE_TID_FEED_AX_MAX_DEFAULT 0.5
 
 /** tid_seed of every preset (docs/TYRE_ID.md §2). */
 #define RFE_TID_SEED_DEFAULT 1.0

@@ -31,6 +31,7 @@ typedef struct {
     double t_last;    /* the last accepted row's time (have_last) */
     double feed;      /* key tid_feed_sd_rel */
     double evidence;  /* key tid_feed_evidence (s) */
+    double ax_max;    /* key tid_feed_ax_max (m/s^2; 0: no hold) */
     double t_wrong;   /* time so far at a mu bound or in model mismatch (s) */
     double t_row;     /* the previous row's time (have_row), for t_wrong */
     int have_row;
@@ -228,6 +229,7 @@ int rfe_param_set_tyre_id(rfe_param_set_t *ps)
     ps->tid[RFE_PK_tid_seed - RFE_PK_TID_FIRST] = RFE_TID_SEED_DEFAULT; /* the init's argument */
     ps->tid[RFE_PK_tid_feed_sd_rel - RFE_PK_TID_FIRST] = RFE_TID_FEED_SD_REL_DEFAULT; /* the replay's */
     ps->tid[RFE_PK_tid_feed_evidence - RFE_PK_TID_FIRST] = RFE_TID_FEED_EVIDENCE_DEFAULT;
+    ps->tid[RFE_PK_tid_feed_ax_max - RFE_PK_TID_FIRST] = RFE_TID_FEED_AX_MAX_DEFAULT;
     for (k = RFE_PK_TID_SPECIAL; k < RFE_PK_TID_COUNT; ++k) {
         rfe_real_t v;
         memcpy(&v, (const char *)&tp + k_tid_offset[k - RFE_PK_TID_SPECIAL], sizeof v);
@@ -419,7 +421,8 @@ rfe_status_t rfe_replay_mass_grade_params(const rfe_param_set_t *ps, rfe_mass_gr
  * value, tid_substeps is not an integer 0 .. 2^32 - 1 (a double would otherwise be
  * truncated without a word; the library checks its range), tid_seed is not an integer
  * 0 .. 2^53 (it has no member: rfe_replay_tyre_id_params reads it from the set) or
- * tid_feed_sd_rel or tid_feed_evidence is not a finite number >= 0 (the replay's). */
+ * tid_feed_sd_rel, tid_feed_evidence or tid_feed_ax_max is not a finite number >= 0 (the
+ * replay's). */
 static int set_tid_key(rfe_tyre_id_params_t *tp, const rfe_param_set_t *ps, size_t k)
 {
     const double v = ps->tid[k - RFE_PK_TID_FIRST];
@@ -443,7 +446,8 @@ static int set_tid_key(rfe_tyre_id_params_t *tp, const rfe_param_set_t *ps, size
         if (!whole || (v > RFE_TID_SEED_MAX)) {
             return -1;
         }
-    } else if ((k == (size_t)RFE_PK_tid_feed_sd_rel) || (k == (size_t)RFE_PK_tid_feed_evidence)) {
+    } else if ((k == (size_t)RFE_PK_tid_feed_sd_rel) || (k == (size_t)RFE_PK_tid_feed_evidence) ||
+               (k == (size_t)RFE_PK_tid_feed_ax_max)) {
         if (!((v >= 0.0) && isfinite(v))) {
             return -1;
         }
@@ -625,6 +629,7 @@ static rfe_status_t tyre_id_init(const rfe_param_set_t *ps, const rfe_params_t *
     t->have_last = 0;
     t->feed = ps->tid[RFE_PK_tid_feed_sd_rel - RFE_PK_TID_FIRST];
     t->evidence = ps->tid[RFE_PK_tid_feed_evidence - RFE_PK_TID_FIRST];
+    t->ax_max = ps->tid[RFE_PK_tid_feed_ax_max - RFE_PK_TID_FIRST];
     t->t_wrong = 0.0;
     t->have_row = 0;
     t->r_model = ps->value[RFE_PK_r_model_rel];
@@ -712,7 +717,10 @@ static void tyre_feed_evidence(tid_run_t *t, double time, const rfe_est_row_t *o
 
 /* The feed rule (TYRE_ID.md §14), called with tid_feed_sd_rel > 0: 1, with the curve to feed
  * in @p v (cy, shape_Cy, shape_Ey, r_model_rel), when the friction estimator's evidence
- * (t_wrong) has reached tid_feed_evidence, this sample's identifier step (@p out)
+ * (t_wrong) has reached tid_feed_evidence, this sample's |ax| (@p ax, the log's) is at most
+ * tid_feed_ax_max (when positive: under braking or driving the identifier's lateral-only
+ * model reads the combined slip's lower lateral force as a different curve, so the friction
+ * estimator keeps the one it has), this sample's identifier step (@p out)
  * updated (its flags are 0 on a refused sample) and the relative sd of the summed cornering
  * stiffness, rel = sqrt(sd_Kf^2 + sd_Kr^2) / (K_f + K_r) (the axles' spreads taken as
  * independent), is at most tid_feed_sd_rel. The curve: cy =
@@ -720,7 +728,8 @@ static void tyre_feed_evidence(tid_run_t *t, double time, const rfe_est_row_t *o
  * the axles' C and E weighted by those loads, r_model_rel = sqrt(r^2 + rel^2) with r the
  * parameter set's (key r_model_rel): the curve's uncertainty joins the model error. In double, each rounded to
  * the build's real type. */
-static int tyre_feed_due(const tid_run_t *t, const rfe_est_row_t *out, rfe_real_t v[4])
+static int tyre_feed_due(const tid_run_t *t, const rfe_est_row_t *out, double ax,
+                         rfe_real_t v[4])
 {
     const rfe_tyre_id_estimate_t *e = &t->tid.last;
     const double feed = t->feed;
@@ -731,7 +740,8 @@ static int tyre_feed_due(const tid_run_t *t, const rfe_est_row_t *out, rfe_real_
     const double sd_f = (double)e->sd[RFE_TID_OUT_K_F];
     const double sd_r = (double)e->sd[RFE_TID_OUT_K_R];
     const double rel = sqrt((sd_f * sd_f) + (sd_r * sd_r)) / k;
-    if (!((t->t_wrong >= t->evidence) && ((out->tid_flags & RFE_TID_UPDATED) != 0u) &&
+    const int held = (t->ax_max > 0.0) && (fabs(ax) > t->ax_max);
+    if (!((t->t_wrong >= t->evidence) && !held && ((out->tid_flags & RFE_TID_UPDATED) != 0u) &&
           (rel <= feed))) {
         return 0;
     }
@@ -991,7 +1001,7 @@ static void step_measured_row(rfe_replay_state_t *st, const rfe_sensor_row_t *ro
         if (st->tid.feed_on != 0) {
             tyre_feed_evidence(&st->tid, row->t, out);
         }
-        if ((st->tid.feed_on != 0) && (tyre_feed_due(&st->tid, out, v) != 0) &&
+        if ((st->tid.feed_on != 0) && (tyre_feed_due(&st->tid, out, row->ax, v) != 0) &&
             (rfe_friction_set_lateral_tyre(&st->pl.friction, v[0], v[1], v[2], v[3]) ==
              RFE_OK)) {
             ++st->stats.n_tyre_fed; /* a curve it refuses (C at a bound of (1, 2)) is not fed */

@@ -2187,7 +2187,8 @@ static double evidence_after(double t_wrong, const rfe_sensor_log_t *log, size_t
 
 /* The replay of @p log with the feed at tid_feed_sd_rel 0.05 and tid_feed_evidence
  * @p evidence (s) against a hand-written loop over the library, bit for bit: each sample the
- * friction step, then the identifier's, then the evidence and feed rules on that step's
+ * friction step, then the identifier's, then the evidence, hold (no feed after a sample whose
+ * |ax| exceeds tid_feed_ax_max, its default 0.5 m/s^2) and feed rules on that step's
  * estimate and rfe_friction_set_lateral_tyre, so the next sample's step takes the curve
  * (cy_used .. r_model_rel_used: the curve of each sample's step). Returns the samples fed
  * (the replay's count, checked against the loop's), *differs the samples whose friction
@@ -2206,6 +2207,7 @@ static size_t feed_loop_check(rfe_sensor_log_t *log, double evidence, size_t *di
     rfe_est_row_t *on = calloc(log->n_rows, sizeof *on);
     rfe_est_row_t *off = calloc(log->n_rows, sizeof *off);
     double t_wrong = 0.0;
+    double ax_max;
     size_t i;
     size_t n_fed = 0u;
     assert_non_null(on);
@@ -2218,6 +2220,8 @@ static size_t feed_loop_check(rfe_sensor_log_t *log, double evidence, size_t *di
     ps.tyre_id = 1;
     ps.tid[RFE_PK_tid_feed_sd_rel - RFE_PK_TID_FIRST] = 0.05;
     ps.tid[RFE_PK_tid_feed_evidence - RFE_PK_TID_FIRST] = evidence;
+    ax_max = ps.tid[RFE_PK_tid_feed_ax_max - RFE_PK_TID_FIRST];
+    assert_true(ax_max == 0.5); /* the preset's hold (TYRE_ID.md §14) */
     assert_int_equal(rfe_replay_run_f64(&ps, log, on, &st, NULL), RFE_OK);
     assert_int_equal(rfe_replay_params_f64(&ps, &p, NULL), RFE_OK);
     assert_int_equal(rfe_replay_tyre_id_params_f64(&ps, &tp, &seed, NULL), RFE_OK);
@@ -2248,7 +2252,8 @@ static size_t feed_loop_check(rfe_sensor_log_t *log, double evidence, size_t *di
         t_wrong = evidence_after(t_wrong, log, i, fst);
         tst = rfe_tyre_id_step(&tid, &ts, &e);
         check_tid_row(&on[i], &e, tst);
-        if ((t_wrong >= evidence) && (feed_curve(&tid, &e, tst, 0.05, p.filter.r_model_rel, v) != 0)) {
+        if ((t_wrong >= evidence) && (fabs(row->ax) <= ax_max) &&
+            (feed_curve(&tid, &e, tst, 0.05, p.filter.r_model_rel, v) != 0)) {
             assert_int_equal(rfe_friction_set_lateral_tyre(&est, v[0], v[1], v[2], v[3]), RFE_OK);
             *t_first = (n_fed == 0u) ? t_wrong : *t_first;
             ++n_fed;
@@ -2337,6 +2342,87 @@ static void test_rfe_replay_tyre_feed_waits_for_evidence(void **state)
     n_fed = feed_loop_check(&log, 1e-9, &differs, &t_first);
     assert_int_equal(n_fed, 0u);
     assert_int_equal(differs, 0u);
+    rfe_sensor_log_free(&log);
+}
+
+/* Curve changes of a fed run @p on of @p log: *after_ax the rows whose curve (cy_used ..
+ * r_model_rel_used, the curve of that row's step) differs from the previous row's although
+ * the previous row's |ax| exceeded @p ax_max (a curve fed after a braking sample), *other the
+ * other changes. */
+static void curve_changes(const rfe_sensor_log_t *log, const rfe_est_row_t *on, double ax_max,
+                          size_t *after_ax, size_t *other)
+{
+    size_t i;
+    *after_ax = 0u;
+    *other = 0u;
+    for (i = 1u; i < log->n_rows; ++i) {
+        const int changed = (on[i].cy_used != on[i - 1u].cy_used) ||
+                            (on[i].shape_Cy_used != on[i - 1u].shape_Cy_used) ||
+                            (on[i].shape_Ey_used != on[i - 1u].shape_Ey_used) ||
+                            (on[i].r_model_rel_used != on[i - 1u].r_model_rel_used);
+        if (changed && (fabs(log->rows[i - 1u].ax) > ax_max)) {
+            ++*after_ax;
+        } else if (changed) {
+            ++*other;
+        }
+    }
+}
+
+/* tid_feed_ax_max (TYRE_ID.md §14): no curve is fed after a sample whose |ax| exceeds it, so
+ * the friction estimator keeps its curve through a braking. On brake_in_turn.mf (a steady
+ * turn, then about 2.5 m/s^2 of braking from 2.1 s to 6.2 s) with the sigma-point filter at
+ * tid_feed_sd_rel 0.05: without the hold (0) the curve identified under braking is fed after
+ * braking samples (which the check below must see, or it could not fail); with the preset's
+ * 0.5 m/s^2 never, while it still changes after the unbraked samples, and fewer samples are
+ * fed. Negative or not finite, the key is refused before any row, named. Light mode: the
+ * first 700 rows (braking from row 210 to 620: at 0.05 this filter's first curve is fed
+ * under braking, so the unbraked changes come after it). */
+/* REQ-CLI-008 */
+static void test_rfe_replay_tyre_feed_holds_under_braking(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_io_error_t err;
+    rfe_param_set_t ps;
+    rfe_replay_stats_t st;
+    rfe_est_row_t *on;
+    size_t after_ax = 0u;
+    size_t other = 0u;
+    size_t fed_free;
+    size_t bad = 0u;
+    const double bad_values[3] = {-0.5, NAN, INFINITY};
+    int k;
+    (void)state;
+    memset(&log, 0, sizeof log);
+    assert_int_equal(rfe_sensor_log_read("scenarios/brake_in_turn.mf.csv", &log, &err), 0);
+    if (rfe_test_light()) {
+        log.n_rows = (log.n_rows < 700u) ? log.n_rows : 700u;
+    }
+    on = calloc(log.n_rows, sizeof *on);
+    assert_non_null(on);
+    assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_DEFAULT), 0);
+    assert_true(ps.tid[RFE_PK_tid_feed_ax_max - RFE_PK_TID_FIRST] == RFE_TID_FEED_AX_MAX_DEFAULT);
+    ps.value[RFE_PK_dt] = 0.01;
+    ps.tyre_id = 1;
+    ps.tid[RFE_PK_tid_filter - RFE_PK_TID_FIRST] = (double)RFE_TID_SCKF;
+    ps.tid[RFE_PK_tid_feed_sd_rel - RFE_PK_TID_FIRST] = 0.05;
+    ps.tid[RFE_PK_tid_feed_ax_max - RFE_PK_TID_FIRST] = 0.0; /* no hold */
+    assert_int_equal(rfe_replay_run_f64(&ps, &log, on, &st, NULL), RFE_OK);
+    curve_changes(&log, on, 0.5, &after_ax, &other);
+    assert_true(after_ax > 0u);
+    fed_free = st.n_tyre_fed;
+    ps.tid[RFE_PK_tid_feed_ax_max - RFE_PK_TID_FIRST] = 0.5;
+    assert_int_equal(rfe_replay_run_f64(&ps, &log, on, &st, NULL), RFE_OK);
+    curve_changes(&log, on, 0.5, &after_ax, &other);
+    assert_int_equal(after_ax, 0u);
+    assert_true(other > 0u);
+    assert_true((st.n_tyre_fed > 0u) && (st.n_tyre_fed < fed_free));
+    for (k = 0; k < 3; ++k) {
+        ps.tid[RFE_PK_tid_feed_ax_max - RFE_PK_TID_FIRST] = bad_values[k];
+        bad = 0u;
+        assert_int_equal(rfe_replay_run_f64(&ps, &log, on, &st, &bad), RFE_ERR_PARAM);
+        assert_int_equal(bad, RFE_PK_tid_feed_ax_max);
+    }
+    free(on);
     rfe_sensor_log_free(&log);
 }
 
@@ -2461,6 +2547,7 @@ int main(void)
         cmocka_unit_test(test_rfe_replay_tyre_id_refusals_and_restart),
         cmocka_unit_test(test_rfe_replay_tyre_feed_is_the_library_loop),
         cmocka_unit_test(test_rfe_replay_tyre_feed_waits_for_evidence),
+        cmocka_unit_test(test_rfe_replay_tyre_feed_holds_under_braking),
         cmocka_unit_test(test_rfe_replay_tyre_id_state_steps_as_the_run),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
