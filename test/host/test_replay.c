@@ -1848,12 +1848,15 @@ static void test_rfe_replay_q31_mass_grade_refusals(void **state)
     ps.value[RFE_PK_dt] = 0.02;
     ps.mg[RFE_PK_mg_feed_sd_rel - RFE_PK_MG_FIRST] = 1.0;
     ps.mg[RFE_PK_mg_feed_excitation - RFE_PK_MG_FIRST] = 0.0; /* every update: no gate */
+    /* no band: 40 t is far outside m's, and the band would refuse it before the Q16 check */
+    ps.mg[RFE_PK_mg_feed_band - RFE_PK_MG_FIRST] = 0.0;
     ps.mg[RFE_PK_mg_m0 - RFE_PK_MG_FIRST] = 40000.0;
     ps.mg[RFE_PK_mg_m_min - RFE_PK_MG_FIRST] = 33000.0;
     ps.mg[RFE_PK_mg_m_max - RFE_PK_MG_FIRST] = 60000.0;
     assert_int_equal(rfe_replay_run_q31(&ps, &log, out, &st, NULL, NULL), RFE_OK);
     assert_int_equal(st.base.mg_status_count[RFE_OK], N_MG);
     assert_int_equal(st.base.n_mass_fed, 0u);
+    assert_int_equal(st.base.n_feed_band, 0u); /* due every time: the Q16 check refused it */
     for (i = 0u; i < N_MG; ++i) {
         assert_true(out[i].mass >= 32768.0);
         assert_true(out[i].mass_used == ps.value[RFE_PK_m]);
