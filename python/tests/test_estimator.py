@@ -111,6 +111,26 @@ def test_mass_feed_gate_keys_reach_the_run() -> None:
     assert first[None] > first[0.0]
 
 
+def test_mass_feed_check_keys_reach_the_run() -> None:
+    """The feed's plausibility checks (mg_feed_slip_max, mg_feed_band, MASS_GRADE.md §10) are
+    the C replay's too: on car_grade_step (truth 2100 kg, the estimate fed within 0.3 % of it,
+    MASS_GRADE_RESULTS.md) a parameter m of 3000 kg with a band of 5 % (2850-3150 kg) refuses
+    every due mass, so mass_used stays m, where the default keys feed; and every row equals
+    the replay's with the same keys, the slip hold off or on."""
+    log = ROOT / "scenarios/mass_grade/car_grade_step.csv"
+    sensor = rfe.read_log(log)
+    for params in ({"m": 3000.0, "mg_feed_band": 0.05}, {"mg_feed_slip_max": 0.0}, {}):
+        options = dict(params=params) if params else {}
+        got = rfe.Estimator(real="double", **options).run(sensor)
+        want = rfe.replay(log, real="double", quiet=True, **options)
+        assert_same_estimates(got, want, "double", f"checks {params}")
+        used = got["mass_used"].to_numpy()
+        if "mg_feed_band" in params:
+            assert (used == used[0]).all()  # never fed
+        else:
+            assert (used != used[0]).any()  # fed
+
+
 def test_mapping_of_arrays_equals_dataframe() -> None:
     """{column: array} with meta= runs as the DataFrame with attrs["meta"] (lists too)."""
     sensor = rfe.read_log(ROOT / "scenarios/hard_brake_low_mu.csv")

@@ -8,15 +8,18 @@ grade estimator's mass (mg_feed_sd_rel, docs/MASS_GRADE.md section 10).
 Every mass and grade log (scenarios/mass_grade/*.csv) is replayed by the C library
 (`mu_replay`, float, the default `--mass-grade ukf`, the default mg_feed_sd_rel; the truck
 logs, truck_*, with `--mass-grade-vehicle truck`, the others with the car's keys) with a wrong
-vehicle mass given by a parameter file: the log's m x 0.8 and x 1.2 (the estimator's own
-start, mg_m0, is the preset's either way), each twice: without the excitation gate
-(mg_feed_excitation = 0, the sd rule alone) and with it (the default keys); the columns with
-an arrow give the run without the gate -> with it. Per run, from the estimate log and the JSON:
+vehicle mass given by a parameter file: the log's m x 0.8, x 1.0 and x 1.2 (the estimator's
+own start, mg_m0, is the preset's either way), each three times: without the excitation gate
+(mg_feed_excitation = 0, mg_feed_slip_max = 0, mg_feed_band = 0: the sd rule alone), with the
+gate but without the slip hold and the band (mg_feed_slip_max = 0, mg_feed_band = 0) and with
+the default keys; the columns with arrows give no gate -> gate -> gate and checks. Per run,
+from the estimate log and the JSON:
     first fed      the time of the first sample whose mass_est the friction estimator took
     fed            the share of samples fed
     m error start  (m given - mass_true) / mass_true: the friction estimator's error unfed
     mass_used end  (mass_used - mass_true) / mass_true at the last sample
     mass_est end   (mass_est - mass_true) / mass_true at the last sample
+    refused        the default run's samples the band refused (n_band_refused)
 With --page the table goes between <!-- mass-feed:begin/end --> of the page.
 """
 
@@ -35,7 +38,10 @@ sys.path.insert(0, os.path.join(ROOT, "scripts", "tools"))
 from mass_sensitivity import log_mass  # noqa: E402
 from md_tables import replace_region  # noqa: E402
 
-FACTORS = (0.8, 1.2)
+FACTORS = (0.8, 1.0, 1.2)
+# the keys each run writes into its parameter file: no gate, the gate alone, the defaults
+RUN_KEYS = ("mg_feed_excitation = 0\nmg_feed_slip_max = 0\nmg_feed_band = 0\n",
+            "mg_feed_slip_max = 0\nmg_feed_band = 0\n", "")
 
 
 def vehicle(path):
@@ -43,15 +49,14 @@ def vehicle(path):
     return "truck" if os.path.basename(path).startswith("truck_") else "car"
 
 
-def one(exe, path, factor, gate):
-    """(first fed t or None, samples fed, samples, the JSON's object); gate False: the run
-    with mg_feed_excitation = 0."""
+def one(exe, path, factor, keys):
+    """(first fed t or None, samples fed, samples, the JSON's object) of the run with the
+    parameter file's extra lines @keys (RUN_KEYS)."""
     with tempfile.TemporaryDirectory() as tmp:
         params = os.path.join(tmp, "mass.params")
         with open(params, "w", encoding="utf-8") as fh:
             fh.write(f"m = {log_mass(path) * factor!r}\n")
-            if not gate:
-                fh.write("mg_feed_excitation = 0\n")
+            fh.write(keys)
         out, js = os.path.join(tmp, "est.csv"), os.path.join(tmp, "m.json")
         r = subprocess.run([exe, "--in", path, "--out", out, "--params", params,
                             "--metrics", js, "--quiet", "--mass-grade-vehicle", vehicle(path)],
@@ -86,21 +91,23 @@ def main():
     if not os.access(a.mu_replay, os.X_OK):
         raise SystemExit(f"mass_feed_results: {a.mu_replay} not found: run make first")
     d = os.path.join(ROOT, "scenarios", "mass_grade")
-    rows = ["| log | m given | first fed at: no gate → gate | samples fed | m error unfed "
-            "| mass_used error at the end | mass_est error at the end |",
-            "|---|---|---|---|---|---|---|"]
+    rows = ["| log | m given | first fed at: no gate → gate → gate and checks | samples fed "
+            "| m error unfed | mass_used error at the end | mass_est error at the end "
+            "| band refused |",
+            "|---|---|---|---|---|---|---|---|"]
     for name in sorted(f for f in os.listdir(d) if f.endswith(".csv")):
         path = os.path.join(d, name)
         mt = true_mass_end(path)
         for factor in FACTORS:
-            runs = [one(a.mu_replay, path, factor, gate) for gate in (False, True)]
+            runs = [one(a.mu_replay, path, factor, keys) for keys in RUN_KEYS]
             firsts = ["never" if r[0] is None else f"{r[0]:.2f} s" for r in runs]
             fed = [f"{r[1] / r[2]:.1%}" for r in runs]
             used = [f"{(r[3]['feed']['mass_used_end'] - mt) / mt:+.2%}" for r in runs]
             est = runs[1][3]["end"]["mass"]
-            rows.append(f"| {name[:-4]} | m × {factor:.1f} | {firsts[0]} → {firsts[1]} | "
-                        f"{fed[0]} → {fed[1]} | {(log_mass(path) * factor - mt) / mt:+.1%} | "
-                        f"{used[0]} → {used[1]} | {(est - mt) / mt:+.2%} |")
+            rows.append(f"| {name[:-4]} | m × {factor:.1f} | {' → '.join(firsts)} | "
+                        f"{' → '.join(fed)} | {(log_mass(path) * factor - mt) / mt:+.1%} | "
+                        f"{' → '.join(used)} | {(est - mt) / mt:+.2%} | "
+                        f"{runs[2][3]['feed']['n_band_refused']} |")
     text = "\n".join(rows)
     print(text)
     if a.page:

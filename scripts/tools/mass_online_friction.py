@@ -14,14 +14,17 @@ total at the wheels) and brake_pressure = max(p_*) in Pa, and replayed by the C 
 (`mu_replay`, float, default preset, measured velocities) with the log's mass m x 0.8, 1.0
 and 1.2 in a parameter file, with the mass and grade estimator off and on (`ukf`, the
 default: it feeds its mass to the friction estimator by the mg_feed_sd_rel rule, MASS_GRADE.md
-section 10), on twice: without the excitation gate (mg_feed_excitation = 0, the rule before
-it) and with it (the default mg_feed_excitation, mg_feed_ax_min). Figures pooled over the four wheels and every log as mass_sensitivity.py pools
+section 10), on three times: without the excitation gate (mg_feed_excitation = 0, the rule before
+it), with it but without the feed's slip hold and band (mg_feed_slip_max = 0, mg_feed_band =
+0), and with the default keys (the gate, the slip hold and the band). Figures pooled over the four wheels and every log as mass_sensitivity.py pools
 them (valid share, RMSE when valid, consistency when valid, largest error when valid); the
 last columns count logs whose RMSE when valid rose / fell by more than 0.02 against the same
 log with its own mass and the estimator off.
-A second table, from the runs with the log's own mass, lists each log where either run fed
+A second table, from the runs with the log's own mass, lists each log where any run fed
 the mass: the first sample fed, the share of samples fed, the friction estimator's mass at the
-end against the log's m, and the gate's sum at the end (the JSON's excitation_end, m/s).
+end against the log's m (no gate -> gate -> gate and checks), the gate's sum at the end
+without the checks (the JSON's excitation_end, m/s) and, with them, the updates the slip held
+and the samples the band refused (n_slip_held, n_band_refused).
 With --page the tables go between <!-- mass-online:begin/end --> and
 <!-- mass-online-gate:begin/end --> of the page.
 """
@@ -43,9 +46,14 @@ from mass_sensitivity import WHEELS, WORSE, log_mass, pooled, pooled_cells  # no
 from md_tables import replace_region  # noqa: E402
 
 FACTORS = (0.8, 1.0, 1.2)
-MODES = ("off", "ukf-nogate", "ukf")
+MODES = ("off", "ukf-nogate", "ukf-nochecks", "ukf")
 LABELS = {"off": "off", "ukf-nogate": "on (ukf), mass fed, no gate",
-          "ukf": "on (ukf), mass fed through the gate"}
+          "ukf-nochecks": "on (ukf), mass fed through the gate",
+          "ukf": "on (ukf), through the gate, slip hold and band"}
+# the keys each mode writes into the run's parameter file
+MODE_KEYS = {"off": "", "ukf-nogate": "mg_feed_excitation = 0\nmg_feed_slip_max = 0\n"
+             "mg_feed_band = 0\n", "ukf-nochecks": "mg_feed_slip_max = 0\nmg_feed_band = 0\n",
+             "ukf": ""}
 TORQUES = ("torque_fl", "torque_fr", "torque_rl", "torque_rr")
 PRESSURES = ("p_fl", "p_fr", "p_rl", "p_rr")
 
@@ -91,8 +99,7 @@ def one(job):
         params = os.path.join(tmp, "mass.params")
         with open(params, "w", encoding="utf-8") as fh:
             fh.write(f"m = {log_mass(src) * factor!r}\n")
-            if mode == "ukf-nogate":
-                fh.write("mg_feed_excitation = 0\n")
+            fh.write(MODE_KEYS[mode])
         out, js = os.path.join(tmp, "est.csv"), os.path.join(tmp, "m.json")
         r = subprocess.run([exe, "--in", log, "--out", out, "--params", params,
                             "--velocity", "measured", "--mass-grade", mode.split("-")[0],
@@ -141,24 +148,27 @@ def table(results, names):
 
 
 def gate_table(results, names):
-    """Per log that feeds with or without the gate (own mass): before -> after."""
+    """Per log that feeds in any run (own mass): no gate -> gate -> gate and checks."""
     def cells(feed, m):
         (first, n) = feed["first"]
         if first is None:
             return "never", "0%", "m kept"
         return (f"{first:.1f} s", f"{feed['n_fed'] / n:.0%}",
                 f"{(feed['mass_used_end'] - m) / m:+.1%}")
-    rows = ["| log | m | first fed: no gate → gate | samples fed | mass_used at the end vs m "
-            "| excitation at the end |", "|---|---|---|---|---|---|"]
+    rows = ["| log | m | first fed: no gate → gate → gate and checks | samples fed "
+            "| mass_used at the end vs m | excitation at the end | slip held / band refused |",
+            "|---|---|---|---|---|---|---|"]
     src = os.path.join(ROOT, "scenarios", "observer")
     for n in names:
-        before, after = results[(n, 1.0, "ukf-nogate")][1], results[(n, 1.0, "ukf")][1]
-        if before["n_fed"] == 0 and after["n_fed"] == 0:
+        runs = [results[(n, 1.0, mode)][1] for mode in ("ukf-nogate", "ukf-nochecks", "ukf")]
+        if all(r["n_fed"] == 0 for r in runs):
             continue
         m = log_mass(os.path.join(src, n))
-        b, a = cells(before, m), cells(after, m)
-        rows.append(f"| {n[:-4]} | {m:.0f} kg | {b[0]} → {a[0]} | {b[1]} → {a[1]} | "
-                    f"{b[2]} → {a[2]} | {after['excitation_end']:.2f} m/s |")
+        c = [cells(r, m) for r in runs]
+        rows.append(f"| {n[:-4]} | {m:.0f} kg | {' → '.join(x[0] for x in c)} | "
+                    f"{' → '.join(x[1] for x in c)} | {' → '.join(x[2] for x in c)} | "
+                    f"{runs[1]['excitation_end']:.2f} m/s | "
+                    f"{runs[2]['n_slip_held']} / {runs[2]['n_band_refused']} |")
     return "\n".join(rows)
 
 

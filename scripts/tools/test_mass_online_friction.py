@@ -42,17 +42,33 @@ def test_first_fed_is_the_first_change_of_mass_used(tmp_path):
     assert mo.first_fed(est) == (None, 2)
 
 
-def test_gate_table_lists_the_logs_fed_either_way():
-    """One row per log fed with or without the gate, before -> after; a log fed neither way is
-    left out; a run that never feeds keeps the parameter m."""
+def test_gate_table_lists_the_logs_fed_in_any_run():
+    """One row per log fed in any run, no gate -> gate -> gate and checks; a log fed in none is
+    left out; a run that never feeds keeps the parameter m; the last column is the checked
+    run's slip-held and band-refused counts."""
     m = mo.log_mass(str(Path(mo.ROOT) / "scenarios" / "observer" / "long_straight_bias.csv"))
-    never = {"n_fed": 0, "mass_used_end": m, "excitation_end": 0.01, "first": (None, 100)}
-    fed = {"n_fed": 50, "mass_used_end": 2.0 * m, "excitation_end": 0.01, "first": (1.5, 100)}
+    never = {"n_fed": 0, "mass_used_end": m, "excitation_end": 0.01, "first": (None, 100),
+             "n_slip_held": 7, "n_band_refused": 3}
+    fed = {"n_fed": 50, "mass_used_end": 2.0 * m, "excitation_end": 0.01, "first": (1.5, 100),
+           "n_slip_held": 0, "n_band_refused": 0}
     results = {("long_straight_bias.csv", 1.0, "ukf-nogate"): (None, fed),
+               ("long_straight_bias.csv", 1.0, "ukf-nochecks"): (None, fed),
                ("long_straight_bias.csv", 1.0, "ukf"): (None, never),
                ("creep_stop.csv", 1.0, "ukf-nogate"): (None, never),
+               ("creep_stop.csv", 1.0, "ukf-nochecks"): (None, never),
                ("creep_stop.csv", 1.0, "ukf"): (None, never)}
     rows = mo.gate_table(results, ["creep_stop.csv", "long_straight_bias.csv"]).splitlines()
     assert len(rows) == 3       # header, rule, one log
-    assert rows[2] == (f"| long_straight_bias | {m:.0f} kg | 1.5 s → never | 50% → 0% | "
-                       "+100.0% → m kept | 0.01 m/s |")
+    assert rows[2] == (f"| long_straight_bias | {m:.0f} kg | 1.5 s → 1.5 s → never | "
+                       "50% → 50% → 0% | +100.0% → +100.0% → m kept | 0.01 m/s | 7 / 3 |")
+
+
+def test_modes_set_the_feed_keys():
+    """The no-gate run turns every feed check off, the gate-only run the slip hold and the band,
+    the default run none (the library's and the replay's defaults)."""
+    assert "mg_feed_excitation = 0" in mo.MODE_KEYS["ukf-nogate"]
+    assert "mg_feed_excitation" not in mo.MODE_KEYS["ukf-nochecks"]
+    for mode in ("ukf-nogate", "ukf-nochecks"):
+        assert "mg_feed_slip_max = 0" in mo.MODE_KEYS[mode]
+        assert "mg_feed_band = 0" in mo.MODE_KEYS[mode]
+    assert mo.MODE_KEYS["ukf"] == "" and mo.MODE_KEYS["off"] == ""

@@ -860,6 +860,9 @@ static const char *validator_name(size_t k)
     if (k == (size_t)RFE_PK_mg_feed_ax_min) {
         return "mu_replay: a finite acceleration >= 0 m/s^2";
     }
+    if ((k == (size_t)RFE_PK_mg_feed_slip_max) || (k == (size_t)RFE_PK_mg_feed_band)) {
+        return "mu_replay: a finite share >= 0";
+    }
     if (k == (size_t)RFE_PK_tid_seed) {
         return "mu_replay: an integer 0 .. 2^53";
     }
@@ -1261,6 +1264,12 @@ static void write_mass_grade_json(FILE *f, const run_t *r)
     rfe_json_write_number(f, r->ps.mg[RFE_PK_mg_feed_ax_min - RFE_PK_MG_FIRST]);
     fputs(", \"excitation_end\": ", f);
     rfe_json_write_number(f, r->stats.mg_excitation);
+    fputs(", \"slip_max\": ", f);
+    rfe_json_write_number(f, r->ps.mg[RFE_PK_mg_feed_slip_max - RFE_PK_MG_FIRST]);
+    fputs(", \"band\": ", f);
+    rfe_json_write_number(f, r->ps.mg[RFE_PK_mg_feed_band - RFE_PK_MG_FIRST]);
+    fprintf(f, ", \"n_slip_held\": %zu, \"n_band_refused\": %zu", r->stats.n_feed_slip,
+            r->stats.n_feed_band);
     fprintf(f, ", \"n_fed\": %zu, \"mass_used_end\": ", r->stats.n_mass_fed);
     rfe_json_write_number(f, r->stats.mass_used_last);
     fputs("},\n    \"accuracy\": ", f);
@@ -1315,6 +1324,10 @@ static void print_mass_grade(const run_t *r)
            r->ps.mg[RFE_PK_mg_feed_excitation - RFE_PK_MG_FIRST],
            r->ps.mg[RFE_PK_mg_feed_ax_min - RFE_PK_MG_FIRST], r->stats.mg_excitation,
            r->stats.mass_used_last);
+    printf("  feed held at %zu updates by wheel slip (mg_feed_slip_max = %g), refused at %zu "
+           "samples outside the band (mg_feed_band = %g around m)\n",
+           r->stats.n_feed_slip, r->ps.mg[RFE_PK_mg_feed_slip_max - RFE_PK_MG_FIRST],
+           r->stats.n_feed_band, r->ps.mg[RFE_PK_mg_feed_band - RFE_PK_MG_FIRST]);
     if (r->log.has_mass_true && (a.n > 0u)) {
         printf("  mass error at the end %+.1f kg (%+.2f %%)\n", a.mass_err_end,
                100.0 * a.mass_err_end_rel);

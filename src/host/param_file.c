@@ -29,6 +29,8 @@ static const rfe_param_info_t k_info[RFE_PK_COUNT] = {
     {"mg_feed_sd_rel", "1", "replay: feed mass_est to the friction estimator after an update with sd_mass <= this * mass_est (0 = never)"},
     {"mg_feed_excitation", "m/s", "replay: feed mass_est only once the sum of |ax| dt over the estimator's updates with |ax| >= mg_feed_ax_min since its start reaches this (0 = no gate)"},
     {"mg_feed_ax_min", "m/s^2", "replay: the smallest |ax| counted by mg_feed_excitation"},
+    {"mg_feed_slip_max", "1", "replay: an update whose |v_wheels - vx| / max(|vx|, mg_v_min) exceeds this is not fed and empties the excitation sum (0 = no slip hold)"},
+    {"mg_feed_band", "1", "replay: feed mass_est only when |mass_est - m| <= this * m; refusals counted (0 = no band)"},
     RFE_MG_KEYS(RFE_PK_INFO_)
     {"tid_filter", "-", "tyre identifier: apf (the auxiliary particle filter), sir (the bootstrap filter) or sckf (the augmented-state sigma-point filter)"},
     {"tid_resample", "-", "tyre identifier: how parents are drawn, multinomial or systematic"},

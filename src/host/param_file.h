@@ -131,7 +131,8 @@
 /**
  * The mass and grade estimator's keys (docs/MASS_GRADE.md §6): X(key, rfe_mass_grade_params_t
  * member, unit, doc), each an rfe_real_t; mg_adaptive and mg_use_ax (0 or 1) and the
- * replay's mg_feed_sd_rel, mg_feed_excitation and mg_feed_ax_min come before them
+ * replay's mg_feed_sd_rel, mg_feed_excitation, mg_feed_ax_min, mg_feed_slip_max and
+ * mg_feed_band come before them
  * (RFE_PK_MG_SPECIAL). R and g are the vehicle keys
  * above. No values: they start from the library preset
  * the run's --mass-grade names (rfe_mass_grade_params_preset, the car).
@@ -206,7 +207,7 @@
 
 /** Index of each key: the friction estimator's numeric keys RFE_PK_m, RFE_PK_Lf, ...; its
  *  three word-valued keys; then the observer's keys, obs_driven first; then the mass and
- *  grade estimator's, mg_adaptive, mg_use_ax and the replay's three mg_feed_* first; then
+ *  grade estimator's, mg_adaptive, mg_use_ax and the replay's five mg_feed_* first; then
  *  the tyre identifier's, tid_filter, tid_resample, tid_substeps, tid_seed, tid_feed_sd_rel,
  *  tid_feed_evidence and tid_feed_ax_max first. */
 typedef enum {
@@ -234,6 +235,16 @@ typedef enum {
     /** key mg_feed_ax_min (m/s^2): a replay key (no member): the smallest |ax| that counts as
      *  excitation for mg_feed_excitation. */
     RFE_PK_mg_feed_ax_min,
+    /** key mg_feed_slip_max (1): a replay key (no member): an update whose wheels' speed
+     *  departs from the car's by more than this share of it, |v_wheels - vx| / max(|vx|,
+     *  mg_v_min), is not fed and empties the excitation gate's sum (the driven wheels slip:
+     *  the estimator's speed and drive force are not the car's; 0 = no slip hold;
+     *  MASS_GRADE.md §10). */
+    RFE_PK_mg_feed_slip_max,
+    /** key mg_feed_band (1): a replay key (no member): a mass otherwise due is fed only when
+     *  |mass_est - m| <= mg_feed_band * m, m the friction estimator's parameter; a refusal is
+     *  counted (0 = no band; MASS_GRADE.md §10). */
+    RFE_PK_mg_feed_band,
     RFE_MG_KEYS(RFE_PK_ENUM_)
     RFE_PK_tid_filter,   /**< key tid_filter = apf|sir (rfe_tid_filter_t; mu_replay --tyre-id) */
     RFE_PK_tid_resample, /**< key tid_resample = multinomial|systematic (rfe_tid_resample_t) */
@@ -276,8 +287,8 @@ typedef enum {
 #define RFE_PK_TID_COUNT ((size_t)RFE_PK_COUNT - RFE_PK_TID_FIRST)
 
 /** The mass and grade keys before the RFE_MG_KEYS table: mg_adaptive, mg_use_ax,
- *  mg_feed_sd_rel, mg_feed_excitation, mg_feed_ax_min. */
-#define RFE_PK_MG_SPECIAL 5u
+ *  mg_feed_sd_rel, mg_feed_excitation, mg_feed_ax_min, mg_feed_slip_max, mg_feed_band. */
+#define RFE_PK_MG_SPECIAL 7u
 
 /** mg_feed_sd_rel of every preset: fed once sd_mass / mass_est <= 2 % (MASS_GRADE.md §10). */
 #define RFE_MG_FEED_SD_REL_DEFAULT 0.02
@@ -292,6 +303,16 @@ typedef enum {
  *  an update counted is one whose force balance the resistances do not dominate
  *  (MASS_GRADE.md §10). */
 #define RFE_MG_FEED_AX_MIN_DEFAULT 0.2
+
+/** mg_feed_slip_max of every preset: 0.05, five times the largest 99th percentile of
+ *  |v_wheels - vx| / vx on the observer logs that do not slip (0.01) and below the traction
+ *  logs' 0.08-0.18 on mu = 0.3 (MASS_GRADE.md §10). */
+#define RFE_MG_FEED_SLIP_MAX_DEFAULT 0.05
+
+/** mg_feed_band of every preset: 0.3, wider than a passenger car's load range (1 500-2 100
+ *  kg, +-17 % around its middle) and than a parameter m 20 % low (the truth then +25 %), so
+ *  a right mass is fed whatever m within +-20 % was given (MASS_GRADE.md §10). */
+#define RFE_MG_FEED_BAND_DEFAULT 0.3
 
 /** The tyre identifier's keys before the RFE_TID_KEYS table: tid_filter, tid_resample,
  *  tid_substeps, tid_seed, tid_feed_sd_rel, tid_feed_evidence, tid_feed_ax_max. */

@@ -268,7 +268,8 @@ static uint32_t mass_grade_row(rfe_replay_q31_state_t *st, const rfe_sensor_row_
         st->t_mg_last = row->t;
         st->have_mg_last = 1;
     }
-    rfe_replay_mass_gate_step(&st->gate, rfe_status_is_error(s) ? 0 : start, (int)s, row->ax, dt);
+    rfe_replay_mass_gate_step(&st->gate, rfe_status_is_error(s) ? 0 : start, (int)s, row->ax, dt,
+                              rfe_replay_mass_gate_slips(&st->gate, row, st->mg_R));
     st->stats.base.mg_excitation = st->gate.excitation;
     out->has_mass_grade = 1;
     out->mass = rfe_fix_to_double(e.mass, RFE_MG_Q_M);
@@ -289,8 +290,15 @@ static uint32_t mass_grade_first(rfe_replay_q31_state_t *st, const rfe_sensor_ro
                                  rfe_est_row_t *out, uint32_t *in_sat)
 {
     int fed = -1;
-    const uint32_t sat = mass_grade_row(st, row, out, in_sat);
-    if (rfe_replay_mass_feed_due(st->feed_sd_rel, &st->gate, out) != 0) {
+    uint32_t sat;
+    rfe_replay_feed_t due;
+    if (st->shape.has_velocity != 0) {
+        rfe_replay_mass_gate_vx(&st->gate, row->vx); /* the measured vx: the slip's reference */
+    }
+    sat = mass_grade_row(st, row, out, in_sat);
+    due = rfe_replay_mass_feed_due(st->feed_sd_rel, &st->gate, out);
+    rfe_replay_mass_feed_count(due, &st->stats.base);
+    if (due == RFE_REPLAY_FEED_DUE) {
         uint32_t over = 0u;
         const rfe_fix_t m = rfe_fix_from_double(out->mass, RFE_FIX_Q_MASS, &over);
         if (over != 0u) {
@@ -344,6 +352,11 @@ static uint32_t step_observer_row(rfe_replay_q31_state_t *st, const rfe_sensor_r
             st->stats.base.n_gaps += (o.missed > 0u) ? 1u : 0u;
             st->stats.base.n_skipped += o.missed;
             st->stats.base.n_restarts += o.restarted;
+            if (st->shape.has_velocity == 0) {
+                /* no measured vx: the next row's slip is taken against this observer vx */
+                rfe_replay_mass_gate_vx(&st->gate,
+                                        rfe_fix_to_double(o.velocity.vx, RFE_FIX_Q_SPEED));
+            }
         }
     }
     out->t = row->t;

@@ -253,9 +253,11 @@ int rfe_param_set_mass_grade(rfe_param_set_t *ps, rfe_mg_vehicle_t vehicle, rfe_
     ps->mg_config = config;
     ps->mg[0] = (double)mp.adaptive;
     ps->mg[1] = (double)mp.use_ax;
-    ps->mg[2] = RFE_MG_FEED_SD_REL_DEFAULT; /* the replay's three, not the library's */
+    ps->mg[2] = RFE_MG_FEED_SD_REL_DEFAULT; /* the replay's five, not the library's */
     ps->mg[3] = RFE_MG_FEED_EXCITATION_DEFAULT;
     ps->mg[4] = RFE_MG_FEED_AX_MIN_DEFAULT;
+    ps->mg[5] = RFE_MG_FEED_SLIP_MAX_DEFAULT;
+    ps->mg[6] = RFE_MG_FEED_BAND_DEFAULT;
     for (k = RFE_PK_MG_SPECIAL; k < RFE_PK_MG_COUNT; ++k) {
         rfe_real_t v;
         memcpy(&v, (const char *)&mp + k_mg_offset[k - RFE_PK_MG_SPECIAL], sizeof v);
@@ -273,6 +275,10 @@ int rfe_param_set_mass_grade(rfe_param_set_t *ps, rfe_mg_vehicle_t vehicle, rfe_
     ps->origin[RFE_PK_mg_feed_excitation].line = 0u;
     ps->origin[RFE_PK_mg_feed_ax_min].file = NULL;
     ps->origin[RFE_PK_mg_feed_ax_min].line = 0u;
+    ps->origin[RFE_PK_mg_feed_slip_max].file = NULL;
+    ps->origin[RFE_PK_mg_feed_slip_max].line = 0u;
+    ps->origin[RFE_PK_mg_feed_band].file = NULL;
+    ps->origin[RFE_PK_mg_feed_band].line = 0u;
     return 0;
 }
 
@@ -349,8 +355,9 @@ static size_t diagnose_params(const rfe_param_set_t *ps)
 
 /* Mass and grade key @p k of the set into @p mp; 0, or -1 when mg_adaptive or mg_use_ax is
  * not 0 or 1 (a double would otherwise be truncated without a word), mg_feed_sd_rel is
- * negative or mg_feed_excitation or mg_feed_ax_min is not a finite number >= 0 (the replay's
- * three have no member: the replay reads them from the set). R and g are the vehicle keys. */
+ * negative or mg_feed_excitation, mg_feed_ax_min, mg_feed_slip_max or mg_feed_band is not a
+ * finite number >= 0 (the replay's five have no member: the replay reads them from the
+ * set). R and g are the vehicle keys. */
 static int set_mg_key(rfe_mass_grade_params_t *mp, const rfe_param_set_t *ps, size_t k)
 {
     const double v = (k < RFE_PK_MG_FIRST) ? ps->value[k] : ps->mg[k - RFE_PK_MG_FIRST];
@@ -363,7 +370,8 @@ static int set_mg_key(rfe_mass_grade_params_t *mp, const rfe_param_set_t *ps, si
         if (!(v >= 0.0)) {
             return -1;
         }
-    } else if ((k == (size_t)RFE_PK_mg_feed_excitation) || (k == (size_t)RFE_PK_mg_feed_ax_min)) {
+    } else if ((k == (size_t)RFE_PK_mg_feed_excitation) || (k == (size_t)RFE_PK_mg_feed_ax_min) ||
+               (k == (size_t)RFE_PK_mg_feed_slip_max) || (k == (size_t)RFE_PK_mg_feed_band)) {
         if (!((v >= 0.0) && isfinite(v))) {
             return -1;
         }
@@ -549,7 +557,8 @@ static void mass_grade_row(rfe_replay_state_t *st, const rfe_sensor_row_t *row, 
         st->t_mg_last = row->t;
         st->have_mg_last = 1;
     }
-    rfe_replay_mass_gate_step(&st->gate, rfe_status_is_error(s) ? 0 : start, (int)s, row->ax, dt);
+    rfe_replay_mass_gate_step(&st->gate, rfe_status_is_error(s) ? 0 : start, (int)s, row->ax, dt,
+                              rfe_replay_mass_gate_slips(&st->gate, row, (double)mg->p.R));
     st->stats.mg_excitation = st->gate.excitation;
     out->has_mass_grade = 1;
     out->mass = (double)e.mass;
@@ -908,9 +917,15 @@ static void mass_grade_first(rfe_replay_state_t *st, const rfe_sensor_row_t *row
                              rfe_est_row_t *out, rfe_real_t *grade)
 {
     int fed = -1;
+    rfe_replay_feed_t due;
+    if (st->shape.has_velocity != 0) {
+        rfe_replay_mass_gate_vx(&st->gate, row->vx); /* the measured vx: the slip's reference */
+    }
     mass_grade_row(st, row, out);
     *grade = st->shape.has_grade ? *grade : (rfe_real_t)out->grade;
-    if (rfe_replay_mass_feed_due(st->feed_sd_rel, &st->gate, out) != 0) {
+    due = rfe_replay_mass_feed_due(st->feed_sd_rel, &st->gate, out);
+    rfe_replay_mass_feed_count(due, &st->stats);
+    if (due == RFE_REPLAY_FEED_DUE) {
         /* a mass rfe_params_set_mass refuses (not finite, <= 0: not an estimate in
          * [mg_m_min, mg_m_max]) leaves the last one; the observer keeps the friction
          * estimator's vehicle */
@@ -942,6 +957,10 @@ static void step_observer_row(rfe_replay_state_t *st, const rfe_sensor_row_t *ro
         st->stats.n_gaps += (o.missed > 0u) ? 1u : 0u;
         st->stats.n_skipped += o.missed;
         st->stats.n_restarts += o.restarted;
+        if (st->shape.has_velocity == 0) {
+            /* no measured vx: the next row's slip is taken against this observer vx */
+            rfe_replay_mass_gate_vx(&st->gate, (double)o.velocity.vx);
+        }
     }
     out->t = row->t;
     for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {

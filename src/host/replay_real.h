@@ -94,6 +94,9 @@ typedef struct {
                                 the mass and grade estimator ran) */
     double mg_excitation;  /**< the feed gate's excitation at the last sample [m/s] (its
                                 sum since the estimator's last start, mg_feed_excitation) */
+    size_t n_feed_slip;    /**< updates the wheel slip kept from the feed (mg_feed_slip_max) */
+    size_t n_feed_band;    /**< samples due but refused: mass_est outside the band around the
+                                parameter m (mg_feed_band) */
     size_t tid_status_count[RFE_REPLAY_STATUS_SLOTS]; /**< the tyre identifier's statuses
                                                            (when it ran) */
     size_t tid_flag_count[RFE_REPLAY_TID_FLAGS]; /**< samples with each of its RFE_TID_* bits,
@@ -279,36 +282,90 @@ RFE_NODISCARD rfe_status_t rfe_replay_mass_grade_input_row(const rfe_sensor_log_
  * mg_feed_ax_min, from the log's ax and times in double: the same in every replay (float,
  * double, q31). ax is the accelerometer's specific force, v' + g sin(theta): the inertia and
  * the grade force, which identify the mass; a steady cruise, whose mass is seen only through
- * the rolling and drag resistances the model may not match, adds nothing.
+ * the rolling and drag resistances the model may not match, adds nothing. With it the feed's
+ * two plausibility checks: the wheel-slip hold (mg_feed_slip_max: an update whose wheels'
+ * speed departs from the car's is not fed and empties the sum) and the band around the
+ * parameter m (mg_feed_band).
  */
 typedef struct {
     double need;       /**< key mg_feed_excitation [m/s]; 0: no gate */
     double ax_min;     /**< key mg_feed_ax_min [m/s^2] */
     double excitation; /**< the sum so far [m/s] */
+    double slip_max;   /**< key mg_feed_slip_max [1]; 0: no slip hold */
+    double band;       /**< key mg_feed_band [1]; 0: no band */
+    double m_param;    /**< key m [kg]: the band's centre */
+    double v_floor;    /**< key mg_v_min [m/s]: the slip's smallest denominator */
+    double vx_ref;     /**< the car's speed the slip is taken against [m/s] (have_vx_ref):
+                            the log's measured vx, else the observer's of the previous sample */
+    int have_vx_ref;   /**< vx_ref is set */
+    int slipping;      /**< the last step was an update whose slip exceeded slip_max */
 } rfe_replay_mass_gate_t;
 
-/** The gate of a run from @p ps's keys, nothing summed. */
+/** What rfe_replay_mass_feed_due says of a row. */
+typedef enum {
+    RFE_REPLAY_FEED_NONE = 0, /**< not due: no update, not confident or the gate closed */
+    RFE_REPLAY_FEED_DUE = 1,  /**< due: feed mass_est */
+    RFE_REPLAY_FEED_SLIP = 2, /**< an update held by the slip (mg_feed_slip_max) */
+    RFE_REPLAY_FEED_BAND = 3  /**< due by the sd rule and the gate, refused: mass_est outside
+                                   the band around m (mg_feed_band) */
+} rfe_replay_feed_t;
+
+/** The gate of a run from @p ps's keys, nothing summed, no reference speed yet. */
 static inline rfe_replay_mass_gate_t rfe_replay_mass_gate_of(const rfe_param_set_t *ps)
 {
     rfe_replay_mass_gate_t g;
     g.need = ps->mg[RFE_PK_mg_feed_excitation - RFE_PK_MG_FIRST];
     g.ax_min = ps->mg[RFE_PK_mg_feed_ax_min - RFE_PK_MG_FIRST];
     g.excitation = 0.0;
+    g.slip_max = ps->mg[RFE_PK_mg_feed_slip_max - RFE_PK_MG_FIRST];
+    g.band = ps->mg[RFE_PK_mg_feed_band - RFE_PK_MG_FIRST];
+    g.m_param = ps->value[RFE_PK_m];
+    g.v_floor = ps->mg[RFE_PK_mg_v_min - RFE_PK_MG_FIRST];
+    g.vx_ref = 0.0;
+    g.have_vx_ref = 0;
+    g.slipping = 0;
     return g;
+}
+
+/** The car's speed @p vx [m/s] the next rows' slip is taken against. */
+static inline void rfe_replay_mass_gate_vx(rfe_replay_mass_gate_t *g, double vx)
+{
+    g->vx_ref = vx;
+    g->have_vx_ref = 1;
+}
+
+/**
+ * 1 when @p row's wheels slip beyond the gate's slip_max: |v_w - vx| > slip_max max(|vx|,
+ * v_floor), v_w = (omega_fl + omega_fr + omega_rl + omega_rr) / 4 R [m/s] in double (the
+ * estimator's speed, §10), vx the gate's reference; 0 without a reference, with slip_max 0
+ * or a wheel speed not finite (that row the estimator refuses).
+ */
+static inline int rfe_replay_mass_gate_slips(const rfe_replay_mass_gate_t *g,
+                                             const rfe_sensor_row_t *row, double R)
+{
+    const double v_w = (row->omega[0] + row->omega[1] + row->omega[2] + row->omega[3]) / 4.0 * R;
+    const double den = (fabs(g->vx_ref) > g->v_floor) ? fabs(g->vx_ref) : g->v_floor;
+    return ((g->have_vx_ref != 0) && (g->slip_max > 0.0) && isfinite(v_w) &&
+            (fabs(v_w - g->vx_ref) > g->slip_max * den))
+               ? 1
+               : 0;
 }
 
 /**
  * After each mass and grade step: @p start 1 when the step started the filter afresh (the
  * library's rule: not started yet or a period beyond mg_dt_max; the caller tests it in the
  * step's own arithmetic before the step), @p status the step's, @p ax [m/s^2] the row's,
- * @p dt [s] the row's time since the estimator's last accepted one (ignored on a start). A
- * start empties the sum; an update with |ax| >= ax_min and dt > 0 adds |ax| dt; a pause, hold
- * or refused row adds nothing (a refused row cannot be a start: the caller passes 0).
+ * @p dt [s] the row's time since the estimator's last accepted one (ignored on a start),
+ * @p slips rfe_replay_mass_gate_slips of the row. A start empties the sum; an update that
+ * slips empties it too (the excitation must be seen again without slip) and marks the row;
+ * an update with |ax| >= ax_min and dt > 0 adds |ax| dt; a pause, hold or refused row adds
+ * nothing (a refused row cannot be a start: the caller passes 0).
  */
 static inline void rfe_replay_mass_gate_step(rfe_replay_mass_gate_t *g, int start, int status,
-                                             double ax, double dt)
+                                             double ax, double dt, int slips)
 {
-    if (start != 0) {
+    g->slipping = ((status == (int)RFE_OK) && (slips != 0)) ? 1 : 0;
+    if ((start != 0) || (g->slipping != 0)) {
         g->excitation = 0.0;
     } else if ((status == (int)RFE_OK) && (fabs(ax) >= g->ax_min) && (dt > 0.0)) {
         g->excitation += fabs(ax) * dt;
@@ -319,19 +376,39 @@ static inline void rfe_replay_mass_gate_step(rfe_replay_mass_gate_t *g, int star
 
 /**
  * The mass feed rule of the replay (MASS_GRADE.md §10), on a row whose mass and grade columns
- * this sample's step wrote: 1 when that step is an update (mg_status RFE_OK: not paused,
- * held or refused) with sd_mass <= @p rel * mass_est, compared in double on the row's values,
- * and the gate @p g open (need 0, or its excitation, this step's included, >= need); never
+ * this sample's step wrote: RFE_REPLAY_FEED_DUE when that step is an update (mg_status
+ * RFE_OK: not paused, held or refused) that did not slip, with sd_mass <= @p rel * mass_est,
+ * compared in double on the row's values, the gate @p g open (need 0, or its excitation,
+ * this step's included, >= need) and mass_est within the band (band 0, or |mass_est -
+ * m_param| <= band m_param); RFE_REPLAY_FEED_SLIP for an update that slipped,
+ * RFE_REPLAY_FEED_BAND for one due but outside the band, else RFE_REPLAY_FEED_NONE; never due
  * with @p rel = 0 (key mg_feed_sd_rel). The one rule of every replay (float, double, q31).
  */
-static inline int rfe_replay_mass_feed_due(double rel, const rfe_replay_mass_gate_t *g,
-                                           const rfe_est_row_t *out)
+static inline rfe_replay_feed_t rfe_replay_mass_feed_due(double rel,
+                                                         const rfe_replay_mass_gate_t *g,
+                                                         const rfe_est_row_t *out)
 {
-    return ((out->mg_status == (int)RFE_OK) && (rel > 0.0) &&
-            (out->sd_mass <= rel * out->mass) &&
-            ((g->need <= 0.0) || (g->excitation >= g->need)))
-               ? 1
-               : 0;
+    rfe_replay_feed_t f = RFE_REPLAY_FEED_NONE;
+    if ((out->mg_status != (int)RFE_OK) || !(rel > 0.0)) {
+        f = RFE_REPLAY_FEED_NONE;
+    } else if (g->slipping != 0) {
+        f = RFE_REPLAY_FEED_SLIP;
+    } else if (!(out->sd_mass <= rel * out->mass) ||
+               !((g->need <= 0.0) || (g->excitation >= g->need))) {
+        f = RFE_REPLAY_FEED_NONE;
+    } else if ((g->band > 0.0) && !(fabs(out->mass - g->m_param) <= g->band * g->m_param)) {
+        f = RFE_REPLAY_FEED_BAND;
+    } else {
+        f = RFE_REPLAY_FEED_DUE;
+    }
+    return f;
+}
+
+/** Counts @p f in @p stats (the samples the slip held and the band refused). */
+static inline void rfe_replay_mass_feed_count(rfe_replay_feed_t f, rfe_replay_stats_t *stats)
+{
+    stats->n_feed_slip += (f == RFE_REPLAY_FEED_SLIP) ? 1u : 0u;
+    stats->n_feed_band += (f == RFE_REPLAY_FEED_BAND) ? 1u : 0u;
 }
 
 /**

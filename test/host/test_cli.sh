@@ -820,31 +820,44 @@ run mg_engine_torque_off 0 --in "$TMP/engine.csv" --out "$TMP/mg_eo.csv" --mass-
 # bit); the summary and the JSON count the samples fed and give the last mass used. The gate
 # must hold at least one update that the sd rule alone would feed (this log's excitation
 # reaches 1 m/s after its sd_mass reaches 2 %: a rule without the gate fails the row check).
+# The slip hold (mg_feed_slip_max 0.05): an update whose wheels' speed (the input's mean
+# omega times its R) departs from the previous row's observer vx_est by more than 0.05
+# max(|vx_est|, mg_v_min = 3 m/s) is not fed and empties the sum (this log has a few: a rule
+# without the hold fails the row check); the band (mg_feed_band 0.3): a due mass farther than
+# 0.3 m from the log's m is refused and counted (none on this log).
 grep -q '^# mg_feed_sd_rel = 0\.02$' "$TMP/mg_d.csv" && grep -q '^# mg_feed_excitation = 1$' "$TMP/mg_d.csv" \
-    && grep -q '^# mg_feed_ax_min = 0\.2$' "$TMP/mg_d.csv" && ok "mg_feed: the keys in the metadata" \
+    && grep -q '^# mg_feed_ax_min = 0\.2$' "$TMP/mg_d.csv" && grep -q '^# mg_feed_slip_max = 0\.05$' "$TMP/mg_d.csv" \
+    && grep -q '^# mg_feed_band = 0\.3$' "$TMP/mg_d.csv" && ok "mg_feed: the keys in the metadata" \
     || bad "mg_feed: metadata $(grep mg_feed "$TMP/mg_d.csv")"
 res=$(awk -F, '
     function ab(x) { return x < 0 ? -x : x }
     FNR == 1 { file++ }
-    file == 2 && /^# m = / { used = $0; sub(/^# m = /, "", used); used += 0; next }
+    file == 1 && /^# R = / { R = $0; sub(/^# R = /, "", R); R += 0; next }
+    file == 2 && /^# m = / { used = $0; sub(/^# m = /, "", used); used += 0; m = used; next }
     /^#/ { next }
     !h[file] { for (i = 1; i <= NF; i++) c[file, $i] = i; h[file] = 1; row = 0; next }
-    file == 1 { ax[row] = $c[1, "ax"] + 0; t[row] = $c[1, "t"] + 0; row++; next }
+    file == 1 { ax[row] = $c[1, "ax"] + 0; t[row] = $c[1, "t"] + 0
+                vw[row] = ($c[1, "omega_fl"] + $c[1, "omega_fr"] + $c[1, "omega_rl"] + $c[1, "omega_rr"]) / 4 * R; row++; next }
     {
-        if (row > 0 && $c[2, "mg_status"] + 0 == 0 && ab(ax[row]) >= 0.2) ex += ab(ax[row]) * (t[row] - t[row - 1])
-        due = ($c[2, "mg_status"] + 0 == 0 && $c[2, "sd_mass"] + 0 <= 0.02 * $c[2, "mass_est"])
-        if (due && ex >= 1) { used = $c[2, "mass_est"] + 0; fed++ }
+        upd = ($c[2, "mg_status"] + 0 == 0)
+        slips = (row > 0 && upd && ab(vw[row] - vxp) > 0.05 * (ab(vxp) > 3 ? ab(vxp) : 3))
+        if (slips) { ex = 0; slip++ }
+        else if (row > 0 && upd && ab(ax[row]) >= 0.2) ex += ab(ax[row]) * (t[row] - t[row - 1])
+        due = (upd && !slips && $c[2, "sd_mass"] + 0 <= 0.02 * $c[2, "mass_est"])
+        inband = (ab($c[2, "mass_est"] - m) <= 0.3 * m)
+        if (due && ex >= 1 && inband) { used = $c[2, "mass_est"] + 0; fed++ }
+        if (due && ex >= 1 && !inband) refused++
         if (due && ex < 1) held++
         if ($c[2, "mass_used"] + 0 != used) { if (!bad) first = row; bad++ }
-        last = $c[2, "mass_used"]; row++
+        last = $c[2, "mass_used"]; vxp = $c[2, "vx_est"] + 0; row++
     }
-    END { printf "%d %d %s %d %d", fed, bad, last, held, first }' "$MG/car_grade_step.csv" "$TMP/mg_d.csv")
+    END { printf "%d %d %s %d %d %d %d", fed, bad, last, held, first, slip, refused }' "$MG/car_grade_step.csv" "$TMP/mg_d.csv")
 set -- $res
-[ "$1" -gt 0 ] && [ "$2" -eq 0 ] && [ "$4" -gt 0 ] \
-    && ok "mg_feed: mass_used follows the rule and the gate on every row ($1 fed, $4 held by the gate)" \
-    || bad "mg_feed: $1 fed, $2 rows differ (the first at row $5), $4 held by the gate"
+[ "$1" -gt 0 ] && [ "$2" -eq 0 ] && [ "$4" -gt 0 ] && [ "$6" -gt 0 ] \
+    && ok "mg_feed: mass_used follows the rule, the gate, the slip hold and the band on every row ($1 fed, $4 held by the gate, $6 by the slip, $7 refused by the band)" \
+    || bad "mg_feed: $1 fed, $2 rows differ (the first at row $5), $4 held by the gate, $6 by the slip, $7 refused by the band"
 grep -qF "\"feed\": {\"sd_rel\": 0.02, \"excitation\": 1, \"ax_min\": 0.2, \"excitation_end\": " "$TMP/mg_d.json" \
-    && grep -qF ", \"n_fed\": $1, \"mass_used_end\": $3}" "$TMP/mg_d.json" \
+    && grep -qF ", \"slip_max\": 0.05, \"band\": 0.3, \"n_slip_held\": $6, \"n_band_refused\": $7, \"n_fed\": $1, \"mass_used_end\": $3}" "$TMP/mg_d.json" \
     && ok "mg_feed: JSON" || bad "mg_feed: JSON $(grep -o '"feed": [^}]*}' "$TMP/mg_d.json"), want $1 $3"
 # every arithmetic opens the gate at the same row (the sum is of the log's double values; on
 # this log the gate, not the sd rule, decides the first feed: 26 updates held above); the
@@ -858,8 +871,8 @@ fd=$(first_fed "$TMP/mg_d.csv"); ff=$(first_fed "$TMP/mg_gfl.csv"); fq=$(first_f
 [ -n "$fd" ] && [ "$fd" = "$ff" ] && [ "$fd" = "$fq" ] \
     && ok "mg_feed_gate_reals: first fed at row $fd in double, float and q31" \
     || bad "mg_feed_gate_reals: first fed at row double ${fd:-never}, float ${ff:-never}, q31 ${fq:-never}"
-# mg_feed_excitation = 0: no gate, the sd rule alone (the feed before the gate)
-printf 'mg_feed_excitation = 0\n' >"$TMP/nogate.par"
+# mg_feed_excitation = 0 and no checks: the sd rule alone (the feed before the gate)
+printf 'mg_feed_excitation = 0\nmg_feed_slip_max = 0\nmg_feed_band = 0\n' >"$TMP/nogate.par"
 run mg_feed_nogate 0 --in "$TMP/gs.csv" --out "$TMP/mg_ng.csv" --real double --params "$TMP/nogate.par" -q
 res=$(awk -F, '
     /^# m = / { used = $0; sub(/^# m = /, "", used); used += 0; next }
@@ -886,6 +899,12 @@ one_line mg_feed_excitation_bad "^mu_replay: .*gate_bad\.par:1: invalid paramete
 printf 'mg_feed_ax_min = -0.1\n' >"$TMP/axmin_bad.par"
 run mg_feed_ax_min_bad 1 --in "$TMP/hilly.csv" --out "$TMP/mg_x.csv" --params "$TMP/axmin_bad.par" --real q31
 one_line mg_feed_ax_min_bad "^mu_replay: .*axmin_bad\.par:1: invalid parameter mg_feed_ax_min = -0\.1 \(rejected by mu_replay: a finite acceleration >= 0 m/s\^2, q31 run\)$"
+printf 'mg_feed_slip_max = -0.05\n' >"$TMP/slip_bad.par"
+run mg_feed_slip_max_bad 1 --in "$TMP/hilly.csv" --out "$TMP/mg_x.csv" --params "$TMP/slip_bad.par"
+one_line mg_feed_slip_max_bad "^mu_replay: .*slip_bad\.par:1: invalid parameter mg_feed_slip_max = -0\.05 \(rejected by mu_replay: a finite share >= 0, float run\)$"
+printf 'mg_feed_band = -0.3\n' >"$TMP/band_bad.par"
+run mg_feed_band_bad 1 --in "$TMP/hilly.csv" --out "$TMP/mg_x.csv" --params "$TMP/band_bad.par" --real q31
+one_line mg_feed_band_bad "^mu_replay: .*band_bad\.par:1: invalid parameter mg_feed_band = -0\.3 \(rejected by mu_replay: a finite share >= 0, q31 run\)$"
 # 0: never fed, mass_used the log's m throughout
 printf 'mg_feed_sd_rel = 0\n' >"$TMP/feed0.par"
 run mg_feed_off 0 --in "$TMP/hilly.csv" --out "$TMP/mg_f0.csv" --real double --params "$TMP/feed0.par"

@@ -1334,6 +1334,182 @@ static void test_rfe_replay_gate_holds_the_feed_until_the_excitation(void **stat
     }
 }
 
+/* make_mg_log's rows whose wheels are 10 % faster than the car (measured vx = their speed /
+ * 1.1: a slip of 0.1 over mg_feed_slip_max's 0.05), SLIP_FROM .. SLIP_TO - 1. */
+#define SLIP_FROM 15u
+#define SLIP_TO 20u
+
+/* The feed's wheel-slip hold (mg_feed_slip_max; MASS_GRADE.md §10), in double, q31 and behind
+ * the observer with the log's measured vx: the wheels' speeds are the same on every row (so
+ * is the mass and grade estimate), only the car's vx says that rows SLIP_FROM .. SLIP_TO - 1
+ * slip. With the gate of the test above (open at the GATE_OPEN-th update after its sum
+ * starts) and the sd rule passing every update, the friction estimator takes each row's mass
+ * from row GATE_OPEN to SLIP_FROM - 1, keeps row SLIP_FROM - 1's through the slip (each of
+ * those updates counted in n_feed_slip), and, the slip having emptied the sum, keeps it
+ * until the GATE_OPEN-th update after the slip, then takes each row's again. Written out from
+ * the rule; a hold that does not empty the sum feeds from row SLIP_TO, no hold feeds the slip
+ * rows. mg_feed_slip_max = 0 feeds every row from GATE_OPEN on. A negative, NaN or infinite
+ * mg_feed_slip_max or mg_feed_band is refused before any row, naming it. */
+/* REQ-CLI-007 */
+static void test_rfe_replay_slip_holds_the_feed_and_empties_the_gate(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_sensor_row_t rows[N_MG];
+    rfe_param_set_t ps;
+    static rfe_est_row_t out[N_MG];
+    rfe_replay_stats_t st;
+    rfe_replay_q31_stats_t sq;
+    const double ax = 0.5 + 9.81 * sin(0.03); /* make_mg_log's */
+    const double bad_values[3] = {-0.1, NAN, INFINITY};
+    size_t i;
+    int path;
+    (void)state;
+    make_mg_log(&log, rows);
+    assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_DEFAULT), 0);
+    log.has_velocity = 1; /* vx, vy = 0, yaw_acc = 0: the slip's reference is the log's vx */
+    for (i = 0u; i < N_MG; ++i) {
+        const double v_w = rows[i].omega[0] * ps.value[RFE_PK_R]; /* the wheels' speed */
+        rows[i].vx = ((i >= SLIP_FROM) && (i < SLIP_TO)) ? v_w / 1.1 : v_w;
+    }
+    /* on the slip rows |v_w - vx| / vx = (1.1 - 1) = 0.1, twice the default key */
+    assert_true(ps.mg[RFE_PK_mg_feed_slip_max - RFE_PK_MG_FIRST] == 0.05);
+    ps.mass_grade = 1;
+    ps.value[RFE_PK_dt] = 0.02;
+    ps.mg[RFE_PK_mg_feed_sd_rel - RFE_PK_MG_FIRST] = 1.0;
+    ps.mg[RFE_PK_mg_feed_band - RFE_PK_MG_FIRST] = 0.0; /* the slip alone */
+    ps.mg[RFE_PK_mg_feed_excitation - RFE_PK_MG_FIRST] = ((double)GATE_OPEN - 0.5) * 0.02 * ax;
+    for (path = 0; path < 4; ++path) { /* double, double observer, q31, q31 observer */
+        const double m = ps.value[RFE_PK_m];
+        size_t n_fed = 0u;
+        if (path < 2) {
+            assert_int_equal((path == 0) ? rfe_replay_run_f64(&ps, &log, out, &st, NULL)
+                                         : rfe_replay_run_observer_f64(&ps, &log, out, &st, NULL),
+                             RFE_OK);
+        } else {
+            assert_int_equal((path == 2) ? rfe_replay_run_q31(&ps, &log, out, &sq, NULL, NULL)
+                                         : rfe_replay_run_observer_q31(&ps, &log, out, &sq, NULL, NULL),
+                             RFE_OK);
+            st = sq.base;
+        }
+        assert_int_equal(st.mg_status_count[RFE_OK], N_MG); /* every sample an update */
+        for (i = 0u; i < N_MG; ++i) {
+            if (((i >= GATE_OPEN) && (i < SLIP_FROM)) || (i >= SLIP_TO - 1u + GATE_OPEN)) {
+                assert_true(out[i].mass_used == out[i].mass); /* fed this sample's */
+                ++n_fed;
+            } else if (i >= SLIP_FROM) {
+                assert_true(out[i].mass_used == out[SLIP_FROM - 1u].mass); /* the last fed */
+            } else {
+                assert_true(out[i].mass_used == m); /* the parameter m */
+            }
+        }
+        /* the held mass differs from the rows' own, so holding shows */
+        assert_true(out[SLIP_FROM].mass != out[SLIP_FROM - 1u].mass);
+        assert_int_equal(st.n_mass_fed, n_fed);
+        assert_int_equal(n_fed, (SLIP_FROM - GATE_OPEN) + (N_MG - (SLIP_TO - 1u + GATE_OPEN)));
+        assert_int_equal(st.n_feed_slip, SLIP_TO - SLIP_FROM);
+        assert_int_equal(st.n_feed_band, 0u);
+    }
+    /* no slip hold: every row from GATE_OPEN on fed */
+    ps.mg[RFE_PK_mg_feed_slip_max - RFE_PK_MG_FIRST] = 0.0;
+    assert_int_equal(rfe_replay_run_f64(&ps, &log, out, &st, NULL), RFE_OK);
+    assert_int_equal(st.n_mass_fed, N_MG - GATE_OPEN);
+    assert_int_equal(st.n_feed_slip, 0u);
+    ps.mg[RFE_PK_mg_feed_slip_max - RFE_PK_MG_FIRST] = RFE_MG_FEED_SLIP_MAX_DEFAULT;
+    /* a bad key: refused before any row, naming it, in double and q31 */
+    for (i = 0u; i < 6u; ++i) {
+        const size_t k = (i < 3u) ? (size_t)RFE_PK_mg_feed_slip_max : (size_t)RFE_PK_mg_feed_band;
+        const double keep = ps.mg[k - RFE_PK_MG_FIRST];
+        size_t bad = 0u;
+        ps.mg[k - RFE_PK_MG_FIRST] = bad_values[i % 3u];
+        assert_int_equal(rfe_replay_run_f64(&ps, &log, out, &st, &bad), RFE_ERR_PARAM);
+        assert_int_equal(bad, k);
+        bad = 0u;
+        assert_int_equal(rfe_replay_run_q31(&ps, &log, out, &sq, NULL, &bad), RFE_ERR_PARAM);
+        assert_int_equal(bad, k);
+        ps.mg[k - RFE_PK_MG_FIRST] = keep;
+    }
+}
+
+/* The feed's band around the parameter m (mg_feed_band; MASS_GRADE.md §10), in double and
+ * q31, measured velocities and behind the observer: with the sd rule passing every update
+ * and no gate, each row's mass is fed exactly when |mass_est - m| <= mg_feed_band * m, else
+ * the last fed (at first m) is kept and the row counted in n_feed_band. The band is set
+ * between the smallest and the largest |mass_est - m| / m of the run (from a run with no
+ * band), so both branches occur; written out from the rule on the rows' own values. A band
+ * below every deviation feeds nothing (all N_MG rows refused), 0 feeds every row. */
+/* REQ-CLI-007 */
+static void test_rfe_replay_band_refuses_a_mass_far_from_m(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_sensor_row_t rows[N_MG];
+    rfe_param_set_t ps;
+    static rfe_est_row_t out[N_MG];
+    rfe_replay_stats_t st;
+    rfe_replay_q31_stats_t sq;
+    double dev_min = INFINITY;
+    double dev_max = 0.0;
+    double m;
+    size_t i;
+    int path;
+    (void)state;
+    make_mg_log(&log, rows);
+    assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_DEFAULT), 0);
+    ps.mass_grade = 1;
+    ps.value[RFE_PK_dt] = 0.02;
+    ps.mg[RFE_PK_mg_feed_sd_rel - RFE_PK_MG_FIRST] = 1.0;
+    ps.mg[RFE_PK_mg_feed_excitation - RFE_PK_MG_FIRST] = 0.0; /* no gate */
+    ps.mg[RFE_PK_mg_feed_band - RFE_PK_MG_FIRST] = 0.0;
+    /* m a quarter above the estimator's start (mg_m0, the first rows' mass): every row's
+     * mass then differs from m, so a band can lie below all of them */
+    ps.value[RFE_PK_m] = 1.25 * ps.mg[RFE_PK_mg_m0 - RFE_PK_MG_FIRST];
+    m = ps.value[RFE_PK_m];
+    assert_int_equal(rfe_replay_run_f64(&ps, &log, out, &st, NULL), RFE_OK);
+    assert_int_equal(st.n_mass_fed, N_MG); /* band 0: every update fed */
+    for (i = 0u; i < N_MG; ++i) {
+        const double d = fabs(out[i].mass - m) / m;
+        dev_min = (d < dev_min) ? d : dev_min;
+        dev_max = (d > dev_max) ? d : dev_max;
+    }
+    assert_true((dev_min > 0.0) && (dev_min < dev_max)); /* the band can split the rows */
+    ps.mg[RFE_PK_mg_feed_band - RFE_PK_MG_FIRST] = 0.5 * (dev_min + dev_max);
+    for (path = 0; path < 4; ++path) { /* double, double observer, q31, q31 observer */
+        const double band = ps.mg[RFE_PK_mg_feed_band - RFE_PK_MG_FIRST];
+        double last = m;
+        size_t n_fed = 0u;
+        size_t n_refused = 0u;
+        if (path < 2) {
+            assert_int_equal((path == 0) ? rfe_replay_run_f64(&ps, &log, out, &st, NULL)
+                                         : rfe_replay_run_observer_f64(&ps, &log, out, &st, NULL),
+                             RFE_OK);
+        } else {
+            assert_int_equal((path == 2) ? rfe_replay_run_q31(&ps, &log, out, &sq, NULL, NULL)
+                                         : rfe_replay_run_observer_q31(&ps, &log, out, &sq, NULL, NULL),
+                             RFE_OK);
+            st = sq.base;
+        }
+        assert_int_equal(st.mg_status_count[RFE_OK], N_MG);
+        for (i = 0u; i < N_MG; ++i) {
+            if (fabs(out[i].mass - m) <= band * m) {
+                last = out[i].mass;
+                ++n_fed;
+            } else {
+                ++n_refused;
+            }
+            assert_true(out[i].mass_used == last);
+        }
+        assert_true((n_fed > 0u) && (n_refused > 0u)); /* both branches ran */
+        assert_int_equal(st.n_mass_fed, n_fed);
+        assert_int_equal(st.n_feed_band, n_refused);
+        assert_int_equal(st.n_feed_slip, 0u);
+    }
+    /* a band below every deviation: nothing fed, every update refused and counted */
+    ps.mg[RFE_PK_mg_feed_band - RFE_PK_MG_FIRST] = 0.5 * dev_min;
+    assert_int_equal(rfe_replay_run_f64(&ps, &log, out, &st, NULL), RFE_OK);
+    assert_int_equal(st.n_mass_fed, 0u);
+    assert_int_equal(st.n_feed_band, N_MG);
+    assert_true(out[N_MG - 1u].mass_used == m);
+}
+
 /* ------------------------------------------------------------ mass and grade in q31 */
 
 /* A bundled mass and grade log with gear shifts (50 Hz; shifts at 5, 11, 19, 30 s): its
@@ -1672,12 +1848,15 @@ static void test_rfe_replay_q31_mass_grade_refusals(void **state)
     ps.value[RFE_PK_dt] = 0.02;
     ps.mg[RFE_PK_mg_feed_sd_rel - RFE_PK_MG_FIRST] = 1.0;
     ps.mg[RFE_PK_mg_feed_excitation - RFE_PK_MG_FIRST] = 0.0; /* every update: no gate */
+    /* no band: 40 t is far outside m's, and the band would refuse it before the Q16 check */
+    ps.mg[RFE_PK_mg_feed_band - RFE_PK_MG_FIRST] = 0.0;
     ps.mg[RFE_PK_mg_m0 - RFE_PK_MG_FIRST] = 40000.0;
     ps.mg[RFE_PK_mg_m_min - RFE_PK_MG_FIRST] = 33000.0;
     ps.mg[RFE_PK_mg_m_max - RFE_PK_MG_FIRST] = 60000.0;
     assert_int_equal(rfe_replay_run_q31(&ps, &log, out, &st, NULL, NULL), RFE_OK);
     assert_int_equal(st.base.mg_status_count[RFE_OK], N_MG);
     assert_int_equal(st.base.n_mass_fed, 0u);
+    assert_int_equal(st.base.n_feed_band, 0u); /* due every time: the Q16 check refused it */
     for (i = 0u; i < N_MG; ++i) {
         assert_true(out[i].mass >= 32768.0);
         assert_true(out[i].mass_used == ps.value[RFE_PK_m]);
@@ -2535,6 +2714,8 @@ int main(void)
         cmocka_unit_test(test_rfe_replay_feeds_the_current_mass_by_the_sd_rule),
         cmocka_unit_test(test_rfe_replay_feed_off_is_mass_grade_off),
         cmocka_unit_test(test_rfe_replay_gate_holds_the_feed_until_the_excitation),
+        cmocka_unit_test(test_rfe_replay_slip_holds_the_feed_and_empties_the_gate),
+        cmocka_unit_test(test_rfe_replay_band_refuses_a_mass_far_from_m),
         cmocka_unit_test(test_rfe_replay_q31_mass_grade_is_the_library_loop),
         cmocka_unit_test(test_rfe_replay_q31_fed_mass_reaches_the_friction_estimator),
         cmocka_unit_test(test_rfe_replay_q31_mass_grade_refusals),
