@@ -116,11 +116,43 @@ static void test_xf_edges(void **state)
     assert_true(val(rfe_xf_of(-12345, 15)) == -12345.0 / 32768.0);
 }
 
+/* The bit length every normalisation above starts from (internal_q31.h: one instruction where
+ * the core counts leading zeros, the portable search elsewhere): for every length L, the
+ * smallest (2^(L-1)), the largest (2^L - 1) and random values with bit L-1 set and lower bits
+ * drawn have length L, which holds by construction; 0 has length 0. */
+static void test_bitlen(void **state)
+{
+    unsigned int len;
+    int k;
+    (void)state;
+    assert_int_equal(rfe_q31_bitlen32(0u), 0);
+    assert_int_equal(rfe_q31_bitlen64(0u), 0);
+    for (len = 1u; len <= 64u; ++len) {
+        const uint64_t top = (uint64_t)1 << (len - 1u);
+        const uint64_t low_mask = top - 1u;
+        assert_int_equal(rfe_q31_bitlen64(top), len);
+        assert_int_equal(rfe_q31_bitlen64(top | low_mask), len);
+        if (len <= 32u) {
+            assert_int_equal(rfe_q31_bitlen32((uint32_t)top), len);
+            assert_int_equal(rfe_q31_bitlen32((uint32_t)(top | low_mask)), len);
+        }
+        for (k = 0; k < 50; ++k) {
+            const uint64_t r = (uint64_t)((rng_uniform() + 1.0) * 9.0e18);
+            const uint64_t v = top | (r & low_mask);
+            assert_int_equal(rfe_q31_bitlen64(v), len);
+            if (len <= 32u) {
+                assert_int_equal(rfe_q31_bitlen32((uint32_t)v), len);
+            }
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_xf_operations),
         cmocka_unit_test(test_xf_edges),
+        cmocka_unit_test(test_bitlen),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
