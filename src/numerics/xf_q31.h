@@ -115,12 +115,14 @@ static inline rfe_xf_t rfe_xf_div(rfe_xf_t a, rfe_xf_t b)
         const uint64_t ma = (a.m < 0) ? (uint64_t)(-(int64_t)a.m) : (uint64_t)a.m;
         const uint64_t mb = (b.m < 0) ? (uint64_t)(-(int64_t)b.m) : (uint64_t)b.m;
         unsigned int sh = 29u;
+        unsigned int sh1;
         uint64_t q2;
         int64_t q;
         if (ma < mb) {
             sh = 30u;
         }
-        q2 = (ma << (sh + 1u)) / mb;
+        sh1 = sh + 1u;
+        q2 = (ma << sh1) / mb;
         q = (int64_t)((q2 + 1u) >> 1);
         if ((a.m < 0) != (b.m < 0)) {
             q = -q;
