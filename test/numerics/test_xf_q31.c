@@ -116,11 +116,84 @@ static void test_xf_edges(void **state)
     assert_true(val(rfe_xf_of(-12345, 15)) == -12345.0 / 32768.0);
 }
 
+/* The quotient is rounded exactly as rfe_fix_div rounds the mantissas' quotient (its integer,
+ * half up on the magnitude, at shift 30 when |a.m| < |b.m|, else 29): the same integers the
+ * observer had when rfe_xf_div called rfe_fix_div, on random operands of every sign, equal
+ * mantissas (the shift's boundary) and the mantissa range's ends (2^29, 2^30). */
+static void test_xf_div_as_fix_div(void **state)
+{
+    const int32_t ends[4] = {1 << 29, (1 << 29) + 1, (1 << 30) - 1, 1 << 30};
+    int n;
+    (void)state;
+    rng_seed(0x51Dull);
+    for (n = 0; n < N_CASES + 16; ++n) {
+        rfe_xf_t a = draw();
+        rfe_xf_t b = draw();
+        int32_t q = 0;
+        uint32_t sat = 0u;
+        int sh;
+        rfe_xf_t want;
+        rfe_xf_t got;
+        if (n >= N_CASES) {
+            /* the ends against each other, both signs of a */
+            a.m = ((n & 1) != 0) ? -ends[(n / 4) % 4] : ends[(n / 4) % 4];
+            b.m = ends[n % 4];
+        } else if ((n % 7) == 0) {
+            b.m = -a.m; /* equal magnitudes: shift 29 */
+        } else {
+            /* a.m, b.m as drawn */
+        }
+        if (b.m == 0) {
+            continue; /* draw() gives 0 only for a zero mantissa; a division by 0 is test_xf_edges' */
+        }
+        sh = (((a.m < 0) ? -(int64_t)a.m : (int64_t)a.m) < ((b.m < 0) ? -(int64_t)b.m : (int64_t)b.m)) ? 30 : 29;
+        assert_int_equal(rfe_fix_div(a.m, b.m, sh, &q, &sat), RFE_OK);
+        assert_int_equal(sat, 0u);
+        want = rfe_xf_make((int64_t)q, (a.e - b.e) - sh);
+        got = rfe_xf_div(a, b);
+        assert_int_equal(got.m, want.m);
+        assert_int_equal(got.e, want.e);
+    }
+}
+
+/* The bit length every normalisation above starts from (internal_q31.h: one instruction where
+ * the core counts leading zeros, the portable search elsewhere): for every length L, the
+ * smallest (2^(L-1)), the largest (2^L - 1) and random values with bit L-1 set and lower bits
+ * drawn have length L, which holds by construction; 0 has length 0. */
+static void test_bitlen(void **state)
+{
+    unsigned int len;
+    int k;
+    (void)state;
+    assert_int_equal(rfe_q31_bitlen32(0u), 0);
+    assert_int_equal(rfe_q31_bitlen64(0u), 0);
+    for (len = 1u; len <= 64u; ++len) {
+        const uint64_t top = (uint64_t)1 << (len - 1u);
+        const uint64_t low_mask = top - 1u;
+        assert_int_equal(rfe_q31_bitlen64(top), len);
+        assert_int_equal(rfe_q31_bitlen64(top | low_mask), len);
+        if (len <= 32u) {
+            assert_int_equal(rfe_q31_bitlen32((uint32_t)top), len);
+            assert_int_equal(rfe_q31_bitlen32((uint32_t)(top | low_mask)), len);
+        }
+        for (k = 0; k < 50; ++k) {
+            const uint64_t r = (uint64_t)((rng_uniform() + 1.0) * 9.0e18);
+            const uint64_t v = top | (r & low_mask);
+            assert_int_equal(rfe_q31_bitlen64(v), len);
+            if (len <= 32u) {
+                assert_int_equal(rfe_q31_bitlen32((uint32_t)v), len);
+            }
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_xf_operations),
         cmocka_unit_test(test_xf_edges),
+        cmocka_unit_test(test_bitlen),
+        cmocka_unit_test(test_xf_div_as_fix_div),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
