@@ -35,6 +35,15 @@ rfe_status_t rfe_step_noise_sqrt_core_q31(const rfe_params_q31_t *p, const rfe_m
                                          rfe_fix_t SR[RFE_MEAS * RFE_MEAS],
                                          rfe_fix_t pers[RFE_MEAS], uint32_t *sat);
 
+/**
+ * z = h(mu, u) (Q24) for sample @p u, its model set up again (paper mode's h0 in the step
+ * noise: the set-up's saturations are counted once more into *count, as they always were;
+ * the committed goldens hold these counts). Preconditions as rfe_step_noise_sqrt_core_q31's.
+ * @return RFE_OK, or the error of rfe_meas_setup_q31 / rfe_meas_eval_q31.
+ */
+rfe_status_t rfe_step_noise_h0_q31(const rfe_params_q31_t *p, const rfe_sample_q31_t *u,
+                                   const rfe_fix_t *mu, rfe_fix_t z[RFE_MEAS], uint32_t *count);
+
 /** The noise sd of input j (RFE_IN_*, rfe/common.h; j < RFE_INPUTS), in that input's format. */
 rfe_fix_t rfe_step_noise_input_sd_q31(const rfe_filter_params_q31_t *fp, size_t j);
 

@@ -1,13 +1,25 @@
 /**
  * @file step_noise_pers_q31.c
- * @brief The step noise's persistent diagonal and the input-noise table (step_noise_q31.c's
- *        helpers, step_noise_internal_q31.h). A unit of its own so that the compiler cannot
- *        fold the persistent diagonal into rfe_step_noise_sqrt_core_q31's frame: that function
- *        is on the estimator's deepest call path, which must fit the Cortex-M0+ stack budget.
+ * @brief The step noise's persistent diagonal, the input-noise table and paper mode's h0
+ *        (step_noise_q31.c's helpers, step_noise_internal_q31.h). A unit of its own so that
+ *        the compiler cannot fold them (h0's set-up model: 288 B) into
+ *        rfe_step_noise_sqrt_core_q31's frame: that function is on the estimator's deepest
+ *        call path, which must fit the Cortex-M0+ stack budget.
  *        Integer operations only.
  */
 #include "estimators/friction/friction_logic.h"
 #include "estimators/friction/step_noise_internal_q31.h"
+
+rfe_status_t rfe_step_noise_h0_q31(const rfe_params_q31_t *p, const rfe_sample_q31_t *u,
+                                   const rfe_fix_t *mu, rfe_fix_t z[RFE_MEAS], uint32_t *count)
+{
+    rfe_meas_q31_t h;
+    rfe_status_t st = rfe_meas_setup_q31(&h, &p->vehicle, &p->tyre, u, count);
+    if (st == RFE_OK) {
+        st = rfe_meas_eval_q31(&h, &p->vehicle, &p->tyre, mu, z, count);
+    }
+    return st;
+}
 
 rfe_fix_t rfe_step_noise_input_sd_q31(const rfe_filter_params_q31_t *fp, size_t j)
 {

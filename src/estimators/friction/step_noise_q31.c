@@ -29,20 +29,6 @@ typedef char rfe_assert_step_noise_q31_tria_fits[((RFE_MEAS + RFE_INPUTS) <= RFE
                                               ? 1
                                               : -1];
 
-/* z = h(mu, u) (Q24) for sample u, its model set up again (paper mode's h0: the set-up's
- * saturations are counted once more here, as they always were; the committed goldens hold
- * these counts). */
-static rfe_status_t h_at_q31(const rfe_params_q31_t *p, const rfe_sample_q31_t *u,
-                             const rfe_fix_t *mu, rfe_fix_t z[RFE_MEAS], uint32_t *count)
-{
-    rfe_meas_q31_t h;
-    rfe_status_t st = rfe_meas_setup_q31(&h, &p->vehicle, &p->tyre, u, count);
-    if (st == RFE_OK) {
-        st = rfe_meas_eval_q31(&h, &p->vehicle, &p->tyre, mu, z, count);
-    }
-    return st;
-}
-
 /* S_R0 into the first RFE_MEAS columns of A (row stride CW, Q24): sensor noise and the model
  * error relative to each predicted acceleration h0. */
 static void sensor_block_q31(const rfe_filter_params_q31_t *fp, const rfe_fix_t h0[RFE_MEAS],
@@ -109,7 +95,7 @@ static rfe_status_t input_columns_q31(const rfe_params_q31_t *p, const rfe_meas_
 
 /* [S_R0, g_1 ..] into A (row stride CW), *cols its columns: h0 and (the load-scaled modes,
  * absolute and magic) the nominal terms from the set-up h (rfe_meas_nominal_q31), paper mode
- * h0 from the model set up again (h_at_q31); then S_R0 and the input columns. */
+ * h0 from the model set up again (rfe_step_noise_h0_q31); then S_R0 and the input columns. */
 static rfe_status_t fill_q31(const rfe_params_q31_t *p, const rfe_meas_q31_t *h,
                              const rfe_sample_q31_t *u, const rfe_fix_t *mu, rfe_fix_t *A,
                              size_t *cols, uint32_t *count)
@@ -120,7 +106,7 @@ static rfe_status_t fill_q31(const rfe_params_q31_t *p, const rfe_meas_q31_t *h,
     if (h->mode != RFE_TYRE_PAPER) {
         st = rfe_meas_nominal_q31(h, &p->vehicle, &p->tyre, mu, &nom, h0, count);
     } else {
-        st = h_at_q31(p, u, mu, h0, count);
+        st = rfe_step_noise_h0_q31(p, u, mu, h0, count);
     }
     if (st == RFE_OK) {
         sensor_block_q31(&p->filter, h0, A, count);
