@@ -1232,6 +1232,29 @@ static void test_rfe_replay_feed_off_is_mass_grade_off(void **state)
 /* make_mg_log's rows 0 .. 39 with the rows from GATE_RESTART on 1.5 s later: a period beyond
  * mg_dt_max (1 s), so the mass and grade estimator starts afresh there (MASS_GRADE.md §4.1). */
 #define GATE_RESTART 20u
+/* Each of the two mg_feed_* keys @p k1, @p k2 set to -0.1, NaN and infinity: the double and the
+ * q31 replay refuse the run before any row, naming that key; the key is restored after. */
+static void mg_feed_keys_refused(rfe_param_set_t *ps, const rfe_sensor_log_t *log,
+                                 rfe_est_row_t *out, size_t k1, size_t k2)
+{
+    const double bad_values[3] = {-0.1, NAN, INFINITY};
+    rfe_replay_stats_t st;
+    rfe_replay_q31_stats_t sq;
+    size_t i;
+    for (i = 0u; i < 6u; ++i) {
+        const size_t k = (i < 3u) ? k1 : k2;
+        const double keep = ps->mg[k - RFE_PK_MG_FIRST];
+        size_t bad = 0u;
+        ps->mg[k - RFE_PK_MG_FIRST] = bad_values[i % 3u];
+        assert_int_equal(rfe_replay_run_f64(ps, log, out, &st, &bad), RFE_ERR_PARAM);
+        assert_int_equal(bad, k);
+        bad = 0u;
+        assert_int_equal(rfe_replay_run_q31(ps, log, out, &sq, NULL, &bad), RFE_ERR_PARAM);
+        assert_int_equal(bad, k);
+        ps->mg[k - RFE_PK_MG_FIRST] = keep;
+    }
+}
+
 /* Updates after a start the gate needs: the excitation key is set to GATE_OPEN - 0.5 updates'
  * worth of |ax| dt, so it opens at the GATE_OPEN-th update after the start (the sums of
  * GATE_OPEN - 1 and GATE_OPEN equal terms differ from that key by half a term, far more than
@@ -1260,7 +1283,6 @@ static void test_rfe_replay_gate_holds_the_feed_until_the_excitation(void **stat
     rfe_replay_stats_t st;
     rfe_replay_q31_stats_t sq;
     const double ax = 0.5 + 9.81 * sin(0.03); /* make_mg_log's */
-    const double bad_values[3] = {-0.1, NAN, INFINITY};
     size_t i;
     int path;
     (void)state;
@@ -1319,19 +1341,7 @@ static void test_rfe_replay_gate_holds_the_feed_until_the_excitation(void **stat
     assert_int_equal(rfe_replay_run_q31(&ps, &log, out, &sq, NULL, NULL), RFE_OK);
     assert_int_equal(sq.base.n_mass_fed, 0u);
     ps.mg[RFE_PK_mg_feed_ax_min - RFE_PK_MG_FIRST] = RFE_MG_FEED_AX_MIN_DEFAULT;
-    /* a bad key: refused before any row, naming it, in double and q31 */
-    for (i = 0u; i < 6u; ++i) {
-        const size_t k = (i < 3u) ? (size_t)RFE_PK_mg_feed_excitation : (size_t)RFE_PK_mg_feed_ax_min;
-        const double keep = ps.mg[k - RFE_PK_MG_FIRST];
-        size_t bad = 0u;
-        ps.mg[k - RFE_PK_MG_FIRST] = bad_values[i % 3u];
-        assert_int_equal(rfe_replay_run_f64(&ps, &log, out, &st, &bad), RFE_ERR_PARAM);
-        assert_int_equal(bad, k);
-        bad = 0u;
-        assert_int_equal(rfe_replay_run_q31(&ps, &log, out, &sq, NULL, &bad), RFE_ERR_PARAM);
-        assert_int_equal(bad, k);
-        ps.mg[k - RFE_PK_MG_FIRST] = keep;
-    }
+    mg_feed_keys_refused(&ps, &log, out, RFE_PK_mg_feed_excitation, RFE_PK_mg_feed_ax_min);
 }
 
 /* make_mg_log's rows whose wheels are 10 % faster than the car (measured vx = their speed /
@@ -1360,7 +1370,6 @@ static void test_rfe_replay_slip_holds_the_feed_and_empties_the_gate(void **stat
     rfe_replay_stats_t st;
     rfe_replay_q31_stats_t sq;
     const double ax = 0.5 + 9.81 * sin(0.03); /* make_mg_log's */
-    const double bad_values[3] = {-0.1, NAN, INFINITY};
     size_t i;
     int path;
     (void)state;
@@ -1415,19 +1424,7 @@ static void test_rfe_replay_slip_holds_the_feed_and_empties_the_gate(void **stat
     assert_int_equal(st.n_mass_fed, N_MG - GATE_OPEN);
     assert_int_equal(st.n_feed_slip, 0u);
     ps.mg[RFE_PK_mg_feed_slip_max - RFE_PK_MG_FIRST] = RFE_MG_FEED_SLIP_MAX_DEFAULT;
-    /* a bad key: refused before any row, naming it, in double and q31 */
-    for (i = 0u; i < 6u; ++i) {
-        const size_t k = (i < 3u) ? (size_t)RFE_PK_mg_feed_slip_max : (size_t)RFE_PK_mg_feed_band;
-        const double keep = ps.mg[k - RFE_PK_MG_FIRST];
-        size_t bad = 0u;
-        ps.mg[k - RFE_PK_MG_FIRST] = bad_values[i % 3u];
-        assert_int_equal(rfe_replay_run_f64(&ps, &log, out, &st, &bad), RFE_ERR_PARAM);
-        assert_int_equal(bad, k);
-        bad = 0u;
-        assert_int_equal(rfe_replay_run_q31(&ps, &log, out, &sq, NULL, &bad), RFE_ERR_PARAM);
-        assert_int_equal(bad, k);
-        ps.mg[k - RFE_PK_MG_FIRST] = keep;
-    }
+    mg_feed_keys_refused(&ps, &log, out, RFE_PK_mg_feed_slip_max, RFE_PK_mg_feed_band);
 }
 
 /* The feed's band around the parameter m (mg_feed_band; MASS_GRADE.md §10), in double and
