@@ -78,7 +78,8 @@ class Probe(T.TyreId):
         def rec_forces(vy, r, th, delta, vx):
             t_f, t_r = model.slips(vy, r, delta, vx)
             rg.add("tan alpha (per axle)", np.concatenate([t_f, t_r]))
-            rg.add("x = B tan alpha", np.concatenate([T.b_of(th, 0) * t_f, T.b_of(th, 4) * t_r]))
+            rg.add("x = B tan alpha",
+                   np.concatenate([T.b_of(th, 0) * t_f, T.b_of(th, 4) * t_r]))
             f, rr = forces(vy, r, th, delta, vx)
             rg.add("Fy_f, Fy_r (N)", np.concatenate([f, rr]))
             return f, rr
@@ -185,8 +186,9 @@ def int_bits(lo, hi):
 
 
 def table(rg, stats, n, filt, logs):
-    out = [f"Measured by `scripts/tools/tyre_id_q31_ranges.py` (the float64 reference, {filt.upper()}, "
-           f"{n} particles, seed 1, the defaults; every sample of {len(logs)} logs: "
+    out = [f"Measured by `scripts/tools/tyre_id_q31_ranges.py` (the float64 reference, "
+           f"{filt.upper()}, {n} particles, seed 1, the defaults; every sample of "
+           f"{len(logs)} logs: "
            f"{', '.join('`' + g + '`' for g in logs)}). Integer bits: what an int32 needs "
            "above the binary point for the range (sign excluded); the fraction bits left are "
            "31 minus that.", "",
@@ -202,7 +204,8 @@ def table(rg, stats, n, filt, logs):
             f"| largest spread max − min of the log weights in one normalisation | "
             f"{st['max_spread']:.4g} (Q31's exp resolves {-LN_Q31:.2f}) |",
             f"| normalisations with a particle below exp's Q31 range; such particles | "
-            f"{st['norms_with_below']} ({100.0 * st['norms_with_below'] / max(st['norms'], 1):.1f} %); "
+            f"{st['norms_with_below']} "
+            f"({100.0 * st['norms_with_below'] / max(st['norms'], 1):.1f} %); "
             f"{st['below_q31']} |",
             f"| particle likelihoods −∞ (non-finite) | {st['neg_inf']} of {st['particles']} |",
             f"| draws; positions drawn | {st['draws']}; {st['positions']} |",
