@@ -452,6 +452,10 @@ mass-grade-textbook: venv $(BUILD)/f32/test/tools/mg_run_flt $(BUILD)/q31/test/t
 tyre-id-feed-results: venv $(BUILD)/mu_replay
 	$(PY) scripts/tools/tyre_id_feed_results.py --page docs/TYRE_ID_RESULTS.md --jobs $(TEST_JOBS)
 
+## what a fixed-point tyre identifier would have to hold: likelihood, weight and state ranges (docs/FIXED_POINT.md)
+tyre-id-q31-ranges: venv
+	$(PY) scripts/tools/tyre_id_q31_ranges.py --page docs/FIXED_POINT.md
+
 ## what a +-20 % mass error costs the friction estimator, and how far the fed online mass is
 ## from the truth (tables in docs/MASS_GRADE_RESULTS.md)
 mass-sensitivity: venv $(BUILD)/mu_replay
