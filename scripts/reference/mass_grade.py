@@ -278,6 +278,11 @@ class MassGrade:
             self.sqrt_c = math.sqrt(self.c)
         self.use_ax = p["mg_use_ax"] == 1.0
         self.started = False
+        # an optional observer of the innovations, None by default (then nothing is called):
+        # probe(row, innovation, sd) with row "ax" or "v", the innovation y - z-hat and its
+        # predicted sd, at each update of the square-root form (scripts/tools/
+        # mass_headwind_study.py); it reads, never writes, so the filter computes the same
+        self.probe = None
 
     # -- §4.1 start and restart -------------------------------------------------------------
     def _start(self, s):
@@ -439,6 +444,8 @@ class MassGrade:
             if not A[0][0] > 0.0:
                 return ERR_NOT_POSITIVE_DEFINITE
             e = (s.ax - zm[0]) / A[0][0]
+            if self.probe is not None:
+                self.probe("ax", s.ax - zm[0], A[0][0])
             for i in range(N):
                 x[i] += A[1 + i][0] * e
             S = [[A[1 + i][1 + c] for c in range(N)] for i in range(N)]
@@ -451,6 +458,8 @@ class MassGrade:
         if not math.isfinite(sz):
             return ERR_NONFINITE               # S_00^2 overflowed (the C float build's check)
         cs, sn, e = S[0][0] / sz, rv / sz, innov / sz
+        if self.probe is not None:
+            self.probe("v", innov, sz)
         for i in range(N):
             g = S[i][0] * cs
             x[i] += g * e
