@@ -32,7 +32,12 @@ excitation is at 0.0 s, MASS_GRADE_RESULTS.md) and the share of its values above
 car_headwind, not bundled logs: a steady 10 m/s wind without gusts, and the gusts alone
 (the wind minus its 10 m/s mean), to say which part of the wind a statistic sees.
 
-With --page the table goes between <!-- mass-headwind:begin/end --> of the page.
+A second table asks whether the ax row's statistic is specific to the wind: the clean logs
+run again with the filter given a wrong initial mass (x 0.5, x 1.5 of the truth) or wrong
+resistance keys (mg_cd x 0.8 and x 1.2, mg_fc x 1.5), against the same threshold.
+
+With --page the tables go between <!-- mass-headwind:begin/end --> and
+<!-- mass-headwind-model:begin/end --> of the page.
 """
 
 import argparse
@@ -205,6 +210,44 @@ def study(wind_cols, clean, variants=None):
     return rows
 
 
+# the filter given a wrong initial mass or wrong resistance keys on the clean logs: does the
+# ax row's statistic fire on a model error other than the wind, and on a mass error alone?
+MODEL_ERRORS = (("mg_m0 = truth x 0.5", "m0", 0.5), ("mg_m0 = truth x 1.5", "m0", 1.5),
+                ("mg_cd x 0.8", "mg_cd", 0.8), ("mg_cd x 1.2", "mg_cd", 1.2),
+                ("mg_fc x 1.5", "mg_fc", 1.5))
+
+
+def model_error_rows(clean, threshold):
+    """Per MODEL_ERRORS entry, on every clean log (UKF + ax): the e_ax peak from WINDOW_S on
+    and the mass error at the end; the logs whose peak exceeds threshold."""
+    rows = []
+    for label, key, f in MODEL_ERRORS:
+        per = {}
+        for n, cols in clean.items():
+            p = mg.preset(vehicle(n), **CONFIGS["UKF + ax"])
+            if key == "m0":
+                p["mg_m0"] = float(cols["mass_true"][0]) * f
+            else:
+                p[key] *= f
+            r = run_probed(cols, p)
+            s = {"t": r["t"], "e_ax": window_mean(r["e_ax"], r["t"], WINDOW_S)}
+            per[n] = (peak(s, "e_ax", WINDOW_S)[0],
+                      float(r["mass"][-1]) / float(cols["mass_true"][0]) - 1.0)
+        rows.append({"label": label, "per": per,
+                     "over": [n for n in per if per[n][0] > threshold]})
+    return rows
+
+
+def model_error_table(rows, threshold):
+    out = [f"| the filter given | largest e_ax on a clean log | logs over {threshold:.3f} "
+           "(their mass error at the end) |", "|---|---|---|"]
+    for r in rows:
+        worst = max(r["per"], key=lambda n: r["per"][n][0])
+        over = ", ".join(f"{n} ({100.0 * r['per'][n][1]:+.1f} %)" for n in r["over"]) or "none"
+        out.append(f"| {r['label']} | {r['per'][worst][0]:.3f} ({worst}) | {over} |")
+    return out
+
+
 def make_variants():
     """car_headwind simulated with a steady 10 m/s wind, and with its gusts alone."""
     import sim.mass_grade_scenarios as sims
@@ -250,10 +293,14 @@ def main(argv=None):
     clean = {n: read(n) for n in clean_logs()}
     rows = study(read(WIND), clean, None if a.no_variants else make_variants())
     lines = table(rows)
-    print("\n".join(lines))
+    thr = next(r["threshold"] for r in rows if r["key"] == "e_ax")
+    more = model_error_table(model_error_rows(clean, thr), thr)
+    print("\n".join(lines + [""] + more))
     if a.page:
         replace_region(Path(a.page), "<!-- mass-headwind:begin -->", "<!-- mass-headwind:end -->",
                        lines, "mass_headwind_study.py")
+        replace_region(Path(a.page), "<!-- mass-headwind-model:begin -->",
+                       "<!-- mass-headwind-model:end -->", more, "mass_headwind_study.py")
 
 
 if __name__ == "__main__":

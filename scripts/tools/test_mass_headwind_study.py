@@ -75,3 +75,12 @@ def test_ax_innovation_separates_the_headwind_and_the_speed_row_does_not():
     for key, cfg in (("e_v", "UKF + ax"), ("e_v", "UKF"), ("nis_v", "UKF")):
         r = rows[(key, cfg)]
         assert not r["separates"] and r["wind_abs"] < r["clean_max"], (key, cfg)
+
+
+def test_ax_statistic_fires_on_a_resistance_error_not_on_a_wrong_start():
+    # 40 s of car_grade_step: its mg_fc x 1.5 peak (0.71 on the full log) is at 30 s
+    rows = {r["label"]: r for r in hs.model_error_rows({"car_grade_step": hs.read(
+        "car_grade_step", 2000)}, 0.228)}   # 0.228: the full logs' threshold (the page's table)
+    assert rows["mg_fc x 1.5"]["over"] == ["car_grade_step"]
+    assert rows["mg_m0 = truth x 0.5"]["over"] == []
+    assert rows["mg_m0 = truth x 1.5"]["over"] == []
