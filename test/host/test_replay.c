@@ -1232,6 +1232,25 @@ static void test_rfe_replay_feed_off_is_mass_grade_off(void **state)
 /* make_mg_log's rows 0 .. 39 with the rows from GATE_RESTART on 1.5 s later: a period beyond
  * mg_dt_max (1 s), so the mass and grade estimator starts afresh there (MASS_GRADE.md §4.1). */
 #define GATE_RESTART 20u
+/* One run of the mass feed's tests on path @p path: 0 double, 1 double behind the observer,
+ * 2 q31, 3 q31 behind the observer; the run must succeed; its statistics (q31: the base). */
+static rfe_replay_stats_t mg_feed_run_path(const rfe_param_set_t *ps, const rfe_sensor_log_t *log,
+                                           rfe_est_row_t *out, int path)
+{
+    rfe_replay_stats_t st;
+    rfe_replay_q31_stats_t sq;
+    if (path < 2) {
+        assert_int_equal((path == 0) ? rfe_replay_run_f64(ps, log, out, &st, NULL)
+                                     : rfe_replay_run_observer_f64(ps, log, out, &st, NULL),
+                         RFE_OK);
+        return st;
+    }
+    assert_int_equal((path == 2) ? rfe_replay_run_q31(ps, log, out, &sq, NULL, NULL)
+                                 : rfe_replay_run_observer_q31(ps, log, out, &sq, NULL, NULL),
+                     RFE_OK);
+    return sq.base;
+}
+
 /* Each of the two mg_feed_* keys @p k1, @p k2 set to -0.1, NaN and infinity: the double and the
  * q31 replay refuse the run before any row, naming that key; the key is restored after. */
 static void mg_feed_keys_refused(rfe_param_set_t *ps, const rfe_sensor_log_t *log,
@@ -1301,16 +1320,7 @@ static void test_rfe_replay_gate_holds_the_feed_until_the_excitation(void **stat
         const double m = ps.value[RFE_PK_m];
         size_t n_fed = 0u;
         double exc_end;
-        if (path < 2) {
-            assert_int_equal((path == 0) ? rfe_replay_run_f64(&ps, &log, out, &st, NULL)
-                                         : rfe_replay_run_observer_f64(&ps, &log, out, &st, NULL),
-                             RFE_OK);
-        } else {
-            assert_int_equal((path == 2) ? rfe_replay_run_q31(&ps, &log, out, &sq, NULL, NULL)
-                                         : rfe_replay_run_observer_q31(&ps, &log, out, &sq, NULL, NULL),
-                             RFE_OK);
-            st = sq.base;
-        }
+        st = mg_feed_run_path(&ps, &log, out, path);
         assert_int_equal(st.mg_status_count[RFE_OK], N_MG); /* every sample an update */
         for (i = 0u; i < N_MG; ++i) {
             const int after_restart = (i >= GATE_RESTART) ? 1 : 0;
@@ -1368,7 +1378,6 @@ static void test_rfe_replay_slip_holds_the_feed_and_empties_the_gate(void **stat
     rfe_param_set_t ps;
     static rfe_est_row_t out[N_MG];
     rfe_replay_stats_t st;
-    rfe_replay_q31_stats_t sq;
     const double ax = 0.5 + 9.81 * sin(0.03); /* make_mg_log's */
     size_t i;
     int path;
@@ -1390,16 +1399,7 @@ static void test_rfe_replay_slip_holds_the_feed_and_empties_the_gate(void **stat
     for (path = 0; path < 4; ++path) { /* double, double observer, q31, q31 observer */
         const double m = ps.value[RFE_PK_m];
         size_t n_fed = 0u;
-        if (path < 2) {
-            assert_int_equal((path == 0) ? rfe_replay_run_f64(&ps, &log, out, &st, NULL)
-                                         : rfe_replay_run_observer_f64(&ps, &log, out, &st, NULL),
-                             RFE_OK);
-        } else {
-            assert_int_equal((path == 2) ? rfe_replay_run_q31(&ps, &log, out, &sq, NULL, NULL)
-                                         : rfe_replay_run_observer_q31(&ps, &log, out, &sq, NULL, NULL),
-                             RFE_OK);
-            st = sq.base;
-        }
+        st = mg_feed_run_path(&ps, &log, out, path);
         assert_int_equal(st.mg_status_count[RFE_OK], N_MG); /* every sample an update */
         for (i = 0u; i < N_MG; ++i) {
             if (((i >= GATE_OPEN) && (i < SLIP_FROM)) || (i >= SLIP_TO - 1u + GATE_OPEN)) {
@@ -1442,7 +1442,6 @@ static void test_rfe_replay_band_refuses_a_mass_far_from_m(void **state)
     rfe_param_set_t ps;
     static rfe_est_row_t out[N_MG];
     rfe_replay_stats_t st;
-    rfe_replay_q31_stats_t sq;
     double dev_min = INFINITY;
     double dev_max = 0.0;
     double m;
@@ -1474,16 +1473,7 @@ static void test_rfe_replay_band_refuses_a_mass_far_from_m(void **state)
         double last = m;
         size_t n_fed = 0u;
         size_t n_refused = 0u;
-        if (path < 2) {
-            assert_int_equal((path == 0) ? rfe_replay_run_f64(&ps, &log, out, &st, NULL)
-                                         : rfe_replay_run_observer_f64(&ps, &log, out, &st, NULL),
-                             RFE_OK);
-        } else {
-            assert_int_equal((path == 2) ? rfe_replay_run_q31(&ps, &log, out, &sq, NULL, NULL)
-                                         : rfe_replay_run_observer_q31(&ps, &log, out, &sq, NULL, NULL),
-                             RFE_OK);
-            st = sq.base;
-        }
+        st = mg_feed_run_path(&ps, &log, out, path);
         assert_int_equal(st.mg_status_count[RFE_OK], N_MG);
         for (i = 0u; i < N_MG; ++i) {
             if (fabs(out[i].mass - m) <= band * m) {
