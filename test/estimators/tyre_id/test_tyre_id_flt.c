@@ -838,6 +838,23 @@ static void test_sckf_huge_vehicle_gives_finite_sds(void **state)
     }
 }
 
+/* The SCKF's step just reported LOST alone (§15.3): the prior of §15.2 is set at this sample,
+ * vy = 0, r = the sample's @p r, each parameter's mean0 with its sd0, every output finite. */
+static void assert_lost_at_prior(const rfe_tyre_id_estimate_t *e, rfe_real_t r)
+{
+    size_t j;
+    assert_int_equal(e->flags, RFE_TID_LOST);
+    assert_true(tid.sk.x[RFE_TID_VY] == 0 && tid.sk.x[RFE_TID_R] == r);
+    for (j = 0u; j < (size_t)RFE_TID_PAR; ++j) {
+        const size_t d = (size_t)RFE_TID_STATES + j;
+        assert_true(tid.sk.x[d] == tid.c.mean0[j]);
+        assert_true(tid.sk.S[(d * (size_t)RFE_TID_DIM) + d] == tid.c.sd0[j]);
+    }
+    for (j = 0u; j < (size_t)RFE_TID_OUTPUTS; ++j) {
+        assert_true(isfinite(e->mean[j]) && isfinite(e->sd[j]));
+    }
+}
+
 /* REQ-TID-004 REQ-TID-008: a valid sd_ay (> 0, no upper bound) whose square overflows makes
  * S_R's second entry +Inf, so the innovation factor's Tria refuses (the first of the update's
  * checks to meet it; the posterior Tria, whose K S_R holds it too, would refuse as well): the
@@ -849,7 +866,6 @@ static void test_sckf_overflowing_ay_noise_is_lost(void **state)
     rfe_tyre_id_params_t tp;
     rfe_tyre_id_estimate_t e;
     rfe_tyre_id_sample_t s = sample(0, (rfe_real_t)0.02, 20, (rfe_real_t)0.05, 1);
-    size_t j;
     (void)state;
     setup_defaults(&veh, &tp);
     tp.filter = RFE_TID_SCKF;
@@ -865,16 +881,7 @@ static void test_sckf_overflowing_ay_noise_is_lost(void **state)
     s.dt = (rfe_real_t)0.01;
     s.yaw_rate = (rfe_real_t)0.07;
     assert_int_equal(rfe_tyre_id_step(&tid, &s, &e), RFE_OK);
-    assert_int_equal(e.flags, RFE_TID_LOST);
-    assert_true(tid.sk.x[RFE_TID_VY] == 0 && tid.sk.x[RFE_TID_R] == (rfe_real_t)0.07);
-    for (j = 0u; j < (size_t)RFE_TID_PAR; ++j) {
-        const size_t d = (size_t)RFE_TID_STATES + j;
-        assert_true(tid.sk.x[d] == tid.c.mean0[j]);
-        assert_true(tid.sk.S[(d * (size_t)RFE_TID_DIM) + d] == tid.c.sd0[j]);
-    }
-    for (j = 0u; j < (size_t)RFE_TID_OUTPUTS; ++j) {
-        assert_true(isfinite(e.mean[j]) && isfinite(e.sd[j]));
-    }
+    assert_lost_at_prior(&e, (rfe_real_t)0.07);
 }
 
 /* REQ-TID-004: a particle with an infinite vy weighs 0 (its slip angles, forces and so its
@@ -981,7 +988,6 @@ static void test_sckf_lost_sets_the_prior_again(void **state)
     rfe_tyre_id_params_t tp;
     rfe_tyre_id_estimate_t e;
     rfe_tyre_id_sample_t s = sample(0, (rfe_real_t)0.02, 20, (rfe_real_t)0.05, 1);
-    size_t j;
     (void)state;
     setup_defaults(&veh, &tp);
     tp.filter = RFE_TID_SCKF;
@@ -991,17 +997,8 @@ static void test_sckf_lost_sets_the_prior_again(void **state)
     s.dt = (rfe_real_t)0.01;
     s.yaw_rate = (rfe_real_t)0.07;
     assert_int_equal(rfe_tyre_id_step(&tid, &s, &e), RFE_OK);
-    assert_int_equal(e.flags, RFE_TID_LOST);
-    assert_true(tid.sk.x[RFE_TID_VY] == 0 && tid.sk.x[RFE_TID_R] == (rfe_real_t)0.07);
+    assert_lost_at_prior(&e, (rfe_real_t)0.07);
     assert_true(tid.sk.S[0] == tp.sd0_vy && tid.sk.S[RFE_TID_DIM + 1] == tp.sd0_r);
-    for (j = 0u; j < (size_t)RFE_TID_PAR; ++j) {
-        const size_t d = (size_t)RFE_TID_STATES + j;
-        assert_true(tid.sk.x[d] == tid.c.mean0[j]);
-        assert_true(tid.sk.S[(d * (size_t)RFE_TID_DIM) + d] == tid.c.sd0[j]);
-    }
-    for (j = 0u; j < (size_t)RFE_TID_OUTPUTS; ++j) {
-        assert_true(isfinite(e.mean[j]) && isfinite(e.sd[j]));
-    }
     assert_int_equal(rfe_tyre_id_step(&tid, &s, &e), RFE_OK);
     assert_int_equal(e.flags, RFE_TID_UPDATED);
 }
