@@ -115,43 +115,61 @@ static size_t first_row(const rfe_sensor_log_t *log, double t0)
 
 static rfe_tyre_id_t tid; /* 62 kB in double: off the stack */
 
-static void run_case(const golden_case_t *c)
+/* The case's sensor log and golden (at least @p min_rows rows) read, the identifier started
+ * with the library's defaults and the case's filter and resampling at SEED; the log's row of
+ * the golden's first t is returned. */
+static size_t open_case(const golden_case_t *c, rfe_sensor_log_t *log, test_table_t *g,
+                        size_t min_rows)
 {
     char path[256];
-    rfe_sensor_log_t log;
     rfe_io_error_t err;
-    test_table_t g;
     rfe_params_t veh;
     rfe_tyre_id_params_t tp;
-    size_t k;
-    size_t k0;
-    size_t status_same = 0u;
-    double worst = 0.0;
-    memset(&log, 0, sizeof(log));
-    memset(&g, 0, sizeof(g));
+    memset(log, 0, sizeof(*log));
+    memset(g, 0, sizeof(*g));
     snprintf(path, sizeof(path), "scenarios/tyre_id/%s.csv", c->log);
-    assert_int_equal(rfe_sensor_log_read(path, &log, &err), 0);
+    assert_int_equal(rfe_sensor_log_read(path, log, &err), 0);
     snprintf(path, sizeof(path), "%s/%s.csv", GOLDEN_DIR, c->name);
-    assert_int_equal(test_table_load(path, &g), 0);
-    assert_true(g.n_rows >= 10u);
-    k0 = first_row(&log, test_table_get(&g, 0u, "t"));
+    assert_int_equal(test_table_load(path, g), 0);
+    assert_true(g->n_rows >= min_rows);
     assert_int_equal(rfe_params_default(&veh), RFE_OK);
     assert_int_equal(rfe_tyre_id_params_default(&tp), RFE_OK);
     tp.filter = c->filter;
     tp.resample = c->scheme;
     assert_int_equal(rfe_tyre_id_init(&tid, &tp, &veh, SEED), RFE_OK);
+    return first_row(log, test_table_get(g, 0u, "t"));
+}
+
+/* The identifier's sample of the golden's row @p k (the log's row k0 + k): dt from the row
+ * before (0 at the first), the ESC signals as the log gives them. */
+static rfe_tyre_id_sample_t sample_at(const rfe_sensor_log_t *log, size_t k0, size_t k)
+{
+    const rfe_sensor_row_t *r = &log->rows[k0 + k];
+    rfe_tyre_id_sample_t s;
+    s.dt = (k > 0u) ? (rfe_real_t)(r->t - log->rows[k0 + k - 1u].t) : (rfe_real_t)0;
+    s.delta = (rfe_real_t)r->delta;
+    s.vx = (rfe_real_t)r->vx;
+    s.yaw_rate = (rfe_real_t)r->yaw_rate;
+    s.ay = (rfe_real_t)r->ay;
+    s.ax = (rfe_real_t)r->ax;
+    return s;
+}
+
+static void run_case(const golden_case_t *c)
+{
+    rfe_sensor_log_t log;
+    test_table_t g;
+    size_t k;
+    size_t k0;
+    size_t status_same = 0u;
+    double worst = 0.0;
+    k0 = open_case(c, &log, &g, 10u);
     for (k = 0u; k < g.n_rows; ++k) {
-        const rfe_sensor_row_t *r = &log.rows[k0 + k];
         rfe_tyre_id_sample_t s;
         rfe_tyre_id_estimate_t e;
         size_t o;
         char what[160];
-        s.dt = (k > 0u) ? (rfe_real_t)(r->t - log.rows[k0 + k - 1u].t) : (rfe_real_t)0;
-        s.delta = (rfe_real_t)r->delta;
-        s.vx = (rfe_real_t)r->vx;
-        s.yaw_rate = (rfe_real_t)r->yaw_rate;
-        s.ay = (rfe_real_t)r->ay;
-        s.ax = (rfe_real_t)r->ax;
+        s = sample_at(&log, k0, k);
         assert_int_equal(rfe_tyre_id_step(&tid, &s, &e), RFE_OK);
         if ((double)e.flags == test_table_get(&g, k, "status")) {
             ++status_same;
@@ -218,39 +236,18 @@ static double rel_err(double a, double b, double sd_b)
 
 static void sckf_case(const golden_case_t *c, double tol_mean, double tol_sd)
 {
-    char path[256];
     rfe_sensor_log_t log;
-    rfe_io_error_t err;
     test_table_t g;
-    rfe_params_t veh;
-    rfe_tyre_id_params_t tp;
     size_t k;
     size_t k0;
     double worst_m = 0.0;
     double worst_s = 0.0;
-    memset(&log, 0, sizeof(log));
-    memset(&g, 0, sizeof(g));
-    snprintf(path, sizeof(path), "scenarios/tyre_id/%s.csv", c->log);
-    assert_int_equal(rfe_sensor_log_read(path, &log, &err), 0);
-    snprintf(path, sizeof(path), "%s/%s.csv", GOLDEN_DIR, c->name);
-    assert_int_equal(test_table_load(path, &g), 0);
-    assert_true(g.n_rows >= 100u);
-    k0 = first_row(&log, test_table_get(&g, 0u, "t"));
-    assert_int_equal(rfe_params_default(&veh), RFE_OK);
-    assert_int_equal(rfe_tyre_id_params_default(&tp), RFE_OK);
-    tp.filter = RFE_TID_SCKF;
-    assert_int_equal(rfe_tyre_id_init(&tid, &tp, &veh, SEED), RFE_OK);
+    k0 = open_case(c, &log, &g, 100u);
     for (k = 0u; k < g.n_rows; ++k) {
-        const rfe_sensor_row_t *r = &log.rows[k0 + k];
         rfe_tyre_id_sample_t s;
         rfe_tyre_id_estimate_t e;
         size_t o;
-        s.dt = (k > 0u) ? (rfe_real_t)(r->t - log.rows[k0 + k - 1u].t) : (rfe_real_t)0;
-        s.delta = (rfe_real_t)r->delta;
-        s.vx = (rfe_real_t)r->vx;
-        s.yaw_rate = (rfe_real_t)r->yaw_rate;
-        s.ay = (rfe_real_t)r->ay;
-        s.ax = (rfe_real_t)r->ax;
+        s = sample_at(&log, k0, k);
         assert_int_equal(rfe_tyre_id_step(&tid, &s, &e), RFE_OK);
         assert_int_equal(e.flags, (uint32_t)test_table_get(&g, k, "status"));
         assert_true(isnan(e.n_eff) && isnan(test_table_get(&g, k, "n_eff")));
