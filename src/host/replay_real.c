@@ -251,34 +251,23 @@ int rfe_param_set_mass_grade(rfe_param_set_t *ps, rfe_mg_vehicle_t vehicle, rfe_
     }
     ps->mg_vehicle = vehicle;
     ps->mg_config = config;
-    ps->mg[0] = (double)mp.adaptive;
-    ps->mg[1] = (double)mp.use_ax;
-    ps->mg[2] = RFE_MG_FEED_SD_REL_DEFAULT; /* the replay's five, not the library's */
-    ps->mg[3] = RFE_MG_FEED_EXCITATION_DEFAULT;
-    ps->mg[4] = RFE_MG_FEED_AX_MIN_DEFAULT;
-    ps->mg[5] = RFE_MG_FEED_SLIP_MAX_DEFAULT;
-    ps->mg[6] = RFE_MG_FEED_BAND_DEFAULT;
+    ps->mg[RFE_PK_mg_adaptive - RFE_PK_MG_FIRST] = (double)mp.adaptive;
+    ps->mg[RFE_PK_mg_use_ax - RFE_PK_MG_FIRST] = (double)mp.use_ax;
+    /* the replay's five feed keys, not the library's */
+    ps->mg[RFE_PK_mg_feed_sd_rel - RFE_PK_MG_FIRST] = RFE_MG_FEED_SD_REL_DEFAULT;
+    ps->mg[RFE_PK_mg_feed_excitation - RFE_PK_MG_FIRST] = RFE_MG_FEED_EXCITATION_DEFAULT;
+    ps->mg[RFE_PK_mg_feed_ax_min - RFE_PK_MG_FIRST] = RFE_MG_FEED_AX_MIN_DEFAULT;
+    ps->mg[RFE_PK_mg_feed_slip_max - RFE_PK_MG_FIRST] = RFE_MG_FEED_SLIP_MAX_DEFAULT;
+    ps->mg[RFE_PK_mg_feed_band - RFE_PK_MG_FIRST] = RFE_MG_FEED_BAND_DEFAULT;
     for (k = RFE_PK_MG_SPECIAL; k < RFE_PK_MG_COUNT; ++k) {
         rfe_real_t v;
         memcpy(&v, (const char *)&mp + k_mg_offset[k - RFE_PK_MG_SPECIAL], sizeof v);
         ps->mg[k] = (double)v;
+    }
+    for (k = 0u; k < RFE_PK_MG_COUNT; ++k) {
         ps->origin[RFE_PK_MG_FIRST + k].file = NULL;
         ps->origin[RFE_PK_MG_FIRST + k].line = 0u;
     }
-    ps->origin[RFE_PK_mg_adaptive].file = NULL;
-    ps->origin[RFE_PK_mg_adaptive].line = 0u;
-    ps->origin[RFE_PK_mg_use_ax].file = NULL;
-    ps->origin[RFE_PK_mg_use_ax].line = 0u;
-    ps->origin[RFE_PK_mg_feed_sd_rel].file = NULL;
-    ps->origin[RFE_PK_mg_feed_sd_rel].line = 0u;
-    ps->origin[RFE_PK_mg_feed_excitation].file = NULL;
-    ps->origin[RFE_PK_mg_feed_excitation].line = 0u;
-    ps->origin[RFE_PK_mg_feed_ax_min].file = NULL;
-    ps->origin[RFE_PK_mg_feed_ax_min].line = 0u;
-    ps->origin[RFE_PK_mg_feed_slip_max].file = NULL;
-    ps->origin[RFE_PK_mg_feed_slip_max].line = 0u;
-    ps->origin[RFE_PK_mg_feed_band].file = NULL;
-    ps->origin[RFE_PK_mg_feed_band].line = 0u;
     return 0;
 }
 
