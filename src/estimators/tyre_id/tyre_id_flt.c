@@ -272,13 +272,8 @@ static uint32_t lost(rfe_tyre_id_t *t, rfe_real_t r_meas)
 /* The noise-free RK4 step of every particle at the period's mean inputs (§4.1). */
 static void aux_points(rfe_tyre_id_t *t, const rfe_tyre_id_sample_t *smp)
 {
-    const rfe_real_t d_bar = RFE_R(0.5) * (t->prev_delta + smp->delta);
-    rfe_tid_input_t ub;
+    const rfe_tid_input_t ub = rfe_tid_mean_input(t, smp);
     size_t i;
-    ub.delta = d_bar;
-    ub.cd = RFE_COS(d_bar);
-    ub.sd = RFE_R(0.0); /* not used by the dynamics */
-    ub.vx = RFE_R(0.5) * (t->prev_vx + smp->vx);
     for (i = 0u; i < (size_t)RFE_TID_N; ++i) {
         rfe_tid_rk4(t, t->x[i], &ub, smp->dt, t->aux[i]);
     }

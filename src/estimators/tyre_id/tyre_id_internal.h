@@ -17,6 +17,7 @@
 #if defined(RFE_REAL_DOUBLE)
 #define rfe_tid_forces    rfe_tid_forces_f64
 #define rfe_tid_rk4       rfe_tid_rk4_f64
+#define rfe_tid_mean_input rfe_tid_mean_input_f64
 #define rfe_tid_loglik    rfe_tid_loglik_f64
 #define rfe_tid_ay        rfe_tid_ay_f64
 #define rfe_tid_sckf_prior rfe_tid_sckf_prior_f64
@@ -32,6 +33,7 @@
 #else
 #define rfe_tid_forces    rfe_tid_forces_f32
 #define rfe_tid_rk4       rfe_tid_rk4_f32
+#define rfe_tid_mean_input rfe_tid_mean_input_f32
 #define rfe_tid_loglik    rfe_tid_loglik_f32
 #define rfe_tid_ay        rfe_tid_ay_f32
 #define rfe_tid_sckf_prior rfe_tid_sckf_prior_f32
@@ -57,6 +59,10 @@ typedef struct {
 /** §3.1-3.2 the axle lateral forces of particle @p x (its columns) at inputs @p u. */
 void rfe_tid_forces(const rfe_tyre_id_t *tid, const rfe_real_t x[RFE_TID_DIM],
                     const rfe_tid_input_t *u, rfe_real_t *fy_f, rfe_real_t *fy_r);
+
+/** §4.1 the inputs the RK4 step holds over the period before sample @p smp: the means of the
+ *  previous sample's and this sample's delta and vx, cos of the mean delta (sin unused). */
+rfe_tid_input_t rfe_tid_mean_input(const rfe_tyre_id_t *tid, const rfe_tyre_id_sample_t *smp);
 
 /** §4.1 the noise-free step of (vy, r) of particle @p x over @p h: substeps RK4 steps with
  *  the inputs @p u held and the parameters fixed. */

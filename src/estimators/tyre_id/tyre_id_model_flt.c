@@ -82,6 +82,17 @@ static void rhs(const rfe_tyre_id_t *tid, const rfe_real_t x[RFE_TID_DIM], rfe_r
     d[1] = ((tid->c.Lf * fyc) - (tid->c.Lr * fr)) / tid->c.J;
 }
 
+rfe_tid_input_t rfe_tid_mean_input(const rfe_tyre_id_t *tid, const rfe_tyre_id_sample_t *smp)
+{
+    const rfe_real_t d_bar = RFE_R(0.5) * (tid->prev_delta + smp->delta);
+    rfe_tid_input_t ub;
+    ub.delta = d_bar;
+    ub.cd = RFE_COS(d_bar);
+    ub.sd = RFE_R(0.0); /* not used by the dynamics */
+    ub.vx = RFE_R(0.5) * (tid->prev_vx + smp->vx);
+    return ub;
+}
+
 void rfe_tid_rk4(const rfe_tyre_id_t *tid, const rfe_real_t x[RFE_TID_DIM],
                  const rfe_tid_input_t *u, rfe_real_t h, rfe_real_t out[RFE_TID_STATES])
 {

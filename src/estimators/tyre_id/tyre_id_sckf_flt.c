@@ -116,14 +116,9 @@ static rfe_status_t sckf_time_update(rfe_tyre_id_t *t, const rfe_tyre_id_sample_
 {
     rfe_tid_sckf_t *k = &t->sk;
     const rfe_real_t sq = RFE_SQRT(smp->dt);
-    const rfe_real_t d_bar = RFE_R(0.5) * (t->prev_delta + smp->delta);
-    rfe_tid_input_t ub;
+    const rfe_tid_input_t ub = rfe_tid_mean_input(t, smp);
     size_t i;
     size_t j;
-    ub.delta = d_bar;
-    ub.cd = RFE_COS(d_bar);
-    ub.sd = RFE_R(0.0); /* not used by the dynamics */
-    ub.vx = RFE_R(0.5) * (t->prev_vx + smp->vx);
     rfe_cub_points(k->x, k->S, NX, NX, k->pts);
     for (j = 0u; j < NP; ++j) {
         rfe_real_t xc[RFE_TID_DIM];
