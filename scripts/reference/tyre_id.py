@@ -240,7 +240,29 @@ class Estimate:
     sd: dict
 
 
-class TyreId:
+class _SampleSteps:
+    """The step both identifiers share (§4.1, §15.1): the prior at the first sample; held
+    while this sample's or the previous one's vx is below tid_v_min; else the filter's update
+    (_update gives its status bits); then the outputs (_estimate). The previous sample's
+    (t, delta, vx) is self.prev, None before the first."""
+
+    def step(self, s: dict) -> Estimate:
+        """One sample: s has t, delta, vx, yaw_rate, ay, ax (SI)."""
+        status = 0
+        if self.prev is None:
+            self._initialise(s["yaw_rate"])
+            status |= ST_FIRST
+        elif s["vx"] < self.p["tid_v_min"] or self.prev[2] < self.p["tid_v_min"]:
+            status |= ST_HELD
+        else:
+            status |= self._update(s)
+        self.prev = (s["t"], s["delta"], s["vx"])
+        est = self._estimate(s, status)
+        self.k += 1
+        return est
+
+
+class TyreId(_SampleSteps):
     """One identifier (init, then step per sample)."""
 
     def __init__(self, params: dict, seed: int | None = None, backend: str = "numpy"):
@@ -347,21 +369,6 @@ class TyreId:
         new[:, 2:] = reflect(new[:, 2:] + spread * z, self.lo, self.hi)
         return (np.concatenate([cols[order[:keep]], new], axis=0),
                 np.concatenate([order[:keep], parents]))
-
-    def step(self, s: dict) -> Estimate:
-        """One sample: s has t, delta, vx, yaw_rate, ay, ax (SI)."""
-        status = 0
-        if self.x is None:
-            self._initialise(s["yaw_rate"])
-            status |= ST_FIRST
-        elif s["vx"] < self.p["tid_v_min"] or self.prev[2] < self.p["tid_v_min"]:
-            status |= ST_HELD
-        else:
-            status |= self._update(s)
-        self.prev = (s["t"], s["delta"], s["vx"])
-        est = self._estimate(s, status)
-        self.k += 1
-        return est
 
     def _update(self, s):
         p, n, fn = self.p, self.n, self.fn

@@ -30,8 +30,8 @@ __all__ = ["TyreIdSCKF", "init", "run", "N_POINTS"]
 N_POINTS = 2 * T.DIM           # cubature points per step: 20
 
 
-class TyreIdSCKF:
-    """One augmented-state SCKF identifier (init, then step per sample)."""
+class TyreIdSCKF(T._SampleSteps):
+    """One augmented-state SCKF identifier (init, then step per sample: tyre_id._SampleSteps)."""
 
     def __init__(self, params: dict, backend: str = "numpy"):
         p = dict(VEHICLE_DEFAULTS)
@@ -98,21 +98,6 @@ class TyreIdSCKF:
 
     def _project(self):
         self.f.x[2:], _ = project(self.f.x[2:], self.lo, self.hi)
-
-    def step(self, s: dict) -> T.Estimate:
-        """One sample: s has t, delta, vx, yaw_rate, ay, ax (SI)."""
-        status = 0
-        if self.f is None:
-            self._initialise(s["yaw_rate"])
-            status |= T.ST_FIRST
-        elif s["vx"] < self.p["tid_v_min"] or self.prev[2] < self.p["tid_v_min"]:
-            status |= T.ST_HELD
-        else:
-            status |= self._update(s)
-        self.prev = (s["t"], s["delta"], s["vx"])
-        est = self._estimate(s, status)
-        self.k += 1
-        return est
 
     def _update(self, s):
         p, fn = self.p, self.fn
