@@ -60,35 +60,39 @@ SCKF_CASES = (
 STREAM = ((1, 0, 0, 0, 16), (7, 3, 1, 40, 12), (2 ** 64 - 1, 2 ** 40 + 5, 4, 1000, 8))
 
 
-def golden(log, filt, scheme, start, count, n):
+def samples(log, start, count):
+    """The identifier's input columns: rows start .. start + count - 1 of the tyre-id log."""
     c = read_csv_log(os.path.join("scenarios", "tyre_id", log + ".csv")).columns
-    cols = {k: np.asarray(c[k][start:start + count], dtype=float) for k in tyre_id.SAMPLE_KEYS}
+    return {k: np.asarray(c[k][start:start + count], dtype=float) for k in tyre_id.SAMPLE_KEYS}
+
+
+def table(out):
+    """The golden's column names (t, status, n_eff, then each output and its sd) and rows."""
+    names = ["t", "status", "n_eff"]
+    for k in tyre_id.OUTPUT_NAMES:
+        names += [k, "sd_" + k]
+    return names, zip(*(out[k] for k in names))
+
+
+def golden(log, filt, scheme, start, count, n):
+    cols = samples(log, start, count)
     params = {"tid_n": float(n), "tid_filter": filt, "tid_resample": scheme}
     out = tyre_id.run(cols, params, seed=SEED, backend="libm")
     meta = [("source", f"scenarios/tyre_id/{log}.csv"), ("generator", "scripts/reference/tyre_id.py"),
             ("backend", "libm"), ("first_row", start), ("samples", count), ("seed", SEED),
             ("tid_n", n), ("tid_filter", filt), ("tid_resample", scheme),
             ("params", "params.DEFAULTS and TID_DEFAULTS")]
-    names = ["t", "status", "n_eff"]
-    for k in tyre_id.OUTPUT_NAMES:
-        names += [k, "sd_" + k]
-    rows = zip(*(out[k] for k in names))
-    return meta, names, rows
+    return (meta,) + table(out)
 
 
 def golden_sckf(log, start, count):
-    c = read_csv_log(os.path.join("scenarios", "tyre_id", log + ".csv")).columns
-    cols = {k: np.asarray(c[k][start:start + count], dtype=float) for k in tyre_id.SAMPLE_KEYS}
+    cols = samples(log, start, count)
     out = tyre_id_sckf.run(cols, {}, backend="libm")  # tid_filter does not apply (§15.1)
     meta = [("source", f"scenarios/tyre_id/{log}.csv"),
             ("generator", "scripts/reference/tyre_id_sckf.py"), ("backend", "libm"),
             ("first_row", start), ("samples", count), ("tid_filter", "sckf"),
             ("params", "params.DEFAULTS and TID_DEFAULTS")]
-    names = ["t", "status", "n_eff"]
-    for k in tyre_id.OUTPUT_NAMES:
-        names += [k, "sd_" + k]
-    rows = zip(*(out[k] for k in names))
-    return meta, names, rows
+    return (meta,) + table(out)
 
 
 def stream_rows():
