@@ -906,8 +906,9 @@ static void test_sincos(void **state)
     for (i = 0; i < sizeof(edge) / sizeof(edge[0]); ++i) {
         check_sincos(edge[i]);
     }
-    /* Every 2^12-th angle over the whole int32 range (+-4 rad), then random angles. */
-    for (k = 0; k < (1L << 20); ++k) {
+    /* Every 2^12-th angle over the whole int32 range (+-4 rad; light mode: every 10th of
+     * those, the edges above), then random angles. */
+    for (k = 0; k < (1L << 20); k += LIGHT_STEP) {
         check_sincos((int32_t)(INT32_MIN + k * 4096L + 1234L));
     }
     rng_seed(909u);
@@ -961,7 +962,9 @@ static void test_tan(void **state)
     check_tan(lim - 1);
     check_tan(1);
     check_tan(0);
-    for (k = 0; k <= 786432; ++k) { /* every 2^11-th angle over [-1.5, 1.5] rad */
+    /* every 2^11-th angle over [-1.5, 1.5] rad (light mode: every 10th of those; both ends
+     * are checked above) */
+    for (k = 0; k <= 786432; k += LIGHT_STEP) {
         check_tan((int32_t)(-lim + k * 2048L));
     }
     rng_seed(1010u);
@@ -1305,7 +1308,7 @@ static void test_tan_q29(void **state)
     check_tan_q29(RFE_FIX_TAN_LIMIT_Q29);
     check_tan_q29(RFE_FIX_TAN_LIMIT_Q29 - 1);
     check_tan_q29(1);
-    for (k = 0; k <= (1L << 18); ++k) {
+    for (k = 0; k <= (1L << 18); k += LIGHT_STEP) { /* both ends checked above */
         check_tan_q29((int32_t)(((int64_t)RFE_FIX_TAN_LIMIT_Q29 * k) >> 18));
     }
     rng_seed(1515u);
