@@ -126,7 +126,8 @@ typedef struct {
     rfe_real_t vx;       /**< longitudinal velocity (the velocity observer's) [m/s] */
     rfe_real_t yaw_rate; /**< measured r [rad/s] */
     rfe_real_t ay;       /**< measured lateral acceleration [m/s^2] */
-    rfe_real_t ax;       /**< longitudinal acceleration (the axle loads of mu only) [m/s^2] */
+    rfe_real_t ax;       /**< longitudinal acceleration: the axle loads of mu, and with
+                              ellipse the axle forces (§3.5) [m/s^2] */
 } rfe_tyre_id_sample_t;
 
 /** Output of one step: the weighted mean and sd over the particles of each output. */
@@ -153,6 +154,9 @@ typedef struct {
     rfe_real_t mean0[RFE_TID_PAR];     /**< the prior's means and sds (§4.2) */
     rfe_real_t sd0[RFE_TID_PAR];
     rfe_real_t rough;                  /**< rough_k N^(-1/8) (§5.5) */
+    rfe_real_t kxm[2];                 /**< fx_front m, (1 - fx_front) m: each axle's share
+                                            of m ax [kg] (§3.5) */
+    rfe_real_t u_max;                  /**< 1 - ell_min ell_min (§3.5) */
 } rfe_tid_consts_t;
 
 /** The sigma-point filter's mean, square-root covariance and scratch (filter RFE_TID_SCKF,
@@ -179,8 +183,9 @@ typedef struct {
     rfe_tid_consts_t c;                /**< the constants derived from them */
     uint64_t seed;                     /**< key word k0 of the stream */
     uint64_t k;                        /**< the sample counter (counter word c1) */
-    rfe_real_t prev_delta;             /**< the previous sample's delta and vx */
+    rfe_real_t prev_delta;             /**< the previous sample's delta, vx and ax */
     rfe_real_t prev_vx;
+    rfe_real_t prev_ax;
     rfe_real_t x[RFE_TID_N][RFE_TID_DIM]; /**< the particles */
     rfe_real_t logw[RFE_TID_N];        /**< their normalised log weights */
     rfe_tyre_id_estimate_t last;       /**< the output of the last step */

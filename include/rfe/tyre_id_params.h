@@ -70,6 +70,13 @@ typedef struct {
     rfe_real_t E_hi;             /**< 0.95 */
     rfe_real_t neff_frac;        /**< resample when N_eff < neff_frac N, in [0, 1]: 1/3 */
     rfe_real_t rough_k;          /**< roughening constant K, >= 0: 0.2 */
+    rfe_real_t ellipse;          /**< 1: each axle's lateral force under ax, its load and
+                                      the friction ellipse (§3.5); 0: the lateral-only model
+                                      of §3.3, bit for bit. 0 or 1: 0 */
+    rfe_real_t fx_front;         /**< the front axle's share of m ax (§3.5: the brake
+                                      balance), in [0, 1]: 0.625 */
+    rfe_real_t ell_min;          /**< the smallest factor the ellipse leaves of a lateral
+                                      force (§3.5), in (0, 1]: 0.1 */
 } rfe_tyre_id_params_t;
 
 /**
@@ -83,7 +90,7 @@ RFE_NODISCARD rfe_status_t rfe_tyre_id_params_default(rfe_tyre_id_params_t *p);
  * Checks every field: finite; filter and resample in range; substeps in
  * 1..RFE_TID_SUBSTEPS_MAX; v_min, dt_max, sd_r, sd_ay > 0; sd_delta, every q and sd0 and
  * rough_k >= 0; neff_frac in [0, 1]; each pair of bounds lo < hi, and mu_lo, C_lo, cy_lo
- * > 0 (B = K / (C D) needs C, D > 0). Whether the prior's means lie within the bounds
+ * > 0 (B = K / (C D) needs C, D > 0); ellipse 0 or 1, fx_front in [0, 1], ell_min in (0, 1]. Whether the prior's means lie within the bounds
  * depends on the tyre data: rfe_tyre_id_init checks it.
  * @param[in] p  the parameters to check.
  * @return RFE_OK, RFE_ERR_NULL or RFE_ERR_PARAM.

@@ -8,7 +8,8 @@ Usage (from the repository root):
         [--out scenarios/golden/tyre_id]
 
 Writes <out>/<case>.csv for each case of CASES: a few samples of one log of
-scenarios/tyre_id/ from row `start` on (the first of them initialises the filter), with one
+scenarios/ (the tyre-id logs, and brake_in_turn.mf for the friction ellipse) from row
+`start` on (the first of them initialises the filter), with one
 filter and one resampling scheme, the reference's defaults otherwise (params.DEFAULTS and
 TID_DEFAULTS: the C library's rfe_params_default and rfe_tyre_id_params_default), tid_n =
 --n (the C build's RFE_TID_N), seed SEED. Columns: t, status, n_eff and each output's mean
@@ -41,28 +42,34 @@ from reference import philox, tyre_id, tyre_id_sckf  # noqa: E402
 from reference.logs import read_csv_log  # noqa: E402
 
 SEED = 7
-# (case, log, filter, resample, first row, samples): both filters and both schemes, the
-# start of a log (the prior, the first draws) and the middle of a manoeuvre at the limit
+# (case, log under scenarios/, filter, resample, first row, samples[, tid_ellipse]): both
+# filters and both schemes, the start of a log (the prior, the first draws) and the middle of
+# a manoeuvre at the limit; and the friction ellipse (TYRE_ID.md §3.5) on brake in turn with
+# the Magic Formula truth, from just before its braking (t = 2 s) into it
 CASES = (
-    ("sine_apf_multinomial", "tid_sine_steer", "apf", "multinomial", 0, 25),
-    ("ramp_apf_systematic", "tid_ramp_steer_high_mu", "apf", "systematic", 650, 25),
-    ("dlc_sir_multinomial", "tid_dlc_high_mu", "sir", "multinomial", 150, 25),
-    ("change_sir_systematic", "tid_tyre_change", "sir", "systematic", 790, 25),
+    ("sine_apf_multinomial", "tyre_id/tid_sine_steer", "apf", "multinomial", 0, 25),
+    ("ramp_apf_systematic", "tyre_id/tid_ramp_steer_high_mu", "apf", "systematic", 650, 25),
+    ("dlc_sir_multinomial", "tyre_id/tid_dlc_high_mu", "sir", "multinomial", 150, 25),
+    ("change_sir_systematic", "tyre_id/tid_tyre_change", "sir", "systematic", 790, 25),
+    ("brake_apf_ellipse", "brake_in_turn.mf", "apf", "multinomial", 190, 25, 1),
 )
 # The sigma-point filter of §15 (tyre_id_sckf.py; deterministic, no seed): (case, log, first
-# row, samples): the start of the sine steer (the prior, the stiffness found) and the ramp
-# steer from its straight run into the limit (the peak found, the bounds reached)
+# row, samples[, tid_ellipse]): the start of the sine steer (the prior, the stiffness found),
+# the ramp steer from its straight run into the limit (the peak found, the bounds reached),
+# and brake in turn with the friction ellipse from its steady turn through the braking's start
 SCKF_CASES = (
-    ("sine_sckf", "tid_sine_steer", 0, 200),
-    ("ramp_sckf", "tid_ramp_steer_high_mu", 500, 200),
+    ("sine_sckf", "tyre_id/tid_sine_steer", 0, 200),
+    ("ramp_sckf", "tyre_id/tid_ramp_steer_high_mu", 500, 200),
+    ("brake_sckf_ellipse", "brake_in_turn.mf", 100, 200, 1),
 )
 # (seed, c1, c2, first word, words) of the stream check
 STREAM = ((1, 0, 0, 0, 16), (7, 3, 1, 40, 12), (2 ** 64 - 1, 2 ** 40 + 5, 4, 1000, 8))
 
 
 def samples(log, start, count):
-    """The identifier's input columns: rows start .. start + count - 1 of the tyre-id log."""
-    c = read_csv_log(os.path.join("scenarios", "tyre_id", log + ".csv")).columns
+    """The identifier's input columns: rows start .. start + count - 1 of the log (its path
+    under scenarios/ without .csv)."""
+    c = read_csv_log(os.path.join("scenarios", log + ".csv")).columns
     return {k: np.asarray(c[k][start:start + count], dtype=float) for k in tyre_id.SAMPLE_KEYS}
 
 
@@ -74,23 +81,30 @@ def table(out):
     return names, zip(*(out[k] for k in names))
 
 
-def golden(log, filt, scheme, start, count, n):
+def ellipse_keys(ellipse):
+    """The keys a case sets beyond the defaults (tid_ellipse when on), and their metadata."""
+    return ({"tid_ellipse": 1.0}, [("tid_ellipse", 1)]) if ellipse else ({}, [])
+
+
+def golden(log, filt, scheme, start, count, n, ellipse=0):
     cols = samples(log, start, count)
-    params = {"tid_n": float(n), "tid_filter": filt, "tid_resample": scheme}
+    extra, extra_meta = ellipse_keys(ellipse)
+    params = {"tid_n": float(n), "tid_filter": filt, "tid_resample": scheme, **extra}
     out = tyre_id.run(cols, params, seed=SEED, backend="libm")
-    meta = [("source", f"scenarios/tyre_id/{log}.csv"), ("generator", "scripts/reference/tyre_id.py"),
+    meta = [("source", f"scenarios/{log}.csv"), ("generator", "scripts/reference/tyre_id.py"),
             ("backend", "libm"), ("first_row", start), ("samples", count), ("seed", SEED),
-            ("tid_n", n), ("tid_filter", filt), ("tid_resample", scheme),
+            ("tid_n", n), ("tid_filter", filt), ("tid_resample", scheme)] + extra_meta + [
             ("params", "params.DEFAULTS and TID_DEFAULTS")]
     return (meta,) + table(out)
 
 
-def golden_sckf(log, start, count):
+def golden_sckf(log, start, count, ellipse=0):
     cols = samples(log, start, count)
-    out = tyre_id_sckf.run(cols, {}, backend="libm")  # tid_filter does not apply (§15.1)
-    meta = [("source", f"scenarios/tyre_id/{log}.csv"),
+    extra, extra_meta = ellipse_keys(ellipse)
+    out = tyre_id_sckf.run(cols, extra, backend="libm")  # tid_filter does not apply (§15.1)
+    meta = [("source", f"scenarios/{log}.csv"),
             ("generator", "scripts/reference/tyre_id_sckf.py"), ("backend", "libm"),
-            ("first_row", start), ("samples", count), ("tid_filter", "sckf"),
+            ("first_row", start), ("samples", count), ("tid_filter", "sckf")] + extra_meta + [
             ("params", "params.DEFAULTS and TID_DEFAULTS")]
     return (meta,) + table(out)
 
@@ -130,11 +144,11 @@ def main(argv=None):
     os.makedirs(a.out, exist_ok=True)
     t0 = time.time()
     write(os.path.join(a.out, "stream.csv"), *stream_rows())
-    for i, (case, log, filt, scheme, start, count) in enumerate(CASES, 1):
-        write(os.path.join(a.out, case + ".csv"), *golden(log, filt, scheme, start, count, a.n))
+    for i, (case, *spec) in enumerate(CASES, 1):
+        write(os.path.join(a.out, case + ".csv"), *golden(*spec[:5], a.n, *spec[5:]))
         print(f"[{i}/{len(CASES)}] {case} ({time.time() - t0:.0f} s)", flush=True)
-    for case, log, start, count in SCKF_CASES:
-        write(os.path.join(a.out, case + ".csv"), *golden_sckf(log, start, count))
+    for case, *spec in SCKF_CASES:
+        write(os.path.join(a.out, case + ".csv"), *golden_sckf(*spec))
         print(f"[sckf] {case} ({time.time() - t0:.0f} s)", flush=True)
     return 0
 

@@ -43,3 +43,21 @@ def test_committed_stream_is_what_the_reference_writes(tmp_path):
 def test_every_case_has_a_committed_golden():
     for case, *_ in gen.CASES:
         assert os.path.isfile(os.path.join(GOLDEN, case + ".csv")), case
+
+
+# REQ-TID-009
+def test_committed_ellipse_golden_is_what_the_reference_writes(tmp_path, monkeypatch):
+    """The friction ellipse's particle-filter golden (tid_ellipse = 1 on brake_in_turn.mf):
+    what the reference writes today, and its metadata says the key is on."""
+    monkeypatch.chdir(ROOT)
+    case, *spec = [c for c in gen.CASES if c[0] == "brake_apf_ellipse"][0]
+    out = tmp_path / (case + ".csv")
+    gen.write(str(out), *gen.golden(*spec[:5], 256, *spec[5:]))
+    text = _read(os.path.join(GOLDEN, case + ".csv"))
+    assert _read(str(out)) == text
+    assert "# tid_ellipse = 1\n" in text
+
+
+def test_every_sckf_case_has_a_committed_golden():
+    for case, *_ in gen.SCKF_CASES:
+        assert os.path.isfile(os.path.join(GOLDEN, case + ".csv")), case

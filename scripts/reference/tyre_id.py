@@ -65,6 +65,9 @@ TID_DEFAULTS: dict[str, float] = {
     "tid_E_hi": 0.95,
     "tid_neff_frac": 1.0 / 3.0,  # resample when N_eff < tid_neff_frac * N (the patent: N/3)
     "tid_rough_k": 0.2,       # roughening constant K (Gordon et al. 1993)
+    "tid_ellipse": 0.0,       # 1: the axle forces under ax (load and friction ellipse, §3.5); 0: off
+    "tid_fx_front": 0.625,    # §3.5 the front axle's share of m ax
+    "tid_ell_min": 0.1,       # §3.5 the smallest factor the ellipse leaves of a lateral force
 }
 TID_CHOICES = {"tid_filter": ("apf", "sir"),
                "tid_resample": ("multinomial", "systematic")}  # first of each: the default
@@ -146,6 +149,28 @@ class _Model:
         self.m, self.Lf, self.Lr, self.J = p["m"], p["Lf"], p["Lr"], p["J"]
         self.a_max = p["alpha_max"]
         self.fn = fn
+        # §3.5 the friction ellipse: the axle loads (§3.4), each axle's share of m ax
+        self.ell = p["tid_ellipse"] != 0.0
+        La = p["Lf"] + p["Lr"]
+        self.fz0 = (p["m"] * p["g"] * p["Lr"] / La, p["m"] * p["g"] * p["Lf"] / La)
+        self.gx = p["m"] * p["hg"] / La
+        self.kxm = (p["tid_fx_front"] * p["m"], (1.0 - p["tid_fx_front"]) * p["m"])
+        self.u_max = 1.0 - p["tid_ell_min"] * p["tid_ell_min"]
+
+    def scales(self, th, ax):
+        """§3.5 (s_f, s_r): the factor of each axle's pure-slip force under ax, the load's
+        lam = Fz / Fz0 times the friction ellipse's sqrt(1 - min(rho^2, 1 - ell_min^2)),
+        rho = Fx / (lam D), Fx the axle's share of m ax; None when tid_ellipse is off."""
+        if not self.ell:
+            return None
+        lam = ((self.fz0[0] - self.gx * ax) / self.fz0[0],
+               (self.fz0[1] + self.gx * ax) / self.fz0[1])
+        out = []
+        for a, j in ((0, 0), (1, 4)):
+            rho = (self.kxm[a] * ax) / (lam[a] * th[:, j])
+            u = np.minimum(rho * rho, self.u_max)
+            out.append(lam[a] * np.sqrt(1.0 - u))
+        return out
 
     def slips(self, vy, r, delta, vx):
         """§3.1 tan(alpha) of the front and rear axle (alpha clipped to +-alpha_max)."""
@@ -156,24 +181,27 @@ class _Model:
         a_r = np.minimum(np.maximum(a_r, -self.a_max), self.a_max)
         return fn.tan(a_f), fn.tan(a_r)
 
-    def forces(self, vy, r, th, delta, vx):
+    def forces(self, vy, r, th, delta, vx, ax=0.0):
         """(Fy_f, Fy_r) of each particle at inputs (delta, vx), §3.1-3.2."""
         t_f, t_r = self.slips(vy, r, delta, vx)
         f = mf_force(t_f, th[:, 0], th[:, 1], b_of(th, 0), th[:, 3], self.fn)
         rr = mf_force(t_r, th[:, 4], th[:, 5], b_of(th, 4), th[:, 7], self.fn)
+        sc = self.scales(th, ax)
+        if sc is not None:
+            f, rr = f * sc[0], rr * sc[1]
         return f, rr
 
-    def rhs(self, vy, r, th, delta, cd, vx):
+    def rhs(self, vy, r, th, delta, cd, vx, ax=0.0):
         """§3.3 (vy', r') with cd = cos(delta)."""
-        f, rr = self.forces(vy, r, th, delta, vx)
+        f, rr = self.forces(vy, r, th, delta, vx, ax)
         fyc = f * cd
         ay = (fyc + rr) / self.m
         return ay - r * vx, (self.Lf * fyc - self.Lr * rr) / self.J
 
-    def rk4(self, vy, r, th, delta, vx, h, n_sub):
+    def rk4(self, vy, r, th, delta, vx, h, n_sub, ax=0.0):
         """§4: n_sub classical RK4 steps of h / n_sub, inputs held."""
         cd = self.fn.cos(np.float64(delta))
-        return rk4(lambda a, b: self.rhs(a, b, th, delta, cd, vx), vy, r, h, n_sub)
+        return rk4(lambda a, b: self.rhs(a, b, th, delta, cd, vx, ax), vy, r, h, n_sub)
 
 
 def rk4(f, a, b, h, n_sub=1):
@@ -256,7 +284,7 @@ class _SampleSteps:
             status |= ST_HELD
         else:
             status |= self._update(s)
-        self.prev = (s["t"], s["delta"], s["vx"])
+        self.prev = (s["t"], s["delta"], s["vx"], s["ax"])
         est = self._estimate(s, status)
         self.k += 1
         return est
@@ -309,6 +337,13 @@ class TyreId(_SampleSteps):
         self.th = None           # (N, 8) parameters
         self.logw = None         # (N,) log weights
 
+    def mu_loads(self, ax):
+        """§3.4 the loads of mu = D / Fz: the axle loads at ax; with §3.5 on, the static
+        loads (D is then the peak at the static load, lam D the peak at ax)."""
+        if self.p["tid_ellipse"] != 0.0:
+            return self.fz0
+        return self.fz0[0] - self.gx * ax, self.fz0[1] + self.gx * ax
+
     # §4.1 the prior
     def _initialise(self, r_meas):
         n, p = self.n, self.p
@@ -327,6 +362,9 @@ class TyreId(_SampleSteps):
         t_f, t_r = self.model.slips(vy, r, s["delta"], s["vx"])
         f, slope = mf_force_slope(t_f, th[:, 0], th[:, 1], b_of(th, 0), th[:, 3], self.fn)
         rr = mf_force(t_r, th[:, 4], th[:, 5], b_of(th, 4), th[:, 7], self.fn)
+        sc = self.model.scales(th, s["ax"])
+        if sc is not None:
+            f, slope, rr = f * sc[0], slope * sc[0], rr * sc[1]
         ay = ((f * cd) + rr) / p["m"]
         g = ((slope * cd) - (f * sd_)) / p["m"]          # d ay / d delta
         gs = g * p["tid_sd_delta"]
@@ -378,8 +416,9 @@ class TyreId(_SampleSteps):
         cd = fn.cos(np.float64(s["delta"]))
         sd_ = fn.sin(np.float64(s["delta"]))
         # §4 the noise-free RK4 step of every particle (the APF's auxiliary points)
+        a_bar = 0.5 * (self.prev[3] + s["ax"])
         mu_vy, mu_r = self.model.rk4(self.x[:, 0], self.x[:, 1], self.th, d_bar, v_bar,
-                                     self.h, int(p["tid_substeps"]))
+                                     self.h, int(p["tid_substeps"]), a_bar)
         status = ST_UPDATED
         if p["tid_filter"] == "apf":
             # §5.2 first stage: the predicted likelihood at the auxiliary points
@@ -428,9 +467,8 @@ class TyreId(_SampleSteps):
         fn, p = self.fn, self.p
         w, _ = normalise_log(self.logw, fn)
         vy, r = self.x[:, 0], self.x[:, 1]
-        f, rr = self.model.forces(vy, r, self.th, s["delta"], s["vx"])
-        fz_f = self.fz0[0] - self.gx * s["ax"]
-        fz_r = self.fz0[1] + self.gx * s["ax"]
+        f, rr = self.model.forces(vy, r, self.th, s["delta"], s["vx"], s["ax"])
+        fz_f, fz_r = self.mu_loads(s["ax"])
         q = {"beta": fn.atan2(vy, np.full_like(vy, s["vx"])), "r": r, "vy": vy,
              "Fy_f": f, "Fy_r": rr}
         for j, k in enumerate(PARAM_NAMES):

@@ -46,6 +46,7 @@ class TyreIdSCKF(T._SampleSteps):
         # the particle filter's scales, priors, bounds and noise (tyre_id.TyreId.__init__)
         ref = T.TyreId(params)
         self.fz0, self.gx = ref.fz0, ref.gx
+        self.mu_loads = ref.mu_loads
         self.lo, self.hi = ref.lo, ref.hi
         self.q_th, self.mean0, self.sd0 = ref.q_th, ref.mean0, ref.sd0
         self.f = None            # the filters.SCKF
@@ -64,13 +65,13 @@ class TyreIdSCKF(T._SampleSteps):
         th = np.minimum(np.maximum(pts[2:].T, self.lo), self.hi)
         return pts[0], pts[1], th
 
-    def _process(self, d_bar, v_bar, h):
+    def _process(self, d_bar, v_bar, h, a_bar=0.0):
         """The RK4 step of §4.1 of every cubature point; the parameters are a random walk."""
         n_sub = int(self.p["tid_substeps"])
 
         def f(pts):
             vy, r, th = self._clip(pts)
-            vy1, r1 = self.model.rk4(vy, r, th, d_bar, v_bar, h, n_sub)
+            vy1, r1 = self.model.rk4(vy, r, th, d_bar, v_bar, h, n_sub, a_bar)
             out = pts.copy()
             out[0], out[1] = vy1, r1
             return out
@@ -80,7 +81,7 @@ class TyreIdSCKF(T._SampleSteps):
         """h(X): (r, ay_p) of every cubature point at the sample's delta, vx (§5.1's ay_p)."""
         def h(pts):
             vy, r, th = self._clip(pts)
-            f, rr = self.model.forces(vy, r, th, s["delta"], s["vx"])
+            f, rr = self.model.forces(vy, r, th, s["delta"], s["vx"], s["ax"])
             return np.stack([r, ((f * cd) + rr) / self.p["m"]])
         return h
 
@@ -92,6 +93,9 @@ class TyreIdSCKF(T._SampleSteps):
         vy, r, th = self._clip(x)
         t_f, _ = self.model.slips(vy, r, s["delta"], s["vx"])
         f, slope = T.mf_force_slope(t_f, th[:, 0], th[:, 1], T.b_of(th, 0), th[:, 3], self.fn)
+        sc = self.model.scales(th, s["ax"])
+        if sc is not None:
+            f, slope = f * sc[0], slope * sc[0]
         g = float(((slope[0] * cd) - (f[0] * sd_)) / p["m"])
         gs = g * p["tid_sd_delta"]
         return np.diag([p["tid_sd_r"], math.sqrt(p["tid_sd_ay"] * p["tid_sd_ay"] + gs * gs)])
@@ -110,7 +114,8 @@ class TyreIdSCKF(T._SampleSteps):
         # §15.3 time update: cubature points through RK4, S- = Tria([Xc*, S_Q])
         self.f.s_q = np.diag(np.concatenate([[p["tid_q_vy"] * sq, p["tid_q_r"] * sq],
                                              self.q_th * sq]))
-        self.f.propagate(self._process(d_bar, v_bar, h))
+        a_bar = 0.5 * (self.prev[3] + s["ax"])
+        self.f.propagate(self._process(d_bar, v_bar, h, a_bar))
         self._project()
         # measurement update on (r_m, ay_m)
         self.f.s_r = self._s_r(s, cd, sd_)
@@ -127,7 +132,7 @@ class TyreIdSCKF(T._SampleSteps):
         x, sd_x = self.f.x, self.f.sd()
         pts = self.f.points()
         vy, r, th = self._clip(pts)
-        f, rr = self.model.forces(vy, r, th, s["delta"], s["vx"])
+        f, rr = self.model.forces(vy, r, th, s["delta"], s["vx"], s["ax"])
         q = {"beta": self.fn.atan2(vy, np.full_like(vy, s["vx"])), "Fy_f": f, "Fy_r": rr,
              "B_f": T.b_of(th, 0), "B_r": T.b_of(th, 4)}
         mean, sd = {}, {}
@@ -137,8 +142,7 @@ class TyreIdSCKF(T._SampleSteps):
             sd[k] = float(np.sqrt(np.mean((v - m) ** 2)))
         for j, k in enumerate(T.STATE_NAMES + T.PARAM_NAMES):
             mean[k], sd[k] = float(x[j]), float(sd_x[j])
-        fz_f = self.fz0[0] - self.gx * s["ax"]
-        fz_r = self.fz0[1] + self.gx * s["ax"]
+        fz_f, fz_r = self.mu_loads(s["ax"])
         mean["mu_f"], sd["mu_f"] = mean["D_f"] / fz_f, sd["D_f"] / fz_f
         mean["mu_r"], sd["mu_r"] = mean["D_r"] / fz_r, sd["D_r"] / fz_r
         return T.Estimate(float(s["t"]), status, math.nan, mean, sd)

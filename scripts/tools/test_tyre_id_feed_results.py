@@ -143,3 +143,27 @@ def test_logs_are_the_steering_scenarios_and_exist():
     assert "scenarios/brake_in_turn.mf.csv" in logs and "scenarios/wrong_tyre_data.csv" in logs
     for log in logs:
         assert (Path(fr.ROOT) / log).is_file(), log
+
+
+def test_ellipse_columns_pair_each_feed_without_and_with_the_ellipse():
+    """The third table: each filter's ungated feeds, held at the default (the main table's run
+    the base, the hold key not written) and not held (a0), each without tid_ellipse and with
+    it (a fourth entry, 1, named E)."""
+    pairs = fr.ellipse_columns()
+    assert len(pairs) == 2 * len(fr.FILTERS) * len(fr.HOLD_FEEDS)
+    for flt, letter, before, after in pairs:
+        assert len(after) == 4 and after[3] == 1.0 and after[:2] == before[:2]
+        assert after[2] == (before[2] if len(before) > 2 else None)
+    assert fr.label((0.05, 0.0, None, 1.0), "S") == "S0.05 E"
+    assert fr.label((0.05, 0.0, 0.0, 1.0), "S") == "S0.05 a0 E"
+
+
+def test_run_writes_the_ellipse_and_leaves_the_held_default(tmp_path):
+    exe, _ = _stand_in(tmp_path)
+    par = tmp_path / "params.txt"
+    fr.run(exe, "scenarios/brake_in_turn.mf.csv", "sckf", (0.1, 0.0, None, 1.0))
+    lines = par.read_text().splitlines()
+    assert "tid_ellipse = 1.0" in lines
+    assert not any(x.startswith("tid_feed_ax_max") for x in lines)   # the key's default
+    fr.run(exe, "scenarios/brake_in_turn.mf.csv", "sckf", (0.1, 0.0, 0.0))
+    assert not any(x.startswith("tid_ellipse") for x in par.read_text().splitlines())

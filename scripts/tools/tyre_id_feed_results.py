@@ -33,8 +33,12 @@ a sample whose |ax| exceeds it, braking or driving). A second table, "before -> 
 each filter's ungated feeds of HOLD_FEEDS once with tid_feed_ax_max = 0 (no hold: before) and
 once at the default (after), with the same rules and, per log, the verdict of the hold against
 the run without it ("helps" / "hurts" as above with the unheld run as the base).
-With --page the tables go between
-<!-- tyre-feed:begin/end --> and <!-- tyre-feed-hold:begin/end --> of the page.
+A third table, the friction ellipse (docs/TYRE_ID.md section 3.5), sets tid_ellipse = 1 on
+each filter's ungated feeds of HOLD_FEEDS, once with the hold at its default and once without
+it (tid_feed_ax_max 0), against the same feed without the ellipse (before -> after), with the
+same rules, and per log the verdict of the ellipse against the run without it.
+With --page the tables go between <!-- tyre-feed:begin/end -->,
+<!-- tyre-feed-hold:begin/end --> and <!-- tyre-feed-ellipse:begin/end --> of the page.
 """
 
 import argparse
@@ -65,13 +69,16 @@ RMSE_TARGET = 0.08  # issue 20: RMSE when valid with identified parameters at mo
 CONS_TARGET = 0.9  # issue 20: consistency when valid at least this
 HOLD_FEEDS = ((0.05, 0.0), (0.1, 0.0))  # the feeds of the before -> after table
 HOLD_OFF = 0.0  # tid_feed_ax_max of the "before" runs: no hold
+ELLIPSE_ON = 1.0  # tid_ellipse of the ellipse table's "after" runs (TYRE_ID.md section 3.5)
 
 
 def label(feed, letter=""):
     """The column label of a feed: the filter's letter, its tid_feed_sd_rel, the evidence
-    asked for, and tid_feed_ax_max when the feed sets it (a third entry; else the default)."""
+    asked for, tid_feed_ax_max when the feed sets it (a third entry not None; else the
+    default), and " E" when it sets tid_ellipse (a fourth entry)."""
     return (f"{letter}{feed[0]:g}" + (f" e{feed[1]:g}" if feed[1] > 0 else "")
-            + (f" a{feed[2]:g}" if len(feed) > 2 else ""))
+            + (f" a{feed[2]:g}" if len(feed) > 2 and feed[2] is not None else "")
+            + (" E" if len(feed) > 3 and feed[3] else ""))
 
 
 def columns():
@@ -90,8 +97,9 @@ def logs():
 
 def run(exe, log, flt, feed):
     """(RMSE when valid, consistency when valid, valid share, share fed) of one run; flt the
-    --tyre-id filter, feed (tid_feed_sd_rel, tid_feed_evidence[, tid_feed_ax_max]; without
-    the third, the key's default), None: without the identifier."""
+    --tyre-id filter, feed (tid_feed_sd_rel, tid_feed_evidence[, tid_feed_ax_max[,
+    tid_ellipse]]; without the third, or None, the key's default; without the fourth the
+    ellipse's default, off), None: without the identifier."""
     with tempfile.TemporaryDirectory() as tmp:
         js = os.path.join(tmp, "m.json")
         args = [exe, "--in", os.path.join(ROOT, log), "--out", os.path.join(tmp, "e.csv"),
@@ -100,8 +108,10 @@ def run(exe, log, flt, feed):
             par = os.path.join(tmp, "feed.params")
             with open(par, "w", encoding="utf-8") as fh:
                 fh.write(f"tid_feed_sd_rel = {feed[0]!r}\ntid_feed_evidence = {feed[1]!r}\n")
-                if len(feed) > 2:
+                if len(feed) > 2 and feed[2] is not None:
                     fh.write(f"tid_feed_ax_max = {feed[2]!r}\n")
+                if len(feed) > 3:
+                    fh.write(f"tid_ellipse = {feed[3]!r}\n")
             args += ["--tyre-id", flt, "--params", par]
         r = subprocess.run(args, capture_output=True, text=True, check=False)
         if r.returncode != 0:
@@ -143,12 +153,33 @@ def hold_columns():
             for f in HOLD_FEEDS]
 
 
-def hold_table(names, res):
-    """The before -> after table's lines (the docstring's second table) from the runs @p res."""
-    pairs = hold_columns()
+def ellipse_columns():
+    """The ellipse table's pairs: (filter, letter, feed without the ellipse, the same feed with
+    tid_ellipse on), each filter of FILTERS with each feed of HOLD_FEEDS, held at the default
+    (the main table's run the base) and without the hold."""
+    out = []
+    for flt, letter in FILTERS:
+        for f in HOLD_FEEDS:
+            out.append((flt, letter, f, (f[0], f[1], None, ELLIPSE_ON)))
+            out.append((flt, letter, (f[0], f[1], HOLD_OFF), (f[0], f[1], HOLD_OFF, ELLIPSE_ON)))
+    return out
+
+
+HOLD_WORDS = (f"tid_feed_ax_max {HOLD_OFF:g} (no hold, aX: its value) → the default",
+              "the hold", "no hold")  # the hold table's: before -> after, the change, its base
+ELLIPSE_WORDS = ("the feed without the friction ellipse (tid_ellipse 0) → with it (E: "
+                 "tid_ellipse 1), held at the default or not (aX: tid_feed_ax_max X)",
+                 "the ellipse", "no ellipse")
+
+
+def hold_table(names, res, pairs=None, words=HOLD_WORDS):
+    """The before -> after table's lines (the docstring's second table; with @p pairs and
+    @p words, the third) from the runs @p res."""
+    pairs = hold_columns() if pairs is None else pairs
     heads = " / ".join(f"{label(b, letter)} → {label(f, letter)}" for _, letter, b, f in pairs)
     rows = [f"| log | RMSE when valid: off / {heads} | consistency when valid: off / {heads} "
-            f"| valid: off / {heads} | fed: {heads} | the hold helps / hurts against no hold |",
+            f"| valid: off / {heads} | fed: {heads} | {words[1]} helps / hurts against "
+            f"{words[2]} |",
             "|---|---|---|---|---|---|"]
     vs_off = {p: [[0, 0], [0, 0]] for p in pairs}  # per pair, before and after: helps, hurts
     met = {p: [0, 0] for p in pairs}
@@ -173,13 +204,12 @@ def hold_table(names, res):
         name = log[len("scenarios/"):-len(".csv")]
         rows.append(f"| {name} | " + " | ".join(" / ".join(c) for c in cells) + " |")
     rows.append("")
-    rows.append(f"Before → after: tid_feed_ax_max {HOLD_OFF:g} (no hold, aX: its value) → "
-                "the default. Helps / hurts against off: "
+    rows.append(f"Before → after: {words[0]}. Helps / hurts against off: "
                 + "; ".join(f"{label(p[3], p[1])}: {vs_off[p][0][0]} / {vs_off[p][0][1]} → "
                             f"{vs_off[p][1][0]} / {vs_off[p][1][1]}" for p in pairs)
                 + ". Meets issue 20's targets: "
                 + "; ".join(f"{label(p[3], p[1])}: {met[p][0]} → {met[p][1]}" for p in pairs)
-                + ". The hold against no hold, helps / hurts: "
+                + f". {words[1][0].upper()}{words[1][1:]} against {words[2]}, helps / hurts: "
                 + "; ".join(f"{label(p[3], p[1])}: {hold[p][0]} / {hold[p][1]}" for p in pairs)
                 + ".")
     return rows
@@ -202,6 +232,7 @@ def main():
     jobs = [(log, None, None) for log in names] + [(log, c[0], c[2]) for log in names
                                                    for c in cols]
     jobs += [(log, p[0], p[2]) for log in names for p in hold_columns()]
+    jobs += [(log, p[0], p[3]) for log in names for p in ellipse_columns()]
     done = [0]
 
     def one(job):
@@ -254,11 +285,15 @@ def main():
     print(text)
     held = hold_table(names, res)
     print("\n".join(held))
+    ell = hold_table(names, res, ellipse_columns(), ELLIPSE_WORDS)
+    print("\n".join(ell))
     if a.page:
         replace_region(Path(a.page), "<!-- tyre-feed:begin -->", "<!-- tyre-feed:end -->",
                        text.splitlines(), "tyre_id_feed_results")
         replace_region(Path(a.page), "<!-- tyre-feed-hold:begin -->",
                        "<!-- tyre-feed-hold:end -->", held, "tyre_id_feed_results")
+        replace_region(Path(a.page), "<!-- tyre-feed-ellipse:begin -->",
+                       "<!-- tyre-feed-ellipse:end -->", ell, "tyre_id_feed_results")
 
 
 if __name__ == "__main__":

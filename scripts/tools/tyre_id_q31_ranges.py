@@ -75,19 +75,19 @@ class Probe(T.TyreId):
         rg, model = self.rg, self.model
         forces, rhs = model.forces, model.rhs
 
-        def rec_forces(vy, r, th, delta, vx):
+        def rec_forces(vy, r, th, delta, vx, ax=0.0):
             t_f, t_r = model.slips(vy, r, delta, vx)
             rg.add("tan alpha (per axle)", np.concatenate([t_f, t_r]))
             rg.add("x = B tan alpha",
                    np.concatenate([T.b_of(th, 0) * t_f, T.b_of(th, 4) * t_r]))
-            f, rr = forces(vy, r, th, delta, vx)
+            f, rr = forces(vy, r, th, delta, vx, ax)
             rg.add("Fy_f, Fy_r (N)", np.concatenate([f, rr]))
             return f, rr
 
-        def rec_rhs(vy, r, th, delta, cd, vx):
+        def rec_rhs(vy, r, th, delta, cd, vx, ax=0.0):
             rg.add("RK4 stage vy (m/s)", vy)
             rg.add("RK4 stage r (rad/s)", r)
-            dvy, dr = rhs(vy, r, th, delta, cd, vx)
+            dvy, dr = rhs(vy, r, th, delta, cd, vx, ax)
             rg.add("RK4 k: vy' (m/s^2)", dvy)
             rg.add("RK4 k: r' (rad/s^2)", dr)
             return dvy, dr
@@ -99,7 +99,7 @@ class Probe(T.TyreId):
         p = self.p
         self.rg.add("log-likelihood l (per particle)", ll)
         self.rg.add("e1 = (r_m - r)/sd_r", (s["yaw_rate"] - r) / p["tid_sd_r"])
-        f, rr = self.model.forces(vy, r, th, s["delta"], s["vx"])
+        f, rr = self.model.forces(vy, r, th, s["delta"], s["vx"], s["ax"])
         self.rg.add("e2 = ay_m - ay_p (m/s^2)", s["ay"] - ((f * cd) + rr) / p["m"])
         self.stats["particles"] += ll.size
         self.stats["neg_inf"] += int(np.sum(~np.isfinite(ll)))

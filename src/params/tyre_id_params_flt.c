@@ -43,6 +43,9 @@ rfe_status_t rfe_tyre_id_params_default(rfe_tyre_id_params_t *p)
     p->E_hi = RFE_R(0.95);
     p->neff_frac = RFE_R(1.0) / RFE_R(3.0); /* the patent's N/3, rounded as the reference's 1/3 */
     p->rough_k = RFE_R(0.2);
+    p->ellipse = RFE_R(0.0);
+    p->fx_front = RFE_R(0.625);
+    p->ell_min = RFE_R(0.1);
     return RFE_OK;
 }
 
@@ -67,6 +70,17 @@ static int reals_ok(const rfe_tyre_id_params_t *p)
     }
     return (rfe_is_finite(p->mu0) && rfe_is_finite(p->neff_frac) &&
             (p->neff_frac >= RFE_R(0.0)) && (p->neff_frac <= RFE_R(1.0)))
+               ? 1
+               : 0;
+}
+
+/* The friction ellipse's keys (§3.5): the switch 0 or 1, the front share in [0, 1], the
+ * factor's floor in (0, 1]. */
+static int ellipse_ok(const rfe_tyre_id_params_t *p)
+{
+    return (((p->ellipse == RFE_R(0.0)) || (p->ellipse == RFE_R(1.0))) &&
+            (p->fx_front >= RFE_R(0.0)) && (p->fx_front <= RFE_R(1.0)) &&
+            (p->ell_min > RFE_R(0.0)) && (p->ell_min <= RFE_R(1.0)))
                ? 1
                : 0;
 }
@@ -96,7 +110,7 @@ rfe_status_t rfe_tyre_id_params_validate(const rfe_tyre_id_params_t *p)
         (p->substeps < 1u) || (p->substeps > (uint32_t)RFE_TID_SUBSTEPS_MAX)) {
         return RFE_ERR_PARAM;
     }
-    if ((reals_ok(p) == 0) || (bounds_ok(p) == 0)) {
+    if ((reals_ok(p) == 0) || (bounds_ok(p) == 0) || (ellipse_ok(p) == 0)) {
         return RFE_ERR_PARAM;
     }
     return RFE_OK;

@@ -99,6 +99,10 @@ static int derive(rfe_tid_consts_t *c, const rfe_tyre_id_params_t *p, const rfe_
     c->fz0[0] = ((v->m * v->g) * v->Lr) / la;
     c->fz0[1] = ((v->m * v->g) * v->Lf) / la;
     c->gx = (v->m * v->hg) / la;
+    /* §3.5 each axle's share of m ax, and the ellipse's bound on (Fx / (lam D))^2 */
+    c->kxm[0] = p->fx_front * v->m;
+    c->kxm[1] = (RFE_R(1.0) - p->fx_front) * v->m;
+    c->u_max = RFE_R(1.0) - (p->ell_min * p->ell_min);
     axle_constants(c, 0u, c->fz0[0], p, &veh->tyre);
     axle_constants(c, 4u, c->fz0[1], p, &veh->tyre);
     /* §5.5 rho = K N^(-1/8), with the C library's pow (§9) */
@@ -138,6 +142,7 @@ rfe_status_t rfe_tyre_id_init(rfe_tyre_id_t *tid, const rfe_tyre_id_params_t *tp
     tid->started = 0u;
     tid->prev_delta = RFE_R(0.0);
     tid->prev_vx = RFE_R(0.0);
+    tid->prev_ax = RFE_R(0.0);
     for (i = 0u; i < (size_t)RFE_TID_N; ++i) {
         for (e = 0u; e < (size_t)RFE_TID_DIM; ++e) {
             tid->x[i][e] = RFE_R(0.0);
@@ -436,8 +441,7 @@ static void estimate(rfe_tyre_id_t *t, const rfe_tyre_id_sample_t *smp,
     size_t k;
     /* the weights are normalised log weights: their maximum is 0, never lost */
     (void)rfe_tid_normalise(t->logw, n, t->w, NULL);
-    fz[0] = t->c.fz0[0] - (t->c.gx * smp->ax);
-    fz[1] = t->c.fz0[1] + (t->c.gx * smp->ax);
+    rfe_tid_mu_loads(t, smp->ax, fz);
     for (i = 0u; i < n; ++i) {
         rfe_tid_forces(t, t->x[i], u, &t->aux[i][0], &t->aux[i][1]);
         t->la[i] = RFE_ATAN2(t->x[i][RFE_TID_VY], smp->vx);
@@ -521,6 +525,7 @@ rfe_status_t rfe_tyre_id_step(rfe_tyre_id_t *tid, const rfe_tyre_id_sample_t *s,
     u.cd = RFE_COS(s->delta);
     u.sd = RFE_SIN(s->delta);
     u.vx = s->vx;
+    u.ax = s->ax;
     if (tid->started == 0u) {
         if (tid->p.filter == RFE_TID_SCKF) {
             rfe_tid_sckf_prior(tid, s->yaw_rate);
@@ -540,6 +545,7 @@ rfe_status_t rfe_tyre_id_step(rfe_tyre_id_t *tid, const rfe_tyre_id_sample_t *s,
     }
     tid->prev_delta = s->delta;
     tid->prev_vx = s->vx;
+    tid->prev_ax = s->ax;
     if (tid->p.filter == RFE_TID_SCKF) {
         rfe_tid_sckf_estimate(tid, s, &u, flags);
     } else {

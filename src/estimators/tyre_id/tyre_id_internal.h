@@ -16,6 +16,7 @@
  * RFE_REAL_DOUBLE (rfe/types.h). Sources define and call them by the short name. */
 #if defined(RFE_REAL_DOUBLE)
 #define rfe_tid_forces    rfe_tid_forces_f64
+#define rfe_tid_mu_loads  rfe_tid_mu_loads_f64
 #define rfe_tid_rk4       rfe_tid_rk4_f64
 #define rfe_tid_mean_input rfe_tid_mean_input_f64
 #define rfe_tid_loglik    rfe_tid_loglik_f64
@@ -32,6 +33,7 @@
 #define rfe_tid_reflect   rfe_tid_reflect_f64
 #else
 #define rfe_tid_forces    rfe_tid_forces_f32
+#define rfe_tid_mu_loads  rfe_tid_mu_loads_f32
 #define rfe_tid_rk4       rfe_tid_rk4_f32
 #define rfe_tid_mean_input rfe_tid_mean_input_f32
 #define rfe_tid_loglik    rfe_tid_loglik_f32
@@ -48,20 +50,26 @@
 #define rfe_tid_reflect   rfe_tid_reflect_f32
 #endif
 
-/** The inputs of one evaluation of the model: delta, cos(delta), sin(delta), vx. */
+/** The inputs of one evaluation of the model: delta, cos(delta), sin(delta), vx, ax (read
+ *  with the ellipse of §3.5 only). */
 typedef struct {
     rfe_real_t delta;
     rfe_real_t cd;
     rfe_real_t sd;
     rfe_real_t vx;
+    rfe_real_t ax;
 } rfe_tid_input_t;
+
+/** §3.4 the loads of mu = D / Fz at @p ax into @p fz: the axle loads at ax; with the ellipse
+ *  of §3.5 the static loads (D is then the peak at the static load). */
+void rfe_tid_mu_loads(const rfe_tyre_id_t *tid, rfe_real_t ax, rfe_real_t fz[2]);
 
 /** §3.1-3.2 the axle lateral forces of particle @p x (its columns) at inputs @p u. */
 void rfe_tid_forces(const rfe_tyre_id_t *tid, const rfe_real_t x[RFE_TID_DIM],
                     const rfe_tid_input_t *u, rfe_real_t *fy_f, rfe_real_t *fy_r);
 
 /** §4.1 the inputs the RK4 step holds over the period before sample @p smp: the means of the
- *  previous sample's and this sample's delta and vx, cos of the mean delta (sin unused). */
+ *  previous sample's and this sample's delta, vx and ax, cos of the mean delta (sin unused). */
 rfe_tid_input_t rfe_tid_mean_input(const rfe_tyre_id_t *tid, const rfe_tyre_id_sample_t *smp);
 
 /** §4.1 the noise-free step of (vy, r) of particle @p x over @p h: substeps RK4 steps with

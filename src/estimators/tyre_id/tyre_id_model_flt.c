@@ -57,14 +57,66 @@ static rfe_real_t mf(const rfe_real_t *th, rfe_real_t t, rfe_real_t *slope)
     return d * RFE_SIN(cphi);
 }
 
+/* §3.5 the factor of one axle's pure-slip force at ax: lam sqrt(1 - min(rho rho, u_max)),
+ * rho = (kxm ax) / (lam D), with lam = Fz / Fz0 of that axle (§3.4) and D its peak at the
+ * static load; a NaN rho stays NaN (as the reference's minimum). */
+static rfe_real_t axle_scale(rfe_real_t lam, rfe_real_t kxm, rfe_real_t ax, rfe_real_t d,
+                             rfe_real_t u_max)
+{
+    const rfe_real_t rho = (kxm * ax) / (lam * d);
+    rfe_real_t u = rho * rho;
+    if (u > u_max) {
+        u = u_max;
+    }
+    return lam * RFE_SQRT(RFE_R(1.0) - u);
+}
+
+/* §3.5 the factors (s_f, s_r) of the axle forces of parameters th at ax: 1 and 1 without the
+ * ellipse (the caller then leaves the forces as they are, so the lateral-only model stays bit
+ * for bit). Returns 1 when the ellipse is on. */
+static int scales(const rfe_tyre_id_t *tid, const rfe_real_t *th, rfe_real_t ax,
+                  rfe_real_t *s_f, rfe_real_t *s_r)
+{
+    const rfe_tid_consts_t *c = &tid->c;
+    int on = 0;
+    *s_f = RFE_R(1.0);
+    *s_r = RFE_R(1.0);
+    if (tid->p.ellipse != RFE_R(0.0)) {
+        /* lam_f = (Fz0_f - G ax) / Fz0_f, lam_r = (Fz0_r + G ax) / Fz0_r */
+        const rfe_real_t lam_f = (c->fz0[0] - (c->gx * ax)) / c->fz0[0];
+        const rfe_real_t lam_r = (c->fz0[1] + (c->gx * ax)) / c->fz0[1];
+        *s_f = axle_scale(lam_f, c->kxm[0], ax, th[0], c->u_max);
+        *s_r = axle_scale(lam_r, c->kxm[1], ax, th[RFE_TID_D_R - RFE_TID_STATES], c->u_max);
+        on = 1;
+    }
+    return on;
+}
+
+void rfe_tid_mu_loads(const rfe_tyre_id_t *tid, rfe_real_t ax, rfe_real_t fz[2])
+{
+    if (tid->p.ellipse != RFE_R(0.0)) {
+        fz[0] = tid->c.fz0[0];
+        fz[1] = tid->c.fz0[1];
+    } else {
+        fz[0] = tid->c.fz0[0] - (tid->c.gx * ax);
+        fz[1] = tid->c.fz0[1] + (tid->c.gx * ax);
+    }
+}
+
 void rfe_tid_forces(const rfe_tyre_id_t *tid, const rfe_real_t x[RFE_TID_DIM],
                     const rfe_tid_input_t *u, rfe_real_t *fy_f, rfe_real_t *fy_r)
 {
     rfe_real_t t_f;
     rfe_real_t t_r;
+    rfe_real_t s_f;
+    rfe_real_t s_r;
     slips(tid, x[RFE_TID_VY], x[RFE_TID_R], u, &t_f, &t_r);
     *fy_f = mf(&x[RFE_TID_D_F], t_f, NULL);
     *fy_r = mf(&x[RFE_TID_D_R], t_r, NULL);
+    if (scales(tid, &x[RFE_TID_D_F], u->ax, &s_f, &s_r) != 0) {
+        *fy_f = *fy_f * s_f;
+        *fy_r = *fy_r * s_r;
+    }
 }
 
 /* §3.3 (vy', r') = (ay - r vx, (Lf F_c - Lr F_r) / J), ay = (F_c + F_r) / m, F_c = F_f cos d. */
@@ -73,11 +125,19 @@ static void rhs(const rfe_tyre_id_t *tid, const rfe_real_t x[RFE_TID_DIM], rfe_r
 {
     rfe_real_t t_f;
     rfe_real_t t_r;
+    rfe_real_t ff;
     rfe_real_t fyc;
     rfe_real_t fr;
+    rfe_real_t s_f;
+    rfe_real_t s_r;
     slips(tid, vy, r, u, &t_f, &t_r);
-    fyc = mf(&x[RFE_TID_D_F], t_f, NULL) * u->cd;
+    ff = mf(&x[RFE_TID_D_F], t_f, NULL);
     fr = mf(&x[RFE_TID_D_R], t_r, NULL);
+    if (scales(tid, &x[RFE_TID_D_F], u->ax, &s_f, &s_r) != 0) {
+        ff = ff * s_f;
+        fr = fr * s_r;
+    }
+    fyc = ff * u->cd;
     d[0] = ((fyc + fr) / tid->c.m) - (r * u->vx);
     d[1] = ((tid->c.Lf * fyc) - (tid->c.Lr * fr)) / tid->c.J;
 }
@@ -90,6 +150,7 @@ rfe_tid_input_t rfe_tid_mean_input(const rfe_tyre_id_t *tid, const rfe_tyre_id_s
     ub.cd = RFE_COS(d_bar);
     ub.sd = RFE_R(0.0); /* not used by the dynamics */
     ub.vx = RFE_R(0.5) * (tid->prev_vx + smp->vx);
+    ub.ax = RFE_R(0.5) * (tid->prev_ax + smp->ax);
     return ub;
 }
 
@@ -128,9 +189,16 @@ void rfe_tid_ay(const rfe_tyre_id_t *tid, rfe_real_t vy, rfe_real_t r, const rfe
     rfe_real_t slope = RFE_R(0.0);
     rfe_real_t f;
     rfe_real_t fr;
+    rfe_real_t s_f;
+    rfe_real_t s_r;
     slips(tid, vy, r, u, &t_f, &t_r);
     f = mf(&th[0], t_f, (g != NULL) ? &slope : NULL);
     fr = mf(&th[RFE_TID_D_R - RFE_TID_STATES], t_r, NULL);
+    if (scales(tid, th, u->ax, &s_f, &s_r) != 0) {
+        f = f * s_f;
+        slope = slope * s_f;
+        fr = fr * s_r;
+    }
     /* ay_p = ((F_f c) + F_r) / m,  g = d ay_p / d delta = ((dF_f/dalpha c) - (F_f s)) / m */
     *ay_p = ((f * u->cd) + fr) / tid->c.m;
     if (g != NULL) {

@@ -297,8 +297,7 @@ void rfe_tid_sckf_estimate(rfe_tyre_id_t *tid, const rfe_tyre_id_sample_t *smp,
     rfe_tid_sckf_t *k = &tid->sk;
     rfe_tyre_id_estimate_t *e = &tid->last;
     const rfe_real_t w = RFE_R(1.0) / (rfe_real_t)NP;
-    const rfe_real_t fz_f = tid->c.fz0[0] - (tid->c.gx * smp->ax);
-    const rfe_real_t fz_r = tid->c.fz0[1] + (tid->c.gx * smp->ax);
+    rfe_real_t fz[2];
     rfe_real_t qm[NQ];
     size_t i;
     size_t j;
@@ -329,11 +328,12 @@ void rfe_tid_sckf_estimate(rfe_tyre_id_t *tid, const rfe_tyre_id_sample_t *smp,
         e->mean[o] = k->x[i];
         e->sd[o] = spread(&k->S[i * NX], i + 1u, 1u, RFE_R(0.0), RFE_R(1.0));
     }
-    /* mu = D / Fz (§3.4), its sd sd(D) / Fz */
-    e->mean[RFE_TID_OUT_MU_F] = k->x[RFE_TID_D_F] / fz_f;
-    e->sd[RFE_TID_OUT_MU_F] = e->sd[RFE_TID_OUT_D_F] / fz_f;
-    e->mean[RFE_TID_OUT_MU_R] = k->x[RFE_TID_D_R] / fz_r;
-    e->sd[RFE_TID_OUT_MU_R] = e->sd[RFE_TID_OUT_D_R] / fz_r;
+    /* mu = D / Fz (§3.4, §3.5), its sd sd(D) / Fz */
+    rfe_tid_mu_loads(tid, smp->ax, fz);
+    e->mean[RFE_TID_OUT_MU_F] = k->x[RFE_TID_D_F] / fz[0];
+    e->sd[RFE_TID_OUT_MU_F] = e->sd[RFE_TID_OUT_D_F] / fz[0];
+    e->mean[RFE_TID_OUT_MU_R] = k->x[RFE_TID_D_R] / fz[1];
+    e->sd[RFE_TID_OUT_MU_R] = e->sd[RFE_TID_OUT_D_R] / fz[1];
     e->n_eff = (rfe_real_t)NAN; /* no particles */
     e->flags = flags;
     e->status = RFE_OK;

@@ -11,6 +11,11 @@
  * - Hand-derived weights (log-sum-exp): w = 1 / (1 + e) and e / (1 + e) for log weights 1
  *   apart, a few float ulps of rounding in exp, the sum and the division: 1e-6 relative in
  *   float, 1e-14 in double.
+ * - The friction ellipse (§3.5) against its formula evaluated here in double: the library
+ *   multiplies each cubature point's force by the same factor (every point has the prior's
+ *   D when its sd is 0) and averages 20 points, a few roundings of the float or double
+ *   format each; the factor itself is a handful of operations: TOL_ELL 1e-5 relative in float
+ *   (~80 float ulps), 1e-12 in double.
  * - Everything else is exact: indices, orders, the reflection's hand cases (each is one
  *   subtraction of values exact in binary), bounds (the reflection ends with a clip onto
  *   [lo, hi], so no rounding may cross them).
@@ -26,10 +31,12 @@
 
 #if defined(RFE_REAL_DOUBLE)
 #define TOL_W 1e-14
+#define TOL_ELL 1e-12
 #define TOL_CLIP 1e-12
 #define SD_R_OVERFLOW 1e-160 /* (1e-3 / sd_r)^2 overflows the double */
 #else
 #define TOL_W 1e-6
+#define TOL_ELL 1e-5
 #define TOL_CLIP 1e-5
 #define SD_R_OVERFLOW 1e-30  /* (1e-3 / sd_r)^2 overflows the float */
 #endif
@@ -144,6 +151,135 @@ static void test_params_defaults_and_validation(void **state)
     assert_int_equal(rfe_tyre_id_params_validate(&q), RFE_ERR_PARAM);
     q.substeps = (uint32_t)RFE_TID_SUBSTEPS_MAX;
     assert_int_equal(rfe_tyre_id_params_validate(&q), RFE_OK);
+}
+
+/* REQ-TID-007 REQ-TID-009: the friction ellipse's keys (§2, §3.5): defaults, ranges, and an
+ * init refused for each leaves the state as it was. */
+static void test_ellipse_params(void **state)
+{
+    rfe_params_t veh;
+    rfe_tyre_id_params_t tp;
+    rfe_tyre_id_params_t q;
+    const rfe_real_t bad_switch[] = {(rfe_real_t)0.5, -1, 2, (rfe_real_t)NAN, (rfe_real_t)INFINITY};
+    const rfe_real_t bad_share[] = {(rfe_real_t)-0.01, (rfe_real_t)1.01, (rfe_real_t)NAN};
+    const rfe_real_t bad_floor[] = {0, (rfe_real_t)-0.1, (rfe_real_t)1.01, (rfe_real_t)NAN};
+    size_t i;
+    (void)state;
+    setup_defaults(&veh, &tp);
+    assert_true(tp.ellipse == 0 && tp.fx_front == (rfe_real_t)0.625 &&
+                tp.ell_min == (rfe_real_t)0.1);
+    memset(&tid, 0x5A, sizeof(tid));
+    before = tid;
+    for (i = 0u; i < sizeof(bad_switch) / sizeof(bad_switch[0]); ++i) {
+        q = tp;
+        q.ellipse = bad_switch[i];
+        assert_int_equal(rfe_tyre_id_params_validate(&q), RFE_ERR_PARAM);
+        assert_int_equal(rfe_tyre_id_init(&tid, &q, &veh, 1u), RFE_ERR_PARAM);
+    }
+    for (i = 0u; i < sizeof(bad_share) / sizeof(bad_share[0]); ++i) {
+        q = tp;
+        q.ellipse = 1;
+        q.fx_front = bad_share[i];
+        assert_int_equal(rfe_tyre_id_params_validate(&q), RFE_ERR_PARAM);
+        assert_int_equal(rfe_tyre_id_init(&tid, &q, &veh, 1u), RFE_ERR_PARAM);
+    }
+    for (i = 0u; i < sizeof(bad_floor) / sizeof(bad_floor[0]); ++i) {
+        q = tp;
+        q.ellipse = 1;
+        q.ell_min = bad_floor[i];
+        assert_int_equal(rfe_tyre_id_params_validate(&q), RFE_ERR_PARAM);
+        assert_int_equal(rfe_tyre_id_init(&tid, &q, &veh, 1u), RFE_ERR_PARAM);
+    }
+    assert_memory_equal(&tid, &before, sizeof(tid));
+    /* the ends of each range are valid */
+    q = tp;
+    q.ellipse = 1;
+    q.fx_front = 0;
+    q.ell_min = 1;
+    assert_int_equal(rfe_tyre_id_params_validate(&q), RFE_OK);
+    q.fx_front = 1;
+    assert_int_equal(rfe_tyre_id_params_validate(&q), RFE_OK);
+}
+
+/* §3.5 the factor of an axle's pure-slip force, from the page, in double: lam sqrt(1 -
+ * min(rho^2, 1 - ell_min^2)), rho = (share m ax) / (lam D), lam = load / static load. */
+static double ellipse_factor(double fz0, double load, double share_m, double ax, double d,
+                             double ell_min)
+{
+    const double lam = load / fz0;
+    const double rho = (share_m * ax) / (lam * d);
+    return lam * sqrt(1.0 - fmin(rho * rho, 1.0 - ell_min * ell_min));
+}
+
+/* REQ-TID-009: with tid_ellipse = 1 each axle's force is its pure-slip force times the
+ * factor of §3.5 (at ax 0 exactly 1; braking moderately: the load and the ellipse; braking
+ * hard: the floor ell_min), and mu = D / Fz0 (the static load); with 0, mu = D / Fz at ax.
+ * The sigma-point filter's first sample (its prior, no update), with the prior's sd of D 0
+ * so that every cubature point has D = mu0 Fz0: the forces of the two runs differ by the
+ * factor alone. */
+static void test_ellipse_scales_the_axle_forces(void **state)
+{
+    static rfe_tyre_id_t off;
+    const rfe_real_t axs[3] = {0, -3, -9};
+    rfe_params_t veh;
+    rfe_tyre_id_params_t tp;
+    rfe_tyre_id_params_t tp_on;
+    rfe_tyre_id_estimate_t e_on;
+    rfe_tyre_id_estimate_t e_off;
+    double m;
+    double la;
+    double fz0[2];
+    double g_x;
+    size_t i;
+    (void)state;
+    setup_defaults(&veh, &tp);
+    tp.filter = RFE_TID_SCKF;
+    tp.sd0_mu = 0;
+    tp_on = tp;
+    tp_on.ellipse = 1;
+    m = (double)veh.vehicle.m;
+    la = (double)veh.vehicle.Lf + (double)veh.vehicle.Lr;
+    fz0[0] = m * (double)veh.vehicle.g * (double)veh.vehicle.Lr / la;
+    fz0[1] = m * (double)veh.vehicle.g * (double)veh.vehicle.Lf / la;
+    g_x = m * (double)veh.vehicle.hg / la;
+    for (i = 0u; i < 3u; ++i) {
+        rfe_tyre_id_sample_t s = sample(0, (rfe_real_t)0.02, 20, (rfe_real_t)0.05, 1);
+        const double ax = (double)axs[i];
+        const double load[2] = {fz0[0] - g_x * ax, fz0[1] + g_x * ax};
+        const double mu0 = (double)tp.mu0;
+        const double k_f = ellipse_factor(fz0[0], load[0], (double)tp.fx_front * m, ax,
+                                          mu0 * fz0[0], (double)tp.ell_min);
+        const double k_r = ellipse_factor(fz0[1], load[1], (1.0 - (double)tp.fx_front) * m, ax,
+                                          mu0 * fz0[1], (double)tp.ell_min);
+        s.ax = axs[i];
+        assert_int_equal(rfe_tyre_id_init(&off, &tp, &veh, 1u), RFE_OK);
+        assert_int_equal(rfe_tyre_id_init(&tid, &tp_on, &veh, 1u), RFE_OK);
+        assert_int_equal(rfe_tyre_id_step(&off, &s, &e_off), RFE_OK);
+        assert_int_equal(rfe_tyre_id_step(&tid, &s, &e_on), RFE_OK);
+        assert_int_equal(e_on.flags, RFE_TID_FIRST);
+        if (i == 0u) {
+            assert_true(e_on.mean[RFE_TID_OUT_FY_F] == e_off.mean[RFE_TID_OUT_FY_F]);
+            assert_true(e_on.mean[RFE_TID_OUT_FY_R] == e_off.mean[RFE_TID_OUT_FY_R]);
+        } else if (i == 1u) {
+            /* braking at 3 m/s^2, inside the floor: the rear (its load falls) loses more than
+             * the front (its load rises) */
+            assert_true(k_r > 0.5 && k_r < k_f && k_f < 1.0);
+        } else {
+            /* at 9 m/s^2 the rear's share of m ax exceeds its peak: the floor, lam ell_min */
+            assert_true(fabs(k_r / (load[1] / fz0[1]) - (double)tp.ell_min) < 1e-12);
+        }
+        assert_close(e_on.mean[RFE_TID_OUT_FY_F], k_f * (double)e_off.mean[RFE_TID_OUT_FY_F],
+                     0.0, TOL_ELL, "Fy_f");
+        assert_close(e_on.mean[RFE_TID_OUT_FY_R], k_r * (double)e_off.mean[RFE_TID_OUT_FY_R],
+                     0.0, TOL_ELL, "Fy_r");
+        /* mu = D / Fz0 with the ellipse (D the peak at the static load), D / Fz at ax off */
+        assert_close(e_on.mean[RFE_TID_OUT_MU_F], mu0, 0.0, TOL_ELL, "mu_f on");
+        assert_close(e_on.mean[RFE_TID_OUT_MU_R], mu0, 0.0, TOL_ELL, "mu_r on");
+        assert_close(e_off.mean[RFE_TID_OUT_MU_F], mu0 * fz0[0] / load[0], 0.0, TOL_ELL,
+                     "mu_f off");
+        assert_close(e_off.mean[RFE_TID_OUT_MU_R], mu0 * fz0[1] / load[1], 0.0, TOL_ELL,
+                     "mu_r off");
+    }
 }
 
 /* REQ-TID-003: the init writes nothing when it refuses. */
@@ -1007,6 +1143,8 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_params_defaults_and_validation),
+        cmocka_unit_test(test_ellipse_params),
+        cmocka_unit_test(test_ellipse_scales_the_axle_forces),
         cmocka_unit_test(test_init_refusals_write_nothing),
         cmocka_unit_test(test_step_refusals_leave_the_state_untouched),
         cmocka_unit_test(test_sckf_step_refusals_leave_the_state_untouched),

@@ -82,18 +82,20 @@
 
 typedef struct {
     const char *name;
-    const char *log;
+    const char *log; /* under scenarios/, without .csv */
     rfe_tid_filter_t filter;
     rfe_tid_resample_t scheme;
+    int ellipse;     /* tid_ellipse (TYRE_ID.md §3.5) */
 } golden_case_t;
 
 /* make_tyre_id_goldens.py CASES (the first row and the count are in each file's metadata
  * and its t column) */
 static const golden_case_t CASES[] = {
-    {"sine_apf_multinomial", "tid_sine_steer", RFE_TID_APF, RFE_TID_MULTINOMIAL},
-    {"ramp_apf_systematic", "tid_ramp_steer_high_mu", RFE_TID_APF, RFE_TID_SYSTEMATIC},
-    {"dlc_sir_multinomial", "tid_dlc_high_mu", RFE_TID_SIR, RFE_TID_MULTINOMIAL},
-    {"change_sir_systematic", "tid_tyre_change", RFE_TID_SIR, RFE_TID_SYSTEMATIC},
+    {"sine_apf_multinomial", "tyre_id/tid_sine_steer", RFE_TID_APF, RFE_TID_MULTINOMIAL, 0},
+    {"ramp_apf_systematic", "tyre_id/tid_ramp_steer_high_mu", RFE_TID_APF, RFE_TID_SYSTEMATIC, 0},
+    {"dlc_sir_multinomial", "tyre_id/tid_dlc_high_mu", RFE_TID_SIR, RFE_TID_MULTINOMIAL, 0},
+    {"change_sir_systematic", "tyre_id/tid_tyre_change", RFE_TID_SIR, RFE_TID_SYSTEMATIC, 0},
+    {"brake_apf_ellipse", "brake_in_turn.mf", RFE_TID_APF, RFE_TID_MULTINOMIAL, 1},
 };
 
 /* The reference's OUTPUT_NAMES, in the order of RFE_TID_OUT_*. */
@@ -127,7 +129,7 @@ static size_t open_case(const golden_case_t *c, rfe_sensor_log_t *log, test_tabl
     rfe_tyre_id_params_t tp;
     memset(log, 0, sizeof(*log));
     memset(g, 0, sizeof(*g));
-    snprintf(path, sizeof(path), "scenarios/tyre_id/%s.csv", c->log);
+    snprintf(path, sizeof(path), "scenarios/%s.csv", c->log);
     assert_int_equal(rfe_sensor_log_read(path, log, &err), 0);
     snprintf(path, sizeof(path), "%s/%s.csv", GOLDEN_DIR, c->name);
     assert_int_equal(test_table_load(path, g), 0);
@@ -136,6 +138,7 @@ static size_t open_case(const golden_case_t *c, rfe_sensor_log_t *log, test_tabl
     assert_int_equal(rfe_tyre_id_params_default(&tp), RFE_OK);
     tp.filter = c->filter;
     tp.resample = c->scheme;
+    tp.ellipse = (c->ellipse != 0) ? (rfe_real_t)1 : (rfe_real_t)0;
     assert_int_equal(rfe_tyre_id_init(&tid, &tp, &veh, SEED), RFE_OK);
     return first_row(log, test_table_get(g, 0u, "t"));
 }
@@ -223,8 +226,9 @@ static void run_case(const golden_case_t *c)
 
 /* make_tyre_id_goldens.py SCKF_CASES */
 static const golden_case_t SCKF_CASES[] = {
-    {"sine_sckf", "tid_sine_steer", RFE_TID_SCKF, RFE_TID_MULTINOMIAL},
-    {"ramp_sckf", "tid_ramp_steer_high_mu", RFE_TID_SCKF, RFE_TID_MULTINOMIAL},
+    {"sine_sckf", "tyre_id/tid_sine_steer", RFE_TID_SCKF, RFE_TID_MULTINOMIAL, 0},
+    {"ramp_sckf", "tyre_id/tid_ramp_steer_high_mu", RFE_TID_SCKF, RFE_TID_MULTINOMIAL, 0},
+    {"brake_sckf_ellipse", "brake_in_turn.mf", RFE_TID_SCKF, RFE_TID_MULTINOMIAL, 1},
 };
 
 /* |a - b| in units of (|b| + sd_b): the rounding of a quantity and of its spread */
@@ -292,6 +296,20 @@ static void test_sckf_ramp_golden(void **state)
     sckf_case(&SCKF_CASES[1], SCKF_TOL_MEAN, SCKF_TOL_SD);
 }
 
+/* REQ-TID-002: the friction ellipse (TYRE_ID.md §3.5) on brake in turn, into its braking */
+static void test_sckf_ellipse_golden(void **state)
+{
+    (void)state;
+    sckf_case(&SCKF_CASES[2], SCKF_TOL_MEAN, SCKF_TOL_SD);
+}
+
+/* REQ-TID-002: the friction ellipse (TYRE_ID.md §3.5) on brake in turn, into its braking */
+static void test_apf_ellipse_golden(void **state)
+{
+    (void)state;
+    run_case(&CASES[4]);
+}
+
 /* REQ-TID-002 */
 static void test_apf_multinomial_golden(void **state)
 {
@@ -329,6 +347,8 @@ int main(void)
         cmocka_unit_test(test_sir_systematic_golden),
         cmocka_unit_test(test_sckf_sine_golden),
         cmocka_unit_test(test_sckf_ramp_golden),
+        cmocka_unit_test(test_sckf_ellipse_golden),
+        cmocka_unit_test(test_apf_ellipse_golden),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
