@@ -1493,6 +1493,48 @@ static void test_rfe_replay_slip_pauses_the_filter(void **state)
     }
 }
 
+/* A bad measured vx reaches the mass and grade estimator as its slip reference, which refuses
+ * that sample as it refuses its other inputs (MASS_GRADE.md §10 "The slip pause"): in double
+ * and q31, a NaN vx cell gives mg_status 17, a vx beyond 100 m/s 18 (q31: beyond Q24's 128
+ * m/s it saturates, then is refused as beyond the limit), the estimate held there; the rows
+ * around update. */
+/* REQ-CLI-007 */
+static void test_rfe_replay_mass_grade_bad_vx_refused(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_sensor_row_t rows[N_MG];
+    rfe_param_set_t ps;
+    static rfe_est_row_t out[N_MG];
+    rfe_replay_stats_t st;
+    rfe_replay_q31_stats_t sq;
+    size_t i;
+    int path;
+    (void)state;
+    make_mg_log(&log, rows);
+    assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_DEFAULT), 0);
+    ps.mass_grade = 1;
+    ps.value[RFE_PK_dt] = 0.02;
+    log.has_velocity = 1;
+    for (i = 0u; i < N_MG; ++i) {
+        rows[i].vx = rows[i].omega[0] * ps.value[RFE_PK_R]; /* no slip */
+    }
+    rows[3].vx = NAN;
+    rows[5].vx = 150.0;
+    for (path = 0; path < 2; ++path) {
+        if (path == 0) {
+            assert_int_equal(rfe_replay_run_f64(&ps, &log, out, &st, NULL), RFE_OK);
+        } else {
+            assert_int_equal(rfe_replay_run_q31(&ps, &log, out, &sq, NULL, NULL), RFE_OK);
+            st = sq.base;
+        }
+        assert_int_equal(out[3].mg_status, RFE_ERR_NONFINITE);
+        assert_int_equal(out[5].mg_status, RFE_ERR_RANGE);
+        assert_true((out[3].mass == out[2].mass) && (out[3].grade == out[2].grade));
+        assert_true((out[5].mass == out[4].mass) && (out[5].grade == out[4].grade));
+        assert_int_equal(st.mg_status_count[RFE_OK], N_MG - 2u);
+    }
+}
+
 /* The feed's band around the parameter m (mg_feed_band; MASS_GRADE.md §10), in double and
  * q31, measured velocities and behind the observer: with the sd rule passing every update
  * and no gate, each row's mass is fed exactly when |mass_est - m| <= mg_feed_band * m, else
@@ -2769,6 +2811,7 @@ int main(void)
         cmocka_unit_test(test_rfe_replay_gate_holds_the_feed_until_the_excitation),
         cmocka_unit_test(test_rfe_replay_slip_holds_the_feed_and_empties_the_gate),
         cmocka_unit_test(test_rfe_replay_slip_pauses_the_filter),
+        cmocka_unit_test(test_rfe_replay_mass_grade_bad_vx_refused),
         cmocka_unit_test(test_rfe_replay_band_refuses_a_mass_far_from_m),
         cmocka_unit_test(test_rfe_replay_q31_mass_grade_is_the_library_loop),
         cmocka_unit_test(test_rfe_replay_q31_fed_mass_reaches_the_friction_estimator),
