@@ -12,8 +12,10 @@
 #define RFE_MG_HAS_PRESSURE 2u /**< p_brake (the brake pressure) is given */
 #define RFE_MG_HAS_GEAR 4u     /**< gear is given */
 #define RFE_MG_HAS_AX 8u       /**< ax (the accelerometer) is given */
+#define RFE_MG_HAS_VX 16u      /**< vx (the car's speed over ground, not the wheels') is
+                                    given: the slip pause (§4.2) */
 /** Every bit a sample may set. */
-#define RFE_MG_HAS_ALL 15u
+#define RFE_MG_HAS_ALL 31u
 
 /** The vehicle of a preset (MASS_GRADE.md §6). */
 typedef enum {

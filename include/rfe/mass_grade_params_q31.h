@@ -32,7 +32,7 @@
 #define RFE_MG_Q_QMV 28      /**< q_mv [kg^2/s], int64: Q28 (the square of Q14) */
 #define RFE_MG_Q_R 28        /**< rolling radius R [m]: Q28, +-8 */
 #define RFE_MG_Q_G 26        /**< gravity g [m/s^2]: Q26, +-32 */
-#define RFE_MG_Q_FC 30       /**< rolling resistance f_c [1]: Q30, +-2 */
+#define RFE_MG_Q_FC 30       /**< rolling resistance f_c, slip_max [1]: Q30, +-2 */
 #define RFE_MG_Q_FR 36       /**< rolling resistance f_r [s/m]: Q36, +-0.031 */
 #define RFE_MG_Q_COEF 24     /**< rho [kg/m^3], C_d, S [m^2], mv_stop [1]: Q24, +-128 */
 #define RFE_MG_Q_UT 28       /**< ut_alpha, ut_beta, ut_kappa [1]: Q28, +-8 */
@@ -68,6 +68,7 @@ typedef struct {
     rfe_fix_t t_brake;    /**< hold after the last braked sample [s], Q24 */
     rfe_fix_t t_shift;    /**< hold after a gear change [s], Q24 */
     rfe_fix_t p_brake_on; /**< brake pressure that means braking [MPa], Q25 */
+    rfe_fix_t slip_max;   /**< slip that holds the filter [1], Q30 (0: no slip pause) */
     rfe_fix_t m_min;      /**< lower mass bound [kg], Q14 */
     rfe_fix_t m_max;      /**< upper mass bound [kg], Q14 */
     rfe_fix_t theta_max;  /**< grade bound [rad], Q29 */
@@ -101,7 +102,8 @@ RFE_NODISCARD rfe_status_t rfe_mass_grade_weights_q31(const rfe_mass_grade_param
  * The checks of rfe_mass_grade_params_validate on the Q values (MASS_GRADE.md §6), and the
  * fixed-point domain (FIXED_POINT.md "Mass and grade"): R, g, m0, sd_m0, sd_theta0, q_v,
  * q_mc, q_theta, r_v, r_ax, ut_alpha, m_min, theta_max, dt_max > 0; fc, fr, rho, cd, area,
- * m_rot, q_mv0, t_adapt, mv_stop, v_min, t_brake, t_shift, p_brake_on, ut_beta >= 0;
+ * m_rot, q_mv0, t_adapt, mv_stop, v_min, t_brake, t_shift, p_brake_on, slip_max, ut_beta
+ * >= 0;
  * adaptive, use_ax in {0, 1}; m_min < m0 < m_max; |theta0| < theta_max < 1.5 rad; with
  * adaptive, mv_stop q_mc^2 < q_mv0^2. Beyond the float's: rfe_mass_grade_weights_q31
  * succeeds (the spread c = alpha^2 (3 + kappa) in (1, 16), so that w_m,0 = 1 - 3/c and

@@ -62,6 +62,7 @@ MG_DEFAULTS: dict[str, float] = {
     "mg_t_brake": 1.0,      # pause after the last braked sample, s
     "mg_t_shift": 1.0,      # pause after a gear change, s
     "mg_p_brake_on": 1.0e5,  # brake pressure above which the brake is on, Pa
+    "mg_slip_max": 0.05,    # |v - vx| > this * max(|vx|, mg_v_min) pauses (vx given); 0: off
     "mg_m_min": 300.0,      # mass bounds: the mean is projected onto them, kg
     "mg_m_max": 60000.0,
     "mg_theta_max": 0.35,   # grade bound |theta|, rad
@@ -82,6 +83,7 @@ OK = 0
 NO_UPDATE_LOW_SPEED = 2
 PAUSED_BRAKE = 5
 PAUSED_SHIFT = 6
+PAUSED_SLIP = 7
 ERR_NONFINITE = 17
 ERR_RANGE = 18
 ERR_PARAM = 19
@@ -136,7 +138,7 @@ def validate(p):
             raise ParamError(f"{k}: must be > 0")
     nonneg = ("mg_fc", "mg_fr", "mg_rho", "mg_cd", "mg_area", "mg_m_rot", "mg_q_mv0",
               "mg_t_adapt", "mg_mv_stop", "mg_v_min", "mg_t_brake", "mg_t_shift",
-              "mg_p_brake_on", "mg_ut_beta")
+              "mg_p_brake_on", "mg_slip_max", "mg_ut_beta")
     for k in nonneg:
         if not p[k] >= 0.0:
             raise ParamError(f"{k}: must be >= 0")
@@ -230,7 +232,8 @@ def h_meas(p, x, torque, use_ax, ar=F64):
 @dataclass
 class MgSample:
     """One sample (§1): time, speed, drive torque at the wheels; optional brake flag, brake
-    pressure, gear and accelerometer (None: not on the bus)."""
+    pressure, gear, accelerometer and the car's speed over ground vx from another source than
+    the wheels (the slip pause's reference, §4.2) (None: not on the bus)."""
     t: float
     v: float
     torque: float
@@ -238,6 +241,7 @@ class MgSample:
     brake_pressure: float | None = None
     gear: float | None = None
     ax: float | None = None
+    vx: float | None = None
 
 
 @dataclass
@@ -309,13 +313,15 @@ class MassGrade:
                           self.x[0], sqrt(P[0][0]), self.q_mv, status)
 
     def _check(self, s):
-        vals = [s.t, s.v, s.torque] + [v for v in (s.brake, s.brake_pressure, s.gear, s.ax)
+        vals = [s.t, s.v, s.torque] + [v for v in (s.brake, s.brake_pressure, s.gear, s.ax, s.vx)
                                        if v is not None]
         if not all(math.isfinite(v) for v in vals):
             return ERR_NONFINITE
         if abs(s.v) > V_MAX or abs(s.torque) > T_MAX:
             return ERR_RANGE
         if s.ax is not None and abs(s.ax) > AX_MAX:
+            return ERR_RANGE
+        if s.vx is not None and abs(s.vx) > V_MAX:
             return ERR_RANGE
         if self.use_ax and s.ax is None:
             return ERR_RANGE
@@ -520,6 +526,11 @@ class MassGrade:
             return PAUSED_BRAKE
         if self.shift_left > 0.5 * dt:
             return PAUSED_SHIFT
+        # the driven wheels slip: v (the wheels') departs from the car's vx, so T/r is not the
+        # force that accelerates the car (0: no slip pause)
+        if (s.vx is not None and p["mg_slip_max"] > 0.0
+                and abs(s.v - s.vx) > p["mg_slip_max"] * max(abs(s.vx), p["mg_v_min"])):
+            return PAUSED_SLIP
         if s.v < p["mg_v_min"]:
             return NO_UPDATE_LOW_SPEED
         return OK

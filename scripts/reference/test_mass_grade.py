@@ -216,7 +216,8 @@ def test_adaptation_waits_for_its_period_and_ends_at_the_stop_threshold():
 def test_bad_parameters_are_rejected():
     for key, val in (("mg_m0", 0.0), ("mg_m0", 1e9), ("R", -0.3), ("mg_r_v", 0.0),
                      ("mg_adaptive", 0.5), ("mg_ut_kappa", -3.0), ("mg_q_mc", float("nan")),
-                     ("mg_fc", -0.01), ("mg_theta_max", 2.0)):
+                     ("mg_fc", -0.01), ("mg_theta_max", 2.0), ("mg_slip_max", -0.01),
+                     ("mg_slip_max", float("inf"))):
         with pytest.raises(mg.ParamError):
             mg.MassGrade(mg.preset(**{key: val}))
     with pytest.raises(mg.ParamError):
@@ -231,7 +232,9 @@ def test_refused_samples_leave_the_state_unchanged():
     for s, code in ((mg.MgSample(0.04, float("nan"), 300.0, ax=0.1), mg.ERR_NONFINITE),
                     (mg.MgSample(0.04, 20.0, 300.0), mg.ERR_RANGE),          # no ax
                     (mg.MgSample(0.02, 20.0, 300.0, ax=0.1), mg.ERR_RANGE),  # t not rising
-                    (mg.MgSample(0.04, 150.0, 300.0, ax=0.1), mg.ERR_RANGE)):
+                    (mg.MgSample(0.04, 150.0, 300.0, ax=0.1), mg.ERR_RANGE),
+                    (mg.MgSample(0.04, 20.0, 300.0, ax=0.1, vx=float("nan")), mg.ERR_NONFINITE),
+                    (mg.MgSample(0.04, 20.0, 300.0, ax=0.1, vx=-101.0), mg.ERR_RANGE)):
         assert est.step(s).status == code
         assert (list(est.x), est.S, est.q_mv, est.t_prev) == before
 
@@ -252,6 +255,46 @@ def test_pause_holds_mass_and_grade_while_braking():
     # is paused
     assert np.all(paused[cols["brake"] == 1.0])
     assert st[-1] == mg.OK
+
+
+def test_slip_pause_holds_mass_and_grade():
+    # §4.2 step 3: with the ground speed vx given, a sample whose wheels' speed departs from
+    # it by more than mg_slip_max * max(|vx|, mg_v_min) is held like a braked one (M, theta
+    # exact, the grade's variance growing, v restarted at the wheels' speed); the same
+    # samples without vx are learned from; the threshold is strict; 0 turns it off.
+    def cruise(est, n, t0=0.0, v=20.0, **kw):
+        return [est.step(mg.MgSample(t0 + 0.02 * k, v, 300.0, ax=0.1, **kw)) for k in range(n)]
+
+    def slipping(est, n, t0, **kw):
+        return [est.step(mg.MgSample(t0 + 0.02 * k, 22.0, 3000.0, ax=0.5, **kw))
+                for k in range(n)]
+
+    p = mg.preset(mg_use_ax=1.0, mg_adaptive=0.0)
+    est = mg.MassGrade(p)
+    learned = cruise(est, 50, vx=20.0)[-1]
+    assert learned.status == mg.OK
+    out = slipping(est, 50, 1.0, vx=20.0)             # 2 m/s of slip at 20 m/s: 0.1 > 0.05
+    assert all(o.status == mg.PAUSED_SLIP for o in out)
+    assert all(o.mass == learned.mass and o.grade == learned.grade for o in out)
+    assert all(b.sd_grade > a.sd_grade for a, b in zip(out, out[1:]))
+    assert out[-1].v == 22.0 and out[-1].sd_v == p["mg_r_v"]
+    est = mg.MassGrade(p)
+    cruise(est, 50, vx=20.0)
+    free = slipping(est, 50, 1.0)                      # vx not given: learned
+    assert all(o.status == mg.OK for o in free) and abs(free[-1].mass - learned.mass) > 10.0
+    # the threshold: 1/8 of vx = 16 is 2 m/s exactly; at it updated, beyond held; below
+    # mg_v_min the reference is mg_v_min; the slip comes after the brake, before low speed
+    est = mg.MassGrade(mg.preset(mg_use_ax=1.0, mg_slip_max=0.125))
+    cruise(est, 5, vx=20.0)
+    step = lambda t, v, vx, **kw: est.step(mg.MgSample(t, v, 300.0, ax=0.1, vx=vx, **kw)).status
+    assert step(1.0, 18.0, 16.0) == mg.OK
+    assert step(1.02, 18.5, 16.0) == mg.PAUSED_SLIP
+    assert step(1.04, 13.5, 16.0) == mg.PAUSED_SLIP
+    assert step(1.06, 1.5, 1.0) == mg.PAUSED_SLIP       # 0.5 > 0.125 * 3
+    assert step(1.08, 1.25, 1.0) == mg.NO_UPDATE_LOW_SPEED
+    assert step(1.10, 22.0, 16.0, brake=1.0) == mg.PAUSED_BRAKE
+    est = mg.MassGrade(mg.preset(mg_use_ax=1.0, mg_slip_max=0.0))
+    assert all(o.status == mg.OK for o in slipping(est, 5, 0.0, vx=20.0))
 
 
 def test_ukf_with_ax_meets_the_mass_target_on_the_truck_drive():

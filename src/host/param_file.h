@@ -163,6 +163,7 @@
     X(mg_t_brake, t_brake, "s", "hold after the last braked sample")                             \
     X(mg_t_shift, t_shift, "s", "hold after a gear change")                                      \
     X(mg_p_brake_on, p_brake_on, "Pa", "brake pressure that means braking")                      \
+    X(mg_slip_max, slip_max, "1", "wheel slip against a given vx that holds the filter (0: off)") \
     X(mg_m_min, m_min, "kg", "lower mass bound")                                                 \
     X(mg_m_max, m_max, "kg", "upper mass bound")                                                 \
     X(mg_theta_max, theta_max, "rad", "grade bound")                                             \

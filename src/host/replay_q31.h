@@ -127,8 +127,8 @@ uint32_t rfe_replay_esc_input_q31(const rfe_sensor_log_t *log, size_t i, size_t 
  * (host/pil/aux_input.h).
  * @param sat  the saturations of the rounding are added to it.
  * @return RFE_OK; the double sample's status; RFE_ERR_NONFINITE for a value the float library
- *         checks (dt, v, torque, ax, and the pressure with RFE_MG_HAS_PRESSURE) that is not
- *         finite (it has no Q value: refused as the float library refuses it). @p in is all
+ *         checks (dt, v, torque, ax, the pressure with RFE_MG_HAS_PRESSURE and vx with
+ *         RFE_MG_HAS_VX) that is not finite (it has no Q value: refused as the float library refuses it). @p in is all
  *         zero unless RFE_OK.
  */
 RFE_NODISCARD rfe_status_t rfe_replay_mass_grade_input_q31(const rfe_sensor_log_t *log,

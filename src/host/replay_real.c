@@ -511,6 +511,13 @@ rfe_status_t rfe_replay_mass_grade_input_row(const rfe_sensor_log_t *log,
     in->p_brake = log->has_brake_pressure ? (rfe_real_t)row->brake_pressure : (rfe_real_t)0.0;
     in->has = RFE_MG_HAS_AX | (log->has_brake_pressure ? RFE_MG_HAS_PRESSURE : 0u) |
               (log->has_brake ? RFE_MG_HAS_BRAKE : 0u) | (log->has_gear ? RFE_MG_HAS_GEAR : 0u);
+    /* the slip pause's ground speed: the log's measured vx only (never the observer's,
+     * which takes this estimator's grade: MASS_GRADE.md §10); a bad cell is refused by the
+     * library as the other inputs' are */
+    if (log->has_velocity != 0) {
+        in->vx = (rfe_real_t)row->vx;
+        in->has |= RFE_MG_HAS_VX;
+    }
     if ((log->has_brake && !isfinite(row->brake)) || (log->has_gear && !isfinite(row->gear))) {
         return RFE_ERR_NONFINITE;
     }

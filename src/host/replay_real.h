@@ -263,7 +263,9 @@ void rfe_replay_esc_input_row(const rfe_sensor_log_t *log, const rfe_sensor_row_
  * as the replay steps it (MASS_GRADE.md §10): the speed (omega_fl + omega_fr + omega_rl +
  * omega_rr) / 4 * @p R in double and in that order, the period since @p t_prev (the last
  * sample the estimator accepted; NULL: none yet), drive_torque, ax, and the optional brake
- * (pressed at >= 0.5), brake_pressure [Pa] and gear (the nearest) the log has; each value
+ * (pressed at >= 0.5), brake_pressure [Pa] and gear (the nearest) the log has, and the
+ * log's measured vx as the ground speed of the slip pause (RFE_MG_HAS_VX; only a measured
+ * one: MASS_GRADE.md §10 "The slip pause"); each value
  * rounded to the build's real type. The fixed-point replay (a double translation unit) rounds
  * the _f64 one's (rfe_replay_mass_grade_input_q31).
  * @return RFE_OK, or the status of a row whose brake or gear cell the library's integer

@@ -1369,7 +1369,10 @@ static void test_rfe_replay_gate_holds_the_feed_until_the_excitation(void **stat
  * until the GATE_OPEN-th update after the slip, then takes each row's again. Written out from
  * the rule; a hold that does not empty the sum feeds from row SLIP_TO, no hold feeds the slip
  * rows. mg_feed_slip_max = 0 feeds every row from GATE_OPEN on. A negative, NaN or infinite
- * mg_feed_slip_max or mg_feed_band is refused before any row, naming it. */
+ * mg_feed_slip_max or mg_feed_band is refused before any row, naming it. The filter's own
+ * slip pause (mg_slip_max, which the log's measured vx would trigger on the same rows: the
+ * next test) is off here, so that the slip rows are updates, as they are behind the observer
+ * without a measured vx, where this hold is the only slip guard. */
 /* REQ-CLI-007 */
 static void test_rfe_replay_slip_holds_the_feed_and_empties_the_gate(void **state)
 {
@@ -1395,6 +1398,7 @@ static void test_rfe_replay_slip_holds_the_feed_and_empties_the_gate(void **stat
     ps.value[RFE_PK_dt] = 0.02;
     ps.mg[RFE_PK_mg_feed_sd_rel - RFE_PK_MG_FIRST] = 1.0;
     ps.mg[RFE_PK_mg_feed_band - RFE_PK_MG_FIRST] = 0.0; /* the slip alone */
+    ps.mg[RFE_PK_mg_slip_max - RFE_PK_MG_FIRST] = 0.0;  /* the filter's pause off */
     ps.mg[RFE_PK_mg_feed_excitation - RFE_PK_MG_FIRST] = ((double)GATE_OPEN - 0.5) * 0.02 * ax;
     for (path = 0; path < 4; ++path) { /* double, double observer, q31, q31 observer */
         const double m = ps.value[RFE_PK_m];
@@ -1425,6 +1429,110 @@ static void test_rfe_replay_slip_holds_the_feed_and_empties_the_gate(void **stat
     assert_int_equal(st.n_feed_slip, 0u);
     ps.mg[RFE_PK_mg_feed_slip_max - RFE_PK_MG_FIRST] = RFE_MG_FEED_SLIP_MAX_DEFAULT;
     mg_feed_keys_refused(&ps, &log, out, RFE_PK_mg_feed_slip_max, RFE_PK_mg_feed_band);
+}
+
+/* The filter's own slip pause through the replay (mg_slip_max; MASS_GRADE.md §4.2, §10 "The
+ * slip pause"): on the previous test's log, whose measured vx says rows SLIP_FROM .. SLIP_TO -
+ * 1 slip by 0.1, the replay hands the row's vx to the estimator in double, q31 and behind the
+ * observer (a measured vx is handed whichever velocity path runs), so exactly those rows are
+ * held with status 7: mass and grade kept at row SLIP_FROM - 1's. No update slips, so the
+ * feed's hold counts none and the gate's sum is not emptied: the feed (gate open at
+ * GATE_OPEN, sd rule passing every update) takes each update's mass from GATE_OPEN on, keeps
+ * the held one through the slip, and takes row SLIP_TO's at once (the mass there learned
+ * without the slip). Fails without the replay handing vx (the slip rows would be updates). */
+/* REQ-CLI-007 */
+static void test_rfe_replay_slip_pauses_the_filter(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_sensor_row_t rows[N_MG];
+    rfe_param_set_t ps;
+    static rfe_est_row_t out[N_MG];
+    rfe_replay_stats_t st;
+    const double ax = 0.5 + 9.81 * sin(0.03); /* make_mg_log's */
+    size_t i;
+    int path;
+    (void)state;
+    make_mg_log(&log, rows);
+    assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_DEFAULT), 0);
+    log.has_velocity = 1;
+    for (i = 0u; i < N_MG; ++i) {
+        const double v_w = rows[i].omega[0] * ps.value[RFE_PK_R];
+        rows[i].vx = ((i >= SLIP_FROM) && (i < SLIP_TO)) ? v_w / 1.1 : v_w;
+    }
+    /* 0.1 of slip, twice the default; the others' 0 (the wheels' speed is the row's vx) */
+    assert_true(ps.mg[RFE_PK_mg_slip_max - RFE_PK_MG_FIRST] == 0.05);
+    ps.mass_grade = 1;
+    ps.value[RFE_PK_dt] = 0.02;
+    ps.mg[RFE_PK_mg_feed_sd_rel - RFE_PK_MG_FIRST] = 1.0;
+    ps.mg[RFE_PK_mg_feed_band - RFE_PK_MG_FIRST] = 0.0;
+    ps.mg[RFE_PK_mg_feed_excitation - RFE_PK_MG_FIRST] = ((double)GATE_OPEN - 0.5) * 0.02 * ax;
+    for (path = 0; path < 4; ++path) { /* double, double observer, q31, q31 observer */
+        size_t n_fed = 0u;
+        st = mg_feed_run_path(&ps, &log, out, path);
+        assert_int_equal(st.mg_status_count[RFE_MG_PAUSED_SLIP], SLIP_TO - SLIP_FROM);
+        assert_int_equal(st.mg_status_count[RFE_OK], N_MG - (SLIP_TO - SLIP_FROM));
+        for (i = 0u; i < N_MG; ++i) {
+            const int slip = ((i >= SLIP_FROM) && (i < SLIP_TO)) ? 1 : 0;
+            assert_int_equal(out[i].mg_status, slip ? (int)RFE_MG_PAUSED_SLIP : (int)RFE_OK);
+            if (slip) {
+                assert_true(out[i].mass == out[SLIP_FROM - 1u].mass); /* held */
+                assert_true(out[i].grade == out[SLIP_FROM - 1u].grade);
+                assert_true(out[i].mass_used == out[SLIP_FROM - 1u].mass); /* the last fed */
+            } else if (i >= GATE_OPEN) {
+                assert_true(out[i].mass_used == out[i].mass); /* fed this sample's */
+                ++n_fed;
+            } else {
+                assert_true(out[i].mass_used == ps.value[RFE_PK_m]);
+            }
+        }
+        /* the first update after the slip moves the mass, and is fed at once */
+        assert_true(out[SLIP_TO].mass != out[SLIP_FROM - 1u].mass);
+        assert_int_equal(st.n_mass_fed, n_fed);
+        assert_int_equal(n_fed, N_MG - GATE_OPEN - (SLIP_TO - SLIP_FROM));
+        assert_int_equal(st.n_feed_slip, 0u);
+    }
+}
+
+/* A bad measured vx reaches the mass and grade estimator as its slip reference, which refuses
+ * that sample as it refuses its other inputs (MASS_GRADE.md §10 "The slip pause"): in double
+ * and q31, a NaN vx cell gives mg_status 17, a vx beyond 100 m/s 18 (q31: beyond Q24's 128
+ * m/s it saturates, then is refused as beyond the limit), the estimate held there; the rows
+ * around update. */
+/* REQ-CLI-007 */
+static void test_rfe_replay_mass_grade_bad_vx_refused(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_sensor_row_t rows[N_MG];
+    rfe_param_set_t ps;
+    static rfe_est_row_t out[N_MG];
+    rfe_replay_stats_t st;
+    rfe_replay_q31_stats_t sq;
+    size_t i;
+    int path;
+    (void)state;
+    make_mg_log(&log, rows);
+    assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_DEFAULT), 0);
+    ps.mass_grade = 1;
+    ps.value[RFE_PK_dt] = 0.02;
+    log.has_velocity = 1;
+    for (i = 0u; i < N_MG; ++i) {
+        rows[i].vx = rows[i].omega[0] * ps.value[RFE_PK_R]; /* no slip */
+    }
+    rows[3].vx = NAN;
+    rows[5].vx = 150.0;
+    for (path = 0; path < 2; ++path) {
+        if (path == 0) {
+            assert_int_equal(rfe_replay_run_f64(&ps, &log, out, &st, NULL), RFE_OK);
+        } else {
+            assert_int_equal(rfe_replay_run_q31(&ps, &log, out, &sq, NULL, NULL), RFE_OK);
+            st = sq.base;
+        }
+        assert_int_equal(out[3].mg_status, RFE_ERR_NONFINITE);
+        assert_int_equal(out[5].mg_status, RFE_ERR_RANGE);
+        assert_true((out[3].mass == out[2].mass) && (out[3].grade == out[2].grade));
+        assert_true((out[5].mass == out[4].mass) && (out[5].grade == out[4].grade));
+        assert_int_equal(st.mg_status_count[RFE_OK], N_MG - 2u);
+    }
 }
 
 /* The feed's band around the parameter m (mg_feed_band; MASS_GRADE.md §10), in double and
@@ -2705,6 +2813,8 @@ int main(void)
         cmocka_unit_test(test_rfe_replay_feed_off_is_mass_grade_off),
         cmocka_unit_test(test_rfe_replay_gate_holds_the_feed_until_the_excitation),
         cmocka_unit_test(test_rfe_replay_slip_holds_the_feed_and_empties_the_gate),
+        cmocka_unit_test(test_rfe_replay_slip_pauses_the_filter),
+        cmocka_unit_test(test_rfe_replay_mass_grade_bad_vx_refused),
         cmocka_unit_test(test_rfe_replay_band_refuses_a_mass_far_from_m),
         cmocka_unit_test(test_rfe_replay_q31_mass_grade_is_the_library_loop),
         cmocka_unit_test(test_rfe_replay_q31_fed_mass_reaches_the_friction_estimator),

@@ -63,6 +63,9 @@ static int sample_values_finite(const rfe_mass_grade_input_t *in)
     if (((in->has & RFE_MG_HAS_PRESSURE) != 0u) && !rfe_is_finite(in->p_brake)) {
         return 0;
     }
+    if (((in->has & RFE_MG_HAS_VX) != 0u) && !rfe_is_finite(in->vx)) {
+        return 0;
+    }
     return (((in->has & RFE_MG_HAS_AX) == 0u) || rfe_is_finite(in->ax)) ? 1 : 0;
 }
 
@@ -80,6 +83,9 @@ static rfe_status_t check_torque_sample(const rfe_mass_grade_t *mg,
         return RFE_ERR_RANGE;
     }
     if (((in->has & RFE_MG_HAS_AX) != 0u) && (RFE_FABS(in->ax) > RFE_R(RFE_LIMIT_ACC))) {
+        return RFE_ERR_RANGE;
+    }
+    if (((in->has & RFE_MG_HAS_VX) != 0u) && (RFE_FABS(in->vx) > RFE_R(RFE_LIMIT_VX))) {
         return RFE_ERR_RANGE;
     }
     if ((mg->started != 0u) && !(in->dt > RFE_R(0.0))) {
@@ -124,6 +130,20 @@ static void start_filter(rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in)
     o->gear = in->gear;
 }
 
+/* §4.2 step 3 the slip test's comparison, |v - vx| > slip_max max(|vx|, v_min), read only
+ * with vx given (its outcome counts only then, rfe_mg_slipping). */
+static int slip_beyond(const rfe_mass_grade_params_t *p, const rfe_mass_grade_input_t *in)
+{
+    int beyond = 0;
+    if ((in->has & RFE_MG_HAS_VX) != 0u) {
+        const rfe_real_t ref = rfe_max(RFE_FABS(in->vx), p->v_min);
+        if (RFE_FABS(in->v - in->vx) > (p->slip_max * ref)) {
+            beyond = 1;
+        }
+    }
+    return beyond;
+}
+
 /* §4.2 the pause logic; the delays count down by the period dt (0 on a start), so they stay
  * as exact as the period in float32 however long the drive; a delay ends at the sample where
  * less than half a period of it is left, so a delay of whole periods holds the same samples
@@ -150,9 +170,11 @@ static rfe_status_t pause_status(rfe_mass_grade_t *o, const rfe_mass_grade_input
         o->gear = in->gear;
         o->has_gear = 1u;
     }
-    return rfe_mg_pause_status(brake, (o->brake_left > (RFE_R(0.5) * dt)) ? 1 : 0,
-                               (o->shift_left > (RFE_R(0.5) * dt)) ? 1 : 0,
-                               (in->v < o->p.v_min) ? 1 : 0);
+    return rfe_mg_pause_status(
+        brake, (o->brake_left > (RFE_R(0.5) * dt)) ? 1 : 0,
+        (o->shift_left > (RFE_R(0.5) * dt)) ? 1 : 0,
+        rfe_mg_slipping(in->has, (o->p.slip_max > RFE_R(0.0)) ? 1 : 0, slip_beyond(&o->p, in)),
+        (in->v < o->p.v_min) ? 1 : 0);
 }
 
 /* §4.2 the hold: M, theta kept; P_thth += q_theta^2 dt; v restarts at the measured speed,

@@ -55,16 +55,25 @@ static inline int rfe_mg_gear_changed(uint32_t has, uint32_t has_gear, int32_t g
     return (((has & RFE_MG_HAS_GEAR) != 0u) && (has_gear != 0u) && (gear != last_gear)) ? 1 : 0;
 }
 
-/** §4.2 step 3: the status from braking, the delays left beyond half a period and the
- *  low speed, in that order. */
+/** §4.2 step 3: slipping = the ground speed vx given, the slip pause on (slip_max > 0) and
+ *  |v - vx| > slip_max max(|vx|, v_min) (@p beyond: that comparison's outcome). */
+static inline int rfe_mg_slipping(uint32_t has, int slip_on, int beyond)
+{
+    return (((has & RFE_MG_HAS_VX) != 0u) && (slip_on != 0) && (beyond != 0)) ? 1 : 0;
+}
+
+/** §4.2 step 4: the status from braking, the delays left beyond half a period, the slip and
+ *  the low speed, in that order. */
 static inline rfe_status_t rfe_mg_pause_status(int brake, int brake_pending, int shift_pending,
-                                               int low_speed)
+                                               int slip, int low_speed)
 {
     rfe_status_t st = RFE_OK;
     if ((brake != 0) || (brake_pending != 0)) {
         st = RFE_MG_PAUSED_BRAKE;
     } else if (shift_pending != 0) {
         st = RFE_MG_PAUSED_SHIFT;
+    } else if (slip != 0) {
+        st = RFE_MG_PAUSED_SLIP;
     } else if (low_speed != 0) {
         st = RFE_NO_UPDATE_LOW_SPEED;
     } else {

@@ -29,6 +29,8 @@
 #define TIME_TO_DT 64
 /* 1/2 in Q30. */
 #define HALF_Q30 ((rfe_fix_t)536870912)
+/* 1 in Q30: slip_max's unit, which |v - vx| (Q24) is scaled by to compare in Q54 */
+#define ONE_Q30_64 ((int64_t)1073741824)
 
 rfe_status_t rfe_mass_grade_init_q31(rfe_mass_grade_q31_t *mg, const rfe_mass_grade_params_q31_t *p,
                                      size_t size, uint32_t config)
@@ -68,6 +70,9 @@ static rfe_status_t check_torque_sample_q31(const rfe_mass_grade_q31_t *mg,
         return RFE_ERR_RANGE;
     }
     if (((in->has & RFE_MG_HAS_AX) != 0u) && (rfe_fix_abs(in->ax, &sat) > RFE_MG_LIMIT_AX_Q31)) {
+        return RFE_ERR_RANGE;
+    }
+    if (((in->has & RFE_MG_HAS_VX) != 0u) && (rfe_fix_abs(in->vx, &sat) > RFE_MG_LIMIT_V_Q31)) {
         return RFE_ERR_RANGE;
     }
     if ((mg->started != 0u) && (in->dt <= 0)) {
@@ -145,6 +150,27 @@ static void start_filter_q31(rfe_mass_grade_q31_t *o, const rfe_mass_grade_input
     o->gear = in->gear;
 }
 
+/* §4.2 step 3 the slip test's comparison, |v - vx| > slip_max max(|vx|, v_min), read only
+ * with vx given: in int64, exact (|v - vx| < 2^32 in Q24; slip_max Q30 times the Q24
+ * reference < 2^62 against |v - vx| in Q54), so it decides as the real comparison on the Q
+ * values. */
+static int slip_beyond_q31(const rfe_mass_grade_params_q31_t *p,
+                           const rfe_mass_grade_input_q31_t *in)
+{
+    int beyond = 0;
+    if ((in->has & RFE_MG_HAS_VX) != 0u) {
+        const int64_t vx = (int64_t)in->vx;
+        const int64_t avx = (vx < 0) ? -vx : vx;
+        const int64_t ref = (avx > (int64_t)p->v_min) ? avx : (int64_t)p->v_min;
+        const int64_t d = (int64_t)in->v - vx;
+        const int64_t ad = (d < 0) ? -d : d;
+        if ((ad * ONE_Q30_64) > ((int64_t)p->slip_max * ref)) {
+            beyond = 1;
+        }
+    }
+    return beyond;
+}
+
 /* §4.2 the pause logic on Q30 timers counting down by dt (0 on a start); a delay ends where
  * less than half a period of it is left (2 left > dt, exact in integers). */
 static rfe_status_t pause_status_q31(rfe_mass_grade_q31_t *o, const rfe_mass_grade_input_q31_t *in,
@@ -171,6 +197,8 @@ static rfe_status_t pause_status_q31(rfe_mass_grade_q31_t *o, const rfe_mass_gra
     }
     return rfe_mg_pause_status(brake, ((2 * o->brake_left) > dt64) ? 1 : 0,
                                ((2 * o->shift_left) > dt64) ? 1 : 0,
+                               rfe_mg_slipping(in->has, (o->p.slip_max > 0) ? 1 : 0,
+                                               slip_beyond_q31(&o->p, in)),
                                (in->v < o->p.v_min) ? 1 : 0);
 }
 

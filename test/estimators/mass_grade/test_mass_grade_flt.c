@@ -139,6 +139,8 @@ static void b_theta_max(rfe_mass_grade_params_t *p) { p->theta_max = (rfe_real_t
 static void b_kappa(rfe_mass_grade_params_t *p) { p->ut_kappa = (rfe_real_t)-3.0; }
 static void b_kappa_nan(rfe_mass_grade_params_t *p) { p->ut_kappa = (rfe_real_t)NAN; }
 static void b_alpha_huge(rfe_mass_grade_params_t *p) { p->ut_alpha = (rfe_real_t)1e300; }
+static void b_slip(rfe_mass_grade_params_t *p) { p->slip_max = (rfe_real_t)-0.01; }
+static void b_slip_nan(rfe_mass_grade_params_t *p) { p->slip_max = (rfe_real_t)NAN; }
 static void b_stop(rfe_mass_grade_params_t *p)
 {
     p->adaptive = 1u;
@@ -166,6 +168,8 @@ static void test_params_rules(void **state)
     expect_bad(b_kappa_nan, "kappa NaN");
     expect_bad(b_alpha_huge, "alpha^2 overflowing");
     expect_bad(b_stop, "adaptation ending before it starts");
+    expect_bad(b_slip, "slip_max < 0");
+    expect_bad(b_slip_nan, "slip_max NaN");
     /* the same stop threshold is fine in the plain UKF, which never adapts */
     assert_int_equal(rfe_mass_grade_params_default(&p), RFE_OK);
     b_stop(&p);
@@ -267,8 +271,19 @@ static void test_refused_samples_leave_the_state_untouched(void **state)
     in.ax = (rfe_real_t)51.0; /* |ax| > RFE_LIMIT_ACC */
     expect_refused(in, RFE_ERR_RANGE);
     in = cruise((rfe_real_t)20.0, (rfe_real_t)DT);
-    in.has = 16u | RFE_MG_HAS_AX; /* an unknown bit */
+    in.has = 32u | RFE_MG_HAS_AX; /* an unknown bit */
     expect_refused(in, RFE_ERR_RANGE);
+    /* the ground speed vx: checked as v is, when given */
+    in = cruise((rfe_real_t)20.0, (rfe_real_t)DT);
+    in.has |= RFE_MG_HAS_VX;
+    in.vx = (rfe_real_t)NAN;
+    expect_refused(in, RFE_ERR_NONFINITE);
+    in.vx = (rfe_real_t)-INFINITY;
+    expect_refused(in, RFE_ERR_NONFINITE);
+    in.vx = (rfe_real_t)-101.0; /* |vx| > RFE_LIMIT_VX */
+    expect_refused(in, RFE_ERR_RANGE);
+    in.has = RFE_MG_HAS_AX; /* not given: not read */
+    assert_int_equal(step(&in, &e), RFE_OK);
     in = cruise((rfe_real_t)20.0, (rfe_real_t)DT);
     in.has = 0u; /* the ax row needs ax */
     expect_refused(in, RFE_ERR_RANGE);
@@ -381,6 +396,101 @@ static void test_brake_holds_mass_and_grade(void **state)
     in = cruise((rfe_real_t)19.0, (rfe_real_t)DT);
     in.has |= RFE_MG_HAS_BRAKE;
     assert_int_equal(step(&in, &e), RFE_OK);
+}
+
+/* A slipping sample: the wheels' speed v runs ahead of the ground speed vx while the drive
+ * torque is large; a model taking T / r as the car's force would learn a lighter car. */
+static rfe_mass_grade_input_t slipping(rfe_real_t v, rfe_real_t vx)
+{
+    rfe_mass_grade_input_t in = cruise(v, (rfe_real_t)DT);
+    in.torque = (rfe_real_t)3000.0;
+    in.ax = (rfe_real_t)0.5;
+    in.vx = vx;
+    in.has |= RFE_MG_HAS_VX;
+    return in;
+}
+
+/* REQ-MG-006 the slip pause (§4.2 step 3): held as a brake pause holds; the threshold
+ * slip_max max(|vx|, v_min) strict; its precedence; slip_max = 0 and no vx never pause. */
+static void test_slip_holds_mass_and_grade(void **state)
+{
+    rfe_mass_grade_estimate_t e;
+    rfe_mass_grade_estimate_t before;
+    rfe_mass_grade_input_t in;
+    rfe_mass_grade_t learning;
+    double P[9];
+    double p33;
+    int k;
+    (void)state;
+    setup_with(0u, 1u);
+    for (k = 0; k < 50; ++k) {
+        in = cruise((rfe_real_t)20.0, (rfe_real_t)DT);
+        in.vx = (rfe_real_t)20.0; /* given, no slip: updates */
+        in.has |= RFE_MG_HAS_VX;
+        assert_int_equal(step(&in, &before), RFE_OK);
+    }
+    learning = mg;
+    cov_of_factor(mg.S, P);
+    p33 = P[8];
+    /* 2 m/s of slip at 20 m/s (0.1 > 0.05): held, 50 samples of full torque teach nothing;
+     * M, theta and sd_M kept, P_thth += q_theta^2 dt each (8 TOL_EXACT: the brake test's) */
+    for (k = 0; k < 50; ++k) {
+        in = slipping((rfe_real_t)22.0, (rfe_real_t)20.0);
+        assert_int_equal(step(&in, &e), RFE_MG_PAUSED_SLIP);
+        assert_true((e.mass == before.mass) && (e.grade == before.grade) &&
+                    (e.sd_mass == before.sd_mass));
+    }
+    cov_of_factor(mg.S, P);
+    assert_close(P[8], p33 + 50.0 * (double)(prm.q_theta * prm.q_theta) * DT, 0.0,
+                 8.0 * 50.0 * TOL_EXACT, "P_thth grows by its random walk");
+    assert_true(e.v == (rfe_real_t)22.0); /* v restarts at the measured (wheels') speed */
+    assert_close(e.sd_v, prm.r_v, 0.0, TOL_EXACT, "sd_v restarts at r_v");
+    /* the same samples without vx update and move the mass: what the pause keeps out */
+    mg = learning;
+    for (k = 0; k < 50; ++k) {
+        in = slipping((rfe_real_t)22.0, (rfe_real_t)20.0);
+        in.has &= ~RFE_MG_HAS_VX;
+        assert_int_equal(step(&in, &e), RFE_OK);
+    }
+    assert_true(fabs((double)(e.mass - before.mass)) > 10.0);
+    /* slip_max = 0: no slip pause */
+    mg = learning;
+    mg.p.slip_max = (rfe_real_t)0.0;
+    in = slipping((rfe_real_t)22.0, (rfe_real_t)20.0);
+    assert_int_equal(step(&in, &e), RFE_OK);
+    /* the threshold, exact in binary: slip_max 1/8 of vx = 16 is 2 m/s; at it updated,
+     * beyond it held; either sign of the slip (a braked wheel locking: v below vx) */
+    mg = learning;
+    mg.p.slip_max = (rfe_real_t)0.125;
+    in = slipping((rfe_real_t)18.0, (rfe_real_t)16.0);
+    assert_int_equal(step(&in, &e), RFE_OK);
+    in = slipping((rfe_real_t)18.5, (rfe_real_t)16.0);
+    assert_int_equal(step(&in, &e), RFE_MG_PAUSED_SLIP);
+    in = slipping((rfe_real_t)13.5, (rfe_real_t)16.0);
+    assert_int_equal(step(&in, &e), RFE_MG_PAUSED_SLIP);
+    /* below v_min the reference is v_min (3 m/s: 0.375 m/s), and the slip comes before the
+     * low speed: 0.5 m/s of slip at vx = 1 is held as slip, 0.25 as low speed */
+    in = slipping((rfe_real_t)1.5, (rfe_real_t)1.0);
+    assert_int_equal(step(&in, &e), RFE_MG_PAUSED_SLIP);
+    in = slipping((rfe_real_t)1.25, (rfe_real_t)1.0);
+    assert_int_equal(step(&in, &e), RFE_NO_UPDATE_LOW_SPEED);
+    /* the brake and the shift come before the slip */
+    in = slipping((rfe_real_t)22.0, (rfe_real_t)16.0);
+    in.brake = 1u;
+    in.has |= RFE_MG_HAS_BRAKE;
+    assert_int_equal(step(&in, &e), RFE_MG_PAUSED_BRAKE);
+    mg = learning;
+    in = slipping((rfe_real_t)22.0, (rfe_real_t)16.0);
+    in.has |= RFE_MG_HAS_GEAR;
+    in.gear = 2;
+    assert_int_equal(step(&in, &e), RFE_MG_PAUSED_SLIP); /* the first gear: no change */
+    in.gear = 3;
+    assert_int_equal(step(&in, &e), RFE_MG_PAUSED_SHIFT);
+    /* a start on a slipping sample starts and reports the pause, as on a braked one */
+    setup_with(0u, 1u);
+    in = slipping((rfe_real_t)22.0, (rfe_real_t)20.0);
+    assert_int_equal(step(&in, &e), RFE_MG_PAUSED_SLIP);
+    assert_true(e.mass == prm.m0);
 }
 
 /* REQ-MG-006 */
@@ -947,6 +1057,7 @@ static void test_params_to_q31(void **state)
     assert_int_equal(q.dt_max, (rfe_fix_t)1073741824);   /* 1 s, Q30 */
     assert_int_equal(q.ut_beta, (rfe_fix_t)(2 << 28));   /* Q28 */
     assert_true(labs((long)q.p_brake_on - 3355443L) <= 1L); /* 0.1 MPa, Q25 */
+    assert_true(labs((long)q.slip_max - 53687091L) <= 1L);  /* 0.05, Q30 */
     assert_int_equal(q.use_ax, p.use_ax);
     memset(&q, 0x5A, sizeof q);
     before = q;
@@ -970,6 +1081,7 @@ int main(void)
         cmocka_unit_test(test_start_and_restart),
         cmocka_unit_test(test_brake_holds_mass_and_grade),
         cmocka_unit_test(test_shift_and_low_speed_hold),
+        cmocka_unit_test(test_slip_holds_mass_and_grade),
         cmocka_unit_test(test_adaptation_as_specified),
         cmocka_unit_test(test_adaptation_period),
         cmocka_unit_test(test_factorisation_failures_leave_the_state_untouched),

@@ -1,0 +1,38 @@
+"""mass_slip_study.py's tables on results written here (no replay run)."""
+
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import mass_slip_study as ms  # noqa: E402
+
+
+def _obs(mass_off, mass_on, n_slip, m=1000.0):
+    """The observer results of one log at every start: pause off and on."""
+    out = {}
+    for s in ms.STARTS:
+        out[("0", s)] = {"mass": mass_off, "sd": 2.0, "m": m, "n_slip": 0, "n_ok": 100}
+        out[("default", s)] = {"mass": mass_on, "sd": 20.0, "m": m, "n_slip": n_slip,
+                               "n_ok": 100 - n_slip}
+    return out
+
+
+def test_held_logs_tabled_the_others_summed():
+    """A log with samples held by slip gets a row per start (errors against m, sd over m,
+    the held samples, the updates); one without is only in the summary line, with the largest
+    change of its mass at the end; the mass and grade logs are compared column for column."""
+    obs = {}
+    for name, (off, on, n) in {"slips.csv": (900.0, 960.0, 40),
+                               "clean.csv": (1010.0, 1010.5, 0)}.items():
+        for (k, s), v in _obs(off, on, n).items():
+            obs[(name, s, k)] = v
+    cols = [("1", "2", "3", "4")]
+    mg = {("a.csv", "0"): (cols, 0), ("a.csv", "default"): (cols, 0),
+          ("b.csv", "0"): (cols, 0), ("b.csv", "default"): ([("1", "2", "3", "5")], 0)}
+    text = ms.tables(obs, ["slips.csv", "clean.csv"], mg, ["a.csv", "b.csv"])
+    rows = [r for r in text.splitlines() if r.startswith("| slips")]
+    assert len(rows) == len(ms.STARTS)
+    assert rows[0] == "| slips | 1.0 m | -10.0% → -4.0% | 0.2% → 2.0% | 40 | 100 → 60 |"
+    assert "clean" not in "".join(r for r in text.splitlines() if r.startswith("|"))
+    assert "The other 1 observer logs" in text and "change of the mass at the end 0.5 kg" in text
+    assert "1 of 2 with mass_est" in text
