@@ -156,6 +156,108 @@ static void test_xf_div_as_fix_div(void **state)
     }
 }
 
+/* The normalisation as first written (rfe_fix_shr64_round to 30 bits, a multiplication
+ * below): the reference for rfe_xf_make's 32-bit rounding. */
+static rfe_xf_t make_ref(int64_t v, int e)
+{
+    rfe_xf_t r = {0, 0};
+    if (v != 0) {
+        const uint64_t mag = (v < 0) ? (uint64_t)(-v) : (uint64_t)v;
+        unsigned int len = 0u;
+        while ((len < 64u) && ((mag >> len) != 0u)) {
+            ++len;
+        }
+        if (len > 30u) {
+            r.m = (int32_t)rfe_fix_shr64_round(v, len - 30u);
+            r.e = e + (int)(len - 30u);
+        } else {
+            r.m = (int32_t)(v * (int64_t)((uint64_t)1 << (30u - len)));
+            r.e = e - (int)(30u - len);
+        }
+    }
+    return r;
+}
+
+/* The sum as first written: both mantissas aligned at the larger exponent minus 31, the
+ * smaller rounded half up when it lies more than 31 below (make_ref normalising). */
+static rfe_xf_t add_ref(rfe_xf_t a, rfe_xf_t b)
+{
+    rfe_xf_t r;
+    if (a.m == 0) {
+        r = b;
+    } else if (b.m == 0) {
+        r = a;
+    } else {
+        const int base = ((a.e > b.e) ? a.e : b.e) - 31;
+        int64_t v = 0;
+        int k;
+        for (k = 0; k < 2; ++k) {
+            const rfe_xf_t x = (k == 0) ? a : b;
+            const int s = x.e - base;
+            v += (s >= 0) ? ((int64_t)x.m * (int64_t)((uint64_t)1 << (unsigned int)s))
+                          : rfe_fix_shr64_round((int64_t)x.m, (unsigned int)(-s));
+        }
+        r = make_ref(v, base);
+    }
+    return r;
+}
+
+/* rfe_xf_make's rounding in 32 bits and rfe_xf_add's sum at the smaller operand's exponent
+ * (both faster on the Cortex-M4) give the integers of the first forms above, bit for bit:
+ * on every bit length 1 .. 63 of either sign with the rounding's tie and its neighbours in
+ * the low bits, on random 64-bit values, and on sums of random operands whose exponents
+ * differ by 0 .. 40 (both sides of d = 31, where the sum changes form), with equal and
+ * opposite mantissas (cancellation to 0 and to few bits) and the mantissa range's ends. */
+static void test_xf_make_add_as_before(void **state)
+{
+    const int32_t ends[4] = {1 << 29, (1 << 29) + 1, (1 << 30) - 1, 1 << 30};
+    unsigned int len;
+    int n;
+    (void)state;
+    rng_seed(0xADDull);
+    for (len = 1u; len <= 63u; ++len) {
+        const uint64_t top = (uint64_t)1 << (len - 1u);
+        int k;
+        for (k = 0; k < 64; ++k) {
+            /* the low bits around the tie 2^(len - 31) of a rounding by len - 30 bits */
+            const uint64_t tie = (len > 30u) ? ((uint64_t)1 << (len - 31u)) : 1u;
+            const uint64_t low = (k < 8) ? ((tie + (uint64_t)k) - 4u)
+                                         : (uint64_t)((rng_uniform() + 1.0) * 4.0e18);
+            const uint64_t mag = top | (low & (top - 1u));
+            int sgn;
+            for (sgn = 0; sgn < 2; ++sgn) {
+                const int64_t v = (sgn == 0) ? (int64_t)mag : -(int64_t)mag;
+                const rfe_xf_t got = rfe_xf_make(v, 7);
+                const rfe_xf_t want = make_ref(v, 7);
+                assert_int_equal(got.m, want.m);
+                assert_int_equal(got.e, want.e);
+            }
+        }
+    }
+    for (n = 0; n < 4 * N_CASES; ++n) {
+        rfe_xf_t a = draw();
+        rfe_xf_t b = draw();
+        rfe_xf_t got;
+        rfe_xf_t want;
+        b.e = a.e - ((n / 4) % 41); /* d = 0 .. 40 */
+        if ((n % 4) == 1) {
+            b.m = -a.m;
+        } else if ((n % 4) == 2) {
+            a.m = ends[(n / 8) % 4];
+            b.m = ((n % 8) < 4) ? -ends[(n / 32) % 4] : ends[(n / 32) % 4];
+        } else {
+            /* as drawn */
+        }
+        got = rfe_xf_add(a, b);
+        want = add_ref(a, b);
+        assert_int_equal(got.m, want.m);
+        assert_int_equal(got.e, want.e);
+        got = rfe_xf_add(b, a);
+        assert_int_equal(got.m, want.m);
+        assert_int_equal(got.e, want.e);
+    }
+}
+
 /* The bit length every normalisation above starts from (internal_q31.h: one instruction where
  * the core counts leading zeros, the portable search elsewhere): for every length L, the
  * smallest (2^(L-1)), the largest (2^L - 1) and random values with bit L-1 set and lower bits
@@ -194,6 +296,7 @@ int main(void)
         cmocka_unit_test(test_xf_edges),
         cmocka_unit_test(test_bitlen),
         cmocka_unit_test(test_xf_div_as_fix_div),
+        cmocka_unit_test(test_xf_make_add_as_before),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
