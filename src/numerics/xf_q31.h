@@ -138,7 +138,8 @@ static inline rfe_xf_t rfe_xf_sub(rfe_xf_t a, rfe_xf_t b) { return rfe_xf_add(a,
  *  half up on the magnitude: rfe_fix_div(a.m, b.m, shift)'s integer, formed here without its
  *  argument checks and saturation (the observer divides ~60 times a step, and the checks
  *  cost more than the division on the Cortex-M4). q2 = floor(|a.m| 2^(shift + 1) / |b.m|) <
- *  2^32: with shift 29, |a.m| <= 2^30 and |b.m| >= 2^29; with 30, |a.m| < |b.m|. */
+ *  2^32: with shift 29, |a.m| <= 2^30 and |b.m| >= 2^29; with 30, |a.m| < |b.m|; so it is
+ *  rfe_q31_udiv64_32's (|b.m| < 2^31). */
 static inline rfe_xf_t rfe_xf_div(rfe_xf_t a, rfe_xf_t b)
 {
     rfe_xf_t r;
@@ -155,7 +156,7 @@ static inline rfe_xf_t rfe_xf_div(rfe_xf_t a, rfe_xf_t b)
             sh = 30u;
         }
         sh1 = sh + 1u;
-        q2 = (ma << sh1) / mb;
+        q2 = (uint64_t)rfe_q31_udiv64_32(ma << sh1, (uint32_t)mb);
         q = (int64_t)((q2 + 1u) >> 1);
         if ((a.m < 0) != (b.m < 0)) {
             q = -q;

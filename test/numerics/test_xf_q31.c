@@ -289,6 +289,65 @@ static void test_bitlen(void **state)
     }
 }
 
+/* One case of the 64-by-32 division: the digits' integer and the dispatcher's are n / d. */
+static void check_udiv(uint64_t n, uint32_t d)
+{
+    const uint64_t want = n / (uint64_t)d;
+    assert_true(want < ((uint64_t)1 << 32)); /* the precondition n < d 2^32 */
+    assert_true((uint64_t)rfe_q31_udiv64_32_digits(n, d) == want);
+    assert_true((uint64_t)rfe_q31_udiv64_32(n, d) == want);
+}
+
+/* The 64-by-32 division in 16-bit digits (internal_q31.h, the Cortex-M3 and M4's form of the
+ * observer's divisions) is the 64-bit division's integer: for every divisor bit length 1 .. 32
+ * its smallest and largest divisor and random ones, with the largest dividend (d 2^32 - 1),
+ * the smallest (0), exact multiples and their neighbours, and random dividends; divisors whose
+ * low half is all ones or zero (where the digit estimate is 2 too large or exact); and the
+ * operands of the observer's division (|a.m| 2^30 or 2^31 over |b.m| in [2^29, 2^30]). */
+static void test_udiv64_32(void **state)
+{
+    unsigned int len;
+    int k;
+    (void)state;
+    rng_seed(0xD1Full);
+    for (len = 1u; len <= 32u; ++len) {
+        const uint64_t top = (uint64_t)1 << (len - 1u);
+        for (k = 0; k < 200; ++k) {
+            uint32_t d;
+            uint64_t n;
+            uint64_t q;
+            if (k == 0) {
+                d = (uint32_t)top;
+            } else if (k == 1) {
+                d = (uint32_t)((top - 1u) | top);
+            } else if ((k == 2) && (len > 16u)) {
+                d = (uint32_t)(top | 0xFFFFu);
+            } else {
+                d = (uint32_t)(top | ((uint64_t)((rng_uniform() + 1.0) * 2.0e9) & (top - 1u)));
+            }
+            check_udiv(((uint64_t)d << 32) - 1u, d);
+            check_udiv(0u, d);
+            q = (uint64_t)((rng_uniform() + 1.0) * 2.1e9) & 0xFFFFFFFFu;
+            n = q * (uint64_t)d;
+            check_udiv(n, d);
+            if (n > 0u) {
+                check_udiv(n - 1u, d);
+            }
+            if ((n + (uint64_t)d - 1u) < ((uint64_t)d << 32)) {
+                check_udiv(n + (uint64_t)d - 1u, d);
+            }
+            n = (uint64_t)((rng_uniform() + 1.0) * 9.0e18) % ((uint64_t)d << 32);
+            check_udiv(n, d);
+        }
+    }
+    for (k = 0; k < N_CASES; ++k) {
+        const uint64_t ma = (uint64_t)((rng_uniform() + 1.0) * 536870912.0) + 1u; /* (0, 2^30] */
+        const uint32_t mb = (uint32_t)((rng_uniform() + 3.0) * 268435456.0); /* [2^29, 2^30) */
+        const unsigned int sh1 = (ma < (uint64_t)mb) ? 31u : 30u;
+        check_udiv(ma << sh1, mb);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -297,6 +356,7 @@ int main(void)
         cmocka_unit_test(test_bitlen),
         cmocka_unit_test(test_xf_div_as_fix_div),
         cmocka_unit_test(test_xf_make_add_as_before),
+        cmocka_unit_test(test_udiv64_32),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
