@@ -75,10 +75,12 @@ static int64_t mul_p_q31(int64_t v, rfe_fix_t c, unsigned int s, uint32_t *sat)
         } else if (t < (-lim - 1)) {
             r = -RFE_KF2_Q31_PMAX - 1;
         } else {
+            /* lo = floor((floor(bl / 2^(s-1)) + 1) / 2) in 32 bits; 2^k as a 32-bit factor */
             const unsigned int s1 = s - 1u;
-            const uint64_t half = (uint64_t)1 << s1;
-            const uint64_t lo = (bl + half) >> s;
-            r = (t * rfe_q31_pow2(k)) + (int64_t)lo;
+            const uint32_t blh = (uint32_t)(bl >> s1);
+            const uint32_t lo = (blh >> 1) + (blh & 1u);
+            const uint32_t p2 = (uint32_t)1u << k;
+            r = (t * (int64_t)p2) + (int64_t)lo;
         }
     }
     return clamp_p_q31(r, sat);
