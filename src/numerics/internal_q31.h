@@ -201,12 +201,13 @@ static inline uint32_t rfe_q31_udiv64_32_digits(uint64_t n, uint32_t d)
     return (q1 * base) + q0;
 }
 
-/** floor(n / d) for d >= 1 and n < d 2^32: rfe_q31_udiv64_32_digits where the core divides
- *  32-bit integers in one instruction (the Cortex-M3 and M4: __ARM_FEATURE_IDIV), else the
- *  64-bit division (the host's one instruction; the Cortex-M0+, which has no divider). */
+/** floor(n / d) for d >= 1 and n < d 2^32: rfe_q31_udiv64_32_digits on Arm (the Cortex-M3
+ *  and M4 divide 32-bit integers in one instruction; the Cortex-M0+ has no divider, and its
+ *  two 32-bit divisions by libgcc's __aeabi_uidiv still cost less than one __udivmoddi4,
+ *  ~440 instructions a call there), else the 64-bit division (the host's one instruction). */
 static inline uint32_t rfe_q31_udiv64_32(uint64_t n, uint32_t d)
 {
-#if defined(__arm__) && defined(__ARM_FEATURE_IDIV)
+#if defined(__arm__)
     return rfe_q31_udiv64_32_digits(n, d);
 #else
     return (uint32_t)(n / (uint64_t)d);
