@@ -23,6 +23,12 @@ static uint64_t mag32(rfe_fix_t v)
  * bit k, floor(sqrt(y)) >> (k + 1), times 4^(k+1); that is below 2^31, so r + b < 2^32. */
 static uint32_t isqrt32_rem(uint32_t y, uint32_t *rem)
 {
+#if defined(__arm__) && defined(__ARM_FEATURE_IDIV)
+    /* the core divides in one instruction (Cortex-M3, M4): Newton steps, the same root */
+    const uint32_t root = rfe_q31_isqrt32_newton(y);
+    *rem = y - (root * root);
+    return root;
+#else
     uint32_t r = 0u;
     uint32_t rm = y;
     uint32_t b = 0u;
@@ -41,6 +47,7 @@ static uint32_t isqrt32_rem(uint32_t y, uint32_t *rem)
     }
     *rem = rm;
     return r;
+#endif
 }
 
 /* floor(sqrt(x)) and the remainder x - root^2 (<= 2 root) of any uint64. Below 2^32: the

@@ -215,6 +215,31 @@ static inline uint32_t rfe_q31_udiv64_32(uint64_t n, uint32_t d)
 }
 
 /**
+ * floor(sqrt(y)) of a 32-bit y by integer Newton steps from above: x0 = 2^ceil(L/2) (L the
+ * bit length of y, so x0 > sqrt(y) and x0 < 2 sqrt(y) + 2), then x <- floor((x + floor(y / x))
+ * / 2) while that decreases. Each step stays at or above floor(sqrt(y)) (AM-GM) and falls
+ * strictly while x exceeds it, so the first step that does not fall leaves x = floor(sqrt(y))
+ * exactly (about five steps from x0; x + y / x < 2^31 + 2^16 throughout). Where the core divides
+ * in one instruction this is cheaper than the digit-by-digit root (isqrt32_rem in
+ * fxmath_q31.c: 16 steps for a 31- or 32-bit y); the same integer (test_xf_q31.c checks it).
+ */
+static inline uint32_t rfe_q31_isqrt32_newton(uint32_t y)
+{
+    uint32_t x = 0u;
+    if (y != 0u) {
+        const unsigned int half_len = (rfe_q31_bitlen32(y) + 1u) / 2u;
+        uint32_t next;
+        x = (uint32_t)1u << half_len;
+        next = (x + (y / x)) >> 1;
+        while (next < x) {
+            x = next;
+            next = (x + (y / x)) >> 1;
+        }
+    }
+    return x;
+}
+
+/**
  * The smallest right shift s that brings a magnitude m below 2^bits: m < 2^(bits + s). A value
  * with magnitude <= m rounded by that shift (half up) then has magnitude <= 2^bits, and keeps
  * at least bits significant bits when s > 0 (relative rounding error <= 2^-bits).

@@ -348,6 +348,44 @@ static void test_udiv64_32(void **state)
     }
 }
 
+/* One case of the Newton root: r^2 <= y < (r + 1)^2, in 64 bits. */
+static void check_isqrt32(uint32_t y)
+{
+    const uint64_t r = (uint64_t)rfe_q31_isqrt32_newton(y);
+    assert_true((r * r) <= (uint64_t)y);
+    assert_true((uint64_t)y < ((r + 1u) * (r + 1u)));
+}
+
+/* The 32-bit Newton root (internal_q31.h; the Cortex-M3 and M4's form of the square roots'
+ * leading digits) is floor(sqrt(y)): every y below 2^16 + 1, the squares k^2 of every k up
+ * to 2^16 - 1 with their neighbours k^2 - 1 and k^2 + 2k ((k + 1)^2 - 1), both ends of
+ * every bit length, and random values. */
+static void test_isqrt32_newton(void **state)
+{
+    uint32_t y;
+    uint32_t k;
+    unsigned int len;
+    int n;
+    (void)state;
+    for (y = 0u; y <= 65536u; ++y) {
+        check_isqrt32(y);
+    }
+    for (k = 1u; k < 65536u; ++k) {
+        check_isqrt32(k * k);
+        check_isqrt32((k * k) - 1u);
+        check_isqrt32((k * k) + (2u * k));
+    }
+    for (len = 1u; len <= 32u; ++len) {
+        const uint32_t top = (uint32_t)1u << (len - 1u);
+        check_isqrt32(top);
+        check_isqrt32((top - 1u) | top);
+    }
+    rng_seed(0x5A7ull);
+    for (n = 0; n < N_CASES; ++n) {
+        check_isqrt32((uint32_t)((rng_uniform() + 1.0) * 2147483647.0));
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -357,6 +395,7 @@ int main(void)
         cmocka_unit_test(test_xf_div_as_fix_div),
         cmocka_unit_test(test_xf_make_add_as_before),
         cmocka_unit_test(test_udiv64_32),
+        cmocka_unit_test(test_isqrt32_newton),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
