@@ -33,39 +33,57 @@ static int64_t clamp_p_q31(int64_t v, uint32_t *sat)
     return r;
 }
 
-/* round(v c / 2^s) for |v| <= PMAX, any int32 c, 1 <= s <= 62, clamped to +-PMAX. The
- * bit lengths bound the product: 2^(lv + lc - 2) <= |v c| < 2^(lv + lc). Below 2^(s + 61)
- * the exact product of rfe_q31_mul64x32 is taken; from 2^(s + 63) on the result is beyond
- * PMAX; in between the product rounded by two more bits (below 2^61) decides. */
+/* round(v c / 2^s) (half up) for |v| <= PMAX, any int32 c, 1 <= s <= 62, clamped to +-PMAX
+ * (counted). The exact product is split as rfe_q31_mul64x32 splits it: v = vh 2^32 + vl
+ * (|vh| <= 2^29, 0 <= vl < 2^32), b = vl c = bh 2^32 + bl (0 <= bl < 2^32), v c = t 2^32 + bl
+ * with t = vh c + bh, |t| < 2^61. For s >= 33 the result is round(t / 2^(s - 32)), below
+ * 2^60. For s <= 32, with k = 32 - s in [0, 31], it is t 2^k + lo, lo = floor((bl + 2^(s-1))
+ * / 2^s) in [0, 2^k]; PMAX = 2^61 is a multiple of 2^k, so t > PMAX / 2^k gives a result
+ * >= PMAX + 2^k (beyond it) and t < -PMAX / 2^k - 1 one <= -PMAX - 2^k (beyond it), and
+ * otherwise |t 2^k| <= PMAX + 2^k and the result is formed exactly and clamped. The same
+ * integers and counts as the bit-length bounds this function first decided by (test_kf2_q31.c
+ * checks the function against the exact product), without them: the observer's three
+ * filters take ~60 of these products a step. */
 static int64_t mul_p_q31(int64_t v, rfe_fix_t c, unsigned int s, uint32_t *sat)
 {
-    unsigned int lv;
-    unsigned int lc;
-    int64_t sat_value;
+    const uint64_t low32 = (uint64_t)0xFFFFFFFFu;
+    int64_t vh;
+    uint64_t vl_u;
+    int64_t vl;
+    int64_t b;
+    int64_t t;
+    uint64_t bl;
     int64_t r;
     if ((v == 0) || (c == 0)) {
-        /* before the bit lengths: half the observer's products are by an h1 of 0 */
+        /* half the observer's products are by an h1 of 0 */
         return 0;
     }
-    lv = rfe_q31_bitlen64(rfe_q31_mag64_any(v));
-    lc = rfe_q31_bitlen32((uint32_t)rfe_q31_mag64_any((int64_t)c)); /* |c| <= 2^31 */
-    sat_value = ((v < 0) != (c < 0)) ? -RFE_KF2_Q31_PMAX : RFE_KF2_Q31_PMAX;
-    if ((lv + lc) <= (s + 61u)) {
-        r = clamp_p_q31(rfe_q31_mul64x32(v, (int64_t)c, s), sat);
-    } else if ((lv + lc) > (s + 63u)) {
-        rfe_fix_count_sat(sat);
-        r = sat_value;
+    vh = rfe_fix_shr64_floor(v, 32u);
+    vl_u = (uint64_t)v & low32;
+    vl = (int64_t)vl_u;
+    b = vl * (int64_t)c;
+    t = (vh * (int64_t)c) + rfe_fix_shr64_floor(b, 32u);
+    bl = (uint64_t)b & low32;
+    if (s >= 33u) {
+        r = rfe_fix_shr64_round(t, s - 32u);
     } else {
-        /* s <= lv + lc - 62 <= 31: s + 2 is a valid shift; |coarse| < 2^61 */
-        const int64_t coarse = rfe_q31_mul64x32(v, (int64_t)c, s + 2u);
-        if (rfe_q31_mag64_any(coarse) > ((uint64_t)RFE_KF2_Q31_PMAX >> 2)) {
-            rfe_fix_count_sat(sat);
-            r = sat_value;
+        const unsigned int k = 32u - s;
+        const uint64_t lim_u = (uint64_t)RFE_KF2_Q31_PMAX >> k;
+        const int64_t lim = (int64_t)lim_u; /* PMAX / 2^k */
+        if (t > lim) {
+            r = RFE_KF2_Q31_PMAX + 1;
+        } else if (t < (-lim - 1)) {
+            r = -RFE_KF2_Q31_PMAX - 1;
         } else {
-            r = clamp_p_q31(rfe_q31_mul64x32(v, (int64_t)c, s), sat); /* <= 2^61 + 4 */
+            /* lo = floor((floor(bl / 2^(s-1)) + 1) / 2) in 32 bits; 2^k as a 32-bit factor */
+            const unsigned int s1 = s - 1u;
+            const uint32_t blh = (uint32_t)(bl >> s1);
+            const uint32_t lo = (blh >> 1) + (blh & 1u);
+            const uint32_t p2 = (uint32_t)1u << k;
+            r = (t * (int64_t)p2) + (int64_t)lo;
         }
     }
-    return r;
+    return clamp_p_q31(r, sat);
 }
 
 /* The ratio a / b (b > 0) as m 2^-e: |m| <= 2^30 with 29 significant bits at least. */

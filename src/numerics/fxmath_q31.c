@@ -23,6 +23,12 @@ static uint64_t mag32(rfe_fix_t v)
  * bit k, floor(sqrt(y)) >> (k + 1), times 4^(k+1); that is below 2^31, so r + b < 2^32. */
 static uint32_t isqrt32_rem(uint32_t y, uint32_t *rem)
 {
+#if defined(__arm__) && defined(__ARM_FEATURE_IDIV)
+    /* the core divides in one instruction (Cortex-M3, M4): Newton steps, the same root */
+    const uint32_t root = rfe_q31_isqrt32_newton(y);
+    *rem = y - (root * root);
+    return root;
+#else
     uint32_t r = 0u;
     uint32_t rm = y;
     uint32_t b = 0u;
@@ -41,6 +47,7 @@ static uint32_t isqrt32_rem(uint32_t y, uint32_t *rem)
     }
     *rem = rm;
     return r;
+#endif
 }
 
 /* floor(sqrt(x)) and the remainder x - root^2 (<= 2 root) of any uint64. Below 2^32: the
@@ -68,7 +75,10 @@ static uint64_t isqrt_rem(uint64_t x, uint64_t *rem)
         r0 = isqrt32_rem(y, &rm32);
         r = (r0 + 1u) << half;
         while (done == 0) {
-            r = (r + (x / r)) >> 1;
+            /* while r^2 > x: x / r < sqrt(x) < 2^32; r = 2^32 only from the start */
+            const uint64_t xr = ((r >> 32) == 0u) ? (uint64_t)rfe_q31_udiv64_32(x, (uint32_t)r)
+                                                  : (x / r);
+            r = (r + xr) >> 1;
             if (((r >> 32) == 0u) && ((r * r) <= x)) {
                 done = 1;
             }
@@ -143,14 +153,20 @@ static uint64_t div_bits(uint64_t n, uint64_t d, unsigned int bits)
  * away from zero): with q2 = floor(n * 2^(e+1) / d), the result is
  * (q2 + 1) >> 1 = floor(n * 2^e / d + 1/2). It exceeds INT32_MAX exactly when
  * q2 >= 2^32 - 1 (returns 1, *q unset). When n, d < 2^32 and e + 1 <= 32, n 2^(e+1) < 2^64
- * and q2 is one integer division (the common case: int32 operands); else div_bits. */
+ * and q2 is one integer division (the common case: int32 operands; rfe_q31_udiv64_32 once
+ * the quotient is known to be below 2^32, else it is at least LIM2); else div_bits. */
 static int div_round_mag(uint64_t n, uint64_t d, unsigned int e, uint64_t *q)
 {
     const unsigned int e1 = e + 1u;
     uint64_t q2;
 
     if (((n >> 32) == 0u) && ((d >> 32) == 0u) && (e1 <= 32u)) {
-        q2 = (n << e1) / d;
+        const uint64_t ne = n << e1;
+        if ((ne >> 32) >= d) {
+            q2 = LIM2; /* the quotient is 2^32 or more */
+        } else {
+            q2 = (uint64_t)rfe_q31_udiv64_32(ne, (uint32_t)d);
+        }
     } else {
         q2 = div_bits(n, d, e1);
     }
@@ -509,6 +525,58 @@ rfe_status_t rfe_fix_tan(rfe_fix_t angle, rfe_fix_t *t)
 #define QA_X_MIN 536870912u
 
 /*
+ * The division digits 2^-12 .. 2^-33 of rfe_q31_atan2_quad1 summed in units of 2^-33: the
+ * non-restoring steps W <- 2 W - sigma x (sigma = +1 for W >= 0, else -1), 22 of them, from
+ * W_0 = w in [-x, x) (x > 0; the leading digit leaves it there, see below): the sum is
+ * D = sum_j sigma_j 2^(21-j) (j = 0 .. 21), odd. Each step keeps W in [-x, x), and
+ * W_22 = 2^22 W_0 - D x, so D x is in (2^22 W_0 - x, 2^22 W_0 + x]: D is the one odd integer
+ * there, 2 floor(2^21 W_0 / x) + 1 (|.| <= 2^22 + 1). Where the core divides in one
+ * instruction (__ARM_FEATURE_IDIV, the Cortex-M3 and M4; the host) that floor is one division
+ * (rfe_q31_udiv64_32, on the magnitude: 2^21 |W_0| < 2^32 x; for W_0 < 0 the floor is minus
+ * the ceiling of the magnitude's quotient): ~40 instructions on the Cortex-M4 instead of
+ * ~130 for the steps. Without a divider (the Cortex-M0+) the 22 steps stay, a shift and an
+ * addition each, cheaper there than a 64-bit division by calls. The same integer either way
+ * (test_fxmath_q31.c checks rfe_q31_atan2_quad1 against its step-by-step form, and PIL on
+ * each core against the host).
+ */
+static int32_t qa_digits(int32_t w, int32_t x)
+{
+#if defined(__arm__) && !defined(__ARM_FEATURE_IDIV)
+    int32_t ww = w;
+    uint32_t dpos = 1u; /* a marker bit, then sigma_j = +1 as a 1 */
+    while (dpos < QA_LEAD) {
+        dpos += dpos;
+        if (ww >= 0) {
+            ww = (ww - x) + ww;
+            dpos += 1u;
+        } else {
+            ww = (ww + x) + ww;
+        }
+    }
+    {
+        /* with the +1s as bits B (marker 2^22 taken off): 2 B - (2^22 - 1) */
+        const uint32_t db = dpos - QA_LEAD; /* < 2^22 */
+        return ((2 * (int32_t)db) + 1) - (int32_t)QA_LEAD;
+    }
+#else
+    const uint32_t ux = (uint32_t)x;
+    int32_t f;
+    if (w >= 0) {
+        const uint32_t uw = (uint32_t)w;
+        const uint64_t n = (uint64_t)uw << 21;
+        f = (int32_t)rfe_q31_udiv64_32(n, ux);
+    } else {
+        const int32_t mw = -w; /* w >= -x > -2^31 */
+        const uint32_t uw = (uint32_t)mw;
+        const uint64_t xm1 = (uint64_t)ux - 1u;
+        const uint64_t n = ((uint64_t)uw << 21) + xm1;
+        f = -(int32_t)rfe_q31_udiv64_32(n, ux);
+    }
+    return (2 * f) + 1;
+#endif
+}
+
+/*
  * atan2(y, x), 0 <= x, y <= 2^30, in Q31.
  *
  * Octant: with a = max(x, y), b = min(x, y) the angle t = atan(b / a) is in [0, pi/4] and the
@@ -562,7 +630,6 @@ uint32_t rfe_q31_atan2_quad1(uint32_t y, uint32_t x)
         unsigned int sh = 0u;
         unsigned int s1 = 2u;  /* 2i - 2: x gains round(|W| / 2^(s1 + 1)) */
         uint32_t cpos = 1u;    /* a marker bit, then sigma_i = +1 as a 1, i = 2 .. 11 */
-        uint32_t dpos = 1u;    /* the same for the division digits 2^-12 .. 2^-33 */
         int32_t corr = 0;      /* sum sigma_i (2^-i - atan 2^-i), i = 2 .. 11, Q38 */
         int32_t lead;          /* the leading division digit 2^-11, Q33 */
         int32_t steps;         /* sum sigma_i 2^-i, i = 2 .. 11, Q11 */
@@ -602,8 +669,7 @@ uint32_t rfe_q31_atan2_quad1(uint32_t y, uint32_t x)
             xx += (int32_t)(((m >> s1) + 1u) >> 1);
             s1 += 2u;
         }
-        /* The leading digit 2^-11, then 2^-12 .. 2^-33 (the marker reaches bit 22 after 22
-         * digits). */
+        /* The leading digit 2^-11, then 2^-12 .. 2^-33 (qa_digits) */
         if (w >= 0) {
             w -= xx;
             lead = (int32_t)QA_LEAD;
@@ -611,23 +677,12 @@ uint32_t rfe_q31_atan2_quad1(uint32_t y, uint32_t x)
             w += xx;
             lead = -(int32_t)QA_LEAD;
         }
-        while (dpos < QA_LEAD) {
-            dpos += dpos;
-            if (w >= 0) {
-                w = (w - xx) + w;
-                dpos += 1u;
-            } else {
-                w = (w + xx) + w;
-            }
-        }
+        digits = lead + qa_digits(w, xx);
         /* sum sigma 2^-k over n digits with the +1s as bits B (marker 2^n taken off):
-         * 2 B - (2^n - 1), in units of the last digit: the steps' in Q11 (|.| < 2^10), the
-         * division's with the leading digit in Q33 (|.| < 2^23) */
+         * 2 B - (2^n - 1), in units of the last digit: the steps' in Q11 (|.| < 2^10) */
         {
             const uint32_t cb = cpos - QA_CPOS; /* < 2^10 */
-            const uint32_t db = dpos - QA_LEAD; /* < 2^22 */
             steps = ((2 * (int32_t)cb) + 1) - (int32_t)QA_CPOS;
-            digits = lead + (((2 * (int32_t)db) + 1) - (int32_t)QA_LEAD);
         }
         /* t = atan(1/2) + steps 2^-11 - corr 2^-38 + digits 2^-33, in Q61 */
         z = ((cordic_atan_q61[1] + ((int64_t)steps * rfe_q31_pow2(50u))) -

@@ -152,6 +152,94 @@ static inline unsigned int rfe_q31_bitlen64(uint64_t m)
 }
 
 /**
+ * floor(n / d) for d >= 1 and n < d 2^32 (the quotient fits 32 bits), in 32-bit operations:
+ * Knuth's long division (TAOCP vol. 2, 4.3.1, algorithm D; Hacker's Delight's divlu) in two
+ * 16-bit digits. The divisor is normalised, v = d 2^s with its top bit set (s = 32 - bit
+ * length of d), and n 2^s < v 2^32 fits 64 bits; each digit is estimated from the top word
+ * by the divisor's top half, q^ = floor(u / v1) with remainder r^, which is at most 2 too
+ * large (v1 >= 2^15) and is lowered while q^ >= 2^16 or q^ v0 > 2^16 r^ + (the next half
+ * word), at most twice (the test stops once r^ reaches 2^16); every product and sum then
+ * fits 32 bits, and the partial remainder u 2^16 + u1 - q1 v is below v, so its low 32 bits
+ * are it. The same integer as n / d (test_fxmath_q31.c checks it against the 64-bit
+ * division on random and edge operands), by two of the core's 32-bit divisions where it has
+ * them, with no call to the C library's 64-bit division (libgcc's __udivmoddi4, ~50
+ * instructions a call on the Cortex-M4).
+ */
+static inline uint32_t rfe_q31_udiv64_32_digits(uint64_t n, uint32_t d)
+{
+    const uint32_t base = 65536u;
+    const unsigned int s = 32u - rfe_q31_bitlen32(d);
+    const uint32_t v = d << s;
+    const uint32_t v1 = v >> 16;
+    const uint32_t v0 = v & 0xFFFFu;
+    const uint64_t nn = n << s;
+    const uint32_t u32 = (uint32_t)(nn >> 32);
+    const uint32_t u10 = (uint32_t)nn;
+    const uint32_t u1 = u10 >> 16;
+    const uint32_t u0 = u10 & 0xFFFFu;
+    uint32_t q1 = u32 / v1;
+    uint32_t rh = u32 - (q1 * v1);
+    uint32_t u21;
+    uint32_t q0;
+    if ((q1 >= base) || ((q1 * v0) > ((base * rh) + u1))) {
+        q1 -= 1u;
+        rh += v1;
+        if ((rh < base) && ((q1 >= base) || ((q1 * v0) > ((base * rh) + u1)))) {
+            q1 -= 1u;
+        }
+    }
+    u21 = ((u32 * base) + u1) - (q1 * v);
+    q0 = u21 / v1;
+    rh = u21 - (q0 * v1);
+    if ((q0 >= base) || ((q0 * v0) > ((base * rh) + u0))) {
+        q0 -= 1u;
+        rh += v1;
+        if ((rh < base) && ((q0 >= base) || ((q0 * v0) > ((base * rh) + u0)))) {
+            q0 -= 1u;
+        }
+    }
+    return (q1 * base) + q0;
+}
+
+/** floor(n / d) for d >= 1 and n < d 2^32: rfe_q31_udiv64_32_digits on Arm (the Cortex-M3
+ *  and M4 divide 32-bit integers in one instruction; the Cortex-M0+ has no divider, and its
+ *  two 32-bit divisions by libgcc's __aeabi_uidiv still cost less than one __udivmoddi4,
+ *  ~440 instructions a call there), else the 64-bit division (the host's one instruction). */
+static inline uint32_t rfe_q31_udiv64_32(uint64_t n, uint32_t d)
+{
+#if defined(__arm__)
+    return rfe_q31_udiv64_32_digits(n, d);
+#else
+    return (uint32_t)(n / (uint64_t)d);
+#endif
+}
+
+/**
+ * floor(sqrt(y)) of a 32-bit y by integer Newton steps from above: x0 = 2^ceil(L/2) (L the
+ * bit length of y, so x0 > sqrt(y) and x0 < 2 sqrt(y) + 2), then x <- floor((x + floor(y / x))
+ * / 2) while that decreases. Each step stays at or above floor(sqrt(y)) (AM-GM) and falls
+ * strictly while x exceeds it, so the first step that does not fall leaves x = floor(sqrt(y))
+ * exactly (about five steps from x0; x + y / x < 2^31 + 2^16 throughout). Where the core divides
+ * in one instruction this is cheaper than the digit-by-digit root (isqrt32_rem in
+ * fxmath_q31.c: 16 steps for a 31- or 32-bit y); the same integer (test_xf_q31.c checks it).
+ */
+static inline uint32_t rfe_q31_isqrt32_newton(uint32_t y)
+{
+    uint32_t x = 0u;
+    if (y != 0u) {
+        const unsigned int half_len = (rfe_q31_bitlen32(y) + 1u) / 2u;
+        uint32_t next;
+        x = (uint32_t)1u << half_len;
+        next = (x + (y / x)) >> 1;
+        while (next < x) {
+            x = next;
+            next = (x + (y / x)) >> 1;
+        }
+    }
+    return x;
+}
+
+/**
  * The smallest right shift s that brings a magnitude m below 2^bits: m < 2^(bits + s). A value
  * with magnitude <= m rounded by that shift (half up) then has magnitude <= 2^bits, and keeps
  * at least bits significant bits when s > 0 (relative rounding error <= 2^-bits).

@@ -30,6 +30,23 @@ typedef struct {
     int e;     /**< exponent */
 } rfe_xf_t;
 
+/** floor(v / 2^sh + 1/2) for 1 <= sh <= 33 and |v| < 2^(30 + sh) (sh = the bit length of |v|
+ *  minus 30): rfe_fix_shr64_round(v, sh)'s integer, in [-2^30, 2^30], formed in 32 bits.
+ *  f = floor(v / 2^(sh - 1)) is in [-2^31, 2^31): its two's-complement pattern is bits sh - 1
+ *  .. sh + 30 of v's (a logical shift of the pattern by sh - 1 <= 32 gives them), and
+ *  floor((f + 1) / 2) is the result. With w = f + 2^31 in [0, 2^32) (the pattern's top bit
+ *  flipped), floor((w + 1) / 2) = (w >> 1) + (w & 1) (no overflow) is the result plus 2^30.
+ *  rfe_xf_make normalises every product, sum and quotient of the observer's derivative pass
+ *  this way: about 10 instructions on the Cortex-M4 where the 64-bit rounding took 30. */
+static inline int32_t rfe_xf_round(int64_t v, unsigned int sh)
+{
+    const unsigned int s1 = sh - 1u;
+    const uint32_t f = (uint32_t)((uint64_t)v >> s1);
+    const uint32_t w = f ^ (uint32_t)0x80000000u;
+    const uint32_t h = (w >> 1) + (w & 1u); /* result + 2^30, in [0, 2^31] */
+    return (int32_t)((int64_t)h - (int64_t)0x40000000);
+}
+
 /** v 2^e (|v| < 2^63) normalised: rounded to 30 significant bits (half up), exact below. */
 static inline rfe_xf_t rfe_xf_make(int64_t v, int e)
 {
@@ -40,11 +57,13 @@ static inline rfe_xf_t rfe_xf_make(int64_t v, int e)
         const unsigned int len = rfe_q31_bitlen64(rfe_q31_mag64(v));
         if (len > 30u) {
             const unsigned int sh = len - 30u;
-            r.m = rfe_q31_shr_to32(v, sh);
+            r.m = rfe_xf_round(v, sh);
             r.e = e + (int)sh;
         } else {
+            /* |v| < 2^len: |v| 2^sh < 2^30 fits int32 (sh <= 29) */
             const unsigned int sh = 30u - len;
-            r.m = (int32_t)(v * rfe_q31_pow2(sh));
+            const int32_t p = (int32_t)rfe_q31_pow2(sh);
+            r.m = (int32_t)v * p;
             r.e = e - (int)sh;
         }
     }
@@ -82,7 +101,13 @@ static inline int64_t rfe_xf_at(rfe_xf_t a, int base)
     return v;
 }
 
-/** a + b: both mantissas at the larger exponent minus 31 (|.| <= 2^61 each). */
+/** a + b: both mantissas at the larger exponent minus 31 (|.| <= 2^61 each), the sum
+ *  normalised. With hi the operand of the larger exponent and d = hi.e - lo.e: for d <= 31
+ *  that sum is exactly (hi.m 2^d + lo.m) 2^(31 - d), and rfe_xf_make gives a value and its
+ *  power-of-two multiple the same mantissa, so the sum is formed at lo's exponent, one
+ *  multiplication and one addition (|.| < 2^62) instead of two alignments (the same bits:
+ *  test_xf_q31.c checks it against the two alignments). For d > 31 lo is rounded to hi's
+ *  exponent minus 31 first (rfe_xf_at), as before. */
 static inline rfe_xf_t rfe_xf_add(rfe_xf_t a, rfe_xf_t b)
 {
     rfe_xf_t r;
@@ -91,8 +116,16 @@ static inline rfe_xf_t rfe_xf_add(rfe_xf_t a, rfe_xf_t b)
     } else if (b.m == 0) {
         r = a;
     } else {
-        const int base = ((a.e > b.e) ? a.e : b.e) - 31;
-        r = rfe_xf_make(rfe_xf_at(a, base) + rfe_xf_at(b, base), base);
+        const rfe_xf_t hi = (a.e >= b.e) ? a : b;
+        const rfe_xf_t lo = (a.e >= b.e) ? b : a;
+        const int d = hi.e - lo.e;
+        if (d <= 31) {
+            r = rfe_xf_make(((int64_t)hi.m * rfe_q31_pow2((unsigned int)d)) + (int64_t)lo.m,
+                            lo.e);
+        } else {
+            const int base = hi.e - 31;
+            r = rfe_xf_make(rfe_xf_at(hi, base) + rfe_xf_at(lo, base), base);
+        }
     }
     return r;
 }
@@ -105,7 +138,8 @@ static inline rfe_xf_t rfe_xf_sub(rfe_xf_t a, rfe_xf_t b) { return rfe_xf_add(a,
  *  half up on the magnitude: rfe_fix_div(a.m, b.m, shift)'s integer, formed here without its
  *  argument checks and saturation (the observer divides ~60 times a step, and the checks
  *  cost more than the division on the Cortex-M4). q2 = floor(|a.m| 2^(shift + 1) / |b.m|) <
- *  2^32: with shift 29, |a.m| <= 2^30 and |b.m| >= 2^29; with 30, |a.m| < |b.m|. */
+ *  2^32: with shift 29, |a.m| <= 2^30 and |b.m| >= 2^29; with 30, |a.m| < |b.m|; so it is
+ *  rfe_q31_udiv64_32's (|b.m| < 2^31). */
 static inline rfe_xf_t rfe_xf_div(rfe_xf_t a, rfe_xf_t b)
 {
     rfe_xf_t r;
@@ -122,7 +156,7 @@ static inline rfe_xf_t rfe_xf_div(rfe_xf_t a, rfe_xf_t b)
             sh = 30u;
         }
         sh1 = sh + 1u;
-        q2 = (ma << sh1) / mb;
+        q2 = (uint64_t)rfe_q31_udiv64_32(ma << sh1, (uint32_t)mb);
         q = (int64_t)((q2 + 1u) >> 1);
         if ((a.m < 0) != (b.m < 0)) {
             q = -q;

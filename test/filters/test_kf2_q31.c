@@ -416,6 +416,76 @@ static void test_scale(void **state)
     assert_int_equal(sat, 1u);
 }
 
+typedef __int128 i128; /* the exact product (GNU C; tests only) */
+
+/* clamp(floor(v c / 2^s + 1/2), +-PMAX) from the exact 93-bit product, and whether it clamped:
+ * the definition the covariance product must meet. */
+static int64_t scale_exact(int64_t v, int32_t c, unsigned int s, int *clamped)
+{
+    const i128 p = (i128)v * (i128)c;
+    const i128 one = 1;
+    const i128 half = one << (s - 1u);
+    const i128 q = (p + half) >> s; /* GCC's >> on a negative i128 is the floor */
+    *clamped = 1;
+    if (q > (i128)RFE_KF2_Q31_PMAX) {
+        return RFE_KF2_Q31_PMAX;
+    }
+    if (q < -(i128)RFE_KF2_Q31_PMAX) {
+        return -RFE_KF2_Q31_PMAX;
+    }
+    *clamped = 0;
+    return (int64_t)q;
+}
+
+/* REQ-FXP-013: the covariance product (rfe_kf2_scale_q31, the filters' mul_p_q31) is the
+ * exactly rounded product clamped to +-PMAX with one count per clamp, for every shift 1 .. 62:
+ * on random v and c of every magnitude and sign, and on the products that land on PMAX, one
+ * LSB beyond it and one inside (either sign), where the clamp's decision is made from the high
+ * word of the product alone for shifts up to 32. */
+static void test_scale_exact(void **state)
+{
+    unsigned int s;
+    int n;
+    (void)state;
+    rng_seed(0x5CA1Eull);
+    for (s = 1u; s <= 62u; ++s) {
+        for (n = 0; n < 400; ++n) {
+            const int ev = (int)(rng_uniform() * 31.0) + 31; /* |v| up to 2^61 */
+            const int ec = (int)(rng_uniform() * 16.0) + 16;
+            int64_t v = (int64_t)(rng_uniform() * ldexp(1.0, ev));
+            int32_t c = (int32_t)(rng_uniform() * ldexp(1.0, ec));
+            int64_t y = 0;
+            int clamped = 0;
+            uint32_t sat = 0u;
+            int64_t want;
+            if (((n % 5) == 0) && (c != 0)) {
+                /* v c / 2^s at +-PMAX: v = trunc(PMAX 2^s / c) + (-2 .. 2), when it fits */
+                const i128 vv = ((i128)RFE_KF2_Q31_PMAX << s) / (i128)c;
+                if ((vv < (i128)RFE_KF2_Q31_PMAX) && (vv > -(i128)RFE_KF2_Q31_PMAX)) {
+                    v = ((int64_t)vv + (int64_t)((n / 5) % 5)) - 2;
+                }
+            }
+            if (v > RFE_KF2_Q31_PMAX) {
+                v = RFE_KF2_Q31_PMAX;
+            } else if (v < -RFE_KF2_Q31_PMAX) {
+                v = -RFE_KF2_Q31_PMAX;
+            } else {
+                /* inside */
+            }
+            if ((n % 3) == 1) {
+                c = (c == INT32_MIN) ? INT32_MAX : -c;
+            }
+            if (n == 1) {
+                c = INT32_MIN;
+            }
+            want = scale_exact(v, c, s, &clamped);
+            assert_int_equal(rfe_kf2_scale_q31(v, c, s, &y, &sat), RFE_OK);
+            assert_true(y == want);
+            assert_int_equal(sat, (unsigned int)clamped);
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -426,6 +496,7 @@ int main(void)
         cmocka_unit_test(test_errors_leave_the_filter_untouched),
         cmocka_unit_test(test_saturation_is_counted),
         cmocka_unit_test(test_scale),
+        cmocka_unit_test(test_scale_exact),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -987,9 +987,88 @@ static void test_tan(void **state)
 static double atq_worst = 0.0;
 static long atq_count = 0;
 
+/* rfe_q31_atan2_quad1 as first written, its 22 division digits one non-restoring step each
+ * (the library now forms their sum with one division where the core divides in one
+ * instruction): the reference its integers must equal. The same constants: atan(1/2) and pi/2
+ * in Q61, 2^-i - atan(2^-i) in Q38 for i = 2 .. 11. */
+static uint32_t atan2_quad1_steps(uint32_t y, uint32_t x)
+{
+    static const int32_t corr_q38[10] = {1380254570, 177297749, 22317338, 2794565, 349474,
+                                         43689,      5461,      683,      85,      11};
+    const uint32_t a = (y > x) ? y : x;
+    const uint32_t b = (y > x) ? x : y;
+    int64_t z = 0;
+    if (b != 0u) {
+        unsigned int sh = 0u;
+        unsigned int s1 = 2u;
+        uint32_t cpos = 1u;
+        uint32_t dpos = 1u;
+        int32_t corr = 0;
+        int32_t lead;
+        int32_t xx;
+        int32_t w;
+        unsigned int i;
+        while ((a << sh) < (1u << 29)) {
+            ++sh;
+        }
+        xx = (int32_t)(a << sh);
+        w = (int32_t)(b << sh);
+        {
+            const uint32_t m = (uint32_t)w;
+            w = (w - xx) + w;
+            xx += (int32_t)((m + 1u) >> 1);
+        }
+        for (i = 0u; i < 10u; ++i) {
+            uint32_t m;
+            cpos += cpos;
+            if (w >= 0) {
+                m = (uint32_t)w;
+                w = (w - xx) + w;
+                cpos += 1u;
+                corr += corr_q38[i];
+            } else {
+                m = (uint32_t)(-w);
+                w = (w + xx) + w;
+                corr -= corr_q38[i];
+            }
+            xx += (int32_t)(((m >> s1) + 1u) >> 1);
+            s1 += 2u;
+        }
+        if (w >= 0) {
+            w -= xx;
+            lead = 4194304;
+        } else {
+            w += xx;
+            lead = -4194304;
+        }
+        while (dpos < 4194304u) {
+            dpos += dpos;
+            if (w >= 0) {
+                w = (w - xx) + w;
+                dpos += 1u;
+            } else {
+                w = (w + xx) + w;
+            }
+        }
+        {
+            const int32_t steps = ((2 * (int32_t)(cpos - 1024u)) + 1) - 1024;
+            const int32_t digits = lead + (((2 * (int32_t)(dpos - 4194304u)) + 1) - 4194304);
+            z = ((INT64_C(1069098597953152948) + ((int64_t)steps * (INT64_C(1) << 50))) -
+                 ((int64_t)corr * (INT64_C(1) << 23))) +
+                ((int64_t)digits * (INT64_C(1) << 28));
+        }
+    }
+    if (y > x) {
+        z = INT64_C(3622009729038561421) - z;
+    }
+    z += INT64_C(1) << 29;
+    return (uint32_t)((uint64_t)z >> 30);
+}
+
 static uint32_t check_atan2_quad1(uint32_t y, uint32_t x)
 {
     const uint32_t a = rfe_q31_atan2_quad1(y, x);
+    assert_int_equal(a, atan2_quad1_steps(y, x)); /* the same integer as the digit steps */
     const double want = ((x == 0u) && (y == 0u)) ? 0.0 : atan2((double)y, (double)x);
     const double err = fabs(ldexp((double)a, -31) - want);
     atq_worst = fmax(atq_worst, err);
@@ -1008,7 +1087,8 @@ static uint32_t rand_u30_log(void)
 }
 
 /* REQ: rfe_q31_atan2_quad1 (the Magic Formula's first-quadrant atan2, Q31) is within
- * TOL_ATAN2_Q1 of libm over every 0 <= x, y <= 2^30: the axes and the origin exactly
+ * TOL_ATAN2_Q1 of libm, and the integer of its digit-by-digit form (atan2_quad1_steps), over
+ * every 0 <= x, y <= 2^30: the axes and the origin exactly
  * (0 -> 0, y > 0 at x = 0 -> round(pi/2 2^31)), every pair up to 64, the edges of the
  * normalisation (2^29 - 1, 2^29, 2^30) and the diagonal, a dense angle grid at random radii,
  * near-axis and near-diagonal pairs and random pairs (uniform and log-uniform magnitudes); the

@@ -156,6 +156,108 @@ static void test_xf_div_as_fix_div(void **state)
     }
 }
 
+/* The normalisation as first written (rfe_fix_shr64_round to 30 bits, a multiplication
+ * below): the reference for rfe_xf_make's 32-bit rounding. */
+static rfe_xf_t make_ref(int64_t v, int e)
+{
+    rfe_xf_t r = {0, 0};
+    if (v != 0) {
+        const uint64_t mag = (v < 0) ? (uint64_t)(-v) : (uint64_t)v;
+        unsigned int len = 0u;
+        while ((len < 64u) && ((mag >> len) != 0u)) {
+            ++len;
+        }
+        if (len > 30u) {
+            r.m = (int32_t)rfe_fix_shr64_round(v, len - 30u);
+            r.e = e + (int)(len - 30u);
+        } else {
+            r.m = (int32_t)(v * (int64_t)((uint64_t)1 << (30u - len)));
+            r.e = e - (int)(30u - len);
+        }
+    }
+    return r;
+}
+
+/* The sum as first written: both mantissas aligned at the larger exponent minus 31, the
+ * smaller rounded half up when it lies more than 31 below (make_ref normalising). */
+static rfe_xf_t add_ref(rfe_xf_t a, rfe_xf_t b)
+{
+    rfe_xf_t r;
+    if (a.m == 0) {
+        r = b;
+    } else if (b.m == 0) {
+        r = a;
+    } else {
+        const int base = ((a.e > b.e) ? a.e : b.e) - 31;
+        int64_t v = 0;
+        int k;
+        for (k = 0; k < 2; ++k) {
+            const rfe_xf_t x = (k == 0) ? a : b;
+            const int s = x.e - base;
+            v += (s >= 0) ? ((int64_t)x.m * (int64_t)((uint64_t)1 << (unsigned int)s))
+                          : rfe_fix_shr64_round((int64_t)x.m, (unsigned int)(-s));
+        }
+        r = make_ref(v, base);
+    }
+    return r;
+}
+
+/* rfe_xf_make's rounding in 32 bits and rfe_xf_add's sum at the smaller operand's exponent
+ * (both faster on the Cortex-M4) give the integers of the first forms above, bit for bit:
+ * on every bit length 1 .. 63 of either sign with the rounding's tie and its neighbours in
+ * the low bits, on random 64-bit values, and on sums of random operands whose exponents
+ * differ by 0 .. 40 (both sides of d = 31, where the sum changes form), with equal and
+ * opposite mantissas (cancellation to 0 and to few bits) and the mantissa range's ends. */
+static void test_xf_make_add_as_before(void **state)
+{
+    const int32_t ends[4] = {1 << 29, (1 << 29) + 1, (1 << 30) - 1, 1 << 30};
+    unsigned int len;
+    int n;
+    (void)state;
+    rng_seed(0xADDull);
+    for (len = 1u; len <= 63u; ++len) {
+        const uint64_t top = (uint64_t)1 << (len - 1u);
+        int k;
+        for (k = 0; k < 64; ++k) {
+            /* the low bits around the tie 2^(len - 31) of a rounding by len - 30 bits */
+            const uint64_t tie = (len > 30u) ? ((uint64_t)1 << (len - 31u)) : 1u;
+            const uint64_t low = (k < 8) ? ((tie + (uint64_t)k) - 4u)
+                                         : (uint64_t)((rng_uniform() + 1.0) * 4.0e18);
+            const uint64_t mag = top | (low & (top - 1u));
+            int sgn;
+            for (sgn = 0; sgn < 2; ++sgn) {
+                const int64_t v = (sgn == 0) ? (int64_t)mag : -(int64_t)mag;
+                const rfe_xf_t got = rfe_xf_make(v, 7);
+                const rfe_xf_t want = make_ref(v, 7);
+                assert_int_equal(got.m, want.m);
+                assert_int_equal(got.e, want.e);
+            }
+        }
+    }
+    for (n = 0; n < 4 * N_CASES; ++n) {
+        rfe_xf_t a = draw();
+        rfe_xf_t b = draw();
+        rfe_xf_t got;
+        rfe_xf_t want;
+        b.e = a.e - ((n / 4) % 41); /* d = 0 .. 40 */
+        if ((n % 4) == 1) {
+            b.m = -a.m;
+        } else if ((n % 4) == 2) {
+            a.m = ends[(n / 8) % 4];
+            b.m = ((n % 8) < 4) ? -ends[(n / 32) % 4] : ends[(n / 32) % 4];
+        } else {
+            /* as drawn */
+        }
+        got = rfe_xf_add(a, b);
+        want = add_ref(a, b);
+        assert_int_equal(got.m, want.m);
+        assert_int_equal(got.e, want.e);
+        got = rfe_xf_add(b, a);
+        assert_int_equal(got.m, want.m);
+        assert_int_equal(got.e, want.e);
+    }
+}
+
 /* The bit length every normalisation above starts from (internal_q31.h: one instruction where
  * the core counts leading zeros, the portable search elsewhere): for every length L, the
  * smallest (2^(L-1)), the largest (2^L - 1) and random values with bit L-1 set and lower bits
@@ -187,6 +289,103 @@ static void test_bitlen(void **state)
     }
 }
 
+/* One case of the 64-by-32 division: the digits' integer and the dispatcher's are n / d. */
+static void check_udiv(uint64_t n, uint32_t d)
+{
+    const uint64_t want = n / (uint64_t)d;
+    assert_true(want < ((uint64_t)1 << 32)); /* the precondition n < d 2^32 */
+    assert_true((uint64_t)rfe_q31_udiv64_32_digits(n, d) == want);
+    assert_true((uint64_t)rfe_q31_udiv64_32(n, d) == want);
+}
+
+/* The 64-by-32 division in 16-bit digits (internal_q31.h, the Cortex-M3 and M4's form of the
+ * observer's divisions) is the 64-bit division's integer: for every divisor bit length 1 .. 32
+ * its smallest and largest divisor and random ones, with the largest dividend (d 2^32 - 1),
+ * the smallest (0), exact multiples and their neighbours, and random dividends; divisors whose
+ * low half is all ones or zero (where the digit estimate is 2 too large or exact); and the
+ * operands of the observer's division (|a.m| 2^30 or 2^31 over |b.m| in [2^29, 2^30]). */
+static void test_udiv64_32(void **state)
+{
+    unsigned int len;
+    int k;
+    (void)state;
+    rng_seed(0xD1Full);
+    for (len = 1u; len <= 32u; ++len) {
+        const uint64_t top = (uint64_t)1 << (len - 1u);
+        for (k = 0; k < 200; ++k) {
+            uint32_t d;
+            uint64_t n;
+            uint64_t q;
+            if (k == 0) {
+                d = (uint32_t)top;
+            } else if (k == 1) {
+                d = (uint32_t)((top - 1u) | top);
+            } else if ((k == 2) && (len > 16u)) {
+                d = (uint32_t)(top | 0xFFFFu);
+            } else {
+                d = (uint32_t)(top | ((uint64_t)((rng_uniform() + 1.0) * 2.0e9) & (top - 1u)));
+            }
+            check_udiv(((uint64_t)d << 32) - 1u, d);
+            check_udiv(0u, d);
+            q = (uint64_t)((rng_uniform() + 1.0) * 2.1e9) & 0xFFFFFFFFu;
+            n = q * (uint64_t)d;
+            check_udiv(n, d);
+            if (n > 0u) {
+                check_udiv(n - 1u, d);
+            }
+            if ((n + (uint64_t)d - 1u) < ((uint64_t)d << 32)) {
+                check_udiv(n + (uint64_t)d - 1u, d);
+            }
+            n = (uint64_t)((rng_uniform() + 1.0) * 9.0e18) % ((uint64_t)d << 32);
+            check_udiv(n, d);
+        }
+    }
+    for (k = 0; k < N_CASES; ++k) {
+        const uint64_t ma = (uint64_t)((rng_uniform() + 1.0) * 536870912.0) + 1u; /* (0, 2^30] */
+        const uint32_t mb = (uint32_t)((rng_uniform() + 3.0) * 268435456.0); /* [2^29, 2^30) */
+        const unsigned int sh1 = (ma < (uint64_t)mb) ? 31u : 30u;
+        check_udiv(ma << sh1, mb);
+    }
+}
+
+/* One case of the Newton root: r^2 <= y < (r + 1)^2, in 64 bits. */
+static void check_isqrt32(uint32_t y)
+{
+    const uint64_t r = (uint64_t)rfe_q31_isqrt32_newton(y);
+    assert_true((r * r) <= (uint64_t)y);
+    assert_true((uint64_t)y < ((r + 1u) * (r + 1u)));
+}
+
+/* The 32-bit Newton root (internal_q31.h; the Cortex-M3 and M4's form of the square roots'
+ * leading digits) is floor(sqrt(y)): every y below 2^16 + 1, the squares k^2 of every k up
+ * to 2^16 - 1 with their neighbours k^2 - 1 and k^2 + 2k ((k + 1)^2 - 1), both ends of
+ * every bit length, and random values. */
+static void test_isqrt32_newton(void **state)
+{
+    uint32_t y;
+    uint32_t k;
+    unsigned int len;
+    int n;
+    (void)state;
+    for (y = 0u; y <= 65536u; ++y) {
+        check_isqrt32(y);
+    }
+    for (k = 1u; k < 65536u; ++k) {
+        check_isqrt32(k * k);
+        check_isqrt32((k * k) - 1u);
+        check_isqrt32((k * k) + (2u * k));
+    }
+    for (len = 1u; len <= 32u; ++len) {
+        const uint32_t top = (uint32_t)1u << (len - 1u);
+        check_isqrt32(top);
+        check_isqrt32((top - 1u) | top);
+    }
+    rng_seed(0x5A7ull);
+    for (n = 0; n < N_CASES; ++n) {
+        check_isqrt32((uint32_t)((rng_uniform() + 1.0) * 2147483647.0));
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -194,6 +393,9 @@ int main(void)
         cmocka_unit_test(test_xf_edges),
         cmocka_unit_test(test_bitlen),
         cmocka_unit_test(test_xf_div_as_fix_div),
+        cmocka_unit_test(test_xf_make_add_as_before),
+        cmocka_unit_test(test_udiv64_32),
+        cmocka_unit_test(test_isqrt32_newton),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
