@@ -1359,6 +1359,29 @@ static void test_rfe_replay_gate_holds_the_feed_until_the_excitation(void **stat
 #define SLIP_FROM 15u
 #define SLIP_TO 20u
 
+/* The slip tests' log and parameters: make_mg_log's rows with a measured vx (vy = 0, yaw_acc =
+ * 0) equal to the wheels' speed, except rows SLIP_FROM .. SLIP_TO - 1, where the wheels run 1.1
+ * times vx (a slip of 0.1); the default preset with the mass and grade estimator at the log's
+ * 50 Hz, the feed's sd rule passing every update, no band, and the excitation gate opening at
+ * row GATE_OPEN. */
+static void make_slip_log(rfe_sensor_log_t *log, rfe_sensor_row_t *rows, rfe_param_set_t *ps)
+{
+    const double ax = 0.5 + 9.81 * sin(0.03); /* make_mg_log's */
+    size_t i;
+    make_mg_log(log, rows);
+    assert_int_equal(rfe_param_set_preset_f64(ps, RFE_PRESET_DEFAULT), 0);
+    log->has_velocity = 1;
+    for (i = 0u; i < N_MG; ++i) {
+        const double v_w = rows[i].omega[0] * ps->value[RFE_PK_R]; /* the wheels' speed */
+        rows[i].vx = ((i >= SLIP_FROM) && (i < SLIP_TO)) ? v_w / 1.1 : v_w;
+    }
+    ps->mass_grade = 1;
+    ps->value[RFE_PK_dt] = 0.02;
+    ps->mg[RFE_PK_mg_feed_sd_rel - RFE_PK_MG_FIRST] = 1.0;
+    ps->mg[RFE_PK_mg_feed_band - RFE_PK_MG_FIRST] = 0.0;
+    ps->mg[RFE_PK_mg_feed_excitation - RFE_PK_MG_FIRST] = ((double)GATE_OPEN - 0.5) * 0.02 * ax;
+}
+
 /* The feed's wheel-slip hold (mg_feed_slip_max; MASS_GRADE.md §10), in double, q31 and behind
  * the observer with the log's measured vx: the wheels' speeds are the same on every row (so
  * is the mass and grade estimate), only the car's vx says that rows SLIP_FROM .. SLIP_TO - 1
@@ -1381,25 +1404,13 @@ static void test_rfe_replay_slip_holds_the_feed_and_empties_the_gate(void **stat
     rfe_param_set_t ps;
     static rfe_est_row_t out[N_MG];
     rfe_replay_stats_t st;
-    const double ax = 0.5 + 9.81 * sin(0.03); /* make_mg_log's */
     size_t i;
     int path;
     (void)state;
-    make_mg_log(&log, rows);
-    assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_DEFAULT), 0);
-    log.has_velocity = 1; /* vx, vy = 0, yaw_acc = 0: the slip's reference is the log's vx */
-    for (i = 0u; i < N_MG; ++i) {
-        const double v_w = rows[i].omega[0] * ps.value[RFE_PK_R]; /* the wheels' speed */
-        rows[i].vx = ((i >= SLIP_FROM) && (i < SLIP_TO)) ? v_w / 1.1 : v_w;
-    }
+    make_slip_log(&log, rows, &ps);
     /* on the slip rows |v_w - vx| / vx = (1.1 - 1) = 0.1, twice the default key */
     assert_true(ps.mg[RFE_PK_mg_feed_slip_max - RFE_PK_MG_FIRST] == 0.05);
-    ps.mass_grade = 1;
-    ps.value[RFE_PK_dt] = 0.02;
-    ps.mg[RFE_PK_mg_feed_sd_rel - RFE_PK_MG_FIRST] = 1.0;
-    ps.mg[RFE_PK_mg_feed_band - RFE_PK_MG_FIRST] = 0.0; /* the slip alone */
-    ps.mg[RFE_PK_mg_slip_max - RFE_PK_MG_FIRST] = 0.0;  /* the filter's pause off */
-    ps.mg[RFE_PK_mg_feed_excitation - RFE_PK_MG_FIRST] = ((double)GATE_OPEN - 0.5) * 0.02 * ax;
+    ps.mg[RFE_PK_mg_slip_max - RFE_PK_MG_FIRST] = 0.0; /* the filter's pause off */
     for (path = 0; path < 4; ++path) { /* double, double observer, q31, q31 observer */
         const double m = ps.value[RFE_PK_m];
         size_t n_fed = 0u;
@@ -1448,24 +1459,12 @@ static void test_rfe_replay_slip_pauses_the_filter(void **state)
     rfe_param_set_t ps;
     static rfe_est_row_t out[N_MG];
     rfe_replay_stats_t st;
-    const double ax = 0.5 + 9.81 * sin(0.03); /* make_mg_log's */
     size_t i;
     int path;
     (void)state;
-    make_mg_log(&log, rows);
-    assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_DEFAULT), 0);
-    log.has_velocity = 1;
-    for (i = 0u; i < N_MG; ++i) {
-        const double v_w = rows[i].omega[0] * ps.value[RFE_PK_R];
-        rows[i].vx = ((i >= SLIP_FROM) && (i < SLIP_TO)) ? v_w / 1.1 : v_w;
-    }
+    make_slip_log(&log, rows, &ps);
     /* 0.1 of slip, twice the default; the others' 0 (the wheels' speed is the row's vx) */
     assert_true(ps.mg[RFE_PK_mg_slip_max - RFE_PK_MG_FIRST] == 0.05);
-    ps.mass_grade = 1;
-    ps.value[RFE_PK_dt] = 0.02;
-    ps.mg[RFE_PK_mg_feed_sd_rel - RFE_PK_MG_FIRST] = 1.0;
-    ps.mg[RFE_PK_mg_feed_band - RFE_PK_MG_FIRST] = 0.0;
-    ps.mg[RFE_PK_mg_feed_excitation - RFE_PK_MG_FIRST] = ((double)GATE_OPEN - 0.5) * 0.02 * ax;
     for (path = 0; path < 4; ++path) { /* double, double observer, q31, q31 observer */
         size_t n_fed = 0u;
         st = mg_feed_run_path(&ps, &log, out, path);
