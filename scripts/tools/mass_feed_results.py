@@ -23,7 +23,6 @@ from the estimate log and the JSON:
 With --page the table goes between <!-- mass-feed:begin/end --> of the page.
 """
 
-import argparse
 import csv
 import json
 import os
@@ -37,6 +36,7 @@ sys.path.insert(0, os.path.join(ROOT, "scripts", "tools"))
 
 from mass_sensitivity import log_mass  # noqa: E402
 from md_tables import replace_region  # noqa: E402
+from replay_args import replay_args  # noqa: E402
 
 FACTORS = (0.8, 1.0, 1.2)
 # the keys each run writes into its parameter file: no gate, the gate alone, the defaults
@@ -84,12 +84,7 @@ def true_mass_end(path):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--mu-replay", default=os.path.join(ROOT, "build", "mu_replay"))
-    ap.add_argument("--page", default="")
-    a = ap.parse_args()
-    if not os.access(a.mu_replay, os.X_OK):
-        raise SystemExit(f"mass_feed_results: {a.mu_replay} not found: run make first")
+    a = replay_args(__doc__, "mass_feed_results")
     d = os.path.join(ROOT, "scenarios", "mass_grade")
     rows = ["| log | m given | first fed at: no gate → gate → gate and checks | samples fed "
             "| m error unfed | mass_used error at the end | mass_est error at the end "

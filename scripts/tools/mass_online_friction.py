@@ -29,7 +29,6 @@ With --page the tables go between <!-- mass-online:begin/end --> and
 <!-- mass-online-gate:begin/end --> of the page.
 """
 
-import argparse
 import csv
 import json
 import multiprocessing
@@ -44,6 +43,7 @@ sys.path.insert(0, os.path.join(ROOT, "scripts", "tools"))
 
 from mass_sensitivity import WHEELS, WORSE, log_mass, pooled, pooled_cells  # noqa: E402
 from md_tables import replace_region  # noqa: E402
+from replay_args import replay_args  # noqa: E402
 
 FACTORS = (0.8, 1.0, 1.2)
 MODES = ("off", "ukf-nogate", "ukf-nochecks", "ukf")
@@ -173,13 +173,7 @@ def gate_table(results, names):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--mu-replay", default=os.path.join(ROOT, "build", "mu_replay"))
-    ap.add_argument("--page", default="")
-    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
-    a = ap.parse_args()
-    if not os.access(a.mu_replay, os.X_OK):
-        raise SystemExit(f"mass_online_friction: {a.mu_replay} not found: run make first")
+    a = replay_args(__doc__, "mass_online_friction", jobs=os.cpu_count() or 1)
     names = logs()
     jobs = [(a.mu_replay, n, f, m) for n in names for f in FACTORS for m in MODES]
     results = {}

@@ -20,7 +20,6 @@ consistency (|error| <= 2 sd). Pooled over the four wheels and every log of a pr
 With --page the table goes between <!-- mass-sensitivity:begin/end --> of the page.
 """
 
-import argparse
 import json
 import math
 import multiprocessing
@@ -35,6 +34,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 sys.path.insert(0, os.path.join(ROOT, "scripts", "tools"))
 
 from md_tables import replace_region  # noqa: E402
+from replay_args import replay_args  # noqa: E402
 FACTORS = (0.8, 1.0, 1.2)
 PRESETS = ("default", "paper")
 WHEELS = ("fl", "fr", "rl", "rr")
@@ -138,13 +138,7 @@ def table(results, names):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--mu-replay", default=os.path.join(ROOT, "build", "mu_replay"))
-    ap.add_argument("--page", default="")
-    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
-    a = ap.parse_args()
-    if not os.access(a.mu_replay, os.X_OK):
-        raise SystemExit(f"mass_sensitivity: {a.mu_replay} not found: run make first")
+    a = replay_args(__doc__, "mass_sensitivity", jobs=os.cpu_count() or 1)
     names = logs()
     jobs = [(a.mu_replay, n, p, f) for n in names for p in PRESETS for f in FACTORS]
     results = {}

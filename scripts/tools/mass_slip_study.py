@@ -20,7 +20,6 @@ and at its default, and their mass, sd and grade columns compared byte for byte.
 With --page the text goes between <!-- mass-slip:begin --> and <!-- mass-slip:end -->.
 """
 
-import argparse
 import csv
 import json
 import multiprocessing
@@ -36,6 +35,7 @@ sys.path.insert(0, os.path.join(ROOT, "scripts", "tools"))
 from mass_online_friction import logs, with_drive_torque  # noqa: E402
 from mass_sensitivity import log_mass  # noqa: E402
 from md_tables import replace_region  # noqa: E402
+from replay_args import replay_args  # noqa: E402
 
 STARTS = (1.0, 0.8, 1.2)   # mg_m0 as a share of the log's m
 SLIP = ("0", "default")    # mg_slip_max: off (the filter before the pause), the default key
@@ -120,13 +120,7 @@ def tables(obs, names, mg, mg_names):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--mu-replay", default=os.path.join(ROOT, "build", "mu_replay"))
-    ap.add_argument("--page", default="")
-    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
-    a = ap.parse_args()
-    if not os.access(a.mu_replay, os.X_OK):
-        raise SystemExit(f"mass_slip_study: {a.mu_replay} not found: run make first")
+    a = replay_args(__doc__, "mass_slip_study", jobs=os.cpu_count() or 1)
     names = logs()
     mg_names = sorted(f for f in os.listdir(os.path.join(ROOT, "scenarios", "mass_grade"))
                       if f.endswith(".csv"))
