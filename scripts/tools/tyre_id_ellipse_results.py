@@ -6,9 +6,11 @@ docs/TYRE_ID_RESULTS.md "The friction ellipse in the identifier" between its mar
     .venv/bin/python scripts/tools/tyre_id_ellipse_results.py [--page docs/TYRE_ID_RESULTS.md]
         [--jobs 2]
 
-Every (log, filter) of ROWS is run twice by the reference (scripts/reference/tyre_id_sckf.py
-for the SCKF; scripts/reference/tyre_id.py for the APF at tid_n particles, seed SEED), with
-the defaults and tid_ellipse 0, then 1. The brake-in-turn logs brake from T_BRAKE to T_END
+Every (log, filter) of ROWS is run three times by the reference
+(scripts/reference/tyre_id_sckf.py for the SCKF; scripts/reference/tyre_id.py for the APF at
+tid_n particles, seed SEED), with the defaults and RUNS: tid_ellipse 0 (without); 1 without
+its dead band (tid_ell_ax_min 0, the ellipse as first built: with); and 1 with the band at its
+default (with band). The brake-in-turn logs brake from T_BRAKE to T_END
 (scenarios/*.csv's description). Figures of each run:
     rear D before -> into   the rear axle's D at T_BEFORE and at T_INTO, N
     rear D mean             its mean over [T_BRAKE, T_END]
@@ -45,6 +47,8 @@ T_INTO = 2.4          # s, a sample 0.4 s into it (the pressure's ramp ends at 2
 T_BRAKE, T_END = 2.0, 6.0   # s, the braking of the brake-in-turn logs
 SEED = 1              # the APF's seed (tid_n at its default, 256)
 MARK = ("<!-- tyre-id-ellipse:begin -->", "<!-- tyre-id-ellipse:end -->")
+# the keys of each run beside the defaults: without, with (no dead band), with the default band
+RUNS = ({"tid_ellipse": 0.0}, {"tid_ellipse": 1.0, "tid_ell_ax_min": 0.0}, {"tid_ellipse": 1.0})
 
 
 def static_loads(params=None):
@@ -68,12 +72,12 @@ def figures(t, out, fz0):
 
 
 def measure(job):
-    """One run: job = (log, filter, tid_ellipse[, n_steps]) -> figures(); n_steps the first
-    samples only (a test's excerpt)."""
-    log, filt, ell = job[:3]
+    """One run: job = (log, filter, k[, n_steps]) -> figures(), k the index of its keys in
+    RUNS; n_steps the first samples only (a test's excerpt)."""
+    log, filt, k = job[:3]
     n_steps = job[3] if len(job) > 3 else None
     c = read_csv_log(str(ROOT / "scenarios" / f"{log}.csv")).columns
-    params = {"tid_ellipse": float(ell)}
+    params = dict(RUNS[k])
     if filt == "sckf":
         out = TS.run(c, params, n_steps=n_steps)
     else:
@@ -82,21 +86,23 @@ def measure(job):
     return figures(t, out, static_loads())
 
 
-def row(log, filt, off, on):
-    """One line of the table from the runs without (@p off) and with (@p on) the ellipse."""
-    return (f"| {log} | {filt.upper()} | {off[0]:,.0f} → {off[1]:,.0f} / {on[0]:,.0f} → "
-            f"{on[1]:,.0f} | {off[2]:,.0f} / {on[2]:,.0f} | {off[3]:.1f} / {on[3]:.1f} | "
-            f"{off[4]:.1f} ({off[5]:.1f}) / {on[4]:.1f} ({on[5]:.1f}) |")
+def row(log, filt, runs):
+    """One line of the table from the figures of the runs of RUNS, in order."""
+    return (f"| {log} | {filt.upper()} | "
+            + " / ".join(f"{r[0]:,.0f} → {r[1]:,.0f}" for r in runs) + " | "
+            + " / ".join(f"{r[2]:,.0f}" for r in runs) + " | "
+            + " / ".join(f"{r[3]:.1f}" for r in runs) + " | "
+            + " / ".join(f"{r[4]:.1f} ({r[5]:.1f})" for r in runs) + " |")
 
 
 def table(res):
-    """The table's lines from @p res: (log, filter, tid_ellipse) -> figures()."""
-    lines = [f"| log | filter | rear D at {T_BEFORE:g} s → {T_INTO:g} s, N: without / with "
-             f"| rear D, mean over {T_BRAKE:g}–{T_END:g} s | cy at {T_INTO:g} s "
+    """The table's lines from @p res: (log, filter, k) -> figures(), k indexing RUNS."""
+    lines = [f"| log | filter | rear D at {T_BEFORE:g} s → {T_INTO:g} s, N: without / with / "
+             f"with band | rear D, mean over {T_BRAKE:g}–{T_END:g} s | cy at {T_INTO:g} s "
              f"| cy, mean over {T_BRAKE:g}–{T_END:g} s (max) |",
              "|---|---|---|---|---|---|"]
     for log, filt in ROWS:
-        lines.append(row(log, filt, res[(log, filt, 0)], res[(log, filt, 1)]))
+        lines.append(row(log, filt, [res[(log, filt, k)] for k in range(len(RUNS))]))
     return lines
 
 
@@ -105,7 +111,7 @@ def main(argv=None):
     ap.add_argument("--page", default="")
     ap.add_argument("--jobs", type=int, default=2)
     a = ap.parse_args(argv)
-    jobs = [(log, filt, ell) for log, filt in ROWS for ell in (0, 1)]
+    jobs = [(log, filt, k) for log, filt in ROWS for k in range(len(RUNS))]
     with multiprocessing.Pool(max(1, a.jobs)) as pool:
         res = dict(zip(jobs, pool.map(measure, jobs, chunksize=1)))
     lines = table(res)
