@@ -58,9 +58,10 @@ CASES = (
      tyre_id.TID_DEFAULTS["tid_ell_ax_min"]),
 )
 # The sigma-point filter of §15 (tyre_id_sckf.py; deterministic, no seed): (case, log, first
-# row, samples[, tid_ellipse, tid_ell_ax_min]): the start of the sine steer (the prior, the stiffness found),
-# the ramp steer from its straight run into the limit (the peak found, the bounds reached),
-# and brake in turn with the friction ellipse from its steady turn through the braking's start
+# row, samples[, tid_ellipse, tid_ell_ax_min]): the start of the sine steer (the prior, the
+# stiffness found), the ramp steer from its straight run into the limit (the peak found, the
+# bounds reached), and brake in turn with the friction ellipse (no dead band) from its steady
+# turn through the braking's start
 SCKF_CASES = (
     ("sine_sckf", "tyre_id/tid_sine_steer", 0, 200),
     ("ramp_sckf", "tyre_id/tid_ramp_steer_high_mu", 500, 200),

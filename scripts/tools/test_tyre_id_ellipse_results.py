@@ -1,7 +1,8 @@
 """tyre_id_ellipse_results.py on an excerpt: brake_in_turn.mf to 2.5 s (the braking starts at
-2 s), the SCKF without and with tid_ellipse (without and with its dead band). Its figures are the reference's own outputs at the
-named times, cy is the summed K over the summed static load, and the page's claim holds on the
-excerpt: without the ellipse the rear D collapses 0.4 s into the braking, with it it does not."""
+2 s), the SCKF without and with tid_ellipse (without and with its dead band). Its figures are
+the reference's own outputs at the named times, cy is the summed K over the summed static
+load, and the page's claim holds on the excerpt: without the ellipse the rear D collapses
+0.4 s into the braking, with it it does not."""
 
 import sys
 from pathlib import Path
