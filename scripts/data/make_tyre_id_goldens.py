@@ -42,25 +42,30 @@ from reference import philox, tyre_id, tyre_id_sckf  # noqa: E402
 from reference.logs import read_csv_log  # noqa: E402
 
 SEED = 7
-# (case, log under scenarios/, filter, resample, first row, samples[, tid_ellipse]): both
-# filters and both schemes, the start of a log (the prior, the first draws) and the middle of
-# a manoeuvre at the limit; and the friction ellipse (TYRE_ID.md §3.5) on brake in turn with
-# the Magic Formula truth, from just before its braking (t = 2 s) into it
+# (case, log under scenarios/, filter, resample, first row, samples[, tid_ellipse,
+# tid_ell_ax_min]): both filters and both schemes, the start of a log (the prior, the first
+# draws) and the middle of a manoeuvre at the limit; and the friction ellipse (TYRE_ID.md
+# §3.5) on brake in turn with the Magic Formula truth, from just before its braking (t = 2 s)
+# into it, without the dead band (0: the ellipse as first built, bit for bit) and with the
+# default's (|ax| crosses it about 0.05 s into the braking)
 CASES = (
     ("sine_apf_multinomial", "tyre_id/tid_sine_steer", "apf", "multinomial", 0, 25),
     ("ramp_apf_systematic", "tyre_id/tid_ramp_steer_high_mu", "apf", "systematic", 650, 25),
     ("dlc_sir_multinomial", "tyre_id/tid_dlc_high_mu", "sir", "multinomial", 150, 25),
     ("change_sir_systematic", "tyre_id/tid_tyre_change", "sir", "systematic", 790, 25),
-    ("brake_apf_ellipse", "brake_in_turn.mf", "apf", "multinomial", 190, 25, 1),
+    ("brake_apf_ellipse", "brake_in_turn.mf", "apf", "multinomial", 190, 25, 1, 0.0),
+    ("brake_apf_ellipse_band", "brake_in_turn.mf", "apf", "multinomial", 190, 25, 1,
+     tyre_id.TID_DEFAULTS["tid_ell_ax_min"]),
 )
 # The sigma-point filter of §15 (tyre_id_sckf.py; deterministic, no seed): (case, log, first
-# row, samples[, tid_ellipse]): the start of the sine steer (the prior, the stiffness found),
-# the ramp steer from its straight run into the limit (the peak found, the bounds reached),
-# and brake in turn with the friction ellipse from its steady turn through the braking's start
+# row, samples[, tid_ellipse, tid_ell_ax_min]): the start of the sine steer (the prior, the
+# stiffness found), the ramp steer from its straight run into the limit (the peak found, the
+# bounds reached), and brake in turn with the friction ellipse (no dead band) from its steady
+# turn through the braking's start
 SCKF_CASES = (
     ("sine_sckf", "tyre_id/tid_sine_steer", 0, 200),
     ("ramp_sckf", "tyre_id/tid_ramp_steer_high_mu", 500, 200),
-    ("brake_sckf_ellipse", "brake_in_turn.mf", 100, 200, 1),
+    ("brake_sckf_ellipse", "brake_in_turn.mf", 100, 200, 1, 0.0),
 )
 # (seed, c1, c2, first word, words) of the stream check
 STREAM = ((1, 0, 0, 0, 16), (7, 3, 1, 40, 12), (2 ** 64 - 1, 2 ** 40 + 5, 4, 1000, 8))
@@ -81,14 +86,18 @@ def table(out):
     return names, zip(*(out[k] for k in names))
 
 
-def ellipse_keys(ellipse):
-    """The keys a case sets beyond the defaults (tid_ellipse when on), and their metadata."""
-    return ({"tid_ellipse": 1.0}, [("tid_ellipse", 1)]) if ellipse else ({}, [])
+def ellipse_keys(ellipse, ax_min=0.0):
+    """The keys a case sets beyond the defaults (tid_ellipse and its dead band
+    tid_ell_ax_min when on), and their metadata."""
+    if not ellipse:
+        return {}, []
+    return ({"tid_ellipse": 1.0, "tid_ell_ax_min": float(ax_min)},
+            [("tid_ellipse", 1), ("tid_ell_ax_min", f"{ax_min:g}")])
 
 
-def golden(log, filt, scheme, start, count, n, ellipse=0):
+def golden(log, filt, scheme, start, count, n, ellipse=0, ax_min=0.0):
     cols = samples(log, start, count)
-    extra, extra_meta = ellipse_keys(ellipse)
+    extra, extra_meta = ellipse_keys(ellipse, ax_min)
     params = {"tid_n": float(n), "tid_filter": filt, "tid_resample": scheme, **extra}
     out = tyre_id.run(cols, params, seed=SEED, backend="libm")
     meta = [("source", f"scenarios/{log}.csv"), ("generator", "scripts/reference/tyre_id.py"),
@@ -98,9 +107,9 @@ def golden(log, filt, scheme, start, count, n, ellipse=0):
     return (meta,) + table(out)
 
 
-def golden_sckf(log, start, count, ellipse=0):
+def golden_sckf(log, start, count, ellipse=0, ax_min=0.0):
     cols = samples(log, start, count)
-    extra, extra_meta = ellipse_keys(ellipse)
+    extra, extra_meta = ellipse_keys(ellipse, ax_min)
     out = tyre_id_sckf.run(cols, extra, backend="libm")  # tid_filter does not apply (§15.1)
     meta = [("source", f"scenarios/{log}.csv"),
             ("generator", "scripts/reference/tyre_id_sckf.py"), ("backend", "libm"),

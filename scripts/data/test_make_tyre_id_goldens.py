@@ -58,6 +58,22 @@ def test_committed_ellipse_golden_is_what_the_reference_writes(tmp_path, monkeyp
     assert "# tid_ellipse = 1\n" in text
 
 
+# REQ-TID-009
+def test_ellipse_goldens_say_their_dead_band():
+    """The goldens of the ellipse as first built set tid_ell_ax_min 0 (their rows unchanged by
+    the key); the band's golden the default, and the band changes its rows (|ax| crosses it
+    within the excerpt)."""
+    first = _read(os.path.join(GOLDEN, "brake_apf_ellipse.csv"))
+    band = _read(os.path.join(GOLDEN, "brake_apf_ellipse_band.csv"))
+    assert "# tid_ell_ax_min = 0\n" in first
+    assert "# tid_ell_ax_min = 0\n" in _read(os.path.join(GOLDEN, "brake_sckf_ellipse.csv"))
+    assert "# tid_ell_ax_min = 0.6\n" in band
+    rows = [ln for ln in first.splitlines() if not ln.startswith("#")]
+    rows_band = [ln for ln in band.splitlines() if not ln.startswith("#")]
+    assert rows[0] == rows_band[0] and len(rows) == len(rows_band)
+    assert rows[1:] != rows_band[1:]
+
+
 def test_every_sckf_case_has_a_committed_golden():
     for case, *_ in gen.SCKF_CASES:
         assert os.path.isfile(os.path.join(GOLDEN, case + ".csv")), case

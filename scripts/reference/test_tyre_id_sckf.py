@@ -228,3 +228,45 @@ def test_ellipse_keeps_the_rear_peak_under_braking():
     assert on["D_r"][-1] > 0.9 * on["D_r"][k19]
     # before the braking (|ax| small) the two runs agree to within 2 % of D
     assert abs(on["D_r"][k19] - off["D_r"][k19]) < 0.02 * off["D_r"][k19]
+
+
+def test_ellipse_dead_band_takes_ax_as_zero():
+    """§3.5 the dead band tid_ell_ax_min: below it ax is taken as 0, so lam = Fz0 / Fz0 = 1 and
+    rho = 0 and both factors are exactly 1 (the lateral-only forces bit for bit); at its edge
+    and beyond, and at every ax with the band 0, the factor of the ellipse as first built."""
+    p = dict(T.VEHICLE_DEFAULTS)
+    p.update(T.TID_DEFAULTS)
+    p["tid_ellipse"] = 1.0
+    assert p["tid_ell_ax_min"] == 0.6                 # the default (TYRE_ID.md §2)
+    band = T._Model(p, T.NUMPY)
+    none = T._Model(dict(p, tid_ell_ax_min=0.0), T.NUMPY)
+    la = p["Lf"] + p["Lr"]
+    th = np.zeros((1, 8))
+    th[0, 0] = 0.7 * p["m"] * p["g"] * p["Lr"] / la
+    th[0, 4] = 0.7 * p["m"] * p["g"] * p["Lf"] / la
+    for ax in (0.4, -0.4, -0.599):
+        assert all((s == 1.0).all() for s in band.scales(th, ax))
+        # the load alone moves each factor by G |ax| / Fz0: over 0.5 % here, not 1
+        assert all(abs(s[0] - 1.0) > 5e-3 for s in none.scales(th, ax))
+    for ax in (-0.6, 0.6, -2.0):
+        assert all((a == b).all() for a, b in zip(band.scales(th, ax), none.scales(th, ax)))
+
+
+def test_ellipse_dead_band_leaves_a_log_without_braking_untouched():
+    """tid_sine_steer (|ax| at most 0.25 m/s^2, below the default band 0.6): the SCKF with the
+    ellipse and the band identifies bit for bit what it identifies without the ellipse (the
+    curve the feed would take); without the band the ellipse moves it (the load transfer of
+    the drag and the noise in ax)."""
+    from .logs import read_csv_log
+    import os
+    path = os.path.join(os.path.dirname(__file__), "..", "..", "scenarios", "tyre_id",
+                        "tid_sine_steer.csv")
+    c = read_csv_log(path).columns
+    assert np.max(np.abs(c["ax"])) < T.TID_DEFAULTS["tid_ell_ax_min"]
+    n = 300
+    off = S.run(c, {}, n_steps=n)
+    band = S.run(c, {"tid_ellipse": 1.0}, n_steps=n)
+    none = S.run(c, {"tid_ellipse": 1.0, "tid_ell_ax_min": 0.0}, n_steps=n)
+    for k in ("K_f", "K_r", "D_f", "D_r", "C_f", "E_f", "Fy_f", "Fy_r", "beta"):
+        assert (band[k] == off[k]).all(), k
+    assert not (none["K_f"] == off["K_f"]).all()

@@ -68,6 +68,7 @@ TID_DEFAULTS: dict[str, float] = {
     "tid_ellipse": 0.0,       # 1: the axle forces under ax (load and friction ellipse, §3.5); 0: off
     "tid_fx_front": 0.625,    # §3.5 the front axle's share of m ax
     "tid_ell_min": 0.1,       # §3.5 the smallest factor the ellipse leaves of a lateral force
+    "tid_ell_ax_min": 0.6,    # §3.5 m/s^2: below this |ax| the ellipse takes ax as 0 (0: none)
 }
 TID_CHOICES = {"tid_filter": ("apf", "sir"),
                "tid_resample": ("multinomial", "systematic")}  # first of each: the default
@@ -156,6 +157,7 @@ class _Model:
         self.gx = p["m"] * p["hg"] / La
         self.kxm = (p["tid_fx_front"] * p["m"], (1.0 - p["tid_fx_front"]) * p["m"])
         self.u_max = 1.0 - p["tid_ell_min"] * p["tid_ell_min"]
+        self.ax_min = p["tid_ell_ax_min"]
 
     def scales(self, th, ax):
         """§3.5 (s_f, s_r): the factor of each axle's pure-slip force under ax, the load's
@@ -163,6 +165,8 @@ class _Model:
         rho = Fx / (lam D), Fx the axle's share of m ax; None when tid_ellipse is off."""
         if not self.ell:
             return None
+        if abs(ax) < self.ax_min:
+            ax = 0.0  # the dead band: lam = 1 and rho = 0 exactly, the factor 1
         lam = ((self.fz0[0] - self.gx * ax) / self.fz0[0],
                (self.fz0[1] + self.gx * ax) / self.fz0[1])
         out = []

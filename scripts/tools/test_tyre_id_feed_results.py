@@ -152,10 +152,24 @@ def test_ellipse_columns_pair_each_feed_without_and_with_the_ellipse():
     pairs = fr.ellipse_columns()
     assert len(pairs) == 2 * len(fr.FILTERS) * len(fr.HOLD_FEEDS)
     for flt, letter, before, after in pairs:
-        assert len(after) == 4 and after[3] == 1.0 and after[:2] == before[:2]
+        assert len(after) == 5 and after[3] == 1.0 and after[:2] == before[:2]
         assert after[2] == (before[2] if len(before) > 2 else None)
-    assert fr.label((0.05, 0.0, None, 1.0), "S") == "S0.05 E"
-    assert fr.label((0.05, 0.0, 0.0, 1.0), "S") == "S0.05 a0 E"
+        assert after[4] == 0.0                       # the ellipse without its dead band
+    assert fr.label((0.05, 0.0, None, 1.0, 0.0), "S") == "S0.05 E"
+    assert fr.label((0.05, 0.0, 0.0, 1.0, 0.0), "S") == "S0.05 a0 E"
+
+
+def test_band_columns_are_the_ellipse_columns_at_the_default_band():
+    """The fourth table: the same pairs with tid_ell_ax_min at the key's default (the
+    reference's TID_DEFAULTS, the C library's rfe_tyre_id_params_default), named EbX."""
+    sys.path.insert(0, str(Path(fr.ROOT) / "scripts"))
+    from reference import tyre_id as T
+    assert fr.BAND == T.TID_DEFAULTS["tid_ell_ax_min"] > 0
+    pairs = fr.ellipse_columns(fr.BAND)
+    assert [p[:3] for p in pairs] == [p[:3] for p in fr.ellipse_columns()]
+    assert all(p[3][4] == fr.BAND and p[3][:4] == q[3][:4]
+               for p, q in zip(pairs, fr.ellipse_columns()))
+    assert fr.label((0.1, 0.0, 0.0, 1.0, 0.6), "A") == "A0.1 a0 Eb0.6"
 
 
 def test_run_writes_the_ellipse_and_leaves_the_held_default(tmp_path):
@@ -165,5 +179,8 @@ def test_run_writes_the_ellipse_and_leaves_the_held_default(tmp_path):
     lines = par.read_text().splitlines()
     assert "tid_ellipse = 1.0" in lines
     assert not any(x.startswith("tid_feed_ax_max") for x in lines)   # the key's default
+    assert not any(x.startswith("tid_ell_ax_min") for x in lines)    # the band's default
+    fr.run(exe, "scenarios/brake_in_turn.mf.csv", "sckf", (0.1, 0.0, None, 1.0, 0.0))
+    assert "tid_ell_ax_min = 0.0" in par.read_text().splitlines()
     fr.run(exe, "scenarios/brake_in_turn.mf.csv", "sckf", (0.1, 0.0, 0.0))
     assert not any(x.startswith("tid_ellipse") for x in par.read_text().splitlines())

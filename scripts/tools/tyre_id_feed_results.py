@@ -36,9 +36,13 @@ the run without it ("helps" / "hurts" as above with the unheld run as the base).
 A third table, the friction ellipse (docs/TYRE_ID.md section 3.5), sets tid_ellipse = 1 on
 each filter's ungated feeds of HOLD_FEEDS, once with the hold at its default and once without
 it (tid_feed_ax_max 0), against the same feed without the ellipse (before -> after), with the
-same rules, and per log the verdict of the ellipse against the run without it.
+same rules, and per log the verdict of the ellipse against the run without it. Those runs
+set tid_ell_ax_min = 0: the ellipse as first built, without its dead band.
+A fourth table does the same with the ellipse's dead band at its default (tid_ell_ax_min
+BAND: below that |ax| the ellipse takes ax as 0, TYRE_ID.md section 3.5).
 With --page the tables go between <!-- tyre-feed:begin/end -->,
-<!-- tyre-feed-hold:begin/end --> and <!-- tyre-feed-ellipse:begin/end --> of the page.
+<!-- tyre-feed-hold:begin/end -->, <!-- tyre-feed-ellipse:begin/end --> and
+<!-- tyre-feed-band:begin/end --> of the page.
 """
 
 import argparse
@@ -70,15 +74,19 @@ CONS_TARGET = 0.9  # issue 20: consistency when valid at least this
 HOLD_FEEDS = ((0.05, 0.0), (0.1, 0.0))  # the feeds of the before -> after table
 HOLD_OFF = 0.0  # tid_feed_ax_max of the "before" runs: no hold
 ELLIPSE_ON = 1.0  # tid_ellipse of the ellipse table's "after" runs (TYRE_ID.md section 3.5)
+NO_BAND = 0.0  # tid_ell_ax_min of the third table's runs: the ellipse without its dead band
+BAND = 0.6  # tid_ell_ax_min of the fourth table's runs: the key's default (TYRE_ID.md section 2)
 
 
 def label(feed, letter=""):
     """The column label of a feed: the filter's letter, its tid_feed_sd_rel, the evidence
     asked for, tid_feed_ax_max when the feed sets it (a third entry not None; else the
-    default), and " E" when it sets tid_ellipse (a fourth entry)."""
+    default), " E" when it sets tid_ellipse (a fourth entry), and "bX" after it when it sets
+    the ellipse's dead band tid_ell_ax_min X > 0 (a fifth entry)."""
     return (f"{letter}{feed[0]:g}" + (f" e{feed[1]:g}" if feed[1] > 0 else "")
             + (f" a{feed[2]:g}" if len(feed) > 2 and feed[2] is not None else "")
-            + (" E" if len(feed) > 3 and feed[3] else ""))
+            + (" E" if len(feed) > 3 and feed[3] else "")
+            + (f"b{feed[4]:g}" if len(feed) > 4 and feed[4] else ""))
 
 
 def columns():
@@ -98,8 +106,9 @@ def logs():
 def run(exe, log, flt, feed):
     """(RMSE when valid, consistency when valid, valid share, share fed) of one run; flt the
     --tyre-id filter, feed (tid_feed_sd_rel, tid_feed_evidence[, tid_feed_ax_max[,
-    tid_ellipse]]; without the third, or None, the key's default; without the fourth the
-    ellipse's default, off), None: without the identifier."""
+    tid_ellipse[, tid_ell_ax_min]]]; without the third, or None, the key's default; without
+    the fourth the ellipse's default, off; without the fifth the dead band's default), None:
+    without the identifier."""
     with tempfile.TemporaryDirectory() as tmp:
         js = os.path.join(tmp, "m.json")
         args = [exe, "--in", os.path.join(ROOT, log), "--out", os.path.join(tmp, "e.csv"),
@@ -112,6 +121,8 @@ def run(exe, log, flt, feed):
                     fh.write(f"tid_feed_ax_max = {feed[2]!r}\n")
                 if len(feed) > 3:
                     fh.write(f"tid_ellipse = {feed[3]!r}\n")
+                if len(feed) > 4:
+                    fh.write(f"tid_ell_ax_min = {feed[4]!r}\n")
             args += ["--tyre-id", flt, "--params", par]
         r = subprocess.run(args, capture_output=True, text=True, check=False)
         if r.returncode != 0:
@@ -153,23 +164,28 @@ def hold_columns():
             for f in HOLD_FEEDS]
 
 
-def ellipse_columns():
+def ellipse_columns(band=NO_BAND):
     """The ellipse table's pairs: (filter, letter, feed without the ellipse, the same feed with
-    tid_ellipse on), each filter of FILTERS with each feed of HOLD_FEEDS, held at the default
-    (the main table's run the base) and without the hold."""
+    tid_ellipse on and the dead band @p band), each filter of FILTERS with each feed of
+    HOLD_FEEDS, held at the default (the main table's run the base) and without the hold."""
     out = []
     for flt, letter in FILTERS:
         for f in HOLD_FEEDS:
-            out.append((flt, letter, f, (f[0], f[1], None, ELLIPSE_ON)))
-            out.append((flt, letter, (f[0], f[1], HOLD_OFF), (f[0], f[1], HOLD_OFF, ELLIPSE_ON)))
+            out.append((flt, letter, f, (f[0], f[1], None, ELLIPSE_ON, band)))
+            out.append((flt, letter, (f[0], f[1], HOLD_OFF),
+                        (f[0], f[1], HOLD_OFF, ELLIPSE_ON, band)))
     return out
 
 
 HOLD_WORDS = (f"tid_feed_ax_max {HOLD_OFF:g} (no hold, aX: its value) → the default",
               "the hold", "no hold")  # the hold table's: before -> after, the change, its base
 ELLIPSE_WORDS = ("the feed without the friction ellipse (tid_ellipse 0) → with it (E: "
-                 "tid_ellipse 1), held at the default or not (aX: tid_feed_ax_max X)",
-                 "the ellipse", "no ellipse")
+                 "tid_ellipse 1, tid_ell_ax_min 0: no dead band), held at the default or not "
+                 "(aX: tid_feed_ax_max X)", "the ellipse", "no ellipse")
+BAND_WORDS = ("the feed without the friction ellipse (tid_ellipse 0) → with it and its dead "
+              f"band (EbX: tid_ellipse 1, tid_ell_ax_min X, the default {BAND:g} m/s²), held at "
+              "the default or not (aX: tid_feed_ax_max X)", "the ellipse with its band",
+              "no ellipse")
 
 
 def hold_table(names, res, pairs=None, words=HOLD_WORDS):
@@ -233,6 +249,7 @@ def main():
                                                    for c in cols]
     jobs += [(log, p[0], p[2]) for log in names for p in hold_columns()]
     jobs += [(log, p[0], p[3]) for log in names for p in ellipse_columns()]
+    jobs += [(log, p[0], p[3]) for log in names for p in ellipse_columns(BAND)]
     done = [0]
 
     def one(job):
@@ -287,6 +304,8 @@ def main():
     print("\n".join(held))
     ell = hold_table(names, res, ellipse_columns(), ELLIPSE_WORDS)
     print("\n".join(ell))
+    band = hold_table(names, res, ellipse_columns(BAND), BAND_WORDS)
+    print("\n".join(band))
     if a.page:
         replace_region(Path(a.page), "<!-- tyre-feed:begin -->", "<!-- tyre-feed:end -->",
                        text.splitlines(), "tyre_id_feed_results")
@@ -294,6 +313,8 @@ def main():
                        "<!-- tyre-feed-hold:end -->", held, "tyre_id_feed_results")
         replace_region(Path(a.page), "<!-- tyre-feed-ellipse:begin -->",
                        "<!-- tyre-feed-ellipse:end -->", ell, "tyre_id_feed_results")
+        replace_region(Path(a.page), "<!-- tyre-feed-band:begin -->",
+                       "<!-- tyre-feed-band:end -->", band, "tyre_id_feed_results")
 
 
 if __name__ == "__main__":

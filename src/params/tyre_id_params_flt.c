@@ -46,6 +46,7 @@ rfe_status_t rfe_tyre_id_params_default(rfe_tyre_id_params_t *p)
     p->ellipse = RFE_R(0.0);
     p->fx_front = RFE_R(0.625);
     p->ell_min = RFE_R(0.1);
+    p->ell_ax_min = RFE_R(0.6);
     return RFE_OK;
 }
 
@@ -75,12 +76,13 @@ static int reals_ok(const rfe_tyre_id_params_t *p)
 }
 
 /* The friction ellipse's keys (§3.5): the switch 0 or 1, the front share in [0, 1], the
- * factor's floor in (0, 1]. */
+ * factor's floor in (0, 1], the dead band in [0, 20] m/s^2 (2 g: no car brakes harder). */
 static int ellipse_ok(const rfe_tyre_id_params_t *p)
 {
     return (((p->ellipse == RFE_R(0.0)) || (p->ellipse == RFE_R(1.0))) &&
             (p->fx_front >= RFE_R(0.0)) && (p->fx_front <= RFE_R(1.0)) &&
-            (p->ell_min > RFE_R(0.0)) && (p->ell_min <= RFE_R(1.0)))
+            (p->ell_min > RFE_R(0.0)) && (p->ell_min <= RFE_R(1.0)) &&
+            (p->ell_ax_min >= RFE_R(0.0)) && (p->ell_ax_min <= RFE_R(20.0)))
                ? 1
                : 0;
 }

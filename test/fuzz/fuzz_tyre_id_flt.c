@@ -267,7 +267,7 @@ static void check_bounds(const rfe_tyre_id_t *t, const rfe_tyre_id_params_t *tp,
     }
 }
 
-#define TP_REAL 31
+#define TP_REAL 32
 #define VEH_REAL 10
 
 static void tp_fields(rfe_tyre_id_params_t *p, rfe_real_t *real[TP_REAL])
@@ -277,7 +277,7 @@ static void tp_fields(rfe_tyre_id_params_t *p, rfe_real_t *real[TP_REAL])
         &p->q_mu,   &p->q_C,    &p->q_cy,   &p->q_E,    &p->mu0,        &p->sd0_mu, &p->sd0_C,
         &p->sd0_E,  &p->sd0_cy_rel, &p->sd0_vy, &p->sd0_r, &p->mu_lo,   &p->mu_hi,  &p->C_lo,
         &p->C_hi,   &p->cy_lo,  &p->cy_hi,  &p->E_lo,   &p->E_hi,       &p->neff_frac,
-        &p->rough_k, &p->ellipse, &p->fx_front, &p->ell_min};
+        &p->rough_k, &p->ellipse, &p->fx_front, &p->ell_min, &p->ell_ax_min};
     memcpy(real, r, sizeof r);
 }
 

@@ -73,7 +73,8 @@ static rfe_real_t axle_scale(rfe_real_t lam, rfe_real_t kxm, rfe_real_t ax, rfe_
 
 /* §3.5 the factors (s_f, s_r) of the axle forces of parameters th at ax: 1 and 1 without the
  * ellipse (the caller then leaves the forces as they are, so the lateral-only model stays bit
- * for bit). Returns 1 when the ellipse is on. */
+ * for bit). Below the dead band ell_ax_min ax is taken as 0: lam = Fz0 / Fz0 = 1 and rho = 0,
+ * so each factor is exactly 1. Returns 1 when the ellipse is on. */
 static int scales(const rfe_tyre_id_t *tid, const rfe_real_t *th, rfe_real_t ax,
                   rfe_real_t *s_f, rfe_real_t *s_r)
 {
@@ -82,11 +83,12 @@ static int scales(const rfe_tyre_id_t *tid, const rfe_real_t *th, rfe_real_t ax,
     *s_f = RFE_R(1.0);
     *s_r = RFE_R(1.0);
     if (tid->p.ellipse != RFE_R(0.0)) {
-        /* lam_f = (Fz0_f - G ax) / Fz0_f, lam_r = (Fz0_r + G ax) / Fz0_r */
-        const rfe_real_t lam_f = (c->fz0[0] - (c->gx * ax)) / c->fz0[0];
-        const rfe_real_t lam_r = (c->fz0[1] + (c->gx * ax)) / c->fz0[1];
-        *s_f = axle_scale(lam_f, c->kxm[0], ax, th[0], c->u_max);
-        *s_r = axle_scale(lam_r, c->kxm[1], ax, th[RFE_TID_D_R - RFE_TID_STATES], c->u_max);
+        const rfe_real_t a = (RFE_FABS(ax) < tid->p.ell_ax_min) ? RFE_R(0.0) : ax;
+        /* lam_f = (Fz0_f - G a) / Fz0_f, lam_r = (Fz0_r + G a) / Fz0_r */
+        const rfe_real_t lam_f = (c->fz0[0] - (c->gx * a)) / c->fz0[0];
+        const rfe_real_t lam_r = (c->fz0[1] + (c->gx * a)) / c->fz0[1];
+        *s_f = axle_scale(lam_f, c->kxm[0], a, th[0], c->u_max);
+        *s_r = axle_scale(lam_r, c->kxm[1], a, th[RFE_TID_D_R - RFE_TID_STATES], c->u_max);
         on = 1;
     }
     return on;

@@ -163,11 +163,13 @@ static void test_ellipse_params(void **state)
     const rfe_real_t bad_switch[] = {(rfe_real_t)0.5, -1, 2, (rfe_real_t)NAN, (rfe_real_t)INFINITY};
     const rfe_real_t bad_share[] = {(rfe_real_t)-0.01, (rfe_real_t)1.01, (rfe_real_t)NAN};
     const rfe_real_t bad_floor[] = {0, (rfe_real_t)-0.1, (rfe_real_t)1.01, (rfe_real_t)NAN};
+    const rfe_real_t bad_band[] = {(rfe_real_t)-0.01, (rfe_real_t)20.01, (rfe_real_t)NAN,
+                                   (rfe_real_t)INFINITY};
     size_t i;
     (void)state;
     setup_defaults(&veh, &tp);
     assert_true(tp.ellipse == 0 && tp.fx_front == (rfe_real_t)0.625 &&
-                tp.ell_min == (rfe_real_t)0.1);
+                tp.ell_min == (rfe_real_t)0.1 && tp.ell_ax_min == (rfe_real_t)0.6);
     memset(&tid, 0x5A, sizeof(tid));
     before = tid;
     for (i = 0u; i < sizeof(bad_switch) / sizeof(bad_switch[0]); ++i) {
@@ -190,16 +192,26 @@ static void test_ellipse_params(void **state)
         assert_int_equal(rfe_tyre_id_params_validate(&q), RFE_ERR_PARAM);
         assert_int_equal(rfe_tyre_id_init(&tid, &q, &veh, 1u), RFE_ERR_PARAM);
     }
+    for (i = 0u; i < sizeof(bad_band) / sizeof(bad_band[0]); ++i) {
+        q = tp;
+        q.ellipse = 1;
+        q.ell_ax_min = bad_band[i];
+        assert_int_equal(rfe_tyre_id_params_validate(&q), RFE_ERR_PARAM);
+        assert_int_equal(rfe_tyre_id_init(&tid, &q, &veh, 1u), RFE_ERR_PARAM);
+    }
     assert_memory_equal(&tid, &before, sizeof(tid));
     /* the ends of each range are valid */
     q = tp;
     q.ellipse = 1;
     q.fx_front = 0;
     q.ell_min = 1;
+    q.ell_ax_min = 0;
     assert_int_equal(rfe_tyre_id_params_validate(&q), RFE_OK);
     q.fx_front = 1;
+    q.ell_ax_min = 20;
     assert_int_equal(rfe_tyre_id_params_validate(&q), RFE_OK);
 }
+
 
 /* §3.5 the factor of an axle's pure-slip force, from the page, in double: lam sqrt(1 -
  * min(rho^2, 1 - ell_min^2)), rho = (share m ax) / (lam D), lam = load / static load. */
@@ -282,6 +294,77 @@ static void test_ellipse_scales_the_axle_forces(void **state)
     }
 }
 
+/* REQ-TID-009: the ellipse's dead band (§3.5): below tid_ell_ax_min ax is taken as 0, so each
+ * axle's force is the lateral-only model's bit for bit (the factor is exactly 1: lam = Fz0 /
+ * Fz0, rho = 0); at and above it, and at every ax with the band 0, the factor of §3.5 (an
+ * ax inside the default band moves the forces by the load: |1 - lam| = G |ax| / Fz0, 1.3 %
+ * of the front's at 0.4 m/s^2, far above TOL_ELL). The sigma-point filter's first sample as
+ * in test_ellipse_scales_the_axle_forces (every point has D = mu0 Fz0). */
+static void test_ellipse_dead_band(void **state)
+{
+    static rfe_tyre_id_t off;
+    const rfe_real_t axs[4] = {(rfe_real_t)-0.4, (rfe_real_t)0.4, (rfe_real_t)-0.6,
+                               (rfe_real_t)-1.0};
+    rfe_params_t veh;
+    rfe_tyre_id_params_t tp;
+    rfe_tyre_id_params_t tp_band;
+    rfe_tyre_id_params_t tp_none;
+    rfe_tyre_id_estimate_t e_off;
+    rfe_tyre_id_estimate_t e_band;
+    rfe_tyre_id_estimate_t e_none;
+    static rfe_tyre_id_t none;
+    double m;
+    double la;
+    double fz0[2];
+    double g_x;
+    size_t i;
+    (void)state;
+    setup_defaults(&veh, &tp);
+    tp.filter = RFE_TID_SCKF;
+    tp.sd0_mu = 0;
+    tp_band = tp;
+    tp_band.ellipse = 1;     /* the default band, 0.6 m/s^2 */
+    tp_none = tp_band;
+    tp_none.ell_ax_min = 0;  /* no band: the ellipse as first built */
+    m = (double)veh.vehicle.m;
+    la = (double)veh.vehicle.Lf + (double)veh.vehicle.Lr;
+    fz0[0] = m * (double)veh.vehicle.g * (double)veh.vehicle.Lr / la;
+    fz0[1] = m * (double)veh.vehicle.g * (double)veh.vehicle.Lf / la;
+    g_x = m * (double)veh.vehicle.hg / la;
+    for (i = 0u; i < 4u; ++i) {
+        rfe_tyre_id_sample_t s = sample(0, (rfe_real_t)0.02, 20, (rfe_real_t)0.05, 1);
+        const double ax = (double)axs[i];
+        const double mu0 = (double)tp.mu0;
+        const double k_f = ellipse_factor(fz0[0], fz0[0] - g_x * ax, (double)tp.fx_front * m,
+                                          ax, mu0 * fz0[0], (double)tp.ell_min);
+        const double k_r = ellipse_factor(fz0[1], fz0[1] + g_x * ax,
+                                          (1.0 - (double)tp.fx_front) * m, ax, mu0 * fz0[1],
+                                          (double)tp.ell_min);
+        s.ax = axs[i];
+        assert_int_equal(rfe_tyre_id_init(&off, &tp, &veh, 1u), RFE_OK);
+        assert_int_equal(rfe_tyre_id_init(&tid, &tp_band, &veh, 1u), RFE_OK);
+        assert_int_equal(rfe_tyre_id_init(&none, &tp_none, &veh, 1u), RFE_OK);
+        assert_int_equal(rfe_tyre_id_step(&off, &s, &e_off), RFE_OK);
+        assert_int_equal(rfe_tyre_id_step(&tid, &s, &e_band), RFE_OK);
+        assert_int_equal(rfe_tyre_id_step(&none, &s, &e_none), RFE_OK);
+        /* without the band the factor acts at every ax, and it is not 1 here */
+        assert_true(fabs(k_f - 1.0) > 1e-3 && fabs(k_r - 1.0) > 1e-3);
+        assert_close(e_none.mean[RFE_TID_OUT_FY_F], k_f * (double)e_off.mean[RFE_TID_OUT_FY_F],
+                     0.0, TOL_ELL, "Fy_f none");
+        assert_close(e_none.mean[RFE_TID_OUT_FY_R], k_r * (double)e_off.mean[RFE_TID_OUT_FY_R],
+                     0.0, TOL_ELL, "Fy_r none");
+        if (i < 2u) {
+            /* inside the band: the lateral-only forces, bit for bit */
+            assert_true(e_band.mean[RFE_TID_OUT_FY_F] == e_off.mean[RFE_TID_OUT_FY_F]);
+            assert_true(e_band.mean[RFE_TID_OUT_FY_R] == e_off.mean[RFE_TID_OUT_FY_R]);
+        } else {
+            /* on its edge (|ax| < 0.6 is false) and beyond: as without the band */
+            assert_true(e_band.mean[RFE_TID_OUT_FY_F] == e_none.mean[RFE_TID_OUT_FY_F]);
+            assert_true(e_band.mean[RFE_TID_OUT_FY_R] == e_none.mean[RFE_TID_OUT_FY_R]);
+        }
+    }
+}
+
 /* REQ-TID-003: the init writes nothing when it refuses. */
 static void test_init_refusals_write_nothing(void **state)
 {
@@ -315,12 +398,14 @@ static void test_init_refusals_write_nothing(void **state)
     assert_int_equal(rfe_tyre_id_init(&tid, &bad, &veh, 1u), RFE_ERR_PARAM);
     assert_memory_equal(&tid, &before, sizeof(tid));
     /* the memory statement of rfe/config.h: 26 reals and three 16-bit indices per particle,
-     * the sigma-point filter's 728 reals (rfe_tid_sckf_t) and less than 1 kB besides */
+     * the sigma-point filter's 728 reals (rfe_tid_sckf_t) and less than 1.5 kB besides (the
+     * parameters, 35 reals, the constants and the last estimate: 1,024 B in double, 536 B in
+     * float since tid_ell_ax_min) */
     assert_int_equal(sizeof(rfe_tid_sckf_t), 728u * sizeof(rfe_real_t));
     assert_true(sizeof(rfe_tyre_id_t) >= (size_t)RFE_TID_N * (26u * sizeof(rfe_real_t) + 6u) +
                                              sizeof(rfe_tid_sckf_t));
     assert_true(sizeof(rfe_tyre_id_t) < (size_t)RFE_TID_N * (26u * sizeof(rfe_real_t) + 6u) +
-                                            sizeof(rfe_tid_sckf_t) + 1024u);
+                                            sizeof(rfe_tid_sckf_t) + 1536u);
 }
 
 /* REQ-TID-003: every refused step of filter f leaves the state bit for bit as it was and
@@ -1144,6 +1229,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_params_defaults_and_validation),
         cmocka_unit_test(test_ellipse_params),
+        cmocka_unit_test(test_ellipse_dead_band),
         cmocka_unit_test(test_ellipse_scales_the_axle_forces),
         cmocka_unit_test(test_init_refusals_write_nothing),
         cmocka_unit_test(test_step_refusals_leave_the_state_untouched),

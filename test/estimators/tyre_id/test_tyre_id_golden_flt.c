@@ -86,16 +86,18 @@ typedef struct {
     rfe_tid_filter_t filter;
     rfe_tid_resample_t scheme;
     int ellipse;     /* tid_ellipse (TYRE_ID.md §3.5) */
+    double ax_min;   /* tid_ell_ax_min with the ellipse (its golden's metadata) */
 } golden_case_t;
 
 /* make_tyre_id_goldens.py CASES (the first row and the count are in each file's metadata
  * and its t column) */
 static const golden_case_t CASES[] = {
-    {"sine_apf_multinomial", "tyre_id/tid_sine_steer", RFE_TID_APF, RFE_TID_MULTINOMIAL, 0},
-    {"ramp_apf_systematic", "tyre_id/tid_ramp_steer_high_mu", RFE_TID_APF, RFE_TID_SYSTEMATIC, 0},
-    {"dlc_sir_multinomial", "tyre_id/tid_dlc_high_mu", RFE_TID_SIR, RFE_TID_MULTINOMIAL, 0},
-    {"change_sir_systematic", "tyre_id/tid_tyre_change", RFE_TID_SIR, RFE_TID_SYSTEMATIC, 0},
-    {"brake_apf_ellipse", "brake_in_turn.mf", RFE_TID_APF, RFE_TID_MULTINOMIAL, 1},
+    {"sine_apf_multinomial", "tyre_id/tid_sine_steer", RFE_TID_APF, RFE_TID_MULTINOMIAL, 0, 0.0},
+    {"ramp_apf_systematic", "tyre_id/tid_ramp_steer_high_mu", RFE_TID_APF, RFE_TID_SYSTEMATIC, 0, 0.0},
+    {"dlc_sir_multinomial", "tyre_id/tid_dlc_high_mu", RFE_TID_SIR, RFE_TID_MULTINOMIAL, 0, 0.0},
+    {"change_sir_systematic", "tyre_id/tid_tyre_change", RFE_TID_SIR, RFE_TID_SYSTEMATIC, 0, 0.0},
+    {"brake_apf_ellipse", "brake_in_turn.mf", RFE_TID_APF, RFE_TID_MULTINOMIAL, 1, 0.0},
+    {"brake_apf_ellipse_band", "brake_in_turn.mf", RFE_TID_APF, RFE_TID_MULTINOMIAL, 1, 0.6},
 };
 
 /* The reference's OUTPUT_NAMES, in the order of RFE_TID_OUT_*. */
@@ -139,6 +141,9 @@ static size_t open_case(const golden_case_t *c, rfe_sensor_log_t *log, test_tabl
     tp.filter = c->filter;
     tp.resample = c->scheme;
     tp.ellipse = (c->ellipse != 0) ? (rfe_real_t)1 : (rfe_real_t)0;
+    if (c->ellipse != 0) {
+        tp.ell_ax_min = (rfe_real_t)c->ax_min;
+    }
     assert_int_equal(rfe_tyre_id_init(&tid, &tp, &veh, SEED), RFE_OK);
     return first_row(log, test_table_get(g, 0u, "t"));
 }
@@ -226,9 +231,9 @@ static void run_case(const golden_case_t *c)
 
 /* make_tyre_id_goldens.py SCKF_CASES */
 static const golden_case_t SCKF_CASES[] = {
-    {"sine_sckf", "tyre_id/tid_sine_steer", RFE_TID_SCKF, RFE_TID_MULTINOMIAL, 0},
-    {"ramp_sckf", "tyre_id/tid_ramp_steer_high_mu", RFE_TID_SCKF, RFE_TID_MULTINOMIAL, 0},
-    {"brake_sckf_ellipse", "brake_in_turn.mf", RFE_TID_SCKF, RFE_TID_MULTINOMIAL, 1},
+    {"sine_sckf", "tyre_id/tid_sine_steer", RFE_TID_SCKF, RFE_TID_MULTINOMIAL, 0, 0.0},
+    {"ramp_sckf", "tyre_id/tid_ramp_steer_high_mu", RFE_TID_SCKF, RFE_TID_MULTINOMIAL, 0, 0.0},
+    {"brake_sckf_ellipse", "brake_in_turn.mf", RFE_TID_SCKF, RFE_TID_MULTINOMIAL, 1, 0.0},
 };
 
 /* |a - b| in units of (|b| + sd_b): the rounding of a quantity and of its spread */
@@ -310,6 +315,13 @@ static void test_apf_ellipse_golden(void **state)
     run_case(&CASES[4]);
 }
 
+/* REQ-TID-002 REQ-TID-009: the ellipse with its default dead band, |ax| crossing it */
+static void test_apf_ellipse_band_golden(void **state)
+{
+    (void)state;
+    run_case(&CASES[5]);
+}
+
 /* REQ-TID-002 */
 static void test_apf_multinomial_golden(void **state)
 {
@@ -349,6 +361,7 @@ int main(void)
         cmocka_unit_test(test_sckf_ramp_golden),
         cmocka_unit_test(test_sckf_ellipse_golden),
         cmocka_unit_test(test_apf_ellipse_golden),
+        cmocka_unit_test(test_apf_ellipse_band_golden),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
