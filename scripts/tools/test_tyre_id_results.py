@@ -32,3 +32,61 @@ def test_sckf_row_is_its_own_run_in_every_table():
     row = next(line for line in acc if line.startswith(f"| {LOG} | SCKF |"))
     assert row.split(" | ")[2].startswith(format(sckf["curve_f"], ".1f") + " [")
     assert np.isfinite(sckf["curve_f"])
+
+
+# --ellipse: tid_ellipse 1 at the default dead band (0.6 m/s^2).  A braking excerpt
+# (brake_in_turn.mf to 2.5 s: braking from 2 s, |ax| 2.6 m/s^2 at 2.4 s) and a steering one
+# (tid_sine_steer to 3 s, |ax| below 0.25 m/s^2 on the whole log, inside the band).
+BRAKE, STEER = "brake_in_turn.mf", "tid_sine_steer"
+N_BRAKE, N_STEER = 251, 301
+
+
+def test_ellipse_option_turns_the_ellipse_on():
+    assert R.ELLIPSE == {"tid_ellipse": 1.0}
+    assert R.T.TID_DEFAULTS["tid_ellipse"] == 0.0     # the option, not the default, turns it on
+    cb = read_csv_log(str(R.ROOT / "scenarios" / f"{BRAKE}.csv")).columns
+    k24 = int(round(2.4 / 0.01))
+    assert abs(cb["ax"][k24]) > 2.0
+    off = R.run_filter(cb, "sckf", 64, 1, False, N_BRAKE)
+    on = R.run_filter(cb, "sckf", 64, 1, True, N_BRAKE)
+    # the ellipse's own run (TS.run with tid_ellipse 1), and not the lateral-only one: into
+    # the braking the rear D differs (the page: 4,054 N without, 7,436 N with the band)
+    ref = TS.run(cb, {"tid_ellipse": 1.0}, n_steps=N_BRAKE)
+    assert on["D_r"][k24] == ref["D_r"][k24]
+    assert on["D_r"][k24] > 1.2 * off["D_r"][k24]
+    # the particle filter gets the keys too
+    apf_off = R.run_filter(cb, "apf", 64, 1, False, N_BRAKE)
+    apf_on = R.run_filter(cb, "apf", 64, 1, True, N_BRAKE)
+    assert apf_on["D_r"][k24] != apf_off["D_r"][k24]
+
+
+def test_ellipse_option_inside_the_band_keeps_the_lateral_only_run():
+    cs = read_csv_log(str(R.ROOT / "scenarios" / "tyre_id" / f"{STEER}.csv")).columns
+    assert float(np.max(np.abs(cs["ax"]))) < 0.6
+    for filt in ("sckf", "apf"):
+        off = R.run_filter(cs, filt, 64, 1, False, N_STEER)
+        on = R.run_filter(cs, filt, 64, 1, True, N_STEER)
+        # inside the band the forces are the lateral-only model's bit for bit (both factors
+        # exactly 1), so every parameter and state estimate is the same
+        for k in ("D_f", "K_f", "C_r", "E_r", "beta", "sd_K_f"):
+            assert np.array_equal(on[k], off[k]), (filt, k)
+        # mu = D / Fz: with the ellipse over the static load (TYRE_ID.md section 3.4), without
+        # it over the load at ax; compared to 1e-12 relative (one division's rounding)
+        fz0 = 1830.0 * 9.81 * 1.65 / 3.05
+        assert np.allclose(on["mu_f"], on["D_f"] / fz0, rtol=1e-12, atol=0.0)
+        assert not np.array_equal(on["mu_f"], off["mu_f"])
+
+
+def test_ellipse_table_marks_moved_and_equal_cells_and_counts_targets():
+    base = {"n": 1024, "seed": 1, "ms": 1.0, "ax_max": 0.5, "beta": 0.1, "curve_f": 4.0,
+            "curve_r": 6.0, "mulim_f": 0.04, "mulim_r": 0.04, "sdlin_f": 0.3, "sdlin_r": 0.3,
+            "tmax_f": 0.1, "tmax_r": 0.1}
+    off = [dict(base, log=STEER, filter="sckf", ellipse=False)]
+    on = [dict(base, log=STEER, filter="sckf", ellipse=True, mulim_r=0.06)]
+    lines = R.ellipse_table(off, on, 1024, [1])
+    row = next(line for line in lines if line.startswith(f"| {STEER} | SCKF |"))
+    cells = row.split(" | ")
+    assert cells[3] == "4.0 =" and cells[6] == "0.040 → 0.060"
+    summ = next(line for line in lines if line.startswith("| SCKF | "))
+    # curve: f meets (4.0), r does not (6.0); mu@lim r leaves the target; sd meets on both
+    assert summ == "| SCKF | 1/2 → 1/2 | 2/2 → 1/2 | 2/2 → 2/2 |"

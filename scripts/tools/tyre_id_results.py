@@ -18,6 +18,11 @@ points in place of a particle count.  Figures (docs/TYRE_ID_RESULTS.md says how 
   sd_lin   the smallest sd of mu_id per axle while that axle's tyre has stayed linear (its
            truth utilisation has not yet passed 0.5), from 0.5 s;
   beta     RMSE of beta [deg] from 0.5 s.
+With --ellipse only the runs at --main-n particles (and the SCKF's) are made, each without and
+with the friction ellipse (ELLIPSE: tid_ellipse 1, tid_ell_ax_min at its default, the dead band
+0.6 m/s^2; docs/TYRE_ID.md section 3.5), and one table goes between
+<!-- tyre-id-results-ellipse:begin/end -->: each figure's median without -> with, the largest
+|ax| of the log, and per filter how many (log, axle) cells meet each target without and with.
 """
 
 from __future__ import annotations
@@ -44,10 +49,24 @@ ROOT = HERE.parent.parent
 LOGS = ("tid_ramp_steer_high_mu", "tid_ramp_steer_low_mu", "tid_sine_steer", "tid_dlc_high_mu",
         "tid_dlc_low_mu", "tid_tyre_change", "tid_straight")
 MARK = {k: (f"<!-- tyre-id-{k}:begin -->", f"<!-- tyre-id-{k}:end -->")
-        for k in ("accuracy", "count", "ident")}
+        for k in ("accuracy", "count", "ident", "results-ellipse")}
 T_SKIP = 0.5          # s, the start not scored (prior)
 FILTERS = ("apf", "sir", "sckf")
 SCKF_POINTS = f"– ({TS.N_POINTS} points)"
+ELLIPSE = {"tid_ellipse": 1.0}   # --ellipse: the friction ellipse, its dead band at the default
+# the identification targets (issue 20; the page's definitions): curve <= 5 % of the peak,
+# mu at the limit within 0.05, the sd of mu while linear >= 0.2
+TARGETS = (("curve", "<=", 5.0), ("mulim", "<=", 0.05), ("sdlin", ">=", 0.2))
+
+
+def run_filter(c, filt, n, seed, ellipse=False, n_steps=None):
+    """One reference run of @p filt on the log columns @p c at its defaults (the particle
+    filters: tid_n @p n, seed @p seed); @p ellipse adds ELLIPSE's keys."""
+    extra = dict(ELLIPSE) if ellipse else {}
+    if filt == "sckf":
+        return TS.run(c, extra, n_steps=n_steps)
+    return T.run(c, {"tid_n": float(n), "tid_filter": filt, **extra}, seed=seed,
+                 n_steps=n_steps)
 
 
 def curve_rmse(c, out, axle, k0):
@@ -66,18 +85,18 @@ def curve_rmse(c, out, axle, k0):
 
 
 def measure(job):
-    log, filt, n, seed = job
+    """job = (log, filter, n, seed[, ellipse]) -> the figures of one run (a dict)."""
+    log, filt, n, seed = job[:4]
+    ellipse = bool(job[4]) if len(job) > 4 else False
     c = read_csv_log(str(ROOT / "scenarios" / "tyre_id" / f"{log}.csv")).columns
     t0 = time.perf_counter()
-    if filt == "sckf":
-        out = TS.run(c, {})
-    else:
-        out = T.run(c, {"tid_n": float(n), "tid_filter": filt}, seed=seed)
+    out = run_filter(c, filt, n, seed, ellipse)
     cost = (time.perf_counter() - t0) / len(c["t"])
     t = c["t"]
     k_sk = int(np.searchsorted(t, T_SKIP))
     k0 = int(np.searchsorted(t, 8.0)) if log == "tid_tyre_change" else 0
-    res = {"log": log, "filter": filt, "n": n, "seed": seed, "ms": 1e3 * cost}
+    res = {"log": log, "filter": filt, "n": n, "seed": seed, "ms": 1e3 * cost,
+           "ellipse": ellipse, "ax_max": float(np.max(np.abs(c["ax"])))}
     g = 9.81
     ay = np.abs(c["ay"])
     for axle, a, w in ((0, "f", ("fl", "fr")), (1, "r", ("rl", "rr"))):
@@ -191,6 +210,66 @@ def tables(results, n_main, seeds):
     return acc, cnt, idt
 
 
+def meets(v, how, lim):
+    return (v <= lim) if how == "<=" else (v >= lim)
+
+
+def ellipse_table(off, on, n_main, seeds):
+    """The --ellipse table from the runs without (@p off) and with (@p on) the ellipse."""
+    def group(results):
+        by = {}
+        for r in results:
+            by.setdefault((r["log"], r["filter"]), []).append(r)
+        return by
+    b0, b1 = group(off), group(on)
+    lines = [f"{n_main} particles (APF, SIR), median over seeds {', '.join(map(str, seeds))}; "
+             "SCKF one run. Each cell: without → with the friction ellipse (tid_ellipse 1, "
+             f"tid_ell_ax_min {T.TID_DEFAULTS['tid_ell_ax_min']:g} m/s²); \"=\" where the two "
+             "print the same. |ax| max: the log's largest |ax|, m/s².", "",
+             "| log | filter | \\|ax\\| max | curve f % | curve r % | mu@lim f | mu@lim r "
+             "| min sd_mu linear f / r | beta RMSE deg |",
+             "|---|---|---|---|---|---|---|---|---|"]
+
+    def pair(r0, r1, key, spec, how=np.median):
+        a, b = fmt(agg(r0, key, how), spec), fmt(agg(r1, key, how), spec)
+        return f"{a} =" if a == b else f"{a} → {b}"
+    for log in LOGS:
+        for filt in FILTERS:
+            r0, r1 = b0.get((log, filt), []), b1.get((log, filt), [])
+            if not r0 or not r1:
+                continue
+            cell = [fmt(r0[0]["ax_max"], ".2f")]
+            cell += [pair(r0, r1, "curve_" + a, ".1f") for a in "fr"]
+            cell += [pair(r0, r1, "mulim_" + a, ".3f") for a in "fr"]
+            cell.append(pair(r0, r1, "sdlin_f", ".2f", np.min) + " / "
+                        + pair(r0, r1, "sdlin_r", ".2f", np.min))
+            cell.append(pair(r0, r1, "beta", ".3f"))
+            lines.append(f"| {log} | {filt.upper()} | " + " | ".join(cell) + " |")
+    lines += ["", "(log, axle) cells of the median that meet each target, without → with "
+              "(curve ≤ 5 %, mu@lim ≤ 0.05, min sd_mu linear ≥ 0.2 over its seeds; cells "
+              "without a figure not counted):", "",
+              "| filter | curve ≤ 5 % | mu@lim ≤ 0.05 | sd_mu linear ≥ 0.2 |",
+              "|---|---|---|---|"]
+    for filt in FILTERS:
+        cell = []
+        for key, how, lim in TARGETS:
+            cnt = []
+            for by in (b0, b1):
+                ok = tot = 0
+                for (log, f), rows in by.items():
+                    if f != filt:
+                        continue
+                    for a in "fr":
+                        v = agg(rows, f"{key}_{a}", np.min if key == "sdlin" else np.median)
+                        if not math.isnan(v):
+                            tot += 1
+                            ok += meets(v, how, lim)
+                cnt.append(f"{ok}/{tot}")
+            cell.append(" → ".join(cnt))
+        lines.append(f"| {filt.upper()} | " + " | ".join(cell) + " |")
+    return lines
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--page", default=str(ROOT / "docs" / "TYRE_ID_RESULTS.md"))
@@ -198,7 +277,25 @@ def main(argv=None):
     ap.add_argument("--main-n", type=int, default=1024)
     ap.add_argument("--seeds", type=int, nargs="+", default=[1, 2, 3])
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
+    ap.add_argument("--ellipse", action="store_true",
+                    help="only the --main-n runs, without and with the friction ellipse "
+                    "(tid_ellipse 1 at the default dead band): the table 'with the friction "
+                    "ellipse'")
     args = ap.parse_args(argv)
+    if args.ellipse:
+        jobs = [(log, filt, args.main_n, s, e) for e in (False, True) for log in LOGS
+                for filt in ("apf", "sir") for s in args.seeds]
+        jobs += [(log, "sckf", args.main_n, args.seeds[0], e) for e in (False, True)
+                 for log in LOGS]
+        t0 = time.perf_counter()
+        with multiprocessing.Pool(args.jobs) as pool:
+            results = pool.map(measure, jobs, chunksize=1)
+        print(f"{len(jobs)} runs in {time.perf_counter() - t0:.0f} s")
+        lines = ellipse_table([r for r in results if not r["ellipse"]],
+                              [r for r in results if r["ellipse"]], args.main_n, args.seeds)
+        replace_region(Path(args.page), *MARK["results-ellipse"], lines, "tyre_id_results")
+        print("\n".join(lines))
+        return
     jobs = [(log, filt, n, s) for n in sorted(args.n, reverse=True) for log in LOGS
             for filt in ("apf", "sir") for s in args.seeds]
     jobs += [(log, "sckf", args.main_n, args.seeds[0]) for log in LOGS]
