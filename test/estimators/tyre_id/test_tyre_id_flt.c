@@ -23,6 +23,7 @@
 #include "test_common.h"
 
 #include <stdlib.h>
+#include <stddef.h>
 #include <string.h>
 
 #include "csv_log.h"
@@ -153,6 +154,22 @@ static void test_params_defaults_and_validation(void **state)
     assert_int_equal(rfe_tyre_id_params_validate(&q), RFE_OK);
 }
 
+/* Each of @p n bad values of the key at @p offset (an rfe_real_t of the parameters), the
+ * ellipse on and the other keys at @p tp's, is refused by the validation and by an init of the
+ * file's tid. */
+static void ellipse_key_refused(const rfe_params_t *veh, const rfe_tyre_id_params_t *tp,
+                                size_t offset, const rfe_real_t *bad, size_t n)
+{
+    size_t i;
+    for (i = 0u; i < n; ++i) {
+        rfe_tyre_id_params_t q = *tp;
+        q.ellipse = 1;
+        memcpy((unsigned char *)&q + offset, &bad[i], sizeof(rfe_real_t));
+        assert_int_equal(rfe_tyre_id_params_validate(&q), RFE_ERR_PARAM);
+        assert_int_equal(rfe_tyre_id_init(&tid, &q, veh, 1u), RFE_ERR_PARAM);
+    }
+}
+
 /* REQ-TID-007 REQ-TID-009: the friction ellipse's keys (§2, §3.5): defaults, ranges, and an
  * init refused for each leaves the state as it was. */
 static void test_ellipse_params(void **state)
@@ -165,40 +182,20 @@ static void test_ellipse_params(void **state)
     const rfe_real_t bad_floor[] = {0, (rfe_real_t)-0.1, (rfe_real_t)1.01, (rfe_real_t)NAN};
     const rfe_real_t bad_band[] = {(rfe_real_t)-0.01, (rfe_real_t)20.01, (rfe_real_t)NAN,
                                    (rfe_real_t)INFINITY};
-    size_t i;
     (void)state;
     setup_defaults(&veh, &tp);
     assert_true(tp.ellipse == 0 && tp.fx_front == (rfe_real_t)0.625 &&
                 tp.ell_min == (rfe_real_t)0.1 && tp.ell_ax_min == (rfe_real_t)0.6);
     memset(&tid, 0x5A, sizeof(tid));
     before = tid;
-    for (i = 0u; i < sizeof(bad_switch) / sizeof(bad_switch[0]); ++i) {
-        q = tp;
-        q.ellipse = bad_switch[i];
-        assert_int_equal(rfe_tyre_id_params_validate(&q), RFE_ERR_PARAM);
-        assert_int_equal(rfe_tyre_id_init(&tid, &q, &veh, 1u), RFE_ERR_PARAM);
-    }
-    for (i = 0u; i < sizeof(bad_share) / sizeof(bad_share[0]); ++i) {
-        q = tp;
-        q.ellipse = 1;
-        q.fx_front = bad_share[i];
-        assert_int_equal(rfe_tyre_id_params_validate(&q), RFE_ERR_PARAM);
-        assert_int_equal(rfe_tyre_id_init(&tid, &q, &veh, 1u), RFE_ERR_PARAM);
-    }
-    for (i = 0u; i < sizeof(bad_floor) / sizeof(bad_floor[0]); ++i) {
-        q = tp;
-        q.ellipse = 1;
-        q.ell_min = bad_floor[i];
-        assert_int_equal(rfe_tyre_id_params_validate(&q), RFE_ERR_PARAM);
-        assert_int_equal(rfe_tyre_id_init(&tid, &q, &veh, 1u), RFE_ERR_PARAM);
-    }
-    for (i = 0u; i < sizeof(bad_band) / sizeof(bad_band[0]); ++i) {
-        q = tp;
-        q.ellipse = 1;
-        q.ell_ax_min = bad_band[i];
-        assert_int_equal(rfe_tyre_id_params_validate(&q), RFE_ERR_PARAM);
-        assert_int_equal(rfe_tyre_id_init(&tid, &q, &veh, 1u), RFE_ERR_PARAM);
-    }
+    ellipse_key_refused(&veh, &tp, offsetof(rfe_tyre_id_params_t, ellipse), bad_switch,
+                        sizeof(bad_switch) / sizeof(bad_switch[0]));
+    ellipse_key_refused(&veh, &tp, offsetof(rfe_tyre_id_params_t, fx_front), bad_share,
+                        sizeof(bad_share) / sizeof(bad_share[0]));
+    ellipse_key_refused(&veh, &tp, offsetof(rfe_tyre_id_params_t, ell_min), bad_floor,
+                        sizeof(bad_floor) / sizeof(bad_floor[0]));
+    ellipse_key_refused(&veh, &tp, offsetof(rfe_tyre_id_params_t, ell_ax_min), bad_band,
+                        sizeof(bad_band) / sizeof(bad_band[0]));
     assert_memory_equal(&tid, &before, sizeof(tid));
     /* the ends of each range are valid */
     q = tp;
