@@ -98,14 +98,58 @@ class Hold:
                 self.jheld[j] = self.jdist[j] > 0.0
 
 
-def run(log, p: dict, adapt=None):
+class StepNoiseReuse:
+    """Issue 21's candidate 'propagate the step noise every N steps when the inputs move little'
+    (a study in this reference, docs/BENCHMARKS.md "The step noise every N steps"; not the
+    specified estimator, not in the library; off unless an instance is passed to run()).
+    Step 4's errors-in-variables columns g_j (16 model evaluations) are computed on one step and
+    reused on the following ones; S_R0 (the model error at this step's x-, one evaluation) and
+    Tria([S_R0, g_j]) are still formed every step. The columns are recomputed when
+      - every: they are `every` evaluating steps old (every = 1: every step, equal to off);
+      - move (None: no such rule): any input j with sd_j > 0 moved by more than move * sd_j
+        since they were computed;
+      - the step before did not evaluate h (low speed) or a gap restarted the conditioner.
+    computed counts the steps that recomputed them, used the steps that needed them."""
+
+    def __init__(self, every: int = 1, move: float | None = None):
+        if int(every) != every or every < 1:
+            raise ValueError(f"every must be an integer >= 1, got {every!r}")
+        if move is not None and not move > 0:
+            raise ValueError(f"move must be > 0 or None, got {move!r}")
+        self.every, self.move = int(every), move
+        self.cols = None        # [(j, g_j)] of the last computation
+        self.u = None           # the inputs they were computed at
+        self.age = 0            # evaluating steps since then
+        self.computed = self.used = 0
+
+    def drop(self) -> None:
+        """Forget the columns (a step without h, or a gap)."""
+        self.cols = None
+
+    def due(self, u, sd_u) -> bool:
+        """Whether this evaluating step recomputes the columns (advances the age)."""
+        self.used += 1
+        self.age += 1
+        fresh = self.cols is not None and self.age < self.every
+        if fresh and self.move is not None:
+            m = sd_u > 0
+            fresh = not np.any(np.abs(u[m] - self.u[m]) > self.move * sd_u[m])
+        if not fresh:
+            self.cols, self.u, self.age = None, np.array(u, copy=True), 0
+            self.computed += 1
+        return not fresh
+
+
+def run(log, p: dict, adapt=None, reuse: StepNoiseReuse | None = None):
     """Run over a sensor log; returns dict t, mu (N,4), sd (N,4), valid (N,4), status, info,
     and nu (N,3), s_zz (N,3,3): the innovation y - z_hat and the lower factor of its
     covariance at every step that evaluates the measurement, c_pers (N,3) the diagonal of that
     covariance's persistent part (Zc Zc^T, the model error, the low-passed vx, vy; NaN at low
     speed; the inputs of monitor.py). adapt (None: off; a measurement of monitor.py, not the specified estimator):
     called as adapt(k, nu, s_zz, zc, s_r, c_pers) after the innovation, returns the S_R this step's
-    update uses instead of s_r (the gate and the recorded S_zz keep s_r)."""
+    update uses instead of s_r (the gate and the recorded S_zz keep s_r). reuse (None: off; a
+    StepNoiseReuse, issue 21's study): step 4's input columns reused over steps; out["snoise"]
+    (N,) then marks the steps that recomputed them."""
     T = WHEELS_OF_SIDES if p["structure"] == "sides" else np.eye(4)
     n = T.shape[1]
     f = filters.SCKF(np.full(n, p["mu0"]), sqrt_prior(n, p["sd0"], p["sd0_common"]),
@@ -128,6 +172,8 @@ def run(log, p: dict, adapt=None):
     out["nu"] = np.full((N, 3), np.nan)         # innovation y - z_hat and its factor S_zz of
     out["s_zz"] = np.full((N, 3, 3), np.nan)    # every step that evaluates h (monitor.py)
     out["c_pers"] = np.full((N, 3), np.nan)     # diag of its persistent part (monitor.py)
+    if reuse is not None:
+        out["snoise"] = np.zeros(N, dtype=bool)
     t = log.col("t")
     hold = Hold(p) if (p["structure"] == "sides"
                            and (p["rear_hold_k"] > 0 or p["jump_hold_k"] > 0)) else None
@@ -136,13 +182,17 @@ def run(log, p: dict, adapt=None):
         if filters.gap_time_update(f, t, k, p):     # a gap (ESTIMATOR.md "Gaps")
             _bound_sd(p, f)
             cond.vx = cond.vy = None    # the input filter restarts at this sample
+            if reuse is not None:
+                reuse.drop()
         delta, vx_m, vy_m, r, ax, ay = (c[k] for c in cols)
         vx, vy = cond.step(vx_m, vy_m, ax, ay, r)                       # 1
         u = np.array([delta, vx, vy, r, ax, ay, *omega[k]])
         f.time_update()                                                 # 2
         status = 2                                                      # 3
         if vx >= p["v_est_min"]:
-            s_r = _step_noise(p, f, T, u, sd_u, out["c_pers"][k])       # 4
+            if reuse is not None:
+                out["snoise"][k] = reuse.due(u, sd_u)
+            s_r = _step_noise(p, f, T, u, sd_u, out["c_pers"][k], reuse)  # 4
             hfun = lambda pts: np.stack(  # noqa: E731
                 [h_point(p, u, T @ pts[:, j]) for j in range(pts.shape[1])], 1)
             pts = f.points()
@@ -160,6 +210,8 @@ def run(log, p: dict, adapt=None):
                 f.measurement_update(ys[k], hfun)
                 f.s_r = saved
                 status = 0
+        elif reuse is not None:
+            reuse.drop()
         _bound_sd(p, f)                                                 # 7
         out["v_gate"][k] = vx
         out["mu_unprojected"][k] = T @ f.x
@@ -188,11 +240,12 @@ def run(log, p: dict, adapt=None):
 PERSISTENT_INPUTS = (1, 2)   # vx, vy: low-passed by the conditioner (monitor.py: persistent)
 
 
-def _step_noise(p, f, T, u, sd_u, persistent=None):
+def _step_noise(p, f, T, u, sd_u, persistent=None, reuse=None):
     """Step 4: S_R0 = diag(sqrt(r^2 + (r_model_rel |h(T x-)|)^2)), then Tria([S_R0, g_j]) with
     g_j = (h(u + sd_j e_j) - h(u - sd_j e_j)) / 2. Untouched when both additions are off.
     persistent (a 3-array or None): receives the diagonal of the parts of R that are not
-    white from step to step, (r_model_rel |h|)^2 + g_vx^2 + g_vy^2 (monitor.py)."""
+    white from step to step, (r_model_rel |h|)^2 + g_vx^2 + g_vy^2 (monitor.py). reuse (a
+    StepNoiseReuse or None): its columns when it holds them, else computed and kept in it."""
     if persistent is not None:
         persistent[:] = 0.0
     if p["r_model_rel"] <= 0 and not np.any(sd_u > 0):
@@ -201,14 +254,22 @@ def _step_noise(p, f, T, u, sd_u, persistent=None):
     r_sd = np.diag(f.s_r)
     model_err = p["r_model_rel"] * np.abs(h_point(p, u, xw))
     s_r = np.diag(np.sqrt(r_sd ** 2 + model_err ** 2))
+    if reuse is not None and reuse.cols is not None:
+        jcols = reuse.cols
+    else:
+        jcols = []
+        for j, sj in enumerate(sd_u):
+            if sj > 0:
+                du = np.zeros(u.size)
+                du[j] = sj
+                jcols.append((j, (h_point(p, u + du, xw) - h_point(p, u - du, xw)) / 2.0))
+        if reuse is not None:
+            reuse.cols = jcols
     cols = []
-    for j, sj in enumerate(sd_u):
-        if sj > 0:
-            du = np.zeros(u.size)
-            du[j] = sj
-            cols.append((h_point(p, u + du, xw) - h_point(p, u - du, xw)) / 2.0)
-            if persistent is not None and j in PERSISTENT_INPUTS:
-                persistent += cols[-1] ** 2
+    for j, g in jcols:
+        cols.append(g)
+        if persistent is not None and j in PERSISTENT_INPUTS:
+            persistent += g ** 2
     if persistent is not None:
         persistent += model_err ** 2
     return filters.tria(np.hstack([s_r, np.stack(cols, 1)])) if cols else s_r
