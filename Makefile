@@ -49,7 +49,7 @@ include $(sort $(filter-out mk/lib.mk,$(wildcard mk/*.mk)))
 .PHONY: mass-grade-scenarios mass-grade-results mass-grade-textbook mass-sensitivity mass-headwind mass-slip tyre-id-feed-results mass-grade-goldens trust-invariant names car-format-logs observer-goldens observer-goldens-q31 observer-results monitor-results shape-results test-pkg all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind valgrind-unit valgrind-cli coverage demo goldens goldens-q31 scenarios observer-scenarios clean vectors shared-sync check-shared readme-table \
         check-kernels check-tools layers help-check goldens-ref check-nofloat help deps-analysis misra tidy complexity structural analysis \
         twins check-twins tyre-id-scenarios tyre-id-results tyre-id-goldens tyre-id-ellipse-results \
-        tyre-id-results-ellipse
+        tyre-id-results-ellipse snoise-reuse
 ## the libraries and build/mu_replay (the default target)
 all: lib $(BUILD)/mu_replay
 ## the float, double and fixed-point libraries (build/{f32,f64,q31}/)
@@ -483,6 +483,12 @@ mass-headwind: venv
 ## measure the model-validity monitor and write the tables of docs/MONITOR.md
 monitor-results: venv
 	$(PY) scripts/tools/monitor_results.py --jobs 2 --page docs/MONITOR.md
+# Issue 21's step noise every N steps, measured in the float64 reference (docs/BENCHMARKS.md;
+# 57 logs x 7 runs, about 8 min on 2 cores; per-log table in build/snoise_reuse.md).
+## measure the step noise every N steps and write its table of docs/BENCHMARKS.md
+snoise-reuse: venv
+	@mkdir -p $(BUILD)
+	$(PY) scripts/tools/snoise_reuse_study.py --jobs 2 --md $(BUILD)/snoise_reuse.md --page docs/BENCHMARKS.md
 # The shape-ambiguity study (docs/MONITOR.md section 6): the reference and a shadow estimator
 # per second tyre hypothesis on the 72 bundled logs (cached in build/shape/, about 25 min on
 # 2 cores the first time).
