@@ -49,7 +49,7 @@ include $(sort $(filter-out mk/lib.mk,$(wildcard mk/*.mk)))
 .PHONY: mass-grade-scenarios mass-grade-results mass-grade-textbook mass-sensitivity mass-headwind mass-slip tyre-id-feed-results mass-grade-goldens trust-invariant names car-format-logs observer-goldens observer-goldens-q31 observer-results monitor-results shape-results test-pkg all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind valgrind-unit valgrind-cli coverage demo goldens goldens-q31 scenarios observer-scenarios clean vectors shared-sync check-shared readme-table \
         check-kernels check-tools layers help-check goldens-ref check-nofloat help deps-analysis misra tidy complexity structural analysis \
         twins check-twins tyre-id-scenarios tyre-id-results tyre-id-goldens tyre-id-ellipse-results \
-        tyre-id-results-ellipse snoise-reuse
+        tyre-id-results-ellipse snoise-reuse snoise-reuse-vxvy
 ## the libraries and build/mu_replay (the default target)
 all: lib $(BUILD)/mu_replay
 ## the float, double and fixed-point libraries (build/{f32,f64,q31}/)
@@ -489,6 +489,13 @@ monitor-results: venv
 snoise-reuse: venv
 	@mkdir -p $(BUILD)
 	$(PY) scripts/tools/snoise_reuse_study.py --jobs 2 --md $(BUILD)/snoise_reuse.md --page docs/BENCHMARKS.md
+# Then only vx's and vy's columns reused (57 logs x 3 runs, about 4 min on 2 cores; per-log
+# table in build/snoise_reuse_vxvy.md).
+## measure the step noise's vx, vy columns every N steps and write its table of docs/BENCHMARKS.md
+snoise-reuse-vxvy: venv
+	@mkdir -p $(BUILD)
+	$(PY) scripts/tools/snoise_reuse_study.py --jobs 2 --variants vxvy_every2,vxvy_every5 \
+	  --tag snoise-reuse-vxvy --md $(BUILD)/snoise_reuse_vxvy.md --page docs/BENCHMARKS.md
 # The shape-ambiguity study (docs/MONITOR.md section 6): the reference and a shadow estimator
 # per second tyre hypothesis on the 72 bundled logs (cached in build/shape/, about 25 min on
 # 2 cores the first time).

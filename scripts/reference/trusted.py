@@ -109,14 +109,21 @@ class StepNoiseReuse:
       - move (None: no such rule): any input j with sd_j > 0 moved by more than move * sd_j
         since they were computed;
       - the step before did not evaluate h (low speed) or a gap restarted the conditioner.
+    inputs (None: all): the indices into u of the inputs whose columns are reused (e.g.
+    PERSISTENT_INPUTS, the low-passed vx, vy: 4 of the 16 evaluations); the other inputs'
+    columns are computed every step, and the move rule looks at the reused inputs only.
     computed counts the steps that recomputed them, used the steps that needed them."""
 
-    def __init__(self, every: int = 1, move: float | None = None):
+    def __init__(self, every: int = 1, move: float | None = None, inputs=None):
         if int(every) != every or every < 1:
             raise ValueError(f"every must be an integer >= 1, got {every!r}")
         if move is not None and not move > 0:
             raise ValueError(f"move must be > 0 or None, got {move!r}")
-        self.every, self.move = int(every), move
+        if inputs is not None:
+            inputs = tuple(int(j) for j in inputs)
+            if not inputs or len(set(inputs)) != len(inputs) or min(inputs) < 0:
+                raise ValueError(f"inputs must be distinct indices >= 0 or None, got {inputs!r}")
+        self.every, self.move, self.inputs = int(every), move, inputs
         self.cols = None        # [(j, g_j)] of the last computation
         self.u = None           # the inputs they were computed at
         self.age = 0            # evaluating steps since then
@@ -133,6 +140,8 @@ class StepNoiseReuse:
         fresh = self.cols is not None and self.age < self.every
         if fresh and self.move is not None:
             m = sd_u > 0
+            if self.inputs is not None:
+                m &= np.isin(np.arange(m.size), self.inputs)
             fresh = not np.any(np.abs(u[m] - self.u[m]) > self.move * sd_u[m])
         if not fresh:
             self.cols, self.u, self.age = None, np.array(u, copy=True), 0
@@ -245,7 +254,8 @@ def _step_noise(p, f, T, u, sd_u, persistent=None, reuse=None):
     g_j = (h(u + sd_j e_j) - h(u - sd_j e_j)) / 2. Untouched when both additions are off.
     persistent (a 3-array or None): receives the diagonal of the parts of R that are not
     white from step to step, (r_model_rel |h|)^2 + g_vx^2 + g_vy^2 (monitor.py). reuse (a
-    StepNoiseReuse or None): its columns when it holds them, else computed and kept in it."""
+    StepNoiseReuse or None): its columns when it holds them, else computed and kept in it (those
+    of its inputs; the other inputs' columns are computed every step)."""
     if persistent is not None:
         persistent[:] = 0.0
     if p["r_model_rel"] <= 0 and not np.any(sd_u > 0):
@@ -254,17 +264,17 @@ def _step_noise(p, f, T, u, sd_u, persistent=None, reuse=None):
     r_sd = np.diag(f.s_r)
     model_err = p["r_model_rel"] * np.abs(h_point(p, u, xw))
     s_r = np.diag(np.sqrt(r_sd ** 2 + model_err ** 2))
-    if reuse is not None and reuse.cols is not None:
-        jcols = reuse.cols
-    else:
-        jcols = []
-        for j, sj in enumerate(sd_u):
-            if sj > 0:
-                du = np.zeros(u.size)
-                du[j] = sj
-                jcols.append((j, (h_point(p, u + du, xw) - h_point(p, u - du, xw)) / 2.0))
-        if reuse is not None:
-            reuse.cols = jcols
+    held = dict(reuse.cols) if reuse is not None and reuse.cols is not None else {}
+    jcols = []
+    for j, sj in enumerate(sd_u):
+        if j in held:
+            jcols.append((j, held[j]))
+        elif sj > 0:
+            du = np.zeros(u.size)
+            du[j] = sj
+            jcols.append((j, (h_point(p, u + du, xw) - h_point(p, u - du, xw)) / 2.0))
+    if reuse is not None and reuse.cols is None:
+        reuse.cols = [(j, g) for j, g in jcols if reuse.inputs is None or j in reuse.inputs]
     cols = []
     for j, g in jcols:
         cols.append(g)

@@ -9,13 +9,16 @@ Runs the default preset (monitor on, as the goldens: trusted.run, then monitor.a
 bundled sensor log of scenarios/*.csv (19 manoeuvres x noisy, .mf, .nf) once with the option
 off and once per variant. A variant is `everyN` (step 4's input columns recomputed on every
 N-th evaluating step, reused in between) or `moveA` / `moveA_everyN` (recomputed when any input
-moved by more than A of its sd since they were computed; with _everyN also when N steps old).
+moved by more than A of its sd since they were computed; with _everyN also when N steps old),
+each optionally prefixed `vxvy_` (only the columns of the conditioner's low-passed vx, vy reused,
+4 of the 16 evaluations; the other inputs' columns computed every step).
 Per log and variant: max |dmu| against the option off (every step, every wheel), the trust
 figures of monitor_results.py (mu_replay's settled samples, pooled over the wheels): valid
 share, RMSE when valid, consistency when valid (|error| <= 2 sd), and the count of valid flags
 (step x wheel) and statuses (steps) that differ from off; and the share of evaluating steps
 (those that reach step 4) that recompute the columns. --md writes the per-log table, --page the
-summary between <!-- snoise-reuse:begin/end --> of the page.
+summary between <!-- TAG:begin/end --> of the page (--tag, default snoise-reuse; the vx, vy
+variants have their own, snoise-reuse-vxvy).
 """
 from __future__ import annotations
 
@@ -35,21 +38,37 @@ import monitor_results as mr  # noqa: E402
 from md_tables import replace_region  # noqa: E402
 
 VARIANTS = ("every2", "every3", "every5", "move3", "move3_every5", "move10_every5")
-BEGIN, END = "<!-- snoise-reuse:begin -->", "<!-- snoise-reuse:end -->"
+VXVY_VARIANTS = ("vxvy_every2", "vxvy_every5")
+TAG = "snoise-reuse"
 SNOISE_SHARE = 0.69   # the step noise's share of the float32 step (issue 21, Cortex-M4F)
+N_EVALS = 16          # step 4's input columns: 2 model evaluations per input with sd > 0
+
+
+def markers(tag: str) -> tuple[str, str]:
+    return f"<!-- {tag}:begin -->", f"<!-- {tag}:end -->"
+
+
+def reused_evals(name: str) -> int:
+    """How many of the N_EVALS evaluations a variant may skip: 4 (vx, vy) or all."""
+    return 2 * len(trusted.PERSISTENT_INPUTS) if name.startswith("vxvy_") else N_EVALS
 
 
 def parse_variant(name: str) -> trusted.StepNoiseReuse | None:
-    """'off' -> None; 'everyN', 'moveA', 'moveA_everyN' -> the option."""
+    """'off' -> None; 'everyN', 'moveA', 'moveA_everyN', each optionally prefixed 'vxvy_'
+    (only vx's and vy's columns reused) -> the option."""
     if name == "off":
         return None
-    m = re.fullmatch(r"(?:every(\d+))|(?:move([0-9.eE+-]+)(?:_every(\d+))?)", name)
+    inputs = None
+    rule = name
+    if name.startswith("vxvy_"):
+        inputs, rule = trusted.PERSISTENT_INPUTS, name[len("vxvy_"):]
+    m = re.fullmatch(r"(?:every(\d+))|(?:move([0-9.eE+-]+)(?:_every(\d+))?)", rule)
     if not m:
-        raise ValueError(f"unknown variant {name!r} (everyN, moveA, moveA_everyN)")
+        raise ValueError(f"unknown variant {name!r} ([vxvy_]everyN, moveA, moveA_everyN)")
     if m.group(1):
-        return trusted.StepNoiseReuse(every=int(m.group(1)))
+        return trusted.StepNoiseReuse(every=int(m.group(1)), inputs=inputs)
     every = int(m.group(3)) if m.group(3) else 10 ** 9
-    return trusted.StepNoiseReuse(every=every, move=float(m.group(2)))
+    return trusted.StepNoiseReuse(every=every, move=float(m.group(2)), inputs=inputs)
 
 
 def run_one(path: Path, variant: str, stop: float | None = None) -> dict:
@@ -135,7 +154,8 @@ def summary_table(names, res, variants) -> list[str]:
         dr, nr = dmax("rmse", "rmse_valid")
         dc, nc = dmax("cons", "cons_valid")
         lines.append(
-            f"| {v} | {100 * share:.1f} % | ~{100 * SNOISE_SHARE * (1 - share):.0f} % | "
+            f"| {v} | {100 * share:.1f} % | "
+            f"~{100 * SNOISE_SHARE * reused_evals(v) / N_EVALS * (1 - share):.0f} % | "
             f"{cs[worst]['dmu']:.3f} (`{worst}`) | "
             f"{np.median([c['dmu'] for c in cs.values()]):.1e} | "
             f"{sum(1 for c in cs.values() if c['flags'] or c['statuses'])} of {len(names)} | "
@@ -151,7 +171,8 @@ def main(argv=None) -> int:
     ap.add_argument("--logs", nargs="*", help="log stems (default: every scenarios/*.csv)")
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--md", type=Path, help="write the per-log table as markdown")
-    ap.add_argument("--page", type=Path, help=f"rewrite the {BEGIN} ... {END} region")
+    ap.add_argument("--page", type=Path, help="rewrite the <!-- TAG:begin/end --> region")
+    ap.add_argument("--tag", default=TAG, help=f"the page region's marker (default {TAG})")
     a = ap.parse_args(argv)
     variants = [v for v in a.variants.split(",") if v]
     for v in variants:
@@ -171,7 +192,7 @@ def main(argv=None) -> int:
     if a.md:
         a.md.write_text("\n".join(table) + "\n")
     if a.page:
-        replace_region(a.page, BEGIN, END, summ, "snoise_reuse_study")
+        replace_region(a.page, *markers(a.tag), summ, "snoise_reuse_study")
     return 0
 
 

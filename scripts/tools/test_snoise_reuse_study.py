@@ -42,6 +42,28 @@ def test_every_two_reuses_and_moves_the_estimate(off):
     assert np.max(np.abs(r["mu"] - off["mu"])) > 0.0
 
 
+def test_vxvy_every_one_is_the_option_off_bit_for_bit(off):
+    # only vx's and vy's columns held, each recomputed every step: the same columns by the same
+    # operations in the same order as off (no tolerance)
+    r = st.run_one(LOG, "vxvy_every1", STOP)
+    for k in ("mu", "sd", "valid", "status"):
+        assert np.array_equal(r[k], off[k]), k
+    assert r["share"] == 1.0 and r["used"] == off["used"]
+
+
+def test_vxvy_every_two_reuses_only_vx_vy_and_moves_the_estimate(off):
+    r = st.run_one(LOG, "vxvy_every2", STOP)
+    assert r["used"] == off["used"]
+    assert r["share"] == math.ceil(r["used"] / 2) / r["used"]
+    # vx's and vy's reused columns move the estimate (fails if the subset is never reused) ...
+    assert np.max(np.abs(r["mu"] - off["mu"])) > 0.0
+    # ... and the other inputs' columns are recomputed: not the all-inputs variant (fails if
+    # the subset is ignored and every column reused)
+    a = st.run_one(LOG, "every2", STOP)
+    assert np.max(np.abs(r["mu"] - a["mu"])) > 0.0
+    assert st.reused_evals("vxvy_every2") == 4 and st.reused_evals("every2") == st.N_EVALS
+
+
 def test_move_rule():
     # a tiny threshold: the noisy inputs move every step, every step recomputes (= off)
     r = st.run_one(LOG, "move1e-9", STOP)
@@ -52,7 +74,10 @@ def test_move_rule():
 
 
 def test_bad_variants_are_refused():
-    for bad in ("every0", "move0", "sometimes", "every2x"):
+    for bad in ("every0", "move0", "sometimes", "every2x", "vxvy_", "vxvy_every0", "vx_every2"):
         with pytest.raises(ValueError):
             st.parse_variant(bad)
+    for inputs in ((), (1, 1), (-1,)):
+        with pytest.raises(ValueError):
+            st.trusted.StepNoiseReuse(every=2, inputs=inputs)
     assert st.parse_variant("off") is None
