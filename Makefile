@@ -489,7 +489,7 @@ monitor-results: venv
 snoise-reuse: venv
 	@mkdir -p $(BUILD)
 	$(PY) scripts/tools/snoise_reuse_study.py --jobs 2 --md $(BUILD)/snoise_reuse.md --page docs/BENCHMARKS.md
-# Then only vx's and vy's columns reused (57 logs x 3 runs, about 4 min on 2 cores; per-log
+# Then only vx's and vy's columns reused (57 logs x 3 runs, about 7 min on 1 core; per-log
 # table in build/snoise_reuse_vxvy.md).
 ## measure the step noise's vx, vy columns every N steps and write its table of docs/BENCHMARKS.md
 snoise-reuse-vxvy: venv
