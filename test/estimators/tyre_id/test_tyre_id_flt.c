@@ -220,6 +220,27 @@ static double ellipse_factor(double fz0, double load, double share_m, double ax,
     return lam * sqrt(1.0 - fmin(rho * rho, 1.0 - ell_min * ell_min));
 }
 
+/* Both axles (front, rear) at @p ax for the vehicle @p veh and the keys @p tp, with D = mu0
+ * Fz0: the static loads @p fz0, the loads @p load under ax's load transfer (m hg / L ax off the
+ * front, onto the rear) and the factors @p k of ellipse_factor. */
+static void axle_factors(const rfe_params_t *veh, const rfe_tyre_id_params_t *tp, double ax,
+                         double fz0[2], double load[2], double k[2])
+{
+    const double m = (double)veh->vehicle.m;
+    const double la = (double)veh->vehicle.Lf + (double)veh->vehicle.Lr;
+    const double g_x = m * (double)veh->vehicle.hg / la;
+    const double share[2] = {(double)tp->fx_front, 1.0 - (double)tp->fx_front};
+    size_t a;
+    fz0[0] = m * (double)veh->vehicle.g * (double)veh->vehicle.Lr / la;
+    fz0[1] = m * (double)veh->vehicle.g * (double)veh->vehicle.Lf / la;
+    load[0] = fz0[0] - g_x * ax;
+    load[1] = fz0[1] + g_x * ax;
+    for (a = 0u; a < 2u; ++a) {
+        k[a] = ellipse_factor(fz0[a], load[a], share[a] * m, ax, (double)tp->mu0 * fz0[a],
+                              (double)tp->ell_min);
+    }
+}
+
 /* REQ-TID-009: with tid_ellipse = 1 each axle's force is its pure-slip force times the
  * factor of §3.5 (at ax 0 exactly 1; braking moderately: the load and the ellipse; braking
  * hard: the floor ell_min), and mu = D / Fz0 (the static load); with 0, mu = D / Fz at ax.
@@ -235,10 +256,6 @@ static void test_ellipse_scales_the_axle_forces(void **state)
     rfe_tyre_id_params_t tp_on;
     rfe_tyre_id_estimate_t e_on;
     rfe_tyre_id_estimate_t e_off;
-    double m;
-    double la;
-    double fz0[2];
-    double g_x;
     size_t i;
     (void)state;
     setup_defaults(&veh, &tp);
@@ -246,20 +263,17 @@ static void test_ellipse_scales_the_axle_forces(void **state)
     tp.sd0_mu = 0;
     tp_on = tp;
     tp_on.ellipse = 1;
-    m = (double)veh.vehicle.m;
-    la = (double)veh.vehicle.Lf + (double)veh.vehicle.Lr;
-    fz0[0] = m * (double)veh.vehicle.g * (double)veh.vehicle.Lr / la;
-    fz0[1] = m * (double)veh.vehicle.g * (double)veh.vehicle.Lf / la;
-    g_x = m * (double)veh.vehicle.hg / la;
     for (i = 0u; i < 3u; ++i) {
         rfe_tyre_id_sample_t s = sample(0, (rfe_real_t)0.02, 20, (rfe_real_t)0.05, 1);
-        const double ax = (double)axs[i];
-        const double load[2] = {fz0[0] - g_x * ax, fz0[1] + g_x * ax};
         const double mu0 = (double)tp.mu0;
-        const double k_f = ellipse_factor(fz0[0], load[0], (double)tp.fx_front * m, ax,
-                                          mu0 * fz0[0], (double)tp.ell_min);
-        const double k_r = ellipse_factor(fz0[1], load[1], (1.0 - (double)tp.fx_front) * m, ax,
-                                          mu0 * fz0[1], (double)tp.ell_min);
+        double fz0[2];
+        double load[2];
+        double k[2];
+        double k_f;
+        double k_r;
+        axle_factors(&veh, &tp, (double)axs[i], fz0, load, k);
+        k_f = k[0];
+        k_r = k[1];
         s.ax = axs[i];
         assert_int_equal(rfe_tyre_id_init(&off, &tp, &veh, 1u), RFE_OK);
         assert_int_equal(rfe_tyre_id_init(&tid, &tp_on, &veh, 1u), RFE_OK);
@@ -310,10 +324,6 @@ static void test_ellipse_dead_band(void **state)
     rfe_tyre_id_estimate_t e_band;
     rfe_tyre_id_estimate_t e_none;
     static rfe_tyre_id_t none;
-    double m;
-    double la;
-    double fz0[2];
-    double g_x;
     size_t i;
     (void)state;
     setup_defaults(&veh, &tp);
@@ -323,20 +333,16 @@ static void test_ellipse_dead_band(void **state)
     tp_band.ellipse = 1;     /* the default band, 0.6 m/s^2 */
     tp_none = tp_band;
     tp_none.ell_ax_min = 0;  /* no band: the ellipse as first built */
-    m = (double)veh.vehicle.m;
-    la = (double)veh.vehicle.Lf + (double)veh.vehicle.Lr;
-    fz0[0] = m * (double)veh.vehicle.g * (double)veh.vehicle.Lr / la;
-    fz0[1] = m * (double)veh.vehicle.g * (double)veh.vehicle.Lf / la;
-    g_x = m * (double)veh.vehicle.hg / la;
     for (i = 0u; i < 4u; ++i) {
         rfe_tyre_id_sample_t s = sample(0, (rfe_real_t)0.02, 20, (rfe_real_t)0.05, 1);
-        const double ax = (double)axs[i];
-        const double mu0 = (double)tp.mu0;
-        const double k_f = ellipse_factor(fz0[0], fz0[0] - g_x * ax, (double)tp.fx_front * m,
-                                          ax, mu0 * fz0[0], (double)tp.ell_min);
-        const double k_r = ellipse_factor(fz0[1], fz0[1] + g_x * ax,
-                                          (1.0 - (double)tp.fx_front) * m, ax, mu0 * fz0[1],
-                                          (double)tp.ell_min);
+        double fz0[2];
+        double load[2];
+        double k[2];
+        double k_f;
+        double k_r;
+        axle_factors(&veh, &tp, (double)axs[i], fz0, load, k);
+        k_f = k[0];
+        k_r = k[1];
         s.ax = axs[i];
         assert_int_equal(rfe_tyre_id_init(&off, &tp, &veh, 1u), RFE_OK);
         assert_int_equal(rfe_tyre_id_init(&tid, &tp_band, &veh, 1u), RFE_OK);
