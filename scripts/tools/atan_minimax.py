@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The coefficients of the float32 build's atan (src/numerics/internal.h, rfe_atan2_f32).
+"""The coefficients of the float32 build's atan (src/numerics/trig_f32.h, rfe_atan2_f32).
 
     python3 scripts/tools/atan_minimax.py
 

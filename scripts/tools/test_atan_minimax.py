@@ -1,4 +1,4 @@
-"""The float32 build's atan coefficients (src/numerics/internal.h, rfe_atan2_f32) are the fit of
+"""The float32 build's atan coefficients (src/numerics/trig_f32.h, rfe_atan2_f32) are the fit of
 scripts/tools/atan_minimax.py, and the fit is the minimax one it claims to be."""
 
 from __future__ import annotations
@@ -19,7 +19,7 @@ def library_coefficients() -> list[float]:
     """c_0 .. c_8 of rfe_atan2_f32's Horner scheme: c_0 = 1 is implicit (t P = t + t^3 P'),
     the others are its float literals from the innermost (c_8) out, the constants pi/2, pi and
     0 excepted."""
-    with open(os.path.join(ROOT, "src", "numerics", "internal.h"), encoding="utf-8") as f:
+    with open(os.path.join(ROOT, "src", "numerics", "trig_f32.h"), encoding="utf-8") as f:
         text = f.read()
     start = text.index("static inline float rfe_atan2_f32(float y, float x)")
     body = text[start:text.index("return (y < 0.0f)", start)]
@@ -45,7 +45,7 @@ def test_the_library_uses_the_fitted_coefficients():
 
 def test_the_fit_equioscillates_below_its_stated_error():
     c, err = atan_minimax.fit()
-    # internal.h states 1.4e-8 relative in exact arithmetic for the 9-term fit.
+    # trig_f32.h states 1.4e-8 relative in exact arithmetic for the 9-term fit.
     assert err <= 1.4e-8
     t = np.linspace(1e-6, 1.0, 200001)
     rel = np.polyval(c[::-1], t * t) - np.arctan(t) / t

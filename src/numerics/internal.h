@@ -19,48 +19,7 @@
 /** A literal in the build's real type. */
 #define RFE_R(x) ((rfe_real_t)(x))
 
-/*
- * atan2 of the float32 build (the double build keeps libm's, the reference's twin to 1e-9).
- * Reduced to the first octant, t = min(|x|, |y|) / max(|x|, |y|) in [0, 1] (one rounding),
- * atan t = t P(t^2) with the 9 coefficients of scripts/tools/atan_minimax.py (a minimax fit of
- * the relative error, 1.4e-8 in exact arithmetic), then pi/2 - a above the diagonal, pi - a for
- * x < 0 and the sign of y. Measured in float32 against double atan2 (test_atan2_flt.c, which
- * states the bound 4.0e-7 rad, and 3.0e-7 relative below the diagonal for x > 0): newlib's
- * atan2f is within about 2.4e-7 rad, at about 85 instructions on the Cortex-M4F against ~40
- * here. Signed zeros are not distinguished (atan2(-0, x < 0) is +pi); an infinite or NaN
- * input goes to libm's atan2f.
- */
-static inline float rfe_atan2_f32(float y, float x)
-{
-    const float ax = fabsf(x);
-    const float ay = fabsf(y);
-    const float hi = (ay > ax) ? ay : ax;
-    const float lo = (ay > ax) ? ax : ay;
-    float a = 0.0f;
-    if (!(hi <= FLT_MAX)) {
-        return atan2f(y, x);
-    }
-    if (hi > 0.0f) {
-        /* Horner written out (no loop, no table: the constants sit in the literal pool) */
-        const float t = lo / hi;
-        const float t2 = t * t;
-        float p = (0.002903596730902791f * t2) - 0.016283195465803146f;
-        p = (p * t2) + 0.04303969442844391f;
-        p = (p * t2) - 0.07533705979585648f;
-        p = (p * t2) + 0.10654693096876144f;
-        p = (p * t2) - 0.14207138121128082f;
-        p = (p * t2) + 0.19993054866790771f;
-        p = (p * t2) - 0.3333309292793274f;
-        a = ((p * t2) * t) + t; /* t P(t^2) with the leading coefficient 1 */
-    }
-    if (ay > ax) {
-        a = 1.57079637f - a; /* above the diagonal; pi/2 rounded to float */
-    }
-    if (x < 0.0f) {
-        a = 3.14159274f - a; /* pi rounded to float */
-    }
-    return (y < 0.0f) ? -a : a;
-}
+#include "numerics/trig_f32.h" /* rfe_atan2_f32, rfe_sin_f32, rfe_cos_f32, rfe_tan_f32 */
 
 #if defined(RFE_REAL_DOUBLE)
 #define RFE_SQRT(x) sqrt(x)
@@ -81,9 +40,9 @@ static inline float rfe_atan2_f32(float y, float x)
 #define RFE_SQRT(x) sqrtf(x)
 #define RFE_FABS(x) fabsf(x)
 #define RFE_ATAN2(y, x) rfe_atan2_f32((y), (x))
-#define RFE_SIN(x) sinf(x)
-#define RFE_COS(x) cosf(x)
-#define RFE_TAN(x) tanf(x)
+#define RFE_SIN(x) rfe_sin_f32(x)
+#define RFE_COS(x) rfe_cos_f32(x)
+#define RFE_TAN(x) rfe_tan_f32(x)
 #define RFE_FREXP(x, e) frexpf((x), (e))
 #define RFE_LDEXP(x, e) ldexpf((x), (e))
 #define RFE_LOG(x) logf(x)

@@ -1,6 +1,6 @@
 /**
  * @file test_atan2_flt.c
- * @brief The float32 build's atan2 (rfe_atan2_f32, src/numerics/internal.h) against double
+ * @brief The float32 build's atan2 (rfe_atan2_f32, src/numerics/trig_f32.h) against double
  *        atan2. Built twice (the function is float in both; RFE_ATAN2 maps to it only in the
  *        float32 build, to libm's atan2 in the double build, which this checks too).
  *
