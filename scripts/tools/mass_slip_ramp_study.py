@@ -58,6 +58,7 @@ VARIANTS.update({f"rollback {t:g} s": ({}, t) for t in ROLLBACKS})
 VARIANTS.update({"sim's resistances, off": (dict(SIM_RESISTANCES, mg_slip_max=0.0), 0.0),
                  "sim's resistances, pause": (dict(SIM_RESISTANCES), 0.0)})
 TRACTION = "traction_"
+RAMP_T = 0.5            # the traction logs' torque ramp begins at 0.5 s (their description)
 
 
 class Rollback(mg.MassGrade):
@@ -140,9 +141,18 @@ def observer_job(job):
     est = Rollback(mg.preset("car", mg_m0=m * start, **RECOMMENDED, **over), period)
     outs = [est.step(s) for s in observer_samples(cols, est.p["R"])]
     end = outs[-1]
-    return (name, start, variant), {"m": m, "mass": end.mass, "sd": end.sd_mass,
-                                    "restores": est.restores,
-                                    "n_ok": sum(o.status == mg.OK for o in outs)}
+    # the measured slip the pause tests, before the ramp (no torque: the noise of v and vx)
+    # and from the ramp's start to the first slip-held sample (the updates the ramp moves)
+    held = next((k for k, o in enumerate(outs) if o.status == mg.PAUSED_SLIP), len(outs))
+    slip = [abs(s.v - s.vx) / max(abs(s.vx), est.p["mg_v_min"])
+            for s in observer_samples(cols, est.p["R"])]
+    t = cols["t"]
+    return (name, start, variant), {
+        "m": m, "mass": end.mass, "sd": end.sd_mass, "restores": est.restores,
+        "n_ok": sum(o.status == mg.OK for o in outs),
+        "slip_before": max(x for x, tk in zip(slip, t) if tk < RAMP_T),
+        "slip_ramp": max((x for x, tk in zip(slip[:held], t[:held]) if tk >= RAMP_T),
+                         default=math.nan)}
 
 
 def mass_grade_job(job):
@@ -175,6 +185,13 @@ def tables(obs, names, mgr, mg_names):
             rows.append(f"| {n[:-4]} | {s:.1f} m | "
                         + " | ".join(cell(obs[(n, s, v)]) for v in heads) + " |")
     lines = ["Mass at the end against m (sd_mass / m), float64 reference:", ""] + rows + [""]
+    before = [obs[(n, 1.0, "pause")]["slip_before"] for n in traction]
+    ramp = [obs[(n, 1.0, "pause")]["slip_ramp"] for n in traction]
+    lines += [f"The measured slip |v − vx| / max(|vx|, mg_v_min) on the {len(traction)} "
+              f"traction logs: before the torque ramp (t < {RAMP_T:g} s, no drive torque: "
+              f"the noise of v and vx) up to {min(before):.4f}…{max(before):.4f}; from "
+              f"{RAMP_T:g} s to the first slip-held sample (the ramp's updates) up to "
+              f"{min(ramp):.4f}…{max(ramp):.4f}.", ""]
     others = [n for n in names if n not in traction]
     rb = [v for v in heads if v.startswith("rollback")]
     for v in rb:

@@ -88,7 +88,8 @@ def test_bad_period_refused():
 
 
 def _res(mass, sd=10.0, m=1000.0, restores=0):
-    return {"m": m, "mass": mass, "sd": sd, "restores": restores, "n_ok": 1}
+    return {"m": m, "mass": mass, "sd": sd, "restores": restores, "n_ok": 1,
+            "slip_before": 0.02, "slip_ramp": 0.04}
 
 
 def test_tables():
@@ -112,3 +113,5 @@ def test_tables():
     assert "rollback 0.05 s against the pause: 3 rollbacks over the 3 starts, the largest " \
            "change of the mass at the end 0 kg." in text
     assert "| a | +1.00%, 1.200, 0 |" in text
+    assert "up to 0.0200…0.0200; from 0.5 s to the first slip-held sample (the ramp's " \
+           "updates) up to 0.0400…0.0400." in text
