@@ -59,6 +59,7 @@ VARIANTS.update({"sim's resistances, off": (dict(SIM_RESISTANCES, mg_slip_max=0.
                  "sim's resistances, pause": (dict(SIM_RESISTANCES), 0.0)})
 TRACTION = "traction_"
 RAMP_T = 0.5            # the traction logs' torque ramp begins at 0.5 s (their description)
+TIMES = (0.5, 0.6, 0.65, 0.7, 0.8, 1.0, 1.5, 3.0, 8.0)   # s, the mass's course in the ramp
 
 
 class Rollback(mg.MassGrade):
@@ -147,7 +148,11 @@ def observer_job(job):
     slip = [abs(s.v - s.vx) / max(abs(s.vx), est.p["mg_v_min"])
             for s in observer_samples(cols, est.p["R"])]
     t = cols["t"]
+    course = [next(o for o, tk in zip(outs, t) if tk >= x - 1e-9) for x in TIMES if x <= t[-1]]
     return (name, start, variant), {
+        "course": [(o.mass, o.sd_mass) for o in course],
+        # how many sd off at worst from the ramp's start on: confidently wrong or not
+        "worst_z": max(abs(o.mass - m) / o.sd_mass for o, tk in zip(outs, t) if tk >= RAMP_T),
         "m": m, "mass": end.mass, "sd": end.sd_mass, "restores": est.restores,
         "n_ok": sum(o.status == mg.OK for o in outs),
         "slip_before": max(x for x, tk in zip(slip, t) if tk < RAMP_T),
@@ -192,6 +197,19 @@ def tables(obs, names, mgr, mg_names):
               f"the noise of v and vx) up to {min(before):.4f}…{max(before):.4f}; from "
               f"{RAMP_T:g} s to the first slip-held sample (the ramp's updates) up to "
               f"{min(ramp):.4f}…{max(ramp):.4f}.", ""]
+    lines += ["With the simulator's resistances, from m: the mass against m (sd / m) at times in "
+              "the ramp and after, without and with the pause, and its largest distance from m "
+              "in sd from the ramp's start on:", "",
+              "| log | pause | " + " | ".join(f"{x:g} s" for x in TIMES)
+              + " | largest \\|M − m\\| / sd |",
+              "|---|---|" + "---|" * (len(TIMES) + 1)]
+    for n in traction:
+        for v, label in (("sim's resistances, off", "off"), ("sim's resistances, pause", "on")):
+            r = obs[(n, 1.0, v)]
+            lines.append(f"| {n[:-4]} | {label} | " + " | ".join(
+                f"{(mass - r['m']) / r['m']:+.1%} ({sd / r['m']:.1%})" for mass, sd in r["course"])
+                + f" | {r['worst_z']:.1f} |")
+    lines.append("")
     others = [n for n in names if n not in traction]
     rb = [v for v in heads if v.startswith("rollback")]
     for v in rb:

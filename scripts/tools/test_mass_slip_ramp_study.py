@@ -81,6 +81,20 @@ def test_onset_restores_the_previous_slot():
     assert len(held) > 5 and all(o.mass == ref[55].mass for o in held)
 
 
+def test_course_and_worst_distance():
+    """The mass's course at TIMES is the output of the first sample at or after each (t = 0.6
+    s: sample 60), and the largest |M - m| / sd from 0.5 s on is at least that of any sample
+    from there, computed here from the outputs."""
+    cols, _ = mg.read_log(LOG)
+    s = rs.observer_samples(cols, mg.MG_DEFAULTS["R"])
+    ref = _run(mg.MassGrade(mg.preset("car", **rs.RECOMMENDED, **rs.SIM_RESISTANCES,
+                                      mg_slip_max=0.0)), s)
+    _, r = rs.observer_job(("traction_rwd_mu03.csv", 1.0, "sim's resistances, off"))
+    assert r["course"][rs.TIMES.index(0.6)] == (ref[60].mass, ref[60].sd_mass)
+    z = [abs(o.mass - 1830.0) / o.sd_mass for o, t in zip(ref, cols["t"]) if t >= 0.5]
+    assert r["worst_z"] == max(z)
+
+
 def test_bad_period_refused():
     for bad in (-0.1, math.nan, math.inf):
         with pytest.raises(mg.ParamError):
@@ -89,7 +103,8 @@ def test_bad_period_refused():
 
 def _res(mass, sd=10.0, m=1000.0, restores=0):
     return {"m": m, "mass": mass, "sd": sd, "restores": restores, "n_ok": 1,
-            "slip_before": 0.02, "slip_ramp": 0.04}
+            "slip_before": 0.02, "slip_ramp": 0.04, "worst_z": 3.25,
+            "course": [(mass, sd)] * len(rs.TIMES)}
 
 
 def test_tables():
@@ -105,7 +120,7 @@ def test_tables():
     mgr = {("a.csv", v): {"mass_err": 0.01, "grade_rmse": 0.0012, "restores": 0}
            for v in rs.VARIANTS}
     text = rs.tables(obs, names, mgr, ["a.csv"])
-    rows = [r for r in text.splitlines() if r.startswith("| traction_x")]
+    rows = [r for r in text.splitlines() if r.startswith("| traction_x |") and " m | " in r]
     assert len(rows) == len(rs.STARTS)
     assert rows[0].startswith("| traction_x | 1.0 m | +2.0% (1.0%) | -5.0% (1.0%) | +2.0%")
     assert "rollback 0.1 s against the pause: 3 rollbacks over the 3 starts, the largest " \
@@ -113,5 +128,8 @@ def test_tables():
     assert "rollback 0.05 s against the pause: 3 rollbacks over the 3 starts, the largest " \
            "change of the mass at the end 0 kg." in text
     assert "| a | +1.00%, 1.200, 0 |" in text
+    course = [r for r in text.splitlines() if r.startswith("| traction_x | o")]
+    assert course == ["| traction_x | off |" + " +2.0% (1.0%) |" * len(rs.TIMES) + " 3.2 |",
+                      "| traction_x | on |" + " +2.0% (1.0%) |" * len(rs.TIMES) + " 3.2 |"]
     assert "up to 0.0200…0.0200; from 0.5 s to the first slip-held sample (the ramp's " \
            "updates) up to 0.0400…0.0400." in text
