@@ -17,6 +17,9 @@ where any run held a sample by slip; a line says how far the others moved (0 kg 
 pause never acted there). The mass and grade logs (scenarios/mass_grade/, replayed behind the
 observer: no measured vx, so nothing is handed to the filter) are replayed with the key at 0
 and at its default, and their mass, sd and grade columns compared byte for byte.
+The traction logs run once more with the simulator's resistances (mg_fc = mg_fr = mg_rho = 0:
+scripts/sim/vehicle.py has neither rolling resistance nor drag) instead of the car preset's,
+the pause off and on (the last column of the first table).
 With --page the text goes between <!-- mass-slip:begin --> and <!-- mass-slip:end -->.
 """
 
@@ -40,6 +43,7 @@ from replay_args import replay_args  # noqa: E402
 STARTS = (1.0, 0.8, 1.2)   # mg_m0 as a share of the log's m
 SLIP = ("0", "default")    # mg_slip_max: off (the filter before the pause), the default key
 MG_COLUMNS = ("mass_est", "sd_mass", "grade_est", "sd_grade")
+SIM_RESISTANCES = "mg_fc = 0\nmg_fr = 0\nmg_rho = 0\n"  # the simulator's: none
 
 
 def run(exe, log, params_text, extra):
@@ -62,7 +66,7 @@ def run(exe, log, params_text, extra):
 
 
 def observer_job(job):
-    exe, name, start, slip = job
+    exe, name, start, slip, sim = job
     src = os.path.join(ROOT, "scenarios", "observer", name)
     m = log_mass(src)
     with tempfile.TemporaryDirectory() as tmp:
@@ -70,9 +74,10 @@ def observer_job(job):
         with_drive_torque(src, log)
         text = f"m = {m!r}\nmg_m0 = {m * start!r}\n"
         text += "mg_slip_max = 0\n" if slip == "0" else ""
+        text += SIM_RESISTANCES if sim else ""
         doc, _ = run(exe, log, text, ["--velocity", "measured"])
     mg = doc["mass_grade"]
-    return (name, start, slip), {"mass": mg["end"]["mass"], "sd": mg["end"]["sd_mass"],
+    return (name, start, slip, sim), {"mass": mg["end"]["mass"], "sd": mg["end"]["sd_mass"],
                                  "m": m, "n_slip": int(mg["status_counts"].get("7", 0)),
                                  "n_ok": int(mg["status_counts"].get("0", 0))}
 
@@ -93,18 +98,27 @@ def pct(x):
     return f"{x:+.1%}"
 
 
-def tables(obs, names, mg, mg_names):
+def tables(obs, names, mg, mg_names, sim=None):
+    """The page's text; @sim: the runs with the simulator's resistances, keyed as @obs (the
+    logs whose samples were held), or None (no such column)."""
     held = [n for n in names if any(obs[(n, s, "default")]["n_slip"] for s in STARTS)]
+    extra = sim is not None and all((n, s, k) in sim for n in held for s in STARTS for k in SLIP)
     rows = ["| log | mg_m0 | mass at the end vs m: pause off → on | sd_mass / m: off → on "
-            "| samples held by slip | updates: off → on |",
-            "|---|---|---|---|---|---|"]
+            "| samples held by slip | updates: off → on |"
+            + (" sim's resistances: mass vs m (sd / m), off → on |" if extra else ""),
+            "|---|---|---|---|---|---|" + ("---|" if extra else "")]
     for n in held:
         for s in STARTS:
             a, b = obs[(n, s, "0")], obs[(n, s, "default")]
             m = a["m"]
-            rows.append(f"| {n[:-4]} | {s:.1f} m | {pct((a['mass'] - m) / m)} → "
-                        f"{pct((b['mass'] - m) / m)} | {a['sd'] / m:.1%} → {b['sd'] / m:.1%} "
-                        f"| {b['n_slip']} | {a['n_ok']} → {b['n_ok']} |")
+            row = (f"| {n[:-4]} | {s:.1f} m | {pct((a['mass'] - m) / m)} → "
+                   f"{pct((b['mass'] - m) / m)} | {a['sd'] / m:.1%} → {b['sd'] / m:.1%} "
+                   f"| {b['n_slip']} | {a['n_ok']} → {b['n_ok']} |")
+            if extra:
+                c, d = sim[(n, s, "0")], sim[(n, s, "default")]
+                row += (f" {pct((c['mass'] - m) / m)} ({c['sd'] / m:.1%}) → "
+                        f"{pct((d['mass'] - m) / m)} ({d['sd'] / m:.1%}) |")
+            rows.append(row)
     others = [n for n in names if n not in held]
     moved = max((abs(obs[(n, s, "default")]["mass"] - obs[(n, s, "0")]["mass"])
                  for n in others for s in STARTS), default=0.0)
@@ -125,11 +139,16 @@ def main():
     mg_names = sorted(f for f in os.listdir(os.path.join(ROOT, "scenarios", "mass_grade"))
                       if f.endswith(".csv"))
     with multiprocessing.Pool(a.jobs) as pool:
-        obs = dict(pool.map(observer_job, [(a.mu_replay, n, s, k) for n in names
+        obs = dict(pool.map(observer_job, [(a.mu_replay, n, s, k, False) for n in names
                                            for s in STARTS for k in SLIP]))
+        obs = {key[:3]: v for key, v in obs.items()}
+        held = [n for n in names if any(obs[(n, s, "default")]["n_slip"] for s in STARTS)]
+        sim = dict(pool.map(observer_job, [(a.mu_replay, n, s, k, True) for n in held
+                                           for s in STARTS for k in SLIP]))
+        sim = {key[:3]: v for key, v in sim.items()}
         mg = dict(pool.map(mass_grade_job, [(a.mu_replay, n, k) for n in mg_names
                                             for k in SLIP]))
-    text = tables(obs, names, mg, mg_names)
+    text = tables(obs, names, mg, mg_names, sim)
     print(text)
     if a.page:
         replace_region(Path(a.page), "<!-- mass-slip:begin -->", "<!-- mass-slip:end -->",

@@ -36,3 +36,24 @@ def test_held_logs_tabled_the_others_summed():
     assert "clean" not in "".join(r for r in text.splitlines() if r.startswith("|"))
     assert "The other 1 observer logs" in text and "change of the mass at the end 0.5 kg" in text
     assert "1 of 2 with mass_est" in text
+
+
+def test_sim_resistances_column():
+    """With the runs of the simulator's resistances for every held log, each row gains their
+    mass error and sd against m, pause off and on; without them (None or a log missing) the
+    table keeps its six columns."""
+    obs = {}
+    for (k, s), v in _obs(900.0, 960.0, 40).items():
+        obs[("slips.csv", s, k)] = v
+    sim = {}
+    for (k, s), v in _obs(1001.0, 1080.0, 40).items():
+        sim[("slips.csv", s, k)] = v
+    cols = [("1", "2", "3", "4")]
+    mg = {("a.csv", "0"): (cols, 0), ("a.csv", "default"): (cols, 0)}
+    text = ms.tables(obs, ["slips.csv"], mg, ["a.csv"], sim)
+    rows = [r for r in text.splitlines() if r.startswith("| slips")]
+    assert rows[0] == ("| slips | 1.0 m | -10.0% → -4.0% | 0.2% → 2.0% | 40 | 100 → 60 |"
+                       " +0.1% (0.2%) → +8.0% (2.0%) |")
+    del sim[("slips.csv", ms.STARTS[-1], "0")]
+    text = ms.tables(obs, ["slips.csv"], mg, ["a.csv"], sim)
+    assert [r for r in text.splitlines() if r.startswith("| slips")][0].count("|") == 7
