@@ -146,7 +146,7 @@ static inline float rfe_tan_f32(float x)
     r = rfe_trig_reduce_f32(x, &k);
     s = rfe_sin_poly_f32(r);
     c = rfe_cos_poly_f32(r);
-    return (((uint32_t)k & 1u) == 0u) ? (s / c) : (-c / s);
+    return (((uint32_t)k & 1u) == 0u) ? (s / c) : ((-c) / s);
 }
 
 #endif /* RFE_TRIG_F32_H */
