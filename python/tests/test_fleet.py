@@ -295,3 +295,29 @@ def test_a_log_that_kills_its_worker_takes_no_other_log_along(tmp_path):
     assert results[1]["error"] is None and results[2]["error"] is None
     assert est[1].is_file() and est[2].is_file()
     assert stream.getvalue().count("rfe.fleet: ") == 1   # the crashing log alone
+
+
+def test_a_log_lost_with_its_worker_runs_alone_again_until_it_survives_or_dies_twice():
+    """fleet._alone: a try that completes (or fails otherwise) ends the retries; a worker's
+    death is tried once more under a new tag; a log whose worker dies on every try keeps the
+    last death. A stand-in for the cluster records the tags it was run under."""
+    def runner(outcomes):
+        tags = []
+
+        def run(tag):
+            tags.append(tag)
+            return outcomes[len(tags) - 1]
+        return run, tags
+
+    died = {"error": "KilledWorker: ...", "killed": True}
+    done = {"error": None}
+    run, tags = runner([done])
+    assert fleet._alone(run) is done and tags == ["-alone1"]
+    run, tags = runner([died, done])
+    assert fleet._alone(run) is done and tags == ["-alone1", "-alone2"]
+    failed = {"error": "InputError: ...", "killed": False}
+    run, tags = runner([died, failed])
+    assert fleet._alone(run) is failed and tags == ["-alone1", "-alone2"]
+    last = {"error": "KilledWorker: again", "killed": True}
+    run, tags = runner([died, last, done])
+    assert fleet._alone(run) is last and len(tags) == fleet.ALONE_TRIES == 2
