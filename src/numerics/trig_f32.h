@@ -140,13 +140,19 @@ static inline float rfe_tan_f32(float x)
     float r;
     float s;
     float c;
+    float t;
     if (!(fabsf(x) <= RFE_TRIG_F32_MAX)) {
         return tanf(x);
     }
     r = rfe_trig_reduce_f32(x, &k);
     s = rfe_sin_poly_f32(r);
     c = rfe_cos_poly_f32(r);
-    return (((uint32_t)k & 1u) == 0u) ? (s / c) : ((-c) / s);
+    if (((uint32_t)k & 1u) == 0u) {
+        t = s / c;
+    } else {
+        t = -(c / s); /* the same value as (-c) / s: IEEE division is sign-symmetric */
+    }
+    return t;
 }
 
 #endif /* RFE_TRIG_F32_H */
