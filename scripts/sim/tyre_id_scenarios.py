@@ -17,13 +17,23 @@ Front tyre: the simulator's default lateral curve (cy 15, C 1.3, E -1: a rounded
 stiffer per unit load and sharper (cy 17, C 1.5, E 0.3), so the car understeers and the front
 axle reaches its peak first.  The tyre change swaps both axles to other tyres at one instant
 (a softer front with a sharp peak, C 1.6, E 0.4; a softer rear with a rounded one).
+
+The two brake-in-turn logs (issue 20's friction ellipse, docs/TYRE_ID.md §3.5) brake all four
+wheels in a steady turn (ABS off, the wheels never near locking), so for those seconds the
+wheels slip longitudinally and each wheel's lateral force is the simulator's combined-slip
+force (tyres.py, the similarity method), below the pure-slip curve.  Their truth columns are
+defined as on the other logs: D, C, B, E of the pure-slip curve at the axle's instantaneous
+load (D = mu (Fz_left + Fz_right)), and Fy_*_true the force the axle actually transmits.  The
+brake is released 4 s before the end, so the final curve the accuracy tables score is the
+pure-slip one at about the static load again.
 """
 
 from dataclasses import dataclass, replace
 from math import pi, sin
 from typing import Callable
 
-from .scenarios import KMH, ZERO4, const, double_lane_change, ramp, uniform_mu, DLC_P, DLC_T
+from .scenarios import (KMH, ZERO4, const, double_lane_change, pulse, ramp, uniform_mu, DLC_P,
+                        DLC_T)
 
 __all__ = ["AxleTyre", "TidScenario", "TID_SCENARIOS", "TID_BY_NAME", "FRONT", "REAR",
            "FRONT_2", "REAR_2"]
@@ -59,13 +69,14 @@ class TidScenario:
     steer: Callable          # delta(t) [rad]
     mu: float                # uniform road friction
     tyres: tuple = ((0.0, FRONT, REAR),)   # (from t, front, rear), t ascending, first at 0
+    pressure: Callable = const(ZERO4)      # wheel-cylinder pressures (fl, fr, rl, rr) [MPa]
 
     @property
     def seed(self):
         return 301 + self.index
 
     def inputs(self, t):
-        return self.steer(t), ZERO4, ZERO4
+        return self.steer(t), self.pressure(t), ZERO4
 
     def axle_tyres(self, t):
         """(front, rear) AxleTyre in force at time t."""
@@ -123,6 +134,29 @@ def _dlc(name, index, v0, mu, amp):
         v0, 10.0, double_lane_change(amp, DLC_P, *DLC_T), mu)
 
 
+# Braking in a steady turn: delta ramped to its value over 1 s from t = 1 s and held, the same
+# pressure on all wheels from BIT_T_ON to BIT_T_OFF (0.2 s ramps; the simulator's brake gains
+# put 62.5 % of the torque on the front axle, the identifier's tid_fx_front), released 4 s
+# before the end.  High mu: ay ~ 4.4 m/s^2 before, ax ~ -3.5 m/s^2 while braking, the rear
+# left wheel's utilisation up to 0.9, beta below 1.7 deg; low mu: ay ~ 1.8, ax ~ -1.3,
+# utilisation up to 0.82 (measured when chosen).
+BIT_T_ON, BIT_T_OFF, BIT_TR = 4.0, 6.0, 0.2
+BIT_HIGH = (0.9, 0.03, 2.2)      # mu, delta [rad], pressure [MPa]
+BIT_LOW = (0.3, 0.012, 0.8)
+
+
+def _brake_in_turn(name, index, v0, cfg):
+    mu, d, p = cfg
+    return TidScenario(
+        name, index,
+        f"braking in a turn: v0 = {v0 / KMH:g} km/h, mu = {mu:g}, delta ramped 0 -> {d:g} rad "
+        f"from t = {RS_T0:g} s over 1 s then held, p = {p:g} MPa all wheels from t = "
+        f"{BIT_T_ON:g} s to {BIT_T_OFF:g} s ({BIT_TR:g} s ramps), ABS off, no drive torque; "
+        f"truth tyres {_TEXT_TYRES} (pure slip; combined slip while braking)",
+        v0, 10.0, lambda t: ramp(t, RS_T0, 1.0, d), mu,
+        pressure=lambda t: (pulse(t, BIT_T_ON, BIT_T_OFF, BIT_TR, p),) * 4)
+
+
 TID_SCENARIOS = [
     _ramp_steer("tid_ramp_steer_high_mu", 0, 80.0 * KMH, 0.9, 0.09),
     _ramp_steer("tid_ramp_steer_low_mu", 1, 80.0 * KMH, 0.3, 0.03),
@@ -145,6 +179,8 @@ TID_SCENARIOS = [
         f"straight driving: v0 = 80 km/h, mu = 0.85, delta = 0, no brake, no drive torque: "
         f"no lateral force, no tyre parameter observable; truth tyres {_TEXT_TYRES}",
         80.0 * KMH, 8.0, const(0.0), 0.85),
+    _brake_in_turn("tid_brake_in_turn_high_mu", 7, 80.0 * KMH, BIT_HIGH),
+    _brake_in_turn("tid_brake_in_turn_low_mu", 8, 80.0 * KMH, BIT_LOW),
 ]
 
 TID_BY_NAME = {s.name: s for s in TID_SCENARIOS}

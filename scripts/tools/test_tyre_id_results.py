@@ -80,13 +80,54 @@ def test_ellipse_option_inside_the_band_keeps_the_lateral_only_run():
 def test_ellipse_table_marks_moved_and_equal_cells_and_counts_targets():
     base = {"n": 1024, "seed": 1, "ms": 1.0, "ax_max": 0.5, "beta": 0.1, "curve_f": 4.0,
             "curve_r": 6.0, "mulim_f": 0.04, "mulim_r": 0.04, "sdlin_f": 0.3, "sdlin_r": 0.3,
-            "tmax_f": 0.1, "tmax_r": 0.1}
+            "tmax_f": 0.1, "tmax_r": 0.1, "mubrk_f": float("nan"), "mubrk_r": float("nan")}
     off = [dict(base, log=STEER, filter="sckf", ellipse=False)]
     on = [dict(base, log=STEER, filter="sckf", ellipse=True, mulim_r=0.06)]
+    brake = "tid_brake_in_turn_high_mu"
+    off.append(dict(base, log=brake, filter="sckf", ellipse=False, mubrk_f=0.2, mubrk_r=0.3))
+    on.append(dict(base, log=brake, filter="sckf", ellipse=True, mubrk_f=0.2, mubrk_r=0.1))
     lines = R.ellipse_table(off, on, 1024, [1])
     row = next(line for line in lines if line.startswith(f"| {STEER} | SCKF |"))
     cells = row.split(" | ")
     assert cells[3] == "4.0 =" and cells[6] == "0.040 → 0.060"
+    # mu@brake after mu@lim: "–" where the log does not brake, else without -> with
+    assert cells[7] == "– =" and cells[8] == "– ="
+    cells = next(line for line in lines if line.startswith(f"| {brake} | SCKF |")).split(" | ")
+    assert cells[7] == "0.200 =" and cells[8] == "0.300 → 0.100"
     summ = next(line for line in lines if line.startswith("| SCKF | "))
-    # curve: f meets (4.0), r does not (6.0); mu@lim r leaves the target; sd meets on both
-    assert summ == "| SCKF | 1/2 → 1/2 | 2/2 → 1/2 | 2/2 → 2/2 |"
+    # per log: curve f meets (4.0), r does not (6.0); mu@lim r leaves the target on the sine
+    # steer only; sd meets on both (mu@brake is not a target)
+    assert summ == "| SCKF | 2/4 → 2/4 | 4/4 → 3/4 | 4/4 → 4/4 |"
+
+
+def test_mu_at_brake_scores_the_braking_of_the_brake_in_turn_logs_only():
+    # AX_BRAKE separates the logs that brake from those that do not: every other log's |ax|
+    # stays below it (drag and noise), the brake-in-turn logs exceed it only while braked
+    # (pressure from 4 s to 6 s with 0.2 s ramps; the deceleration lags by the wheels' slip)
+    for log in R.LOGS:
+        c = read_csv_log(str(R.ROOT / "scenarios" / "tyre_id" / f"{log}.csv")).columns
+        brk = np.abs(c["ax"]) > R.AX_BRAKE
+        if not log.startswith("tid_brake_in_turn"):
+            assert not brk.any(), log
+            continue
+        t = c["t"][brk]
+        assert t.min() > 4.0 and t.max() < 6.4, log
+        # most of the braked window (4.2 s to 6.0 s at full pressure) is scored
+        assert brk.sum() > 150, log
+
+
+def test_summary_pools_the_steering_logs_that_do_not_brake():
+    # the summary's medians are the lateral-only steering logs' (the page's text quotes them):
+    # a braking log's row with an outlying curve must not move them
+    base = {"filter": "sckf", "n": 1024, "seed": 1, "ms": 1.0, "beta": 0.1, "mulim_f": 0.04,
+            "mulim_r": 0.04, "sdlin_f": 0.3, "sdlin_r": 0.3, "tmax_f": 0.1, "tmax_r": 0.1}
+    for k in ("D", "C", "K", "E"):
+        for a in "fr":
+            base.update({f"sdfin_{k}_{a}": 1.0, f"mean_{k}_{a}": 1.0})
+    base.update(Ktrue_f=1.0, Ktrue_r=1.0, Dtrue_f=1.0, Dtrue_r=1.0)
+    rows = [dict(base, log=STEER, curve_f=1.0, curve_r=3.0),
+            dict(base, log=R.BRAKING[0], curve_f=50.0, curve_r=60.0)]
+    acc, cnt, _ = R.tables(rows, 1024, [1])
+    assert sum(line.startswith(f"| {R.BRAKING[0]} | SCKF |") for line in acc) == 1
+    summ = next(line for line in cnt if line.startswith("| SCKF |")).split(" | ")
+    assert summ[2:4] == ["2.0", "3.0"]      # median and worst of 1.0 and 3.0 only

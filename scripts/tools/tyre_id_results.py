@@ -17,7 +17,9 @@ points in place of a particle count.  Figures (docs/TYRE_ID_RESULTS.md says how 
            samples, per axle;
   sd_lin   the smallest sd of mu_id per axle while that axle's tyre has stayed linear (its
            truth utilisation has not yet passed 0.5), from 0.5 s;
-  beta     RMSE of beta [deg] from 0.5 s.
+  beta     RMSE of beta [deg] from 0.5 s;
+  mu@brake |mu_id - mu| where the log's |ax| > AX_BRAKE (1.0 m/s^2: braking), RMSE over those
+           samples, per axle (the --ellipse table only; "–" on the logs that do not brake).
 With --ellipse only the runs at --main-n particles (and the SCKF's) are made, each without and
 with the friction ellipse (ELLIPSE: tid_ellipse 1, tid_ell_ax_min at its default, the dead band
 0.6 m/s^2; docs/TYRE_ID.md section 3.5), and one table goes between
@@ -47,10 +49,19 @@ from reference.logs import read_csv_log  # noqa: E402
 
 ROOT = HERE.parent.parent
 LOGS = ("tid_ramp_steer_high_mu", "tid_ramp_steer_low_mu", "tid_sine_steer", "tid_dlc_high_mu",
-        "tid_dlc_low_mu", "tid_tyre_change", "tid_straight")
+        "tid_dlc_low_mu", "tid_tyre_change", "tid_straight", "tid_brake_in_turn_high_mu",
+        "tid_brake_in_turn_low_mu")
 MARK = {k: (f"<!-- tyre-id-{k}:begin -->", f"<!-- tyre-id-{k}:end -->")
         for k in ("accuracy", "count", "ident", "results-ellipse")}
 T_SKIP = 0.5          # s, the start not scored (prior)
+# m/s^2: the samples scored as braking (mu@brake).  Above the logs' |ax| without a brake (at
+# most 0.55: drag and the accelerometer's noise, sd 0.05) and below the lightest braking (the
+# low-mu brake in turn, about 1.3)
+AX_BRAKE = 1.0
+# the logs that brake in a turn (the friction ellipse's, TYRE_ID.md section 3.5): their own rows
+# in the per-log tables, not pooled into the filters' and particle counts' summary, whose
+# medians stay the lateral-only steering logs' as the page's text quotes them
+BRAKING = ("tid_brake_in_turn_high_mu", "tid_brake_in_turn_low_mu")
 FILTERS = ("apf", "sir", "sckf")
 SCKF_POINTS = f"– ({TS.N_POINTS} points)"
 ELLIPSE = {"tid_ellipse": 1.0}   # --ellipse: the friction ellipse, its dead band at the default
@@ -107,6 +118,10 @@ def measure(job):
         err = out[f"mu_{a}"][lim] - mu[lim]
         res[f"mulim_{a}"] = math.sqrt(float(np.mean(err ** 2))) if lim.any() else math.nan
         res[f"nlim_{a}"] = int(lim.sum())
+        brk = np.abs(c["ax"]) > AX_BRAKE
+        brk[:k_sk] = False
+        err = out[f"mu_{a}"][brk] - mu[brk]
+        res[f"mubrk_{a}"] = math.sqrt(float(np.mean(err ** 2))) if brk.any() else math.nan
         util = np.maximum(c[f"util_{w[0]}"], c[f"util_{w[1]}"])
         passed = np.nonzero(util > 0.5)[0]
         k_end = int(passed[0]) if passed.size else len(t)
@@ -162,8 +177,9 @@ def tables(results, n_main, seeds):
             cell.append(fmt(agg(rows, "beta"), ".3f"))
             cell.append(fmt(agg(rows, "ms"), ".2f"))
             acc.append(f"| {log} | {filt.upper()} | " + " | ".join(cell) + " |")
-    cnt = ["Median over the steering logs (all but tid_straight) and seeds; curve and mu at the "
-           "limit of both axles pooled.", "",
+    cnt = ["Median over the steering logs that do not brake (all but tid_straight and "
+           f"{' and '.join(BRAKING)}, which have their rows above) and seeds; curve and mu at "
+           "the limit of both axles pooled.", "",
            "| filter | particles | curve % median | curve % worst | mu@lim median | "
            "mu@lim worst | beta RMSE deg median | ms/step (Python) |",
            "|---|---|---|---|---|---|---|---|"]
@@ -171,7 +187,7 @@ def tables(results, n_main, seeds):
     for filt in FILTERS:
         for n in ns:
             rows = [r for r in results if r["filter"] == filt and r["n"] == n
-                    and r["log"] != "tid_straight"]
+                    and r["log"] != "tid_straight" and r["log"] not in BRAKING]
             if not rows:
                 continue
             label = SCKF_POINTS if filt == "sckf" else str(n)
@@ -225,10 +241,11 @@ def ellipse_table(off, on, n_main, seeds):
     lines = [f"{n_main} particles (APF, SIR), median over seeds {', '.join(map(str, seeds))}; "
              "SCKF one run. Each cell: without → with the friction ellipse (tid_ellipse 1, "
              f"tid_ell_ax_min {T.TID_DEFAULTS['tid_ell_ax_min']:g} m/s²); \"=\" where the two "
-             "print the same. |ax| max: the log's largest |ax|, m/s².", "",
+             "print the same. |ax| max: the log's largest |ax|, m/s²; mu@brake: over the samples "
+             f"whose |ax| > {AX_BRAKE:g} m/s² (\"–\": the log does not brake).", "",
              "| log | filter | \\|ax\\| max | curve f % | curve r % | mu@lim f | mu@lim r "
-             "| min sd_mu linear f / r | beta RMSE deg |",
-             "|---|---|---|---|---|---|---|---|---|"]
+             "| mu@brake f | mu@brake r | min sd_mu linear f / r | beta RMSE deg |",
+             "|---|---|---|---|---|---|---|---|---|---|---|"]
 
     def pair(r0, r1, key, spec, how=np.median):
         a, b = fmt(agg(r0, key, how), spec), fmt(agg(r1, key, how), spec)
@@ -241,6 +258,7 @@ def ellipse_table(off, on, n_main, seeds):
             cell = [fmt(r0[0]["ax_max"], ".2f")]
             cell += [pair(r0, r1, "curve_" + a, ".1f") for a in "fr"]
             cell += [pair(r0, r1, "mulim_" + a, ".3f") for a in "fr"]
+            cell += [pair(r0, r1, "mubrk_" + a, ".3f") for a in "fr"]
             cell.append(pair(r0, r1, "sdlin_f", ".2f", np.min) + " / "
                         + pair(r0, r1, "sdlin_r", ".2f", np.min))
             cell.append(pair(r0, r1, "beta", ".3f"))
