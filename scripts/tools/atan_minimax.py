@@ -17,25 +17,18 @@ import functools
 
 import numpy as np
 
+import minimax
+
 TERMS = 9
 
 
 @functools.lru_cache(maxsize=None)
 def fit(terms: int = TERMS, iters: int = 300) -> tuple[np.ndarray, float]:
     """(coefficients c_k of t^(2k), max relative error of t P(t^2) against atan t)."""
-    t = np.unique(np.concatenate([np.cos(np.linspace(0.0, np.pi, 4001)) * 0.5 + 0.5,
-                                  np.linspace(0.0, 1.0, 2001)]))
-    t = t[t > 0.0]
+    t = minimax.grid(1.0)
     a = np.stack([t ** (2 * k) for k in range(terms)], axis=1)
     f = np.arctan(t) / t
-    w = np.ones_like(t)
-    c = np.zeros(terms)
-    for _ in range(iters):
-        sw = np.sqrt(w)
-        c = np.linalg.lstsq(a * sw[:, None], f * sw, rcond=None)[0]
-        e = np.abs(a @ c - f)
-        w = w * e
-        w /= w.sum()
+    c = minimax.lawson(a, f, iters)
     return c, float(np.max(np.abs(a @ c - f)))
 
 

@@ -22,34 +22,17 @@ import functools
 
 import numpy as np
 
+import minimax
+
 SIN_TERMS = 3
 COS_TERMS = 4
 QUARTER_PI = np.pi / 4.0
 
 
-def _grid() -> np.ndarray:
-    """r in (0, pi/4]: Chebyshev-spaced points (dense at the ends) and a uniform grid."""
-    r = np.unique(np.concatenate([np.cos(np.linspace(0.0, np.pi, 4001)) * QUARTER_PI / 2.0
-                                  + QUARTER_PI / 2.0, np.linspace(0.0, QUARTER_PI, 2001)]))
-    return r[r > 0.0]
-
-
-def _lawson(a: np.ndarray, f: np.ndarray, iters: int) -> np.ndarray:
-    w = np.ones(len(f))
-    c = np.zeros(a.shape[1])
-    for _ in range(iters):
-        sw = np.sqrt(w)
-        c = np.linalg.lstsq(a * sw[:, None], f * sw, rcond=None)[0]
-        e = np.abs(a @ c - f)
-        w = w * e
-        w /= w.sum()
-    return c
-
-
 @functools.lru_cache(maxsize=None)
 def fit(kind: str, iters: int = 300) -> tuple[np.ndarray, float]:
     """(coefficients c_k of z^k, max relative error of the polynomial against sin or cos)."""
-    r = _grid()
+    r = minimax.grid(QUARTER_PI)
     z = r * r
     if kind == "sin":
         terms = SIN_TERMS
@@ -64,7 +47,7 @@ def fit(kind: str, iters: int = 300) -> tuple[np.ndarray, float]:
     else:
         raise ValueError(f"kind must be 'sin' or 'cos', not {kind!r}")
     a = np.stack([z ** k for k in range(terms)], axis=1)
-    c = _lawson(a * wt[:, None], f * wt, iters)
+    c = minimax.lawson(a * wt[:, None], f * wt, iters)
     return c, float(np.max(np.abs((a @ c - f) * wt)))
 
 
