@@ -484,13 +484,41 @@ static body_map_q31_t body_map_q31(const rfe_vehicle_q31_t *veh, int32_t c, int3
     return b;
 }
 
-/* The body terms of a force pair (fx, fy) by the map b, added to acc[0..1]. */
-static void body_add_q31(const body_map_q31_t *b, rfe_xf_t fx, rfe_xf_t fy, rfe_xf_t acc[2])
+/* Wheel i's map of a force pair (wheel axes) into the lateral rows' body terms (ay, r-dot):
+ * the rotation by the steer angle folded into the geometry, ay += fx ax + fy ay and r-dot +=
+ * fx rx + fy ry with (c, s the steer angle's cos and sin on the front axle, 1 and 0 on the
+ * rear; x_i / J, y_i / J the signed lever arms of body_map_q31):
+ *   ax = s / m,  ay = c / m,  rx = s x_i / J - c y_i / J,  ry = c x_i / J + s y_i / J.
+ * Each coefficient is formed exactly in int64 (Q30 x Q38 = Q68, each product < 2^61, a sum of
+ * two < 2^62) and rounded once to rfe_xf_t (2^-30 relative), where the rotation and the
+ * geometry took two products and a sum per term before: four products and four sums per
+ * force pair instead of eight and six. */
+typedef struct {
+    rfe_xf_t ax;
+    rfe_xf_t ay;
+    rfe_xf_t rx;
+    rfe_xf_t ry;
+} lat_map_q31_t;
+
+static void lat_map_q31(const rfe_vehicle_q31_t *veh, int32_t c, int32_t s, size_t i,
+                        lat_map_q31_t *b)
 {
-    const rfe_xf_t fbx = rfe_xf_sub(rfe_xf_mul(fx, b->ci), rfe_xf_mul(fy, b->si));
-    const rfe_xf_t fby = rfe_xf_add(rfe_xf_mul(fx, b->si), rfe_xf_mul(fy, b->ci));
-    acc[0] = rfe_xf_add(acc[0], rfe_xf_mul(fby, b->inv_m));
-    acc[1] = rfe_xf_add(acc[1], rfe_xf_sub(rfe_xf_mul(fby, b->px_J), rfe_xf_mul(fbx, b->py_J)));
+    const int32_t px_J = (i < (size_t)RFE_RL) ? veh->lf_J : -veh->lr_J;
+    const int32_t y_J = (i < (size_t)RFE_RL) ? veh->yf_J : veh->yr_J;
+    const int32_t py_J = ((i == (size_t)RFE_FL) || (i == (size_t)RFE_RL)) ? y_J : -y_J;
+    const int32_t ci = (i < (size_t)RFE_RL) ? c : ONE_Q30;
+    const int32_t si = (i < (size_t)RFE_RL) ? s : 0;
+    b->ax = rfe_xf_make((int64_t)si * (int64_t)veh->inv_m, -68);
+    b->rx = rfe_xf_make(((int64_t)si * (int64_t)px_J) - ((int64_t)ci * (int64_t)py_J), -68);
+    b->ay = rfe_xf_make((int64_t)ci * (int64_t)veh->inv_m, -68);
+    b->ry = rfe_xf_make(((int64_t)ci * (int64_t)px_J) + ((int64_t)si * (int64_t)py_J), -68);
+}
+
+/* The lateral rows' body terms of a force pair (fx, fy) by the map b, added to acc[0..1]. */
+static void body_add_q31(const lat_map_q31_t *b, rfe_xf_t fx, rfe_xf_t fy, rfe_xf_t acc[2])
+{
+    acc[0] = rfe_xf_add(acc[0], rfe_xf_add(rfe_xf_mul(fx, b->ax), rfe_xf_mul(fy, b->ay)));
+    acc[1] = rfe_xf_add(acc[1], rfe_xf_add(rfe_xf_mul(fx, b->rx), rfe_xf_mul(fy, b->ry)));
 }
 
 /* Wheel i's Dugoff/Magic Formula pre-computed terms and its slip's direction of change by vy,
@@ -512,7 +540,8 @@ static void wheel_add_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh,
                           rfe_xf_t dm[2])
 {
     const rfe_xf_t sd = rfe_xf_of(dmu_i, 30);
-    const body_map_q31_t bm = body_map_q31(veh, h->cos_delta, h->sin_delta, i);
+    lat_map_q31_t bm;
+    lat_map_q31(veh, h->cos_delta, h->sin_delta, i, &bm);
     body_add_q31(&bm, f->dfx, f->dfy, dv);
     body_add_q31(&bm, rfe_xf_mul(f->mfx, sd), rfe_xf_mul(f->mfy, sd), dm);
 }
