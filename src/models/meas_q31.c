@@ -408,7 +408,10 @@ rfe_status_t rfe_meas_eval_perturbed_q31(const rfe_meas_q31_t *h, const rfe_vehi
 
 /* Wheel i's input change per unit of vy (meas_flt.c vy_direction) in rfe_xf_t: ci, si Q30 the
  * cos, sin of its steer angle, t30 its tan(alpha) (Q26). den = max(|omega R|, |v_wx|, v_min)
- * in Q51, as the kinematics form it. */
+ * in Q51, as the kinematics form it. Each numerator is formed exactly in int64 and divided
+ * once (one rounding each, 2^-30 relative): ci 2^26 + t sgn(v_wx) si in Q56 (|t| < 5.8 2^26 <
+ * 2^29, so |t si| < 2^59 and the sum < 2^59.3), (1 + own) si in Q60 ((1 + own) <= 2 in Q30,
+ * the product <= 2^61); si = 0 (the rear wheels, no steer) gives d.k = 0 without a division. */
 static rfe_slip_dir_q31_t vy_direction_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh,
                                            const rfe_tyre_params_q31_t *tp,
                                            const rfe_sample_q31_t *u, size_t i, int32_t ci,
@@ -417,30 +420,29 @@ static rfe_slip_dir_q31_t vy_direction_q31(const rfe_meas_q31_t *h, const rfe_ve
     const int32_t vwx = h->kin.vwx[i];
     const int32_t kappa = h->kin.kappa[i];
     const int sv = rfe_q31_sign(vwx);
-    const rfe_xf_t one = rfe_xf_make(1, 0);
-    const rfe_xf_t s = rfe_xf_of(si, 30);
     rfe_slip_dir_q31_t d;
-    d.vwx = s;
+    d.vwx = rfe_xf_of(si, 30);
     d.tan_a = rfe_xf_make(0, 0);
     d.k = rfe_xf_make(0, 0);
     if ((rfe_q31_within(h->kin.alpha[i], tp->alpha_max - 1) != 0) && (vwx != 0)) {
         /* -(ci + t sgn(v_wx) si) / |v_wx| */
-        const rfe_xf_t ts = rfe_xf_mul(rfe_xf_of((sv > 0) ? tan_a : -tan_a, 26), s);
+        const int64_t ts = (int64_t)((sv > 0) ? tan_a : -tan_a) * (int64_t)si;
+        const int64_t num = ((int64_t)ci * rfe_q31_pow2(26u)) + ts;
         const rfe_xf_t avx = rfe_xf_of((vwx < 0) ? -vwx : vwx, (int)RFE_FIX_Q_SPEED);
-        d.tan_a = rfe_xf_neg(rfe_xf_div(rfe_xf_add(rfe_xf_of(ci, 30), ts), avx));
+        d.tan_a = rfe_xf_neg(rfe_xf_div(rfe_xf_make(num, -56), avx));
     }
-    if (rfe_q31_within(kappa, ONE_Q30 - 1) != 0) {
+    if ((rfe_q31_within(kappa, ONE_Q30 - 1) != 0) && (si != 0)) {
         /* -(1 + [den = |v_wx|] kappa sgn(v_wx)) si / den, all three in Q51 */
         const uint64_t avr = rfe_q31_mag64((int64_t)u->omega[i] * (int64_t)veh->R);
         const uint64_t avx = (uint64_t)((vwx < 0) ? -(int64_t)vwx : (int64_t)vwx) << 28;
         const uint64_t vmin = (uint64_t)tp->v_min << 28;
         const uint64_t big = (avr > avx) ? avr : avx;
         const uint64_t den = (big > vmin) ? big : vmin;
-        rfe_xf_t own = rfe_xf_make(0, 0);
+        int64_t one_own = ONE_Q30;
         if ((avx > avr) && (avx > vmin)) {
-            own = rfe_xf_of((sv > 0) ? kappa : -kappa, 30);
+            one_own += (sv > 0) ? kappa : -(int64_t)kappa;
         }
-        d.k = rfe_xf_neg(rfe_xf_div(rfe_xf_mul(rfe_xf_add(one, own), s),
+        d.k = rfe_xf_neg(rfe_xf_div(rfe_xf_make(one_own * (int64_t)si, -60),
                                     rfe_xf_make((int64_t)den, -51)));
     }
     return d;

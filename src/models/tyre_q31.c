@@ -862,29 +862,29 @@ static void magic_dir_q31(const rfe_dugoff_pre_q31_t *pre, int32_t m, int32_t C,
     dir->g = rfe_q31_sin_q55(dir->phi);
 }
 
-/* m G / s of one direction (S > 0, m > 0) from G (Q30): G m / S, Q30 x Q29 over S in Q(qs), the
- * operands exact, one division. G holds 30 bits of its value only where it is not small, so
+/* m G / s of one direction (S > 0, m > 0) from G (Q30): G m (Q30 x Q29, exact) times 1 / S
+ * (rs, shared by the wheel's two directions), two roundings. G holds 30 bits of its value only where it is not small, so
  * below x = s / (m C) = 2^-8 (read from the atan2's pair: yn 2^8 < xn; either side of the line
  * is accurate) the series m G / s = 1 - ((1 + E) / 3 + C^2 / 6) x^2 + O(x^4) (atan and sin to
  * third order: relative error < x^4 < 2.4e-10) replaces the quotient (G >= C x / 2 > 2^-9 above
  * it: 2^-21 relative, and better as x grows). m G / s is in [0, 5]: sin(C b) <= C b and b <=
  * atan((1 + |E|) x) <= 5 x, and m G / s = sin(C b) / (C x). */
 static rfe_xf_t magic_g_over_s_q31(const rfe_dugoff_pre_q31_t *pre, int32_t m, int32_t Cq,
-                                   int32_t Eq, const magic_dir_q31_t *dir)
+                                   int32_t Eq, const magic_dir_q31_t *dir, rfe_xf_t rs)
 {
-    const rfe_xf_t s = rfe_xf_of(pre->s, (int)pre->qs);
     rfe_xf_t r;
     if (((int64_t)dir->pr.yn * rfe_q31_pow2((unsigned int)MAGIC_SERIES_BITS)) <
         (int64_t)dir->pr.xn) {
         const rfe_xf_t one = rfe_xf_make(1, 0);
         const rfe_xf_t C = rfe_xf_of(Cq, (int)RFE_FIX_Q_STIFF);
         const rfe_xf_t E = rfe_xf_of(Eq, (int)RFE_FIX_Q_STIFF);
-        const rfe_xf_t x = rfe_xf_div(s, rfe_xf_make((int64_t)m * (int64_t)Cq, -53)); /* Q29 Q24 */
+        const rfe_xf_t x = rfe_xf_div(rfe_xf_of(pre->s, (int)pre->qs),
+                                      rfe_xf_make((int64_t)m * (int64_t)Cq, -53)); /* Q29 Q24 */
         const rfe_xf_t c2 = rfe_xf_add(rfe_xf_div(rfe_xf_add(one, E), rfe_xf_make(3, 0)),
                                        rfe_xf_div(rfe_xf_mul(C, C), rfe_xf_make(6, 0)));
         r = rfe_xf_sub(one, rfe_xf_mul(c2, rfe_xf_mul(x, x)));
     } else {
-        r = rfe_xf_div(rfe_xf_make((int64_t)dir->g * (int64_t)m, -59), s);
+        r = rfe_xf_mul(rfe_xf_make((int64_t)dir->g * (int64_t)m, -59), rs);
     }
     return r;
 }
@@ -937,8 +937,9 @@ static void magic_shape_jac_q31(const magic_dir_q31_t *dir, int32_t Cq, int32_t 
 
 /* What a direction's derivatives share with the other: the load fz, the slip's change along
  * the direction (cd = c dk or c dt), its change ds = ux cx dk + uy cy dt, the direction
- * cosine u. */
+ * cosine u, 1 / S (rs). */
 typedef struct {
+    rfe_xf_t rs;
     rfe_xf_t fz;
     rfe_xf_t u;
     rfe_xf_t cd;
@@ -953,7 +954,7 @@ static void magic_dir_jac_q31(const rfe_dugoff_pre_q31_t *pre, int32_t m, int32_
 {
     rfe_xf_t m_gs;
     rfe_xf_t gms;
-    const rfe_xf_t m_gos = magic_g_over_s_q31(pre, m, Cq, Eq, dir);
+    const rfe_xf_t m_gos = magic_g_over_s_q31(pre, m, Cq, Eq, dir, l->rs);
     magic_shape_jac_q31(dir, Cq, Eq, &m_gs, &gms);
     *df = rfe_xf_mul(l->fz, rfe_xf_add(rfe_xf_mul(m_gos, l->cd),
                                        rfe_xf_mul(rfe_xf_sub(m_gs, m_gos),
@@ -993,6 +994,8 @@ static void magic_jac_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugoff_pre_
         ly.cd = cdt;
         lx.ds = rfe_xf_add(rfe_xf_mul(lx.u, cdk), rfe_xf_mul(ly.u, cdt));
         ly.ds = lx.ds;
+        lx.rs = rfe_xf_div(rfe_xf_make(1, 0), rfe_xf_of(pre->s, (int)pre->qs));
+        ly.rs = lx.rs;
         magic_dir_jac_q31(pre, m, tp->shape_Cx, tp->shape_Ex, &dir[0], &lx, &o->dfx, &o->mfx);
         magic_dir_jac_q31(pre, m, tp->shape_Cy, tp->shape_Ey, &dir[1], &ly, &o->dfy, &o->mfy);
     }
