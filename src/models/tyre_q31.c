@@ -889,6 +889,19 @@ static rfe_xf_t magic_g_over_s_q31(const rfe_dugoff_pre_q31_t *pre, int32_t m, i
     return r;
 }
 
+/* d = dn/ds = 1 - E sin^2 a in Q30, (0, 5 2^30], from a (Q31) and E (Q24) (magic_shape_jac_q31
+ * below); E = 0 (the preset's curves): 1, without the sine. */
+static int64_t magic_dn_q31(int32_t Eq, uint32_t a)
+{
+    int64_t d = ONE_Q30;
+    if (Eq != 0) {
+        const int64_t sa = rfe_q31_sin_q55((int64_t)a * rfe_q31_pow2(24u));
+        const int64_t sa2 = rfe_fix_shr64_round(sa * sa, 30u);
+        d -= rfe_fix_shr64_round((int64_t)Eq * sa2, 24u);
+    }
+    return d;
+}
+
 /* m dG/ds and G - s dG/ds of one direction, S > 0, m > 0 (tyre_flt.c magic_shape_jac's dG/ds,
  * written in the curve's angles). With p = m C, n = s - E (s - p a), tan a = s / p, tan b = n / p:
  *   dn/ds = 1 - E + E p^2 / (p^2 + s^2) = 1 - E sin^2 a = d,   db/ds = cos^2 b d / p,
@@ -915,10 +928,7 @@ static void magic_shape_jac_q31(const magic_dir_q31_t *dir, int32_t Cq, int32_t 
     const int64_t phi = dir->phi;
     const int32_t c30 = (phi <= HALF_PI_Q55) ? rfe_q31_sin_q55(HALF_PI_Q55 - phi)
                                              : -rfe_q31_sin_q55(phi - HALF_PI_Q55);
-    const int64_t sa = rfe_q31_sin_q55((int64_t)dir->pr.a * rfe_q31_pow2(24u));
-    const int64_t sa2 = rfe_fix_shr64_round(sa * sa, 30u);
-    const int64_t d = (int64_t)ONE_Q30 - rfe_fix_shr64_round((int64_t)Eq * sa2, 24u);
-    const int64_t cd = rfe_fix_shr64_round((int64_t)c30 * d, 30u);
+    const int64_t cd = rfe_fix_shr64_round((int64_t)c30 * magic_dn_q31(Eq, dir->pr.a), 30u);
     const int64_t xn = dir->pr.xn;
     const int64_t x24 = xn * rfe_q31_pow2(24u);
     const int64_t z = dir->pr.z;
