@@ -516,11 +516,20 @@ static void lat_map_q31(const rfe_vehicle_q31_t *veh, int32_t c, int32_t s, size
     b->ry = rfe_xf_make(((int64_t)ci * (int64_t)px_J) + ((int64_t)si * (int64_t)py_J), -68);
 }
 
-/* The lateral rows' body terms of a force pair (fx, fy) by the map b, added to acc[0..1]. */
-static void body_add_q31(const lat_map_q31_t *b, rfe_xf_t fx, rfe_xf_t fy, rfe_xf_t acc[2])
+/* The lateral rows' terms over the wheels: two per wheel and row (fx and fy by the map),
+ * summed once per row by rfe_xf_sum (its RFE_XF_SUM_MAX = 8 = 2 RFE_WHEELS terms). */
+#define LAT_TERMS RFE_XF_SUM_MAX
+
+/* Wheel i's body terms of a force pair (fx, fy) by the map b: t[r][2i], t[r][2i + 1] for the
+ * rows r = ay, r-dot. */
+static void body_add_q31(const lat_map_q31_t *b, rfe_xf_t fx, rfe_xf_t fy, size_t i,
+                         rfe_xf_t t[2][LAT_TERMS])
 {
-    acc[0] = rfe_xf_add(acc[0], rfe_xf_add(rfe_xf_mul(fx, b->ax), rfe_xf_mul(fy, b->ay)));
-    acc[1] = rfe_xf_add(acc[1], rfe_xf_add(rfe_xf_mul(fx, b->rx), rfe_xf_mul(fy, b->ry)));
+    const size_t k = 2u * i;
+    t[0][k] = rfe_xf_mul(fx, b->ax);
+    t[0][k + 1u] = rfe_xf_mul(fy, b->ay);
+    t[1][k] = rfe_xf_mul(fx, b->rx);
+    t[1][k + 1u] = rfe_xf_mul(fy, b->ry);
 }
 
 /* Wheel i's Dugoff/Magic Formula pre-computed terms and its slip's direction of change by vy,
@@ -535,26 +544,27 @@ static void wheel_dir_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh,
     *d = vy_direction_q31(h, veh, tp, u, i, ci, si, pre->tan_a);
 }
 
-/* Adds wheel i's force derivatives, mapped to the body once, to the sums by vy (dv) and by
- * its friction along dmu_i (dm). */
+/* Wheel i's force derivatives, mapped to the body once, as its terms of the sums by vy (tv)
+ * and by its friction along dmu_i (tm). */
 static void wheel_add_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh, size_t i,
-                          const rfe_tyre_jac_q31_t *f, rfe_fix_t dmu_i, rfe_xf_t dv[2],
-                          rfe_xf_t dm[2])
+                          const rfe_tyre_jac_q31_t *f, rfe_fix_t dmu_i, rfe_xf_t tv[2][LAT_TERMS],
+                          rfe_xf_t tm[2][LAT_TERMS])
 {
     const rfe_xf_t sd = rfe_xf_of(dmu_i, 30);
     lat_map_q31_t bm;
     lat_map_q31(veh, h->cos_delta, h->sin_delta, i, &bm);
-    body_add_q31(&bm, f->dfx, f->dfy, dv);
-    body_add_q31(&bm, rfe_xf_mul(f->mfx, sd), rfe_xf_mul(f->mfy, sd), dm);
+    body_add_q31(&bm, f->dfx, f->dfy, i, tv);
+    body_add_q31(&bm, rfe_xf_mul(f->mfx, sd), rfe_xf_mul(f->mfy, sd), i, tm);
 }
 
-/* Both sums at 0. */
-static void zero_sums_q31(rfe_xf_t dv[2], rfe_xf_t dm[2])
+/* Both rows' sums of their terms, each rounded once (rfe_xf_sum). */
+static void sum_rows_q31(rfe_xf_t tv[2][LAT_TERMS], rfe_xf_t tm[2][LAT_TERMS], rfe_xf_t dv[2],
+                         rfe_xf_t dm[2])
 {
-    size_t i;
-    for (i = 0u; i < 2u; ++i) {
-        dv[i] = rfe_xf_make(0, 0);
-        dm[i] = rfe_xf_make(0, 0);
+    size_t r;
+    for (r = 0u; r < 2u; ++r) {
+        dv[r] = rfe_xf_sum(tv[r]);
+        dm[r] = rfe_xf_sum(tm[r]);
     }
 }
 
@@ -565,8 +575,9 @@ static void lateral_sums_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *v
                              rfe_xf_t dm[2])
 {
     const int cached = pre_matches_q31(h, tp);
+    rfe_xf_t tv[2][LAT_TERMS];
+    rfe_xf_t tm[2][LAT_TERMS];
     size_t i;
-    zero_sums_q31(dv, dm);
     for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
         rfe_dugoff_pre_q31_t pre;
         rfe_slip_dir_q31_t d;
@@ -574,8 +585,9 @@ static void lateral_sums_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *v
         wheel_dir_q31(h, veh, tp, u, cached, i, &pre, &d);
         rfe_tyre_pre_jac_q31(tp, &pre, h->kin.kappa[i], h->kin.vwx[i], h->kin.fz[i], mu[i], &d,
                              &f);
-        wheel_add_q31(h, veh, i, &f, dmu[i], dv, dm);
+        wheel_add_q31(h, veh, i, &f, dmu[i], tv, tm);
     }
+    sum_rows_q31(tv, tm, dv, dm);
 }
 
 /* Load-scaled set-up, Magic Formula curve: z = h(mu, u) of rfe_meas_eval_q31 and the sums of
@@ -589,6 +601,8 @@ static rfe_status_t lateral_magic_q31(const rfe_meas_q31_t *h, const rfe_vehicle
                                       uint32_t *count)
 {
     rfe_fix_t col[COLS];
+    rfe_xf_t tv[2][LAT_TERMS];
+    rfe_xf_t tm[2][LAT_TERMS];
     int cached;
     size_t i;
     const rfe_status_t st = abs_inputs_ok_q31(h, tp);
@@ -596,7 +610,6 @@ static rfe_status_t lateral_magic_q31(const rfe_meas_q31_t *h, const rfe_vehicle
         return st;
     }
     cached = pre_matches_q31(h, tp);
-    zero_sums_q31(dv, dm);
     for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
         rfe_dugoff_pre_q31_t pre;
         rfe_slip_dir_q31_t d;
@@ -607,8 +620,9 @@ static rfe_status_t lateral_magic_q31(const rfe_meas_q31_t *h, const rfe_vehicle
         rfe_tyre_magic_pre_jac_q31(tp, &pre, h->kin.fz[i], mu[i], &d, &fx, &fy, count, &f);
         body_terms_q31(veh, fx, fy, h->cos_delta, h->sin_delta, i, &col[i * (size_t)RFE_MEAS],
                        count);
-        wheel_add_q31(h, veh, i, &f, dmu[i], dv, dm);
+        wheel_add_q31(h, veh, i, &f, dmu[i], tv, tm);
     }
+    sum_rows_q31(tv, tm, dv, dm);
     sum_terms_q31(col, z, count);
     return RFE_OK;
 }

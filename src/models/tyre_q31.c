@@ -862,13 +862,14 @@ static void magic_dir_q31(const rfe_dugoff_pre_q31_t *pre, int32_t m, int32_t C,
     dir->g = rfe_q31_sin_q55(dir->phi);
 }
 
-/* m G / s of one direction (S > 0, m > 0) from G (Q30): G m (Q30 x Q29, exact) times 1 / S
- * (rs, shared by the wheel's two directions), two roundings. G holds 30 bits of its value only where it is not small, so
- * below x = s / (m C) = 2^-8 (read from the atan2's pair: yn 2^8 < xn; either side of the line
- * is accurate) the series m G / s = 1 - ((1 + E) / 3 + C^2 / 6) x^2 + O(x^4) (atan and sin to
- * third order: relative error < x^4 < 2.4e-10) replaces the quotient (G >= C x / 2 > 2^-9 above
- * it: 2^-21 relative, and better as x grows). m G / s is in [0, 5]: sin(C b) <= C b and b <=
- * atan((1 + |E|) x) <= 5 x, and m G / s = sin(C b) / (C x). */
+/* m G / s of one direction (S > 0, m > 0) from G (Q30): G m (Q30 x Q29, exact) times 1 / S (rs,
+ * shared by the wheel's two directions), two roundings. G holds 30 bits of its value only where it
+ * is not small, so below x = s / (m C) = 2^-8 (read from the atan2's pair: yn 2^8 < xn; either
+ * side of the line is accurate) the series m G / s = 1 - ((1 + E) / 3 + C^2 / 6) x^2 + O(x^4)
+ * (atan and sin to third order: relative error < x^4 < 2.4e-10) replaces the quotient (G >= C x /
+ * 2 > 2^-9 above it: 2^-21 relative, and better as x grows). m G / s is in [0, 5]: sin(C b) <= C b
+ * and b <= atan((1 + |E|) x) <= 5 x, and m G / s = sin(C b) / (C x).
+ */
 static rfe_xf_t magic_g_over_s_q31(const rfe_dugoff_pre_q31_t *pre, int32_t m, int32_t Cq,
                                    int32_t Eq, const magic_dir_q31_t *dir, rfe_xf_t rs)
 {
@@ -1016,12 +1017,20 @@ static void magic_jac_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugoff_pre_
 static void magic_dirs_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugoff_pre_q31_t *pre,
                            int32_t m, magic_dir_q31_t dir[2])
 {
-    const magic_dir_q31_t zero = {0, {0, 0, 0, 0u}, 0};
-    dir[0] = zero;
-    dir[1] = zero;
     if ((pre->s != 0) && (m > 0)) {
         magic_dir_q31(pre, m, tp->shape_Cx, tp->shape_Ex, &dir[0]);
         magic_dir_q31(pre, m, tp->shape_Cy, tp->shape_Ey, &dir[1]);
+    } else {
+        size_t k;
+        /* field by field: a struct copy of zeros is a memset call on the Cortex-M */
+        for (k = 0u; k < 2u; ++k) {
+            dir[k].phi = 0;
+            dir[k].pr.z = 0;
+            dir[k].pr.xn = 0;
+            dir[k].pr.yn = 0;
+            dir[k].pr.a = 0u;
+            dir[k].g = 0;
+        }
     }
 }
 

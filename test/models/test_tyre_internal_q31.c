@@ -315,7 +315,8 @@ static void test_tyre_magic_jac_vs_f64_q31(void **state)
     rfe_tyre_params_q31_t tp = p.tyre;
     rfe_tyre_params_t td;
     const rfe_fix_t kappas[6] = {0, (rfe_fix_t)(1 << 14), (rfe_fix_t)(1 << 24),
-                                 -(rfe_fix_t)(1 << 27), (rfe_fix_t)(3 << 28), -(rfe_fix_t)(1 << 30)};
+                                 -(rfe_fix_t)(1 << 27), (rfe_fix_t)(3 << 28),
+                                 -(rfe_fix_t)(1 << 30)};
     const rfe_fix_t alphas[5] = {0, (rfe_fix_t)(1 << 12), (rfe_fix_t)(1 << 22),
                                  -(rfe_fix_t)(1 << 25), (rfe_fix_t)(5 << 26)};
     /* mu 0.01, 0.3, 1.2 (Q29) */
