@@ -408,7 +408,10 @@ rfe_status_t rfe_meas_eval_perturbed_q31(const rfe_meas_q31_t *h, const rfe_vehi
 
 /* Wheel i's input change per unit of vy (meas_flt.c vy_direction) in rfe_xf_t: ci, si Q30 the
  * cos, sin of its steer angle, t30 its tan(alpha) (Q26). den = max(|omega R|, |v_wx|, v_min)
- * in Q51, as the kinematics form it. */
+ * in Q51, as the kinematics form it. Each numerator is formed exactly in int64 and divided
+ * once (one rounding each, 2^-30 relative): ci 2^26 + t sgn(v_wx) si in Q56 (|t| < 5.8 2^26 <
+ * 2^29, so |t si| < 2^59 and the sum < 2^59.3), (1 + own) si in Q60 ((1 + own) <= 2 in Q30,
+ * the product <= 2^61); si = 0 (the rear wheels, no steer) gives d.k = 0 without a division. */
 static rfe_slip_dir_q31_t vy_direction_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh,
                                            const rfe_tyre_params_q31_t *tp,
                                            const rfe_sample_q31_t *u, size_t i, int32_t ci,
@@ -417,30 +420,29 @@ static rfe_slip_dir_q31_t vy_direction_q31(const rfe_meas_q31_t *h, const rfe_ve
     const int32_t vwx = h->kin.vwx[i];
     const int32_t kappa = h->kin.kappa[i];
     const int sv = rfe_q31_sign(vwx);
-    const rfe_xf_t one = rfe_xf_make(1, 0);
-    const rfe_xf_t s = rfe_xf_of(si, 30);
     rfe_slip_dir_q31_t d;
-    d.vwx = s;
+    d.vwx = rfe_xf_of(si, 30);
     d.tan_a = rfe_xf_make(0, 0);
     d.k = rfe_xf_make(0, 0);
     if ((rfe_q31_within(h->kin.alpha[i], tp->alpha_max - 1) != 0) && (vwx != 0)) {
         /* -(ci + t sgn(v_wx) si) / |v_wx| */
-        const rfe_xf_t ts = rfe_xf_mul(rfe_xf_of((sv > 0) ? tan_a : -tan_a, 26), s);
+        const int64_t ts = (int64_t)((sv > 0) ? tan_a : -tan_a) * (int64_t)si;
+        const int64_t num = ((int64_t)ci * rfe_q31_pow2(26u)) + ts;
         const rfe_xf_t avx = rfe_xf_of((vwx < 0) ? -vwx : vwx, (int)RFE_FIX_Q_SPEED);
-        d.tan_a = rfe_xf_neg(rfe_xf_div(rfe_xf_add(rfe_xf_of(ci, 30), ts), avx));
+        d.tan_a = rfe_xf_neg(rfe_xf_div(rfe_xf_make(num, -56), avx));
     }
-    if (rfe_q31_within(kappa, ONE_Q30 - 1) != 0) {
+    if ((rfe_q31_within(kappa, ONE_Q30 - 1) != 0) && (si != 0)) {
         /* -(1 + [den = |v_wx|] kappa sgn(v_wx)) si / den, all three in Q51 */
         const uint64_t avr = rfe_q31_mag64((int64_t)u->omega[i] * (int64_t)veh->R);
         const uint64_t avx = (uint64_t)((vwx < 0) ? -(int64_t)vwx : (int64_t)vwx) << 28;
         const uint64_t vmin = (uint64_t)tp->v_min << 28;
         const uint64_t big = (avr > avx) ? avr : avx;
         const uint64_t den = (big > vmin) ? big : vmin;
-        rfe_xf_t own = rfe_xf_make(0, 0);
+        int64_t one_own = ONE_Q30;
         if ((avx > avr) && (avx > vmin)) {
-            own = rfe_xf_of((sv > 0) ? kappa : -kappa, 30);
+            one_own += (sv > 0) ? kappa : -(int64_t)kappa;
         }
-        d.k = rfe_xf_neg(rfe_xf_div(rfe_xf_mul(rfe_xf_add(one, own), s),
+        d.k = rfe_xf_neg(rfe_xf_div(rfe_xf_make(one_own * (int64_t)si, -60),
                                     rfe_xf_make((int64_t)den, -51)));
     }
     return d;
@@ -484,13 +486,50 @@ static body_map_q31_t body_map_q31(const rfe_vehicle_q31_t *veh, int32_t c, int3
     return b;
 }
 
-/* The body terms of a force pair (fx, fy) by the map b, added to acc[0..1]. */
-static void body_add_q31(const body_map_q31_t *b, rfe_xf_t fx, rfe_xf_t fy, rfe_xf_t acc[2])
+/* Wheel i's map of a force pair (wheel axes) into the lateral rows' body terms (ay, r-dot):
+ * the rotation by the steer angle folded into the geometry, ay += fx ax + fy ay and r-dot +=
+ * fx rx + fy ry with (c, s the steer angle's cos and sin on the front axle, 1 and 0 on the
+ * rear; x_i / J, y_i / J the signed lever arms of body_map_q31):
+ *   ax = s / m,  ay = c / m,  rx = s x_i / J - c y_i / J,  ry = c x_i / J + s y_i / J.
+ * Each coefficient is formed exactly in int64 (Q30 x Q38 = Q68, each product < 2^61, a sum of
+ * two < 2^62) and rounded once to rfe_xf_t (2^-30 relative), where the rotation and the
+ * geometry took two products and a sum per term before: four products and four sums per
+ * force pair instead of eight and six. */
+typedef struct {
+    rfe_xf_t ax;
+    rfe_xf_t ay;
+    rfe_xf_t rx;
+    rfe_xf_t ry;
+} lat_map_q31_t;
+
+static void lat_map_q31(const rfe_vehicle_q31_t *veh, int32_t c, int32_t s, size_t i,
+                        lat_map_q31_t *b)
 {
-    const rfe_xf_t fbx = rfe_xf_sub(rfe_xf_mul(fx, b->ci), rfe_xf_mul(fy, b->si));
-    const rfe_xf_t fby = rfe_xf_add(rfe_xf_mul(fx, b->si), rfe_xf_mul(fy, b->ci));
-    acc[0] = rfe_xf_add(acc[0], rfe_xf_mul(fby, b->inv_m));
-    acc[1] = rfe_xf_add(acc[1], rfe_xf_sub(rfe_xf_mul(fby, b->px_J), rfe_xf_mul(fbx, b->py_J)));
+    const int32_t px_J = (i < (size_t)RFE_RL) ? veh->lf_J : -veh->lr_J;
+    const int32_t y_J = (i < (size_t)RFE_RL) ? veh->yf_J : veh->yr_J;
+    const int32_t py_J = ((i == (size_t)RFE_FL) || (i == (size_t)RFE_RL)) ? y_J : -y_J;
+    const int32_t ci = (i < (size_t)RFE_RL) ? c : ONE_Q30;
+    const int32_t si = (i < (size_t)RFE_RL) ? s : 0;
+    b->ax = rfe_xf_make((int64_t)si * (int64_t)veh->inv_m, -68);
+    b->rx = rfe_xf_make(((int64_t)si * (int64_t)px_J) - ((int64_t)ci * (int64_t)py_J), -68);
+    b->ay = rfe_xf_make((int64_t)ci * (int64_t)veh->inv_m, -68);
+    b->ry = rfe_xf_make(((int64_t)ci * (int64_t)px_J) + ((int64_t)si * (int64_t)py_J), -68);
+}
+
+/* The lateral rows' terms over the wheels: two per wheel and row (fx and fy by the map),
+ * summed once per row by rfe_xf_sum (its RFE_XF_SUM_MAX = 8 = 2 RFE_WHEELS terms). */
+#define LAT_TERMS RFE_XF_SUM_MAX
+
+/* Wheel i's body terms of a force pair (fx, fy) by the map b: t[r][2i], t[r][2i + 1] for the
+ * rows r = ay, r-dot. */
+static void body_add_q31(const lat_map_q31_t *b, rfe_xf_t fx, rfe_xf_t fy, size_t i,
+                         rfe_xf_t t[2][LAT_TERMS])
+{
+    const size_t k = 2u * i;
+    t[0][k] = rfe_xf_mul(fx, b->ax);
+    t[0][k + 1u] = rfe_xf_mul(fy, b->ay);
+    t[1][k] = rfe_xf_mul(fx, b->rx);
+    t[1][k + 1u] = rfe_xf_mul(fy, b->ry);
 }
 
 /* Wheel i's Dugoff/Magic Formula pre-computed terms and its slip's direction of change by vy,
@@ -505,25 +544,27 @@ static void wheel_dir_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh,
     *d = vy_direction_q31(h, veh, tp, u, i, ci, si, pre->tan_a);
 }
 
-/* Adds wheel i's force derivatives, mapped to the body once, to the sums by vy (dv) and by
- * its friction along dmu_i (dm). */
+/* Wheel i's force derivatives, mapped to the body once, as its terms of the sums by vy (tv)
+ * and by its friction along dmu_i (tm). */
 static void wheel_add_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh, size_t i,
-                          const rfe_tyre_jac_q31_t *f, rfe_fix_t dmu_i, rfe_xf_t dv[2],
-                          rfe_xf_t dm[2])
+                          const rfe_tyre_jac_q31_t *f, rfe_fix_t dmu_i, rfe_xf_t tv[2][LAT_TERMS],
+                          rfe_xf_t tm[2][LAT_TERMS])
 {
     const rfe_xf_t sd = rfe_xf_of(dmu_i, 30);
-    const body_map_q31_t bm = body_map_q31(veh, h->cos_delta, h->sin_delta, i);
-    body_add_q31(&bm, f->dfx, f->dfy, dv);
-    body_add_q31(&bm, rfe_xf_mul(f->mfx, sd), rfe_xf_mul(f->mfy, sd), dm);
+    lat_map_q31_t bm;
+    lat_map_q31(veh, h->cos_delta, h->sin_delta, i, &bm);
+    body_add_q31(&bm, f->dfx, f->dfy, i, tv);
+    body_add_q31(&bm, rfe_xf_mul(f->mfx, sd), rfe_xf_mul(f->mfy, sd), i, tm);
 }
 
-/* Both sums at 0. */
-static void zero_sums_q31(rfe_xf_t dv[2], rfe_xf_t dm[2])
+/* Both rows' sums of their terms, each rounded once (rfe_xf_sum). */
+static void sum_rows_q31(rfe_xf_t tv[2][LAT_TERMS], rfe_xf_t tm[2][LAT_TERMS], rfe_xf_t dv[2],
+                         rfe_xf_t dm[2])
 {
-    size_t i;
-    for (i = 0u; i < 2u; ++i) {
-        dv[i] = rfe_xf_make(0, 0);
-        dm[i] = rfe_xf_make(0, 0);
+    size_t r;
+    for (r = 0u; r < 2u; ++r) {
+        dv[r] = rfe_xf_sum(tv[r]);
+        dm[r] = rfe_xf_sum(tm[r]);
     }
 }
 
@@ -534,8 +575,9 @@ static void lateral_sums_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *v
                              rfe_xf_t dm[2])
 {
     const int cached = pre_matches_q31(h, tp);
+    rfe_xf_t tv[2][LAT_TERMS];
+    rfe_xf_t tm[2][LAT_TERMS];
     size_t i;
-    zero_sums_q31(dv, dm);
     for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
         rfe_dugoff_pre_q31_t pre;
         rfe_slip_dir_q31_t d;
@@ -543,8 +585,9 @@ static void lateral_sums_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *v
         wheel_dir_q31(h, veh, tp, u, cached, i, &pre, &d);
         rfe_tyre_pre_jac_q31(tp, &pre, h->kin.kappa[i], h->kin.vwx[i], h->kin.fz[i], mu[i], &d,
                              &f);
-        wheel_add_q31(h, veh, i, &f, dmu[i], dv, dm);
+        wheel_add_q31(h, veh, i, &f, dmu[i], tv, tm);
     }
+    sum_rows_q31(tv, tm, dv, dm);
 }
 
 /* Load-scaled set-up, Magic Formula curve: z = h(mu, u) of rfe_meas_eval_q31 and the sums of
@@ -558,6 +601,8 @@ static rfe_status_t lateral_magic_q31(const rfe_meas_q31_t *h, const rfe_vehicle
                                       uint32_t *count)
 {
     rfe_fix_t col[COLS];
+    rfe_xf_t tv[2][LAT_TERMS];
+    rfe_xf_t tm[2][LAT_TERMS];
     int cached;
     size_t i;
     const rfe_status_t st = abs_inputs_ok_q31(h, tp);
@@ -565,7 +610,6 @@ static rfe_status_t lateral_magic_q31(const rfe_meas_q31_t *h, const rfe_vehicle
         return st;
     }
     cached = pre_matches_q31(h, tp);
-    zero_sums_q31(dv, dm);
     for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
         rfe_dugoff_pre_q31_t pre;
         rfe_slip_dir_q31_t d;
@@ -576,8 +620,9 @@ static rfe_status_t lateral_magic_q31(const rfe_meas_q31_t *h, const rfe_vehicle
         rfe_tyre_magic_pre_jac_q31(tp, &pre, h->kin.fz[i], mu[i], &d, &fx, &fy, count, &f);
         body_terms_q31(veh, fx, fy, h->cos_delta, h->sin_delta, i, &col[i * (size_t)RFE_MEAS],
                        count);
-        wheel_add_q31(h, veh, i, &f, dmu[i], dv, dm);
+        wheel_add_q31(h, veh, i, &f, dmu[i], tv, tm);
     }
+    sum_rows_q31(tv, tm, dv, dm);
     sum_terms_q31(col, z, count);
     return RFE_OK;
 }

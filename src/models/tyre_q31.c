@@ -444,11 +444,20 @@ static int32_t scale_pow2(int64_t v, int e)
  *   z and xn 2^24 (< 2^55) are brought below 2^30 by one more shift (z >= 2^29 when xn = 0).
  *   phi = C b: Q24 x Q31 = Q55, exact, <= (2^25 - 1) 3373259426 < round(pi 2^55): the sine's
  *   domain [0, pi]. */
-/* phi = C b of the shape below (Q55), and n = s - E (s - m C a), the numerator of b's
- * tangent, as *z_out 2^(*l_out - 107) (the pair's format times 2^24), from the pair of the two
- * atan2 (the same operations as magic_shape_q31). */
+/* The pair of the first atan2 and what the derivatives take from it (magic_shape_jac_q31): xn,
+ * yn (m C and s scaled by one power of two, <= 2^30, the larger >= 2^29), a = atan2(yn, xn)
+ * (Q31) and z, n = s - E (s - m C a) in the pair's units times 2^24 (z >= 0). */
+typedef struct {
+    int64_t z;
+    int32_t xn;
+    int32_t yn;
+    uint32_t a;
+} magic_pair_q31_t;
+
+/* phi = C b of the shape below (Q55) and the pair *pr (above), from the two atan2 (the same
+ * operations as magic_shape_q31). */
 static int64_t magic_phi_q31(int32_t S, unsigned int qs, int32_t m, int32_t C, int32_t E,
-                             int64_t *z_out, int *l_out)
+                             magic_pair_q31_t *pr)
 {
     const int64_t mc = (int64_t)m * (int64_t)C;
     const unsigned int d = 53u - qs;
@@ -460,8 +469,10 @@ static int64_t magic_phi_q31(int32_t S, unsigned int qs, int32_t m, int32_t C, i
     uint32_t b = rfe_q31_atan2_quad1((uint32_t)yn, (uint32_t)xn); /* a, Q31, in [0, pi/2] */
 
     /* n = s when E = 0 */
-    *z_out = (int64_t)yn * rfe_q31_pow2(24u);
-    *l_out = l;
+    pr->z = (int64_t)yn * rfe_q31_pow2(24u);
+    pr->xn = xn;
+    pr->yn = yn;
+    pr->a = b;
 
     if (E != 0) {
         const int64_t x24 = (int64_t)xn * rfe_q31_pow2(24u);
@@ -474,7 +485,7 @@ static int64_t magic_phi_q31(int32_t S, unsigned int qs, int32_t m, int32_t C, i
         sh = rfe_q31_norm_shift((uint64_t)((z > x24) ? z : x24), 30u);
         b = rfe_q31_atan2_quad1((uint32_t)rfe_q31_shr_to32(z, sh),
                                 (uint32_t)rfe_q31_shr_to32(x24, sh));
-        *z_out = z;
+        pr->z = z;
     }
     /* phi = C b in Q55, within the sine's domain */
     return (int64_t)C * (int64_t)b;
@@ -482,9 +493,8 @@ static int64_t magic_phi_q31(int32_t S, unsigned int qs, int32_t m, int32_t C, i
 
 static int32_t magic_shape_q31(int32_t S, unsigned int qs, int32_t m, int32_t C, int32_t E)
 {
-    int64_t z = 0;
-    int l = 0;
-    return rfe_q31_sin_q55(magic_phi_q31(S, qs, m, C, E, &z, &l));
+    magic_pair_q31_t pr;
+    return rfe_q31_sin_q55(magic_phi_q31(S, qs, m, C, E, &pr));
 }
 
 /* Magic Formula forces at m = max(mu, 0) (Q29, >= 0) and load fz (Q15, >= 0) from the
@@ -834,78 +844,138 @@ static void dugoff_jac_q31(const rfe_dugoff_pre_q31_t *pre, int32_t kq, int32_t 
 /* pi/2 in Q55, round(pi/2 2^55). */
 #define HALF_PI_Q55 ((int64_t)56593902016227522)
 
-/* One direction's curve at m > 0, S > 0 (magic_phi_q31): phi (Q55), n = z 2^(l - 107) and
+/* Below x = s / (m C) = 2^-MAGIC_SERIES_BITS, m G / s is its series (magic_g_over_s_q31). */
+#define MAGIC_SERIES_BITS 8
+
+/* One direction's curve at m > 0, S > 0 (magic_phi_q31): phi (Q55), the pair of its atan2 and
  * G = sin phi (Q30), which the forces and their derivatives share. */
 typedef struct {
     int64_t phi;
-    int64_t z;
-    int l;
+    magic_pair_q31_t pr;
     int32_t g;
 } magic_dir_q31_t;
 
 static void magic_dir_q31(const rfe_dugoff_pre_q31_t *pre, int32_t m, int32_t C, int32_t E,
                           magic_dir_q31_t *dir)
 {
-    dir->z = 0;
-    dir->l = 0;
-    dir->phi = magic_phi_q31(pre->s, (unsigned int)pre->qs, m, C, E, &dir->z, &dir->l);
+    dir->phi = magic_phi_q31(pre->s, (unsigned int)pre->qs, m, C, E, &dir->pr);
     dir->g = rfe_q31_sin_q55(dir->phi);
 }
 
-/* G / s of one direction (S > 0, m > 0) from G (Q30): G holds 30 bits of its value only where
- * it is not small, so below x = s / (m C) = 2^-8 the series G / s = (1 - ((1 + E) / 3 + C^2 /
- * 6) x^2) / m + O(x^4) (atan and sin to third order: relative error < x^4 < 2.4e-10) replaces
- * the quotient (G >= C x / 2 > 2^-9 above it: 2^-21 relative, and better as x grows). */
-static rfe_xf_t magic_g_over_s_q31(rfe_xf_t g, rfe_xf_t s, rfe_xf_t mc, rfe_xf_t C, rfe_xf_t E,
-                                   int32_t m)
+/* m G / s of one direction (S > 0, m > 0) from G (Q30): G m (Q30 x Q29, exact) times 1 / S (rs,
+ * shared by the wheel's two directions), two roundings. G holds 30 bits of its value only where it
+ * is not small, so below x = s / (m C) = 2^-8 (read from the atan2's pair: yn 2^8 < xn; either
+ * side of the line is accurate) the series m G / s = 1 - ((1 + E) / 3 + C^2 / 6) x^2 + O(x^4)
+ * (atan and sin to third order: relative error < x^4 < 2.4e-10) replaces the quotient (G >= C x /
+ * 2 > 2^-9 above it: 2^-21 relative, and better as x grows). m G / s is in [0, 5]: sin(C b) <= C b
+ * and b <= atan((1 + |E|) x) <= 5 x, and m G / s = sin(C b) / (C x).
+ */
+static rfe_xf_t magic_g_over_s_q31(const rfe_dugoff_pre_q31_t *pre, int32_t m, int32_t Cq,
+                                   int32_t Eq, const magic_dir_q31_t *dir, rfe_xf_t rs)
 {
-    const rfe_xf_t x = rfe_xf_div(s, mc);
     rfe_xf_t r;
-    if (rfe_xf_sign(rfe_xf_sub(x, rfe_xf_make(1, -8))) < 0) {
+    if (((int64_t)dir->pr.yn * rfe_q31_pow2((unsigned int)MAGIC_SERIES_BITS)) <
+        (int64_t)dir->pr.xn) {
         const rfe_xf_t one = rfe_xf_make(1, 0);
+        const rfe_xf_t C = rfe_xf_of(Cq, (int)RFE_FIX_Q_STIFF);
+        const rfe_xf_t E = rfe_xf_of(Eq, (int)RFE_FIX_Q_STIFF);
+        const rfe_xf_t x = rfe_xf_div(rfe_xf_of(pre->s, (int)pre->qs),
+                                      rfe_xf_make((int64_t)m * (int64_t)Cq, -53)); /* Q29 Q24 */
         const rfe_xf_t c2 = rfe_xf_add(rfe_xf_div(rfe_xf_add(one, E), rfe_xf_make(3, 0)),
                                        rfe_xf_div(rfe_xf_mul(C, C), rfe_xf_make(6, 0)));
-        r = rfe_xf_div(rfe_xf_sub(one, rfe_xf_mul(c2, rfe_xf_mul(x, x))),
-                       rfe_xf_of(m, (int)RFE_FIX_Q_MU));
+        r = rfe_xf_sub(one, rfe_xf_mul(c2, rfe_xf_mul(x, x)));
     } else {
-        r = rfe_xf_div(g, s);
+        r = rfe_xf_mul(rfe_xf_make((int64_t)dir->g * (int64_t)m, -59), rs);
     }
     return r;
 }
 
-/* G (Q30, magic_shape_q31's value), G / s and dG/ds of one direction, S > 0, m > 0 (tyre_flt.c
- * magic_shape_jac): dG/ds = cos(C b) C (1 - E + E (mC)^2 / ((mC)^2 + s^2)) mC / ((mC)^2 +
- * n^2), cos(phi) = sin(pi/2 - phi) or -sin(phi - pi/2) (phi in [0, pi)), the sine's domain. */
-static rfe_xf_t magic_shape_jac_q31(const rfe_dugoff_pre_q31_t *pre, int32_t m, int32_t Cq,
-                                    int32_t Eq, const magic_dir_q31_t *dir, rfe_xf_t *g_over_s,
-                                    rfe_xf_t *g_s)
+/* d = dn/ds = 1 - E sin^2 a in Q30, (0, 5 2^30], from a (Q31) and E (Q24) (magic_shape_jac_q31
+ * below); E = 0 (the preset's curves): 1, without the sine. */
+static int64_t magic_dn_q31(int32_t Eq, uint32_t a)
+{
+    int64_t d = ONE_Q30;
+    if (Eq != 0) {
+        const int64_t sa = rfe_q31_sin_q55((int64_t)a * rfe_q31_pow2(24u));
+        const int64_t sa2 = rfe_fix_shr64_round(sa * sa, 30u);
+        d -= rfe_fix_shr64_round((int64_t)Eq * sa2, 24u);
+    }
+    return d;
+}
+
+/* m dG/ds and G - s dG/ds of one direction, S > 0, m > 0 (tyre_flt.c magic_shape_jac's dG/ds,
+ * written in the curve's angles). With p = m C, n = s - E (s - p a), tan a = s / p, tan b = n / p:
+ *   dn/ds = 1 - E + E p^2 / (p^2 + s^2) = 1 - E sin^2 a = d,   db/ds = cos^2 b d / p,
+ *   m dG/ds = m cos(C b) C db/ds = cos(C b) d cos^2 b            (|.| <= 5: d in (0, 5]),
+ *   s dG/ds = C cos(C b) d w,   w = s p / (p^2 + n^2) (= tan a cos^2 b).
+ * The bounded factors are fixed point, the two ratios of the pair rfe_xf_t:
+ *   sin a: rfe_q31_sin_q55 of a (Q31 to Q55, in [0, pi/2]), Q30; sin^2 a Q30; E sin^2 a (Q24 x
+ *   Q30, |.| <= 2^56) rounded to Q30, d = 1 - E sin^2 a in Q30, (0, 5 2^30] (int64);
+ *   cos(C b) d: Q60, |.| <= 5 2^60 < 2^63, rounded to Q30 (cd);
+ *   cos^2 b and w from the pair (p = xn, s = yn, n = z / 2^24 in its units): x24 = xn 2^24
+ *   (<= 2^54) and z (< 2^58, >= 0) brought to <= 2^30 by one shift sh (the larger of xs, zs >=
+ *   2^29: xn or yn >= 2^29 and z >= (1 - E) yn 2^24 with 1 - E >= 2^-24), D = xs^2 + zs^2 in
+ *   [2^58, 2^61] exact, p^2 + n^2 = D 2^(2 sh - 48) to 2^-29 relative (the two roundings), so
+ *   cos^2 b = xn^2 2^(48 - 2 sh) / D and w = yn xn 2^(48 - 2 sh) / D, numerators exact (<= 2^60),
+ *   one reciprocal of D for both.
+ * Error: sin a within 6.2e-10 (rfe_q31_sin_q55) and cos(C b) within 6.2e-10, the roundings to
+ * Q30 (2^-31 each, times |E| <= 4 and d <= 5), the rfe_xf_t operations 2^-30 relative each (5)
+ * plus D's 2^-29: m dG/ds within 5 (2 6.2e-10 + 4 2^-31) + 5 2^-31 + 8 2^-30 5 < 1.2e-8 and
+ * s dG/ds within C w (the same) < 2.4e-8 w, absolute, at the computed angles (the angles'
+ * own errors move the derivative as they move the forces, test_meas_q31.c's bound). */
+static void magic_shape_jac_q31(const magic_dir_q31_t *dir, int32_t Cq, int32_t Eq,
+                                rfe_xf_t *m_gs, rfe_xf_t *gms)
 {
     const int64_t phi = dir->phi;
-    const int64_t z = dir->z;
-    const int l = dir->l;
     const int32_t c30 = (phi <= HALF_PI_Q55) ? rfe_q31_sin_q55(HALF_PI_Q55 - phi)
                                              : -rfe_q31_sin_q55(phi - HALF_PI_Q55);
-    const rfe_xf_t one = rfe_xf_make(1, 0);
-    const rfe_xf_t C = rfe_xf_of(Cq, (int)RFE_FIX_Q_STIFF);
-    const rfe_xf_t E = rfe_xf_of(Eq, (int)RFE_FIX_Q_STIFF);
-    const rfe_xf_t mc = rfe_xf_make((int64_t)m * (int64_t)Cq, -53); /* Q29 x Q24 */
-    const rfe_xf_t mc2 = rfe_xf_mul(mc, mc);
-    const rfe_xf_t s = rfe_xf_of(pre->s, (int)pre->qs);
-    const rfe_xf_t n = rfe_xf_make(z, l - 107);
-    const rfe_xf_t g = rfe_xf_of(dir->g, 30);
-    const rfe_xf_t shape = rfe_xf_add(rfe_xf_sub(one, E),
-                                      rfe_xf_div(rfe_xf_mul(E, mc2),
-                                                 rfe_xf_add(mc2, rfe_xf_mul(s, s))));
-    *g_s = rfe_xf_mul(rfe_xf_mul(rfe_xf_mul(rfe_xf_of(c30, 30), C), shape),
-                      rfe_xf_div(mc, rfe_xf_add(mc2, rfe_xf_mul(n, n))));
-    *g_over_s = magic_g_over_s_q31(g, s, mc, C, E, m);
-    return g;
+    const int64_t cd = rfe_fix_shr64_round((int64_t)c30 * magic_dn_q31(Eq, dir->pr.a), 30u);
+    const int64_t xn = dir->pr.xn;
+    const int64_t x24 = xn * rfe_q31_pow2(24u);
+    const int64_t z = dir->pr.z;
+    const unsigned int sh = rfe_q31_norm_shift((uint64_t)((z > x24) ? z : x24), 30u);
+    const int64_t xs = rfe_q31_shr_to32(x24, sh);
+    const int64_t zs = rfe_q31_shr_to32(z, sh);
+    const int e = 48 - (2 * (int)sh);
+    const rfe_xf_t rd = rfe_xf_div(rfe_xf_make(1, 0), rfe_xf_make((xs * xs) + (zs * zs), 0));
+    const rfe_xf_t cb2 = rfe_xf_mul(rfe_xf_make(xn * xn, e), rd);
+    const rfe_xf_t w = rfe_xf_mul(rfe_xf_make((int64_t)dir->pr.yn * xn, e), rd);
+    *m_gs = rfe_xf_mul(rfe_xf_make(cd, -30), cb2);
+    /* C cd: Q24 x Q30, |.| < 2^25 5 2^30 < 2^58 */
+    *gms = rfe_xf_sub(rfe_xf_of(dir->g, 30),
+                      rfe_xf_mul(rfe_xf_make((int64_t)Cq * cd, -54), w));
+}
+
+/* What a direction's derivatives share with the other: the load fz, the slip's change along
+ * the direction (cd = c dk or c dt), its change ds = ux cx dk + uy cy dt, the direction
+ * cosine u, 1 / S (rs). */
+typedef struct {
+    rfe_xf_t rs;
+    rfe_xf_t fz;
+    rfe_xf_t u;
+    rfe_xf_t cd;
+    rfe_xf_t ds;
+} magic_lin_q31_t;
+
+/* One direction's dF and dF/dmu (S > 0, m > 0): dF = fz m (G_s ds u + (G / s) (cd - u ds)) =
+ * fz ((m G / s) cd + (m G_s - m G / s) u ds), dF/dmu = fz u (G - s G_s). */
+static void magic_dir_jac_q31(const rfe_dugoff_pre_q31_t *pre, int32_t m, int32_t Cq,
+                              int32_t Eq, const magic_dir_q31_t *dir, const magic_lin_q31_t *l,
+                              rfe_xf_t *df, rfe_xf_t *mf)
+{
+    rfe_xf_t m_gs;
+    rfe_xf_t gms;
+    const rfe_xf_t m_gos = magic_g_over_s_q31(pre, m, Cq, Eq, dir, l->rs);
+    magic_shape_jac_q31(dir, Cq, Eq, &m_gs, &gms);
+    *df = rfe_xf_mul(l->fz, rfe_xf_add(rfe_xf_mul(m_gos, l->cd),
+                                       rfe_xf_mul(rfe_xf_sub(m_gs, m_gos),
+                                                  rfe_xf_mul(l->u, l->ds))));
+    *mf = rfe_xf_mul(rfe_xf_mul(l->fz, l->u), gms);
 }
 
 /* Magic Formula forces' derivatives (tyre_flt.c magic_jac) at m = max(mu, 0) (Q29): m = 0:
  * all 0; S = 0: dF = fz (cx dk, cy dt) (the limit fz m G_s(0) = fz), dF/dmu = 0; else
- * ds = ux cx dk + uy cy dt, du = ((cx dk, cy dt) - u ds) / s, dF = fz m (G_s ds u + G du),
- * dF/dmu = fz u (G - s G_s), with G du = (G / s) ((cx dk, cy dt) - u ds) (magic_g_over_s_q31). */
+ * ds = ux cx dk + uy cy dt and each direction's magic_dir_jac_q31. */
 static void magic_jac_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugoff_pre_q31_t *pre,
                           int32_t m, int32_t fz, const rfe_slip_dir_q31_t *d,
                           const magic_dir_q31_t dir[2], rfe_tyre_jac_q31_t *o)
@@ -925,25 +995,20 @@ static void magic_jac_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugoff_pre_
         o->dfx = rfe_xf_mul(fzx, cdk);
         o->dfy = rfe_xf_mul(fzx, cdt);
     } else {
-        const rfe_xf_t fm = rfe_xf_mul(fzx, rfe_xf_of(m, (int)RFE_FIX_Q_MU));
-        const rfe_xf_t s = rfe_xf_of(pre->s, (int)pre->qs);
-        const rfe_xf_t ux = rfe_xf_of(pre->ux, 30);
-        const rfe_xf_t uy = rfe_xf_of(pre->uy, 30);
-        rfe_xf_t gxs;
-        rfe_xf_t gys;
-        rfe_xf_t rx;
-        rfe_xf_t ry;
-        const rfe_xf_t gx =
-            magic_shape_jac_q31(pre, m, tp->shape_Cx, tp->shape_Ex, &dir[0], &rx, &gxs);
-        const rfe_xf_t gy =
-            magic_shape_jac_q31(pre, m, tp->shape_Cy, tp->shape_Ey, &dir[1], &ry, &gys);
-        const rfe_xf_t ds = rfe_xf_add(rfe_xf_mul(ux, cdk), rfe_xf_mul(uy, cdt));
-        o->dfx = rfe_xf_mul(fm, rfe_xf_add(rfe_xf_mul(rfe_xf_mul(gxs, ds), ux),
-                                           rfe_xf_mul(rx, rfe_xf_sub(cdk, rfe_xf_mul(ux, ds)))));
-        o->dfy = rfe_xf_mul(fm, rfe_xf_add(rfe_xf_mul(rfe_xf_mul(gys, ds), uy),
-                                           rfe_xf_mul(ry, rfe_xf_sub(cdt, rfe_xf_mul(uy, ds)))));
-        o->mfx = rfe_xf_mul(rfe_xf_mul(fzx, ux), rfe_xf_sub(gx, rfe_xf_mul(s, gxs)));
-        o->mfy = rfe_xf_mul(rfe_xf_mul(fzx, uy), rfe_xf_sub(gy, rfe_xf_mul(s, gys)));
+        magic_lin_q31_t lx;
+        magic_lin_q31_t ly;
+        lx.fz = fzx;
+        lx.u = rfe_xf_of(pre->ux, 30);
+        lx.cd = cdk;
+        ly.fz = fzx;
+        ly.u = rfe_xf_of(pre->uy, 30);
+        ly.cd = cdt;
+        lx.ds = rfe_xf_add(rfe_xf_mul(lx.u, cdk), rfe_xf_mul(ly.u, cdt));
+        ly.ds = lx.ds;
+        lx.rs = rfe_xf_div(rfe_xf_make(1, 0), rfe_xf_of(pre->s, (int)pre->qs));
+        ly.rs = lx.rs;
+        magic_dir_jac_q31(pre, m, tp->shape_Cx, tp->shape_Ex, &dir[0], &lx, &o->dfx, &o->mfx);
+        magic_dir_jac_q31(pre, m, tp->shape_Cy, tp->shape_Ey, &dir[1], &ly, &o->dfy, &o->mfy);
     }
 }
 
@@ -952,12 +1017,20 @@ static void magic_jac_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugoff_pre_
 static void magic_dirs_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugoff_pre_q31_t *pre,
                            int32_t m, magic_dir_q31_t dir[2])
 {
-    const magic_dir_q31_t zero = {0, 0, 0, 0};
-    dir[0] = zero;
-    dir[1] = zero;
     if ((pre->s != 0) && (m > 0)) {
         magic_dir_q31(pre, m, tp->shape_Cx, tp->shape_Ex, &dir[0]);
         magic_dir_q31(pre, m, tp->shape_Cy, tp->shape_Ey, &dir[1]);
+    } else {
+        size_t k;
+        /* field by field: a struct copy of zeros is a memset call on the Cortex-M */
+        for (k = 0u; k < 2u; ++k) {
+            dir[k].phi = 0;
+            dir[k].pr.z = 0;
+            dir[k].pr.xn = 0;
+            dir[k].pr.yn = 0;
+            dir[k].pr.a = 0u;
+            dir[k].g = 0;
+        }
     }
 }
 

@@ -18,6 +18,7 @@
 #ifndef RFE_XF_Q31_H
 #define RFE_XF_Q31_H
 
+#include <stddef.h>
 #include <stdint.h>
 
 #include "rfe/component/fxmath.h"
@@ -128,6 +129,40 @@ static inline rfe_xf_t rfe_xf_add(rfe_xf_t a, rfe_xf_t b)
         }
     }
     return r;
+}
+
+/** The number of terms rfe_xf_sum adds. */
+#define RFE_XF_SUM_MAX 8u
+
+/** The sum of the RFE_XF_SUM_MAX terms t[] (0 for an unused one), rounded once: every term at
+ *  base = the largest exponent minus 28 (exact for a term within 28 of it: |m| 2^(e - base) <=
+ *  2^58; rounded half up, 1/2 unit of 2^base, for one further below), the integer sum (<= 8
+ *  2^58 = 2^61, no overflow) normalised. Error: <= 2^-30 of the result plus 8 2^(base - 1) <=
+ *  2^-55 of the largest term (which is >= 2^(29 + 28 + base)), where seven pairwise
+ *  rfe_xf_add would round each partial sum (2^-29 of its larger operand each). All terms 0: 0. */
+static inline rfe_xf_t rfe_xf_sum(const rfe_xf_t t[RFE_XF_SUM_MAX])
+{
+    int emax = 0;
+    int any = 0;
+    int64_t acc = 0;
+    size_t i;
+    for (i = 0u; i < RFE_XF_SUM_MAX; ++i) {
+        if ((t[i].m != 0) && ((any == 0) || (t[i].e > emax))) {
+            emax = t[i].e;
+            any = 1;
+        }
+    }
+    for (i = 0u; i < RFE_XF_SUM_MAX; ++i) {
+        if (t[i].m != 0) {
+            const int s = t[i].e - (emax - 28);
+            if (s >= 0) {
+                acc += (int64_t)t[i].m * rfe_q31_pow2((unsigned int)s);
+            } else {
+                acc += rfe_fix_shr64_round((int64_t)t[i].m, (unsigned int)(-s));
+            }
+        }
+    }
+    return rfe_xf_make(acc, emax - 28);
 }
 
 /** a - b. */

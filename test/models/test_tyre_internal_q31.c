@@ -23,6 +23,7 @@
 #include "rfe/params_q31.h"
 #include "rfe/component/tyre_q31.h"
 
+#include "models/tyre_internal.h"
 #include "models/tyre_internal_q31.h"
 #include "numerics/fxmath_internal_q31.h"
 #include "test_draws_q31.h"
@@ -280,12 +281,146 @@ static void test_tyre_magic_pre_jac_fused_q31(void **state)
     }
 }
 
+/* ---- the Magic Formula's derivatives against the double twin --------------------------------
+ * Bound (tyre_q31.c magic_g_over_s_q31, magic_shape_jac_q31). Both twins take the same S, ux,
+ * uy, tan a (the q31 set-up's, converted exactly), m, fz, shape factors and direction, so they
+ * differ only by the q31 curve's angles and sine and the derivative's own roundings:
+ *   - the angles: a within 0.71 LSB29 + 1.211e-9 = 2.53e-9 rad, b the same plus E times a's
+ *     error, |E| <= 4: db <= 5 2.53e-9 = 1.27e-8; C b (C < 2) within 2.53e-8; G = sin(C b) and
+ *     cos(C b) within 2.53e-8 + 6.2e-10 = 2.6e-8 (DG);
+ *   - m G / s = G m / S within DG / (C x) + 10 2^-30 (x = s / (m C) >= 2^-8 there, C > 1):
+ *     <= 2^8 DG + 1e-8 = 6.7e-6; the series below 2^-8 within x^4 + 10 2^-30 < 1e-8: E_GOS;
+ *   - m dG/ds = cos(C b) d cos^2 b, d = 1 - E sin^2 a in (0, 5]: 5 DG (cos) + |E| 2 (6.2e-10 +
+ *     2.53e-9) (d) + 5 1.27e-8 (cos^2 b moves with b: slope <= 1) + 8 2^-30 5 (roundings)
+ *     = 1.3e-7 + 2.5e-8 + 6.4e-8 + 3.7e-8 < 2.6e-7: E_GS;
+ *   - G - s dG/ds = G - C cos(C b) d w, w = s p / (p^2 + n^2) <= 1 / (2 (1 - E)) for E > 0, <= 1/2
+ *     for E <= 0 (OBSERVER.md's w; here E <= 0.6: w <= 1.25): DG + C (5 w DG + w 2.5e-8 + 5 2 w
+ *     1.27e-8 (w moves with b: relative slope <= 2)) + 10 2^-30 7 < 2.6e-8 + 2 (1.6e-7 +
+ *     3.1e-8 + 1.6e-7) + 6.5e-8 < 8.0e-7: E_GMS;
+ * so |dF err| <= fz (|c d| E_GOS + |u ds| (E_GS + E_GOS)) and |dF/dmu err| <= fz |u| E_GMS, plus
+ * 2^-27 of the terms for the rfe_xf_t products and sums that combine them (about 8 roundings
+ * of 2^-30). */
+#define E_GOS 6.7e-6
+#define E_GS 2.6e-7
+#define E_GMS 8.0e-7
+
+/* REQ: the Magic Formula forces' derivatives by a slip direction and by the friction
+ * (rfe_tyre_pre_jac_q31, magic mode) are the double twin's within the bound above, across
+ * slips from the series' range to locked wheels, small and large friction and shape factors
+ * with E below, at and above 0; the worst error over its bound printed. */
+/* REQ-MEAS-003 REQ-FXP-003 */
+static void test_tyre_magic_jac_vs_f64_q31(void **state)
+{
+    rfe_params_q31_t p = preset();
+    rfe_tyre_params_q31_t tp = p.tyre;
+    rfe_tyre_params_t td;
+    const rfe_fix_t kappas[6] = {0, (rfe_fix_t)(1 << 14), (rfe_fix_t)(1 << 24),
+                                 -(rfe_fix_t)(1 << 27), (rfe_fix_t)(3 << 28),
+                                 -(rfe_fix_t)(1 << 30)};
+    const rfe_fix_t alphas[5] = {0, (rfe_fix_t)(1 << 12), (rfe_fix_t)(1 << 22),
+                                 -(rfe_fix_t)(1 << 25), (rfe_fix_t)(5 << 26)};
+    /* mu 0.01, 0.3, 1.2 (Q29) */
+    const rfe_fix_t mus[3] = {(rfe_fix_t)5368709, (rfe_fix_t)161061274, (rfe_fix_t)644245094};
+    /* E (Q24): -3.5, 0, 0.6 */
+    const rfe_fix_t es[3] = {-(rfe_fix_t)58720256, 0, (rfe_fix_t)10066330};
+    const rfe_fix_t fz = (rfe_fix_t)(4000 * (1 << 15));
+    const rfe_fix_t vwx = (rfe_fix_t)(20 * (1 << 23));
+    rfe_slip_dir_q31_t d;
+    rfe_slip_dir_t dd;
+    double worst = 0.0;
+    long compared = 0;
+    size_t a;
+    size_t b;
+    size_t j;
+    size_t e;
+    (void)state;
+    tp.mode = RFE_TYRE_MAGIC;
+    d.k = rfe_xf_make(3, -7);
+    d.tan_a = rfe_xf_make(-5, -6);
+    d.vwx = rfe_xf_make(1, -1);
+    dd.k = xf_value(d.k);
+    dd.tan_a = xf_value(d.tan_a);
+    dd.vwx = xf_value(d.vwx);
+    memset(&td, 0, sizeof td);
+    td.mode = RFE_TYRE_MAGIC;
+    td.cx = ldexp((double)tp.cx, -RFE_FIX_Q_STIFF);
+    td.cy = ldexp((double)tp.cy, -RFE_FIX_Q_STIFF);
+    td.shape_Cx = ldexp((double)tp.shape_Cx, -RFE_FIX_Q_STIFF);
+    td.shape_Cy = ldexp((double)tp.shape_Cy, -RFE_FIX_Q_STIFF);
+    td.alpha_max = ldexp((double)tp.alpha_max, -29);
+    for (e = 0u; e < 3u; ++e) {
+        tp.shape_Ex = es[e];
+        tp.shape_Ey = es[2u - e];
+        td.shape_Ex = ldexp((double)tp.shape_Ex, -RFE_FIX_Q_STIFF);
+        td.shape_Ey = ldexp((double)tp.shape_Ey, -RFE_FIX_Q_STIFF);
+        assert_int_equal(rfe_tyre_abs_params_ok_q31(&tp), 1);
+        for (a = 0u; a < 6u; ++a) {
+            for (b = 0u; b < 5u; ++b) {
+                rfe_dugoff_pre_q31_t pre;
+                rfe_dugoff_pre_t pd;
+                double ds;
+                rfe_tyre_dugoff_pre_q31(&tp, kappas[a], alphas[b], vwx, &pre);
+                memset(&pd, 0, sizeof pd);
+                pd.s = ldexp((double)pre.s, -(int)pre.qs);
+                pd.ux = ldexp((double)pre.ux, -30);
+                pd.uy = ldexp((double)pre.uy, -30);
+                pd.tan_a = ldexp((double)pre.tan_a, -26);
+                ds = (pd.ux * td.cx * dd.k) + (pd.uy * td.cy * dd.tan_a);
+                for (j = 0u; j < 3u; ++j) {
+                    const double fzd = ldexp((double)fz, -15);
+                    const double cd[2] = {td.cx * dd.k, td.cy * dd.tan_a};
+                    const double u[2] = {pd.ux, pd.uy};
+                    rfe_tyre_jac_q31_t o;
+                    rfe_tyre_jac_t od;
+                    double got[4];
+                    double want[4];
+                    size_t r;
+                    rfe_tyre_pre_jac_q31(&tp, &pre, kappas[a], vwx, fz, mus[j], &d, &o);
+                    assert_int_equal(rfe_tyre_pre_jac_f64(&td, &pd, ldexp((double)kappas[a], -30),
+                                                          ldexp((double)alphas[b], -29), fzd,
+                                                          ldexp((double)vwx, -23),
+                                                          ldexp((double)mus[j], -29), &dd, &od),
+                                     RFE_OK);
+                    got[0] = xf_value(o.dfx);
+                    got[1] = xf_value(o.dfy);
+                    got[2] = xf_value(o.mfx);
+                    got[3] = xf_value(o.mfy);
+                    want[0] = od.dfx;
+                    want[1] = od.dfy;
+                    want[2] = od.mfx;
+                    want[3] = od.mfy;
+                    for (r = 0u; r < 4u; ++r) {
+                        const size_t c = r % 2u;
+                        const double terms = (r < 2u)
+                                                 ? (fzd * ((fabs(cd[c]) * E_GOS) +
+                                                           (fabs(u[c] * ds) * (E_GS + E_GOS))))
+                                                 : (fzd * fabs(u[c]) * E_GMS);
+                        const double bound = terms + (ldexp(1.0, -27) * (fabs(want[r]) +
+                                                      (fzd * (fabs(cd[c]) + fabs(u[c] * ds)))));
+                        const double err = fabs(got[r] - want[r]);
+                        if (err > bound) {
+                            printf("E %zu kappa %zu alpha %zu mu %zu out %zu: q31 %.12g f64 %.12g "
+                                   "bound %.3g\n", e, a, b, j, r, got[r], want[r], bound);
+                        }
+                        assert_true(err <= bound);
+                        worst = fmax(worst, err / bound);
+                        ++compared;
+                    }
+                }
+            }
+        }
+    }
+    printf("magic jac q31 vs f64: %ld values compared, worst |error| / bound %.3g\n", compared,
+           worst);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_tyre_internal_q31),
         cmocka_unit_test(test_tyre_pre_jac_no_slip_q31),
         cmocka_unit_test(test_tyre_magic_pre_jac_fused_q31),
+        cmocka_unit_test(test_tyre_magic_jac_vs_f64_q31),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

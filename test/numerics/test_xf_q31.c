@@ -77,6 +77,64 @@ static void test_xf_operations(void **state)
     printf("xf: %d cases, worst product error %.3g relative\n", N_CASES, worst);
 }
 
+/* REQ: a sum of RFE_XF_SUM_MAX terms, 1 to 8 of them non-zero (the observer's lateral rows over
+ * the wheels), is within its stated bound of the exact sum: one rounding of the result (2^-30 of
+ * it, REL) plus 8 2^(base - 1) for the terms rounded to base = the largest exponent minus 28, <=
+ * 2^-55 of the largest term (a normalised term is >= 2^(29 + e)). The reference is the double sum,
+ * whose own error is <= 7 2^-53 of the largest term: the check allows 2^-55 + 2^-50 of the largest
+ * term besides REL of the result. Normalised results; all zeros give 0; terms spread over 2^+-80
+ * (draw), of both signs, with exact cancellations (a term and its negative) and zeros.
+ */
+/* REQ-FXP-002 REQ-MEAS-003 */
+static void test_xf_sum(void **state)
+{
+    double worst = 0.0;
+    int n;
+    (void)state;
+    rng_seed(0x5E4ull);
+    for (n = 0; n < N_CASES; ++n) {
+        rfe_xf_t t[RFE_XF_SUM_MAX];
+        const size_t cnt = 1u + ((size_t)n % RFE_XF_SUM_MAX);
+        double exact = 0.0;
+        double big = 0.0;
+        rfe_xf_t r;
+        size_t i;
+        for (i = 0u; i < RFE_XF_SUM_MAX; ++i) {
+            t[i] = rfe_xf_make(0, 0); /* unused terms: 0 */
+        }
+        for (i = 0u; i < cnt; ++i) {
+            t[i] = draw();
+            if ((n % 7) == 0) {
+                t[i].e = t[0].e + (int)(i % 3u); /* close exponents: long carries */
+            }
+            if (((n % 5) == 0) && (i == 1u)) {
+                t[i] = rfe_xf_neg(t[0]); /* cancellation */
+            }
+            if (((n % 11) == 0) && (i == 2u)) {
+                t[i] = rfe_xf_make(0, 0);
+            }
+            exact += val(t[i]);
+            big = fmax(big, fabs(val(t[i])));
+        }
+        r = rfe_xf_sum(t);
+        normalised(r);
+        {
+            const double err = fabs(val(r) - exact);
+            const double bound = (REL * fabs(exact)) + (ldexp(1.0, -50) * big);
+            assert_true(err <= bound);
+            worst = fmax(worst, err / bound);
+        }
+    }
+    {
+        const rfe_xf_t z[RFE_XF_SUM_MAX] = {{0, 0}, {0, 0}, {0, 0}, {0, 0},
+                                            {0, 0}, {0, 0}, {0, 0}, {0, 0}};
+        const rfe_xf_t r = rfe_xf_sum(z);
+        assert_int_equal(r.m, 0);
+        assert_int_equal(r.e, 0);
+    }
+    printf("xf sum: %d cases, worst error %.3g of its bound\n", N_CASES, worst);
+}
+
 /* REQ: zeros, a division by 0 (0, never called so), a sum across many decades, square roots
  * at odd and even exponents, and the conversion to a Q format: rounding, saturation of both
  * signs (counted), and the values too small for the format. */
@@ -390,6 +448,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_xf_operations),
+        cmocka_unit_test(test_xf_sum),
         cmocka_unit_test(test_xf_edges),
         cmocka_unit_test(test_bitlen),
         cmocka_unit_test(test_xf_div_as_fix_div),
