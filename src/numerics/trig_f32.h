@@ -100,36 +100,35 @@ static inline float rfe_cos_poly_f32(float r)
     return (z * p) + 1.0f;
 }
 
-/* sin x: quadrant 0 sin r, 1 cos r, 2 -sin r, 3 -cos r. */
+/* sin(r + q pi/2), q in 0..3: sin r, cos r, -sin r, -cos r. */
+static inline float rfe_sin_quadrant_f32(float r, uint32_t q)
+{
+    const float v = ((q & 1u) == 0u) ? rfe_sin_poly_f32(r) : rfe_cos_poly_f32(r);
+    return ((q & 2u) == 0u) ? v : -v;
+}
+
+/* sin x = sin(r + k pi/2). */
 static inline float rfe_sin_f32(float x)
 {
     int32_t k = 0;
     float r;
-    float v;
-    uint32_t q;
     if (!(fabsf(x) <= RFE_TRIG_F32_MAX)) {
         return sinf(x);
     }
     r = rfe_trig_reduce_f32(x, &k);
-    q = (uint32_t)k & 3u;
-    v = ((q & 1u) == 0u) ? rfe_sin_poly_f32(r) : rfe_cos_poly_f32(r);
-    return ((q & 2u) == 0u) ? v : -v;
+    return rfe_sin_quadrant_f32(r, (uint32_t)k & 3u);
 }
 
-/* cos x: quadrant 0 cos r, 1 -sin r, 2 -cos r, 3 sin r. */
+/* cos x = sin(r + (k + 1) pi/2). */
 static inline float rfe_cos_f32(float x)
 {
     int32_t k = 0;
     float r;
-    float v;
-    uint32_t q;
     if (!(fabsf(x) <= RFE_TRIG_F32_MAX)) {
         return cosf(x);
     }
     r = rfe_trig_reduce_f32(x, &k);
-    q = (uint32_t)k & 3u;
-    v = ((q & 1u) == 0u) ? rfe_cos_poly_f32(r) : rfe_sin_poly_f32(r);
-    return (((q + 1u) & 2u) == 0u) ? v : -v;
+    return rfe_sin_quadrant_f32(r, ((uint32_t)k + 1u) & 3u);
 }
 
 /* tan x = sin r / cos r for k even, -cos r / sin r for k odd (r = 0 with k odd is x = k pi/2
