@@ -71,6 +71,10 @@ static inline float rfe_atan2_f32(float y, float x)
  * arithmetic). The bounds against double sin, cos and tan are test_trig_flt.c's.
  */
 #define RFE_TRIG_F32_MAX 199.0f /* 127 pi/2 = 199.49: |k| <= 127 */
+/* Below it (a float just under pi/4) r = x without the reduction's arithmetic (k = 0): most
+ * callers' angles are small (slip angles, steering, the Magic Formula's C atan at moderate
+ * slip), where newlib's functions take a short path too. */
+#define RFE_TRIG_F32_QUARTER 0.785398f
 
 /* k (|k| <= 127) and r of |x| <= RFE_TRIG_F32_MAX, as described above. */
 static inline float rfe_trig_reduce_f32(float x, int32_t *k)
@@ -112,6 +116,9 @@ static inline float rfe_sin_f32(float x)
 {
     int32_t k = 0;
     float r;
+    if (fabsf(x) < RFE_TRIG_F32_QUARTER) {
+        return rfe_sin_poly_f32(x);
+    }
     if (!(fabsf(x) <= RFE_TRIG_F32_MAX)) {
         return sinf(x);
     }
@@ -124,6 +131,9 @@ static inline float rfe_cos_f32(float x)
 {
     int32_t k = 0;
     float r;
+    if (fabsf(x) < RFE_TRIG_F32_QUARTER) {
+        return rfe_cos_poly_f32(x);
+    }
     if (!(fabsf(x) <= RFE_TRIG_F32_MAX)) {
         return cosf(x);
     }
@@ -140,6 +150,9 @@ static inline float rfe_tan_f32(float x)
     float s;
     float c;
     float t;
+    if (fabsf(x) < RFE_TRIG_F32_QUARTER) {
+        return rfe_sin_poly_f32(x) / rfe_cos_poly_f32(x);
+    }
     if (!(fabsf(x) <= RFE_TRIG_F32_MAX)) {
         return tanf(x);
     }
