@@ -121,13 +121,29 @@ static void magic_terms(rfe_real_t Cx, rfe_real_t Cy, rfe_dugoff_pre_t *pre)
     }
 }
 
+/* b = atan(y), y = x - E (x - a), as atan2(n, m C), n = s - E (s - m C a) (*n_out); at E = 0
+ * (both directions of the default tyre) n is s exactly (E times a finite value is a signed
+ * zero), so b is a, bit for bit, without the second atan2 (as the fixed-point twin). */
+static rfe_real_t magic_inner(rfe_real_t s, rfe_real_t mc, rfe_real_t E, rfe_real_t a,
+                              rfe_real_t *n_out)
+{
+    rfe_real_t b = a;
+    *n_out = s;
+    if (E != RFE_R(0.0)) {
+        *n_out = s - (E * (s - (mc * a)));
+        b = RFE_ATAN2(*n_out, mc);
+    }
+    return b;
+}
+
 /* G = sin(C atan(x - E (x - atan x))), x = s / (m C), written with atan2 (no division, and
  * atan2(s, 0) = pi/2 as m -> 0): docs/ESTIMATOR.md "The Magic Formula tyre". */
 static rfe_real_t magic_shape(rfe_real_t s, rfe_real_t m, rfe_real_t C, rfe_real_t E)
 {
     const rfe_real_t mc = m * C;
-    const rfe_real_t a = RFE_ATAN2(s, mc);
-    return RFE_SIN(C * RFE_ATAN2(s - (E * (s - (mc * a))), mc));
+    rfe_real_t n;
+    const rfe_real_t b = magic_inner(s, mc, E, RFE_ATAN2(s, mc), &n);
+    return RFE_SIN(C * b);
 }
 
 /* Forces at friction mu from the friction-independent terms (ux, uy set by magic_terms). */
@@ -486,9 +502,8 @@ static rfe_real_t magic_shape_jac(rfe_real_t s, rfe_real_t m, rfe_real_t C, rfe_
                                   rfe_real_t *g_s)
 {
     const rfe_real_t mc = m * C;
-    const rfe_real_t a = RFE_ATAN2(s, mc);
-    const rfe_real_t n = s - (E * (s - (mc * a)));
-    const rfe_real_t phi = C * RFE_ATAN2(n, mc);
+    rfe_real_t n;
+    const rfe_real_t phi = C * magic_inner(s, mc, E, RFE_ATAN2(s, mc), &n);
     *g_s = RFE_R(0.0);
     if (mc > RFE_R(0.0)) {
         const rfe_real_t mc2 = mc * mc;
