@@ -461,6 +461,60 @@ static void test_rfe_tyre_magic_abs_shape(void **state)
     }
 }
 
+/* REQ: the Magic Formula with a curvature E != 0 (the default tyre has E = 0 in both
+ * directions, where the library skips the curve's second atan2): pure longitudinal and pure
+ * lateral slip against the formula written out in double, F = mu Fz sin(C atan(x - E (x -
+ * atan x))), x = s / (mu C), s = cx |kappa| (cy |tan alpha|), with the slip's sign. Tolerance
+ * relative to mu Fz: double 1e-12 (a dozen roundings of 1e-16 through sin and atan, whose
+ * derivatives are <= 1, times C E <= 3); float32 2e-6 (the same chain in float32, 6e-8 per
+ * operation and ~2.6e-7 for the float32 atan2 and sine, times C (1 + |E|) <= 4.2: ~1.5e-6). */
+/* REQ-TYRE-007 */
+static void test_rfe_tyre_magic_abs_curvature(void **state)
+{
+    const double Es[4] = {-1.5, -0.5, 0.5, 0.9};
+    const double slips[5] = {-0.4, -0.05, 0.01, 0.08, 0.6};
+    const double fz = 4321.0;
+    const double mu = 0.7;
+#if defined(RFE_REAL_DOUBLE)
+    const double tol = 1e-12;
+#else
+    const double tol = 2e-6;
+#endif
+    size_t e;
+    size_t k;
+    (void)state;
+    for (e = 0u; e < 4u; ++e) {
+        rfe_tyre_params_t tp = params.tyre;
+        tp.mode = RFE_TYRE_MAGIC;
+        tp.shape_Ex = (rfe_real_t)Es[e];
+        tp.shape_Ey = (rfe_real_t)Es[e];
+        for (k = 0u; k < 5u; ++k) {
+            const double kap = (double)(rfe_real_t)slips[k];
+            const double alp = (double)(rfe_real_t)(0.5 * slips[k]);
+            const double sx = (double)tp.cx * fabs(kap);
+            const double sy = (double)tp.cy * fabs(tan(alp));
+            const double Cx = (double)tp.shape_Cx;
+            const double Cy = (double)tp.shape_Cy;
+            const double E = (double)(rfe_real_t)Es[e];
+            const double xx = sx / (mu * Cx);
+            const double xy = sy / (mu * Cy);
+            const double wx = mu * fz * sin(Cx * atan(xx - E * (xx - atan(xx)))) * (kap < 0 ? -1 : 1);
+            const double wy = mu * fz * sin(Cy * atan(xy - E * (xy - atan(xy)))) * (alp < 0 ? -1 : 1);
+            rfe_real_t fx;
+            rfe_real_t fy;
+            assert_int_equal(rfe_tyre_magic_abs(&tp, (rfe_real_t)kap, 0, (rfe_real_t)fz,
+                                                (rfe_real_t)20.0, (rfe_real_t)mu, &fx, &fy),
+                             RFE_OK);
+            assert_close(fx, wx, tol * mu * fz, 0, "Fx with E != 0");
+            assert_true(fy == 0);
+            assert_int_equal(rfe_tyre_magic_abs(&tp, 0, (rfe_real_t)alp, (rfe_real_t)fz,
+                                                (rfe_real_t)20.0, (rfe_real_t)mu, &fx, &fy),
+                             RFE_OK);
+            assert_close(fy, wy, tol * mu * fz, 0, "Fy with E != 0");
+        }
+    }
+}
+
 /* REQ: the four-wheel helper dispatches on the mode; the magic function checks its arguments
  * like the Dugoff one and leaves the outputs untouched on an error. */
 /* REQ-TYRE-007 REQ-TYRE-006 */
@@ -512,6 +566,7 @@ int main(void)
         cmocka_unit_test(test_rfe_tyre_dugoff_abs_mu_behaviour),
         cmocka_unit_test(test_rfe_tyre_rejects_bad_input),
         cmocka_unit_test(test_rfe_tyre_magic_abs_shape),
+        cmocka_unit_test(test_rfe_tyre_magic_abs_curvature),
         cmocka_unit_test(test_rfe_tyre_magic_dispatch_and_checks),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
