@@ -1203,6 +1203,12 @@ static void test_meas_lateral_jac_q31(void **state)
                 mud[1] = 0.0;
             }
         } else {
+            if ((n % 2000) == 110) {
+                /* a locked front wheel while steering: kappa = -1 exactly in both twins, so no
+                 * kappa derivative although the steer angle's sine is not 0 (counted as a kink
+                 * case, 10 of them: 0.05 %, 0.5 % with RFE_TEST_LIGHT) */
+                om[0] = 0.0;
+            }
             make_sample(uni(-0.3, 0.3), vx, uni(-2.5, 2.5), uni(-0.8, 0.8), uni(-9, 5),
                         uni(-9, 9), om, &uq, &ud);
         }
