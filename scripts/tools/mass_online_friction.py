@@ -14,9 +14,15 @@ total at the wheels) and brake_pressure = max(p_*) in Pa, and replayed by the C 
 (`mu_replay`, float, default preset, measured velocities) with the log's mass m x 0.8, 1.0
 and 1.2 in a parameter file, with the mass and grade estimator off and on (`ukf`, the
 default: it feeds its mass to the friction estimator by the mg_feed_sd_rel rule, MASS_GRADE.md
-section 10), on three times: without the excitation gate (mg_feed_excitation = 0, the rule before
-it), with it but without the feed's slip hold and band (mg_feed_slip_max = 0, mg_feed_band =
-0), and with the default keys (the gate, the slip hold and the band). Figures pooled over the four wheels and every log as mass_sensitivity.py pools
+section 10), on three times: without the excitation gate (mg_feed_excitation = 0, the rule
+before it), with it but without the feed's slip hold and band (mg_feed_slip_max = 0,
+mg_feed_band = 0), and with the default keys (the gate, the slip hold and the band); the three
+runs with the estimator on are made twice: with the car preset's driving resistances (what a
+user whose resistances are wrong gets) and with the simulator's (SIM_RESISTANCES:
+scripts/sim/vehicle.py, which wrote these logs, applies neither rolling resistance nor drag,
+so mg_fc = mg_fr = mg_rho = 0; every other key the preset's, the simulator's car being the
+preset's: R, m_rot = 4 Iw / R^2).
+Figures pooled over the four wheels and every log as mass_sensitivity.py pools
 them (valid share, RMSE when valid, consistency when valid, largest error when valid); the
 last columns count logs whose RMSE when valid rose / fell by more than 0.02 against the same
 log with its own mass and the estimator off.
@@ -24,7 +30,10 @@ A second table, from the runs with the log's own mass, lists each log where any 
 the mass: the first sample fed, the share of samples fed, the friction estimator's mass at the
 end against the log's m (no gate -> gate -> gate and checks), the gate's sum at the end
 without the checks (the JSON's excitation_end, m/s) and, with them, the updates the slip held
-and the samples the band refused (n_slip_held, n_band_refused).
+and the samples the band refused (n_slip_held, n_band_refused); then the same three runs with
+the simulator's resistances (first fed, mass_used at the end) and the filter's own mass at the
+end of the default run (the JSON's end mass), car preset -> simulator's resistances; a log fed
+with either resistances is listed.
 With --page the tables go between <!-- mass-online:begin/end --> and
 <!-- mass-online-gate:begin/end --> of the page.
 """
@@ -46,7 +55,13 @@ from md_tables import replace_region  # noqa: E402
 from replay_args import replay_args  # noqa: E402
 
 FACTORS = (0.8, 1.0, 1.2)
-MODES = ("off", "ukf-nogate", "ukf-nochecks", "ukf")
+# the driving resistances of the simulator that wrote the observer logs (scripts/sim/vehicle.py:
+# "No aerodynamic drag, no rolling resistance"); the car preset's are mg_fc = 0.01,
+# mg_fr = 0.00015, mg_rho = 1.2 (with mg_cd, mg_area, which then multiply 0)
+SIM_RESISTANCES = "mg_fc = 0\nmg_fr = 0\nmg_rho = 0\n"
+FEED_MODES = ("ukf-nogate", "ukf-nochecks", "ukf")
+SIM_MODES = tuple(f"{m}-sim" for m in FEED_MODES)
+MODES = ("off",) + FEED_MODES + SIM_MODES
 LABELS = {"off": "off", "ukf-nogate": "on (ukf), mass fed, no gate",
           "ukf-nochecks": "on (ukf), mass fed through the gate",
           "ukf": "on (ukf), through the gate, slip hold and band"}
@@ -54,6 +69,17 @@ LABELS = {"off": "off", "ukf-nogate": "on (ukf), mass fed, no gate",
 MODE_KEYS = {"off": "", "ukf-nogate": "mg_feed_excitation = 0\nmg_feed_slip_max = 0\n"
              "mg_feed_band = 0\n", "ukf-nochecks": "mg_feed_slip_max = 0\nmg_feed_band = 0\n",
              "ukf": ""}
+for _m in FEED_MODES:
+    LABELS[f"{_m}-sim"] = LABELS[_m]
+    MODE_KEYS[f"{_m}-sim"] = MODE_KEYS[_m] + SIM_RESISTANCES
+
+
+def resistances(mode):
+    """The table's resistance cell of @mode: none (the estimator off), the car preset's or the
+    simulator's."""
+    if mode == "off":
+        return "–"
+    return "simulator's (none)" if mode.endswith("-sim") else "car preset"
 TORQUES = ("torque_fl", "torque_fr", "torque_rl", "torque_rr")
 PRESSURES = ("p_fl", "p_fr", "p_rl", "p_rr")
 
@@ -114,6 +140,7 @@ def one(job):
         if mode != "off":
             feed = dict(doc["mass_grade"]["feed"])
             feed["first"] = first_fed(out)
+            feed["mass_est_end"] = doc["mass_grade"]["end"]["mass"]
     return job[1:], ([doc["metrics"][w] for w in WHEELS], feed)
 
 
@@ -132,23 +159,37 @@ def first_fed(est):
 
 
 def table(results, names):
-    rows = ["| mass given | mass and grade estimator | valid | RMSE valid | consistency | "
-            f"max valid | logs worse by > {WORSE} | better by > {WORSE} |",
-            "|---|---|---|---|---|---|---|---|"]
+    """The pooled friction figures per mass given and run. A run with the simulator's
+    resistances gets its own row only where a cell differs from the same run's with the car
+    preset's; the line under the table counts those equal to the digits printed."""
+    rows = ["| mass given | mass and grade estimator | its resistances | valid | RMSE valid | "
+            f"consistency | max valid | logs worse by > {WORSE} | better by > {WORSE} |",
+            "|---|---|---|---|---|---|---|---|---|"]
     base = [pooled(results[(n, 1.0, "off")][0]) for n in names]
+    same = 0
     for factor in FACTORS:
+        cells = {}
         for mode in MODES:
             text, worse, better = pooled_cells(
                 [pooled(results[(n, factor, mode)][0]) for n in names], base)
             ref = factor == 1.0 and mode == "off"
-            rows.append(f"| m × {factor:.1f} | {LABELS[mode]} | "
-                        f"{text} | {'–' if ref else f'{worse} of {len(names)}'} | "
-                        f"{'–' if ref else f'{better} of {len(names)}'} |")
+            cells[mode] = (f"{text} | {'–' if ref else f'{worse} of {len(names)}'} | "
+                           f"{'–' if ref else f'{better} of {len(names)}'} |")
+            if mode in SIM_MODES and cells[mode] == cells[mode[:-4]]:
+                same += 1
+                continue
+            rows.append(f"| m × {factor:.1f} | {LABELS[mode]} | {resistances(mode)} | "
+                        f"{cells[mode]}")
+    rows += ["", f"With the simulator's resistances (mg_fc = mg_fr = mg_rho = 0) {same} of "
+             f"{len(FACTORS) * len(SIM_MODES)} runs with the estimator on give the car preset's "
+             "figures to the digits printed" + (" (not listed)." if same else ".")]
     return "\n".join(rows)
 
 
 def gate_table(results, names):
-    """Per log that feeds in any run (own mass): no gate -> gate -> gate and checks."""
+    """Per log that feeds in any run (own mass), with either resistances: no gate -> gate ->
+    gate and checks (car preset, then the simulator's), and the filter's own mass at the end of
+    the default run, car preset -> simulator's resistances."""
     def cells(feed, m):
         (first, n) = feed["first"]
         if first is None:
@@ -156,19 +197,26 @@ def gate_table(results, names):
         return (f"{first:.1f} s", f"{feed['n_fed'] / n:.0%}",
                 f"{(feed['mass_used_end'] - m) / m:+.1%}")
     rows = ["| log | m | first fed: no gate → gate → gate and checks | samples fed "
-            "| mass_used at the end vs m | excitation at the end | slip held / band refused |",
-            "|---|---|---|---|---|---|---|"]
+            "| mass_used at the end vs m | excitation at the end | slip held / band refused "
+            "| simulator's resistances: first fed | its mass_used at the end vs m "
+            "| filter's mass at the end vs m: car preset → simulator's |",
+            "|---|---|---|---|---|---|---|---|---|---|"]
     src = os.path.join(ROOT, "scenarios", "observer")
     for n in names:
-        runs = [results[(n, 1.0, mode)][1] for mode in ("ukf-nogate", "ukf-nochecks", "ukf")]
-        if all(r["n_fed"] == 0 for r in runs):
+        runs = [results[(n, 1.0, mode)][1] for mode in FEED_MODES]
+        sims = [results[(n, 1.0, mode)][1] for mode in SIM_MODES]
+        if all(r["n_fed"] == 0 for r in runs + sims):
             continue
         m = log_mass(os.path.join(src, n))
         c = [cells(r, m) for r in runs]
+        d = [cells(r, m) for r in sims]
         rows.append(f"| {n[:-4]} | {m:.0f} kg | {' → '.join(x[0] for x in c)} | "
                     f"{' → '.join(x[1] for x in c)} | {' → '.join(x[2] for x in c)} | "
                     f"{runs[1]['excitation_end']:.2f} m/s | "
-                    f"{runs[2]['n_slip_held']} / {runs[2]['n_band_refused']} |")
+                    f"{runs[2]['n_slip_held']} / {runs[2]['n_band_refused']} | "
+                    f"{' → '.join(x[0] for x in d)} | {' → '.join(x[2] for x in d)} | "
+                    f"{(runs[2]['mass_est_end'] - m) / m:+.1%} → "
+                    f"{(sims[2]['mass_est_end'] - m) / m:+.1%} |")
     return "\n".join(rows)
 
 

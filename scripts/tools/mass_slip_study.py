@@ -35,7 +35,7 @@ from pathlib import Path
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "scripts", "tools"))
 
-from mass_online_friction import logs, with_drive_torque  # noqa: E402
+from mass_online_friction import SIM_RESISTANCES, logs, with_drive_torque  # noqa: E402
 from mass_sensitivity import log_mass  # noqa: E402
 from md_tables import replace_region  # noqa: E402
 from replay_args import replay_args  # noqa: E402
@@ -43,7 +43,6 @@ from replay_args import replay_args  # noqa: E402
 STARTS = (1.0, 0.8, 1.2)   # mg_m0 as a share of the log's m
 SLIP = ("0", "default")    # mg_slip_max: off (the filter before the pause), the default key
 MG_COLUMNS = ("mass_est", "sd_mass", "grade_est", "sd_grade")
-SIM_RESISTANCES = "mg_fc = 0\nmg_fr = 0\nmg_rho = 0\n"  # the simulator's: none
 
 
 def run(exe, log, params_text, extra):
