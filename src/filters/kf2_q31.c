@@ -8,6 +8,7 @@
 #include "rfe/component/fxmath.h"
 
 #include "numerics/internal_q31.h"
+#include "numerics/xf_q31.h"
 
 /* The formats of a filter: both states in Q0..Q31, the transition's shift in [1, 62] (its
  * upper end holds by itself: q1 + qf - q0 <= 31 + 31 - 0). */
@@ -128,7 +129,9 @@ static void normalise_q31(int64_t v, rfe_fix_t *m, int *e)
     const int len = (int)rfe_q31_bitlen64(rfe_q31_mag64_any(v));
     const int sh = len - 30;
     if (sh > 0) {
-        *m = (rfe_fix_t)rfe_fix_shr64_round(v, (unsigned int)sh);
+        /* 1 <= sh <= 32 and |v| < 2^len = 2^(30 + sh) (|v| <= PMAX = 2^61, len <= 62):
+         * rfe_xf_round's range, rfe_fix_shr64_round's integer in 32-bit operations */
+        *m = rfe_xf_round(v, (unsigned int)sh);
     } else {
         *m = (rfe_fix_t)(v * rfe_q31_pow2((unsigned int)(-sh)));
     }
