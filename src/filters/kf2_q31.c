@@ -8,6 +8,7 @@
 #include "rfe/component/fxmath.h"
 
 #include "numerics/internal_q31.h"
+#include "numerics/xf_q31.h"
 
 /* The formats of a filter: both states in Q0..Q31, the transition's shift in [1, 62] (its
  * upper end holds by itself: q1 + qf - q0 <= 31 + 31 - 0). */
@@ -33,39 +34,68 @@ static int64_t clamp_p_q31(int64_t v, uint32_t *sat)
     return r;
 }
 
+/* floor(t / 2^n + 1/2) = rfe_fix_shr64_round(t, n) for |t| < 2^62 and 1 <= n <= 31, formed as
+ * floor((t + 2^(n-1)) / 2^n) (no overflow: |t + 2^(n-1)| < 2^63) in offset binary (u = t +
+ * 2^(n-1) + 2^63 in [0, 2^64)) with the 32-bit halves shifted by n < 32, which the Cortex-M
+ * does in a few instructions where the general 64-bit shift of any count took ~40. The same
+ * integer (an identity, no rounding of its own; test_kf2_q31.c checks mul_p_q31 against the
+ * exact product). */
+static int64_t shr_round_small_q31(int64_t t, unsigned int n)
+{
+    const uint32_t half = (uint32_t)1u << (n - 1u);
+    const uint64_t u = ((uint64_t)t + (uint64_t)half) + ((uint64_t)1 << 63);
+    const uint32_t uh = (uint32_t)(u >> 32);
+    const uint32_t ul = (uint32_t)u;
+    const uint32_t rl = (ul >> n) | (uh << (32u - n));
+    const uint32_t rh = uh >> n;
+    const uint32_t oh = (uint32_t)0x80000000u >> n; /* 2^63 / 2^n = oh 2^32 */
+    const uint64_t q = ((uint64_t)rh << 32) | (uint64_t)rl; /* floor(u / 2^n) < 2^63 */
+    return (int64_t)q - (int64_t)((uint64_t)oh << 32);
+}
+
 /* round(v c / 2^s) (half up) for |v| <= PMAX, any int32 c, 1 <= s <= 62, clamped to +-PMAX
  * (counted). The exact product is split as rfe_q31_mul64x32 splits it: v = vh 2^32 + vl
  * (|vh| <= 2^29, 0 <= vl < 2^32), b = vl c = bh 2^32 + bl (0 <= bl < 2^32), v c = t 2^32 + bl
- * with t = vh c + bh, |t| < 2^61. For s >= 33 the result is round(t / 2^(s - 32)), below
- * 2^60. For s <= 32, with k = 32 - s in [0, 31], it is t 2^k + lo, lo = floor((bl + 2^(s-1))
- * / 2^s) in [0, 2^k]; PMAX = 2^61 is a multiple of 2^k, so t > PMAX / 2^k gives a result
- * >= PMAX + 2^k (beyond it) and t < -PMAX / 2^k - 1 one <= -PMAX - 2^k (beyond it), and
- * otherwise |t 2^k| <= PMAX + 2^k and the result is formed exactly and clamped. The same
- * integers and counts as the bit-length bounds this function first decided by (test_kf2_q31.c
- * checks the function against the exact product), without them: the observer's three
- * filters take ~60 of these products a step. */
+ * with t = vh c + bh, |t| < 2^61. b is formed from the unsigned 32 x 32 product vl |c|' (c's
+ * pattern as uint32, c + 2^32 when c < 0): vl c = vl c' - vl 2^32 [c < 0], so bl is its low
+ * word and bh its high word minus vl when c < 0 (one umull and one smull on the Cortex-M where
+ * the int64 products took four multiplications). For s >= 33 the result is round(t /
+ * 2^(s - 32)), below 2^60 (shr_round_small_q31). For s <= 32, with k = 32 - s in [0, 31], it
+ * is t 2^k + lo, lo = floor((bl + 2^(s-1)) / 2^s) in [0, 2^k]; PMAX = 2^61 is a multiple of
+ * 2^k, so t > PMAX / 2^k gives a result >= PMAX + 2^k (beyond it) and t < -PMAX / 2^k - 1 one
+ * <= -PMAX - 2^k (beyond it), and otherwise |t 2^k| <= PMAX + 2^k and the result is formed
+ * exactly and clamped. The same integers and counts as the bit-length bounds this function
+ * first decided by (test_kf2_q31.c checks the function against the exact product), without
+ * them: the observer's three filters take ~60 of these products a step. */
 static int64_t mul_p_q31(int64_t v, rfe_fix_t c, unsigned int s, uint32_t *sat)
 {
-    const uint64_t low32 = (uint64_t)0xFFFFFFFFu;
-    int64_t vh;
-    uint64_t vl_u;
-    int64_t vl;
-    int64_t b;
+    uint32_t hw;
+    int64_t hw64;
+    int32_t vh;
+    uint32_t vl;
+    uint64_t bu;
+    int64_t bh;
     int64_t t;
-    uint64_t bl;
+    uint32_t bl;
     int64_t r;
     if ((v == 0) || (c == 0)) {
         /* half the observer's products are by an h1 of 0 */
         return 0;
     }
-    vh = rfe_fix_shr64_floor(v, 32u);
-    vl_u = (uint64_t)v & low32;
-    vl = (int64_t)vl_u;
-    b = vl * (int64_t)c;
-    t = (vh * (int64_t)c) + rfe_fix_shr64_floor(b, 32u);
-    bl = (uint64_t)b & low32;
+    /* vh = floor(v / 2^32), |vh| <= 2^29: the high word in offset binary, then the offset */
+    hw = (uint32_t)((uint64_t)v >> 32) ^ (uint32_t)0x80000000u;
+    hw64 = (int64_t)hw;
+    vh = (int32_t)(hw64 - INT64_C(2147483648));
+    vl = (uint32_t)((uint64_t)v & (uint64_t)0xFFFFFFFFu);
+    bu = (uint64_t)vl * (uint64_t)(uint32_t)c;
+    bh = (int64_t)(bu >> 32);
+    if (c < 0) {
+        bh -= (int64_t)vl;
+    }
+    t = ((int64_t)vh * (int64_t)c) + bh;
+    bl = (uint32_t)bu;
     if (s >= 33u) {
-        r = rfe_fix_shr64_round(t, s - 32u);
+        r = shr_round_small_q31(t, s - 32u);
     } else {
         const unsigned int k = 32u - s;
         const uint64_t lim_u = (uint64_t)RFE_KF2_Q31_PMAX >> k;
@@ -77,7 +107,7 @@ static int64_t mul_p_q31(int64_t v, rfe_fix_t c, unsigned int s, uint32_t *sat)
         } else {
             /* lo = floor((floor(bl / 2^(s-1)) + 1) / 2) in 32 bits; 2^k as a 32-bit factor */
             const unsigned int s1 = s - 1u;
-            const uint32_t blh = (uint32_t)(bl >> s1);
+            const uint32_t blh = bl >> s1;
             const uint32_t lo = (blh >> 1) + (blh & 1u);
             const uint32_t p2 = (uint32_t)1u << k;
             r = (t * (int64_t)p2) + (int64_t)lo;
@@ -99,7 +129,9 @@ static void normalise_q31(int64_t v, rfe_fix_t *m, int *e)
     const int len = (int)rfe_q31_bitlen64(rfe_q31_mag64_any(v));
     const int sh = len - 30;
     if (sh > 0) {
-        *m = (rfe_fix_t)rfe_fix_shr64_round(v, (unsigned int)sh);
+        /* 1 <= sh <= 32 and |v| < 2^len = 2^(30 + sh) (|v| <= PMAX = 2^61, len <= 62):
+         * rfe_xf_round's range, rfe_fix_shr64_round's integer in 32-bit operations */
+        *m = rfe_xf_round(v, (unsigned int)sh);
     } else {
         *m = (rfe_fix_t)(v * rfe_q31_pow2((unsigned int)(-sh)));
     }
@@ -113,13 +145,14 @@ static ratio_q31_t ratio_q31(int64_t a, int64_t b)
     rfe_fix_t mb;
     int ea;
     int eb;
-    uint32_t unused = 0u;
     normalise_q31(a, &ma, &ea);
     normalise_q31(b, &mb, &eb);
     if (ma != 0) {
-        /* |ma / mb| <= 2: the quotient in Q29 fits (no saturation); mb >= 2^29 is nonzero */
-        const rfe_status_t st = rfe_fix_div(ma, mb, 29, &r.m, &unused);
-        (void)st;
+        /* |ma / mb| <= 2 (mb >= 2^29): rfe_fix_div(ma, mb, 29)'s integer, no saturation
+         * (floor(|ma| 2^30 / mb) <= 2^31 < 2^32), without its checks; mb > 0 as b > 0 */
+        const uint32_t am = (ma < 0) ? (uint32_t)(-ma) : (uint32_t)ma;
+        const int32_t q = (int32_t)rfe_q31_div_round_mag(am, (uint32_t)mb, 29u);
+        r.m = (ma < 0) ? -q : q;
         r.e = (29 + eb) - ea;
     }
     return r;

@@ -214,6 +214,18 @@ static inline uint32_t rfe_q31_udiv64_32(uint64_t n, uint32_t d)
 #endif
 }
 
+/** floor(ma 2^sh / mb + 1/2) for mb >= 1 where q2 = floor(ma 2^(sh + 1) / mb) < 2^32 (the
+ *  callers: normalised mantissas, ma <= 2^30 <= 2 mb): rfe_fix_div's rounded magnitude
+ *  (div_round_mag: floor((q2 + 1) / 2)) without its argument checks and range cases, formed
+ *  by rfe_q31_udiv64_32. rfe_xf_div and the Kalman filters' gain ratio (kf2_q31.c) divide
+ *  with it. */
+static inline uint32_t rfe_q31_div_round_mag(uint32_t ma, uint32_t mb, unsigned int sh)
+{
+    const unsigned int sh1 = sh + 1u;
+    const uint64_t q2 = (uint64_t)rfe_q31_udiv64_32((uint64_t)ma << sh1, mb);
+    return (uint32_t)((q2 + 1u) >> 1);
+}
+
 /**
  * floor(sqrt(y)) of a 32-bit y by integer Newton steps from above: x0 = 2^ceil(L/2) (L the
  * bit length of y, so x0 > sqrt(y) and x0 < 2 sqrt(y) + 2), then x <- floor((x + floor(y / x))

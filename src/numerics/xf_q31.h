@@ -184,15 +184,11 @@ static inline rfe_xf_t rfe_xf_div(rfe_xf_t a, rfe_xf_t b)
         const uint64_t ma = (a.m < 0) ? (uint64_t)(-(int64_t)a.m) : (uint64_t)a.m;
         const uint64_t mb = (b.m < 0) ? (uint64_t)(-(int64_t)b.m) : (uint64_t)b.m;
         unsigned int sh = 29u;
-        unsigned int sh1;
-        uint64_t q2;
         int64_t q;
         if (ma < mb) {
             sh = 30u;
         }
-        sh1 = sh + 1u;
-        q2 = (uint64_t)rfe_q31_udiv64_32(ma << sh1, (uint32_t)mb);
-        q = (int64_t)((q2 + 1u) >> 1);
+        q = (int64_t)rfe_q31_div_round_mag((uint32_t)ma, (uint32_t)mb, sh);
         if ((a.m < 0) != (b.m < 0)) {
             q = -q;
         }
