@@ -310,12 +310,14 @@ static void test_ellipse_scales_the_axle_forces(void **state)
  * Fz0, rho = 0); at and above it, and at every ax with the band 0, the factor of §3.5 (an
  * ax inside the default band moves the forces by the load: |1 - lam| = G |ax| / Fz0, 1.3 %
  * of the front's at 0.4 m/s^2, far above TOL_ELL). The sigma-point filter's first sample as
- * in test_ellipse_scales_the_axle_forces (every point has D = mu0 Fz0). */
+ * in test_ellipse_scales_the_axle_forces (every point has D = mu0 Fz0). The ax probed are
+ * placed from the band the defaults give (rfe_tyre_id_params_default, the one source; the
+ * defaults test pins its value), not from a copy of it: 2/3 of it either way (inside), the
+ * band itself (its edge), 5/3 of it (beyond). */
 static void test_ellipse_dead_band(void **state)
 {
     static rfe_tyre_id_t off;
-    const rfe_real_t axs[4] = {(rfe_real_t)-0.4, (rfe_real_t)0.4, (rfe_real_t)-0.6,
-                               (rfe_real_t)-1.0};
+    rfe_real_t axs[4];
     rfe_params_t veh;
     rfe_tyre_id_params_t tp;
     rfe_tyre_id_params_t tp_band;
@@ -327,10 +329,15 @@ static void test_ellipse_dead_band(void **state)
     size_t i;
     (void)state;
     setup_defaults(&veh, &tp);
+    assert_true(tp.ell_ax_min > 0); /* a band to probe: inside, on its edge, beyond */
+    axs[0] = (rfe_real_t)(-(2.0 / 3.0) * (double)tp.ell_ax_min);
+    axs[1] = -axs[0];
+    axs[2] = -tp.ell_ax_min; /* exactly the key: |ax| < band is false */
+    axs[3] = (rfe_real_t)(-(5.0 / 3.0) * (double)tp.ell_ax_min);
     tp.filter = RFE_TID_SCKF;
     tp.sd0_mu = 0;
     tp_band = tp;
-    tp_band.ellipse = 1;     /* the default band, 0.6 m/s^2 */
+    tp_band.ellipse = 1;     /* the default band */
     tp_none = tp_band;
     tp_none.ell_ax_min = 0;  /* no band: the ellipse as first built */
     for (i = 0u; i < 4u; ++i) {
@@ -361,7 +368,7 @@ static void test_ellipse_dead_band(void **state)
             assert_true(e_band.mean[RFE_TID_OUT_FY_F] == e_off.mean[RFE_TID_OUT_FY_F]);
             assert_true(e_band.mean[RFE_TID_OUT_FY_R] == e_off.mean[RFE_TID_OUT_FY_R]);
         } else {
-            /* on its edge (|ax| < 0.6 is false) and beyond: as without the band */
+            /* on its edge (|ax| < band is false) and beyond: as without the band */
             assert_true(e_band.mean[RFE_TID_OUT_FY_F] == e_none.mean[RFE_TID_OUT_FY_F]);
             assert_true(e_band.mean[RFE_TID_OUT_FY_R] == e_none.mean[RFE_TID_OUT_FY_R]);
         }
