@@ -1,8 +1,8 @@
 """The measurement behind docs/FIXED_POINT.md "Tyre identifier: why there is no Q31 twin"
 (scripts/tools/tyre_id_q31_ranges.py), on the first 300 samples of the high-mu ramp steer
 (256 particles, APF, seed 1: 20 draws, about 0.5 s). The page's table covers every sample of
-the seven logs; these check the three claims the section rests on, each of which the
-measurement could contradict.
+every log of scenarios/tyre_id/ (nine); these check the three claims the section rests on,
+each of which the measurement could contradict.
 """
 import math
 import sys

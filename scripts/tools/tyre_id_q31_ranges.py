@@ -34,8 +34,8 @@ from md_tables import replace_region  # noqa: E402
 from reference import tyre_id as T  # noqa: E402
 from reference.logs import read_csv_log  # noqa: E402
 
-LOGS = ("tid_dlc_high_mu", "tid_dlc_low_mu", "tid_ramp_steer_high_mu", "tid_ramp_steer_low_mu",
-        "tid_sine_steer", "tid_straight", "tid_tyre_change")
+# every tyre identification log, read from the folder (a log added there is measured too)
+LOGS = tuple(sorted(p.stem for p in (ROOT / "scenarios" / "tyre_id").glob("*.csv")))
 LN_Q31 = -31.0 * math.log(2.0)    # exp(l - M) below this rounds to 0 in Q31 (2^-31 = 1 LSB)
 BEGIN, END = "<!-- tyre-id-q31:begin -->", "<!-- tyre-id-q31:end -->"
 
