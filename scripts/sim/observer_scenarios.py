@@ -78,7 +78,10 @@ class ObserverScenario(Scenario):
     ay_bias    constant ay sensor bias [m/s^2], added before the noise (both variants)
     v_low      low-speed slip floor [m/s] (vehicle.py) or None
     dt, rate   log period [s] and RK4 rate [Hz]
-    tyres      truth tyres to write"""
+    tyres      truth tyres to write
+    res        driving resistances (mass_grade_scenarios.Resistance: rolling resistance
+               m g (fc + fr v) cos(theta) and drag 0.5 rho cd area v^2, vehicle.py ``ext``)
+               or None: none, as the paper (every log of OBSERVER_SCENARIOS)"""
     layout: str = "fwd"
     tcs: Optional[TcsConfig] = None
     speed: Optional[SpeedConfig] = None
@@ -90,6 +93,7 @@ class ObserverScenario(Scenario):
     dt: float = 0.01
     rate: int = 4000
     tyres: tuple = ("dugoff", "mf")
+    res: Optional[object] = None
 
     @property
     def seed(self):
