@@ -33,6 +33,11 @@ variant; at 0.02 s it is 17 MB noisy, 15 MB noise-free) and is written with the 
 the tyre forces are tiny, where both truth tyres are the same linear tyre); the rest are
 written like the friction scenarios: Dugoff noisy + noise-free, Magic Formula noisy.
 
+No scenario here has rolling resistance or drag (as the paper; ObserverScenario.res None).
+mass_grade_scenarios.OBS_RES_SCENARIOS are twins of three of them with the car's resistances
+for the mass and grade studies (<name>_res, scenarios/observer_res/, make
+observer-res-scenarios).
+
 On low mu the Magic-Formula car is less forgiving than the Dugoff one (its force falls past
 the peak): with the same steering, sine_dwell_mu035 and dlc_mu035 reach |beta| ~ 3.8-3.9 deg
 with Dugoff but 12-17 deg with mf, where the car is still sliding at the end of the log.
