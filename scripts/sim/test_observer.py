@@ -142,8 +142,9 @@ def test_driving_resistances_option():
     # s/m, rho 1.2 kg/m^3, C_d 0.30, S 2.2 m^2
     vx = sim["vx"]
     want = -(P.m * P.g * (0.01 + 0.00015 * vx) * cos(theta) + 0.5 * 1.2 * 0.30 * 2.2 * vx ** 2)
-    # at 20 m/s -(1830 g 0.013 cos(theta) + 158.4) N; the simulator smooths the rolling resistance's sign as
-    # tanh(vx / 0.5 m/s) for standstill, 1 - 1e-17 here, so only rounding (~1e-13 N) remains
+    # at 20 m/s -(1830 g 0.013 cos(theta) + 158.4) N; the simulator smooths the rolling
+    # resistance's sign as tanh(vx / 0.5 m/s) for standstill, 1 - 1e-17 here, so only
+    # rounding (~1e-13 N) remains
     assert abs(want[0] + 233.3799 * cos(theta) + 158.4) < 1e-9
     assert np.max(np.abs(sim["fx_ext"] - want)) < 1e-9
     # the dynamics: as test_grade_coasting_deceleration_and_specific_force, from 0.5 s (the

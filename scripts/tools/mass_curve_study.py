@@ -116,7 +116,8 @@ def table(res, names):
     heads = list(VARIANTS)
     lines = [f"Steady curve (t ≥ {T_STEADY:g} s): the force the drive torque pays at constant "
              "speed, T/R − (m + m_rot)·v̇x (the simulator has no other resistance), against "
-             "F_c = m·(ay·Lr/L·sin δ − r·vy); ay; −r·vy (the accelerometer's sideslip term). "
+             "F_c = m·(ay·Lr/L·sin δ − r·vy); ay; −r·vy (the accelerometer's sideslip "
+             "term). "
              "Then the mass at the end against m (sd_mass / m) and the grade at the end (mrad), "
              "float64 reference, recommended preset, from m:", "",
              "| log | T/R − (m + m_rot)·v̇x | F_c | ay | −r·vy | "
