@@ -46,7 +46,7 @@ DEPS_EXTRA :=
 TEST_GATES :=
 include $(sort $(filter-out mk/lib.mk,$(wildcard mk/*.mk)))
 
-.PHONY: mass-grade-scenarios mass-grade-results mass-grade-textbook mass-sensitivity mass-headwind mass-slip mass-slip-ramp tyre-id-feed-results mass-grade-goldens trust-invariant names car-format-logs observer-goldens observer-goldens-q31 observer-results monitor-results shape-results test-pkg all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind valgrind-unit valgrind-cli coverage demo goldens goldens-q31 scenarios observer-scenarios clean vectors shared-sync check-shared readme-table \
+.PHONY: mass-grade-scenarios observer-res-scenarios mass-grade-results mass-grade-textbook mass-sensitivity mass-headwind mass-slip mass-slip-ramp mass-curve tyre-id-feed-results mass-grade-goldens trust-invariant names car-format-logs observer-goldens observer-goldens-q31 observer-results monitor-results shape-results test-pkg all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind valgrind-unit valgrind-cli coverage demo goldens goldens-q31 scenarios observer-scenarios clean vectors shared-sync check-shared readme-table \
         check-kernels check-tools layers help-check goldens-ref check-nofloat help deps-analysis misra tidy complexity structural analysis \
         twins check-twins tyre-id-scenarios tyre-id-results tyre-id-goldens tyre-id-ellipse-results \
         tyre-id-results-ellipse snoise-reuse snoise-reuse-vxvy
@@ -368,6 +368,9 @@ scenarios: venv
 ## regenerate the velocity / sideslip observer logs (scenarios/observer/) with the simulator
 observer-scenarios: venv
 	$(PY) scripts/data/make_observer_scenarios.py --out scenarios/observer
+## regenerate the observer logs with the car's rolling resistance and drag for the mass studies (scenarios/observer_res/)
+observer-res-scenarios: venv
+	$(PY) scripts/data/make_observer_scenarios.py --resistances --out scenarios/observer_res
 ## regenerate the tyre identification logs (scenarios/tyre_id/, docs/TYRE_ID.md) with the simulator
 tyre-id-scenarios: venv
 	$(PY) scripts/data/make_tyre_id_scenarios.py --out scenarios/tyre_id
@@ -478,6 +481,10 @@ mass-slip: venv $(BUILD)/mu_replay
 ## in the float64 reference (docs/MASS_GRADE.md)
 mass-slip-ramp: venv
 	$(PY) scripts/tools/mass_slip_ramp_study.py --jobs $(TEST_JOBS) --page docs/MASS_GRADE.md
+
+## why the mass filter's mass is wrong on a steady curve: the cornering resistance and ax's sideslip term (docs/MASS_GRADE_RESULTS.md)
+mass-curve: venv
+	$(PY) scripts/tools/mass_curve_study.py --jobs $(TEST_JOBS) --page docs/MASS_GRADE_RESULTS.md
 
 ## whether the mass filter's innovations or a drag fit see the headwind (docs/MASS_GRADE_RESULTS.md)
 mass-headwind: venv

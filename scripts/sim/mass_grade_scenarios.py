@@ -30,20 +30,21 @@ below its noise (RESOLUTION: 1e-6 rad, 1e-5 m/s^2 and rad/s, 0.01 N m, 1 Pa; noi
 variant is written.
 """
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from math import cos, pi, radians, sin, tanh
 from typing import Callable, Optional
 
 import numpy as np
 
 from .control import ObserverInputs, SpeedConfig
-from .observer_scenarios import Road
+from .observer_scenarios import OBS_BY_NAME, Road
 from .scenarios import KMH, ZERO4, const, ramp, uniform_mu
 from .vehicle import ESTIMATOR_KEYS, SIM_KEYS, Params, simulate
 
 __all__ = ["Resistance", "MassGradeScenario", "MASS_GRADE_SCENARIOS", "MG_BY_NAME", "SEED_BASE",
            "CAR", "TRUCK", "COLUMNS", "NOISE_SD", "RESOLUTION", "run", "table", "noisy",
-           "metadata", "csv_text", "m_rot"]
+           "metadata", "csv_text", "m_rot", "OBS_RES_SCENARIOS", "OBS_RES_BY_NAME",
+           "with_resistances"]
 
 SEED_BASE = 301
 V_EPS = 0.5   # m/s, the rolling resistance's sign is smoothed as tanh(vx / V_EPS) at standstill
@@ -427,3 +428,29 @@ MASS_GRADE_SCENARIOS = [
 ]
 
 MG_BY_NAME = {s.name: s for s in MASS_GRADE_SCENARIOS}
+
+
+# ---- observer scenarios with the car's resistances (scenarios/observer_res/) ----------------
+# The observer logs (observer_scenarios.py) have no rolling resistance and no drag, as the
+# paper; the mass filter's car preset has both (mg_fc = 0.01, mg_fr = 0.00015, mg_rho = 1.2,
+# mg_cd = 0.30, mg_area = 2.2 = CAR_RES, the simulator's car being the preset's).  These
+# twins add CAR_RES to the scenarios the mass studies use (the mu 0.3 traction logs and the
+# hill climb), so the preset's model matches the log.  Same index as the original, so the
+# same noise seed: a twin differs from its original by the resistances alone.  Written noisy
+# only (make_observer_scenarios.py --resistances), with the truth tyres below: the traction
+# logs with both (the slip differs), the hill with Dugoff (its tyres stay linear), 3.6 MB.
+OBS_RES_TYRES = {"traction_rwd_mu03": ("dugoff", "mf"), "traction_awd_mu03": ("dugoff", "mf"),
+                 "hill_known_grade": ("dugoff",)}
+
+
+def with_resistances(sc, res, suffix="_res", tyres=None):
+    """The observer scenario @sc with the driving resistances @res (observer_scenarios
+    ObserverScenario.res), renamed <name><suffix>, the resistances appended to its
+    description; @tyres: its truth tyres (None: sc's)."""
+    return replace(sc, name=sc.name + suffix, description=sc.description + "; " + res.text(),
+                   res=res, tyres=sc.tyres if tyres is None else tyres)
+
+
+OBS_RES_SCENARIOS = [with_resistances(OBS_BY_NAME[n], _car_res(), tyres=t)
+                     for n, t in OBS_RES_TYRES.items()]
+OBS_RES_BY_NAME = {s.name: s for s in OBS_RES_SCENARIOS}

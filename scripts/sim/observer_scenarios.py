@@ -33,6 +33,11 @@ variant; at 0.02 s it is 17 MB noisy, 15 MB noise-free) and is written with the 
 the tyre forces are tiny, where both truth tyres are the same linear tyre); the rest are
 written like the friction scenarios: Dugoff noisy + noise-free, Magic Formula noisy.
 
+No scenario here has rolling resistance or drag (as the paper; ObserverScenario.res None).
+mass_grade_scenarios.OBS_RES_SCENARIOS are twins of three of them with the car's resistances
+for the mass and grade studies (<name>_res, scenarios/observer_res/, make
+observer-res-scenarios).
+
 On low mu the Magic-Formula car is less forgiving than the Dugoff one (its force falls past
 the peak): with the same steering, sine_dwell_mu035 and dlc_mu035 reach |beta| ~ 3.8-3.9 deg
 with Dugoff but 12-17 deg with mf, where the car is still sliding at the end of the log.
@@ -78,7 +83,10 @@ class ObserverScenario(Scenario):
     ay_bias    constant ay sensor bias [m/s^2], added before the noise (both variants)
     v_low      low-speed slip floor [m/s] (vehicle.py) or None
     dt, rate   log period [s] and RK4 rate [Hz]
-    tyres      truth tyres to write"""
+    tyres      truth tyres to write
+    res        driving resistances (mass_grade_scenarios.Resistance: rolling resistance
+               m g (fc + fr v) cos(theta) and drag 0.5 rho cd area v^2, vehicle.py ``ext``)
+               or None: none, as the paper (every log of OBSERVER_SCENARIOS)"""
     layout: str = "fwd"
     tcs: Optional[TcsConfig] = None
     speed: Optional[SpeedConfig] = None
@@ -90,6 +98,7 @@ class ObserverScenario(Scenario):
     dt: float = 0.01
     rate: int = 4000
     tyres: tuple = ("dugoff", "mf")
+    res: Optional[object] = None
 
     @property
     def seed(self):

@@ -157,11 +157,13 @@ def observer_noisy_columns(sc):
 
 
 def run_observer(sc, tyre="dugoff", params=None, rate=None, duration=None):
-    """Simulate an observer scenario at its own log period, rate, road and low-speed floor."""
+    """Simulate an observer scenario at its own log period, rate, road, low-speed floor and
+    driving resistances (none unless sc.res is set; then the output has "fx_ext")."""
     params = Params() if params is None else params
+    ext = None if sc.res is None else sc.res.ext(params)
     return simulate(sc.make_inputs(params), sc.mu, sc.v0,
                     sc.duration if duration is None else duration, params, tyre, sc.dt,
-                    sc.rate if rate is None else rate, sc.road, sc.v_low)
+                    sc.rate if rate is None else rate, sc.road, sc.v_low, ext=ext)
 
 
 def observer_table(sim, sc):
@@ -213,6 +215,10 @@ def observer_metadata(sc, noise, tyre, params=None):
              for c in observer_noisy_columns(sc)]
     meta += [("sim_integrator", "rk4"), ("sim_rate", sc.rate), ("v0", sc.v0),
              ("duration", sc.duration)]
+    if sc.res is not None:   # the mass and grade logs' keys (DATA.md); none without
+        r = sc.res
+        meta += [("sim_fc", r.fc), ("sim_fr", r.fr), ("sim_rho", r.rho), ("sim_cd", r.cd),
+                 ("sim_area", r.area), ("sim_wind", r.wind_text)]
     return meta
 
 

@@ -125,6 +125,47 @@ def test_grade_coasting_deceleration_and_specific_force():
 
 
 # REQ-SIM-002
+def test_driving_resistances_option():
+    """ObserverScenario.res applies MASS_GRADE.md section 1's resistances: rolling
+    resistance m g (f_c + f_r v) cos(theta) and drag 0.5 rho C_d S v^2.  Coasting on a constant
+    grade with them, the force logged at each instant is that formula at the logged vx and
+    grade; the car (free-rolling wheels, as test_grade_coasting...) then decelerates at
+    (F - m g sin(theta)) / (m + 4 Iw/R^2), and without res the output has no force at all."""
+    from .mass_grade_scenarios import CAR_RES, Resistance
+    theta = 0.06
+    res = Resistance(**CAR_RES)
+    sc = ObserverScenario("test", 99, "test", 20.0, 1.5, const(0.0), const(ZERO4), const(ZERO4),
+                          uniform_mu(0.9), layout="fwd", road=Road(grade=lambda s: theta),
+                          res=res)
+    sim = sensors.run_observer(sc)
+    # the car preset's numbers written out (MASS_GRADE.md section 6): f_c 0.01, f_r 0.00015
+    # s/m, rho 1.2 kg/m^3, C_d 0.30, S 2.2 m^2
+    vx = sim["vx"]
+    want = -(P.m * P.g * (0.01 + 0.00015 * vx) * cos(theta) + 0.5 * 1.2 * 0.30 * 2.2 * vx ** 2)
+    # at 20 m/s -(1830 g 0.013 cos(theta) + 158.4) N; the simulator smooths the rolling
+    # resistance's sign as tanh(vx / 0.5 m/s) for standstill, 1 - 1e-17 here, so only
+    # rounding (~1e-13 N) remains
+    assert abs(want[0] + 233.3799 * cos(theta) + 158.4) < 1e-9
+    assert np.max(np.abs(sim["fx_ext"] - want)) < 1e-9
+    # the dynamics: as test_grade_coasting_deceleration_and_specific_force, from 0.5 s (the
+    # slips settled); the force changes by ~0.5 % over the window, so compare pointwise
+    m_eff = P.m + 4.0 * P.Iw / P.R ** 2
+    w = sim["t"] >= 0.5
+    expect = (sim["fx_ext"][w] - P.m * P.g * sin(theta)) / m_eff
+    # the residual is the slip's drift as the speed falls (1e-5 relative, as that test)
+    assert np.max(np.abs(sim["vx_dot"][w] / expect - 1.0)) < 1e-4
+    # the accelerometer measures the drag and rolling resistance (non-gravitational forces)
+    assert np.max(np.abs(sim["ax"][w] - (sim["vx_dot"][w] + P.g * sin(theta)))) < 1e-9
+    meta = dict(sensors.observer_metadata(sc, "default", "dugoff"))
+    assert (meta["sim_fc"], meta["sim_fr"], meta["sim_rho"], meta["sim_cd"],
+            meta["sim_area"]) == (0.01, 0.00015, 1.2, 0.30, 2.2)
+    plain = replace(sc, res=None)
+    assert "fx_ext" not in sensors.run_observer(plain, duration=0.05)
+    assert not any(k.startswith("sim_fc") for k, _ in
+                   sensors.observer_metadata(plain, "default", "dugoff"))
+
+
+# REQ-SIM-002
 def test_bank_sign_at_the_first_instant():
     """On a bank phi > 0 (road rising to the left) gravity pulls the car to the right: with
     no tyre force yet (straight, free rolling, vy = 0) vy_dot = -g sin(phi) exactly and the

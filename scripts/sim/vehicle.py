@@ -79,7 +79,8 @@ are discrete controllers updated at sub-step boundaries and held in between, so 
 ever integrates smooth right-hand sides.
 
 Driving resistances (optional, ``ext``; off by default, and then the code path and every
-number are those above).  The mass and grade scenarios (mass_grade_scenarios.py) add the
+number are those above).  The mass and grade scenarios (mass_grade_scenarios.py, and there
+the observer scenarios' _res twins through ObserverScenario.res) add the
 forces of a longitudinal model that the tyres do not carry: rolling resistance and
 aerodynamic drag, with a wind.  ``ext(t, vx, theta)`` returns one body-x force [N] (negative
 resists) acting at the CoG; it enters the fixed point of the accelerations as a constant

@@ -22,6 +22,12 @@ the filter started at the log's m, 0.8 m and 1.2 m. Variants:
   simulator that wrote these logs (scripts/sim/vehicle.py: no rolling resistance, no drag)
   instead of the car preset's.
 
+The logs with the car's resistances (scenarios/observer_res/, make observer-res-scenarios: the
+traction logs and the hill climb with the car preset's rolling resistance and drag in the
+simulator, <name>_res) run with the car preset as it is, now the model of the log, off and
+pause, from the three starts: their own tables follow the traction logs' (the mass at the end;
+its course from m as the simulator's-resistances table).
+
 The first table is the six traction logs; then the largest change any rollback makes to the
 mass at the end of the other observer logs against the pause, and on the seven mass and grade
 logs (scenarios/mass_grade/, their vehicle's recommended preset) with their true speed vx_true
@@ -133,9 +139,26 @@ def observer_samples(cols, R):
                         vx=float(cols["vx"][i])) for i in range(len(v))]
 
 
+RES_DIR = os.path.join(ROOT, "scenarios", "observer_res")
+RES_SUFFIX = "_res"
+RES_VARIANTS = ("off", "pause")     # the car preset is these logs' model: no override
+
+
+def log_path(name):
+    """The observer log @name: a <scenario>_res log in scenarios/observer_res/."""
+    stem = name.split(".", 1)[0]
+    folder = RES_DIR if stem.endswith(RES_SUFFIX) else os.path.join(ROOT, "scenarios", "observer")
+    return os.path.join(folder, name)
+
+
+def res_logs():
+    return sorted(f for f in os.listdir(RES_DIR) if f.endswith(".csv")) \
+        if os.path.isdir(RES_DIR) else []
+
+
 def observer_job(job):
     name, start, variant = job
-    path = os.path.join(ROOT, "scenarios", "observer", name)
+    path = log_path(name)
     cols, _ = mg.read_log(path)
     m = log_mass(path)
     over, period = VARIANTS[variant]
@@ -180,7 +203,47 @@ def cell(r):
     return f"{(r['mass'] - r['m']) / r['m']:+.1%} ({r['sd'] / r['m']:.1%})"
 
 
-def tables(obs, names, mgr, mg_names):
+def course_rows(obs, names, pairs):
+    """Rows of the mass's course from m: (variant, label) pairs per log."""
+    rows = []
+    for n in names:
+        for v, label in pairs:
+            r = obs[(n, 1.0, v)]
+            rows.append(f"| {n[:-4]} | {label} | " + " | ".join(
+                f"{(mass - r['m']) / r['m']:+.1%} ({sd / r['m']:.1%})" for mass, sd in r["course"])
+                + f" | {r['worst_z']:.1f} |")
+    return rows
+
+
+def course_head(n_times):
+    return ["| log | pause | " + " | ".join(f"{x:g} s" for x in TIMES[:n_times])
+            + " | largest \\|M − m\\| / sd |", "|---|---|" + "---|" * (n_times + 1)]
+
+
+def res_tables(obs, res_names):
+    """The text of the logs with the car's resistances (keys as the jobs')."""
+    if not res_names:
+        return []
+    lines = ["With the car preset's rolling resistance and drag in the simulator "
+             "(scenarios/observer_res/, the car preset now the logs' model): the mass at the "
+             "end against m (sd_mass / m), the slip pause off and on:", "",
+             "| log | mg_m0 | off | pause |", "|---|---|---|---|"]
+    for n in res_names:
+        for s in STARTS:
+            lines.append(f"| {n[:-4]} | {s:.1f} m | "
+                         + " | ".join(cell(obs[(n, s, v)]) for v in RES_VARIANTS) + " |")
+    n_times = min(len(obs[(n, 1.0, "off")]["course"]) for n in res_names)
+    lines += ["", "The same from m: the mass against m (sd / m) at times in the ramp and after, "
+              "and its largest distance from m in sd from 0.5 s on:", ""]
+    lines += course_head(n_times)
+    lines += [row for row in course_rows(obs, res_names, (("off", "off"), ("pause", "on")))]
+    held = [obs[(n, 1.0, "pause")]["n_ok"] for n in res_names]
+    lines += ["", "Updates (status 0) with the pause, from m: " + ", ".join(
+        f"{n[:-4]} {k}" for n, k in zip(res_names, held)) + ".", ""]
+    return lines
+
+
+def tables(obs, names, mgr, mg_names, res_names=()):
     """The page's text from the results (keys as the jobs')."""
     traction = [n for n in names if n.startswith(TRACTION)]
     heads = list(VARIANTS)
@@ -210,6 +273,7 @@ def tables(obs, names, mgr, mg_names):
                 f"{(mass - r['m']) / r['m']:+.1%} ({sd / r['m']:.1%})" for mass, sd in r["course"])
                 + f" | {r['worst_z']:.1f} |")
     lines.append("")
+    lines += res_tables(obs, list(res_names))
     others = [n for n in names if n not in traction]
     rb = [v for v in heads if v.startswith("rollback")]
     for v in rb:
@@ -240,14 +304,16 @@ def main(argv=None):
     names = logs()
     mg_names = sorted(f for f in os.listdir(os.path.join(ROOT, "scenarios", "mass_grade"))
                       if f.endswith(".csv"))
+    res_names = res_logs()
     obs_jobs = [(n, s, v) for n in names for s in STARTS for v in VARIANTS
                 if n.startswith(TRACTION) or v == "pause" or v.startswith("rollback")]
+    obs_jobs += [(n, s, v) for n in res_names for s in STARTS for v in RES_VARIANTS]
     mg_jobs = [(n, v) for n in mg_names for v in VARIANTS
                if v == "pause" or v.startswith("rollback")]
     with multiprocessing.Pool(a.jobs) as pool:
         mgr = dict(pool.map(mass_grade_job, mg_jobs, chunksize=1))
         obs = dict(pool.map(observer_job, obs_jobs, chunksize=4))
-    text = tables(obs, names, mgr, mg_names)
+    text = tables(obs, names, mgr, mg_names, res_names)
     print(text)
     if a.page:
         replace_region(Path(a.page), "<!-- mass-slip-ramp:begin -->",

@@ -20,6 +20,9 @@ and at its default, and their mass, sd and grade columns compared byte for byte.
 The traction logs run once more with the simulator's resistances (mg_fc = mg_fr = mg_rho = 0:
 scripts/sim/vehicle.py has neither rolling resistance nor drag) instead of the car preset's,
 the pause off and on (the last column of the first table).
+The logs with the car's resistances (scenarios/observer_res/, make observer-res-scenarios: the
+traction logs and the hill climb simulated with the car preset's rolling resistance and drag)
+run as the first table's, with the car preset unchanged (now their model): their own table.
 With --page the text goes between <!-- mass-slip:begin --> and <!-- mass-slip:end -->.
 """
 
@@ -64,9 +67,24 @@ def run(exe, log, params_text, extra):
     return doc, est
 
 
+RES_DIR = os.path.join(ROOT, "scenarios", "observer_res")
+
+
+def log_path(name):
+    """The observer log @name: a <scenario>_res log in scenarios/observer_res/."""
+    folder = RES_DIR if name.split(".", 1)[0].endswith("_res") else \
+        os.path.join(ROOT, "scenarios", "observer")
+    return os.path.join(folder, name)
+
+
+def res_logs():
+    return sorted(f for f in os.listdir(RES_DIR) if f.endswith(".csv")) \
+        if os.path.isdir(RES_DIR) else []
+
+
 def observer_job(job):
     exe, name, start, slip, sim = job
-    src = os.path.join(ROOT, "scenarios", "observer", name)
+    src = log_path(name)
     m = log_mass(src)
     with tempfile.TemporaryDirectory() as tmp:
         log = os.path.join(tmp, name)
@@ -97,10 +115,32 @@ def pct(x):
     return f"{x:+.1%}"
 
 
-def tables(obs, names, mg, mg_names, sim=None):
+def tables(obs, names, mg, mg_names, sim=None, res=None, res_names=()):
     """The page's text; @sim: the runs with the simulator's resistances, keyed as @obs (the
-    logs whose samples were held), or None (no such column)."""
+    logs whose samples were held), or None (no such column); @res: the runs of the logs
+    @res_names with the car's resistances, keyed as @obs (none: no such table)."""
     held = [n for n in names if any(obs[(n, s, "default")]["n_slip"] for s in STARTS)]
+    lines = slip_rows(obs, held, sim)
+    others = [n for n in names if n not in held]
+    moved = max((abs(obs[(n, s, "default")]["mass"] - obs[(n, s, "0")]["mass"])
+                 for n in others for s in STARTS), default=0.0)
+    lines += ["", f"The other {len(others)} observer logs: no sample held by slip at any "
+                  f"start; the largest change of the mass at the end {moved:.3g} kg."]
+    same = [n for n in mg_names if mg[(n, "0")][0] == mg[(n, "default")][0]]
+    n7 = sum(mg[(n, "default")][1] for n in mg_names)
+    lines.append(f"The {len(mg_names)} mass and grade logs (behind the observer, no measured vx): "
+                 f"{len(same)} of {len(mg_names)} with mass_est, sd_mass, grade_est, sd_grade "
+                 f"equal byte for byte with the key at 0 and at its default; {n7} samples held "
+                 "by slip.")
+    if res and res_names:
+        lines += ["", "With the car preset's rolling resistance and drag in the simulator "
+                      "(scenarios/observer_res/, the car preset unchanged):", ""]
+        lines += slip_rows(res, list(res_names), None)
+    return "\n".join(lines)
+
+
+def slip_rows(obs, held, sim):
+    """The rows of the logs @held: off -> on per start (and @sim's, when it has them all)."""
     extra = sim is not None and all((n, s, k) in sim for n in held for s in STARTS for k in SLIP)
     rows = ["| log | mg_m0 | mass at the end vs m: pause off → on | sd_mass / m: off → on "
             "| samples held by slip | updates: off → on |"
@@ -118,18 +158,7 @@ def tables(obs, names, mg, mg_names, sim=None):
                 row += (f" {pct((c['mass'] - m) / m)} ({c['sd'] / m:.1%}) → "
                         f"{pct((d['mass'] - m) / m)} ({d['sd'] / m:.1%}) |")
             rows.append(row)
-    others = [n for n in names if n not in held]
-    moved = max((abs(obs[(n, s, "default")]["mass"] - obs[(n, s, "0")]["mass"])
-                 for n in others for s in STARTS), default=0.0)
-    lines = rows + ["", f"The other {len(others)} observer logs: no sample held by slip at any "
-                        f"start; the largest change of the mass at the end {moved:.3g} kg."]
-    same = [n for n in mg_names if mg[(n, "0")][0] == mg[(n, "default")][0]]
-    n7 = sum(mg[(n, "default")][1] for n in mg_names)
-    lines.append(f"The {len(mg_names)} mass and grade logs (behind the observer, no measured vx): "
-                 f"{len(same)} of {len(mg_names)} with mass_est, sd_mass, grade_est, sd_grade "
-                 f"equal byte for byte with the key at 0 and at its default; {n7} samples held "
-                 "by slip.")
-    return "\n".join(lines)
+    return rows
 
 
 def main():
@@ -147,7 +176,11 @@ def main():
         sim = {key[:3]: v for key, v in sim.items()}
         mg = dict(pool.map(mass_grade_job, [(a.mu_replay, n, k) for n in mg_names
                                             for k in SLIP]))
-    text = tables(obs, names, mg, mg_names, sim)
+        res_names = res_logs()
+        res = dict(pool.map(observer_job, [(a.mu_replay, n, s, k, False) for n in res_names
+                                           for s in STARTS for k in SLIP]))
+        res = {key[:3]: v for key, v in res.items()}
+    text = tables(obs, names, mg, mg_names, sim, res, res_names)
     print(text)
     if a.page:
         replace_region(Path(a.page), "<!-- mass-slip:begin -->", "<!-- mass-slip:end -->",

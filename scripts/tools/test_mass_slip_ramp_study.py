@@ -133,3 +133,25 @@ def test_tables():
                       "| traction_x | on |" + " +2.0% (1.0%) |" * len(rs.TIMES) + " 3.2 |"]
     assert "up to 0.0200…0.0200; from 0.5 s to the first slip-held sample (the ramp's " \
            "updates) up to 0.0400…0.0400." in text
+
+
+def test_res_tables_and_paths():
+    """The logs with the car's resistances: a row per start with the pause off and on, the
+    course from m with both, the updates with the pause; a _res log is read from
+    scenarios/observer_res/, the others from scenarios/observer/."""
+    obs = {}
+    for s in rs.STARTS:
+        obs[("traction_x_res.csv", s, "off")] = _res(1001.0)
+        obs[("traction_x_res.csv", s, "pause")] = _res(1040.0, sd=20.0)
+    text = "\n".join(rs.res_tables(obs, ["traction_x_res.csv"]))
+    rows = [r for r in text.splitlines() if r.startswith("| traction_x_res |") and " m | " in r]
+    assert rows == [f"| traction_x_res | {s:.1f} m | +0.1% (1.0%) | +4.0% (2.0%) |"
+                    for s in rs.STARTS]
+    course = [r for r in text.splitlines() if r.startswith("| traction_x_res | o")]
+    assert course == ["| traction_x_res | off |" + " +0.1% (1.0%) |" * len(rs.TIMES) + " 3.2 |",
+                      "| traction_x_res | on |" + " +4.0% (2.0%) |" * len(rs.TIMES) + " 3.2 |"]
+    assert "Updates (status 0) with the pause, from m: traction_x_res 1." in text
+    assert rs.res_tables(obs, []) == []
+    assert rs.log_path("hill_res.mf.csv") == os.path.join(rs.ROOT, "scenarios", "observer_res",
+                                                          "hill_res.mf.csv")
+    assert rs.log_path("hill.csv") == os.path.join(rs.ROOT, "scenarios", "observer", "hill.csv")

@@ -57,3 +57,29 @@ def test_sim_resistances_column():
     del sim[("slips.csv", ms.STARTS[-1], "0")]
     text = ms.tables(obs, ["slips.csv"], mg, ["a.csv"], sim)
     assert [r for r in text.splitlines() if r.startswith("| slips")][0].count("|") == 7
+
+
+def test_res_logs_table_and_paths():
+    """The logs with the car's resistances get their own rows (every log listed, held or not),
+    after the summary lines; none given: no such table. A _res log is read from
+    scenarios/observer_res/."""
+    obs = {}
+    for (k, s), v in _obs(900.0, 960.0, 40).items():
+        obs[("slips.csv", s, k)] = v
+    res = {}
+    for name, (off, on, n) in {"slips_res.csv": (990.0, 1050.0, 40),
+                               "hill_res.csv": (1002.0, 1002.0, 0)}.items():
+        for (k, s), v in _obs(off, on, n).items():
+            res[(name, s, k)] = v
+    cols = [("1", "2", "3", "4")]
+    mg = {("a.csv", "0"): (cols, 0), ("a.csv", "default"): (cols, 0)}
+    names = ["hill_res.csv", "slips_res.csv"]
+    text = ms.tables(obs, ["slips.csv"], mg, ["a.csv"], None, res, names)
+    after = text.split("simulator (scenarios/observer_res/", 1)[1].splitlines()
+    assert [r for r in after if r.startswith("| slips_res")][0] == \
+        "| slips_res | 1.0 m | -1.0% → +5.0% | 0.2% → 2.0% | 40 | 100 → 60 |"
+    assert [r for r in after if r.startswith("| hill_res")][0] == \
+        "| hill_res | 1.0 m | +0.2% → +0.2% | 0.2% → 2.0% | 0 | 100 → 100 |"
+    assert "observer_res" not in ms.tables(obs, ["slips.csv"], mg, ["a.csv"])
+    assert ms.log_path("hill_res.mf.csv") == str(Path(ms.RES_DIR) / "hill_res.mf.csv")
+    assert ms.log_path("hill.csv").endswith(str(Path("scenarios", "observer", "hill.csv")))
