@@ -1013,28 +1013,29 @@ typedef struct {
     int64_t gms;
 } magic_terms_q31_t;
 
-/* fz (p1 c1 + p2 c2) in rfe_xf_t for fz (Q15, >= 0) and p1, p2 in Q30 with |.| <= 5 2^30 (1 +
- * 2^-20): each p rounded to Q28 (int32, 2^-29), fz p exact (Q43, < 2^62), the two products
- * and the sum rounded once each (2^-30 relative, the sum 2^-29 of the larger term). */
-static rfe_xf_t magic_lin_q31(int32_t fz, int64_t p1, rfe_xf_t c1, int64_t p2, rfe_xf_t c2)
+/* fz (p1 c1 + p2 c2) in rfe_xf_t for fz (Q15, >= 0) and p1, p2 in Q28 (int32, |.| <= 5 2^28
+ * (1 + 2^-20)): fz p exact (Q43, < 2^62), the two products and the sum rounded once each
+ * (2^-30 relative, the sum 2^-29 of the larger term). */
+static rfe_xf_t magic_lin_q31(int32_t fz, int32_t p1, rfe_xf_t c1, int32_t p2, rfe_xf_t c2)
 {
-    const int64_t a = (int64_t)fz * rfe_fix_shr64_round(p1, 2u);
-    const int64_t b = (int64_t)fz * rfe_fix_shr64_round(p2, 2u);
+    const int64_t a = (int64_t)fz * (int64_t)p1;
+    const int64_t b = (int64_t)fz * (int64_t)p2;
     return rfe_xf_add(rfe_xf_mul(rfe_xf_make(a, -43), c1), rfe_xf_mul(rfe_xf_make(b, -43), c2));
 }
 
 /* Both directions' dF and dF/dmu (S > 0, m > 0) from their factors tx, ty (Q30). With
  * ds = ux cdk + uy cdt (cdk = cx dk, cdt = cy dt), one direction's
  *   dF = fz ((m G / s) cd + (m G_s - m G / s) u ds),   dF/dmu = fz u (G - s G_s),
- * so with dx = m G_s - m G / s of x and dy of y (|.| <= 10 2^30):
+ * so with dx = m G_s - m G / s of x and dy of y (|.| <= 10):
  *   dFx = fz ((gos_x + dx ux^2) cdk + dx ux uy cdt),  dFy = fz (dy ux uy cdk + (gos_y + dy uy^2) cdt),
- * the four coefficients in Q30: ux^2, ux uy, uy^2 rounded to Q30 (2^-31 each, <= 2^30), the
- * products with d by rfe_q31_mul64x32 (exact rounding, 2^-31; < 2^34 2^30 / 2^30). Each
- * coefficient is a convex combination of gos and gs (|.| <= 5) or dx ux uy (|ux uy| <= 1/2 +
- * 2^-30): |.| <= 5 (1 + 2^-20), magic_lin_q31's domain. fz u (Q45, < 2^61) and G - s G_s
- * (Q30) enter rfe_xf_t exactly or rounded to 30 bits, and one product. Where the set-up held
- * the factors and the change ds in rfe_xf_t before: no reciprocal of S, two products instead
- * of ten per direction. */
+ * the four coefficients in Q28 (int32) from 32 x 32 products: ux^2, ux uy, uy^2 rounded to Q30
+ * (2^-31 each, <= 2^30), d rounded to Q27 (2^-28, |.| < 2^30.4), gos to Q28 (2^-29), d u^2
+ * (Q57, < 2^61) rounded to Q28 (2^-29): within 10 2^-31 + 2^-28 + 2^-28 of the exact
+ * combination of the Q30 factors. Each coefficient is a convex combination of gos and gs
+ * (|.| <= 5) or dx ux uy (|ux uy| <= 1/2 + 2^-30): |.| <= 5 (1 + 2^-20) < 2^31 / 2^28,
+ * magic_lin_q31's domain. fz u (Q45, < 2^61) and G - s G_s (Q30) enter rfe_xf_t exactly or
+ * rounded to 30 bits, and one product. Where the set-up held the factors and the change ds in
+ * rfe_xf_t before: no reciprocal of S, two products instead of ten per direction. */
 static void magic_dfs_q31(const rfe_dugoff_pre_q31_t *pre, int32_t fz, rfe_xf_t cdk, rfe_xf_t cdt,
                           const magic_terms_q31_t *tx, const magic_terms_q31_t *ty,
                           rfe_tyre_jac_q31_t *o)
@@ -1044,12 +1045,16 @@ static void magic_dfs_q31(const rfe_dugoff_pre_q31_t *pre, int32_t fz, rfe_xf_t 
     const int64_t uxx = rfe_fix_shr64_round(ux * ux, 30u);
     const int64_t uxy = rfe_fix_shr64_round(ux * uy, 30u);
     const int64_t uyy = rfe_fix_shr64_round(uy * uy, 30u);
-    const int64_t dx = tx->gs - tx->gos;
-    const int64_t dy = ty->gs - ty->gos;
-    o->dfx = magic_lin_q31(fz, tx->gos + rfe_q31_mul64x32(dx, uxx, 30u), cdk,
-                           rfe_q31_mul64x32(dx, uxy, 30u), cdt);
-    o->dfy = magic_lin_q31(fz, rfe_q31_mul64x32(dy, uxy, 30u), cdk,
-                           ty->gos + rfe_q31_mul64x32(dy, uyy, 30u), cdt);
+    const int64_t dx = rfe_fix_shr64_round(tx->gs - tx->gos, 3u);
+    const int64_t dy = rfe_fix_shr64_round(ty->gs - ty->gos, 3u);
+    const int32_t gx = (int32_t)rfe_fix_shr64_round(tx->gos, 2u);
+    const int32_t gy = (int32_t)rfe_fix_shr64_round(ty->gos, 2u);
+    const int32_t pxk = gx + (int32_t)rfe_fix_shr64_round(dx * uxx, 29u);
+    const int32_t pxt = (int32_t)rfe_fix_shr64_round(dx * uxy, 29u);
+    const int32_t pyk = (int32_t)rfe_fix_shr64_round(dy * uxy, 29u);
+    const int32_t pyt = gy + (int32_t)rfe_fix_shr64_round(dy * uyy, 29u);
+    o->dfx = magic_lin_q31(fz, pxk, cdk, pxt, cdt);
+    o->dfy = magic_lin_q31(fz, pyk, cdk, pyt, cdt);
     o->mfx = rfe_xf_mul(rfe_xf_make((int64_t)fz * ux, -45), rfe_xf_make(tx->gms, -30));
     o->mfy = rfe_xf_mul(rfe_xf_make((int64_t)fz * uy, -45), rfe_xf_make(ty->gms, -30));
 }

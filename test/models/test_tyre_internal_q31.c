@@ -436,7 +436,8 @@ static void test_tyre_magic_jac_vs_f64_q31(void **state)
  *   - gs: E_GS (above; with cos^2 b's 2^-28 from the pair and the one division, 2.45e-7);
  *   - gms: DG + C w (5 DG + 2.5e-8 + 10 1.27e-8 + 5.2e-8) + 2^-30, w = s p / (p^2 + n^2);
  *   - the coefficients: their factors' errors times ux^2 <= 1 (or |ux uy|), the rounding of
- *     u^2 to Q30 (2^-31 times |gs - gos| <= 10), the product's 2^-31 and Q28's 2^-29;
+ *     u^2 to Q30 (2^-31 times |gs - gos| <= 10), gs - gos rounded to Q27 (2^-28 times u^2 <= 1)
+ *     and gos and the product rounded to Q28 (2^-29 each): magic_dfs_q31;
  * each plus 2^-28 relative for the rfe_xf_t steps. Shape factors at the domain's edges (C 1.05
  * and 1.95, E -4 and 0.95, where w's bound is 2^4 and the quotient keeps 26 bits) and the
  * preset's; slips from the series' range to a locked wheel, friction 0.01 to 1.2. Fails when a
@@ -576,11 +577,11 @@ static void test_tyre_magic_factors_vs_f64_q31(void **state)
                             want[(2u * c) + c] = f[0] + (dd * uu);
                             bound[(2u * c) + c] = (eg * (1.0 - uu)) + (E_GS * uu) +
                                                   (10.0 * ldexp(1.0, -31)) +
-                                                  ldexp(1.0, -31) + ldexp(1.0, -29);
+                                                  ldexp(1.0, -28) + ldexp(2.0, -29);
                             want[(2u * c) + (1u - c)] = dd * uxy;
                             bound[(2u * c) + (1u - c)] = ((eg + E_GS) * fabs(uxy)) +
                                                          (10.0 * ldexp(1.0, -31)) +
-                                                         ldexp(1.0, -31) + ldexp(1.0, -29);
+                                                         ldexp(1.0, -28) + ldexp(1.0, -29);
                             want[4u + c] = (u[c] != 0.0) ? f[2] : 0.0;
                             bound[4u + c] =
                                 DG_ANGLE +
