@@ -255,7 +255,7 @@ typedef struct {
 
 /* v (0 <= v < 2^63) in Q(q) to 30 bits: relative rounding error <= 2^-30. The callers keep
  * q - shift >= 0 (commented at each call). */
-static bfp_t bfp_make(int64_t v, unsigned int q)
+static inline bfp_t bfp_make(int64_t v, unsigned int q)
 {
     const unsigned int sh = rfe_q31_norm_shift((uint64_t)v, 30u);
     bfp_t r;
@@ -862,34 +862,6 @@ static void magic_dir_q31(const rfe_dugoff_pre_q31_t *pre, int32_t m, int32_t C,
     dir->g = rfe_q31_sin_q55(dir->phi);
 }
 
-/* m G / s of one direction (S > 0, m > 0) from G (Q30): G m (Q30 x Q29, exact) times 1 / S (rs,
- * shared by the wheel's two directions), two roundings. G holds 30 bits of its value only where it
- * is not small, so below x = s / (m C) = 2^-8 (read from the atan2's pair: yn 2^8 < xn; either
- * side of the line is accurate) the series m G / s = 1 - ((1 + E) / 3 + C^2 / 6) x^2 + O(x^4)
- * (atan and sin to third order: relative error < x^4 < 2.4e-10) replaces the quotient (G >= C x /
- * 2 > 2^-9 above it: 2^-21 relative, and better as x grows). m G / s is in [0, 5]: sin(C b) <= C b
- * and b <= atan((1 + |E|) x) <= 5 x, and m G / s = sin(C b) / (C x).
- */
-static rfe_xf_t magic_g_over_s_q31(const rfe_dugoff_pre_q31_t *pre, int32_t m, int32_t Cq,
-                                   int32_t Eq, const magic_dir_q31_t *dir, rfe_xf_t rs)
-{
-    rfe_xf_t r;
-    if (((int64_t)dir->pr.yn * rfe_q31_pow2((unsigned int)MAGIC_SERIES_BITS)) <
-        (int64_t)dir->pr.xn) {
-        const rfe_xf_t one = rfe_xf_make(1, 0);
-        const rfe_xf_t C = rfe_xf_of(Cq, (int)RFE_FIX_Q_STIFF);
-        const rfe_xf_t E = rfe_xf_of(Eq, (int)RFE_FIX_Q_STIFF);
-        const rfe_xf_t x = rfe_xf_div(rfe_xf_of(pre->s, (int)pre->qs),
-                                      rfe_xf_make((int64_t)m * (int64_t)Cq, -53)); /* Q29 Q24 */
-        const rfe_xf_t c2 = rfe_xf_add(rfe_xf_div(rfe_xf_add(one, E), rfe_xf_make(3, 0)),
-                                       rfe_xf_div(rfe_xf_mul(C, C), rfe_xf_make(6, 0)));
-        r = rfe_xf_sub(one, rfe_xf_mul(c2, rfe_xf_mul(x, x)));
-    } else {
-        r = rfe_xf_mul(rfe_xf_make((int64_t)dir->g * (int64_t)m, -59), rs);
-    }
-    return r;
-}
-
 /* d = dn/ds = 1 - E sin^2 a in Q30, (0, 5 2^30], from a (Q31) and E (Q24) (magic_shape_jac_q31
  * below); E = 0 (the preset's curves): 1, without the sine. */
 static int64_t magic_dn_q31(int32_t Eq, uint32_t a)
@@ -903,85 +875,206 @@ static int64_t magic_dn_q31(int32_t Eq, uint32_t a)
     return d;
 }
 
-/* m dG/ds and G - s dG/ds of one direction, S > 0, m > 0 (tyre_flt.c magic_shape_jac's dG/ds,
- * written in the curve's angles). With p = m C, n = s - E (s - p a), tan a = s / p, tan b = n / p:
+/* m G / s of one direction (S > 0, m > 0) in Q30, in [0, 5 2^30] (m G / s = sin(C b) / (C x)
+ * with x = s / (m C): sin(C b) <= C b and b <= atan((1 + |E|) x) <= 5 x). G (Q30) holds 30 bits
+ * of its value only where it is not small, so below x = 2^-MAGIC_SERIES_BITS (read from the
+ * atan2's pair: yn 2^8 < xn; either side of the line is accurate) the series
+ * m G / s = 1 - c2 x^2, c2 = (1 + E) / 3 + C^2 / 6 (atan and sin to third order: relative error
+ * < x^4 < 2.4e-10) replaces the quotient (G >= C x / 2 > 2^-9 above it: 2^-21 relative, and
+ * better as x grows).
+ *   Series: x = yn / xn in Q38 (xn >= 2^29 there, yn within 1/2: x within 2^-30 + 2^-30 x),
+ *   rounded (q2 = yn 2^39 / xn < 2^31); x^2 to Q46 (<= 2^30, 2^-47); 6 c2 = 2 (1 + E) + C^2
+ *   in Q24 (C^2 rounded from Q48, 2^-25; |.| <= 8 2^24); 6 c2 x^2 (Q70, < 2^57) to Q30
+ *   (< 2^17, int32), divided by 6 (truncated, < 2^-30). Error <= 2 x (2^-30) 1.4 + 3 2^-30 <
+ *   4 2^-30 plus the series' x^4.
+ *   Quotient: m G (Q29 x Q30 = Q59, exact, < 2^61) over S (Q(qs)) is the value in Q29:
+ *   n = m G 2^(qs - 30) (exact for qs >= 30: n = q S < 5.1 2^29 2^31 < 2^63; for qs < 30 S
+ *   >= 2^29 and n is m G rounded by 30 - qs bits, <= 1/2 unit: 2^-30 LSB29 of the quotient),
+ *   rounded, q < 5.1 2^29 < 2^32 (rfe_q31_udiv64_32's domain); in Q30 2 q, within 2^-30. */
+static int64_t magic_g_over_s_q31(const rfe_dugoff_pre_q31_t *pre, int32_t m, int32_t Cq,
+                                  int32_t Eq, const magic_dir_q31_t *dir)
+{
+    int64_t r;
+    if (((int64_t)dir->pr.yn * rfe_q31_pow2((unsigned int)MAGIC_SERIES_BITS)) <
+        (int64_t)dir->pr.xn) {
+        const int64_t x = (int64_t)rfe_q31_div_round_mag((uint32_t)dir->pr.yn,
+                                                         (uint32_t)dir->pr.xn, 38u);
+        const int64_t x2 = rfe_fix_shr64_round(x * x, 30u);
+        const int64_t cc = rfe_fix_shr64_round((int64_t)Cq * (int64_t)Cq, 24u);
+        const int64_t c6 = (2 * ((int64_t)RFE_FIX_ONE(RFE_FIX_Q_STIFF) + (int64_t)Eq)) + cc;
+        const int32_t t = (int32_t)rfe_fix_shr64_round(c6 * x2, 40u);
+        const int32_t t6 = t / 6;
+        r = (int64_t)ONE_Q30 - (int64_t)t6;
+    } else {
+        const uint32_t s = (uint32_t)pre->s;
+        const unsigned int qs = (unsigned int)pre->qs;
+        const uint64_t mg = (uint64_t)m * (uint64_t)dir->g;
+        uint64_t n;
+        if (qs >= 30u) {
+            const unsigned int up = qs - 30u;
+            n = mg << up;
+        } else {
+            const unsigned int sh = 30u - qs;
+            const unsigned int sh1 = sh - 1u;
+            n = (mg + ((uint64_t)1 << sh1)) >> sh;
+        }
+        r = 2 * (int64_t)rfe_q31_udiv64_32(n + (uint64_t)(s >> 1), s);
+    }
+    return r;
+}
+
+/* The bits W of w = s p / (p^2 + n^2)'s bound 2^W for the curvature E (Q24, E < 1): w <= 1/2
+ * for E <= 0 (n >= s there: E (s - p a) <= 0, a <= s / p) and w <= 1 / (2 (1 - E)) for E > 0
+ * (n >= (1 - E) s; p^2 + n^2 >= 2 p n); with t = 1 - E in Q24 (>= 1), W = 0 where t >= 2^23,
+ * else 24 - bitlen(t) (2^(W + 1) t >= 2^24, so 1 / (2 (1 - E)) <= 2^W; W <= 23). */
+static unsigned int magic_w_bits(int32_t Eq)
+{
+    const int32_t tq = RFE_FIX_ONE(RFE_FIX_Q_STIFF) - Eq; /* (0, 5 2^24] */
+    const uint32_t t = (uint32_t)tq;
+    unsigned int w = 0u;
+    if (t < ((uint32_t)1 << 23)) {
+        w = 24u - rfe_q31_bitlen32(t);
+    }
+    return w;
+}
+
+/* round(v 2^e / dh) for dh in [2^30, 2^31) where v 2^e / dh < 2^31 (so v 2^e < 2^62 for e > 0:
+ * the left shift is exact; for e < 0, v is rounded by -e bits first, 1/2 unit, 2^-31 of the
+ * quotient's unit). */
+static uint32_t magic_ratio_q31(uint64_t v, int e, uint32_t dh)
+{
+    uint64_t n;
+    if (e >= 0) {
+        n = v << (unsigned int)e;
+    } else {
+        const unsigned int sh = (unsigned int)(-e);
+        const unsigned int sh1 = sh - 1u;
+        n = (v + ((uint64_t)1 << sh1)) >> sh;
+    }
+    return rfe_q31_udiv64_32(n + (uint64_t)(dh >> 1), dh);
+}
+
+/* m dG/ds and G - s dG/ds of one direction in Q30 (int64), S > 0, m > 0 (tyre_flt.c
+ * magic_shape_jac's dG/ds, written in the curve's angles). With p = m C, n = s - E (s - p a),
+ * tan a = s / p, tan b = n / p:
  *   dn/ds = 1 - E + E p^2 / (p^2 + s^2) = 1 - E sin^2 a = d,   db/ds = cos^2 b d / p,
  *   m dG/ds = m cos(C b) C db/ds = cos(C b) d cos^2 b            (|.| <= 5: d in (0, 5]),
- *   s dG/ds = C cos(C b) d w,   w = s p / (p^2 + n^2) (= tan a cos^2 b).
- * The bounded factors are fixed point, the two ratios of the pair rfe_xf_t:
+ *   s dG/ds = C cos(C b) d w,   w = s p / (p^2 + n^2) (= tan a cos^2 b, <= 2^W: magic_w_bits).
+ * In integers:
  *   sin a: rfe_q31_sin_q55 of a (Q31 to Q55, in [0, pi/2]), Q30; sin^2 a Q30; E sin^2 a (Q24 x
  *   Q30, |.| <= 2^56) rounded to Q30, d = 1 - E sin^2 a in Q30, (0, 5 2^30] (int64);
  *   cos(C b) d: Q60, |.| <= 5 2^60 < 2^63, rounded to Q30 (cd);
  *   cos^2 b and w from the pair (p = xn, s = yn, n = z / 2^24 in its units): x24 = xn 2^24
  *   (<= 2^54) and z (< 2^58, >= 0) brought to <= 2^30 by one shift sh (the larger of xs, zs >=
  *   2^29: xn or yn >= 2^29 and z >= (1 - E) yn 2^24 with 1 - E >= 2^-24), D = xs^2 + zs^2 in
- *   [2^58, 2^61] exact, p^2 + n^2 = D 2^(2 sh - 48) to 2^-29 relative (the two roundings), so
- *   cos^2 b = xn^2 2^(48 - 2 sh) / D and w = yn xn 2^(48 - 2 sh) / D, numerators exact (<= 2^60),
- *   one reciprocal of D for both.
+ *   [2^58, 2^61] exact, p^2 + n^2 = D 2^(2 sh - 48) to 2^-29 relative (the two roundings); D
+ *   truncated to 31 bits, dh = D / 2^k (k in [28, 31], 2^-30 relative), and with the exact
+ *   numerators (<= 2^60) cos^2 b = xn^2 2^(78 - 2 sh - k) / dh in Q30 and w = yn xn 2^(78 - 2
+ *   sh - k - W) / dh in Q(30 - W), each one rounded division (magic_ratio_q31; quotients <=
+ *   2^30 (1 + 2^-27));
+ *   m dG/ds = cd cos^2 b (Q60, < 5 2^60) rounded to Q30;
+ *   s dG/ds = (C cd: Q54, < 2^58) w rounded to Q30 (rfe_q31_mul64x32, shift 54 - W in [31,
+ *   54], result < 10 2^23 2^30 < 2^57), G - s dG/ds in Q30 (int64).
  * Error: sin a within 6.2e-10 (rfe_q31_sin_q55) and cos(C b) within 6.2e-10, the roundings to
- * Q30 (2^-31 each, times |E| <= 4 and d <= 5), the rfe_xf_t operations 2^-30 relative each (5)
- * plus D's 2^-29: m dG/ds within 5 (2 6.2e-10 + 4 2^-31) + 5 2^-31 + 8 2^-30 5 < 1.2e-8 and
- * s dG/ds within C w (the same) < 2.4e-8 w, absolute, at the computed angles (the angles'
- * own errors move the derivative as they move the forces, test_meas_q31.c's bound). */
+ * Q30 (2^-31 each, times |E| <= 4 and d <= 5); cos^2 b within 2^-29 (p^2 + n^2) + 2^-30 (dh)
+ * + 2^-31 (the division) < 2^-28, so m dG/ds within 5 (2 6.2e-10 + 4 2^-31) + 5 2^-31 + 5
+ * 2^-28 + 2^-31 < 2.6e-8, and s dG/ds within C w (the same) plus 2^-31 < 5.2e-8 w + 2^-31,
+ * absolute, at the computed angles (the angles' own errors move the derivative as they move
+ * the forces, test_tyre_internal_q31.c's bound). */
 static void magic_shape_jac_q31(const magic_dir_q31_t *dir, int32_t Cq, int32_t Eq,
-                                rfe_xf_t *m_gs, rfe_xf_t *gms)
+                                int64_t *m_gs, int64_t *gms)
 {
     const int64_t phi = dir->phi;
     const int32_t c30 = (phi <= HALF_PI_Q55) ? rfe_q31_sin_q55(HALF_PI_Q55 - phi)
                                              : -rfe_q31_sin_q55(phi - HALF_PI_Q55);
     const int64_t cd = rfe_fix_shr64_round((int64_t)c30 * magic_dn_q31(Eq, dir->pr.a), 30u);
-    const int64_t xn = dir->pr.xn;
-    const int64_t x24 = xn * rfe_q31_pow2(24u);
+    const uint64_t xn = (uint64_t)dir->pr.xn;
+    const int64_t x24 = dir->pr.xn * rfe_q31_pow2(24u);
     const int64_t z = dir->pr.z;
     const unsigned int sh = rfe_q31_norm_shift((uint64_t)((z > x24) ? z : x24), 30u);
-    const int64_t xs = rfe_q31_shr_to32(x24, sh);
-    const int64_t zs = rfe_q31_shr_to32(z, sh);
-    const int e = 48 - (2 * (int)sh);
-    const rfe_xf_t rd = rfe_xf_div(rfe_xf_make(1, 0), rfe_xf_make((xs * xs) + (zs * zs), 0));
-    const rfe_xf_t cb2 = rfe_xf_mul(rfe_xf_make(xn * xn, e), rd);
-    const rfe_xf_t w = rfe_xf_mul(rfe_xf_make((int64_t)dir->pr.yn * xn, e), rd);
-    *m_gs = rfe_xf_mul(rfe_xf_make(cd, -30), cb2);
-    /* C cd: Q24 x Q30, |.| < 2^25 5 2^30 < 2^58 */
-    *gms = rfe_xf_sub(rfe_xf_of(dir->g, 30),
-                      rfe_xf_mul(rfe_xf_make((int64_t)Cq * cd, -54), w));
+    const uint64_t xs = (uint64_t)rfe_q31_shr_to32(x24, sh);
+    const uint64_t zs = (uint64_t)rfe_q31_shr_to32(z, sh);
+    const uint64_t dd = (xs * xs) + (zs * zs);
+    const unsigned int k = rfe_q31_bitlen64(dd) - 31u;
+    const uint32_t dh = (uint32_t)(dd >> k);
+    const unsigned int wb = magic_w_bits(Eq);
+    const int e = 78 - ((2 * (int)sh) + (int)k);
+    const int64_t cb2 = (int64_t)magic_ratio_q31(xn * xn, e, dh);
+    const int64_t w = (int64_t)magic_ratio_q31((uint64_t)dir->pr.yn * xn, e - (int)wb, dh);
+    *m_gs = rfe_fix_shr64_round(cd * cb2, 30u);
+    *gms = (int64_t)dir->g - rfe_q31_mul64x32((int64_t)Cq * cd, w, 54u - wb);
 }
 
-/* What a direction's derivatives share with the other: the load fz, the slip's change along
- * the direction (cd = c dk or c dt), its change ds = ux cx dk + uy cy dt, the direction
- * cosine u, 1 / S (rs). */
+/* One direction's bounded factors (Q30, int64): m G / s in [0, 5 2^30], m dG/ds in [-5 2^30,
+ * 5 2^30] and G - s dG/ds (|.| < 2^57). */
 typedef struct {
-    rfe_xf_t rs;
-    rfe_xf_t fz;
-    rfe_xf_t u;
-    rfe_xf_t cd;
-    rfe_xf_t ds;
-} magic_lin_q31_t;
+    int64_t gos;
+    int64_t gs;
+    int64_t gms;
+} magic_terms_q31_t;
 
-/* One direction's dF and dF/dmu (S > 0, m > 0): dF = fz m (G_s ds u + (G / s) (cd - u ds)) =
- * fz ((m G / s) cd + (m G_s - m G / s) u ds), dF/dmu = fz u (G - s G_s). */
-static void magic_dir_jac_q31(const rfe_dugoff_pre_q31_t *pre, int32_t m, int32_t Cq,
-                              int32_t Eq, const magic_dir_q31_t *dir, const magic_lin_q31_t *l,
-                              rfe_xf_t *df, rfe_xf_t *mf)
+/* fz (p1 c1 + p2 c2) in rfe_xf_t for fz (Q15, >= 0) and p1, p2 in Q28 (int32, |.| <= 5 2^28
+ * (1 + 2^-20)): fz p exact (Q43, < 2^62), the two products and the sum rounded once each
+ * (2^-30 relative, the sum 2^-29 of the larger term). */
+static rfe_xf_t magic_lin_q31(int32_t fz, int32_t p1, rfe_xf_t c1, int32_t p2, rfe_xf_t c2)
 {
-    rfe_xf_t m_gs;
-    rfe_xf_t gms;
-    const rfe_xf_t m_gos = magic_g_over_s_q31(pre, m, Cq, Eq, dir, l->rs);
-    magic_shape_jac_q31(dir, Cq, Eq, &m_gs, &gms);
-    *df = rfe_xf_mul(l->fz, rfe_xf_add(rfe_xf_mul(m_gos, l->cd),
-                                       rfe_xf_mul(rfe_xf_sub(m_gs, m_gos),
-                                                  rfe_xf_mul(l->u, l->ds))));
-    *mf = rfe_xf_mul(rfe_xf_mul(l->fz, l->u), gms);
+    const int64_t a = (int64_t)fz * (int64_t)p1;
+    const int64_t b = (int64_t)fz * (int64_t)p2;
+    return rfe_xf_add(rfe_xf_mul(rfe_xf_make(a, -43), c1), rfe_xf_mul(rfe_xf_make(b, -43), c2));
+}
+
+/* Both directions' dF and dF/dmu (S > 0, m > 0) from their factors tx, ty (Q30). With
+ * ds = ux cdk + uy cdt (cdk = cx dk, cdt = cy dt), one direction's
+ *   dF = fz ((m G / s) cd + (m G_s - m G / s) u ds),   dF/dmu = fz u (G - s G_s),
+ * so with dx = m G_s - m G / s of x and dy of y (|.| <= 10):
+ *   dFx = fz ((gos_x + dx ux^2) cdk + dx ux uy cdt),  dFy = fz (dy ux uy cdk + (gos_y + dy uy^2) cdt),
+ * the four coefficients in Q28 (int32) from 32 x 32 products: ux^2, ux uy, uy^2 rounded to Q30
+ * (2^-31 each, <= 2^30), d rounded to Q27 (2^-28, |.| < 2^30.4), gos to Q28 (2^-29), d u^2
+ * (Q57, < 2^61) rounded to Q28 (2^-29): within 10 2^-31 + 2^-28 + 2^-28 of the exact
+ * combination of the Q30 factors. Each coefficient is a convex combination of gos and gs
+ * (|.| <= 5) or dx ux uy (|ux uy| <= 1/2 + 2^-30): |.| <= 5 (1 + 2^-20) < 2^31 / 2^28,
+ * magic_lin_q31's domain. fz u (Q45, < 2^61) and G - s G_s (Q30) enter rfe_xf_t exactly or
+ * rounded to 30 bits, and one product. Where the set-up held the factors and the change ds in
+ * rfe_xf_t before: no reciprocal of S, two products instead of ten per direction. */
+static void magic_dfs_q31(const rfe_dugoff_pre_q31_t *pre, int32_t fz, rfe_xf_t cdk, rfe_xf_t cdt,
+                          const magic_terms_q31_t *tx, const magic_terms_q31_t *ty,
+                          rfe_tyre_jac_q31_t *o)
+{
+    const int64_t ux = pre->ux;
+    const int64_t uy = pre->uy;
+    const int64_t uxx = rfe_fix_shr64_round(ux * ux, 30u);
+    const int64_t uxy = rfe_fix_shr64_round(ux * uy, 30u);
+    const int64_t uyy = rfe_fix_shr64_round(uy * uy, 30u);
+    const int64_t dx = rfe_fix_shr64_round(tx->gs - tx->gos, 3u);
+    const int64_t dy = rfe_fix_shr64_round(ty->gs - ty->gos, 3u);
+    const int32_t gx = (int32_t)rfe_fix_shr64_round(tx->gos, 2u);
+    const int32_t gy = (int32_t)rfe_fix_shr64_round(ty->gos, 2u);
+    const int32_t pxk = gx + (int32_t)rfe_fix_shr64_round(dx * uxx, 29u);
+    const int32_t pxt = (int32_t)rfe_fix_shr64_round(dx * uxy, 29u);
+    const int32_t pyk = (int32_t)rfe_fix_shr64_round(dy * uxy, 29u);
+    const int32_t pyt = gy + (int32_t)rfe_fix_shr64_round(dy * uyy, 29u);
+    o->dfx = magic_lin_q31(fz, pxk, cdk, pxt, cdt);
+    o->dfy = magic_lin_q31(fz, pyk, cdk, pyt, cdt);
+    o->mfx = rfe_xf_mul(rfe_xf_make((int64_t)fz * ux, -45), rfe_xf_make(tx->gms, -30));
+    o->mfy = rfe_xf_mul(rfe_xf_make((int64_t)fz * uy, -45), rfe_xf_make(ty->gms, -30));
+}
+
+/* One direction's factors (S > 0, m > 0). */
+static void magic_terms_q31(const rfe_dugoff_pre_q31_t *pre, int32_t m, int32_t Cq, int32_t Eq,
+                            const magic_dir_q31_t *dir, magic_terms_q31_t *t)
+{
+    t->gos = magic_g_over_s_q31(pre, m, Cq, Eq, dir);
+    magic_shape_jac_q31(dir, Cq, Eq, &t->gs, &t->gms);
 }
 
 /* Magic Formula forces' derivatives (tyre_flt.c magic_jac) at m = max(mu, 0) (Q29): m = 0:
- * all 0; S = 0: dF = fz (cx dk, cy dt) (the limit fz m G_s(0) = fz), dF/dmu = 0; else
- * ds = ux cx dk + uy cy dt and each direction's magic_dir_jac_q31. */
+ * all 0; S = 0: dF = fz (cx dk, cy dt) (the limit fz m G_s(0) = fz), dF/dmu = 0; else each
+ * direction's factors and magic_dfs_q31. */
 static void magic_jac_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugoff_pre_q31_t *pre,
                           int32_t m, int32_t fz, const rfe_slip_dir_q31_t *d,
                           const magic_dir_q31_t dir[2], rfe_tyre_jac_q31_t *o)
 {
     const rfe_xf_t zero = rfe_xf_make(0, 0);
-    const rfe_xf_t fzx = rfe_xf_of(fz, 15);
     const rfe_xf_t cdk = rfe_xf_mul(rfe_xf_of(tp->cx, (int)RFE_FIX_Q_STIFF), d->k);
     const rfe_xf_t cdt = rfe_xf_mul(rfe_xf_of(tp->cy, (int)RFE_FIX_Q_STIFF), d->tan_a);
     o->dfx = zero;
@@ -992,23 +1085,15 @@ static void magic_jac_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugoff_pre_
         return; /* no force at any slip */
     }
     if (pre->s == 0) {
+        const rfe_xf_t fzx = rfe_xf_of(fz, 15);
         o->dfx = rfe_xf_mul(fzx, cdk);
         o->dfy = rfe_xf_mul(fzx, cdt);
     } else {
-        magic_lin_q31_t lx;
-        magic_lin_q31_t ly;
-        lx.fz = fzx;
-        lx.u = rfe_xf_of(pre->ux, 30);
-        lx.cd = cdk;
-        ly.fz = fzx;
-        ly.u = rfe_xf_of(pre->uy, 30);
-        ly.cd = cdt;
-        lx.ds = rfe_xf_add(rfe_xf_mul(lx.u, cdk), rfe_xf_mul(ly.u, cdt));
-        ly.ds = lx.ds;
-        lx.rs = rfe_xf_div(rfe_xf_make(1, 0), rfe_xf_of(pre->s, (int)pre->qs));
-        ly.rs = lx.rs;
-        magic_dir_jac_q31(pre, m, tp->shape_Cx, tp->shape_Ex, &dir[0], &lx, &o->dfx, &o->mfx);
-        magic_dir_jac_q31(pre, m, tp->shape_Cy, tp->shape_Ey, &dir[1], &ly, &o->dfy, &o->mfy);
+        magic_terms_q31_t tx;
+        magic_terms_q31_t ty;
+        magic_terms_q31(pre, m, tp->shape_Cx, tp->shape_Ex, &dir[0], &tx);
+        magic_terms_q31(pre, m, tp->shape_Cy, tp->shape_Ey, &dir[1], &ty);
+        magic_dfs_q31(pre, fz, cdk, cdt, &tx, &ty, o);
     }
 }
 

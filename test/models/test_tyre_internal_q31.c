@@ -291,12 +291,14 @@ static void test_tyre_magic_pre_jac_fused_q31(void **state)
  *   - m G / s = G m / S within DG / (C x) + 10 2^-30 (x = s / (m C) >= 2^-8 there, C > 1):
  *     <= 2^8 DG + 1e-8 = 6.7e-6; the series below 2^-8 within x^4 + 10 2^-30 < 1e-8: E_GOS;
  *   - m dG/ds = cos(C b) d cos^2 b, d = 1 - E sin^2 a in (0, 5]: 5 DG (cos) + |E| 2 (6.2e-10 +
- *     2.53e-9) (d) + 5 1.27e-8 (cos^2 b moves with b: slope <= 1) + 8 2^-30 5 (roundings)
- *     = 1.3e-7 + 2.5e-8 + 6.4e-8 + 3.7e-8 < 2.6e-7: E_GS;
+ *     2.53e-9) (d) + 5 1.27e-8 (cos^2 b moves with b: slope <= 1) + 5 2^-28 + 3 2^-31
+ *     (roundings: cos^2 b's from the pair and its division, magic_shape_jac_q31)
+ *     = 1.3e-7 + 2.5e-8 + 6.4e-8 + 2.0e-8 < 2.6e-7: E_GS;
  *   - G - s dG/ds = G - C cos(C b) d w, w = s p / (p^2 + n^2) <= 1 / (2 (1 - E)) for E > 0, <= 1/2
  *     for E <= 0 (OBSERVER.md's w; here E <= 0.6: w <= 1.25): DG + C (5 w DG + w 2.5e-8 + 5 2 w
- *     1.27e-8 (w moves with b: relative slope <= 2)) + 10 2^-30 7 < 2.6e-8 + 2 (1.6e-7 +
- *     3.1e-8 + 1.6e-7) + 6.5e-8 < 8.0e-7: E_GMS;
+ *     1.27e-8 (w moves with b: relative slope <= 2)) + C 5 w 2^-28 + 2^-30 (roundings: w's
+ *     from the pair and its division, the product's) < 2.6e-8 + 2 (1.6e-7 + 3.1e-8 + 1.6e-7)
+ *     + 4.8e-8 < 8.0e-7: E_GMS;
  * so |dF err| <= fz (|c d| E_GOS + |u ds| (E_GS + E_GOS)) and |dF/dmu err| <= fz |u| E_GMS, plus
  * 2^-27 of the terms for the rfe_xf_t products and sums that combine them (about 8 roundings
  * of 2^-30). */
@@ -414,6 +416,200 @@ static void test_tyre_magic_jac_vs_f64_q31(void **state)
            worst);
 }
 
+/* ---- the Magic Formula derivative's factors in Q30 against the formulas in double ----------
+ * tyre_q31.c computes, per direction, m G / s (magic_g_over_s_q31), m dG/ds and G - s dG/ds
+ * (magic_shape_jac_q31) as Q30 integers and combines them (magic_dfs_q31) into
+ *   dFx = fz (Pxk cx dk + Pxt cy dt),  dFy = fz (Pyk cx dk + Pyt cy dt),  dFx/dmu = fz ux gms_x,
+ * Pxk = gos_x + (gs_x - gos_x) ux^2, Pxt = (gs_x - gos_x) ux uy (y alike with uy^2). The unit
+ * directions (dk, dt) = (1, 0) and (0, 1) give each coefficient alone: Pxk = dFx / (fz cx) and
+ * so on, and gms = dF/dmu / (fz u); the division by the exact fz cx (fz u) adds nothing, the
+ * rfe_xf_t steps that carry the coefficient out (a rounding to 30 bits of fz P, one product,
+ * the sum with an exact 0) are 2 2^-30 relative. The expectation is the formulas written out in
+ * double from the same s, ux, uy, m, C, E (p = m C, a = atan2(s, p), n = s - E (s - p a),
+ * b = atan2(n, p), G = sin(C b), dn/ds = 1 - E + E p^2 / (p^2 + s^2), db/ds = p dn/ds /
+ * (p^2 + n^2), dG/ds = C cos(C b) db/ds), not the code's angle form. Bound per value:
+ *   - the q31 curve's angles (test_tyre_magic_jac_vs_f64_q31 above): G and cos(C b) within
+ *     DG = 2.6e-8, b within 1.27e-8;
+ *   - gos: above x = s / (m C) = 2^-8 the quotient, DG / (C x) + 2^-30 (Q29 quotient, its
+ *     numerator's rounding); below, the series' x^4 + 4 2^-30 (x within 2^-30, x^2, C^2 / 6, the
+ *     division by 6: magic_g_over_s_q31); within 2^-20 of the line both (either branch);
+ *   - gs: E_GS (above; with cos^2 b's 2^-28 from the pair and the one division, 2.45e-7);
+ *   - gms: DG + C w (5 DG + 2.5e-8 + 10 1.27e-8 + 5.2e-8) + 2^-30, w = s p / (p^2 + n^2);
+ *   - the coefficients: their factors' errors times ux^2 <= 1 (or |ux uy|), the rounding of
+ *     u^2 to Q30 (2^-31 times |gs - gos| <= 10), gs - gos rounded to Q27 (2^-28 times u^2 <= 1)
+ *     and gos and the product rounded to Q28 (2^-29 each): magic_dfs_q31;
+ * each plus 2^-28 relative for the rfe_xf_t steps. Shape factors at the domain's edges (C 1.05
+ * and 1.95, E -4 and 0.95, where w's bound is 2^4 and the quotient keeps 26 bits) and the
+ * preset's; slips from the series' range to a locked wheel, friction 0.01 to 1.2. Fails when a
+ * factor's formula, shift or rounding is off (checked with cos^2 b's exponent off by one and
+ * with the series' 6 as 3). */
+#define DG_ANGLE 2.6e-8
+#define DB_ANGLE 1.27e-8
+
+static double magic_w_f64(double s, double m, double C, double E)
+{
+    const double p = m * C;
+    const double a = atan2(s, p);
+    const double n = s - (E * (s - (p * a)));
+    return (s * p) / ((p * p) + (n * n));
+}
+
+/* gos, gs, gms of one direction in double (the formulas above). */
+static void magic_factors_f64(double s, double m, double C, double E, double f[3])
+{
+    const double p = m * C;
+    const double a = atan2(s, p);
+    const double n = s - (E * (s - (p * a)));
+    const double b = atan2(n, p);
+    const double G = sin(C * b);
+    const double dn = (1.0 - E) + ((E * p * p) / ((p * p) + (s * s)));
+    const double dgds = C * cos(C * b) * p * dn / ((p * p) + (n * n));
+    f[0] = m * G / s;
+    f[1] = m * dgds;
+    f[2] = G - (s * dgds);
+}
+
+static double gos_bound(double s, double m, double C)
+{
+    const double x = s / (m * C);
+    const double line = ldexp(1.0, -8);
+    double b = 0.0;
+    if (x < (line * (1.0 + ldexp(1.0, -20)))) {
+        b += (x * x * x * x) + ldexp(4.0, -30);
+    }
+    if (x > (line * (1.0 - ldexp(1.0, -20)))) {
+        b += (DG_ANGLE / (C * x)) + ldexp(1.0, -30);
+    }
+    return b;
+}
+
+/* REQ: the Magic Formula derivative's bounded factors (m G / s, m dG/ds, G - s dG/ds, Q30
+ * integers) and their combination with the direction cosines are the formulas' in double
+ * within the bound above, across shape factors at the domain's edges, slips and friction. */
+/* REQ-MEAS-003 REQ-FXP-003 */
+static void test_tyre_magic_factors_vs_f64_q31(void **state)
+{
+    rfe_params_q31_t p = preset();
+    rfe_tyre_params_q31_t tp = p.tyre;
+    const rfe_fix_t kappas[7] = {(rfe_fix_t)(1 << 12), (rfe_fix_t)(1 << 18),
+                                 -(rfe_fix_t)(1 << 24), (rfe_fix_t)(1 << 27),
+                                 -(rfe_fix_t)(3 << 28), (rfe_fix_t)(1 << 30), 0};
+    const rfe_fix_t alphas[6] = {0, (rfe_fix_t)(1 << 10), -(rfe_fix_t)(1 << 20),
+                                 (rfe_fix_t)(1 << 25), -(rfe_fix_t)(5 << 26),
+                                 (rfe_fix_t)(1 << 29)};
+    /* mu 0.01, 0.3, 1.2 (Q29) */
+    const rfe_fix_t mus[3] = {(rfe_fix_t)5368709, (rfe_fix_t)161061274, (rfe_fix_t)644245094};
+    /* C (Q24): 1.05, the preset's x, 1.95; E (Q24): -4, 0, 0.95 */
+    const rfe_fix_t cs[3] = {(rfe_fix_t)17616077, tp.shape_Cx, (rfe_fix_t)32715571};
+    const rfe_fix_t es[3] = {-(rfe_fix_t)67108864, 0, (rfe_fix_t)15938355};
+    const rfe_fix_t fz = (rfe_fix_t)(4000 * (1 << 15));
+    const rfe_fix_t vwx = (rfe_fix_t)(20 * (1 << 23));
+    const double fzd = 4000.0;
+    const double cxd = ldexp((double)tp.cx, -RFE_FIX_Q_STIFF);
+    const double cyd = ldexp((double)tp.cy, -RFE_FIX_Q_STIFF);
+    rfe_slip_dir_q31_t dk;
+    rfe_slip_dir_q31_t dt;
+    double worst = 0.0;
+    long compared = 0;
+    size_t ic;
+    size_t ie;
+    size_t a;
+    size_t b;
+    size_t j;
+    (void)state;
+    tp.mode = RFE_TYRE_MAGIC;
+    dk.k = rfe_xf_make(1, 0);
+    dk.tan_a = rfe_xf_make(0, 0);
+    dk.vwx = rfe_xf_make(0, 0);
+    dt = dk;
+    dt.k = rfe_xf_make(0, 0);
+    dt.tan_a = rfe_xf_make(1, 0);
+    for (ic = 0u; ic < 3u; ++ic) {
+        for (ie = 0u; ie < 3u; ++ie) {
+            tp.shape_Cx = cs[ic];
+            tp.shape_Cy = cs[2u - ic];
+            tp.shape_Ex = es[ie];
+            tp.shape_Ey = es[(ie + 1u) % 3u];
+            assert_int_equal(rfe_tyre_abs_params_ok_q31(&tp), 1);
+            for (a = 0u; a < 7u; ++a) {
+                for (b = 0u; b < 6u; ++b) {
+                    rfe_dugoff_pre_q31_t pre;
+                    double s;
+                    double u[2];
+                    rfe_tyre_dugoff_pre_q31(&tp, kappas[a], alphas[b], vwx, &pre);
+                    if (pre.s == 0) {
+                        continue; /* no curve: test_tyre_pre_jac_no_slip_q31's case */
+                    }
+                    s = ldexp((double)pre.s, -(int)pre.qs);
+                    u[0] = ldexp((double)pre.ux, -30);
+                    u[1] = ldexp((double)pre.uy, -30);
+                    for (j = 0u; j < 3u; ++j) {
+                        const double m = ldexp((double)mus[j], -29);
+                        const double C[2] = {ldexp((double)tp.shape_Cx, -24),
+                                             ldexp((double)tp.shape_Cy, -24)};
+                        const double E[2] = {ldexp((double)tp.shape_Ex, -24),
+                                             ldexp((double)tp.shape_Ey, -24)};
+                        rfe_tyre_jac_q31_t ok;
+                        rfe_tyre_jac_q31_t ot;
+                        double got[6];
+                        double want[6];
+                        double bound[6];
+                        size_t r;
+                        size_t c;
+                        rfe_tyre_pre_jac_q31(&tp, &pre, kappas[a], vwx, fz, mus[j], &dk, &ok);
+                        rfe_tyre_pre_jac_q31(&tp, &pre, kappas[a], vwx, fz, mus[j], &dt, &ot);
+                        got[0] = xf_value(ok.dfx) / (fzd * cxd); /* Pxk */
+                        got[1] = xf_value(ot.dfx) / (fzd * cyd); /* Pxt */
+                        got[2] = xf_value(ok.dfy) / (fzd * cxd); /* Pyk */
+                        got[3] = xf_value(ot.dfy) / (fzd * cyd); /* Pyt */
+                        got[4] = (u[0] != 0.0) ? (xf_value(ok.mfx) / (fzd * u[0])) : 0.0;
+                        got[5] = (u[1] != 0.0) ? (xf_value(ok.mfy) / (fzd * u[1])) : 0.0;
+                        for (c = 0u; c < 2u; ++c) {
+                            double f[3];
+                            const double uu = u[c] * u[c];
+                            const double uxy = u[0] * u[1];
+                            const double eg = gos_bound(s, m, C[c]);
+                            const double w = magic_w_f64(s, m, C[c], E[c]);
+                            double dd;
+                            magic_factors_f64(s, m, C[c], E[c], f);
+                            dd = f[1] - f[0];
+                            /* Pck (c = x) / Pct (c = y): gos + dd u_c^2; the other: dd ux uy */
+                            want[(2u * c) + c] = f[0] + (dd * uu);
+                            bound[(2u * c) + c] = (eg * (1.0 - uu)) + (E_GS * uu) +
+                                                  (10.0 * ldexp(1.0, -31)) +
+                                                  ldexp(1.0, -28) + ldexp(2.0, -29);
+                            want[(2u * c) + (1u - c)] = dd * uxy;
+                            bound[(2u * c) + (1u - c)] = ((eg + E_GS) * fabs(uxy)) +
+                                                         (10.0 * ldexp(1.0, -31)) +
+                                                         ldexp(1.0, -28) + ldexp(1.0, -29);
+                            want[4u + c] = (u[c] != 0.0) ? f[2] : 0.0;
+                            bound[4u + c] =
+                                DG_ANGLE +
+                                (C[c] * w *
+                                 ((5.0 * DG_ANGLE) + 2.5e-8 + (10.0 * DB_ANGLE) + 5.2e-8)) +
+                                ldexp(1.0, -30);
+                        }
+                        for (r = 0u; r < 6u; ++r) {
+                            const double bd = bound[r] + (ldexp(1.0, -28) * fabs(want[r]));
+                            const double err = fabs(got[r] - want[r]);
+                            if (err > bd) {
+                                printf("C %zu E %zu kappa %zu alpha %zu mu %zu value %zu: q31 "
+                                       "%.12g f64 %.12g bound %.3g\n",
+                                       ic, ie, a, b, j, r, got[r], want[r], bd);
+                            }
+                            assert_true(err <= bd);
+                            worst = fmax(worst, err / bd);
+                            ++compared;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    printf("magic factors q31 vs f64: %ld values compared, worst |error| / bound %.3g\n",
+           compared, worst);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -421,6 +617,7 @@ int main(void)
         cmocka_unit_test(test_tyre_pre_jac_no_slip_q31),
         cmocka_unit_test(test_tyre_magic_pre_jac_fused_q31),
         cmocka_unit_test(test_tyre_magic_jac_vs_f64_q31),
+        cmocka_unit_test(test_tyre_magic_factors_vs_f64_q31),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
