@@ -421,7 +421,7 @@ def test_cli_module_and_script(tmp_path, synth_log):
 def test_make_goldens_naming_and_determinism(tmp_path):
     sc = tmp_path / "scen"
     sc.mkdir()
-    cols = synthetic_columns(n=400)
+    cols = synthetic_columns(n=150)   # short: the names and the bytes are the claim, not the estimates
     for name in ("a.csv", "a.nf.csv", "a.mf.csv", "a.mf.nf.csv", "notes.txt"):
         if name.endswith(".csv"):
             write_sensor_log(str(sc / name), cols)
