@@ -1,6 +1,6 @@
 """The tyre identifier's fed curve against issue 17's trust invariant (tyre_id_trust.py).
 
-Does not run the 72-log measurement (make tyre-id-trust, about 3 min): the table's shape is
+Does not run the 72-log measurement (make tyre-id-trust, about 5 min): the table's shape is
 checked on made-up figures whose summary is counted here by hand, and the section's example
 claim on one log, two runs of build/mu_replay (skipped without it, well under a second): on
 wrong_tyre_data.mf the APF's curve fed at tid_feed_sd_rel 0.1 brings the RMSE and the
@@ -33,7 +33,8 @@ def fig(valid, excited, rmse=0.05, cons=1.0, worst=0.1):
 
 def test_summary_table_shape_and_counts():
     labels = tt.labels()
-    assert labels == ["today", "S0.05", "S0.1", "A0.05", "A0.1"]
+    assert labels == ["today", "S0.05", "S0.1", "S0.05 e0.25", "S0.1 e0.25", "A0.05", "A0.1",
+                      "A0.05 e0.25", "A0.1 e0.25"]
     # an MF-truth log meeting it today (excited valid 90 %); S0.05 drops it to 80 % (10 points),
     # A0.1 breaks its worst case (0.3 > 0.25); a Dugoff log failing today that A0.1 heals
     mf = {lab: fig(0.5, 0.9) for lab in labels}
@@ -53,7 +54,7 @@ def test_summary_table_shape_and_counts():
     assert rows["float A0.1"].endswith("| 1/1 |")   # no longer meets it
     changes = tt.change_lines(res)
     assert len(changes) == len(labels) - 1
-    assert changes[-1] == ("- float A0.1: meets it now (1): `x.csv`; no longer (1): "
+    assert changes[5] == ("- float A0.1: meets it now (1): `x.csv`; no longer (1): "
                            "`x.mf.csv`.")
     assert changes[0] == "- float S0.05: meets it now (0): none; no longer (0): none."
 

@@ -10,8 +10,9 @@ The 72 logs of the trust invariant (trust_invariant.bundled_logs), each replayed
 library as trust_invariant.run_log replays it (mu_replay, the default preset, the logs'
 measured vx, vy and yaw acceleration), once without the tyre identifier ("today") and once per
 fed variant: each filter of tyre_id_feed_results.FILTERS (the APF, the SCKF) at each feed of
-tyre_id_feed_results.HOLD_FEEDS (tid_feed_sd_rel 0.05 and 0.1, no evidence asked), with the
-braking hold at its default (tid_feed_ax_max 0.5 m/s^2: no curve fed after a sample whose |ax|
+tyre_id_feed_results.FEEDS (tid_feed_sd_rel 0.05 and 0.1, from the start, and only after
+tid_feed_evidence 0.25 s of the friction estimator's evidence that its curve is wrong: "e0.25"),
+with the braking hold at its default (tid_feed_ax_max 0.5 m/s^2: no curve fed after a sample whose |ax|
 exceeds it; docs/TYRE_ID.md section 14). The identifier runs on every log; it feeds only where
 its cornering stiffness is known within tid_feed_sd_rel, i.e. where the driver steers (the
 "fed" share). The identifier is float and double only (no Q31 twin), so --real takes float
@@ -39,14 +40,15 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))   # scripts/tools
 from md_tables import replace_region  # noqa: E402
 from shape_results import summary, summary_table  # noqa: E402
 from trust_invariant import bundled_logs, fmt, meets, pct, run_log  # noqa: E402
-from tyre_id_feed_results import FILTERS, HOLD_FEEDS, label  # noqa: E402
+from tyre_id_feed_results import FEEDS, FILTERS, label  # noqa: E402
 
 REALS = ("float", "double")  # the identifier's precisions (no Q31 twin)
 
 
 def variants():
-    """The fed runs: (label, filter, (tid_feed_sd_rel, tid_feed_evidence)), e.g. "S0.05"."""
-    return [(label(f, letter), flt, f) for flt, letter in reversed(FILTERS) for f in HOLD_FEEDS]
+    """The fed runs: (label, filter, (tid_feed_sd_rel, tid_feed_evidence)), e.g. "S0.05",
+    "A0.1 e0.25"."""
+    return [(label(f, letter), flt, f) for flt, letter in reversed(FILTERS) for f in FEEDS]
 
 
 def feed_params(feed, folder: Path) -> Path:
