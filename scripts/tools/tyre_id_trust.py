@@ -11,12 +11,12 @@ library as trust_invariant.run_log replays it (mu_replay, the default preset, th
 measured vx, vy and yaw acceleration), once without the tyre identifier ("today") and once per
 fed variant: each filter of tyre_id_feed_results.FILTERS (the APF, the SCKF) at each feed of
 tyre_id_feed_results.FEEDS (tid_feed_sd_rel 0.05 and 0.1, from the start, and only after
-tid_feed_evidence 0.25 s of the friction estimator's evidence that its curve is wrong: "e0.25"),
-with the braking hold at its default (tid_feed_ax_max 0.5 m/s^2: no curve fed after a sample whose |ax|
-exceeds it; docs/TYRE_ID.md section 14). The identifier runs on every log; it feeds only where
-its cornering stiffness is known within tid_feed_sd_rel, i.e. where the driver steers (the
-"fed" share). The identifier is float and double only (no Q31 twin), so --real takes float
-and double.
+tid_feed_evidence 0.25 s of the friction estimator's evidence that its curve is wrong:
+"e0.25"), with the braking hold at its default (tid_feed_ax_max 0.5 m/s^2: no curve fed after a
+sample whose |ax| exceeds it; docs/TYRE_ID.md section 14). The identifier runs on every log;
+it feeds only where its cornering stiffness is known within tid_feed_sd_rel, i.e. where the
+driver steers (the "fed" share). The identifier is float and double only (no Q31 twin), so
+--real takes float and double.
 
 Per run the figures of trust_invariant.figures (pooled over the four wheels and mu_replay's
 settled samples; the excited-valid share is mu_replay's frac_valid_excited, true utilisation
