@@ -46,7 +46,7 @@ DEPS_EXTRA :=
 TEST_GATES :=
 include $(sort $(filter-out mk/lib.mk,$(wildcard mk/*.mk)))
 
-.PHONY: mass-grade-scenarios observer-res-scenarios mass-grade-results mass-grade-textbook mass-sensitivity mass-headwind mass-slip mass-slip-ramp mass-curve tyre-id-feed-results mass-grade-goldens trust-invariant names car-format-logs observer-goldens observer-goldens-q31 observer-results monitor-results shape-results test-pkg all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind valgrind-unit valgrind-cli coverage demo goldens goldens-q31 scenarios observer-scenarios clean vectors shared-sync check-shared readme-table \
+.PHONY: mass-grade-scenarios observer-res-scenarios mass-grade-results mass-grade-textbook mass-sensitivity mass-headwind mass-slip mass-slip-ramp mass-curve tyre-id-feed-results tyre-id-trust mass-grade-goldens trust-invariant names car-format-logs observer-goldens observer-goldens-q31 observer-results monitor-results shape-results test-pkg all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind valgrind-unit valgrind-cli coverage demo goldens goldens-q31 scenarios observer-scenarios clean vectors shared-sync check-shared readme-table \
         check-kernels check-tools layers help-check goldens-ref check-nofloat help deps-analysis misra tidy complexity structural analysis \
         twins check-twins tyre-id-scenarios tyre-id-results tyre-id-goldens tyre-id-ellipse-results \
         tyre-id-results-ellipse snoise-reuse snoise-reuse-vxvy
@@ -461,6 +461,13 @@ mass-grade-textbook: venv $(BUILD)/f32/test/tools/mg_run_flt $(BUILD)/q31/test/t
 ## the friction estimator with and without the tyre identifier's curve fed, every steering scenario (docs/TYRE_ID_RESULTS.md)
 tyre-id-feed-results: venv $(BUILD)/mu_replay
 	$(PY) scripts/tools/tyre_id_feed_results.py --page docs/TYRE_ID_RESULTS.md --jobs $(TEST_JOBS)
+
+# Issue 17's trust invariant with the tyre identifier's curve fed (docs/MONITOR.md section 7;
+# the 72 logs of trust-invariant, float and double, 9 runs each: about 5 min on 2 cores).
+## the trust invariant with and without the tyre identifier's fed curve, every bundled log (docs/MONITOR.md section 7)
+tyre-id-trust: venv $(BUILD)/mu_replay
+	$(PY) scripts/tools/tyre_id_trust.py --replay $(BUILD)/mu_replay --out $(BUILD)/tyre_id_trust \
+	  --jobs $(TEST_JOBS) --page docs/MONITOR.md
 
 ## what a fixed-point tyre identifier would have to hold: likelihood, weight and state ranges (docs/FIXED_POINT.md)
 tyre-id-q31-ranges: venv

@@ -115,15 +115,17 @@ def measure(paths, jobs: int, cache: Path) -> dict:
     return out
 
 
-def summary(res: dict) -> dict:
+def summary(res: dict, labels=None, ok=meets) -> dict:
     """Per label: logs meeting the invariant (all, Dugoff truth, MF truth); on the MF-truth logs
     that meet it today, the largest drop of the excited-valid share and the logs that drop by
-    more than MAX_DROP or stop meeting it."""
-    labels = ["today"] + [f"{h}/{r}" for h, r in VARIANTS]
-    today_ok = [n for n, f in res.items() if group(n) == "mf" and meets(f["today"])]
+    more than MAX_DROP or stop meeting it. @p labels: the runs ("today" first; default this
+    study's), @p ok: the invariant on one run's figures (default meets, on the reference's;
+    trust_invariant.meets on mu_replay's)."""
+    labels = labels or ["today"] + [f"{h}/{r}" for h, r in VARIANTS]
+    today_ok = [n for n, f in res.items() if group(n) == "mf" and ok(f["today"])]
     out = {}
     for lab in labels:
-        n_meet = {g: sum(meets(f[lab]) for n, f in res.items() if g in ("all", group(n)))
+        n_meet = {g: sum(ok(f[lab]) for n, f in res.items() if g in ("all", group(n)))
                   for g in ("all", "dugoff", "mf")}
         n_tot = {g: sum(1 for n in res if g in ("all", group(n))) for g in ("all", "dugoff", "mf")}
         drops, lost = [], []
@@ -131,7 +133,7 @@ def summary(res: dict) -> dict:
             e0, e1 = res[n]["today"]["excited_valid"], res[n][lab]["excited_valid"]
             if e0 is not None and e1 is not None:
                 drops.append((e0 - e1, n))
-            if not meets(res[n][lab]):
+            if not ok(res[n][lab]):
                 lost.append(n)
         worst = max(drops) if drops else (0.0, None)
         out[lab] = {"meets": n_meet, "total": n_tot, "worst_drop": worst[0],

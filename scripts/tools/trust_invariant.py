@@ -40,13 +40,16 @@ def bundled_logs(scen: Path) -> list[Path]:
 
 
 def figures(metrics: dict) -> dict:
-    """Valid share, RMSE, consistency and worst case when valid, pooled over the wheels."""
+    """Valid share, RMSE, consistency and worst case when valid, pooled over the wheels; the
+    excited-valid share (mu_replay's frac_valid_excited: valid among the settled samples whose
+    true utilisation is >= its excite_util, 0.5), None on a log without utilisation."""
     n_set = sum(metrics[w]["n_settled"] for w in WHEELS)
     n_val = sum(metrics[w]["n_valid"] for w in WHEELS)
     return {"valid": n_val / n_set if n_set else None, "n_valid": n_val,
             "rmse_valid": pooled(metrics, "rmse_valid", "n_valid", square=True),
             "cons_valid": pooled(metrics, "consistency_valid", "n_valid"),
-            "worst_valid": worst_valid(metrics)}
+            "worst_valid": worst_valid(metrics),
+            "excited_valid": pooled(metrics, "frac_valid_excited", "n_excited")}
 
 
 def meets(f: dict) -> bool:
@@ -55,15 +58,21 @@ def meets(f: dict) -> bool:
                                  and f["worst_valid"] <= WORST_MAX)
 
 
-def run_log(replay: Path, log: Path, out: Path, real: str) -> dict:
-    """mu_replay on one log (default preset); its pooled figures."""
-    met = out / f"{log.stem}.{real}.json"
-    cmd = [str(replay), "--in", str(log), "--out", str(out / f"{log.stem}.{real}.csv"),
-           "--preset", "default", "--real", real, "--metrics", str(met), "--quiet"]
+def run_log(replay: Path, log: Path, out: Path, real: str, extra=(), tag: str = "") -> dict:
+    """mu_replay on one log (default preset); its pooled figures. @p extra: more mu_replay
+    arguments (e.g. --tyre-id and --params), @p tag: a suffix of the output files' names; with
+    the tyre identifier run, "fed" is the share of steps whose curve the estimator took."""
+    met = out / f"{log.stem}.{real}{tag}.json"
+    cmd = [str(replay), "--in", str(log), "--out", str(out / f"{log.stem}.{real}{tag}.csv"),
+           "--preset", "default", "--real", real, "--metrics", str(met), "--quiet", *extra]
     res = subprocess.run(cmd, capture_output=True, text=True)
     if res.returncode != 0:
         raise RuntimeError(f"{' '.join(cmd)}: exit {res.returncode}: {res.stderr.strip()}")
-    return figures(json.loads(met.read_text())["metrics"])
+    j = json.loads(met.read_text())
+    f = figures(j["metrics"])
+    if "tyre_id" in j:
+        f["fed"] = j["tyre_id"]["feed"]["n_fed"] / j["steps"] if j["steps"] else 0.0
+    return f
 
 
 def measure(replay: Path, scen: Path, out: Path, progress=None) -> dict:
