@@ -10,7 +10,7 @@ sys.path[:0] = [os.path.dirname(os.path.abspath(__file__))]
 
 import check_kernels  # noqa: E402
 
-SUBSET = ["brake_in_turn.csv"]
+SUBSET = ["brake_in_turn.csv", "paper_mu_step.nf.csv"]
 
 
 def _names(runs):
@@ -23,11 +23,13 @@ def test_a_cpu_without_avx_skips_the_newer_kernels():
     least), Haswell and SkylakeX are skipped for the missing instructions, never forced."""
     runs, skipped = check_kernels.plan(dict(os.environ), {"pni"}, "x86_64", SUBSET)
     assert _names(runs)[0] == "as-is" and "generic" in _names(runs)
+    # one walk over every golden, the generic one; as-is runs the subset
+    assert runs[0]["logs"] == SUBSET and [r["logs"] for r in runs if r["name"] == "generic"] == ["all"]
     assert "Haswell" not in _names(runs) and "SkylakeX" not in _names(runs)
     why = dict(skipped)
     assert why["Haswell"] == "the CPU lacks avx2, fma"
     assert why["SkylakeX"].startswith("the CPU lacks avx512bw")
-    assert runs[-1]["name"] == "threads" and runs[-1]["logs"] == SUBSET
+    assert runs[-1]["name"] == "threads" and runs[-1]["logs"] == SUBSET[:1]
 
 
 # REQ-REF-004
@@ -39,8 +41,10 @@ def test_an_unknown_architecture_still_varies_numpy():
     generic = [r for r in runs if r["name"] == "generic"]
     if runs[0]["probe"]["dispatched"]:      # numpy has SIMD paths to turn off here
         assert generic and generic[0]["env"]["NPY_DISABLE_CPU_FEATURES"]
+        assert runs[0]["logs"] == SUBSET and generic[0]["logs"] == "all"
     else:
-        assert "generic" in why
+        # no second configuration: as-is is then the walk over every golden
+        assert "generic" in why and runs[0]["logs"] == "all"
 
 
 # REQ-REF-004
