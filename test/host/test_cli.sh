@@ -684,8 +684,12 @@ run mg_params 0 --in "$TMP/stop3000.csv" --out "$TMP/mg_p.csv" --real double --m
     --params "$TMP/aukf_ax.par" -q
 golden_equal mg_params "$MGG/car_stop_and_go.aukf_ax.csv" "$TMP/mg_p.csv"
 # the speed-only UKF: one key over the default, on the first 2000 samples (causal: a prefix
-# of the log gives a prefix of the estimates)
-awk '/^#/ || n++ < 2001' "$MG/car_hilly_road.csv" >"$TMP/hilly.csv"
+# of the log gives a prefix of the estimates); light mode (valgrind, ~45x slower; the full
+# prefix runs natively and under ASan): the first 600 (12 s, the mass fed from ~10 s), which
+# every check below on this file passes with as well
+HILLY_N=2001
+if [ -n "${RFE_TEST_LIGHT:-}" ] && [ "${RFE_TEST_LIGHT}" != 0 ]; then HILLY_N=601; fi
+awk -v n="$HILLY_N" '/^#/ || k++ < n' "$MG/car_hilly_road.csv" >"$TMP/hilly.csv"
 printf 'mg_use_ax = 0   # speed and torque only\n' >"$TMP/ukf.par"
 run mg_ukf_speed 0 --in "$TMP/hilly.csv" --out "$TMP/mg_u.csv" --real double --params "$TMP/ukf.par" -q
 golden_equal mg_ukf_speed "$MGG/car_hilly_road.ukf.csv" "$TMP/mg_u.csv"
@@ -980,7 +984,7 @@ st=$(grep -v '^#' "$TMP/mg_b.csv" | awk -F, 'NR > 1 && NR <= 7 { printf "%s/%s "
 held=$(grep -v '^#' "$TMP/mg_b.csv" | awk -F, 'NR == 3 || NR == 7 { printf "%s ", $22 }')
 [ "$(echo $held | cut -d' ' -f1)" = "$(echo $held | cut -d' ' -f2)" ] \
     && ok "mg_bad_cells: estimate held over the refused rows" || bad "mg_bad_cells: not held: $held"
-grep -q '"status_counts": {"0": 1996, "17": 3, "18": 1}' "$TMP/mg_b.json" \
+grep -q "\"status_counts\": {\"0\": $((HILLY_N - 5)), \"17\": 3, \"18\": 1}" "$TMP/mg_b.json" \
     && ok "mg_bad_cells: JSON status counts" || bad "mg_bad_cells: $(grep -o '"mass_grade.*status_counts": {[^}]*}' "$TMP/mg_b.json")"
 grep -q 'bad cells (given to the estimator as NaN/Inf, the row rejected): empty 1, nan/inf 2, out of range 0; in 3 row(s)' "$TMP/out" \
     && ok "mg_bad_cells: counted" || bad "mg_bad_cells: $(grep 'bad cells' "$TMP/out")"
