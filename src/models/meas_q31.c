@@ -461,35 +461,10 @@ static void jac_pre_q31(const rfe_meas_q31_t *h, const rfe_tyre_params_q31_t *tp
     }
 }
 
-/* Wheel i's map of a force pair (wheel axes) into its body terms (rows ay, r-dot): the
- * geometry of wheel_terms_q31 (x_i / J, y_i / J, 1 / m: Q38) in rfe_xf_t, formed once per
- * wheel for its two force pairs. */
-typedef struct {
-    rfe_xf_t ci;
-    rfe_xf_t si;
-    rfe_xf_t inv_m;
-    rfe_xf_t px_J;
-    rfe_xf_t py_J;
-} body_map_q31_t;
-
-static body_map_q31_t body_map_q31(const rfe_vehicle_q31_t *veh, int32_t c, int32_t s, size_t i)
-{
-    const int32_t px_J = (i < (size_t)RFE_RL) ? veh->lf_J : -veh->lr_J;
-    const int32_t y_J = (i < (size_t)RFE_RL) ? veh->yf_J : veh->yr_J;
-    const int32_t py_J = ((i == (size_t)RFE_FL) || (i == (size_t)RFE_RL)) ? y_J : -y_J;
-    body_map_q31_t b;
-    b.ci = rfe_xf_of((i < (size_t)RFE_RL) ? c : ONE_Q30, 30);
-    b.si = rfe_xf_of((i < (size_t)RFE_RL) ? s : 0, 30);
-    b.inv_m = rfe_xf_of(veh->inv_m, 38);
-    b.px_J = rfe_xf_of(px_J, 38);
-    b.py_J = rfe_xf_of(py_J, 38);
-    return b;
-}
-
 /* Wheel i's map of a force pair (wheel axes) into the lateral rows' body terms (ay, r-dot):
  * the rotation by the steer angle folded into the geometry, ay += fx ax + fy ay and r-dot +=
  * fx rx + fy ry with (c, s the steer angle's cos and sin on the front axle, 1 and 0 on the
- * rear; x_i / J, y_i / J the signed lever arms of body_map_q31):
+ * rear; x_i / J, y_i / J the signed lever arms of wheel_terms_q31):
  *   ax = s / m,  ay = c / m,  rx = s x_i / J - c y_i / J,  ry = c x_i / J + s y_i / J.
  * Each coefficient is formed exactly in int64 (Q30 x Q38 = Q68, each product < 2^61, a sum of
  * two < 2^62) and rounded once to rfe_xf_t (2^-30 relative), where the rotation and the
@@ -684,51 +659,57 @@ static int input_q_q31(size_t j)
     return q;
 }
 
-/* Wheel i's slip direction (meas_flt.c input_direction) for a change dv = (d v_wx, d v_wy,
- * d(omega R)) in rfe_xf_t; tan_a its tan(alpha) (Q26). den = max(|omega R|, |v_wx|, v_min)
- * in Q51, as the kinematics form it (vy_direction_q31). */
-static rfe_slip_dir_q31_t input_direction_q31(const rfe_meas_q31_t *h,
-                                              const rfe_vehicle_q31_t *veh,
-                                              const rfe_tyre_params_q31_t *tp,
-                                              const rfe_sample_q31_t *u, size_t i,
-                                              int32_t tan_a, const rfe_xf_t dv[3])
+/* Wheel i's slips' changes per unit change of its velocity (v_wx, v_wy, omega R), the chain
+ * of meas_flt.c input_direction written per unit of each speed: tan(alpha) by v_wx (tx) and
+ * v_wy (ty), kappa by v_wx (kx) and omega R (kr); zero where the slip is clamped. Each one a
+ * quotient of two exact integers, one rounding (2^-30 relative): tan_a (Q26) and the Q30
+ * numerators 1 +- kappa (|.| <= 2^31) over |v_wx| (Q23) or den = max(|omega R|, |v_wx|, v_min)
+ * (Q51), as the kinematics form it (vy_direction_q31). */
+typedef struct {
+    rfe_xf_t tx;
+    rfe_xf_t ty;
+    rfe_xf_t kx;
+    rfe_xf_t kr;
+} slip_sens_q31_t;
+
+static void slip_sens_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh,
+                          const rfe_tyre_params_q31_t *tp, const rfe_sample_q31_t *u, size_t i,
+                          int32_t tan_a, slip_sens_q31_t *ss)
 {
     const int32_t vwx = h->kin.vwx[i];
     const int32_t kappa = h->kin.kappa[i];
     const int sv = rfe_q31_sign(vwx);
-    const rfe_xf_t one = rfe_xf_make(1, 0);
-    rfe_slip_dir_q31_t d;
-    d.vwx = dv[0];
-    d.tan_a = rfe_xf_make(0, 0);
-    d.k = rfe_xf_make(0, 0);
+    const rfe_xf_t zero = rfe_xf_make(0, 0);
+    ss->tx = zero;
+    ss->ty = zero;
+    ss->kx = zero;
+    ss->kr = zero;
     if ((rfe_q31_within(h->kin.alpha[i], tp->alpha_max - 1) != 0) && (vwx != 0)) {
-        /* -(d v_wy + t sgn(v_wx) d v_wx) / |v_wx| */
-        const rfe_xf_t ts = rfe_xf_mul(rfe_xf_of((sv > 0) ? tan_a : -tan_a, 26), dv[0]);
+        /* d tan(alpha) = -(d v_wy + t sgn(v_wx) d v_wx) / |v_wx| */
         const rfe_xf_t avx = rfe_xf_of((vwx < 0) ? -vwx : vwx, (int)RFE_FIX_Q_SPEED);
-        d.tan_a = rfe_xf_neg(rfe_xf_div(rfe_xf_add(dv[1], ts), avx));
+        ss->ty = rfe_xf_div(rfe_xf_make(-1, 0), avx);
+        ss->tx = rfe_xf_div(rfe_xf_of((sv > 0) ? -tan_a : tan_a, 26), avx);
     }
     if (rfe_q31_within(kappa, ONE_Q30 - 1) != 0) {
-        /* (d(omega R) (1 - [den = |omega R|] kappa sgn(omega R))
-         *  - d v_wx (1 + [den = |v_wx|] kappa sgn(v_wx))) / den, the speeds in Q51 */
+        /* d kappa = (d(omega R) (1 - [den = |omega R|] kappa sgn(omega R))
+         *            - d v_wx (1 + [den = |v_wx|] kappa sgn(v_wx))) / den, the speeds in Q51 */
         const int64_t vr = (int64_t)u->omega[i] * (int64_t)veh->R;
         const uint64_t avr = rfe_q31_mag64(vr);
         const uint64_t avx = (uint64_t)((vwx < 0) ? -(int64_t)vwx : (int64_t)vwx) << 28;
         const uint64_t vmin = (uint64_t)tp->v_min << 28;
         const uint64_t big = (avr > avx) ? avr : avx;
-        const uint64_t den = (big > vmin) ? big : vmin;
-        rfe_xf_t own_x = rfe_xf_make(0, 0);
-        rfe_xf_t own_r = rfe_xf_make(0, 0);
+        const rfe_xf_t den = rfe_xf_make((int64_t)((big > vmin) ? big : vmin), -51);
+        int64_t own_x = 0;
+        int64_t own_r = 0;
         if ((avx > avr) && (avx > vmin)) {
-            own_x = rfe_xf_of((sv > 0) ? kappa : -kappa, 30);
+            own_x = (sv > 0) ? (int64_t)kappa : -(int64_t)kappa;
         }
         if ((avr >= avx) && (avr > vmin)) {
-            own_r = rfe_xf_of((vr > 0) ? kappa : -kappa, 30);
+            own_r = (vr > 0) ? (int64_t)kappa : -(int64_t)kappa;
         }
-        d.k = rfe_xf_div(rfe_xf_sub(rfe_xf_mul(dv[2], rfe_xf_sub(one, own_r)),
-                                    rfe_xf_mul(dv[0], rfe_xf_add(one, own_x))),
-                         rfe_xf_make((int64_t)den, -51));
+        ss->kr = rfe_xf_div(rfe_xf_make((int64_t)ONE_Q30 - own_r, -30), den);
+        ss->kx = rfe_xf_div(rfe_xf_make(-((int64_t)ONE_Q30 + own_x), -30), den);
     }
-    return d;
 }
 
 /* Wheel i's velocity in wheel axes (vw[0] = v_wx, vw[1] = v_wy) and its position (pos[0] = x,
@@ -751,137 +732,153 @@ static void wheel_velocity_q31(const rfe_vehicle_q31_t *veh, const rfe_sample_q3
     vw[1] = rfe_xf_sub(rfe_xf_mul(vby, ci), rfe_xf_mul(vbx, si));
 }
 
-/* Wheel i's velocity change dv per unit of input j (meas_flt.c input_change): returns 1 for
- * delta, which also turns the wheel's forces into the body axes. */
-static int input_change_q31(const rfe_vehicle_q31_t *veh, size_t j, const rfe_xf_t pos[2],
-                            rfe_xf_t ci, rfe_xf_t si, const rfe_xf_t vw[2], rfe_xf_t dv[3])
+/* Wheel i's forces' derivatives along unit changes of kappa, tan(alpha) and v_wx (meas_flt.c
+ * wheel_basis; the Magic Formula's fj[2] is zero: its curve does not depend on v_wx; its curves
+ * are evaluated once for both, rfe_tyre_magic_basis_q31) and, where turn != 0, its forces
+ * (wheel axes) at mu_i for the turn of the front forces by delta: the curve's (load-scaled
+ * modes; its saturations are the nominal evaluation's, not counted again), mu F0 in paper mode
+ * (fj[0].mfx, fj[0].mfy are F0 there). */
+static void wheel_basis_q31(const rfe_meas_q31_t *h, const rfe_tyre_params_q31_t *tp,
+                            const rfe_dugoff_pre_q31_t *pre, size_t i, rfe_fix_t mu, int turn,
+                            rfe_tyre_jac_q31_t fj[3], rfe_xf_t f[2])
 {
     const rfe_xf_t zero = rfe_xf_make(0, 0);
-    const rfe_xf_t one = rfe_xf_make(1, 0);
-    rfe_xf_t dbx = zero;
-    rfe_xf_t dby = zero;
-    int turns = 0;
+    rfe_fix_t fx = 0;
+    rfe_fix_t fy = 0;
+    uint32_t scratch = 0u;
+    fj[2].dfx = zero;
+    fj[2].dfy = zero;
+    if (tp->mode == RFE_TYRE_MAGIC) {
+        rfe_tyre_magic_basis_q31(tp, pre, h->kin.fz[i], mu, &fx, &fy, &scratch, fj);
+    } else {
+        const rfe_xf_t one = rfe_xf_make(1, 0);
+        size_t b;
+        for (b = 0u; b < 3u; ++b) {
+            rfe_slip_dir_q31_t e;
+            e.k = (b == 0u) ? one : zero;
+            e.tan_a = (b == 1u) ? one : zero;
+            e.vwx = (b == 2u) ? one : zero;
+            rfe_tyre_pre_jac_q31(tp, pre, h->kin.kappa[i], h->kin.vwx[i], h->kin.fz[i], mu,
+                                 &e, &fj[b]);
+        }
+        if ((turn != 0) && (h->mode != RFE_TYRE_PAPER)) {
+            rfe_tyre_dugoff_abs_pre_q31(tp, pre, mu, h->kin.fz[i], &fx, &fy, &scratch);
+        }
+    }
+    f[0] = rfe_xf_of(fx, (int)RFE_FIX_Q_FORCE);
+    f[1] = rfe_xf_of(fy, (int)RFE_FIX_Q_FORCE);
+    if (h->mode == RFE_TYRE_PAPER) {
+        const rfe_xf_t mux = rfe_xf_of(mu, (int)RFE_FIX_Q_MU);
+        f[0] = rfe_xf_mul(mux, fj[0].mfx);
+        f[1] = rfe_xf_mul(mux, fj[0].mfy);
+    }
+}
+
+/* The body rows (ax, ay, r-dot) of a force pair (wheel axes) by the map b (lat_map_q31: the
+ * ax row is (fx c - fy s) / m = fx b->ay - fy b->ax). */
+static void body_rows_q31(const lat_map_q31_t *b, rfe_xf_t fx, rfe_xf_t fy, rfe_xf_t row[3])
+{
+    row[0] = rfe_xf_sub(rfe_xf_mul(fx, b->ay), rfe_xf_mul(fy, b->ax));
+    row[1] = rfe_xf_add(rfe_xf_mul(fx, b->ax), rfe_xf_mul(fy, b->ay));
+    row[2] = rfe_xf_add(rfe_xf_mul(fx, b->rx), rfe_xf_mul(fy, b->ry));
+}
+
+/* Wheel i's body rows per unit change of its velocity in wheel axes: by v_wx (w[0..2]), v_wy
+ * (w[3..5]) and omega R (w[6..8]): the rows of each slip's force derivative (fj) times the
+ * slips' sensitivities ss, the chain of meas_flt.c input_direction and wheel_input_sums formed
+ * once per wheel instead of once per input. */
+static void wheel_rows_q31(const lat_map_q31_t *bm, const rfe_tyre_jac_q31_t fj[3],
+                           const slip_sens_q31_t *ss, rfe_xf_t w[9])
+{
+    rfe_xf_t bk[3];
+    rfe_xf_t bt[3];
+    rfe_xf_t bv[3];
+    size_t r;
+    body_rows_q31(bm, fj[0].dfx, fj[0].dfy, bk);
+    body_rows_q31(bm, fj[1].dfx, fj[1].dfy, bt);
+    body_rows_q31(bm, fj[2].dfx, fj[2].dfy, bv);
+    for (r = 0u; r < (size_t)RFE_MEAS; ++r) {
+        w[r] = rfe_xf_add(rfe_xf_add(rfe_xf_mul(bk[r], ss->kx), rfe_xf_mul(bt[r], ss->tx)),
+                          bv[r]);
+        w[3u + r] = rfe_xf_mul(bt[r], ss->ty);
+        w[6u + r] = rfe_xf_mul(bk[r], ss->kr);
+    }
+}
+
+/* Input j's change of wheel i's velocity (d v_wx, d v_wy, d(omega R)) per unit, in rfe_xf_t
+ * (meas_flt.c input_change): vx, vy, r move the body velocity (dbx, dby) = (1, 0), (0, 1),
+ * (-y_i, x_i), rotated into wheel axes; delta turns the wheel velocity, (v_wy, -v_wx); the wheel's
+ * own speed moves omega R by R. */
+static void input_change_q31(const rfe_vehicle_q31_t *veh, size_t j, const rfe_xf_t pos[2],
+                             rfe_xf_t ci, rfe_xf_t si, const rfe_xf_t vw[2], rfe_xf_t dv[3])
+{
+    const rfe_xf_t zero = rfe_xf_make(0, 0);
     dv[0] = zero;
     dv[1] = zero;
     dv[2] = zero;
     if (j == (size_t)RFE_IN_DELTA) {
         dv[0] = vw[1];
         dv[1] = rfe_xf_neg(vw[0]);
-        turns = 1;
     } else if (j >= (size_t)RFE_IN_OMEGA) {
         dv[2] = rfe_xf_of(veh->R, (int)RFE_FIX_Q_LEN);
+    } else if (j == (size_t)RFE_IN_VX) {
+        dv[0] = ci;
+        dv[1] = rfe_xf_neg(si);
+    } else if (j == (size_t)RFE_IN_VY) {
+        dv[0] = si;
+        dv[1] = ci;
     } else {
-        if (j == (size_t)RFE_IN_VX) {
-            dbx = one;
-        } else if (j == (size_t)RFE_IN_VY) {
-            dby = one;
-        } else {
-            dbx = rfe_xf_neg(pos[1]);
-            dby = pos[0];
-        }
-        dv[0] = rfe_xf_add(rfe_xf_mul(dbx, ci), rfe_xf_mul(dby, si));
-        dv[1] = rfe_xf_sub(rfe_xf_mul(dby, ci), rfe_xf_mul(dbx, si));
-    }
-    return turns;
-}
-
-/* Wheel i's forces (wheel axes, rfe_xf_t, N) at mu_i, for the turn of the front forces by
- * delta: the curve's (load-scaled modes; its saturations are the nominal evaluation's, not
- * counted again), mu F0 in paper mode (fj0: a derivative of rfe_tyre_pre_jac_q31, whose mfx,
- * mfy are F0 there). */
-static void wheel_forces_q31(const rfe_meas_q31_t *h, const rfe_tyre_params_q31_t *tp,
-                             const rfe_dugoff_pre_q31_t *pre, size_t i, rfe_fix_t mu,
-                             const rfe_tyre_jac_q31_t *fj0, rfe_xf_t f[2])
-{
-    if (h->mode == RFE_TYRE_PAPER) {
-        const rfe_xf_t mux = rfe_xf_of(mu, (int)RFE_FIX_Q_MU);
-        f[0] = rfe_xf_mul(mux, fj0->mfx);
-        f[1] = rfe_xf_mul(mux, fj0->mfy);
-    } else {
-        rfe_fix_t fx = 0;
-        rfe_fix_t fy = 0;
-        uint32_t scratch = 0u;
-        rfe_tyre_dugoff_abs_pre_q31(tp, pre, mu, h->kin.fz[i], &fx, &fy, &scratch);
-        f[0] = rfe_xf_of(fx, (int)RFE_FIX_Q_FORCE);
-        f[1] = rfe_xf_of(fy, (int)RFE_FIX_Q_FORCE);
-    }
-}
-
-/* The body terms (all three rows) of a force pair by the map b, added to acc[0..2]. */
-static void body_add3_q31(const body_map_q31_t *b, rfe_xf_t fx, rfe_xf_t fy, rfe_xf_t acc[3])
-{
-    const rfe_xf_t fbx = rfe_xf_sub(rfe_xf_mul(fx, b->ci), rfe_xf_mul(fy, b->si));
-    const rfe_xf_t fby = rfe_xf_add(rfe_xf_mul(fx, b->si), rfe_xf_mul(fy, b->ci));
-    acc[0] = rfe_xf_add(acc[0], rfe_xf_mul(fbx, b->inv_m));
-    acc[1] = rfe_xf_add(acc[1], rfe_xf_mul(fby, b->inv_m));
-    acc[2] = rfe_xf_add(acc[2], rfe_xf_sub(rfe_xf_mul(fby, b->px_J), rfe_xf_mul(fbx, b->py_J)));
-}
-
-/* Wheel i's forces' derivatives along unit changes of kappa, tan(alpha) and v_wx (meas_flt.c
- * wheel_basis; the Magic Formula's fj[2] is zero: its curve does not depend on v_wx). */
-static void wheel_basis_q31(const rfe_meas_q31_t *h, const rfe_tyre_params_q31_t *tp,
-                            const rfe_dugoff_pre_q31_t *pre, size_t i, rfe_fix_t mu,
-                            rfe_tyre_jac_q31_t fj[3])
-{
-    size_t nb = 3u;
-    const rfe_xf_t zero = rfe_xf_make(0, 0);
-    const rfe_xf_t one = rfe_xf_make(1, 0);
-    size_t b;
-    if (tp->mode == RFE_TYRE_MAGIC) {
-        nb = 2u;
-    }
-    fj[2].dfx = zero;
-    fj[2].dfy = zero;
-    for (b = 0u; b < nb; ++b) {
-        rfe_slip_dir_q31_t e;
-        e.k = (b == 0u) ? one : zero;
-        e.tan_a = (b == 1u) ? one : zero;
-        e.vwx = (b == 2u) ? one : zero;
-        rfe_tyre_pre_jac_q31(tp, pre, h->kin.kappa[i], h->kin.vwx[i], h->kin.fz[i], mu, &e,
-                             &fj[b]);
+        const rfe_xf_t dbx = rfe_xf_neg(pos[1]);
+        dv[0] = rfe_xf_add(rfe_xf_mul(dbx, ci), rfe_xf_mul(pos[0], si));
+        dv[1] = rfe_xf_sub(rfe_xf_mul(pos[0], ci), rfe_xf_mul(dbx, si));
     }
 }
 
 /* Adds wheel i's terms of dh/du_j for every noisy input j (sd[j] > 0) to D (input j's three
- * rows at D[j RFE_MEAS ..]). */
+ * rows at D[j RFE_MEAS ..]): its rows per unit velocity change (wheel_rows_q31) times the
+ * input's change of that velocity, and for delta the turn of the forces,
+ * d(R(delta) F) = R(delta) (dF + (-Fy, Fx)). */
 static void wheel_input_sums_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh,
                                  const rfe_tyre_params_q31_t *tp, const rfe_sample_q31_t *u,
                                  int cached, size_t i, rfe_fix_t mu, const rfe_fix_t *sd,
                                  rfe_xf_t *D)
 {
-    const body_map_q31_t bm = body_map_q31(veh, h->cos_delta, h->sin_delta, i);
+    const rfe_xf_t ci = rfe_xf_of((i < (size_t)RFE_RL) ? h->cos_delta : ONE_Q30, 30);
+    const rfe_xf_t si = rfe_xf_of((i < (size_t)RFE_RL) ? h->sin_delta : 0, 30);
+    lat_map_q31_t bm;
     rfe_dugoff_pre_q31_t pre;
     rfe_tyre_jac_q31_t fj[3];
+    slip_sens_q31_t ss;
+    rfe_xf_t w[9];
+    rfe_xf_t ft[3];
     rfe_xf_t vw[2];
     rfe_xf_t pos[2];
     rfe_xf_t f[2];
     size_t j;
-    jac_pre_q31(h, tp, cached, i, &pre);
-    wheel_basis_q31(h, tp, &pre, i, mu, fj);
-    wheel_velocity_q31(veh, u, i, bm.ci, bm.si, vw, pos);
-    f[0] = rfe_xf_make(0, 0);
-    f[1] = rfe_xf_make(0, 0);
+    int turn = 0;
     if ((i < (size_t)RFE_RL) && (sd[RFE_IN_DELTA] > 0)) {
-        wheel_forces_q31(h, tp, &pre, i, mu, &fj[0], f);
+        turn = 1;
     }
+    jac_pre_q31(h, tp, cached, i, &pre);
+    wheel_basis_q31(h, tp, &pre, i, mu, turn, fj, f);
+    lat_map_q31(veh, h->cos_delta, h->sin_delta, i, &bm);
+    slip_sens_q31(h, veh, tp, u, i, pre.tan_a, &ss);
+    wheel_rows_q31(&bm, fj, &ss, w);
+    wheel_velocity_q31(veh, u, i, ci, si, vw, pos);
+    body_rows_q31(&bm, rfe_xf_neg(f[1]), f[0], ft);
     for (j = 0u; j < (size_t)RFE_INPUTS; ++j) {
         if ((sd[j] > 0) && (rfe_input_reaches(j, i) != 0)) {
             rfe_xf_t dv[3];
-            rfe_slip_dir_q31_t d;
-            rfe_xf_t dfx;
-            rfe_xf_t dfy;
-            const int turns = input_change_q31(veh, j, pos, bm.ci, bm.si, vw, dv);
-            d = input_direction_q31(h, veh, tp, u, i, pre.tan_a, dv);
-            dfx = rfe_xf_add(rfe_xf_add(rfe_xf_mul(d.k, fj[0].dfx), rfe_xf_mul(d.tan_a, fj[1].dfx)),
-                             rfe_xf_mul(d.vwx, fj[2].dfx));
-            dfy = rfe_xf_add(rfe_xf_add(rfe_xf_mul(d.k, fj[0].dfy), rfe_xf_mul(d.tan_a, fj[1].dfy)),
-                             rfe_xf_mul(d.vwx, fj[2].dfy));
-            if (turns != 0) {
-                /* d(R(delta) F) = R(delta) (dF + (-Fy, Fx)) */
-                dfx = rfe_xf_sub(dfx, f[1]);
-                dfy = rfe_xf_add(dfy, f[0]);
+            size_t r;
+            input_change_q31(veh, j, pos, ci, si, vw, dv);
+            for (r = 0u; r < (size_t)RFE_MEAS; ++r) {
+                rfe_xf_t acc = rfe_xf_add(rfe_xf_mul(w[r], dv[0]), rfe_xf_mul(w[3u + r], dv[1]));
+                acc = rfe_xf_add(acc, rfe_xf_mul(w[6u + r], dv[2]));
+                if (j == (size_t)RFE_IN_DELTA) {
+                    acc = rfe_xf_add(acc, ft[r]);
+                }
+                D[(j * (size_t)RFE_MEAS) + r] = rfe_xf_add(D[(j * (size_t)RFE_MEAS) + r], acc);
             }
-            body_add3_q31(&bm, dfx, dfy, &D[j * (size_t)RFE_MEAS]);
         }
     }
 }
