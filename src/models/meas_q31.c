@@ -712,24 +712,23 @@ static void slip_sens_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh,
     }
 }
 
-/* Wheel i's velocity in wheel axes (vw[0] = v_wx, vw[1] = v_wy) and its position (pos[0] = x,
- * pos[1] = y, m) in rfe_xf_t; ci, si the cos, sin of its steer angle. */
+/* Wheel i's velocity in wheel axes (vw[0] = v_wx, vw[1] = v_wy) in Q21 (int32); c, s the cos,
+ * sin of its steer angle (Q30). The body velocity at the wheel, v_i = (vx - r y_i, vy + r x_i):
+ * vx, vy Q23 and r y_i (Q27 x Q29 = Q56, exact) in Q56 would overflow, so each is rounded to
+ * Q21 (r y_i once, 2^-22 m/s): |vx| + |r y_i| < 256 + 16 4 < 2^8.4, < 2^29.4 in Q21; rotated
+ * (Q21 x Q30, a sum of two < 2^60.9) and rounded once more to Q21 (|v_w| <= |v_i| < 2^8.9 m/s):
+ * within 2^-21 m/s of the exact. */
 static void wheel_velocity_q31(const rfe_vehicle_q31_t *veh, const rfe_sample_q31_t *u,
-                               size_t i, rfe_xf_t ci, rfe_xf_t si, rfe_xf_t vw[2],
-                               rfe_xf_t pos[2])
+                               size_t i, int32_t c, int32_t s, int32_t vw[2])
 {
-    const int32_t y = (i < (size_t)RFE_RL) ? veh->yf : veh->yr;
-    const rfe_xf_t r = rfe_xf_of(u->yaw_rate, (int)RFE_FIX_Q_YAWRATE);
-    rfe_xf_t vbx;
-    rfe_xf_t vby;
-    pos[0] = rfe_xf_of((i < (size_t)RFE_RL) ? veh->Lf : -veh->Lr, (int)RFE_FIX_Q_LEN);
-    pos[1] = rfe_xf_of(((i == (size_t)RFE_FL) || (i == (size_t)RFE_RL)) ? y : -y,
-                       (int)RFE_FIX_Q_LEN);
-    /* v_i = (vx - r y_i, vy + r x_i), rotated into wheel axes */
-    vbx = rfe_xf_sub(rfe_xf_of(u->vx, (int)RFE_FIX_Q_SPEED), rfe_xf_mul(r, pos[1]));
-    vby = rfe_xf_add(rfe_xf_of(u->vy, (int)RFE_FIX_Q_SPEED), rfe_xf_mul(r, pos[0]));
-    vw[0] = rfe_xf_add(rfe_xf_mul(vbx, ci), rfe_xf_mul(vby, si));
-    vw[1] = rfe_xf_sub(rfe_xf_mul(vby, ci), rfe_xf_mul(vbx, si));
+    const int64_t x = (i < (size_t)RFE_RL) ? (int64_t)veh->Lf : -(int64_t)veh->Lr;
+    const int64_t yy = (i < (size_t)RFE_RL) ? (int64_t)veh->yf : (int64_t)veh->yr;
+    const int64_t y = ((i == (size_t)RFE_FL) || (i == (size_t)RFE_RL)) ? yy : -yy;
+    const int64_t r = (int64_t)u->yaw_rate;
+    const int64_t vbx = rfe_fix_shr64_round((int64_t)u->vx, 2u) - rfe_fix_shr64_round(r * y, 35u);
+    const int64_t vby = rfe_fix_shr64_round((int64_t)u->vy, 2u) + rfe_fix_shr64_round(r * x, 35u);
+    vw[0] = (int32_t)rfe_fix_shr64_round((vbx * (int64_t)c) + (vby * (int64_t)s), 30u);
+    vw[1] = (int32_t)rfe_fix_shr64_round((vby * (int64_t)c) - (vbx * (int64_t)s), 30u);
 }
 
 /* Wheel i's forces' derivatives along unit changes of kappa, tan(alpha) and v_wx (meas_flt.c
@@ -805,55 +804,90 @@ static void wheel_rows_q31(const lat_map_q31_t *bm, const rfe_tyre_jac_q31_t fj[
     }
 }
 
-/* Input j's change of wheel i's velocity (d v_wx, d v_wy, d(omega R)) per unit, in rfe_xf_t
- * (meas_flt.c input_change): vx, vy, r move the body velocity (dbx, dby) = (1, 0), (0, 1),
- * (-y_i, x_i), rotated into wheel axes; delta turns the wheel velocity, (v_wy, -v_wx); the wheel's
- * own speed moves omega R by R. */
-static void input_change_q31(const rfe_vehicle_q31_t *veh, size_t j, const rfe_xf_t pos[2],
-                             rfe_xf_t ci, rfe_xf_t si, const rfe_xf_t vw[2], rfe_xf_t dv[3])
+/* Wheel i's rows per unit velocity change (w, rfe_xf_t) as integers at one exponent:
+ * w[k] = wm[k] 2^base (returned) with |wm[k]| <= 2^28, base = the largest exponent + 2, each
+ * rounded half up (1/2 unit, <= 2^-28 of the largest |w[k]|; all 0: base 0). */
+static int wheel_block_q31(const rfe_xf_t w[9], int64_t wm[9])
 {
-    const rfe_xf_t zero = rfe_xf_make(0, 0);
-    dv[0] = zero;
-    dv[1] = zero;
-    dv[2] = zero;
+    int emax = 0;
+    int any = 0;
+    size_t k;
+    for (k = 0u; k < 9u; ++k) {
+        if ((w[k].m != 0) && ((any == 0) || (w[k].e > emax))) {
+            emax = w[k].e;
+            any = 1;
+        }
+    }
+    for (k = 0u; k < 9u; ++k) {
+        wm[k] = 0;
+        if (w[k].m != 0) {
+            /* shift (emax + 2) - e >= 2; 64 or more gives 0 */
+            const int sh = (emax + 2) - w[k].e;
+            wm[k] = rfe_fix_shr64_round((int64_t)w[k].m, (unsigned int)sh);
+        }
+    }
+    return emax + 2;
+}
+
+/* Input j's change of wheel i's velocity (d v_wx, d v_wy, d(omega R)) per unit, integers in
+ * Q(returned), |.| <= 2^31 (meas_flt.c input_change): vx, vy, r move the body velocity (dbx,
+ * dby) = (1, 0), (0, 1), (-y_i, x_i), rotated into wheel axes by c, s (Q30): (c, -s) and (s,
+ * c) in Q30, r's in Q28 (lengths Q29 x Q30 = Q59, a sum of two exact, < 2^62, rounded by 31:
+ * |.| <= |(x_i, y_i)| < 4 sqrt 2 m, < 2^30.5); delta turns the wheel velocity, (v_wy, -v_wx) in
+ * Q21 (vw); the wheel's own speed moves omega R by R (Q29). */
+static int input_change_q31(const rfe_vehicle_q31_t *veh, size_t j, size_t i, int32_t c,
+                            int32_t s, const int32_t vw[2], int64_t dv[3])
+{
+    int q = 30;
+    dv[0] = 0;
+    dv[1] = 0;
+    dv[2] = 0;
     if (j == (size_t)RFE_IN_DELTA) {
         dv[0] = vw[1];
-        dv[1] = rfe_xf_neg(vw[0]);
+        dv[1] = -(int64_t)vw[0];
+        q = 21;
     } else if (j >= (size_t)RFE_IN_OMEGA) {
-        dv[2] = rfe_xf_of(veh->R, (int)RFE_FIX_Q_LEN);
+        dv[2] = veh->R;
+        q = (int)RFE_FIX_Q_LEN;
     } else if (j == (size_t)RFE_IN_VX) {
-        dv[0] = ci;
-        dv[1] = rfe_xf_neg(si);
+        dv[0] = c;
+        dv[1] = -(int64_t)s;
     } else if (j == (size_t)RFE_IN_VY) {
-        dv[0] = si;
-        dv[1] = ci;
+        dv[0] = s;
+        dv[1] = c;
     } else {
-        const rfe_xf_t dbx = rfe_xf_neg(pos[1]);
-        dv[0] = rfe_xf_add(rfe_xf_mul(dbx, ci), rfe_xf_mul(pos[0], si));
-        dv[1] = rfe_xf_sub(rfe_xf_mul(pos[0], ci), rfe_xf_mul(dbx, si));
+        const int64_t x = (i < (size_t)RFE_RL) ? (int64_t)veh->Lf : -(int64_t)veh->Lr;
+        const int64_t yy = (i < (size_t)RFE_RL) ? (int64_t)veh->yf : (int64_t)veh->yr;
+        const int64_t y = ((i == (size_t)RFE_FL) || (i == (size_t)RFE_RL)) ? yy : -yy;
+        dv[0] = rfe_fix_shr64_round((x * (int64_t)s) - (y * (int64_t)c), 31u);
+        dv[1] = rfe_fix_shr64_round((x * (int64_t)c) + (y * (int64_t)s), 31u);
+        q = 28;
     }
+    return q;
 }
 
 /* Adds wheel i's terms of dh/du_j for every noisy input j (sd[j] > 0) to D (input j's three
- * rows at D[j RFE_MEAS ..]): its rows per unit velocity change (wheel_rows_q31) times the
- * input's change of that velocity, and for delta the turn of the forces,
- * d(R(delta) F) = R(delta) (dF + (-Fy, Fx)). */
+ * rows at D[j RFE_MEAS ..]): its rows per unit velocity change (wheel_rows_q31, as integers at
+ * one exponent, wheel_block_q31) times the input's change of that velocity (input_change_q31),
+ * three products summed exactly in int64 (|.| <= 3 2^28 2^31 < 2^61) and rounded once into
+ * rfe_xf_t; for delta also the turn of the forces, d(R(delta) F) = R(delta) (dF + (-Fy, Fx)). */
 static void wheel_input_sums_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh,
                                  const rfe_tyre_params_q31_t *tp, const rfe_sample_q31_t *u,
                                  int cached, size_t i, rfe_fix_t mu, const rfe_fix_t *sd,
                                  rfe_xf_t *D)
 {
-    const rfe_xf_t ci = rfe_xf_of((i < (size_t)RFE_RL) ? h->cos_delta : ONE_Q30, 30);
-    const rfe_xf_t si = rfe_xf_of((i < (size_t)RFE_RL) ? h->sin_delta : 0, 30);
+    const int32_t c = (i < (size_t)RFE_RL) ? h->cos_delta : ONE_Q30;
+    const int32_t s = (i < (size_t)RFE_RL) ? h->sin_delta : 0;
     lat_map_q31_t bm;
     rfe_dugoff_pre_q31_t pre;
     rfe_tyre_jac_q31_t fj[3];
     slip_sens_q31_t ss;
     rfe_xf_t w[9];
+    int64_t wm[9];
     rfe_xf_t ft[3];
-    rfe_xf_t vw[2];
-    rfe_xf_t pos[2];
+    int32_t vw[2];
     rfe_xf_t f[2];
+    int base;
     size_t j;
     int turn = 0;
     if ((i < (size_t)RFE_RL) && (sd[RFE_IN_DELTA] > 0)) {
@@ -864,20 +898,22 @@ static void wheel_input_sums_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_
     lat_map_q31(veh, h->cos_delta, h->sin_delta, i, &bm);
     slip_sens_q31(h, veh, tp, u, i, pre.tan_a, &ss);
     wheel_rows_q31(&bm, fj, &ss, w);
-    wheel_velocity_q31(veh, u, i, ci, si, vw, pos);
+    base = wheel_block_q31(w, wm);
+    wheel_velocity_q31(veh, u, i, c, s, vw);
     body_rows_q31(&bm, rfe_xf_neg(f[1]), f[0], ft);
     for (j = 0u; j < (size_t)RFE_INPUTS; ++j) {
         if ((sd[j] > 0) && (rfe_input_reaches(j, i) != 0)) {
-            rfe_xf_t dv[3];
+            int64_t dv[3];
             size_t r;
-            input_change_q31(veh, j, pos, ci, si, vw, dv);
+            const int q = input_change_q31(veh, j, i, c, s, vw, dv);
             for (r = 0u; r < (size_t)RFE_MEAS; ++r) {
-                rfe_xf_t acc = rfe_xf_add(rfe_xf_mul(w[r], dv[0]), rfe_xf_mul(w[3u + r], dv[1]));
-                acc = rfe_xf_add(acc, rfe_xf_mul(w[6u + r], dv[2]));
+                const int64_t acc =
+                    (wm[r] * dv[0]) + (wm[3u + r] * dv[1]) + (wm[6u + r] * dv[2]);
+                rfe_xf_t t = rfe_xf_make(acc, base - q);
                 if (j == (size_t)RFE_IN_DELTA) {
-                    acc = rfe_xf_add(acc, ft[r]);
+                    t = rfe_xf_add(t, ft[r]);
                 }
-                D[(j * (size_t)RFE_MEAS) + r] = rfe_xf_add(D[(j * (size_t)RFE_MEAS) + r], acc);
+                D[(j * (size_t)RFE_MEAS) + r] = rfe_xf_add(D[(j * (size_t)RFE_MEAS) + r], t);
             }
         }
     }
