@@ -804,10 +804,25 @@ static void wheel_rows_q31(const lat_map_q31_t *bm, const rfe_tyre_jac_q31_t fj[
     }
 }
 
-/* Wheel i's rows per unit velocity change (w, rfe_xf_t) as integers at one exponent:
- * w[k] = wm[k] 2^base (returned) with |wm[k]| <= 2^28, base = the largest exponent + 2, each
- * rounded half up (1/2 unit, <= 2^-28 of the largest |w[k]|; all 0: base 0). */
-static int wheel_block_q31(const rfe_xf_t w[9], int64_t wm[9])
+/* One wheel's part of the input columns (wheel_prepare_q31): its rows per unit change of its
+ * velocity (v_wx, v_wy, omega R) as integers at one exponent, wm[k] 2^base (|wm| <= 2^27; all
+ * 0: any = 0), its velocity in wheel axes (Q21), the cos and sin of its steer angle (Q30) and
+ * the rows of its turned forces for delta (rfe_xf_t; zeros unless a front wheel with sd_delta
+ * > 0). */
+typedef struct {
+    int32_t wm[9];
+    int base;
+    int any;
+    int32_t vw[2];
+    int32_t c;
+    int32_t s;
+    rfe_xf_t ft[3];
+} wheel_cols_q31_t;
+
+/* wc's rows per unit velocity change from w (rfe_xf_t): base = the largest exponent + 3, each
+ * mantissa shifted to it and rounded half up (1/2 unit: <= 2^-27 of the largest |w[k]|, whose
+ * mantissa there is >= 2^26). */
+static void wheel_block_q31(const rfe_xf_t w[9], wheel_cols_q31_t *wc)
 {
     int emax = 0;
     int any = 0;
@@ -819,24 +834,25 @@ static int wheel_block_q31(const rfe_xf_t w[9], int64_t wm[9])
         }
     }
     for (k = 0u; k < 9u; ++k) {
-        wm[k] = 0;
+        wc->wm[k] = 0;
         if (w[k].m != 0) {
-            /* shift (emax + 2) - e >= 2; 64 or more gives 0 */
-            const int sh = (emax + 2) - w[k].e;
-            wm[k] = rfe_fix_shr64_round((int64_t)w[k].m, (unsigned int)sh);
+            /* shift (emax + 3) - e >= 3; 64 or more gives 0 */
+            const int sh = (emax + 3) - w[k].e;
+            wc->wm[k] = (int32_t)rfe_fix_shr64_round((int64_t)w[k].m, (unsigned int)sh);
         }
     }
-    return emax + 2;
+    wc->base = emax + 3;
+    wc->any = any;
 }
 
 /* Input j's change of wheel i's velocity (d v_wx, d v_wy, d(omega R)) per unit, integers in
- * Q(returned), |.| <= 2^31 (meas_flt.c input_change): vx, vy, r move the body velocity (dbx,
+ * Q(returned), |.| < 2^31 (meas_flt.c input_change): vx, vy, r move the body velocity (dbx,
  * dby) = (1, 0), (0, 1), (-y_i, x_i), rotated into wheel axes by c, s (Q30): (c, -s) and (s,
  * c) in Q30, r's in Q28 (lengths Q29 x Q30 = Q59, a sum of two exact, < 2^62, rounded by 31:
  * |.| <= |(x_i, y_i)| < 4 sqrt 2 m, < 2^30.5); delta turns the wheel velocity, (v_wy, -v_wx) in
  * Q21 (vw); the wheel's own speed moves omega R by R (Q29). */
 static int input_change_q31(const rfe_vehicle_q31_t *veh, size_t j, size_t i, int32_t c,
-                            int32_t s, const int32_t vw[2], int64_t dv[3])
+                            int32_t s, const int32_t vw[2], int32_t dv[3])
 {
     int q = 30;
     dv[0] = 0;
@@ -844,14 +860,14 @@ static int input_change_q31(const rfe_vehicle_q31_t *veh, size_t j, size_t i, in
     dv[2] = 0;
     if (j == (size_t)RFE_IN_DELTA) {
         dv[0] = vw[1];
-        dv[1] = -(int64_t)vw[0];
+        dv[1] = -vw[0];
         q = 21;
     } else if (j >= (size_t)RFE_IN_OMEGA) {
         dv[2] = veh->R;
         q = (int)RFE_FIX_Q_LEN;
     } else if (j == (size_t)RFE_IN_VX) {
         dv[0] = c;
-        dv[1] = -(int64_t)s;
+        dv[1] = -s;
     } else if (j == (size_t)RFE_IN_VY) {
         dv[0] = s;
         dv[1] = c;
@@ -859,79 +875,141 @@ static int input_change_q31(const rfe_vehicle_q31_t *veh, size_t j, size_t i, in
         const int64_t x = (i < (size_t)RFE_RL) ? (int64_t)veh->Lf : -(int64_t)veh->Lr;
         const int64_t yy = (i < (size_t)RFE_RL) ? (int64_t)veh->yf : (int64_t)veh->yr;
         const int64_t y = ((i == (size_t)RFE_FL) || (i == (size_t)RFE_RL)) ? yy : -yy;
-        dv[0] = rfe_fix_shr64_round((x * (int64_t)s) - (y * (int64_t)c), 31u);
-        dv[1] = rfe_fix_shr64_round((x * (int64_t)c) + (y * (int64_t)s), 31u);
+        dv[0] = (int32_t)rfe_fix_shr64_round((x * (int64_t)s) - (y * (int64_t)c), 31u);
+        dv[1] = (int32_t)rfe_fix_shr64_round((x * (int64_t)c) + (y * (int64_t)s), 31u);
         q = 28;
     }
     return q;
 }
 
-/* Adds wheel i's terms of dh/du_j for every noisy input j (sd[j] > 0) to D (input j's three
- * rows at D[j RFE_MEAS ..]): its rows per unit velocity change (wheel_rows_q31, as integers at
- * one exponent, wheel_block_q31) times the input's change of that velocity (input_change_q31),
- * three products summed exactly in int64 (|.| <= 3 2^28 2^31 < 2^61) and rounded once into
- * rfe_xf_t; for delta also the turn of the forces, d(R(delta) F) = R(delta) (dF + (-Fy, Fx)). */
-static void wheel_input_sums_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh,
-                                 const rfe_tyre_params_q31_t *tp, const rfe_sample_q31_t *u,
-                                 int cached, size_t i, rfe_fix_t mu, const rfe_fix_t *sd,
-                                 rfe_xf_t *D)
+/* Wheel i's part of the input columns (wheel_cols_q31_t): its rows per unit velocity change
+ * (wheel_rows_q31, then wheel_block_q31), its velocity, and for delta the rows of the turn of
+ * its forces, d(R(delta) F) = R(delta) (dF + (-Fy, Fx)). */
+static void wheel_prepare_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh,
+                              const rfe_tyre_params_q31_t *tp, const rfe_sample_q31_t *u,
+                              int cached, size_t i, rfe_fix_t mu, const rfe_fix_t *sd,
+                              wheel_cols_q31_t *wc)
 {
-    const int32_t c = (i < (size_t)RFE_RL) ? h->cos_delta : ONE_Q30;
-    const int32_t s = (i < (size_t)RFE_RL) ? h->sin_delta : 0;
     lat_map_q31_t bm;
     rfe_dugoff_pre_q31_t pre;
     rfe_tyre_jac_q31_t fj[3];
     slip_sens_q31_t ss;
     rfe_xf_t w[9];
-    int64_t wm[9];
-    rfe_xf_t ft[3];
-    int32_t vw[2];
     rfe_xf_t f[2];
-    int base;
-    size_t j;
     int turn = 0;
     if ((i < (size_t)RFE_RL) && (sd[RFE_IN_DELTA] > 0)) {
         turn = 1;
     }
+    wc->c = (i < (size_t)RFE_RL) ? h->cos_delta : ONE_Q30;
+    wc->s = (i < (size_t)RFE_RL) ? h->sin_delta : 0;
     jac_pre_q31(h, tp, cached, i, &pre);
     wheel_basis_q31(h, tp, &pre, i, mu, turn, fj, f);
     lat_map_q31(veh, h->cos_delta, h->sin_delta, i, &bm);
     slip_sens_q31(h, veh, tp, u, i, pre.tan_a, &ss);
     wheel_rows_q31(&bm, fj, &ss, w);
-    base = wheel_block_q31(w, wm);
-    wheel_velocity_q31(veh, u, i, c, s, vw);
-    body_rows_q31(&bm, rfe_xf_neg(f[1]), f[0], ft);
-    for (j = 0u; j < (size_t)RFE_INPUTS; ++j) {
-        if ((sd[j] > 0) && (rfe_input_reaches(j, i) != 0)) {
-            int64_t dv[3];
-            size_t r;
-            const int q = input_change_q31(veh, j, i, c, s, vw, dv);
-            for (r = 0u; r < (size_t)RFE_MEAS; ++r) {
-                const int64_t acc =
-                    (wm[r] * dv[0]) + (wm[3u + r] * dv[1]) + (wm[6u + r] * dv[2]);
-                rfe_xf_t t = rfe_xf_make(acc, base - q);
-                if (j == (size_t)RFE_IN_DELTA) {
-                    t = rfe_xf_add(t, ft[r]);
-                }
-                D[(j * (size_t)RFE_MEAS) + r] = rfe_xf_add(D[(j * (size_t)RFE_MEAS) + r], t);
-            }
-        }
-    }
+    wheel_block_q31(w, wc);
+    wheel_velocity_q31(veh, u, i, wc->c, wc->s, wc->vw);
+    body_rows_q31(&bm, rfe_xf_neg(f[1]), f[0], wc->ft);
 }
 
-/* G[r RFE_INPUTS + j] (Q24) = sd_j (in input j's format) times D[j RFE_MEAS + r], rounded once,
- * saturating (counted in *count). */
-static void scaled_columns_q31(const rfe_xf_t *D, const rfe_fix_t sd[RFE_INPUTS],
-                               rfe_fix_t G[(size_t)RFE_MEAS * (size_t)RFE_INPUTS], uint32_t *count)
+/* sum 2^e times sd (Q(qsd), > 0) in Q24, rounded half up, saturating (counted in *count): sum
+ * (|.| < 2^63) rounded to 31 bits first (2^-31 relative), its product with sd (< 2^62)
+ * rounded once more. */
+static rfe_fix_t scaled_entry_q31(int64_t sum, int e, rfe_fix_t sd, int qsd, uint32_t *count)
 {
+    const unsigned int len = rfe_q31_bitlen64(rfe_q31_mag64(sum));
+    const unsigned int sh = (len > 31u) ? (unsigned int)(len - 31u) : 0u;
+    const int64_t p = rfe_fix_shr64_round(sum, sh) * (int64_t)sd;
+    const int k = ((e + (int)sh) - qsd) + 24;
+    int64_t v;
+    if (k < 0) {
+        v = rfe_fix_shr64_round(p, (unsigned int)(-k));
+    } else if ((p == 0) || ((rfe_q31_bitlen64(rfe_q31_mag64(p)) + (unsigned int)k) <= 62u)) {
+        v = p * rfe_q31_pow2((unsigned int)k);
+    } else {
+        v = (p > 0) ? INT64_MAX : -INT64_MAX; /* beyond 2^62: saturates */
+    }
+    return rfe_fix_sat32(v, count);
+}
+
+/* Row r of input j's column over the wheels it reaches: each wheel's rows times the input's
+ * change of its velocity (input_change_q31, Q(q)), three exact products (|.| <= 3 2^27 2^31 <
+ * 2^60), at the exponent base - q; for delta also the turned forces' rows (mantissa <= 2^30).
+ * All terms are brought to the largest of their exponents, E (for the forces' terms their
+ * exponent - 30; a smaller term rounded half up, 1/2 unit of 2^E: the W terms' units are 2^-27
+ * of each wheel's largest row entry times the unit of the velocity change), and summed exactly
+ * (at most four wheels and two turned forces, each < 2^60: < 2^63): the sum is returned, E in
+ * *e. */
+static int64_t column_row_q31(const wheel_cols_q31_t wc[RFE_WHEELS], const int32_t *dv,
+                              const int reach[RFE_WHEELS], int q, int delta, size_t r, int *e)
+{
+    int64_t term[2u * (size_t)RFE_WHEELS];
+    int ex[2u * (size_t)RFE_WHEELS];
+    int emax = 0;
+    int any = 0;
+    int64_t sum = 0;
+    size_t n = 0u;
     size_t i;
-    size_t j;
-    for (j = 0u; j < (size_t)RFE_INPUTS; ++j) {
-        const rfe_xf_t s = rfe_xf_of((sd[j] > 0) ? sd[j] : 0, input_q_q31(j));
-        for (i = 0u; i < (size_t)RFE_MEAS; ++i) {
-            G[(i * (size_t)RFE_INPUTS) + j] = rfe_xf_to_fix(
-                rfe_xf_mul(s, D[(j * (size_t)RFE_MEAS) + i]), (int)RFE_FIX_Q_ACC, count);
+    size_t k;
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        if ((reach[i] != 0) && (wc[i].any != 0)) {
+            const int32_t *d = &dv[3u * i];
+            term[n] = ((int64_t)wc[i].wm[r] * d[0]) + ((int64_t)wc[i].wm[3u + r] * d[1]) +
+                      ((int64_t)wc[i].wm[6u + r] * d[2]);
+            ex[n] = wc[i].base - q;
+            ++n;
         }
+        if ((reach[i] != 0) && (delta != 0) && (wc[i].ft[r].m != 0)) {
+            term[n] = (int64_t)wc[i].ft[r].m * rfe_q31_pow2(30u);
+            ex[n] = wc[i].ft[r].e - 30;
+            ++n;
+        }
+    }
+    for (k = 0u; k < n; ++k) {
+        if ((any == 0) || (ex[k] > emax)) {
+            emax = ex[k];
+            any = 1;
+        }
+    }
+    for (k = 0u; k < n; ++k) {
+        const int d = emax - ex[k];
+        sum += rfe_fix_shr64_round(term[k], (unsigned int)d);
+    }
+    *e = emax;
+    return sum;
+}
+
+/* Input j's column (G[r RFE_INPUTS + j], Q24): sd_j (in input j's format) times dh/du_j, each
+ * row rounded once, saturating (counted in *count); 0 for sd_j <= 0. */
+static void input_column_q31(const wheel_cols_q31_t wc[RFE_WHEELS], const rfe_vehicle_q31_t *veh,
+                             size_t j, rfe_fix_t sdj,
+                             rfe_fix_t G[(size_t)RFE_MEAS * (size_t)RFE_INPUTS], uint32_t *count)
+{
+    int32_t dv[3u * (size_t)RFE_WHEELS];
+    int reach[RFE_WHEELS];
+    int q = 30;
+    int delta = 0;
+    size_t i;
+    size_t r;
+    for (r = 0u; r < (size_t)RFE_MEAS; ++r) {
+        G[(r * (size_t)RFE_INPUTS) + j] = 0;
+    }
+    if (sdj <= 0) {
+        return;
+    }
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        reach[i] = rfe_input_reaches(j, i);
+        if (reach[i] != 0) {
+            q = input_change_q31(veh, j, i, wc[i].c, wc[i].s, wc[i].vw, &dv[3u * i]);
+        }
+    }
+    if (j == (size_t)RFE_IN_DELTA) {
+        delta = 1;
+    }
+    for (r = 0u; r < (size_t)RFE_MEAS; ++r) {
+        int e = 0;
+        const int64_t sum = column_row_q31(wc, dv, reach, q, delta, r, &e);
+        G[(r * (size_t)RFE_INPUTS) + j] = scaled_entry_q31(sum, e, sdj, input_q_q31(j), count);
     }
 }
 
@@ -956,7 +1034,7 @@ rfe_status_t rfe_meas_input_jac_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q
                                     const rfe_fix_t sd[RFE_INPUTS],
                                     rfe_fix_t G[(size_t)RFE_MEAS * (size_t)RFE_INPUTS], uint32_t *sat)
 {
-    rfe_xf_t D[(size_t)RFE_INPUTS * (size_t)RFE_MEAS];
+    wheel_cols_q31_t wc[RFE_WHEELS];
     uint32_t count = 0u;
     int cached;
     size_t i;
@@ -969,14 +1047,13 @@ rfe_status_t rfe_meas_input_jac_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q
     if (st != RFE_OK) {
         return st;
     }
-    for (i = 0u; i < ((size_t)RFE_INPUTS * (size_t)RFE_MEAS); ++i) {
-        D[i] = rfe_xf_make(0, 0);
-    }
     cached = pre_matches_q31(h, tp);
     for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
-        wheel_input_sums_q31(h, veh, tp, u, cached, i, mu[i], sd, D);
+        wheel_prepare_q31(h, veh, tp, u, cached, i, mu[i], sd, &wc[i]);
     }
-    scaled_columns_q31(D, sd, G, &count);
+    for (i = 0u; i < (size_t)RFE_INPUTS; ++i) {
+        input_column_q31(wc, veh, i, sd[i], G, &count);
+    }
     rfe_q31_sat_add(sat, count);
     return RFE_OK;
 }
