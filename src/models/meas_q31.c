@@ -461,35 +461,10 @@ static void jac_pre_q31(const rfe_meas_q31_t *h, const rfe_tyre_params_q31_t *tp
     }
 }
 
-/* Wheel i's map of a force pair (wheel axes) into its body terms (rows ay, r-dot): the
- * geometry of wheel_terms_q31 (x_i / J, y_i / J, 1 / m: Q38) in rfe_xf_t, formed once per
- * wheel for its two force pairs. */
-typedef struct {
-    rfe_xf_t ci;
-    rfe_xf_t si;
-    rfe_xf_t inv_m;
-    rfe_xf_t px_J;
-    rfe_xf_t py_J;
-} body_map_q31_t;
-
-static body_map_q31_t body_map_q31(const rfe_vehicle_q31_t *veh, int32_t c, int32_t s, size_t i)
-{
-    const int32_t px_J = (i < (size_t)RFE_RL) ? veh->lf_J : -veh->lr_J;
-    const int32_t y_J = (i < (size_t)RFE_RL) ? veh->yf_J : veh->yr_J;
-    const int32_t py_J = ((i == (size_t)RFE_FL) || (i == (size_t)RFE_RL)) ? y_J : -y_J;
-    body_map_q31_t b;
-    b.ci = rfe_xf_of((i < (size_t)RFE_RL) ? c : ONE_Q30, 30);
-    b.si = rfe_xf_of((i < (size_t)RFE_RL) ? s : 0, 30);
-    b.inv_m = rfe_xf_of(veh->inv_m, 38);
-    b.px_J = rfe_xf_of(px_J, 38);
-    b.py_J = rfe_xf_of(py_J, 38);
-    return b;
-}
-
 /* Wheel i's map of a force pair (wheel axes) into the lateral rows' body terms (ay, r-dot):
  * the rotation by the steer angle folded into the geometry, ay += fx ax + fy ay and r-dot +=
  * fx rx + fy ry with (c, s the steer angle's cos and sin on the front axle, 1 and 0 on the
- * rear; x_i / J, y_i / J the signed lever arms of body_map_q31):
+ * rear; x_i / J, y_i / J the signed lever arms of wheel_terms_q31):
  *   ax = s / m,  ay = c / m,  rx = s x_i / J - c y_i / J,  ry = c x_i / J + s y_i / J.
  * Each coefficient is formed exactly in int64 (Q30 x Q38 = Q68, each product < 2^61, a sum of
  * two < 2^62) and rounded once to rfe_xf_t (2^-30 relative), where the rotation and the
@@ -684,221 +659,357 @@ static int input_q_q31(size_t j)
     return q;
 }
 
-/* Wheel i's slip direction (meas_flt.c input_direction) for a change dv = (d v_wx, d v_wy,
- * d(omega R)) in rfe_xf_t; tan_a its tan(alpha) (Q26). den = max(|omega R|, |v_wx|, v_min)
- * in Q51, as the kinematics form it (vy_direction_q31). */
-static rfe_slip_dir_q31_t input_direction_q31(const rfe_meas_q31_t *h,
-                                              const rfe_vehicle_q31_t *veh,
-                                              const rfe_tyre_params_q31_t *tp,
-                                              const rfe_sample_q31_t *u, size_t i,
-                                              int32_t tan_a, const rfe_xf_t dv[3])
+/* Wheel i's slips' changes per unit change of its velocity (v_wx, v_wy, omega R), the chain
+ * of meas_flt.c input_direction written per unit of each speed: tan(alpha) by v_wx (tx) and
+ * v_wy (ty), kappa by v_wx (kx) and omega R (kr); zero where the slip is clamped. Each one a
+ * quotient of two exact integers, one rounding (2^-30 relative): tan_a (Q26) and the Q30
+ * numerators 1 +- kappa (|.| <= 2^31) over |v_wx| (Q23) or den = max(|omega R|, |v_wx|, v_min)
+ * (Q51), as the kinematics form it (vy_direction_q31). */
+typedef struct {
+    rfe_xf_t tx;
+    rfe_xf_t ty;
+    rfe_xf_t kx;
+    rfe_xf_t kr;
+} slip_sens_q31_t;
+
+static void slip_sens_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh,
+                          const rfe_tyre_params_q31_t *tp, const rfe_sample_q31_t *u, size_t i,
+                          int32_t tan_a, slip_sens_q31_t *ss)
 {
     const int32_t vwx = h->kin.vwx[i];
     const int32_t kappa = h->kin.kappa[i];
     const int sv = rfe_q31_sign(vwx);
-    const rfe_xf_t one = rfe_xf_make(1, 0);
-    rfe_slip_dir_q31_t d;
-    d.vwx = dv[0];
-    d.tan_a = rfe_xf_make(0, 0);
-    d.k = rfe_xf_make(0, 0);
+    const rfe_xf_t zero = rfe_xf_make(0, 0);
+    ss->tx = zero;
+    ss->ty = zero;
+    ss->kx = zero;
+    ss->kr = zero;
     if ((rfe_q31_within(h->kin.alpha[i], tp->alpha_max - 1) != 0) && (vwx != 0)) {
-        /* -(d v_wy + t sgn(v_wx) d v_wx) / |v_wx| */
-        const rfe_xf_t ts = rfe_xf_mul(rfe_xf_of((sv > 0) ? tan_a : -tan_a, 26), dv[0]);
+        /* d tan(alpha) = -(d v_wy + t sgn(v_wx) d v_wx) / |v_wx| */
         const rfe_xf_t avx = rfe_xf_of((vwx < 0) ? -vwx : vwx, (int)RFE_FIX_Q_SPEED);
-        d.tan_a = rfe_xf_neg(rfe_xf_div(rfe_xf_add(dv[1], ts), avx));
+        ss->ty = rfe_xf_div(rfe_xf_make(-1, 0), avx);
+        ss->tx = rfe_xf_div(rfe_xf_of((sv > 0) ? -tan_a : tan_a, 26), avx);
     }
     if (rfe_q31_within(kappa, ONE_Q30 - 1) != 0) {
-        /* (d(omega R) (1 - [den = |omega R|] kappa sgn(omega R))
-         *  - d v_wx (1 + [den = |v_wx|] kappa sgn(v_wx))) / den, the speeds in Q51 */
+        /* d kappa = (d(omega R) (1 - [den = |omega R|] kappa sgn(omega R))
+         *            - d v_wx (1 + [den = |v_wx|] kappa sgn(v_wx))) / den, the speeds in Q51 */
         const int64_t vr = (int64_t)u->omega[i] * (int64_t)veh->R;
         const uint64_t avr = rfe_q31_mag64(vr);
         const uint64_t avx = (uint64_t)((vwx < 0) ? -(int64_t)vwx : (int64_t)vwx) << 28;
         const uint64_t vmin = (uint64_t)tp->v_min << 28;
         const uint64_t big = (avr > avx) ? avr : avx;
-        const uint64_t den = (big > vmin) ? big : vmin;
-        rfe_xf_t own_x = rfe_xf_make(0, 0);
-        rfe_xf_t own_r = rfe_xf_make(0, 0);
+        const rfe_xf_t den = rfe_xf_make((int64_t)((big > vmin) ? big : vmin), -51);
+        int64_t own_x = 0;
+        int64_t own_r = 0;
         if ((avx > avr) && (avx > vmin)) {
-            own_x = rfe_xf_of((sv > 0) ? kappa : -kappa, 30);
+            own_x = (sv > 0) ? (int64_t)kappa : -(int64_t)kappa;
         }
         if ((avr >= avx) && (avr > vmin)) {
-            own_r = rfe_xf_of((vr > 0) ? kappa : -kappa, 30);
+            own_r = (vr > 0) ? (int64_t)kappa : -(int64_t)kappa;
         }
-        d.k = rfe_xf_div(rfe_xf_sub(rfe_xf_mul(dv[2], rfe_xf_sub(one, own_r)),
-                                    rfe_xf_mul(dv[0], rfe_xf_add(one, own_x))),
-                         rfe_xf_make((int64_t)den, -51));
+        ss->kr = rfe_xf_div(rfe_xf_make((int64_t)ONE_Q30 - own_r, -30), den);
+        ss->kx = rfe_xf_div(rfe_xf_make(-((int64_t)ONE_Q30 + own_x), -30), den);
     }
-    return d;
 }
 
-/* Wheel i's velocity in wheel axes (vw[0] = v_wx, vw[1] = v_wy) and its position (pos[0] = x,
- * pos[1] = y, m) in rfe_xf_t; ci, si the cos, sin of its steer angle. */
+/* Wheel i's velocity in wheel axes (vw[0] = v_wx, vw[1] = v_wy) in Q21 (int32); c, s the cos,
+ * sin of its steer angle (Q30). The body velocity at the wheel, v_i = (vx - r y_i, vy + r x_i):
+ * vx, vy Q23 and r y_i (Q27 x Q29 = Q56, exact) in Q56 would overflow, so each is rounded to
+ * Q21 (r y_i once, 2^-22 m/s): |vx| + |r y_i| < 256 + 16 4 < 2^8.4, < 2^29.4 in Q21; rotated
+ * (Q21 x Q30, a sum of two < 2^60.9) and rounded once more to Q21 (|v_w| <= |v_i| < 2^8.9 m/s):
+ * within 2^-21 m/s of the exact. */
 static void wheel_velocity_q31(const rfe_vehicle_q31_t *veh, const rfe_sample_q31_t *u,
-                               size_t i, rfe_xf_t ci, rfe_xf_t si, rfe_xf_t vw[2],
-                               rfe_xf_t pos[2])
+                               size_t i, int32_t c, int32_t s, int32_t vw[2])
 {
-    const int32_t y = (i < (size_t)RFE_RL) ? veh->yf : veh->yr;
-    const rfe_xf_t r = rfe_xf_of(u->yaw_rate, (int)RFE_FIX_Q_YAWRATE);
-    rfe_xf_t vbx;
-    rfe_xf_t vby;
-    pos[0] = rfe_xf_of((i < (size_t)RFE_RL) ? veh->Lf : -veh->Lr, (int)RFE_FIX_Q_LEN);
-    pos[1] = rfe_xf_of(((i == (size_t)RFE_FL) || (i == (size_t)RFE_RL)) ? y : -y,
-                       (int)RFE_FIX_Q_LEN);
-    /* v_i = (vx - r y_i, vy + r x_i), rotated into wheel axes */
-    vbx = rfe_xf_sub(rfe_xf_of(u->vx, (int)RFE_FIX_Q_SPEED), rfe_xf_mul(r, pos[1]));
-    vby = rfe_xf_add(rfe_xf_of(u->vy, (int)RFE_FIX_Q_SPEED), rfe_xf_mul(r, pos[0]));
-    vw[0] = rfe_xf_add(rfe_xf_mul(vbx, ci), rfe_xf_mul(vby, si));
-    vw[1] = rfe_xf_sub(rfe_xf_mul(vby, ci), rfe_xf_mul(vbx, si));
-}
-
-/* Wheel i's velocity change dv per unit of input j (meas_flt.c input_change): returns 1 for
- * delta, which also turns the wheel's forces into the body axes. */
-static int input_change_q31(const rfe_vehicle_q31_t *veh, size_t j, const rfe_xf_t pos[2],
-                            rfe_xf_t ci, rfe_xf_t si, const rfe_xf_t vw[2], rfe_xf_t dv[3])
-{
-    const rfe_xf_t zero = rfe_xf_make(0, 0);
-    const rfe_xf_t one = rfe_xf_make(1, 0);
-    rfe_xf_t dbx = zero;
-    rfe_xf_t dby = zero;
-    int turns = 0;
-    dv[0] = zero;
-    dv[1] = zero;
-    dv[2] = zero;
-    if (j == (size_t)RFE_IN_DELTA) {
-        dv[0] = vw[1];
-        dv[1] = rfe_xf_neg(vw[0]);
-        turns = 1;
-    } else if (j >= (size_t)RFE_IN_OMEGA) {
-        dv[2] = rfe_xf_of(veh->R, (int)RFE_FIX_Q_LEN);
-    } else {
-        if (j == (size_t)RFE_IN_VX) {
-            dbx = one;
-        } else if (j == (size_t)RFE_IN_VY) {
-            dby = one;
-        } else {
-            dbx = rfe_xf_neg(pos[1]);
-            dby = pos[0];
-        }
-        dv[0] = rfe_xf_add(rfe_xf_mul(dbx, ci), rfe_xf_mul(dby, si));
-        dv[1] = rfe_xf_sub(rfe_xf_mul(dby, ci), rfe_xf_mul(dbx, si));
-    }
-    return turns;
-}
-
-/* Wheel i's forces (wheel axes, rfe_xf_t, N) at mu_i, for the turn of the front forces by
- * delta: the curve's (load-scaled modes; its saturations are the nominal evaluation's, not
- * counted again), mu F0 in paper mode (fj0: a derivative of rfe_tyre_pre_jac_q31, whose mfx,
- * mfy are F0 there). */
-static void wheel_forces_q31(const rfe_meas_q31_t *h, const rfe_tyre_params_q31_t *tp,
-                             const rfe_dugoff_pre_q31_t *pre, size_t i, rfe_fix_t mu,
-                             const rfe_tyre_jac_q31_t *fj0, rfe_xf_t f[2])
-{
-    if (h->mode == RFE_TYRE_PAPER) {
-        const rfe_xf_t mux = rfe_xf_of(mu, (int)RFE_FIX_Q_MU);
-        f[0] = rfe_xf_mul(mux, fj0->mfx);
-        f[1] = rfe_xf_mul(mux, fj0->mfy);
-    } else {
-        rfe_fix_t fx = 0;
-        rfe_fix_t fy = 0;
-        uint32_t scratch = 0u;
-        rfe_tyre_dugoff_abs_pre_q31(tp, pre, mu, h->kin.fz[i], &fx, &fy, &scratch);
-        f[0] = rfe_xf_of(fx, (int)RFE_FIX_Q_FORCE);
-        f[1] = rfe_xf_of(fy, (int)RFE_FIX_Q_FORCE);
-    }
-}
-
-/* The body terms (all three rows) of a force pair by the map b, added to acc[0..2]. */
-static void body_add3_q31(const body_map_q31_t *b, rfe_xf_t fx, rfe_xf_t fy, rfe_xf_t acc[3])
-{
-    const rfe_xf_t fbx = rfe_xf_sub(rfe_xf_mul(fx, b->ci), rfe_xf_mul(fy, b->si));
-    const rfe_xf_t fby = rfe_xf_add(rfe_xf_mul(fx, b->si), rfe_xf_mul(fy, b->ci));
-    acc[0] = rfe_xf_add(acc[0], rfe_xf_mul(fbx, b->inv_m));
-    acc[1] = rfe_xf_add(acc[1], rfe_xf_mul(fby, b->inv_m));
-    acc[2] = rfe_xf_add(acc[2], rfe_xf_sub(rfe_xf_mul(fby, b->px_J), rfe_xf_mul(fbx, b->py_J)));
+    const int64_t x = (i < (size_t)RFE_RL) ? (int64_t)veh->Lf : -(int64_t)veh->Lr;
+    const int64_t yy = (i < (size_t)RFE_RL) ? (int64_t)veh->yf : (int64_t)veh->yr;
+    const int64_t y = ((i == (size_t)RFE_FL) || (i == (size_t)RFE_RL)) ? yy : -yy;
+    const int64_t r = (int64_t)u->yaw_rate;
+    const int64_t vbx = rfe_fix_shr64_round((int64_t)u->vx, 2u) - rfe_fix_shr64_round(r * y, 35u);
+    const int64_t vby = rfe_fix_shr64_round((int64_t)u->vy, 2u) + rfe_fix_shr64_round(r * x, 35u);
+    vw[0] = (int32_t)rfe_fix_shr64_round((vbx * (int64_t)c) + (vby * (int64_t)s), 30u);
+    vw[1] = (int32_t)rfe_fix_shr64_round((vby * (int64_t)c) - (vbx * (int64_t)s), 30u);
 }
 
 /* Wheel i's forces' derivatives along unit changes of kappa, tan(alpha) and v_wx (meas_flt.c
- * wheel_basis; the Magic Formula's fj[2] is zero: its curve does not depend on v_wx). */
+ * wheel_basis; the Magic Formula's fj[2] is zero: its curve does not depend on v_wx; its curves
+ * are evaluated once for both, rfe_tyre_magic_basis_q31) and, where turn != 0, its forces
+ * (wheel axes) at mu_i for the turn of the front forces by delta: the curve's (load-scaled
+ * modes; its saturations are the nominal evaluation's, not counted again), mu F0 in paper mode
+ * (fj[0].mfx, fj[0].mfy are F0 there). */
 static void wheel_basis_q31(const rfe_meas_q31_t *h, const rfe_tyre_params_q31_t *tp,
-                            const rfe_dugoff_pre_q31_t *pre, size_t i, rfe_fix_t mu,
-                            rfe_tyre_jac_q31_t fj[3])
+                            const rfe_dugoff_pre_q31_t *pre, size_t i, rfe_fix_t mu, int turn,
+                            rfe_tyre_jac_q31_t fj[3], rfe_xf_t f[2])
 {
-    size_t nb = 3u;
     const rfe_xf_t zero = rfe_xf_make(0, 0);
-    const rfe_xf_t one = rfe_xf_make(1, 0);
-    size_t b;
-    if (tp->mode == RFE_TYRE_MAGIC) {
-        nb = 2u;
-    }
+    rfe_fix_t fx = 0;
+    rfe_fix_t fy = 0;
+    uint32_t scratch = 0u;
     fj[2].dfx = zero;
     fj[2].dfy = zero;
-    for (b = 0u; b < nb; ++b) {
-        rfe_slip_dir_q31_t e;
-        e.k = (b == 0u) ? one : zero;
-        e.tan_a = (b == 1u) ? one : zero;
-        e.vwx = (b == 2u) ? one : zero;
-        rfe_tyre_pre_jac_q31(tp, pre, h->kin.kappa[i], h->kin.vwx[i], h->kin.fz[i], mu, &e,
-                             &fj[b]);
+    if (tp->mode == RFE_TYRE_MAGIC) {
+        rfe_tyre_magic_basis_q31(tp, pre, h->kin.fz[i], mu, &fx, &fy, &scratch, fj);
+    } else {
+        const rfe_xf_t one = rfe_xf_make(1, 0);
+        size_t b;
+        for (b = 0u; b < 3u; ++b) {
+            rfe_slip_dir_q31_t e;
+            e.k = (b == 0u) ? one : zero;
+            e.tan_a = (b == 1u) ? one : zero;
+            e.vwx = (b == 2u) ? one : zero;
+            rfe_tyre_pre_jac_q31(tp, pre, h->kin.kappa[i], h->kin.vwx[i], h->kin.fz[i], mu,
+                                 &e, &fj[b]);
+        }
+        if ((turn != 0) && (h->mode != RFE_TYRE_PAPER)) {
+            rfe_tyre_dugoff_abs_pre_q31(tp, pre, mu, h->kin.fz[i], &fx, &fy, &scratch);
+        }
+    }
+    f[0] = rfe_xf_of(fx, (int)RFE_FIX_Q_FORCE);
+    f[1] = rfe_xf_of(fy, (int)RFE_FIX_Q_FORCE);
+    if (h->mode == RFE_TYRE_PAPER) {
+        const rfe_xf_t mux = rfe_xf_of(mu, (int)RFE_FIX_Q_MU);
+        f[0] = rfe_xf_mul(mux, fj[0].mfx);
+        f[1] = rfe_xf_mul(mux, fj[0].mfy);
     }
 }
 
-/* Adds wheel i's terms of dh/du_j for every noisy input j (sd[j] > 0) to D (input j's three
- * rows at D[j RFE_MEAS ..]). */
-static void wheel_input_sums_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh,
-                                 const rfe_tyre_params_q31_t *tp, const rfe_sample_q31_t *u,
-                                 int cached, size_t i, rfe_fix_t mu, const rfe_fix_t *sd,
-                                 rfe_xf_t *D)
+/* The body rows (ax, ay, r-dot) of a force pair (wheel axes) by the map b (lat_map_q31: the
+ * ax row is (fx c - fy s) / m = fx b->ay - fy b->ax). */
+static void body_rows_q31(const lat_map_q31_t *b, rfe_xf_t fx, rfe_xf_t fy, rfe_xf_t row[3])
 {
-    const body_map_q31_t bm = body_map_q31(veh, h->cos_delta, h->sin_delta, i);
+    row[0] = rfe_xf_sub(rfe_xf_mul(fx, b->ay), rfe_xf_mul(fy, b->ax));
+    row[1] = rfe_xf_add(rfe_xf_mul(fx, b->ax), rfe_xf_mul(fy, b->ay));
+    row[2] = rfe_xf_add(rfe_xf_mul(fx, b->rx), rfe_xf_mul(fy, b->ry));
+}
+
+/* Wheel i's body rows per unit change of its velocity in wheel axes: by v_wx (w[0..2]), v_wy
+ * (w[3..5]) and omega R (w[6..8]): the rows of each slip's force derivative (fj) times the
+ * slips' sensitivities ss, the chain of meas_flt.c input_direction and wheel_input_sums formed
+ * once per wheel instead of once per input. */
+static void wheel_rows_q31(const lat_map_q31_t *bm, const rfe_tyre_jac_q31_t fj[3],
+                           const slip_sens_q31_t *ss, rfe_xf_t w[9])
+{
+    rfe_xf_t bk[3];
+    rfe_xf_t bt[3];
+    rfe_xf_t bv[3];
+    size_t r;
+    body_rows_q31(bm, fj[0].dfx, fj[0].dfy, bk);
+    body_rows_q31(bm, fj[1].dfx, fj[1].dfy, bt);
+    body_rows_q31(bm, fj[2].dfx, fj[2].dfy, bv);
+    for (r = 0u; r < (size_t)RFE_MEAS; ++r) {
+        w[r] = rfe_xf_add(rfe_xf_add(rfe_xf_mul(bk[r], ss->kx), rfe_xf_mul(bt[r], ss->tx)),
+                          bv[r]);
+        w[3u + r] = rfe_xf_mul(bt[r], ss->ty);
+        w[6u + r] = rfe_xf_mul(bk[r], ss->kr);
+    }
+}
+
+/* One wheel's part of the input columns (wheel_prepare_q31): its rows per unit change of its
+ * velocity (v_wx, v_wy, omega R) as integers at one exponent, wm[k] 2^base (|wm| <= 2^27; all
+ * 0: any = 0), its velocity in wheel axes (Q21), the cos and sin of its steer angle (Q30) and
+ * the rows of its turned forces for delta (rfe_xf_t; zeros unless a front wheel with sd_delta
+ * > 0). */
+typedef struct {
+    int32_t wm[9];
+    int base;
+    int any;
+    int32_t vw[2];
+    int32_t c;
+    int32_t s;
+    rfe_xf_t ft[3];
+} wheel_cols_q31_t;
+
+/* wc's rows per unit velocity change from w (rfe_xf_t): base = the largest exponent + 3, each
+ * mantissa shifted to it and rounded half up (1/2 unit: <= 2^-27 of the largest |w[k]|, whose
+ * mantissa there is >= 2^26). */
+static void wheel_block_q31(const rfe_xf_t w[9], wheel_cols_q31_t *wc)
+{
+    int emax = 0;
+    int any = 0;
+    size_t k;
+    for (k = 0u; k < 9u; ++k) {
+        if ((w[k].m != 0) && ((any == 0) || (w[k].e > emax))) {
+            emax = w[k].e;
+            any = 1;
+        }
+    }
+    for (k = 0u; k < 9u; ++k) {
+        wc->wm[k] = 0;
+        if (w[k].m != 0) {
+            /* shift (emax + 3) - e >= 3; 64 or more gives 0 */
+            const int sh = (emax + 3) - w[k].e;
+            wc->wm[k] = (int32_t)rfe_fix_shr64_round((int64_t)w[k].m, (unsigned int)sh);
+        }
+    }
+    wc->base = emax + 3;
+    wc->any = any;
+}
+
+/* Input j's change of wheel i's velocity (d v_wx, d v_wy, d(omega R)) per unit, integers in
+ * Q(returned), |.| < 2^31 (meas_flt.c input_change): vx, vy, r move the body velocity (dbx,
+ * dby) = (1, 0), (0, 1), (-y_i, x_i), rotated into wheel axes by c, s (Q30): (c, -s) and (s,
+ * c) in Q30, r's in Q28 (lengths Q29 x Q30 = Q59, a sum of two exact, < 2^62, rounded by 31:
+ * |.| <= |(x_i, y_i)| < 4 sqrt 2 m, < 2^30.5); delta turns the wheel velocity, (v_wy, -v_wx) in
+ * Q21 (vw); the wheel's own speed moves omega R by R (Q29). */
+static int input_change_q31(const rfe_vehicle_q31_t *veh, size_t j, size_t i, int32_t c,
+                            int32_t s, const int32_t vw[2], int32_t dv[3])
+{
+    int q = 30;
+    dv[0] = 0;
+    dv[1] = 0;
+    dv[2] = 0;
+    if (j == (size_t)RFE_IN_DELTA) {
+        dv[0] = vw[1];
+        dv[1] = -vw[0];
+        q = 21;
+    } else if (j >= (size_t)RFE_IN_OMEGA) {
+        dv[2] = veh->R;
+        q = (int)RFE_FIX_Q_LEN;
+    } else if (j == (size_t)RFE_IN_VX) {
+        dv[0] = c;
+        dv[1] = -s;
+    } else if (j == (size_t)RFE_IN_VY) {
+        dv[0] = s;
+        dv[1] = c;
+    } else {
+        const int64_t x = (i < (size_t)RFE_RL) ? (int64_t)veh->Lf : -(int64_t)veh->Lr;
+        const int64_t yy = (i < (size_t)RFE_RL) ? (int64_t)veh->yf : (int64_t)veh->yr;
+        const int64_t y = ((i == (size_t)RFE_FL) || (i == (size_t)RFE_RL)) ? yy : -yy;
+        dv[0] = (int32_t)rfe_fix_shr64_round((x * (int64_t)s) - (y * (int64_t)c), 31u);
+        dv[1] = (int32_t)rfe_fix_shr64_round((x * (int64_t)c) + (y * (int64_t)s), 31u);
+        q = 28;
+    }
+    return q;
+}
+
+/* Wheel i's part of the input columns (wheel_cols_q31_t): its rows per unit velocity change
+ * (wheel_rows_q31, then wheel_block_q31), its velocity, and for delta the rows of the turn of
+ * its forces, d(R(delta) F) = R(delta) (dF + (-Fy, Fx)). */
+static void wheel_prepare_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh,
+                              const rfe_tyre_params_q31_t *tp, const rfe_sample_q31_t *u,
+                              int cached, size_t i, rfe_fix_t mu, const rfe_fix_t *sd,
+                              wheel_cols_q31_t *wc)
+{
+    lat_map_q31_t bm;
     rfe_dugoff_pre_q31_t pre;
     rfe_tyre_jac_q31_t fj[3];
-    rfe_xf_t vw[2];
-    rfe_xf_t pos[2];
+    slip_sens_q31_t ss;
+    rfe_xf_t w[9];
     rfe_xf_t f[2];
-    size_t j;
-    jac_pre_q31(h, tp, cached, i, &pre);
-    wheel_basis_q31(h, tp, &pre, i, mu, fj);
-    wheel_velocity_q31(veh, u, i, bm.ci, bm.si, vw, pos);
-    f[0] = rfe_xf_make(0, 0);
-    f[1] = rfe_xf_make(0, 0);
+    int turn = 0;
     if ((i < (size_t)RFE_RL) && (sd[RFE_IN_DELTA] > 0)) {
-        wheel_forces_q31(h, tp, &pre, i, mu, &fj[0], f);
+        turn = 1;
     }
-    for (j = 0u; j < (size_t)RFE_INPUTS; ++j) {
-        if ((sd[j] > 0) && (rfe_input_reaches(j, i) != 0)) {
-            rfe_xf_t dv[3];
-            rfe_slip_dir_q31_t d;
-            rfe_xf_t dfx;
-            rfe_xf_t dfy;
-            const int turns = input_change_q31(veh, j, pos, bm.ci, bm.si, vw, dv);
-            d = input_direction_q31(h, veh, tp, u, i, pre.tan_a, dv);
-            dfx = rfe_xf_add(rfe_xf_add(rfe_xf_mul(d.k, fj[0].dfx), rfe_xf_mul(d.tan_a, fj[1].dfx)),
-                             rfe_xf_mul(d.vwx, fj[2].dfx));
-            dfy = rfe_xf_add(rfe_xf_add(rfe_xf_mul(d.k, fj[0].dfy), rfe_xf_mul(d.tan_a, fj[1].dfy)),
-                             rfe_xf_mul(d.vwx, fj[2].dfy));
-            if (turns != 0) {
-                /* d(R(delta) F) = R(delta) (dF + (-Fy, Fx)) */
-                dfx = rfe_xf_sub(dfx, f[1]);
-                dfy = rfe_xf_add(dfy, f[0]);
-            }
-            body_add3_q31(&bm, dfx, dfy, &D[j * (size_t)RFE_MEAS]);
-        }
-    }
+    wc->c = (i < (size_t)RFE_RL) ? h->cos_delta : ONE_Q30;
+    wc->s = (i < (size_t)RFE_RL) ? h->sin_delta : 0;
+    jac_pre_q31(h, tp, cached, i, &pre);
+    wheel_basis_q31(h, tp, &pre, i, mu, turn, fj, f);
+    lat_map_q31(veh, h->cos_delta, h->sin_delta, i, &bm);
+    slip_sens_q31(h, veh, tp, u, i, pre.tan_a, &ss);
+    wheel_rows_q31(&bm, fj, &ss, w);
+    wheel_block_q31(w, wc);
+    wheel_velocity_q31(veh, u, i, wc->c, wc->s, wc->vw);
+    body_rows_q31(&bm, rfe_xf_neg(f[1]), f[0], wc->ft);
 }
 
-/* G[r RFE_INPUTS + j] (Q24) = sd_j (in input j's format) times D[j RFE_MEAS + r], rounded once,
- * saturating (counted in *count). */
-static void scaled_columns_q31(const rfe_xf_t *D, const rfe_fix_t sd[RFE_INPUTS],
-                               rfe_fix_t G[(size_t)RFE_MEAS * (size_t)RFE_INPUTS], uint32_t *count)
+/* sum 2^e times sd (Q(qsd), > 0) in Q24, rounded half up, saturating (counted in *count): sum
+ * (|.| < 2^63) rounded to 31 bits first (2^-31 relative), its product with sd (< 2^62)
+ * rounded once more. */
+static rfe_fix_t scaled_entry_q31(int64_t sum, int e, rfe_fix_t sd, int qsd, uint32_t *count)
 {
+    const unsigned int len = rfe_q31_bitlen64(rfe_q31_mag64(sum));
+    const unsigned int sh = (len > 31u) ? (unsigned int)(len - 31u) : 0u;
+    const int64_t p = rfe_fix_shr64_round(sum, sh) * (int64_t)sd;
+    const int k = ((e + (int)sh) - qsd) + 24;
+    int64_t v;
+    if (k < 0) {
+        v = rfe_fix_shr64_round(p, (unsigned int)(-k));
+    } else if ((p == 0) || ((rfe_q31_bitlen64(rfe_q31_mag64(p)) + (unsigned int)k) <= 62u)) {
+        v = p * rfe_q31_pow2((unsigned int)k);
+    } else {
+        v = (p > 0) ? INT64_MAX : -INT64_MAX; /* beyond 2^62: saturates */
+    }
+    return rfe_fix_sat32(v, count);
+}
+
+/* Row r of input j's column over the wheels it reaches: each wheel's rows times the input's
+ * change of its velocity (input_change_q31, Q(q)), three exact products (|.| <= 3 2^27 2^31 <
+ * 2^60), at the exponent base - q; for delta also the turned forces' rows (mantissa <= 2^30).
+ * All terms are brought to the largest of their exponents, E (for the forces' terms their
+ * exponent - 30; a smaller term rounded half up, 1/2 unit of 2^E: the W terms' units are 2^-27
+ * of each wheel's largest row entry times the unit of the velocity change), and summed exactly
+ * (at most four wheels and two turned forces, each < 2^60: < 2^63): the sum is returned, E in
+ * *e. */
+static int64_t column_row_q31(const wheel_cols_q31_t wc[RFE_WHEELS], const int32_t *dv,
+                              const int reach[RFE_WHEELS], int q, int delta, size_t r, int *e)
+{
+    int64_t term[2u * (size_t)RFE_WHEELS];
+    int ex[2u * (size_t)RFE_WHEELS];
+    int emax = 0;
+    int any = 0;
+    int64_t sum = 0;
+    size_t n = 0u;
     size_t i;
-    size_t j;
-    for (j = 0u; j < (size_t)RFE_INPUTS; ++j) {
-        const rfe_xf_t s = rfe_xf_of((sd[j] > 0) ? sd[j] : 0, input_q_q31(j));
-        for (i = 0u; i < (size_t)RFE_MEAS; ++i) {
-            G[(i * (size_t)RFE_INPUTS) + j] = rfe_xf_to_fix(
-                rfe_xf_mul(s, D[(j * (size_t)RFE_MEAS) + i]), (int)RFE_FIX_Q_ACC, count);
+    size_t k;
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        if ((reach[i] != 0) && (wc[i].any != 0)) {
+            const int32_t *d = &dv[3u * i];
+            term[n] = ((int64_t)wc[i].wm[r] * d[0]) + ((int64_t)wc[i].wm[3u + r] * d[1]) +
+                      ((int64_t)wc[i].wm[6u + r] * d[2]);
+            ex[n] = wc[i].base - q;
+            ++n;
         }
+        if ((reach[i] != 0) && (delta != 0) && (wc[i].ft[r].m != 0)) {
+            term[n] = (int64_t)wc[i].ft[r].m * rfe_q31_pow2(30u);
+            ex[n] = wc[i].ft[r].e - 30;
+            ++n;
+        }
+    }
+    for (k = 0u; k < n; ++k) {
+        if ((any == 0) || (ex[k] > emax)) {
+            emax = ex[k];
+            any = 1;
+        }
+    }
+    for (k = 0u; k < n; ++k) {
+        const int d = emax - ex[k];
+        sum += rfe_fix_shr64_round(term[k], (unsigned int)d);
+    }
+    *e = emax;
+    return sum;
+}
+
+/* Input j's column (G[r RFE_INPUTS + j], Q24): sd_j (in input j's format) times dh/du_j, each
+ * row rounded once, saturating (counted in *count); 0 for sd_j <= 0. */
+static void input_column_q31(const wheel_cols_q31_t wc[RFE_WHEELS], const rfe_vehicle_q31_t *veh,
+                             size_t j, rfe_fix_t sdj,
+                             rfe_fix_t G[(size_t)RFE_MEAS * (size_t)RFE_INPUTS], uint32_t *count)
+{
+    int32_t dv[3u * (size_t)RFE_WHEELS];
+    int reach[RFE_WHEELS];
+    int q = 30;
+    int delta = 0;
+    size_t i;
+    size_t r;
+    for (r = 0u; r < (size_t)RFE_MEAS; ++r) {
+        G[(r * (size_t)RFE_INPUTS) + j] = 0;
+    }
+    if (sdj <= 0) {
+        return;
+    }
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        reach[i] = rfe_input_reaches(j, i);
+        if (reach[i] != 0) {
+            q = input_change_q31(veh, j, i, wc[i].c, wc[i].s, wc[i].vw, &dv[3u * i]);
+        }
+    }
+    if (j == (size_t)RFE_IN_DELTA) {
+        delta = 1;
+    }
+    for (r = 0u; r < (size_t)RFE_MEAS; ++r) {
+        int e = 0;
+        const int64_t sum = column_row_q31(wc, dv, reach, q, delta, r, &e);
+        G[(r * (size_t)RFE_INPUTS) + j] = scaled_entry_q31(sum, e, sdj, input_q_q31(j), count);
     }
 }
 
@@ -923,7 +1034,7 @@ rfe_status_t rfe_meas_input_jac_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q
                                     const rfe_fix_t sd[RFE_INPUTS],
                                     rfe_fix_t G[(size_t)RFE_MEAS * (size_t)RFE_INPUTS], uint32_t *sat)
 {
-    rfe_xf_t D[(size_t)RFE_INPUTS * (size_t)RFE_MEAS];
+    wheel_cols_q31_t wc[RFE_WHEELS];
     uint32_t count = 0u;
     int cached;
     size_t i;
@@ -936,14 +1047,13 @@ rfe_status_t rfe_meas_input_jac_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q
     if (st != RFE_OK) {
         return st;
     }
-    for (i = 0u; i < ((size_t)RFE_INPUTS * (size_t)RFE_MEAS); ++i) {
-        D[i] = rfe_xf_make(0, 0);
-    }
     cached = pre_matches_q31(h, tp);
     for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
-        wheel_input_sums_q31(h, veh, tp, u, cached, i, mu[i], sd, D);
+        wheel_prepare_q31(h, veh, tp, u, cached, i, mu[i], sd, &wc[i]);
     }
-    scaled_columns_q31(D, sd, G, &count);
+    for (i = 0u; i < (size_t)RFE_INPUTS; ++i) {
+        input_column_q31(wc, veh, i, sd[i], G, &count);
+    }
     rfe_q31_sat_add(sat, count);
     return RFE_OK;
 }

@@ -126,4 +126,13 @@ void rfe_tyre_magic_pre_jac_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugof
                                 rfe_fix_t *fx, rfe_fix_t *fy, uint32_t *sat,
                                 rfe_tyre_jac_q31_t *out);
 
+/** Magic Formula mode (tp passed rfe_tyre_abs_params_ok_q31): the forces Fx, Fy (Q15) of
+ *  rfe_tyre_magic_pre_jac_q31 and the derivatives it gives along a unit change of kappa
+ *  (out[0]) and of tan alpha (out[1]), bit for bit, with the curves (per direction two atan2 and
+ *  a sine) and their derivative factors evaluated once for both (the step noise's input
+ *  derivatives, meas_q31.c); one count in *sat per clamped force. */
+void rfe_tyre_magic_basis_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugoff_pre_q31_t *pre,
+                              rfe_fix_t fz, rfe_fix_t mu, rfe_fix_t *fx, rfe_fix_t *fy,
+                              uint32_t *sat, rfe_tyre_jac_q31_t out[2]);
+
 #endif /* RFE_TYRE_INTERNAL_Q31_H */

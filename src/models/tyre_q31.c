@@ -1067,34 +1067,47 @@ static void magic_terms_q31(const rfe_dugoff_pre_q31_t *pre, int32_t m, int32_t 
     magic_shape_jac_q31(dir, Cq, Eq, &t->gs, &t->gms);
 }
 
-/* Magic Formula forces' derivatives (tyre_flt.c magic_jac) at m = max(mu, 0) (Q29): m = 0:
- * all 0; S = 0: dF = fz (cx dk, cy dt) (the limit fz m G_s(0) = fz), dF/dmu = 0; else each
- * direction's factors and magic_dfs_q31. */
-static void magic_jac_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugoff_pre_q31_t *pre,
-                          int32_t m, int32_t fz, const rfe_slip_dir_q31_t *d,
+/* Magic Formula forces' derivatives (tyre_flt.c magic_jac) at m = max(mu, 0) (Q29) along the
+ * n slip changes (cx dk, cy dt) = (cd[2 b], cd[2 b + 1]) of o[b]: m = 0: all 0; S = 0: dF = fz (cx dk, cy dt)
+ * (the limit fz m G_s(0) = fz), dF/dmu = 0; else each direction's factors, formed once for
+ * all n changes, and magic_dfs_q31 per change. */
+static void magic_jac_q31(const rfe_dugoff_pre_q31_t *pre, int32_t m, int32_t fz,
+                          const rfe_tyre_params_q31_t *tp, const rfe_xf_t *cd, size_t n,
                           const magic_dir_q31_t dir[2], rfe_tyre_jac_q31_t *o)
 {
     const rfe_xf_t zero = rfe_xf_make(0, 0);
-    const rfe_xf_t cdk = rfe_xf_mul(rfe_xf_of(tp->cx, (int)RFE_FIX_Q_STIFF), d->k);
-    const rfe_xf_t cdt = rfe_xf_mul(rfe_xf_of(tp->cy, (int)RFE_FIX_Q_STIFF), d->tan_a);
-    o->dfx = zero;
-    o->dfy = zero;
-    o->mfx = zero;
-    o->mfy = zero;
-    if (m <= 0) {
-        return; /* no force at any slip */
-    }
-    if (pre->s == 0) {
-        const rfe_xf_t fzx = rfe_xf_of(fz, 15);
-        o->dfx = rfe_xf_mul(fzx, cdk);
-        o->dfy = rfe_xf_mul(fzx, cdt);
-    } else {
-        magic_terms_q31_t tx;
-        magic_terms_q31_t ty;
+    magic_terms_q31_t tx;
+    magic_terms_q31_t ty;
+    size_t b;
+    int curve = 0;
+    if ((m > 0) && (pre->s != 0)) {
+        curve = 1;
         magic_terms_q31(pre, m, tp->shape_Cx, tp->shape_Ex, &dir[0], &tx);
         magic_terms_q31(pre, m, tp->shape_Cy, tp->shape_Ey, &dir[1], &ty);
-        magic_dfs_q31(pre, fz, cdk, cdt, &tx, &ty, o);
     }
+    for (b = 0u; b < n; ++b) {
+        o[b].dfx = zero;
+        o[b].dfy = zero;
+        o[b].mfx = zero;
+        o[b].mfy = zero;
+        if (curve != 0) {
+            magic_dfs_q31(pre, fz, cd[2u * b], cd[(2u * b) + 1u], &tx, &ty, &o[b]);
+        } else if (m > 0) {
+            const rfe_xf_t fzx = rfe_xf_of(fz, 15);
+            o[b].dfx = rfe_xf_mul(fzx, cd[2u * b]);
+            o[b].dfy = rfe_xf_mul(fzx, cd[(2u * b) + 1u]);
+        } else {
+            /* m = 0: no force at any slip */
+        }
+    }
+}
+
+/* (cx dk, cy dt) of the slip change d (magic_jac_q31's cd). */
+static void magic_cd_q31(const rfe_tyre_params_q31_t *tp, const rfe_slip_dir_q31_t *d,
+                         rfe_xf_t cd[2])
+{
+    cd[0] = rfe_xf_mul(rfe_xf_of(tp->cx, (int)RFE_FIX_Q_STIFF), d->k);
+    cd[1] = rfe_xf_mul(rfe_xf_of(tp->cy, (int)RFE_FIX_Q_STIFF), d->tan_a);
 }
 
 /* Both directions' curves at m (Q29, >= 0), where the forces and derivatives use them (S > 0,
@@ -1119,18 +1132,14 @@ static void magic_dirs_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugoff_pre
     }
 }
 
-void rfe_tyre_magic_pre_jac_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugoff_pre_q31_t *pre,
-                                rfe_fix_t fz, rfe_fix_t mu, const rfe_slip_dir_q31_t *d,
-                                rfe_fix_t *fx, rfe_fix_t *fy, uint32_t *sat,
-                                rfe_tyre_jac_q31_t *out)
+/* magic_forces_q31 with its two sines from dir (the curves at m = max(mu, 0)). */
+static void magic_dir_forces_q31(const rfe_dugoff_pre_q31_t *pre, int32_t m, rfe_fix_t fz,
+                                 const magic_dir_q31_t dir[2], rfe_fix_t *fx, rfe_fix_t *fy,
+                                 uint32_t *sat)
 {
-    const int32_t m = (mu > 0) ? mu : 0;
-    magic_dir_q31_t dir[2];
-    magic_dirs_q31(tp, pre, m, dir);
     *fx = 0;
     *fy = 0;
     if ((pre->s != 0) && (m != 0)) {
-        /* magic_forces_q31 with its two sines from dir */
         const int64_t px = (int64_t)m * (int64_t)dir[0].g;
         const int64_t py = (int64_t)m * (int64_t)dir[1].g;
         const uint64_t wx = ((uint64_t)px + HALF_Q30) >> 30;
@@ -1138,7 +1147,39 @@ void rfe_tyre_magic_pre_jac_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugof
         *fx = rfe_fix_sat32(rfe_q31_mul64x32((int64_t)fz * (int64_t)wx, pre->ux, 59u), sat);
         *fy = rfe_fix_sat32(rfe_q31_mul64x32((int64_t)fz * (int64_t)wy, pre->uy, 59u), sat);
     }
-    magic_jac_q31(tp, pre, m, fz, d, dir, out);
+}
+
+void rfe_tyre_magic_pre_jac_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugoff_pre_q31_t *pre,
+                                rfe_fix_t fz, rfe_fix_t mu, const rfe_slip_dir_q31_t *d,
+                                rfe_fix_t *fx, rfe_fix_t *fy, uint32_t *sat,
+                                rfe_tyre_jac_q31_t *out)
+{
+    const int32_t m = (mu > 0) ? mu : 0;
+    magic_dir_q31_t dir[2];
+    rfe_xf_t cd[2];
+    magic_dirs_q31(tp, pre, m, dir);
+    magic_dir_forces_q31(pre, m, fz, dir, fx, fy, sat);
+    magic_cd_q31(tp, d, cd);
+    magic_jac_q31(pre, m, fz, tp, cd, 1u, dir, out);
+}
+
+void rfe_tyre_magic_basis_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugoff_pre_q31_t *pre,
+                              rfe_fix_t fz, rfe_fix_t mu, rfe_fix_t *fx, rfe_fix_t *fy,
+                              uint32_t *sat, rfe_tyre_jac_q31_t out[2])
+{
+    const int32_t m = (mu > 0) ? mu : 0;
+    const rfe_xf_t zero = rfe_xf_make(0, 0);
+    magic_dir_q31_t dir[2];
+    rfe_xf_t cd[4];
+    /* unit d kappa: (cx, 0); unit d tan(alpha): (0, cy), as magic_cd_q31 forms them (a
+     * product by 1 is exact in rfe_xf_t, by 0 is 0) */
+    cd[0] = rfe_xf_of(tp->cx, (int)RFE_FIX_Q_STIFF);
+    cd[1] = zero;
+    cd[2] = zero;
+    cd[3] = rfe_xf_of(tp->cy, (int)RFE_FIX_Q_STIFF);
+    magic_dirs_q31(tp, pre, m, dir);
+    magic_dir_forces_q31(pre, m, fz, dir, fx, fy, sat);
+    magic_jac_q31(pre, m, fz, tp, cd, 2u, dir, out);
 }
 
 void rfe_tyre_pre_jac_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugoff_pre_q31_t *pre,
@@ -1150,8 +1191,10 @@ void rfe_tyre_pre_jac_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugoff_pre_
     rfe_xf_t f0[2];
     if (tp->mode == RFE_TYRE_MAGIC) {
         magic_dir_q31_t dir[2];
+        rfe_xf_t cd[2];
         magic_dirs_q31(tp, pre, m, dir);
-        magic_jac_q31(tp, pre, m, fz, d, dir, out);
+        magic_cd_q31(tp, d, cd);
+        magic_jac_q31(pre, m, fz, tp, cd, 1u, dir, out);
     } else if (tp->mode == RFE_TYRE_PAPER) {
         /* F = mu F0: dF = mu dF0, dF/dmu = F0 */
         const rfe_xf_t mux = rfe_xf_of(mu, (int)RFE_FIX_Q_MU);

@@ -1359,10 +1359,19 @@ static void test_meas_lateral_jac_q31_args(void **state)
 }
 
 /* ---- the derivatives by the inputs (rfe_meas_input_jac_q31, for the step noise) -----------
- * Bound: the same analysis as the lateral rows' above (the double formulas in rfe_xf_t, ~120
- * operations per wheel and input, 2^-29 each of the largest term passed through; the inputs
- * rounded as the kinematics round them), JAC_REL of the input's term scale times its sd, plus
- * 1 LSB24 (the final rounding and the sd's own). The term scale of input j: per wheel it
+ * Bound: JAC_REL of the input's term scale times its sd, plus 1 LSB24 (the final rounding and
+ * the sd's own). Per wheel, the tyre's derivatives along kappa, tan alpha (and v_wx) and the
+ * slips' sensitivities to the wheel's velocity are the double formulas in rfe_xf_t (as the
+ * lateral rows' above: ~60 operations, 2^-29 each of the largest term passed through; the
+ * inputs rounded as the kinematics round them), the rows per unit velocity change rounded to
+ * one exponent per wheel (2^-27 of the wheel's largest entry, which the term scale below
+ * bounds up to the Magic Formula's slope factor <= 5); each input's change of the wheel's
+ * velocity in a Q format (vx, vy: cos, sin Q30; r: lever arms Q28, 2^-29 m; delta: the wheel
+ * velocity Q21, 2^-22 m/s, ~1e-7 of |v_w| at the 3 m/s and more drawn here; omega: R exact), the
+ * products exact, the wheels' sums aligned (1/2 unit, 2^-27 of the largest wheel's entries
+ * times the velocity change's unit), rounded to 31 bits before sd (2^-31): together < 1e-7 of
+ * the scale, two orders below JAC_REL, which stays as it was (the Q24 rounding dominates the
+ * measured worst ratio). The term scale of input j: per wheel it
  * reaches, its load times the stiffest curve's slope per unit slip (max of cx, cy, Cx_n, Cy_n:
  * the linear tyre, which no mode or friction exceeds), times the slip change per unit input
  * ((1 + |t|) (1 + |kappa|) times the wheel's speed change over max(|vwx|, v_min): 1 for vx and

@@ -221,11 +221,43 @@ static void assert_xf_equal(rfe_xf_t a, rfe_xf_t b)
     assert_int_equal(a.e, b.e);
 }
 
+/* rfe_tyre_magic_basis_q31 at (pre, fz, mu) against rfe_tyre_pre_jac_q31 along a unit change
+ * of kappa and of tan alpha, and the forces fx, fy and count sat of rfe_tyre_dugoff_abs_pre_q31,
+ * bit for bit. */
+static void basis_equal(const rfe_tyre_params_q31_t *tp, const rfe_dugoff_pre_q31_t *pre,
+                        rfe_fix_t kappa, rfe_fix_t vwx, rfe_fix_t fz, rfe_fix_t mu, rfe_fix_t fx,
+                        rfe_fix_t fy, uint32_t sat)
+{
+    rfe_tyre_jac_q31_t ob[2];
+    rfe_fix_t fxb = 3;
+    rfe_fix_t fyb = 3;
+    uint32_t sb = 0u;
+    size_t e;
+    rfe_tyre_magic_basis_q31(tp, pre, fz, mu, &fxb, &fyb, &sb, ob);
+    assert_int_equal(fx, fxb);
+    assert_int_equal(fy, fyb);
+    assert_int_equal(sat, sb);
+    for (e = 0u; e < 2u; ++e) {
+        rfe_slip_dir_q31_t u;
+        rfe_tyre_jac_q31_t o;
+        u.k = rfe_xf_make((e == 0u) ? 1 : 0, 0);
+        u.tan_a = rfe_xf_make((e == 1u) ? 1 : 0, 0);
+        u.vwx = rfe_xf_make(0, 0);
+        rfe_tyre_pre_jac_q31(tp, pre, kappa, vwx, fz, mu, &u, &o);
+        assert_xf_equal(o.dfx, ob[e].dfx);
+        assert_xf_equal(o.dfy, ob[e].dfy);
+        assert_xf_equal(o.mfx, ob[e].mfx);
+        assert_xf_equal(o.mfy, ob[e].mfy);
+    }
+}
+
 /* REQ: the Magic Formula's forces and derivatives from one evaluation of each direction's
  * curve (rfe_tyre_magic_pre_jac_q31, the observer's lateral rows) are those of the two
  * separate functions (rfe_tyre_dugoff_abs_pre_q31, rfe_tyre_pre_jac_q31), bit for bit, with
  * the same saturation count: across slips, no slip (S = 0), friction above, at and below 0,
- * and loads that saturate the forces. */
+ * and loads that saturate the forces. The same for rfe_tyre_magic_basis_q31 (the step noise's
+ * input derivatives): its forces and its derivatives along a unit change of kappa and of tan
+ * alpha are rfe_tyre_pre_jac_q31's along those two directions, bit for bit. */
 /* REQ-MEAS-003 REQ-FXP-003 */
 static void test_tyre_magic_pre_jac_fused_q31(void **state)
 {
@@ -275,6 +307,7 @@ static void test_tyre_magic_pre_jac_fused_q31(void **state)
                     assert_xf_equal(o1.dfy, o2.dfy);
                     assert_xf_equal(o1.mfx, o2.mfx);
                     assert_xf_equal(o1.mfy, o2.mfy);
+                    basis_equal(&tp, &pre, kappas[a], vwx, fzs[k], mus[j], fx1, fy1, s1);
                 }
             }
         }
