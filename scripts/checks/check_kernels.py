@@ -157,8 +157,12 @@ def plan(base: dict, flags: set[str], arch: str, subset: list[str]):
         as_is["logs"] = "all"       # then as-is is the walk over every golden
     ncpu = str(os.cpu_count() or 1)
     # the first subset log only: how many threads share a product does not depend on the
-    # log, and OpenBLAS's threads spin while they wait (2 threads took twice the CPU time)
-    thr = _config("threads", env_for(base, None, ncpu, None), subset[:1])
+    # log. OPENBLAS_THREAD_TIMEOUT=4 (its minimum: 2^4 cycles) lets a waiting thread sleep
+    # instead of spinning: it changes no result, only idling, and with make test's other jobs
+    # on the same cores the spinning threads took 6x the CPU time of the 1-thread run
+    env = env_for(base, None, ncpu, None)
+    env["OPENBLAS_THREAD_TIMEOUT"] = "4"
+    thr = _config("threads", env, subset[:1])
     if ncpu == "1":
         thr["note"] = "1 CPU: OpenBLAS's default is 1 thread here too"
     runs.append(thr)

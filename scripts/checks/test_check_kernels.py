@@ -30,6 +30,7 @@ def test_a_cpu_without_avx_skips_the_newer_kernels():
     assert why["Haswell"] == "the CPU lacks avx2, fma"
     assert why["SkylakeX"].startswith("the CPU lacks avx512bw")
     assert runs[-1]["name"] == "threads" and runs[-1]["logs"] == SUBSET[:1]
+    assert runs[-1]["env"]["OPENBLAS_THREAD_TIMEOUT"] == "4"     # sleeps, does not spin
 
 
 # REQ-REF-004
