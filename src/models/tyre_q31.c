@@ -814,80 +814,93 @@ static int64_t q30_of(int64_t v, unsigned int sh) { return rfe_fix_shr64_round(v
  * (Q30 <= 2^30), mu E < 4 (Q59 < 2^61, Q30 < 2^32), |c| < 128 (Q24); each 32 x 32 product
  * < 2^62 rounded to Q30 (2^-31 each): (1 - L) u u within 3 2^-31, times c within 2^-22.4
  * (2^-29.4 of |c|); mu E / 4 u within 2^-30; |b| < 2^8.1 (Q30 < 2^38.1). mu (1 - L) u: Q30
- * < 2^32 within 2^-30. The b are rfe_xf_t exactly (make rounds to 30 bits: 2^-30 relative),
- * then 8 rfe_xf_t products with the real change d and fz, where the former chain had 40. */
+ * < 2^32 within 2^-30. The b enter rfe_xf_t rounded to 30 bits (2^-30 relative); per
+ * direction (one loop, one copy of the inlined rfe_xf_t steps) 7 rfe_xf_t products with the
+ * real change d, h, dE and fz, where the former rfe_xf_t chain had about 40 in all. Outputs:
+ * df = dF, mf = dF/dmu, f0 = F (paper mode's dF/dmu). */
 static void dugoff_jac_lt1_q31(const rfe_dugoff_pre_q31_t *pre, int32_t kq, int32_t c1q,
                                int32_t c2q, int32_t eps, int32_t vwx, int32_t m, int32_t l30,
-                               rfe_xf_t fzx, const rfe_slip_dir_q31_t *d, rfe_tyre_jac_q31_t *o,
-                               rfe_xf_t f0[2])
+                               rfe_xf_t fzx, const rfe_slip_dir_q31_t *d, rfe_xf_t df[2],
+                               rfe_xf_t mf[2], rfe_xf_t f0[2])
 {
-    const int64_t ux = pre->ux;
-    const int64_t uy = pre->uy;
+    const int64_t u[2] = {pre->ux, pre->uy};
+    const int64_t c[2] = {c1q, c2q};
     const int64_t oml = (int64_t)ONE_Q30 - (int64_t)l30;                 /* 1 - L, (0, 2^30] */
     const int64_t omh = (int64_t)ONE_Q30 - ((int64_t)l30 / 2);           /* 1 - L/2 */
     const int64_t me = (int64_t)m * (int64_t)pre->e;                     /* mu E, Q59 < 2^61 */
     const int64_t me30 = q30_of(me, 29u);                                /* < 2^32 */
-    const int64_t oux = q30_of(oml * ux, 30u);
-    const int64_t ouy = q30_of(oml * uy, 30u);
-    const int64_t ouxx = q30_of(oux * ux, 30u);
-    const int64_t ouxy = q30_of(oux * uy, 30u);
-    const int64_t ouyy = q30_of(ouy * uy, 30u);
+    const int64_t ouxy = q30_of(q30_of(oml * u[0], 30u) * u[1], 30u);    /* (1 - L) ux uy */
     const int64_t sk = (int64_t)rfe_q31_sign(kq);
-    const int64_t mex = sk * q30_of(me30 * ux, 32u);                     /* sgn(k) ux mu E / 4 */
-    const int64_t mey = sk * q30_of(me30 * uy, 32u);
-    const int64_t bxk = q30_of((omh - ouxx) * (int64_t)c1q, 24u) + mex;
-    const int64_t bxt = -q30_of(ouxy * (int64_t)c2q, 24u);
-    const int64_t byk = mey - q30_of(ouxy * (int64_t)c1q, 24u);
-    const int64_t byt = q30_of((omh - ouyy) * (int64_t)c2q, 24u);
     const int64_t mo = q30_of((int64_t)m * oml, 29u);                   /* mu (1 - L), < 2^32 */
     const int64_t w30 = q30_of(me30 * omh, 30u);                         /* w, Q30 < 2^32 */
     const int64_t eo = q30_of((int64_t)pre->e * oml, 30u);               /* E (1 - L) <= 1 */
     const rfe_xf_t h = rfe_xf_div(rfe_xf_make(me, -59), rfe_xf_of(pre->s, (int)pre->qs));
     const rfe_xf_t de = dugoff_de_q31(pre, kq, eps, vwx, d);
-    const rfe_xf_t dx = rfe_xf_add(rfe_xf_mul(rfe_xf_make(bxk, -30), d->k),
-                                   rfe_xf_mul(rfe_xf_make(bxt, -30), d->tan_a));
-    const rfe_xf_t dy = rfe_xf_add(rfe_xf_mul(rfe_xf_make(byk, -30), d->k),
-                                   rfe_xf_mul(rfe_xf_make(byt, -30), d->tan_a));
-    o->dfx = rfe_xf_mul(fzx, rfe_xf_add(rfe_xf_mul(h, dx),
-                                        rfe_xf_mul(rfe_xf_make(q30_of(mo * ux, 30u), -30), de)));
-    o->dfy = rfe_xf_mul(fzx, rfe_xf_add(rfe_xf_mul(h, dy),
-                                        rfe_xf_mul(rfe_xf_make(q30_of(mo * uy, 30u), -30), de)));
-    o->mfx = rfe_xf_mul(fzx, rfe_xf_make(q30_of(eo * ux, 30u), -30));
-    o->mfy = rfe_xf_mul(fzx, rfe_xf_make(q30_of(eo * uy, 30u), -30));
-    f0[0] = rfe_xf_mul(fzx, rfe_xf_make(q30_of(w30 * ux, 30u), -30));
-    f0[1] = rfe_xf_mul(fzx, rfe_xf_make(q30_of(w30 * uy, 30u), -30));
+    size_t i;
+    for (i = 0u; i < 2u; ++i) {
+        /* direction i: b_k, b_t of the comment above; (1 - L) u_i^2 as (1 - L) u_i, then u_i */
+        const int64_t ouii = q30_of(q30_of(oml * u[i], 30u) * u[i], 30u);
+        const int64_t diag = q30_of((omh - ouii) * c[i], 24u);
+        const int64_t off = q30_of(ouxy * c[1u - i], 24u);
+        const int64_t mei = sk * q30_of(me30 * u[i], 32u);               /* sgn(k) u_i mu E / 4 */
+        int64_t bk = mei - off;
+        int64_t bt = diag;
+        rfe_xf_t dd;
+        if (i == 0u) {
+            bk = diag + mei;
+            bt = -off;
+        }
+        dd = rfe_xf_add(rfe_xf_mul(rfe_xf_make(bk, -30), d->k),
+                        rfe_xf_mul(rfe_xf_make(bt, -30), d->tan_a));
+        df[i] = rfe_xf_mul(fzx, rfe_xf_add(rfe_xf_mul(h, dd),
+                                           rfe_xf_mul(rfe_xf_make(q30_of(mo * u[i], 30u), -30),
+                                                      de)));
+        mf[i] = rfe_xf_mul(fzx, rfe_xf_make(q30_of(eo * u[i], 30u), -30));
+        f0[i] = rfe_xf_mul(fzx, rfe_xf_make(q30_of(w30 * u[i], 30u), -30));
+    }
 }
 
 /* Dugoff forces fz (c1 k, c2 t) g and their derivatives (tyre_flt.c dugoff_jac) at mu = m
  * (Q29, >= 0; paper mode: 1); f0[0..1]: the forces. L < 1 (S > 0): dugoff_jac_lt1_q31.
  * Else dF/dmu = 0 and g = 1 / (1 - |k|), dg = sgn(k) dk g^2 (L >= 1), or g = 1, dg = 0 at
- * S = 0 (the limit S -> 0, L -> infinity; 0 at m = 0: no force at any slip). */
+ * S = 0 (the limit S -> 0, L -> infinity; 0 at m = 0: no force at any slip). One loop over
+ * the two directions: one copy of the inlined rfe_xf_t steps. */
 static void dugoff_jac_q31(const rfe_dugoff_pre_q31_t *pre, int32_t kq, int32_t c1q,
                            int32_t c2q, int32_t eps, int32_t vwx, int32_t m, int32_t fz,
                            const rfe_slip_dir_q31_t *d, rfe_tyre_jac_q31_t *o, rfe_xf_t f0[2])
 {
     const rfe_xf_t fzx = rfe_xf_of(fz, 15);
     const int32_t l30 = (pre->s > 0) ? dugoff_l30(pre, m) : ONE_Q30;
+    rfe_xf_t df[2];
+    rfe_xf_t mf[2];
     if (l30 < ONE_Q30) {
-        dugoff_jac_lt1_q31(pre, kq, c1q, c2q, eps, vwx, m, l30, fzx, d, o, f0);
+        dugoff_jac_lt1_q31(pre, kq, c1q, c2q, eps, vwx, m, l30, fzx, d, df, mf, f0);
     } else {
-        const rfe_xf_t k = rfe_xf_of(kq, 30);
-        const rfe_xf_t t = rfe_xf_of(pre->tan_a, 26);
-        const rfe_xf_t fc1 = rfe_xf_mul(fzx, rfe_xf_of(c1q, (int)RFE_FIX_Q_STIFF));
-        const rfe_xf_t fc2 = rfe_xf_mul(fzx, rfe_xf_of(c2q, (int)RFE_FIX_Q_STIFF));
+        const int32_t cq[2] = {c1q, c2q};
+        rfe_xf_t kt[2];
+        rfe_xf_t dv[2];
         rfe_xf_t g0 = rfe_xf_make((m > 0) ? 1 : 0, 0);
         rfe_xf_t g1 = rfe_xf_make(0, 0);
+        size_t i;
+        kt[0] = rfe_xf_of(kq, 30);
+        kt[1] = rfe_xf_of(pre->tan_a, 26);
+        dv[0] = d->k;
+        dv[1] = d->tan_a;
         if (pre->s > 0) {
             g0 = rfe_xf_div(rfe_xf_make(1, 0), rfe_xf_of(pre->omk, 30));
             g1 = rfe_xf_mul(xf_signed(rfe_q31_sign(kq), d->k), rfe_xf_mul(g0, g0));
         }
-        f0[0] = rfe_xf_mul(fc1, rfe_xf_mul(k, g0));
-        f0[1] = rfe_xf_mul(fc2, rfe_xf_mul(t, g0));
-        o->dfx = rfe_xf_mul(fc1, rfe_xf_add(rfe_xf_mul(d->k, g0), rfe_xf_mul(k, g1)));
-        o->dfy = rfe_xf_mul(fc2, rfe_xf_add(rfe_xf_mul(d->tan_a, g0), rfe_xf_mul(t, g1)));
-        o->mfx = rfe_xf_make(0, 0);
-        o->mfy = rfe_xf_make(0, 0);
+        for (i = 0u; i < 2u; ++i) {
+            const rfe_xf_t fc = rfe_xf_mul(fzx, rfe_xf_of(cq[i], (int)RFE_FIX_Q_STIFF));
+            f0[i] = rfe_xf_mul(fc, rfe_xf_mul(kt[i], g0));
+            df[i] = rfe_xf_mul(fc, rfe_xf_add(rfe_xf_mul(dv[i], g0), rfe_xf_mul(kt[i], g1)));
+            mf[i] = rfe_xf_make(0, 0);
+        }
     }
+    o->dfx = df[0];
+    o->dfy = df[1];
+    o->mfx = mf[0];
+    o->mfy = mf[1];
 }
 
 /* pi/2 in Q55, round(pi/2 2^55). */
