@@ -335,6 +335,22 @@ static void dugoff_pre(int32_t k, int32_t t, int32_t c1, int32_t c2, int32_t eps
     }
 }
 
+/* L = mu (1 - |k|) E / (2 S) in Q30 (S > 0, mu Q29 >= 0): N = mu (1 - |k|) E: Q29 x Q30 = Q59
+ * (< 2^61) to 30 bits (Q >= 28), times E (Q30) to 30 bits again: Q(qn) in [28, 89]. Then
+ * L = N / (2 S): shift = 30 - qn + qs - 1 in [-41, 51]. A quotient beyond the int32 range
+ * (L >= 2) saturates in the scratch counter: only L >= 1 is used then. 0 where N = 0. */
+static int32_t dugoff_l30(const rfe_dugoff_pre_q31_t *pre, int32_t mu)
+{
+    uint32_t scratch = 0u;
+    int32_t l30 = 0;
+    const bfp_t n1 = bfp_make((int64_t)mu * (int64_t)pre->omk, 59u);
+    const bfp_t n = bfp_make((int64_t)n1.mant * (int64_t)pre->e, n1.q + 30u);
+    if (n.mant > 0) {
+        l30 = div_q(n.mant, pre->s, (29 - (int)n.q) + (int)pre->qs, &scratch);
+    }
+    return l30;
+}
+
 static void dugoff_at_mu(const rfe_dugoff_pre_q31_t *pre, int32_t mu, int32_t fz, int32_t *fx,
                          int32_t *fy, uint32_t *sat)
 {
@@ -343,25 +359,15 @@ static void dugoff_at_mu(const rfe_dugoff_pre_q31_t *pre, int32_t mu, int32_t fz
     const int32_t e30 = pre->e;
     const int32_t omk = pre->omk;
     uint32_t scratch = 0u;
-    int32_t l30 = 0;
+    int32_t l30;
     int64_t w;
-    bfp_t n1;
-    bfp_t n;
 
     if (S == 0) {
         *fx = 0; /* k = 0 and tan a = 0 (C1, C2 != 0) or no stiffness: no force */
         *fy = 0;
         return;
     }
-    /* N = mu (1 - |k|) E: Q29 x Q30 = Q59 (< 2^61) to 30 bits (Q >= 28), times E (Q30) to 30
-     * bits again: Q(qn) in [28, 89]. */
-    n1 = bfp_make((int64_t)mu * (int64_t)omk, 59u);
-    n = bfp_make((int64_t)n1.mant * (int64_t)e30, n1.q + 30u);
-    if (n.mant > 0) {
-        /* L = N / (2 S) in Q30: shift = 30 - qn + qs - 1 in [-41, 51]. A quotient beyond the
-         * int32 range (L >= 2) saturates in the scratch counter: only L >= 1 is used then. */
-        l30 = div_q(n.mant, S, (29 - (int)n.q) + (int)qs, &scratch);
-    }
+    l30 = dugoff_l30(pre, mu);
     if (l30 >= ONE_Q30) {
         /* L >= 1: w = S / (1 - |k|) in Q29, shift 59 - qs in [9, 40]; here N > 0, so
          * 1 - |k| > 0, and w <= mu E / 2 (1 + 2^-28) < 2: no saturation. */
@@ -754,91 +760,147 @@ static rfe_xf_t xf_signed(int s, rfe_xf_t a)
     return r;
 }
 
-/* dE along d (tyre_flt.c dugoff_de): -eps (sgn(vwx) d_vwx |(k, t)| + |vwx| (k dk + t dt) /
- * |(k, t)|) where E > 0, else 0. k, t: the slip and tan alpha; (k, t) != 0 (S > 0). */
-static rfe_xf_t dugoff_de_q31(const rfe_dugoff_pre_q31_t *pre, rfe_xf_t k, rfe_xf_t t,
-                              int32_t eps, int32_t vwx, const rfe_slip_dir_q31_t *d)
+/* dE along d (tyre_flt.c dugoff_de) where E > 0, else 0, with (k, t) != 0 (S > 0):
+ *   dE = -(eps |(k, t)|) sgn(vwx) d_vwx - (eps |vwx|) (ck dk + ct dt),
+ * (ck, ct) = (k, t) / |(k, t)| the cosines of the slip, |.| <= 1. In plain integers, no
+ * rfe_xf_t square root or quotient: |k| (Q30) and |t| as Q30 (< 2^35) are brought to 30
+ * significant bits by one power of two 2^l (exact when l >= 0; l >= -5 rounds each to 2^-30
+ * of the larger), n = |(kn, tn)| in [2^29, 2^30.5] exactly rounded (relative 2^-31), the
+ * cosines kn / n, tn / n in Q30 (<= 2^30: no saturation) within 2^-31 + 2^-29 + 2^-31 < 2^-28
+ * of the exact ones. eps |(k, t)| = eps n 2^-l: Q32 x Q(30 + l), < 2^31 2^30.5 < 2^62, exact in
+ * rfe_xf_t; eps |vwx|: Q32 x Q23 = Q55, < 2^62, exact. Three rfe_xf_t products and two sums
+ * with d (real values), as before; the change is within 2^-27 relative of the former
+ * rfe_xf_t chain (30-bit roundings in both). */
+static rfe_xf_t dugoff_de_q31(const rfe_dugoff_pre_q31_t *pre, int32_t kq, int32_t eps,
+                              int32_t vwx, const rfe_slip_dir_q31_t *d)
 {
     rfe_xf_t de = rfe_xf_make(0, 0);
     if (pre->e > 0) {
-        const rfe_xf_t slip = rfe_xf_sqrt(rfe_xf_add(rfe_xf_mul(k, k), rfe_xf_mul(t, t)));
-        const rfe_xf_t dslip =
-            rfe_xf_div(rfe_xf_add(rfe_xf_mul(k, d->k), rfe_xf_mul(t, d->tan_a)), slip);
-        const rfe_xf_t avx = rfe_xf_of((vwx < 0) ? -vwx : vwx, (int)RFE_FIX_Q_SPEED);
-        const int sv = rfe_q31_sign(vwx);
-        const rfe_xf_t inner = rfe_xf_add(rfe_xf_mul(xf_signed(sv, d->vwx), slip),
-                                          rfe_xf_mul(avx, dslip));
-        de = rfe_xf_neg(rfe_xf_mul(rfe_xf_of(eps, 32), inner));
+        const int64_t t30 = (int64_t)pre->tan_a * 16;
+        const uint64_t mk = rfe_q31_mag64(kq);
+        const uint64_t mt = rfe_q31_mag64(t30);
+        const int l = 30 - (int)rfe_q31_bitlen64((mk > mt) ? mk : mt);
+        const int32_t kn = scale_pow2((int64_t)mk, l);
+        const int32_t tn = scale_pow2((int64_t)mt, l);
+        uint32_t scratch = 0u;
+        const int32_t n = norm2(kn, tn, &scratch); /* <= 2^30.5: never saturates */
+        const int32_t ck = div_q((kq < 0) ? -kn : kn, n, 30, &scratch);
+        const int32_t ct = div_q((t30 < 0) ? -tn : tn, n, 30, &scratch);
+        const rfe_xf_t dsl = rfe_xf_add(rfe_xf_mul(rfe_xf_of(ck, 30), d->k),
+                                        rfe_xf_mul(rfe_xf_of(ct, 30), d->tan_a));
+        const rfe_xf_t es = rfe_xf_make((int64_t)eps * (int64_t)n, -(62 + l));
+        const rfe_xf_t ev = rfe_xf_make((int64_t)eps * (int64_t)rfe_q31_mag64(vwx), -55);
+        const rfe_xf_t inner = rfe_xf_add(rfe_xf_mul(es, xf_signed(rfe_q31_sign(vwx), d->vwx)),
+                                          rfe_xf_mul(ev, dsl));
+        de = rfe_xf_neg(inner);
     }
     return de;
 }
 
-/* g, dg, dg/dmu_s of the Dugoff factor for S > 0 (tyre_flt.c dugoff_g_jac): L < 1 or not. */
-static void dugoff_g_jac_q31(const rfe_dugoff_pre_q31_t *pre, rfe_xf_t k, rfe_xf_t t, int sk,
-                             rfe_xf_t c1, rfe_xf_t c2, int32_t eps, int32_t vwx, rfe_xf_t mu_s,
-                             const rfe_slip_dir_q31_t *d, rfe_xf_t g[3])
+/* Round a product to Q30: v / 2^sh, half up. */
+static int64_t q30_of(int64_t v, unsigned int sh) { return rfe_fix_shr64_round(v, sh); }
+
+/* dF, dF/dmu and the forces at mu of the Dugoff forces for S > 0 and L < 1 (tyre_flt.c
+ * dugoff_jac's g = w / S), in the form F = Fz w u of dugoff_at_mu (w = mu E (1 - L/2),
+ * u = (ux, uy) = (C1 k, C2 t) / S, L from dugoff_l30, the forces' own branch):
+ *   dF = Fz (h (b_k dk + b_t dt) + mu (1 - L) u dE),   dF/dmu = Fz E (1 - L) u,
+ * h = mu E / S, dE from dugoff_de_q31, and per direction (x with C1 = c1, y with c2)
+ *   b_xk = ((1 - L/2) - (1 - L) ux^2) c1 + sgn(k) ux mu E / 4,   b_xt = -(1 - L) ux uy c2,
+ *   b_yk = sgn(k) uy mu E / 4 - (1 - L) ux uy c1,               b_yt = ((1 - L/2) - (1 - L) uy^2) c2
+ * (from du = (cd - u (u . cd)) / S, cd = (c1 dk, c2 dt), and dw = mu (1 - L) dE
+ * + (mu E)^2 / (4 S) sgn(k) dk + mu E L / 2 (u . cd) / S). Only h spans decades (L < 1 gives
+ * h < 2 / (1 - |k|), and S >= |c1 k|: up to mu / |c1| for |k| -> 1): one rfe_xf_t quotient.
+ * Everything else is plain Q30 in int64 with derived bounds: 1 - L, 1 - L/2, |ux|, |uy| <= 1
+ * (Q30 <= 2^30), mu E < 4 (Q59 < 2^61, Q30 < 2^32), |c| < 128 (Q24); each 32 x 32 product
+ * < 2^62 rounded to Q30 (2^-31 each): (1 - L) u u within 3 2^-31, times c within 2^-22.4
+ * (2^-29.4 of |c|); mu E / 4 u within 2^-30; |b| < 2^8.1 (Q30 < 2^38.1). mu (1 - L) u: Q30
+ * < 2^32 within 2^-30. The b enter rfe_xf_t rounded to 30 bits (2^-30 relative); per
+ * direction (one loop, one copy of the inlined rfe_xf_t steps) 7 rfe_xf_t products with the
+ * real change d, h, dE and fz, where the former rfe_xf_t chain had about 40 in all. Outputs:
+ * df = dF, mf = dF/dmu, f0 = F (paper mode's dF/dmu). */
+static void dugoff_jac_lt1_q31(const rfe_dugoff_pre_q31_t *pre, int32_t kq, int32_t c1q,
+                               int32_t c2q, int32_t eps, int32_t vwx, int32_t m, int32_t l30,
+                               rfe_xf_t fzx, const rfe_slip_dir_q31_t *d, rfe_xf_t df[2],
+                               rfe_xf_t mf[2], rfe_xf_t f0[2])
 {
-    const rfe_xf_t one = rfe_xf_make(1, 0);
-    const rfe_xf_t two = rfe_xf_make(2, 0);
-    const rfe_xf_t S = rfe_xf_of(pre->s, (int)pre->qs);
-    const rfe_xf_t E = rfe_xf_of(pre->e, 30);
-    const rfe_xf_t omk = rfe_xf_of(pre->omk, 30);
-    const rfe_xf_t q = rfe_xf_div(mu_s, rfe_xf_mul(two, S));
-    const rfe_xf_t L = rfe_xf_mul(rfe_xf_mul(q, omk), E);
-    const rfe_xf_t sdk = xf_signed(sk, d->k);
-    if (rfe_xf_sign(rfe_xf_sub(L, one)) < 0) {
-        const rfe_xf_t ds = rfe_xf_div(rfe_xf_add(rfe_xf_mul(rfe_xf_mul(c1, k), rfe_xf_mul(c1, d->k)),
-                                                  rfe_xf_mul(rfe_xf_mul(c2, t),
-                                                             rfe_xf_mul(c2, d->tan_a))),
-                                       S);
-        const rfe_xf_t de = dugoff_de_q31(pre, k, t, eps, vwx, d);
-        const rfe_xf_t dq = rfe_xf_neg(rfe_xf_div(rfe_xf_mul(q, ds), S));
-        const rfe_xf_t qe = rfe_xf_mul(q, E);
-        const rfe_xf_t dl = rfe_xf_add(
-            rfe_xf_mul(rfe_xf_sub(rfe_xf_mul(dq, omk), rfe_xf_mul(q, sdk)), E),
-            rfe_xf_mul(rfe_xf_mul(q, omk), de));
-        const rfe_xf_t two_l = rfe_xf_sub(two, L);
-        g[0] = rfe_xf_mul(qe, two_l);
-        g[1] = rfe_xf_sub(rfe_xf_mul(rfe_xf_add(rfe_xf_mul(dq, E), rfe_xf_mul(q, de)), two_l),
-                          rfe_xf_mul(qe, dl));
-        g[2] = rfe_xf_div(rfe_xf_mul(E, rfe_xf_sub(one, L)), S);
-    } else {
-        g[0] = rfe_xf_div(one, omk);
-        g[1] = rfe_xf_div(sdk, rfe_xf_mul(omk, omk));
-        g[2] = rfe_xf_make(0, 0);
+    const int64_t u[2] = {pre->ux, pre->uy};
+    const int64_t c[2] = {c1q, c2q};
+    const int64_t oml = (int64_t)ONE_Q30 - (int64_t)l30;                 /* 1 - L, (0, 2^30] */
+    const int64_t omh = (int64_t)ONE_Q30 - ((int64_t)l30 / 2);           /* 1 - L/2 */
+    const int64_t me = (int64_t)m * (int64_t)pre->e;                     /* mu E, Q59 < 2^61 */
+    const int64_t me30 = q30_of(me, 29u);                                /* < 2^32 */
+    const int64_t ouxy = q30_of(q30_of(oml * u[0], 30u) * u[1], 30u);    /* (1 - L) ux uy */
+    const int64_t sk = (int64_t)rfe_q31_sign(kq);
+    const int64_t mo = q30_of((int64_t)m * oml, 29u);                   /* mu (1 - L), < 2^32 */
+    const int64_t w30 = q30_of(me30 * omh, 30u);                         /* w, Q30 < 2^32 */
+    const int64_t eo = q30_of((int64_t)pre->e * oml, 30u);               /* E (1 - L) <= 1 */
+    const rfe_xf_t h = rfe_xf_div(rfe_xf_make(me, -59), rfe_xf_of(pre->s, (int)pre->qs));
+    const rfe_xf_t de = dugoff_de_q31(pre, kq, eps, vwx, d);
+    size_t i;
+    for (i = 0u; i < 2u; ++i) {
+        /* direction i: b_k, b_t of the comment above; (1 - L) u_i^2 as (1 - L) u_i, then u_i */
+        const int64_t ouii = q30_of(q30_of(oml * u[i], 30u) * u[i], 30u);
+        const int64_t diag = q30_of((omh - ouii) * c[i], 24u);
+        const int64_t off = q30_of(ouxy * c[1u - i], 24u);
+        const int64_t mei = sk * q30_of(me30 * u[i], 32u);               /* sgn(k) u_i mu E / 4 */
+        int64_t bk = mei - off;
+        int64_t bt = diag;
+        rfe_xf_t dd;
+        if (i == 0u) {
+            bk = diag + mei;
+            bt = -off;
+        }
+        dd = rfe_xf_add(rfe_xf_mul(rfe_xf_make(bk, -30), d->k),
+                        rfe_xf_mul(rfe_xf_make(bt, -30), d->tan_a));
+        df[i] = rfe_xf_mul(fzx, rfe_xf_add(rfe_xf_mul(h, dd),
+                                           rfe_xf_mul(rfe_xf_make(q30_of(mo * u[i], 30u), -30),
+                                                      de)));
+        mf[i] = rfe_xf_mul(fzx, rfe_xf_make(q30_of(eo * u[i], 30u), -30));
+        f0[i] = rfe_xf_mul(fzx, rfe_xf_make(q30_of(w30 * u[i], 30u), -30));
     }
 }
 
-/* Dugoff forces fz (c1 k, c2 t) g and their derivatives (tyre_flt.c dugoff_jac); f0[0..1]:
- * the forces. S = 0: dg = dg/dmu_s = 0, g = 1 (0 at mu_s = 0). */
+/* Dugoff forces fz (c1 k, c2 t) g and their derivatives (tyre_flt.c dugoff_jac) at mu = m
+ * (Q29, >= 0; paper mode: 1); f0[0..1]: the forces. L < 1 (S > 0): dugoff_jac_lt1_q31.
+ * Else dF/dmu = 0 and g = 1 / (1 - |k|), dg = sgn(k) dk g^2 (L >= 1), or g = 1, dg = 0 at
+ * S = 0 (the limit S -> 0, L -> infinity; 0 at m = 0: no force at any slip). One loop over
+ * the two directions: one copy of the inlined rfe_xf_t steps. */
 static void dugoff_jac_q31(const rfe_dugoff_pre_q31_t *pre, int32_t kq, int32_t c1q,
-                           int32_t c2q, int32_t eps, int32_t vwx, rfe_xf_t mu_s, int32_t fz,
+                           int32_t c2q, int32_t eps, int32_t vwx, int32_t m, int32_t fz,
                            const rfe_slip_dir_q31_t *d, rfe_tyre_jac_q31_t *o, rfe_xf_t f0[2])
 {
-    const rfe_xf_t k = rfe_xf_of(kq, 30);
-    const rfe_xf_t t = rfe_xf_of(pre->tan_a, 26);
-    const rfe_xf_t c1 = rfe_xf_of(c1q, (int)RFE_FIX_Q_STIFF);
-    const rfe_xf_t c2 = rfe_xf_of(c2q, (int)RFE_FIX_Q_STIFF);
-    const rfe_xf_t fc1 = rfe_xf_mul(rfe_xf_of(fz, 15), c1);
-    const rfe_xf_t fc2 = rfe_xf_mul(rfe_xf_of(fz, 15), c2);
-    rfe_xf_t g[3];
-    g[0] = rfe_xf_make(1, 0);
-    g[1] = rfe_xf_make(0, 0);
-    g[2] = rfe_xf_make(0, 0);
-    if (pre->s > 0) {
-        const int sk = rfe_q31_sign(kq);
-        dugoff_g_jac_q31(pre, k, t, sk, c1, c2, eps, vwx, mu_s, d, g);
-    } else if (mu_s.m == 0) {
-        g[0] = rfe_xf_make(0, 0); /* S -> 0 at mu_s = 0: no force at any slip */
+    const rfe_xf_t fzx = rfe_xf_of(fz, 15);
+    const int32_t l30 = (pre->s > 0) ? dugoff_l30(pre, m) : ONE_Q30;
+    rfe_xf_t df[2];
+    rfe_xf_t mf[2];
+    if (l30 < ONE_Q30) {
+        dugoff_jac_lt1_q31(pre, kq, c1q, c2q, eps, vwx, m, l30, fzx, d, df, mf, f0);
     } else {
-        /* g = 1: the limit S -> 0 (L -> infinity) */
+        const int32_t cq[2] = {c1q, c2q};
+        rfe_xf_t kt[2];
+        rfe_xf_t dv[2];
+        rfe_xf_t g0 = rfe_xf_make((m > 0) ? 1 : 0, 0);
+        rfe_xf_t g1 = rfe_xf_make(0, 0);
+        size_t i;
+        kt[0] = rfe_xf_of(kq, 30);
+        kt[1] = rfe_xf_of(pre->tan_a, 26);
+        dv[0] = d->k;
+        dv[1] = d->tan_a;
+        if (pre->s > 0) {
+            g0 = rfe_xf_div(rfe_xf_make(1, 0), rfe_xf_of(pre->omk, 30));
+            g1 = rfe_xf_mul(xf_signed(rfe_q31_sign(kq), d->k), rfe_xf_mul(g0, g0));
+        }
+        for (i = 0u; i < 2u; ++i) {
+            const rfe_xf_t fc = rfe_xf_mul(fzx, rfe_xf_of(cq[i], (int)RFE_FIX_Q_STIFF));
+            f0[i] = rfe_xf_mul(fc, rfe_xf_mul(kt[i], g0));
+            df[i] = rfe_xf_mul(fc, rfe_xf_add(rfe_xf_mul(dv[i], g0), rfe_xf_mul(kt[i], g1)));
+            mf[i] = rfe_xf_make(0, 0);
+        }
     }
-    f0[0] = rfe_xf_mul(fc1, rfe_xf_mul(k, g[0]));
-    f0[1] = rfe_xf_mul(fc2, rfe_xf_mul(t, g[0]));
-    o->dfx = rfe_xf_mul(fc1, rfe_xf_add(rfe_xf_mul(d->k, g[0]), rfe_xf_mul(k, g[1])));
-    o->dfy = rfe_xf_mul(fc2, rfe_xf_add(rfe_xf_mul(d->tan_a, g[0]), rfe_xf_mul(t, g[1])));
-    o->mfx = rfe_xf_mul(fc1, rfe_xf_mul(k, g[2]));
-    o->mfy = rfe_xf_mul(fc2, rfe_xf_mul(t, g[2]));
+    o->dfx = df[0];
+    o->dfy = df[1];
+    o->mfx = mf[0];
+    o->mfy = mf[1];
 }
 
 /* pi/2 in Q55, round(pi/2 2^55). */
@@ -1198,16 +1260,15 @@ void rfe_tyre_pre_jac_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugoff_pre_
     } else if (tp->mode == RFE_TYRE_PAPER) {
         /* F = mu F0: dF = mu dF0, dF/dmu = F0 */
         const rfe_xf_t mux = rfe_xf_of(mu, (int)RFE_FIX_Q_MU);
-        dugoff_jac_q31(pre, k, tp->Cx_n, tp->Cy_n, tp->eps, vwx, rfe_xf_make(1, 0), fz, d, out,
-                       f0);
+        dugoff_jac_q31(pre, k, tp->Cx_n, tp->Cy_n, tp->eps, vwx, RFE_FIX_ONE(RFE_FIX_Q_MU), fz, d,
+                       out, f0);
         out->dfx = rfe_xf_mul(mux, out->dfx);
         out->dfy = rfe_xf_mul(mux, out->dfy);
         out->mfx = f0[0];
         out->mfy = f0[1];
     } else {
         /* mu < 0 is evaluated at 0 (MODEL.md §4), where nothing depends on mu */
-        dugoff_jac_q31(pre, k, tp->cx, tp->cy, tp->eps, vwx, rfe_xf_of(m, (int)RFE_FIX_Q_MU),
-                       fz, d, out, f0);
+        dugoff_jac_q31(pre, k, tp->cx, tp->cy, tp->eps, vwx, m, fz, d, out, f0);
         if (m == 0) {
             out->mfx = rfe_xf_make(0, 0);
             out->mfy = rfe_xf_make(0, 0);

@@ -449,6 +449,181 @@ static void test_tyre_magic_jac_vs_f64_q31(void **state)
            worst);
 }
 
+/* ---- the Dugoff derivative (plain Q30 coefficients) against the double twin ---------------
+ * tyre_q31.c's dugoff_jac_q31 writes, for L < 1, dF = fz (h (b_k dk + b_t dt) + mu (1 - L) u dE)
+ * with h = mu E / S the only rfe_xf_t quotient and the b, mu (1 - L) u, dF/dmu = fz E (1 - L) u
+ * and the forces fz w u as Q30 integers; dE (dugoff_de_q31) from the slip's cosines in Q30. The
+ * expectation is tyre_flt.c's dugoff_jac in double (the g = w / S form: q = mu / (2 S), dq, dL,
+ * dg; not the code's u form) from the same set-up (s, ux, uy, E, 1 - |k|, k, tan a taken exactly
+ * from the q31 set-up). Bound per value, from the code's comments: the b within 2^-28 (|c1| +
+ * |c2| + 1), h within 2^-29 relative, L (dugoff_l30: two 30-bit roundings and a Q30 quotient)
+ * within 2^-27, which moves b by 2^-27 (|c1| + |c2| + 1) and mu (1 - L) by 4 2^-27; the
+ * cosines within 2^-28 (dE within 2^-27 of eps (slip |dv| + |vwx| (|dk| + |dt|)) = de_s); the
+ * 30-bit rfe_xf_t steps 2^-27 relative of the result:
+ *   B = fz (2^-25 h (|c1| + |c2| + 1)(|dk| + |dt|) + 2^-24 (mu + 1) de_s) + 2^-27 |want|
+ * and for dF/dmu (and paper mode's F0) fz 2^-25 (mu + 1); for L >= 1 (g = 1 / (1 - |k|),
+ * relative 2^-29 per rfe_xf_t step) fz 2^-25 (|c1| |dk| g + |c1 k dk| g^2 + |c2| (|dt| g +
+ * |t dk| g^2)). Points with |L - 1| < 2^-20 (either branch) are skipped. Stiffness from the
+ * preset's down to 0.05 (h up to mu / (0.05 |k|)), slips to a locked wheel (1 - |k| = 2^-10),
+ * eps 0 to 0.45, both signs of v_wx, friction 0.01 to 1.2 in absolute and paper mode. Fails
+ * when a coefficient's formula is off (checked once: b_xk's sgn(k) term with the wrong sign). */
+static double dugoff_bound(const rfe_dugoff_pre_t *pd, double c1, double c2, double eps,
+                           double vwx, double mu, double fzd, const rfe_slip_dir_t *dd, size_t r,
+                           double want)
+{
+    const double L = mu * pd->omk * pd->e / (2.0 * pd->s);
+    const double cs = fabs(c1) + fabs(c2) + 1.0;
+    const double dkt = fabs(dd->k) + fabs(dd->tan_a);
+    const double slip = sqrt((pd->k * pd->k) + (pd->tan_a * pd->tan_a));
+    const double de_s = eps * ((slip * fabs(dd->vwx)) + (fabs(vwx) * dkt));
+    double b = ldexp(fzd, -25) * (mu + 1.0);
+    if (pd->s <= 0.0) {
+        b = ldexp(fzd, -25) * cs * dkt;
+    } else if ((L < 1.0) && (r < 2u)) {
+        const double h = mu * pd->e / pd->s;
+        b = fzd * ((ldexp(h, -25) * cs * dkt) + (ldexp(mu + 1.0, -24) * de_s));
+    } else if (L >= 1.0) {
+        const double g = 1.0 / pd->omk;
+        b += ldexp(fzd, -25) * ((fabs(c1 * dd->k) * g) + (fabs(c1 * pd->k * dd->k) * g * g) +
+                                (fabs(c2) * ((fabs(dd->tan_a) * g) +
+                                             (fabs(pd->tan_a * dd->k) * g * g))));
+    } else {
+        /* dF/dmu at L < 1: fz 2^-25 (mu + 1) */
+    }
+    return b + ldexp(fabs(want), -27);
+}
+
+/* REQ: the Dugoff forces' derivatives (absolute and paper mode) are the double twin's within
+ * the bound above, across slips, stiffness, eps, v_wx and friction. */
+/* REQ-MEAS-003 REQ-FXP-003 */
+static void test_tyre_dugoff_jac_vs_f64_q31(void **state)
+{
+    rfe_params_q31_t p = preset();
+    rfe_tyre_params_q31_t tp = p.tyre;
+    rfe_tyre_params_t td;
+    const rfe_fix_t kappas[7] = {0, (rfe_fix_t)(1 << 12), (rfe_fix_t)(1 << 22),
+                                 -(rfe_fix_t)(1 << 27), (rfe_fix_t)(3 << 28),
+                                 -(rfe_fix_t)((1 << 30) - (1 << 20)), (rfe_fix_t)(1 << 30)};
+    const rfe_fix_t alphas[5] = {0, (rfe_fix_t)(1 << 12), (rfe_fix_t)(1 << 22),
+                                 -(rfe_fix_t)(1 << 25), (rfe_fix_t)(5 << 26)};
+    /* mu 0.01, 0.3, 1.2 (Q29) */
+    const rfe_fix_t mus[3] = {(rfe_fix_t)5368709, (rfe_fix_t)161061274, (rfe_fix_t)644245094};
+    /* eps 0, the preset's, 0.45 (Q32) */
+    const rfe_fix_t epss[3] = {0, tp.eps, (rfe_fix_t)1932735283};
+    /* v_wx 20 m/s and -3 m/s (Q23) */
+    const rfe_fix_t vwxs[2] = {(rfe_fix_t)(20 * (1 << 23)), -(rfe_fix_t)(3 * (1 << 23))};
+    /* the preset's stiffness and 0.05 (Q24) */
+    const rfe_fix_t stiff[2] = {0, (rfe_fix_t)838861};
+    const rfe_fix_t fz = (rfe_fix_t)(4000 * (1 << 15));
+    const double fzd = 4000.0;
+    rfe_slip_dir_q31_t d;
+    rfe_slip_dir_t dd;
+    double worst = 0.0;
+    long compared = 0;
+    size_t mode;
+    (void)state;
+    d.k = rfe_xf_make(3, -7);
+    d.tan_a = rfe_xf_make(-5, -6);
+    d.vwx = rfe_xf_make(1, -1);
+    dd.k = xf_value(d.k);
+    dd.tan_a = xf_value(d.tan_a);
+    dd.vwx = xf_value(d.vwx);
+    for (mode = 0u; mode < 2u; ++mode) {
+        size_t ic;
+        /* 12 cases: stiffness (2) x eps (3) x v_wx (2) */
+        for (ic = 0u; ic < 12u; ++ic) {
+            const size_t is = ic % 2u;
+            const size_t ie = (ic / 2u) % 3u;
+            const size_t iv = ic / 6u;
+            size_t a;
+            tp = p.tyre;
+            tp.mode = (mode == 0u) ? RFE_TYRE_ABSOLUTE : RFE_TYRE_PAPER;
+            tp.eps = epss[ie];
+            if (stiff[is] != 0) {
+                tp.cx = stiff[is];
+                tp.Cx_n = stiff[is];
+            }
+            memset(&td, 0, sizeof td);
+            td.mode = tp.mode;
+            td.cx = ldexp((double)tp.cx, -RFE_FIX_Q_STIFF);
+            td.cy = ldexp((double)tp.cy, -RFE_FIX_Q_STIFF);
+            td.Cx_n = ldexp((double)tp.Cx_n, -RFE_FIX_Q_STIFF);
+            td.Cy_n = ldexp((double)tp.Cy_n, -RFE_FIX_Q_STIFF);
+            td.eps = ldexp((double)tp.eps, -RFE_FIX_Q_EPS);
+            td.alpha_max = ldexp((double)tp.alpha_max, -29);
+            assert_int_equal(rfe_tyre_abs_params_ok_q31(&tp), 1);
+            for (a = 0u; a < 35u; ++a) {
+                const rfe_fix_t kq = kappas[a / 5u];
+                const rfe_fix_t aq = alphas[a % 5u];
+                const rfe_fix_t vwx = vwxs[iv];
+                const double c1 = (mode == 0u) ? td.cx : td.Cx_n;
+                const double c2 = (mode == 0u) ? td.cy : td.Cy_n;
+                rfe_dugoff_pre_q31_t pre;
+                rfe_dugoff_pre_t pd;
+                size_t j;
+                if (mode == 0u) {
+                    rfe_tyre_dugoff_pre_q31(&tp, kq, aq, vwx, &pre);
+                } else {
+                    rfe_tyre_norm_pre_q31(&tp, kq, aq, vwx, &pre);
+                }
+                memset(&pd, 0, sizeof pd);
+                pd.s = ldexp((double)pre.s, -(int)pre.qs);
+                pd.ux = ldexp((double)pre.ux, -30);
+                pd.uy = ldexp((double)pre.uy, -30);
+                pd.e = ldexp((double)pre.e, -30);
+                pd.omk = ldexp((double)pre.omk, -30);
+                pd.k = ldexp((double)kq, -30);
+                pd.tan_a = ldexp((double)pre.tan_a, -26);
+                for (j = 0u; j < 3u; ++j) {
+                    const double mud = ldexp((double)mus[j], -29);
+                    const double mus_d = (mode == 0u) ? mud : 1.0;
+                    const double L = mus_d * pd.omk * pd.e / (2.0 * pd.s);
+                    rfe_tyre_jac_q31_t o;
+                    rfe_tyre_jac_t od;
+                    double got[4];
+                    double want[4];
+                    size_t r;
+                    if ((pd.s > 0.0) && (fabs(L - 1.0) < ldexp(1.0, -20))) {
+                        continue; /* the branch may differ by the rounding of L */
+                    }
+                    rfe_tyre_pre_jac_q31(&tp, &pre, kq, vwx, fz, mus[j], &d, &o);
+                    assert_int_equal(rfe_tyre_pre_jac_f64(&td, &pd, pd.k,
+                                                          ldexp((double)aq, -29), fzd,
+                                                          ldexp((double)vwx, -23), mud, &dd,
+                                                          &od),
+                                     RFE_OK);
+                    got[0] = xf_value(o.dfx);
+                    got[1] = xf_value(o.dfy);
+                    got[2] = xf_value(o.mfx);
+                    got[3] = xf_value(o.mfy);
+                    want[0] = od.dfx;
+                    want[1] = od.dfy;
+                    want[2] = od.mfx;
+                    want[3] = od.mfy;
+                    for (r = 0u; r < 4u; ++r) {
+                        /* paper mode: dF = mu dF0 (one more 2^-30 step), F0 at mu_s = 1 */
+                        const double scale = ((mode == 1u) && (r < 2u)) ? mud : 1.0;
+                        const double bound =
+                            scale * dugoff_bound(&pd, c1, c2, td.eps, ldexp((double)vwx, -23),
+                                                 mus_d, fzd, &dd, r, want[r] / scale);
+                        const double err = fabs(got[r] - want[r]);
+                        if (err > bound) {
+                            printf("mode %zu case %zu slip %zu mu %zu out %zu: q31 %.12g f64 "
+                                   "%.12g bound %.3g\n", mode, ic, a, j, r, got[r], want[r],
+                                   bound);
+                        }
+                        assert_true(err <= bound);
+                        worst = fmax(worst, err / bound);
+                        ++compared;
+                    }
+                }
+            }
+        }
+    }
+    printf("dugoff jac q31 vs f64: %ld values compared, worst |error| / bound %.3g\n", compared,
+           worst);
+}
+
 /* ---- the Magic Formula derivative's factors in Q30 against the formulas in double ----------
  * tyre_q31.c computes, per direction, m G / s (magic_g_over_s_q31), m dG/ds and G - s dG/ds
  * (magic_shape_jac_q31) as Q30 integers and combines them (magic_dfs_q31) into
@@ -651,6 +826,7 @@ int main(void)
         cmocka_unit_test(test_tyre_magic_pre_jac_fused_q31),
         cmocka_unit_test(test_tyre_magic_jac_vs_f64_q31),
         cmocka_unit_test(test_tyre_magic_factors_vs_f64_q31),
+        cmocka_unit_test(test_tyre_dugoff_jac_vs_f64_q31),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
