@@ -477,34 +477,132 @@ typedef struct {
     rfe_xf_t ry;
 } lat_map_q31_t;
 
-static void lat_map_q31(const rfe_vehicle_q31_t *veh, int32_t c, int32_t s, size_t i,
-                        lat_map_q31_t *b)
+/* The map's four coefficients exactly in Q68 (k = ax, ay, rx, ry). */
+static void lat_coef_q31(const rfe_vehicle_q31_t *veh, int32_t c, int32_t s, size_t i,
+                         int64_t k[4])
 {
     const int32_t px_J = (i < (size_t)RFE_RL) ? veh->lf_J : -veh->lr_J;
     const int32_t y_J = (i < (size_t)RFE_RL) ? veh->yf_J : veh->yr_J;
     const int32_t py_J = ((i == (size_t)RFE_FL) || (i == (size_t)RFE_RL)) ? y_J : -y_J;
     const int32_t ci = (i < (size_t)RFE_RL) ? c : ONE_Q30;
     const int32_t si = (i < (size_t)RFE_RL) ? s : 0;
-    b->ax = rfe_xf_make((int64_t)si * (int64_t)veh->inv_m, -68);
-    b->rx = rfe_xf_make(((int64_t)si * (int64_t)px_J) - ((int64_t)ci * (int64_t)py_J), -68);
-    b->ay = rfe_xf_make((int64_t)ci * (int64_t)veh->inv_m, -68);
-    b->ry = rfe_xf_make(((int64_t)ci * (int64_t)px_J) + ((int64_t)si * (int64_t)py_J), -68);
+    k[0] = (int64_t)si * (int64_t)veh->inv_m;
+    k[1] = (int64_t)ci * (int64_t)veh->inv_m;
+    k[2] = ((int64_t)si * (int64_t)px_J) - ((int64_t)ci * (int64_t)py_J);
+    k[3] = ((int64_t)ci * (int64_t)px_J) + ((int64_t)si * (int64_t)py_J);
 }
 
-/* The lateral rows' terms over the wheels: two per wheel and row (fx and fy by the map),
- * summed once per row by rfe_xf_sum (its RFE_XF_SUM_MAX = 8 = 2 RFE_WHEELS terms). */
-#define LAT_TERMS RFE_XF_SUM_MAX
-
-/* Wheel i's body terms of a force pair (fx, fy) by the map b: t[r][2i], t[r][2i + 1] for the
- * rows r = ay, r-dot. */
-static void body_add_q31(const lat_map_q31_t *b, rfe_xf_t fx, rfe_xf_t fy, size_t i,
-                         rfe_xf_t t[2][LAT_TERMS])
+static void lat_map_q31(const rfe_vehicle_q31_t *veh, int32_t c, int32_t s, size_t i,
+                        lat_map_q31_t *b)
 {
-    const size_t k = 2u * i;
-    t[0][k] = rfe_xf_mul(fx, b->ax);
-    t[0][k + 1u] = rfe_xf_mul(fy, b->ay);
-    t[1][k] = rfe_xf_mul(fx, b->rx);
-    t[1][k + 1u] = rfe_xf_mul(fy, b->ry);
+    int64_t k[4];
+    lat_coef_q31(veh, c, s, i, k);
+    b->ax = rfe_xf_make(k[0], -68);
+    b->ay = rfe_xf_make(k[1], -68);
+    b->rx = rfe_xf_make(k[2], -68);
+    b->ry = rfe_xf_make(k[3], -68);
+}
+
+/* The same map in plain Q36 integers for the lateral rows' derivatives (lat_part_q31):
+ * inv_m, lf_J, lr_J, yf_J, yr_J are int32 in Q38, so each is below 2^-7 (params_q31.h) and
+ * |ax|, |ay| <= 2^-7, |rx|, |ry| <= |(x_i / J, y_i / J)| < sqrt(2) 2^-7 = 2^-6.5 (c^2 + s^2
+ * = 1): below 2^29.5 in Q36, the Q68 value rounded by 32 bits (1/2 unit, 2^-37 absolute). */
+typedef struct {
+    int32_t ax;
+    int32_t ay;
+    int32_t rx;
+    int32_t ry;
+} lat_q36_t;
+
+static void lat_map_q36(const rfe_vehicle_q31_t *veh, int32_t c, int32_t s, size_t i,
+                        lat_q36_t *b)
+{
+    int64_t k[4];
+    lat_coef_q31(veh, c, s, i, k);
+    b->ax = (int32_t)rfe_fix_shr64_round(k[0], 32u);
+    b->ay = (int32_t)rfe_fix_shr64_round(k[1], 32u);
+    b->rx = (int32_t)rfe_fix_shr64_round(k[2], 32u);
+    b->ry = (int32_t)rfe_fix_shr64_round(k[3], 32u);
+}
+
+/* One wheel's part of the lateral rows (ay, r-dot) for a force pair (fx, fy), integers at one
+ * exponent per wheel: t[r] 2^e (any = 0: both forces 0, t = 0). */
+typedef struct {
+    int64_t t[2];
+    int e;
+    int any;
+} lat_part_q31_t;
+
+/* The mantissa of a (|a.m| <= 2^30) at exponent e >= a.e, rounded half up (0 when a is 0). */
+static int64_t xf_mant_at_q31(rfe_xf_t a, int e)
+{
+    int64_t v = 0;
+    if (a.m != 0) {
+        const int sh = e - a.e;
+        v = rfe_fix_shr64_round((int64_t)a.m, (unsigned int)sh);
+    }
+    return v;
+}
+
+/* Wheel i's part of the lateral rows of (fx, fy) by the Q36 map b: both mantissas at the larger
+ * exponent E (the smaller one rounded half up there, 1/2 unit = 2^-31 of the larger force),
+ * |m| <= 2^30, times the coefficients (|.| < 2^29.5): each product < 2^59.5, the row's two
+ * < 2^60.5, exact, at exponent E - 36. */
+static void lat_part_q31(const lat_q36_t *b, rfe_xf_t fx, rfe_xf_t fy, lat_part_q31_t *p)
+{
+    p->t[0] = 0;
+    p->t[1] = 0;
+    p->e = 0;
+    p->any = 0;
+    if ((fx.m != 0) || (fy.m != 0)) {
+        int e = (fx.m != 0) ? fx.e : fy.e;
+        int64_t mx;
+        int64_t my;
+        if ((fy.m != 0) && (fy.e > e)) {
+            e = fy.e;
+        }
+        mx = xf_mant_at_q31(fx, e);
+        my = xf_mant_at_q31(fy, e);
+        p->t[0] = (mx * (int64_t)b->ax) + (my * (int64_t)b->ay);
+        p->t[1] = (mx * (int64_t)b->rx) + (my * (int64_t)b->ry);
+        p->e = e - 36;
+        p->any = 1;
+    }
+}
+
+/* Row r of the sum over the wheels' parts p in Q24, rounded half up and saturating (counted in
+ * *count): every part at the largest exponent E of the wheels' (a smaller one rounded half up,
+ * 1/2 unit of 2^E), the sum of four parts < 2^60.5 each < 2^62.5 exact, then rounded once to
+ * Q24 (or shifted up exactly while below 2^62, saturating beyond). */
+static rfe_fix_t lat_row_q31(const lat_part_q31_t p[RFE_WHEELS], size_t r, uint32_t *count)
+{
+    int emax = 0;
+    int any = 0;
+    int64_t sum = 0;
+    int64_t v;
+    int k;
+    size_t i;
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        if ((p[i].any != 0) && ((any == 0) || (p[i].e > emax))) {
+            emax = p[i].e;
+            any = 1;
+        }
+    }
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        if (p[i].any != 0) {
+            const int sh = emax - p[i].e;
+            sum += rfe_fix_shr64_round(p[i].t[r], (unsigned int)sh);
+        }
+    }
+    k = emax + 24;
+    if (k <= 0) {
+        v = rfe_fix_shr64_round(sum, (unsigned int)(-k));
+    } else if ((sum == 0) || ((rfe_q31_bitlen64(rfe_q31_mag64(sum)) + (unsigned int)k) <= 62u)) {
+        v = sum * rfe_q31_pow2((unsigned int)k);
+    } else {
+        v = (sum > 0) ? INT64_MAX : -INT64_MAX; /* beyond 2^62: saturates */
+    }
+    return rfe_fix_sat32(v, count);
 }
 
 /* Wheel i's Dugoff/Magic Formula pre-computed terms and its slip's direction of change by vy,
@@ -519,39 +617,26 @@ static void wheel_dir_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh,
     *d = vy_direction_q31(h, veh, tp, u, i, ci, si, pre->tan_a);
 }
 
-/* Wheel i's force derivatives, mapped to the body once, as its terms of the sums by vy (tv)
- * and by its friction along dmu_i (tm). */
+/* Wheel i's force derivatives, mapped to the body once (Q36, lat_map_q36), as its parts of the
+ * sums by vy (pv) and by its friction along dmu_i (pm). */
 static void wheel_add_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh, size_t i,
-                          const rfe_tyre_jac_q31_t *f, rfe_fix_t dmu_i, rfe_xf_t tv[2][LAT_TERMS],
-                          rfe_xf_t tm[2][LAT_TERMS])
+                          const rfe_tyre_jac_q31_t *f, rfe_fix_t dmu_i, lat_part_q31_t *pv,
+                          lat_part_q31_t *pm)
 {
     const rfe_xf_t sd = rfe_xf_of(dmu_i, 30);
-    lat_map_q31_t bm;
-    lat_map_q31(veh, h->cos_delta, h->sin_delta, i, &bm);
-    body_add_q31(&bm, f->dfx, f->dfy, i, tv);
-    body_add_q31(&bm, rfe_xf_mul(f->mfx, sd), rfe_xf_mul(f->mfy, sd), i, tm);
+    lat_q36_t bm;
+    lat_map_q36(veh, h->cos_delta, h->sin_delta, i, &bm);
+    lat_part_q31(&bm, f->dfx, f->dfy, pv);
+    lat_part_q31(&bm, rfe_xf_mul(f->mfx, sd), rfe_xf_mul(f->mfy, sd), pm);
 }
 
-/* Both rows' sums of their terms, each rounded once (rfe_xf_sum). */
-static void sum_rows_q31(rfe_xf_t tv[2][LAT_TERMS], rfe_xf_t tm[2][LAT_TERMS], rfe_xf_t dv[2],
-                         rfe_xf_t dm[2])
-{
-    size_t r;
-    for (r = 0u; r < 2u; ++r) {
-        dv[r] = rfe_xf_sum(tv[r]);
-        dm[r] = rfe_xf_sum(tm[r]);
-    }
-}
-
-/* The derivatives' sums over the wheels (rfe_xf_t): by vy in dv, by mu along dmu in dm. */
+/* The wheels' parts of the derivatives' sums: by vy in pv, by mu along dmu in pm. */
 static void lateral_sums_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh,
                              const rfe_tyre_params_q31_t *tp, const rfe_sample_q31_t *u,
-                             const rfe_fix_t *mu, const rfe_fix_t *dmu, rfe_xf_t dv[2],
-                             rfe_xf_t dm[2])
+                             const rfe_fix_t *mu, const rfe_fix_t *dmu,
+                             lat_part_q31_t pv[RFE_WHEELS], lat_part_q31_t pm[RFE_WHEELS])
 {
     const int cached = pre_matches_q31(h, tp);
-    rfe_xf_t tv[2][LAT_TERMS];
-    rfe_xf_t tm[2][LAT_TERMS];
     size_t i;
     for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
         rfe_dugoff_pre_q31_t pre;
@@ -560,9 +645,8 @@ static void lateral_sums_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *v
         wheel_dir_q31(h, veh, tp, u, cached, i, &pre, &d);
         rfe_tyre_pre_jac_q31(tp, &pre, h->kin.kappa[i], h->kin.vwx[i], h->kin.fz[i], mu[i], &d,
                              &f);
-        wheel_add_q31(h, veh, i, &f, dmu[i], tv, tm);
+        wheel_add_q31(h, veh, i, &f, dmu[i], &pv[i], &pm[i]);
     }
-    sum_rows_q31(tv, tm, dv, dm);
 }
 
 /* Load-scaled set-up, Magic Formula curve: z = h(mu, u) of rfe_meas_eval_q31 and the sums of
@@ -572,12 +656,10 @@ static void lateral_sums_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *v
 static rfe_status_t lateral_magic_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh,
                                       const rfe_tyre_params_q31_t *tp, const rfe_sample_q31_t *u,
                                       const rfe_fix_t *mu, const rfe_fix_t *dmu,
-                                      rfe_fix_t z[RFE_MEAS], rfe_xf_t dv[2], rfe_xf_t dm[2],
-                                      uint32_t *count)
+                                      rfe_fix_t z[RFE_MEAS], lat_part_q31_t pv[RFE_WHEELS],
+                                      lat_part_q31_t pm[RFE_WHEELS], uint32_t *count)
 {
     rfe_fix_t col[COLS];
-    rfe_xf_t tv[2][LAT_TERMS];
-    rfe_xf_t tm[2][LAT_TERMS];
     int cached;
     size_t i;
     const rfe_status_t st = abs_inputs_ok_q31(h, tp);
@@ -595,9 +677,8 @@ static rfe_status_t lateral_magic_q31(const rfe_meas_q31_t *h, const rfe_vehicle
         rfe_tyre_magic_pre_jac_q31(tp, &pre, h->kin.fz[i], mu[i], &d, &fx, &fy, count, &f);
         body_terms_q31(veh, fx, fy, h->cos_delta, h->sin_delta, i, &col[i * (size_t)RFE_MEAS],
                        count);
-        wheel_add_q31(h, veh, i, &f, dmu[i], tv, tm);
+        wheel_add_q31(h, veh, i, &f, dmu[i], &pv[i], &pm[i]);
     }
-    sum_rows_q31(tv, tm, dv, dm);
     sum_terms_q31(col, z, count);
     return RFE_OK;
 }
@@ -609,8 +690,8 @@ rfe_status_t rfe_meas_lateral_jac_q31(const rfe_meas_q31_t *h, const rfe_vehicle
                                       rfe_meas_lateral_q31_t *out, uint32_t *sat)
 {
     rfe_fix_t z[RFE_MEAS];
-    rfe_xf_t dv[2];
-    rfe_xf_t dm[2];
+    lat_part_q31_t pv[RFE_WHEELS];
+    lat_part_q31_t pm[RFE_WHEELS];
     uint32_t count = 0u;
     size_t r;
     rfe_status_t st;
@@ -622,11 +703,11 @@ rfe_status_t rfe_meas_lateral_jac_q31(const rfe_meas_q31_t *h, const rfe_vehicle
         return RFE_ERR_PARAM; /* paper mode's tangents need alpha_max; eval checks the rest */
     }
     if ((h->mode != RFE_TYRE_PAPER) && (tp->mode == RFE_TYRE_MAGIC)) {
-        st = lateral_magic_q31(h, veh, tp, u, mu, dmu, z, dv, dm, &count);
+        st = lateral_magic_q31(h, veh, tp, u, mu, dmu, z, pv, pm, &count);
     } else {
         st = rfe_meas_eval_q31(h, veh, tp, mu, z, &count);
         if (st == RFE_OK) {
-            lateral_sums_q31(h, veh, tp, u, mu, dmu, dv, dm);
+            lateral_sums_q31(h, veh, tp, u, mu, dmu, pv, pm);
         }
     }
     if (st != RFE_OK) {
@@ -634,8 +715,8 @@ rfe_status_t rfe_meas_lateral_jac_q31(const rfe_meas_q31_t *h, const rfe_vehicle
     }
     for (r = 0u; r < 2u; ++r) {
         out->z[r] = z[r + 1u];
-        out->d_vy[r] = rfe_xf_to_fix(dv[r], 24, &count);
-        out->d_mu[r] = rfe_xf_to_fix(dm[r], 24, &count);
+        out->d_vy[r] = lat_row_q31(pv, r, &count);
+        out->d_mu[r] = lat_row_q31(pm, r, &count);
     }
     rfe_q31_sat_add(sat, count);
     return RFE_OK;

@@ -1101,7 +1101,12 @@ static void test_meas_pre_invalid_tyre_and_div_saturation_q31(void **state)
  * the Magic Formula angles and sine within 2 ATAN2 and TRIG), which moves a derivative by its
  * own sensitivity to them: below 1e-6 relative of the wheel's terms at the slips met (d/dt of
  * dF/dt over dF/dt is < 1/t_min with t_min ~ 1e-3 where the derivative of the shape changes
- * fastest), and the result rounds to Q24 (0.5 LSB, 3e-8). JAC_REL = 1e-5 of the wheels' term
+ * fastest), and the result rounds to Q24 (0.5 LSB, 3e-8). The body map and the sums over the
+ * wheels are plain integers (meas_q31.c lat_map_q36, lat_part_q31, lat_row_q31): the map's
+ * coefficients in Q36 (1/2 unit = 2^-37 absolute, <= m 2^-37 < 3e-7 of the wheel's term scale
+ * |dF| / m for m <= 40 t), a wheel's smaller force at its larger one's exponent (2^-31 of it),
+ * the smaller wheels' parts at the largest one's (2^-61 of it), exact sums: well inside the
+ * same budget. JAC_REL = 1e-5 of the wheels' term
  * scale is ten times the sum, plus 1 LSB24. Cases whose double state lies within
  * JAC_NEAR of a kink of the derivative (alpha at alpha_max, |kappa| at 1, E at 0, mu at 0: the
  * two twins may take opposite sides) are not compared but counted (<= 1 %). */
