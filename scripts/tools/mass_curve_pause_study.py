@@ -1,0 +1,230 @@
+#!/usr/bin/env python3
+"""Issue 19: a curve pause for the mass filter, or the cornering resistance taken out of the
+drive force, measured in the float64 reference (scripts/reference/mass_grade.py) on every
+observer log, the observer logs with the car's resistances and the mass and grade logs.
+
+    .venv/bin/python scripts/tools/mass_curve_pause_study.py [--page docs/MASS_GRADE_RESULTS.md]
+                     [--jobs N]
+
+make mass-curve (mass_curve_study.py) showed why the mass is wrong on a steady curve: the
+drive torque also pays the cornering resistance F_c = M (ay Lr/L sin(delta) - r vy), which the
+straight-road model reads as mass, and the ax row reads the sideslip term -r vy as grade.
+Variants here (none is in the library):
+
+- off: the filter as it is;
+- pause |ay| > A (A = 0.5, 1, 2 m/s^2): a sample whose |ay| exceeds A holds the filter as the
+  brake does (MASS_GRADE.md §4.2: M and theta held, theta's variance grows, v restarts) and
+  the hold lasts HOLD s after the last such sample (the brake's mg_t_brake rule: a delay ends
+  where less than half a period of it is left), checked after the brake, shift and slip
+  pauses (status 8 here);
+- F_c out: no pause; every sample's torque less R M^ (ay Lr/L sin(delta) - r vy) and its ax
+  plus r vy, M^ the filter's mass before the sample, vy the log's measured vy (the observer
+  scenarios carry it, noisy; the velocity observer's estimate would take its place in a car);
+  the mass and grade logs have no vy: 0 there.
+
+Runs: the observer logs (scenarios/observer/, noisy and noise-free, the samples of
+mass_slip_ramp_study.py: wheels' speed, summed torque, brake pressure, ax, the log's vx) with
+the simulator's resistances (mg_fc = mg_fr = mg_rho = 0, the model of those logs), the
+observer logs with the car's resistances (scenarios/observer_res/) with the car preset, both in
+the recommended preset (UKF with the ax row) from 1.0, 0.8 and 1.2 times the log's m; the mass
+and grade logs (scenarios/mass_grade/) in their vehicle's recommended preset and the seed's
+AUKF (speed only) from 0.8 times the truth, vx_true as the ground speed. Per run: the mass
+error at the end, the grade RMSE against grade_true over the whole log, the share of samples
+the curve pause held. With --page the text goes between <!-- mass-curve-pause:begin --> and
+<!-- mass-curve-pause:end -->.
+"""
+
+import argparse
+import math
+import multiprocessing
+import os
+import sys
+from pathlib import Path
+
+import numpy as np
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, os.path.join(ROOT, "scripts"))
+sys.path.insert(0, os.path.join(ROOT, "scripts", "tools"))
+
+from mass_slip_ramp_study import (RECOMMENDED, SIM_RESISTANCES, log_path, mg,  # noqa: E402
+                                  observer_samples, res_logs)
+from mass_sensitivity import log_mass  # noqa: E402
+from md_tables import replace_region  # noqa: E402
+
+PAUSED_CURVE = 8            # the study's status of a curve-held sample
+HOLD = 1.0                  # s: the curve pause's hold after the last sample over A (mg_t_brake's)
+THRESHOLDS = (0.5, 1.0, 2.0)  # m/s^2
+STARTS = (1.0, 0.8, 1.2)    # mg_m0 as a share of the log's m
+MG_START = 0.8              # the mass and grade logs' start as a share of the truth
+# name -> (ay threshold or 0, correct by F_c)
+VARIANTS = {"off": (0.0, False)}
+VARIANTS.update({f"pause |ay| > {a:g}": (a, False) for a in THRESHOLDS})
+VARIANTS["F_c out"] = (0.0, True)
+MG_CONFIGS = {"UKF + ax": RECOMMENDED, "AUKF": {"mg_adaptive": 1.0, "mg_use_ax": 0.0}}
+
+
+class CurvePause(mg.MassGrade):
+    """The reference's filter with a hold while |ay| > ay_max and hold s after (ay_max = 0:
+    the reference); ay is set on the instance before each step."""
+
+    _SAVED = mg.MassGrade._SAVED + ("curve_left",)
+
+    def __init__(self, params, ay_max, hold):
+        super().__init__(params)
+        self.ay_max, self.hold = ay_max, hold
+        self.ay = 0.0
+        self.curve_left = 0.0
+
+    def _start(self, s):
+        super()._start(s)
+        self.curve_left = 0.0
+
+    def _pause_status(self, s, dt):
+        status = super()._pause_status(s, dt)
+        if self.ay_max <= 0.0:
+            return status
+        self.curve_left = max(self.curve_left - dt, 0.0)
+        over = abs(self.ay) > self.ay_max
+        if over:
+            self.curve_left = self.hold
+        if status in (mg.OK, mg.NO_UPDATE_LOW_SPEED) and (over or self.curve_left > 0.5 * dt):
+            return PAUSED_CURVE
+        return status
+
+
+def run(est, samples, ay, corr, fc_terms, vy_r):
+    """Steps @est through @samples; @fc_terms per sample (ay Lr/L sin(delta) - r vy) and
+    @vy_r (r vy) are taken out of the torque and put into ax when @corr. Returns the outputs."""
+    outs = []
+    R = est.p["R"]
+    for k, s in enumerate(samples):
+        est.ay = float(ay[k])
+        if corr:
+            m_hat = est.x[1] if est.started else est.p["mg_m0"]
+            s.torque -= R * m_hat * float(fc_terms[k])
+            if s.ax is not None:
+                s.ax += float(vy_r[k])
+        outs.append(est.step(s))
+    return outs
+
+
+def summary(outs, cols, m):
+    grade = np.array([o.grade for o in outs])
+    err = grade - cols["grade_true"]
+    return {"mass_err": (outs[-1].mass - m) / m, "sd": outs[-1].sd_mass / m,
+            "grade_rmse": float(np.sqrt(np.mean(err * err))),
+            "curve": float(np.mean([o.status == PAUSED_CURVE for o in outs])),
+            "ok": float(np.mean([o.status == mg.OK for o in outs]))}
+
+
+def terms(cols, meta, vy):
+    lr_l = float(meta["Lr"]) / (float(meta["Lf"]) + float(meta["Lr"]))
+    r = cols["yaw_rate"]
+    return cols["ay"] * lr_l * np.sin(cols["delta"]) - r * vy, r * vy
+
+
+def observer_job(job):
+    name, start, variant = job
+    path = log_path(name)
+    cols, meta = mg.read_log(path)
+    m = log_mass(path)
+    ay_max, corr = VARIANTS[variant]
+    over = {} if name.split(".", 1)[0].endswith("_res") else SIM_RESISTANCES
+    est = CurvePause(mg.preset("car", mg_m0=m * start, **RECOMMENDED, **over), ay_max, HOLD)
+    fc, vy_r = terms(cols, meta, cols["vy"])
+    outs = run(est, observer_samples(cols, est.p["R"]), cols["ay"], corr, fc, vy_r)
+    return ("obs", name, start, variant), summary(outs, cols, m)
+
+
+def mass_grade_job(job):
+    name, cfg, variant = job
+    cols, meta = mg.read_log(os.path.join(ROOT, "scenarios", "mass_grade", name))
+    vehicle = "truck" if name.startswith("truck") else "car"
+    m = float(cols["mass_true"][-1])
+    ay_max, corr = VARIANTS[variant]
+    est = CurvePause(mg.preset(vehicle, mg_m0=MG_START * float(cols["mass_true"][0]),
+                               **MG_CONFIGS[cfg]), ay_max, HOLD)
+    samples = list(mg.samples(cols, est.p))
+    for s, vx in zip(samples, cols["vx_true"]):
+        s.vx = float(vx)
+    meta.setdefault("Lf", "1.4")
+    meta.setdefault("Lr", "1.65")
+    fc, vy_r = terms(cols, meta, np.zeros_like(cols["t"]))
+    outs = run(est, samples, cols["ay"], corr, fc, vy_r)
+    return ("mg", name, cfg, variant), summary(outs, cols, m)
+
+
+def cell(r, paused=True):
+    text = f"{r['mass_err']:+.1%}, {1e3 * r['grade_rmse']:.2f}"
+    return text + (f", {r['curve']:.0%}" if paused and r["curve"] > 0.0 else "")
+
+
+def tables(res, obs_names, mg_names):
+    heads = list(VARIANTS)
+    lines = [f"Mass error at the end, grade RMSE over the log (mrad) and, where the curve pause "
+             f"held any sample, the share it held (hold {HOLD:g} s after the last sample over "
+             "the threshold); the observer logs from 1.0, 0.8, 1.2 × m, the simulator's "
+             "resistances (the `_res` logs: the car preset's), recommended preset; float64 "
+             "reference:", "",
+             "| log | mg_m0 | " + " | ".join(heads) + " |", "|---|---|" + "---|" * len(heads)]
+    never = []
+    for n in obs_names:
+        if max(res[("obs", n, s, v)]["curve"] for s in STARTS for v in heads) == 0.0:
+            never.append(n)
+            continue
+        for s in STARTS:
+            lines.append(f"| {n[:-4]} | {s:.1f} m | "
+                         + " | ".join(cell(res[("obs", n, s, v)]) for v in heads) + " |")
+    same = all(res[("obs", n, s, v)] == res[("obs", n, s, "off")]
+               for n in never for s in STARTS for v in heads if v.startswith("pause"))
+    lines += ["", f"Not listed: the {len(never)} logs no threshold held a sample of ("
+              + ", ".join(n[:-4] for n in never) + "); there every pause ends "
+              + ("as off, to the bit." if same else "NOT as off (a bug).")]
+    if never:
+        moved = max((abs(res[("obs", n, s, "F_c out")]["mass_err"]
+                         - res[("obs", n, s, "off")]["mass_err"]), n)
+                    for n in never for s in STARTS)
+        lines.append(f"On them F_c out moves the mass at the end by at most "
+                     f"{moved[0]:.2%} of m ({moved[1][:-4]}).")
+    lines += ["", f"The mass and grade logs from {MG_START:g} × the truth, vx_true as the ground "
+              "speed (no vy: 0 in F_c out): mass error at the end, grade RMSE (mrad), share "
+              "held:", "",
+              "| log | configuration | " + " | ".join(heads) + " |",
+              "|---|---|" + "---|" * len(heads)]
+    for n in mg_names:
+        for c in MG_CONFIGS:
+            lines.append(f"| {n[:-4]} | {c} | " + " | ".join(
+                cell(res[("mg", n, c, v)]) for v in heads) + " |")
+    return "\n".join(lines)
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--page", help="Markdown page whose mass-curve-pause region is rewritten")
+    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
+    a = ap.parse_args(argv)
+    obs_dir = os.path.join(ROOT, "scenarios", "observer")
+    obs_names = sorted(f for f in os.listdir(obs_dir)
+                       if f.endswith(".csv") and not f.endswith(".mf.csv")) + [
+        n for n in res_logs() if not n.endswith(".mf.csv")]
+    mg_names = sorted(f for f in os.listdir(os.path.join(ROOT, "scenarios", "mass_grade"))
+                      if f.endswith(".csv"))
+    jobs = [("mg", n, c, v) for n in mg_names for c in MG_CONFIGS for v in VARIANTS]
+    jobs += [("obs", n, s, v) for n in obs_names for s in STARTS for v in VARIANTS]
+    with multiprocessing.Pool(a.jobs) as pool:
+        res = dict(pool.map(lambda_job, jobs, chunksize=1))
+    text = tables(res, obs_names, mg_names)
+    print(text)
+    if a.page:
+        replace_region(Path(a.page), "<!-- mass-curve-pause:begin -->",
+                       "<!-- mass-curve-pause:end -->", text.splitlines(),
+                       "mass_curve_pause_study")
+
+
+def lambda_job(job):
+    return observer_job(job[1:]) if job[0] == "obs" else mass_grade_job(job[1:])
+
+
+if __name__ == "__main__":
+    main()
