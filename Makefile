@@ -483,6 +483,8 @@ mass-sensitivity: venv $(BUILD)/mu_replay
 	$(PY) scripts/tools/mass_sensitivity.py --page docs/MASS_GRADE_RESULTS.md
 	$(PY) scripts/tools/mass_feed_results.py --page docs/MASS_GRADE_RESULTS.md
 	$(PY) scripts/tools/mass_online_friction.py --jobs $(TEST_JOBS) --page docs/MASS_GRADE_RESULTS.md
+	$(PY) scripts/tools/mass_online_friction.py --folder observer_res --jobs $(TEST_JOBS) \
+	  --page docs/MASS_GRADE_RESULTS.md
 
 ## what the library's slip pause does to the mass filter's own estimate (docs/MASS_GRADE.md)
 mass-slip: venv $(BUILD)/mu_replay

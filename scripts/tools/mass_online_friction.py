@@ -4,7 +4,7 @@
 without the online mass"), on the logs that carry what the mass and grade estimator needs.
 
     .venv/bin/python scripts/tools/mass_online_friction.py [--page docs/MASS_GRADE_RESULTS.md]
-                     [--mu-replay build/mu_replay] [--jobs N]
+                     [--mu-replay build/mu_replay] [--jobs N] [--folder observer|observer_res]
 
 The friction scenarios (scenarios/*.csv) have no drive torque; the observer scenarios
 (scenarios/observer/*.csv) carry the simulator's drive torque per wheel (torque_*, N m at the
@@ -36,6 +36,10 @@ end of the default run (the JSON's end mass), car preset -> simulator's resistan
 with either resistances is listed.
 With --page the tables go between <!-- mass-online:begin/end --> and
 <!-- mass-online-gate:begin/end --> of the page.
+With --folder observer_res the same runs on the observer logs simulated with the car preset's
+rolling resistance and drag (scenarios/observer_res/, make observer-res-scenarios: the car
+preset is their model, the "simulator's (none)" runs are the wrong resistances there), the
+tables between <!-- mass-online-res:begin/end --> and <!-- mass-online-gate-res:begin/end -->.
 """
 
 import csv
@@ -84,9 +88,13 @@ TORQUES = ("torque_fl", "torque_fr", "torque_rl", "torque_rr")
 PRESSURES = ("p_fl", "p_fr", "p_rl", "p_rr")
 
 
-def logs():
-    """The observer scenarios with friction truth, wheel torques and brake pressures."""
-    d = os.path.join(ROOT, "scenarios", "observer")
+FOLDERS = ("observer", "observer_res")
+
+
+def logs(folder="observer"):
+    """The scenarios of scenarios/@folder with friction truth, wheel torques and brake
+    pressures."""
+    d = os.path.join(ROOT, "scenarios", folder)
     out = []
     for f in sorted(os.listdir(d)):
         if f.endswith(".csv"):
@@ -117,8 +125,8 @@ def with_drive_torque(src, dst):
 
 
 def one(job):
-    exe, name, factor, mode = job
-    src = os.path.join(ROOT, "scenarios", "observer", name)
+    exe, folder, name, factor, mode = job
+    src = os.path.join(ROOT, "scenarios", folder, name)
     with tempfile.TemporaryDirectory() as tmp:
         log = os.path.join(tmp, name)
         with_drive_torque(src, log)
@@ -141,7 +149,7 @@ def one(job):
             feed = dict(doc["mass_grade"]["feed"])
             feed["first"] = first_fed(out)
             feed["mass_est_end"] = doc["mass_grade"]["end"]["mass"]
-    return job[1:], ([doc["metrics"][w] for w in WHEELS], feed)
+    return job[2:], ([doc["metrics"][w] for w in WHEELS], feed)
 
 
 def first_fed(est):
@@ -186,7 +194,7 @@ def table(results, names):
     return "\n".join(rows)
 
 
-def gate_table(results, names):
+def gate_table(results, names, folder="observer"):
     """Per log that feeds in any run (own mass), with either resistances: no gate -> gate ->
     gate and checks (car preset, then the simulator's), and the filter's own mass at the end of
     the default run, car preset -> simulator's resistances."""
@@ -201,7 +209,7 @@ def gate_table(results, names):
             "| simulator's resistances: first fed | its mass_used at the end vs m "
             "| filter's mass at the end vs m: car preset → simulator's |",
             "|---|---|---|---|---|---|---|---|---|---|"]
-    src = os.path.join(ROOT, "scenarios", "observer")
+    src = os.path.join(ROOT, "scenarios", folder)
     for n in names:
         runs = [results[(n, 1.0, mode)][1] for mode in FEED_MODES]
         sims = [results[(n, 1.0, mode)][1] for mode in SIM_MODES]
@@ -221,9 +229,11 @@ def gate_table(results, names):
 
 
 def main():
-    a = replay_args(__doc__, "mass_online_friction", jobs=os.cpu_count() or 1)
-    names = logs()
-    jobs = [(a.mu_replay, n, f, m) for n in names for f in FACTORS for m in MODES]
+    a = replay_args(__doc__, "mass_online_friction", jobs=os.cpu_count() or 1,
+                    extra=lambda ap: ap.add_argument("--folder", choices=FOLDERS,
+                                                     default="observer"))
+    names = logs(a.folder)
+    jobs = [(a.mu_replay, a.folder, n, f, m) for n in names for f in FACTORS for m in MODES]
     results = {}
     with multiprocessing.Pool(a.jobs) as pool:
         for i, (key, wheels) in enumerate(pool.imap_unordered(one, jobs), 1):
@@ -231,14 +241,16 @@ def main():
             if i % 50 == 0 or i == len(jobs):  # progress, a line per 50 runs
                 print(f"mass_online_friction: {i}/{len(jobs)} runs", file=sys.stderr)
     text = table(results, names)
-    gate = gate_table(results, names)
+    gate = gate_table(results, names, a.folder)
     print(text)
     print(gate)
+    tag = "-res" if a.folder == "observer_res" else ""
     if a.page:
-        replace_region(Path(a.page), "<!-- mass-online:begin -->", "<!-- mass-online:end -->",
-                       text.splitlines(), "mass_online_friction")
-        replace_region(Path(a.page), "<!-- mass-online-gate:begin -->",
-                       "<!-- mass-online-gate:end -->", gate.splitlines(), "mass_online_friction")
+        replace_region(Path(a.page), f"<!-- mass-online{tag}:begin -->",
+                       f"<!-- mass-online{tag}:end -->", text.splitlines(), "mass_online_friction")
+        replace_region(Path(a.page), f"<!-- mass-online-gate{tag}:begin -->",
+                       f"<!-- mass-online-gate{tag}:end -->", gate.splitlines(),
+                       "mass_online_friction")
 
 
 if __name__ == "__main__":

@@ -30,6 +30,10 @@ def test_logs_are_the_observer_scenarios_with_torques():
     logs = mo.logs()
     assert len(logs) >= 50      # the bundled observer scenarios
     assert "traction_awd_mu03.csv" in logs and all(n.endswith(".csv") for n in logs)
+    # the logs with the car's resistances (--folder observer_res): their own folder only
+    res = mo.logs("observer_res")
+    assert "hill_known_grade_res.csv" in res and all(n[:-4].split(".")[0].endswith("_res")
+                                                      for n in res)
 
 
 def test_first_fed_is_the_first_change_of_mass_used(tmp_path):
