@@ -35,6 +35,8 @@ typedef enum {
     RFE_MG_PAUSED_SLIP = 7,         /**< mass and grade: the wheels' speed departs from the
                                          given ground speed by more than slip_max: held
                                          (MASS_GRADE.md §4.2) */
+    RFE_MG_PAUSED_CURVE = 8,        /**< mass and grade: |ay| above ay_max, or was less than
+                                         t_curve ago: held (MASS_GRADE.md §4.2) */
     RFE_ERR_FIRST = 16,
     RFE_ERR_NULL = 16,              /**< a required pointer is NULL */
     RFE_ERR_NONFINITE = 17,         /**< an input is NaN or infinite */
@@ -82,11 +84,11 @@ static inline int rfe_status_is_error(rfe_status_t s) { return (int)s >= (int)RF
 
 /** Short human-readable name of a status code (never NULL). Inline because it does not
  *  depend on the number type: one definition serves the _f32, _f64 and _q31 libraries. A
- *  table per range of codes (information 0-7, errors 16-23), so that a new status adds a
+ *  table per range of codes (information 0-8, errors 16-23), so that a new status adds a
  *  name and not a branch. */
 static inline const char *rfe_status_str(rfe_status_t s)
 {
-    static const char *const info[8] = {
+    static const char *const info[9] = {
         "ok",                                                   /* RFE_OK */
         "projected onto [mu_min, mu_max]",                      /* RFE_PROJECTED */
         "no update: speed below v_est_min",                     /* RFE_NO_UPDATE_LOW_SPEED */
@@ -94,7 +96,8 @@ static inline const char *rfe_status_str(rfe_status_t s)
         "model mismatch: the innovations contradict the model", /* RFE_MODEL_MISMATCH */
         "held: braking",                                        /* RFE_MG_PAUSED_BRAKE */
         "held: gear shift",                                     /* RFE_MG_PAUSED_SHIFT */
-        "held: wheel slip"                                      /* RFE_MG_PAUSED_SLIP */
+        "held: wheel slip",                                     /* RFE_MG_PAUSED_SLIP */
+        "held: cornering"                                       /* RFE_MG_PAUSED_CURVE */
     };
     static const char *const err[8] = {
         "null pointer",                                  /* RFE_ERR_NULL */
@@ -108,7 +111,7 @@ static inline const char *rfe_status_str(rfe_status_t s)
     };
     const int c = (int)s;
     const char *name = "unknown status";
-    if ((c >= (int)RFE_OK) && (c <= (int)RFE_MG_PAUSED_SLIP)) {
+    if ((c >= (int)RFE_OK) && (c <= (int)RFE_MG_PAUSED_CURVE)) {
         name = info[c];
     } else if ((c >= (int)RFE_ERR_FIRST) && (c <= (int)RFE_ERR_ABI)) {
         name = err[c - (int)RFE_ERR_FIRST];

@@ -70,6 +70,8 @@ typedef struct {
     rfe_real_t vx;      /**< the car's speed over ground from another source than the wheels
                              (a measurement or an observer) [m/s] (RFE_MG_HAS_VX): the slip
                              pause's reference (§4.2) */
+    rfe_real_t ay;      /**< accelerometer, body y, specific force [m/s^2] (RFE_MG_HAS_AY):
+                             the curve pause's input (§4.2) */
     int32_t gear;       /**< engaged gear (RFE_MG_HAS_GEAR); a change starts a hold */
     uint32_t brake;     /**< brake pedal: 0 released, else pressed (RFE_MG_HAS_BRAKE) */
     uint32_t has;       /**< RFE_MG_HAS_* bits */
@@ -108,6 +110,7 @@ typedef struct {
     rfe_real_t m_adapt;               /**< the mass when it began [kg] */
     rfe_real_t brake_left;            /**< hold left after the last braked sample [s] */
     rfe_real_t shift_left;            /**< hold left after the last gear change [s] */
+    rfe_real_t curve_left;            /**< hold left after the last sample over ay_max [s] */
     rfe_real_t torque_prev;           /**< the last accepted sample's torque [N m] */
     int32_t gear;                     /**< the last gear given */
     uint32_t has_gear;                /**< nonzero once a sample gave a gear */
@@ -150,10 +153,10 @@ RFE_NODISCARD rfe_status_t rfe_mass_grade_init(rfe_mass_grade_t *mg,
  * @param[out]    out  the estimate (on error: the previous one, with the error status;
  *                     before the first accepted sample every value is 0).
  * @return RFE_OK (updated); RFE_NO_UPDATE_LOW_SPEED, RFE_MG_PAUSED_BRAKE,
- *         RFE_MG_PAUSED_SHIFT, RFE_MG_PAUSED_SLIP (held, or started on a sample that would
- *         hold); errors: RFE_ERR_NULL; RFE_ERR_NOT_INITIALISED; RFE_ERR_NONFINITE (an input);
+ *         RFE_MG_PAUSED_SHIFT, RFE_MG_PAUSED_SLIP, RFE_MG_PAUSED_CURVE (held, or started on
+ *         a sample that would hold); errors: RFE_ERR_NULL; RFE_ERR_NOT_INITIALISED; RFE_ERR_NONFINITE (an input);
  *         RFE_ERR_RANGE (|v| or a given |vx| > RFE_LIMIT_VX, |torque| > RFE_LIMIT_DRIVE_TORQUE,
- *         |ax| > RFE_LIMIT_ACC, a `has` bit not RFE_MG_HAS_*, no ax while use_ax, dt <= 0
+ *         |ax| or a given |ay| > RFE_LIMIT_ACC, a `has` bit not RFE_MG_HAS_*, no ax while use_ax, dt <= 0
  *         after the first sample); RFE_ERR_NOT_POSITIVE_DEFINITE (a negative pivot or
  *         innovation determinant in the filter, or a variance the update made negative); RFE_ERR_NONFINITE also when the start, a
  *         hold or the update overflows (valid parameters whose squares overflow the number

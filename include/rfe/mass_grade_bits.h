@@ -14,8 +14,10 @@
 #define RFE_MG_HAS_AX 8u       /**< ax (the accelerometer) is given */
 #define RFE_MG_HAS_VX 16u      /**< vx (the car's speed over ground, not the wheels') is
                                     given: the slip pause (§4.2) */
+#define RFE_MG_HAS_AY 32u      /**< ay (the lateral accelerometer) is given: the curve pause
+                                    (§4.2) */
 /** Every bit a sample may set. */
-#define RFE_MG_HAS_ALL 31u
+#define RFE_MG_HAS_ALL 63u
 
 /** The vehicle of a preset (MASS_GRADE.md §6). */
 typedef enum {

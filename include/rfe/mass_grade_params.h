@@ -60,6 +60,9 @@ typedef struct {
     rfe_real_t slip_max;   /**< the wheels' speed v departing from a given ground speed vx
                                 by more than slip_max max(|vx|, v_min) holds the filter
                                 (§4.2) [1]; 0: no slip pause: 0.05 */
+    rfe_real_t ay_max;     /**< a given |ay| above ay_max holds the filter (§4.2, the curve
+                                pause) [m/s^2]; 0: no curve pause: 0 */
+    rfe_real_t t_curve;    /**< hold after the last sample over ay_max [s]: 1 */
     rfe_real_t m_min;      /**< lower mass bound [kg]: 300 */
     rfe_real_t m_max;      /**< upper mass bound [kg]: 60000 */
     rfe_real_t theta_max;  /**< grade bound |theta| [rad]: 0.35 */
@@ -89,7 +92,8 @@ RFE_NODISCARD rfe_status_t rfe_mass_grade_params_preset(rfe_mass_grade_params_t 
 /**
  * Checks every field (MASS_GRADE.md §6 "Validation"): finite; R, g, m0, sd_m0, sd_theta0,
  * q_v, q_mc, q_theta, r_v, r_ax, ut_alpha, m_min, theta_max, dt_max > 0; the resistance
- * and drag values, m_rot, q_mv0, t_adapt, mv_stop, the pause values (slip_max too) and
+ * and drag values, m_rot, q_mv0, t_adapt, mv_stop, the pause values (slip_max, ay_max,
+ * t_curve too) and
  * ut_beta >= 0;
  * adaptive, use_ax in {0, 1}; m_min < m0 < m_max; |theta0| < theta_max < 1.5;
  * n + lambda > 0; with adaptive, mv_stop q_mc^2 < q_mv0^2.

@@ -69,6 +69,8 @@ typedef struct {
     rfe_fix_t t_shift;    /**< hold after a gear change [s], Q24 */
     rfe_fix_t p_brake_on; /**< brake pressure that means braking [MPa], Q25 */
     rfe_fix_t slip_max;   /**< slip that holds the filter [1], Q30 (0: no slip pause) */
+    rfe_fix_t ay_max;     /**< |ay| that holds the filter [m/s^2], Q24 (0: no curve pause) */
+    rfe_fix_t t_curve;    /**< hold after the last sample over ay_max [s], Q24 */
     rfe_fix_t m_min;      /**< lower mass bound [kg], Q14 */
     rfe_fix_t m_max;      /**< upper mass bound [kg], Q14 */
     rfe_fix_t theta_max;  /**< grade bound [rad], Q29 */
@@ -102,8 +104,8 @@ RFE_NODISCARD rfe_status_t rfe_mass_grade_weights_q31(const rfe_mass_grade_param
  * The checks of rfe_mass_grade_params_validate on the Q values (MASS_GRADE.md §6), and the
  * fixed-point domain (FIXED_POINT.md "Mass and grade"): R, g, m0, sd_m0, sd_theta0, q_v,
  * q_mc, q_theta, r_v, r_ax, ut_alpha, m_min, theta_max, dt_max > 0; fc, fr, rho, cd, area,
- * m_rot, q_mv0, t_adapt, mv_stop, v_min, t_brake, t_shift, p_brake_on, slip_max, ut_beta
- * >= 0;
+ * m_rot, q_mv0, t_adapt, mv_stop, v_min, t_brake, t_shift, p_brake_on, slip_max, ay_max,
+ * t_curve, ut_beta >= 0;
  * adaptive, use_ax in {0, 1}; m_min < m0 < m_max; |theta0| < theta_max < 1.5 rad; with
  * adaptive, mv_stop q_mc^2 < q_mv0^2. Beyond the float's: rfe_mass_grade_weights_q31
  * succeeds (the spread c = alpha^2 (3 + kappa) in (1, 16), so that w_m,0 = 1 - 3/c and

@@ -11,7 +11,7 @@
  * (rfe_qr_tria_q31), so P stays positive semidefinite by construction (FIXED_POINT.md "Mass
  * and grade" shows what the textbook form P- - K S K^T does in Q31).
  *
- * Formats (rfe/mass_grade_params_q31.h): v, vx, ax and their sd Q24; M and its sd Q14; theta and
+ * Formats (rfe/mass_grade_params_q31.h): v, vx, ax, ay and their sd Q24; M and its sd Q14; theta and
  * its sd Q29; dt Q30; torque Q14; brake pressure [MPa] Q25; q_mv int64 Q28 [kg^2/s].
  *
  * Saturation. Every clamp in a step counts one; the estimate carries the step's count
@@ -50,6 +50,7 @@ typedef struct {
     rfe_fix_t p_brake; /**< brake pressure [MPa], Q25 (RFE_MG_HAS_PRESSURE) */
     rfe_fix_t ax;      /**< accelerometer, body x [m/s^2], Q24 (RFE_MG_HAS_AX) */
     rfe_fix_t vx;      /**< the car's speed over ground [m/s], Q24 (RFE_MG_HAS_VX) */
+    rfe_fix_t ay;      /**< accelerometer, body y [m/s^2], Q24 (RFE_MG_HAS_AY) */
     int32_t gear;      /**< engaged gear (RFE_MG_HAS_GEAR) */
     uint32_t brake;    /**< brake pedal: 0 released, else pressed (RFE_MG_HAS_BRAKE) */
     uint32_t has;      /**< RFE_MG_HAS_* bits */
@@ -86,6 +87,8 @@ typedef struct {
     rfe_fix_t m_adapt;                       /**< the mass when it began [kg], Q14 */
     int64_t brake_left;                      /**< hold left after the last braked sample [s], Q30 */
     int64_t shift_left;                      /**< hold left after the last gear change [s], Q30 */
+    int64_t curve_left;                      /**< hold left after the last sample over ay_max [s],
+                                                  Q30 */
     rfe_fix_t torque_prev;                   /**< the last accepted sample's torque, Q14 */
     int32_t gear;                            /**< the last gear given */
     uint32_t has_gear;                       /**< nonzero once a sample gave a gear */
@@ -119,8 +122,9 @@ RFE_NODISCARD rfe_status_t rfe_mass_grade_init_q31(rfe_mass_grade_q31_t *mg,
  * @param[in]     in   the sample.
  * @param[out]    out  the estimate (on error: the previous one, with the error status).
  * @return RFE_OK; RFE_NO_UPDATE_LOW_SPEED, RFE_MG_PAUSED_BRAKE, RFE_MG_PAUSED_SHIFT,
- *         RFE_MG_PAUSED_SLIP; errors: RFE_ERR_NULL; RFE_ERR_NOT_INITIALISED; RFE_ERR_RANGE
- *         (|v|, a given |vx|, |torque|, |ax| beyond
+ *         RFE_MG_PAUSED_SLIP, RFE_MG_PAUSED_CURVE; errors: RFE_ERR_NULL;
+ *         RFE_ERR_NOT_INITIALISED; RFE_ERR_RANGE (|v|, a given |vx|, |torque|, |ax|, a given |ay|
+ *         beyond
  *         the RFE_MG_LIMIT_*_Q31, a `has` bit not RFE_MG_HAS_*, no ax while use_ax, dt <= 0
  *         after the first sample); RFE_ERR_NOT_POSITIVE_DEFINITE (the innovation's factor
  *         has a zero diagonal: never with r_v, r_ax > 0). On error the estimator is untouched.

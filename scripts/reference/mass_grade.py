@@ -63,6 +63,8 @@ MG_DEFAULTS: dict[str, float] = {
     "mg_t_shift": 1.0,      # pause after a gear change, s
     "mg_p_brake_on": 1.0e5,  # brake pressure above which the brake is on, Pa
     "mg_slip_max": 0.05,    # |v - vx| > this * max(|vx|, mg_v_min) pauses (vx given); 0: off
+    "mg_ay_max": 0.0,       # |ay| > this pauses (ay given): the curve pause, m/s^2; 0: off
+    "mg_t_curve": 1.0,      # pause after the last sample with |ay| > mg_ay_max, s
     "mg_m_min": 300.0,      # mass bounds: the mean is projected onto them, kg
     "mg_m_max": 60000.0,
     "mg_theta_max": 0.35,   # grade bound |theta|, rad
@@ -84,6 +86,7 @@ NO_UPDATE_LOW_SPEED = 2
 PAUSED_BRAKE = 5
 PAUSED_SHIFT = 6
 PAUSED_SLIP = 7
+PAUSED_CURVE = 8
 ERR_NONFINITE = 17
 ERR_RANGE = 18
 ERR_PARAM = 19
@@ -138,7 +141,7 @@ def validate(p):
             raise ParamError(f"{k}: must be > 0")
     nonneg = ("mg_fc", "mg_fr", "mg_rho", "mg_cd", "mg_area", "mg_m_rot", "mg_q_mv0",
               "mg_t_adapt", "mg_mv_stop", "mg_v_min", "mg_t_brake", "mg_t_shift",
-              "mg_p_brake_on", "mg_slip_max", "mg_ut_beta")
+              "mg_p_brake_on", "mg_slip_max", "mg_ay_max", "mg_t_curve", "mg_ut_beta")
     for k in nonneg:
         if not p[k] >= 0.0:
             raise ParamError(f"{k}: must be >= 0")
@@ -232,8 +235,9 @@ def h_meas(p, x, torque, use_ax, ar=F64):
 @dataclass
 class MgSample:
     """One sample (§1): time, speed, drive torque at the wheels; optional brake flag, brake
-    pressure, gear, accelerometer and the car's speed over ground vx from another source than
-    the wheels (the slip pause's reference, §4.2) (None: not on the bus)."""
+    pressure, gear, accelerometer, the car's speed over ground vx from another source than
+    the wheels (the slip pause's reference, §4.2) and the lateral accelerometer ay (the curve
+    pause's, §4.2) (None: not on the bus)."""
     t: float
     v: float
     torque: float
@@ -242,6 +246,7 @@ class MgSample:
     gear: float | None = None
     ax: float | None = None
     vx: float | None = None
+    ay: float | None = None
 
 
 @dataclass
@@ -301,6 +306,7 @@ class MassGrade:
         self.m_adapt = self.x[1]    # the mass at its start
         self.brake_left = 0.0       # pause left after the last braked sample, s
         self.shift_left = 0.0       # pause left after the last gear change, s
+        self.curve_left = 0.0       # pause left after the last sample over mg_ay_max, s
         self.gear = s.gear
         self.started = True
 
@@ -313,13 +319,15 @@ class MassGrade:
                           self.x[0], sqrt(P[0][0]), self.q_mv, status)
 
     def _check(self, s):
-        vals = [s.t, s.v, s.torque] + [v for v in (s.brake, s.brake_pressure, s.gear, s.ax, s.vx)
-                                       if v is not None]
+        vals = [s.t, s.v, s.torque] + [v for v in (s.brake, s.brake_pressure, s.gear, s.ax, s.vx,
+                                                   s.ay) if v is not None]
         if not all(math.isfinite(v) for v in vals):
             return ERR_NONFINITE
         if abs(s.v) > V_MAX or abs(s.torque) > T_MAX:
             return ERR_RANGE
         if s.ax is not None and abs(s.ax) > AX_MAX:
+            return ERR_RANGE
+        if s.ay is not None and abs(s.ay) > AX_MAX:
             return ERR_RANGE
         if s.vx is not None and abs(s.vx) > V_MAX:
             return ERR_RANGE
@@ -345,7 +353,7 @@ class MassGrade:
             status = self._pause_status(s, 0.0)
             self.t_prev, self.torque_prev = s.t, s.torque
             return self._estimate(status)
-        saved = (self.brake_left, self.shift_left, self.gear)
+        saved = (self.brake_left, self.shift_left, self.curve_left, self.gear)
         dt = self.ar.real(s.t - self.t_prev)   # the period: the time stamps are not state
         status = self._pause_status(s, dt)
         if status != OK:
@@ -353,14 +361,14 @@ class MassGrade:
         else:
             st = self._update(s, dt)
             if st != OK:
-                self.brake_left, self.shift_left, self.gear = saved
+                self.brake_left, self.shift_left, self.curve_left, self.gear = saved
                 return self._estimate(st)
         self.t_prev, self.torque_prev = s.t, s.torque
         return self._estimate(status)
 
     # -- the square-root form (the C library's steps, mass_grade_flt.c) ------------------------
-    _SAVED = ("x", "S", "q_mv", "adapt_elapsed", "m_adapt", "brake_left", "shift_left", "gear",
-              "started")
+    _SAVED = ("x", "S", "q_mv", "adapt_elapsed", "m_adapt", "brake_left", "shift_left",
+              "curve_left", "gear", "started")
 
     def _step_sqrt(self, s):
         """As step(), in the square-root form: the work on a copy of the state, restored on an
@@ -514,6 +522,7 @@ class MassGrade:
         p = self.p
         self.brake_left = max(self.brake_left - dt, 0.0)
         self.shift_left = max(self.shift_left - dt, 0.0)
+        self.curve_left = max(self.curve_left - dt, 0.0)
         brake = (s.brake is not None and s.brake >= 0.5) or (
             s.brake_pressure is not None and s.brake_pressure > p["mg_p_brake_on"])
         if brake:
@@ -522,6 +531,12 @@ class MassGrade:
             if self.gear is not None and s.gear != self.gear:
                 self.shift_left = p["mg_t_shift"]
             self.gear = s.gear
+        # cornering: the drive torque also pays the tyres' cornering resistance and ax reads
+        # the sideslip term -r vy, neither in the straight-road model (MASS_GRADE_RESULTS.md
+        # "A curve pause"; 0: no curve pause)
+        curve = s.ay is not None and p["mg_ay_max"] > 0.0 and abs(s.ay) > p["mg_ay_max"]
+        if curve:
+            self.curve_left = p["mg_t_curve"]
         if brake or self.brake_left > 0.5 * dt:
             return PAUSED_BRAKE
         if self.shift_left > 0.5 * dt:
@@ -531,6 +546,8 @@ class MassGrade:
         if (s.vx is not None and p["mg_slip_max"] > 0.0
                 and abs(s.v - s.vx) > p["mg_slip_max"] * max(abs(s.vx), p["mg_v_min"])):
             return PAUSED_SLIP
+        if curve or self.curve_left > 0.5 * dt:
+            return PAUSED_CURVE
         if s.v < p["mg_v_min"]:
             return NO_UPDATE_LOW_SPEED
         return OK
@@ -782,14 +799,15 @@ def speed_from_wheels(cols, R):
 
 def samples(cols, p):
     """MgSample per row of a log (dict column -> array): v from the wheels (speed_from_wheels),
-    drive_torque, and brake, brake_pressure, gear, ax where the log has them."""
+    drive_torque, and brake, brake_pressure, gear, ax, ay where the log has them."""
     v = speed_from_wheels(cols, p["R"])
     n = len(v)
-    opt = {k: cols.get(k) for k in ("brake", "brake_pressure", "gear", "ax")}
+    keys = ("brake", "brake_pressure", "gear", "ax")
+    opt = {k: cols.get(k) for k in keys + ("ay",)}
     for i in range(n):
         yield MgSample(float(cols["t"][i]), float(v[i]), float(cols["drive_torque"][i]),
-                       *(None if opt[k] is None else float(opt[k][i])
-                         for k in ("brake", "brake_pressure", "gear", "ax")))
+                       *(None if opt[k] is None else float(opt[k][i]) for k in keys),
+                       ay=None if opt["ay"] is None else float(opt["ay"][i]))
 
 
 def run(cols, params, form="sqrt"):

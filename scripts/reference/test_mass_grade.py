@@ -217,7 +217,8 @@ def test_bad_parameters_are_rejected():
     for key, val in (("mg_m0", 0.0), ("mg_m0", 1e9), ("R", -0.3), ("mg_r_v", 0.0),
                      ("mg_adaptive", 0.5), ("mg_ut_kappa", -3.0), ("mg_q_mc", float("nan")),
                      ("mg_fc", -0.01), ("mg_theta_max", 2.0), ("mg_slip_max", -0.01),
-                     ("mg_slip_max", float("inf"))):
+                     ("mg_slip_max", float("inf")), ("mg_ay_max", -0.5), ("mg_t_curve", -1.0),
+                     ("mg_ay_max", float("nan"))):
         with pytest.raises(mg.ParamError):
             mg.MassGrade(mg.preset(**{key: val}))
     with pytest.raises(mg.ParamError):
@@ -295,6 +296,43 @@ def test_slip_pause_holds_mass_and_grade():
     assert step(1.10, 22.0, 16.0, brake=1.0) == mg.PAUSED_BRAKE
     est = mg.MassGrade(mg.preset(mg_use_ax=1.0, mg_slip_max=0.0))
     assert all(o.status == mg.OK for o in slipping(est, 5, 0.0, vx=20.0))
+
+
+def test_curve_pause_holds_mass_and_grade_and_its_delay():
+    # §4.2 step 4: with ay given and mg_ay_max > 0, a sample with |ay| > mg_ay_max and those
+    # less than mg_t_curve after the last such one are held like braked ones (M, theta exact,
+    # the grade's variance growing); strict threshold; after slip, before low speed; the
+    # same samples without ay, or with mg_ay_max = 0, are learned from.
+    def drive(est, n, t0, ay=None, v=20.0):
+        return [est.step(mg.MgSample(t0 + 0.01 * k, v + 0.02 * k, 3000.0, ax=0.5, ay=ay))
+                for k in range(n)]
+
+    p = mg.preset(mg_use_ax=1.0, mg_adaptive=0.0, mg_ay_max=1.0, mg_t_curve=0.2)
+    est = mg.MassGrade(p)
+    learned = drive(est, 50, 0.0, ay=0.0)[-1]
+    assert learned.status == mg.OK
+    held = drive(est, 30, 0.5, ay=-1.5) + drive(est, 25, 0.8, ay=0.2)
+    st = [o.status for o in held]
+    # 30 curve samples, then 19 whose delay left exceeds half a period (0.19 ... 0.01 s)
+    assert st == [mg.PAUSED_CURVE] * 49 + [mg.OK] * 6
+    assert all(o.mass == learned.mass and o.grade == learned.grade for o in held[:49])
+    assert all(b.sd_grade > a.sd_grade for a, b in zip(held[:49], held[1:49]))
+    assert held[-1].mass != learned.mass
+    for ay, over in ((None, {}), (-1.5, {"mg_ay_max": 0.0})):   # no ay; the pause off
+        est = mg.MassGrade(dict(p, **over))
+        drive(est, 50, 0.0, ay=0.0)
+        assert all(o.status == mg.OK for o in drive(est, 30, 0.5, ay=ay))
+    est = mg.MassGrade(dict(p, mg_t_curve=0.0))
+    step = lambda t, ay, **kw: est.step(mg.MgSample(t, kw.pop("v", 20.0), 300.0, ax=0.1,
+                                                    ay=ay, **kw)).status
+    assert step(0.0, 1.0) == mg.OK                       # at the threshold: updated
+    assert step(0.01, 1.0 + 1e-9) == mg.PAUSED_CURVE
+    assert step(0.02, 0.0) == mg.OK                      # no delay with mg_t_curve = 0
+    assert step(0.03, 2.0, v=1.0) == mg.PAUSED_CURVE     # before low speed
+    assert step(0.04, 2.0, vx=10.0) == mg.PAUSED_SLIP    # after slip
+    assert step(0.05, 2.0, brake=1.0) == mg.PAUSED_BRAKE
+    assert step(0.06, float("nan")) == mg.ERR_NONFINITE
+    assert step(0.06, 50.5) == mg.ERR_RANGE
 
 
 def test_ukf_with_ax_meets_the_mass_target_on_the_truck_drive():

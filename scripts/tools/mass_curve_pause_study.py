@@ -9,14 +9,13 @@ observer log, the observer logs with the car's resistances and the mass and grad
 make mass-curve (mass_curve_study.py) showed why the mass is wrong on a steady curve: the
 drive torque also pays the cornering resistance F_c = M (ay Lr/L sin(delta) - r vy), which the
 straight-road model reads as mass, and the ax row reads the sideslip term -r vy as grade.
-Variants here (none is in the library):
+Variants here (the pause is the library's mg_ay_max, off by default; the correction is not):
 
 - off: the filter as it is;
-- pause |ay| > A (A = 0.5, 1, 2 m/s^2): a sample whose |ay| exceeds A holds the filter as the
-  brake does (MASS_GRADE.md §4.2: M and theta held, theta's variance grows, v restarts) and
-  the hold lasts HOLD s after the last such sample (the brake's mg_t_brake rule: a delay ends
-  where less than half a period of it is left), checked after the brake, shift and slip
-  pauses (status 8 here);
+- pause |ay| > A (A = 0.5, 1, 2 m/s^2): the reference's curve pause, mg_ay_max = A and
+  mg_t_curve = HOLD (MASS_GRADE.md §4.2: a sample whose |ay| exceeds A holds the filter as a
+  braked one does, M and theta held, and the hold lasts HOLD s after the last such sample;
+  status 8);
 - F_c out: no pause; every sample's torque less R M^ (ay Lr/L sin(delta) - r vy) and its ax
   plus r vy, M^ the filter's mass before the sample, vy the log's measured vy (the observer
   scenarios carry it, noisy; the velocity observer's estimate would take its place in a car);
@@ -52,7 +51,7 @@ from mass_slip_ramp_study import (RECOMMENDED, SIM_RESISTANCES, log_path, mg,  #
 from mass_sensitivity import log_mass  # noqa: E402
 from md_tables import replace_region  # noqa: E402
 
-PAUSED_CURVE = 8            # the study's status of a curve-held sample
+PAUSED_CURVE = mg.PAUSED_CURVE
 HOLD = 1.0                  # s: the curve pause's hold after the last sample over A (mg_t_brake's)
 THRESHOLDS = (0.5, 1.0, 2.0)  # m/s^2
 STARTS = (1.0, 0.8, 1.2)    # mg_m0 as a share of the log's m
@@ -64,42 +63,13 @@ VARIANTS["F_c out"] = (0.0, True)
 MG_CONFIGS = {"UKF + ax": RECOMMENDED, "AUKF": {"mg_adaptive": 1.0, "mg_use_ax": 0.0}}
 
 
-class CurvePause(mg.MassGrade):
-    """The reference's filter with a hold while |ay| > ay_max and hold s after (ay_max = 0:
-    the reference); ay is set on the instance before each step."""
-
-    _SAVED = mg.MassGrade._SAVED + ("curve_left",)
-
-    def __init__(self, params, ay_max, hold):
-        super().__init__(params)
-        self.ay_max, self.hold = ay_max, hold
-        self.ay = 0.0
-        self.curve_left = 0.0
-
-    def _start(self, s):
-        super()._start(s)
-        self.curve_left = 0.0
-
-    def _pause_status(self, s, dt):
-        status = super()._pause_status(s, dt)
-        if self.ay_max <= 0.0:
-            return status
-        self.curve_left = max(self.curve_left - dt, 0.0)
-        over = abs(self.ay) > self.ay_max
-        if over:
-            self.curve_left = self.hold
-        if status in (mg.OK, mg.NO_UPDATE_LOW_SPEED) and (over or self.curve_left > 0.5 * dt):
-            return PAUSED_CURVE
-        return status
-
-
 def run(est, samples, ay, corr, fc_terms, vy_r):
     """Steps @est through @samples; @fc_terms per sample (ay Lr/L sin(delta) - r vy) and
     @vy_r (r vy) are taken out of the torque and put into ax when @corr. Returns the outputs."""
     outs = []
     R = est.p["R"]
     for k, s in enumerate(samples):
-        est.ay = float(ay[k])
+        s.ay = float(ay[k])
         if corr:
             m_hat = est.x[1] if est.started else est.p["mg_m0"]
             s.torque -= R * m_hat * float(fc_terms[k])
@@ -131,7 +101,8 @@ def observer_job(job):
     m = log_mass(path)
     ay_max, corr = VARIANTS[variant]
     over = {} if name.split(".", 1)[0].endswith("_res") else SIM_RESISTANCES
-    est = CurvePause(mg.preset("car", mg_m0=m * start, **RECOMMENDED, **over), ay_max, HOLD)
+    est = mg.MassGrade(mg.preset("car", mg_m0=m * start, mg_ay_max=ay_max, mg_t_curve=HOLD,
+                                 **RECOMMENDED, **over))
     fc, vy_r = terms(cols, meta, cols["vy"])
     outs = run(est, observer_samples(cols, est.p["R"]), cols["ay"], corr, fc, vy_r)
     return ("obs", name, start, variant), summary(outs, cols, m)
@@ -143,8 +114,8 @@ def mass_grade_job(job):
     vehicle = "truck" if name.startswith("truck") else "car"
     m = float(cols["mass_true"][-1])
     ay_max, corr = VARIANTS[variant]
-    est = CurvePause(mg.preset(vehicle, mg_m0=MG_START * float(cols["mass_true"][0]),
-                               **MG_CONFIGS[cfg]), ay_max, HOLD)
+    est = mg.MassGrade(mg.preset(vehicle, mg_m0=MG_START * float(cols["mass_true"][0]),
+                                 mg_ay_max=ay_max, mg_t_curve=HOLD, **MG_CONFIGS[cfg]))
     samples = list(mg.samples(cols, est.p))
     for s, vx in zip(samples, cols["vx_true"]):
         s.vx = float(vx)

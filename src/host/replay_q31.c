@@ -212,13 +212,14 @@ uint32_t rfe_replay_esc_input_q31(const rfe_sensor_log_t *log, size_t i, size_t 
 
 /* Whether the values of the double sample @p d are finite where the float library checks
  * them (rfe_mass_grade_step: dt, v, torque; p_brake with RFE_MG_HAS_PRESSURE, ax with
- * RFE_MG_HAS_AX, vx with RFE_MG_HAS_VX). */
+ * RFE_MG_HAS_AX, vx with RFE_MG_HAS_VX, ay with RFE_MG_HAS_AY). */
 static int mg_values_finite(const rfe_mass_grade_input_t *d)
 {
     return isfinite(d->dt) && isfinite(d->v) && isfinite(d->torque) &&
            (((d->has & RFE_MG_HAS_PRESSURE) == 0u) || isfinite(d->p_brake)) &&
            (((d->has & RFE_MG_HAS_AX) == 0u) || isfinite(d->ax)) &&
-           (((d->has & RFE_MG_HAS_VX) == 0u) || isfinite(d->vx));
+           (((d->has & RFE_MG_HAS_VX) == 0u) || isfinite(d->vx)) &&
+           (((d->has & RFE_MG_HAS_AY) == 0u) || isfinite(d->ay));
 }
 
 rfe_status_t rfe_replay_mass_grade_input_q31(const rfe_sensor_log_t *log,
@@ -238,6 +239,7 @@ rfe_status_t rfe_replay_mass_grade_input_q31(const rfe_sensor_log_t *log,
         in->torque = rfe_fix_from_double(d.torque, RFE_MG_Q_TORQUE, sat);
         in->ax = rfe_fix_from_double(d.ax, RFE_MG_Q_V, sat);
         in->vx = rfe_fix_from_double(d.vx, RFE_MG_Q_V, sat);
+        in->ay = rfe_fix_from_double(d.ay, RFE_MG_Q_V, sat);
         in->p_brake = rfe_fix_from_double(d.p_brake * 1e-6, RFE_MG_Q_PRESSURE, sat); /* MPa */
         in->gear = d.gear;
         in->brake = d.brake;

@@ -518,6 +518,9 @@ rfe_status_t rfe_replay_mass_grade_input_row(const rfe_sensor_log_t *log,
         in->vx = (rfe_real_t)row->vx;
         in->has |= RFE_MG_HAS_VX;
     }
+    /* the curve pause's lateral acceleration (a required column; used with mg_ay_max > 0) */
+    in->ay = (rfe_real_t)row->ay;
+    in->has |= RFE_MG_HAS_AY;
     if ((log->has_brake && !isfinite(row->brake)) || (log->has_gear && !isfinite(row->gear))) {
         return RFE_ERR_NONFINITE;
     }

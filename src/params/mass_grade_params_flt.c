@@ -43,6 +43,8 @@ static void car(rfe_mass_grade_params_t *p)
     p->t_shift = RFE_R(1.0);
     p->p_brake_on = RFE_R(1.0e5);
     p->slip_max = RFE_R(0.05);
+    p->ay_max = RFE_R(0.0);
+    p->t_curve = RFE_R(1.0);
     p->m_min = RFE_R(300.0);
     p->m_max = RFE_R(60000.0);
     p->theta_max = RFE_R(0.35);
@@ -116,12 +118,12 @@ static int positive_fields_ok(const rfe_mass_grade_params_t *p)
 /* §6 the values that must be finite and >= 0. */
 static int non_negative_fields_ok(const rfe_mass_grade_params_t *p)
 {
-    const rfe_real_t v[15] = {p->fc,      p->fr,      p->rho,     p->cd,      p->area,
+    const rfe_real_t v[17] = {p->fc,      p->fr,      p->rho,     p->cd,      p->area,
                               p->m_rot,   p->q_mv0,   p->t_adapt, p->mv_stop, p->v_min,
                               p->t_brake, p->t_shift, p->p_brake_on, p->slip_max,
-                              p->ut_beta};
+                              p->ay_max,  p->t_curve, p->ut_beta};
     size_t i;
-    for (i = 0u; i < 15u; ++i) {
+    for (i = 0u; i < 17u; ++i) {
         if (!rfe_is_finite(v[i]) || !(v[i] >= RFE_R(0.0))) {
             return 0;
         }

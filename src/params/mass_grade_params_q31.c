@@ -100,12 +100,12 @@ static int positive_fields_ok_q31(const rfe_mass_grade_params_q31_t *p)
 /* §6 the values that must be >= 0. */
 static int non_negative_fields_ok_q31(const rfe_mass_grade_params_q31_t *p)
 {
-    const rfe_fix_t v[15] = {p->fc,      p->fr,      p->rho,     p->cd,      p->area,
+    const rfe_fix_t v[17] = {p->fc,      p->fr,      p->rho,     p->cd,      p->area,
                              p->m_rot,   p->q_mv0,   p->t_adapt, p->mv_stop, p->v_min,
                              p->t_brake, p->t_shift, p->p_brake_on, p->slip_max,
-                             p->ut_beta};
+                             p->ay_max,  p->t_curve, p->ut_beta};
     size_t i;
-    for (i = 0u; i < 15u; ++i) {
+    for (i = 0u; i < 17u; ++i) {
         if (v[i] < 0) {
             return 0;
         }

@@ -74,12 +74,14 @@ static rfe_status_t input_class(const fz_ctx_t *c, const rfe_mass_grade_input_t 
     const int has_ax = (u->has & RFE_MG_HAS_AX) != 0u;
     if (!finite(u->dt) || !finite(u->v) || !finite(u->torque) ||
         (((u->has & RFE_MG_HAS_PRESSURE) != 0u) && !finite(u->p_brake)) ||
-        (has_ax && !finite(u->ax)) || (((u->has & RFE_MG_HAS_VX) != 0u) && !finite(u->vx))) {
+        (has_ax && !finite(u->ax)) || (((u->has & RFE_MG_HAS_VX) != 0u) && !finite(u->vx)) ||
+        (((u->has & RFE_MG_HAS_AY) != 0u) && !finite(u->ay))) {
         return RFE_ERR_NONFINITE;
     }
     if (((u->has & ~(uint32_t)RFE_MG_HAS_ALL) != 0u) || beyond(u->v, RFE_LIMIT_VX) ||
         beyond(u->torque, RFE_LIMIT_DRIVE_TORQUE) || (has_ax && beyond(u->ax, RFE_LIMIT_ACC)) ||
         (((u->has & RFE_MG_HAS_VX) != 0u) && beyond(u->vx, RFE_LIMIT_VX)) ||
+        (((u->has & RFE_MG_HAS_AY) != 0u) && beyond(u->ay, RFE_LIMIT_ACC)) ||
         ((c->mg.p.use_ax == 1u) && !has_ax) || (c->started && !(u->dt > 0))) {
         return RFE_ERR_RANGE;
     }
@@ -151,6 +153,7 @@ static int step(void *ctxp, const fz_sample_t *s)
     u.p_brake = fz_to_real(1e4 * s->v[4]);
     u.ax = fz_to_real(s->v[5]);
     u.vx = fz_to_real((0.2 * s->v[7]) + (10.0 * s->v[0])); /* the steer field: the slip */
+    u.ay = fz_to_real(s->v[6]);
     u.gear = (int32_t)to_long(s->v[8] / 50.0, 1e6);
     u.brake = (uint32_t)((s->v[9] > 58.0) ? to_long(s->v[9] - 58.0, 4e9) : 0L);
     u.has = c->has_base ^ (uint32_t)to_long(s->v[10] - 58.0, 2e9);
@@ -172,7 +175,7 @@ static int step(void *ctxp, const fz_sample_t *s)
             violation(c, "an input error not reported as its class", &u, (int)st);
         }
     } else if (!(st == RFE_OK || st == RFE_NO_UPDATE_LOW_SPEED || st == RFE_MG_PAUSED_BRAKE ||
-                 st == RFE_MG_PAUSED_SHIFT || st == RFE_MG_PAUSED_SLIP || st == RFE_ERR_NOT_POSITIVE_DEFINITE ||
+                 st == RFE_MG_PAUSED_SHIFT || st == RFE_MG_PAUSED_SLIP || st == RFE_MG_PAUSED_CURVE || st == RFE_ERR_NOT_POSITIVE_DEFINITE ||
                  st == RFE_ERR_NONFINITE)) {
         violation(c, "a status §7 does not list for a sample inside the limits", &u, (int)st);
     }
@@ -194,15 +197,15 @@ static int step(void *ctxp, const fz_sample_t *s)
 }
 
 /* The parameter struct's fields for fuzz_params.h. */
-static void fields_of(rfe_mass_grade_params_t *p, rfe_real_t *real[32], uint32_t *u32[2])
+static void fields_of(rfe_mass_grade_params_t *p, rfe_real_t *real[34], uint32_t *u32[2])
 {
-    rfe_real_t *const r[32] = {
+    rfe_real_t *const r[34] = {
         &p->R,        &p->g,         &p->fc,      &p->fr,        &p->rho,     &p->cd,
         &p->area,     &p->m_rot,     &p->m0,      &p->theta0,    &p->sd_m0,   &p->sd_theta0,
         &p->q_v,      &p->q_mc,      &p->q_mv0,   &p->q_theta,   &p->r_v,     &p->r_ax,
         &p->ut_alpha, &p->ut_beta,   &p->ut_kappa, &p->t_adapt,  &p->mv_stop, &p->v_min,
         &p->t_brake,  &p->t_shift,   &p->p_brake_on, &p->m_min,  &p->m_max,   &p->theta_max,
-        &p->dt_max,   &p->slip_max};
+        &p->dt_max,   &p->slip_max,  &p->ay_max,  &p->t_curve};
     memcpy(real, r, sizeof r);
     u32[0] = &p->adaptive;
     u32[1] = &p->use_ax;
@@ -219,7 +222,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     fz_reader_t r;
     rfe_mass_grade_params_t p;
     rfe_mass_grade_params_t preset;
-    rfe_real_t *real[32];
+    rfe_real_t *real[34];
     uint32_t *u32[2];
     fzp_fields_t f;
     uint8_t cfg;
@@ -240,7 +243,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     p = preset;
     fields_of(&p, real, u32);
     f.real = real;
-    f.n_real = 32;
+    f.n_real = 34;
     f.u32 = u32;
     f.n_u32 = 2;
     (void)fzp_decode(&r, &f);

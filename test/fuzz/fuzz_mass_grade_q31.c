@@ -72,6 +72,7 @@ static rfe_status_t input_class(const fz_ctx_q31_t *c, const rfe_mass_grade_inpu
         beyond_q(u->torque, RFE_MG_LIMIT_TORQUE_Q31) ||
         (has_ax && beyond_q(u->ax, RFE_MG_LIMIT_AX_Q31)) || ((c->mg.p.use_ax == 1u) && !has_ax) ||
         (((u->has & RFE_MG_HAS_VX) != 0u) && beyond_q(u->vx, RFE_MG_LIMIT_V_Q31)) ||
+        (((u->has & RFE_MG_HAS_AY) != 0u) && beyond_q(u->ay, RFE_MG_LIMIT_AX_Q31)) ||
         (c->started && !(u->dt > 0))) {
         return RFE_ERR_RANGE;
     }
@@ -128,6 +129,7 @@ static int step(void *ctxp, const fz_sample_t *s)
     u.p_brake = rfe_fix_from_double(1e4 * s->v[4] * 1e-6, RFE_MG_Q_PRESSURE, &conv_sat);
     u.ax = rfe_fix_from_double(s->v[5], RFE_MG_Q_V, &conv_sat);
     u.vx = rfe_fix_from_double((0.2 * s->v[7]) + (10.0 * s->v[0]), RFE_MG_Q_V, &conv_sat);
+    u.ay = rfe_fix_from_double(s->v[6], RFE_MG_Q_V, &conv_sat);
     u.gear = (int32_t)to_long(s->v[8] / 50.0, 1e6);
     u.brake = (uint32_t)((s->v[9] > 58.0) ? to_long(s->v[9] - 58.0, 4e9) : 0L);
     u.has = c->has_base ^ (uint32_t)to_long(s->v[10] - 58.0, 2e9);
@@ -150,7 +152,7 @@ static int step(void *ctxp, const fz_sample_t *s)
             violation(c, "an input error not reported as its class", &u, (int)st);
         }
     } else if (!(st == RFE_OK || st == RFE_NO_UPDATE_LOW_SPEED || st == RFE_MG_PAUSED_BRAKE ||
-                 st == RFE_MG_PAUSED_SHIFT || st == RFE_MG_PAUSED_SLIP)) {
+                 st == RFE_MG_PAUSED_SHIFT || st == RFE_MG_PAUSED_SLIP || st == RFE_MG_PAUSED_CURVE)) {
         violation(c, "an error on a sample inside the limits", &u, (int)st);
     }
     if (rfe_status_is_error(st)) {
@@ -171,15 +173,15 @@ static int step(void *ctxp, const fz_sample_t *s)
 }
 
 /* The parameter struct's fields for fuzz_params.h (as fuzz_mass_grade_flt.c). */
-static void fields_of(rfe_mass_grade_params_t *p, rfe_real_t *real[32], uint32_t *u32[2])
+static void fields_of(rfe_mass_grade_params_t *p, rfe_real_t *real[34], uint32_t *u32[2])
 {
-    rfe_real_t *const r[32] = {
+    rfe_real_t *const r[34] = {
         &p->R,        &p->g,         &p->fc,      &p->fr,        &p->rho,     &p->cd,
         &p->area,     &p->m_rot,     &p->m0,      &p->theta0,    &p->sd_m0,   &p->sd_theta0,
         &p->q_v,      &p->q_mc,      &p->q_mv0,   &p->q_theta,   &p->r_v,     &p->r_ax,
         &p->ut_alpha, &p->ut_beta,   &p->ut_kappa, &p->t_adapt,  &p->mv_stop, &p->v_min,
         &p->t_brake,  &p->t_shift,   &p->p_brake_on, &p->m_min,  &p->m_max,   &p->theta_max,
-        &p->dt_max,   &p->slip_max};
+        &p->dt_max,   &p->slip_max,  &p->ay_max,  &p->t_curve};
     memcpy(real, r, sizeof r);
     u32[0] = &p->adaptive;
     u32[1] = &p->use_ax;
@@ -198,7 +200,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     rfe_mass_grade_params_t preset;
     rfe_mass_grade_params_q31_t q;
     rfe_mass_grade_params_q31_t qpreset;
-    rfe_real_t *real[32];
+    rfe_real_t *real[34];
     uint32_t *u32[2];
     fzp_fields_t f;
     uint8_t cfg;
@@ -222,7 +224,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     p = preset;
     fields_of(&p, real, u32);
     f.real = real;
-    f.n_real = 32;
+    f.n_real = 34;
     f.u32 = u32;
     f.n_u32 = 2;
     (void)fzp_decode(&r, &f);

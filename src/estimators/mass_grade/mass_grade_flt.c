@@ -66,6 +66,9 @@ static int sample_values_finite(const rfe_mass_grade_input_t *in)
     if (((in->has & RFE_MG_HAS_VX) != 0u) && !rfe_is_finite(in->vx)) {
         return 0;
     }
+    if (((in->has & RFE_MG_HAS_AY) != 0u) && !rfe_is_finite(in->ay)) {
+        return 0;
+    }
     return (((in->has & RFE_MG_HAS_AX) == 0u) || rfe_is_finite(in->ax)) ? 1 : 0;
 }
 
@@ -86,6 +89,9 @@ static rfe_status_t check_torque_sample(const rfe_mass_grade_t *mg,
         return RFE_ERR_RANGE;
     }
     if (((in->has & RFE_MG_HAS_VX) != 0u) && (RFE_FABS(in->vx) > RFE_R(RFE_LIMIT_VX))) {
+        return RFE_ERR_RANGE;
+    }
+    if (((in->has & RFE_MG_HAS_AY) != 0u) && (RFE_FABS(in->ay) > RFE_R(RFE_LIMIT_ACC))) {
         return RFE_ERR_RANGE;
     }
     if ((mg->started != 0u) && !(in->dt > RFE_R(0.0))) {
@@ -126,6 +132,7 @@ static void start_filter(rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in)
     o->m_adapt = o->x[1];
     o->brake_left = RFE_R(0.0);
     o->shift_left = RFE_R(0.0);
+    o->curve_left = RFE_R(0.0);
     o->has_gear = in->has & RFE_MG_HAS_GEAR;
     o->gear = in->gear;
 }
@@ -144,6 +151,24 @@ static int slip_beyond(const rfe_mass_grade_params_t *p, const rfe_mass_grade_in
     return beyond;
 }
 
+/* §4.2 steps 0 and 4 for the curve: its delay counts down, a sample with |ay| over ay_max
+ * (read only when given: its outcome counts only then) restarts it; 1 when held: cornering
+ * now or more than half a period of the delay left. */
+static int curve_held(rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in, rfe_real_t dt)
+{
+    int beyond = 0;
+    int cornering;
+    if (((in->has & RFE_MG_HAS_AY) != 0u) && (RFE_FABS(in->ay) > o->p.ay_max)) {
+        beyond = 1;
+    }
+    cornering = rfe_mg_cornering(in->has, (o->p.ay_max > RFE_R(0.0)) ? 1 : 0, beyond);
+    o->curve_left = rfe_max(o->curve_left - dt, RFE_R(0.0));
+    if (cornering != 0) {
+        o->curve_left = o->p.t_curve;
+    }
+    return ((cornering != 0) || (o->curve_left > (RFE_R(0.5) * dt))) ? 1 : 0;
+}
+
 /* §4.2 the pause logic; the delays count down by the period dt (0 on a start), so they stay
  * as exact as the period in float32 however long the drive; a delay ends at the sample where
  * less than half a period of it is left, so a delay of whole periods holds the same samples
@@ -153,6 +178,7 @@ static rfe_status_t pause_status(rfe_mass_grade_t *o, const rfe_mass_grade_input
 {
     int above = 0;
     int brake;
+    int curve;
     /* §4.2 step 1: the pedal flag, or the pressure above p_brake_on (read only when given) */
     if (((in->has & RFE_MG_HAS_PRESSURE) != 0u) && (in->p_brake > o->p.p_brake_on)) {
         above = 1;
@@ -170,11 +196,12 @@ static rfe_status_t pause_status(rfe_mass_grade_t *o, const rfe_mass_grade_input
         o->gear = in->gear;
         o->has_gear = 1u;
     }
+    curve = curve_held(o, in, dt);
     return rfe_mg_pause_status(
         brake, (o->brake_left > (RFE_R(0.5) * dt)) ? 1 : 0,
         (o->shift_left > (RFE_R(0.5) * dt)) ? 1 : 0,
         rfe_mg_slipping(in->has, (o->p.slip_max > RFE_R(0.0)) ? 1 : 0, slip_beyond(&o->p, in)),
-        (in->v < o->p.v_min) ? 1 : 0);
+        curve, (in->v < o->p.v_min) ? 1 : 0);
 }
 
 /* §4.2 the hold: M, theta kept; P_thth += q_theta^2 dt; v restarts at the measured speed,

@@ -62,10 +62,18 @@ static inline int rfe_mg_slipping(uint32_t has, int slip_on, int beyond)
     return (((has & RFE_MG_HAS_VX) != 0u) && (slip_on != 0) && (beyond != 0)) ? 1 : 0;
 }
 
-/** §4.2 step 4: the status from braking, the delays left beyond half a period, the slip and
- *  the low speed, in that order. */
+/** §4.2 step 4: cornering = ay given, the curve pause on (ay_max > 0) and |ay| > ay_max
+ *  (@p beyond: that comparison's outcome). */
+static inline int rfe_mg_cornering(uint32_t has, int curve_on, int beyond)
+{
+    return (((has & RFE_MG_HAS_AY) != 0u) && (curve_on != 0) && (beyond != 0)) ? 1 : 0;
+}
+
+/** §4.2 step 5: the status from braking, the delays left beyond half a period, the slip, the
+ *  curve (cornering now or its delay left beyond half a period) and the low speed, in that
+ *  order. */
 static inline rfe_status_t rfe_mg_pause_status(int brake, int brake_pending, int shift_pending,
-                                               int slip, int low_speed)
+                                               int slip, int curve, int low_speed)
 {
     rfe_status_t st = RFE_OK;
     if ((brake != 0) || (brake_pending != 0)) {
@@ -74,6 +82,8 @@ static inline rfe_status_t rfe_mg_pause_status(int brake, int brake_pending, int
         st = RFE_MG_PAUSED_SHIFT;
     } else if (slip != 0) {
         st = RFE_MG_PAUSED_SLIP;
+    } else if (curve != 0) {
+        st = RFE_MG_PAUSED_CURVE;
     } else if (low_speed != 0) {
         st = RFE_NO_UPDATE_LOW_SPEED;
     } else {

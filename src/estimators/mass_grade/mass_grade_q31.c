@@ -75,6 +75,9 @@ static rfe_status_t check_torque_sample_q31(const rfe_mass_grade_q31_t *mg,
     if (((in->has & RFE_MG_HAS_VX) != 0u) && (rfe_fix_abs(in->vx, &sat) > RFE_MG_LIMIT_V_Q31)) {
         return RFE_ERR_RANGE;
     }
+    if (((in->has & RFE_MG_HAS_AY) != 0u) && (rfe_fix_abs(in->ay, &sat) > RFE_MG_LIMIT_AX_Q31)) {
+        return RFE_ERR_RANGE;
+    }
     if ((mg->started != 0u) && (in->dt <= 0)) {
         return RFE_ERR_RANGE;
     }
@@ -146,6 +149,7 @@ static void start_filter_q31(rfe_mass_grade_q31_t *o, const rfe_mass_grade_input
     o->m_adapt = o->x[1];
     o->brake_left = 0;
     o->shift_left = 0;
+    o->curve_left = 0;
     o->has_gear = in->has & RFE_MG_HAS_GEAR;
     o->gear = in->gear;
 }
@@ -171,6 +175,25 @@ static int slip_beyond_q31(const rfe_mass_grade_params_q31_t *p,
     return beyond;
 }
 
+/* §4.2 steps 0 and 4 for the curve on its Q30 timer: |ay| and ay_max both Q24, compared
+ * exactly (read only when given); 1 when held: cornering now or 2 left > dt. */
+static int curve_held_q31(rfe_mass_grade_q31_t *o, const rfe_mass_grade_input_q31_t *in,
+                          int64_t dt64)
+{
+    uint32_t sat = 0u; /* |INT32_MIN| saturates to INT32_MAX: beyond every ay_max */
+    int beyond = 0;
+    int cornering;
+    if (((in->has & RFE_MG_HAS_AY) != 0u) && (rfe_fix_abs(in->ay, &sat) > o->p.ay_max)) {
+        beyond = 1;
+    }
+    cornering = rfe_mg_cornering(in->has, (o->p.ay_max > 0) ? 1 : 0, beyond);
+    o->curve_left = (o->curve_left > dt64) ? (o->curve_left - dt64) : 0;
+    if (cornering != 0) {
+        o->curve_left = (int64_t)o->p.t_curve * TIME_TO_DT;
+    }
+    return ((cornering != 0) || ((2 * o->curve_left) > dt64)) ? 1 : 0;
+}
+
 /* §4.2 the pause logic on Q30 timers counting down by dt (0 on a start); a delay ends where
  * less than half a period of it is left (2 left > dt, exact in integers). */
 static rfe_status_t pause_status_q31(rfe_mass_grade_q31_t *o, const rfe_mass_grade_input_q31_t *in,
@@ -179,6 +202,7 @@ static rfe_status_t pause_status_q31(rfe_mass_grade_q31_t *o, const rfe_mass_gra
     const int64_t dt64 = (int64_t)dt;
     int above = 0;
     int brake;
+    int curve;
     if (((in->has & RFE_MG_HAS_PRESSURE) != 0u) && (in->p_brake > o->p.p_brake_on)) {
         above = 1;
     }
@@ -195,11 +219,12 @@ static rfe_status_t pause_status_q31(rfe_mass_grade_q31_t *o, const rfe_mass_gra
         o->gear = in->gear;
         o->has_gear = 1u;
     }
+    curve = curve_held_q31(o, in, dt64);
     return rfe_mg_pause_status(brake, ((2 * o->brake_left) > dt64) ? 1 : 0,
                                ((2 * o->shift_left) > dt64) ? 1 : 0,
                                rfe_mg_slipping(in->has, (o->p.slip_max > 0) ? 1 : 0,
                                                slip_beyond_q31(&o->p, in)),
-                               (in->v < o->p.v_min) ? 1 : 0);
+                               curve, (in->v < o->p.v_min) ? 1 : 0);
 }
 
 /* sqrt(dt) in Q30 (dt > 0, Q30: never saturates). */

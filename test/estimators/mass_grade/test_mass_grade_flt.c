@@ -141,6 +141,8 @@ static void b_kappa_nan(rfe_mass_grade_params_t *p) { p->ut_kappa = (rfe_real_t)
 static void b_alpha_huge(rfe_mass_grade_params_t *p) { p->ut_alpha = (rfe_real_t)1e300; }
 static void b_slip(rfe_mass_grade_params_t *p) { p->slip_max = (rfe_real_t)-0.01; }
 static void b_slip_nan(rfe_mass_grade_params_t *p) { p->slip_max = (rfe_real_t)NAN; }
+static void b_ay_max(rfe_mass_grade_params_t *p) { p->ay_max = (rfe_real_t)-0.5; }
+static void b_t_curve_nan(rfe_mass_grade_params_t *p) { p->t_curve = (rfe_real_t)NAN; }
 static void b_stop(rfe_mass_grade_params_t *p)
 {
     p->adaptive = 1u;
@@ -170,6 +172,8 @@ static void test_params_rules(void **state)
     expect_bad(b_stop, "adaptation ending before it starts");
     expect_bad(b_slip, "slip_max < 0");
     expect_bad(b_slip_nan, "slip_max NaN");
+    expect_bad(b_ay_max, "ay_max < 0");
+    expect_bad(b_t_curve_nan, "t_curve NaN");
     /* the same stop threshold is fine in the plain UKF, which never adapts */
     assert_int_equal(rfe_mass_grade_params_default(&p), RFE_OK);
     b_stop(&p);
@@ -271,7 +275,7 @@ static void test_refused_samples_leave_the_state_untouched(void **state)
     in.ax = (rfe_real_t)51.0; /* |ax| > RFE_LIMIT_ACC */
     expect_refused(in, RFE_ERR_RANGE);
     in = cruise((rfe_real_t)20.0, (rfe_real_t)DT);
-    in.has = 32u | RFE_MG_HAS_AX; /* an unknown bit */
+    in.has = 64u | RFE_MG_HAS_AX; /* an unknown bit */
     expect_refused(in, RFE_ERR_RANGE);
     /* the ground speed vx: checked as v is, when given */
     in = cruise((rfe_real_t)20.0, (rfe_real_t)DT);
@@ -281,6 +285,15 @@ static void test_refused_samples_leave_the_state_untouched(void **state)
     in.vx = (rfe_real_t)-INFINITY;
     expect_refused(in, RFE_ERR_NONFINITE);
     in.vx = (rfe_real_t)-101.0; /* |vx| > RFE_LIMIT_VX */
+    expect_refused(in, RFE_ERR_RANGE);
+    in.has = RFE_MG_HAS_AX; /* not given: not read */
+    assert_int_equal(step(&in, &e), RFE_OK);
+    /* the lateral acceleration ay: checked as ax is, when given */
+    in = cruise((rfe_real_t)20.0, (rfe_real_t)DT);
+    in.has |= RFE_MG_HAS_AY;
+    in.ay = (rfe_real_t)NAN;
+    expect_refused(in, RFE_ERR_NONFINITE);
+    in.ay = (rfe_real_t)-51.0; /* |ay| > RFE_LIMIT_ACC */
     expect_refused(in, RFE_ERR_RANGE);
     in.has = RFE_MG_HAS_AX; /* not given: not read */
     assert_int_equal(step(&in, &e), RFE_OK);
@@ -491,6 +504,83 @@ static void test_slip_holds_mass_and_grade(void **state)
     in = slipping((rfe_real_t)22.0, (rfe_real_t)20.0);
     assert_int_equal(step(&in, &e), RFE_MG_PAUSED_SLIP);
     assert_true(e.mass == prm.m0);
+}
+
+/* A cornering sample at 20 m/s: full torque, ay given. */
+static rfe_mass_grade_input_t cornering(rfe_real_t ay)
+{
+    rfe_mass_grade_input_t in = cruise((rfe_real_t)20.0, (rfe_real_t)DT);
+    in.torque = (rfe_real_t)3000.0;
+    in.ax = (rfe_real_t)0.5;
+    in.ay = ay;
+    in.has |= RFE_MG_HAS_AY;
+    return in;
+}
+
+/* REQ-MG-006 the curve pause (§4.2 step 4): |ay| > ay_max held as a brake pause holds, and
+ * t_curve after the last such sample (the brake's half-period rule); the threshold strict;
+ * after the slip, before the low speed; ay_max = 0 (the default) and no ay never pause. */
+static void test_curve_holds_mass_and_grade(void **state)
+{
+    rfe_mass_grade_estimate_t e;
+    rfe_mass_grade_estimate_t before;
+    rfe_mass_grade_input_t in;
+    rfe_mass_grade_t learning;
+    int k;
+    (void)state;
+    setup_with(0u, 1u);
+    assert_true(prm.ay_max == (rfe_real_t)0.0); /* off by default */
+    mg.p.ay_max = (rfe_real_t)1.0;
+    mg.p.t_curve = (rfe_real_t)0.1; /* 5 periods */
+    for (k = 0; k < 50; ++k) {
+        in = cornering((rfe_real_t)0.0); /* given, straight: updates */
+        assert_int_equal(step(&in, &before), RFE_OK);
+    }
+    learning = mg;
+    for (k = 0; k < 30; ++k) {
+        in = cornering((rfe_real_t)-1.5);
+        assert_int_equal(step(&in, &e), RFE_MG_PAUSED_CURVE);
+        assert_true((e.mass == before.mass) && (e.grade == before.grade) &&
+                    (e.sd_mass == before.sd_mass));
+    }
+    /* 0.08 ... 0.02 s left exceed half a period (0.01 s): held; then 0: updated */
+    for (k = 0; k < 4; ++k) {
+        in = cornering((rfe_real_t)0.0);
+        assert_int_equal(step(&in, &e), RFE_MG_PAUSED_CURVE);
+        assert_true(e.mass == before.mass);
+    }
+    in = cornering((rfe_real_t)0.0);
+    assert_int_equal(step(&in, &e), RFE_OK);
+    /* the same samples without ay update and move the mass: what the pause keeps out */
+    mg = learning;
+    for (k = 0; k < 30; ++k) {
+        in = cornering((rfe_real_t)-1.5);
+        in.has &= ~RFE_MG_HAS_AY;
+        assert_int_equal(step(&in, &e), RFE_OK);
+    }
+    assert_true(fabs((double)(e.mass - before.mass)) > 10.0);
+    /* ay_max = 0: no curve pause */
+    mg = learning;
+    mg.p.ay_max = (rfe_real_t)0.0;
+    in = cornering((rfe_real_t)-1.5);
+    assert_int_equal(step(&in, &e), RFE_OK);
+    /* the threshold, exact in binary, no delay: at it updated, beyond it held */
+    mg = learning;
+    mg.p.t_curve = (rfe_real_t)0.0;
+    in = cornering((rfe_real_t)1.0);
+    assert_int_equal(step(&in, &e), RFE_OK);
+    in = cornering((rfe_real_t)1.0625);
+    assert_int_equal(step(&in, &e), RFE_MG_PAUSED_CURVE);
+    in = cornering((rfe_real_t)0.0);
+    assert_int_equal(step(&in, &e), RFE_OK);
+    /* before the low speed, after the slip */
+    in = cornering((rfe_real_t)2.0);
+    in.v = (rfe_real_t)1.0;
+    assert_int_equal(step(&in, &e), RFE_MG_PAUSED_CURVE);
+    in = cornering((rfe_real_t)2.0);
+    in.vx = (rfe_real_t)16.0;
+    in.has |= RFE_MG_HAS_VX;
+    assert_int_equal(step(&in, &e), RFE_MG_PAUSED_SLIP);
 }
 
 /* REQ-MG-006 */
@@ -1082,6 +1172,7 @@ int main(void)
         cmocka_unit_test(test_brake_holds_mass_and_grade),
         cmocka_unit_test(test_shift_and_low_speed_hold),
         cmocka_unit_test(test_slip_holds_mass_and_grade),
+        cmocka_unit_test(test_curve_holds_mass_and_grade),
         cmocka_unit_test(test_adaptation_as_specified),
         cmocka_unit_test(test_adaptation_period),
         cmocka_unit_test(test_factorisation_failures_leave_the_state_untouched),

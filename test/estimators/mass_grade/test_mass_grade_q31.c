@@ -111,6 +111,8 @@ static void dequantise_params(const rfe_mass_grade_params_q31_t *q, rfe_mass_gra
     p->t_shift = rfe_fix_to_double(q->t_shift, RFE_MG_Q_TIME);
     p->p_brake_on = rfe_fix_to_double(q->p_brake_on, RFE_MG_Q_PRESSURE) * 1e6;
     p->slip_max = rfe_fix_to_double(q->slip_max, RFE_MG_Q_FC);
+    p->ay_max = rfe_fix_to_double(q->ay_max, QV);
+    p->t_curve = rfe_fix_to_double(q->t_curve, RFE_MG_Q_TIME);
     p->m_min = rfe_fix_to_double(q->m_min, QM);
     p->m_max = rfe_fix_to_double(q->m_max, QM);
     p->theta_max = rfe_fix_to_double(q->theta_max, QT);
@@ -129,6 +131,7 @@ static void quantise_input(const rfe_mass_grade_input_t *in, rfe_mass_grade_inpu
     q->p_brake = rfe_fix_from_double(in->p_brake * 1e-6, RFE_MG_Q_PRESSURE, &sat);
     q->ax = rfe_fix_from_double(in->ax, QV, &sat);
     q->vx = rfe_fix_from_double(in->vx, QV, &sat);
+    q->ay = rfe_fix_from_double(in->ay, QV, &sat);
     q->gear = in->gear;
     q->brake = in->brake;
     q->has = in->has;
@@ -310,6 +313,10 @@ static void test_validate_q31(void **state)
     assert_int_equal(rfe_mass_grade_params_validate_q31(&t), RFE_ERR_PARAM);
     t = q; t.slip_max = 0; /* 0: no slip pause */
     assert_int_equal(rfe_mass_grade_params_validate_q31(&t), RFE_OK);
+    t = q; t.ay_max = -1;
+    assert_int_equal(rfe_mass_grade_params_validate_q31(&t), RFE_ERR_PARAM);
+    t = q; t.t_curve = -1;
+    assert_int_equal(rfe_mass_grade_params_validate_q31(&t), RFE_ERR_PARAM);
     t = q; t.adaptive = 2u;
     assert_int_equal(rfe_mass_grade_params_validate_q31(&t), RFE_ERR_PARAM);
     t = q; t.use_ax = 2u;
@@ -391,12 +398,16 @@ static void test_step_errors_leave_state(void **state)
     assert_int_equal(rfe_mass_grade_step_q31(&mg, &bad, &e), RFE_ERR_RANGE);
     bad = in; bad.has = 0u; /* no ax while use_ax */
     assert_int_equal(rfe_mass_grade_step_q31(&mg, &bad, &e), RFE_ERR_RANGE);
-    bad = in; bad.has = RFE_MG_HAS_AX | 32u; /* an unknown bit */
+    bad = in; bad.has = RFE_MG_HAS_AX | 64u; /* an unknown bit */
     assert_int_equal(rfe_mass_grade_step_q31(&mg, &bad, &e), RFE_ERR_RANGE);
     bad = in; bad.has |= RFE_MG_HAS_VX; bad.vx = -RFE_MG_LIMIT_V_Q31 - 1; /* |vx| > 100 m/s */
     assert_int_equal(rfe_mass_grade_step_q31(&mg, &bad, &e), RFE_ERR_RANGE);
     assert_int_equal(e.status, RFE_ERR_RANGE);
     bad.vx = INT32_MIN;
+    assert_int_equal(rfe_mass_grade_step_q31(&mg, &bad, &e), RFE_ERR_RANGE);
+    bad = in; bad.has |= RFE_MG_HAS_AY; bad.ay = RFE_MG_LIMIT_AX_Q31 + 1; /* |ay| > 50 m/s^2 */
+    assert_int_equal(rfe_mass_grade_step_q31(&mg, &bad, &e), RFE_ERR_RANGE);
+    bad.ay = INT32_MIN;
     assert_int_equal(rfe_mass_grade_step_q31(&mg, &bad, &e), RFE_ERR_RANGE);
     bad = in; bad.dt = 0;
     assert_int_equal(rfe_mass_grade_step_q31(&mg, &bad, &e), RFE_ERR_RANGE);
@@ -586,6 +597,77 @@ static void test_slip_pause_q31(void **state)
     mg = learning;
     mg.p.slip_max = 0;
     s.v = in.vx + rfe_fix_from_double(2.0, QV, &sat);
+    assert_int_equal(rfe_mass_grade_step_q31(&mg, &s, &e), RFE_OK);
+    assert_int_equal(sat, 0u);
+}
+
+/* The curve pause (§4.2 step 4): the float twin's statuses, held as the brake holds; |ay|
+ * against ay_max exact in Q24 (ay_max itself updates, one LSB more holds, either sign); the
+ * delay t_curve in Q30 periods; ay_max = 0 (the default) or no ay: none. */
+/* REQ-MG-006 */
+static void test_curve_pause_q31(void **state)
+{
+    rfe_mass_grade_params_q31_t q;
+    rfe_mass_grade_q31_t mg;
+    rfe_mass_grade_q31_t learning;
+    rfe_mass_grade_estimate_q31_t e;
+    rfe_mass_grade_estimate_q31_t held;
+    rfe_mass_grade_input_q31_t in = cruise_sample(20.0);
+    rfe_mass_grade_input_q31_t s;
+    uint32_t sat = 0u;
+    int k;
+    (void)state;
+    default_q31(&q);
+    assert_int_equal(q.ay_max, 0); /* off by default */
+    q.ay_max = rfe_fix_from_double(1.0, QV, &sat);
+    q.t_curve = rfe_fix_from_double(0.05, RFE_MG_Q_TIME, &sat); /* 5 periods of 0.01 s */
+    assert_int_equal(rfe_mass_grade_init_q31(&mg, &q), RFE_OK);
+    in.has |= RFE_MG_HAS_AY; /* given, straight */
+    for (k = 0; k < 100; ++k) {
+        assert_int_equal(rfe_mass_grade_step_q31(&mg, &in, &e), RFE_OK);
+    }
+    held = e;
+    learning = mg;
+    s = in;
+    s.torque = rfe_fix_from_double(3000.0, RFE_MG_Q_TORQUE, &sat);
+    s.ay = rfe_fix_from_double(-1.5, QV, &sat);
+    for (k = 0; k < 100; ++k) {
+        assert_int_equal(rfe_mass_grade_step_q31(&mg, &s, &e), RFE_MG_PAUSED_CURVE);
+        assert_int_equal(e.mass, held.mass);
+        assert_int_equal(e.grade, held.grade);
+        assert_int_equal(e.sd_mass, held.sd_mass);
+    }
+    /* the delay: 0.04 ... 0.01 s left exceed half a period: held; then 0: updated (t_curve
+     * in Q24 is 0.05 within 2^-24 s, under half a period from whole periods) */
+    s.ay = 0;
+    for (k = 0; k < 4; ++k) {
+        assert_int_equal(rfe_mass_grade_step_q31(&mg, &s, &e), RFE_MG_PAUSED_CURVE);
+    }
+    assert_int_equal(rfe_mass_grade_step_q31(&mg, &s, &e), RFE_OK);
+    /* the same samples without ay: learned */
+    mg = learning;
+    s.ay = rfe_fix_from_double(-1.5, QV, &sat);
+    s.has &= ~RFE_MG_HAS_AY;
+    for (k = 0; k < 100; ++k) {
+        assert_int_equal(rfe_mass_grade_step_q31(&mg, &s, &e), RFE_OK);
+    }
+    assert_true(e.mass != held.mass);
+    /* the threshold to the LSB, no delay */
+    mg = learning;
+    mg.p.t_curve = 0;
+    s = in;
+    s.ay = q.ay_max;
+    assert_int_equal(rfe_mass_grade_step_q31(&mg, &s, &e), RFE_OK);
+    s.ay = q.ay_max + 1;
+    assert_int_equal(rfe_mass_grade_step_q31(&mg, &s, &e), RFE_MG_PAUSED_CURVE);
+    s.ay = -q.ay_max - 1;
+    assert_int_equal(rfe_mass_grade_step_q31(&mg, &s, &e), RFE_MG_PAUSED_CURVE);
+    s.ay = -q.ay_max;
+    assert_int_equal(rfe_mass_grade_step_q31(&mg, &s, &e), RFE_OK);
+    /* ay_max = 0: none */
+    mg = learning;
+    mg.p.ay_max = 0;
+    s.ay = rfe_fix_from_double(-1.5, QV, &sat);
     assert_int_equal(rfe_mass_grade_step_q31(&mg, &s, &e), RFE_OK);
     assert_int_equal(sat, 0u);
 }
@@ -865,6 +947,7 @@ int main(void)
         cmocka_unit_test(test_validate_q31),
         cmocka_unit_test(test_init_errors),
         cmocka_unit_test(test_slip_pause_q31),
+        cmocka_unit_test(test_curve_pause_q31),
         cmocka_unit_test(test_slip_pause_against_double),
         cmocka_unit_test(test_step_errors_leave_state),
         cmocka_unit_test(test_start_and_restart),
