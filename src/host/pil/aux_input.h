@@ -43,7 +43,8 @@ static inline void rfe_aux_mg_input(const rfe_sensor_log_t *log, size_t i, doubl
     in->p_brake = log->has_brake_pressure ? (rfe_real_t)row->brake_pressure : (rfe_real_t)0.0;
     in->gear = log->has_gear ? (int32_t)floor(row->gear + 0.5) : 0; /* the nearest gear */
     in->brake = (log->has_brake && (row->brake >= 0.5)) ? 1u : 0u;
-    in->has = RFE_MG_HAS_AX | (log->has_brake_pressure ? RFE_MG_HAS_PRESSURE : 0u) |
+    in->ay = (rfe_real_t)row->ay; /* the curve pause's input, as the replay hands it over */
+    in->has = RFE_MG_HAS_AX | RFE_MG_HAS_AY | (log->has_brake_pressure ? RFE_MG_HAS_PRESSURE : 0u) |
               (log->has_brake ? RFE_MG_HAS_BRAKE : 0u) | (log->has_gear ? RFE_MG_HAS_GEAR : 0u);
 }
 

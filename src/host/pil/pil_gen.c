@@ -244,9 +244,9 @@ static void put_mass_grade(FILE *f, const rfe_mass_grade_params_t *mp, const rfe
     for (i = 0u; i < rows; ++i) {
         rfe_mass_grade_input_t in;
         rfe_aux_mg_input(log, i, (double)mp->R, &in);
-        fprintf(f, "    {%af, %af, %af, %af, %af, %af, %" PRId32 ", %" PRIu32 "u, %" PRIu32 "u},\n",
+        fprintf(f, "    {%af, %af, %af, %af, %af, %af, %af, %" PRId32 ", %" PRIu32 "u, %" PRIu32 "u},\n",
                 (double)in.dt, (double)in.v, (double)in.torque, (double)in.p_brake, (double)in.ax,
-                (double)in.vx, in.gear, in.brake, in.has);
+                (double)in.vx, (double)in.ay, in.gear, in.brake, in.has);
     }
     fputs("};\n#endif\n", f);
 }
@@ -277,8 +277,8 @@ static uint32_t put_mass_grade_q31(FILE *f, const rfe_mass_grade_params_q31_t *q
         rfe_mass_grade_input_q31_t in;
         rfe_aux_mg_input_q31(log, i, R, &in, &sat);
         fprintf(f, "    {%" PRId32 ", %" PRId32 ", %" PRId32 ", %" PRId32 ", %" PRId32 ", %" PRId32 ", %" PRId32
-                   ", %" PRIu32 "u, %" PRIu32 "u},\n",
-                in.dt, in.v, in.torque, in.p_brake, in.ax, in.vx, in.gear, in.brake, in.has);
+                   ", %" PRId32 ", %" PRIu32 "u, %" PRIu32 "u},\n",
+                in.dt, in.v, in.torque, in.p_brake, in.ax, in.vx, in.ay, in.gear, in.brake, in.has);
     }
     fputs("};\n#endif\n", f);
     return sat;
@@ -384,7 +384,7 @@ int main(int argc, char **argv)
     if (mass_grade && (!log.has_drive_torque || rfe_replay_mass_grade_params_f32(&ps, &mp, NULL) != RFE_OK ||
                        sizeof mp.adaptive != 4u || sizeof mp % 4u != 0u ||
                        rfe_mass_grade_params_to_q31(&mp, &mq) != RFE_OK ||
-                       sizeof mq != 34u * 4u)) {
+                       sizeof mq != 36u * 4u)) {
         fprintf(stderr, "pil_gen: %s: no drive_torque, or the mass and grade parameters are rejected\n", in);
         return 1;
     }
