@@ -1492,6 +1492,50 @@ static void test_rfe_replay_slip_pauses_the_filter(void **state)
     }
 }
 
+/* The filter's curve pause through the replay (mg_ay_max; MASS_GRADE.md §4.2, §10 "The curve
+ * pause"): make_mg_log's drive with |ay| = 2 m/s^2 on rows SLIP_FROM .. SLIP_TO - 1 and 0
+ * elsewhere, mg_ay_max = 1 and mg_t_curve = 0: the replay hands every row's ay to the
+ * estimator in double, q31 and behind the observer, so exactly those rows are held with status
+ * 8, mass and grade kept at row SLIP_FROM - 1's, and the next row updates. With the default
+ * mg_ay_max = 0 no row is held. Fails without the replay handing ay (no row held). */
+/* REQ-CLI-007 */
+static void test_rfe_replay_curve_pauses_the_filter(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_sensor_row_t rows[N_MG];
+    rfe_param_set_t ps;
+    static rfe_est_row_t out[N_MG];
+    rfe_replay_stats_t st;
+    size_t i;
+    int path;
+    (void)state;
+    make_mg_log(&log, rows);
+    assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_DEFAULT), 0);
+    ps.mass_grade = 1;
+    ps.value[RFE_PK_dt] = 0.02;
+    for (i = 0u; i < N_MG; ++i) {
+        rows[i].ay = ((i >= SLIP_FROM) && (i < SLIP_TO)) ? 2.0 : 0.0;
+    }
+    assert_true(ps.mg[RFE_PK_mg_ay_max - RFE_PK_MG_FIRST] == 0.0); /* off by default */
+    for (path = 0; path < 4; ++path) { /* double, double observer, q31, q31 observer */
+        st = mg_feed_run_path(&ps, &log, out, path);
+        assert_int_equal(st.mg_status_count[RFE_MG_PAUSED_CURVE], 0u);
+    }
+    ps.mg[RFE_PK_mg_ay_max - RFE_PK_MG_FIRST] = 1.0;
+    ps.mg[RFE_PK_mg_t_curve - RFE_PK_MG_FIRST] = 0.0;
+    for (path = 0; path < 4; ++path) {
+        st = mg_feed_run_path(&ps, &log, out, path);
+        assert_int_equal(st.mg_status_count[RFE_MG_PAUSED_CURVE], SLIP_TO - SLIP_FROM);
+        for (i = SLIP_FROM; i < SLIP_TO; ++i) {
+            assert_int_equal(out[i].mg_status, (int)RFE_MG_PAUSED_CURVE);
+            assert_true(out[i].mass == out[SLIP_FROM - 1u].mass); /* held */
+            assert_true(out[i].grade == out[SLIP_FROM - 1u].grade);
+        }
+        assert_int_equal(out[SLIP_TO].mg_status, (int)RFE_OK);
+        assert_true(out[SLIP_TO].mass != out[SLIP_FROM - 1u].mass);
+    }
+}
+
 /* A bad measured vx reaches the mass and grade estimator as its slip reference, which refuses
  * that sample as it refuses its other inputs (MASS_GRADE.md §10 "The slip pause"): in double
  * and q31, a NaN vx cell gives mg_status 17, a vx beyond 100 m/s 18 (q31: beyond Q24's 128
@@ -2814,6 +2858,7 @@ int main(void)
         cmocka_unit_test(test_rfe_replay_gate_holds_the_feed_until_the_excitation),
         cmocka_unit_test(test_rfe_replay_slip_holds_the_feed_and_empties_the_gate),
         cmocka_unit_test(test_rfe_replay_slip_pauses_the_filter),
+        cmocka_unit_test(test_rfe_replay_curve_pauses_the_filter),
         cmocka_unit_test(test_rfe_replay_mass_grade_bad_vx_refused),
         cmocka_unit_test(test_rfe_replay_band_refuses_a_mass_far_from_m),
         cmocka_unit_test(test_rfe_replay_q31_mass_grade_is_the_library_loop),
