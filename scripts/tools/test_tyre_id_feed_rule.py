@@ -14,12 +14,15 @@ DT = 1.0 / 64.0
 
 def run(rule, samples, i0=0):
     """samples: (ay, ax, ay_p, updated) per row, the first at row i0; per row (reset,
-    may_feed after the step)."""
+    may_feed after the step), feeding whenever it may (the feed's other conditions met)."""
     out = []
     for i, (ay, ax, ay_p, upd) in enumerate(samples, i0):
         reset = rule.before(ay, ax, ay_p)
         rule.after(i * DT, ay, upd)
-        out.append((reset, rule.may_feed))
+        may = rule.may_feed(ay)
+        if may:
+            rule.fed()
+        out.append((reset, may))
     return out
 
 
@@ -34,10 +37,13 @@ def test_a_spike_resets_once_and_holds_the_feed_for_the_refresh():
     assert res[10] == (True, False)                 # the spike: reset, tainted
     assert res[31] == (False, False)                # the second: no reset (already tainted)
     # refreshed after 0.5 s of excited samples counted from the second spike: the 32nd row
-    # after it adds the 32nd period (32 / 64 s = 0.5 s; 31 give less)
-    feeds = [may for _, may in res[32:]]
-    assert feeds.index(True) == 31
-    assert rule.fresh >= 0.5
+    # after it adds the 32nd period (32 / 64 s = 0.5 s; 31 give less); but its ay (2 m/s^2)
+    # is not below 1 m/s^2, so the feed waits for a calm sample
+    assert rule.fresh >= 0.5 and not rule.tainted
+    assert not any(may for _, may in res[32:])
+    res = run(rule, [(2.0, 0.0, 2.0, True)] * 3 + [(0.5, 0.0, 0.5, True)]
+              + [(2.0, 0.0, 2.0, True)] * 3, len(res))
+    assert [may for _, may in res] == [False] * 3 + [True] * 4   # calm: fed, then as before
 
 
 def test_a_small_residual_and_no_estimate_taint_nothing():
@@ -59,5 +65,7 @@ def test_braking_taints_without_reset_and_coasting_never_refreshes():
     assert not any(may for _, may in res)            # 4.7 s of coasting do not refresh it
     turn = [(1.5, 0.0, 1.5, True)] * 60
     res = run(rule, turn, len(brake + coast))
-    # the first turn row adds the period from the last coasting row: 32 rows reach 0.5 s
-    assert [may for _, may in res].index(True) == 31
+    # the first turn row adds the period from the last coasting row: 32 rows reach 0.5 s and
+    # lift the taint; the turn's 1.5 m/s^2 is no calm sample, so nothing is fed yet
+    assert not rule.tainted and not any(may for _, may in res)
+    assert rule.may_feed(0.8) and not rule.may_feed(1.0)     # below 1 m/s^2 only

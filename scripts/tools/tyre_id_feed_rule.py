@@ -14,7 +14,10 @@ A sample taints the identifier's curve when it is
                the identifier's weights nevertheless take.
 After a taint no curve is fed until the identifier has updated on tid_feed_refresh seconds
 (summed) of untainted samples with |ay| >= tid_feed_outlier_k * tid_sd_ay, i.e. with lateral
-force to learn the curve from. On the first implausible sample of a taint the friction
+force to learn the curve from, and then the first curve is fed only at a sample with |ay| <
+tid_feed_outlier_k * tid_sd_ay: a curve changed where the tyres carry little lateral force
+moves the friction estimator's lateral rows least, at the limit it moves its mu (MONITOR.md
+section 7: the double run's loss without this). On the first implausible sample of a taint the friction
 estimator's model error is set back to the parameter set's r_model_rel before that sample's
 step: the fed curve's uncertainty joined to it (TYRE_ID.md section 14) would otherwise hide
 the sample from the estimator's model-validity monitor.
@@ -36,6 +39,7 @@ class FeedTaint:
     tainted: bool = False
     bad: bool = False       # this sample held or implausible
     ref_ok: bool = False    # the identifier's last step updated: its estimate predicts ay
+    resume: bool = False    # the taint lifted, no curve fed since: the next at a low |ay|
 
     def before(self, ay: float, ax: float, ay_p: float) -> bool:
         """The sample (its ay, ax and the identifier's last estimate's ay_p) before the
@@ -59,8 +63,14 @@ class FeedTaint:
         if self.tainted and not self.bad and updated and abs(ay) >= self.outlier_k * self.sd_ay:
             self.fresh += dt
             self.tainted = self.fresh < self.refresh
+            self.resume = not self.tainted
 
-    @property
-    def may_feed(self) -> bool:
-        """Whether the feed's other conditions (TYRE_ID.md section 14) may feed this sample."""
-        return not self.tainted
+    def may_feed(self, ay: float) -> bool:
+        """Whether the feed's other conditions (TYRE_ID.md section 14) may feed this sample
+        (its ay), after after()."""
+        calm = not self.resume or abs(ay) < self.outlier_k * self.sd_ay
+        return not self.tainted and calm
+
+    def fed(self) -> None:
+        """A curve was fed (the estimator took it): the resumption is over."""
+        self.resume = False

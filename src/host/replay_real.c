@@ -47,6 +47,7 @@ typedef struct {
     int tainted;      /* a held or implausible sample since the last refresh: no feed */
     int bad;          /* this sample is held or implausible */
     int ref_ok;       /* the identifier's last step updated: its estimate predicts ay */
+    int resume;       /* the taint lifted, no curve fed since: the next only at a low |ay| */
 } tid_run_t;
 
 /** The per-log state of a replay (replay_real.h): the estimators, which columns the log has,
@@ -658,6 +659,7 @@ static rfe_status_t tyre_id_init(const rfe_param_set_t *ps, const rfe_params_t *
     t->tainted = 0;
     t->bad = 0;
     t->ref_ok = 0;
+    t->resume = 0;
     if (t->on) {
         st = rfe_replay_tyre_id_params(ps, &t->tp, &t->seed, bad_key);
     }
@@ -771,7 +773,9 @@ static int tyre_feed_taint(tid_run_t *t, const rfe_sensor_row_t *row)
  * step (@p out); nothing with tid_feed_refresh 0. An untainted sample on which it updated with |ay| >=
  * tid_feed_outlier_k * tid_sd_ay (lateral force it can learn the curve from) adds the
  * period since the previous row to fresh; once fresh reaches tid_feed_refresh the taint is
- * lifted. */
+ * lifted, and the feed resumes at the first due sample with |ay| < tid_feed_outlier_k *
+ * tid_sd_ay (resume: a curve changed where the tyres carry little lateral force moves the
+ * friction estimator's lateral rows least; at the limit it moves its mu, MONITOR.md §7). */
 static void tyre_feed_refresh(tid_run_t *t, const rfe_sensor_row_t *row, const rfe_est_row_t *out)
 {
     const int updated = ((out->tid_flags & RFE_TID_UPDATED) != 0u) ? 1 : 0;
@@ -786,6 +790,7 @@ static void tyre_feed_refresh(tid_run_t *t, const rfe_sensor_row_t *row, const r
     if ((t->tainted != 0) && (t->bad == 0) && (updated != 0) && excited) {
         t->fresh += dt;
         t->tainted = (t->fresh >= t->refresh) ? 0 : 1;
+        t->resume = (t->tainted == 0) ? 1 : 0;
     }
 }
 
@@ -794,8 +799,9 @@ static void tyre_feed_refresh(tid_run_t *t, const rfe_sensor_row_t *row, const r
  * (t_wrong) has reached tid_feed_evidence, this sample's |ax| (@p ax, the log's) is at most
  * tid_feed_ax_max (when positive: under braking or driving the identifier's lateral-only
  * model reads the combined slip's lower lateral force as a different curve, so the friction
- * estimator keeps the one it has), the curve is not tainted (tid_feed_refresh, MONITOR.md
- * §7; never with the key 0), this sample's identifier step (@p out)
+ * estimator keeps the one it has), the curve is not tainted and, on the first feed after a
+ * taint, this sample's |ay| (@p ay) is below tid_feed_outlier_k * tid_sd_ay (tid_feed_refresh,
+ * MONITOR.md §7; neither with the key 0), this sample's identifier step (@p out)
  * updated (its flags are 0 on a refused sample) and the relative sd of the summed cornering
  * stiffness, rel = sqrt(sd_Kf^2 + sd_Kr^2) / (K_f + K_r) (the axles' spreads taken as
  * independent), is at most tid_feed_sd_rel. The curve: cy =
@@ -803,7 +809,7 @@ static void tyre_feed_refresh(tid_run_t *t, const rfe_sensor_row_t *row, const r
  * the axles' C and E weighted by those loads, r_model_rel = sqrt(r^2 + rel^2) with r the
  * parameter set's (key r_model_rel): the curve's uncertainty joins the model error. In double, each rounded to
  * the build's real type. */
-static int tyre_feed_due(const tid_run_t *t, const rfe_est_row_t *out, double ax,
+static int tyre_feed_due(const tid_run_t *t, const rfe_est_row_t *out, double ax, double ay,
                          rfe_real_t v[4])
 {
     const rfe_tyre_id_estimate_t *e = &t->tid.last;
@@ -816,7 +822,8 @@ static int tyre_feed_due(const tid_run_t *t, const rfe_est_row_t *out, double ax
     const double sd_r = (double)e->sd[RFE_TID_OUT_K_R];
     const double rel = sqrt((sd_f * sd_f) + (sd_r * sd_r)) / k;
     const int held = (t->ax_max > 0.0) && (fabs(ax) > t->ax_max);
-    if (!((t->t_wrong >= t->evidence) && !held && (t->tainted == 0) &&
+    const int calm = (t->resume == 0) || (fabs(ay) < (t->outlier_k * (double)t->tp.sd_ay));
+    if (!((t->t_wrong >= t->evidence) && !held && (t->tainted == 0) && calm &&
           ((out->tid_flags & RFE_TID_UPDATED) != 0u) &&
           (rel <= feed))) {
         return 0;
@@ -1105,10 +1112,11 @@ static void step_measured_row(rfe_replay_state_t *st, const rfe_sensor_row_t *ro
             tyre_feed_evidence(&st->tid, row->t, out);
             tyre_feed_refresh(&st->tid, row, out);
         }
-        if ((st->tid.feed_on != 0) && (tyre_feed_due(&st->tid, out, row->ax, v) != 0) &&
+        if ((st->tid.feed_on != 0) && (tyre_feed_due(&st->tid, out, row->ax, row->ay, v) != 0) &&
             (rfe_friction_set_lateral_tyre(&st->pl.friction, v[0], v[1], v[2], v[3]) ==
              RFE_OK)) {
             ++st->stats.n_tyre_fed; /* a curve it refuses (C at a bound of (1, 2)) is not fed */
+            st->tid.resume = 0;
         }
     }
 }

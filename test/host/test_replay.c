@@ -2735,7 +2735,8 @@ static int same_curve(const rfe_est_row_t *on, size_t i, size_t j)
  * friction estimator's model error back to the set's r_model_rel before that sample's step
  * (its r_model_rel_used), and no curve is fed in the next 100 rows (a second of samples: the
  * refresh needs a second of excited ones, and an updated curve shows on the row after its
- * feed). On the split-mu hard brake (ABS braking from 1 s to 5 s, the driver counter-steering,
+ * feed), and the first curve fed after it is fed where |ay| < 1 m/s^2 (its resumption, away
+ * from the limit). On the split-mu hard brake (ABS braking from 1 s to 5 s, the driver counter-steering,
  * then coasting with |ay| below 1 m/s^2) the curve learnt under braking is fed after it
  * without the key and never with it. Negative or not finite, both keys are refused before any
  * row, named. Light mode: the first 300 rows of the sine steer (its first spike at row 177),
@@ -2794,6 +2795,17 @@ static void test_rfe_replay_tyre_feed_refresh_after_taint(void **state)
     assert_true(on[s0 - 1u].r_model_rel_used != on[s0].r_model_rel_used);
     for (i = s0 + 1u; i <= s0 + 100u; ++i) {
         assert_true(same_curve(on, i, s0));
+    }
+    /* the first curve fed after the taint (it shows on the row after its feed) was fed at a
+     * sample with |ay| below 5 tid_sd_ay = 1 m/s^2; the refresh itself ends on a sample with
+     * |ay| >= 1 m/s^2, so a feed at the taint's end would fail this */
+    i = s0 + 101u;
+    while ((i < log.n_rows) && same_curve(on, i, s0)) {
+        ++i;
+    }
+    assert_true(rfe_test_light() || (i < log.n_rows)); /* the whole log resumes the feed */
+    if (i < log.n_rows) {
+        assert_true(fabs(log.rows[i - 1u].ay) < 1.0);
     }
     for (k = 0; k < 6; ++k) {
         const size_t key = (k < 3) ? (size_t)RFE_PK_tid_feed_refresh
