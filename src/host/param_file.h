@@ -275,8 +275,8 @@ typedef enum {
     /** key tid_feed_refresh (s): a replay key (no member): after a sample that taints the
      *  identifier's curve (held by tid_feed_ax_max, or implausible by tid_feed_outlier_k) no
      *  curve is fed until the identifier has updated on this long, summed, of untainted
-     *  samples with |ay| >= tid_feed_outlier_k * tid_sd_ay (0 = off, the default;
-     *  MONITOR.md §7). */
+     *  samples with |ay| >= tid_feed_outlier_k * tid_sd_ay, and then first at a sample with
+     *  |ay| below that (0 = off, the default; MONITOR.md §7). */
     RFE_PK_tid_feed_refresh,
     /** key tid_feed_outlier_k (1): a replay key (no member), used when tid_feed_refresh > 0:
      *  a sample is implausible when |ay - ay_p| > tid_feed_outlier_k * tid_sd_ay, ay_p the
