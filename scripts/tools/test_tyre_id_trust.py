@@ -34,7 +34,7 @@ def fig(valid, excited, rmse=0.05, cons=1.0, worst=0.1):
 def test_summary_table_shape_and_counts():
     labels = tt.labels()
     assert labels == ["today", "S0.05", "S0.1", "S0.05 e0.25", "S0.1 e0.25", "A0.05", "A0.1",
-                      "A0.05 e0.25", "A0.1 e0.25"]
+                      "A0.05 e0.25", "A0.1 e0.25", "A0.1 r1", "A0.1 e0.25 r1"]
     # an MF-truth log meeting it today (excited valid 90 %); S0.05 drops it to 80 % (10 points),
     # A0.1 breaks its worst case (0.3 > 0.25); a Dugoff log failing today that A0.1 heals
     mf = {lab: fig(0.5, 0.9) for lab in labels}

@@ -13,7 +13,9 @@ fed variant: each filter of tyre_id_feed_results.FILTERS (the APF, the SCKF) at 
 tyre_id_feed_results.FEEDS (tid_feed_sd_rel 0.05 and 0.1, from the start, and only after
 tid_feed_evidence 0.25 s of the friction estimator's evidence that its curve is wrong:
 "e0.25"), with the braking hold at its default (tid_feed_ax_max 0.5 m/s^2: no curve fed after a
-sample whose |ax| exceeds it; docs/TYRE_ID.md section 14). The identifier runs on every log;
+sample whose |ax| exceeds it; docs/TYRE_ID.md section 14), and the APF's at 0.1 from the start
+and after e0.25 with the taint rule of tyre_id_feed_rule.py (REFRESH_FEEDS: tid_feed_refresh
+1 s, "r1"). The identifier runs on every log;
 it feeds only where its cornering stiffness is known within tid_feed_sd_rel, i.e. where the
 driver steers (the "fed" share). The identifier is float and double only (no Q31 twin), so
 --real takes float and double.
@@ -43,18 +45,26 @@ from trust_invariant import bundled_logs, fmt, meets, pct, run_log  # noqa: E402
 from tyre_id_feed_results import FEEDS, FILTERS, label  # noqa: E402
 
 REALS = ("float", "double")  # the identifier's precisions (no Q31 twin)
+# The feeds of the taint rule (tyre_id_feed_rule.py, MONITOR.md section 7): the APF's at 0.1,
+# from the start and after e0.25, with tid_feed_refresh 1 s (tid_feed_outlier_k at its default
+# 5): (tid_feed_sd_rel, tid_feed_evidence, tid_feed_refresh)
+REFRESH_FEEDS = ((0.1, 0.0, 1.0), (0.1, 0.25, 1.0))
 
 
 def variants():
-    """The fed runs: (label, filter, (tid_feed_sd_rel, tid_feed_evidence)), e.g. "S0.05",
-    "A0.1 e0.25"."""
-    return [(label(f, letter), flt, f) for flt, letter in reversed(FILTERS) for f in FEEDS]
+    """The fed runs: (label, filter, (tid_feed_sd_rel, tid_feed_evidence[,
+    tid_feed_refresh])), e.g. "S0.05", "A0.1 e0.25", "A0.1 r1"."""
+    return ([(label(f, letter), flt, f) for flt, letter in reversed(FILTERS) for f in FEEDS]
+            + [(label(f[:2], "A") + f" r{f[2]:g}", "apf", f) for f in REFRESH_FEEDS])
 
 
 def feed_params(feed, folder: Path) -> Path:
-    """A parameter file setting one feed (the hold tid_feed_ax_max left at its default)."""
-    p = folder / f"feed_{feed[0]:g}_{feed[1]:g}.params"
-    p.write_text(f"tid_feed_sd_rel = {feed[0]!r}\ntid_feed_evidence = {feed[1]!r}\n")
+    """A parameter file setting one feed (the hold tid_feed_ax_max left at its default; with a
+    third entry tid_feed_refresh, tid_feed_outlier_k at its default)."""
+    tail = f"_{feed[2]:g}" if len(feed) > 2 else ""
+    p = folder / f"feed_{feed[0]:g}_{feed[1]:g}{tail}.params"
+    p.write_text(f"tid_feed_sd_rel = {feed[0]!r}\ntid_feed_evidence = {feed[1]!r}\n"
+                 + (f"tid_feed_refresh = {feed[2]!r}\n" if len(feed) > 2 else ""))
     return p
 
 

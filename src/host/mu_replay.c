@@ -872,6 +872,12 @@ static const char *validator_name(size_t k)
     if (k == (size_t)RFE_PK_tid_feed_ax_max) {
         return "mu_replay: a finite acceleration >= 0 m/s^2";
     }
+    if (k == (size_t)RFE_PK_tid_feed_refresh) {
+        return "mu_replay: a finite time >= 0 s";
+    }
+    if (k == (size_t)RFE_PK_tid_feed_outlier_k) {
+        return "mu_replay: a finite multiple >= 0 of tid_sd_ay";
+    }
     if (k == (size_t)RFE_PK_tid_feed_sd_rel) {
         return "mu_replay: a relative sd >= 0, and 0 behind the velocity observer, whose "
                "pipeline has no lateral tyre setter";
@@ -1388,7 +1394,11 @@ static void write_tyre_id_json(FILE *f, const run_t *r)
     rfe_json_write_number(f, r->ps.tid[RFE_PK_tid_feed_evidence - RFE_PK_TID_FIRST]);
     fputs(", \"ax_max\": ", f);
     rfe_json_write_number(f, r->ps.tid[RFE_PK_tid_feed_ax_max - RFE_PK_TID_FIRST]);
-    fprintf(f, ", \"n_fed\": %zu}},\n", r->stats.n_tyre_fed);
+    fprintf(f, ", \"n_fed\": %zu, \"refresh\": ", r->stats.n_tyre_fed);
+    rfe_json_write_number(f, r->ps.tid[RFE_PK_tid_feed_refresh - RFE_PK_TID_FIRST]);
+    fputs(", \"outlier_k\": ", f);
+    rfe_json_write_number(f, r->ps.tid[RFE_PK_tid_feed_outlier_k - RFE_PK_TID_FIRST]);
+    fprintf(f, ", \"n_reset\": %zu}},\n", r->stats.n_tyre_reset);
 }
 
 /* The summary's tyre identifier lines, when it ran. */

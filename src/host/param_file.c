@@ -39,6 +39,8 @@ static const rfe_param_info_t k_info[RFE_PK_COUNT] = {
     {"tid_feed_sd_rel", "1", "replay: feed the identified lateral curve to the friction estimator after an update with sd(K) <= this * K (0 = never)"},
     {"tid_feed_evidence", "s", "replay: feed only once the friction estimator has spent this long (summed) at a mu bound or in model mismatch (0 = from the start)"},
     {"tid_feed_ax_max", "m/s^2", "replay: feed no curve after a sample whose |ax| exceeds this, braking or driving (0 = no hold)"},
+    {"tid_feed_refresh", "s", "replay: after a held or implausible sample feed no curve until the identifier has updated on this long of untainted samples with |ay| >= tid_feed_outlier_k * tid_sd_ay, then first at a sample with |ay| below it (0 = off)"},
+    {"tid_feed_outlier_k", "1", "replay: with tid_feed_refresh > 0, a sample whose |ay| is more than this * tid_sd_ay from the identifier's last estimate is implausible; the first resets the estimator's r_model_rel (0 = no test)"},
     RFE_TID_KEYS(RFE_PK_INFO_)
 #undef RFE_PK_INFO_
 };

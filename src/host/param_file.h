@@ -274,6 +274,18 @@ typedef enum {
      *  force the identifier's lateral-only model reads, TYRE_ID.md §3.3), the friction
      *  estimator keeping the curve it has (0 = no hold; TYRE_ID.md §14). */
     RFE_PK_tid_feed_ax_max,
+    /** key tid_feed_refresh (s): a replay key (no member): after a sample that taints the
+     *  identifier's curve (held by tid_feed_ax_max, or implausible by tid_feed_outlier_k) no
+     *  curve is fed until the identifier has updated on this long, summed, of untainted
+     *  samples with |ay| >= tid_feed_outlier_k * tid_sd_ay, and then first at a sample with
+     *  |ay| below that (0 = off, the default; MONITOR.md §7). */
+    RFE_PK_tid_feed_refresh,
+    /** key tid_feed_outlier_k (1): a replay key (no member), used when tid_feed_refresh > 0:
+     *  a sample is implausible when |ay - ay_p| > tid_feed_outlier_k * tid_sd_ay, ay_p the
+     *  lateral acceleration of the identifier's last estimate; the first of a taint sets the
+     *  friction estimator's model error back to the set's r_model_rel before its step
+     *  (0 = no test; MONITOR.md §7). */
+    RFE_PK_tid_feed_outlier_k,
     RFE_TID_KEYS(RFE_PK_ENUM_)
 #undef RFE_PK_ENUM_
     RFE_PK_COUNT        /**< number of keys */
@@ -322,8 +334,9 @@ typedef enum {
 #define RFE_MG_FEED_BAND_DEFAULT 0.3
 
 /** The tyre identifier's keys before the RFE_TID_KEYS table: tid_filter, tid_resample,
- *  tid_substeps, tid_seed, tid_feed_sd_rel, tid_feed_evidence, tid_feed_ax_max. */
-#define RFE_PK_TID_SPECIAL 7u
+ *  tid_substeps, tid_seed, tid_feed_sd_rel, tid_feed_evidence, tid_feed_ax_max,
+ *  tid_feed_refresh, tid_feed_outlier_k. */
+#define RFE_PK_TID_SPECIAL 9u
 
 /** tid_feed_sd_rel of every preset: 0, the identified curve is not fed (TYRE_ID.md §14). */
 #define RFE_TID_FEED_SD_REL_DEFAULT 0.0
@@ -336,6 +349,14 @@ typedef enum {
  *  0.56 m/s^2 (drag and noise, on 1 % of the samples); a fed curve identified under braking
  *  raised brake_in_turn.mf's RMSE when valid from 0.139 to 0.325 (TYRE_ID_RESULTS.md). */
 #define RFE_TID_FEED_AX_MAX_DEFAULT 0.5
+
+/** tid_feed_refresh of every preset: 0 s, off (MONITOR.md §7: measured at 1 s, not adopted). */
+#define RFE_TID_FEED_REFRESH_DEFAULT 0.0
+
+/** tid_feed_outlier_k of every preset: 5, i.e. 1 m/s^2 at tid_sd_ay 0.2; a Gaussian
+ *  residual exceeds 5 sd on about 6e-7 of the samples. Only read when tid_feed_refresh > 0
+ *  (MONITOR.md §7: 4 and 6 gave the same logs meeting the trust invariant). */
+#define RFE_TID_FEED_OUTLIER_K_DEFAULT 5.0
 
 /** tid_seed of every preset (docs/TYRE_ID.md §2). */
 #define RFE_TID_SEED_DEFAULT 1.0

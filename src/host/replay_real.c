@@ -39,6 +39,15 @@ typedef struct {
     int have_last;
     int on;
     int feed_on;      /* on and tid_feed_sd_rel > 0 */
+    double refresh;   /* key tid_feed_refresh (s; 0: off) */
+    double outlier_k; /* key tid_feed_outlier_k (1; 0: no test) */
+    double fresh;     /* untainted excited time since the last taint (s) */
+    double t_fresh;   /* the previous row's time (have_fresh), for fresh */
+    int have_fresh;
+    int tainted;      /* a held or implausible sample since the last refresh: no feed */
+    int bad;          /* this sample is held or implausible */
+    int ref_ok;       /* the identifier's last step updated: its estimate predicts ay */
+    int resume;       /* the taint lifted, no curve fed since: the next only at a low |ay| */
 } tid_run_t;
 
 /** The per-log state of a replay (replay_real.h): the estimators, which columns the log has,
@@ -230,6 +239,8 @@ int rfe_param_set_tyre_id(rfe_param_set_t *ps)
     ps->tid[RFE_PK_tid_feed_sd_rel - RFE_PK_TID_FIRST] = RFE_TID_FEED_SD_REL_DEFAULT; /* the replay's */
     ps->tid[RFE_PK_tid_feed_evidence - RFE_PK_TID_FIRST] = RFE_TID_FEED_EVIDENCE_DEFAULT;
     ps->tid[RFE_PK_tid_feed_ax_max - RFE_PK_TID_FIRST] = RFE_TID_FEED_AX_MAX_DEFAULT;
+    ps->tid[RFE_PK_tid_feed_refresh - RFE_PK_TID_FIRST] = RFE_TID_FEED_REFRESH_DEFAULT;
+    ps->tid[RFE_PK_tid_feed_outlier_k - RFE_PK_TID_FIRST] = RFE_TID_FEED_OUTLIER_K_DEFAULT;
     for (k = RFE_PK_TID_SPECIAL; k < RFE_PK_TID_COUNT; ++k) {
         rfe_real_t v;
         memcpy(&v, (const char *)&tp + k_tid_offset[k - RFE_PK_TID_SPECIAL], sizeof v);
@@ -418,8 +429,8 @@ rfe_status_t rfe_replay_mass_grade_params(const rfe_param_set_t *ps, rfe_mass_gr
  * value, tid_substeps is not an integer 0 .. 2^32 - 1 (a double would otherwise be
  * truncated without a word; the library checks its range), tid_seed is not an integer
  * 0 .. 2^53 (it has no member: rfe_replay_tyre_id_params reads it from the set) or
- * tid_feed_sd_rel, tid_feed_evidence or tid_feed_ax_max is not a finite number >= 0 (the
- * replay's). */
+ * tid_feed_sd_rel, tid_feed_evidence, tid_feed_ax_max, tid_feed_refresh or
+ * tid_feed_outlier_k is not a finite number >= 0 (the replay's). */
 static int set_tid_key(rfe_tyre_id_params_t *tp, const rfe_param_set_t *ps, size_t k)
 {
     const double v = ps->tid[k - RFE_PK_TID_FIRST];
@@ -444,7 +455,8 @@ static int set_tid_key(rfe_tyre_id_params_t *tp, const rfe_param_set_t *ps, size
             return -1;
         }
     } else if ((k == (size_t)RFE_PK_tid_feed_sd_rel) || (k == (size_t)RFE_PK_tid_feed_evidence) ||
-               (k == (size_t)RFE_PK_tid_feed_ax_max)) {
+               (k == (size_t)RFE_PK_tid_feed_ax_max) || (k == (size_t)RFE_PK_tid_feed_refresh) ||
+               (k == (size_t)RFE_PK_tid_feed_outlier_k)) {
         if (!((v >= 0.0) && isfinite(v))) {
             return -1;
         }
@@ -642,6 +654,15 @@ static rfe_status_t tyre_id_init(const rfe_param_set_t *ps, const rfe_params_t *
     t->have_row = 0;
     t->r_model = ps->value[RFE_PK_r_model_rel];
     t->feed_on = t->on && (t->feed > 0.0);
+    t->refresh = ps->tid[RFE_PK_tid_feed_refresh - RFE_PK_TID_FIRST];
+    t->outlier_k = ps->tid[RFE_PK_tid_feed_outlier_k - RFE_PK_TID_FIRST];
+    t->fresh = 0.0;
+    t->t_fresh = 0.0;
+    t->have_fresh = 0;
+    t->tainted = 0;
+    t->bad = 0;
+    t->ref_ok = 0;
+    t->resume = 0;
     if (t->on) {
         st = rfe_replay_tyre_id_params(ps, &t->tp, &t->seed, bad_key);
     }
@@ -723,12 +744,67 @@ static void tyre_feed_evidence(tid_run_t *t, double time, const rfe_est_row_t *o
     t->have_row = 1;
 }
 
+/* The feed's taint (MONITOR.md §7), called with tid_feed_refresh > 0 before this sample's
+ * friction step (@p row): the sample is held (|ax| > tid_feed_ax_max, when positive: the
+ * identifier's lateral-only model learns the combined slip's curve) or implausible (its
+ * |ay - ay_p| > tid_feed_outlier_k * tid_sd_ay, ay_p = (F_f cos(delta) + F_r) / m of the
+ * identifier's last estimate, when that step updated: a jump of ay no tyre force follows
+ * within a sample, which the identifier's weights nevertheless take); either taints the
+ * identifier's curve (no feed until tid_feed_refresh). 1 on the first implausible sample of a
+ * taint: the friction estimator's model error is to be set back to the set's before this
+ * step (the fed curve's uncertainty joined to it would otherwise hide the sample from its
+ * model-validity monitor). In double. */
+static int tyre_feed_taint(tid_run_t *t, const rfe_sensor_row_t *row)
+{
+    const rfe_tyre_id_estimate_t *e = &t->tid.last;
+    const double ay_p = (((double)e->mean[RFE_TID_OUT_FY_F] * cos(row->delta)) +
+                         (double)e->mean[RFE_TID_OUT_FY_R]) /
+                        (double)t->tid.c.m;
+    const int held = (t->ax_max > 0.0) && (fabs(row->ax) > t->ax_max);
+    const int implausible = (t->ref_ok != 0) && (t->outlier_k > 0.0) &&
+                            (fabs(row->ay - ay_p) > (t->outlier_k * (double)t->tp.sd_ay));
+    const int first = implausible && (t->tainted == 0);
+    t->bad = held || implausible;
+    if (t->bad != 0) {
+        t->tainted = 1;
+        t->fresh = 0.0;
+    }
+    return first;
+}
+
+/* The feed's refresh (MONITOR.md §7), called with the feed on after this sample's identifier
+ * step (@p out); nothing with tid_feed_refresh 0. An untainted sample on which it updated with |ay| >=
+ * tid_feed_outlier_k * tid_sd_ay (lateral force it can learn the curve from) adds the
+ * period since the previous row to fresh; once fresh reaches tid_feed_refresh the taint is
+ * lifted, and the feed resumes at the first due sample with |ay| < tid_feed_outlier_k *
+ * tid_sd_ay (resume: a curve changed where the tyres carry little lateral force moves the
+ * friction estimator's lateral rows least; at the limit it moves its mu, MONITOR.md §7). */
+static void tyre_feed_refresh(tid_run_t *t, const rfe_sensor_row_t *row, const rfe_est_row_t *out)
+{
+    const int updated = ((out->tid_flags & RFE_TID_UPDATED) != 0u) ? 1 : 0;
+    const double dt = (t->have_fresh != 0) ? (row->t - t->t_fresh) : 0.0;
+    const int excited = fabs(row->ay) >= (t->outlier_k * (double)t->tp.sd_ay);
+    if (!(t->refresh > 0.0)) {
+        return;
+    }
+    t->t_fresh = row->t;
+    t->have_fresh = 1;
+    t->ref_ok = updated;
+    if ((t->tainted != 0) && (t->bad == 0) && (updated != 0) && excited) {
+        t->fresh += dt;
+        t->tainted = (t->fresh >= t->refresh) ? 0 : 1;
+        t->resume = (t->tainted == 0) ? 1 : 0;
+    }
+}
+
 /* The feed rule (TYRE_ID.md §14), called with tid_feed_sd_rel > 0: 1, with the curve to feed
  * in @p v (cy, shape_Cy, shape_Ey, r_model_rel), when the friction estimator's evidence
  * (t_wrong) has reached tid_feed_evidence, this sample's |ax| (@p ax, the log's) is at most
  * tid_feed_ax_max (when positive: under braking or driving the identifier's lateral-only
  * model reads the combined slip's lower lateral force as a different curve, so the friction
- * estimator keeps the one it has), this sample's identifier step (@p out)
+ * estimator keeps the one it has), the curve is not tainted and, on the first feed after a
+ * taint, this sample's |ay| (@p ay) is below tid_feed_outlier_k * tid_sd_ay (tid_feed_refresh,
+ * MONITOR.md §7; neither with the key 0), this sample's identifier step (@p out)
  * updated (its flags are 0 on a refused sample) and the relative sd of the summed cornering
  * stiffness, rel = sqrt(sd_Kf^2 + sd_Kr^2) / (K_f + K_r) (the axles' spreads taken as
  * independent), is at most tid_feed_sd_rel. The curve: cy =
@@ -736,7 +812,7 @@ static void tyre_feed_evidence(tid_run_t *t, double time, const rfe_est_row_t *o
  * the axles' C and E weighted by those loads, r_model_rel = sqrt(r^2 + rel^2) with r the
  * parameter set's (key r_model_rel): the curve's uncertainty joins the model error. In double, each rounded to
  * the build's real type. */
-static int tyre_feed_due(const tid_run_t *t, const rfe_est_row_t *out, double ax,
+static int tyre_feed_due(const tid_run_t *t, const rfe_est_row_t *out, double ax, double ay,
                          rfe_real_t v[4])
 {
     const rfe_tyre_id_estimate_t *e = &t->tid.last;
@@ -749,7 +825,9 @@ static int tyre_feed_due(const tid_run_t *t, const rfe_est_row_t *out, double ax
     const double sd_r = (double)e->sd[RFE_TID_OUT_K_R];
     const double rel = sqrt((sd_f * sd_f) + (sd_r * sd_r)) / k;
     const int held = (t->ax_max > 0.0) && (fabs(ax) > t->ax_max);
-    if (!((t->t_wrong >= t->evidence) && !held && ((out->tid_flags & RFE_TID_UPDATED) != 0u) &&
+    const int calm = (t->resume == 0) || (fabs(ay) < (t->outlier_k * (double)t->tp.sd_ay));
+    if (!((t->t_wrong >= t->evidence) && !held && (t->tainted == 0) && calm &&
+          ((out->tid_flags & RFE_TID_UPDATED) != 0u) &&
           (rel <= feed))) {
         return 0;
     }
@@ -989,6 +1067,22 @@ static void step_observer_row(rfe_replay_state_t *st, const rfe_sensor_row_t *ro
     }
 }
 
+/* With the feed and tid_feed_refresh on, the taint of this sample (tyre_feed_taint) before its
+ * friction step; on the first implausible sample of a taint the estimator keeps its curve
+ * with the set's r_model_rel. */
+static void tyre_feed_reset(rfe_replay_state_t *st, const rfe_sensor_row_t *row)
+{
+    const rfe_params_t *p = &st->pl.friction.params;
+    if ((st->tid.feed_on == 0) || !(st->tid.refresh > 0.0)) {
+        return; /* the rule off: nothing of it runs */
+    }
+    if ((tyre_feed_taint(&st->tid, row) != 0) &&
+        (rfe_friction_set_lateral_tyre(&st->pl.friction, p->tyre.cy, p->tyre.shape_Cy,
+                                       p->tyre.shape_Ey, (rfe_real_t)st->tid.r_model) == RFE_OK)) {
+        ++st->stats.n_tyre_reset; /* the set's own value: it cannot be refused */
+    }
+}
+
 /* One friction step on measured velocities: a gap's missed periods time-updated before the
  * sample that ends it. */
 static void step_measured_row(rfe_replay_state_t *st, const rfe_sensor_row_t *row,
@@ -1005,6 +1099,7 @@ static void step_measured_row(rfe_replay_state_t *st, const rfe_sensor_row_t *ro
         rfe_real_t unused = (rfe_real_t)0.0; /* measured velocities: the grade feeds nothing */
         mass_grade_first(st, row, out, &unused);
     }
+    tyre_feed_reset(st, row);
     if (st->tid.feed_on != 0) {
         tyre_used_row(&st->pl.friction.params, out); /* the curve of this sample's step */
     }
@@ -1018,11 +1113,13 @@ static void step_measured_row(rfe_replay_state_t *st, const rfe_sensor_row_t *ro
                     &st->stats);
         if (st->tid.feed_on != 0) {
             tyre_feed_evidence(&st->tid, row->t, out);
+            tyre_feed_refresh(&st->tid, row, out);
         }
-        if ((st->tid.feed_on != 0) && (tyre_feed_due(&st->tid, out, row->ax, v) != 0) &&
+        if ((st->tid.feed_on != 0) && (tyre_feed_due(&st->tid, out, row->ax, row->ay, v) != 0) &&
             (rfe_friction_set_lateral_tyre(&st->pl.friction, v[0], v[1], v[2], v[3]) ==
              RFE_OK)) {
             ++st->stats.n_tyre_fed; /* a curve it refuses (C at a bound of (1, 2)) is not fed */
+            st->tid.resume = 0;
         }
     }
 }

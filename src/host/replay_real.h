@@ -106,6 +106,8 @@ typedef struct {
                                 since its last accepted one (the prior drawn again) */
     size_t n_tyre_fed;     /**< samples whose identified lateral curve the friction estimator
                                 took (tid_feed_sd_rel, TYRE_ID.md §14) */
+    size_t n_tyre_reset;   /**< implausible samples that set the friction estimator's model
+                                error back to the set's (tid_feed_outlier_k, MONITOR.md §7) */
 } rfe_replay_stats_t;
 
 /** A gear cell beyond +-this is refused (status 18): the library's gear is an int32_t. */

@@ -1192,7 +1192,7 @@ one_line tid_combination "^mu_replay: .*estimator init failed: .*tyre identifier
 # columns, the first row's the parameter file's (nothing identified yet), counted in the
 # summary and the JSON; behind the observer, and negative, refused naming the key
 grep -q 'cy_used' "$TMP/tid_a.csv" && bad "tid_feed: columns without the key" || ok "tid_feed: off by default"
-grep -qF '"feed": {"sd_rel": 0, "evidence": 0, "ax_max": 0.5, "n_fed": 0}}' "$TMP/tid_a.json" && ok "tid_feed: JSON off" \
+grep -qF '"feed": {"sd_rel": 0, "evidence": 0, "ax_max": 0.5, "n_fed": 0, "refresh": 0, "outlier_k": 5, "n_reset": 0}}' "$TMP/tid_a.json" && ok "tid_feed: JSON off" \
     || bad "tid_feed: JSON $(grep -o '"feed": [^}]*}' "$TMP/tid_a.json")"
 printf 'tid_feed_sd_rel = 0.05\n' >"$TMP/feed.par"
 run tid_feed 0 --in "$TID" --out "$TMP/tid_fd.csv" --tyre-id apf --params "$TMP/feed.par" --metrics "$TMP/tid_fd.json" --real double
@@ -1205,7 +1205,7 @@ res=$(awk -F, '/^#/ {next} !h {for (i = 1; i <= NF; i++) c[$i] = i; h = 1; next}
 set -- $res
 [ "$1" = "15,1.3,0,0.05" ] && [ "$2" -gt 0 ] && ok "tid_feed: the file's curve first, then $2 changes" \
     || bad "tid_feed: first curve $1, $2 changes"
-fed=$(grep -o '"n_fed": [0-9]*}}' "$TMP/tid_fd.json" | grep -o '[0-9]*')
+fed=$(grep -o '"n_fed": [0-9]*, "refresh": 0, "outlier_k": 5, "n_reset": 0}}' "$TMP/tid_fd.json" | grep -o '"n_fed": [0-9]*' | grep -o '[0-9]*')
 [ -n "$fed" ] && [ "$fed" -gt 0 ] && grep -qF '"feed": {"sd_rel": 0.05, "evidence": 0, "ax_max": 0.5, "n_fed": ' "$TMP/tid_fd.json" \
     && grep -Eq "^  lateral curve fed to the friction estimator at $fed samples \(tid_feed_sd_rel = 0\.05, tid_feed_evidence = 0 s, tid_feed_ax_max = 0\.5 m/s\^2\); its curve at the end cy " "$TMP/out" \
     && ok "tid_feed: $fed samples fed, JSON and summary" || bad "tid_feed: JSON/summary $(grep 'lateral curve' "$TMP/out")"
@@ -1219,7 +1219,7 @@ cmp -s <(grep -v '^#' "$TMP/tid_d.csv" | cut -d, -f1-14) <(grep -v '^#' "$TMP/ti
 printf 'tid_feed_sd_rel = 0.05\ntid_feed_evidence = 0.5\n' >"$TMP/feed_ev.par"
 run tid_feed_evidence 0 --in "$TID" --out "$TMP/tid_fe.csv" --tyre-id apf --params "$TMP/feed_ev.par" --metrics "$TMP/tid_fe.json" --real double
 wrong=$(awk -F, '/^#/ {next} !h {for (i = 1; i <= NF; i++) c[$i] = i; h = 1; next} $c["status"] == 1 || $c["status"] == 4 {n++} END {print n + 0}' "$TMP/tid_d.csv")
-[ "$wrong" -eq 0 ] && grep -qF '"feed": {"sd_rel": 0.05, "evidence": 0.5, "ax_max": 0.5, "n_fed": 0}}' "$TMP/tid_fe.json" \
+[ "$wrong" -eq 0 ] && grep -qF '"feed": {"sd_rel": 0.05, "evidence": 0.5, "ax_max": 0.5, "n_fed": 0, "refresh": 0, "outlier_k": 5, "n_reset": 0}}' "$TMP/tid_fe.json" \
     && cmp -s <(grep -v '^#' "$TMP/tid_d.csv" | cut -d, -f1-14) <(grep -v '^#' "$TMP/tid_fe.csv" | cut -d, -f1-14) \
     && grep -q '^# tid_feed_evidence = 0.5$' "$TMP/tid_fe.csv" \
     && ok "tid_feed_evidence: no evidence ($wrong samples at a bound or in mismatch), nothing fed" \
@@ -1253,6 +1253,20 @@ grep -qF '"evidence": 0, "ax_max": 2, "n_fed": ' "$TMP/tid_fa.json" && grep -q '
 printf 'tid_feed_ax_max = -0.5\n' >"$TMP/feed_ax_bad.par"
 run tid_feed_ax_max_negative 1 --in "$TID" --out "$TMP/tid_x.csv" --tyre-id apf --params "$TMP/feed_ax_bad.par"
 one_line tid_feed_ax_max_negative "^mu_replay: .*feed_ax_bad\.par:1: invalid parameter tid_feed_ax_max = -0\.5 \(rejected by mu_replay: a finite acceleration >= 0 m/s\^2, float run\)$"
+# tid_feed_refresh and tid_feed_outlier_k (MONITOR.md §7: no curve fed after a held or
+# implausible sample until the identifier has refreshed it): in the metadata and the JSON;
+# negative refused naming the key
+printf 'tid_feed_sd_rel = 0.05\ntid_feed_refresh = 1\ntid_feed_outlier_k = 4\n' >"$TMP/feed_rf.par"
+run tid_feed_refresh 0 --in "$TID" --out "$TMP/tid_rf.csv" --tyre-id apf --params "$TMP/feed_rf.par" --metrics "$TMP/tid_rf.json" --real double -q
+grep -qE '"refresh": 1, "outlier_k": 4, "n_reset": [0-9]+}}' "$TMP/tid_rf.json" && grep -q '^# tid_feed_refresh = 1$' "$TMP/tid_rf.csv" \
+    && grep -q '^# tid_feed_outlier_k = 4$' "$TMP/tid_rf.csv" \
+    && ok "tid_feed_refresh: metadata and JSON" || bad "tid_feed_refresh: JSON $(grep -o '"feed": [^}]*}' "$TMP/tid_rf.json")"
+printf 'tid_feed_refresh = -1\n' >"$TMP/feed_rf_bad.par"
+run tid_feed_refresh_negative 1 --in "$TID" --out "$TMP/tid_x.csv" --tyre-id apf --params "$TMP/feed_rf_bad.par"
+one_line tid_feed_refresh_negative "^mu_replay: .*feed_rf_bad\.par:1: invalid parameter tid_feed_refresh = -1 \(rejected by mu_replay: a finite time >= 0 s, float run\)$"
+printf 'tid_feed_outlier_k = -1\n' >"$TMP/feed_ok_bad.par"
+run tid_feed_outlier_k_negative 1 --in "$TID" --out "$TMP/tid_x.csv" --tyre-id apf --params "$TMP/feed_ok_bad.par"
+one_line tid_feed_outlier_k_negative "^mu_replay: .*feed_ok_bad\.par:1: invalid parameter tid_feed_outlier_k = -1 \(rejected by mu_replay: a finite multiple >= 0 of tid_sd_ay, float run\)$"
 run tid_feed_observer 1 --in "$DATA/good_esc.csv" --out "$TMP/tid_x.csv" --tyre-id apf --params "$TMP/feed.par"
 one_line tid_feed_observer "^mu_replay: .*feed\.par:1: invalid parameter tid_feed_sd_rel = 0\.05 \(rejected by mu_replay: a relative sd >= 0, and 0 behind the velocity observer, whose pipeline has no lateral tyre setter, float run\)$"
 printf 'tid_feed_sd_rel = -1\n' >"$TMP/feed_bad.par"

@@ -2747,6 +2747,138 @@ static void test_rfe_replay_tyre_feed_holds_under_braking(void **state)
     rfe_sensor_log_free(&log);
 }
 
+/* The rows of @p log whose ay differs from @p base's (the fault's spikes), at most @p max
+ * into @p rows; their count. */
+static size_t spike_rows(const rfe_sensor_log_t *log, const rfe_sensor_log_t *base, size_t *rows,
+                         size_t max)
+{
+    size_t i;
+    size_t n = 0u;
+    for (i = 0u; (i < log->n_rows) && (n < max); ++i) {
+        if (log->rows[i].ay != base->rows[i].ay) {
+            rows[n] = i;
+            ++n;
+        }
+    }
+    return n;
+}
+
+/* 1 when row @p i's curve (cy_used .. r_model_rel_used) is row @p j's. */
+static int same_curve(const rfe_est_row_t *on, size_t i, size_t j)
+{
+    return (on[i].cy_used == on[j].cy_used) && (on[i].shape_Cy_used == on[j].shape_Cy_used) &&
+           (on[i].shape_Ey_used == on[j].shape_Ey_used) &&
+           (on[i].r_model_rel_used == on[j].r_model_rel_used);
+}
+
+/* tid_feed_refresh and tid_feed_outlier_k (MONITOR.md §7), the APF's curve at tid_feed_sd_rel
+ * 0.1. On the sine steer with single-sample ay spikes of 5 m/s^2 (the fault log; its spikes
+ * found against the clean log it was made from, not by the rule): with the key 0 a curve is
+ * fed within a second after the first spike (the check below must see it, or it could not
+ * fail); with 1 s the first spike (5 m/s^2 = 25 tid_sd_ay from any tyre force) sets the
+ * friction estimator's model error back to the set's r_model_rel before that sample's step
+ * (its r_model_rel_used), and no curve is fed in the next 100 rows (a second of samples: the
+ * refresh needs a second of excited ones, and an updated curve shows on the row after its
+ * feed), and the first curve fed after it is fed where |ay| < 1 m/s^2 (its resumption, away
+ * from the limit). On the split-mu hard brake (ABS braking from 1 s to 5 s, the driver counter-steering,
+ * then coasting with |ay| below 1 m/s^2) the curve learnt under braking is fed after it
+ * without the key and never with it. Negative or not finite, both keys are refused before any
+ * row, named. Light mode: the first 300 rows of the sine steer (its first spike at row 177),
+ * the brake not run. */
+/* REQ-CLI-008 */
+static void test_rfe_replay_tyre_feed_refresh_after_taint(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_sensor_log_t base;
+    rfe_io_error_t err;
+    rfe_param_set_t ps;
+    rfe_replay_stats_t st;
+    rfe_est_row_t *on;
+    size_t spikes[8];
+    size_t n_spikes;
+    size_t i;
+    size_t s0;
+    size_t bad = 0u;
+    int changed = 0;
+    const double bad_values[3] = {-1.0, NAN, INFINITY};
+    int k;
+    (void)state;
+    memset(&log, 0, sizeof log);
+    memset(&base, 0, sizeof base);
+    assert_int_equal(rfe_sensor_log_read("scenarios/faults/spike_ay.sine_steer_low_mu.mf.csv",
+                                         &log, &err), 0);
+    assert_int_equal(rfe_sensor_log_read("scenarios/sine_steer_low_mu.mf.csv", &base, &err), 0);
+    assert_int_equal(log.n_rows, base.n_rows);
+    if (rfe_test_light()) {
+        log.n_rows = (log.n_rows < 300u) ? log.n_rows : 300u;
+    }
+    n_spikes = spike_rows(&log, &base, spikes, 8u);
+    assert_true(n_spikes >= 1u);
+    s0 = spikes[0];
+    assert_true(s0 + 101u <= log.n_rows);
+    on = calloc(log.n_rows, sizeof *on);
+    assert_non_null(on);
+    assert_int_equal(rfe_param_set_preset_f64(&ps, RFE_PRESET_DEFAULT), 0);
+    assert_true(ps.tid[RFE_PK_tid_feed_refresh - RFE_PK_TID_FIRST] == 0.0); /* off */
+    ps.value[RFE_PK_dt] = 0.01;
+    ps.tyre_id = 1;
+    ps.tid[RFE_PK_tid_feed_sd_rel - RFE_PK_TID_FIRST] = 0.1;
+    assert_int_equal(rfe_replay_run_f64(&ps, &log, on, &st, NULL), RFE_OK);
+    assert_int_equal(st.n_tyre_reset, 0u);
+    for (i = s0 + 1u; i <= s0 + 100u; ++i) {
+        changed |= (same_curve(on, i, s0) == 0) ? 1 : 0;
+    }
+    assert_true(changed); /* without the key a curve is fed after the spike */
+    assert_true(on[s0].r_model_rel_used != ps.value[RFE_PK_r_model_rel]);
+    ps.tid[RFE_PK_tid_feed_refresh - RFE_PK_TID_FIRST] = 1.0;
+    assert_int_equal(rfe_replay_run_f64(&ps, &log, on, &st, NULL), RFE_OK);
+    assert_true(st.n_tyre_reset >= 1u);
+    assert_true(st.n_tyre_fed > 0u);
+    /* the set's r_model_rel, rounded to the build's real as the estimator holds it */
+    assert_true(on[s0].r_model_rel_used == (double)(rfe_real_t)ps.value[RFE_PK_r_model_rel]);
+    assert_true(on[s0 - 1u].r_model_rel_used != on[s0].r_model_rel_used);
+    for (i = s0 + 1u; i <= s0 + 100u; ++i) {
+        assert_true(same_curve(on, i, s0));
+    }
+    /* the first curve fed after the taint (it shows on the row after its feed) was fed at a
+     * sample with |ay| below 5 tid_sd_ay = 1 m/s^2; the refresh itself ends on a sample with
+     * |ay| >= 1 m/s^2, so a feed at the taint's end would fail this */
+    i = s0 + 101u;
+    while ((i < log.n_rows) && same_curve(on, i, s0)) {
+        ++i;
+    }
+    assert_true(rfe_test_light() || (i < log.n_rows)); /* the whole log resumes the feed */
+    if (i < log.n_rows) {
+        assert_true(fabs(log.rows[i - 1u].ay) < 1.0);
+    }
+    for (k = 0; k < 6; ++k) {
+        const size_t key = (k < 3) ? (size_t)RFE_PK_tid_feed_refresh
+                                   : (size_t)RFE_PK_tid_feed_outlier_k;
+        rfe_param_set_t b = ps;
+        b.tid[key - RFE_PK_TID_FIRST] = bad_values[k % 3];
+        bad = 0u;
+        assert_int_equal(rfe_replay_run_f64(&b, &log, on, &st, &bad), RFE_ERR_PARAM);
+        assert_int_equal(bad, key);
+    }
+    free(on);
+    rfe_sensor_log_free(&base);
+    rfe_sensor_log_free(&log);
+    if (!rfe_test_light()) {
+        assert_int_equal(rfe_sensor_log_read("scenarios/split_mu_hard_brake.nf.csv", &log, &err),
+                         0);
+        on = calloc(log.n_rows, sizeof *on);
+        assert_non_null(on);
+        ps.tid[RFE_PK_tid_feed_refresh - RFE_PK_TID_FIRST] = 0.0;
+        assert_int_equal(rfe_replay_run_f64(&ps, &log, on, &st, NULL), RFE_OK);
+        assert_true(st.n_tyre_fed > 0u); /* the braking's curve, fed after it */
+        ps.tid[RFE_PK_tid_feed_refresh - RFE_PK_TID_FIRST] = 1.0;
+        assert_int_equal(rfe_replay_run_f64(&ps, &log, on, &st, NULL), RFE_OK);
+        assert_int_equal(st.n_tyre_fed, 0u);
+        free(on);
+        rfe_sensor_log_free(&log);
+    }
+}
+
 /* The identifier's state is the replay state's: two states stepped row by row in turn (one
  * measuring with the curve fed, one behind the observer with the other filter and seed) give
  * each its whole-log run's rows and counters, bit for bit, so nothing of a run lives outside
@@ -2874,6 +3006,7 @@ int main(void)
         cmocka_unit_test(test_rfe_replay_tyre_feed_is_the_library_loop),
         cmocka_unit_test(test_rfe_replay_tyre_feed_waits_for_evidence),
         cmocka_unit_test(test_rfe_replay_tyre_feed_holds_under_braking),
+        cmocka_unit_test(test_rfe_replay_tyre_feed_refresh_after_taint),
         cmocka_unit_test(test_rfe_replay_tyre_id_state_steps_as_the_run),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
