@@ -430,9 +430,7 @@ static int32_t scale_pow2(int64_t v, int e)
     if (e >= 0) {
         r = u << (unsigned int)e;
     } else {
-        const unsigned int s = (unsigned int)(-e);
-        const unsigned int s1 = s - 1u;
-        r = (u + ((uint64_t)1 << s1)) >> s;
+        r = rfe_q31_ushr64_round(u, (unsigned int)(-e));
     }
     return (int32_t)r;
 }
@@ -976,9 +974,7 @@ static int64_t magic_g_over_s_q31(const rfe_dugoff_pre_q31_t *pre, int32_t m, in
             const unsigned int up = qs - 30u;
             n = mg << up;
         } else {
-            const unsigned int sh = 30u - qs;
-            const unsigned int sh1 = sh - 1u;
-            n = (mg + ((uint64_t)1 << sh1)) >> sh;
+            n = rfe_q31_ushr64_round(mg, 30u - qs);
         }
         r = 2 * (int64_t)rfe_q31_udiv64_32(n + (uint64_t)(s >> 1), s);
     }
@@ -1003,15 +999,13 @@ static unsigned int magic_w_bits(int32_t Eq)
 /* round(v 2^e / dh) for dh in [2^30, 2^31) where v 2^e / dh < 2^31 (so v 2^e < 2^62 for e > 0:
  * the left shift is exact; for e < 0, v is rounded by -e bits first, 1/2 unit, 2^-31 of the
  * quotient's unit). */
-static uint32_t magic_ratio_q31(uint64_t v, int e, uint32_t dh)
+static inline uint32_t magic_ratio_q31(uint64_t v, int e, uint32_t dh)
 {
     uint64_t n;
     if (e >= 0) {
         n = v << (unsigned int)e;
     } else {
-        const unsigned int sh = (unsigned int)(-e);
-        const unsigned int sh1 = sh - 1u;
-        n = (v + ((uint64_t)1 << sh1)) >> sh;
+        n = rfe_q31_ushr64_round(v, (unsigned int)(-e));
     }
     return rfe_q31_udiv64_32(n + (uint64_t)(dh >> 1), dh);
 }
