@@ -533,13 +533,19 @@ typedef struct {
     int any;
 } lat_part_q31_t;
 
-/* The mantissa of a (|a.m| <= 2^30) at exponent e >= a.e, rounded half up (0 when a is 0). */
-static int64_t xf_mant_at_q31(rfe_xf_t a, int e)
+/* The mantissa of a (|a.m| <= 2^30) at exponent e >= a.e, rounded half up (0 when a is 0):
+ * rfe_fix_shr64_round's integer, formed in 32 bits by rfe_xf_round for shifts 1 .. 33 (|a.m|
+ * < 2^(30 + sh)); a shift beyond 33 leaves |a.m| / 2^sh < 1/2, so 0. */
+static int32_t xf_mant_at_q31(rfe_xf_t a, int e)
 {
-    int64_t v = 0;
-    if (a.m != 0) {
-        const int sh = e - a.e;
-        v = rfe_fix_shr64_round((int64_t)a.m, (unsigned int)sh);
+    int32_t v = a.m;
+    const int sh = e - a.e;
+    if (sh > 33) {
+        v = 0;
+    } else if (sh > 0) {
+        v = rfe_xf_round((int64_t)a.m, (unsigned int)sh);
+    } else {
+        /* sh = 0: the mantissa itself (0 when a is 0) */
     }
     return v;
 }
@@ -561,8 +567,8 @@ static void lat_part_q31(const lat_q36_t *b, rfe_xf_t fx, rfe_xf_t fy, lat_part_
         if ((fy.m != 0) && (fy.e > e)) {
             e = fy.e;
         }
-        mx = xf_mant_at_q31(fx, e);
-        my = xf_mant_at_q31(fy, e);
+        mx = (int64_t)xf_mant_at_q31(fx, e);
+        my = (int64_t)xf_mant_at_q31(fy, e);
         p->t[0] = (mx * (int64_t)b->ax) + (my * (int64_t)b->ay);
         p->t[1] = (mx * (int64_t)b->rx) + (my * (int64_t)b->ry);
         p->e = e - 36;
