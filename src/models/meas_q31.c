@@ -534,18 +534,16 @@ typedef struct {
 } lat_part_q31_t;
 
 /* The mantissa of a (|a.m| <= 2^30) at exponent e >= a.e, rounded half up (0 when a is 0):
- * rfe_fix_shr64_round's integer, formed in 32 bits by rfe_xf_round for shifts 1 .. 33 (|a.m|
- * < 2^(30 + sh)); a shift beyond 33 leaves |a.m| / 2^sh < 1/2, so 0. */
+ * rfe_fix_shr64_round's integer, formed in 32 bits by rfe_xf_round (shifts 1 .. 33, where
+ * |a.m| < 2^(30 + sh)). A shift beyond 33 is taken as 33: |a.m| / 2^sh <= 2^-3 rounds to 0
+ * at either. */
 static int32_t xf_mant_at_q31(rfe_xf_t a, int e)
 {
-    int32_t v = a.m;
+    int32_t v = a.m; /* sh = 0: the mantissa itself (0 when a is 0) */
     const int sh = e - a.e;
-    if (sh > 33) {
-        v = 0;
-    } else if (sh > 0) {
-        v = rfe_xf_round((int64_t)a.m, (unsigned int)sh);
-    } else {
-        /* sh = 0: the mantissa itself (0 when a is 0) */
+    if (sh > 0) {
+        const unsigned int s = (sh > 33) ? 33u : (unsigned int)sh;
+        v = rfe_xf_round((int64_t)a.m, s);
     }
     return v;
 }
