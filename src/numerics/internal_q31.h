@@ -271,7 +271,8 @@ static inline unsigned int rfe_q31_norm_shift(uint64_t m, unsigned int bits)
  *  floor((t + 1) / 2) = floor(t / 2) + (t's low bit), so no 2^(s - 1) is added to u: the same
  *  integer as (u + 2^(s - 1)) >> s wherever that sum fits, in one 64-bit variable shift. The
  *  callers' shifts are below 64 by construction (no branch for larger ones: the Magic
- *  Formula's scalings run ~130 times a friction step). */
+ *  Formula's curve scales its pair with it twice an evaluation, ~120 evaluations a friction
+ *  step). */
 static inline uint64_t rfe_q31_ushr64_round(uint64_t u, unsigned int s)
 {
     uint64_t r = u;
