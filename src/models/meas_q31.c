@@ -533,13 +533,17 @@ typedef struct {
     int any;
 } lat_part_q31_t;
 
-/* The mantissa of a (|a.m| <= 2^30) at exponent e >= a.e, rounded half up (0 when a is 0). */
-static int64_t xf_mant_at_q31(rfe_xf_t a, int e)
+/* The mantissa of a (|a.m| <= 2^30) at exponent e >= a.e, rounded half up (0 when a is 0):
+ * rfe_fix_shr64_round's integer, formed in 32 bits by rfe_xf_round (shifts 1 .. 33, where
+ * |a.m| < 2^(30 + sh)). A shift beyond 33 is taken as 33: |a.m| / 2^sh <= 2^-3 rounds to 0
+ * at either. */
+static int32_t xf_mant_at_q31(rfe_xf_t a, int e)
 {
-    int64_t v = 0;
-    if (a.m != 0) {
-        const int sh = e - a.e;
-        v = rfe_fix_shr64_round((int64_t)a.m, (unsigned int)sh);
+    int32_t v = a.m; /* sh = 0: the mantissa itself (0 when a is 0) */
+    const int sh = e - a.e;
+    if (sh > 0) {
+        const unsigned int s = (sh > 33) ? 33u : (unsigned int)sh;
+        v = rfe_xf_round((int64_t)a.m, s);
     }
     return v;
 }
@@ -561,8 +565,8 @@ static void lat_part_q31(const lat_q36_t *b, rfe_xf_t fx, rfe_xf_t fy, lat_part_
         if ((fy.m != 0) && (fy.e > e)) {
             e = fy.e;
         }
-        mx = xf_mant_at_q31(fx, e);
-        my = xf_mant_at_q31(fy, e);
+        mx = (int64_t)xf_mant_at_q31(fx, e);
+        my = (int64_t)xf_mant_at_q31(fy, e);
         p->t[0] = (mx * (int64_t)b->ax) + (my * (int64_t)b->ay);
         p->t[1] = (mx * (int64_t)b->rx) + (my * (int64_t)b->ry);
         p->e = e - 36;

@@ -430,9 +430,7 @@ static int32_t scale_pow2(int64_t v, int e)
     if (e >= 0) {
         r = u << (unsigned int)e;
     } else {
-        const unsigned int s = (unsigned int)(-e);
-        const unsigned int s1 = s - 1u;
-        r = (u + ((uint64_t)1 << s1)) >> s;
+        r = rfe_q31_ushr64_round(u, (unsigned int)(-e));
     }
     return (int32_t)r;
 }
@@ -924,17 +922,20 @@ static void magic_dir_q31(const rfe_dugoff_pre_q31_t *pre, int32_t m, int32_t C,
     dir->g = rfe_q31_sin_q55(dir->phi);
 }
 
-/* d = dn/ds = 1 - E sin^2 a in Q30, (0, 5 2^30], from a (Q31) and E (Q24) (magic_shape_jac_q31
- * below); E = 0 (the preset's curves): 1, without the sine. */
-static int64_t magic_dn_q31(int32_t Eq, uint32_t a)
+/* cos(C b) d in Q30 (int64) from c30 = cos(C b) (Q30) and d = dn/ds = 1 - E sin^2 a in Q30,
+ * (0, 5 2^30], from a (Q31) and E (Q24) (magic_shape_jac_q31 below: the product Q60, |.| <= 5
+ * 2^60, rounded to Q30); E = 0 (the preset's curves): d = 1, so c30 itself, without the sine
+ * and the product. */
+static int64_t magic_cos_dn_q31(int32_t c30, int32_t Eq, uint32_t a)
 {
-    int64_t d = ONE_Q30;
+    int64_t cd = c30;
     if (Eq != 0) {
         const int64_t sa = rfe_q31_sin_q55((int64_t)a * rfe_q31_pow2(24u));
         const int64_t sa2 = rfe_fix_shr64_round(sa * sa, 30u);
-        d -= rfe_fix_shr64_round((int64_t)Eq * sa2, 24u);
+        const int64_t d = (int64_t)ONE_Q30 - rfe_fix_shr64_round((int64_t)Eq * sa2, 24u);
+        cd = rfe_fix_shr64_round((int64_t)c30 * d, 30u);
     }
-    return d;
+    return cd;
 }
 
 /* m G / s of one direction (S > 0, m > 0) in Q30, in [0, 5 2^30] (m G / s = sin(C b) / (C x)
@@ -976,9 +977,7 @@ static int64_t magic_g_over_s_q31(const rfe_dugoff_pre_q31_t *pre, int32_t m, in
             const unsigned int up = qs - 30u;
             n = mg << up;
         } else {
-            const unsigned int sh = 30u - qs;
-            const unsigned int sh1 = sh - 1u;
-            n = (mg + ((uint64_t)1 << sh1)) >> sh;
+            n = rfe_q31_ushr64_round(mg, 30u - qs);
         }
         r = 2 * (int64_t)rfe_q31_udiv64_32(n + (uint64_t)(s >> 1), s);
     }
@@ -1003,15 +1002,13 @@ static unsigned int magic_w_bits(int32_t Eq)
 /* round(v 2^e / dh) for dh in [2^30, 2^31) where v 2^e / dh < 2^31 (so v 2^e < 2^62 for e > 0:
  * the left shift is exact; for e < 0, v is rounded by -e bits first, 1/2 unit, 2^-31 of the
  * quotient's unit). */
-static uint32_t magic_ratio_q31(uint64_t v, int e, uint32_t dh)
+static inline uint32_t magic_ratio_q31(uint64_t v, int e, uint32_t dh)
 {
     uint64_t n;
     if (e >= 0) {
         n = v << (unsigned int)e;
     } else {
-        const unsigned int sh = (unsigned int)(-e);
-        const unsigned int sh1 = sh - 1u;
-        n = (v + ((uint64_t)1 << sh1)) >> sh;
+        n = rfe_q31_ushr64_round(v, (unsigned int)(-e));
     }
     return rfe_q31_udiv64_32(n + (uint64_t)(dh >> 1), dh);
 }
@@ -1025,10 +1022,12 @@ static uint32_t magic_ratio_q31(uint64_t v, int e, uint32_t dh)
  * In integers:
  *   sin a: rfe_q31_sin_q55 of a (Q31 to Q55, in [0, pi/2]), Q30; sin^2 a Q30; E sin^2 a (Q24 x
  *   Q30, |.| <= 2^56) rounded to Q30, d = 1 - E sin^2 a in Q30, (0, 5 2^30] (int64);
- *   cos(C b) d: Q60, |.| <= 5 2^60 < 2^63, rounded to Q30 (cd);
+ *   cos(C b) d: Q60, |.| <= 5 2^60 < 2^63, rounded to Q30 (cd; E = 0: cos(C b) itself,
+ *   magic_cos_dn_q31);
  *   cos^2 b and w from the pair (p = xn, s = yn, n = z / 2^24 in its units): x24 = xn 2^24
  *   (<= 2^54) and z (< 2^58, >= 0) brought to <= 2^30 by one shift sh (the larger of xs, zs >=
- *   2^29: xn or yn >= 2^29 and z >= (1 - E) yn 2^24 with 1 - E >= 2^-24), D = xs^2 + zs^2 in
+ *   2^29: xn or yn >= 2^29 and z >= (1 - E) yn 2^24 with 1 - E >= 2^-24; all non-negative, so
+ *   the unsigned rounding shift and 32 x 32 products), D = xs^2 + zs^2 in
  *   [2^58, 2^61] exact, p^2 + n^2 = D 2^(2 sh - 48) to 2^-29 relative (the two roundings); D
  *   truncated to 31 bits, dh = D / 2^k (k in [28, 31], 2^-30 relative), and with the exact
  *   numerators (<= 2^60) cos^2 b = xn^2 2^(78 - 2 sh - k) / dh in Q30 and w = yn xn 2^(78 - 2
@@ -1049,20 +1048,21 @@ static void magic_shape_jac_q31(const magic_dir_q31_t *dir, int32_t Cq, int32_t 
     const int64_t phi = dir->phi;
     const int32_t c30 = (phi <= HALF_PI_Q55) ? rfe_q31_sin_q55(HALF_PI_Q55 - phi)
                                              : -rfe_q31_sin_q55(phi - HALF_PI_Q55);
-    const int64_t cd = rfe_fix_shr64_round((int64_t)c30 * magic_dn_q31(Eq, dir->pr.a), 30u);
-    const uint64_t xn = (uint64_t)dir->pr.xn;
-    const int64_t x24 = dir->pr.xn * rfe_q31_pow2(24u);
-    const int64_t z = dir->pr.z;
-    const unsigned int sh = rfe_q31_norm_shift((uint64_t)((z > x24) ? z : x24), 30u);
-    const uint64_t xs = (uint64_t)rfe_q31_shr_to32(x24, sh);
-    const uint64_t zs = (uint64_t)rfe_q31_shr_to32(z, sh);
-    const uint64_t dd = (xs * xs) + (zs * zs);
+    const int64_t cd = magic_cos_dn_q31(c30, Eq, dir->pr.a);
+    const uint32_t xn = (uint32_t)dir->pr.xn;
+    const uint64_t x24 = (uint64_t)xn << 24;
+    const uint64_t z = (uint64_t)dir->pr.z;
+    const unsigned int sh = rfe_q31_norm_shift((z > x24) ? z : x24, 30u);
+    const uint32_t xs = (uint32_t)rfe_q31_ushr64_round(x24, sh);
+    const uint32_t zs = (uint32_t)rfe_q31_ushr64_round(z, sh);
+    const uint64_t dd = ((uint64_t)xs * xs) + ((uint64_t)zs * zs);
     const unsigned int k = rfe_q31_bitlen64(dd) - 31u;
     const uint32_t dh = (uint32_t)(dd >> k);
     const unsigned int wb = magic_w_bits(Eq);
     const int e = 78 - ((2 * (int)sh) + (int)k);
-    const int64_t cb2 = (int64_t)magic_ratio_q31(xn * xn, e, dh);
-    const int64_t w = (int64_t)magic_ratio_q31((uint64_t)dir->pr.yn * xn, e - (int)wb, dh);
+    const int64_t cb2 = (int64_t)magic_ratio_q31((uint64_t)xn * xn, e, dh);
+    const int64_t w =
+        (int64_t)magic_ratio_q31((uint64_t)(uint32_t)dir->pr.yn * xn, e - (int)wb, dh);
     *m_gs = rfe_fix_shr64_round(cd * cb2, 30u);
     *gms = (int64_t)dir->g - rfe_q31_mul64x32((int64_t)Cq * cd, w, 54u - wb);
 }
@@ -1104,17 +1104,18 @@ static void magic_dfs_q31(const rfe_dugoff_pre_q31_t *pre, int32_t fz, rfe_xf_t 
 {
     const int64_t ux = pre->ux;
     const int64_t uy = pre->uy;
-    const int64_t uxx = rfe_fix_shr64_round(ux * ux, 30u);
-    const int64_t uxy = rfe_fix_shr64_round(ux * uy, 30u);
-    const int64_t uyy = rfe_fix_shr64_round(uy * uy, 30u);
-    const int64_t dx = rfe_fix_shr64_round(tx->gs - tx->gos, 3u);
-    const int64_t dy = rfe_fix_shr64_round(ty->gs - ty->gos, 3u);
+    /* every factor below fits int32 (the bounds above), so each product is one 32 x 32 */
+    const int32_t uxx = (int32_t)rfe_fix_shr64_round(ux * ux, 30u);
+    const int32_t uxy = (int32_t)rfe_fix_shr64_round(ux * uy, 30u);
+    const int32_t uyy = (int32_t)rfe_fix_shr64_round(uy * uy, 30u);
+    const int32_t dx = (int32_t)rfe_fix_shr64_round(tx->gs - tx->gos, 3u);
+    const int32_t dy = (int32_t)rfe_fix_shr64_round(ty->gs - ty->gos, 3u);
     const int32_t gx = (int32_t)rfe_fix_shr64_round(tx->gos, 2u);
     const int32_t gy = (int32_t)rfe_fix_shr64_round(ty->gos, 2u);
-    const int32_t pxk = gx + (int32_t)rfe_fix_shr64_round(dx * uxx, 29u);
-    const int32_t pxt = (int32_t)rfe_fix_shr64_round(dx * uxy, 29u);
-    const int32_t pyk = (int32_t)rfe_fix_shr64_round(dy * uxy, 29u);
-    const int32_t pyt = gy + (int32_t)rfe_fix_shr64_round(dy * uyy, 29u);
+    const int32_t pxk = gx + (int32_t)rfe_fix_shr64_round((int64_t)dx * (int64_t)uxx, 29u);
+    const int32_t pxt = (int32_t)rfe_fix_shr64_round((int64_t)dx * (int64_t)uxy, 29u);
+    const int32_t pyk = (int32_t)rfe_fix_shr64_round((int64_t)dy * (int64_t)uxy, 29u);
+    const int32_t pyt = gy + (int32_t)rfe_fix_shr64_round((int64_t)dy * (int64_t)uyy, 29u);
     o->dfx = magic_lin_q31(fz, pxk, cdk, pxt, cdt);
     o->dfy = magic_lin_q31(fz, pyk, cdk, pyt, cdt);
     o->mfx = rfe_xf_mul(rfe_xf_make((int64_t)fz * ux, -45), rfe_xf_make(tx->gms, -30));

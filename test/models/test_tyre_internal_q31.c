@@ -173,6 +173,21 @@ static void test_tyre_internal_q31(void **state)
 /* The real value of an rfe_xf_t (m 2^e). */
 static double xf_value(rfe_xf_t a) { return ldexp((double)a.m, a.e); }
 
+/* The four derivatives of the q31 result o (got) and of the double twin's od (want) in one
+ * order: dFx, dFy, dFx/dmu, dFy/dmu. */
+static void jac_values(const rfe_tyre_jac_q31_t *o, const rfe_tyre_jac_t *od, double got[4],
+                       double want[4])
+{
+    got[0] = xf_value(o->dfx);
+    got[1] = xf_value(o->dfy);
+    got[2] = xf_value(o->mfx);
+    got[3] = xf_value(o->mfy);
+    want[0] = od->dfx;
+    want[1] = od->dfy;
+    want[2] = od->mfx;
+    want[3] = od->mfy;
+}
+
 /* REQ: at no slip (kappa = 0, alpha = 0: S = 0) the absolute Dugoff tyre's derivatives are the
  * linear tyre's (dFy = Fz cy d tan(alpha), dFx = Fz cx d kappa, no dependence on mu) when
  * mu > 0, and zero at mu = 0 and below (no friction: no force at any slip, so none changes). The
@@ -221,6 +236,15 @@ static void assert_xf_equal(rfe_xf_t a, rfe_xf_t b)
     assert_int_equal(a.e, b.e);
 }
 
+/* The same four derivatives, bit for bit. */
+static void assert_jac_equal(const rfe_tyre_jac_q31_t *a, const rfe_tyre_jac_q31_t *b)
+{
+    assert_xf_equal(a->dfx, b->dfx);
+    assert_xf_equal(a->dfy, b->dfy);
+    assert_xf_equal(a->mfx, b->mfx);
+    assert_xf_equal(a->mfy, b->mfy);
+}
+
 /* rfe_tyre_magic_basis_q31 at (pre, fz, mu) against rfe_tyre_pre_jac_q31 along a unit change
  * of kappa and of tan alpha, and the forces fx, fy and count sat of rfe_tyre_dugoff_abs_pre_q31,
  * bit for bit. */
@@ -244,10 +268,7 @@ static void basis_equal(const rfe_tyre_params_q31_t *tp, const rfe_dugoff_pre_q3
         u.tan_a = rfe_xf_make((e == 1u) ? 1 : 0, 0);
         u.vwx = rfe_xf_make(0, 0);
         rfe_tyre_pre_jac_q31(tp, pre, kappa, vwx, fz, mu, &u, &o);
-        assert_xf_equal(o.dfx, ob[e].dfx);
-        assert_xf_equal(o.dfy, ob[e].dfy);
-        assert_xf_equal(o.mfx, ob[e].mfx);
-        assert_xf_equal(o.mfy, ob[e].mfy);
+        assert_jac_equal(&o, &ob[e]);
     }
 }
 
@@ -303,10 +324,7 @@ static void test_tyre_magic_pre_jac_fused_q31(void **state)
                     assert_int_equal(fx1, fx2);
                     assert_int_equal(fy1, fy2);
                     assert_int_equal(s1, s2);
-                    assert_xf_equal(o1.dfx, o2.dfx);
-                    assert_xf_equal(o1.dfy, o2.dfy);
-                    assert_xf_equal(o1.mfx, o2.mfx);
-                    assert_xf_equal(o1.mfy, o2.mfy);
+                    assert_jac_equal(&o1, &o2);
                     basis_equal(&tp, &pre, kappas[a], vwx, fzs[k], mus[j], fx1, fy1, s1);
                 }
             }
@@ -416,14 +434,7 @@ static void test_tyre_magic_jac_vs_f64_q31(void **state)
                                                           ldexp((double)vwx, -23),
                                                           ldexp((double)mus[j], -29), &dd, &od),
                                      RFE_OK);
-                    got[0] = xf_value(o.dfx);
-                    got[1] = xf_value(o.dfy);
-                    got[2] = xf_value(o.mfx);
-                    got[3] = xf_value(o.mfy);
-                    want[0] = od.dfx;
-                    want[1] = od.dfy;
-                    want[2] = od.mfx;
-                    want[3] = od.mfy;
+                    jac_values(&o, &od, got, want);
                     for (r = 0u; r < 4u; ++r) {
                         const size_t c = r % 2u;
                         const double terms = (r < 2u)
@@ -592,14 +603,7 @@ static void test_tyre_dugoff_jac_vs_f64_q31(void **state)
                                                           ldexp((double)vwx, -23), mud, &dd,
                                                           &od),
                                      RFE_OK);
-                    got[0] = xf_value(o.dfx);
-                    got[1] = xf_value(o.dfy);
-                    got[2] = xf_value(o.mfx);
-                    got[3] = xf_value(o.mfy);
-                    want[0] = od.dfx;
-                    want[1] = od.dfy;
-                    want[2] = od.mfx;
-                    want[3] = od.mfy;
+                    jac_values(&o, &od, got, want);
                     for (r = 0u; r < 4u; ++r) {
                         /* paper mode: dF = mu dF0 (one more 2^-30 step), F0 at mu_s = 1 */
                         const double scale = ((mode == 1u) && (r < 2u)) ? mud : 1.0;

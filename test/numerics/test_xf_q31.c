@@ -347,6 +347,50 @@ static void test_bitlen(void **state)
     }
 }
 
+/* One case of the unsigned rounding shift (0 <= s <= 63): floor(u / 2^s + 1/2) from the
+ * quotient and the remainder (q + 1 when the remainder reaches half the divisor; u at s = 0),
+ * and for u < 2^63 the signed rfe_fix_shr64_round's integer. */
+static void check_ushr(uint64_t u, unsigned int s)
+{
+    const uint64_t div = (uint64_t)1 << s;
+    const uint64_t want =
+        (s == 0u) ? u : ((u >> s) + (((u & (div - 1u)) >= (div >> 1)) ? 1u : 0u));
+    assert_true(rfe_q31_ushr64_round(u, s) == want);
+    if (u < ((uint64_t)1 << 63)) {
+        assert_true(rfe_q31_ushr64_round(u, s) == (uint64_t)rfe_fix_shr64_round((int64_t)u, s));
+    }
+}
+
+/* REQ: the unsigned round-half-up shift (internal_q31.h, the Magic Formula's scalings) is
+ * floor(u / 2^s + 1/2) for every shift of its domain 0 .. 63, at the ties (k 2^s +- 2^(s-1)),
+ * the largest u (2^64 - 1, where adding 2^(s-1) first would wrap) and random u of every bit
+ * length. */
+/* REQ-FXP-002 */
+static void test_ushr64_round(void **state)
+{
+    unsigned int s;
+    int k;
+    (void)state;
+    rng_seed(0x5E1Full);
+    for (s = 0u; s <= 63u; ++s) {
+        check_ushr(0u, s);
+        check_ushr(UINT64_MAX, s);
+        check_ushr(UINT64_MAX - 1u, s);
+        if (s > 0u) {
+            const uint64_t half = (uint64_t)1 << (s - 1u);
+            check_ushr(half, s);
+            check_ushr(half - 1u, s);
+            check_ushr((((uint64_t)5) << s) + half, s);
+            check_ushr((((uint64_t)5) << s) + half - 1u, s);
+        }
+        for (k = 0; k < 64; ++k) {
+            const uint64_t r = (uint64_t)((rng_uniform() + 1.0) * 9.0e18);
+            check_ushr(r >> (unsigned int)k, s);
+            check_ushr(~(r >> (unsigned int)k), s);
+        }
+    }
+}
+
 /* One case of the 64-by-32 division: the digits' integer and the dispatcher's are n / d. */
 static void check_udiv(uint64_t n, uint32_t d)
 {
@@ -454,6 +498,7 @@ int main(void)
         cmocka_unit_test(test_xf_div_as_fix_div),
         cmocka_unit_test(test_xf_make_add_as_before),
         cmocka_unit_test(test_udiv64_32),
+        cmocka_unit_test(test_ushr64_round),
         cmocka_unit_test(test_isqrt32_newton),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
