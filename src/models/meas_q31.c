@@ -570,17 +570,31 @@ static void lat_part_q31(const lat_q36_t *b, rfe_xf_t fx, rfe_xf_t fy, lat_part_
     }
 }
 
+/* v 2^k (|v| < 2^63) as an int32, the derivatives' last step to Q24: k < 0 rounds half up
+ * once (k = 0 is v itself), k > 0 shifts up exactly while the result stays below 2^62 and
+ * saturates beyond it; then saturated to the int32 range (counted in *count). */
+static rfe_fix_t q24_of_scaled_q31(int64_t v, int k, uint32_t *count)
+{
+    int64_t r;
+    if (k < 0) {
+        r = rfe_fix_shr64_round(v, (unsigned int)(-k));
+    } else if ((v == 0) || ((rfe_q31_bitlen64(rfe_q31_mag64(v)) + (unsigned int)k) <= 62u)) {
+        r = v * rfe_q31_pow2((unsigned int)k);
+    } else {
+        r = (v > 0) ? INT64_MAX : -INT64_MAX; /* beyond 2^62: saturates */
+    }
+    return rfe_fix_sat32(r, count);
+}
+
 /* Row r of the sum over the wheels' parts p in Q24, rounded half up and saturating (counted in
  * *count): every part at the largest exponent E of the wheels' (a smaller one rounded half up,
  * 1/2 unit of 2^E), the sum of four parts < 2^60.5 each < 2^62.5 exact, then rounded once to
- * Q24 (or shifted up exactly while below 2^62, saturating beyond). */
+ * Q24 (or shifted up exactly while below 2^62, saturating beyond: q24_of_scaled_q31). */
 static rfe_fix_t lat_row_q31(const lat_part_q31_t p[RFE_WHEELS], size_t r, uint32_t *count)
 {
     int emax = 0;
     int any = 0;
     int64_t sum = 0;
-    int64_t v;
-    int k;
     size_t i;
     for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
         if ((p[i].any != 0) && ((any == 0) || (p[i].e > emax))) {
@@ -594,15 +608,7 @@ static rfe_fix_t lat_row_q31(const lat_part_q31_t p[RFE_WHEELS], size_t r, uint3
             sum += rfe_fix_shr64_round(p[i].t[r], (unsigned int)sh);
         }
     }
-    k = emax + 24;
-    if (k <= 0) {
-        v = rfe_fix_shr64_round(sum, (unsigned int)(-k));
-    } else if ((sum == 0) || ((rfe_q31_bitlen64(rfe_q31_mag64(sum)) + (unsigned int)k) <= 62u)) {
-        v = sum * rfe_q31_pow2((unsigned int)k);
-    } else {
-        v = (sum > 0) ? INT64_MAX : -INT64_MAX; /* beyond 2^62: saturates */
-    }
-    return rfe_fix_sat32(v, count);
+    return q24_of_scaled_q31(sum, emax + 24, count);
 }
 
 /* Wheel i's Dugoff/Magic Formula pre-computed terms and its slip's direction of change by vy,
@@ -995,22 +1001,13 @@ static void wheel_prepare_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *
 
 /* sum 2^e times sd (Q(qsd), > 0) in Q24, rounded half up, saturating (counted in *count): sum
  * (|.| < 2^63) rounded to 31 bits first (2^-31 relative), its product with sd (< 2^62)
- * rounded once more. */
+ * rounded once more (q24_of_scaled_q31). */
 static rfe_fix_t scaled_entry_q31(int64_t sum, int e, rfe_fix_t sd, int qsd, uint32_t *count)
 {
     const unsigned int len = rfe_q31_bitlen64(rfe_q31_mag64(sum));
     const unsigned int sh = (len > 31u) ? (unsigned int)(len - 31u) : 0u;
     const int64_t p = rfe_fix_shr64_round(sum, sh) * (int64_t)sd;
-    const int k = ((e + (int)sh) - qsd) + 24;
-    int64_t v;
-    if (k < 0) {
-        v = rfe_fix_shr64_round(p, (unsigned int)(-k));
-    } else if ((p == 0) || ((rfe_q31_bitlen64(rfe_q31_mag64(p)) + (unsigned int)k) <= 62u)) {
-        v = p * rfe_q31_pow2((unsigned int)k);
-    } else {
-        v = (p > 0) ? INT64_MAX : -INT64_MAX; /* beyond 2^62: saturates */
-    }
-    return rfe_fix_sat32(v, count);
+    return q24_of_scaled_q31(p, ((e + (int)sh) - qsd) + 24, count);
 }
 
 /* Row r of input j's column over the wheels it reaches: each wheel's rows times the input's
