@@ -461,22 +461,14 @@ static void jac_pre_q31(const rfe_meas_q31_t *h, const rfe_tyre_params_q31_t *tp
     }
 }
 
-/* Wheel i's map of a force pair (wheel axes) into the lateral rows' body terms (ay, r-dot):
- * the rotation by the steer angle folded into the geometry, ay += fx ax + fy ay and r-dot +=
- * fx rx + fy ry with (c, s the steer angle's cos and sin on the front axle, 1 and 0 on the
- * rear; x_i / J, y_i / J the signed lever arms of wheel_terms_q31):
+/* Wheel i's map of a force pair (wheel axes) into the body terms (ax, ay, r-dot): the rotation
+ * by the steer angle folded into the geometry, ax += fx ay - fy ax, ay += fx ax + fy ay and
+ * r-dot += fx rx + fy ry with (c, s the steer angle's cos and sin on the front axle, 1 and 0 on
+ * the rear; x_i / J, y_i / J the signed lever arms of wheel_terms_q31):
  *   ax = s / m,  ay = c / m,  rx = s x_i / J - c y_i / J,  ry = c x_i / J + s y_i / J.
  * Each coefficient is formed exactly in int64 (Q30 x Q38 = Q68, each product < 2^61, a sum of
- * two < 2^62) and rounded once to rfe_xf_t (2^-30 relative), where the rotation and the
- * geometry took two products and a sum per term before: four products and four sums per
- * force pair instead of eight and six. */
-typedef struct {
-    rfe_xf_t ax;
-    rfe_xf_t ay;
-    rfe_xf_t rx;
-    rfe_xf_t ry;
-} lat_map_q31_t;
-
+ * two < 2^62), then rounded once to Q36 (lat_map_q36): four products and four sums per force
+ * pair instead of eight and six. */
 /* The map's four coefficients exactly in Q68 (k = ax, ay, rx, ry). */
 static void lat_coef_q31(const rfe_vehicle_q31_t *veh, int32_t c, int32_t s, size_t i,
                          int64_t k[4])
@@ -492,18 +484,8 @@ static void lat_coef_q31(const rfe_vehicle_q31_t *veh, int32_t c, int32_t s, siz
     k[3] = ((int64_t)ci * (int64_t)px_J) + ((int64_t)si * (int64_t)py_J);
 }
 
-static void lat_map_q31(const rfe_vehicle_q31_t *veh, int32_t c, int32_t s, size_t i,
-                        lat_map_q31_t *b)
-{
-    int64_t k[4];
-    lat_coef_q31(veh, c, s, i, k);
-    b->ax = rfe_xf_make(k[0], -68);
-    b->ay = rfe_xf_make(k[1], -68);
-    b->rx = rfe_xf_make(k[2], -68);
-    b->ry = rfe_xf_make(k[3], -68);
-}
-
-/* The same map in plain Q36 integers for the lateral rows' derivatives (lat_part_q31):
+/* The map in plain Q36 integers for the lateral rows' derivatives (lat_part_q31) and the
+ * input columns' body rows (body_part_q31):
  * inv_m, lf_J, lr_J, yf_J, yr_J are int32 in Q38, so each is below 2^-7 (params_q31.h) and
  * |ax|, |ay| <= 2^-7, |rx|, |ry| <= |(x_i / J, y_i / J)| < sqrt(2) 2^-7 = 2^-6.5 (c^2 + s^2
  * = 1): below 2^29.5 in Q36, the Q68 value rounded by 32 bits (1/2 unit, 2^-37 absolute). */
@@ -746,18 +728,59 @@ static int input_q_q31(size_t j)
     return q;
 }
 
+/* A value m 2^e of the input columns' per-wheel chain, |m| <= 2^30 (m = 0: the value 0). */
+typedef struct {
+    int64_t m;
+    int e;
+} qv_q31_t;
+
+/* v[0..n-1] 2^*e (|v| < 2^62) brought to 30 bits together: the shift s = (bit length of the
+ * largest |v|) - 30 when positive, each rounded half up (1/2 unit: <= 2^-30 of the largest),
+ * |v| <= 2^30 after it, *e += s. */
+static void norm30_q31(int64_t *v, size_t n, int *e)
+{
+    uint64_t big = 0u;
+    unsigned int len;
+    size_t k;
+    for (k = 0u; k < n; ++k) {
+        const uint64_t a = rfe_q31_mag64(v[k]);
+        big = (a > big) ? a : big;
+    }
+    len = rfe_q31_bitlen64(big);
+    if (len > 30u) {
+        const unsigned int sh = len - 30u;
+        for (k = 0u; k < n; ++k) {
+            v[k] = rfe_fix_shr64_round(v[k], sh);
+        }
+        *e += (int)sh;
+    }
+}
+
 /* Wheel i's slips' changes per unit change of its velocity (v_wx, v_wy, omega R), the chain
  * of meas_flt.c input_direction written per unit of each speed: tan(alpha) by v_wx (tx) and
- * v_wy (ty), kappa by v_wx (kx) and omega R (kr); zero where the slip is clamped. Each one a
- * quotient of two exact integers, one rounding (2^-30 relative): tan_a (Q26) and the Q30
- * numerators 1 +- kappa (|.| <= 2^31) over |v_wx| (Q23) or den = max(|omega R|, |v_wx|, v_min)
- * (Q51), as the kinematics form it (vy_direction_q31). */
+ * v_wy (ty), kappa by v_wx (kx) and omega R (kr); zero where the slip is clamped. Two
+ * quotients per wheel, 1 / |v_wx| (|v_wx| Q23) and 1 / den, den = max(|omega R|, |v_wx|,
+ * v_min) (Q51, as the kinematics form it, vy_direction_q31), each one rfe_xf_t division (a
+ * mantissa in [2^29, 2^30], 2^-30 relative: 1 / |v_wx| has no fixed range); the numerators are
+ * plain Q: -1, -t sgn(v_wx) (tan_a Q26, |.| < 2^31), -(1 + own_x) and 1 - own_r (Q30, <= 2^31,
+ * |kappa| < 1); each product with the quotient's mantissa < 2^61, exact, brought to 30 bits
+ * (norm30_q31: 2^-30 relative). */
 typedef struct {
-    rfe_xf_t tx;
-    rfe_xf_t ty;
-    rfe_xf_t kx;
-    rfe_xf_t kr;
+    qv_q31_t tx;
+    qv_q31_t ty;
+    qv_q31_t kx;
+    qv_q31_t kr;
 } slip_sens_q31_t;
+
+/* num (|.| <= 2^31) times the quotient q, at 30 bits. */
+static qv_q31_t sens_q31(int64_t num, rfe_xf_t q, int qnum)
+{
+    qv_q31_t r;
+    r.m = num * (int64_t)q.m;
+    r.e = q.e - qnum;
+    norm30_q31(&r.m, 1u, &r.e);
+    return r;
+}
 
 static void slip_sens_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh,
                           const rfe_tyre_params_q31_t *tp, const rfe_sample_q31_t *u, size_t i,
@@ -766,16 +789,18 @@ static void slip_sens_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh,
     const int32_t vwx = h->kin.vwx[i];
     const int32_t kappa = h->kin.kappa[i];
     const int sv = rfe_q31_sign(vwx);
-    const rfe_xf_t zero = rfe_xf_make(0, 0);
+    const rfe_xf_t one = rfe_xf_make(1, 0);
+    const qv_q31_t zero = {0, 0};
     ss->tx = zero;
     ss->ty = zero;
     ss->kx = zero;
     ss->kr = zero;
     if ((rfe_q31_within(h->kin.alpha[i], tp->alpha_max - 1) != 0) && (vwx != 0)) {
         /* d tan(alpha) = -(d v_wy + t sgn(v_wx) d v_wx) / |v_wx| */
-        const rfe_xf_t avx = rfe_xf_of((vwx < 0) ? -vwx : vwx, (int)RFE_FIX_Q_SPEED);
-        ss->ty = rfe_xf_div(rfe_xf_make(-1, 0), avx);
-        ss->tx = rfe_xf_div(rfe_xf_of((sv > 0) ? -tan_a : tan_a, 26), avx);
+        const rfe_xf_t iv =
+            rfe_xf_div(one, rfe_xf_of((vwx < 0) ? -vwx : vwx, (int)RFE_FIX_Q_SPEED));
+        ss->ty = sens_q31(-1, iv, 0);
+        ss->tx = sens_q31((sv > 0) ? -(int64_t)tan_a : (int64_t)tan_a, iv, 26);
     }
     if (rfe_q31_within(kappa, ONE_Q30 - 1) != 0) {
         /* d kappa = (d(omega R) (1 - [den = |omega R|] kappa sgn(omega R))
@@ -785,7 +810,8 @@ static void slip_sens_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh,
         const uint64_t avx = (uint64_t)((vwx < 0) ? -(int64_t)vwx : (int64_t)vwx) << 28;
         const uint64_t vmin = (uint64_t)tp->v_min << 28;
         const uint64_t big = (avr > avx) ? avr : avx;
-        const rfe_xf_t den = rfe_xf_make((int64_t)((big > vmin) ? big : vmin), -51);
+        const rfe_xf_t id =
+            rfe_xf_div(one, rfe_xf_make((int64_t)((big > vmin) ? big : vmin), -51));
         int64_t own_x = 0;
         int64_t own_r = 0;
         if ((avx > avr) && (avx > vmin)) {
@@ -794,8 +820,8 @@ static void slip_sens_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh,
         if ((avr >= avx) && (avr > vmin)) {
             own_r = (vr > 0) ? (int64_t)kappa : -(int64_t)kappa;
         }
-        ss->kr = rfe_xf_div(rfe_xf_make((int64_t)ONE_Q30 - own_r, -30), den);
-        ss->kx = rfe_xf_div(rfe_xf_make(-((int64_t)ONE_Q30 + own_x), -30), den);
+        ss->kr = sens_q31((int64_t)ONE_Q30 - own_r, id, 30);
+        ss->kx = sens_q31(-((int64_t)ONE_Q30 + own_x), id, 30);
     }
 }
 
@@ -860,42 +886,41 @@ static void wheel_basis_q31(const rfe_meas_q31_t *h, const rfe_tyre_params_q31_t
     }
 }
 
-/* The body rows (ax, ay, r-dot) of a force pair (wheel axes) by the map b (lat_map_q31: the
- * ax row is (fx c - fy s) / m = fx b->ay - fy b->ax). */
-static void body_rows_q31(const lat_map_q31_t *b, rfe_xf_t fx, rfe_xf_t fy, rfe_xf_t row[3])
+/* The body rows (ax, ay, r-dot) of a force pair (wheel axes) by the Q36 map b (lat_map_q36:
+ * the ax row is (fx c - fy s) / m = fx b->ay - fy b->ax): both mantissas at the larger exponent
+ * E (xf_mant_at_q31: the smaller one rounded half up, 1/2 unit = 2^-31 of the larger force),
+ * |(mx, my)| <= 2^30.5, each row a sum of two exact products < |(mx, my)| |(a, b)| < 2^30.5
+ * 2^29.5 = 2^60 (|(ax, ay)| = 1 / m, |(rx, ry)| = |(x_i, y_i)| / J, both < 2^-6.5, < 2^29.5
+ * in Q36), at E - 36, then brought to 30 bits together (norm30_q31); all 0 (m 0) when both
+ * forces are 0. */
+static void body_part_q31(const lat_q36_t *b, rfe_xf_t fx, rfe_xf_t fy, int64_t m[3], int *e)
 {
-    row[0] = rfe_xf_sub(rfe_xf_mul(fx, b->ay), rfe_xf_mul(fy, b->ax));
-    row[1] = rfe_xf_add(rfe_xf_mul(fx, b->ax), rfe_xf_mul(fy, b->ay));
-    row[2] = rfe_xf_add(rfe_xf_mul(fx, b->rx), rfe_xf_mul(fy, b->ry));
-}
-
-/* Wheel i's body rows per unit change of its velocity in wheel axes: by v_wx (w[0..2]), v_wy
- * (w[3..5]) and omega R (w[6..8]): the rows of each slip's force derivative (fj) times the
- * slips' sensitivities ss, the chain of meas_flt.c input_direction and wheel_input_sums formed
- * once per wheel instead of once per input. */
-static void wheel_rows_q31(const lat_map_q31_t *bm, const rfe_tyre_jac_q31_t fj[3],
-                           const slip_sens_q31_t *ss, rfe_xf_t w[9])
-{
-    rfe_xf_t bk[3];
-    rfe_xf_t bt[3];
-    rfe_xf_t bv[3];
-    size_t r;
-    body_rows_q31(bm, fj[0].dfx, fj[0].dfy, bk);
-    body_rows_q31(bm, fj[1].dfx, fj[1].dfy, bt);
-    body_rows_q31(bm, fj[2].dfx, fj[2].dfy, bv);
-    for (r = 0u; r < (size_t)RFE_MEAS; ++r) {
-        w[r] = rfe_xf_add(rfe_xf_add(rfe_xf_mul(bk[r], ss->kx), rfe_xf_mul(bt[r], ss->tx)),
-                          bv[r]);
-        w[3u + r] = rfe_xf_mul(bt[r], ss->ty);
-        w[6u + r] = rfe_xf_mul(bk[r], ss->kr);
+    m[0] = 0;
+    m[1] = 0;
+    m[2] = 0;
+    *e = 0;
+    if ((fx.m != 0) || (fy.m != 0)) {
+        int ef = (fx.m != 0) ? fx.e : fy.e;
+        int64_t mx;
+        int64_t my;
+        if ((fy.m != 0) && (fy.e > ef)) {
+            ef = fy.e;
+        }
+        mx = xf_mant_at_q31(fx, ef);
+        my = xf_mant_at_q31(fy, ef);
+        m[0] = (mx * (int64_t)b->ay) - (my * (int64_t)b->ax);
+        m[1] = (mx * (int64_t)b->ax) + (my * (int64_t)b->ay);
+        m[2] = (mx * (int64_t)b->rx) + (my * (int64_t)b->ry);
+        *e = ef - 36;
+        norm30_q31(m, 3u, e);
     }
 }
 
 /* One wheel's part of the input columns (wheel_prepare_q31): its rows per unit change of its
  * velocity (v_wx, v_wy, omega R) as integers at one exponent, wm[k] 2^base (|wm| <= 2^27; all
  * 0: any = 0), its velocity in wheel axes (Q21), the cos and sin of its steer angle (Q30) and
- * the rows of its turned forces for delta (rfe_xf_t; zeros unless a front wheel with sd_delta
- * > 0). */
+ * the rows of its turned forces for delta, ftm[r] 2^fte (|ftm| <= 2^30; zeros unless a front
+ * wheel with sd_delta > 0). */
 typedef struct {
     int32_t wm[9];
     int base;
@@ -903,33 +928,108 @@ typedef struct {
     int32_t vw[2];
     int32_t c;
     int32_t s;
-    rfe_xf_t ft[3];
+    int32_t ftm[3];
+    int fte;
 } wheel_cols_q31_t;
 
-/* wc's rows per unit velocity change from w (rfe_xf_t): base = the largest exponent + 3, each
- * mantissa shifted to it and rounded half up (1/2 unit: <= 2^-27 of the largest |w[k]|, whose
- * mantissa there is >= 2^26). */
-static void wheel_block_q31(const rfe_xf_t w[9], wheel_cols_q31_t *wc)
+/* sum of the n terms t[k] 2^x[k] (each |.| <= 2^60; terms 0 skipped) at the largest exponent
+ * of the nonzero ones, *e (a smaller one rounded half up there, 1/2 unit): |sum| < 3 2^60 for
+ * n <= 3, exact but for those roundings. 0 (e = 0) when all are 0. */
+static int64_t aligned_sum_q31(const int64_t *t, const int *x, size_t n, int *e)
 {
     int emax = 0;
     int any = 0;
+    int64_t sum = 0;
     size_t k;
-    for (k = 0u; k < 9u; ++k) {
-        if ((w[k].m != 0) && ((any == 0) || (w[k].e > emax))) {
-            emax = w[k].e;
+    for (k = 0u; k < n; ++k) {
+        if ((t[k] != 0) && ((any == 0) || (x[k] > emax))) {
+            emax = x[k];
             any = 1;
         }
     }
-    for (k = 0u; k < 9u; ++k) {
-        wc->wm[k] = 0;
-        if (w[k].m != 0) {
-            /* shift (emax + 3) - e >= 3; 64 or more gives 0 */
-            const int sh = (emax + 3) - w[k].e;
-            wc->wm[k] = (int32_t)rfe_fix_shr64_round((int64_t)w[k].m, (unsigned int)sh);
+    for (k = 0u; k < n; ++k) {
+        if (t[k] != 0) {
+            const int d = emax - x[k];
+            sum += rfe_fix_shr64_round(t[k], (unsigned int)d);
         }
     }
-    wc->base = emax + 3;
+    *e = emax;
+    return sum;
+}
+
+/* wc's rows per unit velocity change from the nine values v[k] 2^x[k] (|v| < 2^62): base = the
+ * top bit position of the largest (max of x + bit length) - 27, each value at it (rounded half
+ * up when shifted down, 1/2 unit <= 2^-27 of the largest |v 2^x|, whose top bit is at base +
+ * 26 or above; shifted up exactly otherwise: x + bit length <= base + 27 keeps it below 2^27),
+ * |wm| <= 2^27. */
+static void wheel_block_q31(const int64_t v[9], const int x[9], wheel_cols_q31_t *wc)
+{
+    int top = 0;
+    int any = 0;
+    size_t k;
+    for (k = 0u; k < 9u; ++k) {
+        if (v[k] != 0) {
+            const int t = x[k] + (int)rfe_q31_bitlen64(rfe_q31_mag64(v[k]));
+            if ((any == 0) || (t > top)) {
+                top = t;
+                any = 1;
+            }
+        }
+    }
+    for (k = 0u; k < 9u; ++k) {
+        const int sh = (top - 27) - x[k];
+        wc->wm[k] = 0;
+        if ((v[k] != 0) && (sh > 0)) {
+            wc->wm[k] = (int32_t)rfe_fix_shr64_round(v[k], (unsigned int)sh);
+        } else if (v[k] != 0) {
+            wc->wm[k] = (int32_t)(v[k] * rfe_q31_pow2((unsigned int)(-sh)));
+        } else {
+            /* 0 */
+        }
+    }
+    wc->base = top - 27;
     wc->any = any;
+}
+
+/* Wheel i's body rows per unit change of its velocity: by v_wx (k = 0..2), v_wy (3..5) and
+ * omega R (6..8): the rows of each slip's force derivative (fj, body_part_q31: B_k, B_t, B_v at
+ * 30 bits) times the slips' sensitivities ss (30 bits), the chain of meas_flt.c
+ * input_direction and wheel_input_sums formed once per wheel instead of once per input:
+ *   v_wx: B_k kx + B_t tx + B_v,  v_wy: B_t ty,  omega R: B_k kr,
+ * each product of two 30-bit mantissas exact (<= 2^60), the v_wx row's three terms (B_v as
+ * B_v 2^30 at its exponent - 30) summed at the largest exponent (aligned_sum_q31, < 2^61.6),
+ * then all nine at one exponent (wheel_block_q31). */
+static void wheel_rows_q31(const lat_q36_t *bm, const rfe_tyre_jac_q31_t fj[3],
+                           const slip_sens_q31_t *ss, wheel_cols_q31_t *wc)
+{
+    int64_t bk[3];
+    int64_t bt[3];
+    int64_t bv[3];
+    int ek = 0;
+    int et = 0;
+    int ev = 0;
+    int64_t v[9];
+    int x[9];
+    size_t r;
+    body_part_q31(bm, fj[0].dfx, fj[0].dfy, bk, &ek);
+    body_part_q31(bm, fj[1].dfx, fj[1].dfy, bt, &et);
+    body_part_q31(bm, fj[2].dfx, fj[2].dfy, bv, &ev);
+    for (r = 0u; r < (size_t)RFE_MEAS; ++r) {
+        int64_t t[3];
+        int xt[3];
+        t[0] = bk[r] * ss->kx.m;
+        xt[0] = ek + ss->kx.e;
+        t[1] = bt[r] * ss->tx.m;
+        xt[1] = et + ss->tx.e;
+        t[2] = bv[r] * rfe_q31_pow2(30u);
+        xt[2] = ev - 30;
+        v[r] = aligned_sum_q31(t, xt, 3u, &x[r]);
+        v[3u + r] = bt[r] * ss->ty.m;
+        x[3u + r] = et + ss->ty.e;
+        v[6u + r] = bk[r] * ss->kr.m;
+        x[6u + r] = ek + ss->kr.e;
+    }
+    wheel_block_q31(v, x, wc);
 }
 
 /* Input j's change of wheel i's velocity (d v_wx, d v_wy, d(omega R)) per unit, integers in
@@ -970,19 +1070,20 @@ static int input_change_q31(const rfe_vehicle_q31_t *veh, size_t j, size_t i, in
 }
 
 /* Wheel i's part of the input columns (wheel_cols_q31_t): its rows per unit velocity change
- * (wheel_rows_q31, then wheel_block_q31), its velocity, and for delta the rows of the turn of
- * its forces, d(R(delta) F) = R(delta) (dF + (-Fy, Fx)). */
+ * (wheel_rows_q31), its velocity, and for delta the rows of the turn of its forces,
+ * d(R(delta) F) = R(delta) (dF + (-Fy, Fx)) (body_part_q31). */
 static void wheel_prepare_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh,
                               const rfe_tyre_params_q31_t *tp, const rfe_sample_q31_t *u,
                               int cached, size_t i, rfe_fix_t mu, const rfe_fix_t *sd,
                               wheel_cols_q31_t *wc)
 {
-    lat_map_q31_t bm;
+    lat_q36_t bm;
     rfe_dugoff_pre_q31_t pre;
     rfe_tyre_jac_q31_t fj[3];
     slip_sens_q31_t ss;
-    rfe_xf_t w[9];
+    int64_t ft[3];
     rfe_xf_t f[2];
+    size_t r;
     int turn = 0;
     if ((i < (size_t)RFE_RL) && (sd[RFE_IN_DELTA] > 0)) {
         turn = 1;
@@ -991,12 +1092,14 @@ static void wheel_prepare_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *
     wc->s = (i < (size_t)RFE_RL) ? h->sin_delta : 0;
     jac_pre_q31(h, tp, cached, i, &pre);
     wheel_basis_q31(h, tp, &pre, i, mu, turn, fj, f);
-    lat_map_q31(veh, h->cos_delta, h->sin_delta, i, &bm);
+    lat_map_q36(veh, h->cos_delta, h->sin_delta, i, &bm);
     slip_sens_q31(h, veh, tp, u, i, pre.tan_a, &ss);
-    wheel_rows_q31(&bm, fj, &ss, w);
-    wheel_block_q31(w, wc);
+    wheel_rows_q31(&bm, fj, &ss, wc);
     wheel_velocity_q31(veh, u, i, wc->c, wc->s, wc->vw);
-    body_rows_q31(&bm, rfe_xf_neg(f[1]), f[0], wc->ft);
+    body_part_q31(&bm, rfe_xf_neg(f[1]), f[0], ft, &wc->fte);
+    for (r = 0u; r < (size_t)RFE_MEAS; ++r) {
+        wc->ftm[r] = (int32_t)ft[r]; /* <= 2^30 (norm30_q31) */
+    }
 }
 
 /* sum 2^e times sd (Q(qsd), > 0) in Q24, rounded half up, saturating (counted in *count): sum
@@ -1037,9 +1140,9 @@ static int64_t column_row_q31(const wheel_cols_q31_t wc[RFE_WHEELS], const int32
             ex[n] = wc[i].base - q;
             ++n;
         }
-        if ((reach[i] != 0) && (delta != 0) && (wc[i].ft[r].m != 0)) {
-            term[n] = (int64_t)wc[i].ft[r].m * rfe_q31_pow2(30u);
-            ex[n] = wc[i].ft[r].e - 30;
+        if ((reach[i] != 0) && (delta != 0) && (wc[i].ftm[r] != 0)) {
+            term[n] = (int64_t)wc[i].ftm[r] * rfe_q31_pow2(30u);
+            ex[n] = wc[i].fte - 30;
             ++n;
         }
     }
