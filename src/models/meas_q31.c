@@ -20,6 +20,7 @@
 #include "numerics/xf_q31.h"
 #include "models/meas_inputs.h"
 #include "models/tyre_internal_q31.h"
+#include "models/meas_cols_internal_q31.h"
 
 /* Entries of the four wheels' terms side by side (wheel i at i RFE_MEAS). */
 #define COLS ((size_t)RFE_WHEELS * (size_t)RFE_MEAS)
@@ -461,22 +462,14 @@ static void jac_pre_q31(const rfe_meas_q31_t *h, const rfe_tyre_params_q31_t *tp
     }
 }
 
-/* Wheel i's map of a force pair (wheel axes) into the lateral rows' body terms (ay, r-dot):
- * the rotation by the steer angle folded into the geometry, ay += fx ax + fy ay and r-dot +=
- * fx rx + fy ry with (c, s the steer angle's cos and sin on the front axle, 1 and 0 on the
- * rear; x_i / J, y_i / J the signed lever arms of wheel_terms_q31):
+/* Wheel i's map of a force pair (wheel axes) into the body terms (ax, ay, r-dot): the rotation
+ * by the steer angle folded into the geometry, ax += fx ay - fy ax, ay += fx ax + fy ay and
+ * r-dot += fx rx + fy ry with (c, s the steer angle's cos and sin on the front axle, 1 and 0 on
+ * the rear; x_i / J, y_i / J the signed lever arms of wheel_terms_q31):
  *   ax = s / m,  ay = c / m,  rx = s x_i / J - c y_i / J,  ry = c x_i / J + s y_i / J.
  * Each coefficient is formed exactly in int64 (Q30 x Q38 = Q68, each product < 2^61, a sum of
- * two < 2^62) and rounded once to rfe_xf_t (2^-30 relative), where the rotation and the
- * geometry took two products and a sum per term before: four products and four sums per
- * force pair instead of eight and six. */
-typedef struct {
-    rfe_xf_t ax;
-    rfe_xf_t ay;
-    rfe_xf_t rx;
-    rfe_xf_t ry;
-} lat_map_q31_t;
-
+ * two < 2^62), then rounded once to Q36 (lat_map_q36): four products and four sums per force
+ * pair instead of eight and six. */
 /* The map's four coefficients exactly in Q68 (k = ax, ay, rx, ry). */
 static void lat_coef_q31(const rfe_vehicle_q31_t *veh, int32_t c, int32_t s, size_t i,
                          int64_t k[4])
@@ -492,28 +485,7 @@ static void lat_coef_q31(const rfe_vehicle_q31_t *veh, int32_t c, int32_t s, siz
     k[3] = ((int64_t)ci * (int64_t)px_J) + ((int64_t)si * (int64_t)py_J);
 }
 
-static void lat_map_q31(const rfe_vehicle_q31_t *veh, int32_t c, int32_t s, size_t i,
-                        lat_map_q31_t *b)
-{
-    int64_t k[4];
-    lat_coef_q31(veh, c, s, i, k);
-    b->ax = rfe_xf_make(k[0], -68);
-    b->ay = rfe_xf_make(k[1], -68);
-    b->rx = rfe_xf_make(k[2], -68);
-    b->ry = rfe_xf_make(k[3], -68);
-}
-
-/* The same map in plain Q36 integers for the lateral rows' derivatives (lat_part_q31):
- * inv_m, lf_J, lr_J, yf_J, yr_J are int32 in Q38, so each is below 2^-7 (params_q31.h) and
- * |ax|, |ay| <= 2^-7, |rx|, |ry| <= |(x_i / J, y_i / J)| < sqrt(2) 2^-7 = 2^-6.5 (c^2 + s^2
- * = 1): below 2^29.5 in Q36, the Q68 value rounded by 32 bits (1/2 unit, 2^-37 absolute). */
-typedef struct {
-    int32_t ax;
-    int32_t ay;
-    int32_t rx;
-    int32_t ry;
-} lat_q36_t;
-
+/* The map in plain Q36 integers (lat_q36_t, meas_cols_internal_q31.h). */
 static void lat_map_q36(const rfe_vehicle_q31_t *veh, int32_t c, int32_t s, size_t i,
                         lat_q36_t *b)
 {
@@ -577,14 +549,12 @@ static void lat_part_q31(const lat_q36_t *b, rfe_xf_t fx, rfe_xf_t fy, lat_part_
 /* Row r of the sum over the wheels' parts p in Q24, rounded half up and saturating (counted in
  * *count): every part at the largest exponent E of the wheels' (a smaller one rounded half up,
  * 1/2 unit of 2^E), the sum of four parts < 2^60.5 each < 2^62.5 exact, then rounded once to
- * Q24 (or shifted up exactly while below 2^62, saturating beyond). */
+ * Q24 (or shifted up exactly while below 2^62, saturating beyond: q24_of_scaled_q31). */
 static rfe_fix_t lat_row_q31(const lat_part_q31_t p[RFE_WHEELS], size_t r, uint32_t *count)
 {
     int emax = 0;
     int any = 0;
     int64_t sum = 0;
-    int64_t v;
-    int k;
     size_t i;
     for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
         if ((p[i].any != 0) && ((any == 0) || (p[i].e > emax))) {
@@ -598,15 +568,7 @@ static rfe_fix_t lat_row_q31(const lat_part_q31_t p[RFE_WHEELS], size_t r, uint3
             sum += rfe_fix_shr64_round(p[i].t[r], (unsigned int)sh);
         }
     }
-    k = emax + 24;
-    if (k <= 0) {
-        v = rfe_fix_shr64_round(sum, (unsigned int)(-k));
-    } else if ((sum == 0) || ((rfe_q31_bitlen64(rfe_q31_mag64(sum)) + (unsigned int)k) <= 62u)) {
-        v = sum * rfe_q31_pow2((unsigned int)k);
-    } else {
-        v = (sum > 0) ? INT64_MAX : -INT64_MAX; /* beyond 2^62: saturates */
-    }
-    return rfe_fix_sat32(v, count);
+    return rfe_meas_q24_of_scaled_q31(sum, emax + 24, count);
 }
 
 /* Wheel i's Dugoff/Magic Formula pre-computed terms and its slip's direction of change by vy,
@@ -728,75 +690,6 @@ rfe_status_t rfe_meas_lateral_jac_q31(const rfe_meas_q31_t *h, const rfe_vehicle
 
 /* ---- the derivatives of h by the inputs (for the step noise, docs/ESTIMATOR.md step 4) ------ */
 
-/* The Q format of each input (RFE_IN_*) of the sample: its sd's too. */
-static int input_q_q31(size_t j)
-{
-    int q = (int)RFE_FIX_Q_OMEGA;
-    if (j == (size_t)RFE_IN_DELTA) {
-        q = (int)RFE_FIX_Q_ANGLE;
-    } else if ((j == (size_t)RFE_IN_VX) || (j == (size_t)RFE_IN_VY)) {
-        q = (int)RFE_FIX_Q_SPEED;
-    } else if (j == (size_t)RFE_IN_YAW_RATE) {
-        q = (int)RFE_FIX_Q_YAWRATE;
-    } else {
-        /* a wheel speed */
-    }
-    return q;
-}
-
-/* Wheel i's slips' changes per unit change of its velocity (v_wx, v_wy, omega R), the chain
- * of meas_flt.c input_direction written per unit of each speed: tan(alpha) by v_wx (tx) and
- * v_wy (ty), kappa by v_wx (kx) and omega R (kr); zero where the slip is clamped. Each one a
- * quotient of two exact integers, one rounding (2^-30 relative): tan_a (Q26) and the Q30
- * numerators 1 +- kappa (|.| <= 2^31) over |v_wx| (Q23) or den = max(|omega R|, |v_wx|, v_min)
- * (Q51), as the kinematics form it (vy_direction_q31). */
-typedef struct {
-    rfe_xf_t tx;
-    rfe_xf_t ty;
-    rfe_xf_t kx;
-    rfe_xf_t kr;
-} slip_sens_q31_t;
-
-static void slip_sens_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh,
-                          const rfe_tyre_params_q31_t *tp, const rfe_sample_q31_t *u, size_t i,
-                          int32_t tan_a, slip_sens_q31_t *ss)
-{
-    const int32_t vwx = h->kin.vwx[i];
-    const int32_t kappa = h->kin.kappa[i];
-    const int sv = rfe_q31_sign(vwx);
-    const rfe_xf_t zero = rfe_xf_make(0, 0);
-    ss->tx = zero;
-    ss->ty = zero;
-    ss->kx = zero;
-    ss->kr = zero;
-    if ((rfe_q31_within(h->kin.alpha[i], tp->alpha_max - 1) != 0) && (vwx != 0)) {
-        /* d tan(alpha) = -(d v_wy + t sgn(v_wx) d v_wx) / |v_wx| */
-        const rfe_xf_t avx = rfe_xf_of((vwx < 0) ? -vwx : vwx, (int)RFE_FIX_Q_SPEED);
-        ss->ty = rfe_xf_div(rfe_xf_make(-1, 0), avx);
-        ss->tx = rfe_xf_div(rfe_xf_of((sv > 0) ? -tan_a : tan_a, 26), avx);
-    }
-    if (rfe_q31_within(kappa, ONE_Q30 - 1) != 0) {
-        /* d kappa = (d(omega R) (1 - [den = |omega R|] kappa sgn(omega R))
-         *            - d v_wx (1 + [den = |v_wx|] kappa sgn(v_wx))) / den, the speeds in Q51 */
-        const int64_t vr = (int64_t)u->omega[i] * (int64_t)veh->R;
-        const uint64_t avr = rfe_q31_mag64(vr);
-        const uint64_t avx = (uint64_t)((vwx < 0) ? -(int64_t)vwx : (int64_t)vwx) << 28;
-        const uint64_t vmin = (uint64_t)tp->v_min << 28;
-        const uint64_t big = (avr > avx) ? avr : avx;
-        const rfe_xf_t den = rfe_xf_make((int64_t)((big > vmin) ? big : vmin), -51);
-        int64_t own_x = 0;
-        int64_t own_r = 0;
-        if ((avx > avr) && (avx > vmin)) {
-            own_x = (sv > 0) ? (int64_t)kappa : -(int64_t)kappa;
-        }
-        if ((avr >= avx) && (avr > vmin)) {
-            own_r = (vr > 0) ? (int64_t)kappa : -(int64_t)kappa;
-        }
-        ss->kr = rfe_xf_div(rfe_xf_make((int64_t)ONE_Q30 - own_r, -30), den);
-        ss->kx = rfe_xf_div(rfe_xf_make(-((int64_t)ONE_Q30 + own_x), -30), den);
-    }
-}
-
 /* Wheel i's velocity in wheel axes (vw[0] = v_wx, vw[1] = v_wy) in Q21 (int32); c, s the cos,
  * sin of its steer angle (Q30). The body velocity at the wheel, v_i = (vx - r y_i, vy + r x_i):
  * vx, vy Q23 and r y_i (Q27 x Q29 = Q56, exact) in Q56 would overflow, so each is rounded to
@@ -858,128 +751,17 @@ static void wheel_basis_q31(const rfe_meas_q31_t *h, const rfe_tyre_params_q31_t
     }
 }
 
-/* The body rows (ax, ay, r-dot) of a force pair (wheel axes) by the map b (lat_map_q31: the
- * ax row is (fx c - fy s) / m = fx b->ay - fy b->ax). */
-static void body_rows_q31(const lat_map_q31_t *b, rfe_xf_t fx, rfe_xf_t fy, rfe_xf_t row[3])
-{
-    row[0] = rfe_xf_sub(rfe_xf_mul(fx, b->ay), rfe_xf_mul(fy, b->ax));
-    row[1] = rfe_xf_add(rfe_xf_mul(fx, b->ax), rfe_xf_mul(fy, b->ay));
-    row[2] = rfe_xf_add(rfe_xf_mul(fx, b->rx), rfe_xf_mul(fy, b->ry));
-}
-
-/* Wheel i's body rows per unit change of its velocity in wheel axes: by v_wx (w[0..2]), v_wy
- * (w[3..5]) and omega R (w[6..8]): the rows of each slip's force derivative (fj) times the
- * slips' sensitivities ss, the chain of meas_flt.c input_direction and wheel_input_sums formed
- * once per wheel instead of once per input. */
-static void wheel_rows_q31(const lat_map_q31_t *bm, const rfe_tyre_jac_q31_t fj[3],
-                           const slip_sens_q31_t *ss, rfe_xf_t w[9])
-{
-    rfe_xf_t bk[3];
-    rfe_xf_t bt[3];
-    rfe_xf_t bv[3];
-    size_t r;
-    body_rows_q31(bm, fj[0].dfx, fj[0].dfy, bk);
-    body_rows_q31(bm, fj[1].dfx, fj[1].dfy, bt);
-    body_rows_q31(bm, fj[2].dfx, fj[2].dfy, bv);
-    for (r = 0u; r < (size_t)RFE_MEAS; ++r) {
-        w[r] = rfe_xf_add(rfe_xf_add(rfe_xf_mul(bk[r], ss->kx), rfe_xf_mul(bt[r], ss->tx)),
-                          bv[r]);
-        w[3u + r] = rfe_xf_mul(bt[r], ss->ty);
-        w[6u + r] = rfe_xf_mul(bk[r], ss->kr);
-    }
-}
-
-/* One wheel's part of the input columns (wheel_prepare_q31): its rows per unit change of its
- * velocity (v_wx, v_wy, omega R) as integers at one exponent, wm[k] 2^base (|wm| <= 2^27; all
- * 0: any = 0), its velocity in wheel axes (Q21), the cos and sin of its steer angle (Q30) and
- * the rows of its turned forces for delta (rfe_xf_t; zeros unless a front wheel with sd_delta
- * > 0). */
-typedef struct {
-    int32_t wm[9];
-    int base;
-    int any;
-    int32_t vw[2];
-    int32_t c;
-    int32_t s;
-    rfe_xf_t ft[3];
-} wheel_cols_q31_t;
-
-/* wc's rows per unit velocity change from w (rfe_xf_t): base = the largest exponent + 3, each
- * mantissa shifted to it and rounded half up (1/2 unit: <= 2^-27 of the largest |w[k]|, whose
- * mantissa there is >= 2^26). */
-static void wheel_block_q31(const rfe_xf_t w[9], wheel_cols_q31_t *wc)
-{
-    int emax = 0;
-    int any = 0;
-    size_t k;
-    for (k = 0u; k < 9u; ++k) {
-        if ((w[k].m != 0) && ((any == 0) || (w[k].e > emax))) {
-            emax = w[k].e;
-            any = 1;
-        }
-    }
-    for (k = 0u; k < 9u; ++k) {
-        wc->wm[k] = 0;
-        if (w[k].m != 0) {
-            /* shift (emax + 3) - e >= 3; 64 or more gives 0 */
-            const int sh = (emax + 3) - w[k].e;
-            wc->wm[k] = (int32_t)rfe_fix_shr64_round((int64_t)w[k].m, (unsigned int)sh);
-        }
-    }
-    wc->base = emax + 3;
-    wc->any = any;
-}
-
-/* Input j's change of wheel i's velocity (d v_wx, d v_wy, d(omega R)) per unit, integers in
- * Q(returned), |.| < 2^31 (meas_flt.c input_change): vx, vy, r move the body velocity (dbx,
- * dby) = (1, 0), (0, 1), (-y_i, x_i), rotated into wheel axes by c, s (Q30): (c, -s) and (s,
- * c) in Q30, r's in Q28 (lengths Q29 x Q30 = Q59, a sum of two exact, < 2^62, rounded by 31:
- * |.| <= |(x_i, y_i)| < 4 sqrt 2 m, < 2^30.5); delta turns the wheel velocity, (v_wy, -v_wx) in
- * Q21 (vw); the wheel's own speed moves omega R by R (Q29). */
-static int input_change_q31(const rfe_vehicle_q31_t *veh, size_t j, size_t i, int32_t c,
-                            int32_t s, const int32_t vw[2], int32_t dv[3])
-{
-    int q = 30;
-    dv[0] = 0;
-    dv[1] = 0;
-    dv[2] = 0;
-    if (j == (size_t)RFE_IN_DELTA) {
-        dv[0] = vw[1];
-        dv[1] = -vw[0];
-        q = 21;
-    } else if (j >= (size_t)RFE_IN_OMEGA) {
-        dv[2] = veh->R;
-        q = (int)RFE_FIX_Q_LEN;
-    } else if (j == (size_t)RFE_IN_VX) {
-        dv[0] = c;
-        dv[1] = -s;
-    } else if (j == (size_t)RFE_IN_VY) {
-        dv[0] = s;
-        dv[1] = c;
-    } else {
-        const int64_t x = (i < (size_t)RFE_RL) ? (int64_t)veh->Lf : -(int64_t)veh->Lr;
-        const int64_t yy = (i < (size_t)RFE_RL) ? (int64_t)veh->yf : (int64_t)veh->yr;
-        const int64_t y = ((i == (size_t)RFE_FL) || (i == (size_t)RFE_RL)) ? yy : -yy;
-        dv[0] = (int32_t)rfe_fix_shr64_round((x * (int64_t)s) - (y * (int64_t)c), 31u);
-        dv[1] = (int32_t)rfe_fix_shr64_round((x * (int64_t)c) + (y * (int64_t)s), 31u);
-        q = 28;
-    }
-    return q;
-}
-
 /* Wheel i's part of the input columns (wheel_cols_q31_t): its rows per unit velocity change
- * (wheel_rows_q31, then wheel_block_q31), its velocity, and for delta the rows of the turn of
- * its forces, d(R(delta) F) = R(delta) (dF + (-Fy, Fx)). */
+ * (rfe_meas_wheel_rows_q31), its velocity, and for delta the rows of the turn of its forces,
+ * d(R(delta) F) = R(delta) (dF + (-Fy, Fx)) (rfe_meas_turn_rows_q31). */
 static void wheel_prepare_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh,
                               const rfe_tyre_params_q31_t *tp, const rfe_sample_q31_t *u,
                               int cached, size_t i, rfe_fix_t mu, const rfe_fix_t *sd,
                               wheel_cols_q31_t *wc)
 {
-    lat_map_q31_t bm;
+    lat_q36_t bm;
     rfe_dugoff_pre_q31_t pre;
     rfe_tyre_jac_q31_t fj[3];
-    slip_sens_q31_t ss;
-    rfe_xf_t w[9];
     rfe_xf_t f[2];
     int turn = 0;
     if ((i < (size_t)RFE_RL) && (sd[RFE_IN_DELTA] > 0)) {
@@ -989,113 +771,10 @@ static void wheel_prepare_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *
     wc->s = (i < (size_t)RFE_RL) ? h->sin_delta : 0;
     jac_pre_q31(h, tp, cached, i, &pre);
     wheel_basis_q31(h, tp, &pre, i, mu, turn, fj, f);
-    lat_map_q31(veh, h->cos_delta, h->sin_delta, i, &bm);
-    slip_sens_q31(h, veh, tp, u, i, pre.tan_a, &ss);
-    wheel_rows_q31(&bm, fj, &ss, w);
-    wheel_block_q31(w, wc);
+    lat_map_q36(veh, h->cos_delta, h->sin_delta, i, &bm);
+    rfe_meas_wheel_rows_q31(h, veh, tp, u, i, pre.tan_a, &bm, fj, wc);
     wheel_velocity_q31(veh, u, i, wc->c, wc->s, wc->vw);
-    body_rows_q31(&bm, rfe_xf_neg(f[1]), f[0], wc->ft);
-}
-
-/* sum 2^e times sd (Q(qsd), > 0) in Q24, rounded half up, saturating (counted in *count): sum
- * (|.| < 2^63) rounded to 31 bits first (2^-31 relative), its product with sd (< 2^62)
- * rounded once more. */
-static rfe_fix_t scaled_entry_q31(int64_t sum, int e, rfe_fix_t sd, int qsd, uint32_t *count)
-{
-    const unsigned int len = rfe_q31_bitlen64(rfe_q31_mag64(sum));
-    const unsigned int sh = (len > 31u) ? (unsigned int)(len - 31u) : 0u;
-    const int64_t p = rfe_fix_shr64_round(sum, sh) * (int64_t)sd;
-    const int k = ((e + (int)sh) - qsd) + 24;
-    int64_t v;
-    if (k < 0) {
-        v = rfe_fix_shr64_round(p, (unsigned int)(-k));
-    } else if ((p == 0) || ((rfe_q31_bitlen64(rfe_q31_mag64(p)) + (unsigned int)k) <= 62u)) {
-        v = p * rfe_q31_pow2((unsigned int)k);
-    } else {
-        v = (p > 0) ? INT64_MAX : -INT64_MAX; /* beyond 2^62: saturates */
-    }
-    return rfe_fix_sat32(v, count);
-}
-
-/* Row r of input j's column over the wheels it reaches: each wheel's rows times the input's
- * change of its velocity (input_change_q31, Q(q)), three exact products (|.| <= 3 2^27 2^31 <
- * 2^60), at the exponent base - q; for delta also the turned forces' rows (mantissa <= 2^30).
- * All terms are brought to the largest of their exponents, E (for the forces' terms their
- * exponent - 30; a smaller term rounded half up, 1/2 unit of 2^E: the W terms' units are 2^-27
- * of each wheel's largest row entry times the unit of the velocity change), and summed exactly
- * (at most four wheels and two turned forces, each < 2^60: < 2^63): the sum is returned, E in
- * *e. */
-static int64_t column_row_q31(const wheel_cols_q31_t wc[RFE_WHEELS], const int32_t *dv,
-                              const int reach[RFE_WHEELS], int q, int delta, size_t r, int *e)
-{
-    int64_t term[2u * (size_t)RFE_WHEELS];
-    int ex[2u * (size_t)RFE_WHEELS];
-    int emax = 0;
-    int any = 0;
-    int64_t sum = 0;
-    size_t n = 0u;
-    size_t i;
-    size_t k;
-    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
-        if ((reach[i] != 0) && (wc[i].any != 0)) {
-            const int32_t *d = &dv[3u * i];
-            term[n] = ((int64_t)wc[i].wm[r] * d[0]) + ((int64_t)wc[i].wm[3u + r] * d[1]) +
-                      ((int64_t)wc[i].wm[6u + r] * d[2]);
-            ex[n] = wc[i].base - q;
-            ++n;
-        }
-        if ((reach[i] != 0) && (delta != 0) && (wc[i].ft[r].m != 0)) {
-            term[n] = (int64_t)wc[i].ft[r].m * rfe_q31_pow2(30u);
-            ex[n] = wc[i].ft[r].e - 30;
-            ++n;
-        }
-    }
-    for (k = 0u; k < n; ++k) {
-        if ((any == 0) || (ex[k] > emax)) {
-            emax = ex[k];
-            any = 1;
-        }
-    }
-    for (k = 0u; k < n; ++k) {
-        const int d = emax - ex[k];
-        sum += rfe_fix_shr64_round(term[k], (unsigned int)d);
-    }
-    *e = emax;
-    return sum;
-}
-
-/* Input j's column (G[r RFE_INPUTS + j], Q24): sd_j (in input j's format) times dh/du_j, each
- * row rounded once, saturating (counted in *count); 0 for sd_j <= 0. */
-static void input_column_q31(const wheel_cols_q31_t wc[RFE_WHEELS], const rfe_vehicle_q31_t *veh,
-                             size_t j, rfe_fix_t sdj,
-                             rfe_fix_t G[(size_t)RFE_MEAS * (size_t)RFE_INPUTS], uint32_t *count)
-{
-    int32_t dv[3u * (size_t)RFE_WHEELS];
-    int reach[RFE_WHEELS];
-    int q = 30;
-    int delta = 0;
-    size_t i;
-    size_t r;
-    for (r = 0u; r < (size_t)RFE_MEAS; ++r) {
-        G[(r * (size_t)RFE_INPUTS) + j] = 0;
-    }
-    if (sdj <= 0) {
-        return;
-    }
-    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
-        reach[i] = rfe_input_reaches(j, i);
-        if (reach[i] != 0) {
-            q = input_change_q31(veh, j, i, wc[i].c, wc[i].s, wc[i].vw, &dv[3u * i]);
-        }
-    }
-    if (j == (size_t)RFE_IN_DELTA) {
-        delta = 1;
-    }
-    for (r = 0u; r < (size_t)RFE_MEAS; ++r) {
-        int e = 0;
-        const int64_t sum = column_row_q31(wc, dv, reach, q, delta, r, &e);
-        G[(r * (size_t)RFE_INPUTS) + j] = scaled_entry_q31(sum, e, sdj, input_q_q31(j), count);
-    }
+    rfe_meas_turn_rows_q31(&bm, rfe_xf_neg(f[1]), f[0], wc);
 }
 
 /* The argument checks of rfe_meas_input_jac_q31 after the NULLs: the tangents' bound (paper
@@ -1137,7 +816,7 @@ rfe_status_t rfe_meas_input_jac_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q
         wheel_prepare_q31(h, veh, tp, u, cached, i, mu[i], sd, &wc[i]);
     }
     for (i = 0u; i < (size_t)RFE_INPUTS; ++i) {
-        input_column_q31(wc, veh, i, sd[i], G, &count);
+        rfe_meas_input_column_q31(wc, veh, i, sd[i], G, &count);
     }
     rfe_q31_sat_add(sat, count);
     return RFE_OK;

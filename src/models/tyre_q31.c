@@ -1253,11 +1253,12 @@ void rfe_tyre_pre_jac_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugoff_pre_
     const int32_t m = (mu > 0) ? mu : 0;
     rfe_xf_t f0[2];
     if (tp->mode == RFE_TYRE_MAGIC) {
-        magic_dir_q31_t dir[2];
-        rfe_xf_t cd[2];
-        magic_dirs_q31(tp, pre, m, dir);
-        magic_cd_q31(tp, d, cd);
-        magic_jac_q31(pre, m, fz, tp, cd, 1u, dir, out);
+        /* rfe_tyre_magic_pre_jac_q31's derivatives (the same calls), its forces unused: out of
+         * line, its frame is not on the Dugoff path's stack */
+        rfe_fix_t fx = 0;
+        rfe_fix_t fy = 0;
+        uint32_t scratch = 0u;
+        rfe_tyre_magic_pre_jac_q31(tp, pre, fz, mu, d, &fx, &fy, &scratch, out);
     } else if (tp->mode == RFE_TYRE_PAPER) {
         /* F = mu F0: dF = mu dF0, dF/dmu = F0 */
         const rfe_xf_t mux = rfe_xf_of(mu, (int)RFE_FIX_Q_MU);

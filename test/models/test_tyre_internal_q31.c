@@ -628,6 +628,174 @@ static void test_tyre_dugoff_jac_vs_f64_q31(void **state)
            worst);
 }
 
+/* ---- the Dugoff derivative's two rfe_xf_t branches against the double twin ----------------
+ * dugoff_jac_q31 keeps two branches in rfe_xf_t: L >= 1 (S > 0: g = 1 / (1 - |k|), no range
+ * as the wheel locks) and S = 0 (no slip: g = 1 for mu > 0, 0 at mu = 0). The points below are
+ * chosen in them (small slips on a soft tyre: L = mu (1 - |k|) E / (2 S) >> 1; a wheel near
+ * lock, 1 - |k| down to 2^-10, so g up to 2^10; and k = t = 0), checked in double from the same
+ * set-up, and the test counts them: it fails if fewer points than built take a branch. The
+ * expectation is tyre_flt.c's dugoff_jac in double (dugoff_g's g = 1 / (1 - |k|), dg = sgn(k)
+ * dk / (1 - |k|)^2; S = 0: g = 1 or 0, dg = 0) from the same set-up values. Bound, counting the
+ * rfe_xf_t roundings (each 2^-30 relative, half an LSB of a mantissa >= 2^29) in the branch's
+ * code: fz c (fz in Q15 and c in Q24 each to 30 bits, their product: 3); g0 = 1 / (1 - |k|)
+ * (the quotient: 1; 1 - |k| and k are exact Q30); dv g0: 2; g1 = sgn(k) dk g0^2: 2 + 1 + 1 = 4,
+ * k g1 (tan a Q26 to 30 bits, the product): 6; their sum: 1 of |dv g0| + |k g1|; the product by
+ * fz c: 3 + 1; paper mode's mu dF0: 1. At most 12 2^-30 < 2^-26.4 of
+ *   T = fz |c1| (|dk| g + |k dk| g^2)   (dFx; dFy with |c2|, |dt| and |t|; paper mode mu T),
+ * so B = 2^-26 T (the double's own rounding, ~2^-50 relative, far below). dF/dmu is 0 in both
+ * (absolute mode: exactly); paper mode's dF/dmu = F0 = fz c k g: 3 + 1 + 1 + 1 roundings, B =
+ * 2^-27 |fz c k g|. At S = 0: dF = fz c d (4 roundings, with paper mode's mu 5), B = 2^-27
+ * fz |c| |d| (paper mode mu times it), and at mu = 0 (absolute) 0 exactly; F0 = 0 exactly. */
+static void dugoff_branch_check(const rfe_tyre_params_q31_t *tp, const rfe_tyre_params_t *td,
+                                rfe_fix_t kq, rfe_fix_t aq, rfe_fix_t vwx, rfe_fix_t mu,
+                                const rfe_slip_dir_q31_t *d, const rfe_slip_dir_t *dd,
+                                size_t *n_l1, size_t *n_s0, double *worst)
+{
+    const rfe_fix_t fz = (rfe_fix_t)(4000 * (1 << 15));
+    const double fzd = 4000.0;
+    const int paper = (tp->mode == RFE_TYRE_PAPER) ? 1 : 0;
+    const double c[2] = {(paper != 0) ? td->Cx_n : td->cx, (paper != 0) ? td->Cy_n : td->cy};
+    const double dv[2] = {dd->k, dd->tan_a};
+    const double mud = ldexp((double)mu, -29);
+    const double mus = (paper != 0) ? 1.0 : mud;
+    const double dscale = (paper != 0) ? mud : 1.0; /* paper mode: dF = mu dF0 */
+    rfe_dugoff_pre_q31_t pre;
+    rfe_dugoff_pre_t pd;
+    rfe_tyre_jac_q31_t o;
+    rfe_tyre_jac_t od;
+    double g;
+    double kt[2];
+    double got[4];
+    double want[4];
+    double bound[4];
+    size_t r;
+    if (paper != 0) {
+        rfe_tyre_norm_pre_q31(tp, kq, aq, vwx, &pre);
+    } else {
+        rfe_tyre_dugoff_pre_q31(tp, kq, aq, vwx, &pre);
+    }
+    memset(&pd, 0, sizeof pd);
+    pd.s = ldexp((double)pre.s, -(int)pre.qs);
+    pd.ux = ldexp((double)pre.ux, -30);
+    pd.uy = ldexp((double)pre.uy, -30);
+    pd.e = ldexp((double)pre.e, -30);
+    pd.omk = ldexp((double)pre.omk, -30);
+    pd.k = ldexp((double)kq, -30);
+    pd.tan_a = ldexp((double)pre.tan_a, -26);
+    kt[0] = pd.k;
+    kt[1] = pd.tan_a;
+    if (pd.s > 0.0) {
+        const double L = mus * pd.omk * pd.e / (2.0 * pd.s);
+        if (L < 1.0 + ldexp(1.0, -20)) {
+            return; /* not this test's branch (or too near L = 1 to know which) */
+        }
+        ++*n_l1;
+        g = 1.0 / pd.omk;
+        for (r = 0u; r < 2u; ++r) {
+            const double t = fzd * fabs(c[r]) * ((fabs(dv[r]) * g) + (fabs(kt[r] * dd->k) * g * g));
+            bound[r] = ldexp(t * dscale, -26);
+            bound[2u + r] = ldexp(fzd * fabs(c[r] * kt[r]) * g, -27);
+        }
+    } else {
+        ++*n_s0;
+        for (r = 0u; r < 2u; ++r) {
+            bound[r] = ldexp(fzd * fabs(c[r] * dv[r]) * dscale, -27);
+            bound[2u + r] = 0.0;
+        }
+    }
+    rfe_tyre_pre_jac_q31(tp, &pre, kq, vwx, fz, mu, d, &o);
+    assert_int_equal(rfe_tyre_pre_jac_f64(td, &pd, pd.k, ldexp((double)aq, -29), fzd,
+                                          ldexp((double)vwx, -23), mud, dd, &od),
+                     RFE_OK);
+    got[0] = xf_value(o.dfx);
+    got[1] = xf_value(o.dfy);
+    got[2] = xf_value(o.mfx);
+    got[3] = xf_value(o.mfy);
+    want[0] = od.dfx;
+    want[1] = od.dfy;
+    want[2] = od.mfx;
+    want[3] = od.mfy;
+    for (r = 0u; r < 4u; ++r) {
+        const double err = fabs(got[r] - want[r]);
+        if (err > bound[r]) {
+            printf("mode %d kappa %ld alpha %ld mu %ld out %zu: q31 %.12g f64 %.12g bound %.3g\n",
+                   (int)tp->mode, (long)kq, (long)aq, (long)mu, r, got[r], want[r], bound[r]);
+        }
+        assert_true(err <= bound[r]);
+        if (bound[r] > 0.0) {
+            *worst = fmax(*worst, err / bound[r]);
+        }
+    }
+}
+
+/* REQ: the Dugoff forces' derivatives in their L >= 1 and S = 0 branches (absolute and paper
+ * mode) are the double twin's within the bound above. */
+/* REQ-MEAS-003 REQ-FXP-003 */
+static void test_tyre_dugoff_jac_l1_s0_vs_f64_q31(void **state)
+{
+    const rfe_params_q31_t p = preset();
+    /* small slips and a wheel near lock (Q30: 2^-18, -2^-12, 2^-8, 1 - 2^-10; 0) */
+    const rfe_fix_t kappas[5] = {0, (rfe_fix_t)(1 << 12), -(rfe_fix_t)(1 << 18),
+                                 (rfe_fix_t)(1 << 22), (rfe_fix_t)((1 << 30) - (1 << 20))};
+    /* small slip angles (Q29 rad: 0, 2^-17, -2^-10) */
+    const rfe_fix_t alphas[3] = {0, (rfe_fix_t)(1 << 12), -(rfe_fix_t)(1 << 19)};
+    /* mu 0, 0.3, 1.2 (Q29) */
+    const rfe_fix_t mus[3] = {0, (rfe_fix_t)161061274, (rfe_fix_t)644245094};
+    /* v_wx 20 m/s and -3 m/s (Q23) */
+    const rfe_fix_t vwxs[2] = {(rfe_fix_t)(20 * (1 << 23)), -(rfe_fix_t)(3 * (1 << 23))};
+    /* eps 0 and 0.45 (Q32); stiffness: the preset's and 0.05 (Q24) */
+    const rfe_fix_t epss[2] = {0, (rfe_fix_t)1932735283};
+    const rfe_fix_t stiff[2] = {0, (rfe_fix_t)838861};
+    rfe_slip_dir_q31_t d;
+    rfe_slip_dir_t dd;
+    size_t n_l1 = 0u;
+    size_t n_s0 = 0u;
+    double worst = 0.0;
+    size_t n;
+    (void)state;
+    d.k = rfe_xf_make(3, -7);
+    d.tan_a = rfe_xf_make(-5, -6);
+    d.vwx = rfe_xf_make(1, -1);
+    dd.k = xf_value(d.k);
+    dd.tan_a = xf_value(d.tan_a);
+    dd.vwx = xf_value(d.vwx);
+    /* mode (2) x stiffness (2) x eps (2) x v_wx (2) x kappa (5) x alpha (3) x mu (3) */
+    for (n = 0u; n < 720u; ++n) {
+        rfe_tyre_params_q31_t tp = p.tyre;
+        rfe_tyre_params_t td;
+        const size_t im = n % 2u;
+        const size_t is = (n / 2u) % 2u;
+        const size_t ie = (n / 4u) % 2u;
+        const size_t iv = (n / 8u) % 2u;
+        const size_t ik = (n / 16u) % 5u;
+        const size_t ia = (n / 80u) % 3u;
+        const size_t ju = n / 240u;
+        tp.mode = (im == 0u) ? RFE_TYRE_ABSOLUTE : RFE_TYRE_PAPER;
+        tp.eps = epss[ie];
+        if (stiff[is] != 0) {
+            tp.cx = stiff[is];
+            tp.cy = stiff[is];
+            tp.Cx_n = stiff[is];
+            tp.Cy_n = stiff[is];
+        }
+        assert_int_equal(rfe_tyre_abs_params_ok_q31(&tp), 1);
+        memset(&td, 0, sizeof td);
+        td.mode = tp.mode;
+        td.cx = ldexp((double)tp.cx, -RFE_FIX_Q_STIFF);
+        td.cy = ldexp((double)tp.cy, -RFE_FIX_Q_STIFF);
+        td.Cx_n = ldexp((double)tp.Cx_n, -RFE_FIX_Q_STIFF);
+        td.Cy_n = ldexp((double)tp.Cy_n, -RFE_FIX_Q_STIFF);
+        td.eps = ldexp((double)tp.eps, -RFE_FIX_Q_EPS);
+        td.alpha_max = ldexp((double)tp.alpha_max, -29);
+        dugoff_branch_check(&tp, &td, kappas[ik], alphas[ia], vwxs[iv], mus[ju], &d, &dd, &n_l1,
+                            &n_s0, &worst);
+    }
+    printf("dugoff jac q31 vs f64, L >= 1: %zu points, S = 0: %zu points, worst |error| / bound "
+           "%.3g\n", n_l1, n_s0, worst);
+    assert_true(n_l1 >= 100u);
+    assert_true(n_s0 == 48u); /* k = t = 0: 2 modes x 2 stiffness x 2 eps x 2 v_wx x 3 mu */
+}
+
 /* ---- the Magic Formula derivative's factors in Q30 against the formulas in double ----------
  * tyre_q31.c computes, per direction, m G / s (magic_g_over_s_q31), m dG/ds and G - s dG/ds
  * (magic_shape_jac_q31) as Q30 integers and combines them (magic_dfs_q31) into
@@ -831,6 +999,7 @@ int main(void)
         cmocka_unit_test(test_tyre_magic_jac_vs_f64_q31),
         cmocka_unit_test(test_tyre_magic_factors_vs_f64_q31),
         cmocka_unit_test(test_tyre_dugoff_jac_vs_f64_q31),
+        cmocka_unit_test(test_tyre_dugoff_jac_l1_s0_vs_f64_q31),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
