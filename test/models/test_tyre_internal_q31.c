@@ -173,6 +173,20 @@ static void test_tyre_internal_q31(void **state)
 /* The real value of an rfe_xf_t (m 2^e). */
 static double xf_value(rfe_xf_t a) { return ldexp((double)a.m, a.e); }
 
+/* The derivative direction the tests ask for (3 2^-7 along kappa, -5 2^-6 along tan alpha,
+ * 2^-1 along v_wx: mixed signs, exact in both twins), in q31 (d) and in double (dd). */
+static void slip_dirs(rfe_slip_dir_q31_t *d, rfe_slip_dir_t *dd)
+{
+    d->k = rfe_xf_make(3, -7);
+    d->tan_a = rfe_xf_make(-5, -6);
+    d->vwx = rfe_xf_make(1, -1);
+    if (dd != NULL) {
+        dd->k = xf_value(d->k);
+        dd->tan_a = xf_value(d->tan_a);
+        dd->vwx = xf_value(d->vwx);
+    }
+}
+
 /* The four derivatives of the q31 result o (got) and of the double twin's od (want) in one
  * order: dFx, dFy, dFx/dmu, dFy/dmu. */
 static void jac_values(const rfe_tyre_jac_q31_t *o, const rfe_tyre_jac_t *od, double got[4],
@@ -300,9 +314,7 @@ static void test_tyre_magic_pre_jac_fused_q31(void **state)
     (void)state;
     tp.mode = RFE_TYRE_MAGIC;
     assert_int_equal(rfe_tyre_abs_params_ok_q31(&tp), 1);
-    d.k = rfe_xf_make(3, -7);
-    d.tan_a = rfe_xf_make(-5, -6);
-    d.vwx = rfe_xf_make(1, -1);
+    slip_dirs(&d, NULL);
     for (a = 0u; a < 5u; ++a) {
         for (b = 0u; b < 4u; ++b) {
             rfe_dugoff_pre_q31_t pre;
@@ -388,12 +400,7 @@ static void test_tyre_magic_jac_vs_f64_q31(void **state)
     size_t e;
     (void)state;
     tp.mode = RFE_TYRE_MAGIC;
-    d.k = rfe_xf_make(3, -7);
-    d.tan_a = rfe_xf_make(-5, -6);
-    d.vwx = rfe_xf_make(1, -1);
-    dd.k = xf_value(d.k);
-    dd.tan_a = xf_value(d.tan_a);
-    dd.vwx = xf_value(d.vwx);
+    slip_dirs(&d, &dd);
     memset(&td, 0, sizeof td);
     td.mode = RFE_TYRE_MAGIC;
     td.cx = ldexp((double)tp.cx, -RFE_FIX_Q_STIFF);
@@ -533,12 +540,7 @@ static void test_tyre_dugoff_jac_vs_f64_q31(void **state)
     long compared = 0;
     size_t mode;
     (void)state;
-    d.k = rfe_xf_make(3, -7);
-    d.tan_a = rfe_xf_make(-5, -6);
-    d.vwx = rfe_xf_make(1, -1);
-    dd.k = xf_value(d.k);
-    dd.tan_a = xf_value(d.tan_a);
-    dd.vwx = xf_value(d.vwx);
+    slip_dirs(&d, &dd);
     for (mode = 0u; mode < 2u; ++mode) {
         size_t ic;
         /* 12 cases: stiffness (2) x eps (3) x v_wx (2) */
@@ -753,12 +755,7 @@ static void test_tyre_dugoff_jac_l1_s0_vs_f64_q31(void **state)
     double worst = 0.0;
     size_t n;
     (void)state;
-    d.k = rfe_xf_make(3, -7);
-    d.tan_a = rfe_xf_make(-5, -6);
-    d.vwx = rfe_xf_make(1, -1);
-    dd.k = xf_value(d.k);
-    dd.tan_a = xf_value(d.tan_a);
-    dd.vwx = xf_value(d.vwx);
+    slip_dirs(&d, &dd);
     /* mode (2) x stiffness (2) x eps (2) x v_wx (2) x kappa (5) x alpha (3) x mu (3) */
     for (n = 0u; n < 720u; ++n) {
         rfe_tyre_params_q31_t tp = p.tyre;
