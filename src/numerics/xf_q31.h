@@ -25,6 +25,15 @@
 #include "rfe/fixed.h"
 #include "numerics/internal_q31.h"
 
+/** A function kept out of line: the few rfe_xf_t helpers whose inlined copies (each with
+ *  rfe_xf_make's normalisation) cost more flash than their calls cost time (tyre_q31.c). */
+#if defined(__GNUC__)
+/* MISRA-DEV-02: a GNU attribute (Rule 1.2, language extension), only under __GNUC__ */
+#define RFE_XF_OUTLINE __attribute__((noinline))
+#else
+#define RFE_XF_OUTLINE
+#endif
+
 /** m 2^e, normalised (see the file comment). */
 typedef struct {
     int32_t m; /**< mantissa: 0 or 2^29 <= |m| <= 2^30 */
