@@ -824,7 +824,7 @@ static int64_t q30_of(int64_t v, unsigned int sh) { return rfe_fix_shr64_round(v
  * < 2^62 rounded to Q30 (2^-31 each): (1 - L) u u within 3 2^-31, times c within 2^-22.4
  * (2^-29.4 of |c|); mu E / 4 u within 2^-30; |b| < 2^8.1 (Q30 < 2^38.1). mu (1 - L) u: Q30
  * < 2^32 within 2^-30. The b enter rfe_xf_t rounded to 30 bits (2^-30 relative); per
- * direction (one loop, one copy of the inlined rfe_xf_t steps) 7 rfe_xf_t products with the
+ * direction (one loop; tyre_xf_mul, tyre_xf_dot out of line) 7 rfe_xf_t products with the
  * real change d, h, dE and fz, where the former rfe_xf_t chain had about 40 in all. Outputs:
  * df = dF, mf = dF/dmu, f0 = F (paper mode's dF/dmu). */
 static void dugoff_jac_lt1_q31(const rfe_dugoff_pre_q31_t *pre, int32_t kq, int32_t c1q,
