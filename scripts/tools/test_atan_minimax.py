@@ -8,6 +8,7 @@ import re
 import sys
 
 import numpy as np
+import pytest
 
 sys.path.insert(0, os.path.dirname(__file__))
 import atan_minimax  # noqa: E402
@@ -33,8 +34,14 @@ def library_coefficients() -> list[float]:
     return [1.0] + coeffs[::-1]
 
 
-def test_the_library_uses_the_fitted_coefficients():
-    c, _ = atan_minimax.fit()
+@pytest.fixture(scope="module")
+def fitted():
+    """The fit, once for both tests (it is deterministic; ~3 s each time)."""
+    return atan_minimax.fit()
+
+
+def test_the_library_uses_the_fitted_coefficients(fitted):
+    c, _ = fitted
     lib = library_coefficients()
     assert len(lib) == atan_minimax.TERMS
     # The fit runs a least-squares solve whose last bits depend on the BLAS kernel; rounded to
@@ -43,8 +50,8 @@ def test_the_library_uses_the_fitted_coefficients():
         assert abs(got - want) <= 2.0 ** -22 * max(abs(want), 1e-3), (k, got, want)
 
 
-def test_the_fit_equioscillates_below_its_stated_error():
-    c, err = atan_minimax.fit()
+def test_the_fit_equioscillates_below_its_stated_error(fitted):
+    c, err = fitted
     # trig_f32.h states 1.4e-8 relative in exact arithmetic for the 9-term fit.
     assert err <= 1.4e-8
     t = np.linspace(1e-6, 1.0, 200001)
