@@ -33,12 +33,10 @@ the curve pause held. With --page the text goes between <!-- mass-curve-pause:be
 <!-- mass-curve-pause:end -->.
 """
 
-import argparse
 import math
 import multiprocessing
 import os
 import sys
-from pathlib import Path
 
 import numpy as np
 
@@ -46,10 +44,9 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 sys.path.insert(0, os.path.join(ROOT, "scripts"))
 sys.path.insert(0, os.path.join(ROOT, "scripts", "tools"))
 
-from mass_slip_ramp_study import (RECOMMENDED, SIM_RESISTANCES, log_path, mg,  # noqa: E402
-                                  observer_samples, res_logs)
-from mass_sensitivity import log_mass  # noqa: E402
-from md_tables import replace_region  # noqa: E402
+from mass_slip_ramp_study import (RECOMMENDED, SIM_RESISTANCES, mass_grade_log,  # noqa: E402
+                                  mass_grade_logs, mg, observer_log, observer_samples, res_logs,
+                                  study_main, true_speed_samples)
 
 PAUSED_CURVE = mg.PAUSED_CURVE
 HOLD = 1.0                  # s: the curve pause's hold after the last sample over A (mg_t_brake's)
@@ -96,9 +93,7 @@ def terms(cols, meta, vy):
 
 def observer_job(job):
     name, start, variant = job
-    path = log_path(name)
-    cols, meta = mg.read_log(path)
-    m = log_mass(path)
+    cols, meta, m = observer_log(name)
     ay_max, corr = VARIANTS[variant]
     over = {} if name.split(".", 1)[0].endswith("_res") else SIM_RESISTANCES
     est = mg.MassGrade(mg.preset("car", mg_m0=m * start, mg_ay_max=ay_max, mg_t_curve=HOLD,
@@ -110,15 +105,12 @@ def observer_job(job):
 
 def mass_grade_job(job):
     name, cfg, variant = job
-    cols, meta = mg.read_log(os.path.join(ROOT, "scenarios", "mass_grade", name))
-    vehicle = "truck" if name.startswith("truck") else "car"
+    cols, meta, vehicle = mass_grade_log(name)
     m = float(cols["mass_true"][-1])
     ay_max, corr = VARIANTS[variant]
     est = mg.MassGrade(mg.preset(vehicle, mg_m0=MG_START * float(cols["mass_true"][0]),
                                  mg_ay_max=ay_max, mg_t_curve=HOLD, **MG_CONFIGS[cfg]))
-    samples = list(mg.samples(cols, est.p))
-    for s, vx in zip(samples, cols["vx_true"]):
-        s.vx = float(vx)
+    samples = true_speed_samples(cols, est.p)
     meta.setdefault("Lf", "1.4")
     meta.setdefault("Lr", "1.65")
     fc, vy_r = terms(cols, meta, np.zeros_like(cols["t"]))
@@ -170,27 +162,22 @@ def tables(res, obs_names, mg_names):
     return "\n".join(lines)
 
 
-def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--page", help="Markdown page whose mass-curve-pause region is rewritten")
-    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
-    a = ap.parse_args(argv)
+def results_text(n_jobs):
+    """Every run of the study on @n_jobs processes: the page's text."""
     obs_dir = os.path.join(ROOT, "scenarios", "observer")
     obs_names = sorted(f for f in os.listdir(obs_dir)
                        if f.endswith(".csv") and not f.endswith(".mf.csv")) + [
         n for n in res_logs() if not n.endswith(".mf.csv")]
-    mg_names = sorted(f for f in os.listdir(os.path.join(ROOT, "scenarios", "mass_grade"))
-                      if f.endswith(".csv"))
+    mg_names = mass_grade_logs()
     jobs = [("mg", n, c, v) for n in mg_names for c in MG_CONFIGS for v in VARIANTS]
     jobs += [("obs", n, s, v) for n in obs_names for s in STARTS for v in VARIANTS]
-    with multiprocessing.Pool(a.jobs) as pool:
+    with multiprocessing.Pool(n_jobs) as pool:
         res = dict(pool.map(lambda_job, jobs, chunksize=1))
-    text = tables(res, obs_names, mg_names)
-    print(text)
-    if a.page:
-        replace_region(Path(a.page), "<!-- mass-curve-pause:begin -->",
-                       "<!-- mass-curve-pause:end -->", text.splitlines(),
-                       "mass_curve_pause_study")
+    return tables(res, obs_names, mg_names)
+
+
+def main(argv=None):
+    study_main(argv, __doc__, "mass-curve-pause", "mass_curve_pause_study", results_text)
 
 
 def lambda_job(job):

@@ -156,11 +156,55 @@ def res_logs():
         if os.path.isdir(RES_DIR) else []
 
 
+# What the mass studies share (this one and mass_curve_pause_study.py): the logs, how they are
+# read and fed to the reference, and the command line that prints the text and writes the page.
+MG_DIR = os.path.join(ROOT, "scenarios", "mass_grade")
+
+
+def observer_log(name):
+    """The observer log @name (log_path): (columns, metadata, the vehicle's mass m)."""
+    path = log_path(name)
+    cols, meta = mg.read_log(path)
+    return cols, meta, log_mass(path)
+
+
+def mass_grade_logs():
+    """The mass and grade logs' names (scenarios/mass_grade/*.csv), sorted."""
+    return sorted(f for f in os.listdir(MG_DIR) if f.endswith(".csv"))
+
+
+def mass_grade_log(name):
+    """The mass and grade log @name: (columns, metadata, its vehicle's preset: truck or car)."""
+    cols, meta = mg.read_log(os.path.join(MG_DIR, name))
+    return cols, meta, "truck" if name.startswith("truck") else "car"
+
+
+def true_speed_samples(cols, p):
+    """The reference's samples of a mass and grade log (parameters @p) with the log's vx_true
+    handed over as the ground speed."""
+    samples = list(mg.samples(cols, p))
+    for s, vx in zip(samples, cols["vx_true"]):
+        s.vx = float(vx)
+    return samples
+
+
+def study_main(argv, doc, region, who, results_text):
+    """A mass study's command line (--page, --jobs): prints results_text(jobs) and, with
+    --page, writes it between <!-- @region:begin --> and <!-- @region:end --> (as @who)."""
+    ap = argparse.ArgumentParser(description=doc.splitlines()[0])
+    ap.add_argument("--page", help=f"Markdown page whose {region} region is rewritten")
+    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
+    a = ap.parse_args(argv)
+    text = results_text(a.jobs)
+    print(text)
+    if a.page:
+        replace_region(Path(a.page), f"<!-- {region}:begin -->", f"<!-- {region}:end -->",
+                       text.splitlines(), who)
+
+
 def observer_job(job):
     name, start, variant = job
-    path = log_path(name)
-    cols, _ = mg.read_log(path)
-    m = log_mass(path)
+    cols, _, m = observer_log(name)
     over, period = VARIANTS[variant]
     est = Rollback(mg.preset("car", mg_m0=m * start, **RECOMMENDED, **over), period)
     outs = [est.step(s) for s in observer_samples(cols, est.p["R"])]
@@ -185,14 +229,10 @@ def observer_job(job):
 
 def mass_grade_job(job):
     name, variant = job
-    cols, _ = mg.read_log(os.path.join(ROOT, "scenarios", "mass_grade", name))
-    vehicle = "truck" if name.startswith("truck") else "car"
+    cols, _, vehicle = mass_grade_log(name)
     over, period = VARIANTS[variant]
     est = Rollback(mg.preset(vehicle, **RECOMMENDED, **over), period)
-    grade = []
-    for s, vx in zip(mg.samples(cols, est.p), cols["vx_true"]):
-        s.vx = float(vx)
-        grade.append(est.step(s).grade)
+    grade = [est.step(s).grade for s in true_speed_samples(cols, est.p)]
     err = np.asarray(grade) - cols["grade_true"]
     return (name, variant), {"mass_err": (est.x[1] - cols["mass_true"][-1]) / cols["mass_true"][-1],
                              "grade_rmse": float(np.sqrt(np.mean(err * err))),
@@ -296,28 +336,24 @@ def tables(obs, names, mgr, mg_names, res_names=()):
     return "\n".join(lines)
 
 
-def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--page", help="Markdown page whose mass-slip-ramp region is rewritten")
-    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
-    a = ap.parse_args(argv)
+def results_text(n_jobs):
+    """Every run of the study on @n_jobs processes: the page's text."""
     names = logs()
-    mg_names = sorted(f for f in os.listdir(os.path.join(ROOT, "scenarios", "mass_grade"))
-                      if f.endswith(".csv"))
+    mg_names = mass_grade_logs()
     res_names = res_logs()
     obs_jobs = [(n, s, v) for n in names for s in STARTS for v in VARIANTS
                 if n.startswith(TRACTION) or v == "pause" or v.startswith("rollback")]
     obs_jobs += [(n, s, v) for n in res_names for s in STARTS for v in RES_VARIANTS]
     mg_jobs = [(n, v) for n in mg_names for v in VARIANTS
                if v == "pause" or v.startswith("rollback")]
-    with multiprocessing.Pool(a.jobs) as pool:
+    with multiprocessing.Pool(n_jobs) as pool:
         mgr = dict(pool.map(mass_grade_job, mg_jobs, chunksize=1))
         obs = dict(pool.map(observer_job, obs_jobs, chunksize=4))
-    text = tables(obs, names, mgr, mg_names, res_names)
-    print(text)
-    if a.page:
-        replace_region(Path(a.page), "<!-- mass-slip-ramp:begin -->",
-                       "<!-- mass-slip-ramp:end -->", text.splitlines(), "mass_slip_ramp_study")
+    return tables(obs, names, mgr, mg_names, res_names)
+
+
+def main(argv=None):
+    study_main(argv, __doc__, "mass-slip-ramp", "mass_slip_ramp_study", results_text)
 
 
 if __name__ == "__main__":

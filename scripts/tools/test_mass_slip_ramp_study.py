@@ -155,3 +155,32 @@ def test_res_tables_and_paths():
     assert rs.log_path("hill_res.mf.csv") == os.path.join(rs.ROOT, "scenarios", "observer_res",
                                                           "hill_res.mf.csv")
     assert rs.log_path("hill.csv") == os.path.join(rs.ROOT, "scenarios", "observer", "hill.csv")
+
+
+def test_shared_study_helpers(tmp_path, capsys):
+    """What the mass studies share (mass_curve_pause_study.py uses it too): the mass and grade
+    logs (the .csv names, sorted; truck_* in the truck preset, the others in the car's), their
+    samples with vx_true as the ground speed (one a row, otherwise the reference's own), and
+    the command line: --jobs handed to the study, its text printed and written between the
+    page's markers with the rest of the page kept."""
+    names = rs.mass_grade_logs()
+    assert names and names == sorted(names) and all(n.endswith(".csv") for n in names)
+    assert "truck_graded_drive.csv" in names and "car_gear_shift.csv" in names
+    assert rs.mass_grade_log("truck_graded_drive.csv")[2] == "truck"
+    cols, _, vehicle = rs.mass_grade_log("car_gear_shift.csv")
+    assert vehicle == "car"
+    p = mg.preset(vehicle)
+    plain = list(mg.samples(cols, p))
+    got = rs.true_speed_samples(cols, p)
+    assert len(got) == len(plain) == len(cols["t"])
+    assert [s.vx for s in got] == [float(v) for v in cols["vx_true"]]
+    assert all(a.vx is None for a in plain)
+    assert [(s.t, s.v, s.torque, s.ax) for s in got] == [(s.t, s.v, s.torque, s.ax) for s in plain]
+    page = tmp_path / "page.md"
+    page.write_text("head\n<!-- x-y:begin -->\nold\n<!-- x-y:end -->\ntail\n")
+    seen = []
+    rs.study_main(["--page", str(page), "--jobs", "3"], "title\nmore", "x-y", "who",
+                  lambda n: seen.append(n) or "a\nb")
+    assert seen == [3]
+    assert capsys.readouterr().out == "a\nb\n"
+    assert page.read_text() == "head\n<!-- x-y:begin -->\na\nb\n<!-- x-y:end -->\ntail\n"

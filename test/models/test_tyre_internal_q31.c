@@ -202,6 +202,21 @@ static void jac_values(const rfe_tyre_jac_q31_t *o, const rfe_tyre_jac_t *od, do
     want[3] = od->mfy;
 }
 
+/* The double twin's set-up read exactly from the q31 one (s in Q(qs); ux, uy, E and 1 - |k| in
+ * Q30; tan a in Q26) and from the Q30 kappa kq it was built from, so the double code runs on the
+ * very values the q31 code does; the fields the q31 set-up has not, 0. */
+static void dugoff_pre_f64(const rfe_dugoff_pre_q31_t *pre, rfe_fix_t kq, rfe_dugoff_pre_t *pd)
+{
+    memset(pd, 0, sizeof *pd);
+    pd->s = ldexp((double)pre->s, -(int)pre->qs);
+    pd->ux = ldexp((double)pre->ux, -30);
+    pd->uy = ldexp((double)pre->uy, -30);
+    pd->e = ldexp((double)pre->e, -30);
+    pd->omk = ldexp((double)pre->omk, -30);
+    pd->k = ldexp((double)kq, -30);
+    pd->tan_a = ldexp((double)pre->tan_a, -26);
+}
+
 /* REQ: at no slip (kappa = 0, alpha = 0: S = 0) the absolute Dugoff tyre's derivatives are the
  * linear tyre's (dFy = Fz cy d tan(alpha), dFx = Fz cx d kappa, no dependence on mu) when
  * mu > 0, and zero at mu = 0 and below (no friction: no force at any slip, so none changes). The
@@ -579,14 +594,7 @@ static void test_tyre_dugoff_jac_vs_f64_q31(void **state)
                 } else {
                     rfe_tyre_norm_pre_q31(&tp, kq, aq, vwx, &pre);
                 }
-                memset(&pd, 0, sizeof pd);
-                pd.s = ldexp((double)pre.s, -(int)pre.qs);
-                pd.ux = ldexp((double)pre.ux, -30);
-                pd.uy = ldexp((double)pre.uy, -30);
-                pd.e = ldexp((double)pre.e, -30);
-                pd.omk = ldexp((double)pre.omk, -30);
-                pd.k = ldexp((double)kq, -30);
-                pd.tan_a = ldexp((double)pre.tan_a, -26);
+                dugoff_pre_f64(&pre, kq, &pd);
                 for (j = 0u; j < 3u; ++j) {
                     const double mud = ldexp((double)mus[j], -29);
                     const double mus_d = (mode == 0u) ? mud : 1.0;
@@ -676,14 +684,7 @@ static void dugoff_branch_check(const rfe_tyre_params_q31_t *tp, const rfe_tyre_
     } else {
         rfe_tyre_dugoff_pre_q31(tp, kq, aq, vwx, &pre);
     }
-    memset(&pd, 0, sizeof pd);
-    pd.s = ldexp((double)pre.s, -(int)pre.qs);
-    pd.ux = ldexp((double)pre.ux, -30);
-    pd.uy = ldexp((double)pre.uy, -30);
-    pd.e = ldexp((double)pre.e, -30);
-    pd.omk = ldexp((double)pre.omk, -30);
-    pd.k = ldexp((double)kq, -30);
-    pd.tan_a = ldexp((double)pre.tan_a, -26);
+    dugoff_pre_f64(&pre, kq, &pd);
     kt[0] = pd.k;
     kt[1] = pd.tan_a;
     if (pd.s > 0.0) {
