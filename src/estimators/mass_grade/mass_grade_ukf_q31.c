@@ -140,7 +140,7 @@ static rfe_status_t scalar_update_q31(rfe_fix_t *A, size_t cols, size_t lda, rfe
  * triangular with a nonnegative diagonal (S+ S+^T = P - P_xz P_xz^T / s^2). Then x += g (y -
  * v) / s, the whitened innovation in Q24. The ratios in Q30 (<= 1) by exactly rounded
  * divisions. */
-static rfe_status_t speed_update_q31(rfe_fix_t r_v, rfe_fix_t innov, rfe_fix_t x[RFE_MG_N_Q31],
+rfe_status_t rfe_mg_speed_update_q31(rfe_fix_t r_v, rfe_fix_t innov, rfe_fix_t x[RFE_MG_N_Q31],
                                      rfe_fix_t S[RFE_MG_N_Q31 * RFE_MG_N_Q31], uint32_t *sat)
 {
     const rfe_fix_t col[2] = {S[0], r_v};
@@ -202,7 +202,7 @@ rfe_status_t rfe_mg_correct_q31(const rfe_fix_t chi[RFE_MG_PTS_Q31 * RFE_MG_N_Q3
         st = scalar_update_q31(A, PTS + 1u, PTS + 1u, rfe_fix_sub(y[1], zm, &s), xn, Sn, &s);
     }
     if (st == RFE_OK) {
-        st = speed_update_q31(r[0], rfe_fix_sub(y[0], xn[0], &s), xn, Sn, &s);
+        st = rfe_mg_speed_update_q31(r[0], rfe_fix_sub(y[0], xn[0], &s), xn, Sn, &s);
     }
     if (st != RFE_OK) {
         return st;
