@@ -252,7 +252,6 @@ static rfe_status_t grade_from_ax(rfe_mass_grade_t *o, const rfe_mass_grade_inpu
     const rfe_real_t gc = (o->p.g * RFE_COS(o->x[2])) * dt;
     const rfe_real_t rax = o->p.r_ax * dt;
     rfe_status_t st;
-    size_t i;
     A[0] = o->S[0] - (gc * o->S[6]);
     A[1] = -gc * o->S[8];
     A[2] = RFE_SQRT(((o->p.q_v * o->p.q_v) * dt) + (rax * rax));
@@ -261,6 +260,7 @@ static rfe_status_t grade_from_ax(rfe_mass_grade_t *o, const rfe_mass_grade_inpu
     A[7] = o->p.q_theta * RFE_SQRT(dt);
     st = rfe_qr_tria(A, 2u, 4u, 4u);
     if (st == RFE_OK) {
+        size_t i;
         for (i = 0u; i < (N * N); ++i) {
             S[i] = o->S[i];
         }
@@ -292,10 +292,14 @@ static rfe_status_t grade_from_ax(rfe_mass_grade_t *o, const rfe_mass_grade_inpu
 static rfe_status_t paused(rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in,
                            rfe_status_t status)
 {
-    const int v_free = (o->S[3] == RFE_R(0.0)) ? 1 : 0;
-    return (rfe_mg_grade_in_pause(status, (uint32_t)o->p.pause_grade, v_free) != 0)
-               ? grade_from_ax(o, in, in->dt)
-               : hold(o, in, in->dt);
+    rfe_status_t st;
+    if (rfe_mg_grade_in_pause(status, (uint32_t)o->p.pause_grade,
+                              (o->S[3] == RFE_R(0.0)) ? 1 : 0) != 0) {
+        st = grade_from_ax(o, in, in->dt);
+    } else {
+        st = hold(o, in, in->dt);
+    }
+    return st;
 }
 
 /* §4.4 eqs. 22-25 once per adaptation period: lambda_u = 1/2 |q_s - D| / (q_s + D) scales

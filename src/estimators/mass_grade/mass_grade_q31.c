@@ -288,7 +288,6 @@ static rfe_status_t grade_from_ax_q31(rfe_mass_grade_q31_t *o, const rfe_mass_gr
     const rfe_fix_t sdt = sqrt_dt_q31(dt, sat);
     rfe_xf_t gc;
     rfe_status_t st;
-    size_t i;
     rfe_q31_sincos_q29(o->x[2], &s, &c);
     gc = rfe_xf_mul(rfe_xf_mul(g, rfe_xf_of(c, 30)), xdt);
     A[0] = rfe_fix_sub(o->S[0],
@@ -307,6 +306,7 @@ static rfe_status_t grade_from_ax_q31(rfe_mass_grade_q31_t *o, const rfe_mass_gr
     }
     if (st == RFE_OK) {
         const rfe_xf_t acc = rfe_xf_sub(rfe_xf_of(in->ax, RFE_MG_Q_V), rfe_xf_mul(g, rfe_xf_of(s, 30)));
+        size_t i;
         for (i = 0u; i < (N * N); ++i) {
             S[i] = o->S[i];
         }
@@ -335,10 +335,13 @@ static rfe_status_t grade_from_ax_q31(rfe_mass_grade_q31_t *o, const rfe_mass_gr
 static rfe_status_t paused_q31(rfe_mass_grade_q31_t *o, const rfe_mass_grade_input_q31_t *in,
                                rfe_status_t status, uint32_t *sat)
 {
-    const int v_free = (o->S[3] == 0) ? 1 : 0;
-    return (rfe_mg_grade_in_pause(status, o->p.pause_grade, v_free) != 0)
-               ? grade_from_ax_q31(o, in, in->dt, sat)
-               : hold_q31(o, in, in->dt, sat);
+    rfe_status_t st;
+    if (rfe_mg_grade_in_pause(status, o->p.pause_grade, (o->S[3] == 0) ? 1 : 0) != 0) {
+        st = grade_from_ax_q31(o, in, in->dt, sat);
+    } else {
+        st = hold_q31(o, in, in->dt, sat);
+    }
+    return st;
 }
 
 /* The adaptation's stop: q_mv <= mv_stop q_mc^2 (in rfe_xf_t: the square exact, the product

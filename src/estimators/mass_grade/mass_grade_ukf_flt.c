@@ -177,8 +177,7 @@ static rfe_status_t ax_update(const rfe_real_t *chi, const rfe_real_t *Z,
  * [[S_00, 0, 0, r_v], [S, 0]] triangularises by one Givens rotation of S's column 0 with
  * (r_v, 0): s = sqrt(S_00^2 + r_v^2), g = (S_00 / s) S[:, 0] (= P_xz / s), S+ = S with its
  * column 0 scaled by r_v / s (lower triangular with a nonnegative diagonal already). */
-rfe_status_t rfe_mg_speed_update(rfe_real_t r_v, rfe_real_t y, rfe_real_t x[RFE_MG_N],
-                                 rfe_real_t S[RFE_MG_N * RFE_MG_N])
+static rfe_status_t speed_update(rfe_real_t r_v, rfe_real_t y, rfe_real_t *x, rfe_real_t *S)
 {
     const rfe_real_t s = RFE_SQRT((S[0] * S[0]) + (r_v * r_v));
     const rfe_real_t innov = y - x[0];
@@ -203,6 +202,14 @@ rfe_status_t rfe_mg_speed_update(rfe_real_t r_v, rfe_real_t y, rfe_real_t x[RFE_
     return RFE_OK;
 }
 
+/* The speed row for the grade from ax in a pause (mass_grade_flt.c); a wrapper, so that the
+ * update's call of the static one stays as the compiler inlined it. */
+rfe_status_t rfe_mg_speed_update(rfe_real_t r_v, rfe_real_t y, rfe_real_t x[RFE_MG_N],
+                                 rfe_real_t S[RFE_MG_N * RFE_MG_N])
+{
+    return speed_update(r_v, y, x, S);
+}
+
 rfe_status_t rfe_mg_correct(const rfe_real_t chi[RFE_MG_PTS * RFE_MG_N],
                             const rfe_real_t Z[RFE_MG_PTS], size_t nz, const rfe_mg_weights_t *w,
                             const rfe_real_t r[RFE_MG_Z_MAX], const rfe_real_t y[RFE_MG_Z_MAX],
@@ -222,7 +229,7 @@ rfe_status_t rfe_mg_correct(const rfe_real_t chi[RFE_MG_PTS * RFE_MG_N],
         st = ax_update(chi, Z, w, r[1], y[1], xn, Sn);
     }
     if (st == RFE_OK) {
-        st = rfe_mg_speed_update(r[0], y[0], xn, Sn);
+        st = speed_update(r[0], y[0], xn, Sn);
     }
     if (st != RFE_OK) {
         return st;
