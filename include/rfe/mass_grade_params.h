@@ -63,13 +63,13 @@ typedef struct {
     rfe_real_t ay_max;     /**< a given |ay| above ay_max holds the filter (§4.2, the curve
                                 pause) [m/s^2]; 0: no curve pause: 0 */
     rfe_real_t t_curve;    /**< hold after the last sample over ay_max [s]: 1 */
-    rfe_real_t pause_grade; /**< the pauses during which the grade keeps being learned from
-                                 ax while M is held (§4.2; needs use_ax 1), a sum of 1 brake,
-                                 2 gear shift, 4 curve, an integer in 0..7 [-]; 0: none: 0 */
     rfe_real_t m_min;      /**< lower mass bound [kg]: 300 */
     rfe_real_t m_max;      /**< upper mass bound [kg]: 60000 */
     rfe_real_t theta_max;  /**< grade bound |theta| [rad]: 0.35 */
     rfe_real_t dt_max;     /**< a longer sample period restarts the filter [s]: 1 */
+    rfe_real_t pause_grade; /**< the pauses during which the grade keeps being learned from
+                                 ax while M is held (§4.2; needs use_ax 1), a sum of 1 brake,
+                                 2 gear shift, 4 curve, an integer in 0..7 [-]; 0: none: 0 */
 } rfe_mass_grade_params_t;
 
 /**

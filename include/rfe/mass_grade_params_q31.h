@@ -71,12 +71,12 @@ typedef struct {
     rfe_fix_t slip_max;   /**< slip that holds the filter [1], Q30 (0: no slip pause) */
     rfe_fix_t ay_max;     /**< |ay| that holds the filter [m/s^2], Q24 (0: no curve pause) */
     rfe_fix_t t_curve;    /**< hold after the last sample over ay_max [s], Q24 */
-    uint32_t pause_grade; /**< the pauses that learn the grade from ax: 1 brake, 2 shift,
-                               4 curve (0..7; 0 unless use_ax) */
     rfe_fix_t m_min;      /**< lower mass bound [kg], Q14 */
     rfe_fix_t m_max;      /**< upper mass bound [kg], Q14 */
     rfe_fix_t theta_max;  /**< grade bound [rad], Q29 */
     rfe_fix_t dt_max;     /**< a longer period restarts the filter [s], Q30 */
+    uint32_t pause_grade; /**< the pauses that learn the grade from ax: 1 brake, 2 shift,
+                               4 curve (0..7; 0 unless use_ax) */
 } rfe_mass_grade_params_q31_t;
 
 /** The unscented transform's weights (MASS_GRADE.md §3) in the forms the square-root filter

@@ -21,12 +21,10 @@
 #define rfe_mg_sigma_points rfe_mg_sigma_points_f64
 #define rfe_mg_predict      rfe_mg_predict_f64
 #define rfe_mg_correct      rfe_mg_correct_f64
-#define rfe_mg_speed_update rfe_mg_speed_update_f64
 #else
 #define rfe_mg_sigma_points rfe_mg_sigma_points_f32
 #define rfe_mg_predict      rfe_mg_predict_f32
 #define rfe_mg_correct      rfe_mg_correct_f32
-#define rfe_mg_speed_update rfe_mg_speed_update_f32
 #endif
 
 /** The number of sigma points 2n + 1 and the largest measurement (speed and ax). */
@@ -82,16 +80,5 @@ rfe_status_t rfe_mg_correct(const rfe_real_t chi[RFE_MG_PTS * RFE_MG_N],
                             const rfe_real_t Z[RFE_MG_PTS], size_t nz, const rfe_mg_weights_t *w,
                             const rfe_real_t r[RFE_MG_Z_MAX], const rfe_real_t y[RFE_MG_Z_MAX],
                             rfe_real_t x[RFE_MG_N], rfe_real_t S[RFE_MG_N * RFE_MG_N]);
-
-/**
- * §4.3 step 7, the speed row alone: one Givens rotation of S's column 0 with r_v (the last
- * step of rfe_mg_correct; the grade from ax in a pause, §4.2, ends with it too). A row whose
- * S entry in column 0 is 0 (the mass's after a hold) keeps its mean and S row bit for bit.
- * @param[in] y  the measured speed.
- * @return RFE_OK; RFE_ERR_NOT_POSITIVE_DEFINITE (a zero innovation sd); RFE_ERR_NONFINITE
- *         (its square overflowed); x, S untouched on an error.
- */
-rfe_status_t rfe_mg_speed_update(rfe_real_t r_v, rfe_real_t y, rfe_real_t x[RFE_MG_N],
-                                 rfe_real_t S[RFE_MG_N * RFE_MG_N]);
 
 #endif /* RFE_MASS_GRADE_INTERNAL_H */

@@ -73,14 +73,4 @@ rfe_status_t rfe_mg_correct_q31(const rfe_fix_t chi[RFE_MG_PTS_Q31 * RFE_MG_N_Q3
                                 const rfe_fix_t y[RFE_MG_Z_MAX_Q31], rfe_fix_t x[RFE_MG_N_Q31],
                                 rfe_fix_t S[RFE_MG_N_Q31 * RFE_MG_N_Q31], uint32_t *sat);
 
-/**
- * §4.3 step 7, the speed row alone (the last step of rfe_mg_correct_q31; the grade from ax in
- * a pause, §4.2, ends with it too): one Givens rotation of S's column 0 with r_v. A row whose
- * S entry in column 0 is 0 (the mass's after a hold) keeps its mean and S row bit for bit.
- * @param[in] innov  the measured speed less x_v, Q24.
- * @return RFE_OK; RFE_ERR_NOT_POSITIVE_DEFINITE (a zero innovation sd: never with r_v > 0).
- */
-rfe_status_t rfe_mg_speed_update_q31(rfe_fix_t r_v, rfe_fix_t innov, rfe_fix_t x[RFE_MG_N_Q31],
-                                     rfe_fix_t S[RFE_MG_N_Q31 * RFE_MG_N_Q31], uint32_t *sat);
-
 #endif /* RFE_MASS_GRADE_INTERNAL_Q31_H */

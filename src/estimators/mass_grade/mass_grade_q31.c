@@ -268,12 +268,29 @@ static rfe_status_t hold_q31(rfe_mass_grade_q31_t *o, const rfe_mass_grade_input
     return st;
 }
 
+/* §4.3 step 7 alone, the speed row (rfe_mg_correct_q31 with one row: its points and the ax
+ * row's values are not read); a row of S with 0 in column 0 (the mass's after a hold) keeps
+ * its mean and its S row bit for bit. */
+static rfe_status_t speed_row_q31(const rfe_mass_grade_q31_t *o,
+                                  const rfe_mass_grade_input_q31_t *in, rfe_fix_t x[RFE_MG_N_Q31],
+                                  rfe_fix_t S[RFE_MG_N_Q31 * RFE_MG_N_Q31], uint32_t *sat)
+{
+    const rfe_mg_weights_q31_t w = {o->wm0, o->wi, o->sqrt_wc0, o->sqrt_wi, o->sqrt_c};
+    const rfe_fix_t chi[RFE_MG_PTS_Q31 * RFE_MG_N_Q31] = {0};
+    const rfe_fix_t Z[RFE_MG_PTS_Q31] = {0};
+    const rfe_fix_t r[RFE_MG_Z_MAX_Q31] = {o->p.r_v, o->p.r_ax};
+    const rfe_fix_t y[RFE_MG_Z_MAX_Q31] = {in->v, 0};
+    return rfe_mg_correct_q31(chi, Z, 1u, &w, r, y, x, S, sat);
+}
+
 /* §4.2 the grade from ax in a pause (pause_grade), as the float twin's grade_from_ax: M and
  * S's mass row untouched; the kinematic model v-dot = a_x - g sin theta on S's columns 0
  * (v, Q24) and 2 (theta, Q29) by the 2 x 4 triangularisation [[S_vv - gc S_theta,v,
  * -gc S_theta,theta, q_v', 0], [S_theta,v, S_theta,theta, 0, q_theta sqrt(dt)]] (each row in
- * its state's format), gc = g cos(theta) dt and v' = v + dt (a_x - g sin theta) in rfe_xf_t,
- * q_v' = |(q_v sqrt(dt), r_ax dt)| exactly rounded; then the speed row. */
+ * its state's format), gc = g cos(theta) dt in Q26 and g sin(theta) in Q24 (exactly rounded
+ * products: fixed-point multiplications only, so that the model's rfe_xf_t helpers stay
+ * inlined where the update needs them), q_v' = |(q_v sqrt(dt), r_ax dt)| exactly rounded;
+ * then the speed row. */
 static rfe_status_t grade_from_ax_q31(rfe_mass_grade_q31_t *o, const rfe_mass_grade_input_q31_t *in,
                                       rfe_fix_t dt, uint32_t *sat)
 {
@@ -283,18 +300,13 @@ static rfe_status_t grade_from_ax_q31(rfe_mass_grade_q31_t *o, const rfe_mass_gr
     rfe_fix_t q[2];
     int32_t s = 0;
     int32_t c = 0;
-    const rfe_xf_t xdt = rfe_xf_of(dt, RFE_MG_Q_DT);
-    const rfe_xf_t g = rfe_xf_of(o->p.g, RFE_MG_Q_G);
     const rfe_fix_t sdt = sqrt_dt_q31(dt, sat);
-    rfe_xf_t gc;
+    rfe_fix_t gc;
     rfe_status_t st;
     rfe_q31_sincos_q29(o->x[2], &s, &c);
-    gc = rfe_xf_mul(rfe_xf_mul(g, rfe_xf_of(c, 30)), xdt);
-    A[0] = rfe_fix_sub(o->S[0],
-                       rfe_xf_to_fix(rfe_xf_mul(gc, rfe_xf_of(o->S[6], RFE_MG_Q_TH)), RFE_MG_Q_V, sat),
-                       sat);
-    A[1] = rfe_xf_to_fix(rfe_xf_neg(rfe_xf_mul(gc, rfe_xf_of(o->S[8], RFE_MG_Q_TH))), RFE_MG_Q_V,
-                         sat);
+    gc = rfe_fix_mul(rfe_fix_mul(o->p.g, c, 30u, sat), dt, 30u, sat); /* Q26 */
+    A[0] = rfe_fix_sub(o->S[0], rfe_fix_mul(gc, o->S[6], 31u, sat), sat);  /* Q26 Q29 -> Q24 */
+    A[1] = rfe_fix_sub(0, rfe_fix_mul(gc, o->S[8], 31u, sat), sat);
     q[0] = rfe_fix_mul(o->p.q_v, sdt, 30u, sat);
     q[1] = rfe_fix_mul(o->p.r_ax, dt, 30u, sat);
     st = rfe_fix_norm(q, 2u, &A[2], sat);
@@ -305,18 +317,19 @@ static rfe_status_t grade_from_ax_q31(rfe_mass_grade_q31_t *o, const rfe_mass_gr
         st = rfe_qr_tria_q31(A, 2u, 4u, 4u, sat);
     }
     if (st == RFE_OK) {
-        const rfe_xf_t acc = rfe_xf_sub(rfe_xf_of(in->ax, RFE_MG_Q_V), rfe_xf_mul(g, rfe_xf_of(s, 30)));
+        /* a_x - g sin theta in Q24 (Q26 Q30 -> Q24), times dt (Q30) */
+        const rfe_fix_t acc = rfe_fix_sub(in->ax, rfe_fix_mul(o->p.g, s, 32u, sat), sat);
         size_t i;
         for (i = 0u; i < (N * N); ++i) {
             S[i] = o->S[i];
         }
-        x[0] = rfe_fix_add(o->x[0], rfe_xf_to_fix(rfe_xf_mul(xdt, acc), RFE_MG_Q_V, sat), sat);
+        x[0] = rfe_fix_add(o->x[0], rfe_fix_mul(acc, dt, 30u, sat), sat);
         x[1] = o->x[1];
         x[2] = o->x[2];
         S[0] = A[0];
         S[6] = A[4];
         S[8] = A[5];
-        st = rfe_mg_speed_update_q31(o->p.r_v, rfe_fix_sub(in->v, x[0], sat), x, S, sat);
+        st = speed_row_q31(o, in, x, S, sat);
     }
     if (st == RFE_OK) {
         o->x[0] = x[0];

@@ -202,14 +202,6 @@ static rfe_status_t speed_update(rfe_real_t r_v, rfe_real_t y, rfe_real_t *x, rf
     return RFE_OK;
 }
 
-/* The speed row for the grade from ax in a pause (mass_grade_flt.c); a wrapper, so that the
- * update's call of the static one stays as the compiler inlined it. */
-rfe_status_t rfe_mg_speed_update(rfe_real_t r_v, rfe_real_t y, rfe_real_t x[RFE_MG_N],
-                                 rfe_real_t S[RFE_MG_N * RFE_MG_N])
-{
-    return speed_update(r_v, y, x, S);
-}
-
 rfe_status_t rfe_mg_correct(const rfe_real_t chi[RFE_MG_PTS * RFE_MG_N],
                             const rfe_real_t Z[RFE_MG_PTS], size_t nz, const rfe_mg_weights_t *w,
                             const rfe_real_t r[RFE_MG_Z_MAX], const rfe_real_t y[RFE_MG_Z_MAX],

@@ -173,14 +173,6 @@ static rfe_status_t speed_update_q31(rfe_fix_t r_v, rfe_fix_t innov, rfe_fix_t x
     return st;
 }
 
-/* The speed row for the grade from ax in a pause (mass_grade_q31.c); a wrapper, so that the
- * update's call of the static one stays as the compiler inlined it. */
-rfe_status_t rfe_mg_speed_update_q31(rfe_fix_t r_v, rfe_fix_t innov, rfe_fix_t x[RFE_MG_N_Q31],
-                                     rfe_fix_t S[RFE_MG_N_Q31 * RFE_MG_N_Q31], uint32_t *sat)
-{
-    return speed_update_q31(r_v, innov, x, S, sat);
-}
-
 rfe_status_t rfe_mg_correct_q31(const rfe_fix_t chi[RFE_MG_PTS_Q31 * RFE_MG_N_Q31],
                                 const rfe_fix_t Z[RFE_MG_PTS_Q31], size_t nz,
                                 const rfe_mg_weights_q31_t *w,
