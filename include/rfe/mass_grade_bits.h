@@ -16,6 +16,12 @@
                                     given: the slip pause (§4.2) */
 #define RFE_MG_HAS_AY 32u      /**< ay (the lateral accelerometer) is given: the curve pause
                                     (§4.2) */
+/** mass_grade_params pause_grade's bits (MASS_GRADE.md §4.2): the pauses during which the
+ *  grade keeps being learned from ax while the mass is held. */
+#define RFE_MG_PAUSE_GRADE_BRAKE 1u /**< the brake pause (RFE_MG_PAUSED_BRAKE) */
+#define RFE_MG_PAUSE_GRADE_SHIFT 2u /**< the gear-shift pause (RFE_MG_PAUSED_SHIFT) */
+#define RFE_MG_PAUSE_GRADE_CURVE 4u /**< the curve pause (RFE_MG_PAUSED_CURVE) */
+#define RFE_MG_PAUSE_GRADE_ALL 7u   /**< every bit pause_grade may set */
 /** Every bit a sample may set. */
 #define RFE_MG_HAS_ALL 63u
 

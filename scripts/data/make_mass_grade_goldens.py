@@ -37,8 +37,12 @@ PRESETS = {
     "seed": {"mg_adaptive": 1.0, "mg_use_ax": 0.0, "mg_m_rot": 0.0, "mg_t_adapt": 0.0},
     "aukf_ax": {"mg_adaptive": 1.0, "mg_use_ax": 1.0},
     "ukf": {"mg_adaptive": 0.0, "mg_use_ax": 0.0},
+    # the recommended preset learning the grade from ax in the brake and shift pauses
+    # (MASS_GRADE.md §4.2, mg_pause_grade; off by default)
+    "pause_grade": {"mg_adaptive": 0.0, "mg_use_ax": 1.0, "mg_pause_grade": 3.0},
 }
-EXTRA = {"car_gear_shift": ("aukf_ax",), "car_stop_and_go": ("aukf_ax",),
+EXTRA = {"car_gear_shift": ("aukf_ax", "pause_grade"),
+         "car_stop_and_go": ("aukf_ax", "pause_grade"),
          "car_hilly_road": ("ukf",), "truck_graded_drive": ("ukf",)}
 
 

@@ -65,6 +65,8 @@ MG_DEFAULTS: dict[str, float] = {
     "mg_slip_max": 0.05,    # |v - vx| > this * max(|vx|, mg_v_min) pauses (vx given); 0: off
     "mg_ay_max": 0.0,       # |ay| > this pauses (ay given): the curve pause, m/s^2; 0: off
     "mg_t_curve": 1.0,      # pause after the last sample with |ay| > mg_ay_max, s
+    "mg_pause_grade": 0.0,  # pauses that keep learning the grade from ax (mg_use_ax 1), a
+                            # sum of 1 brake, 2 gear shift, 4 curve (§4.2); 0: none
     "mg_m_min": 300.0,      # mass bounds: the mean is projected onto them, kg
     "mg_m_max": 60000.0,
     "mg_theta_max": 0.35,   # grade bound |theta|, rad
@@ -91,6 +93,8 @@ ERR_NONFINITE = 17
 ERR_RANGE = 18
 ERR_PARAM = 19
 ERR_NOT_POSITIVE_DEFINITE = 21
+# mg_pause_grade's bits: the pauses during which the grade keeps being learned from ax (§4.2)
+PAUSE_GRADE_BITS = {PAUSED_BRAKE: 1, PAUSED_SHIFT: 2, PAUSED_CURVE: 4}
 
 N = 3           # state [v, M, theta]
 V_MAX = 100.0   # input limits (include/rfe/config.h: |vx| <= 100 m/s)
@@ -148,6 +152,10 @@ def validate(p):
     for k in ("mg_adaptive", "mg_use_ax"):
         if p[k] not in (0.0, 1.0):
             raise ParamError(f"{k}: must be 0 or 1")
+    if p["mg_pause_grade"] not in tuple(float(b) for b in range(8)):
+        raise ParamError("mg_pause_grade: must be an integer in 0..7")
+    if p["mg_pause_grade"] != 0.0 and p["mg_use_ax"] != 1.0:
+        raise ParamError("mg_pause_grade: needs mg_use_ax 1 (the grade from ax)")
     if not p["mg_m_min"] < p["mg_m0"] < p["mg_m_max"]:
         raise ParamError("mg_m0: must lie inside (mg_m_min, mg_m_max)")
     if not abs(p["mg_theta0"]) < p["mg_theta_max"] < 1.5:
@@ -286,6 +294,8 @@ class MassGrade:
             self.sqrt_wi = math.sqrt(self.wc[1])
             self.sqrt_c = math.sqrt(self.c)
         self.use_ax = p["mg_use_ax"] == 1.0
+        if form != "sqrt" and p["mg_pause_grade"] != 0.0:
+            raise ValueError("mg_pause_grade: the square-root form only")
         self.started = False
         # an optional observer of the innovations, None by default (then nothing is called):
         # probe(row, innovation, sd) with row "ax" or "v", the innovation y - z-hat and its
@@ -385,7 +395,12 @@ class MassGrade:
         else:
             dt = s.t - self.t_prev             # the period: the time stamps are not state
             status = self._pause_status(s, dt)
-            st = self._hold_sqrt(s, dt) if status != OK else self._update_sqrt(s, dt)
+            if status == OK:
+                st = self._update_sqrt(s, dt)
+            elif self._pause_grade(status):
+                st = self._grade_ax_sqrt(s, dt)
+            else:
+                st = self._hold_sqrt(s, dt)
         if st == OK:
             S = self.S
             sd = (math.sqrt(S[0][0] * S[0][0]), math.sqrt(S[1][0] * S[1][0] + S[1][1] * S[1][1]),
@@ -416,6 +431,50 @@ class MassGrade:
         self.S = [[p["mg_r_v"], 0.0, 0.0], [0.0, A[0][0], 0.0], [0.0, A[1][0], A[1][1]]]
         self.adapt_elapsed = 0.0
         self.m_adapt = self.x[1]
+        return OK
+
+    def _pause_grade(self, status):
+        """§4.2: the pause @status keeps learning the grade from ax (its bit of mg_pause_grade
+        set) and v is uncorrelated with M (S_Mv = 0, as after a hold or a start; so the first
+        sample of a pause that follows an update holds as before and the next ones learn)."""
+        bit = PAUSE_GRADE_BITS.get(status, 0)
+        return (int(self.p["mg_pause_grade"]) & bit) != 0 and self.S[1][0] == 0.0
+
+    def _grade_ax_sqrt(self, s, dt):
+        """§4.2 the grade from ax in a pause: M and its row of S (so P_MM, P_Mv = 0, P_Mtheta)
+        untouched; v and theta run the kinematic model v-dot = a_x - g sin theta (ax as the
+        input, its sd r_ax added to v's process noise) on S's columns 0 and 2 (theta given the
+        held M: S_theta,M stays), then the speed row. An EKF step of two states:
+        F = [[1, -g cos(theta) dt], [0, 1]]; [L 0] = Tria([F L, diag(q_v', q_theta sqrt dt)])
+        with q_v'^2 = q_v^2 dt + (r_ax dt)^2, L = [[S_vv, 0], [S_theta,v, S_theta,theta]]; then
+        one Givens rotation of L's column 0 with r_v."""
+        p, S, x = self.p, self.S, self.x
+        gc = p["g"] * math.cos(x[2]) * dt
+        v = x[0] + dt * (s.ax - p["g"] * math.sin(x[2]))
+        rax = p["mg_r_ax"] * dt
+        qv = math.sqrt(p["mg_q_v"] * p["mg_q_v"] * dt + rax * rax)
+        A = [[S[0][0] - gc * S[2][0], -gc * S[2][2], qv, 0.0],
+             [S[2][0], S[2][2], 0.0, p["mg_q_theta"] * math.sqrt(dt)]]
+        if tria(A, 2, 4) is None:
+            return ERR_NONFINITE
+        rv = p["mg_r_v"]
+        sz = math.sqrt(A[0][0] * A[0][0] + rv * rv)
+        if not sz > 0.0:
+            return ERR_NOT_POSITIVE_DEFINITE
+        if not math.isfinite(sz):
+            return ERR_NONFINITE
+        cs, sn, e = A[0][0] / sz, rv / sz, (s.v - v) / sz
+        v += A[0][0] * cs * e
+        th = x[2] + A[1][0] * cs * e
+        if not (math.isfinite(v) and math.isfinite(th)):
+            return ERR_NONFINITE
+        x[0] = v
+        x[2] = min(max(th, -p["mg_theta_max"]), p["mg_theta_max"])
+        S[0][0] = A[0][0] * sn
+        S[2][0] = A[1][0] * sn
+        S[2][2] = A[1][1]
+        self.adapt_elapsed = 0.0
+        self.m_adapt = x[1]
         return OK
 
     def _update_sqrt(self, s, dt):

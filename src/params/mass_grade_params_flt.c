@@ -45,6 +45,7 @@ static void car(rfe_mass_grade_params_t *p)
     p->slip_max = RFE_R(0.05);
     p->ay_max = RFE_R(0.0);
     p->t_curve = RFE_R(1.0);
+    p->pause_grade = RFE_R(0.0);
     p->m_min = RFE_R(300.0);
     p->m_max = RFE_R(60000.0);
     p->theta_max = RFE_R(0.35);
@@ -155,12 +156,26 @@ static int relations_ok(const rfe_mass_grade_params_t *p)
     return 1;
 }
 
+/* §6 pause_grade: one of the integers 0..7 (a sum of the bits 1 brake, 2 shift, 4 curve),
+ * and 0 unless use_ax (the grade from ax needs ax on every sample). */
+static int pause_grade_ok(const rfe_mass_grade_params_t *p)
+{
+    int ok = 0;
+    uint32_t i;
+    for (i = 0u; i <= RFE_MG_PAUSE_GRADE_ALL; ++i) {
+        if (p->pause_grade == (rfe_real_t)i) {
+            ok = 1;
+        }
+    }
+    return ((ok != 0) && ((p->use_ax == 1u) || (p->pause_grade == RFE_R(0.0)))) ? 1 : 0;
+}
+
 rfe_status_t rfe_mass_grade_params_validate(const rfe_mass_grade_params_t *p)
 {
     if (p == NULL) {
         return RFE_ERR_NULL;
     }
-    if ((p->adaptive > 1u) || (p->use_ax > 1u)) {
+    if ((p->adaptive > 1u) || (p->use_ax > 1u) || (pause_grade_ok(p) == 0)) {
         return RFE_ERR_PARAM;
     }
     if ((positive_fields_ok(p) == 0) || (non_negative_fields_ok(p) == 0) || (relations_ok(p) == 0)) {

@@ -236,6 +236,86 @@ static rfe_status_t hold(rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in, 
     return st;
 }
 
+/* §4.3 step 7 alone, the speed row (rfe_mg_correct with one row: its points and the ax row's
+ * values are not read); a row of S with 0 in column 0 (the mass's after a hold) keeps its
+ * mean and its S row bit for bit. */
+static rfe_status_t speed_row(const rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in,
+                              rfe_real_t x[RFE_MG_N], rfe_real_t S[RFE_MG_N * RFE_MG_N])
+{
+    const rfe_mg_weights_t w = {o->wm0, o->wc0, o->wi, o->sqrt_wc0, o->sqrt_wi, o->sqrt_c};
+    const rfe_real_t chi[RFE_MG_PTS * RFE_MG_N] = {0};
+    const rfe_real_t Z[RFE_MG_PTS] = {0};
+    const rfe_real_t r[RFE_MG_Z_MAX] = {o->p.r_v, o->p.r_ax};
+    const rfe_real_t y[RFE_MG_Z_MAX] = {in->v, RFE_R(0.0)};
+    return rfe_mg_correct(chi, Z, 1u, &w, r, y, x, S);
+}
+
+/* §4.2 the grade from ax in a pause (pause_grade): M and S's mass row untouched (P_MM,
+ * P_Mv = 0, P_Mtheta kept), v and theta run the kinematic model v-dot = a_x - g sin theta,
+ * ax its input, on S's columns 0 and 2 (theta given the held M: S_theta,M kept): the EKF
+ * time update [L 0] = Tria([F L, diag(q_v', q_theta sqrt(dt))]), F = [[1, -g cos(theta) dt],
+ * [0, 1]], L = [[S_vv, 0], [S_theta,v, S_theta,theta]], q_v'^2 = q_v^2 dt + (r_ax dt)^2; then
+ * the speed row; theta projected onto its bound; the adaptation's clock restarts as in the
+ * hold. */
+static rfe_status_t grade_from_ax(rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in,
+                                  rfe_real_t dt)
+{
+    rfe_real_t A[8] = {0};
+    rfe_real_t x[RFE_MG_N];
+    rfe_real_t S[RFE_MG_N * RFE_MG_N];
+    const rfe_real_t gc = (o->p.g * RFE_COS(o->x[2])) * dt;
+    const rfe_real_t rax = o->p.r_ax * dt;
+    rfe_status_t st;
+    A[0] = o->S[0] - (gc * o->S[6]);
+    A[1] = -gc * o->S[8];
+    A[2] = RFE_SQRT(((o->p.q_v * o->p.q_v) * dt) + (rax * rax));
+    A[4] = o->S[6];
+    A[5] = o->S[8];
+    A[7] = o->p.q_theta * RFE_SQRT(dt);
+    st = rfe_qr_tria(A, 2u, 4u, 4u);
+    if (st == RFE_OK) {
+        size_t i;
+        for (i = 0u; i < (N * N); ++i) {
+            S[i] = o->S[i];
+        }
+        x[0] = o->x[0] + (dt * (in->ax - (o->p.g * RFE_SIN(o->x[2]))));
+        x[1] = o->x[1];
+        x[2] = o->x[2];
+        S[0] = A[0];
+        S[6] = A[4];
+        S[8] = A[5];
+        st = speed_row(o, in, x, S);
+    }
+    if ((st == RFE_OK) && (rfe_all_finite(x, N) == 0)) {
+        st = RFE_ERR_NONFINITE;
+    }
+    if (st == RFE_OK) {
+        o->x[0] = x[0];
+        o->x[2] = rfe_clamp(x[2], -o->p.theta_max, o->p.theta_max);
+        o->S[0] = S[0];
+        o->S[6] = S[6];
+        o->S[8] = S[8];
+        o->adapt_elapsed = RFE_R(0.0);
+        o->m_adapt = o->x[1];
+    }
+    return st;
+}
+
+/* §4.2 a paused sample: the grade from ax where pause_grade sets the pause's bit and v is
+ * uncorrelated with M (S_Mv = 0), else the hold. */
+static rfe_status_t paused(rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in,
+                           rfe_status_t status)
+{
+    rfe_status_t st;
+    if (rfe_mg_grade_in_pause(status, (uint32_t)o->p.pause_grade,
+                              (o->S[3] == RFE_R(0.0)) ? 1 : 0) != 0) {
+        st = grade_from_ax(o, in, in->dt);
+    } else {
+        st = hold(o, in, in->dt);
+    }
+    return st;
+}
+
 /* §4.4 eqs. 22-25 once per adaptation period: lambda_u = 1/2 |q_s - D| / (q_s + D) scales
  * q_mv; P's mass row and column by lambda_u and P_MM once: P' = D P D + (lambda - lambda^2)
  * P_MM e2 e2^T, D = diag(1, lambda, 1), in square-root form S' = Tria([D S, sqrt(lambda -
@@ -409,11 +489,7 @@ rfe_status_t rfe_mass_grade_step(rfe_mass_grade_t *mg, const rfe_mass_grade_inpu
         status = pause_status(&o, in, RFE_R(0.0));
     } else if (st == RFE_OK) {
         status = pause_status(&o, in, in->dt);
-        if (status != RFE_OK) {
-            st = hold(&o, in, in->dt);
-        } else {
-            st = update(&o, in, in->dt);
-        }
+        st = (status == RFE_OK) ? update(&o, in, in->dt) : paused(&o, in, status);
     } else {
         /* the checks failed: nothing to compute */
     }

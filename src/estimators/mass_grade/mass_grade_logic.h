@@ -92,4 +92,23 @@ static inline rfe_status_t rfe_mg_pause_status(int brake, int brake_pending, int
     return st;
 }
 
+/** §4.2 the pause kind: in a pause @p status whose bit (RFE_MG_PAUSE_GRADE_*) is set in
+ *  @p pause_grade, and with v uncorrelated with M (@p v_free: S_Mv == 0, as after a hold or a
+ *  start), the grade keeps being learned from ax with M held (1); else the hold (0). So the
+ *  first sample of a pause that follows an update holds, and the next ones learn. */
+static inline int rfe_mg_grade_in_pause(rfe_status_t status, uint32_t pause_grade, int v_free)
+{
+    uint32_t bit = 0u;
+    if (status == RFE_MG_PAUSED_BRAKE) {
+        bit = RFE_MG_PAUSE_GRADE_BRAKE;
+    } else if (status == RFE_MG_PAUSED_SHIFT) {
+        bit = RFE_MG_PAUSE_GRADE_SHIFT;
+    } else if (status == RFE_MG_PAUSED_CURVE) {
+        bit = RFE_MG_PAUSE_GRADE_CURVE;
+    } else {
+        /* the slip pause (v is the wheels', not the car's) and the low speed: the hold */
+    }
+    return (((pause_grade & bit) != 0u) && (v_free != 0)) ? 1 : 0;
+}
+
 #endif /* RFE_MASS_GRADE_LOGIC_H */

@@ -268,6 +268,95 @@ static rfe_status_t hold_q31(rfe_mass_grade_q31_t *o, const rfe_mass_grade_input
     return st;
 }
 
+/* §4.3 step 7 alone, the speed row (rfe_mg_correct_q31 with one row: its points and the ax
+ * row's values are not read); a row of S with 0 in column 0 (the mass's after a hold) keeps
+ * its mean and its S row bit for bit. */
+static rfe_status_t speed_row_q31(const rfe_mass_grade_q31_t *o,
+                                  const rfe_mass_grade_input_q31_t *in, rfe_fix_t x[RFE_MG_N_Q31],
+                                  rfe_fix_t S[RFE_MG_N_Q31 * RFE_MG_N_Q31], uint32_t *sat)
+{
+    const rfe_mg_weights_q31_t w = {o->wm0, o->wi, o->sqrt_wc0, o->sqrt_wi, o->sqrt_c};
+    const rfe_fix_t chi[RFE_MG_PTS_Q31 * RFE_MG_N_Q31] = {0};
+    const rfe_fix_t Z[RFE_MG_PTS_Q31] = {0};
+    const rfe_fix_t r[RFE_MG_Z_MAX_Q31] = {o->p.r_v, o->p.r_ax};
+    const rfe_fix_t y[RFE_MG_Z_MAX_Q31] = {in->v, 0};
+    return rfe_mg_correct_q31(chi, Z, 1u, &w, r, y, x, S, sat);
+}
+
+/* §4.2 the grade from ax in a pause (pause_grade), as the float twin's grade_from_ax: M and
+ * S's mass row untouched; the kinematic model v-dot = a_x - g sin theta on S's columns 0
+ * (v, Q24) and 2 (theta, Q29) by the 2 x 4 triangularisation [[S_vv - gc S_theta,v,
+ * -gc S_theta,theta, q_v', 0], [S_theta,v, S_theta,theta, 0, q_theta sqrt(dt)]] (each row in
+ * its state's format), gc = g cos(theta) dt in Q26 and g sin(theta) in Q24 (exactly rounded
+ * products: fixed-point multiplications only, so that the model's rfe_xf_t helpers stay
+ * inlined where the update needs them), q_v' = |(q_v sqrt(dt), r_ax dt)| exactly rounded;
+ * then the speed row. */
+static rfe_status_t grade_from_ax_q31(rfe_mass_grade_q31_t *o, const rfe_mass_grade_input_q31_t *in,
+                                      rfe_fix_t dt, uint32_t *sat)
+{
+    rfe_fix_t A[8] = {0};
+    rfe_fix_t x[RFE_MG_N_Q31];
+    rfe_fix_t S[RFE_MG_N_Q31 * RFE_MG_N_Q31];
+    rfe_fix_t q[2];
+    int32_t s = 0;
+    int32_t c = 0;
+    const rfe_fix_t sdt = sqrt_dt_q31(dt, sat);
+    rfe_fix_t gc;
+    rfe_status_t st;
+    rfe_q31_sincos_q29(o->x[2], &s, &c);
+    gc = rfe_fix_mul(rfe_fix_mul(o->p.g, c, 30u, sat), dt, 30u, sat); /* Q26 */
+    A[0] = rfe_fix_sub(o->S[0], rfe_fix_mul(gc, o->S[6], 31u, sat), sat);  /* Q26 Q29 -> Q24 */
+    A[1] = rfe_fix_sub(0, rfe_fix_mul(gc, o->S[8], 31u, sat), sat);
+    q[0] = rfe_fix_mul(o->p.q_v, sdt, 30u, sat);
+    q[1] = rfe_fix_mul(o->p.r_ax, dt, 30u, sat);
+    st = rfe_fix_norm(q, 2u, &A[2], sat);
+    A[4] = o->S[6];
+    A[5] = o->S[8];
+    A[7] = rfe_fix_mul(o->p.q_theta, sdt, 30u, sat);
+    if (st == RFE_OK) {
+        st = rfe_qr_tria_q31(A, 2u, 4u, 4u, sat);
+    }
+    if (st == RFE_OK) {
+        /* a_x - g sin theta in Q24 (Q26 Q30 -> Q24), times dt (Q30) */
+        const rfe_fix_t acc = rfe_fix_sub(in->ax, rfe_fix_mul(o->p.g, s, 32u, sat), sat);
+        size_t i;
+        for (i = 0u; i < (N * N); ++i) {
+            S[i] = o->S[i];
+        }
+        x[0] = rfe_fix_add(o->x[0], rfe_fix_mul(acc, dt, 30u, sat), sat);
+        x[1] = o->x[1];
+        x[2] = o->x[2];
+        S[0] = A[0];
+        S[6] = A[4];
+        S[8] = A[5];
+        st = speed_row_q31(o, in, x, S, sat);
+    }
+    if (st == RFE_OK) {
+        o->x[0] = x[0];
+        o->x[2] = rfe_fix_clamp(x[2], -o->p.theta_max, o->p.theta_max);
+        o->S[0] = S[0];
+        o->S[6] = S[6];
+        o->S[8] = S[8];
+        o->adapt_elapsed = 0;
+        o->m_adapt = o->x[1];
+    }
+    return st;
+}
+
+/* §4.2 a paused sample: the grade from ax where pause_grade sets the pause's bit and v is
+ * uncorrelated with M (S_Mv = 0), else the hold. */
+static rfe_status_t paused_q31(rfe_mass_grade_q31_t *o, const rfe_mass_grade_input_q31_t *in,
+                               rfe_status_t status, uint32_t *sat)
+{
+    rfe_status_t st;
+    if (rfe_mg_grade_in_pause(status, o->p.pause_grade, (o->S[3] == 0) ? 1 : 0) != 0) {
+        st = grade_from_ax_q31(o, in, in->dt, sat);
+    } else {
+        st = hold_q31(o, in, in->dt, sat);
+    }
+    return st;
+}
+
 /* The adaptation's stop: q_mv <= mv_stop q_mc^2 (in rfe_xf_t: the square exact, the product
  * and the comparison to 2^-30 relative). */
 static int adaptation_over_q31(const rfe_mass_grade_q31_t *o)
@@ -473,11 +562,8 @@ rfe_status_t rfe_mass_grade_step_q31(rfe_mass_grade_q31_t *mg, const rfe_mass_gr
         status = pause_status_q31(&o, in, 0);
     } else if (st == RFE_OK) {
         status = pause_status_q31(&o, in, in->dt);
-        if (status != RFE_OK) {
-            st = hold_q31(&o, in, in->dt, &sat);
-        } else {
-            st = update_q31(&o, in, in->dt, &sat);
-        }
+        st = (status == RFE_OK) ? update_q31(&o, in, in->dt, &sat)
+                                : paused_q31(&o, in, status, &sat);
     } else {
         /* the checks failed: nothing to compute */
     }

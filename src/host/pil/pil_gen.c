@@ -252,8 +252,8 @@ static void put_mass_grade(FILE *f, const rfe_mass_grade_params_t *mp, const rfe
 }
 
 /* The fixed-point arm of the mass and grade image's data (PIL_MASS_GRADE with PIL_Q31): the
- * float parameters converted by rfe_mass_grade_params_to_q31 (every member a 4-byte word:
- * checked in main) and the samples of rfe_aux_mg_input_q31; returns the samples' saturations. */
+ * float parameters converted by rfe_mass_grade_params_to_q31 (every member a 4-byte word,
+ * the flags adaptive, use_ax and pause_grade unsigned: checked in main) and the samples of rfe_aux_mg_input_q31; returns the samples' saturations. */
 static uint32_t put_mass_grade_q31(FILE *f, const rfe_mass_grade_params_q31_t *q, double R,
                                    const rfe_sensor_log_t *log, size_t rows)
 {
@@ -262,7 +262,8 @@ static uint32_t put_mass_grade_q31(FILE *f, const rfe_mass_grade_params_q31_t *q
     fputs("#if defined(PIL_MASS_GRADE) && defined(PIL_Q31)\nconst rfe_mass_grade_params_q31_t pil_mg_params = {", f);
     for (off = 0u; off < sizeof *q; off += 4u) {
         if (off == offsetof(rfe_mass_grade_params_q31_t, adaptive) ||
-            off == offsetof(rfe_mass_grade_params_q31_t, use_ax)) {
+            off == offsetof(rfe_mass_grade_params_q31_t, use_ax) ||
+            off == offsetof(rfe_mass_grade_params_q31_t, pause_grade)) {
             uint32_t u;
             memcpy(&u, (const char *)q + off, sizeof u);
             fprintf(f, "%s%" PRIu32 "u", off == 0u ? "" : ", ", u);
@@ -384,7 +385,7 @@ int main(int argc, char **argv)
     if (mass_grade && (!log.has_drive_torque || rfe_replay_mass_grade_params_f32(&ps, &mp, NULL) != RFE_OK ||
                        sizeof mp.adaptive != 4u || sizeof mp % 4u != 0u ||
                        rfe_mass_grade_params_to_q31(&mp, &mq) != RFE_OK ||
-                       sizeof mq != 36u * 4u)) {
+                       sizeof mq != 37u * 4u)) {
         fprintf(stderr, "pil_gen: %s: no drive_torque, or the mass and grade parameters are rejected\n", in);
         return 1;
     }

@@ -45,7 +45,7 @@
 
 #define GOLDEN_DIR "scenarios/golden/mass_grade"
 #define LOG_DIR "scenarios/mass_grade"
-#define MIN_GOLDENS 18 /* 7 logs x 2 presets + 4 other configurations */
+#define MIN_GOLDENS 20 /* 7 logs x 2 presets + 6 other configurations */
 
 #if defined(RFE_REAL_DOUBLE)
 #define TOL_V 1e-9          /* v, sd_v [m/s] */

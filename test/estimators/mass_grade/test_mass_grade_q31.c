@@ -63,7 +63,7 @@
 /* light mode: the rows of each log it walks (30 s at 50 Hz: the first excitation, pauses) */
 #define MG_LIGHT_ROWS 1500u
 #define LOG_DIR "scenarios/mass_grade"
-#define MIN_GOLDENS 18 /* 7 logs x 2 presets + 4 other configurations */
+#define MIN_GOLDENS 20 /* 7 logs x 2 presets + 6 other configurations */
 
 #define TOL_SD 0.02       /* share of the filter's sd: mass, grade, v (derivation above) */
 #define TOL_SD_AUKF 0.2   /* the mass's share in the adaptive configurations */
@@ -113,6 +113,7 @@ static void dequantise_params(const rfe_mass_grade_params_q31_t *q, rfe_mass_gra
     p->slip_max = rfe_fix_to_double(q->slip_max, RFE_MG_Q_FC);
     p->ay_max = rfe_fix_to_double(q->ay_max, QV);
     p->t_curve = rfe_fix_to_double(q->t_curve, RFE_MG_Q_TIME);
+    p->pause_grade = (double)q->pause_grade;
     p->m_min = rfe_fix_to_double(q->m_min, QM);
     p->m_max = rfe_fix_to_double(q->m_max, QM);
     p->theta_max = rfe_fix_to_double(q->theta_max, QT);
@@ -317,6 +318,14 @@ static void test_validate_q31(void **state)
     assert_int_equal(rfe_mass_grade_params_validate_q31(&t), RFE_ERR_PARAM);
     t = q; t.t_curve = -1;
     assert_int_equal(rfe_mass_grade_params_validate_q31(&t), RFE_ERR_PARAM);
+    t = q; t.pause_grade = 7u; /* every bit, with use_ax */
+    assert_int_equal(rfe_mass_grade_params_validate_q31(&t), RFE_OK);
+    t = q; t.pause_grade = 8u;
+    assert_int_equal(rfe_mass_grade_params_validate_q31(&t), RFE_ERR_PARAM);
+    t = q; t.pause_grade = 1u; t.use_ax = 0u; /* the grade from ax needs ax */
+    assert_int_equal(rfe_mass_grade_params_validate_q31(&t), RFE_ERR_PARAM);
+    t = q; t.pause_grade = 0u; t.use_ax = 0u;
+    assert_int_equal(rfe_mass_grade_params_validate_q31(&t), RFE_OK);
     t = q; t.adaptive = 2u;
     assert_int_equal(rfe_mass_grade_params_validate_q31(&t), RFE_ERR_PARAM);
     t = q; t.use_ax = 2u;
@@ -672,6 +681,77 @@ static void test_curve_pause_q31(void **state)
     assert_int_equal(sat, 0u);
 }
 
+/* REQ-MG-006 the grade from ax in a pause (§4.2, pause_grade) in the twin: braking on a
+ * 0.05 rad climb (v-dot = -2 m/s^2, ax = v-dot + g sin theta), the first braked sample holds
+ * and every later one keeps M, sd_mass and S's mass row bit for bit while the grade runs to
+ * the truth (under a tenth of its error after 2 s, here 200 periods of 0.01 s: the float
+ * twins' bound and reason, test_pause_grade_learns_grade_holds_mass); the brake bit unset:
+ * held bit for bit; no saturation. The twin against double on the same pauses: the
+ * pause_grade goldens in test_every_log_against_double. */
+static void test_pause_grade_q31(void **state)
+{
+    rfe_mass_grade_params_q31_t q;
+    rfe_mass_grade_q31_t mg;
+    rfe_mass_grade_q31_t learning;
+    rfe_mass_grade_estimate_q31_t e;
+    rfe_mass_grade_estimate_q31_t first;
+    rfe_mass_grade_input_q31_t in = cruise_sample(20.0);
+    rfe_mass_grade_input_q31_t s;
+    rfe_fix_t row[4];
+    uint32_t sat = 0u;
+    double err0;
+    double err;
+    int pass;
+    int k;
+    (void)state;
+    default_q31(&q);
+    assert_int_equal(q.pause_grade, 0u); /* off by default */
+    q.pause_grade = RFE_MG_PAUSE_GRADE_BRAKE;
+    assert_int_equal(rfe_mass_grade_init_q31(&mg, &q), RFE_OK);
+    for (k = 0; k < 100; ++k) {
+        assert_int_equal(rfe_mass_grade_step_q31(&mg, &in, &e), RFE_OK);
+    }
+    learning = mg;
+    for (pass = 0; pass < 2; ++pass) {
+        mg = learning;
+        mg.p.pause_grade = (pass == 0) ? RFE_MG_PAUSE_GRADE_BRAKE
+                                       : (RFE_MG_PAUSE_GRADE_SHIFT | RFE_MG_PAUSE_GRADE_CURVE);
+        for (k = 0; k <= 200; ++k) {
+            s = in;
+            s.v = rfe_fix_from_double(20.0 - (0.02 * (double)k), QV, &sat);
+            s.torque = rfe_fix_from_double(-2000.0, RFE_MG_Q_TORQUE, &sat);
+            s.ax = rfe_fix_from_double(-2.0 + (9.81 * sin(0.05)), QV, &sat);
+            s.brake = 1u;
+            s.has |= RFE_MG_HAS_BRAKE;
+            assert_int_equal(rfe_mass_grade_step_q31(&mg, &s, &e), RFE_MG_PAUSED_BRAKE);
+            assert_int_equal(e.sat, 0u);
+            if (k == 0) {
+                first = e;
+                assert_int_equal(mg.S[3], 0); /* the hold: v uncorrelated with M */
+                row[0] = mg.S[4];
+                row[1] = mg.S[5];
+                row[2] = mg.S[7];
+                row[3] = mg.x[1];
+            }
+            assert_int_equal(e.mass, first.mass);
+            assert_int_equal(e.sd_mass, first.sd_mass);
+            assert_true((mg.S[3] == 0) && (mg.S[4] == row[0]) && (mg.S[5] == row[1]) &&
+                        (mg.S[7] == row[2]) && (mg.x[1] == row[3]));
+            if (pass == 1) {
+                assert_int_equal(e.grade, first.grade);
+            }
+        }
+        err0 = fabs(rfe_fix_to_double(first.grade, QT) - 0.05);
+        err = fabs(rfe_fix_to_double(e.grade, QT) - 0.05);
+        if (pass == 0) {
+            printf("q31 grade from ax while braking: error %.3g rad -> %.3g rad\n", err0, err);
+            assert_true((err0 > 0.02) && (err < (0.1 * err0)));
+            assert_true(e.sd_grade < first.sd_grade);
+        }
+    }
+    assert_int_equal(sat, 0u);
+}
+
 /* The measurement update refuses a zero innovation sd (r = 0 and a zero factor: not positive
  * definite), leaving x and S untouched; the public API cannot reach it (r_v > 0). */
 /* REQ-MG-010 */
@@ -948,6 +1028,7 @@ int main(void)
         cmocka_unit_test(test_init_errors),
         cmocka_unit_test(test_slip_pause_q31),
         cmocka_unit_test(test_curve_pause_q31),
+        cmocka_unit_test(test_pause_grade_q31),
         cmocka_unit_test(test_slip_pause_against_double),
         cmocka_unit_test(test_step_errors_leave_state),
         cmocka_unit_test(test_start_and_restart),

@@ -1,0 +1,189 @@
+#!/usr/bin/env python3
+"""Issue 19: the grade learned from ax during the mass filter's pauses (mg_pause_grade), measured
+in the float64 reference (scripts/reference/mass_grade.py) on the mass and grade logs and on
+the observer logs (noisy, noise-free, the `_res` ones with the car's resistances).
+
+    .venv/bin/python scripts/tools/mass_pause_grade_study.py [--page docs/MASS_GRADE_RESULTS.md]
+                     [--jobs N]
+
+In a pause (brake, gear shift, curve) the filter holds M and theta. With the accelerometer
+row on, the grade stays observable without the mass model (v-dot = a_x - g sin theta), so
+mg_pause_grade lets the chosen pauses run that kinematic model on v and theta while M and its
+row of S stay untouched (MASS_GRADE.md §4.2). Variants, all in the recommended preset (UKF with
+the ax row) with the curve pause at its documented setting for a car that corners (mg_ay_max
+1 m/s^2, mg_t_curve 1 s), mg_pause_grade 0 (off, the filter as it is), 1 (brake), 2 (shift),
+4 (curve), 7 (all three). Runs: the mass and grade logs in their vehicle's preset from 0.8 times the truth;
+the observer logs (the samples of mass_slip_ramp_study.py, the simulator's resistances, the
+`_res` logs the car preset's) from the log's m. A log whose run with mg_pause_grade off held
+no sample in a brake, shift or curve pause is run once only: no variant can change it (the
+pause kind decides alone, MASS_GRADE.md §4.2). Per run: the mass error at the end, the grade RMSE against grade_true over the log and
+over the samples paused by brake, shift or curve, and their share.
+"""
+
+import argparse
+import multiprocessing
+import os
+import sys
+from pathlib import Path
+
+import numpy as np
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, os.path.join(ROOT, "scripts"))
+sys.path.insert(0, os.path.join(ROOT, "scripts", "tools"))
+
+from mass_slip_ramp_study import (RECOMMENDED, SIM_RESISTANCES, log_path, mg,  # noqa: E402
+                                  observer_samples, res_logs)
+from mass_sensitivity import log_mass  # noqa: E402
+from md_tables import replace_region  # noqa: E402
+
+CURVE = {"mg_ay_max": 1.0, "mg_t_curve": 1.0}   # MASS_GRADE.md §4.2's setting for a car that corners
+VARIANTS = {"off": 0, "brake": 1, "shift": 2, "curve": 4, "all": 7}
+OBS_STARTS = (1.0,)
+MG_STARTS = (0.8,)
+PAUSES = (mg.PAUSED_BRAKE, mg.PAUSED_SHIFT, mg.PAUSED_CURVE)
+
+
+def summary(outs, cols, m):
+    grade = np.array([o.grade for o in outs])
+    err = grade - cols["grade_true"]
+    held = np.array([o.status in PAUSES for o in outs])
+    return {"mass_err": (outs[-1].mass - m) / m,
+            "rmse": float(np.sqrt(np.mean(err * err))),
+            "rmse_held": float(np.sqrt(np.mean(err[held] ** 2))) if held.any() else float("nan"),
+            "held": float(np.mean(held))}
+
+
+def observer_job(name, start, variant):
+    path = log_path(name)
+    cols, _ = mg.read_log(path)
+    m = log_mass(path)
+    over = {} if name.split(".", 1)[0].endswith("_res") else SIM_RESISTANCES
+    est = mg.MassGrade(mg.preset("car", mg_m0=m * start, mg_pause_grade=VARIANTS[variant],
+                                 **CURVE, **RECOMMENDED, **over))
+    samples = observer_samples(cols, est.p["R"])
+    for s, ay in zip(samples, cols["ay"]):
+        s.ay = float(ay)
+    return summary([est.step(s) for s in samples], cols, m)
+
+
+def mass_grade_job(name, start, variant, true_speed=False):
+    cols, _ = mg.read_log(os.path.join(ROOT, "scenarios", "mass_grade", name))
+    vehicle = "truck" if name.startswith("truck") else "car"
+    m = float(cols["mass_true"][-1])
+    est = mg.MassGrade(mg.preset(vehicle, mg_m0=start * float(cols["mass_true"][0]),
+                                 mg_pause_grade=VARIANTS[variant], **CURVE, **RECOMMENDED))
+    samples = list(mg.samples(cols, est.p))
+    for s, vx in zip(samples, cols["vx_true"]):
+        s.vx = float(vx)
+        if true_speed:
+            s.v = s.vx      # the car's speed in place of the wheels' (no brake or drive slip)
+    return summary([est.step(s) for s in samples], cols, m)
+
+
+def job(j):
+    kind, name, start, variant = j
+    if kind == "true":
+        return j, mass_grade_job(name, start, variant, true_speed=True)
+    f = observer_job if kind == "obs" else mass_grade_job
+    return j, f(name, start, variant)
+
+
+def cell(r):
+    held = "" if r["held"] == 0.0 else f", {1e3 * r['rmse_held']:.2f}"
+    return f"{r['mass_err']:+.2%}, {1e3 * r['rmse']:.2f}{held}"
+
+
+def table(res, kind, names, starts):
+    heads = list(VARIANTS)
+    lines = ["| log | mg_m0 | held | " + " | ".join(heads) + " |",
+             "|---|---|---|" + "---|" * len(heads)]
+    quiet = []
+    for n in names:
+        if max(res[(kind, n, s, "off")]["held"] for s in starts) == 0.0:
+            quiet.append(n)
+            continue
+        for s in starts:
+            r0 = res[(kind, n, s, "off")]
+            if r0["held"] == 0.0:
+                continue
+            lines.append(f"| {n[:-4]} | {s:.1f} | {r0['held']:.0%} | "
+                         + " | ".join(cell(res[(kind, n, s, v)]) for v in heads) + " |")
+    if quiet:
+        lines += ["", f"Not listed: {len(quiet)} logs with no brake, shift or curve pause ("
+                  + ", ".join(n[:-4] for n in quiet) + ")."]
+    return lines
+
+
+def verdict(res, jobs):
+    """Per variant: the runs it changed, how many it helped / hurt in grade RMSE (more than
+    0.05 mrad) and in |mass error| (more than 0.05 % of m), and the worst of each."""
+    lines = ["", "| variant | runs moved | grade RMSE better / worse | worst grade RMSE change "
+             "(mrad) | \\|mass error\\| better / worse | worst \\|mass error\\| change |",
+             "|---|---|---|---|---|---|"]
+    for v in list(VARIANTS)[1:]:
+        moved = better = worse = mb = mw = 0
+        worst_g, worst_m = (0.0, ""), (0.0, "")
+        for j in jobs:
+            if j[3] != v or j not in res or j[0] == "true":
+                continue
+            r, r0 = res[j], res[j[:3] + ("off",)]
+            if r == r0:
+                continue
+            moved += 1
+            dg = 1e3 * (r["rmse"] - r0["rmse"])
+            dm = abs(r["mass_err"]) - abs(r0["mass_err"])
+            better += dg < -0.05
+            worse += dg > 0.05
+            mb += dm < -5e-4
+            mw += dm > 5e-4
+            tag = f"{j[1][:-4]} {j[2]:.1f}"
+            worst_g = max(worst_g, (dg, tag))
+            worst_m = max(worst_m, (dm, tag))
+        lines.append(f"| {v} | {moved} | {better} / {worse} | {worst_g[0]:+.2f} ({worst_g[1]}) | "
+                     f"{mb} / {mw} | {worst_m[0]:+.2%} ({worst_m[1]}) |")
+    return lines
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--page", help="Markdown page whose mass-pause-grade region is rewritten")
+    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
+    a = ap.parse_args(argv)
+    obs_dir = os.path.join(ROOT, "scenarios", "observer")
+    obs_names = sorted(f for f in os.listdir(obs_dir)
+                       if f.endswith(".csv") and not f.endswith(".mf.csv")) + [
+        n for n in res_logs() if not n.endswith(".mf.csv")]
+    mg_names = sorted(f for f in os.listdir(os.path.join(ROOT, "scenarios", "mass_grade"))
+                      if f.endswith(".csv"))
+    first = [("mg", n, s, "off") for n in mg_names for s in MG_STARTS]
+    first += [("obs", n, s, "off") for n in obs_names for s in OBS_STARTS]
+    with multiprocessing.Pool(a.jobs) as pool:
+        res = dict(pool.map(job, first, chunksize=1))
+        jobs = [j[:3] + (v,) for j in first if res[j]["held"] > 0.0 for v in list(VARIANTS)[1:]]
+        true = [("true",) + j[1:3] + (v,) for j in first
+                if j[0] == "mg" and res[j]["held"] > 0.0 for v in VARIANTS]
+        res.update(pool.map(job, jobs + true, chunksize=1))
+    text = ["Cells: mass error at the end, grade RMSE over the log (mrad) and, where the run "
+            "held samples, the grade RMSE over the brake, shift and curve pauses (mrad); "
+            "`held`: their share with mg_pause_grade off. Recommended preset (UKF with the ax "
+            "row), curve pause at 1 m/s^2 for 1 s; float64 reference. The mass and grade logs "
+            "(vx_true as the ground speed):", ""]
+    text += table(res, "mg", mg_names, MG_STARTS)
+    text += ["", "The observer logs (the simulator's resistances; `_res`: the car preset's):", ""]
+    text += table(res, "obs", obs_names, OBS_STARTS)
+    text += verdict(res, jobs)
+    text += ["", "The mass and grade logs that pause again, with the car's speed vx_true in place "
+             "of the wheels' (no brake or drive slip in v; a diagnosis, not a configuration):",
+             ""]
+    text += table(res, "true", [n for n in mg_names if ("true", n, MG_STARTS[0], "off") in res],
+                  MG_STARTS)
+    out = "\n".join(text)
+    print(out)
+    if a.page:
+        replace_region(Path(a.page), "<!-- mass-pause-grade:begin -->",
+                       "<!-- mass-pause-grade:end -->", out.splitlines(), "mass_pause_grade_study")
+
+
+if __name__ == "__main__":
+    main()
