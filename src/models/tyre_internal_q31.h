@@ -116,6 +116,15 @@ void rfe_tyre_pre_jac_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugoff_pre_
                           rfe_fix_t kappa, rfe_fix_t vwx, rfe_fix_t fz, rfe_fix_t mu,
                           const rfe_slip_dir_q31_t *d, rfe_tyre_jac_q31_t *out);
 
+/** rfe_tyre_pre_jac_q31 for paper and absolute (Dugoff) mode only, bit for bit: the step
+ *  noise's input derivatives (meas_q31.c wheel_basis_q31) call it for those modes, so a build
+ *  that links them does not link the Magic Formula's directional derivative
+ *  (rfe_tyre_magic_pre_jac_q31) through rfe_tyre_pre_jac_q31's other branch. */
+void rfe_tyre_dugoff_pre_jac_q31(const rfe_tyre_params_q31_t *tp,
+                                 const rfe_dugoff_pre_q31_t *pre, rfe_fix_t kappa,
+                                 rfe_fix_t vwx, rfe_fix_t fz, rfe_fix_t mu,
+                                 const rfe_slip_dir_q31_t *d, rfe_tyre_jac_q31_t *out);
+
 /** Magic Formula mode (tp passed rfe_tyre_abs_params_ok_q31): the forces Fx, Fy (Q15) of
  *  rfe_tyre_dugoff_abs_pre_q31 and the derivatives of rfe_tyre_pre_jac_q31 at friction @p mu
  *  (Q29) and load @p fz (Q15, >= 0) from @p pre (rfe_tyre_dugoff_pre_q31), bit for bit, with

@@ -745,7 +745,8 @@ void rfe_tyre_norm_pre_q31(const rfe_tyre_params_q31_t *tp, rfe_fix_t kappa, rfe
 }
 
 /* a b and a b + c d, out of line (RFE_XF_OUTLINE): one copy for the Dugoff derivative's
- * products and sums (dugoff_de_q31, both branches of dugoff_jac_q31), where every inlined
+ * products and sums (dugoff_de_q31, both branches of dugoff_jac_q31; tyre_xf_mul also for the
+ * Magic Formula derivative's S = 0 branch, off the curve's path), where every inlined
  * rfe_xf_t product or sum was another copy of rfe_xf_make's normalisation. The same
  * operations in the same order: the same bits. Measured (make firmware-libs, make pil):
  * dugoff_jac_q31 7,288 -> 4,684 B on the Cortex-M4 (-O2), and the observer's step did not
@@ -781,9 +782,12 @@ static rfe_xf_t xf_signed(int s, rfe_xf_t a)
  * of the exact ones. eps |(k, t)| = eps n 2^-l: Q32 x Q(30 + l), < 2^31 2^30.5 < 2^62, exact in
  * rfe_xf_t; eps |vwx|: Q32 x Q23 = Q55, < 2^62, exact. Three rfe_xf_t products and two sums
  * with d (real values), as before; the change is within 2^-27 relative of the former
- * rfe_xf_t chain (30-bit roundings in both). */
-static rfe_xf_t dugoff_de_q31(const rfe_dugoff_pre_q31_t *pre, int32_t kq, int32_t eps,
-                              int32_t vwx, const rfe_slip_dir_q31_t *d)
+ * rfe_xf_t chain (30-bit roundings in both). Out of line (RFE_XF_OUTLINE), called by
+ * rfe_tyre_dugoff_pre_jac_q31: its divisions' stack is beside dugoff_jac_q31's frame, not
+ * below it. */
+RFE_XF_OUTLINE static rfe_xf_t dugoff_de_q31(const rfe_dugoff_pre_q31_t *pre, int32_t kq,
+                                             int32_t eps, int32_t vwx,
+                                             const rfe_slip_dir_q31_t *d)
 {
     rfe_xf_t de = rfe_xf_make(0, 0);
     if (pre->e > 0) {
@@ -813,7 +817,8 @@ static int64_t q30_of(int64_t v, unsigned int sh) { return rfe_fix_shr64_round(v
  * dugoff_jac's g = w / S), in the form F = Fz w u of dugoff_at_mu (w = mu E (1 - L/2),
  * u = (ux, uy) = (C1 k, C2 t) / S, L from dugoff_l30, the forces' own branch):
  *   dF = Fz (h (b_k dk + b_t dt) + mu (1 - L) u dE),   dF/dmu = Fz E (1 - L) u,
- * h = mu E / S, dE from dugoff_de_q31, and per direction (x with C1 = c1, y with c2)
+ * h = mu E / S, dE from dugoff_de_q31 (the caller's, de), and per direction (x with C1 = c1,
+ * y with c2)
  *   b_xk = ((1 - L/2) - (1 - L) ux^2) c1 + sgn(k) ux mu E / 4,   b_xt = -(1 - L) ux uy c2,
  *   b_yk = sgn(k) uy mu E / 4 - (1 - L) ux uy c1,               b_yt = ((1 - L/2) - (1 - L) uy^2) c2
  * (from du = (cd - u (u . cd)) / S, cd = (c1 dk, c2 dt), and dw = mu (1 - L) dE
@@ -828,9 +833,9 @@ static int64_t q30_of(int64_t v, unsigned int sh) { return rfe_fix_shr64_round(v
  * real change d, h, dE and fz, where the former rfe_xf_t chain had about 40 in all. Outputs:
  * df = dF, mf = dF/dmu, f0 = F (paper mode's dF/dmu). */
 static void dugoff_jac_lt1_q31(const rfe_dugoff_pre_q31_t *pre, int32_t kq, int32_t c1q,
-                               int32_t c2q, int32_t eps, int32_t vwx, int32_t m, int32_t l30,
-                               rfe_xf_t fzx, const rfe_slip_dir_q31_t *d, rfe_xf_t df[2],
-                               rfe_xf_t mf[2], rfe_xf_t f0[2])
+                               int32_t c2q, int32_t m, int32_t l30, rfe_xf_t de, rfe_xf_t fzx,
+                               const rfe_slip_dir_q31_t *d, rfe_xf_t df[2], rfe_xf_t mf[2],
+                               rfe_xf_t f0[2])
 {
     const int64_t u[2] = {pre->ux, pre->uy};
     const int64_t c[2] = {c1q, c2q};
@@ -844,7 +849,6 @@ static void dugoff_jac_lt1_q31(const rfe_dugoff_pre_q31_t *pre, int32_t kq, int3
     const int64_t w30 = q30_of(me30 * omh, 30u);                         /* w, Q30 < 2^32 */
     const int64_t eo = q30_of((int64_t)pre->e * oml, 30u);               /* E (1 - L) <= 1 */
     const rfe_xf_t h = rfe_xf_div(rfe_xf_make(me, -59), rfe_xf_of(pre->s, (int)pre->qs));
-    const rfe_xf_t de = dugoff_de_q31(pre, kq, eps, vwx, d);
     size_t i;
     for (i = 0u; i < 2u; ++i) {
         /* direction i: b_k, b_t of the comment above; (1 - L) u_i^2 as (1 - L) u_i, then u_i */
@@ -897,18 +901,20 @@ static void dugoff_jac_ge1_q31(const rfe_dugoff_pre_q31_t *pre, int32_t kq, int3
 }
 
 /* Dugoff forces fz (c1 k, c2 t) g and their derivatives (tyre_flt.c dugoff_jac) at mu = m
- * (Q29, >= 0; paper mode: 1); f0[0..1]: the forces. L < 1 (S > 0): dugoff_jac_lt1_q31, else
- * dugoff_jac_ge1_q31. */
-static void dugoff_jac_q31(const rfe_dugoff_pre_q31_t *pre, int32_t kq, int32_t c1q,
-                           int32_t c2q, int32_t eps, int32_t vwx, int32_t m, int32_t fz,
-                           const rfe_slip_dir_q31_t *d, rfe_tyre_jac_q31_t *o, rfe_xf_t f0[2])
+ * (Q29, >= 0; paper mode: 1) with l30 = L (dugoff_l30; 1 where S = 0) and, where L < 1, de = dE
+ * along d (dugoff_de_q31); f0[0..1]: the forces. L < 1 (S > 0): dugoff_jac_lt1_q31, else
+ * dugoff_jac_ge1_q31. Out of line, and L and dE formed by the caller, so their divisions are
+ * not on the stack below this frame. */
+RFE_XF_OUTLINE static void dugoff_jac_q31(const rfe_dugoff_pre_q31_t *pre, int32_t kq,
+                                          int32_t c1q, int32_t c2q, int32_t m, int32_t l30,
+                                          rfe_xf_t de, int32_t fz, const rfe_slip_dir_q31_t *d,
+                                          rfe_tyre_jac_q31_t *o, rfe_xf_t f0[2])
 {
     const rfe_xf_t fzx = rfe_xf_of(fz, 15);
-    const int32_t l30 = (pre->s > 0) ? dugoff_l30(pre, m) : ONE_Q30;
     rfe_xf_t df[2];
     rfe_xf_t mf[2];
     if (l30 < ONE_Q30) {
-        dugoff_jac_lt1_q31(pre, kq, c1q, c2q, eps, vwx, m, l30, fzx, d, df, mf, f0);
+        dugoff_jac_lt1_q31(pre, kq, c1q, c2q, m, l30, de, fzx, d, df, mf, f0);
     } else {
         dugoff_jac_ge1_q31(pre, kq, c1q, c2q, m, fzx, d, df, mf, f0);
     }
@@ -955,6 +961,22 @@ static int64_t magic_cos_dn_q31(int32_t c30, int32_t Eq, uint32_t a)
     return cd;
 }
 
+/* round(v 2^e / dh) (half up) where the quotient is below 2^32 (rfe_q31_udiv64_32's domain)
+ * and, for e >= 0, v 2^e + dh / 2 < 2^64 (the left shift exact); for e < 0, v is rounded by -e
+ * bits first (1/2 unit). Its callers: magic_shape_jac_q31's cos^2 b and w (dh in [2^30, 2^31),
+ * v 2^e / dh < 2^31, so v 2^e < 2^62; the first rounding 2^-31 of the quotient's unit) and
+ * magic_g_over_s_q31's m G / S (dh = S): one copy of the rounded division for the three. */
+RFE_XF_OUTLINE static uint32_t magic_ratio_q31(uint64_t v, int e, uint32_t dh)
+{
+    uint64_t n;
+    if (e >= 0) {
+        n = v << (unsigned int)e;
+    } else {
+        n = rfe_q31_ushr64_round(v, (unsigned int)(-e));
+    }
+    return rfe_q31_udiv64_32(n + (uint64_t)(dh >> 1), dh);
+}
+
 /* m G / s of one direction (S > 0, m > 0) in Q30, in [0, 5 2^30] (m G / s = sin(C b) / (C x)
  * with x = s / (m C): sin(C b) <= C b and b <= atan((1 + |E|) x) <= 5 x). G (Q30) holds 30 bits
  * of its value only where it is not small, so below x = 2^-MAGIC_SERIES_BITS (read from the
@@ -986,17 +1008,9 @@ static int64_t magic_g_over_s_q31(const rfe_dugoff_pre_q31_t *pre, int32_t m, in
         const int32_t t6 = t / 6;
         r = (int64_t)ONE_Q30 - (int64_t)t6;
     } else {
-        const uint32_t s = (uint32_t)pre->s;
-        const unsigned int qs = (unsigned int)pre->qs;
+        /* n = m G 2^(qs - 30) rounded over S, as above */
         const uint64_t mg = (uint64_t)m * (uint64_t)dir->g;
-        uint64_t n;
-        if (qs >= 30u) {
-            const unsigned int up = qs - 30u;
-            n = mg << up;
-        } else {
-            n = rfe_q31_ushr64_round(mg, 30u - qs);
-        }
-        r = 2 * (int64_t)rfe_q31_udiv64_32(n + (uint64_t)(s >> 1), s);
+        r = 2 * (int64_t)magic_ratio_q31(mg, (int)pre->qs - 30, (uint32_t)pre->s);
     }
     return r;
 }
@@ -1014,20 +1028,6 @@ static unsigned int magic_w_bits(int32_t Eq)
         w = 24u - rfe_q31_bitlen32(t);
     }
     return w;
-}
-
-/* round(v 2^e / dh) for dh in [2^30, 2^31) where v 2^e / dh < 2^31 (so v 2^e < 2^62 for e > 0:
- * the left shift is exact; for e < 0, v is rounded by -e bits first, 1/2 unit, 2^-31 of the
- * quotient's unit). */
-static inline uint32_t magic_ratio_q31(uint64_t v, int e, uint32_t dh)
-{
-    uint64_t n;
-    if (e >= 0) {
-        n = v << (unsigned int)e;
-    } else {
-        n = rfe_q31_ushr64_round(v, (unsigned int)(-e));
-    }
-    return rfe_q31_udiv64_32(n + (uint64_t)(dh >> 1), dh);
 }
 
 /* m dG/ds and G - s dG/ds of one direction in Q30 (int64), S > 0, m > 0 (tyre_flt.c
@@ -1114,9 +1114,11 @@ static rfe_xf_t magic_lin_q31(int32_t fz, int32_t p1, rfe_xf_t c1, int32_t p2, r
  * (|.| <= 5) or dx ux uy (|ux uy| <= 1/2 + 2^-30): |.| <= 5 (1 + 2^-20) < 2^31 / 2^28,
  * magic_lin_q31's domain. fz u (Q45, < 2^61) and G - s G_s (Q30) enter rfe_xf_t exactly or
  * rounded to 30 bits, and one product. Where the set-up held the factors and the change ds in
- * rfe_xf_t before: no reciprocal of S, two products instead of ten per direction. */
-static void magic_dfs_q31(const rfe_dugoff_pre_q31_t *pre, int32_t fz, rfe_xf_t cdk, rfe_xf_t cdt,
-                          const magic_terms_q31_t *tx, const magic_terms_q31_t *ty,
+ * rfe_xf_t before: no reciprocal of S, two products instead of ten per direction. The
+ * coefficients and dF/dmu do not depend on the change: formed once for the n changes
+ * (cdk, cdt) = (cd[2 b], cd[2 b + 1]) of o[b] (the input derivative's two; the observer's one). */
+static void magic_dfs_q31(const rfe_dugoff_pre_q31_t *pre, int32_t fz, const rfe_xf_t *cd,
+                          size_t n, const magic_terms_q31_t *tx, const magic_terms_q31_t *ty,
                           rfe_tyre_jac_q31_t *o)
 {
     const int64_t ux = pre->ux;
@@ -1133,10 +1135,15 @@ static void magic_dfs_q31(const rfe_dugoff_pre_q31_t *pre, int32_t fz, rfe_xf_t 
     const int32_t pxt = (int32_t)rfe_fix_shr64_round((int64_t)dx * (int64_t)uxy, 29u);
     const int32_t pyk = (int32_t)rfe_fix_shr64_round((int64_t)dy * (int64_t)uxy, 29u);
     const int32_t pyt = gy + (int32_t)rfe_fix_shr64_round((int64_t)dy * (int64_t)uyy, 29u);
-    o->dfx = magic_lin_q31(fz, pxk, cdk, pxt, cdt);
-    o->dfy = magic_lin_q31(fz, pyk, cdk, pyt, cdt);
-    o->mfx = rfe_xf_mul(rfe_xf_make((int64_t)fz * ux, -45), rfe_xf_make(tx->gms, -30));
-    o->mfy = rfe_xf_mul(rfe_xf_make((int64_t)fz * uy, -45), rfe_xf_make(ty->gms, -30));
+    const rfe_xf_t mfx = rfe_xf_mul(rfe_xf_make((int64_t)fz * ux, -45), rfe_xf_make(tx->gms, -30));
+    const rfe_xf_t mfy = rfe_xf_mul(rfe_xf_make((int64_t)fz * uy, -45), rfe_xf_make(ty->gms, -30));
+    size_t b;
+    for (b = 0u; b < n; ++b) {
+        o[b].dfx = magic_lin_q31(fz, pxk, cd[2u * b], pxt, cd[(2u * b) + 1u]);
+        o[b].dfy = magic_lin_q31(fz, pyk, cd[2u * b], pyt, cd[(2u * b) + 1u]);
+        o[b].mfx = mfx;
+        o[b].mfy = mfy;
+    }
 }
 
 /* One direction's factors (S > 0, m > 0). */
@@ -1149,35 +1156,32 @@ static void magic_terms_q31(const rfe_dugoff_pre_q31_t *pre, int32_t m, int32_t 
 
 /* Magic Formula forces' derivatives (tyre_flt.c magic_jac) at m = max(mu, 0) (Q29) along the
  * n slip changes (cx dk, cy dt) = (cd[2 b], cd[2 b + 1]) of o[b]: m = 0: all 0; S = 0: dF = fz (cx dk, cy dt)
- * (the limit fz m G_s(0) = fz), dF/dmu = 0; else each direction's factors, formed once for
- * all n changes, and magic_dfs_q31 per change. */
+ * (the limit fz m G_s(0) = fz), dF/dmu = 0; else each direction's factors and magic_dfs_q31's
+ * coefficients, formed once for all n changes, and its two sums per change. */
 static void magic_jac_q31(const rfe_dugoff_pre_q31_t *pre, int32_t m, int32_t fz,
                           const rfe_tyre_params_q31_t *tp, const rfe_xf_t *cd, size_t n,
                           const magic_dir_q31_t dir[2], rfe_tyre_jac_q31_t *o)
 {
-    const rfe_xf_t zero = rfe_xf_make(0, 0);
-    magic_terms_q31_t tx;
-    magic_terms_q31_t ty;
-    size_t b;
-    int curve = 0;
     if ((m > 0) && (pre->s != 0)) {
-        curve = 1;
+        magic_terms_q31_t tx;
+        magic_terms_q31_t ty;
         magic_terms_q31(pre, m, tp->shape_Cx, tp->shape_Ex, &dir[0], &tx);
         magic_terms_q31(pre, m, tp->shape_Cy, tp->shape_Ey, &dir[1], &ty);
-    }
-    for (b = 0u; b < n; ++b) {
-        o[b].dfx = zero;
-        o[b].dfy = zero;
-        o[b].mfx = zero;
-        o[b].mfy = zero;
-        if (curve != 0) {
-            magic_dfs_q31(pre, fz, cd[2u * b], cd[(2u * b) + 1u], &tx, &ty, &o[b]);
-        } else if (m > 0) {
-            const rfe_xf_t fzx = rfe_xf_of(fz, 15);
-            o[b].dfx = rfe_xf_mul(fzx, cd[2u * b]);
-            o[b].dfy = rfe_xf_mul(fzx, cd[(2u * b) + 1u]);
-        } else {
-            /* m = 0: no force at any slip */
+        magic_dfs_q31(pre, fz, cd, n, &tx, &ty, o);
+    } else {
+        const rfe_xf_t zero = rfe_xf_make(0, 0);
+        const rfe_xf_t fzx = rfe_xf_of(fz, 15);
+        size_t b;
+        for (b = 0u; b < n; ++b) {
+            o[b].dfx = zero;
+            o[b].dfy = zero;
+            o[b].mfx = zero;
+            o[b].mfy = zero;
+            if (m > 0) {
+                /* S = 0 (no slip): out of line (tyre_xf_mul), off the curve's path */
+                o[b].dfx = tyre_xf_mul(fzx, cd[2u * b]);
+                o[b].dfy = tyre_xf_mul(fzx, cd[(2u * b) + 1u]);
+            }
         }
     }
 }
@@ -1262,13 +1266,44 @@ void rfe_tyre_magic_basis_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugoff_
     magic_jac_q31(pre, m, fz, tp, cd, 2u, dir, out);
 }
 
+void rfe_tyre_dugoff_pre_jac_q31(const rfe_tyre_params_q31_t *tp,
+                                 const rfe_dugoff_pre_q31_t *pre, rfe_fix_t kappa,
+                                 rfe_fix_t vwx, rfe_fix_t fz, rfe_fix_t mu,
+                                 const rfe_slip_dir_q31_t *d, rfe_tyre_jac_q31_t *out)
+{
+    const int32_t k = rfe_fix_clamp(kappa, -ONE_Q30, ONE_Q30);
+    /* paper mode: F = mu F0, F0 at mu = 1 with the normalised stiffnesses; the others at
+     * max(mu, 0) (mu < 0 is evaluated at 0, MODEL.md §4, where nothing depends on mu) */
+    const int32_t mpos = (mu > 0) ? mu : 0;
+    const int32_t m = (tp->mode == RFE_TYRE_PAPER) ? RFE_FIX_ONE(RFE_FIX_Q_MU) : mpos;
+    const int32_t c1 = (tp->mode == RFE_TYRE_PAPER) ? tp->Cx_n : tp->cx;
+    const int32_t c2 = (tp->mode == RFE_TYRE_PAPER) ? tp->Cy_n : tp->cy;
+    /* L and dE here, not in dugoff_jac_q31: their divisions' stack sits below this small
+     * frame (dE only where L < 1, its only use) */
+    const int32_t l30 = (pre->s > 0) ? dugoff_l30(pre, m) : ONE_Q30;
+    const rfe_xf_t de =
+        (l30 < ONE_Q30) ? dugoff_de_q31(pre, k, tp->eps, vwx, d) : rfe_xf_make(0, 0);
+    rfe_xf_t f0[2];
+    dugoff_jac_q31(pre, k, c1, c2, m, l30, de, fz, d, out, f0);
+    if (tp->mode == RFE_TYRE_PAPER) {
+        /* dF = mu dF0, dF/dmu = F0 */
+        const rfe_xf_t mux = rfe_xf_of(mu, (int)RFE_FIX_Q_MU);
+        out->dfx = rfe_xf_mul(mux, out->dfx);
+        out->dfy = rfe_xf_mul(mux, out->dfy);
+        out->mfx = f0[0];
+        out->mfy = f0[1];
+    } else if (m == 0) {
+        out->mfx = rfe_xf_make(0, 0);
+        out->mfy = rfe_xf_make(0, 0);
+    } else {
+        /* dF/dmu from dugoff_jac_q31 */
+    }
+}
+
 void rfe_tyre_pre_jac_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugoff_pre_q31_t *pre,
                           rfe_fix_t kappa, rfe_fix_t vwx, rfe_fix_t fz, rfe_fix_t mu,
                           const rfe_slip_dir_q31_t *d, rfe_tyre_jac_q31_t *out)
 {
-    const int32_t k = rfe_fix_clamp(kappa, -ONE_Q30, ONE_Q30);
-    const int32_t m = (mu > 0) ? mu : 0;
-    rfe_xf_t f0[2];
     if (tp->mode == RFE_TYRE_MAGIC) {
         /* rfe_tyre_magic_pre_jac_q31's derivatives (the same calls), its forces unused: out of
          * line, its frame is not on the Dugoff path's stack */
@@ -1276,21 +1311,7 @@ void rfe_tyre_pre_jac_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugoff_pre_
         rfe_fix_t fy = 0;
         uint32_t scratch = 0u;
         rfe_tyre_magic_pre_jac_q31(tp, pre, fz, mu, d, &fx, &fy, &scratch, out);
-    } else if (tp->mode == RFE_TYRE_PAPER) {
-        /* F = mu F0: dF = mu dF0, dF/dmu = F0 */
-        const rfe_xf_t mux = rfe_xf_of(mu, (int)RFE_FIX_Q_MU);
-        dugoff_jac_q31(pre, k, tp->Cx_n, tp->Cy_n, tp->eps, vwx, RFE_FIX_ONE(RFE_FIX_Q_MU), fz, d,
-                       out, f0);
-        out->dfx = rfe_xf_mul(mux, out->dfx);
-        out->dfy = rfe_xf_mul(mux, out->dfy);
-        out->mfx = f0[0];
-        out->mfy = f0[1];
     } else {
-        /* mu < 0 is evaluated at 0 (MODEL.md §4), where nothing depends on mu */
-        dugoff_jac_q31(pre, k, tp->cx, tp->cy, tp->eps, vwx, m, fz, d, out, f0);
-        if (m == 0) {
-            out->mfx = rfe_xf_make(0, 0);
-            out->mfy = rfe_xf_make(0, 0);
-        }
+        rfe_tyre_dugoff_pre_jac_q31(tp, pre, kappa, vwx, fz, mu, d, out);
     }
 }

@@ -26,7 +26,9 @@
 #include "numerics/internal_q31.h"
 
 /** A function kept out of line: the few rfe_xf_t helpers whose inlined copies (each with
- *  rfe_xf_make's normalisation) cost more flash than their calls cost time (tyre_q31.c). */
+ *  rfe_xf_make's normalisation) cost more flash than their calls cost time (tyre_q31.c), and
+ *  the few functions of the tyre and input derivatives kept out of line for flash or so that
+ *  their frames leave the deepest stack path (tyre_q31.c, meas_q31.c). */
 #if defined(__GNUC__)
 /* MISRA-DEV-02: a GNU attribute (Rule 1.2, language extension), only under __GNUC__ */
 #define RFE_XF_OUTLINE __attribute__((noinline))
