@@ -46,7 +46,7 @@ DEPS_EXTRA :=
 TEST_GATES :=
 include $(sort $(filter-out mk/lib.mk,$(wildcard mk/*.mk)))
 
-.PHONY: mass-grade-scenarios observer-res-scenarios mass-grade-results mass-grade-textbook mass-sensitivity mass-headwind mass-slip mass-slip-ramp mass-curve mass-curve-pause mass-pause-grade tyre-id-feed-results tyre-id-trust mass-grade-goldens trust-invariant names car-format-logs observer-goldens observer-goldens-q31 observer-results monitor-results shape-results test-pkg all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind valgrind-unit valgrind-cli coverage demo goldens goldens-q31 scenarios observer-scenarios clean vectors shared-sync check-shared readme-table \
+.PHONY: deps-apt mass-grade-scenarios observer-res-scenarios mass-grade-results mass-grade-textbook mass-sensitivity mass-headwind mass-slip mass-slip-ramp mass-curve mass-curve-pause mass-pause-grade tyre-id-feed-results tyre-id-trust mass-grade-goldens trust-invariant names car-format-logs observer-goldens observer-goldens-q31 observer-results monitor-results shape-results test-pkg all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind valgrind-unit valgrind-cli coverage demo goldens goldens-q31 scenarios observer-scenarios clean vectors shared-sync check-shared readme-table \
         check-kernels check-tools layers help-check goldens-ref check-nofloat help deps-analysis misra tidy complexity structural analysis \
         twins check-twins tyre-id-scenarios tyre-id-results tyre-id-goldens tyre-id-ellipse-results \
         tyre-id-results-ellipse snoise-reuse snoise-reuse-vxvy
@@ -91,7 +91,11 @@ $(PYSTAMP): scripts/requirements.txt
 ## the Python venv .venv from the pinned scripts/requirements.txt
 venv: $(PYSTAMP)
 ## every installer above, each only when its tool is missing
-deps: deps-c deps-arm venv $(DEPS_EXTRA)
+deps: deps-apt venv
+# make test runs the venv's pip install (~70 s, mostly download) as its first check, beside
+# the C builds, instead of before them.
+## the system packages alone (deps without the venv)
+deps-apt: deps-c deps-arm $(DEPS_EXTRA)
 
 # ---- tests -----------------------------------------------------------------------------
 # Unit and golden tests run in both precisions; host tests once. Each cmocka binary runs once,
@@ -269,18 +273,21 @@ coverage: deps $(foreach f,cov-f32 cov-f64,$(addprefix $(BUILD)/$(f)/test/,$(UNI
 	@$(PY) scripts/evidence/evidence_coverage.py --cobertura $(BUILD)/coverage/coverage.xml \
 	  --justifications docs/COVERAGE_JUSTIFICATION.md --out $(BUILD)/coverage/justified.md
 
-# make test: the installers first, then every check, TEST_JOBS of them side by side (they
+# make test: the system installers first, then the venv and every check, TEST_JOBS of them side by side (they
 # share nothing but their common prerequisites, which make builds once); --output-sync
 # prints each check's output whole when it ends, so a long one (coverage) is quiet a while.
 # Memcheck (make valgrind) is not among them: it took 12 of make test's 45 CPU minutes
 # (valgrind runs ~45x slower than native) for the uninitialised reads that ASan + UBSan do
 # not see, over the same tests; CI runs it after make test (.ci/run), so nothing lands
 # without it, and make test stays a quarter-hour loop on two cores.
-TEST_STEPS = lib bench-build check-tools layers names help-check check-shared check-twins check-nofloat misra tidy complexity structural test-c $(TEST_GATES) \
-             sanitize test-py test-pkg check-kernels coverage
+# The order is the start order: the venv first (the Python checks wait for it, the C ones do
+# not), then the long checks (cppcheck, pytest, coverage, ASan), so that the short ones fill
+# the other job slot instead of one long check running alone at the end.
+TEST_STEPS = venv misra test-py coverage sanitize lib test-c tidy bench-build check-tools layers names help-check \
+             check-shared check-twins check-nofloat complexity structural $(TEST_GATES) test-pkg check-kernels
 TEST_JOBS ?= $(shell nproc 2>/dev/null || echo 1)
 ## every check, TEST_JOBS at a time (the README's test command)
-test: deps
+test: deps-apt
 	@echo "make test: $(words $(TEST_STEPS)) checks ($(TEST_STEPS)), $(TEST_JOBS) at a time"
 	@$(MAKE) --no-print-directory -j$(TEST_JOBS) --output-sync=target $(TEST_STEPS)
 	@echo "make test: all tests passed, coverage gate met"
