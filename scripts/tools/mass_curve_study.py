@@ -36,11 +36,9 @@ with both: the mass at the end against m (sd_mass / m) and the grade at the end.
 With --page the table goes between <!-- mass-curve:begin --> and <!-- mass-curve:end -->.
 """
 
-import argparse
 import multiprocessing
 import os
 import sys
-from pathlib import Path
 
 import numpy as np
 
@@ -49,9 +47,8 @@ sys.path.insert(0, os.path.join(ROOT, "scripts"))
 sys.path.insert(0, os.path.join(ROOT, "scripts", "tools"))
 
 from mass_slip_ramp_study import (RECOMMENDED, SIM_RESISTANCES, TORQUES,  # noqa: E402
-                                  log_path, mg, observer_samples)
+                                  log_path, mg, observer_samples, study_main)
 from mass_sensitivity import log_mass  # noqa: E402
-from md_tables import replace_region  # noqa: E402
 
 LOGS = ("bank_curve_pos5", "bank_curve_neg5", "circle_r60", "ay_bias_curve")
 SUFFIXES = (".nf.csv", ".csv")
@@ -134,20 +131,17 @@ def table(res, names):
     return "\n".join(lines)
 
 
-def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--page", help="Markdown page whose mass-curve region is rewritten")
-    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
-    a = ap.parse_args(argv)
+def results_text(n_jobs):
+    """The study's table: every log and its noise-free twin, every variant."""
     names = [n + s for n in LOGS for s in SUFFIXES]
     jobs = [(n, v) for n in names for v in VARIANTS]
-    with multiprocessing.Pool(a.jobs) as pool:
+    with multiprocessing.Pool(n_jobs) as pool:
         res = dict(pool.map(job, jobs, chunksize=2))
-    text = table(res, names)
-    print(text)
-    if a.page:
-        replace_region(Path(a.page), "<!-- mass-curve:begin -->", "<!-- mass-curve:end -->",
-                       text.splitlines(), "mass_curve_study")
+    return table(res, names)
+
+
+def main(argv=None):
+    study_main(argv, __doc__, "mass-curve", "mass_curve_study", results_text)
 
 
 if __name__ == "__main__":

@@ -20,11 +20,9 @@ pause kind decides alone, MASS_GRADE.md §4.2). Per run: the mass error at the e
 over the samples paused by brake, shift or curve, and their share.
 """
 
-import argparse
 import multiprocessing
 import os
 import sys
-from pathlib import Path
 
 import numpy as np
 
@@ -33,9 +31,8 @@ sys.path.insert(0, os.path.join(ROOT, "scripts"))
 sys.path.insert(0, os.path.join(ROOT, "scripts", "tools"))
 
 from mass_slip_ramp_study import (RECOMMENDED, SIM_RESISTANCES, log_path, mg,  # noqa: E402
-                                  observer_samples, res_logs)
+                                  observer_samples, res_logs, study_main)
 from mass_sensitivity import log_mass  # noqa: E402
-from md_tables import replace_region  # noqa: E402
 
 CURVE = {"mg_ay_max": 1.0, "mg_t_curve": 1.0}   # MASS_GRADE.md §4.2's setting for a car that corners
 VARIANTS = {"off": 0, "brake": 1, "shift": 2, "curve": 4, "all": 7}
@@ -145,11 +142,8 @@ def verdict(res, jobs):
     return lines
 
 
-def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--page", help="Markdown page whose mass-pause-grade region is rewritten")
-    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
-    a = ap.parse_args(argv)
+def results_text(n_jobs):
+    """The study's text: every log and start without the mode, then the runs it changes."""
     obs_dir = os.path.join(ROOT, "scenarios", "observer")
     obs_names = sorted(f for f in os.listdir(obs_dir)
                        if f.endswith(".csv") and not f.endswith(".mf.csv")) + [
@@ -158,7 +152,7 @@ def main(argv=None):
                       if f.endswith(".csv"))
     first = [("mg", n, s, "off") for n in mg_names for s in MG_STARTS]
     first += [("obs", n, s, "off") for n in obs_names for s in OBS_STARTS]
-    with multiprocessing.Pool(a.jobs) as pool:
+    with multiprocessing.Pool(n_jobs) as pool:
         res = dict(pool.map(job, first, chunksize=1))
         jobs = [j[:3] + (v,) for j in first if res[j]["held"] > 0.0 for v in list(VARIANTS)[1:]]
         true = [("true",) + j[1:3] + (v,) for j in first
@@ -178,11 +172,11 @@ def main(argv=None):
              ""]
     text += table(res, "true", [n for n in mg_names if ("true", n, MG_STARTS[0], "off") in res],
                   MG_STARTS)
-    out = "\n".join(text)
-    print(out)
-    if a.page:
-        replace_region(Path(a.page), "<!-- mass-pause-grade:begin -->",
-                       "<!-- mass-pause-grade:end -->", out.splitlines(), "mass_pause_grade_study")
+    return "\n".join(text)
+
+
+def main(argv=None):
+    study_main(argv, __doc__, "mass-pause-grade", "mass_pause_grade_study", results_text)
 
 
 if __name__ == "__main__":
