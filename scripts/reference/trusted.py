@@ -48,14 +48,23 @@ class Conditioner:
 def h_point(p, u, mu4):
     """h(mu, u) for one input vector u = (delta, vx, vy, r, ax, ay, w1..w4) and mu per wheel
     (absolute / magic tyre: the load-scaled curve at mu; paper tyre: H(u) mu)."""
-    delta, vx, vy, r, ax, ay = u[:6]
-    omega = np.asarray(u[6:10])[None, :]
-    ti = model.tyre_inputs(p, np.array([delta]), np.array([vx]), np.array([vy]), np.array([r]),
-                           np.array([ax]), np.array([ay]), omega)
-    mu4 = np.asarray(mu4, dtype=float)
+    return h_points(p, np.asarray(u, dtype=float)[None, :], np.asarray(mu4, dtype=float)[None, :])[0]
+
+
+def h_points(p, us, mus):
+    """h at P points at once: us shape (P, 10) input vectors, mus shape (P, 4) mu per wheel;
+    returns (P, 3). Row i is h_point(p, us[i], mus[i]) with the same elementwise operations
+    (the model functions broadcast over the leading axis); one call instead of P saves the
+    reference most of its time in step 4's 17 evaluations per step."""
+    us = np.ascontiguousarray(us, dtype=float)
+    mus = np.ascontiguousarray(mus, dtype=float)    # rows as h_point's own arrays
+    ti = model.tyre_inputs(p, us[:, 0], us[:, 1], us[:, 2], us[:, 3], us[:, 4], us[:, 5],
+                           us[:, 6:10])
     if p["tyre"] == "paper":
-        return model.observation_matrix(p, ti)[0] @ mu4
-    return model.h_absolute(p, ti, 0, mu4[:, None])[:, 0]
+        hm = model.observation_matrix(p, ti)
+        return np.stack([hm[i] @ mus[i] for i in range(us.shape[0])])
+    fx, fy = model.tyre_absolute(p, mus, ti.fz, ti.kappa, ti.alpha, ti.v_wx)
+    return model.body_effects(p, fx, fy, ti.delta_i).sum(axis=-1)
 
 
 class Hold:
@@ -202,8 +211,8 @@ def run(log, p: dict, adapt=None, reuse: StepNoiseReuse | None = None):
             if reuse is not None:
                 out["snoise"][k] = reuse.due(u, sd_u)
             s_r = _step_noise(p, f, T, u, sd_u, out["c_pers"][k], reuse)  # 4
-            hfun = lambda pts: np.stack(  # noqa: E731
-                [h_point(p, u, T @ pts[:, j]) for j in range(pts.shape[1])], 1)
+            hfun = lambda pts: h_points(  # noqa: E731
+                p, np.tile(u, (pts.shape[1], 1)), (T @ pts).T).T
             pts = f.points()
             z_pts = hfun(pts)
             zc = _innovation(f, pts, z_pts, s_r, ys[k], out, k)
@@ -265,14 +274,18 @@ def _step_noise(p, f, T, u, sd_u, persistent=None, reuse=None):
     model_err = p["r_model_rel"] * np.abs(h_point(p, u, xw))
     s_r = np.diag(np.sqrt(r_sd ** 2 + model_err ** 2))
     held = dict(reuse.cols) if reuse is not None and reuse.cols is not None else {}
+    todo = [j for j, sj in enumerate(sd_u) if j not in held and sj > 0]
+    if todo:    # h at u + sd_j e_j and u - sd_j e_j for every column due, in one evaluation
+        du = np.zeros((len(todo), u.size))
+        du[np.arange(len(todo)), todo] = sd_u[todo]
+        hs = h_points(p, np.vstack([u + du, u - du]), np.tile(xw, (2 * len(todo), 1)))
+        fresh = dict(zip(todo, (hs[:len(todo)] - hs[len(todo):]) / 2.0))
     jcols = []
-    for j, sj in enumerate(sd_u):
+    for j in range(len(sd_u)):
         if j in held:
             jcols.append((j, held[j]))
-        elif sj > 0:
-            du = np.zeros(u.size)
-            du[j] = sj
-            jcols.append((j, (h_point(p, u + du, xw) - h_point(p, u - du, xw)) / 2.0))
+        elif j in todo:
+            jcols.append((j, fresh[j]))
     if reuse is not None and reuse.cols is None:
         reuse.cols = [(j, g) for j, g in jcols if reuse.inputs is None or j in reuse.inputs]
     cols = []
