@@ -1,8 +1,8 @@
 """Scenarios for the mass and road-grade estimator (issue 19, docs/MASS_GRADE.md).
 
-Straight drives on graded roads with the longitudinal forces the friction and observer
-scenarios leave out: rolling resistance and aerodynamic drag (vehicle.py ``ext``), a wind, a
-torque gap at each gear shift, brake applications.  Written by
+Drives on graded roads (all straight but one) with the longitudinal forces the friction and
+observer scenarios leave out: rolling resistance and aerodynamic drag (vehicle.py ``ext``), a
+wind, a torque gap at each gear shift, brake applications.  Written by
 scripts/data/make_mass_grade_scenarios.py to scenarios/mass_grade/ (columns: docs/spec/DATA.md
 "Mass and grade logs").
 
@@ -15,11 +15,14 @@ scripts/data/make_mass_grade_scenarios.py to scenarios/mass_grade/ (columns: doc
 | car_headwind | car 1900 kg | gentle hills at 90 km/h into a gusty 10 m/s headwind the model does not know |
 | car_grade_step | car 2100 kg | a ramp onto a car park: 0 -> 10 % over 5 m at 18 km/h |
 | car_flat_cruise | car 1750 kg | one acceleration, then 160 s of constant speed on a flat road: no excitation |
+| car_valley_brake | car 1850 kg | a long moderate brake (0.8 MPa, 11 s, no ABS) through a valley's sag: the grade goes -6 % -> +2 % while the pedal is pressed (mg_pause_grade's brake case) |
+| car_long_curve_crest | car 1700 kg | a 200 m radius curve at 80 km/h (a_y ~2.5 m/s^2, ~16 s) over a crest: +5 % -> -4 % within the curve (mg_pause_grade's curve case) |
 
-All are straight (delta = 0), on mu 0.9, with the Dugoff truth tyre (the tyres work far
-below their limit here, where both truth tyres are the same linear tyre) and a front-driven
-car / rear-driven truck.  The drive torque is the cruise controller's (control.SpeedConfig)
-plus, in car_gear_shift, the driver's.  Each log's noise seed is 301 + its index.
+All but car_long_curve_crest (steered by a path follower) are straight (delta = 0); all on
+mu 0.9, with the Dugoff truth tyre (the tyres work far below their limit here, where both
+truth tyres are the same linear tyre) and a front-driven car / rear-driven truck.  The drive
+torque is the cruise controller's (control.SpeedConfig) plus, in car_gear_shift, the
+driver's.  Each log's noise seed is 301 + its index.
 
 Log size.  A row of the DATA.md columns printed with repr() is ~330 bytes; the truck's
 560 s would be 18 MB at 100 Hz.  So the mass and grade logs (a) carry what a production
@@ -36,7 +39,7 @@ from typing import Callable, Optional
 
 import numpy as np
 
-from .control import ObserverInputs, SpeedConfig
+from .control import ObserverInputs, PathConfig, SpeedConfig
 from .observer_scenarios import OBS_BY_NAME, Road
 from .scenarios import KMH, ZERO4, const, ramp, uniform_mu
 from .vehicle import ESTIMATOR_KEYS, SIM_KEYS, Params, simulate
@@ -100,9 +103,9 @@ class MassGradeInputs(ObserverInputs):
     """ObserverInputs (cruise control, drive layout) with a torque gap: the applied drive
     torque is the controller's times gap(t) in [0, 1] (a gear shift's clutch opening)."""
 
-    def __init__(self, p, steer, pressure, drive, speed_cfg, layout, gap, v_low):
+    def __init__(self, p, steer, pressure, drive, speed_cfg, layout, gap, v_low, path_cfg=None):
         super().__init__(p, steer, pressure, drive, speed_cfg=speed_cfg, layout=layout,
-                         v_low=v_low)
+                         v_low=v_low, path_cfg=path_cfg)
         self.gap = gap
 
     def update(self, t, y):
@@ -129,6 +132,7 @@ class MassGradeScenario:
     gap: Callable = const(1.0)             # torque-gap factor of the applied drive torque
     gear: Callable = const(1)              # engaged gear (1 for a single-speed drive)
     v_low: Optional[float] = None
+    path: Optional[PathConfig] = None      # the driver's path follower (None: straight)
     dt: float = 0.02
     rate: int = 1000
     extra: tuple = field(default=())       # more (key, value) metadata
@@ -139,7 +143,7 @@ class MassGradeScenario:
 
     def make_inputs(self):
         return MassGradeInputs(self.params, const(0.0), self.pressure, self.drive, self.speed,
-                               self.layout, self.gap, self.v_low)
+                               self.layout, self.gap, self.v_low, self.path)
 
 
 def run(sc, duration=None):
@@ -199,7 +203,8 @@ def metadata(sc):
     p = sc.params
     meta = [("scenario", sc.name), ("description", sc.description), ("dt", sc.dt),
             ("seed", sc.seed), ("noise", "default"), ("truth_tyre", "dugoff"), ("abs", "off"),
-            ("driver_steer", "open_loop"), ("drive_layout", sc.layout), ("tcs", "off"),
+            ("driver_steer", "open_loop" if sc.path is None else "path_follower"),
+            ("drive_layout", sc.layout), ("tcs", "off"),
             ("cruise_control", "on"), ("road", sc.road.text), ("grade_known", "no"),
             ("ay_bias", 0.0), ("sim_v_low", "none" if sc.v_low is None else float(sc.v_low))]
     meta += p.items(ESTIMATOR_KEYS) + p.items(SIM_KEYS)
@@ -355,6 +360,53 @@ def _flat_v(t):
     return 20.0 + ramp(t, 2.0, 18.0, 7.0)
 
 
+# Valley brake (mg_pause_grade's case, brake bit): accelerate 20 -> 25 m/s on the flat, down
+# a -6 % descent, then a long moderate (non-ABS) brake application that carries the car
+# through the valley's sag: the grade goes -6 % -> +2 % while the pedal is pressed.
+VB_ON, VB_OFF, VB_P = 32.0, 43.0, 0.8     # brake on, off [s], pressure [MPa]: ~1.3 m/s^2 of brake
+VB_DOWN_S, VB_SAG_S, VB_SAG_LEN = 350.0, 775.0, 170.0   # m: descent, sag start, sag length
+VB_V_OFF = 11.0                           # m/s, about the speed at the release
+
+
+def _vb_v(t):
+    if VB_ON <= t < VB_OFF:
+        return None
+    if t < VB_ON:
+        return 20.0 + ramp(t, 2.0, 10.0, 5.0)
+    return VB_V_OFF + ramp(t, VB_OFF + 1.0, 16.0, 22.0 - VB_V_OFF)   # back to 22 m/s at 0.7 m/s^2
+
+
+def _vb_pressure(t):
+    v = 0.0
+    if VB_ON <= t < VB_OFF:
+        v = ramp(t, VB_ON, 0.5, VB_P) - ramp(t, VB_OFF - 0.5, 0.5, VB_P)
+    return (v, v, v, v)
+
+
+def _vb_grade(s):
+    return (ramp(s, VB_DOWN_S, 100.0, -0.06)
+            + ramp(s, VB_SAG_S, VB_SAG_LEN, 0.08))
+
+
+# Long curve over a crest (mg_pause_grade's case, curve bit): a 200 m radius curve of ~15 s at
+# 80 km/h (a_y ~2.5 m/s^2) over a crest whose grade goes +5 % -> -4 % within the curve.
+LC_V, LC_R = 22.0, 200.0                  # m/s, m
+LC_IN, LC_OUT, LC_EASE = 30.0, 46.0, 2.0  # s: curve entry, exit starts; clothoid ease [s]
+LC_UP_S, LC_CREST_S, LC_CREST_LEN = 250.0, 700.0, 260.0   # m: climb, crest start, length
+
+
+def _lc_v(t):
+    return 18.0 + ramp(t, 2.0, 10.0, LC_V - 18.0)
+
+
+def _lc_curvature(t):
+    return ramp(t, LC_IN, LC_EASE, 1.0 / LC_R) - ramp(t, LC_OUT, LC_EASE, 1.0 / LC_R)
+
+
+def _lc_grade(s):
+    return ramp(s, LC_UP_S, 100.0, 0.05) - ramp(s, LC_CREST_S, LC_CREST_LEN, 0.09)
+
+
 def _car_res(wind=const(0.0), wind_text="still air"):
     return Resistance(**CAR_RES, wind=wind, wind_text=wind_text)
 
@@ -365,6 +417,7 @@ def _car_cruise(v, p):
 
 _C2000, _C1650, _C1800, _C1900, _C2100, _C1750 = (car(m) for m in (2000.0, 1650.0, 1800.0, 1900.0,
                                                                   2100.0, 1750.0))
+_C1850, _C1700 = car(1850.0), car(1700.0)
 
 MASS_GRADE_SCENARIOS = [
     MassGradeScenario(
@@ -425,6 +478,31 @@ MASS_GRADE_SCENARIOS = [
         "180 s on a flat road: no excitation after 20 s; " + _car_res().text(),
         _C1750, _car_res(), 20.0, 180.0, _car_cruise(_flat_v, _C1750),
         Road(text="flat")),
+    MassGradeScenario(
+        "car_valley_brake", 7,
+        f"valley brake: car 1850 kg, v* = 20 m/s rising to 25 m/s over 2..12 s by cruise "
+        f"control (fwd), grade 0 -> -0.06 rad over s = {_fmt(VB_DOWN_S)}..{_fmt(VB_DOWN_S + 100)}"
+        f" m, then the valley's sag -0.06 -> +0.02 rad over s = {_fmt(VB_SAG_S)}.."
+        f"{_fmt(VB_SAG_S + VB_SAG_LEN)} m, driven through under a long moderate brake "
+        f"({_fmt(VB_P)} MPa all wheels, no ABS action; on/off at {_fmt(VB_ON)}/{_fmt(VB_OFF)} s, "
+        f"cruise off meanwhile), then v* = {_fmt(VB_V_OFF)} -> 22 m/s over "
+        f"{_fmt(VB_OFF + 1)}..{_fmt(VB_OFF + 17)} s on the +0.02 rad climb; single-speed drive; "
+        + _car_res().text(),
+        _C1850, _car_res(), 20.0, 70.0, _car_cruise(_vb_v, _C1850),
+        Road(grade=_vb_grade, text="-0.06 rad descent into a sag to +0.02 rad (description)"),
+        pressure=_vb_pressure, rate=2000),
+    MassGradeScenario(
+        "car_long_curve_crest", 8,
+        f"long curve over a crest: car 1700 kg, v* = 18 m/s rising to {_fmt(LC_V)} m/s over "
+        f"2..12 s by cruise control (fwd), grade 0 -> +0.05 rad over s = {_fmt(LC_UP_S)}.."
+        f"{_fmt(LC_UP_S + 100)} m, then the crest +0.05 -> -0.04 rad over s = "
+        f"{_fmt(LC_CREST_S)}..{_fmt(LC_CREST_S + LC_CREST_LEN)} m, driven in a curve of radius "
+        f"{_fmt(LC_R)} m (path curvature 0 -> 1/{_fmt(LC_R)} 1/m over {_fmt(LC_IN)}.."
+        f"{_fmt(LC_IN + LC_EASE)} s, back to 0 over {_fmt(LC_OUT)}..{_fmt(LC_OUT + LC_EASE)} s; "
+        f"{PathConfig(None).text()}); single-speed drive; " + _car_res().text(),
+        _C1700, _car_res(), 18.0, 70.0, _car_cruise(_lc_v, _C1700),
+        Road(grade=_lc_grade, text="+0.05 rad climb over a crest to -0.04 rad (description)"),
+        path=PathConfig(_lc_curvature), rate=2000),
 ]
 
 MG_BY_NAME = {s.name: s for s in MASS_GRADE_SCENARIOS}

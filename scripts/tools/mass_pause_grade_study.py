@@ -17,7 +17,10 @@ the observer logs (the samples of mass_slip_ramp_study.py, the simulator's resis
 `_res` logs the car preset's) from the log's m. A log whose run with mg_pause_grade off held
 no sample in a brake, shift or curve pause is run once only: no variant can change it (the
 pause kind decides alone, MASS_GRADE.md §4.2). Per run: the mass error at the end, the grade RMSE against grade_true over the log and
-over the samples paused by brake, shift or curve, and their share.
+over the samples paused by brake, shift or curve, and their share. For the two logs made for
+the mode (CASES: the grade changes within a long brake pause and within a long curve pause)
+also the grade RMSE in the AFTER s after the pauses, the worst grade error in and after them
+and the mass's move after them (summary()).
 """
 
 import multiprocessing
@@ -39,16 +42,41 @@ VARIANTS = {"off": 0, "brake": 1, "shift": 2, "curve": 4, "all": 7}
 OBS_STARTS = (1.0,)
 MG_STARTS = (0.8,)
 PAUSES = (mg.PAUSED_BRAKE, mg.PAUSED_SHIFT, mg.PAUSED_CURVE)
+AFTER = 5.0     # s: the catch-up after a pause the figures look at (the update's recovery)
+# the logs made for the mode: the grade changes within a long brake pause (-6 % -> +2 %) and
+# within a long curve pause (+5 % -> -4 %), scripts/sim/mass_grade_scenarios.py
+CASES = ("car_valley_brake.csv", "car_long_curve_crest.csv")
 
 
 def summary(outs, cols, m):
+    """A run's figures: the mass error at the end; the grade RMSE over the log, over the
+    brake, shift and curve pauses (`held`, their share) and over the samples within AFTER s
+    after a paused one that are not paused themselves (the catch-up); the worst |grade error|
+    over those two sets; and the mass's move in that catch-up, max |M - M at the last paused
+    sample before| / m."""
     grade = np.array([o.grade for o in outs])
+    mass = np.array([o.mass for o in outs])
     err = grade - cols["grade_true"]
     held = np.array([o.status in PAUSES for o in outs])
+    t = np.asarray(cols["t"], dtype=float)
+    after = np.zeros(len(outs), dtype=bool)
+    move = 0.0
+    t_held, m_held = -np.inf, 0.0
+    for k in range(len(outs)):
+        if held[k]:
+            t_held, m_held = t[k], mass[k]
+        elif t[k] - t_held <= AFTER:
+            after[k] = True
+            move = max(move, abs(mass[k] - m_held) / m)
+    rms = lambda sel: float(np.sqrt(np.mean(err[sel] ** 2))) if sel.any() else float("nan")
+    both = held | after
     return {"mass_err": (outs[-1].mass - m) / m,
             "rmse": float(np.sqrt(np.mean(err * err))),
-            "rmse_held": float(np.sqrt(np.mean(err[held] ** 2))) if held.any() else float("nan"),
-            "held": float(np.mean(held))}
+            "rmse_held": rms(held),
+            "held": float(np.mean(held)),
+            "rmse_after": rms(after),
+            "peak": float(np.max(np.abs(err[both]))) if both.any() else float("nan"),
+            "mass_move": float(move)}
 
 
 def observer_job(name, start, variant):
@@ -112,6 +140,23 @@ def table(res, kind, names, starts):
     return lines
 
 
+def case_table(res, names, start):
+    """The logs whose grade changes within a pause, one row per variant."""
+    lines = [f"| log | mg_pause_grade | grade RMSE in the pauses | in the {AFTER:g} s after | "
+             "over the log | worst \\|grade error\\| in and after | mass error at the end | "
+             "mass move after |", "|---|---|---|---|---|---|---|---|"]
+    for n in names:
+        for v, bits in VARIANTS.items():
+            r = res.get(("mg", n, start, v))
+            if r is None:
+                continue
+            lines.append(f"| {n[:-4]} | {v} ({bits}) | {1e3 * r['rmse_held']:.2f} | "
+                         f"{1e3 * r['rmse_after']:.2f} | {1e3 * r['rmse']:.2f} | "
+                         f"{1e3 * r['peak']:.1f} | {r['mass_err']:+.2%} | "
+                         f"{r['mass_move']:.2%} |")
+    return lines
+
+
 def verdict(res, jobs):
     """Per variant: the runs it changed, how many it helped / hurt in grade RMSE (more than
     0.05 mrad) and in |mass error| (more than 0.05 % of m), and the worst of each."""
@@ -125,8 +170,8 @@ def verdict(res, jobs):
             if j[3] != v or j not in res or j[0] == "true":
                 continue
             r, r0 = res[j], res[j[:3] + ("off",)]
-            if r == r0:
-                continue
+            if all(r[k] == r0[k] or (np.isnan(r[k]) and np.isnan(r0[k])) for k in r0):
+                continue        # (a figure of no sample, nan, is the same in both)
             moved += 1
             dg = 1e3 * (r["rmse"] - r0["rmse"])
             dm = abs(r["mass_err"]) - abs(r0["mass_err"])
@@ -172,6 +217,15 @@ def results_text(n_jobs):
              ""]
     text += table(res, "true", [n for n in mg_names if ("true", n, MG_STARTS[0], "off") in res],
                   MG_STARTS)
+    cases = [n for n in CASES if n in mg_names]
+    if cases:
+        text += ["", "The logs whose grade changes within a long pause (" + ", ".join(
+            n[:-4] for n in cases) + "), wheel speeds as above, from "
+            f"{MG_STARTS[0]:g} times the mass: grade RMSE (mrad) over the brake, shift and "
+            f"curve pauses, over the non-paused samples within {AFTER:g} s after one, over the "
+            "log; the worst |grade error| over both (mrad); the mass error at the end; the "
+            f"mass's move in those {AFTER:g} s (the largest |M - M at the pause's end| / m):", ""]
+        text += case_table(res, cases, MG_STARTS[0])
     return "\n".join(text)
 
 
