@@ -70,6 +70,14 @@ FW_OPT_m4f ?= -O2
 FW_OPT_m3  ?= -O2
 FW_OPT_m0p ?= -Os
 FW_CFLAGS   = $(WARN) -g -ffunction-sections -fdata-sections $(FW_DEFS)
+# Per-unit optimisation: the library sources listed in FW_UNITS_OS_<core> are compiled with
+# FW_UNIT_OPT appended after FW_OPT_<core> (the last -O wins), the other units as above.
+# Empty as shipped; docs/FIXED_POINT.md "Analytic input derivatives" measures the input
+# derivative's units at -Os on the -O2 cores with it.
+FW_UNIT_OPT     ?= -Os
+FW_UNITS_OS_m4f ?=
+FW_UNITS_OS_m3  ?=
+FW_UNITS_OS_m0p ?=
 FW_ARCH_m4f := -mcpu=cortex-m4 -mthumb -mfloat-abi=hard -mfpu=fpv4-sp-d16
 FW_ARCH_m3  := -mcpu=cortex-m3 -mthumb -mfloat-abi=soft
 FW_ARCH_m0p := -mcpu=cortex-m0plus -mthumb -mfloat-abi=soft
@@ -109,7 +117,8 @@ define FW_LIB_RULES
 # $(1) = target (core-variant)
 $(FW_DIR)/$(1)/lib/%.o: src/%.c | deps-firmware
 	@mkdir -p $$(@D)
-	$$(FW_CC) $$(DEPFLAGS) $$(FW_ARCH_$(call fw_core,$(1))) $$(FW_OPT_$(call fw_core,$(1))) $$(FW_CFLAGS) $$(CPPFLAGS_LIB) -fstack-usage \
+	$$(FW_CC) $$(DEPFLAGS) $$(FW_ARCH_$(call fw_core,$(1))) $$(FW_OPT_$(call fw_core,$(1))) \
+	  $$(if $$(filter $$<,$$(FW_UNITS_OS_$(call fw_core,$(1)))),$$(FW_UNIT_OPT)) $$(FW_CFLAGS) $$(CPPFLAGS_LIB) -fstack-usage \
 	  -fcallgraph-info=su -fdump-ipa-cgraph -dumpdir $$(@D)/ -c $$< -o $$@
 $(call fw_lib,$(1)): $(patsubst src/%.c,$(FW_DIR)/$(1)/lib/%.o,$(call fw_srcs,$(1)))
 	rm -f $$@ && $(FW_CROSS)ar rcs $$@ $$^
