@@ -3,8 +3,9 @@
  * @brief Light mode for the long back-to-back tests: `make valgrind` sets RFE_TEST_LIGHT=1,
  *        because memcheck runs ~40x slower than native and its purpose is memory errors, not
  *        input coverage. In light mode a test walks a subset of its logs / random inputs
- *        (every code path is still taken); `make test-c`, `make sanitize` and `make coverage`
- *        always run the full set.
+ *        (some take fewer branches: see COV_LIGHT_TESTS in the Makefile); `make test-c` and `make sanitize` always run the
+ *        full set, `make coverage` the light subsets of the tests in COV_LIGHT_TESTS (Makefile:
+ *        with them it covers the same lines and branches as with every full set).
  */
 #ifndef RFE_TEST_LIGHT_H
 #define RFE_TEST_LIGHT_H
