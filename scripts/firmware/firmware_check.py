@@ -30,7 +30,9 @@ example image (build/firmware/<target>/example.elf, linked with --gc-sections):
   sizes       flash (text + rodata) and RAM (data + bss) of the library objects, the part of
               them the example image links, the estimator state (the example's static g_est),
               and the example image's totals;
-  budgets     stack per public call, linked library flash and state size against BUDGETS.
+  budgets     stack per public call, linked library flash and state size against BUDGETS;
+              the flash budget per core (--budget-flash "m0p:49152 m4f:65536 ..." or one
+              figure for every core).
 
 Writes the figures to --out (JSON, read by scripts/firmware/firmware_table.py). Exit status 1 when a
 check fails or a budget is exceeded.
@@ -252,6 +254,18 @@ def self_test(out):
                 (not want_problems and problems):
             bad += 1
             print(f"firmware-check: self-test: stack of {fn}: {got} B, problems {problems}")
+    # The flash budget: one figure for all cores, a figure per core, and the malformed forms.
+    budget_cases = [("49152", {"m0p": 49152, "m4f": 49152}),
+                    ("m0p:49152 m4f:65536", {"m0p": 49152, "m4f": 65536}),
+                    ("m0p:49152", None), ("m0p:1 m0p:2 m4f:3", None), ("m0p49152 m4f:1", None)]
+    for text, want in budget_cases:
+        try:
+            got = parse_flash_budget(text, ["m0p", "m4f"])
+        except ValueError:
+            got = None
+        if got != want:
+            bad += 1
+            print(f"firmware-check: self-test: flash budget {text!r}: {got}, expected {want}")
     if reg_count("{r4, r5, r6, r7, lr}") != 5 or reg_count("{d8-d15}") != 8 or \
             reg_count("{r4-r11, lr}") != 9:
         bad += 1
@@ -259,8 +273,8 @@ def self_test(out):
     if bad:
         print(f"firmware-check: self-test FAILED: {bad} case(s)")
         return 1
-    print(f"firmware-check: self-test: {len(FIXTURES)} objects and {len(checks)} stack walks "
-          f"judged as expected")
+    print(f"firmware-check: self-test: {len(FIXTURES)} objects, {len(checks)} stack walks and "
+          f"{len(budget_cases)} flash budgets judged as expected")
     return 0
 
 
@@ -396,6 +410,25 @@ def worst_stack(fn, graph, frames, ext_funcs, ext_memo, problems, memo=None, pat
     return res
 
 
+def parse_flash_budget(text, cores):
+    """--budget-flash: one figure for every core ("49152"), or a figure per core
+    ("m0p:49152 m4f:65536 m3:65536"); every core of cores must have one.
+    Returns {core: bytes}; raises ValueError on a malformed or missing entry."""
+    words = text.split()
+    if len(words) == 1 and ":" not in words[0]:
+        return {c: int(words[0]) for c in cores}
+    out = {}
+    for w in words:
+        core, sep, val = w.partition(":")
+        if not sep or not core or core in out:
+            raise ValueError(f"--budget-flash: malformed or repeated entry {w!r}")
+        out[core] = int(val)
+    missing = [c for c in cores if c not in out]
+    if missing:
+        raise ValueError(f"--budget-flash: no budget for core(s) {' '.join(missing)}")
+    return out
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--build", default="build/firmware")
@@ -405,13 +438,20 @@ def main():
     ap.add_argument("--cflags", default="")
     ap.add_argument("--out", default="build/firmware/report.json")
     ap.add_argument("--budget-stack", type=int, default=BUDGETS["stack_per_call"])
-    ap.add_argument("--budget-flash", type=int, default=BUDGETS["flash_linked"])
+    ap.add_argument("--budget-flash", default=str(BUDGETS["flash_linked"]),
+                    help="bytes for every core, or core:bytes pairs (one per core of --targets)")
     ap.add_argument("--budget-state", type=int, default=BUDGETS["state"])
     a = ap.parse_args()
-    BUDGETS.update({"stack_per_call": a.budget_stack, "flash_linked": a.budget_flash,
-                    "state": a.budget_state})
     if a.self_test:
         return self_test(os.path.dirname(a.out))
+    cores = sorted({t.split("-")[0] for t in a.targets.split()})
+    try:
+        flash_budget = parse_flash_budget(a.budget_flash, cores)
+    except ValueError as e:
+        print(f"firmware-check: FAIL: {e}")
+        return 1
+    BUDGETS.update({"stack_per_call": a.budget_stack, "flash_linked": flash_budget,
+                    "state": a.budget_state})
     fhelper = float_helper_re()
     failures = []
     report = {"budgets": BUDGETS, "cflags": a.cflags, "targets": {}}
@@ -490,9 +530,9 @@ def main():
             if depth > BUDGETS["stack_per_call"]:
                 failures.append(f"{t}: {fn} needs {depth} B of stack, budget "
                                 f"{BUDGETS['stack_per_call']} B (path: {' -> '.join(path)})")
-        if "lib_flash_linked" in entry and entry["lib_flash_linked"] > BUDGETS["flash_linked"]:
+        if "lib_flash_linked" in entry and entry["lib_flash_linked"] > flash_budget[core]:
             failures.append(f"{t}: the library links {entry['lib_flash_linked']} B of flash, "
-                            f"budget {BUDGETS['flash_linked']} B")
+                            f"budget {flash_budget[core]} B ({core})")
         if entry.get("state", 0) > BUDGETS["state"]:
             failures.append(f"{t}: the estimator state is {entry['state']} B, budget {BUDGETS['state']} B")
         report["targets"][t] = entry
@@ -513,7 +553,7 @@ def main():
     print(f"firmware-check: OK — no heap, no soft-float helper in the fixed-point and soft-float "
           f"builds, no double in the float32 build (outside {', '.join(sorted(DOUBLE_BY_DESIGN))}, "
           f"never linked), budgets met (stack <= {BUDGETS['stack_per_call']} B per call, linked "
-          f"flash <= {BUDGETS['flash_linked']} B, state <= {BUDGETS['state']} B); {a.out}")
+          f"flash <= {' '.join(f'{c}: {v} B' for c, v in sorted(flash_budget.items()))}, state <= {BUDGETS['state']} B); {a.out}")
     return 0
 
 

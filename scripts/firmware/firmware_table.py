@@ -41,6 +41,14 @@ def kb(n):
     return f"{n / 1024:.1f} kB"
 
 
+def flash_budget(fb):
+    """The linked-flash budget: one figure (older reports) or one per core (make firmware-check)."""
+    if isinstance(fb, dict):
+        return ", ".join(f"{kb(fb[c])} ({CORES.get(c, c)})" for c in
+                         [c for c in CORES if c in fb] + sorted(c for c in fb if c not in CORES))
+    return kb(fb)
+
+
 def tables(report, pil):
     b = report["budgets"]
     out = []
@@ -68,7 +76,7 @@ def tables(report, pil):
                    f"({PART[e['core']]}) |")
     out.append("")
     out.append(f"Budgets (`make firmware` fails beyond them): stack ≤ {b['stack_per_call']} B per "
-               f"public call, linked library flash ≤ {kb(b['flash_linked'])}, state ≤ "
+               f"public call, linked library flash ≤ {flash_budget(b['flash_linked'])}, state ≤ "
                f"{b['state']} B. Static stack: the deepest chain of the `-fcallgraph-info=su` call "
                f"graph with `-fstack-usage` frames (libgcc/libm frames from the linked image's "
                f"disassembly); the PIL run measures the deepest stack of any step (painted stack) "
