@@ -130,7 +130,7 @@ RFE_NODISCARD rfe_status_t rfe_meas_eval_perturbed(const rfe_meas_t *h, const rf
  * G = dh/du diag(sd): the derivatives of h(mu, u) by the sample's inputs (RFE_IN_*: delta, vx, vy, r,
  * omega_fl .. omega_rr; ax, ay are not inputs of the step noise), analytically from one
  * set-up: the step noise's input columns in analytic form (docs/ESTIMATOR.md step 4 and its
- * design record, where their effect is measured; the step noise does not use them yet): per wheel the forces' derivatives along kappa, tan(alpha)
+ * design record, where their effect is measured; the step noise uses them since issue 21): per wheel the forces' derivatives along kappa, tan(alpha)
  * and v_wx (rfe_tyre_pre_jac), chained with each input's change of the wheel's slips, and for
  * delta the turn of the front forces into the body axes. Where a slip is at its bound
  * (|kappa| = 1, |alpha| = alpha_max) its derivative is 0 (the clamp's); at a kink of the model

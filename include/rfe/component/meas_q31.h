@@ -169,7 +169,7 @@ RFE_NODISCARD rfe_status_t rfe_meas_lateral_jac_q31(const rfe_meas_q31_t *h,
 
 /**
  * Fixed-point twin of rfe_meas_input_jac (rfe/component/meas.h): G = dh/du diag(sd), the
- * step noise's input columns in analytic form (not used by the step noise yet:
+ * step noise's input columns in analytic form (the step noise uses them since issue 21:
  * docs/FIXED_POINT.md "Analytic input derivatives"), analytically from one set-up:
  * the float formulas in rfe_xf_t (numerics/xf_q31.h: 30 significant bits and a power of two,
  * 2^-30 relative per operation; docs/FIXED_POINT.md "Analytic input derivatives" gives the error) rounded once

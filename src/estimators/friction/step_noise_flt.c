@@ -1,7 +1,7 @@
 /**
  * @file step_noise_flt.c
  * @brief Step-noise S_R: sensor noise, relative tyre-model error, input noise propagated by
- *        central differences (docs/ESTIMATOR.md step 4).
+ *        by the analytic input derivative of h (docs/ESTIMATOR.md step 4).
  */
 #include "rfe/component/step_noise.h"
 
@@ -50,34 +50,33 @@ static void sensor_block(const rfe_filter_params_t *fp, const rfe_real_t h0[RFE_
     }
 }
 
-/* g_j = (h(u + sd_j e_j) - h(u - sd_j e_j)) / 2 for each noisy input, in order, as columns
- * *cols, *cols + 1, ... of A (row stride CW); *cols ends one past the last; the squares of
- * the low-passed inputs' columns added to pers. The model at each perturbed input comes from
- * the set-up h and its nominal terms (rfe_meas_eval_perturbed). */
+/* g_j = sd_j dh/du_j for each noisy input (sd_j > 0), in order, as columns *cols,
+ * *cols + 1, ... of A (row stride CW); *cols ends one past the last; the squares of the
+ * low-passed inputs' columns added to pers. The derivatives are analytic, from the set-up h
+ * (rfe_meas_input_jac; docs/ESTIMATOR.md step 4): issue 21, instead of the central
+ * differences of h over sd_j (16 model evaluations). */
 static rfe_status_t input_columns(const rfe_params_t *p, const rfe_meas_t *h,
-                                  const rfe_meas_terms_t *nom, const rfe_sample_t *u,
-                                  const rfe_real_t *mu, rfe_real_t *A, size_t *cols,
-                                  rfe_real_t pers[RFE_MEAS])
+                                  const rfe_sample_t *u, const rfe_real_t *mu, rfe_real_t *A,
+                                  size_t *cols, rfe_real_t pers[RFE_MEAS])
 {
+    rfe_real_t sd[RFE_INPUTS];
+    rfe_real_t G[(size_t)RFE_MEAS * (size_t)RFE_INPUTS];
+    rfe_status_t st;
     size_t i;
     size_t j;
     for (j = 0u; j < (size_t)RFE_INPUTS; ++j) {
-        const rfe_real_t sd = input_sd(&p->filter, j);
-        rfe_real_t zp[RFE_MEAS];
-        rfe_real_t zm[RFE_MEAS];
-        rfe_status_t st;
-        if (!(sd > RFE_R(0.0))) {
+        sd[j] = input_sd(&p->filter, j);
+    }
+    st = rfe_meas_input_jac(h, &p->vehicle, &p->tyre, u, mu, sd, G);
+    if (st != RFE_OK) {
+        return st;
+    }
+    for (j = 0u; j < (size_t)RFE_INPUTS; ++j) {
+        if (!(sd[j] > RFE_R(0.0))) {
             continue;
         }
-        st = rfe_meas_eval_perturbed(h, &p->vehicle, &p->tyre, nom, u, j, sd, mu, zp);
-        if (st == RFE_OK) {
-            st = rfe_meas_eval_perturbed(h, &p->vehicle, &p->tyre, nom, u, j, -sd, mu, zm);
-        }
-        if (st != RFE_OK) {
-            return st;
-        }
         for (i = 0u; i < (size_t)RFE_MEAS; ++i) {
-            const rfe_real_t g = (zp[i] - zm[i]) / RFE_R(2.0);
+            const rfe_real_t g = G[(i * (size_t)RFE_INPUTS) + j];
             A[(i * CW) + *cols] = g;
             if (rfe_input_low_passed(j) != 0) {
                 pers[i] += g * g;
@@ -89,8 +88,8 @@ static rfe_status_t input_columns(const rfe_params_t *p, const rfe_meas_t *h,
 }
 
 /* [S_R0, g_1 ..] into A (row stride CW), *cols its columns, and the diagonal of the part of
- * A A^T that persists from step to step into pers: h0 and the nominal terms from the set-up h
- * (rfe_meas_nominal), then S_R0 and the input columns. */
+ * A A^T that persists from step to step into pers: h0 from the set-up h (rfe_meas_nominal),
+ * then S_R0 and the input columns. */
 static rfe_status_t fill(const rfe_params_t *p, const rfe_meas_t *h, const rfe_sample_t *u,
                          const rfe_real_t *mu, rfe_real_t *A, size_t *cols,
                          rfe_real_t pers[RFE_MEAS])
@@ -100,7 +99,7 @@ static rfe_status_t fill(const rfe_params_t *p, const rfe_meas_t *h, const rfe_s
     rfe_status_t st = rfe_meas_nominal(h, &p->vehicle, &p->tyre, mu, &nom, h0);
     if (st == RFE_OK) {
         sensor_block(&p->filter, h0, A, pers);
-        st = input_columns(p, h, &nom, u, mu, A, cols, pers);
+        st = input_columns(p, h, u, mu, A, cols, pers);
     }
     return st;
 }

@@ -1,14 +1,13 @@
 /**
  * @file step_noise_q31.c
  * @brief Step-noise S_R on int32 Q values (the twin of step_noise_flt.c, docs/ESTIMATOR.md step 4):
- *        sensor noise, relative tyre-model error, input noise propagated by central
- *        differences. Integer operations only.
+ *        sensor noise, relative tyre-model error, input noise propagated by the analytic
+ *        input derivative of h. Integer operations only.
  *
- * Everything is in Q24 (RFE_FIX_Q_ACC) except the perturbed sample, whose fields keep their
- * own formats (the input noise sds share them). The saturations counted: the measurement
- * model's (kinematics, forces, H, h), a perturbed input beyond its format, r_model_rel |h|
- * beyond +-128 m/s^2 (r_model_rel > 1 only), an entry of S_R beyond the format (Tria). A
- * halved difference of two int32 cannot leave the int32 range.
+ * Everything is in Q24 (RFE_FIX_Q_ACC) except the input noise sds, which keep their inputs'
+ * formats. The saturations counted: the measurement model's (kinematics, forces, H, h), an
+ * input column beyond +-128 (rfe_meas_input_jac_q31), r_model_rel |h| beyond +-128 m/s^2
+ * (r_model_rel > 1 only), an entry of S_R beyond the format (Tria).
  */
 #include "rfe/component/step_noise_q31.h"
 
@@ -56,37 +55,33 @@ static void sensor_block_q31(const rfe_filter_params_q31_t *fp, const rfe_fix_t 
     }
 }
 
-/* g_j = (h(u + sd_j e_j) - h(u - sd_j e_j)) / 2 (Q24) for each noisy input, in order, as
- * columns *cols, *cols + 1, ... of A (row stride CW); *cols ends one past the last. The model
- * at each perturbed input comes from the set-up h and its nominal terms
- * (rfe_meas_eval_perturbed_q31). */
+/* g_j = sd_j dh/du_j (Q24) for each noisy input (sd_j > 0), in order, as columns *cols,
+ * *cols + 1, ... of A (row stride CW); *cols ends one past the last. The derivatives are
+ * analytic, from the set-up h (rfe_meas_input_jac_q31; docs/FIXED_POINT.md "Analytic input
+ * derivatives" gives their error): issue 21, instead of the central differences of h over
+ * sd_j (16 model evaluations). */
 static rfe_status_t input_columns_q31(const rfe_params_q31_t *p, const rfe_meas_q31_t *h,
-                                      const rfe_meas_terms_q31_t *nom,
                                       const rfe_sample_q31_t *u, const rfe_fix_t *mu,
                                       rfe_fix_t *A, size_t *cols, uint32_t *count)
 {
+    rfe_fix_t sd[RFE_INPUTS];
+    rfe_fix_t G[(size_t)RFE_MEAS * (size_t)RFE_INPUTS];
+    rfe_status_t st;
     size_t i;
     size_t j;
     for (j = 0u; j < (size_t)RFE_INPUTS; ++j) {
-        const rfe_fix_t sd = rfe_step_noise_input_sd_q31(&p->filter, j);
-        rfe_fix_t zp[RFE_MEAS];
-        rfe_fix_t zm[RFE_MEAS];
-        rfe_status_t st;
-        if (sd <= 0) {
+        sd[j] = rfe_step_noise_input_sd_q31(&p->filter, j);
+    }
+    st = rfe_meas_input_jac_q31(h, &p->vehicle, &p->tyre, u, mu, sd, G, count);
+    if (st != RFE_OK) {
+        return st;
+    }
+    for (j = 0u; j < (size_t)RFE_INPUTS; ++j) {
+        if (sd[j] <= 0) {
             continue;
         }
-        st = rfe_meas_eval_perturbed_q31(h, &p->vehicle, &p->tyre, nom, u, j, sd, mu, zp,
-                                         count);
-        if (st == RFE_OK) {
-            st = rfe_meas_eval_perturbed_q31(h, &p->vehicle, &p->tyre, nom, u, j, -sd, mu, zm,
-                                             count);
-        }
-        if (st != RFE_OK) {
-            return st;
-        }
         for (i = 0u; i < (size_t)RFE_MEAS; ++i) {
-            /* the exact difference (< 2^32) halved, rounded half up: fits the int32 range */
-            A[(i * CW) + *cols] = rfe_fix_narrow((int64_t)zp[i] - (int64_t)zm[i], 1u, count);
+            A[(i * CW) + *cols] = G[(i * (size_t)RFE_INPUTS) + j];
         }
         ++(*cols);
     }
@@ -110,7 +105,7 @@ static rfe_status_t fill_q31(const rfe_params_q31_t *p, const rfe_meas_q31_t *h,
     }
     if (st == RFE_OK) {
         sensor_block_q31(&p->filter, h0, A, count);
-        st = input_columns_q31(p, h, &nom, u, mu, A, cols, count);
+        st = input_columns_q31(p, h, u, mu, A, cols, count);
     }
     return st;
 }
