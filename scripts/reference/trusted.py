@@ -3,7 +3,7 @@
 float64, numpy; it shares no code with the C library (it is the yardstick for the C
 library's default preset). Steps, as numbered in docs/ESTIMATOR.md:
   1. complementary filters for vx, vy;  2. time update;  3. low-speed skip;
-  4. step measurement noise S_R: model error and errors in variables (central differences);
+  4. step measurement noise S_R: model error and errors in variables (input derivatives);
   5. statistical linearisation over the cubature points -> Fisher information, gate;
   6. measurement update with S_R;  7. sd bounds by one factor for the whole S;
   8. projection;  9. output, validity.
@@ -258,9 +258,44 @@ def run(log, p: dict, adapt=None, reuse: StepNoiseReuse | None = None):
 PERSISTENT_INPUTS = (1, 2)   # vx, vy: low-passed by the conditioner (monitor.py: persistent)
 
 
+# Step 4's input derivative: the step of the difference quotients relative to sd_j.
+RICHARDSON_REL_STEP = 1e-3
+
+
+def _input_columns(p, u, mu, sd_u, todo):
+    """{j: g_j} for the inputs j in todo: g_j = sd_j dh/du_j at (mu, u), from h alone (not from
+    the library's analytic formulas, so the goldens check them): Richardson's extrapolation of
+    central differences, R = (4 D(s/2) - D(s)) / 3 with D(s) = (h(u + s e_j) - h(u - s e_j)) /
+    (2 s) and s = RICHARDSON_REL_STEP sd_j; the four points of every input in one h_points call.
+    Error of g_j = sd_j R. Truncation (Taylor: D(s) = h' + s^2 h^(3) / 6 + s^4 h^(5) / 120 + ...,
+    the s^2 terms cancel in R, the s^4 ones leave -s^4 h^(5) / 480): sd_j s^4 |h^(5)| / 480 =
+    1e-12 / 480 (sd_j^5 |h^(5)|), with sd_j^5 |h^(5)| the fifth-order change of h over one sd_j,
+    at most of the order of |h| (<= ~15 m/s^2, rad/s^2) on the smooth branches: < 1e-13.
+    Rounding: each h carries ~2 eps |h| (eps = 2^-53); R weighs the four values by 4/3 / s
+    (twice) and 1/3 / (2 s) (twice), 3/s in all, so sd_j R carries ~3 / 1e-3 x 2 eps |h| =
+    6.7e-13 |h| <= 1e-11: well inside the 1e-9 at which the library's double build must match
+    the reference. Where a slip clamp or a branch of the model (|kappa| = 1, alpha_max, the
+    kappa denominator's switch, Dugoff's L = 1) lies within s of u, the quotient straddles it
+    and differs from the library's branch derivative; a sample must lie within 1e-3 sd_j of a
+    kink for that (the library's double build and this agreed within 4.2e-10 on the goldens'
+    logs in issue 21's measurement)."""
+    n = len(todo)
+    sd = sd_u[todo]
+    du = np.zeros((n, u.size))
+    du[np.arange(n), todo] = RICHARDSON_REL_STEP * sd
+    pts = np.vstack([u + du, u - du, u + du / 2.0, u - du / 2.0])
+    hs = h_points(p, pts, np.tile(mu, (4 * n, 1)))
+    s = RICHARDSON_REL_STEP * sd[:, None]
+    d_full = (hs[:n] - hs[n:2 * n]) / (2.0 * s)
+    d_half = (hs[2 * n:3 * n] - hs[3 * n:]) / s
+    g = sd[:, None] * (4.0 * d_half - d_full) / 3.0
+    return dict(zip(todo, g))
+
+
 def _step_noise(p, f, T, u, sd_u, persistent=None, reuse=None):
     """Step 4: S_R0 = diag(sqrt(r^2 + (r_model_rel |h(T x-)|)^2)), then Tria([S_R0, g_j]) with
-    g_j = (h(u + sd_j e_j) - h(u - sd_j e_j)) / 2. Untouched when both additions are off.
+    g_j = sd_j dh/du_j (issue 21: the library's analytic input derivative, rfe_meas_input_jac;
+    here an independent derivative, _input_columns). Untouched when both additions are off.
     persistent (a 3-array or None): receives the diagonal of the parts of R that are not
     white from step to step, (r_model_rel |h|)^2 + g_vx^2 + g_vy^2 (monitor.py). reuse (a
     StepNoiseReuse or None): its columns when it holds them, else computed and kept in it (those
@@ -275,11 +310,8 @@ def _step_noise(p, f, T, u, sd_u, persistent=None, reuse=None):
     s_r = np.diag(np.sqrt(r_sd ** 2 + model_err ** 2))
     held = dict(reuse.cols) if reuse is not None and reuse.cols is not None else {}
     todo = [j for j, sj in enumerate(sd_u) if j not in held and sj > 0]
-    if todo:    # h at u + sd_j e_j and u - sd_j e_j for every column due, in one evaluation
-        du = np.zeros((len(todo), u.size))
-        du[np.arange(len(todo)), todo] = sd_u[todo]
-        hs = h_points(p, np.vstack([u + du, u - du]), np.tile(xw, (2 * len(todo), 1)))
-        fresh = dict(zip(todo, (hs[:len(todo)] - hs[len(todo):]) / 2.0))
+    if todo:
+        fresh = _input_columns(p, u, xw, sd_u, todo)
     jcols = []
     for j in range(len(sd_u)):
         if j in held:
