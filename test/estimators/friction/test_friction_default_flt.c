@@ -8,9 +8,10 @@
  * Tolerances.
  * - Complementary filter (hand-derived values): a handful of roundings on values ~20:
  *   double 1e-12 absolute, float32 4e-5 (3 ulp of 20 per step, two steps).
- * - S_R S_R^T against R0 + sum g g^T formed here in double from g computed by the tyre and
- *   obsmat functions directly: the same function calls give the same g; what remains is
- *   Tria's rounding on a 3 x 11 matrix: double 1e-12, float32 1e-5, relative to max |R|.
+ * - S_R S_R^T against R0 + sum g g^T formed here in double from g = sd dh/du computed by
+ *   rfe_meas_input_jac called here (tested itself in test_meas_flt.c): the same function
+ *   calls give the same g; what remains is Tria's rounding on a 3 x 11 matrix: double 1e-12,
+ *   float32 1e-5, relative to max |R|.
  * - Bounds: c S is one rounding per element, so sd after scaling is sd_max (or the floor)
  *   to a few eps, and the correlation is kept to a few eps of its value.
  */
@@ -237,40 +238,36 @@ static void h_direct(const rfe_params_t *p, const rfe_sample_t *u, const rfe_rea
     }
 }
 
-/* R0 + sum_j g_j g_j^T with g_j = (h(u + sd_j e_j) - h(u - sd_j e_j)) / 2, in double. */
+/* R0 + sum_j g_j g_j^T with g_j = sd_j dh/du_j (docs/ESTIMATOR.md step 4), in double: g_j
+ * from rfe_meas_input_jac called here on a model set up here (the derivative itself is tested
+ * against central differences of full set-ups in test_meas_flt.c, REQ-MEAS-004); h0 from the
+ * tyre and obsmat functions directly. */
 static void r_reference(const rfe_params_t *p, const rfe_sample_t *u, const rfe_real_t mu[4],
                         double R[3][3])
 {
     const rfe_filter_params_t *fp = &p->filter;
-    const double sd[8] = {fp->sd_in_delta, fp->sd_in_vx, fp->sd_in_vy, fp->sd_in_yaw_rate,
-                          fp->sd_in_omega, fp->sd_in_omega, fp->sd_in_omega, fp->sd_in_omega};
+    const rfe_real_t sd[8] = {fp->sd_in_delta, fp->sd_in_vx, fp->sd_in_vy, fp->sd_in_yaw_rate,
+                              fp->sd_in_omega, fp->sd_in_omega, fp->sd_in_omega, fp->sd_in_omega};
     const double r[3] = {fp->r_ax, fp->r_ay, fp->r_yaw_acc};
+    rfe_meas_t h;
+    rfe_real_t G[3 * 8];
     double h0[3];
     size_t i, j, k;
     h_direct(p, u, mu, h0);
+    assert_int_equal(rfe_meas_setup(&h, &p->vehicle, &p->tyre, u), RFE_OK);
+    assert_int_equal(rfe_meas_input_jac(&h, &p->vehicle, &p->tyre, u, mu, sd, G), RFE_OK);
     memset(R, 0, 9 * sizeof(double));
     for (i = 0; i < 3; ++i) {
         const double e = (double)fp->r_model_rel * fabs(h0[i]);
         R[i][i] = r[i] * r[i] + e * e;
     }
     for (k = 0; k < 8; ++k) {
-        rfe_sample_t up = *u, um = *u;
-        rfe_real_t *pp[8] = {&up.delta, &up.vx, &up.vy, &up.yaw_rate, &up.omega[0], &up.omega[1], &up.omega[2], &up.omega[3]};
-        rfe_real_t *pm[8] = {&um.delta, &um.vx, &um.vy, &um.yaw_rate, &um.omega[0], &um.omega[1], &um.omega[2], &um.omega[3]};
-        double zp[3], zm[3], g[3];
-        if (!(sd[k] > 0.0)) {
+        if (!(sd[k] > 0)) {
             continue;
-        }
-        *pp[k] += (rfe_real_t)sd[k];
-        *pm[k] -= (rfe_real_t)sd[k];
-        h_direct(p, &up, mu, zp);
-        h_direct(p, &um, mu, zm);
-        for (i = 0; i < 3; ++i) {
-            g[i] = (zp[i] - zm[i]) / 2.0;
         }
         for (i = 0; i < 3; ++i) {
             for (j = 0; j < 3; ++j) {
-                R[i][j] += g[i] * g[j];
+                R[i][j] += (double)G[i * 8 + k] * (double)G[j * 8 + k];
             }
         }
     }
@@ -303,8 +300,8 @@ static void check_sr(const rfe_params_t *p, const rfe_sample_t *u, const rfe_rea
     }
 }
 
-/* REQ: S_R S_R^T = R0 + sum_j g_j g_j^T (docs/ESTIMATOR.md step 4), g_j from the tyre and
- * obsmat functions called here, for the absolute and the paper tyre, on a braking, steered,
+/* REQ: S_R S_R^T = R0 + sum_j g_j g_j^T (docs/ESTIMATOR.md step 4), g_j from
+ * rfe_meas_input_jac called here, for the absolute and the paper tyre, on a braking, steered,
  * yawing sample; inputs with sd 0 contribute nothing. */
 /* REQ-EIV-001 */
 static void test_rfe_step_noise_sqrt_reconstructs_r(void **state)
