@@ -4,8 +4,8 @@
  *        (src/estimators/friction/step_noise_internal.h; the estimator's, for a model already
  *        set up at the sample: nominal terms of the wheels an input does not reach reused)
  *        against the public rfe_step_noise_sqrt and against a reference built here from the
- *        public measurement model exactly as docs/ESTIMATOR.md step 4 writes it (a full set-up
- *        and evaluation at u and at u +- sd_j e_j), bit for bit and status for status, in
+ *        public measurement model exactly as docs/ESTIMATOR.md step 4 writes it (a full set-up,
+ *        h at u, the public input derivative rfe_meas_input_jac), bit for bit and status for status, in
  *        absolute and paper tyre mode, with every input switched on or off, and the statuses
  *        when a perturbed input, a perturbed wheel's kinematics or the nominal model is not
  *        finite. The pieces it is built on are tested with their modules:
@@ -110,13 +110,6 @@ static rfe_status_t ref_h(const rfe_params_t *p, const rfe_sample_t *u, const rf
     return st;
 }
 
-static rfe_real_t *slot(rfe_sample_t *u, size_t j)
-{
-    rfe_real_t *const s[8] = {&u->delta,    &u->vx,       &u->vy,       &u->yaw_rate,
-                              &u->omega[0], &u->omega[1], &u->omega[2], &u->omega[3]};
-    return s[j];
-}
-
 static rfe_status_t ref_step_noise(const rfe_params_t *p, const rfe_sample_t *u, const rfe_real_t mu[4],
                             rfe_real_t SR[9])
 {
@@ -140,27 +133,28 @@ static rfe_status_t ref_step_noise(const rfe_params_t *p, const rfe_sample_t *u,
             A[i * 11u + j] = (i == j) ? T_SQRT((r[i] * r[i]) + (e * e)) : RFE_R(0.0);
         }
     }
-    for (j = 0; j < 8; ++j) {
-        rfe_sample_t up = *u;
-        rfe_sample_t um = *u;
-        rfe_real_t zp[3];
-        rfe_real_t zm[3];
-        if (!(sd[j] > RFE_R(0.0))) {
-            continue;
-        }
-        *slot(&up, j) += sd[j];
-        *slot(&um, j) -= sd[j];
-        st = ref_h(p, &up, mu, zp);
+    /* g_j = sd_j dh/du_j (docs/ESTIMATOR.md step 4) from the public derivative on a set-up
+     * of its own (rfe_meas_input_jac is tested against central differences in
+     * test_meas_flt.c) */
+    {
+        rfe_meas_t hs;
+        rfe_real_t G[3 * 8];
+        st = rfe_meas_setup(&hs, &p->vehicle, &p->tyre, u);
         if (st == RFE_OK) {
-            st = ref_h(p, &um, mu, zm);
+            st = rfe_meas_input_jac(&hs, &p->vehicle, &p->tyre, u, mu, sd, G);
         }
         if (st != RFE_OK) {
             return st;
         }
-        for (i = 0; i < 3; ++i) {
-            A[i * 11u + cols] = (zp[i] - zm[i]) / RFE_R(2.0);
+        for (j = 0; j < 8; ++j) {
+            if (!(sd[j] > RFE_R(0.0))) {
+                continue;
+            }
+            for (i = 0; i < 3; ++i) {
+                A[i * 11u + cols] = G[i * 8u + j];
+            }
+            ++cols;
         }
-        ++cols;
     }
     st = rfe_qr_tria(A, 3u, cols, 11u);
     if (st != RFE_OK) {
@@ -249,24 +243,34 @@ static void test_step_noise_overflow(void **state)
     for (i = 0; i < 4; ++i) {
         u.omega[i] = RFE_R(0.0);
     }
-    /* vx + sd_vx overflows: the set-up's check of the perturbed sample */
+    /* Since issue 21 no perturbed sample is formed (g_j = sd_j dh/du_j, analytic): a huge vx
+     * with the wheels at rest holds every kappa at its clamp (-1, derivative 0) and, with
+     * vy = r = delta = 0, every tan(alpha) at 0 with derivatives vy / vx^2 = 0 and x_i / vx,
+     * y_i / vx of ~1e-308 (double; ~1e-38 float32): a huge sd_vx or sd_r times them is finite,
+     * so the step noise is RFE_OK where the central differences' u + sd e_j overflowed. */
     p.filter.sd_in_vx = (rfe_real_t)T_BIG;
-    assert_int_equal(check_three(&p, &u, mu), RFE_ERR_NONFINITE);
-    /* r + sd_r finite, but the right wheels' vx - r y overflows: the tyre's check */
+    assert_int_equal(check_three(&p, &u, mu), RFE_OK);
     p.filter.sd_in_vx = RFE_R(0.0);
     p.filter.sd_in_yaw_rate = (rfe_real_t)T_BIG;
-    assert_int_equal(check_three(&p, &u, mu), RFE_ERR_NONFINITE);
+    assert_int_equal(check_three(&p, &u, mu), RFE_OK);
     /* the nominal model already overflows: the nominal forces' check */
     u.vy = (rfe_real_t)T_HUGE;
     u.delta = RFE_R(0.7);
     assert_int_equal(check_three(&p, &u, mu), RFE_ERR_NONFINITE);
-    /* the same two in paper tyre mode (full evaluations) */
+    /* the same two in paper tyre mode */
     p.tyre.mode = RFE_TYRE_PAPER;
     u.vy = RFE_R(0.0);
     u.delta = RFE_R(0.0);
-    assert_int_equal(check_three(&p, &u, mu), RFE_ERR_NONFINITE);
+    assert_int_equal(check_three(&p, &u, mu), RFE_OK);
     p.filter.sd_in_yaw_rate = RFE_R(0.0);
     p.filter.sd_in_vx = (rfe_real_t)T_BIG;
+    assert_int_equal(check_three(&p, &u, mu), RFE_OK);
+    /* a huge sd times a derivative of magnitude >= 1: the derivative's finiteness check
+     * (rfe_meas_input_jac); the steer angle's derivative of the lateral acceleration on a
+     * drawn sample is of the order of the tyres' cornering stiffness over the mass, >> 1 */
+    assert_int_equal(rfe_params_default(&p), RFE_OK);
+    draw_sample(&u, mu, 1);
+    p.filter.sd_in_delta = (rfe_real_t)T_HUGE;
     assert_int_equal(check_three(&p, &u, mu), RFE_ERR_NONFINITE);
     /* finite forces whose yaw acceleration overflows (a tiny inertia): the sums' check */
     assert_int_equal(rfe_params_default(&p), RFE_OK);
