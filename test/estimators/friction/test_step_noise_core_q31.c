@@ -5,7 +5,7 @@
  *        of the wheels an input does not reach reused), against the public
  *        rfe_step_noise_sqrt_q31 and against a reference built here from the public
  *        measurement model exactly as docs/ESTIMATOR.md step 4 writes it (a full evaluation of
- *        h at u and at u +- sd_j e_j for every input), bit for bit, saturation counts
+ *        h at u, the public input derivative rfe_meas_input_jac_q31), bit for bit, saturation counts
  *        included, in magic, absolute and paper tyre mode. The pieces it is built on are
  *        tested with their modules: test/models/test_tyre_internal_q31.c (the tyre's split),
  *        test/models/test_meas_q31.c (the per-wheel columns and cached terms).
@@ -53,15 +53,8 @@ static rfe_status_t ref_h(const rfe_params_q31_t *p, const rfe_sample_q31_t *u,
     return st;
 }
 
-static rfe_fix_t *slot(rfe_sample_q31_t *u, size_t j)
-{
-    rfe_fix_t *const s[8] = {&u->delta,    &u->vx,       &u->vy,       &u->yaw_rate,
-                             &u->omega[0], &u->omega[1], &u->omega[2], &u->omega[3]};
-    return s[j];
-}
-
-/* docs/ESTIMATOR.md step 4 as written: S_R = Tria([S_R0, g_1 ..]), every h a full
- * evaluation (set-up and eval) of the public measurement model. */
+/* docs/ESTIMATOR.md step 4 as written: S_R = Tria([S_R0, g_1 ..]), h0 a full evaluation
+ * (set-up and eval) of the public measurement model, g_j its public input derivative. */
 static rfe_status_t ref_step_noise(const rfe_params_q31_t *p, const rfe_sample_q31_t *u,
                             const rfe_fix_t mu[4], rfe_fix_t SR[9], uint32_t *sat,
                             double pers[3])
@@ -89,30 +82,32 @@ static rfe_status_t ref_step_noise(const rfe_params_q31_t *p, const rfe_sample_q
         assert_int_equal(rfe_fix_norm(v, 2u, &A[i * 11u + i], &count), RFE_OK);
         pers[i] = (double)v[1] * (double)v[1] / 16777216.0; /* e^2 in Q24 LSB, exact */
     }
-    for (j = 0; j < 8; ++j) {
-        rfe_sample_q31_t up = *u;
-        rfe_sample_q31_t um = *u;
-        rfe_fix_t zp[3];
-        rfe_fix_t zm[3];
-        if (sd[j] <= 0) {
-            continue;
-        }
-        *slot(&up, j) = rfe_fix_add(*slot(&up, j), sd[j], &count);
-        *slot(&um, j) = rfe_fix_sub(*slot(&um, j), sd[j], &count);
-        st = ref_h(p, &up, mu, zp, &count);
+    /* g_j = sd_j dh/du_j (docs/ESTIMATOR.md step 4) from the public derivative on a set-up
+     * of its own, whose saturations ref_h counted already (rfe_meas_input_jac_q31 is tested
+     * against the double build in test_meas_q31.c) */
+    {
+        rfe_meas_q31_t hs;
+        rfe_fix_t G[3 * 8];
+        uint32_t scratch = 0u;
+        st = rfe_meas_setup_q31(&hs, &p->vehicle, &p->tyre, u, &scratch);
         if (st == RFE_OK) {
-            st = ref_h(p, &um, mu, zm, &count);
+            st = rfe_meas_input_jac_q31(&hs, &p->vehicle, &p->tyre, u, mu, sd, G, &count);
         }
         if (st != RFE_OK) {
             return st;
         }
-        for (i = 0; i < 3; ++i) {
-            A[i * 11u + cols] = rfe_fix_narrow((int64_t)zp[i] - (int64_t)zm[i], 1u, &count);
-            if ((j == 1u) || (j == 2u)) { /* vx, vy: the low-passed inputs */
-                pers[i] += (double)A[i * 11u + cols] * (double)A[i * 11u + cols] / 16777216.0;
+        for (j = 0; j < 8; ++j) {
+            if (sd[j] <= 0) {
+                continue;
             }
+            for (i = 0; i < 3; ++i) {
+                A[i * 11u + cols] = G[i * 8u + j];
+                if ((j == 1u) || (j == 2u)) { /* vx, vy: the low-passed inputs */
+                    pers[i] += (double)A[i * 11u + cols] * (double)A[i * 11u + cols] / 16777216.0;
+                }
+            }
+            ++cols;
         }
-        ++cols;
     }
     st = rfe_qr_tria_q31(A, 3u, cols, 11u, &count);
     if (st != RFE_OK) {
@@ -129,7 +124,7 @@ static rfe_status_t ref_step_noise(const rfe_params_q31_t *p, const rfe_sample_q
 
 /* REQ: the estimator's step-noise entry (the set-up model reused, only the wheels an input
  * reaches evaluated again) gives the S_R and count of the public function and of the
- * reference with a full evaluation per perturbed input, in magic, absolute and paper tyre
+ * reference (a full evaluation of h0, the public input derivative), in magic, absolute and paper tyre
  * mode, with every input switched on or off; asked for the persistent diagonal, the same
  * S_R, and the diagonal within its bound of the reference's. */
 /* REQ-FXP-007 REQ-FXP-008 REQ-MON-011 */
