@@ -371,31 +371,30 @@ static rfe_status_t time_update(const rfe_mass_grade_t *o, rfe_real_t dt, rfe_re
     return rfe_mg_predict(chi, &w, sq, xm, Sm);
 }
 
-/* §4.3 steps 3-7: with the ax row, new points of (x-, S-) and their z_ax = v-dot(T) +
- * g sin theta; the speed row needs none (linear in the state). */
+/* §4.3 steps 3-7: the speed row alone (rfe_mg_correct_speed: linear in the state, it needs
+ * no sigma points); with the ax row, new points of (x-, S-) and their z_ax = v-dot(T) +
+ * g sin theta, then the ax row and the speed row (rfe_mg_correct). */
 static rfe_status_t measurement_update(const rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in,
                                        rfe_real_t x[RFE_MG_N], rfe_real_t S[RFE_MG_N * RFE_MG_N])
 {
-    const rfe_mg_weights_t w = {o->wm0, o->wc0, o->wi, o->sqrt_wc0, o->sqrt_wi, o->sqrt_c};
-    size_t nz = 1u;
-    rfe_real_t chi[RFE_MG_PTS * RFE_MG_N] = {0}; /* read only with the ax row */
-    rfe_real_t Z[RFE_MG_PTS] = {0};
-    rfe_real_t r[RFE_MG_Z_MAX];
-    rfe_real_t y[RFE_MG_Z_MAX];
+    rfe_status_t st;
     if (o->p.use_ax == 1u) {
+        const rfe_mg_weights_t w = {o->wm0, o->wc0, o->wi, o->sqrt_wc0, o->sqrt_wi, o->sqrt_c};
+        const rfe_real_t r[RFE_MG_Z_MAX] = {o->p.r_v, o->p.r_ax};
+        const rfe_real_t y[RFE_MG_Z_MAX] = {in->v, in->ax};
+        rfe_real_t chi[RFE_MG_PTS * RFE_MG_N];
+        rfe_real_t Z[RFE_MG_PTS];
         size_t i;
-        nz = 2u;
         rfe_mg_sigma_points(x, S, o->sqrt_c, chi);
         for (i = 0u; i < (size_t)RFE_MG_PTS; ++i) {
             const rfe_real_t *pt = &chi[i * N];
             Z[i] = accel(&o->p, pt, in->torque) + (o->p.g * RFE_SIN(pt[2]));
         }
+        st = rfe_mg_correct(chi, Z, &w, r, y, x, S);
+    } else {
+        st = rfe_mg_correct_speed(o->p.r_v, in->v, x, S);
     }
-    r[0] = o->p.r_v;
-    r[1] = o->p.r_ax;
-    y[0] = in->v;
-    y[1] = (nz == 2u) ? in->ax : RFE_R(0.0);
-    return rfe_mg_correct(chi, Z, nz, &w, r, y, x, S);
+    return st;
 }
 
 /* §4.3 one filter step, the projection of the mean and the adaptation; o is the caller's

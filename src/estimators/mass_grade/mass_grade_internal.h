@@ -79,14 +79,15 @@ rfe_status_t rfe_mg_correct_speed(rfe_real_t r_v, rfe_real_t y, rfe_real_t x[RFE
                                   rfe_real_t S[RFE_MG_N * RFE_MG_N]);
 
 /**
- * §4.3 steps 4-7 in square-root form, one measurement row at a time (the Q31 twin's steps):
- * with nz = 2 first the ax row by the points @p chi of (x-, S-) and their measurements @p Z:
+ * §4.3 steps 4-7 in square-root form with the ax row, one measurement row at a time (the Q31
+ * twin's steps; without the ax row the update is rfe_mg_correct_speed alone): first the ax
+ * row by the points @p chi of (x-, S-) and their measurements @p Z:
  * z = sum w_m,i Z_i, the array [[Zc, r_ax], [Xc, 0]] (Zc, Xc the deviations times
  * sqrt(w_c,i)) triangularised to [[s, 0], [g, S']], x += g (y - z) / s; then the speed row,
  * linear in the state (its points' deviations are Xc's v row, z = x_v): rfe_mg_correct_speed
  * on (x', S'). With R diagonal this is the joint update S = cov(Z) + R,
  * K = P_xz S^-1, P = P- - K S K^T in exact arithmetic: conditioning on ax, then on v.
- * @param[in] Z  the ax row's measurements of the points (read with nz = 2).
+ * @param[in] Z  the ax row's measurements of the points.
  * @param[in] r  the measurement sds [r_v, r_ax].
  * @param[in,out] x  x- in, the posterior mean out.
  * @param[in,out] S  S- in, the posterior factor out.
@@ -95,7 +96,7 @@ rfe_status_t rfe_mg_correct_speed(rfe_real_t r_v, rfe_real_t y, rfe_real_t x[RFE
  *         speed row's innovation sd overflows); x, S untouched on an error.
  */
 rfe_status_t rfe_mg_correct(const rfe_real_t chi[RFE_MG_PTS * RFE_MG_N],
-                            const rfe_real_t Z[RFE_MG_PTS], size_t nz, const rfe_mg_weights_t *w,
+                            const rfe_real_t Z[RFE_MG_PTS], const rfe_mg_weights_t *w,
                             const rfe_real_t r[RFE_MG_Z_MAX], const rfe_real_t y[RFE_MG_Z_MAX],
                             rfe_real_t x[RFE_MG_N], rfe_real_t S[RFE_MG_N * RFE_MG_N]);
 

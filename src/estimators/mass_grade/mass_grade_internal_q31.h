@@ -70,9 +70,10 @@ rfe_status_t rfe_mg_correct_speed_q31(rfe_fix_t r_v, rfe_fix_t y, rfe_fix_t x[RF
                                       rfe_fix_t S[RFE_MG_N_Q31 * RFE_MG_N_Q31], uint32_t *sat);
 
 /**
- * §4.3 steps 4-7 in square-root form, one measurement row at a time, each a 4-row
- * triangularisation (so the library's RFE_N_MAX = 4 suffices): with nz = 2 first the ax row
- * by the points @p chi of (x-, S-) and their measurements @p Z (Q24): z = Z_0 + sum_{i>=1}
+ * §4.3 steps 4-7 in square-root form with the ax row (without it the update is
+ * rfe_mg_correct_speed_q31 alone), one measurement row at a time, each a 4-row
+ * triangularisation (so the library's RFE_N_MAX = 4 suffices): first the ax row by the
+ * points @p chi of (x-, S-) and their measurements @p Z (Q24): z = Z_0 + sum_{i>=1}
  * w_i (Z_i - Z_0), the array [[Zc, r_ax], [Xc, 0]] (Zc, Xc the deviations times
  * sqrt(w_c,i)) triangularised to [[s, 0], [g, S']]; then the speed row, linear in the state
  * (h = v: its points' deviations are Xc's v row, ẑ = x-_v): rfe_mg_correct_speed_q31 on
@@ -84,8 +85,7 @@ rfe_status_t rfe_mg_correct_speed_q31(rfe_fix_t r_v, rfe_fix_t y, rfe_fix_t x[RF
  * @return RFE_OK; RFE_ERR_NOT_POSITIVE_DEFINITE (a zero innovation sd; x, S untouched).
  */
 rfe_status_t rfe_mg_correct_q31(const rfe_fix_t chi[RFE_MG_PTS_Q31 * RFE_MG_N_Q31],
-                                const rfe_fix_t Z[RFE_MG_PTS_Q31], size_t nz,
-                                const rfe_mg_weights_q31_t *w,
+                                const rfe_fix_t Z[RFE_MG_PTS_Q31], const rfe_mg_weights_q31_t *w,
                                 const rfe_fix_t r[RFE_MG_Z_MAX_Q31],
                                 const rfe_fix_t y[RFE_MG_Z_MAX_Q31], rfe_fix_t x[RFE_MG_N_Q31],
                                 rfe_fix_t S[RFE_MG_N_Q31 * RFE_MG_N_Q31], uint32_t *sat);

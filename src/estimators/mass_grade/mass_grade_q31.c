@@ -446,24 +446,24 @@ static rfe_status_t time_update_q31(const rfe_mass_grade_q31_t *o, rfe_fix_t dt,
     return rfe_mg_predict_q31(chi, &w, sq, xm, Sm, sat);
 }
 
-/* §4.3 steps 3-7: with the ax row, new points of (x-, S-) and their z_ax = v-dot(T) +
- * g sin theta; the speed row needs none (linear in the state). */
+/* §4.3 steps 3-7: the speed row alone (rfe_mg_correct_speed_q31: linear in the state, it
+ * needs no sigma points); with the ax row, new points of (x-, S-) and their z_ax = v-dot(T) +
+ * g sin theta, then the ax row and the speed row (rfe_mg_correct_q31). */
 static rfe_status_t measurement_update_q31(const rfe_mass_grade_q31_t *o,
                                            const rfe_mass_grade_input_q31_t *in,
                                            rfe_fix_t x[RFE_MG_N_Q31],
                                            rfe_fix_t S[RFE_MG_N_Q31 * RFE_MG_N_Q31], uint32_t *sat)
 {
-    const rfe_mg_weights_q31_t w = {o->wm0, o->wi, o->sqrt_wc0, o->sqrt_wi, o->sqrt_c};
-    size_t nz = 1u;
-    rfe_fix_t chi[RFE_MG_PTS_Q31 * RFE_MG_N_Q31]; /* read only with the ax row */
-    rfe_fix_t Z[RFE_MG_PTS_Q31];
-    rfe_fix_t r[RFE_MG_Z_MAX_Q31];
-    rfe_fix_t y[RFE_MG_Z_MAX_Q31];
+    rfe_status_t st;
     if (o->p.use_ax == 1u) {
+        const rfe_mg_weights_q31_t w = {o->wm0, o->wi, o->sqrt_wc0, o->sqrt_wi, o->sqrt_c};
+        const rfe_fix_t r[RFE_MG_Z_MAX_Q31] = {o->p.r_v, o->p.r_ax};
+        const rfe_fix_t y[RFE_MG_Z_MAX_Q31] = {in->v, in->ax};
+        rfe_fix_t chi[RFE_MG_PTS_Q31 * RFE_MG_N_Q31];
+        rfe_fix_t Z[RFE_MG_PTS_Q31];
         model_q31_t k;
         size_t i;
         model_of_q31(&o->p, in->torque, &k);
-        nz = 2u;
         rfe_mg_sigma_points_q31(x, S, o->sqrt_c, chi, sat);
         for (i = 0u; i < PTS; ++i) {
             rfe_fix_t s = 0;
@@ -471,12 +471,11 @@ static rfe_status_t measurement_update_q31(const rfe_mass_grade_q31_t *o,
             const rfe_xf_t gs = rfe_xf_mul(k.g, rfe_xf_of(s, 30));
             Z[i] = rfe_xf_to_fix(rfe_xf_add(a, gs), RFE_MG_Q_V, sat);
         }
+        st = rfe_mg_correct_q31(chi, Z, &w, r, y, x, S, sat);
+    } else {
+        st = rfe_mg_correct_speed_q31(o->p.r_v, in->v, x, S, sat);
     }
-    r[0] = o->p.r_v;
-    r[1] = o->p.r_ax;
-    y[0] = in->v;
-    y[1] = (nz == 2u) ? in->ax : 0;
-    return rfe_mg_correct_q31(chi, Z, nz, &w, r, y, x, S, sat);
+    return st;
 }
 
 /* §4.3 one filter step, the projection of the mean and the adaptation; o is the caller's

@@ -205,23 +205,21 @@ rfe_status_t rfe_mg_correct_speed(rfe_real_t r_v, rfe_real_t y, rfe_real_t x[RFE
 }
 
 rfe_status_t rfe_mg_correct(const rfe_real_t chi[RFE_MG_PTS * RFE_MG_N],
-                            const rfe_real_t Z[RFE_MG_PTS], size_t nz, const rfe_mg_weights_t *w,
+                            const rfe_real_t Z[RFE_MG_PTS], const rfe_mg_weights_t *w,
                             const rfe_real_t r[RFE_MG_Z_MAX], const rfe_real_t y[RFE_MG_Z_MAX],
                             rfe_real_t x[RFE_MG_N], rfe_real_t S[RFE_MG_N * RFE_MG_N])
 {
     rfe_real_t xn[RFE_MG_N];
     rfe_real_t Sn[RFE_MG_N * RFE_MG_N];
     size_t i;
-    rfe_status_t st = RFE_OK;
+    rfe_status_t st;
     for (i = 0u; i < N; ++i) {
         xn[i] = x[i];
     }
     for (i = 0u; i < (N * N); ++i) {
         Sn[i] = S[i];
     }
-    if (nz == 2u) {
-        st = ax_update(chi, Z, w, r[1], y[1], xn, Sn);
-    }
+    st = ax_update(chi, Z, w, r[1], y[1], xn, Sn);
     if (st == RFE_OK) {
         st = rfe_mg_correct_speed(r[0], y[0], xn, Sn);
     }

@@ -178,33 +178,30 @@ rfe_status_t rfe_mg_correct_speed_q31(rfe_fix_t r_v, rfe_fix_t y, rfe_fix_t x[RF
 }
 
 rfe_status_t rfe_mg_correct_q31(const rfe_fix_t chi[RFE_MG_PTS_Q31 * RFE_MG_N_Q31],
-                                const rfe_fix_t Z[RFE_MG_PTS_Q31], size_t nz,
-                                const rfe_mg_weights_q31_t *w,
+                                const rfe_fix_t Z[RFE_MG_PTS_Q31], const rfe_mg_weights_q31_t *w,
                                 const rfe_fix_t r[RFE_MG_Z_MAX_Q31],
                                 const rfe_fix_t y[RFE_MG_Z_MAX_Q31], rfe_fix_t x[RFE_MG_N_Q31],
                                 rfe_fix_t S[RFE_MG_N_Q31 * RFE_MG_N_Q31], uint32_t *sat)
 {
     rfe_fix_t xn[RFE_MG_N_Q31];
     rfe_fix_t Sn[RFE_MG_N_Q31 * RFE_MG_N_Q31];
+    /* the ax row by the points: [[Zc, r_ax], [Xc, 0]], 4 x 8 (eqs. 17-21) */
+    rfe_fix_t A[(1u + N) * CORR_COLS] = {0};
+    rfe_fix_t zm = 0;
     uint32_t s = 0u;
     size_t i;
-    rfe_status_t st = RFE_OK;
+    rfe_status_t st;
     for (i = 0u; i < N; ++i) {
         xn[i] = x[i];
     }
     for (i = 0u; i < (N * N); ++i) {
         Sn[i] = S[i];
     }
-    if (nz == 2u) {
-        /* the ax row by the points: [[Zc, r_ax], [Xc, 0]], 4 x 8 (eqs. 17-21) */
-        rfe_fix_t A[(1u + N) * CORR_COLS] = {0};
-        rfe_fix_t zm = 0;
-        mean_of_q31(Z, 1u, 1u, w->wi, &zm, &s);                    /* eq. 17 */
-        centred_q31(Z, 1u, 1u, &zm, w, A, 0u, PTS + 1u, &s);        /* row of Zc */
-        centred_q31(chi, N, N, xn, w, A, 1u, PTS + 1u, &s);         /* rows of Xc */
-        A[PTS] = r[1];
-        st = scalar_update_q31(A, PTS + 1u, PTS + 1u, rfe_fix_sub(y[1], zm, &s), xn, Sn, &s);
-    }
+    mean_of_q31(Z, 1u, 1u, w->wi, &zm, &s);                    /* eq. 17 */
+    centred_q31(Z, 1u, 1u, &zm, w, A, 0u, PTS + 1u, &s);        /* row of Zc */
+    centred_q31(chi, N, N, xn, w, A, 1u, PTS + 1u, &s);         /* rows of Xc */
+    A[PTS] = r[1];
+    st = scalar_update_q31(A, PTS + 1u, PTS + 1u, rfe_fix_sub(y[1], zm, &s), xn, Sn, &s);
     if (st == RFE_OK) {
         st = rfe_mg_correct_speed_q31(r[0], y[0], xn, Sn, &s);
     }
