@@ -64,10 +64,11 @@ rfe_status_t rfe_mg_predict(const rfe_real_t X[RFE_MG_PTS * RFE_MG_N], const rfe
 /**
  * §4.3 step 7 alone, the speed row in square-root form: linear in the state (z = x_v, so its
  * cross terms P_xz = S S[0, :]^T = S[:, 0] S_00, S lower triangular: no sigma points), one
- * Givens rotation of S's column 0 with r_v: s = sqrt(S_00^2 + r_v^2), g = S[:, 0] S_00 / s, S[:, 0] *= r_v / s,
- * x += g (y_v - x_v) / s. The last row of rfe_mg_correct, and the whole correction of the
- * grade from ax in a pause (§4.2), which has no sigma points. A row of S with 0 in column 0
- * keeps its mean and its S row bit for bit.
+ * Givens rotation of S's column 0 with r_v: s = sqrt(S_00^2 + r_v^2), g = S[:, 0] S_00 / s,
+ * S[:, 0] *= r_v / s, x += g (y_v - x_v) / s. The last row of rfe_mg_correct, and the whole
+ * correction of the update without the ax row and of the grade from ax in a pause (§4.2),
+ * neither of which has sigma points. A row of S with 0 in column 0 keeps its mean and its S
+ * row bit for bit.
  * @param[in] r_v  the speed's measurement sd.
  * @param[in] y    the measured speed.
  * @param[in,out] x  the prior mean in, the posterior mean out.

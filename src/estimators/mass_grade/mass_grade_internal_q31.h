@@ -57,8 +57,9 @@ rfe_status_t rfe_mg_predict_q31(const rfe_fix_t X[RFE_MG_PTS_Q31 * RFE_MG_N_Q31]
  * its array [[S row v, r_v], [S, 0]] has two nonzero entries in its first row, so its
  * triangularisation is one Givens rotation of S column 0 with r_v (closed form): s =
  * |(S_00, r_v)|, g = S[:, 0] S_00 / s, S[:, 0] *= r_v / s, x += g (y - x_v) / s. The last row
- * of rfe_mg_correct_q31, and the whole correction of the grade from ax in a pause (§4.2). A
- * row of S with 0 in column 0 keeps its mean and its S row bit for bit.
+ * of rfe_mg_correct_q31, and the whole correction of the update without the ax row and of the
+ * grade from ax in a pause (§4.2). A row of S with 0 in column 0 keeps its mean and its S row
+ * bit for bit.
  * @param[in] r_v  the speed's measurement sd, Q24.
  * @param[in] y    the measured speed, Q24.
  * @param[in,out] x  the prior mean in, the posterior mean out.
