@@ -239,9 +239,9 @@ def test_feed_table_aggregates_the_seeds(monkeypatch):
            (b, "apf", f, 3): (0.05, 1.00, 0.50, 0.5), (b, "sckf", f): (None, None, 0.0, 0.3)}
     rows = fr.feed_table([a, b], res)
     assert rows[2] == ("| a | 0.200 / 0.150 [0.100–0.250] / 0.100 | 0.90 / 0.95 / 0.95 "
-                       "| 50% / 50% / 50% | 50% [40%–60%] / 50% | 2/3 / yes |")
+                       "| 50% / 50% / 50% | 50% [40%–60%] / 50% | 2/3 / yes | 1/3 / no |")
     assert rows[3] == ("| b | 0.100 / 0.050 / – | 1.00 / 1.00 / – | 50% / 50% / 0% "
-                       "| 50% / 30% | 3/3 / – |")
+                       "| 50% / 30% | 3/3 / – | 0/3 / – |")
     text = "\n".join(rows)
     # per seed the APF helps on 2, 1, 2 logs and hurts on 0, 1, 0 of 2; the SCKF 1 / 0 of 1
     assert "A0.1: 2 [1–2] / 0 [0–1] of 2; S0.1: 1 / 0 of 1." in text

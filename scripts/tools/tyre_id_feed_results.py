@@ -31,9 +31,9 @@ per column, "off" included.
 The APF draws from a seeded random stream, and a change of the float32 arithmetic moves its
 draws, so one seed's figure carries that draw's noise: in the first table each APF column is
 run once per tid_seed of SEEDS (the first the preset's default) and its cells give the median
-over the seeds and [min-max] where the seeds differ; its helps cell counts the seeds on which
-the feed helps; the counts (helps, hurts, meets) are counted per seed and given as the median
-and [min-max] over the seeds. The SCKF is deterministic: one run.
+over the seeds and [min-max] where the seeds differ; its helps (hurts) cell counts the seeds on
+which the feed helps (hurts); the counts (helps, hurts, meets) are counted per seed and given as
+the median and [min-max] over the seeds. The SCKF is deterministic: one run.
 Every fed run of that table has tid_feed_ax_max at its default (0.5 m/s^2: no curve fed after
 a sample whose |ax| exceeds it, braking or driving). The other tables use the preset's seed
 only. A second table, "before -> after", sets each filter's ungated feeds of HOLD_FEEDS once
@@ -296,8 +296,8 @@ def feed_table(names, res):
     labels = [label(c[2], c[1]) for c in cols]
     feeds = " / ".join(labels)
     rows = [f"| log | RMSE when valid: off / {feeds} | consistency when valid: off / {feeds} "
-            f"| valid: off / {feeds} | fed: {feeds} | helps: {feeds} |",
-            "|---|---|---|---|---|---|"]
+            f"| valid: off / {feeds} | fed: {feeds} | helps: {feeds} | hurts: {feeds} |",
+            "|---|---|---|---|---|---|---|"]
     nseed = {c: (len(SEEDS) if c[0] in SEEDED else 1) for c in cols}
     count = {c: [[0, 0, 0] for _ in range(nseed[c])] for c in cols}  # per seed: helps, of, hurts
     met = {c: [[0, 0] for _ in range(nseed[c])] for c in cols}
@@ -309,7 +309,7 @@ def feed_table(names, res):
         met_off[0] += 1 if m else 0
         met_off[1] += 1 if m is not None else 0
         per = [seed_runs(res, log, c[0], c[2]) for c in cols]
-        hcells = []
+        hcells, ucells = [], []
         for c, runs in zip(cols, per):
             h = [helps(base, r) for r in runs]
             u = [hurts(base, r) for r in runs]
@@ -327,8 +327,10 @@ def feed_table(names, res):
                 every[c][2 if nu == nv else 3] += 1 if nu else 0
             if len(runs) == 1:
                 hcells.append("–" if h[0] is None else ("yes" if h[0] else "no"))
+                ucells.append("–" if u[0] is None else ("yes" if u[0] else "no"))
             else:
                 hcells.append("–" if nv == 0 else f"{nh}/{nv}")
+                ucells.append("–" if nv == 0 else f"{nu}/{nv}")
         name = log[len("scenarios/"):-len(".csv")]
         rows.append(f"| {name} | "
                     + " | ".join(" / ".join([cell(base[i], fmt)]
@@ -336,7 +338,7 @@ def feed_table(names, res):
                                                for runs in per])
                                  for i, fmt in ((0, ".3f"), (1, ".2f"), (2, ".0%")))
                     + " | " + " / ".join(seed_cell([r[3] for r in runs], ".0%") for runs in per)
-                    + " | " + " / ".join(hcells) + " |")
+                    + " | " + " / ".join(hcells) + " | " + " / ".join(ucells) + " |")
     seeded = [lab for lab, c in zip(labels, cols) if c[0] in SEEDED]
     rows.append("")
     rows.append("Columns: A the APF's curve fed, S the SCKF's; the number its tid_feed_sd_rel, "
@@ -346,9 +348,10 @@ def feed_table(names, res):
                 f"{', '.join(str(sd) for sd in SEEDS)} of its random stream, with [min–max] over "
                 "the seeds where they differ at the table's digits (RMSE and consistency over the "
                 "seeds with a valid sample; \"(k of n seeds)\" where only k have one), and "
-                "their helps cell the number of seeds on which the feed helps, of those with a "
-                "verdict. The SCKF and off are deterministic: one run each. The counts below give "
-                "per column the median over the seeds and [min–max] where they differ; the other "
+                "their helps and hurts cells the number of seeds on which the feed helps or "
+                "hurts, of those with a verdict. The SCKF and off are deterministic: one run "
+                "each. The counts below give per column the median over the seeds and "
+                "[min–max] where they differ; the other "
                 f"tables of this section use seed {SEEDS[0]} only.")
     rows.append("")
     rows.append("Helps / hurts (of the logs with valid samples both ways): "
@@ -357,8 +360,9 @@ def feed_table(names, res):
                             f"{count_cell([k[1] for k in count[c]])}"
                             for lab, c in zip(labels, cols)) + ".")
     rows.append("")
-    rows.append("Per log over the seeds (logs on which the feed helps on every seed / on some but "
-                "not all; hurts on every seed / on some but not all): "
+    rows.append("Per log over the seeds with a verdict (logs on which the feed helps on every "
+                "such seed / on some but not all; hurts on every such seed / on some but not "
+                "all): "
                 + "; ".join(f"{lab}: {every[c][0]} / {every[c][1]}; {every[c][2]} / {every[c][3]}"
                             for lab, c in zip(labels, cols) if c[0] in SEEDED) + ".")
     rows.append("")
