@@ -55,6 +55,7 @@ With --page the tables go between <!-- tyre-feed:begin/end -->,
 import argparse
 import json
 import os
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -248,12 +249,10 @@ def hold_table(names, res, pairs=None, words=HOLD_WORDS):
 def spread(xs):
     """(median, min, max) of the figures @p xs, None entries (a run without a valid sample) left
     out; None when none is left. The median of an even count is the mean of the middle two."""
-    vals = sorted(x for x in xs if x is not None)
+    vals = [x for x in xs if x is not None]
     if not vals:
         return None
-    n = len(vals)
-    med = vals[n // 2] if n % 2 else (vals[n // 2 - 1] + vals[n // 2]) / 2
-    return med, vals[0], vals[-1]
+    return statistics.median(vals), min(vals), max(vals)
 
 
 def seed_cell(xs, fmt):
