@@ -246,11 +246,12 @@ COV_MIN_BRANCHES := 85
 # fixed-point tests in COV_LIGHT_TESTS: what it measures is which lines and branches the
 # tests reach, and these tests' light subsets reach every one their full sets reach
 # (measured: the same covered lines and branches, file by file, as with COV_LIGHT= ; the
-# light subsets of test_meas_q31, test_velocity_q31, test_friction_q31, the step noise's and
-# the host replay tests miss branches, so those run in full). The full sets' assertions run
+# light subsets of test_velocity_q31, test_friction_q31, the step noise's and the host replay
+# tests miss branches, so those run in full; test_meas_q31's derivative and column tests take
+# no stride, ~0.5 s natively, so its light subset, the scenarios' and random samples', does not). The full sets' assertions run
 # natively and under ASan + UBSan. COV_LIGHT= runs every test in full here too.
 COV_LIGHT ?= RFE_TEST_LIGHT=1
-COV_LIGHT_TESTS := numerics/test_fxmath_q31 filters/test_ckf_q31 filters/test_sckf_q31 \
+COV_LIGHT_TESTS := numerics/test_fxmath_q31 filters/test_ckf_q31 filters/test_sckf_q31 models/test_meas_q31 \
   models/test_obsmat_q31 models/test_tyre_internal_q31 models/test_tyre_magic_q31 \
   models/test_tyre_q31 estimators/mass_grade/test_mass_grade_q31 \
   golden/test_golden_observer_q31 golden/test_golden_q31 robustness/test_faults_q31 \

@@ -184,3 +184,68 @@ def test_run_writes_the_ellipse_and_leaves_the_held_default(tmp_path):
     assert "tid_ell_ax_min = 0.0" in par.read_text().splitlines()
     fr.run(exe, "scenarios/brake_in_turn.mf.csv", "sckf", (0.1, 0.0, 0.0))
     assert not any(x.startswith("tid_ellipse") for x in par.read_text().splitlines())
+
+
+def test_spread_is_median_min_max_without_the_runs_lacking_a_figure():
+    """Hand-made figures: the median of an odd count is the middle one, of an even count the
+    mean of the middle two; None (a run without a valid sample) is left out."""
+    assert fr.spread([0.3, None, 0.1, 0.2]) == (0.2, 0.1, 0.3)
+    assert fr.spread([4, 1, 3, 2]) == (2.5, 1, 4)
+    assert fr.spread([7]) == (7, 7, 7)
+    assert fr.spread([None, None]) is None
+
+
+def test_seed_cell_prints_the_range_only_where_the_seeds_differ_at_its_digits():
+    assert fr.seed_cell([0.087, 0.178, 0.063, 0.100, 0.090], ".3f") == "0.090 [0.063–0.178]"
+    assert fr.seed_cell([0.1001, 0.1004, 0.1002], ".3f") == "0.100"     # equal at 3 digits
+    assert fr.seed_cell([0.1, None, 0.3], ".3f") == "0.200 [0.100–0.300] (2 of 3 seeds)"
+    assert fr.seed_cell([None, None], ".3f") == "–"
+    assert fr.seed_cell([0.42, 0.46, 0.38], ".0%") == "42% [38%–46%]"
+    assert fr.count_cell([10, 8, 11, 9, 10]) == "10 [8–11]"
+    assert fr.count_cell([3, 3, 3]) == "3"
+    assert fr.count_cell([1, 2]) == "1.5 [1–2]"
+
+
+def test_run_writes_the_seed_only_when_given(tmp_path):
+    exe, _ = _stand_in(tmp_path)
+    par = tmp_path / "params.txt"
+    fr.run(exe, "scenarios/brake_in_turn.mf.csv", "apf", (0.1, 0.0), 3)
+    assert "tid_seed = 3" in par.read_text().splitlines()
+    fr.run(exe, "scenarios/brake_in_turn.mf.csv", "apf", (0.1, 0.0))
+    assert not any(x.startswith("tid_seed") for x in par.read_text().splitlines())
+
+
+def test_seed_jobs_repeat_only_the_seeded_filter_beyond_the_first_seed():
+    jobs = fr.seed_jobs(["scenarios/a.csv"])
+    assert {j[1] for j in jobs} == set(fr.SEEDED) == {"apf"}
+    assert sorted({j[3] for j in jobs}) == list(fr.SEEDS[1:])
+    assert len(jobs) == len(fr.FEEDS) * (len(fr.SEEDS) - 1)
+    assert fr.SEEDS[0] == 1                          # the preset's tid_seed (RFE_TID_SEED_DEFAULT)
+
+
+def test_feed_table_aggregates_the_seeds(monkeypatch):
+    """Two logs, one feed, the APF over three seeds and the SCKF once, figures decided by hand.
+    Log a (off 0.20 / 0.90 / 50 %): the APF's seeds 0.10 (helps), 0.25 (hurts: 0.05 higher),
+    0.15 (helps); the SCKF 0.10 (helps). Log b (off 0.10 / 1.00): every APF seed 0.05 and 1.00
+    (helps, meets); the SCKF without a valid sample (no verdict)."""
+    monkeypatch.setattr(fr, "FEEDS", ((0.1, 0.0),))
+    monkeypatch.setattr(fr, "SEEDS", (1, 2, 3))
+    f = (0.1, 0.0)
+    a, b = "scenarios/a.csv", "scenarios/b.csv"
+    res = {(a, None, None): (0.20, 0.90, 0.50, 0.0), (b, None, None): (0.10, 1.00, 0.50, 0.0),
+           (a, "apf", f): (0.10, 0.95, 0.50, 0.4), (a, "apf", f, 2): (0.25, 0.95, 0.50, 0.6),
+           (a, "apf", f, 3): (0.15, 0.95, 0.50, 0.5), (a, "sckf", f): (0.10, 0.95, 0.50, 0.5),
+           (b, "apf", f): (0.05, 1.00, 0.50, 0.5), (b, "apf", f, 2): (0.05, 1.00, 0.50, 0.5),
+           (b, "apf", f, 3): (0.05, 1.00, 0.50, 0.5), (b, "sckf", f): (None, None, 0.0, 0.3)}
+    rows = fr.feed_table([a, b], res)
+    assert rows[2] == ("| a | 0.200 / 0.150 [0.100–0.250] / 0.100 | 0.90 / 0.95 / 0.95 "
+                       "| 50% / 50% / 50% | 50% [40%–60%] / 50% | 2/3 / yes | 1/3 / no |")
+    assert rows[3] == ("| b | 0.100 / 0.050 / – | 1.00 / 1.00 / – | 50% / 50% / 0% "
+                       "| 50% / 30% | 3/3 / – | 0/3 / – |")
+    text = "\n".join(rows)
+    # per seed the APF helps on 2, 1, 2 logs and hurts on 0, 1, 0 of 2; the SCKF 1 / 0 of 1
+    assert "A0.1: 2 [1–2] / 0 [0–1] of 2; S0.1: 1 / 0 of 1." in text
+    # log b helped on every seed, log a on some; log a hurt on some
+    assert "A0.1: 1 / 1; 0 / 1." in text
+    # meets: off none of 2; the APF log b on every seed; the SCKF log a misses (0.10 > 0.08)
+    assert "off: 0 of 2; A0.1: 1 of 2; S0.1: 0 of 1." in text

@@ -28,9 +28,16 @@ the estimate does not help). It "hurts" when its RMSE when valid is higher by mo
 A run "meets" issue 20's targets when its RMSE when valid is <= 0.08 and its consistency when
 valid >= 0.9 (no verdict without a valid sample); the count of logs that meet them is given
 per column, "off" included.
+The APF draws from a seeded random stream, and a change of the float32 arithmetic moves its
+draws, so one seed's figure carries that draw's noise: in the first table each APF column is
+run once per tid_seed of SEEDS (the first the preset's default) and its cells give the median
+over the seeds and [min-max] where the seeds differ; its helps (hurts) cell counts the seeds on
+which the feed helps (hurts); the counts (helps, hurts, meets) are counted per seed and given as
+the median and [min-max] over the seeds. The SCKF is deterministic: one run.
 Every fed run of that table has tid_feed_ax_max at its default (0.5 m/s^2: no curve fed after
-a sample whose |ax| exceeds it, braking or driving). A second table, "before -> after", sets
-each filter's ungated feeds of HOLD_FEEDS once with tid_feed_ax_max = 0 (no hold: before) and
+a sample whose |ax| exceeds it, braking or driving). The other tables use the preset's seed
+only. A second table, "before -> after", sets each filter's ungated feeds of HOLD_FEEDS once
+with tid_feed_ax_max = 0 (no hold: before) and
 once at the default (after), with the same rules and, per log, the verdict of the hold against
 the run without it ("helps" / "hurts" as above with the unheld run as the base).
 A third table, the friction ellipse (docs/TYRE_ID.md section 3.5), sets tid_ellipse = 1 on
@@ -48,9 +55,11 @@ With --page the tables go between <!-- tyre-feed:begin/end -->,
 import argparse
 import json
 import os
+import statistics
 import subprocess
 import sys
 import tempfile
+import time
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
@@ -76,6 +85,10 @@ HOLD_OFF = 0.0  # tid_feed_ax_max of the "before" runs: no hold
 ELLIPSE_ON = 1.0  # tid_ellipse of the ellipse table's "after" runs (TYRE_ID.md section 3.5)
 NO_BAND = 0.0  # tid_ell_ax_min of the third table's runs: the ellipse without its dead band
 BAND = 0.6  # tid_ell_ax_min of the fourth table's runs: the key's default (TYRE_ID.md section 2)
+SEEDS = (1, 2, 3, 4, 5)  # tid_seed of each seeded filter's runs in the first table; the first is
+# the preset's (RFE_TID_SEED_DEFAULT), the only run of the other three tables and of SEEDS[0]'s
+# key; five draws keep the make target near 10 min on 2 cores (docs/TYRE_ID_RESULTS.md)
+SEEDED = ("apf",)  # the filters of FILTERS with a random stream; the SCKF is deterministic
 
 
 def label(feed, letter=""):
@@ -103,12 +116,12 @@ def logs():
     return out
 
 
-def run(exe, log, flt, feed):
+def run(exe, log, flt, feed, seed=None):
     """(RMSE when valid, consistency when valid, valid share, share fed) of one run; flt the
     --tyre-id filter, feed (tid_feed_sd_rel, tid_feed_evidence[, tid_feed_ax_max[,
     tid_ellipse[, tid_ell_ax_min]]]; without the third, or None, the key's default; without
     the fourth the ellipse's default, off; without the fifth the dead band's default), None:
-    without the identifier."""
+    without the identifier; seed the tid_seed written (None: not written, the preset's)."""
     with tempfile.TemporaryDirectory() as tmp:
         js = os.path.join(tmp, "m.json")
         args = [exe, "--in", os.path.join(ROOT, log), "--out", os.path.join(tmp, "e.csv"),
@@ -123,6 +136,8 @@ def run(exe, log, flt, feed):
                     fh.write(f"tid_ellipse = {feed[3]!r}\n")
                 if len(feed) > 4:
                     fh.write(f"tid_ell_ax_min = {feed[4]!r}\n")
+                if seed is not None:
+                    fh.write(f"tid_seed = {int(seed)}\n")
             args += ["--tyre-id", flt, "--params", par]
         r = subprocess.run(args, capture_output=True, text=True, check=False)
         if r.returncode != 0:
@@ -231,6 +246,134 @@ def hold_table(names, res, pairs=None, words=HOLD_WORDS):
     return rows
 
 
+def spread(xs):
+    """(median, min, max) of the figures @p xs, None entries (a run without a valid sample) left
+    out; None when none is left. The median of an even count is the mean of the middle two."""
+    vals = [x for x in xs if x is not None]
+    if not vals:
+        return None
+    return statistics.median(vals), min(vals), max(vals)
+
+
+def seed_cell(xs, fmt):
+    """A cell of the first table from one run's figure per seed: the median, "[min–max]" after
+    it where the seeds differ at the format's digits, "(k of n seeds)" where only k of them have
+    a figure; "–" where none has."""
+    sp = spread(xs)
+    if sp is None:
+        return "–"
+    lo, hi = format(sp[1], fmt), format(sp[2], fmt)
+    out = format(sp[0], fmt) + (f" [{lo}–{hi}]" if lo != hi else "")
+    k = sum(1 for x in xs if x is not None)
+    return out + (f" ({k} of {len(xs)} seeds)" if k < len(xs) else "")
+
+
+def count_cell(ns):
+    """A count per seed as its median and, where the seeds differ, "[min–max]"."""
+    sp = spread(ns)
+    return f"{sp[0]:g}" + (f" [{sp[1]}–{sp[2]}]" if sp[1] != sp[2] else "")
+
+
+def seed_runs(res, log, flt, feed):
+    """The runs of one log and fed column, one per seed of SEEDS for a filter of SEEDED (the
+    first the preset's run, keyed without a seed), else the one run."""
+    first = res[(log, flt, feed)]
+    return [first] + [res[(log, flt, feed, sd)] for sd in SEEDS[1:]] if flt in SEEDED else [first]
+
+
+def seed_jobs(names):
+    """The first table's runs beyond the preset's seed: (log, filter, feed, seed)."""
+    return [(log, c[0], c[2], sd) for log in names for c in columns() if c[0] in SEEDED
+            for sd in SEEDS[1:]]
+
+
+def feed_table(names, res):
+    """The first table's lines from the runs @p res (keys as seed_runs reads them): per log and
+    column the figures over the seeds, per column the counts of helps, hurts and issue 20's
+    targets met, per seed and then as median [min–max]."""
+    cols = columns()
+    labels = [label(c[2], c[1]) for c in cols]
+    feeds = " / ".join(labels)
+    rows = [f"| log | RMSE when valid: off / {feeds} | consistency when valid: off / {feeds} "
+            f"| valid: off / {feeds} | fed: {feeds} | helps: {feeds} | hurts: {feeds} |",
+            "|---|---|---|---|---|---|---|"]
+    nseed = {c: (len(SEEDS) if c[0] in SEEDED else 1) for c in cols}
+    count = {c: [[0, 0, 0] for _ in range(nseed[c])] for c in cols}  # per seed: helps, of, hurts
+    met = {c: [[0, 0] for _ in range(nseed[c])] for c in cols}
+    met_off = [0, 0]
+    every = {c: [0, 0, 0, 0] for c in cols}  # logs helped on every seed, on some; hurt: the same
+    for log in names:
+        base = res[(log, None, None)]
+        m = meets(base)
+        met_off[0] += 1 if m else 0
+        met_off[1] += 1 if m is not None else 0
+        per = [seed_runs(res, log, c[0], c[2]) for c in cols]
+        hcells, ucells = [], []
+        for c, runs in zip(cols, per):
+            h = [helps(base, r) for r in runs]
+            u = [hurts(base, r) for r in runs]
+            for k, r in enumerate(runs):
+                count[c][k][0] += 1 if h[k] else 0
+                count[c][k][1] += 1 if h[k] is not None else 0
+                count[c][k][2] += 1 if u[k] else 0
+                mk = meets(r)
+                met[c][k][0] += 1 if mk else 0
+                met[c][k][1] += 1 if mk is not None else 0
+            nh, nu, nv = sum(1 for x in h if x), sum(1 for x in u if x), sum(1 for x in h
+                                                                            if x is not None)
+            if nv:
+                every[c][0 if nh == nv else 1] += 1 if nh else 0
+                every[c][2 if nu == nv else 3] += 1 if nu else 0
+            if len(runs) == 1:
+                hcells.append("–" if h[0] is None else ("yes" if h[0] else "no"))
+                ucells.append("–" if u[0] is None else ("yes" if u[0] else "no"))
+            else:
+                hcells.append("–" if nv == 0 else f"{nh}/{nv}")
+                ucells.append("–" if nv == 0 else f"{nu}/{nv}")
+        name = log[len("scenarios/"):-len(".csv")]
+        rows.append(f"| {name} | "
+                    + " | ".join(" / ".join([cell(base[i], fmt)]
+                                            + [seed_cell([r[i] for r in runs], fmt)
+                                               for runs in per])
+                                 for i, fmt in ((0, ".3f"), (1, ".2f"), (2, ".0%")))
+                    + " | " + " / ".join(seed_cell([r[3] for r in runs], ".0%") for runs in per)
+                    + " | " + " / ".join(hcells) + " | " + " / ".join(ucells) + " |")
+    seeded = [lab for lab, c in zip(labels, cols) if c[0] in SEEDED]
+    rows.append("")
+    rows.append("Columns: A the APF's curve fed, S the SCKF's; the number its tid_feed_sd_rel, "
+                "eX: after X s of evidence.")
+    rows.append("")
+    rows.append(f"Seeds: the APF's columns ({', '.join(seeded)}) are the median over tid_seed "
+                f"{', '.join(str(sd) for sd in SEEDS)} of its random stream, with [min–max] over "
+                "the seeds where they differ at the table's digits (RMSE and consistency over the "
+                "seeds with a valid sample; \"(k of n seeds)\" where only k have one), and "
+                "their helps and hurts cells the number of seeds on which the feed helps or "
+                "hurts, of those with a verdict. The SCKF and off are deterministic: one run "
+                "each. The counts below give per column the median over the seeds and "
+                "[min–max] where they differ; the other "
+                f"tables of this section use seed {SEEDS[0]} only.")
+    rows.append("")
+    rows.append("Helps / hurts (of the logs with valid samples both ways): "
+                + "; ".join(f"{lab}: {count_cell([k[0] for k in count[c]])} / "
+                            f"{count_cell([k[2] for k in count[c]])} of "
+                            f"{count_cell([k[1] for k in count[c]])}"
+                            for lab, c in zip(labels, cols)) + ".")
+    rows.append("")
+    rows.append("Per log over the seeds with a verdict (logs on which the feed helps on every "
+                "such seed / on some but not all; hurts on every such seed / on some but not "
+                "all): "
+                + "; ".join(f"{lab}: {every[c][0]} / {every[c][1]}; {every[c][2]} / {every[c][3]}"
+                            for lab, c in zip(labels, cols) if c[0] in SEEDED) + ".")
+    rows.append("")
+    rows.append(f"Meets issue 20's targets (RMSE when valid <= {RMSE_TARGET:g}, consistency "
+                f"when valid >= {CONS_TARGET:g}; of the logs with valid samples): "
+                f"off: {met_off[0]} of {met_off[1]}; "
+                + "; ".join(f"{lab}: {count_cell([k[0] for k in met[c]])} of "
+                            f"{count_cell([k[1] for k in met[c]])}"
+                            for lab, c in zip(labels, cols)) + ".")
+    return rows
+
+
 def cell(x, fmt):
     return "–" if x is None else format(x, fmt)
 
@@ -247,57 +390,24 @@ def main():
     cols = columns()
     jobs = [(log, None, None) for log in names] + [(log, c[0], c[2]) for log in names
                                                    for c in cols]
+    jobs += seed_jobs(names)
     jobs += [(log, p[0], p[2]) for log in names for p in hold_columns()]
     jobs += [(log, p[0], p[3]) for log in names for p in ellipse_columns()]
     jobs += [(log, p[0], p[3]) for log in names for p in ellipse_columns(BAND)]
     done = [0]
+    t0 = time.monotonic()
 
     def one(job):
         out = run(a.mu_replay, *job)
         done[0] += 1
         if done[0] % 20 == 0 or done[0] == len(jobs):
-            print(f"tyre_id_feed_results: {done[0]} / {len(jobs)} runs", file=sys.stderr,
-                  flush=True)
+            print(f"tyre_id_feed_results: {done[0]} / {len(jobs)} runs, "
+                  f"{time.monotonic() - t0:.0f} s", file=sys.stderr, flush=True)
         return out
 
     with ThreadPoolExecutor(max_workers=max(1, a.jobs)) as ex:
         res = dict(zip(jobs, ex.map(one, jobs)))
-    labels = [label(c[2], c[1]) for c in cols]
-    feeds = " / ".join(labels)
-    rows = [f"| log | RMSE when valid: off / {feeds} | consistency when valid: off / {feeds} "
-            f"| valid: off / {feeds} | fed: {feeds} | helps: {feeds} |",
-            "|---|---|---|---|---|---|"]
-    count = {c: [0, 0, 0] for c in cols}
-    met = [[0, 0] for _ in range(len(cols) + 1)]
-    for log in names:
-        runs = [res[(log, None, None)]] + [res[(log, c[0], c[2])] for c in cols]
-        h = [helps(runs[0], r) for r in runs[1:]]
-        for c, x, r in zip(cols, h, runs[1:]):
-            count[c][0] += 1 if x else 0
-            count[c][1] += 1 if x is not None else 0
-            count[c][2] += 1 if hurts(runs[0], r) else 0
-        for k, r in enumerate(runs):
-            m = meets(r)
-            met[k][0] += 1 if m else 0
-            met[k][1] += 1 if m is not None else 0
-        name = log[len("scenarios/"):-len(".csv")]
-        rows.append(f"| {name} | " + " / ".join(cell(r[0], ".3f") for r in runs) + " | "
-                    + " / ".join(cell(r[1], ".2f") for r in runs) + " | "
-                    + " / ".join(cell(r[2], ".0%") for r in runs) + " | "
-                    + " / ".join(f"{r[3]:.0%}" for r in runs[1:]) + " | "
-                    + " / ".join("–" if x is None else ("yes" if x else "no") for x in h) + " |")
-    rows.append("")
-    rows.append("Columns: A the APF's curve fed, S the SCKF's; the number its tid_feed_sd_rel, "
-                "eX: after X s of evidence.")
-    rows.append("")
-    rows.append("Helps / hurts (of the logs with valid samples both ways): "
-                + "; ".join(f"{lab}: {count[c][0]} / {count[c][2]} of {count[c][1]}"
-                            for lab, c in zip(labels, cols)) + ".")
-    rows.append("")
-    rows.append(f"Meets issue 20's targets (RMSE when valid <= {RMSE_TARGET:g}, consistency "
-                f"when valid >= {CONS_TARGET:g}; of the logs with valid samples): "
-                + "; ".join(f"{lab}: {m[0]} of {m[1]}" for lab, m in zip(["off"] + labels, met))
-                + ".")
+    rows = feed_table(names, res)
     text = "\n".join(rows)
     print(text)
     held = hold_table(names, res)

@@ -15,7 +15,8 @@ tid_feed_evidence 0.25 s of the friction estimator's evidence that its curve is 
 "e0.25"), with the braking hold at its default (tid_feed_ax_max 0.5 m/s^2: no curve fed after a
 sample whose |ax| exceeds it; docs/TYRE_ID.md section 14), and the APF's at 0.1 from the start
 and after e0.25 with the taint rule of tyre_id_feed_rule.py (REFRESH_FEEDS: tid_feed_refresh
-1 s, "r1"). The identifier runs on every log;
+1 s, "r1"), and the SCKF's at the same two feeds with the same rule (REFRESH_FILTERS: does the
+rule help with the other filter's curve too). The identifier runs on every log;
 it feeds only where its cornering stiffness is known within tid_feed_sd_rel, i.e. where the
 driver steers (the "fed" share). The identifier is float and double only (no Q31 twin), so
 --real takes float and double.
@@ -29,12 +30,25 @@ many drop more than 5 points and how many no longer meet it), with, per variant,
 either truth tyre it makes meet the invariant and those it makes fail it. --page rewrites
 <!-- tyre-trust-summary:begin/end --> and <!-- tyre-trust-logs:begin/end --> (the logs where
 some variant fed) of the page.
+
+The taint rule's sensitivity (--sens, on by default; make tyre-id-trust): each base feed of
+SENS_BASES (the APF's at 0.1, from the start and after e0.25) with the rule at every
+tid_feed_refresh of SENS_REFRESH and tid_feed_outlier_k of SENS_K, per precision: logs meeting
+the invariant, logs gained and lost against today (either truth tyre), and the MF-truth logs
+meeting it today whose excited-valid share drops by more than 5 points. The rule only withholds
+curves the base feed would feed (tyre_feed_due's conditions are the base's and more), so on a
+log where the base fed nothing the rule feeds nothing and the run is today's (the reset of the
+model error sets the value the estimator already has): those logs are not replayed again, their
+figures are today's (asserted on one log by test_tyre_id_trust.py). The grid point (1 s, 5) is
+the "r1" column of the summary, not replayed again. --page also rewrites
+<!-- tyre-trust-sens:begin/end -->.
 """
 from __future__ import annotations
 
 import argparse
 import sys
 import tempfile
+import time
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
@@ -49,23 +63,51 @@ REALS = ("float", "double")  # the identifier's precisions (no Q31 twin)
 # from the start and after e0.25, with tid_feed_refresh 1 s (tid_feed_outlier_k at its default
 # 5): (tid_feed_sd_rel, tid_feed_evidence, tid_feed_refresh)
 REFRESH_FEEDS = ((0.1, 0.0, 1.0), (0.1, 0.25, 1.0))
+# the filters whose curve is fed with the rule: the APF's (the rule's own), then the SCKF's
+REFRESH_FILTERS = (("apf", "A"), ("sckf", "S"))
+# The rule's sensitivity: the APF's base feeds (tid_feed_sd_rel, tid_feed_evidence) and the grid
+# of (tid_feed_refresh [s], tid_feed_outlier_k); (1, 5) is the summary's "r1"
+SENS_BASES = ((0.1, 0.0), (0.1, 0.25))
+SENS_REFRESH = (0.5, 1.0, 2.0, 4.0)
+SENS_K = (3.0, 4.0, 5.0, 7.0)
+SENS_REUSED = (1.0, 5.0)  # the summary's r1 (tid_feed_outlier_k at its default 5)
 
 
 def variants():
     """The fed runs: (label, filter, (tid_feed_sd_rel, tid_feed_evidence[,
-    tid_feed_refresh])), e.g. "S0.05", "A0.1 e0.25", "A0.1 r1"."""
+    tid_feed_refresh])), e.g. "S0.05", "A0.1 e0.25", "A0.1 r1", "S0.1 e0.25 r1"."""
     return ([(label(f, letter), flt, f) for flt, letter in reversed(FILTERS) for f in FEEDS]
-            + [(label(f[:2], "A") + f" r{f[2]:g}", "apf", f) for f in REFRESH_FEEDS])
+            + [(label(f[:2], letter) + f" r{f[2]:g}", flt, f)
+               for flt, letter in REFRESH_FILTERS for f in REFRESH_FEEDS])
 
 
 def feed_params(feed, folder: Path) -> Path:
     """A parameter file setting one feed (the hold tid_feed_ax_max left at its default; with a
-    third entry tid_feed_refresh, tid_feed_outlier_k at its default)."""
-    tail = f"_{feed[2]:g}" if len(feed) > 2 else ""
+    third entry tid_feed_refresh, with a fourth tid_feed_outlier_k, else at its default)."""
+    tail = "".join(f"_{x:g}" for x in feed[2:])
     p = folder / f"feed_{feed[0]:g}_{feed[1]:g}{tail}.params"
-    p.write_text(f"tid_feed_sd_rel = {feed[0]!r}\ntid_feed_evidence = {feed[1]!r}\n"
-                 + (f"tid_feed_refresh = {feed[2]!r}\n" if len(feed) > 2 else ""))
+    keys = ("tid_feed_sd_rel", "tid_feed_evidence", "tid_feed_refresh", "tid_feed_outlier_k")
+    p.write_text("".join(f"{k} = {v!r}\n" for k, v in zip(keys, feed)))
     return p
+
+
+def run_all(replay: Path, out: Path, todo, jobs: int, what: str) -> list:
+    """run_log on each (real, log, tag, extra) of @p todo, @p jobs at a time, printing progress
+    (stderr) about every tenth of the runs; the figures in @p todo's order."""
+    t0, done, step = time.monotonic(), 0, max(len(todo) // 10, 1)
+
+    def one(job):
+        nonlocal done
+        real, log, tag, extra = job
+        f = run_log(replay, log, out, real, extra, tag)
+        done += 1
+        if done % step == 0 or done == len(todo):
+            print(f"tyre_id_trust: {what}: {done}/{len(todo)} runs, "
+                  f"{time.monotonic() - t0:.0f} s", file=sys.stderr, flush=True)
+        return f
+
+    with ThreadPoolExecutor(max_workers=max(jobs, 1)) as ex:
+        return list(ex.map(one, todo))
 
 
 def measure(replay: Path, scen: Path, out: Path, reals=REALS, only=None, jobs=2) -> dict:
@@ -80,18 +122,93 @@ def measure(replay: Path, scen: Path, out: Path, reals=REALS, only=None, jobs=2)
                 todo.append((real, log, "today", ()))
                 todo += [(real, log, lab, ("--tyre-id", flt, "--params", str(par[lab])))
                          for lab, flt, _ in variants()]
-
-        def one(job):
-            real, log, lab, extra = job
-            tag = "" if lab == "today" else "." + lab.replace(" ", "_")
-            return run_log(replay, log, out, real, extra, tag)
-
-        with ThreadPoolExecutor(max_workers=max(jobs, 1)) as ex:
-            got = list(ex.map(one, todo))
+        got = run_all(replay, out, [(r, g, tag_of(lab), x) for r, g, lab, x in todo], jobs,
+                      "the feeds")
     res = {real: {} for real in reals}
     for (real, log, lab, _), f in zip(todo, got):
         res[real].setdefault(log.relative_to(scen).as_posix(), {})[lab] = f
     return res
+
+
+def tag_of(lab: str) -> str:
+    """The output files' suffix of a run label."""
+    return "" if lab == "today" else "." + lab.replace(" ", "_")
+
+
+def sens_label(base, refresh: float, k: float) -> str:
+    """e.g. "A0.1 e0.25 r0.5 k3"."""
+    return label(base, "A") + f" r{refresh:g} k{k:g}"
+
+
+def measure_sens(replay: Path, scen: Path, out: Path, res: dict, jobs=2) -> dict:
+    """The rule's grid on the APF's base feeds: {real: {base label: {(refresh, k): {log name:
+    {"today": figures, "run": figures}}}}} and the number of runs, replayed only on the logs
+    where the base fed (res[real][log][base label]["fed"] > 0); elsewhere the run is today's
+    (module doc); the grid point SENS_REUSED is res's r1 column."""
+    out.mkdir(parents=True, exist_ok=True)
+    grid = [(r, k) for r in SENS_REFRESH for k in SENS_K]
+    sens, todo = {}, []
+    with tempfile.TemporaryDirectory() as tmp:
+        for real, per_log in res.items():
+            sens[real] = {}
+            for base in SENS_BASES:
+                blab = label(base, "A")
+                fed = [n for n, f in per_log.items() if f[blab].get("fed", 0.0) > 0.0]
+                cells = sens[real][blab] = {}
+                for r, k in grid:
+                    cells[(r, k)] = {n: {"today": f["today"], "run": f["today"]}
+                                     for n, f in per_log.items()}
+                    for n in fed:
+                        if (r, k) == SENS_REUSED:
+                            cells[(r, k)][n]["run"] = per_log[n][f"{blab} r{r:g}"]
+                            continue
+                        par = feed_params((*base, r, k), Path(tmp))
+                        todo.append((real, blab, (r, k), n,
+                                     (real, scen / n, tag_of(sens_label(base, r, k)),
+                                      ("--tyre-id", "apf", "--params", str(par)))))
+        got = run_all(replay, out, [t[4] for t in todo], jobs, "the rule's grid")
+    for (real, blab, rk, n, _), f in zip(todo, got):
+        sens[real][blab][rk][n]["run"] = f
+    return sens, len(todo)
+
+
+def sens_cell(per_log: dict) -> dict:
+    """One grid point: logs meeting the invariant, the logs gained and lost against today
+    (either truth tyre), and the MF-truth logs meeting it today whose excited-valid share drops
+    by more than 5 points (shape_results.summary)."""
+    s = summary(per_log, ["today", "run"], meets)["run"]
+    ok = {n: (meets(f["today"]), meets(f["run"])) for n, f in per_log.items()}
+    return {"meets": s["meets"]["all"], "total": s["total"]["all"],
+            "won": sorted(n for n, (t, r) in ok.items() if r and not t),
+            "lost": sorted(n for n, (t, r) in ok.items() if t and not r),
+            "over_drop": s["over_drop"]}
+
+
+def sens_lines(sens: dict) -> list[str]:
+    """Per precision and base feed, one row per tid_feed_refresh, one column per
+    tid_feed_outlier_k: "meeting / gained / lost / MF drops > 5 points"; then the logs lost or
+    dropping at some grid point."""
+    lines, notes = [], []
+    head = ("| precision, base feed | tid_feed_refresh | "
+            + " | ".join(f"k {k:g}" for k in SENS_K) + " |")
+    lines += [head, "|" + "|".join(["---"] * (len(SENS_K) + 2)) + "|"]
+    for real, bases in sens.items():
+        for blab, cells in bases.items():
+            for r in SENS_REFRESH:
+                row = []
+                for k in SENS_K:
+                    c = sens_cell(cells[(r, k)])
+                    row.append(f"{c['meets']}/{c['total']} / +{len(c['won'])} / "
+                               f"−{len(c['lost'])} / {len(c['over_drop'])}")
+                    if c["lost"] or c["over_drop"]:
+                        notes.append(f"- {real} {blab} r{r:g} k{k:g}: no longer meeting it: "
+                                     + (", ".join(f"`{n}`" for n in c["lost"]) or "none")
+                                     + "; excited-valid share down > 5 points: "
+                                     + (", ".join(f"`{n}`" for n in c["over_drop"]) or "none")
+                                     + ".")
+                lines.append(f"| {real} {blab} | {r:g} s | " + " | ".join(row) + " |")
+    return lines + ["", "Grid points that lose a log or an excited-valid share:", ""] + (
+        notes or ["- none."])
 
 
 def labels():
@@ -157,16 +274,24 @@ def main(argv=None) -> int:
     ap.add_argument("--only", nargs="*", help="only these log names (a quick look; no --page)")
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--page", type=Path, help="rewrite the tables of this page (docs/MONITOR.md)")
+    ap.add_argument("--no-sens", action="store_true", help="skip the taint rule's grid")
     a = ap.parse_args(argv)
     if not a.replay.is_file():
         sys.exit(f"tyre_id_trust: {a.replay}: no such file (make build/mu_replay)")
+    t0 = time.monotonic()
     res = measure(a.replay, a.scenarios, a.out, a.real, a.only, a.jobs)
+    t1 = time.monotonic()
     tables = {"summary": summary_lines(res) + ["", "Against today, on all the logs:", ""]
               + change_lines(res)}
     fed = fed_logs(res, a.real[0])
     tables["logs"] = ([f"{a.real[0]}: the {len(fed)} logs where some variant fed its curve "
                        "(valid / excited valid / RMSE / consistency / worst when valid / meets"
                        " / fed).", ""] + log_lines(res, a.real[0]))
+    if not a.no_sens:
+        sens, n_runs = measure_sens(a.replay, a.scenarios, a.out / "sens", res, a.jobs)
+        print(f"tyre_id_trust: the feeds {t1 - t0:.0f} s, the rule's grid "
+              f"{time.monotonic() - t1:.0f} s ({n_runs} runs)", file=sys.stderr, flush=True)
+        tables["sens"] = sens_lines(sens)
     for k, v in tables.items():
         print(f"\n## {k}\n" + "\n".join(v), flush=True)
     if a.page and not a.only:

@@ -683,7 +683,10 @@ static void test_meas_input_jac(void **state)
     int n;
     (void)state;
     draw_seed(0x1A9E7ull);
-    for (n = 0; n < N_JAC_CASES; n += (int)rfe_test_stride(10u)) {
+    /* light mode: a stride prime to input_jac_point's 50 kinds and to the 3 modes, so the
+     * light subset holds every kind in its share (10 took the free-rolling kind, whose zero
+     * slips are kinks, in 1 case of 5, and with it the not-smooth share above MAX_KINKED) */
+    for (n = 0; n < N_JAC_CASES; n += (int)rfe_test_stride(11u)) {
         rfe_params_t p;
         rfe_sample_t u;
         rfe_real_t mu[4];

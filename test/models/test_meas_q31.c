@@ -797,7 +797,7 @@ static void test_meas_q31_perturbed(void **state)
     long saturated = 0;
     (void)state;
     rng_seed(0x7E57ull);
-    for (n = 0; n < 3000; n += (int)rfe_test_stride(10u)) {
+    for (n = 0; n < 3000; ++n) {
         const rfe_params_q31_t *p = ((n % 3) == 0) ? &pq_pap : (((n % 3) == 1) ? &pq : &pq_mag);
         ++n_case;
         double om[4];
@@ -954,7 +954,7 @@ static void test_meas_columns_q31(void **state)
     long with_sat = 0;
     (void)state;
     draw_seed(0xC01C01ull);
-    for (n = 0; n < N_COLUMN_CASES; n += (int)rfe_test_stride(10u)) {
+    for (n = 0; n < N_COLUMN_CASES; ++n) {
         rfe_params_q31_t p = preset();
         rfe_tyre_params_q31_t other;
         rfe_sample_q31_t u;
@@ -1163,7 +1163,7 @@ static void test_meas_lateral_jac_q31(void **state)
     int n;
     (void)state;
     rng_seed(0x1A7E2A1ull);
-    for (n = 0; n < N_JAC; n += (int)rfe_test_stride(10u)) {
+    for (n = 0; n < N_JAC; ++n) {
         const int m = n % 3;
         const rfe_params_t *p = (m == 0) ? &pd_pap : ((m == 1) ? &pd : &pd_mag);
         const rfe_params_q31_t *q = (m == 0) ? &pq_pap : ((m == 1) ? &pq : &pq_mag);
@@ -1430,7 +1430,7 @@ static void test_meas_input_jac_q31(void **state)
     int n;
     (void)state;
     rng_seed(0x1A9E7Aull);
-    for (n = 0; n < N_JAC; n += (int)rfe_test_stride(10u)) {
+    for (n = 0; n < N_JAC; ++n) {
         const int m = n % 3;
         const rfe_params_t *p = (m == 0) ? &pd_pap : ((m == 1) ? &pd : &pd_mag);
         const rfe_params_q31_t *q = (m == 0) ? &pq_pap : ((m == 1) ? &pq : &pq_mag);

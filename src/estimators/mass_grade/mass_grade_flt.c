@@ -236,26 +236,13 @@ static rfe_status_t hold(rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in, 
     return st;
 }
 
-/* §4.3 step 7 alone, the speed row (rfe_mg_correct with one row: its points and the ax row's
- * values are not read); a row of S with 0 in column 0 (the mass's after a hold) keeps its
- * mean and its S row bit for bit. */
-static rfe_status_t speed_row(const rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in,
-                              rfe_real_t x[RFE_MG_N], rfe_real_t S[RFE_MG_N * RFE_MG_N])
-{
-    const rfe_mg_weights_t w = {o->wm0, o->wc0, o->wi, o->sqrt_wc0, o->sqrt_wi, o->sqrt_c};
-    const rfe_real_t chi[RFE_MG_PTS * RFE_MG_N] = {0};
-    const rfe_real_t Z[RFE_MG_PTS] = {0};
-    const rfe_real_t r[RFE_MG_Z_MAX] = {o->p.r_v, o->p.r_ax};
-    const rfe_real_t y[RFE_MG_Z_MAX] = {in->v, RFE_R(0.0)};
-    return rfe_mg_correct(chi, Z, 1u, &w, r, y, x, S);
-}
-
 /* §4.2 the grade from ax in a pause (pause_grade): M and S's mass row untouched (P_MM,
  * P_Mv = 0, P_Mtheta kept), v and theta run the kinematic model v-dot = a_x - g sin theta,
  * ax its input, on S's columns 0 and 2 (theta given the held M: S_theta,M kept): the EKF
  * time update [L 0] = Tria([F L, diag(q_v', q_theta sqrt(dt))]), F = [[1, -g cos(theta) dt],
  * [0, 1]], L = [[S_vv, 0], [S_theta,v, S_theta,theta]], q_v'^2 = q_v^2 dt + (r_ax dt)^2; then
- * the speed row; theta projected onto its bound; the adaptation's clock restarts as in the
+ * the speed row (rfe_mg_correct_speed: S's mass row, 0 in column 0, keeps its mean and its S
+ * row bit for bit); theta projected onto its bound; the adaptation's clock restarts as in the
  * hold. */
 static rfe_status_t grade_from_ax(rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in,
                                   rfe_real_t dt)
@@ -284,7 +271,7 @@ static rfe_status_t grade_from_ax(rfe_mass_grade_t *o, const rfe_mass_grade_inpu
         S[0] = A[0];
         S[6] = A[4];
         S[8] = A[5];
-        st = speed_row(o, in, x, S);
+        st = rfe_mg_correct_speed(o->p.r_v, in->v, x, S);
     }
     if ((st == RFE_OK) && (rfe_all_finite(x, N) == 0)) {
         st = RFE_ERR_NONFINITE;
@@ -384,31 +371,30 @@ static rfe_status_t time_update(const rfe_mass_grade_t *o, rfe_real_t dt, rfe_re
     return rfe_mg_predict(chi, &w, sq, xm, Sm);
 }
 
-/* §4.3 steps 3-7: with the ax row, new points of (x-, S-) and their z_ax = v-dot(T) +
- * g sin theta; the speed row needs none (linear in the state). */
+/* §4.3 steps 3-7: the speed row alone (rfe_mg_correct_speed: linear in the state, it needs
+ * no sigma points); with the ax row, new points of (x-, S-) and their z_ax = v-dot(T) +
+ * g sin theta, then the ax row and the speed row (rfe_mg_correct). */
 static rfe_status_t measurement_update(const rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in,
                                        rfe_real_t x[RFE_MG_N], rfe_real_t S[RFE_MG_N * RFE_MG_N])
 {
-    const rfe_mg_weights_t w = {o->wm0, o->wc0, o->wi, o->sqrt_wc0, o->sqrt_wi, o->sqrt_c};
-    size_t nz = 1u;
-    rfe_real_t chi[RFE_MG_PTS * RFE_MG_N] = {0}; /* read only with the ax row */
-    rfe_real_t Z[RFE_MG_PTS] = {0};
-    rfe_real_t r[RFE_MG_Z_MAX];
-    rfe_real_t y[RFE_MG_Z_MAX];
+    rfe_status_t st;
     if (o->p.use_ax == 1u) {
+        const rfe_mg_weights_t w = {o->wm0, o->wc0, o->wi, o->sqrt_wc0, o->sqrt_wi, o->sqrt_c};
+        const rfe_real_t r[RFE_MG_Z_MAX] = {o->p.r_v, o->p.r_ax};
+        const rfe_real_t y[RFE_MG_Z_MAX] = {in->v, in->ax};
+        rfe_real_t chi[RFE_MG_PTS * RFE_MG_N];
+        rfe_real_t Z[RFE_MG_PTS];
         size_t i;
-        nz = 2u;
         rfe_mg_sigma_points(x, S, o->sqrt_c, chi);
         for (i = 0u; i < (size_t)RFE_MG_PTS; ++i) {
             const rfe_real_t *pt = &chi[i * N];
             Z[i] = accel(&o->p, pt, in->torque) + (o->p.g * RFE_SIN(pt[2]));
         }
+        st = rfe_mg_correct(chi, Z, &w, r, y, x, S);
+    } else {
+        st = rfe_mg_correct_speed(o->p.r_v, in->v, x, S);
     }
-    r[0] = o->p.r_v;
-    r[1] = o->p.r_ax;
-    y[0] = in->v;
-    y[1] = (nz == 2u) ? in->ax : RFE_R(0.0);
-    return rfe_mg_correct(chi, Z, nz, &w, r, y, x, S);
+    return st;
 }
 
 /* §4.3 one filter step, the projection of the mean and the adaptation; o is the caller's

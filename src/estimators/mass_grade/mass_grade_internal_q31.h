@@ -52,14 +52,33 @@ rfe_status_t rfe_mg_predict_q31(const rfe_fix_t X[RFE_MG_PTS_Q31 * RFE_MG_N_Q31]
                                 rfe_fix_t Sm[RFE_MG_N_Q31 * RFE_MG_N_Q31], uint32_t *sat);
 
 /**
- * §4.3 steps 4-7 in square-root form, one measurement row at a time, each a 4-row
- * triangularisation (so the library's RFE_N_MAX = 4 suffices): with nz = 2 first the ax row
- * by the points @p chi of (x-, S-) and their measurements @p Z (Q24): z = Z_0 + sum_{i>=1}
+ * §4.3 step 7 alone, the speed row in square-root form, the float twin's
+ * rfe_mg_correct_speed: linear in the state (ẑ = x_v, P_xz = S[:, 0] S_00: no sigma points),
+ * its array [[S row v, r_v], [S, 0]] has two nonzero entries in its first row, so its
+ * triangularisation is one Givens rotation of S column 0 with r_v (closed form): s =
+ * |(S_00, r_v)|, g = S[:, 0] S_00 / s, S[:, 0] *= r_v / s, x += g (y - x_v) / s. The last row
+ * of rfe_mg_correct_q31, and the whole correction of the update without the ax row and of the
+ * grade from ax in a pause (§4.2). A row of S with 0 in column 0 keeps its mean and its S row
+ * bit for bit.
+ * @param[in] r_v  the speed's measurement sd, Q24.
+ * @param[in] y    the measured speed, Q24.
+ * @param[in,out] x  the prior mean in, the posterior mean out.
+ * @param[in,out] S  the prior factor in, the posterior factor out.
+ * @param[in,out] sat  saturation count, added to only on success.
+ * @return RFE_OK; RFE_ERR_NOT_POSITIVE_DEFINITE (s = 0; x, S and @p sat untouched).
+ */
+rfe_status_t rfe_mg_correct_speed_q31(rfe_fix_t r_v, rfe_fix_t y, rfe_fix_t x[RFE_MG_N_Q31],
+                                      rfe_fix_t S[RFE_MG_N_Q31 * RFE_MG_N_Q31], uint32_t *sat);
+
+/**
+ * §4.3 steps 4-7 in square-root form with the ax row (without it the update is
+ * rfe_mg_correct_speed_q31 alone), one measurement row at a time, each a 4-row
+ * triangularisation (so the library's RFE_N_MAX = 4 suffices): first the ax row by the
+ * points @p chi of (x-, S-) and their measurements @p Z (Q24): z = Z_0 + sum_{i>=1}
  * w_i (Z_i - Z_0), the array [[Zc, r_ax], [Xc, 0]] (Zc, Xc the deviations times
  * sqrt(w_c,i)) triangularised to [[s, 0], [g, S']]; then the speed row, linear in the state
- * (h = v: its points' deviations are Xc's v row, ẑ = x-_v), whose array [[S' row v, r_v],
- * [S', 0]] has two nonzero entries in its first row: its triangularisation is one Givens
- * rotation of S' column 0 with r_v (closed form); each x += g (y - z) / s. With R diagonal this is the joint update of
+ * (h = v: its points' deviations are Xc's v row, ẑ = x-_v): rfe_mg_correct_speed_q31 on
+ * (x', S'); each row x += g (y - z) / s. With R diagonal this is the joint update of
  * MASS_GRADE.md §4.3 (S = cov(Z) + R, K = P_xz S^-1, P = P- - K S K^T) in exact arithmetic:
  * conditioning on ax, then on v given ax.
  * @param[in,out] x  x- in, the posterior mean out.
@@ -67,8 +86,7 @@ rfe_status_t rfe_mg_predict_q31(const rfe_fix_t X[RFE_MG_PTS_Q31 * RFE_MG_N_Q31]
  * @return RFE_OK; RFE_ERR_NOT_POSITIVE_DEFINITE (a zero innovation sd; x, S untouched).
  */
 rfe_status_t rfe_mg_correct_q31(const rfe_fix_t chi[RFE_MG_PTS_Q31 * RFE_MG_N_Q31],
-                                const rfe_fix_t Z[RFE_MG_PTS_Q31], size_t nz,
-                                const rfe_mg_weights_q31_t *w,
+                                const rfe_fix_t Z[RFE_MG_PTS_Q31], const rfe_mg_weights_q31_t *w,
                                 const rfe_fix_t r[RFE_MG_Z_MAX_Q31],
                                 const rfe_fix_t y[RFE_MG_Z_MAX_Q31], rfe_fix_t x[RFE_MG_N_Q31],
                                 rfe_fix_t S[RFE_MG_N_Q31 * RFE_MG_N_Q31], uint32_t *sat);

@@ -268,21 +268,6 @@ static rfe_status_t hold_q31(rfe_mass_grade_q31_t *o, const rfe_mass_grade_input
     return st;
 }
 
-/* §4.3 step 7 alone, the speed row (rfe_mg_correct_q31 with one row: its points and the ax
- * row's values are not read); a row of S with 0 in column 0 (the mass's after a hold) keeps
- * its mean and its S row bit for bit. */
-static rfe_status_t speed_row_q31(const rfe_mass_grade_q31_t *o,
-                                  const rfe_mass_grade_input_q31_t *in, rfe_fix_t x[RFE_MG_N_Q31],
-                                  rfe_fix_t S[RFE_MG_N_Q31 * RFE_MG_N_Q31], uint32_t *sat)
-{
-    const rfe_mg_weights_q31_t w = {o->wm0, o->wi, o->sqrt_wc0, o->sqrt_wi, o->sqrt_c};
-    const rfe_fix_t chi[RFE_MG_PTS_Q31 * RFE_MG_N_Q31] = {0};
-    const rfe_fix_t Z[RFE_MG_PTS_Q31] = {0};
-    const rfe_fix_t r[RFE_MG_Z_MAX_Q31] = {o->p.r_v, o->p.r_ax};
-    const rfe_fix_t y[RFE_MG_Z_MAX_Q31] = {in->v, 0};
-    return rfe_mg_correct_q31(chi, Z, 1u, &w, r, y, x, S, sat);
-}
-
 /* §4.2 the grade from ax in a pause (pause_grade), as the float twin's grade_from_ax: M and
  * S's mass row untouched; the kinematic model v-dot = a_x - g sin theta on S's columns 0
  * (v, Q24) and 2 (theta, Q29) by the 2 x 4 triangularisation [[S_vv - gc S_theta,v,
@@ -290,7 +275,7 @@ static rfe_status_t speed_row_q31(const rfe_mass_grade_q31_t *o,
  * its state's format), gc = g cos(theta) dt in Q26 and g sin(theta) in Q24 (exactly rounded
  * products: fixed-point multiplications only, so that the model's rfe_xf_t helpers stay
  * inlined where the update needs them), q_v' = |(q_v sqrt(dt), r_ax dt)| exactly rounded;
- * then the speed row. */
+ * then the speed row (rfe_mg_correct_speed_q31). */
 static rfe_status_t grade_from_ax_q31(rfe_mass_grade_q31_t *o, const rfe_mass_grade_input_q31_t *in,
                                       rfe_fix_t dt, uint32_t *sat)
 {
@@ -329,7 +314,7 @@ static rfe_status_t grade_from_ax_q31(rfe_mass_grade_q31_t *o, const rfe_mass_gr
         S[0] = A[0];
         S[6] = A[4];
         S[8] = A[5];
-        st = speed_row_q31(o, in, x, S, sat);
+        st = rfe_mg_correct_speed_q31(o->p.r_v, in->v, x, S, sat);
     }
     if (st == RFE_OK) {
         o->x[0] = x[0];
@@ -461,24 +446,24 @@ static rfe_status_t time_update_q31(const rfe_mass_grade_q31_t *o, rfe_fix_t dt,
     return rfe_mg_predict_q31(chi, &w, sq, xm, Sm, sat);
 }
 
-/* §4.3 steps 3-7: with the ax row, new points of (x-, S-) and their z_ax = v-dot(T) +
- * g sin theta; the speed row needs none (linear in the state). */
+/* §4.3 steps 3-7: the speed row alone (rfe_mg_correct_speed_q31: linear in the state, it
+ * needs no sigma points); with the ax row, new points of (x-, S-) and their z_ax = v-dot(T) +
+ * g sin theta, then the ax row and the speed row (rfe_mg_correct_q31). */
 static rfe_status_t measurement_update_q31(const rfe_mass_grade_q31_t *o,
                                            const rfe_mass_grade_input_q31_t *in,
                                            rfe_fix_t x[RFE_MG_N_Q31],
                                            rfe_fix_t S[RFE_MG_N_Q31 * RFE_MG_N_Q31], uint32_t *sat)
 {
-    const rfe_mg_weights_q31_t w = {o->wm0, o->wi, o->sqrt_wc0, o->sqrt_wi, o->sqrt_c};
-    size_t nz = 1u;
-    rfe_fix_t chi[RFE_MG_PTS_Q31 * RFE_MG_N_Q31]; /* read only with the ax row */
-    rfe_fix_t Z[RFE_MG_PTS_Q31];
-    rfe_fix_t r[RFE_MG_Z_MAX_Q31];
-    rfe_fix_t y[RFE_MG_Z_MAX_Q31];
+    rfe_status_t st;
     if (o->p.use_ax == 1u) {
+        const rfe_mg_weights_q31_t w = {o->wm0, o->wi, o->sqrt_wc0, o->sqrt_wi, o->sqrt_c};
+        const rfe_fix_t r[RFE_MG_Z_MAX_Q31] = {o->p.r_v, o->p.r_ax};
+        const rfe_fix_t y[RFE_MG_Z_MAX_Q31] = {in->v, in->ax};
+        rfe_fix_t chi[RFE_MG_PTS_Q31 * RFE_MG_N_Q31];
+        rfe_fix_t Z[RFE_MG_PTS_Q31];
         model_q31_t k;
         size_t i;
         model_of_q31(&o->p, in->torque, &k);
-        nz = 2u;
         rfe_mg_sigma_points_q31(x, S, o->sqrt_c, chi, sat);
         for (i = 0u; i < PTS; ++i) {
             rfe_fix_t s = 0;
@@ -486,12 +471,11 @@ static rfe_status_t measurement_update_q31(const rfe_mass_grade_q31_t *o,
             const rfe_xf_t gs = rfe_xf_mul(k.g, rfe_xf_of(s, 30));
             Z[i] = rfe_xf_to_fix(rfe_xf_add(a, gs), RFE_MG_Q_V, sat);
         }
+        st = rfe_mg_correct_q31(chi, Z, &w, r, y, x, S, sat);
+    } else {
+        st = rfe_mg_correct_speed_q31(o->p.r_v, in->v, x, S, sat);
     }
-    r[0] = o->p.r_v;
-    r[1] = o->p.r_ax;
-    y[0] = in->v;
-    y[1] = (nz == 2u) ? in->ax : 0;
-    return rfe_mg_correct_q31(chi, Z, nz, &w, r, y, x, S, sat);
+    return st;
 }
 
 /* §4.3 one filter step, the projection of the mean and the adaptation; o is the caller's

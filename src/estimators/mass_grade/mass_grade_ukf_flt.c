@@ -176,8 +176,10 @@ static rfe_status_t ax_update(const rfe_real_t *chi, const rfe_real_t *Z,
 /* The speed row, linear in the state (z = v, so H S = [S_00, 0, 0]): the array
  * [[S_00, 0, 0, r_v], [S, 0]] triangularises by one Givens rotation of S's column 0 with
  * (r_v, 0): s = sqrt(S_00^2 + r_v^2), g = (S_00 / s) S[:, 0] (= P_xz / s), S+ = S with its
- * column 0 scaled by r_v / s (lower triangular with a nonnegative diagonal already). */
-static rfe_status_t speed_update(rfe_real_t r_v, rfe_real_t y, rfe_real_t *x, rfe_real_t *S)
+ * column 0 scaled by r_v / s (lower triangular with a nonnegative diagonal already). Every
+ * check comes before the first write, so an error leaves x and S untouched. */
+rfe_status_t rfe_mg_correct_speed(rfe_real_t r_v, rfe_real_t y, rfe_real_t x[RFE_MG_N],
+                                  rfe_real_t S[RFE_MG_N * RFE_MG_N])
 {
     const rfe_real_t s = RFE_SQRT((S[0] * S[0]) + (r_v * r_v));
     const rfe_real_t innov = y - x[0];
@@ -203,25 +205,23 @@ static rfe_status_t speed_update(rfe_real_t r_v, rfe_real_t y, rfe_real_t *x, rf
 }
 
 rfe_status_t rfe_mg_correct(const rfe_real_t chi[RFE_MG_PTS * RFE_MG_N],
-                            const rfe_real_t Z[RFE_MG_PTS], size_t nz, const rfe_mg_weights_t *w,
+                            const rfe_real_t Z[RFE_MG_PTS], const rfe_mg_weights_t *w,
                             const rfe_real_t r[RFE_MG_Z_MAX], const rfe_real_t y[RFE_MG_Z_MAX],
                             rfe_real_t x[RFE_MG_N], rfe_real_t S[RFE_MG_N * RFE_MG_N])
 {
     rfe_real_t xn[RFE_MG_N];
     rfe_real_t Sn[RFE_MG_N * RFE_MG_N];
     size_t i;
-    rfe_status_t st = RFE_OK;
+    rfe_status_t st;
     for (i = 0u; i < N; ++i) {
         xn[i] = x[i];
     }
     for (i = 0u; i < (N * N); ++i) {
         Sn[i] = S[i];
     }
-    if (nz == 2u) {
-        st = ax_update(chi, Z, w, r[1], y[1], xn, Sn);
-    }
+    st = ax_update(chi, Z, w, r[1], y[1], xn, Sn);
     if (st == RFE_OK) {
-        st = speed_update(r[0], y[0], xn, Sn);
+        st = rfe_mg_correct_speed(r[0], y[0], xn, Sn);
     }
     if (st != RFE_OK) {
         return st;

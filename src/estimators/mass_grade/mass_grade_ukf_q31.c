@@ -139,70 +139,71 @@ static rfe_status_t scalar_update_q31(rfe_fix_t *A, size_t cols, size_t lda, rfe
  * S[:, 0] (= P_xz / s), and S+ = S with its first column scaled by r_v / s, already lower
  * triangular with a nonnegative diagonal (S+ S+^T = P - P_xz P_xz^T / s^2). Then x += g (y -
  * v) / s, the whitened innovation in Q24. The ratios in Q30 (<= 1) by exactly rounded
- * divisions. */
-static rfe_status_t speed_update_q31(rfe_fix_t r_v, rfe_fix_t innov, rfe_fix_t x[RFE_MG_N_Q31],
-                                     rfe_fix_t S[RFE_MG_N_Q31 * RFE_MG_N_Q31], uint32_t *sat)
+ * divisions. Every check comes before the first write, and the saturations are counted into
+ * @p sat only on success, so an error leaves x, S and the count untouched. */
+rfe_status_t rfe_mg_correct_speed_q31(rfe_fix_t r_v, rfe_fix_t y, rfe_fix_t x[RFE_MG_N_Q31],
+                                      rfe_fix_t S[RFE_MG_N_Q31 * RFE_MG_N_Q31], uint32_t *sat)
 {
     const rfe_fix_t col[2] = {S[0], r_v};
+    uint32_t k = 0u;
+    const rfe_fix_t innov = rfe_fix_sub(y, x[0], &k);
     rfe_fix_t s = 0;
     rfe_fix_t cs = 0;
     rfe_fix_t sn = 0;
     rfe_fix_t e = 0;
     /* non-NULL arguments: the norm cannot fail, and s stays 0 if it did */
-    rfe_status_t st = rfe_fix_norm(col, 2u, &s, sat);
+    rfe_status_t st = rfe_fix_norm(col, 2u, &s, &k);
     if (s <= 0) {
         st = RFE_ERR_NOT_POSITIVE_DEFINITE; /* r_v > 0: never through the public API */
     }
     if (st == RFE_OK) {
-        st = rfe_fix_div(S[0], s, 30, &cs, sat);  /* S_00 / s, Q30 */
+        st = rfe_fix_div(S[0], s, 30, &cs, &k);  /* S_00 / s, Q30 */
     }
     if (st == RFE_OK) {
-        st = rfe_fix_div(r_v, s, 30, &sn, sat);   /* r_v / s, Q30 */
+        st = rfe_fix_div(r_v, s, 30, &sn, &k);   /* r_v / s, Q30 */
     }
     if (st == RFE_OK) {
-        st = rfe_fix_div(innov, s, (int)Q_WHITE, &e, sat); /* (y - v) / s, Q24 */
+        st = rfe_fix_div(innov, s, (int)Q_WHITE, &e, &k); /* (y - v) / s, Q24 */
     }
     if (st == RFE_OK) {
         size_t i;
         for (i = 0u; i < N; ++i) {
-            const rfe_fix_t g = rfe_fix_mul(S[i * N], cs, 30u, sat);
-            x[i] = rfe_fix_add(x[i], rfe_fix_mul(g, e, Q_WHITE, sat), sat);
-            S[i * N] = rfe_fix_mul(S[i * N], sn, 30u, sat);
+            const rfe_fix_t g = rfe_fix_mul(S[i * N], cs, 30u, &k);
+            x[i] = rfe_fix_add(x[i], rfe_fix_mul(g, e, Q_WHITE, &k), &k);
+            S[i * N] = rfe_fix_mul(S[i * N], sn, 30u, &k);
         }
+        rfe_q31_sat_add(sat, k);
     }
     return st;
 }
 
 rfe_status_t rfe_mg_correct_q31(const rfe_fix_t chi[RFE_MG_PTS_Q31 * RFE_MG_N_Q31],
-                                const rfe_fix_t Z[RFE_MG_PTS_Q31], size_t nz,
-                                const rfe_mg_weights_q31_t *w,
+                                const rfe_fix_t Z[RFE_MG_PTS_Q31], const rfe_mg_weights_q31_t *w,
                                 const rfe_fix_t r[RFE_MG_Z_MAX_Q31],
                                 const rfe_fix_t y[RFE_MG_Z_MAX_Q31], rfe_fix_t x[RFE_MG_N_Q31],
                                 rfe_fix_t S[RFE_MG_N_Q31 * RFE_MG_N_Q31], uint32_t *sat)
 {
     rfe_fix_t xn[RFE_MG_N_Q31];
     rfe_fix_t Sn[RFE_MG_N_Q31 * RFE_MG_N_Q31];
+    /* the ax row by the points: [[Zc, r_ax], [Xc, 0]], 4 x 8 (eqs. 17-21) */
+    rfe_fix_t A[(1u + N) * CORR_COLS] = {0};
+    rfe_fix_t zm = 0;
     uint32_t s = 0u;
     size_t i;
-    rfe_status_t st = RFE_OK;
+    rfe_status_t st;
     for (i = 0u; i < N; ++i) {
         xn[i] = x[i];
     }
     for (i = 0u; i < (N * N); ++i) {
         Sn[i] = S[i];
     }
-    if (nz == 2u) {
-        /* the ax row by the points: [[Zc, r_ax], [Xc, 0]], 4 x 8 (eqs. 17-21) */
-        rfe_fix_t A[(1u + N) * CORR_COLS] = {0};
-        rfe_fix_t zm = 0;
-        mean_of_q31(Z, 1u, 1u, w->wi, &zm, &s);                    /* eq. 17 */
-        centred_q31(Z, 1u, 1u, &zm, w, A, 0u, PTS + 1u, &s);        /* row of Zc */
-        centred_q31(chi, N, N, xn, w, A, 1u, PTS + 1u, &s);         /* rows of Xc */
-        A[PTS] = r[1];
-        st = scalar_update_q31(A, PTS + 1u, PTS + 1u, rfe_fix_sub(y[1], zm, &s), xn, Sn, &s);
-    }
+    mean_of_q31(Z, 1u, 1u, w->wi, &zm, &s);                    /* eq. 17 */
+    centred_q31(Z, 1u, 1u, &zm, w, A, 0u, PTS + 1u, &s);        /* row of Zc */
+    centred_q31(chi, N, N, xn, w, A, 1u, PTS + 1u, &s);         /* rows of Xc */
+    A[PTS] = r[1];
+    st = scalar_update_q31(A, PTS + 1u, PTS + 1u, rfe_fix_sub(y[1], zm, &s), xn, Sn, &s);
     if (st == RFE_OK) {
-        st = speed_update_q31(r[0], rfe_fix_sub(y[0], xn[0], &s), xn, Sn, &s);
+        st = rfe_mg_correct_speed_q31(r[0], y[0], xn, Sn, &s);
     }
     if (st != RFE_OK) {
         return st;

@@ -1102,15 +1102,14 @@ static void test_innovation_covariance_not_positive(void **state)
     memcpy(S0, S, sizeof(S));
     /* no noise and every point measures the same: the speed row's innovation sd
      * sqrt(S_00^2 + r_v^2) = 0, and the ax row's (its array's first row all 0) */
-    assert_int_equal(rfe_mg_correct(chi, Z, 1u, &w, r, y, x, S), RFE_ERR_NOT_POSITIVE_DEFINITE);
-    assert_int_equal(rfe_mg_correct(chi, Z, 2u, &w, r, y, x, S), RFE_ERR_NOT_POSITIVE_DEFINITE);
+    assert_int_equal(rfe_mg_correct_speed(r[0], y[0], x, S), RFE_ERR_NOT_POSITIVE_DEFINITE);
+    assert_int_equal(rfe_mg_correct(chi, Z, &w, r, y, x, S), RFE_ERR_NOT_POSITIVE_DEFINITE);
     /* the ax row's points spread, its centre weight -1e6: the downdate by 1e3 (Z_0 - z)
      * leaves the innovation variance negative */
     for (i = 0u; i < (size_t)RFE_MG_PTS; ++i) {
         Z[i] = (rfe_real_t)i;
     }
-    assert_int_equal(rfe_mg_correct(chi, Z, 2u, &wneg, r, y, x, S),
-                     RFE_ERR_NOT_POSITIVE_DEFINITE);
+    assert_int_equal(rfe_mg_correct(chi, Z, &wneg, r, y, x, S), RFE_ERR_NOT_POSITIVE_DEFINITE);
     assert_memory_equal(x, x0, sizeof(x));
     assert_memory_equal(S, S0, sizeof(S));
 }
@@ -1244,7 +1243,7 @@ static void test_ukf_is_the_kalman_filter_on_a_linear_problem(void **state)
                                    (rfe_real_t)sqrt(q[2])};
         rfe_real_t rr[RFE_MG_Z_MAX] = {(rfe_real_t)sqrt(r2[0]), (rfe_real_t)sqrt(r2[1])};
         rfe_real_t y[RFE_MG_Z_MAX];
-        const size_t nz = (k % 2 == 0) ? 2u : 1u; /* both the 2-row and the 1-row update */
+        const size_t nz = (k % 2 == 0) ? 2u : 1u; /* the 2-row update and the speed row alone */
         double xn[3];
         /* a deterministic "truth" with a wobble, measured */
         for (i = 0u; i < 3u; ++i) {
@@ -1264,7 +1263,11 @@ static void test_ukf_is_the_kalman_filter_on_a_linear_problem(void **state)
             const rfe_real_t *c = &chi[i * 3u];
             Z[i] = (rfe_real_t)(H[1][1] * (double)c[1] + H[1][2] * (double)c[2]); /* the ax row */
         }
-        assert_int_equal(rfe_mg_correct(chi, Z, nz, &w, rr, y, x, S), RFE_OK);
+        if (nz == 2u) {
+            assert_int_equal(rfe_mg_correct(chi, Z, &w, rr, y, x, S), RFE_OK);
+        } else {
+            assert_int_equal(rfe_mg_correct_speed(rr[0], y[0], x, S), RFE_OK);
+        }
         cov_of_factor(S, P);
         /* the Kalman filter */
         ref.m = nz;

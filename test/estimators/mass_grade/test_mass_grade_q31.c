@@ -752,17 +752,19 @@ static void test_pause_grade_q31(void **state)
     assert_int_equal(sat, 0u);
 }
 
-/* The measurement update refuses a zero innovation sd (r = 0 and a zero factor: not positive
- * definite), leaving x and S untouched; the public API cannot reach it (r_v > 0). */
+/* The speed row refuses a zero innovation sd (r_v = 0 and a zero factor: not positive
+ * definite), leaving x and S untouched, alone and after an ax row that succeeded (its points
+ * all measure the same, so the ax row leaves S's v row 0); the public API cannot reach it
+ * (r_v > 0). */
 /* REQ-MG-010 */
 static void test_correct_zero_innovation_sd(void **state)
 {
     rfe_mass_grade_params_q31_t q;
     rfe_mg_weights_q31_t w;
-    rfe_fix_t chi[RFE_MG_PTS_Q31 * RFE_MG_N_Q31] = {0};
-    rfe_fix_t Z[RFE_MG_PTS_Q31] = {0};
-    const rfe_fix_t r[RFE_MG_Z_MAX_Q31] = {0, 0};
-    const rfe_fix_t y[RFE_MG_Z_MAX_Q31] = {1 << 24, 0};
+    rfe_fix_t chi[RFE_MG_PTS_Q31 * RFE_MG_N_Q31];
+    const rfe_fix_t Z[RFE_MG_PTS_Q31] = {0};
+    const rfe_fix_t r[RFE_MG_Z_MAX_Q31] = {0, 1 << 20}; /* r_v = 0, r_ax = 1/16 m/s^2 */
+    const rfe_fix_t y[RFE_MG_Z_MAX_Q31] = {1 << 24, 1 << 22};
     rfe_fix_t x[RFE_MG_N_Q31] = {20 << 24, 1800 << 14, 0};
     rfe_fix_t S[RFE_MG_N_Q31 * RFE_MG_N_Q31] = {0, 0, 0, 0, 100 << 14, 0, 0, 0, 1 << 20};
     rfe_fix_t x0[RFE_MG_N_Q31];
@@ -771,13 +773,23 @@ static void test_correct_zero_innovation_sd(void **state)
     (void)state;
     default_q31(&q);
     assert_int_equal(rfe_mass_grade_weights_q31(&q, &w), RFE_OK);
+    rfe_mg_sigma_points_q31(x, S, w.sqrt_c, chi, &sat);
+    assert_int_equal(sat, 0u);
     memcpy(x0, x, sizeof x);
     memcpy(S0, S, sizeof S);
-    assert_int_equal(rfe_mg_correct_q31(chi, Z, 1u, &w, r, y, x, S, &sat),
+    assert_int_equal(rfe_mg_correct_speed_q31(r[0], y[0], x, S, &sat),
+                     RFE_ERR_NOT_POSITIVE_DEFINITE);
+    assert_int_equal(rfe_mg_correct_q31(chi, Z, &w, r, y, x, S, &sat),
                      RFE_ERR_NOT_POSITIVE_DEFINITE);
     assert_memory_equal(x, x0, sizeof x);
     assert_memory_equal(S, S0, sizeof S);
     assert_int_equal(sat, 0u);
+    /* the same ax row succeeds: with r_v > 0 the whole correction does */
+    {
+        const rfe_fix_t r1[RFE_MG_Z_MAX_Q31] = {1 << 20, 1 << 20};
+        uint32_t sat1 = 0u;
+        assert_int_equal(rfe_mg_correct_q31(chi, Z, &w, r1, y, x, S, &sat1), RFE_OK);
+    }
 }
 
 /* ---- the square-root form against the textbook form -------------------------------------- */
