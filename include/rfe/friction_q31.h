@@ -101,7 +101,8 @@ typedef struct {
                                                  (in the state, not on the stack: the step's
                                                  deepest call path must fit 2 KiB on a
                                                  Cortex-M0+; meaningless between steps) */
-    rfe_fix_t pers[RFE_MEAS];               /**< scratch: the step noise's persistent diagonal */
+    uint64_t pers[RFE_MEAS];                /**< scratch: the persistent diagonal (Q48,
+                                                 RFE_MON_Q31_QP) */
     rfe_friction_hold_q31_t hold;           /**< the holds (docs/ESTIMATOR.md step 9):
                                                  updated last in a step, after everything that
                                                  can fail, so it needs no backup */

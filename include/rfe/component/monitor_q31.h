@@ -7,8 +7,9 @@
  *        the normal quantiles and step counts come precomputed in rfe_monitor_params_q31_t
  *        (rfe_params_to_q31), since the integer library has no inverse normal.
  *
- * Formats (fractional bits): innovations nu, S_zz and the persistent diagonal in Q24
- * (RFE_FIX_Q_ACC, [m/s^2, rad/s^2] and their squares); the whitened innovation w = S_zz \ nu,
+ * Formats (fractional bits): innovations nu and S_zz in Q24 (RFE_FIX_Q_ACC, [m/s^2,
+ * rad/s^2]); the persistent diagonal, a sum of their squares, in Q48 as uint64
+ * (RFE_MON_Q31_QP: every square of two Q24 values, exactly); the whitened innovation w = S_zz \ nu,
  * the normalised innovations e and their means M in Q20 [sd] (+-2048 sd); the NIS d and its
  * average D in Q16 (+-32768); the persistent shares c and their averages C in Q30; the
  * thresholds of D in Q16 and of |M| in Q20; the inflation factor in Q24. A value beyond its
@@ -38,6 +39,9 @@
 #define RFE_MON_Q31_QC 30u
 /** Fractional bits of the inflation factor of rfe_monitor_inflation_q31. */
 #define RFE_MON_Q31_QF 24u
+/** Fractional bits of the persistent diagonal (uint64; [(m/s^2)^2, (rad/s^2)^2]): the
+ *  squares of Q24 values exactly, with the range of S_zz's own squares (up to 2^16). */
+#define RFE_MON_Q31_QP 48u
 /** 1 in the inflation factor's format (the factor of a monitor that is not fired). */
 #define RFE_MON_Q31_ONE_F ((rfe_fix_t)16777216)
 
@@ -93,8 +97,8 @@ RFE_NODISCARD rfe_status_t rfe_monitor_init_q31(rfe_monitor_q31_t *mon,
  * @param[in] nu    the innovation y - z_hat (RFE_MEAS values, Q24)
  * @param[in] Szz   lower factor of its covariance (RFE_MEAS x RFE_MEAS, row-major, ld
  *                  RFE_MEAS, Q24; only the lower triangle is read), positive diagonal
- * @param[in] pers  the diagonal of the persistent part of S_zz S_zz^T (RFE_MEAS values, Q24;
- *                  each share is clipped to [0, 1])
+ * @param[in] pers  the diagonal of the persistent part of S_zz S_zz^T (RFE_MEAS values,
+ *                  Q48 as uint64, RFE_MON_Q31_QP; each share is clipped to [0, 1])
  * @param[out] fired 1 when the monitor is fired after this step, else 0 (may be NULL)
  * @param[in,out] sat saturation counter (required): the step's saturations are added on RFE_OK
  * @return RFE_OK; RFE_ERR_NULL; RFE_ERR_NOT_INITIALISED; RFE_ERR_NOT_POSITIVE_DEFINITE (a
@@ -103,7 +107,7 @@ RFE_NODISCARD rfe_status_t rfe_monitor_init_q31(rfe_monitor_q31_t *mon,
 RFE_NODISCARD rfe_status_t rfe_monitor_step_q31(rfe_monitor_q31_t *mon,
                                                const rfe_fix_t nu[RFE_MEAS],
                                                const rfe_fix_t Szz[RFE_MEAS * RFE_MEAS],
-                                               const rfe_fix_t pers[RFE_MEAS], uint32_t *fired,
+                                               const uint64_t pers[RFE_MEAS], uint32_t *fired,
                                                uint32_t *sat);
 
 /**

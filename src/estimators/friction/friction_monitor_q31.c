@@ -14,7 +14,8 @@
 /* The monitor's step on this step's innovation (docs/MONITOR.md §2), after steps 7-8 so that
  * nothing fails after it: S_zz repacked in place to ld RFE_MEAS (each entry moves to a lower
  * index, read before it is overwritten), the persistent diagonal = the step noise's + the
- * state's (diag Zc Zc^T), saturating (counted). */
+ * state's (diag Zc Zc^T, Q24, >= 0, to Q48): below 3 2^62 + 2^55 < 2^64 (step_noise_pers_q31.c),
+ * so the uint64 sum cannot wrap. */
 rfe_status_t rfe_friction_monitor_step_q31(rfe_friction_q31_t *est)
 {
     rfe_sckf_innov_q31_t *in = &est->innov;
@@ -24,9 +25,11 @@ rfe_status_t rfe_friction_monitor_step_q31(rfe_friction_q31_t *est)
         for (j = 0u; j < (size_t)RFE_MEAS; ++j) {
             in->Szz[(r * (size_t)RFE_MEAS) + j] = in->Szz[(r * (size_t)RFE_M_MAX) + j];
         }
-        in->zz[r] = rfe_fix_add(est->pers[r], in->zz[r], &est->step_sat);
+        if (in->zz[r] > 0) {
+            est->pers[r] += (uint64_t)in->zz[r] << (RFE_MON_Q31_QP - (unsigned int)RFE_FIX_Q_ACC);
+        }
     }
-    return rfe_monitor_step_q31(&est->mon, in->nu, in->Szz, in->zz, NULL, &est->step_sat);
+    return rfe_monitor_step_q31(&est->mon, in->nu, in->Szz, est->pers, NULL, &est->step_sat);
 }
 
 /* docs/MONITOR.md §2 item 7: while the monitor is on and fired, every flag 0 and the sd

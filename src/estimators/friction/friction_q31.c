@@ -245,7 +245,7 @@ static void clear_scratch_q31(rfe_friction_q31_t *est)
         est->innov.Szz[i] = 0;
     }
     for (i = 0u; i < (size_t)RFE_MEAS; ++i) {
-        est->pers[i] = 0;
+        est->pers[i] = 0u;
     }
 }
 
@@ -387,7 +387,7 @@ static rfe_status_t sckf_measurement_q31(rfe_friction_q31_t *est, const rfe_samp
     const rfe_fix_t *sr = NULL; /* the filter's diagonal S_R */
     rfe_status_t st = RFE_OK;
     /* the monitor's scratch (enable is 0 or 1, validated); est->pers stays 0 without S_R */
-    rfe_fix_t *pers = (est->params.monitor.enable != 0u) ? est->pers : NULL;
+    uint64_t *pers = (est->params.monitor.enable != 0u) ? est->pers : NULL;
     if (step_noise_active_q31(fp) != 0) {
         rfe_fix_t mu[RFE_WHEELS];
         to_wheels_q31(est, f->x, mu); /* T x- */

@@ -27,7 +27,7 @@
 #define QD RFE_MON_Q31_QD /* d, D, D's thresholds */
 #define QC RFE_MON_Q31_QC /* shares, weights */
 #define QF RFE_MON_Q31_QF /* inflation factor */
-#define QN 24u            /* nu, S_zz, pers (RFE_FIX_Q_ACC), quantiles (RFE_FIX_Q_MON_Z) */
+#define QN 24u            /* nu, S_zz (RFE_FIX_Q_ACC), quantiles (RFE_FIX_Q_MON_Z) */
 #define QT 28u            /* 1 - A + z sqrt A and its cube (<= 4.8 and 108: below 2^31, 2^35) */
 #define ONE_C UINT32_C(1073741824)     /* 1 in Q30 */
 #define ONE_C_FIX ((rfe_fix_t)1073741824) /* the same as rfe_fix_t */
@@ -193,17 +193,25 @@ rfe_status_t rfe_monitor_limits_q31(const rfe_monitor_q31_t *mon, const rfe_fix_
     return RFE_OK;
 }
 
-/* The share c = clip(pers / S_rr, 0, 1) in Q30, S_rr (Q48) rounded to Q24 (its relative
- * rounding 2^-25 / S_rr: 1.2e-5 at the smallest default variance 0.05^2). */
-static rfe_fix_t persistent_share(rfe_fix_t pers, uint64_t srr, uint32_t *count)
+/* The share c = clip(pers / S_rr, 0, 1) in Q30, both Q48 (RFE_MON_Q31_QP): shifted right
+ * together until S_rr fits 31 bits (then S_rr >= 2^30, so each shift's truncation moves the
+ * ratio by < 2^-30 relative), then one rounded division (half an LSB of Q30). Exact ranges:
+ * neither saturates, whatever the variance (issue 21: a Q24 pers saturated at 128). */
+static rfe_fix_t persistent_share(uint64_t pers, uint64_t srr, uint32_t *count)
 {
-    const uint64_t v = (srr + ((uint64_t)1u << (QN - 1u))) >> QN;
-    const rfe_fix_t var = (v > (uint64_t)RFE_FIX_MAX) ? RFE_FIX_MAX : (rfe_fix_t)v;
     rfe_fix_t c = ONE_C_FIX;
-    if (pers <= 0) {
+    if (pers == 0u) {
         c = 0;
-    } else if (pers < var) {
-        rfe_status_t st = rfe_fix_div(pers, var, (int)QC, &c, count); /* var > 0: cannot fail */
+    } else if (pers < srr) {
+        const unsigned int len = rfe_q31_bitlen64(srr);
+        unsigned int s = 0u;
+        if (len > 31u) {
+            s = len - 31u;
+        }
+        /* srr >> s in [2^30, 2^31) or srr itself (> pers >= 1): > 0, so it cannot fail */
+        const uint64_t num = pers >> s;
+        const uint64_t den = srr >> s;
+        rfe_status_t st = rfe_fix_div((rfe_fix_t)num, (rfe_fix_t)den, (int)QC, &c, count);
         (void)st;
     } else {
         /* at least the whole variance: share 1 */
@@ -215,7 +223,7 @@ static rfe_fix_t persistent_share(rfe_fix_t pers, uint64_t srr, uint32_t *count)
  * (Q30); saturations into *count. */
 static rfe_status_t normalise_innovation_q31(const rfe_fix_t nu[RFE_MEAS],
                                   const rfe_fix_t Szz[RFE_MEAS * RFE_MEAS],
-                                  const rfe_fix_t pers[RFE_MEAS], rfe_fix_t *d,
+                                  const uint64_t pers[RFE_MEAS], rfe_fix_t *d,
                                   rfe_fix_t e[RFE_MEAS], rfe_fix_t c[RFE_MEAS], uint32_t *count)
 {
     rfe_fix_t w[RFE_MEAS];
@@ -299,7 +307,7 @@ static void advance_q31(rfe_monitor_q31_t *m, rfe_fix_t d, const rfe_fix_t e[RFE
 
 rfe_status_t rfe_monitor_step_q31(rfe_monitor_q31_t *mon, const rfe_fix_t nu[RFE_MEAS],
                                   const rfe_fix_t Szz[RFE_MEAS * RFE_MEAS],
-                                  const rfe_fix_t pers[RFE_MEAS], uint32_t *fired,
+                                  const uint64_t pers[RFE_MEAS], uint32_t *fired,
                                   uint32_t *sat)
 {
     rfe_monitor_q31_t m;

@@ -23,8 +23,8 @@
  * rfe_params_validate_q31 (the estimator's, validated at init), rfe_meas_setup_q31(h,
  * &p->vehicle, &p->tyre, u, .) returned RFE_OK.
  * @p pers, when not NULL, receives the diagonal of the part of S_R S_R^T that persists from
- * step to step (Q24; step_noise_internal.h's twin: (r_model_rel |h0_r|)^2 plus the squares
- * of the low-passed inputs' columns), each square rounded and every saturation counted;
+ * step to step (Q48 as uint64, RFE_MON_Q31_QP; step_noise_internal.h's twin: (r_model_rel
+ * |h0_r|)^2 plus the squares of the low-passed inputs' columns), exact and never saturating;
  * with pers NULL nothing of it is computed (the same S_R and count as without it).
  * @return RFE_OK; the errors of rfe_step_noise_sqrt_q31 after its checks (@p SR, *sat then
  *         untouched; @p pers, filled in place, then unspecified).
@@ -33,7 +33,7 @@ rfe_status_t rfe_step_noise_sqrt_core_q31(const rfe_params_q31_t *p, const rfe_m
                                          const rfe_sample_q31_t *u,
                                          const rfe_fix_t mu[RFE_WHEELS],
                                          rfe_fix_t SR[RFE_MEAS * RFE_MEAS],
-                                         rfe_fix_t pers[RFE_MEAS], uint32_t *sat);
+                                         uint64_t pers[RFE_MEAS], uint32_t *sat);
 
 /**
  * z = h(mu, u) (Q24) for sample @p u, its model set up again (paper mode's h0 in the step
@@ -48,13 +48,14 @@ rfe_status_t rfe_step_noise_h0_q31(const rfe_params_q31_t *p, const rfe_sample_q
 rfe_fix_t rfe_step_noise_input_sd_q31(const rfe_filter_params_q31_t *fp, size_t j);
 
 /**
- * The diagonal of the part of A A^T that persists from step to step (Q24), from the step
- * noise's array A = [S_R0, g_1 ..] before its Tria (row stride @p lda, the columns of the
- * inputs with sd > 0 in input order): the model error's square e_i^2 = A_ii^2 - r_i^2 (A_ii
- * = sqrt(r_i^2 + e_i^2) rounded, so within A_ii 2^-24 of e_i^2, and >= 0) plus the squares
- * of the low-passed inputs' columns (step_noise_flt.c's pers); saturations into *count.
+ * The diagonal of the part of A A^T that persists from step to step (Q48 as uint64,
+ * RFE_MON_Q31_QP), from the step noise's array A = [S_R0, g_1 ..] (Q24) before its Tria (row
+ * stride @p lda, the columns of the inputs with sd > 0 in input order): the model error's
+ * square e_i^2 = A_ii^2 - r_i^2 (A_ii = sqrt(r_i^2 + e_i^2) rounded, so within A_ii 2^-24 of
+ * e_i^2, and >= 0) plus the squares of the low-passed inputs' columns (step_noise_flt.c's
+ * pers), every square exact. At most three squares, each <= 2^62: no overflow, no saturation.
  */
 void rfe_step_noise_pers_q31(const rfe_filter_params_q31_t *fp, const rfe_fix_t *A, size_t lda,
-                             rfe_fix_t pers[RFE_MEAS], uint32_t *count);
+                             uint64_t pers[RFE_MEAS]);
 
 #endif /* RFE_STEP_NOISE_INTERNAL_Q31_H */

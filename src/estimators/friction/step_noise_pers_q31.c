@@ -9,6 +9,7 @@
  */
 #include "estimators/friction/friction_logic.h"
 #include "estimators/friction/step_noise_internal_q31.h"
+#include "numerics/internal_q31.h"
 
 rfe_status_t rfe_step_noise_h0_q31(const rfe_params_q31_t *p, const rfe_sample_q31_t *u,
                                    const rfe_fix_t *mu, rfe_fix_t z[RFE_MEAS], uint32_t *count)
@@ -31,7 +32,7 @@ rfe_fix_t rfe_step_noise_input_sd_q31(const rfe_filter_params_q31_t *fp, size_t 
 }
 
 void rfe_step_noise_pers_q31(const rfe_filter_params_q31_t *fp, const rfe_fix_t *A, size_t lda,
-                             rfe_fix_t pers[RFE_MEAS], uint32_t *count)
+                             uint64_t pers[RFE_MEAS])
 {
     rfe_fix_t r[RFE_MEAS];
     size_t i;
@@ -39,16 +40,20 @@ void rfe_step_noise_pers_q31(const rfe_filter_params_q31_t *fp, const rfe_fix_t 
     r[0] = fp->r_ax;
     r[1] = fp->r_ay;
     r[2] = fp->r_yaw_acc;
+    /* Squares of Q24 values are Q48 (RFE_MON_Q31_QP) exactly. A_ii >= r_i > 0 (A_ii is
+     * sqrt(r_i^2 + e_i^2) rounded to the nearest integer, r_i an integer), so the difference
+     * is >= 0; each square is <= 2^62, and with at most two low-passed inputs (vx, vy:
+     * rfe_input_low_passed) the sum stays below 3 2^62 < 2^64. */
     for (i = 0u; i < (size_t)RFE_MEAS; ++i) {
-        const rfe_fix_t a = A[(i * lda) + i];
+        const uint64_t a = rfe_q31_mag64((int64_t)A[(i * lda) + i]);
+        const uint64_t ri = rfe_q31_mag64((int64_t)r[i]);
         size_t col = (size_t)RFE_MEAS;
-        pers[i] = rfe_fix_narrow(((int64_t)a * (int64_t)a) - ((int64_t)r[i] * (int64_t)r[i]),
-                                 (unsigned int)RFE_FIX_Q_ACC, count);
+        pers[i] = (a * a) - (ri * ri);
         for (j = 0u; j < (size_t)RFE_INPUTS; ++j) {
             if (rfe_step_noise_input_sd_q31(fp, j) > 0) {
                 if (rfe_input_low_passed(j) != 0) {
-                    const rfe_fix_t g = A[(i * lda) + col];
-                    pers[i] = rfe_fix_add(pers[i], rfe_fix_mul(g, g, RFE_FIX_Q_ACC, count), count);
+                    const uint64_t g = rfe_q31_mag64((int64_t)A[(i * lda) + col]);
+                    pers[i] += g * g;
                 }
                 ++col;
             }

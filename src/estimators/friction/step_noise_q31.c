@@ -114,7 +114,7 @@ rfe_status_t rfe_step_noise_sqrt_core_q31(const rfe_params_q31_t *p, const rfe_m
                                          const rfe_sample_q31_t *u,
                                          const rfe_fix_t mu[RFE_WHEELS],
                                          rfe_fix_t SR[RFE_MEAS * RFE_MEAS],
-                                         rfe_fix_t pers[RFE_MEAS], uint32_t *sat)
+                                         uint64_t pers[RFE_MEAS], uint32_t *sat)
 {
     rfe_fix_t A[(size_t)RFE_MEAS * CW];
     size_t cols = (size_t)RFE_MEAS;
@@ -125,7 +125,7 @@ rfe_status_t rfe_step_noise_sqrt_core_q31(const rfe_params_q31_t *p, const rfe_m
     if (st == RFE_OK) {
         if (pers != NULL) {
             /* in its own unit, so it is no part of this frame (the deepest path's) */
-            rfe_step_noise_pers_q31(&p->filter, A, CW, pers, &count);
+            rfe_step_noise_pers_q31(&p->filter, A, CW, pers);
         }
         st = rfe_qr_tria_q31(A, (size_t)RFE_MEAS, cols, CW, &count);
     }

@@ -151,14 +151,15 @@ static void step_both(rfe_monitor_t *md, rfe_monitor_q31_t *mq, const double nu[
     rfe_real_t pd[3];
     rfe_fix_t nq[3];
     rfe_fix_t Sq[9];
-    rfe_fix_t pq[3];
+    uint64_t pq[3];
     uint32_t conv = 0u;
     size_t i;
     for (i = 0; i < 3; ++i) {
         nq[i] = rfe_fix_from_double(nu[i], QN, &conv);
-        pq[i] = rfe_fix_from_double(pers[i], QN, &conv);
+        /* pers >= 0 here, in Q48 (RFE_MON_Q31_QP); 2^48 and the rounded value exact in double */
+        pq[i] = (uint64_t)llround(pers[i] * 281474976710656.0);
         nd[i] = q2d(nq[i], QN);
-        pd[i] = q2d(pq[i], QN);
+        pd[i] = (rfe_real_t)((double)pq[i] / 281474976710656.0);
     }
     for (i = 0; i < 9; ++i) {
         Sq[i] = rfe_fix_from_double(S[i], QN, &conv);
@@ -323,37 +324,51 @@ static void test_warmup_inflation_seen(void **state)
     assert_int_equal(sat, 0u);
 }
 
-/* REQ: the persistent share is 0 for a share <= 0, 1 for a share >= the variance (also when
- * the variance rounds to 0 in Q24), else pers / S_rr; an innovation far beyond its
- * covariance saturates the NIS and the normalised innovation, and both are counted. */
+/* REQ: the persistent share (pers and S_rr in Q48) is 0 for pers 0, 1 for pers >= the
+ * variance, else pers / S_rr to the Q30 LSB, with no saturation also where the variance is
+ * far beyond Q24's 128 (issue 21: a Q24 pers saturated there) or only 2^20 LSB (no shift);
+ * an innovation far beyond its covariance saturates the NIS and the normalised innovation,
+ * and both are counted. */
 /* REQ-MON-011 */
 static void test_shares_and_saturation(void **state)
 {
     rfe_monitor_t md;
     rfe_monitor_q31_t mq;
+    rfe_monitor_q31_t mq2;
     rfe_monitor_q31_t before;
     const rfe_fix_t one = RFE_FIX_ONE(QN);
-    const rfe_fix_t Sq[9] = {one, 0, 0, 0, one, 0, 0, 0, 1}; /* S_33 = 1 LSB: variance 0 */
+    /* S_rr = 10^4, 1 and 2^-28 (m/s^2)^2: 10^4 2^48, 2^48 and 2^20 in Q48 */
+    const rfe_fix_t Sq[9] = {100 * one, 0, 0, 0, one, 0, 0, 0, 1024};
+    const rfe_fix_t S1[9] = {one, 0, 0, 0, one, 0, 0, 0, 1}; /* S_33 = 1 LSB */
     const rfe_fix_t nu0[3] = {0, 0, 0};
-    const rfe_fix_t pers[3] = {-5, 2 * one, 3};
+    /* exact halves (Q30: 2^29) where S_rr needs the shift and where it does not, and a
+     * pers twice the variance (share 1) */
+    const uint64_t pers[3] = {UINT64_C(5000) << 48, UINT64_C(2) << 48, UINT64_C(1) << 19};
+    /* shares 0 (pers 0), a third (to the rounded Q30 LSB), 1 (pers = S_rr = 1 LSB^2) */
+    const uint64_t pers2[3] = {0u, (UINT64_C(1) << 48) / 3u, 1u};
     const rfe_fix_t huge[3] = {RFE_FIX_MAX, 0, RFE_FIX_MAX};
     uint32_t sat = 0u;
     uint32_t k;
     (void)state;
     both_started(&md, &mq, 0.5, 0.5);
     mq.warmup_steps = 0u;
+    mq2 = mq;
     assert_int_equal(rfe_monitor_step_q31(&mq, nu0, Sq, pers, NULL, &sat), RFE_OK);
-    assert_int_equal(mq.C[0], 0);                 /* pers < 0: share 0 */
-    assert_int_equal(mq.C[1], RFE_FIX_ONE(QC));   /* pers > variance: 1 */
-    assert_int_equal(mq.C[2], RFE_FIX_ONE(QC));   /* variance rounds to 0: 1 */
+    assert_int_equal(mq.C[0], RFE_FIX_ONE(QC) / 2); /* S_rr beyond Q24's range: exact 1/2 */
+    assert_int_equal(mq.C[1], RFE_FIX_ONE(QC));     /* pers > variance: 1 */
+    assert_int_equal(mq.C[2], RFE_FIX_ONE(QC) / 2); /* S_rr < 2^31, no shift: exact 1/2 */
+    assert_int_equal(rfe_monitor_step_q31(&mq2, nu0, S1, pers2, NULL, &sat), RFE_OK);
+    assert_int_equal(mq2.C[0], 0);                                   /* pers 0: share 0 */
+    assert_int_equal(mq2.C[1], (rfe_fix_t)((RFE_FIX_ONE(QC) + 1) / 3)); /* 357913941.33 */
+    assert_int_equal(mq2.C[2], RFE_FIX_ONE(QC));                     /* pers = S_rr: 1 */
     assert_int_equal(sat, 0u);
     /* a huge innovation over a 1-LSB sd: w and e beyond Q20, the NIS beyond Q16 */
     before = mq;
-    assert_int_equal(rfe_monitor_step_q31(&mq, huge, Sq, pers, NULL, &sat), RFE_OK);
+    assert_int_equal(rfe_monitor_step_q31(&mq, huge, S1, pers2, NULL, &sat), RFE_OK);
     assert_true(sat >= 3u);
     assert_true(mq.D > before.D);
     for (k = 0u; k < 2000u; ++k) {
-        assert_int_equal(rfe_monitor_step_q31(&mq, huge, Sq, pers, NULL, &sat), RFE_OK);
+        assert_int_equal(rfe_monitor_step_q31(&mq, huge, S1, pers2, NULL, &sat), RFE_OK);
     }
     assert_true(mq.D > (RFE_FIX_MAX - (RFE_FIX_MAX / 100))); /* pinned near the top */
     assert_int_equal(mq.fired, 1u);
@@ -377,6 +392,7 @@ static void test_bad_input_untouched(void **state)
     const rfe_fix_t Sbad[9] = {one, 0, 0, 0, 0, 0, 0, 0, one};
     const rfe_fix_t Sneg[9] = {one, 0, 0, 0, -one, 0, 0, 0, one};
     const rfe_fix_t v[3] = {one, one, one};
+    const uint64_t pv[3] = {1u, 1u, 1u}; /* persistent diagonal (Q48) */
     rfe_fix_t c = 7;
     uint32_t fired = 5u;
     uint32_t sat = 9u;
@@ -391,16 +407,16 @@ static void test_bad_input_untouched(void **state)
     pq.l_d = 0;
     assert_int_equal(rfe_monitor_init_q31(&blank, &pq), RFE_ERR_PARAM);
     assert_int_equal(blank.magic, 0u);
-    assert_int_equal(rfe_monitor_step_q31(NULL, v, S, v, &fired, &sat), RFE_ERR_NULL);
-    assert_int_equal(rfe_monitor_step_q31(&m, NULL, S, v, &fired, &sat), RFE_ERR_NULL);
-    assert_int_equal(rfe_monitor_step_q31(&m, v, NULL, v, &fired, &sat), RFE_ERR_NULL);
+    assert_int_equal(rfe_monitor_step_q31(NULL, v, S, pv, &fired, &sat), RFE_ERR_NULL);
+    assert_int_equal(rfe_monitor_step_q31(&m, NULL, S, pv, &fired, &sat), RFE_ERR_NULL);
+    assert_int_equal(rfe_monitor_step_q31(&m, v, NULL, pv, &fired, &sat), RFE_ERR_NULL);
     assert_int_equal(rfe_monitor_step_q31(&m, v, S, NULL, &fired, &sat), RFE_ERR_NULL);
-    assert_int_equal(rfe_monitor_step_q31(&m, v, S, v, &fired, NULL), RFE_ERR_NULL);
-    assert_int_equal(rfe_monitor_step_q31(&blank, v, S, v, &fired, &sat),
+    assert_int_equal(rfe_monitor_step_q31(&m, v, S, pv, &fired, NULL), RFE_ERR_NULL);
+    assert_int_equal(rfe_monitor_step_q31(&blank, v, S, pv, &fired, &sat),
                      RFE_ERR_NOT_INITIALISED);
-    assert_int_equal(rfe_monitor_step_q31(&m, v, Sbad, v, &fired, &sat),
+    assert_int_equal(rfe_monitor_step_q31(&m, v, Sbad, pv, &fired, &sat),
                      RFE_ERR_NOT_POSITIVE_DEFINITE);
-    assert_int_equal(rfe_monitor_step_q31(&m, v, Sneg, v, &fired, &sat),
+    assert_int_equal(rfe_monitor_step_q31(&m, v, Sneg, pv, &fired, &sat),
                      RFE_ERR_NOT_POSITIVE_DEFINITE);
     assert_memory_equal(&m, &before, sizeof m);
     assert_int_equal(fired, 5u);
@@ -416,7 +432,7 @@ static void test_bad_input_untouched(void **state)
     /* in the warm-up nothing is read but the pointers: a bad factor is not an error there */
     m.warmup_steps = 5u;
     m.seen = 0u;
-    assert_int_equal(rfe_monitor_step_q31(&m, v, Sbad, v, NULL, &sat), RFE_OK);
+    assert_int_equal(rfe_monitor_step_q31(&m, v, Sbad, pv, NULL, &sat), RFE_OK);
     assert_int_equal(m.seen, 1u);
 }
 

@@ -19,6 +19,7 @@
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "rfe/component/step_noise_q31.h"
@@ -53,11 +54,18 @@ static rfe_status_t ref_h(const rfe_params_q31_t *p, const rfe_sample_q31_t *u,
     return st;
 }
 
+/* v^2 exactly (a Q24 value's square in Q48, RFE_MON_Q31_QP) */
+static uint64_t sq48(rfe_fix_t v)
+{
+    const uint64_t m = (uint64_t)llabs((long long)v);
+    return m * m;
+}
+
 /* docs/ESTIMATOR.md step 4 as written: S_R = Tria([S_R0, g_1 ..]), h0 a full evaluation
  * (set-up and eval) of the public measurement model, g_j its public input derivative. */
 static rfe_status_t ref_step_noise(const rfe_params_q31_t *p, const rfe_sample_q31_t *u,
                             const rfe_fix_t mu[4], rfe_fix_t SR[9], uint32_t *sat,
-                            double pers[3])
+                            uint64_t pers[3])
 {
     const rfe_filter_params_q31_t *fp = &p->filter;
     const rfe_fix_t sd[8] = {fp->sd_in_delta, fp->sd_in_vx,    fp->sd_in_vy,
@@ -80,7 +88,7 @@ static rfe_status_t ref_step_noise(const rfe_params_q31_t *p, const rfe_sample_q
         v[0] = r[i];
         v[1] = rfe_fix_mul(fp->r_model_rel, rfe_fix_abs(h0[i], &count), RFE_FIX_Q_SD, &count);
         assert_int_equal(rfe_fix_norm(v, 2u, &A[i * 11u + i], &count), RFE_OK);
-        pers[i] = (double)v[1] * (double)v[1] / 16777216.0; /* e^2 in Q24 LSB, exact */
+        pers[i] = sq48(v[1]); /* e^2, exact in Q48 */
     }
     /* g_j = sd_j dh/du_j (docs/ESTIMATOR.md step 4) from the public derivative on a set-up
      * of its own, whose saturations ref_h counted already (rfe_meas_input_jac_q31 is tested
@@ -103,7 +111,7 @@ static rfe_status_t ref_step_noise(const rfe_params_q31_t *p, const rfe_sample_q
             for (i = 0; i < 3; ++i) {
                 A[i * 11u + cols] = G[i * 8u + j];
                 if ((j == 1u) || (j == 2u)) { /* vx, vy: the low-passed inputs */
-                    pers[i] += (double)A[i * 11u + cols] * (double)A[i * 11u + cols] / 16777216.0;
+                    pers[i] += sq48(A[i * 11u + cols]);
                 }
             }
             ++cols;
@@ -145,8 +153,8 @@ static void test_step_noise_core_q31(void **state)
         rfe_fix_t S2[9];
         rfe_fix_t S3[9];
         rfe_fix_t S4[9];
-        rfe_fix_t pers[3];
-        double pref[3];
+        uint64_t pers[3];
+        uint64_t pref[3];
         uint32_t s4 = 3u;
         uint32_t s1 = 3u;
         uint32_t s2 = 3u;
@@ -186,21 +194,24 @@ static void test_step_noise_core_q31(void **state)
         assert_int_equal(rfe_step_noise_sqrt_core_q31(&p, &h, &u, mu, S3, NULL, &s3), RFE_OK);
         assert_memory_equal(S3, S2, sizeof(S3));
         assert_int_equal(s3, s2);
-        /* with the persistent diagonal: the same S_R; where it adds no saturation, each
-         * entry within its derived bound of the exact e^2 + g_vx^2 + g_vy^2 (in Q24 LSB):
-         * e^2 read back as A_ii^2 - r^2 is off by <= A_ii + 1/4 LSB^2, i.e. A_ii 2^-24 + 2^-26
-         * LSB, plus half an LSB for each of the (at most three) rounded squares */
+        /* with the persistent diagonal (Q48, issue 21): the same S_R and no saturation added
+         * (whatever the columns' size), each entry within its derived bound of the exact
+         * e^2 + g_vx^2 + g_vy^2: the squares are exact, and e^2 read back as A_ii^2 - r^2,
+         * A_ii = sqrt(r^2 + e^2) + d with |d| <= 1/2, is off by |2 d sqrt(r^2 + e^2) + d^2|
+         * <= A_ii + 3/4 LSB^2, an integer, so <= A_ii */
         assert_int_equal(rfe_step_noise_sqrt_core_q31(&p, &h, &u, mu, S4, pers, &s4), RFE_OK);
         assert_memory_equal(S4, S3, sizeof(S4));
-        if (s4 == s3) {
+        assert_int_equal(s4, s3);
+        {
             size_t i;
             for (i = 0; i < 3; ++i) {
                 /* A_ii <= the row norm of A, which the Tria keeps: that of S_R's row i */
                 const double row = sqrt(((double)S2[i * 3u] * S2[i * 3u]) +
                                         ((double)S2[i * 3u + 1u] * S2[i * 3u + 1u]) +
                                         ((double)S2[i * 3u + 2u] * S2[i * 3u + 2u]));
-                const double tol = 1.5 + (row / 16777216.0) + 0.25;
-                ASSERT_LE(fabs((double)pers[i] - pref[i]), tol, "persistent diagonal");
+                const uint64_t diff = (pers[i] > pref[i]) ? (pers[i] - pref[i])
+                                                          : (pref[i] - pers[i]);
+                ASSERT_LE((double)diff, floor(row + 1.0), "persistent diagonal");
             }
             ++pers_checked;
         }
