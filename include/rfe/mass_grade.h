@@ -114,6 +114,8 @@ typedef struct {
     rfe_real_t torque_prev;           /**< the last accepted sample's torque [N m] */
     int32_t gear;                     /**< the last gear given */
     uint32_t has_gear;                /**< nonzero once a sample gave a gear */
+    uint32_t slip_latched;            /**< the ABS gate's latch (§4.2, pause_grade_slip): the
+                                           wheels slipped in this pause, which then holds */
     rfe_mass_grade_estimate_t last;   /**< the output of the last step */
 } rfe_mass_grade_t;
 
