@@ -114,6 +114,8 @@ typedef struct {
     rfe_real_t torque_prev;           /**< the last accepted sample's torque [N m] */
     int32_t gear;                     /**< the last gear given */
     uint32_t has_gear;                /**< nonzero once a sample gave a gear */
+    uint32_t slip_latched;            /**< the ABS gate's latch (§4.2, pause_grade_slip): the
+                                           wheels slipped in this pause, which then holds */
     rfe_mass_grade_estimate_t last;   /**< the output of the last step */
 } rfe_mass_grade_t;
 
@@ -155,7 +157,8 @@ RFE_NODISCARD rfe_status_t rfe_mass_grade_init(rfe_mass_grade_t *mg,
  * @return RFE_OK (updated); RFE_NO_UPDATE_LOW_SPEED, RFE_MG_PAUSED_BRAKE,
  *         RFE_MG_PAUSED_SHIFT, RFE_MG_PAUSED_SLIP, RFE_MG_PAUSED_CURVE (held, or started on
  *         a sample that would hold; in a pause whose bit pause_grade sets, M held and the
- *         grade learned from ax, §4.2); errors: RFE_ERR_NULL; RFE_ERR_NOT_INITIALISED; RFE_ERR_NONFINITE (an input);
+ *         grade learned from ax until the wheels slip beyond pause_grade_slip against a
+ *         given vx (the ABS gate: the rest of that pause holds), §4.2); errors: RFE_ERR_NULL; RFE_ERR_NOT_INITIALISED; RFE_ERR_NONFINITE (an input);
  *         RFE_ERR_RANGE (|v| or a given |vx| > RFE_LIMIT_VX, |torque| > RFE_LIMIT_DRIVE_TORQUE,
  *         |ax| or a given |ay| > RFE_LIMIT_ACC, a `has` bit not RFE_MG_HAS_*, no ax while use_ax, dt <= 0
  *         after the first sample); RFE_ERR_NOT_POSITIVE_DEFINITE (a negative pivot or

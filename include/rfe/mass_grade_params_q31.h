@@ -32,7 +32,8 @@
 #define RFE_MG_Q_QMV 28      /**< q_mv [kg^2/s], int64: Q28 (the square of Q14) */
 #define RFE_MG_Q_R 28        /**< rolling radius R [m]: Q28, +-8 */
 #define RFE_MG_Q_G 26        /**< gravity g [m/s^2]: Q26, +-32 */
-#define RFE_MG_Q_FC 30       /**< rolling resistance f_c, slip_max [1]: Q30, +-2 */
+#define RFE_MG_Q_FC 30       /**< rolling resistance f_c, slip_max, pause_grade_slip [1]:
+                                  Q30, +-2 */
 #define RFE_MG_Q_FR 36       /**< rolling resistance f_r [s/m]: Q36, +-0.031 */
 #define RFE_MG_Q_COEF 24     /**< rho [kg/m^3], C_d, S [m^2], mv_stop [1]: Q24, +-128 */
 #define RFE_MG_Q_UT 28       /**< ut_alpha, ut_beta, ut_kappa [1]: Q28, +-8 */
@@ -77,6 +78,7 @@ typedef struct {
     rfe_fix_t dt_max;     /**< a longer period restarts the filter [s], Q30 */
     uint32_t pause_grade; /**< the pauses that learn the grade from ax: 1 brake, 2 shift,
                                4 curve (0..7; 0 unless use_ax) */
+    rfe_fix_t pause_grade_slip; /**< the ABS gate's slip [1], Q30, in [0, 1] (0: no gate) */
 } rfe_mass_grade_params_q31_t;
 
 /** The unscented transform's weights (MASS_GRADE.md §3) in the forms the square-root filter
@@ -108,7 +110,8 @@ RFE_NODISCARD rfe_status_t rfe_mass_grade_weights_q31(const rfe_mass_grade_param
  * q_mc, q_theta, r_v, r_ax, ut_alpha, m_min, theta_max, dt_max > 0; fc, fr, rho, cd, area,
  * m_rot, q_mv0, t_adapt, mv_stop, v_min, t_brake, t_shift, p_brake_on, slip_max, ay_max,
  * t_curve, ut_beta >= 0;
- * adaptive, use_ax in {0, 1}; pause_grade <= 7, and 0 unless use_ax; m_min < m0 < m_max; |theta0| < theta_max < 1.5 rad; with
+ * adaptive, use_ax in {0, 1}; pause_grade <= 7, and 0 unless use_ax; 0 <= pause_grade_slip <= 1
+ * (Q30); m_min < m0 < m_max; |theta0| < theta_max < 1.5 rad; with
  * adaptive, mv_stop q_mc^2 < q_mv0^2. Beyond the float's: rfe_mass_grade_weights_q31
  * succeeds (the spread c = alpha^2 (3 + kappa) in (1, 16), so that w_m,0 = 1 - 3/c and
  * w_i = 1/(2c) fit Q30 and sqrt(c) Q29; the centre's covariance weight w_c,0 in [0, 4),

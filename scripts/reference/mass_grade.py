@@ -67,6 +67,8 @@ MG_DEFAULTS: dict[str, float] = {
     "mg_t_curve": 1.0,      # pause after the last sample with |ay| > mg_ay_max, s
     "mg_pause_grade": 0.0,  # pauses that keep learning the grade from ax (mg_use_ax 1), a
                             # sum of 1 brake, 2 gear shift, 4 curve (§4.2); 0: none
+    "mg_pause_grade_slip": 0.05,  # in such a pause, |v - vx| > this * max(|vx|, mg_v_min)
+                            # (vx given) holds instead: the ABS gate (§4.2); 0: no gate
     "mg_m_min": 300.0,      # mass bounds: the mean is projected onto them, kg
     "mg_m_max": 60000.0,
     "mg_theta_max": 0.35,   # grade bound |theta|, rad
@@ -145,7 +147,8 @@ def validate(p):
             raise ParamError(f"{k}: must be > 0")
     nonneg = ("mg_fc", "mg_fr", "mg_rho", "mg_cd", "mg_area", "mg_m_rot", "mg_q_mv0",
               "mg_t_adapt", "mg_mv_stop", "mg_v_min", "mg_t_brake", "mg_t_shift",
-              "mg_p_brake_on", "mg_slip_max", "mg_ay_max", "mg_t_curve", "mg_ut_beta")
+              "mg_p_brake_on", "mg_slip_max", "mg_ay_max", "mg_t_curve", "mg_ut_beta",
+              "mg_pause_grade_slip")
     for k in nonneg:
         if not p[k] >= 0.0:
             raise ParamError(f"{k}: must be >= 0")
@@ -154,6 +157,8 @@ def validate(p):
             raise ParamError(f"{k}: must be 0 or 1")
     if p["mg_pause_grade"] not in tuple(float(b) for b in range(8)):
         raise ParamError("mg_pause_grade: must be an integer in 0..7")
+    if not p["mg_pause_grade_slip"] <= 1.0:
+        raise ParamError("mg_pause_grade_slip: must be <= 1")
     if p["mg_pause_grade"] != 0.0 and p["mg_use_ax"] != 1.0:
         raise ParamError("mg_pause_grade: needs mg_use_ax 1 (the grade from ax)")
     if not p["mg_m_min"] < p["mg_m0"] < p["mg_m_max"]:
@@ -318,6 +323,7 @@ class MassGrade:
         self.shift_left = 0.0       # pause left after the last gear change, s
         self.curve_left = 0.0       # pause left after the last sample over mg_ay_max, s
         self.gear = s.gear
+        self.slip_latched = False   # the ABS gate's latch (§4.2)
         self.started = True
 
     def _estimate(self, status):
@@ -378,7 +384,7 @@ class MassGrade:
 
     # -- the square-root form (the C library's steps, mass_grade_flt.c) ------------------------
     _SAVED = ("x", "S", "q_mv", "adapt_elapsed", "m_adapt", "brake_left", "shift_left",
-              "curve_left", "gear", "started")
+              "curve_left", "gear", "started", "slip_latched")
 
     def _step_sqrt(self, s):
         """As step(), in the square-root form: the work on a copy of the state, restored on an
@@ -391,13 +397,15 @@ class MassGrade:
         if not self.started or s.t - self.t_prev > p["mg_dt_max"]:
             self._start(s)
             status = self._pause_status(s, 0.0)
+            self._slip_latch(s, status)
             st = OK
         else:
             dt = s.t - self.t_prev             # the period: the time stamps are not state
             status = self._pause_status(s, dt)
+            self._slip_latch(s, status)
             if status == OK:
                 st = self._update_sqrt(s, dt)
-            elif self._pause_grade(status):
+            elif self._pause_grade(status) and not self.slip_latched:
                 st = self._grade_ax_sqrt(s, dt)
             else:
                 st = self._hold_sqrt(s, dt)
@@ -439,6 +447,18 @@ class MassGrade:
         sample of a pause that follows an update holds as before and the next ones learn)."""
         bit = PAUSE_GRADE_BITS.get(status, 0)
         return (int(self.p["mg_pause_grade"]) & bit) != 0 and self.S[1][0] == 0.0
+
+    def _slip_latch(self, s, status):
+        """§4.2 the ABS gate of the grade from ax in a pause: the latch is set at a paused
+        sample whose wheels slip, vx given, mg_pause_grade_slip > 0 and
+        |v - vx| > mg_pause_grade_slip * max(|vx|, mg_v_min) (the wheels lock or cycle under
+        the ABS: v-dot is not the car's), stays set through the rest of the pause and clears
+        at the first sample that is not paused (and on a start that is not). While it is set,
+        a pause whose bit of mg_pause_grade is set holds as without the bit."""
+        p = self.p
+        slip = (s.vx is not None and p["mg_pause_grade_slip"] > 0.0
+                and abs(s.v - s.vx) > p["mg_pause_grade_slip"] * max(abs(s.vx), p["mg_v_min"]))
+        self.slip_latched = status != OK and (self.slip_latched or slip)
 
     def _grade_ax_sqrt(self, s, dt):
         """§4.2 the grade from ax in a pause: M and its row of S (so P_MM, P_Mv = 0, P_Mtheta)

@@ -12,7 +12,10 @@ mg_pause_grade lets the chosen pauses run that kinematic model on v and theta wh
 row of S stay untouched (MASS_GRADE.md §4.2). Variants, all in the recommended preset (UKF with
 the ax row) with the curve pause at its documented setting for a car that corners (mg_ay_max
 1 m/s^2, mg_t_curve 1 s), mg_pause_grade 0 (off, the filter as it is), 1 (brake), 2 (shift),
-4 (curve), 7 (all three). Runs: the mass and grade logs in their vehicle's preset from 0.8 times the truth;
+4 (curve), 7 (all three), each with the ABS gate at its default (mg_pause_grade_slip 0.05:
+a paused sample whose wheels slip beyond 5 % of vx ends the grade's learning until the pause
+ends), and 1 once more without it ("brake, no gate": the mode as it was before the gate).
+Runs: the mass and grade logs in their vehicle's preset from 0.8 times the truth;
 the observer logs (the samples of mass_slip_ramp_study.py, the simulator's resistances, the
 `_res` logs the car preset's) from the log's m. A log whose run with mg_pause_grade off held
 no sample in a brake, shift or curve pause is run once only: no variant can change it (the
@@ -38,7 +41,10 @@ from mass_slip_ramp_study import (RECOMMENDED, SIM_RESISTANCES, log_path, mg,  #
 from mass_sensitivity import log_mass  # noqa: E402
 
 CURVE = {"mg_ay_max": 1.0, "mg_t_curve": 1.0}   # MASS_GRADE.md §4.2's setting for a car that corners
-VARIANTS = {"off": 0, "brake": 1, "shift": 2, "curve": 4, "all": 7}
+VARIANTS = {"off": 0, "brake, no gate": 1, "brake": 1, "shift": 2, "curve": 4, "all": 7}
+# the variants run without the ABS gate (mg_pause_grade_slip 0: the brake bit as it was before
+# the gate); every other runs with the gate at its default (MASS_GRADE.md §4.2)
+UNGATED = {"brake, no gate": {"mg_pause_grade_slip": 0.0}}
 OBS_STARTS = (1.0,)
 MG_STARTS = (0.8,)
 PAUSES = (mg.PAUSED_BRAKE, mg.PAUSED_SHIFT, mg.PAUSED_CURVE)
@@ -85,7 +91,7 @@ def observer_job(name, start, variant):
     m = log_mass(path)
     over = {} if name.split(".", 1)[0].endswith("_res") else SIM_RESISTANCES
     est = mg.MassGrade(mg.preset("car", mg_m0=m * start, mg_pause_grade=VARIANTS[variant],
-                                 **CURVE, **RECOMMENDED, **over))
+                                 **CURVE, **RECOMMENDED, **over, **UNGATED.get(variant, {})))
     samples = observer_samples(cols, est.p["R"])
     for s, ay in zip(samples, cols["ay"]):
         s.ay = float(ay)
@@ -97,7 +103,8 @@ def mass_grade_job(name, start, variant, true_speed=False):
     vehicle = "truck" if name.startswith("truck") else "car"
     m = float(cols["mass_true"][-1])
     est = mg.MassGrade(mg.preset(vehicle, mg_m0=start * float(cols["mass_true"][0]),
-                                 mg_pause_grade=VARIANTS[variant], **CURVE, **RECOMMENDED))
+                                 mg_pause_grade=VARIANTS[variant], **CURVE, **RECOMMENDED,
+                                 **UNGATED.get(variant, {})))
     samples = list(mg.samples(cols, est.p))
     for s, vx in zip(samples, cols["vx_true"]):
         s.vx = float(vx)
@@ -157,6 +164,31 @@ def case_table(res, names, start):
     return lines
 
 
+def same(r, r0):
+    """Two runs' figures equal (a figure of no sample, nan, is the same in both)."""
+    return all(r[k] == r0[k] or (np.isnan(r[k]) and np.isnan(r0[k])) for k in r0)
+
+
+def gate_table(res, jobs):
+    """The ABS gate before -> after: every run whose brake bit the gate changed, and
+    car_valley_brake (the mode's case, which it must not change): grade RMSE over the brake,
+    shift and curve pauses and over the AFTER s after them (mrad), the mass error at the end,
+    with mg_pause_grade off, with the brake bit without the gate and with it."""
+    lines = [f"| log | mg_m0 | off: pauses, {AFTER:g} s after, mass | brake, no gate | "
+             "brake, gated |", "|---|---|---|---|---|"]
+    f = lambda r: (f"{1e3 * r['rmse_held']:.2f}, {1e3 * r['rmse_after']:.2f}, "
+                   f"{r['mass_err']:+.2%}")
+    for j in jobs:
+        if j[3] != "brake" or j[0] == "true":
+            continue
+        r, r0 = res[j], res[j[:3] + ("brake, no gate",)]
+        if same(r, r0) and j[1] != "car_valley_brake.csv":
+            continue
+        lines.append(f"| {j[1][:-4]} | {j[2]:.1f} | {f(res[j[:3] + ('off',)])} | {f(r0)} | "
+                     f"{f(r)} |")
+    return lines
+
+
 def verdict(res, jobs):
     """Per variant: the runs it changed, how many it helped / hurt in grade RMSE (more than
     0.05 mrad) and in |mass error| (more than 0.05 % of m), and the worst of each."""
@@ -170,8 +202,8 @@ def verdict(res, jobs):
             if j[3] != v or j not in res or j[0] == "true":
                 continue
             r, r0 = res[j], res[j[:3] + ("off",)]
-            if all(r[k] == r0[k] or (np.isnan(r[k]) and np.isnan(r0[k])) for k in r0):
-                continue        # (a figure of no sample, nan, is the same in both)
+            if same(r, r0):
+                continue
             moved += 1
             dg = 1e3 * (r["rmse"] - r0["rmse"])
             dm = abs(r["mass_err"]) - abs(r0["mass_err"])
@@ -206,12 +238,17 @@ def results_text(n_jobs):
     text = ["Cells: mass error at the end, grade RMSE over the log (mrad) and, where the run "
             "held samples, the grade RMSE over the brake, shift and curve pauses (mrad); "
             "`held`: their share with mg_pause_grade off. Recommended preset (UKF with the ax "
-            "row), curve pause at 1 m/s^2 for 1 s; float64 reference. The mass and grade logs "
+            "row), curve pause at 1 m/s^2 for 1 s, the ABS gate mg_pause_grade_slip at 0.05 but in "
+            "`brake, no gate` (0); float64 reference. The mass and grade logs "
             "(vx_true as the ground speed):", ""]
     text += table(res, "mg", mg_names, MG_STARTS)
     text += ["", "The observer logs (the simulator's resistances; `_res`: the car preset's):", ""]
     text += table(res, "obs", obs_names, OBS_STARTS)
     text += verdict(res, jobs)
+    text += ["", "The ABS gate (mg_pause_grade_slip 0.05) before -> after, the brake bit: every "
+             "run the gate changed, and car_valley_brake; grade RMSE over the pauses and over "
+             f"the {AFTER:g} s after them (mrad), mass error at the end:", ""]
+    text += gate_table(res, jobs)
     text += ["", "The mass and grade logs that pause again, with the car's speed vx_true in place "
              "of the wheels' (no brake or drive slip in v; a diagnosis, not a configuration):",
              ""]

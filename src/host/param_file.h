@@ -167,6 +167,7 @@
     X(mg_ay_max, ay_max, "m/s^2", "a given |ay| above it holds the filter (0: off)")              \
     X(mg_t_curve, t_curve, "s", "hold after the last sample over mg_ay_max")                     \
     X(mg_pause_grade, pause_grade, "-", "pauses that learn the grade from ax (mg_use_ax 1): 1 brake + 2 shift + 4 curve (0: none)") \
+    X(mg_pause_grade_slip, pause_grade_slip, "1", "ABS gate: wheel slip against a given vx that ends the grade's learning until the pause ends (0: off)") \
     X(mg_m_min, m_min, "kg", "lower mass bound")                                                 \
     X(mg_m_max, m_max, "kg", "upper mass bound")                                                 \
     X(mg_theta_max, theta_max, "rad", "grade bound")                                             \

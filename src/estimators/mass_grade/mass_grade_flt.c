@@ -135,16 +135,19 @@ static void start_filter(rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in)
     o->curve_left = RFE_R(0.0);
     o->has_gear = in->has & RFE_MG_HAS_GEAR;
     o->gear = in->gear;
+    o->slip_latched = 0u;
 }
 
-/* §4.2 step 3 the slip test's comparison, |v - vx| > slip_max max(|vx|, v_min), read only
- * with vx given (its outcome counts only then, rfe_mg_slipping). */
-static int slip_beyond(const rfe_mass_grade_params_t *p, const rfe_mass_grade_input_t *in)
+/* §4.2 step 3 the slip test's comparison, |v - vx| > ratio max(|vx|, v_min), read only
+ * with vx given (its outcome counts only then, rfe_mg_slipping): ratio slip_max for the slip
+ * pause, pause_grade_slip for the ABS gate of the grade from ax. */
+static int slip_beyond(const rfe_mass_grade_params_t *p, const rfe_mass_grade_input_t *in,
+                       rfe_real_t ratio)
 {
     int beyond = 0;
     if ((in->has & RFE_MG_HAS_VX) != 0u) {
         const rfe_real_t ref = rfe_max(RFE_FABS(in->vx), p->v_min);
-        if (RFE_FABS(in->v - in->vx) > (p->slip_max * ref)) {
+        if (RFE_FABS(in->v - in->vx) > (ratio * ref)) {
             beyond = 1;
         }
     }
@@ -179,6 +182,7 @@ static rfe_status_t pause_status(rfe_mass_grade_t *o, const rfe_mass_grade_input
     int above = 0;
     int brake;
     int curve;
+    rfe_status_t status;
     /* §4.2 step 1: the pedal flag, or the pressure above p_brake_on (read only when given) */
     if (((in->has & RFE_MG_HAS_PRESSURE) != 0u) && (in->p_brake > o->p.p_brake_on)) {
         above = 1;
@@ -197,11 +201,18 @@ static rfe_status_t pause_status(rfe_mass_grade_t *o, const rfe_mass_grade_input
         o->has_gear = 1u;
     }
     curve = curve_held(o, in, dt);
-    return rfe_mg_pause_status(
+    status = rfe_mg_pause_status(
         brake, (o->brake_left > (RFE_R(0.5) * dt)) ? 1 : 0,
         (o->shift_left > (RFE_R(0.5) * dt)) ? 1 : 0,
-        rfe_mg_slipping(in->has, (o->p.slip_max > RFE_R(0.0)) ? 1 : 0, slip_beyond(&o->p, in)),
+        rfe_mg_slipping(in->has, (o->p.slip_max > RFE_R(0.0)) ? 1 : 0,
+                        slip_beyond(&o->p, in, o->p.slip_max)),
         curve, (in->v < o->p.v_min) ? 1 : 0);
+    /* the ABS gate (pause_grade_slip) */
+    o->slip_latched = rfe_mg_slip_latch(
+        status, o->slip_latched,
+        rfe_mg_slipping(in->has, (o->p.pause_grade_slip > RFE_R(0.0)) ? 1 : 0,
+                        slip_beyond(&o->p, in, o->p.pause_grade_slip)));
+    return status;
 }
 
 /* §4.2 the hold: M, theta kept; P_thth += q_theta^2 dt; v restarts at the measured speed,
@@ -288,14 +299,15 @@ static rfe_status_t grade_from_ax(rfe_mass_grade_t *o, const rfe_mass_grade_inpu
     return st;
 }
 
-/* §4.2 a paused sample: the grade from ax where pause_grade sets the pause's bit and v is
- * uncorrelated with M (S_Mv = 0), else the hold. */
+/* §4.2 a paused sample: the grade from ax where pause_grade sets the pause's bit, v is
+ * uncorrelated with M (S_Mv = 0) and the wheels have not slipped in this pause (the ABS
+ * gate's latch clear), else the hold. */
 static rfe_status_t paused(rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in,
                            rfe_status_t status)
 {
     rfe_status_t st;
     if (rfe_mg_grade_in_pause(status, (uint32_t)o->p.pause_grade,
-                              (o->S[3] == RFE_R(0.0)) ? 1 : 0) != 0) {
+                              (o->S[3] == RFE_R(0.0)) ? 1 : 0, o->slip_latched) != 0) {
         st = grade_from_ax(o, in, in->dt);
     } else {
         st = hold(o, in, in->dt);

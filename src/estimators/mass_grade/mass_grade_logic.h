@@ -92,11 +92,23 @@ static inline rfe_status_t rfe_mg_pause_status(int brake, int brake_pending, int
     return st;
 }
 
+/** §4.2 the ABS gate's latch after a sample of status @p status: set at a paused sample
+ *  whose wheels slip (@p slipping: rfe_mg_slipping with pause_grade_slip), kept (@p latched,
+ *  its value before the sample) through the rest of the pause, cleared (0) by a sample that
+ *  is not paused. A start clears it before its sample is tested. */
+static inline uint32_t rfe_mg_slip_latch(rfe_status_t status, uint32_t latched, int slipping)
+{
+    return ((status != RFE_OK) && ((latched != 0u) || (slipping != 0))) ? 1u : 0u;
+}
+
 /** §4.2 the pause kind: in a pause @p status whose bit (RFE_MG_PAUSE_GRADE_*) is set in
- *  @p pause_grade, and with v uncorrelated with M (@p v_free: S_Mv == 0, as after a hold or a
- *  start), the grade keeps being learned from ax with M held (1); else the hold (0). So the
- *  first sample of a pause that follows an update holds, and the next ones learn. */
-static inline int rfe_mg_grade_in_pause(rfe_status_t status, uint32_t pause_grade, int v_free)
+ *  @p pause_grade, with v uncorrelated with M (@p v_free: S_Mv == 0, as after a hold or a
+ *  start) and the ABS gate's latch clear (@p slip_latched == 0, rfe_mg_slip_latch), the
+ *  grade keeps being learned from ax with M held (1); else the hold (0). So the first sample
+ *  of a pause that follows an update holds, the next ones learn, and once the wheels slipped
+ *  beyond pause_grade_slip the rest of the pause holds. */
+static inline int rfe_mg_grade_in_pause(rfe_status_t status, uint32_t pause_grade, int v_free,
+                                        uint32_t slip_latched)
 {
     uint32_t bit = 0u;
     if (status == RFE_MG_PAUSED_BRAKE) {
@@ -108,7 +120,7 @@ static inline int rfe_mg_grade_in_pause(rfe_status_t status, uint32_t pause_grad
     } else {
         /* the slip pause (v is the wheels', not the car's) and the low speed: the hold */
     }
-    return (((pause_grade & bit) != 0u) && (v_free != 0)) ? 1 : 0;
+    return (((pause_grade & bit) != 0u) && (v_free != 0) && (slip_latched == 0u)) ? 1 : 0;
 }
 
 #endif /* RFE_MASS_GRADE_LOGIC_H */

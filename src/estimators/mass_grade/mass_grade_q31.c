@@ -152,14 +152,15 @@ static void start_filter_q31(rfe_mass_grade_q31_t *o, const rfe_mass_grade_input
     o->curve_left = 0;
     o->has_gear = in->has & RFE_MG_HAS_GEAR;
     o->gear = in->gear;
+    o->slip_latched = 0u;
 }
 
-/* §4.2 step 3 the slip test's comparison, |v - vx| > slip_max max(|vx|, v_min), read only
- * with vx given: in int64, exact (|v - vx| < 2^32 in Q24; slip_max Q30 times the Q24
+/* §4.2 step 3 the slip test's comparison, |v - vx| > ratio max(|vx|, v_min), read only
+ * with vx given: in int64, exact (|v - vx| < 2^32 in Q24; the ratio Q30 times the Q24
  * reference < 2^62 against |v - vx| in Q54), so it decides as the real comparison on the Q
- * values. */
+ * values; ratio slip_max for the slip pause, pause_grade_slip for the ABS gate. */
 static int slip_beyond_q31(const rfe_mass_grade_params_q31_t *p,
-                           const rfe_mass_grade_input_q31_t *in)
+                           const rfe_mass_grade_input_q31_t *in, rfe_fix_t ratio)
 {
     int beyond = 0;
     if ((in->has & RFE_MG_HAS_VX) != 0u) {
@@ -168,7 +169,7 @@ static int slip_beyond_q31(const rfe_mass_grade_params_q31_t *p,
         const int64_t ref = (avx > (int64_t)p->v_min) ? avx : (int64_t)p->v_min;
         const int64_t d = (int64_t)in->v - vx;
         const int64_t ad = (d < 0) ? -d : d;
-        if ((ad * ONE_Q30_64) > ((int64_t)p->slip_max * ref)) {
+        if ((ad * ONE_Q30_64) > ((int64_t)ratio * ref)) {
             beyond = 1;
         }
     }
@@ -203,6 +204,7 @@ static rfe_status_t pause_status_q31(rfe_mass_grade_q31_t *o, const rfe_mass_gra
     int above = 0;
     int brake;
     int curve;
+    rfe_status_t status;
     if (((in->has & RFE_MG_HAS_PRESSURE) != 0u) && (in->p_brake > o->p.p_brake_on)) {
         above = 1;
     }
@@ -220,11 +222,17 @@ static rfe_status_t pause_status_q31(rfe_mass_grade_q31_t *o, const rfe_mass_gra
         o->has_gear = 1u;
     }
     curve = curve_held_q31(o, in, dt64);
-    return rfe_mg_pause_status(brake, ((2 * o->brake_left) > dt64) ? 1 : 0,
-                               ((2 * o->shift_left) > dt64) ? 1 : 0,
-                               rfe_mg_slipping(in->has, (o->p.slip_max > 0) ? 1 : 0,
-                                               slip_beyond_q31(&o->p, in)),
-                               curve, (in->v < o->p.v_min) ? 1 : 0);
+    status = rfe_mg_pause_status(brake, ((2 * o->brake_left) > dt64) ? 1 : 0,
+                                 ((2 * o->shift_left) > dt64) ? 1 : 0,
+                                 rfe_mg_slipping(in->has, (o->p.slip_max > 0) ? 1 : 0,
+                                                 slip_beyond_q31(&o->p, in, o->p.slip_max)),
+                                 curve, (in->v < o->p.v_min) ? 1 : 0);
+    /* the ABS gate (pause_grade_slip) */
+    o->slip_latched =
+        rfe_mg_slip_latch(status, o->slip_latched,
+                          rfe_mg_slipping(in->has, (o->p.pause_grade_slip > 0) ? 1 : 0,
+                                          slip_beyond_q31(&o->p, in, o->p.pause_grade_slip)));
+    return status;
 }
 
 /* sqrt(dt) in Q30 (dt > 0, Q30: never saturates). */
@@ -328,13 +336,14 @@ static rfe_status_t grade_from_ax_q31(rfe_mass_grade_q31_t *o, const rfe_mass_gr
     return st;
 }
 
-/* §4.2 a paused sample: the grade from ax where pause_grade sets the pause's bit and v is
- * uncorrelated with M (S_Mv = 0), else the hold. */
+/* §4.2 a paused sample: the grade from ax where pause_grade sets the pause's bit, v is
+ * uncorrelated with M (S_Mv = 0) and the ABS gate's latch is clear, else the hold. */
 static rfe_status_t paused_q31(rfe_mass_grade_q31_t *o, const rfe_mass_grade_input_q31_t *in,
                                rfe_status_t status, uint32_t *sat)
 {
     rfe_status_t st;
-    if (rfe_mg_grade_in_pause(status, o->p.pause_grade, (o->S[3] == 0) ? 1 : 0) != 0) {
+    if (rfe_mg_grade_in_pause(status, o->p.pause_grade, (o->S[3] == 0) ? 1 : 0,
+                              o->slip_latched) != 0) {
         st = grade_from_ax_q31(o, in, in->dt, sat);
     } else {
         st = hold_q31(o, in, in->dt, sat);

@@ -114,6 +114,7 @@ static void dequantise_params(const rfe_mass_grade_params_q31_t *q, rfe_mass_gra
     p->ay_max = rfe_fix_to_double(q->ay_max, QV);
     p->t_curve = rfe_fix_to_double(q->t_curve, RFE_MG_Q_TIME);
     p->pause_grade = (double)q->pause_grade;
+    p->pause_grade_slip = rfe_fix_to_double(q->pause_grade_slip, RFE_MG_Q_FC);
     p->m_min = rfe_fix_to_double(q->m_min, QM);
     p->m_max = rfe_fix_to_double(q->m_max, QM);
     p->theta_max = rfe_fix_to_double(q->theta_max, QT);
@@ -325,6 +326,15 @@ static void test_validate_q31(void **state)
     t = q; t.pause_grade = 1u; t.use_ax = 0u; /* the grade from ax needs ax */
     assert_int_equal(rfe_mass_grade_params_validate_q31(&t), RFE_ERR_PARAM);
     t = q; t.pause_grade = 0u; t.use_ax = 0u;
+    assert_int_equal(rfe_mass_grade_params_validate_q31(&t), RFE_OK);
+    /* the ABS gate's slip in [0, 1] (Q30) */
+    t = q; t.pause_grade_slip = -1;
+    assert_int_equal(rfe_mass_grade_params_validate_q31(&t), RFE_ERR_PARAM);
+    t = q; t.pause_grade_slip = (1 << 30) + 1;
+    assert_int_equal(rfe_mass_grade_params_validate_q31(&t), RFE_ERR_PARAM);
+    t = q; t.pause_grade_slip = 1 << 30;
+    assert_int_equal(rfe_mass_grade_params_validate_q31(&t), RFE_OK);
+    t = q; t.pause_grade_slip = 0; /* 0: no gate */
     assert_int_equal(rfe_mass_grade_params_validate_q31(&t), RFE_OK);
     t = q; t.adaptive = 2u;
     assert_int_equal(rfe_mass_grade_params_validate_q31(&t), RFE_ERR_PARAM);
@@ -752,6 +762,139 @@ static void test_pause_grade_q31(void **state)
     assert_int_equal(sat, 0u);
 }
 
+/* Braked sample k on the 0.05 rad climb of test_pause_grade_q31 with the ground speed vx
+ * given and the wheels' speed (1 - slip) vx. */
+static rfe_mass_grade_input_q31_t braking_slipping_q31(int k, double slip)
+{
+    rfe_mass_grade_input_q31_t s = cruise_sample(20.0);
+    const double vx = 20.0 - (0.02 * (double)k);
+    uint32_t sat = 0u;
+    s.vx = rfe_fix_from_double(vx, QV, &sat);
+    s.v = rfe_fix_from_double((1.0 - slip) * vx, QV, &sat);
+    s.torque = rfe_fix_from_double(-2000.0, RFE_MG_Q_TORQUE, &sat);
+    s.ax = rfe_fix_from_double(-2.0 + (9.81 * sin(0.05)), QV, &sat);
+    s.brake = 1u;
+    s.has |= RFE_MG_HAS_BRAKE | RFE_MG_HAS_VX;
+    assert_int_equal(sat, 0u);
+    return s;
+}
+
+/* REQ-MG-006 the ABS gate (§4.2, pause_grade_slip) in the twin, as the float twin's
+ * test_abs_gate_holds_cycling_wheels and test_abs_gate_decision: ABS-like cycling (6 samples
+ * at 12 % slip, 4 at 1 %) with the brake bit and the default gate holds bit for bit as with
+ * the bit off; a steady brake at 1 % learns bit for bit as without the gate; the gate's
+ * comparison exact in int64 on the Q values (the threshold to the LSB, either sign); vx not
+ * given or the gate 0: learned; the latch kept through a non-slipping paused sample, cleared
+ * by an update; a bad gate refused by the init with the state untouched. */
+static void test_abs_gate_q31(void **state)
+{
+    rfe_mass_grade_params_q31_t q;
+    rfe_mass_grade_params_q31_t bad;
+    rfe_mass_grade_q31_t mg;
+    rfe_mass_grade_q31_t start;
+    rfe_mass_grade_q31_t held;
+    rfe_mass_grade_q31_t before;
+    rfe_mass_grade_estimate_q31_t e;
+    rfe_mass_grade_estimate_q31_t off[101];
+    rfe_mass_grade_input_q31_t in = cruise_sample(20.0);
+    rfe_mass_grade_input_q31_t s;
+    uint32_t sat = 0u;
+    int64_t thr;
+    int k;
+    (void)state;
+    default_q31(&q);
+    assert_int_equal(q.pause_grade_slip, rfe_fix_from_double(0.05, RFE_MG_Q_FC, &sat));
+    q.pause_grade = RFE_MG_PAUSE_GRADE_BRAKE;
+    assert_int_equal(rfe_mass_grade_init_q31(&mg, &q), RFE_OK);
+    for (k = 0; k < 100; ++k) {
+        assert_int_equal(rfe_mass_grade_step_q31(&mg, &in, &e), RFE_OK);
+    }
+    start = mg;
+    /* cycling: the bit off, then on with the gate: the same bit for bit */
+    mg.p.pause_grade = 0u;
+    for (k = 0; k <= 100; ++k) {
+        s = braking_slipping_q31(k, ((k % 10) < 6) ? 0.12 : 0.01);
+        assert_int_equal(rfe_mass_grade_step_q31(&mg, &s, &off[k]), RFE_MG_PAUSED_BRAKE);
+    }
+    mg = start;
+    for (k = 0; k <= 100; ++k) {
+        s = braking_slipping_q31(k, ((k % 10) < 6) ? 0.12 : 0.01);
+        assert_int_equal(rfe_mass_grade_step_q31(&mg, &s, &e), RFE_MG_PAUSED_BRAKE);
+        assert_int_equal(mg.slip_latched, 1u);
+        assert_memory_equal(&e, &off[k], sizeof(e));
+    }
+    /* the same without the gate: the grade leaves the held one */
+    mg = start;
+    mg.p.pause_grade_slip = 0;
+    for (k = 0; k <= 100; ++k) {
+        s = braking_slipping_q31(k, ((k % 10) < 6) ? 0.12 : 0.01);
+        assert_int_equal(rfe_mass_grade_step_q31(&mg, &s, &e), RFE_MG_PAUSED_BRAKE);
+    }
+    assert_true(e.grade != off[100].grade);
+    /* a steady brake at 1 %: the gate never acts */
+    mg = start;
+    for (k = 0; k <= 100; ++k) {
+        s = braking_slipping_q31(k, 0.01);
+        assert_int_equal(rfe_mass_grade_step_q31(&mg, &s, &off[k]), RFE_MG_PAUSED_BRAKE);
+        assert_int_equal(mg.slip_latched, 0u);
+    }
+    mg = start;
+    mg.p.pause_grade_slip = 0;
+    for (k = 0; k <= 100; ++k) {
+        s = braking_slipping_q31(k, 0.01);
+        assert_int_equal(rfe_mass_grade_step_q31(&mg, &s, &e), RFE_MG_PAUSED_BRAKE);
+        assert_memory_equal(&e, &off[k], sizeof(e));
+    }
+    assert_true(e.grade != off[0].grade); /* learned */
+    /* the decision, one braked sample after a hold (S_Mv = 0) */
+    mg = start;
+    s = braking_slipping_q31(0, 0.0);
+    assert_int_equal(rfe_mass_grade_step_q31(&mg, &s, &e), RFE_MG_PAUSED_BRAKE);
+    held = mg;
+    s = braking_slipping_q31(1, 0.0);
+    thr = ((int64_t)q.pause_grade_slip * (int64_t)s.vx) / 1073741824; /* vx > v_min */
+    s.v = (rfe_fix_t)((int64_t)s.vx - thr); /* at the threshold: learned */
+    mg = held;
+    assert_int_equal(rfe_mass_grade_step_q31(&mg, &s, &e), RFE_MG_PAUSED_BRAKE);
+    assert_true((mg.slip_latched == 0u) && (e.grade != held.last.grade));
+    s.v = (rfe_fix_t)((int64_t)s.vx - thr - 1); /* one LSB beyond: held */
+    mg = held;
+    assert_int_equal(rfe_mass_grade_step_q31(&mg, &s, &e), RFE_MG_PAUSED_BRAKE);
+    assert_true((mg.slip_latched == 1u) && (e.grade == held.last.grade));
+    s.v = (rfe_fix_t)((int64_t)s.vx + thr + 1); /* either sign */
+    mg = held;
+    assert_int_equal(rfe_mass_grade_step_q31(&mg, &s, &e), RFE_MG_PAUSED_BRAKE);
+    assert_true((mg.slip_latched == 1u) && (e.grade == held.last.grade));
+    s.has &= ~RFE_MG_HAS_VX; /* vx not given: learned */
+    mg = held;
+    assert_int_equal(rfe_mass_grade_step_q31(&mg, &s, &e), RFE_MG_PAUSED_BRAKE);
+    assert_true((mg.slip_latched == 0u) && (e.grade != held.last.grade));
+    s.has |= RFE_MG_HAS_VX; /* the gate off: learned */
+    mg = held;
+    mg.p.pause_grade_slip = 0;
+    assert_int_equal(rfe_mass_grade_step_q31(&mg, &s, &e), RFE_MG_PAUSED_BRAKE);
+    assert_true((mg.slip_latched == 0u) && (e.grade != held.last.grade));
+    mg = held; /* latched: a sample at no slip holds */
+    mg.slip_latched = 1u;
+    s.v = s.vx;
+    assert_int_equal(rfe_mass_grade_step_q31(&mg, &s, &e), RFE_MG_PAUSED_BRAKE);
+    assert_true((mg.slip_latched == 1u) && (e.grade == held.last.grade));
+    mg.brake_left = 0; /* an update clears it, the wheels slipping (slip pause off) */
+    mg.p.slip_max = 0;
+    s = in;
+    s.vx = in.v + rfe_fix_from_double(2.0, QV, &sat);
+    s.has |= RFE_MG_HAS_VX;
+    assert_int_equal(rfe_mass_grade_step_q31(&mg, &s, &e), RFE_OK);
+    assert_int_equal(mg.slip_latched, 0u);
+    /* a bad gate: refused, the state untouched */
+    before = mg;
+    bad = q;
+    bad.pause_grade_slip = (1 << 30) + 1;
+    assert_int_equal(rfe_mass_grade_init_q31(&mg, &bad), RFE_ERR_PARAM);
+    assert_memory_equal(&mg, &before, sizeof(mg));
+    assert_int_equal(sat, 0u);
+}
+
 /* The speed row refuses a zero innovation sd (r_v = 0 and a zero factor: not positive
  * definite), leaving x and S untouched, alone and after an ax row that succeeded (its points
  * all measure the same, so the ax row leaves S's v row 0); the public API cannot reach it
@@ -894,6 +1037,11 @@ static void track(double *worst, double value)
 #define SLIP_TO 1000u
 static int slip_mode;
 static size_t n_slip_paused;
+/* With abs_mode set, compare_one gives both twins vx_true as the ground speed and 1.1 times
+ * it on the braked rows (the wheels 9 % behind: beyond the ABS gate's 0.05), counting the
+ * steps whose latch is set (the same in both twins, checked at every step). */
+static int abs_mode;
+static size_t n_abs_latched;
 
 static void compare_one(const char *name)
 {
@@ -946,6 +1094,11 @@ static void compare_one(const char *name)
             in.vx = ((k >= SLIP_FROM) && (k < SLIP_TO)) ? 0.9 * vx : vx;
             in.has |= RFE_MG_HAS_VX;
         }
+        if (abs_mode != 0) {
+            const double vx = test_table_get(&log, k, "vx_true");
+            in.vx = (test_table_get(&log, k, "brake") >= 0.5) ? 1.1 * vx : vx;
+            in.has |= RFE_MG_HAS_VX;
+        }
         quantise_input(&in, &inq, &ind);
         sd_st = rfe_mass_grade_step(&md, &ind, &ed);
         sq_st = rfe_mass_grade_step_q31(&mq, &inq, &eq);
@@ -953,6 +1106,8 @@ static void compare_one(const char *name)
         assert_false(rfe_status_is_error(sd_st));
         assert_int_equal(sq_st, sd_st);
         n_slip_paused += (sd_st == RFE_MG_PAUSED_SLIP) ? 1u : 0u;
+        assert_int_equal(mq.slip_latched, md.slip_latched);
+        n_abs_latched += mq.slip_latched;
         ++n_steps;
         assert_int_equal(eq.sat, 0u);
         d = fabs(rfe_fix_to_double(eq.mass, QM) - ed.mass);
@@ -1013,6 +1168,23 @@ static void test_slip_pause_against_double(void **state)
     assert_true(n_slip_paused <= 2u * (SLIP_TO - SLIP_FROM));
 }
 
+/* The ABS gate back to back (REQ-MG-006): car_stop_and_go with the brake and shift bits
+ * (its pause_grade golden's parameters, the gate at its default 0.05) and the wheels 9 %
+ * behind the ground speed on every braked row: the same statuses and latch step by step (the
+ * gate compared exactly in int64 on the Q values, in double on the same values dequantised)
+ * and the estimates within the bounds above (the latched samples hold, a smaller step than
+ * the learning the golden already compares). */
+static void test_abs_gate_against_double(void **state)
+{
+    (void)state;
+    abs_mode = 1;
+    n_abs_latched = 0u;
+    compare_one("car_stop_and_go.pause_grade.csv");
+    abs_mode = 0;
+    printf("q31 vs double with the ABS gate: %zu steps latched\n", n_abs_latched);
+    assert_true(n_abs_latched > 0u);
+}
+
 /* REQ-MG-011 */
 static void test_every_log_against_double(void **state)
 {
@@ -1041,6 +1213,8 @@ int main(void)
         cmocka_unit_test(test_slip_pause_q31),
         cmocka_unit_test(test_curve_pause_q31),
         cmocka_unit_test(test_pause_grade_q31),
+        cmocka_unit_test(test_abs_gate_q31),
+        cmocka_unit_test(test_abs_gate_against_double),
         cmocka_unit_test(test_slip_pause_against_double),
         cmocka_unit_test(test_step_errors_leave_state),
         cmocka_unit_test(test_start_and_restart),
