@@ -249,3 +249,118 @@ def test_feed_table_aggregates_the_seeds(monkeypatch):
     assert "A0.1: 1 / 1; 0 / 1." in text
     # meets: off none of 2; the APF log b on every seed; the SCKF log a misses (0.10 > 0.08)
     assert "off: 0 of 2; A0.1: 1 of 2; S0.1: 0 of 1." in text
+
+
+# Two logs and one before -> after pair per filter for the hold table's tests (the seeded APF
+# over three seeds, the SCKF once), figures decided by hand. Log a, off 0.20 / 0.90 / 50 %:
+# the APF before 0.30 (hurts off), 0.10 (helps off), 0.25 (hurts off) and after 0.10, 0.10,
+# 0.30, so against its own seed's before the change helps on seed 1, is "=" on seed 2 (the same
+# RMSE) and hurts on seed 3 (0.05 higher); the SCKF 0.15 -> 0.07 (helps; after meets). Log b,
+# off 0.10 / 1.00: every APF before 0.05 (helps off, meets), after no valid sample on seed 1
+# and 0.05 on seeds 2 and 3 ("="); the SCKF 0.05 -> 0.05.
+HA, HB = "scenarios/a.csv", "scenarios/b.csv"
+HOLD_PAIRS = [("apf", "A", (0.1, 0.0, 0.0), (0.1, 0.0)),
+              ("sckf", "S", (0.1, 0.0, 0.0), (0.1, 0.0))]
+
+
+def _hold_res():
+    b, f = (0.1, 0.0, 0.0), (0.1, 0.0)
+    res = {(HA, None, None): (0.20, 0.90, 0.50, 0.0), (HB, None, None): (0.10, 1.00, 0.50, 0.0),
+           (HA, "sckf", b): (0.15, 0.95, 0.50, 0.5), (HA, "sckf", f): (0.07, 0.95, 0.50, 0.3),
+           (HB, "sckf", b): (0.05, 1.00, 0.50, 0.5), (HB, "sckf", f): (0.05, 1.00, 0.50, 0.5)}
+    for key, runs in (((HA, "apf", b), ((0.30, 0.80, 0.50, 0.6), (0.10, 0.95, 0.50, 0.4),
+                                        (0.25, 0.90, 0.50, 0.5))),
+                      ((HA, "apf", f), ((0.10, 0.95, 0.50, 0.2), (0.10, 0.95, 0.50, 0.4),
+                                        (0.30, 0.90, 0.50, 0.5))),
+                      ((HB, "apf", b), ((0.05, 1.00, 0.50, 0.5),) * 3),
+                      ((HB, "apf", f), ((None, None, 0.0, 0.1), (0.05, 1.00, 0.50, 0.5),
+                                        (0.05, 1.00, 0.50, 0.5)))):
+        res[key] = runs[0]                           # seed 1: the preset's run, no seed key
+        res[key + (2,)], res[key + (3,)] = runs[1], runs[2]
+    return res
+
+
+def test_hold_table_aggregates_the_seeds_pairing_before_and_after_by_seed(monkeypatch):
+    monkeypatch.setattr(fr, "SEEDS", (1, 2, 3))
+    rows = fr.hold_table([HA, HB], _hold_res(), HOLD_PAIRS, fr.HOLD_WORDS)
+    assert rows[2] == ("| a | 0.200 / 0.250 [0.100–0.300] → 0.100 [0.100–0.300] / 0.150 → 0.070 "
+                       "| 0.90 / 0.90 [0.80–0.95] → 0.95 [0.90–0.95] / 0.95 → 0.95 "
+                       "| 50% / 50% → 50% / 50% → 50% "
+                       "| 50% [40%–60%] → 40% [20%–50%] / 50% → 30% "
+                       "| helps 1/3, hurts 1/3 / helps |")
+    assert rows[3] == ("| b | 0.100 / 0.050 → 0.050 (2 of 3 seeds) / 0.050 → 0.050 "
+                       "| 1.00 / 1.00 → 1.00 (2 of 3 seeds) / 1.00 → 1.00 "
+                       "| 50% / 50% → 50% [0%–50%] / 50% → 50% "
+                       "| 50% → 50% [10%–50%] / 50% → 50% | = (2 of 3 seeds) / = |")
+    text = "\n".join(rows)
+    # against off per seed: before helps 1, 2, 1 and hurts 1, 0, 1; after helps 1, 2, 1 and
+    # hurts 0, 0, 1; the SCKF helps both logs before and after
+    assert "A0.1: 1 [1–2] / 1 [0–1] → 1 [1–2] / 0 [0–1]; S0.1: 2 / 0 → 2 / 0." in text
+    # meets per seed: before log b on every seed; after log b on seeds 2 and 3 only; the SCKF
+    # log b before, both after (0.07 <= 0.08)
+    assert "A0.1: 1 → 1 [0–1]; S0.1: 1 → 2." in text
+    # the hold against no hold per seed: helps 1, 0, 0, hurts 0, 0, 1 (log a)
+    assert "A0.1: 0 [0–1] / 0 [0–1]; S0.1: 1 / 0." in text
+    assert "Seeds: the APF's pairs (A0.1) are run with tid_seed 1, 2, 3" in text
+    # log a helped on some seeds and hurt on some; log b on none
+    assert rows[-1].endswith("A0.1: 0 / 1; 0 / 1.")
+
+
+def test_hold_table_of_one_seed_is_the_single_run_table(monkeypatch):
+    """With one seed every cell is the run's figure and the verdicts words, as the tables
+    were before the seeds (no range, no seed sentence)."""
+    monkeypatch.setattr(fr, "SEEDS", (1,))
+    rows = fr.hold_table([HA, HB], _hold_res(), HOLD_PAIRS, fr.HOLD_WORDS)
+    assert rows[2] == ("| a | 0.200 / 0.300 → 0.100 / 0.150 → 0.070 | 0.90 / 0.80 → 0.95 / "
+                       "0.95 → 0.95 | 50% / 50% → 50% / 50% → 50% | 60% → 20% / 50% → 30% "
+                       "| helps / helps |")
+    assert rows[3] == ("| b | 0.100 / 0.050 → – / 0.050 → 0.050 | 1.00 / 1.00 → – / "
+                       "1.00 → 1.00 | 50% / 50% → 0% / 50% → 50% | 50% → 10% / 50% → 50% "
+                       "| – / = |")
+    assert len(rows) == 6 and rows[4] == ""
+    # seed 1 against off: before helps b, hurts a (0.30); after helps a, b has no verdict
+    assert rows[5].endswith("A0.1: 1 / 1 → 1 / 0; S0.1: 2 / 0 → 2 / 0. Meets issue 20's "
+                            "targets: A0.1: 1 → 0; S0.1: 1 → 2. The hold against no hold, "
+                            "helps / hurts: A0.1: 1 / 0; S0.1: 1 / 0.")
+
+
+def test_change_cell_counts_the_seeds_with_a_verdict():
+    assert fr.change_cell([True], [False], 1) == "helps"
+    assert fr.change_cell([False], [True], 1) == "hurts"
+    assert fr.change_cell([False], [False], 1) == "="
+    assert fr.change_cell([None], [None], 1) == "–"
+    assert fr.change_cell([True, False, None], [False, True, None], 3) == "helps 1/2, hurts 1/2"
+    assert fr.change_cell([False] * 5, [True] * 5, 5) == "hurts 5/5"
+    assert fr.change_cell([False] * 5, [False] * 5, 5) == "="
+    assert fr.change_cell([None] * 3, [None] * 3, 3) == "–"
+
+
+class _Reads(dict):
+    """A run table that records every key a table reads."""
+
+    def __init__(self, *a):
+        super().__init__(*a)
+        self.read = set()
+
+    def __getitem__(self, key):
+        self.read.add(key)
+        return super().__getitem__(key)
+
+
+def test_the_jobs_are_exactly_the_runs_the_four_tables_read(monkeypatch):
+    """Every run main() starts is read by a table and every run a table reads is started, each
+    once: the seeded filter's runs once per seed in every table, the rest once."""
+    monkeypatch.setattr(fr, "SEEDS", (1, 2, 3))
+    names = [HA, HB]
+    jobs = fr.all_jobs(names)
+    assert len(jobs) == len(set(jobs))
+    res = _Reads((j, (0.1, 0.9, 0.5, 0.5)) for j in jobs)
+    fr.feed_table(names, res)
+    fr.hold_table(names, res)
+    fr.hold_table(names, res, fr.ellipse_columns(), fr.ELLIPSE_WORDS)
+    fr.hold_table(names, res, fr.ellipse_columns(fr.BAND), fr.BAND_WORDS)
+    assert res.read == set(jobs)
+    # per log: off, and per filter the first table's 4 feeds, the hold's 2 unheld feeds, the
+    # ellipse's and the band's 4 each; the APF's on each of the 3 seeds
+    per_filter = len(fr.FEEDS) + len(fr.HOLD_FEEDS) + 2 * 2 * len(fr.HOLD_FEEDS)
+    assert len(jobs) == len(names) * (1 + per_filter * (3 + 1))

@@ -35,8 +35,11 @@ over the seeds and [min-max] where the seeds differ; its helps (hurts) cell coun
 which the feed helps (hurts); the counts (helps, hurts, meets) are counted per seed and given as
 the median and [min-max] over the seeds. The SCKF is deterministic: one run.
 Every fed run of that table has tid_feed_ax_max at its default (0.5 m/s^2: no curve fed after
-a sample whose |ax| exceeds it, braking or driving). The other tables use the preset's seed
-only. A second table, "before -> after", sets each filter's ungated feeds of HOLD_FEEDS once
+a sample whose |ax| exceeds it, braking or driving). The other three tables run their APF
+pairs over the same seeds, each seed's "before" and "after" from the same seed: their cells
+give the median and [min-max] over the seeds, their verdict cells the number of seeds on
+which the change helps (hurts) against the "before" of the same seed, their counts per seed
+as the median and [min-max]. A second table, "before -> after", sets each filter's ungated feeds of HOLD_FEEDS once
 with tid_feed_ax_max = 0 (no hold: before) and
 once at the default (after), with the same rules and, per log, the verdict of the hold against
 the run without it ("helps" / "hurts" as above with the unheld run as the base).
@@ -85,9 +88,9 @@ HOLD_OFF = 0.0  # tid_feed_ax_max of the "before" runs: no hold
 ELLIPSE_ON = 1.0  # tid_ellipse of the ellipse table's "after" runs (TYRE_ID.md section 3.5)
 NO_BAND = 0.0  # tid_ell_ax_min of the third table's runs: the ellipse without its dead band
 BAND = 0.6  # tid_ell_ax_min of the fourth table's runs: the key's default (TYRE_ID.md section 2)
-SEEDS = (1, 2, 3, 4, 5)  # tid_seed of each seeded filter's runs in the first table; the first is
-# the preset's (RFE_TID_SEED_DEFAULT), the only run of the other three tables and of SEEDS[0]'s
-# key; five draws keep the make target near 10 min on 2 cores (docs/TYRE_ID_RESULTS.md)
+SEEDS = (1, 2, 3, 4, 5)  # tid_seed of each seeded filter's runs in every table; the first is
+# the preset's (RFE_TID_SEED_DEFAULT), its runs keyed without a seed; five draws over the four
+# tables take the make target to about 25 min on 2 shared cores (docs/TYRE_ID_RESULTS.md)
 SEEDED = ("apf",)  # the filters of FILTERS with a random stream; the SCKF is deterministic
 
 
@@ -205,45 +208,116 @@ BAND_WORDS = ("the feed without the friction ellipse (tid_ellipse 0) → with it
 
 def hold_table(names, res, pairs=None, words=HOLD_WORDS):
     """The before -> after table's lines (the docstring's second table; with @p pairs and
-    @p words, the third) from the runs @p res."""
+    @p words, the third and the fourth) from the runs @p res (keys as seed_runs reads them):
+    per log and pair the figures over the seeds, before and after, and the verdict of the
+    change; per pair the counts per seed, given as median [min-max] (one run: as it is)."""
     pairs = hold_columns() if pairs is None else pairs
     heads = " / ".join(f"{label(b, letter)} → {label(f, letter)}" for _, letter, b, f in pairs)
     rows = [f"| log | RMSE when valid: off / {heads} | consistency when valid: off / {heads} "
             f"| valid: off / {heads} | fed: {heads} | {words[1]} helps / hurts against "
             f"{words[2]} |",
             "|---|---|---|---|---|---|"]
-    vs_off = {p: [[0, 0], [0, 0]] for p in pairs}  # per pair, before and after: helps, hurts
-    met = {p: [0, 0] for p in pairs}
-    hold = {p: [0, 0] for p in pairs}
+    nseed = {p: (len(SEEDS) if p[0] in SEEDED else 1) for p in pairs}
+    vs_off = {p: (Tally(nseed[p]), Tally(nseed[p])) for p in pairs}  # before, after against off
+    change = {p: Tally(nseed[p]) for p in pairs}  # after against before, seed by seed
     for log in names:
         base = res[(log, None, None)]
         cells = [[cell(base[0], ".3f")], [cell(base[1], ".2f")], [cell(base[2], ".0%")], [], []]
         for p in pairs:
-            b, a = res[(log, p[0], p[2])], res[(log, p[0], p[3])]
-            cells[0].append(f"{cell(b[0], '.3f')} → {cell(a[0], '.3f')}")
-            cells[1].append(f"{cell(b[1], '.2f')} → {cell(a[1], '.2f')}")
-            cells[2].append(f"{cell(b[2], '.0%')} → {cell(a[2], '.0%')}")
-            cells[3].append(f"{b[3]:.0%} → {a[3]:.0%}")
-            h, u = helps(b, a), hurts(b, a)
-            hold[p][0] += 1 if h else 0
-            hold[p][1] += 1 if u else 0
-            cells[4].append("–" if h is None else ("helps" if h else ("hurts" if u else "=")))
-            for k, r in enumerate((b, a)):
-                vs_off[p][k][0] += 1 if helps(base, r) else 0
-                vs_off[p][k][1] += 1 if hurts(base, r) else 0
-                met[p][k] += 1 if meets(r) else 0
+            b, a = seed_runs(res, log, p[0], p[2]), seed_runs(res, log, p[0], p[3])
+            for i, fmt in ((0, ".3f"), (1, ".2f"), (2, ".0%"), (3, ".0%")):
+                cells[i].append(f"{seed_cell([r[i] for r in b], fmt)} → "
+                                f"{seed_cell([r[i] for r in a], fmt)}")
+            vs_off[p][0].add([base], b)
+            vs_off[p][1].add([base], a)
+            cells[4].append(change_cell(*change[p].add(b, a), len(a)))
         name = log[len("scenarios/"):-len(".csv")]
         rows.append(f"| {name} | " + " | ".join(" / ".join(c) for c in cells) + " |")
     rows.append("")
     rows.append(f"Before → after: {words[0]}. Helps / hurts against off: "
-                + "; ".join(f"{label(p[3], p[1])}: {vs_off[p][0][0]} / {vs_off[p][0][1]} → "
-                            f"{vs_off[p][1][0]} / {vs_off[p][1][1]}" for p in pairs)
+                + "; ".join(f"{label(p[3], p[1])}: {vs_off[p][0].count(0)} / "
+                            f"{vs_off[p][0].count(2)} → {vs_off[p][1].count(0)} / "
+                            f"{vs_off[p][1].count(2)}" for p in pairs)
                 + ". Meets issue 20's targets: "
-                + "; ".join(f"{label(p[3], p[1])}: {met[p][0]} → {met[p][1]}" for p in pairs)
+                + "; ".join(f"{label(p[3], p[1])}: {vs_off[p][0].count(3)} → "
+                            f"{vs_off[p][1].count(3)}" for p in pairs)
                 + f". {words[1][0].upper()}{words[1][1:]} against {words[2]}, helps / hurts: "
-                + "; ".join(f"{label(p[3], p[1])}: {hold[p][0]} / {hold[p][1]}" for p in pairs)
+                + "; ".join(f"{label(p[3], p[1])}: {change[p].count(0)} / {change[p].count(2)}"
+                            for p in pairs)
                 + ".")
+    seeded = [p for p in pairs if nseed[p] > 1]
+    if seeded:
+        rows.append("")
+        rows.append(f"Seeds: the APF's pairs ({', '.join(label(p[3], p[1]) for p in seeded)}) "
+                    f"are run with tid_seed {', '.join(str(sd) for sd in SEEDS)}, each seed's "
+                    "before and after from the same seed, and their cells are the median over "
+                    "the seeds with [min–max] where they differ, as in the first table; their "
+                    f"verdict cells count the seeds on which {words[1]} helps or hurts against "
+                    f"{words[2]} on the same seed, of those with a verdict (\"=\": neither on "
+                    "any). "
+                    "The SCKF and off are deterministic: one run each. The counts above give "
+                    "per pair the median over the seeds and [min–max] where they differ.")
+        rows.append("")
+        rows.append(f"Per log over the seeds with a verdict ({words[1]} against {words[2]}: "
+                    "logs it helps on every such seed / on some but not all; hurts on every "
+                    "such seed / on some but not all): "
+                    + "; ".join(f"{label(p[3], p[1])}: {change[p].every_cell()}"
+                                for p in seeded) + ".")
     return rows
+
+
+def change_cell(h, u, nseeds):
+    """The verdict cell of a before -> after pair from its verdicts per seed @p h (helps) and
+    @p u (hurts): one run "helps", "hurts", "=" or "–" (no verdict); over several seeds "helps
+    k/n" and "hurts j/n" (n the seeds with a verdict) where k, j > 0, else "=" (with "(n of
+    @p nseeds seeds)" where some have none)."""
+    nh, nu, nv = verdict_counts(h, u)
+    if nv == 0:
+        return "–"
+    if nseeds == 1:
+        return "helps" if h[0] else ("hurts" if u[0] else "=")
+    out = [f"{word} {n}/{nv}" for word, n in (("helps", nh), ("hurts", nu)) if n]
+    return ", ".join(out) if out else "=" + (f" ({nv} of {nseeds} seeds)" if nv < nseeds
+                                             else "")
+
+
+def verdict_counts(h, u):
+    """(seeds helped, seeds hurt, seeds with a verdict) of the verdicts per seed @p h, @p u."""
+    return (sum(1 for x in h if x), sum(1 for x in u if x), sum(1 for x in h if x is not None))
+
+
+class Tally:
+    """A column's counts over the logs, per seed: [helps, logs with a verdict, hurts, meets,
+    logs with a valid sample] (seed), and over the seeds, per log: [helped on every seed with a
+    verdict, on some but not all, hurt on every such seed, on some but not all] (every)."""
+
+    def __init__(self, nseeds):
+        self.seed = [[0, 0, 0, 0, 0] for _ in range(nseeds)]
+        self.every = [0, 0, 0, 0]
+
+    def add(self, bases, runs):
+        """Counts one log's @p runs (one per seed) against @p bases (one per seed, or a single
+        base for every seed); returns the verdicts per seed (helps, hurts)."""
+        bases = bases if len(bases) == len(runs) else bases * len(runs)
+        h = [helps(b, r) for b, r in zip(bases, runs)]
+        u = [hurts(b, r) for b, r in zip(bases, runs)]
+        for k, r in enumerate(runs):
+            mk = meets(r)
+            for i, x in enumerate((h[k], h[k] is not None, u[k], mk, mk is not None)):
+                self.seed[k][i] += 1 if x else 0
+        nh, nu, nv = verdict_counts(h, u)
+        if nv:
+            self.every[0 if nh == nv else 1] += 1 if nh else 0
+            self.every[2 if nu == nv else 3] += 1 if nu else 0
+        return h, u
+
+    def count(self, i):
+        """The count @p i (an index of seed) as count_cell gives it over the seeds."""
+        return count_cell([k[i] for k in self.seed])
+
+    def every_cell(self):
+        e = self.every
+        return f"{e[0]} / {e[1]}; {e[2]} / {e[3]}"
 
 
 def spread(xs):
@@ -281,10 +355,30 @@ def seed_runs(res, log, flt, feed):
     return [first] + [res[(log, flt, feed, sd)] for sd in SEEDS[1:]] if flt in SEEDED else [first]
 
 
-def seed_jobs(names):
-    """The first table's runs beyond the preset's seed: (log, filter, feed, seed)."""
-    return [(log, c[0], c[2], sd) for log in names for c in columns() if c[0] in SEEDED
+def seed_jobs(names, specs=None):
+    """The runs beyond the preset's seed of the (filter, feed) pairs @p specs (default: the
+    first table's columns) on each log: (log, filter, feed, seed), for a filter of SEEDED."""
+    specs = [(c[0], c[2]) for c in columns()] if specs is None else specs
+    return [(log, flt, feed, sd) for log in names for flt, feed in specs if flt in SEEDED
             for sd in SEEDS[1:]]
+
+
+def table_specs():
+    """Every (filter, feed) that the four tables read, each once: the first table's columns,
+    the hold table's "before" runs, the ellipse's and the band's "after" runs (their "before"
+    runs are among the first two)."""
+    specs = [(c[0], c[2]) for c in columns()] + [(p[0], p[2]) for p in hold_columns()]
+    specs += [(p[0], p[3]) for p in ellipse_columns() + ellipse_columns(BAND)]
+    return list(dict.fromkeys(specs))
+
+
+def all_jobs(names):
+    """Every run of the four tables: each log without the identifier, and each (filter, feed)
+    of table_specs with the preset's seed and, for a filter of SEEDED, each further seed."""
+    specs = table_specs()
+    return ([(log, None, None) for log in names]
+            + [(log, flt, feed) for log in names for flt, feed in specs]
+            + seed_jobs(names, specs))
 
 
 def feed_table(names, res):
@@ -297,11 +391,8 @@ def feed_table(names, res):
     rows = [f"| log | RMSE when valid: off / {feeds} | consistency when valid: off / {feeds} "
             f"| valid: off / {feeds} | fed: {feeds} | helps: {feeds} | hurts: {feeds} |",
             "|---|---|---|---|---|---|---|"]
-    nseed = {c: (len(SEEDS) if c[0] in SEEDED else 1) for c in cols}
-    count = {c: [[0, 0, 0] for _ in range(nseed[c])] for c in cols}  # per seed: helps, of, hurts
-    met = {c: [[0, 0] for _ in range(nseed[c])] for c in cols}
+    tally = {c: Tally(len(SEEDS) if c[0] in SEEDED else 1) for c in cols}
     met_off = [0, 0]
-    every = {c: [0, 0, 0, 0] for c in cols}  # logs helped on every seed, on some; hurt: the same
     for log in names:
         base = res[(log, None, None)]
         m = meets(base)
@@ -310,20 +401,8 @@ def feed_table(names, res):
         per = [seed_runs(res, log, c[0], c[2]) for c in cols]
         hcells, ucells = [], []
         for c, runs in zip(cols, per):
-            h = [helps(base, r) for r in runs]
-            u = [hurts(base, r) for r in runs]
-            for k, r in enumerate(runs):
-                count[c][k][0] += 1 if h[k] else 0
-                count[c][k][1] += 1 if h[k] is not None else 0
-                count[c][k][2] += 1 if u[k] else 0
-                mk = meets(r)
-                met[c][k][0] += 1 if mk else 0
-                met[c][k][1] += 1 if mk is not None else 0
-            nh, nu, nv = sum(1 for x in h if x), sum(1 for x in u if x), sum(1 for x in h
-                                                                            if x is not None)
-            if nv:
-                every[c][0 if nh == nv else 1] += 1 if nh else 0
-                every[c][2 if nu == nv else 3] += 1 if nu else 0
+            h, u = tally[c].add([base], runs)
+            nh, nu, nv = verdict_counts(h, u)
             if len(runs) == 1:
                 hcells.append("–" if h[0] is None else ("yes" if h[0] else "no"))
                 ucells.append("–" if u[0] is None else ("yes" if u[0] else "no"))
@@ -350,26 +429,23 @@ def feed_table(names, res):
                 "their helps and hurts cells the number of seeds on which the feed helps or "
                 "hurts, of those with a verdict. The SCKF and off are deterministic: one run "
                 "each. The counts below give per column the median over the seeds and "
-                "[min–max] where they differ; the other "
-                f"tables of this section use seed {SEEDS[0]} only.")
+                "[min–max] where they differ. The hold, ellipse and band tables below run "
+                "their APF pairs over the same seeds.")
     rows.append("")
     rows.append("Helps / hurts (of the logs with valid samples both ways): "
-                + "; ".join(f"{lab}: {count_cell([k[0] for k in count[c]])} / "
-                            f"{count_cell([k[2] for k in count[c]])} of "
-                            f"{count_cell([k[1] for k in count[c]])}"
-                            for lab, c in zip(labels, cols)) + ".")
+                + "; ".join(f"{lab}: {tally[c].count(0)} / {tally[c].count(2)} of "
+                            f"{tally[c].count(1)}" for lab, c in zip(labels, cols)) + ".")
     rows.append("")
     rows.append("Per log over the seeds with a verdict (logs on which the feed helps on every "
                 "such seed / on some but not all; hurts on every such seed / on some but not "
                 "all): "
-                + "; ".join(f"{lab}: {every[c][0]} / {every[c][1]}; {every[c][2]} / {every[c][3]}"
+                + "; ".join(f"{lab}: {tally[c].every_cell()}"
                             for lab, c in zip(labels, cols) if c[0] in SEEDED) + ".")
     rows.append("")
     rows.append(f"Meets issue 20's targets (RMSE when valid <= {RMSE_TARGET:g}, consistency "
                 f"when valid >= {CONS_TARGET:g}; of the logs with valid samples): "
                 f"off: {met_off[0]} of {met_off[1]}; "
-                + "; ".join(f"{lab}: {count_cell([k[0] for k in met[c]])} of "
-                            f"{count_cell([k[1] for k in met[c]])}"
+                + "; ".join(f"{lab}: {tally[c].count(3)} of {tally[c].count(4)}"
                             for lab, c in zip(labels, cols)) + ".")
     return rows
 
@@ -387,13 +463,7 @@ def main():
     if not os.access(a.mu_replay, os.X_OK):
         raise SystemExit(f"tyre_id_feed_results: {a.mu_replay} not found: run make first")
     names = logs()
-    cols = columns()
-    jobs = [(log, None, None) for log in names] + [(log, c[0], c[2]) for log in names
-                                                   for c in cols]
-    jobs += seed_jobs(names)
-    jobs += [(log, p[0], p[2]) for log in names for p in hold_columns()]
-    jobs += [(log, p[0], p[3]) for log in names for p in ellipse_columns()]
-    jobs += [(log, p[0], p[3]) for log in names for p in ellipse_columns(BAND)]
+    jobs = all_jobs(names)
     done = [0]
     t0 = time.monotonic()
 
