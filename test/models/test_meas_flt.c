@@ -207,6 +207,15 @@ static void test_meas_perturbed_args(void **state)
     assert_int_equal(rfe_meas_eval_perturbed(&h, &p.vehicle, &p.tyre, &nom, &u, (size_t)RFE_INPUTS, RFE_R(0.1), mu, z), RFE_ERR_PARAM);
     assert_int_equal(rfe_meas_eval_perturbed(&h, &p.vehicle, &p.tyre, &nom, &u, RFE_IN_VX, (rfe_real_t)NAN, mu, z), RFE_ERR_NONFINITE);
     assert_memory_equal(z, z7, sizeof(z));
+    /* a non-finite friction at a wheel the input reaches: the tyre's check fails the call,
+     * z untouched (since issue 21 the step noise no longer perturbs, so this is its test) */
+    {
+        rfe_real_t mu_bad[4];
+        memcpy(mu_bad, mu, sizeof(mu_bad));
+        mu_bad[2] = (rfe_real_t)NAN;
+        assert_int_equal(rfe_meas_eval_perturbed(&h, &p.vehicle, &p.tyre, &nom, &u, RFE_IN_VX, RFE_R(0.1), mu_bad, z), RFE_ERR_NONFINITE);
+        assert_memory_equal(z, z7, sizeof(z));
+    }
     /* paper mode: z as rfe_meas_eval, the terms untouched */
     p.tyre.mode = RFE_TYRE_PAPER;
     assert_int_equal(rfe_meas_setup(&h, &p.vehicle, &p.tyre, &u), RFE_OK);
