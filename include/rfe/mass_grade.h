@@ -116,6 +116,8 @@ typedef struct {
     uint32_t has_gear;                /**< nonzero once a sample gave a gear */
     uint32_t slip_latched;            /**< the ABS gate's latch (§4.2, pause_grade_slip): the
                                            wheels slipped in this pause, which then holds */
+    uint32_t v_free;                  /**< v uncorrelated with M: the last accepted sample was a
+                                           start or a paused one (§4.2, pause_grade) */
     rfe_mass_grade_estimate_t last;   /**< the output of the last step */
 } rfe_mass_grade_t;
 

@@ -93,6 +93,8 @@ typedef struct {
     int32_t gear;                            /**< the last gear given */
     uint32_t has_gear;                       /**< nonzero once a sample gave a gear */
     uint32_t slip_latched;                   /**< the ABS gate's latch (pause_grade_slip) */
+    uint32_t v_free;                         /**< v uncorrelated with M: the last accepted sample
+                                                  was a start or a paused one (pause_grade) */
     uint32_t sat;                            /**< saturations since init (stops at UINT32_MAX) */
     rfe_mass_grade_estimate_q31_t last;      /**< the output of the last step */
 } rfe_mass_grade_q31_t;

@@ -324,6 +324,7 @@ class MassGrade:
         self.curve_left = 0.0       # pause left after the last sample over mg_ay_max, s
         self.gear = s.gear
         self.slip_latched = False   # the ABS gate's latch (§4.2)
+        self.v_free = True          # v uncorrelated with M: a start or a paused sample last (§4.2)
         self.started = True
 
     def _estimate(self, status):
@@ -384,7 +385,7 @@ class MassGrade:
 
     # -- the square-root form (the C library's steps, mass_grade_flt.c) ------------------------
     _SAVED = ("x", "S", "q_mv", "adapt_elapsed", "m_adapt", "brake_left", "shift_left",
-              "curve_left", "gear", "started", "slip_latched")
+              "curve_left", "gear", "started", "slip_latched", "v_free")
 
     def _step_sqrt(self, s):
         """As step(), in the square-root form: the work on a copy of the state, restored on an
@@ -394,7 +395,8 @@ class MassGrade:
         saved = {k: getattr(self, k, None) for k in self._SAVED}
         saved["x"] = list(saved["x"]) if saved["x"] is not None else None
         saved["S"] = [list(r) for r in saved["S"]] if saved["S"] is not None else None
-        if not self.started or s.t - self.t_prev > p["mg_dt_max"]:
+        started = not self.started or s.t - self.t_prev > p["mg_dt_max"]
+        if started:
             self._start(s)
             status = self._pause_status(s, 0.0)
             self._slip_latch(s, status)
@@ -424,6 +426,11 @@ class MassGrade:
                                   math.nan, st)
             return self._estimate(st)
         self.sd = sd
+        # §4.2 v uncorrelated with M after a start or a paused sample (the hold sets S_Mv = 0,
+        # the grade from ax keeps it), not after an update: decided from what the sample did,
+        # not by S_Mv == 0, which an update's rounding can reach in one number type only
+        # (C: rfe_mg_v_free)
+        self.v_free = started or status != OK
         self.t_prev, self.torque_prev = s.t, s.torque
         return self._estimate(status)
 
@@ -443,10 +450,11 @@ class MassGrade:
 
     def _pause_grade(self, status):
         """§4.2: the pause @status keeps learning the grade from ax (its bit of mg_pause_grade
-        set) and v is uncorrelated with M (S_Mv = 0, as after a hold or a start; so the first
-        sample of a pause that follows an update holds as before and the next ones learn)."""
+        set) and v is uncorrelated with M (v_free: the last accepted sample was a start or a
+        paused one, which leave S_Mv = 0; so the first sample of a pause that follows an update
+        holds as before and the next ones learn)."""
         bit = PAUSE_GRADE_BITS.get(status, 0)
-        return (int(self.p["mg_pause_grade"]) & bit) != 0 and self.S[1][0] == 0.0
+        return (int(self.p["mg_pause_grade"]) & bit) != 0 and self.v_free
 
     def _slip_latch(self, s, status):
         """§4.2 the ABS gate of the grade from ax in a pause: the latch is set at a paused

@@ -383,6 +383,36 @@ def test_pause_grade_learns_the_grade_and_holds_the_mass():
     assert o.status == mg.NO_UPDATE_LOW_SPEED and o.grade == g0
 
 
+def test_pause_grade_decides_v_free_from_the_last_sample_not_from_s_mv():
+    # §4.2 "v uncorrelated with M" is what the last accepted sample did (a start or a paused
+    # sample: v_free; C rfe_mg_v_free), never the value of S_Mv, which an update's rounding
+    # can bring to 0 in one number type only (the Q31 twin's Q14 mass row on the noise-free
+    # ABS logs, FIXED_POINT.md "Mass and grade"): after updates, with S_Mv forced to exactly
+    # 0, the first braked sample still holds (v = the measured speed, S_vv = r_v, theta
+    # kept) and the next learns; after a start on a sample that is not paused, the first
+    # braked sample learns.
+    theta = 0.05
+    brake = lambda t, k: mg.MgSample(t, 20.0 - 0.04 * k, -2000.0, brake=1.0,
+                                     ax=-2.0 + 9.81 * math.sin(theta))
+    est = mg.MassGrade(mg.preset(mg_use_ax=1.0, mg_adaptive=0.0, mg_pause_grade=1.0))
+    for k in range(50):
+        assert est.step(mg.MgSample(0.02 * k, 20.0, 300.0, ax=0.1)).status == mg.OK
+    assert not est.v_free and est.S[1][0] != 0.0
+    est.S[1][0] = 0.0
+    g0 = est.x[2]
+    o = est.step(brake(1.0, 0))
+    assert o.status == mg.PAUSED_BRAKE and o.grade == g0
+    assert est.x[0] == 20.0 and est.S[0][0] == est.p["mg_r_v"] and est.v_free
+    o = est.step(brake(1.02, 1))
+    assert o.status == mg.PAUSED_BRAKE and o.grade != g0
+    # a start (the gap beyond mg_dt_max) on a cruise sample: status 0 and v_free
+    assert est.step(mg.MgSample(100.0, 20.0, 300.0, ax=0.1)).status == mg.OK
+    assert est.v_free
+    g0 = est.x[2]
+    o = est.step(brake(100.02, 0))
+    assert o.status == mg.PAUSED_BRAKE and o.grade != g0
+
+
 def test_abs_gate_holds_the_rest_of_a_pause_whose_wheels_slip():
     # §4.2 mg_pause_grade_slip: with the brake bit, a brake pause whose wheels cycle as under
     # ABS (vx given, 6 samples 12 % behind it, 4 samples 1 %) holds from its first slipping

@@ -300,14 +300,15 @@ static rfe_status_t grade_from_ax(rfe_mass_grade_t *o, const rfe_mass_grade_inpu
 }
 
 /* §4.2 a paused sample: the grade from ax where pause_grade sets the pause's bit, v is
- * uncorrelated with M (S_Mv = 0) and the wheels have not slipped in this pause (the ABS
+ * uncorrelated with M (the last accepted sample a start or a paused one, v_free; then
+ * S_Mv = 0 in every number type) and the wheels have not slipped in this pause (the ABS
  * gate's latch clear), else the hold. */
 static rfe_status_t paused(rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in,
                            rfe_status_t status)
 {
     rfe_status_t st;
-    if (rfe_mg_grade_in_pause(status, (uint32_t)o->p.pause_grade,
-                              (o->S[3] == RFE_R(0.0)) ? 1 : 0, o->slip_latched) != 0) {
+    if (rfe_mg_grade_in_pause(status, (uint32_t)o->p.pause_grade, o->v_free,
+                              o->slip_latched) != 0) {
         st = grade_from_ax(o, in, in->dt);
     } else {
         st = hold(o, in, in->dt);
@@ -473,6 +474,7 @@ rfe_status_t rfe_mass_grade_step(rfe_mass_grade_t *mg, const rfe_mass_grade_inpu
     rfe_mass_grade_t o;
     rfe_status_t st;
     rfe_status_t status = RFE_OK;
+    rfe_mg_plan_t plan = RFE_MG_PLAN_STEP;
     if ((mg == NULL) || (in == NULL) || (out == NULL)) {
         return RFE_ERR_NULL;
     }
@@ -484,6 +486,7 @@ rfe_status_t rfe_mass_grade_step(rfe_mass_grade_t *mg, const rfe_mass_grade_inpu
     if ((st == RFE_OK) &&
         (rfe_mg_plan(o.started, (in->dt > o.p.dt_max) ? 1 : 0) == RFE_MG_PLAN_START)) {
         start_filter(&o, in); /* §4.1: a first sample or a gap the model cannot bridge */
+        plan = RFE_MG_PLAN_START;
         status = pause_status(&o, in, RFE_R(0.0));
     } else if (st == RFE_OK) {
         status = pause_status(&o, in, in->dt);
@@ -506,6 +509,7 @@ rfe_status_t rfe_mass_grade_step(rfe_mass_grade_t *mg, const rfe_mass_grade_inpu
     }
     o.started = 1u;
     o.torque_prev = in->torque;
+    o.v_free = rfe_mg_v_free(plan, status);
     *mg = o;
     *out = o.last;
     return status;

@@ -101,14 +101,27 @@ static inline uint32_t rfe_mg_slip_latch(rfe_status_t status, uint32_t latched, 
     return ((status != RFE_OK) && ((latched != 0u) || (slipping != 0))) ? 1u : 0u;
 }
 
+/** §4.2 v uncorrelated with M after an accepted sample: after a start (@p plan
+ *  RFE_MG_PLAN_START: S diagonal) or a paused sample (@p status not RFE_OK: the hold sets
+ *  S_Mv = 0, the grade from ax runs only from S_Mv = 0 and keeps S's mass row), 1; after the
+ *  filter's update (status RFE_OK), 0, whatever S_Mv it left. Decided from what the sample
+ *  did, not by testing S_Mv == 0, because an update's S_Mv rounds to 0 in one number type and
+ *  not in another (the Q14 mass row of the Q31 twin: FIXED_POINT.md "Mass and grade"), so
+ *  the twins would take different pauses' first samples for learned ones. */
+static inline uint32_t rfe_mg_v_free(rfe_mg_plan_t plan, rfe_status_t status)
+{
+    return ((plan == RFE_MG_PLAN_START) || (status != RFE_OK)) ? 1u : 0u;
+}
+
 /** §4.2 the pause kind: in a pause @p status whose bit (RFE_MG_PAUSE_GRADE_*) is set in
- *  @p pause_grade, with v uncorrelated with M (@p v_free: S_Mv == 0, as after a hold or a
- *  start) and the ABS gate's latch clear (@p slip_latched == 0, rfe_mg_slip_latch), the
- *  grade keeps being learned from ax with M held (1); else the hold (0). So the first sample
- *  of a pause that follows an update holds, the next ones learn, and once the wheels slipped
- *  beyond pause_grade_slip the rest of the pause holds. */
-static inline int rfe_mg_grade_in_pause(rfe_status_t status, uint32_t pause_grade, int v_free,
-                                        uint32_t slip_latched)
+ *  @p pause_grade, with v uncorrelated with M (@p v_free: rfe_mg_v_free of the previous
+ *  accepted sample, i.e. it was a start or a paused sample, not an update) and the ABS gate's
+ *  latch clear (@p slip_latched == 0, rfe_mg_slip_latch), the grade keeps being learned from
+ *  ax with M held (1); else the hold (0). So the first sample of a pause that follows an
+ *  update holds, the next ones learn, and once the wheels slipped beyond pause_grade_slip the
+ *  rest of the pause holds. */
+static inline int rfe_mg_grade_in_pause(rfe_status_t status, uint32_t pause_grade,
+                                        uint32_t v_free, uint32_t slip_latched)
 {
     uint32_t bit = 0u;
     if (status == RFE_MG_PAUSED_BRAKE) {
@@ -120,7 +133,7 @@ static inline int rfe_mg_grade_in_pause(rfe_status_t status, uint32_t pause_grad
     } else {
         /* the slip pause (v is the wheels', not the car's) and the low speed: the hold */
     }
-    return (((pause_grade & bit) != 0u) && (v_free != 0) && (slip_latched == 0u)) ? 1 : 0;
+    return (((pause_grade & bit) != 0u) && (v_free != 0u) && (slip_latched == 0u)) ? 1 : 0;
 }
 
 #endif /* RFE_MASS_GRADE_LOGIC_H */

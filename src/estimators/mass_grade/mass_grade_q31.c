@@ -337,13 +337,14 @@ static rfe_status_t grade_from_ax_q31(rfe_mass_grade_q31_t *o, const rfe_mass_gr
 }
 
 /* §4.2 a paused sample: the grade from ax where pause_grade sets the pause's bit, v is
- * uncorrelated with M (S_Mv = 0) and the ABS gate's latch is clear, else the hold. */
+ * uncorrelated with M (the last accepted sample a start or a paused one, v_free: not a
+ * test of S_Mv = 0, which an update's Q14 mass row can reach by rounding alone) and the ABS
+ * gate's latch is clear, else the hold. */
 static rfe_status_t paused_q31(rfe_mass_grade_q31_t *o, const rfe_mass_grade_input_q31_t *in,
                                rfe_status_t status, uint32_t *sat)
 {
     rfe_status_t st;
-    if (rfe_mg_grade_in_pause(status, o->p.pause_grade, (o->S[3] == 0) ? 1 : 0,
-                              o->slip_latched) != 0) {
+    if (rfe_mg_grade_in_pause(status, o->p.pause_grade, o->v_free, o->slip_latched) != 0) {
         st = grade_from_ax_q31(o, in, in->dt, sat);
     } else {
         st = hold_q31(o, in, in->dt, sat);
@@ -541,6 +542,7 @@ rfe_status_t rfe_mass_grade_step_q31(rfe_mass_grade_q31_t *mg, const rfe_mass_gr
     uint32_t sat = 0u;
     rfe_status_t st;
     rfe_status_t status = RFE_OK;
+    rfe_mg_plan_t plan = RFE_MG_PLAN_STEP;
     if ((mg == NULL) || (in == NULL) || (out == NULL)) {
         return RFE_ERR_NULL;
     }
@@ -552,6 +554,7 @@ rfe_status_t rfe_mass_grade_step_q31(rfe_mass_grade_q31_t *mg, const rfe_mass_gr
     if ((st == RFE_OK) &&
         (rfe_mg_plan(o.started, (in->dt > o.p.dt_max) ? 1 : 0) == RFE_MG_PLAN_START)) {
         start_filter_q31(&o, in); /* §4.1: a first sample or a gap the model cannot bridge */
+        plan = RFE_MG_PLAN_START;
         status = pause_status_q31(&o, in, 0);
     } else if (st == RFE_OK) {
         status = pause_status_q31(&o, in, in->dt);
@@ -567,6 +570,7 @@ rfe_status_t rfe_mass_grade_step_q31(rfe_mass_grade_q31_t *mg, const rfe_mass_gr
     }
     o.started = 1u;
     o.torque_prev = in->torque;
+    o.v_free = rfe_mg_v_free(plan, status);
     rfe_q31_sat_add(&o.sat, sat);
     estimate_of_q31(&o, status, sat, &o.last);
     *mg = o;

@@ -756,6 +756,53 @@ static void test_pause_grade_decision(void **state)
     assert_int_equal(pause_moves_grade(&held, &in, RFE_NO_UPDATE_LOW_SPEED), 0);
 }
 
+/* REQ-MG-006 v uncorrelated with M (rfe_mg_v_free, MC/DC of its two conditions, and the
+ * decision of rfe_mg_grade_in_pause reading it): decided from what the last accepted sample
+ * did, never from the value of S_Mv (an update's S_Mv rounds to 0 in the Q31 twin's Q14 mass
+ * row and not in double: FIXED_POINT.md "Mass and grade"). After an update (a step, status
+ * 0: v_free 0) the next braked sample holds even with S_Mv forced to exactly 0; after a
+ * paused sample (a step, status not 0: v_free 1) it learns; after a start on a sample that is
+ * not paused (status 0, but a start: v_free 1) it learns too, as after a start on a braked
+ * sample. */
+static void test_v_free_decision(void **state)
+{
+    rfe_mass_grade_estimate_t e;
+    rfe_mass_grade_input_t in;
+    rfe_mass_grade_t after_update;
+    rfe_mass_grade_t from;
+    (void)state;
+    pause_grade_setup((rfe_real_t)RFE_MG_PAUSE_GRADE_BRAKE);
+    /* (step, status 0): v_free 0, whatever S_Mv */
+    assert_int_equal(mg.v_free, 0u);
+    assert_true(mg.S[3] != (rfe_real_t)0.0); /* the cruise's updates correlate v with M */
+    after_update = mg;
+    after_update.S[3] = (rfe_real_t)0.0; /* what the Q31 twin's rounding can leave */
+    in = braking_on_grade(0);
+    assert_int_equal(pause_moves_grade(&after_update, &in, RFE_MG_PAUSED_BRAKE), 0);
+    assert_true((mg.x[0] == in.v) && (mg.S[0] == mg.p.r_v)); /* the hold */
+    /* (step, status paused): v_free 1, the next braked sample learns */
+    assert_int_equal(mg.v_free, 1u);
+    from = mg;
+    in = braking_on_grade(1);
+    assert_int_equal(pause_moves_grade(&from, &in, RFE_MG_PAUSED_BRAKE), 1);
+    assert_int_equal(mg.v_free, 1u);
+    /* (start, status 0): v_free 1 */
+    assert_int_equal(rfe_mass_grade_restart(&mg), RFE_OK);
+    in = cruise((rfe_real_t)20.0, (rfe_real_t)DT);
+    assert_int_equal(step(&in, &e), RFE_OK);
+    assert_int_equal(mg.v_free, 1u);
+    from = mg;
+    in = braking_on_grade(0);
+    assert_int_equal(pause_moves_grade(&from, &in, RFE_MG_PAUSED_BRAKE), 1);
+    /* (start, status paused): v_free 1 */
+    assert_int_equal(rfe_mass_grade_restart(&mg), RFE_OK);
+    assert_int_equal(step(&in, &e), RFE_MG_PAUSED_BRAKE);
+    assert_int_equal(mg.v_free, 1u);
+    from = mg;
+    in = braking_on_grade(1);
+    assert_int_equal(pause_moves_grade(&from, &in, RFE_MG_PAUSED_BRAKE), 1);
+}
+
 /* A braked sample on the 0.05 rad climb of braking_on_grade(k) with the car's ground speed
  * vx given and the wheels @p slip behind it: v = (1 - slip) vx (ABS: the wheels cycle
  * between locking and spinning up again). */
@@ -1548,6 +1595,7 @@ int main(void)
         cmocka_unit_test(test_pause_grade_decision),
         cmocka_unit_test(test_abs_gate_holds_cycling_wheels),
         cmocka_unit_test(test_abs_gate_decision),
+        cmocka_unit_test(test_v_free_decision),
         cmocka_unit_test(test_abs_gate_bad_param_leaves_state),
         cmocka_unit_test(test_adaptation_as_specified),
         cmocka_unit_test(test_adaptation_period),
