@@ -182,6 +182,27 @@ static int div_round_mag(uint64_t n, uint64_t d, unsigned int e, uint64_t *q)
     return 0;
 }
 
+/* div_round_mag's first case written for rfe_fix_div's common call (both magnitudes below
+ * 2^32, 0 <= e <= 31): the same q2 (one rfe_q31_udiv64_32 once the quotient is known to be
+ * below 2^32, else LIM2) and result, inline in rfe_fix_div, where the call to div_round_mag
+ * and its 64-bit argument tests cost about as much as the division's own arithmetic on the
+ * Cortex-M4. */
+static inline int div_round_mag32(uint32_t n, uint32_t d, unsigned int e, uint64_t *q)
+{
+    const unsigned int e1 = e + 1u;
+    const uint64_t ne = (uint64_t)n << e1; /* < 2^64: n < 2^32, e + 1 <= 32 */
+    uint64_t q2 = LIM2;                          /* the quotient is 2^32 or more */
+    int over = 1;
+    if ((ne >> 32) < (uint64_t)d) {
+        q2 = (uint64_t)rfe_q31_udiv64_32(ne, d);
+    }
+    if (q2 < LIM2) {
+        *q = (q2 + 1u) >> 1;
+        over = 0;
+    }
+    return over;
+}
+
 /* Applies the sign to a magnitude that fits int32 (m <= INT32_MAX). */
 static rfe_fix_t signed32(uint64_t m, int neg)
 {
@@ -285,7 +306,12 @@ rfe_status_t rfe_fix_div(rfe_fix_t a, rfe_fix_t b, int shift, rfe_fix_t *q, uint
         neg = 1;
     }
     if (shift >= 0) {
-        over = div_round_mag(mag32(a), mag32(b), (unsigned int)shift, &m);
+        if (shift <= 31) {
+            over = div_round_mag32((uint32_t)mag32(a), (uint32_t)mag32(b), (unsigned int)shift,
+                                   &m);
+        } else {
+            over = div_round_mag(mag32(a), mag32(b), (unsigned int)shift, &m);
+        }
     } else if (shift >= -32) {
         /* divisor |b| 2^-shift <= 2^63 */
         over = div_round_mag(mag32(a), mag32(b) << (unsigned int)(-shift), 0u, &m);
