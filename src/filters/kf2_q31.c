@@ -270,6 +270,32 @@ static int meas_ok_q31(const rfe_kf2_q31_t *f, const rfe_kf2_meas_q31_t *m)
            (m->r >= 0) && (m->r <= RFE_KF2_Q31_PMAX);
 }
 
+/* P H^T (ph0 in Q(q0 + qz), ph1 in Q(q1 + qz)) and H P H^T (Q(2 qz)), each sum clamped to
+ * +-PMAX (counted). Where one of h0, h1 is 0 (every row of the velocity observer: a state
+ * observed alone), its products are 0 (mul_p_q31, uncounted) and each sum is its other
+ * product, already within +-PMAX (mul_p_q31 clamps), which the clamp leaves as it is: those
+ * products and clamps are skipped, the same integers and counts. */
+static void pht_q31(const rfe_kf2_q31_t *f, const rfe_kf2_meas_q31_t *m, unsigned int s0,
+                    unsigned int s1, int64_t *ph0, int64_t *ph1, int64_t *hph, uint32_t *cnt)
+{
+    if (m->h1 == 0) {
+        *ph0 = mul_p_q31(f->p00, m->h0, s0, cnt);
+        *ph1 = mul_p_q31(f->p01, m->h0, s0, cnt);
+        *hph = mul_p_q31(*ph0, m->h0, s0, cnt);
+    } else if (m->h0 == 0) {
+        *ph0 = mul_p_q31(f->p01, m->h1, s1, cnt);
+        *ph1 = mul_p_q31(f->p11, m->h1, s1, cnt);
+        *hph = mul_p_q31(*ph1, m->h1, s1, cnt);
+    } else {
+        *ph0 = clamp_p_q31(mul_p_q31(f->p00, m->h0, s0, cnt) + mul_p_q31(f->p01, m->h1, s1, cnt),
+                           cnt);
+        *ph1 = clamp_p_q31(mul_p_q31(f->p01, m->h0, s0, cnt) + mul_p_q31(f->p11, m->h1, s1, cnt),
+                           cnt);
+        *hph = clamp_p_q31(mul_p_q31(*ph0, m->h0, s0, cnt) + mul_p_q31(*ph1, m->h1, s1, cnt),
+                           cnt);
+    }
+}
+
 rfe_status_t rfe_kf2_update_q31(rfe_kf2_q31_t *f, const rfe_kf2_meas_q31_t *m, uint32_t *sat)
 {
     uint32_t cnt = 0u;
@@ -288,12 +314,7 @@ rfe_status_t rfe_kf2_update_q31(rfe_kf2_q31_t *f, const rfe_kf2_meas_q31_t *m, u
     }
     s0 = (f->q0 + m->qh0) - m->qz;
     s1 = (f->q1 + m->qh1) - m->qz;
-    /* P H^T: ph0 in Q(q0 + qz), ph1 in Q(q1 + qz); S = H P H^T + r in Q(2 qz) */
-    ph0 = clamp_p_q31(mul_p_q31(f->p00, m->h0, s0, &cnt) + mul_p_q31(f->p01, m->h1, s1, &cnt),
-                      &cnt);
-    ph1 = clamp_p_q31(mul_p_q31(f->p01, m->h0, s0, &cnt) + mul_p_q31(f->p11, m->h1, s1, &cnt),
-                      &cnt);
-    s = clamp_p_q31(mul_p_q31(ph0, m->h0, s0, &cnt) + mul_p_q31(ph1, m->h1, s1, &cnt), &cnt);
+    pht_q31(f, m, s0, s1, &ph0, &ph1, &s, &cnt);
     s = clamp_p_q31(s + m->r, &cnt);
     if (s <= 0) {
         return RFE_ERR_NOT_POSITIVE_DEFINITE;

@@ -98,8 +98,9 @@ static void sum_terms_q31(const rfe_fix_t col[COLS], rfe_fix_t z[RFE_MEAS], uint
 
 /* Load-scaled modes (absolute, magic): each wheel's friction-independent tyre terms (zeros
  * when the tyre's Dugoff parameters are invalid, which eval then rejects). They depend on
- * cx, cy, eps and alpha_max only, not on the mode or the shape factors, so the record of
- * those four is all eval needs to know whether it may use them. */
+ * cx, cy, eps and alpha_max only, not on the shape factors, so the record of those four
+ * (and of the set-up's mode: a Magic Formula set-up leaves out E and 1 - |k|, which only the
+ * Dugoff curve reads) is all eval needs to know whether it may use them. */
 static void setup_pre_q31(rfe_meas_q31_t *h, const rfe_tyre_params_q31_t *tp)
 {
     size_t i;
@@ -172,12 +173,14 @@ rfe_status_t rfe_meas_setup_q31(rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh,
     return RFE_OK;
 }
 
-/* 1 when pre was computed with these tyre parameters (the mode and the shape factors do not
- * enter pre: a set-up in one load-scaled mode serves an evaluation in the other). */
+/* 1 when pre was computed with these tyre parameters (the shape factors do not enter pre; an
+ * absolute (Dugoff) set-up serves an evaluation in either load-scaled mode, a Magic Formula
+ * set-up, without E and 1 - |k| (rfe_tyre_dugoff_pre_q31), a Magic Formula one only). */
 static int pre_matches_q31(const rfe_meas_q31_t *h, const rfe_tyre_params_q31_t *tp)
 {
     return ((h->pre_cx == tp->cx) && (h->pre_cy == tp->cy) && (h->pre_eps == tp->eps) &&
-            (h->pre_alpha_max == tp->alpha_max))
+            (h->pre_alpha_max == tp->alpha_max) &&
+            ((h->mode != RFE_TYRE_MAGIC) || (tp->mode == RFE_TYRE_MAGIC)))
                ? 1
                : 0;
 }

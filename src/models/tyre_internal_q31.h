@@ -60,11 +60,14 @@ rfe_fix_t rfe_tyre_wheel_kappa_q31(const rfe_vehicle_q31_t *veh, const rfe_tyre_
 
 /** The friction-independent part of rfe_tyre_dugoff_abs_q31(tp, kappa, alpha, ., vwx, ...),
  *  which is also that of rfe_tyre_magic_abs_q31 (it depends on neither the mode nor the shape
- *  factors). */
+ *  factors), except that for a Magic Formula @p tp (tp->mode == RFE_TYRE_MAGIC) E and 1 - |k|
+ *  (pre->e, pre->omk), which only the Dugoff curve reads, are not formed (left 0): such a pre
+ *  serves Magic Formula evaluations only (meas_q31.c pre_matches_q31). */
 void rfe_tyre_dugoff_pre_q31(const rfe_tyre_params_q31_t *tp, rfe_fix_t kappa, rfe_fix_t alpha,
                              rfe_fix_t vwx, rfe_dugoff_pre_q31_t *pre);
 
-/** The same with tan of the clamped slip angle given (Q26, a previous pre's tan_a). */
+/** The same with tan of the clamped slip angle given (Q26, a previous pre's tan_a); E and
+ *  1 - |k| as above. */
 void rfe_tyre_dugoff_pre_tan_q31(const rfe_tyre_params_q31_t *tp, rfe_fix_t kappa,
                                  rfe_fix_t tan_a, rfe_fix_t vwx, rfe_dugoff_pre_q31_t *pre);
 

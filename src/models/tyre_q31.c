@@ -304,8 +304,8 @@ static int32_t dugoff_e(int32_t k, int32_t t, int32_t eps, int32_t vwx)
  * wheel at several mu (the cubature points) computes the first part once. Together they are
  * the same operations in the same order as one evaluation.
  */
-static void dugoff_pre(int32_t k, int32_t t, int32_t c1, int32_t c2, int32_t eps, int32_t vwx,
-                       rfe_dugoff_pre_q31_t *pre)
+static void dugoff_pre_e(int32_t k, int32_t t, int32_t c1, int32_t c2, int32_t eps,
+                         int32_t vwx, int with_e, rfe_dugoff_pre_q31_t *pre)
 {
     /* S: C1 k is Q54 (|.| <= 2^61), rounded to Q50; C2 tan a is Q50 (< 2^61). One common
      * shift brings both to <= 2^30 (S in Q(50 - sh), sh <= 31); the norm is exact. */
@@ -330,9 +330,25 @@ static void dugoff_pre(int32_t k, int32_t t, int32_t c1, int32_t c2, int32_t eps
         /* |comp| <= S: the quotients are <= 2^30 in Q30 (no saturation). */
         pre->ux = div_q(ca, S, 30, &scratch);
         pre->uy = div_q(cb, S, 30, &scratch);
-        pre->e = dugoff_e(k, t, eps, vwx);
-        pre->omk = ONE_Q30 - ((k < 0) ? -k : k); /* 1 - |k| in [0, 1], Q30 */
+        if (with_e != 0) {
+            pre->e = dugoff_e(k, t, eps, vwx);
+            pre->omk = ONE_Q30 - ((k < 0) ? -k : k); /* 1 - |k| in [0, 1], Q30 */
+        }
     }
+}
+
+/* dugoff_pre_e with E and 1 - |k| (every Dugoff evaluation). */
+static void dugoff_pre(int32_t k, int32_t t, int32_t c1, int32_t c2, int32_t eps, int32_t vwx,
+                       rfe_dugoff_pre_q31_t *pre)
+{
+    dugoff_pre_e(k, t, c1, c2, eps, vwx, 1, pre);
+}
+
+/* 1 when the friction-independent terms for tp need E and 1 - |k|: every mode but the Magic
+ * Formula, whose forces and derivatives read only tan_a, s, qs, ux and uy. */
+static int pre_needs_e(const rfe_tyre_params_q31_t *tp)
+{
+    return (tp->mode != RFE_TYRE_MAGIC) ? 1 : 0;
 }
 
 /* L = mu (1 - |k|) E / (2 S) in Q30 (S > 0, mu Q29 >= 0): N = mu (1 - |k|) E: Q29 x Q30 = Q59
@@ -678,14 +694,14 @@ void rfe_tyre_dugoff_pre_q31(const rfe_tyre_params_q31_t *tp, rfe_fix_t kappa, r
     int32_t k;
     int32_t t;
     slip_inputs(tp, kappa, alpha, &k, &t);
-    dugoff_pre(k, t, tp->cx, tp->cy, tp->eps, vwx, pre);
+    dugoff_pre_e(k, t, tp->cx, tp->cy, tp->eps, vwx, pre_needs_e(tp), pre);
 }
 
 void rfe_tyre_dugoff_pre_tan_q31(const rfe_tyre_params_q31_t *tp, rfe_fix_t kappa,
                                  rfe_fix_t tan_a, rfe_fix_t vwx, rfe_dugoff_pre_q31_t *pre)
 {
     const int32_t k = rfe_fix_clamp(kappa, -ONE_Q30, ONE_Q30);
-    dugoff_pre(k, tan_a, tp->cx, tp->cy, tp->eps, vwx, pre);
+    dugoff_pre_e(k, tan_a, tp->cx, tp->cy, tp->eps, vwx, pre_needs_e(tp), pre);
 }
 
 /* The rest of rfe_tyre_dugoff_abs_q31 from pre: Fx, Fy at mu (mu < 0 as 0) and fz. */

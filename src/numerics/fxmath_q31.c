@@ -52,11 +52,15 @@ static uint32_t isqrt32_rem(uint32_t y, uint32_t *rem)
 
 /* floor(sqrt(x)) and the remainder x - root^2 (<= 2 root) of any uint64. Below 2^32: the
  * 32-bit digit-by-digit root. Above: with y = floor(x / 2^sh) < 2^32 (sh even, so y keeps 31
- * or 32 bits), r = (floor(sqrt(y)) + 1) 2^(sh/2) > sqrt(x) (<= 2^32), then integer Newton
- * steps r <- floor((r + floor(x / r)) / 2). Each step gives floor((r + x/r) / 2) >=
- * floor(sqrt(x)) (AM-GM), strictly below r while r^2 > x, so the first r with r^2 <= x is
- * floor(sqrt(x)) exactly (two steps from the 16-bit start, typically). r + x/r <= 2^33 (x/r
- * <= sqrt(x) < 2^32), and r^2 is formed only for r < 2^32. */
+ * or 32 bits, y >= 2^30), r0 = floor(sqrt(y)) >= 2^15 and r = (r0 + 1) 2^h (h = sh / 2 <= 16)
+ * > sqrt(x) >= r0 2^h, so e = r - sqrt(x) <= 2^h; then one integer Newton step
+ * r1 = floor((r + floor(x / r)) / 2). It is >= floor(sqrt(x)) (AM-GM), and below the exact
+ * step (r + x / r) / 2 = sqrt(x) + e^2 / (2 r) <= sqrt(x) + 2^(2h) / (2 r0 2^h) <= sqrt(x) +
+ * 2^(h - 16) <= sqrt(x) + 1, so r1 is floor(sqrt(x)) or one more: one product and
+ * comparison (r1 = 2^32 is one more: floor(sqrt(x)) < 2^32) leave floor(sqrt(x)) exactly,
+ * the integer the Newton steps repeated until r^2 <= x gave (one division where they took
+ * one or two). r + x/r <= 2^33 (x/r <= sqrt(x) < 2^32); r = 2^32 only at the start (r0 =
+ * 2^16 - 1, h = 16), where x / r is x / 2^32. */
 static uint64_t isqrt_rem(uint64_t x, uint64_t *rem)
 {
     uint64_t r;
@@ -71,19 +75,20 @@ static uint64_t isqrt_rem(uint64_t x, uint64_t *rem)
         const uint32_t y = (uint32_t)(x >> sh);
         uint32_t rm32 = 0u;
         uint64_t r0;
-        int done = 0;
+        uint64_t xr;
+        uint64_t sq;
         r0 = isqrt32_rem(y, &rm32);
         r = (r0 + 1u) << half;
-        while (done == 0) {
-            /* while r^2 > x: x / r < sqrt(x) < 2^32; r = 2^32 only from the start */
-            const uint64_t xr = ((r >> 32) == 0u) ? (uint64_t)rfe_q31_udiv64_32(x, (uint32_t)r)
-                                                  : (x / r);
-            r = (r + xr) >> 1;
-            if (((r >> 32) == 0u) && ((r * r) <= x)) {
-                done = 1;
-            }
+        xr = ((r >> 32) == 0u) ? (uint64_t)rfe_q31_udiv64_32(x, (uint32_t)r) : (x >> 32);
+        r = (r + xr) >> 1;
+        /* r^2 modulo 2^64 (0 for r = 2^32); one less: (r - 1)^2 = r^2 - 2 r + 1, also modulo
+         * 2^64 (intended: exact once r - 1 < 2^32), so one product either way */
+        sq = r * r;
+        if (((r >> 32) != 0u) || (sq > x)) {
+            sq = (sq - (r << 1)) + 1u;
+            r -= 1u;
         }
-        *rem = x - (r * r);
+        *rem = x - sq;
     }
     return r;
 }
@@ -175,6 +180,27 @@ static int div_round_mag(uint64_t n, uint64_t d, unsigned int e, uint64_t *q)
     }
     *q = (q2 + 1u) >> 1;
     return 0;
+}
+
+/* div_round_mag's first case written for rfe_fix_div's common call (both magnitudes below
+ * 2^32, 0 <= e <= 31): the same q2 (one rfe_q31_udiv64_32 once the quotient is known to be
+ * below 2^32, else LIM2) and result, inline in rfe_fix_div, where the call to div_round_mag
+ * and its 64-bit argument tests cost about as much as the division's own arithmetic on the
+ * Cortex-M4. */
+static inline int div_round_mag32(uint32_t n, uint32_t d, unsigned int e, uint64_t *q)
+{
+    const unsigned int e1 = e + 1u;
+    const uint64_t ne = (uint64_t)n << e1; /* < 2^64: n < 2^32, e + 1 <= 32 */
+    uint64_t q2 = LIM2;                          /* the quotient is 2^32 or more */
+    int over = 1;
+    if ((ne >> 32) < (uint64_t)d) {
+        q2 = (uint64_t)rfe_q31_udiv64_32(ne, d);
+    }
+    if (q2 < LIM2) {
+        *q = (q2 + 1u) >> 1;
+        over = 0;
+    }
+    return over;
 }
 
 /* Applies the sign to a magnitude that fits int32 (m <= INT32_MAX). */
@@ -280,7 +306,12 @@ rfe_status_t rfe_fix_div(rfe_fix_t a, rfe_fix_t b, int shift, rfe_fix_t *q, uint
         neg = 1;
     }
     if (shift >= 0) {
-        over = div_round_mag(mag32(a), mag32(b), (unsigned int)shift, &m);
+        if (shift <= 31) {
+            over = div_round_mag32((uint32_t)mag32(a), (uint32_t)mag32(b), (unsigned int)shift,
+                                   &m);
+        } else {
+            over = div_round_mag(mag32(a), mag32(b), (unsigned int)shift, &m);
+        }
     } else if (shift >= -32) {
         /* divisor |b| 2^-shift <= 2^63 */
         over = div_round_mag(mag32(a), mag32(b) << (unsigned int)(-shift), 0u, &m);
@@ -514,9 +545,8 @@ rfe_status_t rfe_fix_tan(rfe_fix_t angle, rfe_fix_t *t)
  * Both are built for the ~2^-30 the curve needs, in 32-bit arithmetic wherever the 40-step
  * int64 CORDIC above spends its time (on the Cortex-M0+ every 64-bit shift is a libgcc call). */
 
-/* CORDIC steps of rfe_q31_atan2_quad1 (i = 1 .. QA_CORDIC); the division then delivers the
+/* rfe_q31_atan2_quad1 takes the CORDIC steps i = 1 .. 11; the division then delivers the
  * digits 2^-11 .. 2^-33 of the residual ratio: the leading one and 22 more. */
-#define QA_CORDIC 11u
 /* The leading digit 2^-11 in Q33, and the marker bit after the 22 further digits. */
 #define QA_LEAD 4194304u
 /* The marker of the step bits after the 10 steps i = 2 .. 11 (2^10). */
@@ -576,6 +606,57 @@ static int32_t qa_digits(int32_t w, int32_t x)
 #endif
 }
 
+/* 2^-i - atan(2^-i) in Q38, i = 2 .. 11, rounded to nearest (2^-36.8 of rounding in all;
+ * the sum of the entries, 1583063625, fits int32). */
+#define QA_CORR_2 1380254570
+#define QA_CORR_3 177297749
+#define QA_CORR_4 22317338
+#define QA_CORR_5 2794565
+#define QA_CORR_6 349474
+#define QA_CORR_7 43689
+#define QA_CORR_8 5461
+#define QA_CORR_9 683
+#define QA_CORR_10 85
+#define QA_CORR_11 11
+
+/* qa_step inlined at its ten calls (each with its constants) on every core, -Os too. */
+#if defined(__GNUC__)
+/* MISRA-DEV-02: a GNU attribute (Rule 1.2, language extension), only under __GNUC__ */
+#define QA_INLINE __attribute__((always_inline)) inline
+#else
+#define QA_INLINE inline
+#endif
+
+/* The CORDIC state of rfe_q31_atan2_quad1 between its steps i = 2 .. 11 (below). */
+typedef struct {
+    int32_t w;     /* W = y 2^(i-1) */
+    int32_t xx;    /* x */
+    uint32_t cpos; /* a marker bit, then sigma_i = +1 as a 1 */
+    int32_t corr;  /* sum sigma_i (2^-i - atan 2^-i), Q38 */
+} qa_state_t;
+
+/* One CORDIC step i (s1 = 2i - 2, c = 2^-i - atan 2^-i in Q38) of rfe_q31_atan2_quad1:
+ * W <- 2 W - sigma x, x += round(|W| / 2^(s1 + 1)) = floor((floor(|W| / 2^s1) + 1) / 2). The
+ * ten steps are written out with their constants (no loop counter, no table walk): the same
+ * integers as the loop over the table they replace. */
+static QA_INLINE void qa_step(qa_state_t *q, unsigned int s1, int32_t c)
+{
+    const int32_t w = q->w;
+    uint32_t m;
+    q->cpos += q->cpos;
+    if (w >= 0) {
+        m = (uint32_t)w;
+        q->w = (w - q->xx) + w;
+        q->cpos += 1u;
+        q->corr += c;
+    } else {
+        m = (uint32_t)(-w);
+        q->w = (w + q->xx) + w;
+        q->corr -= c;
+    }
+    q->xx += (int32_t)(((m >> s1) + 1u) >> 1);
+}
+
 /*
  * atan2(y, x), 0 <= x, y <= 2^30, in Q31.
  *
@@ -616,27 +697,20 @@ static int32_t qa_digits(int32_t w, int32_t x)
  */
 uint32_t rfe_q31_atan2_quad1(uint32_t y, uint32_t x)
 {
-    /* 2^-i - atan(2^-i) in Q38, i = 2 .. 11, rounded to nearest (2^-36.8 of rounding in all;
-     * the sum of the entries, 1583063625, fits int32). */
-    static const int32_t qa_corr_q38[QA_CORDIC - 1u] = {1380254570, 177297749, 22317338,
-                                                        2794565,    349474,    43689,
-                                                        5461,       683,       85,
-                                                        11};
     const uint32_t a = (y > x) ? y : x;
     const uint32_t b = (y > x) ? x : y;
     int64_t z = 0; /* t, Q61 */
 
     if (b != 0u) {
         unsigned int sh = 0u;
-        unsigned int s1 = 2u;  /* 2i - 2: x gains round(|W| / 2^(s1 + 1)) */
-        uint32_t cpos = 1u;    /* a marker bit, then sigma_i = +1 as a 1, i = 2 .. 11 */
-        int32_t corr = 0;      /* sum sigma_i (2^-i - atan 2^-i), i = 2 .. 11, Q38 */
+        qa_state_t st;
+        uint32_t cpos;         /* a marker bit, then sigma_i = +1 as a 1, i = 2 .. 11 */
+        int32_t corr;          /* sum sigma_i (2^-i - atan 2^-i), i = 2 .. 11, Q38 */
         int32_t lead;          /* the leading division digit 2^-11, Q33 */
         int32_t steps;         /* sum sigma_i 2^-i, i = 2 .. 11, Q11 */
         int32_t digits;        /* sum sigma_j 2^-j, j = 11 .. 33, Q33 */
         int32_t xx;
         int32_t w;
-        unsigned int i;
 
         if (a < QA_X_MIN) {
             sh = 30u - rfe_q31_bitlen32(a); /* a >= 1: bit length 1 .. 29 */
@@ -652,23 +726,26 @@ uint32_t rfe_q31_atan2_quad1(uint32_t y, uint32_t x)
             w = (w - xx) + w;
             xx += (int32_t)((m + 1u) >> 1);
         }
-        for (i = 0u; i < (QA_CORDIC - 1u); ++i) {
-            uint32_t m;
-            cpos += cpos;
-            if (w >= 0) {
-                m = (uint32_t)w;
-                w = (w - xx) + w;
-                cpos += 1u;
-                corr += qa_corr_q38[i];
-            } else {
-                m = (uint32_t)(-w);
-                w = (w + xx) + w;
-                corr -= qa_corr_q38[i];
-            }
-            /* round(m / 2^(s1 + 1)) = floor((floor(m / 2^s1) + 1) / 2) */
-            xx += (int32_t)(((m >> s1) + 1u) >> 1);
-            s1 += 2u;
-        }
+        st.w = w;
+        st.xx = xx;
+        st.cpos = 1u;
+        st.corr = 0;
+        /* steps i = 2 .. 11, written out (qa_step): constant shifts and corrections, no
+         * loop counter or table walk */
+        qa_step(&st, 2u, QA_CORR_2);
+        qa_step(&st, 4u, QA_CORR_3);
+        qa_step(&st, 6u, QA_CORR_4);
+        qa_step(&st, 8u, QA_CORR_5);
+        qa_step(&st, 10u, QA_CORR_6);
+        qa_step(&st, 12u, QA_CORR_7);
+        qa_step(&st, 14u, QA_CORR_8);
+        qa_step(&st, 16u, QA_CORR_9);
+        qa_step(&st, 18u, QA_CORR_10);
+        qa_step(&st, 20u, QA_CORR_11);
+        w = st.w;
+        xx = st.xx;
+        cpos = st.cpos;
+        corr = st.corr;
         /* The leading digit 2^-11, then 2^-12 .. 2^-33 (qa_digits) */
         if (w >= 0) {
             w -= xx;

@@ -1076,6 +1076,16 @@ static void test_meas_pre_invalid_tyre_and_div_saturation_q31(void **state)
     assert_int_equal(sat, 0u);
     p.tyre.mode = RFE_TYRE_ABSOLUTE; /* the Dugoff curve does not use the shape */
     assert_int_equal(rfe_meas_eval_q31(&h, &p.vehicle, &p.tyre, mu, z, &sat), RFE_OK);
+    {
+        /* the Magic Formula set-up's terms lack E and 1 - |k|: the Dugoff evaluation forms
+         * its own, the integers of an absolute set-up */
+        rfe_meas_q31_t ha;
+        rfe_fix_t za[3];
+        uint32_t sa = 0u;
+        assert_int_equal(rfe_meas_setup_q31(&ha, &p.vehicle, &p.tyre, &u, &sa), RFE_OK);
+        assert_int_equal(rfe_meas_eval_q31(&ha, &p.vehicle, &p.tyre, mu, za, &sa), RFE_OK);
+        assert_memory_equal(za, z, sizeof z);
+    }
     /* division: a = INT32_MAX, b = 1, shift 40: 2^71, far beyond int32 */
     sat = 0u;
     assert_int_equal(rfe_fix_div(INT32_MAX, 1, 40, &q, &sat), RFE_OK);

@@ -95,18 +95,45 @@ static void test_tyre_internal_q31(void **state)
                                                      kin.fz[i], kin.vwx[i], mu[i], &fx, &fy,
                                                      &c1),
                              RFE_OK);
-            rfe_tyre_dugoff_pre_q31(&p.tyre, kin.kappa[i], kin.alpha[i], kin.vwx[i], &pre);
             {
+                /* the terms of an absolute (Dugoff) tyre, which serve both load-scaled modes */
                 rfe_tyre_params_q31_t td = p.tyre;
                 td.mode = RFE_TYRE_ABSOLUTE;
+                rfe_tyre_dugoff_pre_q31(&td, kin.kappa[i], kin.alpha[i], kin.vwx[i], &pre);
                 rfe_tyre_dugoff_abs_pre_q31(&td, &pre, mu[i], kin.fz[i], &gx, &gy, &c2);
+                rfe_tyre_dugoff_pre_tan_q31(&td, kin.kappa[i], pre.tan_a, kin.vwx[i], &pre_t);
             }
             assert_int_equal(gx, fx);
             assert_int_equal(gy, fy);
             assert_int_equal(c2, c1);
-            rfe_tyre_dugoff_pre_tan_q31(&p.tyre, kin.kappa[i], pre.tan_a, kin.vwx[i], &pre_t);
             assert_memory_equal(&pre_t, &pre, sizeof(pre));
-            /* the Magic Formula on the same terms */
+            {
+                /* a Magic Formula tyre's terms: the same but without E and 1 - |k| (0), which
+                 * only the Dugoff curve reads; the Magic Formula's forces from them below */
+                rfe_tyre_params_q31_t tm = p.tyre;
+                rfe_dugoff_pre_q31_t pre_m;
+                tm.mode = RFE_TYRE_MAGIC;
+                rfe_tyre_dugoff_pre_q31(&tm, kin.kappa[i], kin.alpha[i], kin.vwx[i], &pre_m);
+                assert_int_equal(pre_m.tan_a, pre.tan_a);
+                assert_int_equal(pre_m.s, pre.s);
+                assert_int_equal(pre_m.qs, pre.qs);
+                assert_int_equal(pre_m.ux, pre.ux);
+                assert_int_equal(pre_m.uy, pre.uy);
+                assert_int_equal(pre_m.e, 0);
+                assert_int_equal(pre_m.omk, 0);
+                rfe_tyre_dugoff_pre_tan_q31(&tm, kin.kappa[i], pre.tan_a, kin.vwx[i], &pre_t);
+                assert_memory_equal(&pre_t, &pre_m, sizeof(pre_m));
+                c1 = c2 = 0u;
+                assert_int_equal(rfe_tyre_magic_abs_q31(&tm, kin.kappa[i], kin.alpha[i],
+                                                        kin.fz[i], kin.vwx[i], mu[i], &fx, &fy,
+                                                        &c1),
+                                 RFE_OK);
+                rfe_tyre_dugoff_abs_pre_q31(&tm, &pre_m, mu[i], kin.fz[i], &gx, &gy, &c2);
+                assert_int_equal(gx, fx);
+                assert_int_equal(gy, fy);
+                assert_int_equal(c2, c1);
+            }
+            /* the Magic Formula on the absolute tyre's terms */
             c1 = c2 = 0u;
             assert_int_equal(rfe_tyre_magic_abs_q31(&p.tyre, kin.kappa[i], kin.alpha[i],
                                                     kin.fz[i], kin.vwx[i], mu[i], &fx, &fy,
