@@ -364,3 +364,19 @@ def test_the_jobs_are_exactly_the_runs_the_four_tables_read(monkeypatch):
     # ellipse's and the band's 4 each; the APF's on each of the 3 seeds
     per_filter = len(fr.FEEDS) + len(fr.HOLD_FEEDS) + 2 * 2 * len(fr.HOLD_FEEDS)
     assert len(jobs) == len(names) * (1 + per_filter * (3 + 1))
+
+
+def test_map_progress_keeps_order_and_reports(capsys):
+    """The results come back in the items' order whatever the threads' finishing order (the
+    early items sleep longest), and the progress lines count every run: with 7 items and
+    every=3, lines at 3, 6 and the last (7) (sorted: two threads may print out of order)."""
+    import time as _time
+
+    def slow_square(x):
+        _time.sleep(0.002 * (7 - x))
+        return x * x
+
+    got = fr.map_progress(slow_square, list(range(7)), 3, "t", every=3)
+    assert got == [x * x for x in range(7)]
+    err = capsys.readouterr().err.splitlines()
+    assert sorted(ln.split(" runs")[0] for ln in err) == ["t: 3 / 7", "t: 6 / 7", "t: 7 / 7"]

@@ -62,6 +62,7 @@ import statistics
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
@@ -454,6 +455,30 @@ def cell(x, fmt):
     return "–" if x is None else format(x, fmt)
 
 
+def map_progress(fn, items, workers, what, every=0):
+    """[fn(x) for x in @p items], @p workers at a time (threads: each fn waits on a replay
+    process), in @p items' order; prints "<what>: k / n runs, t s" to stderr every @p every
+    runs (0: about every tenth) and after the last, so a long study shows it is alive."""
+    n = len(items)
+    step = every if every > 0 else max(n // 10, 1)
+    t0 = time.monotonic()
+    done = [0]
+    lock = threading.Lock()
+
+    def one(x):
+        r = fn(x)
+        with lock:
+            done[0] += 1
+            k = done[0]
+        if k % step == 0 or k == n:
+            print(f"{what}: {k} / {n} runs, {time.monotonic() - t0:.0f} s", file=sys.stderr,
+                  flush=True)
+        return r
+
+    with ThreadPoolExecutor(max_workers=max(1, workers)) as ex:
+        return list(ex.map(one, items))
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--mu-replay", default=os.path.join(ROOT, "build", "mu_replay"))
@@ -464,19 +489,8 @@ def main():
         raise SystemExit(f"tyre_id_feed_results: {a.mu_replay} not found: run make first")
     names = logs()
     jobs = all_jobs(names)
-    done = [0]
-    t0 = time.monotonic()
-
-    def one(job):
-        out = run(a.mu_replay, *job)
-        done[0] += 1
-        if done[0] % 20 == 0 or done[0] == len(jobs):
-            print(f"tyre_id_feed_results: {done[0]} / {len(jobs)} runs, "
-                  f"{time.monotonic() - t0:.0f} s", file=sys.stderr, flush=True)
-        return out
-
-    with ThreadPoolExecutor(max_workers=max(1, a.jobs)) as ex:
-        res = dict(zip(jobs, ex.map(one, jobs)))
+    res = dict(zip(jobs, map_progress(lambda job: run(a.mu_replay, *job), jobs, a.jobs,
+                                      "tyre_id_feed_results", every=20)))
     rows = feed_table(names, res)
     text = "\n".join(rows)
     print(text)

@@ -49,14 +49,13 @@ import argparse
 import sys
 import tempfile
 import time
-from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))   # scripts/tools
 from md_tables import replace_region  # noqa: E402
 from shape_results import summary, summary_table  # noqa: E402
 from trust_invariant import bundled_logs, fmt, meets, pct, run_log  # noqa: E402
-from tyre_id_feed_results import FEEDS, FILTERS, label  # noqa: E402
+from tyre_id_feed_results import FEEDS, FILTERS, label, map_progress  # noqa: E402
 
 REALS = ("float", "double")  # the identifier's precisions (no Q31 twin)
 # The feeds of the taint rule (tyre_id_feed_rule.py, MONITOR.md section 7): the APF's at 0.1,
@@ -94,20 +93,8 @@ def feed_params(feed, folder: Path) -> Path:
 def run_all(replay: Path, out: Path, todo, jobs: int, what: str) -> list:
     """run_log on each (real, log, tag, extra) of @p todo, @p jobs at a time, printing progress
     (stderr) about every tenth of the runs; the figures in @p todo's order."""
-    t0, done, step = time.monotonic(), 0, max(len(todo) // 10, 1)
-
-    def one(job):
-        nonlocal done
-        real, log, tag, extra = job
-        f = run_log(replay, log, out, real, extra, tag)
-        done += 1
-        if done % step == 0 or done == len(todo):
-            print(f"tyre_id_trust: {what}: {done}/{len(todo)} runs, "
-                  f"{time.monotonic() - t0:.0f} s", file=sys.stderr, flush=True)
-        return f
-
-    with ThreadPoolExecutor(max_workers=max(jobs, 1)) as ex:
-        return list(ex.map(one, todo))
+    return map_progress(lambda job: run_log(replay, job[1], out, job[0], job[3], job[2]),
+                        todo, jobs, f"tyre_id_trust: {what}")
 
 
 def measure(replay: Path, scen: Path, out: Path, reals=REALS, only=None, jobs=2) -> dict:
