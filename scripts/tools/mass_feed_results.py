@@ -35,6 +35,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 sys.path.insert(0, os.path.join(ROOT, "scripts", "tools"))
 
 from mass_sensitivity import log_mass  # noqa: E402
+from mass_logs import MG_DIR, mass_grade_logs  # noqa: E402
 from md_tables import replace_region  # noqa: E402
 from replay_args import replay_args  # noqa: E402
 
@@ -85,13 +86,12 @@ def true_mass_end(path):
 
 def main():
     a = replay_args(__doc__, "mass_feed_results")
-    d = os.path.join(ROOT, "scenarios", "mass_grade")
     rows = ["| log | m given | first fed at: no gate → gate → gate and checks | samples fed "
             "| m error unfed | mass_used error at the end | mass_est error at the end "
             "| band refused |",
             "|---|---|---|---|---|---|---|---|"]
-    for name in sorted(f for f in os.listdir(d) if f.endswith(".csv")):
-        path = os.path.join(d, name)
+    for name in mass_grade_logs():
+        path = os.path.join(MG_DIR, name)
         mt = true_mass_end(path)
         for factor in FACTORS:
             runs = [one(a.mu_replay, path, factor, keys) for keys in RUN_KEYS]

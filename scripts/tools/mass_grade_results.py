@@ -32,6 +32,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 sys.path.insert(0, os.path.join(ROOT, "scripts"))
 
 from reference import mass_grade as mg  # noqa: E402
+from mass_logs import mass_grade_names  # noqa: E402
 
 EXC = 0.1                    # m/s^2: an acceleration that excites the mass
 GUESSES = (-0.5, -0.2, 0.2, 0.5)
@@ -150,8 +151,7 @@ def main(argv=None):
     ap.add_argument("--plot", help="draw the truck's mass error vs time here (PNG)")
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
     a = ap.parse_args(argv)
-    names = sorted(f[:-4] for f in os.listdir(os.path.join(ROOT, "scenarios", "mass_grade"))
-                   if f.endswith(".csv"))
+    names = mass_grade_names()
     names.sort(key=lambda n: (not n.startswith("truck"), n))
     jobs = [(n, g, c[0]) for n in names for c in CONFIGS for g in GUESSES]
     with multiprocessing.Pool(a.jobs) as pool:

@@ -59,6 +59,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 sys.path.insert(0, os.path.join(ROOT, "scripts"))
 
 from reference import mass_grade as mg  # noqa: E402
+from mass_logs import mass_grade_names  # noqa: E402
 
 LOGS = os.path.join(ROOT, "scenarios", "mass_grade")
 CONFIGS = (("UKF", 0.0, 0.0), ("UKF + ax", 0.0, 1.0), ("AUKF", 1.0, 0.0), ("AUKF + ax", 1.0, 1.0))
@@ -311,7 +312,7 @@ def replace_block(text, name, body):
 
 
 def jobs_all(rows=None, logs=None):
-    names = sorted(f[:-4] for f in os.listdir(LOGS) if f.endswith(".csv"))
+    names = mass_grade_names()
     if logs:
         names = [n for n in names if n in logs]
     jobs = [(n, c[0], None, rows) for n in names for c in CONFIGS]

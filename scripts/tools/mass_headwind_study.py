@@ -56,6 +56,7 @@ sys.path.insert(0, os.path.join(ROOT, "scripts"))
 
 import mass_grade as mg  # noqa: E402
 from md_tables import replace_region  # noqa: E402
+from mass_logs import mass_grade_names  # noqa: E402
 
 LOG_DIR = os.path.join(ROOT, "scenarios", "mass_grade")
 WIND = "car_headwind"
@@ -79,8 +80,7 @@ def vehicle(name):
 
 
 def clean_logs():
-    names = sorted(f[:-4] for f in os.listdir(LOG_DIR) if f.endswith(".csv"))
-    return [n for n in names if n != WIND]
+    return [n for n in mass_grade_names() if n != WIND]
 
 
 def read(name, rows=None):

@@ -39,6 +39,7 @@ sys.path.insert(0, os.path.join(ROOT, "scripts", "tools"))
 from mass_slip_ramp_study import (RECOMMENDED, SIM_RESISTANCES, log_path, mg,  # noqa: E402
                                   observer_samples, res_logs, study_main)
 from mass_sensitivity import log_mass  # noqa: E402
+from mass_logs import mass_grade_logs  # noqa: E402
 
 CURVE = {"mg_ay_max": 1.0, "mg_t_curve": 1.0}   # MASS_GRADE.md §4.2's setting for a car that corners
 VARIANTS = {"off": 0, "brake, no gate": 1, "brake": 1, "shift": 2, "curve": 4, "all": 7}
@@ -225,8 +226,7 @@ def results_text(n_jobs):
     obs_names = sorted(f for f in os.listdir(obs_dir)
                        if f.endswith(".csv") and not f.endswith(".mf.csv")) + [
         n for n in res_logs() if not n.endswith(".mf.csv")]
-    mg_names = sorted(f for f in os.listdir(os.path.join(ROOT, "scenarios", "mass_grade"))
-                      if f.endswith(".csv"))
+    mg_names = mass_grade_logs()
     first = [("mg", n, s, "off") for n in mg_names for s in MG_STARTS]
     first += [("obs", n, s, "off") for n in obs_names for s in OBS_STARTS]
     with multiprocessing.Pool(n_jobs) as pool:

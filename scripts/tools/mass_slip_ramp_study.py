@@ -53,6 +53,7 @@ from reference import mass_grade as mg  # noqa: E402
 from mass_online_friction import PRESSURES, TORQUES, logs  # noqa: E402
 from mass_sensitivity import log_mass  # noqa: E402
 from md_tables import replace_region  # noqa: E402
+from mass_logs import MG_DIR, mass_grade_logs  # noqa: E402,F401  (mass_grade_logs: re-exported)
 
 STARTS = (1.0, 0.8, 1.2)            # mg_m0 as a share of the log's m
 ROLLBACKS = (0.05, 0.1, 0.2)        # the rollback's snapshot period T, s
@@ -158,7 +159,6 @@ def res_logs():
 
 # What the mass studies share (this one and mass_curve_pause_study.py): the logs, how they are
 # read and fed to the reference, and the command line that prints the text and writes the page.
-MG_DIR = os.path.join(ROOT, "scenarios", "mass_grade")
 
 
 def observer_log(name):
@@ -166,11 +166,6 @@ def observer_log(name):
     path = log_path(name)
     cols, meta = mg.read_log(path)
     return cols, meta, log_mass(path)
-
-
-def mass_grade_logs():
-    """The mass and grade logs' names (scenarios/mass_grade/*.csv), sorted."""
-    return sorted(f for f in os.listdir(MG_DIR) if f.endswith(".csv"))
 
 
 def mass_grade_log(name):

@@ -40,6 +40,7 @@ sys.path.insert(0, os.path.join(ROOT, "scripts", "tools"))
 
 from mass_online_friction import SIM_RESISTANCES, logs, with_drive_torque  # noqa: E402
 from mass_sensitivity import log_mass  # noqa: E402
+from mass_logs import mass_grade_logs  # noqa: E402
 from md_tables import replace_region  # noqa: E402
 from replay_args import replay_args  # noqa: E402
 
@@ -164,8 +165,7 @@ def slip_rows(obs, held, sim):
 def main():
     a = replay_args(__doc__, "mass_slip_study", jobs=os.cpu_count() or 1)
     names = logs()
-    mg_names = sorted(f for f in os.listdir(os.path.join(ROOT, "scenarios", "mass_grade"))
-                      if f.endswith(".csv"))
+    mg_names = mass_grade_logs()
     with multiprocessing.Pool(a.jobs) as pool:
         obs = dict(pool.map(observer_job, [(a.mu_replay, n, s, k, False) for n in names
                                            for s in STARTS for k in SLIP]))
