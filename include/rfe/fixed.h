@@ -130,6 +130,36 @@ static inline rfe_fix_t rfe_fix_clamp(rfe_fix_t a, rfe_fix_t lo, rfe_fix_t hi)
 #define RFE_FIX_SHIFT64_W32 0
 #endif
 
+/** u >> s for 0 <= s <= 63 from the 32-bit halves (no libgcc call); rfe_fix_ushr64 takes it
+ *  where RFE_FIX_SHIFT64_W32, else the int64 shift: the same integer (test_fxmath_q31.c
+ *  checks the halves on the host). */
+static inline uint64_t rfe_fix_ushr64_w32(uint64_t u, unsigned int s)
+{
+    const uint32_t hi = (uint32_t)(u >> 32);
+    const uint32_t lo = (uint32_t)u;
+    uint64_t r;
+    if (s == 0u) {
+        r = u;
+    } else if (s < 32u) {
+        const uint32_t rl = (lo >> s) | (hi << (32u - s));
+        const uint32_t rh = hi >> s;
+        r = ((uint64_t)rh << 32) | (uint64_t)rl;
+    } else {
+        const uint32_t rl = hi >> ((s - 32u) & 31u);
+        r = (uint64_t)rl;
+    }
+    return r;
+}
+
+static inline uint64_t rfe_fix_ushr64(uint64_t u, unsigned int s)
+{
+#if RFE_FIX_SHIFT64_W32
+    return rfe_fix_ushr64_w32(u, s);
+#else
+    return u >> s;
+#endif
+}
+
 /** floor(a / 2^s) for 1 <= s <= 63 in 32-bit halves: the offset-binary form below, with
  *  u = (uint64)a + 2^63 (a's pattern with its top bit flipped) shifted word by word and
  *  2^(63 - s) taken off the word that holds it. s < 32: u >> s = rh 2^32 + rl with

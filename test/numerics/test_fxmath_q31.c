@@ -290,6 +290,10 @@ static void test_shifts(void **state)
         assert_true(rfe_fix_shr64_round(a, s) == ref_round_shift(a, s));
         assert_true(rfe_fix_shr64_floor(b, s) == ref_floor_shift(b, s));
         assert_true(rfe_fix_shr64_round(b, s) == ref_round_shift(b, s));
+        if (s <= 63u) {
+            const uint64_t ua = (uint64_t)a;
+            assert_true(rfe_fix_ushr64_w32(ua, s) == (ua >> s));
+        }
         if ((s >= 1u) && (s <= 63u)) {
             assert_true(rfe_fix_shr64_floor_w32(a, s) == ref_floor_shift(a, s));
             assert_true(rfe_fix_shr64_floor_w32(b, s) == ref_floor_shift(b, s));
