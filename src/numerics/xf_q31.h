@@ -74,7 +74,8 @@ static inline rfe_xf_t rfe_xf_make(int64_t v, int e)
         } else {
             /* |v| < 2^len: |v| 2^sh < 2^30 fits int32 (sh <= 29) */
             const unsigned int sh = 30u - len;
-            const int32_t p = (int32_t)rfe_q31_pow2(sh);
+            const uint32_t pu = (uint32_t)1u << sh; /* 32-bit: no libgcc shift */
+            const int32_t p = (int32_t)pu;
             r.m = (int32_t)v * p;
             r.e = e - (int)sh;
         }
