@@ -116,6 +116,86 @@ static inline rfe_fix_t rfe_fix_clamp(rfe_fix_t a, rfe_fix_t lo, rfe_fix_t hi)
     return rfe_fix_min(rfe_fix_max(a, lo), hi);
 }
 
+/*
+ * Where the core has no 64-bit shift and the compiler calls the C library for one (Thumb-1:
+ * the Cortex-M0+, where every variable int64 shift is a call to libgcc's __aeabi_llsr or
+ * __aeabi_llsl, ~20 instructions with the call), the two shifts below work on the 32-bit
+ * halves instead (rfe_fix_shr64_floor_w32, rfe_fix_bit64_w32). The same integers on every
+ * core (test_fxmath_q31.c checks the halves against the int64 forms on the host at every
+ * shift; make pil checks the Cortex-M0+ image against the host bit for bit).
+ */
+#if defined(__arm__) && !defined(__thumb2__)
+#define RFE_FIX_SHIFT64_W32 1
+#else
+#define RFE_FIX_SHIFT64_W32 0
+#endif
+
+/** u >> s for 0 <= s <= 63 from the 32-bit halves (no libgcc call); rfe_fix_ushr64 takes it
+ *  where RFE_FIX_SHIFT64_W32, else the int64 shift: the same integer (test_fxmath_q31.c
+ *  checks the halves on the host). */
+static inline uint64_t rfe_fix_ushr64_w32(uint64_t u, unsigned int s)
+{
+    const uint32_t hi = (uint32_t)(u >> 32);
+    const uint32_t lo = (uint32_t)u;
+    uint64_t r;
+    if (s == 0u) {
+        r = u;
+    } else if (s < 32u) {
+        const uint32_t rl = (lo >> s) | (hi << (32u - s));
+        const uint32_t rh = hi >> s;
+        r = ((uint64_t)rh << 32) | (uint64_t)rl;
+    } else {
+        const uint32_t rl = hi >> ((s - 32u) & 31u);
+        r = (uint64_t)rl;
+    }
+    return r;
+}
+
+static inline uint64_t rfe_fix_ushr64(uint64_t u, unsigned int s)
+{
+#if RFE_FIX_SHIFT64_W32
+    return rfe_fix_ushr64_w32(u, s);
+#else
+    return u >> s;
+#endif
+}
+
+/** floor(a / 2^s) for 1 <= s <= 63 in 32-bit halves: the offset-binary form below, with
+ *  u = (uint64)a + 2^63 (a's pattern with its top bit flipped) shifted word by word and
+ *  2^(63 - s) taken off the word that holds it. s < 32: u >> s = rh 2^32 + rl with
+ *  rh = hi >> s < 2^(32 - s) <= 2^31, so rh 2^32 + rl < 2^63 converts exactly, and
+ *  2^(63 - s) = oh 2^32 with oh = 2^(31 - s); s >= 32: u >> s = hi >> (s - 32) < 2^32 and
+ *  2^(63 - s) <= 2^31. */
+static inline int64_t rfe_fix_shr64_floor_w32(int64_t a, unsigned int s)
+{
+    const uint64_t u = (uint64_t)a ^ ((uint64_t)1 << 63);
+    const uint32_t hi = (uint32_t)(u >> 32);
+    const uint32_t lo = (uint32_t)u;
+    int64_t r;
+    if (s < 32u) {
+        const uint32_t rl = (lo >> s) | (hi << (32u - s));
+        const uint32_t rh = hi >> s;
+        const uint32_t oh = 1u << (31u - s);
+        const uint64_t rw = ((uint64_t)rh << 32) | (uint64_t)rl; /* < 2^63 */
+        const uint64_t ow = (uint64_t)oh << 32;
+        r = (int64_t)rw - (int64_t)ow;
+    } else {
+        const unsigned int s32 = (s - 32u) & 31u; /* s <= 63 */
+        const uint32_t rl = hi >> s32;
+        const uint32_t o = 0x80000000u >> s32;
+        r = (int64_t)rl - (int64_t)o;
+    }
+    return r;
+}
+
+/** Bit s of a's two's-complement pattern (0 <= s <= 63), from the word that holds it. */
+static inline uint32_t rfe_fix_bit64_w32(int64_t a, unsigned int s)
+{
+    const uint64_t u = (uint64_t)a;
+    const uint32_t w = (s < 32u) ? (uint32_t)u : (uint32_t)(u >> 32);
+    return (w >> (s & 31u)) & 1u;
+}
+
 /** floor(a / 2^s): the arithmetic right shift, for every a and every s (s >= 64 gives
  *  -1 for a < 0, else 0). Offset-binary evaluation: no implementation-defined shift. */
 static inline int64_t rfe_fix_shr64_floor(int64_t a, unsigned int s)
@@ -126,10 +206,14 @@ static inline int64_t rfe_fix_shr64_floor(int64_t a, unsigned int s)
     } else if (s >= 64u) {
         r = (a < 0) ? INT64_C(-1) : INT64_C(0);
     } else {
+#if RFE_FIX_SHIFT64_W32
+        r = rfe_fix_shr64_floor_w32(a, s);
+#else
         const uint64_t off = (uint64_t)1 << 63;
         const uint64_t u = ((uint64_t)a + off) >> s; /* < 2^63: converts exactly */
         const uint64_t o = off >> s;
         r = (int64_t)u - (int64_t)o;
+#endif
     }
     return r;
 }
@@ -145,7 +229,11 @@ static inline int64_t rfe_fix_shr64_round(int64_t a, unsigned int s)
         r = 0; /* |a| / 2^s <= 1/2, and -1/2 rounds up to 0 */
     } else {
         const unsigned int s1 = s - 1u;
+#if RFE_FIX_SHIFT64_W32
+        const uint32_t half_bit = rfe_fix_bit64_w32(a, s1);
+#else
         const uint64_t half_bit = ((uint64_t)a >> s1) & 1u;
+#endif
         r = rfe_fix_shr64_floor(a, s) + (int64_t)half_bit;
     }
     return r;

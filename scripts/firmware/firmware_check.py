@@ -352,10 +352,17 @@ def library_graph(libdir):
         sys.exit("firmware-check: " + "; ".join(m for _, m in ck.findings))
     frames = {}
     for base in bases:
+        # -fstack-usage leaves out the area a function reserves below its saved registers
+        # for an argument passed by value partly in registers (the "sub sp, #8" before the
+        # push of rfe_xf_add, which takes an rfe_xf_t): the object's own disassembly counts
+        # every push and sp decrement, so each frame is the larger of the two figures
+        obj = disasm_frames(base + ".o") if os.path.exists(base + ".o") else {}
         for ln in open(base + ".ci"):
             m = re.match(r'^node: \{ title: "([^"]+)" label: "[^"]*\\n(\d+) bytes \(([^)]*)\)"', ln)
             if m:
-                frames[m.group(1)] = (int(m.group(2)), m.group(3))
+                own = int(m.group(2))
+                seen = obj.get(m.group(1).rsplit(":", 1)[-1])
+                frames[m.group(1)] = (max(own, seen[0]) if seen else own, m.group(3))
     # Edges parsed here again: calls GCC emits itself (libgcc helpers such as
     # __aeabi_uldivmod, builtins such as memcpy) carry no "label" (no source location), and
     # the reader above skips those.

@@ -77,9 +77,11 @@ static void scale_tail(rfe_fix_t *t, size_t len, int s)
 {
     size_t j;
     if (s > 0) {
-        const int64_t p2 = rfe_q31_pow2((unsigned int)s);
+        /* s <= 29 (the tail's norm is at least each |t[j]| >= 1 and ends below 2^30), and
+         * every product is below 2^30: one 32-bit multiplication each, exact */
+        const int32_t p2 = (int32_t)rfe_q31_pow2((unsigned int)s);
         for (j = 0u; j < len; ++j) {
-            t[j] = (rfe_fix_t)((int64_t)t[j] * p2);
+            t[j] = t[j] * p2;
         }
     } else if (s < 0) {
         for (j = 0u; j < len; ++j) {

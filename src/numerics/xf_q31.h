@@ -53,7 +53,7 @@ typedef struct {
 static inline int32_t rfe_xf_round(int64_t v, unsigned int sh)
 {
     const unsigned int s1 = sh - 1u;
-    const uint32_t f = (uint32_t)((uint64_t)v >> s1);
+    const uint32_t f = (uint32_t)rfe_fix_ushr64((uint64_t)v, s1);
     const uint32_t w = f ^ (uint32_t)0x80000000u;
     const uint32_t h = (w >> 1) + (w & 1u); /* result + 2^30, in [0, 2^31] */
     return (int32_t)((int64_t)h - (int64_t)0x40000000);
@@ -74,7 +74,8 @@ static inline rfe_xf_t rfe_xf_make(int64_t v, int e)
         } else {
             /* |v| < 2^len: |v| 2^sh < 2^30 fits int32 (sh <= 29) */
             const unsigned int sh = 30u - len;
-            const int32_t p = (int32_t)rfe_q31_pow2(sh);
+            const uint32_t pu = (uint32_t)1u << sh; /* 32-bit: no libgcc shift */
+            const int32_t p = (int32_t)pu;
             r.m = (int32_t)v * p;
             r.e = e - (int)sh;
         }

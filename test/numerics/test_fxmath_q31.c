@@ -271,6 +271,15 @@ static void test_shifts(void **state)
             assert_true(rfe_fix_shr64_floor(edge[i], s) == ref_floor_shift(edge[i], s));
             assert_true(rfe_fix_shr64_round(edge[i], s) == ref_round_shift(edge[i], s));
         }
+        /* the 32-bit-halves forms the Cortex-M0+ build uses (RFE_FIX_SHIFT64_W32), checked
+         * here on the host against the references at every shift they take */
+        for (s = 1u; s <= 63u; ++s) {
+            assert_true(rfe_fix_shr64_floor_w32(edge[i], s) == ref_floor_shift(edge[i], s));
+        }
+        for (s = 0u; s <= 63u; ++s) {
+            const uint64_t bit = ((uint64_t)edge[i] >> s) & 1u;
+            assert_true((uint64_t)rfe_fix_bit64_w32(edge[i], s) == bit);
+        }
     }
     rng_seed(202u);
     for (k = 0; k < 300000; k += LIGHT_STEP) {
@@ -281,6 +290,15 @@ static void test_shifts(void **state)
         assert_true(rfe_fix_shr64_round(a, s) == ref_round_shift(a, s));
         assert_true(rfe_fix_shr64_floor(b, s) == ref_floor_shift(b, s));
         assert_true(rfe_fix_shr64_round(b, s) == ref_round_shift(b, s));
+        if (s <= 63u) {
+            const uint64_t ua = (uint64_t)a;
+            assert_true(rfe_fix_ushr64_w32(ua, s) == (ua >> s));
+        }
+        if ((s >= 1u) && (s <= 63u)) {
+            assert_true(rfe_fix_shr64_floor_w32(a, s) == ref_floor_shift(a, s));
+            assert_true(rfe_fix_shr64_floor_w32(b, s) == ref_floor_shift(b, s));
+            assert_true((uint64_t)rfe_fix_bit64_w32(a, s) == (((uint64_t)a >> s) & 1u));
+        }
     }
 }
 
