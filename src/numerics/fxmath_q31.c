@@ -154,39 +154,11 @@ static uint64_t div_bits(uint64_t n, uint64_t d, unsigned int bits)
     return quo;
 }
 
-/* round(n * 2^e / d) for d in [1, 2^63], to nearest with ties up (on the magnitude, i.e.
- * away from zero): with q2 = floor(n * 2^(e+1) / d), the result is
- * (q2 + 1) >> 1 = floor(n * 2^e / d + 1/2). It exceeds INT32_MAX exactly when
- * q2 >= 2^32 - 1 (returns 1, *q unset). When n, d < 2^32 and e + 1 <= 32, n 2^(e+1) < 2^64
- * and q2 is one integer division (the common case: int32 operands; rfe_q31_udiv64_32 once
- * the quotient is known to be below 2^32, else it is at least LIM2); else div_bits. */
-static int div_round_mag(uint64_t n, uint64_t d, unsigned int e, uint64_t *q)
-{
-    const unsigned int e1 = e + 1u;
-    uint64_t q2;
-
-    if (((n >> 32) == 0u) && ((d >> 32) == 0u) && (e1 <= 32u)) {
-        const uint64_t ne = n << e1;
-        if ((ne >> 32) >= d) {
-            q2 = LIM2; /* the quotient is 2^32 or more */
-        } else {
-            q2 = (uint64_t)rfe_q31_udiv64_32(ne, (uint32_t)d);
-        }
-    } else {
-        q2 = div_bits(n, d, e1);
-    }
-    if (q2 >= LIM2) {
-        return 1;
-    }
-    *q = (q2 + 1u) >> 1;
-    return 0;
-}
-
-/* div_round_mag's first case written for rfe_fix_div's common call (both magnitudes below
- * 2^32, 0 <= e <= 31): the same q2 (one rfe_q31_udiv64_32 once the quotient is known to be
- * below 2^32, else LIM2) and result, inline in rfe_fix_div, where the call to div_round_mag
+/* div_round_mag for both magnitudes below 2^32 and 0 <= e <= 31: q2 = floor(n 2^(e+1) / d)
+ * by one rfe_q31_udiv64_32 once the quotient is known to be below 2^32, else LIM2 (too
+ * large). rfe_fix_div's common call takes it directly (inline: the call to div_round_mag
  * and its 64-bit argument tests cost about as much as the division's own arithmetic on the
- * Cortex-M4. */
+ * Cortex-M4); div_round_mag's own first case is this. */
 static inline int div_round_mag32(uint32_t n, uint32_t d, unsigned int e, uint64_t *q)
 {
     const unsigned int e1 = e + 1u;
@@ -199,6 +171,29 @@ static inline int div_round_mag32(uint32_t n, uint32_t d, unsigned int e, uint64
     if (q2 < LIM2) {
         *q = (q2 + 1u) >> 1;
         over = 0;
+    }
+    return over;
+}
+
+/* round(n * 2^e / d) for d in [1, 2^63], to nearest with ties up (on the magnitude, i.e.
+ * away from zero): with q2 = floor(n * 2^(e+1) / d), the result is
+ * (q2 + 1) >> 1 = floor(n * 2^e / d + 1/2). It exceeds INT32_MAX exactly when
+ * q2 >= 2^32 - 1 (returns 1, *q unset). When n, d < 2^32 and e + 1 <= 32, n 2^(e+1) < 2^64
+ * and q2 is one integer division (the common case: int32 operands; rfe_q31_udiv64_32 once
+ * the quotient is known to be below 2^32, else it is at least LIM2); else div_bits. */
+static int div_round_mag(uint64_t n, uint64_t d, unsigned int e, uint64_t *q)
+{
+    const unsigned int e1 = e + 1u;
+    int over = 1;
+
+    if (((n >> 32) == 0u) && ((d >> 32) == 0u) && (e1 <= 32u)) {
+        over = div_round_mag32((uint32_t)n, (uint32_t)d, e, q);
+    } else {
+        const uint64_t q2 = div_bits(n, d, e1);
+        if (q2 < LIM2) {
+            *q = (q2 + 1u) >> 1;
+            over = 0;
+        }
     }
     return over;
 }
