@@ -4,8 +4,9 @@ A run is (RMSE when valid, consistency when valid, valid share, share fed). "Hel
 RMSE, a consistency no lower and a valid share at most 5 points lower than without the feed;
 "hurts": an RMSE higher by more than 0.02 or a consistency lower by more than 0.05; no verdict
 (None) when either run has no valid sample. "Meets" (issue 20's targets): an RMSE when valid
-<= 0.08 and a consistency when valid >= 0.9. Each fed column is one filter (APF, SCKF) at one
-feed, and a run hands its filter to mu_replay (checked with a stand-in for mu_replay).
+<= 0.08 and a consistency when valid >= 0.9. Each fed column of the first table is one filter
+(APF, SIR, SCKF) at one feed, the other tables' pairs the APF's and the SCKF's, and a run hands
+its filter to mu_replay (checked with a stand-in for mu_replay).
 """
 
 import json
@@ -48,9 +49,13 @@ def test_labels_say_the_evidence():
 
 def test_columns_are_every_feed_of_each_filter():
     cols = fr.columns()
-    assert {c[0] for c in cols} == {"apf", "sckf"}
-    assert len(cols) == len(fr.FILTERS) * len(fr.FEEDS)
-    for flt, letter in fr.FILTERS:
+    assert {c[0] for c in cols} == {"apf", "sir", "sckf"}
+    assert len(cols) == len(fr.FEED_FILTERS) * len(fr.FEEDS)
+    # the particle filters side by side, the SCKF last; its A and S columns as before the SIR
+    assert [c[1] for c in cols[::len(fr.FEEDS)]] == ["A", "B", "S"]
+    # the hold, ellipse and band tables keep the APF and the SCKF only
+    assert {p[0] for p in fr.hold_columns() + fr.ellipse_columns()} == {"apf", "sckf"}
+    for flt, letter in fr.FEED_FILTERS:
         assert [c[2] for c in cols if c[0] == flt] == list(fr.FEEDS)
         assert {c[1] for c in cols if c[0] == flt} == {letter}
     labels = [fr.label(c[2], c[1]) for c in cols]
@@ -215,29 +220,34 @@ def test_run_writes_the_seed_only_when_given(tmp_path):
     assert not any(x.startswith("tid_seed") for x in par.read_text().splitlines())
 
 
-def test_seed_jobs_repeat_only_the_seeded_filter_beyond_the_first_seed():
+def test_seed_jobs_repeat_only_the_seeded_filters_beyond_the_first_seed():
     jobs = fr.seed_jobs(["scenarios/a.csv"])
-    assert {j[1] for j in jobs} == set(fr.SEEDED) == {"apf"}
+    assert {j[1] for j in jobs} == set(fr.SEEDED) == {"apf", "sir"}
     assert sorted({j[3] for j in jobs}) == list(fr.SEEDS[1:])
-    assert len(jobs) == len(fr.FEEDS) * (len(fr.SEEDS) - 1)
+    assert len(jobs) == 2 * len(fr.FEEDS) * (len(fr.SEEDS) - 1)
     assert fr.SEEDS[0] == 1                          # the preset's tid_seed (RFE_TID_SEED_DEFAULT)
 
 
+# Two logs, one feed, the APF (and SIR) over three seeds and the SCKF once, figures decided by
+# hand (the APF's and the SCKF's in test_feed_table_aggregates_the_seeds).
+FA, FB, FF = "scenarios/a.csv", "scenarios/b.csv", (0.1, 0.0)
+FEED_RES = {(FA, None, None): (0.20, 0.90, 0.50, 0.0), (FB, None, None): (0.10, 1.00, 0.50, 0.0),
+            (FA, "apf", FF): (0.10, 0.95, 0.50, 0.4), (FA, "apf", FF, 2): (0.25, 0.95, 0.50, 0.6),
+            (FA, "apf", FF, 3): (0.15, 0.95, 0.50, 0.5), (FA, "sckf", FF): (0.10, 0.95, 0.50, 0.5),
+            (FB, "apf", FF): (0.05, 1.00, 0.50, 0.5), (FB, "apf", FF, 2): (0.05, 1.00, 0.50, 0.5),
+            (FB, "apf", FF, 3): (0.05, 1.00, 0.50, 0.5), (FB, "sckf", FF): (None, None, 0.0, 0.3)}
+
+
 def test_feed_table_aggregates_the_seeds(monkeypatch):
-    """Two logs, one feed, the APF over three seeds and the SCKF once, figures decided by hand.
+    """Two logs, one feed, the APF over three seeds and the SCKF once, figures decided by hand
+    (the table without the SIR column: its A and S columns as they were before it).
     Log a (off 0.20 / 0.90 / 50 %): the APF's seeds 0.10 (helps), 0.25 (hurts: 0.05 higher),
     0.15 (helps); the SCKF 0.10 (helps). Log b (off 0.10 / 1.00): every APF seed 0.05 and 1.00
     (helps, meets); the SCKF without a valid sample (no verdict)."""
-    monkeypatch.setattr(fr, "FEEDS", ((0.1, 0.0),))
+    monkeypatch.setattr(fr, "FEEDS", (FF,))
     monkeypatch.setattr(fr, "SEEDS", (1, 2, 3))
-    f = (0.1, 0.0)
-    a, b = "scenarios/a.csv", "scenarios/b.csv"
-    res = {(a, None, None): (0.20, 0.90, 0.50, 0.0), (b, None, None): (0.10, 1.00, 0.50, 0.0),
-           (a, "apf", f): (0.10, 0.95, 0.50, 0.4), (a, "apf", f, 2): (0.25, 0.95, 0.50, 0.6),
-           (a, "apf", f, 3): (0.15, 0.95, 0.50, 0.5), (a, "sckf", f): (0.10, 0.95, 0.50, 0.5),
-           (b, "apf", f): (0.05, 1.00, 0.50, 0.5), (b, "apf", f, 2): (0.05, 1.00, 0.50, 0.5),
-           (b, "apf", f, 3): (0.05, 1.00, 0.50, 0.5), (b, "sckf", f): (None, None, 0.0, 0.3)}
-    rows = fr.feed_table([a, b], res)
+    monkeypatch.setattr(fr, "FEED_FILTERS", fr.FILTERS)
+    rows = fr.feed_table([FA, FB], dict(FEED_RES))
     assert rows[2] == ("| a | 0.200 / 0.150 [0.100–0.250] / 0.100 | 0.90 / 0.95 / 0.95 "
                        "| 50% / 50% / 50% | 50% [40%–60%] / 50% | 2/3 / yes | 1/3 / no |")
     assert rows[3] == ("| b | 0.100 / 0.050 / – | 1.00 / 1.00 / – | 50% / 50% / 0% "
@@ -249,6 +259,53 @@ def test_feed_table_aggregates_the_seeds(monkeypatch):
     assert "A0.1: 1 / 1; 0 / 1." in text
     # meets: off none of 2; the APF log b on every seed; the SCKF log a misses (0.10 > 0.08)
     assert "off: 0 of 2; A0.1: 1 of 2; S0.1: 0 of 1." in text
+
+
+def test_feed_table_adds_the_sir_column_between_the_apf_and_the_sckf(monkeypatch):
+    """The same logs with the bootstrap filter (B) over the same three seeds, figures decided by
+    hand. Log a (off 0.20 / 0.90 / 50 %): SIR seed 1 0.30 (hurts: 0.10 higher), seed 2 0.18 with
+    consistency 0.88 (lower: no help; 0.02 lower: no hurt), seed 3 0.12 (helps). Log b (off
+    0.10 / 1.00): seed 1 without a valid sample (no verdict), seeds 2 and 3 0.07 with
+    consistency 0.97 (lower: no help; 0.03 lower: no hurt; meets: 0.07 <= 0.08, 0.97 >= 0.9).
+    The APF's and the SCKF's cells are those of the table without SIR, character for
+    character."""
+    monkeypatch.setattr(fr, "FEEDS", (FF,))
+    monkeypatch.setattr(fr, "SEEDS", (1, 2, 3))
+    res = dict(FEED_RES)
+    for key, runs in (((FA, "sir", FF), ((0.30, 0.95, 0.50, 0.7), (0.18, 0.88, 0.50, 0.6),
+                                         (0.12, 0.95, 0.50, 0.5))),
+                      ((FB, "sir", FF), ((None, None, 0.0, 0.2), (0.07, 0.97, 0.50, 0.4),
+                                         (0.07, 0.97, 0.50, 0.4)))):
+        res[key] = runs[0]                           # seed 1: the preset's run, no seed key
+        res[key + (2,)], res[key + (3,)] = runs[1], runs[2]
+    rows = fr.feed_table([FA, FB], res)
+    assert rows[0].startswith("| log | RMSE when valid: off / A0.1 / B0.1 / S0.1 |")
+    assert rows[2] == ("| a | 0.200 / 0.150 [0.100–0.250] / 0.180 [0.120–0.300] / 0.100 "
+                       "| 0.90 / 0.95 / 0.95 [0.88–0.95] / 0.95 | 50% / 50% / 50% / 50% "
+                       "| 50% [40%–60%] / 60% [50%–70%] / 50% | 2/3 / 1/3 / yes "
+                       "| 1/3 / 1/3 / no |")
+    assert rows[3] == ("| b | 0.100 / 0.050 / 0.070 (2 of 3 seeds) / – "
+                       "| 1.00 / 1.00 / 0.97 (2 of 3 seeds) / – | 50% / 50% / 50% [0%–50%] / 0% "
+                       "| 50% / 40% [20%–40%] / 30% | 3/3 / 0/2 / – | 0/3 / 0/2 / – |")
+    text = "\n".join(rows)
+    assert "Seeds: the APF's and SIR's columns (A0.1, B0.1) are the median over tid_seed 1, 2, 3" \
+        in text
+    # per seed SIR helps on 0, 0, 1 logs and hurts on 1, 0, 0, of 1, 2, 2 with a verdict
+    assert ("A0.1: 2 [1–2] / 0 [0–1] of 2; B0.1: 0 [0–1] / 0 [0–1] of 2 [1–2]; "
+            "S0.1: 1 / 0 of 1.") in text
+    # log a helped on some seeds and hurt on some; log b neither
+    assert "A0.1: 1 / 1; 0 / 1; B0.1: 0 / 1; 0 / 1." in text
+    # meets per seed: none, log b, log b, of 1, 2, 2 logs with a valid sample
+    assert "off: 0 of 2; A0.1: 1 of 2; B0.1: 1 [0–1] of 2 [1–2]; S0.1: 0 of 1." in text
+
+
+def test_run_hands_sir_and_its_seed_to_the_replay(tmp_path):
+    exe, rec = _stand_in(tmp_path)
+    fr.run(exe, "scenarios/brake_in_turn.mf.csv", "sir", (0.05, 0.25), 4)
+    args = json.loads(rec.read_text())
+    assert args[args.index("--tyre-id") + 1] == "sir"
+    lines = (tmp_path / "params.txt").read_text().splitlines()
+    assert "tid_seed = 4" in lines and "tid_feed_sd_rel = 0.05" in lines
 
 
 # Two logs and one before -> after pair per filter for the hold table's tests (the seeded APF
@@ -360,10 +417,11 @@ def test_the_jobs_are_exactly_the_runs_the_four_tables_read(monkeypatch):
     fr.hold_table(names, res, fr.ellipse_columns(), fr.ELLIPSE_WORDS)
     fr.hold_table(names, res, fr.ellipse_columns(fr.BAND), fr.BAND_WORDS)
     assert res.read == set(jobs)
-    # per log: off, and per filter the first table's 4 feeds, the hold's 2 unheld feeds, the
-    # ellipse's and the band's 4 each; the APF's on each of the 3 seeds
+    # per log: off, and per filter of the APF and the SCKF the first table's 4 feeds, the
+    # hold's 2 unheld feeds, the ellipse's and the band's 4 each; the APF's on each of the 3
+    # seeds; SIR the first table's 4 feeds on each of the 3 seeds
     per_filter = len(fr.FEEDS) + len(fr.HOLD_FEEDS) + 2 * 2 * len(fr.HOLD_FEEDS)
-    assert len(jobs) == len(names) * (1 + per_filter * (3 + 1))
+    assert len(jobs) == len(names) * (1 + per_filter * (3 + 1) + len(fr.FEEDS) * 3)
 
 
 def test_map_progress_keeps_order_and_reports(capsys):

@@ -9,12 +9,15 @@ Every steering log (the scenarios whose driver steers: brake in turn, double lan
 steer, sine steer, the wrong tyre data, each with the Dugoff truth, the Magic Formula truth .mf
 and the noise-free .nf; and the tyre identification logs scenarios/tyre_id/) is replayed by the
 C library (`mu_replay`, float, the default preset) without the identifier and with each
-identifier of FILTERS (`--tyre-id apf`, the auxiliary particle filter, and `--tyre-id sckf`,
-the sigma-point filter of docs/TYRE_ID.md section 15) feeding at each (tid_feed_sd_rel,
-tid_feed_evidence) of FEEDS: from the start, and only after 0.25 s of the friction
-estimator's own evidence that its curve is wrong (time at a mu bound or in model mismatch).
-Both filters feed by the same rule (the relative sd of the summed cornering stiffness, the
-particles' spread for the APF, the row norms of the square-root covariance for the SCKF).
+identifier of FEED_FILTERS (`--tyre-id apf`, the auxiliary particle filter, `--tyre-id sir`,
+the bootstrap (SIR) particle filter, and `--tyre-id sckf`, the sigma-point filter of
+docs/TYRE_ID.md section 15) feeding at each (tid_feed_sd_rel, tid_feed_evidence) of FEEDS:
+from the start, and only after 0.25 s of the friction estimator's own evidence that its curve
+is wrong (time at a mu bound or in model mismatch). Every filter feeds by the same rule (the
+relative sd of the summed cornering stiffness, the particles' spread for the APF and SIR, the
+row norms of the square-root covariance for the SCKF). The bootstrap filter is in the first
+table only (issue 20's three-way comparison on the feed's effect); the other three tables
+compare changes of the feed on the filters of FILTERS (the APF, the SCKF).
 Per run, from the --metrics JSON, the figures pooled over the four wheels as the README's
 trust table pools them (scripts/tools/wheel_figures.py):
     RMSE when valid         over the settled samples reported valid
@@ -28,12 +31,13 @@ the estimate does not help). It "hurts" when its RMSE when valid is higher by mo
 A run "meets" issue 20's targets when its RMSE when valid is <= 0.08 and its consistency when
 valid >= 0.9 (no verdict without a valid sample); the count of logs that meet them is given
 per column, "off" included.
-The APF draws from a seeded random stream, and a change of the float32 arithmetic moves its
-draws, so one seed's figure carries that draw's noise: in the first table each APF column is
-run once per tid_seed of SEEDS (the first the preset's default) and its cells give the median
-over the seeds and [min-max] where the seeds differ; its helps (hurts) cell counts the seeds on
-which the feed helps (hurts); the counts (helps, hurts, meets) are counted per seed and given as
-the median and [min-max] over the seeds. The SCKF is deterministic: one run.
+The APF and SIR draw from a seeded random stream, and a change of the float32 arithmetic moves
+their draws, so one seed's figure carries that draw's noise: in the first table each APF and
+SIR column is run once per tid_seed of SEEDS (the first the preset's default) and its cells
+give the median over the seeds and [min-max] where the seeds differ; its helps (hurts) cell
+counts the seeds on which the feed helps (hurts); the counts (helps, hurts, meets) are counted
+per seed and given as the median and [min-max] over the seeds. The SCKF is deterministic: one
+run.
 Every fed run of that table has tid_feed_ax_max at its default (0.5 m/s^2: no curve fed after
 a sample whose |ax| exceeds it, braking or driving). The other three tables run their APF
 pairs over the same seeds, each seed's "before" and "after" from the same seed: their cells
@@ -82,6 +86,9 @@ VALID_DROP = 0.05  # the largest fall of the valid share a run that helps may ha
 RMSE_WORSE = 0.02  # a rise of the RMSE when valid that hurts (issue 16's "no worse")
 CONS_WORSE = 0.05  # a fall of the consistency when valid that hurts
 FILTERS = (("apf", "A"), ("sckf", "S"))  # (--tyre-id FILTER, its letter in the column labels)
+# The first table's filters: FILTERS with the bootstrap filter (B) between the two, so the
+# particle filters stand side by side (issue 20 deliverable 3's APF / SIR / SCKF comparison)
+FEED_FILTERS = (("apf", "A"), ("sir", "B"), ("sckf", "S"))
 RMSE_TARGET = 0.08  # issue 20: RMSE when valid with identified parameters at most this
 CONS_TARGET = 0.9  # issue 20: consistency when valid at least this
 HOLD_FEEDS = ((0.05, 0.0), (0.1, 0.0))  # the feeds of the before -> after table
@@ -91,8 +98,9 @@ NO_BAND = 0.0  # tid_ell_ax_min of the third table's runs: the ellipse without i
 BAND = 0.6  # tid_ell_ax_min of the fourth table's runs: the key's default (TYRE_ID.md section 2)
 SEEDS = (1, 2, 3, 4, 5)  # tid_seed of each seeded filter's runs in every table; the first is
 # the preset's (RFE_TID_SEED_DEFAULT), its runs keyed without a seed; five draws over the four
-# tables take the make target to about 25 min on 2 shared cores (docs/TYRE_ID_RESULTS.md)
-SEEDED = ("apf",)  # the filters of FILTERS with a random stream; the SCKF is deterministic
+# tables take the make target to about 25 min on 2 shared cores, the bootstrap filter's five
+# draws of the first table about 10 min more (docs/TYRE_ID_RESULTS.md)
+SEEDED = ("apf", "sir")  # the filters with a random stream; the SCKF is deterministic
 
 
 def label(feed, letter=""):
@@ -107,9 +115,9 @@ def label(feed, letter=""):
 
 
 def columns():
-    """The fed runs of a log, in column order: (filter, letter, feed), every feed of FEEDS for
-    each filter of FILTERS in turn."""
-    return [(flt, letter, feed) for flt, letter in FILTERS for feed in FEEDS]
+    """The first table's fed runs of a log, in column order: (filter, letter, feed), every feed
+    of FEEDS for each filter of FEED_FILTERS in turn."""
+    return [(flt, letter, feed) for flt, letter in FEED_FILTERS for feed in FEEDS]
 
 
 def logs():
@@ -420,11 +428,12 @@ def feed_table(names, res):
                     + " | " + " / ".join(hcells) + " | " + " / ".join(ucells) + " |")
     seeded = [lab for lab, c in zip(labels, cols) if c[0] in SEEDED]
     rows.append("")
-    rows.append("Columns: A the APF's curve fed, S the SCKF's; the number its tid_feed_sd_rel, "
-                "eX: after X s of evidence.")
+    rows.append("Columns: A the APF's curve fed, B the bootstrap (SIR) filter's, S the SCKF's; "
+                "the number its tid_feed_sd_rel, eX: after X s of evidence.")
     rows.append("")
-    rows.append(f"Seeds: the APF's columns ({', '.join(seeded)}) are the median over tid_seed "
-                f"{', '.join(str(sd) for sd in SEEDS)} of its random stream, with [min–max] over "
+    rows.append(f"Seeds: the APF's and SIR's columns ({', '.join(seeded)}) are the median over "
+                f"tid_seed {', '.join(str(sd) for sd in SEEDS)} of the filter's random stream, "
+                "with [min–max] over "
                 "the seeds where they differ at the table's digits (RMSE and consistency over the "
                 "seeds with a valid sample; \"(k of n seeds)\" where only k have one), and "
                 "their helps and hurts cells the number of seeds on which the feed helps or "
