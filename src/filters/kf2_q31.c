@@ -138,15 +138,14 @@ static void normalise_q31(int64_t v, rfe_fix_t *m, int *e)
     *e = sh;
 }
 
-static ratio_q31_t ratio_q31(int64_t a, int64_t b)
+/* a / b for b > 0 given normalised (normalise_q31: mb in [2^29, 2^30], b = mb 2^eb): both
+ * gains of an update share S, so S is normalised once for the two. */
+static ratio_q31_t ratio_q31(int64_t a, rfe_fix_t mb, int eb)
 {
     ratio_q31_t r = {0, 0};
     rfe_fix_t ma;
-    rfe_fix_t mb;
     int ea;
-    int eb;
     normalise_q31(a, &ma, &ea);
-    normalise_q31(b, &mb, &eb);
     if (ma != 0) {
         /* |ma / mb| <= 2 (mb >= 2^29): rfe_fix_div(ma, mb, 29)'s integer, no saturation
          * (floor(|ma| 2^30 / mb) <= 2^31 < 2^32), without its checks; mb > 0 as b > 0 */
@@ -306,6 +305,8 @@ rfe_status_t rfe_kf2_update_q31(rfe_kf2_q31_t *f, const rfe_kf2_meas_q31_t *m, u
     int64_t s;
     ratio_q31_t k0;
     ratio_q31_t k1;
+    rfe_fix_t ms;
+    int es;
     if ((f == NULL) || (m == NULL) || (sat == NULL)) {
         return RFE_ERR_NULL;
     }
@@ -321,8 +322,9 @@ rfe_status_t rfe_kf2_update_q31(rfe_kf2_q31_t *f, const rfe_kf2_meas_q31_t *m, u
     }
     /* K_i nu and K_i ph_j in the states' formats are (ph_i / S) times nu and ph_j as
      * integers: the formats cancel (x_i: Q(q_i + qz) / Q(2 qz) * Q(qz) = Q(q_i)) */
-    k0 = ratio_q31(ph0, s);
-    k1 = ratio_q31(ph1, s);
+    normalise_q31(s, &ms, &es);
+    k0 = ratio_q31(ph0, ms, es);
+    k1 = ratio_q31(ph1, ms, es);
     f->x[0] = rfe_fix_sat32((int64_t)f->x[0] + apply_ratio_q31(k0, (int64_t)m->nu, &cnt), &cnt);
     f->x[1] = rfe_fix_sat32((int64_t)f->x[1] + apply_ratio_q31(k1, (int64_t)m->nu, &cnt), &cnt);
     f->p00 = clamp_p_q31(f->p00 - apply_ratio_q31(k0, ph0, &cnt), &cnt);
