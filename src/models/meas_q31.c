@@ -549,15 +549,19 @@ static void lat_part_q31(const lat_q36_t *b, rfe_xf_t fx, rfe_xf_t fy, lat_part_
     }
 }
 
-/* Row r of the sum over the wheels' parts p in Q24, rounded half up and saturating (counted in
- * *count): every part at the largest exponent E of the wheels' (a smaller one rounded half up,
- * 1/2 unit of 2^E), the sum of four parts < 2^60.5 each < 2^62.5 exact, then rounded once to
- * Q24 (or shifted up exactly while below 2^62, saturating beyond: q24_of_scaled_q31). */
-static rfe_fix_t lat_row_q31(const lat_part_q31_t p[RFE_WHEELS], size_t r, uint32_t *count)
+/* Both rows of the sum over the wheels' parts p in Q24 (@p out[r], row r), rounded half up
+ * and saturating (counted in *count): every part at the largest exponent E of the wheels'
+ * (a smaller one rounded half up, 1/2 unit of 2^E), the sum of four parts < 2^60.5 each <
+ * 2^62.5 exact, then rounded once to Q24 (or shifted up exactly while below 2^62, saturating
+ * beyond: q24_of_scaled_q31). The two rows share E and each wheel's shift, so both are
+ * formed in one pass over the wheels (row 0's sums first, as two calls formed them: the
+ * same integers and counts). */
+static void lat_rows_q31(const lat_part_q31_t p[RFE_WHEELS], rfe_fix_t out[2], uint32_t *count)
 {
     int emax = 0;
     int any = 0;
-    int64_t sum = 0;
+    int64_t sum0 = 0;
+    int64_t sum1 = 0;
     size_t i;
     for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
         if ((p[i].any != 0) && ((any == 0) || (p[i].e > emax))) {
@@ -567,11 +571,13 @@ static rfe_fix_t lat_row_q31(const lat_part_q31_t p[RFE_WHEELS], size_t r, uint3
     }
     for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
         if (p[i].any != 0) {
-            const int sh = emax - p[i].e;
-            sum += rfe_fix_shr64_round(p[i].t[r], (unsigned int)sh);
+            const unsigned int sh = (unsigned int)(emax - p[i].e);
+            sum0 += rfe_fix_shr64_round(p[i].t[0], sh);
+            sum1 += rfe_fix_shr64_round(p[i].t[1], sh);
         }
     }
-    return rfe_meas_q24_of_scaled_q31(sum, emax + 24, count);
+    out[0] = rfe_meas_q24_of_scaled_q31(sum0, emax + 24, count);
+    out[1] = rfe_meas_q24_of_scaled_q31(sum1, emax + 24, count);
 }
 
 /* Wheel i's Dugoff/Magic Formula pre-computed terms and its slip's direction of change by vy,
@@ -684,9 +690,9 @@ rfe_status_t rfe_meas_lateral_jac_q31(const rfe_meas_q31_t *h, const rfe_vehicle
     }
     for (r = 0u; r < 2u; ++r) {
         out->z[r] = z[r + 1u];
-        out->d_vy[r] = lat_row_q31(pv, r, &count);
-        out->d_mu[r] = lat_row_q31(pm, r, &count);
     }
+    lat_rows_q31(pv, out->d_vy, &count);
+    lat_rows_q31(pm, out->d_mu, &count);
     rfe_q31_sat_add(sat, count);
     return RFE_OK;
 }
