@@ -269,6 +269,23 @@ static int meas_ok_q31(const rfe_kf2_q31_t *f, const rfe_kf2_meas_q31_t *m)
            (m->r >= 0) && (m->r <= RFE_KF2_Q31_PMAX);
 }
 
+/* v h / 2^s for an H entry h: mul_p_q31's integer, without its product where h is exactly 1
+ * in its format (h = 2^s, s <= 30) and |v| <= PMAX: v 2^s / 2^s is v exactly, no rounding,
+ * and within PMAX the clamp leaves it (and counts nothing). Every row of the velocity
+ * observer but the model's two observes its state with such an h (docs/OBSERVER.md: the
+ * wheel reference, the offsets' row, the linear range, low speed, the differentiator). */
+static int64_t mul_h_q31(int64_t v, rfe_fix_t h, unsigned int s, uint32_t *cnt)
+{
+    int64_t r;
+    if ((s <= 30u) && ((int64_t)h == rfe_q31_pow2(s)) && (v >= -RFE_KF2_Q31_PMAX) &&
+        (v <= RFE_KF2_Q31_PMAX)) {
+        r = v;
+    } else {
+        r = mul_p_q31(v, h, s, cnt);
+    }
+    return r;
+}
+
 /* P H^T (ph0 in Q(q0 + qz), ph1 in Q(q1 + qz)) and H P H^T (Q(2 qz)), each sum clamped to
  * +-PMAX (counted). Where one of h0, h1 is 0 (every row of the velocity observer: a state
  * observed alone), its products are 0 (mul_p_q31, uncounted) and each sum is its other
@@ -278,13 +295,13 @@ static void pht_q31(const rfe_kf2_q31_t *f, const rfe_kf2_meas_q31_t *m, unsigne
                     unsigned int s1, int64_t *ph0, int64_t *ph1, int64_t *hph, uint32_t *cnt)
 {
     if (m->h1 == 0) {
-        *ph0 = mul_p_q31(f->p00, m->h0, s0, cnt);
-        *ph1 = mul_p_q31(f->p01, m->h0, s0, cnt);
-        *hph = mul_p_q31(*ph0, m->h0, s0, cnt);
+        *ph0 = mul_h_q31(f->p00, m->h0, s0, cnt);
+        *ph1 = mul_h_q31(f->p01, m->h0, s0, cnt);
+        *hph = mul_h_q31(*ph0, m->h0, s0, cnt);
     } else if (m->h0 == 0) {
-        *ph0 = mul_p_q31(f->p01, m->h1, s1, cnt);
-        *ph1 = mul_p_q31(f->p11, m->h1, s1, cnt);
-        *hph = mul_p_q31(*ph1, m->h1, s1, cnt);
+        *ph0 = mul_h_q31(f->p01, m->h1, s1, cnt);
+        *ph1 = mul_h_q31(f->p11, m->h1, s1, cnt);
+        *hph = mul_h_q31(*ph1, m->h1, s1, cnt);
     } else {
         *ph0 = clamp_p_q31(mul_p_q31(f->p00, m->h0, s0, cnt) + mul_p_q31(f->p01, m->h1, s1, cnt),
                            cnt);
