@@ -270,16 +270,16 @@ static int meas_ok_q31(const rfe_kf2_q31_t *f, const rfe_kf2_meas_q31_t *m)
 }
 
 /* v h / 2^s for an H entry h: mul_p_q31's integer, without its product where h is exactly 1
- * in its format (h = 2^s, s <= 30) and |v| <= PMAX: v 2^s / 2^s is v exactly, no rounding,
- * and within PMAX the clamp leaves it (and counts nothing). Every row of the velocity
- * observer but the model's two observes its state with such an h (docs/OBSERVER.md: the
- * wheel reference, the offsets' row, the linear range, low speed, the differentiator). */
+ * in its format (h = 2^s, which an int32 h can be only for s <= 30): v 2^s / 2^s is v
+ * exactly, no rounding, and mul_p_q31's clamp is clamp_p_q31's (for |v| <= PMAX, the
+ * filter's entries, v itself, nothing counted). Every row of the velocity observer but the
+ * model's two observes its state with such an h (docs/OBSERVER.md: the wheel reference, the
+ * offsets' row, the linear range, low speed, the differentiator). */
 static int64_t mul_h_q31(int64_t v, rfe_fix_t h, unsigned int s, uint32_t *cnt)
 {
     int64_t r;
-    if ((s <= 30u) && ((int64_t)h == rfe_q31_pow2(s)) && (v >= -RFE_KF2_Q31_PMAX) &&
-        (v <= RFE_KF2_Q31_PMAX)) {
-        r = v;
+    if ((int64_t)h == rfe_q31_pow2(s)) {
+        r = clamp_p_q31(v, cnt);
     } else {
         r = mul_p_q31(v, h, s, cnt);
     }
