@@ -138,15 +138,14 @@ static void normalise_q31(int64_t v, rfe_fix_t *m, int *e)
     *e = sh;
 }
 
-static ratio_q31_t ratio_q31(int64_t a, int64_t b)
+/* a / b for b > 0 given normalised (normalise_q31: mb in [2^29, 2^30], b = mb 2^eb): both
+ * gains of an update share S, so S is normalised once for the two. */
+static ratio_q31_t ratio_q31(int64_t a, rfe_fix_t mb, int eb)
 {
     ratio_q31_t r = {0, 0};
     rfe_fix_t ma;
-    rfe_fix_t mb;
     int ea;
-    int eb;
     normalise_q31(a, &ma, &ea);
-    normalise_q31(b, &mb, &eb);
     if (ma != 0) {
         /* |ma / mb| <= 2 (mb >= 2^29): rfe_fix_div(ma, mb, 29)'s integer, no saturation
          * (floor(|ma| 2^30 / mb) <= 2^31 < 2^32), without its checks; mb > 0 as b > 0 */
@@ -270,6 +269,23 @@ static int meas_ok_q31(const rfe_kf2_q31_t *f, const rfe_kf2_meas_q31_t *m)
            (m->r >= 0) && (m->r <= RFE_KF2_Q31_PMAX);
 }
 
+/* v h / 2^s for an H entry h: mul_p_q31's integer, without its product where h is exactly 1
+ * in its format (h = 2^s, which an int32 h can be only for s <= 30): v 2^s / 2^s is v
+ * exactly, no rounding, and mul_p_q31's clamp is clamp_p_q31's (for |v| <= PMAX, the
+ * filter's entries, v itself, nothing counted). Every row of the velocity observer but the
+ * model's two observes its state with such an h (docs/OBSERVER.md: the wheel reference, the
+ * offsets' row, the linear range, low speed, the differentiator). */
+static int64_t mul_h_q31(int64_t v, rfe_fix_t h, unsigned int s, uint32_t *cnt)
+{
+    int64_t r;
+    if ((int64_t)h == rfe_q31_pow2(s)) {
+        r = clamp_p_q31(v, cnt);
+    } else {
+        r = mul_p_q31(v, h, s, cnt);
+    }
+    return r;
+}
+
 /* P H^T (ph0 in Q(q0 + qz), ph1 in Q(q1 + qz)) and H P H^T (Q(2 qz)), each sum clamped to
  * +-PMAX (counted). Where one of h0, h1 is 0 (every row of the velocity observer: a state
  * observed alone), its products are 0 (mul_p_q31, uncounted) and each sum is its other
@@ -279,13 +295,13 @@ static void pht_q31(const rfe_kf2_q31_t *f, const rfe_kf2_meas_q31_t *m, unsigne
                     unsigned int s1, int64_t *ph0, int64_t *ph1, int64_t *hph, uint32_t *cnt)
 {
     if (m->h1 == 0) {
-        *ph0 = mul_p_q31(f->p00, m->h0, s0, cnt);
-        *ph1 = mul_p_q31(f->p01, m->h0, s0, cnt);
-        *hph = mul_p_q31(*ph0, m->h0, s0, cnt);
+        *ph0 = mul_h_q31(f->p00, m->h0, s0, cnt);
+        *ph1 = mul_h_q31(f->p01, m->h0, s0, cnt);
+        *hph = mul_h_q31(*ph0, m->h0, s0, cnt);
     } else if (m->h0 == 0) {
-        *ph0 = mul_p_q31(f->p01, m->h1, s1, cnt);
-        *ph1 = mul_p_q31(f->p11, m->h1, s1, cnt);
-        *hph = mul_p_q31(*ph1, m->h1, s1, cnt);
+        *ph0 = mul_h_q31(f->p01, m->h1, s1, cnt);
+        *ph1 = mul_h_q31(f->p11, m->h1, s1, cnt);
+        *hph = mul_h_q31(*ph1, m->h1, s1, cnt);
     } else {
         *ph0 = clamp_p_q31(mul_p_q31(f->p00, m->h0, s0, cnt) + mul_p_q31(f->p01, m->h1, s1, cnt),
                            cnt);
@@ -306,6 +322,8 @@ rfe_status_t rfe_kf2_update_q31(rfe_kf2_q31_t *f, const rfe_kf2_meas_q31_t *m, u
     int64_t s;
     ratio_q31_t k0;
     ratio_q31_t k1;
+    rfe_fix_t ms;
+    int es;
     if ((f == NULL) || (m == NULL) || (sat == NULL)) {
         return RFE_ERR_NULL;
     }
@@ -321,8 +339,9 @@ rfe_status_t rfe_kf2_update_q31(rfe_kf2_q31_t *f, const rfe_kf2_meas_q31_t *m, u
     }
     /* K_i nu and K_i ph_j in the states' formats are (ph_i / S) times nu and ph_j as
      * integers: the formats cancel (x_i: Q(q_i + qz) / Q(2 qz) * Q(qz) = Q(q_i)) */
-    k0 = ratio_q31(ph0, s);
-    k1 = ratio_q31(ph1, s);
+    normalise_q31(s, &ms, &es);
+    k0 = ratio_q31(ph0, ms, es);
+    k1 = ratio_q31(ph1, ms, es);
     f->x[0] = rfe_fix_sat32((int64_t)f->x[0] + apply_ratio_q31(k0, (int64_t)m->nu, &cnt), &cnt);
     f->x[1] = rfe_fix_sat32((int64_t)f->x[1] + apply_ratio_q31(k1, (int64_t)m->nu, &cnt), &cnt);
     f->p00 = clamp_p_q31(f->p00 - apply_ratio_q31(k0, ph0, &cnt), &cnt);

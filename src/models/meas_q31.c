@@ -549,15 +549,12 @@ static void lat_part_q31(const lat_q36_t *b, rfe_xf_t fx, rfe_xf_t fy, lat_part_
     }
 }
 
-/* Row r of the sum over the wheels' parts p in Q24, rounded half up and saturating (counted in
- * *count): every part at the largest exponent E of the wheels' (a smaller one rounded half up,
- * 1/2 unit of 2^E), the sum of four parts < 2^60.5 each < 2^62.5 exact, then rounded once to
- * Q24 (or shifted up exactly while below 2^62, saturating beyond: q24_of_scaled_q31). */
-static rfe_fix_t lat_row_q31(const lat_part_q31_t p[RFE_WHEELS], size_t r, uint32_t *count)
+/* The largest exponent of the wheels' parts p (0 when no wheel has one): both lateral rows
+ * sum at it, so it is found once for the two (lat_row_q31). */
+static int lat_emax_q31(const lat_part_q31_t p[RFE_WHEELS])
 {
     int emax = 0;
     int any = 0;
-    int64_t sum = 0;
     size_t i;
     for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
         if ((p[i].any != 0) && ((any == 0) || (p[i].e > emax))) {
@@ -565,6 +562,19 @@ static rfe_fix_t lat_row_q31(const lat_part_q31_t p[RFE_WHEELS], size_t r, uint3
             any = 1;
         }
     }
+    return emax;
+}
+
+/* Row r of the sum over the wheels' parts p in Q24, rounded half up and saturating (counted in
+ * *count): every part at the largest exponent E of the wheels' (@p emax, lat_emax_q31; a
+ * smaller one rounded half up, 1/2 unit of 2^E), the sum of four parts < 2^60.5 each <
+ * 2^62.5 exact, then rounded once to Q24 (or shifted up exactly while below 2^62, saturating
+ * beyond: q24_of_scaled_q31). */
+static rfe_fix_t lat_row_q31(const lat_part_q31_t p[RFE_WHEELS], size_t r, int emax,
+                             uint32_t *count)
+{
+    int64_t sum = 0;
+    size_t i;
     for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
         if (p[i].any != 0) {
             const int sh = emax - p[i].e;
@@ -663,6 +673,8 @@ rfe_status_t rfe_meas_lateral_jac_q31(const rfe_meas_q31_t *h, const rfe_vehicle
     lat_part_q31_t pm[RFE_WHEELS];
     uint32_t count = 0u;
     size_t r;
+    int ev;
+    int em;
     rfe_status_t st;
     if ((h == NULL) || (veh == NULL) || (tp == NULL) || (u == NULL) || (mu == NULL) ||
         (dmu == NULL) || (out == NULL) || (sat == NULL)) {
@@ -682,10 +694,12 @@ rfe_status_t rfe_meas_lateral_jac_q31(const rfe_meas_q31_t *h, const rfe_vehicle
     if (st != RFE_OK) {
         return st;
     }
+    ev = lat_emax_q31(pv);
+    em = lat_emax_q31(pm);
     for (r = 0u; r < 2u; ++r) {
         out->z[r] = z[r + 1u];
-        out->d_vy[r] = lat_row_q31(pv, r, &count);
-        out->d_mu[r] = lat_row_q31(pm, r, &count);
+        out->d_vy[r] = lat_row_q31(pv, r, ev, &count);
+        out->d_mu[r] = lat_row_q31(pm, r, em, &count);
     }
     rfe_q31_sat_add(sat, count);
     return RFE_OK;

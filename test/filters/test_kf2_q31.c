@@ -486,6 +486,42 @@ static void test_scale_exact(void **state)
     }
 }
 
+/* REQ-FXP-013: an update skips the covariance product by an H entry of exactly 1 in its
+ * format (h = 2^s, s <= 30, kf2_q31.c mul_h_q31) and takes the entry itself, which is the
+ * integer the product gives: v 2^s / 2^s rounded is v, for every |v| <= PMAX (the filter's
+ * entries), counting nothing. Checked against the product routine (rfe_kf2_scale_q31) at
+ * every such s, at the ends of the range and at random magnitudes of both signs. */
+static void test_a_unit_h_entry_is_the_product(void **state)
+{
+    unsigned int s;
+    int n;
+    (void)state;
+    rng_seed(0x0117ull);
+    for (s = 1u; s <= 30u; ++s) {
+        const rfe_fix_t h = (rfe_fix_t)(INT32_C(1) << s);
+        for (n = 0; n < 200; ++n) {
+            const int ev = (int)(0.5 * (rng_uniform() + 1.0) * 61.0); /* |v| up to 2^61 */
+            int64_t v = (int64_t)(rng_uniform() * ldexp(1.0, ev));
+            int64_t y = 0;
+            uint32_t sat = 0u;
+            if (n == 0) {
+                v = RFE_KF2_Q31_PMAX;
+            } else if (n == 1) {
+                v = -RFE_KF2_Q31_PMAX;
+            } else if (n == 2) {
+                v = 0;
+            } else if ((v > RFE_KF2_Q31_PMAX) || (v < -RFE_KF2_Q31_PMAX)) {
+                v = v / 2;
+            } else {
+                /* drawn inside the range */
+            }
+            assert_int_equal(rfe_kf2_scale_q31(v, h, s, &y, &sat), RFE_OK);
+            assert_true(y == v);
+            assert_int_equal(sat, 0u);
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -497,6 +533,7 @@ int main(void)
         cmocka_unit_test(test_saturation_is_counted),
         cmocka_unit_test(test_scale),
         cmocka_unit_test(test_scale_exact),
+        cmocka_unit_test(test_a_unit_h_entry_is_the_product),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -166,14 +166,18 @@ static void wheel_reference_q31(rfe_vel_ref_t ref, const wheel_vote_q31_t *w,
     }
 }
 
-/* The net acceleration ax - g sin(grade) + r vy_prev, Q24. */
+/* The net acceleration ax - g sin(grade) + r vy_prev, Q24. A grade of 0 (the input's default
+ * when the car does not know it) has the sine 0 that rfe_q31_sincos_q29 gives for it
+ * (test_velocity_q31.c checks that integer), so the two sines of that call are skipped. */
 static rfe_fix_t net_acc_q31(const rfe_vehicle_q31_t *veh, const rfe_velocity_input_q31_t *in,
                              rfe_fix_t vy_prev, uint32_t *sat)
 {
     rfe_fix_t sg = 0;
     rfe_fix_t cg = 0;
     rfe_fix_t a;
-    rfe_q31_sincos_q29(in->grade, &sg, &cg); /* every int32 angle */
+    if (in->grade != 0) {
+        rfe_q31_sincos_q29(in->grade, &sg, &cg); /* every int32 angle */
+    }
     a = rfe_fix_sub(in->ax, rfe_fix_mul(veh->g, sg, 30u, sat), sat);
     return rfe_fix_add(a, rfe_fix_mul(in->yaw_rate, vy_prev, 26u, sat), sat);
 }

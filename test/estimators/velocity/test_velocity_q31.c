@@ -94,6 +94,8 @@
 #include "rfe/velocity.h"
 #include "rfe/velocity_q31.h"
 
+#include "numerics/fxmath_internal_q31.h"
+
 #define OBS_DIR "scenarios/observer"
 #define MIN_LOGS 50 /* the bundled observer scenarios; fewer means files went missing */
 #define MU_SD 0.05  /* the goldens' friction input sd */
@@ -925,6 +927,22 @@ static void test_restart_after_a_long_gap(void **state)
     assert_int_equal(rfe_velocity_restart_q31(&blank), RFE_ERR_NOT_INITIALISED);
 }
 
+/* REQ-FXP-014: the longitudinal filter skips the sine of a grade of 0 (longitudinal_q31.c
+ * net_acc_q31, the input's default when the grade is unknown) and takes sin = 0 for it: the
+ * integer rfe_q31_sincos_q29 gives for 0, exactly (so the skip changes no bit). A grade
+ * one LSB from 0 is not 0: its sine, 2^-29 rad = 2 LSB of Q30 (sin x = x within x^3 / 6),
+ * within the sine's 0.66 LSB (fxmath_q31.c), is 1 to 3, never the 0 of the skip. */
+static void test_the_zero_grade_skips_its_sine(void **state)
+{
+    int32_t s = 7;
+    int32_t c = 7;
+    (void)state;
+    rfe_q31_sincos_q29(0, &s, &c);
+    assert_int_equal(s, 0);
+    rfe_q31_sincos_q29(1, &s, &c);
+    assert_in_range(s, 1, 3);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -934,6 +952,7 @@ int main(void)
         cmocka_unit_test(test_model_error_leaves_the_observer_untouched),
         cmocka_unit_test(test_first_sample),
         cmocka_unit_test(test_restart_after_a_long_gap),
+        cmocka_unit_test(test_the_zero_grade_skips_its_sine),
         cmocka_unit_test(test_steering_wheel_input),
         cmocka_unit_test(test_a_huge_noise_parameter_saturates_and_is_counted),
         cmocka_unit_test(test_the_yaw_row_in_fixed_point),
