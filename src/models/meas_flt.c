@@ -15,6 +15,10 @@
 /* The four wheels' terms side by side (wheel i at i RFE_MEAS). */
 #define COLS ((size_t)RFE_WHEELS * (size_t)RFE_MEAS)
 
+/* FOUR_WHEELS: sums over the wheels are written out for four of them. */
+/* cppcheck-suppress misra-c2012-2.3 ; MISRA-DEV-04: static assertion, never used by design */
+typedef char rfe_assert_meas_four_wheels[(RFE_WHEELS == 4) ? 1 : -1];
+
 /* Load-scaled modes (absolute, magic): cos, sin of delta and each wheel's friction-independent
  * tyre terms (paper mode, which uses neither: zeros), and the tyre parameters they belong to. */
 static void setup_pre(rfe_meas_t *h, const rfe_tyre_params_t *tp)
@@ -81,16 +85,15 @@ static rfe_status_t apply_paper(const rfe_real_t H[RFE_H_SIZE], const rfe_real_t
                                 rfe_real_t z[RFE_MEAS])
 {
     size_t r;
-    size_t i;
     if (!rfe_all_finite(mu, RFE_WHEELS)) {
         return RFE_ERR_NONFINITE;
     }
+    /* the four wheels written out (FOUR_WHEELS): acc += H[r][i] mu[i] from acc = 0, in wheel
+     * order, without the inner loop's counting (issue 21) */
     for (r = 0u; r < (size_t)RFE_MEAS; ++r) {
-        rfe_real_t acc = RFE_R(0.0);
-        for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
-            acc += H[RFE_H_AT(r, i)] * mu[i];
-        }
-        z[r] = acc;
+        z[r] = (((RFE_R(0.0) + (H[RFE_H_AT(r, 0u)] * mu[0])) + (H[RFE_H_AT(r, 1u)] * mu[1])) +
+                (H[RFE_H_AT(r, 2u)] * mu[2])) +
+               (H[RFE_H_AT(r, 3u)] * mu[3]);
     }
     return RFE_OK;
 }
@@ -128,13 +131,14 @@ static void wheel_terms_of(const rfe_vehicle_t *veh, rfe_real_t c, rfe_real_t s,
  * with the others in the same order: the same bits. */
 static rfe_status_t sum_terms(const rfe_real_t t[COLS], rfe_real_t z[RFE_MEAS])
 {
-    rfe_real_t zt[RFE_MEAS] = {RFE_R(0.0), RFE_R(0.0), RFE_R(0.0)};
-    size_t i;
+    rfe_real_t zt[RFE_MEAS];
     size_t r;
-    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
-        for (r = 0u; r < (size_t)RFE_MEAS; ++r) {
-            zt[r] += t[(i * (size_t)RFE_MEAS) + r];
-        }
+    /* zt[r] = 0 + t_0 + t_1 + t_2 + t_3 (wheel order; the leading 0 + keeps a -0 sum +0, as the
+     * loop's did) written out for the four wheels (FOUR_WHEELS): a third of the loop's
+     * instructions on a Cortex-M4F (issue 21) */
+    for (r = 0u; r < (size_t)RFE_MEAS; ++r) {
+        zt[r] = (((RFE_R(0.0) + t[r]) + t[(size_t)RFE_MEAS + r]) + t[(2u * (size_t)RFE_MEAS) + r]) +
+                t[(3u * (size_t)RFE_MEAS) + r];
     }
     if (!rfe_all_finite(zt, RFE_MEAS)) {
         return RFE_ERR_NONFINITE;
@@ -542,30 +546,57 @@ rfe_status_t rfe_meas_lateral_jac(const rfe_meas_t *h, const rfe_vehicle_t *veh,
  *   d kappa = (dvr (1 - [den = |omega R|] kappa sgn(omega R))
  *              - dvwx (1 + [den = |v_wx|] kappa sgn(v_wx))) / den   (0 where |kappa| >= 1),
  * den = max(|omega R|, |v_wx|, v_min): the quotient rule where den follows one of the two speeds
- * (vy_direction is the case dvwx = si, dvwy = ci, dvr = 0). */
-static rfe_slip_dir_t input_direction(const rfe_meas_t *h, const rfe_vehicle_t *veh,
-                                      const rfe_tyre_params_t *tp, const rfe_sample_t *u,
-                                      size_t i, rfe_real_t tan_a, const rfe_real_t dv[3])
+ * (vy_direction is the case dvwx = si, dvwy = ci, dvr = 0). The factors that do not depend on
+ * the change, once per wheel (input_dir_t, input_dir_of), then each input's direction
+ * (input_direction): the same operations as one evaluation. */
+typedef struct {
+    rfe_real_t ts;  /* t sgn(v_wx) */
+    rfe_real_t avx; /* |v_wx| */
+    rfe_real_t ar;  /* 1 - [den = |omega R|] kappa sgn(omega R) */
+    rfe_real_t ax;  /* 1 + [den = |v_wx|] kappa sgn(v_wx) */
+    rfe_real_t den;
+    int t_on; /* |alpha| < alpha_max and v_wx != 0 */
+    int k_on; /* |kappa| < 1 */
+} input_dir_t;
+
+static void input_dir_of(const rfe_meas_t *h, const rfe_vehicle_t *veh,
+                         const rfe_tyre_params_t *tp, const rfe_sample_t *u, size_t i,
+                         rfe_real_t tan_a, input_dir_t *c)
 {
     const rfe_real_t vwx = h->kin.vwx[i];
     const rfe_real_t avx = RFE_FABS(vwx);
     const rfe_real_t kappa = h->kin.kappa[i];
-    rfe_slip_dir_t d;
-    d.vwx = dv[0];
-    d.tan_a = RFE_R(0.0);
-    d.k = RFE_R(0.0);
-    if ((RFE_FABS(h->kin.alpha[i]) < tp->alpha_max) && (avx > RFE_R(0.0))) {
-        d.tan_a = -(dv[1] + ((tan_a * rfe_sgn(vwx)) * dv[0])) / avx;
-    }
-    if (RFE_FABS(kappa) < RFE_R(1.0)) {
+    c->avx = avx;
+    c->ts = tan_a * rfe_sgn(vwx);
+    c->t_on = ((RFE_FABS(h->kin.alpha[i]) < tp->alpha_max) && (avx > RFE_R(0.0))) ? 1 : 0;
+    c->k_on = (RFE_FABS(kappa) < RFE_R(1.0)) ? 1 : 0;
+    c->ar = RFE_R(1.0);
+    c->ax = RFE_R(1.0);
+    c->den = RFE_R(1.0);
+    if (c->k_on != 0) {
         const rfe_real_t vr = u->omega[i] * veh->R;
         const rfe_real_t avr = RFE_FABS(vr);
-        const rfe_real_t den = rfe_max(rfe_max(avr, avx), tp->v_min);
         const rfe_real_t own_x =
             ((avx > avr) && (avx > tp->v_min)) ? (kappa * rfe_sgn(vwx)) : RFE_R(0.0);
         const rfe_real_t own_r =
             ((avr >= avx) && (avr > tp->v_min)) ? (kappa * rfe_sgn(vr)) : RFE_R(0.0);
-        d.k = ((dv[2] * (RFE_R(1.0) - own_r)) - (dv[0] * (RFE_R(1.0) + own_x))) / den;
+        c->den = rfe_max(rfe_max(avr, avx), tp->v_min);
+        c->ar = RFE_R(1.0) - own_r;
+        c->ax = RFE_R(1.0) + own_x;
+    }
+}
+
+static rfe_slip_dir_t input_direction(const input_dir_t *c, const rfe_real_t dv[3])
+{
+    rfe_slip_dir_t d;
+    d.vwx = dv[0];
+    d.tan_a = RFE_R(0.0);
+    d.k = RFE_R(0.0);
+    if (c->t_on != 0) {
+        d.tan_a = -(dv[1] + (c->ts * dv[0])) / c->avx;
+    }
+    if (c->k_on != 0) {
+        d.k = ((dv[2] * c->ar) - (dv[0] * c->ax)) / c->den;
     }
     return d;
 }
@@ -611,14 +642,15 @@ static rfe_status_t wheel_basis(const rfe_meas_t *h, const rfe_tyre_params_t *tp
                                 const rfe_dugoff_pre_t *pre, size_t i, rfe_real_t mu,
                                 rfe_tyre_jac_t fj[3])
 {
-    size_t nb = 3u;
     size_t b;
-    if (tp->mode == RFE_TYRE_MAGIC) {
-        nb = 2u;
-    }
     fj[2].dfx = RFE_R(0.0);
     fj[2].dfy = RFE_R(0.0);
-    for (b = 0u; b < nb; ++b) {
+    if (tp->mode == RFE_TYRE_MAGIC) {
+        /* both directions from one evaluation of the curves (rfe_tyre_magic_basis) */
+        return rfe_tyre_magic_basis(tp, pre, h->kin.kappa[i], h->kin.alpha[i], h->kin.fz[i],
+                                    h->kin.vwx[i], mu, fj);
+    }
+    for (b = 0u; b < 3u; ++b) {
         rfe_slip_dir_t e;
         rfe_status_t st;
         e.k = (b == 0u) ? RFE_R(1.0) : RFE_R(0.0);
@@ -646,6 +678,7 @@ static rfe_status_t wheel_input_terms(const rfe_meas_t *h, const rfe_vehicle_t *
     const rfe_real_t si = (i < (size_t)RFE_RL) ? s : RFE_R(0.0);
     rfe_dugoff_pre_t pre;
     rfe_tyre_jac_t fj[3];
+    input_dir_t dc;
     rfe_real_t vbx;
     rfe_real_t vby;
     size_t j;
@@ -656,6 +689,7 @@ static rfe_status_t wheel_input_terms(const rfe_meas_t *h, const rfe_vehicle_t *
     if (st != RFE_OK) {
         return st;
     }
+    input_dir_of(h, veh, tp, u, i, pre.tan_a, &dc);
     vbx = u->vx - (u->yaw_rate * py[i]);
     vby = u->vy + (u->yaw_rate * px[i]);
     for (j = 0u; j < (size_t)RFE_INPUTS; ++j) {
@@ -673,7 +707,7 @@ static rfe_status_t wheel_input_terms(const rfe_meas_t *h, const rfe_vehicle_t *
         }
         turns = input_change(veh, j, px[i], py[i], ci, si, (vbx * ci) + (vby * si),
                              (-vbx * si) + (vby * ci), dv);
-        d = input_direction(h, veh, tp, u, i, pre.tan_a, dv);
+        d = input_direction(&dc, dv);
         dfx = ((d.k * fj[0].dfx) + (d.tan_a * fj[1].dfx)) + (d.vwx * fj[2].dfx);
         dfy = ((d.k * fj[0].dfy) + (d.tan_a * fj[1].dfy)) + (d.vwx * fj[2].dfy);
         if (turns != 0) {
