@@ -10,6 +10,7 @@
 #include "numerics/internal.h"
 #include "models/vehicle.h"
 #include "models/meas_inputs.h"
+#include "models/meas_internal.h"
 #include "models/tyre_internal.h"
 
 /* The four wheels' terms side by side (wheel i at i RFE_MEAS). */
@@ -666,11 +667,12 @@ static rfe_status_t wheel_basis(const rfe_meas_t *h, const rfe_tyre_params_t *tp
 }
 
 /* Wheel i's terms of dh/du_j for every input j into t (input j's terms of wheel i at
- * j COLS + i RFE_MEAS; zeros for the inputs that do not reach it). */
+ * j COLS + i RFE_MEAS; zeros for the inputs that do not reach it); t0 not NULL: its terms of
+ * h at mu (the forces of the derivative's evaluation) at t0[i RFE_MEAS]. */
 static rfe_status_t wheel_input_terms(const rfe_meas_t *h, const rfe_vehicle_t *veh,
                                       const rfe_tyre_params_t *tp, const rfe_sample_t *u,
                                       int cached, size_t i, rfe_real_t c, rfe_real_t s,
-                                      rfe_real_t mu, rfe_real_t *t)
+                                      rfe_real_t mu, rfe_real_t *t, rfe_real_t *t0)
 {
     rfe_real_t px[RFE_WHEELS];
     rfe_real_t py[RFE_WHEELS];
@@ -688,6 +690,9 @@ static rfe_status_t wheel_input_terms(const rfe_meas_t *h, const rfe_vehicle_t *
     st = wheel_basis(h, tp, &pre, i, mu, fj);
     if (st != RFE_OK) {
         return st;
+    }
+    if (t0 != NULL) {
+        wheel_terms(veh, c, s, i, px[i], py[i], fj[0].fx, fj[0].fy, &t0[i * (size_t)RFE_MEAS]);
     }
     input_dir_of(h, veh, tp, u, i, pre.tan_a, &dc);
     vbx = u->vx - (u->yaw_rate * py[i]);
@@ -774,10 +779,56 @@ rfe_status_t rfe_meas_input_jac(const rfe_meas_t *h, const rfe_vehicle_t *veh,
     }
     cached = pre_matches(h, tp);
     for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
-        const rfe_status_t st = wheel_input_terms(h, veh, tp, u, cached, i, c, s, mu[i], t);
+        const rfe_status_t st =
+            wheel_input_terms(h, veh, tp, u, cached, i, c, s, mu[i], t, NULL);
         if (st != RFE_OK) {
             return st;
         }
     }
     return scaled_columns(t, sd, G);
+}
+
+rfe_status_t rfe_meas_nominal_input_jac(const rfe_meas_t *h, const rfe_vehicle_t *veh,
+                                        const rfe_tyre_params_t *tp, const rfe_sample_t *u,
+                                        const rfe_real_t mu[RFE_WHEELS],
+                                        const rfe_real_t sd[RFE_INPUTS], rfe_real_t z[RFE_MEAS],
+                                        rfe_real_t G[(size_t)RFE_MEAS * (size_t)RFE_INPUTS])
+{
+    rfe_real_t t[(size_t)RFE_INPUTS * COLS];
+    rfe_real_t t0[COLS];
+    rfe_real_t z0[RFE_MEAS];
+    rfe_status_t st = RFE_OK;
+    size_t i;
+
+    if ((h == NULL) || (veh == NULL) || (tp == NULL) || (u == NULL) || (mu == NULL) ||
+        (sd == NULL) || (z == NULL) || (G == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    if ((h->mode == RFE_TYRE_PAPER) || (pre_matches(h, tp) == 0)) {
+        /* the two calls (paper mode's z is H(u) mu, not the derivative's forces) */
+        rfe_meas_terms_t nom;
+        st = rfe_meas_nominal(h, veh, tp, mu, &nom, z0);
+        if (st == RFE_OK) {
+            st = rfe_meas_input_jac(h, veh, tp, u, mu, sd, G);
+        }
+    } else {
+        /* rfe_meas_nominal's checks are each wheel's tyre checks, which the derivative makes
+         * in the same order, then the sum's: the same first failure */
+        for (i = 0u; (i < (size_t)RFE_WHEELS) && (st == RFE_OK); ++i) {
+            st = wheel_input_terms(h, veh, tp, u, 1, i, h->cos_delta, h->sin_delta, mu[i], t,
+                                   t0);
+        }
+        if (st == RFE_OK) {
+            st = sum_terms(t0, z0);
+        }
+        if (st == RFE_OK) {
+            st = scaled_columns(t, sd, G);
+        }
+    }
+    if (st == RFE_OK) {
+        for (i = 0u; i < (size_t)RFE_MEAS; ++i) {
+            z[i] = z0[i];
+        }
+    }
+    return st;
 }
