@@ -727,30 +727,30 @@ static rfe_status_t wheel_input_terms(const rfe_meas_t *h, const rfe_vehicle_t *
 }
 
 /* G[r RFE_INPUTS + j] = sd_j times the sum over the wheels of input j's terms (t, input j's at
- * j COLS), each sum checked as sum_terms checks it; RFE_ERR_NONFINITE when a sum or a scaled
- * column is not finite (a huge sd times a finite derivative), G then untouched. */
+ * j COLS; the sum of sum_terms, written out for the four wheels); RFE_ERR_NONFINITE when a
+ * scaled sum is not finite (a huge sd times a finite derivative, or a sum that is not finite
+ * itself: an infinite or NaN sum times any sd is not finite, so this one check returns what
+ * sum_terms' check of each sum then this one returned), G then untouched. */
 static rfe_status_t scaled_columns(const rfe_real_t *t, const rfe_real_t sd[RFE_INPUTS],
                                    rfe_real_t G[(size_t)RFE_MEAS * (size_t)RFE_INPUTS])
 {
-    rfe_real_t zj[(size_t)RFE_INPUTS * (size_t)RFE_MEAS];
-    size_t i;
+    rfe_real_t g[(size_t)RFE_INPUTS * (size_t)RFE_MEAS];
+    size_t r;
     size_t j;
     for (j = 0u; j < (size_t)RFE_INPUTS; ++j) {
-        const rfe_status_t st = sum_terms(&t[j * COLS], &zj[j * (size_t)RFE_MEAS]);
-        if (st != RFE_OK) {
-            return st;
-        }
-        for (i = 0u; i < (size_t)RFE_MEAS; ++i) {
-            zj[(j * (size_t)RFE_MEAS) + i] *= sd[j];
+        const rfe_real_t *tj = &t[j * COLS];
+        for (r = 0u; r < (size_t)RFE_MEAS; ++r) {
+            const rfe_real_t z =
+                (((RFE_R(0.0) + tj[r]) + tj[(size_t)RFE_MEAS + r]) + tj[(2u * (size_t)RFE_MEAS) + r]) +
+                tj[(3u * (size_t)RFE_MEAS) + r];
+            g[(r * (size_t)RFE_INPUTS) + j] = z * sd[j];
         }
     }
-    if (!rfe_all_finite(zj, (size_t)RFE_INPUTS * (size_t)RFE_MEAS)) {
-        return RFE_ERR_NONFINITE; /* a huge sd times a finite derivative */
+    if (!rfe_all_finite(g, (size_t)RFE_INPUTS * (size_t)RFE_MEAS)) {
+        return RFE_ERR_NONFINITE;
     }
-    for (j = 0u; j < (size_t)RFE_INPUTS; ++j) {
-        for (i = 0u; i < (size_t)RFE_MEAS; ++i) {
-            G[(i * (size_t)RFE_INPUTS) + j] = zj[(j * (size_t)RFE_MEAS) + i];
-        }
+    for (j = 0u; j < ((size_t)RFE_INPUTS * (size_t)RFE_MEAS); ++j) {
+        G[j] = g[j];
     }
     return RFE_OK;
 }
