@@ -44,6 +44,13 @@ static void setup_pre(rfe_meas_t *h, const rfe_tyre_params_t *tp)
     h->pre_cy = tp->cy;
     h->pre_eps = tp->eps;
     h->pre_alpha_max = tp->alpha_max;
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        h->memo_mu[i] = RFE_R(0.0);
+        h->memo_fx[i] = RFE_R(0.0);
+        h->memo_fy[i] = RFE_R(0.0);
+        h->memo_shape[i] = RFE_R(0.0);
+    }
+    h->memo_valid = 0;
 }
 
 rfe_status_t rfe_meas_setup(rfe_meas_t *h, const rfe_vehicle_t *veh,
@@ -182,6 +189,17 @@ static int pre_matches(const rfe_meas_t *h, const rfe_tyre_params_t *tp)
                : 0;
 }
 
+/* 1 when h keeps forces (memo_valid) computed with these Magic Formula shapes (a NaN never
+ * matches); pre_matches covers the other tyre parameters the forces depend on. */
+static int memo_matches(const rfe_meas_t *h, const rfe_tyre_params_t *tp)
+{
+    return ((h->memo_valid != 0) && (h->memo_shape[0] == tp->shape_Cx) &&
+            (h->memo_shape[1] == tp->shape_Ex) && (h->memo_shape[2] == tp->shape_Cy) &&
+            (h->memo_shape[3] == tp->shape_Ey))
+               ? 1
+               : 0;
+}
+
 /* rfe_tyre_forces_abs(tp, &h->kin, mu, fx, fy) with the set-up's friction-independent
  * terms (recomputed when tp is not the set-up's tyre): the same checks in the same order,
  * the same forces. */
@@ -190,14 +208,26 @@ static rfe_status_t forces_abs(const rfe_meas_t *h, const rfe_tyre_params_t *tp,
                                rfe_real_t fy[RFE_WHEELS])
 {
     const int cached = pre_matches(h, tp);
+    int memo = 0;
     rfe_real_t tx[RFE_WHEELS];
     rfe_real_t ty[RFE_WHEELS];
     size_t i;
+
+    if ((cached != 0) && (memo_matches(h, tp) != 0)) {
+        memo = 1;
+    }
 
     for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
         rfe_dugoff_pre_t fresh;
         const rfe_dugoff_pre_t *pre = &h->pre[i];
         rfe_status_t st;
+        if ((memo != 0) && (mu[i] == h->memo_mu[i])) {
+            /* kept at this friction (after the same checks, passed): the same forces; -0 and
+             * +0 compare equal and both are evaluated at max(mu, 0) = +0 */
+            tx[i] = h->memo_fx[i];
+            ty[i] = h->memo_fy[i];
+            continue;
+        }
         if (cached == 0) {
             rfe_tyre_dugoff_pre(tp, h->kin.kappa[i], h->kin.alpha[i], h->kin.vwx[i],
                                 &fresh);
@@ -293,6 +323,7 @@ static rfe_status_t nominal_terms(const rfe_meas_t *h, const rfe_vehicle_t *veh,
     return RFE_OK;
 }
 
+/* cppcheck-suppress misra-c2012-8.7 ; MISRA-DEV-06: public API, called by the application */
 rfe_status_t rfe_meas_nominal(const rfe_meas_t *h, const rfe_vehicle_t *veh,
                               const rfe_tyre_params_t *tp, const rfe_real_t mu[RFE_WHEELS],
                               rfe_meas_terms_t *nom, rfe_real_t z[RFE_MEAS])
@@ -569,8 +600,14 @@ static void input_dir_of(const rfe_meas_t *h, const rfe_vehicle_t *veh,
     const rfe_real_t kappa = h->kin.kappa[i];
     c->avx = avx;
     c->ts = tan_a * rfe_sgn(vwx);
-    c->t_on = ((RFE_FABS(h->kin.alpha[i]) < tp->alpha_max) && (avx > RFE_R(0.0))) ? 1 : 0;
-    c->k_on = (RFE_FABS(kappa) < RFE_R(1.0)) ? 1 : 0;
+    c->t_on = 0;
+    c->k_on = 0;
+    if ((RFE_FABS(h->kin.alpha[i]) < tp->alpha_max) && (avx > RFE_R(0.0))) {
+        c->t_on = 1;
+    }
+    if (RFE_FABS(kappa) < RFE_R(1.0)) {
+        c->k_on = 1;
+    }
     c->ar = RFE_R(1.0);
     c->ax = RFE_R(1.0);
     c->den = RFE_R(1.0);
@@ -672,7 +709,8 @@ static rfe_status_t wheel_basis(const rfe_meas_t *h, const rfe_tyre_params_t *tp
 static rfe_status_t wheel_input_terms(const rfe_meas_t *h, const rfe_vehicle_t *veh,
                                       const rfe_tyre_params_t *tp, const rfe_sample_t *u,
                                       int cached, size_t i, rfe_real_t c, rfe_real_t s,
-                                      rfe_real_t mu, rfe_real_t *t, rfe_real_t *t0)
+                                      rfe_real_t mu, rfe_real_t *t, rfe_real_t *t0,
+                                      rfe_real_t f0[2])
 {
     rfe_real_t px[RFE_WHEELS];
     rfe_real_t py[RFE_WHEELS];
@@ -693,6 +731,8 @@ static rfe_status_t wheel_input_terms(const rfe_meas_t *h, const rfe_vehicle_t *
     }
     if (t0 != NULL) {
         wheel_terms(veh, c, s, i, px[i], py[i], fj[0].fx, fj[0].fy, &t0[i * (size_t)RFE_MEAS]);
+        f0[0] = fj[0].fx;
+        f0[1] = fj[0].fy;
     }
     input_dir_of(h, veh, tp, u, i, pre.tan_a, &dc);
     vbx = u->vx - (u->yaw_rate * py[i]);
@@ -780,7 +820,7 @@ rfe_status_t rfe_meas_input_jac(const rfe_meas_t *h, const rfe_vehicle_t *veh,
     cached = pre_matches(h, tp);
     for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
         const rfe_status_t st =
-            wheel_input_terms(h, veh, tp, u, cached, i, c, s, mu[i], t, NULL);
+            wheel_input_terms(h, veh, tp, u, cached, i, c, s, mu[i], t, NULL, NULL);
         if (st != RFE_OK) {
             return st;
         }
@@ -788,16 +828,63 @@ rfe_status_t rfe_meas_input_jac(const rfe_meas_t *h, const rfe_vehicle_t *veh,
     return scaled_columns(t, sd, G);
 }
 
-rfe_status_t rfe_meas_nominal_input_jac(const rfe_meas_t *h, const rfe_vehicle_t *veh,
+/* Keeps the four wheels' forces f (fx, fy per wheel) at mu in h for rfe_meas_eval, with the
+ * shapes of tp they were computed with. */
+static void keep_forces(rfe_meas_t *h, const rfe_tyre_params_t *tp,
+                        const rfe_real_t mu[RFE_WHEELS], const rfe_real_t f[2u * (size_t)RFE_WHEELS])
+{
+    size_t i;
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        h->memo_mu[i] = mu[i];
+        h->memo_fx[i] = f[2u * i];
+        h->memo_fy[i] = f[(2u * i) + 1u];
+    }
+    h->memo_shape[0] = tp->shape_Cx;
+    h->memo_shape[1] = tp->shape_Ex;
+    h->memo_shape[2] = tp->shape_Cy;
+    h->memo_shape[3] = tp->shape_Ey;
+    h->memo_valid = 1;
+}
+
+/* rfe_meas_nominal_input_jac's load-scaled case with the set-up's tyre: the forces of the
+ * derivative's evaluation give z at mu (rfe_meas_nominal's checks are each wheel's tyre
+ * checks, which the derivative makes in the same order, then the sum's: the same first
+ * failure); on RFE_OK the forces are kept in h. */
+static rfe_status_t nominal_jac_once(rfe_meas_t *h, const rfe_vehicle_t *veh,
+                                     const rfe_tyre_params_t *tp, const rfe_sample_t *u,
+                                     const rfe_real_t mu[RFE_WHEELS],
+                                     const rfe_real_t sd[RFE_INPUTS], rfe_real_t z[RFE_MEAS],
+                                     rfe_real_t G[(size_t)RFE_MEAS * (size_t)RFE_INPUTS])
+{
+    rfe_real_t t[(size_t)RFE_INPUTS * COLS];
+    rfe_real_t t0[COLS];
+    rfe_real_t f0[2u * (size_t)RFE_WHEELS];
+    rfe_status_t st = RFE_OK;
+    size_t i;
+    for (i = 0u; (i < (size_t)RFE_WHEELS) && (st == RFE_OK); ++i) {
+        st = wheel_input_terms(h, veh, tp, u, 1, i, h->cos_delta, h->sin_delta, mu[i], t, t0,
+                               &f0[2u * i]);
+    }
+    if (st == RFE_OK) {
+        st = sum_terms(t0, z);
+    }
+    if (st == RFE_OK) {
+        st = scaled_columns(t, sd, G);
+    }
+    if (st == RFE_OK) {
+        keep_forces(h, tp, mu, f0);
+    }
+    return st;
+}
+
+rfe_status_t rfe_meas_nominal_input_jac(rfe_meas_t *h, const rfe_vehicle_t *veh,
                                         const rfe_tyre_params_t *tp, const rfe_sample_t *u,
                                         const rfe_real_t mu[RFE_WHEELS],
                                         const rfe_real_t sd[RFE_INPUTS], rfe_real_t z[RFE_MEAS],
                                         rfe_real_t G[(size_t)RFE_MEAS * (size_t)RFE_INPUTS])
 {
-    rfe_real_t t[(size_t)RFE_INPUTS * COLS];
-    rfe_real_t t0[COLS];
     rfe_real_t z0[RFE_MEAS];
-    rfe_status_t st = RFE_OK;
+    rfe_status_t st;
     size_t i;
 
     if ((h == NULL) || (veh == NULL) || (tp == NULL) || (u == NULL) || (mu == NULL) ||
@@ -805,25 +892,15 @@ rfe_status_t rfe_meas_nominal_input_jac(const rfe_meas_t *h, const rfe_vehicle_t
         return RFE_ERR_NULL;
     }
     if ((h->mode == RFE_TYRE_PAPER) || (pre_matches(h, tp) == 0)) {
-        /* the two calls (paper mode's z is H(u) mu, not the derivative's forces) */
+        /* the two calls (paper mode's z is H(u) mu, not the derivative's forces); G is
+         * written only on RFE_OK by rfe_meas_input_jac */
         rfe_meas_terms_t nom;
         st = rfe_meas_nominal(h, veh, tp, mu, &nom, z0);
         if (st == RFE_OK) {
             st = rfe_meas_input_jac(h, veh, tp, u, mu, sd, G);
         }
     } else {
-        /* rfe_meas_nominal's checks are each wheel's tyre checks, which the derivative makes
-         * in the same order, then the sum's: the same first failure */
-        for (i = 0u; (i < (size_t)RFE_WHEELS) && (st == RFE_OK); ++i) {
-            st = wheel_input_terms(h, veh, tp, u, 1, i, h->cos_delta, h->sin_delta, mu[i], t,
-                                   t0);
-        }
-        if (st == RFE_OK) {
-            st = sum_terms(t0, z0);
-        }
-        if (st == RFE_OK) {
-            st = scaled_columns(t, sd, G);
-        }
+        st = nominal_jac_once(h, veh, tp, u, mu, sd, z0, G);
     }
     if (st == RFE_OK) {
         for (i = 0u; i < (size_t)RFE_MEAS; ++i) {

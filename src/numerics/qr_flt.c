@@ -67,16 +67,15 @@ static int row_maxima(const rfe_real_t *A, size_t rows, size_t cols, size_t lda,
  * (1 + cols u) of the exact sum of squares (u the unit roundoff, cols u < 2^-8 for any cols
  * below 2^16) apart from the squares that underflow (each below the smallest normal number,
  * so below 2^-60 TRIA_SS_LO in all), and big^2 <= sum <= cols big^2: ss <= TRIA_SS_HI =
- * TRIA_SAFE_HI^2 / 2 gives big^2 < TRIA_SAFE_HI^2; ss >= TRIA_SS_LO = 2 RFE_TRIA_COLS_LIMIT_SZ
- * TRIA_SAFE_LO^2 gives cols big^2 > RFE_TRIA_COLS_LIMIT_SZ TRIA_SAFE_LO^2 (both constants
- * exact, normal numbers in float and double). 0 otherwise (a
+ * TRIA_SAFE_HI^2 / 2 gives big^2 < TRIA_SAFE_HI^2; ss >= TRIA_SS_LO = 2 cols TRIA_SAFE_LO^2
+ * gives cols big^2 > cols TRIA_SAFE_LO^2 (both bounds exact, normal numbers in float and
+ * double for cols <= RFE_TRIA_COLS_LIMIT_SZ). 0 otherwise (a
  * zero or tiny row, a huge one, a NaN): the caller then takes row_maxima, whose result decides
  * as before; either way the reduction is the same, bit for bit. */
 static int rows_plainly_safe(const rfe_real_t *A, size_t rows, size_t cols, size_t lda)
 {
-    /* TRIA_SS_LO, TRIA_SS_HI */
-    const rfe_real_t ss_lo =
-        (RFE_R(2.0) * (rfe_real_t)RFE_TRIA_COLS_LIMIT_SZ) * (TRIA_SAFE_LO * TRIA_SAFE_LO);
+    /* TRIA_SS_LO (with this cols), TRIA_SS_HI */
+    const rfe_real_t ss_lo = (RFE_R(2.0) * (rfe_real_t)cols) * (TRIA_SAFE_LO * TRIA_SAFE_LO);
     const rfe_real_t ss_hi = (TRIA_SAFE_HI * TRIA_SAFE_HI) * RFE_R(0.5);
     size_t i;
     size_t j;

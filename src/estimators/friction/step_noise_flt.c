@@ -59,7 +59,7 @@ static void sensor_block(const rfe_filter_params_t *fp, const rfe_real_t h0[RFE_
  * of the central differences of h over sd_j (16 model evaluations); h0 and they come from one
  * evaluation of the tyres (rfe_meas_nominal_input_jac: rfe_meas_nominal's h0 and
  * rfe_meas_input_jac's columns, bit for bit). */
-static rfe_status_t fill(const rfe_params_t *p, const rfe_meas_t *h, const rfe_sample_t *u,
+static rfe_status_t fill(const rfe_params_t *p, rfe_meas_t *h, const rfe_sample_t *u,
                          const rfe_real_t *mu, rfe_real_t *A, size_t *cols,
                          rfe_real_t pers[RFE_MEAS])
 {
@@ -93,7 +93,7 @@ static rfe_status_t fill(const rfe_params_t *p, const rfe_meas_t *h, const rfe_s
     return RFE_OK;
 }
 
-rfe_status_t rfe_step_noise_sqrt_core(const rfe_params_t *p, const rfe_meas_t *h,
+rfe_status_t rfe_step_noise_sqrt_core(const rfe_params_t *p, rfe_meas_t *h,
                                      const rfe_sample_t *u,
                                      const rfe_real_t mu[RFE_WHEELS],
                                      rfe_real_t SR[RFE_MEAS * RFE_MEAS],
