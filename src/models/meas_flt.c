@@ -703,13 +703,16 @@ static rfe_status_t wheel_basis(const rfe_meas_t *h, const rfe_tyre_params_t *tp
     return RFE_OK;
 }
 
-/* Wheel i's terms of dh/du_j for every input j into t (input j's terms of wheel i at
- * j COLS + i RFE_MEAS; zeros for the inputs that do not reach it); t0 not NULL: its terms of
- * h at mu (the forces of the derivative's evaluation) at t0[i RFE_MEAS]. */
+/* Wheel i's terms of dh/du_j for every input j added to acc[j RFE_MEAS + r] (zeros for the
+ * inputs that do not reach it: +0 added, as sum_terms adds every wheel's terms); acc0 not
+ * NULL: its terms of h at mu (the forces of the derivative's evaluation) added to acc0 and
+ * the forces into f0. Called for the wheels in order from acc = acc0 = 0, the sums are
+ * sum_terms' (((0 + t_0) + t_1) + t_2) + t_3, bit for bit, without the 96 terms side by side
+ * (issue 21: 288 B less stack). */
 static rfe_status_t wheel_input_terms(const rfe_meas_t *h, const rfe_vehicle_t *veh,
                                       const rfe_tyre_params_t *tp, const rfe_sample_t *u,
                                       int cached, size_t i, rfe_real_t c, rfe_real_t s,
-                                      rfe_real_t mu, rfe_real_t *t, rfe_real_t *t0,
+                                      rfe_real_t mu, rfe_real_t *acc, rfe_real_t *acc0,
                                       rfe_real_t f0[2])
 {
     rfe_real_t px[RFE_WHEELS];
@@ -719,9 +722,11 @@ static rfe_status_t wheel_input_terms(const rfe_meas_t *h, const rfe_vehicle_t *
     rfe_dugoff_pre_t pre;
     rfe_tyre_jac_t fj[3];
     input_dir_t dc;
+    rfe_real_t tw[RFE_MEAS];
     rfe_real_t vbx;
     rfe_real_t vby;
     size_t j;
+    size_t r;
     rfe_status_t st;
     rfe_wheel_positions(veh, px, py);
     jac_pre(h, tp, cached, i, &pre);
@@ -729,8 +734,11 @@ static rfe_status_t wheel_input_terms(const rfe_meas_t *h, const rfe_vehicle_t *
     if (st != RFE_OK) {
         return st;
     }
-    if (t0 != NULL) {
-        wheel_terms(veh, c, s, i, px[i], py[i], fj[0].fx, fj[0].fy, &t0[i * (size_t)RFE_MEAS]);
+    if (acc0 != NULL) {
+        wheel_terms(veh, c, s, i, px[i], py[i], fj[0].fx, fj[0].fy, tw);
+        for (r = 0u; r < (size_t)RFE_MEAS; ++r) {
+            acc0[r] += tw[r];
+        }
         f0[0] = fj[0].fx;
         f0[1] = fj[0].fy;
     }
@@ -738,52 +746,49 @@ static rfe_status_t wheel_input_terms(const rfe_meas_t *h, const rfe_vehicle_t *
     vbx = u->vx - (u->yaw_rate * py[i]);
     vby = u->vy + (u->yaw_rate * px[i]);
     for (j = 0u; j < (size_t)RFE_INPUTS; ++j) {
-        rfe_real_t *tj = &t[(j * COLS) + (i * (size_t)RFE_MEAS)];
-        rfe_real_t dv[3];
-        rfe_slip_dir_t d;
-        rfe_real_t dfx;
-        rfe_real_t dfy;
-        int turns;
-        if (rfe_input_reaches(j, i) == 0) {
-            tj[0] = RFE_R(0.0);
-            tj[1] = RFE_R(0.0);
-            tj[2] = RFE_R(0.0);
-            continue;
+        rfe_real_t *aj = &acc[j * (size_t)RFE_MEAS];
+        tw[0] = RFE_R(0.0);
+        tw[1] = RFE_R(0.0);
+        tw[2] = RFE_R(0.0);
+        if (rfe_input_reaches(j, i) != 0) {
+            rfe_real_t dv[3];
+            rfe_slip_dir_t d;
+            rfe_real_t dfx;
+            rfe_real_t dfy;
+            const int turns = input_change(veh, j, px[i], py[i], ci, si, (vbx * ci) + (vby * si),
+                                           (-vbx * si) + (vby * ci), dv);
+            d = input_direction(&dc, dv);
+            dfx = ((d.k * fj[0].dfx) + (d.tan_a * fj[1].dfx)) + (d.vwx * fj[2].dfx);
+            dfy = ((d.k * fj[0].dfy) + (d.tan_a * fj[1].dfy)) + (d.vwx * fj[2].dfy);
+            if (turns != 0) {
+                /* the body terms rotate the forces by delta: d(R(delta) F) = R(delta) (dF + (-Fy, Fx)) */
+                dfx -= fj[0].fy;
+                dfy += fj[0].fx;
+            }
+            /* the body terms are linear in the forces: the same map for the derivative */
+            wheel_terms(veh, c, s, i, px[i], py[i], dfx, dfy, tw);
         }
-        turns = input_change(veh, j, px[i], py[i], ci, si, (vbx * ci) + (vby * si),
-                             (-vbx * si) + (vby * ci), dv);
-        d = input_direction(&dc, dv);
-        dfx = ((d.k * fj[0].dfx) + (d.tan_a * fj[1].dfx)) + (d.vwx * fj[2].dfx);
-        dfy = ((d.k * fj[0].dfy) + (d.tan_a * fj[1].dfy)) + (d.vwx * fj[2].dfy);
-        if (turns != 0) {
-            /* the body terms rotate the forces by delta: d(R(delta) F) = R(delta) (dF + (-Fy, Fx)) */
-            dfx -= fj[0].fy;
-            dfy += fj[0].fx;
-        }
-        /* the body terms are linear in the forces: the same map for the derivative */
-        wheel_terms(veh, c, s, i, px[i], py[i], dfx, dfy, tj);
+        aj[0] += tw[0];
+        aj[1] += tw[1];
+        aj[2] += tw[2];
     }
     return RFE_OK;
 }
 
-/* G[r RFE_INPUTS + j] = sd_j times the sum over the wheels of input j's terms (t, input j's at
- * j COLS; the sum of sum_terms, written out for the four wheels); RFE_ERR_NONFINITE when a
- * scaled sum is not finite (a huge sd times a finite derivative, or a sum that is not finite
- * itself: an infinite or NaN sum times any sd is not finite, so this one check returns what
- * sum_terms' check of each sum then this one returned), G then untouched. */
-static rfe_status_t scaled_columns(const rfe_real_t *t, const rfe_real_t sd[RFE_INPUTS],
+/* G[r RFE_INPUTS + j] = sd_j times input j's sum over the wheels (acc[j RFE_MEAS + r]);
+ * RFE_ERR_NONFINITE when a scaled sum is not finite (a huge sd times a finite derivative, or
+ * a sum that is not finite itself: an infinite or NaN sum times any sd is not finite, so this
+ * one check returns what sum_terms' check of each sum then this one returned), G then
+ * untouched. */
+static rfe_status_t scaled_columns(const rfe_real_t *acc, const rfe_real_t sd[RFE_INPUTS],
                                    rfe_real_t G[(size_t)RFE_MEAS * (size_t)RFE_INPUTS])
 {
     rfe_real_t g[(size_t)RFE_INPUTS * (size_t)RFE_MEAS];
     size_t r;
     size_t j;
     for (j = 0u; j < (size_t)RFE_INPUTS; ++j) {
-        const rfe_real_t *tj = &t[j * COLS];
         for (r = 0u; r < (size_t)RFE_MEAS; ++r) {
-            const rfe_real_t z =
-                (((RFE_R(0.0) + tj[r]) + tj[(size_t)RFE_MEAS + r]) + tj[(2u * (size_t)RFE_MEAS) + r]) +
-                tj[(3u * (size_t)RFE_MEAS) + r];
-            g[(r * (size_t)RFE_INPUTS) + j] = z * sd[j];
+            g[(r * (size_t)RFE_INPUTS) + j] = acc[(j * (size_t)RFE_MEAS) + r] * sd[j];
         }
     }
     if (!rfe_all_finite(g, (size_t)RFE_INPUTS * (size_t)RFE_MEAS)) {
@@ -795,37 +800,60 @@ static rfe_status_t scaled_columns(const rfe_real_t *t, const rfe_real_t sd[RFE_
     return RFE_OK;
 }
 
+/* rfe_meas_input_jac after its NULL checks; z not NULL (the load-scaled modes with the
+ * set-up's tyre only): also z = h(mu, u) from the same forces (rfe_meas_nominal's sum, its
+ * check first) and, f not NULL, each wheel's forces into f (fx, fy per wheel). */
+static rfe_status_t input_jac_core(const rfe_meas_t *h, const rfe_vehicle_t *veh,
+                                   const rfe_tyre_params_t *tp, const rfe_sample_t *u,
+                                   const rfe_real_t mu[RFE_WHEELS],
+                                   const rfe_real_t sd[RFE_INPUTS],
+                                   rfe_real_t G[(size_t)RFE_MEAS * (size_t)RFE_INPUTS],
+                                   rfe_real_t *z, rfe_real_t *f)
+{
+    rfe_real_t acc[(size_t)RFE_INPUTS * (size_t)RFE_MEAS];
+    rfe_real_t acc0[RFE_MEAS] = {RFE_R(0.0), RFE_R(0.0), RFE_R(0.0)};
+    rfe_real_t c = h->cos_delta;
+    rfe_real_t s = h->sin_delta;
+    const int cached = pre_matches(h, tp);
+    rfe_status_t st = RFE_OK;
+    size_t i;
+    if (h->mode == RFE_TYRE_PAPER) {
+        c = RFE_COS(h->delta);
+        s = RFE_SIN(h->delta);
+    }
+    for (i = 0u; i < ((size_t)RFE_INPUTS * (size_t)RFE_MEAS); ++i) {
+        acc[i] = RFE_R(0.0);
+    }
+    for (i = 0u; (i < (size_t)RFE_WHEELS) && (st == RFE_OK); ++i) {
+        st = wheel_input_terms(h, veh, tp, u, cached, i, c, s, mu[i], acc,
+                               (z != NULL) ? acc0 : NULL, (f != NULL) ? &f[2u * i] : NULL);
+    }
+    if ((st == RFE_OK) && (z != NULL)) {
+        if (!rfe_all_finite(acc0, RFE_MEAS)) {
+            st = RFE_ERR_NONFINITE; /* rfe_meas_nominal's check of its sum */
+        } else {
+            z[0] = acc0[0];
+            z[1] = acc0[1];
+            z[2] = acc0[2];
+        }
+    }
+    if (st == RFE_OK) {
+        st = scaled_columns(acc, sd, G);
+    }
+    return st;
+}
+
 rfe_status_t rfe_meas_input_jac(const rfe_meas_t *h, const rfe_vehicle_t *veh,
                                 const rfe_tyre_params_t *tp, const rfe_sample_t *u,
                                 const rfe_real_t mu[RFE_WHEELS],
                                 const rfe_real_t sd[RFE_INPUTS],
                                 rfe_real_t G[(size_t)RFE_MEAS * (size_t)RFE_INPUTS])
 {
-    rfe_real_t t[(size_t)RFE_INPUTS * COLS];
-    rfe_real_t c;
-    rfe_real_t s;
-    int cached;
-    size_t i;
-
     if ((h == NULL) || (veh == NULL) || (tp == NULL) || (u == NULL) || (mu == NULL) ||
         (sd == NULL) || (G == NULL)) {
         return RFE_ERR_NULL;
     }
-    c = h->cos_delta;
-    s = h->sin_delta;
-    if (h->mode == RFE_TYRE_PAPER) {
-        c = RFE_COS(h->delta);
-        s = RFE_SIN(h->delta);
-    }
-    cached = pre_matches(h, tp);
-    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
-        const rfe_status_t st =
-            wheel_input_terms(h, veh, tp, u, cached, i, c, s, mu[i], t, NULL, NULL);
-        if (st != RFE_OK) {
-            return st;
-        }
-    }
-    return scaled_columns(t, sd, G);
+    return input_jac_core(h, veh, tp, u, mu, sd, G, NULL, NULL);
 }
 
 /* Keeps the four wheels' forces f (fx, fy per wheel) at mu in h for rfe_meas_eval, with the
@@ -846,37 +874,6 @@ static void keep_forces(rfe_meas_t *h, const rfe_tyre_params_t *tp,
     h->memo_valid = 1;
 }
 
-/* rfe_meas_nominal_input_jac's load-scaled case with the set-up's tyre: the forces of the
- * derivative's evaluation give z at mu (rfe_meas_nominal's checks are each wheel's tyre
- * checks, which the derivative makes in the same order, then the sum's: the same first
- * failure); on RFE_OK the forces are kept in h. */
-static rfe_status_t nominal_jac_once(rfe_meas_t *h, const rfe_vehicle_t *veh,
-                                     const rfe_tyre_params_t *tp, const rfe_sample_t *u,
-                                     const rfe_real_t mu[RFE_WHEELS],
-                                     const rfe_real_t sd[RFE_INPUTS], rfe_real_t z[RFE_MEAS],
-                                     rfe_real_t G[(size_t)RFE_MEAS * (size_t)RFE_INPUTS])
-{
-    rfe_real_t t[(size_t)RFE_INPUTS * COLS];
-    rfe_real_t t0[COLS];
-    rfe_real_t f0[2u * (size_t)RFE_WHEELS];
-    rfe_status_t st = RFE_OK;
-    size_t i;
-    for (i = 0u; (i < (size_t)RFE_WHEELS) && (st == RFE_OK); ++i) {
-        st = wheel_input_terms(h, veh, tp, u, 1, i, h->cos_delta, h->sin_delta, mu[i], t, t0,
-                               &f0[2u * i]);
-    }
-    if (st == RFE_OK) {
-        st = sum_terms(t0, z);
-    }
-    if (st == RFE_OK) {
-        st = scaled_columns(t, sd, G);
-    }
-    if (st == RFE_OK) {
-        keep_forces(h, tp, mu, f0);
-    }
-    return st;
-}
-
 rfe_status_t rfe_meas_nominal_input_jac(rfe_meas_t *h, const rfe_vehicle_t *veh,
                                         const rfe_tyre_params_t *tp, const rfe_sample_t *u,
                                         const rfe_real_t mu[RFE_WHEELS],
@@ -884,7 +881,9 @@ rfe_status_t rfe_meas_nominal_input_jac(rfe_meas_t *h, const rfe_vehicle_t *veh,
                                         rfe_real_t G[(size_t)RFE_MEAS * (size_t)RFE_INPUTS])
 {
     rfe_real_t z0[RFE_MEAS];
-    rfe_status_t st;
+    rfe_real_t f0[2u * (size_t)RFE_WHEELS];
+    rfe_real_t *zp = NULL;
+    rfe_status_t st = RFE_OK;
     size_t i;
 
     if ((h == NULL) || (veh == NULL) || (tp == NULL) || (u == NULL) || (mu == NULL) ||
@@ -892,20 +891,25 @@ rfe_status_t rfe_meas_nominal_input_jac(rfe_meas_t *h, const rfe_vehicle_t *veh,
         return RFE_ERR_NULL;
     }
     if ((h->mode == RFE_TYRE_PAPER) || (pre_matches(h, tp) == 0)) {
-        /* the two calls (paper mode's z is H(u) mu, not the derivative's forces); G is
-         * written only on RFE_OK by rfe_meas_input_jac */
+        /* the two calls (paper mode's z is H(u) mu, not the derivative's forces) */
         rfe_meas_terms_t nom;
         st = rfe_meas_nominal(h, veh, tp, mu, &nom, z0);
-        if (st == RFE_OK) {
-            st = rfe_meas_input_jac(h, veh, tp, u, mu, sd, G);
-        }
     } else {
-        st = nominal_jac_once(h, veh, tp, u, mu, sd, z0, G);
+        /* z from the derivative's forces: rfe_meas_nominal's checks are each wheel's tyre
+         * checks, which the derivative makes in the same order, then the sum's */
+        zp = z0;
     }
     if (st == RFE_OK) {
-        for (i = 0u; i < (size_t)RFE_MEAS; ++i) {
-            z[i] = z0[i];
-        }
+        st = input_jac_core(h, veh, tp, u, mu, sd, G, zp, f0);
     }
-    return st;
+    if (st != RFE_OK) {
+        return st;
+    }
+    if (zp != NULL) {
+        keep_forces(h, tp, mu, f0);
+    }
+    for (i = 0u; i < (size_t)RFE_MEAS; ++i) {
+        z[i] = z0[i];
+    }
+    return RFE_OK;
 }
