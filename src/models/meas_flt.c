@@ -726,7 +726,6 @@ static rfe_status_t wheel_input_terms(const rfe_meas_t *h, const rfe_vehicle_t *
     rfe_real_t vbx;
     rfe_real_t vby;
     size_t j;
-    size_t r;
     rfe_status_t st;
     rfe_wheel_positions(veh, px, py);
     jac_pre(h, tp, cached, i, &pre);
@@ -735,6 +734,7 @@ static rfe_status_t wheel_input_terms(const rfe_meas_t *h, const rfe_vehicle_t *
         return st;
     }
     if (acc0 != NULL) {
+        size_t r;
         wheel_terms(veh, c, s, i, px[i], py[i], fj[0].fx, fj[0].fy, tw);
         for (r = 0u; r < (size_t)RFE_MEAS; ++r) {
             acc0[r] += tw[r];
