@@ -10,10 +10,15 @@
 #include "numerics/internal.h"
 #include "models/vehicle.h"
 #include "models/meas_inputs.h"
+#include "models/meas_internal.h"
 #include "models/tyre_internal.h"
 
 /* The four wheels' terms side by side (wheel i at i RFE_MEAS). */
 #define COLS ((size_t)RFE_WHEELS * (size_t)RFE_MEAS)
+
+/* FOUR_WHEELS: sums over the wheels are written out for four of them. */
+/* cppcheck-suppress misra-c2012-2.3 ; MISRA-DEV-04: static assertion, never used by design */
+typedef char rfe_assert_meas_four_wheels[(RFE_WHEELS == 4) ? 1 : -1];
 
 /* Load-scaled modes (absolute, magic): cos, sin of delta and each wheel's friction-independent
  * tyre terms (paper mode, which uses neither: zeros), and the tyre parameters they belong to. */
@@ -39,6 +44,13 @@ static void setup_pre(rfe_meas_t *h, const rfe_tyre_params_t *tp)
     h->pre_cy = tp->cy;
     h->pre_eps = tp->eps;
     h->pre_alpha_max = tp->alpha_max;
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        h->memo_mu[i] = RFE_R(0.0);
+        h->memo_fx[i] = RFE_R(0.0);
+        h->memo_fy[i] = RFE_R(0.0);
+        h->memo_shape[i] = RFE_R(0.0);
+    }
+    h->memo_valid = 0;
 }
 
 rfe_status_t rfe_meas_setup(rfe_meas_t *h, const rfe_vehicle_t *veh,
@@ -81,16 +93,15 @@ static rfe_status_t apply_paper(const rfe_real_t H[RFE_H_SIZE], const rfe_real_t
                                 rfe_real_t z[RFE_MEAS])
 {
     size_t r;
-    size_t i;
     if (!rfe_all_finite(mu, RFE_WHEELS)) {
         return RFE_ERR_NONFINITE;
     }
+    /* the four wheels written out (FOUR_WHEELS): acc += H[r][i] mu[i] from acc = 0, in wheel
+     * order, without the inner loop's counting (issue 21) */
     for (r = 0u; r < (size_t)RFE_MEAS; ++r) {
-        rfe_real_t acc = RFE_R(0.0);
-        for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
-            acc += H[RFE_H_AT(r, i)] * mu[i];
-        }
-        z[r] = acc;
+        z[r] = (((RFE_R(0.0) + (H[RFE_H_AT(r, 0u)] * mu[0])) + (H[RFE_H_AT(r, 1u)] * mu[1])) +
+                (H[RFE_H_AT(r, 2u)] * mu[2])) +
+               (H[RFE_H_AT(r, 3u)] * mu[3]);
     }
     return RFE_OK;
 }
@@ -128,13 +139,14 @@ static void wheel_terms_of(const rfe_vehicle_t *veh, rfe_real_t c, rfe_real_t s,
  * with the others in the same order: the same bits. */
 static rfe_status_t sum_terms(const rfe_real_t t[COLS], rfe_real_t z[RFE_MEAS])
 {
-    rfe_real_t zt[RFE_MEAS] = {RFE_R(0.0), RFE_R(0.0), RFE_R(0.0)};
-    size_t i;
+    rfe_real_t zt[RFE_MEAS];
     size_t r;
-    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
-        for (r = 0u; r < (size_t)RFE_MEAS; ++r) {
-            zt[r] += t[(i * (size_t)RFE_MEAS) + r];
-        }
+    /* zt[r] = 0 + t_0 + t_1 + t_2 + t_3 (wheel order; the leading 0 + keeps a -0 sum +0, as the
+     * loop's did) written out for the four wheels (FOUR_WHEELS): a third of the loop's
+     * instructions on a Cortex-M4F (issue 21) */
+    for (r = 0u; r < (size_t)RFE_MEAS; ++r) {
+        zt[r] = (((RFE_R(0.0) + t[r]) + t[(size_t)RFE_MEAS + r]) + t[(2u * (size_t)RFE_MEAS) + r]) +
+                t[(3u * (size_t)RFE_MEAS) + r];
     }
     if (!rfe_all_finite(zt, RFE_MEAS)) {
         return RFE_ERR_NONFINITE;
@@ -177,6 +189,17 @@ static int pre_matches(const rfe_meas_t *h, const rfe_tyre_params_t *tp)
                : 0;
 }
 
+/* 1 when h keeps forces (memo_valid) computed with these Magic Formula shapes (a NaN never
+ * matches); pre_matches covers the other tyre parameters the forces depend on. */
+static int memo_matches(const rfe_meas_t *h, const rfe_tyre_params_t *tp)
+{
+    return ((h->memo_valid != 0) && (h->memo_shape[0] == tp->shape_Cx) &&
+            (h->memo_shape[1] == tp->shape_Ex) && (h->memo_shape[2] == tp->shape_Cy) &&
+            (h->memo_shape[3] == tp->shape_Ey))
+               ? 1
+               : 0;
+}
+
 /* rfe_tyre_forces_abs(tp, &h->kin, mu, fx, fy) with the set-up's friction-independent
  * terms (recomputed when tp is not the set-up's tyre): the same checks in the same order,
  * the same forces. */
@@ -185,14 +208,26 @@ static rfe_status_t forces_abs(const rfe_meas_t *h, const rfe_tyre_params_t *tp,
                                rfe_real_t fy[RFE_WHEELS])
 {
     const int cached = pre_matches(h, tp);
+    int memo = 0;
     rfe_real_t tx[RFE_WHEELS];
     rfe_real_t ty[RFE_WHEELS];
     size_t i;
+
+    if ((cached != 0) && (memo_matches(h, tp) != 0)) {
+        memo = 1;
+    }
 
     for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
         rfe_dugoff_pre_t fresh;
         const rfe_dugoff_pre_t *pre = &h->pre[i];
         rfe_status_t st;
+        if ((memo != 0) && (mu[i] == h->memo_mu[i])) {
+            /* kept at this friction (after the same checks, passed): the same forces; -0 and
+             * +0 compare equal and both are evaluated at max(mu, 0) = +0 */
+            tx[i] = h->memo_fx[i];
+            ty[i] = h->memo_fy[i];
+            continue;
+        }
         if (cached == 0) {
             rfe_tyre_dugoff_pre(tp, h->kin.kappa[i], h->kin.alpha[i], h->kin.vwx[i],
                                 &fresh);
@@ -288,6 +323,7 @@ static rfe_status_t nominal_terms(const rfe_meas_t *h, const rfe_vehicle_t *veh,
     return RFE_OK;
 }
 
+/* cppcheck-suppress misra-c2012-8.7 ; MISRA-DEV-06: public API, called by the application */
 rfe_status_t rfe_meas_nominal(const rfe_meas_t *h, const rfe_vehicle_t *veh,
                               const rfe_tyre_params_t *tp, const rfe_real_t mu[RFE_WHEELS],
                               rfe_meas_terms_t *nom, rfe_real_t z[RFE_MEAS])
@@ -542,30 +578,63 @@ rfe_status_t rfe_meas_lateral_jac(const rfe_meas_t *h, const rfe_vehicle_t *veh,
  *   d kappa = (dvr (1 - [den = |omega R|] kappa sgn(omega R))
  *              - dvwx (1 + [den = |v_wx|] kappa sgn(v_wx))) / den   (0 where |kappa| >= 1),
  * den = max(|omega R|, |v_wx|, v_min): the quotient rule where den follows one of the two speeds
- * (vy_direction is the case dvwx = si, dvwy = ci, dvr = 0). */
-static rfe_slip_dir_t input_direction(const rfe_meas_t *h, const rfe_vehicle_t *veh,
-                                      const rfe_tyre_params_t *tp, const rfe_sample_t *u,
-                                      size_t i, rfe_real_t tan_a, const rfe_real_t dv[3])
+ * (vy_direction is the case dvwx = si, dvwy = ci, dvr = 0). The factors that do not depend on
+ * the change, once per wheel (input_dir_t, input_dir_of), then each input's direction
+ * (input_direction): the same operations as one evaluation. */
+typedef struct {
+    rfe_real_t ts;  /* t sgn(v_wx) */
+    rfe_real_t avx; /* |v_wx| */
+    rfe_real_t ar;  /* 1 - [den = |omega R|] kappa sgn(omega R) */
+    rfe_real_t ax;  /* 1 + [den = |v_wx|] kappa sgn(v_wx) */
+    rfe_real_t den;
+    int t_on; /* |alpha| < alpha_max and v_wx != 0 */
+    int k_on; /* |kappa| < 1 */
+} input_dir_t;
+
+static void input_dir_of(const rfe_meas_t *h, const rfe_vehicle_t *veh,
+                         const rfe_tyre_params_t *tp, const rfe_sample_t *u, size_t i,
+                         rfe_real_t tan_a, input_dir_t *c)
 {
     const rfe_real_t vwx = h->kin.vwx[i];
     const rfe_real_t avx = RFE_FABS(vwx);
     const rfe_real_t kappa = h->kin.kappa[i];
-    rfe_slip_dir_t d;
-    d.vwx = dv[0];
-    d.tan_a = RFE_R(0.0);
-    d.k = RFE_R(0.0);
+    c->avx = avx;
+    c->ts = tan_a * rfe_sgn(vwx);
+    c->t_on = 0;
+    c->k_on = 0;
     if ((RFE_FABS(h->kin.alpha[i]) < tp->alpha_max) && (avx > RFE_R(0.0))) {
-        d.tan_a = -(dv[1] + ((tan_a * rfe_sgn(vwx)) * dv[0])) / avx;
+        c->t_on = 1;
     }
     if (RFE_FABS(kappa) < RFE_R(1.0)) {
+        c->k_on = 1;
+    }
+    c->ar = RFE_R(1.0);
+    c->ax = RFE_R(1.0);
+    c->den = RFE_R(1.0);
+    if (c->k_on != 0) {
         const rfe_real_t vr = u->omega[i] * veh->R;
         const rfe_real_t avr = RFE_FABS(vr);
-        const rfe_real_t den = rfe_max(rfe_max(avr, avx), tp->v_min);
         const rfe_real_t own_x =
             ((avx > avr) && (avx > tp->v_min)) ? (kappa * rfe_sgn(vwx)) : RFE_R(0.0);
         const rfe_real_t own_r =
             ((avr >= avx) && (avr > tp->v_min)) ? (kappa * rfe_sgn(vr)) : RFE_R(0.0);
-        d.k = ((dv[2] * (RFE_R(1.0) - own_r)) - (dv[0] * (RFE_R(1.0) + own_x))) / den;
+        c->den = rfe_max(rfe_max(avr, avx), tp->v_min);
+        c->ar = RFE_R(1.0) - own_r;
+        c->ax = RFE_R(1.0) + own_x;
+    }
+}
+
+static rfe_slip_dir_t input_direction(const input_dir_t *c, const rfe_real_t dv[3])
+{
+    rfe_slip_dir_t d;
+    d.vwx = dv[0];
+    d.tan_a = RFE_R(0.0);
+    d.k = RFE_R(0.0);
+    if (c->t_on != 0) {
+        d.tan_a = -(dv[1] + (c->ts * dv[0])) / c->avx;
+    }
+    if (c->k_on != 0) {
+        d.k = ((dv[2] * c->ar) - (dv[0] * c->ax)) / c->den;
     }
     return d;
 }
@@ -611,14 +680,15 @@ static rfe_status_t wheel_basis(const rfe_meas_t *h, const rfe_tyre_params_t *tp
                                 const rfe_dugoff_pre_t *pre, size_t i, rfe_real_t mu,
                                 rfe_tyre_jac_t fj[3])
 {
-    size_t nb = 3u;
     size_t b;
-    if (tp->mode == RFE_TYRE_MAGIC) {
-        nb = 2u;
-    }
     fj[2].dfx = RFE_R(0.0);
     fj[2].dfy = RFE_R(0.0);
-    for (b = 0u; b < nb; ++b) {
+    if (tp->mode == RFE_TYRE_MAGIC) {
+        /* both directions from one evaluation of the curves (rfe_tyre_magic_basis) */
+        return rfe_tyre_magic_basis(tp, pre, h->kin.kappa[i], h->kin.alpha[i], h->kin.fz[i],
+                                    h->kin.vwx[i], mu, fj);
+    }
+    for (b = 0u; b < 3u; ++b) {
         rfe_slip_dir_t e;
         rfe_status_t st;
         e.k = (b == 0u) ? RFE_R(1.0) : RFE_R(0.0);
@@ -633,12 +703,17 @@ static rfe_status_t wheel_basis(const rfe_meas_t *h, const rfe_tyre_params_t *tp
     return RFE_OK;
 }
 
-/* Wheel i's terms of dh/du_j for every input j into t (input j's terms of wheel i at
- * j COLS + i RFE_MEAS; zeros for the inputs that do not reach it). */
+/* Wheel i's terms of dh/du_j for every input j added to acc[j RFE_MEAS + r] (zeros for the
+ * inputs that do not reach it: +0 added, as sum_terms adds every wheel's terms); acc0 not
+ * NULL: its terms of h at mu (the forces of the derivative's evaluation) added to acc0 and
+ * the forces into f0. Called for the wheels in order from acc = acc0 = 0, the sums are
+ * sum_terms' (((0 + t_0) + t_1) + t_2) + t_3, bit for bit, without the 96 terms side by side
+ * (issue 21: 288 B less stack). */
 static rfe_status_t wheel_input_terms(const rfe_meas_t *h, const rfe_vehicle_t *veh,
                                       const rfe_tyre_params_t *tp, const rfe_sample_t *u,
                                       int cached, size_t i, rfe_real_t c, rfe_real_t s,
-                                      rfe_real_t mu, rfe_real_t *t)
+                                      rfe_real_t mu, rfe_real_t *acc, rfe_real_t *acc0,
+                                      rfe_real_t f0[2])
 {
     rfe_real_t px[RFE_WHEELS];
     rfe_real_t py[RFE_WHEELS];
@@ -646,6 +721,8 @@ static rfe_status_t wheel_input_terms(const rfe_meas_t *h, const rfe_vehicle_t *
     const rfe_real_t si = (i < (size_t)RFE_RL) ? s : RFE_R(0.0);
     rfe_dugoff_pre_t pre;
     rfe_tyre_jac_t fj[3];
+    input_dir_t dc;
+    rfe_real_t tw[RFE_MEAS];
     rfe_real_t vbx;
     rfe_real_t vby;
     size_t j;
@@ -656,64 +733,114 @@ static rfe_status_t wheel_input_terms(const rfe_meas_t *h, const rfe_vehicle_t *
     if (st != RFE_OK) {
         return st;
     }
+    if (acc0 != NULL) {
+        size_t r;
+        wheel_terms(veh, c, s, i, px[i], py[i], fj[0].fx, fj[0].fy, tw);
+        for (r = 0u; r < (size_t)RFE_MEAS; ++r) {
+            acc0[r] += tw[r];
+        }
+        f0[0] = fj[0].fx;
+        f0[1] = fj[0].fy;
+    }
+    input_dir_of(h, veh, tp, u, i, pre.tan_a, &dc);
     vbx = u->vx - (u->yaw_rate * py[i]);
     vby = u->vy + (u->yaw_rate * px[i]);
     for (j = 0u; j < (size_t)RFE_INPUTS; ++j) {
-        rfe_real_t *tj = &t[(j * COLS) + (i * (size_t)RFE_MEAS)];
-        rfe_real_t dv[3];
-        rfe_slip_dir_t d;
-        rfe_real_t dfx;
-        rfe_real_t dfy;
-        int turns;
-        if (rfe_input_reaches(j, i) == 0) {
-            tj[0] = RFE_R(0.0);
-            tj[1] = RFE_R(0.0);
-            tj[2] = RFE_R(0.0);
-            continue;
+        rfe_real_t *aj = &acc[j * (size_t)RFE_MEAS];
+        tw[0] = RFE_R(0.0);
+        tw[1] = RFE_R(0.0);
+        tw[2] = RFE_R(0.0);
+        if (rfe_input_reaches(j, i) != 0) {
+            rfe_real_t dv[3];
+            rfe_slip_dir_t d;
+            rfe_real_t dfx;
+            rfe_real_t dfy;
+            const int turns = input_change(veh, j, px[i], py[i], ci, si, (vbx * ci) + (vby * si),
+                                           (-vbx * si) + (vby * ci), dv);
+            d = input_direction(&dc, dv);
+            dfx = ((d.k * fj[0].dfx) + (d.tan_a * fj[1].dfx)) + (d.vwx * fj[2].dfx);
+            dfy = ((d.k * fj[0].dfy) + (d.tan_a * fj[1].dfy)) + (d.vwx * fj[2].dfy);
+            if (turns != 0) {
+                /* the body terms rotate the forces by delta: d(R(delta) F) = R(delta) (dF + (-Fy, Fx)) */
+                dfx -= fj[0].fy;
+                dfy += fj[0].fx;
+            }
+            /* the body terms are linear in the forces: the same map for the derivative */
+            wheel_terms(veh, c, s, i, px[i], py[i], dfx, dfy, tw);
         }
-        turns = input_change(veh, j, px[i], py[i], ci, si, (vbx * ci) + (vby * si),
-                             (-vbx * si) + (vby * ci), dv);
-        d = input_direction(h, veh, tp, u, i, pre.tan_a, dv);
-        dfx = ((d.k * fj[0].dfx) + (d.tan_a * fj[1].dfx)) + (d.vwx * fj[2].dfx);
-        dfy = ((d.k * fj[0].dfy) + (d.tan_a * fj[1].dfy)) + (d.vwx * fj[2].dfy);
-        if (turns != 0) {
-            /* the body terms rotate the forces by delta: d(R(delta) F) = R(delta) (dF + (-Fy, Fx)) */
-            dfx -= fj[0].fy;
-            dfy += fj[0].fx;
-        }
-        /* the body terms are linear in the forces: the same map for the derivative */
-        wheel_terms(veh, c, s, i, px[i], py[i], dfx, dfy, tj);
+        aj[0] += tw[0];
+        aj[1] += tw[1];
+        aj[2] += tw[2];
     }
     return RFE_OK;
 }
 
-/* G[r RFE_INPUTS + j] = sd_j times the sum over the wheels of input j's terms (t, input j's at
- * j COLS), each sum checked as sum_terms checks it; RFE_ERR_NONFINITE when a sum or a scaled
- * column is not finite (a huge sd times a finite derivative), G then untouched. */
-static rfe_status_t scaled_columns(const rfe_real_t *t, const rfe_real_t sd[RFE_INPUTS],
+/* G[r RFE_INPUTS + j] = sd_j times input j's sum over the wheels (acc[j RFE_MEAS + r]);
+ * RFE_ERR_NONFINITE when a scaled sum is not finite (a huge sd times a finite derivative, or
+ * a sum that is not finite itself: an infinite or NaN sum times any sd is not finite, so this
+ * one check returns what sum_terms' check of each sum then this one returned), G then
+ * untouched. */
+static rfe_status_t scaled_columns(const rfe_real_t *acc, const rfe_real_t sd[RFE_INPUTS],
                                    rfe_real_t G[(size_t)RFE_MEAS * (size_t)RFE_INPUTS])
 {
-    rfe_real_t zj[(size_t)RFE_INPUTS * (size_t)RFE_MEAS];
-    size_t i;
+    rfe_real_t g[(size_t)RFE_INPUTS * (size_t)RFE_MEAS];
+    size_t r;
     size_t j;
     for (j = 0u; j < (size_t)RFE_INPUTS; ++j) {
-        const rfe_status_t st = sum_terms(&t[j * COLS], &zj[j * (size_t)RFE_MEAS]);
-        if (st != RFE_OK) {
-            return st;
-        }
-        for (i = 0u; i < (size_t)RFE_MEAS; ++i) {
-            zj[(j * (size_t)RFE_MEAS) + i] *= sd[j];
+        for (r = 0u; r < (size_t)RFE_MEAS; ++r) {
+            g[(r * (size_t)RFE_INPUTS) + j] = acc[(j * (size_t)RFE_MEAS) + r] * sd[j];
         }
     }
-    if (!rfe_all_finite(zj, (size_t)RFE_INPUTS * (size_t)RFE_MEAS)) {
-        return RFE_ERR_NONFINITE; /* a huge sd times a finite derivative */
+    if (!rfe_all_finite(g, (size_t)RFE_INPUTS * (size_t)RFE_MEAS)) {
+        return RFE_ERR_NONFINITE;
     }
-    for (j = 0u; j < (size_t)RFE_INPUTS; ++j) {
-        for (i = 0u; i < (size_t)RFE_MEAS; ++i) {
-            G[(i * (size_t)RFE_INPUTS) + j] = zj[(j * (size_t)RFE_MEAS) + i];
-        }
+    for (j = 0u; j < ((size_t)RFE_INPUTS * (size_t)RFE_MEAS); ++j) {
+        G[j] = g[j];
     }
     return RFE_OK;
+}
+
+/* rfe_meas_input_jac after its NULL checks; z not NULL (the load-scaled modes with the
+ * set-up's tyre only): also z = h(mu, u) from the same forces (rfe_meas_nominal's sum, its
+ * check first) and, f not NULL, each wheel's forces into f (fx, fy per wheel). */
+static rfe_status_t input_jac_core(const rfe_meas_t *h, const rfe_vehicle_t *veh,
+                                   const rfe_tyre_params_t *tp, const rfe_sample_t *u,
+                                   const rfe_real_t mu[RFE_WHEELS],
+                                   const rfe_real_t sd[RFE_INPUTS],
+                                   rfe_real_t G[(size_t)RFE_MEAS * (size_t)RFE_INPUTS],
+                                   rfe_real_t *z, rfe_real_t *f)
+{
+    rfe_real_t acc[(size_t)RFE_INPUTS * (size_t)RFE_MEAS];
+    rfe_real_t acc0[RFE_MEAS] = {RFE_R(0.0), RFE_R(0.0), RFE_R(0.0)};
+    rfe_real_t c = h->cos_delta;
+    rfe_real_t s = h->sin_delta;
+    const int cached = pre_matches(h, tp);
+    rfe_status_t st = RFE_OK;
+    size_t i;
+    if (h->mode == RFE_TYRE_PAPER) {
+        c = RFE_COS(h->delta);
+        s = RFE_SIN(h->delta);
+    }
+    for (i = 0u; i < ((size_t)RFE_INPUTS * (size_t)RFE_MEAS); ++i) {
+        acc[i] = RFE_R(0.0);
+    }
+    for (i = 0u; (i < (size_t)RFE_WHEELS) && (st == RFE_OK); ++i) {
+        st = wheel_input_terms(h, veh, tp, u, cached, i, c, s, mu[i], acc,
+                               (z != NULL) ? acc0 : NULL, (f != NULL) ? &f[2u * i] : NULL);
+    }
+    if ((st == RFE_OK) && (z != NULL)) {
+        if (!rfe_all_finite(acc0, RFE_MEAS)) {
+            st = RFE_ERR_NONFINITE; /* rfe_meas_nominal's check of its sum */
+        } else {
+            z[0] = acc0[0];
+            z[1] = acc0[1];
+            z[2] = acc0[2];
+        }
+    }
+    if (st == RFE_OK) {
+        st = scaled_columns(acc, sd, G);
+    }
+    return st;
 }
 
 rfe_status_t rfe_meas_input_jac(const rfe_meas_t *h, const rfe_vehicle_t *veh,
@@ -722,28 +849,67 @@ rfe_status_t rfe_meas_input_jac(const rfe_meas_t *h, const rfe_vehicle_t *veh,
                                 const rfe_real_t sd[RFE_INPUTS],
                                 rfe_real_t G[(size_t)RFE_MEAS * (size_t)RFE_INPUTS])
 {
-    rfe_real_t t[(size_t)RFE_INPUTS * COLS];
-    rfe_real_t c;
-    rfe_real_t s;
-    int cached;
-    size_t i;
-
     if ((h == NULL) || (veh == NULL) || (tp == NULL) || (u == NULL) || (mu == NULL) ||
         (sd == NULL) || (G == NULL)) {
         return RFE_ERR_NULL;
     }
-    c = h->cos_delta;
-    s = h->sin_delta;
-    if (h->mode == RFE_TYRE_PAPER) {
-        c = RFE_COS(h->delta);
-        s = RFE_SIN(h->delta);
-    }
-    cached = pre_matches(h, tp);
+    return input_jac_core(h, veh, tp, u, mu, sd, G, NULL, NULL);
+}
+
+/* Keeps the four wheels' forces f (fx, fy per wheel) at mu in h for rfe_meas_eval, with the
+ * shapes of tp they were computed with. */
+static void keep_forces(rfe_meas_t *h, const rfe_tyre_params_t *tp,
+                        const rfe_real_t mu[RFE_WHEELS], const rfe_real_t f[2u * (size_t)RFE_WHEELS])
+{
+    size_t i;
     for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
-        const rfe_status_t st = wheel_input_terms(h, veh, tp, u, cached, i, c, s, mu[i], t);
-        if (st != RFE_OK) {
-            return st;
-        }
+        h->memo_mu[i] = mu[i];
+        h->memo_fx[i] = f[2u * i];
+        h->memo_fy[i] = f[(2u * i) + 1u];
     }
-    return scaled_columns(t, sd, G);
+    h->memo_shape[0] = tp->shape_Cx;
+    h->memo_shape[1] = tp->shape_Ex;
+    h->memo_shape[2] = tp->shape_Cy;
+    h->memo_shape[3] = tp->shape_Ey;
+    h->memo_valid = 1;
+}
+
+rfe_status_t rfe_meas_nominal_input_jac(rfe_meas_t *h, const rfe_vehicle_t *veh,
+                                        const rfe_tyre_params_t *tp, const rfe_sample_t *u,
+                                        const rfe_real_t mu[RFE_WHEELS],
+                                        const rfe_real_t sd[RFE_INPUTS], rfe_real_t z[RFE_MEAS],
+                                        rfe_real_t G[(size_t)RFE_MEAS * (size_t)RFE_INPUTS])
+{
+    rfe_real_t z0[RFE_MEAS];
+    rfe_real_t f0[2u * (size_t)RFE_WHEELS];
+    rfe_real_t *zp = NULL;
+    rfe_status_t st = RFE_OK;
+    size_t i;
+
+    if ((h == NULL) || (veh == NULL) || (tp == NULL) || (u == NULL) || (mu == NULL) ||
+        (sd == NULL) || (z == NULL) || (G == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    if ((h->mode == RFE_TYRE_PAPER) || (pre_matches(h, tp) == 0)) {
+        /* the two calls (paper mode's z is H(u) mu, not the derivative's forces) */
+        rfe_meas_terms_t nom;
+        st = rfe_meas_nominal(h, veh, tp, mu, &nom, z0);
+    } else {
+        /* z from the derivative's forces: rfe_meas_nominal's checks are each wheel's tyre
+         * checks, which the derivative makes in the same order, then the sum's */
+        zp = z0;
+    }
+    if (st == RFE_OK) {
+        st = input_jac_core(h, veh, tp, u, mu, sd, G, zp, f0);
+    }
+    if (st != RFE_OK) {
+        return st;
+    }
+    if (zp != NULL) {
+        keep_forces(h, tp, mu, f0);
+    }
+    for (i = 0u; i < (size_t)RFE_MEAS; ++i) {
+        z[i] = z0[i];
+    }
+    return RFE_OK;
 }

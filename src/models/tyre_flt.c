@@ -518,16 +518,34 @@ static rfe_real_t magic_shape_jac(rfe_real_t s, rfe_real_t m, rfe_real_t C, rfe_
  * dF = fz m (G_s ds u + G du); dF/dmu = fz u (G - s G_s) (x dG/dx = s G_s). At s = 0 (u = 0)
  * the force is linear in the slip: dF = fz m G_s (cx dk, cy dt), dF/dmu = 0. m = 0: every
  * derivative 0 (no force at any slip). */
-static void magic_jac(const rfe_tyre_params_t *tp, const rfe_dugoff_pre_t *pre, rfe_real_t fz,
-                      rfe_real_t mu, const rfe_slip_dir_t *d, rfe_tyre_jac_t *o)
+typedef struct {
+    rfe_real_t m;  /* max(mu, 0) */
+    rfe_real_t gx; /* G of the x direction's curve */
+    rfe_real_t gxs; /* its dG/ds */
+    rfe_real_t gy;
+    rfe_real_t gys;
+} magic_curves_t;
+
+/* The two curves of magic_jac at friction mu: they do not depend on the direction d. */
+static void magic_curves(const rfe_tyre_params_t *tp, const rfe_dugoff_pre_t *pre, rfe_real_t mu,
+                         magic_curves_t *g)
 {
-    const rfe_real_t m = rfe_max(mu, RFE_R(0.0));
+    g->m = rfe_max(mu, RFE_R(0.0));
+    g->gx = magic_shape_jac(pre->s, g->m, tp->shape_Cx, tp->shape_Ex, &g->gxs);
+    g->gy = magic_shape_jac(pre->s, g->m, tp->shape_Cy, tp->shape_Ey, &g->gys);
+}
+
+/* magic_jac from the curves g of magic_curves (the same operations). */
+static void magic_jac_of(const rfe_tyre_params_t *tp, const rfe_dugoff_pre_t *pre, rfe_real_t fz,
+                         const magic_curves_t *g, const rfe_slip_dir_t *d, rfe_tyre_jac_t *o)
+{
+    const rfe_real_t m = g->m;
     const rfe_real_t fm = fz * m;
     const rfe_real_t s = pre->s;
-    rfe_real_t gxs;
-    rfe_real_t gys;
-    const rfe_real_t gx = magic_shape_jac(s, m, tp->shape_Cx, tp->shape_Ex, &gxs);
-    const rfe_real_t gy = magic_shape_jac(s, m, tp->shape_Cy, tp->shape_Ey, &gys);
+    const rfe_real_t gxs = g->gxs;
+    const rfe_real_t gys = g->gys;
+    const rfe_real_t gx = g->gx;
+    const rfe_real_t gy = g->gy;
     const rfe_real_t cdk = tp->cx * d->k;
     const rfe_real_t cdt = tp->cy * d->tan_a;
     o->fx = fm * gx * pre->ux;
@@ -548,6 +566,14 @@ static void magic_jac(const rfe_tyre_params_t *tp, const rfe_dugoff_pre_t *pre, 
         o->dfx = fm * (gxs * cdk);
         o->dfy = fm * (gys * cdt);
     }
+}
+
+static void magic_jac(const rfe_tyre_params_t *tp, const rfe_dugoff_pre_t *pre, rfe_real_t fz,
+                      rfe_real_t mu, const rfe_slip_dir_t *d, rfe_tyre_jac_t *o)
+{
+    magic_curves_t g;
+    magic_curves(tp, pre, mu, &g);
+    magic_jac_of(tp, pre, fz, &g, d, o);
 }
 
 rfe_status_t rfe_tyre_pre_jac(const rfe_tyre_params_t *tp, const rfe_dugoff_pre_t *pre,
@@ -583,6 +609,32 @@ rfe_status_t rfe_tyre_pre_jac(const rfe_tyre_params_t *tp, const rfe_dugoff_pre_
             out->mfx = RFE_R(0.0);
             out->mfy = RFE_R(0.0);
         }
+    }
+    return RFE_OK;
+}
+
+rfe_status_t rfe_tyre_magic_basis(const rfe_tyre_params_t *tp, const rfe_dugoff_pre_t *pre,
+                                  rfe_real_t kappa, rfe_real_t alpha, rfe_real_t fz,
+                                  rfe_real_t vwx, rfe_real_t mu, rfe_tyre_jac_t out[2])
+{
+    rfe_status_t st = RFE_ERR_NULL;
+    if ((pre != NULL) && (out != NULL)) {
+        st = check_wheel(tp, kappa, alpha, fz, vwx, &out[0].fx, &out[0].fy);
+    }
+    if (st != RFE_OK) {
+        return st;
+    }
+    if (!rfe_is_finite(mu)) {
+        return RFE_ERR_NONFINITE;
+    }
+    {
+        /* the unit changes of kappa and of tan(alpha), as wheel_basis (meas_flt.c) forms them */
+        const rfe_slip_dir_t ek = {RFE_R(1.0), RFE_R(0.0), RFE_R(0.0)};
+        const rfe_slip_dir_t et = {RFE_R(0.0), RFE_R(1.0), RFE_R(0.0)};
+        magic_curves_t g;
+        magic_curves(tp, pre, mu, &g);
+        magic_jac_of(tp, pre, fz, &g, &ek, &out[0]);
+        magic_jac_of(tp, pre, fz, &g, &et, &out[1]);
     }
     return RFE_OK;
 }

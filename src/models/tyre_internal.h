@@ -26,6 +26,7 @@
 #define rfe_tyre_dugoff_pre_tan rfe_tyre_dugoff_pre_tan_f64
 #define rfe_tyre_norm_pre       rfe_tyre_norm_pre_f64
 #define rfe_tyre_pre_jac        rfe_tyre_pre_jac_f64
+#define rfe_tyre_magic_basis    rfe_tyre_magic_basis_f64
 #else
 #define rfe_tyre_dugoff_pre     rfe_tyre_dugoff_pre_f32
 #define rfe_tyre_dugoff_abs_pre rfe_tyre_dugoff_abs_pre_f32
@@ -34,6 +35,7 @@
 #define rfe_tyre_dugoff_pre_tan rfe_tyre_dugoff_pre_tan_f32
 #define rfe_tyre_norm_pre       rfe_tyre_norm_pre_f32
 #define rfe_tyre_pre_jac        rfe_tyre_pre_jac_f32
+#define rfe_tyre_magic_basis    rfe_tyre_magic_basis_f32
 #endif
 
 /** The friction-independent terms of rfe_tyre_dugoff_abs(tp, kappa, alpha, ., vwx, ...)
@@ -103,4 +105,13 @@ RFE_NODISCARD rfe_status_t rfe_tyre_pre_jac(const rfe_tyre_params_t *tp,
                                            rfe_real_t mu, const rfe_slip_dir_t *d,
                                            rfe_tyre_jac_t *out);
 
+/** Magic Formula mode: rfe_tyre_pre_jac along a unit change of kappa (out[0]) and of tan
+ *  alpha (out[1]) (d = (1, 0, 0), (0, 1, 0)), bit for bit, with the two curves (an atan2, a
+ *  sine and a cosine each) evaluated once for both directions (the step noise's input
+ *  derivatives, meas_flt.c; the twin of rfe_tyre_magic_basis_q31). Checks and statuses as
+ *  rfe_tyre_pre_jac. */
+RFE_NODISCARD rfe_status_t rfe_tyre_magic_basis(const rfe_tyre_params_t *tp,
+                                               const rfe_dugoff_pre_t *pre, rfe_real_t kappa,
+                                               rfe_real_t alpha, rfe_real_t fz, rfe_real_t vwx,
+                                               rfe_real_t mu, rfe_tyre_jac_t out[2]);
 #endif /* RFE_TYRE_INTERNAL_H */

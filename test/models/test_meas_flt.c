@@ -25,6 +25,7 @@
 #include "rfe/params.h"
 #include "rfe/component/tyre.h"
 
+#include "models/meas_internal.h"
 #include "test_draws.h"
 
 /* The largest finite real of the build (float or double). */
@@ -895,6 +896,174 @@ static void test_meas_input_jac_at_rest(void **state)
     }
 }
 
+/* REQ: rfe_meas_nominal_input_jac is rfe_meas_nominal followed by rfe_meas_input_jac, bit for
+ * bit and status for status (z and G written only on RFE_OK), in every tyre mode, with the
+ * set-up's tyre parameters (the load-scaled modes' one evaluation of the forces) and with
+ * others (the two calls), on the operating points of test_meas_input_jac and with a
+ * non-finite friction; NULL arguments rejected. */
+/* REQ-MEAS-004 */
+static void test_meas_nominal_input_jac(void **state)
+{
+    int n;
+    int fast = 0;
+    (void)state;
+    draw_seed(0x0E1A7ull);
+    for (n = 0; n < 600; n += (int)rfe_test_stride(7u)) {
+        rfe_params_t p;
+        rfe_tyre_params_t other;
+        rfe_sample_t u;
+        rfe_real_t mu[4];
+        rfe_real_t sd[RFE_INPUTS];
+        rfe_meas_t h;
+        rfe_meas_terms_t nom;
+        size_t j;
+        int k;
+        assert_int_equal(rfe_params_default(&p), RFE_OK);
+        p.tyre.mode = MODES[n % 3];
+        input_jac_point(&p, n, &u, mu);
+        for (j = 0u; j < (size_t)RFE_INPUTS; ++j) {
+            sd[j] = (j == (size_t)RFE_IN_VY) ? RFE_R(0.5) : RFE_R(1.0);
+        }
+        if ((n % 7) == 6) {
+            mu[n % 4] = (rfe_real_t)NAN; /* the wheels' checks: the same first failure */
+        }
+        other = p.tyre;
+        other.cy *= RFE_R(1.3);
+        other.Cy_n *= RFE_R(1.3);
+        if (rfe_meas_setup(&h, &p.vehicle, &p.tyre, &u) != RFE_OK) {
+            continue;
+        }
+        for (k = 0; k < 2; ++k) {
+            const rfe_tyre_params_t *tp = (k == 0) ? &p.tyre : &other;
+            rfe_real_t z[3];
+            rfe_real_t z2[3];
+            rfe_real_t G[3 * RFE_INPUTS];
+            rfe_real_t G2[3 * RFE_INPUTS];
+            rfe_status_t want = rfe_meas_nominal(&h, &p.vehicle, tp, mu, &nom, z);
+            rfe_status_t got;
+            if (want == RFE_OK) {
+                want = rfe_meas_input_jac(&h, &p.vehicle, tp, &u, mu, sd, G);
+            }
+            memset(z2, 0x5A, sizeof(z2));
+            memset(G2, 0x5A, sizeof(G2));
+            got = rfe_meas_nominal_input_jac(&h, &p.vehicle, tp, &u, mu, sd, z2, G2);
+            assert_int_equal(got, want);
+            if (want == RFE_OK) {
+                assert_memory_equal(z2, z, sizeof(z));
+                assert_memory_equal(G2, G, sizeof(G));
+                fast += ((k == 0) && (p.tyre.mode != RFE_TYRE_PAPER)) ? 1 : 0;
+            } else {
+                memset(z, 0x5A, sizeof(z));
+                memset(G, 0x5A, sizeof(G));
+                assert_memory_equal(z2, z, sizeof(z));
+                assert_memory_equal(G2, G, sizeof(G));
+            }
+        }
+    }
+    assert_true(fast >= 5); /* the one-evaluation path was compared */
+    {
+        rfe_params_t p;
+        rfe_sample_t u;
+        rfe_real_t mu[4];
+        rfe_real_t sd[RFE_INPUTS] = {0};
+        rfe_real_t z[3];
+        rfe_real_t G[3 * RFE_INPUTS];
+        rfe_meas_t h;
+        assert_int_equal(rfe_params_default(&p), RFE_OK);
+        draw_sample(&u, mu, 1);
+        u.vx = RFE_R(20.0);
+        assert_int_equal(rfe_meas_setup(&h, &p.vehicle, &p.tyre, &u), RFE_OK);
+        assert_int_equal(rfe_meas_nominal_input_jac(NULL, &p.vehicle, &p.tyre, &u, mu, sd, z, G),
+                         RFE_ERR_NULL);
+        assert_int_equal(rfe_meas_nominal_input_jac(&h, NULL, &p.tyre, &u, mu, sd, z, G),
+                         RFE_ERR_NULL);
+        assert_int_equal(rfe_meas_nominal_input_jac(&h, &p.vehicle, NULL, &u, mu, sd, z, G),
+                         RFE_ERR_NULL);
+        assert_int_equal(rfe_meas_nominal_input_jac(&h, &p.vehicle, &p.tyre, NULL, mu, sd, z, G),
+                         RFE_ERR_NULL);
+        assert_int_equal(rfe_meas_nominal_input_jac(&h, &p.vehicle, &p.tyre, &u, NULL, sd, z, G),
+                         RFE_ERR_NULL);
+        assert_int_equal(rfe_meas_nominal_input_jac(&h, &p.vehicle, &p.tyre, &u, mu, NULL, z, G),
+                         RFE_ERR_NULL);
+        assert_int_equal(rfe_meas_nominal_input_jac(&h, &p.vehicle, &p.tyre, &u, mu, sd, NULL, G),
+                         RFE_ERR_NULL);
+        assert_int_equal(rfe_meas_nominal_input_jac(&h, &p.vehicle, &p.tyre, &u, mu, sd, z, NULL),
+                         RFE_ERR_NULL);
+    }
+}
+
+/* REQ: the forces rfe_meas_nominal_input_jac keeps in h change none of rfe_meas_eval's
+ * results or statuses (bit for bit against the same model without them): at the kept friction,
+ * with some wheels moved off it, with -0 for +0, with another Magic Formula shape or
+ * stiffness (not kept for those), with a NaN friction; rfe_meas_setup drops them. */
+/* REQ-MEAS-004 */
+static void test_meas_kept_forces(void **state)
+{
+    int n;
+    int kept = 0;
+    (void)state;
+    draw_seed(0x6E3Full);
+    for (n = 0; n < 600; n += (int)rfe_test_stride(7u)) {
+        rfe_params_t p;
+        rfe_sample_t u;
+        rfe_real_t mu[4];
+        rfe_real_t sd[RFE_INPUTS];
+        rfe_real_t z0[3];
+        rfe_real_t G[3 * RFE_INPUTS];
+        rfe_meas_t h;
+        rfe_meas_t plain;
+        size_t j;
+        int k;
+        assert_int_equal(rfe_params_default(&p), RFE_OK);
+        p.tyre.mode = MODES[n % 3];
+        input_jac_point(&p, n, &u, mu);
+        for (j = 0u; j < (size_t)RFE_INPUTS; ++j) {
+            sd[j] = RFE_R(1.0);
+        }
+        if (rfe_meas_setup(&h, &p.vehicle, &p.tyre, &u) != RFE_OK) {
+            continue;
+        }
+        plain = h;
+        assert_int_equal(h.memo_valid, 0);
+        if (rfe_meas_nominal_input_jac(&h, &p.vehicle, &p.tyre, &u, mu, sd, z0, G) != RFE_OK) {
+            continue;
+        }
+        kept += h.memo_valid;
+        for (k = 0; k < 6; ++k) {
+            rfe_tyre_params_t tp = p.tyre;
+            rfe_real_t m2[4];
+            rfe_real_t z[3];
+            rfe_real_t z2[3];
+            rfe_status_t a;
+            rfe_status_t b;
+            memcpy(m2, mu, sizeof(m2));
+            if (k == 1) {
+                m2[n % 4] += RFE_R(0.05); /* one wheel off the kept friction */
+            } else if (k == 2) {
+                m2[0] = RFE_R(0.0);
+                m2[1] = -RFE_R(0.0); /* -0 and +0 */
+            } else if (k == 3) {
+                tp.shape_Cx = RFE_R(1.5); /* another shape: not kept for it */
+            } else if (k == 4) {
+                tp.cy *= RFE_R(1.2); /* another stiffness: not kept for it */
+            } else if (k == 5) {
+                m2[n % 4] = (rfe_real_t)NAN;
+            } else {
+                /* the kept friction */
+            }
+            memset(z, 0x5A, sizeof(z));
+            memset(z2, 0x5A, sizeof(z2));
+            a = rfe_meas_eval(&h, &p.vehicle, &tp, m2, z);
+            b = rfe_meas_eval(&plain, &p.vehicle, &tp, m2, z2);
+            assert_int_equal(a, b);
+            assert_memory_equal(z, z2, sizeof(z));
+        }
+        assert_int_equal(rfe_meas_setup(&h, &p.vehicle, &p.tyre, &u), RFE_OK);
+        assert_int_equal(h.memo_valid, 0);
+    }
+    assert_true(kept >= 5); /* forces were kept (load-scaled modes) and compared */
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -906,6 +1075,8 @@ int main(void)
         cmocka_unit_test(test_meas_input_jac),
         cmocka_unit_test(test_meas_input_jac_args),
         cmocka_unit_test(test_meas_input_jac_at_rest),
+        cmocka_unit_test(test_meas_nominal_input_jac),
+        cmocka_unit_test(test_meas_kept_forces),
         cmocka_unit_test(test_meas_lateral_jac_args),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -52,6 +52,16 @@ typedef struct {
     rfe_real_t pre_cy;                   /**< cy of the set-up */
     rfe_real_t pre_eps;                  /**< eps of the set-up */
     rfe_real_t pre_alpha_max;            /**< alpha_max of the set-up */
+    /* load-scaled modes: each wheel's forces at one friction, kept by the step noise's
+     * evaluation at the predicted friction (rfe_meas_nominal_input_jac) for the cubature
+     * points of rfe_meas_eval that leave a wheel's friction there (the same operations on the
+     * same values: the same forces); valid with the tyre parameters they were computed with
+     * (pre_* and memo_shape), reset by rfe_meas_setup */
+    rfe_real_t memo_mu[RFE_WHEELS];      /**< the friction of each kept force */
+    rfe_real_t memo_fx[RFE_WHEELS];      /**< Fx at memo_mu */
+    rfe_real_t memo_fy[RFE_WHEELS];      /**< Fy at memo_mu */
+    rfe_real_t memo_shape[4];            /**< shape_Cx, shape_Ex, shape_Cy, shape_Ey */
+    int memo_valid;                      /**< 1 when the memo_* hold forces */
 } rfe_meas_t;
 
 /**

@@ -10,6 +10,7 @@
 
 #include "estimators/friction/friction_logic.h"
 #include "estimators/friction/step_noise_internal.h"
+#include "models/meas_internal.h"
 #include "numerics/internal.h"
 
 #define CW ((size_t)RFE_MEAS + (size_t)RFE_INPUTS) /* widest [S_R0, g_1 .. g_8] */
@@ -50,27 +51,32 @@ static void sensor_block(const rfe_filter_params_t *fp, const rfe_real_t h0[RFE_
     }
 }
 
-/* g_j = sd_j dh/du_j for each noisy input (sd_j > 0), in order, as columns *cols,
- * *cols + 1, ... of A (row stride CW); *cols ends one past the last; the squares of the
- * low-passed inputs' columns added to pers. The derivatives are analytic, from the set-up h
- * (rfe_meas_input_jac; docs/ESTIMATOR.md step 4): issue 21, instead of the central
- * differences of h over sd_j (16 model evaluations). */
-static rfe_status_t input_columns(const rfe_params_t *p, const rfe_meas_t *h,
-                                  const rfe_sample_t *u, const rfe_real_t *mu, rfe_real_t *A,
-                                  size_t *cols, rfe_real_t pers[RFE_MEAS])
+/* h0 = h(mu, u) from the set-up h, then S_R0 and g_j = sd_j dh/du_j for each noisy input
+ * (sd_j > 0), in order, as columns *cols, *cols + 1, ... of A (row stride CW); *cols ends one
+ * past the last; the diagonal of the part of A A^T that persists from step to step into pers
+ * (the model error's squares, then the low-passed inputs' columns' squares added). The
+ * derivatives are analytic, from the set-up h (docs/ESTIMATOR.md step 4): issue 21, instead
+ * of the central differences of h over sd_j (16 model evaluations); h0 and they come from one
+ * evaluation of the tyres (rfe_meas_nominal_input_jac: rfe_meas_nominal's h0 and
+ * rfe_meas_input_jac's columns, bit for bit). */
+static rfe_status_t fill(const rfe_params_t *p, rfe_meas_t *h, const rfe_sample_t *u,
+                         const rfe_real_t *mu, rfe_real_t *A, size_t *cols,
+                         rfe_real_t pers[RFE_MEAS])
 {
     rfe_real_t sd[RFE_INPUTS];
     rfe_real_t G[(size_t)RFE_MEAS * (size_t)RFE_INPUTS];
+    rfe_real_t h0[RFE_MEAS];
     rfe_status_t st;
     size_t i;
     size_t j;
     for (j = 0u; j < (size_t)RFE_INPUTS; ++j) {
         sd[j] = input_sd(&p->filter, j);
     }
-    st = rfe_meas_input_jac(h, &p->vehicle, &p->tyre, u, mu, sd, G);
+    st = rfe_meas_nominal_input_jac(h, &p->vehicle, &p->tyre, u, mu, sd, h0, G);
     if (st != RFE_OK) {
         return st;
     }
+    sensor_block(&p->filter, h0, A, pers);
     for (j = 0u; j < (size_t)RFE_INPUTS; ++j) {
         if (!(sd[j] > RFE_R(0.0))) {
             continue;
@@ -87,24 +93,7 @@ static rfe_status_t input_columns(const rfe_params_t *p, const rfe_meas_t *h,
     return RFE_OK;
 }
 
-/* [S_R0, g_1 ..] into A (row stride CW), *cols its columns, and the diagonal of the part of
- * A A^T that persists from step to step into pers: h0 from the set-up h (rfe_meas_nominal),
- * then S_R0 and the input columns. */
-static rfe_status_t fill(const rfe_params_t *p, const rfe_meas_t *h, const rfe_sample_t *u,
-                         const rfe_real_t *mu, rfe_real_t *A, size_t *cols,
-                         rfe_real_t pers[RFE_MEAS])
-{
-    rfe_meas_terms_t nom;
-    rfe_real_t h0[RFE_MEAS];
-    rfe_status_t st = rfe_meas_nominal(h, &p->vehicle, &p->tyre, mu, &nom, h0);
-    if (st == RFE_OK) {
-        sensor_block(&p->filter, h0, A, pers);
-        st = input_columns(p, h, u, mu, A, cols, pers);
-    }
-    return st;
-}
-
-rfe_status_t rfe_step_noise_sqrt_core(const rfe_params_t *p, const rfe_meas_t *h,
+rfe_status_t rfe_step_noise_sqrt_core(const rfe_params_t *p, rfe_meas_t *h,
                                      const rfe_sample_t *u,
                                      const rfe_real_t mu[RFE_WHEELS],
                                      rfe_real_t SR[RFE_MEAS * RFE_MEAS],

@@ -29,10 +29,13 @@
  * that does not change from one step to the next (the model monitor's persistent share,
  * docs/MONITOR.md §1): (r_model_rel |h0_r|)^2 plus the squares of the low-passed inputs'
  * columns (rfe_input_low_passed: vx, vy).
+ * On RFE_OK in the load-scaled modes @p h keeps the tyre forces at @p mu for its cubature
+ * points (rfe_meas_nominal_input_jac, models/meas_internal.h): rfe_meas_eval's results stay
+ * bit for bit the same.
  * @return RFE_OK; RFE_ERR_NONFINITE and the tyre's errors (@p SR, @p pers then untouched).
  */
 RFE_NODISCARD rfe_status_t rfe_step_noise_sqrt_core(const rfe_params_t *p,
-                                                  const rfe_meas_t *h,
+                                                  rfe_meas_t *h,
                                                   const rfe_sample_t *u,
                                                   const rfe_real_t mu[RFE_WHEELS],
                                                   rfe_real_t SR[RFE_MEAS * RFE_MEAS],
