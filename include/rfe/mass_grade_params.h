@@ -75,6 +75,12 @@ typedef struct {
                                       vx by more than pause_grade_slip max(|vx|, v_min) ends
                                       the grade's learning until the pause ends (the rest of
                                       it holds) [1], in [0, 1]; 0: no gate: 0.05 */
+    rfe_real_t pause_grade_dv; /**< the change test of pause_grade (§4.2): a pause learns the
+                                    grade only once the speed (vx if given, else v) has left
+                                    the held grade's prediction, the sum over the pause of
+                                    du - dt (ax - g sin theta), by more than pause_grade_dv;
+                                    held grades that ax and the speed confirm stay untouched
+                                    [m/s], in [0, 10]; 0: no test (learn at once): 0.2 */
 } rfe_mass_grade_params_t;
 
 /**
@@ -104,7 +110,7 @@ RFE_NODISCARD rfe_status_t rfe_mass_grade_params_preset(rfe_mass_grade_params_t 
  * t_curve too) and
  * ut_beta >= 0;
  * adaptive, use_ax in {0, 1}; pause_grade an integer in 0..7, and 0 unless use_ax;
- * 0 <= pause_grade_slip <= 1; m_min < m0 < m_max; |theta0| < theta_max < 1.5;
+ * 0 <= pause_grade_slip <= 1; 0 <= pause_grade_dv <= 10; m_min < m0 < m_max; |theta0| < theta_max < 1.5;
  * n + lambda > 0; with adaptive, mv_stop q_mc^2 < q_mv0^2.
  * @param[in] p  the parameters to check.
  * @return RFE_OK, RFE_ERR_NULL or RFE_ERR_PARAM.

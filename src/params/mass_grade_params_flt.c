@@ -47,6 +47,7 @@ static void car(rfe_mass_grade_params_t *p)
     p->t_curve = RFE_R(1.0);
     p->pause_grade = RFE_R(0.0);
     p->pause_grade_slip = RFE_R(0.05);
+    p->pause_grade_dv = RFE_R(0.2);
     p->m_min = RFE_R(300.0);
     p->m_max = RFE_R(60000.0);
     p->theta_max = RFE_R(0.35);
@@ -120,12 +121,13 @@ static int positive_fields_ok(const rfe_mass_grade_params_t *p)
 /* §6 the values that must be finite and >= 0. */
 static int non_negative_fields_ok(const rfe_mass_grade_params_t *p)
 {
-    const rfe_real_t v[18] = {p->fc,      p->fr,      p->rho,     p->cd,      p->area,
+    const rfe_real_t v[19] = {p->fc,      p->fr,      p->rho,     p->cd,      p->area,
                               p->m_rot,   p->q_mv0,   p->t_adapt, p->mv_stop, p->v_min,
                               p->t_brake, p->t_shift, p->p_brake_on, p->slip_max,
-                              p->ay_max,  p->t_curve, p->ut_beta, p->pause_grade_slip};
+                              p->ay_max,  p->t_curve, p->ut_beta, p->pause_grade_slip,
+                              p->pause_grade_dv};
     size_t i;
-    for (i = 0u; i < 18u; ++i) {
+    for (i = 0u; i < 19u; ++i) {
         if (!rfe_is_finite(v[i]) || !(v[i] >= RFE_R(0.0))) {
             return 0;
         }
@@ -149,6 +151,9 @@ static int relations_ok(const rfe_mass_grade_params_t *p)
         return 0;
     }
     if (!(p->pause_grade_slip <= RFE_R(1.0))) { /* a slip ratio (finite, >= 0: above) */
+        return 0;
+    }
+    if (!(p->pause_grade_dv <= (rfe_real_t)RFE_MG_PAUSE_GRADE_DV_MAX_MS)) { /* m/s (finite, >= 0: above) */
         return 0;
     }
     if (!(c > RFE_R(0.0)) || !rfe_is_finite(c)) {

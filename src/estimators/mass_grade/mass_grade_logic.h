@@ -136,4 +136,23 @@ static inline int rfe_mg_grade_in_pause(rfe_status_t status, uint32_t pause_grad
     return (((pause_grade & bit) != 0u) && (v_free != 0u) && (slip_latched == 0u)) ? 1 : 0;
 }
 
+/** §4.2 the change test of a pause that may learn the grade (rfe_mg_grade_in_pause 1): with
+ *  the test off (@p test_on 0: pause_grade_dv 0) it learns at once; else once the residual of
+ *  the held grade has left pause_grade_dv (@p beyond: |d| > pause_grade_dv, d the sum over
+ *  the pause of du - dt (ax - g sin theta), computed by the twin only while not tripped) or
+ *  the test tripped earlier in this pause (@p tripped). Returns the test's new state, 1: the
+ *  sample learns, and so does the rest of the pause; a sample that may not learn clears it
+ *  (the twins: the residual to 0 with it). */
+static inline uint32_t rfe_mg_change_tripped(int test_on, uint32_t tripped, int beyond)
+{
+    return ((test_on == 0) || (tripped != 0u) || (beyond != 0)) ? 1u : 0u;
+}
+
+/** §4.2 the change test runs its sum on this sample: the test on (@p test_on) and not yet
+ *  tripped in this pause (@p tripped 0). */
+static inline int rfe_mg_change_sums(int test_on, uint32_t tripped)
+{
+    return ((test_on != 0) && (tripped == 0u)) ? 1 : 0;
+}
+
 #endif /* RFE_MASS_GRADE_LOGIC_H */
