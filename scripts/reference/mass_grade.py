@@ -164,8 +164,6 @@ def validate(p):
         raise ParamError("mg_pause_grade_slip: must be <= 1")
     if not p["mg_pause_grade_dv"] <= 10.0:
         raise ParamError("mg_pause_grade_dv: must be <= 10 m/s")
-    if p["mg_pause_grade"] != 0.0 and p["mg_use_ax"] != 1.0:
-        raise ParamError("mg_pause_grade: needs mg_use_ax 1 (the grade from ax)")
     if not p["mg_m_min"] < p["mg_m0"] < p["mg_m_max"]:
         raise ParamError("mg_m0: must lie inside (mg_m_min, mg_m_max)")
     if not abs(p["mg_theta0"]) < p["mg_theta_max"] < 1.5:
@@ -304,7 +302,7 @@ class MassGrade:
             self.sqrt_wi = math.sqrt(self.wc[1])
             self.sqrt_c = math.sqrt(self.c)
         self.use_ax = p["mg_use_ax"] == 1.0
-        if form != "sqrt" and p["mg_pause_grade"] != 0.0:
+        if form != "sqrt" and p["mg_pause_grade"] != 0.0 and self.use_ax:
             raise ValueError("mg_pause_grade: the square-root form only")
         self.started = False
         # an optional observer of the innovations, None by default (then nothing is called):
@@ -466,7 +464,8 @@ class MassGrade:
         paused one, which leave S_Mv = 0; so the first sample of a pause that follows an update
         holds as before and the next ones learn)."""
         bit = PAUSE_GRADE_BITS.get(status, 0)
-        return (int(self.p["mg_pause_grade"]) & bit) != 0 and self.v_free
+        bits = int(self.p["mg_pause_grade"]) if self.use_ax else 0   # the grade from ax needs ax
+        return (bits & bit) != 0 and self.v_free
 
     def _changed(self, s, dt):
         """§4.2 the change test of a pause that may learn the grade: with u = vx if given,

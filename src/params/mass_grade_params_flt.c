@@ -45,7 +45,7 @@ static void car(rfe_mass_grade_params_t *p)
     p->slip_max = RFE_R(0.05);
     p->ay_max = RFE_R(0.0);
     p->t_curve = RFE_R(1.0);
-    p->pause_grade = RFE_R(0.0);
+    p->pause_grade = (rfe_real_t)RFE_MG_PAUSE_GRADE_BRAKE; /* the brake bit (§4.2) */
     p->pause_grade_slip = RFE_R(0.05);
     p->pause_grade_dv = RFE_R(0.2);
     p->m_min = RFE_R(300.0);
@@ -99,6 +99,7 @@ rfe_status_t rfe_mass_grade_params_preset(rfe_mass_grade_params_t *p, rfe_mg_veh
         p->use_ax = 0u;
         p->m_rot = RFE_R(0.0);
         p->t_adapt = RFE_R(0.0);
+        p->pause_grade = RFE_R(0.0); /* the seed's pauses hold (inert without ax anyway) */
     }
     return RFE_OK;
 }
@@ -165,8 +166,8 @@ static int relations_ok(const rfe_mass_grade_params_t *p)
     return 1;
 }
 
-/* §6 pause_grade: one of the integers 0..7 (a sum of the bits 1 brake, 2 shift, 4 curve),
- * and 0 unless use_ax (the grade from ax needs ax on every sample). */
+/* §6 pause_grade: one of the integers 0..7 (a sum of the bits 1 brake, 2 shift, 4 curve);
+ * without use_ax its bits are inert (rfe_mg_pause_grade_bits), not refused. */
 static int pause_grade_ok(const rfe_mass_grade_params_t *p)
 {
     int ok = 0;
@@ -176,7 +177,7 @@ static int pause_grade_ok(const rfe_mass_grade_params_t *p)
             ok = 1;
         }
     }
-    return ((ok != 0) && ((p->use_ax == 1u) || (p->pause_grade == RFE_R(0.0)))) ? 1 : 0;
+    return ok;
 }
 
 rfe_status_t rfe_mass_grade_params_validate(const rfe_mass_grade_params_t *p)

@@ -153,8 +153,7 @@ rfe_status_t rfe_mass_grade_params_validate_q31(const rfe_mass_grade_params_q31_
     if (p == NULL) {
         return RFE_ERR_NULL;
     }
-    if ((p->adaptive > 1u) || (p->use_ax > 1u) || (p->pause_grade > RFE_MG_PAUSE_GRADE_ALL) ||
-        ((p->pause_grade != 0u) && (p->use_ax == 0u))) {
+    if ((p->adaptive > 1u) || (p->use_ax > 1u) || (p->pause_grade > RFE_MG_PAUSE_GRADE_ALL)) {
         return RFE_ERR_PARAM;
     }
     if ((positive_fields_ok_q31(p) == 0) || (non_negative_fields_ok_q31(p) == 0) ||

@@ -334,8 +334,9 @@ static rfe_status_t paused(rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in
 {
     rfe_status_t st;
     int learn = 0;
-    if (rfe_mg_grade_in_pause(status, (uint32_t)o->p.pause_grade, o->v_free,
-                              o->slip_latched) != 0) {
+    if (rfe_mg_grade_in_pause(status,
+                              rfe_mg_pause_grade_bits((uint32_t)o->p.pause_grade, o->p.use_ax),
+                              o->v_free, o->slip_latched) != 0) {
         learn = change_seen(o, in);
     } else {
         o->chg_on = 0u;

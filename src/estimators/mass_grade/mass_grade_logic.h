@@ -113,6 +113,14 @@ static inline uint32_t rfe_mg_v_free(rfe_mg_plan_t plan, rfe_status_t status)
     return ((plan == RFE_MG_PLAN_START) || (status != RFE_OK)) ? 1u : 0u;
 }
 
+/** §4.2 the bits of pause_grade that act: all of @p pause_grade with the accelerometer row
+ *  (@p use_ax 1), none without it (the grade from ax needs ax on every sample; a preset's
+ *  bits over use_ax 0 are valid and inert). */
+static inline uint32_t rfe_mg_pause_grade_bits(uint32_t pause_grade, uint32_t use_ax)
+{
+    return (use_ax == 1u) ? pause_grade : 0u;
+}
+
 /** §4.2 the pause kind: in a pause @p status whose bit (RFE_MG_PAUSE_GRADE_*) is set in
  *  @p pause_grade, with v uncorrelated with M (@p v_free: rfe_mg_v_free of the previous
  *  accepted sample, i.e. it was a start or a paused sample, not an update) and the ABS gate's

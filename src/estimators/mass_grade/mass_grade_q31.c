@@ -380,7 +380,8 @@ static rfe_status_t paused_q31(rfe_mass_grade_q31_t *o, const rfe_mass_grade_inp
 {
     rfe_status_t st;
     int learn = 0;
-    if (rfe_mg_grade_in_pause(status, o->p.pause_grade, o->v_free, o->slip_latched) != 0) {
+    if (rfe_mg_grade_in_pause(status, rfe_mg_pause_grade_bits(o->p.pause_grade, o->p.use_ax),
+                              o->v_free, o->slip_latched) != 0) {
         learn = change_seen_q31(o, in, sat);
     } else {
         o->chg_on = 0u;

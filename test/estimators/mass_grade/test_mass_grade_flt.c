@@ -99,11 +99,13 @@ static void test_params_presets_and_validation(void **state)
     assert_memory_equal(&p, &q, sizeof(p));
     assert_int_equal(p.adaptive, 0u);
     assert_int_equal(p.use_ax, 1u);
+    assert_true(p.pause_grade == (rfe_real_t)RFE_MG_PAUSE_GRADE_BRAKE); /* §6: the brake bit */
     assert_int_equal(rfe_mass_grade_params_validate(&p), RFE_OK);
     /* every preset valid; an unknown vehicle or configuration refused, p untouched */
     assert_int_equal(rfe_mass_grade_params_preset(&q, RFE_MG_TRUCK, RFE_MG_SEED), RFE_OK);
     assert_int_equal(rfe_mass_grade_params_validate(&q), RFE_OK);
     assert_int_equal(q.adaptive, 1u);
+    assert_true(q.pause_grade == (rfe_real_t)0.0); /* the seed's pauses hold */
     assert_true(q.m_rot == (rfe_real_t)0.0);
     assert_true(q.m0 == (rfe_real_t)4000.0);
     p = q;
@@ -155,11 +157,6 @@ static void b_pgd_neg(rfe_mass_grade_params_t *p) { p->pause_grade_dv = (rfe_rea
 static void b_pgd_big(rfe_mass_grade_params_t *p) { p->pause_grade_dv = (rfe_real_t)10.0625; }
 static void b_pgd_nan(rfe_mass_grade_params_t *p) { p->pause_grade_dv = (rfe_real_t)NAN; }
 static void b_pgd_inf(rfe_mass_grade_params_t *p) { p->pause_grade_dv = (rfe_real_t)INFINITY; }
-static void b_pg_no_ax(rfe_mass_grade_params_t *p)
-{
-    p->pause_grade = (rfe_real_t)1.0;
-    p->use_ax = 0u; /* the grade from ax needs ax */
-}
 static void b_stop(rfe_mass_grade_params_t *p)
 {
     p->adaptive = 1u;
@@ -195,7 +192,6 @@ static void test_params_rules(void **state)
     expect_bad(b_pg_frac, "pause_grade 2.5");
     expect_bad(b_pg_neg, "pause_grade -1");
     expect_bad(b_pg_nan, "pause_grade NaN");
-    expect_bad(b_pg_no_ax, "pause_grade without use_ax");
     expect_bad(b_pgs_neg, "pause_grade_slip < 0");
     expect_bad(b_pgs_big, "pause_grade_slip > 1");
     expect_bad(b_pgs_nan, "pause_grade_slip NaN");
@@ -218,12 +214,12 @@ static void test_params_rules(void **state)
     assert_int_equal(rfe_mass_grade_params_validate(&p), RFE_OK);
     p.pause_grade_slip = (rfe_real_t)1.0;
     assert_int_equal(rfe_mass_grade_params_validate(&p), RFE_OK);
-    /* every bit sum 0..7 with the accelerometer; 0 without it */
+    /* every bit sum 0..7, with the accelerometer or without it (then inert:
+     * test_pause_grade_inert_without_ax) */
     assert_int_equal(rfe_mass_grade_params_default(&p), RFE_OK);
-    assert_true(p.pause_grade == (rfe_real_t)0.0); /* off by default */
+    assert_true(p.pause_grade == (rfe_real_t)1.0); /* the brake bit by default */
     p.pause_grade = (rfe_real_t)7.0;
     assert_int_equal(rfe_mass_grade_params_validate(&p), RFE_OK);
-    p.pause_grade = (rfe_real_t)0.0;
     p.use_ax = 0u;
     assert_int_equal(rfe_mass_grade_params_validate(&p), RFE_OK);
     /* the same stop threshold is fine in the plain UKF, which never adapts */
@@ -711,6 +707,38 @@ static void test_pause_grade_learns_grade_holds_mass(void **state)
         in = braking_on_grade(k);
         assert_int_equal(step(&in, &e), RFE_MG_PAUSED_BRAKE);
         assert_true((e.grade == first.grade) && (e.mass == first.mass));
+    }
+}
+
+/* REQ-MG-006 rfe_mg_pause_grade_bits: without the accelerometer row (use_ax 0) the bits of
+ * pause_grade are inert, not refused (the recommended preset's brake bit under a file that
+ * sets use_ax 0): braking on the 0.05 rad climb with every bit and the change test off holds
+ * the grade bit for bit through 2 s, as with pause_grade 0, and no sample reads ax (the
+ * samples carry none). */
+static void test_pause_grade_inert_without_ax(void **state)
+{
+    rfe_mass_grade_estimate_t e;
+    rfe_mass_grade_estimate_t first;
+    rfe_mass_grade_input_t in;
+    int k;
+    (void)state;
+    setup_with(0u, 0u);
+    mg.p.pause_grade = (rfe_real_t)RFE_MG_PAUSE_GRADE_ALL;
+    mg.p.pause_grade_dv = (rfe_real_t)0.0;
+    for (k = 0; k < 50; ++k) {
+        in = cruise((rfe_real_t)20.0, (rfe_real_t)DT);
+        in.has &= ~RFE_MG_HAS_AX;
+        assert_int_equal(step(&in, &e), RFE_OK);
+    }
+    for (k = 0; k <= 100; ++k) {
+        in = braking_on_grade(k);
+        in.has &= ~RFE_MG_HAS_AX;
+        assert_int_equal(step(&in, &e), RFE_MG_PAUSED_BRAKE);
+        if (k == 0) {
+            first = e;
+        }
+        assert_true((e.grade == first.grade) && (e.mass == first.mass));
+        assert_true((mg.x[0] == in.v) && (mg.S[0] == mg.p.r_v)); /* the hold */
     }
 }
 
@@ -1730,6 +1758,7 @@ int main(void)
         cmocka_unit_test(test_v_free_decision),
         cmocka_unit_test(test_abs_gate_bad_param_leaves_state),
         cmocka_unit_test(test_change_test),
+        cmocka_unit_test(test_pause_grade_inert_without_ax),
         cmocka_unit_test(test_adaptation_as_specified),
         cmocka_unit_test(test_adaptation_period),
         cmocka_unit_test(test_factorisation_failures_leave_the_state_untouched),

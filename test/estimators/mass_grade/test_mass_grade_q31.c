@@ -324,8 +324,8 @@ static void test_validate_q31(void **state)
     assert_int_equal(rfe_mass_grade_params_validate_q31(&t), RFE_OK);
     t = q; t.pause_grade = 8u;
     assert_int_equal(rfe_mass_grade_params_validate_q31(&t), RFE_ERR_PARAM);
-    t = q; t.pause_grade = 1u; t.use_ax = 0u; /* the grade from ax needs ax */
-    assert_int_equal(rfe_mass_grade_params_validate_q31(&t), RFE_ERR_PARAM);
+    t = q; t.pause_grade = 1u; t.use_ax = 0u; /* inert without ax, not refused */
+    assert_int_equal(rfe_mass_grade_params_validate_q31(&t), RFE_OK);
     t = q; t.pause_grade = 0u; t.use_ax = 0u;
     assert_int_equal(rfe_mass_grade_params_validate_q31(&t), RFE_OK);
     /* the ABS gate's slip in [0, 1] (Q30) */
@@ -725,7 +725,7 @@ static void test_pause_grade_q31(void **state)
     int k;
     (void)state;
     default_q31(&q);
-    assert_int_equal(q.pause_grade, 0u); /* off by default */
+    assert_int_equal(q.pause_grade, RFE_MG_PAUSE_GRADE_BRAKE); /* the brake bit by default */
     q.pause_grade = RFE_MG_PAUSE_GRADE_BRAKE;
     q.pause_grade_dv = 0; /* the learning mode itself: test_change_test_q31 runs the test */
     assert_int_equal(rfe_mass_grade_init_q31(&mg, &q), RFE_OK);
