@@ -131,7 +131,7 @@ static int relations_ok_q31(const rfe_mass_grade_params_q31_t *p)
     if ((int64_t)p->pause_grade_slip > ONE_Q30) { /* a slip ratio (>= 0: above) */
         return 0;
     }
-    if ((int64_t)p->pause_grade_dv > ((int64_t)RFE_MG_PAUSE_GRADE_DV_MAX_MS << RFE_MG_Q_V)) {
+    if ((int64_t)p->pause_grade_dv > ((int64_t)RFE_MG_PAUSE_GRADE_DV_MAX_MS * 16777216)) { /* Q24 */
         return 0; /* m/s (>= 0: above) */
     }
     if (rfe_mass_grade_weights_q31(p, &w) != RFE_OK) {

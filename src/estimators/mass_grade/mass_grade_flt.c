@@ -313,12 +313,17 @@ static rfe_status_t grade_from_ax(rfe_mass_grade_t *o, const rfe_mass_grade_inpu
  * sample learns (rfe_mg_change_tripped). */
 static int change_seen(rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in)
 {
-    const int test_on = (o->p.pause_grade_dv > RFE_R(0.0)) ? 1 : 0;
+    int test_on = 0;
     int beyond = 0;
+    if (o->p.pause_grade_dv > RFE_R(0.0)) {
+        test_on = 1;
+    }
     if (rfe_mg_change_sums(test_on, o->chg_on) != 0) {
         o->chg_d += (test_speed(in) - o->u_prev) -
                     (in->dt * (in->ax - (o->p.g * RFE_SIN(o->x[2]))));
-        beyond = (RFE_FABS(o->chg_d) > o->p.pause_grade_dv) ? 1 : 0;
+        if (RFE_FABS(o->chg_d) > o->p.pause_grade_dv) {
+            beyond = 1;
+        }
     }
     o->chg_on = rfe_mg_change_tripped(test_on, o->chg_on, beyond);
     return (o->chg_on != 0u) ? 1 : 0;

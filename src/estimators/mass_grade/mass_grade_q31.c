@@ -352,8 +352,11 @@ static rfe_status_t grade_from_ax_q31(rfe_mass_grade_q31_t *o, const rfe_mass_gr
 static int change_seen_q31(rfe_mass_grade_q31_t *o, const rfe_mass_grade_input_q31_t *in,
                            uint32_t *sat)
 {
-    const int test_on = (o->p.pause_grade_dv > 0) ? 1 : 0;
+    int test_on = 0;
     int beyond = 0;
+    if (o->p.pause_grade_dv > 0) {
+        test_on = 1;
+    }
     if (rfe_mg_change_sums(test_on, o->chg_on) != 0) {
         int32_t s = 0;
         int32_t c = 0;
@@ -364,7 +367,9 @@ static int change_seen_q31(rfe_mass_grade_q31_t *o, const rfe_mass_grade_input_q
         o->chg_d += ((int64_t)test_speed_q31(in) - (int64_t)o->u_prev) -
                     (int64_t)rfe_fix_mul(acc, in->dt, 30u, sat);
         ad = (o->chg_d < 0) ? -o->chg_d : o->chg_d;
-        beyond = (ad > (int64_t)o->p.pause_grade_dv) ? 1 : 0;
+        if (ad > (int64_t)o->p.pause_grade_dv) {
+            beyond = 1;
+        }
     }
     o->chg_on = rfe_mg_change_tripped(test_on, o->chg_on, beyond);
     return (o->chg_on != 0u) ? 1 : 0;
