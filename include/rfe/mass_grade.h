@@ -118,6 +118,11 @@ typedef struct {
                                            wheels slipped in this pause, which then holds */
     uint32_t v_free;                  /**< v uncorrelated with M: the last accepted sample was a
                                            start or a paused one (§4.2, pause_grade) */
+    uint32_t chg_on;                  /**< the change test tripped in this pause (§4.2,
+                                           pause_grade_dv): it learns to its end */
+    rfe_real_t chg_d;                 /**< the change test's residual in this pause [m/s] */
+    rfe_real_t u_prev;                /**< the test's speed (vx if given, else v) at the last
+                                           accepted sample [m/s] */
     rfe_mass_grade_estimate_t last;   /**< the output of the last step */
 } rfe_mass_grade_t;
 

@@ -22,6 +22,8 @@
 #define RFE_MG_PAUSE_GRADE_SHIFT 2u /**< the gear-shift pause (RFE_MG_PAUSED_SHIFT) */
 #define RFE_MG_PAUSE_GRADE_CURVE 4u /**< the curve pause (RFE_MG_PAUSED_CURVE) */
 #define RFE_MG_PAUSE_GRADE_ALL 7u   /**< every bit pause_grade may set */
+/** The largest pause_grade_dv, the change test's speed (MASS_GRADE.md §4.2, §6) [m/s]. */
+#define RFE_MG_PAUSE_GRADE_DV_MAX_MS 10
 /** Every bit a sample may set. */
 #define RFE_MG_HAS_ALL 63u
 

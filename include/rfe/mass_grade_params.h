@@ -68,13 +68,20 @@ typedef struct {
     rfe_real_t theta_max;  /**< grade bound |theta| [rad]: 0.35 */
     rfe_real_t dt_max;     /**< a longer sample period restarts the filter [s]: 1 */
     rfe_real_t pause_grade; /**< the pauses during which the grade keeps being learned from
-                                 ax while M is held (§4.2; needs use_ax 1), a sum of 1 brake,
-                                 2 gear shift, 4 curve, an integer in 0..7 [-]; 0: none: 0 */
+                                 ax while M is held (§4.2; inert without use_ax), a sum of 1 brake,
+                                 2 gear shift, 4 curve, an integer in 0..7 [-]; 0: none: 1
+                                 (the brake; 0 in the seed's preset) */
     rfe_real_t pause_grade_slip; /**< the ABS gate of pause_grade (§4.2): a paused sample
                                       whose wheels' speed v departs from a given ground speed
                                       vx by more than pause_grade_slip max(|vx|, v_min) ends
                                       the grade's learning until the pause ends (the rest of
                                       it holds) [1], in [0, 1]; 0: no gate: 0.05 */
+    rfe_real_t pause_grade_dv; /**< the change test of pause_grade (§4.2): a pause learns the
+                                    grade only once the speed (vx if given, else v) has left
+                                    the held grade's prediction, the sum over the pause of
+                                    du - dt (ax - g sin theta), by more than pause_grade_dv;
+                                    held grades that ax and the speed confirm stay untouched
+                                    [m/s], in [0, 10]; 0: no test (learn at once): 0.2 */
 } rfe_mass_grade_params_t;
 
 /**
@@ -103,8 +110,8 @@ RFE_NODISCARD rfe_status_t rfe_mass_grade_params_preset(rfe_mass_grade_params_t 
  * and drag values, m_rot, q_mv0, t_adapt, mv_stop, the pause values (slip_max, ay_max,
  * t_curve too) and
  * ut_beta >= 0;
- * adaptive, use_ax in {0, 1}; pause_grade an integer in 0..7, and 0 unless use_ax;
- * 0 <= pause_grade_slip <= 1; m_min < m0 < m_max; |theta0| < theta_max < 1.5;
+ * adaptive, use_ax in {0, 1}; pause_grade an integer in 0..7 (inert without use_ax);
+ * 0 <= pause_grade_slip <= 1; 0 <= pause_grade_dv <= 10; m_min < m0 < m_max; |theta0| < theta_max < 1.5;
  * n + lambda > 0; with adaptive, mv_stop q_mc^2 < q_mv0^2.
  * @param[in] p  the parameters to check.
  * @return RFE_OK, RFE_ERR_NULL or RFE_ERR_PARAM.

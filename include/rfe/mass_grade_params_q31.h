@@ -77,8 +77,10 @@ typedef struct {
     rfe_fix_t theta_max;  /**< grade bound [rad], Q29 */
     rfe_fix_t dt_max;     /**< a longer period restarts the filter [s], Q30 */
     uint32_t pause_grade; /**< the pauses that learn the grade from ax: 1 brake, 2 shift,
-                               4 curve (0..7; 0 unless use_ax) */
+                               4 curve (0..7; inert without use_ax) */
     rfe_fix_t pause_grade_slip; /**< the ABS gate's slip [1], Q30, in [0, 1] (0: no gate) */
+    rfe_fix_t pause_grade_dv;   /**< the change test's speed [m/s], Q24, in [0, 10] (0: no
+                                     test) */
 } rfe_mass_grade_params_q31_t;
 
 /** The unscented transform's weights (MASS_GRADE.md §3) in the forms the square-root filter
@@ -110,7 +112,7 @@ RFE_NODISCARD rfe_status_t rfe_mass_grade_weights_q31(const rfe_mass_grade_param
  * q_mc, q_theta, r_v, r_ax, ut_alpha, m_min, theta_max, dt_max > 0; fc, fr, rho, cd, area,
  * m_rot, q_mv0, t_adapt, mv_stop, v_min, t_brake, t_shift, p_brake_on, slip_max, ay_max,
  * t_curve, ut_beta >= 0;
- * adaptive, use_ax in {0, 1}; pause_grade <= 7, and 0 unless use_ax; 0 <= pause_grade_slip <= 1
+ * adaptive, use_ax in {0, 1}; pause_grade <= 7 (inert without use_ax); 0 <= pause_grade_slip <= 1, 0 <= pause_grade_dv <= 10
  * (Q30); m_min < m0 < m_max; |theta0| < theta_max < 1.5 rad; with
  * adaptive, mv_stop q_mc^2 < q_mv0^2. Beyond the float's: rfe_mass_grade_weights_q31
  * succeeds (the spread c = alpha^2 (3 + kappa) in (1, 16), so that w_m,0 = 1 - 3/c and

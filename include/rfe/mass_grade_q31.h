@@ -95,6 +95,11 @@ typedef struct {
     uint32_t slip_latched;                   /**< the ABS gate's latch (pause_grade_slip) */
     uint32_t v_free;                         /**< v uncorrelated with M: the last accepted sample
                                                   was a start or a paused one (pause_grade) */
+    uint32_t chg_on;                         /**< the change test tripped in this pause
+                                                  (pause_grade_dv) */
+    int64_t chg_d;                           /**< the change test's residual [m/s], Q24 */
+    rfe_fix_t u_prev;                        /**< the test's speed at the last accepted sample
+                                                  [m/s], Q24 */
     uint32_t sat;                            /**< saturations since init (stops at UINT32_MAX) */
     rfe_mass_grade_estimate_q31_t last;      /**< the output of the last step */
 } rfe_mass_grade_q31_t;

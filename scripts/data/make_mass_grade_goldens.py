@@ -33,13 +33,16 @@ OUTPUTS = ("mass", "sd_mass", "grade", "sd_grade", "v", "sd_v", "q_mv", "status"
 # the filter meets the reference: the AUKF with its adaptation period and the ax row, the
 # plain UKF on speed alone.
 PRESETS = {
-    "recommended": {"mg_adaptive": 0.0, "mg_use_ax": 1.0},
+    "recommended": {"mg_adaptive": 0.0, "mg_use_ax": 1.0, "mg_pause_grade": 1.0},
     "seed": {"mg_adaptive": 1.0, "mg_use_ax": 0.0, "mg_m_rot": 0.0, "mg_t_adapt": 0.0},
     "aukf_ax": {"mg_adaptive": 1.0, "mg_use_ax": 1.0},
     "ukf": {"mg_adaptive": 0.0, "mg_use_ax": 0.0},
     # the recommended preset learning the grade from ax in the brake and shift pauses
-    # (MASS_GRADE.md §4.2, mg_pause_grade; off by default)
-    "pause_grade": {"mg_adaptive": 0.0, "mg_use_ax": 1.0, "mg_pause_grade": 3.0},
+    # (MASS_GRADE.md §4.2, mg_pause_grade; the brake bit alone by default) from their second sample, the
+    # change test off (mg_pause_grade_dv 0), so that the learning itself meets the reference
+    # on every such sample
+    "pause_grade": {"mg_adaptive": 0.0, "mg_use_ax": 1.0, "mg_pause_grade": 3.0,
+                    "mg_pause_grade_dv": 0.0},
 }
 EXTRA = {"car_gear_shift": ("aukf_ax", "pause_grade"),
          "car_stop_and_go": ("aukf_ax", "pause_grade"),

@@ -69,6 +69,9 @@ MG_DEFAULTS: dict[str, float] = {
                             # sum of 1 brake, 2 gear shift, 4 curve (§4.2); 0: none
     "mg_pause_grade_slip": 0.05,  # in such a pause, |v - vx| > this * max(|vx|, mg_v_min)
                             # (vx given) holds instead: the ABS gate (§4.2); 0: no gate
+    "mg_pause_grade_dv": 0.2,  # the change test of such a pause: it learns only once the
+                            # speed (vx if given, else v) has left the held grade's
+                            # prediction by more than this, m/s (§4.2); 0: no test
     "mg_m_min": 300.0,      # mass bounds: the mean is projected onto them, kg
     "mg_m_max": 60000.0,
     "mg_theta_max": 0.35,   # grade bound |theta|, rad
@@ -148,7 +151,7 @@ def validate(p):
     nonneg = ("mg_fc", "mg_fr", "mg_rho", "mg_cd", "mg_area", "mg_m_rot", "mg_q_mv0",
               "mg_t_adapt", "mg_mv_stop", "mg_v_min", "mg_t_brake", "mg_t_shift",
               "mg_p_brake_on", "mg_slip_max", "mg_ay_max", "mg_t_curve", "mg_ut_beta",
-              "mg_pause_grade_slip")
+              "mg_pause_grade_slip", "mg_pause_grade_dv")
     for k in nonneg:
         if not p[k] >= 0.0:
             raise ParamError(f"{k}: must be >= 0")
@@ -159,8 +162,8 @@ def validate(p):
         raise ParamError("mg_pause_grade: must be an integer in 0..7")
     if not p["mg_pause_grade_slip"] <= 1.0:
         raise ParamError("mg_pause_grade_slip: must be <= 1")
-    if p["mg_pause_grade"] != 0.0 and p["mg_use_ax"] != 1.0:
-        raise ParamError("mg_pause_grade: needs mg_use_ax 1 (the grade from ax)")
+    if not p["mg_pause_grade_dv"] <= 10.0:
+        raise ParamError("mg_pause_grade_dv: must be <= 10 m/s")
     if not p["mg_m_min"] < p["mg_m0"] < p["mg_m_max"]:
         raise ParamError("mg_m0: must lie inside (mg_m_min, mg_m_max)")
     if not abs(p["mg_theta0"]) < p["mg_theta_max"] < 1.5:
@@ -299,7 +302,7 @@ class MassGrade:
             self.sqrt_wi = math.sqrt(self.wc[1])
             self.sqrt_c = math.sqrt(self.c)
         self.use_ax = p["mg_use_ax"] == 1.0
-        if form != "sqrt" and p["mg_pause_grade"] != 0.0:
+        if form != "sqrt" and p["mg_pause_grade"] != 0.0 and self.use_ax:
             raise ValueError("mg_pause_grade: the square-root form only")
         self.started = False
         # an optional observer of the innovations, None by default (then nothing is called):
@@ -325,6 +328,9 @@ class MassGrade:
         self.gear = s.gear
         self.slip_latched = False   # the ABS gate's latch (§4.2)
         self.v_free = True          # v uncorrelated with M: a start or a paused sample last (§4.2)
+        self.chg_d = 0.0            # the change test's residual in this pause, m/s (§4.2)
+        self.chg_on = False         # the change test tripped: the pause learns to its end
+        self.u_prev = s.v if s.vx is None else s.vx   # the test's speed at the last sample
         self.started = True
 
     def _estimate(self, status):
@@ -385,7 +391,8 @@ class MassGrade:
 
     # -- the square-root form (the C library's steps, mass_grade_flt.c) ------------------------
     _SAVED = ("x", "S", "q_mv", "adapt_elapsed", "m_adapt", "brake_left", "shift_left",
-              "curve_left", "gear", "started", "slip_latched", "v_free")
+              "curve_left", "gear", "started", "slip_latched", "v_free", "chg_d", "chg_on",
+              "u_prev")
 
     def _step_sqrt(self, s):
         """As step(), in the square-root form: the work on a copy of the state, restored on an
@@ -407,10 +414,13 @@ class MassGrade:
             self._slip_latch(s, status)
             if status == OK:
                 st = self._update_sqrt(s, dt)
-            elif self._pause_grade(status) and not self.slip_latched:
+            elif self._pause_grade(status) and not self.slip_latched and self._changed(s, dt):
                 st = self._grade_ax_sqrt(s, dt)
             else:
                 st = self._hold_sqrt(s, dt)
+            if not (self._pause_grade(status) and not self.slip_latched):
+                self.chg_d, self.chg_on = 0.0, False
+            self.u_prev = s.v if s.vx is None else s.vx
         if st == OK:
             S = self.S
             sd = (math.sqrt(S[0][0] * S[0][0]), math.sqrt(S[1][0] * S[1][0] + S[1][1] * S[1][1]),
@@ -454,7 +464,22 @@ class MassGrade:
         paused one, which leave S_Mv = 0; so the first sample of a pause that follows an update
         holds as before and the next ones learn)."""
         bit = PAUSE_GRADE_BITS.get(status, 0)
-        return (int(self.p["mg_pause_grade"]) & bit) != 0 and self.v_free
+        bits = int(self.p["mg_pause_grade"]) if self.use_ax else 0   # the grade from ax needs ax
+        return (bits & bit) != 0 and self.v_free
+
+    def _changed(self, s, dt):
+        """§4.2 the change test of a pause that may learn the grade: with u = vx if given,
+        else v, the residual d += (u - u_prev) - dt (a_x - g sin theta) of the held grade
+        theta, summed from the pause's first learning-eligible sample; the pause learns once
+        |d| > mg_pause_grade_dv (a latch to the pause's end), and at once where
+        mg_pause_grade_dv is 0. Held grades that a_x and the speed confirm stay untouched."""
+        p = self.p
+        if p["mg_pause_grade_dv"] == 0.0 or self.chg_on:
+            return True
+        u = s.v if s.vx is None else s.vx
+        self.chg_d += (u - self.u_prev) - dt * (s.ax - p["g"] * math.sin(self.x[2]))
+        self.chg_on = abs(self.chg_d) > p["mg_pause_grade_dv"]
+        return self.chg_on
 
     def _slip_latch(self, s, status):
         """§4.2 the ABS gate of the grade from ax in a pause: the latch is set at a paused

@@ -221,11 +221,14 @@ def test_bad_parameters_are_rejected():
                      ("mg_ay_max", float("nan")), ("mg_pause_grade", 8.0),
                      ("mg_pause_grade", 2.5), ("mg_pause_grade", -1.0),
                      ("mg_pause_grade", float("nan")), ("mg_pause_grade_slip", -0.01),
-                     ("mg_pause_grade_slip", 1.0625), ("mg_pause_grade_slip", float("nan"))):
+                     ("mg_pause_grade_slip", 1.0625), ("mg_pause_grade_slip", float("nan")),
+                     ("mg_pause_grade_dv", -0.01), ("mg_pause_grade_dv", 10.0625),
+                     ("mg_pause_grade_dv", float("nan")), ("mg_pause_grade_dv", float("inf"))):
         with pytest.raises(mg.ParamError):
             mg.MassGrade(mg.preset(**{key: val}))
-    with pytest.raises(mg.ParamError):      # the grade from ax needs ax
-        mg.MassGrade(mg.preset(mg_use_ax=0.0, mg_pause_grade=1.0))
+    # the grade from ax needs ax: without it the bits are inert, not refused
+    mg.MassGrade(mg.preset(mg_use_ax=0.0, mg_pause_grade=1.0))
+    mg.MassGrade(mg.preset(mg_use_ax=0.0, mg_pause_grade=1.0), form="textbook")
     with pytest.raises(ValueError):         # the square-root form's step only
         mg.MassGrade(mg.preset(mg_use_ax=1.0, mg_pause_grade=1.0), form="textbook")
     with pytest.raises(mg.ParamError):
@@ -349,10 +352,12 @@ def test_pause_grade_learns_the_grade_and_holds_the_mass():
     # bit while theta runs to the truth: under a tenth of its error after 2 s (measured
     # 38 -> 1.9 mrad; the C tests measure the same); its sd shrinks. With the brake bit unset
     # (the other two set) the same samples hold theta bit for bit; the slip and low-speed
-    # pauses hold with every bit.
+    # pauses hold with every bit. The change test off (mg_pause_grade_dv 0: the learning mode
+    # itself; test_change_test_holds_confirmed_grades_and_learns_contradicted runs it).
     theta = 0.05
 
     def run(bits, **over):
+        over.setdefault("mg_pause_grade_dv", 0.0)
         est = mg.MassGrade(mg.preset(mg_use_ax=1.0, mg_adaptive=0.0, mg_pause_grade=bits,
                                      **over))
         for k in range(50):
@@ -394,7 +399,8 @@ def test_pause_grade_decides_v_free_from_the_last_sample_not_from_s_mv():
     theta = 0.05
     brake = lambda t, k: mg.MgSample(t, 20.0 - 0.04 * k, -2000.0, brake=1.0,
                                      ax=-2.0 + 9.81 * math.sin(theta))
-    est = mg.MassGrade(mg.preset(mg_use_ax=1.0, mg_adaptive=0.0, mg_pause_grade=1.0))
+    est = mg.MassGrade(mg.preset(mg_use_ax=1.0, mg_adaptive=0.0, mg_pause_grade=1.0,
+                                 mg_pause_grade_dv=0.0))   # the decision of v_free alone
     for k in range(50):
         assert est.step(mg.MgSample(0.02 * k, 20.0, 300.0, ax=0.1)).status == mg.OK
     assert not est.v_free and est.S[1][0] != 0.0
@@ -456,6 +462,63 @@ def test_abs_gate_holds_the_rest_of_a_pause_whose_wheels_slip():
     assert est.slip_latched
     o = est.step(mg.MgSample(3.1, 18.0, 300.0, ax=0.1, vx=18.0))
     assert o.status == mg.OK and not est.slip_latched
+
+
+def test_change_test_holds_confirmed_grades_and_learns_contradicted():
+    # §4.2 mg_pause_grade_dv (0.2 m/s by default): braking on a 0.05 rad climb with the brake
+    # bit (the samples of test_pause_grade_learns_the_grade_and_holds_the_mass). The held
+    # grade right (set to the truth): every sample holds, theta bit for bit (the learning's
+    # noise never added). The held grade of the cruise (0.012 rad, 0.038 off): the samples
+    # hold until the residual sum (u - u_prev) - dt (ax - g sin theta), growing by
+    # g (sin 0.05 - sin theta_held) dt = 7.5e-3 m/s a sample, passes 0.2 m/s (the sample
+    # computed here from the samples' definition; in float64 the sum's rounding cannot move
+    # it), then learns to under a tenth of the error by the pause's end (the learning mode's
+    # bound). Wheels 0.3 m/s behind a right vx hold (the test reads vx where given); the
+    # same wheels without vx trip at the first eligible sample.
+    theta = 0.05
+    ax = -2.0 + 9.81 * math.sin(theta)
+
+    def start():
+        est = mg.MassGrade(mg.preset(mg_use_ax=1.0, mg_adaptive=0.0, mg_pause_grade=1.0))
+        for k in range(50):
+            est.step(mg.MgSample(0.02 * k, 20.0, 300.0, ax=0.1))
+        return est
+
+    def brake(k, behind=0.0, vx=False):
+        v = 20.0 - 0.04 * k
+        return mg.MgSample(1.0 + 0.02 * k, v - (behind if k > 0 else 0.0), -2000.0,
+                           brake=1.0, ax=ax, vx=v if vx else None)
+
+    assert mg.MG_DEFAULTS["mg_pause_grade_dv"] == 0.2
+    est = start()
+    est.x[2] = theta
+    for k in range(151):
+        o = est.step(brake(k))
+        assert o.status == mg.PAUSED_BRAKE and o.grade == theta and not est.chg_on
+    est = start()
+    held = est.x[2]
+    d, trip = 0.0, None
+    for k in range(1, 200):
+        d += -0.04 - 0.02 * (ax - 9.81 * math.sin(held))
+        if abs(d) > 0.2:
+            trip = k
+            break
+    assert 20 < trip < 35
+    outs = [est.step(brake(k)) for k in range(151)]
+    assert all(o.grade == held for o in outs[:trip])
+    assert outs[trip].grade != held and est.chg_on
+    err0 = abs(held - theta)
+    assert abs(outs[-1].grade - theta) < 0.1 * err0
+    est = start()
+    est.x[2] = theta
+    for k in range(101):
+        o = est.step(brake(k, 0.3, vx=True))
+        assert o.grade == theta and not est.chg_on and not est.slip_latched
+    est = start()
+    est.x[2] = theta
+    est.step(brake(0, 0.3))
+    o = est.step(brake(1, 0.3))
+    assert est.chg_on and o.grade != theta
 
 
 def test_ukf_with_ax_meets_the_mass_target_on_the_truck_drive():

@@ -14,7 +14,10 @@ the ax row) with the curve pause at its documented setting for a car that corner
 1 m/s^2, mg_t_curve 1 s), mg_pause_grade 0 (off, the filter as it is), 1 (brake), 2 (shift),
 4 (curve), 7 (all three), each with the ABS gate at its default (mg_pause_grade_slip 0.05:
 a paused sample whose wheels slip beyond 5 % of vx ends the grade's learning until the pause
-ends), and 1 once more without it ("brake, no gate": the mode as it was before the gate).
+ends) and the change test at its default (mg_pause_grade_dv 0.2 m/s: a pause learns only once
+the speed, vx where given, has left the held grade's prediction by 0.2 m/s), and 1 twice more:
+without the change test ("brake, no test": the mode as it was before the test) and without
+either ("brake, no gate": as it was before the gate).
 Runs: the mass and grade logs in their vehicle's preset from 0.8 times the truth;
 the observer logs (the samples of mass_slip_ramp_study.py, the simulator's resistances, the
 `_res` logs the car preset's) from the log's m. A log whose run with mg_pause_grade off held
@@ -42,10 +45,14 @@ from mass_sensitivity import log_mass  # noqa: E402
 from mass_logs import mass_grade_logs  # noqa: E402
 
 CURVE = {"mg_ay_max": 1.0, "mg_t_curve": 1.0}   # MASS_GRADE.md §4.2's setting for a car that corners
-VARIANTS = {"off": 0, "brake, no gate": 1, "brake": 1, "shift": 2, "curve": 4, "all": 7}
-# the variants run without the ABS gate (mg_pause_grade_slip 0: the brake bit as it was before
-# the gate); every other runs with the gate at its default (MASS_GRADE.md §4.2)
-UNGATED = {"brake, no gate": {"mg_pause_grade_slip": 0.0}}
+VARIANTS = {"off": 0, "brake, no gate": 1, "brake, no test": 1, "brake": 1, "shift": 2,
+            "curve": 4, "all": 7}
+# the variants run without the ABS gate and the change test (mg_pause_grade_slip 0,
+# mg_pause_grade_dv 0: the brake bit as it was before both) and without the change test (the
+# brake bit as it was before it); every other runs with both at their defaults (MASS_GRADE.md
+# §4.2)
+UNGATED = {"brake, no gate": {"mg_pause_grade_slip": 0.0, "mg_pause_grade_dv": 0.0},
+           "brake, no test": {"mg_pause_grade_dv": 0.0}}
 OBS_STARTS = (1.0,)
 MG_STARTS = (0.8,)
 PAUSES = (mg.PAUSED_BRAKE, mg.PAUSED_SHIFT, mg.PAUSED_CURVE)
@@ -171,22 +178,22 @@ def same(r, r0):
 
 
 def gate_table(res, jobs):
-    """The ABS gate before -> after: every run whose brake bit the gate changed, and
-    car_valley_brake (the mode's case, which it must not change): grade RMSE over the brake,
-    shift and curve pauses and over the AFTER s after them (mrad), the mass error at the end,
-    with mg_pause_grade off, with the brake bit without the gate and with it."""
+    """The ABS gate and the change test before -> after: every run whose brake bit the gate or
+    the test changed, and car_valley_brake (the mode's case): grade RMSE over the brake, shift
+    and curve pauses and over the AFTER s after them (mrad), the mass error at the end, with
+    mg_pause_grade off, with the brake bit without the gate, with it, and with the test too."""
     lines = [f"| log | mg_m0 | off: pauses, {AFTER:g} s after, mass | brake, no gate | "
-             "brake, gated |", "|---|---|---|---|---|"]
+             "brake, gated | brake, gated and tested |", "|---|---|---|---|---|---|"]
     f = lambda r: (f"{1e3 * r['rmse_held']:.2f}, {1e3 * r['rmse_after']:.2f}, "
                    f"{r['mass_err']:+.2%}")
     for j in jobs:
         if j[3] != "brake" or j[0] == "true":
             continue
-        r, r0 = res[j], res[j[:3] + ("brake, no gate",)]
-        if same(r, r0) and j[1] != "car_valley_brake.csv":
+        r, r0 = res[j[:3] + ("brake, no test",)], res[j[:3] + ("brake, no gate",)]
+        if same(r, r0) and same(res[j], r) and j[1] != "car_valley_brake.csv":
             continue
         lines.append(f"| {j[1][:-4]} | {j[2]:.1f} | {f(res[j[:3] + ('off',)])} | {f(r0)} | "
-                     f"{f(r)} |")
+                     f"{f(r)} | {f(res[j])} |")
     return lines
 
 
@@ -239,14 +246,16 @@ def results_text(n_jobs):
             "held samples, the grade RMSE over the brake, shift and curve pauses (mrad); "
             "`held`: their share with mg_pause_grade off. Recommended preset (UKF with the ax "
             "row), curve pause at 1 m/s^2 for 1 s, the ABS gate mg_pause_grade_slip at 0.05 but in "
-            "`brake, no gate` (0); float64 reference. The mass and grade logs "
+            "`brake, no gate` (0), the change test mg_pause_grade_dv at 0.2 m/s but in `brake, "
+            "no gate` and `brake, no test` (0); float64 reference. The mass and grade logs "
             "(vx_true as the ground speed):", ""]
     text += table(res, "mg", mg_names, MG_STARTS)
     text += ["", "The observer logs (the simulator's resistances; `_res`: the car preset's):", ""]
     text += table(res, "obs", obs_names, OBS_STARTS)
     text += verdict(res, jobs)
-    text += ["", "The ABS gate (mg_pause_grade_slip 0.05) before -> after, the brake bit: every "
-             "run the gate changed, and car_valley_brake; grade RMSE over the pauses and over "
+    text += ["", "The ABS gate (mg_pause_grade_slip 0.05) and the change test (mg_pause_grade_dv "
+             "0.2 m/s) before -> after, the brake bit: every run either changed, and "
+             "car_valley_brake; grade RMSE over the pauses and over "
              f"the {AFTER:g} s after them (mrad), mass error at the end:", ""]
     text += gate_table(res, jobs)
     text += ["", "The mass and grade logs that pause again, with the car's speed vx_true in place "

@@ -168,6 +168,7 @@
     X(mg_t_curve, t_curve, "s", "hold after the last sample over mg_ay_max")                     \
     X(mg_pause_grade, pause_grade, "-", "pauses that learn the grade from ax (mg_use_ax 1): 1 brake + 2 shift + 4 curve (0: none)") \
     X(mg_pause_grade_slip, pause_grade_slip, "1", "ABS gate: wheel slip against a given vx that ends the grade's learning until the pause ends (0: off)") \
+    X(mg_pause_grade_dv, pause_grade_dv, "m/s", "change test: the pause learns the grade once the speed (vx if given) leaves the held grade's prediction by this (0: at once)") \
     X(mg_m_min, m_min, "kg", "lower mass bound")                                                 \
     X(mg_m_max, m_max, "kg", "upper mass bound")                                                 \
     X(mg_theta_max, theta_max, "rad", "grade bound")                                             \

@@ -45,8 +45,9 @@ static void car(rfe_mass_grade_params_t *p)
     p->slip_max = RFE_R(0.05);
     p->ay_max = RFE_R(0.0);
     p->t_curve = RFE_R(1.0);
-    p->pause_grade = RFE_R(0.0);
+    p->pause_grade = (rfe_real_t)RFE_MG_PAUSE_GRADE_BRAKE; /* the brake bit (§4.2) */
     p->pause_grade_slip = RFE_R(0.05);
+    p->pause_grade_dv = RFE_R(0.2);
     p->m_min = RFE_R(300.0);
     p->m_max = RFE_R(60000.0);
     p->theta_max = RFE_R(0.35);
@@ -98,6 +99,7 @@ rfe_status_t rfe_mass_grade_params_preset(rfe_mass_grade_params_t *p, rfe_mg_veh
         p->use_ax = 0u;
         p->m_rot = RFE_R(0.0);
         p->t_adapt = RFE_R(0.0);
+        p->pause_grade = RFE_R(0.0); /* the seed's pauses hold (inert without ax anyway) */
     }
     return RFE_OK;
 }
@@ -120,12 +122,13 @@ static int positive_fields_ok(const rfe_mass_grade_params_t *p)
 /* §6 the values that must be finite and >= 0. */
 static int non_negative_fields_ok(const rfe_mass_grade_params_t *p)
 {
-    const rfe_real_t v[18] = {p->fc,      p->fr,      p->rho,     p->cd,      p->area,
+    const rfe_real_t v[19] = {p->fc,      p->fr,      p->rho,     p->cd,      p->area,
                               p->m_rot,   p->q_mv0,   p->t_adapt, p->mv_stop, p->v_min,
                               p->t_brake, p->t_shift, p->p_brake_on, p->slip_max,
-                              p->ay_max,  p->t_curve, p->ut_beta, p->pause_grade_slip};
+                              p->ay_max,  p->t_curve, p->ut_beta, p->pause_grade_slip,
+                              p->pause_grade_dv};
     size_t i;
-    for (i = 0u; i < 18u; ++i) {
+    for (i = 0u; i < 19u; ++i) {
         if (!rfe_is_finite(v[i]) || !(v[i] >= RFE_R(0.0))) {
             return 0;
         }
@@ -151,6 +154,9 @@ static int relations_ok(const rfe_mass_grade_params_t *p)
     if (!(p->pause_grade_slip <= RFE_R(1.0))) { /* a slip ratio (finite, >= 0: above) */
         return 0;
     }
+    if (!(p->pause_grade_dv <= (rfe_real_t)RFE_MG_PAUSE_GRADE_DV_MAX_MS)) { /* m/s (finite, >= 0: above) */
+        return 0;
+    }
     if (!(c > RFE_R(0.0)) || !rfe_is_finite(c)) {
         return 0;
     }
@@ -160,8 +166,8 @@ static int relations_ok(const rfe_mass_grade_params_t *p)
     return 1;
 }
 
-/* §6 pause_grade: one of the integers 0..7 (a sum of the bits 1 brake, 2 shift, 4 curve),
- * and 0 unless use_ax (the grade from ax needs ax on every sample). */
+/* §6 pause_grade: one of the integers 0..7 (a sum of the bits 1 brake, 2 shift, 4 curve);
+ * without use_ax its bits are inert (rfe_mg_pause_grade_bits), not refused. */
 static int pause_grade_ok(const rfe_mass_grade_params_t *p)
 {
     int ok = 0;
@@ -171,7 +177,7 @@ static int pause_grade_ok(const rfe_mass_grade_params_t *p)
             ok = 1;
         }
     }
-    return ((ok != 0) && ((p->use_ax == 1u) || (p->pause_grade == RFE_R(0.0)))) ? 1 : 0;
+    return ok;
 }
 
 rfe_status_t rfe_mass_grade_params_validate(const rfe_mass_grade_params_t *p)

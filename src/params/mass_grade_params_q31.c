@@ -100,12 +100,13 @@ static int positive_fields_ok_q31(const rfe_mass_grade_params_q31_t *p)
 /* §6 the values that must be >= 0. */
 static int non_negative_fields_ok_q31(const rfe_mass_grade_params_q31_t *p)
 {
-    const rfe_fix_t v[18] = {p->fc,      p->fr,      p->rho,     p->cd,      p->area,
+    const rfe_fix_t v[19] = {p->fc,      p->fr,      p->rho,     p->cd,      p->area,
                              p->m_rot,   p->q_mv0,   p->t_adapt, p->mv_stop, p->v_min,
                              p->t_brake, p->t_shift, p->p_brake_on, p->slip_max,
-                             p->ay_max,  p->t_curve, p->ut_beta, p->pause_grade_slip};
+                             p->ay_max,  p->t_curve, p->ut_beta, p->pause_grade_slip,
+                             p->pause_grade_dv};
     size_t i;
-    for (i = 0u; i < 18u; ++i) {
+    for (i = 0u; i < 19u; ++i) {
         if (v[i] < 0) {
             return 0;
         }
@@ -130,6 +131,9 @@ static int relations_ok_q31(const rfe_mass_grade_params_q31_t *p)
     if ((int64_t)p->pause_grade_slip > ONE_Q30) { /* a slip ratio (>= 0: above) */
         return 0;
     }
+    if ((int64_t)p->pause_grade_dv > ((int64_t)RFE_MG_PAUSE_GRADE_DV_MAX_MS * 16777216)) { /* Q24 */
+        return 0; /* m/s (>= 0: above) */
+    }
     if (rfe_mass_grade_weights_q31(p, &w) != RFE_OK) {
         return 0;
     }
@@ -149,8 +153,7 @@ rfe_status_t rfe_mass_grade_params_validate_q31(const rfe_mass_grade_params_q31_
     if (p == NULL) {
         return RFE_ERR_NULL;
     }
-    if ((p->adaptive > 1u) || (p->use_ax > 1u) || (p->pause_grade > RFE_MG_PAUSE_GRADE_ALL) ||
-        ((p->pause_grade != 0u) && (p->use_ax == 0u))) {
+    if ((p->adaptive > 1u) || (p->use_ax > 1u) || (p->pause_grade > RFE_MG_PAUSE_GRADE_ALL)) {
         return RFE_ERR_PARAM;
     }
     if ((positive_fields_ok_q31(p) == 0) || (non_negative_fields_ok_q31(p) == 0) ||

@@ -319,6 +319,7 @@ rfe_status_t rfe_mass_grade_params_to_q31(const rfe_mass_grade_params_t *p,
     t.t_curve = to_q(&c, (double)p->t_curve, RFE_MG_Q_TIME, 0);
     t.pause_grade = (uint32_t)p->pause_grade; /* validated above: an integer in 0..7 */
     t.pause_grade_slip = to_q(&c, (double)p->pause_grade_slip, RFE_MG_Q_FC, 0);
+    t.pause_grade_dv = to_q(&c, (double)p->pause_grade_dv, RFE_MG_Q_V, 0);
     t.m_min = to_q(&c, (double)p->m_min, RFE_MG_Q_M, 0);
     t.m_max = to_q(&c, (double)p->m_max, RFE_MG_Q_M, 0);
     t.theta_max = to_q(&c, (double)p->theta_max, RFE_MG_Q_TH, 0);

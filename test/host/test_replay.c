@@ -855,10 +855,12 @@ static void test_rfe_replay_mass_grade_params_keys_and_diagnosis(void **state)
     assert_int_equal(rfe_replay_mass_grade_params_f64(&ps, &mp, &bad), RFE_OK);
     assert_int_equal(bad, RFE_PK_NONE);
     assert_memory_equal(&mp, &def, sizeof mp);
+    /* pause_grade, an integer (the brake bit 1 by default), times 3 instead: brake + shift */
 #define CHECK_MG_(key, member, unit, doc)                                                    \
-    ps.mg[(size_t)RFE_PK_##key - RFE_PK_MG_FIRST] = def.member * 1.5;                        \
+    ps.mg[(size_t)RFE_PK_##key - RFE_PK_MG_FIRST] =                                          \
+        def.member * ((RFE_PK_##key == RFE_PK_mg_pause_grade) ? 3.0 : 1.5);                  \
     assert_int_equal(rfe_replay_mass_grade_params_f64(&ps, &mp, NULL), RFE_OK);              \
-    if (!(mp.member == def.member * 1.5)) {                                                  \
+    if (!(mp.member == def.member * ((RFE_PK_##key == RFE_PK_mg_pause_grade) ? 3.0 : 1.5))) { \
         fail_msg("key %s did not reach its member", #key);                                   \
     }                                                                                        \
     ps.mg[(size_t)RFE_PK_##key - RFE_PK_MG_FIRST] = def.member;

@@ -35,6 +35,7 @@ static inline int mg_read_params(const char *path, rfe_mass_grade_params_t *p, c
         {"mg_t_shift", &p->t_shift}, {"mg_p_brake_on", &p->p_brake_on},
         {"mg_slip_max", &p->slip_max}, {"mg_ay_max", &p->ay_max}, {"mg_t_curve", &p->t_curve},
         {"mg_pause_grade", &p->pause_grade}, {"mg_pause_grade_slip", &p->pause_grade_slip},
+        {"mg_pause_grade_dv", &p->pause_grade_dv},
         {"mg_m_min", &p->m_min}, {"mg_m_max", &p->m_max}, {"mg_theta_max", &p->theta_max},
         {"mg_dt_max", &p->dt_max},
     };

@@ -113,6 +113,12 @@ static rfe_real_t accel(const rfe_mass_grade_params_t *p, const rfe_real_t *x, r
     return force / (m + p->m_rot);
 }
 
+/* §4.2 the change test's speed: the car's vx where given, else the wheels' v. */
+static rfe_real_t test_speed(const rfe_mass_grade_input_t *in)
+{
+    return ((in->has & RFE_MG_HAS_VX) != 0u) ? in->vx : in->v;
+}
+
 /* §4.1 (re)start at the sample: x = [v, m0, theta0], S = diag(r_v, sd_m0, sd_theta0), the
  * adaptation armed. */
 static void start_filter(rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in)
@@ -136,6 +142,9 @@ static void start_filter(rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in)
     o->has_gear = in->has & RFE_MG_HAS_GEAR;
     o->gear = in->gear;
     o->slip_latched = 0u;
+    o->chg_on = 0u;
+    o->chg_d = RFE_R(0.0);
+    o->u_prev = test_speed(in);
 }
 
 /* §4.2 step 3 the slip test's comparison, |v - vx| > ratio max(|vx|, v_min), read only
@@ -299,16 +308,46 @@ static rfe_status_t grade_from_ax(rfe_mass_grade_t *o, const rfe_mass_grade_inpu
     return st;
 }
 
+/* §4.2 the change test (pause_grade_dv) on a sample that may learn the grade: the residual
+ * of the held grade d += (u - u_prev) - dt (ax - g sin theta) while not tripped; 1 when the
+ * sample learns (rfe_mg_change_tripped). */
+static int change_seen(rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in)
+{
+    int test_on = 0;
+    int beyond = 0;
+    if (o->p.pause_grade_dv > RFE_R(0.0)) {
+        test_on = 1;
+    }
+    if (rfe_mg_change_sums(test_on, o->chg_on) != 0) {
+        o->chg_d += (test_speed(in) - o->u_prev) -
+                    (in->dt * (in->ax - (o->p.g * RFE_SIN(o->x[2]))));
+        if (RFE_FABS(o->chg_d) > o->p.pause_grade_dv) {
+            beyond = 1;
+        }
+    }
+    o->chg_on = rfe_mg_change_tripped(test_on, o->chg_on, beyond);
+    return (o->chg_on != 0u) ? 1 : 0;
+}
+
 /* §4.2 a paused sample: the grade from ax where pause_grade sets the pause's bit, v is
  * uncorrelated with M (the last accepted sample a start or a paused one, v_free; then
- * S_Mv = 0 in every number type) and the wheels have not slipped in this pause (the ABS
- * gate's latch clear), else the hold. */
+ * S_Mv = 0 in every number type), the wheels have not slipped in this pause (the ABS
+ * gate's latch clear) and the change test saw the held grade contradicted, else the hold;
+ * a sample that may not learn clears the change test. */
 static rfe_status_t paused(rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in,
                            rfe_status_t status)
 {
     rfe_status_t st;
-    if (rfe_mg_grade_in_pause(status, (uint32_t)o->p.pause_grade, o->v_free,
-                              o->slip_latched) != 0) {
+    int learn = 0;
+    if (rfe_mg_grade_in_pause(status,
+                              rfe_mg_pause_grade_bits((uint32_t)o->p.pause_grade, o->p.use_ax),
+                              o->v_free, o->slip_latched) != 0) {
+        learn = change_seen(o, in);
+    } else {
+        o->chg_on = 0u;
+        o->chg_d = RFE_R(0.0);
+    }
+    if (learn != 0) {
         st = grade_from_ax(o, in, in->dt);
     } else {
         st = hold(o, in, in->dt);
@@ -490,7 +529,13 @@ rfe_status_t rfe_mass_grade_step(rfe_mass_grade_t *mg, const rfe_mass_grade_inpu
         status = pause_status(&o, in, RFE_R(0.0));
     } else if (st == RFE_OK) {
         status = pause_status(&o, in, in->dt);
-        st = (status == RFE_OK) ? update(&o, in, in->dt) : paused(&o, in, status);
+        if (status == RFE_OK) {
+        o.chg_on = 0u; /* an update: no pause, the change test cleared */
+        o.chg_d = RFE_R(0.0);
+        st = update(&o, in, in->dt);
+    } else {
+        st = paused(&o, in, status);
+    }
     } else {
         /* the checks failed: nothing to compute */
     }
@@ -510,6 +555,7 @@ rfe_status_t rfe_mass_grade_step(rfe_mass_grade_t *mg, const rfe_mass_grade_inpu
     o.started = 1u;
     o.torque_prev = in->torque;
     o.v_free = rfe_mg_v_free(plan, status);
+    o.u_prev = test_speed(in);
     *mg = o;
     *out = o.last;
     return status;

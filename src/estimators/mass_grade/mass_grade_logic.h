@@ -113,6 +113,14 @@ static inline uint32_t rfe_mg_v_free(rfe_mg_plan_t plan, rfe_status_t status)
     return ((plan == RFE_MG_PLAN_START) || (status != RFE_OK)) ? 1u : 0u;
 }
 
+/** §4.2 the bits of pause_grade that act: all of @p pause_grade with the accelerometer row
+ *  (@p use_ax 1), none without it (the grade from ax needs ax on every sample; a preset's
+ *  bits over use_ax 0 are valid and inert). */
+static inline uint32_t rfe_mg_pause_grade_bits(uint32_t pause_grade, uint32_t use_ax)
+{
+    return (use_ax == 1u) ? pause_grade : 0u;
+}
+
 /** §4.2 the pause kind: in a pause @p status whose bit (RFE_MG_PAUSE_GRADE_*) is set in
  *  @p pause_grade, with v uncorrelated with M (@p v_free: rfe_mg_v_free of the previous
  *  accepted sample, i.e. it was a start or a paused sample, not an update) and the ABS gate's
@@ -134,6 +142,25 @@ static inline int rfe_mg_grade_in_pause(rfe_status_t status, uint32_t pause_grad
         /* the slip pause (v is the wheels', not the car's) and the low speed: the hold */
     }
     return (((pause_grade & bit) != 0u) && (v_free != 0u) && (slip_latched == 0u)) ? 1 : 0;
+}
+
+/** §4.2 the change test of a pause that may learn the grade (rfe_mg_grade_in_pause 1): with
+ *  the test off (@p test_on 0: pause_grade_dv 0) it learns at once; else once the residual of
+ *  the held grade has left pause_grade_dv (@p beyond: |d| > pause_grade_dv, d the sum over
+ *  the pause of du - dt (ax - g sin theta), computed by the twin only while not tripped) or
+ *  the test tripped earlier in this pause (@p tripped). Returns the test's new state, 1: the
+ *  sample learns, and so does the rest of the pause; a sample that may not learn clears it
+ *  (the twins: the residual to 0 with it). */
+static inline uint32_t rfe_mg_change_tripped(int test_on, uint32_t tripped, int beyond)
+{
+    return ((test_on == 0) || (tripped != 0u) || (beyond != 0)) ? 1u : 0u;
+}
+
+/** §4.2 the change test runs its sum on this sample: the test on (@p test_on) and not yet
+ *  tripped in this pause (@p tripped 0). */
+static inline int rfe_mg_change_sums(int test_on, uint32_t tripped)
+{
+    return ((test_on != 0) && (tripped == 0u)) ? 1 : 0;
 }
 
 #endif /* RFE_MASS_GRADE_LOGIC_H */

@@ -130,6 +130,12 @@ static rfe_xf_t accel_q31(const rfe_mass_grade_params_q31_t *p, const model_q31_
     return rfe_xf_div(force, rfe_xf_make((int64_t)m + (int64_t)p->m_rot, -RFE_MG_Q_M));
 }
 
+/* §4.2 the change test's speed: the car's vx where given, else the wheels' v (Q24). */
+static rfe_fix_t test_speed_q31(const rfe_mass_grade_input_q31_t *in)
+{
+    return ((in->has & RFE_MG_HAS_VX) != 0u) ? in->vx : in->v;
+}
+
 /* §4.1 (re)start at the sample: x = [v, m0, theta0], S = diag(r_v, sd_m0, sd_theta0), the
  * adaptation armed (q_mv = q_mv0^2, exact in Q28). */
 static void start_filter_q31(rfe_mass_grade_q31_t *o, const rfe_mass_grade_input_q31_t *in)
@@ -153,6 +159,9 @@ static void start_filter_q31(rfe_mass_grade_q31_t *o, const rfe_mass_grade_input
     o->has_gear = in->has & RFE_MG_HAS_GEAR;
     o->gear = in->gear;
     o->slip_latched = 0u;
+    o->chg_on = 0u;
+    o->chg_d = 0;
+    o->u_prev = test_speed_q31(in);
 }
 
 /* §4.2 step 3 the slip test's comparison, |v - vx| > ratio max(|vx|, v_min), read only
@@ -336,15 +345,54 @@ static rfe_status_t grade_from_ax_q31(rfe_mass_grade_q31_t *o, const rfe_mass_gr
     return st;
 }
 
+/* §4.2 the change test (pause_grade_dv) on a sample that may learn the grade, as the float
+ * twin's change_seen: d += (u - u_prev) - dt (ax - g sin theta) in Q24 (int64: |d| stays
+ * within pause_grade_dv <= 10 m/s plus one sample's increment), the product and g sin theta
+ * rounded as in grade_from_ax_q31; 1 when the sample learns. */
+static int change_seen_q31(rfe_mass_grade_q31_t *o, const rfe_mass_grade_input_q31_t *in,
+                           uint32_t *sat)
+{
+    int test_on = 0;
+    int beyond = 0;
+    if (o->p.pause_grade_dv > 0) {
+        test_on = 1;
+    }
+    if (rfe_mg_change_sums(test_on, o->chg_on) != 0) {
+        int32_t s = 0;
+        int32_t c = 0;
+        rfe_fix_t acc;
+        int64_t ad;
+        rfe_q31_sincos_q29(o->x[2], &s, &c);
+        acc = rfe_fix_sub(in->ax, rfe_fix_mul(o->p.g, s, 32u, sat), sat); /* Q24 */
+        o->chg_d += ((int64_t)test_speed_q31(in) - (int64_t)o->u_prev) -
+                    (int64_t)rfe_fix_mul(acc, in->dt, 30u, sat);
+        ad = (o->chg_d < 0) ? -o->chg_d : o->chg_d;
+        if (ad > (int64_t)o->p.pause_grade_dv) {
+            beyond = 1;
+        }
+    }
+    o->chg_on = rfe_mg_change_tripped(test_on, o->chg_on, beyond);
+    return (o->chg_on != 0u) ? 1 : 0;
+}
+
 /* §4.2 a paused sample: the grade from ax where pause_grade sets the pause's bit, v is
  * uncorrelated with M (the last accepted sample a start or a paused one, v_free: not a
- * test of S_Mv = 0, which an update's Q14 mass row can reach by rounding alone) and the ABS
- * gate's latch is clear, else the hold. */
+ * test of S_Mv = 0, which an update's Q14 mass row can reach by rounding alone), the ABS
+ * gate's latch is clear and the change test saw the held grade contradicted, else the hold;
+ * a sample that may not learn clears the change test. */
 static rfe_status_t paused_q31(rfe_mass_grade_q31_t *o, const rfe_mass_grade_input_q31_t *in,
                                rfe_status_t status, uint32_t *sat)
 {
     rfe_status_t st;
-    if (rfe_mg_grade_in_pause(status, o->p.pause_grade, o->v_free, o->slip_latched) != 0) {
+    int learn = 0;
+    if (rfe_mg_grade_in_pause(status, rfe_mg_pause_grade_bits(o->p.pause_grade, o->p.use_ax),
+                              o->v_free, o->slip_latched) != 0) {
+        learn = change_seen_q31(o, in, sat);
+    } else {
+        o->chg_on = 0u;
+        o->chg_d = 0;
+    }
+    if (learn != 0) {
         st = grade_from_ax_q31(o, in, in->dt, sat);
     } else {
         st = hold_q31(o, in, in->dt, sat);
@@ -558,8 +606,13 @@ rfe_status_t rfe_mass_grade_step_q31(rfe_mass_grade_q31_t *mg, const rfe_mass_gr
         status = pause_status_q31(&o, in, 0);
     } else if (st == RFE_OK) {
         status = pause_status_q31(&o, in, in->dt);
-        st = (status == RFE_OK) ? update_q31(&o, in, in->dt, &sat)
-                                : paused_q31(&o, in, status, &sat);
+        if (status == RFE_OK) {
+            o.chg_on = 0u; /* an update: no pause, the change test cleared */
+            o.chg_d = 0;
+            st = update_q31(&o, in, in->dt, &sat);
+        } else {
+            st = paused_q31(&o, in, status, &sat);
+        }
     } else {
         /* the checks failed: nothing to compute */
     }
@@ -571,6 +624,7 @@ rfe_status_t rfe_mass_grade_step_q31(rfe_mass_grade_q31_t *mg, const rfe_mass_gr
     o.started = 1u;
     o.torque_prev = in->torque;
     o.v_free = rfe_mg_v_free(plan, status);
+    o.u_prev = test_speed_q31(in);
     rfe_q31_sat_add(&o.sat, sat);
     estimate_of_q31(&o, status, sat, &o.last);
     *mg = o;

@@ -99,11 +99,13 @@ static void test_params_presets_and_validation(void **state)
     assert_memory_equal(&p, &q, sizeof(p));
     assert_int_equal(p.adaptive, 0u);
     assert_int_equal(p.use_ax, 1u);
+    assert_true(p.pause_grade == (rfe_real_t)RFE_MG_PAUSE_GRADE_BRAKE); /* §6: the brake bit */
     assert_int_equal(rfe_mass_grade_params_validate(&p), RFE_OK);
     /* every preset valid; an unknown vehicle or configuration refused, p untouched */
     assert_int_equal(rfe_mass_grade_params_preset(&q, RFE_MG_TRUCK, RFE_MG_SEED), RFE_OK);
     assert_int_equal(rfe_mass_grade_params_validate(&q), RFE_OK);
     assert_int_equal(q.adaptive, 1u);
+    assert_true(q.pause_grade == (rfe_real_t)0.0); /* the seed's pauses hold */
     assert_true(q.m_rot == (rfe_real_t)0.0);
     assert_true(q.m0 == (rfe_real_t)4000.0);
     p = q;
@@ -151,11 +153,10 @@ static void b_pgs_neg(rfe_mass_grade_params_t *p) { p->pause_grade_slip = (rfe_r
 static void b_pgs_big(rfe_mass_grade_params_t *p) { p->pause_grade_slip = (rfe_real_t)1.0625; }
 static void b_pgs_nan(rfe_mass_grade_params_t *p) { p->pause_grade_slip = (rfe_real_t)NAN; }
 static void b_pgs_inf(rfe_mass_grade_params_t *p) { p->pause_grade_slip = (rfe_real_t)INFINITY; }
-static void b_pg_no_ax(rfe_mass_grade_params_t *p)
-{
-    p->pause_grade = (rfe_real_t)1.0;
-    p->use_ax = 0u; /* the grade from ax needs ax */
-}
+static void b_pgd_neg(rfe_mass_grade_params_t *p) { p->pause_grade_dv = (rfe_real_t)-0.01; }
+static void b_pgd_big(rfe_mass_grade_params_t *p) { p->pause_grade_dv = (rfe_real_t)10.0625; }
+static void b_pgd_nan(rfe_mass_grade_params_t *p) { p->pause_grade_dv = (rfe_real_t)NAN; }
+static void b_pgd_inf(rfe_mass_grade_params_t *p) { p->pause_grade_dv = (rfe_real_t)INFINITY; }
 static void b_stop(rfe_mass_grade_params_t *p)
 {
     p->adaptive = 1u;
@@ -191,11 +192,21 @@ static void test_params_rules(void **state)
     expect_bad(b_pg_frac, "pause_grade 2.5");
     expect_bad(b_pg_neg, "pause_grade -1");
     expect_bad(b_pg_nan, "pause_grade NaN");
-    expect_bad(b_pg_no_ax, "pause_grade without use_ax");
     expect_bad(b_pgs_neg, "pause_grade_slip < 0");
     expect_bad(b_pgs_big, "pause_grade_slip > 1");
     expect_bad(b_pgs_nan, "pause_grade_slip NaN");
     expect_bad(b_pgs_inf, "pause_grade_slip Inf");
+    expect_bad(b_pgd_neg, "pause_grade_dv < 0");
+    expect_bad(b_pgd_big, "pause_grade_dv > 10");
+    expect_bad(b_pgd_nan, "pause_grade_dv NaN");
+    expect_bad(b_pgd_inf, "pause_grade_dv Inf");
+    /* the change test's speed: 0.2 m/s by default, its limits 0 (no test) and 10 accepted */
+    assert_int_equal(rfe_mass_grade_params_default(&p), RFE_OK);
+    assert_true(p.pause_grade_dv == (rfe_real_t)0.2);
+    p.pause_grade_dv = (rfe_real_t)0.0;
+    assert_int_equal(rfe_mass_grade_params_validate(&p), RFE_OK);
+    p.pause_grade_dv = (rfe_real_t)10.0;
+    assert_int_equal(rfe_mass_grade_params_validate(&p), RFE_OK);
     /* the ABS gate's slip: 0.05 by default, its limits 0 (no gate) and 1 accepted */
     assert_int_equal(rfe_mass_grade_params_default(&p), RFE_OK);
     assert_true(p.pause_grade_slip == (rfe_real_t)0.05);
@@ -203,12 +214,12 @@ static void test_params_rules(void **state)
     assert_int_equal(rfe_mass_grade_params_validate(&p), RFE_OK);
     p.pause_grade_slip = (rfe_real_t)1.0;
     assert_int_equal(rfe_mass_grade_params_validate(&p), RFE_OK);
-    /* every bit sum 0..7 with the accelerometer; 0 without it */
+    /* every bit sum 0..7, with the accelerometer or without it (then inert:
+     * test_pause_grade_inert_without_ax) */
     assert_int_equal(rfe_mass_grade_params_default(&p), RFE_OK);
-    assert_true(p.pause_grade == (rfe_real_t)0.0); /* off by default */
+    assert_true(p.pause_grade == (rfe_real_t)1.0); /* the brake bit by default */
     p.pause_grade = (rfe_real_t)7.0;
     assert_int_equal(rfe_mass_grade_params_validate(&p), RFE_OK);
-    p.pause_grade = (rfe_real_t)0.0;
     p.use_ax = 0u;
     assert_int_equal(rfe_mass_grade_params_validate(&p), RFE_OK);
     /* the same stop threshold is fine in the plain UKF, which never adapts */
@@ -633,7 +644,9 @@ static rfe_mass_grade_input_t braking_on_grade(int k)
     return in;
 }
 
-/* The state after 50 updates on a level cruise with the accelerometer, pause_grade @p pg. */
+/* The state after 50 updates on a level cruise with the accelerometer, pause_grade @p pg,
+ * the change test off (pause_grade_dv 0: each pause learns from its second sample, the mode
+ * these tests are about; test_change_test runs it on). */
 static void pause_grade_setup(rfe_real_t pg)
 {
     rfe_mass_grade_estimate_t e;
@@ -641,6 +654,7 @@ static void pause_grade_setup(rfe_real_t pg)
     int k;
     setup_with(0u, 1u);
     mg.p.pause_grade = pg;
+    mg.p.pause_grade_dv = (rfe_real_t)0.0;
     for (k = 0; k < 50; ++k) {
         in = cruise((rfe_real_t)20.0, (rfe_real_t)DT);
         assert_int_equal(step(&in, &e), RFE_OK);
@@ -693,6 +707,38 @@ static void test_pause_grade_learns_grade_holds_mass(void **state)
         in = braking_on_grade(k);
         assert_int_equal(step(&in, &e), RFE_MG_PAUSED_BRAKE);
         assert_true((e.grade == first.grade) && (e.mass == first.mass));
+    }
+}
+
+/* REQ-MG-006 rfe_mg_pause_grade_bits: without the accelerometer row (use_ax 0) the bits of
+ * pause_grade are inert, not refused (the recommended preset's brake bit under a file that
+ * sets use_ax 0): braking on the 0.05 rad climb with every bit and the change test off holds
+ * the grade bit for bit through 2 s, as with pause_grade 0, and no sample reads ax (the
+ * samples carry none). */
+static void test_pause_grade_inert_without_ax(void **state)
+{
+    rfe_mass_grade_estimate_t e;
+    rfe_mass_grade_estimate_t first;
+    rfe_mass_grade_input_t in;
+    int k;
+    (void)state;
+    setup_with(0u, 0u);
+    mg.p.pause_grade = (rfe_real_t)RFE_MG_PAUSE_GRADE_ALL;
+    mg.p.pause_grade_dv = (rfe_real_t)0.0;
+    for (k = 0; k < 50; ++k) {
+        in = cruise((rfe_real_t)20.0, (rfe_real_t)DT);
+        in.has &= ~RFE_MG_HAS_AX;
+        assert_int_equal(step(&in, &e), RFE_OK);
+    }
+    for (k = 0; k <= 100; ++k) {
+        in = braking_on_grade(k);
+        in.has &= ~RFE_MG_HAS_AX;
+        assert_int_equal(step(&in, &e), RFE_MG_PAUSED_BRAKE);
+        if (k == 0) {
+            first = e;
+        }
+        assert_true((e.grade == first.grade) && (e.mass == first.mass));
+        assert_true((mg.x[0] == in.v) && (mg.S[0] == mg.p.r_v)); /* the hold */
     }
 }
 
@@ -996,6 +1042,120 @@ static void test_abs_gate_bad_param_leaves_state(void **state)
     p.pause_grade_slip = (rfe_real_t)-0.5;
     assert_int_equal(rfe_mass_grade_init(&mg, &p), RFE_ERR_PARAM);
     assert_memory_equal(&mg, &before, sizeof(mg));
+    p = prm; /* the change test's speed likewise */
+    p.pause_grade_dv = (rfe_real_t)10.5;
+    assert_int_equal(rfe_mass_grade_init(&mg, &p), RFE_ERR_PARAM);
+    assert_memory_equal(&mg, &before, sizeof(mg));
+}
+
+/* The change test's residual of braking_on_grade's samples 1..k (the first, 0, holds after
+ * an update and clears the test) against a held grade @p theta, in double from the samples'
+ * definition: sum of (v_j - v_(j-1)) - DT (ax - g sin theta); the first k at which it
+ * leaves @p dv. */
+static int expected_trip(double theta, double dv)
+{
+    const double ax = -2.0 + (9.81 * sin(PG_THETA));
+    double d = 0.0;
+    int k;
+    for (k = 1; k < 1000; ++k) {
+        d += (-2.0 * DT) - (DT * (ax - (9.81 * sin(theta))));
+        if (fabs(d) > dv) {
+            return k;
+        }
+    }
+    return -1;
+}
+
+/* REQ-MG-006 the change test of the grade from ax in a pause (§4.2, pause_grade_dv, 0.2 m/s
+ * by default; rfe_mg_change_tripped and rfe_mg_change_sums, MC/DC): braking on the 0.05 rad
+ * climb with the brake bit. (a) The held grade right (set to the truth): the residual stays
+ * at rounding level, every sample holds, the grade bit for bit the held one (no learning
+ * noise added). (b) The held grade wrong (the cruise's, 0.012 rad: 0.038 rad off): the
+ * samples hold until the residual, g (0.05 - 0.012) = 0.37 m/s^2 times t, passes 0.2 m/s
+ * (expected_trip: sample 27 at DT 0.02 s; one sample either side allowed for the float32
+ * sum's rounding, whose growth per sample, 7.5e-3 m/s, is 10^4 times its rounding; the
+ * range asserted on expected_trip only guards the scene), then the test stays tripped
+ * and the grade is learned to under a tenth of its error (the learning mode's bound,
+ * test_pause_grade_learns_grade_holds_mass) within 2 s. (c) The test's speed is vx where
+ * given: wheels 0.3 m/s behind a right vx (a slip onset of 1.5 %, under the ABS gate) hold,
+ * the same wheels without vx trip at once. (d) pause_grade_dv 0: learned from the first
+ * eligible sample. (e) A sample that is not paused clears the test. */
+static void test_change_test(void **state)
+{
+    rfe_mass_grade_estimate_t e;
+    rfe_mass_grade_input_t in;
+    rfe_mass_grade_t start;
+    rfe_real_t held;
+    double err0;
+    int trip;
+    int k;
+    (void)state;
+    pause_grade_setup((rfe_real_t)RFE_MG_PAUSE_GRADE_BRAKE);
+    mg.p.pause_grade_dv = prm.pause_grade_dv;
+    assert_true(mg.p.pause_grade_dv == (rfe_real_t)0.2); /* the default */
+    start = mg;
+    /* (a) the held grade right */
+    mg.x[2] = (rfe_real_t)PG_THETA;
+    for (k = 0; k <= 200; ++k) {
+        in = braking_on_grade(k);
+        assert_int_equal(step(&in, &e), RFE_MG_PAUSED_BRAKE);
+        assert_true(e.grade == (rfe_real_t)PG_THETA);
+        assert_int_equal(mg.chg_on, 0u);
+    }
+    assert_true(fabs((double)mg.chg_d) < 1e-3);
+    /* (b) the held grade wrong */
+    mg = start;
+    held = start.x[2];
+    trip = expected_trip((double)held, 0.2);
+    assert_true((trip > 20) && (trip < 35));
+    err0 = fabs((double)held - PG_THETA);
+    for (k = 0; k <= 250; ++k) {
+        in = braking_on_grade(k);
+        assert_int_equal(step(&in, &e), RFE_MG_PAUSED_BRAKE);
+        if (k < (trip - 1)) {
+            assert_true((e.grade == held) && (mg.chg_on == 0u));
+        }
+        if (k > trip) {
+            assert_int_equal(mg.chg_on, 1u);
+        }
+    }
+    printf("change test: held grade error %.3g rad, tripped near sample %d, error after the "
+           "pause %.3g rad\n", err0, trip, fabs((double)e.grade - PG_THETA));
+    assert_true(fabs((double)e.grade - PG_THETA) < (0.1 * err0));
+    /* (e) a sample that is not paused clears it */
+    mg.brake_left = (rfe_real_t)0.0;
+    in = cruise((rfe_real_t)15.0, (rfe_real_t)DT);
+    assert_int_equal(step(&in, &e), RFE_OK);
+    assert_true((mg.chg_on == 0u) && (mg.chg_d == (rfe_real_t)0.0));
+    /* (c) vx: the wheels 0.3 m/s behind a right vx hold; without vx they trip at once */
+    mg = start;
+    mg.x[2] = (rfe_real_t)PG_THETA;
+    for (k = 0; k <= 100; ++k) {
+        in = braking_on_grade(k);
+        in.vx = in.v;
+        in.v = (k == 0) ? in.v : (in.v - (rfe_real_t)0.3);
+        in.has |= RFE_MG_HAS_VX;
+        assert_int_equal(step(&in, &e), RFE_MG_PAUSED_BRAKE);
+        assert_true((e.grade == (rfe_real_t)PG_THETA) && (mg.chg_on == 0u));
+        assert_int_equal(mg.slip_latched, 0u);
+    }
+    mg = start;
+    mg.x[2] = (rfe_real_t)PG_THETA;
+    in = braking_on_grade(0);
+    assert_int_equal(step(&in, &e), RFE_MG_PAUSED_BRAKE);
+    in = braking_on_grade(1);
+    in.v -= (rfe_real_t)0.3;
+    assert_int_equal(step(&in, &e), RFE_MG_PAUSED_BRAKE);
+    assert_true((mg.chg_on == 1u) && (e.grade != (rfe_real_t)PG_THETA));
+    /* (d) no test: the first eligible sample learns */
+    mg = start;
+    mg.p.pause_grade_dv = (rfe_real_t)0.0;
+    in = braking_on_grade(0);
+    assert_int_equal(step(&in, &e), RFE_MG_PAUSED_BRAKE);
+    assert_true(e.grade == held); /* after an update: the hold */
+    in = braking_on_grade(1);
+    assert_int_equal(step(&in, &e), RFE_MG_PAUSED_BRAKE);
+    assert_true((mg.chg_on == 1u) && (e.grade != held));
 }
 
 /* REQ-MG-006 */
@@ -1597,6 +1757,8 @@ int main(void)
         cmocka_unit_test(test_abs_gate_decision),
         cmocka_unit_test(test_v_free_decision),
         cmocka_unit_test(test_abs_gate_bad_param_leaves_state),
+        cmocka_unit_test(test_change_test),
+        cmocka_unit_test(test_pause_grade_inert_without_ax),
         cmocka_unit_test(test_adaptation_as_specified),
         cmocka_unit_test(test_adaptation_period),
         cmocka_unit_test(test_factorisation_failures_leave_the_state_untouched),

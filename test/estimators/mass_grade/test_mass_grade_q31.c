@@ -115,6 +115,7 @@ static void dequantise_params(const rfe_mass_grade_params_q31_t *q, rfe_mass_gra
     p->t_curve = rfe_fix_to_double(q->t_curve, RFE_MG_Q_TIME);
     p->pause_grade = (double)q->pause_grade;
     p->pause_grade_slip = rfe_fix_to_double(q->pause_grade_slip, RFE_MG_Q_FC);
+    p->pause_grade_dv = rfe_fix_to_double(q->pause_grade_dv, QV);
     p->m_min = rfe_fix_to_double(q->m_min, QM);
     p->m_max = rfe_fix_to_double(q->m_max, QM);
     p->theta_max = rfe_fix_to_double(q->theta_max, QT);
@@ -323,8 +324,8 @@ static void test_validate_q31(void **state)
     assert_int_equal(rfe_mass_grade_params_validate_q31(&t), RFE_OK);
     t = q; t.pause_grade = 8u;
     assert_int_equal(rfe_mass_grade_params_validate_q31(&t), RFE_ERR_PARAM);
-    t = q; t.pause_grade = 1u; t.use_ax = 0u; /* the grade from ax needs ax */
-    assert_int_equal(rfe_mass_grade_params_validate_q31(&t), RFE_ERR_PARAM);
+    t = q; t.pause_grade = 1u; t.use_ax = 0u; /* inert without ax, not refused */
+    assert_int_equal(rfe_mass_grade_params_validate_q31(&t), RFE_OK);
     t = q; t.pause_grade = 0u; t.use_ax = 0u;
     assert_int_equal(rfe_mass_grade_params_validate_q31(&t), RFE_OK);
     /* the ABS gate's slip in [0, 1] (Q30) */
@@ -335,6 +336,15 @@ static void test_validate_q31(void **state)
     t = q; t.pause_grade_slip = 1 << 30;
     assert_int_equal(rfe_mass_grade_params_validate_q31(&t), RFE_OK);
     t = q; t.pause_grade_slip = 0; /* 0: no gate */
+    assert_int_equal(rfe_mass_grade_params_validate_q31(&t), RFE_OK);
+    /* the change test's speed in [0, 10] m/s (Q24) */
+    t = q; t.pause_grade_dv = -1;
+    assert_int_equal(rfe_mass_grade_params_validate_q31(&t), RFE_ERR_PARAM);
+    t = q; t.pause_grade_dv = (10 << 24) + 1;
+    assert_int_equal(rfe_mass_grade_params_validate_q31(&t), RFE_ERR_PARAM);
+    t = q; t.pause_grade_dv = 10 << 24;
+    assert_int_equal(rfe_mass_grade_params_validate_q31(&t), RFE_OK);
+    t = q; t.pause_grade_dv = 0; /* 0: no test */
     assert_int_equal(rfe_mass_grade_params_validate_q31(&t), RFE_OK);
     t = q; t.adaptive = 2u;
     assert_int_equal(rfe_mass_grade_params_validate_q31(&t), RFE_ERR_PARAM);
@@ -715,8 +725,9 @@ static void test_pause_grade_q31(void **state)
     int k;
     (void)state;
     default_q31(&q);
-    assert_int_equal(q.pause_grade, 0u); /* off by default */
+    assert_int_equal(q.pause_grade, RFE_MG_PAUSE_GRADE_BRAKE); /* the brake bit by default */
     q.pause_grade = RFE_MG_PAUSE_GRADE_BRAKE;
+    q.pause_grade_dv = 0; /* the learning mode itself: test_change_test_q31 runs the test */
     assert_int_equal(rfe_mass_grade_init_q31(&mg, &q), RFE_OK);
     for (k = 0; k < 100; ++k) {
         assert_int_equal(rfe_mass_grade_step_q31(&mg, &in, &e), RFE_OK);
@@ -805,6 +816,7 @@ static void test_abs_gate_q31(void **state)
     default_q31(&q);
     assert_int_equal(q.pause_grade_slip, rfe_fix_from_double(0.05, RFE_MG_Q_FC, &sat));
     q.pause_grade = RFE_MG_PAUSE_GRADE_BRAKE;
+    q.pause_grade_dv = 0; /* the gate alone: test_change_test_q31 runs the change test */
     assert_int_equal(rfe_mass_grade_init_q31(&mg, &q), RFE_OK);
     for (k = 0; k < 100; ++k) {
         assert_int_equal(rfe_mass_grade_step_q31(&mg, &in, &e), RFE_OK);
@@ -892,6 +904,122 @@ static void test_abs_gate_q31(void **state)
     bad.pause_grade_slip = (1 << 30) + 1;
     assert_int_equal(rfe_mass_grade_init_q31(&mg, &bad), RFE_ERR_PARAM);
     assert_memory_equal(&mg, &before, sizeof(mg));
+    assert_int_equal(sat, 0u);
+}
+
+/* Braked sample k (0.01 s apart from 20 m/s at 2 m/s^2) on the 0.05 rad climb of
+ * test_pause_grade_q31, the wheels @p behind m/s behind the car (from k = 1) and vx given
+ * when @p with_vx. */
+static rfe_mass_grade_input_q31_t braking_q31(int k, double behind, int with_vx)
+{
+    rfe_mass_grade_input_q31_t s = cruise_sample(20.0);
+    const double vx = 20.0 - (0.02 * (double)k);
+    uint32_t sat = 0u;
+    s.vx = rfe_fix_from_double(vx, QV, &sat);
+    s.v = rfe_fix_from_double((k == 0) ? vx : (vx - behind), QV, &sat);
+    s.torque = rfe_fix_from_double(-2000.0, RFE_MG_Q_TORQUE, &sat);
+    s.ax = rfe_fix_from_double(-2.0 + (9.81 * sin(0.05)), QV, &sat);
+    s.brake = 1u;
+    s.has |= RFE_MG_HAS_BRAKE | ((with_vx != 0) ? RFE_MG_HAS_VX : 0u);
+    assert_int_equal(sat, 0u);
+    return s;
+}
+
+/* REQ-MG-006 the change test (§4.2, pause_grade_dv) in the twin, as the float twin's
+ * test_change_test: the default 0.2 m/s in Q24; the held grade set to the truth holds bit for
+ * bit through 2 s of braking (its residual within 100 LSB of Q24: only the rounding of g sin
+ * theta and of the products, 1/2 LSB each per sample, 200 samples); the held grade of the
+ * level cruise (0.05 rad off) holds until the residual, g sin(0.05) t = 0.49 m/s^2 t, passes
+ * 0.2 m/s (0.41 s: sample 42 at 0.01 s, computed in double from the samples; one sample
+ * either side for the Q24 rounding, the residual growing 4.9e-3 m/s a sample, 8e4 LSB) and
+ * then learns to under a tenth of its error by the end (2 s; measured 3.2 mrad of 50); wheels
+ * 0.3 m/s behind a right vx hold, without vx they trip at once; 0: learned at once; an update
+ * clears it. */
+static void test_change_test_q31(void **state)
+{
+    rfe_mass_grade_params_q31_t q;
+    rfe_mass_grade_q31_t mg;
+    rfe_mass_grade_q31_t start;
+    rfe_mass_grade_estimate_q31_t e;
+    rfe_mass_grade_input_q31_t in = cruise_sample(20.0);
+    rfe_mass_grade_input_q31_t s;
+    uint32_t sat = 0u;
+    rfe_fix_t held;
+    rfe_fix_t truth;
+    double err0;
+    double d = 0.0;
+    int trip = -1;
+    int k;
+    (void)state;
+    default_q31(&q);
+    assert_int_equal(q.pause_grade_dv, rfe_fix_from_double(0.2, QV, &sat));
+    q.pause_grade = RFE_MG_PAUSE_GRADE_BRAKE;
+    assert_int_equal(rfe_mass_grade_init_q31(&mg, &q), RFE_OK);
+    for (k = 0; k < 100; ++k) {
+        assert_int_equal(rfe_mass_grade_step_q31(&mg, &in, &e), RFE_OK);
+    }
+    start = mg;
+    held = start.x[2];
+    truth = rfe_fix_from_double(0.05, QT, &sat);
+    /* the held grade right */
+    mg.x[2] = truth;
+    for (k = 0; k <= 200; ++k) {
+        s = braking_q31(k, 0.0, 0);
+        assert_int_equal(rfe_mass_grade_step_q31(&mg, &s, &e), RFE_MG_PAUSED_BRAKE);
+        assert_true((e.grade == truth) && (mg.chg_on == 0u));
+    }
+    assert_true(llabs(mg.chg_d) < 100);
+    /* the held grade wrong: the trip expected from the samples' definition, in double */
+    for (k = 1; k < 1000; ++k) {
+        d += -0.02 - (0.01 * ((-2.0 + (9.81 * sin(0.05))) -
+                               (9.81 * sin(rfe_fix_to_double(held, QT)))));
+        if (fabs(d) > 0.2) {
+            trip = k;
+            break;
+        }
+    }
+    assert_true((trip > 40) && (trip < 70));
+    err0 = fabs(rfe_fix_to_double(held, QT) - 0.05);
+    mg = start;
+    for (k = 0; k <= 200; ++k) {
+        s = braking_q31(k, 0.0, 0);
+        assert_int_equal(rfe_mass_grade_step_q31(&mg, &s, &e), RFE_MG_PAUSED_BRAKE);
+        if (k < (trip - 1)) {
+            assert_true((e.grade == held) && (mg.chg_on == 0u));
+        }
+        if (k > trip) {
+            assert_int_equal(mg.chg_on, 1u);
+        }
+    }
+    printf("q31 change test: held grade error %.3g rad, trip near sample %d, then %.3g rad\n",
+           err0, trip, fabs(rfe_fix_to_double(e.grade, QT) - 0.05));
+    assert_true(fabs(rfe_fix_to_double(e.grade, QT) - 0.05) < (0.1 * err0));
+    mg.brake_left = 0; /* an update clears it */
+    assert_int_equal(rfe_mass_grade_step_q31(&mg, &in, &e), RFE_OK);
+    assert_true((mg.chg_on == 0u) && (mg.chg_d == 0));
+    /* the test's speed: vx where given */
+    mg = start;
+    mg.x[2] = truth;
+    for (k = 0; k <= 100; ++k) {
+        s = braking_q31(k, 0.3, 1);
+        assert_int_equal(rfe_mass_grade_step_q31(&mg, &s, &e), RFE_MG_PAUSED_BRAKE);
+        assert_true((e.grade == truth) && (mg.chg_on == 0u) && (mg.slip_latched == 0u));
+    }
+    mg = start;
+    mg.x[2] = truth;
+    s = braking_q31(0, 0.3, 0);
+    assert_int_equal(rfe_mass_grade_step_q31(&mg, &s, &e), RFE_MG_PAUSED_BRAKE);
+    s = braking_q31(1, 0.3, 0);
+    assert_int_equal(rfe_mass_grade_step_q31(&mg, &s, &e), RFE_MG_PAUSED_BRAKE);
+    assert_true((mg.chg_on == 1u) && (e.grade != truth));
+    /* no test: the first eligible sample learns */
+    mg = start;
+    mg.p.pause_grade_dv = 0;
+    s = braking_q31(0, 0.0, 0);
+    assert_int_equal(rfe_mass_grade_step_q31(&mg, &s, &e), RFE_MG_PAUSED_BRAKE);
+    s = braking_q31(1, 0.0, 0);
+    assert_int_equal(rfe_mass_grade_step_q31(&mg, &s, &e), RFE_MG_PAUSED_BRAKE);
+    assert_true((mg.chg_on == 1u) && (e.grade != held));
     assert_int_equal(sat, 0u);
 }
 
@@ -1042,6 +1170,7 @@ static size_t n_slip_paused;
  * steps whose latch is set (the same in both twins, checked at every step). */
 static int abs_mode;
 static size_t n_abs_latched;
+static size_t n_chg_on; /* steps whose change test (pause_grade_dv) is tripped, both twins */
 
 static void compare_one(const char *name)
 {
@@ -1107,6 +1236,8 @@ static void compare_one(const char *name)
         assert_int_equal(sq_st, sd_st);
         n_slip_paused += (sd_st == RFE_MG_PAUSED_SLIP) ? 1u : 0u;
         assert_int_equal(mq.slip_latched, md.slip_latched);
+        assert_int_equal(mq.chg_on, md.chg_on); /* the change test decides alike */
+        n_chg_on += mq.chg_on;
         n_abs_latched += mq.slip_latched;
         ++n_steps;
         assert_int_equal(eq.sat, 0u);
@@ -1229,6 +1360,7 @@ static void test_pause_grade_decision_against_double(void **state)
     p.fr = 0.0;
     p.rho = 0.0;
     p.pause_grade = (double)RFE_MG_PAUSE_GRADE_BRAKE;
+    p.pause_grade_dv = 0.0; /* v_free's decision alone (the change test: compare_one) */
     assert_int_equal(rfe_mass_grade_params_to_q31(&p, &q), RFE_OK);
     dequantise_params(&q, &pd);
     assert_int_equal(rfe_mass_grade_init(&md, &pd), RFE_OK);
@@ -1281,6 +1413,7 @@ static void test_every_log_against_double(void **state)
 {
     (void)state;
     assert_true(test_each_csv(GOLDEN_DIR, compare_one) >= MIN_GOLDENS);
+    printf("%zu steps with the change test tripped in both twins\n", n_chg_on);
     printf("%zu steps; q31 vs double, every log and configuration: mass %.3g kg (UKF %.3g sd_mass), "
            "grade %.3g rad (%.3g sd_grade), v %.3g sd_v, UKF sds %.3g relative\n",
            n_steps, worst_mass_kg, worst_mass_sd, worst_grade_rad, worst_grade_sd, worst_v_sd,
@@ -1305,6 +1438,7 @@ int main(void)
         cmocka_unit_test(test_curve_pause_q31),
         cmocka_unit_test(test_pause_grade_q31),
         cmocka_unit_test(test_abs_gate_q31),
+        cmocka_unit_test(test_change_test_q31),
         cmocka_unit_test(test_abs_gate_against_double),
         cmocka_unit_test(test_pause_grade_decision_against_double),
         cmocka_unit_test(test_slip_pause_against_double),
