@@ -129,7 +129,8 @@ def markdown(res):
         by_target.setdefault(r["target"], []).append(r)
     for target, rows in by_target.items():
         core = target.split("-")[0]
-        base = next((r for r in rows if r["flags"] == res["shipped"].get(core)), rows[0])
+        shipped = res["shipped"].get(target, res["shipped"].get(core))  # a target may override its core
+        base = next((r for r in rows if r["flags"] == shipped), rows[0])
         for r in rows:
             mark = " (shipped)" if r is base else ""
             lib = f"{r['library_flash_map'] / 1024:.1f} kB" if r.get("library_flash_map") else "– (LTO)"
@@ -167,7 +168,7 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--build", default="build/firmware-opt", help="one tree per setting under it")
     ap.add_argument("--shipped-build", default="build/firmware", help="the shipped build (make pil's)")
-    ap.add_argument("--shipped", default="m4f=-O2 m3=-O2 m0p=-Os", help="<core>=<FW_OPT_core> ...")
+    ap.add_argument("--shipped", default="m4f=-O2 m3=-O2 m0p=-Os", help="<core>=<FW_OPT_core> ... and <target>=<FW_OPT_target> where a target overrides its core")
     ap.add_argument("--settings", default="Os O2 O3 Os-lto O2-lto O3-lto")
     ap.add_argument("--runs", default="m4f-f32:mps2-an386 m4f-q31:mps2-an386 m3-q31:mps2-an385 m0p-q31:microbit")
     ap.add_argument("--configs", default="paper.sckf default.sckf", help="make pil's PIL_CONFIGS (tags)")

@@ -469,8 +469,10 @@ static rfe_status_t filter_estimate(const rfe_friction_t *est, rfe_estimate_t *o
         const size_t k = state_of(est, w);
         const uint8_t sd_ok = ((sd_valid > RFE_R(0.0)) && (sd[k] <= sd_valid)) ? 1u : 0u;
         const uint8_t inside = ((x[k] > lo) && (x[k] < hi)) ? 1u : 0u;
-        /* the hold exists for the two sides only (est->n == 2: k is 0 or 1) */
-        const uint8_t held = (est->n == 2u) ? est->hold.held[k] : 0u;
+        /* the hold exists for the two sides only (est->n == 2: k is 0 or 1); the mask says
+         * so to a compiler that cannot tie n to the structure (GCC -O3 unrolls the loop and
+         * would otherwise see held[2] on the wheels structure's path) */
+        const uint8_t held = (est->n == 2u) ? est->hold.held[k & 1u] : 0u;
         out->mu[w] = x[k];
         out->sd[w] = sd[k];
         out->valid[w] = rfe_friction_held_valid(w, held, rfe_friction_by_sd(sd_ok, inside));
