@@ -71,8 +71,8 @@ static void body_terms_q31(const rfe_vehicle_q31_t *veh, rfe_fix_t fx, rfe_fix_t
     int64_t m3;
 
     /* Exact Q45: |fx c - fy s| <= |(fx, fy)| |(c, s)| <= 2^31.5 2^30 (1 + 2^-30) < 2^62. */
-    fbx = ((int64_t)fx * ci) - ((int64_t)fy * si);
-    fby = ((int64_t)fx * si) + ((int64_t)fy * ci);
+    fbx = rfe_fix_mul_m31(fx, ci) - rfe_fix_mul_m31(fy, si);
+    fby = rfe_fix_mul_m31(fx, si) + rfe_fix_mul_m31(fy, ci);
     /* [Fbx/m, Fby/m] (Q45 x Q38 / 2^59 -> Q24) and (x_i Fby - y_i Fbx)/J (two Q30 terms
      * < 2^39.5, rounded once more to Q24). */
     m3 = rfe_q31_mul64x32(fby, px_J, 53u) - rfe_q31_mul64x32(fbx, py_J, 53u);

@@ -855,11 +855,11 @@ int32_t rfe_q31_sin_q55(int64_t phi)
     const int32_t u3 = rshr32(ds * INV24_Q16, 9u) - (int32_t)((c6 + 4u) >> 3);
     /* u2 = -S/2 + d u3, Q31 (S + 2 < 2^32: S <= 2^32 - 147808) */
     const int32_t u2 =
-        (int32_t)rshr64((int64_t)d * (int64_t)u3, 36u) - (int32_t)((s + 2u) >> 2);
+        (int32_t)rshr64(rfe_fix_mul32x32(d, u3), 36u) - (int32_t)((s + 2u) >> 2);
     /* u1 = C + d u2, Q31, <= 2^31 */
-    const int64_t u1 = (int64_t)c + rshr64((int64_t)d * (int64_t)u2, 36u);
+    const int64_t u1 = (int64_t)c + rshr64(rfe_fix_mul32x32(d, u2), 36u);
     /* G = S + d u1, Q62 (|d u1| <= 2^61 in Q67) */
-    const int64_t g = (int64_t)((uint64_t)s << 30) + rshr64((int64_t)d * u1, 5u);
+    const int64_t g = (int64_t)((uint64_t)s << 30) + rshr64(rfe_fix_mul_m31((int64_t)d, u1), 5u);
 
     /* g + 2^31 > 0 (G > -2^-32.64): rounded to Q30 */
     return (int32_t)(((uint64_t)g + ((uint64_t)1 << 31)) >> 32);
