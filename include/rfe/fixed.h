@@ -389,7 +389,7 @@ static inline rfe_fix_t rfe_fix_narrow(int64_t v, unsigned int s, uint32_t *sat)
  *  product (|a b| <= 2^62) is formed in int64 and rounded half up. */
 static inline rfe_fix_t rfe_fix_mul(rfe_fix_t a, rfe_fix_t b, unsigned int s, uint32_t *sat)
 {
-    return rfe_fix_narrow(rfe_fix_mul32x32(a, b), s, sat);
+    return rfe_fix_narrow((int64_t)a * (int64_t)b, s, sat);
 }
 
 /** Saturating int64 a + b, to [-INT64_MAX, INT64_MAX] (for long accumulations). */

@@ -107,7 +107,7 @@ static void slip_sens_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh,
     if (rfe_q31_within(kappa, ONE_Q30 - 1) != 0) {
         /* d kappa = (d(omega R) (1 - [den = |omega R|] kappa sgn(omega R))
          *            - d v_wx (1 + [den = |v_wx|] kappa sgn(v_wx))) / den, the speeds in Q51 */
-        const int64_t vr = (int64_t)u->omega[i] * (int64_t)veh->R;
+        const int64_t vr = rfe_fix_mul32x32(u->omega[i], veh->R);
         const uint64_t avr = rfe_q31_mag64(vr);
         const uint64_t avx = (uint64_t)((vwx < 0) ? -(int64_t)vwx : (int64_t)vwx) << 28;
         const uint64_t vmin = (uint64_t)tp->v_min << 28;

@@ -482,10 +482,10 @@ static void lat_coef_q31(const rfe_vehicle_q31_t *veh, int32_t c, int32_t s, siz
     const int32_t py_J = ((i == (size_t)RFE_FL) || (i == (size_t)RFE_RL)) ? y_J : -y_J;
     const int32_t ci = (i < (size_t)RFE_RL) ? c : ONE_Q30;
     const int32_t si = (i < (size_t)RFE_RL) ? s : 0;
-    k[0] = (int64_t)si * (int64_t)veh->inv_m;
-    k[1] = (int64_t)ci * (int64_t)veh->inv_m;
-    k[2] = ((int64_t)si * (int64_t)px_J) - ((int64_t)ci * (int64_t)py_J);
-    k[3] = ((int64_t)ci * (int64_t)px_J) + ((int64_t)si * (int64_t)py_J);
+    k[0] = rfe_fix_mul32x32(si, veh->inv_m);
+    k[1] = rfe_fix_mul32x32(ci, veh->inv_m);
+    k[2] = rfe_fix_mul32x32(si, px_J) - rfe_fix_mul32x32(ci, py_J);
+    k[3] = rfe_fix_mul32x32(ci, px_J) + rfe_fix_mul32x32(si, py_J);
 }
 
 /* The map in plain Q36 integers (lat_q36_t, meas_cols_internal_q31.h). */

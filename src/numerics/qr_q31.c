@@ -309,7 +309,7 @@ rfe_status_t rfe_qr_solve_lower_q31(const rfe_fix_t *L, size_t n, size_t ldl, rf
         for (i = 0u; i < n; ++i) {
             int64_t acc = (int64_t)AT(B, ldb, i, c) * rfe_q31_pow2((unsigned int)shift);
             for (j = 0u; j < i; ++j) {
-                acc = rfe_fix_add64(acc, -((int64_t)AT(L, ldl, i, j) * (int64_t)AT(B, ldb, j, c)),
+                acc = rfe_fix_add64(acc, -rfe_fix_mul32x32(AT(L, ldl, i, j), AT(B, ldb, j, c)),
                                     &count);
             }
             AT(B, ldb, i, c) = rfe_q31_div_round(acc, AT(L, ldl, i, i), &count);
@@ -337,7 +337,7 @@ rfe_status_t rfe_qr_solve_lower_t_q31(const rfe_fix_t *L, size_t n, size_t ldl, 
             const size_t i = n - 1u - up; /* rows n-1 .. 0 */
             int64_t acc = (int64_t)AT(B, ldb, i, c) * rfe_q31_pow2((unsigned int)shift);
             for (j = i + 1u; j < n; ++j) {
-                acc = rfe_fix_add64(acc, -((int64_t)AT(L, ldl, j, i) * (int64_t)AT(B, ldb, j, c)),
+                acc = rfe_fix_add64(acc, -rfe_fix_mul32x32(AT(L, ldl, j, i), AT(B, ldb, j, c)),
                                     &count);
             }
             AT(B, ldb, i, c) = rfe_q31_div_round(acc, AT(L, ldl, i, i), &count);
