@@ -865,6 +865,41 @@ int32_t rfe_q31_sin_q55(int64_t phi)
     return (int32_t)(((uint64_t)g + ((uint64_t)1 << 31)) >> 32);
 }
 
+/* ---- the rounded division of the linear algebra and the filters (internal_q31.h) ---------- */
+
+/** round(num / den) for den > 0, ties away from zero (exactly rounded on the magnitude, so
+ *  odd in num), saturating to the symmetric int32 range with a count in *sat. The quotient
+ *  floor(|num| / den) by rfe_q31_udiv64_32 (the Cortex-M's two 32-bit divisions instead of
+ *  libgcc's 64-bit __udivmoddi4) where it fits 32 bits, |num| < den 2^32, i.e. the high word
+ *  of |num| below den; the remainder |num| - q den < den < 2^31 is then the low word's
+ *  difference modulo 2^32. A larger quotient saturates either way. */
+rfe_fix_t rfe_q31_div_round(int64_t num, rfe_fix_t den, uint32_t *sat)
+{
+    const uint32_t d32 = (uint32_t)den;
+    const uint64_t d = (uint64_t)den;
+    const uint64_t mag = rfe_q31_mag64_any(num);
+    uint64_t q;
+    uint64_t rem;
+    int64_t r;
+    if ((mag >> 32) < d) {
+        const uint32_t q32 = rfe_q31_udiv64_32(mag, d32);
+        q = (uint64_t)q32;
+        rem = (uint64_t)((uint32_t)mag - (q32 * d32)); /* < den: exact modulo 2^32 */
+    } else {
+        q = mag / d;
+        rem = mag % d;
+    }
+    if ((2u * rem) >= d) { /* rem < 2^31: no overflow */
+        q += 1u;
+    }
+    if (q > (uint64_t)RFE_FIX_MAX) {
+        rfe_fix_count_sat(sat);
+        q = (uint64_t)RFE_FIX_MAX;
+    }
+    r = (int64_t)q;
+    return (rfe_fix_t)((num < 0) ? -r : r);
+}
+
 /* ---- the estimators' angle functions (fxmath_internal_q31.h) ------------------------------ */
 
 /* pi in Q31, round(pi 2^31) = round(6746518852.26). */

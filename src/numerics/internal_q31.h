@@ -327,37 +327,9 @@ static inline uint64_t rfe_q31_mag64_any(int64_t v)
 }
 
 /** round(num / den) for den > 0, ties away from zero (exactly rounded on the magnitude, so
- *  odd in num), saturating to the symmetric int32 range with a count in *sat. The quotient
- *  floor(|num| / den) by rfe_q31_udiv64_32 (the Cortex-M's two 32-bit divisions instead of
- *  libgcc's 64-bit __udivmoddi4) where it fits 32 bits, |num| < den 2^32, i.e. the high word
- *  of |num| below den; the remainder |num| - q den < den < 2^31 is then the low word's
- *  difference modulo 2^32. A larger quotient saturates either way. */
-static inline rfe_fix_t rfe_q31_div_round(int64_t num, rfe_fix_t den, uint32_t *sat)
-{
-    const uint32_t d32 = (uint32_t)den;
-    const uint64_t d = (uint64_t)den;
-    const uint64_t mag = rfe_q31_mag64_any(num);
-    uint64_t q;
-    uint64_t rem;
-    int64_t r;
-    if ((mag >> 32) < d) {
-        const uint32_t q32 = rfe_q31_udiv64_32(mag, d32);
-        q = (uint64_t)q32;
-        rem = (uint64_t)((uint32_t)mag - (q32 * d32)); /* < den: exact modulo 2^32 */
-    } else {
-        q = mag / d;
-        rem = mag % d;
-    }
-    if ((2u * rem) >= d) { /* rem < 2^31: no overflow */
-        q += 1u;
-    }
-    if (q > (uint64_t)RFE_FIX_MAX) {
-        rfe_fix_count_sat(sat);
-        q = (uint64_t)RFE_FIX_MAX;
-    }
-    r = (int64_t)q;
-    return (rfe_fix_t)((num < 0) ? -r : r);
-}
+ *  odd in num), saturating to the symmetric int32 range with a count in *sat (fxmath_q31.c:
+ *  out of line, one copy of its 32-bit division path for every caller). */
+rfe_fix_t rfe_q31_div_round(int64_t num, rfe_fix_t den, uint32_t *sat);
 
 /** round(sqrt(x)) for every uint64 (<= 2^32): floor root r from rfe_fix_isqrt64, plus one
  *  exactly when x - r^2 > r (sqrt(x) is never a half-integer). */
