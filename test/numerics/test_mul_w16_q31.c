@@ -9,7 +9,9 @@
  * product of the operands, and for rfe_q31_mul64x32 the 128-bit product rounded half up
  * (GCC's and Clang's __int128 where the host has it). Operands: every pair of a set of edge
  * values (0, +-1, the 16-bit half boundaries, +-(2^31 - 1), -2^31, +-2^31 for the int64
- * forms) and random pairs, uniform and with a log-uniform magnitude.
+ * forms) and random pairs, uniform and with a log-uniform magnitude. Also rfe_q31_div_round
+ * (internal_q31.h), whose quotient comes from 32-bit divisions where it fits 32 bits, against
+ * the 64-bit division.
  */
 #define RFE_FIX_MUL64_W16 1
 
@@ -107,6 +109,58 @@ static void test_mul32x32_random(void **state)
     }
 }
 
+/* round(num / den), ties away from zero, saturated to +-INT32_MAX with a count: the 64-bit
+ * division on the magnitude */
+static int32_t ref_div_round(int64_t num, int32_t den, uint32_t *sat)
+{
+    const uint64_t mag = (num < 0) ? ((uint64_t)(-(num + 1)) + 1u) : (uint64_t)num;
+    const uint64_t d = (uint64_t)den;
+    uint64_t q = (mag / d) + (((2u * (mag % d)) >= d) ? 1u : 0u);
+    if (q > (uint64_t)INT32_MAX) {
+        q = (uint64_t)INT32_MAX;
+        ++*sat;
+    }
+    return (num < 0) ? -(int32_t)q : (int32_t)q;
+}
+
+/* rfe_q31_div_round's 32-bit quotient (where it fits: |num| < den 2^32) and its 64-bit
+ * fallback against the 64-bit division: every result and every saturation count equal, at
+ * the edges (ties, quotients around 2^31 and 2^32, INT64_MIN) and on random operands. */
+/* REQ-FXP-001 */
+static void test_div_round_paths(void **state)
+{
+    static const int64_t nums[] = {0, 1, -1, 2, -3, 5, -5, INT32_MAX, INT32_MIN,
+                                   ((int64_t)1 << 32) - 1, (int64_t)1 << 32, -((int64_t)1 << 32),
+                                   ((int64_t)1 << 62) + 12345, INT64_MAX, INT64_MIN,
+                                   -INT64_MAX};
+    static const int32_t dens[] = {1, 2, 3, 7, 0xFFFF, 0x10000, 0x7FFFFFFE, INT32_MAX};
+    int k;
+    size_t i;
+    size_t j;
+    (void)state;
+    for (i = 0u; i < sizeof nums / sizeof nums[0]; ++i) {
+        for (j = 0u; j < sizeof dens / sizeof dens[0]; ++j) {
+            uint32_t sat = 0u;
+            uint32_t want_sat = 0u;
+            const int32_t want = ref_div_round(nums[i], dens[j], &want_sat);
+            assert_int_equal(rfe_q31_div_round(nums[i], dens[j], &sat), want);
+            assert_int_equal(sat, want_sat);
+        }
+    }
+    rng_seed(2114u);
+    for (k = 0; k < 200000; k += LIGHT_STEP) {
+        const unsigned int bits = rand_u32() % 64u;
+        const uint64_t m = (((uint64_t)rand_u32() << 32) | rand_u32()) >> (63u - bits) >> 1;
+        const int64_t num = ((k & 1) != 0) ? -(int64_t)m : (int64_t)m;
+        const int32_t den = (int32_t)(1u + ((rand_u32() >> (rand_u32() % 32u)) & 0x7FFFFFFEu));
+        uint32_t sat = 0u;
+        uint32_t want_sat = 0u;
+        const int32_t want = ref_div_round(num, den, &want_sat);
+        assert_int_equal(rfe_q31_div_round(num, den, &sat), want);
+        assert_int_equal(sat, want_sat);
+    }
+}
+
 #if defined(__SIZEOF_INT128__)
 __extension__ typedef __int128 i128_t;
 
@@ -160,6 +214,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_mul32x32_edges),
         cmocka_unit_test(test_mul32x32_random),
+        cmocka_unit_test(test_div_round_paths),
 #if defined(__SIZEOF_INT128__)
         cmocka_unit_test(test_mul64x32_w16),
 #endif
