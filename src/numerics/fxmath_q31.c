@@ -883,8 +883,9 @@ rfe_fix_t rfe_q31_div_round(int64_t num, rfe_fix_t den, uint32_t *sat)
     int64_t r;
     if ((mag >> 32) < d) {
         const uint32_t q32 = rfe_q31_udiv64_32(mag, d32);
+        const uint32_t rem32 = (uint32_t)mag - (q32 * d32); /* < den: exact modulo 2^32 */
         q = (uint64_t)q32;
-        rem = (uint64_t)((uint32_t)mag - (q32 * d32)); /* < den: exact modulo 2^32 */
+        rem = (uint64_t)rem32;
     } else {
         q = mag / d;
         rem = mag % d;
