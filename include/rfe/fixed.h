@@ -130,6 +130,115 @@ static inline rfe_fix_t rfe_fix_clamp(rfe_fix_t a, rfe_fix_t lo, rfe_fix_t hi)
 #define RFE_FIX_SHIFT64_W32 0
 #endif
 
+/*
+ * The Cortex-M0+ (Thumb-1) multiplies 32 x 32 -> 32 bits only (MULS), so GCC calls libgcc's
+ * general 64 x 64 multiply (__aeabi_lmul, ~41 instructions with the call) for every int64
+ * product, even of two widened int32. Where RFE_FIX_MUL64_W16 (Thumb-1 only)
+ * rfe_fix_mul32x32 forms such a product from four 16 x 16 -> 32 partial products instead
+ * (rfe_fix_mul32x32_w16, inlined: ~30 instructions). The same integer on every core
+ * (test_fxmath_q31.c checks the halves against the int64 product on the host; make pil checks
+ * the Cortex-M0+ image against the host bit for bit).
+ */
+#ifndef RFE_FIX_MUL64_W16 /* a host test sets it to 1 to run the Cortex-M0+ forms */
+#define RFE_FIX_MUL64_W16 RFE_FIX_SHIFT64_W32
+#endif
+
+/* -Os keeps a helper of this size out of line, and a call costs what it saves. */
+#if defined(__GNUC__)
+/* MISRA-DEV-02: a GNU attribute (Rule 1.2, language extension), only under __GNUC__ */
+#define RFE_FIX_INLINE_ALWAYS __attribute__((always_inline)) inline
+#else
+#define RFE_FIX_INLINE_ALWAYS inline
+#endif
+
+/** ma mb exactly for ma, mb <= 2^31, from 32-bit operations only: in 16-bit halves,
+ *  ma = ah 2^16 + al, mb = bh 2^16 + bl (ah, bh <= 2^15; al, bl < 2^16),
+ *    ma mb = ah bh 2^32 + (al bh + ah bl) 2^16 + al bl,
+ *  every partial product below 2^32 and al bh + ah bl <= 2 * 2^15 (2^16 - 1) < 2^32 too, so
+ *  the middle sum needs no carry word; the product is <= 2^62. */
+static RFE_FIX_INLINE_ALWAYS uint64_t rfe_fix_umul31_w16(uint32_t ma, uint32_t mb)
+{
+    const uint32_t al = ma & 0xFFFFu;
+    const uint32_t ah = ma >> 16;
+    const uint32_t bl = mb & 0xFFFFu;
+    const uint32_t bh = mb >> 16;
+    const uint32_t mid = (al * bh) + (ah * bl);
+    const uint32_t hh = ah * bh;
+    const uint32_t ll = al * bl;
+    const uint64_t hl = ((uint64_t)hh << 32) | (uint64_t)ll;
+    return hl + ((uint64_t)mid << 16);
+}
+
+/** a b exactly for |a|, |b| <= 2^31 (int64 holding them), from 32-bit operations only: the
+ *  magnitudes (their low words negated in uint32, exact up to 2^31) by rfe_fix_umul31_w16,
+ *  <= 2^62 so the conversion to int64 is exact, then the sign of a b. */
+static RFE_FIX_INLINE_ALWAYS int64_t rfe_fix_mul_m31_w16(int64_t a, int64_t b)
+{
+    const uint32_t ua = (uint32_t)a; /* modulo 2^32 */
+    const uint32_t ub = (uint32_t)b;
+    const uint32_t na = 0u - ua;
+    const uint32_t nb = 0u - ub;
+    const uint32_t ma = (a < 0) ? na : ua;
+    const uint32_t mb = (b < 0) ? nb : ub;
+    const int64_t r = (int64_t)rfe_fix_umul31_w16(ma, mb);
+    return ((a < 0) != (b < 0)) ? -r : r;
+}
+
+/** a b for two int32 from 32-bit operations only (rfe_fix_mul_m31_w16). */
+static RFE_FIX_INLINE_ALWAYS int64_t rfe_fix_mul32x32_w16(int32_t a, int32_t b)
+{
+    return rfe_fix_mul_m31_w16((int64_t)a, (int64_t)b);
+}
+
+/** a b exactly for any uint32 a, b (< 2^64), in 16-bit halves as rfe_fix_mul32x32_w16, but
+ *  al bh + ah bl can reach 2^33 here: its carry is the bit 2^48 of the product. */
+static RFE_FIX_INLINE_ALWAYS uint64_t rfe_fix_umul32x32_w16(uint32_t a, uint32_t b)
+{
+    const uint32_t al = a & 0xFFFFu;
+    const uint32_t ah = a >> 16;
+    const uint32_t bl = b & 0xFFFFu;
+    const uint32_t bh = b >> 16;
+    const uint32_t m1 = al * bh;
+    const uint32_t mid = m1 + (ah * bl); /* modulo 2^32 */
+    const uint64_t carry = (mid < m1) ? ((uint64_t)1 << 48) : 0u;
+    const uint32_t hh = ah * bh;
+    const uint32_t ll = al * bl;
+    const uint64_t hl = ((uint64_t)hh << 32) | (uint64_t)ll;
+    return (hl + ((uint64_t)mid << 16)) + carry;
+}
+
+/** (uint64)a * (uint64)b: as rfe_fix_mul32x32 for unsigned operands. */
+static RFE_FIX_INLINE_ALWAYS uint64_t rfe_fix_umul32x32(uint32_t a, uint32_t b)
+{
+#if RFE_FIX_MUL64_W16
+    return rfe_fix_umul32x32_w16(a, b);
+#else
+    return (uint64_t)a * (uint64_t)b;
+#endif
+}
+
+/** a b for int64 a, b of magnitude <= 2^31 (a product <= 2^62): as rfe_fix_mul32x32, for
+ *  the values just outside int32 (2^31, a difference or a negation of two int32). */
+static RFE_FIX_INLINE_ALWAYS int64_t rfe_fix_mul_m31(int64_t a, int64_t b)
+{
+#if RFE_FIX_MUL64_W16
+    return rfe_fix_mul_m31_w16(a, b);
+#else
+    return a * b;
+#endif
+}
+
+/** (int64)a * (int64)b: the 16-bit partial products where RFE_FIX_MUL64_W16, else the int64
+ *  product (one SMULL on the Cortex-M3/M4). */
+static RFE_FIX_INLINE_ALWAYS int64_t rfe_fix_mul32x32(int32_t a, int32_t b)
+{
+#if RFE_FIX_MUL64_W16
+    return rfe_fix_mul32x32_w16(a, b);
+#else
+    return (int64_t)a * (int64_t)b;
+#endif
+}
+
 /** u >> s for 0 <= s <= 63 from the 32-bit halves (no libgcc call); rfe_fix_ushr64 takes it
  *  where RFE_FIX_SHIFT64_W32, else the int64 shift: the same integer (test_fxmath_q31.c
  *  checks the halves on the host). */

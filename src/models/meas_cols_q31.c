@@ -78,7 +78,7 @@ typedef struct {
 static qv_q31_t sens_q31(int64_t num, rfe_xf_t q, int qnum)
 {
     qv_q31_t r;
-    r.m = num * (int64_t)q.m;
+    r.m = rfe_fix_mul_m31(num, (int64_t)q.m);
     r.e = q.e - qnum;
     norm30_q31(&r.m, 1u, &r.e);
     return r;
@@ -107,7 +107,7 @@ static void slip_sens_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q31_t *veh,
     if (rfe_q31_within(kappa, ONE_Q30 - 1) != 0) {
         /* d kappa = (d(omega R) (1 - [den = |omega R|] kappa sgn(omega R))
          *            - d v_wx (1 + [den = |v_wx|] kappa sgn(v_wx))) / den, the speeds in Q51 */
-        const int64_t vr = (int64_t)u->omega[i] * (int64_t)veh->R;
+        const int64_t vr = rfe_fix_mul32x32(u->omega[i], veh->R);
         const uint64_t avr = rfe_q31_mag64(vr);
         const uint64_t avx = (uint64_t)((vwx < 0) ? -(int64_t)vwx : (int64_t)vwx) << 28;
         const uint64_t vmin = (uint64_t)tp->v_min << 28;
@@ -149,9 +149,9 @@ static void body_part_q31(const lat_q36_t *b, rfe_xf_t fx, rfe_xf_t fy, int64_t 
         }
         mx = rfe_xf_at(fx, ef);
         my = rfe_xf_at(fy, ef);
-        m[0] = (mx * (int64_t)b->ay) - (my * (int64_t)b->ax);
-        m[1] = (mx * (int64_t)b->ax) + (my * (int64_t)b->ay);
-        m[2] = (mx * (int64_t)b->rx) + (my * (int64_t)b->ry);
+        m[0] = rfe_fix_mul_m31(mx, (int64_t)b->ay) - rfe_fix_mul_m31(my, (int64_t)b->ax);
+        m[1] = rfe_fix_mul_m31(mx, (int64_t)b->ax) + rfe_fix_mul_m31(my, (int64_t)b->ay);
+        m[2] = rfe_fix_mul_m31(mx, (int64_t)b->rx) + rfe_fix_mul_m31(my, (int64_t)b->ry);
         *e = ef - 36;
         norm30_q31(m, 3u, e);
     }
@@ -303,8 +303,10 @@ static int input_change_q31(const rfe_vehicle_q31_t *veh, size_t j, size_t i, in
         const int64_t x = (i < (size_t)RFE_RL) ? (int64_t)veh->Lf : -(int64_t)veh->Lr;
         const int64_t yy = (i < (size_t)RFE_RL) ? (int64_t)veh->yf : (int64_t)veh->yr;
         const int64_t y = ((i == (size_t)RFE_FL) || (i == (size_t)RFE_RL)) ? yy : -yy;
-        dv[0] = (int32_t)rfe_fix_shr64_round((x * (int64_t)s) - (y * (int64_t)c), 31u);
-        dv[1] = (int32_t)rfe_fix_shr64_round((x * (int64_t)c) + (y * (int64_t)s), 31u);
+        dv[0] = (int32_t)rfe_fix_shr64_round(
+            rfe_fix_mul_m31(x, (int64_t)s) - rfe_fix_mul_m31(y, (int64_t)c), 31u);
+        dv[1] = (int32_t)rfe_fix_shr64_round(
+            rfe_fix_mul_m31(x, (int64_t)c) + rfe_fix_mul_m31(y, (int64_t)s), 31u);
         q = 28;
     }
     return q;
@@ -317,7 +319,7 @@ static rfe_fix_t scaled_entry_q31(int64_t sum, int e, rfe_fix_t sd, int qsd, uin
 {
     const unsigned int len = rfe_q31_bitlen64(rfe_q31_mag64(sum));
     const unsigned int sh = (len > 31u) ? (unsigned int)(len - 31u) : 0u;
-    const int64_t p = rfe_fix_shr64_round(sum, sh) * (int64_t)sd;
+    const int64_t p = rfe_fix_mul_m31(rfe_fix_shr64_round(sum, sh), (int64_t)sd); /* <= 2^31 */
     return rfe_meas_q24_of_scaled_q31(p, ((e + (int)sh) - qsd) + 24, count);
 }
 
@@ -343,8 +345,9 @@ static int64_t column_row_q31(const wheel_cols_q31_t wc[RFE_WHEELS], const int32
     for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
         if ((reach[i] != 0) && (wc[i].any != 0)) {
             const int32_t *d = &dv[3u * i];
-            term[n] = ((int64_t)wc[i].wm[r] * d[0]) + ((int64_t)wc[i].wm[3u + r] * d[1]) +
-                      ((int64_t)wc[i].wm[6u + r] * d[2]);
+            term[n] = rfe_fix_mul32x32(wc[i].wm[r], d[0]) +
+                      rfe_fix_mul32x32(wc[i].wm[3u + r], d[1]) +
+                      rfe_fix_mul32x32(wc[i].wm[6u + r], d[2]);
             ex[n] = wc[i].base - q;
             ++n;
         }

@@ -71,8 +71,8 @@ static void body_terms_q31(const rfe_vehicle_q31_t *veh, rfe_fix_t fx, rfe_fix_t
     int64_t m3;
 
     /* Exact Q45: |fx c - fy s| <= |(fx, fy)| |(c, s)| <= 2^31.5 2^30 (1 + 2^-30) < 2^62. */
-    fbx = ((int64_t)fx * ci) - ((int64_t)fy * si);
-    fby = ((int64_t)fx * si) + ((int64_t)fy * ci);
+    fbx = rfe_fix_mul_m31(fx, ci) - rfe_fix_mul_m31(fy, si);
+    fby = rfe_fix_mul_m31(fx, si) + rfe_fix_mul_m31(fy, ci);
     /* [Fbx/m, Fby/m] (Q45 x Q38 / 2^59 -> Q24) and (x_i Fby - y_i Fbx)/J (two Q30 terms
      * < 2^39.5, rounded once more to Q24). */
     m3 = rfe_q31_mul64x32(fby, px_J, 53u) - rfe_q31_mul64x32(fbx, py_J, 53u);
@@ -482,10 +482,10 @@ static void lat_coef_q31(const rfe_vehicle_q31_t *veh, int32_t c, int32_t s, siz
     const int32_t py_J = ((i == (size_t)RFE_FL) || (i == (size_t)RFE_RL)) ? y_J : -y_J;
     const int32_t ci = (i < (size_t)RFE_RL) ? c : ONE_Q30;
     const int32_t si = (i < (size_t)RFE_RL) ? s : 0;
-    k[0] = (int64_t)si * (int64_t)veh->inv_m;
-    k[1] = (int64_t)ci * (int64_t)veh->inv_m;
-    k[2] = ((int64_t)si * (int64_t)px_J) - ((int64_t)ci * (int64_t)py_J);
-    k[3] = ((int64_t)ci * (int64_t)px_J) + ((int64_t)si * (int64_t)py_J);
+    k[0] = rfe_fix_mul32x32(si, veh->inv_m);
+    k[1] = rfe_fix_mul32x32(ci, veh->inv_m);
+    k[2] = rfe_fix_mul32x32(si, px_J) - rfe_fix_mul32x32(ci, py_J);
+    k[3] = rfe_fix_mul32x32(ci, px_J) + rfe_fix_mul32x32(si, py_J);
 }
 
 /* The map in plain Q36 integers (lat_q36_t, meas_cols_internal_q31.h). */

@@ -101,7 +101,7 @@ static int32_t slip_angle(int64_t vwx, int64_t vwy, int32_t alpha_max)
  * exactly rounded quotient is <= 2^30 (no saturation). */
 static int32_t long_slip(int32_t omega, int32_t R, int64_t vwx, int32_t v_min)
 {
-    const int64_t vr = (int64_t)omega * (int64_t)R;
+    const int64_t vr = rfe_fix_mul32x32(omega, R);
     const int64_t num = vr - vwx;
     const uint64_t mvr = rfe_q31_mag64(vr);
     const uint64_t mvx = rfe_q31_mag64(vwx);
@@ -134,9 +134,9 @@ static void vertical_loads_q31(const rfe_vehicle_q31_t *veh, int32_t ax, int32_t
 {
     const int64_t fs_f = (int64_t)veh->fz_static_f * rfe_q31_pow2(28u);
     const int64_t fs_r = (int64_t)veh->fz_static_r * rfe_q31_pow2(28u);
-    const int64_t pitch = rfe_fix_shr64_round((int64_t)veh->k_pitch * (int64_t)ax, 1u);
-    const int64_t roll_f = rfe_fix_shr64_round((int64_t)veh->k_roll_f * (int64_t)ay, 1u);
-    const int64_t roll_r = rfe_fix_shr64_round((int64_t)veh->k_roll_r * (int64_t)ay, 1u);
+    const int64_t pitch = rfe_fix_shr64_round(rfe_fix_mul32x32(veh->k_pitch, ax), 1u);
+    const int64_t roll_f = rfe_fix_shr64_round(rfe_fix_mul32x32(veh->k_roll_f, ay), 1u);
+    const int64_t roll_r = rfe_fix_shr64_round(rfe_fix_mul32x32(veh->k_roll_r, ay), 1u);
     int64_t v[RFE_WHEELS];
     size_t i;
 
@@ -165,9 +165,9 @@ static void wheel_velocity(const rfe_vehicle_q31_t *veh, const rfe_sample_q31_t 
     /* v_i = (vx - r y_i, vy + r x_i) in Q51: |vx 2^28| <= 2^59, |r y| (Q56) <= 2^62
      * becomes <= 2^57 in Q51, so |vb| < 2^59.4. */
     const int64_t vbx = ((int64_t)u->vx * rfe_q31_pow2(QV_SPEED)) -
-                        rfe_fix_shr64_round((int64_t)u->yaw_rate * py, 5u);
+                        rfe_fix_shr64_round(rfe_fix_mul_m31((int64_t)u->yaw_rate, py), 5u);
     const int64_t vby = ((int64_t)u->vy * rfe_q31_pow2(QV_SPEED)) +
-                        rfe_fix_shr64_round((int64_t)u->yaw_rate * px, 5u);
+                        rfe_fix_shr64_round(rfe_fix_mul_m31((int64_t)u->yaw_rate, px), 5u);
     /* Rotated into wheel axes: |vb c|, |vb s| < 2^59.4 each (|c|, |s| <= 1), sums < 2^60.4. */
     *vwx_out = rfe_q31_mul64x32(vbx, ci, 30u) + rfe_q31_mul64x32(vby, si, 30u);
     *vwy_out = rfe_q31_mul64x32(vby, ci, 30u) - rfe_q31_mul64x32(vbx, si, 30u);
@@ -282,8 +282,8 @@ static int32_t dugoff_e(int32_t k, int32_t t, int32_t eps, int32_t vwx)
     bfp_t ev;
     int64_t p30;
 
-    ev = bfp_make((int64_t)eps * (int64_t)rfe_q31_mag64(vwx), 55u);
-    p30 = rfe_fix_shr64_round((int64_t)ev.mant * (int64_t)slip, (ev.q + (30u - sh)) - 30u);
+    ev = bfp_make(rfe_fix_mul_m31((int64_t)eps, (int64_t)rfe_q31_mag64(vwx)), 55u);
+    p30 = rfe_fix_shr64_round(rfe_fix_mul32x32(ev.mant, slip), (ev.q + (30u - sh)) - 30u);
     return (p30 >= (int64_t)ONE_Q30) ? 0 : (ONE_Q30 - (int32_t)p30);
 }
 
@@ -309,8 +309,8 @@ static void dugoff_pre_e(int32_t k, int32_t t, int32_t c1, int32_t c2, int32_t e
 {
     /* S: C1 k is Q54 (|.| <= 2^61), rounded to Q50; C2 tan a is Q50 (< 2^61). One common
      * shift brings both to <= 2^30 (S in Q(50 - sh), sh <= 31); the norm is exact. */
-    const int64_t a50 = rfe_fix_shr64_round((int64_t)c1 * (int64_t)k, 4u);
-    const int64_t b50 = (int64_t)c2 * (int64_t)t;
+    const int64_t a50 = rfe_fix_shr64_round(rfe_fix_mul32x32(c1, k), 4u);
+    const int64_t b50 = rfe_fix_mul32x32(c2, t);
     const uint64_t ma = rfe_q31_mag64(a50);
     const uint64_t mb = rfe_q31_mag64(b50);
     const unsigned int sh = rfe_q31_norm_shift((ma > mb) ? ma : mb, 30u);
@@ -359,8 +359,8 @@ static int32_t dugoff_l30(const rfe_dugoff_pre_q31_t *pre, int32_t mu)
 {
     uint32_t scratch = 0u;
     int32_t l30 = 0;
-    const bfp_t n1 = bfp_make((int64_t)mu * (int64_t)pre->omk, 59u);
-    const bfp_t n = bfp_make((int64_t)n1.mant * (int64_t)pre->e, n1.q + 30u);
+    const bfp_t n1 = bfp_make(rfe_fix_mul32x32(mu, pre->omk), 59u);
+    const bfp_t n = bfp_make(rfe_fix_mul32x32(n1.mant, pre->e), n1.q + 30u);
     if (n.mant > 0) {
         l30 = div_q(n.mant, pre->s, (29 - (int)n.q) + (int)pre->qs, &scratch);
     }
@@ -479,7 +479,7 @@ typedef struct {
 static int64_t magic_phi_q31(int32_t S, unsigned int qs, int32_t m, int32_t C, int32_t E,
                              magic_pair_q31_t *pr)
 {
-    const int64_t mc = (int64_t)m * (int64_t)C;
+    const int64_t mc = rfe_fix_mul32x32(m, C);
     const unsigned int d = 53u - qs;
     const unsigned int lx = rfe_q31_bitlen64((uint64_t)mc);
     const unsigned int ly = rfe_q31_bitlen32((uint32_t)S) + d;
@@ -496,7 +496,7 @@ static int64_t magic_phi_q31(int32_t S, unsigned int qs, int32_t m, int32_t C, i
 
     if (E != 0) {
         const int64_t x24 = (int64_t)xn * rfe_q31_pow2(24u);
-        int64_t z = (((int64_t)RFE_FIX_ONE(RFE_FIX_Q_STIFF) - (int64_t)E) * (int64_t)yn) +
+        int64_t z = rfe_fix_mul_m31((int64_t)RFE_FIX_ONE(RFE_FIX_Q_STIFF) - (int64_t)E, yn) +
                     rfe_q31_mul64x32((int64_t)xn * (int64_t)b, (int64_t)E, 31u);
         unsigned int sh;
         /* z >= 0 exactly; only the rounding of a (E < 0, yn of a few units) can take it
@@ -534,12 +534,12 @@ static void magic_forces_q31(const rfe_tyre_params_q31_t *tp, const rfe_dugoff_p
         return;
     }
     /* w = m G rounded to Q29 (<= m): m G >= 0, so the rounding is a shift of the product */
-    px = (int64_t)m * (int64_t)magic_shape_q31(pre->s, pre->qs, m, tp->shape_Cx, tp->shape_Ex);
-    py = (int64_t)m * (int64_t)magic_shape_q31(pre->s, pre->qs, m, tp->shape_Cy, tp->shape_Ey);
+    px = rfe_fix_mul32x32(m, magic_shape_q31(pre->s, pre->qs, m, tp->shape_Cx, tp->shape_Ex));
+    py = rfe_fix_mul32x32(m, magic_shape_q31(pre->s, pre->qs, m, tp->shape_Cy, tp->shape_Ey));
     wx = ((uint64_t)px + HALF_Q30) >> 30;
     wy = ((uint64_t)py + HALF_Q30) >> 30;
-    *fx = rfe_fix_sat32(rfe_q31_mul64x32((int64_t)fz * (int64_t)wx, pre->ux, 59u), sat);
-    *fy = rfe_fix_sat32(rfe_q31_mul64x32((int64_t)fz * (int64_t)wy, pre->uy, 59u), sat);
+    *fx = rfe_fix_sat32(rfe_q31_mul64x32(rfe_fix_mul_m31(fz, (int64_t)wx), pre->ux, 59u), sat);
+    *fy = rfe_fix_sat32(rfe_q31_mul64x32(rfe_fix_mul_m31(fz, (int64_t)wy), pre->uy, 59u), sat);
 }
 
 /* Common checks of the single-wheel functions (the float check_wheel, plus the parameters;
@@ -1025,7 +1025,7 @@ static int64_t magic_g_over_s_q31(const rfe_dugoff_pre_q31_t *pre, int32_t m, in
         r = (int64_t)ONE_Q30 - (int64_t)t6;
     } else {
         /* n = m G 2^(qs - 30) rounded over S, as above */
-        const uint64_t mg = (uint64_t)m * (uint64_t)dir->g;
+        const uint64_t mg = (uint64_t)rfe_fix_mul32x32(m, dir->g);
         r = 2 * (int64_t)magic_ratio_q31(mg, (int)pre->qs - 30, (uint32_t)pre->s);
     }
     return r;
@@ -1088,14 +1088,14 @@ static void magic_shape_jac_q31(const magic_dir_q31_t *dir, int32_t Cq, int32_t 
     const unsigned int sh = rfe_q31_norm_shift((z > x24) ? z : x24, 30u);
     const uint32_t xs = (uint32_t)rfe_q31_ushr64_round(x24, sh);
     const uint32_t zs = (uint32_t)rfe_q31_ushr64_round(z, sh);
-    const uint64_t dd = ((uint64_t)xs * xs) + ((uint64_t)zs * zs);
+    const uint64_t dd = rfe_fix_umul32x32(xs, xs) + rfe_fix_umul32x32(zs, zs);
     const unsigned int k = rfe_q31_bitlen64(dd) - 31u;
     const uint32_t dh = (uint32_t)(dd >> k);
     const unsigned int wb = magic_w_bits(Eq);
     const int e = 78 - ((2 * (int)sh) + (int)k);
-    const int64_t cb2 = (int64_t)magic_ratio_q31((uint64_t)xn * xn, e, dh);
+    const int64_t cb2 = (int64_t)magic_ratio_q31(rfe_fix_umul32x32(xn, xn), e, dh);
     const int64_t w =
-        (int64_t)magic_ratio_q31((uint64_t)(uint32_t)dir->pr.yn * xn, e - (int)wb, dh);
+        (int64_t)magic_ratio_q31(rfe_fix_umul32x32((uint32_t)dir->pr.yn, xn), e - (int)wb, dh);
     *m_gs = rfe_fix_shr64_round(cd * cb2, 30u);
     *gms = (int64_t)dir->g - rfe_q31_mul64x32((int64_t)Cq * cd, w, 54u - wb);
 }
@@ -1113,8 +1113,8 @@ typedef struct {
  * (2^-30 relative, the sum 2^-29 of the larger term). */
 static rfe_xf_t magic_lin_q31(int32_t fz, int32_t p1, rfe_xf_t c1, int32_t p2, rfe_xf_t c2)
 {
-    const int64_t a = (int64_t)fz * (int64_t)p1;
-    const int64_t b = (int64_t)fz * (int64_t)p2;
+    const int64_t a = rfe_fix_mul32x32(fz, p1);
+    const int64_t b = rfe_fix_mul32x32(fz, p2);
     return rfe_xf_add(rfe_xf_mul(rfe_xf_make(a, -43), c1), rfe_xf_mul(rfe_xf_make(b, -43), c2));
 }
 
@@ -1140,19 +1140,19 @@ static void magic_dfs_q31(const rfe_dugoff_pre_q31_t *pre, int32_t fz, const rfe
     const int64_t ux = pre->ux;
     const int64_t uy = pre->uy;
     /* every factor below fits int32 (the bounds above), so each product is one 32 x 32 */
-    const int32_t uxx = (int32_t)rfe_fix_shr64_round(ux * ux, 30u);
-    const int32_t uxy = (int32_t)rfe_fix_shr64_round(ux * uy, 30u);
-    const int32_t uyy = (int32_t)rfe_fix_shr64_round(uy * uy, 30u);
+    const int32_t uxx = (int32_t)rfe_fix_shr64_round(rfe_fix_mul_m31(ux, ux), 30u);
+    const int32_t uxy = (int32_t)rfe_fix_shr64_round(rfe_fix_mul_m31(ux, uy), 30u);
+    const int32_t uyy = (int32_t)rfe_fix_shr64_round(rfe_fix_mul_m31(uy, uy), 30u);
     const int32_t dx = (int32_t)rfe_fix_shr64_round(tx->gs - tx->gos, 3u);
     const int32_t dy = (int32_t)rfe_fix_shr64_round(ty->gs - ty->gos, 3u);
     const int32_t gx = (int32_t)rfe_fix_shr64_round(tx->gos, 2u);
     const int32_t gy = (int32_t)rfe_fix_shr64_round(ty->gos, 2u);
-    const int32_t pxk = gx + (int32_t)rfe_fix_shr64_round((int64_t)dx * (int64_t)uxx, 29u);
-    const int32_t pxt = (int32_t)rfe_fix_shr64_round((int64_t)dx * (int64_t)uxy, 29u);
-    const int32_t pyk = (int32_t)rfe_fix_shr64_round((int64_t)dy * (int64_t)uxy, 29u);
-    const int32_t pyt = gy + (int32_t)rfe_fix_shr64_round((int64_t)dy * (int64_t)uyy, 29u);
-    const rfe_xf_t mfx = rfe_xf_mul(rfe_xf_make((int64_t)fz * ux, -45), rfe_xf_make(tx->gms, -30));
-    const rfe_xf_t mfy = rfe_xf_mul(rfe_xf_make((int64_t)fz * uy, -45), rfe_xf_make(ty->gms, -30));
+    const int32_t pxk = gx + (int32_t)rfe_fix_shr64_round(rfe_fix_mul32x32(dx, uxx), 29u);
+    const int32_t pxt = (int32_t)rfe_fix_shr64_round(rfe_fix_mul32x32(dx, uxy), 29u);
+    const int32_t pyk = (int32_t)rfe_fix_shr64_round(rfe_fix_mul32x32(dy, uxy), 29u);
+    const int32_t pyt = gy + (int32_t)rfe_fix_shr64_round(rfe_fix_mul32x32(dy, uyy), 29u);
+    const rfe_xf_t mfx = rfe_xf_mul(rfe_xf_make(rfe_fix_mul_m31(fz, ux), -45), rfe_xf_make(tx->gms, -30));
+    const rfe_xf_t mfy = rfe_xf_mul(rfe_xf_make(rfe_fix_mul_m31(fz, uy), -45), rfe_xf_make(ty->gms, -30));
     size_t b;
     for (b = 0u; b < n; ++b) {
         o[b].dfx = magic_lin_q31(fz, pxk, cd[2u * b], pxt, cd[(2u * b) + 1u]);
@@ -1240,12 +1240,12 @@ static void magic_dir_forces_q31(const rfe_dugoff_pre_q31_t *pre, int32_t m, rfe
     *fx = 0;
     *fy = 0;
     if ((pre->s != 0) && (m != 0)) {
-        const int64_t px = (int64_t)m * (int64_t)dir[0].g;
-        const int64_t py = (int64_t)m * (int64_t)dir[1].g;
+        const int64_t px = rfe_fix_mul32x32(m, dir[0].g);
+        const int64_t py = rfe_fix_mul32x32(m, dir[1].g);
         const uint64_t wx = ((uint64_t)px + HALF_Q30) >> 30;
         const uint64_t wy = ((uint64_t)py + HALF_Q30) >> 30;
-        *fx = rfe_fix_sat32(rfe_q31_mul64x32((int64_t)fz * (int64_t)wx, pre->ux, 59u), sat);
-        *fy = rfe_fix_sat32(rfe_q31_mul64x32((int64_t)fz * (int64_t)wy, pre->uy, 59u), sat);
+        *fx = rfe_fix_sat32(rfe_q31_mul64x32(rfe_fix_mul_m31(fz, (int64_t)wx), pre->ux, 59u), sat);
+        *fy = rfe_fix_sat32(rfe_q31_mul64x32(rfe_fix_mul_m31(fz, (int64_t)wy), pre->uy, 59u), sat);
     }
 }
 

@@ -855,14 +855,50 @@ int32_t rfe_q31_sin_q55(int64_t phi)
     const int32_t u3 = rshr32(ds * INV24_Q16, 9u) - (int32_t)((c6 + 4u) >> 3);
     /* u2 = -S/2 + d u3, Q31 (S + 2 < 2^32: S <= 2^32 - 147808) */
     const int32_t u2 =
-        (int32_t)rshr64((int64_t)d * (int64_t)u3, 36u) - (int32_t)((s + 2u) >> 2);
+        (int32_t)rshr64(rfe_fix_mul32x32(d, u3), 36u) - (int32_t)((s + 2u) >> 2);
     /* u1 = C + d u2, Q31, <= 2^31 */
-    const int64_t u1 = (int64_t)c + rshr64((int64_t)d * (int64_t)u2, 36u);
+    const int64_t u1 = (int64_t)c + rshr64(rfe_fix_mul32x32(d, u2), 36u);
     /* G = S + d u1, Q62 (|d u1| <= 2^61 in Q67) */
-    const int64_t g = (int64_t)((uint64_t)s << 30) + rshr64((int64_t)d * u1, 5u);
+    const int64_t g = (int64_t)((uint64_t)s << 30) + rshr64(rfe_fix_mul_m31((int64_t)d, u1), 5u);
 
     /* g + 2^31 > 0 (G > -2^-32.64): rounded to Q30 */
     return (int32_t)(((uint64_t)g + ((uint64_t)1 << 31)) >> 32);
+}
+
+/* ---- the rounded division of the linear algebra and the filters (internal_q31.h) ---------- */
+
+/** round(num / den) for den > 0, ties away from zero (exactly rounded on the magnitude, so
+ *  odd in num), saturating to the symmetric int32 range with a count in *sat. The quotient
+ *  floor(|num| / den) by rfe_q31_udiv64_32 (the Cortex-M's two 32-bit divisions instead of
+ *  libgcc's 64-bit __udivmoddi4) where it fits 32 bits, |num| < den 2^32, i.e. the high word
+ *  of |num| below den; the remainder |num| - q den < den < 2^31 is then the low word's
+ *  difference modulo 2^32. A larger quotient saturates either way. */
+rfe_fix_t rfe_q31_div_round(int64_t num, rfe_fix_t den, uint32_t *sat)
+{
+    const uint32_t d32 = (uint32_t)den;
+    const uint64_t d = (uint64_t)den;
+    const uint64_t mag = rfe_q31_mag64_any(num);
+    uint64_t q;
+    uint64_t rem;
+    int64_t r;
+    if ((mag >> 32) < d) {
+        const uint32_t q32 = rfe_q31_udiv64_32(mag, d32);
+        const uint32_t rem32 = (uint32_t)mag - (q32 * d32); /* < den: exact modulo 2^32 */
+        q = (uint64_t)q32;
+        rem = (uint64_t)rem32;
+    } else {
+        q = mag / d;
+        rem = mag % d;
+    }
+    if ((2u * rem) >= d) { /* rem < 2^31: no overflow */
+        q += 1u;
+    }
+    if (q > (uint64_t)RFE_FIX_MAX) {
+        rfe_fix_count_sat(sat);
+        q = (uint64_t)RFE_FIX_MAX;
+    }
+    r = (int64_t)q;
+    return (rfe_fix_t)((num < 0) ? -r : r);
 }
 
 /* ---- the estimators' angle functions (fxmath_internal_q31.h) ------------------------------ */

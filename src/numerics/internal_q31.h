@@ -78,9 +78,20 @@ static inline int64_t rfe_q31_mul64x32(int64_t v, int64_t c, unsigned int s)
     const uint64_t low32 = (uint64_t)0xFFFFFFFFu;
     const int64_t vh = rfe_fix_shr64_floor(v, 32u);
     const uint64_t vl_u = (uint64_t)v & low32;
+#if RFE_FIX_MUL64_W16
+    /* the Cortex-M0+: |vh| <= 2^30 and |c| <= 2^31 (rfe_fix_mul_m31); vl |c| < 2^63 from the
+     * magnitudes' 32 x 32 -> 64 product (fixed.h), signed after: the same a, b */
+    const uint32_t uc = (uint32_t)c; /* c mod 2^32 */
+    const uint32_t nc = 0u - uc;
+    const uint32_t mc = (c < 0) ? nc : uc; /* |c| <= 2^31 */
+    const int64_t bm = (int64_t)rfe_fix_umul32x32((uint32_t)vl_u, mc);
+    const int64_t a = rfe_fix_mul_m31(vh, c);
+    const int64_t b = (c < 0) ? -bm : bm;
+#else
     const int64_t vl = (int64_t)vl_u;
     const int64_t a = vh * c;
     const int64_t b = vl * c;
+#endif
     const int64_t bh = rfe_fix_shr64_floor(b, 32u);
     const uint64_t bl = (uint64_t)b & low32;
     const int64_t t = a + bh;
@@ -316,23 +327,9 @@ static inline uint64_t rfe_q31_mag64_any(int64_t v)
 }
 
 /** round(num / den) for den > 0, ties away from zero (exactly rounded on the magnitude, so
- *  odd in num), saturating to the symmetric int32 range with a count in *sat. */
-static inline rfe_fix_t rfe_q31_div_round(int64_t num, rfe_fix_t den, uint32_t *sat)
-{
-    const uint64_t d = (uint64_t)den;
-    const uint64_t mag = rfe_q31_mag64_any(num);
-    uint64_t q = mag / d;
-    int64_t r;
-    if ((2u * (mag % d)) >= d) { /* mag % d < 2^31: no overflow */
-        q += 1u;
-    }
-    if (q > (uint64_t)RFE_FIX_MAX) {
-        rfe_fix_count_sat(sat);
-        q = (uint64_t)RFE_FIX_MAX;
-    }
-    r = (int64_t)q;
-    return (rfe_fix_t)((num < 0) ? -r : r);
-}
+ *  odd in num), saturating to the symmetric int32 range with a count in *sat (fxmath_q31.c:
+ *  out of line, one copy of its 32-bit division path for every caller). */
+rfe_fix_t rfe_q31_div_round(int64_t num, rfe_fix_t den, uint32_t *sat);
 
 /** round(sqrt(x)) for every uint64 (<= 2^32): floor root r from rfe_fix_isqrt64, plus one
  *  exactly when x - r^2 > r (sqrt(x) is never a half-integer). */

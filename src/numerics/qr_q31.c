@@ -54,8 +54,7 @@ static int tail_shift(const rfe_fix_t *t, size_t len, int *shift)
     unsigned int half;
     size_t j;
     for (j = 0u; j < len; ++j) {
-        const uint64_t m = rfe_q31_mag64_any((int64_t)t[j]);
-        const uint64_t sq = m * m;
+        const uint64_t sq = (uint64_t)rfe_fix_mul32x32(t[j], t[j]); /* <= 2^62 */
         lo += sq;
         if (lo < sq) {
             hi += 1u;
@@ -123,6 +122,31 @@ static uint64_t div_round_shift(uint64_t n, uint64_t d, unsigned int e)
     return (quo + 1u) >> 1;
 }
 
+/* c x for c = sign(dot) cm and an int32 x (|c x| < 2^62, above). Where the core has no
+ * 32 x 32 -> 64 multiply (RFE_FIX_MUL64_W16, fixed.h) and cm < 2^32 (|c| < 4 in Q30; a
+ * rounding up to 4 takes the int64 product), the magnitudes' product in 32-bit halves with
+ * the sign applied after (cm |x| < 2^63 converts exactly); else the int64 product. The same
+ * integer either way. */
+static inline int64_t mul_c_x(int64_t dot, uint64_t cm, rfe_fix_t x)
+{
+    const int64_t c = (dot < 0) ? -(int64_t)cm : (int64_t)cm;
+    int64_t r;
+#if RFE_FIX_MUL64_W16
+    if ((cm >> 32) == 0u) {
+        const uint32_t ux = (uint32_t)x;
+        const uint32_t nx = 0u - ux;
+        const uint32_t mx = (x < 0) ? nx : ux;
+        const int64_t p = (int64_t)rfe_fix_umul32x32((uint32_t)cm, mx);
+        r = ((dot < 0) != (x < 0)) ? -p : p;
+    } else {
+        r = c * (int64_t)x;
+    }
+#else
+    r = c * (int64_t)x;
+#endif
+    return r;
+}
+
 /* Reflection k, on normalised tails: row k's tail x (length len, starting at column k) is
  * mapped onto (-sign(x0) |x|, 0, ..., 0) and every other row i > k with a non-zero tail gets
  * a <- a - c v, c = 2 a.v / v.v, v = x + sign(x0) |x| e0. Returns the unrounded diagonal
@@ -132,6 +156,7 @@ static int64_t reflect(rfe_fix_t *A, size_t rows, size_t lda, size_t k, size_t l
 {
     rfe_fix_t *x = &AT(A, lda, k, k);
     uint64_t ss = 0u;
+    uint64_t x0sq;
     int64_t norm;
     int64_t v0;
     uint64_t vtv;
@@ -139,10 +164,10 @@ static int64_t reflect(rfe_fix_t *A, size_t rows, size_t lda, size_t k, size_t l
     size_t j;
 
     for (j = 0u; j < len; ++j) {
-        const uint64_t m = rfe_q31_mag64_any((int64_t)x[j]);
-        ss += m * m;
+        ss += (uint64_t)rfe_fix_mul32x32(x[j], x[j]); /* each square <= 2^62 */
     }
-    if (ss == (rfe_q31_mag64_any((int64_t)x[0]) * rfe_q31_mag64_any((int64_t)x[0]))) {
+    x0sq = (uint64_t)rfe_fix_mul32x32(x[0], x[0]);
+    if (ss == x0sq) {
         /* Only x0 is non-zero: the reflection would negate column k and the sign fix-up
          * negate it back where x0 > 0; skipping it gives the same factor, exactly (a
          * lower-triangular input is its own Tria up to column signs). */
@@ -151,7 +176,7 @@ static int64_t reflect(rfe_fix_t *A, size_t rows, size_t lda, size_t k, size_t l
     norm = (int64_t)rfe_q31_sqrt_round(ss);
     v0 = (x[0] < 0) ? ((int64_t)x[0] - norm) : ((int64_t)x[0] + norm);
     /* v.v = |x|^2 - x0^2 + v0^2, exact */
-    vtv = (ss - (rfe_q31_mag64_any((int64_t)x[0]) * rfe_q31_mag64_any((int64_t)x[0]))) +
+    vtv = (ss - x0sq) +
           (rfe_q31_mag64_any(v0) * rfe_q31_mag64_any(v0));
     for (i = k + 1u; i < rows; ++i) {
         if (nonzero[i] != 0) {
@@ -160,7 +185,7 @@ static int64_t reflect(rfe_fix_t *A, size_t rows, size_t lda, size_t k, size_t l
             uint64_t cm;
             int64_t c;
             for (j = 1u; j < len; ++j) {
-                dot += (int64_t)a[j] * (int64_t)x[j];
+                dot += rfe_fix_mul32x32(a[j], x[j]);
             }
             /* c in Q30: round(2 a.v 2^30 / v.v), magnitude below 2^32 */
             cm = div_round_shift(rfe_q31_mag64_any(dot), vtv, C_FRAC + 1u);
@@ -168,7 +193,7 @@ static int64_t reflect(rfe_fix_t *A, size_t rows, size_t lda, size_t k, size_t l
             a[0] = rfe_fix_sat32((int64_t)a[0] - rfe_fix_shr64_round(c * v0, C_FRAC), sat);
             for (j = 1u; j < len; ++j) {
                 a[j] = rfe_fix_sat32(
-                    (int64_t)a[j] - rfe_fix_shr64_round(c * (int64_t)x[j], C_FRAC), sat);
+                    (int64_t)a[j] - rfe_fix_shr64_round(mul_c_x(dot, cm, x[j]), C_FRAC), sat);
             }
         }
     }
@@ -284,7 +309,7 @@ rfe_status_t rfe_qr_solve_lower_q31(const rfe_fix_t *L, size_t n, size_t ldl, rf
         for (i = 0u; i < n; ++i) {
             int64_t acc = (int64_t)AT(B, ldb, i, c) * rfe_q31_pow2((unsigned int)shift);
             for (j = 0u; j < i; ++j) {
-                acc = rfe_fix_add64(acc, -((int64_t)AT(L, ldl, i, j) * (int64_t)AT(B, ldb, j, c)),
+                acc = rfe_fix_add64(acc, -rfe_fix_mul32x32(AT(L, ldl, i, j), AT(B, ldb, j, c)),
                                     &count);
             }
             AT(B, ldb, i, c) = rfe_q31_div_round(acc, AT(L, ldl, i, i), &count);
@@ -312,7 +337,7 @@ rfe_status_t rfe_qr_solve_lower_t_q31(const rfe_fix_t *L, size_t n, size_t ldl, 
             const size_t i = n - 1u - up; /* rows n-1 .. 0 */
             int64_t acc = (int64_t)AT(B, ldb, i, c) * rfe_q31_pow2((unsigned int)shift);
             for (j = i + 1u; j < n; ++j) {
-                acc = rfe_fix_add64(acc, -((int64_t)AT(L, ldl, j, i) * (int64_t)AT(B, ldb, j, c)),
+                acc = rfe_fix_add64(acc, -rfe_fix_mul32x32(AT(L, ldl, j, i), AT(B, ldb, j, c)),
                                     &count);
             }
             AT(B, ldb, i, c) = rfe_q31_div_round(acc, AT(L, ldl, i, i), &count);
