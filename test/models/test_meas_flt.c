@@ -994,8 +994,8 @@ static void test_meas_nominal_input_jac(void **state)
 
 /* REQ: the forces rfe_meas_nominal_input_jac keeps in h change none of rfe_meas_eval's
  * results or statuses (bit for bit against the same model without them): at the kept friction,
- * with some wheels moved off it, with -0 for +0, with another Magic Formula shape or
- * stiffness (not kept for those), with a NaN friction; rfe_meas_setup drops them. */
+ * with some wheels moved off it, with -0 for +0, with another Magic Formula shape (each of
+ * the four alone) or stiffness (not kept for those), with a NaN friction; rfe_meas_setup drops them. */
 /* REQ-MEAS-004 */
 static void test_meas_kept_forces(void **state)
 {
@@ -1029,7 +1029,7 @@ static void test_meas_kept_forces(void **state)
             continue;
         }
         kept += h.memo_valid;
-        for (k = 0; k < 6; ++k) {
+        for (k = 0; k < 9; ++k) {
             rfe_tyre_params_t tp = p.tyre;
             rfe_real_t m2[4];
             rfe_real_t z[3];
@@ -1048,6 +1048,12 @@ static void test_meas_kept_forces(void **state)
                 tp.cy *= RFE_R(1.2); /* another stiffness: not kept for it */
             } else if (k == 5) {
                 m2[n % 4] = (rfe_real_t)NAN;
+            } else if (k == 6) {
+                tp.shape_Ex = RFE_R(0.2); /* each other shape alone (default Ex, Ey 0, Cy 1.3) */
+            } else if (k == 7) {
+                tp.shape_Cy = RFE_R(1.5);
+            } else if (k == 8) {
+                tp.shape_Ey = RFE_R(0.2);
             } else {
                 /* the kept friction */
             }

@@ -114,11 +114,43 @@ static void test_pre_jac_forces_and_args(void **state)
     assert_int_equal(rfe_tyre_pre_jac(&p.tyre, &pre, RFE_R(0.05), RFE_R(0.02), RFE_R(4000.0), RFE_R(20.0), RFE_R(1.0), &d, NULL), RFE_ERR_NULL);
 }
 
+/* REQ: rfe_tyre_magic_basis (the step noise's two unit slip changes of a Magic Formula wheel)
+ * refuses a NULL set-up or output with RFE_ERR_NULL and a non-finite friction with
+ * RFE_ERR_NONFINITE, and along the unit change of kappa gives what rfe_tyre_pre_jac gives
+ * along the same direction (the same functions in the same order: bit for bit). */
+/* REQ-MEAS-003 REQ-TYRE-007 */
+static void test_magic_basis_args(void **state)
+{
+    const rfe_slip_dir_t ek = {RFE_R(1.0), RFE_R(0.0), RFE_R(0.0)};
+    rfe_params_t p;
+    rfe_dugoff_pre_t pre;
+    rfe_tyre_jac_t out[2];
+    rfe_tyre_jac_t j;
+    (void)state;
+    assert_int_equal(rfe_params_default(&p), RFE_OK);
+    p.tyre.mode = RFE_TYRE_MAGIC;
+    rfe_tyre_dugoff_pre(&p.tyre, RFE_R(0.05), RFE_R(0.02), RFE_R(20.0), &pre);
+    assert_int_equal(rfe_tyre_magic_basis(&p.tyre, NULL, RFE_R(0.05), RFE_R(0.02), RFE_R(4000.0), RFE_R(20.0), RFE_R(0.8), out),
+                     RFE_ERR_NULL);
+    assert_int_equal(rfe_tyre_magic_basis(&p.tyre, &pre, RFE_R(0.05), RFE_R(0.02), RFE_R(4000.0), RFE_R(20.0), RFE_R(0.8), NULL),
+                     RFE_ERR_NULL);
+    assert_int_equal(rfe_tyre_magic_basis(&p.tyre, &pre, RFE_R(0.05), RFE_R(0.02), RFE_R(4000.0), RFE_R(20.0),
+                                          (rfe_real_t)NAN, out),
+                     RFE_ERR_NONFINITE);
+    assert_int_equal(rfe_tyre_magic_basis(&p.tyre, &pre, RFE_R(0.05), RFE_R(0.02), RFE_R(4000.0), RFE_R(20.0), RFE_R(0.8), out),
+                     RFE_OK);
+    assert_int_equal(rfe_tyre_pre_jac(&p.tyre, &pre, RFE_R(0.05), RFE_R(0.02), RFE_R(4000.0), RFE_R(20.0), RFE_R(0.8), &ek, &j),
+                     RFE_OK);
+    assert_memory_equal(&out[0].dfx, &j.dfx, sizeof(j.dfx));
+    assert_memory_equal(&out[0].dfy, &j.dfy, sizeof(j.dfy));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_dugoff_split),
         cmocka_unit_test(test_pre_jac_forces_and_args),
+        cmocka_unit_test(test_magic_basis_args),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
