@@ -64,8 +64,8 @@ FW_CC      := $(FW_CROSS)gcc
 FW_DIR     := $(BUILD)/firmware
 # The estimator needs n = 4, m = 3 (README "Using the library in firmware").
 FW_DEFS    := -DRFE_N_MAX=4 -DRFE_M_MAX=3
-# -O2 where speed is the point (Cortex-M4F, M3); -Os on the Cortex-M0+, whose parts have
-# 32-128 KB of flash (the same choice as check-nofloat).
+# -O2 where speed is the point (Cortex-M4F, M3; the M4F's float32 build at -O3, below); -Os on
+# the Cortex-M0+, whose parts have 32-128 KB of flash (the same choice as check-nofloat).
 FW_OPT_m4f ?= -O2
 FW_OPT_m3  ?= -O2
 FW_OPT_m0p ?= -Os
