@@ -1567,6 +1567,17 @@ static void test_rfe_sckf_q31_scale_get_clamp(void **state)
     assert_int_equal(clamped, 0);
 }
 
+/* X* = X: a process model that forms the points (unlike the random walk, NULL). */
+static rfe_status_t identity_process_q31(void *ctx, const int32_t *x, int32_t *xn, size_t n)
+{
+    size_t i;
+    (void)ctx;
+    for (i = 0u; i < n; ++i) {
+        xn[i] = x[i];
+    }
+    return RFE_OK;
+}
+
 /* REQ: saturation is counted in the state, by successful steps only: points beyond +-4, an
  * innovation beyond 128 sd, information beyond Q10. */
 /* REQ-FXP-008 */
@@ -1583,12 +1594,19 @@ static void test_rfe_sckf_q31_saturation_counted(void **state)
     make_problem(&p, 2u, 1u, 0, 5500u);
     p.x0q[0] = q(3.9, QX);
     p.S0q[0] = q(0.5, QS); /* X = 3.9 + sqrt(2) 0.5 > 4 */
+    /* the random walk forms no points (S- = Tria([S, S_Q]) from the factor itself): nothing
+     * saturates, and its mean stays x exactly */
     init_q31(&f, &p);
     assert_int_equal(rfe_sckf_predict_q31(&f, NULL, NULL), RFE_OK);
-    assert_true(f.sat > 0u);
-    /* the clipped points average below 3.9; the random walk's mean stays x exactly */
+    assert_int_equal(f.sat, 0u);
     assert_int_equal(f.x[0], p.x0q[0]);
     assert_int_equal(f.x[1], p.x0q[1]);
+    /* a process model's points beyond +-4 saturate (counted): the identity's clipped points
+     * average below 3.9 */
+    init_q31(&f, &p);
+    assert_int_equal(rfe_sckf_predict_q31(&f, identity_process_q31, NULL), RFE_OK);
+    assert_true(f.sat > 0u);
+    assert_true(f.x[0] < p.x0q[0]);
     printf("  [saturation] predict with points beyond +-4: %u events\n", f.sat);
     /* a failing step adds nothing */
     memcpy(before, &f, STATE_BYTES);
