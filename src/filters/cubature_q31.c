@@ -11,6 +11,18 @@
 /* The cubature constants are tabulated for n = 1..8 (rfe_cub_dims_ok_q31 rejects more). */
 #define CUB_TABLE_N 8u
 
+/* a b exactly for an int32 a and a uint32 b (|a b| < 2^63): the magnitudes' product as one
+ * 32 x 32 -> 64 multiply (rfe_fix_umul32x32: 16-bit halves on the Cortex-M0+, which would
+ * call the C library's 64 x 64 multiply for the int64 product), signed after. */
+static inline int64_t mul_q31_u32(rfe_fix_t a, uint32_t b)
+{
+    const uint32_t ua = (uint32_t)a; /* a modulo 2^32 */
+    const uint32_t na = 0u - ua;
+    const uint32_t ma = (a < 0) ? na : ua; /* |a| <= 2^31 */
+    const int64_t p = (int64_t)rfe_fix_umul32x32(ma, b);
+    return (a < 0) ? -p : p;
+}
+
 void rfe_cub_points_q31(const rfe_fix_t *x, const rfe_fix_t *F, size_t n, rfe_fix_t *pts,
                         uint32_t *sat)
 {
@@ -30,10 +42,7 @@ void rfe_cub_points_q31(const rfe_fix_t *x, const rfe_fix_t *F, size_t n, rfe_fi
     for (j = 0u; j < n; ++j) {
         for (i = 0u; i < n; ++i) {
             const rfe_fix_t fij = F[(i * NM) + j];
-            const uint32_t uf = (uint32_t)fij;
-            const uint32_t mf = (fij < 0) ? (0u - uf) : uf; /* |F_ij| <= 2^31 */
-            const int64_t pm = (int64_t)rfe_fix_umul32x32(mf, r);
-            const int64_t d = rfe_fix_shr64_round((fij < 0) ? -pm : pm, 60u - RFE_Q31_QX);
+            const int64_t d = rfe_fix_shr64_round(mul_q31_u32(fij, r), 60u - RFE_Q31_QX);
             pts[(j * NM) + i] = rfe_fix_sat32((int64_t)x[i] + d, sat);
             pts[((n + j) * NM) + i] = rfe_fix_sat32((int64_t)x[i] - d, sat);
         }
@@ -127,7 +136,9 @@ void rfe_cub_centre_vec_q31(const rfe_fix_t *v, size_t ldv, rfe_fix_t mean, size
         const rfe_fix_t vj = v[j * ldv];
         /* |v - mean| as uint32: the difference modulo 2^32 of the larger minus the smaller */
         const uint32_t uv = (uint32_t)vj;
-        const uint32_t mag = (vj >= mean) ? (uv - um) : (um - uv);
+        const uint32_t up = uv - um;
+        const uint32_t down = um - uv;
+        const uint32_t mag = (vj >= mean) ? up : down;
         const int64_t p = (int64_t)rfe_fix_umul32x32(mag, c); /* < 2^63: exact */
         out[j * ldo] = rfe_fix_narrow((vj >= mean) ? p : -p, s, sat);
     }
