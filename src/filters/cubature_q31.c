@@ -11,23 +11,38 @@
 /* The cubature constants are tabulated for n = 1..8 (rfe_cub_dims_ok_q31 rejects more). */
 #define CUB_TABLE_N 8u
 
+/* a b exactly for an int32 a and a uint32 b (|a b| < 2^63): the magnitudes' product as one
+ * 32 x 32 -> 64 multiply (rfe_fix_umul32x32: 16-bit halves on the Cortex-M0+, which would
+ * call the C library's 64 x 64 multiply for the int64 product), signed after. */
+static inline int64_t mul_q31_u32(rfe_fix_t a, uint32_t b)
+{
+    const uint32_t ua = (uint32_t)a; /* a modulo 2^32 */
+    const uint32_t na = 0u - ua;
+    const uint32_t ma = (a < 0) ? na : ua; /* |a| <= 2^31 */
+    const int64_t p = (int64_t)rfe_fix_umul32x32(ma, b);
+    return (a < 0) ? -p : p;
+}
+
 void rfe_cub_points_q31(const rfe_fix_t *x, const rfe_fix_t *F, size_t n, rfe_fix_t *pts,
                         uint32_t *sat)
 {
-    /* sqrt(n) in Q30, n = 1..8, rounded to nearest (50-digit reference values); as int64,
-     * since sqrt(n) >= 2 does not fit an int32 Q30. */
-    static const int64_t sqrt_n_q30[CUB_TABLE_N] = {
-        INT64_C(1073741824), INT64_C(1518500250), INT64_C(1859775393), INT64_C(2147483648),
-        INT64_C(2400959709), INT64_C(2630119584), INT64_C(2840853839), INT64_C(3037000500)};
+    /* sqrt(n) in Q30, n = 1..8, rounded to nearest (50-digit reference values); as uint32,
+     * since sqrt(n) >= 2 does not fit an int32 Q30 (all are below 2^32). */
+    static const uint32_t sqrt_n_q30[CUB_TABLE_N] = {
+        1073741824u, 1518500250u, 1859775393u, 2147483648u,
+        2400959709u, 2630119584u, 2840853839u, 3037000500u};
     /* xi_j = +-sqrt(n) e_j, equal weights 1/(2n). |F| <= 2^31, sqrt(n) 2^30 < 2^31.6: the
-     * product is below 2^62.6 and exact; rounded from Q60 to Q29. */
-    const int64_t r = sqrt_n_q30[n - 1u];
+     * product is below 2^62.6 and exact, formed from the magnitudes as one 32 x 32 -> 64
+     * multiply (rfe_fix_umul32x32: 16-bit halves on the Cortex-M0+, which would call the
+     * C library's 64 x 64 multiply for the int64 product) and signed after (the same
+     * integer); rounded from Q60 to Q29. */
+    const uint32_t r = sqrt_n_q30[n - 1u];
     size_t j;
     size_t i;
     for (j = 0u; j < n; ++j) {
         for (i = 0u; i < n; ++i) {
-            const int64_t d =
-                rfe_fix_shr64_round((int64_t)F[(i * NM) + j] * r, 60u - RFE_Q31_QX);
+            const rfe_fix_t fij = F[(i * NM) + j];
+            const int64_t d = rfe_fix_shr64_round(mul_q31_u32(fij, r), 60u - RFE_Q31_QX);
             pts[(j * NM) + i] = rfe_fix_sat32((int64_t)x[i] + d, sat);
             pts[((n + j) * NM) + i] = rfe_fix_sat32((int64_t)x[i] - d, sat);
         }
@@ -95,17 +110,38 @@ void rfe_cub_hold_random_walk_mean_q31(const rfe_fix_t *x, size_t n,
     }
 }
 
+/* 1 / sqrt(2n) in Q31, n = 1..8, rounded to nearest (all < 1, so they fit an int32). */
+static const uint32_t inv_sqrt_2n_q31[CUB_TABLE_N] = {
+    1518500250u, 1073741824u, 876706528u, 759250125u,
+    679093957u,  619925131u,  573939147u, 536870912u};
+
 rfe_fix_t rfe_cub_centre_q31(rfe_fix_t v, rfe_fix_t mean, size_t n, unsigned int q_in,
                              unsigned int q_out, uint32_t *sat)
 {
-    /* 1 / sqrt(2n) in Q31, n = 1..8, rounded to nearest (all < 1, so they fit an int32). */
-    static const int64_t inv_sqrt_2n_q31[CUB_TABLE_N] = {
-        INT64_C(1518500250), INT64_C(1073741824), INT64_C(876706528), INT64_C(759250125),
-        INT64_C(679093957),  INT64_C(619925131),  INT64_C(573939147), INT64_C(536870912)};
     /* |v - mean| < 2^32 and 1/sqrt(2n) 2^31 <= 2^30.5: the product is below 2^62.5, exact;
      * Q(q_in + 31) -> Q(q_out). */
     const int64_t d = (int64_t)v - (int64_t)mean;
-    return rfe_fix_narrow(d * inv_sqrt_2n_q31[n - 1u], (q_in + 31u) - q_out, sat);
+    return rfe_fix_narrow(d * (int64_t)inv_sqrt_2n_q31[n - 1u], (q_in + 31u) - q_out, sat);
+}
+
+void rfe_cub_centre_vec_q31(const rfe_fix_t *v, size_t ldv, rfe_fix_t mean, size_t n,
+                            unsigned int q_in, unsigned int q_out, rfe_fix_t *out, size_t ldo,
+                            uint32_t *sat)
+{
+    const uint32_t c = inv_sqrt_2n_q31[n - 1u];
+    const unsigned int s = (q_in + 31u) - q_out;
+    const uint32_t um = (uint32_t)mean;
+    size_t j;
+    for (j = 0u; j < (2u * n); ++j) {
+        const rfe_fix_t vj = v[j * ldv];
+        /* |v - mean| as uint32: the difference modulo 2^32 of the larger minus the smaller */
+        const uint32_t uv = (uint32_t)vj;
+        const uint32_t up = uv - um;
+        const uint32_t down = um - uv;
+        const uint32_t mag = (vj >= mean) ? up : down;
+        const int64_t p = (int64_t)rfe_fix_umul32x32(mag, c); /* < 2^63: exact */
+        out[j * ldo] = rfe_fix_narrow((vj >= mean) ? p : -p, s, sat);
+    }
 }
 
 int rfe_cub_dims_ok_q31(size_t n, size_t m)

@@ -55,6 +55,16 @@ void rfe_cub_hold_random_walk_mean_q31(const rfe_fix_t *x, size_t n,
 rfe_fix_t rfe_cub_centre_q31(rfe_fix_t v, rfe_fix_t mean, size_t n, unsigned int q_in,
                              unsigned int q_out, uint32_t *sat);
 
+/** rfe_cub_centre_q31 of the 2n points' values v[j ldv] (j = 0 .. 2n-1) about one mean into
+ *  out[j ldo] (out may be v with ldo = ldv): the same integers, in one call per state or
+ *  measurement row instead of one per value. The constant is looked up once, and the
+ *  product |v - mean| (< 2^32) times 1/sqrt(2n) (< 2^31) is formed from the magnitudes as
+ *  one 32 x 32 -> 64 multiply (rfe_fix_umul32x32: 16-bit halves on the Cortex-M0+) with
+ *  the sign applied after; below 2^63, so it is the int64 product exactly. */
+void rfe_cub_centre_vec_q31(const rfe_fix_t *v, size_t ldv, rfe_fix_t mean, size_t n,
+                            unsigned int q_in, unsigned int q_out, rfe_fix_t *out, size_t ldo,
+                            uint32_t *sat);
+
 /** True when the filter dimensions are within 1..RFE_N_MAX and 1..RFE_M_MAX (and within
  *  the 8 states the cubature constants are tabulated for). */
 int rfe_cub_dims_ok_q31(size_t n, size_t m);

@@ -110,6 +110,25 @@ rfe_status_t rfe_sckf_predict_q31(rfe_sckf_q31_t *f, rfe_process_fn_q31_t proces
     }
     w = &f->w;
     n = f->n;
+    if (process == NULL) {
+        /* The random walk: X*_j = X_j = x +- sqrt(n) S e_j, so x- = x and the centred points
+         * are [S, -S] / sqrt(2) with [S, -S] [S, -S]^T / 2 = S S^T: S- = Tria([S, S_Q]) (n x 2n)
+         * from the factor itself, without rounding the points to Q29 and the deviations to
+         * Q30 (docs/FIXED_POINT.md "The random walk's predict from the factor itself"). */
+        for (i = 0u; i < n; ++i) {
+            for (j = 0u; j < n; ++j) {
+                w->A[(i * TC) + j] = f->S[(i * NM) + j];
+                w->A[(i * TC) + n + j] = f->SQ[(i * NM) + j];
+            }
+            w->xn[i] = f->x[i];
+        }
+        st = rfe_qr_tria_q31(w->A, n, 2u * n, TC, &count);
+        if (st != RFE_OK) {
+            return st;
+        }
+        commit_q31(f, w->A, count);
+        return RFE_OK;
+    }
     /* X_j = S xi_j + x;  X*_j = f(X_j);  x- = mean_j X*_j. */
     rfe_cub_points_q31(f->x, f->S, n, w->pts, &count);
     st = rfe_cub_propagate_q31(w->pts, n, process, ctx, w->xn);
@@ -117,14 +136,10 @@ rfe_status_t rfe_sckf_predict_q31(rfe_sckf_q31_t *f, rfe_process_fn_q31_t proces
         return st;
     }
     rfe_cub_mean_q31(w->pts, n, n, NM, w->xn);
-    rfe_cub_hold_random_walk_mean_q31(f->x, n, process, w->xn);
     /* S- = Tria([(X*_1 - x-, ..., X*_2n - x-)/sqrt(2n), S_Q]): Q29 deviations -> Q30. */
     for (i = 0u; i < n; ++i) {
-        for (j = 0u; j < (2u * n); ++j) {
-            w->A[(i * TC) + j] =
-                rfe_cub_centre_q31(w->pts[(j * NM) + i], w->xn[i], n, RFE_Q31_QX, RFE_Q31_QS,
-                                   &count);
-        }
+        rfe_cub_centre_vec_q31(&w->pts[i], NM, w->xn[i], n, RFE_Q31_QX, RFE_Q31_QS,
+                               &w->A[i * TC], 1u, &count);
         for (j = 0u; j < n; ++j) {
             w->A[(i * TC) + (2u * n) + j] = f->SQ[(i * NM) + j];
         }
@@ -194,16 +209,13 @@ static void centre_points_q31(rfe_sckf_q31_t *f, uint32_t *count)
     const size_t n = f->n;
     const size_t m = f->m;
     size_t i;
-    size_t j;
-    for (j = 0u; j < (2u * n); ++j) {
-        for (i = 0u; i < n; ++i) {
-            w->B[(i * TC) + j] = rfe_cub_centre_q31(w->pts[(j * NM) + i], f->x[i], n,
-                                                    RFE_Q31_QX, RFE_Q31_QS, count);
-        }
-        for (i = 0u; i < m; ++i) {
-            w->zpts[(j * MM) + i] = rfe_cub_centre_q31(w->zpts[(j * MM) + i], w->zhat[i], n,
-                                                       RFE_Q31_QZ, RFE_Q31_QZ, count);
-        }
+    for (i = 0u; i < n; ++i) {
+        rfe_cub_centre_vec_q31(&w->pts[i], NM, f->x[i], n, RFE_Q31_QX, RFE_Q31_QS,
+                               &w->B[i * TC], 1u, count);
+    }
+    for (i = 0u; i < m; ++i) {
+        rfe_cub_centre_vec_q31(&w->zpts[i], MM, w->zhat[i], n, RFE_Q31_QZ, RFE_Q31_QZ,
+                               &w->zpts[i], MM, count);
     }
 }
 

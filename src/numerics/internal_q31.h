@@ -326,6 +326,59 @@ static inline uint64_t rfe_q31_mag64_any(int64_t v)
     return (v < 0) ? ((uint64_t)(-(v + 1)) + 1u) : (uint64_t)v;
 }
 
+/**
+ * floor(n 2^32 / d) rounded half up to floor(n 2^31 / d + 1/2): (q + 1) / 2 of the 32-bit
+ * extended quotient q, for d >= 1, d < 2^63 and q < 2^63 (n < d 2^31). The Householder
+ * reflection's coefficient c = round(2 a.v 2^30 / v.v) (qr_q31.c) divides with it. The whole
+ * part q0 = floor(n / d) (0 or 1 there) and r = n - q0 d < d come first; then the 32 bits
+ * floor(r 2^32 / d) as one digit of Knuth's algorithm D (TAOCP vol. 2, 4.3.1) in base
+ * b = 2^32: d and r are normalised together by s = 64 - bit length of d (d 2^s has its top
+ * bit set, r 2^s < d 2^s fits 64 bits), v1, v0 the high and low words of d 2^s, u2 the high
+ * word of r 2^s (u2 <= v1). The estimate q^ = floor(r 2^s / v1), or b - 1 when u2 = v1, is
+ * at most 2 above the digit (v1 >= b / 2, Knuth's theorem B) and never below it; with
+ * r^ = r 2^s - q^ v1, the remainder r 2^(s + 32) - q^ d 2^s is r^ b - q^ v0, so
+ * q^ v0 > r^ b holds exactly when q^ is too large (never once r^ >= b, as q^ v0 < b^2),
+ * and each such step lowers q^ by one and adds v1 to r^: at most two steps. The same
+ * integer as the bit-by-bit long division it replaced (32 shift-and-subtract steps, one
+ * 64-bit division; test_qr_q31.c checks both against the int128 quotient), with the one
+ * 64-by-32 division of rfe_q31_udiv64_32 (two 32-bit divisions on Arm).
+ */
+static inline uint64_t rfe_q31_div_shl32_round(uint64_t n, uint64_t d)
+{
+    const uint64_t base = (uint64_t)1 << 32;
+    const unsigned int s = 64u - rfe_q31_bitlen64(d);
+    uint64_t q0 = 0u;
+    uint64_t r = n;
+    uint64_t dn;
+    uint64_t rn;
+    uint32_t v1;
+    uint32_t v0;
+    uint32_t qh;
+    uint64_t rh;
+    unsigned int i;
+    if (n >= d) {
+        q0 = n / d;
+        r = n - (q0 * d);
+    }
+    dn = d << s;
+    rn = r << s;
+    v1 = (uint32_t)(dn >> 32);
+    v0 = (uint32_t)dn;
+    if ((uint32_t)(rn >> 32) >= v1) {
+        qh = 0xFFFFFFFFu;
+    } else {
+        qh = rfe_q31_udiv64_32(rn, v1);
+    }
+    rh = rn - ((uint64_t)qh * (uint64_t)v1); /* q^ v1 <= r 2^s */
+    for (i = 0u; i < 2u; ++i) {
+        if ((rh < base) && (((uint64_t)qh * (uint64_t)v0) > (rh << 32))) {
+            qh -= 1u;
+            rh += (uint64_t)v1;
+        }
+    }
+    return (((q0 << 32) + (uint64_t)qh) + 1u) >> 1;
+}
+
 /** round(num / den) for den > 0, ties away from zero (exactly rounded on the magnitude, so
  *  odd in num), saturating to the symmetric int32 range with a count in *sat (fxmath_q31.c:
  *  out of line, one copy of its 32-bit division path for every caller). */

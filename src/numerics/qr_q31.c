@@ -103,25 +103,6 @@ static rfe_fix_t to_output(int64_t w, int e, uint32_t *sat)
     return r;
 }
 
-/* round(n 2^e / d) on magnitudes (d > 0, n < 2^63, e + 1 quotient bits appended by long
- * division; the remainder stays below d < 2^63, so doubling it cannot overflow). The caller
- * guarantees that the quotient is below 2^62. */
-static uint64_t div_round_shift(uint64_t n, uint64_t d, unsigned int e)
-{
-    uint64_t quo = n / d;
-    uint64_t rem = n % d;
-    unsigned int i;
-    for (i = 0u; i <= e; ++i) {
-        quo <<= 1;
-        rem <<= 1;
-        if (rem >= d) {
-            rem -= d;
-            quo += 1u;
-        }
-    }
-    return (quo + 1u) >> 1;
-}
-
 /* c x for c = sign(dot) cm and an int32 x (|c x| < 2^62, above). Where the core has no
  * 32 x 32 -> 64 multiply (RFE_FIX_MUL64_W16, fixed.h) and cm < 2^32 (|c| < 4 in Q30; a
  * rounding up to 4 takes the int64 product), the magnitudes' product in 32-bit halves with
@@ -188,7 +169,7 @@ static int64_t reflect(rfe_fix_t *A, size_t rows, size_t lda, size_t k, size_t l
                 dot += rfe_fix_mul32x32(a[j], x[j]);
             }
             /* c in Q30: round(2 a.v 2^30 / v.v), magnitude below 2^32 */
-            cm = div_round_shift(rfe_q31_mag64_any(dot), vtv, C_FRAC + 1u);
+            cm = rfe_q31_div_shl32_round(rfe_q31_mag64_any(dot), vtv); /* C_FRAC + 1 = 31 */
             c = (dot < 0) ? -(int64_t)cm : (int64_t)cm;
             a[0] = rfe_fix_sat32((int64_t)a[0] - rfe_fix_shr64_round(c * v0, C_FRAC), sat);
             for (j = 1u; j < len; ++j) {

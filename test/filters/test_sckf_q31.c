@@ -62,6 +62,7 @@
 #include "rfe/component/qr.h"
 #include "rfe/component/sckf.h"
 #include "rfe/component/sckf_q31.h"
+#include "filters/cubature_q31.h"
 #include "test_rng.h"
 #include "test_light.h"
 
@@ -1566,6 +1567,17 @@ static void test_rfe_sckf_q31_scale_get_clamp(void **state)
     assert_int_equal(clamped, 0);
 }
 
+/* X* = X: a process model that forms the points (unlike the random walk, NULL). */
+static rfe_status_t identity_process_q31(void *ctx, const int32_t *x, int32_t *xn, size_t n)
+{
+    size_t i;
+    (void)ctx;
+    for (i = 0u; i < n; ++i) {
+        xn[i] = x[i];
+    }
+    return RFE_OK;
+}
+
 /* REQ: saturation is counted in the state, by successful steps only: points beyond +-4, an
  * innovation beyond 128 sd, information beyond Q10. */
 /* REQ-FXP-008 */
@@ -1582,12 +1594,19 @@ static void test_rfe_sckf_q31_saturation_counted(void **state)
     make_problem(&p, 2u, 1u, 0, 5500u);
     p.x0q[0] = q(3.9, QX);
     p.S0q[0] = q(0.5, QS); /* X = 3.9 + sqrt(2) 0.5 > 4 */
+    /* the random walk forms no points (S- = Tria([S, S_Q]) from the factor itself): nothing
+     * saturates, and its mean stays x exactly */
     init_q31(&f, &p);
     assert_int_equal(rfe_sckf_predict_q31(&f, NULL, NULL), RFE_OK);
-    assert_true(f.sat > 0u);
-    /* the clipped points average below 3.9; the random walk's mean stays x exactly */
+    assert_int_equal(f.sat, 0u);
     assert_int_equal(f.x[0], p.x0q[0]);
     assert_int_equal(f.x[1], p.x0q[1]);
+    /* a process model's points beyond +-4 saturate (counted): the identity's clipped points
+     * average below 3.9 */
+    init_q31(&f, &p);
+    assert_int_equal(rfe_sckf_predict_q31(&f, identity_process_q31, NULL), RFE_OK);
+    assert_true(f.sat > 0u);
+    assert_true(f.x[0] < p.x0q[0]);
     printf("  [saturation] predict with points beyond +-4: %u events\n", f.sat);
     /* a failing step adds nothing */
     memcpy(before, &f, STATE_BYTES);
@@ -1661,9 +1680,122 @@ static void test_rfe_sckf_q31_deterministic(void **state)
     assert_true(h1 == PINNED_HASH);
 }
 
+/* rfe_cub_centre_vec_q31 (one call per row, the magnitudes' 32 x 32 product) gives the
+ * scalar rfe_cub_centre_q31's integers (the int64 product) and saturation count, exactly,
+ * for every n = 1..8 and the filter's three format pairs, over random values and means and
+ * the extremes (|v - mean| up to 2^32 - 1, ties of the rounding where the product is a
+ * multiple of 2^(s - 1)), strided and in place. */
+static void test_rfe_cub_centre_vec_q31_matches_scalar(void **state)
+{
+    static const unsigned int q[3][2] = {{29u, 30u}, {24u, 24u}, {30u, 31u}};
+    static const rfe_fix_t edge[6] = {INT32_MIN, INT32_MIN + 1, -1, 0, 1, INT32_MAX};
+    rfe_fix_t v[16 * 3];
+    rfe_fix_t got[16 * 2];
+    size_t n;
+    size_t f;
+    int k;
+    (void)state;
+    rng_seed(0xCE17ull);
+    for (k = 0; k < 600; ++k) {
+        for (n = 1u; n <= 8u; ++n) {
+            for (f = 0u; f < 3u; ++f) {
+                const rfe_fix_t mean = ((k % 5) == 0) ? edge[(size_t)k % 6u]
+                                                      : (rfe_fix_t)(rng_uniform() * 2147483647.0);
+                uint32_t sat_ref = 0u;
+                uint32_t sat_vec = 0u;
+                uint32_t sat_in = 0u;
+                size_t j;
+                for (j = 0u; j < (2u * n); ++j) {
+                    const double u = rng_uniform();
+                    v[j * 3u] = ((k % 7) == 0) ? edge[(j + (size_t)k) % 6u]
+                                               : (rfe_fix_t)(u * (double)(1 << (k % 31)));
+                }
+                rfe_cub_centre_vec_q31(v, 3u, mean, n, q[f][0], q[f][1], got, 2u, &sat_vec);
+                for (j = 0u; j < (2u * n); ++j) {
+                    const rfe_fix_t want =
+                        rfe_cub_centre_q31(v[j * 3u], mean, n, q[f][0], q[f][1], &sat_ref);
+                    assert_int_equal(got[j * 2u], want);
+                }
+                assert_int_equal(sat_vec, sat_ref);
+                rfe_cub_centre_vec_q31(v, 3u, mean, n, q[f][0], q[f][1], v, 3u, &sat_in);
+                for (j = 0u; j < (2u * n); ++j) {
+                    assert_int_equal(v[j * 3u], got[j * 2u]);
+                }
+                assert_int_equal(sat_in, sat_ref);
+            }
+        }
+    }
+}
+
+/* round(sqrt(n) 2^30) from the exact integer root of n 2^60 (binary search in 128 bits):
+ * the test's own derivation of the cubature radius, not the library's table. */
+static int64_t sqrt_n_q30_ref(size_t n)
+{
+    const unsigned __int128 y = ((unsigned __int128)n) << 60;
+    uint64_t lo = 0u;
+    uint64_t hi = (uint64_t)1 << 33;
+    while ((hi - lo) > 1u) {
+        const uint64_t mid = lo + ((hi - lo) / 2u);
+        if (((unsigned __int128)mid * mid) <= y) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    /* sqrt(y) is never a half-integer: round up exactly when y - r^2 > r */
+    return (int64_t)((y - ((unsigned __int128)lo * lo) > lo) ? (lo + 1u) : lo);
+}
+
+/* rfe_cub_points_q31 (the magnitudes' 32 x 32 product) against the int64 formula
+ * X_j = x + round(F_ij sqrt(n) 2^30 / 2^31), X_{n+j} = x - that, saturating (counted), for
+ * every n up to RFE_N_MAX: random factors and means, and the extremes (F_ij = INT32_MIN,
+ * INT32_MAX, +-1; means at the int32 limits, where the points saturate). Exact. */
+static void test_rfe_cub_points_q31_matches_int64(void **state)
+{
+    static const rfe_fix_t edge[6] = {INT32_MIN, INT32_MIN + 1, -1, 0, 1, INT32_MAX};
+    rfe_fix_t F[RFE_N_MAX * RFE_N_MAX];
+    rfe_fix_t x[RFE_N_MAX];
+    rfe_fix_t pts[2u * RFE_N_MAX * RFE_N_MAX];
+    size_t n;
+    int k;
+    (void)state;
+    rng_seed(0x9017ull);
+    for (k = 0; k < 400; ++k) {
+        for (n = 1u; (n <= (size_t)RFE_N_MAX) && (n <= 8u); ++n) {
+            const int64_t r = sqrt_n_q30_ref(n);
+            uint32_t sat = 0u;
+            uint32_t sat_ref = 0u;
+            size_t i;
+            size_t j;
+            for (i = 0u; i < (size_t)(RFE_N_MAX * RFE_N_MAX); ++i) {
+                F[i] = ((k % 4) == 0) ? edge[(i + (size_t)k) % 6u]
+                                      : (rfe_fix_t)(rng_uniform() * (double)(1u << (k % 32)));
+            }
+            for (i = 0u; i < n; ++i) {
+                x[i] = ((k % 6) == 1) ? edge[(i + (size_t)k) % 6u]
+                                      : (rfe_fix_t)(rng_uniform() * 1.0e9);
+            }
+            rfe_cub_points_q31(x, F, n, pts, &sat);
+            for (j = 0u; j < n; ++j) {
+                for (i = 0u; i < n; ++i) {
+                    const int64_t p = (int64_t)F[(i * RFE_N_MAX) + j] * r; /* < 2^62.6 */
+                    const int64_t d = rfe_fix_shr64_round(p, 31u);
+                    assert_int_equal(pts[(j * RFE_N_MAX) + i],
+                                     rfe_fix_sat32((int64_t)x[i] + d, &sat_ref));
+                    assert_int_equal(pts[((n + j) * RFE_N_MAX) + i],
+                                     rfe_fix_sat32((int64_t)x[i] - d, &sat_ref));
+                }
+            }
+            assert_int_equal(sat, sat_ref);
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_rfe_cub_centre_vec_q31_matches_scalar),
+        cmocka_unit_test(test_rfe_cub_points_q31_matches_int64),
         cmocka_unit_test(test_rfe_sckf_q31_linear_models_vs_double_and_kalman),
         cmocka_unit_test(test_rfe_sckf_q31_nonlinear_models_vs_double),
         cmocka_unit_test(test_rfe_sckf_q31_scenarios_paper_tyre),

@@ -42,6 +42,7 @@
 #include "host/fixed_conv.h"
 #include "rfe/component/qr.h"
 #include "rfe/component/qr_q31.h"
+#include "numerics/internal_q31.h"
 #include "test_rng.h"
 
 typedef __int128 i128; /* exact references (GNU C; tests only) */
@@ -953,9 +954,101 @@ static void test_rfe_qr_solve_lower_t_q31_errors(void **state)
     solve_errors(rfe_qr_solve_lower_t_q31);
 }
 
+/* The reflection coefficient's division before rfe_q31_div_shl32_round: the whole quotient,
+ * then 32 quotient bits by shift and subtract (the remainder stays below d < 2^63), rounded
+ * half up on the last bit. Kept here as the second reference of the new one. */
+static uint64_t div_round_shift_bitwise(uint64_t n, uint64_t d)
+{
+    uint64_t quo = n / d;
+    uint64_t rem = n % d;
+    unsigned int i;
+    for (i = 0u; i < 32u; ++i) {
+        quo <<= 1;
+        rem <<= 1;
+        if (rem >= d) {
+            rem -= d;
+            quo += 1u;
+        }
+    }
+    return (quo + 1u) >> 1;
+}
+
+/* One case: the int128 quotient floor(n 2^32 / d), rounded half up on its last bit, and the
+ * bitwise reference, against rfe_q31_div_shl32_round (all exact: no tolerance). */
+static void check_div_shl32(uint64_t n, uint64_t d)
+{
+    const unsigned __int128 q = (((unsigned __int128)n) << 32) / d;
+    uint64_t want;
+    assert_true(q < ((unsigned __int128)1 << 63)); /* the precondition n < d 2^31 */
+    want = (uint64_t)((q + 1u) >> 1);
+    assert_true(rfe_q31_div_shl32_round(n, d) == want);
+    assert_true(div_round_shift_bitwise(n, d) == want);
+}
+
+/* A random uint64 of exactly len bits (1 <= len <= 63). */
+static uint64_t rand_bits(unsigned int len)
+{
+    const uint64_t top = (uint64_t)1 << (len - 1u);
+    const uint64_t lo = ((uint64_t)((rng_uniform() + 1.0) * 4.0e18) << 1) ^
+                        (uint64_t)((rng_uniform() + 1.0) * 1.0e9);
+    return top | (lo & (top - 1u));
+}
+
+/* rfe_q31_div_shl32_round (internal_q31.h, Tria's coefficient c) is the exact rounded
+ * quotient for every divisor bit length 1 .. 63: random dividends below d 2^31 of every
+ * length; the dividends whose remainder is d - 1, 0 or 1 (r 2^s's high word equal to v1:
+ * the estimate's b - 1 branch, and the corrections); divisors whose low word is all ones or
+ * zero (where the digit estimate is 2 too large or exact); exact ties of the rounding; and
+ * the reflection's operands (|a.v| < 2^61 over v.v in [2^58, 2^62)). */
+static void test_rfe_q31_div_shl32_round_exact(void **state)
+{
+    unsigned int len;
+    int k;
+    (void)state;
+    rng_seed(0xC0EFull);
+    check_div_shl32(0u, 1u);
+    check_div_shl32(((uint64_t)1 << 31) - 1u, 1u);
+    check_div_shl32(0u, (uint64_t)INT64_MAX);
+    check_div_shl32((uint64_t)INT64_MAX - 1u, (uint64_t)INT64_MAX);
+    for (len = 1u; len <= 63u; ++len) {
+        const uint64_t top = (uint64_t)1 << (len - 1u);
+        for (k = 0; k < 300; ++k) {
+            const uint64_t d = ((k % 3) == 0) ? (top | (top - 1u)) : rand_bits(len);
+            const uint64_t dz = ((k % 3) == 1) ? (d & ~(uint64_t)0xFFFFFFFFu) : d;
+            const uint64_t dd = (dz == 0u) ? d : dz;
+            const unsigned int nmax = ((len + 31u) < 63u) ? (len + 31u) : 63u;
+            const unsigned int nlen = 1u + ((unsigned int)k % nmax);
+            uint64_t n = rand_bits(nlen);
+            const uint64_t q0 = (n >= dd) ? (n / dd) : 0u;
+            if (q0 >= ((uint64_t)1 << 31)) {
+                n = dd - 1u;
+            }
+            check_div_shl32(n, dd);
+            check_div_shl32(n / dd * dd, dd);                /* remainder 0 */
+            check_div_shl32((n / dd * dd) + (dd - 1u), dd); /* remainder d - 1 */
+            if (dd > 1u) {
+                check_div_shl32((n / dd * dd) + 1u, dd); /* remainder 1 */
+            }
+        }
+    }
+    /* exact ties: d = 2^32 (2^33) and n (n / 2) odd make n 2^32 / d an odd integer, whose
+     * half is rounded up */
+    for (k = 0; k < 64; ++k) {
+        const uint64_t odd = (rand_bits(1u + (unsigned int)(k % 31)) << 1) | 1u;
+        check_div_shl32(odd, (uint64_t)1 << 32);
+        check_div_shl32(odd << 1, (uint64_t)1 << 33);
+    }
+    for (k = 0; k < 20000; ++k) {
+        const uint64_t vtv = rand_bits(59u + (unsigned int)(k % 4));
+        const uint64_t dot = rand_bits(1u + (unsigned int)(k % 61));
+        check_div_shl32((dot < (vtv << 1)) ? dot : (vtv << 1) - 1u, vtv);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_rfe_q31_div_shl32_round_exact),
         cmocka_unit_test(test_rfe_qr_tria_q31_random_all_shapes),
         cmocka_unit_test(test_rfe_qr_tria_q31_filter_shapes),
         cmocka_unit_test(test_rfe_qr_tria_q31_extreme_scales),
