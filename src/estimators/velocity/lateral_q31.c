@@ -59,7 +59,8 @@ static int model_friction_q31(const rfe_velocity_params_q31_t *p, rfe_fix_t g, r
      * parameter check) */
     const int64_t margin = (int64_t)RFE_FIX_ONE(30) + (int64_t)p->mu_margin;
     const int64_t steady = (int64_t)p->lin_mu_gain * (int64_t)64;
-    const int64_t gain = ((lin_floor != 0) && (steady > margin)) ? steady : margin;
+    const int64_t higher = (steady > margin) ? steady : margin;
+    const int64_t gain = (lin_floor != 0) ? higher : margin;
     const int64_t num = gain * (int64_t)rfe_fix_abs(ay, sat);
     const rfe_fix_t mu_low = rfe_q31_div_round(rfe_fix_shr64_round(num, 1u), g, sat);
     int raised = 0;

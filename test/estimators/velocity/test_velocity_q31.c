@@ -898,8 +898,9 @@ static void test_a_steady_turn_in_fixed_point(void **state)
  * raise 0.3, lin_mu_gain 2.5 / 9.81 = 0.51 does, from the step the turn is steady (13) on.
  * Both twins raise it on the same steps (the flags equal on every step) and their vy agree
  * within TOL_VY on every step (the tyres are far from their limit here: the file's bound
- * applies). */
-static void test_the_steady_turns_floor_in_fixed_point(void **state)
+ * applies). With lin_mu_gain @p gain; @p first_raised: the step from which the friction is
+ * raised (0: never). */
+static void floor_turn_both(double gain, size_t first_raised)
 {
     both_t b;
     rfe_velocity_t od;
@@ -911,8 +912,9 @@ static void test_the_steady_turns_floor_in_fixed_point(void **state)
     rfe_velocity_mu_t mu;
     rfe_velocity_mu_q31_t mq;
     size_t k;
-    (void)state;
     params_of(NULL, &b);
+    b.vd.lin_mu_gain = gain;
+    b.vq.lin_mu_gain = fx(gain, RFE_FIX_Q_RATIO);
     assert_int_equal(rfe_velocity_init(&od, &b.vd, &b.pd), RFE_OK);
     assert_int_equal(rfe_velocity_init_q31(&oq, &b.vq, &b.pq), RFE_OK);
     for (k = 0u; k < 4u; ++k) {
@@ -934,10 +936,18 @@ static void test_the_steady_turns_floor_in_fixed_point(void **state)
         assert_int_equal(q.flags, e.flags);
         if (k > 0u) {
             assert_int_equal(((e.flags & RFE_VEL_FLAG_MU_RAISED) != 0u) ? 1 : 0,
-                             (k >= 13u) ? 1 : 0);
+                             ((first_raised != 0u) && (k >= first_raised)) ? 1 : 0);
         }
         assert_close(rfe_fix_to_double(q.vy, 23u), e.vy, TOL_VY, 0.0, "vy in the steady turn");
     }
+}
+
+static void test_the_steady_turns_floor_in_fixed_point(void **state)
+{
+    (void)state;
+    floor_turn_both(2.0, 13u);
+    /* a gain at most 1 + mu_margin is no floor: 1.0 * 2.5 / 9.81 = 0.25 < 0.3, never */
+    floor_turn_both(1.0, 0u);
 }
 
 /* REQ: rfe_velocity_restart_q31 (REQ-OBS-023): the sample after a gap beyond dt_max is
