@@ -70,6 +70,9 @@ typedef struct {
     rfe_real_t lin_ay_steady; /**< ... or at most this once the yaw rate has stayed on its
                                    reference for lin_dwell (a steady turn) [m/s^2]: 4 */
     rfe_real_t lin_dwell;     /**< that time [s], in [0, 1]: 0.125 */
+    rfe_real_t lin_mu_gain;   /**< in such a steady turn of the linear range the model's
+                                   friction is at least lin_mu_gain |ay| / g [1], in [0, 4]
+                                   (at most 1 + mu_margin: no effect): 2 */
 } rfe_velocity_params_t;
 
 /**
@@ -83,7 +86,7 @@ RFE_NODISCARD rfe_status_t rfe_velocity_params_default(rfe_velocity_params_t *p)
  * Checks every field: finite; driven in 1..15; 0 < dt_min <= dt_max <= 1; q_jerk, sd_r,
  * sd_ax, sd_ay, v_lat_min, sd_lowspeed, mu_default, sd_vydot, steer_ratio > 0;
  * every other sd, q, gate, threshold and margin (sd_model_rdot and sd_vy_lin
- * included: 0 is off) >= 0; lin_dwell <= 1.
+ * included: 0 is off) >= 0; lin_dwell <= 1; lin_mu_gain <= 4.
  * @param[in] p  the parameters to check.
  * @return RFE_OK, RFE_ERR_NULL or RFE_ERR_PARAM.
  */

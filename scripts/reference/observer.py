@@ -57,6 +57,7 @@ OBS_DEFAULTS: dict[str, float] = {
     "obs_lin_ay_max": 3.0,      # ... and |ay| at most this, m/s^2
     "obs_lin_ay_steady": 4.0,   # ... or at most this in a steady turn, m/s^2
     "obs_lin_dwell": 0.125,     # a steady turn: r on vx delta / L this long, s (at most 1)
+    "obs_lin_mu_gain": 2.0,     # in that steady turn the model's friction >= this |ay| / g (<= 4)
 }
 
 
@@ -248,9 +249,29 @@ class Observer:
         vy_pred = self.lat.x[0]
         on_ref = 0.0                              # below v_lat_min the time on r_ref restarts
         if vx >= p["obs_v_lat_min"]:
+            # §4.2b the linear range, decided first (the model's friction floor depends on
+            # it): the yaw rate of the neutral single-track model and a moderate ay (or a
+            # higher one in a steady turn: r on r_ref for obs_lin_dwell)
+            length = p["Lf"] + p["Lr"]
+            r_ref = vx * (s.delta / length)
+            yaw_linear = abs(s.yaw_rate - r_ref) <= p["obs_lin_r_tol"] + p["obs_lin_r_rel"] * abs(r_ref)
+            if not yaw_linear:
+                on_ref = 0.0
+            elif self.r_on_ref >= p["obs_lin_dwell"]:
+                on_ref = self.r_on_ref
+            else:
+                on_ref = min(self.r_on_ref + dt, p["obs_lin_dwell"])
+            dwelled = on_ref >= p["obs_lin_dwell"]
+            steady = abs(s.ay) <= p["obs_lin_ay_steady"] and dwelled
+            linear = p["obs_sd_vy_lin"] > 0.0 and yaw_linear and (abs(s.ay) <= p["obs_lin_ay_max"]
+                                                                  or steady)
             # §4.2 the lateral acceleration of the friction estimator's model (MODEL.md §3-5)
-            # at vy, at this step's friction (raised to what the measured ay proves)
-            mu_low = (1.0 + p["obs_mu_margin"]) * abs(s.ay) / p["g"]
+            # at vy, at this step's friction (raised to what the measured ay proves, and in a
+            # steady turn of the linear range to obs_lin_mu_gain |ay| / g: its tyres are linear)
+            gain = 1.0 + p["obs_mu_margin"]
+            if linear and dwelled:
+                gain = max(gain, p["obs_lin_mu_gain"])
+            mu_low = gain * abs(s.ay) / p["g"]
             if s.mu is None:
                 mu_in, sd_in = (p["obs_mu_default"],) * 4, (p["obs_sd_mu_default"],) * 4
             else:
@@ -271,21 +292,9 @@ class Observer:
                 r1 = p["obs_sd_model_rdot"] ** 2 + e_rd ** 2 + self.yaw.P[1][1]
                 self.lat.update(h1, 0.0,
                                 self.yaw.x[1] - (rd_model + h1 * (self.lat.x[0] - vy_pred)), r1)
-            # §4.2b the linear range: the yaw rate of the neutral single-track model and a
-            # moderate ay (or a higher one in a steady turn: r on r_ref for obs_lin_dwell):
-            # vy is the linear model's, whatever the friction
-            length = p["Lf"] + p["Lr"]
-            r_ref = vx * (s.delta / length)
-            yaw_linear = abs(s.yaw_rate - r_ref) <= p["obs_lin_r_tol"] + p["obs_lin_r_rel"] * abs(r_ref)
-            if not yaw_linear:
-                on_ref = 0.0
-            elif self.r_on_ref >= p["obs_lin_dwell"]:
-                on_ref = self.r_on_ref
-            else:
-                on_ref = min(self.r_on_ref + dt, p["obs_lin_dwell"])
-            steady = abs(s.ay) <= p["obs_lin_ay_steady"] and on_ref >= p["obs_lin_dwell"]
-            if p["obs_sd_vy_lin"] > 0.0 and yaw_linear and (abs(s.ay) <= p["obs_lin_ay_max"]
-                                                            or steady):
+            # §4.2b the linear range (decided above): vy is the linear model's, whatever the
+            # friction
+            if linear:
                 vy_lin = vx * ((p["Lr"] * s.delta) / length - s.ay / (p["cy"] * p["g"]))
                 self.lat.update(1.0, 0.0, vy_lin - self.lat.x[0], p["obs_sd_vy_lin"] ** 2)
                 flags |= FLAG_VY_LINEAR

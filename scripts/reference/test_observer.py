@@ -236,6 +236,42 @@ def test_an_honest_friction_sd_limits_the_error():
     assert np.max(err) < np.max(err_conf)
 
 
+BANK = os.path.join(SCEN, "observer", "bank_curve_neg5.csv")
+
+
+def _bank_beta_rmse(mu0, gain):
+    """beta RMSE [deg] (vx_true >= 3 m/s) of the reference on the -5 deg banked curve with
+    the friction input held at mu0 (sd 0.06) and obs_lin_mu_gain = gain; and its flags."""
+    log = logs.read_csv_log(BANK)
+    c = log.columns
+    n = len(c["t"])
+    p = observer.params_with_defaults(params.from_metadata(log.meta), obs_lin_mu_gain=gain)
+    o = observer.run(c, p, ([np.full(n, mu0)] * 4, [np.full(n, 0.06)] * 4))
+    m = c["vx_true"] >= 3.0
+    e = np.degrees(o["beta"] - c["beta_true"])[m]
+    return float(np.sqrt(np.mean(e ** 2))), o["flags"].astype(int)
+
+
+# REQ-OBS-012
+@pytest.mark.skipif(not os.path.exists(BANK), reason="no bundled observer scenarios")
+def test_the_steady_turns_friction_floor_on_the_adverse_bank():
+    # OBSERVER.md §4.2: the pipeline's friction loop holds the friction estimate at 0.2-0.4
+    # on this mu 0.9 road (OBSERVER_RESULTS.md); held at 0.3, the margin's bound
+    # 1.1 * 3.2 / 9.81 = 0.36 leaves the model's tyres near their limit and vy is pulled off
+    # the linear range's: beta misses issue 16's 0.3 deg (measured 0.37). The floor
+    # 2 * 3.2 / 9.81 = 0.65 in the steady turn puts them back in their linear range: within
+    # the target with margin (measured 0.13; the bound 0.2 is the target less a third).
+    without, _ = _bank_beta_rmse(0.3, 0.0)
+    with_floor, flags = _bank_beta_rmse(0.3, 2.0)
+    assert without > 0.3
+    assert with_floor <= 0.2
+    assert np.any(flags & observer.FLAG_MU_RAISED)
+    # with the true friction the floor (0.65 < 0.9) never binds: the model is the same and
+    # beta as good as the reference gets here (measured 0.07 either way)
+    true_mu, _ = _bank_beta_rmse(0.9, 2.0)
+    assert true_mu <= 0.1
+
+
 @pytest.mark.parametrize("tyre", ["paper", "dugoff", "magic"])
 def test_model_row_derivatives_are_the_models(tyre):
     """§4.2: d(ay, r-dot)/dvy and the friction derivative along sd against central differences

@@ -126,7 +126,8 @@
     X(obs_lin_r_rel, lin_r_rel, "1", "linear range: plus this share of |vx delta / L|")                        \
     X(obs_lin_ay_max, lin_ay_max, "m/s^2", "linear range: |ay| at most this")                                   \
     X(obs_lin_ay_steady, lin_ay_steady, "m/s^2", "linear range: |ay| at most this in a steady turn")              \
-    X(obs_lin_dwell, lin_dwell, "s", "linear range: a steady turn has the yaw rate on vx delta / L this long")
+    X(obs_lin_dwell, lin_dwell, "s", "linear range: a steady turn has the yaw rate on vx delta / L this long") \
+    X(obs_lin_mu_gain, lin_mu_gain, "1", "in that steady turn the model's friction is at least this times |ay| / g")
 
 /**
  * The mass and grade estimator's keys (docs/MASS_GRADE.md §6): X(key, rfe_mass_grade_params_t

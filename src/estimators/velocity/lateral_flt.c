@@ -41,12 +41,15 @@ static rfe_status_t model_rows(const rfe_velocity_t *obs, const rfe_velocity_inp
 }
 
 /* The model's friction (§4.2): the input or the default, raised to what the measured ay
- * proves, and its sd. Returns 1 when the bound raised a wheel. */
+ * proves, (1 + mu_margin) |ay| / g, and in a steady turn of the linear range (@p lin_floor) to
+ * at least lin_mu_gain |ay| / g; and its sd. Returns 1 when the bound raised a wheel. */
 static int model_friction(const rfe_velocity_params_t *p, rfe_real_t g, rfe_real_t ay,
-                          const rfe_velocity_mu_t *in, rfe_real_t mu[RFE_WHEELS],
+                          int lin_floor, const rfe_velocity_mu_t *in, rfe_real_t mu[RFE_WHEELS],
                           rfe_real_t sd_mu[RFE_WHEELS])
 {
-    const rfe_real_t mu_low = ((RFE_R(1.0) + p->mu_margin) * RFE_FABS(ay)) / g;
+    const rfe_real_t margin = RFE_R(1.0) + p->mu_margin;
+    const rfe_real_t gain = (lin_floor != 0) ? rfe_max(margin, p->lin_mu_gain) : margin;
+    const rfe_real_t mu_low = (gain * RFE_FABS(ay)) / g;
     int raised = 0;
     size_t i;
     for (i = 0u; i < RFE_WHEELS; ++i) {
@@ -60,13 +63,13 @@ static int model_friction(const rfe_velocity_params_t *p, rfe_real_t g, rfe_real
     return raised;
 }
 
-/* §4.2b the linear range: where the yaw rate is the neutral single-track model's
- * (r_ref = vx (delta / L)) and |ay| moderate (or, in a steady turn, the yaw rate on r_ref
- * for lin_dwell, below the higher cap), vy = vx (Lr delta / L - ay / (cy g)), the linear
- * model's, with sd sd_vy_lin. @p on_ref: the time r has stayed on r_ref, updated. Returns 1
- * (and the update's status in @p st) when taken. */
-static int linear_range(rfe_kf2_t *k, const rfe_velocity_t *obs, const rfe_velocity_input_t *in,
-                        rfe_real_t vx, rfe_real_t *on_ref, rfe_status_t *st)
+/* §4.2b the linear range, decided before the model's update (its friction floor depends on
+ * it): where the yaw rate is the neutral single-track model's (r_ref = vx (delta / L)) and
+ * |ay| moderate (or, in a steady turn, the yaw rate on r_ref for lin_dwell, below the higher
+ * cap). @p on_ref: the time r has stayed on r_ref, updated; @p lin_floor: 1 when taken in a
+ * steady turn (rfe_vel_lin_floor). Returns 1 when taken. */
+static int linear_range(const rfe_velocity_t *obs, const rfe_velocity_input_t *in, rfe_real_t vx,
+                        rfe_real_t *on_ref, int *lin_floor)
 {
     const rfe_velocity_params_t *p = &obs->p;
     const rfe_real_t len = obs->veh.Lf + obs->veh.Lr;
@@ -88,13 +91,21 @@ static int linear_range(rfe_kf2_t *k, const rfe_velocity_t *obs, const rfe_veloc
                               (RFE_FABS(in->ay) <= p->lin_ay_max) ? 1 : 0,
                               (RFE_FABS(in->ay) <= p->lin_ay_steady) ? 1 : 0,
                               (*on_ref >= p->lin_dwell) ? 1 : 0);
-    if (on != 0) {
-        const rfe_real_t vy_lin =
-            vx * (((obs->veh.Lr * in->delta) / len) - (in->ay / (obs->tyre.cy * obs->veh.g)));
-        *st = rfe_kf2_update(k, RFE_R(1.0), RFE_R(0.0), vy_lin - k->x[0],
-                             p->sd_vy_lin * p->sd_vy_lin);
-    }
+    *lin_floor = rfe_vel_lin_floor(on, (*on_ref >= p->lin_dwell) ? 1 : 0);
     return on;
+}
+
+/* §4.2b the linear range's update: vy = vx (Lr delta / L - ay / (cy g)), the linear model's,
+ * with sd sd_vy_lin. */
+static rfe_status_t linear_update(rfe_kf2_t *k, const rfe_velocity_t *obs,
+                                  const rfe_velocity_input_t *in, rfe_real_t vx)
+{
+    const rfe_velocity_params_t *p = &obs->p;
+    const rfe_real_t len = obs->veh.Lf + obs->veh.Lr;
+    const rfe_real_t vy_lin =
+        vx * (((obs->veh.Lr * in->delta) / len) - (in->ay / (obs->tyre.cy * obs->veh.g)));
+    return rfe_kf2_update(k, RFE_R(1.0), RFE_R(0.0), vy_lin - k->x[0],
+                          p->sd_vy_lin * p->sd_vy_lin);
 }
 
 rfe_status_t rfe_vel_lateral_step(rfe_kf2_t *f, rfe_real_t *on_ref, const rfe_velocity_t *obs,
@@ -119,7 +130,9 @@ rfe_status_t rfe_vel_lateral_step(rfe_kf2_t *f, rfe_real_t *on_ref, const rfe_ve
         rfe_real_t m_sd[RFE_WHEELS];
         rfe_meas_lateral_t z;
         const rfe_real_t vy_pred = k.x[0];
-        if (model_friction(p, obs->veh.g, in->ay, mu, m, m_sd) != 0) {
+        int lin_floor = 0;
+        const int lin = linear_range(obs, in, vx, &t_ref, &lin_floor);
+        if (model_friction(p, obs->veh.g, in->ay, lin_floor, mu, m, m_sd) != 0) {
             fl |= RFE_VEL_FLAG_MU_RAISED;
         }
         st = model_rows(obs, in, vx, vy_pred, m, m_sd, &z);
@@ -143,7 +156,8 @@ rfe_status_t rfe_vel_lateral_step(rfe_kf2_t *f, rfe_real_t *on_ref, const rfe_ve
             st = rfe_kf2_update(&k, h1, RFE_R(0.0),
                                 obs->yaw.x[1] - (z.z[1] + (h1 * (k.x[0] - vy_pred))), r);
         }
-        if ((st == RFE_OK) && (linear_range(&k, obs, in, vx, &t_ref, &st) != 0)) {
+        if ((st == RFE_OK) && (lin != 0)) {
+            st = linear_update(&k, obs, in, vx);
             fl |= RFE_VEL_FLAG_VY_LINEAR;
         }
     } else {

@@ -45,15 +45,22 @@ static rfe_status_t model_rows_q31(const rfe_velocity_q31_t *obs,
 }
 
 /* The model's friction (§4.2), Q29: the input or the default, raised to what the measured
- * ay proves, (1 + margin) |ay| / g, and its sd (Q30). Returns 1 when the bound raised a
+ * ay proves, (1 + margin) |ay| / g, and in a steady turn of the linear range (@p lin_floor)
+ * to at least lin_mu_gain |ay| / g; and its sd (Q30). Returns 1 when the bound raised a
  * wheel. */
 static int model_friction_q31(const rfe_velocity_params_q31_t *p, rfe_fix_t g, rfe_fix_t ay,
-                              const rfe_velocity_mu_q31_t *in, rfe_fix_t mu[RFE_WHEELS],
-                              rfe_fix_t sd_mu[RFE_WHEELS], uint32_t *sat)
+                              int lin_floor, const rfe_velocity_mu_q31_t *in,
+                              rfe_fix_t mu[RFE_WHEELS], rfe_fix_t sd_mu[RFE_WHEELS],
+                              uint32_t *sat)
 {
-    /* (1 + margin) Q30 times |ay| Q24: Q54, exact in int64; over g Q24 into Q29 after one
-     * rounding shift to Q53 (g > 0 after the parameter check) */
-    const int64_t gain = (int64_t)RFE_FIX_ONE(30) + (int64_t)p->mu_margin;
+    /* the gain in Q30: 1 + margin (below 2^32), or lin_mu_gain Q24 times 2^6 (exact; at most
+     * 4, 2^32, after the parameter check); times |ay| Q24 (below 2^31): Q54 below 2^63,
+     * exact in int64; over g Q24 into Q29 after one rounding shift to Q53 (g > 0 after the
+     * parameter check) */
+    const int64_t margin = (int64_t)RFE_FIX_ONE(30) + (int64_t)p->mu_margin;
+    const int64_t steady = (int64_t)p->lin_mu_gain * (int64_t)64;
+    const int64_t higher = (steady > margin) ? steady : margin;
+    const int64_t gain = (lin_floor != 0) ? higher : margin;
     const int64_t num = gain * (int64_t)rfe_fix_abs(ay, sat);
     const rfe_fix_t mu_low = rfe_q31_div_round(rfe_fix_shr64_round(num, 1u), g, sat);
     int raised = 0;
@@ -69,15 +76,17 @@ static int model_friction_q31(const rfe_velocity_params_q31_t *p, rfe_fix_t g, r
     return raised;
 }
 
-/* The model at this step (§4.2): its friction (raised to what ay proves) and its rows at
- * the prediction @p vy_pred. */
+/* The model at this step (§4.2): its friction (raised to what ay proves, and in a steady
+ * turn of the linear range to its floor, @p lin_floor) and its rows at the prediction
+ * @p vy_pred. */
 static rfe_status_t model_q31(const rfe_velocity_q31_t *obs, const rfe_velocity_input_q31_t *in,
-                              rfe_fix_t vx, rfe_fix_t vy_pred, const rfe_velocity_mu_q31_t *mu,
-                              rfe_meas_lateral_q31_t *z, uint32_t *fl, uint32_t *sat)
+                              rfe_fix_t vx, rfe_fix_t vy_pred, int lin_floor,
+                              const rfe_velocity_mu_q31_t *mu, rfe_meas_lateral_q31_t *z,
+                              uint32_t *fl, uint32_t *sat)
 {
     rfe_fix_t mm[RFE_WHEELS];
     rfe_fix_t m_sd[RFE_WHEELS];
-    if (model_friction_q31(&obs->p, obs->veh.g, in->ay, mu, mm, m_sd, sat) != 0) {
+    if (model_friction_q31(&obs->p, obs->veh.g, in->ay, lin_floor, mu, mm, m_sd, sat) != 0) {
         *fl |= RFE_VEL_FLAG_MU_RAISED;
     }
     return model_rows_q31(obs, in, vx, vy_pred, mm, m_sd, z, sat);
@@ -127,25 +136,21 @@ static void rdot_row_q31(const rfe_velocity_q31_t *obs, const rfe_meas_lateral_q
     m->r = rfe_vel_pmax_q31(r, sat);
 }
 
-/* §4.2b the linear range, lateral_flt.c's linear_range in integers: r_ref = vx (delta / L)
- * (Q29 / Q29 into Q27, times Q23 into Q27), the test on |r - r_ref| against lin_r_tol +
- * lin_r_rel |r_ref| (Q27) and |ay| against lin_ay_max (Q24); vy_lin = vx ((Lr delta) / L -
- * ay / (cy g)): Lr delta Q29 over L into Q29, cy g (Q24 Q24) in Q20, ay Q24 over it into
- * Q29, times vx Q23 into Q23. L > 0, cy > 0 and g > 0 after the parameter checks, so no
- * division fails; a quotient beyond its format saturates, counted. The time on r_ref
- * (@p on_ref, updated) and lin_dwell are Q30: it grows only while below lin_dwell <= 1 s,
- * by dt <= dt_max <= 1 s, so the sum stays below 2 s, within Q30. Returns 1 (and the
- * update's status in @p st) when taken. */
-static int linear_range_q31(rfe_kf2_q31_t *k, const rfe_velocity_q31_t *obs,
-                            const rfe_velocity_input_q31_t *in, rfe_fix_t vx, rfe_fix_t *on_ref,
-                            rfe_status_t *st, uint32_t *sat)
+/* §4.2b the linear range, lateral_flt.c's linear_range in integers (decided before the
+ * model's update): r_ref = vx (delta / L) (Q29 / Q29 into Q27, times Q23 into Q27), the test
+ * on |r - r_ref| against lin_r_tol + lin_r_rel |r_ref| (Q27) and |ay| against lin_ay_max
+ * (Q24). L > 0 after the parameter checks, so the division does not fail; a quotient beyond
+ * its format saturates, counted. The time on r_ref (@p on_ref, updated) and lin_dwell are
+ * Q30: it grows only while below lin_dwell <= 1 s, by dt <= dt_max <= 1 s, so the sum stays
+ * below 2 s, within Q30. @p lin_floor: 1 when taken in a steady turn (rfe_vel_lin_floor).
+ * Returns 1 when taken. */
+static int linear_range_q31(const rfe_velocity_q31_t *obs, const rfe_velocity_input_q31_t *in,
+                            rfe_fix_t vx, rfe_fix_t *on_ref, int *lin_floor, uint32_t *sat)
 {
     const rfe_velocity_params_q31_t *p = &obs->p;
     const rfe_fix_t len = rfe_fix_add(obs->veh.Lf, obs->veh.Lr, sat);
     rfe_fix_t dl = 0;
     rfe_fix_t r_ref;
-    rfe_fix_t a = 0;
-    rfe_fix_t b = 0;
     rfe_fix_t r_err;
     rfe_fix_t r_tol;
     rfe_fix_t ay_abs;
@@ -153,6 +158,7 @@ static int linear_range_q31(rfe_kf2_q31_t *k, const rfe_velocity_q31_t *obs,
     int on;
     rfe_status_t s;
     s = rfe_fix_div(in->delta, len, 27, &dl, sat);
+    (void)s; /* L > 0 (above) */
     r_ref = rfe_fix_mul(vx, dl, 23u, sat);
     r_err = rfe_fix_abs(rfe_fix_sub(in->yaw_rate, r_ref, sat), sat);
     r_tol = rfe_fix_add(p->lin_r_tol, rfe_fix_mul(p->lin_r_rel, rfe_fix_abs(r_ref, sat), 30u, sat),
@@ -171,26 +177,37 @@ static int linear_range_q31(rfe_kf2_q31_t *k, const rfe_velocity_q31_t *obs,
                               (ay_abs <= p->lin_ay_max) ? 1 : 0,
                               (ay_abs <= p->lin_ay_steady) ? 1 : 0,
                               (*on_ref >= p->lin_dwell) ? 1 : 0);
-    if (on != 0) {
-        rfe_kf2_meas_q31_t m;
-        const rfe_fix_t cg = rfe_fix_mul(obs->tyre.cy, obs->veh.g, 28u, sat);
-        if (s == RFE_OK) {
-            s = rfe_fix_div(rfe_fix_mul(obs->veh.Lr, in->delta, 29u, sat), len, 29, &a, sat);
-        }
-        if (s == RFE_OK) {
-            s = rfe_fix_div(in->ay, cg, 25, &b, sat);
-        }
-        (void)s; /* every divisor is positive (above) */
-        m.h0 = RFE_VEL_Q31_ONE;
-        m.h1 = 0;
-        m.qh0 = RFE_VEL_Q31_QONE;
-        m.qh1 = RFE_VEL_Q31_QONE;
-        m.qz = RFE_VEL_Q31_QV;
-        m.nu = rfe_fix_sub(rfe_fix_mul(vx, rfe_fix_sub(a, b, sat), 29u, sat), k->x[0], sat);
-        m.r = rfe_vel_var_q31(p->sd_vy_lin, sat);
-        *st = rfe_kf2_update_q31(k, &m, sat);
-    }
+    *lin_floor = rfe_vel_lin_floor(on, (*on_ref >= p->lin_dwell) ? 1 : 0);
     return on;
+}
+
+/* §4.2b the linear range's update: vy_lin = vx ((Lr delta) / L - ay / (cy g)): Lr delta Q29
+ * over L into Q29, cy g (Q24 Q24) in Q20, ay Q24 over it into Q29, times vx Q23 into Q23.
+ * L > 0, cy > 0 and g > 0 after the parameter checks, so no division fails; a quotient
+ * beyond its format saturates, counted. */
+static rfe_status_t linear_update_q31(rfe_kf2_q31_t *k, const rfe_velocity_q31_t *obs,
+                                      const rfe_velocity_input_q31_t *in, rfe_fix_t vx,
+                                      uint32_t *sat)
+{
+    rfe_kf2_meas_q31_t m;
+    const rfe_fix_t len = rfe_fix_add(obs->veh.Lf, obs->veh.Lr, sat);
+    const rfe_fix_t cg = rfe_fix_mul(obs->tyre.cy, obs->veh.g, 28u, sat);
+    rfe_fix_t a = 0;
+    rfe_fix_t b = 0;
+    rfe_status_t s;
+    s = rfe_fix_div(rfe_fix_mul(obs->veh.Lr, in->delta, 29u, sat), len, 29, &a, sat);
+    if (s == RFE_OK) {
+        s = rfe_fix_div(in->ay, cg, 25, &b, sat);
+    }
+    (void)s; /* every divisor is positive (above) */
+    m.h0 = RFE_VEL_Q31_ONE;
+    m.h1 = 0;
+    m.qh0 = RFE_VEL_Q31_QONE;
+    m.qh1 = RFE_VEL_Q31_QONE;
+    m.qz = RFE_VEL_Q31_QV;
+    m.nu = rfe_fix_sub(rfe_fix_mul(vx, rfe_fix_sub(a, b, sat), 29u, sat), k->x[0], sat);
+    m.r = rfe_vel_var_q31(obs->p.sd_vy_lin, sat);
+    return rfe_kf2_update_q31(k, &m, sat);
 }
 
 rfe_status_t rfe_vel_lateral_step_q31(rfe_kf2_q31_t *f, rfe_fix_t *on_ref,
@@ -219,7 +236,9 @@ rfe_status_t rfe_vel_lateral_step_q31(rfe_kf2_q31_t *f, rfe_fix_t *on_ref,
     if (vx >= p->v_lat_min) {
         rfe_meas_lateral_q31_t z;
         const rfe_fix_t vy_pred = k.x[0];
-        st = model_q31(obs, in, vx, vy_pred, mu, &z, &fl, &cnt);
+        int lin_floor = 0;
+        const int lin = linear_range_q31(obs, in, vx, &t_ref, &lin_floor, &cnt);
+        st = model_q31(obs, in, vx, vy_pred, lin_floor, mu, &z, &fl, &cnt);
         if (st == RFE_OK) {
             ay_row_q31(p, in, &z, &m, &cnt);
             st = rfe_kf2_update_q31(&k, &m, &cnt);
@@ -231,7 +250,8 @@ rfe_status_t rfe_vel_lateral_step_q31(rfe_kf2_q31_t *f, rfe_fix_t *on_ref,
             rdot_row_q31(obs, &z, vy_pred, k.x[0], &m, &cnt);
             st = rfe_kf2_update_q31(&k, &m, &cnt);
         }
-        if ((st == RFE_OK) && (linear_range_q31(&k, obs, in, vx, &t_ref, &st, &cnt) != 0)) {
+        if ((st == RFE_OK) && (lin != 0)) {
+            st = linear_update_q31(&k, obs, in, vx, &cnt);
             fl |= RFE_VEL_FLAG_VY_LINEAR;
         }
     } else {

@@ -221,4 +221,12 @@ static inline int rfe_vel_linear_range(int on, int yaw_linear, int ay_moderate, 
             ((ay_moderate != 0) || ((ay_steady != 0) && (dwelled != 0)))) ? 1 : 0;
 }
 
+/** §4.2 the steady turn's friction floor: the linear range is taken this step (@p linear)
+ *  and the yaw rate has stayed on r_ref for lin_dwell (@p dwelled): the tyres are in their
+ *  linear range, so the model's friction is at least lin_mu_gain |ay| / g. */
+static inline int rfe_vel_lin_floor(int linear, int dwelled)
+{
+    return ((linear != 0) && (dwelled != 0)) ? 1 : 0;
+}
+
 #endif /* RFE_VELOCITY_LOGIC_H */

@@ -590,6 +590,75 @@ static void test_a_steady_turn_takes_the_linear_range_to_the_higher_cap(void **s
     assert_int_equal(rfe_velocity_params_validate(&fx.vp), RFE_OK);
 }
 
+/* The steady turn of first_linear_step at ay 2.5 m/s^2 (below lin_ay_max: the linear range
+ * from step 1, steady from step 13) with the friction input 0.3 (sd 0.05), from a fresh
+ * observer with lin_mu_gain @p gain: the flags and vy of steps 0..FLOOR_STEPS. */
+#define FLOOR_STEPS 40u
+static void floor_turn(rfe_real_t gain, uint32_t flags[FLOOR_STEPS + 1u],
+                       rfe_real_t vy[FLOOR_STEPS + 1u])
+{
+    rfe_velocity_estimate_t e;
+    rfe_velocity_input_t in;
+    const rfe_velocity_mu_t mu = {{0.3f, 0.3f, 0.3f, 0.3f}, {0.05f, 0.05f, 0.05f, 0.05f}};
+    size_t k;
+    setup_fixture();
+    fx.vp.lin_mu_gain = gain;
+    assert_int_equal(rfe_velocity_init(&fx.obs, &fx.vp, &fx.p), RFE_OK);
+    for (k = 0u; k <= FLOOR_STEPS; ++k) {
+        in = rolling(20.0f, (k == 0u) ? 0.0f : 0.01f);
+        in.delta = 0.02f;
+        in.yaw_rate = 20.0f * (0.02f / (fx.p.vehicle.Lf + fx.p.vehicle.Lr));
+        in.ay = 2.5f;
+        assert_int_equal(rfe_velocity_step(&fx.obs, &in, &mu, &e), RFE_OK);
+        flags[k] = e.flags;
+        vy[k] = e.vy;
+    }
+}
+
+/* REQ-OBS-012: in a steady turn of the linear range the model's friction is at least
+ * lin_mu_gain |ay| / g (OBSERVER.md §4.2). At ay 2.5 m/s^2 the margin's bound (1 + 0.1)
+ * 2.5 / 9.81 = 0.28 stays below the input 0.3, the floor 2 * 2.5 / 9.81 = 0.51 does not:
+ * the friction is raised exactly from the step the turn is steady (13, as
+ * test_a_steady_turn_takes_the_linear_range_to_the_higher_cap derives), and not before. */
+static void test_a_steady_turn_raises_the_models_friction(void **state)
+{
+    uint32_t f2[FLOOR_STEPS + 1u], f0[FLOOR_STEPS + 1u], f1[FLOOR_STEPS + 1u];
+    rfe_real_t v2[FLOOR_STEPS + 1u], v0[FLOOR_STEPS + 1u], v1[FLOOR_STEPS + 1u];
+    rfe_velocity_t before;
+    size_t k;
+    (void)state;
+    floor_turn(2.0f, f2, v2);
+    floor_turn(0.0f, f0, v0);
+    floor_turn(1.0f, f1, v1);
+    for (k = 1u; k <= FLOOR_STEPS; ++k) {
+        /* the linear range on every later step, with or without the floor */
+        assert_true((f2[k] & RFE_VEL_FLAG_VY_LINEAR) != 0u);
+        assert_true((f0[k] & RFE_VEL_FLAG_VY_LINEAR) != 0u);
+        assert_int_equal(((f2[k] & RFE_VEL_FLAG_MU_RAISED) != 0u) ? 1 : 0, (k >= 13u) ? 1 : 0);
+        assert_true((f0[k] & RFE_VEL_FLAG_MU_RAISED) == 0u);
+    }
+    /* before the turn is steady the gain changes nothing, bit for bit; from then on the
+     * raised friction moves vy: by more than 1e-3 m/s at the end, where the float rounding
+     * of 40 steps of the same arithmetic is below 1e-5 m/s */
+    assert_memory_equal(v2, v0, 13u * sizeof(v2[0]));
+    assert_true(fabs((double)(v2[FLOOR_STEPS] - v0[FLOOR_STEPS])) > 1e-3);
+    /* a gain at most 1 + mu_margin is no floor: the same as none, bit for bit */
+    assert_memory_equal(v1, v0, sizeof(v0));
+    assert_memory_equal(f1, f0, sizeof(f0));
+    /* lin_mu_gain finite, in [0, 4]; a bad one is RFE_ERR_PARAM, init leaves the observer */
+    setup_fixture();
+    memcpy(&before, &fx.obs, sizeof(before));
+    fx.vp.lin_mu_gain = -0.5f;
+    assert_int_equal(rfe_velocity_init(&fx.obs, &fx.vp, &fx.p), RFE_ERR_PARAM);
+    fx.vp.lin_mu_gain = (rfe_real_t)NAN;
+    assert_int_equal(rfe_velocity_init(&fx.obs, &fx.vp, &fx.p), RFE_ERR_PARAM);
+    fx.vp.lin_mu_gain = 4.5f;
+    assert_int_equal(rfe_velocity_init(&fx.obs, &fx.vp, &fx.p), RFE_ERR_PARAM);
+    assert_memory_equal(&fx.obs, &before, sizeof(before));
+    fx.vp.lin_mu_gain = 4.0f; /* the limit itself is valid */
+    assert_int_equal(rfe_velocity_params_validate(&fx.vp), RFE_OK);
+}
+
 /* REQ-OBS-004 */
 static void test_all_wheel_drive_wheels_only_bound_vx_from_above(void **state)
 {
@@ -751,6 +820,7 @@ int main(void)
         cmocka_unit_test(test_the_yaw_row_moves_vy_towards_the_moment_balance),
         cmocka_unit_test(test_the_linear_range_brings_a_lost_vy_back),
         cmocka_unit_test(test_a_steady_turn_takes_the_linear_range_to_the_higher_cap),
+        cmocka_unit_test(test_a_steady_turn_raises_the_models_friction),
         cmocka_unit_test(test_all_wheel_drive_wheels_only_bound_vx_from_above),
         cmocka_unit_test(test_vx_never_goes_negative),
         cmocka_unit_test(test_steering_wheel_angle_through_the_ratio),

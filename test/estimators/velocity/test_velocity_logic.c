@@ -170,6 +170,18 @@ static void test_time_on_reference_every_combination(void **state)
     assert_int_equal(rfe_vel_on_ref(1, 1), RFE_VEL_ON_REF_HOLD);
 }
 
+/* REQ-OBS-012 */
+static void test_steady_turn_floor_every_combination(void **state)
+{
+    /* §4.2: the friction floor only where the linear range is taken and the yaw rate has
+     * stayed on r_ref for lin_dwell */
+    (void)state;
+    assert_int_equal(rfe_vel_lin_floor(0, 0), 0);
+    assert_int_equal(rfe_vel_lin_floor(0, 1), 0);
+    assert_int_equal(rfe_vel_lin_floor(1, 0), 0);
+    assert_int_equal(rfe_vel_lin_floor(1, 1), 1);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -178,6 +190,7 @@ int main(void)
         cmocka_unit_test(test_brake_drift_every_combination),
         cmocka_unit_test(test_linear_range_every_combination),
         cmocka_unit_test(test_time_on_reference_every_combination),
+        cmocka_unit_test(test_steady_turn_floor_every_combination),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -440,6 +440,12 @@ static void test_params(void **state)
     assert_int_equal(rfe_velocity_params_validate_q31(&bad), RFE_OK);
     bad.lin_dwell = RFE_FIX_ONE(30) + 1;
     assert_int_equal(rfe_velocity_params_validate_q31(&bad), RFE_ERR_PARAM);
+    /* lin_mu_gain at most 4 (Q24 2^26: the gain in Q30 times |ay| stays within int64) */
+    bad = def;
+    bad.lin_mu_gain = RFE_FIX_ONE(26);
+    assert_int_equal(rfe_velocity_params_validate_q31(&bad), RFE_OK);
+    bad.lin_mu_gain = RFE_FIX_ONE(26) + 1;
+    assert_int_equal(rfe_velocity_params_validate_q31(&bad), RFE_ERR_PARAM);
     /* every field that must be > 0 rejects 0, every other one a negative value; in the
      * order of the struct after dt_max (steer_ratio is checked positive too; sd_model_rdot
      * is 0 when off) */
@@ -447,7 +453,7 @@ static void test_params(void **state)
         rfe_fix_t *const pos[9] = {&bad.q_jerk, &bad.sd_r, &bad.sd_ax, &bad.sd_ay,
                                     &bad.v_lat_min, &bad.sd_lowspeed, &bad.mu_default,
                                     &bad.sd_vydot, &bad.steer_ratio};
-        rfe_fix_t *const nonneg[28] = {&bad.sd_vy_lin, &bad.lin_r_tol, &bad.lin_r_rel, &bad.lin_ay_max,
+        rfe_fix_t *const nonneg[29] = {&bad.lin_mu_gain, &bad.sd_vy_lin, &bad.lin_r_tol, &bad.lin_r_rel, &bad.lin_ay_max,
             &bad.lin_ay_steady, &bad.lin_dwell,
             &bad.sd_model_rdot, &bad.vydot_rdot, &bad.q_bx, &bad.q_by, &bad.sd_wheel, &bad.sd_wheel_rel,
             &bad.k_gate, &bad.k_agree, &bad.v_stand, &bad.q_vx_brake, &bad.ax_brake_on, &bad.ax_drive_on, &bad.p_brake_on, &bad.torque_on,
@@ -458,7 +464,7 @@ static void test_params(void **state)
             *pos[i] = 0;
             assert_int_equal(rfe_velocity_params_validate_q31(&bad), RFE_ERR_PARAM);
         }
-        for (i = 0u; i < 28u; ++i) {
+        for (i = 0u; i < 29u; ++i) {
             bad = def;
             *nonneg[i] = 0;
             assert_int_equal(rfe_velocity_params_validate_q31(&bad), RFE_OK);
@@ -886,6 +892,64 @@ static void test_a_steady_turn_in_fixed_point(void **state)
     assert_int_equal(steady_turn_both(4.5, 0u), 0u);
 }
 
+/* REQ-OBS-012 REQ-FXP-014: the steady turn's friction floor through both twins: the turn of
+ * test_velocity_flt.c's floor_turn (20 m/s, delta 0.02 rad, the yaw rate on r_ref, ay
+ * 2.5 m/s^2, the friction input 0.3, sd 0.05): (1 + mu_margin) 2.5 / 9.81 = 0.28 does not
+ * raise 0.3, lin_mu_gain 2.5 / 9.81 = 0.51 does, from the step the turn is steady (13) on.
+ * Both twins raise it on the same steps (the flags equal on every step) and their vy agree
+ * within TOL_VY on every step (the tyres are far from their limit here: the file's bound
+ * applies). With lin_mu_gain @p gain; @p first_raised: the step from which the friction is
+ * raised (0: never). */
+static void floor_turn_both(double gain, size_t first_raised)
+{
+    both_t b;
+    rfe_velocity_t od;
+    rfe_velocity_q31_t oq;
+    rfe_velocity_input_t in;
+    rfe_velocity_input_q31_t iq;
+    rfe_velocity_estimate_t e;
+    rfe_velocity_estimate_q31_t q;
+    rfe_velocity_mu_t mu;
+    rfe_velocity_mu_q31_t mq;
+    size_t k;
+    params_of(NULL, &b);
+    b.vd.lin_mu_gain = gain;
+    b.vq.lin_mu_gain = fx(gain, RFE_FIX_Q_RATIO);
+    assert_int_equal(rfe_velocity_init(&od, &b.vd, &b.pd), RFE_OK);
+    assert_int_equal(rfe_velocity_init_q31(&oq, &b.vq, &b.pq), RFE_OK);
+    for (k = 0u; k < 4u; ++k) {
+        mu.mu[k] = 0.3;
+        mu.sd[k] = 0.05;
+        mq.mu[k] = fx(0.3, RFE_FIX_Q_MU);
+        mq.sd[k] = fx(0.05, RFE_FIX_Q_SD);
+    }
+    for (k = 0u; k <= 40u; ++k) {
+        rolling(&b, 20.0, (k == 0u) ? 0.0 : 0.01, &in, &iq);
+        in.delta = 0.02;
+        in.yaw_rate = 20.0 * (0.02 / (b.pd.vehicle.Lf + b.pd.vehicle.Lr));
+        in.ay = 2.5;
+        iq.delta = fx(in.delta, RFE_FIX_Q_ANGLE);
+        iq.yaw_rate = fx(in.yaw_rate, RFE_FIX_Q_YAWRATE);
+        iq.ay = fx(in.ay, RFE_FIX_Q_ACC);
+        assert_int_equal(rfe_velocity_step(&od, &in, &mu, &e), RFE_OK);
+        assert_int_equal(rfe_velocity_step_q31(&oq, &iq, &mq, &q), RFE_OK);
+        assert_int_equal(q.flags, e.flags);
+        if (k > 0u) {
+            assert_int_equal(((e.flags & RFE_VEL_FLAG_MU_RAISED) != 0u) ? 1 : 0,
+                             ((first_raised != 0u) && (k >= first_raised)) ? 1 : 0);
+        }
+        assert_close(rfe_fix_to_double(q.vy, 23u), e.vy, TOL_VY, 0.0, "vy in the steady turn");
+    }
+}
+
+static void test_the_steady_turns_floor_in_fixed_point(void **state)
+{
+    (void)state;
+    floor_turn_both(2.0, 13u);
+    /* a gain at most 1 + mu_margin is no floor: 1.0 * 2.5 / 9.81 = 0.25 < 0.3, never */
+    floor_turn_both(1.0, 0u);
+}
+
 /* REQ: rfe_velocity_restart_q31 (REQ-OBS-023): the sample after a gap beyond dt_max is
  * refused, and after a restart taken as the first: bit for bit a fresh observer's first
  * step, and the same next step; NULL and an uninitialised observer are refused. */
@@ -957,6 +1021,7 @@ int main(void)
         cmocka_unit_test(test_a_huge_noise_parameter_saturates_and_is_counted),
         cmocka_unit_test(test_the_yaw_row_in_fixed_point),
         cmocka_unit_test(test_a_steady_turn_in_fixed_point),
+        cmocka_unit_test(test_the_steady_turns_floor_in_fixed_point),
         cmocka_unit_test(test_back_to_back_through_a_lockout),
         cmocka_unit_test(test_back_to_back_on_every_observer_scenario),
     };
