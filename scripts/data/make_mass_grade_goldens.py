@@ -33,8 +33,8 @@ OUTPUTS = ("mass", "sd_mass", "grade", "sd_grade", "v", "sd_v", "q_mv", "status"
 # the filter meets the reference: the AUKF with its adaptation period and the ax row, the
 # plain UKF on speed alone.
 PRESETS = {
-    "recommended": {"mg_adaptive": 0.0, "mg_use_ax": 1.0, "mg_pause_grade": 1.0},
-    "seed": {"mg_adaptive": 1.0, "mg_use_ax": 0.0, "mg_m_rot": 0.0, "mg_t_adapt": 0.0},
+    "recommended": mg.MG_CONFIGS["recommended"],
+    "seed": mg.MG_CONFIGS["seed"],
     "aukf_ax": {"mg_adaptive": 1.0, "mg_use_ax": 1.0},
     "ukf": {"mg_adaptive": 0.0, "mg_use_ax": 0.0},
     # the recommended preset learning the grade from ax in the brake and shift pauses

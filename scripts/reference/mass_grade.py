@@ -78,6 +78,19 @@ MG_DEFAULTS: dict[str, float] = {
     "mg_dt_max": 1.0,       # a longer sample period restarts the filter, s
 }
 
+# §4.7 the grade's two-level walk: keys of the reference only (the C module does not have them
+# yet), so they are kept out of MG_DEFAULTS, whose keys every golden's metadata and the
+# library's parameter files carry; MassGrade takes these defaults for any it is not given.
+# Off by default (mg_q_theta_hi 0): the filter is then the library's.
+MG_WALK: dict[str, float] = {
+    "mg_q_theta_hi": 0.0,   # the grade's looser walk while the grade moves, rad per sqrt(s);
+                            # 0: off (mg_q_theta always)
+    "mg_theta_rate_on": 0.002,   # the grade rate's RMS above which the walk loosens, rad/s
+    "mg_theta_rate_off": 0.001,  # ... below which it tightens again, rad/s (<= _on)
+    "mg_theta_rate_tau": 1.0,    # time constant of the grade rate's low-pass, s
+    "mg_theta_rate_avg": 3.0,    # time constant of the mean of its square, s
+}
+
 # Vehicle presets (§6): the passenger car is MG_DEFAULTS; the truck the seed's 5758 kg truck
 # with the simulator's truck data (scripts/sim/mass_grade_scenarios.py).
 MG_PRESETS: dict[str, dict[str, float]] = {
@@ -85,6 +98,15 @@ MG_PRESETS: dict[str, dict[str, float]] = {
     "truck": {"R": 0.45, "mg_fc": 0.0065, "mg_fr": 0.00005, "mg_cd": 0.60, "mg_area": 6.0,
               "mg_m_rot": 158.0, "mg_m0": 4000.0, "mg_sd_m0": 2000.0, "mg_q_mc": 3.0,
               "mg_q_mv0": 1000.0},
+}
+
+# §6 "Presets": the library's configurations over a vehicle's values (rfe_mass_grade_params_preset,
+# RFE_MG_RECOMMENDED and RFE_MG_SEED): the recommended one (plain UKF with the accelerometer row
+# and the brake bit of mg_pause_grade) and the seed's (its AUKF on speed and torque, adapted
+# every step, no rotating mass). Every script that runs "the recommended preset" takes it here.
+MG_CONFIGS: dict[str, dict[str, float]] = {
+    "recommended": {"mg_adaptive": 0.0, "mg_use_ax": 1.0, "mg_pause_grade": 1.0},
+    "seed": {"mg_adaptive": 1.0, "mg_use_ax": 0.0, "mg_m_rot": 0.0, "mg_t_adapt": 0.0},
 }
 
 # §7 Status codes (the library's enum, include/rfe/common.h, and the codes this page adds)
@@ -126,11 +148,12 @@ class ParamError(ValueError):
 
 
 def preset(name="car", **overrides):
-    """A full parameter dict: MG_DEFAULTS, then the vehicle preset, then overrides."""
+    """A full parameter dict: MG_DEFAULTS, then the vehicle preset, then overrides (which may
+    also set §4.7's MG_WALK keys)."""
     p = dict(MG_DEFAULTS)
     p.update(MG_PRESETS[name])
     for k, v in overrides.items():
-        if k not in p:
+        if k not in p and k not in MG_WALK:
             raise ParamError(f"unknown key {k}")
         p[k] = float(v)
     return p
@@ -164,6 +187,17 @@ def validate(p):
         raise ParamError("mg_pause_grade_slip: must be <= 1")
     if not p["mg_pause_grade_dv"] <= 10.0:
         raise ParamError("mg_pause_grade_dv: must be <= 10 m/s")
+    w = {**MG_WALK, **p}    # §4.7's keys: their defaults where p has none
+    for k in MG_WALK:
+        if not math.isfinite(w[k]):
+            raise ParamError(f"{k}: not finite")
+    if w["mg_q_theta_hi"] != 0.0 and not p["mg_q_theta"] <= w["mg_q_theta_hi"] <= 0.1:
+        raise ParamError("mg_q_theta_hi: must be 0 or in [mg_q_theta, 0.1] rad/sqrt(s)")
+    if not 0.0 < w["mg_theta_rate_off"] <= w["mg_theta_rate_on"] <= 0.1:
+        raise ParamError("mg_theta_rate_off, mg_theta_rate_on: need 0 < off <= on <= 0.1 rad/s")
+    for k in ("mg_theta_rate_tau", "mg_theta_rate_avg"):
+        if not p["mg_dt_max"] <= w[k] <= 60.0:
+            raise ParamError(f"{k}: must lie in [mg_dt_max, 60] s")
     if not p["mg_m_min"] < p["mg_m0"] < p["mg_m_max"]:
         raise ParamError("mg_m0: must lie inside (mg_m_min, mg_m_max)")
     if not abs(p["mg_theta0"]) < p["mg_theta_max"] < 1.5:
@@ -291,7 +325,7 @@ class MassGrade:
             raise ValueError("form 'sqrt': the reference runs it in float64 only")
         self.ar = ar
         self.form = form
-        p = {k: ar.real(v) for k, v in params.items()}
+        p = {k: ar.real(v) for k, v in {**MG_WALK, **params}.items()}
         validate(p)
         self.p = p
         self.wm, self.wc = weights(p)
@@ -304,6 +338,8 @@ class MassGrade:
         self.use_ax = p["mg_use_ax"] == 1.0
         if form != "sqrt" and p["mg_pause_grade"] != 0.0 and self.use_ax:
             raise ValueError("mg_pause_grade: the square-root form only")
+        if form != "sqrt" and p["mg_q_theta_hi"] != 0.0:
+            raise ValueError("mg_q_theta_hi: the square-root form only")
         self.started = False
         # an optional observer of the innovations, None by default (then nothing is called):
         # probe(row, innovation, sd) with row "ax" or "v", the innovation y - z-hat and its
@@ -331,6 +367,12 @@ class MassGrade:
         self.chg_d = 0.0            # the change test's residual in this pause, m/s (§4.2)
         self.chg_on = False         # the change test tripped: the pause learns to its end
         self.u_prev = s.v if s.vx is None else s.vx   # the test's speed at the last sample
+        # §4.7 the grade's two-level walk: the grade rate's low-pass, the mean of its square,
+        # the level (False: mg_q_theta, True: mg_q_theta_hi) and the grade at the last sample
+        self.wq_rate = 0.0
+        self.wq_ms = 0.0
+        self.wq_hi = False
+        self.th_prev = self.x[2]
         self.started = True
 
     def _estimate(self, status):
@@ -392,7 +434,7 @@ class MassGrade:
     # -- the square-root form (the C library's steps, mass_grade_flt.c) ------------------------
     _SAVED = ("x", "S", "q_mv", "adapt_elapsed", "m_adapt", "brake_left", "shift_left",
               "curve_left", "gear", "started", "slip_latched", "v_free", "chg_d", "chg_on",
-              "u_prev")
+              "u_prev", "wq_rate", "wq_ms", "wq_hi", "th_prev")
 
     def _step_sqrt(self, s):
         """As step(), in the square-root form: the work on a copy of the state, restored on an
@@ -436,6 +478,8 @@ class MassGrade:
                                   math.nan, st)
             return self._estimate(st)
         self.sd = sd
+        if not started:
+            self._walk_level(dt)
         # §4.2 v uncorrelated with M after a start or a paused sample (the hold sets S_Mv = 0,
         # the grade from ax keeps it), not after an update: decided from what the sample did,
         # not by S_Mv == 0, which an update's rounding can reach in one number type only
@@ -449,7 +493,7 @@ class MassGrade:
         by a 2 x 4 triangularisation of the mass and grade rows with the noise column."""
         p, S = self.p, self.S
         A = [[S[1][0], S[1][1], 0.0, 0.0],
-             [S[2][0], S[2][1], S[2][2], p["mg_q_theta"] * math.sqrt(dt)]]
+             [S[2][0], S[2][1], S[2][2], self._q_theta() * math.sqrt(dt)]]
         if tria(A, 2, 4) is None:
             return ERR_NONFINITE
         self.x[0] = s.v
@@ -457,6 +501,31 @@ class MassGrade:
         self.adapt_elapsed = 0.0
         self.m_adapt = self.x[1]
         return OK
+
+    def _q_theta(self):
+        """§4.7 the grade's random walk density for this sample's time update: mg_q_theta, or
+        mg_q_theta_hi while the walk is loosened (mg_q_theta_hi 0: never)."""
+        p = self.p
+        return p["mg_q_theta_hi"] if self.wq_hi else p["mg_q_theta"]
+
+    def _walk_level(self, dt):
+        """§4.7 after each accepted sample but a start: with d the grade's change over it,
+        r += d / tau - (dt / tau) r (the grade rate, low-passed, no division by dt) and
+        s += (dt / avg) (r^2 - s) (its mean square); the walk loosens once s > rate_on^2
+        and tightens once s < rate_off^2 (hysteresis), used from the next sample on."""
+        p = self.p
+        d = self.x[2] - self.th_prev
+        self.th_prev = self.x[2]
+        if p["mg_q_theta_hi"] == 0.0:
+            return
+        tau, avg = p["mg_theta_rate_tau"], p["mg_theta_rate_avg"]
+        self.wq_rate += d / tau - (dt / tau) * self.wq_rate
+        self.wq_ms += (dt / avg) * (self.wq_rate * self.wq_rate - self.wq_ms)
+        on, off = p["mg_theta_rate_on"], p["mg_theta_rate_off"]
+        if self.wq_hi:
+            self.wq_hi = not self.wq_ms < off * off
+        else:
+            self.wq_hi = self.wq_ms > on * on
 
     def _pause_grade(self, status):
         """§4.2: the pause @status keeps learning the grade from ax (its bit of mg_pause_grade
@@ -507,7 +576,7 @@ class MassGrade:
         rax = p["mg_r_ax"] * dt
         qv = math.sqrt(p["mg_q_v"] * p["mg_q_v"] * dt + rax * rax)
         A = [[S[0][0] - gc * S[2][0], -gc * S[2][2], qv, 0.0],
-             [S[2][0], S[2][2], 0.0, p["mg_q_theta"] * math.sqrt(dt)]]
+             [S[2][0], S[2][2], 0.0, self._q_theta() * math.sqrt(dt)]]
         if tria(A, 2, 4) is None:
             return ERR_NONFINITE
         rv = p["mg_r_v"]
@@ -540,7 +609,7 @@ class MassGrade:
         X = [f_state(p, x, self.torque_prev, dt) for x in pts]
         sdt = math.sqrt(dt)
         sq = (p["mg_q_v"] * sdt, math.sqrt(p["mg_q_mc"] * p["mg_q_mc"] + self.q_mv) * sdt,
-              p["mg_q_theta"] * sdt)
+              self._q_theta() * sdt)
         xm = mean(X, wm)
         A = [[0.0] * (2 * N + 1 + N) for _ in range(N)]
         centred(X, xm, w, A, 0)

@@ -567,3 +567,65 @@ def test_mass_grade_goldens_are_up_to_date(name, config):
     assert np.allclose(now, old, rtol=1e-9, atol=1e-12)
     for key, val in meta:
         assert old_meta[key] == (repr(val) if isinstance(val, float) else str(val))
+
+
+# -- §4.7 the grade's two-level walk ---------------------------------------------------------
+def _walk_filter(**over):
+    est = mg.MassGrade(mg.preset("car", mg_use_ax=1.0, mg_adaptive=0.0, **over))
+    est.step(mg.MgSample(0.0, 10.0, 0.0, None, None, None, 0.0))   # a start
+    return est
+
+
+def _ramp(est, rate, seconds, dt=0.01):
+    """Drive §4.7's level logic alone with a grade that moves at @rate rad/s."""
+    for _ in range(int(round(seconds / dt))):
+        est.x[2] += rate * dt
+        est._walk_level(dt)
+
+
+def test_walk_loosens_on_a_moving_grade_and_keeps_its_level_between_thresholds():
+    # thresholds 2 and 1 mrad/s (RMS of the low-passed rate); after 20 s (> 6 tau of the
+    # 3 s mean) of a steady ramp s is within 0.2 % of rate^2, so the level is decided by
+    # rate against the thresholds with a wide margin each time (5, 1.5, 0.5 mrad/s)
+    est = _walk_filter(mg_q_theta_hi=0.008)
+    assert not est.wq_hi and est._q_theta() == 0.004
+    _ramp(est, 0.005, 20.0)
+    assert est.wq_hi and est._q_theta() == 0.008
+    _ramp(est, 0.0015, 20.0)            # between off and on: stays loose (hysteresis)
+    assert est.wq_hi
+    _ramp(est, 0.0005, 20.0)            # below off: tight again
+    assert not est.wq_hi and est._q_theta() == 0.004
+    _ramp(est, 0.0015, 20.0)            # between: stays tight
+    assert not est.wq_hi
+
+
+def test_walk_off_never_loosens():
+    est = _walk_filter()                # mg_q_theta_hi 0 (the default): off
+    _ramp(est, 0.01, 20.0)
+    assert not est.wq_hi and est._q_theta() == 0.004
+
+
+def test_walk_with_equal_levels_computes_what_the_fixed_walk_does():
+    # mg_q_theta_hi = mg_q_theta: the level may switch but q_theta is the same, so the
+    # estimates are bit-identical to the walk off: the statistic touches nothing else
+    cols, _ = mg.read_log(os.path.join(LOGS, "car_hilly_road.csv"))
+    cols = {k: v[:3000] for k, v in cols.items()}
+    base = mg.run(cols, mg.preset("car", mg_use_ax=1.0, mg_adaptive=0.0))
+    p = mg.preset("car", mg_use_ax=1.0, mg_adaptive=0.0)
+    p.update(mg_q_theta_hi=0.004, mg_theta_rate_on=1e-4, mg_theta_rate_off=1e-4)
+    same = mg.run(cols, p)
+    for k in ("mass", "grade", "sd_mass", "sd_grade", "status"):
+        assert np.array_equal(base[k], same[k])
+
+
+@pytest.mark.parametrize("over", [{"mg_q_theta_hi": 0.003},            # below mg_q_theta
+                                  {"mg_q_theta_hi": 0.2},              # above 0.1
+                                  {"mg_theta_rate_off": 0.003},        # off > on
+                                  {"mg_theta_rate_off": 0.0},
+                                  {"mg_theta_rate_tau": 0.5},          # < mg_dt_max (1 s)
+                                  {"mg_theta_rate_avg": 61.0}])
+def test_walk_keys_are_validated(over):
+    p = mg.preset("car")
+    p.update(over)
+    with pytest.raises(mg.ParamError):
+        mg.MassGrade(p)

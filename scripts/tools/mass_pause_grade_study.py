@@ -98,8 +98,9 @@ def observer_job(name, start, variant):
     cols, _ = mg.read_log(path)
     m = log_mass(path)
     over = {} if name.split(".", 1)[0].endswith("_res") else SIM_RESISTANCES
-    est = mg.MassGrade(mg.preset("car", mg_m0=m * start, mg_pause_grade=VARIANTS[variant],
-                                 **CURVE, **RECOMMENDED, **over, **UNGATED.get(variant, {})))
+    est = mg.MassGrade(mg.preset("car", mg_m0=m * start, **CURVE,
+                                 **dict(RECOMMENDED, mg_pause_grade=VARIANTS[variant]), **over,
+                                 **UNGATED.get(variant, {})))
     samples = observer_samples(cols, est.p["R"])
     for s, ay in zip(samples, cols["ay"]):
         s.ay = float(ay)
@@ -111,7 +112,7 @@ def mass_grade_job(name, start, variant, true_speed=False):
     vehicle = "truck" if name.startswith("truck") else "car"
     m = float(cols["mass_true"][-1])
     est = mg.MassGrade(mg.preset(vehicle, mg_m0=start * float(cols["mass_true"][0]),
-                                 mg_pause_grade=VARIANTS[variant], **CURVE, **RECOMMENDED,
+                                 **CURVE, **dict(RECOMMENDED, mg_pause_grade=VARIANTS[variant]),
                                  **UNGATED.get(variant, {})))
     samples = list(mg.samples(cols, est.p))
     for s, vx in zip(samples, cols["vx_true"]):

@@ -9,8 +9,8 @@ pause's onset as a candidate fix (not in the library: MASS_GRADE.md "The slip pa
 The observer scenarios with wheel torques (scenarios/observer/, the samples mu_replay builds
 from them with --velocity measured: v the mean wheel speed times R, drive_torque the sum of
 torque_*, brake_pressure the largest p_* in Pa, ax, and the log's measured vx as the slip
-pause's ground speed) run through the reference's recommended preset (UKF with the ax row),
-the filter started at the log's m, 0.8 m and 1.2 m. Variants:
+pause's ground speed) run through the reference's recommended preset (UKF with the ax row
+and the brake bit of mg_pause_grade), the filter started at the log's m, 0.8 m and 1.2 m. Variants:
 
 - off: mg_slip_max = 0 (the filter before the pause); pause: the default key (0.05);
 - rollback T (T = 0.05, 0.1, 0.2 s): the pause, and at its onset (a slip-paused sample after
@@ -58,7 +58,9 @@ from mass_logs import MG_DIR, mass_grade_logs  # noqa: E402,F401  (mass_grade_lo
 STARTS = (1.0, 0.8, 1.2)            # mg_m0 as a share of the log's m
 ROLLBACKS = (0.05, 0.1, 0.2)        # the rollback's snapshot period T, s
 SIM_RESISTANCES = {"mg_fc": 0.0, "mg_fr": 0.0, "mg_rho": 0.0}
-RECOMMENDED = {"mg_adaptive": 0.0, "mg_use_ax": 1.0}
+# the library's recommended preset (UKF, the ax row, the brake bit of mg_pause_grade), taken from
+# the reference so that the studies run what the library ships
+RECOMMENDED = mg.MG_CONFIGS["recommended"]
 # name -> (parameter overrides, rollback period T or 0)
 VARIANTS = {"off": ({"mg_slip_max": 0.0}, 0.0), "pause": ({}, 0.0)}
 VARIANTS.update({f"rollback {t:g} s": ({}, t) for t in ROLLBACKS})

@@ -76,8 +76,8 @@ def _window_run(name, variant, t0, t1):
     keep = (cols["t"] >= t0) & (cols["t"] < t1)
     cols = {k: v[keep] for k, v in cols.items()}
     m = float(cols["mass_true"][0])
-    est = mg.MassGrade(mg.preset("car", mg_m0=m, mg_pause_grade=pg.VARIANTS[variant],
-                                 **pg.CURVE, **pg.RECOMMENDED))
+    est = mg.MassGrade(mg.preset("car", mg_m0=m, **pg.CURVE,
+                                 **dict(pg.RECOMMENDED, mg_pause_grade=pg.VARIANTS[variant])))
     outs = [est.step(s) for s in mg.samples(cols, est.p)]
     return cols, outs, pg.summary(outs, cols, m)
 
