@@ -32,14 +32,22 @@ static void copy_lower(const rfe_real_t *src, size_t lds, size_t k, rfe_real_t *
     }
 }
 
-/* Accepts a step: the candidate mean (w.xn) and factor (Tria output in w.A) become the state. */
+/* Accepts a step: the candidate mean (w.xn) and factor (Tria output in w.A) become the state.
+ * Only S's lower triangle is written: its upper triangle is zero from the init (copy_lower)
+ * on, and nothing writes it (issue 21: zeroing it again cost a memset call per row). */
 static void commit(rfe_sckf_t *f)
 {
     size_t i;
-    for (i = 0u; i < f->n; ++i) {
-        f->x[i] = f->w.xn[i];
+    size_t j;
+    /* Column by column, the mean in the same loop: a strided copy stays inline, where a
+     * contiguous copy is compiled into a memmove call (~45 instructions for a few elements
+     * on the Cortex-M4F). */
+    for (j = 0u; j < f->n; ++j) {
+        f->x[j] = f->w.xn[j];
+        for (i = j; i < f->n; ++i) {
+            f->S[(i * NM) + j] = f->w.A[(i * TC) + j];
+        }
     }
-    copy_lower(f->w.A, TC, f->n, f->S, NM);
 }
 
 rfe_status_t rfe_sckf_init(rfe_sckf_t *f, size_t n, size_t m, const rfe_real_t *x0,
@@ -225,7 +233,13 @@ static rfe_status_t innovation_factor(rfe_sckf_t *f, const rfe_real_t *SR)
     }
     st = rfe_qr_tria(w->A, m, (2u * n) + m, TC);
     if (st == RFE_OK) {
-        copy_lower(w->A, TC, m, w->Szz, MM);
+        /* S_zz with its upper part: Tria leaves zeros right of the diagonal (rfe_qr_tria),
+         * so a plain copy (no separate zeroing, issue 21), column by column (commit). */
+        for (j = 0u; j < m; ++j) {
+            for (r = 0u; r < m; ++r) {
+                w->Szz[(r * MM) + j] = w->A[(r * TC) + j];
+            }
+        }
     }
     return st;
 }
@@ -240,23 +254,21 @@ static void innovation_out(const rfe_sckf_t *f, const rfe_real_t *y, rfe_sckf_in
     size_t j;
     size_t r;
     /* All of *o is written (0 beyond m): the caller keeps it in its state, which must be
-     * fully defined to be copied and compared. */
+     * fully defined to be copied and compared. Each element once (issue 21: zeroing first
+     * cost memset calls); w->Szz's upper part is 0 (innovation_factor). */
     for (r = 0u; r < MM; ++r) {
-        o->nu[r] = RFE_R(0.0);
-        o->zz[r] = RFE_R(0.0);
-        for (j = 0u; j < MM; ++j) {
-            o->Szz[(r * MM) + j] = RFE_R(0.0);
-        }
-    }
-    for (r = 0u; r < m; ++r) {
+        rfe_real_t nu = RFE_R(0.0);
         rfe_real_t acc = RFE_R(0.0);
-        o->nu[r] = y[r] - w->zhat[r];
-        for (j = 0u; j < (2u * n); ++j) {
-            acc += w->zpts[(j * MM) + r] * w->zpts[(j * MM) + r];
+        if (r < m) {
+            nu = y[r] - w->zhat[r];
+            for (j = 0u; j < (2u * n); ++j) {
+                acc += w->zpts[(j * MM) + r] * w->zpts[(j * MM) + r];
+            }
         }
+        o->nu[r] = nu;
         o->zz[r] = acc;
-        for (j = 0u; j <= r; ++j) {
-            o->Szz[(r * MM) + j] = w->Szz[(r * MM) + j];
+        for (j = 0u; j < MM; ++j) {
+            o->Szz[(r * MM) + j] = ((r < m) && (j < m)) ? w->Szz[(r * MM) + j] : RFE_R(0.0);
         }
     }
 }
@@ -368,7 +380,8 @@ static rfe_status_t gate(rfe_sckf_t *f, const rfe_real_t *SR, rfe_real_t info_mi
 }
 
 /* Row i of Xc - K Zc (2n values) into w->A: element by element the subtractions of
- * K[i][r] Zc[r][j] for r = 0, 1, ... in that order, with the long loop innermost. */
+ * K[i][r] Zc[r][j] for r = 0, 1, ... in that order, from Xc[i][j] in a register (issue 21:
+ * copying the row first was compiled into a memmove call). */
 static void posterior_points_row(rfe_sckf_t *f, size_t i)
 {
     rfe_cub_scratch_t *w = &f->w;
@@ -376,13 +389,11 @@ static void posterior_points_row(rfe_sckf_t *f, size_t i)
     size_t j;
     size_t r;
     for (j = 0u; j < (2u * n); ++j) {
-        w->A[(i * TC) + j] = w->B[(i * TC) + j];
-    }
-    for (r = 0u; r < f->m; ++r) {
-        const rfe_real_t k_ri = w->Kt[(r * NM) + i];
-        for (j = 0u; j < (2u * n); ++j) {
-            w->A[(i * TC) + j] -= k_ri * w->zpts[(j * MM) + r];
+        rfe_real_t acc = w->B[(i * TC) + j];
+        for (r = 0u; r < f->m; ++r) {
+            acc -= w->Kt[(r * NM) + i] * w->zpts[(j * MM) + r];
         }
+        w->A[(i * TC) + j] = acc;
     }
 }
 
