@@ -19,6 +19,15 @@
 #define MM ((size_t)RFE_M_MAX)
 #define TC RFE_TRIA_COLS_SZ
 
+/* The update's helpers inlined into update_body, and update_body into update_core once with
+ * the firmware's sizes (n = 4, m = 3) as constants and once with run-time sizes (issue 21). */
+#if defined(__GNUC__)
+/* MISRA-DEV-02: a GNU attribute (Rule 1.2, language extension), only under __GNUC__ */
+#define SCKF_INLINE __attribute__((always_inline)) inline
+#else
+#define SCKF_INLINE inline
+#endif
+
 /* Copies the lower triangle of a k x k matrix (src stride lds) into dst (stride ldd),
  * zeroing dst's upper triangle. */
 static void copy_lower(const rfe_real_t *src, size_t lds, size_t k, rfe_real_t *dst, size_t ldd)
@@ -35,16 +44,16 @@ static void copy_lower(const rfe_real_t *src, size_t lds, size_t k, rfe_real_t *
 /* Accepts a step: the candidate mean (w.xn) and factor (Tria output in w.A) become the state.
  * Only S's lower triangle is written: its upper triangle is zero from the init (copy_lower)
  * on, and nothing writes it (issue 21: zeroing it again cost a memset call per row). */
-static void commit(rfe_sckf_t *f)
+static SCKF_INLINE void commit(rfe_sckf_t *f, size_t n)
 {
     size_t i;
     size_t j;
     /* Column by column, the mean in the same loop: a strided copy stays inline, where a
      * contiguous copy is compiled into a memmove call (~45 instructions for a few elements
      * on the Cortex-M4F). */
-    for (j = 0u; j < f->n; ++j) {
+    for (j = 0u; j < n; ++j) {
         f->x[j] = f->w.xn[j];
-        for (i = j; i < f->n; ++i) {
+        for (i = j; i < n; ++i) {
             f->S[(i * NM) + j] = f->w.A[(i * TC) + j];
         }
     }
@@ -158,7 +167,7 @@ rfe_status_t rfe_sckf_predict(rfe_sckf_t *f, rfe_process_fn_t process, void *ctx
     if (st != RFE_OK) {
         return st;
     }
-    commit(f);
+    commit(f, f->n);
     return RFE_OK;
 }
 
@@ -179,16 +188,14 @@ rfe_status_t rfe_sckf_predict_steps(rfe_sckf_t *f, uint32_t k)
     if (st != RFE_OK) {
         return st;
     }
-    commit(f);
+    commit(f, f->n);
     return RFE_OK;
 }
 
 /* Xc = (X_j - x-)/sqrt(2n) into B (n x 2n) and Zc = (Z_j - z)/sqrt(2n) in place in zpts. */
-static void centre_points(rfe_sckf_t *f)
+static SCKF_INLINE void centre_points(rfe_sckf_t *f, size_t n, size_t m)
 {
     rfe_cub_scratch_t *w = &f->w;
-    const size_t n = f->n;
-    const size_t m = f->m;
     const rfe_real_t inv_sqrt_2n = RFE_R(1.0) / RFE_SQRT(RFE_R(2.0) * (rfe_real_t)n);
     size_t i;
     size_t j;
@@ -204,7 +211,7 @@ static void centre_points(rfe_sckf_t *f)
 
 /* P_xz[i][r] = sum_j Xc[i][j] Zc[r][j] (centred points in w->B and w->zpts). One definition
  * for the gain and the information, so both use the same sums in the same order. */
-static rfe_real_t pxz_element(const rfe_cub_scratch_t *w, size_t r, size_t i, size_t n)
+static SCKF_INLINE rfe_real_t pxz_element(const rfe_cub_scratch_t *w, size_t r, size_t i, size_t n)
 {
     rfe_real_t acc = RFE_R(0.0);
     size_t j;
@@ -215,11 +222,10 @@ static rfe_real_t pxz_element(const rfe_cub_scratch_t *w, size_t r, size_t i, si
 }
 
 /* S_zz = Tria([Zc, S_R]) into w->Szz (needs the centred points; uses w->A). */
-static rfe_status_t innovation_factor(rfe_sckf_t *f, const rfe_real_t *SR)
+static SCKF_INLINE rfe_status_t innovation_factor(rfe_sckf_t *f, const rfe_real_t *SR, size_t n,
+                                                  size_t m)
 {
     rfe_cub_scratch_t *w = &f->w;
-    const size_t n = f->n;
-    const size_t m = f->m;
     size_t j;
     size_t r;
     rfe_status_t st;
@@ -246,11 +252,10 @@ static rfe_status_t innovation_factor(rfe_sckf_t *f, const rfe_real_t *SR)
 
 /* The innovation of the predicted points into *o: y - z_hat, S_zz (w->Szz, which the caller
  * has computed) with its upper part 0, diag(Zc Zc^T). */
-static void innovation_out(const rfe_sckf_t *f, const rfe_real_t *y, rfe_sckf_innov_t *o)
+static SCKF_INLINE void innovation_out(const rfe_sckf_t *f, const rfe_real_t *y,
+                                      rfe_sckf_innov_t *o, size_t n, size_t m)
 {
     const rfe_cub_scratch_t *w = &f->w;
-    const size_t n = f->n;
-    const size_t m = f->m;
     size_t j;
     size_t r;
     /* All of *o is written (0 beyond m): the caller keeps it in its state, which must be
@@ -275,16 +280,14 @@ static void innovation_out(const rfe_sckf_t *f, const rfe_real_t *y, rfe_sckf_in
 
 /* S_zz = Tria([Zc, S_R]) into w->Szz; then K^T = S_zz^-T (S_zz^-1 P_xz^T), P_xz = Xc Zc^T.
  * SR: this step's lower-triangular S_R, ld RFE_M_MAX. */
-static rfe_status_t gain(rfe_sckf_t *f, const rfe_real_t *SR)
+static SCKF_INLINE rfe_status_t gain(rfe_sckf_t *f, const rfe_real_t *SR, size_t n, size_t m)
 {
     rfe_cub_scratch_t *w = &f->w;
-    const size_t n = f->n;
-    const size_t m = f->m;
     size_t i;
     size_t r;
     rfe_status_t st;
 
-    st = innovation_factor(f, SR);
+    st = innovation_factor(f, SR, n, m);
     if (st != RFE_OK) {
         return st;
     }
@@ -304,11 +307,9 @@ static rfe_status_t gain(rfe_sckf_t *f, const rfe_real_t *SR)
 
 /* P_xz (n x m) = Xc Zc^T into w->A (ld TC): the same sums, in the same order, as the gain's
  * P_xz^T. */
-static void cross_covariance(rfe_sckf_t *f)
+static SCKF_INLINE void cross_covariance(rfe_sckf_t *f, size_t n, size_t m)
 {
     rfe_cub_scratch_t *w = &f->w;
-    const size_t n = f->n;
-    const size_t m = f->m;
     size_t i;
     size_t r;
     for (r = 0u; r < m; ++r) {
@@ -320,16 +321,15 @@ static void cross_covariance(rfe_sckf_t *f)
 
 /* docs/ESTIMATOR.md step 5: I_k = sum_r W_rk^2, W = S_R \ J, J^T = S-^T \ (S- \ P_zx^T).
  * Needs the centred points (w->B, w->zpts); uses w->A and w->Kt as scratch. */
-static rfe_status_t information(rfe_sckf_t *f, const rfe_real_t *SR, rfe_real_t *info)
+static SCKF_INLINE rfe_status_t information(rfe_sckf_t *f, const rfe_real_t *SR,
+                                             rfe_real_t *info, size_t n, size_t m)
 {
     rfe_cub_scratch_t *w = &f->w;
-    const size_t n = f->n;
-    const size_t m = f->m;
     size_t i;
     size_t r;
     rfe_status_t st;
 
-    cross_covariance(f);
+    cross_covariance(f, n, m);
     /* J^T (n x m) = S-^T \ (S- \ P_xz): statistical linearisation, no inverse of S- S-^T. */
     st = rfe_qr_solve_lower(f->S, n, NM, w->A, m, TC);
     if (st == RFE_OK) {
@@ -361,15 +361,15 @@ static rfe_status_t information(rfe_sckf_t *f, const rfe_real_t *SR, rfe_real_t 
 
 /* docs/ESTIMATOR.md steps 5-6: the step's information into info (n) and the gate: *held = 1
  * when info_min > 0 and no state reaches it. Needs the centred points. */
-static rfe_status_t gate(rfe_sckf_t *f, const rfe_real_t *SR, rfe_real_t info_min,
-                         rfe_real_t *info, int *held)
+static SCKF_INLINE rfe_status_t gate(rfe_sckf_t *f, const rfe_real_t *SR, rfe_real_t info_min,
+                                     rfe_real_t *info, int *held, size_t n, size_t m)
 {
-    const rfe_status_t st = information(f, SR, info);
+    const rfe_status_t st = information(f, SR, info, n, m);
     *held = 0;
     if (st == RFE_OK) {
         rfe_real_t most = RFE_R(0.0);
         size_t i;
-        for (i = 0u; i < f->n; ++i) {
+        for (i = 0u; i < n; ++i) {
             most = rfe_max(most, info[i]);
         }
         if ((info_min > RFE_R(0.0)) && (most < info_min)) {
@@ -382,15 +382,14 @@ static rfe_status_t gate(rfe_sckf_t *f, const rfe_real_t *SR, rfe_real_t info_mi
 /* Row i of Xc - K Zc (2n values) into w->A: element by element the subtractions of
  * K[i][r] Zc[r][j] for r = 0, 1, ... in that order, from Xc[i][j] in a register (issue 21:
  * copying the row first was compiled into a memmove call). */
-static void posterior_points_row(rfe_sckf_t *f, size_t i)
+static SCKF_INLINE void posterior_points_row(rfe_sckf_t *f, size_t i, size_t n, size_t m)
 {
     rfe_cub_scratch_t *w = &f->w;
-    const size_t n = f->n;
     size_t j;
     size_t r;
     for (j = 0u; j < (2u * n); ++j) {
         rfe_real_t acc = w->B[(i * TC) + j];
-        for (r = 0u; r < f->m; ++r) {
+        for (r = 0u; r < m; ++r) {
             acc -= w->Kt[(r * NM) + i] * w->zpts[(j * MM) + r];
         }
         w->A[(i * TC) + j] = acc;
@@ -399,16 +398,15 @@ static void posterior_points_row(rfe_sckf_t *f, size_t i)
 
 /* [Xc - K Zc, K S_R] (n x (2n + m)) into w->A: the Tria input of the posterior factor.
  * Needs the centred points (w->B, w->zpts) and the gain (w->Kt). */
-static void posterior_tria_input(rfe_sckf_t *f, const rfe_real_t *SR)
+static SCKF_INLINE void posterior_tria_input(rfe_sckf_t *f, const rfe_real_t *SR, size_t n,
+                                             size_t m)
 {
     rfe_cub_scratch_t *w = &f->w;
-    const size_t n = f->n;
-    const size_t m = f->m;
     size_t i;
     size_t j;
     size_t r;
     for (i = 0u; i < n; ++i) {
-        posterior_points_row(f, i);
+        posterior_points_row(f, i, n, m);
         for (j = 0u; j < m; ++j) {
             rfe_real_t acc = RFE_R(0.0);
             for (r = j; r < m; ++r) { /* S_R is lower-triangular */
@@ -422,14 +420,13 @@ static void posterior_tria_input(rfe_sckf_t *f, const rfe_real_t *SR)
 /* The measurement update of MODEL.md §6 with S_R = SR (ld RFE_M_MAX), gated on the
  * information when info_min > 0 (docs/ESTIMATOR.md steps 5-6). Writes info (n) when
  * want_info; *updated = 0 when held. Commits x and S only when everything succeeded. */
-static rfe_status_t update_core(rfe_sckf_t *f, rfe_measure_fn_t measure, void *ctx,
-                                const rfe_real_t *y, const rfe_real_t *SR, rfe_real_t info_min,
-                                int want_info, rfe_real_t *info, rfe_sckf_innov_t *innov,
-                                int *updated)
+static SCKF_INLINE rfe_status_t update_body(rfe_sckf_t *f, rfe_measure_fn_t measure, void *ctx,
+                                            const rfe_real_t *y, const rfe_real_t *SR,
+                                            rfe_real_t info_min, int want_info, rfe_real_t *info,
+                                            rfe_sckf_innov_t *innov, int *updated, size_t n,
+                                            size_t m)
 {
     rfe_cub_scratch_t *w = &f->w;
-    const size_t n = f->n;
-    const size_t m = f->m;
     rfe_status_t st;
 
     /* X_j = S- xi_j + x-;  Z_j = h(X_j, u);  z = mean_j Z_j. */
@@ -439,32 +436,32 @@ static rfe_status_t update_core(rfe_sckf_t *f, rfe_measure_fn_t measure, void *c
         return st;
     }
     rfe_cub_mean(w->zpts, n, m, MM, w->zhat);
-    centre_points(f);
+    centre_points(f, n, m);
     if ((want_info != 0) || (info_min > RFE_R(0.0))) {
         int held = 0;
-        st = gate(f, SR, info_min, info, &held);
+        st = gate(f, SR, info_min, info, &held, n, m);
         if (st != RFE_OK) {
             return st;
         }
         if (held != 0) {
             /* held: not observable; x-, S- stay (S_zz computed only for the innovation) */
             if (innov != NULL) {
-                st = innovation_factor(f, SR);
+                st = innovation_factor(f, SR, n, m);
                 if (st != RFE_OK) {
                     return st;
                 }
-                innovation_out(f, y, innov);
+                innovation_out(f, y, innov, n, m);
             }
             *updated = 0;
             return RFE_OK;
         }
     }
-    st = gain(f, SR);
+    st = gain(f, SR, n, m);
     if (st != RFE_OK) {
         return st;
     }
     if (innov != NULL) {
-        innovation_out(f, y, innov); /* before the update: the predicted points' */
+        innovation_out(f, y, innov, n, m); /* before the update: the predicted points' */
     }
     /* x = x- + K (y - z); a huge innovation that overflows commits nothing. */
     st = rfe_cub_correct(f->x, w->Kt, y, w->zhat, n, m, NM, w->xn);
@@ -472,14 +469,33 @@ static rfe_status_t update_core(rfe_sckf_t *f, rfe_measure_fn_t measure, void *c
         return st;
     }
     /* S = Tria([Xc - K Zc, K S_R]). */
-    posterior_tria_input(f, SR);
+    posterior_tria_input(f, SR, n, m);
     st = rfe_qr_tria(w->A, n, (2u * n) + m, TC);
     if (st != RFE_OK) {
         return st;
     }
-    commit(f);
+    commit(f, n);
     *updated = 1;
     return RFE_OK;
+}
+
+/* update_body with the firmware's sizes n = 4 states, m = 3 measurements as constants, so
+ * the compiler unrolls its short loops (issue 21), or with the filter's run-time sizes; the
+ * same operations in the same order either way, so the same results bit for bit. */
+static rfe_status_t update_core(rfe_sckf_t *f, rfe_measure_fn_t measure, void *ctx,
+                                const rfe_real_t *y, const rfe_real_t *SR, rfe_real_t info_min,
+                                int want_info, rfe_real_t *info, rfe_sckf_innov_t *innov,
+                                int *updated)
+{
+    rfe_status_t st;
+    if ((f->n == 4u) && (f->m == 3u)) {
+        st = update_body(f, measure, ctx, y, SR, info_min, want_info, info, innov, updated, 4u,
+                         3u);
+    } else {
+        st = update_body(f, measure, ctx, y, SR, info_min, want_info, info, innov, updated,
+                         f->n, f->m);
+    }
+    return st;
 }
 
 /* Common argument checks of the measurement updates. */
