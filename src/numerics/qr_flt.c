@@ -241,8 +241,10 @@ static TRIA_INLINE rfe_status_t tria_reduce(rfe_real_t *A, size_t rows, size_t c
 
 /* The shapes the filters reduce in their scratch (ld RFE_TRIA_COLS_SZ) with n = 4 states
  * and m = 3 measurements (the firmware's RFE_N_MAX, RFE_M_MAX; issue 21): the random
- * walk's [S, S_Q] (4 x 8), the innovation's [Zc, S_R] (3 x 11), the posterior's
- * [Xc - K Zc, K S_R] (4 x 11) and a process's [X*c, S_Q] (4 x 12). Each gets its own
+ * walk's [S, S_Q] (4 x 8), the innovation's [Zc, S_R] (3 x 11) and the posterior's
+ * [Xc - K Zc, K S_R] (4 x 11); not a process's [X*c, S_Q] (4 x 12), which the estimator
+ * never reduces (its state is a random walk) and whose copy would cost 3 kB of flash, over
+ * the Cortex-M4F's 64 kB budget. Each gets its own
  * unrolled copy of tria_reduce (the checks above and lda == RFE_TRIA_COLS_SZ keep it in
  * bounds); any other shape or leading dimension takes the run-time one. */
 rfe_status_t rfe_qr_tria(rfe_real_t *A, size_t rows, size_t cols, size_t lda)
@@ -262,8 +264,6 @@ rfe_status_t rfe_qr_tria(rfe_real_t *A, size_t rows, size_t cols, size_t lda)
         st = tria_reduce(A, 3u, 11u, RFE_TRIA_COLS_SZ);
     } else if ((lda == RFE_TRIA_COLS_SZ) && (rows == 4u) && (cols == 11u)) {
         st = tria_reduce(A, 4u, 11u, RFE_TRIA_COLS_SZ);
-    } else if ((lda == RFE_TRIA_COLS_SZ) && (rows == 4u) && (cols == 12u)) {
-        st = tria_reduce(A, 4u, 12u, RFE_TRIA_COLS_SZ);
     } else {
         st = tria_reduce(A, rows, cols, lda);
     }
