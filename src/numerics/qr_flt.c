@@ -326,10 +326,11 @@ static TRIA_INLINE void solve_lower_t_body(const rfe_real_t *L, size_t n, size_t
     }
 }
 
-/* The solves unrolled, like Tria, for the filters' shapes with n = 4 states and m = 3
- * measurements (issue 21): the gain's S_zz (3 x 3) against P_xz^T (4 columns) and the
- * information's S- (4 x 4) against P_xz (3 columns); the same operations in the same order
- * as the run-time loops, so the same results bit for bit. */
+/* The solves unrolled, like Tria, for the gain's shape with n = 4 states and m = 3
+ * measurements (issue 21): S_zz (3 x 3) against P_xz^T (4 columns); the same operations in
+ * the same order as the run-time loops, so the same results bit for bit. (The information's
+ * S- (4 x 4) against P_xz (3 columns) is left to the run-time loops: the paper preset does not
+ * gate, and its copy would cost 1 kB of the Cortex-M4F's flash.) */
 rfe_status_t rfe_qr_solve_lower(const rfe_real_t *L, size_t n, size_t ldl, rfe_real_t *B,
                                 size_t ncols, size_t ldb)
 {
@@ -340,8 +341,6 @@ rfe_status_t rfe_qr_solve_lower(const rfe_real_t *L, size_t n, size_t ldl, rfe_r
     }
     if ((n == 3u) && (ncols == 4u)) {
         solve_lower_body(L, 3u, ldl, B, 4u, ldb);
-    } else if ((n == 4u) && (ncols == 3u)) {
-        solve_lower_body(L, 4u, ldl, B, 3u, ldb);
     } else {
         solve_lower_body(L, n, ldl, B, ncols, ldb);
     }
@@ -358,8 +357,6 @@ rfe_status_t rfe_qr_solve_lower_t(const rfe_real_t *L, size_t n, size_t ldl,
     }
     if ((n == 3u) && (ncols == 4u)) {
         solve_lower_t_body(L, 3u, ldl, B, 4u, ldb);
-    } else if ((n == 4u) && (ncols == 3u)) {
-        solve_lower_t_body(L, 4u, ldl, B, 3u, ldb);
     } else {
         solve_lower_t_body(L, n, ldl, B, ncols, ldb);
     }
