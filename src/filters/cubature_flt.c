@@ -6,8 +6,8 @@
 
 #include "numerics/internal.h"
 
-/* The point and mean loops inlined into their functions once with the firmware's n = 4
- * states as a constant, so the compiler unrolls them (issue 21), and once with run-time n;
+/* The point, mean and correction loops inlined into their functions once with the firmware's
+ * n = 4 states (m = 3 measurements) as constants, so the compiler unrolls them (issue 21), and once with run-time n;
  * the same operations in the same order, so the same results bit for bit. */
 #if defined(__GNUC__)
 /* MISRA-DEV-02: a GNU attribute (Rule 1.2, language extension), only under __GNUC__ */
@@ -119,9 +119,9 @@ void rfe_cub_hold_random_walk_mean(const rfe_real_t *x, size_t n,
     }
 }
 
-rfe_status_t rfe_cub_correct(const rfe_real_t *x, const rfe_real_t *Kt,
-                             const rfe_real_t *y, const rfe_real_t *zhat, size_t n,
-                             size_t m, size_t ld, rfe_real_t *x_new)
+static CUB_INLINE void correct_body(const rfe_real_t *x, const rfe_real_t *Kt,
+                                    const rfe_real_t *y, const rfe_real_t *zhat, size_t n,
+                                    size_t m, size_t ld, rfe_real_t *x_new)
 {
     size_t i;
     size_t r;
@@ -131,6 +131,17 @@ rfe_status_t rfe_cub_correct(const rfe_real_t *x, const rfe_real_t *Kt,
             acc += Kt[(r * ld) + i] * (y[r] - zhat[r]);
         }
         x_new[i] = acc;
+    }
+}
+
+rfe_status_t rfe_cub_correct(const rfe_real_t *x, const rfe_real_t *Kt,
+                             const rfe_real_t *y, const rfe_real_t *zhat, size_t n,
+                             size_t m, size_t ld, rfe_real_t *x_new)
+{
+    if ((n == 4u) && (m == 3u)) {
+        correct_body(x, Kt, y, zhat, 4u, 3u, ld, x_new);
+    } else {
+        correct_body(x, Kt, y, zhat, n, m, ld, x_new);
     }
     return rfe_all_finite(x_new, n) ? RFE_OK : RFE_ERR_NONFINITE;
 }

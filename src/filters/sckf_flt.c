@@ -124,10 +124,9 @@ static rfe_status_t predict_points(rfe_sckf_t *f, rfe_process_fn_t process, void
  * = +-S e_j / sqrt(2) contribute exactly S S^T: S- = Tria([S, S_Q]) (n x 2n) needs no
  * cubature points; k steps at once: Tria([S, sqrt(k) S_Q]) (c = sqrt(k), 1 for one step:
  * bit for bit the one-step product). The Tria input into w->A, x- = x into w->xn. */
-static void predict_random_walk(rfe_sckf_t *f, rfe_real_t c)
+static SCKF_INLINE void predict_random_walk(rfe_sckf_t *f, rfe_real_t c, size_t n)
 {
     rfe_cub_scratch_t *w = &f->w;
-    const size_t n = f->n;
     size_t i;
     size_t j;
     for (i = 0u; i < n; ++i) {
@@ -155,7 +154,12 @@ rfe_status_t rfe_sckf_predict(rfe_sckf_t *f, rfe_process_fn_t process, void *ctx
     /* S- = Tria([(X*_1 - x-, ..., X*_2n - x-)/sqrt(2n), S_Q]); for the random walk
      * S- = Tria([S, S_Q]). */
     if (process == NULL) {
-        predict_random_walk(f, RFE_R(1.0));
+        /* n = 4 (the firmware's) as a constant: unrolled (issue 21), the same result */
+        if (n == 4u) {
+            predict_random_walk(f, RFE_R(1.0), 4u);
+        } else {
+            predict_random_walk(f, RFE_R(1.0), n);
+        }
         cols = 2u * n;
     } else {
         st = predict_points(f, process, ctx);
@@ -167,7 +171,11 @@ rfe_status_t rfe_sckf_predict(rfe_sckf_t *f, rfe_process_fn_t process, void *ctx
     if (st != RFE_OK) {
         return st;
     }
-    commit(f, f->n);
+    if (n == 4u) {
+        commit(f, 4u);
+    } else {
+        commit(f, n);
+    }
     return RFE_OK;
 }
 
@@ -183,7 +191,7 @@ rfe_status_t rfe_sckf_predict_steps(rfe_sckf_t *f, uint32_t k)
     if (k == 0u) {
         return RFE_OK;
     }
-    predict_random_walk(f, RFE_SQRT((rfe_real_t)k));
+    predict_random_walk(f, RFE_SQRT((rfe_real_t)k), f->n);
     st = rfe_qr_tria(f->w.A, f->n, 2u * f->n, TC);
     if (st != RFE_OK) {
         return st;
