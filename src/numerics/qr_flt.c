@@ -247,6 +247,15 @@ static TRIA_INLINE rfe_status_t tria_reduce(rfe_real_t *A, size_t rows, size_t c
  * the Cortex-M4F's 64 kB budget. Each gets its own
  * unrolled copy of tria_reduce (the checks above and lda == RFE_TRIA_COLS_SZ keep it in
  * bounds); any other shape or leading dimension takes the run-time one. */
+/* 1 when Tria takes a rows x cols matrix of leading dimension lda (rfe/component/qr.h). */
+static TRIA_INLINE int tria_size_ok(size_t rows, size_t cols, size_t lda)
+{
+    return ((rows >= 1u) && (rows <= RFE_TRIA_ROWS_SZ) && (cols >= rows) &&
+            (cols <= RFE_TRIA_COLS_LIMIT_SZ) && (lda >= cols))
+               ? 1
+               : 0;
+}
+
 rfe_status_t rfe_qr_tria(rfe_real_t *A, size_t rows, size_t cols, size_t lda)
 {
     rfe_status_t st;
@@ -254,8 +263,7 @@ rfe_status_t rfe_qr_tria(rfe_real_t *A, size_t rows, size_t cols, size_t lda)
     if (A == NULL) {
         return RFE_ERR_NULL;
     }
-    if ((rows == 0u) || (rows > RFE_TRIA_ROWS_SZ) || (cols < rows) ||
-        (cols > RFE_TRIA_COLS_LIMIT_SZ) || (lda < cols)) {
+    if (tria_size_ok(rows, cols, lda) == 0) {
         return RFE_ERR_SIZE;
     }
     if ((lda == RFE_TRIA_COLS_SZ) && (rows == 4u) && (cols == 8u)) {
