@@ -6,8 +6,18 @@
 
 #include "numerics/internal.h"
 
-void rfe_cub_points(const rfe_real_t *x, const rfe_real_t *F, size_t n, size_t ld,
-                    rfe_real_t *pts)
+/* The point, mean and correction loops inlined into their functions once with the firmware's
+ * n = 4 states (m = 3 measurements) as constants, so the compiler unrolls them (issue 21), and once with run-time n;
+ * the same operations in the same order, so the same results bit for bit. */
+#if defined(__GNUC__)
+/* MISRA-DEV-02: a GNU attribute (Rule 1.2, language extension), only under __GNUC__ */
+#define CUB_INLINE __attribute__((always_inline)) inline
+#else
+#define CUB_INLINE inline
+#endif
+
+static CUB_INLINE void points_body(const rfe_real_t *x, const rfe_real_t *F, size_t n,
+                                   size_t ld, rfe_real_t *pts)
 {
     /* xi_j = +-sqrt(n) e_j, equal weights 1/(2n). */
     const rfe_real_t r = RFE_SQRT((rfe_real_t)n);
@@ -19,6 +29,16 @@ void rfe_cub_points(const rfe_real_t *x, const rfe_real_t *F, size_t n, size_t l
             pts[(j * ld) + i] = x[i] + d;
             pts[((n + j) * ld) + i] = x[i] - d;
         }
+    }
+}
+
+void rfe_cub_points(const rfe_real_t *x, const rfe_real_t *F, size_t n, size_t ld,
+                    rfe_real_t *pts)
+{
+    if (n == 4u) {
+        points_body(x, F, 4u, ld, pts);
+    } else {
+        points_body(x, F, n, ld, pts);
     }
 }
 
@@ -63,8 +83,8 @@ rfe_status_t rfe_cub_measure(const rfe_real_t *pts, size_t n, size_t m,
     return RFE_OK;
 }
 
-void rfe_cub_mean(const rfe_real_t *rows, size_t n, size_t cols, size_t ld,
-                  rfe_real_t *mean)
+static CUB_INLINE void mean_body(const rfe_real_t *rows, size_t n, size_t cols, size_t ld,
+                                 rfe_real_t *mean)
 {
     const rfe_real_t w = RFE_R(1.0) / (RFE_R(2.0) * (rfe_real_t)n);
     size_t i;
@@ -75,6 +95,16 @@ void rfe_cub_mean(const rfe_real_t *rows, size_t n, size_t cols, size_t ld,
             acc += rows[(j * ld) + i];
         }
         mean[i] = acc * w;
+    }
+}
+
+void rfe_cub_mean(const rfe_real_t *rows, size_t n, size_t cols, size_t ld,
+                  rfe_real_t *mean)
+{
+    if ((n == 4u) && (cols == 3u)) {
+        mean_body(rows, 4u, 3u, ld, mean);
+    } else {
+        mean_body(rows, n, cols, ld, mean);
     }
 }
 
@@ -89,9 +119,9 @@ void rfe_cub_hold_random_walk_mean(const rfe_real_t *x, size_t n,
     }
 }
 
-rfe_status_t rfe_cub_correct(const rfe_real_t *x, const rfe_real_t *Kt,
-                             const rfe_real_t *y, const rfe_real_t *zhat, size_t n,
-                             size_t m, size_t ld, rfe_real_t *x_new)
+static CUB_INLINE void correct_body(const rfe_real_t *x, const rfe_real_t *Kt,
+                                    const rfe_real_t *y, const rfe_real_t *zhat, size_t n,
+                                    size_t m, size_t ld, rfe_real_t *x_new)
 {
     size_t i;
     size_t r;
@@ -101,6 +131,17 @@ rfe_status_t rfe_cub_correct(const rfe_real_t *x, const rfe_real_t *Kt,
             acc += Kt[(r * ld) + i] * (y[r] - zhat[r]);
         }
         x_new[i] = acc;
+    }
+}
+
+rfe_status_t rfe_cub_correct(const rfe_real_t *x, const rfe_real_t *Kt,
+                             const rfe_real_t *y, const rfe_real_t *zhat, size_t n,
+                             size_t m, size_t ld, rfe_real_t *x_new)
+{
+    if ((n == 4u) && (m == 3u)) {
+        correct_body(x, Kt, y, zhat, 4u, 3u, ld, x_new);
+    } else {
+        correct_body(x, Kt, y, zhat, n, m, ld, x_new);
     }
     return rfe_all_finite(x_new, n) ? RFE_OK : RFE_ERR_NONFINITE;
 }

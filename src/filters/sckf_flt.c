@@ -19,6 +19,15 @@
 #define MM ((size_t)RFE_M_MAX)
 #define TC RFE_TRIA_COLS_SZ
 
+/* The update's helpers inlined into update_body, and update_body into update_core once with
+ * the firmware's sizes (n = 4, m = 3) as constants and once with run-time sizes (issue 21). */
+#if defined(__GNUC__)
+/* MISRA-DEV-02: a GNU attribute (Rule 1.2, language extension), only under __GNUC__ */
+#define SCKF_INLINE __attribute__((always_inline)) inline
+#else
+#define SCKF_INLINE inline
+#endif
+
 /* Copies the lower triangle of a k x k matrix (src stride lds) into dst (stride ldd),
  * zeroing dst's upper triangle. */
 static void copy_lower(const rfe_real_t *src, size_t lds, size_t k, rfe_real_t *dst, size_t ldd)
@@ -32,14 +41,22 @@ static void copy_lower(const rfe_real_t *src, size_t lds, size_t k, rfe_real_t *
     }
 }
 
-/* Accepts a step: the candidate mean (w.xn) and factor (Tria output in w.A) become the state. */
-static void commit(rfe_sckf_t *f)
+/* Accepts a step: the candidate mean (w.xn) and factor (Tria output in w.A) become the state.
+ * Only S's lower triangle is written: its upper triangle is zero from the init (copy_lower)
+ * on, and nothing writes it (issue 21: zeroing it again cost a memset call per row). */
+static SCKF_INLINE void commit(rfe_sckf_t *f, size_t n)
 {
     size_t i;
-    for (i = 0u; i < f->n; ++i) {
-        f->x[i] = f->w.xn[i];
+    size_t j;
+    /* Column by column, the mean in the same loop: a strided copy stays inline, where a
+     * contiguous copy is compiled into a memmove call (~45 instructions for a few elements
+     * on the Cortex-M4F). */
+    for (j = 0u; j < n; ++j) {
+        f->x[j] = f->w.xn[j];
+        for (i = j; i < n; ++i) {
+            f->S[(i * NM) + j] = f->w.A[(i * TC) + j];
+        }
     }
-    copy_lower(f->w.A, TC, f->n, f->S, NM);
 }
 
 rfe_status_t rfe_sckf_init(rfe_sckf_t *f, size_t n, size_t m, const rfe_real_t *x0,
@@ -107,10 +124,9 @@ static rfe_status_t predict_points(rfe_sckf_t *f, rfe_process_fn_t process, void
  * = +-S e_j / sqrt(2) contribute exactly S S^T: S- = Tria([S, S_Q]) (n x 2n) needs no
  * cubature points; k steps at once: Tria([S, sqrt(k) S_Q]) (c = sqrt(k), 1 for one step:
  * bit for bit the one-step product). The Tria input into w->A, x- = x into w->xn. */
-static void predict_random_walk(rfe_sckf_t *f, rfe_real_t c)
+static SCKF_INLINE void predict_random_walk(rfe_sckf_t *f, rfe_real_t c, size_t n)
 {
     rfe_cub_scratch_t *w = &f->w;
-    const size_t n = f->n;
     size_t i;
     size_t j;
     for (i = 0u; i < n; ++i) {
@@ -138,7 +154,12 @@ rfe_status_t rfe_sckf_predict(rfe_sckf_t *f, rfe_process_fn_t process, void *ctx
     /* S- = Tria([(X*_1 - x-, ..., X*_2n - x-)/sqrt(2n), S_Q]); for the random walk
      * S- = Tria([S, S_Q]). */
     if (process == NULL) {
-        predict_random_walk(f, RFE_R(1.0));
+        /* n = 4 (the firmware's) as a constant: unrolled (issue 21), the same result */
+        if (n == 4u) {
+            predict_random_walk(f, RFE_R(1.0), 4u);
+        } else {
+            predict_random_walk(f, RFE_R(1.0), n);
+        }
         cols = 2u * n;
     } else {
         st = predict_points(f, process, ctx);
@@ -150,7 +171,11 @@ rfe_status_t rfe_sckf_predict(rfe_sckf_t *f, rfe_process_fn_t process, void *ctx
     if (st != RFE_OK) {
         return st;
     }
-    commit(f);
+    if (n == 4u) {
+        commit(f, 4u);
+    } else {
+        commit(f, n);
+    }
     return RFE_OK;
 }
 
@@ -166,21 +191,19 @@ rfe_status_t rfe_sckf_predict_steps(rfe_sckf_t *f, uint32_t k)
     if (k == 0u) {
         return RFE_OK;
     }
-    predict_random_walk(f, RFE_SQRT((rfe_real_t)k));
+    predict_random_walk(f, RFE_SQRT((rfe_real_t)k), f->n);
     st = rfe_qr_tria(f->w.A, f->n, 2u * f->n, TC);
     if (st != RFE_OK) {
         return st;
     }
-    commit(f);
+    commit(f, f->n);
     return RFE_OK;
 }
 
 /* Xc = (X_j - x-)/sqrt(2n) into B (n x 2n) and Zc = (Z_j - z)/sqrt(2n) in place in zpts. */
-static void centre_points(rfe_sckf_t *f)
+static SCKF_INLINE void centre_points(rfe_sckf_t *f, size_t n, size_t m)
 {
     rfe_cub_scratch_t *w = &f->w;
-    const size_t n = f->n;
-    const size_t m = f->m;
     const rfe_real_t inv_sqrt_2n = RFE_R(1.0) / RFE_SQRT(RFE_R(2.0) * (rfe_real_t)n);
     size_t i;
     size_t j;
@@ -196,7 +219,7 @@ static void centre_points(rfe_sckf_t *f)
 
 /* P_xz[i][r] = sum_j Xc[i][j] Zc[r][j] (centred points in w->B and w->zpts). One definition
  * for the gain and the information, so both use the same sums in the same order. */
-static rfe_real_t pxz_element(const rfe_cub_scratch_t *w, size_t r, size_t i, size_t n)
+static SCKF_INLINE rfe_real_t pxz_element(const rfe_cub_scratch_t *w, size_t r, size_t i, size_t n)
 {
     rfe_real_t acc = RFE_R(0.0);
     size_t j;
@@ -207,11 +230,10 @@ static rfe_real_t pxz_element(const rfe_cub_scratch_t *w, size_t r, size_t i, si
 }
 
 /* S_zz = Tria([Zc, S_R]) into w->Szz (needs the centred points; uses w->A). */
-static rfe_status_t innovation_factor(rfe_sckf_t *f, const rfe_real_t *SR)
+static SCKF_INLINE rfe_status_t innovation_factor(rfe_sckf_t *f, const rfe_real_t *SR, size_t n,
+                                                  size_t m)
 {
     rfe_cub_scratch_t *w = &f->w;
-    const size_t n = f->n;
-    const size_t m = f->m;
     size_t j;
     size_t r;
     rfe_status_t st;
@@ -225,54 +247,55 @@ static rfe_status_t innovation_factor(rfe_sckf_t *f, const rfe_real_t *SR)
     }
     st = rfe_qr_tria(w->A, m, (2u * n) + m, TC);
     if (st == RFE_OK) {
-        copy_lower(w->A, TC, m, w->Szz, MM);
+        /* S_zz with its upper part: Tria leaves zeros right of the diagonal (rfe_qr_tria),
+         * so a plain copy (no separate zeroing, issue 21), column by column (commit). */
+        for (j = 0u; j < m; ++j) {
+            for (r = 0u; r < m; ++r) {
+                w->Szz[(r * MM) + j] = w->A[(r * TC) + j];
+            }
+        }
     }
     return st;
 }
 
 /* The innovation of the predicted points into *o: y - z_hat, S_zz (w->Szz, which the caller
  * has computed) with its upper part 0, diag(Zc Zc^T). */
-static void innovation_out(const rfe_sckf_t *f, const rfe_real_t *y, rfe_sckf_innov_t *o)
+static SCKF_INLINE void innovation_out(const rfe_sckf_t *f, const rfe_real_t *y,
+                                      rfe_sckf_innov_t *o, size_t n, size_t m)
 {
     const rfe_cub_scratch_t *w = &f->w;
-    const size_t n = f->n;
-    const size_t m = f->m;
     size_t j;
     size_t r;
     /* All of *o is written (0 beyond m): the caller keeps it in its state, which must be
-     * fully defined to be copied and compared. */
+     * fully defined to be copied and compared. Each element once (issue 21: zeroing first
+     * cost memset calls); w->Szz's upper part is 0 (innovation_factor). */
     for (r = 0u; r < MM; ++r) {
-        o->nu[r] = RFE_R(0.0);
-        o->zz[r] = RFE_R(0.0);
-        for (j = 0u; j < MM; ++j) {
-            o->Szz[(r * MM) + j] = RFE_R(0.0);
-        }
-    }
-    for (r = 0u; r < m; ++r) {
+        rfe_real_t nu = RFE_R(0.0);
         rfe_real_t acc = RFE_R(0.0);
-        o->nu[r] = y[r] - w->zhat[r];
-        for (j = 0u; j < (2u * n); ++j) {
-            acc += w->zpts[(j * MM) + r] * w->zpts[(j * MM) + r];
+        if (r < m) {
+            nu = y[r] - w->zhat[r];
+            for (j = 0u; j < (2u * n); ++j) {
+                acc += w->zpts[(j * MM) + r] * w->zpts[(j * MM) + r];
+            }
         }
+        o->nu[r] = nu;
         o->zz[r] = acc;
-        for (j = 0u; j <= r; ++j) {
-            o->Szz[(r * MM) + j] = w->Szz[(r * MM) + j];
+        for (j = 0u; j < MM; ++j) {
+            o->Szz[(r * MM) + j] = ((r < m) && (j < m)) ? w->Szz[(r * MM) + j] : RFE_R(0.0);
         }
     }
 }
 
 /* S_zz = Tria([Zc, S_R]) into w->Szz; then K^T = S_zz^-T (S_zz^-1 P_xz^T), P_xz = Xc Zc^T.
  * SR: this step's lower-triangular S_R, ld RFE_M_MAX. */
-static rfe_status_t gain(rfe_sckf_t *f, const rfe_real_t *SR)
+static SCKF_INLINE rfe_status_t gain(rfe_sckf_t *f, const rfe_real_t *SR, size_t n, size_t m)
 {
     rfe_cub_scratch_t *w = &f->w;
-    const size_t n = f->n;
-    const size_t m = f->m;
     size_t i;
     size_t r;
     rfe_status_t st;
 
-    st = innovation_factor(f, SR);
+    st = innovation_factor(f, SR, n, m);
     if (st != RFE_OK) {
         return st;
     }
@@ -292,11 +315,9 @@ static rfe_status_t gain(rfe_sckf_t *f, const rfe_real_t *SR)
 
 /* P_xz (n x m) = Xc Zc^T into w->A (ld TC): the same sums, in the same order, as the gain's
  * P_xz^T. */
-static void cross_covariance(rfe_sckf_t *f)
+static SCKF_INLINE void cross_covariance(rfe_sckf_t *f, size_t n, size_t m)
 {
     rfe_cub_scratch_t *w = &f->w;
-    const size_t n = f->n;
-    const size_t m = f->m;
     size_t i;
     size_t r;
     for (r = 0u; r < m; ++r) {
@@ -308,16 +329,15 @@ static void cross_covariance(rfe_sckf_t *f)
 
 /* docs/ESTIMATOR.md step 5: I_k = sum_r W_rk^2, W = S_R \ J, J^T = S-^T \ (S- \ P_zx^T).
  * Needs the centred points (w->B, w->zpts); uses w->A and w->Kt as scratch. */
-static rfe_status_t information(rfe_sckf_t *f, const rfe_real_t *SR, rfe_real_t *info)
+static SCKF_INLINE rfe_status_t information(rfe_sckf_t *f, const rfe_real_t *SR,
+                                             rfe_real_t *info, size_t n, size_t m)
 {
     rfe_cub_scratch_t *w = &f->w;
-    const size_t n = f->n;
-    const size_t m = f->m;
     size_t i;
     size_t r;
     rfe_status_t st;
 
-    cross_covariance(f);
+    cross_covariance(f, n, m);
     /* J^T (n x m) = S-^T \ (S- \ P_xz): statistical linearisation, no inverse of S- S-^T. */
     st = rfe_qr_solve_lower(f->S, n, NM, w->A, m, TC);
     if (st == RFE_OK) {
@@ -349,15 +369,15 @@ static rfe_status_t information(rfe_sckf_t *f, const rfe_real_t *SR, rfe_real_t 
 
 /* docs/ESTIMATOR.md steps 5-6: the step's information into info (n) and the gate: *held = 1
  * when info_min > 0 and no state reaches it. Needs the centred points. */
-static rfe_status_t gate(rfe_sckf_t *f, const rfe_real_t *SR, rfe_real_t info_min,
-                         rfe_real_t *info, int *held)
+static SCKF_INLINE rfe_status_t gate(rfe_sckf_t *f, const rfe_real_t *SR, rfe_real_t info_min,
+                                     rfe_real_t *info, int *held, size_t n, size_t m)
 {
-    const rfe_status_t st = information(f, SR, info);
+    const rfe_status_t st = information(f, SR, info, n, m);
     *held = 0;
     if (st == RFE_OK) {
         rfe_real_t most = RFE_R(0.0);
         size_t i;
-        for (i = 0u; i < f->n; ++i) {
+        for (i = 0u; i < n; ++i) {
             most = rfe_max(most, info[i]);
         }
         if ((info_min > RFE_R(0.0)) && (most < info_min)) {
@@ -368,36 +388,33 @@ static rfe_status_t gate(rfe_sckf_t *f, const rfe_real_t *SR, rfe_real_t info_mi
 }
 
 /* Row i of Xc - K Zc (2n values) into w->A: element by element the subtractions of
- * K[i][r] Zc[r][j] for r = 0, 1, ... in that order, with the long loop innermost. */
-static void posterior_points_row(rfe_sckf_t *f, size_t i)
+ * K[i][r] Zc[r][j] for r = 0, 1, ... in that order, from Xc[i][j] in a register (issue 21:
+ * copying the row first was compiled into a memmove call). */
+static SCKF_INLINE void posterior_points_row(rfe_sckf_t *f, size_t i, size_t n, size_t m)
 {
     rfe_cub_scratch_t *w = &f->w;
-    const size_t n = f->n;
     size_t j;
     size_t r;
     for (j = 0u; j < (2u * n); ++j) {
-        w->A[(i * TC) + j] = w->B[(i * TC) + j];
-    }
-    for (r = 0u; r < f->m; ++r) {
-        const rfe_real_t k_ri = w->Kt[(r * NM) + i];
-        for (j = 0u; j < (2u * n); ++j) {
-            w->A[(i * TC) + j] -= k_ri * w->zpts[(j * MM) + r];
+        rfe_real_t acc = w->B[(i * TC) + j];
+        for (r = 0u; r < m; ++r) {
+            acc -= w->Kt[(r * NM) + i] * w->zpts[(j * MM) + r];
         }
+        w->A[(i * TC) + j] = acc;
     }
 }
 
 /* [Xc - K Zc, K S_R] (n x (2n + m)) into w->A: the Tria input of the posterior factor.
  * Needs the centred points (w->B, w->zpts) and the gain (w->Kt). */
-static void posterior_tria_input(rfe_sckf_t *f, const rfe_real_t *SR)
+static SCKF_INLINE void posterior_tria_input(rfe_sckf_t *f, const rfe_real_t *SR, size_t n,
+                                             size_t m)
 {
     rfe_cub_scratch_t *w = &f->w;
-    const size_t n = f->n;
-    const size_t m = f->m;
     size_t i;
     size_t j;
     size_t r;
     for (i = 0u; i < n; ++i) {
-        posterior_points_row(f, i);
+        posterior_points_row(f, i, n, m);
         for (j = 0u; j < m; ++j) {
             rfe_real_t acc = RFE_R(0.0);
             for (r = j; r < m; ++r) { /* S_R is lower-triangular */
@@ -411,14 +428,13 @@ static void posterior_tria_input(rfe_sckf_t *f, const rfe_real_t *SR)
 /* The measurement update of MODEL.md §6 with S_R = SR (ld RFE_M_MAX), gated on the
  * information when info_min > 0 (docs/ESTIMATOR.md steps 5-6). Writes info (n) when
  * want_info; *updated = 0 when held. Commits x and S only when everything succeeded. */
-static rfe_status_t update_core(rfe_sckf_t *f, rfe_measure_fn_t measure, void *ctx,
-                                const rfe_real_t *y, const rfe_real_t *SR, rfe_real_t info_min,
-                                int want_info, rfe_real_t *info, rfe_sckf_innov_t *innov,
-                                int *updated)
+static SCKF_INLINE rfe_status_t update_body(rfe_sckf_t *f, rfe_measure_fn_t measure, void *ctx,
+                                            const rfe_real_t *y, const rfe_real_t *SR,
+                                            rfe_real_t info_min, int want_info, rfe_real_t *info,
+                                            rfe_sckf_innov_t *innov, int *updated, size_t n,
+                                            size_t m)
 {
     rfe_cub_scratch_t *w = &f->w;
-    const size_t n = f->n;
-    const size_t m = f->m;
     rfe_status_t st;
 
     /* X_j = S- xi_j + x-;  Z_j = h(X_j, u);  z = mean_j Z_j. */
@@ -428,32 +444,32 @@ static rfe_status_t update_core(rfe_sckf_t *f, rfe_measure_fn_t measure, void *c
         return st;
     }
     rfe_cub_mean(w->zpts, n, m, MM, w->zhat);
-    centre_points(f);
+    centre_points(f, n, m);
     if ((want_info != 0) || (info_min > RFE_R(0.0))) {
         int held = 0;
-        st = gate(f, SR, info_min, info, &held);
+        st = gate(f, SR, info_min, info, &held, n, m);
         if (st != RFE_OK) {
             return st;
         }
         if (held != 0) {
             /* held: not observable; x-, S- stay (S_zz computed only for the innovation) */
             if (innov != NULL) {
-                st = innovation_factor(f, SR);
+                st = innovation_factor(f, SR, n, m);
                 if (st != RFE_OK) {
                     return st;
                 }
-                innovation_out(f, y, innov);
+                innovation_out(f, y, innov, n, m);
             }
             *updated = 0;
             return RFE_OK;
         }
     }
-    st = gain(f, SR);
+    st = gain(f, SR, n, m);
     if (st != RFE_OK) {
         return st;
     }
     if (innov != NULL) {
-        innovation_out(f, y, innov); /* before the update: the predicted points' */
+        innovation_out(f, y, innov, n, m); /* before the update: the predicted points' */
     }
     /* x = x- + K (y - z); a huge innovation that overflows commits nothing. */
     st = rfe_cub_correct(f->x, w->Kt, y, w->zhat, n, m, NM, w->xn);
@@ -461,14 +477,33 @@ static rfe_status_t update_core(rfe_sckf_t *f, rfe_measure_fn_t measure, void *c
         return st;
     }
     /* S = Tria([Xc - K Zc, K S_R]). */
-    posterior_tria_input(f, SR);
+    posterior_tria_input(f, SR, n, m);
     st = rfe_qr_tria(w->A, n, (2u * n) + m, TC);
     if (st != RFE_OK) {
         return st;
     }
-    commit(f);
+    commit(f, n);
     *updated = 1;
     return RFE_OK;
+}
+
+/* update_body with the firmware's sizes n = 4 states, m = 3 measurements as constants, so
+ * the compiler unrolls its short loops (issue 21), or with the filter's run-time sizes; the
+ * same operations in the same order either way, so the same results bit for bit. */
+static rfe_status_t update_core(rfe_sckf_t *f, rfe_measure_fn_t measure, void *ctx,
+                                const rfe_real_t *y, const rfe_real_t *SR, rfe_real_t info_min,
+                                int want_info, rfe_real_t *info, rfe_sckf_innov_t *innov,
+                                int *updated)
+{
+    rfe_status_t st;
+    if ((f->n == 4u) && (f->m == 3u)) {
+        st = update_body(f, measure, ctx, y, SR, info_min, want_info, info, innov, updated, 4u,
+                         3u);
+    } else {
+        st = update_body(f, measure, ctx, y, SR, info_min, want_info, info, innov, updated,
+                         f->n, f->m);
+    }
+    return st;
 }
 
 /* Common argument checks of the measurement updates. */

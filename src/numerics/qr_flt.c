@@ -25,6 +25,15 @@
 
 #define AT(M, ld, i, j) ((M)[((i) * (ld)) + (j)])
 
+/* The reduction's helpers inlined into tria_reduce, and tria_reduce into each of its calls
+ * with constant sizes (rfe_qr_tria's fixed shapes below), on every core. */
+#if defined(__GNUC__)
+/* MISRA-DEV-02: a GNU attribute (Rule 1.2, language extension), only under __GNUC__ */
+#define TRIA_INLINE __attribute__((always_inline)) inline
+#else
+#define TRIA_INLINE inline
+#endif
+
 /* Largest |element| of a row; -1 when the row holds a NaN or an infinity. */
 static rfe_real_t row_max(const rfe_real_t *row, size_t cols)
 {
@@ -72,7 +81,7 @@ static int row_maxima(const rfe_real_t *A, size_t rows, size_t cols, size_t lda,
  * double for cols <= RFE_TRIA_COLS_LIMIT_SZ). 0 otherwise (a
  * zero or tiny row, a huge one, a NaN): the caller then takes row_maxima, whose result decides
  * as before; either way the reduction is the same, bit for bit. */
-static int rows_plainly_safe(const rfe_real_t *A, size_t rows, size_t cols, size_t lda)
+static TRIA_INLINE int rows_plainly_safe(const rfe_real_t *A, size_t rows, size_t cols, size_t lda)
 {
     /* TRIA_SS_LO (with this cols), TRIA_SS_HI */
     const rfe_real_t ss_lo = (RFE_R(2.0) * (rfe_real_t)cols) * (TRIA_SAFE_LO * TRIA_SAFE_LO);
@@ -123,7 +132,7 @@ static void scale_row(rfe_real_t *row, size_t cols, int e)
 }
 
 /* Euclidean norm of row k of A from column k on. */
-static rfe_real_t row_tail_norm(const rfe_real_t *A, size_t lda, size_t k, size_t cols)
+static TRIA_INLINE rfe_real_t row_tail_norm(const rfe_real_t *A, size_t lda, size_t k, size_t cols)
 {
     rfe_real_t ss = RFE_R(0.0);
     size_t j;
@@ -136,7 +145,7 @@ static rfe_real_t row_tail_norm(const rfe_real_t *A, size_t lda, size_t k, size_
 /* One Householder reflection H = I - 2 v v^T / (v^T v) from the right that maps row k's
  * tail x = A[k][k..] onto (-sign(x0) |x|, 0, ..., 0); v = x + sign(x0) |x| e_0 avoids
  * cancellation. Applied to rows k..rows-1; v is kept in row k's tail until done. */
-static void reflect_row(rfe_real_t *A, size_t rows, size_t cols, size_t lda, size_t k,
+static TRIA_INLINE void reflect_row(rfe_real_t *A, size_t rows, size_t cols, size_t lda, size_t k,
                         rfe_real_t norm)
 {
     const rfe_real_t x0 = AT(A, lda, k, k);
@@ -158,16 +167,22 @@ static void reflect_row(rfe_real_t *A, size_t rows, size_t cols, size_t lda, siz
             AT(A, lda, i, j) -= scale * AT(A, lda, k, j);
         }
     }
-    /* Row k itself becomes (-sign(x0) |x|, 0, ...). */
-    AT(A, lda, k, k) = -sgn * norm;
-    for (j = k + 1u; j < cols; ++j) {
-        AT(A, lda, k, j) = RFE_R(0.0);
+    /* Row k itself becomes (-sign(x0) |x|, 0, ...). The zero is computed, 0 * norm = +0
+     * exactly (norm finite and > 0), not a literal: a loop storing a constant is compiled
+     * into a memset call, which costs ~40 instructions for these few elements on the
+     * Cortex-M4F (issue 21). */
+    {
+        const rfe_real_t zero = RFE_R(0.0) * norm;
+        AT(A, lda, k, k) = -sgn * norm;
+        for (j = k + 1u; j < cols; ++j) {
+            AT(A, lda, k, j) = zero;
+        }
     }
 }
 
 /* Non-negative diagonal of the lower-triangular rows x rows S in A: flipping a column's sign
  * leaves S S^T unchanged. */
-static void make_diagonal_nonnegative(rfe_real_t *A, size_t rows, size_t lda)
+static TRIA_INLINE void make_diagonal_nonnegative(rfe_real_t *A, size_t rows, size_t lda)
 {
     size_t i;
     size_t k;
@@ -180,7 +195,11 @@ static void make_diagonal_nonnegative(rfe_real_t *A, size_t rows, size_t lda)
     }
 }
 
-rfe_status_t rfe_qr_tria(rfe_real_t *A, size_t rows, size_t cols, size_t lda)
+/* Tria of the checked rows x cols A (ld lda): the whole reduction, inlined by rfe_qr_tria
+ * once with run-time sizes and once per fixed shape, where the constant sizes let the
+ * compiler unroll the loops; every instance performs the same operations in the same
+ * order, so the results agree bit for bit. */
+static TRIA_INLINE rfe_status_t tria_reduce(rfe_real_t *A, size_t rows, size_t cols, size_t lda)
 {
     rfe_real_t bigs[RFE_TRIA_ROWS_SZ];
     int exps[RFE_TRIA_ROWS_SZ];
@@ -188,13 +207,6 @@ rfe_status_t rfe_qr_tria(rfe_real_t *A, size_t rows, size_t cols, size_t lda)
     size_t i;
     size_t k;
 
-    if (A == NULL) {
-        return RFE_ERR_NULL;
-    }
-    if ((rows == 0u) || (rows > RFE_TRIA_ROWS_SZ) || (cols < rows) ||
-        (cols > RFE_TRIA_COLS_LIMIT_SZ) || (lda < cols)) {
-        return RFE_ERR_SIZE;
-    }
     if ((rows_plainly_safe(A, rows, cols, lda) == 0) &&
         (row_maxima(A, rows, cols, lda, bigs, &scaled) != 0)) {
         return RFE_ERR_NONFINITE;
@@ -227,6 +239,45 @@ rfe_status_t rfe_qr_tria(rfe_real_t *A, size_t rows, size_t cols, size_t lda)
     return RFE_OK;
 }
 
+/* The shapes the filters reduce in their scratch (ld RFE_TRIA_COLS_SZ) with n = 4 states
+ * and m = 3 measurements (the firmware's RFE_N_MAX, RFE_M_MAX; issue 21): the random
+ * walk's [S, S_Q] (4 x 8), the innovation's [Zc, S_R] (3 x 11) and the posterior's
+ * [Xc - K Zc, K S_R] (4 x 11); not a process's [X*c, S_Q] (4 x 12), which the estimator
+ * never reduces (its state is a random walk) and whose copy would cost 3 kB of flash, over
+ * the Cortex-M4F's 64 kB budget. Each gets its own
+ * unrolled copy of tria_reduce (the checks above and lda == RFE_TRIA_COLS_SZ keep it in
+ * bounds); any other shape or leading dimension takes the run-time one. */
+/* 1 when Tria takes a rows x cols matrix of leading dimension lda (rfe/component/qr.h). */
+static TRIA_INLINE int tria_size_ok(size_t rows, size_t cols, size_t lda)
+{
+    return ((rows >= 1u) && (rows <= RFE_TRIA_ROWS_SZ) && (cols >= rows) &&
+            (cols <= RFE_TRIA_COLS_LIMIT_SZ) && (lda >= cols))
+               ? 1
+               : 0;
+}
+
+rfe_status_t rfe_qr_tria(rfe_real_t *A, size_t rows, size_t cols, size_t lda)
+{
+    rfe_status_t st;
+
+    if (A == NULL) {
+        return RFE_ERR_NULL;
+    }
+    if (tria_size_ok(rows, cols, lda) == 0) {
+        return RFE_ERR_SIZE;
+    }
+    if ((lda == RFE_TRIA_COLS_SZ) && (rows == 4u) && (cols == 8u)) {
+        st = tria_reduce(A, 4u, 8u, RFE_TRIA_COLS_SZ);
+    } else if ((lda == RFE_TRIA_COLS_SZ) && (rows == 3u) && (cols == 11u)) {
+        st = tria_reduce(A, 3u, 11u, RFE_TRIA_COLS_SZ);
+    } else if ((lda == RFE_TRIA_COLS_SZ) && (rows == 4u) && (cols == 11u)) {
+        st = tria_reduce(A, 4u, 11u, RFE_TRIA_COLS_SZ);
+    } else {
+        st = tria_reduce(A, rows, cols, lda);
+    }
+    return st;
+}
+
 /* Shared checks of the triangular solves; all diagonal entries must be > 0. */
 static rfe_status_t check_solve(const rfe_real_t *L, size_t n, size_t ldl, const rfe_real_t *B,
                                 size_t ncols, size_t ldb)
@@ -246,18 +297,13 @@ static rfe_status_t check_solve(const rfe_real_t *L, size_t n, size_t ldl, const
     return RFE_OK;
 }
 
-rfe_status_t rfe_qr_solve_lower(const rfe_real_t *L, size_t n, size_t ldl, rfe_real_t *B,
-                                size_t ncols, size_t ldb)
+/* x_i = (b_i - sum_{j<i} L_ij x_j) / L_ii, column by column (checked arguments). */
+static TRIA_INLINE void solve_lower_body(const rfe_real_t *L, size_t n, size_t ldl,
+                                         rfe_real_t *B, size_t ncols, size_t ldb)
 {
     size_t c;
     size_t i;
     size_t j;
-    const rfe_status_t st = check_solve(L, n, ldl, B, ncols, ldb);
-
-    if (st != RFE_OK) {
-        return st;
-    }
-    /* x_i = (b_i - sum_{j<i} L_ij x_j) / L_ii, column by column. */
     for (c = 0u; c < ncols; ++c) {
         for (i = 0u; i < n; ++i) {
             rfe_real_t acc = AT(B, ldb, i, c);
@@ -267,20 +313,14 @@ rfe_status_t rfe_qr_solve_lower(const rfe_real_t *L, size_t n, size_t ldl, rfe_r
             AT(B, ldb, i, c) = acc / AT(L, ldl, i, i);
         }
     }
-    return RFE_OK;
 }
 
-rfe_status_t rfe_qr_solve_lower_t(const rfe_real_t *L, size_t n, size_t ldl,
-                                  rfe_real_t *B, size_t ncols, size_t ldb)
+/* x_i = (b_i - sum_{j>i} L_ji x_j) / L_ii, from the last row up (checked arguments). */
+static TRIA_INLINE void solve_lower_t_body(const rfe_real_t *L, size_t n, size_t ldl,
+                                           rfe_real_t *B, size_t ncols, size_t ldb)
 {
     size_t c;
     size_t j;
-    const rfe_status_t st = check_solve(L, n, ldl, B, ncols, ldb);
-
-    if (st != RFE_OK) {
-        return st;
-    }
-    /* x_i = (b_i - sum_{j>i} L_ji x_j) / L_ii, from the last row up. */
     for (c = 0u; c < ncols; ++c) {
         size_t up;
         for (up = 0u; up < n; ++up) {
@@ -291,6 +331,42 @@ rfe_status_t rfe_qr_solve_lower_t(const rfe_real_t *L, size_t n, size_t ldl,
             }
             AT(B, ldb, i, c) = acc / AT(L, ldl, i, i);
         }
+    }
+}
+
+/* The solves unrolled, like Tria, for the gain's shape with n = 4 states and m = 3
+ * measurements (issue 21): S_zz (3 x 3) against P_xz^T (4 columns); the same operations in
+ * the same order as the run-time loops, so the same results bit for bit. (The information's
+ * S- (4 x 4) against P_xz (3 columns) is left to the run-time loops: the paper preset does not
+ * gate, and its copy would cost 1 kB of the Cortex-M4F's flash.) */
+rfe_status_t rfe_qr_solve_lower(const rfe_real_t *L, size_t n, size_t ldl, rfe_real_t *B,
+                                size_t ncols, size_t ldb)
+{
+    const rfe_status_t st = check_solve(L, n, ldl, B, ncols, ldb);
+
+    if (st != RFE_OK) {
+        return st;
+    }
+    if ((n == 3u) && (ncols == 4u)) {
+        solve_lower_body(L, 3u, ldl, B, 4u, ldb);
+    } else {
+        solve_lower_body(L, n, ldl, B, ncols, ldb);
+    }
+    return RFE_OK;
+}
+
+rfe_status_t rfe_qr_solve_lower_t(const rfe_real_t *L, size_t n, size_t ldl,
+                                  rfe_real_t *B, size_t ncols, size_t ldb)
+{
+    const rfe_status_t st = check_solve(L, n, ldl, B, ncols, ldb);
+
+    if (st != RFE_OK) {
+        return st;
+    }
+    if ((n == 3u) && (ncols == 4u)) {
+        solve_lower_t_body(L, 3u, ldl, B, 4u, ldb);
+    } else {
+        solve_lower_t_body(L, n, ldl, B, ncols, ldb);
     }
     return RFE_OK;
 }

@@ -236,6 +236,71 @@ static void test_rfe_qr_tria_filter_shapes(void **state)
     }
 }
 
+/* issue 21: rfe_qr_tria reduces the filter's shapes at ld RFE_TRIA_COLS_MAX (4 x 8, 3 x 11,
+ * 4 x 11) in copies unrolled for their constant sizes; the same matrix at another
+ * leading dimension (ld = cols) takes the run-time reduction. Both perform the same
+ * operations in the same order (the builds do not contract a*b + c into a fused multiply-add:
+ * -std=c99 sets -ffp-contract=off), so they agree bit for bit; the bound below allows, should
+ * a compiler fuse differently in the two copies, one rounding of eps |a_i| per multiply-add
+ * of each of the <= rows reflections over <= cols elements of a row:
+ * rows cols eps |a_i| <= 4 * 11 * eps |a_i| (about 5.2e-6 |a_i| in float32, 9.8e-15 in
+ * double). Inputs as the filter's: a lower-triangular last block at 0.01 the scale, a row
+ * scaled by 2^-40 in some repetitions so the power-of-two row scaling runs too. */
+/* REQ-QR-001 */
+static void test_rfe_qr_tria_fixed_shapes_match_runtime(void **state)
+{
+    static rfe_real_t fixed[BUF_N];
+    static rfe_real_t runtime[BUF_N];
+    static const size_t shapes[3][2] = {{4u, 8u}, {3u, 11u}, {4u, 11u}};
+    const size_t ld = (size_t)RFE_TRIA_COLS_MAX;
+    const double eps = (sizeof(rfe_real_t) == sizeof(float)) ? 1.1920929e-7 : 2.220446e-16;
+    size_t s;
+    size_t i;
+    size_t j;
+    int rep;
+    (void)state;
+    rng_seed(21u);
+    for (s = 0u; s < 3u; ++s) {
+        const size_t rows = shapes[s][0];
+        const size_t cols = shapes[s][1];
+        for (rep = 0; rep < 20; ++rep) {
+            fill_matrix(fixed, rows, cols, ld);
+            for (i = 0u; i < rows; ++i) {
+                for (j = cols - rows; j < cols; ++j) {
+                    AT(fixed, ld, i, j) = ((j - (cols - rows)) > i)
+                                              ? (rfe_real_t)0.0
+                                              : (rfe_real_t)(AT(fixed, ld, i, j) * 0.01);
+                }
+                if (((rep % 5) == 4) && (i == 1u)) {
+                    for (j = 0u; j < cols; ++j) {
+                        AT(fixed, ld, i, j) = (rfe_real_t)ldexp((double)AT(fixed, ld, i, j), -40);
+                    }
+                }
+            }
+            guard_fill(runtime, BUF_N);
+            for (i = 0u; i < rows; ++i) {
+                for (j = 0u; j < cols; ++j) {
+                    AT(runtime, cols, i, j) = AT(fixed, ld, i, j);
+                }
+            }
+            assert_int_equal(rfe_qr_tria(fixed, rows, cols, ld), RFE_OK);
+            assert_int_equal(rfe_qr_tria(runtime, rows, cols, cols), RFE_OK);
+            assert_tria_structure(fixed, rows, cols, ld);
+            for (i = 0u; i < rows; ++i) {
+                double norm = 0.0;
+                for (j = 0u; j <= i; ++j) {
+                    norm += (double)AT(runtime, cols, i, j) * (double)AT(runtime, cols, i, j);
+                }
+                for (j = 0u; j <= i; ++j) {
+                    ASSERT_LE(fabs((double)AT(fixed, ld, i, j) - (double)AT(runtime, cols, i, j)),
+                              (double)(rows * cols) * eps * sqrt(norm),
+                              "fixed-shape Tria vs run-time Tria");
+                }
+            }
+        }
+    }
+}
+
 /* REQ-QR-001 */
 static void test_rfe_qr_tria_orthogonal_factor(void **state)
 {
@@ -881,6 +946,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_rfe_qr_tria_random_all_shapes),
         cmocka_unit_test(test_rfe_qr_tria_filter_shapes),
+        cmocka_unit_test(test_rfe_qr_tria_fixed_shapes_match_runtime),
         cmocka_unit_test(test_rfe_qr_tria_orthogonal_factor),
         cmocka_unit_test(test_rfe_qr_tria_lower_input_fixed_point),
         cmocka_unit_test(test_rfe_qr_tria_repeated_rows),
