@@ -21,6 +21,7 @@
 #include "models/meas_inputs.h"
 #include "models/tyre_internal_q31.h"
 #include "models/meas_cols_internal_q31.h"
+#include "models/meas_internal_q31.h"
 
 /* Entries of the four wheels' terms side by side (wheel i at i RFE_MEAS). */
 #define COLS ((size_t)RFE_WHEELS * (size_t)RFE_MEAS)
@@ -105,11 +106,13 @@ static void setup_pre_q31(rfe_meas_q31_t *h, const rfe_tyre_params_q31_t *tp)
 {
     size_t i;
     for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
-        const rfe_dugoff_pre_q31_t zero = {0, 0, 0, 0, 0, 0, 0u};
-        h->pre[i] = zero;
         if ((tp->mode != RFE_TYRE_PAPER) && (rfe_tyre_dugoff_params_ok_q31(tp) != 0)) {
+            /* every field written (dugoff_pre_e) */
             rfe_tyre_dugoff_pre_q31(tp, h->kin.kappa[i], h->kin.alpha[i], h->kin.vwx[i],
                                     &h->pre[i]);
+        } else {
+            const rfe_dugoff_pre_q31_t zero = {0, 0, 0, 0, 0, 0, 0u};
+            h->pre[i] = zero;
         }
     }
     h->pre_cx = tp->cx;
@@ -734,7 +737,8 @@ static void wheel_velocity_q31(const rfe_vehicle_q31_t *veh, const rfe_sample_q3
  * (fj[0].mfx, fj[0].mfy are F0 there). */
 static void wheel_basis_q31(const rfe_meas_q31_t *h, const rfe_tyre_params_q31_t *tp,
                             const rfe_dugoff_pre_q31_t *pre, size_t i, rfe_fix_t mu, int turn,
-                            rfe_tyre_jac_q31_t fj[3], rfe_xf_t f[2])
+                            rfe_tyre_jac_q31_t fj[3], rfe_xf_t f[2], rfe_fix_t fm[2],
+                            uint32_t *fcnt)
 {
     const rfe_xf_t zero = rfe_xf_make(0, 0);
     rfe_fix_t fx = 0;
@@ -743,7 +747,9 @@ static void wheel_basis_q31(const rfe_meas_q31_t *h, const rfe_tyre_params_q31_t
     fj[2].dfx = zero;
     fj[2].dfy = zero;
     if (tp->mode == RFE_TYRE_MAGIC) {
-        rfe_tyre_magic_basis_q31(tp, pre, h->kin.fz[i], mu, &fx, &fy, &scratch, fj);
+        /* the Magic Formula's forces at mu with their clamp counts (*fcnt): the nominal ones
+         * of rfe_meas_nominal_input_jac_q31 */
+        rfe_tyre_magic_basis_q31(tp, pre, h->kin.fz[i], mu, &fx, &fy, fcnt, fj);
     } else {
         const rfe_xf_t one = rfe_xf_make(1, 0);
         size_t b;
@@ -759,6 +765,8 @@ static void wheel_basis_q31(const rfe_meas_q31_t *h, const rfe_tyre_params_q31_t
             rfe_tyre_dugoff_abs_pre_q31(tp, pre, mu, h->kin.fz[i], &fx, &fy, &scratch);
         }
     }
+    fm[0] = fx;
+    fm[1] = fy;
     f[0] = rfe_xf_of(fx, (int)RFE_FIX_Q_FORCE);
     f[1] = rfe_xf_of(fy, (int)RFE_FIX_Q_FORCE);
     if (h->mode == RFE_TYRE_PAPER) {
@@ -779,7 +787,8 @@ RFE_XF_OUTLINE static void wheel_prepare_q31(const rfe_meas_q31_t *h,
                                              const rfe_tyre_params_q31_t *tp,
                                              const rfe_sample_q31_t *u, int cached, size_t i,
                                              rfe_fix_t mu, const rfe_fix_t *sd,
-                                             wheel_cols_q31_t *wc)
+                                             wheel_cols_q31_t *wc, rfe_fix_t fm[2],
+                                             uint32_t *fcnt)
 {
     lat_q36_t bm;
     rfe_dugoff_pre_q31_t pre;
@@ -792,7 +801,7 @@ RFE_XF_OUTLINE static void wheel_prepare_q31(const rfe_meas_q31_t *h,
     wc->c = (i < (size_t)RFE_RL) ? h->cos_delta : ONE_Q30;
     wc->s = (i < (size_t)RFE_RL) ? h->sin_delta : 0;
     jac_pre_q31(h, tp, cached, i, &pre);
-    wheel_basis_q31(h, tp, &pre, i, mu, turn, fj, f);
+    wheel_basis_q31(h, tp, &pre, i, mu, turn, fj, f, fm, fcnt);
     lat_map_q36(veh, h->cos_delta, h->sin_delta, i, &bm);
     rfe_meas_wheel_rows_q31(h, veh, tp, u, i, pre.tan_a, &bm, fj, wc);
     wheel_velocity_q31(veh, u, i, wc->c, wc->s, wc->vw);
@@ -835,11 +844,86 @@ rfe_status_t rfe_meas_input_jac_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q
     }
     cached = pre_matches_q31(h, tp);
     for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
-        wheel_prepare_q31(h, veh, tp, u, cached, i, mu[i], sd, &wc[i]);
+        rfe_fix_t fm[2];
+        uint32_t scratch = 0u; /* the forces' counts: the derivative counts none */
+        wheel_prepare_q31(h, veh, tp, u, cached, i, mu[i], sd, &wc[i], fm, &scratch);
     }
     for (i = 0u; i < (size_t)RFE_INPUTS; ++i) {
         rfe_meas_input_column_q31(wc, veh, i, sd[i], G, &count);
     }
+    rfe_q31_sat_add(sat, count);
+    return RFE_OK;
+}
+
+int rfe_meas_one_pass_ok_q31(const rfe_meas_q31_t *h, const rfe_tyre_params_q31_t *tp)
+{
+    return ((h != NULL) && (tp != NULL) && (h->mode == RFE_TYRE_MAGIC) &&
+            (tp->mode == RFE_TYRE_MAGIC) && (pre_matches_q31(h, tp) != 0))
+               ? 1
+               : 0;
+}
+
+/* 1 when none of rfe_meas_nominal_input_jac_q31's arrays and counter is NULL. */
+static int one_pass_outputs_ok_q31(const rfe_fix_t *mu, const rfe_fix_t *sd, const rfe_fix_t *z,
+                                   const rfe_fix_t *G, const uint32_t *sat)
+{
+    return ((mu != NULL) && (sd != NULL) && (z != NULL) && (G != NULL) && (sat != NULL)) ? 1 : 0;
+}
+
+rfe_status_t rfe_meas_nominal_input_jac_q31(const rfe_meas_q31_t *h,
+                                            const rfe_vehicle_q31_t *veh,
+                                            const rfe_tyre_params_q31_t *tp,
+                                            const rfe_sample_q31_t *u,
+                                            const rfe_fix_t mu[RFE_WHEELS],
+                                            const rfe_fix_t sd[RFE_INPUTS],
+                                            rfe_fix_t z[RFE_MEAS],
+                                            rfe_fix_t G[(size_t)RFE_MEAS * (size_t)RFE_INPUTS],
+                                            uint32_t *sat)
+{
+    wheel_cols_q31_t wc[RFE_WHEELS];
+    int64_t acc[RFE_MEAS] = {0, 0, 0};
+    uint32_t ncount = 0u;
+    uint32_t count = 0u;
+    size_t i;
+    size_t r;
+    rfe_status_t st;
+    if ((veh == NULL) || (u == NULL) || (one_pass_outputs_ok_q31(mu, sd, z, G, sat) == 0)) {
+        return RFE_ERR_NULL;
+    }
+    if (rfe_meas_one_pass_ok_q31(h, tp) == 0) {
+        /* also h or tp NULL */
+        if ((h == NULL) || (tp == NULL)) {
+            return RFE_ERR_NULL;
+        }
+        return RFE_ERR_PARAM; /* the caller makes the two calls */
+    }
+    /* rfe_meas_nominal_q31 makes no check in this mode; rfe_meas_input_jac_q31's, in order */
+    st = input_jac_ok_q31(h, tp);
+    if (st != RFE_OK) {
+        return st;
+    }
+    /* each wheel's basis with its forces at mu and their clamp counts, which give its nominal
+     * terms (nominal_terms_q31's count: the set-up's, the forces', the entries'), summed per
+     * row as sum_terms_q31 sums them (four int32 in int64, exact, then saturated) without the
+     * twelve terms side by side (the stack) */
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        uint32_t cnt = h->sat_vwx[i] + h->sat_fz[i];
+        rfe_fix_t fm[2];
+        rfe_fix_t col[RFE_MEAS];
+        wheel_prepare_q31(h, veh, tp, u, 1, i, mu[i], sd, &wc[i], fm, &cnt);
+        body_terms_q31(veh, fm[0], fm[1], h->cos_delta, h->sin_delta, i, col, &cnt);
+        for (r = 0u; r < (size_t)RFE_MEAS; ++r) {
+            acc[r] += (int64_t)col[r];
+        }
+        rfe_q31_sat_add(&ncount, cnt);
+    }
+    for (r = 0u; r < (size_t)RFE_MEAS; ++r) {
+        z[r] = rfe_fix_sat32(acc[r], &ncount);
+    }
+    for (i = 0u; i < (size_t)RFE_INPUTS; ++i) {
+        rfe_meas_input_column_q31(wc, veh, i, sd[i], G, &count);
+    }
+    rfe_q31_sat_add(sat, ncount);
     rfe_q31_sat_add(sat, count);
     return RFE_OK;
 }

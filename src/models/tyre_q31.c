@@ -199,7 +199,6 @@ rfe_status_t rfe_tyre_kinematics_ex_q31(const rfe_vehicle_q31_t *veh,
                                         const rfe_sample_q31_t *u, rfe_wheel_kin_q31_t *kin,
                                         rfe_tyre_kin_extra_q31_t *extra)
 {
-    rfe_wheel_kin_q31_t out;
     int32_t c = 0;
     int32_t s = 0;
     size_t i;
@@ -210,15 +209,15 @@ rfe_status_t rfe_tyre_kinematics_ex_q31(const rfe_vehicle_q31_t *veh,
     {
         rfe_q31_sincos_q29(u->delta, &s, &c); /* every angle */
     }
+    /* nothing fails below the check: *kin is written in place (issue 21: no copy of it) */
     for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
         extra->sat_vwx[i] = 0u;
-        rfe_tyre_wheel_kin_q31(veh, tp, u, c, s, i, &out.vwx[i], &out.alpha[i], &out.kappa[i],
+        rfe_tyre_wheel_kin_q31(veh, tp, u, c, s, i, &kin->vwx[i], &kin->alpha[i], &kin->kappa[i],
                                &extra->sat_vwx[i]);
     }
-    vertical_loads_q31(veh, u->ax, u->ay, out.fz, extra->sat_fz);
+    vertical_loads_q31(veh, u->ax, u->ay, kin->fz, extra->sat_fz);
     extra->cos_delta = c;
     extra->sin_delta = s;
-    *kin = out;
     return RFE_OK;
 }
 

@@ -17,6 +17,7 @@
 
 #include "estimators/friction/friction_logic.h"
 #include "estimators/friction/step_noise_internal_q31.h"
+#include "models/meas_internal_q31.h"
 #include "numerics/internal_q31.h"
 
 #define CW ((size_t)RFE_MEAS + (size_t)RFE_INPUTS) /* widest [S_R0, g_1 .. g_8] */
@@ -62,7 +63,8 @@ static void sensor_block_q31(const rfe_filter_params_q31_t *fp, const rfe_fix_t 
  * sd_j (16 model evaluations). */
 static rfe_status_t input_columns_q31(const rfe_params_q31_t *p, const rfe_meas_q31_t *h,
                                       const rfe_sample_q31_t *u, const rfe_fix_t *mu,
-                                      rfe_fix_t *A, size_t *cols, uint32_t *count)
+                                      rfe_fix_t *h0, rfe_fix_t *A, size_t *cols,
+                                      uint32_t *count)
 {
     rfe_fix_t sd[RFE_INPUTS];
     rfe_fix_t G[(size_t)RFE_MEAS * (size_t)RFE_INPUTS];
@@ -72,7 +74,12 @@ static rfe_status_t input_columns_q31(const rfe_params_q31_t *p, const rfe_meas_
     for (j = 0u; j < (size_t)RFE_INPUTS; ++j) {
         sd[j] = rfe_step_noise_input_sd_q31(&p->filter, j);
     }
-    st = rfe_meas_input_jac_q31(h, &p->vehicle, &p->tyre, u, mu, sd, G, count);
+    if (h0 != NULL) {
+        /* h0 with the derivative: one evaluation of the tyres (meas_internal_q31.h) */
+        st = rfe_meas_nominal_input_jac_q31(h, &p->vehicle, &p->tyre, u, mu, sd, h0, G, count);
+    } else {
+        st = rfe_meas_input_jac_q31(h, &p->vehicle, &p->tyre, u, mu, sd, G, count);
+    }
     if (st != RFE_OK) {
         return st;
     }
@@ -98,6 +105,15 @@ static rfe_status_t fill_q31(const rfe_params_q31_t *p, const rfe_meas_q31_t *h,
     rfe_meas_terms_q31_t nom; /* written in the load-scaled modes, read only there */
     rfe_fix_t h0[RFE_MEAS];
     rfe_status_t st;
+    if (rfe_meas_one_pass_ok_q31(h, &p->tyre) != 0) {
+        /* h0 (rfe_meas_nominal_q31's) and the input columns in one pass; the sensor block,
+         * which reads h0, after them: its columns come first in A all the same */
+        st = input_columns_q31(p, h, u, mu, h0, A, cols, count);
+        if (st == RFE_OK) {
+            sensor_block_q31(&p->filter, h0, A, count);
+        }
+        return st;
+    }
     if (h->mode != RFE_TYRE_PAPER) {
         st = rfe_meas_nominal_q31(h, &p->vehicle, &p->tyre, mu, &nom, h0, count);
     } else {
@@ -105,7 +121,7 @@ static rfe_status_t fill_q31(const rfe_params_q31_t *p, const rfe_meas_q31_t *h,
     }
     if (st == RFE_OK) {
         sensor_block_q31(&p->filter, h0, A, count);
-        st = input_columns_q31(p, h, u, mu, A, cols, count);
+        st = input_columns_q31(p, h, u, mu, NULL, A, cols, count);
     }
     return st;
 }

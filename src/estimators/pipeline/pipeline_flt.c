@@ -78,11 +78,56 @@ static rfe_status_t check_period(rfe_pipeline_t *pl, const rfe_velocity_input_t 
     return st;
 }
 
+/* What a step may change in the pipeline's observer (rfe_velocity_step: the three filters,
+ * the time on r_ref, the last output; check_period: started), kept to undo a
+ * step: a copy of these members, not of the whole observer with its parameters, vehicle and
+ * tyre, which no step writes (issue 21: the copy cost more than the members). A field a step
+ * writes added to rfe_velocity_t must be added here (the pipeline tests' untouched-on-error
+ * cases compare the whole pipeline). The input noise the friction step's set-up writes
+ * (rfe_friction_set_input_noise: sd_in_vx, sd_in_vy, r_yaw_acc) is kept with it. */
+typedef struct {
+    rfe_kf2_t yaw;
+    rfe_kf2_t lon;
+    rfe_kf2_t lat;
+    rfe_real_t r_on_ref;
+    rfe_velocity_estimate_t last;
+    uint32_t started;
+    rfe_real_t sd_in_vx;
+    rfe_real_t sd_in_vy;
+    rfe_real_t r_yaw_acc;
+} pl_undo_t;
+
+static void undo_save(const rfe_pipeline_t *pl, pl_undo_t *k)
+{
+    k->yaw = pl->velocity.yaw;
+    k->lon = pl->velocity.lon;
+    k->lat = pl->velocity.lat;
+    k->r_on_ref = pl->velocity.r_on_ref;
+    k->last = pl->velocity.last;
+    k->started = pl->velocity.started;
+    k->sd_in_vx = pl->friction.params.filter.sd_in_vx;
+    k->sd_in_vy = pl->friction.params.filter.sd_in_vy;
+    k->r_yaw_acc = pl->friction.params.filter.r_yaw_acc;
+}
+
+/* The observer and the friction estimator's input noise as before the step. */
+static void undo_restore(rfe_pipeline_t *pl, const pl_undo_t *k)
+{
+    pl->velocity.yaw = k->yaw;
+    pl->velocity.lon = k->lon;
+    pl->velocity.lat = k->lat;
+    pl->velocity.r_on_ref = k->r_on_ref;
+    pl->velocity.last = k->last;
+    pl->velocity.started = k->started;
+    pl->friction.params.filter.sd_in_vx = k->sd_in_vx;
+    pl->friction.params.filter.sd_in_vy = k->sd_in_vy;
+    pl->friction.params.filter.r_yaw_acc = k->r_yaw_acc;
+}
+
 rfe_status_t rfe_pipeline_step(rfe_pipeline_t *pl, const rfe_velocity_input_t *in,
                                rfe_pipeline_out_t *out)
 {
-    rfe_velocity_t obs_before;
-    rfe_filter_params_t noise_before;
+    pl_undo_t before;
     rfe_velocity_mu_t mu;
     rfe_sample_t u;
     uint32_t missed = 0u;
@@ -98,7 +143,7 @@ rfe_status_t rfe_pipeline_step(rfe_pipeline_t *pl, const rfe_velocity_input_t *i
     }
     out->missed = 0u;
     out->restarted = 0u;
-    obs_before = pl->velocity;
+    undo_save(pl, &before);
     st = check_period(pl, in, &restarted);
     if (st != RFE_OK) {
         out->velocity = pl->velocity.last; /* as the observer reports a refused sample */
@@ -109,7 +154,7 @@ rfe_status_t rfe_pipeline_step(rfe_pipeline_t *pl, const rfe_velocity_input_t *i
     }
     st = rfe_velocity_step(&pl->velocity, in, (pl->started != 0u) ? &mu : NULL, &out->velocity);
     if (st != RFE_OK) {
-        pl->velocity = obs_before; /* the restart undone */
+        undo_restore(pl, &before); /* the restart undone */
         out->friction = pl->last;
         return st;
     }
@@ -120,7 +165,6 @@ rfe_status_t rfe_pipeline_step(rfe_pipeline_t *pl, const rfe_velocity_input_t *i
         (void)gst;
     }
     friction_sample(in, &out->velocity, &u);
-    noise_before = pl->friction.params.filter;
     {
         const rfe_real_t s = out->velocity.sd_yaw_acc;
         st = rfe_friction_set_input_noise(&pl->friction, out->velocity.sd_vx,
@@ -131,8 +175,8 @@ rfe_status_t rfe_pipeline_step(rfe_pipeline_t *pl, const rfe_velocity_input_t *i
         st = rfe_friction_step_after(&pl->friction, missed, &u, &out->friction);
     }
     if (rfe_status_is_error(st) != 0) {
-        pl->velocity = obs_before; /* undo the observer's step and the input noise: the */
-        pl->friction.params.filter = noise_before; /* pipeline is untouched */
+        undo_restore(pl, &before); /* undo the observer's step and the input noise: */
+        /* the pipeline is untouched */
         out->friction = pl->last;
         out->friction.status = st;
         return st;

@@ -80,11 +80,59 @@ static rfe_status_t check_period_q31(rfe_pipeline_q31_t *pl, const rfe_velocity_
     return st;
 }
 
+/* What a step may change in the pipeline's observer (rfe_velocity_q31_step: the three filters,
+ * the time on r_ref, the last output, the counts; check_period_q31: started), kept to undo a
+ * step: a copy of these members, not of the whole observer with its parameters, vehicle and
+ * tyre, which no step writes (issue 21: the copy cost more than the members). A field a step
+ * writes added to rfe_velocity_q31_t must be added here (the pipeline tests' untouched-on-error
+ * cases compare the whole pipeline). The input noise the friction step's set-up writes
+ * (rfe_friction_set_input_noise_q31: sd_in_vx, sd_in_vy, r_yaw_acc) is kept with it. */
+typedef struct {
+    rfe_kf2_q31_t yaw;
+    rfe_kf2_q31_t lon;
+    rfe_kf2_q31_t lat;
+    rfe_fix_t r_on_ref;
+    rfe_velocity_estimate_q31_t last;
+    uint32_t sat;
+    uint32_t started;
+    rfe_fix_t sd_in_vx;
+    rfe_fix_t sd_in_vy;
+    rfe_fix_t r_yaw_acc;
+} pl_undo_q31_t;
+
+static void undo_save_q31(const rfe_pipeline_q31_t *pl, pl_undo_q31_t *k)
+{
+    k->yaw = pl->velocity.yaw;
+    k->lon = pl->velocity.lon;
+    k->lat = pl->velocity.lat;
+    k->r_on_ref = pl->velocity.r_on_ref;
+    k->last = pl->velocity.last;
+    k->sat = pl->velocity.sat;
+    k->started = pl->velocity.started;
+    k->sd_in_vx = pl->friction.params.filter.sd_in_vx;
+    k->sd_in_vy = pl->friction.params.filter.sd_in_vy;
+    k->r_yaw_acc = pl->friction.params.filter.r_yaw_acc;
+}
+
+/* The observer and the friction estimator's input noise as before the step. */
+static void undo_restore_q31(rfe_pipeline_q31_t *pl, const pl_undo_q31_t *k)
+{
+    pl->velocity.yaw = k->yaw;
+    pl->velocity.lon = k->lon;
+    pl->velocity.lat = k->lat;
+    pl->velocity.r_on_ref = k->r_on_ref;
+    pl->velocity.last = k->last;
+    pl->velocity.sat = k->sat;
+    pl->velocity.started = k->started;
+    pl->friction.params.filter.sd_in_vx = k->sd_in_vx;
+    pl->friction.params.filter.sd_in_vy = k->sd_in_vy;
+    pl->friction.params.filter.r_yaw_acc = k->r_yaw_acc;
+}
+
 rfe_status_t rfe_pipeline_step_q31(rfe_pipeline_q31_t *pl, const rfe_velocity_input_q31_t *in,
                                    rfe_pipeline_out_q31_t *out)
 {
-    rfe_velocity_q31_t obs_before;
-    rfe_filter_params_q31_t noise_before;
+    pl_undo_q31_t before;
     rfe_velocity_mu_q31_t mu;
     rfe_sample_q31_t u;
     uint32_t sat = 0u;
@@ -101,7 +149,7 @@ rfe_status_t rfe_pipeline_step_q31(rfe_pipeline_q31_t *pl, const rfe_velocity_in
     }
     out->missed = 0u;
     out->restarted = 0u;
-    obs_before = pl->velocity;
+    undo_save_q31(pl, &before);
     st = check_period_q31(pl, in, &restarted);
     if (st != RFE_OK) {
         out->velocity = pl->velocity.last; /* as the observer reports a refused sample */
@@ -115,7 +163,7 @@ rfe_status_t rfe_pipeline_step_q31(rfe_pipeline_q31_t *pl, const rfe_velocity_in
     st = rfe_velocity_step_q31(&pl->velocity, in, (pl->started != 0u) ? &mu : NULL,
                                &out->velocity);
     if (st != RFE_OK) {
-        pl->velocity = obs_before; /* the restart undone */
+        undo_restore_q31(pl, &before); /* the restart undone */
         out->friction = pl->last;
         out->friction.sat = 0u;
         return st;
@@ -127,7 +175,6 @@ rfe_status_t rfe_pipeline_step_q31(rfe_pipeline_q31_t *pl, const rfe_velocity_in
         (void)gst;
     }
     friction_sample_q31(in, &out->velocity, &u);
-    noise_before = pl->friction.params.filter;
     {
         /* sqrt(r_yaw_acc^2 + sd(r-dot)^2), Q24, exactly rounded */
         const rfe_fix_t v[2] = {pl->r_yaw_acc, out->velocity.sd_yaw_acc};
@@ -142,8 +189,8 @@ rfe_status_t rfe_pipeline_step_q31(rfe_pipeline_q31_t *pl, const rfe_velocity_in
         st = rfe_friction_step_after_q31(&pl->friction, missed, &u, &out->friction);
     }
     if (rfe_status_is_error(st) != 0) {
-        pl->velocity = obs_before; /* undo the observer's step and the input noise: the */
-        pl->friction.params.filter = noise_before; /* pipeline is untouched */
+        undo_restore_q31(pl, &before); /* undo the observer's step and the input noise: */
+        /* the pipeline is untouched */
         out->friction = pl->last;
         out->friction.status = st;
         out->friction.sat = 0u;
