@@ -3,7 +3,7 @@
 # their inclusion, the library's src/<group>/*.c -- src/host/ is not library code), once per
 # real type:
 #   float  : -URFE_REAL_DOUBLE (cppcheck then also checks the __GNUC__ configuration)
-#   double : -DRFE_REAL_DOUBLE
+#   double : -DRFE_REAL_DOUBLE, the float sources only (the *_q31.c files have no real type)
 # plus cppcheck's own warning/style/portability/performance checks, which implement the
 # MISRA rules the addon leaves to the core (5.3, 8.13, 9.1, 14.3, 18.1, ... -- docs/MISRA.md).
 # Reports: build/misra/{float,double}.xml (cppcheck XML) and .txt (one finding per line).
@@ -25,8 +25,8 @@ mkdir -p "$OUT"
 command -v cppcheck >/dev/null || { echo "misra: cppcheck not installed (make deps-analysis)"; exit 2; }
 echo "misra: $(cppcheck --version), addon misra, $(echo "$SRC" | wc -w) library sources"
 
-run_variant() { # $1 = name, $2 = define
-    local name=$1 def=$2
+run_variant() { # $1 = name, $2 = define, $3 = the sources
+    local name=$1 def=$2 src=$3
     # A fresh build dir every run: with a warm cache cppcheck analyses nothing and then
     # reports the command-line suppression of missingIncludeSystem as unmatched.
     rm -rf "$OUT/cache-$name"
@@ -37,7 +37,7 @@ run_variant() { # $1 = name, $2 = define
         --enable=warning,style,portability,performance,information \
         --inline-suppr --suppress=misra-c2012-15.5 --suppress=missingIncludeSystem \
         --cppcheck-build-dir="$OUT/cache-$name" --xml --output-file="$OUT/$name.xml" -q \
-        $SRC || rc=$?
+        $src || rc=$?
     echo "$rc" >"$OUT/$name.rc"
     python3 - "$OUT/$name.xml" "$OUT/$name.txt" <<'EOF'
 import sys, xml.etree.ElementTree as ET
@@ -52,9 +52,13 @@ open(sys.argv[2], 'w').write(''.join(l + '\n' for l in sorted(set(lines))))
 EOF
 }
 
-run_variant float -URFE_REAL_DOUBLE &
+# The fixed-point sources (*_q31.c) do not depend on RFE_REAL_DOUBLE (make check-nofloat: no
+# real type in them), so the double configuration would repeat their float analysis word for
+# word: they are checked once, in the float one (about a third of make misra's time).
+DOUBLE_SRC=$(tr ' ' '\n' <<<"$SRC" | grep -v '_q31\.c$' | tr '\n' ' ')
+run_variant float -URFE_REAL_DOUBLE "$SRC" &
 pf=$!
-run_variant double -DRFE_REAL_DOUBLE &
+run_variant double -DRFE_REAL_DOUBLE "$DOUBLE_SRC" &
 pd=$!
 wait $pf
 wait $pd

@@ -183,6 +183,23 @@ static void test_nominal_input_jac_q31(void **state)
         assert_int_equal(rfe_meas_one_pass_ok_q31(NULL, &p.tyre), 0);
         assert_int_equal(rfe_meas_one_pass_ok_q31(&h, NULL), 0);
         assert_int_equal(rfe_meas_one_pass_ok_q31(&h, &p.tyre), 1);
+        {
+            /* A Magic Formula shape out of its range (C_x = 1: magic_shape_ok wants 1 < C_x < 2)
+             * keeps the set-up's match (it compares the stiffnesses, eps and alpha_max, not the
+             * shape), so the one pass is taken and refuses it as the two calls do: RFE_ERR_PARAM,
+             * nothing written, the count untouched. */
+            rfe_tyre_params_q31_t bad = p.tyre;
+            rfe_fix_t z0[3] = {1, 2, 3};
+            const rfe_fix_t z0_want[3] = {1, 2, 3};
+            uint32_t c = 7u;
+            bad.shape_Cx = RFE_FIX_ONE(RFE_FIX_Q_STIFF);
+            assert_int_equal(rfe_meas_one_pass_ok_q31(&h, &bad), 1);
+            assert_int_equal(rfe_meas_input_jac_q31(&h, &p.vehicle, &bad, &u, mu, sd, G, &c), RFE_ERR_PARAM);
+            assert_int_equal(rfe_meas_nominal_input_jac_q31(&h, &p.vehicle, &bad, &u, mu, sd, z0, G, &c),
+                             RFE_ERR_PARAM);
+            assert_memory_equal(z0, z0_want, sizeof(z0));
+            assert_int_equal(c, 7u);
+        }
     }
 }
 
