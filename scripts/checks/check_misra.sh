@@ -25,8 +25,8 @@ mkdir -p "$OUT"
 command -v cppcheck >/dev/null || { echo "misra: cppcheck not installed (make deps-analysis)"; exit 2; }
 echo "misra: $(cppcheck --version), addon misra, $(echo "$SRC" | wc -w) library sources"
 
-run_variant() { # $1 = name, $2 = define, $3 = the sources
-    local name=$1 def=$2 src=$3
+run_variant() { # $1 = name, $2 = define, $3 = the sources, $4 = extra cppcheck options
+    local name=$1 def=$2 src=$3 extra=${4:-}
     # A fresh build dir every run: with a warm cache cppcheck analyses nothing and then
     # reports the command-line suppression of missingIncludeSystem as unmatched.
     rm -rf "$OUT/cache-$name"
@@ -37,7 +37,7 @@ run_variant() { # $1 = name, $2 = define, $3 = the sources
         --enable=warning,style,portability,performance,information \
         --inline-suppr --suppress=misra-c2012-15.5 --suppress=missingIncludeSystem \
         --cppcheck-build-dir="$OUT/cache-$name" --xml --output-file="$OUT/$name.xml" -q \
-        $src || rc=$?
+        $extra $src || rc=$?
     echo "$rc" >"$OUT/$name.rc"
     python3 - "$OUT/$name.xml" "$OUT/$name.txt" <<'EOF'
 import sys, xml.etree.ElementTree as ET
@@ -54,11 +54,15 @@ EOF
 
 # The fixed-point sources (*_q31.c) do not depend on RFE_REAL_DOUBLE (make check-nofloat: no
 # real type in them), so the double configuration would repeat their float analysis word for
-# word: they are checked once, in the float one (about a third of make misra's time).
+# word: they are checked once, in the float one (about a third of make misra's time). Rule 2.5
+# (a macro never used) is a whole-program rule: judged in the float configuration, over every
+# source, not in the double one, which no longer sees the fixed-point sources that use the
+# fixed-point headers' macros (a macro used only under RFE_REAL_DOUBLE is still caught: the
+# float configuration, which checks every source, finds it unused).
 DOUBLE_SRC=$(tr ' ' '\n' <<<"$SRC" | grep -v '_q31\.c$' | tr '\n' ' ')
 run_variant float -URFE_REAL_DOUBLE "$SRC" &
 pf=$!
-run_variant double -DRFE_REAL_DOUBLE "$DOUBLE_SRC" &
+run_variant double -DRFE_REAL_DOUBLE "$DOUBLE_SRC" --suppress=misra-c2012-2.5 &
 pd=$!
 wait $pf
 wait $pd

@@ -857,8 +857,9 @@ rfe_status_t rfe_meas_input_jac_q31(const rfe_meas_q31_t *h, const rfe_vehicle_q
 
 int rfe_meas_one_pass_ok_q31(const rfe_meas_q31_t *h, const rfe_tyre_params_q31_t *tp)
 {
+    /* tp's mode is MAGIC too: pre_matches_q31 requires it of a MAGIC set-up */
     return ((h != NULL) && (tp != NULL) && (h->mode == RFE_TYRE_MAGIC) &&
-            (tp->mode == RFE_TYRE_MAGIC) && (pre_matches_q31(h, tp) != 0))
+            (pre_matches_q31(h, tp) != 0))
                ? 1
                : 0;
 }
