@@ -163,4 +163,17 @@ static inline int rfe_mg_change_sums(int test_on, uint32_t tripped)
     return ((test_on != 0) && (tripped == 0u)) ? 1 : 0;
 }
 
+/** §4.7 the grade's two-level walk, its level after an accepted sample that is not a start:
+ *  loose (1: q_theta_hi) once the grade rate's mean square exceeds theta_rate_on^2
+ *  (@p above_on), tight (0: q_theta) again once it falls below theta_rate_off^2
+ *  (@p below_off), else as it was (@p loose): hysteresis. */
+static inline uint32_t rfe_mg_walk_level(uint32_t loose, int above_on, int below_off)
+{
+    uint32_t level = (above_on != 0) ? 1u : 0u;
+    if (loose != 0u) {
+        level = (below_off != 0) ? 0u : 1u;
+    }
+    return level;
+}
+
 #endif /* RFE_MASS_GRADE_LOGIC_H */
