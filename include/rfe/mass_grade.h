@@ -125,7 +125,6 @@ typedef struct {
                                            accepted sample [m/s] */
     rfe_real_t wq_rate;               /**< §4.7 the grade rate, low-passed [rad/s] */
     rfe_real_t wq_ms;                 /**< §4.7 its mean square [rad^2/s^2] */
-    rfe_real_t th_prev;               /**< §4.7 the grade at the last accepted sample [rad] */
     uint32_t wq_hi;                   /**< §4.7 the walk's level: 1 q_theta_hi, 0 q_theta */
     rfe_mass_grade_estimate_t last;   /**< the output of the last step */
 } rfe_mass_grade_t;

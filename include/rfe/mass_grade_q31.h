@@ -102,8 +102,6 @@ typedef struct {
                                                   [m/s], Q24 */
     rfe_fix_t wq_rate;                       /**< §4.7 the grade rate, low-passed [rad/s], Q30 */
     rfe_fix_t wq_ms;                         /**< §4.7 its mean square [rad^2/s^2], Q30 */
-    rfe_fix_t th_prev;                       /**< §4.7 the grade at the last accepted sample
-                                                  [rad], Q29 */
     uint32_t wq_hi;                          /**< §4.7 the walk's level: 1 q_theta_hi */
     uint32_t sat;                            /**< saturations since init (stops at UINT32_MAX) */
     rfe_mass_grade_estimate_q31_t last;      /**< the output of the last step */

@@ -148,7 +148,6 @@ static void start_filter(rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in)
     o->wq_rate = RFE_R(0.0); /* §4.7 the walk tight, its rate and mean square 0 */
     o->wq_ms = RFE_R(0.0);
     o->wq_hi = 0u;
-    o->th_prev = o->x[2];
 }
 
 /* §4.7 the grade's random walk density for this sample: q_theta_hi while the two-level
@@ -158,23 +157,22 @@ static rfe_real_t q_theta_now(const rfe_mass_grade_t *o)
     return (o->wq_hi != 0u) ? o->p.q_theta_hi : o->p.q_theta;
 }
 
-/* §4.7 after an accepted sample that is not a start: d = theta - theta_prev,
- * r += d/tau - (dt/tau) r, s += (dt/avg) (r^2 - s), then the level by the hysteresis
- * (rfe_mg_walk_level) against on^2 and off^2; with q_theta_hi 0 only theta_prev moves. */
-static void walk_level(rfe_mass_grade_t *o, rfe_real_t dt)
+/* §4.7 after an accepted sample that is not a start, the walk on (q_theta_hi > 0):
+ * d = theta - theta_prev (@p th_prev: the grade of the state before the step, i.e. at the
+ * last accepted sample, which an error leaves as it was), r += d/tau - (dt/tau) r,
+ * s += (dt/avg) (r^2 - s), then the level by the hysteresis (rfe_mg_walk_level) against
+ * on^2 and off^2. */
+static void walk_level(rfe_mass_grade_t *o, rfe_real_t th_prev, rfe_real_t dt)
 {
-    const rfe_real_t d = o->x[2] - o->th_prev;
-    o->th_prev = o->x[2];
-    if (o->p.q_theta_hi != RFE_R(0.0)) {
-        const rfe_real_t tau = o->p.theta_rate_tau;
-        const rfe_real_t avg = o->p.theta_rate_avg;
-        const rfe_real_t on = o->p.theta_rate_on;
-        const rfe_real_t off = o->p.theta_rate_off;
-        o->wq_rate += (d / tau) - ((dt / tau) * o->wq_rate);
-        o->wq_ms += (dt / avg) * ((o->wq_rate * o->wq_rate) - o->wq_ms);
-        o->wq_hi = rfe_mg_walk_level(o->wq_hi, (o->wq_ms > (on * on)) ? 1 : 0,
-                                     (o->wq_ms < (off * off)) ? 1 : 0);
-    }
+    const rfe_real_t d = o->x[2] - th_prev;
+    const rfe_real_t tau = o->p.theta_rate_tau;
+    const rfe_real_t avg = o->p.theta_rate_avg;
+    const rfe_real_t on = o->p.theta_rate_on;
+    const rfe_real_t off = o->p.theta_rate_off;
+    o->wq_rate += (d / tau) - ((dt / tau) * o->wq_rate);
+    o->wq_ms += (dt / avg) * ((o->wq_rate * o->wq_rate) - o->wq_ms);
+    o->wq_hi = rfe_mg_walk_level(o->wq_hi, (o->wq_ms > (on * on)) ? 1 : 0,
+                                 (o->wq_ms < (off * off)) ? 1 : 0);
 }
 
 /* §4.2 step 3 the slip test's comparison, |v - vx| > ratio max(|vx|, v_min), read only
@@ -586,8 +584,8 @@ rfe_status_t rfe_mass_grade_step(rfe_mass_grade_t *mg, const rfe_mass_grade_inpu
     o.torque_prev = in->torque;
     o.v_free = rfe_mg_v_free(plan, status);
     o.u_prev = test_speed(in);
-    if (plan != RFE_MG_PLAN_START) {
-        walk_level(&o, in->dt);
+    if ((plan != RFE_MG_PLAN_START) && (o.p.q_theta_hi != RFE_R(0.0))) {
+        walk_level(&o, mg->x[2], in->dt);
     }
     *mg = o;
     *out = o.last;

@@ -165,7 +165,6 @@ static void start_filter_q31(rfe_mass_grade_q31_t *o, const rfe_mass_grade_input
     o->wq_rate = 0; /* §4.7 the walk tight, its rate and mean square 0 */
     o->wq_ms = 0;
     o->wq_hi = 0u;
-    o->th_prev = o->x[2];
 }
 
 /* §4.7 the grade's random walk density for this sample, Q29: q_theta_hi while the
@@ -175,38 +174,37 @@ static rfe_fix_t q_theta_now_q31(const rfe_mass_grade_q31_t *o)
     return (o->wq_hi != 0u) ? o->p.q_theta_hi : o->p.q_theta;
 }
 
-/* §4.7 as the float twin's walk_level: d = theta - theta_prev (Q29), d/tau and dt/tau,
+/* §4.7 as the float twin's walk_level (the walk on; @p th_prev the grade before the step):
+ * d = theta - theta_prev (Q29), d/tau and dt/tau,
  * dt/avg in Q30 by exactly rounded divisions (tau, avg Q24 >= dt_max >= dt: the ratios
  * <= 1), r (Q30) += d/tau - (dt/tau) r, s (Q30) += (dt/avg) (r^2 - s), each product
  * rounded; on^2, off^2 in Q30 (>= 1 LSB: on, off >= 2^-15 rad/s give >= 1; smaller ones
  * compare against 0). r and s saturate (counted) beyond +-2, where s > on^2 already. */
-static void walk_level_q31(rfe_mass_grade_q31_t *o, rfe_fix_t dt, uint32_t *sat)
+static void walk_level_q31(rfe_mass_grade_q31_t *o, rfe_fix_t th_prev, rfe_fix_t dt,
+                           uint32_t *sat)
 {
-    const rfe_fix_t d = rfe_fix_sub(o->x[2], o->th_prev, sat);
-    o->th_prev = o->x[2];
-    if (o->p.q_theta_hi != 0) {
-        rfe_fix_t dr = 0;
-        rfe_fix_t kr = 0;
-        rfe_fix_t ks = 0;
-        rfe_fix_t r2;
-        rfe_status_t st = rfe_fix_div(d, o->p.theta_rate_tau, 25, &dr, sat); /* Q29/Q24 */
-        if (st == RFE_OK) {
-            st = rfe_fix_div(dt, o->p.theta_rate_tau, 24, &kr, sat); /* Q30/Q24 -> Q30 */
-        }
-        if (st == RFE_OK) {
-            st = rfe_fix_div(dt, o->p.theta_rate_avg, 24, &ks, sat);
-        }
-        (void)st; /* tau, avg > 0 (validated), shifts in range: RFE_OK */
-        o->wq_rate = rfe_fix_add(o->wq_rate,
-                                 rfe_fix_sub(dr, rfe_fix_mul(kr, o->wq_rate, 30u, sat), sat), sat);
-        r2 = rfe_fix_mul(o->wq_rate, o->wq_rate, 30u, sat);
-        o->wq_ms = rfe_fix_add(o->wq_ms,
-                               rfe_fix_mul(ks, rfe_fix_sub(r2, o->wq_ms, sat), 30u, sat), sat);
-        o->wq_hi = rfe_mg_walk_level(
-            o->wq_hi,
-            (o->wq_ms > rfe_fix_mul(o->p.theta_rate_on, o->p.theta_rate_on, 30u, sat)) ? 1 : 0,
-            (o->wq_ms < rfe_fix_mul(o->p.theta_rate_off, o->p.theta_rate_off, 30u, sat)) ? 1 : 0);
+    const rfe_fix_t d = rfe_fix_sub(o->x[2], th_prev, sat);
+    rfe_fix_t dr = 0;
+    rfe_fix_t kr = 0;
+    rfe_fix_t ks = 0;
+    rfe_fix_t r2;
+    rfe_status_t st = rfe_fix_div(d, o->p.theta_rate_tau, 25, &dr, sat); /* Q29/Q24 */
+    if (st == RFE_OK) {
+        st = rfe_fix_div(dt, o->p.theta_rate_tau, 24, &kr, sat); /* Q30/Q24 -> Q30 */
     }
+    if (st == RFE_OK) {
+        st = rfe_fix_div(dt, o->p.theta_rate_avg, 24, &ks, sat);
+    }
+    (void)st; /* tau, avg > 0 (validated), shifts in range: RFE_OK */
+    o->wq_rate = rfe_fix_add(o->wq_rate,
+                             rfe_fix_sub(dr, rfe_fix_mul(kr, o->wq_rate, 30u, sat), sat), sat);
+    r2 = rfe_fix_mul(o->wq_rate, o->wq_rate, 30u, sat);
+    o->wq_ms = rfe_fix_add(o->wq_ms,
+                           rfe_fix_mul(ks, rfe_fix_sub(r2, o->wq_ms, sat), 30u, sat), sat);
+    o->wq_hi = rfe_mg_walk_level(
+        o->wq_hi,
+        (o->wq_ms > rfe_fix_mul(o->p.theta_rate_on, o->p.theta_rate_on, 30u, sat)) ? 1 : 0,
+        (o->wq_ms < rfe_fix_mul(o->p.theta_rate_off, o->p.theta_rate_off, 30u, sat)) ? 1 : 0);
 }
 
 /* §4.2 step 3 the slip test's comparison, |v - vx| > ratio max(|vx|, v_min), read only
@@ -670,8 +668,8 @@ rfe_status_t rfe_mass_grade_step_q31(rfe_mass_grade_q31_t *mg, const rfe_mass_gr
     o.torque_prev = in->torque;
     o.v_free = rfe_mg_v_free(plan, status);
     o.u_prev = test_speed_q31(in);
-    if (plan != RFE_MG_PLAN_START) {
-        walk_level_q31(&o, in->dt, &sat);
+    if ((plan != RFE_MG_PLAN_START) && (o.p.q_theta_hi != 0)) {
+        walk_level_q31(&o, mg->x[2], in->dt, &sat);
     }
     rfe_q31_sat_add(&o.sat, sat);
     estimate_of_q31(&o, status, sat, &o.last);
