@@ -169,9 +169,15 @@ static inline int rfe_mg_change_sums(int test_on, uint32_t tripped)
  *  (@p below_off), else as it was (@p loose): hysteresis. */
 static inline uint32_t rfe_mg_walk_level(uint32_t loose, int above_on, int below_off)
 {
-    uint32_t level = (above_on != 0) ? 1u : 0u;
+    uint32_t level = loose;
     if (loose != 0u) {
-        level = (below_off != 0) ? 0u : 1u;
+        if (below_off != 0) {
+            level = 0u;
+        }
+    } else if (above_on != 0) {
+        level = 1u;
+    } else {
+        /* tight, and s not above on^2: stays tight */
     }
     return level;
 }
