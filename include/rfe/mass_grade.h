@@ -123,6 +123,9 @@ typedef struct {
     rfe_real_t chg_d;                 /**< the change test's residual in this pause [m/s] */
     rfe_real_t u_prev;                /**< the test's speed (vx if given, else v) at the last
                                            accepted sample [m/s] */
+    rfe_real_t wq_rate;               /**< §4.7 the grade rate, low-passed [rad/s] */
+    rfe_real_t wq_ms;                 /**< §4.7 its mean square [rad^2/s^2] */
+    uint32_t wq_hi;                   /**< §4.7 the walk's level: 1 q_theta_hi, 0 q_theta */
     rfe_mass_grade_estimate_t last;   /**< the output of the last step */
 } rfe_mass_grade_t;
 

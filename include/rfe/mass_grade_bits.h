@@ -24,6 +24,10 @@
 #define RFE_MG_PAUSE_GRADE_ALL 7u   /**< every bit pause_grade may set */
 /** The largest pause_grade_dv, the change test's speed (MASS_GRADE.md §4.2, §6) [m/s]. */
 #define RFE_MG_PAUSE_GRADE_DV_MAX_MS 10
+/** The largest q_theta_hi, theta_rate_on (MASS_GRADE.md §4.7, §6), in thousandths
+ *  [mrad/sqrt(s), mrad/s], and the largest theta_rate_tau, theta_rate_avg [s]. */
+#define RFE_MG_WALK_MAX_MILLI 100
+#define RFE_MG_WALK_TAU_MAX_S 60
 /** Every bit a sample may set. */
 #define RFE_MG_HAS_ALL 63u
 

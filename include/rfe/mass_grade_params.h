@@ -82,6 +82,16 @@ typedef struct {
                                     du - dt (ax - g sin theta), by more than pause_grade_dv;
                                     held grades that ax and the speed confirm stay untouched
                                     [m/s], in [0, 10]; 0: no test (learn at once): 0.2 */
+    rfe_real_t q_theta_hi; /**< the grade's looser walk while the grade moves (§4.7, the
+                                two-level walk) [rad/sqrt(s)]: 0 (off: q_theta always) or in
+                                [q_theta, 0.1]: 0 */
+    rfe_real_t theta_rate_on;  /**< the grade rate's RMS above which the walk loosens (§4.7)
+                                    [rad/s], in (0, 0.1], >= theta_rate_off: 0.002 */
+    rfe_real_t theta_rate_off; /**< ... below which it tightens again [rad/s], > 0: 0.001 */
+    rfe_real_t theta_rate_tau; /**< the grade rate's low-pass time constant (§4.7) [s], in
+                                    [dt_max, 60]: 1 */
+    rfe_real_t theta_rate_avg; /**< the time constant of the mean of its square (§4.7) [s],
+                                    in [dt_max, 60]: 3 */
 } rfe_mass_grade_params_t;
 
 /**
@@ -112,6 +122,8 @@ RFE_NODISCARD rfe_status_t rfe_mass_grade_params_preset(rfe_mass_grade_params_t 
  * ut_beta >= 0;
  * adaptive, use_ax in {0, 1}; pause_grade an integer in 0..7 (inert without use_ax);
  * 0 <= pause_grade_slip <= 1; 0 <= pause_grade_dv <= 10; m_min < m0 < m_max; |theta0| < theta_max < 1.5;
+ * q_theta_hi 0 or in [q_theta, 0.1]; 0 < theta_rate_off <= theta_rate_on <= 0.1;
+ * theta_rate_tau, theta_rate_avg in [dt_max, 60] (§4.7);
  * n + lambda > 0; with adaptive, mv_stop q_mc^2 < q_mv0^2.
  * @param[in] p  the parameters to check.
  * @return RFE_OK, RFE_ERR_NULL or RFE_ERR_PARAM.

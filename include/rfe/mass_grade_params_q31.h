@@ -37,6 +37,10 @@
 #define RFE_MG_Q_FR 36       /**< rolling resistance f_r [s/m]: Q36, +-0.031 */
 #define RFE_MG_Q_COEF 24     /**< rho [kg/m^3], C_d, S [m^2], mv_stop [1]: Q24, +-128 */
 #define RFE_MG_Q_UT 28       /**< ut_alpha, ut_beta, ut_kappa [1]: Q28, +-8 */
+#define RFE_MG_Q_RATE 30     /**< §4.7 the grade rate: theta_rate_on/off, the low-passed
+                                  rate r [rad/s] and its mean square s [rad^2/s^2], compared
+                                  with on^2, off^2 (Q30 products): Q30, +-2 (on, off <= 0.1;
+                                  r, s saturate beyond, where s > on^2 long before) */
 
 /** The estimator's parameters; fields and meaning as rfe_mass_grade_params_t. */
 typedef struct {
@@ -81,6 +85,12 @@ typedef struct {
     rfe_fix_t pause_grade_slip; /**< the ABS gate's slip [1], Q30, in [0, 1] (0: no gate) */
     rfe_fix_t pause_grade_dv;   /**< the change test's speed [m/s], Q24, in [0, 10] (0: no
                                      test) */
+    rfe_fix_t q_theta_hi;     /**< the grade's looser walk [rad/sqrt(s)], Q29 (0: off) */
+    rfe_fix_t theta_rate_on;  /**< the rate RMS that loosens the walk [rad/s], Q30 */
+    rfe_fix_t theta_rate_off; /**< ... that tightens it [rad/s], Q30 */
+    rfe_fix_t theta_rate_tau; /**< the rate's low-pass time constant [s], Q24, in [dt_max, 60]:
+                                   dt/tau <= 1 fits Q30 */
+    rfe_fix_t theta_rate_avg; /**< its mean square's time constant [s], Q24, in [dt_max, 60] */
 } rfe_mass_grade_params_q31_t;
 
 /** The unscented transform's weights (MASS_GRADE.md §3) in the forms the square-root filter
@@ -113,7 +123,9 @@ RFE_NODISCARD rfe_status_t rfe_mass_grade_weights_q31(const rfe_mass_grade_param
  * m_rot, q_mv0, t_adapt, mv_stop, v_min, t_brake, t_shift, p_brake_on, slip_max, ay_max,
  * t_curve, ut_beta >= 0;
  * adaptive, use_ax in {0, 1}; pause_grade <= 7 (inert without use_ax); 0 <= pause_grade_slip <= 1, 0 <= pause_grade_dv <= 10
- * (Q30); m_min < m0 < m_max; |theta0| < theta_max < 1.5 rad; with
+ * (Q30); m_min < m0 < m_max; |theta0| < theta_max < 1.5 rad; q_theta_hi 0 or in
+ * [q_theta, 0.1]; 0 < theta_rate_off <= theta_rate_on <= 0.1; theta_rate_tau,
+ * theta_rate_avg in [dt_max, 60] s (§4.7); with
  * adaptive, mv_stop q_mc^2 < q_mv0^2. Beyond the float's: rfe_mass_grade_weights_q31
  * succeeds (the spread c = alpha^2 (3 + kappa) in (1, 16), so that w_m,0 = 1 - 3/c and
  * w_i = 1/(2c) fit Q30 and sqrt(c) Q29; the centre's covariance weight w_c,0 in [0, 4),

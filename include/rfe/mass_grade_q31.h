@@ -100,6 +100,9 @@ typedef struct {
     int64_t chg_d;                           /**< the change test's residual [m/s], Q24 */
     rfe_fix_t u_prev;                        /**< the test's speed at the last accepted sample
                                                   [m/s], Q24 */
+    rfe_fix_t wq_rate;                       /**< §4.7 the grade rate, low-passed [rad/s], Q30 */
+    rfe_fix_t wq_ms;                         /**< §4.7 its mean square [rad^2/s^2], Q30 */
+    uint32_t wq_hi;                          /**< §4.7 the walk's level: 1 q_theta_hi */
     uint32_t sat;                            /**< saturations since init (stops at UINT32_MAX) */
     rfe_mass_grade_estimate_q31_t last;      /**< the output of the last step */
 } rfe_mass_grade_q31_t;

@@ -43,10 +43,14 @@ PRESETS = {
     # on every such sample
     "pause_grade": {"mg_adaptive": 0.0, "mg_use_ax": 1.0, "mg_pause_grade": 3.0,
                     "mg_pause_grade_dv": 0.0},
+    # the recommended preset with the grade's two-level walk (MASS_GRADE.md §4.7) at the
+    # values the walk study measured, on the two logs whose grade it was for
+    "walk": {**mg.MG_CONFIGS["recommended"], "mg_q_theta_hi": 0.008},
 }
 EXTRA = {"car_gear_shift": ("aukf_ax", "pause_grade"),
          "car_stop_and_go": ("aukf_ax", "pause_grade"),
-         "car_hilly_road": ("ukf",), "truck_graded_drive": ("ukf",)}
+         "car_hilly_road": ("ukf", "walk"), "car_long_curve_crest": ("walk",),
+         "truck_graded_drive": ("ukf",)}
 
 
 def vehicle(name):

@@ -76,20 +76,14 @@ MG_DEFAULTS: dict[str, float] = {
     "mg_m_max": 60000.0,
     "mg_theta_max": 0.35,   # grade bound |theta|, rad
     "mg_dt_max": 1.0,       # a longer sample period restarts the filter, s
-}
-
-# §4.7 the grade's two-level walk: keys of the reference only (the C module does not have them
-# yet), so they are kept out of MG_DEFAULTS, whose keys every golden's metadata and the
-# library's parameter files carry; MassGrade takes these defaults for any it is not given.
-# Off by default (mg_q_theta_hi 0): the filter is then the library's.
-MG_WALK: dict[str, float] = {
-    "mg_q_theta_hi": 0.0,   # the grade's looser walk while the grade moves, rad per sqrt(s);
-                            # 0: off (mg_q_theta always)
+    # §4.7 the grade's two-level walk; off by default (mg_q_theta_hi 0): mg_q_theta always
+    "mg_q_theta_hi": 0.0,   # the grade's looser walk while the grade moves, rad per sqrt(s)
     "mg_theta_rate_on": 0.002,   # the grade rate's RMS above which the walk loosens, rad/s
     "mg_theta_rate_off": 0.001,  # ... below which it tightens again, rad/s (<= _on)
     "mg_theta_rate_tau": 1.0,    # time constant of the grade rate's low-pass, s
     "mg_theta_rate_avg": 3.0,    # time constant of the mean of its square, s
 }
+
 
 # Vehicle presets (§6): the passenger car is MG_DEFAULTS; the truck the seed's 5758 kg truck
 # with the simulator's truck data (scripts/sim/mass_grade_scenarios.py).
@@ -149,11 +143,11 @@ class ParamError(ValueError):
 
 def preset(name="car", **overrides):
     """A full parameter dict: MG_DEFAULTS, then the vehicle preset, then overrides (which may
-    also set §4.7's MG_WALK keys)."""
+    may set any key of MG_DEFAULTS)."""
     p = dict(MG_DEFAULTS)
     p.update(MG_PRESETS[name])
     for k, v in overrides.items():
-        if k not in p and k not in MG_WALK:
+        if k not in p:
             raise ParamError(f"unknown key {k}")
         p[k] = float(v)
     return p
@@ -187,10 +181,7 @@ def validate(p):
         raise ParamError("mg_pause_grade_slip: must be <= 1")
     if not p["mg_pause_grade_dv"] <= 10.0:
         raise ParamError("mg_pause_grade_dv: must be <= 10 m/s")
-    w = {**MG_WALK, **p}    # §4.7's keys: their defaults where p has none
-    for k in MG_WALK:
-        if not math.isfinite(w[k]):
-            raise ParamError(f"{k}: not finite")
+    w = p                   # §4.7's keys (finite: above)
     if w["mg_q_theta_hi"] != 0.0 and not p["mg_q_theta"] <= w["mg_q_theta_hi"] <= 0.1:
         raise ParamError("mg_q_theta_hi: must be 0 or in [mg_q_theta, 0.1] rad/sqrt(s)")
     if not 0.0 < w["mg_theta_rate_off"] <= w["mg_theta_rate_on"] <= 0.1:
@@ -325,7 +316,7 @@ class MassGrade:
             raise ValueError("form 'sqrt': the reference runs it in float64 only")
         self.ar = ar
         self.form = form
-        p = {k: ar.real(v) for k, v in {**MG_WALK, **params}.items()}
+        p = {k: ar.real(v) for k, v in params.items()}
         validate(p)
         self.p = p
         self.wm, self.wc = weights(p)

@@ -629,3 +629,14 @@ def test_walk_keys_are_validated(over):
     p.update(over)
     with pytest.raises(mg.ParamError):
         mg.MassGrade(p)
+
+
+def test_walk_keys_are_library_defaults_and_off():
+    # §4.7's keys are MG_DEFAULTS' (every golden's metadata and the C parameter files carry
+    # them), with the two-level walk off, so the goldens are the fixed walk's
+    d = mg.MG_DEFAULTS
+    assert d["mg_q_theta_hi"] == 0.0
+    assert (d["mg_theta_rate_on"], d["mg_theta_rate_off"]) == (0.002, 0.001)
+    assert (d["mg_theta_rate_tau"], d["mg_theta_rate_avg"]) == (1.0, 3.0)
+    with pytest.raises(mg.ParamError):
+        mg.preset("car", mg_no_such_key=1.0)

@@ -173,7 +173,12 @@
     X(mg_m_min, m_min, "kg", "lower mass bound")                                                 \
     X(mg_m_max, m_max, "kg", "upper mass bound")                                                 \
     X(mg_theta_max, theta_max, "rad", "grade bound")                                             \
-    X(mg_dt_max, dt_max, "s", "a longer sample period restarts the filter")
+    X(mg_dt_max, dt_max, "s", "a longer sample period restarts the filter")                   \
+    X(mg_q_theta_hi, q_theta_hi, "rad/sqrt(s)", "the grade's looser walk while the grade moves (0: off)") \
+    X(mg_theta_rate_on, theta_rate_on, "rad/s", "grade rate RMS above which the walk loosens") \
+    X(mg_theta_rate_off, theta_rate_off, "rad/s", "grade rate RMS below which it tightens")   \
+    X(mg_theta_rate_tau, theta_rate_tau, "s", "the grade rate's low-pass time constant")     \
+    X(mg_theta_rate_avg, theta_rate_avg, "s", "time constant of the mean of its square")
 
 /**
  * The tyre identifier's keys (docs/TYRE_ID.md §2): X(key, rfe_tyre_id_params_t member, unit,

@@ -52,6 +52,11 @@ static void car(rfe_mass_grade_params_t *p)
     p->m_max = RFE_R(60000.0);
     p->theta_max = RFE_R(0.35);
     p->dt_max = RFE_R(1.0);
+    p->q_theta_hi = RFE_R(0.0); /* §4.7 the two-level walk off */
+    p->theta_rate_on = RFE_R(0.002);
+    p->theta_rate_off = RFE_R(0.001);
+    p->theta_rate_tau = RFE_R(1.0);
+    p->theta_rate_avg = RFE_R(3.0);
 }
 
 /* §6 the truck column: the values that differ from the car's. */
@@ -166,6 +171,38 @@ static int relations_ok(const rfe_mass_grade_params_t *p)
     return 1;
 }
 
+/* §4.7 the two-level walk: every value finite; q_theta_hi 0 (off) or in [q_theta, 0.1];
+ * 0 < theta_rate_off <= theta_rate_on <= 0.1; theta_rate_tau, theta_rate_avg in
+ * [dt_max, 60] (so dt/tau <= 1 on every step that is not a start). */
+static int walk_ok(const rfe_mass_grade_params_t *p)
+{
+    const rfe_real_t hi_max = (rfe_real_t)RFE_MG_WALK_MAX_MILLI / RFE_R(1000.0); /* 0.1 */
+    const rfe_real_t tau_max = (rfe_real_t)RFE_MG_WALK_TAU_MAX_S;
+    const rfe_real_t v[5] = {p->q_theta_hi, p->theta_rate_on, p->theta_rate_off,
+                             p->theta_rate_tau, p->theta_rate_avg};
+    int ok = 1;
+    size_t i;
+    for (i = 0u; i < 5u; ++i) {
+        if (!rfe_is_finite(v[i])) {
+            ok = 0;
+        }
+    }
+    if ((p->q_theta_hi != RFE_R(0.0)) &&
+        (!(p->q_theta <= p->q_theta_hi) || !(p->q_theta_hi <= hi_max))) {
+        ok = 0;
+    }
+    if (!(p->theta_rate_off > RFE_R(0.0)) || !(p->theta_rate_off <= p->theta_rate_on) ||
+        !(p->theta_rate_on <= hi_max)) {
+        ok = 0;
+    }
+    for (i = 3u; i < 5u; ++i) {
+        if (!(p->dt_max <= v[i]) || !(v[i] <= tau_max)) {
+            ok = 0;
+        }
+    }
+    return ok;
+}
+
 /* §6 pause_grade: one of the integers 0..7 (a sum of the bits 1 brake, 2 shift, 4 curve);
  * without use_ax its bits are inert (rfe_mg_pause_grade_bits), not refused. */
 static int pause_grade_ok(const rfe_mass_grade_params_t *p)
@@ -188,7 +225,8 @@ rfe_status_t rfe_mass_grade_params_validate(const rfe_mass_grade_params_t *p)
     if ((p->adaptive > 1u) || (p->use_ax > 1u) || (pause_grade_ok(p) == 0)) {
         return RFE_ERR_PARAM;
     }
-    if ((positive_fields_ok(p) == 0) || (non_negative_fields_ok(p) == 0) || (relations_ok(p) == 0)) {
+    if ((positive_fields_ok(p) == 0) || (non_negative_fields_ok(p) == 0) || (relations_ok(p) == 0) ||
+        (walk_ok(p) == 0)) {
         return RFE_ERR_PARAM;
     }
     return RFE_OK;

@@ -148,6 +148,34 @@ static int relations_ok_q31(const rfe_mass_grade_params_q31_t *p)
     return 1;
 }
 
+/* §4.7 the two-level walk, as the float twin's walk_ok on the Q values: q_theta_hi (Q29) 0
+ * or in [q_theta, 0.1]; 0 < theta_rate_off <= theta_rate_on <= 0.1 (Q30); theta_rate_tau,
+ * theta_rate_avg (Q24) in [dt_max, 60] s, compared with dt_max (Q30) exactly in Q30, so
+ * that dt <= dt_max <= tau and dt/tau <= 1 fits Q30 on every step that is not a start. */
+static int walk_ok_q31(const rfe_mass_grade_params_q31_t *p)
+{
+    const int64_t max_q29 = (int64_t)RFE_MG_WALK_MAX_MILLI * (INT64_C(1) << 29); /* x 1000 */
+    const int64_t max_q30 = (int64_t)RFE_MG_WALK_MAX_MILLI * (INT64_C(1) << 30);
+    const rfe_fix_t taus[2] = {p->theta_rate_tau, p->theta_rate_avg};
+    int ok = 1;
+    size_t i;
+    if ((p->q_theta_hi != 0) &&
+        ((p->q_theta_hi < p->q_theta) || (((int64_t)p->q_theta_hi * 1000) > max_q29))) {
+        ok = 0;
+    }
+    if ((p->theta_rate_off <= 0) || (p->theta_rate_off > p->theta_rate_on) ||
+        (((int64_t)p->theta_rate_on * 1000) > max_q30)) {
+        ok = 0;
+    }
+    for (i = 0u; i < 2u; ++i) {
+        if ((((int64_t)taus[i] * 64) < (int64_t)p->dt_max) ||
+            ((int64_t)taus[i] > ((int64_t)RFE_MG_WALK_TAU_MAX_S * 16777216))) { /* Q24 */
+            ok = 0;
+        }
+    }
+    return ok;
+}
+
 rfe_status_t rfe_mass_grade_params_validate_q31(const rfe_mass_grade_params_q31_t *p)
 {
     if (p == NULL) {
@@ -157,7 +185,7 @@ rfe_status_t rfe_mass_grade_params_validate_q31(const rfe_mass_grade_params_q31_
         return RFE_ERR_PARAM;
     }
     if ((positive_fields_ok_q31(p) == 0) || (non_negative_fields_ok_q31(p) == 0) ||
-        (relations_ok_q31(p) == 0)) {
+        (relations_ok_q31(p) == 0) || (walk_ok_q31(p) == 0)) {
         return RFE_ERR_PARAM;
     }
     return RFE_OK;

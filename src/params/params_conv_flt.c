@@ -325,6 +325,11 @@ rfe_status_t rfe_mass_grade_params_to_q31(const rfe_mass_grade_params_t *p,
     t.m_max = to_q(&c, (double)p->m_max, RFE_MG_Q_M, 0);
     t.theta_max = to_q(&c, (double)p->theta_max, RFE_MG_Q_TH, 0);
     t.dt_max = to_q(&c, (double)p->dt_max, RFE_MG_Q_DT, 0);
+    t.q_theta_hi = to_q(&c, (double)p->q_theta_hi, RFE_MG_Q_TH, 0);
+    t.theta_rate_on = to_q(&c, (double)p->theta_rate_on, RFE_MG_Q_RATE, 0);
+    t.theta_rate_off = to_q(&c, (double)p->theta_rate_off, RFE_MG_Q_RATE, 0);
+    t.theta_rate_tau = to_q(&c, (double)p->theta_rate_tau, RFE_MG_Q_TIME, 0);
+    t.theta_rate_avg = to_q(&c, (double)p->theta_rate_avg, RFE_MG_Q_TIME, 0);
     if (c.bad != 0) {
         return RFE_ERR_RANGE;
     }

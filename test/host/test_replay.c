@@ -855,17 +855,20 @@ static void test_rfe_replay_mass_grade_params_keys_and_diagnosis(void **state)
     assert_int_equal(rfe_replay_mass_grade_params_f64(&ps, &mp, &bad), RFE_OK);
     assert_int_equal(bad, RFE_PK_NONE);
     assert_memory_equal(&mp, &def, sizeof mp);
-    /* pause_grade, an integer (the brake bit 1 by default), times 3 instead: brake + shift */
+    /* pause_grade, an integer (the brake bit 1 by default), times 3 instead: brake + shift;
+     * dt_max times 0.5 (the walk's time constants, 1 s and 3 s, must stay >= it, §4.7) */
+#define MG_FACTOR_(key)                                                                      \
+    ((RFE_PK_##key == RFE_PK_mg_pause_grade) ? 3.0 : ((RFE_PK_##key == RFE_PK_mg_dt_max) ? 0.5 : 1.5))
 #define CHECK_MG_(key, member, unit, doc)                                                    \
-    ps.mg[(size_t)RFE_PK_##key - RFE_PK_MG_FIRST] =                                          \
-        def.member * ((RFE_PK_##key == RFE_PK_mg_pause_grade) ? 3.0 : 1.5);                  \
+    ps.mg[(size_t)RFE_PK_##key - RFE_PK_MG_FIRST] = def.member * MG_FACTOR_(key);            \
     assert_int_equal(rfe_replay_mass_grade_params_f64(&ps, &mp, NULL), RFE_OK);              \
-    if (!(mp.member == def.member * ((RFE_PK_##key == RFE_PK_mg_pause_grade) ? 3.0 : 1.5))) { \
+    if (!(mp.member == def.member * MG_FACTOR_(key))) {                                      \
         fail_msg("key %s did not reach its member", #key);                                   \
     }                                                                                        \
     ps.mg[(size_t)RFE_PK_##key - RFE_PK_MG_FIRST] = def.member;
     RFE_MG_KEYS(CHECK_MG_)
 #undef CHECK_MG_
+#undef MG_FACTOR_
     ps.value[RFE_PK_R] = 0.45;
     ps.value[RFE_PK_g] = 9.8;
     ps.mg[RFE_PK_mg_adaptive - RFE_PK_MG_FIRST] = 1.0;

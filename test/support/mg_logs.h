@@ -38,6 +38,9 @@ static inline int mg_read_params(const char *path, rfe_mass_grade_params_t *p, c
         {"mg_pause_grade_dv", &p->pause_grade_dv},
         {"mg_m_min", &p->m_min}, {"mg_m_max", &p->m_max}, {"mg_theta_max", &p->theta_max},
         {"mg_dt_max", &p->dt_max},
+        {"mg_q_theta_hi", &p->q_theta_hi}, {"mg_theta_rate_on", &p->theta_rate_on},
+        {"mg_theta_rate_off", &p->theta_rate_off}, {"mg_theta_rate_tau", &p->theta_rate_tau},
+        {"mg_theta_rate_avg", &p->theta_rate_avg},
     };
     const size_t n_map = sizeof(map) / sizeof(map[0]);
     size_t found = 0u;

@@ -145,6 +145,34 @@ static void start_filter(rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in)
     o->chg_on = 0u;
     o->chg_d = RFE_R(0.0);
     o->u_prev = test_speed(in);
+    o->wq_rate = RFE_R(0.0); /* §4.7 the walk tight, its rate and mean square 0 */
+    o->wq_ms = RFE_R(0.0);
+    o->wq_hi = 0u;
+}
+
+/* §4.7 the grade's random walk density for this sample: q_theta_hi while the two-level
+ * walk is loose, else q_theta. */
+static rfe_real_t q_theta_now(const rfe_mass_grade_t *o)
+{
+    return (o->wq_hi != 0u) ? o->p.q_theta_hi : o->p.q_theta;
+}
+
+/* §4.7 after an accepted sample that is not a start, the walk on (q_theta_hi > 0):
+ * d = theta - theta_prev (@p th_prev: the grade of the state before the step, i.e. at the
+ * last accepted sample, which an error leaves as it was), r += d/tau - (dt/tau) r,
+ * s += (dt/avg) (r^2 - s), then the level by the hysteresis (rfe_mg_walk_level) against
+ * on^2 and off^2. */
+static void walk_level(rfe_mass_grade_t *o, rfe_real_t th_prev, rfe_real_t dt)
+{
+    const rfe_real_t d = o->x[2] - th_prev;
+    const rfe_real_t tau = o->p.theta_rate_tau;
+    const rfe_real_t avg = o->p.theta_rate_avg;
+    const rfe_real_t on = o->p.theta_rate_on;
+    const rfe_real_t off = o->p.theta_rate_off;
+    o->wq_rate += (d / tau) - ((dt / tau) * o->wq_rate);
+    o->wq_ms += (dt / avg) * ((o->wq_rate * o->wq_rate) - o->wq_ms);
+    o->wq_hi = rfe_mg_walk_level(o->wq_hi, (o->wq_ms > (on * on)) ? 1 : 0,
+                                 (o->wq_ms < (off * off)) ? 1 : 0);
 }
 
 /* §4.2 step 3 the slip test's comparison, |v - vx| > ratio max(|vx|, v_min), read only
@@ -237,7 +265,7 @@ static rfe_status_t hold(rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in, 
     A[4] = o->S[6];
     A[5] = o->S[7];
     A[6] = o->S[8];
-    A[7] = o->p.q_theta * RFE_SQRT(dt);
+    A[7] = q_theta_now(o) * RFE_SQRT(dt);
     st = rfe_qr_tria(A, 2u, 4u, 4u);
     if (st == RFE_OK) {
         o->x[0] = in->v;
@@ -278,7 +306,7 @@ static rfe_status_t grade_from_ax(rfe_mass_grade_t *o, const rfe_mass_grade_inpu
     A[2] = RFE_SQRT(((o->p.q_v * o->p.q_v) * dt) + (rax * rax));
     A[4] = o->S[6];
     A[5] = o->S[8];
-    A[7] = o->p.q_theta * RFE_SQRT(dt);
+    A[7] = q_theta_now(o) * RFE_SQRT(dt);
     st = rfe_qr_tria(A, 2u, 4u, 4u);
     if (st == RFE_OK) {
         size_t i;
@@ -419,7 +447,7 @@ static rfe_status_t time_update(const rfe_mass_grade_t *o, rfe_real_t dt, rfe_re
     }
     sq[0] = o->p.q_v * sdt;
     sq[1] = RFE_SQRT((o->p.q_mc * o->p.q_mc) + o->q_mv) * sdt;
-    sq[2] = o->p.q_theta * sdt;
+    sq[2] = q_theta_now(o) * sdt;
     return rfe_mg_predict(chi, &w, sq, xm, Sm);
 }
 
@@ -556,6 +584,9 @@ rfe_status_t rfe_mass_grade_step(rfe_mass_grade_t *mg, const rfe_mass_grade_inpu
     o.torque_prev = in->torque;
     o.v_free = rfe_mg_v_free(plan, status);
     o.u_prev = test_speed(in);
+    if ((plan != RFE_MG_PLAN_START) && (o.p.q_theta_hi != RFE_R(0.0))) {
+        walk_level(&o, mg->x[2], in->dt);
+    }
     *mg = o;
     *out = o.last;
     return status;

@@ -163,4 +163,23 @@ static inline int rfe_mg_change_sums(int test_on, uint32_t tripped)
     return ((test_on != 0) && (tripped == 0u)) ? 1 : 0;
 }
 
+/** §4.7 the grade's two-level walk, its level after an accepted sample that is not a start:
+ *  loose (1: q_theta_hi) once the grade rate's mean square exceeds theta_rate_on^2
+ *  (@p above_on), tight (0: q_theta) again once it falls below theta_rate_off^2
+ *  (@p below_off), else as it was (@p loose): hysteresis. */
+static inline uint32_t rfe_mg_walk_level(uint32_t loose, int above_on, int below_off)
+{
+    uint32_t level = loose;
+    if (loose != 0u) {
+        if (below_off != 0) {
+            level = 0u;
+        }
+    } else if (above_on != 0) {
+        level = 1u;
+    } else {
+        /* tight, and s not above on^2: stays tight */
+    }
+    return level;
+}
+
 #endif /* RFE_MASS_GRADE_LOGIC_H */

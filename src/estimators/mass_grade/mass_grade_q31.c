@@ -162,6 +162,49 @@ static void start_filter_q31(rfe_mass_grade_q31_t *o, const rfe_mass_grade_input
     o->chg_on = 0u;
     o->chg_d = 0;
     o->u_prev = test_speed_q31(in);
+    o->wq_rate = 0; /* §4.7 the walk tight, its rate and mean square 0 */
+    o->wq_ms = 0;
+    o->wq_hi = 0u;
+}
+
+/* §4.7 the grade's random walk density for this sample, Q29: q_theta_hi while the
+ * two-level walk is loose, else q_theta. */
+static rfe_fix_t q_theta_now_q31(const rfe_mass_grade_q31_t *o)
+{
+    return (o->wq_hi != 0u) ? o->p.q_theta_hi : o->p.q_theta;
+}
+
+/* §4.7 as the float twin's walk_level (the walk on; @p th_prev the grade before the step):
+ * d = theta - theta_prev (Q29), d/tau and dt/tau,
+ * dt/avg in Q30 by exactly rounded divisions (tau, avg Q24 >= dt_max >= dt: the ratios
+ * <= 1), r (Q30) += d/tau - (dt/tau) r, s (Q30) += (dt/avg) (r^2 - s), each product
+ * rounded; on^2, off^2 in Q30 (>= 1 LSB: on, off >= 2^-15 rad/s give >= 1; smaller ones
+ * compare against 0). r and s saturate (counted) beyond +-2, where s > on^2 already. */
+static void walk_level_q31(rfe_mass_grade_q31_t *o, rfe_fix_t th_prev, rfe_fix_t dt,
+                           uint32_t *sat)
+{
+    const rfe_fix_t d = rfe_fix_sub(o->x[2], th_prev, sat);
+    rfe_fix_t dr = 0;
+    rfe_fix_t kr = 0;
+    rfe_fix_t ks = 0;
+    rfe_fix_t r2;
+    rfe_status_t st = rfe_fix_div(d, o->p.theta_rate_tau, 25, &dr, sat); /* Q29/Q24 */
+    if (st == RFE_OK) {
+        st = rfe_fix_div(dt, o->p.theta_rate_tau, 24, &kr, sat); /* Q30/Q24 -> Q30 */
+    }
+    if (st == RFE_OK) {
+        st = rfe_fix_div(dt, o->p.theta_rate_avg, 24, &ks, sat);
+    }
+    (void)st; /* tau, avg > 0 (validated), shifts in range: RFE_OK */
+    o->wq_rate = rfe_fix_add(o->wq_rate,
+                             rfe_fix_sub(dr, rfe_fix_mul(kr, o->wq_rate, 30u, sat), sat), sat);
+    r2 = rfe_fix_mul(o->wq_rate, o->wq_rate, 30u, sat);
+    o->wq_ms = rfe_fix_add(o->wq_ms,
+                           rfe_fix_mul(ks, rfe_fix_sub(r2, o->wq_ms, sat), 30u, sat), sat);
+    o->wq_hi = rfe_mg_walk_level(
+        o->wq_hi,
+        (o->wq_ms > rfe_fix_mul(o->p.theta_rate_on, o->p.theta_rate_on, 30u, sat)) ? 1 : 0,
+        (o->wq_ms < rfe_fix_mul(o->p.theta_rate_off, o->p.theta_rate_off, 30u, sat)) ? 1 : 0);
 }
 
 /* §4.2 step 3 the slip test's comparison, |v - vx| > ratio max(|vx|, v_min), read only
@@ -266,7 +309,7 @@ static rfe_status_t hold_q31(rfe_mass_grade_q31_t *o, const rfe_mass_grade_input
     A[4] = o->S[6];
     A[5] = o->S[7];
     A[6] = o->S[8];
-    A[7] = rfe_fix_mul(o->p.q_theta, sqrt_dt_q31(dt, sat), 30u, sat);
+    A[7] = rfe_fix_mul(q_theta_now_q31(o), sqrt_dt_q31(dt, sat), 30u, sat);
     st = rfe_qr_tria_q31(A, 2u, 4u, 4u, sat);
     if (st == RFE_OK) {
         o->x[0] = in->v;
@@ -314,7 +357,7 @@ static rfe_status_t grade_from_ax_q31(rfe_mass_grade_q31_t *o, const rfe_mass_gr
     st = rfe_fix_norm(q, 2u, &A[2], sat);
     A[4] = o->S[6];
     A[5] = o->S[8];
-    A[7] = rfe_fix_mul(o->p.q_theta, sdt, 30u, sat);
+    A[7] = rfe_fix_mul(q_theta_now_q31(o), sdt, 30u, sat);
     if (st == RFE_OK) {
         st = rfe_qr_tria_q31(A, 2u, 4u, 4u, sat);
     }
@@ -500,7 +543,7 @@ static rfe_status_t time_update_q31(const rfe_mass_grade_q31_t *o, rfe_fix_t dt,
     qm = rfe_q31_sqrt_round((uint64_t)qm2);                                       /* Q14 */
     sq[0] = rfe_fix_mul(o->p.q_v, sdt, 30u, sat);
     sq[1] = rfe_fix_sat32(rfe_fix_shr64_round((int64_t)qm * (int64_t)sdt, 30u), sat);
-    sq[2] = rfe_fix_mul(o->p.q_theta, sdt, 30u, sat);
+    sq[2] = rfe_fix_mul(q_theta_now_q31(o), sdt, 30u, sat);
     return rfe_mg_predict_q31(chi, &w, sq, xm, Sm, sat);
 }
 
@@ -625,6 +668,9 @@ rfe_status_t rfe_mass_grade_step_q31(rfe_mass_grade_q31_t *mg, const rfe_mass_gr
     o.torque_prev = in->torque;
     o.v_free = rfe_mg_v_free(plan, status);
     o.u_prev = test_speed_q31(in);
+    if ((plan != RFE_MG_PLAN_START) && (o.p.q_theta_hi != 0)) {
+        walk_level_q31(&o, mg->x[2], in->dt, &sat);
+    }
     rfe_q31_sat_add(&o.sat, sat);
     estimate_of_q31(&o, status, sat, &o.last);
     *mg = o;

@@ -17,6 +17,7 @@
 #include <string.h>
 
 #include "estimators/mass_grade/mass_grade_internal.h"
+#include "estimators/mass_grade/mass_grade_logic.h"
 #include "kalman_ref.h"
 #include "mg_logs.h"
 #include "table.h"
@@ -1738,6 +1739,186 @@ static void test_params_to_q31(void **state)
     assert_int_equal(rfe_mass_grade_params_to_q31(&p, NULL), RFE_ERR_NULL);
 }
 
+/* §4.7 the two-level walk's parameters: each bound accepted at it and refused beyond it on
+ * both sides, NaN and Inf refused, with the estimator untouched by a refused init. */
+static void walk_expect(rfe_real_t hi, rfe_real_t on, rfe_real_t off, rfe_real_t tau,
+                        rfe_real_t avg, rfe_status_t want, const char *what)
+{
+    rfe_mass_grade_params_t p;
+    rfe_mass_grade_t before;
+    assert_int_equal(rfe_mass_grade_params_default(&p), RFE_OK);
+    p.q_theta_hi = hi;
+    p.theta_rate_on = on;
+    p.theta_rate_off = off;
+    p.theta_rate_tau = tau;
+    p.theta_rate_avg = avg;
+    if (rfe_mass_grade_params_validate(&p) != want) {
+        fail_msg("walk parameters: %s", what);
+    }
+    memset(&mg, 0x5A, sizeof(mg));
+    before = mg;
+    if (want != RFE_OK) {
+        assert_int_equal(rfe_mass_grade_init(&mg, &p), RFE_ERR_PARAM);
+        assert_memory_equal(&mg, &before, sizeof(mg));
+    }
+}
+
+/* REQ-MG-003 */
+static void test_walk_params_rules(void **state)
+{
+    const rfe_real_t on = (rfe_real_t)0.002;
+    const rfe_real_t off = (rfe_real_t)0.001;
+    const rfe_real_t one = (rfe_real_t)1.0; /* dt_max, the time constants' lower bound */
+    const rfe_real_t three = (rfe_real_t)3.0;
+    rfe_mass_grade_params_t p;
+    (void)state;
+    assert_int_equal(rfe_mass_grade_params_default(&p), RFE_OK);
+    assert_true((p.q_theta_hi == (rfe_real_t)0.0) && (p.theta_rate_on == on) &&
+                (p.theta_rate_off == off) && (p.theta_rate_tau == one) &&
+                (p.theta_rate_avg == three)); /* off by default, §6's values */
+    assert_true(p.q_theta == (rfe_real_t)0.004);
+    /* q_theta_hi: 0 (off) or in [q_theta, 0.1] */
+    walk_expect((rfe_real_t)0.0, on, off, one, three, RFE_OK, "hi 0");
+    walk_expect((rfe_real_t)0.004, on, off, one, three, RFE_OK, "hi = q_theta");
+    walk_expect((rfe_real_t)0.1, on, off, one, three, RFE_OK, "hi = 0.1");
+    walk_expect((rfe_real_t)0.0039, on, off, one, three, RFE_ERR_PARAM, "hi < q_theta");
+    walk_expect((rfe_real_t)0.1001, on, off, one, three, RFE_ERR_PARAM, "hi > 0.1");
+    walk_expect((rfe_real_t)-0.008, on, off, one, three, RFE_ERR_PARAM, "hi < 0");
+    walk_expect((rfe_real_t)NAN, on, off, one, three, RFE_ERR_PARAM, "hi NaN");
+    walk_expect((rfe_real_t)INFINITY, on, off, one, three, RFE_ERR_PARAM, "hi Inf");
+    /* 0 < off <= on <= 0.1 (checked with the walk off too: a preset stays switchable) */
+    walk_expect((rfe_real_t)0.0, on, on, one, three, RFE_OK, "off = on");
+    walk_expect((rfe_real_t)0.0, (rfe_real_t)0.1, off, one, three, RFE_OK, "on = 0.1");
+    walk_expect((rfe_real_t)0.0, (rfe_real_t)0.1001, off, one, three, RFE_ERR_PARAM, "on > 0.1");
+    walk_expect((rfe_real_t)0.0, on, (rfe_real_t)0.0021, one, three, RFE_ERR_PARAM, "off > on");
+    walk_expect((rfe_real_t)0.0, on, (rfe_real_t)0.0, one, three, RFE_ERR_PARAM, "off = 0");
+    walk_expect((rfe_real_t)0.0, on, (rfe_real_t)-0.001, one, three, RFE_ERR_PARAM, "off < 0");
+    walk_expect((rfe_real_t)0.0, (rfe_real_t)NAN, off, one, three, RFE_ERR_PARAM, "on NaN");
+    walk_expect((rfe_real_t)0.0, on, (rfe_real_t)NAN, one, three, RFE_ERR_PARAM, "off NaN");
+    /* tau, avg in [dt_max, 60] */
+    walk_expect((rfe_real_t)0.008, on, off, one, one, RFE_OK, "tau = avg = dt_max");
+    walk_expect((rfe_real_t)0.008, on, off, (rfe_real_t)60.0, (rfe_real_t)60.0, RFE_OK, "60 s");
+    walk_expect((rfe_real_t)0.008, on, off, (rfe_real_t)0.999, three, RFE_ERR_PARAM, "tau < dt_max");
+    walk_expect((rfe_real_t)0.008, on, off, (rfe_real_t)60.01, three, RFE_ERR_PARAM, "tau > 60");
+    walk_expect((rfe_real_t)0.008, on, off, one, (rfe_real_t)0.999, RFE_ERR_PARAM, "avg < dt_max");
+    walk_expect((rfe_real_t)0.008, on, off, one, (rfe_real_t)60.01, RFE_ERR_PARAM, "avg > 60");
+    walk_expect((rfe_real_t)0.008, on, off, (rfe_real_t)NAN, three, RFE_ERR_PARAM, "tau NaN");
+    walk_expect((rfe_real_t)0.008, on, off, one, (rfe_real_t)INFINITY, RFE_ERR_PARAM, "avg Inf");
+}
+
+/* §4.7 the level's hysteresis (rfe_mg_walk_level), the whole truth table: tight loosens only
+ * above on^2, loose tightens only below off^2, in between each stays. */
+static void test_walk_level_truth_table(void **state)
+{
+    (void)state;
+    /* (level, above_on, below_off) -> level */
+    assert_int_equal(rfe_mg_walk_level(0u, 0, 0), 0u);
+    assert_int_equal(rfe_mg_walk_level(0u, 0, 1), 0u);
+    assert_int_equal(rfe_mg_walk_level(0u, 1, 0), 1u);
+    assert_int_equal(rfe_mg_walk_level(0u, 1, 1), 1u); /* on^2 < s < off^2: not with off <= on */
+    assert_int_equal(rfe_mg_walk_level(1u, 0, 0), 1u);
+    assert_int_equal(rfe_mg_walk_level(1u, 0, 1), 0u);
+    assert_int_equal(rfe_mg_walk_level(1u, 1, 0), 1u);
+    assert_int_equal(rfe_mg_walk_level(1u, 1, 1), 0u);
+}
+
+/* A hold (the brake pedal, pause_grade 0) after the current state: P_thth must grow by
+ * q^2 dt with q the level's density (§4.2, §4.7); the tolerance as in
+ * test_brake_holds_mass_and_grade (8 TOL_EXACT: a 2 x 4 triangularisation). */
+static void walk_hold_grows_by(rfe_real_t q, const char *what)
+{
+    rfe_mass_grade_t keep = mg;
+    rfe_mass_grade_estimate_t e;
+    rfe_mass_grade_input_t in = cruise((rfe_real_t)20.0, (rfe_real_t)DT);
+    double P[9];
+    double p33;
+    cov_of_factor(mg.S, P);
+    p33 = P[8];
+    in.brake = 1u;
+    in.has |= RFE_MG_HAS_BRAKE;
+    assert_int_equal(step(&in, &e), RFE_MG_PAUSED_BRAKE);
+    cov_of_factor(mg.S, P);
+    assert_close(P[8], p33 + ((double)q * (double)q) * DT, 0.0, 8.0 * TOL_EXACT, what);
+    mg = keep;
+}
+
+/* REQ-MG-004 §4.7 on a drive whose accelerometer says the grade climbs 0.1 rad in 2 s and then
+ * stays: the level loosens while the grade estimate moves (its rate ~0.05 rad/s, 25 times
+ * on) and tightens once it has settled (s decays below off^2 within 60 s: e^-20 of its
+ * peak); each time the next hold's grade variance grows by the level's q^2 dt; r and s
+ * follow the spec's recursion on the estimated grades, replayed here in double (the same
+ * operations, so only the test's double against the type's roundings: 1e-12 in double;
+ * 1e-5 rad/s in float32, 100 ulp of the 0.05 rad/s peak rate for the 3000 steps' roundings). */
+static void test_walk_loosens_while_the_grade_moves(void **state)
+{
+    const double tol = (sizeof(rfe_real_t) == 8u) ? 1e-12 : 1e-5;
+    rfe_mass_grade_estimate_t e;
+    rfe_mass_grade_input_t in;
+    double th_prev;
+    double r = 0.0;
+    double s = 0.0;
+    int loose_seen = 0;
+    int k;
+    (void)state;
+    setup_with(0u, 1u);
+    prm.q_theta_hi = (rfe_real_t)0.008;
+    prm.pause_grade = (rfe_real_t)0.0;
+    assert_int_equal(rfe_mass_grade_init(&mg, &prm), RFE_OK);
+    in = cruise((rfe_real_t)20.0, (rfe_real_t)DT);
+    assert_int_equal(step(&in, &e), RFE_OK); /* the start: r = s = 0, tight */
+    th_prev = (double)e.grade;
+    assert_true((mg.wq_hi == 0u) && (mg.wq_rate == (rfe_real_t)0.0));
+    walk_hold_grows_by(prm.q_theta, "tight at the start: q_theta");
+    for (k = 1; k < 3000; ++k) {
+        const double th = (k < 100) ? (0.001 * (double)k) : 0.1;
+        in = cruise((rfe_real_t)20.0, (rfe_real_t)DT);
+        in.ax = (rfe_real_t)(0.1 + (9.81 * sin(th)));
+        assert_int_equal(step(&in, &e), RFE_OK);
+        r += (((double)e.grade - th_prev) / 1.0) - ((DT / 1.0) * r);
+        s += (DT / 3.0) * ((r * r) - s);
+        th_prev = (double)e.grade;
+        assert_close((double)mg.wq_rate, r, tol, 0.0, "the grade rate's low-pass");
+        assert_close((double)mg.wq_ms, s, tol * tol + tol * fabs(r), 0.0, "its mean square");
+        if (k == 150) {
+            assert_true(s > 0.002 * 0.002);
+            assert_int_equal(mg.wq_hi, 1u);
+            walk_hold_grows_by(prm.q_theta_hi, "loose while the grade moves: q_theta_hi");
+            loose_seen = 1;
+        }
+    }
+    assert_true(loose_seen != 0);
+    assert_true(s < 0.001 * 0.001);
+    assert_int_equal(mg.wq_hi, 0u);
+    walk_hold_grows_by(prm.q_theta, "tight once it settled: q_theta");
+}
+
+/* §4.7 with q_theta_hi = q_theta the level switches but q_theta does not: every estimate
+ * bit for bit the walk off's, so the statistic touches nothing else. */
+static void test_walk_equal_levels_change_nothing(void **state)
+{
+    rfe_mass_grade_t off;
+    rfe_mass_grade_estimate_t e0;
+    rfe_mass_grade_estimate_t e1;
+    rfe_mass_grade_input_t in;
+    uint32_t switched = 0u;
+    int k;
+    (void)state;
+    setup_with(0u, 1u);
+    off = mg;
+    prm.q_theta_hi = prm.q_theta;
+    assert_int_equal(rfe_mass_grade_init(&mg, &prm), RFE_OK);
+    for (k = 0; k < 500; ++k) {
+        in = cruise((rfe_real_t)20.0, (rfe_real_t)DT);
+        in.ax = (rfe_real_t)(0.1 + (9.81 * sin(0.001 * (double)((k < 100) ? k : 100))));
+        in.brake = ((k % 97) == 50) ? 1u : 0u;
+        in.has |= RFE_MG_HAS_BRAKE;
+        assert_int_equal(rfe_mass_grade_step(&off, &in, &e0), rfe_mass_grade_step(&mg, &in, &e1));
+        assert_memory_equal(&e0, &e1, sizeof(e0));
+        switched |= mg.wq_hi;
+    }
+    assert_int_equal(switched, 1u);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1768,6 +1949,10 @@ int main(void)
         cmocka_unit_test(test_innovation_covariance_not_positive),
         cmocka_unit_test(test_ukf_is_the_kalman_filter_on_a_linear_problem),
         cmocka_unit_test(test_square_root_form_stays_definite),
+        cmocka_unit_test(test_walk_params_rules),
+        cmocka_unit_test(test_walk_level_truth_table),
+        cmocka_unit_test(test_walk_loosens_while_the_grade_moves),
+        cmocka_unit_test(test_walk_equal_levels_change_nothing),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

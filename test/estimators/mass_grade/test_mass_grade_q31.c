@@ -120,6 +120,11 @@ static void dequantise_params(const rfe_mass_grade_params_q31_t *q, rfe_mass_gra
     p->m_max = rfe_fix_to_double(q->m_max, QM);
     p->theta_max = rfe_fix_to_double(q->theta_max, QT);
     p->dt_max = rfe_fix_to_double(q->dt_max, RFE_MG_Q_DT);
+    p->q_theta_hi = rfe_fix_to_double(q->q_theta_hi, QT);
+    p->theta_rate_on = rfe_fix_to_double(q->theta_rate_on, RFE_MG_Q_RATE);
+    p->theta_rate_off = rfe_fix_to_double(q->theta_rate_off, RFE_MG_Q_RATE);
+    p->theta_rate_tau = rfe_fix_to_double(q->theta_rate_tau, RFE_MG_Q_TIME);
+    p->theta_rate_avg = rfe_fix_to_double(q->theta_rate_avg, RFE_MG_Q_TIME);
 }
 
 /* The sample rounded to the Q formats (q) and back (d, what the double twin gets). */
@@ -203,7 +208,9 @@ static void test_params_to_q31_errors(void **state)
     assert_int_equal(rfe_mass_grade_params_to_q31(&p, &q), RFE_ERR_RANGE);
     assert_memory_equal(&q, &before, sizeof(q));
     assert_int_equal(rfe_mass_grade_params_default(&p), RFE_OK);
-    p.dt_max = 2.5; /* beyond Q30's 2 s */
+    p.dt_max = 2.5; /* beyond Q30's 2 s (the walk's time constants >= it: valid) */
+    p.theta_rate_tau = 3.0;
+    p.theta_rate_avg = 3.0;
     assert_int_equal(rfe_mass_grade_params_to_q31(&p, &q), RFE_ERR_RANGE);
     p.dt_max = -1.0;
     assert_int_equal(rfe_mass_grade_params_to_q31(&p, &q), RFE_ERR_PARAM);
@@ -1171,6 +1178,12 @@ static size_t n_slip_paused;
 static int abs_mode;
 static size_t n_abs_latched;
 static size_t n_chg_on; /* steps whose change test (pause_grade_dv) is tripped, both twins */
+/* With walk_mode set, compare_one turns the grade's two-level walk on (q_theta_hi 0.008
+ * rad/sqrt(s), §4.7) in both twins, counting the steps loose in the Q31 one and those whose
+ * level differs between the twins (each compares its own s with on^2, off^2). */
+static int walk_mode;
+static size_t n_walk_hi;
+static size_t n_walk_diff;
 
 static void compare_one(const char *name)
 {
@@ -1195,6 +1208,9 @@ static void compare_one(const char *name)
     snprintf(log_path, sizeof(log_path), "%s/%s.csv", LOG_DIR, log_name);
     assert_int_equal(mg_read_params(golden_path, &p, config, sizeof(config)), 0);
     assert_int_equal(test_table_load(log_path, &log), 0);
+    if (walk_mode != 0) {
+        p.q_theta_hi = 0.008;
+    }
     assert_int_equal(rfe_mass_grade_params_to_q31(&p, &q), RFE_OK);
     dequantise_params(&q, &pd);
     assert_int_equal(rfe_mass_grade_init(&md, &pd), RFE_OK);
@@ -1238,6 +1254,8 @@ static void compare_one(const char *name)
         assert_int_equal(mq.slip_latched, md.slip_latched);
         assert_int_equal(mq.chg_on, md.chg_on); /* the change test decides alike */
         n_chg_on += mq.chg_on;
+        n_walk_hi += mq.wq_hi;
+        n_walk_diff += (mq.wq_hi != md.wq_hi) ? 1u : 0u;
         n_abs_latched += mq.slip_latched;
         ++n_steps;
         assert_int_equal(eq.sat, 0u);
@@ -1314,6 +1332,62 @@ static void test_abs_gate_against_double(void **state)
     abs_mode = 0;
     printf("q31 vs double with the ABS gate: %zu steps latched\n", n_abs_latched);
     assert_true(n_abs_latched > 0u);
+}
+
+/* The two-level walk back to back (§4.7): the hilly road and the crest with q_theta_hi
+ * 0.008 in the recommended preset, every step within the bounds above (the Q31 twin's r and
+ * s in Q30, its d/tau, dt/tau, dt/avg by rounded divisions); the walk loosens on them, and
+ * the twins' levels may differ only on the few steps where s crosses a threshold within the
+ * twins' difference in the grade. */
+static void test_walk_against_double(void **state)
+{
+    (void)state;
+    walk_mode = 1;
+    n_walk_hi = 0u;
+    n_walk_diff = 0u;
+    compare_one("car_hilly_road.recommended.csv");
+    compare_one("car_long_curve_crest.recommended.csv");
+    walk_mode = 0;
+    printf("q31 vs double with the two-level walk: %zu steps loose, %zu with the level differing\n",
+           n_walk_hi, n_walk_diff);
+    assert_true(n_walk_hi > 0u);
+    assert_true(n_walk_diff * 100u < n_walk_hi); /* under 1 % of the loose steps */
+}
+
+/* §4.7 the walk's parameters on the Q values: each bound accepted at it and refused one LSB
+ * beyond (the float twin's test_walk_params_rules on the real values). */
+static void test_walk_params_rules_q31(void **state)
+{
+    rfe_mass_grade_params_q31_t q;
+    rfe_mass_grade_params_q31_t b;
+    (void)state;
+    default_q31(&q);
+    assert_int_equal(q.q_theta_hi, 0);
+    assert_int_equal(rfe_mass_grade_params_validate_q31(&q), RFE_OK);
+#define WALK_Q_(field, value, want)                                                          \
+    b = q;                                                                                   \
+    b.field = (value);                                                                       \
+    assert_int_equal(rfe_mass_grade_params_validate_q31(&b), (want));
+    WALK_Q_(q_theta_hi, q.q_theta, RFE_OK)
+    WALK_Q_(q_theta_hi, q.q_theta - 1, RFE_ERR_PARAM)
+    WALK_Q_(q_theta_hi, 53687091, RFE_OK)           /* 0.1 rad/sqrt(s) in Q29, rounded down */
+    WALK_Q_(q_theta_hi, 53687092, RFE_ERR_PARAM)
+    WALK_Q_(q_theta_hi, -q.q_theta, RFE_ERR_PARAM)
+    WALK_Q_(theta_rate_on, 107374182, RFE_OK)       /* 0.1 rad/s in Q30, rounded down */
+    WALK_Q_(theta_rate_on, 107374183, RFE_ERR_PARAM)
+    WALK_Q_(theta_rate_off, q.theta_rate_on, RFE_OK)
+    WALK_Q_(theta_rate_off, q.theta_rate_on + 1, RFE_ERR_PARAM)
+    WALK_Q_(theta_rate_off, 0, RFE_ERR_PARAM)
+    WALK_Q_(theta_rate_off, -1, RFE_ERR_PARAM)
+    WALK_Q_(theta_rate_tau, q.dt_max / 64, RFE_OK)  /* dt_max 1 s: Q30 over 2^6 is Q24 */
+    WALK_Q_(theta_rate_tau, (q.dt_max / 64) - 1, RFE_ERR_PARAM)
+    WALK_Q_(theta_rate_tau, 60 * 16777216, RFE_OK)
+    WALK_Q_(theta_rate_tau, (60 * 16777216) + 1, RFE_ERR_PARAM)
+    WALK_Q_(theta_rate_avg, q.dt_max / 64, RFE_OK)
+    WALK_Q_(theta_rate_avg, (q.dt_max / 64) - 1, RFE_ERR_PARAM)
+    WALK_Q_(theta_rate_avg, 60 * 16777216, RFE_OK)
+    WALK_Q_(theta_rate_avg, (60 * 16777216) + 1, RFE_ERR_PARAM)
+#undef WALK_Q_
 }
 
 /* Whether the last step held (§4.2 the hold: v restarts at the measured speed, S_vv = r_v)
@@ -1448,6 +1522,8 @@ int main(void)
         cmocka_unit_test(test_correct_zero_innovation_sd),
         cmocka_unit_test(test_square_root_form_stays_definite),
         cmocka_unit_test(test_every_log_against_double),
+        cmocka_unit_test(test_walk_against_double),
+        cmocka_unit_test(test_walk_params_rules_q31),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
