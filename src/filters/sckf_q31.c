@@ -93,6 +93,33 @@ rfe_status_t rfe_sckf_init_q31(rfe_sckf_q31_t *f, size_t n, size_t m, const rfe_
     return RFE_OK;
 }
 
+/* The random walk: X*_j = X_j = x +- sqrt(n) S e_j, so x- = x and the centred points are
+ * [S, -S] / sqrt(2) with [S, -S] [S, -S]^T / 2 = S S^T: S- = Tria([S, S_Q]) (n x 2n) from the
+ * factor itself, without rounding the points to Q29 and the deviations to Q30
+ * (docs/FIXED_POINT.md "The random walk's predict from the factor itself"). */
+static rfe_status_t predict_walk_q31(rfe_sckf_q31_t *f)
+{
+    rfe_cub_scratch_q31_t *w = &f->w;
+    const size_t n = f->n;
+    uint32_t count = 0u;
+    size_t i;
+    size_t j;
+    rfe_status_t st;
+    for (i = 0u; i < n; ++i) {
+        for (j = 0u; j < n; ++j) {
+            w->A[(i * TC) + j] = f->S[(i * NM) + j];
+            w->A[(i * TC) + n + j] = f->SQ[(i * NM) + j];
+        }
+        w->xn[i] = f->x[i];
+    }
+    st = rfe_qr_tria_q31(w->A, n, 2u * n, TC, &count);
+    if (st != RFE_OK) {
+        return st;
+    }
+    commit_q31(f, w->A, count);
+    return RFE_OK;
+}
+
 rfe_status_t rfe_sckf_predict_q31(rfe_sckf_q31_t *f, rfe_process_fn_q31_t process, void *ctx)
 {
     rfe_cub_scratch_q31_t *w;
@@ -111,23 +138,7 @@ rfe_status_t rfe_sckf_predict_q31(rfe_sckf_q31_t *f, rfe_process_fn_q31_t proces
     w = &f->w;
     n = f->n;
     if (process == NULL) {
-        /* The random walk: X*_j = X_j = x +- sqrt(n) S e_j, so x- = x and the centred points
-         * are [S, -S] / sqrt(2) with [S, -S] [S, -S]^T / 2 = S S^T: S- = Tria([S, S_Q]) (n x 2n)
-         * from the factor itself, without rounding the points to Q29 and the deviations to
-         * Q30 (docs/FIXED_POINT.md "The random walk's predict from the factor itself"). */
-        for (i = 0u; i < n; ++i) {
-            for (j = 0u; j < n; ++j) {
-                w->A[(i * TC) + j] = f->S[(i * NM) + j];
-                w->A[(i * TC) + n + j] = f->SQ[(i * NM) + j];
-            }
-            w->xn[i] = f->x[i];
-        }
-        st = rfe_qr_tria_q31(w->A, n, 2u * n, TC, &count);
-        if (st != RFE_OK) {
-            return st;
-        }
-        commit_q31(f, w->A, count);
-        return RFE_OK;
+        return predict_walk_q31(f);
     }
     /* X_j = S xi_j + x;  X*_j = f(X_j);  x- = mean_j X*_j. */
     rfe_cub_points_q31(f->x, f->S, n, w->pts, &count);
