@@ -54,7 +54,7 @@ EOF
 
 # The fixed-point sources (*_q31.c) do not depend on RFE_REAL_DOUBLE (make check-nofloat: no
 # real type in them), so the double configuration would repeat their float analysis word for
-# word: they are checked once, in the float one (about a third of make misra's time). Rule 2.5
+# word: they are checked once, in the float one (measured: 322 -> 275 s of CPU). Rule 2.5
 # (a macro never used) is a whole-program rule: judged in the float configuration, over every
 # source, not in the double one, which no longer sees the fixed-point sources that use the
 # fixed-point headers' macros (a macro used only under RFE_REAL_DOUBLE is still caught: the
