@@ -1,0 +1,90 @@
+"""trust_rules_study.py's rules and verdict on hand-made series (no reference run)."""
+
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import trust_rules_study as trs  # noqa: E402
+
+
+def test_stale_wheel_only_when_the_others_move():
+    """Wheel fl follows the others (0.1 rad/s per sample) until sample 4, then repeats its
+    value: its reference is the others' median at sample 4 (10.4), which moves 0.1, 0.2, 0.3
+    at samples 5, 6, 7, so with delta 0.25 it is stale from sample 7 on."""
+    k = np.arange(12)
+    omega = np.repeat((10.0 + 0.1 * k)[:, None], 4, 1)
+    omega[5:, 0] = omega[4, 0]
+    ok = trs.rule_stale(omega, 0.25)
+    assert ok[:7].all() and not ok[7:].any()
+
+
+def test_still_or_resting_wheels_are_not_stale():
+    """Four equal, constant wheel speeds (a noise-free cruise) and a wheel at 0 (locked) while
+    the others decelerate: nothing is stale."""
+    assert trs.rule_stale(np.full((50, 4), 68.376), 0.25).all()
+    omega = np.repeat((60.0 - 0.5 * np.arange(30))[:, None], 4, 1)
+    omega[10:, 1] = 0.0
+    assert trs.rule_stale(omega, 0.25).all()
+
+
+def test_yaw_spike_replaced_by_the_prediction():
+    """r = c t with a measured r_dot = c: every sample is its own prediction (no replacement).
+    A +0.5 rad/s spike at one sample is replaced by c t there, and the next sample, again on
+    the line, is kept."""
+    t = 0.01 * np.arange(100)
+    c = 0.3
+    r = c * t
+    out, n = trs.yaw_substitute(t, r, np.full_like(t, c), 0.1)
+    assert n == 0 and np.array_equal(out, r)
+    r_spiked = r.copy()
+    r_spiked[40] += 0.5
+    out, n = trs.yaw_substitute(t, r_spiked, np.full_like(t, c), 0.1)
+    assert n == 1
+    # the prediction sums dt c per step from r_0: equal to c t up to rounding (1e-12 >> the
+    # 1e-16 relative rounding of 100 additions of numbers below 1)
+    assert out[40] == pytest.approx(c * t[40], abs=1e-12)
+    assert np.array_equal(np.delete(out, 40), np.delete(r, 40))
+
+
+def test_updates_share_per_side():
+    """Every step updates (status 0); side 0 has information 30 >= 25, side 1 has 10. With
+    tau = dt (lambda 1/2) side 0's share is 1 - 2^-(k+1): >= 0.7 from k = 1 on; side 1 never
+    qualifies. A low-speed step (status 2) leaves the shares alone."""
+    status = np.array([0, 0, 2, 0])
+    info = np.tile([30.0, 10.0], (4, 1))
+    ok = trs.rule_updates(status, info, 0.01, 0.7, 25.0, 0.01)
+    assert ok[:, 0].tolist() == [False, True, True, True]
+    assert not ok[:, 1].any()
+
+
+def test_figures_and_verdict():
+    """Two settled wheel-samples valid with errors 0.1 (sd 0.1) and 0.3 (sd 0.1): RMSE
+    sqrt(0.05), consistency 1/2, worst 0.3: not met; valid on none: met. The verdict counts
+    the gain, and the excited-valid fall on a log that met the invariant before."""
+    mu = np.array([[0.5, 0.5, 0.5, 0.5]] * 2)
+    truth = np.array([[0.4, 0.5, 0.5, 0.5], [0.5, 0.8, 0.5, 0.5]])
+    sd = np.full((2, 4), 0.1)
+    valid = np.array([[1, 0, 0, 0], [0, 1, 0, 0]], dtype=bool)
+    util = np.full((2, 4), 0.6)
+    s = np.ones((2, 4), dtype=bool)
+    f = trs.figures(mu, sd, valid, truth, util, s)
+    assert f["rmse"] == pytest.approx(np.sqrt(0.05)) and f["cons"] == 0.5
+    assert f["worst"] == pytest.approx(0.3) and not f["meets"]
+    none = trs.figures(mu, sd, np.zeros((2, 4), dtype=bool), truth, util, s)
+    assert none["meets"] and none["exc"] == 0.0
+    # log a: valid on its one wheel-sample with no error (sample 1, wheel 0) before, on none
+    # after: met both times, excited-valid 1/8 -> 0; log b: f before, nothing valid after
+    ok_a = np.zeros((2, 4), dtype=bool)
+    ok_a[1, 0] = True
+    a_before = trs.figures(mu, sd, ok_a, truth, util, s)
+    assert a_before["meets"] and a_before["exc"] == pytest.approx(1 / 8)
+    base = {"a": dict(a_before, mismatch=0.0), "b": dict(f, mismatch=0.0)}
+    v = trs.verdict(base, {"a": dict(none, mismatch=0.0), "b": dict(none, mismatch=0.02)})
+    assert v["gained"] == ["b"] and v["lost"] == [] and v["meets"] == 2
+    assert v["drop"] == pytest.approx(1 / 8) and v["drop_log"] == "a"
+    assert v["false_alarm"] == 0.0  # neither name is a clean Magic Formula log (*.mf)
+    v = trs.verdict({"x.mf": dict(none, mismatch=0.0)}, {"x.mf": dict(none, mismatch=0.02)})
+    assert v["false_alarm"] == 0.02
