@@ -127,12 +127,13 @@ run_cli_test = if [ -f test/host/test_cli.sh ]; then mkdir -p $(RESULTS)/cli; l=
 
 ## the C tests: float, double, fixed point, host, and the CLI script
 test-c: deps-c $(foreach f,f32 f64,$(addprefix $(BUILD)/$(f)/test/,$(UNIT_TESTS))) \
-        $(addprefix $(BUILD)/q31/test/,$(Q31_TESTS)) \
+        $(addprefix $(BUILD)/q31/test/,$(Q31_TESTS) $(W16_TESTS)) \
         $(addprefix $(BUILD)/f64/test/host/,$(HOST_TESTS)) $(BUILD)/mu_replay \
         $(BUILD)/abi/test_abi_mismatch_flt $(BUILD)/abi/test_abi_mismatch_q31
 	@$(call run_tests,f32)
 	@$(call run_tests,f64)
 	@$(call run_q31_tests,q31)
+	@set -e; for t in $(W16_TESTS); do $(call run_cmocka,q31/$$t,$(BUILD)/q31/test/$$t,$(RESULTS)/q31); done
 	@$(call run_host_tests,f64,host)
 	@$(call run_cmocka,abi/test_abi_mismatch_flt,$(BUILD)/abi/test_abi_mismatch_flt,$(RESULTS)/host)
 	@$(call run_cmocka,abi/test_abi_mismatch_q31,$(BUILD)/abi/test_abi_mismatch_q31,$(RESULTS)/host)

@@ -35,6 +35,11 @@ TEST_ALL      := $(patsubst test/%.c,%,$(foreach d,$(TEST_DIRS),$(wildcard $(d)/
 Q31_TESTS     := $(filter %_q31,$(TEST_ALL))
 UNIT_TESTS    := $(filter-out $(Q31_TESTS),$(TEST_ALL))
 HOST_TESTS    := $(basename $(notdir $(wildcard test/host/test_*.c)))
+# The Cortex-M0+ forms of a library source (RFE_FIX_MUL64_W16 = 1) run on the host: each test
+# in test/numerics/w16/ includes the source it checks, compiled in that form. Built in the q31
+# tree and run by test-c; outside TEST_DIRS, so the coverage and MC/DC runs, which read src/
+# through every test binary, see the library's form only.
+W16_TESTS     := $(patsubst test/%.c,%,$(wildcard test/numerics/w16/test_*.c))
 TEST_SUPPORT  := $(wildcard test/support/*.c)
 
 # One build tree per flavour: f32 (float), f64 (double); cov-* are the instrumented twins.

@@ -112,6 +112,17 @@ FRICTION_FILES = {"flt": "src/estimators/friction/friction_flt.c",
                   "q31": "src/estimators/friction/friction_q31.c"}
 MEAS_FILES = {"flt": "src/models/meas_flt.c", "q31": "src/models/meas_q31.c"}
 
+PIPELINE = {
+    "flt": {"sfx": "", "pl_t": "rfe_pipeline_t", "obs_t": "rfe_velocity_t",
+            "kf2_t": "rfe_kf2_t", "val_t": "rfe_real_t",
+            "vest_t": "rfe_velocity_estimate_t", "sat_note": ""},
+    "q31": {"sfx": "_q31", "pl_t": "rfe_pipeline_q31_t", "obs_t": "rfe_velocity_q31_t",
+            "kf2_t": "rfe_kf2_q31_t", "val_t": "rfe_fix_t",
+            "vest_t": "rfe_velocity_estimate_q31_t", "sat_note": ", the counts"},
+}
+PIPELINE_FILES = {"flt": "src/estimators/pipeline/pipeline_flt.c",
+                  "q31": "src/estimators/pipeline/pipeline_q31.c"}
+
 
 def _pair(template, files, table):
     return [(template, files[t], t, table[t]) for t in ("flt", "q31")]
@@ -135,6 +146,7 @@ TWINS = (
     + _pair("friction_step.c.in", FRICTION_FILES, FRICTION)
     + _pair("meas_input_slot.c.in", MEAS_FILES, MEAS)
     + _pair("velocity_restart.c.in", VELOCITY_FILES, VELOCITY)
+    + _pair("pipeline_undo.c.in", PIPELINE_FILES, PIPELINE)
     + [("numerics_clamp_vec.c.in", path, twin, values) for twin, path, values in (
         ("flt", "src/numerics/internal.h", {"sfx": "", "val_t": "rfe_real_t",
                                             "clamp": "rfe_clamp"}),

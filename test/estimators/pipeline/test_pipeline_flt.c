@@ -318,6 +318,66 @@ static void test_a_refused_sample_after_a_gap_changes_nothing(void **state)
     assert_memory_equal(&pl, &before, sizeof pl);
 }
 
+/* REQ: every member a step writes is undone when the step is refused (the undo copy's one
+ * list, scripts/codegen/templates/pipeline_undo.c.in, written for both twins). The step is
+ * chosen to write every member the list holds: the pipeline's observer restarted by hand
+ * (its next sample a first one: the three filters initialised, the time on r_ref reset,
+ * started set, a new last output) and a sample the observer takes but the friction estimator
+ * refuses after its input noise was set (wheels at 110 m/s: vx beyond RFE_LIMIT_VX). The
+ * same step composed by hand from the public parts shows that each listed member changes,
+ * so a member missing from the list would leave the refused step's pipeline different from
+ * the one before it (assert_same_pipeline compares the whole observer). */
+/* REQ-OBS-023 */
+static void test_every_member_a_step_writes_is_undone(void **state)
+{
+    static rfe_pipeline_t pl;
+    static rfe_pipeline_t before;
+    static rfe_velocity_t obs;
+    rfe_params_t p;
+    rfe_velocity_params_t vp;
+    rfe_pipeline_out_t o;
+    rfe_velocity_input_t in;
+    rfe_velocity_estimate_t ve;
+    rfe_velocity_mu_t mu;
+    double r_new;
+    size_t k;
+    (void)state;
+    init_pipeline(&pl, &p, &vp);
+    for (k = 0u; k < 50u; ++k) {
+        in = brake(&p, (k == 0u) ? 0.0f : 0.01f);
+        assert_false(rfe_status_is_error(rfe_pipeline_step(&pl, &in, &o)));
+    }
+    assert_int_equal(rfe_velocity_restart(&pl.velocity), RFE_OK);
+    in = brake(&p, 0.01f);
+    for (k = 0u; k < 4u; ++k) {
+        in.omega[k] = (rfe_real_t)110.0 / p.vehicle.R;
+    }
+    /* by hand: what the pipeline's observer step writes (the friction estimate's mu >= 0
+     * here, so the pipeline's max(mu, 0) hands the same) */
+    obs = pl.velocity;
+    for (k = 0u; k < 4u; ++k) {
+        mu.mu[k] = pl.last.mu[k];
+        mu.sd[k] = pl.last.sd[k];
+        assert_true(mu.mu[k] >= (rfe_real_t)0.0);
+    }
+    assert_int_equal(rfe_velocity_step(&obs, &in, &mu, &ve), RFE_OK);
+    assert_true(memcmp(&obs.yaw, &pl.velocity.yaw, sizeof obs.yaw) != 0);
+    assert_true(memcmp(&obs.lon, &pl.velocity.lon, sizeof obs.lon) != 0);
+    assert_true(memcmp(&obs.lat, &pl.velocity.lat, sizeof obs.lat) != 0);
+    assert_true(obs.r_on_ref != pl.velocity.r_on_ref);
+    assert_true(memcmp(&obs.last, &pl.velocity.last, sizeof obs.last) != 0);
+    assert_true(obs.started != pl.velocity.started);
+    /* and the friction estimator's input noise its set-up writes */
+    assert_true(ve.sd_vx != pl.friction.params.filter.sd_in_vx);
+    assert_true(ve.sd_vy != pl.friction.params.filter.sd_in_vy);
+    r_new = sqrt((double)pl.r_yaw_acc * pl.r_yaw_acc + (double)ve.sd_yaw_acc * ve.sd_yaw_acc);
+    /* the set-up's root is in rfe_real_t: apart by more than float's rounding (1e-6 relative) */
+    assert_true(fabs(r_new - (double)pl.friction.params.filter.r_yaw_acc) > (1e-6 * r_new));
+    memcpy(&before, &pl, sizeof before);
+    assert_int_equal(rfe_pipeline_step(&pl, &in, &o), RFE_ERR_RANGE);
+    assert_same_pipeline(&pl, &before);
+}
+
 /* REQ: the period against the fixed one (rfe/pipeline.h): a period shorter than half of
  * filter.dt (the caller runs faster than filter.dt says; the friction step would take it as
  * a whole period) is refused with RFE_ERR_RANGE, the pipeline untouched and the previous
@@ -370,6 +430,7 @@ int main(void)
         cmocka_unit_test(test_a_gap_is_told_to_both_estimators),
         cmocka_unit_test(test_a_refused_sample_after_a_gap_changes_nothing),
         cmocka_unit_test(test_a_period_shorter_than_half_is_refused),
+        cmocka_unit_test(test_every_member_a_step_writes_is_undone),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

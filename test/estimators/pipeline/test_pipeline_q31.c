@@ -427,6 +427,94 @@ static void test_a_period_shorter_than_half_is_refused_q31(void **state)
     assert_false(rfe_status_is_error(rfe_pipeline_step_q31(&pl, &iq, &o)));
 }
 
+/* REQ: every member a step writes is undone when the step is refused, in fixed point (the
+ * undo copy's one list, scripts/codegen/templates/pipeline_undo.c.in; as the float test's
+ * case): the pipeline's observer restarted by hand, then a sample it takes (its first: the
+ * three filters initialised, the time on r_ref reset, started set, a new last output, the
+ * saturation count added to) but the friction estimator refuses after its input noise was
+ * set (wheels at 110 m/s). Composed by hand from the public parts, each listed member
+ * changes, so a member missing from the list would leave the refused step's pipeline
+ * different from the one before it. */
+/* REQ-OBS-023 REQ-FXP-016 */
+static void test_every_member_a_step_writes_is_undone_q31(void **state)
+{
+    both_t b;
+    static rfe_pipeline_q31_t pl;
+    static rfe_pipeline_q31_t before;
+    static rfe_velocity_q31_t obs;
+    rfe_velocity_input_t in;
+    rfe_velocity_input_q31_t iq;
+    rfe_pipeline_out_q31_t o;
+    rfe_velocity_estimate_q31_t ve;
+    rfe_velocity_mu_q31_t mu;
+    rfe_fix_t v[2];
+    rfe_fix_t r = 0;
+    uint32_t sat = 0u;
+    uint32_t magic;
+    size_t k;
+    (void)state;
+    params_of(NULL, &b);
+    memset(&pl, 0, sizeof pl);
+    assert_int_equal(rfe_pipeline_init_q31(&pl, &b.pq, &b.vq), RFE_OK);
+    for (k = 0u; k < 50u; ++k) {
+        brake_both(&b, (k == 0u) ? 0.0 : 0.01, -6.0, 19.0, &in, &iq);
+        assert_false(rfe_status_is_error(rfe_pipeline_step_q31(&pl, &iq, &o)));
+    }
+    /* the saturation count first: a later sample the observer saturates on (the yaw rate at
+     * its limit after straight braking: the observer's count grows) refused by the friction
+     * estimator made uninitialised by hand (nothing of it written) */
+    brake_both(&b, 0.01, -6.0, 19.0, &in, &iq);
+    iq.yaw_rate = RFE_FIX_LIMIT_YAW_RATE;
+    obs = pl.velocity;
+    for (k = 0u; k < 4u; ++k) {
+        mu.mu[k] = pl.last.mu[k];
+        mu.sd[k] = pl.last.sd[k];
+        assert_true(mu.mu[k] >= 0);
+    }
+    assert_int_equal(rfe_velocity_step_q31(&obs, &iq, &mu, &ve), RFE_OK);
+    assert_true(obs.sat != pl.velocity.sat);
+    magic = pl.friction.magic;
+    pl.friction.magic = 0u;
+    memcpy(&before, &pl, sizeof before);
+    assert_int_equal(rfe_pipeline_step_q31(&pl, &iq, &o), RFE_ERR_NOT_INITIALISED);
+    assert_memory_equal(&pl, &before, sizeof pl);
+    pl.friction.magic = magic;
+    /* then every other member */
+    assert_int_equal(rfe_velocity_restart_q31(&pl.velocity), RFE_OK);
+    brake_both(&b, 0.01, -6.0, 110.0, &in, &iq);
+    /* by hand: what the pipeline's observer step writes (the friction estimate's mu >= 0
+     * here, so the pipeline's max(mu, 0) hands the same) */
+    obs = pl.velocity;
+    for (k = 0u; k < 4u; ++k) {
+        mu.mu[k] = pl.last.mu[k];
+        mu.sd[k] = pl.last.sd[k];
+        assert_true(mu.mu[k] >= 0);
+    }
+    assert_int_equal(rfe_velocity_step_q31(&obs, &iq, &mu, &ve), RFE_OK);
+    assert_true(memcmp(&obs.yaw, &pl.velocity.yaw, sizeof obs.yaw) != 0);
+    assert_true(memcmp(&obs.lon, &pl.velocity.lon, sizeof obs.lon) != 0);
+    assert_true(memcmp(&obs.lat, &pl.velocity.lat, sizeof obs.lat) != 0);
+    assert_true(obs.r_on_ref != pl.velocity.r_on_ref);
+    assert_true(memcmp(&obs.last, &pl.velocity.last, sizeof obs.last) != 0);
+    assert_true(obs.started != pl.velocity.started);
+    /* and the friction estimator's input noise its set-up writes */
+    v[0] = pl.r_yaw_acc;
+    v[1] = ve.sd_yaw_acc;
+    assert_int_equal(rfe_fix_norm(v, 2u, &r, &sat), RFE_OK);
+    assert_true(ve.sd_vx != pl.friction.params.filter.sd_in_vx);
+    assert_true(ve.sd_vy != pl.friction.params.filter.sd_in_vy);
+    assert_true(r != pl.friction.params.filter.r_yaw_acc);
+    memcpy(&before, &pl, sizeof before);
+    assert_int_equal(rfe_pipeline_step_q31(&pl, &iq, &o), RFE_ERR_RANGE);
+    /* untouched but for the friction estimator's backup (scratch) */
+    assert_memory_equal(&pl.velocity, &before.velocity, sizeof pl.velocity);
+    assert_memory_equal(&pl.friction.params, &before.friction.params, sizeof pl.friction.params);
+    assert_memory_equal(&pl.friction.filter, &before.friction.filter, sizeof pl.friction.filter);
+    assert_memory_equal(&pl.friction.cond, &before.friction.cond, sizeof pl.friction.cond);
+    assert_memory_equal(&pl.last, &before.last, sizeof pl.last);
+    assert_int_equal(pl.started, before.started);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -437,6 +525,7 @@ int main(void)
         cmocka_unit_test(test_back_to_back),
         cmocka_unit_test(test_gaps_as_the_double_pipeline),
         cmocka_unit_test(test_a_period_shorter_than_half_is_refused_q31),
+        cmocka_unit_test(test_every_member_a_step_writes_is_undone_q31),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

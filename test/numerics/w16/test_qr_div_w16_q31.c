@@ -1,0 +1,152 @@
+/**
+ * @file test_qr_div_w16_q31.c
+ * @brief The Cortex-M0+ form of Tria's division (qr_q31.c div_shl32, the bit-by-bit long
+ *        division compiled where RFE_FIX_MUL64_W16 = 1), run on the host: this file sets
+ *        RFE_FIX_MUL64_W16 to 1 and includes qr_q31.c itself, so the division checked is the
+ *        library's own code in the form the Thumb-1 build compiles (test_qr_q31.c checks a
+ *        copy of it and the other cores' form, rfe_q31_div_shl32_round).
+ *
+ * Every quotient must equal the exact one bit for bit (no tolerance): floor(n 2^32 / d) from
+ * the unsigned __int128 division (GCC's and Clang's), rounded half up on its last bit, for
+ * d >= 1, d < 2^63 and n < d 2^31 (the division's precondition, qr_q31.c). Operands: edge
+ * cases (n = 0; d = 1 and the powers of two, where the quotient is an exact shift; the
+ * largest n = d 2^31 - 1 for every divisor length; d at its maximum, 2^63 - 1, and at Tria's,
+ * v.v < 2^62; exact ties of the rounding) and 300,000 pseudo-random pairs with a divisor of
+ * every length 1 .. 63 and a dividend of every length up to its bound.
+ *
+ * Built outside test/numerics/ (mk/lib.mk's TEST_DIRS) on purpose: it compiles qr_q31.c in
+ * another form than the library's, so the coverage and MC/DC runs, which read src/ through
+ * every test binary, leave it out; `make test-c` runs it (Makefile, W16_TESTS).
+ */
+#define RFE_FIX_MUL64_W16 1
+
+#include "test_common.h"
+
+#include <stdint.h>
+
+#include "numerics/qr_q31.c"
+
+/* splitmix64 (Steele, Lea, Flood 2014): a full-period 64-bit sequence, seeded below. */
+static uint64_t mix_state;
+
+static uint64_t rand_u64(void)
+{
+    uint64_t z = (mix_state += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+}
+
+/* A random uint64 of exactly len bits (1 <= len <= 64). */
+static uint64_t rand_len(unsigned int len)
+{
+    const uint64_t top = (uint64_t)1 << (len - 1u);
+    return top | (rand_u64() & (top - 1u));
+}
+
+static unsigned int n_checked;
+
+/* One case: the int128 quotient floor(n 2^32 / d), rounded half up on its last bit, against
+ * the M0+ form of div_shl32 and against the other cores' form (exact: no tolerance). */
+static void check(uint64_t n, uint64_t d)
+{
+    const unsigned __int128 q = (((unsigned __int128)n) << 32) / d;
+    uint64_t want;
+    assert_true((d >= 1u) && (d < ((uint64_t)1 << 63)));
+    assert_true(q < ((unsigned __int128)1 << 63)); /* the precondition n < d 2^31 */
+    want = (uint64_t)((q + 1u) >> 1);
+    if (div_shl32(n, d) != want) {
+        fail_msg("div_shl32(%llu, %llu) = %llu, want %llu", (unsigned long long)n,
+                 (unsigned long long)d, (unsigned long long)div_shl32(n, d),
+                 (unsigned long long)want);
+    }
+    assert_true(rfe_q31_div_shl32_round(n, d) == want);
+    ++n_checked;
+}
+
+/* The largest dividend below d 2^31 (n is 64 bits wide: all of them from d >= 2^33 on). */
+static uint64_t n_max(uint64_t d)
+{
+    return (d >= ((uint64_t)1 << 33)) ? UINT64_MAX : ((d << 31) - 1u);
+}
+
+/* REQ-FXP-001 */
+static void test_div_shl32_w16_edges(void **state)
+{
+    const uint64_t d_max = ((uint64_t)1 << 63) - 1u; /* the division's largest divisor */
+    const uint64_t vtv_max = ((uint64_t)1 << 62) - 1u; /* Tria's: v.v < 2^62 (qr_q31.c) */
+    const uint64_t ds[] = {1u, 2u, 3u, 0xFFFFFFFFu, (uint64_t)1 << 32, ((uint64_t)1 << 32) + 1u,
+                           (uint64_t)1 << 33, vtv_max, (uint64_t)1 << 62, d_max};
+    unsigned int i;
+    unsigned int s;
+    (void)state;
+    n_checked = 0u;
+    /* d = 1 scaled: d = 2^s, where n 2^32 / d is a shift (rounded half up below 2^-1) */
+    for (s = 0u; s < 63u; ++s) {
+        const uint64_t d = (uint64_t)1 << s;
+        check(0u, d);
+        check(1u, d);
+        check(d - 1u, d);
+        check(d, d);
+        check(n_max(d), d);
+        check(n_max(d) >> 1, d);
+    }
+    /* n = 0, n = d 2^31 - 1 (the largest quotient, 2^62 - 1 rounded) and their neighbours,
+     * for the largest divisor of every length and the listed ones */
+    for (s = 1u; s <= 63u; ++s) {
+        const uint64_t d = (s == 63u) ? d_max : (((uint64_t)1 << s) - 1u);
+        check(0u, d);
+        check(n_max(d), d);
+        check(n_max(d) - 1u, d);
+    }
+    for (i = 0u; i < (sizeof ds / sizeof ds[0]); ++i) {
+        check(0u, ds[i]);
+        check(1u, ds[i]);
+        check(ds[i] - 1u, ds[i]);
+        check(ds[i], ds[i]);
+        check(ds[i] + 1u, ds[i]);
+        check(n_max(ds[i]), ds[i]);
+    }
+    /* exact ties: d = 2^33 and n odd make n 2^32 / d an odd multiple of 1/2 */
+    for (i = 0u; i < 64u; ++i) {
+        check(((uint64_t)i << 1) | 1u, (uint64_t)1 << 33);
+        check(UINT64_MAX - ((uint64_t)i << 1), (uint64_t)1 << 33);
+    }
+    print_message("edges: %u divisions\n", n_checked);
+}
+
+/* REQ-FXP-001 */
+static void test_div_shl32_w16_random(void **state)
+{
+    unsigned int k;
+    (void)state;
+    mix_state = 0x5EED0016ull;
+    n_checked = 0u;
+    for (k = 0u; k < 300000u; ++k) {
+        const unsigned int dlen = 1u + (k % 63u);
+        const uint64_t d = rand_len(dlen);
+        const unsigned int nbound = ((dlen + 31u) < 64u) ? (dlen + 31u) : 64u;
+        const unsigned int nlen = 1u + ((k / 63u) % nbound);
+        uint64_t n = rand_len(nlen);
+        if ((nlen == (dlen + 31u)) && (n > n_max(d))) {
+            n -= (uint64_t)1 << (nlen - 1u); /* of that length the bound may cut: one shorter */
+        }
+        check(n, d);
+    }
+    /* Tria's operands: |a.v| < 2^61 over v.v in [2^58, 2^62), 2 |a.v| < 2 v.v (|c| < 4) */
+    for (k = 0u; k < 20000u; ++k) {
+        const uint64_t vtv = rand_len(59u + (k % 4u));
+        const uint64_t dot = rand_len(1u + (k % 61u));
+        check((dot < (vtv << 1)) ? dot : ((vtv << 1) - 1u), vtv);
+    }
+    print_message("random: %u divisions\n", n_checked);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_div_shl32_w16_edges),
+        cmocka_unit_test(test_div_shl32_w16_random),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
