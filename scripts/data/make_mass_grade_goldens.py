@@ -8,8 +8,10 @@ Usage (from the repository root):
 
 For every log <name>.csv of --scenarios and each configuration CONFIGS gives it, it writes
 <out>/<name>.<config>.csv: the row index k, t and the estimator's outputs (mass, sd_mass,
-grade, sd_grade, v, sd_v, q_mv, status) on every STRIDE-th row, on every row whose status
-differs from the previous row's (the pause logic's transitions) and on the last row. The
+grade, sd_grade, v, sd_v, q_mv, status, walk) on every STRIDE-th row, on every row whose status
+or walk differs from the previous row's (the pause logic's transitions, the grade walk's level
+switches, MASS_GRADE.md §4.7) and on the last row. walk is the grade walk's level after the
+row (1 loose: mg_q_theta_hi, 0 tight: mg_q_theta; the next sample's time update uses it). The
 metadata records every parameter (the vehicle preset of the log: truck for truck_*, else
 car; then the configuration's keys), so the C test runs exactly what the reference ran.
 Deterministic: plain Python floats, no BLAS on the estimator's path.
@@ -26,7 +28,7 @@ sys.path[:0] = [os.path.dirname(os.path.dirname(os.path.abspath(__file__)))]
 from reference import mass_grade as mg  # noqa: E402
 
 STRIDE = 10
-OUTPUTS = ("mass", "sd_mass", "grade", "sd_grade", "v", "sd_v", "q_mv", "status")
+OUTPUTS = ("mass", "sd_mass", "grade", "sd_grade", "v", "sd_v", "q_mv", "status", "walk")
 # The library's presets (docs/MASS_GRADE.md §6 "Presets"): the recommended one (plain UKF with
 # the accelerometer row) and the seed's (its AUKF on speed and torque, adapted every step,
 # no rotating mass); and the two other combinations on a few logs, so that every branch of
@@ -43,13 +45,13 @@ PRESETS = {
     # on every such sample
     "pause_grade": {"mg_adaptive": 0.0, "mg_use_ax": 1.0, "mg_pause_grade": 3.0,
                     "mg_pause_grade_dv": 0.0},
-    # the recommended preset with the grade's two-level walk (MASS_GRADE.md §4.7) at the
-    # values the walk study measured, on the two logs whose grade it was for
-    "walk": {**mg.MG_CONFIGS["recommended"], "mg_q_theta_hi": 0.008},
+    # the recommended preset without the grade's two-level walk (MASS_GRADE.md §4.7; on in
+    # the preset), on the two logs whose grade the walk was for: the fixed walk's path
+    "walk_off": {**mg.MG_CONFIGS["recommended"], "mg_q_theta_hi": 0.0},
 }
 EXTRA = {"car_gear_shift": ("aukf_ax", "pause_grade"),
          "car_stop_and_go": ("aukf_ax", "pause_grade"),
-         "car_hilly_road": ("ukf", "walk"), "car_long_curve_crest": ("walk",),
+         "car_hilly_road": ("ukf", "walk_off"), "car_long_curve_crest": ("walk_off",),
          "truck_graded_drive": ("ukf",)}
 
 
@@ -67,9 +69,12 @@ def golden(path, config):
     cols, _ = mg.read_log(path)
     p = mg.preset(vehicle(name), **PRESETS[config])
     r = mg.run(cols, p)
-    st = r["status"]
+    st, wk = r["status"], r["walk"]
+    # every row whose status or walk level changed: the C tests then know the double's walk
+    # level on every sample (the last golden row's at or before it)
     keep = [k for k in range(len(st))
-            if k % STRIDE == 0 or k == len(st) - 1 or (k > 0 and st[k] != st[k - 1])]
+            if k % STRIDE == 0 or k == len(st) - 1
+            or (k > 0 and (st[k] != st[k - 1] or wk[k] != wk[k - 1]))]
     meta = [("source", os.path.basename(path)), ("generator", "scripts/reference/mass_grade.py"),
             ("vehicle", vehicle(name)), ("config", config), ("stride", STRIDE)]
     meta += [(k, p[k]) for k in mg.MG_DEFAULTS]

@@ -99,7 +99,8 @@ MG_PRESETS: dict[str, dict[str, float]] = {
 # and the brake bit of mg_pause_grade) and the seed's (its AUKF on speed and torque, adapted
 # every step, no rotating mass). Every script that runs "the recommended preset" takes it here.
 MG_CONFIGS: dict[str, dict[str, float]] = {
-    "recommended": {"mg_adaptive": 0.0, "mg_use_ax": 1.0, "mg_pause_grade": 1.0},
+    "recommended": {"mg_adaptive": 0.0, "mg_use_ax": 1.0, "mg_pause_grade": 1.0,
+                    "mg_q_theta_hi": 0.008},
     "seed": {"mg_adaptive": 1.0, "mg_use_ax": 0.0, "mg_m_rot": 0.0, "mg_t_adapt": 0.0},
 }
 
@@ -983,13 +984,18 @@ def samples(cols, p):
 
 
 def run(cols, params, form="sqrt"):
-    """Run a whole log; returns arrays t, mass, sd_mass, grade, sd_grade, v, sd_v, q_mv, status."""
+    """Run a whole log; returns arrays t, mass, sd_mass, grade, sd_grade, v, sd_v, q_mv, status
+    and walk (§4.7: the grade walk's level after each sample, 1 loose, 0 tight)."""
     import numpy as np
     est = MassGrade(params, form=form)
-    outs = [est.step(s) for s in samples(cols, est.p)]
+    outs, walk = [], []
+    for s in samples(cols, est.p):
+        outs.append(est.step(s))
+        walk.append(1 if est.wq_hi else 0)  # §4.7 the level after the step (the next one's)
     res = {"t": np.asarray(cols["t"], dtype=float)}
     for k in ("mass", "sd_mass", "grade", "sd_grade", "v", "sd_v", "q_mv", "status"):
         res[k] = np.array([getattr(o, k) for o in outs])
+    res["walk"] = np.array(walk, dtype=int)
     return res
 
 

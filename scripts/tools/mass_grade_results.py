@@ -7,8 +7,8 @@ on the mass and grade logs, against issue 19's targets and the seed's claims.
 
 For every log of scenarios/mass_grade/, four initial masses (-50, -20, +20, +50 % of the
 truth) and four configurations (AUKF and UKF, each on the seed's speed only and with the
-accelerometer row; with it the brake bit of mg_pause_grade, as the library's recommended preset
-has it), one run each.  Measured (docs/MASS_GRADE_RESULTS.md says how):
+accelerometer row; with it the brake bit of mg_pause_grade and the grade's two-level walk
+(mg_q_theta_hi), as the library's recommended preset has them), one run each.  Measured (docs/MASS_GRADE_RESULTS.md says how):
     first excitation t_exc: the first sample with |dv/dt| >= EXC (truth speed) while the
                             estimator is not paused
     mass error at t_exc + 10 s and at the end, worst of the four initial masses [%]
@@ -53,10 +53,12 @@ def one(job):
     cols, _ = mg.read_log(os.path.join(ROOT, "scenarios", "mass_grade", name + ".csv"))
     label, adaptive, use_ax = next(c for c in CONFIGS if c[0] == cfg)
     mt = float(cols["mass_true"][0])
-    # with the accelerometer row the brake bit of mg_pause_grade as the library's recommended
-    # preset has it (MASS_GRADE.md §6; the grade from ax needs ax)
+    # with the accelerometer row the brake bit of mg_pause_grade and the grade's two-level walk
+    # as the library's recommended preset has them (MASS_GRADE.md §6, §4.7; the grade from ax
+    # needs ax); the speed-only rows keep the seed's fixed walk
+    hi = mg.MG_CONFIGS["recommended"]["mg_q_theta_hi"] if use_ax else 0.0
     p = mg.preset(vehicle(name), mg_m0=mt * (1.0 + guess), mg_adaptive=adaptive,
-                  mg_use_ax=use_ax, mg_pause_grade=use_ax)
+                  mg_use_ax=use_ax, mg_pause_grade=use_ax, mg_q_theta_hi=hi)
     r = mg.run(cols, p)
     return job, r
 

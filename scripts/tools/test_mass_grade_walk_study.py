@@ -14,7 +14,9 @@ def test_walks_are_valid_and_the_two_level_walk_is_on():
         p.update(over)
         mg.MassGrade(p)                 # raises ParamError on an invalid key
     assert ws.WALKS["two-level"]["mg_q_theta_hi"] > ws.WALKS["two-level"]["mg_q_theta"]
-    assert "mg_q_theta_hi" not in ws.WALKS["as is (0.004)"]
+    # the fixed walks turn the preset's two-level walk off
+    assert ws.WALKS["fixed 0.004"]["mg_q_theta_hi"] == 0.0
+    assert ws.WALKS["fixed 0.006"]["mg_q_theta_hi"] == 0.0
 
 
 def test_table_takes_the_worst_start():

@@ -52,7 +52,8 @@ static void car(rfe_mass_grade_params_t *p)
     p->m_max = RFE_R(60000.0);
     p->theta_max = RFE_R(0.35);
     p->dt_max = RFE_R(1.0);
-    p->q_theta_hi = RFE_R(0.0); /* §4.7 the two-level walk off */
+    p->q_theta_hi = RFE_R(0.008); /* §4.7 the two-level walk on (MASS_GRADE_RESULTS.md
+                                   * "The grade's two-level walk"); the seed's preset: off */
     p->theta_rate_on = RFE_R(0.002);
     p->theta_rate_off = RFE_R(0.001);
     p->theta_rate_tau = RFE_R(1.0);
@@ -105,6 +106,7 @@ rfe_status_t rfe_mass_grade_params_preset(rfe_mass_grade_params_t *p, rfe_mg_veh
         p->m_rot = RFE_R(0.0);
         p->t_adapt = RFE_R(0.0);
         p->pause_grade = RFE_R(0.0); /* the seed's pauses hold (inert without ax anyway) */
+        p->q_theta_hi = RFE_R(0.0);  /* the seed's fixed grade walk (§4.7 off) */
     }
     return RFE_OK;
 }

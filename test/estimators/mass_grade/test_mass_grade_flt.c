@@ -46,6 +46,9 @@ static void setup_with(uint32_t adaptive, uint32_t use_ax)
     assert_int_equal(rfe_mass_grade_params_default(&prm), RFE_OK);
     prm.adaptive = adaptive;
     prm.use_ax = use_ax;
+    /* the fixed grade walk (§4.7 off; on in the default): these tests check the steps'
+     * arithmetic against q_theta; the walk's own tests below turn it on */
+    prm.q_theta_hi = (rfe_real_t)0.0;
     assert_int_equal(rfe_mass_grade_init(&mg, &prm), RFE_OK);
 }
 
@@ -1431,6 +1434,7 @@ static void test_start_and_hold_overflow_refused(void **state)
     memset(&prm, 0, sizeof(prm));
     assert_int_equal(rfe_mass_grade_params_default(&prm), RFE_OK);
     prm.q_theta = over_sq;
+    prm.q_theta_hi = (rfe_real_t)0.0; /* §4.7 off: q_theta_hi >= q_theta is a rule */
     memset(&mg, 0, sizeof(mg));
     assert_int_equal(rfe_mass_grade_init(&mg, &prm), RFE_OK);
     in = cruise((rfe_real_t)20.0, (rfe_real_t)DT);
@@ -1773,9 +1777,14 @@ static void test_walk_params_rules(void **state)
     rfe_mass_grade_params_t p;
     (void)state;
     assert_int_equal(rfe_mass_grade_params_default(&p), RFE_OK);
-    assert_true((p.q_theta_hi == (rfe_real_t)0.0) && (p.theta_rate_on == on) &&
+    assert_true((p.q_theta_hi == (rfe_real_t)0.008) && (p.theta_rate_on == on) &&
                 (p.theta_rate_off == off) && (p.theta_rate_tau == one) &&
-                (p.theta_rate_avg == three)); /* off by default, §6's values */
+                (p.theta_rate_avg == three)); /* on by default (the recommended preset), §6's values */
+    {
+        rfe_mass_grade_params_t seed;
+        assert_int_equal(rfe_mass_grade_params_preset(&seed, RFE_MG_TRUCK, RFE_MG_SEED), RFE_OK);
+        assert_true(seed.q_theta_hi == (rfe_real_t)0.0); /* the seed's preset: off */
+    }
     assert_true(p.q_theta == (rfe_real_t)0.004);
     /* q_theta_hi: 0 (off) or in [q_theta, 0.1] */
     walk_expect((rfe_real_t)0.0, on, off, one, three, RFE_OK, "hi 0");

@@ -32,10 +32,34 @@
  *   27 % on sd_mass, 12 % on q_mv). Statuses exactly: the pause delays and the adaptation
  *   period end half a sample period before their length (MASS_GRADE.md §4.2), so float and
  *   double decide alike (measured: no status differs).
+ *
+ * The grade's two-level walk (§4.7, on in the recommended preset). Its level is a threshold
+ * decision, s > on^2 to loosen, s < off^2 to tighten, on the grade rate's mean square s, and
+ * float32 carries s within a few 1e-4 relative of the double's (measured: 2.6e-4 at the
+ * switch below; s is a low-pass of squared grade increments, each increment rounded at the
+ * float32 ulp of the grade, 2e-9 rad against increments of ~1e-4 rad). Where s crosses a
+ * threshold by less than that, float32 switches a sample or more earlier or later than
+ * double (truck_graded_drive.recommended: row 9,219 in double, 9,220 in float32), and the
+ * sample between then runs its time update with the other process noise: sd_grade differs
+ * by 7 % (0.00386 against 0.00416) until the filter forgets it (~1 s), far outside the
+ * per-operation bound above. That is a moved decision, not an arithmetic error, so the test
+ * separates the two: the golden records the double's level after every row (column walk,
+ * and a row wherever it changes, so the level is known on every sample: the last golden
+ * row's at or before it), and
+ * - wherever the run's own level differs from the double's, its own s must lie within
+ *   WALK_NEAR of the threshold it was decided on (on^2 or off^2): a switch decided by s's
+ *   rounding, not a different s; the double build must match exactly (WALK_NEAR 0);
+ * - then the test sets the run's level to the double's (the state's wq_hi, caller-owned)
+ *   before the next sample, so the run goes on with the double's decisions and every
+ *   value keeps the arithmetic bounds above on every sample (the alternative, a tolerance
+ *   for a moved switch, would have to bound the Riccati recursion's memory of a different
+ *   noise; forcing the decision keeps the bounds tight). The count of such samples is
+ *   printed (measured: 1, on truck_graded_drive.recommended).
  */
 #include "test_common.h"
 #include "csv_dir.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -45,9 +69,8 @@
 
 #define GOLDEN_DIR "scenarios/golden/mass_grade"
 #define LOG_DIR "scenarios/mass_grade"
-#define MIN_GOLDENS 26 /* 9 logs x 2 presets + 8 other configurations, 2 of them the
-                          * two-level walk's (§4.7: the float32 build within its bounds too,
-                          * its level switching where the double's does on these logs) */
+#define MIN_GOLDENS 26 /* 9 logs x 2 presets + 8 other configurations (the recommended
+                          * preset with §4.7's two-level walk on; walk_off: without it) */
 
 #if defined(RFE_REAL_DOUBLE)
 #define TOL_V 1e-9          /* v, sd_v [m/s] */
@@ -57,6 +80,7 @@
 #define TOL_MASS_SD 0.0     /* share of sd_mass */
 #define TOL_REL 1e-9        /* mass, sd_mass, sd_v, sd_grade, q_mv, relative */
 #define TOL_REL_AUKF 1e-9   /* sd_mass, q_mv in the AUKF */
+#define WALK_NEAR 0.0       /* the walk's level exactly the reference's */
 #else
 #define TOL_V 1e-4
 #define TOL_GRADE 1e-6
@@ -65,7 +89,20 @@
 #define TOL_MASS_SD 0.2
 #define TOL_REL 5e-3
 #define TOL_REL_AUKF 0.5
+/* s within 1e-3 relative of a threshold where the level differs: about four times the
+ * float32 s's measured 2.6e-4 relative distance from the double's at a moved switch (above) */
+#define WALK_NEAR 1e-3
 #endif
+
+static size_t n_walk_forced; /* samples whose walk level was set to the reference's */
+
+/* 1 when @p s is within @p near (relative) of on^2 or off^2 (§4.7's two thresholds). */
+static int walk_near_threshold(double s, double on, double off, double near)
+{
+    const double on2 = on * on;
+    const double off2 = off * off;
+    return ((fabs(s - on2) <= (near * on2)) || (fabs(s - off2) <= (near * off2))) ? 1 : 0;
+}
 
 static void compare_one(const char *name)
 {
@@ -79,6 +116,7 @@ static void compare_one(const char *name)
     rfe_mass_grade_t mg;
     size_t k;
     size_t row = 0u;
+    uint32_t walk_ref = 0u; /* the reference's walk level after the current sample */
     double rel_sd;
     const char *dot;
     memset(&g, 0, sizeof(g));
@@ -101,10 +139,22 @@ static void compare_one(const char *name)
         mg_input_of(&log, k, (double)p.R, &in);
         st = rfe_mass_grade_step(&mg, &in, &e);
         assert_false(rfe_status_is_error(st));
+        snprintf(what, sizeof(what), "%s row %zu", name, k);
+        if ((row < g.n_rows) && ((size_t)test_table_get(&g, row, "k") == k)) {
+            walk_ref = (test_table_get(&g, row, "walk") > 0.5) ? 1u : 0u;
+        }
+        if (mg.wq_hi != walk_ref) {
+            if (walk_near_threshold((double)mg.wq_ms, (double)p.theta_rate_on,
+                                    (double)p.theta_rate_off, WALK_NEAR) == 0) {
+                fail_msg("%s: walk level %u, the reference's %u, s %.9g not near a threshold",
+                         what, (unsigned)mg.wq_hi, (unsigned)walk_ref, (double)mg.wq_ms);
+            }
+            mg.wq_hi = walk_ref;
+            ++n_walk_forced;
+        }
         if ((row >= g.n_rows) || ((size_t)test_table_get(&g, row, "k") != k)) {
             continue;
         }
-        snprintf(what, sizeof(what), "%s row %zu", name, k);
         assert_int_equal(st, (rfe_status_t)test_table_get(&g, row, "status"));
         assert_close(e.v, test_table_get(&g, row, "v"), TOL_V, 0.0, what);
         assert_close(e.sd_v, test_table_get(&g, row, "sd_v"), TOL_V, TOL_REL, what);
@@ -127,6 +177,8 @@ static void test_every_golden(void **state)
 {
     (void)state;
     assert_true(test_each_csv(GOLDEN_DIR, compare_one) >= MIN_GOLDENS);
+    printf("walk level set to the reference's on %zu samples (a switch moved by rounding)\n",
+           n_walk_forced);
 }
 
 /* The library's presets are the reference's configurations the goldens ran (their
