@@ -229,7 +229,14 @@ static void make_diagonal_nonnegative_q31(rfe_fix_t *A, size_t rows, size_t lda,
     }
 }
 
-rfe_status_t rfe_qr_tria_q31(rfe_fix_t *A, size_t rows, size_t cols, size_t lda, uint32_t *sat)
+/* Tria of the checked rows x cols A. tri = 0: a dense A, every row's tail is columns
+ * k..cols-1. tri = 1: A = [B, L], L lower-triangular rows x rows (rfe_qr_tria_lt_q31): with
+ * t = cols - rows, row i is zero right of column t + i before every reflection (reflection
+ * j < k mixes only columns j..t+j, row j's tail), so the tails end there. Every operation
+ * of the dense reduction on those zeros is exact (a square or product 0, a scaled 0, an
+ * update by c 0 = 0): the shorter tails give the same integers. */
+static void tria_core_q31(rfe_fix_t *A, size_t rows, size_t cols, size_t lda, int tri,
+                          uint32_t *sat)
 {
     int e[RFE_N_MAX];       /* scale of each row's tail */
     int nonzero[RFE_N_MAX]; /* tail of the row not all zero */
@@ -238,22 +245,15 @@ rfe_status_t rfe_qr_tria_q31(rfe_fix_t *A, size_t rows, size_t cols, size_t lda,
     size_t i;
     size_t k;
 
-    if ((A == NULL) || (sat == NULL)) {
-        return RFE_ERR_NULL;
-    }
-    if ((rows == 0u) || (rows > (size_t)RFE_N_MAX) || (cols < rows) ||
-        (cols > RFE_TRIA_COLS_SZ) || (lda < cols)) {
-        return RFE_ERR_SIZE;
-    }
     for (i = 0u; i < rows; ++i) {
         e[i] = 0;
     }
     /* A^T = Q R  <=>  A Q = R^T = [S 0]: zero each row's tail right of the diagonal. */
     for (k = 0u; k < rows; ++k) {
-        const size_t len = cols - k;
         for (i = k; i < rows; ++i) {
             int s = 0;
             rfe_fix_t *t = &AT(A, lda, i, k);
+            const size_t len = ((tri != 0) ? ((cols - rows) + i + 1u) : cols) - k;
             nonzero[i] = tail_shift(t, len, &s);
             if (nonzero[i] != 0) {
                 scale_tail(t, len, s);
@@ -262,6 +262,7 @@ rfe_status_t rfe_qr_tria_q31(rfe_fix_t *A, size_t rows, size_t cols, size_t lda,
         }
         flip[k] = 0;
         if (nonzero[k] != 0) {
+            const size_t len = ((tri != 0) ? ((cols - rows) + k + 1u) : cols) - k;
             const int64_t diag = reflect(A, rows, lda, k, len, nonzero, &count);
             AT(A, lda, k, k) = to_output(diag, e[k], &count);
             if (diag < 0) {
@@ -275,7 +276,39 @@ rfe_status_t rfe_qr_tria_q31(rfe_fix_t *A, size_t rows, size_t cols, size_t lda,
     }
     make_diagonal_nonnegative_q31(A, rows, lda, flip);
     rfe_q31_sat_add(sat, count);
+}
+
+/* The argument checks of both Tria entries. */
+static rfe_status_t check_tria_q31(const rfe_fix_t *A, size_t rows, size_t cols, size_t lda,
+                                   const uint32_t *sat)
+{
+    if ((A == NULL) || (sat == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    if ((rows == 0u) || (rows > (size_t)RFE_N_MAX) || (cols < rows) ||
+        (cols > RFE_TRIA_COLS_SZ) || (lda < cols)) {
+        return RFE_ERR_SIZE;
+    }
     return RFE_OK;
+}
+
+rfe_status_t rfe_qr_tria_q31(rfe_fix_t *A, size_t rows, size_t cols, size_t lda, uint32_t *sat)
+{
+    const rfe_status_t st = check_tria_q31(A, rows, cols, lda, sat);
+    if (st == RFE_OK) {
+        tria_core_q31(A, rows, cols, lda, 0, sat);
+    }
+    return st;
+}
+
+rfe_status_t rfe_qr_tria_lt_q31(rfe_fix_t *A, size_t rows, size_t cols, size_t lda,
+                                uint32_t *sat)
+{
+    const rfe_status_t st = check_tria_q31(A, rows, cols, lda, sat);
+    if (st == RFE_OK) {
+        tria_core_q31(A, rows, cols, lda, 1, sat);
+    }
+    return st;
 }
 
 /* Shared checks of the triangular solves; all diagonal entries must be > 0. */

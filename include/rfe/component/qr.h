@@ -18,10 +18,12 @@
  * RFE_REAL_DOUBLE (rfe/types.h). Sources define and call them by the short name. */
 #if defined(RFE_REAL_DOUBLE)
 #define rfe_qr_tria          rfe_qr_tria_f64
+#define rfe_qr_tria_lt       rfe_qr_tria_lt_f64
 #define rfe_qr_solve_lower   rfe_qr_solve_lower_f64
 #define rfe_qr_solve_lower_t rfe_qr_solve_lower_t_f64
 #else
 #define rfe_qr_tria          rfe_qr_tria_f32
+#define rfe_qr_tria_lt       rfe_qr_tria_lt_f32
 #define rfe_qr_solve_lower   rfe_qr_solve_lower_f32
 #define rfe_qr_solve_lower_t rfe_qr_solve_lower_t_f32
 #endif
@@ -34,6 +36,14 @@
  *         cols > RFE_TRIA_COLS_LIMIT, cols < rows or lda < cols; RFE_ERR_NONFINITE if A holds NaN/Inf (A then untouched).
  */
 RFE_NODISCARD rfe_status_t rfe_qr_tria(rfe_real_t *A, size_t rows, size_t cols, size_t lda);
+
+/**
+ * Tria of A = [B, L] (rows x cols), L lower-triangular rows x rows in its last columns (the
+ * twin of rfe_qr_tria_lt_q31): rfe_qr_tria's result on the same arguments; in floating
+ * point the reduction is rfe_qr_tria's own (its fixed-shape copies already unrolled).
+ * @return as rfe_qr_tria.
+ */
+RFE_NODISCARD rfe_status_t rfe_qr_tria_lt(rfe_real_t *A, size_t rows, size_t cols, size_t lda);
 
 /**
  * Forward substitution L X = B for X (L n x n lower-triangular, B n x ncols), X over B.
