@@ -311,6 +311,11 @@ rfe_status_t rfe_qr_tria_lt_q31(rfe_fix_t *A, size_t rows, size_t cols, size_t l
     return st;
 }
 
+rfe_status_t rfe_qr_tria_pair_q31(rfe_fix_t *A, size_t n, size_t lda, uint32_t *sat)
+{
+    return rfe_qr_tria_lt_q31(A, n, 2u * n, lda, sat);
+}
+
 /* Shared checks of the triangular solves; all diagonal entries must be > 0. */
 static rfe_status_t check_solve_q31(const rfe_fix_t *L, size_t n, size_t ldl, const rfe_fix_t *B,
                                     size_t ncols, size_t ldb, int shift, const uint32_t *sat)

@@ -301,8 +301,8 @@ static void test_rfe_qr_tria_fixed_shapes_match_runtime(void **state)
     }
 }
 
-/* rfe_qr_tria_lt (the twin of rfe_qr_tria_lt_q31) is rfe_qr_tria on the same arguments: the
- * same bits on [B, L] (L lower-triangular) of the filters' shapes, and the same errors. */
+/* rfe_qr_tria_lt and rfe_qr_tria_pair (the twins of the Q31 ones) give rfe_qr_tria's bits on
+ * [B, L] (L lower-triangular) and [L1, L2] of the filters' shapes, and its errors. */
 /* REQ-QR-001 */
 static void test_rfe_qr_tria_lt_is_tria(void **state)
 {
@@ -331,6 +331,23 @@ static void test_rfe_qr_tria_lt_is_tria(void **state)
     }
     assert_int_equal(rfe_qr_tria_lt(NULL, 2u, 4u, 4u), RFE_ERR_NULL);
     assert_int_equal(rfe_qr_tria_lt(a, 3u, 2u, 4u), RFE_ERR_SIZE);
+    /* rfe_qr_tria_pair on [L1, L2], both lower-triangular: n = 4 is its unrolled copy with
+     * the zeros of both blocks skipped, the others rfe_qr_tria's; the same bits either way */
+    for (s = 1u; s <= 4u; ++s) {
+        fill_matrix(a, s, 2u * s, ld);
+        for (i = 0u; i < s; ++i) {
+            for (j = i + 1u; j < s; ++j) {
+                AT(a, ld, i, j) = (rfe_real_t)0.0;
+                AT(a, ld, i, s + j) = (rfe_real_t)0.0;
+            }
+        }
+        memcpy(b, a, sizeof b);
+        assert_int_equal(rfe_qr_tria_pair(a, s, ld), RFE_OK);
+        assert_int_equal(rfe_qr_tria(b, s, 2u * s, ld), RFE_OK);
+        assert_memory_equal(a, b, sizeof a);
+    }
+    assert_int_equal(rfe_qr_tria_pair(NULL, 2u, ld), RFE_ERR_NULL);
+    assert_int_equal(rfe_qr_tria_pair(a, 4u, 7u), RFE_ERR_SIZE);
 }
 
 /* REQ-QR-001 */

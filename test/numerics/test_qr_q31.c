@@ -606,10 +606,21 @@ static void test_rfe_qr_tria_lt_q31_matches_dense(void **state)
                         AT(lt, TC, i, j) = GUARD;
                     }
                 }
+                if (cols == (2u * rows)) { /* [L1, L2]: the pair entry, L1 triangular too */
+                    for (i = 0u; i < rows; ++i) {
+                        for (j = i + 1u; j < rows; ++j) {
+                            AT(dense, TC, i, j) = 0;
+                            AT(lt, TC, i, j) = 0;
+                        }
+                    }
+                }
                 sat_d = 3u;
                 sat_l = 3u;
                 assert_int_equal(rfe_qr_tria_q31(dense, rows, cols, TC, &sat_d), RFE_OK);
-                assert_int_equal(rfe_qr_tria_lt_q31(lt, rows, cols, TC, &sat_l), RFE_OK);
+                assert_int_equal((cols == (2u * rows))
+                                     ? rfe_qr_tria_pair_q31(lt, rows, TC, &sat_l)
+                                     : rfe_qr_tria_lt_q31(lt, rows, cols, TC, &sat_l),
+                                 RFE_OK);
                 assert_int_equal(sat_l, sat_d);
                 for (i = 0u; i < rows; ++i) {
                     for (j = 0u; j < TC; ++j) {
@@ -632,6 +643,8 @@ static void test_rfe_qr_tria_lt_q31_matches_dense(void **state)
             assert_int_equal(rfe_qr_tria_lt_q31(lt, cases[c][0], cases[c][1], cases[c][2], &sat),
                              RFE_ERR_SIZE);
         }
+        assert_int_equal(rfe_qr_tria_pair_q31(lt, 4u, 7u, &sat), RFE_ERR_SIZE);
+        assert_int_equal(rfe_qr_tria_pair_q31(NULL, 2u, 4u, &sat), RFE_ERR_NULL);
         assert_int_equal(rfe_qr_tria_lt_q31(NULL, 2u, 4u, 4u, &sat), RFE_ERR_NULL);
         assert_int_equal(rfe_qr_tria_lt_q31(lt, 2u, 4u, 4u, NULL), RFE_ERR_NULL);
         assert_memory_equal(lt, dense, sizeof lt);

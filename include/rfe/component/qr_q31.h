@@ -61,6 +61,14 @@ RFE_NODISCARD rfe_status_t rfe_qr_tria_lt_q31(rfe_fix_t *A, size_t rows, size_t 
                                               uint32_t *sat);
 
 /**
+ * Tria of A = [L1, L2] (n x 2n), both blocks lower-triangular (the twin of rfe_qr_tria_pair):
+ * rfe_qr_tria_lt_q31(A, n, 2n, lda, sat), the same integers as rfe_qr_tria_q31.
+ * @return as rfe_qr_tria_q31.
+ */
+RFE_NODISCARD rfe_status_t rfe_qr_tria_pair_q31(rfe_fix_t *A, size_t n, size_t lda,
+                                                uint32_t *sat);
+
+/**
  * Forward substitution L X = B for X (L n x n lower-triangular in Q(ql), B n x ncols in
  * Q(qb)), X over B in Q(qx) with shift = qx - qb + ql (the convention of rfe_fix_div).
  * Each x_i = round((b_i 2^shift - sum_{j<i} L_ij x_j) / L_ii): the numerator is exact in
