@@ -95,7 +95,7 @@ rfe_status_t rfe_sckf_init_q31(rfe_sckf_q31_t *f, size_t n, size_t m, const rfe_
 
 /* The random walk's predict from the factor, once the caller has put its right block B
  * (n x n, lower-triangular: S_Q, or sqrt(k) S_Q) into columns n..2n-1 of w->A: S- =
- * Tria([S, B]) (rfe_qr_tria_lt_q31: B triangular), x- = x, committed with the
+ * Tria([S, B]) (rfe_qr_tria_pair_q31: S and B triangular), x- = x, committed with the
  * caller's saturation count. */
 static rfe_status_t walk_commit_q31(rfe_sckf_q31_t *f, uint32_t count)
 {
@@ -111,7 +111,7 @@ static rfe_status_t walk_commit_q31(rfe_sckf_q31_t *f, uint32_t count)
         }
         w->xn[i] = f->x[i];
     }
-    st = rfe_qr_tria_lt_q31(w->A, n, 2u * n, TC, &cnt);
+    st = rfe_qr_tria_pair_q31(w->A, n, TC, &cnt);
     if (st != RFE_OK) {
         return st;
     }

@@ -252,7 +252,7 @@ static void tria_core_q31(rfe_fix_t *A, size_t rows, size_t cols, size_t lda, in
                           uint32_t *sat)
 {
     int e[RFE_N_MAX];       /* scale of each row's tail */
-    int nonzero[RFE_N_MAX]; /* tail of the row not all zero */
+    int nonzero[RFE_N_MAX] = {0}; /* tail of the row not all zero (set before each read) */
     int flip[RFE_N_MAX];    /* unrounded diagonal entry negative */
     uint32_t count = 0u;
     size_t i;
@@ -280,7 +280,8 @@ static void tria_core_q31(rfe_fix_t *A, size_t rows, size_t cols, size_t lda, in
              * down (rounded), reflect sums it again. Elsewhere it always does (fewer
              * instructions there as measured: the M4's inlining). */
             if ((i == k) && (s >= 0)) {
-                ssk = ss << (2u * (unsigned int)s);
+                const unsigned int s2 = 2u * (unsigned int)s;
+                ssk = ss << s2;
             }
 #else
             (void)ss;
@@ -380,13 +381,20 @@ static void solve_core_q31(const rfe_fix_t *L, size_t n, size_t ldl, rfe_fix_t *
     size_t j;
     for (c = 0u; c < ncols; ++c) {
         for (u = 0u; u < n; ++u) {
-            const size_t i = (trans != 0) ? (n - 1u - u) : u;
-            const size_t lo = (trans != 0) ? (i + 1u) : 0u;
-            const size_t hi = (trans != 0) ? n : i;
-            /* l_j: L_ij, or L_ji for the transpose */
-            const rfe_fix_t *l = (trans != 0) ? &L[i] : &L[i * ldl];
-            const size_t step = (trans != 0) ? ldl : 1u;
-            int64_t acc = (int64_t)AT(B, ldb, i, c) * rfe_q31_pow2((unsigned int)shift);
+            size_t i = u;
+            size_t lo = 0u;
+            size_t hi = u;
+            size_t step = 1u;            /* l_j = l[j step]: L_ij, or L_ji for the transpose */
+            const rfe_fix_t *l = &L[u * ldl];
+            int64_t acc;
+            if (trans != 0) {
+                i = (n - 1u) - u;
+                lo = i + 1u;
+                hi = n;
+                step = ldl;
+                l = &L[i];
+            }
+            acc = (int64_t)AT(B, ldb, i, c) * rfe_q31_pow2((unsigned int)shift);
             for (j = lo; j < hi; ++j) {
                 acc = rfe_fix_add64(acc, -rfe_fix_mul32x32(l[j * step], AT(B, ldb, j, c)), &count);
             }
