@@ -141,8 +141,7 @@ static SCKF_INLINE void predict_random_walk(rfe_sckf_t *f, rfe_real_t c, size_t 
 rfe_status_t rfe_sckf_predict(rfe_sckf_t *f, rfe_process_fn_t process, void *ctx)
 {
     size_t n;
-    size_t cols;
-    rfe_status_t st = RFE_OK;
+    rfe_status_t st;
 
     if (f == NULL) {
         return RFE_ERR_NULL;
@@ -160,13 +159,12 @@ rfe_status_t rfe_sckf_predict(rfe_sckf_t *f, rfe_process_fn_t process, void *ctx
         } else {
             predict_random_walk(f, RFE_R(1.0), n);
         }
-        cols = 2u * n;
+        st = rfe_qr_tria_pair(f->w.A, n, TC); /* S and S_Q lower-triangular */
     } else {
         st = predict_points(f, process, ctx);
-        cols = 3u * n;
-    }
-    if (st == RFE_OK) {
-        st = rfe_qr_tria(f->w.A, n, cols, TC);
+        if (st == RFE_OK) {
+            st = rfe_qr_tria_lt(f->w.A, n, 3u * n, TC); /* S_Q lower-triangular */
+        }
     }
     if (st != RFE_OK) {
         return st;
@@ -192,7 +190,7 @@ rfe_status_t rfe_sckf_predict_steps(rfe_sckf_t *f, uint32_t k)
         return RFE_OK;
     }
     predict_random_walk(f, RFE_SQRT((rfe_real_t)k), f->n);
-    st = rfe_qr_tria(f->w.A, f->n, 2u * f->n, TC);
+    st = rfe_qr_tria_pair(f->w.A, f->n, TC); /* S and S_Q triangular */
     if (st != RFE_OK) {
         return st;
     }
@@ -245,7 +243,7 @@ static SCKF_INLINE rfe_status_t innovation_factor(rfe_sckf_t *f, const rfe_real_
             w->A[(r * TC) + (2u * n) + j] = SR[(r * MM) + j];
         }
     }
-    st = rfe_qr_tria(w->A, m, (2u * n) + m, TC);
+    st = rfe_qr_tria_lt(w->A, m, (2u * n) + m, TC); /* S_R triangular */
     if (st == RFE_OK) {
         /* S_zz with its upper part: Tria leaves zeros right of the diagonal (rfe_qr_tria),
          * so a plain copy (no separate zeroing, issue 21), column by column (commit). */

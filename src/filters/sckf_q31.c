@@ -93,6 +93,32 @@ rfe_status_t rfe_sckf_init_q31(rfe_sckf_q31_t *f, size_t n, size_t m, const rfe_
     return RFE_OK;
 }
 
+/* The random walk's predict from the factor, once the caller has put its right block B
+ * (n x n, lower-triangular: S_Q, or sqrt(k) S_Q) into columns n..2n-1 of w->A: S- =
+ * Tria([S, B]) (rfe_qr_tria_pair_q31: S and B triangular), x- = x, committed with the
+ * caller's saturation count. */
+static rfe_status_t walk_commit_q31(rfe_sckf_q31_t *f, uint32_t count)
+{
+    rfe_cub_scratch_q31_t *w = &f->w;
+    const size_t n = f->n;
+    uint32_t cnt = count;
+    size_t i;
+    size_t j;
+    rfe_status_t st;
+    for (i = 0u; i < n; ++i) {
+        for (j = 0u; j < n; ++j) { /* with S's zeros: Tria reads them */
+            w->A[(i * TC) + j] = f->S[(i * NM) + j];
+        }
+        w->xn[i] = f->x[i];
+    }
+    st = rfe_qr_tria_pair_q31(w->A, n, TC, &cnt);
+    if (st != RFE_OK) {
+        return st;
+    }
+    commit_q31(f, w->A, cnt);
+    return RFE_OK;
+}
+
 /* The random walk: X*_j = X_j = x +- sqrt(n) S e_j, so x- = x and the centred points are
  * [S, -S] / sqrt(2) with [S, -S] [S, -S]^T / 2 = S S^T: S- = Tria([S, S_Q]) (n x 2n) from the
  * factor itself, without rounding the points to Q29 and the deviations to Q30
@@ -101,23 +127,14 @@ static rfe_status_t predict_walk_q31(rfe_sckf_q31_t *f)
 {
     rfe_cub_scratch_q31_t *w = &f->w;
     const size_t n = f->n;
-    uint32_t count = 0u;
     size_t i;
     size_t j;
-    rfe_status_t st;
     for (i = 0u; i < n; ++i) {
-        for (j = 0u; j < n; ++j) {
-            w->A[(i * TC) + j] = f->S[(i * NM) + j];
+        for (j = 0u; j <= i; ++j) {
             w->A[(i * TC) + n + j] = f->SQ[(i * NM) + j];
         }
-        w->xn[i] = f->x[i];
     }
-    st = rfe_qr_tria_q31(w->A, n, 2u * n, TC, &count);
-    if (st != RFE_OK) {
-        return st;
-    }
-    commit_q31(f, w->A, count);
-    return RFE_OK;
+    return walk_commit_q31(f, 0u);
 }
 
 rfe_status_t rfe_sckf_predict_q31(rfe_sckf_q31_t *f, rfe_process_fn_q31_t process, void *ctx)
@@ -155,7 +172,7 @@ rfe_status_t rfe_sckf_predict_q31(rfe_sckf_q31_t *f, rfe_process_fn_q31_t proces
             w->A[(i * TC) + (2u * n) + j] = f->SQ[(i * NM) + j];
         }
     }
-    st = rfe_qr_tria_q31(w->A, n, 3u * n, TC, &count);
+    st = rfe_qr_tria_lt_q31(w->A, n, 3u * n, TC, &count); /* S_Q triangular */
     if (st != RFE_OK) {
         return st;
     }
@@ -171,7 +188,6 @@ rfe_status_t rfe_sckf_predict_steps_q31(rfe_sckf_q31_t *f, uint32_t k)
     size_t n;
     size_t i;
     size_t j;
-    rfe_status_t st;
     if (f == NULL) {
         return RFE_ERR_NULL;
     }
@@ -197,19 +213,12 @@ rfe_status_t rfe_sckf_predict_steps_q31(rfe_sckf_q31_t *f, uint32_t k)
         }
     }
     for (i = 0u; i < n; ++i) {
-        for (j = 0u; j < n; ++j) {
+        for (j = 0u; j <= i; ++j) {
             const int64_t prod = (int64_t)f->SQ[(i * NM) + j] * (int64_t)root;
-            w->A[(i * TC) + j] = f->S[(i * NM) + j];
             w->A[(i * TC) + n + j] = rfe_fix_narrow(prod, 16u, &count);
         }
-        w->xn[i] = f->x[i];
     }
-    st = rfe_qr_tria_q31(w->A, n, 2u * n, TC, &count);
-    if (st != RFE_OK) {
-        return st;
-    }
-    commit_q31(f, w->A, count);
-    return RFE_OK;
+    return walk_commit_q31(f, count);
 }
 
 /* Xc = (X_j - x-)/sqrt(2n) into B (n x 2n, Q30) and Zc = (Z_j - z)/sqrt(2n) in place in
@@ -258,7 +267,7 @@ static rfe_status_t innovation_factor_q31(rfe_sckf_q31_t *f, const rfe_fix_t *SR
     rfe_cub_scratch_q31_t *w = &f->w;
     rfe_status_t st;
     innovation_array(f, SR);
-    st = rfe_qr_tria_q31(w->A, f->m, (2u * f->n) + f->m, TC, count);
+    st = rfe_qr_tria_lt_q31(w->A, f->m, (2u * f->n) + f->m, TC, count); /* S_R triangular */
     if (st == RFE_OK) {
         copy_lower_q31(w->A, TC, f->m, w->Szz, MM);
     }

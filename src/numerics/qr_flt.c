@@ -30,8 +30,12 @@
 #if defined(__GNUC__)
 /* MISRA-DEV-02: a GNU attribute (Rule 1.2, language extension), only under __GNUC__ */
 #define TRIA_INLINE __attribute__((always_inline)) inline
+/* the rare path (a row to scale, a NaN) once, not inlined into each unrolled copy: with three
+ * entries calling them, inlining it cost ~1 kB of the Cortex-M4F's flash */
+#define TRIA_COLD __attribute__((noinline))
 #else
 #define TRIA_INLINE inline
+#define TRIA_COLD
 #endif
 
 /* Largest |element| of a row; -1 when the row holds a NaN or an infinity. */
@@ -50,7 +54,7 @@ static rfe_real_t row_max(const rfe_real_t *row, size_t cols)
 
 /* The maxima of all rows into bigs; *scaled = 1 when one of them lies outside
  * [TRIA_SAFE_LO, TRIA_SAFE_HI] (zero rows aside). Returns -1 when A holds a NaN/Inf. */
-static int row_maxima(const rfe_real_t *A, size_t rows, size_t cols, size_t lda,
+static TRIA_COLD int row_maxima(const rfe_real_t *A, size_t rows, size_t cols, size_t lda,
                       rfe_real_t *bigs, int *scaled)
 {
     size_t i;
@@ -68,6 +72,27 @@ static int row_maxima(const rfe_real_t *A, size_t rows, size_t cols, size_t lda,
     return 0;
 }
 
+/* The columns of row i that can be non-zero while it is reduced: [.., g0) and [g1, end).
+ * tri 0 (dense): up to cols. tri 1, A = [B, L] with L lower-triangular in the last rows
+ * columns (rfe_qr_tria_lt): up to L's diagonal, cols - rows + i. tri 2, A = [L1, L2] with
+ * both n x n blocks lower-triangular (rfe_qr_tria_pair, cols = 2 rows): up to i, then n..n+i.
+ * Reflection j < k mixes only row j's columns, so row i keeps this shape until its own
+ * reflection; the dense reduction's operations on the zeros outside are exact (a product 0,
+ * a sum + 0, x - s 0 = x), so skipping them gives the same result. */
+static TRIA_INLINE void tail_span(int tri, size_t rows, size_t cols, size_t i, size_t *g0,
+                                  size_t *g1, size_t *end)
+{
+    if (tri == 2) {
+        *g0 = i + 1u;
+        *g1 = rows;
+        *end = rows + i + 1u;
+    } else {
+        *end = (tri != 0) ? ((cols - rows) + i + 1u) : cols;
+        *g0 = *end;
+        *g1 = *end;
+    }
+}
+
 /* The common case of row_maxima in one sum of squares per row (issue 21: a third of the
  * Cortex-M4F's instructions per element): 1 when every row's sum of squares ss (from 0, in
  * column order) is finite with TRIA_SS_LO <= ss <= TRIA_SS_HI, which proves what row_maxima
@@ -81,7 +106,8 @@ static int row_maxima(const rfe_real_t *A, size_t rows, size_t cols, size_t lda,
  * double for cols <= RFE_TRIA_COLS_LIMIT_SZ). 0 otherwise (a
  * zero or tiny row, a huge one, a NaN): the caller then takes row_maxima, whose result decides
  * as before; either way the reduction is the same, bit for bit. */
-static TRIA_INLINE int rows_plainly_safe(const rfe_real_t *A, size_t rows, size_t cols, size_t lda)
+static TRIA_INLINE int rows_plainly_safe(const rfe_real_t *A, size_t rows, size_t cols, size_t lda,
+                                         int tri)
 {
     /* TRIA_SS_LO (with this cols), TRIA_SS_HI */
     const rfe_real_t ss_lo = (RFE_R(2.0) * (rfe_real_t)cols) * (TRIA_SAFE_LO * TRIA_SAFE_LO);
@@ -91,7 +117,14 @@ static TRIA_INLINE int rows_plainly_safe(const rfe_real_t *A, size_t rows, size_
     for (i = 0u; i < rows; ++i) {
         const rfe_real_t *row = &AT(A, lda, i, 0u);
         rfe_real_t ss = RFE_R(0.0);
-        for (j = 0u; j < cols; ++j) {
+        size_t g0;
+        size_t g1;
+        size_t end;
+        tail_span(tri, rows, cols, i, &g0, &g1, &end); /* the zeros outside add exactly 0 */
+        for (j = 0u; j < g0; ++j) {
+            ss += row[j] * row[j];
+        }
+        for (j = g1; j < end; ++j) {
             ss += row[j] * row[j];
         }
         if (!((ss >= ss_lo) && (ss <= ss_hi))) { /* also a NaN */
@@ -132,11 +165,15 @@ static void scale_row(rfe_real_t *row, size_t cols, int e)
 }
 
 /* Euclidean norm of row k of A from column k on. */
-static TRIA_INLINE rfe_real_t row_tail_norm(const rfe_real_t *A, size_t lda, size_t k, size_t cols)
+static TRIA_INLINE rfe_real_t row_tail_norm(const rfe_real_t *A, size_t lda, size_t k, size_t g0,
+                                           size_t g1, size_t end)
 {
     rfe_real_t ss = RFE_R(0.0);
     size_t j;
-    for (j = k; j < cols; ++j) {
+    for (j = k; j < g0; ++j) {
+        ss += AT(A, lda, k, j) * AT(A, lda, k, j);
+    }
+    for (j = g1; j < end; ++j) {
         ss += AT(A, lda, k, j) * AT(A, lda, k, j);
     }
     return RFE_SQRT(ss);
@@ -145,8 +182,8 @@ static TRIA_INLINE rfe_real_t row_tail_norm(const rfe_real_t *A, size_t lda, siz
 /* One Householder reflection H = I - 2 v v^T / (v^T v) from the right that maps row k's
  * tail x = A[k][k..] onto (-sign(x0) |x|, 0, ..., 0); v = x + sign(x0) |x| e_0 avoids
  * cancellation. Applied to rows k..rows-1; v is kept in row k's tail until done. */
-static TRIA_INLINE void reflect_row(rfe_real_t *A, size_t rows, size_t cols, size_t lda, size_t k,
-                        rfe_real_t norm)
+static TRIA_INLINE void reflect_row(rfe_real_t *A, size_t rows, size_t lda, size_t k, size_t g0,
+                                    size_t g1, size_t end, rfe_real_t norm)
 {
     const rfe_real_t x0 = AT(A, lda, k, k);
     const rfe_real_t sgn = (x0 < RFE_R(0.0)) ? RFE_R(-1.0) : RFE_R(1.0);
@@ -155,15 +192,21 @@ static TRIA_INLINE void reflect_row(rfe_real_t *A, size_t rows, size_t cols, siz
     size_t i;
     size_t j;
 
-    AT(A, lda, k, k) = x0 + (sgn * norm); /* row k's tail now holds v */
+    AT(A, lda, k, k) = x0 + (sgn * norm); /* row k's tail now holds v (zero outside its span) */
     for (i = k + 1u; i < rows; ++i) {
         rfe_real_t dot = RFE_R(0.0);
         rfe_real_t scale;
-        for (j = k; j < cols; ++j) {
+        for (j = k; j < g0; ++j) {
+            dot += AT(A, lda, i, j) * AT(A, lda, k, j);
+        }
+        for (j = g1; j < end; ++j) {
             dot += AT(A, lda, i, j) * AT(A, lda, k, j);
         }
         scale = RFE_R(2.0) * dot / vtv;
-        for (j = k; j < cols; ++j) {
+        for (j = k; j < g0; ++j) {
+            AT(A, lda, i, j) -= scale * AT(A, lda, k, j);
+        }
+        for (j = g1; j < end; ++j) {
             AT(A, lda, i, j) -= scale * AT(A, lda, k, j);
         }
     }
@@ -174,7 +217,10 @@ static TRIA_INLINE void reflect_row(rfe_real_t *A, size_t rows, size_t cols, siz
     {
         const rfe_real_t zero = RFE_R(0.0) * norm;
         AT(A, lda, k, k) = -sgn * norm;
-        for (j = k + 1u; j < cols; ++j) {
+        for (j = k + 1u; j < g0; ++j) {
+            AT(A, lda, k, j) = zero;
+        }
+        for (j = g1; j < end; ++j) {
             AT(A, lda, k, j) = zero;
         }
     }
@@ -199,7 +245,8 @@ static TRIA_INLINE void make_diagonal_nonnegative(rfe_real_t *A, size_t rows, si
  * once with run-time sizes and once per fixed shape, where the constant sizes let the
  * compiler unroll the loops; every instance performs the same operations in the same
  * order, so the results agree bit for bit. */
-static TRIA_INLINE rfe_status_t tria_reduce(rfe_real_t *A, size_t rows, size_t cols, size_t lda)
+static TRIA_INLINE rfe_status_t tria_reduce(rfe_real_t *A, size_t rows, size_t cols, size_t lda,
+                                             int tri)
 {
     rfe_real_t bigs[RFE_TRIA_ROWS_SZ];
     int exps[RFE_TRIA_ROWS_SZ];
@@ -207,7 +254,7 @@ static TRIA_INLINE rfe_status_t tria_reduce(rfe_real_t *A, size_t rows, size_t c
     size_t i;
     size_t k;
 
-    if ((rows_plainly_safe(A, rows, cols, lda) == 0) &&
+    if ((rows_plainly_safe(A, rows, cols, lda, tri) == 0) &&
         (row_maxima(A, rows, cols, lda, bigs, &scaled) != 0)) {
         return RFE_ERR_NONFINITE;
     }
@@ -224,9 +271,14 @@ static TRIA_INLINE rfe_status_t tria_reduce(rfe_real_t *A, size_t rows, size_t c
     }
     /* A^T = Q R  <=>  A Q = R^T = [S 0]: zero each row's tail right of the diagonal. */
     for (k = 0u; k < rows; ++k) {
-        const rfe_real_t norm = row_tail_norm(A, lda, k, cols);
+        size_t g0;
+        size_t g1;
+        size_t end;
+        rfe_real_t norm;
+        tail_span(tri, rows, cols, k, &g0, &g1, &end); /* v's span: row k's tail */
+        norm = row_tail_norm(A, lda, k, g0, g1, end);
         if (norm > RFE_R(0.0)) {
-            reflect_row(A, rows, cols, lda, k, norm);
+            reflect_row(A, rows, lda, k, g0, g1, end, norm);
         }
         /* norm == 0: the tail is already zero (rank-deficient input); S(k,k) = 0. */
     }
@@ -246,7 +298,9 @@ static TRIA_INLINE rfe_status_t tria_reduce(rfe_real_t *A, size_t rows, size_t c
  * never reduces (its state is a random walk) and whose copy would cost 3 kB of flash, over
  * the Cortex-M4F's 64 kB budget. Each gets its own
  * unrolled copy of tria_reduce (the checks above and lda == RFE_TRIA_COLS_SZ keep it in
- * bounds); any other shape or leading dimension takes the run-time one. */
+ * bounds): the walk's in rfe_qr_tria_pair (both blocks triangular, tri 2), the innovation's
+ * in rfe_qr_tria_lt (S_R triangular, tri 1), the posterior's in rfe_qr_tria; any other shape
+ * or leading dimension takes the run-time one. */
 /* 1 when Tria takes a rows x cols matrix of leading dimension lda (rfe/component/qr.h). */
 static TRIA_INLINE int tria_size_ok(size_t rows, size_t cols, size_t lda)
 {
@@ -266,14 +320,36 @@ rfe_status_t rfe_qr_tria(rfe_real_t *A, size_t rows, size_t cols, size_t lda)
     if (tria_size_ok(rows, cols, lda) == 0) {
         return RFE_ERR_SIZE;
     }
-    if ((lda == RFE_TRIA_COLS_SZ) && (rows == 4u) && (cols == 8u)) {
-        st = tria_reduce(A, 4u, 8u, RFE_TRIA_COLS_SZ);
-    } else if ((lda == RFE_TRIA_COLS_SZ) && (rows == 3u) && (cols == 11u)) {
-        st = tria_reduce(A, 3u, 11u, RFE_TRIA_COLS_SZ);
-    } else if ((lda == RFE_TRIA_COLS_SZ) && (rows == 4u) && (cols == 11u)) {
-        st = tria_reduce(A, 4u, 11u, RFE_TRIA_COLS_SZ);
+    if ((lda == RFE_TRIA_COLS_SZ) && (rows == 4u) && (cols == 11u)) {
+        st = tria_reduce(A, 4u, 11u, RFE_TRIA_COLS_SZ, 0);
     } else {
-        st = tria_reduce(A, rows, cols, lda);
+        st = tria_reduce(A, rows, cols, lda, 0);
+    }
+    return st;
+}
+
+/* The innovation's shape (3 x 11) unrolled with its shorter tails (tria_reduce, tri 1); any
+ * other shape is rfe_qr_tria's dense reduction, the same result. */
+rfe_status_t rfe_qr_tria_lt(rfe_real_t *A, size_t rows, size_t cols, size_t lda)
+{
+    rfe_status_t st;
+    if ((A != NULL) && (lda == RFE_TRIA_COLS_SZ) && (rows == 3u) && (cols == 11u)) {
+        st = tria_reduce(A, 3u, 11u, RFE_TRIA_COLS_SZ, 1);
+    } else {
+        st = rfe_qr_tria(A, rows, cols, lda);
+    }
+    return st;
+}
+
+/* The random walk's shape (n = 4) unrolled with its tails (tria_reduce, tri 2); any other n
+ * is rfe_qr_tria's dense reduction, the same result. */
+rfe_status_t rfe_qr_tria_pair(rfe_real_t *A, size_t n, size_t lda)
+{
+    rfe_status_t st;
+    if ((A != NULL) && (lda == RFE_TRIA_COLS_SZ) && (n == 4u)) {
+        st = tria_reduce(A, 4u, 8u, RFE_TRIA_COLS_SZ, 2);
+    } else {
+        st = rfe_qr_tria(A, n, 2u * n, lda);
     }
     return st;
 }

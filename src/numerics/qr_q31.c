@@ -43,23 +43,33 @@ static unsigned int bit_length_q31(uint64_t v)
     return len + (unsigned int)r; /* r is now 0 or 1 */
 }
 
-/* Shift s that brings the norm of t[0..len) into [2^29, 2^30): s = 29 - floor(log2 |t|).
- * Returns 0 (and leaves *shift alone) for an all-zero tail. The sum of squares is formed
- * exactly in two uint64 limbs (each square <= 2^62, at most 24 of them). */
-static int tail_shift(const rfe_fix_t *t, size_t len, int *shift)
+/* The sum of squares of t[0..len), exactly in two uint64 limbs (each square <= 2^62, at
+ * most 24 of them): the low one returned, carries added to *hi. */
+static uint64_t tail_squares(const rfe_fix_t *t, size_t len, uint64_t *hi)
 {
     uint64_t lo = 0u;
-    uint64_t hi = 0u;
-    unsigned int bits;
-    unsigned int half;
     size_t j;
     for (j = 0u; j < len; ++j) {
         const uint64_t sq = (uint64_t)rfe_fix_mul32x32(t[j], t[j]); /* <= 2^62 */
         lo += sq;
         if (lo < sq) {
-            hi += 1u;
+            *hi += 1u;
         }
     }
+    return lo;
+}
+
+/* Shift s that brings the norm of t[0..len) into [2^29, 2^30): s = 29 - floor(log2 |t|).
+ * Returns 0 (and leaves *shift alone) for an all-zero tail. *ss: the low limb of the sum of
+ * squares (the whole sum when the returned shift is >= 0:
+ * the norm is then below 2^30, the sum below 2^60). */
+static int tail_shift(const rfe_fix_t *t, size_t len, int *shift, uint64_t *ss)
+{
+    uint64_t hi = 0u;
+    const uint64_t lo = tail_squares(t, len, &hi);
+    unsigned int bits;
+    unsigned int half;
+    *ss = lo;
     if ((hi == 0u) && (lo == 0u)) {
         return 0;
     }
@@ -159,12 +169,13 @@ static inline int64_t mul_c_x(int64_t dot, uint64_t cm, rfe_fix_t x)
 /* Reflection k, on normalised tails: row k's tail x (length len, starting at column k) is
  * mapped onto (-sign(x0) |x|, 0, ..., 0) and every other row i > k with a non-zero tail gets
  * a <- a - c v, c = 2 a.v / v.v, v = x + sign(x0) |x| e0. Returns the unrounded diagonal
- * entry (scale of row k): -sign(x0) |x|, or x0 itself when it is the only non-zero. */
+ * entry (scale of row k): -sign(x0) |x|, or x0 itself when it is the only non-zero. ssk:
+ * |x|^2 (< 2^60 + 2^32 after the normalisation) when the caller knows it, else 0. */
 static int64_t reflect(rfe_fix_t *A, size_t rows, size_t lda, size_t k, size_t len,
-                       const int *nonzero, uint32_t *sat)
+                       uint64_t ssk, const int *nonzero, uint32_t *sat)
 {
     rfe_fix_t *x = &AT(A, lda, k, k);
-    uint64_t ss = 0u;
+    uint64_t ss = ssk;
     uint64_t x0sq;
     int64_t norm;
     int64_t v0;
@@ -172,8 +183,10 @@ static int64_t reflect(rfe_fix_t *A, size_t rows, size_t lda, size_t k, size_t l
     size_t i;
     size_t j;
 
-    for (j = 0u; j < len; ++j) {
-        ss += (uint64_t)rfe_fix_mul32x32(x[j], x[j]); /* each square <= 2^62 */
+    if (ss == 0u) { /* not known to the caller: summed here (a non-zero tail's is > 0) */
+        for (j = 0u; j < len; ++j) {
+            ss += (uint64_t)rfe_fix_mul32x32(x[j], x[j]); /* each square <= 2^62 */
+        }
     }
     x0sq = (uint64_t)rfe_fix_mul32x32(x[0], x[0]);
     if (ss == x0sq) {
@@ -229,40 +242,55 @@ static void make_diagonal_nonnegative_q31(rfe_fix_t *A, size_t rows, size_t lda,
     }
 }
 
-rfe_status_t rfe_qr_tria_q31(rfe_fix_t *A, size_t rows, size_t cols, size_t lda, uint32_t *sat)
+/* Tria of the checked rows x cols A. tri = 0: a dense A, every row's tail is columns
+ * k..cols-1. tri = 1: A = [B, L], L lower-triangular rows x rows (rfe_qr_tria_lt_q31): with
+ * t = cols - rows, row i is zero right of column t + i before every reflection (reflection
+ * j < k mixes only columns j..t+j, row j's tail), so the tails end there. Every operation
+ * of the dense reduction on those zeros is exact (a square or product 0, a scaled 0, an
+ * update by c 0 = 0): the shorter tails give the same integers. */
+static void tria_core_q31(rfe_fix_t *A, size_t rows, size_t cols, size_t lda, int tri,
+                          uint32_t *sat)
 {
     int e[RFE_N_MAX];       /* scale of each row's tail */
-    int nonzero[RFE_N_MAX]; /* tail of the row not all zero */
+    int nonzero[RFE_N_MAX] = {0}; /* tail of the row not all zero (set before each read) */
     int flip[RFE_N_MAX];    /* unrounded diagonal entry negative */
     uint32_t count = 0u;
     size_t i;
     size_t k;
 
-    if ((A == NULL) || (sat == NULL)) {
-        return RFE_ERR_NULL;
-    }
-    if ((rows == 0u) || (rows > (size_t)RFE_N_MAX) || (cols < rows) ||
-        (cols > RFE_TRIA_COLS_SZ) || (lda < cols)) {
-        return RFE_ERR_SIZE;
-    }
     for (i = 0u; i < rows; ++i) {
         e[i] = 0;
     }
     /* A^T = Q R  <=>  A Q = R^T = [S 0]: zero each row's tail right of the diagonal. */
     for (k = 0u; k < rows; ++k) {
-        const size_t len = cols - k;
+        uint64_t ssk = 0u; /* sum of squares of row k's normalised tail */
         for (i = k; i < rows; ++i) {
             int s = 0;
+            uint64_t ss = 0u;
             rfe_fix_t *t = &AT(A, lda, i, k);
-            nonzero[i] = tail_shift(t, len, &s);
+            const size_t len = ((tri != 0) ? ((cols - rows) + i + 1u) : cols) - k;
+            nonzero[i] = tail_shift(t, len, &s, &ss);
             if (nonzero[i] != 0) {
                 scale_tail(t, len, s);
                 e[i] += s;
             }
+#if RFE_FIX_MUL64_W16
+            /* Where a 64-bit product is a call (the Cortex-M0+), row k's sum of squares is
+             * reused: scaled up by 2^s exactly, every square by 2^2s (< 2^60 after); scaled
+             * down (rounded), reflect sums it again. Elsewhere it always does (fewer
+             * instructions there as measured: the M4's inlining). */
+            if ((i == k) && (s >= 0)) {
+                const unsigned int s2 = 2u * (unsigned int)s;
+                ssk = ss << s2;
+            }
+#else
+            (void)ss;
+#endif
         }
         flip[k] = 0;
         if (nonzero[k] != 0) {
-            const int64_t diag = reflect(A, rows, lda, k, len, nonzero, &count);
+            const size_t len = ((tri != 0) ? ((cols - rows) + k + 1u) : cols) - k;
+            const int64_t diag = reflect(A, rows, lda, k, len, ssk, nonzero, &count);
             AT(A, lda, k, k) = to_output(diag, e[k], &count);
             if (diag < 0) {
                 flip[k] = 1;
@@ -275,7 +303,44 @@ rfe_status_t rfe_qr_tria_q31(rfe_fix_t *A, size_t rows, size_t cols, size_t lda,
     }
     make_diagonal_nonnegative_q31(A, rows, lda, flip);
     rfe_q31_sat_add(sat, count);
+}
+
+/* The argument checks of both Tria entries. */
+static rfe_status_t check_tria_q31(const rfe_fix_t *A, size_t rows, size_t cols, size_t lda,
+                                   const uint32_t *sat)
+{
+    if ((A == NULL) || (sat == NULL)) {
+        return RFE_ERR_NULL;
+    }
+    if ((rows == 0u) || (rows > (size_t)RFE_N_MAX) || (cols < rows) ||
+        (cols > RFE_TRIA_COLS_SZ) || (lda < cols)) {
+        return RFE_ERR_SIZE;
+    }
     return RFE_OK;
+}
+
+rfe_status_t rfe_qr_tria_q31(rfe_fix_t *A, size_t rows, size_t cols, size_t lda, uint32_t *sat)
+{
+    const rfe_status_t st = check_tria_q31(A, rows, cols, lda, sat);
+    if (st == RFE_OK) {
+        tria_core_q31(A, rows, cols, lda, 0, sat);
+    }
+    return st;
+}
+
+rfe_status_t rfe_qr_tria_lt_q31(rfe_fix_t *A, size_t rows, size_t cols, size_t lda,
+                                uint32_t *sat)
+{
+    const rfe_status_t st = check_tria_q31(A, rows, cols, lda, sat);
+    if (st == RFE_OK) {
+        tria_core_q31(A, rows, cols, lda, 1, sat);
+    }
+    return st;
+}
+
+rfe_status_t rfe_qr_tria_pair_q31(rfe_fix_t *A, size_t n, size_t lda, uint32_t *sat)
+{
+    return rfe_qr_tria_lt_q31(A, n, 2u * n, lda, sat);
 }
 
 /* Shared checks of the triangular solves; all diagonal entries must be > 0. */
@@ -300,6 +365,65 @@ static rfe_status_t check_solve_q31(const rfe_fix_t *L, size_t n, size_t ldl, co
     return RFE_OK;
 }
 
+#if RFE_FIX_MUL64_W16
+/* The two substitutions in one body (checked arguments): trans = 0, L X = B, x_i for
+ * i = 0..n-1 from the L_ij (j < i); trans = 1, L^T X = B, i = n-1..0 from the L_ji (j > i).
+ * x_i = (b_i 2^shift - sum_j l_j x_j) / L_ii, the sum in ascending j: the numerator in
+ * Q(qx + ql), b_i 2^shift <= 2^62, each product <= 2^62, summed with saturation. One body
+ * for both, on the Cortex-M0+ only (RFE_FIX_MUL64_W16): 282 B less of its flash, ~800 more
+ * instructions per paper step; elsewhere the two loops below, the same integers. */
+static void solve_core_q31(const rfe_fix_t *L, size_t n, size_t ldl, rfe_fix_t *B, size_t ncols,
+                           size_t ldb, int shift, int trans, uint32_t *sat)
+{
+    uint32_t count = 0u;
+    size_t c;
+    size_t u;
+    size_t j;
+    for (c = 0u; c < ncols; ++c) {
+        for (u = 0u; u < n; ++u) {
+            size_t i = u;
+            size_t lo = 0u;
+            size_t hi = u;
+            size_t step = 1u;            /* l_j = l[j step]: L_ij, or L_ji for the transpose */
+            const rfe_fix_t *l = &L[u * ldl];
+            int64_t acc;
+            if (trans != 0) {
+                i = (n - 1u) - u;
+                lo = i + 1u;
+                hi = n;
+                step = ldl;
+                l = &L[i];
+            }
+            acc = (int64_t)AT(B, ldb, i, c) * rfe_q31_pow2((unsigned int)shift);
+            for (j = lo; j < hi; ++j) {
+                acc = rfe_fix_add64(acc, -rfe_fix_mul32x32(l[j * step], AT(B, ldb, j, c)), &count);
+            }
+            AT(B, ldb, i, c) = rfe_q31_div_round(acc, AT(L, ldl, i, i), &count);
+        }
+    }
+    rfe_q31_sat_add(sat, count);
+}
+
+rfe_status_t rfe_qr_solve_lower_q31(const rfe_fix_t *L, size_t n, size_t ldl, rfe_fix_t *B,
+                                    size_t ncols, size_t ldb, int shift, uint32_t *sat)
+{
+    const rfe_status_t st = check_solve_q31(L, n, ldl, B, ncols, ldb, shift, sat);
+    if (st == RFE_OK) {
+        solve_core_q31(L, n, ldl, B, ncols, ldb, shift, 0, sat);
+    }
+    return st;
+}
+
+rfe_status_t rfe_qr_solve_lower_t_q31(const rfe_fix_t *L, size_t n, size_t ldl, rfe_fix_t *B,
+                                      size_t ncols, size_t ldb, int shift, uint32_t *sat)
+{
+    const rfe_status_t st = check_solve_q31(L, n, ldl, B, ncols, ldb, shift, sat);
+    if (st == RFE_OK) {
+        solve_core_q31(L, n, ldl, B, ncols, ldb, shift, 1, sat);
+    }
+    return st;
+}
+#else
 rfe_status_t rfe_qr_solve_lower_q31(const rfe_fix_t *L, size_t n, size_t ldl, rfe_fix_t *B,
                                     size_t ncols, size_t ldb, int shift, uint32_t *sat)
 {
@@ -355,3 +479,4 @@ rfe_status_t rfe_qr_solve_lower_t_q31(const rfe_fix_t *L, size_t n, size_t ldl, 
     rfe_q31_sat_add(sat, count);
     return RFE_OK;
 }
+#endif

@@ -301,6 +301,55 @@ static void test_rfe_qr_tria_fixed_shapes_match_runtime(void **state)
     }
 }
 
+/* rfe_qr_tria_lt and rfe_qr_tria_pair (the twins of the Q31 ones) give rfe_qr_tria's bits on
+ * [B, L] (L lower-triangular) and [L1, L2] of the filters' shapes, and its errors. */
+/* REQ-QR-001 */
+static void test_rfe_qr_tria_lt_is_tria(void **state)
+{
+    static rfe_real_t a[BUF_N];
+    static rfe_real_t b[BUF_N];
+    static const size_t shapes[3][2] = {{4u, 8u}, {3u, 11u}, {2u, 5u}};
+    const size_t ld = (size_t)RFE_TRIA_COLS_MAX;
+    size_t s;
+    size_t i;
+    size_t j;
+    (void)state;
+    rng_seed(22u);
+    for (s = 0u; s < 3u; ++s) {
+        const size_t rows = shapes[s][0];
+        const size_t cols = shapes[s][1];
+        fill_matrix(a, rows, cols, ld);
+        for (i = 0u; i < rows; ++i) {
+            for (j = (cols - rows) + i + 1u; j < cols; ++j) {
+                AT(a, ld, i, j) = (rfe_real_t)0.0;
+            }
+        }
+        memcpy(b, a, sizeof b);
+        assert_int_equal(rfe_qr_tria_lt(a, rows, cols, ld), RFE_OK);
+        assert_int_equal(rfe_qr_tria(b, rows, cols, ld), RFE_OK);
+        assert_memory_equal(a, b, sizeof a);
+    }
+    assert_int_equal(rfe_qr_tria_lt(NULL, 2u, 4u, 4u), RFE_ERR_NULL);
+    assert_int_equal(rfe_qr_tria_lt(a, 3u, 2u, 4u), RFE_ERR_SIZE);
+    /* rfe_qr_tria_pair on [L1, L2], both lower-triangular: n = 4 is its unrolled copy with
+     * the zeros of both blocks skipped, the others rfe_qr_tria's; the same bits either way */
+    for (s = 1u; s <= 4u; ++s) {
+        fill_matrix(a, s, 2u * s, ld);
+        for (i = 0u; i < s; ++i) {
+            for (j = i + 1u; j < s; ++j) {
+                AT(a, ld, i, j) = (rfe_real_t)0.0;
+                AT(a, ld, i, s + j) = (rfe_real_t)0.0;
+            }
+        }
+        memcpy(b, a, sizeof b);
+        assert_int_equal(rfe_qr_tria_pair(a, s, ld), RFE_OK);
+        assert_int_equal(rfe_qr_tria(b, s, 2u * s, ld), RFE_OK);
+        assert_memory_equal(a, b, sizeof a);
+    }
+    assert_int_equal(rfe_qr_tria_pair(NULL, 2u, ld), RFE_ERR_NULL);
+    assert_int_equal(rfe_qr_tria_pair(a, 4u, 7u), RFE_ERR_SIZE);
+}
+
 /* REQ-QR-001 */
 static void test_rfe_qr_tria_orthogonal_factor(void **state)
 {
@@ -947,6 +996,7 @@ int main(void)
         cmocka_unit_test(test_rfe_qr_tria_random_all_shapes),
         cmocka_unit_test(test_rfe_qr_tria_filter_shapes),
         cmocka_unit_test(test_rfe_qr_tria_fixed_shapes_match_runtime),
+        cmocka_unit_test(test_rfe_qr_tria_lt_is_tria),
         cmocka_unit_test(test_rfe_qr_tria_orthogonal_factor),
         cmocka_unit_test(test_rfe_qr_tria_lower_input_fixed_point),
         cmocka_unit_test(test_rfe_qr_tria_repeated_rows),

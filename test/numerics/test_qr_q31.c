@@ -570,6 +570,88 @@ static void test_rfe_qr_tria_q31_errors_untouched(void **state)
     assert_int_equal(sat, 9u);
 }
 
+/* rfe_qr_tria_lt_q31 on [B, L] (L lower-triangular in the last rows columns) against
+ * rfe_qr_tria_q31 on the same matrix: the operations it skips act on zeros and are exact, so
+ * every integer must agree, and the saturation count too; L's strictly upper triangle, filled
+ * here with a guard instead of its zeros, must be neither read (the result would differ) nor
+ * written (the guard would change). Random shapes over every size and row scales ~2^20
+ * apart, plus the argument errors (A and the counter untouched). */
+/* REQ-QR-001 */
+static void test_rfe_qr_tria_lt_q31_matches_dense(void **state)
+{
+    static int32_t dense[BUF_N];
+    static int32_t lt[BUF_N];
+    size_t rows;
+    size_t cols;
+    size_t i;
+    size_t j;
+    int rep;
+    uint32_t sat_d;
+    uint32_t sat_l;
+    (void)state;
+    rng_seed(111u);
+    for (rows = 1u; rows <= NM; ++rows) {
+        for (cols = rows; cols <= TC; ++cols) {
+            const size_t t = cols - rows; /* L's first column */
+            for (rep = 0; rep < 4; ++rep) {
+                fill_matrix(dense, rows, cols, TC, 20u);
+                for (i = 0u; i < rows; ++i) {
+                    for (j = t + i + 1u; j < cols; ++j) {
+                        AT(dense, TC, i, j) = 0;
+                    }
+                }
+                memcpy(lt, dense, sizeof lt);
+                for (i = 0u; i < rows; ++i) {
+                    for (j = t + i + 1u; j < cols; ++j) {
+                        AT(lt, TC, i, j) = GUARD;
+                    }
+                }
+                if (cols == (2u * rows)) { /* [L1, L2]: the pair entry, L1 triangular too */
+                    for (i = 0u; i < rows; ++i) {
+                        for (j = i + 1u; j < rows; ++j) {
+                            AT(dense, TC, i, j) = 0;
+                            AT(lt, TC, i, j) = 0;
+                        }
+                    }
+                }
+                sat_d = 3u;
+                sat_l = 3u;
+                assert_int_equal(rfe_qr_tria_q31(dense, rows, cols, TC, &sat_d), RFE_OK);
+                assert_int_equal((cols == (2u * rows))
+                                     ? rfe_qr_tria_pair_q31(lt, rows, TC, &sat_l)
+                                     : rfe_qr_tria_lt_q31(lt, rows, cols, TC, &sat_l),
+                                 RFE_OK);
+                assert_int_equal(sat_l, sat_d);
+                for (i = 0u; i < rows; ++i) {
+                    for (j = 0u; j < TC; ++j) {
+                        const int upper_l = ((j >= (t + i + 1u)) && (j < cols)) ? 1 : 0;
+                        assert_int_equal(AT(lt, TC, i, j),
+                                         (upper_l != 0) ? GUARD : AT(dense, TC, i, j));
+                    }
+                }
+            }
+        }
+    }
+    {
+        static const size_t cases[][3] = {
+            {0u, 4u, 4u}, {NM + 1u, TC, TC}, {4u, 3u, 4u}, {2u, TC + 1u, TC + 1u}, {3u, 6u, 5u}};
+        size_t c;
+        uint32_t sat = 9u;
+        fill_matrix(lt, NM, TC, TC, 3u);
+        memcpy(dense, lt, sizeof lt);
+        for (c = 0u; c < (sizeof cases / sizeof cases[0]); ++c) {
+            assert_int_equal(rfe_qr_tria_lt_q31(lt, cases[c][0], cases[c][1], cases[c][2], &sat),
+                             RFE_ERR_SIZE);
+        }
+        assert_int_equal(rfe_qr_tria_pair_q31(lt, 4u, 7u, &sat), RFE_ERR_SIZE);
+        assert_int_equal(rfe_qr_tria_pair_q31(NULL, 2u, 4u, &sat), RFE_ERR_NULL);
+        assert_int_equal(rfe_qr_tria_lt_q31(NULL, 2u, 4u, 4u, &sat), RFE_ERR_NULL);
+        assert_int_equal(rfe_qr_tria_lt_q31(lt, 2u, 4u, 4u, NULL), RFE_ERR_NULL);
+        assert_memory_equal(lt, dense, sizeof lt);
+        assert_int_equal(sat, 9u);
+    }
+}
+
 /* ---- determinism ------------------------------------------------------------------------- */
 
 static uint64_t fnv1a(uint64_t h, const int32_t *v, size_t k)
@@ -1059,6 +1141,7 @@ int main(void)
         cmocka_unit_test(test_rfe_qr_tria_q31_rank_one),
         cmocka_unit_test(test_rfe_qr_tria_q31_saturation_counted),
         cmocka_unit_test(test_rfe_qr_tria_q31_errors_untouched),
+        cmocka_unit_test(test_rfe_qr_tria_lt_q31_matches_dense),
         cmocka_unit_test(test_rfe_qr_q31_deterministic),
         cmocka_unit_test(test_rfe_qr_solve_lower_q31_round_trip),
         cmocka_unit_test(test_rfe_qr_solve_lower_t_q31_round_trip),

@@ -18,10 +18,14 @@
  * RFE_REAL_DOUBLE (rfe/types.h). Sources define and call them by the short name. */
 #if defined(RFE_REAL_DOUBLE)
 #define rfe_qr_tria          rfe_qr_tria_f64
+#define rfe_qr_tria_lt       rfe_qr_tria_lt_f64
+#define rfe_qr_tria_pair     rfe_qr_tria_pair_f64
 #define rfe_qr_solve_lower   rfe_qr_solve_lower_f64
 #define rfe_qr_solve_lower_t rfe_qr_solve_lower_t_f64
 #else
 #define rfe_qr_tria          rfe_qr_tria_f32
+#define rfe_qr_tria_lt       rfe_qr_tria_lt_f32
+#define rfe_qr_tria_pair     rfe_qr_tria_pair_f32
 #define rfe_qr_solve_lower   rfe_qr_solve_lower_f32
 #define rfe_qr_solve_lower_t rfe_qr_solve_lower_t_f32
 #endif
@@ -34,6 +38,25 @@
  *         cols > RFE_TRIA_COLS_LIMIT, cols < rows or lda < cols; RFE_ERR_NONFINITE if A holds NaN/Inf (A then untouched).
  */
 RFE_NODISCARD rfe_status_t rfe_qr_tria(rfe_real_t *A, size_t rows, size_t cols, size_t lda);
+
+/**
+ * Tria of A = [B, L] (rows x cols), L lower-triangular rows x rows in its last columns, its
+ * strictly upper triangle zero (the twin of rfe_qr_tria_lt_q31): rfe_qr_tria's result on the
+ * same arguments (bit for bit: the operations it skips, on the zeros right of L's diagonal,
+ * are exact). The filters' innovation shape (3 x 11) has its own unrolled copy; any other
+ * shape is rfe_qr_tria's reduction.
+ * @return as rfe_qr_tria.
+ */
+RFE_NODISCARD rfe_status_t rfe_qr_tria_lt(rfe_real_t *A, size_t rows, size_t cols, size_t lda);
+
+/**
+ * Tria of A = [L1, L2] (n x 2n), both blocks lower-triangular with zero strictly upper
+ * triangles (a random walk's [S, S_Q]; the twin of rfe_qr_tria_pair_q31): rfe_qr_tria(A, n,
+ * 2n, lda)'s result, skipping its exact operations on the zeros (row k's tail is column k
+ * and n..n+k); n = 4 has its own unrolled copy.
+ * @return as rfe_qr_tria.
+ */
+RFE_NODISCARD rfe_status_t rfe_qr_tria_pair(rfe_real_t *A, size_t n, size_t lda);
 
 /**
  * Forward substitution L X = B for X (L n x n lower-triangular, B n x ncols), X over B.

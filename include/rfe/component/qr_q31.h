@@ -49,6 +49,26 @@ RFE_NODISCARD rfe_status_t rfe_qr_tria_q31(rfe_fix_t *A, size_t rows, size_t col
                                            uint32_t *sat);
 
 /**
+ * Tria of A = [B, L] (rows x cols), L lower-triangular rows x rows in its last columns (its
+ * strictly upper triangle zero; e.g. a filter's [S, S_Q] or [Zc, S_R]): the result of
+ * rfe_qr_tria_q31 on the same arguments, the same integers, without its operations on the
+ * zeros right of L's diagonal (row i's tail ends at column cols - rows + i at every
+ * reflection). L's strictly upper triangle is neither read nor written.
+ * @param sat saturation counter (required)
+ * @return as rfe_qr_tria_q31.
+ */
+RFE_NODISCARD rfe_status_t rfe_qr_tria_lt_q31(rfe_fix_t *A, size_t rows, size_t cols, size_t lda,
+                                              uint32_t *sat);
+
+/**
+ * Tria of A = [L1, L2] (n x 2n), both blocks lower-triangular (the twin of rfe_qr_tria_pair):
+ * rfe_qr_tria_lt_q31(A, n, 2n, lda, sat), the same integers as rfe_qr_tria_q31.
+ * @return as rfe_qr_tria_q31.
+ */
+RFE_NODISCARD rfe_status_t rfe_qr_tria_pair_q31(rfe_fix_t *A, size_t n, size_t lda,
+                                                uint32_t *sat);
+
+/**
  * Forward substitution L X = B for X (L n x n lower-triangular in Q(ql), B n x ncols in
  * Q(qb)), X over B in Q(qx) with shift = qx - qb + ql (the convention of rfe_fix_div).
  * Each x_i = round((b_i 2^shift - sum_{j<i} L_ij x_j) / L_ii): the numerator is exact in
