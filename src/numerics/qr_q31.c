@@ -115,8 +115,9 @@ static rfe_fix_t to_output(int64_t w, int e, uint32_t *sat)
 
 #if RFE_FIX_MUL64_W16
 /* The Cortex-M0+ (RFE_FIX_MUL64_W16) keeps the bit-by-bit long division that
- * rfe_q31_div_shl32_round replaced elsewhere: the same integer (test_qr_q31.c checks the two
- * against the int128 quotient; make pil, bit-identical on the M0+), and 616 B less flash,
+ * rfe_q31_div_shl32_round replaced elsewhere: the same integer (test/numerics/w16/
+ * test_qr_div_w16_q31.c builds this file with RFE_FIX_MUL64_W16 = 1 and checks both against
+ * the int128 quotient; make pil, bit-identical on the M0+), and 616 B less flash,
  * which the M0+'s 48 kB budget needs. round(n 2^32 / d) half up for d > 0, n < d 2^31. */
 static uint64_t div_shl32(uint64_t n, uint64_t d)
 {
