@@ -115,6 +115,12 @@ static inline uint64_t rfe_q31_mag64(int64_t v)
     return (v < 0) ? (uint64_t)(-v) : (uint64_t)v;
 }
 
+#if !(defined(__GNUC__) && (!defined(__arm__) || defined(__ARM_FEATURE_CLZ)))
+/** The bit length of every byte (rfe_q31_bitlen32's table where the core has no
+ *  count-leading-zeros instruction: the Cortex-M0+; defined once in fxmath_q31.c). */
+extern const uint8_t rfe_q31_bitlen8[256];
+#endif
+
 /** The bit length of a 32-bit m: the smallest len with m < 2^len (0 for m = 0). Where the
  *  core counts leading zeros in one instruction (GCC or Clang on x86, the host, and on the
  *  Cortex-M3 and M4: __ARM_FEATURE_CLZ), 32 minus that count; the observer's block floating
@@ -131,24 +137,9 @@ static inline unsigned int rfe_q31_bitlen32(uint32_t m)
     return (m == 0u) ? 0u : (32u - (unsigned int)__builtin_clz(m));
 #else
     /* the bit length of every byte: the last three halvings as one table look-up (~7
-     * instructions fewer a call on the Cortex-M0+, 256 bytes of flash per object using it) */
-    static const uint8_t len8[256] = {
-        0u, 1u, 2u, 2u, 3u, 3u, 3u, 3u, 4u, 4u, 4u, 4u, 4u, 4u, 4u, 4u,
-        5u, 5u, 5u, 5u, 5u, 5u, 5u, 5u, 5u, 5u, 5u, 5u, 5u, 5u, 5u, 5u,
-        6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u,
-        6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u,
-        7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u,
-        7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u,
-        7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u,
-        7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u,
-        8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u,
-        8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u,
-        8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u,
-        8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u,
-        8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u,
-        8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u,
-        8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u,
-        8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u};
+     * instructions fewer a call on the Cortex-M0+); one table for the image, 256 bytes of
+     * flash (rfe_q31_bitlen8, fxmath_q31.c; a table local to this function cost 256 bytes
+     * in every object using it, 1,280 bytes in the linked M0+ example) */
     uint32_t v = m;
     unsigned int len = 0u;
     if ((v >> 16) != 0u) {
@@ -159,7 +150,7 @@ static inline unsigned int rfe_q31_bitlen32(uint32_t m)
         v >>= 8;
         len += 8u;
     }
-    return len + (unsigned int)len8[v]; /* v < 256 */
+    return len + (unsigned int)rfe_q31_bitlen8[v]; /* v < 256 */
 #endif
 }
 
