@@ -4,10 +4,14 @@
  *        division, CORDIC atan2 / sincos / tan; and the shorter atan2 and sine of the Magic
  *        Formula tyre (fxmath_internal_q31.h). Integer operations only.
  */
+/* the one definition of the helpers internal_q31.h shares out of line (RFE_Q31_SHARED) */
+#define RFE_Q31_SHARED_HERE 1
+
 #include "rfe/component/fxmath.h"
 
 #include "numerics/fxmath_internal_q31.h"
 #include "numerics/internal_q31.h"
+#include "numerics/xf_q31.h"
 
 /* ---- shared helpers ------------------------------------------------------------------- */
 

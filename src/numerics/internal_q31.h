@@ -27,6 +27,19 @@
 #define RFE_MAGIC_MG_Q31 0x4D475133u  /* "MGQ3" */
 #define RFE_MAGIC_MON_Q31 0x4D513331u /* "MQ31" */
 
+/*
+ * A helper kept as one out-of-line copy for the image on the Cortex-M0+ (RFE_FIX_SHIFT64_W32),
+ * where -Os kept a static copy of it in every object using it (and called it there anyway):
+ * there it is declared here with external linkage and defined once, in fxmath_q31.c (which
+ * defines RFE_Q31_SHARED_HERE before its includes); elsewhere (the Cortex-M3 and M4, the
+ * host) it stays static inline, the same text as before. The same integers either way.
+ */
+#if RFE_FIX_SHIFT64_W32
+#define RFE_Q31_SHARED
+#else
+#define RFE_Q31_SHARED static inline
+#endif
+
 /** 1 when |v| <= lim (lim >= 0), without forming |v| (INT32_MIN is a valid input), else 0. */
 static inline int rfe_q31_within(rfe_fix_t v, rfe_fix_t lim)
 {
@@ -73,7 +86,11 @@ static inline int64_t rfe_q31_pow2(unsigned int s)
  *            = rfe_fix_shr64_round(t, s - 32);
  *   s <= 32: t 2^(32-s) + floor((bl + 2^(s-1)) / 2^s)   (bl + 2^(s-1) < 2^33: no overflow).
  */
-static inline int64_t rfe_q31_mul64x32(int64_t v, int64_t c, unsigned int s)
+#if RFE_FIX_SHIFT64_W32
+int64_t rfe_q31_mul64x32(int64_t v, int64_t c, unsigned int s);
+#endif
+#if (!RFE_FIX_SHIFT64_W32) || defined(RFE_Q31_SHARED_HERE)
+RFE_Q31_SHARED int64_t rfe_q31_mul64x32(int64_t v, int64_t c, unsigned int s)
 {
     const uint64_t low32 = (uint64_t)0xFFFFFFFFu;
     const int64_t vh = rfe_fix_shr64_floor(v, 32u);
@@ -107,6 +124,7 @@ static inline int64_t rfe_q31_mul64x32(int64_t v, int64_t c, unsigned int s)
     }
     return r;
 }
+#endif
 
 /** |v| as uint64 (exact for every int64 above INT64_MIN; the callers' values are < 2^63).
  *  For the full int64 range see rfe_q31_mag64_any (cubature_q31.h). */
