@@ -31,9 +31,12 @@
  * A helper kept as one out-of-line copy for the image on the Cortex-M0+ (RFE_FIX_SHIFT64_W32),
  * where -Os kept a static copy of it in every object using it (and called it there anyway):
  * there it is declared here with external linkage and defined once, in fxmath_q31.c (which
- * defines RFE_Q31_SHARED_HERE before its includes); elsewhere (the Cortex-M3 and M4, the
+ * defines RFE_Q31_SHARED_HERE to 1 before its includes); elsewhere (the Cortex-M3 and M4, the
  * host) it stays static inline, the same text as before. The same integers either way.
  */
+#ifndef RFE_Q31_SHARED_HERE
+#define RFE_Q31_SHARED_HERE 0
+#endif
 #if RFE_FIX_SHIFT64_W32
 #define RFE_Q31_SHARED
 #else
@@ -89,7 +92,7 @@ static inline int64_t rfe_q31_pow2(unsigned int s)
 #if RFE_FIX_SHIFT64_W32
 int64_t rfe_q31_mul64x32(int64_t v, int64_t c, unsigned int s);
 #endif
-#if (!RFE_FIX_SHIFT64_W32) || defined(RFE_Q31_SHARED_HERE)
+#if (!RFE_FIX_SHIFT64_W32) || RFE_Q31_SHARED_HERE
 RFE_Q31_SHARED int64_t rfe_q31_mul64x32(int64_t v, int64_t c, unsigned int s)
 {
     const uint64_t low32 = (uint64_t)0xFFFFFFFFu;

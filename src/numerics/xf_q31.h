@@ -190,7 +190,7 @@ static inline rfe_xf_t rfe_xf_sub(rfe_xf_t a, rfe_xf_t b) { return rfe_xf_add(a,
 #if RFE_FIX_SHIFT64_W32
 rfe_xf_t rfe_xf_div(rfe_xf_t a, rfe_xf_t b);
 #endif
-#if (!RFE_FIX_SHIFT64_W32) || defined(RFE_Q31_SHARED_HERE)
+#if (!RFE_FIX_SHIFT64_W32) || RFE_Q31_SHARED_HERE
 RFE_Q31_SHARED rfe_xf_t rfe_xf_div(rfe_xf_t a, rfe_xf_t b)
 {
     rfe_xf_t r;
