@@ -4,12 +4,38 @@
  *        division, CORDIC atan2 / sincos / tan; and the shorter atan2 and sine of the Magic
  *        Formula tyre (fxmath_internal_q31.h). Integer operations only.
  */
+/* the one definition of the helpers internal_q31.h shares out of line (RFE_Q31_SHARED) */
+#define RFE_Q31_SHARED_HERE 1
+
 #include "rfe/component/fxmath.h"
 
 #include "numerics/fxmath_internal_q31.h"
 #include "numerics/internal_q31.h"
+#include "numerics/xf_q31.h"
 
 /* ---- shared helpers ------------------------------------------------------------------- */
+
+#if !(defined(__GNUC__) && (!defined(__arm__) || defined(__ARM_FEATURE_CLZ)))
+/* rfe_q31_bitlen32's byte table (internal_q31.h): entry v is the bit length of v. One copy
+ * for every object that takes the bit length (the Cortex-M0+: no count-leading-zeros). */
+const uint8_t rfe_q31_bitlen8[256] = {
+    0u, 1u, 2u, 2u, 3u, 3u, 3u, 3u, 4u, 4u, 4u, 4u, 4u, 4u, 4u, 4u,
+    5u, 5u, 5u, 5u, 5u, 5u, 5u, 5u, 5u, 5u, 5u, 5u, 5u, 5u, 5u, 5u,
+    6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u,
+    6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u,
+    7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u,
+    7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u,
+    7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u,
+    7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u,
+    8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u,
+    8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u,
+    8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u,
+    8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u,
+    8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u,
+    8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u,
+    8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u,
+    8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u};
+#endif
 
 /* |v| of an int32 as uint64 (2^31 for INT32_MIN, no overflow). */
 static uint64_t mag32(rfe_fix_t v)

@@ -27,6 +27,22 @@
 #define RFE_MAGIC_MG_Q31 0x4D475133u  /* "MGQ3" */
 #define RFE_MAGIC_MON_Q31 0x4D513331u /* "MQ31" */
 
+/*
+ * A helper kept as one out-of-line copy for the image on the Cortex-M0+ (RFE_FIX_SHIFT64_W32),
+ * where -Os kept a static copy of it in every object using it (and called it there anyway):
+ * there it is declared here with external linkage and defined once, in fxmath_q31.c (which
+ * defines RFE_Q31_SHARED_HERE to 1 before its includes); elsewhere (the Cortex-M3 and M4, the
+ * host) it stays static inline, the same text as before. The same integers either way.
+ */
+#ifndef RFE_Q31_SHARED_HERE
+#define RFE_Q31_SHARED_HERE 0
+#endif
+#if RFE_FIX_SHIFT64_W32
+#define RFE_Q31_SHARED
+#else
+#define RFE_Q31_SHARED static inline
+#endif
+
 /** 1 when |v| <= lim (lim >= 0), without forming |v| (INT32_MIN is a valid input), else 0. */
 static inline int rfe_q31_within(rfe_fix_t v, rfe_fix_t lim)
 {
@@ -73,7 +89,11 @@ static inline int64_t rfe_q31_pow2(unsigned int s)
  *            = rfe_fix_shr64_round(t, s - 32);
  *   s <= 32: t 2^(32-s) + floor((bl + 2^(s-1)) / 2^s)   (bl + 2^(s-1) < 2^33: no overflow).
  */
-static inline int64_t rfe_q31_mul64x32(int64_t v, int64_t c, unsigned int s)
+#if RFE_FIX_SHIFT64_W32
+int64_t rfe_q31_mul64x32(int64_t v, int64_t c, unsigned int s);
+#endif
+#if (!RFE_FIX_SHIFT64_W32) || RFE_Q31_SHARED_HERE
+RFE_Q31_SHARED int64_t rfe_q31_mul64x32(int64_t v, int64_t c, unsigned int s)
 {
     const uint64_t low32 = (uint64_t)0xFFFFFFFFu;
     const int64_t vh = rfe_fix_shr64_floor(v, 32u);
@@ -107,6 +127,7 @@ static inline int64_t rfe_q31_mul64x32(int64_t v, int64_t c, unsigned int s)
     }
     return r;
 }
+#endif
 
 /** |v| as uint64 (exact for every int64 above INT64_MIN; the callers' values are < 2^63).
  *  For the full int64 range see rfe_q31_mag64_any (cubature_q31.h). */
@@ -114,6 +135,12 @@ static inline uint64_t rfe_q31_mag64(int64_t v)
 {
     return (v < 0) ? (uint64_t)(-v) : (uint64_t)v;
 }
+
+#if !(defined(__GNUC__) && (!defined(__arm__) || defined(__ARM_FEATURE_CLZ)))
+/** The bit length of every byte (rfe_q31_bitlen32's table where the core has no
+ *  count-leading-zeros instruction: the Cortex-M0+; defined once in fxmath_q31.c). */
+extern const uint8_t rfe_q31_bitlen8[256];
+#endif
 
 /** The bit length of a 32-bit m: the smallest len with m < 2^len (0 for m = 0). Where the
  *  core counts leading zeros in one instruction (GCC or Clang on x86, the host, and on the
@@ -131,24 +158,9 @@ static inline unsigned int rfe_q31_bitlen32(uint32_t m)
     return (m == 0u) ? 0u : (32u - (unsigned int)__builtin_clz(m));
 #else
     /* the bit length of every byte: the last three halvings as one table look-up (~7
-     * instructions fewer a call on the Cortex-M0+, 256 bytes of flash per object using it) */
-    static const uint8_t len8[256] = {
-        0u, 1u, 2u, 2u, 3u, 3u, 3u, 3u, 4u, 4u, 4u, 4u, 4u, 4u, 4u, 4u,
-        5u, 5u, 5u, 5u, 5u, 5u, 5u, 5u, 5u, 5u, 5u, 5u, 5u, 5u, 5u, 5u,
-        6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u,
-        6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u, 6u,
-        7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u,
-        7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u,
-        7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u,
-        7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u, 7u,
-        8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u,
-        8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u,
-        8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u,
-        8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u,
-        8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u,
-        8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u,
-        8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u,
-        8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u, 8u};
+     * instructions fewer a call on the Cortex-M0+); one table for the image, 256 bytes of
+     * flash (rfe_q31_bitlen8, fxmath_q31.c; a table local to this function cost 256 bytes
+     * in every object using it, 1,280 bytes in the linked M0+ example) */
     uint32_t v = m;
     unsigned int len = 0u;
     if ((v >> 16) != 0u) {
@@ -159,7 +171,7 @@ static inline unsigned int rfe_q31_bitlen32(uint32_t m)
         v >>= 8;
         len += 8u;
     }
-    return len + (unsigned int)len8[v]; /* v < 256 */
+    return len + (unsigned int)rfe_q31_bitlen8[v]; /* v < 256 */
 #endif
 }
 

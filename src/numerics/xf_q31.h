@@ -187,7 +187,11 @@ static inline rfe_xf_t rfe_xf_sub(rfe_xf_t a, rfe_xf_t b) { return rfe_xf_add(a,
  *  cost more than the division on the Cortex-M4). q2 = floor(|a.m| 2^(shift + 1) / |b.m|) <
  *  2^32: with shift 29, |a.m| <= 2^30 and |b.m| >= 2^29; with 30, |a.m| < |b.m|; so it is
  *  rfe_q31_udiv64_32's (|b.m| < 2^31). */
-static inline rfe_xf_t rfe_xf_div(rfe_xf_t a, rfe_xf_t b)
+#if RFE_FIX_SHIFT64_W32
+rfe_xf_t rfe_xf_div(rfe_xf_t a, rfe_xf_t b);
+#endif
+#if (!RFE_FIX_SHIFT64_W32) || RFE_Q31_SHARED_HERE
+RFE_Q31_SHARED rfe_xf_t rfe_xf_div(rfe_xf_t a, rfe_xf_t b)
 {
     rfe_xf_t r;
     r.m = 0;
@@ -208,6 +212,7 @@ static inline rfe_xf_t rfe_xf_div(rfe_xf_t a, rfe_xf_t b)
     }
     return r;
 }
+#endif
 
 /** sqrt(a) for a >= 0 (the floor root of the mantissa at an even exponent, 31 bits or more). */
 static inline rfe_xf_t rfe_xf_sqrt(rfe_xf_t a)
