@@ -41,10 +41,11 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))   # scripts: reference
 from reference import logs, monitor, params, trusted  # noqa: E402
+sys.path.insert(0, str(Path(__file__).resolve().parent))        # tools: the monitor study
+from monitor_results import settled  # noqa: E402  (mu_replay's settled samples, metrics.c)
 
 WHEELS = ("fl", "fr", "rl", "rr")
 SIDE_OF_WHEEL = (0, 1, 0, 1)           # structure sides: fl, rl on the left
-SETTLE_START_S, SETTLE_AFTER_CHANGE_S, CHANGE_MIN = 1.0, 0.5, 1e-9   # mu_replay's (metrics.c)
 EXCITE_UTIL, CONSISTENCY_K = 0.5, 2.0                                 # mu_replay's
 CONS_MIN, RMSE_MAX, WORST_MAX = 0.9, 0.10, 0.25                       # issue 17's targets
 NO_LOSS_MAX, FALSE_ALARM_MAX = 0.05, 0.01                             # issue 17's rules
@@ -56,20 +57,6 @@ KEEP = ("t", "mu", "sd", "valid", "status", "info")
 
 
 # ---------------------------------------------------------------- figures
-def settled(t, truth) -> np.ndarray:
-    """(N, 4) mask of mu_replay's settled samples: from 1 s, and 0.5 s after each change of
-    that wheel's true mu."""
-    mask = np.zeros(truth.shape, dtype=bool)
-    for w in range(truth.shape[1]):
-        t_change = None
-        for k in range(len(t)):
-            if k > 0 and abs(truth[k, w] - truth[k - 1, w]) > CHANGE_MIN:
-                t_change = t[k]
-            mask[k, w] = not (t[k] < t[0] + SETTLE_START_S
-                              or (t_change is not None and t[k] < t_change + SETTLE_AFTER_CHANGE_S))
-    return mask
-
-
 def figures(mu, sd, valid, truth, util, s) -> dict:
     """The trust invariant's figures of one run (trust_invariant.figures, from the samples)."""
     err = np.abs(mu - truth)
