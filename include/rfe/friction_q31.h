@@ -82,8 +82,17 @@ typedef struct {
     rfe_fix_t jdist[2]; /**< distance both its wheels still hold after a jump [m], Q27, 0 = not held */
     uint8_t held[2];   /**< bit 0 while dist > 0 (its rear wheels are not valid), bit 1 while
                             jdist > 0 (both its wheels are not valid) */
+    uint8_t stale;     /**< 1 while a wheel speed is stale (stale_omega > 0): no flag is valid */
+    uint8_t yaw_on;    /**< 1 when yaw_rate, yaw_acc hold a sample accepted as it was (0 at
+                            init and after a replaced sample: the yaw-rate check restarts; a
+                            gap restarts it too) */
     uint32_t pending;  /**< periods rfe_friction_skip_q31 made since the last step: their
                             distance enters the next step's hold (saturating) */
+    rfe_fix_t omega[RFE_WHEELS]; /**< the wheel speeds of the last step [rad/s], Q22 */
+    rfe_fix_t omega_ref[RFE_WHEELS]; /**< per wheel, the median of the other three when its
+                                          speed last changed [rad/s], Q22 */
+    rfe_fix_t yaw_rate; /**< the last accepted yaw rate [rad/s], Q27 (the yaw-rate check's) */
+    rfe_fix_t yaw_acc;  /**< the yaw acceleration of that sample [rad/s^2], Q24 */
 } rfe_friction_hold_q31_t;
 
 /** Estimator state (caller-owned; fields are read-only for the caller). */

@@ -99,6 +99,8 @@ typedef struct {
     rfe_real_t rear_hold_k;  /**< key rear_hold_k: structure sides: a move of a side's estimate by more than this many sd from its value one wheelbase back holds its rear wheels not valid for one wheelbase [1], 0 = off: 0 / 2 */
     rfe_real_t jump_hold_k;  /**< key jump_hold_k: structure sides: a step that moves a side's estimate by more than this many (new) sd holds both its wheels not valid for jump_hold_len of travel [1], 0 = off: 0 / 2 */
     rfe_real_t jump_hold_len; /**< key jump_hold_len: the distance a jump holds a side's wheels [m], below 16: 0 / 1.5 */
+    rfe_real_t stale_omega;  /**< key stale_omega: the stale-wheel-speed rule (step 9): while a wheel speed, not 0, equals its previous sample and the median of the other three moved by more than this since it last changed, every valid flag is 0 [rad/s], 0 = off, at most 500: 0 / 0.25 */
+    rfe_real_t yaw_check;    /**< key yaw_check: the yaw-rate input check (step 0b): a yaw rate further than this from the last accepted one advanced by the measured yaw acceleration is replaced by that prediction [rad/s], 0 = off, at most 10: 0 / 0.1 */
 } rfe_filter_params_t;
 
 /**

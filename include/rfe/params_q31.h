@@ -126,6 +126,8 @@ typedef struct {
     rfe_fix_t rear_hold_k;    /**< the rear wheels' hold threshold [sd], Q24, 0 = off */
     rfe_fix_t jump_hold_k;    /**< the jump hold's threshold [sd], Q24, 0 = off */
     rfe_fix_t jump_hold_len;  /**< the distance a jump holds a side's wheels [m], Q27 */
+    rfe_fix_t stale_omega;    /**< the stale-wheel-speed rule's move [rad/s], Q22, 0 = off */
+    rfe_fix_t yaw_check;      /**< the yaw-rate input check's threshold [rad/s], Q27, 0 = off */
     /* Derived. */
     rfe_fix_t b_v;            /**< dt / (tau_v + dt): complementary-filter gain, Q30, in (0, 1] */
 } rfe_filter_params_q31_t;

@@ -45,6 +45,54 @@ class Conditioner:
         return self.vx, self.vy
 
 
+class YawCheck:
+    """The yaw-rate input check (docs/ESTIMATOR.md step 0b, before step 1): a yaw rate that
+    differs by more than thr from the last accepted one advanced by the measured yaw
+    acceleration over dt (trapezoidal) is replaced by that prediction. Restarted (the next
+    sample accepted as it is) at init, after a gap (like the conditioner) and after a replaced
+    sample (a departure that persists is a step of the yaw rate, not a spike: without the
+    restart the check would hold the old rate for ever). thr = 0: off."""
+
+    def __init__(self, thr: float, dt: float):
+        self.thr, self.dt = thr, dt
+        self.r = self.r_dot = None
+
+    def step(self, r: float, r_dot: float) -> float:
+        kept = True
+        if self.thr > 0 and self.r is not None:
+            pred = self.r + (self.dt * 0.5) * (r_dot + self.r_dot)
+            if abs(r - pred) > self.thr:
+                r, kept = pred, False
+        self.r, self.r_dot = (r if kept else None), r_dot
+        return r
+
+
+class StaleOmega:
+    """The stale-wheel-speed rule (docs/ESTIMATOR.md step 9, a valid-flag rule like the
+    holds): wheel i is stale when omega_i equals its previous sample exactly, is not 0, and
+    the median of the other three wheel speeds has moved by more than delta since omega_i
+    last changed. While any wheel is stale every flag is 0. delta = 0: off."""
+
+    def __init__(self, delta: float):
+        self.delta = delta
+        self.prev = np.zeros(4)     # the library's state starts at 0: the first sample changes
+        self.ref = np.zeros(4)
+        self.stale = False
+
+    def update(self, omega) -> None:
+        if not self.delta > 0:
+            return
+        self.stale = False
+        for w in range(4):
+            a, b, c = (omega[j] for j in range(4) if j != w)
+            others = max(min(a, b), min(max(a, b), c))     # the median of three
+            if omega[w] != self.prev[w] or omega[w] == 0.0:
+                self.ref[w] = others
+            elif abs(others - self.ref[w]) > self.delta:
+                self.stale = True
+        self.prev = np.array(omega, dtype=float)
+
+
 def h_point(p, u, mu4):
     """h(mu, u) for one input vector u = (delta, vx, vy, r, ax, ay, w1..w4) and mu per wheel
     (absolute / magic tyre: the load-scaled curve at mu; paper tyre: H(u) mu)."""
@@ -174,6 +222,8 @@ def run(log, p: dict, adapt=None, reuse: StepNoiseReuse | None = None):
                      sqrt_prior(n, p["q_mu"], p["q_common"]),
                      np.diag([p["r_ax"], p["r_ay"], p["r_yaw_acc"]]))
     cond = Conditioner(p["tau_v"], p["dt"])
+    yaw = YawCheck(p["yaw_check"], p["dt"])
+    stale = StaleOmega(p["stale_omega"])
     # input order of the errors-in-variables columns: delta, vx, vy, r, (ax, ay: none), omega
     sd_u = np.array([p["sd_in_delta"], p["sd_in_vx"], p["sd_in_vy"], p["sd_in_yaw_rate"],
                      0.0, 0.0] + [p["sd_in_omega"]] * 4)
@@ -200,9 +250,11 @@ def run(log, p: dict, adapt=None, reuse: StepNoiseReuse | None = None):
         if filters.gap_time_update(f, t, k, p):     # a gap (ESTIMATOR.md "Gaps")
             _bound_sd(p, f)
             cond.vx = cond.vy = None    # the input filter restarts at this sample
+            yaw.r = None                # and so does the yaw-rate check
             if reuse is not None:
                 reuse.drop()
         delta, vx_m, vy_m, r, ax, ay = (c[k] for c in cols)
+        r = yaw.step(r, ys[k][2])                                       # 0b
         vx, vy = cond.step(vx_m, vy_m, ax, ay, r)                       # 1
         u = np.array([delta, vx, vy, r, ax, ay, *omega[k]])
         f.time_update()                                                 # 2
@@ -239,6 +291,7 @@ def run(log, p: dict, adapt=None, reuse: StepNoiseReuse | None = None):
         sd = f.sd()                                                     # 9
         if hold is not None:        # the rear wheels' hold, updated last in the step
             hold.update(f.x, sd, vx, missed)
+        stale.update(omega[k])      # the stale-wheel-speed rule, last as well
         out["mu"][k] = T @ f.x
         out["sd"][k] = T @ sd
         if p["sd_valid"] > 0:   # by the sd, never on a projection bound (ESTIMATOR.md step 9)
@@ -250,6 +303,8 @@ def run(log, p: dict, adapt=None, reuse: StepNoiseReuse | None = None):
             for w, side in ((0, 0), (1, 1), (2, 0), (3, 1)):   # both wheels of a jumped side
                 if (w >= 2 and hold.held[side]) or hold.jheld[side]:
                     out["valid"][k][w] = 0
+        if stale.stale:             # a stale wheel speed: no flag (the shared road state
+            out["valid"][k] = 0     # carries its error to the other side, MONITOR.md 8)
         out["status"][k] = status
     out["t"] = log.col("t")
     return out

@@ -6,8 +6,8 @@ Usage (from the repository root):
     .venv/bin/python scripts/tools/trust_rules_study.py [--scenarios scenarios]
         [--cache build/trust_rules] [--jobs 2]
 
-Runs the reference (scripts/reference/trusted.py, the default preset, then monitor.py, which
-equal the C double build to 1e-9) once per log (cached as .npz in --cache; the 72 logs take
+Runs the reference (scripts/reference/trusted.py, the default preset with its two trust rules
+switched off, then monitor.py, which equal the C double build to 1e-9) once per log (cached as .npz in --cache; the 72 logs take
 about 10 min of CPU) and evaluates rules on top of it, each as the trust invariant's figures
 (scripts/tools/trust_invariant.py: settled samples, pooled over the wheels) before and after:
 
@@ -17,12 +17,14 @@ about 10 min of CPU) and evaluates rules on top of it, each as the trust invaria
     sporadic updates of brake_in_turn.mf and ramp_steer_high_mu.mf);
   * `stale`: a wheel speed exactly equal to its previous sample while the median of the other
     three wheel speeds has moved by more than delta (rad/s) since it last changed is stale:
-    both sides are not valid (for the frozen wheel speed);
+    both sides are not valid (for the frozen wheel speed); the reference's own rule
+    (trusted.StaleOmega, the library's `stale_omega`, docs/MONITOR.md section 9);
 - an input rule that changes the filter's input, so it reruns the reference on the logs where
   it acts (on every other log the run is the recorded one, bit for bit):
   * `yaw`: a yaw-rate sample that differs from the previous accepted one, advanced by the
     measured yaw acceleration over dt (trapezoidal), by more than thr (rad/s) is replaced by
-    that prediction (for the yaw-rate spikes).
+    that prediction (for the yaw-rate spikes); the reference's own check (trusted.YawCheck,
+    the library's `yaw_check`), rerun with it on.
 
 Per rule it prints the logs meeting the invariant (the 72 logs), those gained and lost, issue
 17's no-loss rule (on the logs meeting the invariant before, the largest fall of the excited-
@@ -98,36 +100,27 @@ def rule_updates(status, info, tau_s, a_min, info_min, dt) -> np.ndarray:
 
 
 def rule_stale(omega, delta) -> np.ndarray:
-    """(N,) allowed: no wheel speed is stale. Wheel i is stale at sample k when omega_i,k
-    equals omega_i,k-1 exactly, is not 0 (a wheel at rest or locked reads 0: a state of the
-    car, not of the sensor) and the median of the other three wheel speeds has moved by more
-    than delta since omega_i last changed (a steady cruise or a noise-free log repeat values
-    too, but with the others as still as it)."""
-    n = len(omega)
-    ok = np.ones(n, dtype=bool)
-    ref = np.zeros(4)
-    for k in range(n):
-        for w in range(4):
-            others = np.median(np.delete(omega[k], w))
-            if k == 0 or omega[k, w] != omega[k - 1, w] or omega[k, w] == 0.0:
-                ref[w] = others
-            elif abs(others - ref[w]) > delta:
-                ok[k] = False
+    """(N,) allowed: no wheel speed is stale (the reference's trusted.StaleOmega, the library's
+    rule). Wheel i is stale at sample k when omega_i,k equals omega_i,k-1 exactly, is not 0 (a
+    wheel at rest or locked reads 0: a state of the car, not of the sensor) and the median of
+    the other three wheel speeds has moved by more than delta since omega_i last changed (a
+    steady cruise or a noise-free log repeat values too, but with the others as still as it)."""
+    rule = trusted.StaleOmega(delta)
+    ok = np.ones(len(omega), dtype=bool)
+    for k in range(len(omega)):
+        rule.update(omega[k])
+        ok[k] = not rule.stale
     return ok
 
 
 def yaw_substitute(t, r, r_dot, thr):
-    """The yaw rate with implausible samples replaced: r'_k = r_k unless it differs from
-    r'_k-1 + (t_k - t_k-1) (r_dot_k + r_dot_k-1) / 2 by more than thr, then that prediction.
-    Returns (r', number of samples replaced)."""
-    out = np.array(r, dtype=float, copy=True)
-    n_sub = 0
-    for k in range(1, len(out)):
-        pred = out[k - 1] + (t[k] - t[k - 1]) * 0.5 * (r_dot[k] + r_dot[k - 1])
-        if abs(out[k] - pred) > thr:
-            out[k] = pred
-            n_sub += 1
-    return out, n_sub
+    """The yaw rate as the reference's trusted.YawCheck (the library's check) accepts it, at the
+    log's nominal period (the median step of t): r'_k = r_k unless it differs from
+    r'_k-1 + dt (r_dot_k + r_dot_k-1) / 2 by more than thr, then that prediction (and the next
+    sample is accepted as it is). Returns (r', number of samples replaced)."""
+    check = trusted.YawCheck(thr, float(np.median(np.diff(t))))
+    out = np.array([check.step(float(r[k]), float(r_dot[k])) for k in range(len(r))])
+    return out, int(np.count_nonzero(out != np.asarray(r, dtype=float)))
 
 
 # ---------------------------------------------------------------- runs
@@ -137,16 +130,16 @@ def bundled(scen: Path) -> list[str]:
 
 
 def reference_run(path: Path, yaw_thr: float | None = None) -> dict:
-    """The default preset's reference run and the monitor on one log; with yaw_thr, on the
-    log's yaw rate after yaw_substitute (n_sub: the samples replaced)."""
+    """The default preset's reference run and the monitor on one log, its two trust rules off;
+    with yaw_thr, with the reference's yaw-rate check at that threshold (n_sub: the samples
+    yaw_substitute replaces)."""
     log = logs.read_csv_log(str(path))
     n_sub = 0
     if yaw_thr is not None:
-        r_sub, n_sub = yaw_substitute(log.col("t"), log.col("yaw_rate"), log.col("yaw_acc"),
-                                      yaw_thr)
-        col = log.col
-        log.col = lambda c: r_sub if c == "yaw_rate" else col(c)   # noqa: E731
+        n_sub = yaw_substitute(log.col("t"), log.col("yaw_rate"), log.col("yaw_acc"), yaw_thr)[1]
     p = params.resolve(log.meta, None, source=str(path), preset="default")
+    p["stale_omega"] = 0.0      # the base run: the rules are measured on top of it
+    p["yaw_check"] = 0.0 if yaw_thr is None else yaw_thr
     res = trusted.run(log, p)
     mon = monitor.apply(res, p, p["dt"])
     out = {k: mon[k] for k in KEEP if k in mon}

@@ -73,6 +73,8 @@
     X(rear_hold_k, filter.rear_hold_k, "sd", "sides: hold the rear wheels after a move (0 = off)") \
     X(jump_hold_k, filter.jump_hold_k, "sd", "sides: hold both wheels after a step's jump (0 = off)") \
     X(jump_hold_len, filter.jump_hold_len, "m", "sides: the distance a jump holds the wheels")    \
+    X(stale_omega, filter.stale_omega, "rad/s", "stale wheel speed: the others' move (0 = off)") \
+    X(yaw_check, filter.yaw_check, "rad/s", "yaw-rate input check: largest jump (0 = off)")    \
     X(mon_enable, monitor.enable, "1", "model-validity monitor: 1 acts on valid, status, sd; 0 off") \
     X(mon_tau_nis, monitor.tau_nis, "s", "monitor: time constant of the NIS average")           \
     X(mon_tau_mean, monitor.tau_mean, "s", "monitor: time constant of the innovation means")    \

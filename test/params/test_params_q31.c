@@ -84,6 +84,8 @@
     X(filter.rear_hold_k, 24, p->filter.rear_hold_k)                                             \
     X(filter.jump_hold_k, 24, p->filter.jump_hold_k)                                             \
     X(filter.jump_hold_len, 27, p->filter.jump_hold_len)                                         \
+    X(filter.stale_omega, 22, p->filter.stale_omega)                                             \
+    X(filter.yaw_check, 27, p->filter.yaw_check)                                                 \
     X(filter.b_v, 30, p->filter.dt / (p->filter.tau_v + p->filter.dt))
 
 #define MG (p->vehicle.m * p->vehicle.g)

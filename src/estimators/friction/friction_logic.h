@@ -101,6 +101,41 @@ static inline uint8_t rfe_friction_held_valid(size_t w, uint8_t held, uint8_t va
     return ((rear != 0u) || ((held & RFE_HOLD_JUMP) != 0u)) ? 0u : valid;
 }
 
+/* Step 0b, the yaw-rate input check (docs/ESTIMATOR.md): it checks a sample when it is on
+ * (yaw_check > 0) and has a sample accepted as it was to predict from (yaw_on: 0 at init and
+ * after a replaced sample) with no gap since (periods 0: a gap restarts it, like the
+ * conditioner). */
+static inline int rfe_friction_yaw_checked(int on, uint8_t yaw_on, uint32_t periods)
+{
+    return ((on != 0) && (yaw_on != 0u) && (periods == 0u)) ? 1 : 0;
+}
+
+/* Step 9's stale-wheel-speed rule for one wheel (docs/ESTIMATOR.md; stale_omega > 0): its
+ * reference (the median of the other three) restarts when its speed changed (same 0) or reads
+ * exactly 0 (a wheel at rest or locked: a state of the car, not of the sensor); else the wheel
+ * is stale when the others' median moved by more than stale_omega since (moved). */
+#define RFE_STALE_RESTART 1u
+#define RFE_STALE_STALE 2u
+static inline uint8_t rfe_friction_stale_wheel(int same, int zero, int moved)
+{
+    uint8_t out = 0u;
+    if ((same == 0) || (zero != 0)) {
+        out = RFE_STALE_RESTART;
+    } else if (moved != 0) {
+        out = RFE_STALE_STALE;
+    } else {
+        /* unchanged, the others still: nothing */
+    }
+    return out;
+}
+
+/* Step 9's flag of a wheel while a wheel speed is stale: 0 on every wheel (the shared road
+ * state carries one wheel's error to the other side, docs/MONITOR.md §8); else as it was. */
+static inline uint8_t rfe_friction_stale_valid(uint8_t stale, uint8_t valid)
+{
+    return (stale != 0u) ? 0u : valid;
+}
+
 /* Periods of a gap added to those pending, saturating (far beyond any wheelbase's distance). */
 static inline uint32_t rfe_friction_periods_add(uint32_t pending, uint32_t missed)
 {

@@ -1,8 +1,9 @@
 /**
  * @file holds_flt.c
  * @brief Step 9's holds of the friction estimator (docs/ESTIMATOR.md): the rear wheels' hold and
- *        the jump hold, updated last in a step. A unit of its own (holds_internal.h) so that
- *        its frame stays off the step's deepest stack path, as in the fixed-point twin.
+ *        the jump hold, updated last in a step, with the stale-wheel-speed rule; and step 0b,
+ *        the yaw-rate input check. A unit of its own (holds_internal.h) so that its frame
+ *        stays off the step's deepest stack path, as in the fixed-point twin.
  */
 #include "estimators/friction/holds_internal.h"
 
@@ -34,6 +35,54 @@ static uint8_t jump_hold_side(rfe_friction_t *est, size_t j, rfe_real_t x, rfe_r
     return (est->hold.jdist[j] > RFE_R(0.0)) ? RFE_HOLD_JUMP : 0u;
 }
 
+void rfe_friction_yaw_check(const rfe_friction_t *est, const rfe_sample_t *sample,
+                            rfe_sample_t *u, uint32_t periods)
+{
+    const rfe_real_t thr = est->params.filter.yaw_check;
+    *u = *sample;
+    if (rfe_friction_yaw_checked((thr > RFE_R(0.0)) ? 1 : 0, est->hold.yaw_on, periods) != 0) {
+        const rfe_real_t pred =
+            est->hold.yaw_rate +
+            ((est->params.filter.dt * RFE_R(0.5)) * (sample->yaw_acc + est->hold.yaw_acc));
+        if (RFE_FABS(sample->yaw_rate - pred) > thr) {
+            u->yaw_rate = pred;
+        }
+    }
+}
+
+/* The median of the three wheel speeds other than wheel w's. */
+static rfe_real_t median_others(const rfe_real_t omega[RFE_WHEELS], size_t w)
+{
+    const rfe_real_t a = omega[(w + 1u) & 3u];
+    const rfe_real_t b = omega[(w + 2u) & 3u];
+    const rfe_real_t c = omega[(w + 3u) & 3u];
+    return rfe_max(rfe_min(a, b), rfe_min(rfe_max(a, b), c));
+}
+
+/* Step 9's stale-wheel-speed rule (docs/ESTIMATOR.md): per wheel, its reference restarts at
+ * the others' median when its speed changed or reads 0; else it is stale when that median
+ * moved by more than stale_omega since. est->hold.stale: any wheel stale at this sample. */
+static void stale_update(rfe_friction_t *est, const rfe_real_t omega[RFE_WHEELS])
+{
+    const rfe_real_t delta = est->params.filter.stale_omega;
+    uint8_t stale = 0u;
+    size_t w;
+    for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
+        const rfe_real_t others = median_others(omega, w);
+        const uint8_t rule = rfe_friction_stale_wheel(
+            (omega[w] == est->hold.omega[w]) ? 1 : 0, (omega[w] == RFE_R(0.0)) ? 1 : 0,
+            (RFE_FABS(others - est->hold.omega_ref[w]) > delta) ? 1 : 0);
+        if (rule == RFE_STALE_RESTART) {
+            est->hold.omega_ref[w] = others;
+        }
+        if (rule == RFE_STALE_STALE) {
+            stale = 1u;
+        }
+        est->hold.omega[w] = omega[w];
+    }
+    est->hold.stale = stale;
+}
+
 /* Step 9's holds (docs/ESTIMATOR.md; structure sides), over the distance
  * ds = max(vx, 0) dt (missed + 1) of this step. The rear wheels' hold (rear_hold_k > 0): each
  * side's estimate is smoothed over one wheelbase L (mbar += min(1, ds / L) (x - mbar)) and the
@@ -42,7 +91,7 @@ static uint8_t jump_hold_side(rfe_friction_t *est, size_t j, rfe_real_t x, rfe_r
  * later, so they hold for L. The jump hold (jump_hold_k > 0): a step that moved a side's
  * estimate by more than jump_hold_k sd (its new sd) was not described by the sd the filter
  * claimed a step before (a spike, a sudden slip), so both its wheels hold for jump_hold_len. */
-void rfe_friction_holds_update(rfe_friction_t *est, rfe_real_t vx, uint32_t missed)
+static void holds_sides(rfe_friction_t *est, rfe_real_t vx, uint32_t missed)
 {
     const rfe_real_t k_hold = est->params.filter.rear_hold_k;
     const rfe_real_t k_jump = est->params.filter.jump_hold_k;
@@ -74,4 +123,18 @@ void rfe_friction_holds_update(rfe_friction_t *est, rfe_real_t vx, uint32_t miss
         }
         est->hold.held[j] = held;
     }
+}
+
+void rfe_friction_holds_update(rfe_friction_t *est, const rfe_sample_t *sample,
+                               const rfe_sample_t *u, uint32_t periods)
+{
+    /* the accepted sample: the next check predicts from it, unless the check replaced it
+     * (then the next sample restarts the check: a departure that persists is no spike) */
+    est->hold.yaw_rate = u->yaw_rate;
+    est->hold.yaw_acc = u->yaw_acc;
+    est->hold.yaw_on = (u->yaw_rate == sample->yaw_rate) ? 1u : 0u;
+    if (est->params.filter.stale_omega > RFE_R(0.0)) {
+        stale_update(est, u->omega);
+    }
+    holds_sides(est, u->vx, periods);
 }

@@ -1,7 +1,8 @@
 /**
  * @file holds_q31.c
  * @brief Step 9's holds of the fixed-point friction estimator (docs/ESTIMATOR.md): the rear
- *        wheels' hold and the jump hold, updated last in a step, in integers. A unit of its own
+ *        wheels' hold and the jump hold, updated last in a step, with the stale-wheel-speed
+ *        rule; and step 0b, the yaw-rate input check; in integers. A unit of its own
  *        (holds_internal_q31.h) so that its frame stays off the step's deepest stack path (on
  *        the Cortex-M0+, -Os inlines a static one into the step: 2076 B against the 2 KiB
  *        budget).
@@ -63,10 +64,66 @@ static uint8_t jump_hold_side_q31(rfe_friction_q31_t *est, size_t j, rfe_fix_t x
     return (est->hold.jdist[j] > 0) ? RFE_HOLD_JUMP : 0u;
 }
 
+/* holds_flt.c's in integers: the prediction r + dt (r_dot + r_dot_prev) / 2 with dt Q30 and the
+ * yaw accelerations Q24 (|r_dot| <= RFE_LIMIT_YAW_ACC = 100 after step 0: the sum < 2^32, the
+ * product < 2^63) in Q54, halved and rounded to Q27; the test in 64 bits (exact); the
+ * prediction saturated to Q27's +-16 rad/s where it replaces the sample. */
+void rfe_friction_yaw_check_q31(rfe_friction_q31_t *est, const rfe_sample_q31_t *sample,
+                                rfe_sample_q31_t *u, uint32_t periods)
+{
+    const rfe_fix_t thr = est->params.filter.yaw_check;
+    *u = *sample;
+    if (rfe_friction_yaw_checked((thr > 0) ? 1 : 0, est->hold.yaw_on, periods) != 0) {
+        const int64_t acc = (int64_t)sample->yaw_acc + (int64_t)est->hold.yaw_acc;
+        const int64_t pred = (int64_t)est->hold.yaw_rate +
+                             rfe_fix_shr64_round((int64_t)est->params.filter.dt * acc, 28u);
+        const int64_t dev = (int64_t)sample->yaw_rate - pred;
+        if (((dev < 0) ? -dev : dev) > (int64_t)thr) {
+            u->yaw_rate = rfe_fix_sat32(pred, &est->step_sat);
+        }
+    }
+}
+
+/* The median of the three wheel speeds other than wheel w's (Q22). */
+static rfe_fix_t median_others_q31(const rfe_fix_t omega[RFE_WHEELS], size_t w)
+{
+    const rfe_fix_t a = omega[(w + 1u) & 3u];
+    const rfe_fix_t b = omega[(w + 2u) & 3u];
+    const rfe_fix_t c = omega[(w + 3u) & 3u];
+    const rfe_fix_t lo = (a < b) ? a : b;
+    const rfe_fix_t hi = (a < b) ? b : a;
+    const rfe_fix_t mid = (hi < c) ? hi : c;
+    return (lo > mid) ? lo : mid;
+}
+
+/* holds_flt.c's stale_update in integers: the speeds Q22, the move |others - ref| in 64 bits
+ * (exact). */
+static void stale_update_q31(rfe_friction_q31_t *est, const rfe_fix_t omega[RFE_WHEELS])
+{
+    const int64_t delta = (int64_t)est->params.filter.stale_omega;
+    uint8_t stale = 0u;
+    size_t w;
+    for (w = 0u; w < (size_t)RFE_WHEELS; ++w) {
+        const rfe_fix_t others = median_others_q31(omega, w);
+        const int64_t move = (int64_t)others - (int64_t)est->hold.omega_ref[w];
+        const uint8_t rule = rfe_friction_stale_wheel((omega[w] == est->hold.omega[w]) ? 1 : 0,
+                                                      (omega[w] == 0) ? 1 : 0,
+                                                      (((move < 0) ? -move : move) > delta) ? 1 : 0);
+        if (rule == RFE_STALE_RESTART) {
+            est->hold.omega_ref[w] = others;
+        }
+        if (rule == RFE_STALE_STALE) {
+            stale = 1u;
+        }
+        est->hold.omega[w] = omega[w];
+    }
+    est->hold.stale = stale;
+}
+
 /* Step 9's holds, holds_flt.c's rfe_friction_holds_update in integers: len = Lf + Lr in Q27 (their exact
  * Q29 sum rounded by 2 bits; <= 8 m), a = ds / len in Q30 exactly rounded, mbar += a (x - mbar)
  * in Q29, the holds' distances in Q27 (jump_hold_len Q27 as given), the tests in Q54. */
-void rfe_friction_holds_update_q31(rfe_friction_q31_t *est, rfe_fix_t vx, uint32_t missed)
+static void holds_sides_q31(rfe_friction_q31_t *est, rfe_fix_t vx, uint32_t missed)
 {
     const rfe_fix_t k_hold = est->params.filter.rear_hold_k;
     const rfe_fix_t k_jump = est->params.filter.jump_hold_k;
@@ -103,4 +160,18 @@ void rfe_friction_holds_update_q31(rfe_friction_q31_t *est, rfe_fix_t vx, uint32
         est->hold.held[j] = held;
     }
     rfe_q31_sat_add(&est->step_sat, sat);
+}
+
+void rfe_friction_holds_update_q31(rfe_friction_q31_t *est, const rfe_sample_q31_t *sample,
+                                   const rfe_sample_q31_t *u, uint32_t periods)
+{
+    /* the accepted sample: the next check predicts from it, unless the check replaced it
+     * (then the next sample restarts the check: a departure that persists is no spike) */
+    est->hold.yaw_rate = u->yaw_rate;
+    est->hold.yaw_acc = u->yaw_acc;
+    est->hold.yaw_on = (u->yaw_rate == sample->yaw_rate) ? 1u : 0u;
+    if (est->params.filter.stale_omega > 0) {
+        stale_update_q31(est, u->omega);
+    }
+    holds_sides_q31(est, u->vx, periods);
 }
