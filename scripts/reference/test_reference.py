@@ -543,6 +543,63 @@ def test_trusted_with_additions_off_is_the_paper_filter(synth_log):
     np.testing.assert_array_equal(b["status"], a["status"])
 
 
+# REQ-REF-001 REQ-EST-020 REQ-EST-021
+def test_yaw_check_hand_example():
+    """ESTIMATOR.md step 0b with yaw_check 0.125, dt 0.01 (every rate exact in binary): the first
+    sample is accepted; 0.625 after 0.5 (yaw_acc 0) is exactly 0.125 away and kept; 0.875 is
+    0.25 away and replaced by the prediction 0.625; the next 0.875 is accepted (the check
+    restarts after a replacement); then 1.5 with yaw_acc 2 is replaced by 0.875 + 0.005 * 2.
+    Off (0): a jump passes; after a restart (r None, as a gap does) too."""
+    c = trusted.YawCheck(0.125, 0.01)
+    assert [c.step(r, 0.0) for r in (0.5, 0.625, 0.875, 0.875)] == [0.5, 0.625, 0.625, 0.875]
+    assert c.step(1.5, 2.0) == 0.875 + (0.01 * 0.5) * 2.0
+    c.r = None
+    assert c.step(-1.0, 0.0) == -1.0
+    off = trusted.YawCheck(0.0, 0.01)
+    assert [off.step(r, 0.0) for r in (0.0, 2.0)] == [0.0, 2.0]
+
+
+# REQ-REF-001 REQ-EST-020 REQ-EST-021
+def test_stale_omega_hand_example():
+    """ESTIMATOR.md step 9's stale rule with stale_omega 0.25: four still wheels are never
+    stale; fl held at 60 while the others fall 0.0625 per sample (exact) is stale once they moved
+    more than 0.25 (from the 5th sample; 0.25 exactly is not more); a change clears it; a wheel
+    at 0 is exempt; delta 0 is off."""
+    r = trusted.StaleOmega(0.25)
+    for _ in range(5):
+        r.update([60.0] * 4)
+        assert not r.stale
+    got = []
+    for k in range(9):
+        w = 60.0 - 0.0625 * k
+        r.update([60.0, w, w, w])
+        got.append(r.stale)
+    assert got == [False] * 5 + [True] * 4
+    r.update([59.0] * 4)
+    assert not r.stale
+    for k in range(9):
+        w = 58.0 - 0.0625 * k
+        r.update([0.0, w, w, w])
+        assert not r.stale
+    off = trusted.StaleOmega(0.0)
+    for k in range(9):
+        w = 60.0 - 0.0625 * k
+        off.update([60.0, w, w, w])
+        assert not off.stale
+
+
+# REQ-REF-001 REQ-EST-020 REQ-EST-021
+def test_trust_rules_leave_a_clean_log_alone(synth_log):
+    """The two rules on (default preset) and off on a clean synthetic log: the same run, bit for
+    bit (no spike, no frozen wheel: neither acts)."""
+    p = params.resolve(None, None, preset="default")
+    assert p["stale_omega"] == 0.25 and p["yaw_check"] == 0.1
+    a = trusted.run(synth_log, p)
+    b = trusted.run(synth_log, dict(p, stale_omega=0.0, yaw_check=0.0))
+    for k in ("mu", "sd", "valid", "status"):
+        np.testing.assert_array_equal(a[k], b[k])
+
+
 # REQ-REF-001
 def test_conditioner_hand_example():
     """tau = 0.09, dt = 0.01: b = 0.1. First sample initialises to the measurement; second:

@@ -144,7 +144,7 @@ static void stale_ref(const rfe_sensor_log_t *log, double delta, uint8_t *stale,
 /* REQ: a wheel speed frozen while the others move (the bundled fault log) clears every valid
  * flag exactly while docs/ESTIMATOR.md's stale rule says so; mu and sd are those of the
  * estimator without the rule, bit for bit; the rule never sets the mismatch status. */
-/* REQ-EST-016 */
+/* REQ-EST-020 REQ-EST-021 */
 static void test_stale_wheel_clears_every_flag(void **state)
 {
     rfe_sensor_log_t log;
@@ -222,7 +222,7 @@ static void clean_unchanged(const char *path)
 }
 
 /* REQ: on clean logs (a hard brake with ABS, a sine steer) the two rules change nothing. */
-/* REQ-EST-016 */
+/* REQ-EST-020 REQ-EST-021 */
 static void test_clean_logs_unchanged(void **state)
 {
     (void)state;
@@ -233,7 +233,7 @@ static void test_clean_logs_unchanged(void **state)
 /* REQ: a yaw-rate spike (the bundled fault log) is replaced by the prediction from the last
  * accepted yaw rate and the measured yaw acceleration, and only the spikes are; the estimate is
  * exactly the one without the check on the log with those samples replaced. */
-/* REQ-EST-016 */
+/* REQ-EST-020 REQ-EST-021 */
 static void test_yaw_check_replaces_the_spikes(void **state)
 {
     rfe_sensor_log_t log, fixed;
@@ -303,7 +303,7 @@ static rfe_sample_t cruise(rfe_real_t w)
 /* REQ: the stale rule's conditions: a repeated speed is stale only once the others' median has
  * moved by more than stale_omega (not at exactly it), never at 0 (a wheel at rest or locked),
  * never while every wheel is still, and not with the rule off; a changed speed clears it. */
-/* REQ-EST-016 */
+/* REQ-EST-020 REQ-EST-021 */
 static void test_stale_wheel_conditions(void **state)
 {
     static rfe_friction_t est;
@@ -357,7 +357,7 @@ static void test_stale_wheel_conditions(void **state)
 /* REQ: the yaw-rate check's conditions: the first sample and the first after a gap (skip or
  * step_after) are accepted as they are; a departure of exactly yaw_check is kept, a larger one
  * replaced by the prediction; off at 0; a rejected sample changes nothing. */
-/* REQ-EST-016 */
+/* REQ-EST-020 REQ-EST-021 */
 static void test_yaw_check_conditions(void **state)
 {
     static rfe_friction_t est, before;
@@ -414,7 +414,7 @@ static void test_yaw_check_conditions(void **state)
 /* REQ: the two parameters: defaults (0.25 and 0.1 rad/s in the default preset, off in the paper
  * preset), limits (finite, 0 to RFE_LIMIT_OMEGA and to RFE_LIMIT_YAW_RATE), and an invalid one
  * refused with RFE_ERR_PARAM, the estimator untouched. */
-/* REQ-EST-016 */
+/* REQ-EST-020 REQ-EST-021 */
 static void test_trust_rule_params(void **state)
 {
     static rfe_friction_t est, before;

@@ -104,7 +104,7 @@ static double median3(double a, double b, double c)
 
 /* REQ: as test_trust_rules_flt.c's, in fixed point: a frozen wheel speed clears every flag
  * exactly where the stale rule says so; mu and sd bit for bit those without the rule. */
-/* REQ-EST-016 REQ-FXP-010 */
+/* REQ-EST-020 REQ-EST-021 REQ-FXP-010 */
 static void test_q31_stale_wheel_clears_every_flag(void **state)
 {
     rfe_sensor_log_t log;
@@ -182,7 +182,7 @@ static void clean_unchanged(const char *path)
 }
 
 /* REQ: on clean logs the two rules change nothing in fixed point, bit for bit. */
-/* REQ-EST-016 REQ-FXP-010 */
+/* REQ-EST-020 REQ-EST-021 REQ-FXP-010 */
 static void test_q31_clean_logs_unchanged(void **state)
 {
     (void)state;
@@ -192,7 +192,7 @@ static void test_q31_clean_logs_unchanged(void **state)
 
 /* REQ: the fixed-point yaw-rate check replaces the spikes, and only them, by the prediction; the
  * estimate equals the one without the check on the log with those samples replaced. */
-/* REQ-EST-016 REQ-FXP-010 */
+/* REQ-EST-020 REQ-EST-021 REQ-FXP-010 */
 static void test_q31_yaw_check_replaces_the_spikes(void **state)
 {
     rfe_sensor_log_t log, fixed;
@@ -261,7 +261,7 @@ static rfe_sample_q31_t cruise_q31(rfe_fix_t w)
 }
 
 /* REQ: the stale rule's conditions in fixed point (test_trust_rules_flt.c's). */
-/* REQ-EST-016 REQ-FXP-010 */
+/* REQ-EST-020 REQ-EST-021 REQ-FXP-010 */
 static void test_q31_stale_wheel_conditions(void **state)
 {
     static rfe_friction_q31_t est;
@@ -308,7 +308,7 @@ static void test_q31_stale_wheel_conditions(void **state)
 
 /* REQ: the yaw-rate check's conditions in fixed point (test_trust_rules_flt.c's), and a
  * prediction beyond Q27's range saturated and counted. */
-/* REQ-EST-016 REQ-FXP-010 */
+/* REQ-EST-020 REQ-EST-021 REQ-FXP-010 */
 static void test_q31_yaw_check_conditions(void **state)
 {
     static rfe_friction_q31_t est, before;
@@ -377,7 +377,7 @@ static void test_q31_yaw_check_conditions(void **state)
 
 /* REQ: the fixed-point parameters: 0 in the paper preset, limits (0 to 500 rad/s Q22 and 10
  * rad/s Q27), an invalid one refused with RFE_ERR_PARAM, the estimator untouched. */
-/* REQ-EST-016 REQ-FXP-010 */
+/* REQ-EST-020 REQ-EST-021 REQ-FXP-010 */
 static void test_q31_trust_rule_params(void **state)
 {
     static rfe_friction_q31_t est, before;
