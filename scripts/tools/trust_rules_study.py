@@ -203,7 +203,8 @@ def rule_consider(p, u, mu, sd, updated, sigma, tau_b=None):
     K = P J^T (J P J^T + R)^-1 at the prior mean and sd (P = diag(sd^2 + q_mu^2) + q_common^2
     11^T, J = dh/dmu by the cubature spread, R step 4's noise), then
         C_b <- a (I - K J) C_b - K g_b sigma_b^2     (the covariance of e with the bias now)
-        V   <- (I - K J) V (I - K J)^T - (I - K J) a C_b (K g_b)^T - (...)^T + K g_b g_b^T K^T sigma_b^2
+        V   <- A V A^T - A a C_b (K g_b)^T - (A a C_b (K g_b)^T)^T + K g_b g_b^T K^T sigma_b^2,
+    A = I - K J,
     with a = exp(-dt / tau_b) per step (tau_b None: a = 1, a bias that persists over the
     estimate's memory); a held step only decorrelates (C_b <- a C_b). Returns (sd_eff (N, 4),
     allowed (N, 4)): sd_eff = sqrt(sd^2 + diag V) per wheel, allowed where sd_eff <= sd_valid.
