@@ -149,3 +149,17 @@ def test_upper_evidence_at_the_limit_and_in_the_linear_range():
         assert lam[0].tolist() == [0.0, 0.0] and np.all(lam[1] > 0)
         lams.append(lam[1, 0])
     assert lams[0] > 100 * lams[1]
+
+
+def test_hold_while_fired_scales_the_update_noise_only_while_fired():
+    """The default preset's monitor counts its first mon_warmup / dt = 100 evaluated steps
+    only; zero innovations leave it quiet (the update gets step 4's S_R itself); then
+    innovations of 100 sd (NIS 3e4 per step, D's weight 1/51 puts D above any fire level at
+    once) fire it, and the update gets S_R x 1e4."""
+    p = trs.params.resolve(None, None, preset="default")
+    adapt = trs.hold_while_fired(p)
+    s_r, s_zz, c = np.eye(3) * 0.05, np.eye(3), np.zeros(3)
+    for k in range(101):
+        assert adapt(k, np.zeros(3), s_zz, None, s_r, c) is s_r
+    out = adapt(101, np.full(3, 100.0), s_zz, None, s_r, c)
+    assert np.array_equal(out, s_r * 1e4)

@@ -329,9 +329,24 @@ def bundled(scen: Path) -> list[str]:
             for p in sorted(scen.glob("*.csv")) + sorted((scen / "faults").glob("*.csv"))]
 
 
-def reference_run(path: Path, yaw_thr: float | None = None) -> dict:
+def hold_while_fired(p: dict):
+    """trusted.run's adapt hook for the experiment 'no measurement update while the monitor
+    is fired' (MONITOR.md §9): the monitor runs in the loop on each evaluated step's
+    innovation (as monitor.apply does afterwards, so the fired state is the reported one) and,
+    while fired, the update takes S_R x 1e4 (R x 1e8: the update leaves the state as it is, to
+    ~1e-8 of the gain; the gate and the recorded S_zz keep step 4's S_R)."""
+    mon = monitor.Monitor(p, p["dt"])
+
+    def adapt(k, nu, s_zz, zc, s_r, c_pers=None):
+        mon.step(nu, s_zz, c_pers)
+        return s_r * 1e4 if (mon.fired and mon.p["mon_enable"] > 0) else s_r
+    return adapt
+
+
+def reference_run(path: Path, yaw_thr: float | None = None, hold_fired: bool = False) -> dict:
     """The default preset's reference run and the monitor on one log; with yaw_thr, on the
-    log's yaw rate after yaw_substitute (n_sub: the samples replaced)."""
+    log's yaw rate after yaw_substitute (n_sub: the samples replaced); with hold_fired, no
+    update while the monitor is fired (hold_while_fired)."""
     log = logs.read_csv_log(str(path))
     n_sub = 0
     if yaw_thr is not None:
@@ -340,7 +355,7 @@ def reference_run(path: Path, yaw_thr: float | None = None) -> dict:
         col = log.col
         log.col = lambda c: r_sub if c == "yaw_rate" else col(c)   # noqa: E731
     p = params.resolve(log.meta, None, source=str(path), preset="default")
-    res = trusted.run(log, p)
+    res = trusted.run(log, p, adapt=hold_while_fired(p) if hold_fired else None)
     mon = monitor.apply(res, p, p["dt"])
     out = {k: mon[k] for k in KEEP if k in mon}
     out["info"] = res["info"]
@@ -351,18 +366,18 @@ def reference_run(path: Path, yaw_thr: float | None = None) -> dict:
 
 
 def _cached(args):
-    scen, cache, name = args
+    scen, cache, name, hold = args
     f = cache / f"{name.replace('/', '+')}.npz"
     if not f.is_file():
-        np.savez(f, **reference_run(scen / f"{name}.csv"))
+        np.savez(f, **reference_run(scen / f"{name}.csv", hold_fired=hold))
     return name
 
 
-def load_all(scen: Path, cache: Path, jobs: int) -> dict:
+def load_all(scen: Path, cache: Path, jobs: int, hold_fired: bool = False) -> dict:
     cache.mkdir(parents=True, exist_ok=True)
     names = bundled(scen)
     with ProcessPoolExecutor(jobs) as ex:
-        list(ex.map(_cached, [(scen, cache, n) for n in names]))
+        list(ex.map(_cached, [(scen, cache, n, hold_fired) for n in names]))
     runs = {}
     for n in names:
         with np.load(cache / f"{n.replace('/', '+')}.npz") as z:
@@ -494,7 +509,8 @@ def apply_rule(runs: dict, rule) -> dict:
     return out
 
 
-def soak_run(path: Path, cache: Path, estimate: Path | None = None) -> dict:
+def soak_run(path: Path, cache: Path, estimate: Path | None = None,
+             hold_fired: bool = False) -> dict:
     """The soak drive (a sensor log with truth columns) as a run: the reference's (cached in
     cache), or with estimate, a mu_replay estimate log of it (its own vx_est, vy_est,
     yaw_acc_est where it has them: --velocity observer)."""
@@ -503,7 +519,7 @@ def soak_run(path: Path, cache: Path, estimate: Path | None = None) -> dict:
         f = cache / f"soak+{path.stem}.npz"
         if not f.is_file():
             cache.mkdir(parents=True, exist_ok=True)
-            np.savez(f, **reference_run(path))
+            np.savez(f, **reference_run(path, hold_fired=hold_fired))
         with np.load(f) as z:
             r = {k: z[k] for k in z.files}
         u = y = None
@@ -555,6 +571,9 @@ def main(argv=None) -> int:
                     "make soak's build/soak/drive_300s.csv): its rules on the reference's run")
     ap.add_argument("--soak-estimate", type=Path, nargs="*", default=[],
                     help="mu_replay estimate logs of --soak (e.g. --velocity observer)")
+    ap.add_argument("--hold-fired", action="store_true",
+                    help="also the experiment: no update while the monitor is fired (reruns "
+                    "the reference on every log, cached in CACHE/hold_fired)")
     ap.add_argument("--only-soak-rules", action="store_true",
                     help="skip the rules of section 8 (stale, updates, yaw)")
     a = ap.parse_args(argv)
@@ -569,6 +588,17 @@ def main(argv=None) -> int:
                                    rules)))
         for est in a.soak_estimate:
             print("\n".join(soak_lines(str(est), soak_run(a.soak, a.cache, est), rules)))
+    if a.hold_fired:
+        hcache = a.cache / "hold_fired"
+        held = load_all(a.scenarios, hcache, a.jobs, hold_fired=True)
+        print("\n".join(report("no update while the monitor is fired (in the loop)", base,
+                               evaluate(held))))
+        pair = ("the soak pair (fade 30 m)", lambda r: (rule_soak(r, d_mem=30.0), None))
+        print("\n".join(report("no update while fired + the soak pair (fade 30 m)", base,
+                               evaluate(held, replaced=apply_rule(held, pair[1])))))
+        if a.soak:
+            print("\n".join(soak_lines("reference, no update while fired",
+                                       soak_run(a.soak, hcache, hold_fired=True), [pair])))
     if a.only_soak_rules:
         return 0
     for tau, a_min in ((0.1, 0.3), (0.3, 0.1), (0.5, 0.1)):
