@@ -163,3 +163,26 @@ def test_hold_while_fired_scales_the_update_noise_only_while_fired():
         assert adapt(k, np.zeros(3), s_zz, None, s_r, c) is s_r
     out = adapt(101, np.full(3, 100.0), s_zz, None, s_r, c)
     assert np.array_equal(out, s_r * 1e4)
+
+
+def test_upper_gate_wraps_and_restores_step_noise():
+    """install() replaces trusted._step_noise (by the wrapper that records the step's inputs
+    and prior mean), remove() puts the original back. With those set by hand: at the limit
+    (slip -0.2, mu 0.5, the alternative 0.75) the step carries information far above info_min
+    and the update keeps S_R; in the linear range (slip -0.002) it carries none and the update
+    gets S_R x 1e4."""
+    original = trs.trusted._step_noise
+    for kappa, passes in ((-0.2, True), (-0.002, False)):
+        p, u = _braking_inputs(kappa)
+        gate = trs.UpperGate(p, 0.25)
+        gate.install()
+        try:
+            assert trs.trusted._step_noise is not original
+            f = type("F", (), {"x": np.array([0.5, 0.5]), "s_r": np.eye(3) * 0.05})()
+            gate.ctx = (u[0], f.x)
+            s_r = np.eye(3) * 0.05
+            out = gate(0, None, None, None, s_r)
+            assert (out is s_r) == passes and (passes or np.array_equal(out, s_r * 1e4))
+        finally:
+            gate.remove()
+        assert trs.trusted._step_noise is original

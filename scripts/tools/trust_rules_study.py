@@ -266,8 +266,15 @@ def point_fit(p, u, x, y) -> np.ndarray:
     for i, j in enumerate(js):
         g = sd_u[j] * (hs[1 + 2 * i] - hs[2 + 2 * i]) / (2e-2 * sd_u[j])
         R += np.einsum("ni,nk->nik", g, g)
+    if y is None:
+        return R
     nu = y - h0
     return np.einsum("ni,ni->n", nu, np.linalg.solve(R, nu[:, :, None])[:, :, 0])
+
+
+def point_noise(p, u, x) -> np.ndarray:
+    """(N, 3, 3) step 4's R at the friction x (N, 2): point_fit's."""
+    return point_fit(p, u, x, None)
 
 
 def upper_evidence(p, u, y, mu, updated, delta):
@@ -343,7 +350,57 @@ def hold_while_fired(p: dict):
     return adapt
 
 
-def reference_run(path: Path, yaw_thr: float | None = None, hold_fired: bool = False) -> dict:
+class UpperGate:
+    """The experiment 'the information gate at the upper alternative too' (MONITOR.md §9): an
+    update also needs max_j I_j(x + delta e_j) >= info_min, I_j = J_j^T R^-1 J_j with J_j the
+    measurement's slope by mu_j (central difference of step 1e-3) and R step 4's noise, both
+    at the prior mean raised by delta on side j (point_fit's R); a step that fails gets
+    S_R x 1e4 (no update). It learns the step's inputs and prior by wrapping trusted's
+    _step_noise (install() / remove(): the study's own process only; trusted.py untouched)."""
+
+    def __init__(self, p: dict, delta: float):
+        self.p, self.delta, self.ctx, self.saved = p, delta, None, None
+        self.skipped = 0
+
+    def install(self):
+        self.saved = trusted._step_noise
+
+        def wrapped(p, f, T, u, sd_u, persistent=None, reuse=None):
+            self.ctx = (np.array(u, copy=True), np.array(f.x, copy=True))
+            return self.saved(p, f, T, u, sd_u, persistent, reuse)
+        trusted._step_noise = wrapped
+
+    def remove(self):
+        trusted._step_noise = self.saved
+
+    def info_alt(self) -> np.ndarray:
+        u, x = self.ctx
+        p, d = self.p, 1e-3
+        out = np.zeros(2)
+        for j in range(2):
+            xa = np.array(x, dtype=float)
+            xa[j] = min(xa[j] + self.delta, p["mu_max"])
+            pts = []
+            for s in (1.0, -1.0):
+                xs = xa.copy()
+                xs[j] += s * d
+                pts.append(xs)
+            T = trusted.WHEELS_OF_SIDES
+            hs = trusted.h_points(p, np.tile(u, (2, 1)), np.array(pts) @ T.T)
+            J = (hs[0] - hs[1]) / (2 * d)
+            R = point_noise(p, u[None, :], xa[None, :])[0]
+            out[j] = J @ np.linalg.solve(R, J)
+        return out
+
+    def __call__(self, k, nu, s_zz, zc, s_r, c_pers=None):
+        if self.info_alt().max() >= self.p["info_min"]:
+            return s_r
+        self.skipped += 1
+        return s_r * 1e4
+
+
+def reference_run(path: Path, yaw_thr: float | None = None, hold_fired: bool = False,
+                  upper_gate: float | None = None) -> dict:
     """The default preset's reference run and the monitor on one log; with yaw_thr, on the
     log's yaw rate after yaw_substitute (n_sub: the samples replaced); with hold_fired, no
     update while the monitor is fired (hold_while_fired)."""
@@ -355,7 +412,15 @@ def reference_run(path: Path, yaw_thr: float | None = None, hold_fired: bool = F
         col = log.col
         log.col = lambda c: r_sub if c == "yaw_rate" else col(c)   # noqa: E731
     p = params.resolve(log.meta, None, source=str(path), preset="default")
-    res = trusted.run(log, p, adapt=hold_while_fired(p) if hold_fired else None)
+    adapt = hold_while_fired(p) if hold_fired else None
+    if upper_gate is not None:
+        adapt = UpperGate(p, upper_gate)
+        adapt.install()
+    try:
+        res = trusted.run(log, p, adapt=adapt)
+    finally:
+        if upper_gate is not None:
+            adapt.remove()
     mon = monitor.apply(res, p, p["dt"])
     out = {k: mon[k] for k in KEEP if k in mon}
     out["info"] = res["info"]
