@@ -4,7 +4,8 @@
 Usage (from the repository root):
 
     .venv/bin/python scripts/tools/trust_rules_study.py [--scenarios scenarios]
-        [--cache build/trust_rules] [--jobs 2]
+        [--cache build/trust_rules] [--jobs 2] [--soak build/soak/drive_300s.csv
+        [--soak-estimate ESTIMATE.csv ...]] [--hold-fired] [--only-soak-rules]
 
 Runs the reference (scripts/reference/trusted.py, the default preset, then monitor.py, which
 equal the C double build to 1e-9) once per log (cached as .npz in --cache; the 72 logs take
@@ -23,6 +24,17 @@ about 10 min of CPU) and evaluates rules on top of it, each as the trust invaria
   * `yaw`: a yaw-rate sample that differs from the previous accepted one, advanced by the
     measured yaw acceleration over dt (trapezoidal), by more than thr (rad/s) is replaced by
     that prediction (for the yaw-rate spikes).
+
+- the soak drive's rules (docs/MONITOR.md section 9; --soak and --soak-estimate apply them to
+  the soak drive's reference run and to mu_replay estimate logs of it):
+  * `consider`: the sd of the error a bias of the conditioned vx, vy leaves in the mean,
+    propagated with the filter's linearised gain (a Schmidt consider term);
+  * `bound margin`: valid only k sd or more above mu_min;
+  * `upper evidence`: the updates' evidence against mu + DELTA_UP (rule_evidence);
+- two experiments that change the update in the loop through trusted.run's adapt hook
+  (trusted.py untouched): --hold-fired (no update while the monitor is fired, every log
+  rerun into CACHE/hold_fired) and UpperGate (the information gate at mu + delta too, run
+  per log by hand: reference_run(path, upper_gate=0.25)).
 
 Per rule it prints the logs meeting the invariant (the 72 logs), those gained and lost, issue
 17's no-loss rule (on the logs meeting the invariant before, the largest fall of the excited-
