@@ -88,3 +88,101 @@ def test_figures_and_verdict():
     assert v["false_alarm"] == 0.0  # neither name is a clean Magic Formula log (*.mf)
     v = trs.verdict({"x.mf": dict(none, mismatch=0.0)}, {"x.mf": dict(none, mismatch=0.02)})
     assert v["false_alarm"] == 0.02
+
+
+def test_upper_evidence_sum_reset_and_fade():
+    """Side 0 gets Lambda = 1 at every update, side 1 gets 0. With n_mem = 1e9 (rho = 1 to
+    1e-9) L_0 counts the updates: 1, 2, (held: 2), 3 and passes l_min = 2.5 only at the last
+    step; side 1 never passes. A reset at step 2 restarts the count (0, then 1). A fade over
+    d_mem = ds / ln 2 halves L at every step before the update adds: 1, 1.5, 0.75, 1.375."""
+    lam = np.tile([1.0, 0.0], (4, 1))
+    upd = np.array([True, True, False, True])
+    ok = trs.rule_evidence(lam, upd, 1e9, 2.5)
+    assert ok[:, 0].tolist() == [False, False, False, True] and not ok[:, 1].any()
+    ok = trs.rule_evidence(lam, upd, 1e9, 0.5, reset=np.array([False, False, True, False]))
+    assert ok[:, 0].tolist() == [True, True, False, True]
+    ds = np.full(4, 1.0)
+    ok = trs.rule_evidence(lam, upd, 1e9, 1.2, ds=ds, d_mem=1.0 / np.log(2.0))
+    assert ok[:, 0].tolist() == [False, True, False, True]
+
+
+def test_bound_margin():
+    """mu 0.05 + 3 sd exactly passes with k = 3 (>=), a hair less does not; k = 0 is step 9's
+    bound itself (every mean on or above mu_min passes)."""
+    mu = np.array([[0.05 + 3 * 0.02, 0.05 + 3 * 0.02 - 1e-9, 0.05, 0.6]])
+    sd = np.full((1, 4), 0.02)
+    assert trs.rule_bound_margin(mu, sd, 0.05, 3.0).tolist() == [[True, False, False, True]]
+    assert trs.rule_bound_margin(mu, sd, 0.05, 0.0).all()
+
+
+def _braking_inputs(kappa):
+    """One straight-line sample at 20 m/s, every wheel at slip kappa (the default preset's
+    vehicle keys: R from params.DEFAULTS)."""
+    p = trs.params.resolve(None, None, preset="default")
+    vx = 20.0
+    u = np.array([[0.0, vx, 0.0, 0.0, -3.0, 0.0] + [vx * (1.0 + kappa) / p["R"]] * 4])
+    return p, u
+
+
+def test_point_fit_is_a_quadratic_form_zero_at_the_model():
+    """y = h(x, u) fits exactly (q = 0 to rounding); q is a quadratic form in the residual, so
+    doubling a residual e multiplies q by 4 (R depends on x and u only)."""
+    p, u = _braking_inputs(-0.05)
+    x = np.array([[0.5, 0.5]])
+    y0 = trs.trusted.h_points(p, u, x @ trs.trusted.WHEELS_OF_SIDES.T)
+    assert trs.point_fit(p, u, x, y0)[0] == pytest.approx(0.0, abs=1e-20)
+    e = np.array([[0.3, -0.1, 0.05]])
+    q1 = trs.point_fit(p, u, x, y0 + e)[0]
+    assert q1 > 0 and trs.point_fit(p, u, x, y0 + 2 * e)[0] == pytest.approx(4 * q1, rel=1e-12)
+
+
+def test_upper_evidence_at_the_limit_and_in_the_linear_range():
+    """A measurement made by the model at mu 0.5 rejects mu 0.75 strongly at a slip beyond
+    the peak (-0.2: the force is mu-bound) and hardly in the linear range (-0.002: the force is
+    the slip stiffness's, mu-free), the soak drive's case; no update, no evidence."""
+    lams = []
+    for kappa in (-0.2, -0.002):
+        p, u = _braking_inputs(kappa)
+        mu = np.full((2, 4), 0.5)
+        y = trs.trusted.h_points(p, np.vstack([u, u]), mu)
+        lam = trs.upper_evidence(p, np.vstack([u, u]), y, mu, np.array([False, True]), 0.25)
+        assert lam[0].tolist() == [0.0, 0.0] and np.all(lam[1] > 0)
+        lams.append(lam[1, 0])
+    assert lams[0] > 100 * lams[1]
+
+
+def test_hold_while_fired_scales_the_update_noise_only_while_fired():
+    """The default preset's monitor counts its first mon_warmup / dt = 100 evaluated steps
+    only; zero innovations leave it quiet (the update gets step 4's S_R itself); then
+    innovations of 100 sd (NIS 3e4 per step, D's weight 1/51 puts D above any fire level at
+    once) fire it, and the update gets S_R x 1e4."""
+    p = trs.params.resolve(None, None, preset="default")
+    adapt = trs.hold_while_fired(p)
+    s_r, s_zz, c = np.eye(3) * 0.05, np.eye(3), np.zeros(3)
+    for k in range(101):
+        assert adapt(k, np.zeros(3), s_zz, None, s_r, c) is s_r
+    out = adapt(101, np.full(3, 100.0), s_zz, None, s_r, c)
+    assert np.array_equal(out, s_r * 1e4)
+
+
+def test_upper_gate_wraps_and_restores_step_noise():
+    """install() replaces trusted._step_noise (by the wrapper that records the step's inputs
+    and prior mean), remove() puts the original back. With those set by hand: at the limit
+    (slip -0.2, mu 0.5, the alternative 0.75) the step carries information far above info_min
+    and the update keeps S_R; in the linear range (slip -0.002) it carries none and the update
+    gets S_R x 1e4."""
+    original = trs.trusted._step_noise
+    for kappa, passes in ((-0.2, True), (-0.002, False)):
+        p, u = _braking_inputs(kappa)
+        gate = trs.UpperGate(p, 0.25)
+        gate.install()
+        try:
+            assert trs.trusted._step_noise is not original
+            f = type("F", (), {"x": np.array([0.5, 0.5]), "s_r": np.eye(3) * 0.05})()
+            gate.ctx = (u[0], f.x)
+            s_r = np.eye(3) * 0.05
+            out = gate(0, None, None, None, s_r)
+            assert (out is s_r) == passes and (passes or np.array_equal(out, s_r * 1e4))
+        finally:
+            gate.remove()
+        assert trs.trusted._step_noise is original

@@ -4,7 +4,8 @@
 Usage (from the repository root):
 
     .venv/bin/python scripts/tools/trust_rules_study.py [--scenarios scenarios]
-        [--cache build/trust_rules] [--jobs 2]
+        [--cache build/trust_rules] [--jobs 2] [--soak build/soak/drive_300s.csv
+        [--soak-estimate ESTIMATE.csv ...]] [--hold-fired] [--only-soak-rules]
 
 Runs the reference (scripts/reference/trusted.py, the default preset with its two trust rules
 switched off, then monitor.py, which equal the C double build to 1e-9) once per log (cached as .npz in --cache; the 72 logs take
@@ -25,6 +26,17 @@ about 10 min of CPU) and evaluates rules on top of it, each as the trust invaria
     measured yaw acceleration over dt (trapezoidal), by more than thr (rad/s) is replaced by
     that prediction (for the yaw-rate spikes); the reference's own check (trusted.YawCheck,
     the library's `yaw_check`), rerun with it on.
+
+- the soak drive's rules (docs/MONITOR.md section 10; --soak and --soak-estimate apply them to
+  the soak drive's reference run and to mu_replay estimate logs of it):
+  * `consider`: the sd of the error a bias of the conditioned vx, vy leaves in the mean,
+    propagated with the filter's linearised gain (a Schmidt consider term);
+  * `bound margin`: valid only k sd or more above mu_min;
+  * `upper evidence`: the updates' evidence against mu + DELTA_UP (rule_evidence);
+- two experiments that change the update in the loop through trusted.run's adapt hook
+  (trusted.py untouched): --hold-fired (no update while the monitor is fired, every log
+  rerun into CACHE/hold_fired) and UpperGate (the information gate at mu + delta too, run
+  per log by hand: reference_run(path, upper_gate=0.25)).
 
 Per rule it prints the logs meeting the invariant (the 72 logs), those gained and lost, issue
 17's no-loss rule (on the logs meeting the invariant before, the largest fall of the excited-
@@ -55,7 +67,11 @@ TARGETS = ("brake_in_turn.mf", "ramp_steer_high_mu.mf",
            "faults/freeze_omega_fl.hard_brake_low_mu.mf",
            "faults/freeze_omega_fl.sine_steer_low_mu.mf",
            "faults/spike_yaw_rate.sine_steer_low_mu.mf")
-KEEP = ("t", "mu", "sd", "valid", "status", "info")
+DELTA_UP = 0.25           # the upper alternative: issue 17's worst error while valid
+EVIDENCE_N, EVIDENCE_L, BOUND_K = 100, 0.25, 3.0   # the recommended pair's parameters
+UPDATED_STATUS = (0, 1)   # the filter's update (status 4 only replaces them in the output)
+KEEP = ("t", "mu", "sd", "valid", "status", "info", "v_gate", "mu_unprojected", "D", "M",
+        "nu", "s_zz", "c_pers")
 
 
 # ---------------------------------------------------------------- figures
@@ -123,16 +139,278 @@ def yaw_substitute(t, r, r_dot, thr):
     return out, int(np.count_nonzero(out != np.asarray(r, dtype=float)))
 
 
+# ---------------------------------------------------------------- the soak drive's rules
+SD_INPUTS = ("sd_in_delta", "sd_in_vx", "sd_in_vy", "sd_in_yaw_rate", None, None,
+             "sd_in_omega", "sd_in_omega", "sd_in_omega", "sd_in_omega")   # trusted.run's order
+
+
+def conditioned_inputs(log, p, vx_gate=None) -> np.ndarray:
+    """(N, 10) the inputs u = (delta, vx, vy, r, ax, ay, omega_fl..rr) as the estimator uses
+    them: vx, vy through the conditioner (ESTIMATOR.md step 1; vx_gate, the run's own
+    conditioned vx, replaces the recomputed one where given: it holds the gaps' restarts)."""
+    cond = trusted.Conditioner(p["tau_v"], p["dt"])
+    cols = [log.col(c) for c in ("delta", "vx", "vy", "yaw_rate", "ax", "ay")]
+    u = np.column_stack(cols + [log.omega()])
+    for k in range(len(u)):
+        u[k, 1], u[k, 2] = cond.step(u[k, 1], u[k, 2], u[k, 4], u[k, 5], u[k, 3])
+    if vx_gate is not None:
+        u[:, 1] = vx_gate
+    return u
+
+
+def step_sensitivities(p, u, x_prior, sd_prior):
+    """Per step k (rows of u) and side j, at the prior mean x_prior (N, 2) with sd sd_prior:
+    the measurement's slopes by mu_j up and down (h(x + d e_j) - h(x), h(x) - h(x - d e_j),
+    d = sd_prior_j: the cubature spread), the step's noise R = diag(r^2 + (r_model_rel h)^2) +
+    sum_j g_j g_j^T (step 4, every input with sd_j > 0) and g_vx = dh/dvx. Returns
+    (up (N, 2, 3), down (N, 2, 3), R (N, 3, 3), g_vx (N, 3), g_vy (N, 3))."""
+    T = trusted.WHEELS_OF_SIDES
+    n = len(u)
+    d = np.maximum(sd_prior, 1e-3)
+    xs = [x_prior]
+    for j in range(2):
+        for s in (1.0, -1.0):
+            x = x_prior.copy()
+            x[:, j] += s * d[:, j]
+            xs.append(x)
+    sd_u = np.array([p[k] if k else 0.0 for k in SD_INPUTS])
+    steps = []
+    for j in np.flatnonzero(sd_u > 0):
+        for s in (1.0, -1.0):
+            uu = u.copy()
+            uu[:, j] += s * 1e-2 * sd_u[j]
+            steps.append((j, s, uu))
+    us = np.vstack([u] * len(xs) + [st[2] for st in steps])
+    mus = np.vstack([x @ T.T for x in xs] + [x_prior @ T.T] * len(steps))
+    hs = trusted.h_points(p, us, mus).reshape(-1, n, 3)
+    h0 = hs[0]
+    up = np.stack([hs[1] - h0, hs[3] - h0], 1)
+    down = np.stack([h0 - hs[2], h0 - hs[4]], 1)
+    r2 = np.array([p["r_ax"], p["r_ay"], p["r_yaw_acc"]]) ** 2 + (p["r_model_rel"] * h0) ** 2
+    R = np.zeros((n, 3, 3))
+    R[:, [0, 1, 2], [0, 1, 2]] = r2
+    g = {}
+    for i in range(0, len(steps), 2):
+        j = steps[i][0]
+        gj = (hs[len(xs) + i] - hs[len(xs) + i + 1]) / (2e-2 * sd_u[j])   # dh/du_j
+        g[j] = gj
+        R += sd_u[j] ** 2 * np.einsum("ni,nk->nik", gj, gj)
+    return up, down, R, g.get(1, np.zeros((n, 3))), g.get(2, np.zeros((n, 3)))
+
+
+def rule_consider(p, u, mu, sd, updated, sigma, tau_b=None):
+    """The estimate's error from a bias of the conditioned speeds (a Schmidt 'consider' term):
+    the filter takes the conditioned vx, vy as carrying white noise (sd_in_vx, sd_in_vy, one
+    column of step 4 per step), but their error is low-passed (tau_v) and, at low speed and
+    mild slip, one such error moves mu by far more than the sd the filter claims. Per side,
+    the error e = sum_b F_b b that a bias b of vx (b = 1) and vy (b = 2) leaves in the mean is
+    propagated with the filter's own linearised gain at every update (status 0, 1):
+    K = P J^T (J P J^T + R)^-1 at the prior mean and sd (P = diag(sd^2 + q_mu^2) + q_common^2
+    11^T, J = dh/dmu by the cubature spread, R step 4's noise), then
+        C_b <- a (I - K J) C_b - K g_b sigma_b^2     (the covariance of e with the bias now)
+        V   <- A V A^T - A a C_b (K g_b)^T - (A a C_b (K g_b)^T)^T + K g_b g_b^T K^T sigma_b^2,
+    A = I - K J,
+    with a = exp(-dt / tau_b) per step (tau_b None: a = 1, a bias that persists over the
+    estimate's memory); a held step only decorrelates (C_b <- a C_b). Returns (sd_eff (N, 4),
+    allowed (N, 4)): sd_eff = sqrt(sd^2 + diag V) per wheel, allowed where sd_eff <= sd_valid.
+    sigma: (sigma_vx, sigma_vy), m/s."""
+    T = trusted.WHEELS_OF_SIDES
+    n = len(u)
+    x = mu[:, [0, 1]]
+    s = sd[:, [0, 1]]
+    xp = np.vstack([x[:1], x[:-1]])
+    sp = np.sqrt(np.vstack([s[:1], s[:-1]]) ** 2 + p["q_mu"] ** 2 + p["q_common"] ** 2)
+    up, down, R, gvx, gvy = step_sensitivities(p, u, xp, sp)
+    J = np.transpose((up + down) / (2.0 * np.maximum(sp, 1e-3))[:, :, None], (0, 2, 1))  # (N,3,2)
+    a = 1.0 if tau_b is None else float(np.exp(-p["dt"] / tau_b))
+    V = np.zeros((2, 2))
+    C = [np.zeros(2), np.zeros(2)]
+    var = np.zeros((n, 2))
+    qc = p["q_common"] ** 2
+    for k in range(n):
+        if updated[k]:
+            P = np.diag(sp[k] ** 2 - qc) + qc
+            Jk = J[k]
+            S = Jk @ P @ Jk.T + R[k]
+            K = np.linalg.solve(S, Jk @ P).T           # (2, 3) = P J^T S^-1
+            A = np.eye(2) - K @ Jk
+            V = A @ V @ A.T
+            for b, (g, sg) in enumerate(((gvx[k], sigma[0]), (gvy[k], sigma[1]))):
+                kg = K @ g
+                cross = np.outer(A @ (a * C[b]), kg)
+                V = V - cross - cross.T + np.outer(kg, kg) * sg ** 2
+                C[b] = A @ (a * C[b]) - kg * sg ** 2
+        else:
+            C = [a * c for c in C]
+        var[k] = np.diag(V)
+    sd_eff = np.sqrt(sd ** 2 + (var @ T.T))
+    return sd_eff, sd_eff <= p["sd_valid"]
+
+
+def point_fit(p, u, x, y) -> np.ndarray:
+    """(N,) q = (y - h(x))^T R(x)^-1 (y - h(x)): the normalised squared residual of the
+    measurement y (N, 3) at the friction x (N, 2, per side), with step 4's noise R evaluated
+    at x (its own errors-in-variables columns: a tyre in its linear range passes more of the
+    slip noise than a saturated one)."""
+    T = trusted.WHEELS_OF_SIDES
+    n = len(u)
+    sd_u = np.array([p[k] if k else 0.0 for k in SD_INPUTS])
+    js = np.flatnonzero(sd_u > 0)
+    us = [u]
+    for j in js:
+        for s in (1.0, -1.0):
+            uu = u.copy()
+            uu[:, j] += s * 1e-2 * sd_u[j]
+            us.append(uu)
+    mus = np.tile(x @ T.T, (len(us), 1))
+    hs = trusted.h_points(p, np.vstack(us), mus).reshape(-1, n, 3)
+    h0 = hs[0]
+    R = np.zeros((n, 3, 3))
+    R[:, [0, 1, 2], [0, 1, 2]] = (np.array([p["r_ax"], p["r_ay"], p["r_yaw_acc"]]) ** 2
+                                  + (p["r_model_rel"] * h0) ** 2)
+    for i, j in enumerate(js):
+        g = sd_u[j] * (hs[1 + 2 * i] - hs[2 + 2 * i]) / (2e-2 * sd_u[j])
+        R += np.einsum("ni,nk->nik", g, g)
+    if y is None:
+        return R
+    nu = y - h0
+    return np.einsum("ni,ni->n", nu, np.linalg.solve(R, nu[:, :, None])[:, :, 0])
+
+
+def point_noise(p, u, x) -> np.ndarray:
+    """(N, 3, 3) step 4's R at the friction x (N, 2): point_fit's."""
+    return point_fit(p, u, x, None)
+
+
+def upper_evidence(p, u, y, mu, updated, delta):
+    """(N, 2) per side: Lambda_k = (q(x + delta e_j) - q(x)) / 2 at the prior mean x (the
+    previous step's estimate) of every update step (0 elsewhere): how much worse the
+    measurement fits a friction delta higher on side j than the estimate."""
+    x = mu[:, [0, 1]]
+    xp = np.vstack([x[:1], x[:-1]])
+    out = np.zeros((len(u), 2))
+    k = np.flatnonzero(updated)
+    if k.size == 0:
+        return out
+    q0 = point_fit(p, u[k], xp[k], y[k])
+    for j in range(2):
+        xa = xp[k].copy()
+        xa[:, j] = np.minimum(xa[:, j] + delta, p["mu_max"])
+        out[k, j] = 0.5 * (point_fit(p, u[k], xa, y[k]) - q0)
+    return out
+
+
+def rule_evidence(lam, updated, n_mem, l_min, mu=None, move=None, reset=None, ds=None,
+                  d_mem=None):
+    """(N, 2) allowed: L_j >= l_min, L_j <- rho L_j + Lambda_j at every update, unchanged on
+    the other steps; rho = exp(-1 / n_mem) (a memory of about n_mem updates), times
+    exp(-|x_j,k - x_j,k-1| / move) with mu and move given (evidence about the upper
+    alternative of an estimate the update has moved away from fades with the move); L = 0 at
+    the steps where reset (N,) is set (the monitor fired: the filter updated on data that
+    contradict its model, so nothing before counts); with ds (N,) the distance travelled in
+    each step and d_mem (m), L_j also fades by exp(-ds / d_mem) at every step (the road under
+    a held estimate may change: evidence is about the road it was gathered on)."""
+    L = np.zeros(2)
+    ok = np.zeros(lam.shape, dtype=bool)
+    x = None if mu is None else mu[:, [0, 1]]
+    fade = None if d_mem is None else np.exp(-np.asarray(ds) / d_mem)
+    for k in range(len(lam)):
+        if fade is not None:
+            L = L * fade[k]
+        if reset is not None and reset[k]:
+            L = np.zeros(2)
+        elif updated[k]:
+            rho = np.full(2, np.exp(-1.0 / n_mem))
+            if move is not None and k > 0:
+                rho = rho * np.exp(-np.abs(x[k] - x[k - 1]) / move)
+            L = rho * L + lam[k]
+        ok[k] = L >= l_min
+    return ok
+
+
+def rule_bound_margin(mu, sd, mu_min, k) -> np.ndarray:
+    """(N, 4) allowed: the estimate lies at least k sd above mu_min (step 9 excludes the bound
+    itself; a Gaussian claim of mean and sd whose lower tail the projection cut off says
+    nothing about the error either)."""
+    return mu - mu_min >= k * sd
+
+
 # ---------------------------------------------------------------- runs
 def bundled(scen: Path) -> list[str]:
     return [p.relative_to(scen).as_posix()[:-4]
             for p in sorted(scen.glob("*.csv")) + sorted((scen / "faults").glob("*.csv"))]
 
 
-def reference_run(path: Path, yaw_thr: float | None = None) -> dict:
+def hold_while_fired(p: dict):
+    """trusted.run's adapt hook for the experiment 'no measurement update while the monitor
+    is fired' (MONITOR.md §10): the monitor runs in the loop on each evaluated step's
+    innovation (as monitor.apply does afterwards, so the fired state is the reported one) and,
+    while fired, the update takes S_R x 1e4 (R x 1e8: the update leaves the state as it is, to
+    ~1e-8 of the gain; the gate and the recorded S_zz keep step 4's S_R)."""
+    mon = monitor.Monitor(p, p["dt"])
+
+    def adapt(k, nu, s_zz, zc, s_r, c_pers=None):
+        mon.step(nu, s_zz, c_pers)
+        return s_r * 1e4 if (mon.fired and mon.p["mon_enable"] > 0) else s_r
+    return adapt
+
+
+class UpperGate:
+    """The experiment 'the information gate at the upper alternative too' (MONITOR.md §10): an
+    update also needs max_j I_j(x + delta e_j) >= info_min, I_j = J_j^T R^-1 J_j with J_j the
+    measurement's slope by mu_j (central difference of step 1e-3) and R step 4's noise, both
+    at the prior mean raised by delta on side j (point_fit's R); a step that fails gets
+    S_R x 1e4 (no update). It learns the step's inputs and prior by wrapping trusted's
+    _step_noise (install() / remove(): the study's own process only; trusted.py untouched)."""
+
+    def __init__(self, p: dict, delta: float):
+        self.p, self.delta, self.ctx, self.saved = p, delta, None, None
+        self.skipped = 0
+
+    def install(self):
+        self.saved = trusted._step_noise
+
+        def wrapped(p, f, T, u, sd_u, persistent=None, reuse=None):
+            self.ctx = (np.array(u, copy=True), np.array(f.x, copy=True))
+            return self.saved(p, f, T, u, sd_u, persistent, reuse)
+        trusted._step_noise = wrapped
+
+    def remove(self):
+        trusted._step_noise = self.saved
+
+    def info_alt(self) -> np.ndarray:
+        u, x = self.ctx
+        p, d = self.p, 1e-3
+        out = np.zeros(2)
+        for j in range(2):
+            xa = np.array(x, dtype=float)
+            xa[j] = min(xa[j] + self.delta, p["mu_max"])
+            pts = []
+            for s in (1.0, -1.0):
+                xs = xa.copy()
+                xs[j] += s * d
+                pts.append(xs)
+            T = trusted.WHEELS_OF_SIDES
+            hs = trusted.h_points(p, np.tile(u, (2, 1)), np.array(pts) @ T.T)
+            J = (hs[0] - hs[1]) / (2 * d)
+            R = point_noise(p, u[None, :], xa[None, :])[0]
+            out[j] = J @ np.linalg.solve(R, J)
+        return out
+
+    def __call__(self, k, nu, s_zz, zc, s_r, c_pers=None):
+        if self.info_alt().max() >= self.p["info_min"]:
+            return s_r
+        self.skipped += 1
+        return s_r * 1e4
+
+
+def reference_run(path: Path, yaw_thr: float | None = None, hold_fired: bool = False,
+                  upper_gate: float | None = None) -> dict:
     """The default preset's reference run and the monitor on one log, its two trust rules off;
     with yaw_thr, with the reference's yaw-rate check at that threshold (n_sub: the samples
-    yaw_substitute replaces)."""
+    yaw_substitute replaces); with hold_fired, no update while the monitor is fired
+    (hold_while_fired); with upper_gate, the information gate at mu + upper_gate too
+    (UpperGate)."""
     log = logs.read_csv_log(str(path))
     n_sub = 0
     if yaw_thr is not None:
@@ -140,7 +418,15 @@ def reference_run(path: Path, yaw_thr: float | None = None) -> dict:
     p = params.resolve(log.meta, None, source=str(path), preset="default")
     p["stale_omega"] = 0.0      # the base run: the rules are measured on top of it
     p["yaw_check"] = 0.0 if yaw_thr is None else yaw_thr
-    res = trusted.run(log, p)
+    adapt = hold_while_fired(p) if hold_fired else None
+    if upper_gate is not None:
+        adapt = UpperGate(p, upper_gate)
+        adapt.install()
+    try:
+        res = trusted.run(log, p, adapt=adapt)
+    finally:
+        if upper_gate is not None:
+            adapt.remove()
     mon = monitor.apply(res, p, p["dt"])
     out = {k: mon[k] for k in KEEP if k in mon}
     out["info"] = res["info"]
@@ -151,18 +437,18 @@ def reference_run(path: Path, yaw_thr: float | None = None) -> dict:
 
 
 def _cached(args):
-    scen, cache, name = args
+    scen, cache, name, hold = args
     f = cache / f"{name.replace('/', '+')}.npz"
     if not f.is_file():
-        np.savez(f, **reference_run(scen / f"{name}.csv"))
+        np.savez(f, **reference_run(scen / f"{name}.csv", hold_fired=hold))
     return name
 
 
-def load_all(scen: Path, cache: Path, jobs: int) -> dict:
+def load_all(scen: Path, cache: Path, jobs: int, hold_fired: bool = False) -> dict:
     cache.mkdir(parents=True, exist_ok=True)
     names = bundled(scen)
     with ProcessPoolExecutor(jobs) as ex:
-        list(ex.map(_cached, [(scen, cache, n) for n in names]))
+        list(ex.map(_cached, [(scen, cache, n, hold_fired) for n in names]))
     runs = {}
     for n in names:
         with np.load(cache / f"{n.replace('/', '+')}.npz") as z:
@@ -173,8 +459,26 @@ def load_all(scen: Path, cache: Path, jobs: int) -> dict:
                      if "util_fl" in log.columns else None)
         r["omega"] = log.omega()
         r["settled"] = settled(r["t"], r["truth"])
+        add_model_inputs(r, log)
         runs[n] = r
     return runs
+
+
+def add_model_inputs(r: dict, log, u=None, y=None) -> None:
+    """The soak rules' inputs into a run r: p (the default preset with the log's metadata),
+    u (the estimator's inputs, default: conditioned_inputs with the run's own vx), y (the
+    measurements ax, ay, yaw_acc), updated (the filter updated: status 0, 1, or the run's
+    unmonitored status where recorded) and lam (upper_evidence at DELTA_UP)."""
+    p = params.resolve(log.meta, None, source="log", preset="default")
+    r["p"] = p
+    r["u"] = conditioned_inputs(log, p, r.get("v_gate")) if u is None else u
+    r["y"] = (np.column_stack([log.col("ax"), log.col("ay"), log.col("yaw_acc")])
+              if y is None else y)
+    if "status_filter" in r:
+        r["updated"] = np.isin(r["status_filter"], UPDATED_STATUS)
+    else:   # an estimate log: the monitor's status 4 may stand for an update (or a held step)
+        r["updated"] = np.isin(r["status"], UPDATED_STATUS + (monitor.STATUS_MISMATCH,))
+    r["lam"] = upper_evidence(p, r["u"], r["y"], r["mu"], r["updated"], DELTA_UP)
 
 
 def evaluate(runs: dict, allowed=None, replaced=None) -> dict:
@@ -225,15 +529,149 @@ def report(label: str, base: dict, new: dict) -> list[str]:
     return lines
 
 
+def rule_soak(r: dict, n_mem=EVIDENCE_N, l_min=EVIDENCE_L, k_bound=BOUND_K, d_mem=None):
+    """The recommended pair: the upper evidence (reset while the monitor reports a mismatch)
+    and the bound margin; (N, 4) allowed."""
+    ds = None if d_mem is None else np.maximum(r["u"][:, 1], 0.0) * float(r["p"]["dt"])
+    ok = side_rule_to_wheels(rule_evidence(r["lam"], r["updated"], n_mem, l_min,
+                                           reset=r["status"] == monitor.STATUS_MISMATCH,
+                                           ds=ds, d_mem=d_mem))
+    if k_bound is not None:
+        ok &= rule_bound_margin(r["mu"], r["sd"], r["p"]["mu_min"], k_bound)
+    return ok
+
+
+def soak_rules() -> list:
+    """(label, rule) of the soak drive's candidates: rule(run) -> (allowed (N, 4), sd or None)."""
+    out = []
+    for tau_b in (None, 0.3):
+        def consider(r, tau_b=tau_b):
+            p = r["p"]
+            sd_eff, ok = rule_consider(p, r["u"], r["mu"], r["sd"], r["updated"],
+                                       (p["sd_in_vx"], p["sd_in_vy"]), tau_b)
+            return ok, sd_eff
+        out.append((f"consider term, vx and vy bias sd_in_vx/vy, "
+                    f"{'persistent' if tau_b is None else f'tau {tau_b} s'}", consider))
+    for k in (1.0, 2.0, 3.0):
+        out.append((f"bound margin {k:g} sd", lambda r, k=k: (
+            rule_bound_margin(r["mu"], r["sd"], r["p"]["mu_min"], k), None)))
+    for n_mem, l_min, reset in ((5, 2.0, False), (20, 2.0, False), (100, 2.0, False),
+                                (100, 2.0, True), (100, 0.5, True), (100, 0.25, True)):
+        def evid(r, n_mem=n_mem, l_min=l_min, reset=reset):
+            rs = r["status"] == monitor.STATUS_MISMATCH if reset else None
+            return side_rule_to_wheels(rule_evidence(r["lam"], r["updated"], n_mem, l_min,
+                                                     reset=rs)), None
+        out.append((f"upper evidence (+{DELTA_UP}), {n_mem} updates, L_min {l_min}"
+                    + (", reset on mismatch" if reset else ""), evid))
+    out.append((f"upper evidence ({EVIDENCE_N} updates, L_min {EVIDENCE_L}, reset) + bound "
+                f"margin {BOUND_K:g} sd (recommended)", lambda r: (rule_soak(r), None)))
+    out.append((f"the same + fade over 30 m", lambda r: (rule_soak(r, d_mem=30.0), None)))
+    return out
+
+
+def apply_rule(runs: dict, rule) -> dict:
+    """{log: {valid, sd}} of a soak rule on every run (for evaluate's replaced)."""
+    out = {}
+    for n, r in runs.items():
+        ok, sd = rule(r)
+        out[n] = {"valid": r["valid"].astype(bool) & ok}
+        if sd is not None:
+            out[n]["sd"] = sd
+    return out
+
+
+def soak_run(path: Path, cache: Path, estimate: Path | None = None,
+             hold_fired: bool = False) -> dict:
+    """The soak drive (a sensor log with truth columns) as a run: the reference's (cached in
+    cache), or with estimate, a mu_replay estimate log of it (its own vx_est, vy_est,
+    yaw_acc_est where it has them: --velocity observer)."""
+    log = logs.read_csv_log(str(path))
+    if estimate is None:
+        f = cache / f"soak+{path.stem}.npz"
+        if not f.is_file():
+            cache.mkdir(parents=True, exist_ok=True)
+            np.savez(f, **reference_run(path, hold_fired=hold_fired))
+        with np.load(f) as z:
+            r = {k: z[k] for k in z.files}
+        u = y = None
+    else:
+        e = estimate_columns(estimate)
+        r = {"t": e["t"], "status": e["status"].astype(int)}
+        for k in ("mu", "sd", "valid"):
+            r[k] = np.stack([e[f"{k}_{w}"] for w in WHEELS], 1)
+        p = params.resolve(log.meta, None, source=str(path), preset="default")
+        u = y = None
+        if "vx_est" in e:
+            u = conditioned_inputs(log, p)
+            u[:, 1], u[:, 2] = e["vx_est"], e["vy_est"]
+            y = np.column_stack([log.col("ax"), log.col("ay"), e["yaw_acc_est"]])
+    r["truth"] = np.stack([log.col(f"mu_{w}") for w in WHEELS], 1)
+    r["util"] = np.stack([log.col(f"util_{w}") for w in WHEELS], 1)
+    r["settled"] = settled(r["t"], r["truth"])
+    add_model_inputs(r, log, u, y)
+    return r
+
+
+def estimate_columns(path: Path) -> dict:
+    """{column: float array} of a mu_replay estimate log ('#' metadata, one header row)."""
+    with open(path, encoding="utf-8") as fh:
+        rows = [ln for ln in fh if not ln.startswith("#")]
+    names = rows[0].strip().split(",")
+    data = np.loadtxt(rows[1:], delimiter=",", ndmin=2)
+    return {c: data[:, i] for i, c in enumerate(names)}
+
+
+def soak_lines(label: str, r: dict, rules) -> list[str]:
+    lines = [f"soak drive, {label}:"]
+    for name, rule in [("none (today)", None)] + rules:
+        ok, sd = (np.ones_like(r["valid"], dtype=bool), None) if rule is None else rule(r)
+        f = figures(r["mu"], r["sd"] if sd is None else sd, r["valid"].astype(bool) & ok,
+                    r["truth"], r["util"], r["settled"])
+        lines.append(f"    {name}: valid {100 * f['valid']:.1f} %, RMSE {fmt(f['rmse'])}, "
+                     f"consistency {fmt(f['cons'])}, worst {fmt(f['worst'])}, excited valid "
+                     f"{fmt(f['exc'])}")
+    return lines
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description="issue 17: candidate valid and input rules")
     ap.add_argument("--scenarios", default="scenarios", type=Path)
     ap.add_argument("--cache", default="build/trust_rules", type=Path)
     ap.add_argument("--jobs", default=2, type=int)
+    ap.add_argument("--soak", type=Path, help="the soak drive (sensor log with truth columns; "
+                    "make soak's build/soak/drive_300s.csv): its rules on the reference's run")
+    ap.add_argument("--soak-estimate", type=Path, nargs="*", default=[],
+                    help="mu_replay estimate logs of --soak (e.g. --velocity observer)")
+    ap.add_argument("--hold-fired", action="store_true",
+                    help="also the experiment: no update while the monitor is fired (reruns "
+                    "the reference on every log, cached in CACHE/hold_fired)")
+    ap.add_argument("--only-soak-rules", action="store_true",
+                    help="skip the rules of section 8 (stale, updates, yaw)")
     a = ap.parse_args(argv)
     runs = load_all(a.scenarios, a.cache, a.jobs)
     base = evaluate(runs)
     print(f"reference, default preset: meets {sum(f['meets'] for f in base.values())}/{len(base)}")
+    rules = soak_rules()
+    for name, rule in rules:
+        print("\n".join(report(name, base, evaluate(runs, replaced=apply_rule(runs, rule)))))
+    if a.soak:
+        print("\n".join(soak_lines("reference (measured velocities)", soak_run(a.soak, a.cache),
+                                   rules)))
+        for est in a.soak_estimate:
+            print("\n".join(soak_lines(str(est), soak_run(a.soak, a.cache, est), rules)))
+    if a.hold_fired:
+        hcache = a.cache / "hold_fired"
+        held = load_all(a.scenarios, hcache, a.jobs, hold_fired=True)
+        print("\n".join(report("no update while the monitor is fired (in the loop)", base,
+                               evaluate(held))))
+        pair = ("the soak pair (fade 30 m)", lambda r: (rule_soak(r, d_mem=30.0), None))
+        print("\n".join(report("no update while fired + the soak pair (fade 30 m)", base,
+                               evaluate(held, replaced=apply_rule(held, pair[1])))))
+        if a.soak:
+            print("\n".join(soak_lines("reference, no update while fired",
+                                       soak_run(a.soak, hcache, hold_fired=True), [pair])))
+    if a.only_soak_rules:
+        return 0
     for tau, a_min in ((0.1, 0.3), (0.3, 0.1), (0.5, 0.1)):
         def upd(r, tau=tau, a_min=a_min):
             return side_rule_to_wheels(rule_updates(r["status_filter"], r["info"], tau, a_min,
@@ -256,6 +694,18 @@ def main(argv=None) -> int:
     print("\n".join(report(f"stale wheel speed (delta 0.25 rad/s) and yaw-rate check", base,
                            evaluate(runs, lambda r: np.repeat(rule_stale(r["omega"], 0.25)[:, None],
                                                               4, 1), replaced))))
+    # section 10: the soak pair on top of the two rules above (the yaw-checked runs get their
+    # own evidence; its inputs u take the log's yaw rate, not the checked one: 2 logs)
+    for n in replaced:
+        both = dict(runs[n], **replaced[n])
+        add_model_inputs(both, logs.read_csv_log(str(a.scenarios / f"{n}.csv")))
+        replaced[n] = both
+    for label, d_mem in (("", None), (", fade over 30 m", 30.0)):
+        print("\n".join(report(
+            f"stale wheel speed, yaw-rate check and the soak pair{label}", base,
+            evaluate(runs, lambda r, d_mem=d_mem: np.repeat(
+                rule_stale(r["omega"], 0.25)[:, None], 4, 1) & rule_soak(r, d_mem=d_mem),
+                replaced))))
     return 0
 
 
