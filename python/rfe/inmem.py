@@ -23,9 +23,9 @@ from .replay import _fmt
 COLS: list[str] = [ffi.string(lib.rfe_replay_mem_col(i)).decode()
                    for i in range(lib.RFE_MEM_COLS) if lib.rfe_replay_mem_col(i) != ffi.NULL]
 _INT_COLS = {"valid_fl", "valid_fr", "valid_rl", "valid_rr", "status", "mg_status",
-             "tid_status", "tid_flags"}
+             "grade_walk", "tid_status", "tid_flags"}
 _VELOCITY = COLS[COLS.index("vx_est"):COLS.index("sd_beta") + 1]
-_MASS_GRADE = COLS[COLS.index("mass_est"):COLS.index("mass_used") + 1]
+_MASS_GRADE = COLS[COLS.index("mass_est"):COLS.index("grade_walk") + 1]
 _TYRE_ID = COLS[COLS.index("mu_id_f"):COLS.index("tid_flags") + 1]
 _TYRE_FEED = COLS[COLS.index("cy_used"):]
 _BASE = COLS[:COLS.index("vx_est")]

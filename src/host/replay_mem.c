@@ -14,7 +14,7 @@ static const char *const k_mem_cols[RFE_MEM_COLS] = {
     "t",         "mu_fl",     "mu_fr",     "mu_rl",    "mu_rr",     "sd_fl",       "sd_fr",
     "sd_rl",     "sd_rr",     "valid_fl",  "valid_fr", "valid_rl",  "valid_rr",    "status",
     "vx_est",    "vy_est",    "beta_est",  "yaw_acc_est", "sd_vx",  "sd_vy",       "sd_beta",
-    "mass_est",  "sd_mass",   "grade_est", "sd_grade", "mg_status", "mass_used",
+    "mass_est",  "sd_mass",   "grade_est", "sd_grade", "mg_status", "mass_used", "grade_walk",
     "mu_id_f",   "mu_id_r",   "sd_mu_id_f", "sd_mu_id_r", "B_f",    "C_f",         "D_f",
     "E_f",       "B_r",       "C_r",       "D_r",      "E_r",       "tid_status",  "tid_flags",
     "cy_used",   "shape_Cy_used", "shape_Ey_used", "r_model_rel_used"};
@@ -58,22 +58,23 @@ static void est_values(const rfe_est_row_t *e, double *v)
     v[24] = e->sd_grade;
     v[25] = (double)e->mg_status;
     v[26] = e->mass_used;
-    v[27] = e->mu_id[0];
-    v[28] = e->mu_id[1];
-    v[29] = e->sd_mu_id[0];
-    v[30] = e->sd_mu_id[1];
+    v[27] = (double)e->grade_walk;
+    v[28] = e->mu_id[0];
+    v[29] = e->mu_id[1];
+    v[30] = e->sd_mu_id[0];
+    v[31] = e->sd_mu_id[1];
     for (w = 0u; w < 2u; ++w) {
-        v[31u + 4u * w] = e->mf_B[w];
-        v[32u + 4u * w] = e->mf_C[w];
-        v[33u + 4u * w] = e->mf_D[w];
-        v[34u + 4u * w] = e->mf_E[w];
+        v[32u + 4u * w] = e->mf_B[w];
+        v[33u + 4u * w] = e->mf_C[w];
+        v[34u + 4u * w] = e->mf_D[w];
+        v[35u + 4u * w] = e->mf_E[w];
     }
-    v[39] = (double)e->tid_status;
-    v[40] = (double)e->tid_flags;
-    v[41] = e->cy_used;
-    v[42] = e->shape_Cy_used;
-    v[43] = e->shape_Ey_used;
-    v[44] = e->r_model_rel_used;
+    v[40] = (double)e->tid_status;
+    v[41] = (double)e->tid_flags;
+    v[42] = e->cy_used;
+    v[43] = e->shape_Cy_used;
+    v[44] = e->shape_Ey_used;
+    v[45] = e->r_model_rel_used;
 }
 
 /* Whether @p log has the columns of the first block (the replay state knows only those). */
