@@ -58,8 +58,9 @@ static inline void wheel_kin(const rfe_vehicle_t *veh, const rfe_tyre_params_t *
     *kappa_out = wheel_kappa(veh, tp, u->omega[i], vwx);
 }
 
-rfe_status_t rfe_tyre_kinematics(const rfe_vehicle_t *veh, const rfe_tyre_params_t *tp,
-                                 const rfe_sample_t *u, rfe_wheel_kin_t *kin)
+rfe_status_t rfe_tyre_kinematics_cs(const rfe_vehicle_t *veh, const rfe_tyre_params_t *tp,
+                                    const rfe_sample_t *u, rfe_wheel_kin_t *kin,
+                                    rfe_real_t *cos_delta, rfe_real_t *sin_delta)
 {
     rfe_real_t px[RFE_WHEELS];
     rfe_real_t py[RFE_WHEELS];
@@ -75,6 +76,7 @@ rfe_status_t rfe_tyre_kinematics(const rfe_vehicle_t *veh, const rfe_tyre_params
         !rfe_all_finite(u->omega, RFE_WHEELS)) {
         return RFE_ERR_NONFINITE;
     }
+    /* nothing fails below the checks: *kin is written only on RFE_OK */
     rfe_wheel_positions(veh, px, py);
     c = RFE_COS(u->delta);
     s = RFE_SIN(u->delta);
@@ -83,7 +85,17 @@ rfe_status_t rfe_tyre_kinematics(const rfe_vehicle_t *veh, const rfe_tyre_params
                   &kin->kappa[i]);
     }
     vertical_loads(veh, u->ax, u->ay, kin->fz);
+    *cos_delta = c;
+    *sin_delta = s;
     return RFE_OK;
+}
+
+rfe_status_t rfe_tyre_kinematics(const rfe_vehicle_t *veh, const rfe_tyre_params_t *tp,
+                                 const rfe_sample_t *u, rfe_wheel_kin_t *kin)
+{
+    rfe_real_t c;
+    rfe_real_t s;
+    return rfe_tyre_kinematics_cs(veh, tp, u, kin, &c, &s);
 }
 
 /* Shared Dugoff core (MODEL.md §4). Returns g = f(L)/(1-|kappa|) computed without dividing
