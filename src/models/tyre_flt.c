@@ -71,10 +71,11 @@ rfe_status_t rfe_tyre_kinematics_cs(const rfe_vehicle_t *veh, const rfe_tyre_par
     if ((veh == NULL) || (tp == NULL) || (u == NULL) || (kin == NULL)) {
         return RFE_ERR_NULL;
     }
-    if (!rfe_is_finite(u->delta) || !rfe_is_finite(u->vx) || !rfe_is_finite(u->vy) ||
-        !rfe_is_finite(u->yaw_rate) || !rfe_is_finite(u->ax) || !rfe_is_finite(u->ay) ||
-        !rfe_all_finite(u->omega, RFE_WHEELS)) {
-        return RFE_ERR_NONFINITE;
+    {
+        const rfe_real_t v[6] = {u->delta, u->vx, u->vy, u->yaw_rate, u->ax, u->ay};
+        if (!rfe_all_finite(v, 6u) || !rfe_all_finite(u->omega, RFE_WHEELS)) {
+            return RFE_ERR_NONFINITE;
+        }
     }
     /* nothing fails below the checks: *kin is written only on RFE_OK */
     rfe_wheel_positions(veh, px, py);
@@ -222,9 +223,12 @@ static rfe_status_t check_wheel(const rfe_tyre_params_t *tp, rfe_real_t kappa, r
     if ((tp == NULL) || (o1 == NULL) || (o2 == NULL)) {
         return RFE_ERR_NULL;
     }
-    if (!rfe_is_finite(kappa) || !rfe_is_finite(alpha) || !rfe_is_finite(fz) ||
-        !rfe_is_finite(vwx)) {
-        return RFE_ERR_NONFINITE;
+    {
+        /* one test of the four (rfe_all_finite; issue 16: ~20 calls a pipeline step) */
+        const rfe_real_t v[4] = {kappa, alpha, fz, vwx};
+        if (!rfe_all_finite(v, 4u)) {
+            return RFE_ERR_NONFINITE;
+        }
     }
     if (fz < RFE_R(0.0)) {
         return RFE_ERR_RANGE;
