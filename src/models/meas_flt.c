@@ -20,69 +20,123 @@
 /* cppcheck-suppress misra-c2012-2.3 ; MISRA-DEV-04: static assertion, never used by design */
 typedef char rfe_assert_meas_four_wheels[(RFE_WHEELS == 4) ? 1 : -1];
 
-/* Load-scaled modes (absolute, magic): cos, sin of delta and each wheel's friction-independent
- * tyre terms (paper mode, which uses neither: zeros), and the tyre parameters they belong to. */
-static void setup_pre(rfe_meas_t *h, const rfe_tyre_params_t *tp)
+/* Wheel i's column of H cleared (a load-scaled set-up's: H is paper mode's only), and its
+ * kept force (every set-up's: none is kept yet). Called per wheel with constant indices, so
+ * the stores stay stores: loops over the struct's arrays became memset calls (issue 16).
+ * Every field of h is written by a set-up, as before. */
+static void clear_column(rfe_meas_t *h, size_t i)
 {
-    size_t i;
-    h->cos_delta = RFE_R(0.0);
-    h->sin_delta = RFE_R(0.0);
-    if (tp->mode != RFE_TYRE_PAPER) {
-        h->cos_delta = RFE_COS(h->delta);
-        h->sin_delta = RFE_SIN(h->delta);
-    }
-    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
-        const rfe_dugoff_pre_t zero = {RFE_R(0.0), RFE_R(0.0), RFE_R(0.0), RFE_R(0.0),
-                                       RFE_R(0.0), RFE_R(0.0), RFE_R(0.0)};
-        h->pre[i] = zero;
-        if (tp->mode != RFE_TYRE_PAPER) {
-            rfe_tyre_dugoff_pre(tp, h->kin.kappa[i], h->kin.alpha[i], h->kin.vwx[i],
-                                &h->pre[i]);
-        }
-    }
+    h->H[RFE_H_AT(0u, i)] = RFE_R(0.0);
+    h->H[RFE_H_AT(1u, i)] = RFE_R(0.0);
+    h->H[RFE_H_AT(2u, i)] = RFE_R(0.0);
+}
+
+static void clear_memo(rfe_meas_t *h, size_t i)
+{
+    h->memo_mu[i] = RFE_R(0.0);
+    h->memo_fx[i] = RFE_R(0.0);
+    h->memo_fy[i] = RFE_R(0.0);
+    h->memo_shape[i] = RFE_R(0.0);
+}
+
+/* The tyre parameters the set-up's terms belong to, and no kept forces (both modes). */
+static void setup_record(rfe_meas_t *h, const rfe_tyre_params_t *tp)
+{
     h->pre_cx = tp->cx;
     h->pre_cy = tp->cy;
     h->pre_eps = tp->eps;
     h->pre_alpha_max = tp->alpha_max;
-    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
-        h->memo_mu[i] = RFE_R(0.0);
-        h->memo_fx[i] = RFE_R(0.0);
-        h->memo_fy[i] = RFE_R(0.0);
-        h->memo_shape[i] = RFE_R(0.0);
-    }
+    /* FOUR_WHEELS */
+    clear_memo(h, 0u);
+    clear_memo(h, 1u);
+    clear_memo(h, 2u);
+    clear_memo(h, 3u);
     h->memo_valid = 0;
+}
+
+/* Paper mode: the kinematics and H(u) built aside and written to h only when both succeed
+ * (the forces or H can fail after the kinematics); no cos, sin or tyre terms (zeros). */
+static rfe_status_t setup_paper(rfe_meas_t *h, const rfe_vehicle_t *veh,
+                                const rfe_tyre_params_t *tp, const rfe_sample_t *u)
+{
+    rfe_wheel_kin_t kin;
+    rfe_real_t H[RFE_H_SIZE] = {0};
+    rfe_real_t f0x[RFE_WHEELS];
+    rfe_real_t f0y[RFE_WHEELS];
+    rfe_real_t c = RFE_R(0.0);
+    rfe_real_t s = RFE_R(0.0);
+    size_t i;
+    rfe_status_t st = rfe_tyre_kinematics_cs(veh, tp, u, &kin, &c, &s);
+    if (st == RFE_OK) {
+        st = rfe_tyre_forces_norm(tp, &kin, f0x, f0y);
+    }
+    if (st == RFE_OK) {
+        st = rfe_obsmat_build(veh, u->delta, f0x, f0y, H);
+    }
+    if (st != RFE_OK) {
+        return st;
+    }
+    h->kin = kin;
+    for (i = 0u; i < RFE_H_SIZE; ++i) {
+        h->H[i] = H[i];
+    }
+    h->cos_delta = RFE_R(0.0);
+    h->sin_delta = RFE_R(0.0);
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        const rfe_dugoff_pre_t zero = {RFE_R(0.0), RFE_R(0.0), RFE_R(0.0), RFE_R(0.0),
+                                       RFE_R(0.0), RFE_R(0.0), RFE_R(0.0)};
+        h->pre[i] = zero;
+    }
+    return RFE_OK;
+}
+
+/* Load-scaled modes (absolute, magic): the kinematics straight into h (they write nothing
+ * on an error and nothing fails after them), with the cos and sin of delta they computed;
+ * H zero; each wheel's friction-independent tyre terms (rfe_tyre_dugoff_pre writes every
+ * field). Issue 16: no kinematics or H built aside and copied, no cos and sin computed twice,
+ * no terms cleared and then written: the same h as before. */
+static rfe_status_t setup_scaled(rfe_meas_t *h, const rfe_vehicle_t *veh,
+                                 const rfe_tyre_params_t *tp, const rfe_sample_t *u)
+{
+    rfe_real_t c = RFE_R(0.0);
+    rfe_real_t s = RFE_R(0.0);
+    size_t i;
+    const rfe_status_t st = rfe_tyre_kinematics_cs(veh, tp, u, &h->kin, &c, &s);
+    if (st != RFE_OK) {
+        return st;
+    }
+    /* FOUR_WHEELS */
+    clear_column(h, 0u);
+    clear_column(h, 1u);
+    clear_column(h, 2u);
+    clear_column(h, 3u);
+    h->cos_delta = c;
+    h->sin_delta = s;
+    for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
+        rfe_tyre_dugoff_pre(tp, h->kin.kappa[i], h->kin.alpha[i], h->kin.vwx[i], &h->pre[i]);
+    }
+    return RFE_OK;
 }
 
 rfe_status_t rfe_meas_setup(rfe_meas_t *h, const rfe_vehicle_t *veh,
                             const rfe_tyre_params_t *tp, const rfe_sample_t *u)
 {
-    rfe_wheel_kin_t kin;
-    rfe_real_t H[RFE_H_SIZE] = {0};
     rfe_status_t st;
-    size_t i;
 
     if ((h == NULL) || (veh == NULL) || (tp == NULL) || (u == NULL)) {
         return RFE_ERR_NULL;
     }
-    st = rfe_tyre_kinematics(veh, tp, u, &kin);
-    if ((st == RFE_OK) && (tp->mode == RFE_TYRE_PAPER)) {
-        rfe_real_t f0x[RFE_WHEELS];
-        rfe_real_t f0y[RFE_WHEELS];
-        st = rfe_tyre_forces_norm(tp, &kin, f0x, f0y);
-        if (st == RFE_OK) {
-            st = rfe_obsmat_build(veh, u->delta, f0x, f0y, H);
-        }
+    if (tp->mode == RFE_TYRE_PAPER) {
+        st = setup_paper(h, veh, tp, u);
+    } else {
+        st = setup_scaled(h, veh, tp, u);
     }
     if (st != RFE_OK) {
         return st;
     }
     h->mode = tp->mode;
     h->delta = u->delta;
-    h->kin = kin;
-    for (i = 0u; i < RFE_H_SIZE; ++i) {
-        h->H[i] = H[i];
-    }
-    setup_pre(h, tp);
+    setup_record(h, tp);
     return RFE_OK;
 }
 

@@ -58,8 +58,9 @@ static inline void wheel_kin(const rfe_vehicle_t *veh, const rfe_tyre_params_t *
     *kappa_out = wheel_kappa(veh, tp, u->omega[i], vwx);
 }
 
-rfe_status_t rfe_tyre_kinematics(const rfe_vehicle_t *veh, const rfe_tyre_params_t *tp,
-                                 const rfe_sample_t *u, rfe_wheel_kin_t *kin)
+rfe_status_t rfe_tyre_kinematics_cs(const rfe_vehicle_t *veh, const rfe_tyre_params_t *tp,
+                                    const rfe_sample_t *u, rfe_wheel_kin_t *kin,
+                                    rfe_real_t *cos_delta, rfe_real_t *sin_delta)
 {
     rfe_real_t px[RFE_WHEELS];
     rfe_real_t py[RFE_WHEELS];
@@ -70,11 +71,13 @@ rfe_status_t rfe_tyre_kinematics(const rfe_vehicle_t *veh, const rfe_tyre_params
     if ((veh == NULL) || (tp == NULL) || (u == NULL) || (kin == NULL)) {
         return RFE_ERR_NULL;
     }
-    if (!rfe_is_finite(u->delta) || !rfe_is_finite(u->vx) || !rfe_is_finite(u->vy) ||
-        !rfe_is_finite(u->yaw_rate) || !rfe_is_finite(u->ax) || !rfe_is_finite(u->ay) ||
-        !rfe_all_finite(u->omega, RFE_WHEELS)) {
-        return RFE_ERR_NONFINITE;
+    {
+        const rfe_real_t v[6] = {u->delta, u->vx, u->vy, u->yaw_rate, u->ax, u->ay};
+        if (!rfe_all_finite(v, 6u) || !rfe_all_finite(u->omega, RFE_WHEELS)) {
+            return RFE_ERR_NONFINITE;
+        }
     }
+    /* nothing fails below the checks: *kin is written only on RFE_OK */
     rfe_wheel_positions(veh, px, py);
     c = RFE_COS(u->delta);
     s = RFE_SIN(u->delta);
@@ -83,7 +86,17 @@ rfe_status_t rfe_tyre_kinematics(const rfe_vehicle_t *veh, const rfe_tyre_params
                   &kin->kappa[i]);
     }
     vertical_loads(veh, u->ax, u->ay, kin->fz);
+    *cos_delta = c;
+    *sin_delta = s;
     return RFE_OK;
+}
+
+rfe_status_t rfe_tyre_kinematics(const rfe_vehicle_t *veh, const rfe_tyre_params_t *tp,
+                                 const rfe_sample_t *u, rfe_wheel_kin_t *kin)
+{
+    rfe_real_t c;
+    rfe_real_t s;
+    return rfe_tyre_kinematics_cs(veh, tp, u, kin, &c, &s);
 }
 
 /* Shared Dugoff core (MODEL.md §4). Returns g = f(L)/(1-|kappa|) computed without dividing
@@ -210,9 +223,12 @@ static rfe_status_t check_wheel(const rfe_tyre_params_t *tp, rfe_real_t kappa, r
     if ((tp == NULL) || (o1 == NULL) || (o2 == NULL)) {
         return RFE_ERR_NULL;
     }
-    if (!rfe_is_finite(kappa) || !rfe_is_finite(alpha) || !rfe_is_finite(fz) ||
-        !rfe_is_finite(vwx)) {
-        return RFE_ERR_NONFINITE;
+    {
+        /* one test of the four (rfe_all_finite; issue 16: ~20 calls a pipeline step) */
+        const rfe_real_t v[4] = {kappa, alpha, fz, vwx};
+        if (!rfe_all_finite(v, 4u)) {
+            return RFE_ERR_NONFINITE;
+        }
     }
     if (fz < RFE_R(0.0)) {
         return RFE_ERR_RANGE;

@@ -27,6 +27,7 @@
 #define rfe_tyre_norm_pre       rfe_tyre_norm_pre_f64
 #define rfe_tyre_pre_jac        rfe_tyre_pre_jac_f64
 #define rfe_tyre_magic_basis    rfe_tyre_magic_basis_f64
+#define rfe_tyre_kinematics_cs  rfe_tyre_kinematics_cs_f64
 #else
 #define rfe_tyre_dugoff_pre     rfe_tyre_dugoff_pre_f32
 #define rfe_tyre_dugoff_abs_pre rfe_tyre_dugoff_abs_pre_f32
@@ -36,7 +37,16 @@
 #define rfe_tyre_norm_pre       rfe_tyre_norm_pre_f32
 #define rfe_tyre_pre_jac        rfe_tyre_pre_jac_f32
 #define rfe_tyre_magic_basis    rfe_tyre_magic_basis_f32
+#define rfe_tyre_kinematics_cs  rfe_tyre_kinematics_cs_f32
 #endif
+
+/** rfe_tyre_kinematics with the cos and sin of u->delta it computed (@p cos_delta,
+ *  @p sin_delta): the same checks, values and statuses; @p kin and both written only on RFE_OK
+ *  (the measurement model's set-up takes them instead of computing them again, issue 16). */
+RFE_NODISCARD rfe_status_t rfe_tyre_kinematics_cs(const rfe_vehicle_t *veh,
+                                                 const rfe_tyre_params_t *tp,
+                                                 const rfe_sample_t *u, rfe_wheel_kin_t *kin,
+                                                 rfe_real_t *cos_delta, rfe_real_t *sin_delta);
 
 /** The friction-independent terms of rfe_tyre_dugoff_abs(tp, kappa, alpha, ., vwx, ...)
  *  (and, when tp->mode is RFE_TYRE_MAGIC, the direction cosines ux, uy of rfe_tyre_magic_abs)

@@ -41,7 +41,7 @@ typedef struct {
     rfe_tyre_mode_t mode;                /**< tyre mode it was set up for */
     rfe_real_t delta;                    /**< steer angle of the sample */
     rfe_wheel_kin_t kin;                 /**< kinematics, slips, loads of the sample */
-    rfe_real_t H[RFE_H_SIZE];            /**< paper mode: H(u) */
+    rfe_real_t H[RFE_H_SIZE];            /**< paper mode: H(u) (load-scaled modes: zeros) */
     rfe_real_t cos_delta;                /**< load-scaled modes: cos of delta (paper mode: 0) */
     rfe_real_t sin_delta;                /**< load-scaled modes: sin of delta (paper mode: 0) */
     /** load-scaled modes: each wheel's friction-independent tyre terms, so that eval does only
