@@ -298,7 +298,7 @@ static uint32_t apf_step(rfe_tyre_id_t *t, const rfe_tyre_id_sample_t *smp,
     /* first stage: lambda_i = l_i + l(mu_i, theta_i), normalised (cum holds lambda) */
     for (i = 0u; i < n; ++i) {
         t->la[i] = rfe_tid_loglik(t, t->aux[i][0], t->aux[i][1], &t->x[i][RFE_TID_STATES], u,
-                                  smp->yaw_rate, smp->ay);
+                                  smp->yaw_rate, smp->ay, NULL);
         t->cum[i] = t->logw[i] + t->la[i];
     }
     if (rfe_tid_normalise(t->cum, n, t->w, NULL) == 0) {
@@ -307,24 +307,27 @@ static uint32_t apf_step(rfe_tyre_id_t *t, const rfe_tyre_id_sample_t *smp,
     n_eff = rfe_tid_neff(t->w, n);
     stream_of(t, PURPOSE_PROCESS, &s);
     if (n_eff < (t->p.neff_frac * (rfe_real_t)RFE_TID_N)) {
-        /* the draw; second stage l_j = l(x_j) - l(mu_a_j, theta_a_j) */
+        /* the draw; second stage l_j = l(x_j) - l(mu_a_j, theta_a_j) (the auxiliary points
+         * are in nx now: aux takes the particle's forces for the outputs) */
         rough_resample(t, n_eff);
         for (i = 0u; i < n; ++i) {
             add_noise(t, &s, i, sq, t->nx[i], t->x[i]);
             t->logw[i] = rfe_tid_loglik(t, t->x[i][RFE_TID_VY], t->x[i][RFE_TID_R],
-                                        &t->x[i][RFE_TID_STATES], u, smp->yaw_rate, smp->ay) -
+                                        &t->x[i][RFE_TID_STATES], u, smp->yaw_rate, smp->ay,
+                                        t->aux[i]) -
                          t->la[t->idx[i]];
         }
         flags |= RFE_TID_RESAMPLED;
     } else {
-        /* no draw: l_i + l(x_i) (the first stage's factor cancels) */
+        /* no draw: l_i + l(x_i) (the first stage's factor cancels); aux_i, read, takes the
+         * particle's forces for the outputs */
         for (i = 0u; i < n; ++i) {
             rfe_real_t cols[RFE_TID_DIM];
             aux_columns(t, i, cols);
             add_noise(t, &s, i, sq, cols, t->x[i]);
             t->logw[i] = t->logw[i] + rfe_tid_loglik(t, t->x[i][RFE_TID_VY], t->x[i][RFE_TID_R],
                                                      &t->x[i][RFE_TID_STATES], u,
-                                                     smp->yaw_rate, smp->ay);
+                                                     smp->yaw_rate, smp->ay, t->aux[i]);
         }
     }
     if (rfe_tid_normalise(t->logw, n, t->w, t->logw) == 0) {
@@ -351,7 +354,7 @@ static uint32_t sir_step(rfe_tyre_id_t *t, const rfe_tyre_id_sample_t *smp,
         add_noise(t, &s, i, sq, cols, t->x[i]);
         t->logw[i] = t->logw[i] + rfe_tid_loglik(t, t->x[i][RFE_TID_VY], t->x[i][RFE_TID_R],
                                                  &t->x[i][RFE_TID_STATES], u, smp->yaw_rate,
-                                                 smp->ay);
+                                                 smp->ay, NULL);
     }
     if (rfe_tid_normalise(t->logw, n, t->w, t->logw) == 0) {
         return lost(t, smp->yaw_rate);
@@ -429,9 +432,11 @@ static void rescaled_sd(rfe_tyre_id_t *t, const rfe_real_t fz[2], size_t k)
 }
 
 /* §7 weighted means and sds at this sample's inputs (sums in particle order; a particle of
- * weight 0 adds exactly 0 and is skipped, so a diverged one cannot turn a sum into NaN). */
+ * weight 0 adds exactly 0 and is skipped, so a diverged one cannot turn a sum into NaN).
+ * forces_in_aux: the APF's second stage left every particle's forces at these inputs in aux
+ * (rfe_tid_ay's, bit for bit rfe_tid_forces'), so they are not computed again. */
 static void estimate(rfe_tyre_id_t *t, const rfe_tyre_id_sample_t *smp,
-                     const rfe_tid_input_t *u, uint32_t flags)
+                     const rfe_tid_input_t *u, uint32_t flags, int forces_in_aux)
 {
     const size_t n = (size_t)RFE_TID_N;
     rfe_tyre_id_estimate_t *e = &t->last;
@@ -443,7 +448,9 @@ static void estimate(rfe_tyre_id_t *t, const rfe_tyre_id_sample_t *smp,
     (void)rfe_tid_normalise(t->logw, n, t->w, NULL);
     rfe_tid_mu_loads(t, smp->ax, fz);
     for (i = 0u; i < n; ++i) {
-        rfe_tid_forces(t, t->x[i], u, &t->aux[i][0], &t->aux[i][1]);
+        if (forces_in_aux == 0) {
+            rfe_tid_forces(t, t->x[i], u, &t->aux[i][0], &t->aux[i][1]);
+        }
         t->la[i] = RFE_ATAN2(t->x[i][RFE_TID_VY], smp->vx);
     }
     for (k = 0u; k < (size_t)RFE_TID_OUTPUTS; ++k) {
@@ -508,6 +515,7 @@ rfe_status_t rfe_tyre_id_step(rfe_tyre_id_t *tid, const rfe_tyre_id_sample_t *s,
 {
     rfe_tid_input_t u;
     uint32_t flags;
+    int forces_in_aux = 0;
     rfe_status_t st;
     if ((tid == NULL) || (s == NULL) || (out == NULL)) {
         return RFE_ERR_NULL;
@@ -538,6 +546,8 @@ rfe_status_t rfe_tyre_id_step(rfe_tyre_id_t *tid, const rfe_tyre_id_sample_t *s,
         flags = RFE_TID_HELD;
     } else if (tid->p.filter == RFE_TID_APF) {
         flags = apf_step(tid, s, &u);
+        /* the second stage's forces are in aux unless the step was lost (new particles) */
+        forces_in_aux = ((flags & RFE_TID_LOST) == 0u) ? 1 : 0;
     } else if (tid->p.filter == RFE_TID_SIR) {
         flags = sir_step(tid, s, &u);
     } else {
@@ -549,7 +559,7 @@ rfe_status_t rfe_tyre_id_step(rfe_tyre_id_t *tid, const rfe_tyre_id_sample_t *s,
     if (tid->p.filter == RFE_TID_SCKF) {
         rfe_tid_sckf_estimate(tid, s, &u, flags);
     } else {
-        estimate(tid, s, &u, flags);
+        estimate(tid, s, &u, flags, forces_in_aux);
     }
     tid->k += 1u;
     *out = tid->last;
