@@ -193,22 +193,34 @@ static void draw_prior(rfe_tyre_id_t *t, rfe_real_t r_meas)
     }
 }
 
-/* §4.3 the process noise of slot i (purpose 1) on the columns src, into dst:
- * vy + (q_vy s) z0, r + (q_r s) z1, reflect(theta + (q s) z), s = sqrt(h). */
-static void add_noise(const rfe_tyre_id_t *t, rfe_philox_t *s, size_t i, rfe_real_t sq,
-                      const rfe_real_t src[RFE_TID_DIM], rfe_real_t dst[RFE_TID_DIM])
+/* §4.3 the process noise's scale per column, q s with s = sqrt(h): (q_vy s, q_r s, q_e s),
+ * the same products for every particle, so made once a step. */
+static void noise_scales(const rfe_tyre_id_t *t, rfe_real_t sq, rfe_real_t qs[RFE_TID_DIM])
+{
+    size_t e;
+    qs[RFE_TID_VY] = t->p.q_vy * sq;
+    qs[RFE_TID_R] = t->p.q_r * sq;
+    for (e = 0u; e < (size_t)RFE_TID_PAR; ++e) {
+        qs[RFE_TID_STATES + e] = t->c.q[e] * sq;
+    }
+}
+
+/* §4.3 the process noise of slot i (purpose 1) on the columns src, into dst, with the scales
+ * qs of noise_scales: vy + (q_vy s) z0, r + (q_r s) z1, reflect(theta + (q s) z). */
+static void add_noise(const rfe_tyre_id_t *t, rfe_philox_t *s, size_t i,
+                      const rfe_real_t qs[RFE_TID_DIM], const rfe_real_t src[RFE_TID_DIM],
+                      rfe_real_t dst[RFE_TID_DIM])
 {
     rfe_real_t z[RFE_TID_DIM];
     size_t e;
     for (e = 0u; e < (size_t)PAIRS_DIM; ++e) {
         normal_pair(s, (i * (size_t)PAIRS_DIM) + e, &z[2u * e]);
     }
-    dst[RFE_TID_VY] = src[RFE_TID_VY] + ((t->p.q_vy * sq) * z[0]);
-    dst[RFE_TID_R] = src[RFE_TID_R] + ((t->p.q_r * sq) * z[1]);
+    dst[RFE_TID_VY] = src[RFE_TID_VY] + (qs[RFE_TID_VY] * z[0]);
+    dst[RFE_TID_R] = src[RFE_TID_R] + (qs[RFE_TID_R] * z[1]);
     for (e = 0u; e < (size_t)RFE_TID_PAR; ++e) {
         const size_t col = RFE_TID_STATES + e;
-        dst[col] = rfe_tid_reflect(src[col] + ((t->c.q[e] * sq) * z[col]), t->c.lo[e],
-                                   t->c.hi[e]);
+        dst[col] = rfe_tid_reflect(src[col] + (qs[col] * z[col]), t->c.lo[e], t->c.hi[e]);
     }
 }
 
@@ -289,11 +301,12 @@ static uint32_t apf_step(rfe_tyre_id_t *t, const rfe_tyre_id_sample_t *smp,
                          const rfe_tid_input_t *u)
 {
     const size_t n = (size_t)RFE_TID_N;
-    const rfe_real_t sq = RFE_SQRT(smp->dt);
+    rfe_real_t qs[RFE_TID_DIM];
     uint32_t flags = RFE_TID_UPDATED;
     rfe_philox_t s;
     rfe_real_t n_eff;
     size_t i;
+    noise_scales(t, RFE_SQRT(smp->dt), qs);
     aux_points(t, smp);
     /* first stage: lambda_i = l_i + l(mu_i, theta_i), normalised (cum holds lambda) */
     for (i = 0u; i < n; ++i) {
@@ -311,7 +324,7 @@ static uint32_t apf_step(rfe_tyre_id_t *t, const rfe_tyre_id_sample_t *smp,
          * are in nx now: aux takes the particle's forces for the outputs) */
         rough_resample(t, n_eff);
         for (i = 0u; i < n; ++i) {
-            add_noise(t, &s, i, sq, t->nx[i], t->x[i]);
+            add_noise(t, &s, i, qs, t->nx[i], t->x[i]);
             t->logw[i] = rfe_tid_loglik(t, t->x[i][RFE_TID_VY], t->x[i][RFE_TID_R],
                                         &t->x[i][RFE_TID_STATES], u, smp->yaw_rate, smp->ay,
                                         t->aux[i]) -
@@ -324,7 +337,7 @@ static uint32_t apf_step(rfe_tyre_id_t *t, const rfe_tyre_id_sample_t *smp,
         for (i = 0u; i < n; ++i) {
             rfe_real_t cols[RFE_TID_DIM];
             aux_columns(t, i, cols);
-            add_noise(t, &s, i, sq, cols, t->x[i]);
+            add_noise(t, &s, i, qs, cols, t->x[i]);
             t->logw[i] = t->logw[i] + rfe_tid_loglik(t, t->x[i][RFE_TID_VY], t->x[i][RFE_TID_R],
                                                      &t->x[i][RFE_TID_STATES], u,
                                                      smp->yaw_rate, smp->ay, t->aux[i]);
@@ -342,16 +355,17 @@ static uint32_t sir_step(rfe_tyre_id_t *t, const rfe_tyre_id_sample_t *smp,
                          const rfe_tid_input_t *u)
 {
     const size_t n = (size_t)RFE_TID_N;
-    const rfe_real_t sq = RFE_SQRT(smp->dt);
+    rfe_real_t qs[RFE_TID_DIM];
     uint32_t flags = RFE_TID_UPDATED;
     rfe_philox_t s;
     size_t i;
+    noise_scales(t, RFE_SQRT(smp->dt), qs);
     aux_points(t, smp);
     stream_of(t, PURPOSE_PROCESS, &s);
     for (i = 0u; i < n; ++i) {
         rfe_real_t cols[RFE_TID_DIM];
         aux_columns(t, i, cols);
-        add_noise(t, &s, i, sq, cols, t->x[i]);
+        add_noise(t, &s, i, qs, cols, t->x[i]);
         t->logw[i] = t->logw[i] + rfe_tid_loglik(t, t->x[i][RFE_TID_VY], t->x[i][RFE_TID_R],
                                                  &t->x[i][RFE_TID_STATES], u, smp->yaw_rate,
                                                  smp->ay, NULL);
