@@ -60,7 +60,7 @@ BUDGET = int(round(SHARE * CLOCK_HZ / RATE_HZ))   # 336,000 instructions a step 
 # Cortex-M4" gives the figures before them).
 PIL_COUNTS = {32: (268675, 354801), 40: (321022, 428636), 41: (332433, 442989),
               42: (334230, 445650), 43: (355867, 465128), 44: (355987, 471235),
-              64: (508602, 675897)}
+              64: (508602, 675897), 256: (2051703, 2732496)}
 PIL_FIT_POINTS = (32, 64)
 # (particles, every): the same on every every-th sample of the ramp steer (h = every / 100 s),
 # measured the same way
