@@ -447,8 +447,9 @@ static void rescaled_sd(rfe_tyre_id_t *t, const rfe_real_t fz[2], size_t k)
 
 /* §7 weighted means and sds at this sample's inputs (sums in particle order; a particle of
  * weight 0 adds exactly 0 and is skipped, so a diverged one cannot turn a sum into NaN).
- * forces_in_aux: the APF's second stage left every particle's forces at these inputs in aux
- * (rfe_tid_ay's, bit for bit rfe_tid_forces'), so they are not computed again. */
+ * forces_in_aux: the APF stepped, and unless the step was lost (new particles) its second stage
+ * left every particle's forces at these inputs in aux (rfe_tid_ay's, bit for bit
+ * rfe_tid_forces'), so they are not computed again. */
 static void estimate(rfe_tyre_id_t *t, const rfe_tyre_id_sample_t *smp,
                      const rfe_tid_input_t *u, uint32_t flags, int forces_in_aux)
 {
@@ -462,7 +463,7 @@ static void estimate(rfe_tyre_id_t *t, const rfe_tyre_id_sample_t *smp,
     (void)rfe_tid_normalise(t->logw, n, t->w, NULL);
     rfe_tid_mu_loads(t, smp->ax, fz);
     for (i = 0u; i < n; ++i) {
-        if (forces_in_aux == 0) {
+        if ((forces_in_aux == 0) || ((flags & RFE_TID_LOST) != 0u)) {
             rfe_tid_forces(t, t->x[i], u, &t->aux[i][0], &t->aux[i][1]);
         }
         t->la[i] = RFE_ATAN2(t->x[i][RFE_TID_VY], smp->vx);
@@ -560,8 +561,7 @@ rfe_status_t rfe_tyre_id_step(rfe_tyre_id_t *tid, const rfe_tyre_id_sample_t *s,
         flags = RFE_TID_HELD;
     } else if (tid->p.filter == RFE_TID_APF) {
         flags = apf_step(tid, s, &u);
-        /* the second stage's forces are in aux unless the step was lost (new particles) */
-        forces_in_aux = ((flags & RFE_TID_LOST) == 0u) ? 1 : 0;
+        forces_in_aux = 1;
     } else if (tid->p.filter == RFE_TID_SIR) {
         flags = sir_step(tid, s, &u);
     } else {
