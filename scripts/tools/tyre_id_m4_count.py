@@ -61,7 +61,9 @@ BUDGET = int(round(SHARE * CLOCK_HZ / RATE_HZ))   # 336,000 instructions a step 
 # steps of tid_ramp_steer_high_mu (the first one initialises), measured by hand on 2026-12-07
 # with the Philox product from 32-bit limbs and the outputs' forces taken from the
 # second-stage likelihood (TYRE_ID_RESULTS.md "The particle count that fits a 168 MHz
-# Cortex-M4" gives the figures before them).
+# Cortex-M4" gives the figures before them; the flag the step passes to its outputs was
+# reworded after these runs, which moved make pil-aux's 20-step count at 256 by 21
+# instructions).
 PIL_COUNTS = {32: (268675, 354801), 40: (321022, 428636), 41: (332433, 442989),
               42: (334230, 445650), 43: (355867, 465128), 44: (355987, 471235),
               64: (508602, 675897), 256: (2051703, 2732496)}
