@@ -96,10 +96,15 @@ def curve_rmse(c, out, axle, k0):
 
 
 def measure(job):
-    """job = (log, filter, n, seed[, ellipse]) -> the figures of one run (a dict)."""
+    """job = (log, filter, n, seed[, ellipse[, every]]) -> the figures of one run (a dict).
+    every > 1: the identifier runs on every every-th sample of the log (its rate divided by
+    every, h = every sample periods) and is scored on those samples."""
     log, filt, n, seed = job[:4]
     ellipse = bool(job[4]) if len(job) > 4 else False
+    every = int(job[5]) if len(job) > 5 else 1
     c = read_csv_log(str(ROOT / "scenarios" / "tyre_id" / f"{log}.csv")).columns
+    if every > 1:
+        c = {k: np.asarray(v)[::every] for k, v in c.items()}
     t0 = time.perf_counter()
     out = run_filter(c, filt, n, seed, ellipse)
     cost = (time.perf_counter() - t0) / len(c["t"])
@@ -107,7 +112,7 @@ def measure(job):
     k_sk = int(np.searchsorted(t, T_SKIP))
     k0 = int(np.searchsorted(t, 8.0)) if log == "tid_tyre_change" else 0
     res = {"log": log, "filter": filt, "n": n, "seed": seed, "ms": 1e3 * cost,
-           "ellipse": ellipse, "ax_max": float(np.max(np.abs(c["ax"])))}
+           "ellipse": ellipse, "every": every, "ax_max": float(np.max(np.abs(c["ax"])))}
     g = 9.81
     ay = np.abs(c["ay"])
     for axle, a, w in ((0, "f", ("fl", "fr")), (1, "r", ("rl", "rr"))):

@@ -25,21 +25,26 @@
 #define UNIFORM_SCALE 1.1920928955078125e-07 /* 2^-23 */
 #endif
 
-/* hi:lo = a b, the 128-bit product from the four 32 x 32 -> 64 bit products (each exact;
- * the middle sum of three 32-bit parts cannot overflow 64 bits). */
+/* hi:lo = a b, the exact 128-bit product, schoolbook on 32-bit limbs with the carries
+ * folded in as it goes: each partial sum is x y + c (+ d) with x, y, c, d < 2^32, at most
+ * (2^32 - 1)^2 + 2 (2^32 - 1) = 2^64 - 1, so none overflows 64 bits. Four 32 x 32 -> 64 bit
+ * multiplies, each with its additions a multiply-accumulate on a 32-bit core (UMAAL on the
+ * Cortex-M4). a b = t0_lo + 2^32 t2_lo + 2^64 (a1 b1 + t1_hi + t2_hi). */
 static void mul128(uint64_t a, uint64_t b, uint64_t *hi, uint64_t *lo)
 {
-    const uint64_t a0 = a & LOW32;
-    const uint64_t a1 = a >> 32u;
-    const uint64_t b0 = b & LOW32;
-    const uint64_t b1 = b >> 32u;
-    const uint64_t p00 = a0 * b0;
-    const uint64_t p01 = a0 * b1;
-    const uint64_t p10 = a1 * b0;
-    const uint64_t p11 = a1 * b1;
-    const uint64_t mid = (p00 >> 32u) + (p01 & LOW32) + (p10 & LOW32);
-    *lo = (mid << 32u) | (p00 & LOW32);
-    *hi = p11 + (p01 >> 32u) + (p10 >> 32u) + (mid >> 32u);
+    const uint32_t a0 = (uint32_t)(a & LOW32);
+    const uint32_t a1 = (uint32_t)(a >> 32u);
+    const uint32_t b0 = (uint32_t)(b & LOW32);
+    const uint32_t b1 = (uint32_t)(b >> 32u);
+    const uint64_t t0 = (uint64_t)a0 * (uint64_t)b0;
+    const uint32_t c0 = (uint32_t)(t0 >> 32u);
+    const uint64_t t1 = ((uint64_t)a1 * (uint64_t)b0) + (uint64_t)c0;
+    const uint32_t t1_lo = (uint32_t)(t1 & LOW32);
+    const uint32_t t1_hi = (uint32_t)(t1 >> 32u);
+    const uint64_t t2 = ((uint64_t)a0 * (uint64_t)b1) + (uint64_t)t1_lo;
+    const uint32_t t2_hi = (uint32_t)(t2 >> 32u);
+    *lo = (t2 << 32u) | (t0 & LOW32);
+    *hi = (((uint64_t)a1 * (uint64_t)b1) + (uint64_t)t1_hi) + (uint64_t)t2_hi;
 }
 
 /* One block (the public entry checks the pointers). */

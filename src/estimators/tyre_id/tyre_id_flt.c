@@ -193,22 +193,34 @@ static void draw_prior(rfe_tyre_id_t *t, rfe_real_t r_meas)
     }
 }
 
-/* §4.3 the process noise of slot i (purpose 1) on the columns src, into dst:
- * vy + (q_vy s) z0, r + (q_r s) z1, reflect(theta + (q s) z), s = sqrt(h). */
-static void add_noise(const rfe_tyre_id_t *t, rfe_philox_t *s, size_t i, rfe_real_t sq,
-                      const rfe_real_t src[RFE_TID_DIM], rfe_real_t dst[RFE_TID_DIM])
+/* §4.3 the process noise's scale per column, q s with s = sqrt(h): (q_vy s, q_r s, q_e s),
+ * the same products for every particle, so made once a step. */
+static void noise_scales(const rfe_tyre_id_t *t, rfe_real_t sq, rfe_real_t qs[RFE_TID_DIM])
+{
+    size_t e;
+    qs[RFE_TID_VY] = t->p.q_vy * sq;
+    qs[RFE_TID_R] = t->p.q_r * sq;
+    for (e = 0u; e < (size_t)RFE_TID_PAR; ++e) {
+        qs[RFE_TID_STATES + e] = t->c.q[e] * sq;
+    }
+}
+
+/* §4.3 the process noise of slot i (purpose 1) on the columns src, into dst, with the scales
+ * qs of noise_scales: vy + (q_vy s) z0, r + (q_r s) z1, reflect(theta + (q s) z). */
+static void add_noise(const rfe_tyre_id_t *t, rfe_philox_t *s, size_t i,
+                      const rfe_real_t qs[RFE_TID_DIM], const rfe_real_t src[RFE_TID_DIM],
+                      rfe_real_t dst[RFE_TID_DIM])
 {
     rfe_real_t z[RFE_TID_DIM];
     size_t e;
     for (e = 0u; e < (size_t)PAIRS_DIM; ++e) {
         normal_pair(s, (i * (size_t)PAIRS_DIM) + e, &z[2u * e]);
     }
-    dst[RFE_TID_VY] = src[RFE_TID_VY] + ((t->p.q_vy * sq) * z[0]);
-    dst[RFE_TID_R] = src[RFE_TID_R] + ((t->p.q_r * sq) * z[1]);
+    dst[RFE_TID_VY] = src[RFE_TID_VY] + (qs[RFE_TID_VY] * z[0]);
+    dst[RFE_TID_R] = src[RFE_TID_R] + (qs[RFE_TID_R] * z[1]);
     for (e = 0u; e < (size_t)RFE_TID_PAR; ++e) {
         const size_t col = RFE_TID_STATES + e;
-        dst[col] = rfe_tid_reflect(src[col] + ((t->c.q[e] * sq) * z[col]), t->c.lo[e],
-                                   t->c.hi[e]);
+        dst[col] = rfe_tid_reflect(src[col] + (qs[col] * z[col]), t->c.lo[e], t->c.hi[e]);
     }
 }
 
@@ -289,16 +301,17 @@ static uint32_t apf_step(rfe_tyre_id_t *t, const rfe_tyre_id_sample_t *smp,
                          const rfe_tid_input_t *u)
 {
     const size_t n = (size_t)RFE_TID_N;
-    const rfe_real_t sq = RFE_SQRT(smp->dt);
+    rfe_real_t qs[RFE_TID_DIM];
     uint32_t flags = RFE_TID_UPDATED;
     rfe_philox_t s;
     rfe_real_t n_eff;
     size_t i;
+    noise_scales(t, RFE_SQRT(smp->dt), qs);
     aux_points(t, smp);
     /* first stage: lambda_i = l_i + l(mu_i, theta_i), normalised (cum holds lambda) */
     for (i = 0u; i < n; ++i) {
         t->la[i] = rfe_tid_loglik(t, t->aux[i][0], t->aux[i][1], &t->x[i][RFE_TID_STATES], u,
-                                  smp->yaw_rate, smp->ay);
+                                  smp->yaw_rate, smp->ay, NULL);
         t->cum[i] = t->logw[i] + t->la[i];
     }
     if (rfe_tid_normalise(t->cum, n, t->w, NULL) == 0) {
@@ -307,24 +320,27 @@ static uint32_t apf_step(rfe_tyre_id_t *t, const rfe_tyre_id_sample_t *smp,
     n_eff = rfe_tid_neff(t->w, n);
     stream_of(t, PURPOSE_PROCESS, &s);
     if (n_eff < (t->p.neff_frac * (rfe_real_t)RFE_TID_N)) {
-        /* the draw; second stage l_j = l(x_j) - l(mu_a_j, theta_a_j) */
+        /* the draw; second stage l_j = l(x_j) - l(mu_a_j, theta_a_j) (the auxiliary points
+         * are in nx now: aux takes the particle's forces for the outputs) */
         rough_resample(t, n_eff);
         for (i = 0u; i < n; ++i) {
-            add_noise(t, &s, i, sq, t->nx[i], t->x[i]);
+            add_noise(t, &s, i, qs, t->nx[i], t->x[i]);
             t->logw[i] = rfe_tid_loglik(t, t->x[i][RFE_TID_VY], t->x[i][RFE_TID_R],
-                                        &t->x[i][RFE_TID_STATES], u, smp->yaw_rate, smp->ay) -
+                                        &t->x[i][RFE_TID_STATES], u, smp->yaw_rate, smp->ay,
+                                        t->aux[i]) -
                          t->la[t->idx[i]];
         }
         flags |= RFE_TID_RESAMPLED;
     } else {
-        /* no draw: l_i + l(x_i) (the first stage's factor cancels) */
+        /* no draw: l_i + l(x_i) (the first stage's factor cancels); aux_i, read, takes the
+         * particle's forces for the outputs */
         for (i = 0u; i < n; ++i) {
             rfe_real_t cols[RFE_TID_DIM];
             aux_columns(t, i, cols);
-            add_noise(t, &s, i, sq, cols, t->x[i]);
+            add_noise(t, &s, i, qs, cols, t->x[i]);
             t->logw[i] = t->logw[i] + rfe_tid_loglik(t, t->x[i][RFE_TID_VY], t->x[i][RFE_TID_R],
                                                      &t->x[i][RFE_TID_STATES], u,
-                                                     smp->yaw_rate, smp->ay);
+                                                     smp->yaw_rate, smp->ay, t->aux[i]);
         }
     }
     if (rfe_tid_normalise(t->logw, n, t->w, t->logw) == 0) {
@@ -339,19 +355,20 @@ static uint32_t sir_step(rfe_tyre_id_t *t, const rfe_tyre_id_sample_t *smp,
                          const rfe_tid_input_t *u)
 {
     const size_t n = (size_t)RFE_TID_N;
-    const rfe_real_t sq = RFE_SQRT(smp->dt);
+    rfe_real_t qs[RFE_TID_DIM];
     uint32_t flags = RFE_TID_UPDATED;
     rfe_philox_t s;
     size_t i;
+    noise_scales(t, RFE_SQRT(smp->dt), qs);
     aux_points(t, smp);
     stream_of(t, PURPOSE_PROCESS, &s);
     for (i = 0u; i < n; ++i) {
         rfe_real_t cols[RFE_TID_DIM];
         aux_columns(t, i, cols);
-        add_noise(t, &s, i, sq, cols, t->x[i]);
+        add_noise(t, &s, i, qs, cols, t->x[i]);
         t->logw[i] = t->logw[i] + rfe_tid_loglik(t, t->x[i][RFE_TID_VY], t->x[i][RFE_TID_R],
                                                  &t->x[i][RFE_TID_STATES], u, smp->yaw_rate,
-                                                 smp->ay);
+                                                 smp->ay, NULL);
     }
     if (rfe_tid_normalise(t->logw, n, t->w, t->logw) == 0) {
         return lost(t, smp->yaw_rate);
@@ -429,9 +446,12 @@ static void rescaled_sd(rfe_tyre_id_t *t, const rfe_real_t fz[2], size_t k)
 }
 
 /* §7 weighted means and sds at this sample's inputs (sums in particle order; a particle of
- * weight 0 adds exactly 0 and is skipped, so a diverged one cannot turn a sum into NaN). */
+ * weight 0 adds exactly 0 and is skipped, so a diverged one cannot turn a sum into NaN).
+ * forces_in_aux: the APF stepped, and unless the step was lost (new particles) its second stage
+ * left every particle's forces at these inputs in aux (rfe_tid_ay's, bit for bit
+ * rfe_tid_forces'), so they are not computed again. */
 static void estimate(rfe_tyre_id_t *t, const rfe_tyre_id_sample_t *smp,
-                     const rfe_tid_input_t *u, uint32_t flags)
+                     const rfe_tid_input_t *u, uint32_t flags, int forces_in_aux)
 {
     const size_t n = (size_t)RFE_TID_N;
     rfe_tyre_id_estimate_t *e = &t->last;
@@ -443,7 +463,9 @@ static void estimate(rfe_tyre_id_t *t, const rfe_tyre_id_sample_t *smp,
     (void)rfe_tid_normalise(t->logw, n, t->w, NULL);
     rfe_tid_mu_loads(t, smp->ax, fz);
     for (i = 0u; i < n; ++i) {
-        rfe_tid_forces(t, t->x[i], u, &t->aux[i][0], &t->aux[i][1]);
+        if ((forces_in_aux == 0) || ((flags & RFE_TID_LOST) != 0u)) {
+            rfe_tid_forces(t, t->x[i], u, &t->aux[i][0], &t->aux[i][1]);
+        }
         t->la[i] = RFE_ATAN2(t->x[i][RFE_TID_VY], smp->vx);
     }
     for (k = 0u; k < (size_t)RFE_TID_OUTPUTS; ++k) {
@@ -508,6 +530,7 @@ rfe_status_t rfe_tyre_id_step(rfe_tyre_id_t *tid, const rfe_tyre_id_sample_t *s,
 {
     rfe_tid_input_t u;
     uint32_t flags;
+    int forces_in_aux = 0;
     rfe_status_t st;
     if ((tid == NULL) || (s == NULL) || (out == NULL)) {
         return RFE_ERR_NULL;
@@ -538,6 +561,7 @@ rfe_status_t rfe_tyre_id_step(rfe_tyre_id_t *tid, const rfe_tyre_id_sample_t *s,
         flags = RFE_TID_HELD;
     } else if (tid->p.filter == RFE_TID_APF) {
         flags = apf_step(tid, s, &u);
+        forces_in_aux = 1;
     } else if (tid->p.filter == RFE_TID_SIR) {
         flags = sir_step(tid, s, &u);
     } else {
@@ -549,7 +573,7 @@ rfe_status_t rfe_tyre_id_step(rfe_tyre_id_t *tid, const rfe_tyre_id_sample_t *s,
     if (tid->p.filter == RFE_TID_SCKF) {
         rfe_tid_sckf_estimate(tid, s, &u, flags);
     } else {
-        estimate(tid, s, &u, flags);
+        estimate(tid, s, &u, flags, forces_in_aux);
     }
     tid->k += 1u;
     *out = tid->last;

@@ -78,16 +78,18 @@ void rfe_tid_rk4(const rfe_tyre_id_t *tid, const rfe_real_t x[RFE_TID_DIM],
                  const rfe_tid_input_t *u, rfe_real_t h, rfe_real_t out[RFE_TID_STATES]);
 
 /** §5.1 the log-likelihood of (yaw_rate, ay) for states (vy, r) and the parameters @p th
- *  (RFE_TID_PAR of them) at the sample's inputs @p u; -infinity when it is not finite. */
+ *  (RFE_TID_PAR of them) at the sample's inputs @p u; -infinity when it is not finite. When
+ *  @p fy is not NULL, the axle forces of rfe_tid_ay into fy[0], fy[1]. */
 rfe_real_t rfe_tid_loglik(const rfe_tyre_id_t *tid, rfe_real_t vy, rfe_real_t r,
                           const rfe_real_t *th, const rfe_tid_input_t *u, rfe_real_t yaw_rate,
-                          rfe_real_t ay);
+                          rfe_real_t ay, rfe_real_t *fy);
 
 /** §5.1 the predicted lateral acceleration ay_p = ((F_f c) + F_r) / m of states (vy, r) and
  *  parameters @p th at inputs @p u, and (when @p g is not NULL) its slope in delta,
- *  g = ((dF_f/dalpha c) - (F_f s)) / m. */
+ *  g = ((dF_f/dalpha c) - (F_f s)) / m; (when @p fy is not NULL) the axle forces F_f, F_r
+ *  (§3.2, with §3.5's factors), bit for bit what rfe_tid_forces gives for the same particle. */
 void rfe_tid_ay(const rfe_tyre_id_t *tid, rfe_real_t vy, rfe_real_t r, const rfe_real_t *th,
-                const rfe_tid_input_t *u, rfe_real_t *ay_p, rfe_real_t *g);
+                const rfe_tid_input_t *u, rfe_real_t *ay_p, rfe_real_t *g, rfe_real_t *fy);
 /** §15.2 the sigma-point filter's prior: x = (0, r_m, mean0), S = diag(sd0). */
 void rfe_tid_sckf_prior(rfe_tyre_id_t *tid, rfe_real_t r_meas);
 /** §15.3 the sigma-point filter's step over the sample @p smp (inputs @p u): its flags

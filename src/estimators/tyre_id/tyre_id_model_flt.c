@@ -184,7 +184,7 @@ void rfe_tid_rk4(const rfe_tyre_id_t *tid, const rfe_real_t x[RFE_TID_DIM],
 }
 
 void rfe_tid_ay(const rfe_tyre_id_t *tid, rfe_real_t vy, rfe_real_t r, const rfe_real_t *th,
-                const rfe_tid_input_t *u, rfe_real_t *ay_p, rfe_real_t *g)
+                const rfe_tid_input_t *u, rfe_real_t *ay_p, rfe_real_t *g, rfe_real_t *fy)
 {
     rfe_real_t t_f;
     rfe_real_t t_r;
@@ -206,11 +206,17 @@ void rfe_tid_ay(const rfe_tyre_id_t *tid, rfe_real_t vy, rfe_real_t r, const rfe
     if (g != NULL) {
         *g = ((slope * u->cd) - (f * u->sd)) / tid->c.m;
     }
+    /* the axle forces, the values rfe_tid_forces gives at the same states and inputs (the
+     * same operations: mf's force does not depend on whether it also gives the slope) */
+    if (fy != NULL) {
+        fy[0] = f;
+        fy[1] = fr;
+    }
 }
 
 rfe_real_t rfe_tid_loglik(const rfe_tyre_id_t *tid, rfe_real_t vy, rfe_real_t r,
                           const rfe_real_t *th, const rfe_tid_input_t *u, rfe_real_t yaw_rate,
-                          rfe_real_t ay)
+                          rfe_real_t ay, rfe_real_t *fy)
 {
     const rfe_tyre_id_params_t *p = &tid->p;
     rfe_real_t ay_p;
@@ -220,7 +226,7 @@ rfe_real_t rfe_tid_loglik(const rfe_tyre_id_t *tid, rfe_real_t vy, rfe_real_t r,
     rfe_real_t e1;
     rfe_real_t e2;
     rfe_real_t ll;
-    rfe_tid_ay(tid, vy, r, th, u, &ay_p, &g);
+    rfe_tid_ay(tid, vy, r, th, u, &ay_p, &g, fy);
     gs = g * p->sd_delta;
     v = (p->sd_ay * p->sd_ay) + (gs * gs);
     e1 = (yaw_rate - r) / p->sd_r;

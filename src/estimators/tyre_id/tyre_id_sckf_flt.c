@@ -149,7 +149,7 @@ static void meas_noise(rfe_tyre_id_t *t, const rfe_tid_input_t *u)
     rfe_real_t g;
     rfe_real_t gs;
     clipped(t, k->x, xc);
-    rfe_tid_ay(t, xc[RFE_TID_VY], xc[RFE_TID_R], &xc[NS], u, &ay, &g);
+    rfe_tid_ay(t, xc[RFE_TID_VY], xc[RFE_TID_R], &xc[NS], u, &ay, &g, NULL);
     gs = g * t->p.sd_delta;
     k->sr[0] = t->p.sd_r;
     k->sr[1] = RFE_SQRT((t->p.sd_ay * t->p.sd_ay) + (gs * gs));
@@ -215,7 +215,8 @@ static rfe_status_t meas_update(rfe_tyre_id_t *t, const rfe_tyre_id_sample_t *sm
         rfe_real_t xc[RFE_TID_DIM];
         clipped(t, &k->pts[j * NX], xc);
         k->zp[j * NZ] = xc[RFE_TID_R];
-        rfe_tid_ay(t, xc[RFE_TID_VY], xc[RFE_TID_R], &xc[NS], u, &k->zp[(j * NZ) + 1u], NULL);
+        rfe_tid_ay(t, xc[RFE_TID_VY], xc[RFE_TID_R], &xc[NS], u, &k->zp[(j * NZ) + 1u], NULL,
+                   NULL);
     }
     rfe_cub_mean(k->zp, NX, NZ, NZ, k->zhat);
     for (i = 0u; i < (NX * TC); ++i) {

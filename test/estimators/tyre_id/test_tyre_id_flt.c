@@ -1130,11 +1130,11 @@ static void test_infinite_vy_weighs_zero(void **state)
     u.cd = 1;
     u.sd = 0;
     u.vx = 10;
-    ll = rfe_tid_loglik(&tid, 0, 0, tid.c.mean0, &u, 0, 0);
+    ll = rfe_tid_loglik(&tid, 0, 0, tid.c.mean0, &u, 0, 0, NULL);
     assert_true(isfinite((double)ll));
-    ll = rfe_tid_loglik(&tid, (rfe_real_t)INFINITY, 0, tid.c.mean0, &u, 0, 0);
+    ll = rfe_tid_loglik(&tid, (rfe_real_t)INFINITY, 0, tid.c.mean0, &u, 0, 0, NULL);
     assert_true(isinf((double)ll) && ll < 0);
-    ll = rfe_tid_loglik(&tid, -(rfe_real_t)INFINITY, 0, tid.c.mean0, &u, 0, 0);
+    ll = rfe_tid_loglik(&tid, -(rfe_real_t)INFINITY, 0, tid.c.mean0, &u, 0, 0, NULL);
     assert_true(isinf((double)ll) && ll < 0);
 }
 
