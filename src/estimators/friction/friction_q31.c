@@ -628,10 +628,10 @@ static rfe_status_t filter_estimate_q31(const rfe_friction_q31_t *est, rfe_estim
         const size_t k = state_of_q31(est, w);
         const uint8_t sd_ok = ((sd_valid > 0) && (sd[k] <= sd_valid)) ? 1u : 0u;
         const uint8_t inside = ((x[k] > lo) && (x[k] < hi)) ? 1u : 0u;
-        /* the bound margin in Q54, exact: (x - mu_min) Q29 (|.| < 2^32) shifted by 25 against
-         * k Q24 (<= 10) times sd Q30 (< 2^31): both below 2^58 */
+        /* the bound margin in Q54, exact, as the holds' tests: (x - mu_min) Q29 (|.| < 2^32)
+         * times 2^25 (< 2^57) against k Q24 (<= 10, validated) times sd Q30 (< 2^31): < 2^59 */
         const uint8_t above =
-            ((((int64_t)x[k] - (int64_t)lo) * ((int64_t)1 << 25)) >= ((int64_t)bound_k * (int64_t)sd[k]))
+            ((((int64_t)x[k] - (int64_t)lo) * rfe_q31_pow2(25u)) >= ((int64_t)bound_k * (int64_t)sd[k]))
                 ? 1u
                 : 0u;
         /* the hold exists for the two sides only (est->n == 2: k is 0 or 1); the mask says
