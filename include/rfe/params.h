@@ -101,6 +101,7 @@ typedef struct {
     rfe_real_t jump_hold_len; /**< key jump_hold_len: the distance a jump holds a side's wheels [m], below 16: 0 / 1.5 */
     rfe_real_t stale_omega;  /**< key stale_omega: the stale-wheel-speed rule (step 9): while a wheel speed, not 0, equals its previous sample and the median of the other three moved by more than this since it last changed, every valid flag is 0 [rad/s], 0 = off, at most 500: 0 / 0.25 */
     rfe_real_t yaw_check;    /**< key yaw_check: the yaw-rate input check (step 0b): a yaw rate further than this from the last accepted one advanced by the measured yaw acceleration is replaced by that prediction [rad/s], 0 = off, at most 10: 0 / 0.1 */
+    rfe_real_t valid_bound_k; /**< key valid_bound_k: the bound margin (step 9, with the sd rule): a wheel is valid only when its estimate lies at least this many sd above mu_min [1], 0 = off (today's rule), at most 10: 0 / 3 */
 } rfe_filter_params_t;
 
 /**

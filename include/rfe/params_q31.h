@@ -51,6 +51,8 @@
 #define RFE_FIX_Q_HOLD 24
 /** The jump hold's distance jump_hold_len [m]: Q27, +-16 (the hold's distances, friction_q31.h) */
 #define RFE_FIX_Q_HOLD_LEN 27
+/** The bound margin valid_bound_k [sd]: Q24, +-128 (docs/ESTIMATOR.md step 9) */
+#define RFE_FIX_Q_BOUND_K 24
 
 /** Vehicle geometry and mass (MODEL.md §2) with the derived constants of the loads (§3) and
  *  of H (§5). Field names and meaning as rfe_vehicle_t. */
@@ -128,6 +130,8 @@ typedef struct {
     rfe_fix_t jump_hold_len;  /**< the distance a jump holds a side's wheels [m], Q27 */
     rfe_fix_t stale_omega;    /**< the stale-wheel-speed rule's move [rad/s], Q22, 0 = off */
     rfe_fix_t yaw_check;      /**< the yaw-rate input check's threshold [rad/s], Q27, 0 = off */
+    rfe_fix_t valid_bound_k;  /**< the bound margin: valid only mu - mu_min >= this many sd [sd],
+                                   Q24 (RFE_FIX_Q_BOUND_K), 0 = off, at most 10 */
     /* Derived. */
     rfe_fix_t b_v;            /**< dt / (tau_v + dt): complementary-filter gain, Q30, in (0, 1] */
 } rfe_filter_params_q31_t;

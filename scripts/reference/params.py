@@ -63,6 +63,7 @@ DEFAULTS: dict[str, float] = {
     "jump_hold_len": 0.0,  # the distance that jump hold lasts, m
     "stale_omega": 0.0,   # a repeated wheel speed while the others' median moved more: stale, rad/s (0: off)
     "yaw_check": 0.0,     # a yaw rate this far from its prediction is replaced by it, rad/s (0: off)
+    "valid_bound_k": 0.0,  # the bound margin: valid only mu - mu_min >= this many sd (0: off)
     # model-validity monitor (docs/MONITOR.md section 2; monitor.py); on in the default preset
     "mon_enable": 0.0,    # 1: acts on valid, status, sd (SCKF); 0: off
     "mon_tau_nis": 0.5,   # time constant of the NIS average D, s
@@ -84,7 +85,7 @@ PRESETS: dict[str, dict] = {
         "sd_in_yaw_rate": 0.005, "sd_in_omega": 0.05, "r_model_rel": 0.05,
         "info_min": 25.0, "sd_max": 0.32, "sd_floor_rel": 0.15, "sd_valid": 0.15,
         "rear_hold_k": 2.0, "jump_hold_k": 2.0, "jump_hold_len": 1.5, "mon_enable": 1.0,
-        "stale_omega": 0.25, "yaw_check": 0.1,
+        "stale_omega": 0.25, "yaw_check": 0.1, "valid_bound_k": 3.0,
     },
 }
 

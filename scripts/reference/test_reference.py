@@ -600,6 +600,29 @@ def test_trust_rules_leave_a_clean_log_alone(synth_log):
         np.testing.assert_array_equal(a[k], b[k])
 
 
+# REQ-REF-001 REQ-EST-022
+def test_bound_margin_on_a_log():
+    """ESTIMATOR.md step 9's bound margin (valid_bound_k 3, the default preset's) on the noise-free
+    low-mu hard brake, whose ABS estimate sits near mu_min (MONITOR.md section 10 gains it): mu,
+    sd and status as with the margin off, bit for bit, and each flag = the flag without it and
+    mu - mu_min >= 3 sd (per wheel: T is 0/1, so mu and sd are the state's exactly). At least
+    one flag is cleared (the rule acts here); k = 0 is today's rule."""
+    path = os.path.join(REPO, "scenarios", "hard_brake_low_mu.nf.csv")
+    if not os.path.isfile(path):
+        pytest.skip("no scenarios/hard_brake_low_mu.nf.csv")
+    log = logs.read_csv_log(path)
+    p = params.resolve(log.meta, None, source=path, preset="default")
+    assert p["valid_bound_k"] == 3.0
+    a = trusted.run(log, p)
+    b = trusted.run(log, dict(p, valid_bound_k=0.0))
+    for k in ("mu", "sd", "status"):
+        np.testing.assert_array_equal(a[k], b[k])
+    want = b["valid"].astype(bool) & (b["mu"] - p["mu_min"] >= 3.0 * b["sd"])
+    np.testing.assert_array_equal(a["valid"].astype(bool), want)
+    assert np.sum(b["valid"].astype(bool) & ~want) > 0
+    assert params.resolve(None, None, preset="paper")["valid_bound_k"] == 0.0
+
+
 # REQ-REF-001
 def test_conditioner_hand_example():
     """tau = 0.09, dt = 0.01: b = 0.1. First sample initialises to the measurement; second:

@@ -296,6 +296,7 @@ def run(log, p: dict, adapt=None, reuse: StepNoiseReuse | None = None):
         out["sd"][k] = T @ sd
         if p["sd_valid"] > 0:   # by the sd, never on a projection bound (ESTIMATOR.md step 9)
             ok = (sd <= p["sd_valid"]) & (f.x > p["mu_min"]) & (f.x < p["mu_max"])
+            ok &= f.x - p["mu_min"] >= p["valid_bound_k"] * sd    # the bound margin (0: off)
             out["valid"][k] = (T @ ok.astype(float)).astype(int)
         else:
             out["valid"][k] = 1 if status in (0, 1) else 0

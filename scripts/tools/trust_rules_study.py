@@ -7,7 +7,7 @@ Usage (from the repository root):
         [--cache build/trust_rules] [--jobs 2] [--soak build/soak/drive_300s.csv
         [--soak-estimate ESTIMATE.csv ...]] [--hold-fired] [--only-soak-rules]
 
-Runs the reference (scripts/reference/trusted.py, the default preset with its two trust rules
+Runs the reference (scripts/reference/trusted.py, the default preset with its three trust rules
 switched off, then monitor.py, which equal the C double build to 1e-9) once per log (cached as .npz in --cache; the 72 logs take
 about 10 min of CPU) and evaluates rules on top of it, each as the trust invariant's figures
 (scripts/tools/trust_invariant.py: settled samples, pooled over the wheels) before and after:
@@ -31,7 +31,8 @@ about 10 min of CPU) and evaluates rules on top of it, each as the trust invaria
   the soak drive's reference run and to mu_replay estimate logs of it):
   * `consider`: the sd of the error a bias of the conditioned vx, vy leaves in the mean,
     propagated with the filter's linearised gain (a Schmidt consider term);
-  * `bound margin`: valid only k sd or more above mu_min;
+  * `bound margin`: valid only k sd or more above mu_min (the library's `valid_bound_k`,
+    docs/MONITOR.md section 11; the base run keeps it off, as the two rules above);
   * `upper evidence`: the updates' evidence against mu + DELTA_UP (rule_evidence);
 - two experiments that change the update in the loop through trusted.run's adapt hook
   (trusted.py untouched): --hold-fired (no update while the monitor is fired, every log
@@ -417,6 +418,7 @@ def reference_run(path: Path, yaw_thr: float | None = None, hold_fired: bool = F
         n_sub = yaw_substitute(log.col("t"), log.col("yaw_rate"), log.col("yaw_acc"), yaw_thr)[1]
     p = params.resolve(log.meta, None, source=str(path), preset="default")
     p["stale_omega"] = 0.0      # the base run: the rules are measured on top of it
+    p["valid_bound_k"] = 0.0    # (the bound margin, the library's since section 11, too)
     p["yaw_check"] = 0.0 if yaw_thr is None else yaw_thr
     adapt = hold_while_fired(p) if hold_fired else None
     if upper_gate is not None:

@@ -75,6 +75,7 @@
     X(jump_hold_len, filter.jump_hold_len, "m", "sides: the distance a jump holds the wheels")    \
     X(stale_omega, filter.stale_omega, "rad/s", "stale wheel speed: the others' move (0 = off)") \
     X(yaw_check, filter.yaw_check, "rad/s", "yaw-rate input check: largest jump (0 = off)")    \
+    X(valid_bound_k, filter.valid_bound_k, "sd", "valid only this many sd above mu_min (0 = off)") \
     X(mon_enable, monitor.enable, "1", "model-validity monitor: 1 acts on valid, status, sd; 0 off") \
     X(mon_tau_nis, monitor.tau_nis, "s", "monitor: time constant of the NIS average")           \
     X(mon_tau_mean, monitor.tau_mean, "s", "monitor: time constant of the innovation means")    \

@@ -149,6 +149,7 @@ static void conv_filter(conv_t *c, const rfe_filter_params_t *f, rfe_filter_para
     q->jump_hold_len = to_q(c, (double)f->jump_hold_len, RFE_FIX_Q_HOLD_LEN, 0);
     q->stale_omega = to_q(c, (double)f->stale_omega, RFE_FIX_Q_OMEGA, 0);
     q->yaw_check = to_q(c, (double)f->yaw_check, RFE_FIX_Q_YAWRATE, 0);
+    q->valid_bound_k = to_q(c, (double)f->valid_bound_k, RFE_FIX_Q_BOUND_K, 0);
     q->b_v = to_q(c, dt / (tau + dt), RFE_FIX_Q_DT, 1);
 }
 

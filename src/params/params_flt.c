@@ -6,6 +6,10 @@
 
 #include "numerics/internal.h"
 
+/* The largest bound margin valid_bound_k [sd] (docs/ESTIMATOR.md step 9): 10 sd is far past any
+ * Gaussian tail a valid claim needs, and with sd <= 2 (Q30) keeps k sd within 2^55 in Q54. */
+#define VALID_BOUND_K_MAX 10.0
+
 rfe_status_t rfe_params_default(rfe_params_t *p)
 {
     /* docs/ESTIMATOR.md, "default preset" column: the paper's vehicle, tyre constants and
@@ -36,6 +40,7 @@ rfe_status_t rfe_params_default(rfe_params_t *p)
     p->filter.jump_hold_len = RFE_R(1.5);
     p->filter.stale_omega = RFE_R(0.25); /* docs/ESTIMATOR.md step 9: 5 sd_in_omega (MONITOR.md §8) */
     p->filter.yaw_check = RFE_R(0.1);    /* docs/ESTIMATOR.md step 0b (MONITOR.md §8) */
+    p->filter.valid_bound_k = RFE_R(3.0); /* docs/ESTIMATOR.md step 9: the bound margin (MONITOR.md §10) */
     p->monitor.enable = RFE_R(1.0); /* docs/MONITOR.md: the model-validity monitor acts */
     return RFE_OK;
 }
@@ -105,6 +110,7 @@ rfe_status_t rfe_params_paper(rfe_params_t *p)
     p->filter.jump_hold_len = RFE_R(0.0);
     p->filter.stale_omega = RFE_R(0.0);
     p->filter.yaw_check = RFE_R(0.0);
+    p->filter.valid_bound_k = RFE_R(0.0);
 
     /* docs/MONITOR.md §2 "Parameters": stated probabilities and time scales, not tuned;
      * off in the paper preset (MODEL.md §6 has no monitor), on in the default preset. */
@@ -175,12 +181,14 @@ static int filter_ok(const rfe_filter_params_t *f)
  * "0 = off, else a positive bound", which is the same test. */
 /* Step 9's holds (docs/ESTIMATOR.md): thresholds and the jump hold's length, finite and >= 0;
  * the stale-wheel-speed rule's move (at most RFE_LIMIT_OMEGA) and the yaw-rate check's threshold
- * (at most RFE_LIMIT_YAW_RATE), finite and >= 0: the fixed-point formats hold them. */
+ * (at most RFE_LIMIT_YAW_RATE), finite and >= 0: the fixed-point formats hold them; the bound
+ * margin valid_bound_k, finite, in [0, VALID_BOUND_K_MAX]. */
 static int holds_ok(const rfe_filter_params_t *f)
 {
     return is_nonneg(f->rear_hold_k) && is_nonneg(f->jump_hold_k) && is_nonneg(f->jump_hold_len) &&
            is_nonneg(f->stale_omega) && (f->stale_omega <= RFE_R(RFE_LIMIT_OMEGA)) &&
-           is_nonneg(f->yaw_check) && (f->yaw_check <= RFE_R(RFE_LIMIT_YAW_RATE));
+           is_nonneg(f->yaw_check) && (f->yaw_check <= RFE_R(RFE_LIMIT_YAW_RATE)) &&
+           is_nonneg(f->valid_bound_k) && (f->valid_bound_k <= RFE_R(VALID_BOUND_K_MAX));
 }
 
 static int additions_ok(const rfe_filter_params_t *f)

@@ -13,6 +13,8 @@
  * RFE_LIMIT_YAW_RATE = 10 rad/s) in their formats, Q22 and Q27: 500 * 2^22 and 10 * 2^27. */
 #define STALE_OMEGA_MAX_Q22 2097152000
 #define YAW_CHECK_MAX_Q27 1342177280
+/* The largest valid_bound_k (rfe_params_validate's 10 sd) in Q24: 10 * 2^24. */
+#define VALID_BOUND_K_MAX_Q24 167772160
 
 /* ---- presets ------------------------------------------------------------------------------
  * The tables are rfe_params_to_q31_f64() of rfe_params_paper_f64() / rfe_params_default_f64()
@@ -87,6 +89,7 @@ static const rfe_params_q31_t paper_q31 = {
         0,          /* jump_hold_len = 0, Q27 */
         0,          /* stale_omega = 0 (off), Q22 */
         0,          /* yaw_check = 0 (off), Q27 */
+        0,          /* valid_bound_k = 0 (off), Q24 */
         1073741824  /* b_v = 1 (tau_v = 0), Q30 */
     },
     {
@@ -140,6 +143,7 @@ rfe_status_t rfe_params_default_q31(rfe_params_q31_t *p)
     p->filter.jump_hold_len = 201326592; /* 1.5 m, Q27 */
     p->filter.stale_omega = 1048576;    /* 0.25 rad/s, Q22 */
     p->filter.yaw_check = 13421773;     /* 0.1 rad/s, Q27 */
+    p->filter.valid_bound_k = 50331648; /* 3 sd, Q24 */
     p->filter.b_v = 34636833;           /* 0.01 / 0.31, Q30 */
     p->monitor.enable = 1u;             /* docs/MONITOR.md: the model-validity monitor acts */
     return RFE_OK;
@@ -367,13 +371,14 @@ static int filter_ok_q31(const rfe_filter_params_q31_t *f)
 /* The docs/ESTIMATOR.md additions: each >= 0 (0 = off), dt > 0. */
 /* Step 9's holds (docs/ESTIMATOR.md): thresholds and the jump hold's length >= 0; the
  * stale-wheel-speed rule's move <= RFE_LIMIT_OMEGA and the yaw-rate check's threshold
- * <= RFE_LIMIT_YAW_RATE, both >= 0 (as rfe_params_validate). */
+ * <= RFE_LIMIT_YAW_RATE, both >= 0, and the bound margin in [0, 10] sd (as rfe_params_validate). */
 static int holds_ok_q31(const rfe_filter_params_q31_t *f)
 {
     return is_nonneg_q31(f->rear_hold_k) && is_nonneg_q31(f->jump_hold_k) &&
            is_nonneg_q31(f->jump_hold_len) && is_nonneg_q31(f->stale_omega) &&
            (f->stale_omega <= STALE_OMEGA_MAX_Q22) && is_nonneg_q31(f->yaw_check) &&
-           (f->yaw_check <= YAW_CHECK_MAX_Q27);
+           (f->yaw_check <= YAW_CHECK_MAX_Q27) && is_nonneg_q31(f->valid_bound_k) &&
+           (f->valid_bound_k <= VALID_BOUND_K_MAX_Q24);
 }
 
 static int additions_nonneg_ok(const rfe_filter_params_q31_t *f)

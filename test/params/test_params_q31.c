@@ -86,6 +86,7 @@
     X(filter.jump_hold_len, 27, p->filter.jump_hold_len)                                         \
     X(filter.stale_omega, 22, p->filter.stale_omega)                                             \
     X(filter.yaw_check, 27, p->filter.yaw_check)                                                 \
+    X(filter.valid_bound_k, 24, p->filter.valid_bound_k)                                         \
     X(filter.b_v, 30, p->filter.dt / (p->filter.tau_v + p->filter.dt))
 
 #define MG (p->vehicle.m * p->vehicle.g)

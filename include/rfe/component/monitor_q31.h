@@ -53,9 +53,10 @@ typedef struct {
     uint32_t warmup_steps; /**< the parameters' warmup_steps */
     uint32_t seen;         /**< steps seen (saturates): the warm-up counts them */
     uint32_t hold;         /**< hold counter while fired */
-    uint32_t started;      /**< 0 until the first counted step set C */
     uint32_t fired;        /**< 1: the data contradict the model */
-    uint32_t inflate;      /**< 1: rfe_monitor_inflation_q31 gives sqrt(max(1, D / m)) */
+    uint8_t started;       /**< 0 until the first counted step set C */
+    uint8_t inflate;       /**< 1: rfe_monitor_inflation_q31 gives sqrt(max(1, D / m)) (the
+                                two flags share one word: the friction state's 2 KiB budget) */
     rfe_fix_t l_d;         /**< EWMA weight of D, Q30 */
     rfe_fix_t l_m;         /**< EWMA weight of M and C, Q30 */
     rfe_fix_t lp_d;        /**< l' = l_d / (2 - l_d): the sum of the weights' squares, Q30 */

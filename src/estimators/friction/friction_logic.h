@@ -66,12 +66,14 @@ static inline int rfe_friction_monitor_applies(rfe_status_t st)
 }
 
 /* Step 9's sd rule for one wheel (sd_ok: sd_valid > 0 and sd <= sd_valid; inside: the mean
- * strictly between mu_min and mu_max). A mean on a bound was put there by the projection
+ * strictly between mu_min and mu_max; above: the bound margin, mu - mu_min >= valid_bound_k sd,
+ * always 1 when valid_bound_k = 0). A mean on a bound was put there by the projection
  * (step 8): the data asked for a friction outside the physical range, so the filter's sd
- * does not describe the error there (docs/ESTIMATOR.md step 9). */
-static inline uint8_t rfe_friction_by_sd(uint8_t sd_ok, uint8_t inside)
+ * does not describe the error there; nor does it near the lower bound, where the projection
+ * has cut off the Gaussian claim's lower tail (docs/ESTIMATOR.md step 9, MONITOR.md §10). */
+static inline uint8_t rfe_friction_by_sd(uint8_t sd_ok, uint8_t inside, uint8_t above)
 {
-    return ((sd_ok != 0u) && (inside != 0u)) ? 1u : 0u;
+    return ((sd_ok != 0u) && (inside != 0u) && (above != 0u)) ? 1u : 0u;
 }
 
 /* Step 9's valid flag of one wheel after a step with status st: never after an error; by the

@@ -83,7 +83,7 @@ rfe_status_t rfe_monitor_init_q31(rfe_monitor_q31_t *mon, const rfe_monitor_para
     }
     m.hold_steps = p->hold_steps;
     m.warmup_steps = p->warmup_steps;
-    m.inflate = p->inflate;
+    m.inflate = (p->inflate != 0u) ? 1u : 0u; /* validated: 0 or 1 */
     m.l_d = p->l_d;
     m.l_m = p->l_m;
     m.lp_d = weight_squares(p->l_d);

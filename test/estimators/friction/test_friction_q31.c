@@ -797,7 +797,8 @@ static void test_rfe_friction_q31_init_and_get(void **state)
 
 /* REQ: the sd rule is never valid on a projection bound (ESTIMATOR.md step 9), as in the
  * double twin: a prior of sd 0.07 (below sd_valid) is valid one LSB inside either bound
- * and not valid at mu_min or at mu_max. */
+ * and not valid at mu_min or at mu_max (the bound margin off: one LSB above mu_min is within
+ * 3 sd of it; the margin's own tests are test_trust_rules_q31.c's). */
 /* REQ-EST-010 REQ-FXP-010 */
 static void test_rfe_friction_q31_not_valid_on_a_bound(void **state)
 {
@@ -811,6 +812,7 @@ static void test_rfe_friction_q31_not_valid_on_a_bound(void **state)
     assert_int_equal(rfe_params_default_f64(&pd), RFE_OK);
     pd.filter.sd0 = 0.05; /* prior sd 0.07 < sd_valid */
     pd.filter.sd0_common = 0.05;
+    pd.filter.valid_bound_k = 0.0;
     assert_int_equal(rfe_params_to_q31_f64(&pd, &base), RFE_OK);
     for (c = 0u; c < 4u; ++c) {
         rfe_params_q31_t p = base;

@@ -116,11 +116,14 @@ static void load(const char *path, rfe_sensor_log_t *log, rfe_params_t *p)
     p->filter.tau_v = ((rfe_real_t)(0.0));
 }
 
-/* The sd rule's flag of wheel w (docs/ESTIMATOR.md step 9), from the step's outputs. */
+/* The sd rule's flag of wheel w (docs/ESTIMATOR.md step 9), from the step's outputs, with the
+ * bound margin (mu - mu_min >= valid_bound_k sd: the same two operations in the same type as
+ * the library's, so the same result; the monitor is off here, so the sd is the filter's). */
 static uint8_t by_sd(const rfe_params_t *p, const rfe_estimate_t *e, size_t w)
 {
     return ((e->sd[w] <= p->filter.sd_valid) && (e->mu[w] > p->filter.mu_min) &&
-            (e->mu[w] < p->filter.mu_max))
+            (e->mu[w] < p->filter.mu_max) &&
+            ((e->mu[w] - p->filter.mu_min) >= (p->filter.valid_bound_k * e->sd[w])))
                ? 1u
                : 0u;
 }

@@ -447,6 +447,126 @@ static void test_trust_rule_params(void **state)
 #undef REJECT_
 }
 
+/* The bound margin's hand example: mu_min 0.125, sd 0.0625 (sd0 with no common part: S0 =
+ * sd0 I, so the sd is sd0 exactly), every value exact in binary. k = 3 puts the margin at
+ * 0.125 + 3 * 0.0625 = 0.3125: a mean of exactly that is valid (">="), one 2^-10 below is not,
+ * and with k = 0 both are (today's rule: inside the bounds, sd <= sd_valid). */
+static uint8_t margin_valid(rfe_real_t mu0, rfe_real_t k, int wheel)
+{
+    static rfe_friction_t est;
+    rfe_params_t p;
+    rfe_estimate_t e;
+    assert_int_equal(rfe_params_default(&p), RFE_OK);
+    p.filter.mu_min = R(0.125);
+    p.filter.sd0 = R(0.0625);
+    p.filter.sd0_common = R(0.0);
+    p.filter.mu0 = mu0;
+    p.filter.valid_bound_k = k;
+    assert_int_equal(rfe_friction_init(&est, &p), RFE_OK);
+    assert_int_equal(rfe_friction_get(&est, &e), RFE_OK);
+    assert_true(e.sd[wheel] == R(0.0625));
+    assert_true(e.mu[wheel] == mu0);
+    return e.valid[wheel];
+}
+
+/* REQ: the bound margin (step 9): a wheel is valid only when its mean lies at least
+ * valid_bound_k sd above mu_min; at exactly k sd it is; k = 0 is today's rule. */
+/* REQ-EST-022 */
+static void test_bound_margin_hand_example(void **state)
+{
+    const rfe_real_t below = R(0.3125) - R(1.0 / 1024.0);
+    int w;
+    (void)state;
+    for (w = 0; w < 4; ++w) {
+        assert_int_equal(margin_valid(R(0.3125), R(3.0), w), 1);  /* margin met exactly */
+        assert_int_equal(margin_valid(below, R(3.0), w), 0);      /* just inside the margin */
+        assert_int_equal(margin_valid(R(0.1875), R(3.0), w), 0);  /* 1 sd above the bound */
+        assert_int_equal(margin_valid(R(0.1875), R(1.0), w), 1);  /* exactly 1 sd: k = 1 met */
+        assert_int_equal(margin_valid(below, R(0.0), w), 1);      /* k = 0: today's rule */
+        assert_int_equal(margin_valid(R(0.1875), R(0.0), w), 1);
+        assert_int_equal(margin_valid(R(0.125), R(0.0), w), 0);   /* on the bound: never */
+    }
+}
+
+/* The float build's compare (x - mu_min >= k sd, each side rounded once in float32, values
+ * below 1.2: at most 2^-24 1.2 = 7e-8 each) can differ from this double recomputation only
+ * within 1e-6 of the tie; the double build's is the same two operations in the same type:
+ * none. */
+#if defined(RFE_REAL_DOUBLE)
+#define MARGIN_TIE 0.0
+#else
+#define MARGIN_TIE 1e-6
+#endif
+
+/* REQ: on a bundled log (the noise-free low-mu hard brake, whose ABS estimate reaches the
+ * lower bound: a log the margin gains, MONITOR.md §10) the margin at 3 sd leaves mu, sd and the
+ * holds as they are without it, bit for bit, and clears exactly the flags it should: valid
+ * with it = valid without it and mu - mu_min >= 3 sd (recomputed here). */
+/* REQ-EST-022 */
+static void test_bound_margin_on_a_log(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_params_t p, off;
+    run_t a, b;
+    size_t i, w, cleared = 0, ties = 0;
+    (void)state;
+    load(SCEN "/hard_brake_low_mu.nf.csv", &log, &p);
+    assert_true(p.filter.valid_bound_k == R(3.0)); /* on in the default preset */
+    off = p;
+    off.filter.valid_bound_k = R(0.0);
+    run(&log, &p, &a);
+    run(&log, &off, &b);
+    for (i = 0; i < a.n; ++i) {
+        assert_memory_equal(a.e[i].mu, b.e[i].mu, sizeof a.e[i].mu);
+        assert_memory_equal(a.e[i].sd, b.e[i].sd, sizeof a.e[i].sd);
+        for (w = 0; w < 4; ++w) {
+            const double m = (double)b.e[i].mu[w] - (double)p.filter.mu_min;
+            const double k_sd = 3.0 * (double)b.e[i].sd[w];
+            if ((b.e[i].valid[w] != 0u) && (fabs(m - k_sd) <= MARGIN_TIE)) {
+                ++ties; /* too close to call in float32: not compared */
+                continue;
+            }
+            assert_int_equal(a.e[i].valid[w], (b.e[i].valid[w] != 0u) && (m >= k_sd));
+            cleared += (size_t)((b.e[i].valid[w] != 0u) && (a.e[i].valid[w] == 0u));
+        }
+    }
+    assert_true(cleared > 0u); /* the rule acts on this log */
+    assert_int_equal(ties, 0);
+    run_free(&a);
+    run_free(&b);
+    rfe_sensor_log_free(&log);
+}
+
+/* REQ: valid_bound_k: 3 in the default preset, 0 in the paper preset, finite in [0, 10]; an
+ * invalid one refused with RFE_ERR_PARAM, the estimator untouched. */
+/* REQ-EST-022 */
+static void test_bound_margin_params(void **state)
+{
+    static rfe_friction_t est, before;
+    rfe_params_t p, q;
+    (void)state;
+    assert_int_equal(rfe_params_paper(&p), RFE_OK);
+    assert_true(p.filter.valid_bound_k == R(0.0));
+    assert_int_equal(rfe_params_default(&p), RFE_OK);
+    assert_true(p.filter.valid_bound_k == R(3.0));
+    q = p;
+    q.filter.valid_bound_k = R(10.0);
+    assert_int_equal(rfe_params_validate(&q), RFE_OK);
+    assert_int_equal(rfe_friction_init(&est, &p), RFE_OK);
+    before = est;
+#define REJECT_(value)                                                                          \
+    q = p;                                                                                      \
+    q.filter.valid_bound_k = (value);                                                           \
+    assert_int_equal(rfe_params_validate(&q), RFE_ERR_PARAM);                                   \
+    assert_int_equal(rfe_friction_init(&est, &q), RFE_ERR_PARAM);                               \
+    assert_memory_equal(&est, &before, sizeof est)
+    REJECT_(R(-0.01));
+    REJECT_(R(10.0) * R(1.01));
+    REJECT_((rfe_real_t)NAN);
+    REJECT_((rfe_real_t)INFINITY);
+#undef REJECT_
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -456,6 +576,9 @@ int main(void)
         cmocka_unit_test(test_stale_wheel_conditions),
         cmocka_unit_test(test_yaw_check_conditions),
         cmocka_unit_test(test_trust_rule_params),
+        cmocka_unit_test(test_bound_margin_hand_example),
+        cmocka_unit_test(test_bound_margin_on_a_log),
+        cmocka_unit_test(test_bound_margin_params),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

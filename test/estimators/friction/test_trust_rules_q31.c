@@ -35,6 +35,9 @@
 #define YAW_TOL (2.0 / 134217728.0) /* 2 LSB of Q27 (above) */
 #define Q22(x) ((rfe_fix_t)((x) * 4194304.0))
 #define Q27(x) ((rfe_fix_t)((x) * 134217728.0))
+#define Q24(x) ((rfe_fix_t)((x) * 16777216.0))
+#define Q29(x) ((rfe_fix_t)((x) * 536870912.0))
+#define Q30(x) ((rfe_fix_t)((x) * 1073741824.0))
 
 typedef struct {
     rfe_estimate_q31_t *e;
@@ -406,6 +409,107 @@ static void test_q31_trust_rule_params(void **state)
 #undef REJECT_
 }
 
+/* test_trust_rules_flt.c's hand example in Q formats (every value exact): mu_min 0.125 (Q29),
+ * sd0 0.0625 (Q30) with no common part, so the sd is sd0 exactly; k = 3 (Q24) puts the margin
+ * at 0.3125. */
+static uint8_t margin_valid_q31(rfe_fix_t mu0, rfe_fix_t k, int wheel)
+{
+    static rfe_friction_q31_t est;
+    rfe_params_q31_t p;
+    rfe_estimate_q31_t e;
+    assert_int_equal(rfe_params_default_q31(&p), RFE_OK);
+    p.filter.mu_min = Q29(0.125);
+    p.filter.sd0 = Q30(0.0625);
+    p.filter.sd0_common = 0;
+    p.filter.mu0 = mu0;
+    p.filter.valid_bound_k = k;
+    assert_int_equal(rfe_friction_init_q31(&est, &p), RFE_OK);
+    assert_int_equal(rfe_friction_get_q31(&est, &e), RFE_OK);
+    assert_int_equal(e.sd[wheel], Q30(0.0625));
+    assert_int_equal(e.mu[wheel], mu0);
+    return e.valid[wheel];
+}
+
+/* REQ: the bound margin in fixed point: valid only at least valid_bound_k sd above mu_min, at
+ * exactly k sd valid (the compare in Q54 is exact), k = 0 today's rule. */
+/* REQ-EST-022 REQ-FXP-010 */
+static void test_q31_bound_margin_hand_example(void **state)
+{
+    const rfe_fix_t below = Q29(0.3125) - 1; /* one LSB of Q29 below the margin */
+    int w;
+    (void)state;
+    for (w = 0; w < 4; ++w) {
+        assert_int_equal(margin_valid_q31(Q29(0.3125), Q24(3.0), w), 1);
+        assert_int_equal(margin_valid_q31(below, Q24(3.0), w), 0);
+        assert_int_equal(margin_valid_q31(Q29(0.1875), Q24(3.0), w), 0);
+        assert_int_equal(margin_valid_q31(Q29(0.1875), Q24(1.0), w), 1);
+        assert_int_equal(margin_valid_q31(below, 0, w), 1);
+        assert_int_equal(margin_valid_q31(Q29(0.1875), 0, w), 1);
+        assert_int_equal(margin_valid_q31(Q29(0.125), 0, w), 0); /* on the bound: never */
+    }
+}
+
+/* REQ: as test_trust_rules_flt.c's on the noise-free low-mu hard brake, in fixed point: mu and
+ * sd bit for bit as without the margin, the flags cleared exactly where mu - mu_min < 3 sd
+ * (recomputed in double from the Q29 and Q30 integers: exact, so every row is compared). */
+/* REQ-EST-022 REQ-FXP-010 */
+static void test_q31_bound_margin_on_a_log(void **state)
+{
+    rfe_sensor_log_t log;
+    rfe_params_q31_t p, off;
+    run_t a, b;
+    size_t i, w, cleared = 0;
+    (void)state;
+    load(SCEN "/hard_brake_low_mu.nf.csv", &log, &p);
+    assert_int_equal(p.filter.valid_bound_k, Q24(3.0)); /* on in the default preset */
+    off = p;
+    off.filter.valid_bound_k = 0;
+    run(&log, &p, &a);
+    run(&log, &off, &b);
+    for (i = 0; i < a.n; ++i) {
+        assert_memory_equal(a.e[i].mu, b.e[i].mu, sizeof a.e[i].mu);
+        assert_memory_equal(a.e[i].sd, b.e[i].sd, sizeof a.e[i].sd);
+        for (w = 0; w < 4; ++w) {
+            const double m = ((double)b.e[i].mu[w] - (double)p.filter.mu_min) / 536870912.0;
+            const double k_sd = 3.0 * (double)b.e[i].sd[w] / 1073741824.0;
+            assert_int_equal(a.e[i].valid[w], (b.e[i].valid[w] != 0u) && (m >= k_sd));
+            cleared += (size_t)((b.e[i].valid[w] != 0u) && (a.e[i].valid[w] == 0u));
+        }
+    }
+    assert_true(cleared > 0u); /* the rule acts on this log */
+    run_free(&a);
+    run_free(&b);
+    rfe_sensor_log_free(&log);
+}
+
+/* REQ: valid_bound_k in fixed point: 3 sd (Q24) in the default preset, 0 in the paper preset,
+ * [0, 10] sd; an invalid one refused with RFE_ERR_PARAM, the estimator untouched. */
+/* REQ-EST-022 REQ-FXP-010 */
+static void test_q31_bound_margin_params(void **state)
+{
+    static rfe_friction_q31_t est, before;
+    rfe_params_q31_t p, q;
+    (void)state;
+    assert_int_equal(rfe_params_paper_q31(&p), RFE_OK);
+    assert_int_equal(p.filter.valid_bound_k, 0);
+    assert_int_equal(rfe_params_default_q31(&p), RFE_OK);
+    assert_int_equal(p.filter.valid_bound_k, Q24(3.0));
+    q = p;
+    q.filter.valid_bound_k = Q24(10.0);
+    assert_int_equal(rfe_params_validate_q31(&q), RFE_OK);
+    assert_int_equal(rfe_friction_init_q31(&est, &p), RFE_OK);
+    before = est;
+#define REJECT_(value)                                                                          \
+    q = p;                                                                                      \
+    q.filter.valid_bound_k = (value);                                                           \
+    assert_int_equal(rfe_params_validate_q31(&q), RFE_ERR_PARAM);                               \
+    assert_int_equal(rfe_friction_init_q31(&est, &q), RFE_ERR_PARAM);                           \
+    assert_memory_equal(&est, &before, sizeof est)
+    REJECT_(-1);
+    REJECT_(Q24(10.0) + 1);
+#undef REJECT_
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -415,6 +519,9 @@ int main(void)
         cmocka_unit_test(test_q31_stale_wheel_conditions),
         cmocka_unit_test(test_q31_yaw_check_conditions),
         cmocka_unit_test(test_q31_trust_rule_params),
+        cmocka_unit_test(test_q31_bound_margin_hand_example),
+        cmocka_unit_test(test_q31_bound_margin_on_a_log),
+        cmocka_unit_test(test_q31_bound_margin_params),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
