@@ -175,12 +175,15 @@ def test_report_lists_the_worst_log_first(run, summary):
     positions = {log: worst_table.index(f"<td>{log}</td>") for log in logs["log"]}
     failed = logs[logs["error"].notna()]["log"]
     done = logs[logs["error"].isna()]
-    # the failed logs, then the completed log of the lowest valid share (found here)
-    lowest = done.loc[done["valid_share"].idxmin(), "log"]
+    # the failed logs, then a completed log of the lowest valid share (found here; the cruise,
+    # where nothing is observable, has share 0, and so may the low-mu lane change, whose
+    # estimates the bound margin keeps from being valid: ties are in any order)
+    share = done.set_index("log")["valid_share"]
     order = sorted(positions, key=positions.get)
     assert set(order[:len(failed)]) == set(failed)
-    assert order[len(failed)] == lowest
-    assert lowest.endswith("cruise.csv")  # nothing is observable there: share 0
+    assert share[order[len(failed)]] == share.min()
+    assert share[[log for log in share.index if log.endswith("cruise.csv")]].tolist() == [0.0]
+    assert list(share[order[len(failed):]]) == sorted(share)   # worst first, all the way down
 
 
 def test_surface_histograms_count_every_valid_sample():
