@@ -186,3 +186,58 @@ def test_upper_gate_wraps_and_restores_step_noise():
         finally:
             gate.remove()
         assert trs.trusted._step_noise is original
+
+
+def _psd(m, tol):
+    """m's smallest eigenvalue is above -tol."""
+    return np.linalg.eigvalsh(0.5 * (m + m.T)).min() > -tol
+
+
+def test_noise_upper_bound_is_the_larger_of_both():
+    """Diagonal noises share their eigenbasis, so R0 + [Ra - R0]+ is their elementwise
+    maximum: diag(1, 4, 9) and diag(4, 1, 9) give diag(4, 4, 9). A general pair: the result is
+    at least each of them (R - R0 and R - Ra positive semidefinite, to 1e-12 of rounding in
+    numbers of order 10). Ra <= R0 leaves s0 itself, uncounted."""
+    counter = type("C", (), {"inflated": 0})()
+    s0, sa = np.diag([1.0, 2.0, 3.0]), np.diag([2.0, 1.0, 3.0])
+    out = trs.noise_upper_bound(s0, sa, counter)
+    assert out @ out.T == pytest.approx(np.diag([4.0, 4.0, 9.0]), abs=1e-12)
+    assert counter.inflated == 1
+    rng = np.random.default_rng(1)
+    a, b = rng.normal(size=(3, 3)), rng.normal(size=(3, 3))
+    s0, sa = np.linalg.cholesky(a @ a.T + np.eye(3)), np.linalg.cholesky(b @ b.T + np.eye(3))
+    out = trs.noise_upper_bound(s0, sa, counter)
+    r = out @ out.T
+    assert _psd(r - s0 @ s0.T, 1e-12) and _psd(r - sa @ sa.T, 1e-12)
+    assert not _psd(s0 @ s0.T - sa @ sa.T, 0.0)    # the pair is not ordered: both bounds bind
+    assert not _psd(sa @ sa.T - s0 @ s0.T, 0.0)
+    assert trs.noise_upper_bound(s0, 0.5 * s0, counter) is s0 and counter.inflated == 2
+
+
+def test_upper_noise_inflates_a_saturated_low_mean_at_mild_slip():
+    """The soak drive's case: mild braking slip (-0.01) with the prior mean at 0.1 (the
+    model's tyre saturated, the slip noise hardly enters step 4's R) against 0.35 (the tyre in
+    its linear range, the slip noise enters): the update's noise exceeds step 4's at the prior
+    mean (trace larger) and is at least the one at 0.35; install()/remove() restore
+    trusted._step_noise."""
+    original = trs.trusted._step_noise
+    p, u = _braking_inputs(-0.01)
+    T = trs.trusted.WHEELS_OF_SIDES
+    sd_u = np.array([p[k] if k else 0.0 for k in trs.SD_INPUTS])
+    base = np.diag([p["r_ax"], p["r_ay"], p["r_yaw_acc"]])
+    un = trs.UpperNoise(p, 0.25)
+    un.install()
+    try:
+        assert trs.trusted._step_noise is not original
+        f = type("F", (), {"x": np.array([0.1, 0.1]), "s_r": base})()
+        s_r = trs.trusted._step_noise(p, f, T, u[0], sd_u)     # records the context
+        out = un(0, None, None, None, s_r)
+    finally:
+        un.remove()
+    assert trs.trusted._step_noise is original
+    fa = type("F", (), {"x": np.array([0.35, 0.35]), "s_r": base})()
+    ra = trs.trusted._step_noise(p, fa, T, u[0], sd_u)
+    r, r0 = out @ out.T, s_r @ s_r.T
+    assert un.inflated == 1 and np.trace(r) > np.trace(r0)
+    # both bounds to 1e-9 of rounding relative to R's scale (entries about 1e-2 .. 1)
+    assert _psd(r - r0, 1e-9) and _psd(r - ra @ ra.T, 1e-9)

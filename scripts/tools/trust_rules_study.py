@@ -6,6 +6,7 @@ Usage (from the repository root):
     .venv/bin/python scripts/tools/trust_rules_study.py [--scenarios scenarios]
         [--cache build/trust_rules] [--jobs 2] [--soak build/soak/drive_300s.csv
         [--soak-estimate ESTIMATE.csv ...]] [--hold-fired] [--only-soak-rules]
+        [--upper-noise DELTA [--logs NAME ... | all]]
 
 Runs the reference (scripts/reference/trusted.py, the default preset with its three trust rules
 switched off, then monitor.py, which equal the C double build to 1e-9) once per log (cached as .npz in --cache; the 72 logs take
@@ -37,7 +38,8 @@ about 10 min of CPU) and evaluates rules on top of it, each as the trust invaria
 - two experiments that change the update in the loop through trusted.run's adapt hook
   (trusted.py untouched): --hold-fired (no update while the monitor is fired, every log
   rerun into CACHE/hold_fired) and UpperGate (the information gate at mu + delta too, run
-  per log by hand: reference_run(path, upper_gate=0.25)).
+  per log by hand: reference_run(path, upper_gate=0.25)); and UpperNoise (--upper-noise:
+  step 4's noise at mu + delta too, MONITOR.md section 12).
 
 Per rule it prints the logs meeting the invariant (the 72 logs), those gained and lost, issue
 17's no-loss rule (on the logs meeting the invariant before, the largest fall of the excited-
@@ -51,6 +53,7 @@ import argparse
 import sys
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 
@@ -405,13 +408,59 @@ class UpperGate:
         return s_r * 1e4
 
 
+class UpperNoise(UpperGate):
+    """The update-level experiment of MONITOR.md section 12: step 4's noise at the upper
+    alternative too. At mild slip the measurement bounds mu from below only, but step 4
+    evaluates the model error and the errors-in-variables columns at the prior mean; at a low
+    mean the model's tyre is saturated and the slip noise hardly enters R. Here the update uses
+    R = R0 + [Ra - R0]+ (the positive part of the difference, by eigenvalues: the smallest
+    such upper bound of both in that direction basis), R0 step 4's noise at the prior mean x,
+    Ra the same step 4 (trusted._step_noise itself) at min(x + delta, mu_max) on both sides;
+    the gate and the monitor keep R0. inflated counts the steps where Ra added anything."""
+
+    def __init__(self, p: dict, delta: float):
+        super().__init__(p, delta)
+        self.inflated = 0
+
+    def install(self):
+        self.saved = trusted._step_noise
+
+        def wrapped(p, f, T, u, sd_u, persistent=None, reuse=None):
+            self.ctx = (np.array(u, copy=True), np.array(f.x, copy=True),
+                        np.array(f.s_r, copy=True), T, np.array(sd_u, copy=True))
+            return self.saved(p, f, T, u, sd_u, persistent, reuse)
+        trusted._step_noise = wrapped
+
+    def __call__(self, k, nu, s_zz, zc, s_r, c_pers=None):
+        u, x, s_r0, T, sd_u = self.ctx
+        xa = np.minimum(x + self.delta, self.p["mu_max"])
+        s_a = self.saved(self.p, SimpleNamespace(x=xa, s_r=s_r0), T, u, sd_u)
+        return noise_upper_bound(s_r, s_a, self)
+
+
+def noise_upper_bound(s0, sa, counter=None) -> np.ndarray:
+    """The lower Cholesky factor of R0 + [Ra - R0]+ (R0 = s0 s0^T, Ra = sa sa^T; [.]+ keeps
+    the positive eigenvalues of the symmetric difference): a noise at least as large as both in
+    every direction where Ra exceeds R0, equal to R0 where Ra is smaller. counter (with an
+    inflated count) counts the calls that changed R0."""
+    r0 = s0 @ s0.T
+    d = sa @ sa.T - r0
+    w, v = np.linalg.eigh(0.5 * (d + d.T))
+    pos = np.maximum(w, 0.0)
+    if not np.any(pos > 1e-12 * max(np.trace(r0), 1e-300)):
+        return s0
+    if counter is not None:
+        counter.inflated += 1
+    return np.linalg.cholesky(r0 + (v * pos) @ v.T)
+
+
 def reference_run(path: Path, yaw_thr: float | None = None, hold_fired: bool = False,
-                  upper_gate: float | None = None) -> dict:
+                  upper_gate: float | None = None, upper_noise: float | None = None) -> dict:
     """The default preset's reference run and the monitor on one log, its two trust rules off;
     with yaw_thr, with the reference's yaw-rate check at that threshold (n_sub: the samples
     yaw_substitute replaces); with hold_fired, no update while the monitor is fired
     (hold_while_fired); with upper_gate, the information gate at mu + upper_gate too
-    (UpperGate)."""
+    (UpperGate); with upper_noise, step 4's noise at mu + upper_noise too (UpperNoise)."""
     log = logs.read_csv_log(str(path))
     n_sub = 0
     if yaw_thr is not None:
@@ -423,11 +472,14 @@ def reference_run(path: Path, yaw_thr: float | None = None, hold_fired: bool = F
     adapt = hold_while_fired(p) if hold_fired else None
     if upper_gate is not None:
         adapt = UpperGate(p, upper_gate)
+    if upper_noise is not None:
+        adapt = UpperNoise(p, upper_noise)
+    if upper_gate is not None or upper_noise is not None:
         adapt.install()
     try:
         res = trusted.run(log, p, adapt=adapt)
     finally:
-        if upper_gate is not None:
+        if upper_gate is not None or upper_noise is not None:
             adapt.remove()
     mon = monitor.apply(res, p, p["dt"])
     out = {k: mon[k] for k in KEEP if k in mon}
@@ -583,7 +635,7 @@ def apply_rule(runs: dict, rule) -> dict:
 
 
 def soak_run(path: Path, cache: Path, estimate: Path | None = None,
-             hold_fired: bool = False) -> dict:
+             hold_fired: bool = False, upper_noise: float | None = None) -> dict:
     """The soak drive (a sensor log with truth columns) as a run: the reference's (cached in
     cache), or with estimate, a mu_replay estimate log of it (its own vx_est, vy_est,
     yaw_acc_est where it has them: --velocity observer)."""
@@ -592,7 +644,7 @@ def soak_run(path: Path, cache: Path, estimate: Path | None = None,
         f = cache / f"soak+{path.stem}.npz"
         if not f.is_file():
             cache.mkdir(parents=True, exist_ok=True)
-            np.savez(f, **reference_run(path, hold_fired=hold_fired))
+            np.savez(f, **reference_run(path, hold_fired=hold_fired, upper_noise=upper_noise))
         with np.load(f) as z:
             r = {k: z[k] for k in z.files}
         u = y = None
@@ -612,6 +664,36 @@ def soak_run(path: Path, cache: Path, estimate: Path | None = None,
     r["settled"] = settled(r["t"], r["truth"])
     add_model_inputs(r, log, u, y)
     return r
+
+
+def upper_noise_lines(scen: Path, cache: Path, names, delta: float) -> list[str]:
+    """MONITOR.md section 12: the named logs' figures (valid, RMSE, consistency, worst,
+    excited valid) without and with UpperNoise(delta), each run cached in cache (base) and
+    cache/upper_noise_DELTA; one process."""
+    lines = [f"step 4's noise at mu + {delta} too (UpperNoise, in the loop):"]
+    ucache = cache / f"upper_noise_{delta:g}"
+    for c in (cache, ucache):
+        c.mkdir(parents=True, exist_ok=True)
+    for n in names:
+        log = logs.read_csv_log(str(scen / f"{n}.csv"))
+        truth = np.stack([log.col(f"mu_{w}") for w in WHEELS], 1)
+        util = (np.stack([log.col(f"util_{w}") for w in WHEELS], 1)
+                if "util_fl" in log.columns else None)
+        figs = []
+        for c, un in ((cache, None), (ucache, delta)):
+            f = c / f"{n.replace('/', '+')}.npz"
+            if not f.is_file():
+                np.savez(f, **reference_run(scen / f"{n}.csv", upper_noise=un))
+            with np.load(f) as z:
+                figs.append(figures(z["mu"], z["sd"], z["valid"].astype(bool), truth, util,
+                                    settled(z["t"], truth)))
+        b, g = figs
+        lines.append(f"    {n}: valid {100 * b['valid']:.1f} -> {100 * g['valid']:.1f} %, RMSE "
+                     f"{fmt(b['rmse'])} -> {fmt(g['rmse'])}, consistency {fmt(b['cons'])} -> "
+                     f"{fmt(g['cons'])}, worst {fmt(b['worst'])} -> {fmt(g['worst'])}, excited "
+                     f"valid {fmt(b['exc'])} -> {fmt(g['exc'])}, meets {b['meets']} -> "
+                     f"{g['meets']}")
+    return lines
 
 
 def estimate_columns(path: Path) -> dict:
@@ -649,7 +731,22 @@ def main(argv=None) -> int:
                     "the reference on every log, cached in CACHE/hold_fired)")
     ap.add_argument("--only-soak-rules", action="store_true",
                     help="skip the rules of section 8 (stale, updates, yaw)")
+    ap.add_argument("--upper-noise", type=float, metavar="DELTA",
+                    help="only the experiment of MONITOR.md section 12 (step 4's noise at mu + "
+                    "DELTA too, in the loop): --soak's figures with it, then --logs' before and "
+                    "after (one process)")
+    ap.add_argument("--logs", nargs="*", default=[],
+                    help="with --upper-noise: the logs (names as bundled(), e.g. "
+                    "accel_low_mu.mf; 'all': the 72)")
     a = ap.parse_args(argv)
+    if a.upper_noise is not None:
+        if a.soak:
+            r = soak_run(a.soak, a.cache / f"upper_noise_{a.upper_noise:g}",
+                         upper_noise=a.upper_noise)
+            print("\n".join(soak_lines(f"step 4's noise at mu + {a.upper_noise:g} too", r, [])))
+        names = bundled(a.scenarios) if a.logs == ["all"] else a.logs
+        print("\n".join(upper_noise_lines(a.scenarios, a.cache, names, a.upper_noise)))
+        return 0
     runs = load_all(a.scenarios, a.cache, a.jobs)
     base = evaluate(runs)
     print(f"reference, default preset: meets {sum(f['meets'] for f in base.values())}/{len(base)}")
