@@ -53,10 +53,15 @@ IV, IM, IF, IT = 0, 1, 2, 3
 # of F released by the ax row's bias test (MassGradeOffsetGated), the mass's sd grown by 10 % of
 # M, only where a_x's sd over the window reaches 0.15 m/s^2 (three times a_x's noise, 0.05: an
 # unexcited cruise cannot tell F from M; the headwind's 30 s speed sine gives 0.2)
-VARIANTS = ((300.0, 0.5), (300.0, 2.0), (100.0, 2.0), (300.0, 2.0, 0.1, 0.15))
+# and (..., ay_reset) of the same test made curve-safe: every sample with |a_y| above ay_reset
+# (m/s^2; the crest's curve is 0.5 m/s^2 and above from 30.5 to 47.7 s) empties the test's
+# window, so a release needs the bias to persist over half a window of straight road
+VARIANTS = ((300.0, 0.5), (300.0, 2.0), (100.0, 2.0), (300.0, 2.0, 0.1, 0.15),
+            (300.0, 2.0, 0.1, 0.15, 0.5))
 # the second table: the clean logs with resistance keys off (the headwind study's model
 # table), from the -20 % start, without F and with the gated F
 KEY_ERRORS = (("mg_cd", 0.8), ("mg_fc", 1.5))
+GATED_ALL = VARIANTS[3:]
 GATED = VARIANTS[-1]
 
 
@@ -273,8 +278,9 @@ M and F explain the same cruise). Then F is released: the state becomes [v, M, F
     that the mass learned under the bias can move; from there on the offset filter above."""
 
     def __init__(self, params, sd_f0, q_f, sd_m_add, window=10.0, threshold=0.396,
-                 ax_sd_min=0.0):
+                 ax_sd_min=0.0, ay_reset=0.0):
         super().__init__(params, sd_f0, q_f)
+        self.ay_reset = ay_reset                    # m/s^2: |a_y| above it empties the window
         self.sd_m_add, self.window, self.threshold = sd_m_add, window, threshold
         self.ax_sd_min = ax_sd_min                  # m/s^2: the window's a_x must vary this much
         self.released, self.t_release = False, None
@@ -329,6 +335,8 @@ M and F explain the same cruise). Then F is released: the state becomes [v, M, F
         self._cur = None
         out = mg.MassGrade._step_sqrt(self, s)
         ok = out.status == mg.OK
+        if self.ay_reset > 0.0 and s.ay is not None and abs(s.ay) > self.ay_reset:
+            self._e.clear()                         # a curve: the bias test starts again
         self._e.append((s.t, self._cur if ok else None, s.ax if ok else None))
         while self._e and self._e[0][0] <= s.t - self.window:
             self._e.pop(0)
@@ -363,8 +371,9 @@ M and F explain the same cruise). Then F is released: the state becomes [v, M, F
 def make(p, variant):
     if variant is None:
         return mg.MassGrade(p)
-    if len(variant) == 4:
-        return MassGradeOffsetGated(p, *variant[:3], ax_sd_min=variant[3])
+    if len(variant) >= 4:
+        return MassGradeOffsetGated(p, *variant[:3], ax_sd_min=variant[3],
+                                    ay_reset=variant[4] if len(variant) > 4 else 0.0)
     return MassGradeOffset(p, *variant)
 
 
@@ -391,9 +400,11 @@ def one(job):
 def label(variant):
     if variant is None:
         return "without"
-    if len(variant) == 4:
+    if len(variant) >= 4:
+        tail = f", window emptied by |a_y| > {variant[4]:g} m/s^2" if len(variant) > 4 else ""
         return (f"F released by the ax bias test: sd {variant[0]:g} N, q {variant[1]:g} "
-                f"N/sqrt(s), mass sd + {variant[2] * 100:g} %, a_x sd >= {variant[3]:g} m/s^2")
+                f"N/sqrt(s), mass sd + {variant[2] * 100:g} %, a_x sd >= {variant[3]:g} m/s^2"
+                + tail)
     return f"F: sd {variant[0]:g} N, q {variant[1]:g} N/sqrt(s)"
 
 
@@ -402,10 +413,10 @@ def f_cell(ms, variant):
     rel = [m["t_release"] for m in ms if m["t_release"] is not None]
     if variant is None:
         return "–"
-    if len(variant) == 4 and not rel:
+    if len(variant) >= 4 and not rel:
         return "never released"
     cell = f"{min(fe):+.0f} … {max(fe):+.0f} N"
-    if len(variant) == 4:
+    if len(variant) >= 4:
         cell += f" (released at {min(rel):.1f}–{max(rel):.1f} s, {len(rel)} of {len(ms)})"
     return cell
 
@@ -433,16 +444,23 @@ def table(res, names):
 
 
 def key_table(res, names):
+    def rel(b):
+        if b["t_release"] is None:
+            return "never"
+        return f"{b['t_release']:.1f} s ({b['f_end']:+.0f} N at the end)"
+
     lines = ["| log | the filter given | mass error at the end: without F | with the gated F | "
-             "largest mass error after 10 s: without | with | F released at |",
-             "|---|---|---|---|---|---|---|"]
+             "with the curve-safe gated F | largest mass error after 10 s: without | gated | "
+             "curve-safe | F released at: gated | curve-safe |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
     for name in names:
         for key in KEY_ERRORS:
-            a, b = res[(name, -0.2, None, key)], res[(name, -0.2, GATED, key)]
-            rel = "never" if b["t_release"] is None else f"{b['t_release']:.1f} s ({b['f_end']:+.0f} N at the end)"
+            a = res[(name, -0.2, None, key)]
+            b, c = (res[(name, -0.2, g, key)] for g in GATED_ALL)
             lines.append(f"| {name} | {key[0]} x {key[1]:g} | {a['err_end']:+.2f} % | "
-                         f"{b['err_end']:+.2f} % | {a['err_after']:.2f} % | {b['err_after']:.2f} % | "
-                         f"{rel} |")
+                         f"{b['err_end']:+.2f} % | {c['err_end']:+.2f} % | "
+                         f"{a['err_after']:.2f} % | {b['err_after']:.2f} % | "
+                         f"{c['err_after']:.2f} % | {rel(b)} | {rel(c)} |")
     return "\n".join(lines) + "\n"
 
 
@@ -462,7 +480,7 @@ def main(argv=None):
     names = a.logs or mass_grade_names()
     clean = [n for n in names if n != "car_headwind"]
     jobs = [(n, g, v, None) for n in names for v in [None] + list(VARIANTS) for g in mgr.GUESSES]
-    jobs += [(n, -0.2, v, k) for n in clean for k in KEY_ERRORS for v in (None, GATED)]
+    jobs += [(n, -0.2, v, k) for n in clean for k in KEY_ERRORS for v in (None,) + GATED_ALL]
     with multiprocessing.Pool(a.jobs) as pool:
         res = dict(pool.map(one, jobs, chunksize=1))
     t1, t2 = table(res, names), key_table(res, clean)

@@ -147,3 +147,45 @@ def test_table_takes_the_worst_start():
     assert row[5] == "0.400 deg" and row[7] == "+0 … +30 N |"
     # the gated row: never released on any start
     assert lines[-1].endswith("| never released |")
+
+
+def test_curve_empties_the_bias_test_window():
+    # the biased drive the gated filter releases on (above), with one a_y sample every 4 s:
+    # at 1.0 m/s^2, above ay_reset 0.5, each empties the 10 s window, which then never holds
+    # the 5 s of updates the test needs, so F stays closed and every estimate is the
+    # reference's (the recommended preset has no curve pause: the reference ignores a_y);
+    # at 0.3 m/s^2, below ay_reset, the same drive releases as without a_y
+    p, samples = drive(200.0, seconds=60.0)
+    p = dict(p, mg_m0=M_TRUE * 1.2)
+
+    def with_ay(ay):
+        return [mg.MgSample(s.t, s.v, s.torque, ax=s.ax,
+                            ay=ay if round(s.t / DT) % round(4.0 / DT) == 0 else 0.0)
+                for s in samples]
+
+    ref = mg.MassGrade(p)
+    safe = os_.MassGradeOffsetGated(p, 300.0, 2.0, 0.1, ax_sd_min=0.15, ay_reset=0.5)
+    for s in with_ay(1.0):
+        assert ref.step(s) == safe.step(s)
+    assert not safe.released
+    safe = os_.MassGradeOffsetGated(p, 300.0, 2.0, 0.1, ax_sd_min=0.15, ay_reset=0.5)
+    plain = os_.MassGradeOffsetGated(p, 300.0, 2.0, 0.1, ax_sd_min=0.15)
+    run(safe, with_ay(0.3))
+    run(plain, samples)
+    assert safe.released and safe.t_release == plain.t_release
+
+
+def test_key_table_shows_both_gates():
+    res = {}
+    for k, key in enumerate(os_.KEY_ERRORS):
+        res[("car_x", -0.2, None, key)] = {"err_end": 1.0 + k, "err_after": 2.0,
+                                           "t_release": None, "f_end": None}
+        res[("car_x", -0.2, os_.GATED_ALL[0], key)] = {"err_end": 30.0, "err_after": 31.0,
+                                                       "t_release": 46.9, "f_end": 183.0}
+        res[("car_x", -0.2, os_.GATED_ALL[1], key)] = {"err_end": 1.0 + k, "err_after": 2.0,
+                                                       "t_release": None, "f_end": None}
+    lines = os_.key_table(res, ["car_x"]).strip().split("\n")
+    assert len(lines) == 2 + len(os_.KEY_ERRORS)
+    row = lines[2].split(" | ")
+    assert row[2:5] == ["+1.00 %", "+30.00 %", "+1.00 %"]
+    assert row[8] == "46.9 s (+183 N at the end)" and row[9] == "never |"
