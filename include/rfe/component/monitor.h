@@ -48,10 +48,9 @@ typedef struct {
     uint32_t warmup_steps;      /**< ceil(warmup / dt) */
     uint32_t seen;              /**< steps seen (saturates): the warm-up counts them */
     uint32_t hold;              /**< hold counter while fired */
+    uint32_t started;           /**< 0 until the first counted step set C */
     uint32_t fired;             /**< 1: the data contradict the model */
-    uint8_t started;            /**< 0 until the first counted step set C */
-    uint8_t inflate;            /**< 1: rfe_monitor_inflation gives sqrt(max(1, D / m)) (the two
-                                     flags share one word, as in the fixed-point twin) */
+    uint32_t inflate;           /**< 1: rfe_monitor_inflation gives sqrt(max(1, D / m)) */
     rfe_real_t l_d;             /**< EWMA weight of D, dt / (tau_nis + dt) */
     rfe_real_t l_m;             /**< EWMA weight of M and C, dt / (tau_mean + dt) */
     rfe_real_t z_d_fire;        /**< z(1 - p_fire / 2): the NIS test's normal quantile */

@@ -57,6 +57,7 @@ typedef struct {
     uint8_t started;       /**< 0 until the first counted step set C */
     uint8_t inflate;       /**< 1: rfe_monitor_inflation_q31 gives sqrt(max(1, D / m)) (the
                                 two flags share one word: the friction state's 2 KiB budget) */
+    uint8_t spare[2];      /**< 0 (set by init): the flags' word filled, so no padding */
     rfe_fix_t l_d;         /**< EWMA weight of D, Q30 */
     rfe_fix_t l_m;         /**< EWMA weight of M and C, Q30 */
     rfe_fix_t lp_d;        /**< l' = l_d / (2 - l_d): the sum of the weights' squares, Q30 */

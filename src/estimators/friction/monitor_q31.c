@@ -96,6 +96,8 @@ rfe_status_t rfe_monitor_init_q31(rfe_monitor_q31_t *mon, const rfe_monitor_para
     m.seen = 0u;
     m.hold = 0u;
     m.started = 0u;
+    m.spare[0] = 0u;
+    m.spare[1] = 0u;
     m.fired = 0u;
     m.D = (rfe_fix_t)RFE_MEAS * ONE_D;
     for (r = 0u; r < MC; ++r) {
