@@ -420,6 +420,9 @@ static void test_trust_rule_params(void **state)
     static rfe_friction_t est, before;
     rfe_params_t p, q;
     (void)state;
+    /* zeroed first: the double params have padding, which init copies into the state, and the
+     * whole-state comparisons below must read defined bytes only (valgrind) */
+    memset(&p, 0, sizeof p);
     assert_int_equal(rfe_params_paper(&p), RFE_OK);
     assert_true(p.filter.stale_omega == R(0.0));
     assert_true(p.filter.yaw_check == R(0.0));
@@ -545,6 +548,9 @@ static void test_bound_margin_params(void **state)
     static rfe_friction_t est, before;
     rfe_params_t p, q;
     (void)state;
+    /* zeroed first: the double params have padding, which init copies into the state, and the
+     * whole-state comparisons below must read defined bytes only (valgrind) */
+    memset(&p, 0, sizeof p);
     assert_int_equal(rfe_params_paper(&p), RFE_OK);
     assert_true(p.filter.valid_bound_k == R(0.0));
     assert_int_equal(rfe_params_default(&p), RFE_OK);
