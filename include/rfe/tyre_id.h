@@ -186,6 +186,10 @@ typedef struct {
     rfe_real_t prev_delta;             /**< the previous sample's delta, vx and ax */
     rfe_real_t prev_vx;
     rfe_real_t prev_ax;
+    rfe_real_t dlt[5];                 /**< the steering-angle filter (§4.4, delta_q > 0): delta,
+                                            its rate, and their covariance p00, p01, p11 */
+    rfe_real_t sd_delta;               /**< the steering noise of §5.1 and §15.3: sd_delta, or
+                                            the steering-angle filter's posterior sd */
     rfe_real_t x[RFE_TID_N][RFE_TID_DIM]; /**< the particles */
     rfe_real_t logw[RFE_TID_N];        /**< their normalised log weights */
     rfe_tyre_id_estimate_t last;       /**< the output of the last step */

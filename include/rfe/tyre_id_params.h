@@ -80,6 +80,10 @@ typedef struct {
     rfe_real_t ell_ax_min;       /**< the ellipse's dead band (§3.5): below this |ax| it
                                       takes ax as 0, the factor exactly 1 [m/s^2], in
                                       [0, 20] (0: none): 0.6 */
+    rfe_real_t delta_q;          /**< the steering-angle filter (§4.4): white-acceleration
+                                      noise density of a two-state Kalman filter that the
+                                      identifier reads delta through [rad/s^2/sqrt(s)], >= 0
+                                      (0: off, delta as measured, bit for bit): 0 */
 } rfe_tyre_id_params_t;
 
 /**
@@ -91,8 +95,8 @@ RFE_NODISCARD rfe_status_t rfe_tyre_id_params_default(rfe_tyre_id_params_t *p);
 
 /**
  * Checks every field: finite; filter and resample in range; substeps in
- * 1..RFE_TID_SUBSTEPS_MAX; v_min, dt_max, sd_r, sd_ay > 0; sd_delta, every q and sd0 and
- * rough_k >= 0; neff_frac in [0, 1]; each pair of bounds lo < hi, and mu_lo, C_lo, cy_lo
+ * 1..RFE_TID_SUBSTEPS_MAX; v_min, dt_max, sd_r, sd_ay > 0; sd_delta, every q and sd0,
+ * rough_k and delta_q >= 0; neff_frac in [0, 1]; each pair of bounds lo < hi, and mu_lo, C_lo, cy_lo
  * > 0 (B = K / (C D) needs C, D > 0); ellipse 0 or 1, fx_front in [0, 1], ell_min in
  * (0, 1], ell_ax_min in [0, 20]. Whether the prior's means lie within the bounds
  * depends on the tyre data: rfe_tyre_id_init checks it.

@@ -42,6 +42,9 @@ from reference import philox, tyre_id, tyre_id_sckf  # noqa: E402
 from reference.logs import read_csv_log  # noqa: E402
 
 SEED = 7
+# tid_delta_q of the steering-angle filter's goldens (TYRE_ID.md §4.4; TYRE_ID_RESULTS.md "The
+# steering-angle filter": the value measured there)
+DELTA_Q = 0.05
 # (case, log under scenarios/, filter, resample, first row, samples[, tid_ellipse,
 # tid_ell_ax_min]): both filters and both schemes, the start of a log (the prior, the first
 # draws) and the middle of a manoeuvre at the limit; and the friction ellipse (TYRE_ID.md
@@ -56,6 +59,9 @@ CASES = (
     ("brake_apf_ellipse", "brake_in_turn.mf", "apf", "multinomial", 190, 25, 1, 0.0),
     ("brake_apf_ellipse_band", "brake_in_turn.mf", "apf", "multinomial", 190, 25, 1,
      tyre_id.TID_DEFAULTS["tid_ell_ax_min"]),
+    # the steering-angle filter of TYRE_ID.md §4.4 (tid_delta_q, last) from the log's start
+    ("sine_apf_delta_filter", "tyre_id/tid_sine_steer", "apf", "multinomial", 0, 25, 0, 0.0,
+     DELTA_Q),
 )
 # The sigma-point filter of §15 (tyre_id_sckf.py; deterministic, no seed): (case, log, first
 # row, samples[, tid_ellipse, tid_ell_ax_min]): the start of the sine steer (the prior, the
@@ -66,6 +72,8 @@ SCKF_CASES = (
     ("sine_sckf", "tyre_id/tid_sine_steer", 0, 200),
     ("ramp_sckf", "tyre_id/tid_ramp_steer_high_mu", 500, 200),
     ("brake_sckf_ellipse", "brake_in_turn.mf", 100, 200, 1, 0.0),
+    # the steering-angle filter (§4.4) on the low-mu ramp steer, from its straight start
+    ("ramp_low_sckf_delta_filter", "tyre_id/tid_ramp_steer_low_mu", 0, 200, 0, 0.0, DELTA_Q),
 )
 # (seed, c1, c2, first word, words) of the stream check
 STREAM = ((1, 0, 0, 0, 16), (7, 3, 1, 40, 12), (2 ** 64 - 1, 2 ** 40 + 5, 4, 1000, 8))
@@ -86,18 +94,22 @@ def table(out):
     return names, zip(*(out[k] for k in names))
 
 
-def ellipse_keys(ellipse, ax_min=0.0):
+def ellipse_keys(ellipse, ax_min=0.0, delta_q=0.0):
     """The keys a case sets beyond the defaults (tid_ellipse and its dead band
-    tid_ell_ax_min when on), and their metadata."""
-    if not ellipse:
-        return {}, []
-    return ({"tid_ellipse": 1.0, "tid_ell_ax_min": float(ax_min)},
-            [("tid_ellipse", 1), ("tid_ell_ax_min", f"{ax_min:g}")])
+    tid_ell_ax_min when on; tid_delta_q when not 0), and their metadata."""
+    keys, meta = {}, []
+    if ellipse:
+        keys = {"tid_ellipse": 1.0, "tid_ell_ax_min": float(ax_min)}
+        meta = [("tid_ellipse", 1), ("tid_ell_ax_min", f"{ax_min:g}")]
+    if delta_q:
+        keys["tid_delta_q"] = float(delta_q)
+        meta.append(("tid_delta_q", f"{delta_q:g}"))
+    return keys, meta
 
 
-def golden(log, filt, scheme, start, count, n, ellipse=0, ax_min=0.0):
+def golden(log, filt, scheme, start, count, n, ellipse=0, ax_min=0.0, delta_q=0.0):
     cols = samples(log, start, count)
-    extra, extra_meta = ellipse_keys(ellipse, ax_min)
+    extra, extra_meta = ellipse_keys(ellipse, ax_min, delta_q)
     params = {"tid_n": float(n), "tid_filter": filt, "tid_resample": scheme, **extra}
     out = tyre_id.run(cols, params, seed=SEED, backend="libm")
     meta = [("source", f"scenarios/{log}.csv"), ("generator", "scripts/reference/tyre_id.py"),
@@ -107,9 +119,9 @@ def golden(log, filt, scheme, start, count, n, ellipse=0, ax_min=0.0):
     return (meta,) + table(out)
 
 
-def golden_sckf(log, start, count, ellipse=0, ax_min=0.0):
+def golden_sckf(log, start, count, ellipse=0, ax_min=0.0, delta_q=0.0):
     cols = samples(log, start, count)
-    extra, extra_meta = ellipse_keys(ellipse, ax_min)
+    extra, extra_meta = ellipse_keys(ellipse, ax_min, delta_q)
     out = tyre_id_sckf.run(cols, extra, backend="libm")  # tid_filter does not apply (§15.1)
     meta = [("source", f"scenarios/{log}.csv"),
             ("generator", "scripts/reference/tyre_id_sckf.py"), ("backend", "libm"),

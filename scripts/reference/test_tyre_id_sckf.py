@@ -270,3 +270,41 @@ def test_ellipse_dead_band_leaves_a_log_without_braking_untouched():
     for k in ("K_f", "K_r", "D_f", "D_r", "C_f", "E_f", "Fy_f", "Fy_r", "beta"):
         assert (band[k] == off[k]).all(), k
     assert not (none["K_f"] == off["K_f"]).all()
+
+
+# REQ-TID-002
+def test_delta_filter_is_a_kalman_filter():
+    """§4.4 the steering-angle filter (tid_delta_q > 0): the delta the identifier reads and the
+    steering noise it carries are a two-state Kalman filter's posterior mean and sd, checked
+    against the same filter written here in matrix form (another arrangement of the same
+    algebra: rounding only, 1e-12 relative to the sensor's sd); its posterior sd below the
+    sensor's (p00 = p00- R / (p00- + R) < R). tid_delta_q 0 reads delta as measured and
+    carries tid_sd_delta; a negative tid_delta_q is refused."""
+    q, h = 0.05, 0.01
+    tid = S.init({"tid_delta_q": q})
+    sd = T.TID_DEFAULTS["tid_sd_delta"]
+    rv = sd * sd
+    x, P = None, None
+    F = np.array([[1.0, h], [0.0, 1.0]])
+    Q = q * q * np.array([[h ** 3 / 3.0, h * h / 2.0], [h * h / 2.0, h]])
+    for k in range(300):
+        z = 1e-4 * k + 1e-3 * math.sin(1.7 * k)
+        r = VX * 1e-4 * k / 3.05
+        tid.step({"t": k * h, "delta": z, "vx": VX, "yaw_rate": r, "ay": VX * r, "ax": 0.0})
+        if k == 0:
+            x, P = np.array([z, 0.0]), np.diag([rv, 0.0])
+        else:
+            xm, Pm = F @ x, F @ P @ F.T + Q
+            K = Pm[:, 0] / (Pm[0, 0] + rv)
+            x = xm + K * (z - xm[0])
+            P = Pm - np.outer(K, Pm[0, :])
+            assert tid.sd_delta < sd
+        assert abs(tid.dk[0] - x[0]) <= 1e-12 * sd
+        assert abs(tid.dk[1] - x[1]) <= 1e-12 * sd / h
+        assert abs(tid.sd_delta - math.sqrt(P[0, 0])) <= 1e-12 * sd
+        assert tid.prev[1] == tid.dk[0]          # the filtered delta is what the step read
+    off = S.init({})
+    off.step({"t": 0.0, "delta": 0.01, "vx": VX, "yaw_rate": 0.0, "ay": 0.0, "ax": 0.0})
+    assert off.prev[1] == 0.01 and off.sd_delta == sd
+    with pytest.raises(ValueError):
+        S.init({"tid_delta_q": -0.1})

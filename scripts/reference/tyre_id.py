@@ -69,6 +69,8 @@ TID_DEFAULTS: dict[str, float] = {
     "tid_fx_front": 0.625,    # §3.5 the front axle's share of m ax
     "tid_ell_min": 0.1,       # §3.5 the smallest factor the ellipse leaves of a lateral force
     "tid_ell_ax_min": 0.6,    # §3.5 m/s^2: below this |ax| the ellipse takes ax as 0 (0: none)
+    "tid_delta_q": 0.0,       # §4.4 the steering-angle filter's white-acceleration noise density,
+                              # rad/s^2 per sqrt(s) (0: off, the measured delta as read)
 }
 TID_CHOICES = {"tid_filter": ("apf", "sir"),
                "tid_resample": ("multinomial", "systematic")}  # first of each: the default
@@ -278,9 +280,46 @@ class _SampleSteps:
     (_update gives its status bits); then the outputs (_estimate). The previous sample's
     (t, delta, vx) is self.prev, None before the first."""
 
+    def _delta_filter(self, s: dict) -> dict:
+        """§4.4 the steering-angle filter: with tid_delta_q > 0 the sample's delta is replaced
+        by a two-state (delta, its rate) Kalman filter's posterior mean, and the steering
+        noise of §5.1 (the particle filters) and §15.3 (the SCKF) by its posterior sd; with 0
+        the sample and tid_sd_delta as they are."""
+        p = self.p
+        q = p["tid_delta_q"]
+        self.sd_delta = p["tid_sd_delta"]
+        if q == 0.0:
+            return s
+        rv = p["tid_sd_delta"] * p["tid_sd_delta"]
+        if self.prev is None:
+            self.dk = [s["delta"], 0.0, rv, 0.0, 0.0]      # delta, rate, p00, p01, p11
+        else:
+            d, dd, p00, p01, p11 = self.dk
+            h = s["t"] - self.prev[0]
+            qq = q * q
+            # predict: constant rate, white acceleration of density q
+            d = d + (h * dd)
+            p00 = (p00 + (h * ((2.0 * p01) + (h * p11)))) + (((qq * h) * h) * h) / 3.0
+            p01 = (p01 + (h * p11)) + (((qq * h) * h) * 0.5)
+            p11 = p11 + (qq * h)
+            # update on the measured delta
+            sv = p00 + rv
+            k0 = p00 / sv
+            k1 = p01 / sv
+            e = s["delta"] - d
+            d = d + (k0 * e)
+            dd = dd + (k1 * e)
+            p11 = p11 - (k1 * p01)
+            p01 = p01 - (k0 * p01)
+            p00 = p00 - (k0 * p00)
+            self.dk = [d, dd, p00, p01, p11]
+        self.sd_delta = math.sqrt(self.dk[2])
+        return dict(s, delta=self.dk[0])
+
     def step(self, s: dict) -> Estimate:
         """One sample: s has t, delta, vx, yaw_rate, ay, ax (SI)."""
         status = 0
+        s = self._delta_filter(s)
         if self.prev is None:
             self._initialise(s["yaw_rate"])
             status |= ST_FIRST
@@ -329,6 +368,8 @@ class TyreId(_SampleSteps):
                    p["tid_sd0_E"]]
         self.lo, self.hi = np.array(lo), np.array(hi)
         self.q_th, self.mean0, self.sd0 = np.array(q), np.array(mean), np.array(sd)
+        if not (math.isfinite(p["tid_delta_q"]) and p["tid_delta_q"] >= 0.0):
+            raise ValueError("tid_delta_q must be finite and >= 0")
         if not np.all(self.lo < self.hi):
             raise ValueError("every lower bound must be below its upper bound")
         if not (self.lo <= self.mean0).all() or not (self.mean0 <= self.hi).all():
@@ -371,7 +412,7 @@ class TyreId(_SampleSteps):
             f, slope, rr = f * sc[0], slope * sc[0], rr * sc[1]
         ay = ((f * cd) + rr) / p["m"]
         g = ((slope * cd) - (f * sd_)) / p["m"]          # d ay / d delta
-        gs = g * p["tid_sd_delta"]
+        gs = g * self.sd_delta
         var = p["tid_sd_ay"] * p["tid_sd_ay"] + gs * gs
         e1 = (s["yaw_rate"] - r) / p["tid_sd_r"]
         e2 = s["ay"] - ay

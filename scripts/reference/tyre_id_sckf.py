@@ -87,7 +87,8 @@ class TyreIdSCKF(T._SampleSteps):
 
     def _s_r(self, s, cd, sd_):
         """§15.3 measurement noise: diag(tid_sd_r, sqrt(tid_sd_ay^2 + (g tid_sd_delta)^2)),
-        g = d ay / d delta of §5.1 at the predicted mean (parameters clipped)."""
+        g = d ay / d delta of §5.1 at the predicted mean (parameters clipped); with the
+        steering-angle filter of §4.4 its posterior sd in place of tid_sd_delta."""
         p = self.p
         x = self.f.x[:, None]
         vy, r, th = self._clip(x)
@@ -97,7 +98,7 @@ class TyreIdSCKF(T._SampleSteps):
         if sc is not None:
             f, slope = f * sc[0], slope * sc[0]
         g = float(((slope[0] * cd) - (f[0] * sd_)) / p["m"])
-        gs = g * p["tid_sd_delta"]
+        gs = g * self.sd_delta
         return np.diag([p["tid_sd_r"], math.sqrt(p["tid_sd_ay"] * p["tid_sd_ay"] + gs * gs)])
 
     def _project(self):

@@ -47,6 +47,7 @@ rfe_status_t rfe_tyre_id_params_default(rfe_tyre_id_params_t *p)
     p->fx_front = RFE_R(0.625);
     p->ell_min = RFE_R(0.1);
     p->ell_ax_min = RFE_R(0.6);
+    p->delta_q = RFE_R(0.0);
     return RFE_OK;
 }
 
@@ -54,17 +55,17 @@ rfe_status_t rfe_tyre_id_params_default(rfe_tyre_id_params_t *p)
 static int reals_ok(const rfe_tyre_id_params_t *p)
 {
     const rfe_real_t pos[4] = {p->v_min, p->dt_max, p->sd_r, p->sd_ay};
-    const rfe_real_t nonneg[14] = {p->sd_delta, p->q_vy,   p->q_r,      p->q_mu,
+    const rfe_real_t nonneg[15] = {p->sd_delta, p->q_vy,   p->q_r,      p->q_mu,
                                    p->q_C,      p->q_cy,   p->q_E,      p->sd0_mu,
                                    p->sd0_C,    p->sd0_E,  p->sd0_cy_rel, p->sd0_vy,
-                                   p->sd0_r,    p->rough_k};
+                                   p->sd0_r,    p->rough_k, p->delta_q};
     size_t i;
     for (i = 0u; i < 4u; ++i) {
         if (!rfe_is_finite(pos[i]) || !(pos[i] > RFE_R(0.0))) {
             return 0;
         }
     }
-    for (i = 0u; i < 14u; ++i) {
+    for (i = 0u; i < 15u; ++i) {
         if (!rfe_is_finite(nonneg[i]) || !(nonneg[i] >= RFE_R(0.0))) {
             return 0;
         }

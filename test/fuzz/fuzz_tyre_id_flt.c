@@ -277,7 +277,7 @@ static void tp_fields(rfe_tyre_id_params_t *p, rfe_real_t *real[TP_REAL])
         &p->q_mu,   &p->q_C,    &p->q_cy,   &p->q_E,    &p->mu0,        &p->sd0_mu, &p->sd0_C,
         &p->sd0_E,  &p->sd0_cy_rel, &p->sd0_vy, &p->sd0_r, &p->mu_lo,   &p->mu_hi,  &p->C_lo,
         &p->C_hi,   &p->cy_lo,  &p->cy_hi,  &p->E_lo,   &p->E_hi,       &p->neff_frac,
-        &p->rough_k, &p->ellipse, &p->fx_front, &p->ell_min, &p->ell_ax_min};
+        &p->rough_k, &p->ellipse, &p->fx_front, &p->ell_min, &p->ell_ax_min, &p->delta_q};
     memcpy(real, r, sizeof r);
 }
 

@@ -2239,6 +2239,7 @@ static void test_rfe_replay_tyre_id_params_keys_and_diagnosis(void **state)
             {RFE_PK_tid_fx_front, 1.5, 0.625},    /* in [0, 1] */
             {RFE_PK_tid_ell_min, 0.0, 0.1},       /* in (0, 1] */
             {RFE_PK_tid_ell_ax_min, -0.1, 0.6},   /* in [0, 20] m/s^2 */
+            {RFE_PK_tid_delta_q, -0.1, 0.05},     /* the steering-angle filter: >= 0 */
         };
         size_t c;
         for (c = 0u; c < sizeof cases / sizeof cases[0]; ++c) {

@@ -143,6 +143,10 @@ rfe_status_t rfe_tyre_id_init(rfe_tyre_id_t *tid, const rfe_tyre_id_params_t *tp
     tid->prev_delta = RFE_R(0.0);
     tid->prev_vx = RFE_R(0.0);
     tid->prev_ax = RFE_R(0.0);
+    for (i = 0u; i < 5u; ++i) {
+        tid->dlt[i] = RFE_R(0.0);
+    }
+    tid->sd_delta = tp->sd_delta;
     for (i = 0u; i < (size_t)RFE_TID_N; ++i) {
         for (e = 0u; e < (size_t)RFE_TID_DIM; ++e) {
             tid->x[i][e] = RFE_R(0.0);
@@ -525,9 +529,48 @@ static rfe_status_t check_tid_sample(const rfe_tyre_id_t *t, const rfe_tyre_id_s
     return RFE_OK;
 }
 
+/* §4.4 the steering-angle filter (delta_q > 0): a two-state Kalman filter of delta and its
+ * rate (constant rate, white acceleration of density delta_q, the measured delta with sd
+ * sd_delta) replaces the sample's delta by its posterior mean and the steering noise by its
+ * posterior sd; the first sample starts it at (delta, 0) with p00 = sd_delta^2. Each
+ * operation rounded as the reference's (tyre_id.py _delta_filter). */
+static void delta_filter(rfe_tyre_id_t *t, rfe_tyre_id_sample_t *s)
+{
+    const rfe_real_t q = t->p.delta_q;
+    const rfe_real_t rv = t->p.sd_delta * t->p.sd_delta;
+    rfe_real_t *f = t->dlt;
+    if (t->started == 0u) {
+        f[0] = s->delta;
+        f[1] = RFE_R(0.0);
+        f[2] = rv;
+        f[3] = RFE_R(0.0);
+        f[4] = RFE_R(0.0);
+    } else {
+        const rfe_real_t h = s->dt;
+        const rfe_real_t qq = q * q;
+        const rfe_real_t d = f[0] + (h * f[1]);
+        const rfe_real_t p00 =
+            (f[2] + (h * ((RFE_R(2.0) * f[3]) + (h * f[4])))) + ((((qq * h) * h) * h) / RFE_R(3.0));
+        const rfe_real_t p01 = (f[3] + (h * f[4])) + (((qq * h) * h) * RFE_R(0.5));
+        const rfe_real_t p11 = f[4] + (qq * h);
+        const rfe_real_t sv = p00 + rv;
+        const rfe_real_t k0 = p00 / sv;
+        const rfe_real_t k1 = p01 / sv;
+        const rfe_real_t e = s->delta - d;
+        f[0] = d + (k0 * e);
+        f[1] = f[1] + (k1 * e);
+        f[4] = p11 - (k1 * p01);
+        f[3] = p01 - (k0 * p01);
+        f[2] = p00 - (k0 * p00);
+    }
+    t->sd_delta = RFE_SQRT(f[2]);
+    s->delta = f[0];
+}
+
 rfe_status_t rfe_tyre_id_step(rfe_tyre_id_t *tid, const rfe_tyre_id_sample_t *s,
                               rfe_tyre_id_estimate_t *out)
 {
+    rfe_tyre_id_sample_t sf;
     rfe_tid_input_t u;
     uint32_t flags;
     int forces_in_aux = 0;
@@ -544,36 +587,40 @@ rfe_status_t rfe_tyre_id_step(rfe_tyre_id_t *tid, const rfe_tyre_id_sample_t *s,
         out->status = st;
         return st;
     }
-    u.delta = s->delta;
-    u.cd = RFE_COS(s->delta);
-    u.sd = RFE_SIN(s->delta);
-    u.vx = s->vx;
-    u.ax = s->ax;
+    sf = *s;
+    if (tid->p.delta_q > RFE_R(0.0)) {
+        delta_filter(tid, &sf);
+    }
+    u.delta = sf.delta;
+    u.cd = RFE_COS(sf.delta);
+    u.sd = RFE_SIN(sf.delta);
+    u.vx = sf.vx;
+    u.ax = sf.ax;
     if (tid->started == 0u) {
         if (tid->p.filter == RFE_TID_SCKF) {
-            rfe_tid_sckf_prior(tid, s->yaw_rate);
+            rfe_tid_sckf_prior(tid, sf.yaw_rate);
         } else {
-            draw_prior(tid, s->yaw_rate);
+            draw_prior(tid, sf.yaw_rate);
         }
         tid->started = 1u;
         flags = RFE_TID_FIRST;
-    } else if ((s->vx < tid->p.v_min) || (tid->prev_vx < tid->p.v_min)) {
+    } else if ((sf.vx < tid->p.v_min) || (tid->prev_vx < tid->p.v_min)) {
         flags = RFE_TID_HELD;
     } else if (tid->p.filter == RFE_TID_APF) {
-        flags = apf_step(tid, s, &u);
+        flags = apf_step(tid, &sf, &u);
         forces_in_aux = 1;
     } else if (tid->p.filter == RFE_TID_SIR) {
-        flags = sir_step(tid, s, &u);
+        flags = sir_step(tid, &sf, &u);
     } else {
-        flags = rfe_tid_sckf_step(tid, s, &u);
+        flags = rfe_tid_sckf_step(tid, &sf, &u);
     }
-    tid->prev_delta = s->delta;
-    tid->prev_vx = s->vx;
-    tid->prev_ax = s->ax;
+    tid->prev_delta = sf.delta;
+    tid->prev_vx = sf.vx;
+    tid->prev_ax = sf.ax;
     if (tid->p.filter == RFE_TID_SCKF) {
-        rfe_tid_sckf_estimate(tid, s, &u, flags);
+        rfe_tid_sckf_estimate(tid, &sf, &u, flags);
     } else {
-        estimate(tid, s, &u, flags, forces_in_aux);
+        estimate(tid, &sf, &u, flags, forces_in_aux);
     }
     tid->k += 1u;
     *out = tid->last;

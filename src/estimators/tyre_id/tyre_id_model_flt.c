@@ -227,7 +227,7 @@ rfe_real_t rfe_tid_loglik(const rfe_tyre_id_t *tid, rfe_real_t vy, rfe_real_t r,
     rfe_real_t e2;
     rfe_real_t ll;
     rfe_tid_ay(tid, vy, r, th, u, &ay_p, &g, fy);
-    gs = g * p->sd_delta;
+    gs = g * tid->sd_delta;
     v = (p->sd_ay * p->sd_ay) + (gs * gs);
     e1 = (yaw_rate - r) / p->sd_r;
     e2 = ay - ay_p;

@@ -140,7 +140,8 @@ static rfe_status_t sckf_time_update(rfe_tyre_id_t *t, const rfe_tyre_id_sample_
 }
 
 /* §15.3 S_R's diagonal: sd_r and sqrt(sd_ay^2 + (g sd_delta)^2), g = d ay / d delta at the
- * predicted mean (parameters clipped) at the sample's inputs. */
+ * predicted mean (parameters clipped) at the sample's inputs; sd_delta the steering-angle
+ * filter's posterior sd with it on (§4.4). */
 static void meas_noise(rfe_tyre_id_t *t, const rfe_tid_input_t *u)
 {
     rfe_tid_sckf_t *k = &t->sk;
@@ -150,7 +151,7 @@ static void meas_noise(rfe_tyre_id_t *t, const rfe_tid_input_t *u)
     rfe_real_t gs;
     clipped(t, k->x, xc);
     rfe_tid_ay(t, xc[RFE_TID_VY], xc[RFE_TID_R], &xc[NS], u, &ay, &g, NULL);
-    gs = g * t->p.sd_delta;
+    gs = g * t->sd_delta;
     k->sr[0] = t->p.sd_r;
     k->sr[1] = RFE_SQRT((t->p.sd_ay * t->p.sd_ay) + (gs * gs));
 }

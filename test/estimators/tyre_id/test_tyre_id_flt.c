@@ -77,7 +77,7 @@ static void test_params_defaults_and_validation(void **state)
     rfe_real_t *reals[] = {&q.v_min, &q.dt_max, &q.sd_r, &q.sd_ay, &q.sd_delta, &q.q_vy,
                            &q.q_r, &q.q_mu, &q.q_C, &q.q_cy, &q.q_E, &q.sd0_mu, &q.sd0_C,
                            &q.sd0_E, &q.sd0_cy_rel, &q.sd0_vy, &q.sd0_r, &q.rough_k,
-                           &q.mu0, &q.neff_frac, &q.mu_lo, &q.mu_hi, &q.C_lo, &q.C_hi,
+                           &q.delta_q, &q.mu0, &q.neff_frac, &q.mu_lo, &q.mu_hi, &q.C_lo, &q.C_hi,
                            &q.cy_lo, &q.cy_hi, &q.E_lo, &q.E_hi};
     size_t i;
     (void)state;
@@ -94,6 +94,7 @@ static void test_params_defaults_and_validation(void **state)
     assert_true(p.cy_lo == (rfe_real_t)4.0 && p.cy_hi == (rfe_real_t)40.0);
     assert_true(p.E_lo == (rfe_real_t)-3.0 && p.E_hi == (rfe_real_t)0.95);
     assert_true(p.neff_frac == (rfe_real_t)(1.0 / 3.0) && p.rough_k == (rfe_real_t)0.2);
+    assert_true(p.delta_q == (rfe_real_t)0.0); /* the steering-angle filter off (§4.4) */
     assert_int_equal(rfe_tyre_id_params_validate(&p), RFE_OK);
     /* every real field non-finite */
     for (i = 0u; i < sizeof(reals) / sizeof(reals[0]); ++i) {
@@ -104,8 +105,8 @@ static void test_params_defaults_and_validation(void **state)
         *reals[i] = (rfe_real_t)INFINITY;
         assert_int_equal(rfe_tyre_id_params_validate(&q), RFE_ERR_PARAM);
     }
-    /* the first four must be > 0, the next fourteen >= 0 */
-    for (i = 0u; i < 18u; ++i) {
+    /* the first four must be > 0, the next fifteen >= 0 */
+    for (i = 0u; i < 19u; ++i) {
         q = p;
         *reals[i] = (rfe_real_t)-1e-3;
         assert_int_equal(rfe_tyre_id_params_validate(&q), RFE_ERR_PARAM);
@@ -1156,6 +1157,105 @@ static void test_sckf_bounds_hold_and_straight_keeps_the_spread(void **state)
     assert_true(sd_mu >= (rfe_real_t)0.2);
 }
 
+/* REQ-TID-002: the steering-angle filter of §4.4 (delta_q > 0) against the same Kalman filter
+ * written here in matrix form in double (P = F P F^T + Q, K = P H^T / (H P H^T + R),
+ * x = F x + K (z - H F x), P = (I - K H) P): the library's scalar recurrences are another
+ * arrangement of the same algebra, so the two agree to rounding. The filter is stable (its
+ * error dynamics (I - K H) F contract), so rounding is damped rather than summed: a few ulps
+ * per step of some ten operations, TOL_DF relative to the quantity plus the sensor's sd
+ * (1e-5 in float, ~80 ulps; 1e-12 in double). The posterior sd must fall below the sensor's
+ * (p00 = p00- R / (p00- + R) < R whatever p00-), and the identifier read the filtered delta:
+ * its estimate differs from a run on the same samples with the filter off. With delta_q 0
+ * the filter's state stays zero and the steering noise is sd_delta exactly. */
+static void test_delta_filter_is_a_kalman_filter(void **state)
+{
+#if defined(RFE_REAL_DOUBLE)
+    const double tol = 1e-12;
+#else
+    const double tol = 1e-5;
+#endif
+    const double q = 0.05;
+    const double h = 0.01;
+    rfe_params_t veh;
+    rfe_tyre_id_params_t tp;
+    rfe_tyre_id_estimate_t e;
+    rfe_tyre_id_estimate_t e_off;
+    double x[2] = {0.0, 0.0};
+    double P[2][2] = {{0.0, 0.0}, {0.0, 0.0}};
+    double rv;
+    size_t k;
+    (void)state;
+    setup_defaults(&veh, &tp);
+    tp.filter = RFE_TID_SCKF;
+    tp.delta_q = (rfe_real_t)q;
+    rv = (double)tp.sd_delta * (double)tp.sd_delta;
+    assert_int_equal(rfe_tyre_id_init(&tid, &tp, &veh, 1u), RFE_OK);
+    for (k = 0u; k < 300u; ++k) {
+        /* a ramp with a deterministic jitter of the sensor's size */
+        const rfe_real_t d = (rfe_real_t)((0.0001 * (double)k) + (0.001 * sin(1.7 * (double)k)));
+        const rfe_real_t r = (rfe_real_t)(20.0 * (0.0001 * (double)k) / 3.05);
+        const rfe_tyre_id_sample_t s = sample((k == 0u) ? 0 : (rfe_real_t)h, d, 20, r, 20 * r);
+        double z = (double)d;
+        assert_int_equal(rfe_tyre_id_step(&tid, &s, &e), RFE_OK);
+        if (k == 0u) {
+            x[0] = z;
+            x[1] = 0.0;
+            P[0][0] = rv;
+        } else {
+            const double F[2][2] = {{1.0, h}, {0.0, 1.0}};
+            const double Q[2][2] = {{q * q * h * h * h / 3.0, q * q * h * h / 2.0},
+                                    {q * q * h * h / 2.0, q * q * h}};
+            double FP[2][2];
+            double Pm[2][2];
+            double xm[2];
+            double K[2];
+            double sv;
+            size_t i;
+            size_t j;
+            for (i = 0u; i < 2u; ++i) {
+                for (j = 0u; j < 2u; ++j) {
+                    FP[i][j] = (F[i][0] * P[0][j]) + (F[i][1] * P[1][j]);
+                }
+            }
+            for (i = 0u; i < 2u; ++i) {
+                for (j = 0u; j < 2u; ++j) {
+                    Pm[i][j] = (FP[i][0] * F[j][0]) + (FP[i][1] * F[j][1]) + Q[i][j];
+                }
+            }
+            xm[0] = x[0] + (h * x[1]);
+            xm[1] = x[1];
+            sv = Pm[0][0] + rv;
+            K[0] = Pm[0][0] / sv;
+            K[1] = Pm[1][0] / sv;
+            x[0] = xm[0] + (K[0] * (z - xm[0]));
+            x[1] = xm[1] + (K[1] * (z - xm[0]));
+            for (i = 0u; i < 2u; ++i) {
+                for (j = 0u; j < 2u; ++j) {
+                    P[i][j] = Pm[i][j] - (K[i] * Pm[0][j]);
+                }
+            }
+        }
+        assert_close(tid.dlt[0], x[0], tol * ((double)tp.sd_delta), tol, "delta");
+        assert_close(tid.dlt[1], x[1], tol * ((double)tp.sd_delta / h), tol, "delta rate");
+        assert_close(tid.sd_delta, sqrt(P[0][0]), tol * (double)tp.sd_delta, tol, "sd");
+        if (k > 0u) {
+            assert_true(tid.sd_delta < tp.sd_delta);
+        }
+    }
+    /* off: the same samples, the steering-angle filter's state stays zero */
+    tp.delta_q = 0;
+    assert_int_equal(rfe_tyre_id_init(&tid, &tp, &veh, 1u), RFE_OK);
+    for (k = 0u; k < 300u; ++k) {
+        const rfe_real_t d = (rfe_real_t)((0.0001 * (double)k) + (0.001 * sin(1.7 * (double)k)));
+        const rfe_real_t r = (rfe_real_t)(20.0 * (0.0001 * (double)k) / 3.05);
+        const rfe_tyre_id_sample_t s = sample((k == 0u) ? 0 : (rfe_real_t)h, d, 20, r, 20 * r);
+        assert_int_equal(rfe_tyre_id_step(&tid, &s, &e_off), RFE_OK);
+    }
+    assert_true(tid.sd_delta == tp.sd_delta);
+    assert_true(tid.dlt[0] == 0 && tid.dlt[1] == 0 && tid.dlt[2] == 0);
+    assert_true(e.mean[RFE_TID_OUT_K_F] != e_off.mean[RFE_TID_OUT_K_F]);
+}
+
 /* REQ-TID-002: the prior of §15.2 exactly: x = (0, r_m, mean0), S = diag(sd0); the outputs of
  * the parameters are x and the row norms of a diagonal S, sqrt(s * s) = s exactly (correctly
  * rounded square and root, no underflow); mu = D / Fz0 at ax = 0. Then a held step (vx below
@@ -1247,6 +1347,7 @@ int main(void)
         cmocka_unit_test(test_sckf_bounds_hold_and_straight_keeps_the_spread),
         cmocka_unit_test(test_sckf_prior_held_and_deterministic),
         cmocka_unit_test(test_sckf_lost_sets_the_prior_again),
+        cmocka_unit_test(test_delta_filter_is_a_kalman_filter),
         cmocka_unit_test(test_log_sum_exp_with_extreme_log_likelihoods),
         cmocka_unit_test(test_parent_search_and_draws_on_hand_weights),
         cmocka_unit_test(test_order_by_weight_is_stable),

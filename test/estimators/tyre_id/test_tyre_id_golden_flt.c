@@ -87,17 +87,20 @@ typedef struct {
     rfe_tid_resample_t scheme;
     int ellipse;     /* tid_ellipse (TYRE_ID.md §3.5) */
     double ax_min;   /* tid_ell_ax_min with the ellipse (its golden's metadata) */
+    double delta_q;  /* tid_delta_q, the steering-angle filter (TYRE_ID.md §4.4; 0: off) */
 } golden_case_t;
 
 /* make_tyre_id_goldens.py CASES (the first row and the count are in each file's metadata
  * and its t column) */
 static const golden_case_t CASES[] = {
-    {"sine_apf_multinomial", "tyre_id/tid_sine_steer", RFE_TID_APF, RFE_TID_MULTINOMIAL, 0, 0.0},
-    {"ramp_apf_systematic", "tyre_id/tid_ramp_steer_high_mu", RFE_TID_APF, RFE_TID_SYSTEMATIC, 0, 0.0},
-    {"dlc_sir_multinomial", "tyre_id/tid_dlc_high_mu", RFE_TID_SIR, RFE_TID_MULTINOMIAL, 0, 0.0},
-    {"change_sir_systematic", "tyre_id/tid_tyre_change", RFE_TID_SIR, RFE_TID_SYSTEMATIC, 0, 0.0},
-    {"brake_apf_ellipse", "brake_in_turn.mf", RFE_TID_APF, RFE_TID_MULTINOMIAL, 1, 0.0},
-    {"brake_apf_ellipse_band", "brake_in_turn.mf", RFE_TID_APF, RFE_TID_MULTINOMIAL, 1, 0.6},
+    {"sine_apf_multinomial", "tyre_id/tid_sine_steer", RFE_TID_APF, RFE_TID_MULTINOMIAL, 0, 0.0, 0.0},
+    {"ramp_apf_systematic", "tyre_id/tid_ramp_steer_high_mu", RFE_TID_APF, RFE_TID_SYSTEMATIC, 0, 0.0, 0.0},
+    {"dlc_sir_multinomial", "tyre_id/tid_dlc_high_mu", RFE_TID_SIR, RFE_TID_MULTINOMIAL, 0, 0.0, 0.0},
+    {"change_sir_systematic", "tyre_id/tid_tyre_change", RFE_TID_SIR, RFE_TID_SYSTEMATIC, 0, 0.0, 0.0},
+    {"brake_apf_ellipse", "brake_in_turn.mf", RFE_TID_APF, RFE_TID_MULTINOMIAL, 1, 0.0, 0.0},
+    {"brake_apf_ellipse_band", "brake_in_turn.mf", RFE_TID_APF, RFE_TID_MULTINOMIAL, 1, 0.6, 0.0},
+    {"sine_apf_delta_filter", "tyre_id/tid_sine_steer", RFE_TID_APF, RFE_TID_MULTINOMIAL, 0, 0.0,
+     0.05},
 };
 
 /* The reference's OUTPUT_NAMES, in the order of RFE_TID_OUT_*. */
@@ -144,6 +147,7 @@ static size_t open_case(const golden_case_t *c, rfe_sensor_log_t *log, test_tabl
     if (c->ellipse != 0) {
         tp.ell_ax_min = (rfe_real_t)c->ax_min;
     }
+    tp.delta_q = (rfe_real_t)c->delta_q;
     assert_int_equal(rfe_tyre_id_init(&tid, &tp, &veh, SEED), RFE_OK);
     return first_row(log, test_table_get(g, 0u, "t"));
 }
@@ -231,9 +235,11 @@ static void run_case(const golden_case_t *c)
 
 /* make_tyre_id_goldens.py SCKF_CASES */
 static const golden_case_t SCKF_CASES[] = {
-    {"sine_sckf", "tyre_id/tid_sine_steer", RFE_TID_SCKF, RFE_TID_MULTINOMIAL, 0, 0.0},
-    {"ramp_sckf", "tyre_id/tid_ramp_steer_high_mu", RFE_TID_SCKF, RFE_TID_MULTINOMIAL, 0, 0.0},
-    {"brake_sckf_ellipse", "brake_in_turn.mf", RFE_TID_SCKF, RFE_TID_MULTINOMIAL, 1, 0.0},
+    {"sine_sckf", "tyre_id/tid_sine_steer", RFE_TID_SCKF, RFE_TID_MULTINOMIAL, 0, 0.0, 0.0},
+    {"ramp_sckf", "tyre_id/tid_ramp_steer_high_mu", RFE_TID_SCKF, RFE_TID_MULTINOMIAL, 0, 0.0, 0.0},
+    {"brake_sckf_ellipse", "brake_in_turn.mf", RFE_TID_SCKF, RFE_TID_MULTINOMIAL, 1, 0.0, 0.0},
+    {"ramp_low_sckf_delta_filter", "tyre_id/tid_ramp_steer_low_mu", RFE_TID_SCKF,
+     RFE_TID_MULTINOMIAL, 0, 0.0, 0.05},
 };
 
 /* |a - b| in units of (|b| + sd_b): the rounding of a quantity and of its spread */
@@ -308,6 +314,25 @@ static void test_sckf_ellipse_golden(void **state)
     sckf_case(&SCKF_CASES[2], SCKF_TOL_MEAN, SCKF_TOL_SD);
 }
 
+/* REQ-TID-002: the steering-angle filter (TYRE_ID.md §4.4, tid_delta_q 0.05) on the low-mu
+ * ramp steer from its straight start: the derived bound above holds as for the filter alone
+ * (the steering-angle filter is five scalar recurrences per step, the same operations in the
+ * same order as the reference: no term of the bound's size) */
+static void test_sckf_delta_filter_golden(void **state)
+{
+    (void)state;
+    sckf_case(&SCKF_CASES[3], SCKF_TOL_MEAN, SCKF_TOL_SD);
+}
+
+/* REQ-TID-002: the steering-angle filter (TYRE_ID.md §4.4, tid_delta_q 0.05) from the sine
+ * steer's start: bit for bit in double as the other particle-filter cases (its arithmetic is
+ * the reference's, operation by operation) */
+static void test_apf_delta_filter_golden(void **state)
+{
+    (void)state;
+    run_case(&CASES[6]);
+}
+
 /* REQ-TID-002: the friction ellipse (TYRE_ID.md §3.5) on brake in turn, into its braking */
 static void test_apf_ellipse_golden(void **state)
 {
@@ -362,6 +387,8 @@ int main(void)
         cmocka_unit_test(test_sckf_ellipse_golden),
         cmocka_unit_test(test_apf_ellipse_golden),
         cmocka_unit_test(test_apf_ellipse_band_golden),
+        cmocka_unit_test(test_sckf_delta_filter_golden),
+        cmocka_unit_test(test_apf_delta_filter_golden),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
