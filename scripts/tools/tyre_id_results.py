@@ -25,6 +25,8 @@ with the friction ellipse (ELLIPSE: tid_ellipse 1, tid_ell_ax_min at its default
 0.6 m/s^2; docs/TYRE_ID.md section 3.5), and one table goes between
 <!-- tyre-id-results-ellipse:begin/end -->: each figure's median without -> with, the largest
 |ax| of the log, and per filter how many (log, axle) cells meet each target without and with.
+With --delta-filter the same table without and with the steering-angle filter (DELTA_FILTER:
+tid_delta_q 0.05, docs/TYRE_ID.md section 4.4), between <!-- tyre-id-results-delta-filter:... -->.
 """
 
 from __future__ import annotations
@@ -52,7 +54,7 @@ LOGS = ("tid_ramp_steer_high_mu", "tid_ramp_steer_low_mu", "tid_sine_steer", "ti
         "tid_dlc_low_mu", "tid_tyre_change", "tid_straight", "tid_brake_in_turn_high_mu",
         "tid_brake_in_turn_low_mu")
 MARK = {k: (f"<!-- tyre-id-{k}:begin -->", f"<!-- tyre-id-{k}:end -->")
-        for k in ("accuracy", "count", "ident", "results-ellipse")}
+        for k in ("accuracy", "count", "ident", "results-ellipse", "results-delta-filter")}
 T_SKIP = 0.5          # s, the start not scored (prior)
 # m/s^2: the samples scored as braking (mu@brake).  Above the logs' |ax| without a brake (at
 # most 0.55: drag and the accelerometer's noise, sd 0.05) and below the lightest braking (the
@@ -65,15 +67,21 @@ BRAKING = ("tid_brake_in_turn_high_mu", "tid_brake_in_turn_low_mu")
 FILTERS = ("apf", "sir", "sckf")
 SCKF_POINTS = f"– ({TS.N_POINTS} points)"
 ELLIPSE = {"tid_ellipse": 1.0}   # --ellipse: the friction ellipse, its dead band at the default
+# --delta-filter: the steering-angle filter (TYRE_ID.md section 4.4) at the density measured in
+# docs/TYRE_ID_RESULTS.md "The steering-angle filter" (0.05 rad/s^2/sqrt(s))
+DELTA_FILTER = {"tid_delta_q": 0.05}
 # the identification targets (issue 20; the page's definitions): curve <= 5 % of the peak,
 # mu at the limit within 0.05, the sd of mu while linear >= 0.2
 TARGETS = (("curve", "<=", 5.0), ("mulim", "<=", 0.05), ("sdlin", ">=", 0.2))
 
 
-def run_filter(c, filt, n, seed, ellipse=False, n_steps=None):
+def run_filter(c, filt, n, seed, ellipse=False, n_steps=None, delta_filter=False):
     """One reference run of @p filt on the log columns @p c at its defaults (the particle
-    filters: tid_n @p n, seed @p seed); @p ellipse adds ELLIPSE's keys."""
+    filters: tid_n @p n, seed @p seed); @p ellipse adds ELLIPSE's keys, @p delta_filter
+    DELTA_FILTER's."""
     extra = dict(ELLIPSE) if ellipse else {}
+    if delta_filter:
+        extra.update(DELTA_FILTER)
     if filt == "sckf":
         return TS.run(c, extra, n_steps=n_steps)
     return T.run(c, {"tid_n": float(n), "tid_filter": filt, **extra}, seed=seed,
@@ -96,23 +104,24 @@ def curve_rmse(c, out, axle, k0):
 
 
 def measure(job):
-    """job = (log, filter, n, seed[, ellipse[, every]]) -> the figures of one run (a dict).
-    every > 1: the identifier runs on every every-th sample of the log (its rate divided by
-    every, h = every sample periods) and is scored on those samples."""
+    """job = (log, filter, n, seed[, ellipse[, every[, delta_filter]]]) -> the figures of one
+    run (a dict). every > 1: the identifier runs on every every-th sample of the log (its rate
+    divided by every, h = every sample periods) and is scored on those samples."""
     log, filt, n, seed = job[:4]
     ellipse = bool(job[4]) if len(job) > 4 else False
     every = int(job[5]) if len(job) > 5 else 1
+    delta_filter = bool(job[6]) if len(job) > 6 else False
     c = read_csv_log(str(ROOT / "scenarios" / "tyre_id" / f"{log}.csv")).columns
     if every > 1:
         c = {k: np.asarray(v)[::every] for k, v in c.items()}
     t0 = time.perf_counter()
-    out = run_filter(c, filt, n, seed, ellipse)
+    out = run_filter(c, filt, n, seed, ellipse, delta_filter=delta_filter)
     cost = (time.perf_counter() - t0) / len(c["t"])
     t = c["t"]
     k_sk = int(np.searchsorted(t, T_SKIP))
     k0 = int(np.searchsorted(t, 8.0)) if log == "tid_tyre_change" else 0
     res = {"log": log, "filter": filt, "n": n, "seed": seed, "ms": 1e3 * cost,
-           "ellipse": ellipse, "every": every, "ax_max": float(np.max(np.abs(c["ax"])))}
+           "ellipse": ellipse, "every": every, "delta_filter": delta_filter, "ax_max": float(np.max(np.abs(c["ax"])))}
     g = 9.81
     ay = np.abs(c["ay"])
     for axle, a, w in ((0, "f", ("fl", "fr")), (1, "r", ("rl", "rr"))):
@@ -235,17 +244,20 @@ def meets(v, how, lim):
     return (v <= lim) if how == "<=" else (v >= lim)
 
 
-def ellipse_table(off, on, n_main, seeds):
-    """The --ellipse table from the runs without (@p off) and with (@p on) the ellipse."""
+def ellipse_table(off, on, n_main, seeds, what=None):
+    """The --ellipse table from the runs without (@p off) and with (@p on) the ellipse (or,
+    @p what given, with what @p what names)."""
     def group(results):
         by = {}
         for r in results:
             by.setdefault((r["log"], r["filter"]), []).append(r)
         return by
     b0, b1 = group(off), group(on)
+    if what is None:
+        what = ("the friction ellipse (tid_ellipse 1, "
+                f"tid_ell_ax_min {T.TID_DEFAULTS['tid_ell_ax_min']:g} m/s²)")
     lines = [f"{n_main} particles (APF, SIR), median over seeds {', '.join(map(str, seeds))}; "
-             "SCKF one run. Each cell: without → with the friction ellipse (tid_ellipse 1, "
-             f"tid_ell_ax_min {T.TID_DEFAULTS['tid_ell_ax_min']:g} m/s²); \"=\" where the two "
+             f"SCKF one run. Each cell: without → with {what}; \"=\" where the two "
              "print the same. |ax| max: the log's largest |ax|, m/s²; mu@brake: over the samples "
              f"whose |ax| > {AX_BRAKE:g} m/s² (\"–\": the log does not brake).", "",
              "| log | filter | \\|ax\\| max | curve f % | curve r % | mu@lim f | mu@lim r "
@@ -304,7 +316,27 @@ def main(argv=None):
                     help="only the --main-n runs, without and with the friction ellipse "
                     "(tid_ellipse 1 at the default dead band): the table 'with the friction "
                     "ellipse'")
+    ap.add_argument("--delta-filter", action="store_true",
+                    help="only the --main-n runs, without and with the steering-angle filter "
+                    "(DELTA_FILTER): the table 'The steering-angle filter'")
     args = ap.parse_args(argv)
+    if args.delta_filter:
+        jobs = [(log, filt, args.main_n, s, False, 1, d) for d in (False, True) for log in LOGS
+                for filt in ("apf", "sir") for s in args.seeds]
+        jobs += [(log, "sckf", args.main_n, args.seeds[0], False, 1, d) for d in (False, True)
+                 for log in LOGS]
+        t0 = time.perf_counter()
+        with multiprocessing.Pool(args.jobs) as pool:
+            results = pool.map(measure, jobs, chunksize=1)
+        print(f"{len(jobs)} runs in {time.perf_counter() - t0:.0f} s")
+        what = ("the steering-angle filter (tid_delta_q "
+                f"{DELTA_FILTER['tid_delta_q']:g} rad/s²/√s, TYRE_ID.md §4.4)")
+        lines = ellipse_table([r for r in results if not r["delta_filter"]],
+                              [r for r in results if r["delta_filter"]], args.main_n, args.seeds,
+                              what)
+        replace_region(Path(args.page), *MARK["results-delta-filter"], lines, "tyre_id_results")
+        print("\n".join(lines))
+        return
     if args.ellipse:
         jobs = [(log, filt, args.main_n, s, e) for e in (False, True) for log in LOGS
                 for filt in ("apf", "sir") for s in args.seeds]
