@@ -53,7 +53,7 @@ static void test_params(void **state)
     vp.driven = 16u;
     assert_int_equal(rfe_velocity_params_validate(&vp), RFE_ERR_PARAM);
     assert_int_equal(rfe_velocity_params_default(&vp), RFE_OK);
-    assert_int_equal(vp.lat_every, 2u); /* the default (OBSERVER.md §2): every second step */
+    assert_int_equal(vp.lat_every, 1u); /* the default (OBSERVER.md §2): every step */
     vp.lat_every = 0u;
     assert_int_equal(rfe_velocity_params_validate(&vp), RFE_ERR_PARAM);
     vp.lat_every = RFE_VEL_LAT_EVERY_MAX + 1u;
@@ -162,9 +162,9 @@ static void test_first_sample_and_free_rolling(void **state)
     }
     /* free rolling, no acceleration: exactly 25 m/s, no sideslip, the wheels and the linear
      * range (straight: r = r_ref = 0, ay = 0) correct every step, the model every
-     * lat_every-th (the default 2: the later steps 1, 3, .., 301, the last one here); the sd
-     * falls from 1 m/s to about sd_wheel / 2 (four wheels) */
-    assert_int_equal(fx.vp.lat_every, 2u);
+     * lat_every-th (the later steps 1, 1 + lat_every, ..: 301 is one for lat_every 1, 2, 3,
+     * 4, 5, 6); the sd falls from 1 m/s to about sd_wheel / 2 (four wheels) */
+    assert_int_equal((301u - 1u) % fx.vp.lat_every, 0u);
     assert_close(e.vx, 25.0, 1e-4, 0.0, "rolling vx");
     assert_close(e.vy, 0.0, 1e-6, 0.0, "rolling vy");
     assert_close(e.beta, 0.0, 1e-6, 0.0, "rolling beta");
