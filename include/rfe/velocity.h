@@ -105,7 +105,9 @@ typedef struct {
 /** Observer state (caller-owned; fields read-only for the caller). */
 typedef struct {
     uint32_t magic;
-    uint32_t started;                 /**< 0 until the first accepted sample */
+    uint32_t started;                 /**< 0 until the first accepted sample, then the
+                                           phase of the next step, 1 .. p.lat_every (the
+                                           lateral model's rows on phase 1, §4.2) */
     rfe_velocity_params_t p;          /**< the observer's parameters */
     rfe_vehicle_t veh;                /**< vehicle (the friction calibration's) */
     rfe_tyre_params_t tyre;           /**< tyre model (the friction calibration's) */

@@ -30,4 +30,9 @@
 /** Every wheel driven (all-wheel drive). */
 #define RFE_DRIVEN_ALL (RFE_DRIVEN_FL | RFE_DRIVEN_FR | RFE_DRIVEN_RL | RFE_DRIVEN_RR)
 
+/** The largest `lat_every` (OBSERVER.md §4.2: the model's rows every lat_every-th step; 8
+ *  steps are 0.08 s at 100 Hz, beyond which the kinematics alone would carry vy through a
+ *  lane change's yaw-rate reversal). */
+#define RFE_VEL_LAT_EVERY_MAX 8u
+
 #endif /* RFE_VELOCITY_BITS_H */

@@ -25,6 +25,8 @@
 /** The observer's parameters; each field is the parameter-file key obs_<field>. */
 typedef struct {
     uint32_t driven;          /**< driven wheels, RFE_DRIVEN_* bits (1..15): 3 (front drive) */
+    uint32_t lat_every;       /**< the lateral model's rows every lat_every-th step (§4.2),
+                                   1 .. RFE_VEL_LAT_EVERY_MAX: 1 (every step; OBSERVER.md §2) */
     rfe_real_t steer_ratio;   /**< steering-wheel angle / road-wheel angle, used when a sample
                                    gives the steering-wheel angle (RFE_VEL_HAS_STEER_WHEEL) [1]:
                                    16 */
@@ -83,7 +85,7 @@ typedef struct {
 RFE_NODISCARD rfe_status_t rfe_velocity_params_default(rfe_velocity_params_t *p);
 
 /**
- * Checks every field: finite; driven in 1..15; 0 < dt_min <= dt_max <= 1; q_jerk, sd_r,
+ * Checks every field: finite; driven in 1..15; lat_every in 1..RFE_VEL_LAT_EVERY_MAX; 0 < dt_min <= dt_max <= 1; q_jerk, sd_r,
  * sd_ax, sd_ay, v_lat_min, sd_lowspeed, mu_default, sd_vydot, steer_ratio > 0;
  * every other sd, q, gate, threshold and margin (sd_model_rdot and sd_vy_lin
  * included: 0 is off) >= 0; lin_dwell <= 1; lin_mu_gain <= 4.

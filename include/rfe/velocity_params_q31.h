@@ -26,6 +26,7 @@
 /** The observer's parameters; fields as rfe_velocity_params_t. */
 typedef struct {
     uint32_t driven;          /**< driven wheels, RFE_DRIVEN_* bits (1..15) */
+    uint32_t lat_every;       /**< the lateral model's rows every lat_every-th step */
     rfe_fix_t steer_ratio;    /**< steering-wheel / road-wheel angle [1], Q24 */
     rfe_fix_t dt_min;         /**< shortest accepted sample period [s], Q30 */
     rfe_fix_t dt_max;         /**< longest accepted sample period [s], Q30 (<= 1 s) */
@@ -78,6 +79,7 @@ RFE_NODISCARD rfe_status_t rfe_velocity_params_default_q31(rfe_velocity_params_q
 
 /**
  * The checks of rfe_velocity_params_validate on the Q values: driven in 1..15;
+ * lat_every in 1..RFE_VEL_LAT_EVERY_MAX;
  * 0 < dt_min <= dt_max <= 1 s; q_jerk, sd_r, sd_ax, sd_ay, v_lat_min, sd_lowspeed,
  * mu_default, sd_vydot, steer_ratio > 0; every other field >= 0 (sd_model_rdot, sd_vy_lin 0:
  * off); lin_dwell <= 1 s; lin_mu_gain <= 4.

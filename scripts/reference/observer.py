@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 # §2 The observer's parameters (keys of a parameter file), with their defaults.
 OBS_DEFAULTS: dict[str, float] = {
     "obs_driven": 3.0,          # driven wheels, bit mask fl=1 fr=2 rl=4 rr=8 (3: front drive)
+    "obs_lat_every": 1.0,       # the model's rows (§4.2) every obs_lat_every-th step (1: every)
     "obs_dt_min": 0.001,        # shortest accepted sample period, s
     "obs_dt_max": 0.1,          # longest accepted sample period, s
     "obs_q_jerk": 0.5,          # yaw-jerk density of the yaw-rate differentiator, rad/s^3 sqrt(s)
@@ -139,6 +140,10 @@ class Observer:
         self.lon = Kf2()
         self.lat = Kf2()
         self.r_on_ref = 0.0                       # §4.2b time r has stayed on r_ref, s
+        self.lat_every = int(self.p["obs_lat_every"])
+        if not (1 <= self.lat_every <= 8 and self.lat_every == self.p["obs_lat_every"]):
+            raise ValueError("obs_lat_every must be an integer in 1 .. 8")
+        self.phase = 1                            # §4.2 the model's rows on phase 1
 
     # §3.1 the wheel references
     def wheel_refs(self, s: Sample, vy):
@@ -162,6 +167,7 @@ class Observer:
         self.lat.x = [0.0, 0.0]
         self.lat.P = [[p["obs_sd_vy0"] ** 2, 0.0], [0.0, p["obs_sd_by0"] ** 2]]
         self.r_on_ref = 0.0
+        self.phase = 1                            # the next step evaluates the model
         self.t = s.t
         self.started = True
         return self.output(0)
@@ -265,6 +271,7 @@ class Observer:
             steady = abs(s.ay) <= p["obs_lin_ay_steady"] and dwelled
             linear = p["obs_sd_vy_lin"] > 0.0 and yaw_linear and (abs(s.ay) <= p["obs_lin_ay_max"]
                                                                   or steady)
+        if vx >= p["obs_v_lat_min"] and self.phase == 1:
             # §4.2 the lateral acceleration of the friction estimator's model (MODEL.md §3-5)
             # at vy, at this step's friction (raised to what the measured ay proves, and in a
             # steady turn of the linear range to obs_lin_mu_gain |ay| / g: its tyres are linear)
@@ -292,6 +299,7 @@ class Observer:
                 r1 = p["obs_sd_model_rdot"] ** 2 + e_rd ** 2 + self.yaw.P[1][1]
                 self.lat.update(h1, 0.0,
                                 self.yaw.x[1] - (rd_model + h1 * (self.lat.x[0] - vy_pred)), r1)
+        if vx >= p["obs_v_lat_min"]:
             # §4.2b the linear range (decided above): vy is the linear model's, whatever the
             # friction
             if linear:
@@ -307,6 +315,8 @@ class Observer:
         sv = p["obs_sd_vydot"] + p["obs_vydot_rdot"] * abs(self.yaw.x[1])
         self.lat.update(0.0, 1.0, (s.ay - s.yaw_rate * vx) - self.lat.x[1], sv * sv)
         self.r_on_ref = on_ref
+        # §4.2 the next step's phase: the model's rows every obs_lat_every-th step
+        self.phase = 1 if self.phase >= self.lat_every else self.phase + 1
         return self.output(flags)
 
     def model_rows(self, s, vx, vy, mu):

@@ -340,3 +340,30 @@ def test_observer_goldens_are_up_to_date(name):
     assert np.max(np.abs(now[:, :-1] - old[:, :-1])) <= 1e-9
     assert np.array_equal(now[:, -1], old[:, -1])
     assert dict(meta)["source"] == g.meta["source"]
+
+
+def _turn_flags(every, n=12):
+    """A steady turn at 20 m/s (ay 2.5 m/s^2): the flags of the later steps 1..n."""
+    ob = observer.Observer(observer.params_with_defaults(obs_lat_every=float(every)))
+    out = []
+    for k in range(n + 1):
+        s = observer.Sample(t=0.01 * k, delta=0.02, yaw_rate=0.12, ax=0.0, ay=2.5,
+                            omega=(20.0 / ob.p["R"],) * 4)
+        o = ob.step(s)
+        if k > 0:
+            out.append(int(o["flags"]))
+    return out
+
+
+@pytest.mark.parametrize("every", [1, 2, 3, 4])
+def test_the_models_rate(every):
+    # §4.2 the model's rows on the later steps 1, 1 + N, 1 + 2N, ... and on no other
+    flags = _turn_flags(every)
+    got = [(f & observer.FLAG_VY_MODEL) != 0 for f in flags]
+    assert got == [(k - 1) % every == 0 for k in range(1, len(flags) + 1)]
+
+
+def test_the_models_rate_is_checked():
+    for bad in (0.0, 9.0, 2.5):
+        with pytest.raises(ValueError):
+            observer.Observer(observer.params_with_defaults(obs_lat_every=bad))

@@ -87,7 +87,8 @@
 
 /**
  * The velocity observer's keys (docs/OBSERVER.md §2): X(key, rfe_velocity_params_t member,
- * unit, doc), each an rfe_real_t; obs_driven (an integer bit mask) comes before them. As
+ * unit, doc), each an rfe_real_t; obs_driven (an integer bit mask) and obs_lat_every (an
+ * integer, RFE_PK_OBS_INTS in all) come before them. As
  * above, no values: they start from rfe_velocity_params_default.
  */
 #define RFE_OBS_KEYS(X) \
@@ -237,6 +238,7 @@ typedef enum {
     RFE_PK_FILTER,      /**< key filter = sckf|ckf */
     RFE_PK_STRUCTURE,   /**< key structure = wheels|sides */
     RFE_PK_obs_driven,  /**< key obs_driven: driven wheels, bit mask fl 1, fr 2, rl 4, rr 8 */
+    RFE_PK_obs_lat_every, /**< key obs_lat_every: the lateral model's rows every n-th step */
     RFE_OBS_KEYS(RFE_PK_ENUM_)
     RFE_PK_mg_adaptive, /**< key mg_adaptive: 1 the seed's AUKF, 0 the plain UKF */
     RFE_PK_mg_use_ax,   /**< key mg_use_ax: 1 the accelerometer row, 0 speed only */
@@ -308,6 +310,8 @@ typedef enum {
 #define RFE_PK_NUMERIC ((size_t)RFE_PK_TYRE)
 /** The observer's keys: indices RFE_PK_OBS_FIRST .. RFE_PK_MG_FIRST - 1, all numeric. */
 #define RFE_PK_OBS_FIRST ((size_t)RFE_PK_obs_driven)
+/** The observer's integer keys, obs_driven and obs_lat_every, before its real ones. */
+#define RFE_PK_OBS_INTS 2u
 /** The mass and grade estimator's keys: indices RFE_PK_MG_FIRST .. RFE_PK_TID_FIRST - 1, all
  *  numeric. */
 #define RFE_PK_MG_FIRST ((size_t)RFE_PK_mg_adaptive)

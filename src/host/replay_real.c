@@ -94,14 +94,15 @@ static const size_t k_member_offset[RFE_PK_NUMERIC] = {
 RFE_PARAM_KEYS(RFE_IS_REAL_)
 #undef RFE_IS_REAL_
 
-/* Where each observer key after obs_driven lives in rfe_velocity_params_t (RFE_OBS_KEYS). */
-static const size_t k_obs_offset[RFE_PK_OBS_COUNT - 1u] = {
+/* Where each observer key after the integer ones lives in rfe_velocity_params_t
+ * (RFE_OBS_KEYS). */
+static const size_t k_obs_offset[RFE_PK_OBS_COUNT - RFE_PK_OBS_INTS] = {
 #define RFE_OFFSET_(key, member, unit, doc) offsetof(rfe_velocity_params_t, member),
     RFE_OBS_KEYS(RFE_OFFSET_)
 #undef RFE_OFFSET_
 };
 
-/* As above: every observer key after obs_driven is an rfe_real_t. */
+/* As above: every observer key after the integer ones is an rfe_real_t. */
 #define RFE_IS_REAL_(key, member, unit, doc)                                               \
     typedef char rfe_key_is_real_##key[(sizeof(((rfe_velocity_params_t *)0)->member) == sizeof(rfe_real_t)) ? 1 : -1];
 RFE_OBS_KEYS(RFE_IS_REAL_)
@@ -216,9 +217,10 @@ int rfe_param_set_preset(rfe_param_set_t *ps, rfe_preset_t preset)
     ps->filter = p.filter.kind;
     ps->structure = p.filter.structure;
     ps->obs[0] = (double)vp.driven;
-    for (k = 1u; k < RFE_PK_OBS_COUNT; ++k) {
+    ps->obs[1] = (double)vp.lat_every;
+    for (k = RFE_PK_OBS_INTS; k < RFE_PK_OBS_COUNT; ++k) {
         rfe_real_t v;
-        memcpy(&v, (const char *)&vp + k_obs_offset[k - 1u], sizeof v);
+        memcpy(&v, (const char *)&vp + k_obs_offset[k - RFE_PK_OBS_INTS], sizeof v);
         ps->obs[k] = (double)v;
     }
     return (rfe_param_set_tyre_id(ps) == 0) ? rfe_param_set_mass_grade(ps, RFE_MG_CAR, RFE_MG_RECOMMENDED)
@@ -300,18 +302,23 @@ static void set_key(rfe_params_t *p, const rfe_param_set_t *ps, size_t k)
 }
 
 /* Observer key @p k of the set into @p vp; 0, or -1 when obs_driven is not an integer
- * bit mask 0..15 (a double would otherwise be truncated without a word). */
+ * bit mask 0..15 or obs_lat_every not an integer 0..255 (a double would otherwise be
+ * truncated without a word; the library's check then names a value out of its range). */
 static int set_obs_key(rfe_velocity_params_t *vp, const rfe_param_set_t *ps, size_t k)
 {
     const double v = ps->obs[k - RFE_PK_OBS_FIRST];
+    const double top = (k == RFE_PK_OBS_FIRST) ? 15.0 : 255.0;
+    if ((k < (RFE_PK_OBS_FIRST + RFE_PK_OBS_INTS)) &&
+        !((v >= 0.0) && (v <= top) && (v == floor(v)))) {
+        return -1;
+    }
     if (k == RFE_PK_OBS_FIRST) {
-        if (!((v >= 0.0) && (v <= 15.0) && (v == floor(v)))) {
-            return -1;
-        }
         vp->driven = (uint32_t)v;
+    } else if (k == (size_t)RFE_PK_obs_lat_every) {
+        vp->lat_every = (uint32_t)v;
     } else {
         const rfe_real_t r = (rfe_real_t)v;
-        memcpy((char *)vp + k_obs_offset[k - RFE_PK_OBS_FIRST - 1u], &r, sizeof r);
+        memcpy((char *)vp + k_obs_offset[k - RFE_PK_OBS_FIRST - RFE_PK_OBS_INTS], &r, sizeof r);
     }
     return 0;
 }

@@ -456,7 +456,7 @@ RFE_NODISCARD rfe_status_t rfe_replay_params(const rfe_param_set_t *ps, rfe_para
  * The observer's parameters of the set (its obs_* keys over rfe_velocity_params_default),
  * validated.
  * @param[out] bad_key  when not NULL: the obs_* key whose value alone fails validation (or
- *                      is not an integer 0..15 for obs_driven), else RFE_PK_NONE.
+ *                      is not an integer 0..15 for obs_driven, 0..255 for obs_lat_every), else RFE_PK_NONE.
  * @return RFE_OK, RFE_ERR_NULL or RFE_ERR_PARAM.
  */
 RFE_NODISCARD rfe_status_t rfe_replay_velocity_params(const rfe_param_set_t *ps,

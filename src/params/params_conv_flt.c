@@ -227,6 +227,7 @@ rfe_status_t rfe_velocity_params_to_q31(const rfe_velocity_params_t *p,
         return st;
     }
     t.driven = p->driven;
+    t.lat_every = p->lat_every;
     t.steer_ratio = to_q(&c, (double)p->steer_ratio, RFE_FIX_Q_RATIO, 0);
     t.dt_min = to_q(&c, (double)p->dt_min, RFE_FIX_Q_DT, 0);
     t.dt_max = to_q(&c, (double)p->dt_max, RFE_FIX_Q_DT, 0);

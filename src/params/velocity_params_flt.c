@@ -12,6 +12,7 @@ rfe_status_t rfe_velocity_params_default(rfe_velocity_params_t *p)
         return RFE_ERR_NULL;
     }
     p->driven = RFE_DRIVEN_FL | RFE_DRIVEN_FR;
+    p->lat_every = 1u;
     p->steer_ratio = RFE_R(16.0);
     p->dt_min = RFE_R(0.001);
     p->dt_max = RFE_R(0.1);
@@ -92,6 +93,9 @@ rfe_status_t rfe_velocity_params_validate(const rfe_velocity_params_t *p)
         return RFE_ERR_NULL;
     }
     if ((p->driven == 0u) || ((p->driven & ~RFE_DRIVEN_ALL) != 0u)) {
+        return RFE_ERR_PARAM;
+    }
+    if ((p->lat_every == 0u) || (p->lat_every > RFE_VEL_LAT_EVERY_MAX)) {
         return RFE_ERR_PARAM;
     }
     if (!rfe_is_finite(p->dt_min) || !rfe_is_finite(p->dt_max) || !(p->dt_min > RFE_R(0.0)) ||

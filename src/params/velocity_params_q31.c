@@ -15,6 +15,7 @@ rfe_status_t rfe_velocity_params_default_q31(rfe_velocity_params_q31_t *p)
     /* rfe_velocity_params_to_q31_f64(rfe_velocity_params_default_f64) (the test checks it
      * bit for bit); the real value in each comment */
     p->driven = RFE_DRIVEN_FL | RFE_DRIVEN_FR;
+    p->lat_every = 1u;
     p->steer_ratio = 268435456; /* 16, Q24 */
     p->dt_min = 1073742; /* 0.001 s, Q30 */
     p->dt_max = 107374182; /* 0.1 s, Q30 */
@@ -94,6 +95,9 @@ rfe_status_t rfe_velocity_params_validate_q31(const rfe_velocity_params_q31_t *p
         return RFE_ERR_NULL;
     }
     if ((p->driven == 0u) || ((p->driven & ~RFE_DRIVEN_ALL) != 0u)) {
+        return RFE_ERR_PARAM;
+    }
+    if ((p->lat_every == 0u) || (p->lat_every > RFE_VEL_LAT_EVERY_MAX)) {
         return RFE_ERR_PARAM;
     }
     if ((p->dt_min <= 0) || (p->dt_min > p->dt_max) || (p->dt_max > RFE_FIX_ONE(30))) {

@@ -440,6 +440,17 @@ static void test_rfe_replay_velocity_params_names_the_bad_key(void **state)
         assert_int_equal(bad, RFE_PK_obs_driven);
     }
     ps.obs[0] = 3.0;
+    /* obs_lat_every: an integer 1..8 (0 and 9 integers refused by validation, 2.5 and -1 as
+     * no integer at all); a valid one reaches the member */
+    for (i = 0u; i < sizeof not_a_mask / sizeof not_a_mask[0]; ++i) {
+        ps.obs[(size_t)RFE_PK_obs_lat_every - RFE_PK_OBS_FIRST] =
+            (not_a_mask[i] == 16.0) ? 9.0 : not_a_mask[i];
+        assert_int_equal(rfe_replay_velocity_params_f64(&ps, &vp, &bad), RFE_ERR_PARAM);
+        assert_int_equal(bad, RFE_PK_obs_lat_every);
+    }
+    ps.obs[(size_t)RFE_PK_obs_lat_every - RFE_PK_OBS_FIRST] = 3.0;
+    assert_int_equal(rfe_replay_velocity_params_f64(&ps, &vp, &bad), RFE_OK);
+    assert_int_equal(vp.lat_every, 3u);
     ps.obs[(size_t)RFE_PK_obs_steer_ratio - RFE_PK_OBS_FIRST] = 0.0;
     assert_int_equal(rfe_replay_velocity_params_f64(&ps, &vp, &bad), RFE_ERR_PARAM);
     assert_int_equal(bad, RFE_PK_obs_steer_ratio);

@@ -108,6 +108,45 @@ static rfe_status_t linear_update(rfe_kf2_t *k, const rfe_velocity_t *obs,
                           p->sd_vy_lin * p->sd_vy_lin);
 }
 
+/* §4.2 the model's update at the prediction (the lateral row, then the yaw row when on) with
+ * the friction the measured ay bounds (@p lin_floor: the steady turn's floor). */
+static rfe_status_t model_update(rfe_kf2_t *k, const rfe_velocity_t *obs,
+                                 const rfe_velocity_input_t *in, rfe_real_t vx, int lin_floor,
+                                 const rfe_velocity_mu_t *mu, uint32_t *fl)
+{
+    const rfe_velocity_params_t *p = &obs->p;
+    rfe_real_t m[RFE_WHEELS];
+    rfe_real_t m_sd[RFE_WHEELS];
+    rfe_meas_lateral_t z;
+    const rfe_real_t vy_pred = k->x[0];
+    rfe_status_t st;
+    if (model_friction(p, obs->veh.g, in->ay, lin_floor, mu, m, m_sd) != 0) {
+        *fl |= RFE_VEL_FLAG_MU_RAISED;
+    }
+    st = model_rows(obs, in, vx, vy_pred, m, m_sd, &z);
+    if (st == RFE_OK) {
+        /* H = d ay / d vy, the friction's error to first order: (d ay / d mu) . sd */
+        const rfe_real_t h0 = z.d_vy[0];
+        const rfe_real_t e_mu = z.d_mu[0];
+        const rfe_real_t rel = p->model_ay_rel * in->ay;
+        const rfe_real_t r = ((p->sd_model_ay * p->sd_model_ay) + (rel * rel)) + (e_mu * e_mu);
+        st = rfe_kf2_update(k, h0, RFE_R(0.0), in->ay - z.z[0], r);
+        *fl |= RFE_VEL_FLAG_VY_MODEL;
+    }
+    if ((st == RFE_OK) && (p->sd_model_rdot > RFE_R(0.0))) {
+        /* §4.2 the yaw moment balance (on when sd_model_rdot > 0): the differentiator's
+         * r-dot against the model's, at the same linearisation point vy_pred (sequential
+         * update: the innovation is taken at the vy the lateral row left) */
+        const rfe_real_t h1 = z.d_vy[1];
+        const rfe_real_t e_mu = z.d_mu[1];
+        const rfe_real_t r = ((p->sd_model_rdot * p->sd_model_rdot) + (e_mu * e_mu)) +
+                             obs->yaw.p11;
+        st = rfe_kf2_update(k, h1, RFE_R(0.0),
+                            obs->yaw.x[1] - (z.z[1] + (h1 * (k->x[0] - vy_pred))), r);
+    }
+    return st;
+}
+
 rfe_status_t rfe_vel_lateral_step(rfe_kf2_t *f, rfe_real_t *on_ref, const rfe_velocity_t *obs,
                                   const rfe_velocity_input_t *in, rfe_real_t vx,
                                   const rfe_velocity_mu_t *mu, uint32_t *flags)
@@ -126,35 +165,11 @@ rfe_status_t rfe_vel_lateral_step(rfe_kf2_t *f, rfe_real_t *on_ref, const rfe_ve
         return st;
     }
     if (vx >= p->v_lat_min) {
-        rfe_real_t m[RFE_WHEELS];
-        rfe_real_t m_sd[RFE_WHEELS];
-        rfe_meas_lateral_t z;
-        const rfe_real_t vy_pred = k.x[0];
         int lin_floor = 0;
         const int lin = linear_range(obs, in, vx, &t_ref, &lin_floor);
-        if (model_friction(p, obs->veh.g, in->ay, lin_floor, mu, m, m_sd) != 0) {
-            fl |= RFE_VEL_FLAG_MU_RAISED;
-        }
-        st = model_rows(obs, in, vx, vy_pred, m, m_sd, &z);
-        if (st == RFE_OK) {
-            /* H = d ay / d vy, the friction's error to first order: (d ay / d mu) . sd */
-            const rfe_real_t h0 = z.d_vy[0];
-            const rfe_real_t e_mu = z.d_mu[0];
-            const rfe_real_t rel = p->model_ay_rel * in->ay;
-            const rfe_real_t r = ((p->sd_model_ay * p->sd_model_ay) + (rel * rel)) + (e_mu * e_mu);
-            st = rfe_kf2_update(&k, h0, RFE_R(0.0), in->ay - z.z[0], r);
-            fl |= RFE_VEL_FLAG_VY_MODEL;
-        }
-        if ((st == RFE_OK) && (p->sd_model_rdot > RFE_R(0.0))) {
-            /* §4.2 the yaw moment balance (on when sd_model_rdot > 0): the differentiator's
-             * r-dot against the model's, at the same linearisation point vy_pred (sequential
-             * update: the innovation is taken at the vy the lateral row left) */
-            const rfe_real_t h1 = z.d_vy[1];
-            const rfe_real_t e_mu = z.d_mu[1];
-            const rfe_real_t r = ((p->sd_model_rdot * p->sd_model_rdot) + (e_mu * e_mu)) +
-                                 obs->yaw.p11;
-            st = rfe_kf2_update(&k, h1, RFE_R(0.0),
-                                obs->yaw.x[1] - (z.z[1] + (h1 * (k.x[0] - vy_pred))), r);
+        /* §4.2 the model's rows on the steps of phase 1 (every lat_every-th step) */
+        if (rfe_vel_model_due(obs->started) != 0) {
+            st = model_update(&k, obs, in, vx, lin_floor, mu, &fl);
         }
         if ((st == RFE_OK) && (lin != 0)) {
             st = linear_update(&k, obs, in, vx);

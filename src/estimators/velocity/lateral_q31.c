@@ -238,13 +238,17 @@ rfe_status_t rfe_vel_lateral_step_q31(rfe_kf2_q31_t *f, rfe_fix_t *on_ref,
         const rfe_fix_t vy_pred = k.x[0];
         int lin_floor = 0;
         const int lin = linear_range_q31(obs, in, vx, &t_ref, &lin_floor, &cnt);
-        st = model_q31(obs, in, vx, vy_pred, lin_floor, mu, &z, &fl, &cnt);
-        if (st == RFE_OK) {
+        /* §4.2 the model's rows on the steps of phase 1 (every lat_every-th step) */
+        const int due = rfe_vel_model_due(obs->started);
+        if (due != 0) {
+            st = model_q31(obs, in, vx, vy_pred, lin_floor, mu, &z, &fl, &cnt);
+        }
+        if ((st == RFE_OK) && (due != 0)) {
             ay_row_q31(p, in, &z, &m, &cnt);
             st = rfe_kf2_update_q31(&k, &m, &cnt);
             fl |= RFE_VEL_FLAG_VY_MODEL;
         }
-        if ((st == RFE_OK) && (p->sd_model_rdot > 0)) {
+        if ((st == RFE_OK) && (due != 0) && (p->sd_model_rdot > 0)) {
             /* sequential update (on when sd_model_rdot > 0): the yaw row after the lateral
              * one, on the vy it left */
             rdot_row_q31(obs, &z, vy_pred, k.x[0], &m, &cnt);

@@ -183,6 +183,7 @@ rfe_status_t rfe_velocity_step(rfe_velocity_t *obs, const rfe_velocity_input_t *
     rfe_kf2_t keep[3]; /* the filters before the step, put back on an error */
     rfe_velocity_input_t u;
     const rfe_velocity_input_t *in = &u;
+    rfe_vel_plan_t plan;
     uint32_t flags = 0u;
     rfe_status_t st;
     if ((obs == NULL) || (sample == NULL) || (out == NULL)) {
@@ -198,10 +199,11 @@ rfe_status_t rfe_velocity_step(rfe_velocity_t *obs, const rfe_velocity_input_t *
     /* The step changes only the three filters until it has succeeded: they are kept and put
      * back on an error, so the observer is left as it was without copying its parameters
      * twice per step (a whole-state copy was 6 % of the step on the Cortex-M4). */
+    plan = rfe_vel_plan(obs->started);
     keep[0] = obs->yaw;
     keep[1] = obs->lon;
     keep[2] = obs->lat;
-    if ((st == RFE_OK) && (rfe_vel_plan(obs->started) == RFE_VEL_PLAN_START)) {
+    if ((st == RFE_OK) && (plan == RFE_VEL_PLAN_START)) {
         st = start(obs, in);
     } else if (st == RFE_OK) {
         const rfe_real_t vy_prev = obs->lat.x[0];
@@ -220,7 +222,7 @@ rfe_status_t rfe_velocity_step(rfe_velocity_t *obs, const rfe_velocity_input_t *
         out->status = st;
         return st;
     }
-    obs->started = 1u;
+    obs->started = rfe_vel_next_phase(plan, obs->started, obs->p.lat_every);
     outputs(obs, in, flags, &obs->last);
     *out = obs->last;
     return RFE_OK;

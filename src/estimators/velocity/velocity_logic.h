@@ -56,6 +56,22 @@ static inline rfe_vel_plan_t rfe_vel_plan(uint32_t started)
     return (started == 0u) ? RFE_VEL_PLAN_START : RFE_VEL_PLAN_FILTERS;
 }
 
+/** §4.2 the lateral model's rate: `started` is 0 before the first accepted sample and
+ *  afterwards the phase of this step, 1 .. lat_every; the model's rows are evaluated on the
+ *  steps of phase 1 (every step when lat_every is 1). */
+static inline int rfe_vel_model_due(uint32_t started)
+{
+    return (started == 1u) ? 1 : 0;
+}
+
+/** §4.2 `started` after an accepted step: 1 after the first sample (its next step evaluates
+ *  the model), else the next phase, back to 1 after @p lat_every (>= 1) steps. */
+static inline uint32_t rfe_vel_next_phase(rfe_vel_plan_t plan, uint32_t started,
+                                          uint32_t lat_every)
+{
+    return ((plan == RFE_VEL_PLAN_START) || (started >= lat_every)) ? 1u : (started + 1u);
+}
+
 /** The driven-wheel bit of wheel @p i (fl, fr, rl, rr: the RFE_DRIVEN_* order). */
 static inline uint32_t rfe_vel_wheel_bit(size_t i)
 {

@@ -242,6 +242,7 @@ rfe_status_t rfe_velocity_step_q31(rfe_velocity_q31_t *obs, const rfe_velocity_i
     rfe_kf2_q31_t keep[3]; /* the filters before the step, put back on an error */
     rfe_velocity_input_q31_t u;
     const rfe_velocity_input_q31_t *in = &u;
+    rfe_vel_plan_t plan;
     uint32_t flags = 0u;
     uint32_t sat = 0u;
     rfe_status_t st;
@@ -254,10 +255,11 @@ rfe_status_t rfe_velocity_step_q31(rfe_velocity_q31_t *obs, const rfe_velocity_i
     road_wheel_input_q31(obs, sample, &u, &sat);
     st = check_input_q31(obs, in, mu);
     /* only the three filters change until the step has succeeded (velocity_flt.c) */
+    plan = rfe_vel_plan(obs->started);
     keep[0] = obs->yaw;
     keep[1] = obs->lon;
     keep[2] = obs->lat;
-    if ((st == RFE_OK) && (rfe_vel_plan(obs->started) == RFE_VEL_PLAN_START)) {
+    if ((st == RFE_OK) && (plan == RFE_VEL_PLAN_START)) {
         st = start_q31(obs, in, &sat);
     } else if (st == RFE_OK) {
         const rfe_fix_t vy_prev = obs->lat.x[0];
@@ -277,7 +279,7 @@ rfe_status_t rfe_velocity_step_q31(rfe_velocity_q31_t *obs, const rfe_velocity_i
         out->sat = 0u;
         return st;
     }
-    obs->started = 1u;
+    obs->started = rfe_vel_next_phase(plan, obs->started, obs->p.lat_every);
     outputs_q31(obs, in, flags, sat, &obs->last);
     rfe_q31_sat_add(&obs->sat, obs->last.sat);
     *out = obs->last;

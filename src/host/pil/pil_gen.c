@@ -137,7 +137,8 @@ static uint32_t put_friction(FILE *f, const rfe_params_t *p, const rfe_params_q3
 }
 
 /* The fixed-point data of the pipeline image (PIL_PIPELINE with PIL_Q31): parameters,
- * observer parameters (rfe_velocity_params_q31_t: driven (uint32_t), then int32 words only;
+ * observer parameters (rfe_velocity_params_q31_t: driven and lat_every (uint32_t), then int32
+ * words only;
  * checked in main) and the ESC samples as rfe_replay_run_observer_q31 steps them
  * (rfe_replay_esc_input_q31); returns how many values saturated in the Q formats. */
 static uint32_t put_pipeline_q31(FILE *f, const rfe_params_q31_t *q, const rfe_velocity_params_q31_t *vq,
@@ -150,8 +151,9 @@ static uint32_t put_pipeline_q31(FILE *f, const rfe_params_q31_t *q, const rfe_v
     put_q31_block(f, q, offsetof(rfe_params_q31_t, tyre), sizeof(rfe_tyre_params_q31_t));
     put_q31_block(f, q, offsetof(rfe_params_q31_t, filter), sizeof(rfe_filter_params_q31_t));
     put_q31_block(f, q, offsetof(rfe_params_q31_t, monitor), sizeof(rfe_monitor_params_q31_t));
-    fprintf(f, "};\n\nconst rfe_velocity_params_q31_t pil_velocity_params = {%" PRIu32 "u", vq->driven);
-    for (off = sizeof vq->driven; off < sizeof *vq; off += sizeof(int32_t)) {
+    fprintf(f, "};\n\nconst rfe_velocity_params_q31_t pil_velocity_params = {%" PRIu32 "u, %" PRIu32 "u",
+            vq->driven, vq->lat_every);
+    for (off = sizeof vq->driven + sizeof vq->lat_every; off < sizeof *vq; off += sizeof(int32_t)) {
         int32_t v;
         memcpy(&v, (const char *)vq + off, sizeof v);
         fprintf(f, ", %" PRId32, v);
@@ -191,16 +193,17 @@ static void put_floats(FILE *f, const float *v, size_t n)
 }
 
 /* The float data of the pipeline image (PIL_PIPELINE without PIL_Q31): parameters, observer
- * parameters and the ESC samples; rfe_velocity_params_t is driven (uint32_t) followed by
- * floats only (checked in main). */
+ * parameters and the ESC samples; rfe_velocity_params_t is driven and lat_every (uint32_t)
+ * followed by floats only (checked in main). */
 static void put_pipeline(FILE *f, const rfe_params_t *p, const rfe_velocity_params_t *vp,
                          const rfe_sensor_log_t *log, size_t rows)
 {
     size_t i, off;
     fputs("#else\nconst rfe_params_t pil_params = {\n", f);
     put_float_params(f, p);
-    fprintf(f, "};\n\nconst rfe_velocity_params_t pil_velocity_params = {%" PRIu32, vp->driven);
-    for (off = sizeof vp->driven; off < sizeof *vp; off += sizeof(float)) {
+    fprintf(f, "};\n\nconst rfe_velocity_params_t pil_velocity_params = {%" PRIu32 "u, %" PRIu32 "u",
+            vp->driven, vp->lat_every);
+    for (off = sizeof vp->driven + sizeof vp->lat_every; off < sizeof *vp; off += sizeof(float)) {
         float v;
         memcpy(&v, (const char *)vp + off, sizeof v);
         fprintf(f, ", %af", (double)v);
@@ -406,8 +409,11 @@ int main(int argc, char **argv)
                                         sizeof(rfe_monitor_params_q31_t) ||
         sizeof(float) != 4u || sizeof(rfe_tyre_mode_t) != 4u || sizeof(rfe_params_t) % 4u != 0u ||
         sizeof(rfe_params_q31_t) % 4u != 0u || offsetof(rfe_velocity_params_t, driven) != 0u ||
-        sizeof vp.driven != sizeof(float) || sizeof vp % sizeof(float) != 0u ||
-        offsetof(rfe_velocity_params_q31_t, driven) != 0u || sizeof vq.driven != sizeof(int32_t) ||
+        offsetof(rfe_velocity_params_t, lat_every) != sizeof(float) ||
+        sizeof vp.driven != sizeof(float) || sizeof vp.lat_every != sizeof(float) ||
+        sizeof vp % sizeof(float) != 0u || offsetof(rfe_velocity_params_q31_t, driven) != 0u ||
+        offsetof(rfe_velocity_params_q31_t, lat_every) != sizeof(int32_t) ||
+        sizeof vq.driven != sizeof(int32_t) || sizeof vq.lat_every != sizeof(int32_t) ||
         sizeof vq % sizeof(int32_t) != 0u) {
         fprintf(stderr, "pil_gen: unexpected parameter struct layout on the host\n");
         return 1;

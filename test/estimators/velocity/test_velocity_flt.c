@@ -53,6 +53,14 @@ static void test_params(void **state)
     vp.driven = 16u;
     assert_int_equal(rfe_velocity_params_validate(&vp), RFE_ERR_PARAM);
     assert_int_equal(rfe_velocity_params_default(&vp), RFE_OK);
+    assert_int_equal(vp.lat_every, 1u); /* the default (OBSERVER.md §2): every step */
+    vp.lat_every = 0u;
+    assert_int_equal(rfe_velocity_params_validate(&vp), RFE_ERR_PARAM);
+    vp.lat_every = RFE_VEL_LAT_EVERY_MAX + 1u;
+    assert_int_equal(rfe_velocity_params_validate(&vp), RFE_ERR_PARAM);
+    vp.lat_every = RFE_VEL_LAT_EVERY_MAX;
+    assert_int_equal(rfe_velocity_params_validate(&vp), RFE_OK);
+    assert_int_equal(rfe_velocity_params_default(&vp), RFE_OK);
     vp.dt_min = vp.dt_max * 2.0f;
     assert_int_equal(rfe_velocity_params_validate(&vp), RFE_ERR_PARAM);
     assert_int_equal(rfe_velocity_params_default(&vp), RFE_OK);
@@ -148,13 +156,15 @@ static void test_first_sample_and_free_rolling(void **state)
     assert_close(e.vy, 0.0, 0.0, 0.0, "first vy");
     assert_close(e.sd_vx, fx.vp.sd_vx0, 1e-6, 0.0, "first sd vx");
     assert_int_equal(e.flags, 0u);
-    for (k = 0u; k < 300u; ++k) {
+    for (k = 0u; k < 301u; ++k) {
         in = rolling(25.0f, 0.01f);
         assert_int_equal(rfe_velocity_step(&fx.obs, &in, NULL, &e), RFE_OK);
     }
-    /* free rolling, no acceleration: exactly 25 m/s, no sideslip, the wheels, the model and
-     * the linear range (straight: r = r_ref = 0, ay = 0) correct every step; the sd falls
-     * from 1 m/s to about sd_wheel / 2 (four wheels) */
+    /* free rolling, no acceleration: exactly 25 m/s, no sideslip, the wheels and the linear
+     * range (straight: r = r_ref = 0, ay = 0) correct every step, the model every
+     * lat_every-th (the later steps 1, 1 + lat_every, ..: 301 is one for lat_every 1, 2, 3,
+     * 4, 5, 6); the sd falls from 1 m/s to about sd_wheel / 2 (four wheels) */
+    assert_int_equal((301u - 1u) % fx.vp.lat_every, 0u);
     assert_close(e.vx, 25.0, 1e-4, 0.0, "rolling vx");
     assert_close(e.vy, 0.0, 1e-6, 0.0, "rolling vy");
     assert_close(e.beta, 0.0, 1e-6, 0.0, "rolling beta");
@@ -627,14 +637,17 @@ static void test_a_steady_turn_raises_the_models_friction(void **state)
     rfe_velocity_t before;
     size_t k;
     (void)state;
+    uint32_t every;
     floor_turn(2.0f, f2, v2);
     floor_turn(0.0f, f0, v0);
     floor_turn(1.0f, f1, v1);
+    every = fx.vp.lat_every; /* the model (and its friction) on the later steps 1, 1 + every, .. */
     for (k = 1u; k <= FLOOR_STEPS; ++k) {
         /* the linear range on every later step, with or without the floor */
         assert_true((f2[k] & RFE_VEL_FLAG_VY_LINEAR) != 0u);
         assert_true((f0[k] & RFE_VEL_FLAG_VY_LINEAR) != 0u);
-        assert_int_equal(((f2[k] & RFE_VEL_FLAG_MU_RAISED) != 0u) ? 1 : 0, (k >= 13u) ? 1 : 0);
+        assert_int_equal(((f2[k] & RFE_VEL_FLAG_MU_RAISED) != 0u) ? 1 : 0,
+                         ((k >= 13u) && (((k - 1u) % every) == 0u)) ? 1 : 0);
         assert_true((f0[k] & RFE_VEL_FLAG_MU_RAISED) == 0u);
     }
     /* before the turn is steady the gain changes nothing, bit for bit; from then on the
@@ -803,6 +816,61 @@ static void test_restart_after_a_long_gap(void **state)
     assert_int_equal(rfe_velocity_restart(&blank), RFE_ERR_NOT_INITIALISED);
 }
 
+/* A turn at 20 m/s (ay 2.5 m/s^2, delta 0.02 rad, r 0.12 rad/s), steps 1 .. @p n after the
+ * first sample; @p model[k]: 1 when step k's flags say the model corrected vy. */
+static void turn_with_rate(uint32_t every, size_t n, int model[])
+{
+    rfe_velocity_estimate_t e;
+    rfe_velocity_input_t in = rolling(20.0f, 0.0f);
+    size_t k;
+    fx.vp.lat_every = every;
+    assert_int_equal(rfe_velocity_init(&fx.obs, &fx.vp, &fx.p), RFE_OK);
+    assert_int_equal(rfe_velocity_step(&fx.obs, &in, NULL, &e), RFE_OK);
+    for (k = 1u; k <= n; ++k) {
+        in = rolling(20.0f, 0.01f);
+        in.ay = 2.5f;
+        in.yaw_rate = 0.12f;
+        in.delta = 0.02f;
+        assert_int_equal(rfe_velocity_step(&fx.obs, &in, NULL, &e), RFE_OK);
+        model[k] = ((e.flags & RFE_VEL_FLAG_VY_MODEL) != 0u) ? 1 : 0;
+    }
+}
+
+/* OBSERVER.md §4.2 the lateral model's rate: with lat_every N its rows correct vy on the
+ * later steps 1, 1 + N, 1 + 2N, ... and on no other; a refused sample does not move the
+ * phase; a restart begins it again (the step after the restart's first sample evaluates). */
+static void test_the_lateral_models_rate(void **state)
+{
+    int model[13];
+    rfe_velocity_estimate_t e;
+    rfe_velocity_input_t in;
+    size_t k;
+    uint32_t n;
+    (void)state;
+    setup_fixture();
+    for (n = 1u; n <= 4u; ++n) {
+        turn_with_rate(n, 12u, model);
+        for (k = 1u; k <= 12u; ++k) {
+            assert_int_equal(model[k], (((k - 1u) % n) == 0u) ? 1 : 0);
+        }
+    }
+    /* lat_every 4 left the phase after step 12 on 1 (step 13 evaluates); a refused sample
+     * (dt above dt_max) keeps it, so the next accepted step still evaluates */
+    in = rolling(20.0f, 0.5f);
+    assert_int_equal(rfe_velocity_step(&fx.obs, &in, NULL, &e), RFE_ERR_RANGE);
+    in = rolling(20.0f, 0.01f);
+    assert_int_equal(rfe_velocity_step(&fx.obs, &in, NULL, &e), RFE_OK);
+    assert_true((e.flags & RFE_VEL_FLAG_VY_MODEL) != 0u);
+    /* now on phase 2: not due; after a restart the first later step is due again */
+    assert_int_equal(rfe_velocity_restart(&fx.obs), RFE_OK);
+    assert_int_equal(rfe_velocity_step(&fx.obs, &in, NULL, &e), RFE_OK); /* the first */
+    assert_int_equal(e.flags & RFE_VEL_FLAG_VY_MODEL, 0u);
+    assert_int_equal(rfe_velocity_step(&fx.obs, &in, NULL, &e), RFE_OK);
+    assert_true((e.flags & RFE_VEL_FLAG_VY_MODEL) != 0u);
+    assert_int_equal(rfe_velocity_step(&fx.obs, &in, NULL, &e), RFE_OK);
+    assert_int_equal(e.flags & RFE_VEL_FLAG_VY_MODEL, 0u);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -824,6 +892,7 @@ int main(void)
         cmocka_unit_test(test_all_wheel_drive_wheels_only_bound_vx_from_above),
         cmocka_unit_test(test_vx_never_goes_negative),
         cmocka_unit_test(test_steering_wheel_angle_through_the_ratio),
+        cmocka_unit_test(test_the_lateral_models_rate),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -182,6 +182,28 @@ static void test_steady_turn_floor_every_combination(void **state)
     assert_int_equal(rfe_vel_lin_floor(1, 1), 1);
 }
 
+/* REQ: §4.2 the model's rate: due on phase 1 only; the next phase is 1 after a first sample
+ * or once the phase has reached lat_every, else one more (each condition alone decides). */
+static void test_model_rate_every_combination(void **state)
+{
+    uint32_t every;
+    uint32_t started;
+    (void)state;
+    assert_int_equal(rfe_vel_model_due(0u), 0);
+    assert_int_equal(rfe_vel_model_due(1u), 1);
+    assert_int_equal(rfe_vel_model_due(2u), 0);
+    for (every = 1u; every <= RFE_VEL_LAT_EVERY_MAX; ++every) {
+        for (started = 0u; started <= every; ++started) {
+            const uint32_t next = (started >= every) ? 1u : (started + 1u);
+            assert_int_equal(rfe_vel_next_phase(RFE_VEL_PLAN_START, started, every), 1u);
+            assert_int_equal(rfe_vel_next_phase(RFE_VEL_PLAN_FILTERS, started, every), next);
+        }
+    }
+    /* a full cycle of lat_every 3 from the first sample: 1, 2, 3, 1, ... */
+    assert_int_equal(rfe_vel_next_phase(RFE_VEL_PLAN_FILTERS, 3u, 3u), 1u);
+    assert_int_equal(rfe_vel_next_phase(RFE_VEL_PLAN_FILTERS, 2u, 3u), 3u);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -191,6 +213,7 @@ int main(void)
         cmocka_unit_test(test_linear_range_every_combination),
         cmocka_unit_test(test_time_on_reference_every_combination),
         cmocka_unit_test(test_steady_turn_floor_every_combination),
+        cmocka_unit_test(test_model_rate_every_combination),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

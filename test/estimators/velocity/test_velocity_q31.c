@@ -424,6 +424,20 @@ static void test_params(void **state)
     assert_int_equal(rfe_velocity_params_validate_q31(&bad), RFE_ERR_PARAM);
     bad.driven = 16u;
     assert_int_equal(rfe_velocity_params_validate_q31(&bad), RFE_ERR_PARAM);
+    /* lat_every in 1 .. RFE_VEL_LAT_EVERY_MAX, and converted as it is */
+    bad = def;
+    bad.lat_every = 0u;
+    assert_int_equal(rfe_velocity_params_validate_q31(&bad), RFE_ERR_PARAM);
+    bad.lat_every = RFE_VEL_LAT_EVERY_MAX + 1u;
+    assert_int_equal(rfe_velocity_params_validate_q31(&bad), RFE_ERR_PARAM);
+    bad.lat_every = RFE_VEL_LAT_EVERY_MAX;
+    assert_int_equal(rfe_velocity_params_validate_q31(&bad), RFE_OK);
+    vd.lat_every = 5u;
+    assert_int_equal(rfe_velocity_params_to_q31_f64(&vd, &conv), RFE_OK);
+    assert_int_equal(conv.lat_every, 5u);
+    vd.lat_every = 0u;
+    assert_int_equal(rfe_velocity_params_to_q31_f64(&vd, &conv), RFE_ERR_PARAM);
+    vd.lat_every = 1u;
     /* dt range */
     bad = def;
     bad.dt_min = 0;
@@ -935,8 +949,10 @@ static void floor_turn_both(double gain, size_t first_raised)
         assert_int_equal(rfe_velocity_step_q31(&oq, &iq, &mq, &q), RFE_OK);
         assert_int_equal(q.flags, e.flags);
         if (k > 0u) {
+            /* the model (and its friction) on the later steps 1, 1 + lat_every, .. */
             assert_int_equal(((e.flags & RFE_VEL_FLAG_MU_RAISED) != 0u) ? 1 : 0,
-                             ((first_raised != 0u) && (k >= first_raised)) ? 1 : 0);
+                             ((first_raised != 0u) && (k >= first_raised) &&
+                              (((k - 1u) % b.vd.lat_every) == 0u)) ? 1 : 0);
         }
         assert_close(rfe_fix_to_double(q.vy, 23u), e.vy, TOL_VY, 0.0, "vy in the steady turn");
     }
@@ -948,6 +964,56 @@ static void test_the_steady_turns_floor_in_fixed_point(void **state)
     floor_turn_both(2.0, 13u);
     /* a gain at most 1 + mu_margin is no floor: 1.0 * 2.5 / 9.81 = 0.25 < 0.3, never */
     floor_turn_both(1.0, 0u);
+}
+
+/* The lateral model's rate (OBSERVER.md §4.2, lat_every 3) in both twins: a turn at 20 m/s
+ * (ay 2.5 m/s^2, friction 0.5 with sd 0.05: the tyres far from their limit, so the file's
+ * TOL_VY holds), the model's rows on the later steps 1, 4, 7, ... only (the flag VY_MODEL),
+ * the same flags in both twins on every step, vy within TOL_VY of the double's. A skipped
+ * step leaves out one scalar update of the same form in both twins, so it adds no error
+ * source to those the bound counts. */
+static void test_the_lateral_model_every_third_step(void **state)
+{
+    both_t b;
+    rfe_velocity_t od;
+    rfe_velocity_q31_t oq;
+    rfe_velocity_input_t in;
+    rfe_velocity_input_q31_t iq;
+    rfe_velocity_estimate_t e;
+    rfe_velocity_estimate_q31_t q;
+    rfe_velocity_mu_t mu;
+    rfe_velocity_mu_q31_t mq;
+    size_t k;
+    size_t n_model = 0u;
+    (void)state;
+    params_of(NULL, &b);
+    b.vd.lat_every = 3u;
+    b.vq.lat_every = 3u;
+    assert_int_equal(rfe_velocity_init(&od, &b.vd, &b.pd), RFE_OK);
+    assert_int_equal(rfe_velocity_init_q31(&oq, &b.vq, &b.pq), RFE_OK);
+    for (k = 0u; k < 4u; ++k) {
+        mu.mu[k] = 0.5;
+        mu.sd[k] = 0.05;
+        mq.mu[k] = fx(0.5, RFE_FIX_Q_MU);
+        mq.sd[k] = fx(0.05, RFE_FIX_Q_SD);
+    }
+    for (k = 0u; k <= 30u; ++k) {
+        rolling(&b, 20.0, (k == 0u) ? 0.0 : 0.01, &in, &iq);
+        in.delta = 0.02;
+        in.yaw_rate = 0.12;
+        in.ay = 2.5;
+        iq.delta = fx(in.delta, RFE_FIX_Q_ANGLE);
+        iq.yaw_rate = fx(in.yaw_rate, RFE_FIX_Q_YAWRATE);
+        iq.ay = fx(in.ay, RFE_FIX_Q_ACC);
+        assert_int_equal(rfe_velocity_step(&od, &in, &mu, &e), RFE_OK);
+        assert_int_equal(rfe_velocity_step_q31(&oq, &iq, &mq, &q), RFE_OK);
+        assert_int_equal(q.flags, e.flags);
+        assert_int_equal(((q.flags & RFE_VEL_FLAG_VY_MODEL) != 0u) ? 1 : 0,
+                         ((k > 0u) && ((k % 3u) == 1u)) ? 1 : 0);
+        n_model += ((q.flags & RFE_VEL_FLAG_VY_MODEL) != 0u) ? 1u : 0u;
+        assert_close(rfe_fix_to_double(q.vy, 23u), e.vy, TOL_VY, 0.0, "vy, model every 3rd");
+    }
+    assert_int_equal(n_model, 10u); /* steps 1, 4, .., 28 */
 }
 
 /* REQ: rfe_velocity_restart_q31 (REQ-OBS-023): the sample after a gap beyond dt_max is
@@ -1022,6 +1088,7 @@ int main(void)
         cmocka_unit_test(test_the_yaw_row_in_fixed_point),
         cmocka_unit_test(test_a_steady_turn_in_fixed_point),
         cmocka_unit_test(test_the_steady_turns_floor_in_fixed_point),
+        cmocka_unit_test(test_the_lateral_model_every_third_step),
         cmocka_unit_test(test_back_to_back_through_a_lockout),
         cmocka_unit_test(test_back_to_back_on_every_observer_scenario),
     };
