@@ -11,7 +11,7 @@ import os
 import numpy as np
 import pytest
 
-from . import filters, logs, params, trusted
+from . import estimate, filters, logs, params, trusted
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(os.path.dirname(HERE))
@@ -95,3 +95,14 @@ def test_on_censors_downward_moves_the_data_do_not_support():
     wheel_u = np.where(side_u == 0, 0, 1)
     assert np.all(on["mu_unprojected"][k_u, wheel_u] >= on["mu"][k_u - 1, wheel_u])
     assert not np.array_equal(on["mu"], off["mu"])
+
+
+def test_estimate_log_records_the_key_only_when_set():
+    """The reference-only key stays out of an estimate log's metadata at 0 (the goldens and
+    the C library's logs list the library's keys only) and is recorded when set."""
+    p = params.resolve(preset="default")
+    keys = [k for k, _ in estimate.metadata("sckf", p["tyre"], LOG, p, None, "default")]
+    assert "lower_bound_delta" not in keys and "valid_bound_k" in keys
+    p["lower_bound_delta"] = 0.25
+    meta = dict(estimate.metadata("sckf", p["tyre"], LOG, p, None, "default"))
+    assert meta["lower_bound_delta"] == 0.25
