@@ -97,14 +97,17 @@ def metadata(kind: str, tyre: str, input_path: str, p: dict, param_file: str | N
              preset: str = "paper"):
     """Metadata lines of an estimate log: generator, preset, filter, tyre, structure, input,
     the numerical machinery that computed it (runtime.py: BLAS kernel, numpy SIMD paths),
-    then every parameter."""
+    then every parameter (the reference-only ones only when set)."""
     meta = [("generator", "scripts/reference"), ("preset", preset), ("filter", kind),
             ("tyre", tyre), ("structure", p.get("structure", "wheels")),
             ("input", os.path.basename(input_path))]
     if param_file:
         meta.append(("param_file", os.path.basename(param_file)))
     meta += runtime.metadata()
-    meta += [(k, float(p[k])) for k in params.DEFAULTS]
+    # every key but the reference-only ones (not in the C library's estimate logs), which are
+    # recorded only when they are set
+    meta += [(k, float(p[k])) for k in params.DEFAULTS
+             if k not in params.REFERENCE_ONLY or p[k] != params.DEFAULTS[k]]
     return meta
 
 

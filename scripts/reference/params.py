@@ -64,6 +64,8 @@ DEFAULTS: dict[str, float] = {
     "stale_omega": 0.0,   # a repeated wheel speed while the others' median moved more: stale, rad/s (0: off)
     "yaw_check": 0.0,     # a yaw rate this far from its prediction is replaced by it, rad/s (0: off)
     "valid_bound_k": 0.0,  # the bound margin: valid only mu - mu_min >= this many sd (0: off)
+    "lower_bound_delta": 0.0,  # step 6, reference only: a side's downward move is skipped when the
+    #                            data's information at mu + this is below info_min (0: off)
     # model-validity monitor (docs/MONITOR.md section 2; monitor.py); on in the default preset
     "mon_enable": 0.0,    # 1: acts on valid, status, sd (SCKF); 0: off
     "mon_tau_nis": 0.5,   # time constant of the NIS average D, s
@@ -74,6 +76,10 @@ DEFAULTS: dict[str, float] = {
     "mon_warmup": 1.0,    # evaluated steps at the start that only count, s
     "mon_inflate": 1.0,   # 1: reported sd x sqrt(max(1, D/3)) while fired; 0: sd untouched
 }
+
+# Keys of the reference only (not in the C library yet; docs/ESTIMATOR.md): an estimate log
+# records them only when set, so the goldens (the library's keys) stay as they are.
+REFERENCE_ONLY = frozenset({"lower_bound_delta"})
 
 # The two presets (docs/ESTIMATOR.md): numeric values and the word-valued choices.
 PRESETS: dict[str, dict] = {

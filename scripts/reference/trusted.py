@@ -11,6 +11,8 @@ Structure "sides": x = [mu_left, mu_right] (fl, rl left; fr, rr right); "wheels"
 """
 from __future__ import annotations
 
+from types import SimpleNamespace
+
 import numpy as np
 
 from scipy.linalg import solve_triangular
@@ -242,6 +244,9 @@ def run(log, p: dict, adapt=None, reuse: StepNoiseReuse | None = None):
     out["c_pers"] = np.full((N, 3), np.nan)     # diag of its persistent part (monitor.py)
     if reuse is not None:
         out["snoise"] = np.zeros(N, dtype=bool)
+    if p["lower_bound_delta"] > 0:     # the sides whose downward move step 6 skipped, and
+        out["censored"] = np.zeros((N, n), dtype=bool)     # the information it decided on
+        out["info_up"] = np.full((N, n), np.nan)
     t = log.col("t")
     hold = Hold(p) if (p["structure"] == "sides"
                            and (p["rear_hold_k"] > 0 or p["jump_hold_k"] > 0)) else None
@@ -277,9 +282,15 @@ def run(log, p: dict, adapt=None, reuse: StepNoiseReuse | None = None):
             status = 3
             if update:                                                  # 6
                 saved, f.s_r = f.s_r, s_r_used
-                f.measurement_update(ys[k], hfun)
+                if p["lower_bound_delta"] > 0:
+                    kept, out["info_up"][k] = _one_sided_update(p, f, T, u, sd_u, ys[k],
+                                                                hfun, saved)
+                    out["censored"][k] = ~kept
+                else:
+                    kept = True
+                    f.measurement_update(ys[k], hfun)
                 f.s_r = saved
-                status = 0
+                status = 0 if np.any(kept) else 3
         elif reuse is not None:
             reuse.drop()
         _bound_sd(p, f)                                                 # 7
@@ -406,6 +417,59 @@ def _information(f, pts, z_pts, s_r):
     y = solve_triangular(f.S, p_zx.T, lower=True)                        # S Y = P_zx^T
     j_t = solve_triangular(f.S, y, lower=True, trans="T")                # S^T J^T = Y
     w = solve_triangular(s_r, j_t.T, lower=True)                         # S_R W = J
+    return np.einsum("ij,ij->j", w, w)
+
+
+def _one_sided_update(p, f, T, u, sd_u, y, hfun, s_r_base):
+    """Step 6 with `lower_bound_delta` = Delta > 0 (reference only, not in the C library;
+    MONITOR.md section 13). At mild slip a measurement bounds mu from below only: the force is
+    the slip stiffness's for any mu above the utilisation, so it may raise a side's mu but
+    gives no ground to lower it. The update's gain K is formed as in
+    filters.SCKF.measurement_update (f.s_r: the update's noise). A side j whose move
+    (K nu)_j is downward keeps it only when the measurement would still carry information
+    about mu_j at the upper alternative x_a = min(x- + Delta, mu_max) (every side):
+    I_j^a = J_j^T Ra^-1 J_j >= info_min, J_j = dh/dmu_j at x_a (central difference of step
+    UPPER_SLOPE_STEP), Ra = step 4's noise there (_step_noise from s_r_base: a tyre in its
+    linear range passes more of the slip noise). Otherwise its gain row is zero: a Schmidt
+    "consider" update, its mean and variance stay, the other sides keep their optimal gain
+    rows and the covariance is the Joseph form's, Tria([Xc - K Zc, K S_R]) with that K. With
+    nothing censored the operations are measurement_update's, bit for bit. Returns the (n,)
+    bool of the sides kept (updated) and the (n,) I^a (NaN where not evaluated)."""
+    pts = f.points()
+    z_pts = np.asarray(hfun(pts), dtype=float)
+    z_hat = z_pts.mean(axis=1)
+    xc = (pts - f.x[:, None]) / f.sqrt_2n
+    zc = (z_pts - z_hat[:, None]) / f.sqrt_2n
+    s_zz = filters.tria(np.hstack([zc, f.s_r]))
+    w_t = solve_triangular(s_zz, (xc @ zc.T).T, lower=True, check_finite=False)
+    k_gain = solve_triangular(s_zz, w_t, lower=True, trans="T", check_finite=False).T
+    nu = np.asarray(y, dtype=float) - z_hat
+    kept = np.ones(f.n, dtype=bool)
+    info_a = np.full(f.n, np.nan)
+    down = (k_gain @ nu) < 0.0
+    if np.any(down):
+        info_a = _information_upper(p, f, T, u, sd_u, s_r_base)
+        kept = ~(down & (info_a < p["info_min"]))
+        k_gain = k_gain * kept[:, None]
+    f.x = f.x + k_gain @ nu
+    f.S = filters.tria(np.hstack([xc - k_gain @ zc, k_gain @ f.s_r]))
+    return kept, info_a
+
+
+UPPER_SLOPE_STEP = 1e-3   # central-difference step of dh/dmu at the upper alternative
+
+
+def _information_upper(p, f, T, u, sd_u, s_r_base):
+    """I_j^a = J_j^T Ra^-1 J_j per side at x_a = min(x- + lower_bound_delta, mu_max) (see
+    _one_sided_update): the Fisher information the measurement would carry about mu_j if mu
+    were that much higher, with step 4's noise there."""
+    n, d = f.n, UPPER_SLOPE_STEP
+    xa = np.minimum(f.x + p["lower_bound_delta"], p["mu_max"])
+    s_a = _step_noise(p, SimpleNamespace(x=xa, s_r=s_r_base), T, u, sd_u)
+    xs = np.vstack([xa + d * np.eye(n), xa - d * np.eye(n)])             # (2n, n)
+    hs = h_points(p, np.tile(u, (2 * n, 1)), xs @ T.T)                   # (2n, 3)
+    jac = (hs[:n] - hs[n:]).T / (2.0 * d)                                # (3, n)
+    w = solve_triangular(s_a, jac, lower=True)
     return np.einsum("ij,ij->j", w, w)
 
 

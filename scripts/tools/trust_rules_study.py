@@ -455,20 +455,26 @@ def noise_upper_bound(s0, sa, counter=None) -> np.ndarray:
 
 
 def reference_run(path: Path, yaw_thr: float | None = None, hold_fired: bool = False,
-                  upper_gate: float | None = None, upper_noise: float | None = None) -> dict:
+                  upper_gate: float | None = None, upper_noise: float | None = None,
+                  library_rules: bool = False, lower_bound: float = 0.0) -> dict:
     """The default preset's reference run and the monitor on one log, its two trust rules off;
     with yaw_thr, with the reference's yaw-rate check at that threshold (n_sub: the samples
     yaw_substitute replaces); with hold_fired, no update while the monitor is fired
     (hold_while_fired); with upper_gate, the information gate at mu + upper_gate too
-    (UpperGate); with upper_noise, step 4's noise at mu + upper_noise too (UpperNoise)."""
+    (UpperGate); with upper_noise, step 4's noise at mu + upper_noise too (UpperNoise); with
+    library_rules, the default preset's three trust rules on (stale_omega, yaw_check,
+    valid_bound_k: make trust-invariant's estimator); lower_bound: the reference's
+    lower_bound_delta (step 6's one-sided update at mild slip, MONITOR.md section 13; 0: off)."""
     log = logs.read_csv_log(str(path))
     n_sub = 0
     if yaw_thr is not None:
         n_sub = yaw_substitute(log.col("t"), log.col("yaw_rate"), log.col("yaw_acc"), yaw_thr)[1]
     p = params.resolve(log.meta, None, source=str(path), preset="default")
-    p["stale_omega"] = 0.0      # the base run: the rules are measured on top of it
-    p["valid_bound_k"] = 0.0    # (the bound margin, the library's since section 11, too)
-    p["yaw_check"] = 0.0 if yaw_thr is None else yaw_thr
+    if not library_rules:
+        p["stale_omega"] = 0.0      # the base run: the rules are measured on top of it
+        p["valid_bound_k"] = 0.0    # (the bound margin, the library's since section 11, too)
+        p["yaw_check"] = 0.0 if yaw_thr is None else yaw_thr
+    p["lower_bound_delta"] = lower_bound
     adapt = hold_while_fired(p) if hold_fired else None
     if upper_gate is not None:
         adapt = UpperGate(p, upper_gate)
@@ -484,6 +490,8 @@ def reference_run(path: Path, yaw_thr: float | None = None, hold_fired: bool = F
     mon = monitor.apply(res, p, p["dt"])
     out = {k: mon[k] for k in KEEP if k in mon}
     out["info"] = res["info"]
+    if "censored" in res:
+        out["censored"] = res["censored"]
     out["status_filter"] = res["status"]
     out["n_sub"] = np.array(n_sub)
     out["dt"] = np.array(p["dt"])
@@ -491,18 +499,21 @@ def reference_run(path: Path, yaw_thr: float | None = None, hold_fired: bool = F
 
 
 def _cached(args):
-    scen, cache, name, hold = args
+    scen, cache, name, hold, lib, lower = args
     f = cache / f"{name.replace('/', '+')}.npz"
     if not f.is_file():
-        np.savez(f, **reference_run(scen / f"{name}.csv", hold_fired=hold))
+        np.savez(f, **reference_run(scen / f"{name}.csv", hold_fired=hold, library_rules=lib,
+                                    lower_bound=lower))
     return name
 
 
-def load_all(scen: Path, cache: Path, jobs: int, hold_fired: bool = False) -> dict:
+def load_all(scen: Path, cache: Path, jobs: int, hold_fired: bool = False,
+             library_rules: bool = False, lower_bound: float = 0.0, names=None) -> dict:
     cache.mkdir(parents=True, exist_ok=True)
-    names = bundled(scen)
+    names = bundled(scen) if names is None else names
     with ProcessPoolExecutor(jobs) as ex:
-        list(ex.map(_cached, [(scen, cache, n, hold_fired) for n in names]))
+        list(ex.map(_cached, [(scen, cache, n, hold_fired, library_rules, lower_bound)
+                              for n in names]))
     runs = {}
     for n in names:
         with np.load(cache / f"{n.replace('/', '+')}.npz") as z:
@@ -635,7 +646,8 @@ def apply_rule(runs: dict, rule) -> dict:
 
 
 def soak_run(path: Path, cache: Path, estimate: Path | None = None,
-             hold_fired: bool = False, upper_noise: float | None = None) -> dict:
+             hold_fired: bool = False, upper_noise: float | None = None,
+             library_rules: bool = False, lower_bound: float = 0.0) -> dict:
     """The soak drive (a sensor log with truth columns) as a run: the reference's (cached in
     cache), or with estimate, a mu_replay estimate log of it (its own vx_est, vy_est,
     yaw_acc_est where it has them: --velocity observer)."""
@@ -644,7 +656,8 @@ def soak_run(path: Path, cache: Path, estimate: Path | None = None,
         f = cache / f"soak+{path.stem}.npz"
         if not f.is_file():
             cache.mkdir(parents=True, exist_ok=True)
-            np.savez(f, **reference_run(path, hold_fired=hold_fired, upper_noise=upper_noise))
+            np.savez(f, **reference_run(path, hold_fired=hold_fired, upper_noise=upper_noise,
+                                        library_rules=library_rules, lower_bound=lower_bound))
         with np.load(f) as z:
             r = {k: z[k] for k in z.files}
         u = y = None
@@ -696,6 +709,30 @@ def upper_noise_lines(scen: Path, cache: Path, names, delta: float) -> list[str]
     return lines
 
 
+def lower_bound_lines(scen: Path, cache: Path, jobs: int, delta: float, names=None) -> list[str]:
+    """MONITOR.md section 13: the logs (default: the 72) with the library's three trust rules
+    on, without and with the reference's lower_bound_delta = delta (in the loop), as report()'s
+    verdict, then each changed log's figures before -> after and the censored side-steps."""
+    base_runs = load_all(scen, cache / "lib_rules", jobs, library_rules=True, names=names)
+    new_runs = load_all(scen, cache / f"lower_bound_{delta:g}", jobs, library_rules=True,
+                        lower_bound=delta, names=names)
+    base, new = evaluate(base_runs), evaluate(new_runs)
+    lines = [f"library rules on: meets {sum(f['meets'] for f in base.values())}/{len(base)}"]
+    lines += report(f"lower_bound_delta {delta:g} (step 6's one-sided update)", base, new)
+    for n in base:
+        b, g = base[n], new[n]
+        cens = new_runs[n].get("censored")
+        nc = 0 if cens is None else int(cens.sum())
+        if (b["n_valid"], b["rmse"], b["exc"]) == (g["n_valid"], g["rmse"], g["exc"]) and not nc:
+            continue
+        lines.append(f"    {n}: valid {100 * b['valid']:.1f} -> {100 * g['valid']:.1f} %, RMSE "
+                     f"{fmt(b['rmse'])} -> {fmt(g['rmse'])}, consistency {fmt(b['cons'])} -> "
+                     f"{fmt(g['cons'])}, worst {fmt(b['worst'])} -> {fmt(g['worst'])}, excited "
+                     f"valid {fmt(b['exc'])} -> {fmt(g['exc'])}, meets {b['meets']} -> "
+                     f"{g['meets']}; censored side-steps {nc}")
+    return lines
+
+
 def estimate_columns(path: Path) -> dict:
     """{column: float array} of a mu_replay estimate log ('#' metadata, one header row)."""
     with open(path, encoding="utf-8") as fh:
@@ -738,7 +775,26 @@ def main(argv=None) -> int:
     ap.add_argument("--logs", nargs="*", default=[],
                     help="with --upper-noise: the logs (names as bundled(), e.g. "
                     "accel_low_mu.mf; 'all': the 72)")
+    ap.add_argument("--lower-bound", type=float, metavar="DELTA",
+                    help="only the experiment of MONITOR.md section 13 (the reference's "
+                    "lower_bound_delta = DELTA: step 6's one-sided update at mild slip), with "
+                    "the library's three trust rules on: --logs (default all) before and "
+                    "after, --jobs processes, cached in CACHE/lib_rules and "
+                    "CACHE/lower_bound_DELTA; then --soak's figures, the rules on and off")
     a = ap.parse_args(argv)
+    if a.lower_bound is not None:
+        print("\n".join(lower_bound_lines(a.scenarios, a.cache, a.jobs, a.lower_bound,
+                                           None if a.logs in ([], ["all"]) else a.logs)))
+        if a.soak:
+            for lib in (False, True):
+                label = "the library's rules " + ("on" if lib else "off")
+                runs = [soak_run(a.soak, a.cache / ("lib_rules" if lib else "") , library_rules=lib),
+                        soak_run(a.soak, a.cache / (f"lower_bound_{a.lower_bound:g}"
+                                                    + ("" if lib else "_off")),
+                                 library_rules=lib, lower_bound=a.lower_bound)]
+                for name, r in zip(("today", f"lower_bound_delta {a.lower_bound:g}"), runs):
+                    print("\n".join(soak_lines(f"{label}, {name}", r, [])))
+        return 0
     if a.upper_noise is not None:
         if a.soak:
             r = soak_run(a.soak, a.cache / f"upper_noise_{a.upper_noise:g}",
