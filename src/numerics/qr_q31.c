@@ -25,24 +25,6 @@
 /* Fractional bits of the reflection coefficient c. */
 #define C_FRAC 30u
 
-/* Number of significant bits of v (0 for v = 0), by halving the search window: six
- * comparisons instead of one shift per bit. */
-static unsigned int bit_length_q31(uint64_t v)
-{
-    static const unsigned int widths[6] = {32u, 16u, 8u, 4u, 2u, 1u};
-    unsigned int len = 0u;
-    uint64_t r = v;
-    size_t i;
-    for (i = 0u; i < 6u; ++i) {
-        const uint64_t high = r >> widths[i];
-        if (high != 0u) {
-            r = high;
-            len += widths[i];
-        }
-    }
-    return len + (unsigned int)r; /* r is now 0 or 1 */
-}
-
 /* The sum of squares of t[0..len), exactly in two uint64 limbs (each square <= 2^62, at
  * most 24 of them): the low one returned, carries added to *hi. */
 static uint64_t tail_squares(const rfe_fix_t *t, size_t len, uint64_t *hi)
@@ -74,7 +56,7 @@ static int tail_shift(const rfe_fix_t *t, size_t len, int *shift, uint64_t *ss)
         return 0;
     }
     /* bit length of the 128-bit sum; floor(log2 sqrt(ss)) = floor((bits - 1) / 2) */
-    bits = (hi != 0u) ? (64u + bit_length_q31(hi)) : bit_length_q31(lo);
+    bits = (hi != 0u) ? (64u + rfe_q31_bitlen64(hi)) : rfe_q31_bitlen64(lo);
     half = (bits - 1u) / 2u;
     *shift = NORM_LO - (int)half;
     return 1;
@@ -366,6 +348,16 @@ static rfe_status_t check_solve_q31(const rfe_fix_t *L, size_t n, size_t ldl, co
     return RFE_OK;
 }
 
+/* The reciprocals of the checked diagonal L_ii > 0 (i < n): every column divides by them
+ * (rfe_q31_div_round_by, the same integers as rfe_q31_div_round). */
+static void diag_recips_q31(const rfe_fix_t *L, size_t n, size_t ldl, rfe_q31_recip_t *rec)
+{
+    size_t i;
+    for (i = 0u; i < n; ++i) {
+        rfe_q31_recip_init(&rec[i], AT(L, ldl, i, i));
+    }
+}
+
 #if RFE_FIX_MUL64_W16
 /* The two substitutions in one body (checked arguments): trans = 0, L X = B, x_i for
  * i = 0..n-1 from the L_ij (j < i); trans = 1, L^T X = B, i = n-1..0 from the L_ji (j > i).
@@ -377,9 +369,11 @@ static void solve_core_q31(const rfe_fix_t *L, size_t n, size_t ldl, rfe_fix_t *
                            size_t ldb, int shift, int trans, uint32_t *sat)
 {
     uint32_t count = 0u;
+    rfe_q31_recip_t rec[RFE_N_MAX];
     size_t c;
     size_t u;
     size_t j;
+    diag_recips_q31(L, n, ldl, rec);
     for (c = 0u; c < ncols; ++c) {
         for (u = 0u; u < n; ++u) {
             size_t i = u;
@@ -399,7 +393,7 @@ static void solve_core_q31(const rfe_fix_t *L, size_t n, size_t ldl, rfe_fix_t *
             for (j = lo; j < hi; ++j) {
                 acc = rfe_fix_add64(acc, -rfe_fix_mul32x32(l[j * step], AT(B, ldb, j, c)), &count);
             }
-            AT(B, ldb, i, c) = rfe_q31_div_round(acc, AT(L, ldl, i, i), &count);
+            AT(B, ldb, i, c) = rfe_q31_div_round_by(acc, &rec[i], &count);
         }
     }
     rfe_q31_sat_add(sat, count);
@@ -429,6 +423,7 @@ rfe_status_t rfe_qr_solve_lower_q31(const rfe_fix_t *L, size_t n, size_t ldl, rf
                                     size_t ncols, size_t ldb, int shift, uint32_t *sat)
 {
     uint32_t count = 0u;
+    rfe_q31_recip_t rec[RFE_N_MAX];
     size_t c;
     size_t i;
     size_t j;
@@ -437,6 +432,7 @@ rfe_status_t rfe_qr_solve_lower_q31(const rfe_fix_t *L, size_t n, size_t ldl, rf
     if (st != RFE_OK) {
         return st;
     }
+    diag_recips_q31(L, n, ldl, rec);
     /* x_i = (b_i 2^shift - sum_{j<i} L_ij x_j) / L_ii, column by column; the numerator in
      * Q(qx + ql): b_i 2^shift <= 2^62, each product <= 2^62, summed with saturation. */
     for (c = 0u; c < ncols; ++c) {
@@ -446,7 +442,7 @@ rfe_status_t rfe_qr_solve_lower_q31(const rfe_fix_t *L, size_t n, size_t ldl, rf
                 acc = rfe_fix_add64(acc, -rfe_fix_mul32x32(AT(L, ldl, i, j), AT(B, ldb, j, c)),
                                     &count);
             }
-            AT(B, ldb, i, c) = rfe_q31_div_round(acc, AT(L, ldl, i, i), &count);
+            AT(B, ldb, i, c) = rfe_q31_div_round_by(acc, &rec[i], &count);
         }
     }
     rfe_q31_sat_add(sat, count);
@@ -457,6 +453,7 @@ rfe_status_t rfe_qr_solve_lower_t_q31(const rfe_fix_t *L, size_t n, size_t ldl, 
                                       size_t ncols, size_t ldb, int shift, uint32_t *sat)
 {
     uint32_t count = 0u;
+    rfe_q31_recip_t rec[RFE_N_MAX];
     size_t c;
     size_t j;
     const rfe_status_t st = check_solve_q31(L, n, ldl, B, ncols, ldb, shift, sat);
@@ -464,6 +461,7 @@ rfe_status_t rfe_qr_solve_lower_t_q31(const rfe_fix_t *L, size_t n, size_t ldl, 
     if (st != RFE_OK) {
         return st;
     }
+    diag_recips_q31(L, n, ldl, rec);
     /* x_i = (b_i 2^shift - sum_{j>i} L_ji x_j) / L_ii, from the last row up. */
     for (c = 0u; c < ncols; ++c) {
         size_t up;
@@ -474,7 +472,7 @@ rfe_status_t rfe_qr_solve_lower_t_q31(const rfe_fix_t *L, size_t n, size_t ldl, 
                 acc = rfe_fix_add64(acc, -rfe_fix_mul32x32(AT(L, ldl, j, i), AT(B, ldb, j, c)),
                                     &count);
             }
-            AT(B, ldb, i, c) = rfe_q31_div_round(acc, AT(L, ldl, i, i), &count);
+            AT(B, ldb, i, c) = rfe_q31_div_round_by(acc, &rec[i], &count);
         }
     }
     rfe_q31_sat_add(sat, count);
