@@ -131,16 +131,38 @@ void rfe_cub_centre_vec_q31(const rfe_fix_t *v, size_t ldv, rfe_fix_t mean, size
     const uint32_t c = inv_sqrt_2n_q31[n - 1u];
     const unsigned int s = (q_in + 31u) - q_out;
     const uint32_t um = (uint32_t)mean;
+    /* rfe_fix_narrow(+-p, s) on the magnitude p < 2^63 (issue 21: the same integer and
+     * count in fewer instructions): round half up is floor((p + 2^(s-1)) / 2^s) for +p and
+     * -floor((p + 2^(s-1) - 1) / 2^s) for -p (a tie rounds towards +inf), both sums below
+     * 2^64; a magnitude above RFE_FIX_MAX saturates to +-RFE_FIX_MAX (symmetric range). */
+    const uint64_t half = (s == 0u) ? 0u : ((uint64_t)1 << (s - 1u));
     size_t j;
+    if (s >= 64u) {
+        /* |p| / 2^s < 1/2: every value rounds to 0 (rfe_fix_shr64_round) */
+        for (j = 0u; j < (2u * n); ++j) {
+            out[j * ldo] = 0;
+        }
+        return;
+    }
     for (j = 0u; j < (2u * n); ++j) {
         const rfe_fix_t vj = v[j * ldv];
         /* |v - mean| as uint32: the difference modulo 2^32 of the larger minus the smaller */
         const uint32_t uv = (uint32_t)vj;
         const uint32_t up = uv - um;
         const uint32_t down = um - uv;
-        const uint32_t mag = (vj >= mean) ? up : down;
-        const int64_t p = (int64_t)rfe_fix_umul32x32(mag, c); /* < 2^63: exact */
-        out[j * ldo] = rfe_fix_narrow((vj >= mean) ? p : -p, s, sat);
+        const int neg = (vj < mean) ? 1 : 0;
+        const uint32_t mag = (neg == 0) ? up : down;
+        const uint64_t p = rfe_fix_umul32x32(mag, c); /* < 2^63: exact */
+        const uint64_t r = (neg == 0) ? ((p + half) >> s)
+                                      : ((p + half - ((half != 0u) ? 1u : 0u)) >> s);
+        rfe_fix_t o;
+        if (r > (uint64_t)RFE_FIX_MAX) {
+            rfe_fix_count_sat(sat);
+            o = RFE_FIX_MAX;
+        } else {
+            o = (rfe_fix_t)r;
+        }
+        out[j * ldo] = (neg == 0) ? o : -o;
     }
 }
 

@@ -149,6 +149,42 @@ static inline int64_t mul_c_x(int64_t dot, uint64_t cm, rfe_fix_t x)
     return r;
 }
 
+/* sat32(a - round(p / 2^C_FRAC)) (half up) for |p| < 2^62: a reflected element. Where the
+ * core has no 64-bit shift (RFE_FIX_MUL64_W16: the Cortex-M0+, whose -Os build called an
+ * out-of-line rfe_fix_shr64_round and rfe_fix_sat32 for every element) in 32-bit words:
+ * round(p / 2^30) = floor((p + 2^29) / 2^30) (no overflow: |p| < 2^62) by the constant
+ * shift of the offset-binary words, then the int64 difference saturated inline. The same
+ * integer and count as the int64 form (test_qr_div_w16_q31.c compares them); elsewhere the
+ * int64 form itself. */
+static RFE_FIX_INLINE_ALWAYS rfe_fix_t sub_round_c(rfe_fix_t a, int64_t p, uint32_t *sat)
+{
+#if RFE_FIX_MUL64_W16
+    /* offset binary (as rfe_fix_shr64_floor_w32, with the constant shift): w = p + 2^29 +
+     * 2^63 in [0, 2^64), floor(w / 2^30) < 2^34 from its words, minus 2^33 */
+    const uint64_t w = (uint64_t)(p + ((int64_t)1 << (C_FRAC - 1u)));
+    const uint32_t hi = (uint32_t)(w >> 32) ^ 0x80000000u;
+    const uint32_t lo = (uint32_t)w;
+    const uint32_t rl = (lo >> C_FRAC) | (hi << (32u - C_FRAC));
+    const uint32_t rh = hi >> C_FRAC;
+    const int64_t q = (int64_t)(((uint64_t)rh << 32) | (uint64_t)rl) -
+                      ((int64_t)1 << (63u - C_FRAC));
+    const int64_t d = (int64_t)a - q;
+    rfe_fix_t r;
+    if (d > (int64_t)RFE_FIX_MAX) {
+        rfe_fix_count_sat(sat);
+        r = RFE_FIX_MAX;
+    } else if (d < (int64_t)RFE_FIX_MIN) {
+        rfe_fix_count_sat(sat);
+        r = RFE_FIX_MIN;
+    } else {
+        r = (rfe_fix_t)d;
+    }
+    return r;
+#else
+    return rfe_fix_sat32((int64_t)a - rfe_fix_shr64_round(p, C_FRAC), sat);
+#endif
+}
+
 /* Reflection k, on normalised tails: row k's tail x (length len, starting at column k) is
  * mapped onto (-sign(x0) |x|, 0, ..., 0) and every other row i > k with a non-zero tail gets
  * a <- a - c v, c = 2 a.v / v.v, v = x + sign(x0) |x| e0. Returns the unrounded diagonal
@@ -195,10 +231,9 @@ static int64_t reflect(rfe_fix_t *A, size_t rows, size_t lda, size_t k, size_t l
             /* c in Q30: round(2 a.v 2^30 / v.v), magnitude below 2^32 */
             cm = div_shl32(rfe_q31_mag64_any(dot), vtv); /* C_FRAC + 1 = 31 */
             c = (dot < 0) ? -(int64_t)cm : (int64_t)cm;
-            a[0] = rfe_fix_sat32((int64_t)a[0] - rfe_fix_shr64_round(c * v0, C_FRAC), sat);
+            a[0] = sub_round_c(a[0], c * v0, sat);
             for (j = 1u; j < len; ++j) {
-                a[j] = rfe_fix_sat32(
-                    (int64_t)a[j] - rfe_fix_shr64_round(mul_c_x(dot, cm, x[j]), C_FRAC), sat);
+                a[j] = sub_round_c(a[j], mul_c_x(dot, cm, x[j]), sat);
             }
         }
     }
