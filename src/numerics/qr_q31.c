@@ -149,16 +149,15 @@ static inline int64_t mul_c_x(int64_t dot, uint64_t cm, rfe_fix_t x)
     return r;
 }
 
-/* sat32(a - round(p / 2^C_FRAC)) (half up) for |p| < 2^62: a reflected element. Where the
- * core has no 64-bit shift (RFE_FIX_MUL64_W16: the Cortex-M0+, whose -Os build called an
- * out-of-line rfe_fix_shr64_round and rfe_fix_sat32 for every element) in 32-bit words:
- * round(p / 2^30) = floor((p + 2^29) / 2^30) (no overflow: |p| < 2^62) by the constant
- * shift of the offset-binary words, then the int64 difference saturated inline. The same
- * integer and count as the int64 form (test_qr_div_w16_q31.c compares them); elsewhere the
- * int64 form itself. */
+/* sat32(a - round(p / 2^C_FRAC)) (half up) for |p| < 2^62: a reflected element, in 32-bit
+ * words: round(p / 2^30) = floor((p + 2^29) / 2^30) (no overflow: |p| < 2^62) by the
+ * constant shift of the offset-binary words, then the int64 difference saturated inline.
+ * The Cortex-M0+'s -Os build had called an out-of-line rfe_fix_shr64_round and
+ * rfe_fix_sat32 for every element (and the M3/M4 take a few instructions fewer too). The
+ * same integer and count as sat32(a - rfe_fix_shr64_round(p, 30)) (test_qr_div_w16_q31.c
+ * compares them). */
 static RFE_FIX_INLINE_ALWAYS rfe_fix_t sub_round_c(rfe_fix_t a, int64_t p, uint32_t *sat)
 {
-#if RFE_FIX_MUL64_W16
     /* offset binary (as rfe_fix_shr64_floor_w32, with the constant shift): w = p + 2^29 +
      * 2^63 in [0, 2^64), floor(w / 2^30) < 2^34 from its words, minus 2^33 */
     const uint64_t w = (uint64_t)(p + ((int64_t)1 << (C_FRAC - 1u)));
@@ -180,9 +179,6 @@ static RFE_FIX_INLINE_ALWAYS rfe_fix_t sub_round_c(rfe_fix_t a, int64_t p, uint3
         r = (rfe_fix_t)d;
     }
     return r;
-#else
-    return rfe_fix_sat32((int64_t)a - rfe_fix_shr64_round(p, C_FRAC), sat);
-#endif
 }
 
 /* Reflection k, on normalised tails: row k's tail x (length len, starting at column k) is
