@@ -93,7 +93,7 @@ rfe_status_t rfe_obsmat_apply_q31(const rfe_fix_t H[RFE_H_Q31_SIZE],
             l += (uint32_t)((uint64_t)p & 3u);
         }
         out[r] = rfe_fix_sat32(
-            rfe_fix_shr64_floor((q + ((int64_t)1 << 26)) + (int64_t)(l >> 2), 27u), &count);
+            rfe_fix_shr64_floor((q + rfe_q31_pow2(26u)) + (int64_t)(l >> 2), 27u), &count);
     }
     for (r = 0u; r < (size_t)RFE_MEAS; ++r) {
         y[r] = out[r];

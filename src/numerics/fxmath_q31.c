@@ -932,12 +932,14 @@ void rfe_q31_recip_init(rfe_q31_recip_t *r, rfe_fix_t den)
     const uint32_t d32 = (uint32_t)den; /* den > 0 */
     const uint32_t s = 32u - rfe_q31_bitlen32(d32);
     const uint32_t d = d32 << s;
+    /* floor((2^64 - 1) / d) - 2^32 = floor(((2^32 - 1 - d) 2^32 + 2^32 - 1) / d): the high
+     * word ~d is below d (d >= 2^31), so the quotient fits 32 bits */
+    const uint32_t nd = ~d;
+    const uint64_t top = (uint64_t)nd << 32;
     r->den = d32;
     r->d = d;
     r->s = s;
-    /* floor((2^64 - 1) / d) - 2^32 = floor(((2^32 - 1 - d) 2^32 + 2^32 - 1) / d): the high
-     * word ~d is below d (d >= 2^31), so the quotient fits 32 bits */
-    r->v = rfe_q31_udiv64_32((((uint64_t)~d) << 32) | (uint64_t)0xFFFFFFFFu, d);
+    r->v = rfe_q31_udiv64_32(top | (uint64_t)0xFFFFFFFFu, d);
 }
 
 /* mag = |num| < den 2^32: u = mag 2^s < d 2^32 (u1 < d), so Moller-Granlund's algorithm 4

@@ -160,13 +160,14 @@ static RFE_FIX_INLINE_ALWAYS rfe_fix_t sub_round_c(rfe_fix_t a, int64_t p, uint3
 {
     /* offset binary (as rfe_fix_shr64_floor_w32, with the constant shift): w = p + 2^29 +
      * 2^63 in [0, 2^64), floor(w / 2^30) < 2^34 from its words, minus 2^33 */
-    const uint64_t w = (uint64_t)(p + ((int64_t)1 << (C_FRAC - 1u)));
+    const int64_t ph = p + rfe_q31_pow2(C_FRAC - 1u);
+    const uint64_t w = (uint64_t)ph;
     const uint32_t hi = (uint32_t)(w >> 32) ^ 0x80000000u;
     const uint32_t lo = (uint32_t)w;
     const uint32_t rl = (lo >> C_FRAC) | (hi << (32u - C_FRAC));
     const uint32_t rh = hi >> C_FRAC;
-    const int64_t q = (int64_t)(((uint64_t)rh << 32) | (uint64_t)rl) -
-                      ((int64_t)1 << (63u - C_FRAC));
+    const uint64_t rw = ((uint64_t)rh << 32) | (uint64_t)rl; /* < 2^34 */
+    const int64_t q = (int64_t)rw - rfe_q31_pow2(63u - C_FRAC);
     const int64_t d = (int64_t)a - q;
     rfe_fix_t r;
     if (d > (int64_t)RFE_FIX_MAX) {
