@@ -131,16 +131,46 @@ void rfe_cub_centre_vec_q31(const rfe_fix_t *v, size_t ldv, rfe_fix_t mean, size
     const uint32_t c = inv_sqrt_2n_q31[n - 1u];
     const unsigned int s = (q_in + 31u) - q_out;
     const uint32_t um = (uint32_t)mean;
+    /* rfe_fix_narrow(+-p, s) on the magnitude p < 2^63 (issue 21: the same integer and
+     * count in fewer instructions): round half up is floor((p + 2^(s-1)) / 2^s) for +p and
+     * -floor((p + 2^(s-1) - 1) / 2^s) for -p (a tie rounds towards +inf), both sums below
+     * 2^64; a magnitude above RFE_FIX_MAX saturates to +-RFE_FIX_MAX (symmetric range). */
+    uint64_t half = 0u; /* 2^(s-1), 0 for s = 0 */
+    uint64_t tie = 0u;  /* 1 where half is 2^(s-1) */
     size_t j;
+    if (s >= 64u) {
+        /* |p| / 2^s < 1/2: every value rounds to 0 (rfe_fix_shr64_round) */
+        for (j = 0u; j < (2u * n); ++j) {
+            out[j * ldo] = 0;
+        }
+        return;
+    }
+    if (s > 0u) {
+        const unsigned int s1 = s - 1u;
+        half = (uint64_t)1 << s1;
+        tie = 1u;
+    }
     for (j = 0u; j < (2u * n); ++j) {
         const rfe_fix_t vj = v[j * ldv];
-        /* |v - mean| as uint32: the difference modulo 2^32 of the larger minus the smaller */
+        /* |v - mean| as uint32: the difference modulo 2^32 of the larger minus the smaller;
+         * its product with c < 2^63, exact */
         const uint32_t uv = (uint32_t)vj;
-        const uint32_t up = uv - um;
-        const uint32_t down = um - uv;
-        const uint32_t mag = (vj >= mean) ? up : down;
-        const int64_t p = (int64_t)rfe_fix_umul32x32(mag, c); /* < 2^63: exact */
-        out[j * ldo] = rfe_fix_narrow((vj >= mean) ? p : -p, s, sat);
+        uint64_t r;
+        rfe_fix_t o;
+        if (vj >= mean) {
+            const uint32_t up = uv - um;
+            r = (rfe_fix_umul32x32(up, c) + half) >> s;
+        } else {
+            const uint32_t down = um - uv;
+            r = (rfe_fix_umul32x32(down, c) + (half - tie)) >> s;
+        }
+        if (r > (uint64_t)RFE_FIX_MAX) {
+            rfe_fix_count_sat(sat);
+            o = RFE_FIX_MAX;
+        } else {
+            o = (rfe_fix_t)r;
+        }
+        out[j * ldo] = (vj >= mean) ? o : -o;
     }
 }
 

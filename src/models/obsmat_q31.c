@@ -78,18 +78,22 @@ rfe_status_t rfe_obsmat_apply_q31(const rfe_fix_t H[RFE_H_Q31_SIZE],
         return RFE_ERR_NULL;
     }
     for (r = 0u; r < (size_t)RFE_MEAS; ++r) {
-        /* Each product H x (Q24 x Q29 = Q53, |.| <= 2^62) is split as hi 2^29 + lo with
-         * 0 <= lo < 2^29; the four hi (< 2^33.1 each) and lo sum without overflow, and
-         * sum = hi_sum 2^29 + lo_sum is rounded half up to Q24 exactly once. */
-        int64_t hi = 0;
-        int64_t lo = 0;
+        /* Each product p = H x (Q24 x Q29 = Q53, |p| <= 2^62; 32 x 32 -> 64) is split as
+         * p = 4 q + l, q = floor(p / 4), 0 <= l < 4: the four q (|q| <= 2^60) sum to S
+         * (|S| <= 2^62) and the four l to L <= 12 without overflow, and the sum 4 S + L is
+         * rounded half up to Q24 exactly once: floor((4 S + L + 2^28) / 2^29) =
+         * floor((S + 2^26 + floor(L / 4)) / 2^27) (4 S + L + 2^28 = 4 (S + 2^26) + L). The
+         * same integer as the split at 2^29 it replaced (issue 21: fewer 64-bit operations,
+         * and no libgcc 64-bit multiply on the Cortex-M0+). */
+        int64_t q = 0;
+        uint32_t l = 0u;
         for (i = 0u; i < (size_t)RFE_WHEELS; ++i) {
-            const int64_t p = (int64_t)H[RFE_H_Q31_AT(r, i)] * (int64_t)x[i];
-            const int64_t ph = rfe_fix_shr64_floor(p, 29u);
-            hi += ph;
-            lo += p - (ph * rfe_q31_pow2(29u));
+            const int64_t p = rfe_fix_mul32x32(H[RFE_H_Q31_AT(r, i)], x[i]);
+            q += rfe_fix_shr64_floor(p, 2u);
+            l += (uint32_t)((uint64_t)p & 3u);
         }
-        out[r] = rfe_fix_sat32(hi + rfe_fix_shr64_round(lo, 29u), &count);
+        out[r] = rfe_fix_sat32(
+            rfe_fix_shr64_floor((q + rfe_q31_pow2(26u)) + (int64_t)(l >> 2), 27u), &count);
     }
     for (r = 0u; r < (size_t)RFE_MEAS; ++r) {
         y[r] = out[r];

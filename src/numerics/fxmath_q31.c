@@ -927,6 +927,63 @@ rfe_fix_t rfe_q31_div_round(int64_t num, rfe_fix_t den, uint32_t *sat)
     return (rfe_fix_t)((num < 0) ? -r : r);
 }
 
+void rfe_q31_recip_init(rfe_q31_recip_t *r, rfe_fix_t den)
+{
+    const uint32_t d32 = (uint32_t)den; /* den > 0 */
+    const uint32_t s = 32u - rfe_q31_bitlen32(d32);
+    const uint32_t d = d32 << s;
+    /* floor((2^64 - 1) / d) - 2^32 = floor(((2^32 - 1 - d) 2^32 + 2^32 - 1) / d): the high
+     * word ~d is below d (d >= 2^31), so the quotient fits 32 bits */
+    const uint32_t nd = ~d;
+    const uint64_t top = (uint64_t)nd << 32;
+    r->den = d32;
+    r->d = d;
+    r->s = s;
+    r->v = rfe_q31_udiv64_32(top | (uint64_t)0xFFFFFFFFu, d);
+}
+
+/* mag = |num| < den 2^32: u = mag 2^s < d 2^32 (u1 < d), so Moller-Granlund's algorithm 4
+ * gives q = floor(u / d) = floor(mag / den) and the remainder R = (mag mod den) 2^s: the
+ * candidate q1 = (high word of v u1 + u) + 1 is q, q + 1 or (rarely) q - 1, the first test
+ * (R > low word) takes one off, the second (R >= d) adds one. Rounded half up on the
+ * magnitude as rfe_q31_div_round (2 rem >= den <=> R >= d - R), then saturated. A quotient
+ * of 2^32 or more (mag >> 32 >= den) saturates there too, and does here without dividing. */
+rfe_fix_t rfe_q31_div_round_by(int64_t num, const rfe_q31_recip_t *r, uint32_t *sat)
+{
+    const uint64_t mag = rfe_q31_mag64_any(num);
+    const uint32_t hi = (uint32_t)(mag >> 32);
+    const uint32_t lo = (uint32_t)mag;
+    uint64_t q;
+    int64_t res;
+    if (hi >= r->den) {
+        q = (uint64_t)1 << 32;
+    } else {
+        const uint32_t u1 = (r->s == 0u) ? hi : ((hi << r->s) | (lo >> (32u - r->s)));
+        const uint32_t u0 = lo << r->s;
+        const uint64_t p = rfe_fix_umul32x32(r->v, u1) + ((((uint64_t)u1) << 32) | u0);
+        uint32_t q1 = (uint32_t)(p >> 32) + 1u;
+        uint32_t rem = u0 - (q1 * r->d);
+        if (rem > (uint32_t)p) {
+            q1 -= 1u;
+            rem += r->d;
+        }
+        if (rem >= r->d) {
+            q1 += 1u;
+            rem -= r->d;
+        }
+        q = (uint64_t)q1;
+        if (rem >= (r->d - rem)) {
+            q += 1u;
+        }
+    }
+    if (q > (uint64_t)RFE_FIX_MAX) {
+        rfe_fix_count_sat(sat);
+        q = (uint64_t)RFE_FIX_MAX;
+    }
+    res = (int64_t)q;
+    return (rfe_fix_t)((num < 0) ? -res : res);
+}
+
 /* ---- the estimators' angle functions (fxmath_internal_q31.h) ------------------------------ */
 
 /* pi in Q31, round(pi 2^31) = round(6746518852.26). */

@@ -396,6 +396,25 @@ static inline uint64_t rfe_q31_div_shl32_round(uint64_t n, uint64_t d)
  *  out of line, one copy of its 32-bit division path for every caller). */
 rfe_fix_t rfe_q31_div_round(int64_t num, rfe_fix_t den, uint32_t *sat);
 
+/** A divisor den > 0 prepared once for many rfe_q31_div_round_by (the triangular solves divide
+ *  every column by the same diagonal entry): d = den 2^s with its top bit set and Moller and
+ *  Granlund's reciprocal v = floor((2^64 - 1) / d) - 2^32 ("Improved division by invariant
+ *  integers", IEEE Trans. Computers 60(2), 2011, algorithm 4). */
+typedef struct {
+    uint32_t den; /* the divisor */
+    uint32_t d;   /* den 2^s, normalised */
+    uint32_t v;   /* the reciprocal of d */
+    uint32_t s;   /* the normalising shift, 0..31 */
+} rfe_q31_recip_t;
+
+/** Prepares den > 0 (one 64-by-32 division; fxmath_q31.c). */
+void rfe_q31_recip_init(rfe_q31_recip_t *r, rfe_fix_t den);
+
+/** rfe_q31_div_round(num, r->den, sat), the same integer and count, with the quotient from
+ *  the reciprocal: one 32 x 32 -> 64 product and at most two corrections instead of a
+ *  division (fxmath_q31.c). */
+rfe_fix_t rfe_q31_div_round_by(int64_t num, const rfe_q31_recip_t *r, uint32_t *sat);
+
 /** round(sqrt(x)) for every uint64 (<= 2^32): floor root r from rfe_fix_isqrt64, plus one
  *  exactly when x - r^2 > r (sqrt(x) is never a half-integer). */
 static inline uint64_t rfe_q31_sqrt_round(uint64_t x)

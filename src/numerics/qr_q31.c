@@ -25,24 +25,6 @@
 /* Fractional bits of the reflection coefficient c. */
 #define C_FRAC 30u
 
-/* Number of significant bits of v (0 for v = 0), by halving the search window: six
- * comparisons instead of one shift per bit. */
-static unsigned int bit_length_q31(uint64_t v)
-{
-    static const unsigned int widths[6] = {32u, 16u, 8u, 4u, 2u, 1u};
-    unsigned int len = 0u;
-    uint64_t r = v;
-    size_t i;
-    for (i = 0u; i < 6u; ++i) {
-        const uint64_t high = r >> widths[i];
-        if (high != 0u) {
-            r = high;
-            len += widths[i];
-        }
-    }
-    return len + (unsigned int)r; /* r is now 0 or 1 */
-}
-
 /* The sum of squares of t[0..len), exactly in two uint64 limbs (each square <= 2^62, at
  * most 24 of them): the low one returned, carries added to *hi. */
 static uint64_t tail_squares(const rfe_fix_t *t, size_t len, uint64_t *hi)
@@ -74,7 +56,7 @@ static int tail_shift(const rfe_fix_t *t, size_t len, int *shift, uint64_t *ss)
         return 0;
     }
     /* bit length of the 128-bit sum; floor(log2 sqrt(ss)) = floor((bits - 1) / 2) */
-    bits = (hi != 0u) ? (64u + bit_length_q31(hi)) : bit_length_q31(lo);
+    bits = (hi != 0u) ? (64u + rfe_q31_bitlen64(hi)) : rfe_q31_bitlen64(lo);
     half = (bits - 1u) / 2u;
     *shift = NORM_LO - (int)half;
     return 1;
@@ -167,6 +149,39 @@ static inline int64_t mul_c_x(int64_t dot, uint64_t cm, rfe_fix_t x)
     return r;
 }
 
+/* sat32(a - round(p / 2^C_FRAC)) (half up) for |p| < 2^62: a reflected element, in 32-bit
+ * words: round(p / 2^30) = floor((p + 2^29) / 2^30) (no overflow: |p| < 2^62) by the
+ * constant shift of the offset-binary words, then the int64 difference saturated inline.
+ * The Cortex-M0+'s -Os build had called an out-of-line rfe_fix_shr64_round and
+ * rfe_fix_sat32 for every element (and the M3/M4 take a few instructions fewer too). The
+ * same integer and count as sat32(a - rfe_fix_shr64_round(p, 30)) (test_qr_div_w16_q31.c
+ * compares them). */
+static RFE_FIX_INLINE_ALWAYS rfe_fix_t sub_round_c(rfe_fix_t a, int64_t p, uint32_t *sat)
+{
+    /* offset binary (as rfe_fix_shr64_floor_w32, with the constant shift): w = p + 2^29 +
+     * 2^63 in [0, 2^64), floor(w / 2^30) < 2^34 from its words, minus 2^33 */
+    const int64_t ph = p + rfe_q31_pow2(C_FRAC - 1u);
+    const uint64_t w = (uint64_t)ph;
+    const uint32_t hi = (uint32_t)(w >> 32) ^ 0x80000000u;
+    const uint32_t lo = (uint32_t)w;
+    const uint32_t rl = (lo >> C_FRAC) | (hi << (32u - C_FRAC));
+    const uint32_t rh = hi >> C_FRAC;
+    const uint64_t rw = ((uint64_t)rh << 32) | (uint64_t)rl; /* < 2^34 */
+    const int64_t q = (int64_t)rw - rfe_q31_pow2(63u - C_FRAC);
+    const int64_t d = (int64_t)a - q;
+    rfe_fix_t r;
+    if (d > (int64_t)RFE_FIX_MAX) {
+        rfe_fix_count_sat(sat);
+        r = RFE_FIX_MAX;
+    } else if (d < (int64_t)RFE_FIX_MIN) {
+        rfe_fix_count_sat(sat);
+        r = RFE_FIX_MIN;
+    } else {
+        r = (rfe_fix_t)d;
+    }
+    return r;
+}
+
 /* Reflection k, on normalised tails: row k's tail x (length len, starting at column k) is
  * mapped onto (-sign(x0) |x|, 0, ..., 0) and every other row i > k with a non-zero tail gets
  * a <- a - c v, c = 2 a.v / v.v, v = x + sign(x0) |x| e0. Returns the unrounded diagonal
@@ -213,10 +228,9 @@ static int64_t reflect(rfe_fix_t *A, size_t rows, size_t lda, size_t k, size_t l
             /* c in Q30: round(2 a.v 2^30 / v.v), magnitude below 2^32 */
             cm = div_shl32(rfe_q31_mag64_any(dot), vtv); /* C_FRAC + 1 = 31 */
             c = (dot < 0) ? -(int64_t)cm : (int64_t)cm;
-            a[0] = rfe_fix_sat32((int64_t)a[0] - rfe_fix_shr64_round(c * v0, C_FRAC), sat);
+            a[0] = sub_round_c(a[0], c * v0, sat);
             for (j = 1u; j < len; ++j) {
-                a[j] = rfe_fix_sat32(
-                    (int64_t)a[j] - rfe_fix_shr64_round(mul_c_x(dot, cm, x[j]), C_FRAC), sat);
+                a[j] = sub_round_c(a[j], mul_c_x(dot, cm, x[j]), sat);
             }
         }
     }
@@ -366,6 +380,16 @@ static rfe_status_t check_solve_q31(const rfe_fix_t *L, size_t n, size_t ldl, co
     return RFE_OK;
 }
 
+/* The reciprocals of the checked diagonal L_ii > 0 (i < n): every column divides by them
+ * (rfe_q31_div_round_by, the same integers as rfe_q31_div_round). */
+static void diag_recips_q31(const rfe_fix_t *L, size_t n, size_t ldl, rfe_q31_recip_t *rec)
+{
+    size_t i;
+    for (i = 0u; i < n; ++i) {
+        rfe_q31_recip_init(&rec[i], AT(L, ldl, i, i));
+    }
+}
+
 #if RFE_FIX_MUL64_W16
 /* The two substitutions in one body (checked arguments): trans = 0, L X = B, x_i for
  * i = 0..n-1 from the L_ij (j < i); trans = 1, L^T X = B, i = n-1..0 from the L_ji (j > i).
@@ -377,9 +401,11 @@ static void solve_core_q31(const rfe_fix_t *L, size_t n, size_t ldl, rfe_fix_t *
                            size_t ldb, int shift, int trans, uint32_t *sat)
 {
     uint32_t count = 0u;
+    rfe_q31_recip_t rec[RFE_N_MAX];
     size_t c;
     size_t u;
     size_t j;
+    diag_recips_q31(L, n, ldl, rec);
     for (c = 0u; c < ncols; ++c) {
         for (u = 0u; u < n; ++u) {
             size_t i = u;
@@ -399,7 +425,7 @@ static void solve_core_q31(const rfe_fix_t *L, size_t n, size_t ldl, rfe_fix_t *
             for (j = lo; j < hi; ++j) {
                 acc = rfe_fix_add64(acc, -rfe_fix_mul32x32(l[j * step], AT(B, ldb, j, c)), &count);
             }
-            AT(B, ldb, i, c) = rfe_q31_div_round(acc, AT(L, ldl, i, i), &count);
+            AT(B, ldb, i, c) = rfe_q31_div_round_by(acc, &rec[i], &count);
         }
     }
     rfe_q31_sat_add(sat, count);
@@ -429,6 +455,7 @@ rfe_status_t rfe_qr_solve_lower_q31(const rfe_fix_t *L, size_t n, size_t ldl, rf
                                     size_t ncols, size_t ldb, int shift, uint32_t *sat)
 {
     uint32_t count = 0u;
+    rfe_q31_recip_t rec[RFE_N_MAX];
     size_t c;
     size_t i;
     size_t j;
@@ -437,6 +464,7 @@ rfe_status_t rfe_qr_solve_lower_q31(const rfe_fix_t *L, size_t n, size_t ldl, rf
     if (st != RFE_OK) {
         return st;
     }
+    diag_recips_q31(L, n, ldl, rec);
     /* x_i = (b_i 2^shift - sum_{j<i} L_ij x_j) / L_ii, column by column; the numerator in
      * Q(qx + ql): b_i 2^shift <= 2^62, each product <= 2^62, summed with saturation. */
     for (c = 0u; c < ncols; ++c) {
@@ -446,7 +474,7 @@ rfe_status_t rfe_qr_solve_lower_q31(const rfe_fix_t *L, size_t n, size_t ldl, rf
                 acc = rfe_fix_add64(acc, -rfe_fix_mul32x32(AT(L, ldl, i, j), AT(B, ldb, j, c)),
                                     &count);
             }
-            AT(B, ldb, i, c) = rfe_q31_div_round(acc, AT(L, ldl, i, i), &count);
+            AT(B, ldb, i, c) = rfe_q31_div_round_by(acc, &rec[i], &count);
         }
     }
     rfe_q31_sat_add(sat, count);
@@ -457,6 +485,7 @@ rfe_status_t rfe_qr_solve_lower_t_q31(const rfe_fix_t *L, size_t n, size_t ldl, 
                                       size_t ncols, size_t ldb, int shift, uint32_t *sat)
 {
     uint32_t count = 0u;
+    rfe_q31_recip_t rec[RFE_N_MAX];
     size_t c;
     size_t j;
     const rfe_status_t st = check_solve_q31(L, n, ldl, B, ncols, ldb, shift, sat);
@@ -464,6 +493,7 @@ rfe_status_t rfe_qr_solve_lower_t_q31(const rfe_fix_t *L, size_t n, size_t ldl, 
     if (st != RFE_OK) {
         return st;
     }
+    diag_recips_q31(L, n, ldl, rec);
     /* x_i = (b_i 2^shift - sum_{j>i} L_ji x_j) / L_ii, from the last row up. */
     for (c = 0u; c < ncols; ++c) {
         size_t up;
@@ -474,7 +504,7 @@ rfe_status_t rfe_qr_solve_lower_t_q31(const rfe_fix_t *L, size_t n, size_t ldl, 
                 acc = rfe_fix_add64(acc, -rfe_fix_mul32x32(AT(L, ldl, j, i), AT(B, ldb, j, c)),
                                     &count);
             }
-            AT(B, ldb, i, c) = rfe_q31_div_round(acc, AT(L, ldl, i, i), &count);
+            AT(B, ldb, i, c) = rfe_q31_div_round_by(acc, &rec[i], &count);
         }
     }
     rfe_q31_sat_add(sat, count);

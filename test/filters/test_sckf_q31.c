@@ -1684,10 +1684,12 @@ static void test_rfe_sckf_q31_deterministic(void **state)
  * scalar rfe_cub_centre_q31's integers (the int64 product) and saturation count, exactly,
  * for every n = 1..8 and the filter's three format pairs, over random values and means and
  * the extremes (|v - mean| up to 2^32 - 1, ties of the rounding where the product is a
- * multiple of 2^(s - 1)), strided and in place. */
+ * multiple of 2^(s - 1)), strided and in place; also at the rounding shifts s = 0, 21 and 62
+ * (the vector form rounds the magnitude with its own tie rule for negative values). */
 static void test_rfe_cub_centre_vec_q31_matches_scalar(void **state)
 {
-    static const unsigned int q[3][2] = {{29u, 30u}, {24u, 24u}, {30u, 31u}};
+    static const unsigned int q[6][2] = {{29u, 30u}, {24u, 24u}, {30u, 31u},
+                                         {0u, 31u}, {31u, 0u}, {10u, 20u}};
     static const rfe_fix_t edge[6] = {INT32_MIN, INT32_MIN + 1, -1, 0, 1, INT32_MAX};
     rfe_fix_t v[16 * 3];
     rfe_fix_t got[16 * 2];
@@ -1698,7 +1700,7 @@ static void test_rfe_cub_centre_vec_q31_matches_scalar(void **state)
     rng_seed(0xCE17ull);
     for (k = 0; k < 600; ++k) {
         for (n = 1u; n <= 8u; ++n) {
-            for (f = 0u; f < 3u; ++f) {
+            for (f = 0u; f < 6u; ++f) {
                 const rfe_fix_t mean = ((k % 5) == 0) ? edge[(size_t)k % 6u]
                                                       : (rfe_fix_t)(rng_uniform() * 2147483647.0);
                 uint32_t sat_ref = 0u;

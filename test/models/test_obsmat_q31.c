@@ -272,11 +272,14 @@ static void test_obsmat_q31_apply(void **state)
         size_t i, r;
         const int wide = (n % 4 == 0);
         for (i = 0; i < 12; ++i) {
-            Hq[i] = wide ? (int32_t)floor(ldexp(rng_uniform(), 31)) : toq(uni(-20, 20), 24);
+            /* the wide quarter with both signs (every second draw of it negated) */
+            Hq[i] = wide ? (int32_t)floor(ldexp(rng_uniform(), 31)) * ((n % 8 == 0) ? -1 : 1)
+                         : toq(uni(-20, 20), 24);
             Hd[i] = fromq(Hq[i], 24);
         }
         for (i = 0; i < 4; ++i) {
-            xq[i] = wide ? (int32_t)floor(ldexp(rng_uniform(), 31)) : toq(uni(-0.5, 1.5), 29);
+            xq[i] = wide ? (int32_t)floor(ldexp(rng_uniform(), 31)) * ((i % 2u == 0u) ? -1 : 1)
+                         : toq(uni(-0.5, 1.5), 29);
             xd[i] = fromq(xq[i], 29);
         }
         assert_int_equal(rfe_obsmat_apply_q31(Hq, xq, yq, &sat), RFE_OK);
@@ -300,6 +303,32 @@ static void test_obsmat_q31_apply(void **state)
         assert_int_equal(sat, ref_sat);
 #endif
     }
+#if defined(__SIZEOF_INT128__)
+    {
+        /* the extremes: four products of 2^62 (a sum of 2^64), of -2^62 + 2^31, and mixed */
+        static const int32_t ext[3] = {INT32_MIN, INT32_MAX, -INT32_MAX};
+        size_t a;
+        size_t b;
+        for (a = 0u; a < 3u; ++a) {
+            for (b = 0u; b < 3u; ++b) {
+                int32_t He[12], xe[4], ye[3];
+                uint32_t sat = 0u, ref_sat = 0u;
+                size_t i;
+                for (i = 0; i < 12; ++i) {
+                    He[i] = (i % 4u == 3u) ? ext[b] : ext[a];
+                }
+                for (i = 0; i < 4; ++i) {
+                    xe[i] = ext[(a + i) % 3u];
+                }
+                assert_int_equal(rfe_obsmat_apply_q31(He, xe, ye, &sat), RFE_OK);
+                for (i = 0; i < 3; ++i) {
+                    assert_int_equal(ye[i], ref_apply_row(&He[4 * i], xe, &ref_sat));
+                }
+                assert_int_equal(sat, ref_sat);
+            }
+        }
+    }
+#endif
     printf("random H x: 100000 (a quarter over the whole int32 range)\n");
     report(&w_y);
 }

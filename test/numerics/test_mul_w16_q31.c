@@ -161,6 +161,64 @@ static void test_div_round_paths(void **state)
     }
 }
 
+/* rfe_q31_div_round_by (the reciprocal of an invariant divisor, Moller-Granlund) against the
+ * 64-bit division: every result and count equal, at the edges above, at the ties and their
+ * neighbours (num = q den + floor(den / 2) + {-1, 0, 1}, where the rounding turns) for
+ * quotients up to and around 2^31 and 2^32, and on random operands. */
+/* REQ-FXP-001 */
+static void check_div_by(int64_t num, int32_t den, const rfe_q31_recip_t *r)
+{
+    uint32_t sat = 0u;
+    uint32_t want_sat = 0u;
+    const int32_t want = ref_div_round(num, den, &want_sat);
+    assert_int_equal(rfe_q31_div_round_by(num, r, &sat), want);
+    assert_int_equal(sat, want_sat);
+}
+
+static void test_div_round_by(void **state)
+{
+    static const int64_t nums[] = {0, 1, -1, 2, -3, 5, -5, INT32_MAX, INT32_MIN,
+                                   ((int64_t)1 << 32) - 1, (int64_t)1 << 32, -((int64_t)1 << 32),
+                                   ((int64_t)1 << 62) + 12345, INT64_MAX, INT64_MIN,
+                                   -INT64_MAX};
+    static const int32_t dens[] = {1, 2, 3, 7, 0xFFFF, 0x10000, 0x40000000, 0x7FFFFFFE,
+                                   INT32_MAX};
+    static const uint64_t quots[] = {0u, 1u, 2u, 0x7FFFFFFEu, 0x7FFFFFFFu, 0x80000000u,
+                                     0xFFFFFFFEu, 0xFFFFFFFFu};
+    int k;
+    size_t i;
+    size_t j;
+    (void)state;
+    for (j = 0u; j < sizeof dens / sizeof dens[0]; ++j) {
+        rfe_q31_recip_t r;
+        rfe_q31_recip_init(&r, dens[j]);
+        for (i = 0u; i < sizeof nums / sizeof nums[0]; ++i) {
+            check_div_by(nums[i], dens[j], &r);
+        }
+        for (i = 0u; i < sizeof quots / sizeof quots[0]; ++i) {
+            const uint64_t base = (quots[i] * (uint64_t)dens[j]) + ((uint64_t)dens[j] / 2u);
+            int64_t t;
+            for (t = -1; t <= 1; ++t) {
+                const int64_t num = (int64_t)base + t;
+                if (num >= 0) {
+                    check_div_by(num, dens[j], &r);
+                    check_div_by(-num, dens[j], &r);
+                }
+            }
+        }
+    }
+    rng_seed(2115u);
+    for (k = 0; k < 400000; k += LIGHT_STEP) {
+        const unsigned int bits = rand_u32() % 64u;
+        const uint64_t m = (((uint64_t)rand_u32() << 32) | rand_u32()) >> (63u - bits) >> 1;
+        const int64_t num = ((k & 1) != 0) ? -(int64_t)m : (int64_t)m;
+        const int32_t den = (int32_t)(1u + ((rand_u32() >> (rand_u32() % 32u)) & 0x7FFFFFFEu));
+        rfe_q31_recip_t r;
+        rfe_q31_recip_init(&r, den);
+        check_div_by(num, den, &r);
+    }
+}
+
 #if defined(__SIZEOF_INT128__)
 __extension__ typedef __int128 i128_t;
 
@@ -215,6 +273,7 @@ int main(void)
         cmocka_unit_test(test_mul32x32_edges),
         cmocka_unit_test(test_mul32x32_random),
         cmocka_unit_test(test_div_round_paths),
+        cmocka_unit_test(test_div_round_by),
 #if defined(__SIZEOF_INT128__)
         cmocka_unit_test(test_mul64x32_w16),
 #endif

@@ -142,11 +142,59 @@ static void test_div_shl32_w16_random(void **state)
     print_message("random: %u divisions\n", n_checked);
 }
 
+/* sub_round_c's 32-bit-word form (compiled here: RFE_FIX_MUL64_W16 = 1) against the int64
+ * form it replaces on the Cortex-M0+, sat32(a - shr64_round(p, 30)): the same value and
+ * saturation count for every a of a set of edges and random a, and p of magnitude below
+ * 2^62 (Tria's bound on c v_j) around the rounding ties and the saturation limits. */
+static void test_sub_round_c_w16(void **state)
+{
+    static const rfe_fix_t as[] = {0, 1, -1, RFE_FIX_MAX, RFE_FIX_MIN, 0x40000000, -0x40000000};
+    static const int64_t ps[] = {0, 1, -1, (INT64_C(1) << 29), -(INT64_C(1) << 29),
+                                 (INT64_C(1) << 29) - 1, -(INT64_C(1) << 29) + 1,
+                                 (INT64_C(3) << 29), -(INT64_C(3) << 29),
+                                 (INT64_C(1) << 62) - 1, -(INT64_C(1) << 62) + 1,
+                                 (INT64_C(1) << 61), -(INT64_C(1) << 61),
+                                 (INT64_C(0x7FFFFFFF) << 30), -(INT64_C(0x7FFFFFFF) << 30),
+                                 (INT64_C(0x80000000) << 30) - (INT64_C(1) << 29),
+                                 -(INT64_C(0x80000000) << 30) + (INT64_C(1) << 29),
+                                 (INT64_C(1) << 32) - (INT64_C(1) << 29),
+                                 -(INT64_C(1) << 32) - (INT64_C(1) << 29)};
+    size_t i;
+    size_t j;
+    int k;
+    (void)state;
+    for (i = 0u; i < sizeof as / sizeof as[0]; ++i) {
+        for (j = 0u; j < sizeof ps / sizeof ps[0]; ++j) {
+            uint32_t sat = 0u;
+            uint32_t want_sat = 0u;
+            const rfe_fix_t want =
+                rfe_fix_sat32((int64_t)as[i] - rfe_fix_shr64_round(ps[j], 30u), &want_sat);
+            assert_int_equal(sub_round_c(as[i], ps[j], &sat), want);
+            assert_int_equal(sat, want_sat);
+        }
+    }
+    mix_state = 0x5AB0C0DEull;
+    for (k = 0; k < 400000; ++k) {
+        const uint64_t r = rand_u64();
+        const unsigned int len = 1u + (unsigned int)(r % 62u);
+        const int64_t m = (int64_t)(rand_u64() >> (64u - len));
+        const int64_t p = ((r >> 8) & 1u) ? -m : m;
+        const rfe_fix_t a = (rfe_fix_t)(int32_t)(uint32_t)(rand_u64() >> 33) *
+                            (((r >> 9) & 1u) ? -1 : 1);
+        uint32_t sat = 0u;
+        uint32_t want_sat = 0u;
+        const rfe_fix_t want = rfe_fix_sat32((int64_t)a - rfe_fix_shr64_round(p, 30u), &want_sat);
+        assert_int_equal(sub_round_c(a, p, &sat), want);
+        assert_int_equal(sat, want_sat);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_div_shl32_w16_edges),
         cmocka_unit_test(test_div_shl32_w16_random),
+        cmocka_unit_test(test_sub_round_c_w16),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
