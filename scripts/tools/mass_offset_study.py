@@ -74,26 +74,6 @@ def accel_f(p, v, m, f, theta, torque):
     return force / (m + p["mg_m_rot"])
 
 
-def points(x, S, c):
-    d = [[c * S[r][i] for r in range(NX)] for i in range(NX)]
-    return ([list(x)] + [[x[r] + d[i][r] for r in range(NX)] for i in range(NX)]
-            + [[x[r] - d[i][r] for r in range(NX)] for i in range(NX)])
-
-
-def wmean(X, wm):
-    m = [0.0] * len(X[0])
-    for i in range(2 * NX + 1):
-        for r in range(len(m)):
-            m[r] += wm[i] * X[i][r]
-    return m
-
-
-def centre(X, m, sw, A, row0):
-    for i in range(2 * NX + 1):
-        for r in range(len(m)):
-            A[row0 + r][i] = sw[i] * (X[i][r] - m[r])
-
-
 class MassGradeOffset(mg.MassGrade):
     """The reference's square-root filter with the force-offset state (module docstring);
     every pause, start and check as the reference's, only the state's size and the model
@@ -104,11 +84,10 @@ class MassGradeOffset(mg.MassGrade):
         p = self.p
         if p["mg_ut_alpha"] != 1.0 or p["mg_ut_kappa"] != 0.0:
             raise ValueError("the study runs alpha 1, kappa 0 only")
-        lam = 0.0                                   # alpha^2 (n + kappa) - n
-        self.wm4 = [lam / (NX + lam)] + [1.0 / (2.0 * (NX + lam))] * (2 * NX)
-        wc0 = lam / (NX + lam) + (1.0 - 1.0 + p["mg_ut_beta"])
-        self.sw4 = [math.sqrt(wc0)] + [math.sqrt(1.0 / (2.0 * (NX + lam)))] * (2 * NX)
-        self.c4 = math.sqrt(NX + lam)
+        # the reference's weights and helpers at n = 4 (w_c,0 = 2 here: no downdate)
+        self.wm4, wc = mg.weights(p, NX)
+        self.w4 = (wc[0], math.sqrt(abs(wc[0])), math.sqrt(wc[1]))
+        self.c4 = math.sqrt(NX + mg.lambda_ut(p, NX))
         self.sd_f0, self.q_f = sd_f0, q_f
         self._SAVED = mg.MassGrade._SAVED
 
@@ -220,16 +199,16 @@ class MassGradeOffset(mg.MassGrade):
         return mg.OK
 
     def _update_sqrt(self, s, dt):
-        p, wm, sw = self.p, self.wm4, self.sw4
-        pts = points(self.x, self.S, self.c4)
+        p, wm, w = self.p, self.wm4, self.w4
+        pts = mg.sigma_points_sqrt(self.x, self.S, self.c4, NX)
         X = [[q[0] + dt * accel_f(p, q[0], q[1], q[2], q[3], self.torque_prev), q[1], q[2], q[3]]
              for q in pts]
         sdt = math.sqrt(dt)
         sq = (p["mg_q_v"] * sdt, math.sqrt(p["mg_q_mc"] ** 2 + self.q_mv) * sdt, self.q_f * sdt,
               self._q_theta() * sdt)
-        xm = wmean(X, wm)
+        xm = mg.mean(X, wm, NX)
         A = [[0.0] * (2 * NX + 1 + NX) for _ in range(NX)]
-        centre(X, xm, sw, A, 0)
+        mg.centred(X, xm, w, A, 0, NX)
         for r in range(NX):
             A[r][2 * NX + 1 + r] = sq[r]
         if mg.tria(A, NX, 2 * NX + 1 + NX) is None:
@@ -237,13 +216,13 @@ class MassGradeOffset(mg.MassGrade):
         x = list(xm)
         S = [[A[r][c] if c <= r else 0.0 for c in range(NX)] for r in range(NX)]
         if self.use_ax:
-            pts = points(x, S, self.c4)
+            pts = mg.sigma_points_sqrt(x, S, self.c4, NX)
             Z = [accel_f(p, q[0], q[1], q[2], q[3], s.torque) + p["g"] * math.sin(q[3])
                  for q in pts]
-            zm = wmean([[z] for z in Z], wm)
+            zm = mg.mean([[z] for z in Z], wm, NX)
             A = [[0.0] * (2 * NX + 2) for _ in range(1 + NX)]
-            centre([[z] for z in Z], zm, sw, A, 0)
-            centre(pts, x, sw, A, 1)
+            mg.centred([[z] for z in Z], zm, w, A, 0, NX)
+            mg.centred(pts, x, w, A, 1, NX)
             A[0][2 * NX + 1] = p["mg_r_ax"]
             if mg.tria(A, 1 + NX, 2 * NX + 2) is None:
                 return mg.ERR_NONFINITE
