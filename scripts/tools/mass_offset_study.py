@@ -569,7 +569,8 @@ def main(argv=None):
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
     ap.add_argument("--logs", nargs="*", help="only these logs (default: every one)")
     ap.add_argument("--no-early", action="store_true",
-                    help="leave out the third table (it simulates car_headwind's halves, ~1 min)")
+                    help="leave out the third and fourth tables (they simulate "
+                         "car_headwind's halves first)")
     a = ap.parse_args(argv)
     names = a.logs or mass_grade_names()
     clean = [n for n in names if n != "car_headwind"]
