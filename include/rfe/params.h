@@ -121,7 +121,17 @@ typedef struct {
     rfe_real_t inflate;  /**< key mon_inflate: 1: sd x sqrt(max(1, D / 3)) while fired; 0: sd untouched: 1 */
 } rfe_monitor_params_t;
 
-/** Everything the friction estimator needs. */
+/**
+ * Everything the friction estimator needs.
+ *
+ * Padding: the enums' size is the ABI's, so the struct has padding bytes on some targets (4
+ * after tyre.mode in the double build on x86-64; 3 after tyre.mode and 2 after
+ * filter.structure on arm-none-eabi, whose enums are 1 byte; none in the float build on
+ * x86-64). The presets fill the fields only, and rfe_friction_init copies the whole struct
+ * into the estimator's state: a caller who compares or checksums whole states or parameter
+ * sets (memcmp, a CRC) must zero the struct (memset) before filling it. No spare field removes
+ * the padding on every ABI without changing the firmware's layouts (docs/PORTABILITY.md).
+ */
 typedef struct {
     rfe_vehicle_t vehicle;
     rfe_tyre_params_t tyre;

@@ -201,18 +201,20 @@ def validate(p):
         raise ParamError("mg_q_mv0: the adaptation would end before it starts")
 
 
-def lambda_ut(p):
-    """§3 lambda = alpha^2 (n + kappa) - n."""
+def lambda_ut(p, n=N):
+    """§3 lambda = alpha^2 (n + kappa) - n; n the state's size (N, the filter's; another for
+    a study that adds states, scripts/tools/mass_offset_study.py)."""
     a = p["mg_ut_alpha"]
-    return a * a * (N + p["mg_ut_kappa"]) - N
+    return a * a * (n + p["mg_ut_kappa"]) - n
 
 
-def weights(p):
-    """§3 eqs. (12)-(14), eq. (14) corrected: w_m,i = w_c,i = 1 / (2 (n + lambda))."""
-    lam = lambda_ut(p)
-    c = N + lam
-    wm = [lam / c] + [1.0 / (2.0 * c)] * (2 * N)
-    wc = [lam / c + (1.0 - p["mg_ut_alpha"] ** 2 + p["mg_ut_beta"])] + [1.0 / (2.0 * c)] * (2 * N)
+def weights(p, n=N):
+    """§3 eqs. (12)-(14), eq. (14) corrected: w_m,i = w_c,i = 1 / (2 (n + lambda)); n as in
+    lambda_ut."""
+    lam = lambda_ut(p, n)
+    c = n + lam
+    wm = [lam / c] + [1.0 / (2.0 * c)] * (2 * n)
+    wc = [lam / c + (1.0 - p["mg_ut_alpha"] ** 2 + p["mg_ut_beta"])] + [1.0 / (2.0 * c)] * (2 * n)
     return wm, wc
 
 
@@ -827,26 +829,28 @@ TRIA_SAFE_HI = 2.0 ** 256
 DBL_MIN_EXP, DBL_MAX_EXP = -1021, 1024
 
 
-def sigma_points_sqrt(x, S, sqrt_c):
+# The three helpers below take the state's size n (default N, the filter's), so that a study
+# with more states (scripts/tools/mass_offset_study.py, n = 4) runs the same operations.
+def sigma_points_sqrt(x, S, sqrt_c, n=N):
     """§3 chi_0 = x, chi_i = x + d_i, chi_{n+i} = x - d_i, d_i = sqrt(n + lambda) S[:, i-1]."""
-    d = [[sqrt_c * S[r][i] for r in range(N)] for i in range(N)]
-    return ([list(x)] + [[x[r] + d[i][r] for r in range(N)] for i in range(N)]
-            + [[x[r] - d[i][r] for r in range(N)] for i in range(N)])
+    d = [[sqrt_c * S[r][i] for r in range(n)] for i in range(n)]
+    return ([list(x)] + [[x[r] + d[i][r] for r in range(n)] for i in range(n)]
+            + [[x[r] - d[i][r] for r in range(n)] for i in range(n)])
 
 
-def mean(X, wm):
+def mean(X, wm, n=N):
     """sum_i w_m,i X_i, i = 0..2n in order."""
     m = [0.0] * len(X[0])
-    for i in range(2 * N + 1):
+    for i in range(2 * n + 1):
         for r in range(len(m)):
             m[r] += wm[i] * X[i][r]
     return m
 
 
-def centred(X, m, w, A, row0):
+def centred(X, m, w, A, row0, n=N):
     """Columns 0..2n of A's rows row0..: sqrt(w_c,i) (X_i - m); the centre's 0 when w_c,0 < 0
     (w = (w_c,0, sqrt|w_c,0|, sqrt w_i))."""
-    for i in range(2 * N + 1):
+    for i in range(2 * n + 1):
         sw = w[2] if i > 0 else (0.0 if w[0] < 0.0 else w[1])
         for r in range(len(m)):
             A[row0 + r][i] = sw * (X[i][r] - m[r])

@@ -23,8 +23,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "csv_log.h"
-#include "param_file.h"
+#include "friction_log.h"
 #include "replay_real.h"
 #include "rfe/friction.h"
 
@@ -99,19 +98,10 @@ static void ref_update(hold_ref_t *h, const rfe_estimate_t *e, double vx, unsign
     }
 }
 
+/* The log and its parameters (friction_log.h), the monitor and the input filter off (above). */
 static void load(const char *path, rfe_sensor_log_t *log, rfe_params_t *p)
 {
-    rfe_param_set_t ps;
-    rfe_io_error_t err;
-    memset(log, 0, sizeof *log);
-    if (rfe_sensor_log_read(path, log, &err) != 0) {
-        fail_msg("%s:%zu:%zu: %s", err.file, err.line, err.col, err.msg);
-    }
-    assert_int_equal(rfe_param_set_preset(&ps, RFE_PRESET_DEFAULT), 0);
-    if (rfe_param_set_apply_meta(&ps, log, path, &err) != 0) {
-        fail_msg("%s: %s", path, err.msg);
-    }
-    assert_int_equal(rfe_replay_params(&ps, p, NULL), RFE_OK);
+    friction_log_load(path, log, p);
     p->monitor.enable = ((rfe_real_t)(0.0));
     p->filter.tau_v = ((rfe_real_t)(0.0));
 }

@@ -24,8 +24,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "csv_log.h"
-#include "param_file.h"
+#include "friction_log.h"
 #include "replay_real.h"
 #include "rfe/friction.h"
 
@@ -51,21 +50,6 @@ typedef struct {
     double *yaw;
     size_t n;
 } run_t;
-
-static void load(const char *path, rfe_sensor_log_t *log, rfe_params_t *p)
-{
-    rfe_param_set_t ps;
-    rfe_io_error_t err;
-    memset(log, 0, sizeof *log);
-    if (rfe_sensor_log_read(path, log, &err) != 0) {
-        fail_msg("%s:%zu:%zu: %s", err.file, err.line, err.col, err.msg);
-    }
-    assert_int_equal(rfe_param_set_preset(&ps, RFE_PRESET_DEFAULT), 0);
-    if (rfe_param_set_apply_meta(&ps, log, path, &err) != 0) {
-        fail_msg("%s: %s", path, err.msg);
-    }
-    assert_int_equal(rfe_replay_params(&ps, p, NULL), RFE_OK);
-}
 
 static void run(const rfe_sensor_log_t *log, const rfe_params_t *p, run_t *r)
 {
@@ -153,7 +137,7 @@ static void test_stale_wheel_clears_every_flag(void **state)
     uint8_t *want, *tie;
     size_t i, w, n_stale = 0, n_cleared = 0, first = 0;
     (void)state;
-    load(FREEZE_PATH, &log, &on);
+    friction_log_load(FREEZE_PATH, &log, &on);
     assert_true(on.filter.stale_omega > R(0.0)); /* on in the default preset */
     off = on;
     off.filter.stale_omega = R(0.0);
@@ -203,7 +187,7 @@ static void clean_unchanged(const char *path)
     rfe_params_t on, off;
     run_t a, b;
     size_t i;
-    load(path, &log, &on);
+    friction_log_load(path, &log, &on);
     off = on;
     off.filter.stale_omega = R(0.0);
     off.filter.yaw_check = R(0.0);
@@ -243,12 +227,12 @@ static void test_yaw_check_replaces_the_spikes(void **state)
     int checked = 0; /* the check restarts after a replaced sample */
     size_t i, n_rep = 0;
     (void)state;
-    load(SPIKE_PATH, &log, &on);
+    friction_log_load(SPIKE_PATH, &log, &on);
     assert_true(on.filter.yaw_check > R(0.0)); /* on in the default preset */
     off = on;
     off.filter.yaw_check = R(0.0);
     run(&log, &on, &a);
-    load(SPIKE_PATH, &fixed, &off);
+    friction_log_load(SPIKE_PATH, &fixed, &off);
     off.filter.yaw_check = R(0.0);
     for (i = 0; i < log.n_rows; ++i) {
         rfe_sample_t s;
@@ -513,7 +497,7 @@ static void test_bound_margin_on_a_log(void **state)
     run_t a, b;
     size_t i, w, cleared = 0, ties = 0;
     (void)state;
-    load(SCEN "/hard_brake_low_mu.nf.csv", &log, &p);
+    friction_log_load(SCEN "/hard_brake_low_mu.nf.csv", &log, &p);
     assert_true(p.filter.valid_bound_k == R(3.0)); /* on in the default preset */
     off = p;
     off.filter.valid_bound_k = R(0.0);
