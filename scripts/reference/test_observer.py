@@ -149,6 +149,13 @@ def _pairs():
     return out
 
 
+def _pairs_at_rates(rates=(1, 2, 8)):
+    """_pairs at each obs_lat_every N (§4.2: the model's rows every N-th step at variance
+    r / N), the same targets and the same expected failures at every N."""
+    return [pytest.param(*pr.values, n, id=f"{pr.id}-N{n}", marks=pr.marks)
+            for n in rates for pr in _pairs()]
+
+
 def _run_with_truth_mu(path, sd_mu=0.05, **over):
     log = logs.read_csv_log(path)
     c = log.columns
@@ -159,9 +166,9 @@ def _run_with_truth_mu(path, sd_mu=0.05, **over):
 
 
 @pytest.mark.skipif(not _pairs(), reason="no bundled scenarios")
-@pytest.mark.parametrize("noisy,truth", _pairs())
-def test_scenario_targets(noisy, truth):
-    c, o = _run_with_truth_mu(noisy)
+@pytest.mark.parametrize("noisy,truth,every", _pairs_at_rates())
+def test_scenario_targets(noisy, truth, every):
+    c, o = _run_with_truth_mu(noisy, obs_lat_every=float(every))
     tr = logs.read_csv_log(truth).columns
     ex = o["vx"] - tr["vx"]
     eb = np.degrees(o["beta"] - np.arctan2(tr["vy"], tr["vx"]))
