@@ -102,7 +102,9 @@ static int64_t rate_var_q31(int64_t r, uint32_t n)
 {
     int64_t v = r;
     if (n > 1u) {
-        v = (int64_t)(((uint64_t)r + (uint64_t)(n / 2u)) / (uint64_t)n);
+        const uint64_t d = (uint64_t)n;
+        const uint64_t q = ((uint64_t)r + (d / 2u)) / d;
+        v = (int64_t)q;
     }
     return v;
 }
