@@ -4,7 +4,7 @@ float64 reference (scripts/reference/observer.py), for the C tests to compare ag
 Usage (from the repository root):
 
     .venv/bin/python scripts/data/make_observer_goldens.py [--scenarios scenarios ...] \
-        [--out scenarios/golden/observer]
+        [--out scenarios/golden/observer] [--lat-every N] [--only name.csv ...]
 
 For every noisy sensor log <dir>/<name>.csv of each --scenarios folder (not *.nf.csv, not
 *.mf.csv, not sub-folders) it writes <out>/<name>.csv: t and the observer's outputs
@@ -37,12 +37,14 @@ def logs_in(folder):
                   and os.path.isfile(os.path.join(folder, f)))
 
 
-def golden(path):
-    """(metadata pairs, column names, rows) of one log's golden."""
+def golden(path, lat_every=1):
+    """(metadata pairs, column names, rows) of one log's golden, the model's rows every
+    lat_every-th step (OBSERVER.md §4.2)."""
     log = logs.read_csv_log(path, required=("t", "delta", "yaw_rate", "ax", "ay")
                             + tuple("omega_" + w for w in WHEELS))
     c = log.columns
-    p = observer.params_with_defaults(params.from_metadata(log.meta))
+    p = observer.params_with_defaults(params.from_metadata(log.meta),
+                                      obs_lat_every=float(lat_every))
     truth = all("mu_" + w in c for w in WHEELS)
     mu = ([c["mu_" + w] for w in WHEELS], [np.full(len(c["t"]), MU_SD)] * 4) if truth else None
     out = observer.run(c, p, mu)
@@ -67,12 +69,17 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--scenarios", action="append", default=None)
     ap.add_argument("--out", default=os.path.join("scenarios", "golden", "observer"))
+    ap.add_argument("--lat-every", type=int, default=1,
+                    help="obs_lat_every of the goldens (OBSERVER.md §4.2; default 1)")
+    ap.add_argument("--only", nargs="+", default=None,
+                    help="only these logs (file names) of the --scenarios folders")
     a = ap.parse_args(argv)
     os.makedirs(a.out, exist_ok=True)
-    files = [f for d in (a.scenarios or ["scenarios"]) for f in logs_in(d)]
+    files = [f for d in (a.scenarios or ["scenarios"]) for f in logs_in(d)
+             if a.only is None or os.path.basename(f) in a.only]
     t0 = time.time()
     for i, f in enumerate(files, 1):
-        write(os.path.join(a.out, os.path.basename(f)), *golden(f))
+        write(os.path.join(a.out, os.path.basename(f)), *golden(f, a.lat_every))
         print(f"[{i}/{len(files)}] {os.path.basename(f)} ({time.time() - t0:.0f} s)", flush=True)
     return 0
 

@@ -290,6 +290,10 @@ class Observer:
             (ay_model, rd_model), (h0, h1), (e_ay, e_rd) = self.model_rows_jac(
                 s, vx, vy_pred, mu, sd_in)
             r = (p["obs_sd_model_ay"] ** 2 + (p["obs_model_ay_rel"] * s.ay) ** 2 + e_ay ** 2)
+            if self.lat_every > 1:
+                # §4.2 every N-th step at variance r / N: the information per second of an
+                # update every step at r (N = 1 takes no arithmetic: bit for bit unchanged)
+                r = r / self.lat_every
             self.lat.update(h0, 0.0, s.ay - ay_model, r)
             flags |= FLAG_VY_MODEL
             # the yaw moment balance: the differentiator's r-dot against the model's, linearised
@@ -297,6 +301,8 @@ class Observer:
             # (on when obs_sd_model_rdot > 0)
             if p["obs_sd_model_rdot"] > 0.0:
                 r1 = p["obs_sd_model_rdot"] ** 2 + e_rd ** 2 + self.yaw.P[1][1]
+                if self.lat_every > 1:
+                    r1 = r1 / self.lat_every          # §4.2 as the lateral row's
                 self.lat.update(h1, 0.0,
                                 self.yaw.x[1] - (rd_model + h1 * (self.lat.x[0] - vy_pred)), r1)
         if vx >= p["obs_v_lat_min"]:

@@ -149,6 +149,13 @@ def _pairs():
     return out
 
 
+def _pairs_at_rates(rates=(1, 2, 8)):
+    """_pairs at each obs_lat_every N (§4.2: the model's rows every N-th step at variance
+    r / N), the same targets and the same expected failures at every N."""
+    return [pytest.param(*pr.values, n, id=f"{pr.id}-N{n}", marks=pr.marks)
+            for n in rates for pr in _pairs()]
+
+
 def _run_with_truth_mu(path, sd_mu=0.05, **over):
     log = logs.read_csv_log(path)
     c = log.columns
@@ -159,9 +166,9 @@ def _run_with_truth_mu(path, sd_mu=0.05, **over):
 
 
 @pytest.mark.skipif(not _pairs(), reason="no bundled scenarios")
-@pytest.mark.parametrize("noisy,truth", _pairs())
-def test_scenario_targets(noisy, truth):
-    c, o = _run_with_truth_mu(noisy)
+@pytest.mark.parametrize("noisy,truth,every", _pairs_at_rates())
+def test_scenario_targets(noisy, truth, every):
+    c, o = _run_with_truth_mu(noisy, obs_lat_every=float(every))
     tr = logs.read_csv_log(truth).columns
     ex = o["vx"] - tr["vx"]
     eb = np.degrees(o["beta"] - np.arctan2(tr["vy"], tr["vx"]))
@@ -324,14 +331,19 @@ GOLDEN_OBS = os.path.join(SCEN, "golden", "observer")
 
 
 @pytest.mark.skipif(not os.path.isdir(GOLDEN_OBS), reason="no observer goldens")
-@pytest.mark.parametrize("name", ["brake_in_turn.csv", "sine_steer_low_mu.csv"])
-def test_observer_goldens_are_up_to_date(name):
+@pytest.mark.parametrize("name,every", [("brake_in_turn.csv", 1), ("sine_steer_low_mu.csv", 1),
+                                        ("brake_in_turn_low_mu.csv", 2),
+                                        ("sine_steer_low_mu.csv", 2)])
+def test_observer_goldens_are_up_to_date(name, every):
+    # obs_lat_every 2: scenarios/golden/observer_every2 (OBSERVER.md §4.2, the C tests'
+    # reference at N > 1)
     import sys
     sys.path.insert(0, os.path.join(REPO, "scripts", "data"))
     import make_observer_goldens as mog
-    meta, cols, rows = mog.golden(os.path.join(SCEN, name))
+    meta, cols, rows = mog.golden(os.path.join(SCEN, name), every)
     now = np.array([list(r) for r in rows])
-    g = logs.read_csv_log(os.path.join(GOLDEN_OBS, name), required=cols)
+    folder = GOLDEN_OBS if every == 1 else GOLDEN_OBS + f"_every{every}"
+    g = logs.read_csv_log(os.path.join(folder, name), required=cols)
     old = np.column_stack([g.columns[c] for c in cols])
     assert now.shape == old.shape
     # 1e-9 absolute: the observer's path is plain float64 except the model's 4-term dot

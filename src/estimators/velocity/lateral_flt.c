@@ -108,6 +108,14 @@ static rfe_status_t linear_update(rfe_kf2_t *k, const rfe_velocity_t *obs,
                           p->sd_vy_lin * p->sd_vy_lin);
 }
 
+/* §4.2 a model row's variance @p r at lat_every @p n: r / n when n > 1 (an update every n-th
+ * step at r / n carries the information per second of one every step at r); r itself at
+ * n = 1 (no arithmetic: bit for bit the every-step filter). */
+static rfe_real_t rate_var(rfe_real_t r, uint32_t n)
+{
+    return (n > 1u) ? (r / (rfe_real_t)n) : r;
+}
+
 /* §4.2 the model's update at the prediction (the lateral row, then the yaw row when on) with
  * the friction the measured ay bounds (@p lin_floor: the steady turn's floor). */
 static rfe_status_t model_update(rfe_kf2_t *k, const rfe_velocity_t *obs,
@@ -129,7 +137,8 @@ static rfe_status_t model_update(rfe_kf2_t *k, const rfe_velocity_t *obs,
         const rfe_real_t h0 = z.d_vy[0];
         const rfe_real_t e_mu = z.d_mu[0];
         const rfe_real_t rel = p->model_ay_rel * in->ay;
-        const rfe_real_t r = ((p->sd_model_ay * p->sd_model_ay) + (rel * rel)) + (e_mu * e_mu);
+        const rfe_real_t r = rate_var(
+            ((p->sd_model_ay * p->sd_model_ay) + (rel * rel)) + (e_mu * e_mu), p->lat_every);
         st = rfe_kf2_update(k, h0, RFE_R(0.0), in->ay - z.z[0], r);
         *fl |= RFE_VEL_FLAG_VY_MODEL;
     }
@@ -139,8 +148,9 @@ static rfe_status_t model_update(rfe_kf2_t *k, const rfe_velocity_t *obs,
          * update: the innovation is taken at the vy the lateral row left) */
         const rfe_real_t h1 = z.d_vy[1];
         const rfe_real_t e_mu = z.d_mu[1];
-        const rfe_real_t r = ((p->sd_model_rdot * p->sd_model_rdot) + (e_mu * e_mu)) +
-                             obs->yaw.p11;
+        const rfe_real_t r = rate_var(
+            ((p->sd_model_rdot * p->sd_model_rdot) + (e_mu * e_mu)) + obs->yaw.p11,
+            p->lat_every);
         st = rfe_kf2_update(k, h1, RFE_R(0.0),
                             obs->yaw.x[1] - (z.z[1] + (h1 * (k->x[0] - vy_pred))), r);
     }

@@ -92,8 +92,26 @@ static rfe_status_t model_q31(const rfe_velocity_q31_t *obs, const rfe_velocity_
     return model_rows_q31(obs, in, vx, vy_pred, mm, m_sd, z, sat);
 }
 
+/* §4.2 a model row's variance @p r (>= 0, at most RFE_KF2_Q31_PMAX) at lat_every @p n
+ * (1 .. 8): round(r / n) when n > 1 (an update every n-th step at r / n carries the
+ * information per second of one every step at r), by exact integer division: (r + n / 2) / n
+ * in uint64 (no overflow: r + 4 < 2^63), within 1/2 LSB of r / n, the nearest integer (ties
+ * of even n upward); r itself at n = 1 (no arithmetic: bit for bit the every-step filter).
+ * lateral_flt.c's rate_var. */
+static int64_t rate_var_q31(int64_t r, uint32_t n)
+{
+    int64_t v = r;
+    if (n > 1u) {
+        const uint64_t d = (uint64_t)n;
+        const uint64_t q = ((uint64_t)r + (d / 2u)) / d;
+        v = (int64_t)q;
+    }
+    return v;
+}
+
 /* §4.2 the lateral-acceleration row: h0 = d ay / d vy (Q24), the innovation ay - ay0 and
- * the noise sd_model_ay^2 + (model_ay_rel ay)^2 + ((d ay / d mu) . sd)^2 (Q48). */
+ * the noise sd_model_ay^2 + (model_ay_rel ay)^2 + ((d ay / d mu) . sd)^2 (Q48), over
+ * lat_every (rate_var_q31). */
 static void ay_row_q31(const rfe_velocity_params_q31_t *p, const rfe_velocity_input_q31_t *in,
                        const rfe_meas_lateral_q31_t *z, rfe_kf2_meas_q31_t *m, uint32_t *sat)
 {
@@ -108,13 +126,14 @@ static void ay_row_q31(const rfe_velocity_params_q31_t *p, const rfe_velocity_in
     m->qh1 = RFE_VEL_Q31_QB;
     m->qz = RFE_VEL_Q31_QB;
     m->nu = rfe_fix_sub(in->ay, z->z[0], sat);
-    m->r = rfe_vel_pmax_q31(r, sat);
+    m->r = rate_var_q31(rfe_vel_pmax_q31(r, sat), p->lat_every);
 }
 
 /* §4.2 the yaw moment balance: the differentiator's r-dot (Q24) against the model's, both
  * rows linearised at vy_pred; the innovation at the vy the lateral row left, @p vy_now:
  * r-dot - (rdot0 + h1 (vy_now - vy_pred)), h1 Q24 times Q23 into Q24 (shift 23); the noise
- * sd_model_rdot^2 + ((d rdot / d mu) . sd)^2 + the differentiator's p11 (all Q48). */
+ * sd_model_rdot^2 + ((d rdot / d mu) . sd)^2 + the differentiator's p11 (all Q48), over
+ * lat_every (rate_var_q31). */
 static void rdot_row_q31(const rfe_velocity_q31_t *obs, const rfe_meas_lateral_q31_t *z,
                          rfe_fix_t vy_pred, rfe_fix_t vy_now, rfe_kf2_meas_q31_t *m,
                          uint32_t *sat)
@@ -133,7 +152,7 @@ static void rdot_row_q31(const rfe_velocity_q31_t *obs, const rfe_meas_lateral_q
     m->qh1 = RFE_VEL_Q31_QRDOT;
     m->qz = RFE_VEL_Q31_QRDOT;
     m->nu = rfe_fix_sub(obs->yaw.x[1], lin, sat);
-    m->r = rfe_vel_pmax_q31(r, sat);
+    m->r = rate_var_q31(rfe_vel_pmax_q31(r, sat), p->lat_every);
 }
 
 /* §4.2b the linear range, lateral_flt.c's linear_range in integers (decided before the

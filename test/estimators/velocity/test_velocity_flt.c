@@ -871,6 +871,44 @@ static void test_the_lateral_models_rate(void **state)
     assert_int_equal(e.flags & RFE_VEL_FLAG_VY_MODEL, 0u);
 }
 
+/* vy after the first model step (step 1 after the first sample) of the turn of
+ * turn_with_rate at lat_every @p every and model sd @p sd_ay, the lateral row's variance
+ * sd_ay^2 alone (model_ay_rel 0, the default friction's sd 0, the yaw row off as by
+ * default). */
+static rfe_real_t vy_after_one_model_step(uint32_t every, rfe_real_t sd_ay)
+{
+    int model[2];
+    setup_fixture();
+    fx.vp.model_ay_rel = (rfe_real_t)0.0;
+    fx.vp.sd_mu_default = (rfe_real_t)0.0;
+    fx.vp.sd_model_rdot = (rfe_real_t)0.0;
+    fx.vp.sd_model_ay = sd_ay;
+    turn_with_rate(every, 1u, model);
+    assert_int_equal(model[1], 1);
+    return fx.obs.last.vy;
+}
+
+/* OBSERVER.md §4.2: at lat_every N > 1 the model rows' variances are divided by N on the
+ * steps they run; one model step at N = 2 and sd_model_ay 0.3 is the same step at N = 1 with
+ * the variance halved through the parameter (sd_model_ay 0.3 / sqrt 2), and differs from
+ * the step at N = 1 and 0.3 (so the comparison can fail). */
+static void test_the_models_variance_over_the_rate(void **state)
+{
+    const rfe_real_t sd = (rfe_real_t)0.3;
+    const rfe_real_t half = (rfe_real_t)(0.3 / 1.4142135623730951);
+    const rfe_real_t at2 = vy_after_one_model_step(2u, sd);
+    const rfe_real_t at1_half = vy_after_one_model_step(1u, half);
+    const rfe_real_t at1 = vy_after_one_model_step(1u, sd);
+    (void)state;
+    /* half^2 is 0.045 within a few rfe_real_t ulps, r / 2 within one: the gains, and so vy
+     * (a correction of the order of the innovation's share, |vy| < 1 m/s), agree to
+     * some 1e-6 relative in float (1e-15 in double); 1e-5 m/s leaves margin for the
+     * steps' other float roundings, which both runs share */
+    assert_close(at2, at1_half, 1e-5, 0.0, "vy at N = 2 against N = 1 at r / 2");
+    /* the halved variance moves vy visibly: |at2 - at1| far above the tolerance */
+    assert_true(fabs((double)at2 - (double)at1) > 1e-3);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -893,6 +931,7 @@ int main(void)
         cmocka_unit_test(test_vx_never_goes_negative),
         cmocka_unit_test(test_steering_wheel_angle_through_the_ratio),
         cmocka_unit_test(test_the_lateral_models_rate),
+        cmocka_unit_test(test_the_models_variance_over_the_rate),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1073,6 +1073,54 @@ static void test_the_zero_grade_skips_its_sine(void **state)
     assert_in_range(s, 1, 3);
 }
 
+/* vy (Q23) after the first model step (step 1 after the first sample) of the turn of
+ * test_the_lateral_model_every_third_step in the Q31 twin at lat_every @p every and
+ * sd_model_ay @p sd_ay: the lateral row's variance sd_ay^2 alone (model_ay_rel 0, the
+ * default friction with sd 0, the yaw row off as by default). */
+static rfe_fix_t vy_q31_after_one_model_step(uint32_t every, double sd_ay)
+{
+    both_t b;
+    rfe_velocity_q31_t oq;
+    rfe_velocity_input_t in;
+    rfe_velocity_input_q31_t iq;
+    rfe_velocity_estimate_q31_t q;
+    size_t k;
+    params_of(NULL, &b);
+    b.vd.model_ay_rel = 0.0;
+    b.vd.sd_mu_default = 0.0;
+    b.vd.sd_model_rdot = 0.0;
+    b.vd.sd_model_ay = sd_ay;
+    b.vd.lat_every = every;
+    assert_int_equal(rfe_velocity_params_to_q31_f64(&b.vd, &b.vq), RFE_OK);
+    assert_int_equal(rfe_velocity_init_q31(&oq, &b.vq, &b.pq), RFE_OK);
+    for (k = 0u; k <= 1u; ++k) {
+        rolling(&b, 20.0, (k == 0u) ? 0.0 : 0.01, &in, &iq);
+        iq.delta = fx(0.02, RFE_FIX_Q_ANGLE);
+        iq.yaw_rate = fx(0.12, RFE_FIX_Q_YAWRATE);
+        iq.ay = fx(2.5, RFE_FIX_Q_ACC);
+        assert_int_equal(rfe_velocity_step_q31(&oq, &iq, NULL, &q), RFE_OK);
+    }
+    assert_true((q.flags & RFE_VEL_FLAG_VY_MODEL) != 0u);
+    return q.vy;
+}
+
+/* OBSERVER.md §4.2: at lat_every N > 1 the model rows' variances are divided by N (exact
+ * integer division, rounded) on the steps they run. sd_model_ay 0.25 is exact in Q24 (2^22)
+ * and its variance 2^44 in Q48 a multiple of 4, so at N = 4 the lateral row's variance is
+ * exactly (0.125)^2's: one model step at N = 4 and sd 0.25 equals bit for bit the step at
+ * N = 1 and sd 0.125, and differs from the step at N = 1 and sd 0.25 (the comparison can
+ * fail). */
+static void test_the_models_variance_over_the_rate_q31(void **state)
+{
+    const rfe_fix_t at4 = vy_q31_after_one_model_step(4u, 0.25);
+    const rfe_fix_t at1_quarter = vy_q31_after_one_model_step(1u, 0.125);
+    const rfe_fix_t at1 = vy_q31_after_one_model_step(1u, 0.25);
+    (void)state;
+    assert_int_equal(at4, at1_quarter);
+    /* the quartered variance moves vy by far more than 1e-3 m/s (8389 LSB of Q23) */
+    assert_true(llabs((long long)at4 - (long long)at1) > 8389LL);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1089,6 +1137,7 @@ int main(void)
         cmocka_unit_test(test_a_steady_turn_in_fixed_point),
         cmocka_unit_test(test_the_steady_turns_floor_in_fixed_point),
         cmocka_unit_test(test_the_lateral_model_every_third_step),
+        cmocka_unit_test(test_the_models_variance_over_the_rate_q31),
         cmocka_unit_test(test_back_to_back_through_a_lockout),
         cmocka_unit_test(test_back_to_back_on_every_observer_scenario),
     };
