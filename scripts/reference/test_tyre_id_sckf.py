@@ -29,9 +29,10 @@ def _truth(p):
                           0.9 * fz[1], 1.5, 17.0 * fz[1], 0.3])
 
 
-def _model_log(amp, seconds=10.0, seed=7):
-    """A log from the model itself: delta = amp sin(2 pi 0.5 t) at VX, the truth's (r, ay)
-    plus white noise; delta and vx exact (no steering noise: §11's bias is not tested here)."""
+def _model_log(amp, seconds=10.0, seed=7, ramp=False):
+    """A log from the model itself: delta = amp sin(2 pi 0.5 t) (@p ramp: straight for 1 s,
+    then a ramp from 0 to amp at the end) at VX, the truth's (r, ay) plus white noise; delta
+    and vx exact (no steering noise: §11's bias is not tested here)."""
     p = dict(T.TID_DEFAULTS)
     p.update(T.VEHICLE_DEFAULTS)
     _, th = _truth({})
@@ -40,6 +41,8 @@ def _model_log(amp, seconds=10.0, seed=7):
     n = int(round(seconds / DT)) + 1
     t = np.arange(n) * DT
     delta = amp * np.sin(2.0 * math.pi * 0.5 * t)
+    if ramp:
+        delta = amp * np.clip((t - 1.0) / (seconds - 1.0), 0.0, 1.0)
     rng = np.random.default_rng(seed)
     vy, r = np.zeros(1), np.zeros(1)
     yaw, ay = np.empty(n), np.empty(n)
@@ -308,3 +311,63 @@ def test_delta_filter_is_a_kalman_filter():
     assert off.prev[1] == 0.01 and off.sd_delta == sd
     with pytest.raises(ValueError):
         S.init({"tid_delta_q": -0.1})
+
+
+def _noisy_ramp_log(amp, sd_delta, seconds=10.0, seed=7):
+    """_model_log's ramp steer with white noise of sd @p sd_delta on the logged delta (the
+    truth's delta returned beside it): §11's errors in variables."""
+    c = _model_log(amp, seconds, seed, ramp=True)
+    rng = np.random.default_rng(seed + 1)
+    true_delta = c["delta"].copy()
+    c["delta"] = true_delta + sd_delta * rng.standard_normal(true_delta.size)
+    return c, true_delta
+
+
+# REQ-TID-002
+def test_delta_state_off_is_the_ten_state_filter():
+    """§15.7 off (the default, tid_delta_state_q 0): n = 10 and two measurement rows, as
+    before; on: n = 11 with delta last, started at the measured delta with the sensor's sd,
+    and three rows. A negative density, or both remedies at once, is refused."""
+    s0 = {"t": 0.0, "delta": 0.01, "vx": VX, "yaw_rate": 0.0, "ay": 0.0, "ax": 0.0}
+    off = S.init({})
+    off.step(dict(s0))
+    assert off.f.x.size == T.DIM and off.f.s_r.shape == (2, 2)
+    on = S.init({"tid_delta_state_q": 0.04})
+    on.step(dict(s0))
+    assert on.f.x.size == T.DIM + 1 and on.f.s_r.shape == (3, 3)
+    assert on.f.x[T.DIM] == 0.01 and on.f.sd()[T.DIM] == T.TID_DEFAULTS["tid_sd_delta"]
+    assert (on.f.x[:T.DIM] == off.f.x).all()
+    with pytest.raises(ValueError):
+        S.init({"tid_delta_state_q": -0.01})
+    with pytest.raises(ValueError):
+        S.init({"tid_delta_state_q": 0.04, "tid_delta_q": 0.05})
+
+
+# REQ-TID-002
+def test_delta_state_removes_the_errors_in_variables_bias():
+    """§15.7 on the model's own log (_model_log: the filter's model exact), straight for 1 s
+    and then a slow ramp to 0.01 rad (at most 10 steering-sensor sds, like the low-mu ramp's
+    0.03 rad at 30), with white noise of the sensor's sd (0.001 rad) on the logged delta: off,
+    the noisy regressor draws the front stiffness low (errors in variables, TYRE_ID_RESULTS.md
+    "The steering-angle filter"): the final K_f more than 3 of its posterior sds from the
+    truth; with delta as a state within 3 (3 sd: a Gaussian posterior's two-sided 0.3 % tail).
+    The state's delta is closer to the true delta than the sensor (RMSE over the last 5 s below
+    the sensor's sd: a Kalman posterior's variance is below its measurement's), and its
+    posterior sd below the sensor's."""
+    sd_sensor = T.TID_DEFAULTS["tid_sd_delta"]
+    c, true_delta = _noisy_ramp_log(0.01, sd_sensor)
+    _, th = _truth({})
+    k_true = th[2]
+    off = S.run(c, {})
+    tid = S.init({"tid_delta_state_q": 0.04})
+    n = len(c["t"])
+    d_est, d_sd = np.empty(n), np.empty(n)
+    for k in range(n):
+        e = tid.step({key: float(c[key][k]) for key in T.SAMPLE_KEYS})
+        d_est[k], d_sd[k] = tid.f.x[T.DIM], tid.f.sd()[T.DIM]
+    assert abs(off["K_f"][-1] - k_true) > 3.0 * off["sd_K_f"][-1]
+    assert abs(e.mean["K_f"] - k_true) <= 3.0 * e.sd["K_f"]
+    half = n // 2
+    rmse = math.sqrt(float(np.mean((d_est[half:] - true_delta[half:]) ** 2)))
+    assert rmse < sd_sensor
+    assert (d_sd[1:] < sd_sensor).all()

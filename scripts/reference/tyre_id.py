@@ -71,6 +71,8 @@ TID_DEFAULTS: dict[str, float] = {
     "tid_ell_ax_min": 0.6,    # §3.5 m/s^2: below this |ax| the ellipse takes ax as 0 (0: none)
     "tid_delta_q": 0.0,       # §4.4 the steering-angle filter's white-acceleration noise density,
                               # rad/s^2 per sqrt(s) (0: off, the measured delta as read)
+    "tid_delta_state_q": 0.0,  # §15.7 the SCKF only: delta as a state, its random walk's
+                               # density, rad per sqrt(s) (0: off, delta an input)
 }
 TID_CHOICES = {"tid_filter": ("apf", "sir"),
                "tid_resample": ("multinomial", "systematic")}  # first of each: the default
@@ -321,7 +323,7 @@ class _SampleSteps:
         status = 0
         s = self._delta_filter(s)
         if self.prev is None:
-            self._initialise(s["yaw_rate"])
+            self._initialise(s["yaw_rate"], s["delta"])
             status |= ST_FIRST
         elif s["vx"] < self.p["tid_v_min"] or self.prev[2] < self.p["tid_v_min"]:
             status |= ST_HELD
@@ -370,6 +372,8 @@ class TyreId(_SampleSteps):
         self.q_th, self.mean0, self.sd0 = np.array(q), np.array(mean), np.array(sd)
         if not (math.isfinite(p["tid_delta_q"]) and p["tid_delta_q"] >= 0.0):
             raise ValueError("tid_delta_q must be finite and >= 0")
+        if not (math.isfinite(p["tid_delta_state_q"]) and p["tid_delta_state_q"] >= 0.0):
+            raise ValueError("tid_delta_state_q must be finite and >= 0")
         if not np.all(self.lo < self.hi):
             raise ValueError("every lower bound must be below its upper bound")
         if not (self.lo <= self.mean0).all() or not (self.mean0 <= self.hi).all():
@@ -390,7 +394,8 @@ class TyreId(_SampleSteps):
         return self.fz0[0] - self.gx * ax, self.fz0[1] + self.gx * ax
 
     # §4.1 the prior
-    def _initialise(self, r_meas):
+    def _initialise(self, r_meas, delta_meas=0.0):
+        """(delta_meas: the SCKF's, §15.7; the particle filters do not use it)"""
         n, p = self.n, self.p
         z = self.stream.normals(self.k, P_INIT, n * DIM).reshape(n, DIM)
         self.x = np.empty((n, 2))

@@ -13,6 +13,9 @@ n = 10, 2n = 20 cubature points.  Bounds: every cubature point is evaluated with
 parameters clipped into [lo, hi] (the model is not defined outside: C D > 0, E < 1), and the
 mean's parameters are projected onto [lo, hi] after each update (filters.project, as the
 friction SCKF projects mu); the square-root covariance is left as the update made it.
+With tid_delta_state_q > 0 (§15.7, off by default) delta is an eleventh state, last: a random
+walk of that density, measured by the steering sensor (a third measurement row, sd
+tid_sd_delta), each cubature point's RK4 step and ay at its own delta.
 """
 
 from __future__ import annotations
@@ -49,20 +52,29 @@ class TyreIdSCKF(T._SampleSteps):
         self.mu_loads = ref.mu_loads
         self.lo, self.hi = ref.lo, ref.hi
         self.q_th, self.mean0, self.sd0 = ref.q_th, ref.mean0, ref.sd0
+        # §15.7 the steering angle as a state (tid_delta_state_q > 0): x grows by delta, last
+        self.dstate = p["tid_delta_state_q"] > 0.0
+        if self.dstate and p["tid_delta_q"] > 0.0:
+            raise ValueError("tid_delta_state_q and tid_delta_q exclude each other")
+        self.n_x = T.DIM + (1 if self.dstate else 0)
         self.f = None            # the filters.SCKF
         self.prev = None         # the previous sample's (t, delta, vx)
         self.k = 0
 
     # §15.2 the prior: the particle filter's Gaussian, unreflected
-    def _initialise(self, r_meas):
+    def _initialise(self, r_meas, delta_meas=0.0):
         p = self.p
         x0 = np.concatenate([[0.0, r_meas], self.mean0])
-        s0 = np.diag(np.concatenate([[p["tid_sd0_vy"], p["tid_sd0_r"]], self.sd0]))
-        self.f = SCKF(x0, s0, np.zeros((T.DIM, T.DIM)), np.zeros((2, 2)))
+        s0 = np.concatenate([[p["tid_sd0_vy"], p["tid_sd0_r"]], self.sd0])
+        if self.dstate:      # §15.7 delta starts at the measured one, with the sensor's sd
+            x0 = np.concatenate([x0, [delta_meas]])
+            s0 = np.concatenate([s0, [p["tid_sd_delta"]]])
+        m = 3 if self.dstate else 2
+        self.f = SCKF(x0, np.diag(s0), np.zeros((self.n_x, self.n_x)), np.zeros((m, m)))
 
     def _clip(self, pts):
         """Cubature points (DIM, 2n) -> (vy, r, theta (2n, 8)) with theta clipped to bounds."""
-        th = np.minimum(np.maximum(pts[2:].T, self.lo), self.hi)
+        th = np.minimum(np.maximum(pts[2:T.DIM].T, self.lo), self.hi)
         return pts[0], pts[1], th
 
     def _process(self, d_bar, v_bar, h, a_bar=0.0):
@@ -71,7 +83,9 @@ class TyreIdSCKF(T._SampleSteps):
 
         def f(pts):
             vy, r, th = self._clip(pts)
-            vy1, r1 = self.model.rk4(vy, r, th, d_bar, v_bar, h, n_sub, a_bar)
+            # §15.7: each point's own delta (the state's, held over the period)
+            d = pts[T.DIM] if self.dstate else d_bar
+            vy1, r1 = self.model.rk4(vy, r, th, d, v_bar, h, n_sub, a_bar)
             out = pts.copy()
             out[0], out[1] = vy1, r1
             return out
@@ -81,6 +95,10 @@ class TyreIdSCKF(T._SampleSteps):
         """h(X): (r, ay_p) of every cubature point at the sample's delta, vx (§5.1's ay_p)."""
         def h(pts):
             vy, r, th = self._clip(pts)
+            if self.dstate:  # §15.7: ay at each point's delta, and delta itself measured
+                d = pts[T.DIM]
+                f, rr = self.model.forces(vy, r, th, d, s["vx"], s["ax"])
+                return np.stack([r, ((f * self.fn.cos(d)) + rr) / self.p["m"], d])
             f, rr = self.model.forces(vy, r, th, s["delta"], s["vx"], s["ax"])
             return np.stack([r, ((f * cd) + rr) / self.p["m"]])
         return h
@@ -90,6 +108,8 @@ class TyreIdSCKF(T._SampleSteps):
         g = d ay / d delta of §5.1 at the predicted mean (parameters clipped); with the
         steering-angle filter of §4.4 its posterior sd in place of tid_sd_delta."""
         p = self.p
+        if self.dstate:      # §15.7: delta is a state; its sensor a measurement row
+            return np.diag([p["tid_sd_r"], p["tid_sd_ay"], p["tid_sd_delta"]])
         x = self.f.x[:, None]
         vy, r, th = self._clip(x)
         t_f, _ = self.model.slips(vy, r, s["delta"], s["vx"])
@@ -102,7 +122,7 @@ class TyreIdSCKF(T._SampleSteps):
         return np.diag([p["tid_sd_r"], math.sqrt(p["tid_sd_ay"] * p["tid_sd_ay"] + gs * gs)])
 
     def _project(self):
-        self.f.x[2:], _ = project(self.f.x[2:], self.lo, self.hi)
+        self.f.x[2:T.DIM], _ = project(self.f.x[2:T.DIM], self.lo, self.hi)
 
     def _update(self, s):
         p, fn = self.p, self.fn
@@ -113,17 +133,20 @@ class TyreIdSCKF(T._SampleSteps):
         sd_ = float(fn.sin(np.float64(s["delta"])))
         sq = math.sqrt(h)
         # §15.3 time update: cubature points through RK4, S- = Tria([Xc*, S_Q])
-        self.f.s_q = np.diag(np.concatenate([[p["tid_q_vy"] * sq, p["tid_q_r"] * sq],
-                                             self.q_th * sq]))
+        q = [[p["tid_q_vy"] * sq, p["tid_q_r"] * sq], self.q_th * sq]
+        if self.dstate:      # §15.7 delta's random walk
+            q.append([p["tid_delta_state_q"] * sq])
+        self.f.s_q = np.diag(np.concatenate(q))
         a_bar = 0.5 * (self.prev[3] + s["ax"])
         self.f.propagate(self._process(d_bar, v_bar, h, a_bar))
         self._project()
         # measurement update on (r_m, ay_m)
         self.f.s_r = self._s_r(s, cd, sd_)
-        self.f.measurement_update(np.array([s["yaw_rate"], s["ay"]]), self._measure(s, cd))
+        y = [s["yaw_rate"], s["ay"]] + ([s["delta"]] if self.dstate else [])
+        self.f.measurement_update(np.array(y), self._measure(s, cd))
         self._project()
         if not (np.isfinite(self.f.x).all() and np.isfinite(self.f.S).all()):
-            self._initialise(s["yaw_rate"])
+            self._initialise(s["yaw_rate"], s["delta"])
             return T.ST_LOST
         return T.ST_UPDATED
 
@@ -133,7 +156,8 @@ class TyreIdSCKF(T._SampleSteps):
         x, sd_x = self.f.x, self.f.sd()
         pts = self.f.points()
         vy, r, th = self._clip(pts)
-        f, rr = self.model.forces(vy, r, th, s["delta"], s["vx"], s["ax"])
+        d = pts[T.DIM] if self.dstate else s["delta"]
+        f, rr = self.model.forces(vy, r, th, d, s["vx"], s["ax"])
         q = {"beta": self.fn.atan2(vy, np.full_like(vy, s["vx"])), "Fy_f": f, "Fy_r": rr,
              "B_f": T.b_of(th, 0), "B_r": T.b_of(th, 4)}
         mean, sd = {}, {}
