@@ -131,3 +131,29 @@ def test_summary_pools_the_steering_logs_that_do_not_brake():
     assert sum(line.startswith(f"| {R.BRAKING[0]} | SCKF |") for line in acc) == 1
     summ = next(line for line in cnt if line.startswith("| SCKF |")).split(" | ")
     assert summ[2:4] == ["2.0", "3.0"]      # median and worst of 1.0 and 3.0 only
+
+
+def test_delta_state_option_sets_the_state_key_and_the_table_counts_each_density():
+    """--delta-state: a number in the job's delta slot runs the SCKF with delta as a state at
+    that tid_delta_state_q (n = 11: it differs from the run without), True the steering-angle
+    filter; the table chains off -> filter -> state per cell and counts targets per density."""
+    c = read_csv_log(str(R.ROOT / "scenarios" / "tyre_id" / f"{LOG}.csv")).columns
+    n = 60
+    off = R.run_filter(c, "sckf", 0, 1, n_steps=n)
+    on = R.run_filter(c, "sckf", 0, 1, n_steps=n, delta_filter=R.DELTA_STATE_Q)
+    ref = TS.run(c, {"tid_delta_state_q": R.DELTA_STATE_Q}, n_steps=n)
+    assert np.array_equal(on["K_f"], ref["K_f"]) and not np.array_equal(on["K_f"], off["K_f"])
+    base = {"log": STEER, "filter": "sckf", "beta": 0.1, "curve_f": 4.0, "curve_r": 6.0,
+            "mulim_f": 0.04, "mulim_r": 0.04, "sdlin_f": 0.3, "sdlin_r": 0.3}
+    runs = [dict(base, delta_filter=False), dict(base, delta_filter=True, curve_r=5.0),
+            dict(base, delta_filter=R.DELTA_STATE_Q, curve_r=1.0, sdlin_r=0.1),
+            dict(base, delta_filter=0.01, mulim_f=0.2)]
+    lines = R.delta_state_table(runs, [0.01, R.DELTA_STATE_Q])
+    cells = next(line for line in lines if line.startswith(f"| {STEER} |")).split(" | ")
+    assert cells[2] == "6.0 → 5.0 → 1.0" and cells[6] == "0.30 → 0.30 → 0.10"
+    counts = [line for line in lines if line.startswith("| off") or line.startswith("| st")
+              or line.startswith("| δ")]
+    assert counts[0].startswith("| off (the default) | 1/2 | 2/2 | 2/2 |")
+    assert counts[1].split(" | ")[1] == "2/2"             # curve r 5.0 meets <= 5
+    assert counts[2].split(" | ")[1:4] == ["1/2", "1/2", "2/2"]   # 0.01: mu@lim f 0.2 misses
+    assert counts[3].split(" | ")[1:4] == ["2/2", "2/2", "1/2"]   # 0.04: sd r 0.1 misses

@@ -27,6 +27,10 @@ with the friction ellipse (ELLIPSE: tid_ellipse 1, tid_ell_ax_min at its default
 |ax| of the log, and per filter how many (log, axle) cells meet each target without and with.
 With --delta-filter the same table without and with the steering-angle filter (DELTA_FILTER:
 tid_delta_q 0.05, docs/TYRE_ID.md section 4.4), between <!-- tyre-id-results-delta-filter:... -->.
+With --delta-state the SCKF only, three runs per log: off, the steering-angle filter
+(DELTA_FILTER) and delta as a state of the SCKF (DELTA_STATE: tid_delta_state_q, docs/TYRE_ID.md
+section 15.7), one table between <!-- tyre-id-results-delta-state:... -->, and the target counts
+for every density of --state-q.
 """
 
 from __future__ import annotations
@@ -54,7 +58,8 @@ LOGS = ("tid_ramp_steer_high_mu", "tid_ramp_steer_low_mu", "tid_sine_steer", "ti
         "tid_dlc_low_mu", "tid_tyre_change", "tid_straight", "tid_brake_in_turn_high_mu",
         "tid_brake_in_turn_low_mu")
 MARK = {k: (f"<!-- tyre-id-{k}:begin -->", f"<!-- tyre-id-{k}:end -->")
-        for k in ("accuracy", "count", "ident", "results-ellipse", "results-delta-filter")}
+        for k in ("accuracy", "count", "ident", "results-ellipse", "results-delta-filter",
+                  "results-delta-state")}
 T_SKIP = 0.5          # s, the start not scored (prior)
 # m/s^2: the samples scored as braking (mu@brake).  Above the logs' |ax| without a brake (at
 # most 0.55: drag and the accelerometer's noise, sd 0.05) and below the lightest braking (the
@@ -70,6 +75,11 @@ ELLIPSE = {"tid_ellipse": 1.0}   # --ellipse: the friction ellipse, its dead ban
 # --delta-filter: the steering-angle filter (TYRE_ID.md section 4.4) at the density measured in
 # docs/TYRE_ID_RESULTS.md "The steering-angle filter" (0.05 rad/s^2/sqrt(s))
 DELTA_FILTER = {"tid_delta_q": 0.05}
+# --delta-state: delta as a state of the SCKF (TYRE_ID.md section 15.7), its random walk's
+# density matched to the fastest steering of the logs: the high-mu lane change's road-wheel
+# rate peaks at 0.095 rad * 2 pi / 1.6 s = 0.37 rad/s, a change of 0.0037 rad a 10 ms sample,
+# which a random walk gives as its one-sd step q sqrt(h) with q = 0.37 * sqrt(0.01) = 0.037
+DELTA_STATE_Q = 0.04
 # the identification targets (issue 20; the page's definitions): curve <= 5 % of the peak,
 # mu at the limit within 0.05, the sd of mu while linear >= 0.2
 TARGETS = (("curve", "<=", 5.0), ("mulim", "<=", 0.05), ("sdlin", ">=", 0.2))
@@ -78,10 +88,13 @@ TARGETS = (("curve", "<=", 5.0), ("mulim", "<=", 0.05), ("sdlin", ">=", 0.2))
 def run_filter(c, filt, n, seed, ellipse=False, n_steps=None, delta_filter=False):
     """One reference run of @p filt on the log columns @p c at its defaults (the particle
     filters: tid_n @p n, seed @p seed); @p ellipse adds ELLIPSE's keys, @p delta_filter
-    DELTA_FILTER's."""
+    DELTA_FILTER's (True) or, a number > 0, delta as a state of the SCKF with that
+    tid_delta_state_q."""
     extra = dict(ELLIPSE) if ellipse else {}
-    if delta_filter:
+    if delta_filter is True:
         extra.update(DELTA_FILTER)
+    elif delta_filter:
+        extra["tid_delta_state_q"] = float(delta_filter)
     if filt == "sckf":
         return TS.run(c, extra, n_steps=n_steps)
     return T.run(c, {"tid_n": float(n), "tid_filter": filt, **extra}, seed=seed,
@@ -110,7 +123,7 @@ def measure(job):
     log, filt, n, seed = job[:4]
     ellipse = bool(job[4]) if len(job) > 4 else False
     every = int(job[5]) if len(job) > 5 else 1
-    delta_filter = bool(job[6]) if len(job) > 6 else False
+    delta_filter = job[6] if len(job) > 6 else False
     c = read_csv_log(str(ROOT / "scenarios" / "tyre_id" / f"{log}.csv")).columns
     if every > 1:
         c = {k: np.asarray(v)[::every] for k, v in c.items()}
@@ -305,6 +318,42 @@ def ellipse_table(off, on, n_main, seeds, what=None):
     return lines
 
 
+def delta_state_table(runs, qs):
+    """The --delta-state table (SCKF): each cell off -> steering-angle filter -> delta as a
+    state (DELTA_STATE_Q), then the target counts of every density of @p qs."""
+    def rows(d):
+        return {r["log"]: [r] for r in runs if r["delta_filter"] == d}
+    variants = [rows(False), rows(True), rows(DELTA_STATE_Q)]
+    lines = ["SCKF, one run per log. Each cell: off → the steering-angle filter (tid_delta_q "
+             f"{DELTA_FILTER['tid_delta_q']:g}, §4.4) → δ as a state (tid_delta_state_q "
+             f"{DELTA_STATE_Q:g} rad/√s, §15.7). mu@lim, sd_mu linear, beta as the tables above.",
+             "", "| log | curve f % | curve r % | mu@lim f | mu@lim r | min sd_mu linear f | "
+             "min sd_mu linear r | beta RMSE deg |", "|---|---|---|---|---|---|---|---|"]
+    keys = (("curve_f", ".1f"), ("curve_r", ".1f"), ("mulim_f", ".3f"), ("mulim_r", ".3f"),
+            ("sdlin_f", ".2f"), ("sdlin_r", ".2f"), ("beta", ".3f"))
+    for log in LOGS:
+        if not all(log in v for v in variants):
+            continue
+        cell = [" → ".join(fmt(v[log][0][k], spec) for v in variants) for k, spec in keys]
+        lines.append(f"| {log} | " + " | ".join(cell) + " |")
+    lines += ["", "(log, axle) cells that meet each target (cells without a figure not counted):",
+              "", "| SCKF variant | curve ≤ 5 % | mu@lim ≤ 0.05 | sd_mu linear ≥ 0.2 | "
+              "beta RMSE deg, median over the logs |", "|---|---|---|---|---|"]
+    names = [(False, "off (the default)"),
+             (True, f"steering-angle filter, tid_delta_q {DELTA_FILTER['tid_delta_q']:g}")]
+    names += [(q, f"δ as a state, tid_delta_state_q {q:g}") for q in qs]
+    for d, name in names:
+        by = rows(d)
+        cell = []
+        for key, how, lim in TARGETS:
+            vals = [by[log][0][f"{key}_{a}"] for log in by for a in "fr"]
+            vals = [v for v in vals if not math.isnan(v)]
+            cell.append(f"{sum(meets(v, how, lim) for v in vals)}/{len(vals)}")
+        cell.append(fmt(float(np.median([by[log][0]["beta"] for log in by])), ".3f"))
+        lines.append(f"| {name} | " + " | ".join(cell) + " |")
+    return lines
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--page", default=str(ROOT / "docs" / "TYRE_ID_RESULTS.md"))
@@ -319,7 +368,24 @@ def main(argv=None):
     ap.add_argument("--delta-filter", action="store_true",
                     help="only the --main-n runs, without and with the steering-angle filter "
                     "(DELTA_FILTER): the table 'The steering-angle filter'")
+    ap.add_argument("--delta-state", action="store_true",
+                    help="the SCKF only: off, the steering-angle filter and delta as a state "
+                    "(the table 'The steering angle as a state of the SCKF')")
+    ap.add_argument("--state-q", type=float, nargs="+", default=[0.01, 0.02, DELTA_STATE_Q, 0.1],
+                    help="--delta-state: the tid_delta_state_q densities counted (rad/sqrt(s))")
     args = ap.parse_args(argv)
+    if args.delta_state:
+        qs = sorted(set(args.state_q) | {DELTA_STATE_Q})
+        jobs = [(log, "sckf", args.main_n, args.seeds[0], False, 1, d)
+                for d in [False, True] + qs for log in LOGS]
+        t0 = time.perf_counter()
+        with multiprocessing.Pool(args.jobs) as pool:
+            results = pool.map(measure, jobs, chunksize=1)
+        print(f"{len(jobs)} runs in {time.perf_counter() - t0:.0f} s")
+        lines = delta_state_table(results, qs)
+        replace_region(Path(args.page), *MARK["results-delta-state"], lines, "tyre_id_results")
+        print("\n".join(lines))
+        return
     if args.delta_filter:
         jobs = [(log, filt, args.main_n, s, False, 1, d) for d in (False, True) for log in LOGS
                 for filt in ("apf", "sir") for s in args.seeds]
