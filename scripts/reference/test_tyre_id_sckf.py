@@ -371,3 +371,54 @@ def test_delta_state_removes_the_errors_in_variables_bias():
     rmse = math.sqrt(float(np.mean((d_est[half:] - true_delta[half:]) ** 2)))
     assert rmse < sd_sensor
     assert (d_sd[1:] < sd_sensor).all()
+
+
+# REQ-TID-002
+def test_d_freeze_keeps_d_at_its_walk_while_the_axle_is_below_the_utilisation():
+    """§15.8 tid_d_freeze_u: at every step where the predicted mean puts an axle below that
+    utilisation, its D's gain is 0, so D keeps its predicted mean (a random walk: the previous
+    posterior's) and its variance grows by exactly the walk's (tid_q_mu Fz0)^2 h; the other
+    states still update. On the model's sine at 0.06 rad (the axles reach about 0.7 of the
+    peak, test_bounds_hold_when_the_truth_is_outside) with 0.5 both frozen and unfrozen steps
+    occur, and D is then identified. Outside [0, 1) the key is refused."""
+    c = _model_log(0.06)
+    tid = S.init({"tid_d_freeze_u": 0.5})
+    p = tid.p
+    frozen_log = []
+    real = tid._frozen
+
+    def spy(s):
+        rows = real(s)
+        frozen_log.append(rows)
+        return rows
+    tid._frozen = spy
+    n = len(c["t"])
+    x, sd = np.empty((n, T.DIM)), np.empty((n, T.DIM))
+    for k in range(n):
+        tid.step({key: float(c[key][k]) for key in T.SAMPLE_KEYS})
+        x[k], sd[k] = tid.f.x, tid.f.sd()
+    # frozen_log[i] belongs to step i + 1 (the first sample initialises, no update)
+    assert len(frozen_log) == n - 1
+    for j, fz in ((2, tid.fz0[0]), (6, tid.fz0[1])):
+        walk = (p["tid_q_mu"] * fz) ** 2 * DT
+        steps = [i + 1 for i, rows in enumerate(frozen_log) if j in rows]
+        free = [i + 1 for i, rows in enumerate(frozen_log) if j not in rows]
+        assert len(steps) > 10 and len(free) > 10, j
+        for k in steps:
+            # the mean: the 2n-point mean of +-pairs returns x to rounding (1e-12 relative:
+            # a few ulps of a sum of 20 terms); the projection does not act (inside bounds)
+            assert x[k, j] == pytest.approx(x[k - 1, j], rel=1e-12), (j, k)
+            # the variance: Tria's row norm of the unchanged predicted row, a backward stable
+            # QR (relative error ~ rows cols eps ~ 1e-13, bound 1e-10)
+            assert sd[k, j] ** 2 == pytest.approx(sd[k - 1, j] ** 2 + walk, rel=1e-10), (j, k)
+        # once free, the data narrow D: its final sd below 0.8 of the prior's (a filter that
+        # learned nothing keeps sqrt(1 + 0.02^2 10 / 0.3^2) = 1.02 of it; measured 0.56 front,
+        # 0.30 rear, against 0.24 / 0.24 without the freeze: the frozen steps' information
+        # is given up)
+        assert sd[-1, j] < 0.8 * tid.sd0[j - 2], j
+    # the stiffness updates while D is frozen (the first frozen steps narrow K_f)
+    first = [i + 1 for i, rows in enumerate(frozen_log) if 2 in rows]
+    assert sd[first[-1], 4] < 0.5 * tid.sd0[2]
+    for bad in (-0.1, 1.0, math.nan):
+        with pytest.raises(ValueError):
+            S.init({"tid_d_freeze_u": bad})

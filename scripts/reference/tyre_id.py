@@ -73,6 +73,8 @@ TID_DEFAULTS: dict[str, float] = {
                               # rad/s^2 per sqrt(s) (0: off, the measured delta as read)
     "tid_delta_state_q": 0.0,  # §15.7 the SCKF only: delta as a state, its random walk's
                                # density, rad per sqrt(s) (0: off, delta an input)
+    "tid_d_freeze_u": 0.0,    # §15.8 the SCKF only: D_a's gain is 0 while the utilisation the
+                              # predicted mean gives that axle, |Fy_a| / D_a, is below this (0: off)
 }
 TID_CHOICES = {"tid_filter": ("apf", "sir"),
                "tid_resample": ("multinomial", "systematic")}  # first of each: the default
@@ -374,6 +376,8 @@ class TyreId(_SampleSteps):
             raise ValueError("tid_delta_q must be finite and >= 0")
         if not (math.isfinite(p["tid_delta_state_q"]) and p["tid_delta_state_q"] >= 0.0):
             raise ValueError("tid_delta_state_q must be finite and >= 0")
+        if not (math.isfinite(p["tid_d_freeze_u"]) and 0.0 <= p["tid_d_freeze_u"] < 1.0):
+            raise ValueError("tid_d_freeze_u must be in [0, 1)")
         if not np.all(self.lo < self.hi):
             raise ValueError("every lower bound must be below its upper bound")
         if not (self.lo <= self.mean0).all() or not (self.mean0 <= self.hi).all():

@@ -23,9 +23,10 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from scipy.linalg import solve_triangular
 
 from . import tyre_id as T
-from .filters import SCKF, project
+from .filters import SCKF, project, tria
 from .params import DEFAULTS as VEHICLE_DEFAULTS
 
 __all__ = ["TyreIdSCKF", "init", "run", "N_POINTS"]
@@ -57,6 +58,7 @@ class TyreIdSCKF(T._SampleSteps):
         if self.dstate and p["tid_delta_q"] > 0.0:
             raise ValueError("tid_delta_state_q and tid_delta_q exclude each other")
         self.n_x = T.DIM + (1 if self.dstate else 0)
+        self.u_freeze = p["tid_d_freeze_u"]      # §15.8 (0: off)
         self.f = None            # the filters.SCKF
         self.prev = None         # the previous sample's (t, delta, vx)
         self.k = 0
@@ -121,6 +123,37 @@ class TyreIdSCKF(T._SampleSteps):
         gs = g * self.sd_delta
         return np.diag([p["tid_sd_r"], math.sqrt(p["tid_sd_ay"] * p["tid_sd_ay"] + gs * gs)])
 
+    def _frozen(self, s):
+        """§15.8 the rows of D_a whose axle the predicted mean puts below tid_d_freeze_u of its
+        friction: |Fy_a| / D_a at the mean (parameters clipped), at delta (the state's with
+        §15.7), vx, ax of the sample."""
+        x = self.f.x[:, None]
+        vy, r, th = self._clip(x)
+        d = x[T.DIM] if self.dstate else s["delta"]
+        f, rr = self.model.forces(vy, r, th, d, s["vx"], s["ax"])
+        rows = []
+        for j, fy in ((2, f[0]), (6, rr[0])):
+            if abs(float(fy)) < self.u_freeze * float(th[0, j - 2]):
+                rows.append(j)
+        return rows
+
+    def _update_frozen(self, y, h, rows):
+        """filters.SCKF.measurement_update with the gain's @p rows set to 0 (§15.8): x = x- +
+        K (y - z), S = Tria([Xc - K Zc, K S_R]), the Joseph form, is the covariance of the
+        estimate for any gain, so the frozen rows keep their predicted mean and sd."""
+        f = self.f
+        pts = f.points()
+        z_pts = np.asarray(h(pts), dtype=float)
+        z_hat = z_pts.mean(axis=1)
+        xc = (pts - f.x[:, None]) / f.sqrt_2n
+        zc = (z_pts - z_hat[:, None]) / f.sqrt_2n
+        s_zz = tria(np.hstack([zc, f.s_r]))
+        w_t = solve_triangular(s_zz, (xc @ zc.T).T, lower=True, check_finite=False)
+        k_gain = solve_triangular(s_zz, w_t, lower=True, trans="T", check_finite=False).T
+        k_gain[rows, :] = 0.0
+        f.x = f.x + k_gain @ (y - z_hat)
+        f.S = tria(np.hstack([xc - k_gain @ zc, k_gain @ f.s_r]))
+
     def _project(self):
         self.f.x[2:T.DIM], _ = project(self.f.x[2:T.DIM], self.lo, self.hi)
 
@@ -143,7 +176,11 @@ class TyreIdSCKF(T._SampleSteps):
         # measurement update on (r_m, ay_m)
         self.f.s_r = self._s_r(s, cd, sd_)
         y = [s["yaw_rate"], s["ay"]] + ([s["delta"]] if self.dstate else [])
-        self.f.measurement_update(np.array(y), self._measure(s, cd))
+        frozen = self._frozen(s) if self.u_freeze > 0.0 else []
+        if frozen:
+            self._update_frozen(np.array(y), self._measure(s, cd), frozen)
+        else:
+            self.f.measurement_update(np.array(y), self._measure(s, cd))
         self._project()
         if not (np.isfinite(self.f.x).all() and np.isfinite(self.f.S).all()):
             self._initialise(s["yaw_rate"], s["delta"])

@@ -157,3 +157,29 @@ def test_delta_state_option_sets_the_state_key_and_the_table_counts_each_density
     assert counts[1].split(" | ")[1] == "2/2"             # curve r 5.0 meets <= 5
     assert counts[2].split(" | ")[1:4] == ["1/2", "1/2", "2/2"]   # 0.01: mu@lim f 0.2 misses
     assert counts[3].split(" | ")[1:4] == ["2/2", "2/2", "1/2"]   # 0.04: sd r 0.1 misses
+
+
+def test_spread_option_adds_the_remedy_keys_to_the_state_and_counts_each_variant():
+    """--spread: a dict in the job's delta slot runs the SCKF with delta as a state at
+    DELTA_STATE_Q and those keys on top (here the D freeze, which changes the run); the table
+    chains off -> state -> each remedy per cell and counts the targets per variant, keeping
+    the variant False (off) apart from a remedy whose figures happen to match."""
+    c = read_csv_log(str(R.ROOT / "scenarios" / "tyre_id" / f"{LOG}.csv")).columns
+    n = 60
+    keys = {"tid_d_freeze_u": 0.45}
+    on = R.run_filter(c, "sckf", 0, 1, n_steps=n, delta_filter=keys)
+    ref = TS.run(c, {"tid_delta_state_q": R.DELTA_STATE_Q, **keys}, n_steps=n)
+    state = R.run_filter(c, "sckf", 0, 1, n_steps=n, delta_filter=R.DELTA_STATE_Q)
+    assert np.array_equal(on["sd_D_f"], ref["sd_D_f"])
+    assert not np.array_equal(on["sd_D_f"], state["sd_D_f"])
+    base = {"log": STEER, "filter": "sckf", "beta": 0.1, "curve_f": 4.0, "curve_r": 6.0,
+            "mulim_f": 0.04, "mulim_r": 0.04, "sdlin_f": 0.3, "sdlin_r": 0.3}
+    runs = [dict(base, delta_filter=False),
+            dict(base, delta_filter=R.DELTA_STATE_Q, sdlin_r=0.1),
+            dict(base, delta_filter=dict(keys), sdlin_r=0.25, curve_r=7.0)]
+    lines = R.spread_table(runs, [("freeze", keys)])
+    cells = next(line for line in lines if line.startswith(f"| {STEER} |")).split(" | ")
+    assert cells[2] == "6.0 → 6.0 → 7.0" and cells[6] == "0.30 → 0.10 → 0.25"
+    counts = [line.split(" | ")[1:4] for line in lines
+              if line.startswith("| off") or line.startswith("| δ")]
+    assert counts == [["1/2", "2/2", "2/2"], ["1/2", "2/2", "1/2"], ["1/2", "2/2", "2/2"]]

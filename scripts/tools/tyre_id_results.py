@@ -59,7 +59,7 @@ LOGS = ("tid_ramp_steer_high_mu", "tid_ramp_steer_low_mu", "tid_sine_steer", "ti
         "tid_brake_in_turn_low_mu")
 MARK = {k: (f"<!-- tyre-id-{k}:begin -->", f"<!-- tyre-id-{k}:end -->")
         for k in ("accuracy", "count", "ident", "results-ellipse", "results-delta-filter",
-                  "results-delta-state")}
+                  "results-delta-state", "results-spread")}
 T_SKIP = 0.5          # s, the start not scored (prior)
 # m/s^2: the samples scored as braking (mu@brake).  Above the logs' |ax| without a brake (at
 # most 0.55: drag and the accelerometer's noise, sd 0.05) and below the lightest braking (the
@@ -82,6 +82,16 @@ DELTA_FILTER = {"tid_delta_q": 0.05}
 DELTA_STATE_Q = 0.04
 # the identification targets (issue 20; the page's definitions): curve <= 5 % of the peak,
 # mu at the limit within 0.05, the sd of mu while linear >= 0.2
+# --spread: delta as a state (DELTA_STATE_Q) with each remedy for the spread of mu while the tyre
+# is linear (docs/TYRE_ID_RESULTS.md "Keeping the spread while linear"): (label, extra keys)
+SPREAD_REMEDIES = (("D's process noise tid_q_mu 0.1 (default 0.02)", {"tid_q_mu": 0.1}),
+                   ("D's prior sd tid_sd0_mu 0.4 (default 0.3)", {"tid_sd0_mu": 0.4}),
+                   ("D frozen below utilisation 0.3 (tid_d_freeze_u, §15.8)",
+                    {"tid_d_freeze_u": 0.3}),
+                   ("D frozen below utilisation 0.45 (tid_d_freeze_u, §15.8)",
+                    {"tid_d_freeze_u": 0.45}),
+                   ("D frozen below utilisation 0.5 (tid_d_freeze_u, §15.8)",
+                    {"tid_d_freeze_u": 0.5}))
 TARGETS = (("curve", "<=", 5.0), ("mulim", "<=", 0.05), ("sdlin", ">=", 0.2))
 
 
@@ -89,9 +99,11 @@ def run_filter(c, filt, n, seed, ellipse=False, n_steps=None, delta_filter=False
     """One reference run of @p filt on the log columns @p c at its defaults (the particle
     filters: tid_n @p n, seed @p seed); @p ellipse adds ELLIPSE's keys, @p delta_filter
     DELTA_FILTER's (True) or, a number > 0, delta as a state of the SCKF with that
-    tid_delta_state_q."""
+    tid_delta_state_q, or, a dict, delta as a state at DELTA_STATE_Q with those keys added."""
     extra = dict(ELLIPSE) if ellipse else {}
-    if delta_filter is True:
+    if isinstance(delta_filter, dict):
+        extra.update({"tid_delta_state_q": DELTA_STATE_Q, **delta_filter})
+    elif delta_filter is True:
         extra.update(DELTA_FILTER)
     elif delta_filter:
         extra["tid_delta_state_q"] = float(delta_filter)
@@ -354,6 +366,44 @@ def delta_state_table(runs, qs):
     return lines
 
 
+def spread_table(runs, remedies):
+    """The --spread table (SCKF): per (log, axle) cell the figures off -> delta as a state
+    (DELTA_STATE_Q) -> each of @p remedies (label, keys) on top, then the target counts."""
+    variants = [(False, "off (the default)"),
+                (DELTA_STATE_Q, f"δ as a state, tid_delta_state_q {DELTA_STATE_Q:g}")]
+    variants += [(keys, f"δ as a state + {label}") for label, keys in remedies]
+
+    def rows(d):
+        return {r["log"]: r for r in runs if r["delta_filter"] == d
+                and type(r["delta_filter"]) is type(d)}
+    by = [rows(d) for d, _ in variants]
+    lines = ["SCKF, one run per log. Each cell: " + " → ".join(
+        ["off", "δ as a state"] + [f"({i + 1})" for i in range(len(remedies))])
+        + "; the remedies: " + "; ".join(f"({i + 1}) {label}" for i, (label, _)
+                                        in enumerate(remedies)) + ".", "",
+        "| log | curve f % | curve r % | mu@lim f | mu@lim r | min sd_mu linear f | "
+        "min sd_mu linear r | beta RMSE deg |", "|---|---|---|---|---|---|---|---|"]
+    keys = (("curve_f", ".1f"), ("curve_r", ".1f"), ("mulim_f", ".3f"), ("mulim_r", ".3f"),
+            ("sdlin_f", ".2f"), ("sdlin_r", ".2f"), ("beta", ".3f"))
+    for log in LOGS:
+        if not all(log in v for v in by):
+            continue
+        cell = [" → ".join(fmt(v[log][k], spec) for v in by) for k, spec in keys]
+        lines.append(f"| {log} | " + " | ".join(cell) + " |")
+    lines += ["", "(log, axle) cells that meet each target (cells without a figure not counted):",
+              "", "| SCKF variant | curve ≤ 5 % | mu@lim ≤ 0.05 | sd_mu linear ≥ 0.2 | "
+              "beta RMSE deg, median over the logs |", "|---|---|---|---|---|"]
+    for (_, name), v in zip(variants, by):
+        cell = []
+        for key, how, lim in TARGETS:
+            vals = [v[log][f"{key}_{a}"] for log in v for a in "fr"]
+            vals = [x for x in vals if not math.isnan(x)]
+            cell.append(f"{sum(meets(x, how, lim) for x in vals)}/{len(vals)}")
+        cell.append(fmt(float(np.median([v[log]["beta"] for log in v])), ".3f"))
+        lines.append(f"| {name} | " + " | ".join(cell) + " |")
+    return lines
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--page", default=str(ROOT / "docs" / "TYRE_ID_RESULTS.md"))
@@ -373,7 +423,22 @@ def main(argv=None):
                     "(the table 'The steering angle as a state of the SCKF')")
     ap.add_argument("--state-q", type=float, nargs="+", default=[0.01, 0.02, DELTA_STATE_Q, 0.1],
                     help="--delta-state: the tid_delta_state_q densities counted (rad/sqrt(s))")
+    ap.add_argument("--spread", action="store_true",
+                    help="the SCKF only: off, delta as a state and delta as a state with each "
+                    "remedy of SPREAD_REMEDIES (the table 'Keeping the spread while linear')")
     args = ap.parse_args(argv)
+    if args.spread:
+        variants = [False, DELTA_STATE_Q] + [keys for _, keys in SPREAD_REMEDIES]
+        jobs = [(log, "sckf", args.main_n, args.seeds[0], False, 1, d)
+                for d in variants for log in LOGS]
+        t0 = time.perf_counter()
+        with multiprocessing.Pool(args.jobs) as pool:
+            results = pool.map(measure, jobs, chunksize=1)
+        print(f"{len(jobs)} runs in {time.perf_counter() - t0:.0f} s")
+        lines = spread_table(results, SPREAD_REMEDIES)
+        replace_region(Path(args.page), *MARK["results-spread"], lines, "tyre_id_results")
+        print("\n".join(lines))
+        return
     if args.delta_state:
         qs = sorted(set(args.state_q) | {DELTA_STATE_Q})
         jobs = [(log, "sckf", args.main_n, args.seeds[0], False, 1, d)
