@@ -552,6 +552,13 @@ mass-grade-walk: venv
 mass-offset: venv
 	$(PY) scripts/tools/mass_offset_study.py --jobs $(TEST_JOBS) --page docs/MASS_GRADE_RESULTS.md
 
+## a Gauss-Markov gust state beside the force offset, and the information bound of the
+## headwind's first 10 s, in the float64 reference (docs/MASS_GRADE_RESULTS.md; about 8 min
+## on 2 cores)
+.PHONY: mass-gust
+mass-gust: venv
+	$(PY) scripts/tools/mass_gust_study.py --jobs $(TEST_JOBS) --page docs/MASS_GRADE_RESULTS.md
+
 ## whether the mass filter's innovations or a drag fit see the headwind (docs/MASS_GRADE_RESULTS.md)
 mass-headwind: venv
 	$(PY) scripts/tools/mass_headwind_study.py --page docs/MASS_GRADE_RESULTS.md
