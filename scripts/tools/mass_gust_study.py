@@ -226,9 +226,9 @@ class MassGradeGust(mos.MassGradeOffset):
         return mg.OK
 
     def _grade_ax_sqrt(self, s, dt):
-        # the reference's, on columns v and theta; M, F and G held (their rows have no entry
-        # in v's column after a hold, and theta's row none in theirs is not assumed: the
-        # reference's update touches S[4][0], S[4][4] only, as mass_offset_study's does)
+        # mass_offset_study's, on columns v and theta (S[0][0], S[4][0], S[4][4]); M, F and
+        # G are held over the pause sample, G not relaxed there
+        # (a simplification: only the hold relaxes G)
         p, S, x = self.p, self.S, self.x
         gc = p["g"] * math.cos(x[IT]) * dt
         v = x[IV] + dt * (s.ax - p["g"] * math.sin(x[IT]))
@@ -345,9 +345,10 @@ def label(variant):
 
 
 def table(res, names):
-    lines = ["| log | filter | mass error 10 s after the first excitation, starts -50/-20/+20/+50 % "
-             "| largest mass error after that | mass error at the end (worst) | grade RMSE after "
-             "it (worst) | grade step 2-10 s / flat drift |", "|---|---|---|---|---|---|---|"]
+    lines = ["| log | filter | mass error 10 s after the first excitation, starts "
+             "-50/-20/+20/+50 % | largest mass error after that | mass error at the end "
+             "(worst) | grade RMSE after it (worst) | grade step 2-10 s / flat drift |",
+             "|---|---|---|---|---|---|---|"]
     for name in names:
         for v in VARIANTS:
             ms = [res[(name, g, v)] for g in mgr.GUESSES]
@@ -426,7 +427,8 @@ def exact_fit(cols, p, t1):
     s = t <= t1 + 1e-9
     ts = t[s]
     Z = np.column_stack([x[s], np.ones(int(s.sum()))]
-                        + [f(2.0 * np.pi * ts / per) for _, per in GUSTS for f in (np.sin, np.cos)])
+                        + [f(2.0 * np.pi * ts / per) for _, per in GUSTS
+                           for f in (np.sin, np.cos)])
     b = np.linalg.lstsq(Z, y[s], rcond=None)[0]
     return 100.0 * (b[0] - mt) / mt
 

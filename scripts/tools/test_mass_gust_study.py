@@ -161,3 +161,18 @@ def test_whitened_bound_equals_the_dense_one():
     white = gs.gls_ar1(cols, p, t[-1], 66.0, 1.0)
     for d, w in zip(dense, white):
         assert math.isclose(d, w, rel_tol=1e-6)
+
+
+def test_table_lists_every_start_and_takes_the_worst_end():
+    res = {}
+    for v in gs.VARIANTS:
+        for k, g in enumerate(gs.mgr.GUESSES):
+            res[("car_x", g, v)] = {"err10": (-1.0) ** k * k, "err_after": 0.5 * k,
+                                    "err_end": -0.1 * k, "rmse": 0.1 * (k + 1)}
+    lines = gs.table(res, ["car_x"]).strip().split("\n")
+    assert len(lines) == 2 + len(gs.VARIANTS)
+    row = lines[2].split(" | ")
+    # starts k = 0..3 in GUESSES' order: err10 0, -1, 2, -3; largest 1.5; end -0.3; rmse 0.4
+    assert row[2] == "+0.00 / -1.00 / +2.00 / -3.00 %"
+    assert row[3] == "1.50 %" and row[4] == "-0.30 %" and row[5] == "0.400 deg"
+    assert row[1] == "without (the reference)" and row[6] == "– |"
