@@ -46,7 +46,7 @@ DEPS_EXTRA :=
 TEST_GATES :=
 include $(sort $(filter-out mk/lib.mk,$(wildcard mk/*.mk)))
 
-.PHONY: deps-apt mass-grade-scenarios observer-res-scenarios mass-grade-results mass-grade-textbook mass-sensitivity mass-headwind mass-slip mass-slip-ramp mass-curve mass-curve-pause mass-pause-grade mass-grade-walk mass-offset tyre-id-feed-results tyre-id-trust mass-grade-goldens trust-invariant names car-format-logs observer-goldens observer-goldens-q31 observer-results monitor-results shape-results test-pkg all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind valgrind-unit valgrind-cli coverage demo goldens goldens-q31 scenarios observer-scenarios clean vectors shared-sync check-shared readme-table \
+.PHONY: deps-apt mass-grade-scenarios observer-res-scenarios mass-grade-results mass-grade-textbook mass-sensitivity mass-headwind mass-slip mass-slip-ramp mass-curve mass-curve-pause mass-pause-grade mass-grade-walk mass-offset mass-gust tyre-id-feed-results tyre-id-trust mass-grade-goldens trust-invariant names car-format-logs observer-goldens observer-goldens-q31 observer-results monitor-results shape-results test-pkg all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind valgrind-unit valgrind-cli coverage demo goldens goldens-q31 scenarios observer-scenarios clean vectors shared-sync check-shared readme-table \
         check-kernels check-tools layers help-check goldens-ref check-nofloat help deps-analysis misra tidy complexity structural analysis \
         twins check-twins tyre-id-scenarios tyre-id-results tyre-id-goldens tyre-id-ellipse-results \
         tyre-id-results-ellipse tyre-id-results-delta-filter tyre-id-results-delta-state tyre-id-results-spread tyre-id-targets tyre-id-m4-count snoise-reuse snoise-reuse-vxvy
@@ -557,6 +557,12 @@ mass-grade-walk: venv
 ## starts, in the float64 reference (docs/MASS_GRADE_RESULTS.md; about 6 min on 2 cores)
 mass-offset: venv
 	$(PY) scripts/tools/mass_offset_study.py --jobs $(TEST_JOBS) --page docs/MASS_GRADE_RESULTS.md
+
+## a Gauss-Markov gust state beside the force offset, and the information bound of the
+## headwind's first 10 s, in the float64 reference (docs/MASS_GRADE_RESULTS.md; about 8 min
+## on 2 cores)
+mass-gust: venv
+	$(PY) scripts/tools/mass_gust_study.py --jobs $(TEST_JOBS) --page docs/MASS_GRADE_RESULTS.md
 
 ## whether the mass filter's innovations or a drag fit see the headwind (docs/MASS_GRADE_RESULTS.md)
 mass-headwind: venv
