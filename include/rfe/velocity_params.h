@@ -26,7 +26,7 @@
 typedef struct {
     uint32_t driven;          /**< driven wheels, RFE_DRIVEN_* bits (1..15): 3 (front drive) */
     uint32_t lat_every;       /**< the lateral model's rows every lat_every-th step (§4.2),
-                                   1 .. RFE_VEL_LAT_EVERY_MAX: 1 (every step; OBSERVER.md §2) */
+                                   1 .. RFE_VEL_LAT_EVERY_MAX: 8 (1 is every step; OBSERVER.md §2) */
     rfe_real_t steer_ratio;   /**< steering-wheel angle / road-wheel angle, used when a sample
                                    gives the steering-wheel angle (RFE_VEL_HAS_STEER_WHEEL) [1]:
                                    16 */

@@ -37,14 +37,14 @@ def logs_in(folder):
                   and os.path.isfile(os.path.join(folder, f)))
 
 
-def golden(path, lat_every=1):
+def golden(path, lat_every=None):
     """(metadata pairs, column names, rows) of one log's golden, the model's rows every
-    lat_every-th step (OBSERVER.md §4.2)."""
+    lat_every-th step (OBSERVER.md §4.2; None: the observer's default)."""
     log = logs.read_csv_log(path, required=("t", "delta", "yaw_rate", "ax", "ay")
                             + tuple("omega_" + w for w in WHEELS))
     c = log.columns
-    p = observer.params_with_defaults(params.from_metadata(log.meta),
-                                      obs_lat_every=float(lat_every))
+    rate = {} if lat_every is None else {"obs_lat_every": float(lat_every)}
+    p = observer.params_with_defaults(params.from_metadata(log.meta), **rate)
     truth = all("mu_" + w in c for w in WHEELS)
     mu = ([c["mu_" + w] for w in WHEELS], [np.full(len(c["t"]), MU_SD)] * 4) if truth else None
     out = observer.run(c, p, mu)
@@ -69,8 +69,9 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--scenarios", action="append", default=None)
     ap.add_argument("--out", default=os.path.join("scenarios", "golden", "observer"))
-    ap.add_argument("--lat-every", type=int, default=1,
-                    help="obs_lat_every of the goldens (OBSERVER.md §4.2; default 1)")
+    ap.add_argument("--lat-every", type=int, default=None,
+                    help="obs_lat_every of the goldens (OBSERVER.md §4.2; default: the "
+                         "observer's default, OBS_DEFAULTS)")
     ap.add_argument("--only", nargs="+", default=None,
                     help="only these logs (file names) of the --scenarios folders")
     a = ap.parse_args(argv)

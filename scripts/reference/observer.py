@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 # §2 The observer's parameters (keys of a parameter file), with their defaults.
 OBS_DEFAULTS: dict[str, float] = {
     "obs_driven": 3.0,          # driven wheels, bit mask fl=1 fr=2 rl=4 rr=8 (3: front drive)
-    "obs_lat_every": 1.0,       # the model's rows (§4.2) every obs_lat_every-th step (1: every)
+    "obs_lat_every": 8.0,       # the model's rows (§4.2) every obs_lat_every-th step (8; 1: every)
     "obs_dt_min": 0.001,        # shortest accepted sample period, s
     "obs_dt_max": 0.1,          # longest accepted sample period, s
     "obs_q_jerk": 0.5,          # yaw-jerk density of the yaw-rate differentiator, rad/s^3 sqrt(s)

@@ -23,7 +23,7 @@ static const rfe_param_info_t k_info[RFE_PK_COUNT] = {
     {"filter", "-", "filter: sckf (square-root cubature) or ckf (full covariance)"},
     {"structure", "-", "state: wheels (four independent mu) or sides (mu_left, mu_right)"},
     {"obs_driven", "-", "driven wheels, a bit mask fl 1, fr 2, rl 4, rr 8 (3 front, 12 rear, 15 all)"},
-    {"obs_lat_every", "-", "the lateral model's rows every obs_lat_every-th step (an integer 1 .. 8; 1 every step)"},
+    {"obs_lat_every", "-", "the lateral model's rows every obs_lat_every-th step (an integer 1 .. 8; 8 by default, 1 every step)"},
     RFE_OBS_KEYS(RFE_PK_INFO_)
     {"mg_adaptive", "-", "mass and grade: 1 the seed's adaptive UKF (AUKF), 0 the plain UKF"},
     {"mg_use_ax", "-", "mass and grade: 1 the accelerometer row, 0 speed and torque only"},

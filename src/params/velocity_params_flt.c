@@ -12,7 +12,7 @@ rfe_status_t rfe_velocity_params_default(rfe_velocity_params_t *p)
         return RFE_ERR_NULL;
     }
     p->driven = RFE_DRIVEN_FL | RFE_DRIVEN_FR;
-    p->lat_every = 1u;
+    p->lat_every = 8u;
     p->steer_ratio = RFE_R(16.0);
     p->dt_min = RFE_R(0.001);
     p->dt_max = RFE_R(0.1);

@@ -15,7 +15,7 @@ rfe_status_t rfe_velocity_params_default_q31(rfe_velocity_params_q31_t *p)
     /* rfe_velocity_params_to_q31_f64(rfe_velocity_params_default_f64) (the test checks it
      * bit for bit); the real value in each comment */
     p->driven = RFE_DRIVEN_FL | RFE_DRIVEN_FR;
-    p->lat_every = 1u;
+    p->lat_every = 8u;
     p->steer_ratio = 268435456; /* 16, Q24 */
     p->dt_min = 1073742; /* 0.001 s, Q30 */
     p->dt_max = 107374182; /* 0.1 s, Q30 */

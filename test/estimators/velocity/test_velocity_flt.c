@@ -53,7 +53,7 @@ static void test_params(void **state)
     vp.driven = 16u;
     assert_int_equal(rfe_velocity_params_validate(&vp), RFE_ERR_PARAM);
     assert_int_equal(rfe_velocity_params_default(&vp), RFE_OK);
-    assert_int_equal(vp.lat_every, 1u); /* the default (OBSERVER.md §2): every step */
+    assert_int_equal(vp.lat_every, 8u); /* the default (OBSERVER.md §2): every 8th step */
     vp.lat_every = 0u;
     assert_int_equal(rfe_velocity_params_validate(&vp), RFE_ERR_PARAM);
     vp.lat_every = RFE_VEL_LAT_EVERY_MAX + 1u;
@@ -156,15 +156,16 @@ static void test_first_sample_and_free_rolling(void **state)
     assert_close(e.vy, 0.0, 0.0, 0.0, "first vy");
     assert_close(e.sd_vx, fx.vp.sd_vx0, 1e-6, 0.0, "first sd vx");
     assert_int_equal(e.flags, 0u);
-    for (k = 0u; k < 301u; ++k) {
+    for (k = 0u; k < 841u; ++k) {
         in = rolling(25.0f, 0.01f);
         assert_int_equal(rfe_velocity_step(&fx.obs, &in, NULL, &e), RFE_OK);
     }
     /* free rolling, no acceleration: exactly 25 m/s, no sideslip, the wheels and the linear
      * range (straight: r = r_ref = 0, ay = 0) correct every step, the model every
-     * lat_every-th (the later steps 1, 1 + lat_every, ..: 301 is one for lat_every 1, 2, 3,
-     * 4, 5, 6); the sd falls from 1 m/s to about sd_wheel / 2 (four wheels) */
-    assert_int_equal((301u - 1u) % fx.vp.lat_every, 0u);
+     * lat_every-th (the later steps 1, 1 + lat_every, ..: 841 is one for every lat_every
+     * 1 .. 8, as 840 is their least common multiple); the sd falls from 1 m/s to about
+     * sd_wheel / 2 (four wheels) */
+    assert_int_equal((841u - 1u) % fx.vp.lat_every, 0u);
     assert_close(e.vx, 25.0, 1e-4, 0.0, "rolling vx");
     assert_close(e.vy, 0.0, 1e-6, 0.0, "rolling vy");
     assert_close(e.beta, 0.0, 1e-6, 0.0, "rolling beta");
