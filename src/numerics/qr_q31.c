@@ -109,7 +109,7 @@ static rfe_fix_t to_output(int64_t w, int e, uint32_t *sat)
  * which the M0+'s 48 kB budget needs. round(n 2^32 / d) half up for d > 0, n < d 2^31.
  * Out of line, in 32-bit words: the remainder, the divisor and the 32 quotient bits then stay
  * in the Thumb-1 core's eight low registers (inlined into tria_core_q31, GCC kept them on the
- * stack: ~27 instructions a bit against ~14), and the 64-bit division only where the whole
+ * stack: ~27 instructions a bit against ~18), and the 64-bit division only where the whole
  * part is not 0 (Tria's is 0 or 1: |c| < 4). */
 static QR_DIV_OUTLINE uint64_t div_shl32(uint64_t n, uint64_t d)
 {
@@ -120,6 +120,8 @@ static QR_DIV_OUTLINE uint64_t div_shl32(uint64_t n, uint64_t d)
     uint32_t rh;
     uint32_t rl;
     uint32_t q = 0u;
+    uint32_t half;
+    uint32_t odd;
     unsigned int i;
     if (n >= d) {
         q0 = (uint32_t)(n / d);
@@ -132,14 +134,18 @@ static QR_DIV_OUTLINE uint64_t div_shl32(uint64_t n, uint64_t d)
         rl <<= 1;
         q <<= 1;
         if ((rh > dh) || ((rh == dh) && (rl >= dl))) {
-            const uint32_t borrow = (rl < dl) ? 1u : 0u;
+            if (rl < dl) { /* the low words' borrow */
+                rh -= 1u;
+            }
             rl -= dl;
-            rh -= dh + borrow;
+            rh -= dh;
             q |= 1u;
         }
     }
     /* (q0 2^32 + q + 1) / 2, floored, without the 33-bit sum */
-    return ((uint64_t)q0 << 31) + (uint64_t)(q >> 1) + (uint64_t)(q & 1u);
+    half = q >> 1;
+    odd = q & 1u;
+    return (((uint64_t)q0 << 31) + (uint64_t)half) + (uint64_t)odd;
 }
 #else
 /* Elsewhere one digit of Knuth's long division (internal_q31.h). */
