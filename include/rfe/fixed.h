@@ -392,8 +392,10 @@ static inline rfe_fix_t rfe_fix_mul(rfe_fix_t a, rfe_fix_t b, unsigned int s, ui
     return rfe_fix_narrow((int64_t)a * (int64_t)b, s, sat);
 }
 
-/** Saturating int64 a + b, to [-INT64_MAX, INT64_MAX] (for long accumulations). */
-static inline int64_t rfe_fix_add64(int64_t a, int64_t b, uint32_t *sat)
+/** Saturating int64 a + b, to [-INT64_MAX, INT64_MAX], always inlined: for the few hot
+ *  accumulations whose calls cost more than the copy (the SCKF update's sums on the
+ *  Cortex-M0+, where -Os keeps rfe_fix_add64 out of line). */
+static RFE_FIX_INLINE_ALWAYS int64_t rfe_fix_add64_hot(int64_t a, int64_t b, uint32_t *sat)
 {
     int64_t r;
     if ((b > 0) && (a > (INT64_MAX - b))) {
@@ -410,6 +412,12 @@ static inline int64_t rfe_fix_add64(int64_t a, int64_t b, uint32_t *sat)
         }
     }
     return r;
+}
+
+/** Saturating int64 a + b, to [-INT64_MAX, INT64_MAX] (for long accumulations). */
+static inline int64_t rfe_fix_add64(int64_t a, int64_t b, uint32_t *sat)
+{
+    return rfe_fix_add64_hot(a, b, sat);
 }
 
 #endif /* RFE_FIXED_H */

@@ -333,8 +333,8 @@ static rfe_status_t gain_q31(rfe_sckf_q31_t *f, const rfe_fix_t *SR, uint32_t *c
         for (i = 0u; i < n; ++i) {
             int64_t acc = 0;
             for (j = 0u; j < (2u * n); ++j) {
-                acc = rfe_fix_add64(acc, rfe_fix_mul32x32(w->A[(r * TC) + j], w->B[(i * TC) + j]),
-                                    count);
+                const int64_t p = rfe_fix_mul32x32(w->A[(r * TC) + j], w->B[(i * TC) + j]);
+                acc = rfe_fix_add64_hot(acc, p, count);
             }
             w->Kt[(r * NM) + i] = rfe_fix_narrow(acc, RFE_Q31_QS, count); /* Q(QW + QS) -> QW */
         }
@@ -390,7 +390,7 @@ static void posterior_tria_input_q31(rfe_sckf_q31_t *f, uint32_t *count)
                               : 0;
             for (r = 0u; r < m; ++r) {
                 const int64_t gw = rfe_fix_mul32x32(w->Kt[(r * NM) + i], w->A[(r * TC) + j]);
-                acc = rfe_fix_add64(acc, -gw, count);
+                acc = rfe_fix_add64_hot(acc, -gw, count);
             }
             w->B[(i * TC) + j] = rfe_fix_narrow(acc, QW, count);
         }
@@ -411,7 +411,7 @@ static void project_innovations(rfe_sckf_q31_t *f, uint32_t *count)
         for (r = 0u; r < f->m; ++r) {
             int64_t acc = 0;
             for (j = 0u; j < (2u * n); ++j) {
-                acc = rfe_fix_add64(acc, rfe_fix_mul32x32(u[j], w->zpts[(j * MM) + r]), count);
+                acc = rfe_fix_add64_hot(acc, rfe_fix_mul32x32(u[j], w->zpts[(j * MM) + r]), count);
             }
             w->A[(i * TC) + (2u * n) + r] = rfe_fix_narrow(acc, QW, count);
         }

@@ -893,6 +893,20 @@ int32_t rfe_q31_sin_q55(int64_t phi)
 
 /* ---- the rounded division of the linear algebra and the filters (internal_q31.h) ---------- */
 
+/* The two rounded divisions' common tail: the rounded magnitude q saturated to RFE_FIX_MAX
+ * (counted) and signed by num (ties away from zero: odd in num). */
+static rfe_fix_t div_signed_sat(uint64_t q, int64_t num, uint32_t *sat)
+{
+    uint64_t qs = q;
+    int64_t r;
+    if (qs > (uint64_t)RFE_FIX_MAX) {
+        rfe_fix_count_sat(sat);
+        qs = (uint64_t)RFE_FIX_MAX;
+    }
+    r = (int64_t)qs;
+    return (rfe_fix_t)((num < 0) ? -r : r);
+}
+
 /** round(num / den) for den > 0, ties away from zero (exactly rounded on the magnitude, so
  *  odd in num), saturating to the symmetric int32 range with a count in *sat. The quotient
  *  floor(|num| / den) by rfe_q31_udiv64_32 (the Cortex-M's two 32-bit divisions instead of
@@ -906,7 +920,6 @@ rfe_fix_t rfe_q31_div_round(int64_t num, rfe_fix_t den, uint32_t *sat)
     const uint64_t mag = rfe_q31_mag64_any(num);
     uint64_t q;
     uint64_t rem;
-    int64_t r;
     if ((mag >> 32) < d) {
         const uint32_t q32 = rfe_q31_udiv64_32(mag, d32);
         const uint32_t rem32 = (uint32_t)mag - (q32 * d32); /* < den: exact modulo 2^32 */
@@ -919,12 +932,7 @@ rfe_fix_t rfe_q31_div_round(int64_t num, rfe_fix_t den, uint32_t *sat)
     if ((2u * rem) >= d) { /* rem < 2^31: no overflow */
         q += 1u;
     }
-    if (q > (uint64_t)RFE_FIX_MAX) {
-        rfe_fix_count_sat(sat);
-        q = (uint64_t)RFE_FIX_MAX;
-    }
-    r = (int64_t)q;
-    return (rfe_fix_t)((num < 0) ? -r : r);
+    return div_signed_sat(q, num, sat);
 }
 
 void rfe_q31_recip_init(rfe_q31_recip_t *r, rfe_fix_t den)
@@ -954,7 +962,6 @@ rfe_fix_t rfe_q31_div_round_by(int64_t num, const rfe_q31_recip_t *r, uint32_t *
     const uint32_t hi = (uint32_t)(mag >> 32);
     const uint32_t lo = (uint32_t)mag;
     uint64_t q;
-    int64_t res;
     if (hi >= r->den) {
         q = (uint64_t)1 << 32;
     } else {
@@ -976,12 +983,7 @@ rfe_fix_t rfe_q31_div_round_by(int64_t num, const rfe_q31_recip_t *r, uint32_t *
             q += 1u;
         }
     }
-    if (q > (uint64_t)RFE_FIX_MAX) {
-        rfe_fix_count_sat(sat);
-        q = (uint64_t)RFE_FIX_MAX;
-    }
-    res = (int64_t)q;
-    return (rfe_fix_t)((num < 0) ? -res : res);
+    return div_signed_sat(q, num, sat);
 }
 
 /* ---- the estimators' angle functions (fxmath_internal_q31.h) ------------------------------ */

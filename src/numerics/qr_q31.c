@@ -96,25 +96,56 @@ static rfe_fix_t to_output(int64_t w, int e, uint32_t *sat)
 }
 
 #if RFE_FIX_MUL64_W16
+#if defined(__GNUC__)
+/* MISRA-DEV-02: a GNU attribute (Rule 1.2, language extension), only under __GNUC__ */
+#define QR_DIV_OUTLINE __attribute__((noinline))
+#else
+#define QR_DIV_OUTLINE
+#endif
 /* The Cortex-M0+ (RFE_FIX_MUL64_W16) keeps the bit-by-bit long division that
  * rfe_q31_div_shl32_round replaced elsewhere: the same integer (test/numerics/w16/
  * test_qr_div_w16_q31.c builds this file with RFE_FIX_MUL64_W16 = 1 and checks both against
  * the int128 quotient; make pil, bit-identical on the M0+), and 616 B less flash,
- * which the M0+'s 48 kB budget needs. round(n 2^32 / d) half up for d > 0, n < d 2^31. */
-static uint64_t div_shl32(uint64_t n, uint64_t d)
+ * which the M0+'s 48 kB budget needs. round(n 2^32 / d) half up for d > 0, n < d 2^31.
+ * Out of line, in 32-bit words: the remainder, the divisor and the 32 quotient bits then stay
+ * in the Thumb-1 core's eight low registers (inlined into tria_core_q31, GCC kept them on the
+ * stack: ~27 instructions a bit against ~18), and the 64-bit division only where the whole
+ * part is not 0 (Tria's is 0 or 1: |c| < 4). */
+static QR_DIV_OUTLINE uint64_t div_shl32(uint64_t n, uint64_t d)
 {
-    uint64_t quo = n / d;
-    uint64_t rem = n % d;
+    const uint32_t dh = (uint32_t)(d >> 32);
+    const uint32_t dl = (uint32_t)d;
+    uint32_t q0 = 0u; /* the whole part, below 2^31 (n < d 2^31) */
+    uint64_t r = n;
+    uint32_t rh;
+    uint32_t rl;
+    uint32_t q = 0u;
+    uint32_t half;
+    uint32_t odd;
     unsigned int i;
-    for (i = 0u; i <= 31u; ++i) { /* rem < d < 2^63: doubling it cannot overflow */
-        quo <<= 1;
-        rem <<= 1;
-        if (rem >= d) {
-            rem -= d;
-            quo += 1u;
+    if (n >= d) {
+        q0 = (uint32_t)(n / d);
+        r = n % d;
+    }
+    rh = (uint32_t)(r >> 32);
+    rl = (uint32_t)r;
+    for (i = 32u; i != 0u; --i) { /* r < d < 2^63: doubling it cannot overflow */
+        rh = (rh << 1) | (rl >> 31);
+        rl <<= 1;
+        q <<= 1;
+        if ((rh > dh) || ((rh == dh) && (rl >= dl))) {
+            if (rl < dl) { /* the low words' borrow */
+                rh -= 1u;
+            }
+            rl -= dl;
+            rh -= dh;
+            q |= 1u;
         }
     }
-    return (quo + 1u) >> 1;
+    /* (q0 2^32 + q + 1) / 2, floored, without the 33-bit sum */
+    half = q >> 1;
+    odd = q & 1u;
+    return (((uint64_t)q0 << 31) + (uint64_t)half) + (uint64_t)odd;
 }
 #else
 /* Elsewhere one digit of Knuth's long division (internal_q31.h). */
