@@ -114,6 +114,21 @@ def test_start_at_the_threshold_censors_the_first_step_short_of_it(monkeypatch):
     assert f.x[1] == X0[1] and f.x[0] < X0[0]
 
 
+def test_cap_leaves_a_side_near_mu_max_uncensored(monkeypatch):
+    """evid_cap 1: a side whose alternative mu_max clips (x + 0.25 > mu_max) is not censored,
+    the other (0.4 + 0.25 <= mu_max) is, with the same L short of evid_l_min; evid_cap 0
+    censors both."""
+    for cap, want in ((1.0, [False, True]), (0.0, [False, False])):
+        p = dict(params.resolve(preset="default"), evid_delta=0.25, evid_l_min=2.0,
+                 evid_n=100.0, evid_l0=0.0, evid_free=0.0, evid_cap=cap)
+        x0 = np.array([0.4, p["mu_max"] - 0.1])
+        f = filters.SCKF(x0, S0, np.zeros((2, 2)), S_R)
+        kept = _step(trusted.Evidence(p, 2), p, f, H @ (x0 - 0.1), [True, True], monkeypatch,
+                     [0.0, 0.0])
+        assert np.array_equal(kept, want), cap
+        assert np.array_equal(f.x[~kept], x0[~kept]) and np.all(f.x[kept] < x0[kept])
+
+
 def test_on_a_log_the_censored_side_keeps_its_mean_and_lacked_evidence():
     """evid_delta 0.25 on brake_in_turn.mf: moves are censored; at each censored side-step the
     side's unprojected mean is exactly the previous step's estimate and its recorded L (after

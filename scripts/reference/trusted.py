@@ -490,7 +490,10 @@ class Evidence:
     x_j^a = x- with its j-th entry min(x-_j + evid_delta, mu_max). A side's downward move is
     censored (_censored_update) while L_j < evid_l_min, once the side is armed: it has had
     evid_free updates on its own information (I_j >= info_min; counted at every update, the
-    step's own included). L starts at evid_l0. The per-side memory is L (2 numbers) and, with
+    step's own included) and, with evid_cap > 0, while x-_j + evid_delta <= mu_max (where
+    mu_max clips the alternative it lies less than evid_delta above; at the bound it is the
+    estimate, Lambda_j = 0, L only decays and the side could never come down).
+    L starts at evid_l0. The per-side memory is L (2 numbers) and, with
     evid_free > 0, the update counts (2 small integers)."""
 
     def __init__(self, p: dict, n: int):
@@ -504,6 +507,8 @@ class Evidence:
         self.L = self.rho * self.L + upper_evidence(p, f.x, T, u, sd_u, y, s_r, s_r_base)
         self.n_own += np.asarray(own, dtype=int)
         armed = self.n_own >= p["evid_free"]
+        if p["evid_cap"] > 0:       # mu_max clips the alternative (at the bound Lambda = 0)
+            armed &= f.x + p["evid_delta"] <= p["mu_max"]
         return _censored_update(f, y, hfun,
                                 lambda down: down & armed & (self.L < p["evid_l_min"]))
 

@@ -742,7 +742,7 @@ def lower_bound_lines(scen: Path, cache: Path, jobs: int, delta: float, names=No
 
 def evidence_params(spec: str, delta: float = DELTA_UP) -> dict:
     """The reference's evidence-censoring parameters of a SPEC (MONITOR.md section 14):
-    comma-separated KEY=VALUE with KEY one of l_min, n, l0, free (evid_KEY), on top of
+    comma-separated KEY=VALUE with KEY one of l_min, n, l0, free, cap (evid_KEY), on top of
     evid_delta = delta; '' or 'plain': the defaults (L starts at 0, no free updates)."""
     p = {"evid_delta": float(delta)}
     for kv in spec.split(","):
@@ -751,7 +751,7 @@ def evidence_params(spec: str, delta: float = DELTA_UP) -> dict:
         key, _, val = kv.partition("=")
         if f"evid_{key}" not in params.DEFAULTS or key == "delta" or not val:
             raise ValueError(f"evidence spec {spec!r}: {kv!r} is not KEY=VALUE with KEY one "
-                             f"of l_min, n, l0, free")
+                             f"of l_min, n, l0, free, cap")
         p[f"evid_{key}"] = float(val)
     return p
 
@@ -856,7 +856,7 @@ def main(argv=None) -> int:
                     help="only the experiment of MONITOR.md section 14 (the reference's "
                     "accumulated-evidence censoring in step 6, evid_delta 0.25, in the loop), "
                     "one run of --logs (default all) per SPEC (comma-separated l_min=, n=, "
-                    "l0=, free=; 'plain': the defaults) with the library's three trust rules "
+                    "l0=, free=, cap=; 'plain': the defaults) with the library's three trust rules "
                     "on, --jobs processes, cached in CACHE/evid_SPEC; then --soak's figures, "
                     "the rules on and off")
     a = ap.parse_args(argv)
