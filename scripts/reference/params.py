@@ -66,6 +66,15 @@ DEFAULTS: dict[str, float] = {
     "valid_bound_k": 0.0,  # the bound margin: valid only mu - mu_min >= this many sd (0: off)
     "lower_bound_delta": 0.0,  # step 6, reference only: a side's downward move is skipped when the
     #                            data's information at mu + this is below info_min (0: off)
+    # step 6, reference only (MONITOR.md section 14): accumulated-evidence censoring. A side's
+    # downward move is skipped while its evidence L against mu + evid_delta is below evid_l_min
+    "evid_delta": 0.0,    # the upper alternative's distance (0: off)
+    "evid_l_min": 2.0,    # the evidence a downward move needs (2: a 95 % sequential test)
+    "evid_n": 100.0,      # L's memory, updates: L <- exp(-1 / evid_n) L + Lambda at each update
+    "evid_l0": 0.0,       # L at the start of a run (the prior's level; 0: no evidence yet)
+    "evid_free": 0.0,     # a side is never censored before this many updates on its own information
+    "evid_cap": 0.0,      # 1: a side whose upper alternative mu_max clips (x + evid_delta > mu_max)
+    #                       is not censored (at the bound its evidence cannot build up); 0: it is
     # model-validity monitor (docs/MONITOR.md section 2; monitor.py); on in the default preset
     "mon_enable": 0.0,    # 1: acts on valid, status, sd (SCKF); 0: off
     "mon_tau_nis": 0.5,   # time constant of the NIS average D, s
@@ -79,7 +88,8 @@ DEFAULTS: dict[str, float] = {
 
 # Keys of the reference only (not in the C library yet; docs/ESTIMATOR.md): an estimate log
 # records them only when set, so the goldens (the library's keys) stay as they are.
-REFERENCE_ONLY = frozenset({"lower_bound_delta"})
+REFERENCE_ONLY = frozenset({"lower_bound_delta", "evid_delta", "evid_l_min", "evid_n",
+                            "evid_l0", "evid_free", "evid_cap"})
 
 # The two presets (docs/ESTIMATOR.md): numeric values and the word-valued choices.
 PRESETS: dict[str, dict] = {

@@ -247,6 +247,10 @@ def run(log, p: dict, adapt=None, reuse: StepNoiseReuse | None = None):
     if p["lower_bound_delta"] > 0:     # the sides whose downward move step 6 skipped, and
         out["censored"] = np.zeros((N, n), dtype=bool)     # the information it decided on
         out["info_up"] = np.full((N, n), np.nan)
+    evid = Evidence(p, n) if p["evid_delta"] > 0 else None
+    if evid is not None:                # the sides step 6 censored, and the evidence L after
+        out["censored"] = np.zeros((N, n), dtype=bool)     # each step (MONITOR.md section 14)
+        out["evid_L"] = np.zeros((N, n))
     t = log.col("t")
     hold = Hold(p) if (p["structure"] == "sides"
                            and (p["rear_hold_k"] > 0 or p["jump_hold_k"] > 0)) else None
@@ -286,6 +290,10 @@ def run(log, p: dict, adapt=None, reuse: StepNoiseReuse | None = None):
                     kept, out["info_up"][k] = _one_sided_update(p, f, T, u, sd_u, ys[k],
                                                                 hfun, saved)
                     out["censored"][k] = ~kept
+                elif evid is not None:
+                    own = out["info"][k] >= p["info_min"]   # the sides updated on their own
+                    kept = evid.update(p, f, T, u, sd_u, ys[k], hfun, s_r, saved, own)
+                    out["censored"][k] = ~kept
                 else:
                     kept = True
                     f.measurement_update(ys[k], hfun)
@@ -318,6 +326,8 @@ def run(log, p: dict, adapt=None, reuse: StepNoiseReuse | None = None):
         if stale.stale:             # a stale wheel speed: no flag (the shared road state
             out["valid"][k] = 0     # carries its error to the other side, MONITOR.md 8)
         out["status"][k] = status
+        if evid is not None:
+            out["evid_L"][k] = evid.L
     out["t"] = log.col("t")
     return out
 
@@ -435,6 +445,22 @@ def _one_sided_update(p, f, T, u, sd_u, y, hfun, s_r_base):
     rows and the covariance is the Joseph form's, Tria([Xc - K Zc, K S_R]) with that K. With
     nothing censored the operations are measurement_update's, bit for bit. Returns the (n,)
     bool of the sides kept (updated) and the (n,) I^a (NaN where not evaluated)."""
+    info_a = np.full(f.n, np.nan)
+
+    def censor(down):
+        info_a[:] = _information_upper(p, f, T, u, sd_u, s_r_base)
+        return down & (info_a < p["info_min"])
+    return _censored_update(f, y, hfun, censor), info_a
+
+
+def _censored_update(f, y, hfun, censor):
+    """Step 6 with some sides' gain rows zeroed (the censoring options): the gain K as in
+    filters.SCKF.measurement_update (f.s_r: the update's noise); censor(down) is called with the
+    (n,) bool of the sides whose move (K nu)_j is downward, only when there is one, and returns
+    the sides to censor: their gain rows are zero, so their means and variances stay, the others
+    keep their optimal rows (Schmidt's consider update), and the covariance is the Joseph
+    form's, Tria([Xc - K Zc, K S_R]) with that K. With nothing censored the operations are
+    measurement_update's, bit for bit. Returns the (n,) bool of the sides kept."""
     pts = f.points()
     z_pts = np.asarray(hfun(pts), dtype=float)
     z_hat = z_pts.mean(axis=1)
@@ -445,15 +471,63 @@ def _one_sided_update(p, f, T, u, sd_u, y, hfun, s_r_base):
     k_gain = solve_triangular(s_zz, w_t, lower=True, trans="T", check_finite=False).T
     nu = np.asarray(y, dtype=float) - z_hat
     kept = np.ones(f.n, dtype=bool)
-    info_a = np.full(f.n, np.nan)
     down = (k_gain @ nu) < 0.0
     if np.any(down):
-        info_a = _information_upper(p, f, T, u, sd_u, s_r_base)
-        kept = ~(down & (info_a < p["info_min"]))
+        kept = ~np.asarray(censor(down), dtype=bool)
         k_gain = k_gain * kept[:, None]
     f.x = f.x + k_gain @ nu
     f.S = filters.tria(np.hstack([xc - k_gain @ zc, k_gain @ f.s_r]))
-    return kept, info_a
+    return kept
+
+
+class Evidence:
+    """Step 6's accumulated-evidence censoring (`evid_delta` > 0; reference only, not in the C
+    library; MONITOR.md sections 13-14). Per side j the evidence against the upper alternative
+    x- + evid_delta e_j: at every update (a step that passes the gate), before the decision,
+    L_j <- rho L_j + Lambda_j, rho = exp(-1 / evid_n), Lambda_j = (q(x_j^a) - q(x-)) / 2 with
+    q(x) = (y - h(x))^T R(x)^-1 (y - h(x)) at the point x (h at the means, R step 4's noise
+    evaluated at x: a tyre in its linear range passes more of the slip noise) and
+    x_j^a = x- with its j-th entry min(x-_j + evid_delta, mu_max). A side's downward move is
+    censored (_censored_update) while L_j < evid_l_min, once the side is armed: it has had
+    evid_free updates on its own information (I_j >= info_min; counted at every update, the
+    step's own included) and, with evid_cap > 0, while x-_j + evid_delta <= mu_max (where
+    mu_max clips the alternative it lies less than evid_delta above; at the bound it is the
+    estimate, Lambda_j = 0, L only decays and the side could never come down).
+    L starts at evid_l0. The per-side memory is L (2 numbers) and, with
+    evid_free > 0, the update counts (2 small integers)."""
+
+    def __init__(self, p: dict, n: int):
+        self.L = np.full(n, float(p["evid_l0"]))
+        self.n_own = np.zeros(n, dtype=int)
+        self.rho = float(np.exp(-1.0 / p["evid_n"]))
+
+    def update(self, p, f, T, u, sd_u, y, hfun, s_r, s_r_base, own):
+        """One update step: L and the counts, then step 6 (f.s_r: the update's noise; s_r: step
+        4's at x-, s_r_base: its base for step 4 elsewhere). Returns the sides kept."""
+        self.L = self.rho * self.L + upper_evidence(p, f.x, T, u, sd_u, y, s_r, s_r_base)
+        self.n_own += np.asarray(own, dtype=int)
+        armed = self.n_own >= p["evid_free"]
+        if p["evid_cap"] > 0:       # mu_max clips the alternative (at the bound Lambda = 0)
+            armed &= f.x + p["evid_delta"] <= p["mu_max"]
+        return _censored_update(f, y, hfun,
+                                lambda down: down & armed & (self.L < p["evid_l_min"]))
+
+
+def upper_evidence(p, x, T, u, sd_u, y, s_r, s_r_base):
+    """(n,) Lambda_j = (q(x^a_j) - q(x)) / 2, the evidence of one measurement y against side j's
+    friction evid_delta higher (Evidence). s_r: step 4's noise factor at x; s_r_base: the base
+    factor step 4 starts from (the filter's constant noise)."""
+    def q(xx, s):
+        w = solve_triangular(s, np.asarray(y, dtype=float) - h_point(p, u, T @ xx), lower=True)
+        return float(w @ w)
+    q0 = q(x, s_r)
+    lam = np.empty(x.size)
+    for j in range(x.size):
+        xa = np.array(x, dtype=float, copy=True)
+        xa[j] = min(xa[j] + p["evid_delta"], p["mu_max"])
+        s_a = _step_noise(p, SimpleNamespace(x=xa, s_r=s_r_base), T, u, sd_u)
+        lam[j] = 0.5 * (q(xa, s_a) - q0)
+    return lam
 
 
 UPPER_SLOPE_STEP = 1e-3   # central-difference step of dh/dmu at the upper alternative

@@ -241,3 +241,14 @@ def test_upper_noise_inflates_a_saturated_low_mean_at_mild_slip():
     assert un.inflated == 1 and np.trace(r) > np.trace(r0)
     # both bounds to 1e-9 of rounding relative to R's scale (entries about 1e-2 .. 1)
     assert _psd(r - r0, 1e-9) and _psd(r - ra @ ra.T, 1e-9)
+
+
+def test_evidence_params_parse_the_spec():
+    """MONITOR.md section 14's SPEC: evid_delta 0.25 always, the named evid_* keys set, the
+    other keys left to the defaults; an unknown or valueless key is refused."""
+    assert trs.evidence_params("plain") == {"evid_delta": 0.25}
+    assert trs.evidence_params("free=5,l0=2") == {"evid_delta": 0.25, "evid_free": 5.0,
+                                                 "evid_l0": 2.0}
+    for bad in ("free", "delta=0.5", "rho=1", "free=5,x=1"):
+        with pytest.raises(ValueError):
+            trs.evidence_params(bad)

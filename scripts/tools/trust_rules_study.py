@@ -456,7 +456,8 @@ def noise_upper_bound(s0, sa, counter=None) -> np.ndarray:
 
 def reference_run(path: Path, yaw_thr: float | None = None, hold_fired: bool = False,
                   upper_gate: float | None = None, upper_noise: float | None = None,
-                  library_rules: bool = False, lower_bound: float = 0.0) -> dict:
+                  library_rules: bool = False, lower_bound: float = 0.0,
+                  extra: dict | None = None) -> dict:
     """The default preset's reference run and the monitor on one log, its two trust rules off;
     with yaw_thr, with the reference's yaw-rate check at that threshold (n_sub: the samples
     yaw_substitute replaces); with hold_fired, no update while the monitor is fired
@@ -464,7 +465,8 @@ def reference_run(path: Path, yaw_thr: float | None = None, hold_fired: bool = F
     (UpperGate); with upper_noise, step 4's noise at mu + upper_noise too (UpperNoise); with
     library_rules, the default preset's three trust rules on (stale_omega, yaw_check,
     valid_bound_k: make trust-invariant's estimator); lower_bound: the reference's
-    lower_bound_delta (step 6's one-sided update at mild slip, MONITOR.md section 13; 0: off)."""
+    lower_bound_delta (step 6's one-sided update at mild slip, MONITOR.md section 13; 0: off);
+    extra: further parameters set on the preset (the evidence censoring's evid_*, section 14)."""
     log = logs.read_csv_log(str(path))
     n_sub = 0
     if yaw_thr is not None:
@@ -475,6 +477,7 @@ def reference_run(path: Path, yaw_thr: float | None = None, hold_fired: bool = F
         p["valid_bound_k"] = 0.0    # (the bound margin, the library's since section 11, too)
         p["yaw_check"] = 0.0 if yaw_thr is None else yaw_thr
     p["lower_bound_delta"] = lower_bound
+    p.update(extra or {})
     adapt = hold_while_fired(p) if hold_fired else None
     if upper_gate is not None:
         adapt = UpperGate(p, upper_gate)
@@ -490,8 +493,9 @@ def reference_run(path: Path, yaw_thr: float | None = None, hold_fired: bool = F
     mon = monitor.apply(res, p, p["dt"])
     out = {k: mon[k] for k in KEEP if k in mon}
     out["info"] = res["info"]
-    if "censored" in res:
-        out["censored"] = res["censored"]
+    for k in ("censored", "evid_L"):
+        if k in res:
+            out[k] = res[k]
     out["status_filter"] = res["status"]
     out["n_sub"] = np.array(n_sub)
     out["dt"] = np.array(p["dt"])
@@ -499,20 +503,21 @@ def reference_run(path: Path, yaw_thr: float | None = None, hold_fired: bool = F
 
 
 def _cached(args):
-    scen, cache, name, hold, lib, lower = args
+    scen, cache, name, hold, lib, lower, extra = args
     f = cache / f"{name.replace('/', '+')}.npz"
     if not f.is_file():
         np.savez(f, **reference_run(scen / f"{name}.csv", hold_fired=hold, library_rules=lib,
-                                    lower_bound=lower))
+                                    lower_bound=lower, extra=extra))
     return name
 
 
 def load_all(scen: Path, cache: Path, jobs: int, hold_fired: bool = False,
-             library_rules: bool = False, lower_bound: float = 0.0, names=None) -> dict:
+             library_rules: bool = False, lower_bound: float = 0.0, names=None,
+             extra: dict | None = None) -> dict:
     cache.mkdir(parents=True, exist_ok=True)
     names = bundled(scen) if names is None else names
     with ProcessPoolExecutor(jobs) as ex:
-        list(ex.map(_cached, [(scen, cache, n, hold_fired, library_rules, lower_bound)
+        list(ex.map(_cached, [(scen, cache, n, hold_fired, library_rules, lower_bound, extra)
                               for n in names]))
     runs = {}
     for n in names:
@@ -647,7 +652,8 @@ def apply_rule(runs: dict, rule) -> dict:
 
 def soak_run(path: Path, cache: Path, estimate: Path | None = None,
              hold_fired: bool = False, upper_noise: float | None = None,
-             library_rules: bool = False, lower_bound: float = 0.0) -> dict:
+             library_rules: bool = False, lower_bound: float = 0.0,
+             extra: dict | None = None) -> dict:
     """The soak drive (a sensor log with truth columns) as a run: the reference's (cached in
     cache), or with estimate, a mu_replay estimate log of it (its own vx_est, vy_est,
     yaw_acc_est where it has them: --velocity observer)."""
@@ -657,7 +663,8 @@ def soak_run(path: Path, cache: Path, estimate: Path | None = None,
         if not f.is_file():
             cache.mkdir(parents=True, exist_ok=True)
             np.savez(f, **reference_run(path, hold_fired=hold_fired, upper_noise=upper_noise,
-                                        library_rules=library_rules, lower_bound=lower_bound))
+                                        library_rules=library_rules, lower_bound=lower_bound,
+                                        extra=extra))
         with np.load(f) as z:
             r = {k: z[k] for k in z.files}
         u = y = None
@@ -733,6 +740,70 @@ def lower_bound_lines(scen: Path, cache: Path, jobs: int, delta: float, names=No
     return lines
 
 
+def evidence_params(spec: str, delta: float = DELTA_UP) -> dict:
+    """The reference's evidence-censoring parameters of a SPEC (MONITOR.md section 14):
+    comma-separated KEY=VALUE with KEY one of l_min, n, l0, free, cap (evid_KEY), on top of
+    evid_delta = delta; '' or 'plain': the defaults (L starts at 0, no free updates)."""
+    p = {"evid_delta": float(delta)}
+    for kv in spec.split(","):
+        if kv in ("", "plain"):
+            continue
+        key, _, val = kv.partition("=")
+        if f"evid_{key}" not in params.DEFAULTS or key == "delta" or not val:
+            raise ValueError(f"evidence spec {spec!r}: {kv!r} is not KEY=VALUE with KEY one "
+                             f"of l_min, n, l0, free, cap")
+        p[f"evid_{key}"] = float(val)
+    return p
+
+
+def _soak_cached(args):
+    path, cache, lib, extra = args
+    return soak_run(path, cache, library_rules=lib, extra=extra)
+
+
+def evidence_lines(scen: Path, cache: Path, jobs: int, specs, names=None,
+                   soak: Path | None = None) -> list[str]:
+    """MONITOR.md section 14: the logs (default: the 72) with the library's three trust rules
+    on, without and with the reference's evidence censoring of each SPEC (evidence_params, in
+    the loop), as report()'s verdict and each changed log's figures; with soak, its figures
+    with the rules on and off (soak runs in parallel, jobs processes)."""
+    base_runs = load_all(scen, cache / "lib_rules", jobs, library_rules=True, names=names)
+    base = evaluate(base_runs)
+    lines = [f"library rules on: meets {sum(f['meets'] for f in base.values())}/{len(base)}"]
+    tag = {spec: "evid_" + (spec or "plain").replace(",", "_").replace("=", "") for spec in specs}
+    for spec in specs:
+        new_runs = load_all(scen, cache / tag[spec], jobs, library_rules=True, names=names,
+                            extra=evidence_params(spec))
+        new = evaluate(new_runs)
+        lines += report(f"evidence censoring {spec or 'plain'} (delta {DELTA_UP})", base, new)
+        for n in base:
+            b, g = base[n], new[n]
+            nc = int(new_runs[n]["censored"].sum())
+            if (b["n_valid"], b["rmse"], b["exc"]) == (g["n_valid"], g["rmse"], g["exc"]) \
+                    and not nc:
+                continue
+            lines.append(f"    {n}: valid {100 * b['valid']:.1f} -> {100 * g['valid']:.1f} %, "
+                         f"RMSE {fmt(b['rmse'])} -> {fmt(g['rmse'])}, consistency "
+                         f"{fmt(b['cons'])} -> {fmt(g['cons'])}, worst {fmt(b['worst'])} -> "
+                         f"{fmt(g['worst'])}, excited valid {fmt(b['exc'])} -> {fmt(g['exc'])}, "
+                         f"meets {b['meets']} -> {g['meets']}; censored side-steps {nc}")
+    if soak is not None:
+        todo = [(lib, spec) for lib in (True, False) for spec in [None] + list(specs)]
+        args = [(soak, cache / (("lib_rules" if spec is None else tag[spec])
+                                + ("" if lib else "_off")), lib,
+                 None if spec is None else evidence_params(spec)) for lib, spec in todo]
+        with ProcessPoolExecutor(jobs) as ex:
+            runs = list(ex.map(_soak_cached, args))
+        for (lib, spec), r in zip(todo, runs):
+            label = (f"the library's rules {'on' if lib else 'off'}, "
+                     + ("today" if spec is None else f"evidence censoring {spec or 'plain'}"))
+            lines += soak_lines(label, r, [])
+            if "censored" in r:
+                lines.append(f"    censored side-steps {int(r['censored'].sum())}, steps "
+                             f"updated {int(np.isin(r['status_filter'], UPDATED_STATUS).sum())}")
+    return lines
+
+
 def estimate_columns(path: Path) -> dict:
     """{column: float array} of a mu_replay estimate log ('#' metadata, one header row)."""
     with open(path, encoding="utf-8") as fh:
@@ -781,7 +852,18 @@ def main(argv=None) -> int:
                     "the library's three trust rules on: --logs (default all) before and "
                     "after, --jobs processes, cached in CACHE/lib_rules and "
                     "CACHE/lower_bound_DELTA; then --soak's figures, the rules on and off")
+    ap.add_argument("--evidence", nargs="*", metavar="SPEC",
+                    help="only the experiment of MONITOR.md section 14 (the reference's "
+                    "accumulated-evidence censoring in step 6, evid_delta 0.25, in the loop), "
+                    "one run of --logs (default all) per SPEC (comma-separated l_min=, n=, "
+                    "l0=, free=, cap=; 'plain': the defaults) with the library's three trust rules "
+                    "on, --jobs processes, cached in CACHE/evid_SPEC; then --soak's figures, "
+                    "the rules on and off")
     a = ap.parse_args(argv)
+    if a.evidence is not None:
+        print("\n".join(evidence_lines(a.scenarios, a.cache, a.jobs, a.evidence or ["plain"],
+                                        None if a.logs in ([], ["all"]) else a.logs, a.soak)))
+        return 0
     if a.lower_bound is not None:
         print("\n".join(lower_bound_lines(a.scenarios, a.cache, a.jobs, a.lower_bound,
                                            None if a.logs in ([], ["all"]) else a.logs)))
