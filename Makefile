@@ -46,7 +46,7 @@ DEPS_EXTRA :=
 TEST_GATES :=
 include $(sort $(filter-out mk/lib.mk,$(wildcard mk/*.mk)))
 
-.PHONY: deps-apt mass-grade-scenarios observer-res-scenarios mass-grade-results mass-grade-textbook mass-sensitivity mass-headwind mass-slip mass-slip-ramp mass-curve mass-curve-pause mass-pause-grade mass-grade-walk mass-offset mass-gust tyre-id-feed-results tyre-id-trust mass-grade-goldens trust-invariant names car-format-logs observer-goldens observer-goldens-q31 observer-results monitor-results shape-results test-pkg all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind valgrind-unit valgrind-cli coverage demo goldens goldens-q31 scenarios observer-scenarios clean vectors shared-sync check-shared readme-table \
+.PHONY: deps-apt figures mass-grade-scenarios observer-res-scenarios mass-grade-results mass-grade-textbook mass-sensitivity mass-headwind mass-slip mass-slip-ramp mass-curve mass-curve-pause mass-pause-grade mass-grade-walk mass-offset mass-gust tyre-id-feed-results tyre-id-trust mass-grade-goldens trust-invariant names car-format-logs observer-goldens observer-goldens-q31 observer-results monitor-results shape-results test-pkg all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind valgrind-unit valgrind-cli coverage demo goldens goldens-q31 scenarios observer-scenarios clean vectors shared-sync check-shared readme-table \
         check-kernels check-tools layers help-check goldens-ref check-nofloat help deps-analysis misra tidy complexity structural analysis \
         twins check-twins tyre-id-scenarios tyre-id-results tyre-id-goldens tyre-id-ellipse-results \
         tyre-id-results-ellipse tyre-id-results-delta-filter tyre-id-results-delta-state tyre-id-results-spread tyre-id-targets tyre-id-m4-count snoise-reuse snoise-reuse-vxvy
@@ -493,6 +493,14 @@ observer-results: $(BUILD)/mu_replay venv
 mass-grade-results: venv
 	$(PY) scripts/tools/mass_grade_results.py --page docs/MASS_GRADE_RESULTS.md \
 	  --plot $(BUILD)/mass_grade/mass_error.png
+# The results pages' figures (SVG, committed): the mass error vs time of the mass and grade
+# estimator, the identified tyre curves against the truth and the observer's beta with its band,
+# drawn from the studies' own runs (scripts/tools/figures.py; about 10 s on 2 cores). Not part of
+# `make test`.
+## write the results pages' figures into docs/figures/ (mass error, tyre curve, observer beta)
+figures: venv $(BUILD)/mu_replay
+	$(PY) scripts/tools/figures.py --replay $(BUILD)/mu_replay --out docs/figures \
+	  --work $(BUILD)/figures --jobs $(TEST_JOBS)
 # The textbook (full-covariance) form in float32 and with an int32 P, beside the library's float
 # and Q31 (square-root) runs, on every mass and grade log and the stress runs: where each loses
 # positive definiteness (docs/MASS_GRADE_RESULTS.md "Why the square-root form"; about 3 min on

@@ -126,26 +126,43 @@ def replace_block(text, name, body):
     return pat.sub(lambda m: m.group(1) + body + m.group(2), text)
 
 
-def plot(runs, cols, path):
+def plot_mass_error(runs, logs, panels, every=1):
+    """The figure of mass error vs time: one axis per panel (log name, configurations), a
+    row per distinct log, each configuration's four initial masses drawn (the first
+    configuration solid, the second dashed), the +-2 % target as thin lines. @p runs maps
+    (log, guess, configuration) to a run of one(), @p logs a log name to its columns; every
+    @p every-th sample is drawn (a lighter figure: the mass error changes slowly)."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    mt = float(cols["mass_true"][0])
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4), sharey=True)
-    for ax, cfgs in zip(axes, (("AUKF", "UKF"), ("AUKF + ax", "UKF + ax"))):
+    names = list(dict.fromkeys(name for name, _ in panels))
+    ncol = -(-len(panels) // len(names))
+    fig, axes = plt.subplots(len(names), ncol, figsize=(5.5 * ncol, 4 * len(names)),
+                             sharey=True, squeeze=False)
+    for k, (name, cfgs) in enumerate(panels):
+        ax = axes.flat[k]
+        mt = float(logs[name]["mass_true"][0])
         for cfg, style in zip(cfgs, ("-", "--")):
             for g in GUESSES:
-                r = runs[("truck_graded_drive", g, cfg)]
-                ax.plot(r["t"], (r["mass"] - mt) / mt * 100.0, style, lw=1,
+                r = runs[(name, g, cfg)]
+                ax.plot(r["t"][::every], (r["mass"][::every] - mt) / mt * 100.0, style, lw=1,
                         label=f"{cfg}, start {g * 100:+.0f} %")
         ax.axhline(2.0, color="k", lw=0.5)
         ax.axhline(-2.0, color="k", lw=0.5)
         ax.set_xlabel("t [s]")
-        ax.set_title("truck_graded_drive: " + " vs ".join(cfgs))
+        ax.set_title(f"{name}: " + " vs ".join(cfgs), fontsize=9)
         ax.legend(fontsize=6, ncol=2)
-    axes[0].set_ylabel("mass error [%]")
-    axes[0].set_ylim(-60, 60)
+    for row in axes:
+        row[0].set_ylabel("mass error [%]")
+    axes.flat[0].set_ylim(-60, 60)
     fig.tight_layout()
+    return fig
+
+
+def plot(runs, cols, path):
+    fig = plot_mass_error(runs, {"truck_graded_drive": cols},
+                          [("truck_graded_drive", ("AUKF", "UKF")),
+                           ("truck_graded_drive", ("AUKF + ax", "UKF + ax"))])
     os.makedirs(os.path.dirname(path), exist_ok=True)
     fig.savefig(path, dpi=110)
 

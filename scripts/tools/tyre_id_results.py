@@ -113,19 +113,53 @@ def run_filter(c, filt, n, seed, ellipse=False, n_steps=None, delta_filter=False
                  n_steps=n_steps)
 
 
-def curve_rmse(c, out, axle, k0):
-    """RMSE in % of D_true of the final identified curve vs the truth over [0, t_max]."""
+def curves(c, out, axle, k0):
+    """The truth's and the final identified lateral force curves of @p axle over the slip
+    range the log excited from sample @p k0: (grid of tan(alpha) from 0 to t_max, truth,
+    identified, D_true, t_max); grid, truth and identified are None when t_max < 1e-3."""
     a = "f" if axle == 0 else "r"
     t_abs = np.abs(np.tan(c[f"alpha_{a}_true"][k0:]))
     t_max = float(t_abs.max())
-    if t_max < 1e-3:
-        return math.nan, t_max
-    grid = np.linspace(0.0, t_max, 201)
     D, C, B, E = (float(c[f"{k}_{a}_true"][-1]) for k in "DCBE")
+    if t_max < 1e-3:
+        return None, None, None, D, t_max
+    grid = np.linspace(0.0, t_max, 201)
     truth = T.mf_force(grid, D, C, B, E)
     Di, Ci, Ki, Ei = (out[f"{k}_{a}"][-1] for k in "DCKE")
     ident = T.mf_force(grid, Di, Ci, Ki / (Ci * Di), Ei)
+    return grid, truth, ident, D, t_max
+
+
+def curve_rmse(c, out, axle, k0):
+    """RMSE in % of D_true of the final identified curve vs the truth over [0, t_max]."""
+    grid, truth, ident, D, t_max = curves(c, out, axle, k0)
+    if grid is None:
+        return math.nan, t_max
     return 100.0 * math.sqrt(float(np.mean((ident - truth) ** 2))) / D, t_max
+
+
+def plot_curves(panels):
+    """The figure of identified lateral force curves against the truth: one axis per panel
+    (title, log columns, run output, k0), both axles, the force [kN] over the slip angle
+    [deg] the log excited (curves())."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, axes = plt.subplots(1, len(panels), figsize=(5.5 * len(panels), 4), squeeze=False)
+    for ax, (title, c, out, k0) in zip(axes[0], panels):
+        for axle, name, colour in ((0, "front", "C0"), (1, "rear", "C1")):
+            grid, truth, ident, _, _ = curves(c, out, axle, k0)
+            if grid is None:
+                continue
+            alpha = np.degrees(np.arctan(grid))
+            ax.plot(alpha, truth / 1e3, "-", color=colour, lw=1.2, label=f"{name}, truth")
+            ax.plot(alpha, ident / 1e3, "--", color=colour, lw=1.2, label=f"{name}, identified")
+        ax.set_xlabel("slip angle [deg]")
+        ax.set_ylabel("lateral force [kN]")
+        ax.set_title(title, fontsize=9)
+        ax.legend(fontsize=7)
+    fig.tight_layout()
+    return fig
 
 
 def measure(job):
