@@ -129,12 +129,24 @@ static QR_DIV_OUTLINE uint64_t div_shl32(uint64_t n, uint64_t d)
     }
     rh = (uint32_t)(r >> 32);
     rl = (uint32_t)r;
-    for (i = 32u; i != 0u; --i) { /* r < d < 2^63: doubling it cannot overflow */
+    /* two quotient bits a pass (the same steps as one a pass; half the loop overhead) */
+    for (i = 16u; i != 0u; --i) { /* r < d < 2^63: doubling it cannot overflow */
         rh = (rh << 1) | (rl >> 31);
         rl <<= 1;
         q <<= 1;
         if ((rh > dh) || ((rh == dh) && (rl >= dl))) {
             if (rl < dl) { /* the low words' borrow */
+                rh -= 1u;
+            }
+            rl -= dl;
+            rh -= dh;
+            q |= 1u;
+        }
+        rh = (rh << 1) | (rl >> 31);
+        rl <<= 1;
+        q <<= 1;
+        if ((rh > dh) || ((rh == dh) && (rl >= dl))) {
+            if (rl < dl) {
                 rh -= 1u;
             }
             rl -= dl;
