@@ -192,37 +192,34 @@ static inline int64_t mul_c_x(int64_t dot, uint64_t cm, rfe_fix_t x)
     return r;
 }
 
-/* sat32(a - round(p / 2^C_FRAC)) (half up) for |p| < 2^62: a reflected element, in 32-bit
- * words: round(p / 2^30) = floor((p + 2^29) / 2^30) (no overflow: |p| < 2^62) by the
- * constant shift of the offset-binary words, then the int64 difference saturated inline.
- * The Cortex-M0+'s -Os build had called an out-of-line rfe_fix_shr64_round and
- * rfe_fix_sat32 for every element (and the M3/M4 take a few instructions fewer too). The
- * same integer and count as sat32(a - rfe_fix_shr64_round(p, 30)) (test_qr_div_w16_q31.c
- * compares them). */
-static RFE_FIX_INLINE_ALWAYS rfe_fix_t sub_round_c(rfe_fix_t a, int64_t p, uint32_t *sat)
+/* a - round(p / 2^C_FRAC) (half up) for |p| < 2^62: a reflected element. No saturation is
+ * needed, by this bound (|x| the norm of row k's tail, |a| that of row i's, both normalised):
+ *  - after scale_tail every tail's norm is below 2^30 + 3 (chosen below 2^30, then each
+ *    element rounded by at most 1/2, L <= 24 of them: sqrt(24) / 2 < 3);
+ *  - the exact reflection is orthogonal, so every element of the exact result a - c v has
+ *    magnitude at most |a - c v| = |a| < 2^30 + 3;
+ *  - the computed element differs from it by the rounding of c (at most 2^-31 in Q30 units
+ *    of 1, times |v_j| <= |v| <= 2 |x| < 2^31 + 6: below 1.01) and that of the product
+ *    (1/2): |result| < 2^30 + 5, far inside int32.
+ * So sat32 never bit in the int64 form this replaces (sat32(a - shr64_round(p, 30)), which
+ * counted no saturation either), and the difference is exact modulo 2^32: only the low word
+ * of round(p / 2^30) = floor((p + 2^29) / 2^30) is needed, (w_lo >> 30) | (w_hi << 2) of
+ * w = p + 2^29 (no overflow: |p| < 2^62). The same integer, a quarter of the instructions.
+ * test/numerics/w16/test_qr_bound_q31.c checks the bound on every element Tria computes
+ * (RFE_QR_BOUND_HOOK, defined only there) over extreme and random inputs. */
+static RFE_FIX_INLINE_ALWAYS rfe_fix_t sub_round_c(rfe_fix_t a, int64_t p)
 {
-    /* offset binary (as rfe_fix_shr64_floor_w32, with the constant shift): w = p + 2^29 +
-     * 2^63 in [0, 2^64), floor(w / 2^30) < 2^34 from its words, minus 2^33 */
-    const int64_t ph = p + rfe_q31_pow2(C_FRAC - 1u);
-    const uint64_t w = (uint64_t)ph;
-    const uint32_t hi = (uint32_t)(w >> 32) ^ 0x80000000u;
+    const uint64_t w = (uint64_t)(p + rfe_q31_pow2(C_FRAC - 1u));
     const uint32_t lo = (uint32_t)w;
-    const uint32_t rl = (lo >> C_FRAC) | (hi << (32u - C_FRAC));
-    const uint32_t rh = hi >> C_FRAC;
-    const uint64_t rw = ((uint64_t)rh << 32) | (uint64_t)rl; /* < 2^34 */
-    const int64_t q = (int64_t)rw - rfe_q31_pow2(63u - C_FRAC);
-    const int64_t d = (int64_t)a - q;
-    rfe_fix_t r;
-    if (d > (int64_t)RFE_FIX_MAX) {
-        rfe_fix_count_sat(sat);
-        r = RFE_FIX_MAX;
-    } else if (d < (int64_t)RFE_FIX_MIN) {
-        rfe_fix_count_sat(sat);
-        r = RFE_FIX_MIN;
-    } else {
-        r = (rfe_fix_t)d;
-    }
-    return r;
+    const uint32_t hi = (uint32_t)(w >> 32);
+    const uint32_t ql = (lo >> C_FRAC) | (hi << (32u - C_FRAC));
+    const uint32_t d = (uint32_t)a - ql; /* the result modulo 2^32 */
+    /* its two's-complement value, without an implementation-defined conversion */
+    const int64_t r = (int64_t)d - (int64_t)((uint64_t)(d >> 31) << 32);
+#ifdef RFE_QR_BOUND_HOOK
+    RFE_QR_BOUND_HOOK(a, p, r);
+#endif
+    return (rfe_fix_t)r;
 }
 
 /* Reflection k, on normalised tails: row k's tail x (length len, starting at column k) is
@@ -231,7 +228,7 @@ static RFE_FIX_INLINE_ALWAYS rfe_fix_t sub_round_c(rfe_fix_t a, int64_t p, uint3
  * entry (scale of row k): -sign(x0) |x|, or x0 itself when it is the only non-zero. ssk:
  * |x|^2 (< 2^60 + 2^32 after the normalisation) when the caller knows it, else 0. */
 static int64_t reflect(rfe_fix_t *A, size_t rows, size_t lda, size_t k, size_t len,
-                       uint64_t ssk, const int *nonzero, uint32_t *sat)
+                       uint64_t ssk, const int *nonzero)
 {
     rfe_fix_t *x = &AT(A, lda, k, k);
     uint64_t ss = ssk;
@@ -271,9 +268,9 @@ static int64_t reflect(rfe_fix_t *A, size_t rows, size_t lda, size_t k, size_t l
             /* c in Q30: round(2 a.v 2^30 / v.v), magnitude below 2^32 */
             cm = div_shl32(rfe_q31_mag64_any(dot), vtv); /* C_FRAC + 1 = 31 */
             c = (dot < 0) ? -(int64_t)cm : (int64_t)cm;
-            a[0] = sub_round_c(a[0], c * v0, sat);
+            a[0] = sub_round_c(a[0], c * v0);
             for (j = 1u; j < len; ++j) {
-                a[j] = sub_round_c(a[j], mul_c_x(dot, cm, x[j]), sat);
+                a[j] = sub_round_c(a[j], mul_c_x(dot, cm, x[j]));
             }
         }
     }
@@ -348,7 +345,7 @@ static void tria_core_q31(rfe_fix_t *A, size_t rows, size_t cols, size_t lda, in
         flip[k] = 0;
         if (nonzero[k] != 0) {
             const size_t len = ((tri != 0) ? ((cols - rows) + k + 1u) : cols) - k;
-            const int64_t diag = reflect(A, rows, lda, k, len, ssk, nonzero, &count);
+            const int64_t diag = reflect(A, rows, lda, k, len, ssk, nonzero);
             AT(A, lda, k, k) = to_output(diag, e[k], &count);
             if (diag < 0) {
                 flip[k] = 1;
