@@ -222,6 +222,28 @@ static RFE_FIX_INLINE_ALWAYS rfe_fix_t sub_round_c(rfe_fix_t a, int64_t p)
     return (rfe_fix_t)r;
 }
 
+/* a[j] <- a[j] - round(c x[j] / 2^C_FRAC), j < n, c = sign(dot) cm. Where the core has a
+ * 32 x 32 -> 64 multiply (not RFE_FIX_MUL64_W16) and |c| < 2^31 (|c| < 2 in Q30, most rows),
+ * c is an int32 and each product one SMULL-class multiply (the same integer as mul_c_x's
+ * int64 product); else mul_c_x. */
+static inline void update_tail(rfe_fix_t *a, const rfe_fix_t *x, size_t n, int64_t dot,
+                               uint64_t cm)
+{
+    size_t j;
+#if !RFE_FIX_MUL64_W16
+    if ((cm >> 31) == 0u) {
+        const rfe_fix_t c32 = (dot < 0) ? -(rfe_fix_t)cm : (rfe_fix_t)cm;
+        for (j = 0u; j < n; ++j) {
+            a[j] = sub_round_c(a[j], rfe_fix_mul32x32(c32, x[j]));
+        }
+        return;
+    }
+#endif
+    for (j = 0u; j < n; ++j) {
+        a[j] = sub_round_c(a[j], mul_c_x(dot, cm, x[j]));
+    }
+}
+
 /* Reflection k, on normalised tails: row k's tail x (length len, starting at column k) is
  * mapped onto (-sign(x0) |x|, 0, ..., 0) and every other row i > k with a non-zero tail gets
  * a <- a - c v, c = 2 a.v / v.v, v = x + sign(x0) |x| e0. Returns the unrounded diagonal
@@ -269,9 +291,7 @@ static int64_t reflect(rfe_fix_t *A, size_t rows, size_t lda, size_t k, size_t l
             cm = div_shl32(rfe_q31_mag64_any(dot), vtv); /* C_FRAC + 1 = 31 */
             c = (dot < 0) ? -(int64_t)cm : (int64_t)cm;
             a[0] = sub_round_c(a[0], c * v0);
-            for (j = 1u; j < len; ++j) {
-                a[j] = sub_round_c(a[j], mul_c_x(dot, cm, x[j]));
-            }
+            update_tail(&a[1], &x[1], len - 1u, dot, cm);
         }
     }
     for (j = 0u; j < len; ++j) {
