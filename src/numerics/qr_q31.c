@@ -27,6 +27,7 @@
 
 /* The sum of squares of t[0..len), exactly in two uint64 limbs (each square <= 2^62, at
  * most 24 of them): the low one returned, carries added to *hi. */
+#if RFE_FIX_MUL64_W16
 static uint64_t tail_squares(const rfe_fix_t *t, size_t len, uint64_t *hi)
 {
     uint64_t lo = 0u;
@@ -40,6 +41,31 @@ static uint64_t tail_squares(const rfe_fix_t *t, size_t len, uint64_t *hi)
     }
     return lo;
 }
+#else
+/* Where the core multiplies 32 x 32 -> 64 (not the M0+): summed as s + c 2^63 with
+ * s < 2^63: s + sq < 2^63 + 2^62 never wraps, and its top bit moves into c (a shift and a
+ * mask a square, where the carry test on the wrapped sum made GCC form each square twice:
+ * M4 -340 instructions a paper step; the M0+ form above is the cheaper there, +900); then
+ * lo = s + (c mod 2) 2^63 and hi += c / 2, the same two limbs. */
+static uint64_t tail_squares(const rfe_fix_t *t, size_t len, uint64_t *hi)
+{
+    const uint64_t top = ((uint64_t)1) << 63;
+    uint64_t s = 0u;
+    uint32_t c = 0u; /* at most 24 */
+    uint32_t ch;
+    uint64_t c0;
+    size_t j;
+    for (j = 0u; j < len; ++j) {
+        s += (uint64_t)rfe_fix_mul32x32(t[j], t[j]); /* <= 2^62 */
+        c += (uint32_t)(s >> 63);
+        s &= top - 1u;
+    }
+    ch = c >> 1;
+    c0 = (uint64_t)c & 1u;
+    *hi += (uint64_t)ch;
+    return s | (c0 << 63);
+}
+#endif
 
 /* Shift s that brings the norm of t[0..len) into [2^29, 2^30): s = 29 - floor(log2 |t|).
  * Returns 0 (and leaves *shift alone) for an all-zero tail. *ss: the low limb of the sum of
@@ -205,20 +231,19 @@ static inline int64_t mul_c_x(int64_t dot, uint64_t cm, rfe_fix_t x)
  * counted no saturation either), and the difference is exact modulo 2^32: only the low word
  * of round(p / 2^30) = floor((p + 2^29) / 2^30) is needed, (w_lo >> 30) | (w_hi << 2) of
  * w = p + 2^29 (no overflow: |p| < 2^62). The same integer, a quarter of the instructions.
- * test/numerics/w16/test_qr_bound_q31.c checks the bound on every element Tria computes
- * (RFE_QR_BOUND_HOOK, defined only there) over extreme and random inputs. */
+ * test/numerics/w16/test_qr_bound_q31.c checks the bound and the integer on every element
+ * of every reflection of Tria's reduction over extreme and random inputs. */
 static RFE_FIX_INLINE_ALWAYS rfe_fix_t sub_round_c(rfe_fix_t a, int64_t p)
 {
-    const uint64_t w = (uint64_t)(p + rfe_q31_pow2(C_FRAC - 1u));
+    const int64_t ph = p + rfe_q31_pow2(C_FRAC - 1u);
+    const uint64_t w = (uint64_t)ph;
     const uint32_t lo = (uint32_t)w;
     const uint32_t hi = (uint32_t)(w >> 32);
     const uint32_t ql = (lo >> C_FRAC) | (hi << (32u - C_FRAC));
     const uint32_t d = (uint32_t)a - ql; /* the result modulo 2^32 */
     /* its two's-complement value, without an implementation-defined conversion */
-    const int64_t r = (int64_t)d - (int64_t)((uint64_t)(d >> 31) << 32);
-#ifdef RFE_QR_BOUND_HOOK
-    RFE_QR_BOUND_HOOK(a, p, r);
-#endif
+    const int64_t wrap = ((d >> 31) != 0u) ? rfe_q31_pow2(32u) : 0;
+    const int64_t r = (int64_t)d - wrap;
     return (rfe_fix_t)r;
 }
 
