@@ -27,6 +27,7 @@
 
 /* The sum of squares of t[0..len), exactly in two uint64 limbs (each square <= 2^62, at
  * most 24 of them): the low one returned, carries added to *hi. */
+#if RFE_FIX_MUL64_W16
 static uint64_t tail_squares(const rfe_fix_t *t, size_t len, uint64_t *hi)
 {
     uint64_t lo = 0u;
@@ -40,6 +41,31 @@ static uint64_t tail_squares(const rfe_fix_t *t, size_t len, uint64_t *hi)
     }
     return lo;
 }
+#else
+/* Where the core multiplies 32 x 32 -> 64 (not the M0+): summed as s + c 2^63 with
+ * s < 2^63: s + sq < 2^63 + 2^62 never wraps, and its top bit moves into c (a shift and a
+ * mask a square, where the carry test on the wrapped sum made GCC form each square twice:
+ * M4 -340 instructions a paper step; the M0+ form above is the cheaper there, +900); then
+ * lo = s + (c mod 2) 2^63 and hi += c / 2, the same two limbs. */
+static uint64_t tail_squares(const rfe_fix_t *t, size_t len, uint64_t *hi)
+{
+    const uint64_t top = ((uint64_t)1) << 63;
+    uint64_t s = 0u;
+    uint32_t c = 0u; /* at most 24 */
+    uint32_t ch;
+    uint64_t c0;
+    size_t j;
+    for (j = 0u; j < len; ++j) {
+        s += (uint64_t)rfe_fix_mul32x32(t[j], t[j]); /* <= 2^62 */
+        c += (uint32_t)(s >> 63);
+        s &= top - 1u;
+    }
+    ch = c >> 1;
+    c0 = (uint64_t)c & 1u;
+    *hi += (uint64_t)ch;
+    return s | (c0 << 63);
+}
+#endif
 
 /* Shift s that brings the norm of t[0..len) into [2^29, 2^30): s = 29 - floor(log2 |t|).
  * Returns 0 (and leaves *shift alone) for an all-zero tail. *ss: the low limb of the sum of
@@ -129,12 +155,24 @@ static QR_DIV_OUTLINE uint64_t div_shl32(uint64_t n, uint64_t d)
     }
     rh = (uint32_t)(r >> 32);
     rl = (uint32_t)r;
-    for (i = 32u; i != 0u; --i) { /* r < d < 2^63: doubling it cannot overflow */
+    /* two quotient bits a pass (the same steps as one a pass; half the loop overhead) */
+    for (i = 16u; i != 0u; --i) { /* r < d < 2^63: doubling it cannot overflow */
         rh = (rh << 1) | (rl >> 31);
         rl <<= 1;
         q <<= 1;
         if ((rh > dh) || ((rh == dh) && (rl >= dl))) {
             if (rl < dl) { /* the low words' borrow */
+                rh -= 1u;
+            }
+            rl -= dl;
+            rh -= dh;
+            q |= 1u;
+        }
+        rh = (rh << 1) | (rl >> 31);
+        rl <<= 1;
+        q <<= 1;
+        if ((rh > dh) || ((rh == dh) && (rl >= dl))) {
+            if (rl < dl) {
                 rh -= 1u;
             }
             rl -= dl;
@@ -180,37 +218,55 @@ static inline int64_t mul_c_x(int64_t dot, uint64_t cm, rfe_fix_t x)
     return r;
 }
 
-/* sat32(a - round(p / 2^C_FRAC)) (half up) for |p| < 2^62: a reflected element, in 32-bit
- * words: round(p / 2^30) = floor((p + 2^29) / 2^30) (no overflow: |p| < 2^62) by the
- * constant shift of the offset-binary words, then the int64 difference saturated inline.
- * The Cortex-M0+'s -Os build had called an out-of-line rfe_fix_shr64_round and
- * rfe_fix_sat32 for every element (and the M3/M4 take a few instructions fewer too). The
- * same integer and count as sat32(a - rfe_fix_shr64_round(p, 30)) (test_qr_div_w16_q31.c
- * compares them). */
-static RFE_FIX_INLINE_ALWAYS rfe_fix_t sub_round_c(rfe_fix_t a, int64_t p, uint32_t *sat)
+/* a - round(p / 2^C_FRAC) (half up) for |p| < 2^62: a reflected element. No saturation is
+ * needed, by this bound (|x| the norm of row k's tail, |a| that of row i's, both normalised):
+ *  - after scale_tail every tail's norm is below 2^30 + 3 (chosen below 2^30, then each
+ *    element rounded by at most 1/2, L <= 24 of them: sqrt(24) / 2 < 3);
+ *  - the exact reflection is orthogonal, so every element of the exact result a - c v has
+ *    magnitude at most |a - c v| = |a| < 2^30 + 3;
+ *  - the computed element differs from it by the rounding of c (at most 2^-31 in Q30 units
+ *    of 1, times |v_j| <= |v| <= 2 |x| < 2^31 + 6: below 1.01) and that of the product
+ *    (1/2): |result| < 2^30 + 5, far inside int32.
+ * So sat32 never bit in the int64 form this replaces (sat32(a - shr64_round(p, 30)), which
+ * counted no saturation either), and the difference is exact modulo 2^32: only the low word
+ * of round(p / 2^30) = floor((p + 2^29) / 2^30) is needed, (w_lo >> 30) | (w_hi << 2) of
+ * w = p + 2^29 (no overflow: |p| < 2^62). The same integer, a quarter of the instructions.
+ * test/numerics/w16/test_qr_bound_q31.c checks the bound and the integer on every element
+ * of every reflection of Tria's reduction over extreme and random inputs. */
+static RFE_FIX_INLINE_ALWAYS rfe_fix_t sub_round_c(rfe_fix_t a, int64_t p)
 {
-    /* offset binary (as rfe_fix_shr64_floor_w32, with the constant shift): w = p + 2^29 +
-     * 2^63 in [0, 2^64), floor(w / 2^30) < 2^34 from its words, minus 2^33 */
     const int64_t ph = p + rfe_q31_pow2(C_FRAC - 1u);
     const uint64_t w = (uint64_t)ph;
-    const uint32_t hi = (uint32_t)(w >> 32) ^ 0x80000000u;
     const uint32_t lo = (uint32_t)w;
-    const uint32_t rl = (lo >> C_FRAC) | (hi << (32u - C_FRAC));
-    const uint32_t rh = hi >> C_FRAC;
-    const uint64_t rw = ((uint64_t)rh << 32) | (uint64_t)rl; /* < 2^34 */
-    const int64_t q = (int64_t)rw - rfe_q31_pow2(63u - C_FRAC);
-    const int64_t d = (int64_t)a - q;
-    rfe_fix_t r;
-    if (d > (int64_t)RFE_FIX_MAX) {
-        rfe_fix_count_sat(sat);
-        r = RFE_FIX_MAX;
-    } else if (d < (int64_t)RFE_FIX_MIN) {
-        rfe_fix_count_sat(sat);
-        r = RFE_FIX_MIN;
-    } else {
-        r = (rfe_fix_t)d;
+    const uint32_t hi = (uint32_t)(w >> 32);
+    const uint32_t ql = (lo >> C_FRAC) | (hi << (32u - C_FRAC));
+    const uint32_t d = (uint32_t)a - ql; /* the result modulo 2^32 */
+    /* its two's-complement value, without an implementation-defined conversion */
+    const int64_t wrap = ((d >> 31) != 0u) ? rfe_q31_pow2(32u) : 0;
+    const int64_t r = (int64_t)d - wrap;
+    return (rfe_fix_t)r;
+}
+
+/* a[j] <- a[j] - round(c x[j] / 2^C_FRAC), j < n, c = sign(dot) cm. Where the core has a
+ * 32 x 32 -> 64 multiply (not RFE_FIX_MUL64_W16) and |c| < 2^31 (|c| < 2 in Q30, most rows),
+ * c is an int32 and each product one SMULL-class multiply (the same integer as mul_c_x's
+ * int64 product); else mul_c_x. */
+static inline void update_tail(rfe_fix_t *a, const rfe_fix_t *x, size_t n, int64_t dot,
+                               uint64_t cm)
+{
+    size_t j;
+#if !RFE_FIX_MUL64_W16
+    if ((cm >> 31) == 0u) {
+        const rfe_fix_t c32 = (dot < 0) ? -(rfe_fix_t)cm : (rfe_fix_t)cm;
+        for (j = 0u; j < n; ++j) {
+            a[j] = sub_round_c(a[j], rfe_fix_mul32x32(c32, x[j]));
+        }
+        return;
     }
-    return r;
+#endif
+    for (j = 0u; j < n; ++j) {
+        a[j] = sub_round_c(a[j], mul_c_x(dot, cm, x[j]));
+    }
 }
 
 /* Reflection k, on normalised tails: row k's tail x (length len, starting at column k) is
@@ -219,7 +275,7 @@ static RFE_FIX_INLINE_ALWAYS rfe_fix_t sub_round_c(rfe_fix_t a, int64_t p, uint3
  * entry (scale of row k): -sign(x0) |x|, or x0 itself when it is the only non-zero. ssk:
  * |x|^2 (< 2^60 + 2^32 after the normalisation) when the caller knows it, else 0. */
 static int64_t reflect(rfe_fix_t *A, size_t rows, size_t lda, size_t k, size_t len,
-                       uint64_t ssk, const int *nonzero, uint32_t *sat)
+                       uint64_t ssk, const int *nonzero)
 {
     rfe_fix_t *x = &AT(A, lda, k, k);
     uint64_t ss = ssk;
@@ -259,10 +315,8 @@ static int64_t reflect(rfe_fix_t *A, size_t rows, size_t lda, size_t k, size_t l
             /* c in Q30: round(2 a.v 2^30 / v.v), magnitude below 2^32 */
             cm = div_shl32(rfe_q31_mag64_any(dot), vtv); /* C_FRAC + 1 = 31 */
             c = (dot < 0) ? -(int64_t)cm : (int64_t)cm;
-            a[0] = sub_round_c(a[0], c * v0, sat);
-            for (j = 1u; j < len; ++j) {
-                a[j] = sub_round_c(a[j], mul_c_x(dot, cm, x[j]), sat);
-            }
+            a[0] = sub_round_c(a[0], c * v0);
+            update_tail(&a[1], &x[1], len - 1u, dot, cm);
         }
     }
     for (j = 0u; j < len; ++j) {
@@ -336,7 +390,7 @@ static void tria_core_q31(rfe_fix_t *A, size_t rows, size_t cols, size_t lda, in
         flip[k] = 0;
         if (nonzero[k] != 0) {
             const size_t len = ((tri != 0) ? ((cols - rows) + k + 1u) : cols) - k;
-            const int64_t diag = reflect(A, rows, lda, k, len, ssk, nonzero, &count);
+            const int64_t diag = reflect(A, rows, lda, k, len, ssk, nonzero);
             AT(A, lda, k, k) = to_output(diag, e[k], &count);
             if (diag < 0) {
                 flip[k] = 1;

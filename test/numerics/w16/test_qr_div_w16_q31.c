@@ -142,10 +142,12 @@ static void test_div_shl32_w16_random(void **state)
     print_message("random: %u divisions\n", n_checked);
 }
 
-/* sub_round_c's 32-bit-word form (compiled here: RFE_FIX_MUL64_W16 = 1) against the int64
- * form it replaces on the Cortex-M0+, sat32(a - shr64_round(p, 30)): the same value and
- * saturation count for every a of a set of edges and random a, and p of magnitude below
- * 2^62 (Tria's bound on c v_j) around the rounding ties and the saturation limits. */
+/* sub_round_c's 32-bit-word form against the int64 form it replaces, sat32(a -
+ * shr64_round(p, 30)): the same value wherever that form does not saturate (the only inputs
+ * Tria gives it: qr_q31.c derives |result| < 2^30 + 5, test_qr_bound_q31.c checks it), for
+ * every a of a set of edges and random a, and p of magnitude below 2^62 (Tria's bound on
+ * c v_j) around the rounding ties and up to the int32 limits. The saturating cases are
+ * skipped (counted, so that the check cannot pass empty). */
 static void test_sub_round_c_w16(void **state)
 {
     static const rfe_fix_t as[] = {0, 1, -1, RFE_FIX_MAX, RFE_FIX_MIN, 0x40000000, -0x40000000};
@@ -162,15 +164,17 @@ static void test_sub_round_c_w16(void **state)
     size_t i;
     size_t j;
     int k;
+    unsigned int n_fit = 0u;
     (void)state;
     for (i = 0u; i < sizeof as / sizeof as[0]; ++i) {
         for (j = 0u; j < sizeof ps / sizeof ps[0]; ++j) {
-            uint32_t sat = 0u;
             uint32_t want_sat = 0u;
             const rfe_fix_t want =
                 rfe_fix_sat32((int64_t)as[i] - rfe_fix_shr64_round(ps[j], 30u), &want_sat);
-            assert_int_equal(sub_round_c(as[i], ps[j], &sat), want);
-            assert_int_equal(sat, want_sat);
+            if (want_sat == 0u) {
+                assert_int_equal(sub_round_c(as[i], ps[j]), want);
+                ++n_fit;
+            }
         }
     }
     mix_state = 0x5AB0C0DEull;
@@ -181,12 +185,15 @@ static void test_sub_round_c_w16(void **state)
         const int64_t p = ((r >> 8) & 1u) ? -m : m;
         const rfe_fix_t a = (rfe_fix_t)(int32_t)(uint32_t)(rand_u64() >> 33) *
                             (((r >> 9) & 1u) ? -1 : 1);
-        uint32_t sat = 0u;
         uint32_t want_sat = 0u;
         const rfe_fix_t want = rfe_fix_sat32((int64_t)a - rfe_fix_shr64_round(p, 30u), &want_sat);
-        assert_int_equal(sub_round_c(a, p, &sat), want);
-        assert_int_equal(sat, want_sat);
+        if (want_sat == 0u) {
+            assert_int_equal(sub_round_c(a, p), want);
+            ++n_fit;
+        }
     }
+    /* most random pairs fit (|p| / 2^30 below 2^31 for lengths up to ~61 bits) */
+    assert_true(n_fit > 200000u);
 }
 
 int main(void)
