@@ -125,6 +125,8 @@ static void dequantise_params(const rfe_mass_grade_params_q31_t *q, rfe_mass_gra
     p->theta_rate_off = rfe_fix_to_double(q->theta_rate_off, RFE_MG_Q_RATE);
     p->theta_rate_tau = rfe_fix_to_double(q->theta_rate_tau, RFE_MG_Q_TIME);
     p->theta_rate_avg = rfe_fix_to_double(q->theta_rate_avg, RFE_MG_Q_TIME);
+    p->mm_tau = rfe_fix_to_double(q->mm_tau, RFE_MG_Q_TIME);
+    p->mm_e = rfe_fix_to_double(q->mm_e, RFE_MG_Q_E);
 }
 
 /* The sample rounded to the Q formats (q) and back (d, what the double twin gets). */
@@ -1049,6 +1051,7 @@ static void test_correct_zero_innovation_sd(void **state)
     rfe_fix_t S[RFE_MG_N_Q31 * RFE_MG_N_Q31] = {0, 0, 0, 0, 100 << 14, 0, 0, 0, 1 << 20};
     rfe_fix_t x0[RFE_MG_N_Q31];
     rfe_fix_t S0[RFE_MG_N_Q31 * RFE_MG_N_Q31];
+    rfe_fix_t e_ax = 77;
     uint32_t sat = 0u;
     (void)state;
     default_q31(&q);
@@ -1059,16 +1062,17 @@ static void test_correct_zero_innovation_sd(void **state)
     memcpy(S0, S, sizeof S);
     assert_int_equal(rfe_mg_correct_speed_q31(r[0], y[0], x, S, &sat),
                      RFE_ERR_NOT_POSITIVE_DEFINITE);
-    assert_int_equal(rfe_mg_correct_q31(chi, Z, &w, r, y, x, S, &sat),
+    assert_int_equal(rfe_mg_correct_q31(chi, Z, &w, r, y, x, S, &sat, &e_ax),
                      RFE_ERR_NOT_POSITIVE_DEFINITE);
     assert_memory_equal(x, x0, sizeof x);
     assert_memory_equal(S, S0, sizeof S);
+    assert_int_equal(e_ax, 77); /* §4.8's innovation is written only on success */
     assert_int_equal(sat, 0u);
     /* the same ax row succeeds: with r_v > 0 the whole correction does */
     {
         const rfe_fix_t r1[RFE_MG_Z_MAX_Q31] = {1 << 20, 1 << 20};
         uint32_t sat1 = 0u;
-        assert_int_equal(rfe_mg_correct_q31(chi, Z, &w, r1, y, x, S, &sat1), RFE_OK);
+        assert_int_equal(rfe_mg_correct_q31(chi, Z, &w, r1, y, x, S, &sat1, &e_ax), RFE_OK);
     }
 }
 
