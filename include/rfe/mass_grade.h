@@ -87,6 +87,10 @@ typedef struct {
     rfe_real_t sd_v;     /**< [m/s] */
     rfe_real_t q_mv;     /**< the adaptive part of the mass process noise [kg^2/s] (0 in the
                               UKF and once the adaptation has ended) */
+    rfe_real_t e_ax;     /**< §4.8 the EMA of the ax row's normalised innovation (0 without
+                              the row) [1] */
+    uint32_t mismatch;   /**< §4.8 1: |e_ax| > mm_e (mm_e > 0), the model is contradicted
+                              (a feed of the mass should hold); else 0 */
     rfe_status_t status; /**< status of the step (same as the return value) */
 } rfe_mass_grade_estimate_t;
 
@@ -126,6 +130,7 @@ typedef struct {
     rfe_real_t wq_rate;               /**< §4.7 the grade rate, low-passed [rad/s] */
     rfe_real_t wq_ms;                 /**< §4.7 its mean square [rad^2/s^2] */
     uint32_t wq_hi;                   /**< §4.7 the walk's level: 1 q_theta_hi, 0 q_theta */
+    rfe_real_t mm_e;                  /**< §4.8 the mismatch monitor's EMA [1] */
     rfe_mass_grade_estimate_t last;   /**< the output of the last step */
 } rfe_mass_grade_t;
 

@@ -28,6 +28,8 @@
  *  [mrad/sqrt(s), mrad/s], and the largest theta_rate_tau, theta_rate_avg [s]. */
 #define RFE_MG_WALK_MAX_MILLI 100
 #define RFE_MG_WALK_TAU_MAX_S 60
+/** The largest mm_e, the model-mismatch monitor's threshold (MASS_GRADE.md §4.8, §6) [1]. */
+#define RFE_MG_MM_E_MAX 100
 /** Every bit a sample may set. */
 #define RFE_MG_HAS_ALL 63u
 

@@ -92,6 +92,10 @@ typedef struct {
                                     [dt_max, 60]: 1 */
     rfe_real_t theta_rate_avg; /**< the time constant of the mean of its square (§4.7) [s],
                                     in [dt_max, 60]: 3 */
+    rfe_real_t mm_tau; /**< the model-mismatch monitor's time constant (§4.8) [s], in
+                            [dt_max, 60]: 10 */
+    rfe_real_t mm_e;   /**< its threshold on the EMA of the ax row's normalised innovation
+                            (§4.8) [1], in [0, 100] (0: never flagged): 0.3 */
 } rfe_mass_grade_params_t;
 
 /**
@@ -123,7 +127,8 @@ RFE_NODISCARD rfe_status_t rfe_mass_grade_params_preset(rfe_mass_grade_params_t 
  * adaptive, use_ax in {0, 1}; pause_grade an integer in 0..7 (inert without use_ax);
  * 0 <= pause_grade_slip <= 1; 0 <= pause_grade_dv <= 10; m_min < m0 < m_max; |theta0| < theta_max < 1.5;
  * q_theta_hi 0 or in [q_theta, 0.1]; 0 < theta_rate_off <= theta_rate_on <= 0.1;
- * theta_rate_tau, theta_rate_avg in [dt_max, 60] (§4.7);
+ * theta_rate_tau, theta_rate_avg in [dt_max, 60] (§4.7); mm_tau in [dt_max, 60],
+ * 0 <= mm_e <= 100 (§4.8);
  * n + lambda > 0; with adaptive, mv_stop q_mc^2 < q_mv0^2.
  * @param[in] p  the parameters to check.
  * @return RFE_OK, RFE_ERR_NULL or RFE_ERR_PARAM.

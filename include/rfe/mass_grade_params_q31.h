@@ -41,6 +41,8 @@
                                   rate r [rad/s] and its mean square s [rad^2/s^2], compared
                                   with on^2, off^2 (Q30 products): Q30, +-2 (on, off <= 0.1;
                                   r, s saturate beyond, where s > on^2 long before) */
+#define RFE_MG_Q_E 24        /**< §4.8 the ax row's normalised innovation, its EMA and mm_e
+                                  [1]: Q24, +-128 (mm_e <= 100) */
 
 /** The estimator's parameters; fields and meaning as rfe_mass_grade_params_t. */
 typedef struct {
@@ -91,6 +93,9 @@ typedef struct {
     rfe_fix_t theta_rate_tau; /**< the rate's low-pass time constant [s], Q24, in [dt_max, 60]:
                                    dt/tau <= 1 fits Q30 */
     rfe_fix_t theta_rate_avg; /**< its mean square's time constant [s], Q24, in [dt_max, 60] */
+    rfe_fix_t mm_tau;         /**< §4.8 the mismatch monitor's time constant [s], Q24, in
+                                   [dt_max, 60]: dt/tau <= 1 fits Q30 */
+    rfe_fix_t mm_e;           /**< §4.8 its threshold [1], Q24, in [0, 100] (0: never) */
 } rfe_mass_grade_params_q31_t;
 
 /** The unscented transform's weights (MASS_GRADE.md §3) in the forms the square-root filter
@@ -125,7 +130,8 @@ RFE_NODISCARD rfe_status_t rfe_mass_grade_weights_q31(const rfe_mass_grade_param
  * adaptive, use_ax in {0, 1}; pause_grade <= 7 (inert without use_ax); 0 <= pause_grade_slip <= 1, 0 <= pause_grade_dv <= 10
  * (Q30); m_min < m0 < m_max; |theta0| < theta_max < 1.5 rad; q_theta_hi 0 or in
  * [q_theta, 0.1]; 0 < theta_rate_off <= theta_rate_on <= 0.1; theta_rate_tau,
- * theta_rate_avg in [dt_max, 60] s (§4.7); with
+ * theta_rate_avg in [dt_max, 60] s (§4.7); mm_tau in [dt_max, 60] s, 0 <= mm_e <= 100
+ * (§4.8); with
  * adaptive, mv_stop q_mc^2 < q_mv0^2. Beyond the float's: rfe_mass_grade_weights_q31
  * succeeds (the spread c = alpha^2 (3 + kappa) in (1, 16), so that w_m,0 = 1 - 3/c and
  * w_i = 1/(2c) fit Q30 and sqrt(c) Q29; the centre's covariance weight w_c,0 in [0, 4),

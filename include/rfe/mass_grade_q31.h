@@ -65,6 +65,8 @@ typedef struct {
     rfe_fix_t v;         /**< the filter's speed [m/s], Q24 */
     rfe_fix_t sd_v;      /**< [m/s], Q24 */
     int64_t q_mv;        /**< the adaptive mass process noise [kg^2/s], Q28 */
+    rfe_fix_t e_ax;      /**< §4.8 the EMA of the ax row's normalised innovation [1], Q24 */
+    uint32_t mismatch;   /**< §4.8 1: |e_ax| > mm_e (mm_e > 0); else 0 */
     uint32_t sat;        /**< saturations in this step */
     rfe_status_t status; /**< status of the step (same as the return value) */
 } rfe_mass_grade_estimate_q31_t;
@@ -103,6 +105,7 @@ typedef struct {
     rfe_fix_t wq_rate;                       /**< §4.7 the grade rate, low-passed [rad/s], Q30 */
     rfe_fix_t wq_ms;                         /**< §4.7 its mean square [rad^2/s^2], Q30 */
     uint32_t wq_hi;                          /**< §4.7 the walk's level: 1 q_theta_hi */
+    rfe_fix_t mm_e;                          /**< §4.8 the mismatch monitor's EMA [1], Q24 */
     uint32_t sat;                            /**< saturations since init (stops at UINT32_MAX) */
     rfe_mass_grade_estimate_q31_t last;      /**< the output of the last step */
 } rfe_mass_grade_q31_t;

@@ -28,7 +28,8 @@ sys.path[:0] = [os.path.dirname(os.path.dirname(os.path.abspath(__file__)))]
 from reference import mass_grade as mg  # noqa: E402
 
 STRIDE = 10
-OUTPUTS = ("mass", "sd_mass", "grade", "sd_grade", "v", "sd_v", "q_mv", "status", "walk")
+OUTPUTS = ("mass", "sd_mass", "grade", "sd_grade", "v", "sd_v", "q_mv", "status", "walk", "e_ax",
+           "mismatch")
 # The library's presets (docs/MASS_GRADE.md §6 "Presets"): the recommended one (plain UKF with
 # the accelerometer row) and the seed's (its AUKF on speed and torque, adapted every step,
 # no rotating mass); and the two other combinations on a few logs, so that every branch of
@@ -69,12 +70,12 @@ def golden(path, config):
     cols, _ = mg.read_log(path)
     p = mg.preset(vehicle(name), **PRESETS[config])
     r = mg.run(cols, p)
-    st, wk = r["status"], r["walk"]
-    # every row whose status or walk level changed: the C tests then know the double's walk
-    # level on every sample (the last golden row's at or before it)
+    st, wk, mm = r["status"], r["walk"], r["mismatch"]
+    # every row whose status, walk level or mismatch flag (§4.8) changed: the C tests then
+    # know the double's walk level on every sample (the last golden row's at or before it)
     keep = [k for k in range(len(st))
             if k % STRIDE == 0 or k == len(st) - 1
-            or (k > 0 and (st[k] != st[k - 1] or wk[k] != wk[k - 1]))]
+            or (k > 0 and (st[k] != st[k - 1] or wk[k] != wk[k - 1] or mm[k] != mm[k - 1]))]
     meta = [("source", os.path.basename(path)), ("generator", "scripts/reference/mass_grade.py"),
             ("vehicle", vehicle(name)), ("config", config), ("stride", STRIDE)]
     meta += [(k, p[k]) for k in mg.MG_DEFAULTS]

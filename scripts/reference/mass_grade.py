@@ -31,6 +31,11 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+# §4.8 the model-mismatch monitor's threshold: twice the largest |EMA| on the eight clean
+# mass and grade logs read from mg_mm_tau on (scripts/tools/mass_headwind_study.py, the
+# "mismatch monitor" table of MASS_GRADE_RESULTS.md)
+MM_E_DEFAULT = 0.3
+
 # §6 Parameters: keys, defaults (the passenger-car preset), units in MASS_GRADE.md §6.
 MG_DEFAULTS: dict[str, float] = {
     "R": 0.325,             # rolling radius, m (the vehicle key of DATA.md)
@@ -82,6 +87,10 @@ MG_DEFAULTS: dict[str, float] = {
     "mg_theta_rate_off": 0.001,  # ... below which it tightens again, rad/s (<= _on)
     "mg_theta_rate_tau": 1.0,    # time constant of the grade rate's low-pass, s
     "mg_theta_rate_avg": 3.0,    # time constant of the mean of its square, s
+    # the model-mismatch monitor on the ax row (issue 19; MASS_GRADE.md §4.8): an EMA of the ax
+    # row's normalised innovation, its flag when |EMA| > mg_mm_e (0: never)
+    "mg_mm_tau": 10.0,      # its time constant, s (issue 19's 10 s), in [mg_dt_max, 60]
+    "mg_mm_e": MM_E_DEFAULT,  # the flag's threshold on |EMA| (dimensionless); 0: off
 }
 
 
@@ -187,6 +196,10 @@ def validate(p):
         raise ParamError("mg_q_theta_hi: must be 0 or in [mg_q_theta, 0.1] rad/sqrt(s)")
     if not 0.0 < w["mg_theta_rate_off"] <= w["mg_theta_rate_on"] <= 0.1:
         raise ParamError("mg_theta_rate_off, mg_theta_rate_on: need 0 < off <= on <= 0.1 rad/s")
+    if not p["mg_dt_max"] <= p["mg_mm_tau"] <= 60.0:
+        raise ParamError("mg_mm_tau: must lie in [mg_dt_max, 60] s")
+    if not 0.0 <= p["mg_mm_e"] <= 100.0:
+        raise ParamError("mg_mm_e: must lie in [0, 100]")
     for k in ("mg_theta_rate_tau", "mg_theta_rate_avg"):
         if not p["mg_dt_max"] <= w[k] <= 60.0:
             raise ParamError(f"{k}: must lie in [mg_dt_max, 60] s")
@@ -303,6 +316,8 @@ class MgEstimate:
     sd_v: float
     q_mv: float        # the adaptive part of the mass process noise, kg^2/s
     status: int
+    e_ax: float = 0.0  # §4.8 the EMA of the ax row's normalised innovation (0 without the row)
+    mismatch: bool = False  # §4.8 |e_ax| > mg_mm_e (mg_mm_e > 0): the model is contradicted
 
 
 FORMS = ("sqrt", "textbook")
@@ -367,12 +382,16 @@ class MassGrade:
         self.wq_ms = 0.0
         self.wq_hi = False
         self.th_prev = self.x[2]
+        # §4.8 the model-mismatch monitor's EMA of the ax row's normalised innovation
+        self.mm_e = 0.0
         self.started = True
 
     def _estimate(self, status):
         if self.form == "sqrt":
+            e_max = self.p["mg_mm_e"]
             return MgEstimate(self.x[1], self.sd[1], self.x[2], self.sd[2], self.x[0], self.sd[0],
-                              self.q_mv, status)
+                              self.q_mv, status, self.mm_e,
+                              e_max > 0.0 and abs(self.mm_e) > e_max)
         P, sqrt = self.P, self.ar.sqrt
         return MgEstimate(self.x[1], sqrt(P[1][1]), self.x[2], sqrt(P[2][2]),
                           self.x[0], sqrt(P[0][0]), self.q_mv, status)
@@ -428,7 +447,7 @@ class MassGrade:
     # -- the square-root form (the C library's steps, mass_grade_flt.c) ------------------------
     _SAVED = ("x", "S", "q_mv", "adapt_elapsed", "m_adapt", "brake_left", "shift_left",
               "curve_left", "gear", "started", "slip_latched", "v_free", "chg_d", "chg_on",
-              "u_prev", "wq_rate", "wq_ms", "wq_hi", "th_prev")
+              "u_prev", "wq_rate", "wq_ms", "wq_hi", "th_prev", "mm_e")
 
     def _step_sqrt(self, s):
         """As step(), in the square-root form: the work on a copy of the state, restored on an
@@ -615,6 +634,7 @@ class MassGrade:
             return ERR_NOT_POSITIVE_DEFINITE
         x = list(xm)
         S = [[A[r][c] if c <= r else 0.0 for c in range(N)] for r in range(N)]
+        mm_e = self.mm_e
         # the ax row by the points of (x-, S-)
         if self.use_ax:
             pts = sigma_points_sqrt(x, S, self.sqrt_c)
@@ -635,6 +655,8 @@ class MassGrade:
             e = (s.ax - zm[0]) / A[0][0]
             if self.probe is not None:
                 self.probe("ax", s.ax - zm[0], A[0][0])
+            # §4.8 the monitor: EMA of the normalised innovation, dt / mg_mm_tau <= 1
+            mm_e += (dt / p["mg_mm_tau"]) * (e - mm_e)
             for i in range(N):
                 x[i] += A[1 + i][0] * e
             S = [[A[1 + i][1 + c] for c in range(N)] for i in range(N)]
@@ -659,6 +681,7 @@ class MassGrade:
         x[1] = min(max(x[1], p["mg_m_min"]), p["mg_m_max"])
         x[2] = min(max(x[2], -p["mg_theta_max"]), p["mg_theta_max"])
         self.x, self.S = x, S
+        self.mm_e = mm_e
         if p["mg_adaptive"] == 1.0 and self.q_mv > 0.0:
             return self._adapt_sqrt(dt)
         return OK
@@ -988,8 +1011,9 @@ def samples(cols, p):
 
 
 def run(cols, params, form="sqrt"):
-    """Run a whole log; returns arrays t, mass, sd_mass, grade, sd_grade, v, sd_v, q_mv, status
-    and walk (§4.7: the grade walk's level after each sample, 1 loose, 0 tight)."""
+    """Run a whole log; returns arrays t, mass, sd_mass, grade, sd_grade, v, sd_v, q_mv, status,
+    walk (§4.7: the grade walk's level after each sample, 1 loose, 0 tight), e_ax and
+    mismatch (§4.8: the monitor's EMA and its flag, 1 set)."""
     import numpy as np
     est = MassGrade(params, form=form)
     outs, walk = [], []
@@ -1000,6 +1024,8 @@ def run(cols, params, form="sqrt"):
     for k in ("mass", "sd_mass", "grade", "sd_grade", "v", "sd_v", "q_mv", "status"):
         res[k] = np.array([getattr(o, k) for o in outs])
     res["walk"] = np.array(walk, dtype=int)
+    res["e_ax"] = np.array([o.e_ax for o in outs])
+    res["mismatch"] = np.array([1 if o.mismatch else 0 for o in outs], dtype=int)
     return res
 
 

@@ -640,3 +640,74 @@ def test_walk_keys_are_library_defaults_and_off():
     assert (d["mg_theta_rate_tau"], d["mg_theta_rate_avg"]) == (1.0, 3.0)
     with pytest.raises(mg.ParamError):
         mg.preset("car", mg_no_such_key=1.0)
+
+
+# -- §4.8 the model-mismatch monitor ---------------------------------------------------------
+
+def _headwind(rows):
+    cols, _ = mg.read_log(os.path.join(LOGS, "car_headwind.csv"))
+    return {k: v[:rows] for k, v in cols.items()}
+
+
+def test_mismatch_ema_is_the_ax_rows_normalised_innovation_averaged():
+    # the EMA recomputed from the probe's innovations with §4.8's recursion m += (dt/tau)(e - m)
+    # on the updates that ran the ax row (status 0), m = 0 at the start: the same operations
+    # in the same order as the filter's, so equal to the bit; tau 2 s (not the default) shows
+    # the key is read
+    cols = _headwind(1500)
+    p = mg.preset("car", **mg.MG_CONFIGS["recommended"], mg_mm_tau=2.0)
+    est = mg.MassGrade(p)
+    seen = {}
+    est.probe = lambda row, innov, sd: seen.__setitem__(row, innov / sd)
+    m, t_prev, flagged = 0.0, None, 0
+    for s in mg.samples(cols, est.p):
+        seen.clear()
+        o = est.step(s)
+        if o.status == mg.OK and "ax" in seen:
+            m += ((s.t - t_prev) / 2.0) * (seen["ax"] - m)
+        t_prev = s.t
+        assert o.e_ax == m
+        assert o.mismatch == (abs(m) > p["mg_mm_e"])
+        flagged += o.mismatch
+    # 30 s of the headwind: the flag sets (its first 20 s of windowed mean already cross,
+    # MASS_GRADE_RESULTS.md), so the comparison above covered both values of the flag
+    assert flagged > 0
+
+
+def test_mismatch_monitor_changes_no_estimate_and_mg_mm_e_zero_never_flags():
+    cols = _headwind(1000)
+    base = mg.run(cols, mg.preset("car", **mg.MG_CONFIGS["recommended"]))
+    off = mg.run(cols, mg.preset("car", **mg.MG_CONFIGS["recommended"], mg_mm_e=0.0,
+                                 mg_mm_tau=30.0))
+    # the monitor only reads the update: every estimate the same to the bit
+    for k in ("mass", "sd_mass", "grade", "sd_grade", "v", "status"):
+        assert np.array_equal(base[k], off[k]), k
+    assert not off["mismatch"].any() and np.any(off["e_ax"] != 0.0)
+    # the default threshold is the measured one (2 x 0.150, MASS_GRADE_RESULTS.md)
+    assert mg.MG_DEFAULTS["mg_mm_e"] == 0.3 and mg.MG_DEFAULTS["mg_mm_tau"] == 10.0
+
+
+def test_mismatch_ema_is_zero_without_the_ax_row_and_after_a_restart():
+    cols = _headwind(600)
+    seed = mg.run(cols, mg.preset("car", **mg.MG_CONFIGS["seed"]))
+    assert np.all(seed["e_ax"] == 0.0) and not seed["mismatch"].any()
+    est = mg.MassGrade(mg.preset("car", **mg.MG_CONFIGS["recommended"]))
+    last = None
+    for s in mg.samples(cols, est.p):
+        last = est.step(s)
+    assert last.e_ax != 0.0
+    # a period over mg_dt_max (1 s) restarts the filter (§4.1): the EMA starts again at 0
+    s = mg.MgSample(last_t := float(cols["t"][-1]) + 2.0, 20.0, 300.0, ax=0.1)
+    assert last_t > 0.0 and est.step(s).e_ax == 0.0
+
+
+@pytest.mark.parametrize("over", [{"mg_mm_tau": 0.5},      # < mg_dt_max (1 s)
+                                  {"mg_mm_tau": 61.0},
+                                  {"mg_mm_e": -0.1},
+                                  {"mg_mm_e": 101.0},
+                                  {"mg_mm_e": float("nan")}])
+def test_mismatch_keys_are_validated(over):
+    p = mg.preset("car")
+    p.update(over)
+    with pytest.raises(mg.ParamError):
+        mg.MassGrade(p)

@@ -37,8 +37,16 @@ A second table asks whether the ax row's statistic is specific to the wind: the 
 run again with the filter given a wrong initial mass (x 0.5, x 1.5 of the truth) or wrong
 resistance keys (mg_cd x 0.8 and x 1.2, mg_fc x 1.5), against the same threshold.
 
-With --page the tables go between <!-- mass-headwind:begin/end --> and
-<!-- mass-headwind-model:begin/end --> of the page.
+A third table measures the reference's model-mismatch monitor (MASS_GRADE.md §4.8): the
+filter's own EMA of the ax row's normalised innovation (time constant mg_mm_tau) from
+mg.run's e_ax, its threshold MM_MARGIN x the largest |EMA| on the clean logs read from
+mg_mm_tau on, and per log (the clean ones, car_headwind, the two variants) the largest |EMA|,
+the samples over the threshold (false alarms on a clean log), the first time over it and the
+flag's share of the log; run with mg_mm_e = 0 (the flag off), so the threshold is measured,
+not assumed, and compared with MM_E_DEFAULT.
+
+With --page the tables go between <!-- mass-headwind:begin/end -->,
+<!-- mass-headwind-model:begin/end --> and <!-- mass-mismatch:begin/end --> of the page.
 """
 
 import argparse
@@ -261,6 +269,64 @@ def model_error_table(rows, threshold):
     return out
 
 
+MM_MARGIN = 2.0     # the monitor's threshold = MM_MARGIN x the clean logs' largest |EMA|
+
+
+def mm_series(cols, name, **over):
+    """The reference's monitor over one log (UKF + ax, the flag off): t, e_ax, mass error."""
+    p = mg.preset(vehicle(name), **CONFIGS["UKF + ax"])
+    p.update({"mg_mm_e": 0.0}, **over)
+    r = mg.run(cols, p)
+    return {"t": r["t"], "e_ax": r["e_ax"], "tau": p["mg_mm_tau"],
+            "mass_rel": r["mass"] / float(cols["mass_true"][0]) - 1.0}
+
+
+def mm_study(wind_cols, clean, variants=None, **over):
+    """The monitor's threshold from the clean logs (read from mg_mm_tau on) and, per log,
+    (largest |EMA| over the whole log, samples over the threshold, first time over it or NaN,
+    share of the samples over it, mass error at the end)."""
+    runs = {n: mm_series(c, n, **over) for n, c in clean.items()}
+    runs[WIND] = mm_series(wind_cols, WIND, **over)
+    for lab, c in (variants or {}).items():
+        runs[lab] = mm_series(c, WIND, **over)
+    cl = {n: peak(runs[n], "e_ax", runs[n]["tau"])[0] for n in clean}
+    worst = max(cl, key=lambda n: cl[n])
+    thr = MM_MARGIN * cl[worst]
+    per = {}
+    for n, r in runs.items():
+        over_thr = np.abs(r["e_ax"]) > thr
+        i0 = int(np.argmax(over_thr))
+        i1 = len(over_thr) - 1 - int(np.argmax(over_thr[::-1]))
+        first = float(r["t"][i0]) if over_thr.any() else math.nan
+        per[n] = {"peak": float(np.max(np.abs(r["e_ax"]))), "n_over": int(over_thr.sum()),
+                  "first": first, "share": float(over_thr.mean()),
+                  "last": float(r["t"][i1]) if over_thr.any() else math.nan,
+                  "mass_first": float(r["mass_rel"][i0]) if over_thr.any() else math.nan,
+                  "end_flag": bool(over_thr[-1]), "e_end": float(r["e_ax"][-1]),
+                  "mass_end": float(r["mass_rel"][-1]), "clean": n in clean}
+    return {"threshold": thr, "clean_max": cl[worst], "clean_log": worst, "per": per}
+
+
+def mm_table(res):
+    out = [f"Threshold mg_mm_e = {MM_MARGIN:g} x {res['clean_max']:.4f} ({res['clean_log']}, "
+           f"read from mg_mm_tau) = {res['threshold']:.4f}; the library's default "
+           f"MM_E_DEFAULT = {mg.MM_E_DEFAULT:g}.", "",
+           "| log | largest abs(EMA) | samples flagged | first flagged (mass error then) | "
+           "last flagged | share flagged | EMA at the end (flag) | mass error at the end |",
+           "|---|---|---|---|---|---|---|---|"]
+    for n, r in res["per"].items():
+        if math.isfinite(r["first"]):
+            first = f"{r['first']:.1f} s ({100.0 * r['mass_first']:+.1f} %)"
+            last = f"{r['last']:.1f} s"
+        else:
+            first = last = "never"
+        lab = n if n in mass_grade_names() else f"{n} (simulated)"
+        out.append(f"| {lab} | {r['peak']:.3f} | {r['n_over']} | {first} | {last} | "
+                   f"{100.0 * r['share']:.0f} % | {r['e_end']:+.3f} "
+                   f"({'set' if r['end_flag'] else 'clear'}) | {100.0 * r['mass_end']:+.1f} % |")
+    return out
+
+
 def make_variants():
     """car_headwind simulated with a steady 10 m/s wind, and with its gusts alone."""
     import sim.mass_grade_scenarios as sims
@@ -307,16 +373,20 @@ def main(argv=None):
                     help="skip the two simulated variants of car_headwind")
     a = ap.parse_args(argv)
     clean = {n: read(n) for n in clean_logs()}
-    rows = study(read(WIND), clean, None if a.no_variants else make_variants())
+    variants = None if a.no_variants else make_variants()
+    rows = study(read(WIND), clean, variants)
+    mm = mm_table(mm_study(read(WIND), clean, variants))
     lines = table(rows)
     thr = next(r["threshold"] for r in rows if r["key"] == "e_ax")
     more = model_error_table(model_error_rows(clean, thr), thr)
-    print("\n".join(lines + [""] + more))
+    print("\n".join(lines + [""] + more + [""] + mm))
     if a.page:
         replace_region(Path(a.page), "<!-- mass-headwind:begin -->", "<!-- mass-headwind:end -->",
                        lines, "mass_headwind_study.py")
         replace_region(Path(a.page), "<!-- mass-headwind-model:begin -->",
                        "<!-- mass-headwind-model:end -->", more, "mass_headwind_study.py")
+        replace_region(Path(a.page), "<!-- mass-mismatch:begin -->",
+                       "<!-- mass-mismatch:end -->", mm, "mass_headwind_study.py")
 
 
 if __name__ == "__main__":

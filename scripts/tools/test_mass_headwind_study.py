@@ -84,3 +84,20 @@ def test_ax_statistic_fires_on_a_resistance_error_not_on_a_wrong_start():
     assert rows["mg_fc x 1.5"]["over"] == ["car_grade_step"]
     assert rows["mg_m0 = truth x 0.5"]["over"] == []
     assert rows["mg_m0 = truth x 1.5"]["over"] == []
+
+
+def test_mismatch_monitor_flags_the_headwind_and_no_clean_excerpt():
+    # MASS_GRADE_RESULTS.md "A model-mismatch monitor": with the flag off the study reads the
+    # EMA; on 20 s of car_headwind the default threshold (0.3) is crossed by 15 s (the full
+    # log: 14.1 s), on 30 s of three clean logs never (their largest 0.078 on the full logs)
+    clean = {n: hs.read(n, 1500) for n in ("truck_graded_drive", "car_hilly_road",
+                                            "car_grade_step")}
+    res = hs.mm_study(hs.read(hs.WIND, 1000), clean)
+    assert res["threshold"] < mg.MM_E_DEFAULT     # the excerpts' margin is wider than 2 x
+    for n in clean:
+        assert res["per"][n]["n_over"] == 0 and res["per"][n]["peak"] < 0.5 * mg.MM_E_DEFAULT
+    w = hs.mm_series(hs.read(hs.WIND, 1000), hs.WIND)
+    over = np.abs(w["e_ax"]) > mg.MM_E_DEFAULT
+    assert over.any() and w["t"][np.argmax(over)] <= 15.0
+    lines = hs.mm_table(res)
+    assert any(ln.startswith("| car_headwind |") for ln in lines)

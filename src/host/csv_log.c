@@ -1060,7 +1060,7 @@ static const char *const k_est_header =
 static const char *const k_est_velocity_header =
     ",vx_est,vy_est,beta_est,yaw_acc_est,sd_vx,sd_vy,sd_beta";
 /* The mass and grade estimator's columns, written when it ran (DATA.md "Estimate log"). */
-static const char *const k_est_mass_grade_header = ",mass_est,sd_mass,grade_est,sd_grade,mg_status,mass_used,grade_walk";
+static const char *const k_est_mass_grade_header = ",mass_est,sd_mass,grade_est,sd_grade,mg_status,mass_used,grade_walk,mg_mismatch";
 /* The tyre identifier's columns, written when it ran (DATA.md "Estimate log"; names fixed by
  * issue 20). */
 static const char *const k_est_tyre_id_header =
@@ -1128,7 +1128,7 @@ int rfe_estimate_log_write_stream(FILE *f, const rfe_kv_t *meta, size_t n_meta,
             }
             fprintf(f, ",%d", e->mg_status);
             format(num, e->mass_used);
-            fprintf(f, ",%s,%d", num, e->grade_walk);
+            fprintf(f, ",%s,%d,%d", num, e->grade_walk, e->mg_mismatch);
         }
         if (rows[0].has_tyre_id != 0) {
             const double v[12] = {e->mu_id[0], e->mu_id[1], e->sd_mu_id[0], e->sd_mu_id[1],

@@ -252,6 +252,8 @@ typedef struct {
                              the last mass_est fed, else the parameter m) */
     int grade_walk;     /**< the grade walk's level after this step (MASS_GRADE.md §4.7): 1 loose
                              (mg_q_theta_hi), 0 tight (mg_q_theta; always with the walk off) */
+    int mg_mismatch;    /**< the model-mismatch flag after this step (MASS_GRADE.md §4.8): 1 the
+                             ax row's EMA beyond mg_mm_e (the feed holds), else 0 */
     int has_tyre_id;    /**< 1 when the tyre identifier ran: the fields below are written
                              (mu_id_f .. E_r, tid_status, tid_flags; DATA.md "Estimate log") */
     double mu_id[2];    /**< mu = D / Fz of the front [0] and rear [1] axle [1] */

@@ -1274,8 +1274,8 @@ static void write_mass_grade_json(FILE *f, const run_t *r)
     rfe_json_write_number(f, r->ps.mg[RFE_PK_mg_feed_slip_max - RFE_PK_MG_FIRST]);
     fputs(", \"band\": ", f);
     rfe_json_write_number(f, r->ps.mg[RFE_PK_mg_feed_band - RFE_PK_MG_FIRST]);
-    fprintf(f, ", \"n_slip_held\": %zu, \"n_band_refused\": %zu", r->stats.n_feed_slip,
-            r->stats.n_feed_band);
+    fprintf(f, ", \"n_slip_held\": %zu, \"n_band_refused\": %zu, \"n_mismatch_held\": %zu",
+            r->stats.n_feed_slip, r->stats.n_feed_band, r->stats.n_feed_mismatch);
     fprintf(f, ", \"n_fed\": %zu, \"mass_used_end\": ", r->stats.n_mass_fed);
     rfe_json_write_number(f, r->stats.mass_used_last);
     fputs("},\n    \"accuracy\": ", f);
@@ -1334,6 +1334,8 @@ static void print_mass_grade(const run_t *r)
            "samples outside the band (mg_feed_band = %g around m)\n",
            r->stats.n_feed_slip, r->ps.mg[RFE_PK_mg_feed_slip_max - RFE_PK_MG_FIRST],
            r->stats.n_feed_band, r->ps.mg[RFE_PK_mg_feed_band - RFE_PK_MG_FIRST]);
+    printf("  feed held at %zu samples by the model-mismatch flag (mg_mm_e)\n",
+           r->stats.n_feed_mismatch);
     if (r->log.has_mass_true && (a.n > 0u)) {
         printf("  mass error at the end %+.1f kg (%+.2f %%)\n", a.mass_err_end,
                100.0 * a.mass_err_end_rel);

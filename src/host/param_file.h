@@ -182,7 +182,9 @@
     X(mg_theta_rate_on, theta_rate_on, "rad/s", "grade rate RMS above which the walk loosens") \
     X(mg_theta_rate_off, theta_rate_off, "rad/s", "grade rate RMS below which it tightens")   \
     X(mg_theta_rate_tau, theta_rate_tau, "s", "the grade rate's low-pass time constant")     \
-    X(mg_theta_rate_avg, theta_rate_avg, "s", "time constant of the mean of its square")
+    X(mg_theta_rate_avg, theta_rate_avg, "s", "time constant of the mean of its square")   \
+    X(mg_mm_tau, mm_tau, "s", "time constant of the ax row's mismatch monitor (EMA)")          \
+    X(mg_mm_e, mm_e, "1", "mismatch flag's threshold on the EMA's magnitude (0: off)")
 
 /**
  * The tyre identifier's keys (docs/TYRE_ID.md §2): X(key, rfe_tyre_id_params_t member, unit,

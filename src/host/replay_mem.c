@@ -17,7 +17,7 @@ static const char *const k_mem_cols[RFE_MEM_COLS] = {
     "mass_est",  "sd_mass",   "grade_est", "sd_grade", "mg_status", "mass_used", "grade_walk",
     "mu_id_f",   "mu_id_r",   "sd_mu_id_f", "sd_mu_id_r", "B_f",    "C_f",         "D_f",
     "E_f",       "B_r",       "C_r",       "D_r",      "E_r",       "tid_status",  "tid_flags",
-    "cy_used",   "shape_Cy_used", "shape_Ey_used", "r_model_rel_used"};
+    "cy_used",   "shape_Cy_used", "shape_Ey_used", "r_model_rel_used", "mg_mismatch"};
 
 const char *rfe_replay_mem_col(size_t i)
 {
@@ -75,6 +75,7 @@ static void est_values(const rfe_est_row_t *e, double *v)
     v[43] = e->shape_Cy_used;
     v[44] = e->shape_Ey_used;
     v[45] = e->r_model_rel_used;
+    v[46] = (double)e->mg_mismatch;
 }
 
 /* Whether @p log has the columns of the first block (the replay state knows only those). */

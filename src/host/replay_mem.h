@@ -25,7 +25,7 @@
 /** An option mu_replay refuses (its exit status 2). */
 #define RFE_MEM_USAGE (-2)
 /** Values per estimate row in rfe_replay_mem_feed's output (rfe_replay_mem_col names them). */
-#define RFE_MEM_COLS 46u
+#define RFE_MEM_COLS 47u
 
 /** The number type of a run (mu_replay --real). */
 typedef enum { RFE_MEM_FLOAT = 0, RFE_MEM_DOUBLE = 1, RFE_MEM_Q31 = 2 } rfe_mem_real_t;

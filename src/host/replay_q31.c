@@ -282,6 +282,7 @@ static uint32_t mass_grade_row(rfe_replay_q31_state_t *st, const rfe_sensor_row_
     out->sd_grade = rfe_fix_to_double(e.sd_grade, RFE_MG_Q_TH);
     out->mg_status = (int)s;
     out->grade_walk = (int)st->mg.wq_hi; /* §4.7 the level after this step (an error leaves it) */
+    out->mg_mismatch = (int)e.mismatch; /* §4.8 the flag after this step */
     ++st->stats.base.mg_status_count[rfe_replay_status_slot(out->mg_status)];
     return rfe_status_is_error(s) ? 0u : e.sat; /* a refused step saturated nothing */
 }

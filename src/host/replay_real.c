@@ -585,6 +585,7 @@ static void mass_grade_row(rfe_replay_state_t *st, const rfe_sensor_row_t *row, 
     out->sd_grade = (double)e.sd_grade;
     out->mg_status = (int)s;
     out->grade_walk = (int)mg->wq_hi; /* §4.7 the level after this step (an error leaves it) */
+    out->mg_mismatch = (int)e.mismatch; /* §4.8 the flag after this step */
     ++st->stats.mg_status_count[rfe_replay_status_slot(out->mg_status)];
 }
 

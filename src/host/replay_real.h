@@ -97,6 +97,8 @@ typedef struct {
     size_t n_feed_slip;    /**< updates the wheel slip kept from the feed (mg_feed_slip_max) */
     size_t n_feed_band;    /**< samples due but refused: mass_est outside the band around the
                                 parameter m (mg_feed_band) */
+    size_t n_feed_mismatch; /**< samples due but held: the estimator's model-mismatch flag
+                                 set (MASS_GRADE.md §4.8, mg_mm_e) */
     size_t tid_status_count[RFE_REPLAY_STATUS_SLOTS]; /**< the tyre identifier's statuses
                                                            (when it ran) */
     size_t tid_flag_count[RFE_REPLAY_TID_FLAGS]; /**< samples with each of its RFE_TID_* bits,
@@ -310,8 +312,10 @@ typedef enum {
     RFE_REPLAY_FEED_NONE = 0, /**< not due: no update, not confident or the gate closed */
     RFE_REPLAY_FEED_DUE = 1,  /**< due: feed mass_est */
     RFE_REPLAY_FEED_SLIP = 2, /**< an update held by the slip (mg_feed_slip_max) */
-    RFE_REPLAY_FEED_BAND = 3  /**< due by the sd rule and the gate, refused: mass_est outside
+    RFE_REPLAY_FEED_BAND = 3, /**< due by the sd rule and the gate, refused: mass_est outside
                                    the band around m (mg_feed_band) */
+    RFE_REPLAY_FEED_MISMATCH = 4 /**< due by the sd rule and the gate, held: the estimator's
+                                      model-mismatch flag is set (MASS_GRADE.md §4.8) */
 } rfe_replay_feed_t;
 
 /** The gate of a run from @p ps's keys, nothing summed, no reference speed yet. */
@@ -385,7 +389,9 @@ static inline void rfe_replay_mass_gate_step(rfe_replay_mass_gate_t *g, int star
  * compared in double on the row's values, the gate @p g open (need 0, or its excitation,
  * this step's included, >= need) and mass_est within the band (band 0, or |mass_est -
  * m_param| <= band m_param); RFE_REPLAY_FEED_SLIP for an update that slipped,
- * RFE_REPLAY_FEED_BAND for one due but outside the band, else RFE_REPLAY_FEED_NONE; never due
+ * RFE_REPLAY_FEED_MISMATCH for one due while the step's mismatch flag is set (§4.8: held,
+ * the friction estimator keeps its last mass), RFE_REPLAY_FEED_BAND for one due but outside
+ * the band, else RFE_REPLAY_FEED_NONE; never due
  * with @p rel = 0 (key mg_feed_sd_rel). The one rule of every replay (float, double, q31).
  */
 static inline rfe_replay_feed_t rfe_replay_mass_feed_due(double rel,
@@ -400,6 +406,8 @@ static inline rfe_replay_feed_t rfe_replay_mass_feed_due(double rel,
     } else if (!(out->sd_mass <= rel * out->mass) ||
                !((g->need <= 0.0) || (g->excitation >= g->need))) {
         f = RFE_REPLAY_FEED_NONE;
+    } else if (out->mg_mismatch != 0) {
+        f = RFE_REPLAY_FEED_MISMATCH;
     } else if ((g->band > 0.0) && !(fabs(out->mass - g->m_param) <= g->band * g->m_param)) {
         f = RFE_REPLAY_FEED_BAND;
     } else {
@@ -413,6 +421,7 @@ static inline void rfe_replay_mass_feed_count(rfe_replay_feed_t f, rfe_replay_st
 {
     stats->n_feed_slip += (f == RFE_REPLAY_FEED_SLIP) ? 1u : 0u;
     stats->n_feed_band += (f == RFE_REPLAY_FEED_BAND) ? 1u : 0u;
+    stats->n_feed_mismatch += (f == RFE_REPLAY_FEED_MISMATCH) ? 1u : 0u;
 }
 
 /**

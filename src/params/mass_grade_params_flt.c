@@ -58,6 +58,9 @@ static void car(rfe_mass_grade_params_t *p)
     p->theta_rate_off = RFE_R(0.001);
     p->theta_rate_tau = RFE_R(1.0);
     p->theta_rate_avg = RFE_R(3.0);
+    p->mm_tau = RFE_R(10.0); /* §4.8 issue 19's 10 s */
+    p->mm_e = RFE_R(0.3);    /* §4.8 2 x the clean logs' largest |EMA| (MASS_GRADE_RESULTS.md
+                              * "A model-mismatch monitor on the ax row") */
 }
 
 /* §6 the truck column: the values that differ from the car's. */
@@ -205,6 +208,16 @@ static int walk_ok(const rfe_mass_grade_params_t *p)
     return ok;
 }
 
+/* §4.8 the mismatch monitor: mm_tau in [dt_max, 60] (so dt/tau <= 1 on every update),
+ * 0 <= mm_e <= 100; both finite (a NaN fails every comparison). */
+static int mismatch_ok(const rfe_mass_grade_params_t *p)
+{
+    return ((p->dt_max <= p->mm_tau) && (p->mm_tau <= (rfe_real_t)RFE_MG_WALK_TAU_MAX_S) &&
+            (p->mm_e >= RFE_R(0.0)) && (p->mm_e <= (rfe_real_t)RFE_MG_MM_E_MAX))
+               ? 1
+               : 0;
+}
+
 /* §6 pause_grade: one of the integers 0..7 (a sum of the bits 1 brake, 2 shift, 4 curve);
  * without use_ax its bits are inert (rfe_mg_pause_grade_bits), not refused. */
 static int pause_grade_ok(const rfe_mass_grade_params_t *p)
@@ -228,7 +241,7 @@ rfe_status_t rfe_mass_grade_params_validate(const rfe_mass_grade_params_t *p)
         return RFE_ERR_PARAM;
     }
     if ((positive_fields_ok(p) == 0) || (non_negative_fields_ok(p) == 0) || (relations_ok(p) == 0) ||
-        (walk_ok(p) == 0)) {
+        (walk_ok(p) == 0) || (mismatch_ok(p) == 0)) {
         return RFE_ERR_PARAM;
     }
     return RFE_OK;

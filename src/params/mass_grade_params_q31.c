@@ -176,6 +176,18 @@ static int walk_ok_q31(const rfe_mass_grade_params_q31_t *p)
     return ok;
 }
 
+/* §4.8 the mismatch monitor, as the float twin's mismatch_ok on the Q values: mm_tau (Q24)
+ * in [dt_max, 60] s, compared with dt_max (Q30) exactly in Q30 (dt/tau <= 1 fits Q30 on
+ * every update); mm_e (Q24) in [0, 100]. */
+static int mismatch_ok_q31(const rfe_mass_grade_params_q31_t *p)
+{
+    return ((((int64_t)p->mm_tau * 64) >= (int64_t)p->dt_max) &&
+            ((int64_t)p->mm_tau <= ((int64_t)RFE_MG_WALK_TAU_MAX_S * 16777216)) && (p->mm_e >= 0) &&
+            ((int64_t)p->mm_e <= ((int64_t)RFE_MG_MM_E_MAX * 16777216))) /* Q24 */
+               ? 1
+               : 0;
+}
+
 rfe_status_t rfe_mass_grade_params_validate_q31(const rfe_mass_grade_params_q31_t *p)
 {
     if (p == NULL) {
@@ -185,7 +197,7 @@ rfe_status_t rfe_mass_grade_params_validate_q31(const rfe_mass_grade_params_q31_
         return RFE_ERR_PARAM;
     }
     if ((positive_fields_ok_q31(p) == 0) || (non_negative_fields_ok_q31(p) == 0) ||
-        (relations_ok_q31(p) == 0) || (walk_ok_q31(p) == 0)) {
+        (relations_ok_q31(p) == 0) || (walk_ok_q31(p) == 0) || (mismatch_ok_q31(p) == 0)) {
         return RFE_ERR_PARAM;
     }
     return RFE_OK;

@@ -334,6 +334,8 @@ rfe_status_t rfe_mass_grade_params_to_q31(const rfe_mass_grade_params_t *p,
     t.theta_rate_off = to_q(&c, (double)p->theta_rate_off, RFE_MG_Q_RATE, 0);
     t.theta_rate_tau = to_q(&c, (double)p->theta_rate_tau, RFE_MG_Q_TIME, 0);
     t.theta_rate_avg = to_q(&c, (double)p->theta_rate_avg, RFE_MG_Q_TIME, 0);
+    t.mm_tau = to_q(&c, (double)p->mm_tau, RFE_MG_Q_TIME, 0);
+    t.mm_e = to_q(&c, (double)p->mm_e, RFE_MG_Q_E, 0);
     if (c.bad != 0) {
         return RFE_ERR_RANGE;
     }

@@ -197,9 +197,9 @@ static int step(void *ctxp, const fz_sample_t *s)
 }
 
 /* The parameter struct's fields for fuzz_params.h. */
-static void fields_of(rfe_mass_grade_params_t *p, rfe_real_t *real[42], uint32_t *u32[2])
+static void fields_of(rfe_mass_grade_params_t *p, rfe_real_t *real[44], uint32_t *u32[2])
 {
-    rfe_real_t *const r[42] = {
+    rfe_real_t *const r[44] = {
         &p->R,        &p->g,         &p->fc,      &p->fr,        &p->rho,     &p->cd,
         &p->area,     &p->m_rot,     &p->m0,      &p->theta0,    &p->sd_m0,   &p->sd_theta0,
         &p->q_v,      &p->q_mc,      &p->q_mv0,   &p->q_theta,   &p->r_v,     &p->r_ax,
@@ -207,7 +207,7 @@ static void fields_of(rfe_mass_grade_params_t *p, rfe_real_t *real[42], uint32_t
         &p->t_brake,  &p->t_shift,   &p->p_brake_on, &p->m_min,  &p->m_max,   &p->theta_max,
         &p->dt_max,   &p->slip_max,  &p->ay_max,  &p->t_curve, &p->pause_grade,
         &p->pause_grade_slip, &p->pause_grade_dv, &p->q_theta_hi, &p->theta_rate_on,
-        &p->theta_rate_off, &p->theta_rate_tau, &p->theta_rate_avg};
+        &p->theta_rate_off, &p->theta_rate_tau, &p->theta_rate_avg, &p->mm_tau, &p->mm_e};
     memcpy(real, r, sizeof r);
     u32[0] = &p->adaptive;
     u32[1] = &p->use_ax;
@@ -224,7 +224,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     fz_reader_t r;
     rfe_mass_grade_params_t p;
     rfe_mass_grade_params_t preset;
-    rfe_real_t *real[42];
+    rfe_real_t *real[44];
     uint32_t *u32[2];
     fzp_fields_t f;
     uint8_t cfg;
@@ -245,7 +245,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     p = preset;
     fields_of(&p, real, u32);
     f.real = real;
-    f.n_real = 42;
+    f.n_real = 44;
     f.u32 = u32;
     f.n_u32 = 2;
     (void)fzp_decode(&r, &f);

@@ -623,7 +623,7 @@ golden_equal mg_default "$MGG/car_grade_step.recommended.csv" "$TMP/mg_d.csv"
 grep -q '^# mass_grade = ukf$' "$TMP/mg_d.csv" && grep -q '^# mg_adaptive = 0$' "$TMP/mg_d.csv" \
     && grep -q '^# mg_use_ax = 1$' "$TMP/mg_d.csv" && grep -q '^# mg_m_rot = 45.4$' "$TMP/mg_d.csv" \
     && ok "mg_default: configuration and keys in the metadata" || bad "mg_default: metadata"
-grep -q ',mass_est,sd_mass,grade_est,sd_grade,mg_status,mass_used,grade_walk$' "$TMP/mg_d.csv" \
+grep -q ',mass_est,sd_mass,grade_est,sd_grade,mg_status,mass_used,grade_walk,mg_mismatch$' "$TMP/mg_d.csv" \
     && ok "mg_default: columns" || bad "mg_default: header $(grep -m1 '^t,' "$TMP/mg_d.csv")"
 grep -q '^mass and grade (ukf, car preset, speed, torque and ax): at the end mass ' "$TMP/out" \
     && grep -Eq '^  mass error at the end [-+][0-9.]+ kg \([-+][0-9.]+ %\)$' "$TMP/out" \
@@ -784,7 +784,7 @@ for cfg in ukf aukf; do
     grep -q "\"mass_grade\": {\"config\": \"$cfg\", " "$TMP/mgq_$cfg.json" \
         && grep -Eq '^  mass fed to the friction estimator at [1-9][0-9]* samples' "$TMP/out" \
         && ok "mg_q31_$cfg: JSON and summary, the mass fed" || bad "mg_q31_$cfg: $(grep -A3 '^mass and grade' "$TMP/out")"
-    grep -q ',mass_est,sd_mass,grade_est,sd_grade,mg_status,mass_used,grade_walk$' "$TMP/mgq_$cfg.csv" \
+    grep -q ',mass_est,sd_mass,grade_est,sd_grade,mg_status,mass_used,grade_walk,mg_mismatch$' "$TMP/mgq_$cfg.csv" \
         && grep -q '^# real = q31$' "$TMP/mgq_$cfg.csv" && grep -q "^# mass_grade = $cfg\$" "$TMP/mgq_$cfg.csv" \
         && ok "mg_q31_$cfg: the columns and metadata" || bad "mg_q31_$cfg: header $(grep -m1 '^t,' "$TMP/mgq_$cfg.csv")"
     run "mg_q31_${cfg}_double" 0 --in "$TMP/mgq.csv" --out "$TMP/mgd_$cfg.csv" --real double --mass-grade "$cfg" -q
@@ -833,7 +833,7 @@ grep -q '^# mass_grade = aukf$' "$TMP/mg_f2.csv" && ok "mg_file_without_flag: th
 # the log's metadata sets mg_* keys too (below --params)
 { echo '# mg_m0 = 2000'; cat "$TMP/hilly.csv"; } >"$TMP/hilly_m0.csv"
 run mg_meta_key 0 --in "$TMP/hilly_m0.csv" --out "$TMP/mg_m.csv" --real double -q
-grep -q '^# mg_m0 = 2000$' "$TMP/mg_m.csv" && grep -Eq '^0,.*,2000,500,0,0\.05,0,[0-9.]+,0$' "$TMP/mg_m.csv" \
+grep -q '^# mg_m0 = 2000$' "$TMP/mg_m.csv" && grep -Eq '^0,.*,2000,500,0,0\.05,0,[0-9.]+,0,0$' "$TMP/mg_m.csv" \
     && ok "mg_meta_key: the start from mg_m0 = 2000" || bad "mg_meta_key: $(grep -m1 '^0,' "$TMP/mg_m.csv")"
 # invalid keys: named with the function that refused them; a combination: its rule
 printf 'mg_m0 = -5\n' >"$TMP/mg_bad.par"
@@ -909,8 +909,29 @@ set -- $res
     && ok "mg_feed: mass_used follows the rule, the gate, the slip hold and the band on every row ($1 fed, $4 held by the gate, $6 by the slip, $7 refused by the band)" \
     || bad "mg_feed: $1 fed, $2 rows differ (the first at row $5), $4 held by the gate, $6 by the slip, $7 refused by the band"
 grep -qF "\"feed\": {\"sd_rel\": 0.02, \"excitation\": 1, \"ax_min\": 0.2, \"excitation_end\": " "$TMP/mg_f.json" \
-    && grep -qF ", \"slip_max\": 0.05, \"band\": 0.3, \"n_slip_held\": $6, \"n_band_refused\": $7, \"n_fed\": $1, \"mass_used_end\": $3}" "$TMP/mg_f.json" \
+    && grep -qF ", \"slip_max\": 0.05, \"band\": 0.3, \"n_slip_held\": $6, \"n_band_refused\": $7, \"n_mismatch_held\": 0, \"n_fed\": $1, \"mass_used_end\": $3}" "$TMP/mg_f.json" \
     && ok "mg_feed: JSON" || bad "mg_feed: JSON $(grep -o '"feed": [^}]*}' "$TMP/mg_f.json"), want $1 $3"
+# §4.8 the model-mismatch flag holds the feed: the headwind's first 30 s (the flag sets at
+# 14.1 s, MASS_GRADE_RESULTS.md "A model-mismatch monitor"); on every flagged row mass_used
+# is the previous row's, the JSON counts the flagged rows an update would have fed, and
+# mg_mm_e = 0 flags nothing and holds nothing
+awk '/^#/ || n++ <= 1500' "$MG/car_headwind.csv" >"$TMP/hw.csv"
+for real in float q31; do
+    run mg_mismatch_$real 0 --in "$TMP/hw.csv" --out "$TMP/mg_mm.csv" --real $real --metrics "$TMP/mg_mm.json" -q
+    res=$(awk -F, '/^#/ { next } !h { for (i = 1; i <= NF; i++) c[$i] = i; h = 1; next }
+        { if ($c["mg_mismatch"] + 0 == 1) { n++; if (p != "" && $c["mass_used"] != p) bad++ } p = $c["mass_used"] }
+        END { printf "%d %d", n, bad }' "$TMP/mg_mm.csv")
+    set -- $res
+    held=$(grep -o '"n_mismatch_held": [0-9]*' "$TMP/mg_mm.json" | grep -o '[0-9]*$')
+    [ "$1" -gt 0 ] && [ "$2" -eq 0 ] && [ "${held:-0}" -gt 0 ] && [ "${held:-0}" -le "$1" ] \
+        && ok "mg_mismatch_$real: $1 rows flagged, mass_used held on each, $held feeds held" \
+        || bad "mg_mismatch_$real: $1 rows flagged, $2 with mass_used moved, ${held:-none} held"
+done
+printf 'mg_mm_e = 0\n' >"$TMP/mm_off.par"
+run mg_mismatch_off 0 --in "$TMP/hw.csv" --out "$TMP/mg_mm0.csv" --params "$TMP/mm_off.par" --metrics "$TMP/mg_mm0.json" -q
+n0=$(awk -F, '/^#/ { next } !h { for (i = 1; i <= NF; i++) c[$i] = i; h = 1; next } { n += $c["mg_mismatch"] } END { print n + 0 }' "$TMP/mg_mm0.csv")
+[ "$n0" -eq 0 ] && grep -qF '"n_mismatch_held": 0,' "$TMP/mg_mm0.json" \
+    && ok "mg_mismatch_off: mg_mm_e = 0 flags and holds nothing" || bad "mg_mismatch_off: $n0 rows flagged"
 # every arithmetic opens the gate at the same row (the sum is of the log's double values; on
 # this log the gate, not the sd rule, decides the first feed: 26 updates held above); the
 # log's first 500 rows (10 s) hold it, so the runs below take those (cheap under memcheck)
@@ -1081,7 +1102,7 @@ grep -q 'grade RMSE\|mass error at the end' "$TMP/out" && bad "mg_never_started:
 # q31 runs the fixed-point twin by default (ukf) on a log with drive_torque, without a note;
 # off: not run, no columns
 run mg_q31 0 --in "$TMP/short.csv" --out "$TMP/mg_q.csv" --real q31
-grep -q ',mass_est,sd_mass,grade_est,sd_grade,mg_status,mass_used,grade_walk$' "$TMP/mg_q.csv" && grep -q '^# mass_grade = ukf$' "$TMP/mg_q.csv" \
+grep -q ',mass_est,sd_mass,grade_est,sd_grade,mg_status,mass_used,grade_walk,mg_mismatch$' "$TMP/mg_q.csv" && grep -q '^# mass_grade = ukf$' "$TMP/mg_q.csv" \
     && ok "mg_q31: the mass and grade columns by default" || bad "mg_q31: header $(grep -m1 '^t,' "$TMP/mg_q.csv")"
 [ -s "$TMP/err" ] && bad "mg_q31: stderr $(cat "$TMP/err")" || ok "mg_q31: no note"
 run mg_q31_off 0 --in "$TMP/short.csv" --out "$TMP/mg_q.csv" --real q31 --mass-grade off

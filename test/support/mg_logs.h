@@ -41,6 +41,7 @@ static inline int mg_read_params(const char *path, rfe_mass_grade_params_t *p, c
         {"mg_q_theta_hi", &p->q_theta_hi}, {"mg_theta_rate_on", &p->theta_rate_on},
         {"mg_theta_rate_off", &p->theta_rate_off}, {"mg_theta_rate_tau", &p->theta_rate_tau},
         {"mg_theta_rate_avg", &p->theta_rate_avg},
+        {"mg_mm_tau", &p->mm_tau}, {"mg_mm_e", &p->mm_e},
     };
     const size_t n_map = sizeof(map) / sizeof(map[0]);
     size_t found = 0u;

@@ -148,6 +148,7 @@ static void start_filter(rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in)
     o->wq_rate = RFE_R(0.0); /* §4.7 the walk tight, its rate and mean square 0 */
     o->wq_ms = RFE_R(0.0);
     o->wq_hi = 0u;
+    o->mm_e = RFE_R(0.0); /* §4.8 the monitor's EMA starts at 0 */
 }
 
 /* §4.7 the grade's random walk density for this sample: q_theta_hi while the two-level
@@ -455,7 +456,8 @@ static rfe_status_t time_update(const rfe_mass_grade_t *o, rfe_real_t dt, rfe_re
  * no sigma points); with the ax row, new points of (x-, S-) and their z_ax = v-dot(T) +
  * g sin theta, then the ax row and the speed row (rfe_mg_correct). */
 static rfe_status_t measurement_update(const rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in,
-                                       rfe_real_t x[RFE_MG_N], rfe_real_t S[RFE_MG_N * RFE_MG_N])
+                                       rfe_real_t x[RFE_MG_N], rfe_real_t S[RFE_MG_N * RFE_MG_N],
+                                       rfe_real_t *e_ax)
 {
     rfe_status_t st;
     if (o->p.use_ax == 1u) {
@@ -470,7 +472,7 @@ static rfe_status_t measurement_update(const rfe_mass_grade_t *o, const rfe_mass
             const rfe_real_t *pt = &chi[i * N];
             Z[i] = accel(&o->p, pt, in->torque) + (o->p.g * RFE_SIN(pt[2]));
         }
-        st = rfe_mg_correct(chi, Z, &w, r, y, x, S);
+        st = rfe_mg_correct(chi, Z, &w, r, y, x, S, e_ax);
     } else {
         st = rfe_mg_correct_speed(o->p.r_v, in->v, x, S);
     }
@@ -483,9 +485,10 @@ static rfe_status_t update(rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in
 {
     rfe_real_t x[RFE_MG_N];
     rfe_real_t S[RFE_MG_N * RFE_MG_N];
+    rfe_real_t e = RFE_R(0.0);
     rfe_status_t st = time_update(o, dt, x, S);
     if (st == RFE_OK) {
-        st = measurement_update(o, in, x, S);
+        st = measurement_update(o, in, x, S, &e);
     }
     if ((st == RFE_OK) && ((rfe_all_finite(x, N) == 0) || (rfe_all_finite(S, N * N) == 0))) {
         st = RFE_ERR_NONFINITE; /* an overflow is refused: never a NaN out */
@@ -499,6 +502,11 @@ static rfe_status_t update(rfe_mass_grade_t *o, const rfe_mass_grade_input_t *in
         }
         for (i = 0u; i < (N * N); ++i) {
             o->S[i] = S[i];
+        }
+        if (o->p.use_ax == 1u) {
+            /* §4.8 the mismatch monitor's EMA of the ax row's normalised innovation; dt/tau
+             * <= 1 (mm_tau >= dt_max >= dt) */
+            o->mm_e += (dt / o->p.mm_tau) * (e - o->mm_e);
         }
         if ((o->p.adaptive == 1u) && (o->q_mv > RFE_R(0.0))) {
             st = adapt(o, dt);
@@ -532,6 +540,9 @@ static void estimate_of(const rfe_mass_grade_t *o, rfe_status_t status,
     e->v = o->x[0];
     e->sd_v = RFE_SQRT(o->S[0] * o->S[0]); /* |S_00|, overflowing as the other rows do */
     e->q_mv = o->q_mv;
+    e->e_ax = o->mm_e;
+    e->mismatch = rfe_mg_mismatch((o->p.mm_e > RFE_R(0.0)) ? 1 : 0,
+                                  (RFE_FABS(o->mm_e) > o->p.mm_e) ? 1 : 0);
     e->status = status;
 }
 

@@ -92,13 +92,15 @@ rfe_status_t rfe_mg_correct_speed(rfe_real_t r_v, rfe_real_t y, rfe_real_t x[RFE
  * @param[in] r  the measurement sds [r_v, r_ax].
  * @param[in,out] x  x- in, the posterior mean out.
  * @param[in,out] S  S- in, the posterior factor out.
+ * @param[out] e_ax  the ax row's normalised innovation (y - z) / s (§4.8's monitor reads it).
  * @return RFE_OK; RFE_ERR_NOT_POSITIVE_DEFINITE (a zero innovation sd, or the downdate of a
  *         negative w_c,0 fails); RFE_ERR_NONFINITE (a point or measurement not finite, or the
- *         speed row's innovation sd overflows); x, S untouched on an error.
+ *         speed row's innovation sd overflows); x, S, e_ax untouched on an error.
  */
 rfe_status_t rfe_mg_correct(const rfe_real_t chi[RFE_MG_PTS * RFE_MG_N],
                             const rfe_real_t Z[RFE_MG_PTS], const rfe_mg_weights_t *w,
                             const rfe_real_t r[RFE_MG_Z_MAX], const rfe_real_t y[RFE_MG_Z_MAX],
-                            rfe_real_t x[RFE_MG_N], rfe_real_t S[RFE_MG_N * RFE_MG_N]);
+                            rfe_real_t x[RFE_MG_N], rfe_real_t S[RFE_MG_N * RFE_MG_N],
+                            rfe_real_t *e_ax);
 
 #endif /* RFE_MASS_GRADE_INTERNAL_H */

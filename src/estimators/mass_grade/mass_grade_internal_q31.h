@@ -83,12 +83,14 @@ rfe_status_t rfe_mg_correct_speed_q31(rfe_fix_t r_v, rfe_fix_t y, rfe_fix_t x[RF
  * conditioning on ax, then on v given ax.
  * @param[in,out] x  x- in, the posterior mean out.
  * @param[in,out] S  S- in, the posterior factor out.
- * @return RFE_OK; RFE_ERR_NOT_POSITIVE_DEFINITE (a zero innovation sd; x, S untouched).
+ * @param[out] e_ax  the ax row's normalised innovation (y - z) / s, Q24 (§4.8's monitor).
+ * @return RFE_OK; RFE_ERR_NOT_POSITIVE_DEFINITE (a zero innovation sd; x, S, e_ax untouched).
  */
 rfe_status_t rfe_mg_correct_q31(const rfe_fix_t chi[RFE_MG_PTS_Q31 * RFE_MG_N_Q31],
                                 const rfe_fix_t Z[RFE_MG_PTS_Q31], const rfe_mg_weights_q31_t *w,
                                 const rfe_fix_t r[RFE_MG_Z_MAX_Q31],
                                 const rfe_fix_t y[RFE_MG_Z_MAX_Q31], rfe_fix_t x[RFE_MG_N_Q31],
-                                rfe_fix_t S[RFE_MG_N_Q31 * RFE_MG_N_Q31], uint32_t *sat);
+                                rfe_fix_t S[RFE_MG_N_Q31 * RFE_MG_N_Q31], uint32_t *sat,
+                                rfe_fix_t *e_ax);
 
 #endif /* RFE_MASS_GRADE_INTERNAL_Q31_H */

@@ -163,6 +163,13 @@ static inline int rfe_mg_change_sums(int test_on, uint32_t tripped)
     return ((test_on != 0) && (tripped == 0u)) ? 1 : 0;
 }
 
+/** §4.8 the model-mismatch flag: the monitor on (@p on: mm_e > 0) and the EMA of the ax row's
+ *  normalised innovation beyond it (@p beyond: |EMA| > mm_e), 1; else 0. */
+static inline uint32_t rfe_mg_mismatch(int on, int beyond)
+{
+    return ((on != 0) && (beyond != 0)) ? 1u : 0u;
+}
+
 /** §4.7 the grade's two-level walk, its level after an accepted sample that is not a start:
  *  loose (1: q_theta_hi) once the grade rate's mean square exceeds theta_rate_on^2
  *  (@p above_on), tight (0: q_theta) again once it falls below theta_rate_off^2

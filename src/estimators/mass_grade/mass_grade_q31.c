@@ -165,6 +165,7 @@ static void start_filter_q31(rfe_mass_grade_q31_t *o, const rfe_mass_grade_input
     o->wq_rate = 0; /* §4.7 the walk tight, its rate and mean square 0 */
     o->wq_ms = 0;
     o->wq_hi = 0u;
+    o->mm_e = 0; /* §4.8 the monitor's EMA starts at 0 */
 }
 
 /* §4.7 the grade's random walk density for this sample, Q29: q_theta_hi while the
@@ -553,7 +554,8 @@ static rfe_status_t time_update_q31(const rfe_mass_grade_q31_t *o, rfe_fix_t dt,
 static rfe_status_t measurement_update_q31(const rfe_mass_grade_q31_t *o,
                                            const rfe_mass_grade_input_q31_t *in,
                                            rfe_fix_t x[RFE_MG_N_Q31],
-                                           rfe_fix_t S[RFE_MG_N_Q31 * RFE_MG_N_Q31], uint32_t *sat)
+                                           rfe_fix_t S[RFE_MG_N_Q31 * RFE_MG_N_Q31], uint32_t *sat,
+                                           rfe_fix_t *e_ax)
 {
     rfe_status_t st;
     if (o->p.use_ax == 1u) {
@@ -572,11 +574,24 @@ static rfe_status_t measurement_update_q31(const rfe_mass_grade_q31_t *o,
             const rfe_xf_t gs = rfe_xf_mul(k.g, rfe_xf_of(s, 30));
             Z[i] = rfe_xf_to_fix(rfe_xf_add(a, gs), RFE_MG_Q_V, sat);
         }
-        st = rfe_mg_correct_q31(chi, Z, &w, r, y, x, S, sat);
+        st = rfe_mg_correct_q31(chi, Z, &w, r, y, x, S, sat, e_ax);
     } else {
         st = rfe_mg_correct_speed_q31(o->p.r_v, in->v, x, S, sat);
     }
     return st;
+}
+
+/* §4.8 the mismatch monitor's EMA of the ax row's normalised innovation e (Q24): k = dt/tau
+ * in Q30 (<= 1: mm_tau >= dt_max >= dt) by an exactly rounded division, then m += k (e - m),
+ * the product rounded (each step's error at most 1/2 LSB of the division times |e - m| plus
+ * 1/2 LSB of Q24 from the product, so the EMA stays within a few LSB of the real recursion's
+ * on the same e: FIXED_POINT.md). e - m saturates (counted) only beyond +-128. */
+static void mismatch_ema_q31(rfe_mass_grade_q31_t *o, rfe_fix_t e, rfe_fix_t dt, uint32_t *sat)
+{
+    rfe_fix_t k = 0;
+    const rfe_status_t st = rfe_fix_div(dt, o->p.mm_tau, 24, &k, sat); /* Q30/Q24 -> Q30 */
+    (void)st; /* tau > 0 (validated), the shift in range: RFE_OK */
+    o->mm_e = rfe_fix_add(o->mm_e, rfe_fix_mul(k, rfe_fix_sub(e, o->mm_e, sat), 30u, sat), sat);
 }
 
 /* §4.3 one filter step, the projection of the mean and the adaptation; o is the caller's
@@ -586,9 +601,10 @@ static rfe_status_t update_q31(rfe_mass_grade_q31_t *o, const rfe_mass_grade_inp
 {
     rfe_fix_t x[RFE_MG_N_Q31];
     rfe_fix_t S[RFE_MG_N_Q31 * RFE_MG_N_Q31];
+    rfe_fix_t e = 0;
     rfe_status_t st = time_update_q31(o, dt, x, S, sat);
     if (st == RFE_OK) {
-        st = measurement_update_q31(o, in, x, S, sat);
+        st = measurement_update_q31(o, in, x, S, sat, &e);
     }
     if (st == RFE_OK) {
         size_t i;
@@ -599,6 +615,9 @@ static rfe_status_t update_q31(rfe_mass_grade_q31_t *o, const rfe_mass_grade_inp
         }
         for (i = 0u; i < (N * N); ++i) {
             o->S[i] = S[i];
+        }
+        if (o->p.use_ax == 1u) {
+            mismatch_ema_q31(o, e, dt, sat);
         }
         if ((o->p.adaptive == 1u) && (o->q_mv > 0)) {
             st = adapt_q31(o, dt, sat);
@@ -622,6 +641,9 @@ static void estimate_of_q31(const rfe_mass_grade_q31_t *o, rfe_status_t status, 
     e->v = o->x[0];
     e->sd_v = rfe_fix_abs(o->S[0], &sat);
     e->q_mv = o->q_mv;
+    e->e_ax = o->mm_e;
+    e->mismatch = rfe_mg_mismatch((o->p.mm_e > 0) ? 1 : 0,
+                                  (rfe_fix_abs(o->mm_e, &sat) > o->p.mm_e) ? 1 : 0);
     e->sat = step_sat;
     e->status = status;
 }

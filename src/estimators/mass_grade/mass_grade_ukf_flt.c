@@ -138,7 +138,7 @@ rfe_status_t rfe_mg_predict(const rfe_real_t X[RFE_MG_PTS * RFE_MG_N], const rfe
  * (y - z) / s. */
 static rfe_status_t ax_update(const rfe_real_t *chi, const rfe_real_t *Z,
                               const rfe_mg_weights_t *w, rfe_real_t r_ax, rfe_real_t y,
-                              rfe_real_t *x, rfe_real_t *S)
+                              rfe_real_t *x, rfe_real_t *S, rfe_real_t *e_ax)
 {
     rfe_real_t A[(1u + N) * CORR_COLS] = {0};
     rfe_real_t zm = RFE_R(0.0);
@@ -162,6 +162,7 @@ static rfe_status_t ax_update(const rfe_real_t *chi, const rfe_real_t *Z,
     }
     if (st == RFE_OK) {
         const rfe_real_t e = (y - zm) / A[0]; /* the whitened innovation */
+        *e_ax = e;
         for (i = 0u; i < N; ++i) {
             size_t c;
             x[i] += A[(1u + i) * CORR_COLS] * e;
@@ -207,8 +208,10 @@ rfe_status_t rfe_mg_correct_speed(rfe_real_t r_v, rfe_real_t y, rfe_real_t x[RFE
 rfe_status_t rfe_mg_correct(const rfe_real_t chi[RFE_MG_PTS * RFE_MG_N],
                             const rfe_real_t Z[RFE_MG_PTS], const rfe_mg_weights_t *w,
                             const rfe_real_t r[RFE_MG_Z_MAX], const rfe_real_t y[RFE_MG_Z_MAX],
-                            rfe_real_t x[RFE_MG_N], rfe_real_t S[RFE_MG_N * RFE_MG_N])
+                            rfe_real_t x[RFE_MG_N], rfe_real_t S[RFE_MG_N * RFE_MG_N],
+                            rfe_real_t *e_ax)
 {
+    rfe_real_t en = RFE_R(0.0);
     rfe_real_t xn[RFE_MG_N];
     rfe_real_t Sn[RFE_MG_N * RFE_MG_N];
     size_t i;
@@ -219,7 +222,7 @@ rfe_status_t rfe_mg_correct(const rfe_real_t chi[RFE_MG_PTS * RFE_MG_N],
     for (i = 0u; i < (N * N); ++i) {
         Sn[i] = S[i];
     }
-    st = ax_update(chi, Z, w, r[1], y[1], xn, Sn);
+    st = ax_update(chi, Z, w, r[1], y[1], xn, Sn, &en);
     if (st == RFE_OK) {
         st = rfe_mg_correct_speed(r[0], y[0], xn, Sn);
     }
@@ -232,5 +235,6 @@ rfe_status_t rfe_mg_correct(const rfe_real_t chi[RFE_MG_PTS * RFE_MG_N],
     for (i = 0u; i < (N * N); ++i) {
         S[i] = Sn[i];
     }
+    *e_ax = en;
     return RFE_OK;
 }

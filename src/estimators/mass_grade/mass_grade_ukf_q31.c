@@ -108,10 +108,12 @@ rfe_status_t rfe_mg_predict_q31(const rfe_fix_t X[RFE_MG_PTS_Q31 * RFE_MG_N_Q31]
  * measurement's deviations, rows 1-3 the state's, over @p cols columns with the noise r in
  * the last) is triangularised to [[s, 0], [g, S+]] (s^2 = the innovation variance, g s =
  * P_xz, S+ S+^T = P- - P_xz P_xz^T / s^2), then x += g (y - z) / s, the whitened innovation
- * (y - z) / s in Q24 by the exactly rounded solve. A (4 x cols, width lda) is overwritten. */
+ * (y - z) / s in Q24 by the exactly rounded solve, also into @p e_out. A (4 x cols, width
+ * lda) is overwritten. */
 static rfe_status_t scalar_update_q31(rfe_fix_t *A, size_t cols, size_t lda, rfe_fix_t innov,
                                       rfe_fix_t x[RFE_MG_N_Q31],
-                                      rfe_fix_t S[RFE_MG_N_Q31 * RFE_MG_N_Q31], uint32_t *sat)
+                                      rfe_fix_t S[RFE_MG_N_Q31 * RFE_MG_N_Q31], uint32_t *sat,
+                                      rfe_fix_t *e_out)
 {
     rfe_fix_t e = innov;
     rfe_status_t st = rfe_qr_tria_q31(A, 1u + N, cols, lda, sat);
@@ -128,6 +130,7 @@ static rfe_status_t scalar_update_q31(rfe_fix_t *A, size_t cols, size_t lda, rfe
                 S[(i * N) + c] = A[((1u + i) * lda) + 1u + c];
             }
         }
+        *e_out = e;
     }
     return st;
 }
@@ -181,8 +184,10 @@ rfe_status_t rfe_mg_correct_q31(const rfe_fix_t chi[RFE_MG_PTS_Q31 * RFE_MG_N_Q3
                                 const rfe_fix_t Z[RFE_MG_PTS_Q31], const rfe_mg_weights_q31_t *w,
                                 const rfe_fix_t r[RFE_MG_Z_MAX_Q31],
                                 const rfe_fix_t y[RFE_MG_Z_MAX_Q31], rfe_fix_t x[RFE_MG_N_Q31],
-                                rfe_fix_t S[RFE_MG_N_Q31 * RFE_MG_N_Q31], uint32_t *sat)
+                                rfe_fix_t S[RFE_MG_N_Q31 * RFE_MG_N_Q31], uint32_t *sat,
+                                rfe_fix_t *e_ax)
 {
+    rfe_fix_t en = 0;
     rfe_fix_t xn[RFE_MG_N_Q31];
     rfe_fix_t Sn[RFE_MG_N_Q31 * RFE_MG_N_Q31];
     /* the ax row by the points: [[Zc, r_ax], [Xc, 0]], 4 x 8 (eqs. 17-21) */
@@ -201,7 +206,7 @@ rfe_status_t rfe_mg_correct_q31(const rfe_fix_t chi[RFE_MG_PTS_Q31 * RFE_MG_N_Q3
     centred_q31(Z, 1u, 1u, &zm, w, A, 0u, PTS + 1u, &s);        /* row of Zc */
     centred_q31(chi, N, N, xn, w, A, 1u, PTS + 1u, &s);         /* rows of Xc */
     A[PTS] = r[1];
-    st = scalar_update_q31(A, PTS + 1u, PTS + 1u, rfe_fix_sub(y[1], zm, &s), xn, Sn, &s);
+    st = scalar_update_q31(A, PTS + 1u, PTS + 1u, rfe_fix_sub(y[1], zm, &s), xn, Sn, &s, &en);
     if (st == RFE_OK) {
         st = rfe_mg_correct_speed_q31(r[0], y[0], xn, Sn, &s);
     }
@@ -214,6 +219,7 @@ rfe_status_t rfe_mg_correct_q31(const rfe_fix_t chi[RFE_MG_PTS_Q31 * RFE_MG_N_Q3
     for (i = 0u; i < (N * N); ++i) {
         S[i] = Sn[i];
     }
+    *e_ax = en;
     rfe_q31_sat_add(sat, s);
     return RFE_OK;
 }

@@ -1518,6 +1518,7 @@ static void test_innovation_covariance_not_positive(void **state)
     rfe_real_t S[RFE_MG_N * RFE_MG_N] = {(rfe_real_t)0.0};
     rfe_real_t x0[RFE_MG_N];
     rfe_real_t S0[RFE_MG_N * RFE_MG_N];
+    rfe_real_t e_ax = (rfe_real_t)7.0;
     size_t i;
     (void)state;
     memcpy(x0, x, sizeof(x));
@@ -1525,15 +1526,16 @@ static void test_innovation_covariance_not_positive(void **state)
     /* no noise and every point measures the same: the speed row's innovation sd
      * sqrt(S_00^2 + r_v^2) = 0, and the ax row's (its array's first row all 0) */
     assert_int_equal(rfe_mg_correct_speed(r[0], y[0], x, S), RFE_ERR_NOT_POSITIVE_DEFINITE);
-    assert_int_equal(rfe_mg_correct(chi, Z, &w, r, y, x, S), RFE_ERR_NOT_POSITIVE_DEFINITE);
+    assert_int_equal(rfe_mg_correct(chi, Z, &w, r, y, x, S, &e_ax), RFE_ERR_NOT_POSITIVE_DEFINITE);
     /* the ax row's points spread, its centre weight -1e6: the downdate by 1e3 (Z_0 - z)
      * leaves the innovation variance negative */
     for (i = 0u; i < (size_t)RFE_MG_PTS; ++i) {
         Z[i] = (rfe_real_t)i;
     }
-    assert_int_equal(rfe_mg_correct(chi, Z, &wneg, r, y, x, S), RFE_ERR_NOT_POSITIVE_DEFINITE);
+    assert_int_equal(rfe_mg_correct(chi, Z, &wneg, r, y, x, S, &e_ax), RFE_ERR_NOT_POSITIVE_DEFINITE);
     assert_memory_equal(x, x0, sizeof(x));
     assert_memory_equal(S, S0, sizeof(S));
+    assert_true(e_ax == (rfe_real_t)7.0); /* §4.8's innovation is written only on success */
 }
 
 /* REQ-MG-008. The failure the square-root form avoids (MASS_GRADE_RESULTS.md "Why the
@@ -1661,6 +1663,7 @@ static void test_ukf_is_the_kalman_filter_on_a_linear_problem(void **state)
         rfe_real_t chi[RFE_MG_PTS * RFE_MG_N];
         rfe_real_t X[RFE_MG_PTS * RFE_MG_N];
         rfe_real_t Z[RFE_MG_PTS];
+        rfe_real_t e_ax = (rfe_real_t)0.0;
         rfe_real_t sq[RFE_MG_N] = {(rfe_real_t)sqrt(q[0]), (rfe_real_t)sqrt(q[1]),
                                    (rfe_real_t)sqrt(q[2])};
         rfe_real_t rr[RFE_MG_Z_MAX] = {(rfe_real_t)sqrt(r2[0]), (rfe_real_t)sqrt(r2[1])};
@@ -1686,7 +1689,7 @@ static void test_ukf_is_the_kalman_filter_on_a_linear_problem(void **state)
             Z[i] = (rfe_real_t)(H[1][1] * (double)c[1] + H[1][2] * (double)c[2]); /* the ax row */
         }
         if (nz == 2u) {
-            assert_int_equal(rfe_mg_correct(chi, Z, &w, rr, y, x, S), RFE_OK);
+            assert_int_equal(rfe_mg_correct(chi, Z, &w, rr, y, x, S, &e_ax), RFE_OK);
         } else {
             assert_int_equal(rfe_mg_correct_speed(rr[0], y[0], x, S), RFE_OK);
         }
@@ -1741,6 +1744,135 @@ static void test_params_to_q31(void **state)
     assert_memory_equal(&q, &before, sizeof q);
     assert_int_equal(rfe_mass_grade_params_to_q31(NULL, &q), RFE_ERR_NULL);
     assert_int_equal(rfe_mass_grade_params_to_q31(&p, NULL), RFE_ERR_NULL);
+}
+
+/* §4.8 the model-mismatch monitor on a rigid model: mass and grade known to 1e-3 kg and
+ * 1e-6 rad (their sd and walks that small), a cruise at 20 m/s whose torque is exactly the
+ * model's resistances at m0 on a level road, so the model predicts ax = 0 (the drag's
+ * curvature over the points' sd_v ~ 0.05 m/s adds ~5e-7 m/s^2). With the accelerometer
+ * reading a bias b the ax row's innovation is b and its sd s = sqrt(r_ax^2 + P_zz), P_zz /
+ * r_ax^2 < 1e-5 (the points' spread in z: dz/dv ~ 0.008 s^-1 times sd_v), and the update
+ * barely moves the state (gain ~ P_xz / s^2 ~ 1e-5 on v, ~1e-8 on M), so the normalised
+ * innovation stays e0 = b / r_ax to a relative 1e-4. The EMA over k updates is then
+ * e0 (1 - (1 - a)^k), a = dt / mm_tau = 0.002; with e0 = 2 mm_e (b = 0.06, r_ax 0.1, mm_e
+ * 0.3) it crosses mm_e at k* = ln(1/2) / ln(1 - a) = 346.2: the first flagged update is the
+ * 347th (sample 347: sample 0 starts the filter). At k = 346 and 347 the EMA is 0.29980 and
+ * 0.30040, 2.0e-4 and 4.0e-4 from mm_e, twice the 1e-4 x 0.6 the innovation's deviation
+ * and float's rounding (350 steps of 6e-8) can move it; the test allows one sample either
+ * way all the same (clear through 345, set from 348) and checks the EMA against the closed
+ * form within 1e-3 of e0 on every sample. */
+static void mismatch_drive(rfe_real_t bias, int steps, int *first_flag, double *worst_dev,
+                           double *largest)
+{
+    rfe_mass_grade_params_t p;
+    rfe_mass_grade_input_t in;
+    rfe_mass_grade_estimate_t e;
+    const double dt = DT;
+    const double v = 20.0;
+    double f;
+    int k;
+    memset(&p, 0, sizeof(p)); /* the double struct's padding: zeroed before filling */
+    assert_int_equal(rfe_mass_grade_params_default(&p), RFE_OK);
+    p.sd_m0 = (rfe_real_t)1e-3;
+    p.q_mc = (rfe_real_t)1e-3;
+    p.sd_theta0 = (rfe_real_t)1e-6;
+    p.q_theta = (rfe_real_t)1e-6;
+    p.q_theta_hi = (rfe_real_t)0.0;
+    p.pause_grade = (rfe_real_t)0.0;
+    assert_int_equal(rfe_mass_grade_init(&mg, &p), RFE_OK);
+    f = (double)p.fc + ((double)p.fr * v);
+    memset(&in, 0, sizeof(in));
+    in.v = (rfe_real_t)v;
+    in.torque = (rfe_real_t)((double)p.R * (((double)p.m0 * (double)p.g * f) +
+                                            (0.5 * (double)p.rho * (double)p.cd *
+                                             (double)p.area * v * v)));
+    in.has = RFE_MG_HAS_AX;
+    *first_flag = -1;
+    *worst_dev = 0.0;
+    *largest = 0.0;
+    for (k = 0; k < steps; ++k) {
+        const double e0 = (double)bias / (double)p.r_ax;
+        const double want = e0 * (1.0 - pow(1.0 - (dt / (double)p.mm_tau), (double)k));
+        in.dt = (rfe_real_t)dt;
+        /* a zero-mean dither of +-r_ax on the unbiased drive, a bias alone on the other */
+        in.ax = (bias == (rfe_real_t)0.0) ? (rfe_real_t)(((k % 2) == 0) ? 0.1 : -0.1) : bias;
+        assert_int_equal(rfe_mass_grade_step(&mg, &in, &e), RFE_OK);
+        if ((e.mismatch != 0u) && (*first_flag < 0)) {
+            *first_flag = k;
+        }
+        if (bias != (rfe_real_t)0.0) {
+            *worst_dev = fmax(*worst_dev, fabs((double)e.e_ax - want) / e0);
+        }
+        *largest = fmax(*largest, fabs((double)e.e_ax));
+        /* the flag is the EMA against mm_e, on every sample */
+        assert_int_equal(e.mismatch, (fabs((double)e.e_ax) > (double)p.mm_e) ? 1u : 0u);
+    }
+}
+
+/* REQ-MG-003 */
+static void test_mismatch_flag_after_the_derived_time(void **state)
+{
+    int first = 0;
+    double dev = 0.0;
+    double largest = 0.0;
+    (void)state;
+    mismatch_drive((rfe_real_t)0.06, 600, &first, &dev, &largest);
+    assert_true((first >= 346) && (first <= 348));
+    assert_true(dev < 1e-3); /* the closed form e0 (1 - (1 - a)^k), header comment */
+    /* after 599 updates 0.6 (1 - 0.998^599) = 0.4192; dev bounds the rest */
+    assert_true(fabs(largest - 0.4192) < 1e-3);
+    /* unbiased (ax dithering +-r_ax about the prediction 0): the EMA of e_k = +-1 stays
+     * within a / (2 - a) ~ 1e-3 of 0 (plus the start's 0.002 step), far below mm_e */
+    mismatch_drive((rfe_real_t)0.0, 2000, &first, &dev, &largest);
+    assert_int_equal(first, -1);
+    assert_true(largest < 0.01);
+}
+
+/* §4.8 the monitor's parameters: mm_tau in [dt_max, 60], mm_e in [0, 100], finite; a
+ * refused init leaves the estimator untouched; 0 (off) never flags. */
+static void mismatch_expect(rfe_real_t tau, rfe_real_t thr, rfe_status_t want, const char *what)
+{
+    rfe_mass_grade_params_t p;
+    rfe_mass_grade_t before;
+    memset(&p, 0, sizeof(p));
+    assert_int_equal(rfe_mass_grade_params_default(&p), RFE_OK);
+    p.mm_tau = tau;
+    p.mm_e = thr;
+    if (rfe_mass_grade_params_validate(&p) != want) {
+        fail_msg("mismatch parameters: %s", what);
+    }
+    memset(&mg, 0x5A, sizeof(mg));
+    before = mg;
+    if (want != RFE_OK) {
+        assert_int_equal(rfe_mass_grade_init(&mg, &p), RFE_ERR_PARAM);
+        assert_memory_equal(&mg, &before, sizeof(mg));
+    }
+}
+
+/* REQ-MG-003 */
+static void test_mismatch_params_rules(void **state)
+{
+    const rfe_real_t ten = (rfe_real_t)10.0;
+    const rfe_real_t thr = (rfe_real_t)0.3;
+    rfe_mass_grade_params_t p;
+    (void)state;
+    memset(&p, 0, sizeof(p));
+    assert_int_equal(rfe_mass_grade_params_default(&p), RFE_OK);
+    assert_true((p.mm_tau == ten) && (p.mm_e == thr)); /* on by default, §6's values */
+    mismatch_expect((rfe_real_t)1.0, thr, RFE_OK, "tau = dt_max");
+    mismatch_expect((rfe_real_t)60.0, thr, RFE_OK, "tau = 60");
+    mismatch_expect((rfe_real_t)0.999, thr, RFE_ERR_PARAM, "tau < dt_max");
+    mismatch_expect((rfe_real_t)60.01, thr, RFE_ERR_PARAM, "tau > 60");
+    mismatch_expect((rfe_real_t)NAN, thr, RFE_ERR_PARAM, "tau NaN");
+    mismatch_expect(ten, (rfe_real_t)0.0, RFE_OK, "e 0 (off)");
+    mismatch_expect(ten, (rfe_real_t)100.0, RFE_OK, "e 100");
+    mismatch_expect(ten, (rfe_real_t)-0.1, RFE_ERR_PARAM, "e < 0");
+    mismatch_expect(ten, (rfe_real_t)100.5, RFE_ERR_PARAM, "e > 100");
+    mismatch_expect(ten, (rfe_real_t)NAN, RFE_ERR_PARAM, "e NaN");
+    mismatch_expect(ten, (rfe_real_t)INFINITY, RFE_ERR_PARAM, "e Inf");
+    assert_int_equal(rfe_mg_mismatch(0, 1), 0u); /* off: never, however far the EMA */
+    assert_int_equal(rfe_mg_mismatch(1, 0), 0u);
+    assert_int_equal(rfe_mg_mismatch(1, 1), 1u);
 }
 
 /* §4.7 the two-level walk's parameters: each bound accepted at it and refused beyond it on
@@ -1959,6 +2091,8 @@ int main(void)
         cmocka_unit_test(test_ukf_is_the_kalman_filter_on_a_linear_problem),
         cmocka_unit_test(test_square_root_form_stays_definite),
         cmocka_unit_test(test_walk_params_rules),
+        cmocka_unit_test(test_mismatch_flag_after_the_derived_time),
+        cmocka_unit_test(test_mismatch_params_rules),
         cmocka_unit_test(test_walk_level_truth_table),
         cmocka_unit_test(test_walk_loosens_while_the_grade_moves),
         cmocka_unit_test(test_walk_equal_levels_change_nothing),

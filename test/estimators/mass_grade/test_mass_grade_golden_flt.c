@@ -80,6 +80,7 @@
 #define TOL_MASS_SD 0.0     /* share of sd_mass */
 #define TOL_REL 1e-9        /* mass, sd_mass, sd_v, sd_grade, q_mv, relative */
 #define TOL_REL_AUKF 1e-9   /* sd_mass, q_mv in the AUKF */
+#define TOL_E 1e-9          /* §4.8 e_ax, the mismatch monitor's EMA [1], absolute */
 #define WALK_NEAR 0.0       /* the walk's level exactly the reference's */
 #else
 #define TOL_V 1e-4
@@ -89,12 +90,15 @@
 #define TOL_MASS_SD 0.2
 #define TOL_REL 5e-3
 #define TOL_REL_AUKF 0.5
+#define TOL_E 5e-3 /* §4.8 e_ax: an average of innovations over sd, which float carries with
+                      the mass and grade's own differences above (measured: 1.1e-3) */
 /* s within 1e-3 relative of a threshold where the level differs: about four times the
  * float32 s's measured 2.6e-4 relative distance from the double's at a moved switch (above) */
 #define WALK_NEAR 1e-3
 #endif
 
 static size_t n_walk_forced; /* samples whose walk level was set to the reference's */
+static double worst_e_ax;    /* §4.8 the largest |e_ax - golden| */
 
 /* 1 when @p s is within @p near (relative) of on^2 or off^2 (§4.7's two thresholds). */
 static int walk_near_threshold(double s, double on, double off, double near)
@@ -165,6 +169,16 @@ static void compare_one(const char *name)
                      TOL_MASS + (TOL_MASS_SD * test_table_get(&g, row, "sd_mass")), TOL_REL, what);
         assert_close(e.sd_mass, test_table_get(&g, row, "sd_mass"), 0.0, rel_sd, what);
         assert_close(e.q_mv, test_table_get(&g, row, "q_mv"), 0.0, rel_sd, what);
+        {
+            /* §4.8 the monitor: its EMA, and its flag wherever the golden's EMA is not
+             * within TOL_E of the threshold (there float may decide the other way) */
+            const double ge = test_table_get(&g, row, "e_ax");
+            assert_close(e.e_ax, ge, TOL_E, 0.0, what);
+            worst_e_ax = fmax(worst_e_ax, fabs((double)e.e_ax - ge));
+            if (fabs(fabs(ge) - (double)p.mm_e) > TOL_E) {
+                assert_int_equal(e.mismatch, (uint32_t)test_table_get(&g, row, "mismatch"));
+            }
+        }
         ++row;
     }
     assert_int_equal(row, g.n_rows); /* every golden row was compared */
@@ -179,6 +193,7 @@ static void test_every_golden(void **state)
     assert_true(test_each_csv(GOLDEN_DIR, compare_one) >= MIN_GOLDENS);
     printf("walk level set to the reference's on %zu samples (a switch moved by rounding)\n",
            n_walk_forced);
+    printf("mismatch monitor: largest |e_ax - golden| %.3g\n", worst_e_ax);
 }
 
 /* The library's presets are the reference's configurations the goldens ran (their

@@ -125,6 +125,8 @@ static void dequantise_params(const rfe_mass_grade_params_q31_t *q, rfe_mass_gra
     p->theta_rate_off = rfe_fix_to_double(q->theta_rate_off, RFE_MG_Q_RATE);
     p->theta_rate_tau = rfe_fix_to_double(q->theta_rate_tau, RFE_MG_Q_TIME);
     p->theta_rate_avg = rfe_fix_to_double(q->theta_rate_avg, RFE_MG_Q_TIME);
+    p->mm_tau = rfe_fix_to_double(q->mm_tau, RFE_MG_Q_TIME);
+    p->mm_e = rfe_fix_to_double(q->mm_e, RFE_MG_Q_E);
 }
 
 /* The sample rounded to the Q formats (q) and back (d, what the double twin gets). */
@@ -1049,6 +1051,7 @@ static void test_correct_zero_innovation_sd(void **state)
     rfe_fix_t S[RFE_MG_N_Q31 * RFE_MG_N_Q31] = {0, 0, 0, 0, 100 << 14, 0, 0, 0, 1 << 20};
     rfe_fix_t x0[RFE_MG_N_Q31];
     rfe_fix_t S0[RFE_MG_N_Q31 * RFE_MG_N_Q31];
+    rfe_fix_t e_ax = 77;
     uint32_t sat = 0u;
     (void)state;
     default_q31(&q);
@@ -1059,16 +1062,17 @@ static void test_correct_zero_innovation_sd(void **state)
     memcpy(S0, S, sizeof S);
     assert_int_equal(rfe_mg_correct_speed_q31(r[0], y[0], x, S, &sat),
                      RFE_ERR_NOT_POSITIVE_DEFINITE);
-    assert_int_equal(rfe_mg_correct_q31(chi, Z, &w, r, y, x, S, &sat),
+    assert_int_equal(rfe_mg_correct_q31(chi, Z, &w, r, y, x, S, &sat, &e_ax),
                      RFE_ERR_NOT_POSITIVE_DEFINITE);
     assert_memory_equal(x, x0, sizeof x);
     assert_memory_equal(S, S0, sizeof S);
+    assert_int_equal(e_ax, 77); /* §4.8's innovation is written only on success */
     assert_int_equal(sat, 0u);
     /* the same ax row succeeds: with r_v > 0 the whole correction does */
     {
         const rfe_fix_t r1[RFE_MG_Z_MAX_Q31] = {1 << 20, 1 << 20};
         uint32_t sat1 = 0u;
-        assert_int_equal(rfe_mg_correct_q31(chi, Z, &w, r1, y, x, S, &sat1), RFE_OK);
+        assert_int_equal(rfe_mg_correct_q31(chi, Z, &w, r1, y, x, S, &sat1, &e_ax), RFE_OK);
     }
 }
 
@@ -1433,6 +1437,111 @@ static void test_walk_params_rules_q31(void **state)
 #undef WALK_Q_
 }
 
+/* §4.8 the mismatch monitor in Q31 on the float twin's rigid drive
+ * (test_mismatch_flag_after_the_derived_time, the derivation there): the model's ax 0, the
+ * accelerometer's bias 0.06 m/s^2 = 2 mm_e r_ax, so the EMA e0 (1 - (1 - a)^k), e0 = 0.6,
+ * a = dt / mm_tau = 0.002, crosses mm_e = 0.3 at the 347th update. The Q31 EMA's own error:
+ * k = dt/tau in Q30 (rounded: relative 2e-7) and each step's product rounded to 1/2 LSB of
+ * Q24 (3e-8), over 350 steps < 2e-5 absolute, against the crossing's margins 2e-4 and 4e-4
+ * either side; one sample allowed either way all the same. */
+static void mismatch_drive_q31(double bias, int steps, int *first_flag, double *worst_dev)
+{
+    rfe_mass_grade_params_t p;
+    rfe_mass_grade_params_q31_t q;
+    rfe_mass_grade_q31_t m;
+    rfe_mass_grade_input_q31_t in;
+    rfe_mass_grade_estimate_q31_t e;
+    uint32_t sat = 0u;
+    const double v = 20.0;
+    double f;
+    int k;
+    memset(&p, 0, sizeof(p));
+    assert_int_equal(rfe_mass_grade_params_default(&p), RFE_OK);
+    p.sd_m0 = 1e-3;
+    p.q_mc = 1e-3;
+    p.sd_theta0 = 1e-6;
+    p.q_theta = 1e-6;
+    p.q_theta_hi = 0.0;
+    p.pause_grade = 0.0;
+    assert_int_equal(rfe_mass_grade_params_to_q31(&p, &q), RFE_OK);
+    assert_int_equal(rfe_mass_grade_init_q31(&m, &q), RFE_OK);
+    f = (double)p.fc + ((double)p.fr * v);
+    memset(&in, 0, sizeof(in));
+    in.dt = rfe_fix_from_double(0.02, RFE_MG_Q_DT, &sat);
+    in.v = rfe_fix_from_double(v, QV, &sat);
+    in.torque = rfe_fix_from_double(
+        (double)p.R * (((double)p.m0 * (double)p.g * f) +
+                       (0.5 * (double)p.rho * (double)p.cd * (double)p.area * v * v)),
+        RFE_MG_Q_TORQUE, &sat);
+    in.has = RFE_MG_HAS_AX;
+    assert_int_equal(sat, 0u);
+    *first_flag = -1;
+    *worst_dev = 0.0;
+    for (k = 0; k < steps; ++k) {
+        const double e0 = bias / (double)p.r_ax;
+        const double want = e0 * (1.0 - pow(1.0 - (0.02 / (double)p.mm_tau), (double)k));
+        const double ax = (bias == 0.0) ? (((k % 2) == 0) ? 0.1 : -0.1) : bias;
+        double ema;
+        in.ax = rfe_fix_from_double(ax, QV, &sat);
+        assert_int_equal(rfe_mass_grade_step_q31(&m, &in, &e), RFE_OK);
+        ema = rfe_fix_to_double(e.e_ax, RFE_MG_Q_E);
+        if ((e.mismatch != 0u) && (*first_flag < 0)) {
+            *first_flag = k;
+        }
+        *worst_dev = fmax(*worst_dev, (bias == 0.0) ? fabs(ema) : (fabs(ema - want) / e0));
+        assert_int_equal(e.mismatch, (e.e_ax > q.mm_e) || (e.e_ax < -q.mm_e) ? 1u : 0u);
+    }
+}
+
+/* REQ-MG-010 */
+static void test_mismatch_flag_q31(void **state)
+{
+    int first = 0;
+    double dev = 0.0;
+    (void)state;
+    mismatch_drive_q31(0.06, 600, &first, &dev);
+    assert_true((first >= 346) && (first <= 348));
+    assert_true(dev < 1e-3); /* the closed form, relative to e0 */
+    /* unbiased: the EMA of +-1 stays within ~1e-3 of 0 (the float twin's bound) */
+    mismatch_drive_q31(0.0, 2000, &first, &dev);
+    assert_int_equal(first, -1);
+    assert_true(dev < 0.01);
+}
+
+/* REQ-MG-010 §4.8's parameters in Q24: mm_tau in [dt_max, 60] s (dt_max compared in Q30),
+ * mm_e in [0, 100]; each bound accepted at it and refused one LSB beyond. */
+static void test_mismatch_params_q31(void **state)
+{
+    rfe_mass_grade_params_q31_t q;
+    rfe_mass_grade_params_q31_t b;
+    rfe_mass_grade_q31_t m;
+    rfe_mass_grade_q31_t before;
+    (void)state;
+    default_q31(&q);
+    assert_int_equal(q.mm_tau, 10 * 16777216);
+    assert_int_equal(q.mm_e, 5033165); /* 0.3 in Q24, rounded */
+#define MM_Q_(field, value, want)                                                            \
+    b = q;                                                                                   \
+    b.field = (value);                                                                       \
+    assert_int_equal(rfe_mass_grade_params_validate_q31(&b), (want));
+    MM_Q_(mm_tau, q.dt_max / 64, RFE_OK)
+    MM_Q_(mm_tau, (q.dt_max / 64) - 1, RFE_ERR_PARAM)
+    MM_Q_(mm_tau, 60 * 16777216, RFE_OK)
+    MM_Q_(mm_tau, (60 * 16777216) + 1, RFE_ERR_PARAM)
+    MM_Q_(mm_e, 0, RFE_OK)
+    MM_Q_(mm_e, -1, RFE_ERR_PARAM)
+    MM_Q_(mm_e, 100 * 16777216, RFE_OK)
+    MM_Q_(mm_e, (100 * 16777216) + 1, RFE_ERR_PARAM)
+#undef MM_Q_
+    /* a refused init leaves the estimator untouched */
+    b = q;
+    b.mm_e = -1;
+    memset(&m, 0x5A, sizeof(m));
+    before = m;
+    assert_int_equal(rfe_mass_grade_init_q31(&m, &b), RFE_ERR_PARAM);
+    assert_memory_equal(&m, &before, sizeof(m));
+}
+
 /* Whether the last step held (§4.2 the hold: v restarts at the measured speed, S_vv = r_v)
  * rather than learned the grade from ax (v the filter's, S_vv = r_v S'_vv / |(S'_vv, r_v)|
  * < r_v) or updated. */
@@ -1570,6 +1679,8 @@ int main(void)
         cmocka_unit_test(test_every_log_against_double),
         cmocka_unit_test(test_walk_against_double),
         cmocka_unit_test(test_walk_params_rules_q31),
+        cmocka_unit_test(test_mismatch_flag_q31),
+        cmocka_unit_test(test_mismatch_params_q31),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
