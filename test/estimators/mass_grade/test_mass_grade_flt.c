@@ -1761,8 +1761,8 @@ static void test_params_to_q31(void **state)
  * and float's rounding (350 steps of 6e-8) can move it; the test allows one sample either
  * way all the same (clear through 345, set from 348) and checks the EMA against the closed
  * form within 1e-3 of e0 on every sample. */
-static void mismatch_drive(rfe_real_t bias, int steps, int *first_flag, double *worst_dev,
-                           double *largest)
+static void mismatch_drive(rfe_real_t bias, int monitor_on, int steps, int *first_flag,
+                           double *worst_dev, double *largest)
 {
     rfe_mass_grade_params_t p;
     rfe_mass_grade_input_t in;
@@ -1779,6 +1779,9 @@ static void mismatch_drive(rfe_real_t bias, int steps, int *first_flag, double *
     p.q_theta = (rfe_real_t)1e-6;
     p.q_theta_hi = (rfe_real_t)0.0;
     p.pause_grade = (rfe_real_t)0.0;
+    if (monitor_on == 0) {
+        p.mm_e = (rfe_real_t)0.0; /* §4.8: mm_e 0 switches the flag off, the EMA still runs */
+    }
     assert_int_equal(rfe_mass_grade_init(&mg, &p), RFE_OK);
     f = (double)p.fc + ((double)p.fr * v);
     memset(&in, 0, sizeof(in));
@@ -1804,8 +1807,9 @@ static void mismatch_drive(rfe_real_t bias, int steps, int *first_flag, double *
             *worst_dev = fmax(*worst_dev, fabs((double)e.e_ax - want) / e0);
         }
         *largest = fmax(*largest, fabs((double)e.e_ax));
-        /* the flag is the EMA against mm_e, on every sample */
-        assert_int_equal(e.mismatch, (fabs((double)e.e_ax) > (double)p.mm_e) ? 1u : 0u);
+        /* the flag is the EMA against mm_e, on every sample, while the monitor is on */
+        assert_int_equal(e.mismatch, ((monitor_on != 0) && (fabs((double)e.e_ax) > (double)p.mm_e))
+                                         ? 1u : 0u);
     }
 }
 
@@ -1816,16 +1820,22 @@ static void test_mismatch_flag_after_the_derived_time(void **state)
     double dev = 0.0;
     double largest = 0.0;
     (void)state;
-    mismatch_drive((rfe_real_t)0.06, 600, &first, &dev, &largest);
+    mismatch_drive((rfe_real_t)0.06, 1, 600, &first, &dev, &largest);
     assert_true((first >= 346) && (first <= 348));
     assert_true(dev < 1e-3); /* the closed form e0 (1 - (1 - a)^k), header comment */
     /* after 599 updates 0.6 (1 - 0.998^599) = 0.4192; dev bounds the rest */
     assert_true(fabs(largest - 0.4192) < 1e-3);
     /* unbiased (ax dithering +-r_ax about the prediction 0): the EMA of e_k = +-1 stays
      * within a / (2 - a) ~ 1e-3 of 0 (plus the start's 0.002 step), far below mm_e */
-    mismatch_drive((rfe_real_t)0.0, 2000, &first, &dev, &largest);
+    mismatch_drive((rfe_real_t)0.0, 1, 2000, &first, &dev, &largest);
     assert_int_equal(first, -1);
     assert_true(largest < 0.01);
+    /* the monitor off (mm_e 0): the same biased drive, whose EMA runs past 0.3 as above, never
+     * flags; the EMA itself is the same closed form (it is reported, only the flag is off) */
+    mismatch_drive((rfe_real_t)0.06, 0, 600, &first, &dev, &largest);
+    assert_int_equal(first, -1);
+    assert_true(dev < 1e-3);
+    assert_true(fabs(largest - 0.4192) < 1e-3);
 }
 
 /* §4.8 the monitor's parameters: mm_tau in [dt_max, 60], mm_e in [0, 100], finite; a

@@ -1444,7 +1444,8 @@ static void test_walk_params_rules_q31(void **state)
  * k = dt/tau in Q30 (rounded: relative 2e-7) and each step's product rounded to 1/2 LSB of
  * Q24 (3e-8), over 350 steps < 2e-5 absolute, against the crossing's margins 2e-4 and 4e-4
  * either side; one sample allowed either way all the same. */
-static void mismatch_drive_q31(double bias, int steps, int *first_flag, double *worst_dev)
+static void mismatch_drive_q31(double bias, int monitor_on, int steps, int *first_flag,
+                               double *worst_dev)
 {
     rfe_mass_grade_params_t p;
     rfe_mass_grade_params_q31_t q;
@@ -1463,6 +1464,9 @@ static void mismatch_drive_q31(double bias, int steps, int *first_flag, double *
     p.q_theta = 1e-6;
     p.q_theta_hi = 0.0;
     p.pause_grade = 0.0;
+    if (monitor_on == 0) {
+        p.mm_e = 0.0; /* §4.8: mm_e 0 switches the flag off, the EMA still runs */
+    }
     assert_int_equal(rfe_mass_grade_params_to_q31(&p, &q), RFE_OK);
     assert_int_equal(rfe_mass_grade_init_q31(&m, &q), RFE_OK);
     f = (double)p.fc + ((double)p.fr * v);
@@ -1489,7 +1493,9 @@ static void mismatch_drive_q31(double bias, int steps, int *first_flag, double *
             *first_flag = k;
         }
         *worst_dev = fmax(*worst_dev, (bias == 0.0) ? fabs(ema) : (fabs(ema - want) / e0));
-        assert_int_equal(e.mismatch, (e.e_ax > q.mm_e) || (e.e_ax < -q.mm_e) ? 1u : 0u);
+        assert_int_equal(e.mismatch,
+                         ((monitor_on != 0) && ((e.e_ax > q.mm_e) || (e.e_ax < -q.mm_e))) ? 1u
+                                                                                      : 0u);
     }
 }
 
@@ -1499,13 +1505,18 @@ static void test_mismatch_flag_q31(void **state)
     int first = 0;
     double dev = 0.0;
     (void)state;
-    mismatch_drive_q31(0.06, 600, &first, &dev);
+    mismatch_drive_q31(0.06, 1, 600, &first, &dev);
     assert_true((first >= 346) && (first <= 348));
     assert_true(dev < 1e-3); /* the closed form, relative to e0 */
     /* unbiased: the EMA of +-1 stays within ~1e-3 of 0 (the float twin's bound) */
-    mismatch_drive_q31(0.0, 2000, &first, &dev);
+    mismatch_drive_q31(0.0, 1, 2000, &first, &dev);
     assert_int_equal(first, -1);
     assert_true(dev < 0.01);
+    /* the monitor off (mm_e 0): the biased drive's EMA follows the same closed form past 0.3
+     * and never flags */
+    mismatch_drive_q31(0.06, 0, 600, &first, &dev);
+    assert_int_equal(first, -1);
+    assert_true(dev < 1e-3);
 }
 
 /* REQ-MG-010 §4.8's parameters in Q24: mm_tau in [dt_max, 60] s (dt_max compared in Q30),
