@@ -46,7 +46,7 @@ DEPS_EXTRA :=
 TEST_GATES :=
 include $(sort $(filter-out mk/lib.mk,$(wildcard mk/*.mk)))
 
-.PHONY: deps-apt figures mass-grade-scenarios observer-res-scenarios mass-grade-results mass-grade-textbook mass-sensitivity mass-headwind mass-slip mass-slip-ramp mass-curve mass-curve-pause mass-pause-grade mass-grade-walk mass-offset mass-gust tyre-id-feed-results tyre-id-trust mass-grade-goldens trust-invariant names car-format-logs observer-goldens observer-goldens-q31 observer-results monitor-results shape-results test-pkg all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind valgrind-unit valgrind-cli coverage demo goldens goldens-q31 scenarios observer-scenarios clean vectors shared-sync check-shared readme-table \
+.PHONY: deps-apt figures mass-grade-scenarios observer-res-scenarios observer-loop-scenarios mass-grade-results mass-grade-textbook mass-sensitivity mass-headwind mass-slip mass-slip-ramp mass-curve mass-curve-pause mass-pause-grade mass-grade-walk mass-offset mass-gust tyre-id-feed-results tyre-id-trust mass-grade-goldens trust-invariant names car-format-logs observer-goldens observer-goldens-q31 observer-results monitor-results shape-results test-pkg all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind valgrind-unit valgrind-cli coverage demo goldens goldens-q31 scenarios observer-scenarios clean vectors shared-sync check-shared readme-table \
         check-kernels check-tools layers help-check goldens-ref check-nofloat help deps-analysis misra tidy complexity structural analysis \
         twins check-twins tyre-id-scenarios tyre-id-results tyre-id-goldens tyre-id-ellipse-results \
         tyre-id-results-ellipse tyre-id-results-delta-filter tyre-id-results-delta-state tyre-id-results-spread tyre-id-targets tyre-id-m4-count snoise-reuse snoise-reuse-vxvy
@@ -398,6 +398,9 @@ observer-scenarios: venv
 ## regenerate the observer logs with the car's rolling resistance and drag for the mass studies (scenarios/observer_res/)
 observer-res-scenarios: venv
 	$(PY) scripts/data/make_observer_scenarios.py --resistances --out scenarios/observer_res
+## regenerate the friction loop's observer log, a mu step while cornering (scenarios/observer_loop/)
+observer-loop-scenarios: venv
+	$(PY) scripts/data/make_observer_scenarios.py --loop --out scenarios/observer_loop
 ## regenerate the tyre identification logs (scenarios/tyre_id/, docs/TYRE_ID.md) with the simulator
 tyre-id-scenarios: venv
 	$(PY) scripts/data/make_tyre_id_scenarios.py --out scenarios/tyre_id

@@ -4,7 +4,7 @@ reference simulator.
 
     .venv/bin/python scripts/data/make_observer_scenarios.py [--out scenarios/observer]
                                                         [--only NAME ...] [--jobs N]
-                                                        [--resistances]
+                                                        [--resistances | --loop]
 
 For every scenario and each of its truth tyres (ObserverScenario.tyres):
     <out>/<name>.csv      Dugoff truth, default sensor noise (seed = 201 + index)
@@ -13,6 +13,8 @@ For every scenario and each of its truth tyres (ObserverScenario.tyres):
 With --resistances the same for the observer scenarios with the car's driving resistances
 (mass_grade_scenarios.OBS_RES_SCENARIOS: <name>_res, noisy only, default --out
 scenarios/observer_res): the logs of the mass filter's model-matched studies.
+With --loop the friction loop's scenario (observer_scenarios.OBS_LOOP_SCENARIOS: a mu step
+while cornering, default --out scenarios/observer_loop), written like the observer logs.
 One progress line per simulation: runtime, max |beta| [deg], min vx [m/s] and the per-wheel
 max |kappa| (fl/fr/rl/rr).  Simulations run in --jobs worker processes (default: all CPUs),
 the longest first; deterministic either way: the same command writes the same bytes.
@@ -31,11 +33,12 @@ import numpy as np  # noqa: E402
 from job_pool import print_jobs  # noqa: E402
 from sim import sensors  # noqa: E402
 from sim.mass_grade_scenarios import OBS_RES_BY_NAME, OBS_RES_SCENARIOS  # noqa: E402
-from sim.observer_scenarios import OBS_BY_NAME, OBSERVER_SCENARIOS  # noqa: E402
+from sim.observer_scenarios import (OBS_BY_NAME, OBS_LOOP_BY_NAME, OBS_LOOP_SCENARIOS,  # noqa: E402
+                                    OBSERVER_SCENARIOS)
 
 VARIANTS = {"dugoff": ("default", "none"), "mf": ("default",)}
 RES_VARIANTS = {"dugoff": ("default",), "mf": ("default",)}   # the _res logs: noisy only
-BY_NAME = dict(OBS_BY_NAME, **OBS_RES_BY_NAME)
+BY_NAME = dict(OBS_BY_NAME, **OBS_RES_BY_NAME, **OBS_LOOP_BY_NAME)
 
 
 def variants(sc, tyre):
@@ -76,19 +79,24 @@ def main(argv=None):
     repo = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--out", help="output directory (default: <repo>/scenarios/observer, "
-                    "with --resistances <repo>/scenarios/observer_res)")
+                    "with --resistances <repo>/scenarios/observer_res, with --loop "
+                    "<repo>/scenarios/observer_loop)")
     ap.add_argument("--only", nargs="+", metavar="NAME", choices=sorted(BY_NAME),
                     help="only these scenarios")
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
                     help="worker processes (default: number of CPUs)")
-    ap.add_argument("--resistances", action="store_true",
-                    help="the scenarios with the car's driving resistances (<name>_res)")
+    which = ap.add_mutually_exclusive_group()
+    which.add_argument("--resistances", action="store_true",
+                       help="the scenarios with the car's driving resistances (<name>_res)")
+    which.add_argument("--loop", action="store_true",
+                       help="the friction loop's scenario (a mu step while cornering)")
     args = ap.parse_args(argv)
+    folder, scenarios = (("observer_res", OBS_RES_SCENARIOS) if args.resistances else
+                         ("observer_loop", OBS_LOOP_SCENARIOS) if args.loop else
+                         ("observer", OBSERVER_SCENARIOS))
     if args.out is None:
-        args.out = os.path.join(repo, "scenarios",
-                                "observer_res" if args.resistances else "observer")
+        args.out = os.path.join(repo, "scenarios", folder)
     os.makedirs(args.out, exist_ok=True)
-    scenarios = OBS_RES_SCENARIOS if args.resistances else OBSERVER_SCENARIOS
     selected = [sc for sc in scenarios if not args.only or sc.name in args.only]
     jobs = [(sc.name, tyre, args.out) for sc in selected for tyre in sc.tyres]
     # longest simulations first, so the worker pool ends together

@@ -52,7 +52,8 @@ from .control import (DRIVE_SPLIT, AbsConfig, ObserverInputs, PathConfig, SpeedC
 from .scenarios import (DLC_P, DLC_T, KMH, ZERO4, Scenario, const, double_lane_change, pulse,
                         ramp, uniform_mu)
 
-__all__ = ["Road", "ObserverScenario", "OBSERVER_SCENARIOS", "OBS_BY_NAME", "SEED_BASE"]
+__all__ = ["Road", "ObserverScenario", "OBSERVER_SCENARIOS", "OBS_BY_NAME", "SEED_BASE",
+           "OBS_LOOP_SCENARIOS", "OBS_LOOP_BY_NAME"]
 
 SEED_BASE = 201
 
@@ -368,3 +369,35 @@ OBSERVER_SCENARIOS = [
 ]
 
 OBS_BY_NAME = {s.name: s for s in OBSERVER_SCENARIOS}
+
+
+# ---- the friction loop: a mu step while cornering ------------------------------------------
+# Not in OBSERVER_SCENARIOS (whose goldens, results tables and car-format twins cover the 17
+# above): the closed-loop test of the observer's model row fed by the friction estimator's own
+# output (OBSERVER.md §4 step 2, §6; test/estimators/pipeline/test_pipeline_loop_*.c) reads it
+# from scenarios/observer_loop/ (make observer-loop-scenarios).  The circle_r60 turn (ay ~ 4
+# m/s^2, 0.45 g) on a road whose friction steps 0.9 -> 0.5 -> 0.9 along the path: on 0.5 the
+# turn uses 0.82 of the friction, so the friction estimator sees it and its output moves, and
+# a too high or too low friction in the model row would show as a vy error.  Index 30: seed
+# 231, clear of OBSERVER_SCENARIOS' 201-217 and of the mass and grade logs' 301+.
+LOOP_MU = (0.9, 0.5)
+LOOP_S = (155.0, 310.0)     # m: the steps at t ~ 10 s and ~ 20 s (15.5 m/s from t ~ 0)
+LOOP_T = 30.0
+
+
+def _loop_mu(s, left):
+    return LOOP_MU[1] if LOOP_S[0] <= s < LOOP_S[1] else LOOP_MU[0]
+
+
+OBS_LOOP_SCENARIOS = [
+    ObserverScenario(
+        "turn_mu_step", 30,
+        f"mu step while cornering: the circle_r60 turn (radius {_fmt(CIRCLE_R)} m at "
+        f"{_fmt(CIRCLE_V)} m/s held by cruise control (fwd), path curvature ramped 0 -> "
+        f"1/{_fmt(CIRCLE_R)} 1/m over 2 s from t = 1 s) on mu = {_fmt(LOOP_MU[0])}, "
+        f"{_fmt(LOOP_MU[1])} for road s in [{_fmt(LOOP_S[0])}, {_fmt(LOOP_S[1])}) m (each "
+        f"wheel at its own s), then {_fmt(LOOP_MU[0])} again; {PathConfig(None).text()}",
+        CIRCLE_V, LOOP_T, const(0.0), const(ZERO4), const(ZERO4), _loop_mu,
+        layout="fwd", speed=_cruise(CIRCLE_V), path=PathConfig(_curve(CIRCLE_R, 1.0, 2.0))),
+]
+OBS_LOOP_BY_NAME = {s.name: s for s in OBS_LOOP_SCENARIOS}

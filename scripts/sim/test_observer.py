@@ -21,7 +21,8 @@ import pytest
 
 from . import sensors
 from .control import DRIVE_SPLIT, SpeedConfig, YawConfig
-from .observer_scenarios import CREEP_STOP_T, CREEP_V, OBS_BY_NAME, OBSERVER_SCENARIOS, ObserverScenario, Road
+from .observer_scenarios import (CREEP_STOP_T, CREEP_V, LOOP_MU, LOOP_S, OBS_BY_NAME,
+                                 OBS_LOOP_SCENARIOS, OBSERVER_SCENARIOS, ObserverScenario, Road)
 from .scenarios import SCENARIOS, ZERO4, const, uniform_mu
 from .test_sim import check_model_match, read_log_text
 from .vehicle import Params, Vehicle, wheel_slips
@@ -32,6 +33,7 @@ REPO = Path(__file__).resolve().parents[2]
 OBS_DIR = REPO / "scenarios" / "observer"
 HAVE_LOGS = OBS_DIR.is_dir() and any(OBS_DIR.glob("*.nf.csv"))
 needs_logs = pytest.mark.skipif(not HAVE_LOGS, reason="scenarios/observer not generated yet")
+LOOP_DIR = REPO / "scenarios" / "observer_loop"
 DEG = np.pi / 180.0
 
 
@@ -303,8 +305,10 @@ def test_committed_files_complete_and_sizes():
 
 # REQ-SIM-002
 @needs_logs
-@pytest.mark.parametrize("sc", OBSERVER_SCENARIOS, ids=lambda s: s.name)
-def test_committed_logs_regenerate(sc):
+@pytest.mark.parametrize("sc,folder", [(s, OBS_DIR) for s in OBSERVER_SCENARIOS] +
+                         [(s, LOOP_DIR) for s in OBS_LOOP_SCENARIOS],
+                         ids=lambda s: getattr(s, "name", ""))
+def test_committed_logs_regenerate(sc, folder):
     """The first second of every committed log (both variants) regenerates bit for bit:
     same states (the simulation is deterministic and a shorter run takes the same steps),
     same truth columns, same noise (one row-major PCG64 block, so a prefix of rows draws
@@ -314,7 +318,7 @@ def test_committed_logs_regenerate(sc):
     table = sensors.observer_table(sim, sc)
     cols = sensors.observer_columns(sc)
     for noise, tab in (("none", table), ("default", sensors.observer_noise(table, sc))):
-        text = (OBS_DIR / sensors.file_name(sc.name, "dugoff", noise)).read_text()
+        text = (folder / sensors.file_name(sc.name, "dugoff", noise)).read_text()
         lines = [l for l in text.splitlines() if not l.startswith("#")]
         assert lines[0] == ",".join(cols)
         mine = sensors.observer_csv_text(tab, [], cols).splitlines()
@@ -363,6 +367,28 @@ def test_committed_noise_and_truth(sc):
     assert ("grade" in nf) == sc.grade_known
     if sc.grade_known:
         assert np.array_equal(nf["grade"], nf["grade_true"])
+
+
+# REQ-SIM-002
+@pytest.mark.skipif(not LOOP_DIR.is_dir(), reason="scenarios/observer_loop not generated yet")
+def test_the_loop_scenario():
+    """The friction loop's log (make observer-loop-scenarios): its own seed, its files complete,
+    and each wheel's friction stepping where its road position s + x_i crosses LOOP_S (the
+    truth columns; s the CoG path's length, the trapezoid sum of hypot(vx, vy) 0.01 s apart,
+    so within one sample's 0.16 m)."""
+    seeds = {s.seed for s in OBSERVER_SCENARIOS} | {s.seed for s in SCENARIOS}
+    for sc in OBS_LOOP_SCENARIOS:
+        assert sc.seed not in seeds and sc.seed not in range(101, 116)
+        assert sorted(p.name for p in LOOP_DIR.glob(f"{sc.name}*.csv")) == sorted(_files(sc))
+        for variant in ("", ".nf", ".mf"):
+            c = read_log_text((LOOP_DIR / f"{sc.name}{variant}.csv").read_text())[1]
+            v = np.hypot(c["vx_true"], c["vy_true"])
+            s = np.concatenate([[0.0], np.cumsum(0.5 * (v[1:] + v[:-1]) * np.diff(c["t"]))])
+            for w, x in zip(WHEELS, (P.Lf, P.Lf, -P.Lr, -P.Lr)):
+                low = c[f"mu_{w}"] == LOOP_MU[1]
+                assert np.all(c[f"mu_{w}"][~low] == LOOP_MU[0])
+                pos = s[low] + x
+                assert abs(pos.min() - LOOP_S[0]) < 0.2 and abs(pos.max() - LOOP_S[1]) < 0.2
 
 
 FLAT = [s for s in OBSERVER_SCENARIOS if s.road is None and s.v_low is None]

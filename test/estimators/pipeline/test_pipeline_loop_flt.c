@@ -1,0 +1,142 @@
+/**
+ * @file test_pipeline_loop_flt.c
+ * @brief The friction loop of the composed pipeline (OBSERVER.md §6 "The loop") closed on a
+ *        friction step while cornering: it does not run away (float and double).
+ *
+ * The loop: each step the observer's model row uses the friction estimator's previous
+ * estimate and sd (raised to what the measured ay proves), and the friction estimator runs
+ * on the observer's vx, vy, r-dot with their sd. The log (scenarios/observer_loop/
+ * turn_mu_step, make observer-loop-scenarios): the circle_r60 turn (ay ~ 4 m/s^2) on mu 0.9,
+ * 0.5 from t ~ 10 s, 0.9 again from t ~ 20 s, with both truth tyres; the pipeline runs on the
+ * production sensors only (no vx, vy, r-dot; the brake pressures and drive torques the log
+ * has), default preset and observer parameters: the samples and parameters of
+ * `mu_replay --velocity observer`.
+ *
+ * What is asserted, each bound from issue 16's targets or the observer's own parameters:
+ * - every step succeeds and every output and sd is finite; sd(vy) stays in (0, obs_sd_vy0]:
+ *   the observer never knows less than at its start;
+ * - no runaway: |vy| never exceeds the largest |vy| the car has, widened by the 0.3 deg
+ *   target at the log's speed (max vx tan 0.3 deg = 0.08 m/s);
+ * - after the step back to mu 0.9 (|ay| < 0.5 mu g: the 0.3 deg target applies), |beta
+ *   error| <= 0.3 deg from LOOP_T_CONV = 3 s on, to the end of the log (8 s);
+ * - the Magic Formula truth (whose stiffness does not scale with mu): |beta error| <= 1.0 deg
+ *   (the at-the-limit target, taken as a maximum) everywhere and RMS <= 0.3 deg.
+ * Negative control: the same Dugoff run with the linear range's vy row off (obs_sd_vy_lin
+ * = 0, the safeguard of §4.2b) runs away after the step up, past both bounds.
+ *
+ * Not asserted (a measured limitation, OBSERVER.md §6 "The loop"): on the Dugoff truth,
+ * whose cornering stiffness scales with mu like the paper tyre's mu F0, the steady turn on
+ * mu 0.5 leaves the loop at a consistent wrong point: ay fixes only the product of the
+ * friction and the slip angle, and kinematics do not see a constant vy, so the friction
+ * estimator reads its bound 1.2 from the observer's small vy and the observer keeps the
+ * high-friction vy: beta 3.6 deg off (measured) with sd(vy) ~ 0.02 m/s, bounded and not
+ * growing. Float and double agree to ~1e-5 m/s here, far inside every bound.
+ */
+#include "test_common.h"
+
+#include <math.h>
+#include <string.h>
+
+#include "csv_log.h"
+#include "loop_check.h"
+#include "param_file.h"
+#include "replay_real.h"
+#include "rfe/pipeline.h"
+
+/* The run of @p name with the preset, the log's metadata and the observer defaults, as
+ * mu_replay derives them; @p sd_vy_lin >= 0 replaces obs_sd_vy_lin (negative: keep). */
+static void run(const char *name, double sd_vy_lin, loop_run_t *r, loop_stats_t *s,
+                double *sd_vy0)
+{
+    static rfe_pipeline_t pl;
+    rfe_sensor_log_t log;
+    rfe_param_set_t ps;
+    rfe_io_error_t err;
+    rfe_params_t p;
+    rfe_velocity_params_t vp;
+    size_t k;
+    loop_read(name, &log, r);
+    memset(&p, 0, sizeof p); /* the estimators copy them, padding included */
+    memset(&vp, 0, sizeof vp);
+    rfe_param_set_default(&ps);
+    assert_int_equal(rfe_param_set_apply_meta(&ps, &log, "log", &err), 0);
+    assert_int_equal(rfe_replay_params(&ps, &p, NULL), RFE_OK);
+    assert_int_equal(rfe_replay_velocity_params(&ps, &vp, NULL), RFE_OK);
+    if (sd_vy_lin >= 0.0) {
+        vp.sd_vy_lin = (rfe_real_t)sd_vy_lin;
+    }
+    *sd_vy0 = (double)vp.sd_vy0;
+    memset(&pl, 0, sizeof pl);
+    assert_int_equal(rfe_pipeline_init(&pl, &p, &vp), RFE_OK);
+    for (k = 0u; k < log.n_rows; ++k) {
+        rfe_velocity_input_t in;
+        rfe_pipeline_out_t o;
+        rfe_replay_esc_input(&log, k, (k > 0u) ? k - 1u : 0u, &in); /* mu_replay's sample */
+        assert_false(rfe_status_is_error(rfe_pipeline_step(&pl, &in, &o)));
+        r->vy[k] = (double)o.velocity.vy;
+        r->beta[k] = (double)o.velocity.beta;
+        r->sd_vy[k] = (double)o.velocity.sd_vy;
+        r->sd_beta[k] = (double)o.velocity.sd_beta;
+    }
+    rfe_sensor_log_free(&log);
+    *s = loop_stats(r);
+    loop_print(name, r, s);
+}
+
+static loop_run_t lr; /* 9 arrays of 4000 doubles: not on the stack */
+
+static void assert_no_runaway(const loop_stats_t *s, double sd_vy0)
+{
+    assert_true(s->finite);
+    assert_true(s->min_sd_vy > 0.0);
+    ASSERT_LE(s->max_sd_vy, sd_vy0, "sd(vy) <= obs_sd_vy0");
+    ASSERT_LE(s->max_vy, s->vy_bound, "max |vy| <= max |vy_true| + vx tan 0.3 deg");
+    ASSERT_LE(s->t_settle, LOOP_T_CONV, "settled after the step up [s]");
+}
+
+/* REQ-OBS-024 */
+static void test_the_loop_does_not_run_away_dugoff(void **state)
+{
+    loop_stats_t s;
+    double sd_vy0;
+    (void)state;
+    run("turn_mu_step.csv", -1.0, &lr, &s, &sd_vy0);
+    assert_no_runaway(&s, sd_vy0);
+}
+
+/* REQ-OBS-024 */
+static void test_the_loop_does_not_run_away_magic_formula(void **state)
+{
+    loop_stats_t s;
+    double sd_vy0;
+    (void)state;
+    run("turn_mu_step.mf.csv", -1.0, &lr, &s, &sd_vy0);
+    assert_no_runaway(&s, sd_vy0);
+    ASSERT_LE(s.max_err_deg, LOOP_BETA_LIMIT_DEG, "max |beta error| [deg]");
+    ASSERT_LE(s.rms_err_deg, LOOP_BETA_LIN_DEG, "RMS beta error [deg]");
+}
+
+/* REQ-OBS-024: the checks can fail. Without the linear range's vy row the loop has nothing
+ * that pulls vy back once the friction input is wrong: after the step up vy drifts on
+ * (measured: to 1.20 m/s against a true 0.04, 4.2 deg off at the end, sd(vy) 0.37). */
+static void test_without_the_linear_row_the_loop_runs_away(void **state)
+{
+    loop_stats_t s;
+    double sd_vy0;
+    (void)state;
+    run("turn_mu_step.csv", 0.0, &lr, &s, &sd_vy0);
+    assert_true(s.max_vy > s.vy_bound);
+    assert_true(s.max_sd_vy > sd_vy0);
+    assert_true(s.t_settle > LOOP_T_CONV);
+    assert_true(s.end_err_deg > LOOP_BETA_LIMIT_DEG);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_the_loop_does_not_run_away_dugoff),
+        cmocka_unit_test(test_the_loop_does_not_run_away_magic_formula),
+        cmocka_unit_test(test_without_the_linear_row_the_loop_runs_away),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
