@@ -32,10 +32,11 @@
  *       (Q23 / Q29 / Q24, or the bits of rfe_real_t); the R line's sat is the friction
  *       estimator's (in the fixed-point pipeline with the input-noise norm's)
  *   A <row> <status> <flags> <value>...   every step of PIL_MASS_GRADE or PIL_TYRE_ID instead
- *       of R: the step's status, its flags (the tyre identifier's RFE_TID_* bits; 0 for mass
- *       and grade; its saturation count in fixed point) and every output as raw bits: mass,
- *       sd_mass, grade, sd_grade, v, sd_v, q_mv (in fixed point Q14, Q14, Q29, Q29, Q24, Q24
- *       and the int64 Q28); or the 17 means, the 17 sds and n_eff
+ *       of R: the step's status, its flags (the tyre identifier's RFE_TID_* bits; the mass
+ *       and grade estimator's mismatch flag, §4.8; its saturation count in fixed point) and
+ *       every output as raw bits: mass, sd_mass, grade, sd_grade, v, sd_v, q_mv, e_ax (in
+ *       fixed point Q14, Q14, Q29, Q29, Q24, Q24, the int64 Q28, Q24, then the mismatch flag
+ *       as a word); or the 17 means, the 17 sds and n_eff
  *   S <bytes>   the deepest stack any step used, measured: before each step the 4 KB below
  *               the stack pointer are painted, after it the lowest overwritten word is found
  *               (0 on the host)
@@ -96,6 +97,8 @@ static void put_output(uint32_t i, rfe_status_t st, const pil_output_t *o)
     put_bits(&o->v, b);
     put_bits(&o->sd_v, b);
     put_bits(&o->q_mv, (uint32_t)sizeof o->q_mv);
+    put_bits(&o->e_ax, b);                              /* §4.8 the monitor's EMA */
+    put_bits(&o->mismatch, (uint32_t)sizeof o->mismatch); /* and its flag */
     put_char('\n');
 }
 #elif defined(PIL_MASS_GRADE)
@@ -109,8 +112,9 @@ static rfe_status_t pil_init(void)
 }
 static void put_output(uint32_t i, rfe_status_t st, const pil_output_t *o)
 {
-    const rfe_real_t v[7] = {o->mass, o->sd_mass, o->grade, o->sd_grade, o->v, o->sd_v, o->q_mv};
-    put_aux(i, st, 0u, v, 7u);
+    /* the mismatch flag (§4.8) as the line's discrete flags, the monitor's EMA as a value */
+    const rfe_real_t v[8] = {o->mass, o->sd_mass, o->grade, o->sd_grade, o->v, o->sd_v, o->q_mv, o->e_ax};
+    put_aux(i, st, o->mismatch, v, 8u);
 }
 #elif defined(PIL_TYRE_ID)
 typedef rfe_tyre_id_t pil_estimator_t;

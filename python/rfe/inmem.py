@@ -23,11 +23,14 @@ from .replay import _fmt
 COLS: list[str] = [ffi.string(lib.rfe_replay_mem_col(i)).decode()
                    for i in range(lib.RFE_MEM_COLS) if lib.rfe_replay_mem_col(i) != ffi.NULL]
 _INT_COLS = {"valid_fl", "valid_fr", "valid_rl", "valid_rr", "status", "mg_status",
-             "grade_walk", "tid_status", "tid_flags"}
+             "grade_walk", "mg_mismatch", "tid_status", "tid_flags"}
 _VELOCITY = COLS[COLS.index("vx_est"):COLS.index("sd_beta") + 1]
-_MASS_GRADE = COLS[COLS.index("mass_est"):COLS.index("grade_walk") + 1]
+# mg_mismatch came last to the C array (RFE_MEM_COLS) but follows grade_walk in the
+# estimate log (csv_log.c), so the mass and grade group names it and the curve feed's stops
+# before it.
+_MASS_GRADE = COLS[COLS.index("mass_est"):COLS.index("grade_walk") + 1] + ["mg_mismatch"]
 _TYRE_ID = COLS[COLS.index("mu_id_f"):COLS.index("tid_flags") + 1]
-_TYRE_FEED = COLS[COLS.index("cy_used"):]
+_TYRE_FEED = COLS[COLS.index("cy_used"):COLS.index("r_model_rel_used") + 1]
 _BASE = COLS[:COLS.index("vx_est")]
 REAL_WORDS = {"float": 0, "double": 1, "q31": 2}
 

@@ -89,6 +89,9 @@ def test_run_with_options_equals_replay() -> None:
         if "tyre_id" in options:
             assert "tid_flags" in got.columns
             assert ("cy_used" in got.columns) == ("params" in options)
+        # the mismatch flag (MASS_GRADE.md §4.8) is a mass and grade column, in every run of
+        # that estimator and in no other (it must not ride on the curve feed's columns)
+        assert ("mg_mismatch" in got.columns) == ("mass_grade" in log), log
 
 
 def test_mass_feed_gate_keys_reach_the_run() -> None:

@@ -142,12 +142,15 @@ SCKF_EPS_PER_STEP = 300 * 2.0 ** -24
 # library objects that are the module (their linked flash: entry["flash"]["module"]).
 TID_OUTS = ["beta", "r", "vy", "fy_f", "fy_r", "d_f", "c_f", "k_f", "e_f", "d_r", "c_r", "k_r", "e_r",
             "b_f", "b_r", "mu_f", "mu_r"]
+# the mass and grade estimator's values of an A line (its discrete flags: the mismatch flag,
+# MASS_GRADE.md §4.8; e_ax: the monitor's EMA)
+MG_OUTS = ["mass", "sd_mass", "grade", "sd_grade", "v", "sd_v", "q_mv", "e_ax"]
 AUX_ENTRIES = {
     "mg_ukf": {"step": "rfe_mass_grade_step", "what": "mass and grade, UKF + ax (recommended car preset)",
-               "fields": ["mass", "sd_mass", "grade", "sd_grade", "v", "sd_v", "q_mv"], "rate_hz": 50.0,
+               "fields": MG_OUTS, "rate_hz": 50.0,
                "objects": ("mass_grade",)},
     "mg_aukf": {"step": "rfe_mass_grade_step", "what": "mass and grade, the seed's AUKF (speed only)",
-                "fields": ["mass", "sd_mass", "grade", "sd_grade", "v", "sd_v", "q_mv"], "rate_hz": 50.0,
+                "fields": MG_OUTS, "rate_hz": 50.0,
                 "objects": ("mass_grade",)},
     "tid": {"step": "rfe_tyre_id_step", "what": "tyre identifier, APF, 256 particles",
             "fields": [f"mean_{o}" for o in TID_OUTS] + [f"sd_{o}" for o in TID_OUTS] + ["n_eff"],

@@ -388,7 +388,7 @@ int main(int argc, char **argv)
     if (mass_grade && (!log.has_drive_torque || rfe_replay_mass_grade_params_f32(&ps, &mp, NULL) != RFE_OK ||
                        sizeof mp.adaptive != 4u || sizeof mp % 4u != 0u ||
                        rfe_mass_grade_params_to_q31(&mp, &mq) != RFE_OK ||
-                       sizeof mq != 44u * 4u)) { /* 44 words: the grade's two-level walk (5) since 39 */
+                       sizeof mq != 46u * 4u)) { /* 46 words: the mismatch monitor (2) since 44, the grade's two-level walk (5) since 39 */
         fprintf(stderr, "pil_gen: %s: no drive_torque, or the mass and grade parameters are rejected\n", in);
         return 1;
     }
