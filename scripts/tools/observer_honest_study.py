@@ -95,6 +95,10 @@ def one(args):
     return log, dev, rows
 
 
+def cell(f) -> str:
+    return f"{f[0]:.3f} / {f[1]:.2f} / {f[2]:.2f} / {100 * f[3]:.0f} % / {f[4]:.2f}"
+
+
 def name_of(log: Path) -> str:
     return log.name.replace(".mf.csv", " (MF)").replace(".csv", "")
 
@@ -115,10 +119,7 @@ def main() -> int:
              "|---|---|" + "---|" * len(heads)]
     low_lines = list(lines)
     with ProcessPoolExecutor(a.jobs) as ex:
-        for k, (log, dev, rows) in enumerate(ex.map(one, [(a.replay, p, a.out)
-                                                          for p in loop + obs]), 1):
-            cell = lambda f: (f"{f[0]:.3f} / {f[1]:.2f} / {f[2]:.2f} / "
-                                f"{100 * f[3]:.0f} % / {f[4]:.2f}")  # noqa
+        for log, dev, rows in ex.map(one, [(a.replay, p, a.out) for p in loop + obs]):
             lines.append(f"| {name_of(log)} | {dev:.1e} | "
                          + " | ".join(cell(rows[h][0]) for h in heads) + " |")
             if rows["off"][1] is not None:
