@@ -61,6 +61,15 @@ OBS_DEFAULTS: dict[str, float] = {
     "obs_lin_mu_gain": 2.0,     # in that steady turn the model's friction >= this |ay| / g (<= 4)
 }
 
+# Reference-only options (issue 17, docs/OBSERVER_RESULTS.md "Honest on an unobserved
+# friction"): not parameters of the C library (mu_replay does not know them, the goldens do
+# not record them), both 0 (off) by default, so the reference equals the C build with them off.
+STUDY_DEFAULTS: dict[str, float] = {
+    "obs_stiff_mu": 0.0,        # rows' R widened by a stiffness C(mu): d ln C / d ln mu (0: off)
+    "obs_vy_floor_mu": 0.0,     # sd(vy) >= this |vx ay / (cy g)| sd_mu / mu (0: off)
+    "obs_vy_out_floor_mu": 0.0,  # the same floor on the output sd(vy) only, P untouched (0: off)
+}
+
 
 # §5 output flags
 FLAG_VX_WHEEL = 1        # vx corrected by a wheel reference this step
@@ -130,7 +139,7 @@ class Observer:
     """The observer of docs/OBSERVER.md."""
 
     def __init__(self, params: dict):
-        self.p = dict(params)
+        self.p = {**STUDY_DEFAULTS, **params}
         self.pos = wheel_positions(self.p)
         self.driven = int(self.p["obs_driven"])
         self.pm = model_params(self.p)
@@ -144,6 +153,7 @@ class Observer:
         if not (1 <= self.lat_every <= 8 and self.lat_every == self.p["obs_lat_every"]):
             raise ValueError("obs_lat_every must be an integer in 1 .. 8")
         self.phase = 1                            # §4.2 the model's rows on phase 1
+        self.sd_vy_out_floor = 0.0                # (study) the output sd(vy)'s floor, m/s
 
     # §3.1 the wheel references
     def wheel_refs(self, s: Sample, vy):
@@ -167,6 +177,7 @@ class Observer:
         self.lat.x = [0.0, 0.0]
         self.lat.P = [[p["obs_sd_vy0"] ** 2, 0.0], [0.0, p["obs_sd_by0"] ** 2]]
         self.r_on_ref = 0.0
+        self.sd_vy_out_floor = 0.0
         self.phase = 1                            # the next step evaluates the model
         self.t = s.t
         self.started = True
@@ -271,6 +282,10 @@ class Observer:
             steady = abs(s.ay) <= p["obs_lin_ay_steady"] and dwelled
             linear = p["obs_sd_vy_lin"] > 0.0 and yaw_linear and (abs(s.ay) <= p["obs_lin_ay_max"]
                                                                   or steady)
+            # (study) the friction's relative sd (the input raised to what ay proves, as §4.2's)
+            # and the linear model's slip part of vy, vx ay / (cy g)
+            rel_mu = self.mu_rel_sd(s)
+            vy_slip = vx * s.ay / (p["cy"] * p["g"])
         if vx >= p["obs_v_lat_min"] and self.phase == 1:
             # §4.2 the lateral acceleration of the friction estimator's model (MODEL.md §3-5)
             # at vy, at this step's friction (raised to what the measured ay proves, and in a
@@ -290,6 +305,10 @@ class Observer:
             (ay_model, rd_model), (h0, h1), (e_ay, e_rd) = self.model_rows_jac(
                 s, vx, vy_pred, mu, sd_in)
             r = (p["obs_sd_model_ay"] ** 2 + (p["obs_model_ay_rel"] * s.ay) ** 2 + e_ay ** 2)
+            if p["obs_stiff_mu"] > 0.0:
+                # (study) a stiffness C(mu) with d ln C / d ln mu = obs_stiff_mu moves the tyres'
+                # ay by that times |ay| sd_mu / mu at a fixed slip
+                r += (p["obs_stiff_mu"] * abs(s.ay) * rel_mu) ** 2
             if self.lat_every > 1:
                 # §4.2 every N-th step at variance r / N: the information per second of an
                 # update every step at r (N = 1 takes no arithmetic: bit for bit unchanged)
@@ -310,7 +329,11 @@ class Observer:
             # friction
             if linear:
                 vy_lin = vx * ((p["Lr"] * s.delta) / length - s.ay / (p["cy"] * p["g"]))
-                self.lat.update(1.0, 0.0, vy_lin - self.lat.x[0], p["obs_sd_vy_lin"] ** 2)
+                r_lin = p["obs_sd_vy_lin"] ** 2
+                if p["obs_stiff_mu"] > 0.0:
+                    # (study) its slip part scales with 1 / C(mu)
+                    r_lin += (p["obs_stiff_mu"] * vy_slip * rel_mu) ** 2
+                self.lat.update(1.0, 0.0, vy_lin - self.lat.x[0], r_lin)
                 flags |= FLAG_VY_LINEAR
         else:
             # §4.3 low speed: the rear axle rolls without side slip, vy = Lr r
@@ -320,10 +343,36 @@ class Observer:
         # noise, holds b_y where the model cannot (a saturated tyre tells nothing about vy)
         sv = p["obs_sd_vydot"] + p["obs_vydot_rdot"] * abs(self.yaw.x[1])
         self.lat.update(0.0, 1.0, (s.ay - s.yaw_rate * vx) - self.lat.x[1], sv * sv)
+        if p["obs_vy_floor_mu"] > 0.0 and vx >= p["obs_v_lat_min"]:
+            # (study) no row sees a constant vy error from the tyre's stiffness: its sd is a floor
+            # (raising P00 alone keeps P positive semi-definite)
+            floor = p["obs_vy_floor_mu"] * vy_slip * rel_mu
+            self.lat.P[0][0] = max(self.lat.P[0][0], floor * floor)
+        self.sd_vy_out_floor = 0.0
+        if p["obs_vy_out_floor_mu"] > 0.0 and vx >= p["obs_v_lat_min"]:
+            # (study) or only on what the observer reports: the filter's gains unchanged
+            self.sd_vy_out_floor = abs(p["obs_vy_out_floor_mu"] * vy_slip * rel_mu)
         self.r_on_ref = on_ref
         # §4.2 the next step's phase: the model's rows every obs_lat_every-th step
         self.phase = 1 if self.phase >= self.lat_every else self.phase + 1
         return self.output(flags)
+
+    def mu_rel_sd(self, s):
+        """(study) max over the wheels of sd_mu / mu, the friction input (or the default) raised to
+        (1 + obs_mu_margin) |ay| / g as §4.2 raises it (at least that, so never a division by 0
+        while the car corners; 0 when it does not)."""
+        p = self.p
+        if s.mu is None:
+            mu_in, sd_in = (p["obs_mu_default"],) * 4, (p["obs_sd_mu_default"],) * 4
+        else:
+            mu_in, sd_in = s.mu, s.sd_mu
+        mu_low = (1.0 + p["obs_mu_margin"]) * abs(s.ay) / p["g"]
+        rel = 0.0
+        for m, sd in zip(mu_in, sd_in):
+            m = max(m, mu_low)
+            if m > 0.0:
+                rel = max(rel, sd / m)
+        return rel
 
     def model_rows(self, s, vx, vy, mu):
         """MODEL.md §3-5: the lateral and yaw rows (ay, r-dot) of h(mu, u) at
@@ -366,7 +415,7 @@ class Observer:
         """§5 the outputs and their sd."""
         vx, vy = self.lon.x[0], self.lat.x[0]
         svx = math.sqrt(max(self.lon.P[0][0], 0.0))
-        svy = math.sqrt(max(self.lat.P[0][0], 0.0))
+        svy = max(math.sqrt(max(self.lat.P[0][0], 0.0)), self.sd_vy_out_floor)
         vmin = self.p["obs_v_lat_min"]
         n2 = max(vx * vx + vy * vy, vmin * vmin)
         beta = math.atan2(vy, vx) if vx >= vmin else 0.0

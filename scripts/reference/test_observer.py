@@ -381,3 +381,61 @@ def test_the_models_rate_is_checked():
     for bad in (0.0, 9.0, 2.5):
         with pytest.raises(ValueError):
             observer.Observer(observer.params_with_defaults(obs_lat_every=bad))
+
+
+# Honest on an unobserved friction (issue 17; docs/OBSERVER_RESULTS.md "Honest on an
+# unobserved friction"): the reference-only study options of observer.STUDY_DEFAULTS.
+LOOP = os.path.join(SCEN, "observer_loop", "turn_mu_step.csv")
+# the friction input the C loop feeds on the mu 0.5 phase (OBSERVER.md §6 "The loop": the
+# estimator at its bound, 1.1-1.2, sd 0.58), held constant: no C binary needed
+LOOP_MU, LOOP_SD = 1.15, 0.58
+
+
+def _loop_run(**over):
+    log = logs.read_csv_log(LOOP)
+    c = log.columns
+    n = len(c["t"])
+    p = observer.params_with_defaults(params.from_metadata(log.meta), **over)
+    o = observer.run(c, p, ([np.full(n, LOOP_MU)] * 4, [np.full(n, LOOP_SD)] * 4))
+    low = np.mean([c["mu_" + w] for w in W], axis=0) < 0.7      # the mu 0.5 phase
+    return c, p, o, (c["vx_true"] >= 3.0) & low
+
+
+def _slip_floor(c, p, o, k):
+    """k |vx ay / (cy g)| sd_mu / mu, mu raised to (1 + obs_mu_margin) |ay| / g, written from
+    the option's definition with the observer's own vx."""
+    mu = np.maximum(LOOP_MU, (1.0 + p["obs_mu_margin"]) * np.abs(c["ay"]) / p["g"])
+    return k * np.abs(o["vx"] * c["ay"] / (p["cy"] * p["g"])) * LOOP_SD / mu
+
+
+def test_the_study_options_are_off_and_not_the_librarys():
+    # off by default, and not among the parameters the C library and the goldens record
+    assert all(v == 0.0 for v in observer.STUDY_DEFAULTS.values())
+    assert not set(observer.STUDY_DEFAULTS) & set(observer.OBS_DEFAULTS)
+
+
+@pytest.mark.skipif(not os.path.exists(LOOP), reason="no loop scenario")
+def test_the_output_floor_makes_the_mu_step_honest_and_leaves_the_estimate():
+    c, _, off, m = _loop_run()
+    _, p, on, _ = _loop_run(obs_vy_out_floor_mu=4.0)
+    e_off = np.abs(off["beta"] - c["beta_true"])[m]
+    e_on = np.abs(on["beta"] - c["beta_true"])[m]
+    # off: confidently wrong (measured: every sample of the phase beyond 2 sd)
+    assert np.mean(e_off > 2.0 * off["sd_beta"][m]) > 0.9
+    # on: at most the 4.6 % a consistent Gaussian estimate leaves beyond 2 sd (measured 0 %)
+    assert np.mean(e_on > 2.0 * on["sd_beta"][m]) <= 0.05
+    # the floor is on the output only: the estimate is the same arithmetic, bit for bit
+    for key in ("vx", "vy", "beta", "sd_vx"):
+        assert np.array_equal(on[key], off[key])
+    fast = on["vx"] >= p["obs_v_lat_min"]
+    # 1e-12 relative: the same few products in another order
+    assert np.all(on["sd_vy"][fast] >= _slip_floor(c, p, on, 4.0)[fast] * (1.0 - 1e-12))
+
+
+@pytest.mark.skipif(not os.path.exists(LOOP), reason="no loop scenario")
+def test_the_state_floor_bounds_sd_vy():
+    c, p, o, _ = _loop_run(obs_vy_floor_mu=2.0)
+    fast = o["vx"] >= p["obs_v_lat_min"]
+    # 1e-12 relative: as above (sd is the square root of the floored P00)
+    assert np.all(o["sd_vy"][fast] >= _slip_floor(c, p, o, 2.0)[fast] * (1.0 - 1e-12))
+    assert np.any(o["sd_vy"][fast] > 3.0 * _loop_run()[2]["sd_vy"][fast])
