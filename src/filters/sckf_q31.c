@@ -51,6 +51,54 @@ static void copy_lower_q31(const rfe_fix_t *src, size_t lds, size_t k, rfe_fix_t
     }
 }
 
+/* The bit length of the largest |M_ij| (i < rows, j < cols, stride ld): that of the OR of
+ * the magnitudes (|INT32_MIN| = 2^31 as a uint32). */
+static unsigned int mag_bits_q31(const rfe_fix_t *M, size_t rows, size_t cols, size_t ld)
+{
+    uint32_t any = 0u;
+    size_t i;
+    size_t j;
+    for (i = 0u; i < rows; ++i) {
+        for (j = 0u; j < cols; ++j) {
+            const rfe_fix_t v = M[(i * ld) + j];
+            const uint32_t uv = (uint32_t)v;
+            const uint32_t nv = 0u - uv;
+            const uint32_t mv = ((uv >> 31) != 0u) ? nv : uv; /* v < 0: its sign bit */
+            any |= mv;
+        }
+    }
+    return rfe_q31_bitlen32(any);
+}
+
+/* 1 when terms products of magnitudes below 2^bits (the two factors' bit lengths summed) sum
+ * below 2^limit: terms 2^bits <= 2^(bitlen(terms) + bits). Then every partial sum of such
+ * products is inside int64 (limit <= 63) and a saturating accumulation would neither
+ * saturate nor count: the plain int64 sum is the same integer (docs/FIXED_POINT.md "The SCKF
+ * update's unsaturated sums"; test_sckf_sums_q31.c). */
+static int sums_fit_q31(unsigned int bits, size_t terms, unsigned int limit)
+{
+    return ((bits + rfe_q31_bitlen32((uint32_t)terms)) <= limit) ? 1 : 0;
+}
+
+/* acc + sum_k a[k sa] b[k sb] (k < len): plain int64 sums where exact (sums_fit_q31 said no
+ * partial sum can leave int64), else saturating (counted), the same integers either way. */
+static int64_t dot_q31(int64_t acc, const rfe_fix_t *a, size_t sa, const rfe_fix_t *b,
+                       size_t sb, size_t len, int exact, uint32_t *count)
+{
+    int64_t s = acc;
+    size_t k;
+    if (exact != 0) {
+        for (k = 0u; k < len; ++k) {
+            s += rfe_fix_mul32x32(a[k * sa], b[k * sb]);
+        }
+    } else {
+        for (k = 0u; k < len; ++k) {
+            s = rfe_fix_add64(s, rfe_fix_mul32x32(a[k * sa], b[k * sb]), count);
+        }
+    }
+    return s;
+}
+
 /* Accepts a step: the candidate mean (w.xn) and factor (Tria output in M, ld TC) become the
  * state, and the step's saturation events are added to the counter. */
 static void commit_q31(rfe_sckf_q31_t *f, const rfe_fix_t *M, uint32_t count)
@@ -313,8 +361,8 @@ static rfe_status_t gain_q31(rfe_sckf_q31_t *f, const rfe_fix_t *SR, uint32_t *c
     const size_t n = f->n;
     const size_t m = f->m;
     size_t i;
-    size_t j;
     size_t r;
+    int exact;
     rfe_status_t st;
 
     st = innovation_factor_q31(f, SR, count);
@@ -328,14 +376,14 @@ static rfe_status_t gain_q31(rfe_sckf_q31_t *f, const rfe_fix_t *SR, uint32_t *c
     if (st != RFE_OK) {
         return st;
     }
-    /* G^T[r][i] = sum_j W[r][j] Xc[i][j]: Q30 Q30 = Q60 -> Q30. */
+    /* G^T[r][i] = sum_j W[r][j] Xc[i][j]: Q30 Q30 = Q60 -> Q30. Unsaturated where 2n terms
+     * of the largest magnitudes cannot reach 2^63 (sums_fit_q31; the same integers). */
+    exact = sums_fit_q31(mag_bits_q31(w->A, m, 2u * n, TC) + mag_bits_q31(w->B, n, 2u * n, TC),
+                         2u * n, 63u);
     for (r = 0u; r < m; ++r) {
         for (i = 0u; i < n; ++i) {
-            int64_t acc = 0;
-            for (j = 0u; j < (2u * n); ++j) {
-                const int64_t p = rfe_fix_mul32x32(w->A[(r * TC) + j], w->B[(i * TC) + j]);
-                acc = rfe_fix_add64_hot(acc, p, count);
-            }
+            const int64_t acc = dot_q31(0, &w->A[r * TC], 1u, &w->B[i * TC], 1u, 2u * n, exact,
+                                        count);
             w->Kt[(r * NM) + i] = rfe_fix_narrow(acc, RFE_Q31_QS, count); /* Q(QW + QS) -> QW */
         }
     }
@@ -382,16 +430,19 @@ static void posterior_tria_input_q31(rfe_sckf_q31_t *f, uint32_t *count)
     const size_t m = f->m;
     size_t i;
     size_t j;
-    size_t r;
+    /* |Xc_ij 2^30| <= 2^61: unsaturated where m terms of the largest magnitudes stay below
+     * 2^62 (the sum then below 2^61 + 2^62 < 2^63; sums_fit_q31; the same integers) */
+    const int exact = sums_fit_q31(mag_bits_q31(w->Kt, m, n, NM) +
+                                       mag_bits_q31(w->A, m, (2u * n) + m, TC),
+                                   m, 62u);
     for (i = 0u; i < n; ++i) {
         for (j = 0u; j < ((2u * n) + m); ++j) {
             int64_t acc = (j < (2u * n))
                               ? ((int64_t)w->B[(i * TC) + j] * rfe_q31_pow2(QW))
                               : 0;
-            for (r = 0u; r < m; ++r) {
-                const int64_t gw = rfe_fix_mul32x32(w->Kt[(r * NM) + i], w->A[(r * TC) + j]);
-                acc = rfe_fix_add64_hot(acc, -gw, count);
-            }
+            /* acc - sum_r G_ir W_rj as -(-acc + sum): the saturation is odd-symmetric
+             * ([-INT64_MAX, INT64_MAX]), so the same integers and count */
+            acc = -dot_q31(-acc, &w->Kt[i], NM, &w->A[j], TC, m, exact, count);
             w->B[(i * TC) + j] = rfe_fix_narrow(acc, QW, count);
         }
     }
