@@ -31,16 +31,7 @@
 static unsigned long n_checked;
 static int64_t max_mag;
 
-/* splitmix64 (Steele, Lea, Flood 2014) */
-static uint64_t mix_state;
-
-static uint64_t rand_u64(void)
-{
-    uint64_t z = (mix_state += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-}
+#include "splitmix64.h"
 
 static int32_t buf[RFE_N_MAX * RFE_TRIA_COLS_MAX];
 

@@ -26,16 +26,7 @@
 
 #include "numerics/qr_q31.c"
 
-/* splitmix64 (Steele, Lea, Flood 2014): a full-period 64-bit sequence, seeded below. */
-static uint64_t mix_state;
-
-static uint64_t rand_u64(void)
-{
-    uint64_t z = (mix_state += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-}
+#include "splitmix64.h"
 
 /* A random uint64 of exactly len bits (1 <= len <= 64). */
 static uint64_t rand_len(unsigned int len)

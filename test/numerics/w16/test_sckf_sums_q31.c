@@ -30,16 +30,7 @@
 
 #define LEN_MAX 24u
 
-/* splitmix64 (Steele, Lea, Flood 2014) */
-static uint64_t mix_state;
-
-static uint64_t rand_u64(void)
-{
-    uint64_t z = (mix_state += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-}
+#include "splitmix64.h"
 
 /* A vector of len entries, stride st: the extremes, or random of at most bits bits. */
 static void fill(int32_t *v, size_t len, size_t st)
