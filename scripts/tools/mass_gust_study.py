@@ -149,46 +149,6 @@ class MassGradeGust(mos.MassGradeOffset):
         return mg.MgEstimate(self.x[IM], self.sd[IM], self.x[IT], self.sd[IT], self.x[IV],
                              self.sd[IV], self.q_mv, status)
 
-    def _step_sqrt(self, s):
-        # mass_offset_study's (the reference's flow) with the sds over NX = 5 rows
-        p = self.p
-        saved = {k: getattr(self, k, None) for k in self._SAVED}
-        saved["x"] = list(saved["x"]) if saved["x"] is not None else None
-        saved["S"] = [list(r) for r in saved["S"]] if saved["S"] is not None else None
-        started = not self.started or s.t - self.t_prev > p["mg_dt_max"]
-        if started:
-            self._start(s)
-            status = self._pause_status(s, 0.0)
-            self._slip_latch(s, status)
-            st = mg.OK
-        else:
-            dt = s.t - self.t_prev
-            status = self._pause_status(s, dt)
-            self._slip_latch(s, status)
-            if status == mg.OK:
-                st = self._update_sqrt(s, dt)
-            elif self._pause_grade(status) and not self.slip_latched and self._changed(s, dt):
-                st = self._grade_ax_sqrt(s, dt)
-            else:
-                st = self._hold_sqrt(s, dt)
-            if not (self._pause_grade(status) and not self.slip_latched):
-                self.chg_d, self.chg_on = 0.0, False
-            self.u_prev = s.v if s.vx is None else s.vx
-        if st == mg.OK:
-            sd = [math.sqrt(sum(self.S[r][c] ** 2 for c in range(r + 1))) for r in range(NX)]
-            if not all(math.isfinite(v) for v in sd):
-                st = mg.ERR_NONFINITE
-        if st != mg.OK:
-            for k, v in saved.items():
-                setattr(self, k, v)
-            return self._estimate(st)
-        self.sd = sd
-        if not started:
-            self._walk_level(dt)
-        self.v_free = started or status != mg.OK
-        self.t_prev, self.torque_prev = s.t, s.torque
-        return self._estimate(status)
-
     def _walk_level(self, dt):
         x = self.x
         self.x = [x[IV], x[IM], x[IT]]

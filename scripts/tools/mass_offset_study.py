@@ -150,7 +150,9 @@ class MassGradeOffset(mg.MassGrade):
                 self.chg_d, self.chg_on = 0.0, False
             self.u_prev = s.v if s.vx is None else s.vx
         if st == mg.OK:
-            sd = [math.sqrt(sum(self.S[r][c] ** 2 for c in range(r + 1))) for r in range(NX)]
+            # the sd of every state row (len(x): a subclass may add states, mass_gust_study)
+            sd = [math.sqrt(sum(self.S[r][c] ** 2 for c in range(r + 1)))
+                  for r in range(len(self.x))]
             if not all(math.isfinite(v) for v in sd):
                 st = mg.ERR_NONFINITE
         if st != mg.OK:
