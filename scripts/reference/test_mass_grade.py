@@ -536,6 +536,29 @@ def test_ukf_with_ax_meets_the_mass_target_on_the_truck_drive():
     assert np.all(r["status"] == mg.OK)
 
 
+@pytest.mark.parametrize("start", [0.5, 1.5])
+def test_recommended_preset_meets_the_targets_on_the_light_hilly_road(start):
+    # Issue 19's passenger car at the light end of 1 500-2 100 kg (car_hilly_road_light,
+    # 1500 kg, the hilly road's hills of +-6 %), from the widest starts (-50 and +50 %): the
+    # mass within 2 % from 10 s after the first excitation on (the first sample, not paused,
+    # where the true |dv/dt| reaches 0.1 m/s^2, as MASS_GRADE_RESULTS.md reads it) and the
+    # grade RMSE from then on within 0.3 deg.  Both bounds are the issue's targets, not tuned
+    # to the log: measured 0.51 % and 0.257 deg worst over four starts (MASS_GRADE_RESULTS.md).
+    cols, _ = mg.read_log(os.path.join(LOGS, "car_hilly_road_light.csv"))
+    mt = float(cols["mass_true"][0])
+    assert mt == 1500.0
+    r = mg.run(cols, mg.preset("car", **mg.MG_CONFIGS["recommended"], mg_m0=start * mt))
+    t = r["t"]
+    acc = np.gradient(cols["vx_true"], t)
+    exc = np.flatnonzero((np.abs(acc) >= 0.1) & (r["status"] == mg.OK))
+    assert exc.size
+    after = t >= t[exc[0]] + 10.0
+    assert np.count_nonzero(after) > 0.9 * len(t)     # the targets read on most of the log
+    assert np.all(np.abs(r["mass"][after] - mt) / mt <= 0.02)
+    ge = r["grade"][after] - cols["grade_true"][after]
+    assert np.sqrt(np.mean(ge ** 2)) <= np.radians(0.3)
+
+
 GOLDEN_MG = os.path.join(REPO, "scenarios", "golden", "mass_grade")
 
 

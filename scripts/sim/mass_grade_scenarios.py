@@ -10,6 +10,7 @@ scripts/data/make_mass_grade_scenarios.py to scenarios/mass_grade/ (columns: doc
 |---|---|---|
 | truck_graded_drive | truck 5758 kg | the seed's TruckSim drive: 560 s, ~10 km, grade varying over ~5.5 deg, gentle speed changes (|a| < 0.4 m/s^2) |
 | car_hilly_road | car 2000 kg (4 occupants and luggage) | hills of +-6 %, speed 55-85 km/h by cruise control |
+| car_hilly_road_light | car 1500 kg (driver only, no luggage) | car_hilly_road's road and speed at the light end of issue 19's 1 500-2 100 kg |
 | car_stop_and_go | car 1650 kg (driver only) | three stops by the brake pedal on a 2 % climb: the pause logic |
 | car_gear_shift | car 1800 kg, automated manual gearbox | acceleration through four shifts, each a 0.5 s torque gap |
 | car_headwind | car 1900 kg | gentle hills at 90 km/h into a gusty 10 m/s headwind the model does not know |
@@ -417,7 +418,7 @@ def _car_cruise(v, p):
 
 _C2000, _C1650, _C1800, _C1900, _C2100, _C1750 = (car(m) for m in (2000.0, 1650.0, 1800.0, 1900.0,
                                                                   2100.0, 1750.0))
-_C1850, _C1700 = car(1850.0), car(1700.0)
+_C1850, _C1700, _C1500 = car(1850.0), car(1700.0), car(1500.0)
 
 MASS_GRADE_SCENARIOS = [
     MassGradeScenario(
@@ -503,6 +504,16 @@ MASS_GRADE_SCENARIOS = [
         _C1700, _car_res(), 18.0, 70.0, _car_cruise(_lc_v, _C1700),
         Road(grade=_lc_grade, text="+0.05 rad climb over a crest to -0.04 rad (description)"),
         path=PathConfig(_lc_curvature), rate=2000),
+    # issue 19's passenger car spans 1 500-2 100 kg (1-4 occupants and luggage): the hilly
+    # road again at the light end (car_hilly_road is the heavy one), its own noise seed
+    MassGradeScenario(
+        "car_hilly_road_light", 9,
+        "passenger car 1500 kg (driver only, no luggage) on car_hilly_road's hills: grade "
+        "0.06 sin(2 pi s/600) (0.6 + 0.4 sin(2 pi s/1700)), v* = 70 + 8 sin(2 pi t/45) + "
+        "3 sin(2 pi t/13) km/h by cruise control (fwd), single-speed drive, "
+        + _car_res().text(),
+        _C1500, _car_res(), _hilly_v(0.0), 150.0, _car_cruise(_hilly_v, _C1500),
+        Road(grade=_hilly_grade, text="hills +-6 % (description)")),
 ]
 
 MG_BY_NAME = {s.name: s for s in MASS_GRADE_SCENARIOS}

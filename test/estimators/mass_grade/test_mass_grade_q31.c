@@ -63,7 +63,7 @@
 /* light mode: the rows of each log it walks (30 s at 50 Hz: the first excitation, pauses) */
 #define MG_LIGHT_ROWS 1500u
 #define LOG_DIR "scenarios/mass_grade"
-#define MIN_GOLDENS 20 /* 7 logs x 2 presets + 6 other configurations */
+#define MIN_GOLDENS 28 /* 10 logs x 2 presets + 8 other configurations */
 
 #define TOL_SD 0.02       /* share of the filter's sd: mass, grade, v (derivation above) */
 #define TOL_SD_AUKF 0.2   /* the mass's share in the adaptive configurations */
