@@ -64,6 +64,10 @@ DEFAULTS: dict[str, float] = {
     "stale_omega": 0.0,   # a repeated wheel speed while the others' median moved more: stale, rad/s (0: off)
     "yaw_check": 0.0,     # a yaw rate this far from its prediction is replaced by it, rad/s (0: off)
     "valid_bound_k": 0.0,  # the bound margin: valid only mu - mu_min >= this many sd (0: off)
+    # step 5, reference only (MONITOR.md section 16): where the gate judges the information
+    "info_at": 0.0,       # 0: at the estimate; 1: also at the hypothesis info_mu_h (both sides);
+    #                       2: also around the cubature point whose prediction is nearest the data
+    "info_mu_h": 0.3,     # info_at 1's hypothesis, mu
     "lower_bound_delta": 0.0,  # step 6, reference only: a side's downward move is skipped when the
     #                            data's information at mu + this is below info_min (0: off)
     # step 6, reference only (MONITOR.md section 14): accumulated-evidence censoring. A side's
@@ -88,8 +92,8 @@ DEFAULTS: dict[str, float] = {
 
 # Keys of the reference only (not in the C library yet; docs/ESTIMATOR.md): an estimate log
 # records them only when set, so the goldens (the library's keys) stay as they are.
-REFERENCE_ONLY = frozenset({"lower_bound_delta", "evid_delta", "evid_l_min", "evid_n",
-                            "evid_l0", "evid_free", "evid_cap"})
+REFERENCE_ONLY = frozenset({"info_at", "info_mu_h", "lower_bound_delta", "evid_delta",
+                            "evid_l_min", "evid_n", "evid_l0", "evid_free", "evid_cap"})
 
 # The two presets (docs/ESTIMATOR.md): numeric values and the word-valued choices.
 PRESETS: dict[str, dict] = {

@@ -282,6 +282,9 @@ def run(log, p: dict, adapt=None, reuse: StepNoiseReuse | None = None):
             update = True
             if p["info_min"] > 0:                                       # 5
                 out["info"][k] = _information(f, pts, z_pts, s_r)
+                if p["info_at"] > 0:    # the gate judges a second centre too (reference only)
+                    out["info"][k] = np.maximum(out["info"][k], _information_alt(
+                        p, f, pts, z_pts, s_r, ys[k], hfun))
                 update = bool(out["info"][k].max() >= p["info_min"])
             status = 3
             if update:                                                  # 6
@@ -428,6 +431,27 @@ def _information(f, pts, z_pts, s_r):
     j_t = solve_triangular(f.S, y, lower=True, trans="T")                # S^T J^T = Y
     w = solve_triangular(s_r, j_t.T, lower=True)                         # S_R W = J
     return np.einsum("ij,ij->j", w, w)
+
+
+def info_centre(p, f, pts, z_pts, s_r, y):
+    """Step 5's second centre (`info_at` > 0; reference only, MONITOR.md section 16): 1: the
+    hypothesis info_mu_h on every side; 2: the cubature point whose prediction is nearest the
+    data, |S_R^-1 (y - z_i)| smallest (the first such point on a tie)."""
+    if p["info_at"] == 1:
+        return np.full(f.n, p["info_mu_h"])
+    if p["info_at"] == 2:
+        d = solve_triangular(s_r, np.asarray(y, dtype=float)[:, None] - z_pts, lower=True)
+        return pts[:, int(np.argmin(np.einsum("ij,ij->j", d, d)))].copy()
+    raise ValueError(f"info_at must be 0, 1 or 2, not {p['info_at']}")
+
+
+def _information_alt(p, f, pts, z_pts, s_r, y, hfun):
+    """Step 5's information around the second centre c (info_centre): the same statistical
+    linearisation over the cubature points moved by c - x (same spread S: the same centred
+    points, so only h at the 2n moved points is new)."""
+    c = info_centre(p, f, pts, z_pts, s_r, y)
+    moved = pts + (c - f.x)[:, None]
+    return _information(f, pts, hfun(moved), s_r)
 
 
 def _one_sided_update(p, f, T, u, sd_u, y, hfun, s_r_base):
