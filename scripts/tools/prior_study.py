@@ -1,5 +1,6 @@
-"""Issue 17: the prior (mu0, sd0, sd0_common) measured against the trust invariant
-(docs/MONITOR.md section 15), in the float64 reference only.
+"""Issue 17: the prior (mu0, sd0, sd0_common; docs/MONITOR.md section 15) and where step 5's
+information gate judges (info_at, info_mu_h; section 16) measured against the trust invariant,
+in the float64 reference only.
 
 Usage (from the repository root):
 
@@ -19,7 +20,8 @@ invariant today, the largest fall of the excited-valid share; at most 5 points).
 
 SPEC (comma-separated, no spaces):
   today                       the default preset as it is (always run: the reference);
-  KEY=VALUE[,KEY=VALUE...]    preset parameters set (mu0, sd0, sd0_common), e.g. mu0=0.3;
+  KEY=VALUE[,KEY=VALUE...]    preset parameters set (mu0, sd0, sd0_common, info_at,
+                              info_mu_h), e.g. mu0=0.3 or info_at=1,info_mu_h=0.3;
   warm[,KEY=VALUE...]         each log driven twice in a row: mu0 = the estimate today's run
                               of the same log ends with (the mean of the four wheels' last
                               estimate: one number kept over ignition), the other keys set;
@@ -47,7 +49,7 @@ import trust_rules_study as trs  # noqa: E402
 GROUPS = ("mf", "dugoff", "nf", "wrong", "fault", "bank")   # MONITOR.md's summary order
 GROUP_LABEL = {"mf": "MF", "dugoff": "Dugoff", "nf": "noise-free Dugoff",
                "wrong": "wrong tyre data", "fault": "faults", "bank": "banked"}
-PRIOR_KEYS = ("mu0", "sd0", "sd0_common")
+PRIOR_KEYS = ("mu0", "sd0", "sd0_common", "info_at", "info_mu_h")   # + step 5: section 16
 CROSS_SPLIT = 0.6                       # a truth starting below: a low-mu log
 CROSS_HIGH, CROSS_LOW = "hard_brake_high_mu.mf", "hard_brake_low_mu.mf"   # the donors
 BAD_ERR = trs.WORST_MAX                 # issue 17's worst error while valid

@@ -17,6 +17,10 @@ def test_parse_spec_modes_and_keys():
                                                                  "sd0_common": 0.15})
     assert ps.parse_spec("warm") == ("warm", {})
     assert ps.parse_spec("cross,sd0_common=0.1") == ("cross", {"sd0_common": 0.1})
+    # step 5's second centre (MONITOR.md section 16), alone or with the prior
+    assert ps.parse_spec("info_at=1,info_mu_h=0.3") == ("set", {"info_at": 1.0,
+                                                                "info_mu_h": 0.3})
+    assert ps.parse_spec("warm,info_at=2") == ("warm", {"info_at": 2.0})
 
 
 @pytest.mark.parametrize("spec", ["", "mu0", "mu0=", "q_mu=0.1", "mu0=0.3,mu0=0.4",
