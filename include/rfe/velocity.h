@@ -117,6 +117,10 @@ typedef struct {
     rfe_real_t r_on_ref;              /**< time the yaw rate has stayed on its neutral
                                            reference, at most p.lin_dwell [s] (§4.2b) */
     rfe_velocity_estimate_t last;     /**< the output of the last step */
+    rfe_real_t sd_vy_filter;          /**< the lateral filter's own sd(vy) at the last step,
+                                           before the reported floor (§5, vy_out_floor_mu):
+                                           the friction estimator's vy input noise in the
+                                           pipeline (§6) [m/s] */
 } rfe_velocity_t;
 
 /**

@@ -75,6 +75,10 @@ typedef struct {
     rfe_real_t lin_mu_gain;   /**< in such a steady turn of the linear range the model's
                                    friction is at least lin_mu_gain |ay| / g [1], in [0, 4]
                                    (at most 1 + mu_margin: no effect): 2 */
+    rfe_real_t vy_out_floor_mu; /**< the reported sd(vy) (and so sd(beta)) is at least this
+                                     times |vx ay / (cy g)| max_i sd_mu,i / mu_i (§5) [1], in
+                                     [0, 8]; the filter and the friction's input noise are
+                                     untouched: 0 (off) */
 } rfe_velocity_params_t;
 
 /**
@@ -87,8 +91,9 @@ RFE_NODISCARD rfe_status_t rfe_velocity_params_default(rfe_velocity_params_t *p)
 /**
  * Checks every field: finite; driven in 1..15; lat_every in 1..RFE_VEL_LAT_EVERY_MAX; 0 < dt_min <= dt_max <= 1; q_jerk, sd_r,
  * sd_ax, sd_ay, v_lat_min, sd_lowspeed, mu_default, sd_vydot, steer_ratio > 0;
- * every other sd, q, gate, threshold and margin (sd_model_rdot and sd_vy_lin
- * included: 0 is off) >= 0; lin_dwell <= 1; lin_mu_gain <= 4.
+ * every other sd, q, gate, threshold and margin (sd_model_rdot, sd_vy_lin and
+ * vy_out_floor_mu included: 0 is off) >= 0; lin_dwell <= 1; lin_mu_gain <= 4;
+ * vy_out_floor_mu <= 8.
  * @param[in] p  the parameters to check.
  * @return RFE_OK, RFE_ERR_NULL or RFE_ERR_PARAM.
  */

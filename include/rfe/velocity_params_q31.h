@@ -67,6 +67,8 @@ typedef struct {
     rfe_fix_t lin_ay_steady;  /**< ... or at most this after lin_dwell on r_ref [m/s^2], Q24 */
     rfe_fix_t lin_dwell;      /**< that time [s], Q30, at most 1 s */
     rfe_fix_t lin_mu_gain;    /**< the steady turn's friction floor, times |ay| / g [1], Q24 */
+    rfe_fix_t vy_out_floor_mu; /**< the reported sd(vy)'s floor factor [1], Q24, at most 8;
+                                    0: off */
 } rfe_velocity_params_q31_t;
 
 /**
@@ -82,7 +84,8 @@ RFE_NODISCARD rfe_status_t rfe_velocity_params_default_q31(rfe_velocity_params_q
  * lat_every in 1..RFE_VEL_LAT_EVERY_MAX;
  * 0 < dt_min <= dt_max <= 1 s; q_jerk, sd_r, sd_ax, sd_ay, v_lat_min, sd_lowspeed,
  * mu_default, sd_vydot, steer_ratio > 0; every other field >= 0 (sd_model_rdot, sd_vy_lin 0:
- * off); lin_dwell <= 1 s; lin_mu_gain <= 4.
+ * off); lin_dwell <= 1 s; lin_mu_gain <= 4;
+ * vy_out_floor_mu <= 8.
  * @param[in] p  the parameters to check.
  * @return RFE_OK, RFE_ERR_NULL or RFE_ERR_PARAM.
  */

@@ -101,6 +101,9 @@ typedef struct {
     rfe_fix_t r_on_ref;               /**< time the yaw rate has stayed on its neutral
                                            reference, at most p.lin_dwell [s], Q30 */
     rfe_velocity_estimate_q31_t last; /**< the output of the last step */
+    rfe_fix_t sd_vy_filter;           /**< the lateral filter's own sd(vy) at the last step,
+                                           before the reported floor (§5), Q23: the friction
+                                           estimator's vy input noise in the pipeline (§6) */
     uint32_t sat;                     /**< saturations since init (saturating) */
 } rfe_velocity_q31_t;
 

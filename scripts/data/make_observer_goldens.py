@@ -37,13 +37,16 @@ def logs_in(folder):
                   and os.path.isfile(os.path.join(folder, f)))
 
 
-def golden(path, lat_every=None):
+def golden(path, lat_every=None, out_floor=None):
     """(metadata pairs, column names, rows) of one log's golden, the model's rows every
-    lat_every-th step (OBSERVER.md §4.2; None: the observer's default)."""
+    lat_every-th step (OBSERVER.md §4.2; None: the observer's default), the reported sd(vy)'s
+    floor at obs_vy_out_floor_mu = out_floor (§5; None: the default, off)."""
     log = logs.read_csv_log(path, required=("t", "delta", "yaw_rate", "ax", "ay")
                             + tuple("omega_" + w for w in WHEELS))
     c = log.columns
     rate = {} if lat_every is None else {"obs_lat_every": float(lat_every)}
+    if out_floor is not None:
+        rate["obs_vy_out_floor_mu"] = float(out_floor)
     p = observer.params_with_defaults(params.from_metadata(log.meta), **rate)
     truth = all("mu_" + w in c for w in WHEELS)
     mu = ([c["mu_" + w] for w in WHEELS], [np.full(len(c["t"]), MU_SD)] * 4) if truth else None
@@ -72,6 +75,9 @@ def main(argv=None):
     ap.add_argument("--lat-every", type=int, default=None,
                     help="obs_lat_every of the goldens (OBSERVER.md §4.2; default: the "
                          "observer's default, OBS_DEFAULTS)")
+    ap.add_argument("--vy-out-floor-mu", type=float, default=None,
+                    help="obs_vy_out_floor_mu of the goldens (OBSERVER.md §5; default: the "
+                         "observer's default, off)")
     ap.add_argument("--only", nargs="+", default=None,
                     help="only these logs (file names) of the --scenarios folders")
     a = ap.parse_args(argv)
@@ -80,7 +86,7 @@ def main(argv=None):
              if a.only is None or os.path.basename(f) in a.only]
     t0 = time.time()
     for i, f in enumerate(files, 1):
-        write(os.path.join(a.out, os.path.basename(f)), *golden(f, a.lat_every))
+        write(os.path.join(a.out, os.path.basename(f)), *golden(f, a.lat_every, a.vy_out_floor_mu))
         print(f"[{i}/{len(files)}] {os.path.basename(f)} ({time.time() - t0:.0f} s)", flush=True)
     return 0
 

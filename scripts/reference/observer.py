@@ -59,15 +59,17 @@ OBS_DEFAULTS: dict[str, float] = {
     "obs_lin_ay_steady": 4.0,   # ... or at most this in a steady turn, m/s^2
     "obs_lin_dwell": 0.125,     # a steady turn: r on vx delta / L this long, s (at most 1)
     "obs_lin_mu_gain": 2.0,     # in that steady turn the model's friction >= this |ay| / g (<= 4)
+    "obs_vy_out_floor_mu": 0.0,  # §5 reported sd(vy) >= this |vx ay / (cy g)| max sd_mu / mu,
+                                 # the filter's P, gains and estimate untouched (0: off, <= 8)
 }
 
 # Reference-only options (issue 17, docs/OBSERVER_RESULTS.md "Honest on an unobserved
 # friction"): not parameters of the C library (mu_replay does not know them, the goldens do
 # not record them), both 0 (off) by default, so the reference equals the C build with them off.
+# (The study's third rule, obs_vy_out_floor_mu, is a C parameter now: OBS_DEFAULTS.)
 STUDY_DEFAULTS: dict[str, float] = {
     "obs_stiff_mu": 0.0,        # rows' R widened by a stiffness C(mu): d ln C / d ln mu (0: off)
     "obs_vy_floor_mu": 0.0,     # sd(vy) >= this |vx ay / (cy g)| sd_mu / mu (0: off)
-    "obs_vy_out_floor_mu": 0.0,  # the same floor on the output sd(vy) only, P untouched (0: off)
 }
 
 
@@ -350,7 +352,8 @@ class Observer:
             self.lat.P[0][0] = max(self.lat.P[0][0], floor * floor)
         self.sd_vy_out_floor = 0.0
         if p["obs_vy_out_floor_mu"] > 0.0 and vx >= p["obs_v_lat_min"]:
-            # (study) or only on what the observer reports: the filter's gains unchanged
+            # §5 (obs_vy_out_floor_mu) only on what the observer reports: the filter's gains
+            # unchanged
             self.sd_vy_out_floor = abs(p["obs_vy_out_floor_mu"] * vy_slip * rel_mu)
         self.r_on_ref = on_ref
         # §4.2 the next step's phase: the model's rows every obs_lat_every-th step

@@ -356,6 +356,29 @@ def test_observer_goldens_are_up_to_date(name, every):
     assert dict(meta)["source"] == g.meta["source"]
 
 
+@pytest.mark.skipif(not os.path.isdir(GOLDEN_OBS + "_out_floor4"), reason="no floor goldens")
+@pytest.mark.parametrize("name", ["brake_in_turn_low_mu.csv", "sine_steer_low_mu.csv"])
+def test_the_output_floor_goldens_are_up_to_date(name):
+    # scenarios/golden/observer_out_floor4: obs_vy_out_floor_mu 4 (OBSERVER.md §5), the C
+    # double build's reference with the floor on; the bounds of the test above
+    import sys
+    sys.path.insert(0, os.path.join(REPO, "scripts", "data"))
+    import make_observer_goldens as mog
+    meta, cols, rows = mog.golden(os.path.join(SCEN, name), None, 4.0)
+    now = np.array([list(r) for r in rows])
+    g = logs.read_csv_log(os.path.join(GOLDEN_OBS + "_out_floor4", name), required=cols)
+    old = np.column_stack([g.columns[c] for c in cols])
+    assert now.shape == old.shape
+    assert np.max(np.abs(now[:, :-1] - old[:, :-1])) <= 1e-9
+    assert np.array_equal(now[:, -1], old[:, -1])
+    assert dict(meta)["obs_vy_out_floor_mu"] == 4.0
+    # the floor acts on these logs: sd(vy) above the same log's default golden somewhere
+    d = logs.read_csv_log(os.path.join(GOLDEN_OBS, name), required=cols)
+    assert np.any(g.columns["sd_vy"] > d.columns["sd_vy"] + 1e-6)
+    # and leaves the estimate (the goldens were written on other CPUs: the bound above)
+    assert np.max(np.abs(g.columns["vy"] - d.columns["vy"])) <= 1e-9
+
+
 def _turn_flags(every, n=12):
     """A steady turn at 20 m/s (ay 2.5 m/s^2): the flags of the later steps 1..n."""
     ob = observer.Observer(observer.params_with_defaults(obs_lat_every=float(every)))
@@ -384,7 +407,8 @@ def test_the_models_rate_is_checked():
 
 
 # Honest on an unobserved friction (issue 17; docs/OBSERVER_RESULTS.md "Honest on an
-# unobserved friction"): the reference-only study options of observer.STUDY_DEFAULTS.
+# unobserved friction"): the reference-only study options of observer.STUDY_DEFAULTS, and the
+# one ported to the library (obs_vy_out_floor_mu, OBS_DEFAULTS).
 LOOP = os.path.join(SCEN, "observer_loop", "turn_mu_step.csv")
 # the friction input the C loop feeds on the mu 0.5 phase (OBSERVER.md §6 "The loop": the
 # estimator at its bound, 1.1-1.2, sd 0.58), held constant: no C binary needed

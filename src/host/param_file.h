@@ -131,7 +131,8 @@
     X(obs_lin_ay_max, lin_ay_max, "m/s^2", "linear range: |ay| at most this")                                   \
     X(obs_lin_ay_steady, lin_ay_steady, "m/s^2", "linear range: |ay| at most this in a steady turn")              \
     X(obs_lin_dwell, lin_dwell, "s", "linear range: a steady turn has the yaw rate on vx delta / L this long") \
-    X(obs_lin_mu_gain, lin_mu_gain, "1", "in that steady turn the model's friction is at least this times |ay| / g")
+    X(obs_lin_mu_gain, lin_mu_gain, "1", "in that steady turn the model's friction is at least this times |ay| / g") \
+    X(obs_vy_out_floor_mu, vy_out_floor_mu, "1", "reported sd(vy) >= this |vx ay / (cy g)| max sd_mu / mu; 0 is off")
 
 /**
  * The mass and grade estimator's keys (docs/MASS_GRADE.md §6): X(key, rfe_mass_grade_params_t

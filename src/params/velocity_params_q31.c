@@ -56,6 +56,7 @@ rfe_status_t rfe_velocity_params_default_q31(rfe_velocity_params_q31_t *p)
     p->lin_ay_steady = 67108864; /* 4 m/s^2, Q24 */
     p->lin_dwell = 134217728; /* 0.125 s, Q30 */
     p->lin_mu_gain = 33554432; /* 2, Q24 */
+    p->vy_out_floor_mu = 0; /* off, Q24 */
     return RFE_OK;
 }
 
@@ -76,17 +77,27 @@ static int positive_ok_q31(const rfe_velocity_params_q31_t *p)
 
 static int non_negative_ok_q31(const rfe_velocity_params_q31_t *p)
 {
-    const rfe_fix_t v[29] = {p->lin_mu_gain, p->sd_vy_lin, p->lin_r_tol, p->lin_r_rel, p->lin_ay_max, p->lin_ay_steady, p->lin_dwell, p->sd_model_rdot, p->vydot_rdot, p->q_bx, p->q_by, p->sd_wheel, p->sd_wheel_rel,
+    const rfe_fix_t v[30] = {p->vy_out_floor_mu, p->lin_mu_gain, p->sd_vy_lin, p->lin_r_tol, p->lin_r_rel, p->lin_ay_max, p->lin_ay_steady, p->lin_dwell, p->sd_model_rdot, p->vydot_rdot, p->q_bx, p->q_by, p->sd_wheel, p->sd_wheel_rel,
                              p->k_gate, p->k_agree, p->v_stand, p->q_vx_brake, p->ax_brake_on, p->ax_drive_on, p->p_brake_on,
                              p->torque_on, p->sd_model_ay, p->model_ay_rel, p->sd_mu_default,
                              p->mu_margin, p->sd_vx0, p->sd_bx0, p->sd_vy0, p->sd_by0};
     size_t i;
-    for (i = 0u; i < 29u; ++i) {
+    for (i = 0u; i < 30u; ++i) {
         if (v[i] < 0) {
             return 0;
         }
     }
     return 1;
+}
+
+/* The fields with an upper bound. */
+static int upper_bounds_ok_q31(const rfe_velocity_params_q31_t *p)
+{
+    /* lin_dwell at most 1 s: the dwell plus a period stays within Q30; lin_mu_gain at most 4
+     * (Q24): gain times |ay| stays within int64; vy_out_floor_mu at most 8 (Q24), as the
+     * float check */
+    return ((p->lin_dwell <= RFE_FIX_ONE(30)) && (p->lin_mu_gain <= RFE_FIX_ONE(26)) &&
+            (p->vy_out_floor_mu <= RFE_FIX_ONE(27))) ? 1 : 0;
 }
 
 rfe_status_t rfe_velocity_params_validate_q31(const rfe_velocity_params_q31_t *p)
@@ -103,14 +114,9 @@ rfe_status_t rfe_velocity_params_validate_q31(const rfe_velocity_params_q31_t *p
     if ((p->dt_min <= 0) || (p->dt_min > p->dt_max) || (p->dt_max > RFE_FIX_ONE(30))) {
         return RFE_ERR_PARAM;
     }
-    if ((positive_ok_q31(p) == 0) || (non_negative_ok_q31(p) == 0)) {
+    if ((positive_ok_q31(p) == 0) || (non_negative_ok_q31(p) == 0) ||
+        (upper_bounds_ok_q31(p) == 0)) {
         return RFE_ERR_PARAM;
-    }
-    if (p->lin_dwell > RFE_FIX_ONE(30)) {
-        return RFE_ERR_PARAM; /* at most 1 s: the dwell plus a period stays within Q30 */
-    }
-    if (p->lin_mu_gain > RFE_FIX_ONE(26)) {
-        return RFE_ERR_PARAM; /* at most 4 (Q24): gain times |ay| stays within int64 */
     }
     return RFE_OK;
 }

@@ -39,6 +39,7 @@ typedef struct {
     double beta[LOOP_MAX_ROWS];
     double sd_vy[LOOP_MAX_ROWS];
     double sd_beta[LOOP_MAX_ROWS];
+    double mu_mean[LOOP_MAX_ROWS]; /* the four wheels' true friction, averaged */
     double t_down; /* the first sample with a wheel on the low friction */
     double t_up;   /* the first sample after it with every wheel back on the high one */
 } loop_run_t;
@@ -88,6 +89,8 @@ static inline void loop_read(const char *name, rfe_sensor_log_t *log, loop_run_t
         r->vx_true[k] = test_table_get(&tab, k, "vx_true");
         r->vy_true[k] = test_table_get(&tab, k, "vy_true");
         r->beta_true[k] = test_table_get(&tab, k, "beta_true");
+        r->mu_mean[k] = 0.25 * (((row->mu_true[0] + row->mu_true[1]) + row->mu_true[2]) +
+                                row->mu_true[3]);
         if ((r->t_down < 0.0) && (mu_min < log->rows[0].mu_true[0])) {
             r->t_down = row->t;
         }
@@ -145,6 +148,30 @@ static inline loop_stats_t loop_stats(const loop_run_t *r)
     s.end_err_deg = end_sum / (double)end_n;
     return s;
 }
+
+/* The mu 0.5 phase of OBSERVER_RESULTS.md "Honest on an unobserved friction" (the study's
+ * mask: the wheels' mean true friction below 0.7, between the log's 0.5 and 0.9, and vx_true
+ * >= 3 m/s): the share of its samples with |beta error| > 2 sd(beta); @p n: their count. */
+static inline double loop_low_beyond_2sd(const loop_run_t *r, size_t *n)
+{
+    size_t k;
+    size_t out = 0u;
+    *n = 0u;
+    for (k = 0u; k < r->n; ++k) {
+        if ((r->mu_mean[k] < 0.7) && (r->vx_true[k] >= 3.0)) {
+            ++*n;
+            if (fabs(r->beta[k] - r->beta_true[k]) > 2.0 * r->sd_beta[k]) {
+                ++out;
+            }
+        }
+    }
+    return (*n > 0u) ? (double)out / (double)*n : 0.0;
+}
+
+/* A consistent Gaussian estimate leaves 4.55 % of its samples beyond 2 sd (2 (1 - Phi(2))):
+ * the most a consistent sd(beta) may leave (the study measured 0 % at obs_vy_out_floor_mu
+ * 4; without the floor 100 %). */
+#define LOOP_GAUSS_BEYOND_2SD 0.0455
 
 static inline void loop_print(const char *what, const loop_run_t *r, const loop_stats_t *s)
 {

@@ -63,6 +63,25 @@ static int model_friction(const rfe_velocity_params_t *p, rfe_real_t g, rfe_real
     return raised;
 }
 
+rfe_real_t rfe_vel_sd_vy_floor(const rfe_velocity_t *obs, const rfe_velocity_input_t *in,
+                               rfe_real_t vx, const rfe_velocity_mu_t *mu)
+{
+    rfe_real_t m[RFE_WHEELS];
+    rfe_real_t sd[RFE_WHEELS];
+    rfe_real_t rel = RFE_R(0.0);
+    const rfe_real_t g = obs->veh.g;
+    size_t i;
+    /* the margin's bound only (lin_floor 0): the friction the output floor scales by */
+    (void)model_friction(&obs->p, g, in->ay, 0, mu, m, sd);
+    for (i = 0u; i < RFE_WHEELS; ++i) {
+        if (m[i] > RFE_R(0.0)) {
+            rel = rfe_max(rel, sd[i] / m[i]);
+        }
+    }
+    /* the linear model's slip part of vy, vx ay / (cy g) (cy, g > 0: parameter checks) */
+    return RFE_FABS((obs->p.vy_out_floor_mu * ((vx * in->ay) / (obs->tyre.cy * g))) * rel);
+}
+
 /* §4.2b the linear range, decided before the model's update (its friction floor depends on
  * it): where the yaw rate is the neutral single-track model's (r_ref = vx (delta / L)) and
  * |ay| moderate (or, in a steady turn, the yaw rate on r_ref for lin_dwell, below the higher

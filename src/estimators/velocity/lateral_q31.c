@@ -76,6 +76,44 @@ static int model_friction_q31(const rfe_velocity_params_q31_t *p, rfe_fix_t g, r
     return raised;
 }
 
+/* §5 the reported sd(vy)'s floor k s rho (lateral_flt.c's rfe_vel_sd_vy_floor), without a
+ * division per wheel: the wheel of the largest rho = sd_i / m_i (sd Q30, m Q29, the friction
+ * raised to the margin's bound as model_friction_q31 raises it) found by exact cross
+ * products (each below 2^62 in int64); s = |vx ay / (cy g)| as linear_update_q31 forms it
+ * (ay Q24 over cy g Q20 into Q29, times vx Q23 into Q23); s sd (Q23 Q30 = Q53, below 2^62)
+ * rounded to Q52 over m (Q29) into Q23, one rounded division; times k (Q24) into Q23. Bound:
+ * m >= (1 + margin) |ay| / g, so s rho <= vx sd / (cy (1 + margin)), within Q23 (256 m/s)
+ * for vx, sd and cy of a car; beyond it the quotient and the product saturate, counted. */
+rfe_fix_t rfe_vel_sd_vy_floor_q31(const rfe_velocity_q31_t *obs,
+                                  const rfe_velocity_input_q31_t *in, rfe_fix_t vx,
+                                  const rfe_velocity_mu_q31_t *mu, uint32_t *sat)
+{
+    rfe_fix_t mm[RFE_WHEELS];
+    rfe_fix_t sd[RFE_WHEELS];
+    rfe_fix_t best_sd = 0;
+    rfe_fix_t best_m = RFE_FIX_ONE(29);
+    rfe_fix_t out = 0;
+    size_t i;
+    (void)model_friction_q31(&obs->p, obs->veh.g, in->ay, 0, mu, mm, sd, sat);
+    for (i = 0u; i < RFE_WHEELS; ++i) {
+        if ((mm[i] > 0) && (((int64_t)sd[i] * (int64_t)best_m) > ((int64_t)best_sd * (int64_t)mm[i]))) {
+            best_sd = sd[i];
+            best_m = mm[i];
+        }
+    }
+    if (best_sd > 0) {
+        const rfe_fix_t cg = rfe_fix_mul(obs->tyre.cy, obs->veh.g, 28u, sat);
+        rfe_fix_t b = 0;
+        const rfe_status_t s = rfe_fix_div(in->ay, cg, 25, &b, sat);
+        const rfe_fix_t slip = rfe_fix_abs(rfe_fix_mul(vx, b, 29u, sat), sat);
+        const rfe_fix_t srho = rfe_q31_div_round(
+            rfe_fix_shr64_round((int64_t)slip * (int64_t)best_sd, 1u), best_m, sat);
+        (void)s; /* cy g > 0 after the parameter checks */
+        out = rfe_fix_mul(obs->p.vy_out_floor_mu, srho, 24u, sat);
+    }
+    return out;
+}
+
 /* The model at this step (§4.2): its friction (raised to what ay proves, and in a steady
  * turn of the linear range to its floor, @p lin_floor) and its rows at the prediction
  * @p vy_pred. */

@@ -36,6 +36,7 @@ rfe_status_t rfe_velocity_init(rfe_velocity_t *obs, const rfe_velocity_params_t 
     obs->lon = obs->yaw;
     obs->lat = obs->yaw;
     obs->r_on_ref = RFE_R(0.0);
+    obs->sd_vy_filter = RFE_R(0.0);
     obs->last = (rfe_velocity_estimate_t){0};
     obs->magic = RFE_MAGIC_VEL;
     return RFE_OK;
@@ -110,16 +111,23 @@ static rfe_status_t road_wheel_input(const rfe_velocity_t *obs, const rfe_veloci
     return RFE_OK;
 }
 
-/* §5 the outputs of the filters. */
-static void outputs(const rfe_velocity_t *obs, const rfe_velocity_input_t *in, uint32_t flags,
-                    rfe_velocity_estimate_t *e)
+/* §5 the outputs of the filters; the reported sd(vy) with its floor when due (@p plan, @p mu:
+ * the step's friction input), the filter's own kept in obs->sd_vy_filter. */
+static void outputs(rfe_velocity_t *obs, const rfe_velocity_input_t *in, rfe_vel_plan_t plan,
+                    const rfe_velocity_mu_t *mu, uint32_t flags, rfe_velocity_estimate_t *e)
 {
     const rfe_real_t vx = obs->lon.x[0];
     const rfe_real_t vy = obs->lat.x[0];
     const rfe_real_t vmin = obs->p.v_lat_min;
     const rfe_real_t svx = RFE_SQRT(rfe_max(obs->lon.p00, RFE_R(0.0)));
-    const rfe_real_t svy = RFE_SQRT(rfe_max(obs->lat.p00, RFE_R(0.0)));
+    const rfe_real_t svy_kf = RFE_SQRT(rfe_max(obs->lat.p00, RFE_R(0.0)));
+    const rfe_real_t svy =
+        (rfe_vel_out_floor_due(plan, (obs->p.vy_out_floor_mu > RFE_R(0.0)) ? 1 : 0,
+                               (vx >= vmin) ? 1 : 0) != 0)
+            ? rfe_max(svy_kf, rfe_vel_sd_vy_floor(obs, in, vx, mu))
+            : svy_kf;
     const rfe_real_t n2 = rfe_max((vx * vx) + (vy * vy), vmin * vmin);
+    obs->sd_vy_filter = svy_kf;
     e->vx = vx;
     e->vy = vy;
     e->beta = (vx >= vmin) ? RFE_ATAN2(vy, vx) : RFE_R(0.0);
@@ -223,7 +231,7 @@ rfe_status_t rfe_velocity_step(rfe_velocity_t *obs, const rfe_velocity_input_t *
         return st;
     }
     obs->started = rfe_vel_next_phase(plan, obs->started, obs->p.lat_every);
-    outputs(obs, in, flags, &obs->last);
+    outputs(obs, in, plan, mu, flags, &obs->last);
     *out = obs->last;
     return RFE_OK;
 }

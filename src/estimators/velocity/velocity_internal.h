@@ -18,11 +18,13 @@
 #define rfe_vel_yaw_acc_step      rfe_vel_yaw_acc_step_f64
 #define rfe_vel_longitudinal_step rfe_vel_longitudinal_step_f64
 #define rfe_vel_lateral_step      rfe_vel_lateral_step_f64
+#define rfe_vel_sd_vy_floor       rfe_vel_sd_vy_floor_f64
 #else
 #define rfe_vel_wheel_refs        rfe_vel_wheel_refs_f32
 #define rfe_vel_yaw_acc_step      rfe_vel_yaw_acc_step_f32
 #define rfe_vel_longitudinal_step rfe_vel_longitudinal_step_f32
 #define rfe_vel_lateral_step      rfe_vel_lateral_step_f32
+#define rfe_vel_sd_vy_floor       rfe_vel_sd_vy_floor_f32
 #endif
 
 /** §3 each wheel's speed translated to the CoG, at lateral speed @p vy. */
@@ -46,5 +48,12 @@ rfe_status_t rfe_vel_longitudinal_step(rfe_kf2_t *f, const rfe_velocity_params_t
 rfe_status_t rfe_vel_lateral_step(rfe_kf2_t *f, rfe_real_t *on_ref, const rfe_velocity_t *obs,
                                   const rfe_velocity_input_t *in, rfe_real_t vx,
                                   const rfe_velocity_mu_t *mu, uint32_t *flags);
+
+/** §5 the reported sd(vy)'s floor: vy_out_floor_mu |vx ay / (cy g)| max_i sd_i / m_i, m_i the
+ *  friction @p mu (NULL: the default) raised to (1 + mu_margin) |ay| / g as §4.2 raises it
+ *  (wheels with m_i = 0 left out), at this step's @p vx. The caller decides whether it
+ *  applies (rfe_vel_out_floor_due). */
+rfe_real_t rfe_vel_sd_vy_floor(const rfe_velocity_t *obs, const rfe_velocity_input_t *in,
+                               rfe_real_t vx, const rfe_velocity_mu_t *mu);
 
 #endif /* RFE_VELOCITY_INTERNAL_H */

@@ -86,4 +86,11 @@ rfe_status_t rfe_vel_lateral_step_q31(rfe_kf2_q31_t *f, rfe_fix_t *on_ref,
                                       const rfe_velocity_mu_q31_t *mu, uint32_t *flags,
                                       uint32_t *sat);
 
+/** §5 the reported sd(vy)'s floor, Q23 (velocity_internal.h's rfe_vel_sd_vy_floor): vx Q23,
+ *  the friction @p mu Q29 and its sd Q30 (NULL: the default); a result beyond Q23
+ *  saturates, counted in @p sat. */
+rfe_fix_t rfe_vel_sd_vy_floor_q31(const rfe_velocity_q31_t *obs,
+                                  const rfe_velocity_input_q31_t *in, rfe_fix_t vx,
+                                  const rfe_velocity_mu_q31_t *mu, uint32_t *sat);
+
 #endif /* RFE_VELOCITY_INTERNAL_Q31_H */

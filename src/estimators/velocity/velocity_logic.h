@@ -14,6 +14,7 @@
  *  - the re-acquisition of the wheels and the drift while braking unchecked (§3.5);
  *  - the time the yaw rate has stayed on its neutral reference, and whether the lateral
  *    filter takes the linear range's vy (§4.2b);
+ *  - whether the reported sd(vy) has its floor (§5, vy_out_floor_mu);
  *  - the flags each decision sets (§5).
  */
 #ifndef RFE_VELOCITY_LOGIC_H
@@ -243,6 +244,15 @@ static inline int rfe_vel_linear_range(int on, int yaw_linear, int ay_moderate, 
 static inline int rfe_vel_lin_floor(int linear, int dwelled)
 {
     return ((linear != 0) && (dwelled != 0)) ? 1 : 0;
+}
+
+/** §5 the reported sd(vy)'s floor applies on a later sample (@p plan: not the first, which
+ *  only initialises), when it is on (@p on: vy_out_floor_mu > 0) and vx is at least
+ *  v_lat_min (@p lateral: the lateral model's speed range, where the slip part it scales
+ *  exists). */
+static inline int rfe_vel_out_floor_due(rfe_vel_plan_t plan, int on, int lateral)
+{
+    return ((plan == RFE_VEL_PLAN_FILTERS) && (on != 0) && (lateral != 0)) ? 1 : 0;
 }
 
 #endif /* RFE_VELOCITY_LOGIC_H */

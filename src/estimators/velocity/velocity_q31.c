@@ -38,6 +38,7 @@ rfe_status_t rfe_velocity_init_q31(rfe_velocity_q31_t *obs, const rfe_velocity_p
     obs->tyre = veh->tyre;
     obs->started = 0u;
     obs->r_on_ref = 0;
+    obs->sd_vy_filter = 0;
     {
         /* the filters' formats, their states at 0 until the first sample (constant formats
          * and sds: these cannot fail); member writes keep the caller's padding bytes */
@@ -160,17 +161,24 @@ static rfe_fix_t sd_beta_q31(rfe_fix_t vx, rfe_fix_t vy, rfe_fix_t svx, rfe_fix_
     return q;
 }
 
-/* §5 the outputs of the filters. */
-static void outputs_q31(const rfe_velocity_q31_t *obs, const rfe_velocity_input_q31_t *in,
-                        uint32_t flags, uint32_t step_sat, rfe_velocity_estimate_q31_t *e)
+/* §5 the outputs of the filters; the reported sd(vy) with its floor when due (@p plan, @p mu:
+ * the step's friction input), the filter's own kept in obs->sd_vy_filter. */
+static void outputs_q31(rfe_velocity_q31_t *obs, const rfe_velocity_input_q31_t *in,
+                        rfe_vel_plan_t plan, const rfe_velocity_mu_q31_t *mu, uint32_t flags,
+                        uint32_t step_sat, rfe_velocity_estimate_q31_t *e)
 {
     uint32_t sat = step_sat;
     const rfe_fix_t vx = obs->lon.x[0];
     const rfe_fix_t vy = obs->lat.x[0];
     const rfe_fix_t vmin = obs->p.v_lat_min;
     const rfe_fix_t svx = sd_of_q31(obs->lon.p00, &sat);
-    const rfe_fix_t svy = sd_of_q31(obs->lat.p00, &sat);
+    rfe_fix_t svy = sd_of_q31(obs->lat.p00, &sat);
     rfe_fix_t beta = 0;
+    obs->sd_vy_filter = svy;
+    if (rfe_vel_out_floor_due(plan, (obs->p.vy_out_floor_mu > 0) ? 1 : 0, (vx >= vmin) ? 1 : 0) !=
+        0) {
+        svy = rfe_fix_max(svy, rfe_vel_sd_vy_floor_q31(obs, in, vx, mu, &sat));
+    }
     if (vx >= vmin) {
         beta = rfe_q31_atan2_q29(vy, vx); /* every pair */
     }
@@ -280,7 +288,7 @@ rfe_status_t rfe_velocity_step_q31(rfe_velocity_q31_t *obs, const rfe_velocity_i
         return st;
     }
     obs->started = rfe_vel_next_phase(plan, obs->started, obs->p.lat_every);
-    outputs_q31(obs, in, flags, sat, &obs->last);
+    outputs_q31(obs, in, plan, mu, flags, sat, &obs->last);
     rfe_q31_sat_add(&obs->sat, obs->last.sat);
     *out = obs->last;
     return RFE_OK;

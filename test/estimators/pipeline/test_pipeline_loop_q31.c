@@ -69,7 +69,7 @@ static void run(const char *name, double sd_vy_lin, loop_run_t *r, loop_stats_t 
     loop_print(name, r, s);
 }
 
-static loop_run_t lr; /* 9 arrays of 4000 doubles: not on the stack */
+static loop_run_t lr; /* 10 arrays of 4000 doubles: not on the stack */
 
 static void assert_no_runaway(const loop_stats_t *s, double sd_vy0)
 {
@@ -115,12 +115,92 @@ static void test_without_the_linear_row_the_loop_runs_away_q31(void **state)
     assert_true(s.end_err_deg > LOOP_BETA_LIMIT_DEG);
 }
 
+/* The Dugoff run of test_the_loop_does_not_run_away_dugoff_q31 twice side by side, the
+ * reported sd(vy)'s floor off (the defaults) and at obs_vy_out_floor_mu @p k (Q24,
+ * OBSERVER.md §5): test_pipeline_loop_flt.c's run_floor in fixed point (the friction
+ * estimates and vx, vy, beta, sd(vx) equal bit for bit; off, the reported sd(vy) is the
+ * filter's). @p r gets the run with the floor. */
+static void run_floor(const char *name, double k_floor, loop_run_t *r)
+{
+    static rfe_pipeline_q31_t off;
+    static rfe_pipeline_q31_t on;
+    rfe_sensor_log_t log;
+    both_t b;
+    rfe_velocity_params_q31_t vq_on;
+    size_t k;
+    size_t floored = 0u;
+    uint32_t sat = 0u;
+    loop_read(name, &log, r);
+    params_of(&log, &b);
+    assert_int_equal(b.vq.vy_out_floor_mu, 0); /* off by default */
+    b.vd.vy_out_floor_mu = k_floor;
+    vq_on = b.vq;
+    assert_int_equal(rfe_velocity_params_to_q31_f64(&b.vd, &vq_on), RFE_OK);
+    memset(&off, 0, sizeof off);
+    memset(&on, 0, sizeof on);
+    assert_int_equal(rfe_pipeline_init_q31(&off, &b.pq, &b.vq), RFE_OK);
+    assert_int_equal(rfe_pipeline_init_q31(&on, &b.pq, &vq_on), RFE_OK);
+    for (k = 0u; k < log.n_rows; ++k) {
+        rfe_velocity_input_q31_t in;
+        rfe_pipeline_out_q31_t a;
+        rfe_pipeline_out_q31_t o;
+        sat += rfe_replay_esc_input_q31(&log, k, (k > 0u) ? k - 1u : 0u, &in);
+        assert_false(rfe_status_is_error(rfe_pipeline_step_q31(&off, &in, &a)));
+        assert_false(rfe_status_is_error(rfe_pipeline_step_q31(&on, &in, &o)));
+        assert_int_equal(o.velocity.sat, 0u);
+        assert_memory_equal(&a.friction, &o.friction, sizeof(a.friction));
+        assert_memory_equal(&off.friction, &on.friction, sizeof(off.friction));
+        assert_true((a.velocity.vx == o.velocity.vx) && (a.velocity.vy == o.velocity.vy) &&
+                    (a.velocity.beta == o.velocity.beta) &&
+                    (a.velocity.sd_vx == o.velocity.sd_vx));
+        assert_int_equal(a.velocity.sd_vy, off.velocity.sd_vy_filter);
+        assert_int_equal(on.velocity.sd_vy_filter, off.velocity.sd_vy_filter);
+        assert_true(o.velocity.sd_vy >= a.velocity.sd_vy);
+        floored += (o.velocity.sd_vy > a.velocity.sd_vy) ? 1u : 0u;
+        r->vy[k] = rfe_fix_to_double(o.velocity.vy, 23u);
+        r->beta[k] = rfe_fix_to_double(o.velocity.beta, 29u);
+        r->sd_vy[k] = rfe_fix_to_double(o.velocity.sd_vy, 23u);
+        r->sd_beta[k] = rfe_fix_to_double(o.velocity.sd_beta, 29u);
+    }
+    assert_int_equal(sat, 0u);
+    if (k_floor > 0.0) {
+        assert_true(floored > 0u); /* the floor did act: the comparisons above can fail */
+    } else {
+        assert_int_equal(floored, 0u); /* off: the reported sd is the filter's, bit for bit */
+    }
+    rfe_sensor_log_free(&log);
+}
+
+/* REQ-OBS-025: test_pipeline_loop_flt.c's test_the_output_floor_makes_the_mu_step_honest in
+ * fixed point: on the Dugoff truth's mu 0.5 phase more than 90 % of the samples beyond 2
+ * sd(beta) without the floor, at most a consistent Gaussian's 4.55 % with
+ * obs_vy_out_floor_mu 4 (the floor's Q31 path is within 1e-6 m/s of its closed form,
+ * test_velocity_q31.c, so the double build's figures hold), the loop unchanged. */
+static void test_the_output_floor_makes_the_mu_step_honest_q31(void **state)
+{
+    size_t n;
+    double beyond;
+    (void)state;
+    run_floor("turn_mu_step.csv", 0.0, &lr);
+    beyond = loop_low_beyond_2sd(&lr, &n);
+    printf("q31 obs_vy_out_floor_mu 0: %.1f %% of %zu samples beyond 2 sd(beta)\n",
+           100.0 * beyond, n);
+    assert_true(n > 500u);
+    assert_true(beyond > 0.9);
+    run_floor("turn_mu_step.csv", 4.0, &lr);
+    beyond = loop_low_beyond_2sd(&lr, &n);
+    printf("q31 obs_vy_out_floor_mu 4: %.1f %% of %zu samples beyond 2 sd(beta)\n",
+           100.0 * beyond, n);
+    ASSERT_LE(beyond, LOOP_GAUSS_BEYOND_2SD, "share beyond 2 sd(beta) on mu 0.5");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_the_loop_does_not_run_away_dugoff_q31),
         cmocka_unit_test(test_the_loop_does_not_run_away_magic_formula_q31),
         cmocka_unit_test(test_without_the_linear_row_the_loop_runs_away_q31),
+        cmocka_unit_test(test_the_output_floor_makes_the_mu_step_honest_q31),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

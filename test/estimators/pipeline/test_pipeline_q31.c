@@ -495,6 +495,7 @@ static void test_every_member_a_step_writes_is_undone_q31(void **state)
     assert_true(memcmp(&obs.lon, &pl.velocity.lon, sizeof obs.lon) != 0);
     assert_true(memcmp(&obs.lat, &pl.velocity.lat, sizeof obs.lat) != 0);
     assert_true(obs.r_on_ref != pl.velocity.r_on_ref);
+    assert_true(obs.sd_vy_filter != pl.velocity.sd_vy_filter);
     assert_true(memcmp(&obs.last, &pl.velocity.last, sizeof obs.last) != 0);
     assert_true(obs.started != pl.velocity.started);
     /* and the friction estimator's input noise its set-up writes */

@@ -6,6 +6,7 @@
  */
 #include "test_common.h"
 
+#include <float.h>
 #include <string.h>
 
 #include "rfe/component/meas.h"
@@ -910,6 +911,104 @@ static void test_the_models_variance_over_the_rate(void **state)
     assert_true(fabs((double)at2 - (double)at1) > 1e-3);
 }
 
+/* The reported sd(vy)'s floor (OBSERVER.md §5, obs_vy_out_floor_mu), from its definition in
+ * double: k |vx ay / (cy g)| max_i sd_i / max(mu_i, (1 + mu_margin) |ay| / g). */
+static double floor_closed_form(const rfe_velocity_params_t *vp, const rfe_params_t *p,
+                                const rfe_velocity_mu_t *mu, double vx, double ay)
+{
+    const double g = (double)p->vehicle.g;
+    const double mu_low = (1.0 + (double)vp->mu_margin) * fabs(ay) / g;
+    double rho = 0.0;
+    size_t i;
+    for (i = 0u; i < 4u; ++i) {
+        rho = fmax(rho, (double)mu->sd[i] / fmax((double)mu->mu[i], mu_low));
+    }
+    return (double)vp->vy_out_floor_mu * fabs(vx * ay / ((double)p->tyre.cy * g)) * rho;
+}
+
+/* REQ-OBS-025: the reported sd(vy)'s floor. Two observers side by side on a steady turn (20
+ * m/s, ay 2.5 m/s^2) with a friction input whose largest sd / mu is on a wheel the measured
+ * ay raises (0.1 -> 1.1 * 2.5 / 9.81 = 0.28, sd 0.12: rho 0.43; the others 0.17, 0.33,
+ * 0.06), the floor off (the default) and at 4: the filters and every output but sd(vy) and
+ * sd(beta) equal bit for bit; off, the reported sd(vy) is the filter's own; on, it is
+ * max(the filter's, the closed form) (4 * 0.34 * 0.43 = 0.58 m/s here, above the filter's:
+ * the floor acts) and sd(beta) follows it. Not on the first sample (it initialises), nor
+ * below v_lat_min. */
+static void test_the_reported_sd_vy_floor(void **state)
+{
+    static rfe_velocity_t on;
+    rfe_velocity_estimate_t a;
+    rfe_velocity_estimate_t b;
+    rfe_velocity_input_t in;
+    rfe_velocity_params_t vp_on;
+    const rfe_velocity_mu_t mu = {{0.3f, 0.3f, 0.1f, 0.9f}, {0.05f, 0.1f, 0.12f, 0.05f}};
+    /* each closed form is at most 8 roundings of the observer's number type (the floor's
+     * 4 products and quotients, the max, the raised friction's 2; sd(beta)'s 7 and a
+     * square root), each within half an ulp: 8 eps relative leaves a factor 2 */
+    const double tol = 8.0 * ((sizeof(rfe_real_t) == sizeof(float)) ? (double)FLT_EPSILON
+                                                                       : DBL_EPSILON);
+    size_t k;
+    int acted = 0;
+    (void)state;
+    setup_fixture();
+    assert_true(fx.vp.vy_out_floor_mu == 0.0f); /* off by default (OBSERVER.md §2) */
+    vp_on = fx.vp;
+    vp_on.vy_out_floor_mu = 4.0f;
+    assert_int_equal(rfe_velocity_init(&on, &vp_on, &fx.p), RFE_OK);
+    for (k = 0u; k <= 40u; ++k) {
+        in = rolling(20.0f, (k == 0u) ? 0.0f : 0.01f);
+        in.delta = 0.02f;
+        in.yaw_rate = 20.0f * (0.02f / (fx.p.vehicle.Lf + fx.p.vehicle.Lr));
+        in.ay = 2.5f;
+        assert_int_equal(rfe_velocity_step(&fx.obs, &in, &mu, &a), RFE_OK);
+        assert_int_equal(rfe_velocity_step(&on, &in, &mu, &b), RFE_OK);
+        /* the estimate untouched: the filters, vx, vy, beta, sd(vx), the offsets, flags */
+        assert_memory_equal(&fx.obs.lat, &on.lat, sizeof(on.lat));
+        assert_memory_equal(&fx.obs.lon, &on.lon, sizeof(on.lon));
+        assert_memory_equal(&fx.obs.yaw, &on.yaw, sizeof(on.yaw));
+        assert_true((a.vx == b.vx) && (a.vy == b.vy) && (a.beta == b.beta) &&
+                    (a.sd_vx == b.sd_vx) && (a.bx == b.bx) && (a.by == b.by));
+        assert_int_equal(a.flags, b.flags);
+        /* off: the filter's own sd, which both keep for the friction estimator */
+        assert_true(a.sd_vy == fx.obs.sd_vy_filter);
+        assert_true(on.sd_vy_filter == fx.obs.sd_vy_filter);
+        if (k == 0u) {
+            assert_true(b.sd_vy == a.sd_vy); /* the first sample only initialises */
+        } else {
+            const double fl = floor_closed_form(&vp_on, &fx.p, &mu, (double)b.vx, 2.5);
+            const double want = fmax((double)a.sd_vy, fl);
+            const double vx = (double)b.vx;
+            const double vy = (double)b.vy;
+            const double sb = sqrt(vx * vx * want * want +
+                                   vy * vy * (double)b.sd_vx * (double)b.sd_vx) /
+                              fmax(vx * vx + vy * vy, (double)vp_on.v_lat_min *
+                                                          (double)vp_on.v_lat_min);
+            assert_close(b.sd_vy, want, 0.0, tol, "floored sd(vy)");
+            assert_close(b.sd_beta, sb, 0.0, tol, "sd(beta) from the floored sd(vy)");
+            acted |= (fl > (double)a.sd_vy) ? 1 : 0;
+        }
+    }
+    assert_true(acted != 0); /* the floor acted: the closed form is not the filter's sd */
+    /* below v_lat_min (2 m/s) no floor: the reported sd is the filter's */
+    for (k = 0u; k <= 5u; ++k) {
+        in = rolling(2.0f, 0.01f);
+        in.ay = 2.5f;
+        assert_int_equal(rfe_velocity_step(&fx.obs, &in, &mu, &a), RFE_OK);
+        assert_int_equal(rfe_velocity_step(&on, &in, &mu, &b), RFE_OK);
+        assert_true(b.vx < vp_on.v_lat_min);
+        assert_true((b.sd_vy == a.sd_vy) && (b.sd_vy == on.sd_vy_filter));
+    }
+    /* obs_vy_out_floor_mu finite, in [0, 8]; a bad one is RFE_ERR_PARAM */
+    vp_on.vy_out_floor_mu = -0.5f;
+    assert_int_equal(rfe_velocity_params_validate(&vp_on), RFE_ERR_PARAM);
+    vp_on.vy_out_floor_mu = (rfe_real_t)NAN;
+    assert_int_equal(rfe_velocity_params_validate(&vp_on), RFE_ERR_PARAM);
+    vp_on.vy_out_floor_mu = 8.5f;
+    assert_int_equal(rfe_velocity_params_validate(&vp_on), RFE_ERR_PARAM);
+    vp_on.vy_out_floor_mu = 8.0f; /* the limit itself is valid */
+    assert_int_equal(rfe_velocity_params_validate(&vp_on), RFE_OK);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -933,6 +1032,7 @@ int main(void)
         cmocka_unit_test(test_steering_wheel_angle_through_the_ratio),
         cmocka_unit_test(test_the_lateral_models_rate),
         cmocka_unit_test(test_the_models_variance_over_the_rate),
+        cmocka_unit_test(test_the_reported_sd_vy_floor),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -9,7 +9,11 @@
  *        and at obs_lat_every 1 (every step, no division: the path the default skips) on two
  *        low-mu logs where the model holds vy, scenarios/golden/observer_every1/, by the same
  *        target. The tolerances below hold at 8 as at 1: a skipped step leaves out updates of
- *        the same form and the division by 8 is exact in binary floating point.
+ *        the same form and the division by 8 is exact in binary floating point. And with
+ *        the reported sd(vy)'s floor on (obs_vy_out_floor_mu 4, OBSERVER.md §5) on the same
+ *        two logs, scenarios/golden/observer_out_floor4/: the floor's arithmetic (a max,
+ *        products and quotients of the outputs and inputs, no filter) adds a few roundings
+ *        to sd(vy) and sd(beta), far inside the bounds below.
  *
  * Tolerances.
  * - Double build: the same operations in the same order as the reference (the two-state
@@ -43,11 +47,18 @@
 #define GOLDEN_DIR_EVERY1 "scenarios/golden/observer_every1"
 #define MIN_GOLDENS_EVERY1 2 /* brake_in_turn_low_mu, sine_steer_low_mu */
 #define EVERY_DEFAULT 0u     /* golden_every: the observer's default obs_lat_every */
+#define GOLDEN_DIR_FLOOR "scenarios/golden/observer_out_floor4"
+#define MIN_GOLDENS_FLOOR 2 /* brake_in_turn_low_mu, sine_steer_low_mu */
+#define FLOOR_K 4.0         /* their obs_vy_out_floor_mu (make observer-goldens) */
 
 /* The golden folder and obs_lat_every compare_one takes (test_each_csv passes a name only;
  * EVERY_DEFAULT keeps rfe_velocity_params_default's). */
 static const char *golden_dir = GOLDEN_DIR;
 static uint32_t golden_every = EVERY_DEFAULT;
+/* obs_vy_out_floor_mu of compare_one (0: the default, off); and the steps where the reported
+ * sd(vy) was above the filter's own (the floor acted), over the logs compared. */
+static double golden_floor = 0.0;
+static size_t floor_acted = 0u;
 
 #if defined(RFE_REAL_DOUBLE)
 #define TOL_VX 1e-9
@@ -116,6 +127,7 @@ static void compare_one(const char *name)
     if (golden_every != EVERY_DEFAULT) {
         vp.lat_every = golden_every;
     }
+    vp.vy_out_floor_mu = (rfe_real_t)golden_floor;
     assert_int_equal(rfe_velocity_init(&obs, &vp, &p), RFE_OK);
     for (k = 0u; k < log.n_rows; ++k) {
         rfe_velocity_input_t in;
@@ -136,6 +148,8 @@ static void compare_one(const char *name)
         assert_close(e.yaw_acc, test_table_get(&g, k, "yaw_acc"), TOL_RDOT, 0.0, what);
         assert_close(e.sd_vx, test_table_get(&g, k, "sd_vx"), TOL_SD, 0.0, what);
         assert_close(e.sd_vy, test_table_get(&g, k, "sd_vy"), TOL_SD, 0.0, what);
+        assert_close(e.sd_beta, test_table_get(&g, k, "sd_beta"), TOL_SD, 0.0, what);
+        floor_acted += (e.sd_vy > obs.sd_vy_filter) ? 1u : 0u;
         assert_close(e.sd_yaw_acc, test_table_get(&g, k, "sd_yaw_acc"), TOL_SD * 10.0, 0.0,
                      what);
         if ((double)e.flags != test_table_get(&g, k, "flags")) {
@@ -171,11 +185,35 @@ static void test_the_goldens_at_lat_every_1(void **state)
     golden_every = EVERY_DEFAULT;
 }
 
+/* REQ-OBS-025: the reported sd(vy)'s floor (obs_vy_out_floor_mu 4, OBSERVER.md §5) against
+ * the reference, on logs where it acts (the truth friction's sd 0.05 on mu 0.3 .. 0.5 and ay
+ * up to 4 m/s^2: k s rho up to ~0.5 m/s, above the filter's sd); with it off the same logs
+ * never report above the filter's sd (the default goldens, test_every_golden). */
+static void test_the_goldens_with_the_output_floor(void **state)
+{
+    (void)state;
+    golden_dir = GOLDEN_DIR_FLOOR;
+    golden_every = EVERY_DEFAULT;
+    golden_floor = FLOOR_K;
+    floor_acted = 0u;
+    assert_true(test_each_csv(GOLDEN_DIR_FLOOR, compare_one) >= MIN_GOLDENS_FLOOR);
+    assert_true(floor_acted > 100u); /* it acts: the comparison of sd(vy) can fail */
+    golden_dir = GOLDEN_DIR_EVERY1; /* the same logs, floor off (at lat_every 1) */
+    golden_every = 1u;
+    golden_floor = 0.0;
+    floor_acted = 0u;
+    assert_true(test_each_csv(GOLDEN_DIR_EVERY1, compare_one) >= MIN_GOLDENS_EVERY1);
+    assert_int_equal(floor_acted, 0u);
+    golden_dir = GOLDEN_DIR;
+    golden_every = EVERY_DEFAULT;
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_every_golden),
         cmocka_unit_test(test_the_goldens_at_lat_every_1),
+        cmocka_unit_test(test_the_goldens_with_the_output_floor),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

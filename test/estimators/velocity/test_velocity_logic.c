@@ -204,6 +204,21 @@ static void test_model_rate_every_combination(void **state)
     assert_int_equal(rfe_vel_next_phase(RFE_VEL_PLAN_FILTERS, 2u, 3u), 3u);
 }
 
+/* §5 the reported sd(vy)'s floor: only on a later sample, when on and at vx >= v_lat_min */
+static void test_output_floor_every_combination(void **state)
+{
+    int on;
+    int lateral;
+    (void)state;
+    for (on = 0; on <= 1; ++on) {
+        for (lateral = 0; lateral <= 1; ++lateral) {
+            assert_int_equal(rfe_vel_out_floor_due(RFE_VEL_PLAN_START, on, lateral), 0);
+            assert_int_equal(rfe_vel_out_floor_due(RFE_VEL_PLAN_FILTERS, on, lateral),
+                             ((on != 0) && (lateral != 0)) ? 1 : 0);
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -214,6 +229,7 @@ int main(void)
         cmocka_unit_test(test_time_on_reference_every_combination),
         cmocka_unit_test(test_steady_turn_floor_every_combination),
         cmocka_unit_test(test_model_rate_every_combination),
+        cmocka_unit_test(test_output_floor_every_combination),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -467,7 +467,7 @@ static void test_params(void **state)
         rfe_fix_t *const pos[9] = {&bad.q_jerk, &bad.sd_r, &bad.sd_ax, &bad.sd_ay,
                                     &bad.v_lat_min, &bad.sd_lowspeed, &bad.mu_default,
                                     &bad.sd_vydot, &bad.steer_ratio};
-        rfe_fix_t *const nonneg[29] = {&bad.lin_mu_gain, &bad.sd_vy_lin, &bad.lin_r_tol, &bad.lin_r_rel, &bad.lin_ay_max,
+        rfe_fix_t *const nonneg[30] = {&bad.vy_out_floor_mu, &bad.lin_mu_gain, &bad.sd_vy_lin, &bad.lin_r_tol, &bad.lin_r_rel, &bad.lin_ay_max,
             &bad.lin_ay_steady, &bad.lin_dwell,
             &bad.sd_model_rdot, &bad.vydot_rdot, &bad.q_bx, &bad.q_by, &bad.sd_wheel, &bad.sd_wheel_rel,
             &bad.k_gate, &bad.k_agree, &bad.v_stand, &bad.q_vx_brake, &bad.ax_brake_on, &bad.ax_drive_on, &bad.p_brake_on, &bad.torque_on,
@@ -478,7 +478,7 @@ static void test_params(void **state)
             *pos[i] = 0;
             assert_int_equal(rfe_velocity_params_validate_q31(&bad), RFE_ERR_PARAM);
         }
-        for (i = 0u; i < 29u; ++i) {
+        for (i = 0u; i < 30u; ++i) {
             bad = def;
             *nonneg[i] = 0;
             assert_int_equal(rfe_velocity_params_validate_q31(&bad), RFE_OK);
@@ -1121,6 +1121,118 @@ static void test_the_models_variance_over_the_rate_q31(void **state)
     assert_true(llabs((long long)at4 - (long long)at1) > 8389LL);
 }
 
+/* REQ-OBS-025 REQ-FXP-014: the reported sd(vy)'s floor in fixed point (rfe_vel_sd_vy_floor_q31,
+ * OBSERVER.md §5): the turn and friction input of test_velocity_flt.c's
+ * test_the_reported_sd_vy_floor (the largest sd / mu on a wheel the measured ay raises) through
+ * three observers: q31 off (the default), q31 and double at obs_vy_out_floor_mu 4.
+ *  - q31 on against off: the filters and vx, vy, beta, sd(vx) equal bit for bit, both keep
+ *    the filter's sd (off reports it), the first sample has no floor;
+ *  - q31 on against the closed form k |vx ay / (cy g)| max sd / max(mu, 1.1 |ay| / g) in
+ *    double on the Q values themselves (vx the output, ay, mu, sd, cy, g, k as converted):
+ *    the fixed-point path rounds cy g (Q20: 2^-21 on 147, 3e-9 relative), ay / (cy g)
+ *    (Q29: 2^-30 on 0.017, 6e-8 relative), the raised friction (Q29: 1e-9 relative), the
+ *    slip part (Q23: 6e-8 m/s on 0.34, 2e-7 relative), s sd / m (Q23: 6e-8 m/s) and k times
+ *    it (Q23: 6e-8 m/s): at most 0.58 m/s x 3e-7 + 4 x 6e-8 + 6e-8 = 5e-7 m/s; 1e-6 m/s
+ *    (8 Q23 LSB) bounds it with a factor 2;
+ *  - sd(beta) against its closed form from the q31 outputs: the 30-bit mantissas of
+ *    sd_beta_q31 (2^-30 relative each) and its Q29 rounding, far inside 1e-6 relative;
+ *  - q31 against the double twin: within TOL_SD (the vx twins' TOL_VX 1e-4 on 20 m/s is
+ *    5e-6 relative of the 0.58 m/s floor, plus the 1e-6 above: 4e-6 m/s);
+ *  - no saturation; the parameter's check (at most 8, Q24 2^27; not negative). */
+static void test_the_reported_sd_vy_floor_q31(void **state)
+{
+    both_t b;
+    static rfe_velocity_t od;
+    static rfe_velocity_q31_t off;
+    static rfe_velocity_q31_t on;
+    rfe_velocity_params_q31_t vq_on;
+    rfe_velocity_input_t in;
+    rfe_velocity_input_q31_t iq;
+    rfe_velocity_estimate_t e;
+    rfe_velocity_estimate_q31_t qa;
+    rfe_velocity_estimate_q31_t qb;
+    const double mu_d[4] = {0.3, 0.3, 0.1, 0.9};
+    const double sd_d[4] = {0.05, 0.1, 0.12, 0.05};
+    rfe_velocity_mu_t mu;
+    rfe_velocity_mu_q31_t mq;
+    size_t k;
+    int acted = 0;
+    (void)state;
+    params_of(NULL, &b);
+    assert_int_equal(b.vq.vy_out_floor_mu, 0); /* off by default */
+    b.vd.vy_out_floor_mu = 4.0;
+    vq_on = b.vq;
+    assert_int_equal(rfe_velocity_params_to_q31_f64(&b.vd, &vq_on), RFE_OK);
+    assert_int_equal(vq_on.vy_out_floor_mu, RFE_FIX_ONE(26)); /* 4 in Q24, exactly */
+    assert_int_equal(rfe_velocity_init(&od, &b.vd, &b.pd), RFE_OK);
+    assert_int_equal(rfe_velocity_init_q31(&off, &b.vq, &b.pq), RFE_OK);
+    assert_int_equal(rfe_velocity_init_q31(&on, &vq_on, &b.pq), RFE_OK);
+    for (k = 0u; k < 4u; ++k) {
+        mu.mu[k] = mu_d[k];
+        mu.sd[k] = sd_d[k];
+        mq.mu[k] = fx(mu_d[k], RFE_FIX_Q_MU);
+        mq.sd[k] = fx(sd_d[k], RFE_FIX_Q_SD);
+    }
+    for (k = 0u; k <= 40u; ++k) {
+        rolling(&b, 20.0, (k == 0u) ? 0.0 : 0.01, &in, &iq);
+        in.delta = 0.02;
+        in.yaw_rate = 20.0 * (0.02 / (b.pd.vehicle.Lf + b.pd.vehicle.Lr));
+        in.ay = 2.5;
+        iq.delta = fx(in.delta, RFE_FIX_Q_ANGLE);
+        iq.yaw_rate = fx(in.yaw_rate, RFE_FIX_Q_YAWRATE);
+        iq.ay = fx(in.ay, RFE_FIX_Q_ACC);
+        assert_int_equal(rfe_velocity_step(&od, &in, &mu, &e), RFE_OK);
+        assert_int_equal(rfe_velocity_step_q31(&off, &iq, &mq, &qa), RFE_OK);
+        assert_int_equal(rfe_velocity_step_q31(&on, &iq, &mq, &qb), RFE_OK);
+        assert_int_equal(qb.sat, 0u);
+        assert_memory_equal(&off.lat, &on.lat, sizeof(on.lat));
+        assert_memory_equal(&off.lon, &on.lon, sizeof(on.lon));
+        assert_memory_equal(&off.yaw, &on.yaw, sizeof(on.yaw));
+        assert_true((qa.vx == qb.vx) && (qa.vy == qb.vy) && (qa.beta == qb.beta) &&
+                    (qa.sd_vx == qb.sd_vx) && (qa.flags == qb.flags));
+        assert_int_equal(qa.sd_vy, off.sd_vy_filter);
+        assert_int_equal(on.sd_vy_filter, off.sd_vy_filter);
+        if (k == 0u) {
+            assert_int_equal(qb.sd_vy, qa.sd_vy);
+        } else {
+            const double g = rfe_fix_to_double(b.pq.vehicle.g, RFE_FIX_Q_ACC);
+            const double cy = rfe_fix_to_double(b.pq.tyre.cy, RFE_FIX_Q_RATIO);
+            const double ay = rfe_fix_to_double(iq.ay, RFE_FIX_Q_ACC);
+            const double vx = rfe_fix_to_double(qb.vx, 23u);
+            const double vy = rfe_fix_to_double(qb.vy, 23u);
+            const double svx = rfe_fix_to_double(qb.sd_vx, 23u);
+            const double mu_low =
+                (1.0 + rfe_fix_to_double(vq_on.mu_margin, RFE_FIX_Q_SD)) * fabs(ay) / g;
+            double rho = 0.0;
+            double fl;
+            double want;
+            double sb;
+            size_t i;
+            for (i = 0u; i < 4u; ++i) {
+                rho = fmax(rho, rfe_fix_to_double(mq.sd[i], RFE_FIX_Q_SD) /
+                                    fmax(rfe_fix_to_double(mq.mu[i], RFE_FIX_Q_MU), mu_low));
+            }
+            fl = 4.0 * fabs(vx * ay / (cy * g)) * rho;
+            want = fmax(rfe_fix_to_double(qa.sd_vy, 23u), fl);
+            sb = sqrt(vx * vx * want * want + vy * vy * svx * svx) /
+                 fmax(vx * vx + vy * vy, 9.0); /* v_lat_min 3 m/s */
+            assert_close(rfe_fix_to_double(qb.sd_vy, 23u), want, 1e-6, 0.0, "q31 floored sd(vy)");
+            assert_close(rfe_fix_to_double(qb.sd_beta, 29u), sb, 0.0, 1e-6, "q31 sd(beta)");
+            assert_close(rfe_fix_to_double(qb.sd_vy, 23u), e.sd_vy, TOL_SD, 0.0,
+                         "q31 against double, floored sd(vy)");
+            acted |= (fl > rfe_fix_to_double(qa.sd_vy, 23u)) ? 1 : 0;
+        }
+    }
+    assert_true(acted != 0);
+    /* at most 8 (Q24 2^27), not negative */
+    vq_on.vy_out_floor_mu = RFE_FIX_ONE(27);
+    assert_int_equal(rfe_velocity_params_validate_q31(&vq_on), RFE_OK);
+    vq_on.vy_out_floor_mu = RFE_FIX_ONE(27) + 1;
+    assert_int_equal(rfe_velocity_params_validate_q31(&vq_on), RFE_ERR_PARAM);
+    vq_on.vy_out_floor_mu = -1;
+    assert_int_equal(rfe_velocity_params_validate_q31(&vq_on), RFE_ERR_PARAM);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1136,6 +1248,7 @@ int main(void)
         cmocka_unit_test(test_the_yaw_row_in_fixed_point),
         cmocka_unit_test(test_a_steady_turn_in_fixed_point),
         cmocka_unit_test(test_the_steady_turns_floor_in_fixed_point),
+        cmocka_unit_test(test_the_reported_sd_vy_floor_q31),
         cmocka_unit_test(test_the_lateral_model_every_third_step),
         cmocka_unit_test(test_the_models_variance_over_the_rate_q31),
         cmocka_unit_test(test_back_to_back_through_a_lockout),
