@@ -1224,6 +1224,27 @@ static void test_the_reported_sd_vy_floor_q31(void **state)
         }
     }
     assert_true(acted != 0);
+    /* no lateral acceleration: the slip part is 0 and so is the floor, whatever the friction
+     * (a wheel's friction 0 included, which no ay raises): the reported sd is the filter's */
+    mq.mu[0] = 0;
+    for (k = 0u; k <= 5u; ++k) {
+        rolling(&b, 20.0, 0.01, &in, &iq);
+        iq.ay = 0;
+        assert_int_equal(rfe_velocity_step_q31(&off, &iq, &mq, &qa), RFE_OK);
+        assert_int_equal(rfe_velocity_step_q31(&on, &iq, &mq, &qb), RFE_OK);
+        assert_int_equal(qb.sd_vy, qa.sd_vy);
+        assert_int_equal(qb.sd_vy, on.sd_vy_filter);
+    }
+    /* below v_lat_min (3 m/s) no floor (the float twin's test): the filter's sd */
+    for (k = 0u; k <= 5u; ++k) {
+        rolling(&b, 2.0, 0.01, &in, &iq);
+        iq.ay = fx(2.5, RFE_FIX_Q_ACC);
+        assert_int_equal(rfe_velocity_step_q31(&off, &iq, &mq, &qa), RFE_OK);
+        assert_int_equal(rfe_velocity_step_q31(&on, &iq, &mq, &qb), RFE_OK);
+        assert_true(rfe_fix_to_double(qb.vx, 23u) < 3.0);
+        assert_int_equal(qb.sd_vy, qa.sd_vy);
+        assert_int_equal(qb.sd_vy, on.sd_vy_filter);
+    }
     /* at most 8 (Q24 2^27), not negative */
     vq_on.vy_out_floor_mu = RFE_FIX_ONE(27);
     assert_int_equal(rfe_velocity_params_validate_q31(&vq_on), RFE_OK);
