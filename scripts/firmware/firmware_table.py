@@ -205,9 +205,9 @@ def observer_cost(pil, bench, short):
                  f"({VARIANTS[r['variant']]})" for r, q in rows]
         if host:
             parts.append(f"+{pct(host[2], 0)} on the host")
-        return [("The velocity observer's cost on top of the default friction step, in instructions: " +
-                 ", ".join(parts) + f" (target ≤ {pct(TARGET_SHARE, 0)} on the Cortex-M4; "
-                 "[`docs/OBSERVER_RESULTS.md`](docs/OBSERVER_RESULTS.md#cost-per-step))."
+        return [("Observer cost over the default friction step (instructions): " +
+                 ", ".join(parts) + f" (target ≤ {pct(TARGET_SHARE, 0)} on the M4; "
+                 "[OBSERVER_RESULTS](docs/OBSERVER_RESULTS.md#cost-per-step))."
                  if parts else "The velocity observer's cost: not measured (`make pil`, `make firmware-table`).")]
     out = ["| where | observer step, instructions | default friction step | observer / default step "
            f"| target ≤ {pct(TARGET_SHARE, 0)} (Cortex-M4) |", "|---|---|---|---|---|"]
