@@ -182,4 +182,34 @@ static inline void loop_print(const char *what, const loop_run_t *r, const loop_
            s->max_err_deg, s->max_err_low, s->rms_err_deg, s->t_settle, s->end_err_deg);
 }
 
+/* REQ-OBS-024's bounds on a run with the loop's safeguards on: finite estimates, sd(vy)
+ * positive and at most its start (@p sd_vy0), |vy| within the car's own plus vx tan 0.3 deg,
+ * and settled within LOOP_T_CONV after the step up. */
+static inline void loop_assert_no_runaway(const loop_stats_t *s, double sd_vy0)
+{
+    assert_true(s->finite);
+    assert_true(s->min_sd_vy > 0.0);
+    ASSERT_LE(s->max_sd_vy, sd_vy0, "sd(vy) <= obs_sd_vy0");
+    ASSERT_LE(s->max_vy, s->vy_bound, "max |vy| <= max |vy_true| + vx tan 0.3 deg");
+    ASSERT_LE(s->t_settle, LOOP_T_CONV, "settled after the step up [s]");
+}
+
+/* The Magic Formula truth's beta targets over the whole run: the limit's for the largest
+ * error, the linear range's for the RMS. */
+static inline void loop_assert_beta_targets(const loop_stats_t *s)
+{
+    ASSERT_LE(s->max_err_deg, LOOP_BETA_LIMIT_DEG, "max |beta error| [deg]");
+    ASSERT_LE(s->rms_err_deg, LOOP_BETA_LIN_DEG, "RMS beta error [deg]");
+}
+
+/* The negative control: without the linear range's vy row every bound of
+ * loop_assert_no_runaway fails, and beta ends beyond the limit's target. */
+static inline void loop_assert_runs_away(const loop_stats_t *s, double sd_vy0)
+{
+    assert_true(s->max_vy > s->vy_bound);
+    assert_true(s->max_sd_vy > sd_vy0);
+    assert_true(s->t_settle > LOOP_T_CONV);
+    assert_true(s->end_err_deg > LOOP_BETA_LIMIT_DEG);
+}
+
 #endif /* RFE_TEST_LOOP_CHECK_H */
