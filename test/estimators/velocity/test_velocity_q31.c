@@ -168,6 +168,21 @@ static void rolling(const both_t *b, double v, double dt, rfe_velocity_input_t *
     }
 }
 
+/* Sample k of the steady turn the floor tests drive (test_velocity_flt.c's floor_turn): 20 m/s
+ * (the first sample with dt 0), delta 0.02 rad, the yaw rate on r_ref = vx delta / L, ay
+ * 2.5 m/s^2, in double and in the fixed-point formats. */
+static void steady_turn(const both_t *b, size_t k, rfe_velocity_input_t *in,
+                        rfe_velocity_input_q31_t *iq)
+{
+    rolling(b, 20.0, (k == 0u) ? 0.0 : 0.01, in, iq);
+    in->delta = 0.02;
+    in->yaw_rate = 20.0 * (0.02 / (b->pd.vehicle.Lf + b->pd.vehicle.Lr));
+    in->ay = 2.5;
+    iq->delta = fx(in->delta, RFE_FIX_Q_ANGLE);
+    iq->yaw_rate = fx(in->yaw_rate, RFE_FIX_Q_YAWRATE);
+    iq->ay = fx(in->ay, RFE_FIX_Q_ACC);
+}
+
 typedef struct {
     double vx, vy, beta, rdot, sd; /* the worst |q31 - double| over the log (vx, sd: before
                                       the first decision split) */
@@ -938,13 +953,7 @@ static void floor_turn_both(double gain, size_t first_raised)
         mq.sd[k] = fx(0.05, RFE_FIX_Q_SD);
     }
     for (k = 0u; k <= 40u; ++k) {
-        rolling(&b, 20.0, (k == 0u) ? 0.0 : 0.01, &in, &iq);
-        in.delta = 0.02;
-        in.yaw_rate = 20.0 * (0.02 / (b.pd.vehicle.Lf + b.pd.vehicle.Lr));
-        in.ay = 2.5;
-        iq.delta = fx(in.delta, RFE_FIX_Q_ANGLE);
-        iq.yaw_rate = fx(in.yaw_rate, RFE_FIX_Q_YAWRATE);
-        iq.ay = fx(in.ay, RFE_FIX_Q_ACC);
+        steady_turn(&b, k, &in, &iq);
         assert_int_equal(rfe_velocity_step(&od, &in, &mu, &e), RFE_OK);
         assert_int_equal(rfe_velocity_step_q31(&oq, &iq, &mq, &q), RFE_OK);
         assert_int_equal(q.flags, e.flags);
@@ -1174,13 +1183,7 @@ static void test_the_reported_sd_vy_floor_q31(void **state)
         mq.sd[k] = fx(sd_d[k], RFE_FIX_Q_SD);
     }
     for (k = 0u; k <= 40u; ++k) {
-        rolling(&b, 20.0, (k == 0u) ? 0.0 : 0.01, &in, &iq);
-        in.delta = 0.02;
-        in.yaw_rate = 20.0 * (0.02 / (b.pd.vehicle.Lf + b.pd.vehicle.Lr));
-        in.ay = 2.5;
-        iq.delta = fx(in.delta, RFE_FIX_Q_ANGLE);
-        iq.yaw_rate = fx(in.yaw_rate, RFE_FIX_Q_YAWRATE);
-        iq.ay = fx(in.ay, RFE_FIX_Q_ACC);
+        steady_turn(&b, k, &in, &iq);
         assert_int_equal(rfe_velocity_step(&od, &in, &mu, &e), RFE_OK);
         assert_int_equal(rfe_velocity_step_q31(&off, &iq, &mq, &qa), RFE_OK);
         assert_int_equal(rfe_velocity_step_q31(&on, &iq, &mq, &qb), RFE_OK);
