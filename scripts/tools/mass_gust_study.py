@@ -112,6 +112,8 @@ class MassGradeGust(mos.MassGradeOffset):
     """mass_offset_study's filter with the gust state G (module docstring); every pause,
     start and check as the reference's."""
 
+    IT = IT  # theta's row, after G: the offset study's estimate, walk and pause steps read it
+
     def __init__(self, params, sd_mode="fixed", tau=GUST_TAU, sd_f0=SD_F0, q_f=Q_F):
         super().__init__(params, sd_f0, q_f)
         if sd_mode not in ("fixed", "from F"):
@@ -145,26 +147,6 @@ class MassGradeGust(mos.MassGradeOffset):
                   [0.0, 0.0, 0.0, 0.0, p["mg_sd_theta0"]]]
         self.th_prev = self.x[IT]
 
-    def _estimate(self, status):
-        return mg.MgEstimate(self.x[IM], self.sd[IM], self.x[IT], self.sd[IT], self.x[IV],
-                             self.sd[IV], self.q_mv, status)
-
-    def _walk_level(self, dt):
-        x = self.x
-        self.x = [x[IV], x[IM], x[IT]]
-        try:
-            mg.MassGrade._walk_level(self, dt)
-        finally:
-            self.x = x
-
-    def _changed(self, s, dt):
-        x = self.x
-        self.x = [x[IV], x[IM], x[IT]]
-        try:
-            return mg.MassGrade._changed(self, s, dt)
-        finally:
-            self.x = x
-
     def _hold_sqrt(self, s, dt):
         # M and F held, G relaxes towards 0 (its Gauss-Markov prediction), theta walks
         p, S = self.p, self.S
@@ -183,33 +165,6 @@ class MassGradeGust(mos.MassGradeOffset):
                   [0.0, A[3][0], A[3][1], A[3][2], A[3][3]]]
         self.adapt_elapsed = 0.0
         self.m_adapt = self.x[IM]
-        return mg.OK
-
-    def _grade_ax_sqrt(self, s, dt):
-        # mass_offset_study's, on columns v and theta (S[0][0], S[4][0], S[4][4]); M, F and
-        # G are held over the pause sample, G not relaxed there
-        # (a simplification: only the hold relaxes G)
-        p, S, x = self.p, self.S, self.x
-        gc = p["g"] * math.cos(x[IT]) * dt
-        v = x[IV] + dt * (s.ax - p["g"] * math.sin(x[IT]))
-        rax = p["mg_r_ax"] * dt
-        qv = math.sqrt(p["mg_q_v"] * p["mg_q_v"] * dt + rax * rax)
-        A = [[S[0][0] - gc * S[4][0], -gc * S[4][4], qv, 0.0],
-             [S[4][0], S[4][4], 0.0, self._q_theta() * math.sqrt(dt)]]
-        if mg.tria(A, 2, 4) is None:
-            return mg.ERR_NONFINITE
-        rv = p["mg_r_v"]
-        sz = math.sqrt(A[0][0] * A[0][0] + rv * rv)
-        cs, sn, e = A[0][0] / sz, rv / sz, (s.v - v) / sz
-        v += A[0][0] * cs * e
-        th = x[IT] + A[1][0] * cs * e
-        x[IV] = v
-        x[IT] = min(max(th, -p["mg_theta_max"]), p["mg_theta_max"])
-        S[0][0] = A[0][0] * sn
-        S[4][0] = A[1][0] * sn
-        S[4][4] = A[1][1]
-        self.adapt_elapsed = 0.0
-        self.m_adapt = x[IM]
         return mg.OK
 
     def _accel(self, q, torque):

@@ -100,6 +100,8 @@ class MassGradeOffset(mg.MassGrade):
     every pause, start and check as the reference's, only the state's size and the model
     differ. Weights with alpha 1, beta 2, kappa 0 only (w_c,0 >= 0: no downdate)."""
 
+    IT = IT  # theta's row: the last state (a subclass with more states moves it)
+
     def __init__(self, params, sd_f0, q_f, f0=0.0):
         super().__init__(params)
         p = self.p
@@ -122,7 +124,8 @@ class MassGradeOffset(mg.MassGrade):
         self.th_prev = self.x[IT]
 
     def _estimate(self, status):
-        return mg.MgEstimate(self.x[IM], self.sd[IM], self.x[IT], self.sd[IT], self.x[IV],
+        it = self.IT
+        return mg.MgEstimate(self.x[IM], self.sd[IM], self.x[it], self.sd[it], self.x[IV],
                              self.sd[IV], self.q_mv, status)
 
     def _step_sqrt(self, s):
@@ -167,9 +170,9 @@ class MassGradeOffset(mg.MassGrade):
         return self._estimate(status)
 
     def _walk_level(self, dt):
-        # the reference's §4.7 on theta (index 3 here)
+        # the reference's §4.7 on theta (row self.IT here)
         x = self.x
-        self.x = [x[IV], x[IM], x[IT]]
+        self.x = [x[IV], x[IM], x[self.IT]]
         try:
             super()._walk_level(dt)
         finally:
@@ -177,7 +180,7 @@ class MassGradeOffset(mg.MassGrade):
 
     def _changed(self, s, dt):
         x = self.x
-        self.x = [x[IV], x[IM], x[IT]]
+        self.x = [x[IV], x[IM], x[self.IT]]
         try:
             return super()._changed(s, dt)
         finally:
@@ -198,26 +201,27 @@ class MassGradeOffset(mg.MassGrade):
         return mg.OK
 
     def _grade_ax_sqrt(self, s, dt):
-        # the reference's, on columns v and theta (M's and F's rows have no entry there)
-        p, S, x = self.p, self.S, self.x
-        gc = p["g"] * math.cos(x[IT]) * dt
-        v = x[IV] + dt * (s.ax - p["g"] * math.sin(x[IT]))
+        # the reference's, on columns v and theta (the rows between have no entry there; M, F and
+        # any further state are held over the pause sample)
+        p, S, x, it = self.p, self.S, self.x, self.IT
+        gc = p["g"] * math.cos(x[it]) * dt
+        v = x[IV] + dt * (s.ax - p["g"] * math.sin(x[it]))
         rax = p["mg_r_ax"] * dt
         qv = math.sqrt(p["mg_q_v"] * p["mg_q_v"] * dt + rax * rax)
-        A = [[S[0][0] - gc * S[3][0], -gc * S[3][3], qv, 0.0],
-             [S[3][0], S[3][3], 0.0, self._q_theta() * math.sqrt(dt)]]
+        A = [[S[0][0] - gc * S[it][0], -gc * S[it][it], qv, 0.0],
+             [S[it][0], S[it][it], 0.0, self._q_theta() * math.sqrt(dt)]]
         if mg.tria(A, 2, 4) is None:
             return mg.ERR_NONFINITE
         rv = p["mg_r_v"]
         sz = math.sqrt(A[0][0] * A[0][0] + rv * rv)
         cs, sn, e = A[0][0] / sz, rv / sz, (s.v - v) / sz
         v += A[0][0] * cs * e
-        th = x[IT] + A[1][0] * cs * e
+        th = x[it] + A[1][0] * cs * e
         x[IV] = v
-        x[IT] = min(max(th, -p["mg_theta_max"]), p["mg_theta_max"])
+        x[it] = min(max(th, -p["mg_theta_max"]), p["mg_theta_max"])
         S[0][0] = A[0][0] * sn
-        S[3][0] = A[1][0] * sn
-        S[3][3] = A[1][1]
+        S[it][0] = A[1][0] * sn
+        S[it][it] = A[1][1]
         self.adapt_elapsed = 0.0
         self.m_adapt = x[IM]
         return mg.OK
