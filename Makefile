@@ -606,13 +606,13 @@ shape-results: venv
 	RFE_SHAPE_CLAIM=1 $(PY) -m pytest -q -p no:cacheprovider scripts/tools/test_shape_results.py
 
 # The velocity observer's goldens (docs/OBSERVER.md) from its float64 reference.
-## regenerate the velocity observer's goldens (scenarios/golden/observer/ at the default obs_lat_every, observer_every1/: every step, observer_out_floor4/: obs_vy_out_floor_mu 4)
+## regenerate the velocity observer's goldens (scenarios/golden/observer/ at the defaults, observer_every1/: every step, observer_out_floor0/: the reported sd(vy)'s floor off)
 observer-goldens: venv
 	$(PY) scripts/data/make_observer_goldens.py --scenarios scenarios --out scenarios/golden/observer
 	$(PY) scripts/data/make_observer_goldens.py --scenarios scenarios --lat-every 1 \
 	  --only brake_in_turn_low_mu.csv sine_steer_low_mu.csv --out scenarios/golden/observer_every1
-	$(PY) scripts/data/make_observer_goldens.py --scenarios scenarios --vy-out-floor-mu 4 \
-	  --only brake_in_turn_low_mu.csv sine_steer_low_mu.csv --out scenarios/golden/observer_out_floor4
+	$(PY) scripts/data/make_observer_goldens.py --scenarios scenarios --vy-out-floor-mu 0 \
+	  --only brake_in_turn_low_mu.csv sine_steer_low_mu.csv --out scenarios/golden/observer_out_floor0
 
 # The tyre identifier's goldens (docs/TYRE_ID.md) from its float64 reference, libm backend (the
 # C library's double build agrees bit for bit); the particle count is the C build's. The

@@ -77,8 +77,8 @@ typedef struct {
                                    (at most 1 + mu_margin: no effect): 2 */
     rfe_real_t vy_out_floor_mu; /**< the reported sd(vy) (and so sd(beta)) is at least this
                                      times |vx ay / (cy g)| max_i sd_mu,i / mu_i (§5) [1], in
-                                     [0, 8]; the filter and the friction's input noise are
-                                     untouched: 0 (off) */
+                                     [0, 8], 0 is off; the filter and the friction's input
+                                     noise are untouched: 4 */
 } rfe_velocity_params_t;
 
 /**

@@ -68,7 +68,7 @@ typedef struct {
     rfe_fix_t lin_dwell;      /**< that time [s], Q30, at most 1 s */
     rfe_fix_t lin_mu_gain;    /**< the steady turn's friction floor, times |ay| / g [1], Q24 */
     rfe_fix_t vy_out_floor_mu; /**< the reported sd(vy)'s floor factor [1], Q24, at most 8;
-                                    0: off */
+                                    0: off; 4 by default */
 } rfe_velocity_params_q31_t;
 
 /**

@@ -40,7 +40,7 @@ def logs_in(folder):
 def golden(path, lat_every=None, out_floor=None):
     """(metadata pairs, column names, rows) of one log's golden, the model's rows every
     lat_every-th step (OBSERVER.md §4.2; None: the observer's default), the reported sd(vy)'s
-    floor at obs_vy_out_floor_mu = out_floor (§5; None: the default, off)."""
+    floor at obs_vy_out_floor_mu = out_floor (§5; None: the default, 4)."""
     log = logs.read_csv_log(path, required=("t", "delta", "yaw_rate", "ax", "ay")
                             + tuple("omega_" + w for w in WHEELS))
     c = log.columns
@@ -77,7 +77,7 @@ def main(argv=None):
                          "observer's default, OBS_DEFAULTS)")
     ap.add_argument("--vy-out-floor-mu", type=float, default=None,
                     help="obs_vy_out_floor_mu of the goldens (OBSERVER.md §5; default: the "
-                         "observer's default, off)")
+                         "observer's default, 4; 0 is off)")
     ap.add_argument("--only", nargs="+", default=None,
                     help="only these logs (file names) of the --scenarios folders")
     a = ap.parse_args(argv)

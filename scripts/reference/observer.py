@@ -59,7 +59,7 @@ OBS_DEFAULTS: dict[str, float] = {
     "obs_lin_ay_steady": 4.0,   # ... or at most this in a steady turn, m/s^2
     "obs_lin_dwell": 0.125,     # a steady turn: r on vx delta / L this long, s (at most 1)
     "obs_lin_mu_gain": 2.0,     # in that steady turn the model's friction >= this |ay| / g (<= 4)
-    "obs_vy_out_floor_mu": 0.0,  # §5 reported sd(vy) >= this |vx ay / (cy g)| max sd_mu / mu,
+    "obs_vy_out_floor_mu": 4.0,  # §5 reported sd(vy) >= this |vx ay / (cy g)| max sd_mu / mu,
                                  # the filter's P, gains and estimate untouched (0: off, <= 8)
 }
 

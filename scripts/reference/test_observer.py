@@ -356,25 +356,28 @@ def test_observer_goldens_are_up_to_date(name, every):
     assert dict(meta)["source"] == g.meta["source"]
 
 
-@pytest.mark.skipif(not os.path.isdir(GOLDEN_OBS + "_out_floor4"), reason="no floor goldens")
+@pytest.mark.skipif(not os.path.isdir(GOLDEN_OBS + "_out_floor0"), reason="no floor-off goldens")
 @pytest.mark.parametrize("name", ["brake_in_turn_low_mu.csv", "sine_steer_low_mu.csv"])
-def test_the_output_floor_goldens_are_up_to_date(name):
-    # scenarios/golden/observer_out_floor4: obs_vy_out_floor_mu 4 (OBSERVER.md §5), the C
-    # double build's reference with the floor on; the bounds of the test above
+def test_the_floor_off_goldens_are_up_to_date(name):
+    # scenarios/golden/observer_out_floor0: obs_vy_out_floor_mu 0 (OBSERVER.md §5; the
+    # default is 4), the C double build's reference with the floor off; the bounds of the
+    # test above
     import sys
     sys.path.insert(0, os.path.join(REPO, "scripts", "data"))
     import make_observer_goldens as mog
-    meta, cols, rows = mog.golden(os.path.join(SCEN, name), None, 4.0)
+    meta, cols, rows = mog.golden(os.path.join(SCEN, name), None, 0.0)
     now = np.array([list(r) for r in rows])
-    g = logs.read_csv_log(os.path.join(GOLDEN_OBS + "_out_floor4", name), required=cols)
+    g = logs.read_csv_log(os.path.join(GOLDEN_OBS + "_out_floor0", name), required=cols)
     old = np.column_stack([g.columns[c] for c in cols])
     assert now.shape == old.shape
     assert np.max(np.abs(now[:, :-1] - old[:, :-1])) <= 1e-9
     assert np.array_equal(now[:, -1], old[:, -1])
-    assert dict(meta)["obs_vy_out_floor_mu"] == 4.0
-    # the floor acts on these logs: sd(vy) above the same log's default golden somewhere
+    assert dict(meta)["obs_vy_out_floor_mu"] == 0.0
+    # the default's floor acts on these logs: the default golden's sd(vy) above the off
+    # one's somewhere
     d = logs.read_csv_log(os.path.join(GOLDEN_OBS, name), required=cols)
-    assert np.any(g.columns["sd_vy"] > d.columns["sd_vy"] + 1e-6)
+    assert float(d.meta["obs_vy_out_floor_mu"]) == 4.0
+    assert np.any(d.columns["sd_vy"] > g.columns["sd_vy"] + 1e-6)
     # and leaves the estimate (the goldens were written on other CPUs: the bound above)
     assert np.max(np.abs(g.columns["vy"] - d.columns["vy"])) <= 1e-9
 
@@ -440,8 +443,9 @@ def test_the_study_options_are_off_and_not_the_librarys():
 
 @pytest.mark.skipif(not os.path.exists(LOOP), reason="no loop scenario")
 def test_the_output_floor_makes_the_mu_step_honest_and_leaves_the_estimate():
-    c, _, off, m = _loop_run()
-    _, p, on, _ = _loop_run(obs_vy_out_floor_mu=4.0)
+    assert observer.OBS_DEFAULTS["obs_vy_out_floor_mu"] == 4.0   # on by default
+    c, _, off, m = _loop_run(obs_vy_out_floor_mu=0.0)
+    _, p, on, _ = _loop_run()
     e_off = np.abs(off["beta"] - c["beta_true"])[m]
     e_on = np.abs(on["beta"] - c["beta_true"])[m]
     # off: confidently wrong (measured: every sample of the phase beyond 2 sd)
@@ -458,8 +462,9 @@ def test_the_output_floor_makes_the_mu_step_honest_and_leaves_the_estimate():
 
 @pytest.mark.skipif(not os.path.exists(LOOP), reason="no loop scenario")
 def test_the_state_floor_bounds_sd_vy():
-    c, p, o, _ = _loop_run(obs_vy_floor_mu=2.0)
+    # the reported sd's floor off in both runs (4 by default): the state floor alone
+    c, p, o, _ = _loop_run(obs_vy_floor_mu=2.0, obs_vy_out_floor_mu=0.0)
     fast = o["vx"] >= p["obs_v_lat_min"]
     # 1e-12 relative: as above (sd is the square root of the floored P00)
     assert np.all(o["sd_vy"][fast] >= _slip_floor(c, p, o, 2.0)[fast] * (1.0 - 1e-12))
-    assert np.any(o["sd_vy"][fast] > 3.0 * _loop_run()[2]["sd_vy"][fast])
+    assert np.any(o["sd_vy"][fast] > 3.0 * _loop_run(obs_vy_out_floor_mu=0.0)[2]["sd_vy"][fast])

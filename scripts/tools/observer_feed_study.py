@@ -58,6 +58,11 @@ def replay(binary: Path, log: Path, out: Path, tag: str, velocity: str,
     est, met = out / f"{log.stem}.{tag}.csv", out / f"{log.stem}.{tag}.json"
     cmd = [str(binary), "--in", str(log), "--out", str(est), "--preset", "default",
            "--real", "float", "--velocity", velocity, "--metrics", str(met), "--quiet"]
+    if params is None and velocity == "observer":
+        # the reported sd(vy)'s floor off (4 by default): the log's sd_vy is then the fed
+        # sd_in_vy; every friction output is the same either way (OBSERVER.md §6)
+        params = out / "out_floor_off.par"
+        params.write_text("obs_vy_out_floor_mu = 0\n")
     cmd += ["--params", str(params)] if params else []
     subprocess.run(cmd, check=True, capture_output=True, env={**os.environ, **(env or {})})
     return read_csv(est), json.loads(met.read_text())["metrics"]

@@ -37,11 +37,12 @@ from reference import logs, observer, params  # noqa: E402
 WHEELS = ("fl", "fr", "rl", "rr")
 BETA_MIN_VX = 3.0          # m/s, as observer_results.py (obs_v_lat_min)
 LOW_MU = 0.7               # turn_mu_step's mu 0.5 phase: truth friction below this
+OFF = {"obs_vy_out_floor_mu": 0.0}  # the output floor off (4 by default since 2026-12-07)
 OPTIONS = {                # option sets: name -> the study keys set
-    "off": {},
-    "stiff 1": {"obs_stiff_mu": 1.0},
-    "floor 2": {"obs_vy_floor_mu": 2.0},
-    "floor 4": {"obs_vy_floor_mu": 4.0},
+    "off": OFF,
+    "stiff 1": {**OFF, "obs_stiff_mu": 1.0},
+    "floor 2": {**OFF, "obs_vy_floor_mu": 2.0},
+    "floor 4": {**OFF, "obs_vy_floor_mu": 4.0},
     "out floor 2": {"obs_vy_out_floor_mu": 2.0},
     "out floor 4": {"obs_vy_out_floor_mu": 4.0},
 }

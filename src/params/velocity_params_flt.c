@@ -53,7 +53,7 @@ rfe_status_t rfe_velocity_params_default(rfe_velocity_params_t *p)
     p->lin_ay_steady = RFE_R(4.0);
     p->lin_dwell = RFE_R(0.125);
     p->lin_mu_gain = RFE_R(2.0);
-    p->vy_out_floor_mu = RFE_R(0.0);
+    p->vy_out_floor_mu = RFE_R(4.0);
     return RFE_OK;
 }
 

@@ -56,7 +56,7 @@ rfe_status_t rfe_velocity_params_default_q31(rfe_velocity_params_q31_t *p)
     p->lin_ay_steady = 67108864; /* 4 m/s^2, Q24 */
     p->lin_dwell = 134217728; /* 0.125 s, Q30 */
     p->lin_mu_gain = 33554432; /* 2, Q24 */
-    p->vy_out_floor_mu = 0; /* off, Q24 */
+    p->vy_out_floor_mu = 67108864; /* 4, Q24 */
     return RFE_OK;
 }
 

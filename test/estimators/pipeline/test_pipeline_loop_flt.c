@@ -13,8 +13,10 @@
  * `mu_replay --velocity observer`.
  *
  * What is asserted, each bound from issue 16's targets or the observer's own parameters:
- * - every step succeeds and every output and sd is finite; sd(vy) stays in (0, obs_sd_vy0]:
- *   the observer never knows less than at its start;
+ * - every step succeeds and every output and sd is finite; the lateral filter's sd(vy)
+ *   (sd_vy_filter) stays in (0, obs_sd_vy0]: the observer never knows less than at its
+ *   start (the reported sd(vy) carries §5's floor, obs_vy_out_floor_mu 4 by default, whose
+ *   point is to exceed the filter's where the friction is unobserved: not bounded here);
  * - no runaway: |vy| never exceeds the largest |vy| the car has, widened by the 0.3 deg
  *   target at the log's speed (max vx tan 0.3 deg = 0.08 m/s);
  * - after the step back to mu 0.9 (|ay| < 0.5 mu g: the 0.3 deg target applies), |beta
@@ -75,8 +77,10 @@ static void run(const char *name, double sd_vy_lin, loop_run_t *r, loop_stats_t 
         assert_false(rfe_status_is_error(rfe_pipeline_step(&pl, &in, &o)));
         r->vy[k] = (double)o.velocity.vy;
         r->beta[k] = (double)o.velocity.beta;
-        r->sd_vy[k] = (double)o.velocity.sd_vy;
+        r->sd_vy[k] = (double)pl.velocity.sd_vy_filter; /* the filter's: the runaway bound */
         r->sd_beta[k] = (double)o.velocity.sd_beta;
+        assert_true(isfinite((double)o.velocity.sd_vy) &&
+                    (o.velocity.sd_vy >= pl.velocity.sd_vy_filter)); /* the floor only raises */
     }
     rfe_sensor_log_free(&log);
     *s = loop_stats(r);
@@ -86,7 +90,7 @@ static void run(const char *name, double sd_vy_lin, loop_run_t *r, loop_stats_t 
 static loop_run_t lr; /* 10 arrays of 4000 doubles: not on the stack */
 
 /* The Dugoff run of test_the_loop_does_not_run_away_dugoff twice side by side, the
- * reported sd(vy)'s floor off (the defaults) and at obs_vy_out_floor_mu @p k (OBSERVER.md
+ * reported sd(vy)'s floor off (obs_vy_out_floor_mu 0) and at @p k (OBSERVER.md
  * §5): every friction estimate and vx, vy, beta, sd(vx) equal bit for bit (the floor is on
  * the report only, the friction estimator's vy input noise is the filter's own sd, so the
  * closed loop is unchanged by construction); off, the reported sd(vy) is the filter's; on,
@@ -109,9 +113,10 @@ static void run_floor(const char *name, double k_floor, loop_run_t *r)
     assert_int_equal(rfe_param_set_apply_meta(&ps, &log, "log", &err), 0);
     assert_int_equal(rfe_replay_params(&ps, &p, NULL), RFE_OK);
     assert_int_equal(rfe_replay_velocity_params(&ps, &vp, NULL), RFE_OK);
-    assert_true(vp.vy_out_floor_mu == (rfe_real_t)0.0); /* off by default */
+    assert_true(vp.vy_out_floor_mu == (rfe_real_t)4.0); /* 4 by default (OBSERVER.md §2) */
     memset(&off, 0, sizeof off);
     memset(&on, 0, sizeof on);
+    vp.vy_out_floor_mu = (rfe_real_t)0.0; /* off */
     assert_int_equal(rfe_pipeline_init(&off, &p, &vp), RFE_OK);
     vp.vy_out_floor_mu = (rfe_real_t)k_floor;
     assert_int_equal(rfe_pipeline_init(&on, &p, &vp), RFE_OK);

@@ -60,8 +60,10 @@ static void run(const char *name, double sd_vy_lin, loop_run_t *r, loop_stats_t 
         assert_int_equal(o.friction.sat, 0u);
         r->vy[k] = rfe_fix_to_double(o.velocity.vy, 23u);
         r->beta[k] = rfe_fix_to_double(o.velocity.beta, 29u);
-        r->sd_vy[k] = rfe_fix_to_double(o.velocity.sd_vy, 23u);
+        /* the filter's sd(vy): the runaway bound (test_pipeline_loop_flt.c) */
+        r->sd_vy[k] = rfe_fix_to_double(pl.velocity.sd_vy_filter, 23u);
         r->sd_beta[k] = rfe_fix_to_double(o.velocity.sd_beta, 29u);
+        assert_true(o.velocity.sd_vy >= pl.velocity.sd_vy_filter); /* the floor only raises */
     }
     assert_int_equal(sat, 0u);
     rfe_sensor_log_free(&log);
@@ -103,7 +105,7 @@ static void test_without_the_linear_row_the_loop_runs_away_q31(void **state)
 }
 
 /* The Dugoff run of test_the_loop_does_not_run_away_dugoff_q31 twice side by side, the
- * reported sd(vy)'s floor off (the defaults) and at obs_vy_out_floor_mu @p k (Q24,
+ * reported sd(vy)'s floor off (obs_vy_out_floor_mu 0) and at @p k (Q24,
  * OBSERVER.md §5): test_pipeline_loop_flt.c's run_floor in fixed point (the friction
  * estimates and vx, vy, beta, sd(vx) equal bit for bit; off, the reported sd(vy) is the
  * filter's). @p r gets the run with the floor. */
@@ -119,7 +121,10 @@ static void run_floor(const char *name, double k_floor, loop_run_t *r)
     uint32_t sat = 0u;
     loop_read(name, &log, r);
     params_of(&log, &b);
-    assert_int_equal(b.vq.vy_out_floor_mu, 0); /* off by default */
+    assert_int_equal(b.vq.vy_out_floor_mu, RFE_FIX_ONE(26)); /* 4 (Q24) by default */
+    b.vd.vy_out_floor_mu = 0.0; /* off */
+    assert_int_equal(rfe_velocity_params_to_q31_f64(&b.vd, &b.vq), RFE_OK);
+    assert_int_equal(b.vq.vy_out_floor_mu, 0);
     b.vd.vy_out_floor_mu = k_floor;
     vq_on = b.vq;
     assert_int_equal(rfe_velocity_params_to_q31_f64(&b.vd, &vq_on), RFE_OK);

@@ -929,7 +929,7 @@ static double floor_closed_form(const rfe_velocity_params_t *vp, const rfe_param
 /* REQ-OBS-025: the reported sd(vy)'s floor. Two observers side by side on a steady turn (20
  * m/s, ay 2.5 m/s^2) with a friction input whose largest sd / mu is on a wheel the measured
  * ay raises (0.1 -> 1.1 * 2.5 / 9.81 = 0.28, sd 0.12: rho 0.43; the others 0.17, 0.33,
- * 0.06), the floor off (the default) and at 4: the filters and every output but sd(vy) and
+ * 0.06), the floor off (obs_vy_out_floor_mu 0) and at 4 (the default): the filters and every output but sd(vy) and
  * sd(beta) equal bit for bit; off, the reported sd(vy) is the filter's own; on, it is
  * max(the filter's, the closed form) (4 * 0.34 * 0.43 = 0.58 m/s here, above the filter's:
  * the floor acts) and sd(beta) follows it. Not on the first sample (it initialises), nor
@@ -951,9 +951,10 @@ static void test_the_reported_sd_vy_floor(void **state)
     int acted = 0;
     (void)state;
     setup_fixture();
-    assert_true(fx.vp.vy_out_floor_mu == 0.0f); /* off by default (OBSERVER.md §2) */
+    assert_true(fx.vp.vy_out_floor_mu == 4.0f); /* 4 by default (OBSERVER.md §2) */
     vp_on = fx.vp;
-    vp_on.vy_out_floor_mu = 4.0f;
+    fx.vp.vy_out_floor_mu = 0.0f; /* fx.obs: the floor off */
+    assert_int_equal(rfe_velocity_init(&fx.obs, &fx.vp, &fx.p), RFE_OK);
     assert_int_equal(rfe_velocity_init(&on, &vp_on, &fx.p), RFE_OK);
     for (k = 0u; k <= 40u; ++k) {
         in = rolling(20.0f, (k == 0u) ? 0.0f : 0.01f);

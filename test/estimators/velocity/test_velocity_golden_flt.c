@@ -9,11 +9,12 @@
  *        and at obs_lat_every 1 (every step, no division: the path the default skips) on two
  *        low-mu logs where the model holds vy, scenarios/golden/observer_every1/, by the same
  *        target. The tolerances below hold at 8 as at 1: a skipped step leaves out updates of
- *        the same form and the division by 8 is exact in binary floating point. And with
- *        the reported sd(vy)'s floor on (obs_vy_out_floor_mu 4, OBSERVER.md §5) on the same
- *        two logs, scenarios/golden/observer_out_floor4/: the floor's arithmetic (a max,
- *        products and quotients of the outputs and inputs, no filter) adds a few roundings
- *        to sd(vy) and sd(beta), far inside the bounds below.
+ *        the same form and the division by 8 is exact in binary floating point. Both sets
+ *        carry the reported sd(vy)'s floor at its default (obs_vy_out_floor_mu 4,
+ *        OBSERVER.md §5): its arithmetic (a max, products and quotients of the outputs and
+ *        inputs, no filter) adds a few roundings to sd(vy) and sd(beta), far inside the
+ *        bounds below. And with the floor off (obs_vy_out_floor_mu 0) on the two low-mu
+ *        logs, scenarios/golden/observer_out_floor0/, so the off path stays covered.
  *
  * Tolerances.
  * - Double build: the same operations in the same order as the reference (the two-state
@@ -47,18 +48,23 @@
 #define GOLDEN_DIR_EVERY1 "scenarios/golden/observer_every1"
 #define MIN_GOLDENS_EVERY1 2 /* brake_in_turn_low_mu, sine_steer_low_mu */
 #define EVERY_DEFAULT 0u     /* golden_every: the observer's default obs_lat_every */
-#define GOLDEN_DIR_FLOOR "scenarios/golden/observer_out_floor4"
-#define MIN_GOLDENS_FLOOR 2 /* brake_in_turn_low_mu, sine_steer_low_mu */
-#define FLOOR_K 4.0         /* their obs_vy_out_floor_mu (make observer-goldens) */
+#define GOLDEN_DIR_FLOOR_OFF "scenarios/golden/observer_out_floor0"
+#define MIN_GOLDENS_FLOOR_OFF 2 /* brake_in_turn_low_mu, sine_steer_low_mu */
+#define FLOOR_OFF 0.0           /* their obs_vy_out_floor_mu (make observer-goldens) */
+#define FLOOR_DEFAULT (-1.0)    /* golden_floor: the observer's default obs_vy_out_floor_mu */
 
 /* The golden folder and obs_lat_every compare_one takes (test_each_csv passes a name only;
  * EVERY_DEFAULT keeps rfe_velocity_params_default's). */
 static const char *golden_dir = GOLDEN_DIR;
 static uint32_t golden_every = EVERY_DEFAULT;
-/* obs_vy_out_floor_mu of compare_one (0: the default, off); and the steps where the reported
- * sd(vy) was above the filter's own (the floor acted), over the logs compared. */
-static double golden_floor = 0.0;
+/* obs_vy_out_floor_mu of compare_one (FLOOR_DEFAULT keeps the default, 4); and the steps
+ * where the reported sd(vy) was above the filter's own (the floor acted), over the logs
+ * compared. */
+static double golden_floor = FLOOR_DEFAULT;
 static size_t floor_acted = 0u;
+/* The rows where the floor-off golden's sd(vy) is below the default golden's by more than
+ * TOL_SD (count_floor_rows), over the logs counted. */
+static size_t golden_rows_apart = 0u;
 
 #if defined(RFE_REAL_DOUBLE)
 #define TOL_VX 1e-9
@@ -127,7 +133,9 @@ static void compare_one(const char *name)
     if (golden_every != EVERY_DEFAULT) {
         vp.lat_every = golden_every;
     }
-    vp.vy_out_floor_mu = (rfe_real_t)golden_floor;
+    if (golden_floor != FLOOR_DEFAULT) {
+        vp.vy_out_floor_mu = (rfe_real_t)golden_floor;
+    }
     assert_int_equal(rfe_velocity_init(&obs, &vp, &p), RFE_OK);
     for (k = 0u; k < log.n_rows; ++k) {
         rfe_velocity_input_t in;
@@ -164,13 +172,42 @@ static void compare_one(const char *name)
     rfe_sensor_log_free(&log);
 }
 
-/* REQ-OBS-002 */
+/* The default golden and the floor-off golden of @p name: the rows where the off one's
+ * sd(vy) is below the default's by more than TOL_SD, into golden_rows_apart. */
+static void count_floor_rows(const char *name)
+{
+    char path[512];
+    test_table_t on;
+    test_table_t off;
+    size_t k;
+    memset(&on, 0, sizeof(on));
+    memset(&off, 0, sizeof(off));
+    snprintf(path, sizeof(path), "%s/%s", GOLDEN_DIR, name);
+    assert_int_equal(test_table_load(path, &on), 0);
+    snprintf(path, sizeof(path), "%s/%s", GOLDEN_DIR_FLOOR_OFF, name);
+    assert_int_equal(test_table_load(path, &off), 0);
+    assert_int_equal(on.n_rows, off.n_rows);
+    for (k = 0u; k < on.n_rows; ++k) {
+        golden_rows_apart += (test_table_get(&off, k, "sd_vy") <
+                              test_table_get(&on, k, "sd_vy") - TOL_SD) ? 1u : 0u;
+    }
+    test_table_free(&on);
+    test_table_free(&off);
+}
+
+/* REQ-OBS-002; REQ-OBS-025: at the default obs_vy_out_floor_mu 4 the floor acts on the
+ * bundled logs (the truth friction's sd 0.05 on the low-mu logs and ay up to 4 m/s^2: k s
+ * rho up to ~0.5 m/s, above the filter's sd), so the comparison of sd(vy) and sd(beta) with
+ * the reference covers it */
 static void test_every_golden(void **state)
 {
     (void)state;
     golden_dir = GOLDEN_DIR;
     golden_every = EVERY_DEFAULT;
+    golden_floor = FLOOR_DEFAULT;
+    floor_acted = 0u;
     assert_true(test_each_csv(GOLDEN_DIR, compare_one) >= MIN_GOLDENS);
+    assert_true(floor_acted > 100u); /* it acts: the comparison of sd(vy) can fail */
 }
 
 /* OBSERVER.md §4.2 the model's rows on every step (obs_lat_every 1, no variance division),
@@ -185,27 +222,24 @@ static void test_the_goldens_at_lat_every_1(void **state)
     golden_every = EVERY_DEFAULT;
 }
 
-/* REQ-OBS-025: the reported sd(vy)'s floor (obs_vy_out_floor_mu 4, OBSERVER.md §5) against
- * the reference, on logs where it acts (the truth friction's sd 0.05 on mu 0.3 .. 0.5 and ay
- * up to 4 m/s^2: k s rho up to ~0.5 m/s, above the filter's sd); with it off the same logs
- * never report above the filter's sd (the default goldens, test_every_golden). */
-static void test_the_goldens_with_the_output_floor(void **state)
+/* REQ-OBS-025: the reported sd(vy)'s floor off (obs_vy_out_floor_mu 0, OBSERVER.md §5)
+ * against the reference, on two low-mu logs where the default's floor acts: off, the
+ * reported sd(vy) is the filter's on every step, and the off goldens' sd(vy) lies below
+ * the default goldens' on many rows (so a floor applied though off fails the comparison). */
+static void test_the_goldens_without_the_output_floor(void **state)
 {
     (void)state;
-    golden_dir = GOLDEN_DIR_FLOOR;
+    golden_dir = GOLDEN_DIR_FLOOR_OFF;
     golden_every = EVERY_DEFAULT;
-    golden_floor = FLOOR_K;
+    golden_floor = FLOOR_OFF;
     floor_acted = 0u;
-    assert_true(test_each_csv(GOLDEN_DIR_FLOOR, compare_one) >= MIN_GOLDENS_FLOOR);
-    assert_true(floor_acted > 100u); /* it acts: the comparison of sd(vy) can fail */
-    golden_dir = GOLDEN_DIR_EVERY1; /* the same logs, floor off (at lat_every 1) */
-    golden_every = 1u;
-    golden_floor = 0.0;
-    floor_acted = 0u;
-    assert_true(test_each_csv(GOLDEN_DIR_EVERY1, compare_one) >= MIN_GOLDENS_EVERY1);
+    assert_true(test_each_csv(GOLDEN_DIR_FLOOR_OFF, compare_one) >= MIN_GOLDENS_FLOOR_OFF);
     assert_int_equal(floor_acted, 0u);
+    golden_rows_apart = 0u;
+    assert_true(test_each_csv(GOLDEN_DIR_FLOOR_OFF, count_floor_rows) >= MIN_GOLDENS_FLOOR_OFF);
+    assert_true(golden_rows_apart > 100u);
     golden_dir = GOLDEN_DIR;
-    golden_every = EVERY_DEFAULT;
+    golden_floor = FLOOR_DEFAULT;
 }
 
 int main(void)
@@ -213,7 +247,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_every_golden),
         cmocka_unit_test(test_the_goldens_at_lat_every_1),
-        cmocka_unit_test(test_the_goldens_with_the_output_floor),
+        cmocka_unit_test(test_the_goldens_without_the_output_floor),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

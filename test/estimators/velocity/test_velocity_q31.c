@@ -1133,7 +1133,7 @@ static void test_the_models_variance_over_the_rate_q31(void **state)
 /* REQ-OBS-025 REQ-FXP-014: the reported sd(vy)'s floor in fixed point (rfe_vel_sd_vy_floor_q31,
  * OBSERVER.md §5): the turn and friction input of test_velocity_flt.c's
  * test_the_reported_sd_vy_floor (the largest sd / mu on a wheel the measured ay raises) through
- * three observers: q31 off (the default), q31 and double at obs_vy_out_floor_mu 4.
+ * three observers: q31 off (obs_vy_out_floor_mu 0), q31 and double at 4 (the default).
  *  - q31 on against off: the filters and vx, vy, beta, sd(vx) equal bit for bit, both keep
  *    the filter's sd (off reports it), the first sample has no floor;
  *  - q31 on against the closed form k |vx ay / (cy g)| max sd / max(mu, 1.1 |ay| / g) in
@@ -1168,11 +1168,13 @@ static void test_the_reported_sd_vy_floor_q31(void **state)
     int acted = 0;
     (void)state;
     params_of(NULL, &b);
-    assert_int_equal(b.vq.vy_out_floor_mu, 0); /* off by default */
-    b.vd.vy_out_floor_mu = 4.0;
+    assert_true(b.vd.vy_out_floor_mu == 4.0); /* 4 by default (OBSERVER.md §2) */
     vq_on = b.vq;
-    assert_int_equal(rfe_velocity_params_to_q31_f64(&b.vd, &vq_on), RFE_OK);
     assert_int_equal(vq_on.vy_out_floor_mu, RFE_FIX_ONE(26)); /* 4 in Q24, exactly */
+    b.vd.vy_out_floor_mu = 0.0; /* b.vq: the floor off */
+    assert_int_equal(rfe_velocity_params_to_q31_f64(&b.vd, &b.vq), RFE_OK);
+    assert_int_equal(b.vq.vy_out_floor_mu, 0);
+    b.vd.vy_out_floor_mu = 4.0; /* the double twin at 4 */
     assert_int_equal(rfe_velocity_init(&od, &b.vd, &b.pd), RFE_OK);
     assert_int_equal(rfe_velocity_init_q31(&off, &b.vq, &b.pq), RFE_OK);
     assert_int_equal(rfe_velocity_init_q31(&on, &vq_on, &b.pq), RFE_OK);
