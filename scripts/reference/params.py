@@ -74,6 +74,8 @@ DEFAULTS: dict[str, float] = {
     "hyp_lr_min": 0.0,    # > 0: that step is taken only while the accumulated log likelihood ratio
     #                       of c against x (CUSUM, reset at a step the estimate's gate opens)
     #                       reaches this many nats, else held (status 3); 0: off
+    "hyp_warmup": 0.0,    # the first this many s of evaluated steps give hyp_lr_min no evidence
+    #                       (a step opened only at c is then held; the monitor's mon_warmup), s
     "lower_bound_delta": 0.0,  # step 6, reference only: a side's downward move is skipped when the
     #                            data's information at mu + this is below info_min (0: off)
     # step 6, reference only (MONITOR.md section 14): accumulated-evidence censoring. A side's
@@ -99,6 +101,7 @@ DEFAULTS: dict[str, float] = {
 # Keys of the reference only (not in the C library yet; docs/ESTIMATOR.md): an estimate log
 # records them only when set, so the goldens (the library's keys) stay as they are.
 REFERENCE_ONLY = frozenset({"info_at", "info_mu_h", "hyp_update", "hyp_lr_min",
+                            "hyp_warmup",
                             "lower_bound_delta", "evid_delta",
                             "evid_l_min", "evid_n", "evid_l0", "evid_free", "evid_cap"})
 

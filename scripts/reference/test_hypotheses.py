@@ -37,7 +37,7 @@ def test_off_is_todays_run_bit_for_bit(monkeypatch):
     """hyp_update = hyp_lr_min = 0 (the defaults, in neither preset): with info_at on, the run
     is section 16's, bit for bit, and neither the test nor the moved update is evaluated; with
     info_at off, setting them changes nothing either (they act only on a second centre)."""
-    for key in ("hyp_update", "hyp_lr_min"):
+    for key in ("hyp_update", "hyp_lr_min", "hyp_warmup"):
         assert params.DEFAULTS[key] == 0.0
         assert key in params.REFERENCE_ONLY
         assert not any(key in pre for pre in params.PRESETS.values())
@@ -144,3 +144,20 @@ def test_a_run_with_the_test_on_records_it():
     opened_c = out["hyp"] == 1
     assert opened_c.any() and np.all(out["hyp_L"] >= 0.0)
     assert np.all(np.isin(out["status"][opened_c], (3,)))
+
+
+def test_warmup_gives_no_evidence():
+    """hyp_warmup 0.03 s at dt 0.01: the first 3 evaluated steps opened only at c are marked but
+    add nothing to L (and are held); the 4th counts."""
+    p = dict(params.resolve(preset="default"), hyp_warmup=0.03, dt=0.01)
+    hyp = trusted.Hypotheses(p)
+    f = _filter([0.5, 0.6], S0)
+    pts = f.points()
+    c = np.array([0.3, 0.35])
+    keep = {"c": c, "z": lin_h(pts + (c - f.x)[:, None])}
+    out = {"hyp": np.zeros(4, dtype=int), "hyp_lr": np.full(4, np.nan), "hyp_L": np.zeros(4)}
+    for k in range(4):
+        hyp.step(False, True, f, lin_h(pts), keep, S_R, H @ c, out, k)
+        assert hyp.warming() == (k < 3)
+    assert list(out["hyp"]) == [1, 1, 1, 1] and list(out["hyp_L"][:3]) == [0.0] * 3
+    assert np.isnan(out["hyp_lr"][:3]).all() and out["hyp_L"][3] > 0

@@ -17,7 +17,7 @@ import numpy as np
 
 from scipy.linalg import solve_triangular
 
-from . import filters, model
+from . import filters, model, monitor
 
 WHEELS_OF_SIDES = np.array([[1.0, 0.0], [0.0, 1.0], [1.0, 0.0], [0.0, 1.0]])  # fl fr rl rr
 
@@ -248,7 +248,7 @@ def run(log, p: dict, adapt=None, reuse: StepNoiseReuse | None = None):
         out["censored"] = np.zeros((N, n), dtype=bool)     # the information it decided on
         out["info_up"] = np.full((N, n), np.nan)
     evid = Evidence(p, n) if p["evid_delta"] > 0 else None
-    hyp = (Hypotheses() if p["info_at"] > 0 and (p["hyp_update"] > 0 or p["hyp_lr_min"] > 0)
+    hyp = (Hypotheses(p) if p["info_at"] > 0 and (p["hyp_update"] > 0 or p["hyp_lr_min"] > 0)
            else None)
     if hyp is not None:     # per step: 1 gate opened only at c; the log LR and L (section 17)
         out["hyp"] = np.zeros(N, dtype=int)
@@ -298,7 +298,8 @@ def run(log, p: dict, adapt=None, reuse: StepNoiseReuse | None = None):
                         alt = hyp.step(at_x, bool(out["info"][k].max() >= p["info_min"]),
                                        f, z_pts, keep, s_r, ys[k], out, k)
                 update = bool(out["info"][k].max() >= p["info_min"])
-                if alt is not None and p["hyp_lr_min"] > 0 and hyp.L < p["hyp_lr_min"]:
+                if alt is not None and p["hyp_lr_min"] > 0 and (hyp.L < p["hyp_lr_min"]
+                                                                or hyp.warming()):
                     update = False      # the data do not favour the centre that opened it
             status = 3
             if update:                                                  # 6
@@ -498,19 +499,30 @@ class Hypotheses:
     c not), lambda = log N(y; z_c, S_zz,c) - log N(y; z_x, S_zz,x) (log_predictive: the same
     spread S and step 4's S_R at x for both) and L <- max(0, L + lambda), a CUSUM: the floor
     at 0 is its reset, and L = 0 as well at every step whose gate opens at x itself (the test
-    is only for the steps the estimate cannot judge). One number of memory."""
+    is only for the steps the estimate cannot judge). One number of memory. With hyp_warmup
+    > 0 the first hyp_warmup s of evaluated steps (counted as the monitor counts its warm-up:
+    the input conditioner starts from the raw measured vx, vy) give no evidence: L stays 0 and
+    a step opened only at c is held (with hyp_lr_min > 0)."""
 
-    def __init__(self):
+    def __init__(self, p: dict | None = None):
         self.L = 0.0
+        self.seen = 0
+        self.warmup = monitor.steps(p["hyp_warmup"], p["dt"]) if p and p["hyp_warmup"] > 0 else 0
+
+    def warming(self) -> bool:
+        return self.seen <= self.warmup
 
     def step(self, at_x, opened, f, z_pts, keep, s_r, y, out, k):
         """Returns the centre c when the gate opened only at c (else None), L updated."""
+        self.seen += 1
         if at_x:
             self.L = 0.0
-        elif opened:
+        elif opened and not self.warming():
             lam = log_predictive(f, keep["z"], s_r, y) - log_predictive(f, z_pts, s_r, y)
             self.L = max(0.0, self.L + lam)
             out["hyp"][k], out["hyp_lr"][k] = 1, lam
+        elif opened:
+            out["hyp"][k] = 1
         out["hyp_L"][k] = self.L
         return keep["c"] if opened and not at_x else None
 
