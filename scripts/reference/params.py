@@ -68,6 +68,14 @@ DEFAULTS: dict[str, float] = {
     "info_at": 0.0,       # 0: at the estimate; 1: also at the hypothesis info_mu_h (both sides);
     #                       2: also around the cubature point whose prediction is nearest the data
     "info_mu_h": 0.3,     # info_at 1's hypothesis, mu
+    # steps 5-6, reference only (MONITOR.md section 17): a step the gate opens only at the
+    # second centre c (info_at > 0) as a test of hypotheses
+    "hyp_update": 0.0,    # 1: that step's update linearised at c (the points moved by c - x); 0: at x
+    "hyp_lr_min": 0.0,    # > 0: that step is taken only while the accumulated log likelihood ratio
+    #                       of c against x (CUSUM, reset at a step the estimate's gate opens)
+    #                       reaches this many nats, else held (status 3); 0: off
+    "hyp_warmup": 0.0,    # the first this many s of evaluated steps give hyp_lr_min no evidence
+    #                       (a step opened only at c is then held; the monitor's mon_warmup), s
     "lower_bound_delta": 0.0,  # step 6, reference only: a side's downward move is skipped when the
     #                            data's information at mu + this is below info_min (0: off)
     # step 6, reference only (MONITOR.md section 14): accumulated-evidence censoring. A side's
@@ -92,7 +100,9 @@ DEFAULTS: dict[str, float] = {
 
 # Keys of the reference only (not in the C library yet; docs/ESTIMATOR.md): an estimate log
 # records them only when set, so the goldens (the library's keys) stay as they are.
-REFERENCE_ONLY = frozenset({"info_at", "info_mu_h", "lower_bound_delta", "evid_delta",
+REFERENCE_ONLY = frozenset({"info_at", "info_mu_h", "hyp_update", "hyp_lr_min",
+                            "hyp_warmup",
+                            "lower_bound_delta", "evid_delta",
                             "evid_l_min", "evid_n", "evid_l0", "evid_free", "evid_cap"})
 
 # The two presets (docs/ESTIMATOR.md): numeric values and the word-valued choices.

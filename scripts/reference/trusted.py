@@ -17,7 +17,7 @@ import numpy as np
 
 from scipy.linalg import solve_triangular
 
-from . import filters, model
+from . import filters, model, monitor
 
 WHEELS_OF_SIDES = np.array([[1.0, 0.0], [0.0, 1.0], [1.0, 0.0], [0.0, 1.0]])  # fl fr rl rr
 
@@ -248,6 +248,12 @@ def run(log, p: dict, adapt=None, reuse: StepNoiseReuse | None = None):
         out["censored"] = np.zeros((N, n), dtype=bool)     # the information it decided on
         out["info_up"] = np.full((N, n), np.nan)
     evid = Evidence(p, n) if p["evid_delta"] > 0 else None
+    hyp = (Hypotheses(p) if p["info_at"] > 0 and (p["hyp_update"] > 0 or p["hyp_lr_min"] > 0)
+           else None)
+    if hyp is not None:     # per step: 1 gate opened only at c; the log LR and L (section 17)
+        out["hyp"] = np.zeros(N, dtype=int)
+        out["hyp_lr"] = np.full(N, np.nan)
+        out["hyp_L"] = np.zeros(N)
     if evid is not None:                # the sides step 6 censored, and the evidence L after
         out["censored"] = np.zeros((N, n), dtype=bool)     # each step (MONITOR.md section 14)
         out["evid_L"] = np.zeros((N, n))
@@ -280,16 +286,28 @@ def run(log, p: dict, adapt=None, reuse: StepNoiseReuse | None = None):
             s_r_used = s_r if adapt is None else adapt(k, out["nu"][k], out["s_zz"][k], zc, s_r,
                                                        out["c_pers"][k])
             update = True
+            alt = None          # the second centre, when only it opened the gate (section 17)
             if p["info_min"] > 0:                                       # 5
                 out["info"][k] = _information(f, pts, z_pts, s_r)
                 if p["info_at"] > 0:    # the gate judges a second centre too (reference only)
+                    at_x = bool(out["info"][k].max() >= p["info_min"])
+                    keep = {} if hyp is not None else None
                     out["info"][k] = np.maximum(out["info"][k], _information_alt(
-                        p, f, pts, z_pts, s_r, ys[k], hfun))
+                        p, f, pts, z_pts, s_r, ys[k], hfun, keep))
+                    if hyp is not None:
+                        alt = hyp.step(at_x, bool(out["info"][k].max() >= p["info_min"]),
+                                       f, z_pts, keep, s_r, ys[k], out, k)
                 update = bool(out["info"][k].max() >= p["info_min"])
+                if alt is not None and p["hyp_lr_min"] > 0 and (hyp.L < p["hyp_lr_min"]
+                                                                or hyp.warming()):
+                    update = False      # the data do not favour the centre that opened it
             status = 3
             if update:                                                  # 6
                 saved, f.s_r = f.s_r, s_r_used
-                if p["lower_bound_delta"] > 0:
+                if alt is not None and p["hyp_update"] > 0:
+                    kept = True
+                    _update_at(f, ys[k], hfun, alt)
+                elif p["lower_bound_delta"] > 0:
                     kept, out["info_up"][k] = _one_sided_update(p, f, T, u, sd_u, ys[k],
                                                                 hfun, saved)
                     out["censored"][k] = ~kept
@@ -445,13 +463,91 @@ def info_centre(p, f, pts, z_pts, s_r, y):
     raise ValueError(f"info_at must be 0, 1 or 2, not {p['info_at']}")
 
 
-def _information_alt(p, f, pts, z_pts, s_r, y, hfun):
+def _information_alt(p, f, pts, z_pts, s_r, y, hfun, keep=None):
     """Step 5's information around the second centre c (info_centre): the same statistical
     linearisation over the cubature points moved by c - x (same spread S: the same centred
-    points, so only h at the 2n moved points is new)."""
+    points, so only h at the 2n moved points is new). keep (a dict or None): receives c
+    ("c") and h at the moved points ("z"), for section 17's test of hypotheses."""
     c = info_centre(p, f, pts, z_pts, s_r, y)
     moved = pts + (c - f.x)[:, None]
-    return _information(f, pts, hfun(moved), s_r)
+    z_alt = hfun(moved)
+    if keep is not None:
+        keep["c"], keep["z"] = c, np.asarray(z_alt, dtype=float)
+    return _information(f, pts, z_alt, s_r)
+
+
+def _predictive(f, z_pts, s_r):
+    """(z_hat, Zc, S_zz) of the predicted points z_pts (the update's quantities)."""
+    z_hat = z_pts.mean(axis=1)
+    zc = (z_pts - z_hat[:, None]) / f.sqrt_2n
+    return z_hat, zc, filters.tria(np.hstack([zc, s_r]))
+
+
+def log_predictive(f, z_pts, s_r, y):
+    """log N(y; z_hat, S_zz S_zz^T) up to the constant -m/2 log(2 pi) (the same for every
+    centre): -|S_zz^-1 (y - z_hat)|^2 / 2 - log det S_zz, the likelihood of the measurement
+    under mu ~ N(centre, P) through the statistical linearisation at that centre's points."""
+    z_hat, _, s_zz = _predictive(f, z_pts, s_r)
+    w = solve_triangular(s_zz, np.asarray(y, dtype=float) - z_hat, lower=True)
+    return float(-0.5 * (w @ w) - np.sum(np.log(np.abs(np.diag(s_zz)))))
+
+
+class Hypotheses:
+    """Steps 5-6 as a test of hypotheses (`hyp_update`, `hyp_lr_min` with info_at > 0;
+    reference only, not in the C library; MONITOR.md section 17). At a step whose gate opens
+    only at the second centre c (today's information at x below info_min on every side, at
+    c not), lambda = log N(y; z_c, S_zz,c) - log N(y; z_x, S_zz,x) (log_predictive: the same
+    spread S and step 4's S_R at x for both) and L <- max(0, L + lambda), a CUSUM: the floor
+    at 0 is its reset, and L = 0 as well at every step whose gate opens at x itself (the test
+    is only for the steps the estimate cannot judge). One number of memory. With hyp_warmup
+    > 0 the first hyp_warmup s of evaluated steps (counted as the monitor counts its warm-up:
+    the input conditioner starts from the raw measured vx, vy) give no evidence: L stays 0 and
+    a step opened only at c is held (with hyp_lr_min > 0)."""
+
+    def __init__(self, p: dict | None = None):
+        self.L = 0.0
+        self.seen = 0
+        self.warmup = monitor.steps(p["hyp_warmup"], p["dt"]) if p and p["hyp_warmup"] > 0 else 0
+
+    def warming(self) -> bool:
+        return self.seen <= self.warmup
+
+    def step(self, at_x, opened, f, z_pts, keep, s_r, y, out, k):
+        """Returns the centre c when the gate opened only at c (else None), L updated."""
+        self.seen += 1
+        if at_x:
+            self.L = 0.0
+        elif opened and not self.warming():
+            lam = log_predictive(f, keep["z"], s_r, y) - log_predictive(f, z_pts, s_r, y)
+            self.L = max(0.0, self.L + lam)
+            out["hyp"][k], out["hyp_lr"][k] = 1, lam
+        elif opened:
+            out["hyp"][k] = 1
+        out["hyp_L"][k] = self.L
+        return keep["c"] if opened and not at_x else None
+
+
+def _update_at(f, y, hfun, c):
+    """Step 6 linearised at the centre c instead of at x- (`hyp_update`, MONITOR.md section
+    17): the cubature points moved by c - x-, Z_j = h(X_j + c - x-), z_c their mean, Zc, Xc
+    (the spread is today's), S_zz = Tria([Zc, S_R]), K = P_xz S_zz^-T S_zz^-1 and
+    J_c = P_zx P^-1 (the statistical slope at c), then the iterated-filter step from c:
+    x = x- + K (y - z_c - J_c (x- - c)), S = Tria([Xc - K Zc, K S_R]) (f.s_r: the update's
+    noise). At c = x- it is measurement_update's step."""
+    c = np.asarray(c, dtype=float)
+    pts = f.points()
+    xc = (pts - f.x[:, None]) / f.sqrt_2n
+    z_hat, zc, s_zz = _predictive(f, np.asarray(hfun(pts + (c - f.x)[:, None]), dtype=float),
+                                  f.s_r)
+    p_xz = xc @ zc.T
+    w_t = solve_triangular(s_zz, p_xz.T, lower=True, check_finite=False)
+    k_gain = solve_triangular(s_zz, w_t, lower=True, trans="T", check_finite=False).T
+    yy = solve_triangular(f.S, p_xz, lower=True)                         # S Y = P_xz
+    j_c = solve_triangular(f.S, yy, lower=True, trans="T").T             # J_c = P_zx P^-1
+    nu = np.asarray(y, dtype=float) - z_hat - j_c @ (f.x - c)
+    f.x = f.x + k_gain @ nu
+    f.S = filters.tria(np.hstack([xc - k_gain @ zc, k_gain @ f.s_r]))
+    return k_gain
 
 
 def _one_sided_update(p, f, T, u, sd_u, y, hfun, s_r_base):

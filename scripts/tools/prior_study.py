@@ -21,7 +21,9 @@ invariant today, the largest fall of the excited-valid share; at most 5 points).
 SPEC (comma-separated, no spaces):
   today                       the default preset as it is (always run: the reference);
   KEY=VALUE[,KEY=VALUE...]    preset parameters set (mu0, sd0, sd0_common, info_at,
-                              info_mu_h), e.g. mu0=0.3 or info_at=1,info_mu_h=0.3;
+                              info_mu_h, hyp_update, hyp_lr_min,
+                              hyp_warmup), e.g. mu0=0.3 or
+                              info_at=1,info_mu_h=0.3 or info_at=2,hyp_update=1;
   warm[,KEY=VALUE...]         each log driven twice in a row: mu0 = the estimate today's run
                               of the same log ends with (the mean of the four wheels' last
                               estimate: one number kept over ignition), the other keys set;
@@ -49,7 +51,8 @@ import trust_rules_study as trs  # noqa: E402
 GROUPS = ("mf", "dugoff", "nf", "wrong", "fault", "bank")   # MONITOR.md's summary order
 GROUP_LABEL = {"mf": "MF", "dugoff": "Dugoff", "nf": "noise-free Dugoff",
                "wrong": "wrong tyre data", "fault": "faults", "bank": "banked"}
-PRIOR_KEYS = ("mu0", "sd0", "sd0_common", "info_at", "info_mu_h")   # + step 5: section 16
+PRIOR_KEYS = ("mu0", "sd0", "sd0_common", "info_at", "info_mu_h",   # + step 5: section 16
+              "hyp_update", "hyp_lr_min", "hyp_warmup")          # + steps 5-6: section 17
 CROSS_SPLIT = 0.6                       # a truth starting below: a low-mu log
 CROSS_HIGH, CROSS_LOW = "hard_brake_high_mu.mf", "hard_brake_low_mu.mf"   # the donors
 BAD_ERR = trs.WORST_MAX                 # issue 17's worst error while valid
@@ -117,6 +120,14 @@ def group_counts(figs: dict, group_of: dict) -> dict:
             out[g] = (sum(figs[n]["meets"] for n in names), len(names),
                       sum(figs[n]["bad"] for n in names))
     return out
+
+
+def updated_share(runs: dict) -> float:
+    """The share of the evaluated steps (status not 2, the low-speed skip) that updated
+    (status 0 or 1, as the monitor leaves it), pooled over the runs."""
+    st = np.concatenate([r["status"] for r in runs.values()])
+    ev = st != 2
+    return float(np.isin(st[ev], (0, 1)).mean()) if ev.any() else float("nan")
 
 
 def _run(args):
@@ -208,6 +219,7 @@ def main(argv=None) -> int:
           + " (all) | valid pairs with error > 0.25, same order | gained | lost | "
           "no loss: largest excited-valid fall |", flush=True)
     print(line("today", base) + " – | – | – |", flush=True)
+    print(f"    updated: {100 * updated_share({n: base_runs[n] for n in group_of}):.1f} %", flush=True)
     if need_donors:
         print(f"cross donors: {CROSS_HIGH} ends at {ends[CROSS_HIGH]:.3f}, "
               f"{CROSS_LOW} at {ends[CROSS_LOW]:.3f}", flush=True)
@@ -223,6 +235,7 @@ def main(argv=None) -> int:
         print(line(spec, new) + f" {', '.join(gained) or 'none'} | {', '.join(lost) or 'none'}"
               f" | {verdict} ({100 * drop:.1f}" + (f", {drop_log}" if drop_log else "")
               + ") |", flush=True)
+        print(f"    updated: {100 * updated_share(runs):.1f} %", flush=True)
         if a.detail:
             for n in new:
                 b, g = base[n], new[n]

@@ -71,3 +71,15 @@ def test_group_counts_in_summary_order():
     gc = ps.group_counts(figs, group_of)
     assert list(gc) == ["mf", "fault"]
     assert gc["mf"] == (1, 2, 7) and gc["fault"] == (1, 1, 2)
+
+
+def test_updated_share_counts_updates_among_the_evaluated_steps():
+    """Status 2 (low speed) is not evaluated; 0 and 1 updated; 3 (held) and 4 (mismatch) did
+    not: here 3 of the 6 evaluated steps over the two runs."""
+    runs = {"a": {"status": np.array([2, 0, 1, 3])}, "b": {"status": np.array([2, 2, 4, 0, 3])}}
+    assert ps.updated_share(runs) == 0.5
+
+
+def test_parse_spec_takes_the_hypothesis_keys():
+    assert ps.parse_spec("info_at=2,hyp_update=1,hyp_lr_min=2") == (
+        "set", {"info_at": 2.0, "hyp_update": 1.0, "hyp_lr_min": 2.0})
