@@ -34,8 +34,8 @@
 
 /** Particle count of the tyre identifier (rfe/tyre_id.h, docs/TYRE_ID.md §2 tid_n), at least 2
  *  and at most 65535 (the parent indices are 16-bit). Its state holds 26 reals and three
- *  16-bit indices per particle and the sigma-point filter's 728 reals (rfe_tid_sckf_t): with
- *  the default 256, 31.6 kB in float and 61.6 kB in double (sizeof(rfe_tyre_id_t);
+ *  16-bit indices per particle and the sigma-point filter's 928 reals (rfe_tid_sckf_t): with
+ *  the default 256, 32.4 kB in float and 63.3 kB in double (sizeof(rfe_tyre_id_t);
  *  test_tyre_id_flt.c checks the figure). A build that runs only the sigma-point filter
  *  (tid_filter sckf) needs no particles: -DRFE_TID_N=2. */
 #ifndef RFE_TID_N

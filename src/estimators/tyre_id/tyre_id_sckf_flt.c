@@ -41,16 +41,26 @@ typedef struct {
     int ds; /* 1: delta is state ID */
 } sckf_dims_t;
 
-static sckf_dims_t dims_of(const rfe_tyre_id_t *t)
+/* The dimensions at state dimension @p n (10, or 11 with delta). Every function below takes n
+ * and derives the rest here: the step calls them with n a constant in each of its two
+ * branches, so an optimising compiler can specialise each for its n (fixed loop bounds, as
+ * before §15.7, where the n = 10 filter's cost stays). */
+static sckf_dims_t dims_n(size_t n)
 {
     sckf_dims_t d;
-    d.ds = (t->p.delta_state_q > RFE_R(0.0)) ? 1 : 0;
-    d.n = (d.ds != 0) ? (NXP + 1u) : NXP;
+    d.ds = (n > NXP) ? 1 : 0;
+    d.n = n;
     d.nz = (d.ds != 0) ? 3u : 2u;
-    d.np = 2u * d.n;
-    d.tc = d.np + d.n;
+    d.np = 2u * n;
+    d.tc = d.np + n;
     d.zc = d.np + d.nz;
     return d;
+}
+
+/* The state dimension the parameters ask for: 11 with delta_state_q > 0 (§15.7), else 10. */
+static size_t sckf_n(const rfe_tyre_id_t *t)
+{
+    return (t->p.delta_state_q > RFE_R(0.0)) ? (NXP + 1u) : NXP;
 }
 
 /* §15.7 the inputs @p u with delta set to a point's @p delta (and, when @p with_cos, its
@@ -88,7 +98,7 @@ static void sckf_project(const rfe_tyre_id_t *t, rfe_real_t *x)
 
 void rfe_tid_sckf_prior(rfe_tyre_id_t *tid, rfe_real_t r_meas, rfe_real_t delta_meas)
 {
-    const sckf_dims_t d = dims_of(tid);
+    const sckf_dims_t d = dims_n(sckf_n(tid));
     rfe_tid_sckf_t *k = &tid->sk;
     size_t i;
     for (i = 0u; i < (d.n * d.n); ++i) {
@@ -110,9 +120,11 @@ void rfe_tid_sckf_prior(rfe_tyre_id_t *tid, rfe_real_t r_meas, rfe_real_t delta_
 }
 
 /* Column j of the centred points (X_j - x) / sqrt(2n) into column j of M (row stride ld). */
-static void sckf_centred(const sckf_dims_t *d, const rfe_real_t *pts, const rfe_real_t *x,
+static void sckf_centred(size_t n, const rfe_real_t *pts, const rfe_real_t *x,
                          rfe_real_t s2n, rfe_real_t *M, size_t ld)
 {
+    const sckf_dims_t dd = dims_n(n);
+    const sckf_dims_t *d = &dd;
     size_t i;
     size_t j;
     for (i = 0u; i < d->n; ++i) {
@@ -136,8 +148,10 @@ static void take_lower(rfe_tid_sckf_t *k, size_t n, size_t lda)
 
 /* The end of both updates: S = the lower triangle of Tria(A) over its first @p cols columns,
  * x = x_new projected onto the bounds (§15.3, §15.4); RFE_ERR_NONFINITE when Tria fails. */
-static rfe_status_t factor_and_commit(rfe_tyre_id_t *t, const sckf_dims_t *d, size_t cols)
+static rfe_status_t factor_and_commit(rfe_tyre_id_t *t, size_t n, size_t cols)
 {
+    const sckf_dims_t dd = dims_n(n);
+    const sckf_dims_t *d = &dd;
     rfe_tid_sckf_t *k = &t->sk;
     size_t i;
     if (rfe_qr_tria(k->A, d->n, cols, d->tc) != RFE_OK) {
@@ -154,9 +168,11 @@ static rfe_status_t factor_and_commit(rfe_tyre_id_t *t, const sckf_dims_t *d, si
 /* §15.3 time update: the points through RK4 at the period's mean inputs (parameters clipped,
  * a random walk; with §15.7 each point at its own delta, a random walk too), x- = their mean,
  * S- = Tria([(X*_j - x-) / sqrt(2n), S_Q]), projected. */
-static rfe_status_t sckf_time_update(rfe_tyre_id_t *t, const sckf_dims_t *d,
+static rfe_status_t sckf_time_update(rfe_tyre_id_t *t, size_t n,
                                      const rfe_tyre_id_sample_t *smp, rfe_real_t s2n)
 {
+    const sckf_dims_t dd = dims_n(n);
+    const sckf_dims_t *d = &dd;
     rfe_tid_sckf_t *k = &t->sk;
     const rfe_real_t sq = RFE_SQRT(smp->dt);
     const rfe_tid_input_t ub = rfe_tid_mean_input(t, smp);
@@ -178,7 +194,7 @@ static rfe_status_t sckf_time_update(rfe_tyre_id_t *t, const sckf_dims_t *d,
     for (i = 0u; i < (d->n * d->tc); ++i) {
         k->A[i] = RFE_R(0.0);
     }
-    sckf_centred(d, k->pts, k->xn, s2n, k->A, d->tc);
+    sckf_centred(d->n, k->pts, k->xn, s2n, k->A, d->tc);
     /* S_Q = diag(q_vy s, q_r s, q s[, delta_state_q s]), s = sqrt(h) (§4.3, §15.7) */
     k->A[d->np] = t->p.q_vy * sq;
     k->A[d->tc + d->np + 1u] = t->p.q_r * sq;
@@ -188,15 +204,17 @@ static rfe_status_t sckf_time_update(rfe_tyre_id_t *t, const sckf_dims_t *d,
     if (d->ds != 0) {
         k->A[(ID * d->tc) + d->np + ID] = t->p.delta_state_q * sq;
     }
-    return factor_and_commit(t, d, d->tc);
+    return factor_and_commit(t, d->n, d->tc);
 }
 
 /* §15.3 S_R's diagonal: sd_r and sqrt(sd_ay^2 + (g sd_delta)^2), g = d ay / d delta at the
  * predicted mean (parameters clipped) at the sample's inputs; sd_delta the steering-angle
  * filter's posterior sd with it on (§4.4). With delta as a state (§15.7) no slope term:
  * sd_r, sd_ay and the steering sensor's sd_delta for its own row. */
-static void meas_noise(rfe_tyre_id_t *t, const sckf_dims_t *d, const rfe_tid_input_t *u)
+static void meas_noise(rfe_tyre_id_t *t, size_t n, const rfe_tid_input_t *u)
 {
+    const sckf_dims_t dd = dims_n(n);
+    const sckf_dims_t *d = &dd;
     rfe_tid_sckf_t *k = &t->sk;
     k->sr[0] = t->p.sd_r;
     if (d->ds != 0) {
@@ -215,9 +233,11 @@ static void meas_noise(rfe_tyre_id_t *t, const sckf_dims_t *d, const rfe_tid_inp
 }
 
 /* Zc = (Z_j - z) / sqrt(2n) into the first 2n columns of M (m rows, ld 2n + m). */
-static void centred_z(const rfe_tid_sckf_t *k, const sckf_dims_t *d, rfe_real_t s2n,
+static void centred_z(const rfe_tid_sckf_t *k, size_t n, rfe_real_t s2n,
                       rfe_real_t *M)
 {
+    const sckf_dims_t dd = dims_n(n);
+    const sckf_dims_t *d = &dd;
     size_t r;
     size_t j;
     for (r = 0u; r < d->nz; ++r) {
@@ -229,15 +249,17 @@ static void centred_z(const rfe_tid_sckf_t *k, const sckf_dims_t *d, rfe_real_t 
 
 /* §15.3 the gain K = (P_xz / S_zz^T) / S_zz, transposed into k->Kt, with S_zz =
  * Tria([Zc, S_R]) and P_xz = Xc Zc^T (Xc in k->A, ld 3n). */
-static rfe_status_t sckf_gain(rfe_tid_sckf_t *k, const sckf_dims_t *d, rfe_real_t s2n)
+static rfe_status_t sckf_gain(rfe_tid_sckf_t *k, size_t n, rfe_real_t s2n)
 {
+    const sckf_dims_t dd = dims_n(n);
+    const sckf_dims_t *d = &dd;
     size_t r;
     size_t i;
     size_t j;
     for (i = 0u; i < (d->nz * d->zc); ++i) {
         k->Z[i] = RFE_R(0.0);
     }
-    centred_z(k, d, s2n, k->Z);
+    centred_z(k, d->n, s2n, k->Z);
     for (r = 0u; r < d->nz; ++r) {
         for (i = 0u; i < d->n; ++i) {
             rfe_real_t acc = RFE_R(0.0);
@@ -261,8 +283,10 @@ static rfe_status_t sckf_gain(rfe_tid_sckf_t *k, const sckf_dims_t *d, rfe_real_
 
 /* §15.3 the points' measurements Z_j = (r_j, ay_p(X_j)) at the sample's inputs; with §15.7
  * ay_p at the point's delta (its cosine too) and delta_j the third. */
-static void measure_points(rfe_tyre_id_t *t, const sckf_dims_t *d, const rfe_tid_input_t *u)
+static void measure_points(rfe_tyre_id_t *t, size_t n, const rfe_tid_input_t *u)
 {
+    const sckf_dims_t dd = dims_n(n);
+    const sckf_dims_t *d = &dd;
     rfe_tid_sckf_t *k = &t->sk;
     size_t j;
     for (j = 0u; j < d->np; ++j) {
@@ -283,32 +307,34 @@ static void measure_points(rfe_tyre_id_t *t, const sckf_dims_t *d, const rfe_tid
 
 /* §15.3 measurement update on (r_m, ay_m[, delta_m]): the points of (x-, S-), their
  * measurements, x = x- + K (y - z), S = Tria([Xc - K Zc, K S_R]), projected. */
-static rfe_status_t meas_update(rfe_tyre_id_t *t, const sckf_dims_t *d,
+static rfe_status_t meas_update(rfe_tyre_id_t *t, size_t n,
                                 const rfe_tyre_id_sample_t *smp, const rfe_tid_input_t *u,
                                 rfe_real_t s2n)
 {
+    const sckf_dims_t dd = dims_n(n);
+    const sckf_dims_t *d = &dd;
     rfe_tid_sckf_t *k = &t->sk;
     const rfe_real_t y[RFE_TID_MEAS] = {smp->yaw_rate, smp->ay, smp->delta};
     rfe_real_t zc[RFE_TID_MEAS * (RFE_TID_CUB + RFE_TID_MEAS)];
     size_t i;
     size_t j;
     size_t r;
-    meas_noise(t, d, u);
+    meas_noise(t, d->n, u);
     rfe_cub_points(k->x, k->S, d->n, d->n, k->pts);
-    measure_points(t, d, u);
+    measure_points(t, d->n, u);
     rfe_cub_mean(k->zp, d->n, d->nz, d->nz, k->zhat);
     for (i = 0u; i < (d->n * d->tc); ++i) {
         k->A[i] = RFE_R(0.0);
     }
-    sckf_centred(d, k->pts, k->x, s2n, k->A, d->tc);
-    if (sckf_gain(k, d, s2n) != RFE_OK) {
+    sckf_centred(d->n, k->pts, k->x, s2n, k->A, d->tc);
+    if (sckf_gain(k, d->n, s2n) != RFE_OK) {
         return RFE_ERR_NONFINITE;
     }
     if (rfe_cub_correct(k->x, k->Kt, y, k->zhat, d->n, d->nz, d->n, k->xn) != RFE_OK) {
         return RFE_ERR_NONFINITE;
     }
     /* [Xc - K Zc | K S_R]: Zc again (Tria overwrote it); K Zc summed over the rows in order */
-    centred_z(k, d, s2n, zc);
+    centred_z(k, d->n, s2n, zc);
     for (i = 0u; i < d->n; ++i) {
         for (j = 0u; j < d->np; ++j) {
             rfe_real_t kz = k->Kt[i] * zc[j];
@@ -321,21 +347,34 @@ static rfe_status_t meas_update(rfe_tyre_id_t *t, const sckf_dims_t *d,
             k->A[(i * d->tc) + d->np + r] = k->Kt[(r * d->n) + i] * k->sr[r];
         }
     }
-    return factor_and_commit(t, d, d->zc);
+    return factor_and_commit(t, d->n, d->zc);
+}
+
+/* §15.3 the step at state dimension @p n: time update, measurement update; not OK when
+ * either failed or left x or S not finite. */
+static rfe_status_t sckf_step_n(rfe_tyre_id_t *tid, const rfe_tyre_id_sample_t *smp,
+                                const rfe_tid_input_t *u, size_t n)
+{
+    const rfe_real_t s2n = RFE_SQRT(RFE_R(2.0) * (rfe_real_t)n);
+    rfe_tid_sckf_t *k = &tid->sk;
+    rfe_status_t st = sckf_time_update(tid, n, smp, s2n);
+    if (st == RFE_OK) {
+        st = meas_update(tid, n, smp, u, s2n);
+    }
+    if ((st == RFE_OK) &&
+        ((rfe_all_finite(k->x, n) == 0) || (rfe_all_finite(k->S, n * n) == 0))) {
+        st = RFE_ERR_NONFINITE;
+    }
+    return st;
 }
 
 uint32_t rfe_tid_sckf_step(rfe_tyre_id_t *tid, const rfe_tyre_id_sample_t *smp,
                            const rfe_tid_input_t *u)
 {
-    const sckf_dims_t d = dims_of(tid);
-    const rfe_real_t s2n = RFE_SQRT(RFE_R(2.0) * (rfe_real_t)d.n);
-    rfe_tid_sckf_t *k = &tid->sk;
-    rfe_status_t st = sckf_time_update(tid, &d, smp, s2n);
-    if (st == RFE_OK) {
-        st = meas_update(tid, &d, smp, u, s2n);
-    }
-    if ((st != RFE_OK) || (rfe_all_finite(k->x, d.n) == 0) ||
-        (rfe_all_finite(k->S, d.n * d.n) == 0)) {
+    /* n a constant in each call (dims_n) */
+    const rfe_status_t st = (sckf_n(tid) > NXP) ? sckf_step_n(tid, smp, u, NXP + 1u)
+                                                : sckf_step_n(tid, smp, u, NXP);
+    if (st != RFE_OK) {
         /* §15.3 lost: the prior at this sample */
         rfe_tid_sckf_prior(tid, smp->yaw_rate, smp->delta);
         return RFE_TID_LOST;
@@ -374,12 +413,13 @@ static rfe_real_t spread(const rfe_real_t *v, size_t n, size_t st, rfe_real_t m,
     return r;
 }
 
-void rfe_tid_sckf_estimate(rfe_tyre_id_t *tid, const rfe_tyre_id_sample_t *smp,
-                           const rfe_tid_input_t *u, uint32_t flags)
+/* §15.4 the outputs at state dimension @p n into tid->last. */
+static void sckf_estimate_n(rfe_tyre_id_t *tid, const rfe_tyre_id_sample_t *smp,
+                            const rfe_tid_input_t *u, uint32_t flags, size_t n)
 {
     static const size_t OUT_Q[NQ] = {RFE_TID_OUT_BETA, RFE_TID_OUT_FY_F, RFE_TID_OUT_FY_R,
                                      RFE_TID_OUT_B_F, RFE_TID_OUT_B_R};
-    const sckf_dims_t d = dims_of(tid);
+    const sckf_dims_t d = dims_n(n);
     rfe_tid_sckf_t *k = &tid->sk;
     rfe_tyre_id_estimate_t *e = &tid->last;
     const rfe_real_t w = RFE_R(1.0) / (rfe_real_t)d.np;
@@ -429,4 +469,15 @@ void rfe_tid_sckf_estimate(rfe_tyre_id_t *tid, const rfe_tyre_id_sample_t *smp,
     e->n_eff = (rfe_real_t)NAN; /* no particles */
     e->flags = flags;
     e->status = RFE_OK;
+}
+
+void rfe_tid_sckf_estimate(rfe_tyre_id_t *tid, const rfe_tyre_id_sample_t *smp,
+                           const rfe_tid_input_t *u, uint32_t flags)
+{
+    /* n a constant in each call (dims_n) */
+    if (sckf_n(tid) > NXP) {
+        sckf_estimate_n(tid, smp, u, flags, NXP + 1u);
+    } else {
+        sckf_estimate_n(tid, smp, u, flags, NXP);
+    }
 }
