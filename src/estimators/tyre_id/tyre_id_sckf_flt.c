@@ -48,9 +48,14 @@ typedef struct {
 static sckf_dims_t dims_n(size_t n)
 {
     sckf_dims_t d;
-    d.ds = (n > NXP) ? 1 : 0;
+    if (n > NXP) {
+        d.ds = 1;
+        d.nz = 3u;
+    } else {
+        d.ds = 0;
+        d.nz = 2u;
+    }
     d.n = n;
-    d.nz = (d.ds != 0) ? 3u : 2u;
     d.np = 2u * n;
     d.tc = d.np + n;
     d.zc = d.np + d.nz;
