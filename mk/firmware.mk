@@ -328,18 +328,24 @@ PIL_OBS_HOST := $(foreach h,$(PIL_OBS_HOSTS),$(FW_DIR)/host-$(call pil_obs_field
 #             first 200 counted. Held to the host double build within its golden test's
 #             float32 bound (300 x 2^-24 of value plus sd per step: 7.2e-3 over 400 rows),
 #             not to the host float32 build (firmware_pil.py SCKF_EPS_PER_STEP says why).
+#   tid_sckf_dstate  the same with the steering angle as its state (tid_delta_state_q 0.04,
+#             TYRE_ID.md §15.7), the same log and counts; its bound 363 x 2^-24 per step
+#             (Tria 11 x 33: firmware_pil.py SCKF_DS_EPS_PER_STEP).
 PIL_AUX_ENTRIES ?= mg_ukf:scenarios/mass_grade/car_hilly_road.csv:1500:500 \
                    mg_aukf:scenarios/mass_grade/car_hilly_road.csv:1500:500 \
                    tid:scenarios/tyre_id/tid_ramp_steer_high_mu.csv:40:20 \
-                   tid_sckf:scenarios/tyre_id/tid_ramp_steer_high_mu.csv:400:200
+                   tid_sckf:scenarios/tyre_id/tid_ramp_steer_high_mu.csv:400:200 \
+                   tid_sckf_dstate:scenarios/tyre_id/tid_ramp_steer_high_mu.csv:400:200
 PIL_AUX_GEN_mg_ukf   := --estimator mass_grade --mg-config recommended
 PIL_AUX_GEN_mg_aukf  := --estimator mass_grade --mg-config seed
 PIL_AUX_GEN_tid      := --estimator tyre_id --preset default
 PIL_AUX_GEN_tid_sckf := --estimator tyre_id --preset default
+PIL_AUX_GEN_tid_sckf_dstate := --estimator tyre_id --preset default
 PIL_AUX_DEFS_mg_ukf  := -DPIL_MASS_GRADE
 PIL_AUX_DEFS_mg_aukf := -DPIL_MASS_GRADE
 PIL_AUX_DEFS_tid     := -DPIL_TYRE_ID
 PIL_AUX_DEFS_tid_sckf := -DPIL_TYRE_ID -DPIL_TID_SCKF
+PIL_AUX_DEFS_tid_sckf_dstate := -DPIL_TYRE_ID -DPIL_TID_SCKF -DPIL_TID_DSTATE
 PIL_AUX_TARGET       := m4f-f32
 PIL_AUX_MACHINE      := mps2-an386
 

@@ -17,7 +17,8 @@
  *   PIL_MASS_GRADE with PIL_Q31  its fixed-point twin, rfe_mass_grade_*_q31;
  *   PIL_TYRE_ID     the tyre identifier, rfe_tyre_id_*_f32 with its default parameters and
  *                   seed 1 (float only; RFE_TID_N particles); with PIL_TID_SCKF its
- *                   sigma-point filter (tid_filter = sckf, docs/TYRE_ID.md §15).
+ *                   sigma-point filter (tid_filter = sckf, docs/TYRE_ID.md §15), and with
+ *                   PIL_TID_DSTATE too the steering angle as its state (§15.7).
  * Another estimator is one more block giving pil_estimator_t, pil_output_t, pil_init,
  * PIL_STEP_CALL and put_output. PIL_HOST: the host build of the
  * same program (no stack painting; rfe_real_t may be double, printed as 16 hex digits). The
@@ -127,6 +128,9 @@ static rfe_status_t pil_init(void)
     const rfe_status_t st = rfe_tyre_id_params_default(&tp);
 #if defined(PIL_TID_SCKF)
     tp.filter = RFE_TID_SCKF;
+#endif
+#if defined(PIL_TID_DSTATE)
+    tp.delta_state_q = 0.04f; /* delta as the SCKF's state (TYRE_ID.md §15.7) */
 #endif
     return (st != RFE_OK) ? st : rfe_tyre_id_init(&g_est, &tp, &pil_params, 1u);
 }

@@ -19,22 +19,23 @@
 #define RFE_TRIA_COLS_MAX ((2 * RFE_N_MAX) + ((RFE_N_MAX > RFE_M_MAX) ? RFE_N_MAX : RFE_M_MAX))
 /** Number of cubature points at the largest state dimension. */
 #define RFE_CUB_MAX (2 * RFE_N_MAX)
-/** State dimension of the tyre identifier's sigma-point filter (rfe/tyre_id.h, docs/TYRE_ID.md
- *  §15): vy, r and the eight Magic Formula parameters. Not an override: the model fixes it. */
-#define RFE_TID_SCKF_N 10
+/** Largest state dimension of the tyre identifier's sigma-point filter (rfe/tyre_id.h,
+ *  docs/TYRE_ID.md §15): vy, r, the eight Magic Formula parameters and, with delta_state_q > 0
+ *  (§15.7), the steering angle. Not an override: the model fixes it. */
+#define RFE_TID_SCKF_N 11
 /** Most rows Tria() (rfe/component/qr.h) reduces: the generic filters' RFE_N_MAX or the tyre
  *  identifier's RFE_TID_SCKF_N, the larger. It sizes only Tria's two row arrays on the stack
  *  (a real and an int per row), no filter state: the friction estimator's stays RFE_N_MAX. */
 #define RFE_TRIA_ROWS_MAX ((RFE_N_MAX > RFE_TID_SCKF_N) ? RFE_N_MAX : RFE_TID_SCKF_N)
-/** Widest matrix Tria() accepts: [r x 2r | r x max(r, m)] at r = RFE_TRIA_ROWS_MAX (30 with the
+/** Widest matrix Tria() accepts: [r x 2r | r x max(r, m)] at r = RFE_TRIA_ROWS_MAX (33 with the
  *  defaults; RFE_TRIA_COLS_MAX, the generic filters' work matrices, stays 24). */
 #define RFE_TRIA_COLS_LIMIT \
     ((2 * RFE_TRIA_ROWS_MAX) + ((RFE_TRIA_ROWS_MAX > RFE_M_MAX) ? RFE_TRIA_ROWS_MAX : RFE_M_MAX))
 
 /** Particle count of the tyre identifier (rfe/tyre_id.h, docs/TYRE_ID.md §2 tid_n), at least 2
  *  and at most 65535 (the parent indices are 16-bit). Its state holds 26 reals and three
- *  16-bit indices per particle and the sigma-point filter's 728 reals (rfe_tid_sckf_t): with
- *  the default 256, 31.6 kB in float and 61.6 kB in double (sizeof(rfe_tyre_id_t);
+ *  16-bit indices per particle and the sigma-point filter's 928 reals (rfe_tid_sckf_t): with
+ *  the default 256, 32.4 kB in float and 63.3 kB in double (sizeof(rfe_tyre_id_t);
  *  test_tyre_id_flt.c checks the figure). A build that runs only the sigma-point filter
  *  (tid_filter sckf) needs no particles: -DRFE_TID_N=2. */
 #ifndef RFE_TID_N

@@ -83,9 +83,11 @@ enum {
     RFE_TID_DIM = 10,  /**< columns of a particle */
     RFE_TID_STATES = 2, /**< vy, r */
     RFE_TID_PAR = 8,    /**< the parameters, roughened (§5.5) */
-    RFE_TID_CUB = 20,   /**< the SCKF's cubature points, 2 RFE_TID_DIM (§15.3) */
-    RFE_TID_MEAS = 2,   /**< the measurements (yaw rate, ay) */
-    RFE_TID_TRIA_COLS = 30 /**< the SCKF's widest Tria input [points | S_Q], 3 RFE_TID_DIM */
+    RFE_TID_DELTA = 10, /**< the SCKF's eleventh state, delta, with delta_state_q > 0 (§15.7) */
+    RFE_TID_SCKF_DIM = 11, /**< the SCKF's largest state: a particle's columns and delta */
+    RFE_TID_CUB = 22,   /**< the SCKF's most cubature points, 2 RFE_TID_SCKF_DIM (§15.3) */
+    RFE_TID_MEAS = 3,   /**< the SCKF's most measurements (yaw rate, ay; delta with §15.7) */
+    RFE_TID_TRIA_COLS = 33 /**< the SCKF's widest Tria input [points | S_Q], 3 SCKF_DIM */
 };
 
 /** The outputs (TYRE_ID.md §7), the index of each in rfe_tyre_id_estimate_t's mean and sd;
@@ -160,16 +162,19 @@ typedef struct {
 } rfe_tid_consts_t;
 
 /** The sigma-point filter's mean, square-root covariance and scratch (filter RFE_TID_SCKF,
- *  TYRE_ID.md §15; 5.8 kB in double). Matrices row-major, the leading dimension after "ld". */
+ *  TYRE_ID.md §15; 928 reals: 3.6 kB in float, 7.3 kB in double), sized for its largest
+ *  state (delta_state_q > 0, §15.7: n = 11, m = 3); without delta n = 10, m = 2 and only the
+ *  leading parts are used. Matrices row-major, the leading dimension after "ld" (n: the
+ *  state dimension in use). */
 typedef struct {
-    rfe_real_t x[RFE_TID_DIM];                      /**< the mean (a particle's columns) */
-    rfe_real_t S[RFE_TID_DIM * RFE_TID_DIM];        /**< lower-triangular S, P = S S^T, ld DIM */
-    rfe_real_t pts[RFE_TID_CUB * RFE_TID_DIM];      /**< cubature points, one per row, ld DIM */
-    rfe_real_t zp[RFE_TID_CUB * RFE_TID_MEAS];      /**< their measurements, ld MEAS */
-    rfe_real_t A[RFE_TID_DIM * RFE_TID_TRIA_COLS];  /**< Tria input and output, ld TRIA_COLS */
-    rfe_real_t Z[RFE_TID_MEAS * (RFE_TID_CUB + RFE_TID_MEAS)]; /**< [Zc | S_R], ld CUB + MEAS */
-    rfe_real_t Kt[RFE_TID_MEAS * RFE_TID_DIM];      /**< the gain, transposed, ld DIM */
-    rfe_real_t xn[RFE_TID_DIM];                     /**< the predicted mean */
+    rfe_real_t x[RFE_TID_SCKF_DIM];                 /**< the mean (a particle's columns[, delta]) */
+    rfe_real_t S[RFE_TID_SCKF_DIM * RFE_TID_SCKF_DIM]; /**< lower-triangular S, P = S S^T, ld n */
+    rfe_real_t pts[RFE_TID_CUB * RFE_TID_SCKF_DIM]; /**< cubature points, one per row, ld n */
+    rfe_real_t zp[RFE_TID_CUB * RFE_TID_MEAS];      /**< their measurements, ld m */
+    rfe_real_t A[RFE_TID_SCKF_DIM * RFE_TID_TRIA_COLS]; /**< Tria input and output, ld 3 n */
+    rfe_real_t Z[RFE_TID_MEAS * (RFE_TID_CUB + RFE_TID_MEAS)]; /**< [Zc | S_R], ld 2 n + m */
+    rfe_real_t Kt[RFE_TID_MEAS * RFE_TID_SCKF_DIM]; /**< the gain, transposed, ld n */
+    rfe_real_t xn[RFE_TID_SCKF_DIM];                /**< the predicted mean */
     rfe_real_t sr[RFE_TID_MEAS];                    /**< diagonal of S_R */
     rfe_real_t zhat[RFE_TID_MEAS];                  /**< the predicted measurement */
 } rfe_tid_sckf_t;

@@ -84,6 +84,11 @@ typedef struct {
                                       noise density of a two-state Kalman filter that the
                                       identifier reads delta through [rad/s^2/sqrt(s)], >= 0
                                       (0: off, delta as measured, bit for bit): 0 */
+    rfe_real_t delta_state_q;    /**< the sigma-point filter only (§15.7): delta as its
+                                      eleventh state, a random walk of this density
+                                      [rad/sqrt(s)] measured by the steering sensor (sd
+                                      sd_delta), >= 0, not with delta_q > 0 (0: off, n = 10,
+                                      bit for bit): 0 */
 } rfe_tyre_id_params_t;
 
 /**
@@ -96,7 +101,7 @@ RFE_NODISCARD rfe_status_t rfe_tyre_id_params_default(rfe_tyre_id_params_t *p);
 /**
  * Checks every field: finite; filter and resample in range; substeps in
  * 1..RFE_TID_SUBSTEPS_MAX; v_min, dt_max, sd_r, sd_ay > 0; sd_delta, every q and sd0,
- * rough_k and delta_q >= 0; neff_frac in [0, 1]; each pair of bounds lo < hi, and mu_lo, C_lo, cy_lo
+ * rough_k, delta_q and delta_state_q >= 0, not both delta_q and delta_state_q > 0; neff_frac in [0, 1]; each pair of bounds lo < hi, and mu_lo, C_lo, cy_lo
  * > 0 (B = K / (C D) needs C, D > 0); ellipse 0 or 1, fx_front in [0, 1], ell_min in
  * (0, 1], ell_ax_min in [0, 20]. Whether the prior's means lie within the bounds
  * depends on the tyre data: rfe_tyre_id_init checks it.

@@ -45,6 +45,10 @@ SEED = 7
 # tid_delta_q of the steering-angle filter's goldens (TYRE_ID.md §4.4; TYRE_ID_RESULTS.md "The
 # steering-angle filter": the value measured there)
 DELTA_Q = 0.05
+# tid_delta_state_q of the sigma-point filter's golden with the steering angle as its state
+# (TYRE_ID.md §15.7; TYRE_ID_RESULTS.md "The steering angle as a state of the SCKF": the value
+# recommended there)
+DELTA_STATE_Q = 0.04
 # (case, log under scenarios/, filter, resample, first row, samples[, tid_ellipse,
 # tid_ell_ax_min]): both filters and both schemes, the start of a log (the prior, the first
 # draws) and the middle of a manoeuvre at the limit; and the friction ellipse (TYRE_ID.md
@@ -74,6 +78,9 @@ SCKF_CASES = (
     ("brake_sckf_ellipse", "brake_in_turn.mf", 100, 200, 1, 0.0),
     # the steering-angle filter (§4.4) on the low-mu ramp steer, from its straight start
     ("ramp_low_sckf_delta_filter", "tyre_id/tid_ramp_steer_low_mu", 0, 200, 0, 0.0, DELTA_Q),
+    # the steering angle as the filter's eleventh state (§15.7) on the same log and rows
+    ("ramp_low_sckf_delta_state", "tyre_id/tid_ramp_steer_low_mu", 0, 200, 0, 0.0, 0.0,
+     DELTA_STATE_Q),
 )
 # (seed, c1, c2, first word, words) of the stream check
 STREAM = ((1, 0, 0, 0, 16), (7, 3, 1, 40, 12), (2 ** 64 - 1, 2 ** 40 + 5, 4, 1000, 8))
@@ -94,9 +101,9 @@ def table(out):
     return names, zip(*(out[k] for k in names))
 
 
-def ellipse_keys(ellipse, ax_min=0.0, delta_q=0.0):
+def ellipse_keys(ellipse, ax_min=0.0, delta_q=0.0, delta_state_q=0.0):
     """The keys a case sets beyond the defaults (tid_ellipse and its dead band
-    tid_ell_ax_min when on; tid_delta_q when not 0), and their metadata."""
+    tid_ell_ax_min when on; tid_delta_q, tid_delta_state_q when not 0), and their metadata."""
     keys, meta = {}, []
     if ellipse:
         keys = {"tid_ellipse": 1.0, "tid_ell_ax_min": float(ax_min)}
@@ -104,6 +111,9 @@ def ellipse_keys(ellipse, ax_min=0.0, delta_q=0.0):
     if delta_q:
         keys["tid_delta_q"] = float(delta_q)
         meta.append(("tid_delta_q", f"{delta_q:g}"))
+    if delta_state_q:
+        keys["tid_delta_state_q"] = float(delta_state_q)
+        meta.append(("tid_delta_state_q", f"{delta_state_q:g}"))
     return keys, meta
 
 
@@ -119,9 +129,9 @@ def golden(log, filt, scheme, start, count, n, ellipse=0, ax_min=0.0, delta_q=0.
     return (meta,) + table(out)
 
 
-def golden_sckf(log, start, count, ellipse=0, ax_min=0.0, delta_q=0.0):
+def golden_sckf(log, start, count, ellipse=0, ax_min=0.0, delta_q=0.0, delta_state_q=0.0):
     cols = samples(log, start, count)
-    extra, extra_meta = ellipse_keys(ellipse, ax_min, delta_q)
+    extra, extra_meta = ellipse_keys(ellipse, ax_min, delta_q, delta_state_q)
     out = tyre_id_sckf.run(cols, extra, backend="libm")  # tid_filter does not apply (§15.1)
     meta = [("source", f"scenarios/{log}.csv"),
             ("generator", "scripts/reference/tyre_id_sckf.py"), ("backend", "libm"),

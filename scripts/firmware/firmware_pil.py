@@ -136,6 +136,9 @@ OBS_TOLERANCE = "max |host f32 - host f64| per field over the log"
 # float32 build meets. The bound scales with the rows run (aux_double_bound); the host
 # float32 build is still compared with AUX_TOLERANCE, for information.
 SCKF_EPS_PER_STEP = 300 * 2.0 ** -24
+# The same filter with the steering angle as its eleventh state (tid_sckf_dstate, TYRE_ID.md
+# §15.7): Tria of 11 x 33, so rows * cols = 363 eps per step (the golden test's SCKF_DS_TOL).
+SCKF_DS_EPS_PER_STEP = 363 * 2.0 ** -24
 # Entries of the other estimators (float32 only, pil_main.c's PIL_MASS_GRADE / PIL_TYRE_ID):
 # the step function (suffixed _f32), the names of the real outputs of an A line in order, and
 # the rate the estimator runs at (its log's sample rate), for the share of the core, and the
@@ -160,6 +163,11 @@ AUX_ENTRIES = {
                  "rate_hz": 100.0, "objects": ("tyre_id",),
                  # held to the host double build (aux_compare_double), not to AUX_TOLERANCE
                  "double_bound_per_step": SCKF_EPS_PER_STEP},
+    "tid_sckf_dstate": {"step": "rfe_tyre_id_step",
+                        "what": "tyre identifier, SCKF with delta as a state, 22 cubature points",
+                        "fields": [f"mean_{o}" for o in TID_OUTS] + [f"sd_{o}" for o in TID_OUTS] + ["n_eff"],
+                        "rate_hz": 100.0, "objects": ("tyre_id",),
+                        "double_bound_per_step": SCKF_DS_EPS_PER_STEP},
 }
 AUX_TOLERANCE = "2 x max |host f32 - host f64| per field over the rows"
 AUX_DOUBLE_TOLERANCE = ("|target - host f64| <= rows x 300 x 2^-24 of |f64| + its sd "

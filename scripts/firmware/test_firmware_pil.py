@@ -76,8 +76,14 @@ def test_sckf_bound_is_the_golden_tests_per_step_rule():
     assert math.isclose(fp.aux_double_bound(SCKF, 200), 200 * 300 * 2.0 ** -24) and \
         fp.aux_double_bound(SCKF, 200) <= 4e-3
     assert math.isclose(fp.aux_double_bound(SCKF, 400), 7.152557373046875e-3)
+    # with delta as a state (TYRE_ID.md §15.7, Tria 11 x 33): 363 eps per step, within the
+    # golden test's SCKF_DS_TOL (5e-3) over its 200 steps
+    ds = fp.AUX_ENTRIES["tid_sckf_dstate"]
+    assert math.isclose(fp.aux_double_bound(ds, 200), 200 * 363 * 2.0 ** -24) and \
+        fp.aux_double_bound(ds, 200) <= 5e-3
     # the other entries keep AUX_TOLERANCE (host float32 vs double)
-    assert all(fp.aux_double_bound(k, 400) is None for t, k in fp.AUX_ENTRIES.items() if t != "tid_sckf")
+    assert all(fp.aux_double_bound(k, 400) is None for t, k in fp.AUX_ENTRIES.items()
+               if t not in ("tid_sckf", "tid_sckf_dstate"))
 
 
 def test_sckf_measured_output_is_within_the_bound():

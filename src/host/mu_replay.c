@@ -1412,10 +1412,13 @@ static void print_tyre_id(const run_t *r)
         return;
     }
     if ((rfe_tid_filter_t)r->ps.tid[RFE_PK_tid_filter - RFE_PK_TID_FIRST] == RFE_TID_SCKF) {
-        /* the sigma-point filter: no particles, no resampling (TYRE_ID.md §15) */
-        printf("tyre identifier (sckf, 20 cubature points): at the end mu_id_f %.3f (sd %.3f), "
+        /* the sigma-point filter: no particles, no resampling (TYRE_ID.md §15); with delta
+         * as its state 22 points (§15.7) */
+        const int ds = r->ps.tid[RFE_PK_tid_delta_state_q - RFE_PK_TID_FIRST] > 0.0;
+        printf("tyre identifier (sckf, %s cubature points%s): at the end mu_id_f %.3f (sd %.3f), "
                "mu_id_r %.3f (sd %.3f)\n",
-               last->mu_id[0], last->sd_mu_id[0], last->mu_id[1], last->sd_mu_id[1]);
+               ds ? "22" : "20", ds ? ", delta a state" : "", last->mu_id[0], last->sd_mu_id[0],
+               last->mu_id[1], last->sd_mu_id[1]);
     } else {
         printf("tyre identifier (%s, %s, %s particles): at the end mu_id_f %.3f (sd %.3f), mu_id_r "
                "%.3f (sd %.3f)\n",

@@ -227,7 +227,8 @@
     X(tid_fx_front, fx_front, "1", "the front axle's share of m ax (brake balance) for tid_ellipse") \
     X(tid_ell_min, ell_min, "1", "the smallest factor tid_ellipse leaves of a lateral force") \
     X(tid_ell_ax_min, ell_ax_min, "m/s^2", "tid_ellipse's dead band: below this |ax| ax is taken as 0 (0: none)") \
-    X(tid_delta_q, delta_q, "rad/s^2/sqrt(s)", "steering-angle filter's noise density (0: delta as measured)")
+    X(tid_delta_q, delta_q, "rad/s^2/sqrt(s)", "steering-angle filter's noise density (0: delta as measured)") \
+    X(tid_delta_state_q, delta_state_q, "rad/sqrt(s)", "sckf: delta as a state, its random walk's density (0: off)")
 
 /** Index of each key: the friction estimator's numeric keys RFE_PK_m, RFE_PK_Lf, ...; its
  *  three word-valued keys; then the observer's keys, obs_driven first; then the mass and

@@ -48,6 +48,7 @@ rfe_status_t rfe_tyre_id_params_default(rfe_tyre_id_params_t *p)
     p->ell_min = RFE_R(0.1);
     p->ell_ax_min = RFE_R(0.6);
     p->delta_q = RFE_R(0.0);
+    p->delta_state_q = RFE_R(0.0);
     return RFE_OK;
 }
 
@@ -55,17 +56,17 @@ rfe_status_t rfe_tyre_id_params_default(rfe_tyre_id_params_t *p)
 static int reals_ok(const rfe_tyre_id_params_t *p)
 {
     const rfe_real_t pos[4] = {p->v_min, p->dt_max, p->sd_r, p->sd_ay};
-    const rfe_real_t nonneg[15] = {p->sd_delta, p->q_vy,   p->q_r,      p->q_mu,
+    const rfe_real_t nonneg[16] = {p->sd_delta, p->q_vy,   p->q_r,      p->q_mu,
                                    p->q_C,      p->q_cy,   p->q_E,      p->sd0_mu,
                                    p->sd0_C,    p->sd0_E,  p->sd0_cy_rel, p->sd0_vy,
-                                   p->sd0_r,    p->rough_k, p->delta_q};
+                                   p->sd0_r,    p->rough_k, p->delta_q, p->delta_state_q};
     size_t i;
     for (i = 0u; i < 4u; ++i) {
         if (!rfe_is_finite(pos[i]) || !(pos[i] > RFE_R(0.0))) {
             return 0;
         }
     }
-    for (i = 0u; i < 15u; ++i) {
+    for (i = 0u; i < 16u; ++i) {
         if (!rfe_is_finite(nonneg[i]) || !(nonneg[i] >= RFE_R(0.0))) {
             return 0;
         }
@@ -114,6 +115,11 @@ rfe_status_t rfe_tyre_id_params_validate(const rfe_tyre_id_params_t *p)
         return RFE_ERR_PARAM;
     }
     if ((reals_ok(p) == 0) || (bounds_ok(p) == 0) || (ellipse_ok(p) == 0)) {
+        return RFE_ERR_PARAM;
+    }
+    /* §15.7 delta as the sigma-point filter's state and the steering-angle filter of §4.4
+     * both model delta: one at a time */
+    if ((p->delta_q > RFE_R(0.0)) && (p->delta_state_q > RFE_R(0.0))) {
         return RFE_ERR_PARAM;
     }
     return RFE_OK;

@@ -159,7 +159,7 @@ static void check_output(const fz_ctx_t *c, const rfe_tyre_id_sample_t *u,
                 violation(c, "the sigma-point filter's mean outside its bounds", u, 0);
             }
         }
-        for (i = 0; i < RFE_TID_DIM * RFE_TID_DIM; ++i) {
+        for (i = 0; i < RFE_TID_SCKF_DIM * RFE_TID_SCKF_DIM; ++i) {
             if (!finite(c->tid.sk.S[i])) {
                 violation(c, "the sigma-point filter's S not finite", u, 0);
             }
@@ -267,7 +267,7 @@ static void check_bounds(const rfe_tyre_id_t *t, const rfe_tyre_id_params_t *tp,
     }
 }
 
-#define TP_REAL 32
+#define TP_REAL 33
 #define VEH_REAL 10
 
 static void tp_fields(rfe_tyre_id_params_t *p, rfe_real_t *real[TP_REAL])
@@ -277,7 +277,8 @@ static void tp_fields(rfe_tyre_id_params_t *p, rfe_real_t *real[TP_REAL])
         &p->q_mu,   &p->q_C,    &p->q_cy,   &p->q_E,    &p->mu0,        &p->sd0_mu, &p->sd0_C,
         &p->sd0_E,  &p->sd0_cy_rel, &p->sd0_vy, &p->sd0_r, &p->mu_lo,   &p->mu_hi,  &p->C_lo,
         &p->C_hi,   &p->cy_lo,  &p->cy_hi,  &p->E_lo,   &p->E_hi,       &p->neff_frac,
-        &p->rough_k, &p->ellipse, &p->fx_front, &p->ell_min, &p->ell_ax_min, &p->delta_q};
+        &p->rough_k, &p->ellipse, &p->fx_front, &p->ell_min, &p->ell_ax_min, &p->delta_q,
+        &p->delta_state_q};
     memcpy(real, r, sizeof r);
 }
 

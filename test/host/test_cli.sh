@@ -1223,6 +1223,31 @@ res=$(awk -F, 'FNR == 1 {h = 0} /^#/ {next}
 set -- $res
 [ "$1" -ge 200 ] && [ "$2" -eq 0 ] && [ "$3" -eq 0 ] && ok "tid_sckf_double: the reference's golden within 1e-10 ($1 values)" \
     || bad "tid_sckf_double: $2 of $1 values beyond the bound, $3 times differ"
+# tid_delta_state_q (TYRE_ID.md §15.7) passed through to the library: the summary names the 22
+# points, and the double replay on the low-mu ramp steer's first 200 rows meets the reference's
+# golden (scenarios/golden/tyre_id/ramp_low_sckf_delta_state.csv) within the same 1e-10
+printf 'tid_delta_state_q = 0.04\n' >"$TMP/dstate.par"
+run tid_sckf_dstate 0 --in "$ROOT/scenarios/tyre_id/tid_ramp_steer_low_mu.csv" --out "$TMP/tid_ds.csv" \
+    --tyre-id sckf --real double --params "$TMP/dstate.par"
+grep -q '^tyre identifier (sckf, 22 cubature points, delta a state): at the end' "$TMP/out" \
+    && grep -q '^# tid_delta_state_q = 0.04$' "$TMP/tid_ds.csv" \
+    && ok "tid_sckf_dstate: 22 points in the summary, the key in the metadata" \
+    || bad "tid_sckf_dstate: $(grep 'tyre identifier' "$TMP/out"; grep 'tid_delta_state_q' "$TMP/tid_ds.csv")"
+G="$ROOT/scenarios/golden/tyre_id/ramp_low_sckf_delta_state.csv"
+res=$(awk -F, 'FNR == 1 {h = 0} /^#/ {next}
+    !h {for (i = 1; i <= NF; i++) c[FILENAME, $i] = i; h = 1; next}
+    FILENAME == ARGV[1] {k = FNR; t[++ng] = $c[FILENAME, "t"]; m[ng, 0] = $c[FILENAME, "mu_f"]; m[ng, 1] = $c[FILENAME, "mu_r"];
+        s[ng, 0] = $c[FILENAME, "sd_mu_f"]; s[ng, 1] = $c[FILENAME, "sd_mu_r"]; next}
+    { ++nr; if (nr > ng) next; if ($c[FILENAME, "t"] != t[nr]) tbad++;
+      v[0] = $c[FILENAME, "mu_id_f"]; v[1] = $c[FILENAME, "mu_id_r"]; w[0] = $c[FILENAME, "sd_mu_id_f"]; w[1] = $c[FILENAME, "sd_mu_id_r"];
+      for (a = 0; a < 2; a++) { sc = (m[nr, a] < 0 ? -m[nr, a] : m[nr, a]) + s[nr, a]; d = v[a] - m[nr, a]; if (d < 0) d = -d;
+        e = w[a] - s[nr, a]; if (e < 0) e = -e; if (d > 1e-10 * sc || e > 1e-10 * s[nr, a]) over++; n2++ } }
+    END {printf "%d %d %d", n2 + 0, over + 0, tbad + 0}' "$G" "$TMP/tid_ds.csv")
+set -- $res
+[ "$1" -ge 200 ] && [ "$2" -eq 0 ] && [ "$3" -eq 0 ] && ok "tid_sckf_dstate: the reference's golden within 1e-10 ($1 values)" \
+    || bad "tid_sckf_dstate: $2 of $1 values beyond the bound, $3 times differ"
+printf 'tid_delta_state_q = 0.04\ntid_delta_q = 0.05\n' >"$TMP/dboth.par"
+run tid_dstate_with_delta_q 1 --in "$TID" --out "$TMP/tid_db.csv" --tyre-id sckf --params "$TMP/dboth.par" -q
 printf 'tid_filter = sir\ntid_resample = systematic\n' >"$TMP/sir.par"
 run tid_flag_beats_file 0 --in "$TID" --out "$TMP/tid_f.csv" --tyre-id apf --params "$TMP/sir.par" -q
 grep -q '^# tid_filter = apf$' "$TMP/tid_f.csv" && grep -q '^# tid_resample = systematic$' "$TMP/tid_f.csv" \

@@ -2251,6 +2251,7 @@ static void test_rfe_replay_tyre_id_params_keys_and_diagnosis(void **state)
             {RFE_PK_tid_ell_min, 0.0, 0.1},       /* in (0, 1] */
             {RFE_PK_tid_ell_ax_min, -0.1, 0.6},   /* in [0, 20] m/s^2 */
             {RFE_PK_tid_delta_q, -0.1, 0.05},     /* the steering-angle filter: >= 0 */
+            {RFE_PK_tid_delta_state_q, -0.1, 0.0}, /* delta as the SCKF's state: >= 0 */
         };
         size_t c;
         for (c = 0u; c < sizeof cases / sizeof cases[0]; ++c) {
@@ -2262,6 +2263,16 @@ static void test_rfe_replay_tyre_id_params_keys_and_diagnosis(void **state)
     }
     assert_int_equal(rfe_replay_tyre_id_params_f64(&ps, &tp, &seed, NULL), RFE_OK);
     assert_true(seed == 7u);
+    /* tid_delta_state_q passed through (TYRE_ID.md §15.7); with tid_delta_q > 0 (0.05 above)
+     * both valid alone, refused together: no key to blame */
+    ps.tid[RFE_PK_tid_delta_q - RFE_PK_TID_FIRST] = 0.0;
+    ps.tid[RFE_PK_tid_delta_state_q - RFE_PK_TID_FIRST] = 0.04;
+    assert_int_equal(rfe_replay_tyre_id_params_f64(&ps, &tp, &seed, NULL), RFE_OK);
+    assert_true(tp.delta_state_q == 0.04 && tp.delta_q == 0.0);
+    ps.tid[RFE_PK_tid_delta_q - RFE_PK_TID_FIRST] = 0.05;
+    assert_int_equal(rfe_replay_tyre_id_params_f64(&ps, &tp, &seed, &bad), RFE_ERR_PARAM);
+    assert_int_equal(bad, RFE_PK_NONE);
+    ps.tid[RFE_PK_tid_delta_state_q - RFE_PK_TID_FIRST] = 0.0;
     /* each valid alone (0.1 < 1.0 < 1.3, 0.1 < 0.9), not together: no key to blame */
     ps.tid[RFE_PK_tid_mu_lo - RFE_PK_TID_FIRST] = 1.0;
     ps.tid[RFE_PK_tid_mu_hi - RFE_PK_TID_FIRST] = 0.9;

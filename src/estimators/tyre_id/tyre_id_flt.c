@@ -598,7 +598,7 @@ rfe_status_t rfe_tyre_id_step(rfe_tyre_id_t *tid, const rfe_tyre_id_sample_t *s,
     u.ax = sf.ax;
     if (tid->started == 0u) {
         if (tid->p.filter == RFE_TID_SCKF) {
-            rfe_tid_sckf_prior(tid, sf.yaw_rate);
+            rfe_tid_sckf_prior(tid, sf.yaw_rate, sf.delta);
         } else {
             draw_prior(tid, sf.yaw_rate);
         }

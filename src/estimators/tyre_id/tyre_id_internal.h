@@ -90,8 +90,9 @@ rfe_real_t rfe_tid_loglik(const rfe_tyre_id_t *tid, rfe_real_t vy, rfe_real_t r,
  *  (§3.2, with §3.5's factors), bit for bit what rfe_tid_forces gives for the same particle. */
 void rfe_tid_ay(const rfe_tyre_id_t *tid, rfe_real_t vy, rfe_real_t r, const rfe_real_t *th,
                 const rfe_tid_input_t *u, rfe_real_t *ay_p, rfe_real_t *g, rfe_real_t *fy);
-/** §15.2 the sigma-point filter's prior: x = (0, r_m, mean0), S = diag(sd0). */
-void rfe_tid_sckf_prior(rfe_tyre_id_t *tid, rfe_real_t r_meas);
+/** §15.2 the sigma-point filter's prior: x = (0, r_m, mean0), S = diag(sd0); with
+ *  delta_state_q > 0 (§15.7) delta_m appended to x, sd_delta to S's diagonal. */
+void rfe_tid_sckf_prior(rfe_tyre_id_t *tid, rfe_real_t r_meas, rfe_real_t delta_meas);
 /** §15.3 the sigma-point filter's step over the sample @p smp (inputs @p u): its flags
  *  (UPDATED, or LOST when the prior was set again). */
 uint32_t rfe_tid_sckf_step(rfe_tyre_id_t *tid, const rfe_tyre_id_sample_t *smp,

@@ -77,7 +77,7 @@ static void test_params_defaults_and_validation(void **state)
     rfe_real_t *reals[] = {&q.v_min, &q.dt_max, &q.sd_r, &q.sd_ay, &q.sd_delta, &q.q_vy,
                            &q.q_r, &q.q_mu, &q.q_C, &q.q_cy, &q.q_E, &q.sd0_mu, &q.sd0_C,
                            &q.sd0_E, &q.sd0_cy_rel, &q.sd0_vy, &q.sd0_r, &q.rough_k,
-                           &q.delta_q, &q.mu0, &q.neff_frac, &q.mu_lo, &q.mu_hi, &q.C_lo, &q.C_hi,
+                           &q.delta_q, &q.delta_state_q, &q.mu0, &q.neff_frac, &q.mu_lo, &q.mu_hi, &q.C_lo, &q.C_hi,
                            &q.cy_lo, &q.cy_hi, &q.E_lo, &q.E_hi};
     size_t i;
     (void)state;
@@ -95,6 +95,7 @@ static void test_params_defaults_and_validation(void **state)
     assert_true(p.E_lo == (rfe_real_t)-3.0 && p.E_hi == (rfe_real_t)0.95);
     assert_true(p.neff_frac == (rfe_real_t)(1.0 / 3.0) && p.rough_k == (rfe_real_t)0.2);
     assert_true(p.delta_q == (rfe_real_t)0.0); /* the steering-angle filter off (§4.4) */
+    assert_true(p.delta_state_q == (rfe_real_t)0.0); /* delta not a state (§15.7) */
     assert_int_equal(rfe_tyre_id_params_validate(&p), RFE_OK);
     /* every real field non-finite */
     for (i = 0u; i < sizeof(reals) / sizeof(reals[0]); ++i) {
@@ -105,8 +106,8 @@ static void test_params_defaults_and_validation(void **state)
         *reals[i] = (rfe_real_t)INFINITY;
         assert_int_equal(rfe_tyre_id_params_validate(&q), RFE_ERR_PARAM);
     }
-    /* the first four must be > 0, the next fifteen >= 0 */
-    for (i = 0u; i < 19u; ++i) {
+    /* the first four must be > 0, the next sixteen >= 0 */
+    for (i = 0u; i < 20u; ++i) {
         q = p;
         *reals[i] = (rfe_real_t)-1e-3;
         assert_int_equal(rfe_tyre_id_params_validate(&q), RFE_ERR_PARAM);
@@ -114,6 +115,14 @@ static void test_params_defaults_and_validation(void **state)
         *reals[i] = 0;
         assert_int_equal(rfe_tyre_id_params_validate(&q), (i < 4u) ? RFE_ERR_PARAM : RFE_OK);
     }
+    /* §15.7 delta as a state and §4.4's steering-angle filter: each alone, never both */
+    q = p;
+    q.delta_state_q = (rfe_real_t)0.04;
+    assert_int_equal(rfe_tyre_id_params_validate(&q), RFE_OK);
+    q.delta_q = (rfe_real_t)0.05;
+    assert_int_equal(rfe_tyre_id_params_validate(&q), RFE_ERR_PARAM);
+    q.delta_state_q = 0;
+    assert_int_equal(rfe_tyre_id_params_validate(&q), RFE_OK);
     q = p;
     q.neff_frac = (rfe_real_t)1.5;
     assert_int_equal(rfe_tyre_id_params_validate(&q), RFE_ERR_PARAM);
@@ -407,12 +416,20 @@ static void test_init_refusals_write_nothing(void **state)
     bad = tp;
     bad.cy_hi = (rfe_real_t)10.0;
     assert_int_equal(rfe_tyre_id_init(&tid, &bad, &veh, 1u), RFE_ERR_PARAM);
+    /* delta as the SCKF's state (§15.7) with the steering-angle filter (§4.4), or negative */
+    bad = tp;
+    bad.delta_state_q = (rfe_real_t)0.04;
+    bad.delta_q = (rfe_real_t)0.05;
+    assert_int_equal(rfe_tyre_id_init(&tid, &bad, &veh, 1u), RFE_ERR_PARAM);
+    bad = tp;
+    bad.delta_state_q = (rfe_real_t)-0.04;
+    assert_int_equal(rfe_tyre_id_init(&tid, &bad, &veh, 1u), RFE_ERR_PARAM);
     assert_memory_equal(&tid, &before, sizeof(tid));
     /* the memory statement of rfe/config.h: 26 reals and three 16-bit indices per particle,
-     * the sigma-point filter's 728 reals (rfe_tid_sckf_t) and less than 1.5 kB besides (the
-     * parameters, 35 reals, the constants and the last estimate: 1,024 B in double, 536 B in
-     * float since tid_ell_ax_min) */
-    assert_int_equal(sizeof(rfe_tid_sckf_t), 728u * sizeof(rfe_real_t));
+     * the sigma-point filter's 928 reals (rfe_tid_sckf_t, sized for n = 11 since
+     * delta_state_q, TYRE_ID.md §15.7: 11 + 121 + 242 + 66 + 363 + 75 + 33 + 11 + 3 + 3) and
+     * less than 1.5 kB besides (the parameters, 37 reals, the constants and the last estimate) */
+    assert_int_equal(sizeof(rfe_tid_sckf_t), 928u * sizeof(rfe_real_t));
     assert_true(sizeof(rfe_tyre_id_t) >= (size_t)RFE_TID_N * (26u * sizeof(rfe_real_t) + 6u) +
                                              sizeof(rfe_tid_sckf_t));
     assert_true(sizeof(rfe_tyre_id_t) < (size_t)RFE_TID_N * (26u * sizeof(rfe_real_t) + 6u) +
@@ -1334,10 +1351,104 @@ static void test_sckf_lost_sets_the_prior_again(void **state)
     assert_int_equal(e.flags, RFE_TID_UPDATED);
 }
 
+/* §15.7 the prior with delta as a state (n = 11): x = (0, r_m, mean0, delta_m), S = diag(sd0,
+ * sd_delta) with row stride 11. */
+static void assert_dstate_prior(const rfe_tyre_id_params_t *tp, rfe_real_t r, rfe_real_t d)
+{
+    const size_t n = (size_t)RFE_TID_SCKF_DIM;
+    size_t i;
+    size_t j;
+    assert_true(tid.sk.x[RFE_TID_VY] == 0 && tid.sk.x[RFE_TID_R] == r);
+    assert_true(tid.sk.x[RFE_TID_DELTA] == d);
+    for (i = 0u; i < n; ++i) {
+        for (j = 0u; j < n; ++j) {
+            rfe_real_t want = 0;
+            if (i == j) {
+                want = (i == 0u)                    ? tp->sd0_vy
+                       : (i == 1u)                  ? tp->sd0_r
+                       : (i == (size_t)RFE_TID_DELTA) ? tp->sd_delta
+                                                    : tid.c.sd0[i - (size_t)RFE_TID_STATES];
+            }
+            assert_true(tid.sk.S[(i * n) + j] == want);
+        }
+    }
+    for (j = 0u; j < (size_t)RFE_TID_PAR; ++j) {
+        assert_true(tid.sk.x[(size_t)RFE_TID_STATES + j] == tid.c.mean0[j]);
+    }
+}
+
+/* REQ-TID-002: the steering angle as the sigma-point filter's state (delta_state_q > 0,
+ * TYRE_ID.md §15.7). The first sample sets the prior with delta_m and the sensor's sd (the
+ * outputs those of the prior without it: delta is no output, S diagonal); an update puts the
+ * sensor's sd in S_R's third entry and sd_ay in its second exactly (§15.3's slope term, which
+ * makes it sqrt(sd_ay^2 + (g sd_delta)^2) > sd_ay on a turn, skipped), keeps delta's estimate
+ * within three of its sds of the measured delta on a constant steer (measured with sd
+ * sd_delta, a walk of 0.04 rad/sqrt(s): the posterior mean sits near the measurements), and
+ * gives other estimates than the filter without it; a lost step sets the prior with this
+ * sample's delta. */
+static void test_sckf_delta_state(void **state)
+{
+    static rfe_tyre_id_t off;
+    rfe_params_t veh;
+    rfe_tyre_id_params_t tp;
+    rfe_tyre_id_params_t tp_off;
+    rfe_tyre_id_estimate_t e;
+    rfe_tyre_id_estimate_t e_off;
+    const rfe_real_t d = (rfe_real_t)0.02;
+    rfe_tyre_id_sample_t s = sample(0, d, 20, (rfe_real_t)0.12, (rfe_real_t)2.4);
+    size_t k;
+    size_t o;
+    (void)state;
+    setup_defaults(&veh, &tp);
+    tp.filter = RFE_TID_SCKF;
+    tp_off = tp;
+    tp.delta_state_q = (rfe_real_t)0.04;
+    assert_int_equal(rfe_tyre_id_init(&tid, &tp, &veh, 1u), RFE_OK);
+    assert_int_equal(rfe_tyre_id_init(&off, &tp_off, &veh, 1u), RFE_OK);
+    assert_int_equal(rfe_tyre_id_step(&tid, &s, &e), RFE_OK);
+    assert_int_equal(rfe_tyre_id_step(&off, &s, &e_off), RFE_OK);
+    assert_int_equal(e.flags, RFE_TID_FIRST);
+    assert_dstate_prior(&tp, s.yaw_rate, d);
+    for (o = 0u; o < (size_t)RFE_TID_OUTPUTS; ++o) {
+        if ((o != RFE_TID_OUT_BETA) && (o != RFE_TID_OUT_FY_F) && (o != RFE_TID_OUT_FY_R) &&
+            (o != RFE_TID_OUT_B_F) && (o != RFE_TID_OUT_B_R)) {
+            assert_true(e.mean[o] == e_off.mean[o] && e.sd[o] == e_off.sd[o]);
+        }
+    }
+    s.dt = (rfe_real_t)0.01;
+    for (k = 0u; k < 100u; ++k) {
+        assert_int_equal(rfe_tyre_id_step(&tid, &s, &e), RFE_OK);
+        assert_int_equal(rfe_tyre_id_step(&off, &s, &e_off), RFE_OK);
+        assert_int_equal(e.flags, RFE_TID_UPDATED);
+        assert_true(tid.sk.sr[0] == tp.sd_r && tid.sk.sr[1] == tp.sd_ay);
+        assert_true(tid.sk.sr[2] == tp.sd_delta);
+        assert_true(off.sk.sr[1] > tp.sd_ay); /* the slope term, off: a turn, g != 0 */
+    }
+    {
+        const size_t n = (size_t)RFE_TID_SCKF_DIM;
+        const rfe_real_t *row = &tid.sk.S[(size_t)RFE_TID_DELTA * n];
+        double v = 0.0;
+        for (k = 0u; k < n; ++k) {
+            v += (double)row[k] * (double)row[k];
+        }
+        assert_true(fabs((double)tid.sk.x[RFE_TID_DELTA] - (double)d) <= 3.0 * sqrt(v));
+        assert_true(sqrt(v) < (double)tp.sd_delta); /* measured 100 times: narrower */
+    }
+    assert_true(e.mean[RFE_TID_OUT_K_F] != e_off.mean[RFE_TID_OUT_K_F]);
+    /* lost (§15.3): the prior again, at this sample's yaw rate and delta */
+    tid.sk.x[RFE_TID_VY] = (rfe_real_t)NAN;
+    s.yaw_rate = (rfe_real_t)0.07;
+    s.delta = (rfe_real_t)0.03;
+    assert_int_equal(rfe_tyre_id_step(&tid, &s, &e), RFE_OK);
+    assert_int_equal(e.flags, RFE_TID_LOST);
+    assert_dstate_prior(&tp, (rfe_real_t)0.07, (rfe_real_t)0.03);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_params_defaults_and_validation),
+        cmocka_unit_test(test_sckf_delta_state),
         cmocka_unit_test(test_ellipse_params),
         cmocka_unit_test(test_ellipse_dead_band),
         cmocka_unit_test(test_ellipse_scales_the_axle_forces),

@@ -79,6 +79,16 @@
 #define SCKF_TOL_MEAN 4e-3
 #define SCKF_TOL_SD 4e-3
 #endif
+/* With delta as the filter's eleventh state (§15.7) the same derivation at rows 11, cols 33
+ * (11 x 33 = 363 eps per step; the third measurement row adds a 3 x 25 Tria, below that):
+ * double 200 * 363 * 2.2e-16 = 1.6e-11, the bound 1e-10 as above; float 200 * 363 * 6.0e-8
+ * = 4.4e-3, the bound 5e-3. Seen (ramp_low_sckf_delta_state): double means 8.9e-15, sds
+ * 1.7e-14; float means 8.3e-6, sds 1.0e-5. */
+#if defined(RFE_REAL_DOUBLE)
+#define SCKF_DS_TOL 1e-10
+#else
+#define SCKF_DS_TOL 5e-3
+#endif
 
 typedef struct {
     const char *name;
@@ -88,19 +98,20 @@ typedef struct {
     int ellipse;     /* tid_ellipse (TYRE_ID.md §3.5) */
     double ax_min;   /* tid_ell_ax_min with the ellipse (its golden's metadata) */
     double delta_q;  /* tid_delta_q, the steering-angle filter (TYRE_ID.md §4.4; 0: off) */
+    double delta_state_q; /* tid_delta_state_q, delta as the SCKF's state (§15.7; 0: off) */
 } golden_case_t;
 
 /* make_tyre_id_goldens.py CASES (the first row and the count are in each file's metadata
  * and its t column) */
 static const golden_case_t CASES[] = {
-    {"sine_apf_multinomial", "tyre_id/tid_sine_steer", RFE_TID_APF, RFE_TID_MULTINOMIAL, 0, 0.0, 0.0},
-    {"ramp_apf_systematic", "tyre_id/tid_ramp_steer_high_mu", RFE_TID_APF, RFE_TID_SYSTEMATIC, 0, 0.0, 0.0},
-    {"dlc_sir_multinomial", "tyre_id/tid_dlc_high_mu", RFE_TID_SIR, RFE_TID_MULTINOMIAL, 0, 0.0, 0.0},
-    {"change_sir_systematic", "tyre_id/tid_tyre_change", RFE_TID_SIR, RFE_TID_SYSTEMATIC, 0, 0.0, 0.0},
-    {"brake_apf_ellipse", "brake_in_turn.mf", RFE_TID_APF, RFE_TID_MULTINOMIAL, 1, 0.0, 0.0},
-    {"brake_apf_ellipse_band", "brake_in_turn.mf", RFE_TID_APF, RFE_TID_MULTINOMIAL, 1, 0.6, 0.0},
+    {"sine_apf_multinomial", "tyre_id/tid_sine_steer", RFE_TID_APF, RFE_TID_MULTINOMIAL, 0, 0.0, 0.0, 0.0},
+    {"ramp_apf_systematic", "tyre_id/tid_ramp_steer_high_mu", RFE_TID_APF, RFE_TID_SYSTEMATIC, 0, 0.0, 0.0, 0.0},
+    {"dlc_sir_multinomial", "tyre_id/tid_dlc_high_mu", RFE_TID_SIR, RFE_TID_MULTINOMIAL, 0, 0.0, 0.0, 0.0},
+    {"change_sir_systematic", "tyre_id/tid_tyre_change", RFE_TID_SIR, RFE_TID_SYSTEMATIC, 0, 0.0, 0.0, 0.0},
+    {"brake_apf_ellipse", "brake_in_turn.mf", RFE_TID_APF, RFE_TID_MULTINOMIAL, 1, 0.0, 0.0, 0.0},
+    {"brake_apf_ellipse_band", "brake_in_turn.mf", RFE_TID_APF, RFE_TID_MULTINOMIAL, 1, 0.6, 0.0, 0.0},
     {"sine_apf_delta_filter", "tyre_id/tid_sine_steer", RFE_TID_APF, RFE_TID_MULTINOMIAL, 0, 0.0,
-     0.05},
+     0.05, 0.0},
 };
 
 /* The reference's OUTPUT_NAMES, in the order of RFE_TID_OUT_*. */
@@ -148,6 +159,7 @@ static size_t open_case(const golden_case_t *c, rfe_sensor_log_t *log, test_tabl
         tp.ell_ax_min = (rfe_real_t)c->ax_min;
     }
     tp.delta_q = (rfe_real_t)c->delta_q;
+    tp.delta_state_q = (rfe_real_t)c->delta_state_q;
     assert_int_equal(rfe_tyre_id_init(&tid, &tp, &veh, SEED), RFE_OK);
     return first_row(log, test_table_get(g, 0u, "t"));
 }
@@ -235,11 +247,13 @@ static void run_case(const golden_case_t *c)
 
 /* make_tyre_id_goldens.py SCKF_CASES */
 static const golden_case_t SCKF_CASES[] = {
-    {"sine_sckf", "tyre_id/tid_sine_steer", RFE_TID_SCKF, RFE_TID_MULTINOMIAL, 0, 0.0, 0.0},
-    {"ramp_sckf", "tyre_id/tid_ramp_steer_high_mu", RFE_TID_SCKF, RFE_TID_MULTINOMIAL, 0, 0.0, 0.0},
-    {"brake_sckf_ellipse", "brake_in_turn.mf", RFE_TID_SCKF, RFE_TID_MULTINOMIAL, 1, 0.0, 0.0},
+    {"sine_sckf", "tyre_id/tid_sine_steer", RFE_TID_SCKF, RFE_TID_MULTINOMIAL, 0, 0.0, 0.0, 0.0},
+    {"ramp_sckf", "tyre_id/tid_ramp_steer_high_mu", RFE_TID_SCKF, RFE_TID_MULTINOMIAL, 0, 0.0, 0.0, 0.0},
+    {"brake_sckf_ellipse", "brake_in_turn.mf", RFE_TID_SCKF, RFE_TID_MULTINOMIAL, 1, 0.0, 0.0, 0.0},
     {"ramp_low_sckf_delta_filter", "tyre_id/tid_ramp_steer_low_mu", RFE_TID_SCKF,
-     RFE_TID_MULTINOMIAL, 0, 0.0, 0.05},
+     RFE_TID_MULTINOMIAL, 0, 0.0, 0.05, 0.0},
+    {"ramp_low_sckf_delta_state", "tyre_id/tid_ramp_steer_low_mu", RFE_TID_SCKF,
+     RFE_TID_MULTINOMIAL, 0, 0.0, 0.0, 0.04},
 };
 
 /* |a - b| in units of (|b| + sd_b): the rounding of a quantity and of its spread */
@@ -324,6 +338,15 @@ static void test_sckf_delta_filter_golden(void **state)
     sckf_case(&SCKF_CASES[3], SCKF_TOL_MEAN, SCKF_TOL_SD);
 }
 
+/* REQ-TID-002: the steering angle as the sigma-point filter's state (TYRE_ID.md §15.7,
+ * tid_delta_state_q 0.04) on the same log and rows: n = 11, three measurement rows, each point's
+ * RK4 step and ay at its own delta, within the bound derived for n = 11 above */
+static void test_sckf_delta_state_golden(void **state)
+{
+    (void)state;
+    sckf_case(&SCKF_CASES[4], SCKF_DS_TOL, SCKF_DS_TOL);
+}
+
 /* REQ-TID-002: the steering-angle filter (TYRE_ID.md §4.4, tid_delta_q 0.05) from the sine
  * steer's start: bit for bit in double as the other particle-filter cases (its arithmetic is
  * the reference's, operation by operation) */
@@ -389,6 +412,7 @@ int main(void)
         cmocka_unit_test(test_apf_ellipse_band_golden),
         cmocka_unit_test(test_sckf_delta_filter_golden),
         cmocka_unit_test(test_apf_delta_filter_golden),
+        cmocka_unit_test(test_sckf_delta_state_golden),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
