@@ -109,14 +109,18 @@ static void scale_tail(rfe_fix_t *t, size_t len, int s)
     }
 }
 
-/* A working value w of scale e (w 2^-e LSB) rounded into the output format, saturating. */
-static rfe_fix_t to_output(int64_t w, int e, uint32_t *sat)
+/* A working value w of scale e (w 2^-e LSB) rounded into the output format, saturating. Every
+ * w is an int32 (a tail element, or a diagonal entry: x0 or the norm of a normalised tail,
+ * below 2^30 + 3): rounded down in 32-bit operations (rfe_fix_shr_round, which never
+ * saturates), the integer the int64 narrowing gave (~30 instructions fewer a call on the
+ * Cortex-M4, whose variable 64-bit shift it avoids). */
+static rfe_fix_t to_output(rfe_fix_t w, int e, uint32_t *sat)
 {
     rfe_fix_t r;
     if (e >= 0) {
-        r = rfe_fix_narrow(w, (unsigned int)e, sat);
+        r = rfe_fix_shr_round(w, (unsigned int)e);
     } else {
-        r = rfe_fix_shl(rfe_fix_sat32(w, sat), (unsigned int)(-e), sat);
+        r = rfe_fix_shl(w, (unsigned int)(-e), sat);
     }
     return r;
 }
@@ -274,13 +278,14 @@ static inline void update_tail(rfe_fix_t *a, const rfe_fix_t *x, size_t n, int64
  * a <- a - c v, c = 2 a.v / v.v, v = x + sign(x0) |x| e0. Returns the unrounded diagonal
  * entry (scale of row k): -sign(x0) |x|, or x0 itself when it is the only non-zero. ssk:
  * |x|^2 (< 2^60 + 2^32 after the normalisation) when the caller knows it, else 0. */
-static int64_t reflect(rfe_fix_t *A, size_t rows, size_t lda, size_t k, size_t len,
-                       uint64_t ssk, const int *nonzero)
+static rfe_fix_t reflect(rfe_fix_t *A, size_t rows, size_t lda, size_t k, size_t len,
+                         uint64_t ssk, const int *nonzero)
 {
     rfe_fix_t *x = &AT(A, lda, k, k);
     uint64_t ss = ssk;
     uint64_t x0sq;
     int64_t norm;
+    int64_t diag;
     int64_t v0;
     uint64_t vtv;
     size_t i;
@@ -296,7 +301,7 @@ static int64_t reflect(rfe_fix_t *A, size_t rows, size_t lda, size_t k, size_t l
         /* Only x0 is non-zero: the reflection would negate column k and the sign fix-up
          * negate it back where x0 > 0; skipping it gives the same factor, exactly (a
          * lower-triangular input is its own Tria up to column signs). */
-        return (int64_t)x[0];
+        return x[0];
     }
     norm = (int64_t)rfe_q31_sqrt_round(ss);
     v0 = (x[0] < 0) ? ((int64_t)x[0] - norm) : ((int64_t)x[0] + norm);
@@ -322,7 +327,9 @@ static int64_t reflect(rfe_fix_t *A, size_t rows, size_t lda, size_t k, size_t l
     for (j = 0u; j < len; ++j) {
         x[j] = 0;
     }
-    return (v0 < 0) ? norm : -norm;
+    /* norm <= 2^30 + 3 (the normalised tail's, above): an int32 */
+    diag = (v0 < 0) ? norm : -norm;
+    return (rfe_fix_t)diag;
 }
 
 /* Non-negative diagonal of the lower-triangular rows x rows S in A: flipping a column's sign
@@ -390,7 +397,7 @@ static void tria_core_q31(rfe_fix_t *A, size_t rows, size_t cols, size_t lda, in
         flip[k] = 0;
         if (nonzero[k] != 0) {
             const size_t len = ((tri != 0) ? ((cols - rows) + k + 1u) : cols) - k;
-            const int64_t diag = reflect(A, rows, lda, k, len, ssk, nonzero);
+            const rfe_fix_t diag = reflect(A, rows, lda, k, len, ssk, nonzero);
             AT(A, lda, k, k) = to_output(diag, e[k], &count);
             if (diag < 0) {
                 flip[k] = 1;
@@ -398,7 +405,7 @@ static void tria_core_q31(rfe_fix_t *A, size_t rows, size_t cols, size_t lda, in
         }
         /* nonzero[k] == 0: the tail is already zero (rank-deficient input); S(k,k) = 0. */
         for (i = k + 1u; i < rows; ++i) {
-            AT(A, lda, i, k) = to_output((int64_t)AT(A, lda, i, k), e[i], &count);
+            AT(A, lda, i, k) = to_output(AT(A, lda, i, k), e[i], &count);
         }
     }
     make_diagonal_nonnegative_q31(A, rows, lda, flip);
