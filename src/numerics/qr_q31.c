@@ -67,14 +67,33 @@ static uint64_t tail_squares(const rfe_fix_t *t, size_t len, uint64_t *hi)
 }
 #endif
 
+/* The sum of squares of a tail of norm below 2^30 + 11 (normed in tail_shift): below 2^61,
+ * one uint64 limb holds it and no partial sum carries. */
+static uint64_t tail_squares_normed(const rfe_fix_t *t, size_t len)
+{
+    uint64_t s = 0u;
+    size_t j;
+    for (j = 0u; j < len; ++j) {
+        s += (uint64_t)rfe_fix_mul32x32(t[j], t[j]); /* <= 2^62 */
+    }
+    return s;
+}
+
 /* Shift s that brings the norm of t[0..len) into [2^29, 2^30): s = 29 - floor(log2 |t|).
  * Returns 0 (and leaves *shift alone) for an all-zero tail. *ss: the low limb of the sum of
  * squares (the whole sum when the returned shift is >= 0:
- * the norm is then below 2^30, the sum below 2^60). */
-static int tail_shift(const rfe_fix_t *t, size_t len, int *shift, uint64_t *ss)
+ * the norm is then below 2^30, the sum below 2^60). normed: the tail's norm is known to be
+ * below 2^30 + 11, its sum of squares below 2^61, summed in one limb (the same integers). It
+ * is at every reflection k >= 1 (tria_core_q31): row i's tail there is a part of the tail
+ * that reflection k - 1 found normalised (norm below 2^30 + 3, sub_round_c) and then left
+ * alone or reflected; the exact reflection keeps the norm, and each computed element is
+ * within 1.51 of the exact one (the rounding of c, below 1.01, and of the product, 1/2;
+ * sub_round_c), so the norm stays below 2^30 + 3 + 1.51 sqrt(24) < 2^30 + 11
+ * (test_qr_bound_q31.c checks the sums against the two-limb form). */
+static int tail_shift(const rfe_fix_t *t, size_t len, int normed, int *shift, uint64_t *ss)
 {
     uint64_t hi = 0u;
-    const uint64_t lo = tail_squares(t, len, &hi);
+    const uint64_t lo = (normed != 0) ? tail_squares_normed(t, len) : tail_squares(t, len, &hi);
     unsigned int bits;
     unsigned int half;
     *ss = lo;
@@ -358,16 +377,14 @@ static void make_diagonal_nonnegative_q31(rfe_fix_t *A, size_t rows, size_t lda,
 static void tria_core_q31(rfe_fix_t *A, size_t rows, size_t cols, size_t lda, int tri,
                           uint32_t *sat)
 {
-    int e[RFE_N_MAX];       /* scale of each row's tail */
+    int e[RFE_N_MAX] = {0}; /* scale of each row's tail (a fixed-size initialiser: no memset
+                             * call, which a loop over the rows became) */
     int nonzero[RFE_N_MAX] = {0}; /* tail of the row not all zero (set before each read) */
     int flip[RFE_N_MAX];    /* unrounded diagonal entry negative */
     uint32_t count = 0u;
     size_t i;
     size_t k;
 
-    for (i = 0u; i < rows; ++i) {
-        e[i] = 0;
-    }
     /* A^T = Q R  <=>  A Q = R^T = [S 0]: zero each row's tail right of the diagonal. */
     for (k = 0u; k < rows; ++k) {
         uint64_t ssk = 0u; /* sum of squares of row k's normalised tail */
@@ -376,7 +393,7 @@ static void tria_core_q31(rfe_fix_t *A, size_t rows, size_t cols, size_t lda, in
             uint64_t ss = 0u;
             rfe_fix_t *t = &AT(A, lda, i, k);
             const size_t len = ((tri != 0) ? ((cols - rows) + i + 1u) : cols) - k;
-            nonzero[i] = tail_shift(t, len, &s, &ss);
+            nonzero[i] = tail_shift(t, len, (k != 0u) ? 1 : 0, &s, &ss);
             if (nonzero[i] != 0) {
                 scale_tail(t, len, s);
                 e[i] += s;
@@ -543,6 +560,27 @@ rfe_status_t rfe_qr_solve_lower_t_q31(const rfe_fix_t *L, size_t n, size_t ldl, 
     return st;
 }
 #else
+/* b 2^shift (0 <= shift <= 31) as an int64: one 32 x 32 -> 64 product by p2 = 2^shift as an
+ * int32 where that fits (shift <= 30; a Cortex-M3/M4 SMULL, where the int64 product by
+ * rfe_q31_pow2 became a variable 64-bit shift, ~10 instructions), else the int64 product. The
+ * same integer. */
+static inline int64_t scaled_rhs(rfe_fix_t b, int shift, rfe_fix_t p2)
+{
+    int64_t r;
+    if (shift <= 30) {
+        r = rfe_fix_mul32x32(b, p2);
+    } else {
+        r = (int64_t)b * rfe_q31_pow2((unsigned int)shift);
+    }
+    return r;
+}
+
+/* 2^shift as an int32 for scaled_rhs (0 where shift = 31, which does not use it). */
+static rfe_fix_t rhs_p2(int shift)
+{
+    return (shift <= 30) ? (rfe_fix_t)rfe_q31_pow2((unsigned int)shift) : 0;
+}
+
 rfe_status_t rfe_qr_solve_lower_q31(const rfe_fix_t *L, size_t n, size_t ldl, rfe_fix_t *B,
                                     size_t ncols, size_t ldb, int shift, uint32_t *sat)
 {
@@ -552,16 +590,18 @@ rfe_status_t rfe_qr_solve_lower_q31(const rfe_fix_t *L, size_t n, size_t ldl, rf
     size_t i;
     size_t j;
     const rfe_status_t st = check_solve_q31(L, n, ldl, B, ncols, ldb, shift, sat);
+    rfe_fix_t p2;
 
     if (st != RFE_OK) {
         return st;
     }
+    p2 = rhs_p2(shift);
     diag_recips_q31(L, n, ldl, rec);
     /* x_i = (b_i 2^shift - sum_{j<i} L_ij x_j) / L_ii, column by column; the numerator in
      * Q(qx + ql): b_i 2^shift <= 2^62, each product <= 2^62, summed with saturation. */
     for (c = 0u; c < ncols; ++c) {
         for (i = 0u; i < n; ++i) {
-            int64_t acc = (int64_t)AT(B, ldb, i, c) * rfe_q31_pow2((unsigned int)shift);
+            int64_t acc = scaled_rhs(AT(B, ldb, i, c), shift, p2);
             for (j = 0u; j < i; ++j) {
                 acc = rfe_fix_add64(acc, -rfe_fix_mul32x32(AT(L, ldl, i, j), AT(B, ldb, j, c)),
                                     &count);
@@ -581,17 +621,19 @@ rfe_status_t rfe_qr_solve_lower_t_q31(const rfe_fix_t *L, size_t n, size_t ldl, 
     size_t c;
     size_t j;
     const rfe_status_t st = check_solve_q31(L, n, ldl, B, ncols, ldb, shift, sat);
+    rfe_fix_t p2;
 
     if (st != RFE_OK) {
         return st;
     }
+    p2 = rhs_p2(shift);
     diag_recips_q31(L, n, ldl, rec);
     /* x_i = (b_i 2^shift - sum_{j>i} L_ji x_j) / L_ii, from the last row up. */
     for (c = 0u; c < ncols; ++c) {
         size_t up;
         for (up = 0u; up < n; ++up) {
             const size_t i = n - 1u - up; /* rows n-1 .. 0 */
-            int64_t acc = (int64_t)AT(B, ldb, i, c) * rfe_q31_pow2((unsigned int)shift);
+            int64_t acc = scaled_rhs(AT(B, ldb, i, c), shift, p2);
             for (j = i + 1u; j < n; ++j) {
                 acc = rfe_fix_add64(acc, -rfe_fix_mul32x32(AT(L, ldl, j, i), AT(B, ldb, j, c)),
                                     &count);

@@ -688,8 +688,9 @@ static void test_norm_threshold(void **state)
 /* ---- division --------------------------------------------------------------------------- */
 
 /* Checks q = round(a 2^s / b) (ties away from zero, symmetric saturation). Exact integer
- * reference for |s| <= 31, a double bound (0.5 LSB + the reference's 2^-20) elsewhere.
- * Returns |q - a 2^s / b| in LSB when unsaturated. */
+ * reference for |s| <= 31, from unsigned __int128 (GCC's and Clang's) for every other shift
+ * (|a| 2^62 and |b| 2^62 fit 94 bits), and a double bound (0.5 LSB + the reference's 2^-20)
+ * as well. Returns |q - a 2^s / b| in LSB when unsaturated. */
 static double check_div(int32_t a, int32_t b, int s)
 {
     int32_t q = UNTOUCHED32;
@@ -697,6 +698,24 @@ static double check_div(int32_t a, int32_t b, int s)
     const int neg = (a < 0) != (b < 0);
     const double exact = ldexp((double)a / (double)b, s);
     assert_int_equal(rfe_fix_div(a, b, s, &q, &sat), RFE_OK);
+    {
+        unsigned __int128 n = umag(a);
+        unsigned __int128 d = umag(b);
+        unsigned __int128 m;
+        if (s >= 0) {
+            n <<= s;
+        } else {
+            d <<= -s;
+        }
+        m = n / d + ((2u * (n % d) >= d) ? 1u : 0u);
+        if (m > (unsigned __int128)INT32_MAX) {
+            assert_int_equal(q, neg ? -INT32_MAX : INT32_MAX);
+            assert_int_equal(sat, 1u);
+        } else {
+            assert_int_equal(sat, 0u);
+            assert_true(q == (neg ? -(int64_t)m : (int64_t)m));
+        }
+    }
     if ((s >= -31) && (s <= 31)) {
         uint64_t n = umag(a);
         uint64_t d = umag(b);
