@@ -398,18 +398,12 @@ static void tria_core_q31(rfe_fix_t *A, size_t rows, size_t cols, size_t lda, in
                 scale_tail(t, len, s);
                 e[i] += s;
             }
-#if RFE_FIX_MUL64_W16
-            /* Where a 64-bit product is a call (the Cortex-M0+), row k's sum of squares is
-             * reused: scaled up by 2^s exactly, every square by 2^2s (< 2^60 after); scaled
-             * down (rounded), reflect sums it again. Elsewhere it always does (fewer
-             * instructions there as measured: the M4's inlining). */
+            /* Row k's sum of squares is reused: scaled up by 2^s exactly, every square by
+             * 2^2s (< 2^60 after); scaled down (rounded), reflect sums it again. */
             if ((i == k) && (s >= 0)) {
                 const unsigned int s2 = 2u * (unsigned int)s;
                 ssk = ss << s2;
             }
-#else
-            (void)ss;
-#endif
         }
         flip[k] = 0;
         if (nonzero[k] != 0) {
