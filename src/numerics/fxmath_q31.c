@@ -231,10 +231,12 @@ static int div_round_mag(uint64_t n, uint64_t d, unsigned int e, uint64_t *q)
             }
         }
     } else if (((n >> 32) == 0u) && ((d >> 32) != 0u) && (e1 == 1u)) {
-        /* n < 2^32 <= d (rfe_fix_div's negative shift with |b| 2^-shift >= 2^32): 2 n < 2^33
-         * <= 2 d, so q2 = floor(2 n / d) is 1 where 2 n >= d, else 0; the result rounds it */
-        const uint64_t q2 = ((n << 1) >= d) ? 1u : 0u;
-        *q = (q2 + 1u) >> 1;
+        /* n < 2^32 <= d (rfe_fix_div's negative shift with |b| 2^-shift >= 2^32): n / d < 1,
+         * so floor(n / d + 1/2) is 1 where 2 n >= d, else 0 (2 n < 2^33: no overflow) */
+        *q = 0u;
+        if ((n << 1) >= d) {
+            *q = 1u;
+        }
         over = 0;
     } else {
         const uint64_t q2 = div_bits(n, d, e1);

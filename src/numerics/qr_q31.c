@@ -82,18 +82,18 @@ static uint64_t tail_squares_normed(const rfe_fix_t *t, size_t len)
 /* Shift s that brings the norm of t[0..len) into [2^29, 2^30): s = 29 - floor(log2 |t|).
  * Returns 0 (and leaves *shift alone) for an all-zero tail. *ss: the low limb of the sum of
  * squares (the whole sum when the returned shift is >= 0:
- * the norm is then below 2^30, the sum below 2^60). normed: the tail's norm is known to be
- * below 2^30 + 11, its sum of squares below 2^61, summed in one limb (the same integers). It
- * is at every reflection k >= 1 (tria_core_q31): row i's tail there is a part of the tail
- * that reflection k - 1 found normalised (norm below 2^30 + 3, sub_round_c) and then left
+ * the norm is then below 2^30, the sum below 2^60). At reflection k >= 1 (tria_core_q31) the
+ * tail's norm is below 2^30 + 11 and its sum of squares below 2^61, summed in one limb (the
+ * same integers): row i's tail there is a part of the tail that reflection k - 1 found
+ * normalised (norm below 2^30 + 3, sub_round_c) and then left
  * alone or reflected; the exact reflection keeps the norm, and each computed element is
  * within 1.51 of the exact one (the rounding of c, below 1.01, and of the product, 1/2;
  * sub_round_c), so the norm stays below 2^30 + 3 + 1.51 sqrt(24) < 2^30 + 11
  * (test_qr_bound_q31.c checks the sums against the two-limb form). */
-static int tail_shift(const rfe_fix_t *t, size_t len, int normed, int *shift, uint64_t *ss)
+static int tail_shift(const rfe_fix_t *t, size_t len, size_t k, int *shift, uint64_t *ss)
 {
     uint64_t hi = 0u;
-    const uint64_t lo = (normed != 0) ? tail_squares_normed(t, len) : tail_squares(t, len, &hi);
+    const uint64_t lo = (k != 0u) ? tail_squares_normed(t, len) : tail_squares(t, len, &hi);
     unsigned int bits;
     unsigned int half;
     *ss = lo;
@@ -351,6 +351,19 @@ static rfe_fix_t reflect(rfe_fix_t *A, size_t rows, size_t lda, size_t k, size_t
     return (rfe_fix_t)diag;
 }
 
+/* Row k's sum of squares ss (tail_shift's, before scale_tail by 2^s) for reflect: scaled up
+ * by 2^s exactly, every square by 2^2s (< 2^60 after); 0 where it was scaled down (rounded):
+ * reflect sums it again then. */
+static uint64_t scaled_squares(uint64_t ss, int s)
+{
+    uint64_t r = 0u;
+    if (s >= 0) {
+        const unsigned int s2 = 2u * (unsigned int)s;
+        r = ss << s2;
+    }
+    return r;
+}
+
 /* Non-negative diagonal of the lower-triangular rows x rows S in A: flipping a column's sign
  * leaves S S^T unchanged (entries are symmetric-saturated, so negation is exact). The flip is
  * decided on the sign of the unrounded diagonal (flip[k]), so that a diagonal entry that
@@ -393,16 +406,13 @@ static void tria_core_q31(rfe_fix_t *A, size_t rows, size_t cols, size_t lda, in
             uint64_t ss = 0u;
             rfe_fix_t *t = &AT(A, lda, i, k);
             const size_t len = ((tri != 0) ? ((cols - rows) + i + 1u) : cols) - k;
-            nonzero[i] = tail_shift(t, len, (k != 0u) ? 1 : 0, &s, &ss);
+            nonzero[i] = tail_shift(t, len, k, &s, &ss);
             if (nonzero[i] != 0) {
                 scale_tail(t, len, s);
                 e[i] += s;
             }
-            /* Row k's sum of squares is reused: scaled up by 2^s exactly, every square by
-             * 2^2s (< 2^60 after); scaled down (rounded), reflect sums it again. */
-            if ((i == k) && (s >= 0)) {
-                const unsigned int s2 = 2u * (unsigned int)s;
-                ssk = ss << s2;
+            if (i == k) {
+                ssk = scaled_squares(ss, s);
             }
         }
         flip[k] = 0;

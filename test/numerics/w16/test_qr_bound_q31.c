@@ -120,7 +120,7 @@ static void reduce_checked(size_t rows, size_t cols)
                     max_ss = lo;
                 }
             }
-            nonzero[i] = tail_shift(&buf[(i * cols) + k], len, (k != 0u) ? 1 : 0, &s, &ss);
+            nonzero[i] = tail_shift(&buf[(i * cols) + k], len, k, &s, &ss);
             if (nonzero[i] != 0) {
                 scale_tail(&buf[(i * cols) + k], len, s);
             }
