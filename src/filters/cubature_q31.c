@@ -124,6 +124,29 @@ rfe_fix_t rfe_cub_centre_q31(rfe_fix_t v, rfe_fix_t mean, size_t n, unsigned int
     return rfe_fix_narrow(d * (int64_t)inv_sqrt_2n_q31[n - 1u], (q_in + 31u) - q_out, sat);
 }
 
+/* floor(t / 2^s) for s <= 63, or RFE_FIX_MAX + 1u where that exceeds RFE_FIX_MAX (the
+ * caller saturates it): from t's 32-bit words with 32-bit shifts (the uint64 shift by a
+ * variable s was ~8 instructions on the Cortex-M4 and a libgcc call on the M0+). For s < 32
+ * the quotient is below 2^32 exactly when the high word's bits from s up are 0, and is then
+ * (lo >> s) | (hi << (32 - s)); for s >= 32 it is hi >> (s - 32). The same integer. */
+static uint32_t centre_shr(uint64_t t, unsigned int s)
+{
+    const uint32_t lo = (uint32_t)t;
+    const uint32_t hi = (uint32_t)(t >> 32);
+    const uint32_t over = (uint32_t)RFE_FIX_MAX + 1u;
+    uint32_t r;
+    if (s >= 32u) {
+        r = hi >> (s - 32u);
+    } else if (s == 0u) {
+        r = (hi != 0u) ? over : lo;
+    } else if ((hi >> s) != 0u) {
+        r = over;
+    } else {
+        r = (lo >> s) | (hi << (32u - s));
+    }
+    return (r > (uint32_t)RFE_FIX_MAX) ? over : r;
+}
+
 void rfe_cub_centre_vec_q31(const rfe_fix_t *v, size_t ldv, rfe_fix_t mean, size_t n,
                             unsigned int q_in, unsigned int q_out, rfe_fix_t *out, size_t ldo,
                             uint32_t *sat)
@@ -155,16 +178,16 @@ void rfe_cub_centre_vec_q31(const rfe_fix_t *v, size_t ldv, rfe_fix_t mean, size
         /* |v - mean| as uint32: the difference modulo 2^32 of the larger minus the smaller;
          * its product with c < 2^63, exact */
         const uint32_t uv = (uint32_t)vj;
-        uint64_t r;
+        uint32_t r;
         rfe_fix_t o;
         if (vj >= mean) {
             const uint32_t up = uv - um;
-            r = (rfe_fix_umul32x32(up, c) + half) >> s;
+            r = centre_shr(rfe_fix_umul32x32(up, c) + half, s);
         } else {
             const uint32_t down = um - uv;
-            r = (rfe_fix_umul32x32(down, c) + (half - tie)) >> s;
+            r = centre_shr(rfe_fix_umul32x32(down, c) + (half - tie), s);
         }
-        if (r > (uint64_t)RFE_FIX_MAX) {
+        if (r > (uint32_t)RFE_FIX_MAX) {
             rfe_fix_count_sat(sat);
             o = RFE_FIX_MAX;
         } else {

@@ -51,9 +51,9 @@ static void copy_lower_q31(const rfe_fix_t *src, size_t lds, size_t k, rfe_fix_t
     }
 }
 
-/* The bit length of the largest |M_ij| (i < rows, j < cols, stride ld): that of the OR of
- * the magnitudes (|INT32_MIN| = 2^31 as a uint32). */
-static unsigned int mag_bits_q31(const rfe_fix_t *M, size_t rows, size_t cols, size_t ld)
+/* The OR of the magnitudes |M_ij| (i < rows, j < cols, stride ld; |INT32_MIN| = 2^31 as a
+ * uint32): its bit length is that of the largest |M_ij|. */
+static uint32_t mag_or_q31(const rfe_fix_t *M, size_t rows, size_t cols, size_t ld)
 {
     uint32_t any = 0u;
     size_t i;
@@ -67,7 +67,13 @@ static unsigned int mag_bits_q31(const rfe_fix_t *M, size_t rows, size_t cols, s
             any |= mv;
         }
     }
-    return rfe_q31_bitlen32(any);
+    return any;
+}
+
+/* The bit length of the largest |M_ij| (mag_or_q31's). */
+static unsigned int mag_bits_q31(const rfe_fix_t *M, size_t rows, size_t cols, size_t ld)
+{
+    return rfe_q31_bitlen32(mag_or_q31(M, rows, cols, ld));
 }
 
 /* 1 when terms products of magnitudes below 2^bits (the two factors' bit lengths summed) sum
@@ -355,7 +361,10 @@ static void innovation_out_q31(const rfe_sckf_q31_t *f, const rfe_fix_t *y,
     }
 }
 
-static rfe_status_t gain_q31(rfe_sckf_q31_t *f, const rfe_fix_t *SR, uint32_t *count)
+/* *w_or: mag_or_q31 of W's first 2n columns (posterior_tria_input_q31 reuses it; W stays in
+ * w->A until then). */
+static rfe_status_t gain_q31(rfe_sckf_q31_t *f, const rfe_fix_t *SR, uint32_t *w_or,
+                             uint32_t *count)
 {
     rfe_cub_scratch_q31_t *w = &f->w;
     const size_t n = f->n;
@@ -378,8 +387,9 @@ static rfe_status_t gain_q31(rfe_sckf_q31_t *f, const rfe_fix_t *SR, uint32_t *c
     }
     /* G^T[r][i] = sum_j W[r][j] Xc[i][j]: Q30 Q30 = Q60 -> Q30. Unsaturated where 2n terms
      * of the largest magnitudes cannot reach 2^63 (sums_fit_q31; the same integers). */
-    exact = sums_fit_q31(mag_bits_q31(w->A, m, 2u * n, TC) + mag_bits_q31(w->B, n, 2u * n, TC),
-                         2u * n, 63u);
+    *w_or = mag_or_q31(w->A, m, 2u * n, TC);
+    exact = sums_fit_q31(rfe_q31_bitlen32(*w_or) + mag_bits_q31(w->B, n, 2u * n, TC), 2u * n,
+                         63u);
     for (r = 0u; r < m; ++r) {
         for (i = 0u; i < n; ++i) {
             const int64_t acc = dot_q31(0, &w->A[r * TC], 1u, &w->B[i * TC], 1u, 2u * n, exact,
@@ -422,8 +432,8 @@ static rfe_status_t correct(rfe_sckf_q31_t *f, const rfe_fix_t *y, uint32_t *cou
 }
 
 /* [Xc, 0] - G W (n x (2n + m), Q30) in place of Xc in w->B: the Tria input of the posterior
- * factor, [Xc - K Zc, K S_R]. Needs W (w->A) and G^T (w->Kt). */
-static void posterior_tria_input_q31(rfe_sckf_q31_t *f, uint32_t *count)
+ * factor, [Xc - K Zc, K S_R]. Needs W (w->A), G^T (w->Kt) and gain_q31's w_or. */
+static void posterior_tria_input_q31(rfe_sckf_q31_t *f, uint32_t w_or, uint32_t *count)
 {
     rfe_cub_scratch_q31_t *w = &f->w;
     const size_t n = f->n;
@@ -432,9 +442,9 @@ static void posterior_tria_input_q31(rfe_sckf_q31_t *f, uint32_t *count)
     size_t j;
     /* |Xc_ij 2^30| <= 2^61: unsaturated where m terms of the largest magnitudes stay below
      * 2^62 (the sum then below 2^61 + 2^62 < 2^63; sums_fit_q31; the same integers) */
-    const int exact = sums_fit_q31(mag_bits_q31(w->Kt, m, n, NM) +
-                                       mag_bits_q31(w->A, m, (2u * n) + m, TC),
-                                   m, 62u);
+    const uint32_t a_or = w_or | mag_or_q31(&w->A[2u * n], m, m, TC); /* all of W */
+    const int exact = sums_fit_q31(mag_bits_q31(w->Kt, m, n, NM) + rfe_q31_bitlen32(a_or), m,
+                                   62u);
     for (i = 0u; i < n; ++i) {
         for (j = 0u; j < ((2u * n) + m); ++j) {
             int64_t acc = (j < (2u * n))
@@ -561,6 +571,7 @@ static rfe_status_t update_core_q31(rfe_sckf_q31_t *f, rfe_measure_fn_q31_t meas
     const size_t n = f->n;
     const size_t m = f->m;
     uint32_t count = 0u;
+    uint32_t w_or = 0u; /* gain_q31's mag_or_q31 of W's first 2n columns */
     rfe_status_t st;
 
     /* X_j = S- xi_j + x-;  Z_j = h(X_j, u);  z = mean_j Z_j. */
@@ -591,7 +602,7 @@ static rfe_status_t update_core_q31(rfe_sckf_q31_t *f, rfe_measure_fn_q31_t meas
             return RFE_OK;
         }
     }
-    st = gain_q31(f, SR, &count);
+    st = gain_q31(f, SR, &w_or, &count);
     if ((st == RFE_OK) && (innov != NULL)) {
         innovation_out_q31(f, y, innov, &count); /* before the update: the predicted points' */
     }
@@ -602,7 +613,7 @@ static rfe_status_t update_core_q31(rfe_sckf_q31_t *f, rfe_measure_fn_q31_t meas
         return st;
     }
     /* S = Tria([Xc - K Zc, K S_R]). */
-    posterior_tria_input_q31(f, &count);
+    posterior_tria_input_q31(f, w_or, &count);
     st = rfe_qr_tria_q31(w->B, n, (2u * n) + m, TC, &count);
     if (st != RFE_OK) {
         return st;

@@ -55,6 +55,25 @@ static int32_t div_q(int32_t a, int32_t b, int shift, uint32_t *sat)
     return q;
 }
 
+/* round(a 2^30 / b) and round(c 2^30 / b) (div_q(., b, 30)'s integers; 0 for b <= 0, where
+ * div_q's rfe_fix_div fails and leaves its 0): one reciprocal of b for both
+ * (rfe_q31_recip_init, then rfe_q31_div_round_by: rfe_q31_div_round's integer, round(num / b)
+ * ties away from zero, saturated to the symmetric int32 range as rfe_fix_div's), where the
+ * two divisions took a 64-by-32 division each (issue 21; test_fxmath_q31.c checks the
+ * equality). */
+static void div2_q30(int32_t a, int32_t c, int32_t b, int32_t *qa, int32_t *qc)
+{
+    *qa = 0;
+    *qc = 0;
+    if (b > 0) {
+        rfe_q31_recip_t r;
+        uint32_t scratch = 0u;
+        rfe_q31_recip_init(&r, b);
+        *qa = rfe_q31_div_round_by((int64_t)a * rfe_q31_pow2(30u), &r, &scratch);
+        *qc = rfe_q31_div_round_by((int64_t)c * rfe_q31_pow2(30u), &r, &scratch);
+    }
+}
+
 /* |(x, y)|, exactly rounded. */
 static int32_t norm2(int32_t x, int32_t y, uint32_t *sat)
 {
@@ -327,8 +346,7 @@ static void dugoff_pre_e(int32_t k, int32_t t, int32_t c1, int32_t c2, int32_t e
     pre->omk = 0;
     if (S != 0) {
         /* |comp| <= S: the quotients are <= 2^30 in Q30 (no saturation). */
-        pre->ux = div_q(ca, S, 30, &scratch);
-        pre->uy = div_q(cb, S, 30, &scratch);
+        div2_q30(ca, cb, S, &pre->ux, &pre->uy); /* S > 0: a norm, not 0 */
         if (with_e != 0) {
             pre->e = dugoff_e(k, t, eps, vwx);
             pre->omk = ONE_Q30 - ((k < 0) ? -k : k); /* 1 - |k| in [0, 1], Q30 */
@@ -814,8 +832,9 @@ RFE_XF_OUTLINE static rfe_xf_t dugoff_de_q31(const rfe_dugoff_pre_q31_t *pre, in
         const int32_t tn = scale_pow2((int64_t)mt, l);
         uint32_t scratch = 0u;
         const int32_t n = norm2(kn, tn, &scratch); /* <= 2^30.5: never saturates */
-        const int32_t ck = div_q((kq < 0) ? -kn : kn, n, 30, &scratch);
-        const int32_t ct = div_q((t30 < 0) ? -tn : tn, n, 30, &scratch);
+        int32_t ck = 0;
+        int32_t ct = 0;
+        div2_q30((kq < 0) ? -kn : kn, (t30 < 0) ? -tn : tn, n, &ck, &ct);
         const rfe_xf_t dsl = tyre_xf_dot(rfe_xf_of(ck, 30), d->k, rfe_xf_of(ct, 30), d->tan_a);
         const rfe_xf_t es = rfe_xf_make((int64_t)eps * (int64_t)n, -(62 + l));
         const rfe_xf_t ev = rfe_xf_make((int64_t)eps * (int64_t)rfe_q31_mag64(vwx), -55);

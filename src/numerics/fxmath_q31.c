@@ -214,6 +214,30 @@ static int div_round_mag(uint64_t n, uint64_t d, unsigned int e, uint64_t *q)
 
     if (((n >> 32) == 0u) && ((d >> 32) == 0u) && (e1 <= 32u)) {
         over = div_round_mag32((uint32_t)n, (uint32_t)d, e, q);
+    } else if (((n >> 32) == 0u) && ((d >> 32) == 0u) && (e1 <= 63u)) {
+        /* n, d < 2^32 and e + 1 in [33, 63] (rfe_fix_div's shift above 31): q2 < 2^32 needs
+         * n 2^(e+1) < d 2^32 < 2^64, so a dividend beyond 64 bits (bitlen(n) + e + 1 > 64)
+         * means q2 >= 2^32: too large, as div_bits finds it; else one rfe_q31_udiv64_32 as
+         * in div_round_mag32 (where div_bits took three or four 64-bit divisions, libgcc's
+         * __aeabi_uldivmod on Arm). The same q2 where it is below 2^32. */
+        if ((rfe_q31_bitlen64(n) + e1) <= 64u) {
+            const uint64_t ne = n << e1;
+            if ((ne >> 32) < d) {
+                const uint64_t q2 = (uint64_t)rfe_q31_udiv64_32(ne, (uint32_t)d);
+                if (q2 < LIM2) {
+                    *q = (q2 + 1u) >> 1;
+                    over = 0;
+                }
+            }
+        }
+    } else if (((n >> 32) == 0u) && ((d >> 32) != 0u) && (e1 == 1u)) {
+        /* n < 2^32 <= d (rfe_fix_div's negative shift with |b| 2^-shift >= 2^32): n / d < 1,
+         * so floor(n / d + 1/2) is 1 where 2 n >= d, else 0 (2 n < 2^33: no overflow) */
+        *q = 0u;
+        if ((n << 1) >= d) {
+            *q = 1u;
+        }
+        over = 0;
     } else {
         const uint64_t q2 = div_bits(n, d, e1);
         if (q2 < LIM2) {

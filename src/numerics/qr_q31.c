@@ -67,14 +67,33 @@ static uint64_t tail_squares(const rfe_fix_t *t, size_t len, uint64_t *hi)
 }
 #endif
 
+/* The sum of squares of a tail of norm below 2^30 + 11 (normed in tail_shift): below 2^61,
+ * one uint64 limb holds it and no partial sum carries. */
+static uint64_t tail_squares_normed(const rfe_fix_t *t, size_t len)
+{
+    uint64_t s = 0u;
+    size_t j;
+    for (j = 0u; j < len; ++j) {
+        s += (uint64_t)rfe_fix_mul32x32(t[j], t[j]); /* <= 2^62 */
+    }
+    return s;
+}
+
 /* Shift s that brings the norm of t[0..len) into [2^29, 2^30): s = 29 - floor(log2 |t|).
  * Returns 0 (and leaves *shift alone) for an all-zero tail. *ss: the low limb of the sum of
  * squares (the whole sum when the returned shift is >= 0:
- * the norm is then below 2^30, the sum below 2^60). */
-static int tail_shift(const rfe_fix_t *t, size_t len, int *shift, uint64_t *ss)
+ * the norm is then below 2^30, the sum below 2^60). At reflection k >= 1 (tria_core_q31) the
+ * tail's norm is below 2^30 + 11 and its sum of squares below 2^61, summed in one limb (the
+ * same integers): row i's tail there is a part of the tail that reflection k - 1 found
+ * normalised (norm below 2^30 + 3, sub_round_c) and then left
+ * alone or reflected; the exact reflection keeps the norm, and each computed element is
+ * within 1.51 of the exact one (the rounding of c, below 1.01, and of the product, 1/2;
+ * sub_round_c), so the norm stays below 2^30 + 3 + 1.51 sqrt(24) < 2^30 + 11
+ * (test_qr_bound_q31.c checks the sums against the two-limb form). */
+static int tail_shift(const rfe_fix_t *t, size_t len, size_t k, int *shift, uint64_t *ss)
 {
     uint64_t hi = 0u;
-    const uint64_t lo = tail_squares(t, len, &hi);
+    const uint64_t lo = (k != 0u) ? tail_squares_normed(t, len) : tail_squares(t, len, &hi);
     unsigned int bits;
     unsigned int half;
     *ss = lo;
@@ -109,14 +128,18 @@ static void scale_tail(rfe_fix_t *t, size_t len, int s)
     }
 }
 
-/* A working value w of scale e (w 2^-e LSB) rounded into the output format, saturating. */
-static rfe_fix_t to_output(int64_t w, int e, uint32_t *sat)
+/* A working value w of scale e (w 2^-e LSB) rounded into the output format, saturating. Every
+ * w is an int32 (a tail element, or a diagonal entry: x0 or the norm of a normalised tail,
+ * below 2^30 + 3): rounded down in 32-bit operations (rfe_fix_shr_round, which never
+ * saturates), the integer the int64 narrowing gave (~30 instructions fewer a call on the
+ * Cortex-M4, whose variable 64-bit shift it avoids). */
+static rfe_fix_t to_output(rfe_fix_t w, int e, uint32_t *sat)
 {
     rfe_fix_t r;
     if (e >= 0) {
-        r = rfe_fix_narrow(w, (unsigned int)e, sat);
+        r = rfe_fix_shr_round(w, (unsigned int)e);
     } else {
-        r = rfe_fix_shl(rfe_fix_sat32(w, sat), (unsigned int)(-e), sat);
+        r = rfe_fix_shl(w, (unsigned int)(-e), sat);
     }
     return r;
 }
@@ -274,13 +297,14 @@ static inline void update_tail(rfe_fix_t *a, const rfe_fix_t *x, size_t n, int64
  * a <- a - c v, c = 2 a.v / v.v, v = x + sign(x0) |x| e0. Returns the unrounded diagonal
  * entry (scale of row k): -sign(x0) |x|, or x0 itself when it is the only non-zero. ssk:
  * |x|^2 (< 2^60 + 2^32 after the normalisation) when the caller knows it, else 0. */
-static int64_t reflect(rfe_fix_t *A, size_t rows, size_t lda, size_t k, size_t len,
-                       uint64_t ssk, const int *nonzero)
+static rfe_fix_t reflect(rfe_fix_t *A, size_t rows, size_t lda, size_t k, size_t len,
+                         uint64_t ssk, const int *nonzero)
 {
     rfe_fix_t *x = &AT(A, lda, k, k);
     uint64_t ss = ssk;
     uint64_t x0sq;
     int64_t norm;
+    int64_t diag;
     int64_t v0;
     uint64_t vtv;
     size_t i;
@@ -296,7 +320,7 @@ static int64_t reflect(rfe_fix_t *A, size_t rows, size_t lda, size_t k, size_t l
         /* Only x0 is non-zero: the reflection would negate column k and the sign fix-up
          * negate it back where x0 > 0; skipping it gives the same factor, exactly (a
          * lower-triangular input is its own Tria up to column signs). */
-        return (int64_t)x[0];
+        return x[0];
     }
     norm = (int64_t)rfe_q31_sqrt_round(ss);
     v0 = (x[0] < 0) ? ((int64_t)x[0] - norm) : ((int64_t)x[0] + norm);
@@ -322,7 +346,22 @@ static int64_t reflect(rfe_fix_t *A, size_t rows, size_t lda, size_t k, size_t l
     for (j = 0u; j < len; ++j) {
         x[j] = 0;
     }
-    return (v0 < 0) ? norm : -norm;
+    /* norm <= 2^30 + 3 (the normalised tail's, above): an int32 */
+    diag = (v0 < 0) ? norm : -norm;
+    return (rfe_fix_t)diag;
+}
+
+/* Row k's sum of squares ss (tail_shift's, before scale_tail by 2^s) for reflect: scaled up
+ * by 2^s exactly, every square by 2^2s (< 2^60 after); 0 where it was scaled down (rounded):
+ * reflect sums it again then. */
+static uint64_t scaled_squares(uint64_t ss, int s)
+{
+    uint64_t r = 0u;
+    if (s >= 0) {
+        const unsigned int s2 = 2u * (unsigned int)s;
+        r = ss << s2;
+    }
+    return r;
 }
 
 /* Non-negative diagonal of the lower-triangular rows x rows S in A: flipping a column's sign
@@ -351,16 +390,14 @@ static void make_diagonal_nonnegative_q31(rfe_fix_t *A, size_t rows, size_t lda,
 static void tria_core_q31(rfe_fix_t *A, size_t rows, size_t cols, size_t lda, int tri,
                           uint32_t *sat)
 {
-    int e[RFE_N_MAX];       /* scale of each row's tail */
+    int e[RFE_N_MAX] = {0}; /* scale of each row's tail (a fixed-size initialiser: no memset
+                             * call, which a loop over the rows became) */
     int nonzero[RFE_N_MAX] = {0}; /* tail of the row not all zero (set before each read) */
     int flip[RFE_N_MAX];    /* unrounded diagonal entry negative */
     uint32_t count = 0u;
     size_t i;
     size_t k;
 
-    for (i = 0u; i < rows; ++i) {
-        e[i] = 0;
-    }
     /* A^T = Q R  <=>  A Q = R^T = [S 0]: zero each row's tail right of the diagonal. */
     for (k = 0u; k < rows; ++k) {
         uint64_t ssk = 0u; /* sum of squares of row k's normalised tail */
@@ -369,28 +406,19 @@ static void tria_core_q31(rfe_fix_t *A, size_t rows, size_t cols, size_t lda, in
             uint64_t ss = 0u;
             rfe_fix_t *t = &AT(A, lda, i, k);
             const size_t len = ((tri != 0) ? ((cols - rows) + i + 1u) : cols) - k;
-            nonzero[i] = tail_shift(t, len, &s, &ss);
+            nonzero[i] = tail_shift(t, len, k, &s, &ss);
             if (nonzero[i] != 0) {
                 scale_tail(t, len, s);
                 e[i] += s;
             }
-#if RFE_FIX_MUL64_W16
-            /* Where a 64-bit product is a call (the Cortex-M0+), row k's sum of squares is
-             * reused: scaled up by 2^s exactly, every square by 2^2s (< 2^60 after); scaled
-             * down (rounded), reflect sums it again. Elsewhere it always does (fewer
-             * instructions there as measured: the M4's inlining). */
-            if ((i == k) && (s >= 0)) {
-                const unsigned int s2 = 2u * (unsigned int)s;
-                ssk = ss << s2;
+            if (i == k) {
+                ssk = scaled_squares(ss, s);
             }
-#else
-            (void)ss;
-#endif
         }
         flip[k] = 0;
         if (nonzero[k] != 0) {
             const size_t len = ((tri != 0) ? ((cols - rows) + k + 1u) : cols) - k;
-            const int64_t diag = reflect(A, rows, lda, k, len, ssk, nonzero);
+            const rfe_fix_t diag = reflect(A, rows, lda, k, len, ssk, nonzero);
             AT(A, lda, k, k) = to_output(diag, e[k], &count);
             if (diag < 0) {
                 flip[k] = 1;
@@ -398,7 +426,7 @@ static void tria_core_q31(rfe_fix_t *A, size_t rows, size_t cols, size_t lda, in
         }
         /* nonzero[k] == 0: the tail is already zero (rank-deficient input); S(k,k) = 0. */
         for (i = k + 1u; i < rows; ++i) {
-            AT(A, lda, i, k) = to_output((int64_t)AT(A, lda, i, k), e[i], &count);
+            AT(A, lda, i, k) = to_output(AT(A, lda, i, k), e[i], &count);
         }
     }
     make_diagonal_nonnegative_q31(A, rows, lda, flip);
@@ -536,6 +564,27 @@ rfe_status_t rfe_qr_solve_lower_t_q31(const rfe_fix_t *L, size_t n, size_t ldl, 
     return st;
 }
 #else
+/* b 2^shift (0 <= shift <= 31) as an int64: one 32 x 32 -> 64 product by p2 = 2^shift as an
+ * int32 where that fits (shift <= 30; a Cortex-M3/M4 SMULL, where the int64 product by
+ * rfe_q31_pow2 became a variable 64-bit shift, ~10 instructions), else the int64 product. The
+ * same integer. */
+static inline int64_t scaled_rhs(rfe_fix_t b, int shift, rfe_fix_t p2)
+{
+    int64_t r;
+    if (shift <= 30) {
+        r = rfe_fix_mul32x32(b, p2);
+    } else {
+        r = (int64_t)b * rfe_q31_pow2((unsigned int)shift);
+    }
+    return r;
+}
+
+/* 2^shift as an int32 for scaled_rhs (0 where shift = 31, which does not use it). */
+static rfe_fix_t rhs_p2(int shift)
+{
+    return (shift <= 30) ? (rfe_fix_t)rfe_q31_pow2((unsigned int)shift) : 0;
+}
+
 rfe_status_t rfe_qr_solve_lower_q31(const rfe_fix_t *L, size_t n, size_t ldl, rfe_fix_t *B,
                                     size_t ncols, size_t ldb, int shift, uint32_t *sat)
 {
@@ -545,16 +594,18 @@ rfe_status_t rfe_qr_solve_lower_q31(const rfe_fix_t *L, size_t n, size_t ldl, rf
     size_t i;
     size_t j;
     const rfe_status_t st = check_solve_q31(L, n, ldl, B, ncols, ldb, shift, sat);
+    rfe_fix_t p2;
 
     if (st != RFE_OK) {
         return st;
     }
+    p2 = rhs_p2(shift);
     diag_recips_q31(L, n, ldl, rec);
     /* x_i = (b_i 2^shift - sum_{j<i} L_ij x_j) / L_ii, column by column; the numerator in
      * Q(qx + ql): b_i 2^shift <= 2^62, each product <= 2^62, summed with saturation. */
     for (c = 0u; c < ncols; ++c) {
         for (i = 0u; i < n; ++i) {
-            int64_t acc = (int64_t)AT(B, ldb, i, c) * rfe_q31_pow2((unsigned int)shift);
+            int64_t acc = scaled_rhs(AT(B, ldb, i, c), shift, p2);
             for (j = 0u; j < i; ++j) {
                 acc = rfe_fix_add64(acc, -rfe_fix_mul32x32(AT(L, ldl, i, j), AT(B, ldb, j, c)),
                                     &count);
@@ -574,17 +625,19 @@ rfe_status_t rfe_qr_solve_lower_t_q31(const rfe_fix_t *L, size_t n, size_t ldl, 
     size_t c;
     size_t j;
     const rfe_status_t st = check_solve_q31(L, n, ldl, B, ncols, ldb, shift, sat);
+    rfe_fix_t p2;
 
     if (st != RFE_OK) {
         return st;
     }
+    p2 = rhs_p2(shift);
     diag_recips_q31(L, n, ldl, rec);
     /* x_i = (b_i 2^shift - sum_{j>i} L_ji x_j) / L_ii, from the last row up. */
     for (c = 0u; c < ncols; ++c) {
         size_t up;
         for (up = 0u; up < n; ++up) {
             const size_t i = n - 1u - up; /* rows n-1 .. 0 */
-            int64_t acc = (int64_t)AT(B, ldb, i, c) * rfe_q31_pow2((unsigned int)shift);
+            int64_t acc = scaled_rhs(AT(B, ldb, i, c), shift, p2);
             for (j = i + 1u; j < n; ++j) {
                 acc = rfe_fix_add64(acc, -rfe_fix_mul32x32(AT(L, ldl, j, i), AT(B, ldb, j, c)),
                                     &count);

@@ -266,6 +266,22 @@ static void test_shifts(void **state)
     assert_int_equal(rfe_fix_shr_round(-7, 2u), -2);
     assert_int_equal(rfe_fix_shr_round(INT32_MIN, 31u), -1);
     assert_int_equal(rfe_fix_shr_round(INT32_MIN, 32u), 0); /* -1/2 rounds up to 0 */
+    /* the int32 form (32-bit operations) against the int64 reference at every shift, on the
+     * int32 edges and the ties of each shift (a = +-2^(s-1), +-3 2^(s-1)) */
+    for (s = 0u; s <= 70u; ++s) {
+        const int32_t e32[] = {INT32_MIN, INT32_MIN + 1, -1, 0, 1, INT32_MAX - 1, INT32_MAX};
+        size_t j;
+        for (j = 0u; j < (sizeof(e32) / sizeof(e32[0])); ++j) {
+            assert_true((int64_t)rfe_fix_shr_round(e32[j], s) == ref_round_shift(e32[j], s));
+        }
+        if ((s >= 1u) && (s <= 30u)) {
+            const int32_t h = (int32_t)1 << (s - 1u);
+            assert_true((int64_t)rfe_fix_shr_round(h, s) == ref_round_shift(h, s));
+            assert_true((int64_t)rfe_fix_shr_round(-h, s) == ref_round_shift(-h, s));
+            assert_true((int64_t)rfe_fix_shr_round(3 * h, s) == ref_round_shift(3 * h, s));
+            assert_true((int64_t)rfe_fix_shr_round(-3 * h, s) == ref_round_shift(-3 * h, s));
+        }
+    }
     for (i = 0; i < ne; ++i) {
         for (s = 0u; s <= 70u; ++s) {
             assert_true(rfe_fix_shr64_floor(edge[i], s) == ref_floor_shift(edge[i], s));
@@ -290,6 +306,10 @@ static void test_shifts(void **state)
         assert_true(rfe_fix_shr64_round(a, s) == ref_round_shift(a, s));
         assert_true(rfe_fix_shr64_floor(b, s) == ref_floor_shift(b, s));
         assert_true(rfe_fix_shr64_round(b, s) == ref_round_shift(b, s));
+        {
+            const int32_t a32 = (int32_t)(a >> 32); /* any int32 */
+            assert_true((int64_t)rfe_fix_shr_round(a32, s) == ref_round_shift(a32, s));
+        }
         if (s <= 63u) {
             const uint64_t ua = (uint64_t)a;
             assert_true(rfe_fix_ushr64_w32(ua, s) == (ua >> s));
@@ -668,8 +688,9 @@ static void test_norm_threshold(void **state)
 /* ---- division --------------------------------------------------------------------------- */
 
 /* Checks q = round(a 2^s / b) (ties away from zero, symmetric saturation). Exact integer
- * reference for |s| <= 31, a double bound (0.5 LSB + the reference's 2^-20) elsewhere.
- * Returns |q - a 2^s / b| in LSB when unsaturated. */
+ * reference for |s| <= 31, from unsigned __int128 (GCC's and Clang's) for every other shift
+ * (|a| 2^62 and |b| 2^62 fit 94 bits), and a double bound (0.5 LSB + the reference's 2^-20)
+ * as well. Returns |q - a 2^s / b| in LSB when unsaturated. */
 static double check_div(int32_t a, int32_t b, int s)
 {
     int32_t q = UNTOUCHED32;
@@ -677,6 +698,24 @@ static double check_div(int32_t a, int32_t b, int s)
     const int neg = (a < 0) != (b < 0);
     const double exact = ldexp((double)a / (double)b, s);
     assert_int_equal(rfe_fix_div(a, b, s, &q, &sat), RFE_OK);
+    {
+        unsigned __int128 n = umag(a);
+        unsigned __int128 d = umag(b);
+        unsigned __int128 m;
+        if (s >= 0) {
+            n <<= s;
+        } else {
+            d <<= -s;
+        }
+        m = n / d + ((2u * (n % d) >= d) ? 1u : 0u);
+        if (m > (unsigned __int128)INT32_MAX) {
+            assert_int_equal(q, neg ? -INT32_MAX : INT32_MAX);
+            assert_int_equal(sat, 1u);
+        } else {
+            assert_int_equal(sat, 0u);
+            assert_true(q == (neg ? -(int64_t)m : (int64_t)m));
+        }
+    }
     if ((s >= -31) && (s <= 31)) {
         uint64_t n = umag(a);
         uint64_t d = umag(b);

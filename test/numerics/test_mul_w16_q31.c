@@ -21,6 +21,7 @@
 
 #include "rfe/fixed.h"
 #include "numerics/internal_q31.h"
+#include "rfe/component/fxmath.h"
 #include "test_light.h"
 #include "test_rng.h"
 
@@ -219,6 +220,46 @@ static void test_div_round_by(void **state)
     }
 }
 
+/* The tyre model's shared-divisor quotients (tyre_q31.c div2_q30): rfe_fix_div(a, b, 30) and
+ * rfe_q31_div_round_by(a 2^30, reciprocal of b) must be the same integer for every int32 a and
+ * b > 0, saturation included (both round a 2^30 / b to nearest, ties away from zero, into the
+ * symmetric int32 range): the edges and 200,000 random pairs of random lengths. */
+/* REQ-FXP-001 */
+static void check_div30(int32_t a, int32_t b)
+{
+    rfe_q31_recip_t r;
+    int32_t want = 0;
+    uint32_t sat_div = 0u;
+    uint32_t sat_by = 0u;
+    assert_int_equal(rfe_fix_div(a, b, 30, &want, &sat_div), RFE_OK);
+    rfe_q31_recip_init(&r, b);
+    assert_int_equal(rfe_q31_div_round_by((int64_t)a * ((int64_t)1 << 30), &r, &sat_by), want);
+    assert_int_equal(sat_by, sat_div);
+}
+
+static void test_div30_by_recip(void **state)
+{
+    static const int32_t as[] = {0, 1, -1, 3, -3, 0x3FFFFFFF, 0x40000000, -0x40000000,
+                                 INT32_MAX, INT32_MIN, INT32_MIN + 1};
+    static const int32_t bs[] = {1, 2, 3, 0x3FFFFFFF, 0x40000000, 0x40000001, 0x5A827999,
+                                 INT32_MAX};
+    size_t i;
+    size_t j;
+    int k;
+    (void)state;
+    for (i = 0u; i < sizeof as / sizeof as[0]; ++i) {
+        for (j = 0u; j < sizeof bs / sizeof bs[0]; ++j) {
+            check_div30(as[i], bs[j]);
+        }
+    }
+    rng_seed(2116u);
+    for (k = 0; k < 200000; k += LIGHT_STEP) {
+        const int32_t a = (int32_t)(rand_u32() >> (rand_u32() % 32u)) * (((k & 1) != 0) ? -1 : 1);
+        const int32_t b = (int32_t)(1u + ((rand_u32() >> (rand_u32() % 32u)) & 0x7FFFFFFEu));
+        check_div30(a, b);
+    }
+}
+
 #if defined(__SIZEOF_INT128__)
 __extension__ typedef __int128 i128_t;
 
@@ -274,6 +315,7 @@ int main(void)
         cmocka_unit_test(test_mul32x32_random),
         cmocka_unit_test(test_div_round_paths),
         cmocka_unit_test(test_div_round_by),
+        cmocka_unit_test(test_div30_by_recip),
 #if defined(__SIZEOF_INT128__)
         cmocka_unit_test(test_mul64x32_w16),
 #endif

@@ -9,6 +9,8 @@
  *        int64 from it, in the saturating form sub_round_c replaced (sat32(a -
  *        shr64_round(c v_j, 30)), with c from the same exact dot product and division). Each
  *        must be below the bound and equal to reflect's (no tolerance: the same integer).
+ *        Before each reflection after the first, every tail's sum of squares must be below
+ *        2^61 and tail_shift's one-limb sum (normed) equal to the two-limb one.
  *
  * Inputs: every size up to RFE_N_MAX rows and RFE_TRIA_COLS_MAX columns, dense, with entries
  * at the int32 extremes (INT32_MIN, INT32_MAX, equal and opposite rows, one huge entry among
@@ -30,6 +32,7 @@
 
 static unsigned long n_checked;
 static int64_t max_mag;
+static uint64_t max_ss; /* the largest one-limb sum of squares of a tail (k >= 1) */
 
 #include "splitmix64.h"
 
@@ -105,7 +108,19 @@ static void reduce_checked(size_t rows, size_t cols)
         for (i = k; i < rows; ++i) {
             int s = 0;
             uint64_t ss = 0u;
-            nonzero[i] = tail_shift(&buf[(i * cols) + k], len, &s, &ss);
+            if (k != 0u) {
+                /* tail_shift's one-limb sum (normed, every reflection after the first):
+                 * below 2^61 and equal to the two-limb sum, as derived in qr_q31.c */
+                uint64_t hi = 0u;
+                const uint64_t lo = tail_squares(&buf[(i * cols) + k], len, &hi);
+                assert_true(hi == 0u);
+                assert_true(lo < (UINT64_C(1) << 61));
+                assert_true(tail_squares_normed(&buf[(i * cols) + k], len) == lo);
+                if (lo > max_ss) {
+                    max_ss = lo;
+                }
+            }
+            nonzero[i] = tail_shift(&buf[(i * cols) + k], len, k, &s, &ss);
             if (nonzero[i] != 0) {
                 scale_tail(&buf[(i * cols) + k], len, s);
             }
@@ -172,6 +187,7 @@ static void test_tria_bound(void **state)
     mix_state = 0xB0C0DE21ull;
     n_checked = 0u;
     max_mag = 0;
+    max_ss = 0u;
     for (it = 0u; it < 20000u; ++it) {
         const uint64_t r = rand_u64();
         const size_t rows = 1u + (size_t)(r % NR);
@@ -183,6 +199,9 @@ static void test_tria_bound(void **state)
                   n_checked, (long long)max_mag, (long long)BOUND);
     assert_true(n_checked > 1000000u); /* the check is not empty */
     assert_true(max_mag > (INT64_C(1) << 29)); /* and reached the bound's scale */
+    print_message("largest sum of squares of a tail after a reflection %.6f 2^60 (bound 2^61)\n",
+                  (double)max_ss / (double)(UINT64_C(1) << 60));
+    assert_true(max_ss >= (UINT64_C(1) << 58)); /* the sums reached the normalised scale */
 }
 
 int main(void)
