@@ -517,7 +517,7 @@ tyre-id-feed-results: venv $(BUILD)/mu_replay
 	$(PY) scripts/tools/tyre_id_feed_results.py --page docs/TYRE_ID_RESULTS.md --jobs $(TEST_JOBS)
 
 # Issue 17's trust invariant with the tyre identifier's curve fed (docs/MONITOR.md section 7;
-# the 72 logs of trust-invariant, float and double, 9 runs each: about 5 min on 2 cores).
+# the 72 logs of trust-invariant, float and double, 17 runs each: about 5 min on 2 cores).
 ## the trust invariant with and without the tyre identifier's fed curve, every bundled log (docs/MONITOR.md section 7)
 tyre-id-trust: venv $(BUILD)/mu_replay
 	$(PY) scripts/tools/tyre_id_trust.py --replay $(BUILD)/mu_replay --out $(BUILD)/tyre_id_trust \

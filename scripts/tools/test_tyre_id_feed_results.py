@@ -404,7 +404,7 @@ class _Reads(dict):
         return super().__getitem__(key)
 
 
-def test_the_jobs_are_exactly_the_runs_the_four_tables_read(monkeypatch):
+def test_the_jobs_are_exactly_the_runs_the_five_tables_read(monkeypatch):
     """Every run main() starts is read by a table and every run a table reads is started, each
     once: the seeded filter's runs once per seed in every table, the rest once."""
     monkeypatch.setattr(fr, "SEEDS", (1, 2, 3))
@@ -416,12 +416,15 @@ def test_the_jobs_are_exactly_the_runs_the_four_tables_read(monkeypatch):
     fr.hold_table(names, res)
     fr.hold_table(names, res, fr.ellipse_columns(), fr.ELLIPSE_WORDS)
     fr.hold_table(names, res, fr.ellipse_columns(fr.BAND), fr.BAND_WORDS)
+    fr.hold_table(names, res, fr.dstate_columns(), fr.DSTATE_WORDS)
     assert res.read == set(jobs)
     # per log: off, and per filter of the APF and the SCKF the first table's 4 feeds, the
     # hold's 2 unheld feeds, the ellipse's and the band's 4 each; the APF's on each of the 3
-    # seeds; SIR the first table's 4 feeds on each of the 3 seeds
+    # seeds; SIR the first table's 4 feeds on each of the 3 seeds; the SCKF's 4 feeds once
+    # more with the delta state (deterministic: one run each)
     per_filter = len(fr.FEEDS) + len(fr.HOLD_FEEDS) + 2 * 2 * len(fr.HOLD_FEEDS)
-    assert len(jobs) == len(names) * (1 + per_filter * (3 + 1) + len(fr.FEEDS) * 3)
+    assert len(jobs) == len(names) * (1 + per_filter * (3 + 1) + len(fr.FEEDS) * 3
+                                      + len(fr.FEEDS))
 
 
 def test_map_progress_keeps_order_and_reports(capsys):
@@ -438,3 +441,48 @@ def test_map_progress_keeps_order_and_reports(capsys):
     assert got == [x * x for x in range(7)]
     err = capsys.readouterr().err.splitlines()
     assert sorted(ln.split(" runs")[0] for ln in err) == ["t: 3 / 7", "t: 6 / 7", "t: 7 / 7"]
+
+
+def test_dstate_columns_pair_each_sckf_feed_with_the_delta_state():
+    """The fifth table: the SCKF (deterministic, not seeded) at every feed of the first table,
+    each "before" the first table's S run (the same key) and each "after" the same feed with
+    tid_delta_state_q 0.04 (a sixth entry, named dX) and nothing else written."""
+    pairs = fr.dstate_columns()
+    assert [p[2] for p in pairs] == list(fr.FEEDS)
+    assert {(p[0], p[1]) for p in pairs} == {("sckf", "S")} and "sckf" not in fr.SEEDED
+    assert {(p[0], p[2]) for p in pairs} <= {(c[0], c[2]) for c in fr.columns()}
+    for _, _, before, after in pairs:
+        assert after == (before[0], before[1], None, None, None, 0.04)
+    assert fr.DSTATE_Q == 0.04          # TYRE_ID_RESULTS.md's recommendation for the SCKF
+    assert fr.label(pairs[0][3], "S") == "S0.05 d0.04"
+    assert fr.label(pairs[3][3], "S") == "S0.1 e0.25 d0.04"
+
+
+def test_run_writes_the_delta_state_and_no_key_left_at_none(tmp_path):
+    exe, rec = _stand_in(tmp_path)
+    fr.run(exe, "scenarios/brake_in_turn.mf.csv", "sckf", (0.1, 0.25, None, None, None, 0.04))
+    args = json.loads(rec.read_text())
+    assert args[args.index("--tyre-id") + 1] == "sckf"
+    lines = (tmp_path / "params.txt").read_text().splitlines()
+    assert lines == ["tid_feed_sd_rel = 0.1", "tid_feed_evidence = 0.25",
+                     "tid_delta_state_q = 0.04"]
+
+
+def test_dstate_table_compares_the_delta_state_with_the_same_feed(monkeypatch):
+    """One log, the SCKF at one feed, figures decided by hand: off 0.20 / 0.90 / 50 %; delta
+    an input 0.12 / 0.95 / 50 % (helps off); delta a state 0.07 / 0.95 / 48 % (helps off, and
+    against the input: lower RMSE, same consistency, 2 points fewer valid; meets: 0.07 <=
+    0.08, 0.95 >= 0.9)."""
+    f = (0.1, 0.0)
+    monkeypatch.setattr(fr, "FEEDS", (f,))
+    after = (0.1, 0.0, None, None, None, fr.DSTATE_Q)
+    res = {(HA, None, None): (0.20, 0.90, 0.50, 0.0), (HA, "sckf", f): (0.12, 0.95, 0.50, 0.6),
+           (HA, "sckf", after): (0.07, 0.95, 0.48, 0.5)}
+    rows = fr.hold_table([HA], res, fr.dstate_columns(), fr.DSTATE_WORDS)
+    assert rows[0].startswith("| log | RMSE when valid: off / S0.1 → S0.1 d0.04 |")
+    assert rows[2] == ("| a | 0.200 / 0.120 → 0.070 | 0.90 / 0.95 → 0.95 | 50% / 50% → 48% "
+                       "| 60% → 50% | helps |")
+    assert rows[4].endswith("S0.1 d0.04: 1 / 0 → 1 / 0. Meets issue 20's targets: "
+                            "S0.1 d0.04: 0 → 1. The δ state against δ an input, helps / hurts: "
+                            "S0.1 d0.04: 1 / 0.")
+    assert len(rows) == 5                 # no seed sentences: the SCKF is deterministic

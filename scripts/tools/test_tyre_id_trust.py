@@ -38,7 +38,8 @@ def test_summary_table_shape_and_counts():
     labels = tt.labels()
     assert labels == ["today", "S0.05", "S0.1", "S0.05 e0.25", "S0.1 e0.25", "A0.05", "A0.1",
                       "A0.05 e0.25", "A0.1 e0.25", "A0.1 r1", "A0.1 e0.25 r1", "S0.1 r1",
-                      "S0.1 e0.25 r1"]
+                      "S0.1 e0.25 r1", "S0.05 d0.04", "S0.1 d0.04", "S0.05 e0.25 d0.04",
+                      "S0.1 e0.25 d0.04"]
     # an MF-truth log meeting it today (excited valid 90 %); S0.05 drops it to 80 % (10 points),
     # A0.1 breaks its worst case (0.3 > 0.25); a Dugoff log failing today that A0.1 heals
     mf = {lab: fig(0.5, 0.9) for lab in labels}
@@ -128,6 +129,18 @@ def test_feed_params_writes_the_rule_keys(tmp_path):
     assert p.read_text().splitlines() == ["tid_feed_sd_rel = 0.1", "tid_feed_evidence = 0.25",
                                           "tid_feed_refresh = 2.0", "tid_feed_outlier_k = 3.0"]
     assert tt.feed_params((0.1, 0.0), tmp_path).read_text().count("\n") == 2
+
+
+def test_the_delta_state_variants_are_the_sckf_with_tid_delta_state_q(tmp_path):
+    """The last four variants: the SCKF at each feed of FEEDS with tid_delta_state_q 0.04
+    written after the feed's keys, each to its own file (not the plain feed's)."""
+    ds = [v for v in tt.variants() if v[0].endswith(" d0.04")]
+    assert [v[2] for v in ds] == list(tt.FEEDS) and {v[1] for v in ds} == {"sckf"}
+    assert all(v[3] == () for v in tt.variants() if v not in ds)
+    p = tt.feed_params(ds[3][2], tmp_path, ds[3][3])
+    assert p.read_text().splitlines() == ["tid_feed_sd_rel = 0.1", "tid_feed_evidence = 0.25",
+                                          "tid_delta_state_q = 0.04"]
+    assert p != tt.feed_params(ds[3][2], tmp_path)
 
 
 def test_the_rule_without_a_feed_is_today(tmp_path):

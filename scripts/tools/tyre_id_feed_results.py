@@ -54,9 +54,14 @@ same rules, and per log the verdict of the ellipse against the run without it. T
 set tid_ell_ax_min = 0: the ellipse as first built, without its dead band.
 A fourth table does the same with the ellipse's dead band at its default (tid_ell_ax_min
 BAND: below that |ax| the ellipse takes ax as 0, TYRE_ID.md section 3.5).
+A fifth table, the SCKF's steering angle as a state (docs/TYRE_ID.md section 15.7), sets
+tid_delta_state_q DSTATE_Q on the SCKF at each feed of FEEDS (the first table's S columns,
+the hold at its default), against the same feed without it (the first table's S run: before
+-> after), with the same rules, and per log the verdict of the delta state against the run
+without it. The SCKF is deterministic: one run per pair.
 With --page the tables go between <!-- tyre-feed:begin/end -->,
-<!-- tyre-feed-hold:begin/end -->, <!-- tyre-feed-ellipse:begin/end --> and
-<!-- tyre-feed-band:begin/end --> of the page.
+<!-- tyre-feed-hold:begin/end -->, <!-- tyre-feed-ellipse:begin/end -->,
+<!-- tyre-feed-band:begin/end --> and <!-- tyre-feed-dstate:begin/end --> of the page.
 """
 
 import argparse
@@ -96,6 +101,10 @@ HOLD_OFF = 0.0  # tid_feed_ax_max of the "before" runs: no hold
 ELLIPSE_ON = 1.0  # tid_ellipse of the ellipse table's "after" runs (TYRE_ID.md section 3.5)
 NO_BAND = 0.0  # tid_ell_ax_min of the third table's runs: the ellipse without its dead band
 BAND = 0.6  # tid_ell_ax_min of the fourth table's runs: the key's default (TYRE_ID.md section 2)
+# tid_delta_state_q of the fifth table's "after" runs: the SCKF's delta as a state (TYRE_ID.md
+# section 15.7), the density docs/TYRE_ID_RESULTS.md recommends for the SCKF's curve
+DSTATE_Q = 0.04
+DSTATE_FILTER = ("sckf", "S")  # the one filter with the delta state
 SEEDS = (1, 2, 3, 4, 5)  # tid_seed of each seeded filter's runs in every table; the first is
 # the preset's (RFE_TID_SEED_DEFAULT), its runs keyed without a seed; five draws over the four
 # tables take the make target to about 25 min on 2 shared cores, the bootstrap filter's five
@@ -106,12 +115,14 @@ SEEDED = ("apf", "sir")  # the filters with a random stream; the SCKF is determi
 def label(feed, letter=""):
     """The column label of a feed: the filter's letter, its tid_feed_sd_rel, the evidence
     asked for, tid_feed_ax_max when the feed sets it (a third entry not None; else the
-    default), " E" when it sets tid_ellipse (a fourth entry), and "bX" after it when it sets
-    the ellipse's dead band tid_ell_ax_min X > 0 (a fifth entry)."""
+    default), " E" when it sets tid_ellipse (a fourth entry), "bX" after it when it sets
+    the ellipse's dead band tid_ell_ax_min X > 0 (a fifth entry), and " dX" when it sets the
+    SCKF's delta state tid_delta_state_q X > 0 (a sixth entry)."""
     return (f"{letter}{feed[0]:g}" + (f" e{feed[1]:g}" if feed[1] > 0 else "")
             + (f" a{feed[2]:g}" if len(feed) > 2 and feed[2] is not None else "")
             + (" E" if len(feed) > 3 and feed[3] else "")
-            + (f"b{feed[4]:g}" if len(feed) > 4 and feed[4] else ""))
+            + (f"b{feed[4]:g}" if len(feed) > 4 and feed[4] else "")
+            + (f" d{feed[5]:g}" if len(feed) > 5 and feed[5] else ""))
 
 
 def columns():
@@ -131,9 +142,9 @@ def logs():
 def run(exe, log, flt, feed, seed=None):
     """(RMSE when valid, consistency when valid, valid share, share fed) of one run; flt the
     --tyre-id filter, feed (tid_feed_sd_rel, tid_feed_evidence[, tid_feed_ax_max[,
-    tid_ellipse[, tid_ell_ax_min]]]; without the third, or None, the key's default; without
-    the fourth the ellipse's default, off; without the fifth the dead band's default), None:
-    without the identifier; seed the tid_seed written (None: not written, the preset's)."""
+    tid_ellipse[, tid_ell_ax_min[, tid_delta_state_q]]]]; an entry left out, or None, is not
+    written: the key's default), None: without the identifier; seed the tid_seed written
+    (None: not written, the preset's)."""
     with tempfile.TemporaryDirectory() as tmp:
         js = os.path.join(tmp, "m.json")
         args = [exe, "--in", os.path.join(ROOT, log), "--out", os.path.join(tmp, "e.csv"),
@@ -142,12 +153,10 @@ def run(exe, log, flt, feed, seed=None):
             par = os.path.join(tmp, "feed.params")
             with open(par, "w", encoding="utf-8") as fh:
                 fh.write(f"tid_feed_sd_rel = {feed[0]!r}\ntid_feed_evidence = {feed[1]!r}\n")
-                if len(feed) > 2 and feed[2] is not None:
-                    fh.write(f"tid_feed_ax_max = {feed[2]!r}\n")
-                if len(feed) > 3:
-                    fh.write(f"tid_ellipse = {feed[3]!r}\n")
-                if len(feed) > 4:
-                    fh.write(f"tid_ell_ax_min = {feed[4]!r}\n")
+                for key, x in zip(("tid_feed_ax_max", "tid_ellipse", "tid_ell_ax_min",
+                                   "tid_delta_state_q"), feed[2:]):
+                    if x is not None:
+                        fh.write(f"{key} = {x!r}\n")
                 if seed is not None:
                     fh.write(f"tid_seed = {int(seed)}\n")
             args += ["--tyre-id", flt, "--params", par]
@@ -204,6 +213,13 @@ def ellipse_columns(band=NO_BAND):
     return out
 
 
+def dstate_columns():
+    """The fifth table's pairs: (filter, letter, feed, the same feed with tid_delta_state_q
+    DSTATE_Q), the SCKF at each feed of FEEDS (the first table's S runs the "before")."""
+    flt, letter = DSTATE_FILTER
+    return [(flt, letter, f, (f[0], f[1], None, None, None, DSTATE_Q)) for f in FEEDS]
+
+
 HOLD_WORDS = (f"tid_feed_ax_max {HOLD_OFF:g} (no hold, aX: its value) → the default",
               "the hold", "no hold")  # the hold table's: before -> after, the change, its base
 ELLIPSE_WORDS = ("the feed without the friction ellipse (tid_ellipse 0) → with it (E: "
@@ -213,6 +229,9 @@ BAND_WORDS = ("the feed without the friction ellipse (tid_ellipse 0) → with it
               f"band (EbX: tid_ellipse 1, tid_ell_ax_min X, the default {BAND:g} m/s²), held at "
               "the default or not (aX: tid_feed_ax_max X)", "the ellipse with its band",
               "no ellipse")
+DSTATE_WORDS = ("the SCKF's feed with δ an input (tid_delta_state_q 0, the default) → δ a state "
+                "(dX: tid_delta_state_q X, TYRE_ID.md section 15.7), the hold at its default",
+                "the δ state", "δ an input")
 
 
 def hold_table(names, res, pairs=None, words=HOLD_WORDS):
@@ -373,16 +392,17 @@ def seed_jobs(names, specs=None):
 
 
 def table_specs():
-    """Every (filter, feed) that the four tables read, each once: the first table's columns,
-    the hold table's "before" runs, the ellipse's and the band's "after" runs (their "before"
-    runs are among the first two)."""
+    """Every (filter, feed) that the five tables read, each once: the first table's columns,
+    the hold table's "before" runs, the ellipse's, the band's and the delta state's "after" runs
+    (their "before" runs are among the first two)."""
     specs = [(c[0], c[2]) for c in columns()] + [(p[0], p[2]) for p in hold_columns()]
-    specs += [(p[0], p[3]) for p in ellipse_columns() + ellipse_columns(BAND)]
+    specs += [(p[0], p[3]) for p in ellipse_columns() + ellipse_columns(BAND)
+              + dstate_columns()]
     return list(dict.fromkeys(specs))
 
 
 def all_jobs(names):
-    """Every run of the four tables: each log without the identifier, and each (filter, feed)
+    """Every run of the five tables: each log without the identifier, and each (filter, feed)
     of table_specs with the preset's seed and, for a filter of SEEDED, each further seed."""
     specs = table_specs()
     return ([(log, None, None) for log in names]
@@ -509,6 +529,8 @@ def main():
     print("\n".join(ell))
     band = hold_table(names, res, ellipse_columns(BAND), BAND_WORDS)
     print("\n".join(band))
+    dstate = hold_table(names, res, dstate_columns(), DSTATE_WORDS)
+    print("\n".join(dstate))
     if a.page:
         replace_region(Path(a.page), "<!-- tyre-feed:begin -->", "<!-- tyre-feed:end -->",
                        text.splitlines(), "tyre_id_feed_results")
@@ -518,6 +540,8 @@ def main():
                        "<!-- tyre-feed-ellipse:end -->", ell, "tyre_id_feed_results")
         replace_region(Path(a.page), "<!-- tyre-feed-band:begin -->",
                        "<!-- tyre-feed-band:end -->", band, "tyre_id_feed_results")
+        replace_region(Path(a.page), "<!-- tyre-feed-dstate:begin -->",
+                       "<!-- tyre-feed-dstate:end -->", dstate, "tyre_id_feed_results")
 
 
 if __name__ == "__main__":

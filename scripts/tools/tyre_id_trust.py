@@ -16,7 +16,9 @@ tid_feed_evidence 0.25 s of the friction estimator's evidence that its curve is 
 sample whose |ax| exceeds it; docs/TYRE_ID.md section 14), and the APF's at 0.1 from the start
 and after e0.25 with the taint rule of tyre_id_feed_rule.py (REFRESH_FEEDS: tid_feed_refresh
 1 s, "r1"), and the SCKF's at the same two feeds with the same rule (REFRESH_FILTERS: does the
-rule help with the other filter's curve too). The identifier runs on every log;
+rule help with the other filter's curve too), and last the SCKF's at each feed of FEEDS with
+the steering angle as its state (tid_delta_state_q tyre_id_feed_results.DSTATE_Q,
+docs/TYRE_ID.md section 15.7: "d0.04"). The identifier runs on every log;
 it feeds only where its cornering stiffness is known within tid_feed_sd_rel, i.e. where the
 driver steers (the "fed" share). The identifier is float and double only (no Q31 twin), so
 --real takes float and double.
@@ -55,7 +57,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))   # scripts/tools
 from md_tables import replace_region  # noqa: E402
 from shape_results import summary, summary_table  # noqa: E402
 from trust_invariant import bundled_logs, fmt, meets, pct, run_log  # noqa: E402
-from tyre_id_feed_results import FEEDS, FILTERS, label, map_progress  # noqa: E402
+from tyre_id_feed_results import (DSTATE_FILTER, DSTATE_Q, FEEDS, FILTERS, label,  # noqa: E402
+                                  map_progress)
 
 REALS = ("float", "double")  # the identifier's precisions (no Q31 twin)
 # The feeds of the taint rule (tyre_id_feed_rule.py, MONITOR.md section 7): the APF's at 0.1,
@@ -74,19 +77,24 @@ SENS_REUSED = (1.0, 5.0)  # the summary's r1 (tid_feed_outlier_k at its default 
 
 def variants():
     """The fed runs: (label, filter, (tid_feed_sd_rel, tid_feed_evidence[,
-    tid_feed_refresh])), e.g. "S0.05", "A0.1 e0.25", "A0.1 r1", "S0.1 e0.25 r1"."""
-    return ([(label(f, letter), flt, f) for flt, letter in reversed(FILTERS) for f in FEEDS]
-            + [(label(f[:2], letter) + f" r{f[2]:g}", flt, f)
-               for flt, letter in REFRESH_FILTERS for f in REFRESH_FEEDS])
+    tid_feed_refresh]), further keys ((key, value), ...)), e.g. "S0.05", "A0.1 e0.25",
+    "A0.1 r1", "S0.1 e0.25 r1", "S0.05 d0.04" (the SCKF with delta as a state)."""
+    dflt, dletter = DSTATE_FILTER
+    return ([(label(f, letter), flt, f, ()) for flt, letter in reversed(FILTERS) for f in FEEDS]
+            + [(label(f[:2], letter) + f" r{f[2]:g}", flt, f, ())
+               for flt, letter in REFRESH_FILTERS for f in REFRESH_FEEDS]
+            + [(label(f, dletter) + f" d{DSTATE_Q:g}", dflt, f,
+                (("tid_delta_state_q", DSTATE_Q),)) for f in FEEDS])
 
 
-def feed_params(feed, folder: Path) -> Path:
+def feed_params(feed, folder: Path, extra=()) -> Path:
     """A parameter file setting one feed (the hold tid_feed_ax_max left at its default; with a
-    third entry tid_feed_refresh, with a fourth tid_feed_outlier_k, else at its default)."""
-    tail = "".join(f"_{x:g}" for x in feed[2:])
+    third entry tid_feed_refresh, with a fourth tid_feed_outlier_k, else at its default), and
+    the (key, value) pairs of @p extra after it."""
+    tail = "".join(f"_{x:g}" for x in feed[2:]) + "".join(f"_{k}_{v:g}" for k, v in extra)
     p = folder / f"feed_{feed[0]:g}_{feed[1]:g}{tail}.params"
     keys = ("tid_feed_sd_rel", "tid_feed_evidence", "tid_feed_refresh", "tid_feed_outlier_k")
-    p.write_text("".join(f"{k} = {v!r}\n" for k, v in zip(keys, feed)))
+    p.write_text("".join(f"{k} = {v!r}\n" for k, v in (*zip(keys, feed), *extra)))
     return p
 
 
@@ -102,13 +110,13 @@ def measure(replay: Path, scen: Path, out: Path, reals=REALS, only=None, jobs=2)
     out.mkdir(parents=True, exist_ok=True)
     logs = [p for p in bundled_logs(scen) if not only or p.name in only]
     with tempfile.TemporaryDirectory() as tmp:
-        par = {v[0]: feed_params(v[2], Path(tmp)) for v in variants()}
+        par = {v[0]: feed_params(v[2], Path(tmp), v[3]) for v in variants()}
         todo = []
         for real in reals:
             for log in logs:
                 todo.append((real, log, "today", ()))
                 todo += [(real, log, lab, ("--tyre-id", flt, "--params", str(par[lab])))
-                         for lab, flt, _ in variants()]
+                         for lab, flt, *_ in variants()]
         got = run_all(replay, out, [(r, g, tag_of(lab), x) for r, g, lab, x in todo], jobs,
                       "the feeds")
     res = {real: {} for real in reals}
