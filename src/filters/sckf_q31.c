@@ -86,6 +86,59 @@ static int sums_fit_q31(unsigned int bits, size_t terms, unsigned int limit)
     return ((bits + rfe_q31_bitlen32((uint32_t)terms)) <= limit) ? 1 : 0;
 }
 
+#if RFE_FIX_MUL64_W16
+/* The exact sum acc + sum_k a_k b_k (|result| < 2^63, sums_fit_q31) where the core has no
+ * 32 x 32 -> 64 multiply (Thumb-1), modulo 2^64 (exact, the result fitting int64) in 32-bit
+ * words hi:lo. With ua = a mod 2^32, a = ua - 2^32 [a < 0], so a b = ua ub - 2^32 ([b < 0] ua
+ * + [a < 0] ub) modulo 2^64: a correction of the high word only. ua ub = ah bh 2^32 +
+ * (al bh + ah bl) 2^16 + al bl in 16-bit halves: al bl adds to lo (its carry to hi), ah bh to
+ * hi, the middle products to a word mid whose carries are 2^48 = 2^16 on hi, and mid 2^16
+ * once at the end. Eight live words, so the Thumb-1 core's registers hold the loop (~30
+ * instructions a product on the Cortex-M0+ against ~60 for the signed 64-bit product and sum
+ * term by term); the same integer (test/numerics/w16/test_sckf_sums_q31.c). */
+static int64_t dot_exact_w16(int64_t acc, const rfe_fix_t *a, size_t sa, const rfe_fix_t *b,
+                             size_t sb, size_t len)
+{
+    const uint64_t u = (uint64_t)acc; /* modulo 2^64 */
+    uint32_t lo = (uint32_t)u;
+    uint32_t hi = (uint32_t)(u >> 32);
+    uint32_t mid = 0u;
+    uint64_t s;
+    uint64_t below; /* s - 2^63 */
+    const rfe_fix_t *pa = a;
+    const rfe_fix_t *pb = b;
+    size_t k;
+    for (k = len; k != 0u; --k) {
+        const uint32_t ua = (uint32_t)*pa;
+        const uint32_t ub = (uint32_t)*pb;
+        const uint32_t ll = (ua & 0xFFFFu) * (ub & 0xFFFFu);
+        const uint32_t m1 = (ua & 0xFFFFu) * (ub >> 16);
+        const uint32_t m2 = (ua >> 16) * (ub & 0xFFFFu);
+        lo += ll;
+        hi += (ua >> 16) * (ub >> 16);
+        hi -= ((0u - (ub >> 31)) & ua) + ((0u - (ua >> 31)) & ub);
+        if (lo < ll) {
+            hi += 1u;
+        }
+        mid += m1;
+        if (mid < m1) {
+            hi += 0x10000u;
+        }
+        mid += m2;
+        if (mid < m2) {
+            hi += 0x10000u;
+        }
+        pa = &pa[sa];
+        pb = &pb[sb];
+    }
+    s = (((uint64_t)hi << 32) | (uint64_t)lo) + ((uint64_t)mid << 16);
+    /* back to int64 (s >= 2^63 stands for s - 2^64: s - 2^63 converts exactly, then less
+     * 2^63 in int64, down to INT64_MIN without overflow) */
+    below = s - ((uint64_t)1 << 63);
+    return ((s >> 63) != 0u) ? (((int64_t)below - INT64_MAX) - 1) : (int64_t)s;
+}
+#endif
+
 /* acc + sum_k a[k sa] b[k sb] (k < len): plain int64 sums where exact (sums_fit_q31 said no
  * partial sum can leave int64), else saturating (counted), the same integers either way. */
 static int64_t dot_q31(int64_t acc, const rfe_fix_t *a, size_t sa, const rfe_fix_t *b,
@@ -94,9 +147,13 @@ static int64_t dot_q31(int64_t acc, const rfe_fix_t *a, size_t sa, const rfe_fix
     int64_t s = acc;
     size_t k;
     if (exact != 0) {
+#if RFE_FIX_MUL64_W16
+        s = dot_exact_w16(acc, a, sa, b, sb, len);
+#else
         for (k = 0u; k < len; ++k) {
             s += rfe_fix_mul32x32(a[k * sa], b[k * sb]);
         }
+#endif
     } else {
         for (k = 0u; k < len; ++k) {
             s = rfe_fix_add64(s, rfe_fix_mul32x32(a[k * sa], b[k * sb]), count);
