@@ -135,47 +135,29 @@ static uint64_t sqrt_round(uint64_t n)
 /* 2^32 - 1: a doubled quotient from here on rounds beyond INT32_MAX. */
 #define LIM2 ((((uint64_t)1) << 32) - 1u)
 
-/* The smaller of a and b. */
-static unsigned int min_u(unsigned int a, unsigned int b)
-{
-    return (a < b) ? a : b;
-}
-
 /* floor(n 2^bits / d) for d in [1, 2^63], or a value >= LIM2 when that is >= LIM2 = 2^32 - 1:
- * long division, the integer part, then the quotient bits, the remainder staying below d; a
- * partial quotient only grows, so the division stops as soon as one reaches LIM2 (which also
- * keeps every partial quotient below 2^33). With room = 64 - bitlen(d - 1) >= 8 (d <= 2^56)
- * the bits are produced k at a time by one integer division each (rem < d, so rem 2^k <
- * 2^64 for k <= room; a partial quotient below 2^32 shifted by k <= 31 plus the new k bits
- * stays below 2^63), else one by one (shifts and subtractions): both give exactly
- * floor(n 2^i / d) for the bits i consumed so far. */
+ * long division, the integer part, then the quotient bits one by one (shifts and
+ * subtractions), the remainder staying below d; a partial quotient only grows, so the
+ * division stops as soon as one reaches LIM2 (which also keeps every partial quotient below
+ * 2^33). It gives exactly floor(n 2^i / d) for the bits i consumed so far. Its one caller is
+ * div_round_mag's last case, reached only by rfe_fix_tan's 61-bit sine over a cosine above
+ * 2^56: the int32 operands of rfe_fix_div take the single-division cases before it (a faster
+ * form for d <= 2^56, k bits per division, had no caller left once those cases took every
+ * rfe_fix_div shift, and was removed). */
 static uint64_t div_bits(uint64_t n, uint64_t d, unsigned int bits)
 {
     uint64_t quo = n / d;
     uint64_t rem = n % d;
     unsigned int left = bits;
 
-    if (d <= ((uint64_t)1 << 56)) {
-        /* bitlen(d - 1) <= 56: room >= 8 */
-        const unsigned int room = 64u - rfe_q31_bitlen64(d - 1u);
-        const unsigned int step = min_u(room, 31u);
-        while ((quo < LIM2) && (left > 0u)) {
-            const unsigned int k = min_u(left, step);
-            const uint64_t x = rem << k;
-            quo = (quo << k) + (x / d);
-            rem = x % d;
-            left -= k;
+    while ((quo < LIM2) && (left > 0u)) {
+        quo <<= 1;
+        rem <<= 1;
+        if (rem >= d) {
+            rem -= d;
+            quo += 1u;
         }
-    } else {
-        while ((quo < LIM2) && (left > 0u)) {
-            quo <<= 1;
-            rem <<= 1;
-            if (rem >= d) {
-                rem -= d;
-                quo += 1u;
-            }
-            --left;
-        }
+        --left;
     }
     return quo;
 }
