@@ -1206,12 +1206,11 @@ printf 'tid_seed = 2\n' >"$TMP/seed2.par"
 run tid_sckf_seed 0 --in "$TID" --out "$TMP/tid_k2.csv" --tyre-id sckf --params "$TMP/seed2.par" -q
 cmp -s <(grep -v '^#' "$TMP/tid_k.csv") <(grep -v '^#' "$TMP/tid_k2.csv") \
     && ok "tid_sckf_seed: deterministic, the seed unused" || bad "tid_sckf_seed: another seed, another estimate"
-# the double replay is the library's: on the sine steer's first 200 rows it meets the
-# reference's golden (scenarios/golden/tyre_id/sine_sckf.csv) within the bound
-# test_tyre_id_golden_flt.c derives (1e-10 of |value| + sd) in mu and its sd per axle
-run tid_sckf_double 0 --in "$TID" --out "$TMP/tid_kd.csv" --tyre-id sckf --real double -q
-G="$ROOT/scenarios/golden/tyre_id/sine_sckf.csv"
-res=$(awk -F, 'FNR == 1 {h = 0} /^#/ {next}
+# The tyre identifier's estimate log $2 against the reference's golden $1 (first rows): prints
+# "values over_bound times_differ", the bound 1e-10 of |value| + sd in mu and its sd per axle
+# (test_tyre_id_golden_flt.c derives it).
+tid_vs_golden() {
+    awk -F, 'FNR == 1 {h = 0} /^#/ {next}
     !h {for (i = 1; i <= NF; i++) c[FILENAME, $i] = i; h = 1; next}
     FILENAME == ARGV[1] {k = FNR; t[++ng] = $c[FILENAME, "t"]; m[ng, 0] = $c[FILENAME, "mu_f"]; m[ng, 1] = $c[FILENAME, "mu_r"];
         s[ng, 0] = $c[FILENAME, "sd_mu_f"]; s[ng, 1] = $c[FILENAME, "sd_mu_r"]; next}
@@ -1219,7 +1218,14 @@ res=$(awk -F, 'FNR == 1 {h = 0} /^#/ {next}
       v[0] = $c[FILENAME, "mu_id_f"]; v[1] = $c[FILENAME, "mu_id_r"]; w[0] = $c[FILENAME, "sd_mu_id_f"]; w[1] = $c[FILENAME, "sd_mu_id_r"];
       for (a = 0; a < 2; a++) { sc = (m[nr, a] < 0 ? -m[nr, a] : m[nr, a]) + s[nr, a]; d = v[a] - m[nr, a]; if (d < 0) d = -d;
         e = w[a] - s[nr, a]; if (e < 0) e = -e; if (d > 1e-10 * sc || e > 1e-10 * s[nr, a]) over++; n2++ } }
-    END {printf "%d %d %d", n2 + 0, over + 0, tbad + 0}' "$G" "$TMP/tid_kd.csv")
+    END {printf "%d %d %d", n2 + 0, over + 0, tbad + 0}' "$1" "$2"
+}
+# the double replay is the library's: on the sine steer's first 200 rows it meets the
+# reference's golden (scenarios/golden/tyre_id/sine_sckf.csv) within the bound
+# test_tyre_id_golden_flt.c derives (1e-10 of |value| + sd) in mu and its sd per axle
+run tid_sckf_double 0 --in "$TID" --out "$TMP/tid_kd.csv" --tyre-id sckf --real double -q
+G="$ROOT/scenarios/golden/tyre_id/sine_sckf.csv"
+res=$(tid_vs_golden "$G" "$TMP/tid_kd.csv")
 set -- $res
 [ "$1" -ge 200 ] && [ "$2" -eq 0 ] && [ "$3" -eq 0 ] && ok "tid_sckf_double: the reference's golden within 1e-10 ($1 values)" \
     || bad "tid_sckf_double: $2 of $1 values beyond the bound, $3 times differ"
@@ -1234,15 +1240,7 @@ grep -q '^tyre identifier (sckf, 22 cubature points, delta a state): at the end'
     && ok "tid_sckf_dstate: 22 points in the summary, the key in the metadata" \
     || bad "tid_sckf_dstate: $(grep 'tyre identifier' "$TMP/out"; grep 'tid_delta_state_q' "$TMP/tid_ds.csv")"
 G="$ROOT/scenarios/golden/tyre_id/ramp_low_sckf_delta_state.csv"
-res=$(awk -F, 'FNR == 1 {h = 0} /^#/ {next}
-    !h {for (i = 1; i <= NF; i++) c[FILENAME, $i] = i; h = 1; next}
-    FILENAME == ARGV[1] {k = FNR; t[++ng] = $c[FILENAME, "t"]; m[ng, 0] = $c[FILENAME, "mu_f"]; m[ng, 1] = $c[FILENAME, "mu_r"];
-        s[ng, 0] = $c[FILENAME, "sd_mu_f"]; s[ng, 1] = $c[FILENAME, "sd_mu_r"]; next}
-    { ++nr; if (nr > ng) next; if ($c[FILENAME, "t"] != t[nr]) tbad++;
-      v[0] = $c[FILENAME, "mu_id_f"]; v[1] = $c[FILENAME, "mu_id_r"]; w[0] = $c[FILENAME, "sd_mu_id_f"]; w[1] = $c[FILENAME, "sd_mu_id_r"];
-      for (a = 0; a < 2; a++) { sc = (m[nr, a] < 0 ? -m[nr, a] : m[nr, a]) + s[nr, a]; d = v[a] - m[nr, a]; if (d < 0) d = -d;
-        e = w[a] - s[nr, a]; if (e < 0) e = -e; if (d > 1e-10 * sc || e > 1e-10 * s[nr, a]) over++; n2++ } }
-    END {printf "%d %d %d", n2 + 0, over + 0, tbad + 0}' "$G" "$TMP/tid_ds.csv")
+res=$(tid_vs_golden "$G" "$TMP/tid_ds.csv")
 set -- $res
 [ "$1" -ge 200 ] && [ "$2" -eq 0 ] && [ "$3" -eq 0 ] && ok "tid_sckf_dstate: the reference's golden within 1e-10 ($1 values)" \
     || bad "tid_sckf_dstate: $2 of $1 values beyond the bound, $3 times differ"
