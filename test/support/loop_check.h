@@ -173,6 +173,40 @@ static inline double loop_low_beyond_2sd(const loop_run_t *r, size_t *n)
  * 4; without the floor 100 %). */
 #define LOOP_GAUSS_BEYOND_2SD 0.0455
 
+/* After a run_floor of the twins (floor off and at @p k_floor side by side): @p floored samples
+ * had a reported sd(vy) above the filter's. On, the floor must have acted (so the run's
+ * comparisons could fail); off, the reported sd is the filter's, bit for bit. */
+static inline void loop_assert_floor_count(double k_floor, size_t floored)
+{
+    if (k_floor > 0.0) {
+        assert_true(floored > 0u);
+    } else {
+        assert_int_equal(floored, 0u);
+    }
+}
+
+/* REQ-OBS-025 on the Dugoff truth's mu 0.5 phase, for a twin's @p run_floor: without the
+ * floor more than 90 % of the samples beyond 2 sd(beta) (measured 100 %, so the check can
+ * fail), with obs_vy_out_floor_mu 4 at most a consistent Gaussian's LOOP_GAUSS_BEYOND_2SD.
+ * @p tag prefixes the printed shares. */
+static inline void loop_assert_floor_honest(void (*run_floor)(const char *, double, loop_run_t *),
+                                            loop_run_t *r, const char *tag)
+{
+    size_t n;
+    double beyond;
+    run_floor("turn_mu_step.csv", 0.0, r);
+    beyond = loop_low_beyond_2sd(r, &n);
+    printf("%sobs_vy_out_floor_mu 0: %.1f %% of %zu samples beyond 2 sd(beta)\n", tag,
+           100.0 * beyond, n);
+    assert_true(n > 500u); /* the phase is 10 s at 100 Hz */
+    assert_true(beyond > 0.9);
+    run_floor("turn_mu_step.csv", 4.0, r);
+    beyond = loop_low_beyond_2sd(r, &n);
+    printf("%sobs_vy_out_floor_mu 4: %.1f %% of %zu samples beyond 2 sd(beta)\n", tag,
+           100.0 * beyond, n);
+    ASSERT_LE(beyond, LOOP_GAUSS_BEYOND_2SD, "share beyond 2 sd(beta) on mu 0.5");
+}
+
 static inline void loop_print(const char *what, const loop_run_t *r, const loop_stats_t *s)
 {
     printf("%s: steps at %.2f / %.2f s; max|vy| %.3f (bound %.3f) m/s, sd_vy %.4f..%.4f m/s, "
