@@ -62,6 +62,17 @@ static uint32_t golden_every = EVERY_DEFAULT;
  * compared. */
 static double golden_floor = FLOOR_DEFAULT;
 static size_t floor_acted = 0u;
+
+/* Which golden set compare_one checks: its directory, obs_lat_every and floor (the
+ * generator's settings for that set), with the floor's count reset. */
+static void use_goldens(const char *dir, uint32_t every, double floor_k)
+{
+    golden_dir = dir;
+    golden_every = every;
+    golden_floor = floor_k;
+    floor_acted = 0u;
+}
+
 /* The rows where the floor-off golden's sd(vy) is below the default golden's by more than
  * TOL_SD (count_floor_rows), over the logs counted. */
 static size_t golden_rows_apart = 0u;
@@ -202,10 +213,7 @@ static void count_floor_rows(const char *name)
 static void test_every_golden(void **state)
 {
     (void)state;
-    golden_dir = GOLDEN_DIR;
-    golden_every = EVERY_DEFAULT;
-    golden_floor = FLOOR_DEFAULT;
-    floor_acted = 0u;
+    use_goldens(GOLDEN_DIR, EVERY_DEFAULT, FLOOR_DEFAULT);
     assert_true(test_each_csv(GOLDEN_DIR, compare_one) >= MIN_GOLDENS);
     assert_true(floor_acted > 100u); /* it acts: the comparison of sd(vy) can fail */
 }
@@ -215,11 +223,9 @@ static void test_every_golden(void **state)
 static void test_the_goldens_at_lat_every_1(void **state)
 {
     (void)state;
-    golden_dir = GOLDEN_DIR_EVERY1;
-    golden_every = 1u;
+    use_goldens(GOLDEN_DIR_EVERY1, 1u, FLOOR_DEFAULT);
     assert_true(test_each_csv(GOLDEN_DIR_EVERY1, compare_one) >= MIN_GOLDENS_EVERY1);
-    golden_dir = GOLDEN_DIR;
-    golden_every = EVERY_DEFAULT;
+    use_goldens(GOLDEN_DIR, EVERY_DEFAULT, FLOOR_DEFAULT);
 }
 
 /* REQ-OBS-025: the reported sd(vy)'s floor off (obs_vy_out_floor_mu 0, OBSERVER.md §5)
@@ -229,17 +235,13 @@ static void test_the_goldens_at_lat_every_1(void **state)
 static void test_the_goldens_without_the_output_floor(void **state)
 {
     (void)state;
-    golden_dir = GOLDEN_DIR_FLOOR_OFF;
-    golden_every = EVERY_DEFAULT;
-    golden_floor = FLOOR_OFF;
-    floor_acted = 0u;
+    use_goldens(GOLDEN_DIR_FLOOR_OFF, EVERY_DEFAULT, FLOOR_OFF);
     assert_true(test_each_csv(GOLDEN_DIR_FLOOR_OFF, compare_one) >= MIN_GOLDENS_FLOOR_OFF);
     assert_int_equal(floor_acted, 0u);
     golden_rows_apart = 0u;
     assert_true(test_each_csv(GOLDEN_DIR_FLOOR_OFF, count_floor_rows) >= MIN_GOLDENS_FLOOR_OFF);
     assert_true(golden_rows_apart > 100u);
-    golden_dir = GOLDEN_DIR;
-    golden_floor = FLOOR_DEFAULT;
+    use_goldens(GOLDEN_DIR, EVERY_DEFAULT, FLOOR_DEFAULT);
 }
 
 int main(void)
