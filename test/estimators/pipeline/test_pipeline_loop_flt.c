@@ -45,6 +45,19 @@
 #include "replay_real.h"
 #include "rfe/pipeline.h"
 
+/* The preset, the log's metadata and the observer defaults, as mu_replay derives them. */
+static void params_of(const rfe_sensor_log_t *log, rfe_params_t *p, rfe_velocity_params_t *vp)
+{
+    rfe_param_set_t ps;
+    rfe_io_error_t err;
+    memset(p, 0, sizeof *p); /* the estimators copy them, padding included */
+    memset(vp, 0, sizeof *vp);
+    rfe_param_set_default(&ps);
+    assert_int_equal(rfe_param_set_apply_meta(&ps, log, "log", &err), 0);
+    assert_int_equal(rfe_replay_params(&ps, p, NULL), RFE_OK);
+    assert_int_equal(rfe_replay_velocity_params(&ps, vp, NULL), RFE_OK);
+}
+
 /* The run of @p name with the preset, the log's metadata and the observer defaults, as
  * mu_replay derives them; @p sd_vy_lin >= 0 replaces obs_sd_vy_lin (negative: keep). */
 static void run(const char *name, double sd_vy_lin, loop_run_t *r, loop_stats_t *s,
@@ -52,18 +65,11 @@ static void run(const char *name, double sd_vy_lin, loop_run_t *r, loop_stats_t 
 {
     static rfe_pipeline_t pl;
     rfe_sensor_log_t log;
-    rfe_param_set_t ps;
-    rfe_io_error_t err;
     rfe_params_t p;
     rfe_velocity_params_t vp;
     size_t k;
     loop_read(name, &log, r);
-    memset(&p, 0, sizeof p); /* the estimators copy them, padding included */
-    memset(&vp, 0, sizeof vp);
-    rfe_param_set_default(&ps);
-    assert_int_equal(rfe_param_set_apply_meta(&ps, &log, "log", &err), 0);
-    assert_int_equal(rfe_replay_params(&ps, &p, NULL), RFE_OK);
-    assert_int_equal(rfe_replay_velocity_params(&ps, &vp, NULL), RFE_OK);
+    params_of(&log, &p, &vp);
     if (sd_vy_lin >= 0.0) {
         vp.sd_vy_lin = (rfe_real_t)sd_vy_lin;
     }
@@ -100,19 +106,12 @@ static void run_floor(const char *name, double k_floor, loop_run_t *r)
     static rfe_pipeline_t off;
     static rfe_pipeline_t on;
     rfe_sensor_log_t log;
-    rfe_param_set_t ps;
-    rfe_io_error_t err;
     rfe_params_t p;
     rfe_velocity_params_t vp;
     size_t k;
     size_t floored = 0u;
     loop_read(name, &log, r);
-    memset(&p, 0, sizeof p);
-    memset(&vp, 0, sizeof vp);
-    rfe_param_set_default(&ps);
-    assert_int_equal(rfe_param_set_apply_meta(&ps, &log, "log", &err), 0);
-    assert_int_equal(rfe_replay_params(&ps, &p, NULL), RFE_OK);
-    assert_int_equal(rfe_replay_velocity_params(&ps, &vp, NULL), RFE_OK);
+    params_of(&log, &p, &vp);
     assert_true(vp.vy_out_floor_mu == (rfe_real_t)4.0); /* 4 by default (OBSERVER.md §2) */
     memset(&off, 0, sizeof off);
     memset(&on, 0, sizeof on);
