@@ -202,11 +202,14 @@ class Observer:
 
         # §3.3 longitudinal: predict with the accelerometer
         vy_prev = self.lat.x[0]
-        a_kin = s.ax - p["g"] * math.sin(s.grade) + s.yaw_rate * vy_prev
+        a_lon = s.ax - p["g"] * math.sin(s.grade)
+        a_kin = a_lon + s.yaw_rate * vy_prev
         sx = dt * p["obs_sd_ax"]
         self.lon.predict(-dt, dt * a_kin, sx * sx, (p["obs_q_bx"] * p["obs_q_bx"]) * dt)
         vx_pred, bx = self.lon.x
-        a_net = a_kin - bx
+        # §3.4 the tyres' longitudinal push, without the rotation's r vy: a car that slides
+        # out slows along its body axis with no brake on (OBSERVER_RESULTS.md "The spin's vx")
+        a_net = a_lon - bx
 
         # §3.4 driving state
         braking = a_net < -p["obs_ax_brake_on"]

@@ -146,7 +146,10 @@ rfe_status_t rfe_vel_longitudinal_step(rfe_kf2_t *f, const rfe_velocity_params_t
     rfe_vel_drive_state_t ds;
     uint32_t fl;
     const rfe_real_t dt = in->dt;
-    const rfe_real_t a = (in->ax - (veh->g * RFE_SIN(in->grade))) + (in->yaw_rate * vy_prev);
+    /* §3.4 the driving state takes a_lon, the tyres' push: r vy moves vx without a brake or
+     * a drive torque (a car that slides out) */
+    const rfe_real_t a_lon = in->ax - (veh->g * RFE_SIN(in->grade));
+    const rfe_real_t a = a_lon + (in->yaw_rate * vy_prev);
     const rfe_real_t sx = dt * p->sd_ax;
     rfe_status_t st;
     k = *f;
@@ -155,7 +158,7 @@ rfe_status_t rfe_vel_longitudinal_step(rfe_kf2_t *f, const rfe_velocity_params_t
     if (st != RFE_OK) {
         return st;
     }
-    ds = driving_state(p, in, a - k.x[1]);
+    ds = driving_state(p, in, a_lon - k.x[1]);
     fl = rfe_vel_drive_flags(&ds);
     rfe_vel_wheel_refs(veh, in, vy_prev, refs);
     {

@@ -166,20 +166,19 @@ static void wheel_reference_q31(rfe_vel_ref_t ref, const wheel_vote_q31_t *w,
     }
 }
 
-/* The net acceleration ax - g sin(grade) + r vy_prev, Q24. A grade of 0 (the input's default
- * when the car does not know it) has the sine 0 that rfe_q31_sincos_q29 gives for it
- * (test_velocity_q31.c checks that integer), so the two sines of that call are skipped. */
-static rfe_fix_t net_acc_q31(const rfe_vehicle_q31_t *veh, const rfe_velocity_input_q31_t *in,
-                             rfe_fix_t vy_prev, uint32_t *sat)
+/* The tyres' longitudinal push ax - g sin(grade), Q24 (the step adds r vy_prev). A grade of 0
+ * (the input's default when the car does not know it) has the sine 0 that rfe_q31_sincos_q29
+ * gives for it (test_velocity_q31.c checks that integer), so the two sines of that call are
+ * skipped. */
+static rfe_fix_t lon_acc_q31(const rfe_vehicle_q31_t *veh, const rfe_velocity_input_q31_t *in,
+                             uint32_t *sat)
 {
     rfe_fix_t sg = 0;
     rfe_fix_t cg = 0;
-    rfe_fix_t a;
     if (in->grade != 0) {
         rfe_q31_sincos_q29(in->grade, &sg, &cg); /* every int32 angle */
     }
-    a = rfe_fix_sub(in->ax, rfe_fix_mul(veh->g, sg, 30u, sat), sat);
-    return rfe_fix_add(a, rfe_fix_mul(in->yaw_rate, vy_prev, 26u, sat), sat);
+    return rfe_fix_sub(in->ax, rfe_fix_mul(veh->g, sg, 30u, sat), sat);
 }
 
 rfe_status_t rfe_vel_longitudinal_step_q31(rfe_kf2_q31_t *f, const rfe_velocity_params_q31_t *p,
@@ -194,7 +193,10 @@ rfe_status_t rfe_vel_longitudinal_step_q31(rfe_kf2_q31_t *f, const rfe_velocity_
     uint32_t fl;
     uint32_t cnt = 0u;
     const rfe_fix_t dt = in->dt;
-    const rfe_fix_t a = net_acc_q31(veh, in, vy_prev, &cnt);
+    /* §3.4 the driving state takes a_lon, the tyres' push: r vy moves vx without a brake or
+     * a drive torque (a car that slides out) */
+    const rfe_fix_t a_lon = lon_acc_q31(veh, in, &cnt);
+    const rfe_fix_t a = rfe_fix_add(a_lon, rfe_fix_mul(in->yaw_rate, vy_prev, 26u, &cnt), &cnt);
     const int64_t q00 = rfe_vel_dt_var_q31(dt, p->sd_ax, &cnt);
     const int64_t q11 = rfe_vel_scale_q31(rfe_vel_var_q31(p->q_bx, &cnt), dt, 30u, &cnt);
     rfe_status_t st;
@@ -204,7 +206,7 @@ rfe_status_t rfe_vel_longitudinal_step_q31(rfe_kf2_q31_t *f, const rfe_velocity_
     if (st != RFE_OK) {
         return st;
     }
-    ds = driving_state_q31(p, in, rfe_fix_sub(a, k.x[1], &cnt));
+    ds = driving_state_q31(p, in, rfe_fix_sub(a_lon, k.x[1], &cnt));
     fl = rfe_vel_drive_flags(&ds);
     rfe_vel_wheel_refs_q31(veh, in, vy_prev, refs, &cnt);
     {

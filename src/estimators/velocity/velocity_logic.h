@@ -81,7 +81,7 @@ static inline uint32_t rfe_vel_wheel_bit(size_t i)
 
 /** The outcomes of the driving-state comparisons of one sample (§3.4). */
 typedef struct {
-    int decelerating;       /**< a_net < -ax_brake_on */
+    int decelerating;       /**< a_net < -ax_brake_on (a_net: ax - g sin grade - b_x) */
     int accelerating;       /**< a_net > ax_drive_on */
     uint32_t pressure_mask; /**< bit i: p_brake[i] > p_brake_on */
     uint32_t torque_mask;   /**< bit i: torque[i] > torque_on */
