@@ -413,12 +413,13 @@ pil: deps-firmware firmware $(PIL_ELFS) $(PIL_OBS_ELFS) $(PIL_OBS_HOST) $(BUILD)
 	@python3 scripts/firmware/firmware_pil.py --build $(FW_DIR) --log $(PIL_LOG) --runs "$(PIL_RUNS)" \
 	  --configs "$(PIL_CONFIGS)" --replay $(BUILD)/mu_replay --count-steps $(PIL_COUNT_STEPS) \
 	  --obs-log $(PIL_OBS_LOG) --obs-entries "$(PIL_OBS_ENTRIES)" \
-	  --example m3-q31:mps2-an385 --budgets "$(PIL_BUDGETS)" --out $(FW_DIR)/pil.json
+	  --example m3-q31:mps2-an385 --budgets "$(PIL_BUDGETS)" --report $(FW_DIR)/report.json --out $(FW_DIR)/pil.json
 
 ## PIL of the mass and grade estimator (float32 on the M4F, Q31 on the M4, M3, M0+) and the tyre identifier
 pil-aux: deps-firmware firmware $(PIL_AUX_FILES) $(PIL_AUX_Q31_FILES)
 	@python3 scripts/firmware/firmware_pil.py --build $(FW_DIR) --aux-entries "$(PIL_AUX_ENTRIES)" \
-	  --aux-q31-entries "$(PIL_AUX_Q31_ENTRIES)" --budgets "$(PIL_BUDGETS)" --out $(FW_DIR)/pil_aux.json
+	  --aux-q31-entries "$(PIL_AUX_Q31_ENTRIES)" --budgets "$(PIL_BUDGETS)" --report $(FW_DIR)/report.json \
+	  --out $(FW_DIR)/pil_aux.json
 
 # ---- per-function profile of a friction step (make pil-profile) --------------------------
 # PIL_PROFILE_CONFIG of PIL_CONFIGS on PIL_PROFILE_RUNS (<target>:<QEMU machine>), the log's
