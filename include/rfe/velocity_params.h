@@ -56,6 +56,9 @@ typedef struct {
                                    the yaw row of §4.2 off: 0 (off, OBSERVER.md §2) */
     rfe_real_t sd_vydot;      /**< v-dot_y as noise of the offset's kinematic update [m/s^2]: 1 */
     rfe_real_t vydot_rdot;    /**< its growth with |r-dot| [m/s^2 per rad/s^2]: 15 */
+    rfe_real_t vydot_rerr;    /**< its growth with the yaw rate beyond the neutral-steer
+                                   reference, max(0, |r| - |r_ref|), at vx >= v_lat_min
+                                   (§4.4) [m/s^2 per rad/s], in [0, 100], 0 is off: 15 */
     rfe_real_t v_lat_min;     /**< below this vx, vy = Lr r [m/s]: 3 */
     rfe_real_t sd_lowspeed;   /**< sd of that kinematic vy [m/s]: 0.1 */
     rfe_real_t mu_default;    /**< friction the model uses while none is given: 1.0 */
@@ -93,7 +96,7 @@ RFE_NODISCARD rfe_status_t rfe_velocity_params_default(rfe_velocity_params_t *p)
  * sd_ax, sd_ay, v_lat_min, sd_lowspeed, mu_default, sd_vydot, steer_ratio > 0;
  * every other sd, q, gate, threshold and margin (sd_model_rdot, sd_vy_lin and
  * vy_out_floor_mu included: 0 is off) >= 0; lin_dwell <= 1; lin_mu_gain <= 4;
- * vy_out_floor_mu <= 8.
+ * vy_out_floor_mu <= 8; vydot_rerr <= 100.
  * @param[in] p  the parameters to check.
  * @return RFE_OK, RFE_ERR_NULL or RFE_ERR_PARAM.
  */

@@ -51,6 +51,8 @@ typedef struct {
     rfe_fix_t sd_model_rdot;  /**< error of the model's yaw acceleration [rad/s^2], Q24; 0: off */
     rfe_fix_t sd_vydot;       /**< v-dot_y as noise of the offset's update [m/s^2], Q24 */
     rfe_fix_t vydot_rdot;     /**< its growth with |r-dot| [m/s^2 per rad/s^2], Q24 */
+    rfe_fix_t vydot_rerr;     /**< its growth with max(0, |r| - |r_ref|) [m/s^2 per rad/s],
+                                   Q24, at most 100; 0: off */
     rfe_fix_t v_lat_min;      /**< below this vx, vy = Lr r [m/s], Q23 */
     rfe_fix_t sd_lowspeed;    /**< sd of that kinematic vy [m/s], Q23 */
     rfe_fix_t mu_default;     /**< friction while none is given, Q29 */
@@ -85,7 +87,7 @@ RFE_NODISCARD rfe_status_t rfe_velocity_params_default_q31(rfe_velocity_params_q
  * 0 < dt_min <= dt_max <= 1 s; q_jerk, sd_r, sd_ax, sd_ay, v_lat_min, sd_lowspeed,
  * mu_default, sd_vydot, steer_ratio > 0; every other field >= 0 (sd_model_rdot, sd_vy_lin 0:
  * off); lin_dwell <= 1 s; lin_mu_gain <= 4;
- * vy_out_floor_mu <= 8.
+ * vy_out_floor_mu <= 8; vydot_rerr <= 100.
  * @param[in] p  the parameters to check.
  * @return RFE_OK, RFE_ERR_NULL or RFE_ERR_PARAM.
  */

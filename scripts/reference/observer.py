@@ -48,6 +48,8 @@ OBS_DEFAULTS: dict[str, float] = {
     "obs_mu_margin": 0.1,       # the measured ay raises the model's friction to (1 + margin) |ay| / g
     "obs_sd_vydot": 1.0,        # the lateral acceleration of the sideslip, v-dot_y, as noise, m/s^2
     "obs_vydot_rdot": 15.0,     # its growth with |r-dot|, m/s^2 per rad/s^2
+    "obs_vydot_rerr": 15.0,     # its growth with max(0, |r| - |vx delta / L|) at vx >= v_lat_min
+                                # (the car sliding out), m/s^2 per rad/s (0: off, <= 100)
     "obs_sd_vx0": 1.0,          # initial sd of vx, m/s
     "obs_sd_bx0": 0.3,          # initial sd of the longitudinal offset, m/s^2
     "obs_sd_vy0": 0.3,          # initial sd of vy, m/s
@@ -270,6 +272,7 @@ class Observer:
                          (p["obs_q_by"] * p["obs_q_by"]) * dt)
         vy_pred = self.lat.x[0]
         on_ref = 0.0                              # below v_lat_min the time on r_ref restarts
+        r_over = 0.0                              # §4.4 the yaw rate beyond r_ref, rad/s
         if vx >= p["obs_v_lat_min"]:
             # §4.2b the linear range, decided first (the model's friction floor depends on
             # it): the yaw rate of the neutral single-track model and a moderate ay (or a
@@ -277,6 +280,7 @@ class Observer:
             length = p["Lf"] + p["Lr"]
             r_ref = vx * (s.delta / length)
             yaw_linear = abs(s.yaw_rate - r_ref) <= p["obs_lin_r_tol"] + p["obs_lin_r_rel"] * abs(r_ref)
+            r_over = max(0.0, abs(s.yaw_rate) - abs(r_ref))
             if not yaw_linear:
                 on_ref = 0.0
             elif self.r_on_ref >= p["obs_lin_dwell"]:
@@ -345,8 +349,10 @@ class Observer:
             self.lat.update(1.0, 0.0, p["Lr"] * s.yaw_rate - vy_pred, p["obs_sd_lowspeed"] ** 2)
             flags |= FLAG_VY_LOWSPEED
         # §4.4 no sideslip accelerates for long: ay - r vx = b_y + v-dot_y, with v-dot_y as
-        # noise, holds b_y where the model cannot (a saturated tyre tells nothing about vy)
-        sv = p["obs_sd_vydot"] + p["obs_vydot_rdot"] * abs(self.yaw.x[1])
+        # noise, holds b_y where the model cannot (a saturated tyre tells nothing about vy);
+        # larger while r changes and while the car yaws beyond r_ref (sliding out: the
+        # oversteer side only, OBSERVER_RESULTS.md "§4.4's noise grown with the yaw-rate error")
+        sv = (p["obs_sd_vydot"] + p["obs_vydot_rdot"] * abs(self.yaw.x[1])) + p["obs_vydot_rerr"] * r_over
         self.lat.update(0.0, 1.0, (s.ay - s.yaw_rate * vx) - self.lat.x[1], sv * sv)
         if p["obs_vy_floor_mu"] > 0.0 and vx >= p["obs_v_lat_min"]:
             # (study) no row sees a constant vy error from the tyre's stiffness: its sd is a floor

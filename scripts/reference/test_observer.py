@@ -468,3 +468,45 @@ def test_the_state_floor_bounds_sd_vy():
     # 1e-12 relative: as above (sd is the square root of the floored P00)
     assert np.all(o["sd_vy"][fast] >= _slip_floor(c, p, o, 2.0)[fast] * (1.0 - 1e-12))
     assert np.any(o["sd_vy"][fast] > 3.0 * _loop_run(obs_vy_out_floor_mu=0.0)[2]["sd_vy"][fast])
+
+
+# REQ-OBS-027: §4.4's noise grown by obs_vydot_rerr max(0, |r| - |vx delta / L|) (the car
+# sliding out). Two reference observers, the term off and at its default 15, through
+# test_velocity_flt.c's turn: equal while the yaw rate is under r_ref; on the first step of
+# the slide (the steering taken back, r held: r-dot 0) the posteriors differ by §4.4's row
+# alone, in information form P_on^-1 - P_off^-1 = H^T H (1/R_on - 1/R_off) and
+# P_on^-1 x_on - P_off^-1 x_off = H^T z (1/R_on - 1/R_off), H = [0, 1], z = ay - r vx; below
+# v_lat_min the term is 0.
+def test_the_yaw_error_grows_the_offsets_noise():
+    p_on = observer.params_with_defaults()
+    assert p_on["obs_vydot_rerr"] == 15.0                 # the default (OBSERVER.md §2)
+    p_off = dict(p_on, obs_vydot_rerr=0.0)
+    off, on = observer.Observer(p_off), observer.Observer(p_on)
+    length = p_on["Lf"] + p_on["Lr"]
+    omega = (20.0 / p_on["R"],) * 4
+    r = 20.0 * 0.06 / length - 0.05
+    for k in range(101):
+        s = observer.Sample(t=k * 0.01, delta=0.06, yaw_rate=r, ax=0.0, ay=20.0 * r, omega=omega)
+        assert off.step(s) == on.step(s)
+    delta = (r - 0.2) * length / 20.0
+    s = observer.Sample(t=1.01, delta=delta, yaw_rate=r, ax=0.0, ay=20.0 * r - 2.0, omega=omega)
+    off.step(s)
+    on.step(s)
+    vx = on.lon.x[0]
+    r_over = abs(r) - abs(vx * (delta / length))
+    assert r_over > 0.19 and abs(on.yaw.x[1]) < 0.1
+    s0 = p_on["obs_sd_vydot"] + p_on["obs_vydot_rdot"] * abs(on.yaw.x[1])
+    dinf = 1.0 / (s0 + 15.0 * r_over) ** 2 - 1.0 / s0 ** 2
+    i_off, i_on = np.linalg.inv(np.array(off.lat.P)), np.linalg.inv(np.array(on.lat.P))
+    y_off, y_on = i_off @ np.array(off.lat.x), i_on @ np.array(on.lat.x)
+    # 1e-9 relative: two 2x2 inverses of a P with condition number below 10 in float64
+    scale, sy = np.abs(i_off).max(), np.abs(y_off).max()
+    assert np.allclose(i_on - i_off, [[0.0, 0.0], [0.0, dinf]], rtol=0.0, atol=1e-9 * scale)
+    z = s.ay - s.yaw_rate * vx
+    assert np.allclose(y_on - y_off, [0.0, z * dinf], rtol=0.0, atol=1e-9 * sy)
+    # below v_lat_min, r far beyond r_ref: equal
+    off, on = observer.Observer(p_off), observer.Observer(p_on)
+    for k in range(21):
+        s = observer.Sample(t=k * 0.01, delta=0.03, yaw_rate=0.5, ax=0.0, ay=0.0,
+                            omega=(2.0 / p_on["R"],) * 4)
+        assert off.step(s) == on.step(s)

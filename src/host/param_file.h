@@ -116,6 +116,7 @@
     X(obs_sd_model_rdot, sd_model_rdot, "rad/s^2", "error of the tyre model's yaw acceleration")             \
     X(obs_sd_vydot, sd_vydot, "m/s^2", "v-dot_y as noise of the offset's kinematic update")                    \
     X(obs_vydot_rdot, vydot_rdot, "m/s^2 per rad/s^2", "its growth with |r-dot|")                              \
+    X(obs_vydot_rerr, vydot_rerr, "m/s^2 per rad/s", "its growth with the yaw rate beyond vx delta / L; 0 is off") \
     X(obs_v_lat_min, v_lat_min, "m/s", "below this vx, vy follows the rear-axle kinematics")                   \
     X(obs_sd_lowspeed, sd_lowspeed, "m/s", "sd of that kinematic vy")                                          \
     X(obs_mu_default, mu_default, "1", "friction the model uses while the friction estimator gives none")      \

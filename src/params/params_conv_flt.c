@@ -252,6 +252,7 @@ rfe_status_t rfe_velocity_params_to_q31(const rfe_velocity_params_t *p,
     t.sd_model_rdot = to_q(&c, (double)p->sd_model_rdot, RFE_FIX_Q_ACC, 0);
     t.sd_vydot = to_q(&c, (double)p->sd_vydot, RFE_FIX_Q_ACC, 0);
     t.vydot_rdot = to_q(&c, (double)p->vydot_rdot, RFE_FIX_Q_RATIO, 0);
+    t.vydot_rerr = to_q(&c, (double)p->vydot_rerr, RFE_FIX_Q_RATIO, 0);
     t.v_lat_min = to_q(&c, (double)p->v_lat_min, RFE_FIX_Q_SPEED, 0);
     t.sd_lowspeed = to_q(&c, (double)p->sd_lowspeed, RFE_FIX_Q_SPEED, 0);
     t.mu_default = to_q(&c, (double)p->mu_default, RFE_FIX_Q_MU, 0);

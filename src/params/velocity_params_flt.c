@@ -37,6 +37,7 @@ rfe_status_t rfe_velocity_params_default(rfe_velocity_params_t *p)
     p->sd_model_rdot = RFE_R(0.0);
     p->sd_vydot = RFE_R(1.0);
     p->vydot_rdot = RFE_R(15.0);
+    p->vydot_rerr = RFE_R(15.0);
     p->v_lat_min = RFE_R(3.0);
     p->sd_lowspeed = RFE_R(0.1);
     p->mu_default = RFE_R(1.0);
@@ -74,13 +75,13 @@ static int positive_ok(const rfe_velocity_params_t *p)
 
 static int non_negative_ok(const rfe_velocity_params_t *p)
 {
-    const rfe_real_t v[30] = {p->vy_out_floor_mu, p->lin_mu_gain, p->sd_vy_lin, p->lin_r_tol, p->lin_r_rel, p->lin_ay_max, p->lin_ay_steady, p->lin_dwell, p->sd_model_rdot, p->vydot_rdot, p->q_bx, p->q_by, p->sd_wheel, p->sd_wheel_rel, p->k_gate,
+    const rfe_real_t v[31] = {p->vydot_rerr, p->vy_out_floor_mu, p->lin_mu_gain, p->sd_vy_lin, p->lin_r_tol, p->lin_r_rel, p->lin_ay_max, p->lin_ay_steady, p->lin_dwell, p->sd_model_rdot, p->vydot_rdot, p->q_bx, p->q_by, p->sd_wheel, p->sd_wheel_rel, p->k_gate,
                               p->k_agree, p->v_stand, p->q_vx_brake,
                               p->ax_brake_on, p->ax_drive_on, p->p_brake_on, p->torque_on,
                               p->sd_model_ay, p->model_ay_rel, p->sd_mu_default,
                               p->mu_margin, p->sd_vx0, p->sd_bx0, p->sd_vy0, p->sd_by0};
     size_t i;
-    for (i = 0u; i < 30u; ++i) {
+    for (i = 0u; i < 31u; ++i) {
         if (!rfe_is_finite(v[i]) || !(v[i] >= RFE_R(0.0))) {
             return 0;
         }
@@ -93,9 +94,10 @@ static int upper_bounds_ok(const rfe_velocity_params_t *p)
 {
     /* lin_dwell: counted in the format of dt (Q30 in fixed point); lin_mu_gain: the
      * fixed-point floor's product stays within int64; vy_out_floor_mu: §5's factor, Q24 in
-     * fixed point */
+     * fixed point; vydot_rerr: Q24 in fixed point (below 128), and its term within the
+     * Q24 sd (128 m/s^2) for a yaw error up to 1.28 rad/s (OBSERVER.md §4.4) */
     return ((p->lin_dwell <= RFE_R(1.0)) && (p->lin_mu_gain <= RFE_R(4.0)) &&
-            (p->vy_out_floor_mu <= RFE_R(8.0))) ? 1 : 0;
+            (p->vy_out_floor_mu <= RFE_R(8.0)) && (p->vydot_rerr <= RFE_R(100.0))) ? 1 : 0;
 }
 
 rfe_status_t rfe_velocity_params_validate(const rfe_velocity_params_t *p)

@@ -40,6 +40,7 @@ rfe_status_t rfe_velocity_params_default_q31(rfe_velocity_params_q31_t *p)
     p->sd_model_rdot = 0; /* off (OBSERVER.md §2), Q24 */
     p->sd_vydot = 16777216; /* 1 m/s^2, Q24 */
     p->vydot_rdot = 251658240; /* 15 m/s^2 per rad/s^2, Q24 */
+    p->vydot_rerr = 251658240; /* 15 m/s^2 per rad/s, Q24 */
     p->v_lat_min = 25165824; /* 3 m/s, Q23 */
     p->sd_lowspeed = 838861; /* 0.1 m/s, Q23 */
     p->mu_default = 536870912; /* 1, Q29 */
@@ -77,12 +78,12 @@ static int positive_ok_q31(const rfe_velocity_params_q31_t *p)
 
 static int non_negative_ok_q31(const rfe_velocity_params_q31_t *p)
 {
-    const rfe_fix_t v[30] = {p->vy_out_floor_mu, p->lin_mu_gain, p->sd_vy_lin, p->lin_r_tol, p->lin_r_rel, p->lin_ay_max, p->lin_ay_steady, p->lin_dwell, p->sd_model_rdot, p->vydot_rdot, p->q_bx, p->q_by, p->sd_wheel, p->sd_wheel_rel,
+    const rfe_fix_t v[31] = {p->vydot_rerr, p->vy_out_floor_mu, p->lin_mu_gain, p->sd_vy_lin, p->lin_r_tol, p->lin_r_rel, p->lin_ay_max, p->lin_ay_steady, p->lin_dwell, p->sd_model_rdot, p->vydot_rdot, p->q_bx, p->q_by, p->sd_wheel, p->sd_wheel_rel,
                              p->k_gate, p->k_agree, p->v_stand, p->q_vx_brake, p->ax_brake_on, p->ax_drive_on, p->p_brake_on,
                              p->torque_on, p->sd_model_ay, p->model_ay_rel, p->sd_mu_default,
                              p->mu_margin, p->sd_vx0, p->sd_bx0, p->sd_vy0, p->sd_by0};
     size_t i;
-    for (i = 0u; i < 30u; ++i) {
+    for (i = 0u; i < 31u; ++i) {
         if (v[i] < 0) {
             return 0;
         }
@@ -95,9 +96,10 @@ static int upper_bounds_ok_q31(const rfe_velocity_params_q31_t *p)
 {
     /* lin_dwell at most 1 s: the dwell plus a period stays within Q30; lin_mu_gain at most 4
      * (Q24): gain times |ay| stays within int64; vy_out_floor_mu at most 8 (Q24), as the
-     * float check */
+     * float check; vydot_rerr at most 100 (Q24: 1677721600), as the float check */
     return ((p->lin_dwell <= RFE_FIX_ONE(30)) && (p->lin_mu_gain <= RFE_FIX_ONE(26)) &&
-            (p->vy_out_floor_mu <= RFE_FIX_ONE(27))) ? 1 : 0;
+            (p->vy_out_floor_mu <= RFE_FIX_ONE(27)) &&
+            (p->vydot_rerr <= 1677721600)) ? 1 : 0;
 }
 
 rfe_status_t rfe_velocity_params_validate_q31(const rfe_velocity_params_q31_t *p)

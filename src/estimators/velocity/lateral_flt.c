@@ -86,9 +86,10 @@ rfe_real_t rfe_vel_sd_vy_floor(const rfe_velocity_t *obs, const rfe_velocity_inp
  * it): where the yaw rate is the neutral single-track model's (r_ref = vx (delta / L)) and
  * |ay| moderate (or, in a steady turn, the yaw rate on r_ref for lin_dwell, below the higher
  * cap). @p on_ref: the time r has stayed on r_ref, updated; @p lin_floor: 1 when taken in a
- * steady turn (rfe_vel_lin_floor). Returns 1 when taken. */
+ * steady turn (rfe_vel_lin_floor); @p r_over: §4.4's yaw rate beyond r_ref,
+ * max(0, |r| - |r_ref|). Returns 1 when taken. */
 static int linear_range(const rfe_velocity_t *obs, const rfe_velocity_input_t *in, rfe_real_t vx,
-                        rfe_real_t *on_ref, int *lin_floor)
+                        rfe_real_t *on_ref, int *lin_floor, rfe_real_t *r_over)
 {
     const rfe_velocity_params_t *p = &obs->p;
     const rfe_real_t len = obs->veh.Lf + obs->veh.Lr;
@@ -98,6 +99,7 @@ static int linear_range(const rfe_velocity_t *obs, const rfe_velocity_input_t *i
     const rfe_vel_on_ref_t a = rfe_vel_on_ref((RFE_FABS(in->yaw_rate - r_ref) <= r_tol) ? 1 : 0,
                                               (obs->r_on_ref >= p->lin_dwell) ? 1 : 0);
     int on;
+    *r_over = rfe_max(RFE_R(0.0), RFE_FABS(in->yaw_rate) - RFE_FABS(r_ref));
     if (a == RFE_VEL_ON_REF_RESET) {
         *on_ref = RFE_R(0.0);
     } else if (a == RFE_VEL_ON_REF_ADD) {
@@ -183,6 +185,7 @@ rfe_status_t rfe_vel_lateral_step(rfe_kf2_t *f, rfe_real_t *on_ref, const rfe_ve
     const rfe_velocity_params_t *p = &obs->p;
     rfe_kf2_t k;
     rfe_real_t t_ref = RFE_R(0.0); /* below v_lat_min the time on r_ref restarts */
+    rfe_real_t r_over = RFE_R(0.0); /* §4.4 the yaw rate beyond r_ref (0 below v_lat_min) */
     uint32_t fl = 0u;
     const rfe_real_t dt = in->dt;
     const rfe_real_t sy = dt * p->sd_ay;
@@ -195,7 +198,7 @@ rfe_status_t rfe_vel_lateral_step(rfe_kf2_t *f, rfe_real_t *on_ref, const rfe_ve
     }
     if (vx >= p->v_lat_min) {
         int lin_floor = 0;
-        const int lin = linear_range(obs, in, vx, &t_ref, &lin_floor);
+        const int lin = linear_range(obs, in, vx, &t_ref, &lin_floor, &r_over);
         /* §4.2 the model's rows on the steps of phase 1 (every lat_every-th step) */
         if (rfe_vel_model_due(obs->started) != 0) {
             st = model_update(&k, obs, in, vx, lin_floor, mu, &fl);
@@ -212,9 +215,11 @@ rfe_status_t rfe_vel_lateral_step(rfe_kf2_t *f, rfe_real_t *on_ref, const rfe_ve
     }
     if (st == RFE_OK) {
         /* §4.4 no sideslip accelerates for long: ay - r vx = b_y + v-dot_y, with v-dot_y as
-         * noise (larger while the yaw rate changes), holds b_y where the model cannot (a
+         * noise (larger while the yaw rate changes, and while the car yaws beyond the
+         * neutral-steer reference: sliding out), holds b_y where the model cannot (a
          * saturated tyre tells nothing of vy) */
-        const rfe_real_t sv = p->sd_vydot + (p->vydot_rdot * RFE_FABS(obs->yaw.x[1]));
+        const rfe_real_t sv = (p->sd_vydot + (p->vydot_rdot * RFE_FABS(obs->yaw.x[1]))) +
+                              (p->vydot_rerr * r_over);
         st = rfe_kf2_update(&k, RFE_R(0.0), RFE_R(1.0),
                             (in->ay - (in->yaw_rate * vx)) - k.x[1], sv * sv);
     }

@@ -199,10 +199,11 @@ static void rdot_row_q31(const rfe_velocity_q31_t *obs, const rfe_meas_lateral_q
  * (Q24). L > 0 after the parameter checks, so the division does not fail; a quotient beyond
  * its format saturates, counted. The time on r_ref (@p on_ref, updated) and lin_dwell are
  * Q30: it grows only while below lin_dwell <= 1 s, by dt <= dt_max <= 1 s, so the sum stays
- * below 2 s, within Q30. @p lin_floor: 1 when taken in a steady turn (rfe_vel_lin_floor).
- * Returns 1 when taken. */
+ * below 2 s, within Q30. @p lin_floor: 1 when taken in a steady turn (rfe_vel_lin_floor);
+ * @p r_over: §4.4's yaw rate beyond r_ref (Q27). Returns 1 when taken. */
 static int linear_range_q31(const rfe_velocity_q31_t *obs, const rfe_velocity_input_q31_t *in,
-                            rfe_fix_t vx, rfe_fix_t *on_ref, int *lin_floor, uint32_t *sat)
+                            rfe_fix_t vx, rfe_fix_t *on_ref, int *lin_floor, rfe_fix_t *r_over,
+                            uint32_t *sat)
 {
     const rfe_velocity_params_q31_t *p = &obs->p;
     const rfe_fix_t len = rfe_fix_add(obs->veh.Lf, obs->veh.Lr, sat);
@@ -217,6 +218,9 @@ static int linear_range_q31(const rfe_velocity_q31_t *obs, const rfe_velocity_in
     s = rfe_fix_div(in->delta, len, 27, &dl, sat);
     (void)s; /* L > 0 (above) */
     r_ref = rfe_fix_mul(vx, dl, 23u, sat);
+    /* §4.4's yaw rate beyond r_ref, max(0, |r| - |r_ref|), Q27 */
+    *r_over = rfe_fix_max(0, rfe_fix_sub(rfe_fix_abs(in->yaw_rate, sat),
+                                         rfe_fix_abs(r_ref, sat), sat));
     r_err = rfe_fix_abs(rfe_fix_sub(in->yaw_rate, r_ref, sat), sat);
     r_tol = rfe_fix_add(p->lin_r_tol, rfe_fix_mul(p->lin_r_rel, rfe_fix_abs(r_ref, sat), 30u, sat),
                         sat);
@@ -277,6 +281,7 @@ rfe_status_t rfe_vel_lateral_step_q31(rfe_kf2_q31_t *f, rfe_fix_t *on_ref,
     rfe_kf2_q31_t k;
     rfe_kf2_meas_q31_t m;
     rfe_fix_t t_ref = 0; /* below v_lat_min the time on r_ref restarts */
+    rfe_fix_t r_over = 0; /* §4.4 the yaw rate beyond r_ref, Q27 (0 below v_lat_min) */
     uint32_t fl = 0u;
     uint32_t cnt = 0u;
     const rfe_fix_t dt = in->dt;
@@ -294,7 +299,7 @@ rfe_status_t rfe_vel_lateral_step_q31(rfe_kf2_q31_t *f, rfe_fix_t *on_ref,
         rfe_meas_lateral_q31_t z;
         const rfe_fix_t vy_pred = k.x[0];
         int lin_floor = 0;
-        const int lin = linear_range_q31(obs, in, vx, &t_ref, &lin_floor, &cnt);
+        const int lin = linear_range_q31(obs, in, vx, &t_ref, &lin_floor, &r_over, &cnt);
         /* §4.2 the model's rows on the steps of phase 1 (every lat_every-th step) */
         const int due = rfe_vel_model_due(obs->started);
         if (due != 0) {
@@ -329,10 +334,14 @@ rfe_status_t rfe_vel_lateral_step_q31(rfe_kf2_q31_t *f, rfe_fix_t *on_ref,
     }
     if (st == RFE_OK) {
         /* §4.4 no sideslip accelerates for long: ay - r vx = b_y + v-dot_y, v-dot_y as noise
-         * (larger while the yaw rate changes): Q24 + Q24 Q24 -> Q24 */
+         * (larger while the yaw rate changes, and while the car yaws beyond r_ref): Q24 +
+         * Q24 Q24 -> Q24, + Q24 Q27 -> Q24 (shift 27); vydot_rerr <= 100 keeps the last term
+         * within Q24 up to a yaw error of 1.28 rad/s, beyond it saturates, counted */
         const rfe_fix_t sv = rfe_fix_add(
-            p->sd_vydot, rfe_fix_mul(p->vydot_rdot, rfe_fix_abs(obs->yaw.x[1], &cnt), 24u, &cnt),
-            &cnt);
+            rfe_fix_add(p->sd_vydot,
+                        rfe_fix_mul(p->vydot_rdot, rfe_fix_abs(obs->yaw.x[1], &cnt), 24u, &cnt),
+                        &cnt),
+            rfe_fix_mul(p->vydot_rerr, r_over, 27u, &cnt), &cnt);
         m.h0 = 0;
         m.h1 = RFE_VEL_Q31_ONE;
         m.qh0 = RFE_VEL_Q31_QB;

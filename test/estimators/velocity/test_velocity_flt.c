@@ -1065,6 +1065,144 @@ static void test_the_reported_sd_vy_floor(void **state)
     assert_int_equal(rfe_velocity_params_validate(&vp_on), RFE_OK);
 }
 
+/* REQ-OBS-027's first sliding step, from two observers equal bit for bit before it (@p off
+ * with the term 0, @p on at its parameter): every row before §4.4 is the same in both, so in
+ * information form the posteriors differ by §4.4's row alone, P_on^-1 - P_off^-1 =
+ * H^T H (1 / R_on - 1 / R_off) and P_on^-1 x_on - P_off^-1 x_off = H^T z (1 / R_on -
+ * 1 / R_off), H = [0, 1], z = ay - r vx, R = (sd_vydot + vydot_rdot |r-dot| + k_e r_over)^2
+ * with r_over = |r| - |vx delta / L| (vx, r-dot: this step's, which the lateral filter
+ * takes). Tolerance: the 2x2 P's condition number (at most 1e3 here) times 16 roundings of
+ * the number type (the update's and the inverse's), relative to the largest term. */
+static void check_the_yaw_error_row(const rfe_velocity_t *off, const rfe_velocity_t *on,
+                                    const rfe_velocity_input_t *in)
+{
+    const double eps = (sizeof(rfe_real_t) == sizeof(float)) ? (double)FLT_EPSILON : DBL_EPSILON;
+    const double vx = (double)on->lon.x[0];
+    const double len = (double)fx.p.vehicle.Lf + (double)fx.p.vehicle.Lr;
+    const double r_over = fabs((double)in->yaw_rate) - fabs(vx * ((double)in->delta / len));
+    const double s0 =
+        (double)on->p.sd_vydot + ((double)on->p.vydot_rdot * fabs((double)on->yaw.x[1]));
+    const double s1 = s0 + ((double)on->p.vydot_rerr * r_over);
+    const double dinf = (1.0 / (s1 * s1)) - (1.0 / (s0 * s0));
+    const double z = (double)in->ay - ((double)in->yaw_rate * vx);
+    const rfe_kf2_t *f[2] = {&off->lat, &on->lat};
+    double inv[2][3];
+    double y[2][2];
+    double cond;
+    double si;
+    double sy;
+    size_t j;
+    assert_true(r_over > 0.19); /* the slide: r 0.2 beyond r_ref (vx within 0.25 m/s of 20) */
+    assert_true(fabs((double)on->yaw.x[1]) < 0.1); /* r held: R_off near 1 */
+    for (j = 0u; j < 2u; ++j) {
+        const double a = (double)f[j]->p00;
+        const double b = (double)f[j]->p01;
+        const double c = (double)f[j]->p11;
+        const double det = (a * c) - (b * b);
+        inv[j][0] = c / det;
+        inv[j][1] = -b / det;
+        inv[j][2] = a / det;
+        y[j][0] = (inv[j][0] * (double)f[j]->x[0]) + (inv[j][1] * (double)f[j]->x[1]);
+        y[j][1] = (inv[j][1] * (double)f[j]->x[0]) + (inv[j][2] * (double)f[j]->x[1]);
+    }
+    {
+        const double a = (double)on->lat.p00;
+        const double c = (double)on->lat.p11;
+        const double tr = a + c;
+        const double det = (a * c) - ((double)on->lat.p01 * (double)on->lat.p01);
+        const double d = sqrt(fmax(0.0, (tr * tr) - (4.0 * det)));
+        cond = (tr + d) / fmax(tr - d, DBL_MIN);
+    }
+    si = fmax(fabs(inv[0][0]), fmax(fabs(inv[0][1]), fabs(inv[0][2])));
+    sy = fmax(fabs(y[0][0]), fabs(y[0][1]));
+    printf("REQ-OBS-027 row: r_over %.4f R_off %.4f R_on %.4f cond %.3g d(info bb) %.6g want "
+           "%.6g\n", r_over, s0 * s0, s1 * s1, cond, inv[1][2] - inv[0][2], dinf);
+    assert_true(cond < 1e3);
+    assert_close(inv[1][0] - inv[0][0], 0.0, cond * 16.0 * eps * si, 0.0, "info vv");
+    assert_close(inv[1][1] - inv[0][1], 0.0, cond * 16.0 * eps * si, 0.0, "info vb");
+    assert_close(inv[1][2] - inv[0][2], dinf, cond * 16.0 * eps * si, 0.0, "info bb");
+    assert_close(y[1][0] - y[0][0], 0.0, cond * 16.0 * eps * sy, 0.0, "info mean v");
+    assert_close(y[1][1] - y[0][1], z * dinf, cond * 16.0 * eps * sy, 0.0, "info mean b");
+}
+
+/* REQ-OBS-027: §4.4's noise grows with the yaw rate beyond the neutral-steer reference,
+ * obs_vydot_rerr max(0, |r| - |r_ref|), r_ref = vx delta / L, at vx >= v_lat_min only. Two
+ * observers side by side, the term off (0) and at 15 (the default): (a) while the car yaws
+ * under r_ref (understeer, r_over 0) they stay equal bit for bit (the term is exactly 0);
+ * (b) sliding out (the steering taken back with the yaw rate held: no r-dot, r 0.2 rad/s
+ * beyond r_ref, ay - r vx = -2 m/s^2) the first step differs by §4.4's row alone, R
+ * (1 + 15 * 0.2)^2 = 16 instead of 1 (check_the_yaw_error_row), and b_y keeps less
+ * information on every step after; (c) below v_lat_min at any yaw rate: equal bit for bit.
+ * Without the term (b) fails. */
+static void test_the_yaw_error_grows_the_offsets_noise(void **state)
+{
+    static rfe_velocity_t on;
+    rfe_velocity_estimate_t a;
+    rfe_velocity_estimate_t b;
+    rfe_velocity_input_t in;
+    rfe_velocity_params_t vp_on;
+    const rfe_real_t len = fx.p.vehicle.Lf + fx.p.vehicle.Lr;
+    size_t k;
+    (void)state;
+    setup_fixture();
+    assert_true(fx.vp.vydot_rerr == 15.0f); /* 15 by default (OBSERVER.md §2) */
+    vp_on = fx.vp;
+    fx.vp.vydot_rerr = 0.0f; /* fx.obs: the term off */
+    assert_int_equal(rfe_velocity_init(&fx.obs, &fx.vp, &fx.p), RFE_OK);
+    assert_int_equal(rfe_velocity_init(&on, &vp_on, &fx.p), RFE_OK);
+    /* (a) a turn at 20 m/s, delta 0.06, the yaw rate 0.05 rad/s under r_ref: bit for bit */
+    for (k = 0u; k <= 100u; ++k) {
+        in = rolling(20.0f, (k == 0u) ? 0.0f : 0.01f);
+        in.delta = 0.06f;
+        in.yaw_rate = (20.0f * (0.06f / len)) - 0.05f;
+        in.ay = 20.0f * in.yaw_rate;
+        assert_int_equal(rfe_velocity_step(&fx.obs, &in, NULL, &a), RFE_OK);
+        assert_int_equal(rfe_velocity_step(&on, &in, NULL, &b), RFE_OK);
+        assert_memory_equal(&fx.obs.lat, &on.lat, sizeof(on.lat));
+        assert_memory_equal(&a, &b, sizeof(a));
+    }
+    /* (b) sliding out: the same r, delta to r_ref = r - 0.2 rad/s, for 0.5 s */
+    for (k = 0u; k < 50u; ++k) {
+        in = rolling(20.0f, 0.01f);
+        in.yaw_rate = (20.0f * (0.06f / len)) - 0.05f;
+        in.delta = ((in.yaw_rate - 0.2f) * len) / 20.0f;
+        in.ay = (in.yaw_rate * 20.0f) - 2.0f;
+        assert_int_equal(rfe_velocity_step(&fx.obs, &in, NULL, &a), RFE_OK);
+        assert_int_equal(rfe_velocity_step(&on, &in, NULL, &b), RFE_OK);
+        if (k == 0u) {
+            check_the_yaw_error_row(&fx.obs, &on, &in);
+        }
+        assert_true(on.lat.p11 > fx.obs.lat.p11); /* less information on b_y every step */
+    }
+    /* (c) below v_lat_min (2 m/s), r 0.5 rad/s far beyond r_ref: the steps equal */
+    assert_int_equal(rfe_velocity_init(&fx.obs, &fx.vp, &fx.p), RFE_OK);
+    assert_int_equal(rfe_velocity_init(&on, &vp_on, &fx.p), RFE_OK);
+    for (k = 0u; k <= 20u; ++k) {
+        in = rolling(2.0f, (k == 0u) ? 0.0f : 0.01f);
+        in.delta = 0.03f;
+        in.yaw_rate = 0.5f;
+        assert_int_equal(rfe_velocity_step(&fx.obs, &in, NULL, &a), RFE_OK);
+        assert_int_equal(rfe_velocity_step(&on, &in, NULL, &b), RFE_OK);
+        assert_true(b.vx < vp_on.v_lat_min);
+        assert_memory_equal(&fx.obs.lat, &on.lat, sizeof(on.lat));
+        assert_memory_equal(&a, &b, sizeof(a));
+    }
+    /* obs_vydot_rerr finite, in [0, 100]; a bad one is RFE_ERR_PARAM */
+    vp_on.vydot_rerr = -0.5f;
+    assert_int_equal(rfe_velocity_params_validate(&vp_on), RFE_ERR_PARAM);
+    vp_on.vydot_rerr = (rfe_real_t)NAN;
+    assert_int_equal(rfe_velocity_params_validate(&vp_on), RFE_ERR_PARAM);
+    vp_on.vydot_rerr = 100.5f;
+    assert_int_equal(rfe_velocity_params_validate(&vp_on), RFE_ERR_PARAM);
+    vp_on.vydot_rerr = 100.0f; /* the limit itself is valid */
+    assert_int_equal(rfe_velocity_params_validate(&vp_on), RFE_OK);
+    assert_int_equal(rfe_velocity_init(&on, &vp_on, &fx.p), RFE_OK);
+    vp_on.vydot_rerr = (rfe_real_t)NAN;
+    fx.obs = on;
+    assert_int_equal(rfe_velocity_init(&on, &vp_on, &fx.p), RFE_ERR_PARAM);
+    assert_memory_equal(&fx.obs, &on, sizeof(on));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1090,6 +1228,7 @@ int main(void)
         cmocka_unit_test(test_the_lateral_models_rate),
         cmocka_unit_test(test_the_models_variance_over_the_rate),
         cmocka_unit_test(test_the_reported_sd_vy_floor),
+        cmocka_unit_test(test_the_yaw_error_grows_the_offsets_noise),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -482,7 +482,7 @@ static void test_params(void **state)
         rfe_fix_t *const pos[9] = {&bad.q_jerk, &bad.sd_r, &bad.sd_ax, &bad.sd_ay,
                                     &bad.v_lat_min, &bad.sd_lowspeed, &bad.mu_default,
                                     &bad.sd_vydot, &bad.steer_ratio};
-        rfe_fix_t *const nonneg[30] = {&bad.vy_out_floor_mu, &bad.lin_mu_gain, &bad.sd_vy_lin, &bad.lin_r_tol, &bad.lin_r_rel, &bad.lin_ay_max,
+        rfe_fix_t *const nonneg[31] = {&bad.vydot_rerr, &bad.vy_out_floor_mu, &bad.lin_mu_gain, &bad.sd_vy_lin, &bad.lin_r_tol, &bad.lin_r_rel, &bad.lin_ay_max,
             &bad.lin_ay_steady, &bad.lin_dwell,
             &bad.sd_model_rdot, &bad.vydot_rdot, &bad.q_bx, &bad.q_by, &bad.sd_wheel, &bad.sd_wheel_rel,
             &bad.k_gate, &bad.k_agree, &bad.v_stand, &bad.q_vx_brake, &bad.ax_brake_on, &bad.ax_drive_on, &bad.p_brake_on, &bad.torque_on,
@@ -493,7 +493,7 @@ static void test_params(void **state)
             *pos[i] = 0;
             assert_int_equal(rfe_velocity_params_validate_q31(&bad), RFE_ERR_PARAM);
         }
-        for (i = 0u; i < 30u; ++i) {
+        for (i = 0u; i < 31u; ++i) {
             bad = def;
             *nonneg[i] = 0;
             assert_int_equal(rfe_velocity_params_validate_q31(&bad), RFE_OK);
@@ -1259,6 +1259,106 @@ static void test_the_reported_sd_vy_floor_q31(void **state)
     assert_int_equal(rfe_velocity_params_validate_q31(&vq_on), RFE_ERR_PARAM);
 }
 
+/* Sample k of REQ-OBS-027's turn (test_velocity_flt.c's test_the_yaw_error_grows_the_offsets_noise):
+ * 20 m/s, the yaw rate 0.05 rad/s under r_ref at delta 0.06 rad, ay = 20 r; @p slide: the
+ * same r with delta taken back to r_ref = r - 0.2 rad/s and ay - r vx = -2 m/s^2. */
+static void yaw_error_turn(const both_t *b, size_t k, int slide, rfe_velocity_input_t *in,
+                           rfe_velocity_input_q31_t *iq)
+{
+    const double len = b->pd.vehicle.Lf + b->pd.vehicle.Lr;
+    rolling(b, 20.0, (k == 0u) ? 0.0 : 0.01, in, iq);
+    in->yaw_rate = (20.0 * (0.06 / len)) - 0.05;
+    in->delta = (slide != 0) ? (((in->yaw_rate - 0.2) * len) / 20.0) : 0.06;
+    in->ay = (slide != 0) ? ((in->yaw_rate * 20.0) - 2.0) : (20.0 * in->yaw_rate);
+    iq->delta = fx(in->delta, RFE_FIX_Q_ANGLE);
+    iq->yaw_rate = fx(in->yaw_rate, RFE_FIX_Q_YAWRATE);
+    iq->ay = fx(in->ay, RFE_FIX_Q_ACC);
+}
+
+/* REQ-OBS-027 REQ-FXP-014: §4.4's yaw-error term in fixed point (vydot_rerr Q24 times the
+ * Q27 r_over into §4.4's Q24 sd), the float twin's turn through three observers: q31 off
+ * (obs_vydot_rerr 0), q31 and double at 15 (the default).
+ *  - understeer (r under r_ref) and below v_lat_min: q31 on equals off bit for bit;
+ *  - sliding out: on keeps less information on b_y than off (p11 larger) on every step,
+ *    and follows the double twin within the back-to-back bounds (TOL_VY on vy, TOL_SD on
+ *    sd(vy)); the double's own §4.4 row is checked in closed form by the float test;
+ *  - no saturation; the parameter's check (at most 100, Q24 1677721600; not negative). */
+static void test_the_yaw_error_term_q31(void **state)
+{
+    both_t b;
+    static rfe_velocity_t od;
+    static rfe_velocity_q31_t off;
+    static rfe_velocity_q31_t on;
+    rfe_velocity_params_q31_t vq_on;
+    rfe_velocity_input_t in;
+    rfe_velocity_input_q31_t iq;
+    rfe_velocity_estimate_t e;
+    rfe_velocity_estimate_q31_t qa;
+    rfe_velocity_estimate_q31_t qb;
+    double dvy = 0.0;
+    double dsd = 0.0;
+    size_t k;
+    (void)state;
+    params_of(NULL, &b);
+    assert_true(b.vd.vydot_rerr == 15.0); /* 15 by default (OBSERVER.md §2) */
+    vq_on = b.vq;
+    assert_int_equal(vq_on.vydot_rerr, 15 * RFE_FIX_ONE(24)); /* 15 in Q24, exactly */
+    b.vd.vydot_rerr = 0.0; /* b.vq: the term off */
+    assert_int_equal(rfe_velocity_params_to_q31_f64(&b.vd, &b.vq), RFE_OK);
+    assert_int_equal(b.vq.vydot_rerr, 0);
+    b.vd.vydot_rerr = 15.0; /* the double twin at 15 */
+    assert_int_equal(rfe_velocity_init(&od, &b.vd, &b.pd), RFE_OK);
+    assert_int_equal(rfe_velocity_init_q31(&off, &b.vq, &b.pq), RFE_OK);
+    assert_int_equal(rfe_velocity_init_q31(&on, &vq_on, &b.pq), RFE_OK);
+    for (k = 0u; k <= 100u; ++k) {
+        yaw_error_turn(&b, k, 0, &in, &iq);
+        assert_int_equal(rfe_velocity_step(&od, &in, NULL, &e), RFE_OK);
+        assert_int_equal(rfe_velocity_step_q31(&off, &iq, NULL, &qa), RFE_OK);
+        assert_int_equal(rfe_velocity_step_q31(&on, &iq, NULL, &qb), RFE_OK);
+        assert_memory_equal(&off.lat, &on.lat, sizeof(on.lat));
+        assert_memory_equal(&qa, &qb, sizeof(qa));
+    }
+    for (k = 1u; k <= 50u; ++k) {
+        yaw_error_turn(&b, k, 1, &in, &iq);
+        assert_int_equal(rfe_velocity_step(&od, &in, NULL, &e), RFE_OK);
+        assert_int_equal(rfe_velocity_step_q31(&off, &iq, NULL, &qa), RFE_OK);
+        assert_int_equal(rfe_velocity_step_q31(&on, &iq, NULL, &qb), RFE_OK);
+        assert_int_equal(qb.sat, 0u);
+        assert_true(on.lat.p11 > off.lat.p11);
+        dvy = fmax(dvy, fabs(rfe_fix_to_double(qb.vy, 23u) - e.vy));
+        dsd = fmax(dsd, fabs(rfe_fix_to_double(qb.sd_vy, 23u) - e.sd_vy));
+    }
+    printf("REQ-OBS-027 q31 against double, sliding: |vy| %.3g m/s, |sd(vy)| %.3g m/s\n", dvy, dsd);
+    assert_true(dvy <= TOL_VY);
+    assert_true(dsd <= TOL_SD);
+    /* below v_lat_min (2 m/s), r 0.5 rad/s far beyond r_ref: bit for bit */
+    assert_int_equal(rfe_velocity_init_q31(&off, &b.vq, &b.pq), RFE_OK);
+    assert_int_equal(rfe_velocity_init_q31(&on, &vq_on, &b.pq), RFE_OK);
+    for (k = 0u; k <= 20u; ++k) {
+        rolling(&b, 2.0, (k == 0u) ? 0.0 : 0.01, &in, &iq);
+        iq.delta = fx(0.03, RFE_FIX_Q_ANGLE);
+        iq.yaw_rate = fx(0.5, RFE_FIX_Q_YAWRATE);
+        assert_int_equal(rfe_velocity_step_q31(&off, &iq, NULL, &qa), RFE_OK);
+        assert_int_equal(rfe_velocity_step_q31(&on, &iq, NULL, &qb), RFE_OK);
+        assert_true(rfe_fix_to_double(qb.vx, 23u) < 3.0);
+        assert_memory_equal(&off.lat, &on.lat, sizeof(on.lat));
+        assert_memory_equal(&qa, &qb, sizeof(qa));
+    }
+    /* at most 100 (Q24 1677721600), not negative; a refused set leaves the state untouched */
+    vq_on.vydot_rerr = 1677721600;
+    assert_int_equal(rfe_velocity_params_validate_q31(&vq_on), RFE_OK);
+    vq_on.vydot_rerr = 1677721601;
+    assert_int_equal(rfe_velocity_params_validate_q31(&vq_on), RFE_ERR_PARAM);
+    vq_on.vydot_rerr = -1;
+    assert_int_equal(rfe_velocity_params_validate_q31(&vq_on), RFE_ERR_PARAM);
+    off = on;
+    assert_int_equal(rfe_velocity_init_q31(&on, &vq_on, &b.pq), RFE_ERR_PARAM);
+    assert_memory_equal(&off, &on, sizeof(on));
+    /* the double set's conversion refuses what the float check refuses */
+    b.vd.vydot_rerr = 100.5;
+    assert_int_equal(rfe_velocity_params_validate(&b.vd), RFE_ERR_PARAM);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1275,6 +1375,7 @@ int main(void)
         cmocka_unit_test(test_a_steady_turn_in_fixed_point),
         cmocka_unit_test(test_the_steady_turns_floor_in_fixed_point),
         cmocka_unit_test(test_the_reported_sd_vy_floor_q31),
+        cmocka_unit_test(test_the_yaw_error_term_q31),
         cmocka_unit_test(test_the_lateral_model_every_third_step),
         cmocka_unit_test(test_the_models_variance_over_the_rate_q31),
         cmocka_unit_test(test_back_to_back_through_a_lockout),
