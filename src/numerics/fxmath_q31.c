@@ -118,7 +118,9 @@ static uint64_t isqrt_rem_hi(uint64_t x, uint64_t *rem)
     const uint32_t nh = (r1 << (h - 1u)) + (a1 >> 1); /* floor(N / 2) */
     const uint32_t q = nh / s1;
     const uint32_t u = ((nh - (q * s1)) << 1) + (a1 & 1u);
-    const uint64_t q2 = ((uint64_t)(q >> 16) << 32) | (uint64_t)(q * q);
+    const uint32_t q_hi = q >> 16;  /* 1 only for q = 2^16 */
+    const uint32_t q_sq = q * q;    /* q^2 modulo 2^32 */
+    const uint64_t q2 = ((uint64_t)q_hi << 32) | (uint64_t)q_sq;
     const uint64_t t = ((uint64_t)u << h) + (uint64_t)a0;
     uint64_t s = ((uint64_t)s1 << h) + (uint64_t)q;
     if (t < q2) {
