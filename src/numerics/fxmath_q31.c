@@ -107,10 +107,13 @@ static uint32_t isqrt32_rem(uint32_t y, uint32_t *rem)
  * test/numerics/w16/test_isqrt_w16_q31.c checks it against the exact root. */
 static uint64_t isqrt_rem_hi(uint64_t x, uint64_t *rem)
 {
-    const unsigned int sh = (rfe_q31_bitlen64(x) - 31u) & ~1u; /* even, 2..32 */
-    const unsigned int h = sh / 2u;                                /* 1..16 */
-    const uint32_t y = (uint32_t)(x >> sh);
-    const uint32_t low = (uint32_t)x & (0xFFFFFFFFu >> (32u - sh)); /* x mod b^2 */
+    /* in 32-bit words, without libgcc's 64-bit shifts: x = xh 2^32 + xl with xh >= 1 */
+    const uint32_t xh = (uint32_t)(x >> 32);
+    const uint32_t xl = (uint32_t)x;
+    const unsigned int sh = (rfe_q31_bitlen32(xh) + 1u) & ~1u; /* even, 2..32 */
+    const unsigned int h = sh / 2u;                              /* 1..16 */
+    const uint32_t y = (sh == 32u) ? xh : ((xh << (32u - sh)) | (xl >> sh));
+    const uint32_t low = xl & (0xFFFFFFFFu >> (32u - sh)); /* x mod b^2 */
     const uint32_t a1 = low >> h;
     const uint32_t a0 = low & (0xFFFFFFFFu >> (32u - h));
     uint32_t r1 = 0u;
@@ -121,8 +124,12 @@ static uint64_t isqrt_rem_hi(uint64_t x, uint64_t *rem)
     const uint32_t q_hi = q >> 16;  /* 1 only for q = 2^16 */
     const uint32_t q_sq = q * q;    /* q^2 modulo 2^32 */
     const uint64_t q2 = ((uint64_t)q_hi << 32) | (uint64_t)q_sq;
-    const uint64_t t = ((uint64_t)u << h) + (uint64_t)a0;
-    uint64_t s = ((uint64_t)s1 << h) + (uint64_t)q;
+    /* u b < 2^33 as its two words; s' b < 2^32 */
+    const uint32_t ub_hi = u >> (32u - h);
+    const uint32_t ub_lo = u << h;
+    const uint64_t t = (((uint64_t)ub_hi << 32) | (uint64_t)ub_lo) + (uint64_t)a0;
+    const uint32_t s1b = s1 << h;
+    uint64_t s = (uint64_t)s1b + (uint64_t)q;
     if (t < q2) {
         *rem = ((t + (s << 1)) - 1u) - q2;
         s -= 1u;
