@@ -87,6 +87,59 @@ static uint32_t isqrt32_rem(uint32_t y, uint32_t *rem)
  * the integer the Newton steps repeated until r^2 <= x gave (one division where they took
  * one or two). r + x/r <= 2^33 (x/r <= sqrt(x) < 2^32); r = 2^32 only at the start (r0 =
  * 2^16 - 1, h = 16), where x / r is x / 2^32. */
+#if RFE_FIX_MUL64_W16
+/* The Cortex-M0+ (RFE_FIX_MUL64_W16: no divider, no 32 x 32 -> 64 multiply): the part above
+ * 2^32 of isqrt_rem by one step of Zimmermann's Karatsuba square root (P. Zimmermann,
+ * "Karatsuba square root", INRIA RR-3805, 1999; Brent and Zimmermann, "Modern Computer
+ * Arithmetic", algorithm 1.12) instead of the Newton step: the same root and remainder with
+ * one 32-bit division of a quotient <= 2^16 where the Newton step took a 64-by-32 division
+ * (two 32-bit ones) and a 64-bit product. With sh, h, y as in isqrt_rem (y >= 2^30),
+ * b = 2^h <= 2^16 and x = y b^2 + a1 b + a0 (a1, a0 < b): s' = floor(sqrt(y)) in
+ * [2^15, 2^16), r' = y - s'^2 <= 2 s', q = floor(N / (2 s')) with N = r' b + a1 and u = N -
+ * 2 s' q < 2 s'; then s = s' b + q and r = u b + a0 - q^2 satisfy s^2 + r = x identically.
+ * Bounds (b <= 2 s'): q <= N / (2 s') <= b + (b - 1) / (2 s') < b + 1, so q <= b; r <= u b +
+ * a0 < 2 s' b <= 2 s, so (s + 1)^2 > x; r >= -q^2 >= -b^2 >= -2 s' b > -(2 s - 1), so
+ * (s - 1)^2 <= x. Hence s = floor(sqrt(x)) when r >= 0, else s - 1 with remainder r + 2 s - 1
+ * (the one correction). Widths: floor(N / 2) = r' 2^(h - 1) + floor(a1 / 2) <= (2^17 - 2)
+ * 2^15 + 2^15 - 1 < 2^32 and floor(N / (2 s')) = floor(floor(N / 2) / s'), u = 2 (floor(N /
+ * 2) - q s') + (a1 mod 2); s <= 2^32, u b + a0 < 2^33, q^2 <= 2^32 (q = 2^16 only with
+ * b = 2^16: its square is 2^32, the 32-bit product's wrapped 0 plus the high word).
+ * test/numerics/w16/test_isqrt_w16_q31.c checks it against the exact root. */
+static uint64_t isqrt_rem_hi(uint64_t x, uint64_t *rem)
+{
+    /* in 32-bit words, without libgcc's 64-bit shifts: x = xh 2^32 + xl with xh >= 1 */
+    const uint32_t xh = (uint32_t)(x >> 32);
+    const uint32_t xl = (uint32_t)x;
+    const unsigned int sh = (rfe_q31_bitlen32(xh) + 1u) & ~1u; /* even, 2..32 */
+    const unsigned int h = sh / 2u;                              /* 1..16 */
+    const uint32_t y = (sh == 32u) ? xh : ((xh << (32u - sh)) | (xl >> sh));
+    const uint32_t low = xl & (0xFFFFFFFFu >> (32u - sh)); /* x mod b^2 */
+    const uint32_t a1 = low >> h;
+    const uint32_t a0 = low & (0xFFFFFFFFu >> (32u - h));
+    uint32_t r1 = 0u;
+    const uint32_t s1 = isqrt32_rem(y, &r1);
+    const uint32_t nh = (r1 << (h - 1u)) + (a1 >> 1); /* floor(N / 2) */
+    const uint32_t q = nh / s1;
+    const uint32_t u = ((nh - (q * s1)) << 1) + (a1 & 1u);
+    const uint32_t q_hi = q >> 16;  /* 1 only for q = 2^16 */
+    const uint32_t q_sq = q * q;    /* q^2 modulo 2^32 */
+    const uint64_t q2 = ((uint64_t)q_hi << 32) | (uint64_t)q_sq;
+    /* u b < 2^33 as its two words; s' b < 2^32 */
+    const uint32_t ub_hi = u >> (32u - h);
+    const uint32_t ub_lo = u << h;
+    const uint64_t t = (((uint64_t)ub_hi << 32) | (uint64_t)ub_lo) + (uint64_t)a0;
+    const uint32_t s1b = s1 << h;
+    uint64_t s = (uint64_t)s1b + (uint64_t)q;
+    if (t < q2) {
+        *rem = ((t + (s << 1)) - 1u) - q2;
+        s -= 1u;
+    } else {
+        *rem = t - q2;
+    }
+    return s;
+}
+#endif
+
 static uint64_t isqrt_rem(uint64_t x, uint64_t *rem)
 {
     uint64_t r;
@@ -96,6 +149,9 @@ static uint64_t isqrt_rem(uint64_t x, uint64_t *rem)
         r = isqrt32_rem((uint32_t)x, &rm32);
         *rem = rm32;
     } else {
+#if RFE_FIX_MUL64_W16
+        r = isqrt_rem_hi(x, rem);
+#else
         const unsigned int sh = (rfe_q31_bitlen64(x) - 31u) & ~1u;
         const unsigned int half = sh / 2u;
         const uint32_t y = (uint32_t)(x >> sh);
@@ -115,6 +171,7 @@ static uint64_t isqrt_rem(uint64_t x, uint64_t *rem)
             r -= 1u;
         }
         *rem = x - sq;
+#endif
     }
     return r;
 }

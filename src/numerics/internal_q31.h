@@ -203,9 +203,19 @@ static inline uint32_t rfe_q31_udiv64_32_digits(uint64_t n, uint32_t d)
     const uint32_t v = d << s;
     const uint32_t v1 = v >> 16;
     const uint32_t v0 = v & 0xFFFFu;
+#if RFE_FIX_MUL64_W16
+    /* the Cortex-M0+: n 2^s's words from n's (the bits n 2^s loses above 2^64 are 0: n 2^s <
+     * v 2^32), without libgcc's 64-bit shift; (nl >> 1) >> (31 - s) is nl >> (32 - s), 0 at
+     * s = 0. test/numerics/w16/test_udiv_w16_q31.c checks this form. */
+    const uint32_t nh = (uint32_t)(n >> 32);
+    const uint32_t nl = (uint32_t)n;
+    const uint32_t u32 = (nh << s) | ((nl >> 1) >> (31u - s));
+    const uint32_t u10 = nl << s;
+#else
     const uint64_t nn = n << s;
     const uint32_t u32 = (uint32_t)(nn >> 32);
     const uint32_t u10 = (uint32_t)nn;
+#endif
     const uint32_t u1 = u10 >> 16;
     const uint32_t u0 = u10 & 0xFFFFu;
     uint32_t q1 = u32 / v1;

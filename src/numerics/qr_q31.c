@@ -151,24 +151,75 @@ static rfe_fix_t to_output(rfe_fix_t w, int e, uint32_t *sat)
 #else
 #define QR_DIV_OUTLINE
 #endif
-/* The Cortex-M0+ (RFE_FIX_MUL64_W16) keeps the bit-by-bit long division that
- * rfe_q31_div_shl32_round replaced elsewhere: the same integer (test/numerics/w16/
- * test_qr_div_w16_q31.c builds this file with RFE_FIX_MUL64_W16 = 1 and checks both against
- * the int128 quotient; make pil, bit-identical on the M0+), and 616 B less flash,
- * which the M0+'s 48 kB budget needs. round(n 2^32 / d) half up for d > 0, n < d 2^31.
- * Out of line, in 32-bit words: the remainder, the divisor and the 32 quotient bits then stay
- * in the Thumb-1 core's eight low registers (inlined into tria_core_q31, GCC kept them on the
- * stack: ~27 instructions a bit against ~18), and the 64-bit division only where the whole
- * part is not 0 (Tria's is 0 or 1: |c| < 4). */
+/* One 16-bit digit of the Cortex-M0+'s long division below: q = floor(R 2^16 / D) for
+ * R < D, D in [2^62, 2^63) (both as 32-bit words), and R <- R 2^16 - q D. Knuth's algorithm D
+ * (TAOCP vol. 2, 4.3.1) in base b = 2^16 with the divisor's top digit vt = floor(D / 2^47) in
+ * [2^15, 2^16) (normalised): q^ = floor(ut / vt) of the dividend's top ut = floor(R / 2^31)
+ * (< 2^32), lowered while q^ >= b or q^ v2 > b r^ + u2 (v2, u2 the next digits, r^ = ut -
+ * q^ vt), at most twice as in rfe_q31_udiv64_32_digits (ut <= vt b + v2, so q^ <= b + 1, and
+ * the test stops once r^ reaches b; q^ v2 is formed only below b: < 2^32). After that test q^
+ * is q or q + 1 (Knuth, step D3), so T = R 2^16 - q^ D lies in [-D, D), inside int64
+ * (D < 2^63): it is formed modulo 2^64 in two words (q^ D from three 32-bit products, q^ <=
+ * 2^16: q^ times each 16-bit half of D's low word below 2^32, its high word's only modulo
+ * 2^32), and a negative T (the top bit) is the one add-back, q^ - 1. Inlined into
+ * div_shl32's loop (the words then stay in registers: 48 B less than a call by pointers). */
+static RFE_FIX_INLINE_ALWAYS uint32_t div_digit16(uint32_t *rh, uint32_t *rl, uint32_t dh, uint32_t dl)
+{
+    const uint32_t base = 65536u;
+    const uint32_t vt = dh >> 15;
+    const uint32_t v2 = ((dh << 1) | (dl >> 31)) & 0xFFFFu;
+    const uint32_t ut = (*rh << 1) | (*rl >> 31);
+    const uint32_t u2 = (*rl >> 15) & 0xFFFFu;
+    uint32_t q = ut / vt;
+    uint32_t rr = ut - (q * vt);
+    uint32_t plo;
+    uint32_t pmid;
+    uint32_t lo;
+    uint32_t hi;
+    uint32_t tl;
+    uint32_t th;
+    if ((q >= base) || ((q * v2) > ((base * rr) + u2))) {
+        q -= 1u;
+        rr += vt;
+        if ((rr < base) && ((q >= base) || ((q * v2) > ((base * rr) + u2)))) {
+            q -= 1u;
+        }
+    }
+    plo = q * (dl & 0xFFFFu);
+    pmid = q * (dl >> 16);
+    lo = plo + (pmid << 16);
+    hi = ((q * dh) + (pmid >> 16)) + ((lo < plo) ? 1u : 0u);
+    tl = *rl << 16;
+    th = (*rh << 16) | (*rl >> 16);
+    *rl = tl - lo;
+    *rh = (th - hi) - ((tl < lo) ? 1u : 0u);
+    if ((*rh >> 31) != 0u) { /* T < 0: q^ was one too large */
+        const uint32_t sl = *rl + dl;
+        *rh = (*rh + dh) + ((sl < dl) ? 1u : 0u);
+        *rl = sl;
+        q -= 1u;
+    }
+    return q;
+}
+
+/* The Cortex-M0+ (RFE_FIX_MUL64_W16): round(n 2^32 / d) half up for 0 < d < 2^63, n < d 2^31,
+ * as rfe_q31_div_shl32_round elsewhere but in 32-bit words, which the Thumb-1 core keeps in
+ * its registers: the whole part (Tria's is 0 or 1: |c| < 4; the 64-bit division only where it
+ * is not 0), then the 32 bits of floor(r 2^32 / d) (r < d) as two 16-bit digits of the long
+ * division by d 2^s in [2^62, 2^63) (div_digit16: one 32-bit division each, ~300
+ * instructions a call where the bit-by-bit division it replaced took ~500). The same integer
+ * (test/numerics/w16/test_qr_div_w16_q31.c builds this file with RFE_FIX_MUL64_W16 = 1 and
+ * checks both forms against the int128 quotient; make pil, bit-identical on the M0+). Out of
+ * line: one copy for Tria's one call site, its words in the Thumb-1 core's low registers. */
 static QR_DIV_OUTLINE uint64_t div_shl32(uint64_t n, uint64_t d)
 {
-    const uint32_t dh = (uint32_t)(d >> 32);
-    const uint32_t dl = (uint32_t)d;
+    uint32_t dh = (uint32_t)(d >> 32);
+    uint32_t dl = (uint32_t)d;
     uint32_t q0 = 0u; /* the whole part, below 2^31 (n < d 2^31) */
     uint64_t r = n;
     uint32_t rh;
     uint32_t rl;
-    uint32_t q = 0u;
+    uint32_t q;
     uint32_t half;
     uint32_t odd;
     unsigned int i;
@@ -178,30 +229,24 @@ static QR_DIV_OUTLINE uint64_t div_shl32(uint64_t n, uint64_t d)
     }
     rh = (uint32_t)(r >> 32);
     rl = (uint32_t)r;
-    /* two quotient bits a pass (the same steps as one a pass; half the loop overhead) */
-    for (i = 16u; i != 0u; --i) { /* r < d < 2^63: doubling it cannot overflow */
+    /* d and r times 2^s, d 2^s in [2^62, 2^63) (d < 2^63), in words: 31 bits at once where
+     * d < 2^32 (then r < 2^32 too), then bit by bit (Tria's v.v >= 2^58: four steps at most;
+     * no bit length, whose 64-bit form this object then stopped inlining into Tria) */
+    if (dh == 0u) {
+        dh = dl >> 1;
+        dl <<= 31;
+        rh = rl >> 1;
+        rl <<= 31;
+    }
+    while ((dh >> 30) == 0u) {
+        dh = (dh << 1) | (dl >> 31);
+        dl <<= 1;
         rh = (rh << 1) | (rl >> 31);
         rl <<= 1;
-        q <<= 1;
-        if ((rh > dh) || ((rh == dh) && (rl >= dl))) {
-            if (rl < dl) { /* the low words' borrow */
-                rh -= 1u;
-            }
-            rl -= dl;
-            rh -= dh;
-            q |= 1u;
-        }
-        rh = (rh << 1) | (rl >> 31);
-        rl <<= 1;
-        q <<= 1;
-        if ((rh > dh) || ((rh == dh) && (rl >= dl))) {
-            if (rl < dl) {
-                rh -= 1u;
-            }
-            rl -= dl;
-            rh -= dh;
-            q |= 1u;
-        }
+    }
+    q = 0u;
+    for (i = 0u; i < 2u; ++i) {
+        q = (q << 16) | div_digit16(&rh, &rl, dh, dl);
     }
     /* (q0 2^32 + q + 1) / 2, floored, without the 33-bit sum */
     half = q >> 1;

@@ -1,18 +1,20 @@
 /**
  * @file test_qr_div_w16_q31.c
- * @brief The Cortex-M0+ form of Tria's division (qr_q31.c div_shl32, the bit-by-bit long
- *        division compiled where RFE_FIX_MUL64_W16 = 1), run on the host: this file sets
- *        RFE_FIX_MUL64_W16 to 1 and includes qr_q31.c itself, so the division checked is the
- *        library's own code in the form the Thumb-1 build compiles (test_qr_q31.c checks a
- *        copy of it and the other cores' form, rfe_q31_div_shl32_round).
+ * @brief The Cortex-M0+ form of Tria's division (qr_q31.c div_shl32, two 16-bit digits of
+ *        Knuth's long division in 32-bit words, compiled where RFE_FIX_MUL64_W16 = 1), run on
+ *        the host: this file sets RFE_FIX_MUL64_W16 to 1 and includes qr_q31.c itself, so the
+ *        division checked is the library's own code in the form the Thumb-1 build compiles
+ *        (test_qr_q31.c checks a bit-by-bit copy and the other cores' form,
+ *        rfe_q31_div_shl32_round).
  *
  * Every quotient must equal the exact one bit for bit (no tolerance): floor(n 2^32 / d) from
  * the unsigned __int128 division (GCC's and Clang's), rounded half up on its last bit, for
  * d >= 1, d < 2^63 and n < d 2^31 (the division's precondition, qr_q31.c). Operands: edge
  * cases (n = 0; d = 1 and the powers of two, where the quotient is an exact shift; the
  * largest n = d 2^31 - 1 for every divisor length; d at its maximum, 2^63 - 1, and at Tria's,
- * v.v < 2^62; exact ties of the rounding) and 300,000 pseudo-random pairs with a divisor of
- * every length 1 .. 63 and a dividend of every length up to its bound.
+ * v.v < 2^62; exact ties of the rounding), 300,000 pseudo-random pairs with a divisor of
+ * every length 1 .. 63 and a dividend of every length up to its bound, and 80,000 built to
+ * take the M0+ digits' add-back (the digit estimate one too large after Knuth's test).
  *
  * Built outside test/numerics/ (mk/lib.mk's TEST_DIRS) on purpose: it compiles qr_q31.c in
  * another form than the library's, so the coverage and MC/DC runs, which read src/ through
@@ -129,6 +131,17 @@ static void test_div_shl32_w16_random(void **state)
         const uint64_t vtv = rand_len(59u + (k % 4u));
         const uint64_t dot = rand_len(1u + (k % 61u));
         check((dot < (vtv << 1)) ? dot : ((vtv << 1) - 1u), vtv);
+    }
+    /* the M0+ digits' add-back (q^ one too large after Knuth's test, which sees the top 32
+     * bits of d: ~2 / 2^16 of random digits): d = dt 2^31 + 2^31 - 1 (bit 62 the top, so
+     * d 2^s = d) and n = q dt 2^15 for a digit q, which that test finds divisible by q while
+     * q d exceeds n 2^16 (by q (2^31 - 1)): the first digit is q - 1, after the add-back */
+    for (k = 0u; k < 40000u; ++k) {
+        const uint64_t dt = ((uint64_t)1 << 31) | (rand_u64() & 0x7FFFFFFFu);
+        const uint64_t q = ((uint64_t)1 << 15) | (rand_u64() & 0x7FFFu);
+        const uint64_t d = (dt << 31) | 0x7FFFFFFFu;
+        check((q * dt) << 15, d);
+        check(((q * dt) << 15) | (rand_u64() & 0x7FFFu), d);
     }
     print_message("random: %u divisions\n", n_checked);
 }
