@@ -48,7 +48,7 @@ OBS_DEFAULTS: dict[str, float] = {
     "obs_mu_margin": 0.1,       # the measured ay raises the model's friction to (1 + margin) |ay| / g
     "obs_sd_vydot": 1.0,        # the lateral acceleration of the sideslip, v-dot_y, as noise, m/s^2
     "obs_vydot_rdot": 15.0,     # its growth with |r-dot|, m/s^2 per rad/s^2
-    "obs_vydot_rerr": 15.0,     # its growth with max(0, |r| - |vx delta / L|) at vx >= v_lat_min
+    "obs_vydot_rerr": 25.0,     # its growth with max(0, |r| - |vx delta / L|) at vx >= v_lat_min
                                 # (the car sliding out), m/s^2 per rad/s (0: off, <= 100)
     "obs_sd_vx0": 1.0,          # initial sd of vx, m/s
     "obs_sd_bx0": 0.3,          # initial sd of the longitudinal offset, m/s^2

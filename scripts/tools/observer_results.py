@@ -2,7 +2,12 @@
 and write the tables of docs/OBSERVER_RESULTS.md (issue 16's figures).
 
     .venv/bin/python scripts/tools/observer_results.py [--replay build/mu_replay] \
-        [--page docs/OBSERVER_RESULTS.md] [--out build/observer] [--real float|double]
+        [--page docs/OBSERVER_RESULTS.md] [--out build/observer] [--real float|double] \
+        [--params FILE]
+
+--params FILE passes a parameter file to every replay (`mu_replay --params`; in the
+yaw-acceleration table's "dropped" runs its lines come first), so that a setting is measured
+with the library in every table; without it, the defaults.
 
 1. Observer accuracy on the observer scenarios (scenarios/observer/*.csv, noisy, both truth
    tyres): vx and beta RMSE and maximum error against the truth columns vx_true, beta_true
@@ -102,7 +107,7 @@ def err_cells(ex, eb) -> str:
             f"{fmt(rms(eb), '.2f') if eb else '–'} | {fmt(max(map(abs, eb)), '.2f') if eb else '–'}")
 
 
-def accuracy_rows(binary: Path, out: Path, real: str) -> list[str]:
+def accuracy_rows(binary: Path, out: Path, real: str, params: Path | None = None) -> list[str]:
     lines = ["| scenario | truth tyre | vx RMSE [m/s] | vx max [m/s] | β RMSE [°] | β max [°] | "
              "max \\|β\\| [°] | β RMSE, \\|ay\\| < 0.5 μg [°] | β RMSE, at the limit [°] | "
              "β beyond 2 sd(β) |",
@@ -110,7 +115,7 @@ def accuracy_rows(binary: Path, out: Path, real: str) -> list[str]:
     logs = sorted(p for p in (ROOT / "scenarios" / "observer").glob("*.csv")
                   if not p.name.endswith(".nf.csv"))
     for k, log in enumerate(logs, 1):
-        info = replay(binary, log, out, "observer", real)
+        info = replay(binary, log, out, "observer", real, params)
         ex, eb, bmax = errors(info["estimate"], log)
         truth = "Magic Formula" if ".mf" in log.name else "Dugoff"
         name = log.name.replace(".mf.csv", "").replace(".csv", "")
@@ -132,7 +137,8 @@ def pct(x) -> str:
     return "–" if x is None else f"{100 * x:.0f} %"
 
 
-def trust_tables(binary: Path, out: Path, real: str) -> tuple[list[str], list[str]]:
+def trust_tables(binary: Path, out: Path, real: str,
+                 params: Path | None = None) -> tuple[list[str], list[str]]:
     """The trust table (measured vs observer) and the yaw-acceleration table (observer with
     the derived r-dot vs with it dropped)."""
     trust = ["| scenario | truth tyre | RMSE valid, measured | RMSE valid, observer | "
@@ -141,14 +147,15 @@ def trust_tables(binary: Path, out: Path, real: str) -> tuple[list[str], list[st
     yaw = ["| scenario | truth tyre | RMSE valid, ṙ derived | RMSE valid, ṙ dropped | "
            "valid, derived | valid, dropped | consistency, derived | consistency, dropped |",
            "|---|---|---|---|---|---|---|---|"]
-    drop = out / "yaw_acc_dropped.par"
-    drop.write_text(f"# the yaw-acceleration row out of the friction update\n"
+    drop = out / (f"yaw_acc_dropped.{params.stem}.par" if params else "yaw_acc_dropped.par")
+    drop.write_text((params.read_text().rstrip("\n") + "\n" if params else "") +
+                    f"# the yaw-acceleration row out of the friction update\n"
                     f"r_yaw_acc = {DROP_YAW_ACC!r}\n")
     logs = sorted(p for p in (ROOT / "scenarios").glob("*.csv") if not p.name.endswith(".nf.csv"))
     for k, log in enumerate(logs, 1):
         (rm, vm, cm), (ro, vo, co), (rd, vd, cd) = (
             trust_cells(replay(binary, log, out, v, real, par)["metrics"])
-            for v, par in (("measured", None), ("observer", None), ("observer", drop)))
+            for v, par in (("measured", params), ("observer", params), ("observer", drop)))
         truth = "Magic Formula" if ".mf" in log.name else "Dugoff"
         name = log.name.replace(".mf.csv", "").replace(".csv", "")
         trust.append(f"| {name} | {truth} | {fmt(rm)} | {fmt(ro)} | {pct(vm)} | {pct(vo)} | "
@@ -159,14 +166,14 @@ def trust_tables(binary: Path, out: Path, real: str) -> tuple[list[str], list[st
     return trust, yaw
 
 
-def car_format_rows(binary: Path, out: Path, real: str) -> list[str]:
+def car_format_rows(binary: Path, out: Path, real: str, params: Path | None = None) -> list[str]:
     lines = ["| scenario | log | vx RMSE [m/s] | vx max [m/s] | β RMSE [°] | β max [°] |",
              "|---|---|---|---|---|---|"]
     logs = sorted((ROOT / "scenarios" / "car_format").glob("*.csv"))
     for k, log in enumerate(logs, 1):
         src = ROOT / "scenarios" / "observer" / log.name
         for label, path in (("100 Hz, SI (source)", src), ("50 Hz, car format", log)):
-            info = replay(binary, path, out, "observer", real)
+            info = replay(binary, path, out, "observer", real, params)
             ex, eb, _ = errors(info["estimate"], path)
             lines.append(f"| {log.stem} | {label} | {err_cells(ex, eb)} |")
         print(f"[car format {k}/{len(logs)}] {log.name}", file=sys.stderr, flush=True)
@@ -179,12 +186,14 @@ def main() -> int:
     ap.add_argument("--page", type=Path, default=ROOT / "docs" / "OBSERVER_RESULTS.md")
     ap.add_argument("--out", type=Path, default=ROOT / "build" / "observer")
     ap.add_argument("--real", choices=("float", "double"), default="float")
+    ap.add_argument("--params", type=Path, default=None,
+                    help="parameter file passed to every replay (mu_replay --params)")
     a = ap.parse_args()
     a.out.mkdir(parents=True, exist_ok=True)
     check_markers(a.page, [ACC, TRUST, YAWACC, CARFMT])
-    acc = accuracy_rows(a.replay, a.out, a.real)
-    trust, yaw = trust_tables(a.replay, a.out, a.real)
-    car = car_format_rows(a.replay, a.out, a.real)
+    acc = accuracy_rows(a.replay, a.out, a.real, a.params)
+    trust, yaw = trust_tables(a.replay, a.out, a.real, a.params)
+    car = car_format_rows(a.replay, a.out, a.real, a.params)
     print("\n".join(acc + [""] + trust + [""] + yaw + [""] + car))
     update_page(a.page, acc, *ACC)
     update_page(a.page, trust, *TRUST)

@@ -31,3 +31,27 @@ def test_beyond_2sd_is_none_without_a_sample_at_speed(tmp_path):
     est = _write(tmp_path / "est.csv", {"beta_est": [1.0, 1.0], "sd_beta": [0.1, 0.1]})
     assert orr.beyond_2sd(est, log) is None
     assert orr.pct(orr.beyond_2sd(est, log)) == "–"
+
+
+def test_replay_passes_the_params_file_and_keeps_its_outputs_apart(tmp_path):
+    # a stand-in for mu_replay that records its arguments and writes empty metrics: the
+    # --params option must reach the command, and its stem the output names (so runs with
+    # different files in one --out directory do not overwrite each other)
+    fake = tmp_path / "fake_replay"
+    argv = tmp_path / "argv.txt"
+    fake.write_text("#!/bin/sh\n"
+                    f"echo \"$@\" > {argv}\n"
+                    "while [ $# -gt 0 ]; do [ \"$1\" = --metrics ] && "
+                    "echo '{\"metrics\": {}}' > \"$2\"; shift; done\n")
+    fake.chmod(0o755)
+    log = tmp_path / "observer" / "spin.csv"
+    log.parent.mkdir()
+    log.write_text("t\n0\n")
+    par = tmp_path / "k25.par"
+    par.write_text("obs_vydot_rerr = 25\n")
+    info = orr.replay(fake, log, tmp_path, "observer", "float", par)
+    args = argv.read_text().split()
+    assert args[args.index("--params") + 1] == str(par)
+    assert info["estimate"].name == "observer.spin.observer.float.k25.csv"
+    orr.replay(fake, log, tmp_path, "observer", "float")
+    assert "--params" not in argv.read_text().split()

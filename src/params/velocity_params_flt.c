@@ -37,7 +37,7 @@ rfe_status_t rfe_velocity_params_default(rfe_velocity_params_t *p)
     p->sd_model_rdot = RFE_R(0.0);
     p->sd_vydot = RFE_R(1.0);
     p->vydot_rdot = RFE_R(15.0);
-    p->vydot_rerr = RFE_R(15.0);
+    p->vydot_rerr = RFE_R(25.0);
     p->v_lat_min = RFE_R(3.0);
     p->sd_lowspeed = RFE_R(0.1);
     p->mu_default = RFE_R(1.0);

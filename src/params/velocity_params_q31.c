@@ -40,7 +40,7 @@ rfe_status_t rfe_velocity_params_default_q31(rfe_velocity_params_q31_t *p)
     p->sd_model_rdot = 0; /* off (OBSERVER.md §2), Q24 */
     p->sd_vydot = 16777216; /* 1 m/s^2, Q24 */
     p->vydot_rdot = 251658240; /* 15 m/s^2 per rad/s^2, Q24 */
-    p->vydot_rerr = 251658240; /* 15 m/s^2 per rad/s, Q24 */
+    p->vydot_rerr = 419430400; /* 25 m/s^2 per rad/s, Q24 */
     p->v_lat_min = 25165824; /* 3 m/s, Q23 */
     p->sd_lowspeed = 838861; /* 0.1 m/s, Q23 */
     p->mu_default = 536870912; /* 1, Q29 */

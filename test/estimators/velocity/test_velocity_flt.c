@@ -1127,11 +1127,11 @@ static void check_the_yaw_error_row(const rfe_velocity_t *off, const rfe_velocit
 
 /* REQ-OBS-027: §4.4's noise grows with the yaw rate beyond the neutral-steer reference,
  * obs_vydot_rerr max(0, |r| - |r_ref|), r_ref = vx delta / L, at vx >= v_lat_min only. Two
- * observers side by side, the term off (0) and at 15 (the default): (a) while the car yaws
+ * observers side by side, the term off (0) and at 25 (the default): (a) while the car yaws
  * under r_ref (understeer, r_over 0) they stay equal bit for bit (the term is exactly 0);
  * (b) sliding out (the steering taken back with the yaw rate held: no r-dot, r 0.2 rad/s
  * beyond r_ref, ay - r vx = -2 m/s^2) the first step differs by §4.4's row alone, R
- * (1 + 15 * 0.2)^2 = 16 instead of 1 (check_the_yaw_error_row), and b_y keeps less
+ * (1 + 25 * 0.2)^2 = 36 instead of 1 (check_the_yaw_error_row), and b_y keeps less
  * information on every step after; (c) below v_lat_min at any yaw rate: equal bit for bit.
  * Without the term (b) fails. */
 static void test_the_yaw_error_grows_the_offsets_noise(void **state)
@@ -1145,7 +1145,7 @@ static void test_the_yaw_error_grows_the_offsets_noise(void **state)
     size_t k;
     (void)state;
     setup_fixture();
-    assert_true(fx.vp.vydot_rerr == 15.0f); /* 15 by default (OBSERVER.md §2) */
+    assert_true(fx.vp.vydot_rerr == 25.0f); /* 25 by default (OBSERVER.md §2) */
     vp_on = fx.vp;
     fx.vp.vydot_rerr = 0.0f; /* fx.obs: the term off */
     assert_int_equal(rfe_velocity_init(&fx.obs, &fx.vp, &fx.p), RFE_OK);

@@ -1277,7 +1277,7 @@ static void yaw_error_turn(const both_t *b, size_t k, int slide, rfe_velocity_in
 
 /* REQ-OBS-027 REQ-FXP-014: §4.4's yaw-error term in fixed point (vydot_rerr Q24 times the
  * Q27 r_over into §4.4's Q24 sd), the float twin's turn through three observers: q31 off
- * (obs_vydot_rerr 0), q31 and double at 15 (the default).
+ * (obs_vydot_rerr 0), q31 and double at 25 (the default).
  *  - understeer (r under r_ref) and below v_lat_min: q31 on equals off bit for bit;
  *  - sliding out: on keeps less information on b_y than off (p11 larger) on every step,
  *    and follows the double twin within the back-to-back bounds (TOL_VY on vy, TOL_SD on
@@ -1300,13 +1300,13 @@ static void test_the_yaw_error_term_q31(void **state)
     size_t k;
     (void)state;
     params_of(NULL, &b);
-    assert_true(b.vd.vydot_rerr == 15.0); /* 15 by default (OBSERVER.md §2) */
+    assert_true(b.vd.vydot_rerr == 25.0); /* 25 by default (OBSERVER.md §2) */
     vq_on = b.vq;
-    assert_int_equal(vq_on.vydot_rerr, 15 * RFE_FIX_ONE(24)); /* 15 in Q24, exactly */
+    assert_int_equal(vq_on.vydot_rerr, 25 * RFE_FIX_ONE(24)); /* 25 in Q24, exactly */
     b.vd.vydot_rerr = 0.0; /* b.vq: the term off */
     assert_int_equal(rfe_velocity_params_to_q31_f64(&b.vd, &b.vq), RFE_OK);
     assert_int_equal(b.vq.vydot_rerr, 0);
-    b.vd.vydot_rerr = 15.0; /* the double twin at 15 */
+    b.vd.vydot_rerr = 25.0; /* the double twin at 25 */
     assert_int_equal(rfe_velocity_init(&od, &b.vd, &b.pd), RFE_OK);
     assert_int_equal(rfe_velocity_init_q31(&off, &b.vq, &b.pq), RFE_OK);
     assert_int_equal(rfe_velocity_init_q31(&on, &vq_on, &b.pq), RFE_OK);
