@@ -33,3 +33,37 @@ def test_the_table_has_one_row_per_window_and_the_rear_wheels_see_vx():
         cells = [x.strip() for x in line.strip("|").split("|")]
         rl, rr = (float(x) for x in cells[5].split("/")[2:4])
         assert abs(rl) < 0.15 and abs(rr) < 0.15, line
+
+
+RAMP = ROOT / "scenarios" / "ramp_steer_low_mu.csv"
+RAMP_TRUTH = ROOT / "scenarios" / "ramp_steer_low_mu.nf.csv"
+
+
+def _constant_friction(log, mu):
+    from demo import read_csv
+    n = len(read_csv(log)["t"])
+    return {f"{k}_{w}": [v] * n for w in diag.WHEELS for k, v in (("mu", mu), ("sd", 0.1))}
+
+
+def test_a_friction_log_takes_its_twin_as_the_truth_and_its_driven_wheels_slip():
+    from demo import read_csv
+    c, p, out = diag.reference_run(RAMP, _constant_friction(RAMP, 0.3), RAMP_TRUTH)
+    twin = read_csv(RAMP_TRUTH)
+    assert list(c["vx_true"]) == twin["vx"] and list(c["vy_true"]) == twin["vy"]
+    last = diag.table(c, p, out, 1.0)[-1]
+    cells = [x.strip() for x in last.strip("|").split("|")]
+    fl, fr, rl, rr = (float(x) for x in cells[6].split("/"))
+    # the cruise control's torque is on the front wheels (the log's description): at the
+    # end of the low-mu ramp they slip forward (the diagnosis measured 1.6 / 1.1 %), the
+    # undriven rear wheels roll (0.01 %); 0.5 % and 0.1 % leave a margin for the noise
+    assert fl > 0.5 and fr > 0.5, last
+    assert abs(rl) < 0.1 and abs(rr) < 0.1, last
+
+
+def test_a_truth_that_is_not_the_logs_twin_is_refused(tmp_path):
+    lines = RAMP_TRUTH.read_text().splitlines()
+    short = tmp_path / "short.nf.csv"
+    short.write_text("\n".join(lines[:-1]) + "\n")  # one row fewer
+    import pytest
+    with pytest.raises(SystemExit):
+        diag.reference_run(RAMP, _constant_friction(RAMP, 0.3), short)
