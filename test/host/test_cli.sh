@@ -1220,15 +1220,17 @@ tid_vs_golden() {
         e = w[a] - s[nr, a]; if (e < 0) e = -e; if (d > 1e-10 * sc || e > 1e-10 * s[nr, a]) over++; n2++ } }
     END {printf "%d %d %d", n2 + 0, over + 0, tbad + 0}' "$1" "$2"
 }
+# tid_golden_ok NAME GOLDEN RUN: at least 200 values, none beyond the bound, no time differing
+tid_golden_ok() {
+    set -- "$1" $(tid_vs_golden "$2" "$3")
+    [ "$2" -ge 200 ] && [ "$3" -eq 0 ] && [ "$4" -eq 0 ] && ok "$1: the reference's golden within 1e-10 ($2 values)" \
+        || bad "$1: $3 of $2 values beyond the bound, $4 times differ"
+}
 # the double replay is the library's: on the sine steer's first 200 rows it meets the
 # reference's golden (scenarios/golden/tyre_id/sine_sckf.csv) within the bound
 # test_tyre_id_golden_flt.c derives (1e-10 of |value| + sd) in mu and its sd per axle
 run tid_sckf_double 0 --in "$TID" --out "$TMP/tid_kd.csv" --tyre-id sckf --real double -q
-G="$ROOT/scenarios/golden/tyre_id/sine_sckf.csv"
-res=$(tid_vs_golden "$G" "$TMP/tid_kd.csv")
-set -- $res
-[ "$1" -ge 200 ] && [ "$2" -eq 0 ] && [ "$3" -eq 0 ] && ok "tid_sckf_double: the reference's golden within 1e-10 ($1 values)" \
-    || bad "tid_sckf_double: $2 of $1 values beyond the bound, $3 times differ"
+tid_golden_ok tid_sckf_double "$ROOT/scenarios/golden/tyre_id/sine_sckf.csv" "$TMP/tid_kd.csv"
 # tid_delta_state_q (TYRE_ID.md §15.7) passed through to the library: the summary names the 22
 # points, and the double replay on the low-mu ramp steer's first 200 rows meets the reference's
 # golden (scenarios/golden/tyre_id/ramp_low_sckf_delta_state.csv) within the same 1e-10
@@ -1239,11 +1241,7 @@ grep -q '^tyre identifier (sckf, 22 cubature points, delta a state): at the end'
     && grep -q '^# tid_delta_state_q = 0.04$' "$TMP/tid_ds.csv" \
     && ok "tid_sckf_dstate: 22 points in the summary, the key in the metadata" \
     || bad "tid_sckf_dstate: $(grep 'tyre identifier' "$TMP/out"; grep 'tid_delta_state_q' "$TMP/tid_ds.csv")"
-G="$ROOT/scenarios/golden/tyre_id/ramp_low_sckf_delta_state.csv"
-res=$(tid_vs_golden "$G" "$TMP/tid_ds.csv")
-set -- $res
-[ "$1" -ge 200 ] && [ "$2" -eq 0 ] && [ "$3" -eq 0 ] && ok "tid_sckf_dstate: the reference's golden within 1e-10 ($1 values)" \
-    || bad "tid_sckf_dstate: $2 of $1 values beyond the bound, $3 times differ"
+tid_golden_ok tid_sckf_dstate "$ROOT/scenarios/golden/tyre_id/ramp_low_sckf_delta_state.csv" "$TMP/tid_ds.csv"
 printf 'tid_delta_state_q = 0.04\ntid_delta_q = 0.05\n' >"$TMP/dboth.par"
 run tid_dstate_with_delta_q 1 --in "$TID" --out "$TMP/tid_db.csv" --tyre-id sckf --params "$TMP/dboth.par" -q
 printf 'tid_filter = sir\ntid_resample = systematic\n' >"$TMP/sir.par"
