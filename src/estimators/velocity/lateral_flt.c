@@ -94,12 +94,13 @@ static int linear_range(const rfe_velocity_t *obs, const rfe_velocity_input_t *i
     const rfe_velocity_params_t *p = &obs->p;
     const rfe_real_t len = obs->veh.Lf + obs->veh.Lr;
     const rfe_real_t r_ref = vx * (in->delta / len);
-    const rfe_real_t r_tol = p->lin_r_tol + (p->lin_r_rel * RFE_FABS(r_ref));
+    const rfe_real_t a_ref = RFE_FABS(r_ref);
+    const rfe_real_t r_tol = p->lin_r_tol + (p->lin_r_rel * a_ref);
     /* RESET exactly when the yaw rate is off r_ref: the decision below takes that */
     const rfe_vel_on_ref_t a = rfe_vel_on_ref((RFE_FABS(in->yaw_rate - r_ref) <= r_tol) ? 1 : 0,
                                               (obs->r_on_ref >= p->lin_dwell) ? 1 : 0);
     int on;
-    *r_over = rfe_max(RFE_R(0.0), RFE_FABS(in->yaw_rate) - RFE_FABS(r_ref));
+    *r_over = rfe_max(RFE_R(0.0), RFE_FABS(in->yaw_rate) - a_ref);
     if (a == RFE_VEL_ON_REF_RESET) {
         *on_ref = RFE_R(0.0);
     } else if (a == RFE_VEL_ON_REF_ADD) {

@@ -209,6 +209,7 @@ static int linear_range_q31(const rfe_velocity_q31_t *obs, const rfe_velocity_in
     const rfe_fix_t len = rfe_fix_add(obs->veh.Lf, obs->veh.Lr, sat);
     rfe_fix_t dl = 0;
     rfe_fix_t r_ref;
+    rfe_fix_t a_ref; /* |r_ref|, Q27 */
     rfe_fix_t r_err;
     rfe_fix_t r_tol;
     rfe_fix_t ay_abs;
@@ -218,12 +219,11 @@ static int linear_range_q31(const rfe_velocity_q31_t *obs, const rfe_velocity_in
     s = rfe_fix_div(in->delta, len, 27, &dl, sat);
     (void)s; /* L > 0 (above) */
     r_ref = rfe_fix_mul(vx, dl, 23u, sat);
+    a_ref = rfe_fix_abs(r_ref, sat);
     /* §4.4's yaw rate beyond r_ref, max(0, |r| - |r_ref|), Q27 */
-    *r_over = rfe_fix_max(0, rfe_fix_sub(rfe_fix_abs(in->yaw_rate, sat),
-                                         rfe_fix_abs(r_ref, sat), sat));
+    *r_over = rfe_fix_max(0, rfe_fix_sub(rfe_fix_abs(in->yaw_rate, sat), a_ref, sat));
     r_err = rfe_fix_abs(rfe_fix_sub(in->yaw_rate, r_ref, sat), sat);
-    r_tol = rfe_fix_add(p->lin_r_tol, rfe_fix_mul(p->lin_r_rel, rfe_fix_abs(r_ref, sat), 30u, sat),
-                        sat);
+    r_tol = rfe_fix_add(p->lin_r_tol, rfe_fix_mul(p->lin_r_rel, a_ref, 30u, sat), sat);
     /* RESET exactly when the yaw rate is off r_ref: the decision below takes that */
     act = rfe_vel_on_ref((r_err <= r_tol) ? 1 : 0, (obs->r_on_ref >= p->lin_dwell) ? 1 : 0);
     if (act == RFE_VEL_ON_REF_RESET) {
