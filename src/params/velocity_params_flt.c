@@ -75,13 +75,13 @@ static int positive_ok(const rfe_velocity_params_t *p)
 
 static int non_negative_ok(const rfe_velocity_params_t *p)
 {
-    const rfe_real_t v[31] = {p->vydot_rerr, p->vy_out_floor_mu, p->lin_mu_gain, p->sd_vy_lin, p->lin_r_tol, p->lin_r_rel, p->lin_ay_max, p->lin_ay_steady, p->lin_dwell, p->sd_model_rdot, p->vydot_rdot, p->q_bx, p->q_by, p->sd_wheel, p->sd_wheel_rel, p->k_gate,
+    const rfe_real_t v[] = {p->vydot_rerr, p->vy_out_floor_mu, p->lin_mu_gain, p->sd_vy_lin, p->lin_r_tol, p->lin_r_rel, p->lin_ay_max, p->lin_ay_steady, p->lin_dwell, p->sd_model_rdot, p->vydot_rdot, p->q_bx, p->q_by, p->sd_wheel, p->sd_wheel_rel, p->k_gate,
                               p->k_agree, p->v_stand, p->q_vx_brake,
                               p->ax_brake_on, p->ax_drive_on, p->p_brake_on, p->torque_on,
                               p->sd_model_ay, p->model_ay_rel, p->sd_mu_default,
                               p->mu_margin, p->sd_vx0, p->sd_bx0, p->sd_vy0, p->sd_by0};
     size_t i;
-    for (i = 0u; i < 31u; ++i) {
+    for (i = 0u; i < (sizeof(v) / sizeof(v[0])); ++i) {
         if (!rfe_is_finite(v[i]) || !(v[i] >= RFE_R(0.0))) {
             return 0;
         }
