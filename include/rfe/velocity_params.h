@@ -82,6 +82,11 @@ typedef struct {
                                      times |vx ay / (cy g)| max_i sd_mu,i / mu_i (§5) [1], in
                                      [0, 8], 0 is off; the filter and the friction's input
                                      noise are untouched: 4 */
+    rfe_real_t ay_turn;       /**< a turn: |ay| at least this [m/s^2], 0 is off (§3.4): while
+                                   rolling in a turn the driven wheels are not free (they carry
+                                   the turn's drag), and b_x's walk is q_bx_turn: 1 */
+    rfe_real_t q_bx_turn;     /**< random walk of b_x in a turn while not braking
+                                   [m/s^2/sqrt(s)] (it follows r (vy error)): 0.03 */
 } rfe_velocity_params_t;
 
 /**

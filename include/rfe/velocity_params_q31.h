@@ -71,6 +71,9 @@ typedef struct {
     rfe_fix_t lin_mu_gain;    /**< the steady turn's friction floor, times |ay| / g [1], Q24 */
     rfe_fix_t vy_out_floor_mu; /**< the reported sd(vy)'s floor factor [1], Q24, at most 8;
                                     0: off; 4 by default */
+    rfe_fix_t ay_turn;        /**< a turn: |ay| at least this [m/s^2], Q24; 0: off */
+    rfe_fix_t q_bx_turn;      /**< random walk of b_x in a turn, not braking
+                                   [m/s^2/sqrt(s)], Q24 */
 } rfe_velocity_params_q31_t;
 
 /**

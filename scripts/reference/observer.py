@@ -26,6 +26,8 @@ OBS_DEFAULTS: dict[str, float] = {
     "obs_sd_r": 0.005,          # yaw-rate sensor noise sd, rad/s
     "obs_sd_ax": 0.05,          # ax sensor noise sd per sample, m/s^2
     "obs_q_bx": 0.005,          # random walk of the longitudinal offset, m/s^2 per sqrt(s)
+    "obs_ay_turn": 1.0,         # a turn: |ay| at least this, m/s^2 (0: off)
+    "obs_q_bx_turn": 0.03,      # random walk of b_x in a turn while not braking
     "obs_sd_wheel": 0.05,       # wheel reference noise sd, m/s
     "obs_sd_wheel_rel": 0.005,  # wheel reference error relative to speed (radius, slip)
     "obs_k_gate": 3.0,          # plausibility gate on a wheel, in sd
@@ -202,16 +204,13 @@ class Observer:
         self.yaw.predict(dt, 0.0, qj * dt * dt * dt / 3.0, qj * dt, qj * dt * dt / 2.0)
         self.yaw.update(1.0, 0.0, s.yaw_rate - self.yaw.x[0], p["obs_sd_r"] ** 2)
 
-        # §3.3 longitudinal: predict with the accelerometer
+        # §3.4 the tyres' longitudinal push, without the rotation's r vy: a car that slides
+        # out slows along its body axis with no brake on (OBSERVER_RESULTS.md "The spin's vx");
+        # b_x is the predicted one, which the predict keeps, so the driving state (and with
+        # it b_x's walk) comes first
         vy_prev = self.lat.x[0]
         a_lon = s.ax - p["g"] * math.sin(s.grade)
-        a_kin = a_lon + s.yaw_rate * vy_prev
-        sx = dt * p["obs_sd_ax"]
-        self.lon.predict(-dt, dt * a_kin, sx * sx, (p["obs_q_bx"] * p["obs_q_bx"]) * dt)
-        vx_pred, bx = self.lon.x
-        # §3.4 the tyres' longitudinal push, without the rotation's r vy: a car that slides
-        # out slows along its body axis with no brake on (OBSERVER_RESULTS.md "The spin's vx")
-        a_net = a_lon - bx
+        a_net = a_lon - self.lon.x[1]
 
         # §3.4 driving state
         braking = a_net < -p["obs_ax_brake_on"]
@@ -222,7 +221,18 @@ class Observer:
         if s.torque is not None:
             driven = sum(1 << i for i in range(4) if s.torque[i] > p["obs_torque_on"])
             driving = (not braking) and driven != 0
+        # a turn, not braking: the driven wheels carry its drag with ax near 0 (not free while
+        # rolling) and b_x follows r (vy error) at q_bx_turn (OBSERVER_RESULTS.md "The low-μ
+        # ramp steer's vx bias")
+        turning = (not braking) and p["obs_ay_turn"] > 0.0 and abs(s.ay) >= p["obs_ay_turn"]
         flags |= FLAG_BRAKING if braking else (FLAG_DRIVING if driving else 0)
+
+        # §3.3 longitudinal: predict with the accelerometer
+        a_kin = a_lon + s.yaw_rate * vy_prev
+        sx = dt * p["obs_sd_ax"]
+        q_bx = p["obs_q_bx_turn"] if turning else p["obs_q_bx"]
+        self.lon.predict(-dt, dt * a_kin, sx * sx, (q_bx * q_bx) * dt)
+        vx_pred = self.lon.x[0]
 
         # §3.5 plausible wheels and the reference. A free-rolling wheel measures vx; a braked
         # wheel turns slower than it rolls, so it bounds vx from below; a driven wheel bounds
@@ -231,7 +241,8 @@ class Observer:
         sd_w = p["obs_sd_wheel"] + p["obs_sd_wheel_rel"] * abs(vx_pred)
         gate = p["obs_k_gate"] * math.sqrt(self.lon.P[0][0] + sd_w * sd_w)
         ok = [i for i in range(4) if abs(refs[i] - vx_pred) <= gate]
-        free = [] if braking else [i for i in ok if not (driving and (driven >> i) & 1)]
+        free = [] if braking else [i for i in ok
+                                   if not ((driving or turning) and (driven >> i) & 1)]
         z = None
         r = sd_w * sd_w
         if free:

@@ -510,3 +510,53 @@ def test_the_yaw_error_grows_the_offsets_noise():
         s = observer.Sample(t=k * 0.01, delta=0.03, yaw_rate=0.5, ax=0.0, ay=0.0,
                             omega=(2.0 / p_on["R"],) * 4)
         assert off.step(s) == on.step(s)
+
+
+def _turn_with_driven_slip(ay_turn):
+    """1 s straight at 20 m/s, then 2 s with ay 2 m/s^2 (r = 0, delta = 0: the references are
+    omega R) and the driven front wheels 0.1 m/s fast, rolling with no torque signal (the
+    C tests' turn_with_driven_slip). Returns the last vx."""
+    p = dict(observer.params_with_defaults(), obs_ay_turn=ay_turn)
+    ob = observer.Observer(p)
+    out = None
+    for k in range(300):
+        fast = 20.1 if k >= 100 else 20.0
+        omega = (fast / p["R"], fast / p["R"], 20.0 / p["R"], 20.0 / p["R"])
+        out = ob.step(observer.Sample(t=k * 0.01, delta=0.0, yaw_rate=0.0, ax=0.0,
+                                      ay=2.0 if k >= 100 else 0.0, omega=omega))
+        if k > 0:
+            assert out["flags"] & (observer.FLAG_BRAKING | observer.FLAG_DRIVING
+                                   | observer.FLAG_VX_WHEEL) == observer.FLAG_VX_WHEEL
+    return out["vx"]
+
+
+# REQ-OBS-028
+def test_rolling_in_a_turn_leaves_the_driven_wheels_out():
+    p = observer.params_with_defaults()
+    assert (p["obs_ay_turn"], p["obs_q_bx_turn"]) == (1.0, 0.03)   # OBSERVER.md §2
+    # noise-free, references constant for 2 s: the rear wheels' 20 m/s within 0.01 m/s (a
+    # fifth of the 0.05 between the rear wheels and the four wheels' mean); off (0, the rule
+    # before 2026-12-07) vx follows the four wheels, above their mean less that bound
+    assert abs(_turn_with_driven_slip(1.0) - 20.0) <= 0.01
+    assert _turn_with_driven_slip(0.0) > 20.04
+
+
+# REQ-OBS-028
+def test_a_turn_walks_bx_faster_unless_braking():
+    p = observer.params_with_defaults()
+
+    def p11_after(ay, brake):
+        ob = observer.Observer(p)
+        for k in range(101):
+            last = k == 100
+            ob.step(observer.Sample(t=k * 0.01, delta=0.0, yaw_rate=0.0, ax=0.0,
+                                    ay=ay if last else 0.0, omega=(20.0 / p["R"],) * 4,
+                                    torque=(0.0,) * 4,
+                                    p_brake=(3.0 if (last and brake) else 0.0,) * 4))
+        return ob.lon.P[1][1]
+    # the same wheels corrected vx (a torque signal, none above obs_torque_on), and the
+    # update's p01^2 / S does not depend on p11: the turn adds (q_turn^2 - q^2) dt exactly,
+    # to double rounding of a p11 of ~1e-3 (1e-15), bounded at 1e-12
+    dq = (p["obs_q_bx_turn"] ** 2 - p["obs_q_bx"] ** 2) * 0.01
+    assert abs((p11_after(2.0, False) - p11_after(0.5, False)) - dq) <= 1e-12
+    assert p11_after(2.0, True) == p11_after(0.5, True)   # braking: obs_q_bx either way

@@ -101,6 +101,8 @@
     X(obs_sd_ay, sd_ay, "m/s^2", "ay noise per sample")                                                        \
     X(obs_q_bx, q_bx, "m/s^2/sqrt(s)", "random walk of the longitudinal offset b_x")                           \
     X(obs_q_by, q_by, "m/s^2/sqrt(s)", "random walk of the lateral offset b_y")                                \
+    X(obs_ay_turn, ay_turn, "m/s^2", "a turn: |ay| at least this (driven wheels not free while rolling); 0 is off") \
+    X(obs_q_bx_turn, q_bx_turn, "m/s^2/sqrt(s)", "random walk of b_x in a turn while not braking")          \
     X(obs_sd_wheel, sd_wheel, "m/s", "wheel reference noise")                                                  \
     X(obs_sd_wheel_rel, sd_wheel_rel, "1", "wheel reference error relative to vx")                             \
     X(obs_k_gate, k_gate, "sd", "plausibility gate of a wheel")                                                \

@@ -270,6 +270,8 @@ rfe_status_t rfe_velocity_params_to_q31(const rfe_velocity_params_t *p,
     t.lin_dwell = to_q(&c, (double)p->lin_dwell, RFE_FIX_Q_DT, 0);
     t.lin_mu_gain = to_q(&c, (double)p->lin_mu_gain, RFE_FIX_Q_RATIO, 0);
     t.vy_out_floor_mu = to_q(&c, (double)p->vy_out_floor_mu, RFE_FIX_Q_RATIO, 0);
+    t.ay_turn = to_q(&c, (double)p->ay_turn, RFE_FIX_Q_ACC, 0);
+    t.q_bx_turn = to_q(&c, (double)p->q_bx_turn, RFE_FIX_Q_ACC, 0);
     /* dt_max = 1 s and lin_dwell = 1 s are Q30's 2^30 exactly: within int32 */
     if (c.bad != 0) {
         return RFE_ERR_RANGE;

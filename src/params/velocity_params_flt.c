@@ -55,6 +55,8 @@ rfe_status_t rfe_velocity_params_default(rfe_velocity_params_t *p)
     p->lin_dwell = RFE_R(0.125);
     p->lin_mu_gain = RFE_R(2.0);
     p->vy_out_floor_mu = RFE_R(4.0);
+    p->ay_turn = RFE_R(1.0);
+    p->q_bx_turn = RFE_R(0.03);
     return RFE_OK;
 }
 
@@ -75,7 +77,7 @@ static int positive_ok(const rfe_velocity_params_t *p)
 
 static int non_negative_ok(const rfe_velocity_params_t *p)
 {
-    const rfe_real_t v[] = {p->vydot_rerr, p->vy_out_floor_mu, p->lin_mu_gain, p->sd_vy_lin, p->lin_r_tol, p->lin_r_rel, p->lin_ay_max, p->lin_ay_steady, p->lin_dwell, p->sd_model_rdot, p->vydot_rdot, p->q_bx, p->q_by, p->sd_wheel, p->sd_wheel_rel, p->k_gate,
+    const rfe_real_t v[] = {p->ay_turn, p->q_bx_turn, p->vydot_rerr, p->vy_out_floor_mu, p->lin_mu_gain, p->sd_vy_lin, p->lin_r_tol, p->lin_r_rel, p->lin_ay_max, p->lin_ay_steady, p->lin_dwell, p->sd_model_rdot, p->vydot_rdot, p->q_bx, p->q_by, p->sd_wheel, p->sd_wheel_rel, p->k_gate,
                               p->k_agree, p->v_stand, p->q_vx_brake,
                               p->ax_brake_on, p->ax_drive_on, p->p_brake_on, p->torque_on,
                               p->sd_model_ay, p->model_ay_rel, p->sd_mu_default,

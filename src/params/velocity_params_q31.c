@@ -58,6 +58,8 @@ rfe_status_t rfe_velocity_params_default_q31(rfe_velocity_params_q31_t *p)
     p->lin_dwell = 134217728; /* 0.125 s, Q30 */
     p->lin_mu_gain = 33554432; /* 2, Q24 */
     p->vy_out_floor_mu = 67108864; /* 4, Q24 */
+    p->ay_turn = 16777216; /* 1 m/s^2, Q24 */
+    p->q_bx_turn = 503316; /* 0.03 m/s^2/sqrt(s), Q24 */
     return RFE_OK;
 }
 
@@ -78,7 +80,7 @@ static int positive_ok_q31(const rfe_velocity_params_q31_t *p)
 
 static int non_negative_ok_q31(const rfe_velocity_params_q31_t *p)
 {
-    const rfe_fix_t v[] = {p->vydot_rerr, p->vy_out_floor_mu, p->lin_mu_gain, p->sd_vy_lin, p->lin_r_tol, p->lin_r_rel, p->lin_ay_max, p->lin_ay_steady, p->lin_dwell, p->sd_model_rdot, p->vydot_rdot, p->q_bx, p->q_by, p->sd_wheel, p->sd_wheel_rel,
+    const rfe_fix_t v[] = {p->ay_turn, p->q_bx_turn, p->vydot_rerr, p->vy_out_floor_mu, p->lin_mu_gain, p->sd_vy_lin, p->lin_r_tol, p->lin_r_rel, p->lin_ay_max, p->lin_ay_steady, p->lin_dwell, p->sd_model_rdot, p->vydot_rdot, p->q_bx, p->q_by, p->sd_wheel, p->sd_wheel_rel,
                              p->k_gate, p->k_agree, p->v_stand, p->q_vx_brake, p->ax_brake_on, p->ax_drive_on, p->p_brake_on,
                              p->torque_on, p->sd_model_ay, p->model_ay_rel, p->sd_mu_default,
                              p->mu_margin, p->sd_vx0, p->sd_bx0, p->sd_vy0, p->sd_by0};

@@ -32,8 +32,11 @@ void rfe_vel_wheel_refs(const rfe_vehicle_t *veh, const rfe_velocity_input_t *in
 static rfe_vel_drive_state_t driving_state(const rfe_velocity_params_t *p,
                                            const rfe_velocity_input_t *in, rfe_real_t a_net)
 {
-    rfe_vel_drive_tests_t t = {0, 0, 0u, 0u};
+    rfe_vel_drive_tests_t t = {0, 0, 0u, 0u, 0};
     size_t i;
+    if ((p->ay_turn > RFE_R(0.0)) && (RFE_FABS(in->ay) >= p->ay_turn)) {
+        t.turning = 1;
+    }
     if (a_net < -p->ax_brake_on) {
         t.decelerating = 1;
     }
@@ -152,13 +155,15 @@ rfe_status_t rfe_vel_longitudinal_step(rfe_kf2_t *f, const rfe_velocity_params_t
     const rfe_real_t a = a_lon + (in->yaw_rate * vy_prev);
     const rfe_real_t sx = dt * p->sd_ax;
     rfe_status_t st;
+    rfe_real_t q;
     k = *f;
-    st = rfe_kf2_predict(&k, -dt, dt * a, sx * sx, (p->q_bx * p->q_bx) * dt,
-                                      RFE_R(0.0));
+    /* the predict keeps b_x: the driving state (and with it b_x's walk) from it first */
+    ds = driving_state(p, in, a_lon - k.x[1]);
+    q = (ds.turning != 0) ? p->q_bx_turn : p->q_bx;
+    st = rfe_kf2_predict(&k, -dt, dt * a, sx * sx, (q * q) * dt, RFE_R(0.0));
     if (st != RFE_OK) {
         return st;
     }
-    ds = driving_state(p, in, a_lon - k.x[1]);
     fl = rfe_vel_drive_flags(&ds);
     rfe_vel_wheel_refs(veh, in, vy_prev, refs);
     {

@@ -54,10 +54,13 @@ void rfe_vel_wheel_refs_q31(const rfe_vehicle_q31_t *veh, const rfe_velocity_inp
  * velocity_logic.h. */
 static rfe_vel_drive_state_t driving_state_q31(const rfe_velocity_params_q31_t *p,
                                                const rfe_velocity_input_q31_t *in,
-                                               rfe_fix_t a_net)
+                                               rfe_fix_t a_net, uint32_t *sat)
 {
-    rfe_vel_drive_tests_t t = {0, 0, 0u, 0u};
+    rfe_vel_drive_tests_t t = {0, 0, 0u, 0u, 0};
     size_t i;
+    if ((p->ay_turn > 0) && (rfe_fix_abs(in->ay, sat) >= p->ay_turn)) {
+        t.turning = 1;
+    }
     if (a_net < -p->ax_brake_on) {
         t.decelerating = 1;
     }
@@ -198,15 +201,18 @@ rfe_status_t rfe_vel_longitudinal_step_q31(rfe_kf2_q31_t *f, const rfe_velocity_
     const rfe_fix_t a_lon = lon_acc_q31(veh, in, &cnt);
     const rfe_fix_t a = rfe_fix_add(a_lon, rfe_fix_mul(in->yaw_rate, vy_prev, 26u, &cnt), &cnt);
     const int64_t q00 = rfe_vel_dt_var_q31(dt, p->sd_ax, &cnt);
-    const int64_t q11 = rfe_vel_scale_q31(rfe_vel_var_q31(p->q_bx, &cnt), dt, 30u, &cnt);
+    int64_t q11;
     rfe_status_t st;
     k = *f;
+    /* the predict keeps b_x: the driving state (and with it b_x's walk) from it first */
+    ds = driving_state_q31(p, in, rfe_fix_sub(a_lon, k.x[1], &cnt), &cnt);
+    q11 = rfe_vel_scale_q31(rfe_vel_var_q31((ds.turning != 0) ? p->q_bx_turn : p->q_bx, &cnt),
+                            dt, 30u, &cnt);
     /* f01 = -dt; u = dt a: Q30 Q24 -> Q23 */
     st = rfe_kf2_predict_q31(&k, -dt, rfe_fix_mul(dt, a, 31u, &cnt), q00, q11, 0, &cnt);
     if (st != RFE_OK) {
         return st;
     }
-    ds = driving_state_q31(p, in, rfe_fix_sub(a_lon, k.x[1], &cnt));
     fl = rfe_vel_drive_flags(&ds);
     rfe_vel_wheel_refs_q31(veh, in, vy_prev, refs, &cnt);
     {

@@ -85,6 +85,7 @@ typedef struct {
     int accelerating;       /**< a_net > ax_drive_on */
     uint32_t pressure_mask; /**< bit i: p_brake[i] > p_brake_on */
     uint32_t torque_mask;   /**< bit i: torque[i] > torque_on */
+    int turning;            /**< ay_turn > 0 and |ay| >= ay_turn */
 } rfe_vel_drive_tests_t;
 
 /** The driving state (§3.4). */
@@ -93,12 +94,14 @@ typedef struct {
     int braking;     /**< 1: braking */
     int driving;     /**< 1: driving (never together with braking) */
     uint32_t driven; /**< the wheels driven this step (RFE_DRIVEN_* bits) */
+    int turning;     /**< 1: in a turn and not braking (b_x's walk is q_bx_turn; rolling,
+                          the driven wheels are not free) */
 } rfe_vel_drive_state_t;
 
 /** §3.4 braking when decelerating or (pressures given) a wheel's pressure is above its
  *  threshold; driving when not braking and accelerating, or (torques given) when not
  *  braking and a wheel's torque is above its threshold, which then also names the driven
- *  wheels (else the parameters' @p driven). */
+ *  wheels (else the parameters' @p driven); turning when in a turn and not braking. */
 static inline rfe_vel_drive_state_t rfe_vel_drive_state(const rfe_vel_drive_tests_t *t,
                                                         uint32_t has, uint32_t driven)
 {
@@ -107,6 +110,7 @@ static inline rfe_vel_drive_state_t rfe_vel_drive_state(const rfe_vel_drive_test
     s.braking = 0;
     s.driving = 0;
     s.driven = driven;
+    s.turning = 0;
     if ((t->decelerating != 0) ||
         (((has & RFE_VEL_HAS_PRESSURE) != 0u) && (t->pressure_mask != 0u))) {
         s.braking = 1;
@@ -120,6 +124,9 @@ static inline rfe_vel_drive_state_t rfe_vel_drive_state(const rfe_vel_drive_test
         s.driving = 1;
     } else {
         /* rolling or braking */
+    }
+    if ((s.braking == 0) && (t->turning != 0)) {
+        s.turning = 1;
     }
     return s;
 }
@@ -138,12 +145,14 @@ static inline uint32_t rfe_vel_drive_flags(const rfe_vel_drive_state_t *s)
     return fl;
 }
 
-/** §3.5 a plausible wheel @p i measures vx (free-rolling): nothing is braked, and nothing
- *  is driven or wheel i is not a driven one. */
+/** §3.5 a plausible wheel @p i measures vx (free-rolling): nothing is braked, and wheel i
+ *  is not a driven one, or nothing is driven and the car is not in a turn (in a turn the
+ *  driven wheels carry its drag with ax near 0: not free although rolling). */
 static inline int rfe_vel_wheel_is_free(const rfe_vel_drive_state_t *s, size_t i)
 {
     return ((s->braking == 0) &&
-            ((s->driving == 0) || ((s->driven & rfe_vel_wheel_bit(i)) == 0u))) ? 1 : 0;
+            (((s->driving == 0) && (s->turning == 0)) ||
+             ((s->driven & rfe_vel_wheel_bit(i)) == 0u))) ? 1 : 0;
 }
 
 /** §3.5 the reference the longitudinal filter takes. */

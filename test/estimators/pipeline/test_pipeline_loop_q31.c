@@ -43,6 +43,7 @@ static void run(const char *name, double sd_vy_lin, loop_run_t *r, loop_stats_t 
         assert_int_equal(rfe_replay_params(&ps, &b.pd, NULL), RFE_OK);
         assert_int_equal(rfe_replay_velocity_params(&ps, &b.vd, NULL), RFE_OK);
         b.vd.sd_vy_lin = sd_vy_lin;
+        b.vd.ay_turn = 0.0; /* the negative control: the turn rule off too (flt's test) */
         assert_int_equal(rfe_params_to_q31_f64(&b.pd, &b.pq), RFE_OK);
         assert_int_equal(rfe_velocity_params_to_q31_f64(&b.vd, &b.vq), RFE_OK);
     } else {

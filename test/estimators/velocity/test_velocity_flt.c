@@ -758,17 +758,106 @@ static void test_a_sliding_car_is_not_braking(void **state)
     }
     /* the wheels pull vx back against the -1.2 m/s^2 the prediction integrates (1.2 m/s in
      * the second without them): within issue 16's 0.5 m/s maximum (measured -0.158 m/s in
-     * float and double; the old rule, braking from the first step, fails the flag check) */
+     * float and double, -0.074 since b_x walks faster in a turn, REQ-OBS-028; the old rule,
+     * braking from the first step, fails the flag check) */
     print_message("sliding car: vx error after 1 s %.3f m/s\n", (double)e.vx - 20.0);
     assert_close(e.vx, 20.0, 0.5, 0.0, "vx of a sliding car");
-    /* the rule still sees braking: ax -1.5 m/s^2 (no pressure given), the same sideslip */
+    /* the rule still sees braking: ax 1.5 m/s^2 below b_x (no pressure given), the same
+     * sideslip; b_x is not 0 here: in the turn it walks at obs_q_bx_turn (REQ-OBS-028) and has
+     * taken part of the r vy the held sideslip adds */
     fx.obs.lat.x[0] = -3.0f;
-    in = sliding(0.01f, -1.5f);
+    in = sliding(0.01f, e.bx - 1.5f);
     assert_int_equal(rfe_velocity_step(&fx.obs, &in, NULL, &e), RFE_OK);
     assert_true((e.flags & (uint32_t)RFE_VEL_FLAG_BRAKING) != 0u);
 }
 
 /* REQ-OBS-004 */
+/* A straight run at 20 m/s (r = 0, delta = 0: every wheel reference is omega R), then 2 s
+ * with ay 2 m/s^2 (beyond obs_ay_turn 1) and the driven front wheels 0.1 m/s fast, as they
+ * carry a turn's drag at ax 0 (OBSERVER_RESULTS.md "The low-mu ramp steer's vx bias"); no
+ * brake, no torque signal: rolling. Returns the last vx. */
+static rfe_real_t turn_with_driven_slip(rfe_real_t ay_turn)
+{
+    rfe_velocity_estimate_t e;
+    rfe_velocity_input_t in;
+    size_t k;
+    setup_fixture();
+    fx.vp.ay_turn = ay_turn;
+    assert_int_equal(rfe_velocity_init(&fx.obs, &fx.vp, &fx.p), RFE_OK);
+    for (k = 0u; k < 300u; ++k) {
+        in = rolling(20.0f, (k == 0u) ? 0.0f : 0.01f);
+        if (k >= 100u) {
+            in.ay = 2.0f;
+            in.omega[0] = 20.1f / fx.p.vehicle.R;
+            in.omega[1] = 20.1f / fx.p.vehicle.R;
+        }
+        assert_int_equal(rfe_velocity_step(&fx.obs, &in, NULL, &e), RFE_OK);
+        if (k > 0u) {
+            /* rolling, and a wheel corrects vx every step */
+            assert_int_equal(e.flags & ((uint32_t)RFE_VEL_FLAG_BRAKING |
+                                        (uint32_t)RFE_VEL_FLAG_DRIVING |
+                                        (uint32_t)RFE_VEL_FLAG_VX_WHEEL),
+                             (uint32_t)RFE_VEL_FLAG_VX_WHEEL);
+        }
+    }
+    return e.vx;
+}
+
+/* REQ-OBS-028: rolling in a turn without a torque signal, the driven wheels are not free:
+ * vx is the undriven (rear) wheels' 20 m/s, not the four wheels' mean 20.05 m/s, which it
+ * follows with the turn rule off (obs_ay_turn 0, the rule before 2026-12-07). The inputs are
+ * noise-free and the references constant for 2 s: in the turn vx settles on the rear wheels
+ * within 0.01 m/s, a fifth of the 0.05 m/s between the two answers. Off, the step of the
+ * front wheels also kicks b_x, which its slow walk (obs_q_bx) leaves to decay: vx is above
+ * the four wheels' mean then (20.064 measured), so that run is bounded from below only, by
+ * the 0.05 m/s less the 0.01 allowed in the turn. */
+static void test_rolling_in_a_turn_leaves_the_driven_wheels_out(void **state)
+{
+    (void)state;
+    assert_close(turn_with_driven_slip(1.0f), 20.0, 0.01, 0.0, "in a turn: the rear wheels");
+    assert_true(turn_with_driven_slip(0.0f) > 20.04f);
+}
+
+/* One step of 0.01 s from a settled straight run, every wheel at 20 m/s, with ay @p ay and
+ * (@p braking) the brake pressed; a torque signal below obs_torque_on on every wheel, so no
+ * wheel is driven and the same wheels correct vx on either side of obs_ay_turn. Returns the
+ * variance of b_x after the step. */
+static rfe_real_t bx_variance_after(rfe_real_t ay, int braking)
+{
+    rfe_velocity_estimate_t e;
+    rfe_velocity_input_t in;
+    size_t k, i;
+    setup_fixture();
+    for (k = 0u; k < 101u; ++k) {
+        in = rolling(20.0f, (k == 0u) ? 0.0f : 0.01f);
+        in.has = (uint32_t)RFE_VEL_HAS_TORQUE | (uint32_t)RFE_VEL_HAS_PRESSURE;
+        if (k == 100u) {
+            in.ay = ay;
+            for (i = 0u; i < 4u; ++i) {
+                in.p_brake[i] = (braking != 0) ? 3.0f : 0.0f;
+            }
+        }
+        assert_int_equal(rfe_velocity_step(&fx.obs, &in, NULL, &e), RFE_OK);
+    }
+    return fx.obs.lon.p11;
+}
+
+/* REQ-OBS-028: in a turn and not braking b_x walks at obs_q_bx_turn: its variance after the
+ * step exceeds the straight step's by (q_bx_turn^2 - q_bx^2) dt = 2.475e-5 m^2/s^4 (the
+ * update's reduction p01^2 / S does not depend on p11, and the same wheels are taken);
+ * float rounding of p11 (~1e-3) is ~1e-10, so 1e-8 bounds it. Braking (nothing corrects b_x
+ * then) the walk stays obs_q_bx: the same variance, bit for bit. */
+static void test_a_turn_walks_bx_faster_unless_braking(void **state)
+{
+    const rfe_real_t straight = bx_variance_after(0.5f, 0);
+    const rfe_real_t turn = bx_variance_after(2.0f, 0);
+    const double dq = ((double)fx.vp.q_bx_turn * (double)fx.vp.q_bx_turn) -
+                      ((double)fx.vp.q_bx * (double)fx.vp.q_bx);
+    (void)state;
+    assert_close((double)turn - (double)straight, dq * 0.01, 1e-8, 0.0, "turn walk");
+    assert_true(bx_variance_after(2.0f, 1) == bx_variance_after(0.5f, 1));
+}
+
 static void test_vx_never_goes_negative(void **state)
 {
     /* standing, then an accelerometer reading -3 m/s^2 (a car held on a slope by its
@@ -1146,6 +1235,11 @@ static void test_the_yaw_error_grows_the_offsets_noise(void **state)
     (void)state;
     setup_fixture();
     assert_true(fx.vp.vydot_rerr == 25.0f); /* 25 by default (OBSERVER.md §2) */
+    /* the longitudinal turn rule (REQ-OBS-028) off: the row under test is the lateral
+     * filter's, and the float rounding budget of check_the_yaw_error_row (16 eps) was set on
+     * the state the longitudinal filter reaches without it (with it the float run is 5.8e-5
+     * off against a budget of ~5e-5; the double one exact) */
+    fx.vp.ay_turn = 0.0f;
     vp_on = fx.vp;
     fx.vp.vydot_rerr = 0.0f; /* fx.obs: the term off */
     assert_int_equal(rfe_velocity_init(&fx.obs, &fx.vp, &fx.p), RFE_OK);
@@ -1224,6 +1318,8 @@ int main(void)
         cmocka_unit_test(test_all_wheel_drive_wheels_only_bound_vx_from_above),
         cmocka_unit_test(test_vx_never_goes_negative),
         cmocka_unit_test(test_a_sliding_car_is_not_braking),
+        cmocka_unit_test(test_rolling_in_a_turn_leaves_the_driven_wheels_out),
+        cmocka_unit_test(test_a_turn_walks_bx_faster_unless_braking),
         cmocka_unit_test(test_steering_wheel_angle_through_the_ratio),
         cmocka_unit_test(test_the_lateral_models_rate),
         cmocka_unit_test(test_the_models_variance_over_the_rate),

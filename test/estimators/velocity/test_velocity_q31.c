@@ -482,7 +482,7 @@ static void test_params(void **state)
         rfe_fix_t *const pos[9] = {&bad.q_jerk, &bad.sd_r, &bad.sd_ax, &bad.sd_ay,
                                     &bad.v_lat_min, &bad.sd_lowspeed, &bad.mu_default,
                                     &bad.sd_vydot, &bad.steer_ratio};
-        rfe_fix_t *const nonneg[31] = {&bad.vydot_rerr, &bad.vy_out_floor_mu, &bad.lin_mu_gain, &bad.sd_vy_lin, &bad.lin_r_tol, &bad.lin_r_rel, &bad.lin_ay_max,
+        rfe_fix_t *const nonneg[33] = {&bad.ay_turn, &bad.q_bx_turn, &bad.vydot_rerr, &bad.vy_out_floor_mu, &bad.lin_mu_gain, &bad.sd_vy_lin, &bad.lin_r_tol, &bad.lin_r_rel, &bad.lin_ay_max,
             &bad.lin_ay_steady, &bad.lin_dwell,
             &bad.sd_model_rdot, &bad.vydot_rdot, &bad.q_bx, &bad.q_by, &bad.sd_wheel, &bad.sd_wheel_rel,
             &bad.k_gate, &bad.k_agree, &bad.v_stand, &bad.q_vx_brake, &bad.ax_brake_on, &bad.ax_drive_on, &bad.p_brake_on, &bad.torque_on,
@@ -493,7 +493,7 @@ static void test_params(void **state)
             *pos[i] = 0;
             assert_int_equal(rfe_velocity_params_validate_q31(&bad), RFE_ERR_PARAM);
         }
-        for (i = 0u; i < 31u; ++i) {
+        for (i = 0u; i < 33u; ++i) {
             bad = def;
             *nonneg[i] = 0;
             assert_int_equal(rfe_velocity_params_validate_q31(&bad), RFE_OK);
@@ -665,6 +665,59 @@ static void test_model_error_leaves_the_observer_untouched(void **state)
 
 /* REQ-FXP-014: the first sample initialises vx from the wheels' mean, r from the sample,
  * the rest at 0, every sd at its initial value, like the double observer. */
+/* test_velocity_flt.c's turn_with_driven_slip in fixed point: 1 s straight at 20 m/s, then
+ * 2 s with ay 2 m/s^2 and the driven front wheels 0.1 m/s fast, rolling without a torque
+ * signal; obs_ay_turn @p ay_turn (Q24). Returns the last vx in m/s; every step a wheel
+ * corrects vx, and the double observer on the same inputs takes the same decisions. */
+static double turn_with_driven_slip_q31(rfe_fix_t ay_turn)
+{
+    both_t b;
+    rfe_velocity_t od;
+    rfe_velocity_q31_t oq;
+    rfe_velocity_input_t in;
+    rfe_velocity_input_q31_t iq;
+    rfe_velocity_estimate_t e;
+    rfe_velocity_estimate_q31_t q;
+    size_t k;
+    params_of(NULL, &b);
+    b.vq.ay_turn = ay_turn;
+    b.vd.ay_turn = rfe_fix_to_double(ay_turn, 24u);
+    assert_int_equal(rfe_velocity_init(&od, &b.vd, &b.pd), RFE_OK);
+    assert_int_equal(rfe_velocity_init_q31(&oq, &b.vq, &b.pq), RFE_OK);
+    for (k = 0u; k < 300u; ++k) {
+        rolling(&b, 20.0, (k == 0u) ? 0.0 : 0.01, &in, &iq);
+        if (k >= 100u) {
+            in.ay = 2.0;
+            iq.ay = fx(2.0, RFE_FIX_Q_ACC);
+            in.omega[0] = 20.1 / b.pd.vehicle.R;
+            in.omega[1] = in.omega[0];
+            iq.omega[0] = fx(in.omega[0], RFE_FIX_Q_OMEGA);
+            iq.omega[1] = iq.omega[0];
+        }
+        assert_int_equal(rfe_velocity_step(&od, &in, NULL, &e), RFE_OK);
+        assert_int_equal(rfe_velocity_step_q31(&oq, &iq, NULL, &q), RFE_OK);
+        if (k > 0u) {
+            assert_int_equal(q.flags & ((uint32_t)RFE_VEL_FLAG_BRAKING |
+                                        (uint32_t)RFE_VEL_FLAG_DRIVING |
+                                        (uint32_t)RFE_VEL_FLAG_VX_WHEEL),
+                             (uint32_t)RFE_VEL_FLAG_VX_WHEEL);
+            assert_int_equal(q.flags, e.flags);
+        }
+    }
+    return rfe_fix_to_double(q.vx, 23u);
+}
+
+/* REQ-OBS-028 in fixed point: in the turn vx is the rear wheels' 20 m/s within 0.01 m/s (the
+ * float test's bound; the Q23 vx and the rounding of omega are 1e-7 m/s), with the rule off
+ * (ay_turn 0) above the four wheels' mean less that bound, as in float. */
+static void test_rolling_in_a_turn_in_fixed_point(void **state)
+{
+    (void)state;
+    assert_close(turn_with_driven_slip_q31(fx(1.0, RFE_FIX_Q_ACC)), 20.0, 0.01, 0.0,
+                 "in a turn: the rear wheels");
+    assert_true(turn_with_driven_slip_q31(0) > 20.04);
+}
+
 static void test_first_sample(void **state)
 {
     both_t b;
@@ -1367,6 +1420,7 @@ int main(void)
         cmocka_unit_test(test_bad_inputs_leave_the_observer_untouched),
         cmocka_unit_test(test_model_error_leaves_the_observer_untouched),
         cmocka_unit_test(test_first_sample),
+        cmocka_unit_test(test_rolling_in_a_turn_in_fixed_point),
         cmocka_unit_test(test_restart_after_a_long_gap),
         cmocka_unit_test(test_the_zero_grade_skips_its_sine),
         cmocka_unit_test(test_steering_wheel_input),
