@@ -41,7 +41,7 @@ OBS_DEFAULTS: dict[str, float] = {
     "obs_sd_ay": 0.05,          # ay sensor noise sd per sample, m/s^2
     "obs_q_by": 0.05,           # random walk of the lateral offset (bias, bank), m/s^2 per sqrt(s)
     "obs_sd_model_ay": 0.3,     # single-track model error, m/s^2
-    "obs_model_ay_rel": 0.1,    # model error relative to |ay|
+    "obs_model_ay_rel": 0.15,   # model error relative to |ay| (0.1 before 2026-12-07)
     "obs_sd_model_rdot": 0.0,   # model error of the yaw acceleration, rad/s^2 (0: row off)
     "obs_v_lat_min": 3.0,       # below this vx, vy follows the rear-axle kinematics, m/s
     "obs_sd_lowspeed": 0.1,     # sd of the low-speed kinematic vy, m/s

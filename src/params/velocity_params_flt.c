@@ -33,7 +33,7 @@ rfe_status_t rfe_velocity_params_default(rfe_velocity_params_t *p)
     p->p_brake_on = RFE_R(0.2);
     p->torque_on = RFE_R(50.0);
     p->sd_model_ay = RFE_R(0.3);
-    p->model_ay_rel = RFE_R(0.1);
+    p->model_ay_rel = RFE_R(0.15);
     p->sd_model_rdot = RFE_R(0.0);
     p->sd_vydot = RFE_R(1.0);
     p->vydot_rdot = RFE_R(15.0);

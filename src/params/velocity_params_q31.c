@@ -36,7 +36,7 @@ rfe_status_t rfe_velocity_params_default_q31(rfe_velocity_params_q31_t *p)
     p->p_brake_on = 6710886; /* 0.2 MPa, Q25 */
     p->torque_on = 1638400; /* 50 N m, Q15 */
     p->sd_model_ay = 5033165; /* 0.3 m/s^2, Q24 */
-    p->model_ay_rel = 107374182; /* 0.1, Q30 */
+    p->model_ay_rel = 161061274; /* 0.15, Q30 */
     p->sd_model_rdot = 0; /* off (OBSERVER.md §2), Q24 */
     p->sd_vydot = 16777216; /* 1 m/s^2, Q24 */
     p->vydot_rdot = 251658240; /* 15 m/s^2 per rad/s^2, Q24 */
