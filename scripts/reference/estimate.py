@@ -63,6 +63,8 @@ def run(log: logs.CsvLog, p: dict, kind: str = "sckf", tyre: str = "paper"):
     H = model.observation_matrix(p, ti) if tyre == "paper" else None   # (N, 3, 4)
 
     f = make_filter(kind, p)
+    if kind == "sckf" and tyre == "paper":
+        f.linear = True     # h = H(u) x: the update's exact n-column form (filters.SCKF)
     n_rows = len(log)
     mu = np.empty((n_rows, 4))
     sd = np.empty((n_rows, 4))

@@ -49,6 +49,9 @@ class SCKF:
         self.n = self.x.size
         self.xi = cubature_unit_points(self.n)
         self.sqrt_2n = np.sqrt(2.0 * self.n)
+        # h linear in x, h(x) = H x (the paper tyre): the update's exact n-column form
+        # (centred; sckf_flt.c rfe_sckf_update_linear)
+        self.linear = False
 
     def points(self):
         """X_j = S xi_j + x, shape (n, 2n)."""
@@ -83,17 +86,31 @@ class SCKF:
     def q_diag(self):
         return np.sum(self.s_q ** 2, axis=1)
 
-    def measurement_update(self, y, h):
-        """MODEL.md section 6 measurement update:
-        X_j = S- xi_j + x-; Z_j = h(X_j); z = mean Z_j; Xc = (X_j - x-)/sqrt(2n);
-        Zc = (Z_j - z)/sqrt(2n); S_zz = Tria([Zc, S_R]); P_xz = Xc Zc^T;
-        K = (P_xz / S_zz^T) / S_zz; x = x- + K (y - z); S = Tria([Xc - K Zc, K S_R]).
-        """
+    def centred(self, h):
+        """(z, Xc, Zc) of the measurement update at x-, S-. The cubature rule: X_j = S- xi_j
+        + x-, Z_j = h(X_j), z = mean Z_j, Xc = (X_j - x-)/sqrt(2n), Zc = (Z_j - z)/sqrt(2n)
+        (2n columns). With self.linear (h(x) = H x, no constant term) the rule is exact and
+        the n columns z = h(x-), Xc = S-, Zc = h(S-) = H S- have the same products Xc Xc^T,
+        Zc Zc^T, Xc Zc^T as the 2n points' ([S-, -S-]/sqrt(2)): docs/ESTIMATOR.md "The linear
+        update", sckf_flt.c centre_linear."""
+        if self.linear:
+            z_hat = np.asarray(h(self.x[:, None]), dtype=float)[:, 0]
+            return z_hat, self.S.copy(), np.asarray(h(self.S), dtype=float)
         pts = self.points()
         z_pts = np.asarray(h(pts), dtype=float)
         z_hat = z_pts.mean(axis=1)
         xc = (pts - self.x[:, None]) / self.sqrt_2n
         zc = (z_pts - z_hat[:, None]) / self.sqrt_2n
+        return z_hat, xc, zc
+
+    def measurement_update(self, y, h):
+        """MODEL.md section 6 measurement update:
+        X_j = S- xi_j + x-; Z_j = h(X_j); z = mean Z_j; Xc = (X_j - x-)/sqrt(2n);
+        Zc = (Z_j - z)/sqrt(2n); S_zz = Tria([Zc, S_R]); P_xz = Xc Zc^T;
+        K = (P_xz / S_zz^T) / S_zz; x = x- + K (y - z); S = Tria([Xc - K Zc, K S_R]).
+        With self.linear the n columns of centred() instead of the 2n points.
+        """
+        z_hat, xc, zc = self.centred(h)
         s_zz = tria(np.hstack([zc, self.s_r]))
         p_xz = xc @ zc.T
         # K S_zz S_zz^T = P_xz: first W = P_xz S_zz^-T  (S_zz W^T = P_xz^T),

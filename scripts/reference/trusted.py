@@ -223,6 +223,7 @@ def run(log, p: dict, adapt=None, reuse: StepNoiseReuse | None = None):
     f = filters.SCKF(np.full(n, p["mu0"]), sqrt_prior(n, p["sd0"], p["sd0_common"]),
                      sqrt_prior(n, p["q_mu"], p["q_common"]),
                      np.diag([p["r_ax"], p["r_ay"], p["r_yaw_acc"]]))
+    f.linear = p["tyre"] == "paper"     # h = H(u) T x: the n-column update (filters.SCKF)
     cond = Conditioner(p["tau_v"], p["dt"])
     yaw = YawCheck(p["yaw_check"], p["dt"])
     stale = StaleOmega(p["stale_omega"])
@@ -282,13 +283,14 @@ def run(log, p: dict, adapt=None, reuse: StepNoiseReuse | None = None):
                 p, np.tile(u, (pts.shape[1], 1)), (T @ pts).T).T
             pts = f.points()
             z_pts = hfun(pts)
-            zc = _innovation(f, pts, z_pts, s_r, ys[k], out, k)
+            cen = f.centred(hfun)       # (z, Xc, Zc): the n-column form for the paper tyre
+            zc = _innovation(cen, s_r, ys[k], out, k)
             s_r_used = s_r if adapt is None else adapt(k, out["nu"][k], out["s_zz"][k], zc, s_r,
                                                        out["c_pers"][k])
             update = True
             alt = None          # the second centre, when only it opened the gate (section 17)
             if p["info_min"] > 0:                                       # 5
-                out["info"][k] = _information(f, pts, z_pts, s_r)
+                out["info"][k] = _information_of(f, cen[1], cen[2], s_r)
                 if p["info_at"] > 0:    # the gate judges a second centre too (reference only)
                     at_x = bool(out["info"][k].max() >= p["info_min"])
                     keep = {} if hyp is not None else None
@@ -428,11 +430,11 @@ def _step_noise(p, f, T, u, sd_u, persistent=None, reuse=None):
     return filters.tria(np.hstack([s_r, np.stack(cols, 1)])) if cols else s_r
 
 
-def _innovation(f, pts, z_pts, s_r, y, out, k):
+def _innovation(cen, s_r, y, out, k):
     """nu = y - z_hat and S_zz = Tria([Zc, S_R]) of the predicted points (MODEL.md section 6,
-    the quantities the update would use), into out["nu"][k], out["s_zz"][k]. Returns Zc."""
-    z_hat = z_pts.mean(axis=1)
-    zc = (z_pts - z_hat[:, None]) / f.sqrt_2n
+    the quantities the update would use; cen = f.centred(h)), into out["nu"][k],
+    out["s_zz"][k]. Returns Zc."""
+    z_hat, _, zc = cen
     out["nu"][k] = np.asarray(y, dtype=float) - z_hat
     out["c_pers"][k] += np.einsum("ij,ij->i", zc, zc)     # the state's share: persistent too
     out["s_zz"][k] = filters.tria(np.hstack([zc, s_r]))
@@ -444,6 +446,12 @@ def _information(f, pts, z_pts, s_r):
     (pts: the predicted cubature points, z_pts = h at each)."""
     xc = (pts - f.x[:, None]) / f.sqrt_2n
     zc = (z_pts - z_pts.mean(axis=1)[:, None]) / f.sqrt_2n
+    return _information_of(f, xc, zc, s_r)
+
+
+def _information_of(f, xc, zc, s_r):
+    """_information from the centred columns Xc, Zc (f.centred: the 2n points', or the n
+    columns of the linear form)."""
     p_zx = zc @ xc.T                                                     # (m, n)
     y = solve_triangular(f.S, p_zx.T, lower=True)                        # S Y = P_zx^T
     j_t = solve_triangular(f.S, y, lower=True, trans="T")                # S^T J^T = Y
@@ -581,11 +589,7 @@ def _censored_update(f, y, hfun, censor):
     keep their optimal rows (Schmidt's consider update), and the covariance is the Joseph
     form's, Tria([Xc - K Zc, K S_R]) with that K. With nothing censored the operations are
     measurement_update's, bit for bit. Returns the (n,) bool of the sides kept."""
-    pts = f.points()
-    z_pts = np.asarray(hfun(pts), dtype=float)
-    z_hat = z_pts.mean(axis=1)
-    xc = (pts - f.x[:, None]) / f.sqrt_2n
-    zc = (z_pts - z_hat[:, None]) / f.sqrt_2n
+    z_hat, xc, zc = f.centred(hfun)
     s_zz = filters.tria(np.hstack([zc, f.s_r]))
     w_t = solve_triangular(s_zz, (xc @ zc.T).T, lower=True, check_finite=False)
     k_gain = solve_triangular(s_zz, w_t, lower=True, trans="T", check_finite=False).T

@@ -215,20 +215,58 @@ static SCKF_INLINE void centre_points(rfe_sckf_t *f, size_t n, size_t m)
     }
 }
 
-/* P_xz[i][r] = sum_j Xc[i][j] Zc[r][j] (centred points in w->B and w->zpts). One definition
- * for the gain and the information, so both use the same sums in the same order. */
-static SCKF_INLINE rfe_real_t pxz_element(const rfe_cub_scratch_t *w, size_t r, size_t i, size_t n)
+/* Zc = H S- and Xc = S- (k = n columns; issue 21) for a linear h(x) = H x: z = h(x-) and
+ * Zc e_j = h(S- e_j), n + 1 evaluations. The third-degree rule is exact for a linear h, and
+ * the 2n centred points (X_j - x-)/sqrt(2n) = [S-, -S-]/sqrt(2) (Zc likewise) have the same
+ * products Xc Xc^T = S- S-^T, Zc Zc^T = H P H^T, Xc Zc^T = P H^T as these n columns, so every
+ * later step is the same algebra on k = n columns (docs/ESTIMATOR.md "The linear update").
+ * The columns of S- as points in w->pts (S-'s upper triangle is 0: copy_lower, commit), x-
+ * after them. */
+static SCKF_INLINE rfe_status_t centre_linear(rfe_sckf_t *f, rfe_measure_fn_t measure,
+                                              void *ctx, size_t n, size_t m)
+{
+    rfe_cub_scratch_t *w = &f->w;
+    size_t i;
+    size_t j;
+    for (j = 0u; j < n; ++j) {
+        for (i = 0u; i < n; ++i) {
+            w->pts[(j * NM) + i] = f->S[(i * NM) + j];
+            w->B[(i * TC) + j] = f->S[(i * NM) + j];
+        }
+        w->pts[(n * NM) + j] = f->x[j];
+    }
+    /* h at the n + 1 points, each output checked as rfe_cub_measure checks the rule's (which
+     * keeps its 2n, so the generic path's code is unchanged) */
+    for (j = 0u; j <= n; ++j) {
+        rfe_real_t *z = &w->zpts[j * MM];
+        const rfe_status_t st = measure(ctx, &w->pts[j * NM], z, n, m);
+        if (st != RFE_OK) {
+            return st;
+        }
+        if (!rfe_all_finite(z, m)) {
+            return RFE_ERR_NONFINITE;
+        }
+    }
+    for (i = 0u; i < m; ++i) {
+        w->zhat[i] = w->zpts[(n * MM) + i];
+    }
+    return RFE_OK;
+}
+
+/* P_xz[i][r] = sum_j Xc[i][j] Zc[r][j] over the k centred columns (w->B, w->zpts). One
+ * definition for the gain and the information, so both use the same sums in the same order. */
+static SCKF_INLINE rfe_real_t pxz_element(const rfe_cub_scratch_t *w, size_t r, size_t i, size_t k)
 {
     rfe_real_t acc = RFE_R(0.0);
     size_t j;
-    for (j = 0u; j < (2u * n); ++j) {
+    for (j = 0u; j < k; ++j) {
         acc += w->zpts[(j * MM) + r] * w->B[(i * TC) + j];
     }
     return acc;
 }
 
-/* S_zz = Tria([Zc, S_R]) into w->Szz (needs the centred points; uses w->A). */
-static SCKF_INLINE rfe_status_t innovation_factor(rfe_sckf_t *f, const rfe_real_t *SR, size_t n,
+/* S_zz = Tria([Zc, S_R]) into w->Szz (needs the k centred columns; uses w->A). */
+static SCKF_INLINE rfe_status_t innovation_factor(rfe_sckf_t *f, const rfe_real_t *SR, size_t k,
                                                   size_t m)
 {
     rfe_cub_scratch_t *w = &f->w;
@@ -236,14 +274,14 @@ static SCKF_INLINE rfe_status_t innovation_factor(rfe_sckf_t *f, const rfe_real_
     size_t r;
     rfe_status_t st;
     for (r = 0u; r < m; ++r) {
-        for (j = 0u; j < (2u * n); ++j) {
+        for (j = 0u; j < k; ++j) {
             w->A[(r * TC) + j] = w->zpts[(j * MM) + r];
         }
         for (j = 0u; j < m; ++j) {
-            w->A[(r * TC) + (2u * n) + j] = SR[(r * MM) + j];
+            w->A[(r * TC) + k + j] = SR[(r * MM) + j];
         }
     }
-    st = rfe_qr_tria_lt(w->A, m, (2u * n) + m, TC); /* S_R triangular */
+    st = rfe_qr_tria_lt(w->A, m, k + m, TC); /* S_R triangular */
     if (st == RFE_OK) {
         /* S_zz with its upper part: Tria leaves zeros right of the diagonal (rfe_qr_tria),
          * so a plain copy (no separate zeroing, issue 21), column by column (commit). */
@@ -259,7 +297,7 @@ static SCKF_INLINE rfe_status_t innovation_factor(rfe_sckf_t *f, const rfe_real_
 /* The innovation of the predicted points into *o: y - z_hat, S_zz (w->Szz, which the caller
  * has computed) with its upper part 0, diag(Zc Zc^T). */
 static SCKF_INLINE void innovation_out(const rfe_sckf_t *f, const rfe_real_t *y,
-                                      rfe_sckf_innov_t *o, size_t n, size_t m)
+                                      rfe_sckf_innov_t *o, size_t k, size_t m)
 {
     const rfe_cub_scratch_t *w = &f->w;
     size_t j;
@@ -272,7 +310,7 @@ static SCKF_INLINE void innovation_out(const rfe_sckf_t *f, const rfe_real_t *y,
         rfe_real_t acc = RFE_R(0.0);
         if (r < m) {
             nu = y[r] - w->zhat[r];
-            for (j = 0u; j < (2u * n); ++j) {
+            for (j = 0u; j < k; ++j) {
                 acc += w->zpts[(j * MM) + r] * w->zpts[(j * MM) + r];
             }
         }
@@ -286,21 +324,22 @@ static SCKF_INLINE void innovation_out(const rfe_sckf_t *f, const rfe_real_t *y,
 
 /* S_zz = Tria([Zc, S_R]) into w->Szz; then K^T = S_zz^-T (S_zz^-1 P_xz^T), P_xz = Xc Zc^T.
  * SR: this step's lower-triangular S_R, ld RFE_M_MAX. */
-static SCKF_INLINE rfe_status_t gain(rfe_sckf_t *f, const rfe_real_t *SR, size_t n, size_t m)
+static SCKF_INLINE rfe_status_t gain(rfe_sckf_t *f, const rfe_real_t *SR, size_t n, size_t m,
+                                     size_t k)
 {
     rfe_cub_scratch_t *w = &f->w;
     size_t i;
     size_t r;
     rfe_status_t st;
 
-    st = innovation_factor(f, SR, n, m);
+    st = innovation_factor(f, SR, k, m);
     if (st != RFE_OK) {
         return st;
     }
     /* P_xz^T (m x n). */
     for (r = 0u; r < m; ++r) {
         for (i = 0u; i < n; ++i) {
-            w->Kt[(r * NM) + i] = pxz_element(w, r, i, n);
+            w->Kt[(r * NM) + i] = pxz_element(w, r, i, k);
         }
     }
     /* K = (P_xz / S_zz^T) / S_zz: two triangular solves, never an inverse. */
@@ -313,14 +352,14 @@ static SCKF_INLINE rfe_status_t gain(rfe_sckf_t *f, const rfe_real_t *SR, size_t
 
 /* P_xz (n x m) = Xc Zc^T into w->A (ld TC): the same sums, in the same order, as the gain's
  * P_xz^T. */
-static SCKF_INLINE void cross_covariance(rfe_sckf_t *f, size_t n, size_t m)
+static SCKF_INLINE void cross_covariance(rfe_sckf_t *f, size_t n, size_t m, size_t k)
 {
     rfe_cub_scratch_t *w = &f->w;
     size_t i;
     size_t r;
     for (r = 0u; r < m; ++r) {
         for (i = 0u; i < n; ++i) {
-            w->A[(i * TC) + r] = pxz_element(w, r, i, n);
+            w->A[(i * TC) + r] = pxz_element(w, r, i, k);
         }
     }
 }
@@ -328,14 +367,14 @@ static SCKF_INLINE void cross_covariance(rfe_sckf_t *f, size_t n, size_t m)
 /* docs/ESTIMATOR.md step 5: I_k = sum_r W_rk^2, W = S_R \ J, J^T = S-^T \ (S- \ P_zx^T).
  * Needs the centred points (w->B, w->zpts); uses w->A and w->Kt as scratch. */
 static SCKF_INLINE rfe_status_t information(rfe_sckf_t *f, const rfe_real_t *SR,
-                                             rfe_real_t *info, size_t n, size_t m)
+                                             rfe_real_t *info, size_t n, size_t m, size_t k)
 {
     rfe_cub_scratch_t *w = &f->w;
     size_t i;
     size_t r;
     rfe_status_t st;
 
-    cross_covariance(f, n, m);
+    cross_covariance(f, n, m, k);
     /* J^T (n x m) = S-^T \ (S- \ P_xz): statistical linearisation, no inverse of S- S-^T. */
     st = rfe_qr_solve_lower(f->S, n, NM, w->A, m, TC);
     if (st == RFE_OK) {
@@ -368,9 +407,9 @@ static SCKF_INLINE rfe_status_t information(rfe_sckf_t *f, const rfe_real_t *SR,
 /* docs/ESTIMATOR.md steps 5-6: the step's information into info (n) and the gate: *held = 1
  * when info_min > 0 and no state reaches it. Needs the centred points. */
 static SCKF_INLINE rfe_status_t gate(rfe_sckf_t *f, const rfe_real_t *SR, rfe_real_t info_min,
-                                     rfe_real_t *info, int *held, size_t n, size_t m)
+                                     rfe_real_t *info, int *held, size_t n, size_t m, size_t k)
 {
-    const rfe_status_t st = information(f, SR, info, n, m);
+    const rfe_status_t st = information(f, SR, info, n, m, k);
     *held = 0;
     if (st == RFE_OK) {
         rfe_real_t most = RFE_R(0.0);
@@ -385,15 +424,15 @@ static SCKF_INLINE rfe_status_t gate(rfe_sckf_t *f, const rfe_real_t *SR, rfe_re
     return st;
 }
 
-/* Row i of Xc - K Zc (2n values) into w->A: element by element the subtractions of
+/* Row i of Xc - K Zc (k values) into w->A: element by element the subtractions of
  * K[i][r] Zc[r][j] for r = 0, 1, ... in that order, from Xc[i][j] in a register (issue 21:
  * copying the row first was compiled into a memmove call). */
-static SCKF_INLINE void posterior_points_row(rfe_sckf_t *f, size_t i, size_t n, size_t m)
+static SCKF_INLINE void posterior_points_row(rfe_sckf_t *f, size_t i, size_t k, size_t m)
 {
     rfe_cub_scratch_t *w = &f->w;
     size_t j;
     size_t r;
-    for (j = 0u; j < (2u * n); ++j) {
+    for (j = 0u; j < k; ++j) {
         rfe_real_t acc = w->B[(i * TC) + j];
         for (r = 0u; r < m; ++r) {
             acc -= w->Kt[(r * NM) + i] * w->zpts[(j * MM) + r];
@@ -402,72 +441,80 @@ static SCKF_INLINE void posterior_points_row(rfe_sckf_t *f, size_t i, size_t n, 
     }
 }
 
-/* [Xc - K Zc, K S_R] (n x (2n + m)) into w->A: the Tria input of the posterior factor.
- * Needs the centred points (w->B, w->zpts) and the gain (w->Kt). */
+/* [Xc - K Zc, K S_R] (n x (k + m)) into w->A: the Tria input of the posterior factor.
+ * Needs the k centred columns (w->B, w->zpts) and the gain (w->Kt). */
 static SCKF_INLINE void posterior_tria_input(rfe_sckf_t *f, const rfe_real_t *SR, size_t n,
-                                             size_t m)
+                                             size_t m, size_t k)
 {
     rfe_cub_scratch_t *w = &f->w;
     size_t i;
     size_t j;
     size_t r;
     for (i = 0u; i < n; ++i) {
-        posterior_points_row(f, i, n, m);
+        posterior_points_row(f, i, k, m);
         for (j = 0u; j < m; ++j) {
             rfe_real_t acc = RFE_R(0.0);
             for (r = j; r < m; ++r) { /* S_R is lower-triangular */
                 acc += w->Kt[(r * NM) + i] * SR[(r * MM) + j];
             }
-            w->A[(i * TC) + (2u * n) + j] = acc;
+            w->A[(i * TC) + k + j] = acc;
         }
     }
 }
 
 /* The measurement update of MODEL.md §6 with S_R = SR (ld RFE_M_MAX), gated on the
- * information when info_min > 0 (docs/ESTIMATOR.md steps 5-6). Writes info (n) when
- * want_info; *updated = 0 when held. Commits x and S only when everything succeeded. */
+ * information when info_min > 0 (docs/ESTIMATOR.md steps 5-6), on k centred columns: the
+ * 2n cubature points (k = 2n, any h) or the n columns of S- (k = n, h linear: centre_linear).
+ * Writes info (n) when want_info; *updated = 0 when held. Commits x and S only when
+ * everything succeeded. */
 static SCKF_INLINE rfe_status_t update_body(rfe_sckf_t *f, rfe_measure_fn_t measure, void *ctx,
                                             const rfe_real_t *y, const rfe_real_t *SR,
                                             rfe_real_t info_min, int want_info, rfe_real_t *info,
                                             rfe_sckf_innov_t *innov, int *updated, size_t n,
-                                            size_t m)
+                                            size_t m, size_t k)
 {
     rfe_cub_scratch_t *w = &f->w;
     rfe_status_t st;
 
-    /* X_j = S- xi_j + x-;  Z_j = h(X_j, u);  z = mean_j Z_j. */
-    rfe_cub_points(f->x, f->S, n, NM, w->pts);
-    st = rfe_cub_measure(w->pts, n, m, measure, ctx, w->zpts);
+    if (k == n) {
+        st = centre_linear(f, measure, ctx, n, m);
+    } else {
+        /* X_j = S- xi_j + x-;  Z_j = h(X_j, u);  z = mean_j Z_j. */
+        rfe_cub_points(f->x, f->S, n, NM, w->pts);
+        st = rfe_cub_measure(w->pts, n, m, measure, ctx, w->zpts);
+        if (st == RFE_OK) {
+            rfe_cub_mean(w->zpts, n, m, MM, w->zhat);
+            centre_points(f, n, m);
+        }
+    }
     if (st != RFE_OK) {
         return st;
     }
-    rfe_cub_mean(w->zpts, n, m, MM, w->zhat);
-    centre_points(f, n, m);
     if ((want_info != 0) || (info_min > RFE_R(0.0))) {
         int held = 0;
-        st = gate(f, SR, info_min, info, &held, n, m);
+        st = gate(f, SR, info_min, info, &held, n, m, k);
         if (st != RFE_OK) {
             return st;
         }
         if (held != 0) {
             /* held: not observable; x-, S- stay (S_zz computed only for the innovation) */
             if (innov != NULL) {
-                st = innovation_factor(f, SR, n, m);
+                st = innovation_factor(f, SR, k, m);
                 if (st != RFE_OK) {
                     return st;
                 }
-                innovation_out(f, y, innov, n, m);
+                innovation_out(f, y, innov, k, m);
             }
             *updated = 0;
             return RFE_OK;
         }
     }
-    st = gain(f, SR, n, m);
+    st = gain(f, SR, n, m, k);
     if (st != RFE_OK) {
         return st;
     }
     if (innov != NULL) {
-        innovation_out(f, y, innov, n, m); /* before the update: the predicted points' */
+        innovation_out(f, y, innov, k, m); /* before the update: the predicted points' */
     }
     /* x = x- + K (y - z); a huge innovation that overflows commits nothing. */
     st = rfe_cub_correct(f->x, w->Kt, y, w->zhat, n, m, NM, w->xn);
@@ -475,8 +522,8 @@ static SCKF_INLINE rfe_status_t update_body(rfe_sckf_t *f, rfe_measure_fn_t meas
         return st;
     }
     /* S = Tria([Xc - K Zc, K S_R]). */
-    posterior_tria_input(f, SR, n, m);
-    st = rfe_qr_tria(w->A, n, (2u * n) + m, TC);
+    posterior_tria_input(f, SR, n, m, k);
+    st = rfe_qr_tria(w->A, n, k + m, TC);
     if (st != RFE_OK) {
         return st;
     }
@@ -485,21 +532,23 @@ static SCKF_INLINE rfe_status_t update_body(rfe_sckf_t *f, rfe_measure_fn_t meas
     return RFE_OK;
 }
 
-/* update_body with the firmware's sizes n = 4 states, m = 3 measurements as constants, so
- * the compiler unrolls its short loops (issue 21), or with the filter's run-time sizes; the
- * same operations in the same order either way, so the same results bit for bit. */
+/* update_body with the firmware's sizes n = 4 states, m = 3 measurements and the 2n = 8
+ * points as constants, so the compiler unrolls its short loops (issue 21), or with the
+ * filter's run-time sizes; the same operations in the same order either way, so the same
+ * results bit for bit. linear != 0: h is linear (k = n columns, centre_linear), run-time
+ * sizes only: a third unrolled copy linked 68,076 B on the Cortex-M4F (budget 65,536 B). */
 static rfe_status_t update_core(rfe_sckf_t *f, rfe_measure_fn_t measure, void *ctx,
                                 const rfe_real_t *y, const rfe_real_t *SR, rfe_real_t info_min,
                                 int want_info, rfe_real_t *info, rfe_sckf_innov_t *innov,
-                                int *updated)
+                                int *updated, int linear)
 {
     rfe_status_t st;
-    if ((f->n == 4u) && (f->m == 3u)) {
+    if ((f->n == 4u) && (f->m == 3u) && (linear == 0)) {
         st = update_body(f, measure, ctx, y, SR, info_min, want_info, info, innov, updated, 4u,
-                         3u);
+                         3u, 8u);
     } else {
         st = update_body(f, measure, ctx, y, SR, info_min, want_info, info, innov, updated,
-                         f->n, f->m);
+                         f->n, f->m, (linear != 0) ? f->n : (2u * f->n));
     }
     return st;
 }
@@ -526,13 +575,16 @@ rfe_status_t rfe_sckf_update(rfe_sckf_t *f, rfe_measure_fn_t measure, void *ctx,
     if (st != RFE_OK) {
         return st;
     }
-    return update_core(f, measure, ctx, y, f->SR, RFE_R(0.0), 0, info, NULL, &updated);
+    return update_core(f, measure, ctx, y, f->SR, RFE_R(0.0), 0, info, NULL, &updated, 0);
 }
 
-rfe_status_t rfe_sckf_update_ex(rfe_sckf_t *f, rfe_measure_fn_t measure, void *ctx,
-                                const rfe_real_t *y, const rfe_real_t *SR,
-                                rfe_real_t info_min, rfe_real_t *info_out,
-                                rfe_sckf_innov_t *innov_out, int *updated)
+/* rfe_sckf_update_ex (linear 0) and rfe_sckf_update_linear (linear 1): the checks, the step's
+ * S_R and the outputs once in the source, inlined into both (a call between them cost the
+ * Cortex-M4F's default step ~20 instructions; it has the flash, the M0+ build has no float). */
+static SCKF_INLINE rfe_status_t update_ex_common(rfe_sckf_t *f, rfe_measure_fn_t measure, void *ctx,
+                                     const rfe_real_t *y, const rfe_real_t *SR,
+                                     rfe_real_t info_min, rfe_real_t *info_out,
+                                     rfe_sckf_innov_t *innov_out, int *updated, int linear)
 {
     rfe_sckf_innov_t innov;
     rfe_real_t SRl[RFE_M_MAX * RFE_M_MAX];
@@ -559,7 +611,7 @@ rfe_status_t rfe_sckf_update_ex(rfe_sckf_t *f, rfe_measure_fn_t measure, void *c
         sr = SRl;
     }
     st = update_core(f, measure, ctx, y, sr, info_min, (info_out != NULL) ? 1 : 0, info,
-                     (innov_out != NULL) ? &innov : NULL, &upd);
+                     (innov_out != NULL) ? &innov : NULL, &upd, linear);
     if (st != RFE_OK) {
         return st;
     }
@@ -574,6 +626,22 @@ rfe_status_t rfe_sckf_update_ex(rfe_sckf_t *f, rfe_measure_fn_t measure, void *c
     }
     *updated = upd;
     return RFE_OK;
+}
+
+rfe_status_t rfe_sckf_update_ex(rfe_sckf_t *f, rfe_measure_fn_t measure, void *ctx,
+                                const rfe_real_t *y, const rfe_real_t *SR,
+                                rfe_real_t info_min, rfe_real_t *info_out,
+                                rfe_sckf_innov_t *innov_out, int *updated)
+{
+    return update_ex_common(f, measure, ctx, y, SR, info_min, info_out, innov_out, updated, 0);
+}
+
+rfe_status_t rfe_sckf_update_linear(rfe_sckf_t *f, rfe_measure_fn_t measure, void *ctx,
+                                    const rfe_real_t *y, const rfe_real_t *SR,
+                                    rfe_real_t info_min, rfe_real_t *info_out,
+                                    rfe_sckf_innov_t *innov_out, int *updated)
+{
+    return update_ex_common(f, measure, ctx, y, SR, info_min, info_out, innov_out, updated, 1);
 }
 
 rfe_status_t rfe_sckf_scale(rfe_sckf_t *f, rfe_real_t c)

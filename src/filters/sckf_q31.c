@@ -8,7 +8,10 @@
  *
  * The measurement update is the float twin's algebra in whitened form, chosen because every
  * intermediate then has a range known in advance (what a fixed-point format needs):
- *  - W = S_zz \ [Zc, S_R] (m x (2n + m)): S_zz S_zz^T = Zc Zc^T + S_R S_R^T, so W W^T = I,
+ * Xc, Zc have k columns: the 2n centred cubature points, or for a linear h the n columns
+ * Xc = S-, Zc = H S- (rfe_sckf_update_linear_q31; the same products Xc Xc^T, Zc Zc^T, Xc Zc^T,
+ * so every bound below, on W W^T and on row norms, holds for both):
+ *  - W = S_zz \ [Zc, S_R] (m x (k + m)): S_zz S_zz^T = Zc Zc^T + S_R S_R^T, so W W^T = I,
  *    every |W_rj| <= 1 (Q30, format QW);
  *  - G = [Xc 0] W^T = P_xz S_zz^-T = K S_zz (n x m): |G_ir| <= |row i of Xc| = sd_i (Q30);
  *  - e = S_zz \ (y - z): the innovation in units of its own sd (Q24, format QE; an innovation
@@ -16,8 +19,8 @@
  *  - x = x- + G e = x- + K (y - z);  S = Tria([Xc, 0] - G W) = Tria([Xc - K Zc, K S_R]).
  * The information of update_ex (docs/ESTIMATOR.md step 5) is the float twin's sequence of
  * solves with the first one moved onto Xc: S- \ P_xz = (S- \ Xc) Zc^T, U = S- \ Xc (Q30,
- * ~ +-1/sqrt(2) e_k), then J^T = S-^T \ (U Zc^T) (Q20, format QJ), S_R \ J (Q16, format QV),
- * I_k in Q10.
+ * ~ +-1/sqrt(2) e_k; I for the linear form), then J^T = S-^T \ (U Zc^T) (Q20, format QJ),
+ * S_R \ J (Q16, format QV), I_k in Q10.
  */
 /* This file defines the init: its header's wrapper macro stays out (MISRA-DEV-08). */
 /* cppcheck-suppress misra-c2012-2.5 ; MISRA-DEV-08: read by the header's #if */
@@ -350,35 +353,90 @@ static void centre_points_q31(rfe_sckf_q31_t *f, uint32_t *count)
     }
 }
 
-/* [Zc, S_R] (m x (2n + m), Q24) into w->A. */
-static void innovation_array(rfe_sckf_q31_t *f, const rfe_fix_t *SR)
+/* The linear form (sckf_flt.c's centre_linear; issue 21): z = h(x-), Xc = S- (n x n, Q30:
+ * the factor itself, exact) into B, Zc = [h(S- e_1) .. h(S- e_n)] (Q24) in zpts: the columns
+ * of S- rounded to Q29 as the callback's points (|S_ij| < 2 fits Q29's range of 4). The
+ * entries of Zc are sqrt(2) times the generic ones ((Z_j - z)/sqrt(2n) = +-H S- e_j/sqrt(2))
+ * with the same row norms sqrt((H P H^T)_rr) (Zc Zc^T = H P H^T either way), and each is
+ * an output of h, in Q24's range like any Z_j; the bounds the update relies on are on row
+ * norms and on W W^T = I, |G_ir| <= sd_i (the file's head), which hold as they did. */
+static rfe_status_t centre_linear_q31(rfe_sckf_q31_t *f, rfe_measure_fn_q31_t measure,
+                                      void *ctx)
 {
     rfe_cub_scratch_q31_t *w = &f->w;
     const size_t n = f->n;
+    size_t i;
+    size_t j;
+    for (j = 0u; j < n; ++j) {
+        for (i = 0u; i < n; ++i) {
+            const rfe_fix_t s = f->S[(i * NM) + j];
+            w->pts[(j * NM) + i] = rfe_fix_shr_round(s, RFE_Q31_QS - RFE_Q31_QX);
+            w->B[(i * TC) + j] = s;
+        }
+        w->pts[(n * NM) + j] = f->x[j];
+    }
+    /* h at the n + 1 points (rfe_cub_measure_q31 keeps the rule's 2n: the generic code is
+     * unchanged) */
+    for (j = 0u; j <= n; ++j) {
+        const rfe_status_t st = measure(ctx, &w->pts[j * NM], &w->zpts[j * MM], n, f->m);
+        if (st != RFE_OK) {
+            return st;
+        }
+    }
+    for (i = 0u; i < f->m; ++i) {
+        w->zhat[i] = w->zpts[(n * MM) + i];
+    }
+    return RFE_OK;
+}
+
+/* z, Xc (w->B) and Zc (w->zpts): the 2n centred cubature points (linear 0: X_j = S- xi_j + x-,
+ * Z_j = h(X_j, u), z = mean_j Z_j), or the linear form's n columns (centre_linear_q31). */
+static rfe_status_t centre_q31(rfe_sckf_q31_t *f, rfe_measure_fn_q31_t measure, void *ctx,
+                               int linear, uint32_t *count)
+{
+    rfe_cub_scratch_q31_t *w = &f->w;
+    rfe_status_t st;
+    if (linear != 0) {
+        st = centre_linear_q31(f, measure, ctx);
+    } else {
+        rfe_cub_points_q31(f->x, f->S, f->n, w->pts, count);
+        st = rfe_cub_measure_q31(w->pts, f->n, f->m, measure, ctx, w->zpts);
+        if (st == RFE_OK) {
+            rfe_cub_mean_q31(w->zpts, f->n, f->m, MM, w->zhat);
+            centre_points_q31(f, count);
+        }
+    }
+    return st;
+}
+
+/* [Zc, S_R] (m x (k + m), Q24) into w->A (k: the centred columns, 2n or n). */
+static void innovation_array(rfe_sckf_q31_t *f, const rfe_fix_t *SR, size_t k)
+{
+    rfe_cub_scratch_q31_t *w = &f->w;
     const size_t m = f->m;
     size_t j;
     size_t r;
     for (r = 0u; r < m; ++r) {
-        for (j = 0u; j < (2u * n); ++j) {
+        for (j = 0u; j < k; ++j) {
             w->A[(r * TC) + j] = w->zpts[(j * MM) + r];
         }
         for (j = 0u; j < m; ++j) {
-            w->A[(r * TC) + (2u * n) + j] = SR[(r * MM) + j];
+            w->A[(r * TC) + k + j] = SR[(r * MM) + j];
         }
     }
 }
 
 /* S_zz = Tria([Zc, S_R]) into w->Szz (Q24); W = S_zz \ [Zc, S_R] into w->A (m rows, Q30);
- * the whitened gain G = Xc Y^T (Y: the first 2n columns of W) transposed into w->Kt (m x n,
+ * the whitened gain G = Xc Y^T (Y: the first k columns of W) transposed into w->Kt (m x n,
  * Q30). SR: this step's lower-triangular S_R, ld RFE_M_MAX. */
-/* S_zz = Tria([Zc, S_R]) into w->Szz (Q24; needs the centred points, uses w->A). */
-static rfe_status_t innovation_factor_q31(rfe_sckf_q31_t *f, const rfe_fix_t *SR,
+/* S_zz = Tria([Zc, S_R]) into w->Szz (Q24; needs the k centred columns, uses w->A). */
+static rfe_status_t innovation_factor_q31(rfe_sckf_q31_t *f, const rfe_fix_t *SR, size_t k,
                                           uint32_t *count)
 {
     rfe_cub_scratch_q31_t *w = &f->w;
     rfe_status_t st;
-    innovation_array(f, SR);
-    st = rfe_qr_tria_lt_q31(w->A, f->m, (2u * f->n) + f->m, TC, count); /* S_R triangular */
+    innovation_array(f, SR, k);
+    st = rfe_qr_tria_lt_q31(w->A, f->m, k + f->m, TC, count); /* S_R triangular */
     if (st == RFE_OK) {
         copy_lower_q31(w->A, TC, f->m, w->Szz, MM);
     }
@@ -388,10 +446,9 @@ static rfe_status_t innovation_factor_q31(rfe_sckf_q31_t *f, const rfe_fix_t *SR
 /* The innovation of the predicted points into *o (sckf_flt.c's innovation_out): y - z_hat,
  * S_zz (w->Szz, computed by the caller) with its upper part 0, diag(Zc Zc^T) (Q48 -> Q24). */
 static void innovation_out_q31(const rfe_sckf_q31_t *f, const rfe_fix_t *y,
-                               rfe_sckf_innov_q31_t *o, uint32_t *count)
+                               rfe_sckf_innov_q31_t *o, size_t k, uint32_t *count)
 {
     const rfe_cub_scratch_q31_t *w = &f->w;
-    const size_t n = f->n;
     const size_t m = f->m;
     size_t j;
     size_t r;
@@ -407,7 +464,7 @@ static void innovation_out_q31(const rfe_sckf_q31_t *f, const rfe_fix_t *y,
     for (r = 0u; r < m; ++r) {
         int64_t acc = 0;
         o->nu[r] = rfe_fix_sub(y[r], w->zhat[r], count);
-        for (j = 0u; j < (2u * n); ++j) {
+        for (j = 0u; j < k; ++j) {
             const int64_t z = (int64_t)w->zpts[(j * MM) + r];
             acc = rfe_fix_add64(acc, z * z, count);
         }
@@ -418,9 +475,9 @@ static void innovation_out_q31(const rfe_sckf_q31_t *f, const rfe_fix_t *y,
     }
 }
 
-/* *w_or: mag_or_q31 of W's first 2n columns (posterior_tria_input_q31 reuses it; W stays in
+/* *w_or: mag_or_q31 of W's first k columns (posterior_tria_input_q31 reuses it; W stays in
  * w->A until then). */
-static rfe_status_t gain_q31(rfe_sckf_q31_t *f, const rfe_fix_t *SR, uint32_t *w_or,
+static rfe_status_t gain_q31(rfe_sckf_q31_t *f, const rfe_fix_t *SR, size_t k, uint32_t *w_or,
                              uint32_t *count)
 {
     rfe_cub_scratch_q31_t *w = &f->w;
@@ -431,25 +488,24 @@ static rfe_status_t gain_q31(rfe_sckf_q31_t *f, const rfe_fix_t *SR, uint32_t *w
     int exact;
     rfe_status_t st;
 
-    st = innovation_factor_q31(f, SR, count);
+    st = innovation_factor_q31(f, SR, k, count);
     if (st != RFE_OK) {
         return st;
     }
     /* W = S_zz \ [Zc, S_R]: Q24 by Q24 into Q30, shift = 30 - 24 + 24. */
-    innovation_array(f, SR);
-    st = rfe_qr_solve_lower_q31(w->Szz, m, MM, w->A, (2u * n) + m, TC,
+    innovation_array(f, SR, k);
+    st = rfe_qr_solve_lower_q31(w->Szz, m, MM, w->A, k + m, TC,
                                 (int)QW - (int)RFE_Q31_QZ + (int)RFE_Q31_QZ, count);
     if (st != RFE_OK) {
         return st;
     }
-    /* G^T[r][i] = sum_j W[r][j] Xc[i][j]: Q30 Q30 = Q60 -> Q30. Unsaturated where 2n terms
+    /* G^T[r][i] = sum_j W[r][j] Xc[i][j]: Q30 Q30 = Q60 -> Q30. Unsaturated where k terms
      * of the largest magnitudes cannot reach 2^63 (sums_fit_q31; the same integers). */
-    *w_or = mag_or_q31(w->A, m, 2u * n, TC);
-    exact = sums_fit_q31(rfe_q31_bitlen32(*w_or) + mag_bits_q31(w->B, n, 2u * n, TC), 2u * n,
-                         63u);
+    *w_or = mag_or_q31(w->A, m, k, TC);
+    exact = sums_fit_q31(rfe_q31_bitlen32(*w_or) + mag_bits_q31(w->B, n, k, TC), k, 63u);
     for (r = 0u; r < m; ++r) {
         for (i = 0u; i < n; ++i) {
-            const int64_t acc = dot_q31(0, &w->A[r * TC], 1u, &w->B[i * TC], 1u, 2u * n, exact,
+            const int64_t acc = dot_q31(0, &w->A[r * TC], 1u, &w->B[i * TC], 1u, k, exact,
                                         count);
             w->Kt[(r * NM) + i] = rfe_fix_narrow(acc, RFE_Q31_QS, count); /* Q(QW + QS) -> QW */
         }
@@ -488,9 +544,10 @@ static rfe_status_t correct(rfe_sckf_q31_t *f, const rfe_fix_t *y, uint32_t *cou
     return RFE_OK;
 }
 
-/* [Xc, 0] - G W (n x (2n + m), Q30) in place of Xc in w->B: the Tria input of the posterior
+/* [Xc, 0] - G W (n x (k + m), Q30) in place of Xc in w->B: the Tria input of the posterior
  * factor, [Xc - K Zc, K S_R]. Needs W (w->A), G^T (w->Kt) and gain_q31's w_or. */
-static void posterior_tria_input_q31(rfe_sckf_q31_t *f, uint32_t w_or, uint32_t *count)
+static void posterior_tria_input_q31(rfe_sckf_q31_t *f, size_t k, uint32_t w_or,
+                                     uint32_t *count)
 {
     rfe_cub_scratch_q31_t *w = &f->w;
     const size_t n = f->n;
@@ -499,12 +556,12 @@ static void posterior_tria_input_q31(rfe_sckf_q31_t *f, uint32_t w_or, uint32_t 
     size_t j;
     /* |Xc_ij 2^30| <= 2^61: unsaturated where m terms of the largest magnitudes stay below
      * 2^62 (the sum then below 2^61 + 2^62 < 2^63; sums_fit_q31; the same integers) */
-    const uint32_t a_or = w_or | mag_or_q31(&w->A[2u * n], m, m, TC); /* all of W */
+    const uint32_t a_or = w_or | mag_or_q31(&w->A[k], m, m, TC); /* all of W */
     const int exact = sums_fit_q31(mag_bits_q31(w->Kt, m, n, NM) + rfe_q31_bitlen32(a_or), m,
                                    62u);
     for (i = 0u; i < n; ++i) {
-        for (j = 0u; j < ((2u * n) + m); ++j) {
-            int64_t acc = (j < (2u * n))
+        for (j = 0u; j < (k + m); ++j) {
+            int64_t acc = (j < k)
                               ? ((int64_t)w->B[(i * TC) + j] * rfe_q31_pow2(QW))
                               : 0;
             /* acc - sum_r G_ir W_rj as -(-acc + sum): the saturation is odd-symmetric
@@ -515,9 +572,9 @@ static void posterior_tria_input_q31(rfe_sckf_q31_t *f, uint32_t w_or, uint32_t 
     }
 }
 
-/* S- \ P_xz = U Zc^T (n x m) into columns 2n.. of w->A, U = S- \ Xc in its first 2n columns:
+/* S- \ P_xz = U Zc^T (n x m) into columns k.. of w->A, U = S- \ Xc in its first k columns:
  * Q30 Q24 = Q54 -> Q24. */
-static void project_innovations(rfe_sckf_q31_t *f, uint32_t *count)
+static void project_innovations(rfe_sckf_q31_t *f, size_t k, uint32_t *count)
 {
     rfe_cub_scratch_q31_t *w = &f->w;
     const size_t n = f->n;
@@ -528,10 +585,10 @@ static void project_innovations(rfe_sckf_q31_t *f, uint32_t *count)
         const rfe_fix_t *u = &w->A[i * TC];
         for (r = 0u; r < f->m; ++r) {
             int64_t acc = 0;
-            for (j = 0u; j < (2u * n); ++j) {
+            for (j = 0u; j < k; ++j) {
                 acc = rfe_fix_add64_hot(acc, rfe_fix_mul32x32(u[j], w->zpts[(j * MM) + r]), count);
             }
-            w->A[(i * TC) + (2u * n) + r] = rfe_fix_narrow(acc, QW, count);
+            w->A[(i * TC) + k + r] = rfe_fix_narrow(acc, QW, count);
         }
     }
 }
@@ -556,7 +613,7 @@ static void sum_squares(const rfe_sckf_q31_t *f, rfe_fix_t *info, uint32_t *coun
  * U = S- \ Xc. Needs the centred points (w->B, w->zpts); uses w->A and w->Kt as scratch.
  * info in Q10. */
 static rfe_status_t information_q31(rfe_sckf_q31_t *f, const rfe_fix_t *SR, rfe_fix_t *info,
-                                    uint32_t *count)
+                                    size_t k, uint32_t *count)
 {
     rfe_cub_scratch_q31_t *w = &f->w;
     const size_t n = f->n;
@@ -565,24 +622,25 @@ static rfe_status_t information_q31(rfe_sckf_q31_t *f, const rfe_fix_t *SR, rfe_
     size_t r;
     rfe_status_t st;
 
-    /* U = S- \ Xc (n x 2n): Q30 by Q30 into Q30. */
+    /* U = S- \ Xc (n x k): Q30 by Q30 into Q30 (the linear form's Xc = S-: U = I, entries
+     * 0 and 1, inside Q30's range of 2 as the generic +-1/sqrt(2) e_k). */
     for (i = 0u; i < (n * TC); ++i) {
         w->A[i] = w->B[i];
     }
-    st = rfe_qr_solve_lower_q31(f->S, n, NM, w->A, 2u * n, TC,
+    st = rfe_qr_solve_lower_q31(f->S, n, NM, w->A, k, TC,
                                 (int)QW - (int)RFE_Q31_QS + (int)RFE_Q31_QS, count);
     if (st != RFE_OK) {
         return st;
     }
-    project_innovations(f, count);
+    project_innovations(f, k, count);
     /* J^T = S-^T \ (S- \ P_xz): Q24 by Q30 into Q20 (cannot fail: diag(S-) > 0 was
      * checked by the solve above). */
-    st = rfe_qr_solve_lower_t_q31(f->S, n, NM, &w->A[2u * n], m, TC,
+    st = rfe_qr_solve_lower_t_q31(f->S, n, NM, &w->A[k], m, TC,
                                   (int)QJ - (int)RFE_Q31_QZ + (int)RFE_Q31_QS, count);
     /* V (m x n) = S_R \ J, J transposed into w->Kt: Q20 by Q24 into Q16. */
     for (r = 0u; r < m; ++r) {
         for (i = 0u; i < n; ++i) {
-            w->Kt[(r * NM) + i] = w->A[(i * TC) + (2u * n) + r];
+            w->Kt[(r * NM) + i] = w->A[(i * TC) + k + r];
         }
     }
     if (st == RFE_OK) {
@@ -598,9 +656,9 @@ static rfe_status_t information_q31(rfe_sckf_q31_t *f, const rfe_fix_t *SR, rfe_
 /* docs/ESTIMATOR.md steps 5-6: the step's information into info (n, Q10) and the gate:
  * *held = 1 when info_min > 0 and no state reaches it. Needs the centred points. */
 static rfe_status_t gate_q31(rfe_sckf_q31_t *f, const rfe_fix_t *SR, rfe_fix_t info_min,
-                             rfe_fix_t *info, int *held, uint32_t *count)
+                             rfe_fix_t *info, int *held, size_t k, uint32_t *count)
 {
-    const rfe_status_t st = information_q31(f, SR, info, count);
+    const rfe_status_t st = information_q31(f, SR, info, k, count);
     *held = 0;
     if (st == RFE_OK) {
         rfe_fix_t most = 0;
@@ -616,52 +674,51 @@ static rfe_status_t gate_q31(rfe_sckf_q31_t *f, const rfe_fix_t *SR, rfe_fix_t i
 }
 
 /* The measurement update of MODEL.md §6 with S_R = SR (ld RFE_M_MAX), gated on the
- * information when info_min > 0 (docs/ESTIMATOR.md steps 5-6). Writes info (n) when
- * want_info; *updated = 0 when held. Commits x, S and the count only when everything
- * succeeded (a held step commits the count of the information alone). */
+ * information when info_min > 0 (docs/ESTIMATOR.md steps 5-6), on k centred columns: the 2n
+ * cubature points (linear 0, any h) or the n columns of S- (linear != 0, h linear:
+ * centre_linear_q31). Writes info (n) when want_info; *updated = 0 when held. Commits x, S
+ * and the count only when everything succeeded (a held step commits the count of the
+ * information alone). */
 static rfe_status_t update_core_q31(rfe_sckf_q31_t *f, rfe_measure_fn_q31_t measure, void *ctx,
                                     const rfe_fix_t *y, const rfe_fix_t *SR, rfe_fix_t info_min,
                                     int want_info, rfe_fix_t *info, rfe_sckf_innov_q31_t *innov,
-                                    int *updated)
+                                    int *updated, int linear)
 {
     rfe_cub_scratch_q31_t *w = &f->w;
     const size_t n = f->n;
     const size_t m = f->m;
+    const size_t k = (linear != 0) ? n : (2u * n);
     uint32_t count = 0u;
-    uint32_t w_or = 0u; /* gain_q31's mag_or_q31 of W's first 2n columns */
+    uint32_t w_or = 0u; /* gain_q31's mag_or_q31 of W's first k columns */
     rfe_status_t st;
 
-    /* X_j = S- xi_j + x-;  Z_j = h(X_j, u);  z = mean_j Z_j. */
-    rfe_cub_points_q31(f->x, f->S, n, w->pts, &count);
-    st = rfe_cub_measure_q31(w->pts, n, m, measure, ctx, w->zpts);
+    st = centre_q31(f, measure, ctx, linear, &count);
     if (st != RFE_OK) {
         return st;
     }
-    rfe_cub_mean_q31(w->zpts, n, m, MM, w->zhat);
-    centre_points_q31(f, &count);
     if ((want_info != 0) || (info_min > 0)) {
         int held = 0;
-        st = gate_q31(f, SR, info_min, info, &held, &count);
+        st = gate_q31(f, SR, info_min, info, &held, k, &count);
         if (st != RFE_OK) {
             return st;
         }
         if (held != 0) {
             /* held: not observable; x-, S- stay (S_zz computed only for the innovation) */
             if (innov != NULL) {
-                st = innovation_factor_q31(f, SR, &count);
+                st = innovation_factor_q31(f, SR, k, &count);
                 if (st != RFE_OK) {
                     return st;
                 }
-                innovation_out_q31(f, y, innov, &count);
+                innovation_out_q31(f, y, innov, k, &count);
             }
             rfe_q31_sat_add(&f->sat, count);
             *updated = 0;
             return RFE_OK;
         }
     }
-    st = gain_q31(f, SR, &w_or, &count);
+    st = gain_q31(f, SR, k, &w_or, &count);
     if ((st == RFE_OK) && (innov != NULL)) {
-        innovation_out_q31(f, y, innov, &count); /* before the update: the predicted points' */
+        innovation_out_q31(f, y, innov, k, &count); /* before the update: the predicted points' */
     }
     if (st == RFE_OK) {
         st = correct(f, y, &count);
@@ -670,8 +727,8 @@ static rfe_status_t update_core_q31(rfe_sckf_q31_t *f, rfe_measure_fn_q31_t meas
         return st;
     }
     /* S = Tria([Xc - K Zc, K S_R]). */
-    posterior_tria_input_q31(f, w_or, &count);
-    st = rfe_qr_tria_q31(w->B, n, (2u * n) + m, TC, &count);
+    posterior_tria_input_q31(f, k, w_or, &count);
+    st = rfe_qr_tria_q31(w->B, n, k + m, TC, &count);
     if (st != RFE_OK) {
         return st;
     }
@@ -699,13 +756,16 @@ rfe_status_t rfe_sckf_update_q31(rfe_sckf_q31_t *f, rfe_measure_fn_q31_t measure
     if (st != RFE_OK) {
         return st;
     }
-    return update_core_q31(f, measure, ctx, y, f->SR, 0, 0, info, NULL, &updated);
+    return update_core_q31(f, measure, ctx, y, f->SR, 0, 0, info, NULL, &updated, 0);
 }
 
-rfe_status_t rfe_sckf_update_ex_q31(rfe_sckf_q31_t *f, rfe_measure_fn_q31_t measure, void *ctx,
-                                    const rfe_fix_t *y, const rfe_fix_t *SR, rfe_fix_t info_min,
-                                    rfe_fix_t *info_out, rfe_sckf_innov_q31_t *innov_out,
-                                    int *updated)
+/* rfe_sckf_update_ex_q31 (linear 0) and rfe_sckf_update_linear_q31 (linear 1): the checks,
+ * the step's S_R and the outputs once. */
+static rfe_status_t update_ex_common_q31(rfe_sckf_q31_t *f, rfe_measure_fn_q31_t measure,
+                                         void *ctx, const rfe_fix_t *y, const rfe_fix_t *SR,
+                                         rfe_fix_t info_min, rfe_fix_t *info_out,
+                                         rfe_sckf_innov_q31_t *innov_out, int *updated,
+                                         int linear)
 {
     rfe_sckf_innov_q31_t innov;
     rfe_fix_t SRl[RFE_M_MAX * RFE_M_MAX];
@@ -726,7 +786,7 @@ rfe_status_t rfe_sckf_update_ex_q31(rfe_sckf_q31_t *f, rfe_measure_fn_q31_t meas
         sr = SRl;
     }
     st = update_core_q31(f, measure, ctx, y, sr, info_min, (info_out != NULL) ? 1 : 0, info,
-                         (innov_out != NULL) ? &innov : NULL, &upd);
+                         (innov_out != NULL) ? &innov : NULL, &upd, linear);
     if (st != RFE_OK) {
         return st;
     }
@@ -741,6 +801,24 @@ rfe_status_t rfe_sckf_update_ex_q31(rfe_sckf_q31_t *f, rfe_measure_fn_q31_t meas
     }
     *updated = upd;
     return RFE_OK;
+}
+
+rfe_status_t rfe_sckf_update_ex_q31(rfe_sckf_q31_t *f, rfe_measure_fn_q31_t measure, void *ctx,
+                                    const rfe_fix_t *y, const rfe_fix_t *SR, rfe_fix_t info_min,
+                                    rfe_fix_t *info_out, rfe_sckf_innov_q31_t *innov_out,
+                                    int *updated)
+{
+    return update_ex_common_q31(f, measure, ctx, y, SR, info_min, info_out, innov_out, updated,
+                                0);
+}
+
+rfe_status_t rfe_sckf_update_linear_q31(rfe_sckf_q31_t *f, rfe_measure_fn_q31_t measure,
+                                        void *ctx, const rfe_fix_t *y, const rfe_fix_t *SR,
+                                        rfe_fix_t info_min, rfe_fix_t *info_out,
+                                        rfe_sckf_innov_q31_t *innov_out, int *updated)
+{
+    return update_ex_common_q31(f, measure, ctx, y, SR, info_min, info_out, innov_out, updated,
+                                1);
 }
 
 rfe_status_t rfe_sckf_scale_q31(rfe_sckf_q31_t *f, rfe_fix_t c)

@@ -251,6 +251,119 @@ static void test_rfe_sckf_update_ex_step_sr_replaces_filter_sr(void **state)
     });
 }
 
+/* |a - b| <= tol max(1, |b|) element by element. */
+static void assert_near_vec(const rfe_real_t *a, const rfe_real_t *b, size_t k, double tol)
+{
+    size_t i;
+    for (i = 0u; i < k; ++i) {
+        const double mag = fabs((double)b[i]);
+        assert_true(fabs((double)a[i] - (double)b[i]) <= (tol * ((mag > 1.0) ? mag : 1.0)));
+    }
+}
+
+/* REQ (issue 21): on a linear h = H x, rfe_sckf_update_linear (the n columns Xc = S-,
+ * Zc = H S-) gives the update of the 2n cubature points (rfe_sckf_update_ex): the same x, S,
+ * information and innovation (nu, S_zz, diag(Zc Zc^T)), within rounding, on every (n, m) with
+ * a step S_R. Both compute the same exact quantities (Xc Xc^T, Zc Zc^T and Xc Zc^T are equal,
+ * docs/ESTIMATOR.md "The linear update"); their roundings differ: the points' x- +- sqrt(n)
+ * S- e_j and their centring against the direct columns, then the same Tria and solves
+ * (cond(S-), cond(S_zz) ~ 10 on values ~ 1): a few eps cond^2 per element. double: 1e-11
+ * (eps 2.2e-16 x 1e2 x a 1e2 margin for the chain's ~50 operations); float32: 1e-4 (eps
+ * 1.2e-7 x 1e2 x 10). The generic path itself is unchanged: the default preset's goldens
+ * (test_golden_flt.c, test_golden_q31.c bit for bit) hold it. */
+/* REQ-SCKF-004 */
+static void test_rfe_sckf_update_linear_equals_points(void **state)
+{
+#if defined(RFE_REAL_DOUBLE)
+    const double tol = 1e-11;
+#else
+    const double tol = 1e-4;
+#endif
+    problem_t p;
+    (void)state;
+    FOR_EACH_PROBLEM(p, {
+        static rfe_sckf_t a;
+        static rfe_sckf_t b;
+        rfe_real_t info_a[RFE_N_MAX];
+        rfe_real_t info_b[RFE_N_MAX];
+        rfe_sckf_innov_t ia;
+        rfe_sckf_innov_t ib;
+        int ua = 0;
+        int ub = 0;
+        double most = 0.0;
+        size_t i;
+        init_filter(&a, &p, p.SR);
+        init_filter(&b, &p, p.SR);
+        assert_int_equal(rfe_sckf_update_ex(&a, lin_measure, &p.h, p.y, p.SR2, 0, info_a, &ia,
+                                            &ua),
+                         RFE_OK);
+        assert_int_equal(rfe_sckf_update_linear(&b, lin_measure, &p.h, p.y, p.SR2, 0, info_b,
+                                                &ib, &ub),
+                         RFE_OK);
+        assert_int_equal(ua, 1);
+        assert_int_equal(ub, 1);
+        assert_near_vec(b.x, a.x, p.n, tol);
+        assert_near_vec(b.S, a.S, NM * NM, tol);
+        assert_near_vec(ib.nu, ia.nu, MM, tol);
+        assert_near_vec(ib.Szz, ia.Szz, MM * MM, tol);
+        assert_near_vec(ib.zz, ia.zz, MM, tol);
+        /* the information relative to its largest (TOL_INFO's derivation) */
+        most = max_of(info_a, p.n);
+        for (i = 0u; i < p.n; ++i) {
+            assert_true(fabs((double)info_b[i] - (double)info_a[i]) <= (TOL_INFO * most));
+        }
+    });
+}
+
+/* h = H x, then a non-finite output at the last point (x-, the linear form's fifth). */
+static int nan_calls;
+static rfe_status_t nan_last_measure(void *ctx, const rfe_real_t *x, rfe_real_t *z, size_t n,
+                                     size_t m)
+{
+    const rfe_status_t st = lin_measure(ctx, x, z, n, m);
+    ++nan_calls;
+    if (nan_calls == (int)(n + 1u)) {
+        z[m - 1u] = (rfe_real_t)NAN;
+    }
+    return st;
+}
+
+/* REQ: the linear entry checks its arguments as update_ex does and refuses a non-finite output
+ * of h (RFE_ERR_NONFINITE); on every error the state and *updated stay as they were. */
+/* REQ-SCKF-004 */
+static void test_rfe_sckf_update_linear_errors_untouched(void **state)
+{
+    static rfe_sckf_t f;
+    static rfe_sckf_t copy;
+    problem_t p;
+    rfe_real_t info[RFE_N_MAX];
+    int upd = -1;
+    (void)state;
+    make_problem(&p, 4u, 3u, 77u);
+    init_filter(&f, &p, p.SR);
+    copy = f;
+    assert_int_equal(rfe_sckf_update_linear(NULL, lin_measure, &p.h, p.y, NULL, 0, info, NULL,
+                                            &upd),
+                     RFE_ERR_NULL);
+    assert_int_equal(rfe_sckf_update_linear(&f, NULL, &p.h, p.y, NULL, 0, info, NULL, &upd),
+                     RFE_ERR_NULL);
+    assert_int_equal(rfe_sckf_update_linear(&f, lin_measure, &p.h, p.y, NULL, 0, info, NULL,
+                                            NULL),
+                     RFE_ERR_NULL);
+    nan_calls = 0;
+    assert_int_equal(rfe_sckf_update_linear(&f, nan_last_measure, &p.h, p.y, NULL, 0, info,
+                                            NULL, &upd),
+                     RFE_ERR_NONFINITE);
+    assert_int_equal(nan_calls, 5);
+    assert_int_equal(upd, -1);
+    assert_same_state(&f, &copy);
+    /* and it still works */
+    assert_int_equal(rfe_sckf_update_linear(&f, lin_measure, &p.h, p.y, NULL, 0, info, NULL,
+                                            &upd),
+                     RFE_OK);
+    assert_int_equal(upd, 1);
+}
+
 /* REQ: on a linear model the information is diag(H^T R^-1 H) with R = S_R S_R^T of the
  * step S_R (statistical linearisation is exact there), independent of the prior. */
 /* REQ-SCKF-004 */
@@ -581,6 +694,8 @@ int main(void)
         cmocka_unit_test(test_rfe_sckf_update_ex_equals_update_bitwise),
         cmocka_unit_test(test_rfe_sckf_update_ex_step_sr_replaces_filter_sr),
         cmocka_unit_test(test_rfe_sckf_update_ex_information_linear_model),
+        cmocka_unit_test(test_rfe_sckf_update_linear_equals_points),
+        cmocka_unit_test(test_rfe_sckf_update_linear_errors_untouched),
         cmocka_unit_test(test_rfe_sckf_update_ex_gate_threshold),
         cmocka_unit_test(test_rfe_sckf_update_ex_gate_nonlinear),
         cmocka_unit_test(test_rfe_sckf_update_ex_argument_errors),

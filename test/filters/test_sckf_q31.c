@@ -814,12 +814,26 @@ static void run_scenario(const char *path, int preset, scen_stats_t *st)
                 srs = SRs;
                 srq = SRqq;
             }
-            assert_int_equal(rfe_sckf_update_ex_f64(&fd, scen_measure_f64, &cd, y, srd,
-                                                    info_min, info_d, NULL, &ud), RFE_OK);
-            assert_int_equal(rfe_sckf_update_ex_f64(&fs, scen_measure_f64, &cd, y, srs,
-                                                    info_min, info_s, NULL, &us), RFE_OK);
-            assert_int_equal(rfe_sckf_update_ex_q31(&fq, scen_measure_q31, &cq, yq, srq,
-                                                    info_min_q, info_q, NULL, &uq), RFE_OK);
+            if (preset == PRESET_PAPER) {
+                /* the paper tyre's h is linear: the estimator's n-column update (issue 21),
+                 * held to the same bounds as the points' */
+                assert_int_equal(rfe_sckf_update_linear_f64(&fd, scen_measure_f64, &cd, y, srd,
+                                                            info_min, info_d, NULL, &ud),
+                                 RFE_OK);
+                assert_int_equal(rfe_sckf_update_linear_f64(&fs, scen_measure_f64, &cd, y, srs,
+                                                            info_min, info_s, NULL, &us),
+                                 RFE_OK);
+                assert_int_equal(rfe_sckf_update_linear_q31(&fq, scen_measure_q31, &cq, yq, srq,
+                                                            info_min_q, info_q, NULL, &uq),
+                                 RFE_OK);
+            } else {
+                assert_int_equal(rfe_sckf_update_ex_f64(&fd, scen_measure_f64, &cd, y, srd,
+                                                        info_min, info_d, NULL, &ud), RFE_OK);
+                assert_int_equal(rfe_sckf_update_ex_f64(&fs, scen_measure_f64, &cd, y, srs,
+                                                        info_min, info_s, NULL, &us), RFE_OK);
+                assert_int_equal(rfe_sckf_update_ex_q31(&fq, scen_measure_q31, &cq, yq, srq,
+                                                        info_min_q, info_q, NULL, &uq), RFE_OK);
+            }
             /* information and gate on the same state */
             for (i = 0u; i < n; ++i) {
                 const double di = fabs(d(info_q[i], QI) - info_s[i]);
@@ -1340,6 +1354,15 @@ static void test_rfe_sckf_q31_callback_errors_untouched(void **state)
     cb_calls = 0;
     assert_int_equal(rfe_sckf_update_ex_q31(&f, failing_measure, &p.mdl, y, NULL, 100, NULL, NULL, &upd),
                      RFE_ERR_PARAM);
+    assert_int_equal(upd, -1);
+    assert_memory_equal(before, &f, STATE_BYTES);
+    /* the linear form: n + 1 = 5 evaluations, the last (at x-) fails */
+    cb_calls = 0;
+    cb_fail_at = 5;
+    assert_int_equal(rfe_sckf_update_linear_q31(&f, failing_measure, &p.mdl, y, NULL, 0, NULL,
+                                                NULL, &upd),
+                     RFE_ERR_PARAM);
+    assert_int_equal(cb_calls, 5);
     assert_int_equal(upd, -1);
     assert_memory_equal(before, &f, STATE_BYTES);
     /* and it still works */

@@ -22,6 +22,7 @@
 #define rfe_sckf_predict_steps rfe_sckf_predict_steps_f64
 #define rfe_sckf_update    rfe_sckf_update_f64
 #define rfe_sckf_update_ex rfe_sckf_update_ex_f64
+#define rfe_sckf_update_linear rfe_sckf_update_linear_f64
 #define rfe_sckf_scale     rfe_sckf_scale_f64
 #define rfe_sckf_get       rfe_sckf_get_f64
 #define rfe_sckf_clamp     rfe_sckf_clamp_f64
@@ -31,6 +32,7 @@
 #define rfe_sckf_predict_steps rfe_sckf_predict_steps_f32
 #define rfe_sckf_update    rfe_sckf_update_f32
 #define rfe_sckf_update_ex rfe_sckf_update_ex_f32
+#define rfe_sckf_update_linear rfe_sckf_update_linear_f32
 #define rfe_sckf_scale     rfe_sckf_scale_f32
 #define rfe_sckf_get       rfe_sckf_get_f32
 #define rfe_sckf_clamp     rfe_sckf_clamp_f32
@@ -166,6 +168,22 @@ RFE_NODISCARD rfe_status_t rfe_sckf_update_ex(rfe_sckf_t *f, rfe_measure_fn_t me
                                              const rfe_real_t *SR, rfe_real_t info_min,
                                              rfe_real_t *info_out, rfe_sckf_innov_t *innov_out,
                                              int *updated);
+
+/**
+ * rfe_sckf_update_ex for a measurement function linear in the state, h(x) = H x (no constant
+ * term: h(0) = 0; the friction estimator's paper tyre, h = H(u) T x): the third-degree rule is
+ * exact for it, so the update runs on the n columns of S- instead of the 2n cubature points
+ * (docs/ESTIMATOR.md "The linear update"): z = h(x-), Zc = [h(S- e_1) .. h(S- e_n)] = H S-,
+ * Xc = S-, the same products Xc Xc^T, Zc Zc^T, Xc Zc^T as the points' (so the same x, S,
+ * information and innovation in exact arithmetic, n + 1 evaluations of h instead of 2n).
+ * Arguments, outputs and errors as rfe_sckf_update_ex's; for an h that is not linear the
+ * result is not the cubature filter's.
+ */
+RFE_NODISCARD rfe_status_t rfe_sckf_update_linear(rfe_sckf_t *f, rfe_measure_fn_t measure,
+                                                 void *ctx, const rfe_real_t *y,
+                                                 const rfe_real_t *SR, rfe_real_t info_min,
+                                                 rfe_real_t *info_out,
+                                                 rfe_sckf_innov_t *innov_out, int *updated);
 
 /**
  * Scales the square-root factor, S <- c S (P <- c^2 P: every standard deviation by c,

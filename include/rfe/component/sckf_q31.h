@@ -181,6 +181,20 @@ RFE_NODISCARD rfe_status_t rfe_sckf_update_ex_q31(rfe_sckf_q31_t *f, rfe_measure
                                                   rfe_sckf_innov_q31_t *innov_out, int *updated);
 
 /**
+ * rfe_sckf_update_ex_q31 for a measurement function linear in the state, h(x) = H x (h(0) =
+ * 0), as rfe_sckf_update_linear of the float filter: z = h(x-), Xc = S- (Q30, exact),
+ * Zc = [h(S- e_1) .. h(S- e_n)] (the columns rounded to Q29 for the callback, Q24), n
+ * columns instead of 2n (docs/ESTIMATOR.md "The linear update", docs/FIXED_POINT.md).
+ * Arguments, outputs and errors as rfe_sckf_update_ex_q31's.
+ */
+RFE_NODISCARD rfe_status_t rfe_sckf_update_linear_q31(rfe_sckf_q31_t *f,
+                                                      rfe_measure_fn_q31_t measure, void *ctx,
+                                                      const rfe_fix_t *y, const rfe_fix_t *SR,
+                                                      rfe_fix_t info_min, rfe_fix_t *info_out,
+                                                      rfe_sckf_innov_q31_t *innov_out,
+                                                      int *updated);
+
+/**
  * Scales the square-root factor, S <- c S (P <- c^2 P), c in Q24 (RFE_Q31_QC). @p c must be
  * > 0 (else RFE_ERR_RANGE, S untouched). An element of c S beyond the Q30 range saturates
  * (counted in f->sat).

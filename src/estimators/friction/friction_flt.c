@@ -311,8 +311,14 @@ static rfe_status_t sckf_measurement(rfe_friction_t *est, const rfe_sample_t *u,
         sr = SR;
     }
     if (st == RFE_OK) {
-        st = rfe_sckf_update_ex(f, measure, est, y, sr, fp->info_min, NULL,
-                                (mon_on != 0) ? &innov : NULL, updated);
+        if (est->meas.mode == RFE_TYRE_PAPER) {
+            /* the paper tyre's h = H(u) T x is linear in x: the update's exact n-column form */
+            st = rfe_sckf_update_linear(f, measure, est, y, sr, fp->info_min, NULL,
+                                        (mon_on != 0) ? &innov : NULL, updated);
+        } else {
+            st = rfe_sckf_update_ex(f, measure, est, y, sr, fp->info_min, NULL,
+                                    (mon_on != 0) ? &innov : NULL, updated);
+        }
     }
     if ((st == RFE_OK) && (mon_on != 0)) {
         st = monitor_step(est, &innov, pers);

@@ -406,8 +406,15 @@ static rfe_status_t sckf_measurement_q31(rfe_friction_q31_t *est, const rfe_samp
         sr = SR;
     }
     if (st == RFE_OK) {
-        st = rfe_sckf_update_ex_q31(f, measure_q31, est, y, sr, fp->info_min, NULL,
-                                    (pers != NULL) ? &est->innov : NULL, updated);
+        rfe_sckf_innov_q31_t *io = (pers != NULL) ? &est->innov : NULL;
+        if (est->meas.mode == RFE_TYRE_PAPER) {
+            /* the paper tyre's h = H(u) T x is linear in x: the update's exact n-column form */
+            st = rfe_sckf_update_linear_q31(f, measure_q31, est, y, sr, fp->info_min, NULL, io,
+                                            updated);
+        } else {
+            st = rfe_sckf_update_ex_q31(f, measure_q31, est, y, sr, fp->info_min, NULL, io,
+                                        updated);
+        }
     }
     return st;
 }

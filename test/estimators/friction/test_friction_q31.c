@@ -1042,6 +1042,9 @@ static void test_rfe_friction_q31_rollback(void **state)
 /* REQ: saturation is counted, never silent. A prior sd0 = 1.9 puts the cubature points at
  * 0.5 +- 2 * 1.9 = 4.3, beyond Q29's +-4: the first step reports a positive count, the
  * running total is the sum of the steps' counts, the filter's counter stays 0 between steps.
+ * The paper preset with the load-scaled (absolute) tyre, so the update forms the cubature
+ * points (the paper tyre's linear update evaluates h at the columns of S- and x- only,
+ * issue 21).
  * An input filter with dt = 1.9 s and tau_v = 30 s at r = 10 rad/s integrates beyond
  * +-256 m/s: counted as well. */
 /* REQ-FXP-008 */
@@ -1056,6 +1059,7 @@ static void test_rfe_friction_q31_saturation_counted(void **state)
     size_t i;
     (void)state;
     assert_int_equal(rfe_params_paper_f64(&pd), RFE_OK);
+    pd.tyre.mode = RFE_TYRE_ABSOLUTE;
     pd.filter.sd0 = 1.9;
     assert_int_equal(rfe_params_to_q31_f64(&pd, &p), RFE_OK);
     assert_int_equal(rfe_friction_init_q31(&est, &p), RFE_OK);
@@ -1457,7 +1461,9 @@ static void test_rfe_replay_run_q31(void **state)
     assert_int_equal(st.base.status_count[RFE_ERR_RANGE], 1);
     assert_true(st.est_sat == 0u);
 
-    /* a saturating run: prior sd0 = 1.9 (cubature points beyond +-4) */
+    /* a saturating run: prior sd0 = 1.9 (cubature points beyond +-4; the load-scaled tyre
+     * forms them, the paper tyre's linear update does not, issue 21) */
+    ps.tyre = RFE_TYRE_ABSOLUTE;
     ps.value[RFE_PK_sd0] = 1.9;
     assert_int_equal(rfe_replay_run_q31(&ps, &log, out, &st, NULL, NULL), RFE_OK);
     assert_true(st.est_sat > 0u);
