@@ -328,8 +328,19 @@ static rfe_status_t nan_last_measure(void *ctx, const rfe_real_t *x, rfe_real_t 
     return st;
 }
 
-/* REQ: the linear entry checks its arguments as update_ex does and refuses a non-finite output
- * of h (RFE_ERR_NONFINITE); on every error the state and *updated stay as they were. */
+/* h = H x, then an error status from the callback at its second call (the linear form's
+ * second column). */
+static int fail_calls;
+static rfe_status_t fail_second_measure(void *ctx, const rfe_real_t *x, rfe_real_t *z, size_t n,
+                                        size_t m)
+{
+    ++fail_calls;
+    return (fail_calls == 2) ? RFE_ERR_RANGE : lin_measure(ctx, x, z, n, m);
+}
+
+/* REQ: the linear entry checks its arguments as update_ex does, refuses a non-finite output
+ * of h (RFE_ERR_NONFINITE) and passes on the callback's own error status at once; on every
+ * error the state and *updated stay as they were. */
 /* REQ-SCKF-004 */
 static void test_rfe_sckf_update_linear_errors_untouched(void **state)
 {
@@ -355,6 +366,13 @@ static void test_rfe_sckf_update_linear_errors_untouched(void **state)
                                             NULL, &upd),
                      RFE_ERR_NONFINITE);
     assert_int_equal(nan_calls, 5);
+    assert_int_equal(upd, -1);
+    assert_same_state(&f, &copy);
+    fail_calls = 0;
+    assert_int_equal(rfe_sckf_update_linear(&f, fail_second_measure, &p.h, p.y, NULL, 0, info,
+                                            NULL, &upd),
+                     RFE_ERR_RANGE);
+    assert_int_equal(fail_calls, 2); /* no evaluation after the failing one */
     assert_int_equal(upd, -1);
     assert_same_state(&f, &copy);
     /* and it still works */
