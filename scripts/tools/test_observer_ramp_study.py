@@ -64,3 +64,19 @@ def test_window_table_has_the_observers_errors_against_the_truth():
     assert cells[7] == "+0.000 / 0.100"   # yaw_acc errors +0.1, -0.1
     assert cells[8] == "0.100 / 0.100 / 0.000"  # the measured vx, vy, yaw_acc errors' RMS
     assert cells[9] == "0.60"
+
+
+def test_row_kind_names_the_lateral_filters_three_updates():
+    """OBSERVER.md §4: the model row observes vy through its slope d ay / d vy (h = (slope, 0),
+    negative on a car that corners), the linear range and the low-speed row observe vy itself
+    (h = (1, 0)), §4.4 observes b_y (h = (0, 1))."""
+    assert rs.row_kind(-4.7, 0.0) == "model"
+    assert rs.row_kind(1.0, 0.0) == "linear"
+    assert rs.row_kind(0.0, 1.0) == "s44"
+
+
+def test_nanmean_skips_the_steps_without_the_row():
+    """A window's mean over the steps a row ran (nan elsewhere); none when it never ran."""
+    assert math.isclose(rs.nanmean([0.2, math.nan, 0.4]), 0.3)
+    assert rs.nanmean([math.nan]) is None
+    assert rs.f3(None) == "–" and rs.f3(0.0414) == "+0.041"
