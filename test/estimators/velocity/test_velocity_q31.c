@@ -663,8 +663,6 @@ static void test_model_error_leaves_the_observer_untouched(void **state)
     }
 }
 
-/* REQ-FXP-014: the first sample initialises vx from the wheels' mean, r from the sample,
- * the rest at 0, every sd at its initial value, like the double observer. */
 /* test_velocity_flt.c's turn_with_driven_slip in fixed point: 1 s straight at 20 m/s, then
  * 2 s with ay 2 m/s^2 and the driven front wheels 0.1 m/s fast, rolling without a torque
  * signal; obs_ay_turn @p ay_turn (Q24). Returns the last vx in m/s; every step a wheel
@@ -718,6 +716,8 @@ static void test_rolling_in_a_turn_in_fixed_point(void **state)
     assert_true(turn_with_driven_slip_q31(0) > 20.04);
 }
 
+/* REQ-FXP-014: the first sample initialises vx from the wheels' mean, r from the sample,
+ * the rest at 0, every sd at its initial value, like the double observer. */
 static void test_first_sample(void **state)
 {
     both_t b;
