@@ -5,13 +5,14 @@ float64 reference (scripts/reference/trusted.py, equal to the C double build to 
 Usage (from the repository root):
 
     .venv/bin/python scripts/tools/vx_blind_study.py sweep [--log scenarios/hard_brake_high_mu.mf.csv]
-    .venv/bin/python scripts/tools/vx_blind_study.py trust [--share 0.5] [--sd-in-vx S] [--jobs 2]
+    .venv/bin/python scripts/tools/vx_blind_study.py trust [--rule vx-share|ax-anchor]
+        [--share 0.5] [--sd-in-vx S] [--jobs 2]
 
 sweep: per sd_in_vx (constant, the parameter file's key) the mean mu error's change over the
 release ramp (4.0 -> 4.2 s), the last valid sample, RMSE when valid and valid share (t >= 1 s),
 for the preset as it is, three counterfactual updates in 4.065-4.125 s (without the ay and
-yaw_acc rows, without the ax row; diag(R) everywhere) and the candidate rule.
-trust: the candidate rule over every bundled log, with the library's trust rules on (as make
+yaw_acc rows, without the ax row; diag(R) everywhere) and the two candidate rules.
+trust: one candidate rule over every bundled log, with the library's trust rules on (as make
 trust-invariant), against the preset as it is, as trust_rules_study.verdict.
 
 The candidate rule ("vx-blind ax", reference only): on a step where the vx input's column
@@ -21,6 +22,9 @@ longitudinal channel that anchors mu while braking is blinded by the input's unc
 the ay and yaw-rate rows alone pull mu on a brake's release transient. Skipped = the update
 taken with S_R x 1e4 (its gain 1e-8 of the normal one) through trusted.run's adapt hook;
 trusted.py is untouched.
+
+Candidate B ("ax-anchored braking update", AxAnchor): on a step with |ax| >= 0.3 g, skip the
+update when the ax row alone gives less than info_min of information on every side.
 """
 from __future__ import annotations
 
@@ -83,6 +87,50 @@ class VxBlind:
         return s_r
 
 
+class AxAnchor:
+    """Candidate B ("ax-anchored braking update", written before it was measured): on a step
+    with |ax| >= AX_HARD (measured ax), skip the update when the ax row alone gives less than
+    info_min on every side: I_ax,k = J_ax,k^2 / R_ax,ax, J step 5's statistical linearisation
+    at x- (J = P_zx (S S^T)^-1 from the predicted points), R_ax,ax the ax row's step-noise
+    variance (its marginal). Same hook as VxBlind; skipped counts the skipped updates' steps
+    (where the rule held; the gate may hold some of them anyway)."""
+
+    def __init__(self, info_min: float, ax_hard: float):
+        self.info_min, self.ax_hard, self.skipped = info_min, ax_hard, 0
+        self.f = self.u = None
+
+    def __enter__(self):
+        def wrapped(p, f, T, u, sd_u, persistent=None, reuse=None):
+            self.f, self.u = f, np.array(u, copy=True)
+            return _ORIG_STEP_NOISE(p, f, T, u, sd_u, persistent, reuse)
+        trusted._step_noise = wrapped
+        return self
+
+    def __exit__(self, *exc):
+        trusted._step_noise = _ORIG_STEP_NOISE
+
+    def info_ax(self, zc, s_r) -> np.ndarray:
+        """I_ax per state from the predicted filter (the hook runs before the update)."""
+        f = self.f
+        xc = (f.points() - f.x[:, None]) / f.sqrt_2n
+        r_ax = np.sqrt(np.array([[float(s_r[0] @ s_r[0])]]))
+        return trusted._information_of(f, xc, zc[:1], r_ax)
+
+    def __call__(self, k, nu, s_zz, zc, s_r, c_pers=None):
+        if abs(self.u[4]) >= self.ax_hard and self.info_ax(zc, s_r).max() < self.info_min:
+            self.skipped += 1
+            return SKIP_SCALE * s_r
+        return s_r
+
+
+AX_HARD_G = 0.3     # candidate B's hard longitudinal manoeuvre, in g
+RULES = ("vx-share", "ax-anchor")
+
+
+def make_rule(name: str, share: float, p: dict):
+    return VxBlind(share) if name == "vx-share" else AxAnchor(p["info_min"], AX_HARD_G * p["g"])
+
+
 def rows_out(rows, t, window):
     """Counterfactual: the update without the given rows of y (S_R rows x 1e3) in window."""
     def adapt(k, nu, s_zz, zc, s_r, c_pers=None):
@@ -128,7 +176,7 @@ def release_figures(t, truth, res) -> dict:
             "valid": float(vv.mean())}
 
 
-def sweep(path: Path, share: float, sds=SWEEP) -> list[str]:
+def sweep(path: Path, share: float, sds=SWEEP, rules=("vx-share",)) -> list[str]:
     log = logs.read_csv_log(str(path))
     t = log.col("t")
     truth = np.stack([log.col(f"mu_{w}") for w in trs.WHEELS], 1)
@@ -142,9 +190,12 @@ def sweep(path: Path, share: float, sds=SWEEP) -> list[str]:
                     ("diag(R) everywhere", diag_r)]
         for name, adapt in variants:
             lines.append(row(sd, name, release_figures(t, truth, run(log, p, adapt)), None))
-        with VxBlind(share) as rule:
-            fig = release_figures(t, truth, run(log, p, rule))
-        lines.append(row(sd, f"rule: skip at vx share > {share}", fig, rule.skipped))
+        for name in rules:
+            with make_rule(name, share, p) as rule:
+                fig = release_figures(t, truth, run(log, p, rule))
+            label = (f"rule: skip at vx share > {share}" if name == "vx-share"
+                     else f"rule B: skip at |ax| >= {AX_HARD_G} g without ax information")
+            lines.append(row(sd, label, fig, rule.skipped))
     return lines
 
 
@@ -154,21 +205,21 @@ def row(sd, name, f, skipped) -> str:
 
 
 def _trust_one(args):
-    scen, name, share, sd = args
+    scen, name, share, sd, rule_name = args
     path = scen / f"{name}.csv"
     log = logs.read_csv_log(str(path))
     p = preset(log, path, sd)
-    with VxBlind(share) as rule:
+    with make_rule(rule_name, share, p) as rule:
         new = run(log, p, rule)
     base = new if rule.skipped == 0 else run(log, p)   # an inert rule leaves the run bit for bit
     keep = ("t", "mu", "sd", "valid", "status")
     return name, {k: base[k] for k in keep}, {k: new[k] for k in keep}, rule.skipped
 
 
-def trust(scen: Path, share: float, sd, jobs: int) -> list[str]:
+def trust(scen: Path, share: float, sd, jobs: int, rule: str = "vx-share") -> list[str]:
     names = trs.bundled(scen)
     with ProcessPoolExecutor(jobs) as ex:
-        out = list(ex.map(_trust_one, [(scen, n, share, sd) for n in names]))
+        out = list(ex.map(_trust_one, [(scen, n, share, sd, rule) for n in names]))
     base, new, acted = {}, {}, []
     for name, b, r, skipped in out:
         log = logs.read_csv_log(str(scen / f"{name}.csv"))
@@ -181,7 +232,9 @@ def trust(scen: Path, share: float, sd, jobs: int) -> list[str]:
             dst[name]["mismatch"] = float(np.mean(rr["status"] == monitor.STATUS_MISMATCH))
         if skipped:
             acted.append(f"{name} ({skipped})")
-    lines = trs.report(f"vx-blind ax, share > {share}, sd_in_vx {sd or 'preset'}", base, new)
+    label = (f"vx-blind ax, share > {share}" if rule == "vx-share"
+             else f"ax-anchored braking update, |ax| >= {AX_HARD_G} g")
+    lines = trs.report(f"{label}, sd_in_vx {sd or 'preset'}", base, new)
     falls = sorted(((base[n]["exc"] - new[n]["exc"], n) for n in base if base[n]["meets"]
                     and base[n]["exc"] is not None and new[n]["exc"] is not None), reverse=True)
     for fall, n in falls:
@@ -190,6 +243,15 @@ def trust(scen: Path, share: float, sd, jobs: int) -> list[str]:
                          f"(RMSE when valid {trs.fmt(base[n]['rmse'])} -> {trs.fmt(new[n]['rmse'])}): {n}")
     lines.append(f"    the rule skipped updates on {len(acted)} of {len(names)} logs: "
                  f"{', '.join(acted) or 'none'}")
+    for n in names:
+        b, f = base[n], new[n]
+        if any(b[k] != f[k] for k in ("valid", "rmse", "worst", "exc")):
+            lines.append(f"    {n}: valid {100 * b['valid']:.1f} -> {100 * f['valid']:.1f} %, "
+                         f"RMSE {trs.fmt(b['rmse'])} -> {trs.fmt(f['rmse'])}, worst "
+                         f"{trs.fmt(b['worst'])} -> {trs.fmt(f['worst'])}, excited-valid "
+                         f"{trs.fmt(b['exc'] and 100 * b['exc'], '.1f')} -> "
+                         f"{trs.fmt(f['exc'] and 100 * f['exc'], '.1f')}, meets "
+                         f"{b['meets']} -> {f['meets']}")
     return lines
 
 
@@ -201,9 +263,11 @@ def main(argv=None) -> int:
     ap.add_argument("--share", default=0.5, type=float)
     ap.add_argument("--sd-in-vx", default=None, type=float, help="trust: default the preset's")
     ap.add_argument("--jobs", default=2, type=int)
+    ap.add_argument("--rule", default="vx-share", choices=RULES,
+                    help="trust: the rule measured (sweep: both)")
     a = ap.parse_args(argv)
-    lines = sweep(a.log, a.share) if a.what == "sweep" else trust(a.scenarios, a.share,
-                                                                 a.sd_in_vx, a.jobs)
+    lines = (sweep(a.log, a.share, rules=RULES) if a.what == "sweep"
+             else trust(a.scenarios, a.share, a.sd_in_vx, a.jobs, a.rule))
     print("\n".join(lines))
     return 0
 
