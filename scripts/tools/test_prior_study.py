@@ -83,3 +83,9 @@ def test_updated_share_counts_updates_among_the_evaluated_steps():
 def test_parse_spec_takes_the_hypothesis_keys():
     assert ps.parse_spec("info_at=2,hyp_update=1,hyp_lr_min=2") == (
         "set", {"info_at": 2.0, "hyp_update": 1.0, "hyp_lr_min": 2.0})
+
+
+def test_parse_spec_takes_the_floor_keys():
+    """Section 19's step-7 floor level is a SPEC key like the prior's."""
+    assert ps.parse_spec("sd_floor_ref=0.5") == ("set", {"sd_floor_ref": 0.5})
+    assert ps.parse_spec("sd_floor_hold=2") == ("set", {"sd_floor_hold": 2.0})
