@@ -87,6 +87,11 @@ DEFAULTS: dict[str, float] = {
     "evid_free": 0.0,     # a side is never censored before this many updates on its own information
     "evid_cap": 0.0,      # 1: a side whose upper alternative mu_max clips (x + evid_delta > mu_max)
     #                       is not censored (at the bound its evidence cannot build up); 0: it is
+    # step 7, reference only (MONITOR.md section 19): an sd floor that does not fall with a low
+    # or a dropped mean. The floor on side k is sd_floor_rel * max(x_k, sd_floor_ref,
+    # the largest x_k of the last sd_floor_hold s)
+    "sd_floor_ref": 0.0,  # the floor never below sd_floor_rel * this mu (0: off)
+    "sd_floor_hold": 0.0,  # the floor follows the largest mean of this many s (0: off), s
     # model-validity monitor (docs/MONITOR.md section 2; monitor.py); on in the default preset
     "mon_enable": 0.0,    # 1: acts on valid, status, sd (SCKF); 0: off
     "mon_tau_nis": 0.5,   # time constant of the NIS average D, s
@@ -103,7 +108,8 @@ DEFAULTS: dict[str, float] = {
 REFERENCE_ONLY = frozenset({"info_at", "info_mu_h", "hyp_update", "hyp_lr_min",
                             "hyp_warmup",
                             "lower_bound_delta", "evid_delta",
-                            "evid_l_min", "evid_n", "evid_l0", "evid_free", "evid_cap"})
+                            "evid_l_min", "evid_n", "evid_l0", "evid_free", "evid_cap",
+                            "sd_floor_ref", "sd_floor_hold"})
 
 # The two presets (docs/ESTIMATOR.md): numeric values and the word-valued choices.
 PRESETS: dict[str, dict] = {

@@ -258,13 +258,15 @@ def run(log, p: dict, adapt=None, reuse: StepNoiseReuse | None = None):
     if evid is not None:                # the sides step 6 censored, and the evidence L after
         out["censored"] = np.zeros((N, n), dtype=bool)     # each step (MONITOR.md section 14)
         out["evid_L"] = np.zeros((N, n))
+    floor_mem = (FloorMemory(p, n) if p["sd_floor_ref"] > 0 or p["sd_floor_hold"] > 0
+                 else None)       # step 7's floor level (section 19; None: today's)
     t = log.col("t")
     hold = Hold(p) if (p["structure"] == "sides"
                            and (p["rear_hold_k"] > 0 or p["jump_hold_k"] > 0)) else None
     for k in range(N):
         missed = filters.gap_periods(t[k] - t[k - 1], p["dt"]) if k > 0 else 0
         if filters.gap_time_update(f, t, k, p):     # a gap (ESTIMATOR.md "Gaps")
-            _bound_sd(p, f)
+            _bound_sd(p, f, floor_mem, record=False)
             cond.vx = cond.vy = None    # the input filter restarts at this sample
             yaw.r = None                # and so does the yaw-rate check
             if reuse is not None:
@@ -324,7 +326,7 @@ def run(log, p: dict, adapt=None, reuse: StepNoiseReuse | None = None):
                 status = 0 if np.any(kept) else 3
         elif reuse is not None:
             reuse.drop()
-        _bound_sd(p, f)                                                 # 7
+        _bound_sd(p, f, floor_mem)                                      # 7
         out["v_gate"][k] = vx
         out["mu_unprojected"][k] = T @ f.x
         f.x, clamped = filters.project(f.x, p["mu_min"], p["mu_max"])  # 8
@@ -671,15 +673,38 @@ def _information_upper(p, f, T, u, sd_u, s_r_base):
     return np.einsum("ij,ij->j", w, w)
 
 
-def _bound_sd(p, f):
+class FloorMemory:
+    """Step 7's floor level, reference only (MONITOR.md section 19): per side max(x_k,
+    sd_floor_ref, the largest x_k of the last sd_floor_hold s), so that a low or a dropped
+    mean does not shrink its own floor. The window counts steps (round(sd_floor_hold / dt),
+    the current one included); a gap's time update only reads it."""
+
+    def __init__(self, p: dict, n: int):
+        self.ref = p["sd_floor_ref"]
+        m = int(round(p["sd_floor_hold"] / p["dt"])) if p["sd_floor_hold"] > 0 else 0
+        self.past = np.full((m, n), -np.inf) if m > 0 else None
+        self.i = 0
+
+    def level(self, x: np.ndarray, record: bool) -> np.ndarray:
+        lev = np.maximum(x, self.ref) if self.ref > 0 else np.array(x, dtype=float)
+        if self.past is not None:
+            if record:
+                self.past[self.i] = x
+                self.i = (self.i + 1) % self.past.shape[0]
+            lev = np.maximum(lev, self.past.max(axis=0))
+        return lev
+
+
+def _bound_sd(p, f, memory: FloorMemory | None = None, record: bool = True):
     """Step 7: one factor c for the whole S: cap at sd_max, else floor at sd_floor_rel mu
-    (limited to sd_max / max sd)."""
+    (limited to sd_max / max sd). memory (None: today's floor): mu replaced by its level."""
     sd = f.sd()
     c = 1.0
     if p["sd_max"] > 0 and np.any(sd > p["sd_max"]):
         c = float(np.min(p["sd_max"] / sd))
     elif p["sd_floor_rel"] > 0:
-        floor = p["sd_floor_rel"] * np.maximum(f.x, 0.0)
+        lev = f.x if memory is None else memory.level(f.x, record)
+        floor = p["sd_floor_rel"] * np.maximum(lev, 0.0)
         if np.any(sd < floor):
             c = float(np.max(floor / sd))
             if p["sd_max"] > 0:  # the floor never lifts another wheel above the cap

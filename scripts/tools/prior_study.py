@@ -16,13 +16,14 @@ banked curves), once per SPEC, and prints per SPEC and group the logs meeting th
 (consistency when valid >= 0.9, RMSE when valid <= 0.10, worst error when valid <= 0.25, on
 settled samples pooled over the wheels: trust_rules_study.figures), the (wheel, sample) pairs
 valid with error > 0.25, and issue 17's no-loss rule against today (on the logs that meet the
-invariant today, the largest fall of the excited-valid share; at most 5 points).
+invariant today, the largest fall of the excited-valid share; at most 5 points), and the
+largest mismatch-status share on a clean MF log (the monitor's false alarms).
 
 SPEC (comma-separated, no spaces):
   today                       the default preset as it is (always run: the reference);
   KEY=VALUE[,KEY=VALUE...]    preset parameters set (mu0, sd0, sd0_common, info_at,
                               info_mu_h, hyp_update, hyp_lr_min,
-                              hyp_warmup), e.g. mu0=0.3 or
+                              hyp_warmup, sd_floor_ref, sd_floor_hold), e.g. mu0=0.3 or
                               info_at=1,info_mu_h=0.3 or info_at=2,hyp_update=1;
   warm[,KEY=VALUE...]         each log driven twice in a row: mu0 = the estimate today's run
                               of the same log ends with (the mean of the four wheels' last
@@ -43,7 +44,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))   # scripts: reference
-from reference import logs  # noqa: E402
+from reference import logs, monitor  # noqa: E402
 sys.path.insert(0, str(Path(__file__).resolve().parent))        # tools
 from monitor_results import log_set, settled  # noqa: E402
 import trust_rules_study as trs  # noqa: E402
@@ -52,9 +53,11 @@ GROUPS = ("mf", "dugoff", "nf", "wrong", "fault", "bank")   # MONITOR.md's summa
 GROUP_LABEL = {"mf": "MF", "dugoff": "Dugoff", "nf": "noise-free Dugoff",
                "wrong": "wrong tyre data", "fault": "faults", "bank": "banked"}
 PRIOR_KEYS = ("mu0", "sd0", "sd0_common", "info_at", "info_mu_h",   # + step 5: section 16
-              "hyp_update", "hyp_lr_min", "hyp_warmup")          # + steps 5-6: section 17
+              "hyp_update", "hyp_lr_min", "hyp_warmup",          # + steps 5-6: section 17
+              "sd_floor_ref", "sd_floor_hold")                    # + step 7: section 19
 CROSS_SPLIT = 0.6                       # a truth starting below: a low-mu log
 CROSS_HIGH, CROSS_LOW = "hard_brake_high_mu.mf", "hard_brake_low_mu.mf"   # the donors
+MISMATCH = monitor.STATUS_MISMATCH       # the monitor's false alarm on a clean log
 BAD_ERR = trs.WORST_MAX                 # issue 17's worst error while valid
 
 
@@ -122,6 +125,12 @@ def group_counts(figs: dict, group_of: dict) -> dict:
     return out
 
 
+def false_alarm(figs: dict, group_of: dict) -> float:
+    """The largest share of samples with the mismatch status on a clean Magic Formula log (the
+    MF group: not a fault, not wrong tyre data, not banked)."""
+    return max((figs[n]["mismatch"] for n in figs if group_of[n] == "mf"), default=0.0)
+
+
 def updated_share(runs: dict) -> float:
     """The share of the evaluated steps (status not 2, the low-speed skip) that updated
     (status 0 or 1, as the monitor leaves it), pooled over the runs."""
@@ -172,6 +181,7 @@ def evaluate(runs: dict, truths: dict) -> dict:
         truth, util, s = truths[n]
         f = trs.figures(r["mu"], r["sd"], r["valid"].astype(bool), truth, util, s)
         f["bad"] = count_bad(r["mu"], r["valid"], truth, s)
+        f["mismatch"] = float(np.mean(r["status"] == MISMATCH))
         out[n] = f
     return out
 
@@ -219,7 +229,8 @@ def main(argv=None) -> int:
           + " (all) | valid pairs with error > 0.25, same order | gained | lost | "
           "no loss: largest excited-valid fall |", flush=True)
     print(line("today", base) + " – | – | – |", flush=True)
-    print(f"    updated: {100 * updated_share({n: base_runs[n] for n in group_of}):.1f} %", flush=True)
+    print(f"    updated: {100 * updated_share({n: base_runs[n] for n in group_of}):.1f} %; "
+          f"mismatch on clean MF logs at most {100 * false_alarm(base, group_of):.1f} %", flush=True)
     if need_donors:
         print(f"cross donors: {CROSS_HIGH} ends at {ends[CROSS_HIGH]:.3f}, "
               f"{CROSS_LOW} at {ends[CROSS_LOW]:.3f}", flush=True)
@@ -235,7 +246,8 @@ def main(argv=None) -> int:
         print(line(spec, new) + f" {', '.join(gained) or 'none'} | {', '.join(lost) or 'none'}"
               f" | {verdict} ({100 * drop:.1f}" + (f", {drop_log}" if drop_log else "")
               + ") |", flush=True)
-        print(f"    updated: {100 * updated_share(runs):.1f} %", flush=True)
+        print(f"    updated: {100 * updated_share(runs):.1f} %; mismatch on clean MF logs at "
+              f"most {100 * false_alarm(new, group_of):.1f} %", flush=True)
         if a.detail:
             for n in new:
                 b, g = base[n], new[n]

@@ -83,3 +83,19 @@ def test_updated_share_counts_updates_among_the_evaluated_steps():
 def test_parse_spec_takes_the_hypothesis_keys():
     assert ps.parse_spec("info_at=2,hyp_update=1,hyp_lr_min=2") == (
         "set", {"info_at": 2.0, "hyp_update": 1.0, "hyp_lr_min": 2.0})
+
+
+def test_parse_spec_takes_the_floor_keys():
+    """Section 19's step-7 floor level is a SPEC key like the prior's."""
+    assert ps.parse_spec("sd_floor_ref=0.5") == ("set", {"sd_floor_ref": 0.5})
+    assert ps.parse_spec("sd_floor_hold=2") == ("set", {"sd_floor_hold": 2.0})
+
+
+def test_false_alarm_is_the_largest_mismatch_share_on_a_clean_mf_log():
+    """Only the MF group counts (faults, wrong tyre data, banked and Dugoff logs do not)."""
+    figs = {"a.mf": {"mismatch": 0.01}, "b.mf": {"mismatch": 0.03}, "c": {"mismatch": 0.5},
+            "drop.d.mf": {"mismatch": 0.4}, "bank_curve_neg5.mf": {"mismatch": 0.9}}
+    group_of = {"a.mf": "mf", "b.mf": "mf", "c": "dugoff", "drop.d.mf": "fault",
+                "bank_curve_neg5.mf": "bank"}
+    assert ps.false_alarm(figs, group_of) == 0.03
+    assert ps.false_alarm({}, {}) == 0.0
