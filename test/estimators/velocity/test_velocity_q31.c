@@ -479,21 +479,22 @@ static void test_params(void **state)
      * order of the struct after dt_max (steer_ratio is checked positive too; sd_model_rdot
      * is 0 when off) */
     {
-        rfe_fix_t *const pos[9] = {&bad.q_jerk, &bad.sd_r, &bad.sd_ax, &bad.sd_ay,
+        rfe_fix_t *const pos[] = {&bad.q_jerk, &bad.sd_r, &bad.sd_ax, &bad.sd_ay,
                                     &bad.v_lat_min, &bad.sd_lowspeed, &bad.mu_default,
                                     &bad.sd_vydot, &bad.steer_ratio};
-        rfe_fix_t *const nonneg[33] = {&bad.ay_turn, &bad.q_bx_turn, &bad.vydot_rerr, &bad.vy_out_floor_mu, &bad.lin_mu_gain, &bad.sd_vy_lin, &bad.lin_r_tol, &bad.lin_r_rel, &bad.lin_ay_max,
+        rfe_fix_t *const nonneg[] = {&bad.ay_turn, &bad.q_bx_turn, &bad.vydot_rerr, &bad.vy_out_floor_mu, &bad.lin_mu_gain, &bad.sd_vy_lin, &bad.lin_r_tol, &bad.lin_r_rel, &bad.lin_ay_max,
             &bad.lin_ay_steady, &bad.lin_dwell,
             &bad.sd_model_rdot, &bad.vydot_rdot, &bad.q_bx, &bad.q_by, &bad.sd_wheel, &bad.sd_wheel_rel,
             &bad.k_gate, &bad.k_agree, &bad.v_stand, &bad.q_vx_brake, &bad.ax_brake_on, &bad.ax_drive_on, &bad.p_brake_on, &bad.torque_on,
             &bad.sd_model_ay, &bad.model_ay_rel, &bad.sd_mu_default, &bad.mu_margin,
             &bad.sd_vx0, &bad.sd_bx0, &bad.sd_vy0, &bad.sd_by0};
-        for (i = 0u; i < 9u; ++i) {
+        /* the lengths from the lists: a new key is added in one place */
+        for (i = 0u; i < (sizeof(pos) / sizeof(pos[0])); ++i) {
             bad = def;
             *pos[i] = 0;
             assert_int_equal(rfe_velocity_params_validate_q31(&bad), RFE_ERR_PARAM);
         }
-        for (i = 0u; i < 33u; ++i) {
+        for (i = 0u; i < (sizeof(nonneg) / sizeof(nonneg[0])); ++i) {
             bad = def;
             *nonneg[i] = 0;
             assert_int_equal(rfe_velocity_params_validate_q31(&bad), RFE_OK);
