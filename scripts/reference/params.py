@@ -92,6 +92,12 @@ DEFAULTS: dict[str, float] = {
     # the largest x_k of the last sd_floor_hold s)
     "sd_floor_ref": 0.0,  # the floor never below sd_floor_rel * this mu (0: off)
     "sd_floor_hold": 0.0,  # the floor follows the largest mean of this many s (0: off), s
+    # step 6, reference only (MONITOR.md section 20): an update claims no more information than
+    # the data carry at the mean: after it, S is scaled (one factor) so that no variance is below
+    # the posterior of the local linearisation, J = dh/dx at sd_local_at's mean by central
+    # differences of step sd_local
+    "sd_local": 0.0,      # the central differences' step, mu (0: off)
+    "sd_local_at": 0.0,   # 0: J at the prior mean x-; 1: at the posterior mean x+
     # model-validity monitor (docs/MONITOR.md section 2; monitor.py); on in the default preset
     "mon_enable": 0.0,    # 1: acts on valid, status, sd (SCKF); 0: off
     "mon_tau_nis": 0.5,   # time constant of the NIS average D, s
@@ -109,7 +115,7 @@ REFERENCE_ONLY = frozenset({"info_at", "info_mu_h", "hyp_update", "hyp_lr_min",
                             "hyp_warmup",
                             "lower_bound_delta", "evid_delta",
                             "evid_l_min", "evid_n", "evid_l0", "evid_free", "evid_cap",
-                            "sd_floor_ref", "sd_floor_hold"})
+                            "sd_floor_ref", "sd_floor_hold", "sd_local", "sd_local_at"})
 
 # The two presets (docs/ESTIMATOR.md): numeric values and the word-valued choices.
 PRESETS: dict[str, dict] = {

@@ -258,6 +258,8 @@ def run(log, p: dict, adapt=None, reuse: StepNoiseReuse | None = None):
     if evid is not None:                # the sides step 6 censored, and the evidence L after
         out["censored"] = np.zeros((N, n), dtype=bool)     # each step (MONITOR.md section 14)
         out["evid_L"] = np.zeros((N, n))
+    if p["sd_local"] > 0:      # the factor step 6's local-information bound applied
+        out["sd_local_c"] = np.ones(N)
     floor_mem = (FloorMemory(p, n) if p["sd_floor_ref"] > 0 or p["sd_floor_hold"] > 0
                  else None)       # step 7's floor level (section 19; None: today's)
     t = log.col("t")
@@ -321,7 +323,12 @@ def run(log, p: dict, adapt=None, reuse: StepNoiseReuse | None = None):
                     out["censored"][k] = ~kept
                 else:
                     kept = True
+                    x_prior, s_prior = f.x.copy(), f.S.copy()
                     f.measurement_update(ys[k], hfun)
+                    if p["sd_local"] > 0:   # reference only (MONITOR.md section 20)
+                        out["sd_local_c"][k] = _local_information_bound(
+                            p, f, hfun, x_prior if p["sd_local_at"] == 0 else f.x,
+                            s_prior, s_r_used)
                 f.s_r = saved
                 status = 0 if np.any(kept) else 3
         elif reuse is not None:
@@ -671,6 +678,32 @@ def _information_upper(p, f, T, u, sd_u, s_r_base):
     jac = (hs[:n] - hs[n:]).T / (2.0 * d)                                # (3, n)
     w = solve_triangular(s_a, jac, lower=True)
     return np.einsum("ij,ij->j", w, w)
+
+
+def _local_information_bound(p, f, hfun, x_at, s_prior, s_r) -> float:
+    """Step 6's local-information bound (`sd_local` > 0; reference only, MONITOR.md section
+    20): W = S_R^-1 J, J = dh/dx at x_at (central differences of step sd_local per state),
+    P_loc = (P-^-1 + W^T W)^-1; S (after the update) is scaled by one factor c = max(1,
+    max_k sqrt(P_loc,kk / P+_kk)), so that the update claims no more information about any
+    state than the data carry at x_at (the cubature spread's secant can claim far more).
+    Returns c."""
+    n = len(f.x)
+    eps = p["sd_local"]
+    pts = np.repeat(np.asarray(x_at, dtype=float)[:, None], 2 * n, axis=1)
+    for j in range(n):
+        pts[j, 2 * j] += eps
+        pts[j, 2 * j + 1] -= eps
+    z = hfun(pts)                                                       # (m, 2n)
+    jac = (z[:, 0::2] - z[:, 1::2]) / (2.0 * eps)                       # (m, n)
+    w = solve_triangular(s_r, jac, lower=True)
+    p_prior = s_prior @ s_prior.T
+    p_loc = np.linalg.inv(np.linalg.inv(p_prior) + w.T @ w)
+    p_post = f.S @ f.S.T
+    c = float(np.sqrt(np.max(np.diag(p_loc) / np.diag(p_post))))
+    if c > 1.0:
+        f.S = f.S * c
+        return c
+    return 1.0
 
 
 class FloorMemory:

@@ -91,6 +91,12 @@ def test_parse_spec_takes_the_floor_keys():
     assert ps.parse_spec("sd_floor_hold=2") == ("set", {"sd_floor_hold": 2.0})
 
 
+def test_parse_spec_takes_the_local_information_keys():
+    """Section 20's step-6 bound is a SPEC key like the prior's."""
+    assert ps.parse_spec("sd_local=0.001,sd_local_at=1") == (
+        "set", {"sd_local": 0.001, "sd_local_at": 1.0})
+
+
 def test_false_alarm_is_the_largest_mismatch_share_on_a_clean_mf_log():
     """Only the MF group counts (faults, wrong tyre data, banked and Dugoff logs do not)."""
     figs = {"a.mf": {"mismatch": 0.01}, "b.mf": {"mismatch": 0.03}, "c": {"mismatch": 0.5},
