@@ -89,6 +89,7 @@ STUDY_DEFAULTS: dict[str, float] = {
     "obs_cs_ay_on": 0.0,        # excited only with |ay| at least this too, m/s^2 (0: off)
     "obs_cs_consider": 0.0,     # 1: on steps not excited the rows leave c_s and its variance
                                 # (a Schmidt update: c_s a consider parameter there)
+    "obs_cs_row_only": 0.0,     # 1: c_s in the model row only, §4.2b's linear range keeps cy
 }
 
 
@@ -438,20 +439,21 @@ class Observer:
             # §4.2b the linear range (decided above): vy is the linear model's, whatever the
             # friction
             if linear:
-                cy_c = p["cy"] if not self.cs_on else self.lat.x[2] * p["cy"]
+                cs_lin = self.cs_on and p["obs_cs_row_only"] <= 0.0
+                cy_c = p["cy"] if not cs_lin else self.lat.x[2] * p["cy"]
                 vy_lin = vx * ((p["Lr"] * s.delta) / length - s.ay / (cy_c * p["g"]))
                 r_lin = p["obs_sd_vy_lin"] ** 2
                 if p["obs_stiff_mu"] > 0.0:
                     # (study) its slip part scales with 1 / C(mu)
                     r_lin += (p["obs_stiff_mu"] * vy_slip * rel_mu) ** 2
-                if self.cs_on:
+                if cs_lin:
                     # (study) the row vy + vx ay / (c_s cy g) = vx Lr delta / L
                     h2 = -vx * s.ay / (self.lat.x[2] * cy_c * p["g"])
                     before = (self.lat.x[2], self.lat.P[2][2])
                     self.lat.update(1.0, 0.0, vy_lin - self.lat.x[0], r_lin, h2)
                     self.clip_cs(before)
                 else:
-                    self.lat.update(1.0, 0.0, vy_lin - self.lat.x[0], r_lin)
+                    self.lat_update(1.0, 0.0, vy_lin - self.lat.x[0], r_lin)
                 flags |= FLAG_VY_LINEAR
         else:
             # §4.3 low speed: the rear axle rolls without side slip, vy = Lr r

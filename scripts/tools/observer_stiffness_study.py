@@ -51,7 +51,8 @@ NEIGHBOURS = {"q_cs 0.02": {**A, "obs_q_cs": 0.02}, "q_cs 0.1": {**A, "obs_q_cs"
 # parameter elsewhere (on a straight the model's ay is the delta and r sensors' noise, an
 # errors-in-variables fit that pulls c_s towards 0)
 LATER = {"B: consider, ay ≥ 1": {**A, "obs_cs_consider": 1.0, "obs_cs_ay_on": 1.0},
-         "B1: consider only": {**A, "obs_cs_consider": 1.0}}
+         "B1: consider only": {**A, "obs_cs_consider": 1.0},
+         "C: model row only": {**A, "obs_cs_row_only": 1.0}}
 LOOP_LOW_MU = 0.7      # turn_mu_step's mu 0.5 phase: the wheels' mean true mu below this
 ALPHA_MIN = math.radians(0.1)  # the secant ratio only where the rear slip angle is this large
 VY_LOOP_BOUND = 1.10   # REQ-OBS-024's |vy| bound on the loop log, m/s (OBSERVER.md §6)
@@ -214,7 +215,7 @@ def main() -> None:
                     help="logs (default: scenarios/observer/*.csv and the loop log, both truths)")
     ap.add_argument("--neighbours", action="store_true", help="also A's neighbours")
     ap.add_argument("--later", action="store_true",
-                    help="also the variants designed after A was measured (B, B1)")
+                    help="also the variants designed after A was measured (B, B1, C)")
     ap.add_argument("--trajectory", nargs="*", default=[],
                     help="log file names whose c_s trajectory to print (e.g. dlc_mu035.csv)")
     ap.add_argument("--every", type=float, default=0.5, help="trajectory spacing, s")
