@@ -74,6 +74,22 @@ OBS_DEFAULTS: dict[str, float] = {
 STUDY_DEFAULTS: dict[str, float] = {
     "obs_stiff_mu": 0.0,        # rows' R widened by a stiffness C(mu): d ln C / d ln mu (0: off)
     "obs_vy_floor_mu": 0.0,     # sd(vy) >= this |vx ay / (cy g)| sd_mu / mu (0: off)
+    # (issue 16, OBSERVER_RESULTS.md "A cornering-stiffness scale learned by the lateral
+    # filter") a third lateral state c_s, a scale on cy in the model row and the linear range;
+    # the candidate's values are observer_stiffness_study.A (prior sd 0.3, walk 0.05, [0.2, 1.5],
+    # r-dot 0.5)
+    "obs_cs_on": 0.0,           # 1: the lateral filter carries c_s (prior 1; 0: today's filter)
+    "obs_cs_sd0": 0.0,          # c_s's prior sd
+    "obs_q_cs": 0.0,            # c_s's random walk while excited, 1 / sqrt(s)
+    "obs_cs_min": 0.0,          # c_s clipped to [obs_cs_min, obs_cs_max] after each update
+    "obs_cs_max": 0.0,          # (0: no upper bound)
+    "obs_cs_rdot_on": 0.0,      # excited: r off r_ref (§4.2b) or |r-dot| >= this, rad/s^2
+                                # (0: r off r_ref only)
+    "obs_cs_walk_all": 0.0,     # 1: the walk on every step, excited or not
+    "obs_cs_ay_on": 0.0,        # excited only with |ay| at least this too, m/s^2 (0: off)
+    "obs_cs_consider": 0.0,     # 1: on steps not excited the rows leave c_s and its variance
+                                # (a Schmidt update: c_s a consider parameter there)
+    "obs_cs_row_only": 0.0,     # 1: c_s in the model row only, §4.2b's linear range keeps cy
 }
 
 
@@ -135,6 +151,49 @@ class Kf2:
         return s
 
 
+@dataclass
+class Kf3:
+    """The lateral filter with the stiffness scale (study): state [vy, b_y, c_s], covariance P
+    (3 x 3, symmetric). F = [[1, f01, 0], [0, 1, 0], [0, 0, 1]]; the sums are ordered so that
+    with c_s's variance and covariances 0 every number equals Kf2's bit for bit (the c_s terms
+    add an exact 0.0 last)."""
+    x: list = field(default_factory=lambda: [0.0, 0.0, 1.0])
+    P: list = field(default_factory=lambda: [[0.0] * 3 for _ in range(3)])
+
+    def predict(self, f01, u, q0, q1, q01=0.0, q2=0.0):
+        x0, x1, x2 = self.x
+        P = self.P
+        p00, p01, p11 = P[0][0], P[0][1], P[1][1]
+        p02, p12, p22 = P[0][2], P[1][2], P[2][2]
+        self.x = [x0 + f01 * x1 + u, x1, x2]
+        n00 = p00 + 2.0 * f01 * p01 + f01 * f01 * p11 + q0
+        n01 = p01 + f01 * p11 + q01
+        n11 = p11 + q1
+        n02 = p02 + f01 * p12
+        self.P = [[n00, n01, n02], [n01, n11, p12], [n02, p12, p22 + q2]]
+
+    def update(self, h0, h1, innovation, r, h2=0.0):
+        """Scalar update with H = [h0, h1, h2] (as Kf2.update). Returns S."""
+        P = self.P
+        p00, p01, p11 = P[0][0], P[0][1], P[1][1]
+        p02, p12, p22 = P[0][2], P[1][2], P[2][2]
+        ph0 = p00 * h0 + p01 * h1 + p02 * h2
+        ph1 = p01 * h0 + p11 * h1 + p12 * h2
+        ph2 = p02 * h0 + p12 * h1 + p22 * h2
+        s = h0 * ph0 + h1 * ph1 + h2 * ph2 + r
+        k0, k1, k2 = ph0 / s, ph1 / s, ph2 / s
+        self.x = [self.x[0] + k0 * innovation, self.x[1] + k1 * innovation,
+                  self.x[2] + k2 * innovation]
+        n00 = p00 - k0 * k0 * s
+        n01 = p01 - k0 * k1 * s
+        n11 = p11 - k1 * k1 * s
+        n02 = p02 - k0 * k2 * s
+        n12 = p12 - k1 * k2 * s
+        n22 = p22 - k2 * k2 * s
+        self.P = [[n00, n01, n02], [n01, n11, n12], [n02, n12, n22]]
+        return s
+
+
 def wheel_positions(p):
     """(x_i, y_i) of fl, fr, rl, rr relative to the CoG (MODEL.md §1)."""
     return ((p["Lf"], 0.5 * p["Bf"]), (p["Lf"], -0.5 * p["Bf"]),
@@ -153,7 +212,8 @@ class Observer:
         self.t = 0.0
         self.yaw = Kf2()
         self.lon = Kf2()
-        self.lat = Kf2()
+        self.cs_on = self.p["obs_cs_on"] > 0.0
+        self.lat = Kf3() if self.cs_on else Kf2()
         self.r_on_ref = 0.0                       # §4.2b time r has stayed on r_ref, s
         self.lat_every = int(self.p["obs_lat_every"])
         if not (1 <= self.lat_every <= 8 and self.lat_every == self.p["obs_lat_every"]):
@@ -182,6 +242,11 @@ class Observer:
         self.lon.P = [[p["obs_sd_vx0"] ** 2, 0.0], [0.0, p["obs_sd_bx0"] ** 2]]
         self.lat.x = [0.0, 0.0]
         self.lat.P = [[p["obs_sd_vy0"] ** 2, 0.0], [0.0, p["obs_sd_by0"] ** 2]]
+        if self.cs_on:
+            # (study) c_s's prior 1, uncorrelated with vy and b_y
+            self.lat.x = [0.0, 0.0, 1.0]
+            self.lat.P = [[p["obs_sd_vy0"] ** 2, 0.0, 0.0], [0.0, p["obs_sd_by0"] ** 2, 0.0],
+                          [0.0, 0.0, p["obs_cs_sd0"] ** 2]]
         self.r_on_ref = 0.0
         self.sd_vy_out_floor = 0.0
         self.phase = 1                            # the next step evaluates the model
@@ -279,8 +344,20 @@ class Observer:
 
         # §4.1 lateral: predict with the accelerometer
         sy = dt * p["obs_sd_ay"]
-        self.lat.predict(-dt, dt * (s.ay - s.yaw_rate * vx), sy * sy,
-                         (p["obs_q_by"] * p["obs_q_by"]) * dt)
+        if self.cs_on:
+            # (study) c_s's walk only while a transient excites it (OBSERVER_RESULTS.md "A
+            # cornering-stiffness scale ..."): r off the neutral r_ref or |r-dot| large
+            r_ref0 = vx * (s.delta / (p["Lf"] + p["Lr"]))
+            excited = vx >= p["obs_v_lat_min"] and abs(s.ay) >= p["obs_cs_ay_on"] and (
+                abs(s.yaw_rate - r_ref0) > p["obs_lin_r_tol"] + p["obs_lin_r_rel"] * abs(r_ref0)
+                or (p["obs_cs_rdot_on"] > 0.0 and abs(self.yaw.x[1]) >= p["obs_cs_rdot_on"]))
+            q2 = (p["obs_q_cs"] ** 2) * dt if (excited or p["obs_cs_walk_all"] > 0.0) else 0.0
+            self.cs_excited = excited
+            self.lat.predict(-dt, dt * (s.ay - s.yaw_rate * vx), sy * sy,
+                             (p["obs_q_by"] * p["obs_q_by"]) * dt, 0.0, q2)
+        else:
+            self.lat.predict(-dt, dt * (s.ay - s.yaw_rate * vx), sy * sy,
+                             (p["obs_q_by"] * p["obs_q_by"]) * dt)
         vy_pred = self.lat.x[0]
         on_ref = 0.0                              # below v_lat_min the time on r_ref restarts
         r_over = 0.0                              # §4.4 the yaw rate beyond r_ref, rad/s
@@ -322,8 +399,17 @@ class Observer:
                 flags |= FLAG_MU_RAISED
             mu = tuple(max(m, mu_low) for m in mu_in)
             # the rows at vy_pred, their derivatives by vy and by the friction along its sd
+            pm_c, h2 = None, 0.0
+            if self.cs_on:
+                # (study) the model's tyre at c_s cy; dy/dc_s by a central difference
+                cs = self.lat.x[2]
+                pm_c = dict(self.pm, cy=cs * self.pm["cy"])
+                eps = 1e-4
+                ay_hi = self.model_rows(s, vx, vy_pred, mu, dict(self.pm, cy=(cs + eps) * self.pm["cy"]))[0]
+                ay_lo = self.model_rows(s, vx, vy_pred, mu, dict(self.pm, cy=(cs - eps) * self.pm["cy"]))[0]
+                h2 = (ay_hi - ay_lo) / (2.0 * eps)
             (ay_model, rd_model), (h0, h1), (e_ay, e_rd) = self.model_rows_jac(
-                s, vx, vy_pred, mu, sd_in)
+                s, vx, vy_pred, mu, sd_in, pm_c)
             r = (p["obs_sd_model_ay"] ** 2 + (p["obs_model_ay_rel"] * s.ay) ** 2 + e_ay ** 2)
             if p["obs_stiff_mu"] > 0.0:
                 # (study) a stiffness C(mu) with d ln C / d ln mu = obs_stiff_mu moves the tyres'
@@ -333,7 +419,12 @@ class Observer:
                 # §4.2 every N-th step at variance r / N: the information per second of an
                 # update every step at r (N = 1 takes no arithmetic: bit for bit unchanged)
                 r = r / self.lat_every
-            self.lat.update(h0, 0.0, s.ay - ay_model, r)
+            if self.cs_on:
+                before = (self.lat.x[2], self.lat.P[2][2])
+                self.lat.update(h0, 0.0, s.ay - ay_model, r, h2)
+                self.clip_cs(before)
+            else:
+                self.lat.update(h0, 0.0, s.ay - ay_model, r)
             flags |= FLAG_VY_MODEL
             # the yaw moment balance: the differentiator's r-dot against the model's, linearised
             # at the same vy_pred, the innovation at the vy the lateral row left
@@ -348,23 +439,32 @@ class Observer:
             # §4.2b the linear range (decided above): vy is the linear model's, whatever the
             # friction
             if linear:
-                vy_lin = vx * ((p["Lr"] * s.delta) / length - s.ay / (p["cy"] * p["g"]))
+                cs_lin = self.cs_on and p["obs_cs_row_only"] <= 0.0
+                cy_c = p["cy"] if not cs_lin else self.lat.x[2] * p["cy"]
+                vy_lin = vx * ((p["Lr"] * s.delta) / length - s.ay / (cy_c * p["g"]))
                 r_lin = p["obs_sd_vy_lin"] ** 2
                 if p["obs_stiff_mu"] > 0.0:
                     # (study) its slip part scales with 1 / C(mu)
                     r_lin += (p["obs_stiff_mu"] * vy_slip * rel_mu) ** 2
-                self.lat.update(1.0, 0.0, vy_lin - self.lat.x[0], r_lin)
+                if cs_lin:
+                    # (study) the row vy + vx ay / (c_s cy g) = vx Lr delta / L
+                    h2 = -vx * s.ay / (self.lat.x[2] * cy_c * p["g"])
+                    before = (self.lat.x[2], self.lat.P[2][2])
+                    self.lat.update(1.0, 0.0, vy_lin - self.lat.x[0], r_lin, h2)
+                    self.clip_cs(before)
+                else:
+                    self.lat_update(1.0, 0.0, vy_lin - self.lat.x[0], r_lin)
                 flags |= FLAG_VY_LINEAR
         else:
             # §4.3 low speed: the rear axle rolls without side slip, vy = Lr r
-            self.lat.update(1.0, 0.0, p["Lr"] * s.yaw_rate - vy_pred, p["obs_sd_lowspeed"] ** 2)
+            self.lat_update(1.0, 0.0, p["Lr"] * s.yaw_rate - vy_pred, p["obs_sd_lowspeed"] ** 2)
             flags |= FLAG_VY_LOWSPEED
         # §4.4 no sideslip accelerates for long: ay - r vx = b_y + v-dot_y, with v-dot_y as
         # noise, holds b_y where the model cannot (a saturated tyre tells nothing about vy);
         # larger while r changes and while the car yaws beyond r_ref (sliding out: the
         # oversteer side only, OBSERVER_RESULTS.md "§4.4's noise grown with the yaw-rate error")
         sv = (p["obs_sd_vydot"] + p["obs_vydot_rdot"] * abs(self.yaw.x[1])) + p["obs_vydot_rerr"] * r_over
-        self.lat.update(0.0, 1.0, (s.ay - s.yaw_rate * vx) - self.lat.x[1], sv * sv)
+        self.lat_update(0.0, 1.0, (s.ay - s.yaw_rate * vx) - self.lat.x[1], sv * sv)
         if p["obs_vy_floor_mu"] > 0.0 and vx >= p["obs_v_lat_min"]:
             # (study) no row sees a constant vy error from the tyre's stiffness: its sd is a floor
             # (raising P00 alone keeps P positive semi-definite)
@@ -379,6 +479,27 @@ class Observer:
         # §4.2 the next step's phase: the model's rows every obs_lat_every-th step
         self.phase = 1 if self.phase >= self.lat_every else self.phase + 1
         return self.output(flags)
+
+    def lat_update(self, h0, h1, innovation, r):
+        """§4.3, §4.4's rows: today's update; (study) with c_s, through its covariance it moves
+        c_s too, and clip_cs applies (a consider parameter stays where it was)."""
+        if not self.cs_on:
+            return self.lat.update(h0, h1, innovation, r)
+        before = (self.lat.x[2], self.lat.P[2][2])
+        out = self.lat.update(h0, h1, innovation, r)
+        self.clip_cs(before)
+        return out
+
+    def clip_cs(self, before):
+        """(study) c_s within [obs_cs_min, obs_cs_max], its covariance kept; with
+        obs_cs_consider on a step not excited, c_s and its variance as @p before (x2, P22) had
+        them (the update's cross-covariances P02 - k0 ph2, P12 - k1 ph2 are the Schmidt
+        filter's already)."""
+        if self.p["obs_cs_consider"] > 0.0 and not self.cs_excited:
+            self.lat.x[2], self.lat.P[2][2] = before
+        self.lat.x[2] = max(self.lat.x[2], self.p["obs_cs_min"])
+        if self.p["obs_cs_max"] > 0.0:
+            self.lat.x[2] = min(self.lat.x[2], self.p["obs_cs_max"])
 
     def mu_rel_sd(self, s):
         """(study) max over the wheels of sd_mu / mu, the friction input (or the default) raised to
@@ -397,14 +518,14 @@ class Observer:
                 rel = max(rel, sd / m)
         return rel
 
-    def model_rows(self, s, vx, vy, mu):
+    def model_rows(self, s, vx, vy, mu, pm=None):
         """MODEL.md §3-5: the lateral and yaw rows (ay, r-dot) of h(mu, u) at
         u = (delta, vx, vy, r, ax, ay, omega),
         with the tyre of the configuration (p["tyre"]: "paper" normalised Dugoff, forces
         mu F0(u); "dugoff" absolute Dugoff; "magic" Magic Formula)."""
         import numpy as np
         from . import model
-        pm = self.pm
+        pm = self.pm if pm is None else pm
         ti = model.tyre_inputs(pm, np.array([s.delta]), np.array([vx]), np.array([vy]),
                                np.array([s.yaw_rate]), np.array([s.ax]), np.array([s.ay]),
                                np.array([s.omega]))
@@ -415,13 +536,13 @@ class Observer:
         z = model.h_absolute(pm, ti, 0, m[:, None])
         return float(z[1, 0]), float(z[2, 0])
 
-    def model_rows_jac(self, s, vx, vy, mu, dmu):
+    def model_rows_jac(self, s, vx, vy, mu, dmu, pm=None):
         """§4.2: the rows (ay, r-dot) of h(mu, u) at vy (model_rows), their derivatives by vy and
         their derivative by the per-wheel friction in the direction dmu, analytically, wheel by
         wheel as the page writes them (scalar floats)."""
-        z = self.model_rows(s, vx, vy, mu)
+        pm = self.pm if pm is None else pm
+        z = self.model_rows(s, vx, vy, mu, pm)
         d_vy, d_mu = [0.0, 0.0], [0.0, 0.0]
-        pm = self.pm
         fz = vertical_loads(pm, s.ax, s.ay)
         c, sn = math.cos(s.delta), math.sin(s.delta)
         for i, (xi, yi) in enumerate(self.pos):
@@ -443,9 +564,13 @@ class Observer:
         n2 = max(vx * vx + vy * vy, vmin * vmin)
         beta = math.atan2(vy, vx) if vx >= vmin else 0.0
         sbeta = math.sqrt((vx * vx) * (svy * svy) + (vy * vy) * (svx * svx)) / n2
-        return dict(vx=vx, vy=vy, beta=beta, yaw_acc=self.yaw.x[1], sd_vx=svx, sd_vy=svy,
-                    sd_beta=sbeta, sd_yaw_acc=math.sqrt(max(self.yaw.P[1][1], 0.0)),
-                    bx=self.lon.x[1], by=self.lat.x[1], flags=flags)
+        out = dict(vx=vx, vy=vy, beta=beta, yaw_acc=self.yaw.x[1], sd_vx=svx, sd_vy=svy,
+                   sd_beta=sbeta, sd_yaw_acc=math.sqrt(max(self.yaw.P[1][1], 0.0)),
+                   bx=self.lon.x[1], by=self.lat.x[1], flags=flags)
+        if self.cs_on:
+            out["cs"] = self.lat.x[2]                 # (study) the stiffness scale and its sd
+            out["sd_cs"] = math.sqrt(max(self.lat.P[2][2], 0.0))
+        return out
 
 
 OUTPUTS = ("vx", "vy", "beta", "yaw_acc", "sd_vx", "sd_vy", "sd_beta", "sd_yaw_acc", "bx", "by",
@@ -601,4 +726,7 @@ def run(cols: dict, params: dict, mu=None):
         o = obs.step(s)
         for key in OUTPUTS:
             out[key][k] = o[key]
+        if obs.cs_on:                                 # (study) c_s and its sd
+            for key in ("cs", "sd_cs"):
+                out.setdefault(key, np.zeros(n))[k] = o[key]
     return out
