@@ -27,6 +27,13 @@ sd of mu_a at sample k: sqrt([J(k)^-1]_{D_a, D_a}) / Fz0_a; also with C and E kn
 and columns of D, K and the initial state only) and with the logs' own sensor noise
 (sensors.NOISE_SD: r 0.005 rad/s, ay 0.05 m/s^2) in R.
 
+Beside it: the RMS error at the truth of the linearised MAP estimate with the identifier's
+prior means and the sensor noise (map_mse: the Van Trees bound is a bound on the error averaged
+over the prior; at one truth near the prior mean an estimator goes below it, and this is by how
+much in the linearised problem); the SCKF (tyre_id_sckf.py, defaults and tid_delta_state_q
+0.04) on the logs, and in the model's world (the truth's simulated [r, ay] plus the sensor
+noise, --mc seeds, with exact delta and with the sensor's delta noise).
+
 Windows (scripts/tools/tyre_id_results.py's): mu@lim, the samples from 0.5 s where the log's
 |ay| > 0.6 mu g; linear, from 0.5 s until the axle's truth utilisation first passes 0.5.
 """
@@ -472,7 +479,8 @@ def main(argv=None):
             print(f"[mc   ] {r['log']:28s} sd_delta {r['sd_delta']:g}  sqrt(MSE) f/r "
                   f"{fmt(r['mc_f'])} / {fmt(r['mc_r'])}", flush=True)
     lines = table(bounds, sckf, args.eps, args.eps_check, mc, args.mc)
-    print(f"{len(jobs) + len(sjobs) + len(mjobs) * max(args.mc, 0)} runs in {time.perf_counter() - t0:.0f} s")
+    n_runs = len(jobs) + len(sjobs) + len(mjobs) * max(args.mc, 0)
+    print(f"{n_runs} runs in {time.perf_counter() - t0:.0f} s")
     print("\n".join(lines))
     if not args.no_write:
         replace_region(Path(args.page), *MARK, lines, "tyre_id_bound")
