@@ -49,7 +49,7 @@ include $(sort $(filter-out mk/lib.mk,$(wildcard mk/*.mk)))
 .PHONY: deps-apt figures mass-grade-scenarios observer-res-scenarios observer-loop-scenarios mass-grade-results mass-grade-textbook mass-sensitivity mass-headwind mass-slip mass-slip-ramp mass-curve mass-curve-pause mass-pause-grade mass-grade-walk mass-offset mass-gust tyre-id-feed-results tyre-id-trust mass-grade-goldens trust-invariant names car-format-logs observer-goldens observer-goldens-q31 observer-results monitor-results shape-results test-pkg all lib deps deps-c deps-valgrind deps-arm venv test test-c test-py sanitize valgrind valgrind-unit valgrind-cli coverage demo goldens goldens-q31 scenarios observer-scenarios clean vectors shared-sync check-shared readme-table \
         check-kernels check-tools layers help-check goldens-ref check-nofloat help deps-analysis misra tidy complexity structural analysis \
         twins check-twins tyre-id-scenarios tyre-id-results tyre-id-goldens tyre-id-ellipse-results \
-        tyre-id-results-ellipse tyre-id-results-delta-filter tyre-id-results-delta-state tyre-id-results-spread tyre-id-targets tyre-id-m4-count snoise-reuse snoise-reuse-vxvy
+        tyre-id-results-ellipse tyre-id-results-delta-filter tyre-id-results-delta-state tyre-id-results-spread tyre-id-bound tyre-id-targets tyre-id-m4-count snoise-reuse snoise-reuse-vxvy
 ## the libraries and build/mu_replay (the default target)
 all: lib $(BUILD)/mu_replay
 ## the float, double and fixed-point libraries (build/{f32,f64,q31}/)
@@ -423,6 +423,9 @@ tyre-id-results-delta-state: venv
 ## the SCKF off, with delta as a state and with each remedy for the spread of mu while linear (docs/TYRE_ID_RESULTS.md)
 tyre-id-results-spread: venv
 	$(PY) scripts/tools/tyre_id_results.py --spread --jobs 2 --page docs/TYRE_ID_RESULTS.md
+## the Van Trees bound on mu from D of the identifier's model per log and axle, beside the SCKF (docs/TYRE_ID_RESULTS.md)
+tyre-id-bound: venv
+	$(PY) scripts/tools/tyre_id_bound.py --jobs 2 --page docs/TYRE_ID_RESULTS.md
 ## the APF's particle count that fits 20 % of a 168 MHz Cortex-M4 at 100 Hz and the reference's accuracy there (docs/TYRE_ID_RESULTS.md)
 tyre-id-m4-count: venv
 	$(PY) scripts/tools/tyre_id_m4_count.py --jobs 2 --page docs/TYRE_ID_RESULTS.md
