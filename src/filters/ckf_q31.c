@@ -141,23 +141,23 @@ rfe_status_t rfe_ckf_predict_q31(rfe_ckf_q31_t *f, rfe_process_fn_q31_t process,
     }
     w = &f->w;
     n = f->n;
-    /* X_j = chol(P) xi_j + x;  X*_j = f(X_j);  x- = mean X*_j. */
-    st = rfe_chol_factor_q31(f->P, n, NM, f->L, NM, RFE_Q31_QP, QL, &count);
+    /* X_j = chol(P) xi_j + x (chol(P) in w.A);  X*_j = f(X_j);  x- = mean X*_j. */
+    st = rfe_chol_factor_q31(f->P, n, NM, w->A, NM, RFE_Q31_QP, QL, &count);
     if (st != RFE_OK) {
         return st;
     }
-    rfe_cub_points_q31(f->x, f->L, n, w->pts, &count);
+    rfe_cub_points_q31(f->x, w->A, n, w->pts, &count);
     st = rfe_cub_propagate_q31(w->pts, n, process, ctx, w->xn);
     if (st != RFE_OK) {
         return st;
     }
     rfe_cub_mean_q31(w->pts, n, n, NM, w->xn);
-    /* P- = sum_j w X*_j X*_j^T - x- x-^T + Q: Q29 Q29 = Q58 -> Q31. */
-    cross_moment_q31(w->pts, NM, w->xn, n, w->pts, NM, w->xn, n, n, f->Pn, NM,
+    /* P- = sum_j w X*_j X*_j^T - x- x-^T + Q: Q29 Q29 = Q58 -> Q31, into w.B. */
+    cross_moment_q31(w->pts, NM, w->xn, n, w->pts, NM, w->xn, n, n, w->B, NM,
                      (2u * RFE_Q31_QX) - RFE_Q31_QP, &count);
     for (i = 0u; i < n; ++i) {
         for (j = 0u; j < n; ++j) {
-            f->Pn[(i * NM) + j] = rfe_fix_add(f->Pn[(i * NM) + j], f->Q[(i * NM) + j], &count);
+            w->B[(i * NM) + j] = rfe_fix_add(w->B[(i * NM) + j], f->Q[(i * NM) + j], &count);
         }
     }
     /* The moment above needs the points' own mean; the committed x- of a random walk is x. */
@@ -165,7 +165,7 @@ rfe_status_t rfe_ckf_predict_q31(rfe_ckf_q31_t *f, rfe_process_fn_q31_t process,
     for (i = 0u; i < n; ++i) {
         f->x[i] = w->xn[i];
     }
-    copy_square_q31(f->Pn, NM, n, f->P, NM);
+    copy_square_q31(w->B, NM, n, f->P, NM);
     rfe_q31_sat_add(&f->sat, count);
     return RFE_OK;
 }
@@ -195,7 +195,7 @@ rfe_status_t rfe_ckf_predict_steps_q31(rfe_ckf_q31_t *f, uint32_t k)
     return RFE_OK;
 }
 
-/* The candidate covariance P = P- - K Pzz K^T into f->Pn (gain transposed in w.Kt, Q26; Pzz
+/* The candidate covariance P = P- - K Pzz K^T into w.B (gain transposed in w.Kt, Q26; Pzz
  * in w.Szz, Q24): T = K Pzz (n x m, Q30, in w.A), then P- - T K^T in Q(30 + 26) -> Q31. */
 static void posterior_covariance_q31(rfe_ckf_q31_t *f, uint32_t *count)
 {
@@ -223,7 +223,7 @@ static void posterior_covariance_q31(rfe_ckf_q31_t *f, uint32_t *count)
                 acc = rfe_fix_add64(acc, (int64_t)w->A[(i * TC) + s] * (int64_t)w->Kt[(s * NM) + j],
                                     count);
             }
-            f->Pn[(i * NM) + j] = rfe_fix_sub(f->P[(i * NM) + j],
+            w->B[(i * NM) + j] = rfe_fix_sub(f->P[(i * NM) + j],
                                               rfe_fix_narrow(acc, (QPXZ + QK) - RFE_Q31_QP, count),
                                               count);
         }
@@ -270,12 +270,12 @@ rfe_status_t rfe_ckf_update_q31(rfe_ckf_q31_t *f, rfe_measure_fn_q31_t measure, 
     w = &f->w;
     n = f->n;
     m = f->m;
-    /* X_j = chol(P-) xi_j + x-;  Z_j = h(X_j);  z = mean Z_j. */
-    st = rfe_chol_factor_q31(f->P, n, NM, f->L, NM, RFE_Q31_QP, QL, &count);
+    /* X_j = chol(P-) xi_j + x- (chol(P-) in w.A);  Z_j = h(X_j);  z = mean Z_j. */
+    st = rfe_chol_factor_q31(f->P, n, NM, w->A, NM, RFE_Q31_QP, QL, &count);
     if (st != RFE_OK) {
         return st;
     }
-    rfe_cub_points_q31(f->x, f->L, n, w->pts, &count);
+    rfe_cub_points_q31(f->x, w->A, n, w->pts, &count);
     st = rfe_cub_measure_q31(w->pts, n, m, measure, ctx, w->zpts);
     if (st != RFE_OK) {
         return st;
@@ -313,7 +313,7 @@ rfe_status_t rfe_ckf_update_q31(rfe_ckf_q31_t *f, rfe_measure_fn_q31_t measure, 
     for (i = 0u; i < n; ++i) {
         f->x[i] = w->xn[i];
     }
-    copy_square_q31(f->Pn, NM, n, f->P, NM);
+    copy_square_q31(w->B, NM, n, f->P, NM);
     rfe_q31_sat_add(&f->sat, count);
     return RFE_OK;
 }

@@ -196,7 +196,11 @@ static inline unsigned int rfe_q31_bitlen64(uint64_t m)
  * them, with no call to the C library's 64-bit division (libgcc's __udivmoddi4, ~50
  * instructions a call on the Cortex-M4).
  */
-static inline uint32_t rfe_q31_udiv64_32_digits(uint64_t n, uint32_t d)
+#if RFE_FIX_SHIFT64_W32
+uint32_t rfe_q31_udiv64_32_digits(uint64_t n, uint32_t d);
+#endif
+#if (!RFE_FIX_SHIFT64_W32) || RFE_Q31_SHARED_HERE
+RFE_Q31_SHARED uint32_t rfe_q31_udiv64_32_digits(uint64_t n, uint32_t d)
 {
     const uint32_t base = 65536u;
     const unsigned int s = 32u - rfe_q31_bitlen32(d);
@@ -241,6 +245,7 @@ static inline uint32_t rfe_q31_udiv64_32_digits(uint64_t n, uint32_t d)
     }
     return (q1 * base) + q0;
 }
+#endif
 
 /** floor(n / d) for d >= 1 and n < d 2^32: rfe_q31_udiv64_32_digits on Arm (the Cortex-M3
  *  and M4 divide 32-bit integers in one instruction; the Cortex-M0+ has no divider, and its

@@ -60,7 +60,11 @@ static inline int32_t rfe_xf_round(int64_t v, unsigned int sh)
 }
 
 /** v 2^e (|v| < 2^63) normalised: rounded to 30 significant bits (half up), exact below. */
-static inline rfe_xf_t rfe_xf_make(int64_t v, int e)
+#if RFE_FIX_SHIFT64_W32
+rfe_xf_t rfe_xf_make(int64_t v, int e);
+#endif
+#if (!RFE_FIX_SHIFT64_W32) || RFE_Q31_SHARED_HERE
+RFE_Q31_SHARED rfe_xf_t rfe_xf_make(int64_t v, int e)
 {
     rfe_xf_t r;
     r.m = 0;
@@ -82,6 +86,7 @@ static inline rfe_xf_t rfe_xf_make(int64_t v, int e)
     }
     return r;
 }
+#endif
 
 /** The fixed-point value v in Q(q). */
 static inline rfe_xf_t rfe_xf_of(int32_t v, int q) { return rfe_xf_make((int64_t)v, -q); }

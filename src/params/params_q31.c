@@ -231,46 +231,54 @@ static int is_nonneg_q31(rfe_fix_t x) { return x >= 0; }
 /* 0, or at least 16 significant bits (2^16 LSB); used on fields already checked >= 0. */
 static int sig16(rfe_fix_t x) { return (x == 0) || (x >= 65536); }
 
-/* The base fields: signs, then 16 significant bits (split from vehicle_base_ok to bound its
- * cyclomatic complexity; same checks, same order). */
-static int vehicle_base_sign_ok(const rfe_vehicle_q31_t *v)
+/* The per-field rules of the checks below, as bit sets over a list of fields: > 0, >= 0, and
+ * 0 or at least 16 significant bits (sig16). One loop checks a list against its rules (a
+ * table instead of one inlined comparison per field: 261 B less of the Cortex-M0+'s flash,
+ * docs/FIRMWARE.md "Headroom for the next ports"). Pure checks: their order does not matter. */
+#define FIELD_POS 1u
+#define FIELD_NONNEG 2u
+#define FIELD_SIG16 4u
+#define FIELD_POS16 (FIELD_POS | FIELD_SIG16)
+#define FIELD_NONNEG16 (FIELD_NONNEG | FIELD_SIG16)
+
+/* 1 when every v[i] (i < n) meets rule[i]. */
+static int fields_ok(const rfe_fix_t *v, const uint8_t *rule, size_t n)
 {
-    return is_pos_q31(v->m) && is_pos_q31(v->Lf) && is_pos_q31(v->Lr) && is_pos_q31(v->Bf) &&
-           is_pos_q31(v->Br) && is_pos_q31(v->R) && is_pos_q31(v->J) && is_nonneg_q31(v->hg) &&
-           is_pos_q31(v->g);
+    int ok = 1;
+    size_t i;
+    for (i = 0u; i < n; ++i) {
+        const uint32_t r = rule[i];
+        if ((((r & FIELD_POS) != 0u) && !is_pos_q31(v[i])) ||
+            (((r & FIELD_NONNEG) != 0u) && !is_nonneg_q31(v[i])) ||
+            (((r & FIELD_SIG16) != 0u) && !sig16(v[i]))) {
+            ok = 0;
+        }
+    }
+    return ok;
 }
 
-static int vehicle_base_sig16_ok(const rfe_vehicle_q31_t *v)
-{
-    return sig16(v->m) && sig16(v->Lf) && sig16(v->Lr) && sig16(v->Bf) && sig16(v->Br) &&
-           sig16(v->J) && sig16(v->hg) && sig16(v->g);
-}
-
+/* The base fields: m, Lf, Lr, Bf, Br, J, g > 0, hg >= 0, each with 16 significant bits, R > 0. */
 static int vehicle_base_ok(const rfe_vehicle_q31_t *v)
 {
-    return vehicle_base_sign_ok(v) && vehicle_base_sig16_ok(v);
+    static const uint8_t rule[9] = {FIELD_POS16, FIELD_POS16, FIELD_POS16,
+                                    FIELD_POS16, FIELD_POS16, FIELD_POS,
+                                    FIELD_POS16, FIELD_NONNEG16, FIELD_POS16};
+    const rfe_fix_t val[9] = {v->m, v->Lf, v->Lr, v->Bf, v->Br, v->R, v->J, v->hg, v->g};
+    return fields_ok(val, rule, 9u);
 }
 
-/* The derived constants: signs, then 16 significant bits (split from vehicle_derived_sign_ok
- * to bound its cyclomatic complexity; same checks, same order). */
-static int derived_signs_ok(const rfe_vehicle_q31_t *v)
-{
-    return is_pos_q31(v->yf) && is_pos_q31(v->yr) && is_pos_q31(v->inv_m) && is_pos_q31(v->lf_J) &&
-           is_pos_q31(v->lr_J) && is_pos_q31(v->yf_J) && is_pos_q31(v->yr_J) &&
-           is_pos_q31(v->fz_static_f) && is_pos_q31(v->fz_static_r) && is_nonneg_q31(v->k_pitch) &&
-           is_nonneg_q31(v->k_roll_f) && is_nonneg_q31(v->k_roll_r);
-}
-
-static int derived_sig16_ok(const rfe_vehicle_q31_t *v)
-{
-    return sig16(v->yf) && sig16(v->yr) && sig16(v->inv_m) && sig16(v->lf_J) && sig16(v->lr_J) &&
-           sig16(v->yf_J) && sig16(v->yr_J) && sig16(v->fz_static_f) && sig16(v->fz_static_r) &&
-           sig16(v->k_pitch) && sig16(v->k_roll_f) && sig16(v->k_roll_r);
-}
-
+/* The derived constants: > 0, the three load-transfer gains >= 0, each with 16 significant
+ * bits. */
 static int vehicle_derived_sign_ok(const rfe_vehicle_q31_t *v)
 {
-    return derived_signs_ok(v) && derived_sig16_ok(v);
+    static const uint8_t rule[12] = {FIELD_POS16,    FIELD_POS16,    FIELD_POS16, FIELD_POS16,
+                                     FIELD_POS16,    FIELD_POS16,    FIELD_POS16, FIELD_POS16,
+                                     FIELD_POS16,    FIELD_NONNEG16, FIELD_NONNEG16,
+                                     FIELD_NONNEG16};
+    const rfe_fix_t val[12] = {v->yf,   v->yr,          v->inv_m,       v->lf_J,
+                               v->lr_J, v->yf_J,        v->yr_J,        v->fz_static_f,
+                               v->fz_static_r, v->k_pitch, v->k_roll_f, v->k_roll_r};
+    return fields_ok(val, rule, 12u);
 }
 
 /* The recomputation of the constants that depend on the mass (inv_m, fz_static_f,
@@ -351,52 +359,54 @@ static int tyre_mode_shape_ok_q31(const rfe_tyre_params_q31_t *t)
 static int tyre_ok_q31(const rfe_tyre_params_q31_t *t)
 {
     /* alpha_max < 1.5 rad keeps tan(alpha) bounded and inside the fixed-point tan's domain (RFE_FIX_TAN_LIMIT_Q29). */
-    return tyre_mode_shape_ok_q31(t) && is_pos_q31(t->Cx_n) && is_pos_q31(t->Cy_n) &&
-           is_pos_q31(t->cx) && is_pos_q31(t->cy) && is_nonneg_q31(t->eps) &&
-           is_pos_q31(t->v_min) && is_pos_q31(t->alpha_max) &&
+    static const uint8_t rule[7] = {FIELD_POS, FIELD_POS,    FIELD_POS, FIELD_POS,
+                                    FIELD_NONNEG, FIELD_POS, FIELD_POS};
+    const rfe_fix_t val[7] = {t->Cx_n, t->Cy_n, t->cx, t->cy, t->eps, t->v_min, t->alpha_max};
+    return tyre_mode_shape_ok_q31(t) && fields_ok(val, rule, 7u) &&
            (t->alpha_max < RFE_FIX_TAN_LIMIT_Q29);
 }
 
-/* Enums in range; sd0, q_mu and the measurement noise positive; the mu bounds. */
+/* Every field's own rule, sd0 to b_v in their order (the rows of rule and val match): sd0, q_mu,
+ * the measurement noise, mu_max, dt and b_v > 0, every other field >= 0 (0 = off), dt, tau_v
+ * and b_v with 16 significant bits (mu0 is checked against the bounds in filter_ok_q31). */
+static int filter_fields_ok_q31(const rfe_filter_params_q31_t *f)
+{
+    static const uint8_t rule[29] = {
+        FIELD_POS,    FIELD_POS,    FIELD_POS,    FIELD_POS,    FIELD_POS,      /* sd0 .. r_yaw_acc */
+        FIELD_NONNEG, FIELD_POS,    FIELD_NONNEG,                               /* mu_min .. v_est_min */
+        FIELD_NONNEG, FIELD_NONNEG, FIELD_POS16,  FIELD_NONNEG16,               /* sd0_common .. tau_v */
+        FIELD_NONNEG, FIELD_NONNEG, FIELD_NONNEG, FIELD_NONNEG, FIELD_NONNEG,   /* sd_in_* */
+        FIELD_NONNEG, FIELD_NONNEG, FIELD_NONNEG, FIELD_NONNEG, FIELD_NONNEG,   /* r_model_rel .. sd_valid */
+        FIELD_NONNEG, FIELD_NONNEG, FIELD_NONNEG, FIELD_NONNEG, FIELD_NONNEG,   /* rear_hold_k .. yaw_check */
+        FIELD_NONNEG, FIELD_POS16};                                             /* valid_bound_k, b_v */
+    const rfe_fix_t val[29] = {
+        f->sd0,           f->q_mu,         f->r_ax,        f->r_ay,           f->r_yaw_acc,
+        f->mu_min,        f->mu_max,       f->v_est_min,
+        f->sd0_common,    f->q_common,     f->dt,          f->tau_v,
+        f->sd_in_delta,   f->sd_in_vx,     f->sd_in_vy,    f->sd_in_yaw_rate, f->sd_in_omega,
+        f->r_model_rel,   f->info_min,     f->sd_max,      f->sd_floor_rel,   f->sd_valid,
+        f->rear_hold_k,   f->jump_hold_k,  f->jump_hold_len, f->stale_omega,  f->yaw_check,
+        f->valid_bound_k, f->b_v};
+    return fields_ok(val, rule, 29u);
+}
+
+/* Enums in range; the fields' own rules; the mu bounds. */
 static int filter_ok_q31(const rfe_filter_params_q31_t *f)
 {
     return ((f->kind == RFE_FILTER_SCKF) || (f->kind == RFE_FILTER_CKF)) &&
            ((f->structure == RFE_STRUCT_WHEELS) || (f->structure == RFE_STRUCT_SIDES)) &&
-           is_pos_q31(f->sd0) && is_pos_q31(f->q_mu) && is_pos_q31(f->r_ax) &&
-           is_pos_q31(f->r_ay) && is_pos_q31(f->r_yaw_acc) && is_nonneg_q31(f->mu_min) &&
-           is_pos_q31(f->mu_max) && (f->mu_min < f->mu_max) && (f->mu0 >= f->mu_min) &&
-           (f->mu0 <= f->mu_max) && is_nonneg_q31(f->v_est_min);
+           filter_fields_ok_q31(f) && (f->mu_min < f->mu_max) && (f->mu0 >= f->mu_min) &&
+           (f->mu0 <= f->mu_max);
 }
 
-/* The docs/ESTIMATOR.md additions: each >= 0 (0 = off), dt > 0. */
-/* Step 9's holds (docs/ESTIMATOR.md): thresholds and the jump hold's length >= 0; the
- * stale-wheel-speed rule's move <= RFE_LIMIT_OMEGA and the yaw-rate check's threshold
- * <= RFE_LIMIT_YAW_RATE, both >= 0, and the bound margin in [0, 10] sd (as rfe_params_validate). */
-static int holds_ok_q31(const rfe_filter_params_q31_t *f)
-{
-    return is_nonneg_q31(f->rear_hold_k) && is_nonneg_q31(f->jump_hold_k) &&
-           is_nonneg_q31(f->jump_hold_len) && is_nonneg_q31(f->stale_omega) &&
-           (f->stale_omega <= STALE_OMEGA_MAX_Q22) && is_nonneg_q31(f->yaw_check) &&
-           (f->yaw_check <= YAW_CHECK_MAX_Q27) && is_nonneg_q31(f->valid_bound_k) &&
-           (f->valid_bound_k <= VALID_BOUND_K_MAX_Q24);
-}
-
-static int additions_nonneg_ok(const rfe_filter_params_q31_t *f)
-{
-    return is_nonneg_q31(f->sd0_common) && is_nonneg_q31(f->q_common) && is_pos_q31(f->dt) &&
-           is_nonneg_q31(f->tau_v) && is_nonneg_q31(f->sd_in_delta) && is_nonneg_q31(f->sd_in_vx) &&
-           is_nonneg_q31(f->sd_in_vy) && is_nonneg_q31(f->sd_in_yaw_rate) &&
-           is_nonneg_q31(f->sd_in_omega) && is_nonneg_q31(f->r_model_rel) &&
-           is_nonneg_q31(f->info_min) && is_nonneg_q31(f->sd_max) &&
-           is_nonneg_q31(f->sd_floor_rel) && is_nonneg_q31(f->sd_valid) && holds_ok_q31(f);
-}
-
-/* The additions, then dt and tau_v with 16 significant bits and the gain b_v in (0, 1] (split
- * in two to bound the cyclomatic complexity; same checks, same order). */
+/* The upper bounds of the docs/ESTIMATOR.md additions (their signs and significant bits are
+ * filter_fields_ok_q31's): step 9's stale-wheel-speed move <= RFE_LIMIT_OMEGA, the yaw-rate
+ * check's threshold <= RFE_LIMIT_YAW_RATE, the bound margin <= 10 sd (as rfe_params_validate),
+ * the gain b_v <= 1. */
 static int additions_ok_q31(const rfe_filter_params_q31_t *f)
 {
-    return additions_nonneg_ok(f) && sig16(f->dt) && sig16(f->tau_v) && is_pos_q31(f->b_v) &&
-           (f->b_v <= RFE_FIX_ONE(RFE_FIX_Q_DT)) && sig16(f->b_v);
+    return (f->stale_omega <= STALE_OMEGA_MAX_Q22) && (f->yaw_check <= YAW_CHECK_MAX_Q27) &&
+           (f->valid_bound_k <= VALID_BOUND_K_MAX_Q24) && (f->b_v <= RFE_FIX_ONE(RFE_FIX_Q_DT));
 }
 
 /* b_v = dt / (tau_v + dt), with tau_v (Q26) brought to Q30: the sum fits int64. */

@@ -79,8 +79,9 @@
 
 
 
-/* Byte image of the state (everything a call may change, the counter included). */
-#define CKF_STATE_BYTES offsetof(rfe_ckf_q31_t, L)
+/* Byte image of the state (everything a call may change, the counter included; the scratch w,
+ * which holds chol(P) and the candidate covariance too, follows it). */
+#define CKF_STATE_BYTES offsetof(rfe_ckf_q31_t, w)
 
 static uint32_t conv_sat;
 

@@ -37,9 +37,8 @@ typedef struct {
     rfe_fix_t Q[RFE_N_MAX * RFE_N_MAX];  /**< process-noise covariance (Q31) */
     rfe_fix_t R[RFE_M_MAX * RFE_M_MAX];  /**< measurement-noise covariance (Q24) */
     uint32_t sat;                        /**< saturation events since init (saturating) */
-    rfe_fix_t L[RFE_N_MAX * RFE_N_MAX];  /**< scratch: Cholesky factor (Q30) */
-    rfe_fix_t Pn[RFE_N_MAX * RFE_N_MAX]; /**< scratch: candidate covariance (Q31) */
-    rfe_cub_scratch_q31_t w;             /**< scratch */
+    rfe_cub_scratch_q31_t w;             /**< scratch (the Cholesky factor of P, Q30, in w.A
+                                              and the candidate covariance, Q31, in w.B) */
 } rfe_ckf_q31_t;
 
 /** Initialises from x0 (n, Q29), P0 (n x n, Q31), Q (n x n, Q31), R (m x m, Q24), all full
