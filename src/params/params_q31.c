@@ -248,9 +248,10 @@ static int fields_ok(const rfe_fix_t *v, const uint8_t *rule, size_t n)
     size_t i;
     for (i = 0u; i < n; ++i) {
         const uint32_t r = rule[i];
-        if ((((r & FIELD_POS) != 0u) && !is_pos_q31(v[i])) ||
-            (((r & FIELD_NONNEG) != 0u) && !is_nonneg_q31(v[i])) ||
-            (((r & FIELD_SIG16) != 0u) && !sig16(v[i]))) {
+        /* Every rule is > 0 or >= 0 (FIELD_POS, else FIELD_NONNEG), so the sign test is one
+         * choice, not two conditions of which one could never be shown to act (MC/DC). */
+        const int sign_ok = ((r & FIELD_POS) != 0u) ? is_pos_q31(v[i]) : is_nonneg_q31(v[i]);
+        if ((sign_ok == 0) || (((r & FIELD_SIG16) != 0u) && !sig16(v[i]))) {
             ok = 0;
         }
     }
