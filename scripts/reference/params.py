@@ -98,6 +98,14 @@ DEFAULTS: dict[str, float] = {
     # differences of step sd_local
     "sd_local": 0.0,      # the central differences' step, mu (0: off)
     "sd_local_at": 0.0,   # 0: J at the prior mean x-; 1: at the posterior mean x+
+    # step 6, reference only (MONITOR.md section 21): the update re-linearised. relin_steps N:
+    # the recursive update (N sub-updates with R N, points regenerated before each);
+    # relin_iter M: the iterated posterior linearisation (M iterations, the statistical
+    # linear regression at the current posterior applied to the prior); one of the two
+    "relin_steps": 0.0,   # N sub-updates (0: off; 1: today's update)
+    "relin_iter": 0.0,    # M iterations (0: off; 1: today's update)
+    "relin_gate": 0.0,    # 1: the final linearisation's information must pass info_min too,
+    #                       else the step is undone (0: today's gate only)
     # model-validity monitor (docs/MONITOR.md section 2; monitor.py); on in the default preset
     "mon_enable": 0.0,    # 1: acts on valid, status, sd (SCKF); 0: off
     "mon_tau_nis": 0.5,   # time constant of the NIS average D, s
@@ -115,7 +123,8 @@ REFERENCE_ONLY = frozenset({"info_at", "info_mu_h", "hyp_update", "hyp_lr_min",
                             "hyp_warmup",
                             "lower_bound_delta", "evid_delta",
                             "evid_l_min", "evid_n", "evid_l0", "evid_free", "evid_cap",
-                            "sd_floor_ref", "sd_floor_hold", "sd_local", "sd_local_at"})
+                            "sd_floor_ref", "sd_floor_hold", "sd_local", "sd_local_at",
+                            "relin_steps", "relin_iter", "relin_gate"})
 
 # The two presets (docs/ESTIMATOR.md): numeric values and the word-valued choices.
 PRESETS: dict[str, dict] = {

@@ -260,6 +260,9 @@ def run(log, p: dict, adapt=None, reuse: StepNoiseReuse | None = None):
         out["evid_L"] = np.zeros((N, n))
     if p["sd_local"] > 0:      # the factor step 6's local-information bound applied
         out["sd_local_c"] = np.ones(N)
+    relin = _relin_mode(p)
+    if relin is not None:      # the final linearisation's information (section 21)
+        out["relin_info"] = np.full((N, n), np.nan)
     floor_mem = (FloorMemory(p, n) if p["sd_floor_ref"] > 0 or p["sd_floor_hold"] > 0
                  else None)       # step 7's floor level (section 19; None: today's)
     t = log.col("t")
@@ -324,7 +327,14 @@ def run(log, p: dict, adapt=None, reuse: StepNoiseReuse | None = None):
                 else:
                     kept = True
                     x_prior, s_prior = f.x.copy(), f.S.copy()
-                    f.measurement_update(ys[k], hfun)
+                    if relin is None:
+                        f.measurement_update(ys[k], hfun)
+                    else:               # reference only (MONITOR.md section 21)
+                        info_fin = relin(f, ys[k], hfun, s_r)
+                        out["relin_info"][k] = info_fin
+                        if p["relin_gate"] > 0 and not info_fin.max() >= p["info_min"]:
+                            f.x, f.S = x_prior, s_prior     # undone: as a closed gate
+                            kept = False
                     if p["sd_local"] > 0:   # reference only (MONITOR.md section 20)
                         out["sd_local_c"][k] = _local_information_bound(
                             p, f, hfun, x_prior if p["sd_local_at"] == 0 else f.x,
@@ -678,6 +688,75 @@ def _information_upper(p, f, T, u, sd_u, s_r_base):
     jac = (hs[:n] - hs[n:]).T / (2.0 * d)                                # (3, n)
     w = solve_triangular(s_a, jac, lower=True)
     return np.einsum("ij,ij->j", w, w)
+
+
+def _relin_mode(p):
+    """Step 6 re-linearised (MONITOR.md section 21; reference only): None when off (both keys
+    0), else relin(f, y, hfun, s_r) -> the final linearisation's information (n,), f updated
+    (f.s_r: the update's noise; s_r: step 4's, the gate's)."""
+    n_steps, n_iter = int(p["relin_steps"]), int(p["relin_iter"])
+    if n_steps != p["relin_steps"] or n_iter != p["relin_iter"] or n_steps < 0 or n_iter < 0:
+        raise ValueError("relin_steps and relin_iter must be integers >= 0")
+    if n_steps > 0 and n_iter > 0:
+        raise ValueError("relin_steps and relin_iter are two designs: set one of them")
+    if n_steps > 0:
+        return lambda f, y, hfun, s_r: recursive_update(f, y, hfun, n_steps, s_r)
+    if n_iter > 0:
+        return lambda f, y, hfun, s_r: iterated_posterior_update(f, y, hfun, n_iter, s_r)
+    return None
+
+
+def recursive_update(f, y, hfun, n_steps: int, s_r_gate):
+    """The recursive update filter (Zanetti, JGCD 2012), the equal split: n_steps sub-updates,
+    each filters.SCKF.measurement_update with the noise factor sqrt(n_steps) f.s_r (R n_steps)
+    and the same y, the cubature points regenerated from the current sub-posterior before each.
+    For a linear h the n_steps updates are one update with R; n_steps = 1 is that call with
+    f.s_r (times 1.0: the same numbers). Returns the information of the last sub-step's
+    linearisation (its points, its sub-prior S) with s_r_gate, the full noise (step 5's form)."""
+    s_r = f.s_r
+    f.s_r = np.sqrt(float(n_steps)) * s_r
+    try:
+        for i in range(n_steps):
+            if i == n_steps - 1:
+                _, xc, zc = f.centred(hfun)
+                info = _information_of(f, xc, zc, s_r_gate)
+            f.measurement_update(y, hfun)
+    finally:
+        f.s_r = s_r
+    return info
+
+
+def iterated_posterior_update(f, y, hfun, n_iter: int, s_r_gate):
+    """The iterated posterior linearisation filter (Garcia-Fernandez, Svensson, Morelande,
+    Saerkkae, IEEE TSP 2015) in square-root form. Iteration 1 is
+    filters.SCKF.measurement_update (today's). Iteration j >= 2: the statistical linear
+    regression of h over the cubature points of the current posterior (x_j-1, S_j-1),
+    A = P_zx P^-1, Omega^1/2 = Zc - A Xc (Omega = P_zz - A P A^T exactly, as A P = P_zx),
+    applied to the prior (x-, S-): S_zz = Tria([A S-, Omega^1/2, S_R]), K = S- (A S-)^T
+    S_zz^-T S_zz^-1, x = x- + K (y - z - A (x- - x_j-1)), S = Tria([S- - K A S-, K Omega^1/2,
+    K S_R]) (f.s_r: the update's noise). For a linear h Omega = 0 and every iteration is the
+    first's posterior. Returns the information of the last linearisation (A, or the prior's
+    slope when n_iter = 1) with s_r_gate, the full noise (step 5's form)."""
+    x0, s0 = f.x.copy(), f.S.copy()
+    y = np.asarray(y, dtype=float)
+    _, xc, zc = f.centred(hfun)
+    info = _information_of(f, xc, zc, s_r_gate)
+    f.measurement_update(y, hfun)
+    for _ in range(n_iter - 1):
+        z_hat, xc, zc = f.centred(hfun)
+        yy = solve_triangular(f.S, xc @ zc.T, lower=True)              # S Y = P_xz
+        a = solve_triangular(f.S, yy, lower=True, trans="T").T         # A = P_zx P^-1
+        om = zc - a @ xc                                               # Omega^1/2
+        a_s0 = a @ s0
+        s_zz = filters.tria(np.hstack([a_s0, om, f.s_r]))
+        w_t = solve_triangular(s_zz, a_s0 @ s0.T, lower=True, check_finite=False)
+        k_gain = solve_triangular(s_zz, w_t, lower=True, trans="T", check_finite=False).T
+        x_new = x0 + k_gain @ (y - z_hat - a @ (x0 - f.x))
+        f.S = filters.tria(np.hstack([s0 - k_gain @ a_s0, k_gain @ om, k_gain @ f.s_r]))
+        f.x = x_new
+        w = solve_triangular(s_r_gate, a, lower=True)                  # S_R W = A
+        info = np.einsum("ij,ij->j", w, w)
+    return info
 
 
 def _local_information_bound(p, f, hfun, x_at, s_prior, s_r) -> float:

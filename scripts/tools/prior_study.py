@@ -24,7 +24,8 @@ SPEC (comma-separated, no spaces):
   KEY=VALUE[,KEY=VALUE...]    preset parameters set (mu0, sd0, sd0_common, info_at,
                               info_mu_h, hyp_update, hyp_lr_min,
                               hyp_warmup, sd_floor_ref, sd_floor_hold, sd_local,
-                              sd_local_at), e.g. mu0=0.3 or
+                              sd_local_at, relin_steps, relin_iter, relin_gate),
+                              e.g. mu0=0.3 or
                               info_at=1,info_mu_h=0.3 or info_at=2,hyp_update=1;
   warm[,KEY=VALUE...]         each log driven twice in a row: mu0 = the estimate today's run
                               of the same log ends with (the mean of the four wheels' last
@@ -56,7 +57,8 @@ GROUP_LABEL = {"mf": "MF", "dugoff": "Dugoff", "nf": "noise-free Dugoff",
 PRIOR_KEYS = ("mu0", "sd0", "sd0_common", "info_at", "info_mu_h",   # + step 5: section 16
               "hyp_update", "hyp_lr_min", "hyp_warmup",          # + steps 5-6: section 17
               "sd_floor_ref", "sd_floor_hold",                    # + step 7: section 19
-              "sd_local", "sd_local_at")                          # + step 6: section 20
+              "sd_local", "sd_local_at",                          # + step 6: section 20
+              "relin_steps", "relin_iter", "relin_gate")          # + step 6: section 21
 CROSS_SPLIT = 0.6                       # a truth starting below: a low-mu log
 CROSS_HIGH, CROSS_LOW = "hard_brake_high_mu.mf", "hard_brake_low_mu.mf"   # the donors
 MISMATCH = monitor.STATUS_MISMATCH       # the monitor's false alarm on a clean log

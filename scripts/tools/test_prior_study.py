@@ -97,6 +97,13 @@ def test_parse_spec_takes_the_local_information_keys():
         "set", {"sd_local": 0.001, "sd_local_at": 1.0})
 
 
+def test_parse_spec_takes_the_relinearisation_keys():
+    """Section 21's re-linearised step 6 is a SPEC key like the prior's."""
+    assert ps.parse_spec("relin_steps=4,relin_gate=1") == (
+        "set", {"relin_steps": 4.0, "relin_gate": 1.0})
+    assert ps.parse_spec("relin_iter=3") == ("set", {"relin_iter": 3.0})
+
+
 def test_false_alarm_is_the_largest_mismatch_share_on_a_clean_mf_log():
     """Only the MF group counts (faults, wrong tyre data, banked and Dugoff logs do not)."""
     figs = {"a.mf": {"mismatch": 0.01}, "b.mf": {"mismatch": 0.03}, "c": {"mismatch": 0.5},
