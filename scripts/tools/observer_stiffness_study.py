@@ -4,7 +4,7 @@ reference observer with and without its third lateral state c_s, on issue 16's o
 and the REQ-OBS-024 loop log, and the adoption rule written down before it was measured.
 
     .venv/bin/python scripts/tools/observer_stiffness_study.py [--replay build/mu_replay] \
-        [--real double] [--logs LOG ...] [--neighbours] [--trajectory LOG ...] [--every 0.5]
+        [--real double] [--logs LOG ...] [--neighbours] [--trajectory LOG ...] [--every 0.5] [--gated [--only LABEL ...]]
 
 Per log it runs the composed pipeline (`mu_replay --velocity observer`, default preset) for
 the friction estimate, then the reference observer (scripts/reference/observer.py) on the same
@@ -20,7 +20,9 @@ ratio at the rear axle's true slip angle (median where |alpha_r| >= 0.1 deg and 
 force still rises with the slip: the scale c that
 makes the model's Magic Formula at c cy give the truth's force there). The adoption rule's five
 checks are evaluated on A and printed. --trajectory prints c_s against the truth's ratios every
---every seconds. On the loop log (scenarios/observer_loop/) also the mu 0.5 phase's beta
+--every seconds. --gated adds C and D (C learned only where excited, a consider parameter
+elsewhere, relaxing to 1; OBSERVER_RESULTS.md "The stiffness scale learned only where excited")
+and that section's rule (rule_checks_gated). On the loop log (scenarios/observer_loop/) also the mu 0.5 phase's beta
 (the wheels' mean true mu < 0.7) and max |vy|. Nothing is typed by hand.
 """
 
