@@ -90,6 +90,10 @@ STUDY_DEFAULTS: dict[str, float] = {
     "obs_cs_consider": 0.0,     # 1: on steps not excited the rows leave c_s and its variance
                                 # (a Schmidt update: c_s a consider parameter there)
     "obs_cs_row_only": 0.0,     # 1: c_s in the model row only, §4.2b's linear range keeps cy
+    # (OBSERVER_RESULTS.md "The stiffness scale learned only where excited") on steps not
+    # excited c_s relaxes to the tyre data's 1: an Ornstein-Uhlenbeck step of this time
+    # constant, s (its mean and variance towards 1 and obs_cs_sd0^2; 0: off)
+    "obs_cs_tau": 0.0,
 }
 
 
@@ -353,6 +357,8 @@ class Observer:
                 or (p["obs_cs_rdot_on"] > 0.0 and abs(self.yaw.x[1]) >= p["obs_cs_rdot_on"]))
             q2 = (p["obs_q_cs"] ** 2) * dt if (excited or p["obs_cs_walk_all"] > 0.0) else 0.0
             self.cs_excited = excited
+            if not excited and p["obs_cs_tau"] > 0.0:
+                self.relax_cs(dt)
             self.lat.predict(-dt, dt * (s.ay - s.yaw_rate * vx), sy * sy,
                              (p["obs_q_by"] * p["obs_q_by"]) * dt, 0.0, q2)
         else:
@@ -489,6 +495,20 @@ class Observer:
         out = self.lat.update(h0, h1, innovation, r)
         self.clip_cs(before)
         return out
+
+    def relax_cs(self, dt):
+        """(study) c_s's relaxation on a step not excited: the exact discretisation of an
+        Ornstein-Uhlenbeck process of time constant obs_cs_tau about the tyre data's 1 with
+        stationary sd obs_cs_sd0 (F22 = a = exp(-dt / tau), Q22 = (1 - a^2) sd0^2): a learned
+        scale that nothing confirms drifts back, and its sd back to the prior's."""
+        a = math.exp(-dt / self.p["obs_cs_tau"])
+        P = self.lat.P
+        self.lat.x[2] = 1.0 + a * (self.lat.x[2] - 1.0)
+        P[0][2] *= a
+        P[2][0] = P[0][2]
+        P[1][2] *= a
+        P[2][1] = P[1][2]
+        P[2][2] = a * a * P[2][2] + (1.0 - a * a) * self.p["obs_cs_sd0"] ** 2
 
     def clip_cs(self, before):
         """(study) c_s within [obs_cs_min, obs_cs_max], its covariance kept; with

@@ -147,3 +147,75 @@ def test_as_a_consider_parameter_the_scale_keeps_its_prior_but_widens_vy():
     assert np.all(cons["sd_cs"] == ON["obs_cs_sd0"])
     off = observer.run(cols, p)
     assert np.max(np.abs(cons["sd_vy"] - off["sd_vy"])) > 1e-3
+
+
+# OBSERVER_RESULTS.md "The stiffness scale learned only where excited": variant D (C with c_s
+# learned only where |ay| >= 1 m/s^2 and a transient excite it, a consider parameter elsewhere,
+# relaxing to 1 with obs_cs_tau)
+D = study.D
+
+
+def test_the_relaxation_key_alone_and_d_with_a_fixed_scale_are_todays_filter_bit_for_bit():
+    # off: obs_cs_tau without obs_cs_on changes nothing; D with c_s's prior sd and walk 0 keeps
+    # c_s at exactly 1 (the relaxation's 1 + a (1 - 1) and (1 - a^2) 0 are exact), so every
+    # number is today's: exact equality is the claim, as in the first test
+    log = logs.read_csv_log(str(LOG), required=("t",))
+    c = {k: v[:600] for k, v in log.columns.items()}
+    p = observer.params_with_defaults(params.from_metadata(log.meta))
+    n = len(c["t"])
+    mu = ([[0.35] * n] * 4, [[0.1] * n] * 4)
+    base = observer.run(c, p, mu)
+    key_only = observer.run(c, {**p, "obs_cs_tau": D["obs_cs_tau"]}, mu)
+    fixed = observer.run(c, {**p, **D, "obs_cs_sd0": 0.0, "obs_q_cs": 0.0}, mu)
+    for key in observer.OUTPUTS:
+        assert np.array_equal(base[key], key_only[key]), key
+        assert np.array_equal(base[key], fixed[key]), key
+    assert np.all(fixed["cs"] == 1.0)
+
+
+def _noisy_straight(seed: int = 7, t_end: float = 60.0):
+    """The linear car driving straight (steer 0), its delta and yaw-rate sensors with white
+    noise of the observer's own sd's: the errors-in-variables case of the section above."""
+    cols, p = _linear_car(0.9, lambda t: 0.0, t_end)
+    rng = np.random.default_rng(seed)
+    n = len(cols["t"])
+    cols["delta"] = cols["delta"] + rng.normal(0.0, 0.001, n)
+    cols["yaw_rate"] = cols["yaw_rate"] + rng.normal(0.0, p["obs_sd_r"], n)
+    return cols, p
+
+
+def test_the_gate_freezes_the_scale_on_a_straight():
+    cols, p = _noisy_straight()
+    assert max(abs(a) for a in cols["ay"]) < D["obs_cs_ay_on"]   # no step can be excited
+    gated = observer.run(cols, {**p, **D})
+    # no step is excited, every row leaves c_s (consider) and the relaxation holds 1 at 1:
+    # exactly 1 on every step, and its sd stays the prior's (the OU step keeps sd0^2 at sd0^2
+    # up to rounding: 1e-12)
+    assert np.all(gated["cs"] == 1.0)
+    assert np.all(np.abs(gated["sd_cs"] - D["obs_cs_sd0"]) < 1e-12)
+    # the control: C ungated on the same straight moves c_s (the drift the gate is for)
+    free = observer.run(cols, {**p, **study.LATER["C: model row only"]})
+    assert np.max(np.abs(free["cs"] - 1.0)) > 0.01
+
+
+def test_the_relaxation_has_its_time_constant():
+    # from c_s 0.5 (sd 0.1, covariances with vy and b_y) the steps of one time constant take
+    # c_s - 1 to e^-1 of it, c_s's covariances to e^-1 and its variance to sd0^2 + (P22 - sd0^2)
+    # e^-2 (the OU process's exact discretisation: the product of n steps' a is exp(-n dt / tau)
+    # up to n roundings, 6000 * 2.2e-16 ~ 1e-12, so 1e-10 tolerances)
+    p = observer.params_with_defaults(**D)
+    obs = observer.Observer(p)
+    obs.lat.x = [0.1, 0.0, 0.5]
+    obs.lat.P = [[0.04, 0.001, 0.002], [0.001, 0.01, 0.003], [0.002, 0.003, 0.01]]
+    dt = 0.02
+    n = int(round(p["obs_cs_tau"] / dt))
+    for _ in range(n):
+        obs.relax_cs(dt)
+    e1 = math.exp(-1.0)
+    s0 = p["obs_cs_sd0"] ** 2
+    assert obs.lat.x[2] == pytest.approx(1.0 - 0.5 * e1, abs=1e-10)
+    assert obs.lat.P[0][2] == pytest.approx(0.002 * e1, abs=1e-10)
+    assert obs.lat.P[1][2] == pytest.approx(0.003 * e1, abs=1e-10)
+    assert obs.lat.P[2][0] == obs.lat.P[0][2] and obs.lat.P[2][1] == obs.lat.P[1][2]
+    assert obs.lat.P[2][2] == pytest.approx(s0 + (0.01 - s0) * e1 * e1, abs=1e-10)
+    assert obs.lat.x[:2] == [0.1, 0.0] and obs.lat.P[0][0] == 0.04   # vy, b_y untouched
