@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 from . import filters, logs, params, trusted
+from ._testing import assert_study_keys_off
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(os.path.dirname(HERE))
@@ -37,10 +38,7 @@ def test_off_is_todays_run_bit_for_bit(monkeypatch):
     """hyp_update = hyp_lr_min = 0 (the defaults, in neither preset): with info_at on, the run
     is section 16's, bit for bit, and neither the test nor the moved update is evaluated; with
     info_at off, setting them changes nothing either (they act only on a second centre)."""
-    for key in ("hyp_update", "hyp_lr_min", "hyp_warmup"):
-        assert params.DEFAULTS[key] == 0.0
-        assert key in params.REFERENCE_ONLY
-        assert not any(key in pre for pre in params.PRESETS.values())
+    assert_study_keys_off(("hyp_update", "hyp_lr_min", "hyp_warmup"))
     if not os.path.exists(LOG):
         pytest.skip(f"{LOG} not found")
     log = logs.read_csv_log(LOG)

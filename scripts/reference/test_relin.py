@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from . import filters, logs, params, trusted
+from ._testing import assert_study_keys_off
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(os.path.dirname(HERE))
@@ -48,10 +49,7 @@ def _today(h):
 def test_off_is_never_evaluated(monkeypatch):
     """The keys are 0 by default, in neither preset and reference only; off, neither update
     is called and the run records no final information."""
-    for key in KEYS:
-        assert params.DEFAULTS[key] == 0.0
-        assert key in params.REFERENCE_ONLY
-        assert not any(key in pre for pre in params.PRESETS.values())
+    assert_study_keys_off(KEYS)
     if not os.path.exists(LOG):
         pytest.skip(f"{LOG} not found")
     log = _head(logs.read_csv_log(LOG), 40)

@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from . import logs, params, trusted
+from ._testing import assert_study_keys_off
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(os.path.dirname(HERE))
@@ -61,10 +62,7 @@ def test_off_is_todays_run_bit_for_bit(monkeypatch):
     """The keys are 0 by default and in neither preset; off, the memory is never built (the run
     is today's code path); at its neutral setting (ref below any mean, a window of one step:
     the level is x itself) the memory path gives today's run bit for bit too."""
-    for key in KEYS:
-        assert params.DEFAULTS[key] == 0.0
-        assert key in params.REFERENCE_ONLY
-        assert not any(key in pre for pre in params.PRESETS.values())
+    assert_study_keys_off(KEYS)
     if not os.path.exists(LOG):
         pytest.skip(f"{LOG} not found")
     log = logs.read_csv_log(LOG)
