@@ -59,15 +59,21 @@ def _sine(t):
     return 0.015 * math.sin(2.0 * math.pi * 0.5 * (t - 1.0)) if t >= 1.0 else 0.0
 
 
-def test_with_its_prior_and_walk_zero_the_scale_is_todays_filter_bit_for_bit():
-    # c_s fixed at 1 (sd 0, walk 0): every added term of the 3-state filter is an exact 0.0
-    # and cy * 1.0 == cy, so the same process computes the same floats: exact equality is the
-    # claim (a tolerance would hide an ordering change of the sums)
+def _dlc_head():
+    """The first 6 s of the low-mu lane change, its parameters and a constant friction input
+    (0.35, sd 0.1): the setup of the bit-for-bit tests."""
     log = logs.read_csv_log(str(LOG), required=("t",))
     c = {k: v[:600] for k, v in log.columns.items()}
     p = observer.params_with_defaults(params.from_metadata(log.meta))
     n = len(c["t"])
-    mu = ([[0.35] * n] * 4, [[0.1] * n] * 4)
+    return c, p, ([[0.35] * n] * 4, [[0.1] * n] * 4)
+
+
+def test_with_its_prior_and_walk_zero_the_scale_is_todays_filter_bit_for_bit():
+    # c_s fixed at 1 (sd 0, walk 0): every added term of the 3-state filter is an exact 0.0
+    # and cy * 1.0 == cy, so the same process computes the same floats: exact equality is the
+    # claim (a tolerance would hide an ordering change of the sums)
+    c, p, mu = _dlc_head()
     base = observer.run(c, p, mu)
     same = observer.run(c, {**p, **ON, "obs_cs_sd0": 0.0, "obs_q_cs": 0.0}, mu)
     for key in observer.OUTPUTS:
@@ -159,11 +165,7 @@ def test_the_relaxation_key_alone_and_d_with_a_fixed_scale_are_todays_filter_bit
     # off: obs_cs_tau without obs_cs_on changes nothing; D with c_s's prior sd and walk 0 keeps
     # c_s at exactly 1 (the relaxation's 1 + a (1 - 1) and (1 - a^2) 0 are exact), so every
     # number is today's: exact equality is the claim, as in the first test
-    log = logs.read_csv_log(str(LOG), required=("t",))
-    c = {k: v[:600] for k, v in log.columns.items()}
-    p = observer.params_with_defaults(params.from_metadata(log.meta))
-    n = len(c["t"])
-    mu = ([[0.35] * n] * 4, [[0.1] * n] * 4)
+    c, p, mu = _dlc_head()
     base = observer.run(c, p, mu)
     key_only = observer.run(c, {**p, "obs_cs_tau": D["obs_cs_tau"]}, mu)
     fixed = observer.run(c, {**p, **D, "obs_cs_sd0": 0.0, "obs_q_cs": 0.0}, mu)
