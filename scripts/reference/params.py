@@ -64,6 +64,12 @@ DEFAULTS: dict[str, float] = {
     "stale_omega": 0.0,   # a repeated wheel speed while the others' median moved more: stale, rad/s (0: off)
     "yaw_check": 0.0,     # a yaw rate this far from its prediction is replaced by it, rad/s (0: off)
     "valid_bound_k": 0.0,  # the bound margin: valid only mu - mu_min >= this many sd (0: off)
+    # step 9 (ESTIMATOR.md, MONITOR.md sections 10, 22): the upper evidence. Per state the
+    # evidence L against mu + evid_up_delta, L <- rho L + Lambda at every update (rho =
+    # exp(-1 / evid_up_n)), 0 while the monitor reports a mismatch; valid only while L >= l_min
+    "evid_up_delta": 0.0,  # the upper alternative's distance, mu (0: off, today's flags)
+    "evid_up_n": 100.0,    # L's memory, updates (1 .. 10000)
+    "evid_up_l_min": 0.25,  # the evidence a valid flag needs, nats (0 .. 100)
     # step 5, reference only (MONITOR.md section 16): where the gate judges the information
     "info_at": 0.0,       # 0: at the estimate; 1: also at the hypothesis info_mu_h (both sides);
     #                       2: also around the cubature point whose prediction is nearest the data
@@ -125,6 +131,12 @@ REFERENCE_ONLY = frozenset({"info_at", "info_mu_h", "hyp_update", "hyp_lr_min",
                             "evid_l_min", "evid_n", "evid_l0", "evid_free", "evid_cap",
                             "sd_floor_ref", "sd_floor_hold", "sd_local", "sd_local_at",
                             "relin_steps", "relin_iter", "relin_gate"})
+
+# Library keys an estimate log records only while the rule they belong to is on (its first
+# key > 0), so that the logs and goldens of runs without it stay as they were: step 9's upper
+# evidence (the C library's mu_replay writes them alike).
+WHEN_ON = {"evid_up_delta": ("evid_up_delta", "evid_up_n", "evid_up_l_min")}
+WHEN_ON_KEYS = frozenset(k for keys in WHEN_ON.values() for k in keys)
 
 # The two presets (docs/ESTIMATOR.md): numeric values and the word-valued choices.
 PRESETS: dict[str, dict] = {

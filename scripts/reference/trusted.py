@@ -249,6 +249,10 @@ def run(log, p: dict, adapt=None, reuse: StepNoiseReuse | None = None):
         out["censored"] = np.zeros((N, n), dtype=bool)     # the information it decided on
         out["info_up"] = np.full((N, n), np.nan)
     evid = Evidence(p, n) if p["evid_delta"] > 0 else None
+    upper = UpperEvidence(p, n) if p["evid_up_delta"] > 0 else None
+    if upper is not None:      # step 9's upper evidence: Lambda of each update, L after the step
+        out["evid_up_lam"] = np.zeros((N, n))
+        out["evid_up_L"] = np.zeros((N, n))
     hyp = (Hypotheses(p) if p["info_at"] > 0 and (p["hyp_update"] > 0 or p["hyp_lr_min"] > 0)
            else None)
     if hyp is not None:     # per step: 1 gate opened only at c; the log LR and L (section 17)
@@ -311,6 +315,10 @@ def run(log, p: dict, adapt=None, reuse: StepNoiseReuse | None = None):
                                                                 or hyp.warming()):
                     update = False      # the data do not favour the centre that opened it
             status = 3
+            lam_up = None
+            if update and upper is not None:    # at x- and step 4's noise, before step 6
+                lam_up = upper_evidence(p, f.x, T, u, sd_u, ys[k], s_r, f.s_r,
+                                        p["evid_up_delta"])
             if update:                                                  # 6
                 saved, f.s_r = f.s_r, s_r_used
                 if alt is not None and p["hyp_update"] > 0:
@@ -367,6 +375,13 @@ def run(log, p: dict, adapt=None, reuse: StepNoiseReuse | None = None):
                     out["valid"][k][w] = 0
         if stale.stale:             # a stale wheel speed: no flag (the shared road state
             out["valid"][k] = 0     # carries its error to the other side, MONITOR.md 8)
+        if upper is not None:       # the upper evidence, last of step 9; then the monitor
+            ok_up = upper.step(lam_up if status in (0, 1) else None)
+            out["valid"][k] = out["valid"][k] * (T @ ok_up.astype(float)).astype(int)
+            upper.monitor(status, out["nu"][k], out["s_zz"][k], out["c_pers"][k],
+                          bool(np.any(out["valid"][k])))
+            out["evid_up_lam"][k] = 0.0 if lam_up is None or status not in (0, 1) else lam_up
+            out["evid_up_L"][k] = upper.L
         out["status"][k] = status
         if evid is not None:
             out["evid_L"][k] = evid.L
@@ -656,10 +671,44 @@ class Evidence:
                                 lambda down: down & armed & (self.L < p["evid_l_min"]))
 
 
-def upper_evidence(p, x, T, u, sd_u, y, s_r, s_r_base):
+class UpperEvidence:
+    """Step 9's upper evidence (`evid_up_delta` > 0; docs/ESTIMATOR.md step 9, MONITOR.md
+    sections 10 and 22): a valid-flag rule, the filter untouched. Per state j, at every step
+    that updated (status 0, 1): L_j <- rho L_j + Lambda_j, rho = exp(-1 / evid_up_n), Lambda_j
+    upper_evidence's at the prior mean x- with step 4's noise at each point; other steps leave
+    L. State j's wheels are valid only while L_j >= evid_up_l_min. After the step, while the
+    monitor (in the loop, fed as monitor.apply feeds it) reports the mismatch (status 4: it is
+    fired and the step updated, or held with a flag 1 after this rule), L = 0: the update was
+    on data that contradict the model, so nothing before counts. L starts at 0."""
+
+    def __init__(self, p: dict, n: int):
+        self.p = p
+        self.L = np.zeros(n)
+        self.rho = float(np.exp(-1.0 / p["evid_up_n"]))
+        self.mon = monitor.Monitor(p, p["dt"])
+        self.enable = self.mon.p["mon_enable"] > 0
+
+    def step(self, lam) -> np.ndarray:
+        """L after this step's update (lam: its Lambda, None on a step without an update);
+        returns the states whose flags may stay (L >= evid_up_l_min)."""
+        if lam is not None:
+            self.L = self.rho * self.L + lam
+        return self.L >= self.p["evid_up_l_min"]
+
+    def monitor(self, status, nu, s_zz, c_pers, any_valid) -> None:
+        """The monitor's step on this step's innovation (monitor.apply's), then the reset."""
+        if status != 2 and np.all(np.isfinite(nu)):
+            self.mon.step(nu, s_zz, c_pers)
+        if self.enable and self.mon.fired and (status in (0, 1)
+                                               or (status == 3 and any_valid)):
+            self.L = np.zeros_like(self.L)
+
+
+def upper_evidence(p, x, T, u, sd_u, y, s_r, s_r_base, delta=None):
     """(n,) Lambda_j = (q(x^a_j) - q(x)) / 2, the evidence of one measurement y against side j's
-    friction evid_delta higher (Evidence). s_r: step 4's noise factor at x; s_r_base: the base
-    factor step 4 starts from (the filter's constant noise)."""
+    friction delta (default evid_delta) higher (Evidence, UpperEvidence). s_r: step 4's noise
+    factor at x; s_r_base: the base factor step 4 starts from (the filter's constant noise)."""
+    delta = p["evid_delta"] if delta is None else delta
     def q(xx, s):
         w = solve_triangular(s, np.asarray(y, dtype=float) - h_point(p, u, T @ xx), lower=True)
         return float(w @ w)
@@ -667,7 +716,7 @@ def upper_evidence(p, x, T, u, sd_u, y, s_r, s_r_base):
     lam = np.empty(x.size)
     for j in range(x.size):
         xa = np.array(x, dtype=float, copy=True)
-        xa[j] = min(xa[j] + p["evid_delta"], p["mu_max"])
+        xa[j] = min(xa[j] + delta, p["mu_max"])
         s_a = _step_noise(p, SimpleNamespace(x=xa, s_r=s_r_base), T, u, sd_u)
         lam[j] = 0.5 * (q(xa, s_a) - q0)
     return lam
