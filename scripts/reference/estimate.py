@@ -107,11 +107,12 @@ def metadata(kind: str, tyre: str, input_path: str, p: dict, param_file: str | N
         meta.append(("param_file", os.path.basename(param_file)))
     meta += runtime.metadata()
     # every key but the reference-only ones (not in the C library's estimate logs), which are
-    # recorded only when they are set
-    meta += [(k, float(p[k])) for k in params.DEFAULTS
-             if (k not in params.REFERENCE_ONLY or p[k] != params.DEFAULTS[k])
-             and (k not in params.WHEN_ON_KEYS
-                  or any(p[on] > 0 and k in keys for on, keys in params.WHEN_ON.items()))]
+    # recorded only when they are set; a rule's keys of WHEN_ON all while the rule is on
+    def recorded(k):
+        if k in params.WHEN_ON_KEYS:
+            return any(p[on] > 0 and k in keys for on, keys in params.WHEN_ON.items())
+        return k not in params.REFERENCE_ONLY or p[k] != params.DEFAULTS[k]
+    meta += [(k, float(p[k])) for k in params.DEFAULTS if recorded(k)]
     return meta
 
 

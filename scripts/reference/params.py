@@ -130,11 +130,12 @@ REFERENCE_ONLY = frozenset({"info_at", "info_mu_h", "hyp_update", "hyp_lr_min",
                             "lower_bound_delta", "evid_delta",
                             "evid_l_min", "evid_n", "evid_l0", "evid_free", "evid_cap",
                             "sd_floor_ref", "sd_floor_hold", "sd_local", "sd_local_at",
-                            "relin_steps", "relin_iter", "relin_gate"})
+                            "relin_steps", "relin_iter", "relin_gate",
+                            "evid_up_delta", "evid_up_n", "evid_up_l_min"})
 
-# Library keys an estimate log records only while the rule they belong to is on (its first
-# key > 0), so that the logs and goldens of runs without it stay as they were: step 9's upper
-# evidence (the C library's mu_replay writes them alike).
+# Keys an estimate log records, all of them, only while the rule they belong to is on (its
+# first key > 0), so that the logs and goldens of runs without it stay as they were: step 9's
+# upper evidence (reference only on main; its C port, MONITOR.md section 22, wrote them alike).
 WHEN_ON = {"evid_up_delta": ("evid_up_delta", "evid_up_n", "evid_up_l_min")}
 WHEN_ON_KEYS = frozenset(k for keys in WHEN_ON.values() for k in keys)
 

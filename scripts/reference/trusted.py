@@ -377,7 +377,8 @@ def run(log, p: dict, adapt=None, reuse: StepNoiseReuse | None = None):
             out["valid"][k] = 0     # carries its error to the other side, MONITOR.md 8)
         if upper is not None:       # the upper evidence, last of step 9; then the monitor
             ok_up = upper.step(lam_up if status in (0, 1) else None)
-            out["valid"][k] = out["valid"][k] * (T @ ok_up.astype(float)).astype(int)
+            if p["sd_valid"] > 0:   # with the sd rule (as the bound margin; C's step 9)
+                out["valid"][k] = out["valid"][k] * (T @ ok_up.astype(float)).astype(int)
             upper.monitor(status, out["nu"][k], out["s_zz"][k], out["c_pers"][k],
                           bool(np.any(out["valid"][k])))
             out["evid_up_lam"][k] = 0.0 if lam_up is None or status not in (0, 1) else lam_up
